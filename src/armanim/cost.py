@@ -1,0 +1,179 @@
+"""The course notes' cost C(Phi) and its analytic gradient (Eqs. 10-12).
+
+C(Phi) = w_goal |e - g| + w_obstacles sum F_R(d) + w_limits sum L(phi_j)
+
+where d is the clearance of each arm part to each obstacle's surface: the tip as a
+point (the notes' term) and every link as a capsule of radius width/2. Functions
+accept a batch of poses where their docstring says so. Pure core: no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.geometry import closest_on_segment
+from armanim.kinematics import Arm, Pose, forward, point_jacobian, tip_jacobian
+from armanim.problem import Limits, Obstacles, Problem
+
+
+def obstacle_field(d: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """F_R(d) = ln(R/d) for 0 < d <= R, 0 for d > R, +inf for d <= 0 (Eq. 11).
+
+    >>> obstacle_field(np.array([0.5, 1.0, 2.0, 0.0]), np.array(1.0))
+    array([0.69314718, 0.        , 0.        ,        inf])
+    """
+    d = np.asarray(d, dtype=float)
+    inside = (d > 0) & (d <= reach)
+    safe = np.where(inside, d, 1.0)
+    value = np.where(inside, np.log(np.where(inside, reach, 1.0) / safe), 0.0)
+    return np.where(d <= 0, np.inf, value)
+
+
+def obstacle_field_slope(d: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """dF_R/dd: -1/d inside the influence shell, 0 beyond it."""
+    d = np.asarray(d, dtype=float)
+    inside = (d > 0) & (d <= reach)
+    return np.where(inside, -1.0 / np.where(inside, d, 1.0), 0.0)
+
+
+def limit_barrier(phi: np.ndarray, limits: Limits) -> np.ndarray:
+    """Sum over limited joints of L(phi_j) (Eq. 12), for (..., n) angles in radians.
+
+    Infinite at or past a limit: the barrier is never crossed.
+
+    >>> lim = Limits(np.array([-1.0]), np.array([1.0]), margin=0.5)
+    >>> limit_barrier(np.array([[0.0], [0.75], [1.0]]), lim)
+    array([0.        , 0.69314718,        inf])
+    """
+    lo_gap, hi_gap = limit_gaps(phi, limits)
+    delta = limits.margin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lo = np.where(lo_gap <= 0, np.inf, np.where(lo_gap < delta, np.log(delta / lo_gap), 0.0))
+        hi = np.where(hi_gap <= 0, np.inf, np.where(hi_gap < delta, np.log(delta / hi_gap), 0.0))
+    return (lo + hi).sum(axis=-1)
+
+
+def limit_barrier_gradient(phi: np.ndarray, limits: Limits) -> np.ndarray:
+    """dL/dphi for each joint (n,): -1/(phi - min) near min, 1/(max - phi) near max."""
+    lo_gap, hi_gap = limit_gaps(phi, limits)
+    delta = limits.margin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lo = np.where((lo_gap > 0) & (lo_gap < delta), -1.0 / lo_gap, 0.0)
+        hi = np.where((hi_gap > 0) & (hi_gap < delta), 1.0 / hi_gap, 0.0)
+    return lo + hi
+
+
+def limit_gaps(phi: np.ndarray, limits: Limits) -> tuple[np.ndarray, np.ndarray]:
+    """Distances (radians) of each joint to its lower and upper limit (inf if unlimited)."""
+    return phi - limits.lower, limits.upper - phi
+
+
+@dataclass(frozen=True)
+class Clearances:
+    """Clearance of every arm part to every obstacle, for one pose or a batch.
+
+    Parts are the n link capsules (indices 0..n-1) and the tip as a point (index n).
+
+    Attributes
+    ----------
+    d : (..., n+1, m) array
+        Clearance to each obstacle's surface (negative inside).
+    t : (..., n+1, m) array
+        Fraction along the part's link of its point closest to the obstacle.
+    normal : (..., n+1, m, 3) array
+        Unit vector from the obstacle's centre to that closest point.
+    """
+
+    d: np.ndarray
+    t: np.ndarray
+    normal: np.ndarray
+
+    @property
+    def links(self) -> np.ndarray:
+        """(..., n, m): clearances of the link capsules only."""
+        return self.d[..., :-1, :]
+
+
+def clearances(pose: Pose, obstacles: Obstacles, half_width: float) -> Clearances:
+    """Clearances of the link capsules and of the tip to every obstacle.
+
+    Parameters
+    ----------
+    pose : Pose
+        One pose or a batch (points of shape (..., n+1, 3)).
+    obstacles : Obstacles
+    half_width : float
+        Capsule radius of the links.
+    """
+    pts = pose.points
+    a = pts[..., :-1, None, :]  # (..., n, 1, 3)
+    b = pts[..., 1:, None, :]
+    c = obstacles.centers  # (m, 3)
+    t_links = closest_on_segment(a, b, c)  # (..., n, m)
+    t = np.concatenate([t_links, np.ones(t_links.shape[:-2] + (1,) + t_links.shape[-1:])], -2)
+    starts = pts[..., :, None, :]
+    ends = np.concatenate([pts[..., 1:, :], pts[..., -1:, :]], axis=-2)[..., :, None, :]
+    nearest = starts + t[..., None] * (ends - starts)
+    offset = nearest - c
+    dist = np.linalg.norm(offset, axis=-1)
+    radius = np.append(np.full(pts.shape[-2] - 1, half_width), 0.0)
+    d = dist - obstacles.radii - radius[:, None]
+    normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
+    return Clearances(d=d, t=t, normal=normal)
+
+
+def min_link_clearance(pose: Pose, obstacles: Obstacles, half_width: float) -> np.ndarray:
+    """Smallest clearance of any link capsule to any obstacle, shape (...); +inf if none."""
+    if len(obstacles) == 0:
+        return np.full(pose.points.shape[:-2], np.inf)
+    return clearances(pose, obstacles, half_width).links.min(axis=(-1, -2))
+
+
+def goal_term(tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """|e - g| for (..., 3) tips."""
+    return np.linalg.norm(tip - goal, axis=-1)
+
+
+def total_cost(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """C(Phi) for one pose or a batch (..., n); +inf where a barrier is crossed."""
+    s = problem.solver
+    pose = forward(problem.arm, phi)
+    cost = s.w_goal * goal_term(pose.tip, goal)
+    if len(problem.obstacles):
+        cl = clearances(pose, problem.obstacles, problem.half_width)
+        field = obstacle_field(cl.d, problem.obstacles.influence)
+        cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
+    return cost + s.w_limits * limit_barrier(phi, problem.limits)
+
+
+def obstacle_cost_gradient(arm: Arm, pose: Pose, cl: Clearances, obstacles: Obstacles) -> np.ndarray:
+    """Gradient (n,) of sum F_R(d) over parts and obstacles, for a single pose.
+
+    Each concerned part contributes F_R'(d) n^T J_q, with J_q the Jacobian of its
+    closest point (fixed t: the envelope theorem makes dt/dphi drop out).
+    """
+    grad = np.zeros(arm.n)
+    slope = obstacle_field_slope(cl.d, obstacles.influence)
+    for part, obs in zip(*np.nonzero(slope)):
+        link = min(part, arm.n - 1)
+        jac = point_jacobian(arm, pose, link, cl.t[part, obs])
+        grad += slope[part, obs] * (cl.normal[part, obs] @ jac)
+    return grad
+
+
+def total_cost_gradient(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """Analytic gradient of :func:`total_cost` for one pose, shape (n,)."""
+    s = problem.solver
+    arm = problem.arm
+    pose = forward(arm, phi)
+    diff = pose.tip - goal
+    dist = np.linalg.norm(diff)
+    grad = np.zeros(arm.n)
+    if dist > 0:
+        grad += s.w_goal * (diff / dist) @ tip_jacobian(arm, pose)
+    if len(problem.obstacles):
+        cl = clearances(pose, problem.obstacles, problem.half_width)
+        grad += s.w_obstacles * obstacle_cost_gradient(arm, pose, cl, problem.obstacles)
+    return grad + s.w_limits * limit_barrier_gradient(phi, problem.limits)

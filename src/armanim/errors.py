@@ -1,0 +1,75 @@
+"""The exception tree of armanim and the exit codes of the contract.
+
+Exceptions are for bad input and failures while producing outputs; a goal that is
+not reached is a result, never an exception.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+EXIT_OK = 0
+EXIT_CHECK_FAILED = 1
+EXIT_BAD_INPUT = 2
+EXIT_OUTPUT_FAILED = 3
+EXIT_INTERRUPTED = 130
+
+
+class ArmanimError(Exception):
+    """Base of every error armanim reports to a user (never shown as a traceback)."""
+
+    exit_code = EXIT_BAD_INPUT
+
+    def report(self) -> str:
+        """The message as printed on stderr."""
+        return str(self)
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One thing wrong with an input: where it is and what was expected.
+
+    Parameters
+    ----------
+    path : str
+        Field path such as ``arm.limits[2]``; empty for the whole file.
+    message : str
+        What is wrong, with what was expected, e.g. ``must be > 0 (got -2)``.
+    line : int or None
+        1-based line in the file, where known.
+    """
+
+    path: str
+    message: str
+    line: int | None = None
+
+    def format(self, file: str) -> str:
+        """``FILE:LINE: field.path: message`` (parts that are unknown are left out)."""
+        where = f"{file}:{self.line}" if self.line is not None else file
+        return f"{where}: {self.path}: {self.message}" if self.path else f"{where}: {self.message}"
+
+
+class SceneError(ArmanimError):
+    """A scene (or another input file) that cannot be used; lists every problem found."""
+
+    def __init__(self, file: str, problems: list[Diagnostic]):
+        self.file = file
+        self.problems = list(problems)
+        super().__init__(self.report())
+
+    def report(self) -> str:
+        return "\n".join(p.format(self.file) for p in self.problems)
+
+
+class UsageError(ArmanimError):
+    """A bad flag or a flag combination that does not fit (exit 2)."""
+
+
+class OutputError(ArmanimError):
+    """Outputs could not be written: folder not writable, disk full (exit 3)."""
+
+    exit_code = EXIT_OUTPUT_FAILED
+
+
+class RenderError(OutputError):
+    """Drawing or encoding failed, e.g. ffmpeg exited with an error (exit 3)."""

@@ -1,0 +1,241 @@
+"""THE forward kinematics of armanim, its Jacobians and the pseudo-inverse.
+
+The chain of the contract: joint i sits at p_i with world rotation
+R_i = R_{i-1} Rot(a_i, phi_i) (R_0 = I), p_1 = base and
+p_{i+1} = p_i + R_i (l_i d). The tip is e = p_{n+1}. For the default arm this is
+the course notes' chain T01 = [Rz(phi1), p1], T12 = [Ry(phi2), t_z(l1)], ...
+
+Pure core: numpy and scipy only, radians only, no I/O. Everything that needs joint
+positions (solvers, cost, renderer, CLI) calls :func:`forward`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import scipy.linalg
+
+from armanim.geometry import axis_vector, skew
+
+
+@dataclass(frozen=True)
+class Arm:
+    """An articulated arm: serial revolute joints, straight links.
+
+    Parameters
+    ----------
+    base : (3,) array
+        World position of joint 1.
+    links : (n,) array
+        Link lengths; link i runs from joint i to joint i+1.
+    axes : (n, 3) array
+        Unit rotation axis of each joint, in the joint's own frame.
+    direction : (3,) array
+        Unit vector, in each joint's frame, along which its link extends.
+    """
+
+    base: np.ndarray
+    links: np.ndarray
+    axes: np.ndarray
+    direction: np.ndarray
+    _k: np.ndarray = field(init=False, repr=False, compare=False)
+    _k2: np.ndarray = field(init=False, repr=False, compare=False)
+    _offsets: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        for name in ("base", "links", "axes", "direction"):
+            object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
+        k = np.stack([skew(a) for a in self.axes])
+        object.__setattr__(self, "_k", k)
+        object.__setattr__(self, "_k2", k @ k)
+        object.__setattr__(self, "_offsets", self.links[:, None] * self.direction[None, :])
+
+    @property
+    def n(self) -> int:
+        """Number of joints (= number of links)."""
+        return len(self.links)
+
+    @property
+    def reach(self) -> float:
+        """Sum of the link lengths: no tip is farther than this from the base."""
+        return float(self.links.sum())
+
+    @classmethod
+    def from_names(
+        cls,
+        links,
+        base=(0.0, 0.0, 0.0),
+        axes: list[str] | None = None,
+        direction: str = "z",
+    ) -> "Arm":
+        """Build an arm from axis names, with the contract's default axes (z, then y).
+
+        >>> Arm.from_names([2, 5, 5, 5], base=(5, 5, 0)).n
+        4
+        """
+        n = len(links)
+        names = axes if axes is not None else default_axes(n)
+        return cls(
+            base=np.asarray(base, dtype=float),
+            links=np.asarray(links, dtype=float),
+            axes=np.stack([axis_vector(a) for a in names]),
+            direction=axis_vector(direction),
+        )
+
+
+def default_axes(n: int) -> list[str]:
+    """The contract's default joint axes: z for the base joint, y for every other.
+
+    >>> default_axes(4)
+    ['z', 'y', 'y', 'y']
+    """
+    return ["z"] + ["y"] * (n - 1)
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Joint points and frames of one or many poses.
+
+    Attributes
+    ----------
+    points : (..., n+1, 3) array
+        p_1 .. p_{n+1}: the joints from the base to the tip.
+    frames : (..., n, 3, 3) array
+        R_1 .. R_n: each joint's world rotation.
+    """
+
+    points: np.ndarray
+    frames: np.ndarray
+
+    @property
+    def tip(self) -> np.ndarray:
+        """(..., 3): the end effector e = p_{n+1}."""
+        return self.points[..., -1, :]
+
+
+def forward(arm: Arm, phi: np.ndarray) -> Pose:
+    """Forward kinematics of one pose or a batch of poses.
+
+    Parameters
+    ----------
+    arm : Arm
+    phi : (..., n) array
+        Joint angles in radians; any leading batch shape, e.g. (F, n).
+
+    Returns
+    -------
+    Pose
+        ``points`` of shape (..., n+1, 3) and ``frames`` of shape (..., n, 3, 3).
+
+    Examples
+    --------
+    The course notes' arm at home stands straight up from its base:
+
+    >>> arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    >>> forward(arm, np.zeros(4)).tip
+    array([ 5.,  5., 17.])
+    >>> forward(arm, np.zeros((10, 4))).points.shape
+    (10, 5, 3)
+    """
+    phi = np.asarray(phi, dtype=float)
+    batch = phi.shape[:-1]
+    c = np.cos(phi)[..., None, None]
+    s = np.sin(phi)[..., None, None]
+    local = np.eye(3) + s * arm._k + (1.0 - c) * arm._k2  # (..., n, 3, 3)
+    frames = np.empty(batch + (arm.n, 3, 3))
+    points = np.empty(batch + (arm.n + 1, 3))
+    points[..., 0, :] = arm.base
+    rot = np.broadcast_to(np.eye(3), batch + (3, 3))
+    for i in range(arm.n):
+        rot = rot @ local[..., i, :, :]
+        frames[..., i, :, :] = rot
+        points[..., i + 1, :] = points[..., i, :] + rot @ arm._offsets[i]
+    return Pose(points=points, frames=frames)
+
+
+def joint_axes_world(arm: Arm, pose: Pose) -> np.ndarray:
+    """World direction w_j = R_j a_j of every joint axis, shape (..., n, 3)."""
+    return np.einsum("...jab,jb->...ja", pose.frames, arm.axes)
+
+
+def link_point(pose: Pose, link: int, t: float) -> np.ndarray:
+    """The point at fraction ``t`` along link ``link`` (0-based), shape (..., 3)."""
+    a = pose.points[..., link, :]
+    return a + t * (pose.points[..., link + 1, :] - a)
+
+
+def point_jacobian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarray:
+    """Analytic Jacobian d q / d phi of a point q carried by link ``link``.
+
+    Column j is w_j x (q - p_j) for the joints j <= link that move the point, and 0
+    for the joints after it.
+
+    Parameters
+    ----------
+    arm, pose : the arm and its pose from :func:`forward` (single or batched).
+    link : int
+        0-based link index carrying the point.
+    t : float
+        Fraction along the link, 0 at joint ``link``, 1 at joint ``link + 1``.
+
+    Returns
+    -------
+    (..., 3, n) array
+
+    >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
+    >>> point_jacobian(arm, forward(arm, np.zeros(2)), link=1) + 0.0
+    array([[0., 0.],
+           [2., 1.],
+           [0., 0.]])
+    """
+    q = link_point(pose, link, t)
+    w = joint_axes_world(arm, pose)
+    jac = np.zeros(pose.points.shape[:-2] + (3, arm.n))
+    lever = q[..., None, :] - pose.points[..., : link + 1, :]
+    jac[..., :, : link + 1] = np.swapaxes(np.cross(w[..., : link + 1, :], lever), -1, -2)
+    return jac
+
+
+def tip_jacobian(arm: Arm, pose: Pose) -> np.ndarray:
+    """Analytic Jacobian of the tip, (..., 3, n): the course notes' Eq. 14."""
+    return point_jacobian(arm, pose, arm.n - 1, 1.0)
+
+
+def point_hessian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarray:
+    """Second derivatives d^2 q / d phi_i d phi_j of a point on a link, shape (3, n, n).
+
+    For i <= j <= link: w_i x (w_j x (q - p_j)), symmetric in i, j; zero for joints
+    after ``link``. These are the n-link assignment's P'' blocks. Single pose only.
+    """
+    q = link_point(pose, link, t)
+    w = joint_axes_world(arm, pose)
+    hess = np.zeros((3, arm.n, arm.n))
+    for j in range(link + 1):
+        dj = np.cross(w[j], q - pose.points[j])
+        for i in range(j + 1):
+            hess[:, i, j] = hess[:, j, i] = np.cross(w[i], dj)
+    return hess
+
+
+def numeric_jacobian(
+    fun: Callable[[np.ndarray], np.ndarray], phi: np.ndarray, h: float = 1e-6
+) -> np.ndarray:
+    """Forward-difference Jacobian of a vector function: the course notes' Eq. 15.
+
+    Column i is (fun(phi + h e_i) - fun(phi)) / h. All n displaced poses are
+    evaluated as one batch, so ``fun`` must accept (..., n).
+
+    >>> numeric_jacobian(lambda p: np.stack([p[..., 0] ** 2], -1), np.array([3.0])).round(4)
+    array([[6.]])
+    """
+    phi = np.asarray(phi, dtype=float)
+    displaced = phi + h * np.eye(len(phi))
+    f0 = fun(phi)
+    return (fun(displaced) - f0).T / h
+
+
+def pseudo_inverse(jac: np.ndarray) -> np.ndarray:
+    """Moore-Penrose pseudo-inverse V D+ U^T (the notes' Eq. 20), via ``scipy.linalg.pinv``."""
+    return scipy.linalg.pinv(jac, check_finite=False)

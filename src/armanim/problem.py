@@ -1,0 +1,149 @@
+"""The solver's view of a scene: radians, numpy arrays, every default resolved.
+
+Built from a validated scene by :func:`armanim.scene.scene_to_problem` (the one place
+where degrees become radians). Pure core: no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.kinematics import Arm
+
+
+@dataclass(frozen=True)
+class Obstacles:
+    """Solid spheres with an influence shell.
+
+    Attributes
+    ----------
+    centers : (m, 3) array
+    radii : (m,) array
+        Radius of each solid sphere (0 allowed: the notes' point obstacle).
+    influence : (m,) array
+        R of the field F_R: how far beyond the surface the penalty reaches.
+    """
+
+    centers: np.ndarray
+    radii: np.ndarray
+    influence: np.ndarray
+
+    @classmethod
+    def none(cls) -> "Obstacles":
+        """No obstacles."""
+        return cls(np.zeros((0, 3)), np.zeros(0), np.zeros(0))
+
+    def __len__(self) -> int:
+        return len(self.radii)
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Joint limits in radians; unlimited joints have -inf / +inf.
+
+    Attributes
+    ----------
+    lower, upper : (n,) arrays
+    margin : float
+        delta of the limit barrier L, radians.
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+    margin: float
+
+    @classmethod
+    def unlimited(cls, n: int, margin: float = np.radians(10.0)) -> "Limits":
+        """Limits for an arm whose joints all turn freely."""
+        return cls(np.full(n, -np.inf), np.full(n, np.inf), margin)
+
+    @property
+    def limited(self) -> np.ndarray:
+        """(n,) bool: joints that have limits."""
+        return np.isfinite(self.lower)
+
+
+@dataclass(frozen=True)
+class Goal:
+    """A goal position and how many frames to hold once it is reached."""
+
+    position: np.ndarray
+    hold_frames: int = 0
+
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """Every number of the solvers, from the scene's ``solver`` section (radians)."""
+
+    method: str = "pinv"
+    step: float = 0.1
+    max_step: float = np.inf
+    tolerance: float = 0.01
+    max_frames_per_goal: int = 600
+    jacobian: str = "analytic"
+    damping: float = 0.05
+    max_joint_step: float = np.radians(10.0)
+    w_goal: float = 1.0
+    w_obstacles: float = 1.0
+    w_limits: float = 1.0
+    w_target: float = 1e3
+    w_regularizer: float = 1.0
+
+
+@dataclass(frozen=True)
+class Problem:
+    """Everything the frame loop needs, in radians and numpy arrays.
+
+    Attributes
+    ----------
+    arm : Arm
+    half_width : float
+        Collision radius of every link (the scene's ``arm.width / 2``).
+    home : (n,) array
+        Frame 0's joint angles.
+    limits : Limits
+    obstacles : Obstacles
+    goals : tuple of Goal
+    solver : SolverSettings
+    fps : float
+        Frames per second, for ``time_s`` and holds.
+    """
+
+    arm: Arm
+    half_width: float
+    home: np.ndarray
+    limits: Limits
+    obstacles: Obstacles
+    goals: tuple[Goal, ...]
+    solver: SolverSettings
+    fps: float = 30.0
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """The scene's ``render`` section, resolved (plain data; drawing lives in ``render/``).
+
+    Attributes
+    ----------
+    fps : float
+    size : (int, int)
+        Width and height in pixels.
+    elevation, azimuth : float
+        Camera angles in degrees (as matplotlib's ``view_init`` takes them).
+    bounds : (3, 2) array or None
+        [[xmin, xmax], [ymin, ymax], [zmin, zmax]]; None means auto.
+    trail : bool
+        Draw the tip's path.
+    format : str
+        ``"mp4"`` or ``"gif"``.
+    """
+
+    fps: float = 30.0
+    size: tuple[int, int] = (1280, 720)
+    elevation: float = 25.0
+    azimuth: float = -60.0
+    bounds: np.ndarray | None = None
+    trail: bool = True
+    format: str = "mp4"

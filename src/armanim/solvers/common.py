@@ -1,0 +1,47 @@
+"""What the solver methods share: the step record, the frame's task-space target and
+the Jacobians chosen by ``solver.jacobian``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.kinematics import Pose, forward, link_point, numeric_jacobian, point_jacobian
+from armanim.problem import Problem
+
+
+@dataclass(frozen=True)
+class Step:
+    """A method's proposed joint update for one frame.
+
+    Attributes
+    ----------
+    dphi : (n,) array
+        Proposed change of the joint angles, radians (before barrier shortening).
+    iterations : int
+        Inner iterations spent (1 for the linear methods; gradient-descent plus
+        Newton iterations for ``newton``; line-search trials for ``gradient``).
+    newton_iterations : int
+        Of those, Newton iterations (``newton`` only).
+    """
+
+    dphi: np.ndarray
+    iterations: int = 1
+    newton_iterations: int = 0
+
+
+def task_displacement(problem: Problem, tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """de = beta (g - e), its length capped at ``solver.max_step`` (notes' Eq. 22)."""
+    de = problem.solver.step * (goal - tip)
+    length = np.linalg.norm(de)
+    cap = problem.solver.max_step
+    return de * (cap / length) if length > cap else de
+
+
+def jacobian_of_point(problem: Problem, phi: np.ndarray, pose: Pose, link: int, t: float) -> np.ndarray:
+    """(3, n) Jacobian of a point on a link: analytic, or forward differences (Eq. 15)
+    when the scene says ``jacobian: numeric``."""
+    if problem.solver.jacobian == "numeric":
+        return numeric_jacobian(lambda p: link_point(forward(problem.arm, p), link, t), phi)
+    return point_jacobian(problem.arm, pose, link, t)

@@ -1,0 +1,40 @@
+"""``gradient``: Breen's cost minimisation, plain gradient descent on the whole cost C.
+
+dPhi = -beta grad C(Phi), with grad C analytic or by forward differences
+(``jacobian: numeric``), the tip's travel capped at ``max_step``, and the step halved
+until C decreases (C is +inf past a barrier, so a barrier is never crossed).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armanim.cost import total_cost, total_cost_gradient
+from armanim.kinematics import forward, numeric_jacobian, tip_jacobian
+from armanim.problem import Problem
+from armanim.solvers.common import Step
+
+HALVINGS = 30  # line-search trials: 2**-30 of a step is below any useful resolution
+
+
+def cost_gradient(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """grad C at phi: analytic, or the forward-difference gradient when numeric."""
+    if problem.solver.jacobian == "numeric":
+        return numeric_jacobian(lambda p: total_cost(problem, p, goal)[..., None], phi)[0]
+    return total_cost_gradient(problem, phi, goal)
+
+
+def gradient_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+    """One frame of gradient descent on C with a backtracking line search."""
+    s = problem.solver
+    dphi = -s.step * cost_gradient(problem, phi, goal)
+    travel = np.linalg.norm(tip_jacobian(problem.arm, forward(problem.arm, phi)) @ dphi)
+    if travel > s.max_step:
+        dphi = dphi * (s.max_step / travel)
+    scales = 0.5 ** np.arange(HALVINGS)
+    costs = total_cost(problem, phi + scales[:, None] * dphi, goal)
+    better = np.nonzero(costs < total_cost(problem, phi, goal))[0]
+    if len(better) == 0:
+        return Step(dphi=np.zeros_like(phi), iterations=HALVINGS)
+    first = int(better[0])
+    return Step(dphi=scales[first] * dphi, iterations=first + 1)

@@ -1,0 +1,93 @@
+"""``pinv`` and ``dls``: one linear step per frame (the course notes' Algorithm 2).
+
+dPhi = J^+ (de + v_tip)  +  (I - J^+ J) (sum over concerned link points of J_q^+ v_q  +  z)
+
+- de: the frame's task-space step toward the goal;
+- v_q: the obstacle repulsion of a point closer than R to an obstacle, along the
+  outward normal, R (R/d - 1) long (scaled by beta and w_obstacles): the field's
+  slope shifted so that the push fades to zero at the edge of the influence shell;
+- z: the joint-limit push delta (delta/gap - 1) (scaled by beta and w_limits).
+
+The tip's own repulsion (the notes' term) acts in task space beside de, so the tip
+steers around obstacles; the links' repulsion and the limit push are moved into the
+null space of J, so they reshape the arm without pulling the tip off its goal (a goal
+next to an obstacle stays reachable).
+
+The two methods differ only in the inverse: the pseudo-inverse (``scipy.linalg.pinv``)
+or the damped least-squares inverse J^T (J J^T + lambda^2 I)^-1.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from armanim.cost import clearances
+from armanim.kinematics import forward, pseudo_inverse
+from armanim.problem import Problem
+from armanim.solvers.common import Step, jacobian_of_point, task_displacement
+
+
+def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:
+    """J^T (J J^T + lambda^2 I)^-1, the damped least-squares inverse of a (3, n) Jacobian."""
+    gram = jac @ jac.T + damping**2 * np.eye(jac.shape[0])
+    return np.linalg.solve(gram, jac).T
+
+
+def repulsion(gap: np.ndarray, reach: np.ndarray | float) -> np.ndarray:
+    """Length of a push away from a barrier: reach (reach/gap - 1) inside reach, else 0.
+
+    >>> repulsion(np.array([0.5, 1.0, 2.0]), 1.0)
+    array([1., 0., 0.])
+    """
+    gap = np.asarray(gap, dtype=float)
+    inside = (gap > 0) & (gap < reach)
+    return np.where(inside, reach * (reach / np.where(inside, gap, 1.0) - 1.0), 0.0)
+
+
+def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """Joint-space push z (n,) away from nearby limits, radians."""
+    limits = problem.limits
+    scale = problem.solver.step * problem.solver.w_limits
+    up = repulsion(phi - limits.lower, limits.margin)
+    down = repulsion(limits.upper - phi, limits.margin)
+    return scale * (up - down)
+
+
+def linear_step(
+    problem: Problem, phi: np.ndarray, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray]
+) -> Step:
+    """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse."""
+    arm, s = problem.arm, problem.solver
+    pose = forward(arm, phi)
+    jac = jacobian_of_point(problem, phi, pose, arm.n - 1, 1.0)
+    jac_inv = invert(jac)
+    dphi = jac_inv @ task_displacement(problem, pose.tip, goal)
+
+    secondary = limit_push(problem, phi)
+    obstacles = problem.obstacles
+    if len(obstacles):
+        cl = clearances(pose, obstacles, problem.half_width)
+        push = s.step * s.w_obstacles * repulsion(cl.d, obstacles.influence)
+        for part, obs in zip(*np.nonzero(push)):
+            v = push[part, obs] * cl.normal[part, obs]
+            if part == arm.n:  # the tip itself: the notes' term, in task space
+                dphi = dphi + jac_inv @ v
+            else:
+                jac_q = jacobian_of_point(problem, phi, pose, part, cl.t[part, obs])
+                secondary = secondary + invert(jac_q) @ v
+    if np.any(secondary):
+        dphi = dphi + secondary - jac_inv @ (jac @ secondary)
+    return Step(dphi=dphi)
+
+
+def pinv_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+    """``pinv``: the course notes' Algorithm 2 with the pseudo-inverse (Eqs. 19-20)."""
+    return linear_step(problem, phi, goal, pseudo_inverse)
+
+
+def dls_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+    """``dls``: damped least squares with ``solver.damping``; smooth near singular poses."""
+    damping = problem.solver.damping
+    return linear_step(problem, phi, goal, lambda jac: damped_inverse(jac, damping))

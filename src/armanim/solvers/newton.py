@@ -1,0 +1,174 @@
+"""``newton``: the n-link assignment's solver, gradient descent with backtracking line
+search (GDLS) then Newton's method (NM), NM kept only where it lowers f.
+
+f(Phi) = 1/2 w_tar |e(Phi) - e*|^2 + 1/2 w_reg |Phi - Phi_rest|^2
+g(Phi) = w_tar P'^T (e - e*) + w_reg (Phi - Phi_rest)
+H(Phi) = w_tar (P'^T P' + (e - e*) . P'') + w_reg I
+
+In the frame loop e* is the frame's target e + de and Phi_rest the previous frame's
+angles; ``armanim ik`` solves to the goal itself from a rest pose.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.kinematics import Arm, forward, point_hessian, tip_jacobian
+from armanim.problem import Problem
+from armanim.solvers.common import Step, task_displacement
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """Iteration settings of GDLS and NM (the assignment's parameter list).
+
+    Attributes
+    ----------
+    gd_iterations, nm_iterations : int
+        Caps on GDLS and NM iterations.
+    tolerance : float
+        Both stop when |g| falls below it (the assignment's 1e-3).
+    alpha : float
+        Initial GDLS step (the assignment's 1e0 for small arms).
+    shrink : float
+        Backtracking factor of the line searches.
+    halvings : int
+        Line-search trials before giving up on a direction.
+    """
+
+    gd_iterations: int = 20
+    nm_iterations: int = 20
+    tolerance: float = 1e-3
+    alpha: float = 1.0
+    shrink: float = 0.5
+    halvings: int = 40
+
+
+@dataclass(frozen=True)
+class NewtonResult:
+    """Outcome of :func:`newton_solve`: angles, objective, and iteration counts."""
+
+    phi: np.ndarray
+    f: float
+    gd_iterations: int
+    nm_iterations: int
+    newton_kept: bool
+
+
+def objective(
+    arm: Arm, phi: np.ndarray, target: np.ndarray, rest: np.ndarray, w_tar: float, w_reg: float
+) -> float:
+    """f(Phi), the assignment's objective."""
+    dp = forward(arm, phi).tip - target
+    dtheta = phi - rest
+    return 0.5 * w_tar * dp @ dp + 0.5 * w_reg * dtheta @ dtheta
+
+
+def objective_derivatives(
+    arm: Arm, phi: np.ndarray, target: np.ndarray, rest: np.ndarray, w_tar: float, w_reg: float
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """f, its gradient g (n,) and Hessian H (n, n), as the assignment writes them.
+
+    >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
+    >>> f, g, H = objective_derivatives(arm, np.zeros(2), np.array([1.0, 1, 0]), np.zeros(2), 1e3, 1.0)
+    >>> float(f), g.tolist(), H.tolist()
+    (1000.0, [-2000.0, -1000.0], [[2001.0, 1000.0], [1000.0, 1.0]])
+    """
+    pose = forward(arm, phi)
+    dp = pose.tip - target
+    dtheta = phi - rest
+    jac = tip_jacobian(arm, pose)
+    hess = point_hessian(arm, pose, arm.n - 1, 1.0)
+    f = 0.5 * w_tar * dp @ dp + 0.5 * w_reg * dtheta @ dtheta
+    g = w_tar * dp @ jac + w_reg * dtheta
+    H = w_tar * (jac.T @ jac + np.einsum("a,aij->ij", dp, hess)) + w_reg * np.eye(arm.n)
+    return float(f), g, H
+
+
+def _line_search(fun, x, f0, direction, slope, alpha, opts: NewtonOptions):
+    """Backtrack from ``alpha`` until f(x + a d) <= f0 + 1e-4 a slope (Armijo).
+
+    Returns the new point, its f and the step length taken (None, f0, a on failure).
+    """
+    a = alpha
+    for _ in range(opts.halvings):
+        candidate = x + a * direction
+        fc = fun(candidate)
+        if fc <= f0 + 1e-4 * a * slope:
+            return candidate, fc, a
+        a *= opts.shrink
+    return None, f0, a
+
+
+def newton_solve(
+    arm: Arm,
+    phi: np.ndarray,
+    target: np.ndarray,
+    rest: np.ndarray,
+    w_tar: float = 1e3,
+    w_reg: float = 1.0,
+    options: NewtonOptions = NewtonOptions(),
+) -> NewtonResult:
+    """Minimise f by GDLS, then NM from the GDLS answer, kept only if it lowers f.
+
+    Angles are returned unwrapped; callers wrap unlimited joints.
+    """
+
+    def fun(p):
+        return objective(arm, p, target, rest, w_tar, w_reg)
+
+    x = np.asarray(phi, dtype=float).copy()
+    f = fun(x)
+    alpha = options.alpha
+    gd_its = 0
+    for gd_its in range(1, options.gd_iterations + 1):
+        f, g, _ = objective_derivatives(arm, x, target, rest, w_tar, w_reg)
+        if np.linalg.norm(g) < options.tolerance:
+            break
+        x_new, f_new, alpha = _line_search(fun, x, f, -g, -(g @ g), alpha, options)
+        if x_new is None:
+            break
+        x, f = x_new, f_new
+        alpha = min(options.alpha, 2.0 * alpha)  # warm start: the next search begins near this one
+
+    x_gd, f_gd = x, f
+    nm_its = 0
+    for nm_its in range(1, options.nm_iterations + 1):
+        f, g, H = objective_derivatives(arm, x, target, rest, w_tar, w_reg)
+        if np.linalg.norm(g) < options.tolerance:
+            break
+        try:
+            direction = -np.linalg.solve(H, g)
+        except np.linalg.LinAlgError:
+            break
+        slope = g @ direction
+        if not slope < 0:  # H not positive definite here: not a descent direction
+            break
+        x_new, f_new, _ = _line_search(fun, x, f, direction, slope, 1.0, options)
+        if x_new is None:
+            break
+        x, f = x_new, f_new
+    f = fun(x)
+    kept = f < f_gd
+    return NewtonResult(
+        phi=x if kept else x_gd,
+        f=f if kept else f_gd,
+        gd_iterations=gd_its,
+        nm_iterations=nm_its,
+        newton_kept=bool(kept),
+    )
+
+
+def newton_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+    """One frame: solve f to the frame target e* = e + de, regularised to the current pose."""
+    arm, s = problem.arm, problem.solver
+    tip = forward(arm, phi).tip
+    target = tip + task_displacement(problem, tip, goal)
+    result = newton_solve(arm, phi, target, phi, s.w_target, s.w_regularizer)
+    return Step(
+        dphi=result.phi - phi,
+        iterations=result.gd_iterations + result.nm_iterations,
+        newton_iterations=result.nm_iterations,
+    )
