@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 
 from armanim.kinematics import Arm, forward, point_hessian, tip_jacobian
 from armanim.problem import Problem
@@ -36,6 +37,9 @@ class NewtonOptions:
         Backtracking factor of the line searches.
     halvings : int
         Line-search trials before giving up on a direction.
+    max_turn : float
+        Largest joint change (radians) a line search starts from: with w_tar = 1e3
+        the raw gradient step would spin joints by whole turns into another branch.
     """
 
     gd_iterations: int = 20
@@ -44,6 +48,7 @@ class NewtonOptions:
     alpha: float = 1.0
     shrink: float = 0.5
     halvings: int = 40
+    max_turn: float = 0.5
 
 
 @dataclass(frozen=True)
@@ -87,12 +92,30 @@ def objective_derivatives(
     return float(f), g, H
 
 
+def newton_direction(H: np.ndarray, g: np.ndarray) -> np.ndarray | None:
+    """-H^-1 g, with H shifted by mu I until it is positive definite.
+
+    Far from the target the term (e - e*) . P'' can make H indefinite; the shift
+    keeps the Newton step a descent direction instead of giving up.
+    """
+    shift = 0.0
+    scale = max(float(np.max(np.abs(np.diag(H)))), 1e-12)
+    for _ in range(60):
+        try:
+            factor = scipy.linalg.cho_factor(H + shift * np.eye(len(g)), check_finite=False)
+            return -scipy.linalg.cho_solve(factor, g, check_finite=False)
+        except (np.linalg.LinAlgError, scipy.linalg.LinAlgError):
+            shift = max(2.0 * shift, 1e-8 * scale)
+    return None
+
+
 def _line_search(fun, x, f0, direction, slope, alpha, opts: NewtonOptions):
     """Backtrack from ``alpha`` until f(x + a d) <= f0 + 1e-4 a slope (Armijo).
 
     Returns the new point, its f and the step length taken (None, f0, a on failure).
     """
-    a = alpha
+    biggest = np.max(np.abs(direction), initial=0.0)
+    a = min(alpha, opts.max_turn / biggest) if biggest > 0 else alpha
     for _ in range(opts.halvings):
         candidate = x + a * direction
         fc = fun(candidate)
@@ -139,13 +162,10 @@ def newton_solve(
         f, g, H = objective_derivatives(arm, x, target, rest, w_tar, w_reg)
         if np.linalg.norm(g) < options.tolerance:
             break
-        try:
-            direction = -np.linalg.solve(H, g)
-        except np.linalg.LinAlgError:
+        direction = newton_direction(H, g)
+        if direction is None:
             break
         slope = g @ direction
-        if not slope < 0:  # H not positive definite here: not a descent direction
-            break
         x_new, f_new, _ = _line_search(fun, x, f, direction, slope, 1.0, options)
         if x_new is None:
             break

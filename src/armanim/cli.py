@@ -1,0 +1,448 @@
+"""The ``armanim`` command: thin Typer commands over the importable API.
+
+Every ArmanimError becomes its message on stderr and the contract's exit code; rich
+lives only here.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+from typing import Annotated, Optional
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from armanim import __version__
+from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_INTERRUPTED, ArmanimError, UsageError
+
+app = typer.Typer(
+    name="armanim",
+    help="Batch animator for articulated arms: inverse kinematics with cost minimisation, "
+    "trajectories, videos.\n\nExample: [bold]armanim run scenes/notes-arm.yaml[/bold]",
+    rich_markup_mode="rich",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_show_locals=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+out = Console()
+err = Console(stderr=True)
+
+
+def _report(exc: ArmanimError) -> None:
+    err.print(exc.report(), markup=False, highlight=False, soft_wrap=True)
+
+
+def handle_errors(command):
+    """Turn ArmanimError into its message and exit code; Ctrl-C into exit 130."""
+
+    @functools.wraps(command)
+    def wrapper(*args, **kwargs):
+        try:
+            return command(*args, **kwargs)
+        except ArmanimError as exc:
+            _report(exc)
+            raise typer.Exit(exc.exit_code) from None
+        except KeyboardInterrupt:
+            err.print("armanim: interrupted; nothing half-written was left behind", markup=False)
+            raise typer.Exit(EXIT_INTERRUPTED) from None
+
+    return wrapper
+
+
+def _version(value: bool) -> None:
+    if value:
+        out.print(f"armanim {__version__}", highlight=False)
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Show the version and exit.")
+    ] = False,
+) -> None:
+    """Batch animator for articulated arms."""
+
+
+# ---------------------------------------------------------------- parsing helpers
+
+
+def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
+    """``"0,30,45"`` -> array; a clear UsageError for anything else."""
+    parts = [p.strip() for p in text.replace(" ", ",").split(",") if p.strip()]
+    try:
+        values = np.array([float(p) for p in parts])
+    except ValueError:
+        bad = next(p for p in parts if not _is_number(p))
+        raise UsageError(f"{flag}: {bad!r} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)") from None
+    if not len(values) or not np.all(np.isfinite(values)):
+        raise UsageError(f"{flag}: expected finite comma-separated numbers (got {text!r})")
+    if count is not None and len(values) != count:
+        raise UsageError(f"{flag}: expected {count} numbers (got {len(values)}: {text!r})")
+    return values
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: str | None, direction: str | None):
+    """The Problem for ``fk``/``ik``: from ``--scene`` or from the arm flags (not both)."""
+    from armanim.kinematics import Arm, default_axes
+    from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+
+    if scene is not None:
+        flags = [f for f, v in (("--links", links), ("--base", base), ("--axes", axes), ("--direction", direction)) if v]
+        if flags:
+            raise UsageError(f"{', '.join(flags)} cannot be combined with --scene (the scene defines the arm)")
+        from armanim.scene import load_scene, scene_to_problem
+
+        return scene_to_problem(load_scene(scene).model), True
+    lengths = parse_numbers(links, "--links") if links else np.ones(4)
+    if np.any(lengths <= 0):
+        raise UsageError(f"--links: every length must be > 0 (got {links!r})")
+    n = len(lengths)
+    names = [a.strip().lower() for a in axes.split(",")] if axes else default_axes(n)
+    if len(names) != n or any(a not in ("x", "y", "z") for a in names):
+        raise UsageError(f"--axes: expected {n} of x, y, z separated by commas, one per link (got {axes!r})")
+    dir_name = (direction or "z").lower()
+    if dir_name not in ("x", "y", "z"):
+        raise UsageError(f"--direction: expected x, y or z (got {direction!r})")
+    arm = Arm.from_names(lengths, base=parse_numbers(base, "--base", 3) if base else (0, 0, 0), axes=names, direction=dir_name)
+    problem = Problem(
+        arm=arm,
+        half_width=0.25,
+        home=np.zeros(n),
+        limits=Limits.unlimited(n),
+        obstacles=Obstacles.none(),
+        goals=(Goal(np.zeros(3)),),
+        solver=SolverSettings(),
+    )
+    return problem, False
+
+
+SceneOpt = Annotated[Optional[Path], typer.Option("--scene", help="Take the arm (and its limits) from a scene file.")]
+LinksOpt = Annotated[Optional[str], typer.Option("--links", help="Link lengths, e.g. 2,5,5,5 (default: four unit links).")]
+BaseOpt = Annotated[Optional[str], typer.Option("--base", help="Base position x,y,z (default 0,0,0).")]
+AxesOpt = Annotated[Optional[str], typer.Option("--axes", help="Joint axes, e.g. z,y,y,y (default: z, then y).")]
+DirOpt = Annotated[Optional[str], typer.Option("--direction", help="Local axis the links extend along: x, y or z (default z).")]
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.6g}"
+
+
+# ---------------------------------------------------------------- fk
+
+
+@app.command()
+@handle_errors
+def fk(
+    angles: Annotated[str, typer.Option("--angles", help="Joint angles, comma-separated (degrees unless --radians). Negative first value: --angles=-30,10.")],
+    scene: SceneOpt = None,
+    links: LinksOpt = None,
+    base: BaseOpt = None,
+    axes: AxesOpt = None,
+    direction: DirOpt = None,
+    radians: Annotated[bool, typer.Option("--radians", help="Angles are in radians.")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON: angles_deg, joints (base to tip), tip.")] = False,
+    png: Annotated[Optional[Path], typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
+) -> None:
+    """Forward kinematics of one pose: joint positions and the tip.
+
+    Example: [bold]armanim fk --angles 0,30,45,10 --links 2,5,5,5 --base 5,5,0[/bold]
+    """
+    from armanim.kinematics import forward
+
+    problem, from_scene = arm_problem(scene, links, base, axes, direction)
+    values = parse_numbers(angles, "--angles", problem.arm.n)
+    phi = values if radians else np.radians(values)
+    pose = forward(problem.arm, phi)
+    if as_json:
+        data = {"angles_deg": np.degrees(phi).tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist()}
+        print(json.dumps(data))
+    else:
+        table = Table(title="Forward kinematics", title_justify="left")
+        for col in ("point", "angle (deg)", "x", "y", "z"):
+            table.add_column(col, justify="right" if col != "point" else "left")
+        for i, p in enumerate(pose.points):
+            label = f"joint {i + 1}" if i < problem.arm.n else "tip"
+            angle = _fmt(np.degrees(phi[i])) if i < problem.arm.n else ""
+            table.add_row(label, angle, *(_fmt(v) for v in p))
+        out.print(table)
+    for note in limit_notes(problem, phi) if from_scene else []:
+        err.print(f"note: {note}", markup=False, highlight=False)
+    if png is not None:
+        from armanim.render.draw import render_pose_png
+        from armanim.problem import RenderSettings
+
+        settings = RenderSettings()
+        if scene is not None:
+            from armanim.scene import load_scene, render_settings
+
+            settings = render_settings(load_scene(scene).model)
+        render_pose_png(problem, phi, settings, png, title="armanim fk")
+        if not as_json:
+            out.print(f"wrote {png}", highlight=False)
+
+
+def limit_notes(problem, phi) -> list[str]:
+    """One line per joint outside the scene's limits."""
+    lim = problem.limits
+    notes = []
+    for i in np.nonzero(lim.limited & ((phi < lim.lower) | (phi > lim.upper)))[0]:
+        notes.append(
+            f"joint {i + 1} at {np.degrees(phi[i]):.6g} deg is outside its limits "
+            f"[{np.degrees(lim.lower[i]):g}, {np.degrees(lim.upper[i]):g}]"
+        )
+    return notes
+
+
+# ---------------------------------------------------------------- ik
+
+
+@app.command()
+@handle_errors
+def ik(
+    goal: Annotated[str, typer.Option("--goal", help="Goal position x,y,z. Negative first value: --goal=-3,1,0.")],
+    scene: SceneOpt = None,
+    links: LinksOpt = None,
+    base: BaseOpt = None,
+    axes: AxesOpt = None,
+    direction: DirOpt = None,
+    method: Annotated[Optional[str], typer.Option("--method", help="pinv, dls, newton or gradient (default: the scene's, else pinv).")] = None,
+    start: Annotated[Optional[str], typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")] = None,
+    tolerance: Annotated[Optional[float], typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001).")] = None,
+    max_iterations: Annotated[int, typer.Option("--max-iterations", min=1, help="Give up after this many steps.")] = 2000,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Solve one pose to convergence: angles, tip, error and iteration counts.
+
+    Example: [bold]armanim ik --goal 3,1,0 --links 1,1,1,1 --axes z,z,z,z --direction x --method newton[/bold]
+    """
+    from armanim.ik import solve_pose
+    from armanim.solvers import METHODS
+
+    problem, from_scene = arm_problem(scene, links, base, axes, direction)
+    target = parse_numbers(goal, "--goal", 3)
+    settings = problem.solver
+    if method is not None:
+        if method not in METHODS:
+            raise UsageError(f"--method: {method!r} is not a method (expected one of {', '.join(METHODS)})")
+        settings = replace(settings, method=method)
+    if tolerance is not None:
+        if not tolerance > 0:
+            raise UsageError(f"--tolerance: must be > 0 (got {tolerance})")
+        settings = replace(settings, tolerance=tolerance)
+    elif not from_scene:
+        settings = replace(settings, tolerance=1e-3)
+    problem = replace(problem, solver=settings)
+    phi0 = np.radians(parse_numbers(start, "--from", problem.arm.n)) if start else problem.home
+    result = solve_pose(problem, target, phi0, max_iterations)
+    data = {
+        "method": settings.method,
+        "converged": result.converged,
+        "angles_deg": np.degrees(result.phi).tolist(),
+        "tip": result.tip.tolist(),
+        "error": result.distance,
+        "iterations": result.iterations,
+    }
+    if settings.method == "newton":
+        data["gd_iterations"] = data.pop("iterations")
+        data["newton_iterations"] = result.newton_iterations
+    if as_json:
+        print(json.dumps(data))
+        return
+    status = "[green]converged[/green]" if result.converged else "[red]not converged[/red]"
+    out.print(f"{settings.method}: {status}, error {result.distance:.3g} (tolerance {settings.tolerance:g})")
+    out.print("angles (deg): " + ", ".join(_fmt(v) for v in data["angles_deg"]), highlight=False)
+    out.print("tip: " + ", ".join(_fmt(v) for v in result.tip), highlight=False)
+    if settings.method == "newton":
+        out.print(f"iterations: gradient descent {result.iterations}, Newton {result.newton_iterations}", highlight=False)
+    else:
+        out.print(f"iterations: {result.iterations}", highlight=False)
+
+
+# ---------------------------------------------------------------- validate, schema
+
+
+@app.command()
+@handle_errors
+def validate(
+    scenes: Annotated[list[Path], typer.Argument(help="Scene files to check.", show_default=False)],
+) -> None:
+    """Check scene files: [green]ok[/green] or every problem, as FILE:LINE: field: message.
+
+    Example: [bold]armanim validate scenes/*.yaml[/bold]
+    """
+    from armanim.errors import SceneError
+    from armanim.scene import load_scene
+
+    failed = 0
+    for path in scenes:
+        try:
+            scene = load_scene(path)
+        except SceneError as exc:
+            failed += 1
+            _report(exc)
+            continue
+        m = scene.model
+        out.print(
+            f"ok {path} ({scene.name}: {len(m.arm.links)} links, {len(m.goals)} goals, "
+            f"{len(m.obstacles)} obstacles, method {m.solver.method})",
+            highlight=False,
+        )
+    if failed:
+        raise typer.Exit(EXIT_BAD_INPUT)
+
+
+@app.command()
+@handle_errors
+def schema(
+    output: Annotated[Optional[Path], typer.Option("--out", help="Write the schema to this file instead of stdout.")] = None,
+) -> None:
+    """Print the scene file's JSON Schema, for editors to complete and check scenes.
+
+    Example: [bold]armanim schema --out scene.schema.json[/bold], then start a scene with
+    [bold]# yaml-language-server: $schema=scene.schema.json[/bold]
+    """
+    from armanim.output.atomic import write_text_atomic
+    from armanim.scene.models import SceneModel
+
+    text = json.dumps(SceneModel.model_json_schema(), indent=2) + "\n"
+    if output is None:
+        sys.stdout.write(text)
+    else:
+        write_text_atomic(output, text)
+
+
+# ---------------------------------------------------------------- run
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``"640x360"`` -> (640, 360), each side in [16, 7680]."""
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise UsageError(f"--size: expected WIDTHxHEIGHT, e.g. 640x360 (got {text!r})") from None
+    if not (16 <= w <= 7680 and 16 <= h <= 7680):
+        raise UsageError(f"--size: each side must be in [16, 7680] (got {text!r})")
+    return w, h
+
+
+def render_overrides(size: str | None, fps: float | None, fmt: str | None) -> dict:
+    """RenderSettings fields given on the command line."""
+    overrides: dict = {}
+    if size:
+        overrides["size"] = parse_size(size)
+    if fps is not None:
+        if not 0 < fps <= 240:
+            raise UsageError(f"--fps: must be in (0, 240] (got {fps:g})")
+        overrides["fps"] = fps
+    if fmt:
+        if fmt not in ("mp4", "gif"):
+            raise UsageError(f"--format: expected mp4 or gif (got {fmt!r})")
+        overrides["format"] = fmt
+    return overrides
+
+
+class _Bars:
+    """A rich progress bar per stage, with frames per second and ETA."""
+
+    def __init__(self, enabled: bool):
+        self.enabled = enabled
+        self.progress = None
+        self.tasks: dict[str, int] = {}
+
+    def __enter__(self):
+        if self.enabled:
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+            self.progress = Progress(
+                TextColumn("{task.description}"),
+                BarColumn(),
+                MofNCompleteColumn(),
+                TextColumn("{task.speed:>6.0f} fps" if True else ""),
+                TimeRemainingColumn(),
+                console=err,
+                transient=True,
+            )
+            self.progress.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        if self.progress is not None:
+            self.progress.__exit__(*exc)
+
+    def __call__(self, stage: str, done: int, total: int) -> None:
+        if self.progress is None:
+            return
+        if stage not in self.tasks:
+            self.tasks[stage] = self.progress.add_task(f"{stage:>6}", total=total)
+        self.progress.update(self.tasks[stage], completed=done, total=max(total, done))
+
+
+@app.command()
+@handle_errors
+def run(
+    scenes: Annotated[list[Path], typer.Argument(help="Scene files to run.", show_default=False)],
+    out_root: Annotated[Path, typer.Option("--out", help="Outputs go to OUT/<scene name>/.")] = Path("outputs"),
+    no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")] = False,
+    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes for rendering (default: all cores).")] = None,
+    size: Annotated[Optional[str], typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
+    fps: Annotated[Optional[float], typer.Option("--fps", help="Override render.fps.")] = None,
+    fmt: Annotated[Optional[str], typer.Option("--format", help="Override render.format: mp4 or gif.")] = None,
+    strict: Annotated[bool, typer.Option("--strict", help="Exit 1 if any goal is missed.")] = False,
+) -> None:
+    """Animate scenes: solve every goal, write trajectory.csv, summary.json, the video and plot.png.
+
+    Example: [bold]armanim run scenes/notes-arm.yaml --out outputs[/bold]
+    """
+    from armanim.pipeline import run_scene
+
+    overrides = render_overrides(size, fps, fmt)
+    missed = 0
+    for path in scenes:
+        with _Bars(enabled=not quiet and err.is_terminal) as bars:
+            result = run_scene(path, out_root, video=not no_video, jobs=jobs, render_overrides=overrides, progress=bars)
+        missed += len(result.solution.goals) - result.solution.reached
+        if not quiet:
+            print_goal_table(result)
+    if strict and missed:
+        raise typer.Exit(EXIT_CHECK_FAILED)
+
+
+def print_goal_table(result) -> None:
+    """The per-goal table printed at the end of a run."""
+    from armanim.trajectory import MISS_REASONS
+
+    sol = result.solution
+    table = Table(title=f"{result.scene.name}: {sol.reached} of {len(sol.goals)} goals reached, {sol.trajectory.frames} frames", title_justify="left")
+    for col in ("goal", "position", "result", "frames", "distance"):
+        table.add_column(col, justify="right" if col in ("goal", "frames", "distance") else "left")
+    for g in sol.goals:
+        outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {MISS_REASONS[g.reason]}"
+        table.add_row(str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), f"{g.final_distance:.3g}")
+    out.print(table)
+    out.print("outputs: " + ", ".join(str(p) for p in result.files.values()), highlight=False)
+
+
+def main() -> None:
+    """Entry point of the ``armanim`` console script."""
+    app()
+
+
+if __name__ == "__main__":
+    main()

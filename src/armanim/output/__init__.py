@@ -1,0 +1,1 @@
+"""Writing and reading run outputs: atomic files, trajectory.csv, summary.json."""

@@ -1,0 +1,70 @@
+"""summary.json: per goal and totals, reproducible (no times, no absolute paths)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from armanim import __version__
+from armanim.output.atomic import write_text_atomic
+from armanim.problem import Problem
+from armanim.trajectory import MISS_REASONS, Solution, max_joint_step
+
+
+def _round(value: float) -> float | None:
+    return float(value) if np.isfinite(value) else None
+
+
+def min_limit_margin_deg(problem: Problem, phi: np.ndarray) -> float | None:
+    """Smallest distance (degrees) of any limited joint to its limits over all frames."""
+    limited = problem.limits.limited
+    if not limited.any():
+        return None
+    gaps = np.minimum(phi[:, limited] - problem.limits.lower[limited], problem.limits.upper[limited] - phi[:, limited])
+    return float(np.degrees(gaps.min()))
+
+
+def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str) -> dict:
+    """The summary as plain data (see docs/outputs in the README)."""
+    traj = solution.trajectory
+    goals = [
+        {
+            "index": g.index,
+            "position": [float(v) for v in g.position],
+            "reached": g.reached,
+            "reason": g.reason,
+            "reason_text": MISS_REASONS.get(g.reason) if g.reason else None,
+            "frames": g.frames,
+            "first_frame": g.first_frame,
+            "last_frame": g.last_frame,
+            "final_distance": float(g.final_distance),
+            "iterations": g.iterations,
+            "newton_iterations": g.newton_iterations,
+        }
+        for g in solution.goals
+    ]
+    return {
+        "armanim_version": __version__,
+        "scene": {"name": name, "file": scene_file, "sha256": sha256},
+        "method": problem.solver.method,
+        "fps": problem.fps,
+        "totals": {
+            "goals": len(goals),
+            "reached": solution.reached,
+            "missed": len(goals) - solution.reached,
+            "frames": traj.frames,
+            "duration_s": traj.frames / problem.fps,
+            "iterations": int(traj.iterations.sum()),
+        },
+        "min_clearance": _round(traj.clearance.min()) if traj.frames else None,
+        "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),
+        "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi))),
+        "goals": goals,
+    }
+
+
+def write_summary(summary: dict, path: Path) -> None:
+    """Write summary.json atomically (sorted keys stay in the order above; 2-space indent)."""
+    write_text_atomic(path, json.dumps(summary, indent=2) + "\n")

@@ -1,0 +1,122 @@
+"""Run a scene end to end: load, solve, write trajectory.csv and summary.json, render.
+
+A silent, importable API: progress is a callback, nothing is printed here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Callable
+
+from armanim.output.csvfile import write_trajectory_csv
+from armanim.output.summary import summary_dict, write_summary
+from armanim.problem import Problem, RenderSettings
+from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
+from armanim.trajectory import Solution, frame_budget, solve_trajectory
+
+Progress = Callable[[str, int, int], None]
+"""progress(stage, done, total): stage is "solve" or "render"."""
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What a run produced.
+
+    Attributes
+    ----------
+    scene : LoadedScene
+    problem : Problem
+    solution : Solution
+    folder : Path
+        The run's output folder.
+    files : dict[str, Path]
+        Written outputs by kind: ``trajectory``, ``summary``, ``video``, ``plot``.
+    summary : dict
+    """
+
+    scene: LoadedScene
+    problem: Problem
+    solution: Solution
+    folder: Path
+    files: dict[str, Path]
+    summary: dict
+
+
+def run_scene(
+    path: str | Path,
+    out_root: str | Path = "outputs",
+    *,
+    video: bool = True,
+    jobs: int | None = None,
+    render_overrides: dict | None = None,
+    progress: Progress | None = None,
+) -> RunResult:
+    """Solve a scene and write its outputs under ``out_root/<name>/``.
+
+    Parameters
+    ----------
+    path : scene file
+    out_root : folder that receives one folder per scene
+    video : render the video and plot.png (False: CSV and summary only)
+    jobs : worker processes for rendering (default: all cores)
+    render_overrides : RenderSettings fields to override (e.g. ``{"size": (320, 240)}``)
+    progress : optional callback ``progress(stage, done, total)``
+
+    Raises
+    ------
+    SceneError
+        The scene is invalid (nothing is written).
+    OutputError
+        An output could not be written (files already written stay complete).
+    """
+    scene = load_scene(path)
+    problem = scene_to_problem(scene.model)
+    settings = replace(render_settings(scene.model), **(render_overrides or {}))
+    if settings.fps != problem.fps:
+        problem = replace(problem, fps=settings.fps)
+    budget = frame_budget(problem)
+    solution = solve_trajectory(problem, (lambda done: progress("solve", done, budget)) if progress else None)
+    if progress:
+        progress("solve", solution.trajectory.frames, solution.trajectory.frames)
+
+    folder = Path(out_root) / scene.name
+    files = {"trajectory": folder / "trajectory.csv", "summary": folder / "summary.json"}
+    write_trajectory_csv(solution.trajectory, files["trajectory"])
+    summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)
+    write_summary(summary, files["summary"])
+    if video:
+        files.update(render_outputs(problem, solution, settings, folder, scene.name, jobs=jobs, progress=progress))
+    return RunResult(scene=scene, problem=problem, solution=solution, folder=folder, files=files, summary=summary)
+
+
+def render_outputs(
+    problem: Problem,
+    solution: Solution,
+    settings: RenderSettings,
+    folder: Path,
+    title: str,
+    *,
+    jobs: int | None = None,
+    progress: Progress | None = None,
+) -> dict[str, Path]:
+    """Render the video and plot.png of a solved run into ``folder``."""
+    from armanim.render.plot import plot_run
+    from armanim.render.video import render_video
+
+    traj = solution.trajectory
+    video_path = folder / f"animation.{settings.format}"
+    total = traj.frames
+    render_video(
+        problem,
+        traj,
+        solution.goals,
+        settings,
+        video_path,
+        title=title,
+        jobs=jobs,
+        progress=(lambda done: progress("render", done, total)) if progress else None,
+    )
+    plot_path = folder / "plot.png"
+    plot_run(problem, traj, solution.goals, plot_path, title=title)
+    return {"video": video_path, "plot": plot_path}

@@ -1,0 +1,91 @@
+"""Scene (validated, degrees) -> Problem (radians, numpy): the one place degrees become radians."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armanim.kinematics import Arm, default_axes
+from armanim.problem import Goal, Limits, Obstacles, Problem, RenderSettings, SolverSettings
+from armanim.scene.models import SceneModel
+
+
+def axis_names(scene: SceneModel) -> list[str]:
+    """The scene's joint axes, or the contract's default (z, then y)."""
+    return list(scene.arm.axes) if scene.arm.axes is not None else default_axes(len(scene.arm.links))
+
+
+def _limits(scene: SceneModel) -> Limits:
+    n = len(scene.arm.links)
+    pairs = scene.arm.limits if scene.arm.limits is not None else [None] * n
+    lower = np.array([np.radians(p[0]) if p is not None else -np.inf for p in pairs])
+    upper = np.array([np.radians(p[1]) if p is not None else np.inf for p in pairs])
+    return Limits(lower=lower, upper=upper, margin=float(np.radians(scene.arm.limit_margin)))
+
+
+def _obstacles(scene: SceneModel) -> Obstacles:
+    if not scene.obstacles:
+        return Obstacles.none()
+    return Obstacles(
+        centers=np.array([o.center for o in scene.obstacles], dtype=float),
+        radii=np.array([o.radius for o in scene.obstacles], dtype=float),
+        influence=np.array([o.influence if o.influence is not None else o.radius for o in scene.obstacles], dtype=float),
+    )
+
+
+def _solver(scene: SceneModel) -> SolverSettings:
+    s = scene.solver
+    return SolverSettings(
+        method=s.method,
+        step=s.step,
+        max_step=s.max_step if s.max_step is not None else np.inf,
+        tolerance=s.tolerance,
+        max_frames_per_goal=s.max_frames_per_goal,
+        jacobian=s.jacobian,
+        damping=s.damping,
+        max_joint_step=float(np.radians(s.max_joint_step)),
+        w_goal=s.weights.goal,
+        w_obstacles=s.weights.obstacles,
+        w_limits=s.weights.limits,
+        w_target=s.weights.target,
+        w_regularizer=s.weights.regularizer,
+    )
+
+
+def scene_to_problem(scene: SceneModel) -> Problem:
+    """Convert a validated scene to the solver's problem (radians, numpy arrays).
+
+    Parameters
+    ----------
+    scene : SceneModel
+
+    Returns
+    -------
+    Problem
+    """
+    arm = scene.arm
+    n = len(arm.links)
+    fps = scene.render.fps
+    return Problem(
+        arm=Arm.from_names(arm.links, base=arm.base, axes=axis_names(scene), direction=arm.direction),
+        half_width=arm.width / 2.0,
+        home=np.radians(np.array(arm.home if arm.home is not None else [0.0] * n, dtype=float)),
+        limits=_limits(scene),
+        obstacles=_obstacles(scene),
+        goals=tuple(Goal(np.array(g.position, dtype=float), int(round(g.hold * fps))) for g in scene.goals),
+        solver=_solver(scene),
+        fps=fps,
+    )
+
+
+def render_settings(scene: SceneModel) -> RenderSettings:
+    """The scene's render section as plain settings."""
+    r = scene.render
+    return RenderSettings(
+        fps=r.fps,
+        size=(int(r.size[0]), int(r.size[1])),
+        elevation=r.view.elevation,
+        azimuth=r.view.azimuth,
+        bounds=None if r.bounds == "auto" else np.array(r.bounds, dtype=float),
+        trail=r.trail,
+        format=r.format,
+    )

@@ -1,0 +1,204 @@
+"""Load a scene file: bytes -> YAML with lines -> pydantic models -> cross-field checks.
+
+Every problem is collected and raised together as one :class:`SceneError` whose lines
+read ``FILE:LINE: field.path: what is wrong (what is expected)``.
+"""
+
+from __future__ import annotations
+
+import difflib
+import hashlib
+from dataclasses import dataclass
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from armanim import __version__
+from armanim.errors import Diagnostic, SceneError
+from armanim.scene.checks import as_diagnostics, scene_problems
+from armanim.scene.models import SCENE_VERSION, SceneModel
+from armanim.scene.yamlread import MAX_FILE_BYTES, YamlDocument, join_path, read_yaml
+
+
+@dataclass(frozen=True)
+class LoadedScene:
+    """A validated scene and where it came from.
+
+    Attributes
+    ----------
+    model : SceneModel
+    path : Path
+    name : str
+        ``name`` from the file, else the file's stem.
+    sha256 : str
+        Hex digest of the file's bytes.
+    """
+
+    model: SceneModel
+    path: Path
+    name: str
+    sha256: str
+
+
+def read_scene_text(path: Path) -> tuple[str, bytes]:
+    """Read a scene file's bytes and decode them as UTF-8, with clear errors."""
+    file = str(path)
+    try:
+        if path.is_dir():
+            raise SceneError(file, [Diagnostic("", "is a folder (expected a scene .yaml file)")])
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise SceneError(file, [Diagnostic("", f"is {size:,} bytes (a scene may be at most {MAX_FILE_BYTES:,} bytes)")])
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise SceneError(file, [Diagnostic("", "no such file (check the path)")]) from None
+    except PermissionError:
+        raise SceneError(file, [Diagnostic("", "cannot be read: permission denied")]) from None
+    except OSError as exc:
+        raise SceneError(file, [Diagnostic("", f"cannot be read: {exc.strerror or exc}")]) from None
+    if b"\x00" in raw:
+        raise SceneError(file, [Diagnostic("", "is a binary file (expected a YAML text file)", raw[: raw.index(b'\x00')].count(b"\n") + 1)])
+    try:
+        return raw.decode("utf-8"), raw
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise SceneError(file, [Diagnostic("", f"byte 0x{raw[exc.start]:02x} is not UTF-8 (save the file as UTF-8)", line)]) from None
+
+
+def load_scene(path: str | Path) -> LoadedScene:
+    """Read and validate a scene file.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    LoadedScene
+
+    Raises
+    ------
+    SceneError
+        With every problem found, each with its field path and line.
+    """
+    path = Path(path)
+    text, raw = read_scene_text(path)
+    model = validate_scene_text(text, str(path))
+    return LoadedScene(model=model, path=path, name=model.name or path.stem, sha256=hashlib.sha256(raw).hexdigest())
+
+
+def validate_scene_text(text: str, file: str) -> SceneModel:
+    """Validate YAML text as a scene; ``file`` only names it in messages."""
+    doc = read_yaml(text, file)
+    problems = list(doc.problems)
+    if not isinstance(doc.data, dict):
+        kind = type(doc.data).__name__ if doc.data is not None else "null"
+        raise SceneError(file, problems + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)])
+    try:
+        model = SceneModel.model_validate(doc.data)
+    except ValidationError as exc:
+        raise SceneError(file, _by_line(problems + [_diagnostic(err, doc) for err in exc.errors()])) from None
+    problems += as_diagnostics(scene_problems(model), doc.line_of)
+    if problems:
+        raise SceneError(file, _by_line(problems))
+    return model
+
+
+def _by_line(problems: list[Diagnostic]) -> list[Diagnostic]:
+    return sorted(problems, key=lambda p: p.line or 0)
+
+
+def _path(loc: tuple) -> str:
+    path = ""
+    for part in loc:
+        if isinstance(part, str) and part.startswith(("function-", "list[", "literal[", "int", "float")) and path:
+            continue  # pydantic's union-branch labels, not scene fields
+        path = join_path(path, part)
+    return path
+
+
+def _diagnostic(err: dict, doc: YamlDocument) -> Diagnostic:
+    loc = tuple(err["loc"])
+    path = _path(loc)
+    return Diagnostic(path, _message(err, loc), doc.line_of(path))
+
+
+def _allowed_keys(loc: tuple) -> list[str]:
+    model = SceneModel
+    for part in loc[:-1]:
+        if isinstance(part, int):
+            continue
+        field = model.model_fields.get(part)
+        if field is None:
+            return []
+        annotation = field.annotation
+        candidates = [annotation, *getattr(annotation, "__args__", ())]
+        for c in candidates:
+            for inner in (c, *getattr(c, "__args__", ())):
+                if isinstance(inner, type) and hasattr(inner, "model_fields"):
+                    model = inner
+                    break
+            else:
+                continue
+            break
+    return list(model.model_fields)
+
+
+def _message(err: dict, loc: tuple) -> str:
+    kind = err["type"]
+    got = err.get("input")
+    ctx = err.get("ctx") or {}
+    if kind == "extra_forbidden":
+        key = loc[-1]
+        allowed = _allowed_keys(loc)
+        close = difflib.get_close_matches(str(key), allowed, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        return f"unknown key {key!r} ({hint}expected one of: {', '.join(allowed)})"
+    if kind == "missing":
+        return "is required but missing" + (" (add `version: 1`)" if loc == ("version",) else "")
+    if loc == ("version",) and isinstance(got, int) and not isinstance(got, bool) and got > SCENE_VERSION:
+        return f"version {got} is newer than this armanim {__version__} reads (it reads version {SCENE_VERSION}; upgrade armanim)"
+    if kind == "literal_error":
+        return f"{got!r} is not allowed (expected {ctx.get('expected')})"
+    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        sign = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<", "less_than_equal": "<="}[kind]
+        bound = next(iter(ctx.values()))
+        return f"must be {sign} {bound:g} (got {got!r})"
+    if kind in ("finite_number",):
+        return f"must be a finite number (got {got!r})"
+    if kind in ("too_short", "too_long"):
+        return f"has {ctx.get('actual_length')} items (expected {_length_expectation(ctx)})"
+    if kind in ("float_type", "int_type", "float_parsing", "int_from_float"):
+        return f"must be a number (got {_describe(got)})"
+    if kind in ("list_type",):
+        return f"must be a list (got {_describe(got)})"
+    if kind in ("model_type", "model_attributes_type", "dict_type"):
+        return f"must be a mapping of keys (got {_describe(got)})"
+    if kind == "string_type":
+        return f"must be a string (got {_describe(got)})"
+    if kind == "bool_type":
+        return f"must be true or false (got {_describe(got)})"
+    if kind == "string_pattern_mismatch":
+        return f"{got!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
+    return f"{err['msg'][0].lower()}{err['msg'][1:]} (got {_describe(got)})"
+
+
+def _length_expectation(ctx: dict) -> str:
+    lo, hi = ctx.get("min_length"), ctx.get("max_length")
+    if lo is not None and lo == hi:
+        return f"exactly {lo}"
+    if lo is not None and hi is not None:
+        return f"{lo} to {hi}"
+    return f"at least {lo}" if lo is not None else f"at most {hi}"
+
+
+def _describe(value) -> str:
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, str):
+        return repr(value if len(value) <= 40 else value[:37] + "...")
+    if isinstance(value, (list, dict)):
+        return f"a {type(value).__name__}"
+    return repr(value)

@@ -1,0 +1,155 @@
+"""pydantic v2 models of the scene file (contract version 1), degrees as written.
+
+Every field of ``scene-format.md`` with its default; unknown keys are errors
+(``extra="forbid"``) and models are frozen. Checks that involve several fields
+(lengths that must agree, the home pose clear of obstacles, ...) are in
+:mod:`armanim.scene.checks`, so that every problem is reported at once.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+SCENE_VERSION = 1
+
+LIMITS = {
+    "links": 64,
+    "goals": 1000,
+    "obstacles": 1000,
+    "max_frames_per_goal": 100_000,
+}
+
+Finite = Annotated[float, Field(allow_inf_nan=False, strict=False)]
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Angle = Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)]
+Vector3 = Annotated[list[Finite], Field(min_length=3, max_length=3)]
+AxisName = Literal["x", "y", "z"]
+
+
+class Strict(BaseModel):
+    """Base of every scene model: unknown keys rejected, instances frozen, no string-to-number coercion."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+
+class ArmModel(Strict):
+    """The ``arm`` section."""
+
+    base: Vector3 = Field(default=[0.0, 0.0, 0.0], description="World position of joint 1.")
+    links: Annotated[list[Positive], Field(min_length=1, max_length=LIMITS["links"])] = Field(
+        description="Link lengths; link i runs from joint i to joint i+1, the last ends at the tip."
+    )
+    axes: list[AxisName] | None = Field(
+        default=None, description="Each joint's rotation axis in its own frame; default z, then y."
+    )
+    direction: AxisName = Field(default="z", description="Local axis along which every link extends.")
+    home: list[Angle] | None = Field(default=None, description="Starting joint angles, degrees; default all 0.")
+    limits: list[Annotated[list[Angle], Field(min_length=2, max_length=2)] | None] | None = Field(
+        default=None, description="Per joint [min, max] in degrees, or null for an unlimited joint."
+    )
+    limit_margin: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
+        default=10.0, description="delta of the limit barrier, degrees."
+    )
+    width: Positive = Field(default=0.5, description="Drawn thickness of the links; collision radius width/2.")
+
+
+class ObstacleModel(Strict):
+    """One spherical obstacle."""
+
+    center: Vector3
+    radius: NonNegative = Field(description="Radius of the solid sphere no arm part may enter.")
+    influence: Positive | None = Field(
+        default=None, description="R: how far beyond the surface the avoidance field reaches; default = radius."
+    )
+
+
+class GoalModel(Strict):
+    """One goal; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``."""
+
+    position: Vector3
+    hold: Annotated[float, Field(ge=0, le=3600, allow_inf_nan=False)] = Field(
+        default=0.0, description="Seconds to stay after reaching it."
+    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_list(cls, value):
+        return {"position": value} if isinstance(value, list) else value
+
+
+class WeightsModel(Strict):
+    """Weights of the cost's terms (newton also takes target and regularizer)."""
+
+    goal: NonNegative = 1.0
+    obstacles: NonNegative = 1.0
+    limits: NonNegative = 1.0
+    target: Positive = 1e3
+    regularizer: NonNegative = 1.0
+
+
+class SolverModel(Strict):
+    """The ``solver`` section."""
+
+    method: Literal["pinv", "dls", "newton", "gradient"] = "pinv"
+    step: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = Field(
+        default=0.1, description="beta: the frame's task-space step is beta * (g - e)."
+    )
+    max_step: Positive | None = Field(default=None, description="Cap on the tip's travel per frame; default none.")
+    tolerance: Positive = Field(default=0.01, description="A goal is reached when |e - g| < tolerance.")
+    max_frames_per_goal: Annotated[int, Field(ge=1, le=LIMITS["max_frames_per_goal"])] = 600
+    jacobian: Literal["analytic", "numeric"] = "analytic"
+    damping: Positive = Field(default=0.05, description="lambda, for dls only.")
+    max_joint_step: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
+        default=10.0, description="No joint turns by more than this many degrees in one frame."
+    )
+    weights: WeightsModel = WeightsModel()
+
+
+class ViewModel(Strict):
+    """Camera angles, degrees."""
+
+    elevation: Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False)] = 25.0
+    azimuth: Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)] = -60.0
+
+
+Side = Annotated[int, Field(ge=16, le=7680)]
+
+
+class RenderModel(Strict):
+    """The ``render`` section."""
+
+    fps: Annotated[float, Field(gt=0, le=240, allow_inf_nan=False)] = 30.0
+    size: Annotated[list[Side], Field(min_length=2, max_length=2)] = Field(
+        default=[1280, 720], description="Pixels, width x height."
+    )
+    view: ViewModel = ViewModel()
+    bounds: Literal["auto"] | Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]], Field(min_length=3, max_length=3)] = Field(
+        default="auto", description="auto, or [[xmin, xmax], [ymin, ymax], [zmin, zmax]]."
+    )
+    trail: bool = True
+    format: Literal["mp4", "gif"] = "mp4"
+
+
+class SceneModel(Strict):
+    """A whole scene file (contract version 1)."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        frozen=True,
+        strict=True,
+        title="armanim scene",
+        json_schema_extra={"$schema": "https://json-schema.org/draft/2020-12/schema"},
+    )
+
+    version: Literal[1] = Field(description="Scene format version; this armanim reads version 1.")
+    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")] | None = Field(
+        default=None, description="Name of the run and its output folder; default: the file's stem."
+    )
+    arm: ArmModel
+    obstacles: Annotated[list[ObstacleModel], Field(max_length=LIMITS["obstacles"])] = []
+    goals: Annotated[list[GoalModel], Field(min_length=1, max_length=LIMITS["goals"])]
+    solver: SolverModel = SolverModel()
+    render: RenderModel = RenderModel()
