@@ -439,6 +439,73 @@ def print_goal_table(result) -> None:
     out.print("outputs: " + ", ".join(str(p) for p in result.files.values()), highlight=False)
 
 
+# ---------------------------------------------------------------- golden trajectories
+
+
+AtolDeg = Annotated[float, typer.Option("--atol-deg", min=0, help="Tolerance on joint angles, degrees.")]
+Atol = Annotated[float, typer.Option("--atol", min=0, help="Tolerance on positions, distances, clearances (scene units).")]
+
+
+@app.command()
+@handle_errors
+def compare(
+    expected: Annotated[Path, typer.Argument(help="The expected trajectory.csv (e.g. a golden file).", show_default=False)],
+    actual: Annotated[Path, typer.Argument(help="The trajectory.csv to check.", show_default=False)],
+    atol_deg: AtolDeg = 1e-6,
+    atol: Atol = 1e-6,
+) -> None:
+    """Compare two trajectories: exit 0 if they agree, 1 if they differ, 2 on bad input.
+
+    Example: [bold]armanim compare tests/golden/notes-arm.csv outputs/notes-arm/trajectory.csv[/bold]
+    """
+    from armanim.output.compare import compare_trajectories
+    from armanim.output.csvfile import read_trajectory_csv
+
+    result = compare_trajectories(read_trajectory_csv(expected), read_trajectory_csv(actual), atol_deg=atol_deg, atol=atol)
+    out.print(result.report, markup=False, highlight=False, soft_wrap=True)
+    if not result.equal:
+        raise typer.Exit(EXIT_CHECK_FAILED)
+
+
+@app.command()
+@handle_errors
+def check(
+    scenes: Annotated[list[Path], typer.Argument(help="Scene files to run and check.", show_default=False)],
+    golden: Annotated[Path, typer.Option("--golden", help="Folder of golden files <name>.csv (+ <name>.json).")],
+    update: Annotated[bool, typer.Option("--update", help="(Re)write the golden files instead of checking.")] = False,
+    atol_deg: AtolDeg = 1e-6,
+    atol: Atol = 1e-6,
+) -> None:
+    """Run scenes without video and compare each with its golden trajectory; exit 1 on any difference.
+
+    Example: [bold]armanim check scenes/*.yaml --golden tests/golden[/bold]
+    (after a deliberate change: [bold]armanim check scenes/*.yaml --golden tests/golden --update[/bold])
+    """
+    from armanim.golden import check_scene, update_golden
+
+    table = Table(title=f"golden trajectories in {golden}", title_justify="left")
+    for col in ("scene", "golden file", "result"):
+        table.add_column(col)
+    failed = False
+    reports = []
+    for path in scenes:
+        if update:
+            result = update_golden(path, golden)
+            style = {"new": "cyan", "changed": "yellow", "unchanged": "green"}[result.status]
+        else:
+            result = check_scene(path, golden, atol_deg=atol_deg, atol=atol)
+            style = "green" if result.status == "pass" else "red"
+            if result.status != "pass":
+                failed = True
+                reports.append(f"{result.scene.name}: {result.report}")
+        table.add_row(result.scene.name, str(result.golden), f"[{style}]{result.status}[/{style}]")
+    out.print(table)
+    for report in reports:
+        out.print(report, markup=False, highlight=False, soft_wrap=True)
+    if failed:
+        raise typer.Exit(EXIT_CHECK_FAILED)
+
+
 def main() -> None:
     """Entry point of the ``armanim`` console script."""
     app()

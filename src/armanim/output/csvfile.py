@@ -99,12 +99,22 @@ def read_trajectory_csv(path: Path) -> TrajectoryTable:
     """
     file = str(path)
     try:
+        if Path(path).is_dir():
+            raise SceneError(file, [Diagnostic("", "is a folder (expected a trajectory.csv file)")])
         text = Path(path).read_text(encoding="utf-8")
     except FileNotFoundError:
         raise SceneError(file, [Diagnostic("", "no such file (expected a trajectory.csv written by armanim run)")]) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise SceneError(file, [Diagnostic("", f"cannot be read as a text CSV: {exc}")]) from None
-    rows = list(csv.reader(io.StringIO(text)))
+    return parse_trajectory_csv(text, file)
+
+
+def parse_trajectory_csv(text: str, file: str) -> TrajectoryTable:
+    """Parse trajectory.csv text; ``file`` only names it in messages."""
+    try:
+        rows = list(csv.reader(io.StringIO(text)))
+    except csv.Error as exc:
+        raise SceneError(file, [Diagnostic("", f"is not a CSV file: {exc}")]) from None
     if not rows or rows[0][:3] != list(BASE_COLUMNS) or not any(c.startswith("phi") for c in rows[0]):
         raise SceneError(file, [Diagnostic("", "is not an armanim trajectory (expected a header starting frame,time_s,goal,phi1_deg,...)", 1)])
     columns = tuple(rows[0])

@@ -1,0 +1,90 @@
+"""Golden trajectories: run a scene without video and compare it with a stored CSV.
+
+A golden file ``DIR/<name>.csv`` has beside it ``DIR/<name>.json`` with the armanim
+version and the scene's sha256 at the time it was written, so a failure can say
+that the scene itself changed.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from armanim import __version__
+from armanim.output.atomic import write_text_atomic
+from armanim.output.compare import Comparison, compare_trajectories
+from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
+from armanim.scene import LoadedScene, load_scene, scene_to_problem
+from armanim.trajectory import solve_trajectory
+
+
+@dataclass(frozen=True)
+class GoldenResult:
+    """Outcome of checking one scene against its golden file.
+
+    Attributes
+    ----------
+    scene : LoadedScene
+    golden : Path
+    status : str
+        ``pass``, ``fail``, ``missing`` (no golden file), or after ``update``:
+        ``new``, ``changed``, ``unchanged``.
+    report : str
+    scene_changed : bool
+        The scene's sha256 differs from the one recorded with the golden file.
+    """
+
+    scene: LoadedScene
+    golden: Path
+    status: str
+    report: str
+    scene_changed: bool = False
+
+
+def solve_csv_text(scene: LoadedScene) -> str:
+    """The trajectory.csv text a run of ``scene`` writes (no files, no video)."""
+    return trajectory_csv_text(solve_trajectory(scene_to_problem(scene.model)).trajectory)
+
+
+def golden_paths(golden_dir: Path, name: str) -> tuple[Path, Path]:
+    """(``DIR/<name>.csv``, ``DIR/<name>.json``)."""
+    return golden_dir / f"{name}.csv", golden_dir / f"{name}.json"
+
+
+def _recorded_sha(meta_path: Path) -> str | None:
+    try:
+        return json.loads(meta_path.read_text(encoding="utf-8")).get("scene_sha256")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> GoldenResult:
+    """Run a scene and compare its trajectory with its golden file."""
+    scene = load_scene(scene_path)
+    csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
+    if not csv_path.exists():
+        return GoldenResult(scene, csv_path, "missing", f"no golden file {csv_path} (create it with --update)")
+    expected = read_trajectory_csv(csv_path)
+    actual = parse_trajectory_csv(solve_csv_text(scene), f"{scene.path} (this run)")
+    result: Comparison = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"))
+    recorded = _recorded_sha(meta_path)
+    changed = recorded is not None and recorded != scene.sha256
+    report = result.report
+    if changed and not result.equal:
+        report += f"\nnote: {scene.path.name} changed since the golden file was written (sha256 {recorded[:12]}... then, {scene.sha256[:12]}... now)"
+    return GoldenResult(scene, csv_path, "pass" if result.equal else "fail", report, changed)
+
+
+def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
+    """(Re)write a scene's golden CSV and metadata; status says new, changed or unchanged."""
+    scene = load_scene(scene_path)
+    csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
+    text = solve_csv_text(scene)
+    old = csv_path.read_text(encoding="utf-8") if csv_path.exists() else None
+    status = "new" if old is None else ("unchanged" if old == text else "changed")
+    if status != "unchanged":
+        write_text_atomic(csv_path, text)
+    meta = {"armanim_version": __version__, "scene_file": scene.path.name, "scene_sha256": scene.sha256}
+    write_text_atomic(meta_path, json.dumps(meta, indent=2) + "\n")
+    return GoldenResult(scene, csv_path, status, f"{status}: {csv_path}")

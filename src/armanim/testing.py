@@ -1,0 +1,38 @@
+"""Helpers for users' own pytest suites.
+
+>>> from armanim.testing import assert_trajectory_matches  # doctest: +SKIP
+>>> assert_trajectory_matches("scenes/arm.yaml", "tests/golden/arm.csv")  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from armanim.golden import solve_csv_text
+from armanim.output.compare import compare_trajectories
+from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv
+from armanim.scene import load_scene
+
+
+def assert_trajectory_matches(scene: str | Path, golden: str | Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> None:
+    """Run ``scene`` (no video) and assert its trajectory matches the ``golden`` CSV.
+
+    Parameters
+    ----------
+    scene : path of the scene file
+    golden : path of the expected trajectory.csv
+    atol_deg : tolerance on joint angles, degrees
+    atol : tolerance on positions, distances and clearances, scene units
+
+    Raises
+    ------
+    AssertionError
+        With the same report as ``armanim compare``: the first differing frame and
+        column, the largest deviation per column, a frame-count mismatch.
+    """
+    loaded = load_scene(scene)
+    expected = read_trajectory_csv(Path(golden))
+    actual = parse_trajectory_csv(solve_csv_text(loaded), f"{scene} (this run)")
+    result = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"))
+    if not result.equal:
+        raise AssertionError(f"{scene} does not match {golden}:\n{result.report}")
