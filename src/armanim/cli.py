@@ -393,6 +393,12 @@ class _Bars:
         self.progress.update(self.tasks[stage], completed=done, total=max(total, done))
 
 
+SchedulerOpt = Annotated[
+    Optional[str],
+    typer.Option("--scheduler", envvar="ARMANIM_SCHEDULER", help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.[dask]').", show_envvar=True),
+]
+
+
 @app.command()
 @handle_errors
 def run(
@@ -400,7 +406,8 @@ def run(
     out_root: Annotated[Path, typer.Option("--out", help="Outputs go to OUT/<scene name>/.")] = Path("outputs"),
     no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")] = False,
-    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes for rendering (default: all cores).")] = None,
+    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
+    scheduler: SchedulerOpt = None,
     size: Annotated[Optional[str], typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
     fps: Annotated[Optional[float], typer.Option("--fps", help="Override render.fps.")] = None,
     fmt: Annotated[Optional[str], typer.Option("--format", help="Override render.format: mp4 or gif.")] = None,
@@ -408,20 +415,106 @@ def run(
 ) -> None:
     """Animate scenes: solve every goal, write trajectory.csv, summary.json, the video and plot.png.
 
-    Example: [bold]armanim run scenes/notes-arm.yaml --out outputs[/bold]
-    """
-    from armanim.pipeline import run_scene
+    Several scenes run in parallel and also write OUT/index.csv; a bad scene is reported and
+    the others finish (exit 2 if any scene was invalid, 3 if any failed while writing).
 
+    Example: [bold]armanim run scenes/notes-arm.yaml[/bold]   [bold]armanim run scenes/*.yaml --jobs 2 --no-video[/bold]
+    """
     overrides = render_overrides(size, fps, fmt)
-    missed = 0
-    for path in scenes:
+    if len(scenes) == 1 and not scheduler:
+        from armanim.pipeline import run_scene
+
         with _Bars(enabled=not quiet and err.is_terminal) as bars:
-            result = run_scene(path, out_root, video=not no_video, jobs=jobs, render_overrides=overrides, progress=bars)
-        missed += len(result.solution.goals) - result.solution.reached
+            result = run_scene(scenes[0], out_root, video=not no_video, jobs=jobs, render_overrides=overrides, progress=bars)
         if not quiet:
             print_goal_table(result)
-    if strict and missed:
-        raise typer.Exit(EXIT_CHECK_FAILED)
+        if strict and result.solution.reached < len(result.solution.goals):
+            raise typer.Exit(EXIT_CHECK_FAILED)
+        return
+    from armanim.batch import run_batch
+
+    with _Bars(enabled=not quiet and err.is_terminal) as bars:
+        entries = run_batch(
+            scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, render_overrides=overrides,
+            progress=lambda done, total: bars("scenes", done, total),
+        )
+    if not quiet:
+        print_batch_table(entries, out_root / "index.csv")
+    raise typer.Exit(batch_exit_code(entries, strict))
+
+
+def batch_exit_code(entries, strict: bool) -> int:
+    """3 if a scene failed while writing, 2 if one was invalid, 1 if --strict and a goal was missed, else 0."""
+    from armanim.errors import EXIT_OUTPUT_FAILED
+
+    statuses = {e.status for e in entries}
+    if "failed" in statuses:
+        return EXIT_OUTPUT_FAILED
+    if "invalid" in statuses:
+        return EXIT_BAD_INPUT
+    if strict and any(e.missed for e in entries):
+        return EXIT_CHECK_FAILED
+    return 0
+
+
+def print_batch_table(entries, index_path: Path) -> None:
+    """One line per scene of a batch, then every problem in full."""
+    table = Table(title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok", title_justify="left")
+    for col in ("scene", "status", "reached", "missed", "frames", "min clearance", "folder"):
+        table.add_column(col, justify="right" if col in ("reached", "missed", "frames", "min clearance") else "left")
+    for e in entries:
+        style = {"ok": "green", "invalid": "red", "failed": "red"}[e.status]
+        clearance = "" if e.min_clearance is None else f"{e.min_clearance:.3g}"
+        table.add_row(e.name, f"[{style}]{e.status}[/{style}]", str(e.reached), str(e.missed), str(e.frames), clearance, e.folder)
+    out.print(table)
+    for e in entries:
+        if e.message:
+            err.print(e.message, markup=False, highlight=False, soft_wrap=True)
+    out.print(f"index: {index_path}", highlight=False)
+
+
+@app.command()
+@handle_errors
+def sweep(
+    scene: Annotated[Path, typer.Argument(help="The scene to vary.", show_default=False)],
+    settings: Annotated[list[str], typer.Option("--set", help="FIELD.PATH=V1,V2,... (repeatable); the product of all values is run.", show_default=False)],
+    out_root: Annotated[Path, typer.Option("--out", help="Variants go to OUT/<variant name>/, the table to OUT/<scene>-sweep.csv.")] = Path("outputs"),
+    video: Annotated[bool, typer.Option("--video/--no-video", help="Render each variant's video (off by default: sweeps compare numbers).")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")] = False,
+    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")] = None,
+    scheduler: SchedulerOpt = None,
+) -> None:
+    """Run a scene under every combination of settings and compare the results.
+
+    Example: [bold]armanim sweep scenes/notes-arm.yaml --set solver.step=0.05,0.1,0.2 --set solver.method=pinv,dls[/bold]
+    """
+    from armanim.batch import index_csv_text, run_tasks
+    from armanim.output.atomic import write_text_atomic
+    from armanim.sweep import comparison_rows, parse_setting, table_csv_text, variants
+
+    parsed = [parse_setting(text) for text in settings]
+    items = variants(scene, parsed)
+    tasks = [v.task for v in items if v.task is not None]
+    with _Bars(enabled=not quiet and err.is_terminal) as bars:
+        done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=lambda d, t: bars("variants", d, t))
+    by_name = {e.name: e for e in done}
+    entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
+    header, rows = comparison_rows(parsed, items, entries)
+    table_path = out_root / f"{scene.stem}-sweep.csv"
+    write_text_atomic(table_path, table_csv_text(header, rows))
+    write_text_atomic(out_root / "index.csv", index_csv_text(entries))
+    if not quiet:
+        table = Table(title=f"sweep of {scene.name}: {len(items)} variants", title_justify="left")
+        for col in header:
+            table.add_column(col)
+        for row in rows:
+            table.add_row(*(str(v) for v in row))
+        out.print(table)
+        for e in entries:
+            if e.message:
+                err.print(e.message, markup=False, highlight=False, soft_wrap=True)
+        out.print(f"table: {table_path}", highlight=False)
+    raise typer.Exit(batch_exit_code(entries, strict=False))
 
 
 def print_goal_table(result) -> None:
@@ -506,8 +599,15 @@ def check(
         raise typer.Exit(EXIT_CHECK_FAILED)
 
 
+def _terminate(signum, frame):
+    raise KeyboardInterrupt  # SIGTERM takes the same clean-up path as Ctrl-C
+
+
 def main() -> None:
     """Entry point of the ``armanim`` console script."""
+    import signal
+
+    signal.signal(signal.SIGTERM, _terminate)
     app()
 
 

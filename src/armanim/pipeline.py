@@ -9,7 +9,10 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
+from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
+from armanim.output.reload import SCENE_COPY
+from armanim.output.rundir import staged_folder
 from armanim.output.summary import summary_dict, write_summary
 from armanim.problem import Problem, RenderSettings
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
@@ -31,7 +34,7 @@ class RunResult:
     folder : Path
         The run's output folder.
     files : dict[str, Path]
-        Written outputs by kind: ``trajectory``, ``summary``, ``video``, ``plot``.
+        Written outputs by kind: ``scene``, ``trajectory``, ``summary``, ``video``, ``plot``.
     summary : dict
     """
 
@@ -54,6 +57,10 @@ def run_scene(
 ) -> RunResult:
     """Solve a scene and write its outputs under ``out_root/<name>/``.
 
+    The folder is replaced whole when every output is complete (see
+    :mod:`armanim.output.rundir`); it also keeps a copy of the scene as ``scene.yaml``
+    so that ``armanim render`` can redraw the run later.
+
     Parameters
     ----------
     path : scene file
@@ -68,9 +75,40 @@ def run_scene(
     SceneError
         The scene is invalid (nothing is written).
     OutputError
-        An output could not be written (files already written stay complete).
+        An output could not be written (the previous outputs stay as they were).
     """
     scene = load_scene(path)
+    folder = Path(out_root) / scene.name
+    with staged_folder(folder) as staged:
+        produced = produce_outputs(scene, staged, video=video, jobs=jobs, render_overrides=render_overrides, progress=progress)
+    files = {kind: folder / name for kind, name in produced.names.items()}
+    return RunResult(scene, produced.problem, produced.solution, folder, files, produced.summary)
+
+
+@dataclass(frozen=True)
+class Produced:
+    """What :func:`produce_outputs` made: the solved run and its file names by kind."""
+
+    problem: Problem
+    solution: Solution
+    summary: dict
+    names: dict[str, str]
+
+
+def produce_outputs(
+    scene: LoadedScene,
+    folder: Path,
+    *,
+    video: bool = True,
+    jobs: int | None = None,
+    render_overrides: dict | None = None,
+    progress: Progress | None = None,
+) -> Produced:
+    """Solve a validated scene and write every output into ``folder`` (which must exist).
+
+    The one place a run is produced: used by :func:`run_scene` (into its staged
+    folder) and by batch workers (into a temporary folder whose files travel back).
+    """
     problem = scene_to_problem(scene.model)
     settings = replace(render_settings(scene.model), **(render_overrides or {}))
     if settings.fps != problem.fps:
@@ -79,15 +117,15 @@ def run_scene(
     solution = solve_trajectory(problem, (lambda done: progress("solve", done, budget)) if progress else None)
     if progress:
         progress("solve", solution.trajectory.frames, solution.trajectory.frames)
-
-    folder = Path(out_root) / scene.name
-    files = {"trajectory": folder / "trajectory.csv", "summary": folder / "summary.json"}
-    write_trajectory_csv(solution.trajectory, files["trajectory"])
     summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)
-    write_summary(summary, files["summary"])
+    names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
+    write_bytes_atomic(folder / SCENE_COPY, scene.raw)
+    write_trajectory_csv(solution.trajectory, folder / names["trajectory"])
+    write_summary(summary, folder / names["summary"])
     if video:
-        files.update(render_outputs(problem, solution, settings, folder, scene.name, jobs=jobs, progress=progress))
-    return RunResult(scene=scene, problem=problem, solution=solution, folder=folder, files=files, summary=summary)
+        rendered = render_outputs(problem, solution, settings, folder, scene.name, jobs=jobs, progress=progress)
+        names.update({kind: path.name for kind, path in rendered.items()})
+    return Produced(problem, solution, summary, names)
 
 
 def render_outputs(

@@ -15,10 +15,19 @@ from typing import Iterator
 from armanim.errors import OutputError
 
 
+def current_umask() -> int:
+    """The process's umask (read without changing it for long)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def output_error(path: Path, exc: OSError) -> OutputError:
     """A clear OutputError for an OSError met while writing ``path``."""
     if exc.errno == errno.ENOSPC:
         return OutputError(f"{path}: the disk is full (free some space and run again)")
+    if exc.errno in (errno.EEXIST, errno.ENOTDIR):
+        return OutputError(f"{path}: a file stands where a folder is needed (choose another folder with --out)")
     if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
         return OutputError(f"{path}: cannot write here: permission denied (choose another folder with --out)")
     return OutputError(f"{path}: cannot write: {exc.strerror or exc}")
@@ -34,6 +43,7 @@ def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix + ".tmp", dir=path.parent)
+        os.fchmod(fd, 0o666 & ~current_umask())  # mkstemp makes 0600; outputs get the usual mode
         os.close(fd)
     except OSError as exc:
         raise output_error(path, exc) from None
@@ -49,10 +59,15 @@ def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
         raise
 
 
-def write_text_atomic(path: Path, text: str) -> None:
-    """Write UTF-8 text (LF line ends) to ``path`` atomically."""
+def write_bytes_atomic(path: Path, data: bytes) -> None:
+    """Write bytes to ``path`` atomically (flushed to disk before the rename)."""
     with temporary_beside(path) as tmp:
-        with open(tmp, "w", encoding="utf-8", newline="\n") as handle:
-            handle.write(text)
+        with open(tmp, "wb") as handle:
+            handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    """Write UTF-8 text to ``path`` atomically (no newline translation)."""
+    write_bytes_atomic(path, text.encode("utf-8"))

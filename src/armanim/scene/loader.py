@@ -32,16 +32,19 @@ class LoadedScene:
         ``name`` from the file, else the file's stem.
     sha256 : str
         Hex digest of the file's bytes.
+    raw : bytes
+        The file's bytes (copied into the run's output folder).
     """
 
     model: SceneModel
     path: Path
     name: str
     sha256: str
+    raw: bytes
 
 
-def read_scene_text(path: Path) -> tuple[str, bytes]:
-    """Read a scene file's bytes and decode them as UTF-8, with clear errors."""
+def read_scene_bytes(path: Path) -> bytes:
+    """Read a scene file's bytes, with clear errors for missing, unreadable or huge files."""
     file = str(path)
     try:
         if path.is_dir():
@@ -49,17 +52,22 @@ def read_scene_text(path: Path) -> tuple[str, bytes]:
         size = path.stat().st_size
         if size > MAX_FILE_BYTES:
             raise SceneError(file, [Diagnostic("", f"is {size:,} bytes (a scene may be at most {MAX_FILE_BYTES:,} bytes)")])
-        raw = path.read_bytes()
+        return path.read_bytes()
     except FileNotFoundError:
         raise SceneError(file, [Diagnostic("", "no such file (check the path)")]) from None
     except PermissionError:
         raise SceneError(file, [Diagnostic("", "cannot be read: permission denied")]) from None
     except OSError as exc:
         raise SceneError(file, [Diagnostic("", f"cannot be read: {exc.strerror or exc}")]) from None
+
+
+def decode_scene(raw: bytes, file: str) -> str:
+    """UTF-8 text of a scene's bytes; binary or non-UTF-8 bytes are errors with their line."""
     if b"\x00" in raw:
-        raise SceneError(file, [Diagnostic("", "is a binary file (expected a YAML text file)", raw[: raw.index(b'\x00')].count(b"\n") + 1)])
+        line = raw[: raw.index(b"\x00")].count(b"\n") + 1
+        raise SceneError(file, [Diagnostic("", "is a binary file (expected a YAML text file)", line)])
     try:
-        return raw.decode("utf-8"), raw
+        return raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
         raise SceneError(file, [Diagnostic("", f"byte 0x{raw[exc.start]:02x} is not UTF-8 (save the file as UTF-8)", line)]) from None
@@ -82,15 +90,25 @@ def load_scene(path: str | Path) -> LoadedScene:
         With every problem found, each with its field path and line.
     """
     path = Path(path)
-    text, raw = read_scene_text(path)
-    model = validate_scene_text(text, str(path))
-    return LoadedScene(model=model, path=path, name=model.name or path.stem, sha256=hashlib.sha256(raw).hexdigest())
+    return scene_from_bytes(read_scene_bytes(path), path)
+
+
+def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None) -> LoadedScene:
+    """Validate a scene given as bytes (e.g. sent to a worker); ``path`` names it.
+
+    ``name`` overrides the scene's own name (sweep variants are named after their settings).
+    """
+    path = Path(path)
+    model = validate_scene_text(decode_scene(raw, str(path)), str(path))
+    return LoadedScene(model=model, path=path, name=name or model.name or path.stem, sha256=hashlib.sha256(raw).hexdigest(), raw=raw)
 
 
 def validate_scene_text(text: str, file: str) -> SceneModel:
     """Validate YAML text as a scene; ``file`` only names it in messages."""
     doc = read_yaml(text, file)
     problems = list(doc.problems)
+    if doc.data is None and problems:
+        raise SceneError(file, problems)
     if not isinstance(doc.data, dict):
         kind = type(doc.data).__name__ if doc.data is not None else "null"
         raise SceneError(file, problems + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)])

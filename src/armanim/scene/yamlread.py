@@ -64,7 +64,8 @@ class _Builder:
             raise SceneError(self.file, [Diagnostic(path, f"nesting deeper than {MAX_DEPTH} levels (expected a flat scene as in docs/scene-format.md)", node.start_mark.line + 1)])
         self.lines.setdefault(path, node.start_mark.line + 1)
         if node.tag not in _STANDARD_TAGS:
-            self.problems.append(Diagnostic(path, f"unsupported YAML tag {node.tag!r} (expected plain values: numbers, strings, lists, mappings)", node.start_mark.line + 1))
+            tag = node.tag.replace("tag:yaml.org,2002:", "!!")
+            self.problems.append(Diagnostic(path, f"unsupported YAML tag {tag!r}, not executed (expected plain values: numbers, strings, lists, mappings)", node.start_mark.line + 1))
             return None
         if isinstance(node, yaml.MappingNode):
             return self._mapping(node, path, depth)

@@ -1,0 +1,268 @@
+"""Many scenes at once, on all local cores or on a Dask cluster, with the same results.
+
+Scenes are validated on the client first (a bad scene is reported, never sent). Each
+valid scene travels as its bytes to a worker, which produces its outputs in a
+temporary folder and sends the files back; the client writes them atomically under
+``ROOT/<name>/`` (workers need no shared filesystem). A scene that fails on a worker
+is reported and the others finish. ``ROOT/index.csv`` lists every scene.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+import tempfile
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterable
+
+from armanim.errors import ArmanimError, SceneError, UsageError
+from armanim.output.atomic import write_bytes_atomic, write_text_atomic
+from armanim.output.rundir import staged_folder
+from armanim.scene import LoadedScene, load_scene, scene_from_bytes
+
+INDEX_COLUMNS = ("name", "status", "scene_file", "goals", "reached", "missed", "frames", "min_clearance", "folder", "message")
+
+
+@dataclass(frozen=True)
+class SceneTask:
+    """A validated scene as it travels to a worker: its bytes, its path (for messages) and name."""
+
+    raw: bytes
+    path: str
+    name: str
+
+    @classmethod
+    def from_scene(cls, scene: LoadedScene) -> "SceneTask":
+        """The task for a loaded scene."""
+        return cls(scene.raw, str(scene.path), scene.name)
+
+
+@dataclass(frozen=True)
+class RemoteRun:
+    """What a worker sends back: every output file's bytes and the summary."""
+
+    name: str
+    files: dict[str, bytes]
+    summary: dict
+
+
+@dataclass(frozen=True)
+class BatchEntry:
+    """One row of ``index.csv``.
+
+    ``status`` is ``ok``, ``invalid`` (the scene was rejected: exit 2) or ``failed``
+    (producing its outputs failed: exit 3).
+    """
+
+    name: str
+    status: str
+    scene_file: str
+    goals: int = 0
+    reached: int = 0
+    missed: int = 0
+    frames: int = 0
+    min_clearance: float | None = None
+    folder: str = ""
+    message: str = ""
+    summary: dict | None = None
+
+
+def run_task(task: SceneTask, video: bool, render_overrides: dict | None) -> RemoteRun:
+    """Worker side: produce a scene's outputs in a temporary folder and return their bytes."""
+    from armanim.pipeline import produce_outputs
+
+    scene = scene_from_bytes(task.raw, task.path, task.name)
+    with tempfile.TemporaryDirectory(prefix="armanim-") as tmp:
+        produced = produce_outputs(scene, Path(tmp), video=video, jobs=1, render_overrides=render_overrides)
+        files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
+    return RemoteRun(task.name, files, produced.summary)
+
+
+def write_remote_run(run: RemoteRun, out_root: Path) -> Path:
+    """Client side: write a worker's files into ``out_root/<name>/``, replaced whole."""
+    folder = Path(out_root) / run.name
+    with staged_folder(folder) as staged:
+        for name, data in run.files.items():
+            write_bytes_atomic(staged / name, data)
+    return folder
+
+
+def load_tasks(paths: Iterable[Path]) -> tuple[list[SceneTask], list[BatchEntry]]:
+    """Validate scene files on the client: tasks for the valid ones, entries for the rest."""
+    tasks, rejected, names = [], [], set()
+    for path in paths:
+        try:
+            scene = load_scene(path)
+        except SceneError as exc:
+            rejected.append(BatchEntry(Path(path).stem, "invalid", str(path), message=exc.report()))
+            continue
+        if scene.name in names:
+            rejected.append(BatchEntry(scene.name, "invalid", str(path), message=f"{path}: another scene in this batch is also named {scene.name!r} (names must differ: set name:)"))
+            continue
+        names.add(scene.name)
+        tasks.append(SceneTask.from_scene(scene))
+    return tasks, rejected
+
+
+def _entry(task: SceneTask, run: RemoteRun, folder: Path) -> BatchEntry:
+    s = run.summary
+    totals = s["totals"]
+    return BatchEntry(
+        name=task.name,
+        status="ok",
+        scene_file=task.path,
+        goals=totals["goals"],
+        reached=totals["reached"],
+        missed=totals["missed"],
+        frames=totals["frames"],
+        min_clearance=s["min_clearance"],
+        folder=str(folder),
+        summary=s,
+    )
+
+
+def _failed(task: SceneTask, exc: BaseException) -> BatchEntry:
+    message = exc.report() if isinstance(exc, ArmanimError) else f"{task.path}: {type(exc).__name__}: {exc}"
+    return BatchEntry(task.name, "failed", task.path, message=message)
+
+
+class _LocalExecutor:
+    """Scenes in this process (jobs=1) or in a pool of worker processes."""
+
+    def __init__(self, jobs: int):
+        self.jobs = jobs
+
+    def map(self, tasks, video, overrides):
+        if self.jobs <= 1 or len(tasks) <= 1:
+            for task in tasks:
+                try:
+                    yield task, run_task(task, video, overrides), None
+                except Exception as exc:  # reported per scene; the batch goes on
+                    yield task, None, exc
+            return
+        import multiprocessing
+
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=context) as pool:
+            futures = {pool.submit(run_task, task, video, overrides): task for task in tasks}
+            try:
+                for future in as_completed(futures):
+                    exc = future.exception()
+                    yield futures[future], (None if exc else future.result()), exc
+            except BaseException:
+                for future in futures:
+                    future.cancel()
+                raise
+
+
+class _DaskExecutor:
+    """Scenes on a Dask cluster: an existing scheduler address, or ``local``."""
+
+    def __init__(self, scheduler: str, jobs: int):
+        try:
+            from dask.distributed import Client, LocalCluster
+        except ImportError:
+            raise UsageError("--scheduler needs Dask, an optional extra: pip install -e '.[dask]'") from None
+        self._client_cls, self._cluster_cls = Client, LocalCluster
+        self.scheduler, self.jobs = scheduler, jobs
+
+    def map(self, tasks, video, overrides):
+        from dask.distributed import as_completed as dask_completed
+
+        cluster = None
+        if self.scheduler == "local":
+            cluster = self._cluster_cls(n_workers=self.jobs, threads_per_worker=1, processes=True, dashboard_address=None)
+            client = self._client_cls(cluster)
+        else:
+            try:
+                client = self._client_cls(self.scheduler, timeout="10s")
+            except (OSError, TimeoutError) as exc:
+                raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {self.scheduler} ({exc})") from None
+        try:
+            futures = {
+                client.submit(run_task, task, video, overrides, retries=2, pure=False, key=f"armanim-{i}-{task.name}"): task
+                for i, task in enumerate(tasks)
+            }
+            for future in dask_completed(futures):
+                task = futures[future]
+                if future.status == "error":
+                    yield task, None, future.exception()
+                else:
+                    yield task, future.result(), None
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def executor_for(jobs: int, scheduler: str | None):
+    """The local pool, or Dask when a scheduler is named (argument or ARMANIM_SCHEDULER)."""
+    scheduler = scheduler or os.environ.get("ARMANIM_SCHEDULER") or None
+    return _DaskExecutor(scheduler, jobs) if scheduler else _LocalExecutor(jobs)
+
+
+def run_tasks(
+    tasks: list[SceneTask],
+    out_root: Path,
+    *,
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    video: bool = True,
+    render_overrides: dict | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[BatchEntry]:
+    """Run validated tasks and write their outputs; one entry per task, in task order."""
+    executor = executor_for(jobs or os.cpu_count() or 1, scheduler)
+    entries: dict[str, BatchEntry] = {}
+    done = 0
+    if progress:
+        progress(0, len(tasks))
+    for task, run, exc in executor.map(tasks, video, render_overrides):
+        if exc is None:
+            try:
+                entries[task.name] = _entry(task, run, write_remote_run(run, out_root))
+            except ArmanimError as write_exc:
+                entries[task.name] = _failed(task, write_exc)
+        else:
+            entries[task.name] = _failed(task, exc)
+        done += 1
+        if progress:
+            progress(done, len(tasks))
+    return [entries[t.name] for t in tasks]
+
+
+def index_csv_text(entries: list[BatchEntry]) -> str:
+    """index.csv: one row per scene."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(INDEX_COLUMNS)
+    for e in entries:
+        clearance = "" if e.min_clearance is None else repr(float(e.min_clearance))
+        writer.writerow([e.name, e.status, e.scene_file, e.goals, e.reached, e.missed, e.frames, clearance, e.folder, e.message])
+    return buffer.getvalue()
+
+
+def run_batch(
+    paths: Iterable[Path],
+    out_root: Path,
+    *,
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    video: bool = True,
+    render_overrides: dict | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[BatchEntry]:
+    """Run many scene files in parallel; write their outputs and ``ROOT/index.csv``.
+
+    Returns the entries in the order of ``paths`` (invalid scenes included).
+    """
+    paths = list(dict.fromkeys(Path(p) for p in paths))  # the same file twice runs once
+    tasks, rejected = load_tasks(paths)
+    done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, render_overrides=render_overrides, progress=progress)
+    by_file = {e.scene_file: e for e in [*done, *rejected]}
+    entries = [by_file[str(p)] for p in paths if str(p) in by_file]
+    write_text_atomic(Path(out_root) / "index.csv", index_csv_text(entries))
+    return entries

@@ -1,0 +1,158 @@
+"""Parameter sweeps: one scene, the product of several settings, compared in one table.
+
+``--set solver.step=0.05,0.1 --set solver.method=pinv,dls`` makes four variants, each a
+complete, validated scene named after its settings (``notes-arm_step-0.05_method-pinv``)
+and run like any batch; the comparison goes to ``ROOT/<scene>-sweep.csv``.
+"""
+
+from __future__ import annotations
+
+import copy
+import csv
+import io
+import itertools
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+from armanim.batch import BatchEntry, SceneTask
+from armanim.errors import SceneError, UsageError
+from armanim.scene import load_scene, scene_from_bytes
+from armanim.scene.yamlread import read_yaml
+
+_PATH = re.compile(r"^[A-Za-z_]\w*(\[\d+\])?(\.[A-Za-z_]\w*(\[\d+\])?)*$")
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One ``--set PATH=V1,V2,...``: a field path and the values to try."""
+
+    path: str
+    values: tuple
+
+    @property
+    def short(self) -> str:
+        """The last part of the path, for variant names (``solver.step`` -> ``step``)."""
+        return re.sub(r"\[(\d+)\]", r"\1", self.path.split(".")[-1])
+
+
+def _split_values(text: str) -> list[str]:
+    parts, depth, current = [], 0, ""
+    for ch in text:
+        if ch in "[{":
+            depth += 1
+        elif ch in "]}":
+            depth -= 1
+        if ch == "," and depth == 0:
+            parts.append(current)
+            current = ""
+        else:
+            current += ch
+    return [p.strip() for p in [*parts, current] if p.strip()]
+
+
+def parse_setting(text: str) -> Setting:
+    """``"solver.step=0.05,0.1"`` -> Setting; values read as YAML (numbers, words, lists)."""
+    path, sep, values = text.partition("=")
+    path = path.strip()
+    if not sep or not _PATH.match(path):
+        raise UsageError(f"--set: expected FIELD.PATH=VALUE1,VALUE2,... e.g. --set solver.step=0.05,0.1 (got {text!r})")
+    items = _split_values(values)
+    if not items:
+        raise UsageError(f"--set {path}: no values given (expected e.g. {path}=0.05,0.1)")
+    try:
+        return Setting(path, tuple(yaml.safe_load(v) for v in items))
+    except yaml.YAMLError:
+        raise UsageError(f"--set {path}: a value is not a plain number, word or list ({values!r})") from None
+
+
+def _assign(data: dict, path: str, value) -> None:
+    parts = re.findall(r"[A-Za-z_]\w*|\[\d+\]", path)
+    node = data
+    for i, part in enumerate(parts):
+        last = i == len(parts) - 1
+        if part.startswith("["):
+            index = int(part[1:-1])
+            if not isinstance(node, list) or index >= len(node):
+                raise UsageError(f"--set {path}: {part} does not exist in the scene")
+            if last:
+                node[index] = value
+            else:
+                node = node[index]
+        else:
+            if not isinstance(node, dict):
+                raise UsageError(f"--set {path}: {part!r} is not inside a mapping in the scene")
+            if last:
+                node[part] = value
+            else:
+                nxt = parts[i + 1]
+                node = node.setdefault(part, [] if nxt.startswith("[") else {})
+
+
+def _label(value) -> str:
+    text = str(value).replace(" ", "")
+    return re.sub(r"[^A-Za-z0-9_.-]", "", text) or "x"
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One combination: the values it was given and its task, or why it was rejected."""
+
+    values: dict
+    name: str
+    task: SceneTask | None
+    rejected: BatchEntry | None
+
+
+def variants(scene_path: Path, settings: list[Setting]) -> list[Variant]:
+    """Every combination of the settings as a validated scene (or its validation errors)."""
+    base_scene = load_scene(scene_path)
+    data0 = read_yaml(base_scene.raw.decode("utf-8"), str(scene_path)).data
+    result = []
+    for combo in itertools.product(*(s.values for s in settings)):
+        data = copy.deepcopy(data0)
+        for setting, value in zip(settings, combo):
+            _assign(data, setting.path, value)
+        name = "_".join([base_scene.name, *(f"{s.short}-{_label(v)}" for s, v in zip(settings, combo))])[:100]
+        data["name"] = name
+        text = f"# armanim sweep variant of {Path(scene_path).name}\n" + yaml.safe_dump(data, sort_keys=False)
+        values = {s.path: v for s, v in zip(settings, combo)}
+        try:
+            scene = scene_from_bytes(text.encode("utf-8"), f"{scene_path} [{name}]", name)
+        except SceneError as exc:
+            result.append(Variant(values, name, None, BatchEntry(name, "invalid", str(scene_path), message=exc.report())))
+            continue
+        result.append(Variant(values, name, SceneTask.from_scene(scene), None))
+    return result
+
+
+def comparison_rows(settings: list[Setting], items: list[Variant], entries: list[BatchEntry]) -> tuple[list[str], list[list]]:
+    """Header and rows of the sweep table: settings, goals, frames per goal, clearance, joint step.
+
+    ``entries`` are the variants' batch entries, in the same order as ``items``.
+    """
+    n_goals = max((len(e.summary["goals"]) for e in entries if e.summary), default=0)
+    header = ["name", *(s.path for s in settings), "status", "reached", "missed", "frames",
+              *(f"goal{k}_frames" for k in range(n_goals)), "min_clearance", "max_joint_step_deg"]
+    rows = []
+    for variant, entry in zip(items, entries):
+        s = entry.summary
+        per_goal = [(g["frames"] if g["reached"] else "missed") for g in s["goals"]] if s else [""] * n_goals
+        rows.append([
+            entry.name, *(variant.values[st.path] for st in settings), entry.status, entry.reached, entry.missed,
+            entry.frames, *per_goal,
+            "" if not s or s["min_clearance"] is None else f"{s['min_clearance']:.6g}",
+            "" if not s else f"{s['max_joint_step_deg']:.6g}",
+        ])
+    return header, rows
+
+
+def table_csv_text(header: list[str], rows: list[list]) -> str:
+    """CSV text of a table."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(rows)
+    return buffer.getvalue()
