@@ -9,15 +9,20 @@ from armanim.problem import Problem, RenderSettings
 MARGIN = 0.05  # fraction of the largest extent added on every side
 
 
-def auto_bounds(problem: Problem, margin: float = MARGIN) -> np.ndarray:
-    """Everything the arm can reach, every obstacle and every goal, in one box.
+def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: float = MARGIN) -> np.ndarray:
+    """One box around the arm, every obstacle and every goal.
 
-    The reachable set is taken as the cube base +- reach (sum of the link lengths)
-    grown by the link half width, so no pose of any trajectory leaves the box.
+    With ``points`` (every joint position the video will show, e.g. all frames of a
+    trajectory) the box fits what the arm actually does, so the arm fills the frame;
+    without them it is the cube base +- reach, which holds any pose. Either way it is
+    computed once, so the camera never moves. No side is shorter than a fifth of the
+    longest, so a planar arm still gets a readable box.
 
     Parameters
     ----------
     problem : Problem
+    points : (..., 3) array, optional
+        Joint positions to fit (the links' half width is added).
     margin : float
         Fraction of the largest side added on each side.
 
@@ -37,11 +42,18 @@ def auto_bounds(problem: Problem, margin: float = MARGIN) -> np.ndarray:
     array([[-12.3,  22.3],
            [-12.3,  22.3],
            [-17.3,  17.3]])
+    >>> auto_bounds(p, points=np.array([[5.0, 5, 0], [5, 5, 17]]), margin=0.0)
+    array([[ 4.7 , 14.  ],
+           [ 3.24,  6.76],
+           [-0.3 , 17.3 ]])
     """
     arm = problem.arm
-    reach = arm.reach + problem.half_width
-    lo = [arm.base - reach]
-    hi = [arm.base + reach]
+    if points is None:
+        reach = arm.reach + problem.half_width
+        lo, hi = [arm.base - reach], [arm.base + reach]
+    else:
+        pts = np.asarray(points, dtype=float).reshape(-1, 3)
+        lo, hi = [pts.min(axis=0) - problem.half_width], [pts.max(axis=0) + problem.half_width]
     obstacles = problem.obstacles
     if len(obstacles):
         lo.append((obstacles.centers - obstacles.radii[:, None]).min(axis=0))
@@ -50,14 +62,16 @@ def auto_bounds(problem: Problem, margin: float = MARGIN) -> np.ndarray:
     if len(goals):
         lo.append(goals.min(axis=0))
         hi.append(goals.max(axis=0))
-    low = np.min(lo, axis=0)
-    high = np.max(hi, axis=0)
+    low, high = np.min(lo, axis=0), np.max(hi, axis=0)
+    shortest = 0.2 * float(np.max(high - low))
+    grow = np.maximum(shortest - (high - low), 0.0) / 2.0
+    low, high = low - grow, high + grow
     pad = margin * float(np.max(high - low))
     return np.stack([low - pad, high + pad], axis=1)
 
 
-def resolve_bounds(problem: Problem, settings: RenderSettings) -> np.ndarray:
-    """The settings' bounds if given, else :func:`auto_bounds`; shape (3, 2)."""
+def resolve_bounds(problem: Problem, settings: RenderSettings, points: np.ndarray | None = None) -> np.ndarray:
+    """The settings' bounds if given, else :func:`auto_bounds` (fitted to ``points``); shape (3, 2)."""
     if settings.bounds is not None:
         return np.asarray(settings.bounds, dtype=float).reshape(3, 2)
-    return auto_bounds(problem)
+    return auto_bounds(problem, points)

@@ -1,0 +1,266 @@
+"""A trajectory to a video: one video frame per trajectory row, at the settings' fps.
+
+With several jobs the frames are split into contiguous segments; each worker process
+draws and encodes its own segment, and the segments are joined without re-encoding.
+The result goes to a temporary file beside the target and is moved in place only when
+complete: a failure or an interrupt leaves no partial video.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import multiprocessing
+import os
+import queue as queue_module
+import shutil
+import tempfile
+import traceback
+from pathlib import Path
+from typing import Callable, Sequence
+
+import numpy as np
+
+from armanim.errors import RenderError
+from armanim.problem import Problem, RenderSettings
+from armanim.trajectory import GoalReport, Trajectory
+
+CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
+MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
+PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
+
+
+def goal_status(trajectory: Trajectory, reports: Sequence[GoalReport], frame: int, goals: int) -> np.ndarray:
+    """Status code of every goal at ``frame`` (see :mod:`armanim.render.draw`).
+
+    Goals before the frame's goal are reached or missed as their reports say, the
+    frame's goal is current (or reached once within tolerance), later ones pending.
+
+    >>> from armanim.render.draw import STATUS_NAMES
+    >>> import types
+    >>> t = types.SimpleNamespace(goal=np.array([0, 1]), reached=np.array([False, False]))
+    >>> r = [types.SimpleNamespace(reached=False)]
+    >>> [STATUS_NAMES[s] for s in goal_status(t, r, 1, 3)]
+    ['missed', 'current', 'pending']
+    """
+    from armanim.render.draw import CURRENT, MISSED, PENDING, REACHED
+
+    k = int(trajectory.goal[frame])
+    status = np.full(goals, PENDING)
+    for j in range(min(k, goals)):
+        status[j] = REACHED if j >= len(reports) or reports[j].reached else MISSED
+    if k < goals:
+        status[k] = REACHED if trajectory.reached[frame] else CURRENT
+    return status
+
+
+def frame_caption(trajectory: Trajectory, reports: Sequence[GoalReport], frame: int, goals: int) -> str:
+    """Caption of a frame: time, goal k of N, distance, and moving / reached / missed.
+
+    A goal that will be missed says so, with the reason, during its last second.
+    """
+    k = int(trajectory.goal[frame])
+    state = "moving"
+    if trajectory.reached[frame]:
+        state = "reached"
+    elif k < len(reports) and not reports[k].reached:
+        last = reports[k].last_frame
+        if last >= 0 and frame > last - trajectory.fps:
+            state = "missed: " + (reports[k].reason or "not reached").replace("_", " ")
+    return (
+        f"t = {frame / trajectory.fps:7.2f} s   goal {k + 1} of {goals}   "
+        f"distance {trajectory.distance[frame]:8.3f}   {state}"
+    )
+
+
+def draw_segment(
+    problem: Problem,
+    trajectory: Trajectory,
+    reports: Sequence[GoalReport],
+    settings: RenderSettings,
+    path: Path,
+    *,
+    title: str,
+    start: int,
+    stop: int,
+    progress: Callable[[int], None] | None = None,
+) -> None:
+    """Draw frames ``start`` to ``stop - 1`` and encode them into ``path``.
+
+    ``progress`` is called with the number of frames of this segment done so far.
+    """
+    from armanim.kinematics import Pose, forward
+    from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.encode import FrameWriter
+
+    extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
+    scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent)
+    goals = len(problem.goals)
+    with FrameWriter(path, settings.size, settings.fps, settings.format) as writer:
+        for first in range(start, stop, CHUNK):
+            last = min(first + CHUNK, stop)
+            poses = forward(problem.arm, trajectory.phi[first:last])
+            for f in range(first, last):
+                i = f - first
+                state = FrameState(
+                    pose=Pose(poses.points[i], poses.frames[i]),
+                    trail_end=f + 1,
+                    goal_status=goal_status(trajectory, reports, f, goals),
+                    caption=frame_caption(trajectory, reports, f, goals),
+                )
+                writer.write(scene.draw(state))
+                if progress is not None:
+                    progress(f + 1 - start)
+
+
+def render_video(
+    problem: Problem,
+    trajectory: Trajectory,
+    reports: Sequence[GoalReport],
+    settings: RenderSettings,
+    path,
+    *,
+    title: str,
+    jobs: int | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> None:
+    """Render a trajectory to an MP4 or a GIF, one video frame per trajectory row.
+
+    Parameters
+    ----------
+    problem : Problem
+        The arm, obstacles and goals that are drawn.
+    trajectory : Trajectory
+        Frames to draw (F rows).
+    reports : sequence of GoalReport
+        Reached / missed per goal, for the goal markers and the caption.
+    settings : RenderSettings
+        ``fps`` (exact frame rate of the video), ``size`` (pixels; an MP4 of odd
+        width or height is padded by one pixel, as yuv420p needs even sides),
+        view, bounds, trail, ``format`` ("mp4": libx264 yuv420p; "gif").
+    path : str or Path
+        The video file. Written to a temporary file beside it, then moved in place.
+    title : str
+        Shown top left on every frame.
+    jobs : int, optional
+        Worker processes, each drawing and encoding a contiguous segment, joined
+        without re-encoding. Default ``os.cpu_count()``; limited so every worker
+        gets at least ``MIN_FRAMES_PER_JOB`` frames. GIFs are always one job.
+    progress : callable, optional
+        Called with the number of frames done so far.
+
+    Raises
+    ------
+    RenderError
+        ffmpeg failed (its last lines are in the message) or a worker died. No
+        partial file is left at ``path``.
+    """
+    path = Path(path)
+    frames = trajectory.frames
+    if frames == 0:
+        raise RenderError(f"cannot write {path.name}: the trajectory has no frames")
+    jobs = effective_jobs(jobs, frames, settings.format)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
+    try:
+        if jobs == 1:
+            draw_segment(problem, trajectory, reports, settings, tmp, title=title, start=0, stop=frames,
+                         progress=progress)
+        else:
+            _render_parallel(problem, trajectory, reports, settings, tmp, title, jobs, progress)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def effective_jobs(jobs: int | None, frames: int, fmt: str) -> int:
+    """How many workers to use.
+
+    >>> effective_jobs(8, 60, "mp4"), effective_jobs(2, 600, "gif"), effective_jobs(2, 600, "mp4")
+    (2, 1, 2)
+    """
+    if fmt != "mp4":
+        return 1
+    wanted = jobs if jobs is not None else (os.cpu_count() or 1)
+    return max(1, min(int(wanted), frames // MIN_FRAMES_PER_JOB))
+
+
+def segment_bounds(frames: int, jobs: int) -> list[tuple[int, int]]:
+    """Contiguous, nearly equal ``(start, stop)`` ranges covering ``range(frames)``.
+
+    >>> segment_bounds(10, 3)
+    [(0, 3), (3, 6), (6, 10)]
+    """
+    edges = np.linspace(0, frames, jobs + 1).astype(int)
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+def _segment_worker(args: tuple, messages) -> None:
+    """Body of a worker process: draw and encode one segment, report through ``messages``."""
+    index = args[-1]
+    problem, trajectory, reports, settings, path, title, start, stop, _ = args
+
+    def report(done: int) -> None:
+        if done % PROGRESS_EVERY == 0 or done == stop - start:
+            messages.put(("progress", index, done))
+
+    try:
+        draw_segment(problem, trajectory, reports, settings, path, title=title, start=start, stop=stop,
+                     progress=report)
+        messages.put(("done", index, None))
+    except BaseException as err:  # noqa: BLE001  (reported to the parent, which raises)
+        detail = str(err) if isinstance(err, RenderError) else traceback.format_exc(limit=6)
+        messages.put(("error", index, detail))
+
+
+def _render_parallel(problem, trajectory, reports, settings, tmp: Path, title, jobs, progress) -> None:
+    from armanim.render.encode import concat_segments
+
+    ctx = multiprocessing.get_context()
+    workdir = Path(tempfile.mkdtemp(prefix=f".{tmp.name}.", dir=tmp.parent))
+    segments = segment_bounds(trajectory.frames, jobs)
+    paths = [workdir / f"segment{i:03d}.mp4" for i in range(len(segments))]
+    messages = ctx.Queue()
+    workers = [
+        ctx.Process(
+            target=_segment_worker,
+            args=((problem, trajectory, reports, settings, p, title, a, b, i), messages),
+            daemon=True,
+        )
+        for i, ((a, b), p) in enumerate(zip(segments, paths))
+    ]
+    try:
+        for w in workers:
+            w.start()
+        _collect(workers, messages, progress)
+        concat_segments(paths, tmp, settings.format)
+    finally:
+        for w in workers:
+            if w.is_alive():
+                w.terminate()
+            w.join()
+        messages.close()
+        shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _collect(workers, messages, progress) -> None:
+    """Wait for every worker, relaying progress; raise RenderError on the first failure."""
+    done_frames = [0] * len(workers)
+    finished: set[int] = set()
+    while len(finished) < len(workers):
+        try:
+            kind, index, value = messages.get(timeout=0.5)
+        except queue_module.Empty:
+            for i, w in enumerate(workers):
+                if i not in finished and not w.is_alive() and w.exitcode != 0:
+                    raise RenderError(f"render worker {i} stopped unexpectedly (exit code {w.exitcode})")
+            continue
+        if kind == "progress":
+            done_frames[index] = value
+            if progress is not None:
+                progress(sum(done_frames))
+        elif kind == "done":
+            finished.add(index)
+        else:
+            raise RenderError(f"render worker {index} failed:\n{value}")
+    for w in workers:
+        with contextlib.suppress(Exception):
+            w.join(timeout=30)

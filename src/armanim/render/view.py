@@ -1,0 +1,84 @@
+"""The fixed camera of a video as one affine map: world -> (pixel x, pixel y, nearness).
+
+matplotlib's 3D axes project with an orthographic camera here, so world to display
+pixels is affine. It is measured once from the axes (``proj3d.proj_transform``, then
+``ax.transData``) after the first draw, and then applied to whole batches of points
+with one matrix product.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+LIGHT = np.array([-0.45, 0.6, 0.66])  # in screen space: x right, y up, z toward the viewer
+LIGHT = LIGHT / np.linalg.norm(LIGHT)
+
+
+@dataclass(frozen=True)
+class View:
+    """World-to-screen map of a fixed orthographic camera.
+
+    Attributes
+    ----------
+    matrix : (3, 4) array
+        Affine map of homogeneous world points to (x, y, near): display pixels
+        (origin bottom left, y up) and a depth that grows toward the viewer.
+    width, height : int
+        Canvas size in pixels.
+    """
+
+    matrix: np.ndarray
+    width: int
+    height: int
+
+    @classmethod
+    def from_axes(cls, ax, width: int, height: int) -> "View":
+        """Measure the map of a drawn ``Axes3D`` (``ax.get_proj()`` must be current)."""
+        from mpl_toolkits.mplot3d import proj3d
+
+        basis = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+        x, y, z = proj3d.proj_transform(*basis.T, ax.get_proj())
+        pix = ax.transData.transform(np.column_stack([x, y]))
+        screen = np.column_stack([pix, -np.asarray(z)])  # proj3d's z grows away from the viewer
+        origin = screen[0]
+        linear = (screen[1:] - origin).T  # columns: images of ex, ey, ez
+        # The depth row comes in its own units: rescale it to pixels so the map is a
+        # similarity (orthographic camera, equal aspect) and normals stay true.
+        scale = np.linalg.norm(linear[0])
+        depth_norm = np.linalg.norm(linear[2])
+        if depth_norm > 0:
+            linear[2] *= scale / depth_norm
+            origin = origin * np.array([1.0, 1.0, scale / depth_norm])
+        return cls(np.column_stack([linear, origin]), width, height)
+
+    @property
+    def linear(self) -> np.ndarray:
+        """(3, 3): the linear part of the map."""
+        return self.matrix[:, :3]
+
+    @property
+    def pixels_per_unit(self) -> np.ndarray:
+        """(2,): display pixels per world unit along screen x and y."""
+        return np.linalg.norm(self.linear[:2], axis=1)
+
+    def project(self, points: np.ndarray) -> np.ndarray:
+        """(..., 3) world points -> (..., 3) screen points (x px, y px, near)."""
+        return points @ self.linear.T + self.matrix[:, 3]
+
+    def screen_normals(self, normals: np.ndarray) -> np.ndarray:
+        """(..., 3) world normals -> unit normals in screen space (z toward viewer)."""
+        n = normals @ np.linalg.inv(self.linear)  # inverse transpose, row vectors
+        return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-12)
+
+    def toward_viewer(self) -> np.ndarray:
+        """(3,) unit world vector pointing from the scene to the camera."""
+        w = np.linalg.inv(self.linear) @ np.array([0.0, 0.0, 1.0])
+        return w / np.linalg.norm(w)
+
+
+def lambert(normals: np.ndarray, color, ambient: float = 0.38, diffuse: float = 0.62) -> np.ndarray:
+    """Flat shading of faces with screen-space unit normals, (..., 3) -> (..., 3) RGB."""
+    intensity = ambient + diffuse * np.clip(normals @ LIGHT, 0.0, 1.0)
+    return np.clip(np.asarray(color)[:3] * intensity[..., None], 0.0, 1.0)
