@@ -1,0 +1,78 @@
+"""Shared fixtures of the armanim test suite.
+
+Tests find their data through ``Path(__file__).parent``, never the working directory.
+"""
+
+from __future__ import annotations
+
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, settings
+
+TESTS = Path(__file__).resolve().parent
+ROOT = TESTS.parent
+SCENES = ROOT / "scenes"
+DOCS = ROOT / "docs"
+
+# strategies.py sits beside the tests; --import-mode=importlib does not put it on sys.path.
+if str(TESTS) not in sys.path:
+    sys.path.insert(0, str(TESTS))
+
+settings.register_profile(
+    "armanim",
+    max_examples=30,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+    print_blob=True,
+    database=None,  # no .hypothesis folder in the repository; runs are reproducible from the seed
+)
+settings.load_profile("armanim")
+
+BUNDLED = sorted(SCENES.glob("*.yaml"))
+
+
+@lru_cache(maxsize=None)
+def solved_scene(path: Path):
+    """(problem, solution) of a bundled scene, solved once per session."""
+    from armanim.scene import load_scene, scene_to_problem
+    from armanim.trajectory import solve_trajectory
+
+    problem = scene_to_problem(load_scene(path).model)
+    return problem, solve_trajectory(problem)
+
+
+@pytest.fixture(scope="session")
+def scenes_dir() -> Path:
+    assert SCENES.is_dir(), SCENES
+    return SCENES
+
+
+@pytest.fixture(scope="session")
+def bundled_scenes() -> list[Path]:
+    assert BUNDLED, f"no scenes in {SCENES}"
+    return BUNDLED
+
+
+@pytest.fixture()
+def runner():
+    from typer.testing import CliRunner
+
+    return CliRunner()
+
+
+@pytest.fixture()
+def cli(runner):
+    """Invoke the armanim Typer app in-process: cli("fk", "--angles", "0,0,0,0")."""
+    from armanim.cli import app
+
+    def invoke(*args: str):
+        result = runner.invoke(app, [str(a) for a in args])
+        assert "Traceback" not in result.output, result.output
+        if result.exception is not None and not isinstance(result.exception, SystemExit):
+            raise result.exception
+        return result
+
+    return invoke

@@ -1,0 +1,145 @@
+"""Hypothesis strategies for random arms, poses and scenes (all in this one module).
+
+Every strategy builds objects of the pure core (``Arm``, ``Problem``) directly, so the
+property tests need neither YAML nor pydantic, except :func:`scene_texts` which
+writes a valid scene file for the loader.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import assume
+from hypothesis import strategies as st
+
+from armanim.kinematics import Arm, forward
+from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+
+AXES = ("x", "y", "z")
+METHODS = ("pinv", "dls", "newton", "gradient")
+
+lengths = st.floats(0.3, 3.0, allow_nan=False, allow_infinity=False)
+coords = st.floats(-5.0, 5.0, allow_nan=False, allow_infinity=False)
+angles = st.floats(-np.pi, np.pi, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def arms(draw, min_links: int = 1, max_links: int = 6, planar: bool = False) -> Arm:
+    """A random serial arm: 1-6 links, any axes and link direction, any base."""
+    n = draw(st.integers(min_links, max_links))
+    links = draw(st.lists(lengths, min_size=n, max_size=n))
+    base = draw(st.tuples(coords, coords, coords))
+    if planar:
+        return Arm.from_names(links, base=base, axes=["z"] * n, direction="x")
+    axes = draw(st.lists(st.sampled_from(AXES), min_size=n, max_size=n))
+    direction = draw(st.sampled_from(AXES))
+    return Arm.from_names(links, base=base, axes=axes, direction=direction)
+
+
+def poses(n: int):
+    """Joint angles (n,) in radians."""
+    return st.lists(angles, min_size=n, max_size=n).map(np.array)
+
+
+@st.composite
+def arm_and_pose(draw, **kwargs):
+    arm = draw(arms(**kwargs))
+    return arm, draw(poses(arm.n))
+
+
+@st.composite
+def limits_for(draw, home: np.ndarray, margin_deg: float | None = None) -> Limits:
+    """Limits around ``home`` (strictly inside), some joints unlimited."""
+    n = len(home)
+    lower, upper = np.full(n, -np.inf), np.full(n, np.inf)
+    for j in range(n):
+        if draw(st.booleans()):
+            lower[j] = home[j] - draw(st.floats(0.05, 2.0))
+            upper[j] = home[j] + draw(st.floats(0.05, 2.0))
+    margin = np.radians(margin_deg if margin_deg is not None else draw(st.floats(2.0, 30.0)))
+    return Limits(lower=lower, upper=upper, margin=float(margin))
+
+
+@st.composite
+def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_count: int = 3) -> Obstacles:
+    """0-3 spheres, each clear of the home pose's link capsules by at least 0.05."""
+    from armanim.cost import clearances
+
+    m = draw(st.integers(0, max_count))
+    if m == 0:
+        return Obstacles.none()
+    reach = arm.reach
+    centers = np.array(
+        [
+            arm.base + np.array(draw(st.tuples(*(st.floats(-reach, reach) for _ in range(3)))))
+            for _ in range(m)
+        ]
+    )
+    radii = np.array([draw(st.floats(0.0, 1.0)) for _ in range(m)])
+    influence = np.array([draw(st.floats(0.2, 2.0)) for _ in range(m)])
+    obstacles = Obstacles(centers=centers, radii=radii, influence=influence)
+    cl = clearances(forward(arm, home), obstacles, half_width)
+    assume(np.all(cl.links > 0.05))
+    return obstacles
+
+
+@st.composite
+def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_frames: int = 40) -> Problem:
+    """A random, valid problem: home clear of obstacles and inside its limits, goals
+    outside every obstacle (some may be out of reach)."""
+    arm = draw(arms(max_links=max_links))
+    home = draw(poses(arm.n)) * 0.5
+    half_width = draw(st.floats(0.05, 0.3))
+    limits = draw(limits_for(home))
+    obstacles = draw(obstacles_clear_of(arm, home, half_width))
+    goals = []
+    for _ in range(draw(st.integers(1, max_goals))):
+        target = forward(arm, draw(poses(arm.n))).tip + np.array(draw(st.tuples(*(st.floats(-0.5, 0.5) for _ in range(3)))))
+        if len(obstacles):
+            gap = np.linalg.norm(target - obstacles.centers, axis=1) - obstacles.radii
+            assume(np.all(gap > 0.05))
+        goals.append(Goal(target, draw(st.integers(0, 3))))
+    solver = SolverSettings(
+        method=draw(st.sampled_from(methods)),
+        step=draw(st.floats(0.05, 0.5)),
+        max_step=draw(st.sampled_from([np.inf, 0.3, 1.0])),
+        tolerance=draw(st.sampled_from([0.01, 0.05])),
+        max_frames_per_goal=max_frames,
+        jacobian=draw(st.sampled_from(["analytic", "numeric"])),
+        damping=draw(st.floats(0.01, 0.5)),
+        max_joint_step=np.radians(draw(st.floats(1.0, 20.0))),
+    )
+    return Problem(
+        arm=arm,
+        half_width=half_width,
+        home=home,
+        limits=limits,
+        obstacles=obstacles,
+        goals=tuple(goals),
+        solver=solver,
+        fps=draw(st.sampled_from([10.0, 24.0, 30.0])),
+    )
+
+
+@st.composite
+def scene_texts(draw) -> str:
+    """A valid scene YAML text (no obstacles, unlimited joints, reachable goals)."""
+    arm = draw(arms(max_links=4))
+    n = arm.n
+    links = [float(v) for v in arm.links]
+    base = [float(v) for v in arm.base]
+    goal = [float(v) for v in forward(arm, draw(poses(n))).tip]
+    method = draw(st.sampled_from(METHODS))
+    axes = ", ".join(draw(st.lists(st.sampled_from(AXES), min_size=n, max_size=n)))
+    num = lambda v: f"{v:.12f}"  # noqa: E731  (PyYAML reads 1e-05, without a dot, as a string)
+    return (
+        "version: 1\n"
+        "arm:\n"
+        f"  base: [{num(base[0])}, {num(base[1])}, {num(base[2])}]\n"
+        f"  links: [{', '.join(num(v) for v in links)}]\n"
+        f"  axes: [{axes}]\n"
+        "goals:\n"
+        f"  - [{num(goal[0])}, {num(goal[1])}, {num(goal[2])}]\n"
+        "solver:\n"
+        f"  method: {method}\n"
+        "  max_frames_per_goal: 30\n"
+    )

@@ -1,0 +1,196 @@
+"""The four methods: each reaches its bundled scene's goals; the shared barrier; ik."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from conftest import SCENES, solved_scene
+
+from armanim.ik import solve_pose
+from armanim.kinematics import Arm, forward
+from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.scene import load_scene, scene_to_problem
+from armanim.solvers import METHODS, step_function
+from armanim.solvers.barrier import CONTACT, shorten_step
+from armanim.solvers.linear import damped_inverse
+from armanim.trajectory import solve_trajectory
+
+METHOD_SCENES = {
+    "pinv": "notes-arm.yaml",
+    "dls": "singular-start.yaml",
+    "newton": "planar-nlink.yaml",
+    "gradient": "breen-gradient.yaml",
+}
+
+
+def test_registry_has_the_four_methods():
+    assert set(METHODS) == {"pinv", "dls", "newton", "gradient"}
+    for name in METHODS:
+        assert step_function(name) is METHODS[name]
+    with pytest.raises(ValueError, match="unknown solver method"):
+        step_function("simplex")
+
+
+@pytest.mark.parametrize("method, scene", sorted(METHOD_SCENES.items()))
+def test_each_method_reaches_every_goal_of_its_bundled_scene(method, scene):
+    problem, solution = solved_scene(SCENES / scene)
+    assert problem.solver.method == method
+    for report in solution.goals:
+        assert report.reached, (report.index, report.reason, report.final_distance)
+        assert report.reason is None
+        assert report.final_distance < problem.solver.tolerance
+    assert solution.reached == len(problem.goals)
+
+
+def test_out_of_reach_goal_is_missed_and_the_next_is_reached():
+    problem, solution = solved_scene(SCENES / "out-of-reach.yaml")
+    first, second = solution.goals
+    assert not first.reached and first.reason == "out_of_reach"
+    assert first.frames == problem.solver.max_frames_per_goal
+    assert second.reached and second.reason is None
+    # the arm stretches toward the unreachable goal: links 2-4 (15 long) point from the
+    # shoulder (top of the vertical first link) at the goal, so the distance ends near
+    # |g - shoulder| - 15, the least any pose can reach
+    shoulder = problem.arm.base + np.array([0.0, 0.0, problem.arm.links[0]])
+    best = np.linalg.norm(first.position - shoulder) - problem.arm.links[1:].sum()
+    assert best - 1e-9 <= first.final_distance <= best + 0.25
+
+
+def _numeric_vs_analytic(problem):
+    analytic = solve_trajectory(problem)
+    numeric = solve_trajectory(replace(problem, solver=replace(problem.solver, jacobian="numeric")))
+    assert [g.reached for g in numeric.goals] == [g.reached for g in analytic.goals]
+    a, b = analytic.trajectory, numeric.trajectory
+    assert abs(a.frames - b.frames) <= 3
+    f = min(a.frames, b.frames)
+    np.testing.assert_allclose(b.tip[:f], a.tip[:f], atol=0.05)
+    np.testing.assert_allclose(b.phi[:f], a.phi[:f], atol=np.radians(1.0))
+
+
+def test_numeric_jacobian_gives_nearly_the_same_pinv_trajectory():
+    """notes-arm.yaml from a bent (non-singular) home pose."""
+    problem, _ = solved_scene(SCENES / "notes-arm.yaml")
+    _numeric_vs_analytic(replace(problem, home=np.radians([0.0, 20.0, 30.0, 30.0])))
+
+
+def test_numeric_jacobian_pinv_trajectory_on_the_bundled_scene():
+    problem, _ = solved_scene(SCENES / "notes-arm.yaml")
+    _numeric_vs_analytic(problem)
+
+
+def test_numeric_gradient_gives_nearly_the_same_gradient_trajectory():
+    problem = scene_to_problem(load_scene(SCENES / "breen-gradient.yaml").model)
+    problem = replace(problem, goals=problem.goals[:1])
+    analytic = solve_trajectory(problem)
+    numeric = solve_trajectory(replace(problem, solver=replace(problem.solver, jacobian="numeric")))
+    assert numeric.goals[0].reached == analytic.goals[0].reached
+    f = min(analytic.trajectory.frames, numeric.trajectory.frames)
+    np.testing.assert_allclose(numeric.trajectory.tip[:f], analytic.trajectory.tip[:f], atol=0.05)
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_every_method_reaches_a_goal_on_a_clear_arm(method):
+    arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    goal = forward(arm, np.radians([40.0, 30.0, 50.0, 20.0])).tip
+    problem = Problem(
+        arm=arm,
+        half_width=0.25,
+        home=np.radians([0.0, 10.0, 10.0, 10.0]),
+        limits=Limits.unlimited(4),
+        obstacles=Obstacles.none(),
+        goals=(Goal(goal),),
+        solver=SolverSettings(method=method, step=0.2 if method != "gradient" else 0.5, max_step=0.5),
+    )
+    solution = solve_trajectory(problem)
+    assert solution.goals[0].reached, solution.goals[0]
+
+
+# ------------------------------------------------------------ the shared barrier
+
+
+def one_link_problem(**kw):
+    defaults = dict(
+        arm=Arm.from_names([2.0], axes=["z"], direction="x"),
+        half_width=0.25,
+        home=np.zeros(1),
+        limits=Limits.unlimited(1),
+        obstacles=Obstacles.none(),
+        goals=(Goal(np.array([0.0, 2.0, 0.0])),),
+        solver=SolverSettings(max_joint_step=np.radians(180.0)),
+    )
+    defaults.update(kw)
+    return Problem(**defaults)
+
+
+def test_shorten_step_caps_the_joint_step():
+    problem = one_link_problem(solver=SolverSettings(max_joint_step=np.radians(10.0)))
+    moved = shorten_step(problem, np.zeros(1), np.array([1.0]))
+    assert moved.phi[0] == pytest.approx(np.radians(10.0))
+    assert moved.blocked_by is None
+
+
+def test_shorten_step_stops_before_a_limit():
+    lim = Limits(np.array([-0.5]), np.array([0.5]), margin=0.1)
+    moved = shorten_step(one_link_problem(limits=lim), np.zeros(1), np.array([2.0]))
+    assert moved.blocked_by == "limit"
+    assert -0.5 < moved.phi[0] < 0.5
+    assert 0 < moved.scale < 1
+
+
+def test_shorten_step_stops_before_an_obstacle():
+    # an obstacle on the circle of the link's tip at 90 degrees
+    obstacles = Obstacles(np.array([[0.0, 2.0, 0.0]]), np.array([0.5]), np.array([0.5]))
+    problem = one_link_problem(obstacles=obstacles)
+    moved = shorten_step(problem, np.zeros(1), np.array([np.pi / 2]))
+    assert moved.blocked_by == "obstacle"
+    from armanim.cost import min_link_clearance
+
+    assert float(min_link_clearance(forward(problem.arm, moved.phi), obstacles, 0.25)) > CONTACT
+    assert 0 < moved.phi[0] < np.pi / 2
+
+
+def test_shorten_step_holds_still_on_nan():
+    moved = shorten_step(one_link_problem(), np.array([0.3]), np.array([np.nan]))
+    assert moved.blocked_by == "nan" and moved.scale == 0.0
+    np.testing.assert_array_equal(moved.phi, [0.3])
+
+
+def test_shorten_step_wraps_unlimited_joints():
+    moved = shorten_step(one_link_problem(), np.array([3.0]), np.array([0.5]))
+    assert -np.pi < moved.phi[0] <= np.pi
+    assert moved.phi[0] == pytest.approx(3.5 - 2 * np.pi)
+
+
+def test_damped_inverse_formula():
+    jac = np.array([[1.0, 2.0, 0.0], [0.0, 1.0, 3.0], [0.0, 0.0, 0.0]])  # rank 2: singular J J^T
+    lam = 0.3
+    expected = jac.T @ np.linalg.inv(jac @ jac.T + lam**2 * np.eye(3))
+    np.testing.assert_allclose(damped_inverse(jac, lam), expected, atol=1e-12)
+
+
+# ------------------------------------------------------------ ik (one pose to convergence)
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_ik_round_trip_fk_of_ik_is_the_goal(method):
+    arm = Arm.from_names([1.0] * 4, axes=["z"] * 4, direction="x")
+    goal = np.array([3.0, 1.0, 0.0])
+    tol = 1e-3
+    problem = Problem(
+        arm=arm,
+        half_width=0.1,
+        home=np.zeros(4),
+        limits=Limits.unlimited(4),
+        obstacles=Obstacles.none(),
+        goals=(Goal(goal),),
+        solver=SolverSettings(method=method, tolerance=tol, step=0.3 if method != "gradient" else 0.5),
+    )
+    result = solve_pose(problem, goal, np.radians([10.0, 10.0, 10.0, 10.0]), max_iterations=3000)
+    assert result.converged, result
+    np.testing.assert_allclose(forward(arm, result.phi).tip, result.tip, atol=1e-12)
+    assert np.linalg.norm(result.tip - goal) < tol
+    assert result.distance == pytest.approx(np.linalg.norm(result.tip - goal))
+    if method == "newton":
+        assert result.iterations >= 1 and result.newton_iterations >= 0
