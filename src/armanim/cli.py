@@ -170,7 +170,8 @@ def fk(
     phi = values if radians else np.radians(values)
     pose = forward(problem.arm, phi)
     if as_json:
-        data = {"angles_deg": np.degrees(phi).tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist()}
+        angles_deg = np.degrees(values) if radians else values  # as typed, not round-tripped through radians
+        data = {"angles_deg": angles_deg.tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist()}
         print(json.dumps(data))
     else:
         table = Table(title="Forward kinematics", title_justify="left")

@@ -236,6 +236,15 @@ def numeric_jacobian(
     return (fun(displaced) - f0).T / h
 
 
+PINV_RTOL = 1e-6
+"""Singular values below this fraction of the largest are treated as zero: a
+forward-difference Jacobian (h = 1e-6) carries noise of about that size where the
+true Jacobian has lost rank, and inverting the noise would fling the arm."""
+
+
 def pseudo_inverse(jac: np.ndarray) -> np.ndarray:
-    """Moore-Penrose pseudo-inverse V D+ U^T (the notes' Eq. 20), via ``scipy.linalg.pinv``."""
-    return scipy.linalg.pinv(jac, check_finite=False)
+    """Moore-Penrose pseudo-inverse V D+ U^T (the notes' Eq. 20), via ``scipy.linalg.pinv``.
+
+    Singular values below ``PINV_RTOL`` times the largest count as zero.
+    """
+    return scipy.linalg.pinv(jac, atol=0.0, rtol=PINV_RTOL, check_finite=False)

@@ -79,6 +79,13 @@ class GoalModel(Strict):
     def _from_list(cls, value):
         return {"position": value} if isinstance(value, list) else value
 
+    @classmethod
+    def __get_pydantic_json_schema__(cls, core_schema, handler):
+        # editors must accept the short form too
+        as_object = handler(core_schema)
+        as_list = {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "[x, y, z]"}
+        return {"anyOf": [as_list, as_object]}
+
 
 class WeightsModel(Strict):
     """Weights of the cost's terms (newton also takes target and regularizer)."""

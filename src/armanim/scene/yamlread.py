@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import re
+
 import yaml
 
 from armanim.errors import Diagnostic, SceneError
@@ -17,6 +19,17 @@ from armanim.errors import Diagnostic, SceneError
 MAX_FILE_BYTES = 1_000_000
 MAX_NODES = 200_000  # values after alias expansion: stops "billion laughs" early
 MAX_DEPTH = 64
+
+class SceneLoader(yaml.SafeLoader):
+    """PyYAML's safe loader, reading ``1e-3`` as a number as YAML 1.2 does
+    (YAML 1.1 wants a dot: ``1.0e-3``), since scenes and the docs write ``1e3``."""
+
+
+SceneLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"),
+)
 
 _STANDARD_TAGS = {
     "tag:yaml.org,2002:" + t for t in ("map", "seq", "str", "int", "float", "bool", "null")
@@ -54,7 +67,7 @@ class _Builder:
         self.lines: dict[str, int] = {}
         self.problems: list[Diagnostic] = []
         self.nodes = 0
-        self._scalar = yaml.SafeLoader("")
+        self._scalar = SceneLoader("")
 
     def build(self, node: yaml.Node, path: str, depth: int = 0):
         self.nodes += 1
@@ -108,7 +121,7 @@ def read_yaml(text: str, file: str) -> YamlDocument:
         nesting.
     """
     try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
+        root = yaml.compose(text, Loader=SceneLoader)
     except yaml.composer.ComposerError as exc:
         line = exc.problem_mark.line + 1 if exc.problem_mark else None
         raise SceneError(file, [Diagnostic("", f"{exc.problem} (a scene is one YAML document)", line)]) from None
