@@ -12,7 +12,7 @@ from armanim.ik import solve_pose
 from armanim.kinematics import Arm, forward
 from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
 from armanim.scene import load_scene, scene_to_problem
-from armanim.solvers import METHODS, step_function
+from armanim.solvers import METHODS, arm_state, step_function
 from armanim.solvers.barrier import CONTACT, shorten_step
 from armanim.solvers.linear import damped_inverse
 from armanim.trajectory import solve_trajectory
@@ -126,14 +126,15 @@ def one_link_problem(**kw):
 
 def test_shorten_step_caps_the_joint_step():
     problem = one_link_problem(solver=SolverSettings(max_joint_step=np.radians(10.0)))
-    moved = shorten_step(problem, np.zeros(1), np.array([1.0]))
+    moved = shorten_step(problem, arm_state(problem, np.zeros(1)), np.array([1.0]))
     assert moved.phi[0] == pytest.approx(np.radians(10.0))
     assert moved.blocked_by is None
 
 
 def test_shorten_step_stops_before_a_limit():
     lim = Limits(np.array([-0.5]), np.array([0.5]), margin=0.1)
-    moved = shorten_step(one_link_problem(limits=lim), np.zeros(1), np.array([2.0]))
+    problem = one_link_problem(limits=lim)
+    moved = shorten_step(problem, arm_state(problem, np.zeros(1)), np.array([2.0]))
     assert moved.blocked_by == "limit"
     assert -0.5 < moved.phi[0] < 0.5
     assert 0 < moved.scale < 1
@@ -143,7 +144,7 @@ def test_shorten_step_stops_before_an_obstacle():
     # an obstacle on the circle of the link's tip at 90 degrees
     obstacles = Obstacles(np.array([[0.0, 2.0, 0.0]]), np.array([0.5]), np.array([0.5]))
     problem = one_link_problem(obstacles=obstacles)
-    moved = shorten_step(problem, np.zeros(1), np.array([np.pi / 2]))
+    moved = shorten_step(problem, arm_state(problem, np.zeros(1)), np.array([np.pi / 2]))
     assert moved.blocked_by == "obstacle"
     from armanim.cost import min_link_clearance
 
@@ -152,13 +153,15 @@ def test_shorten_step_stops_before_an_obstacle():
 
 
 def test_shorten_step_holds_still_on_nan():
-    moved = shorten_step(one_link_problem(), np.array([0.3]), np.array([np.nan]))
+    problem = one_link_problem()
+    moved = shorten_step(problem, arm_state(problem, np.array([0.3])), np.array([np.nan]))
     assert moved.blocked_by == "nan" and moved.scale == 0.0
     np.testing.assert_array_equal(moved.phi, [0.3])
 
 
 def test_shorten_step_wraps_unlimited_joints():
-    moved = shorten_step(one_link_problem(), np.array([3.0]), np.array([0.5]))
+    problem = one_link_problem()
+    moved = shorten_step(problem, arm_state(problem, np.array([3.0])), np.array([0.5]))
     assert -np.pi < moved.phi[0] <= np.pi
     assert moved.phi[0] == pytest.approx(3.5 - 2 * np.pi)
 

@@ -108,18 +108,15 @@ def clearances(pose: Pose, obstacles: Obstacles, half_width: float) -> Clearance
         Capsule radius of the links.
     """
     pts = pose.points
-    a = pts[..., :-1, None, :]  # (..., n, 1, 3)
-    b = pts[..., 1:, None, :]
-    c = obstacles.centers  # (m, 3)
-    t_links = closest_on_segment(a, b, c)  # (..., n, m)
-    t = np.concatenate([t_links, np.ones(t_links.shape[:-2] + (1,) + t_links.shape[-1:])], -2)
-    starts = pts[..., :, None, :]
-    ends = np.concatenate([pts[..., 1:, :], pts[..., -1:, :]], axis=-2)[..., :, None, :]
-    nearest = starts + t[..., None] * (ends - starts)
-    offset = nearest - c
-    dist = np.linalg.norm(offset, axis=-1)
-    radius = np.append(np.full(pts.shape[-2] - 1, half_width), 0.0)
-    d = dist - obstacles.radii - radius[:, None]
+    ends = np.concatenate([pts[..., 1:, :], pts[..., -1:, :]], axis=-2)  # the tip: a zero-length segment
+    ab = (ends - pts)[..., None, :]  # (..., n+1, 1, 3)
+    t = closest_on_segment(pts[..., :, None, :], ends[..., :, None, :], obstacles.centers)  # (..., n+1, m)
+    t[..., -1, :] = 1.0  # the tip sits at the end of the last link
+    offset = pts[..., :, None, :] + t[..., None] * ab - obstacles.centers
+    dist = np.sqrt((offset * offset).sum(axis=-1))
+    radius = np.full((pts.shape[-2], 1), half_width)
+    radius[-1] = 0.0  # the tip is a point
+    d = dist - obstacles.radii - radius
     normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
     return Clearances(d=d, t=t, normal=normal)
 
@@ -136,13 +133,18 @@ def goal_term(tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
     return np.linalg.norm(tip - goal, axis=-1)
 
 
-def total_cost(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
-    """C(Phi) for one pose or a batch (..., n); +inf where a barrier is crossed."""
+def total_cost(
+    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None
+) -> np.ndarray:
+    """C(Phi) for one pose or a batch (..., n); +inf where a barrier is crossed.
+
+    ``pose`` and ``cl`` may be passed when already known for ``phi``.
+    """
     s = problem.solver
-    pose = forward(problem.arm, phi)
+    pose = pose if pose is not None else forward(problem.arm, phi)
     cost = s.w_goal * goal_term(pose.tip, goal)
     if len(problem.obstacles):
-        cl = clearances(pose, problem.obstacles, problem.half_width)
+        cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.half_width)
         field = obstacle_field(cl.d, problem.obstacles.influence)
         cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
     return cost + s.w_limits * limit_barrier(phi, problem.limits)
@@ -163,17 +165,22 @@ def obstacle_cost_gradient(arm: Arm, pose: Pose, cl: Clearances, obstacles: Obst
     return grad
 
 
-def total_cost_gradient(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
-    """Analytic gradient of :func:`total_cost` for one pose, shape (n,)."""
+def total_cost_gradient(
+    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None
+) -> np.ndarray:
+    """Analytic gradient of :func:`total_cost` for one pose, shape (n,).
+
+    ``pose`` and ``cl`` may be passed when already known for ``phi``.
+    """
     s = problem.solver
     arm = problem.arm
-    pose = forward(arm, phi)
+    pose = pose if pose is not None else forward(arm, phi)
     diff = pose.tip - goal
     dist = np.linalg.norm(diff)
     grad = np.zeros(arm.n)
     if dist > 0:
         grad += s.w_goal * (diff / dist) @ tip_jacobian(arm, pose)
     if len(problem.obstacles):
-        cl = clearances(pose, problem.obstacles, problem.half_width)
+        cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.half_width)
         grad += s.w_obstacles * obstacle_cost_gradient(arm, pose, cl, problem.obstacles)
     return grad + s.w_limits * limit_barrier_gradient(phi, problem.limits)

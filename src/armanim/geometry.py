@@ -29,33 +29,6 @@ def skew(v: np.ndarray) -> np.ndarray:
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
-def rotation(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
-    """Rotation matrices about a unit axis by one or many angles (Rodrigues).
-
-    Parameters
-    ----------
-    axis : (3,) array
-        Unit rotation axis.
-    angle : float or (...,) array
-        Angles in radians.
-
-    Returns
-    -------
-    (..., 3, 3) array
-        For the coordinate axes these are the course notes' Eqs. 23-25.
-
-    >>> np.round(rotation(np.array([0.0, 0.0, 1.0]), np.pi / 2), 12) + 0.0
-    array([[ 0., -1.,  0.],
-           [ 1.,  0.,  0.],
-           [ 0.,  0.,  1.]])
-    """
-    angle = np.asarray(angle, dtype=float)
-    k = skew(axis)
-    c = np.cos(angle)[..., None, None]
-    s = np.sin(angle)[..., None, None]
-    return np.eye(3) + s * k + (1.0 - c) * (k @ k)
-
-
 def wrap_angle(angle: np.ndarray) -> np.ndarray:
     """Wrap radians into (-pi, pi].
 
@@ -81,14 +54,3 @@ def closest_on_segment(a: np.ndarray, b: np.ndarray, point: np.ndarray) -> np.nd
     denom = np.einsum("...i,...i->...", ab, ab)
     t = np.einsum("...i,...i->...", point - a, ab) / np.where(denom > 0.0, denom, 1.0)
     return np.clip(np.where(denom > 0.0, t, 0.0), 0.0, 1.0)
-
-
-def segment_point_distance(a: np.ndarray, b: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """Distance from ``point`` to the segment a-b (broadcast like :func:`closest_on_segment`).
-
-    >>> float(segment_point_distance(np.zeros(3), np.array([2.0, 0, 0]), np.array([3.0, 4, 0])))
-    4.123105625617661
-    """
-    t = closest_on_segment(a, b, point)
-    nearest = a + t[..., None] * (b - a)
-    return np.linalg.norm(point - nearest, axis=-1)

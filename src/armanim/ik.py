@@ -1,21 +1,28 @@
-"""One pose solved to convergence (``armanim ik``): the methods' steps repeated until
-the tip is within tolerance, through the same barrier as the frame loop.
+"""One pose solved to convergence (``armanim ik``), with the methods of the frame loop.
 
-``newton`` solves the goal itself at once, as the n-link assignment does, and reports
-its gradient-descent and Newton iteration counts. Pure core: no I/O.
+Solving is not animating, so the steps are full ones: ``pinv`` and ``dls`` take
+beta = 1 (Newton-Raphson on the tip) and joints may turn up to 30 degrees per
+iteration, through the same barrier as the frame loop. ``newton`` runs the
+assignment's GDLS + NM, re-anchoring its regulariser at each answer until the tip is
+within tolerance (the regulariser alone would hold it a little short of the goal).
+A solve that stalls, e.g. pinned between two limits, restarts from the mirrored
+elbow and then from seeded random poses. Pure core: no I/O.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from armanim.kinematics import forward
 from armanim.problem import Problem
-from armanim.solvers import step_function
+from armanim.solvers import arm_state, step_function
 from armanim.solvers.barrier import shorten_step, wrap_unlimited
 from armanim.solvers.newton import newton_solve
+
+FULL_TURN_PER_ITERATION = np.radians(30.0)
+STALL_ITERATIONS = 15  # iterations without progress before a restart
+RESTARTS = 4
 
 
 @dataclass(frozen=True)
@@ -31,9 +38,11 @@ class PoseSolution:
     converged : bool
         distance < tolerance.
     iterations : int
-        Steps taken (for newton: gradient-descent iterations).
+        Steps taken over all attempts (for newton: gradient-descent iterations).
     newton_iterations : int
         Newton iterations (newton only).
+    restarts : int
+        Attempts after the first.
     """
 
     phi: np.ndarray
@@ -42,25 +51,84 @@ class PoseSolution:
     converged: bool
     iterations: int
     newton_iterations: int = 0
+    restarts: int = 0
+
+
+def solving_settings(problem: Problem) -> Problem:
+    """The problem with full steps for solving (see the module docstring)."""
+    s = problem.solver
+    step = 1.0 if s.method in ("pinv", "dls") else s.step
+    return replace(problem, solver=replace(s, step=step, max_step=np.inf, max_joint_step=max(s.max_joint_step, FULL_TURN_PER_ITERATION)))
+
+
+def restart_poses(problem: Problem, start: np.ndarray, count: int) -> list[np.ndarray]:
+    """Starts to try in turn: ``start``, its mirrored elbow, then seeded random poses inside the limits."""
+    lim = problem.limits
+    mirrored = start.copy()
+    mirrored[1:] = -mirrored[1:]
+    starts = [start, np.clip(mirrored, lim.lower + lim.margin, lim.upper - lim.margin)]
+    rng = np.random.default_rng(0)
+    lo = np.where(lim.limited, lim.lower + lim.margin, -np.pi)
+    hi = np.where(lim.limited, lim.upper - lim.margin, np.pi)
+    while len(starts) < count:
+        starts.append(rng.uniform(lo, hi))
+    return starts[:count]
 
 
 def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000) -> PoseSolution:
-    """Solve for one pose whose tip is at ``goal``, starting from ``start`` (radians)."""
-    arm, s = problem.arm, problem.solver
+    """Solve for one pose whose tip is at ``goal``, starting from ``start`` (radians).
+
+    ``max_iterations`` bounds the steps over all attempts.
+    """
     goal = np.asarray(goal, dtype=float)
-    if s.method == "newton":
-        result = newton_solve(arm, start, goal, start, s.w_target, s.w_regularizer)
-        phi = wrap_unlimited(problem, result.phi)
-        tip = forward(arm, phi).tip
+    start = np.asarray(start, dtype=float)
+    attempt = _newton_attempt if problem.solver.method == "newton" else _step_attempt
+    best = None
+    used = newton_used = 0
+    starts = restart_poses(problem, start, 1 + RESTARTS)
+    for restarts, first in enumerate(starts):
+        phi, its, nm_its = attempt(problem, goal, first, max_iterations - used)
+        used += its
+        newton_used += nm_its
+        tip = arm_state(problem, phi).tip
         distance = float(np.linalg.norm(tip - goal))
-        return PoseSolution(phi, tip, distance, distance < s.tolerance, result.gd_iterations, result.nm_iterations)
-    step = step_function(s.method)
-    phi = np.asarray(start, dtype=float)
-    tip = forward(arm, phi).tip
-    iterations = 0
-    while np.linalg.norm(tip - goal) >= s.tolerance and iterations < max_iterations:
-        phi = shorten_step(problem, phi, step(problem, phi, goal).dphi).phi
-        tip = forward(arm, phi).tip
+        if best is None or distance < best[2]:
+            best = (phi, tip, distance)
+        if distance < problem.solver.tolerance or used >= max_iterations:
+            break
+    phi, tip, distance = best
+    return PoseSolution(phi, tip, distance, distance < problem.solver.tolerance, used, newton_used, restarts)
+
+
+def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[np.ndarray, int, int]:
+    fast = solving_settings(problem)
+    step = step_function(fast.solver.method)
+    state = arm_state(fast, start)
+    best, since_best, iterations = np.inf, 0, 0
+    while iterations < budget:
+        distance = float(np.linalg.norm(state.tip - goal))
+        if distance < fast.solver.tolerance:
+            break
+        if distance < best - 0.1 * fast.solver.tolerance:
+            best, since_best = distance, 0
+        elif (since_best := since_best + 1) >= STALL_ITERATIONS:
+            break
+        state = shorten_step(fast, state, step(fast, state, goal).dphi).state
         iterations += 1
-    distance = float(np.linalg.norm(tip - goal))
-    return PoseSolution(phi, tip, distance, distance < s.tolerance, iterations)
+    return state.phi, iterations, 0
+
+
+def _newton_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[np.ndarray, int, int]:
+    s = problem.solver
+    phi = start
+    gd = nm = 0
+    while gd + nm < budget:
+        result = newton_solve(problem.arm, phi, goal, phi, s.w_target, s.w_regularizer)
+        gd += result.gd_iterations
+        nm += result.nm_iterations
+        moved = float(np.max(np.abs(result.phi - phi)))
+        phi = result.phi
+        distance = float(np.linalg.norm(arm_state(problem, phi).tip - goal))
+        if distance < s.tolerance or moved < 1e-12:
+            break
+    return wrap_unlimited(problem, phi), gd, nm

@@ -19,6 +19,8 @@ import scipy.linalg
 
 from armanim.geometry import axis_vector, skew
 
+_IDENTITY = np.eye(3)
+
 
 @dataclass(frozen=True)
 class Arm:
@@ -104,10 +106,14 @@ class Pose:
         p_1 .. p_{n+1}: the joints from the base to the tip.
     frames : (..., n, 3, 3) array
         R_1 .. R_n: each joint's world rotation.
+    axes : (..., n, 3) array or None
+        w_j = R_j a_j, each joint's axis in the world (kept by single-pose FK, which the
+        Jacobians of a frame reuse); None where not computed.
     """
 
     points: np.ndarray
     frames: np.ndarray
+    axes: np.ndarray | None = None  # (..., n, 3) world joint axes, when forward computed them
 
     @property
     def tip(self) -> np.ndarray:
@@ -140,10 +146,10 @@ def forward(arm: Arm, phi: np.ndarray) -> Pose:
     (10, 5, 3)
     """
     phi = np.asarray(phi, dtype=float)
+    if phi.ndim == 1:
+        return _forward_one(arm, phi)
     batch = phi.shape[:-1]
-    c = np.cos(phi)[..., None, None]
-    s = np.sin(phi)[..., None, None]
-    local = np.eye(3) + s * arm._k + (1.0 - c) * arm._k2  # (..., n, 3, 3)
+    local = joint_rotations(arm, phi)
     frames = np.empty(batch + (arm.n, 3, 3))
     points = np.empty(batch + (arm.n + 1, 3))
     points[..., 0, :] = arm.base
@@ -155,8 +161,56 @@ def forward(arm: Arm, phi: np.ndarray) -> Pose:
     return Pose(points=points, frames=frames)
 
 
+def joint_rotations(arm: Arm, phi: np.ndarray) -> np.ndarray:
+    """Rot(a_i, phi_i) of every joint, shape (..., n, 3, 3), by Rodrigues' formula
+    I + sin(phi) K + (1 - cos(phi)) K^2; for the coordinate axes these are the notes'
+    Eqs. 23-25.
+
+    >>> arm = Arm.from_names([1.0], axes=["z"])
+    >>> np.round(joint_rotations(arm, np.array([np.pi / 2]))[0], 12) + 0.0
+    array([[ 0., -1.,  0.],
+           [ 1.,  0.,  0.],
+           [ 0.,  0.,  1.]])
+    """
+    s = np.sin(phi)[..., None, None]
+    c = np.cos(phi)[..., None, None]
+    return _IDENTITY + s * arm._k + (1.0 - c) * arm._k2
+
+
+def _forward_one(arm: Arm, phi: np.ndarray) -> Pose:
+    """:func:`forward` for a single pose: the same chain without batch overhead (hot path)."""
+    local = joint_rotations(arm, phi)
+    frames = np.empty((arm.n, 3, 3))
+    points = np.empty((arm.n + 1, 3))
+    points[0] = arm.base
+    rot = _IDENTITY
+    for i in range(arm.n):
+        rot = rot @ local[i]
+        frames[i] = rot
+        points[i + 1] = points[i] + rot @ arm._offsets[i]
+    return Pose(points=points, frames=frames, axes=(frames @ arm.axes[:, :, None])[:, :, 0])
+
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product over the last axis, broadcasting: ``np.cross`` without its overhead.
+
+    >>> cross(np.array([1.0, 0, 0]), np.array([0.0, 1, 0]))
+    array([0., 0., 1.])
+    """
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
 def joint_axes_world(arm: Arm, pose: Pose) -> np.ndarray:
     """World direction w_j = R_j a_j of every joint axis, shape (..., n, 3)."""
+    if pose.axes is not None:
+        return pose.axes
     return np.einsum("...jab,jb->...ja", pose.frames, arm.axes)
 
 
@@ -194,7 +248,7 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarra
     w = joint_axes_world(arm, pose)
     jac = np.zeros(pose.points.shape[:-2] + (3, arm.n))
     lever = q[..., None, :] - pose.points[..., : link + 1, :]
-    jac[..., :, : link + 1] = np.swapaxes(np.cross(w[..., : link + 1, :], lever), -1, -2)
+    jac[..., :, : link + 1] = np.swapaxes(cross(w[..., : link + 1, :], lever), -1, -2)
     return jac
 
 
@@ -211,11 +265,13 @@ def point_hessian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarray
     """
     q = link_point(pose, link, t)
     w = joint_axes_world(arm, pose)
+    k = link + 1
+    d = cross(w[:k], q - pose.points[:k])  # (k, 3): column j of the Jacobian
+    second = cross(w[:k, None, :], d[None, :, :])  # [i, j] = w_i x (w_j x (q - p_j))
+    upper = np.triu(np.ones((k, k), dtype=bool))  # i <= j
+    block = np.where(upper[..., None], second, np.swapaxes(second, 0, 1))
     hess = np.zeros((3, arm.n, arm.n))
-    for j in range(link + 1):
-        dj = np.cross(w[j], q - pose.points[j])
-        for i in range(j + 1):
-            hess[:, i, j] = hess[:, j, i] = np.cross(w[i], dj)
+    hess[:, :k, :k] = np.moveaxis(block, -1, 0)
     return hess
 
 
@@ -236,6 +292,8 @@ def numeric_jacobian(
     return (fun(displaced) - f0).T / h
 
 
+_gesdd = scipy.linalg.get_lapack_funcs("gesdd", dtype=np.float64)  # scipy.linalg.svd's own driver, minus its per-call checks
+
 PINV_RTOL = 1e-6
 """Singular values below this fraction of the largest are treated as zero: a
 forward-difference Jacobian (h = 1e-6) carries noise of about that size where the
@@ -243,8 +301,18 @@ true Jacobian has lost rank, and inverting the noise would fling the arm."""
 
 
 def pseudo_inverse(jac: np.ndarray) -> np.ndarray:
-    """Moore-Penrose pseudo-inverse V D+ U^T (the notes' Eq. 20), via ``scipy.linalg.pinv``.
+    """Moore-Penrose pseudo-inverse J+ = V D+ U^T (the notes' Eq. 20), from the SVD of
+    ``scipy.linalg``.
 
     Singular values below ``PINV_RTOL`` times the largest count as zero.
+
+    >>> pseudo_inverse(np.array([[2.0, 0.0], [0.0, 0.0]]))
+    array([[0.5, 0. ],
+           [0. , 0. ]])
     """
-    return scipy.linalg.pinv(jac, atol=0.0, rtol=PINV_RTOL, check_finite=False)
+    u, d, vt, info = _gesdd(jac, compute_uv=1, full_matrices=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"SVD did not converge (LAPACK gesdd info {info})")
+    keep = d > PINV_RTOL * d[0] if len(d) and d[0] > 0 else np.zeros(len(d), dtype=bool)
+    inverse = np.where(keep, 1.0 / np.where(keep, d, 1.0), 0.0)
+    return (vt.T * inverse) @ u.T

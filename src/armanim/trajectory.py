@@ -17,7 +17,7 @@ from armanim.cost import clearances, min_link_clearance
 from armanim.geometry import wrap_angle
 from armanim.kinematics import forward
 from armanim.problem import Problem
-from armanim.solvers import step_function
+from armanim.solvers import arm_state, step_function
 from armanim.solvers.barrier import shorten_step
 
 STALL_WINDOW = 30  # frames over which a missed goal's progress is judged
@@ -164,11 +164,11 @@ def solve_trajectory(problem: Problem, progress: Callable[[int], None] | None = 
     -------
     Solution
     """
-    arm, s = problem.arm, problem.solver
+    s = problem.solver
     step = step_function(s.method)
     rec = _Recorder()
-    phi = np.array(problem.home, dtype=float)
-    tip = forward(arm, phi).tip
+    state = arm_state(problem, problem.home)
+    phi, tip = state.phi, state.tip
     first_goal = problem.goals[0].position
     rec.add(phi, tip, 0, float(np.linalg.norm(tip - first_goal)))
     reports = []
@@ -179,10 +179,10 @@ def solve_trajectory(problem: Problem, progress: Callable[[int], None] | None = 
         blocked: list[str | None] = []
         distances = [float(np.linalg.norm(tip - target))]
         while distances[-1] >= s.tolerance and frames < s.max_frames_per_goal:
-            proposal = step(problem, phi, target)
-            moved = shorten_step(problem, phi, proposal.dphi)
-            phi = moved.phi
-            tip = forward(arm, phi).tip
+            proposal = step(problem, state, target)
+            moved = shorten_step(problem, state, proposal.dphi)
+            state = moved.state
+            phi, tip = state.phi, state.tip
             distances.append(float(np.linalg.norm(tip - target)))
             blocked.append(moved.blocked_by)
             frames += 1

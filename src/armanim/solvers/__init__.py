@@ -13,12 +13,13 @@ from typing import Callable
 import numpy as np
 
 from armanim.problem import Problem
-from armanim.solvers.common import Step
+from armanim.solvers.common import ArmState, Step, arm_state
 from armanim.solvers.gradient import gradient_step
 from armanim.solvers.linear import dls_step, pinv_step
 from armanim.solvers.newton import newton_step
 
-StepFunction = Callable[[Problem, np.ndarray, np.ndarray], Step]
+StepFunction = Callable[[Problem, ArmState, np.ndarray], Step]
+"""step(problem, state, goal) -> Step: a method's proposal for one frame."""
 
 METHODS: dict[str, StepFunction] = {
     "pinv": pinv_step,
@@ -36,4 +37,4 @@ def step_function(method: str) -> StepFunction:
         raise ValueError(f"unknown solver method {method!r} (expected one of {', '.join(METHODS)})") from None
 
 
-__all__ = ["METHODS", "Step", "StepFunction", "step_function"]
+__all__ = ["METHODS", "ArmState", "Step", "StepFunction", "arm_state", "step_function"]

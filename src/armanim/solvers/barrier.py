@@ -8,7 +8,7 @@ limits. A step that never becomes safe is not taken: the arm holds still.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -16,6 +16,7 @@ from armanim.cost import min_link_clearance
 from armanim.geometry import wrap_angle
 from armanim.kinematics import forward
 from armanim.problem import Problem
+from armanim.solvers.common import ArmState, arm_state
 
 HALVINGS = 30
 CONTACT = 1e-9  # clearance that counts as touching: kept strictly positive
@@ -27,8 +28,9 @@ class Shortened:
 
     Attributes
     ----------
-    phi : (n,) array
-        The new, safe angles (unlimited joints wrapped to (-pi, pi]).
+    state : ArmState
+        The new, safe pose (unlimited joints wrapped to (-pi, pi]), with its
+        kinematics and clearances, ready for the next step.
     scale : float
         Fraction of the proposed step taken (1 = all of it, 0 = none).
     blocked_by : str or None
@@ -36,9 +38,14 @@ class Shortened:
         ``"limit"``, ``"nan"`` (the proposal was not finite), or None.
     """
 
-    phi: np.ndarray
+    state: ArmState
     scale: float
     blocked_by: str | None
+
+    @property
+    def phi(self) -> np.ndarray:
+        """The new angles."""
+        return self.state.phi
 
 
 def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
@@ -50,25 +57,36 @@ def violations(problem: Problem, candidates: np.ndarray) -> tuple[np.ndarray, np
     """For (k, n) candidate poses: (k,) bool of limit violations and of obstacle contact."""
     lim = problem.limits
     limit_bad = np.any((candidates <= lim.lower) | (candidates >= lim.upper), axis=-1)
+    if not len(problem.obstacles):
+        return limit_bad, np.zeros(len(candidates), dtype=bool)
     clearance = min_link_clearance(forward(problem.arm, candidates), problem.obstacles, problem.half_width)
     return limit_bad, ~(clearance > CONTACT)
 
 
-def shorten_step(problem: Problem, phi: np.ndarray, dphi: np.ndarray) -> Shortened:
-    """Take as much of ``dphi`` as the barriers allow (see the module docstring)."""
+def shorten_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> Shortened:
+    """Take as much of ``dphi`` from ``state`` as the barriers allow (see the module docstring)."""
     if not np.all(np.isfinite(dphi)):
-        return Shortened(phi.copy(), 0.0, "nan")
+        return Shortened(state, 0.0, "nan")
+    phi = state.phi
     biggest = np.max(np.abs(dphi), initial=0.0)
     cap = min(1.0, problem.solver.max_joint_step / biggest) if biggest > 0 else 1.0
     full = phi + cap * dphi
-    limit_bad, contact = violations(problem, full[None, :])
-    if not (limit_bad[0] or contact[0]):
-        return Shortened(wrap_unlimited(problem, full), cap, None)
-    blocked_by = "obstacle" if contact[0] else "limit"
+    lim = problem.limits
+    limit_bad = bool(np.any((full <= lim.lower) | (full >= lim.upper)))
+    if not limit_bad:
+        candidate = arm_state(problem, full)
+        if candidate.min_clearance > CONTACT:
+            return Shortened(_wrapped(problem, candidate), cap, None)
+    blocked_by = "limit" if limit_bad else "obstacle"
     scales = cap * 0.5 ** np.arange(1, HALVINGS + 1)
     limit_bad, contact = violations(problem, phi + scales[:, None] * dphi)
     safe = np.nonzero(~(limit_bad | contact))[0]
     if len(safe) == 0:
-        return Shortened(phi.copy(), 0.0, blocked_by)
+        return Shortened(state, 0.0, blocked_by)
     scale = float(scales[safe[0]])
-    return Shortened(wrap_unlimited(problem, phi + scale * dphi), scale, blocked_by)
+    return Shortened(_wrapped(problem, arm_state(problem, phi + scale * dphi)), scale, blocked_by)
+
+
+def _wrapped(problem: Problem, state: ArmState) -> ArmState:
+    """The same pose with unlimited joints wrapped (the kinematics do not change)."""
+    return replace(state, phi=wrap_unlimited(problem, state.phi))

@@ -7,8 +7,46 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.cost import Clearances, clearances
 from armanim.kinematics import Pose, forward, link_point, numeric_jacobian, point_jacobian
 from armanim.problem import Problem
+
+
+@dataclass(frozen=True)
+class ArmState:
+    """A pose with what every step needs of it, computed once per frame.
+
+    Attributes
+    ----------
+    phi : (n,) array
+        Joint angles, radians.
+    pose : Pose
+        Its joint points and frames.
+    clearance : Clearances or None
+        Clearances of every part to every obstacle (None without obstacles).
+    """
+
+    phi: np.ndarray
+    pose: Pose
+    clearance: Clearances | None
+
+    @property
+    def tip(self) -> np.ndarray:
+        """(3,) the end effector."""
+        return self.pose.tip
+
+    @property
+    def min_clearance(self) -> float:
+        """Smallest link-capsule clearance (+inf without obstacles)."""
+        return float(self.clearance.links.min()) if self.clearance is not None else np.inf
+
+
+def arm_state(problem: Problem, phi: np.ndarray) -> ArmState:
+    """Forward kinematics and clearances of one pose."""
+    phi = np.asarray(phi, dtype=float)
+    pose = forward(problem.arm, phi)
+    cl = clearances(pose, problem.obstacles, problem.half_width) if len(problem.obstacles) else None
+    return ArmState(phi, pose, cl)
 
 
 @dataclass(frozen=True)

@@ -10,31 +10,34 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.cost import total_cost, total_cost_gradient
-from armanim.kinematics import forward, numeric_jacobian, tip_jacobian
+from armanim.kinematics import numeric_jacobian, tip_jacobian
 from armanim.problem import Problem
-from armanim.solvers.common import Step
+from armanim.solvers.common import ArmState, Step
 
 HALVINGS = 30  # line-search trials: 2**-30 of a step is below any useful resolution
 
 
-def cost_gradient(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
-    """grad C at phi: analytic, or the forward-difference gradient when numeric."""
+def cost_gradient(problem: Problem, state: ArmState, goal: np.ndarray) -> np.ndarray:
+    """grad C at the state's pose: analytic, or the forward-difference gradient when numeric."""
     if problem.solver.jacobian == "numeric":
-        return numeric_jacobian(lambda p: total_cost(problem, p, goal)[..., None], phi)[0]
-    return total_cost_gradient(problem, phi, goal)
+        return numeric_jacobian(lambda p: total_cost(problem, p, goal)[..., None], state.phi)[0]
+    return total_cost_gradient(problem, state.phi, goal, state.pose, state.clearance)
 
 
-def gradient_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+def gradient_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
     """One frame of gradient descent on C with a backtracking line search."""
     s = problem.solver
-    dphi = -s.step * cost_gradient(problem, phi, goal)
-    travel = np.linalg.norm(tip_jacobian(problem.arm, forward(problem.arm, phi)) @ dphi)
+    phi = state.phi
+    dphi = -s.step * cost_gradient(problem, state, goal)
+    travel = np.linalg.norm(tip_jacobian(problem.arm, state.pose) @ dphi)
     if travel > s.max_step:
         dphi = dphi * (s.max_step / travel)
-    scales = 0.5 ** np.arange(HALVINGS)
-    costs = total_cost(problem, phi + scales[:, None] * dphi, goal)
-    better = np.nonzero(costs < total_cost(problem, phi, goal))[0]
+    now = total_cost(problem, phi, goal, state.pose, state.clearance)
+    if total_cost(problem, phi + dphi, goal) < now:  # the whole step is usually taken
+        return Step(dphi=dphi, iterations=1)
+    scales = 0.5 ** np.arange(1, HALVINGS)
+    better = np.nonzero(total_cost(problem, phi + scales[:, None] * dphi, goal) < now)[0]
     if len(better) == 0:
         return Step(dphi=np.zeros_like(phi), iterations=HALVINGS)
     first = int(better[0])
-    return Step(dphi=scales[first] * dphi, iterations=first + 1)
+    return Step(dphi=scales[first] * dphi, iterations=first + 2)

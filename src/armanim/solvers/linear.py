@@ -23,10 +23,9 @@ from typing import Callable
 
 import numpy as np
 
-from armanim.cost import clearances
-from armanim.kinematics import forward, pseudo_inverse
+from armanim.kinematics import pseudo_inverse
 from armanim.problem import Problem
-from armanim.solvers.common import Step, jacobian_of_point, task_displacement
+from armanim.solvers.common import ArmState, Step, jacobian_of_point, task_displacement
 
 
 def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:
@@ -46,29 +45,30 @@ def repulsion(gap: np.ndarray, reach: np.ndarray | float) -> np.ndarray:
     return np.where(inside, reach * (reach / np.where(inside, gap, 1.0) - 1.0), 0.0)
 
 
-def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray:
-    """Joint-space push z (n,) away from nearby limits, radians."""
+def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray | None:
+    """Joint-space push z (n,) away from nearby limits, radians; None when no joint is near one."""
     limits = problem.limits
+    lo_gap, hi_gap = phi - limits.lower, limits.upper - phi
+    if min(lo_gap.min(), hi_gap.min()) >= limits.margin:
+        return None
     scale = problem.solver.step * problem.solver.w_limits
-    up = repulsion(phi - limits.lower, limits.margin)
-    down = repulsion(limits.upper - phi, limits.margin)
-    return scale * (up - down)
+    return scale * (repulsion(lo_gap, limits.margin) - repulsion(hi_gap, limits.margin))
 
 
 def linear_step(
-    problem: Problem, phi: np.ndarray, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray]
+    problem: Problem, state: ArmState, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray]
 ) -> Step:
     """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse."""
     arm, s = problem.arm, problem.solver
-    pose = forward(arm, phi)
+    phi, pose = state.phi, state.pose
     jac = jacobian_of_point(problem, phi, pose, arm.n - 1, 1.0)
     jac_inv = invert(jac)
     dphi = jac_inv @ task_displacement(problem, pose.tip, goal)
 
     secondary = limit_push(problem, phi)
-    obstacles = problem.obstacles
-    if len(obstacles):
-        cl = clearances(pose, obstacles, problem.half_width)
+    cl = state.clearance
+    if cl is not None and np.any(cl.d < problem.obstacles.influence):
+        obstacles = problem.obstacles
         push = s.step * s.w_obstacles * repulsion(cl.d, obstacles.influence)
         for part, obs in zip(*np.nonzero(push)):
             v = push[part, obs] * cl.normal[part, obs]
@@ -76,18 +76,19 @@ def linear_step(
                 dphi = dphi + jac_inv @ v
             else:
                 jac_q = jacobian_of_point(problem, phi, pose, part, cl.t[part, obs])
-                secondary = secondary + invert(jac_q) @ v
-    if np.any(secondary):
+                pushed = invert(jac_q) @ v
+                secondary = pushed if secondary is None else secondary + pushed
+    if secondary is not None:
         dphi = dphi + secondary - jac_inv @ (jac @ secondary)
     return Step(dphi=dphi)
 
 
-def pinv_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+def pinv_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
     """``pinv``: the course notes' Algorithm 2 with the pseudo-inverse (Eqs. 19-20)."""
-    return linear_step(problem, phi, goal, pseudo_inverse)
+    return linear_step(problem, state, goal, pseudo_inverse)
 
 
-def dls_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+def dls_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
     """``dls``: damped least squares with ``solver.damping``; smooth near singular poses."""
     damping = problem.solver.damping
-    return linear_step(problem, phi, goal, lambda jac: damped_inverse(jac, damping))
+    return linear_step(problem, state, goal, lambda jac: damped_inverse(jac, damping))

@@ -18,7 +18,7 @@ import scipy.linalg
 
 from armanim.kinematics import Arm, forward, point_hessian, tip_jacobian
 from armanim.problem import Problem
-from armanim.solvers.common import Step, task_displacement
+from armanim.solvers.common import ArmState, Step, task_displacement
 
 
 @dataclass(frozen=True)
@@ -40,6 +40,9 @@ class NewtonOptions:
     max_turn : float
         Largest joint change (radians) a line search starts from: with w_tar = 1e3
         the raw gradient step would spin joints by whole turns into another branch.
+    handover : float
+        GDLS hands over to NM once an iteration lowers f by less than this fraction:
+        in the narrow valley that w_tar = 1e3 makes, gradient descent only crawls.
     """
 
     gd_iterations: int = 20
@@ -49,6 +52,7 @@ class NewtonOptions:
     shrink: float = 0.5
     halvings: int = 40
     max_turn: float = 0.5
+    handover: float = 0.01
 
 
 @dataclass(frozen=True)
@@ -72,9 +76,17 @@ def objective(
 
 
 def objective_derivatives(
-    arm: Arm, phi: np.ndarray, target: np.ndarray, rest: np.ndarray, w_tar: float, w_reg: float
-) -> tuple[float, np.ndarray, np.ndarray]:
+    arm: Arm,
+    phi: np.ndarray,
+    target: np.ndarray,
+    rest: np.ndarray,
+    w_tar: float,
+    w_reg: float,
+    hessian: bool = True,
+) -> tuple[float, np.ndarray, np.ndarray | None]:
     """f, its gradient g (n,) and Hessian H (n, n), as the assignment writes them.
+
+    With ``hessian=False`` (gradient descent needs none) H is returned as None.
 
     >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
     >>> f, g, H = objective_derivatives(arm, np.zeros(2), np.array([1.0, 1, 0]), np.zeros(2), 1e3, 1.0)
@@ -85,9 +97,11 @@ def objective_derivatives(
     dp = pose.tip - target
     dtheta = phi - rest
     jac = tip_jacobian(arm, pose)
-    hess = point_hessian(arm, pose, arm.n - 1, 1.0)
     f = 0.5 * w_tar * dp @ dp + 0.5 * w_reg * dtheta @ dtheta
     g = w_tar * dp @ jac + w_reg * dtheta
+    if not hessian:
+        return float(f), g, None
+    hess = point_hessian(arm, pose, arm.n - 1, 1.0)
     H = w_tar * (jac.T @ jac + np.einsum("a,aij->ij", dp, hess)) + w_reg * np.eye(arm.n)
     return float(f), g, H
 
@@ -147,13 +161,16 @@ def newton_solve(
     alpha = options.alpha
     gd_its = 0
     for gd_its in range(1, options.gd_iterations + 1):
-        f, g, _ = objective_derivatives(arm, x, target, rest, w_tar, w_reg)
+        f, g, _ = objective_derivatives(arm, x, target, rest, w_tar, w_reg, hessian=False)
         if np.linalg.norm(g) < options.tolerance:
             break
         x_new, f_new, alpha = _line_search(fun, x, f, -g, -(g @ g), alpha, options)
         if x_new is None:
             break
+        slow = f - f_new < options.handover * f
         x, f = x_new, f_new
+        if slow:
+            break
         alpha = min(options.alpha, 2.0 * alpha)  # warm start: the next search begins near this one
 
     x_gd, f_gd = x, f
@@ -181,10 +198,10 @@ def newton_solve(
     )
 
 
-def newton_step(problem: Problem, phi: np.ndarray, goal: np.ndarray) -> Step:
+def newton_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
     """One frame: solve f to the frame target e* = e + de, regularised to the current pose."""
     arm, s = problem.arm, problem.solver
-    tip = forward(arm, phi).tip
+    phi, tip = state.phi, state.tip
     target = tip + task_displacement(problem, tip, goal)
     result = newton_solve(arm, phi, target, phi, s.w_target, s.w_regularizer)
     return Step(
