@@ -342,9 +342,19 @@ def parse_size(text: str) -> tuple[int, int]:
     return w, h
 
 
-def render_overrides(size: str | None, fps: float | None, fmt: str | None) -> dict:
+def render_overrides(
+    size: str | None, fps: float | None, fmt: str | None, elevation: float | None = None, azimuth: float | None = None
+) -> dict:
     """RenderSettings fields given on the command line."""
     overrides: dict = {}
+    if elevation is not None:
+        if not -90 <= elevation <= 90:
+            raise UsageError(f"--elevation: must be in [-90, 90] degrees (got {elevation:g})")
+        overrides["elevation"] = elevation
+    if azimuth is not None:
+        if not -360 <= azimuth <= 360:
+            raise UsageError(f"--azimuth: must be in [-360, 360] degrees (got {azimuth:g})")
+        overrides["azimuth"] = azimuth
     if size:
         overrides["size"] = parse_size(size)
     if fps is not None:
@@ -531,6 +541,31 @@ def print_goal_table(result) -> None:
         table.add_row(str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), f"{g.final_distance:.3g}")
     out.print(table)
     out.print("outputs: " + ", ".join(str(p) for p in result.files.values()), highlight=False)
+
+
+@app.command()
+@handle_errors
+def render(
+    folder: Annotated[Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/notes-arm.", show_default=False)],
+    size: Annotated[Optional[str], typer.Option("--size", help="Frame size WIDTHxHEIGHT, e.g. 640x360.")] = None,
+    fps: Annotated[Optional[float], typer.Option("--fps", help="Frames per second.")] = None,
+    fmt: Annotated[Optional[str], typer.Option("--format", help="mp4 or gif.")] = None,
+    elevation: Annotated[Optional[float], typer.Option("--elevation", help="Camera elevation, degrees.")] = None,
+    azimuth: Annotated[Optional[float], typer.Option("--azimuth", help="Camera azimuth, degrees.")] = None,
+    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")] = None,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """Re-render a finished run from its trajectory.csv, without solving (other size, view, fps or format).
+
+    Example: [bold]armanim render outputs/notes-arm --size 640x360 --format gif[/bold]
+    """
+    from armanim.pipeline import rerender_run
+
+    overrides = render_overrides(size, fps, fmt, elevation, azimuth)
+    with _Bars(enabled=not quiet and err.is_terminal) as bars:
+        files = rerender_run(folder, jobs=jobs, render_overrides=overrides, progress=bars)
+    if not quiet:
+        out.print("wrote " + ", ".join(str(p) for p in files.values()), highlight=False)
 
 
 # ---------------------------------------------------------------- golden trajectories

@@ -128,6 +128,31 @@ def produce_outputs(
     return Produced(problem, solution, summary, names)
 
 
+def rerender_run(
+    folder: str | Path,
+    *,
+    jobs: int | None = None,
+    render_overrides: dict | None = None,
+    progress: Progress | None = None,
+) -> dict[str, Path]:
+    """Re-render a finished run from its folder (scene.yaml, trajectory.csv, summary.json)
+    without solving: another size, view, fps or format.
+
+    Returns the written files by kind (``video``, ``plot``).
+
+    Raises
+    ------
+    SceneError
+        The folder is not a complete armanim run (exit 2).
+    """
+    from armanim.output.reload import load_run
+
+    run = load_run(folder)
+    settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
+    problem = replace(run.problem, fps=settings.fps)
+    return render_outputs(problem, run.solution, settings, Path(folder), run.scene.name, jobs=jobs, progress=progress)
+
+
 def render_outputs(
     problem: Problem,
     solution: Solution,

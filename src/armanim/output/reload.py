@@ -61,6 +61,9 @@ def load_run(folder: str | Path) -> FinishedRun:
     folder = Path(folder)
     if not folder.is_dir():
         raise SceneError(str(folder), [Diagnostic("", "no such folder (expected an output folder of armanim run, e.g. outputs/notes-arm)")])
+    missing = [name for name in (SCENE_COPY, "trajectory.csv", "summary.json") if not (folder / name).is_file()]
+    if missing:
+        raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
     scene = load_scene(folder / SCENE_COPY)
     problem = scene_to_problem(scene.model)
     table = read_trajectory_csv(folder / "trajectory.csv")

@@ -1,0 +1,70 @@
+"""`armanim run` with video and `armanim render` re-rendering a finished run from its CSV."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import imageio_ffmpeg
+import pytest
+from typer.testing import CliRunner
+
+from armanim.cli import app
+
+ROOT = Path(__file__).resolve().parent.parent
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def finished_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("runs")
+    result = runner.invoke(app, ["run", str(ROOT / "scenes" / "planar-nlink.yaml"), "--out", str(out), "--size", "64x48", "--jobs", "1", "-q"])
+    assert result.exit_code == 0, result.output
+    return out / "planar-nlink"
+
+
+def _rows(folder: Path) -> int:
+    return len((folder / "trajectory.csv").read_text().splitlines()) - 1
+
+
+@pytest.mark.slow
+def test_run_writes_video_plot_and_scene_copy(finished_run):
+    names = {p.name for p in finished_run.iterdir()}
+    assert names == {"scene.yaml", "trajectory.csv", "summary.json", "animation.mp4", "plot.png"}
+    frames, _ = imageio_ffmpeg.count_frames_and_secs(str(finished_run / "animation.mp4"))
+    assert frames == _rows(finished_run)
+    assert (finished_run / "scene.yaml").read_bytes() == (ROOT / "scenes" / "planar-nlink.yaml").read_bytes()
+
+
+@pytest.mark.slow
+def test_render_redraws_at_another_size_and_fps_without_solving(finished_run, tmp_path):
+    folder = tmp_path / "copy"
+    shutil.copytree(finished_run, folder)
+    csv_before = (folder / "trajectory.csv").read_bytes()
+    result = runner.invoke(app, ["render", str(folder), "--size", "80x60", "--fps", "12", "--jobs", "1", "-q"])
+    assert result.exit_code == 0, result.output
+    reader = imageio_ffmpeg.read_frames(str(folder / "animation.mp4"))
+    meta = next(reader)
+    reader.close()
+    assert tuple(meta["size"]) == (80, 60)
+    assert meta["fps"] == pytest.approx(12)
+    frames, _ = imageio_ffmpeg.count_frames_and_secs(str(folder / "animation.mp4"))
+    assert frames == _rows(folder)
+    assert (folder / "trajectory.csv").read_bytes() == csv_before  # nothing re-solved or rewritten
+
+
+@pytest.mark.parametrize("make", ["missing", "empty"])
+def test_render_of_a_folder_that_is_not_a_run_is_bad_input(tmp_path, make):
+    folder = tmp_path / "not-a-run"
+    if make == "empty":
+        folder.mkdir()
+    result = runner.invoke(app, ["render", str(folder)])
+    assert result.exit_code == 2
+    assert str(folder) in result.output
+    assert "Traceback" not in result.output
+
+
+def test_render_rejects_a_bad_view(tmp_path):
+    result = runner.invoke(app, ["render", str(tmp_path), "--elevation", "120"])
+    assert result.exit_code == 2
+    assert "--elevation" in result.output
