@@ -22,6 +22,7 @@ from armanim.solvers.newton import newton_solve
 
 FULL_TURN_PER_ITERATION = np.radians(30.0)
 STALL_ITERATIONS = 15  # iterations without progress before a restart
+ATTEMPT_ITERATIONS = 25  # full steps converge in a handful; a slow crawl is better restarted
 RESTARTS = 4
 
 
@@ -105,7 +106,8 @@ def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget:
     step = step_function(fast.solver.method)
     state = arm_state(fast, start)
     best, since_best, iterations = np.inf, 0, 0
-    while iterations < budget:
+    limit = min(budget, ATTEMPT_ITERATIONS) if fast.solver.method in ("pinv", "dls") else budget
+    while iterations < limit:
         distance = float(np.linalg.norm(state.tip - goal))
         if distance < fast.solver.tolerance:
             break

@@ -253,8 +253,13 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarra
 
 
 def tip_jacobian(arm: Arm, pose: Pose) -> np.ndarray:
-    """Analytic Jacobian of the tip, (..., 3, n): the course notes' Eq. 14."""
-    return point_jacobian(arm, pose, arm.n - 1, 1.0)
+    """Analytic Jacobian of the tip, (..., 3, n): the course notes' Eq. 14.
+
+    :func:`point_jacobian` at the end of the last link, where every joint moves the
+    point, written without the masking (it runs every frame).
+    """
+    lever = pose.tip[..., None, :] - pose.points[..., :-1, :]
+    return np.swapaxes(cross(joint_axes_world(arm, pose), lever), -1, -2)
 
 
 def point_hessian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarray:

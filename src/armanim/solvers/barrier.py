@@ -8,7 +8,7 @@ limits. A step that never becomes safe is not taken: the arm holds still.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -50,6 +50,8 @@ class Shortened:
 
 def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """Wrap the unlimited joints into (-pi, pi]; limited joints stay as they are."""
+    if np.abs(phi).max() <= np.pi:  # the usual case: nothing to wrap
+        return phi
     return np.where(problem.limits.limited, phi, wrap_angle(phi))
 
 
@@ -65,14 +67,14 @@ def violations(problem: Problem, candidates: np.ndarray) -> tuple[np.ndarray, np
 
 def shorten_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> Shortened:
     """Take as much of ``dphi`` from ``state`` as the barriers allow (see the module docstring)."""
-    if not np.all(np.isfinite(dphi)):
+    biggest = float(np.abs(dphi).max(initial=0.0))
+    if not biggest < np.inf:  # NaN or infinity somewhere in the proposal
         return Shortened(state, 0.0, "nan")
     phi = state.phi
-    biggest = np.max(np.abs(dphi), initial=0.0)
     cap = min(1.0, problem.solver.max_joint_step / biggest) if biggest > 0 else 1.0
     full = phi + cap * dphi
     lim = problem.limits
-    limit_bad = bool(np.any((full <= lim.lower) | (full >= lim.upper)))
+    limit_bad = bool(((full <= lim.lower) | (full >= lim.upper)).any())
     if not limit_bad:
         candidate = arm_state(problem, full)
         if candidate.min_clearance > CONTACT:
@@ -89,4 +91,4 @@ def shorten_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> Shorten
 
 def _wrapped(problem: Problem, state: ArmState) -> ArmState:
     """The same pose with unlimited joints wrapped (the kinematics do not change)."""
-    return replace(state, phi=wrap_unlimited(problem, state.phi))
+    return ArmState(wrap_unlimited(problem, state.phi), state.pose, state.clearance)

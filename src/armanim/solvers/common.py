@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.cost import Clearances, clearances
-from armanim.kinematics import Pose, forward, link_point, numeric_jacobian, point_jacobian
+from armanim.kinematics import Pose, forward, link_point, numeric_jacobian, point_jacobian, tip_jacobian
 from armanim.problem import Problem
 
 
@@ -82,4 +82,6 @@ def jacobian_of_point(problem: Problem, phi: np.ndarray, pose: Pose, link: int, 
     when the scene says ``jacobian: numeric``."""
     if problem.solver.jacobian == "numeric":
         return numeric_jacobian(lambda p: link_point(forward(problem.arm, p), link, t), phi)
+    if link == problem.arm.n - 1 and t == 1.0:
+        return tip_jacobian(problem.arm, pose)
     return point_jacobian(problem.arm, pose, link, t)

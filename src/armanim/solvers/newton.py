@@ -14,7 +14,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from armanim.kinematics import Arm, forward, point_hessian, tip_jacobian
 from armanim.problem import Problem
@@ -107,20 +106,17 @@ def objective_derivatives(
 
 
 def newton_direction(H: np.ndarray, g: np.ndarray) -> np.ndarray | None:
-    """-H^-1 g, with H shifted by mu I until it is positive definite.
+    """-H^-1 g, with H's eigenvalues raised to a small positive floor where needed.
 
-    Far from the target the term (e - e*) . P'' can make H indefinite; the shift
-    keeps the Newton step a descent direction instead of giving up.
+    Far from the target the term (e - e*) . P'' can make H indefinite; clamping its
+    eigenvalues (a modified Newton step) keeps the step a descent direction instead
+    of giving up. Returns None if H is not finite.
     """
-    shift = 0.0
-    scale = max(float(np.max(np.abs(np.diag(H)))), 1e-12)
-    for _ in range(60):
-        try:
-            factor = scipy.linalg.cho_factor(H + shift * np.eye(len(g)), check_finite=False)
-            return -scipy.linalg.cho_solve(factor, g, check_finite=False)
-        except (np.linalg.LinAlgError, scipy.linalg.LinAlgError):
-            shift = max(2.0 * shift, 1e-8 * scale)
-    return None
+    if not np.all(np.isfinite(H)):
+        return None
+    eigenvalues, vectors = np.linalg.eigh(H)
+    floor = 1e-8 * max(float(np.abs(eigenvalues).max()), 1e-12)
+    return -(vectors @ ((vectors.T @ g) / np.maximum(eigenvalues, floor)))
 
 
 def _line_search(fun, x, f0, direction, slope, alpha, opts: NewtonOptions):
