@@ -9,8 +9,6 @@ is reported and the others finish. ``ROOT/index.csv`` lists every scene.
 
 from __future__ import annotations
 
-import csv
-import io
 import os
 import tempfile
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -20,6 +18,7 @@ from typing import Callable, Iterable
 
 from armanim.errors import ArmanimError, SceneError, UsageError
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
+from armanim.output.csvfile import table_csv_text
 from armanim.output.rundir import staged_folder
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
 
@@ -236,13 +235,12 @@ def run_tasks(
 
 def index_csv_text(entries: list[BatchEntry]) -> str:
     """index.csv: one row per scene."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(INDEX_COLUMNS)
-    for e in entries:
-        clearance = "" if e.min_clearance is None else repr(float(e.min_clearance))
-        writer.writerow([e.name, e.status, e.scene_file, e.goals, e.reached, e.missed, e.frames, clearance, e.folder, e.message])
-    return buffer.getvalue()
+    rows = (
+        [e.name, e.status, e.scene_file, e.goals, e.reached, e.missed, e.frames,
+         "" if e.min_clearance is None else repr(float(e.min_clearance)), e.folder, e.message]
+        for e in entries
+    )
+    return table_csv_text(INDEX_COLUMNS, rows)
 
 
 def run_batch(

@@ -501,7 +501,8 @@ def sweep(
     """
     from armanim.batch import index_csv_text, run_tasks
     from armanim.output.atomic import write_text_atomic
-    from armanim.sweep import comparison_rows, parse_setting, table_csv_text, variants
+    from armanim.output.csvfile import table_csv_text
+    from armanim.sweep import comparison_rows, parse_setting, variants
 
     parsed = [parse_setting(text) for text in settings]
     items = variants(scene, parsed)

@@ -8,8 +8,6 @@ and run like any batch; the comparison goes to ``ROOT/<scene>-sweep.csv``.
 from __future__ import annotations
 
 import copy
-import csv
-import io
 import itertools
 import re
 from dataclasses import dataclass
@@ -147,12 +145,3 @@ def comparison_rows(settings: list[Setting], items: list[Variant], entries: list
             "" if not s else f"{s['max_joint_step_deg']:.6g}",
         ])
     return header, rows
-
-
-def table_csv_text(header: list[str], rows: list[list]) -> str:
-    """CSV text of a table."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(header)
-    writer.writerows(rows)
-    return buffer.getvalue()

@@ -52,14 +52,18 @@ def format_row(traj: Trajectory, i: int) -> list[str]:
     ]
 
 
-def trajectory_csv_text(traj: Trajectory) -> str:
-    """The whole trajectory.csv as text."""
+def table_csv_text(columns, rows) -> str:
+    """CSV text (LF line ends) of a header and rows: trajectory.csv, index.csv, sweep tables."""
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(header(traj.phi.shape[1]))
-    for i in range(traj.frames):
-        writer.writerow(format_row(traj, i))
+    writer.writerow(columns)
+    writer.writerows(rows)
     return buffer.getvalue()
+
+
+def trajectory_csv_text(traj: Trajectory) -> str:
+    """The whole trajectory.csv as text."""
+    return table_csv_text(header(traj.phi.shape[1]), (format_row(traj, i) for i in range(traj.frames)))
 
 
 def write_trajectory_csv(traj: Trajectory, path: Path) -> None:
