@@ -246,3 +246,22 @@ def test_run_invalid_scene_exits_2_and_writes_nothing(cli, tmp_path):
 def test_no_args_shows_help(cli):
     result = cli()
     assert "Usage" in result.output
+
+
+def test_progress_bars_render_on_a_terminal():
+    """The bars only draw on a terminal, which the test runner is not: force one."""
+    import io
+
+    from rich.console import Console
+
+    from armanim.cli import _Bars
+
+    screen = io.StringIO()
+    with _Bars(enabled=True, console=Console(file=screen, force_terminal=True, width=100)) as bars:
+        bars("solve", 0, 10)  # no speed measured yet
+        bars.progress.refresh()
+        for done in range(1, 11):
+            bars("render", done, 10)
+        bars.progress.refresh()
+    text = screen.getvalue()
+    assert "solve" in text and "render" in text and "10/10" in text

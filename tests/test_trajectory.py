@@ -99,9 +99,13 @@ def test_random_problem_trajectory_invariants(problem):
 @settings(max_examples=20)
 def test_progress_callback_counts_frames(problem):
     seen = []
-    solution = solve_trajectory(problem, progress=seen.append)
-    assert seen and seen[-1] == solution.trajectory.frames
-    assert seen == sorted(seen)
+    solution = solve_trajectory(problem, progress=lambda done, total: seen.append((done, total)))
+    done = [d for d, _ in seen]
+    totals = [t for _, t in seen]
+    assert seen and seen[-1] == (solution.trajectory.frames, solution.trajectory.frames)
+    assert done == sorted(done)
+    assert totals == sorted(totals, reverse=True)  # the bound only shrinks
+    assert all(d <= t <= frame_budget(problem) for d, t in seen)
 
 
 def test_trajectory_is_deterministic_in_process():

@@ -371,8 +371,9 @@ def render_overrides(
 class _Bars:
     """A rich progress bar per stage, with frames per second and ETA."""
 
-    def __init__(self, enabled: bool):
+    def __init__(self, enabled: bool, console: Console | None = None):
         self.enabled = enabled
+        self.console = console or err
         self.progress = None
         self.tasks: dict[str, int] = {}
 
@@ -384,9 +385,9 @@ class _Bars:
                 TextColumn("{task.description}"),
                 BarColumn(),
                 MofNCompleteColumn(),
-                TextColumn("{task.speed:>6.0f} fps" if True else ""),
+                _RateColumn(),
                 TimeRemainingColumn(),
-                console=err,
+                console=self.console,
                 transient=True,
             )
             self.progress.__enter__()
@@ -402,6 +403,19 @@ class _Bars:
         if stage not in self.tasks:
             self.tasks[stage] = self.progress.add_task(f"{stage:>6}", total=total)
         self.progress.update(self.tasks[stage], completed=done, total=max(total, done))
+
+
+def _RateColumn():
+    """Items per second of a progress task ("--" until rich has measured a speed)."""
+    from rich.progress import ProgressColumn
+    from rich.text import Text
+
+    class RateColumn(ProgressColumn):
+        def render(self, task) -> Text:
+            speed = task.finished_speed or task.speed
+            return Text(f"{speed:7.1f}/s" if speed else "     --/s", style="progress.data.speed")
+
+    return RateColumn()
 
 
 SchedulerOpt = Annotated[

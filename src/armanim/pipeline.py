@@ -16,7 +16,7 @@ from armanim.output.rundir import staged_folder
 from armanim.output.summary import summary_dict, write_summary
 from armanim.problem import Problem, RenderSettings
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
-from armanim.trajectory import Solution, frame_budget, solve_trajectory
+from armanim.trajectory import Solution, solve_trajectory
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve" or "render"."""
@@ -113,10 +113,7 @@ def produce_outputs(
     settings = replace(render_settings(scene.model), **(render_overrides or {}))
     if settings.fps != problem.fps:
         problem = replace(problem, fps=settings.fps)
-    budget = frame_budget(problem)
-    solution = solve_trajectory(problem, (lambda done: progress("solve", done, budget)) if progress else None)
-    if progress:
-        progress("solve", solution.trajectory.frames, solution.trajectory.frames)
+    solution = solve_trajectory(problem, (lambda done, total: progress("solve", done, total)) if progress else None)
     summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
     write_bytes_atomic(folder / SCENE_COPY, scene.raw)

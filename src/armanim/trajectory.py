@@ -151,14 +151,16 @@ def frame_budget(problem: Problem) -> int:
     return 1 + sum(problem.solver.max_frames_per_goal + g.hold_frames for g in problem.goals)
 
 
-def solve_trajectory(problem: Problem, progress: Callable[[int], None] | None = None) -> Solution:
+def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | None = None) -> Solution:
     """Run the frame loop over every goal.
 
     Parameters
     ----------
     problem : Problem
     progress : callable, optional
-        Called with the number of frames produced so far, after every frame.
+        Called after every frame with the frames produced so far and the most the
+        run can still have in all (that bound shrinks as goals are reached early, and
+        equals the frame count at the end).
 
     Returns
     -------
@@ -172,7 +174,9 @@ def solve_trajectory(problem: Problem, progress: Callable[[int], None] | None = 
     first_goal = problem.goals[0].position
     rec.add(phi, tip, 0, float(np.linalg.norm(tip - first_goal)))
     reports = []
+    later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
+        later -= s.max_frames_per_goal + goal.hold_frames
         target = goal.position
         first = len(rec) if k else 0
         frames = iterations = newton_its = 0
@@ -190,13 +194,13 @@ def solve_trajectory(problem: Problem, progress: Callable[[int], None] | None = 
             newton_its += proposal.newton_iterations
             rec.add(phi, tip, k, distances[-1], proposal.iterations, moved.scale)
             if progress:
-                progress(len(rec))
+                progress(len(rec), len(rec) + s.max_frames_per_goal - frames + goal.hold_frames + later)
         reached = distances[-1] < s.tolerance
         if reached:
             for _ in range(goal.hold_frames):
                 rec.add(phi, tip, k, distances[-1])
-            if progress:
-                progress(len(rec))
+        if progress:
+            progress(len(rec), len(rec) + later)
         reports.append(
             GoalReport(
                 index=k,
