@@ -9,6 +9,7 @@ is reported and the others finish. ``ROOT/index.csv`` lists every scene.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -41,11 +42,15 @@ class SceneTask:
 
 @dataclass(frozen=True)
 class RemoteRun:
-    """What a worker sends back: every output file's bytes and the summary."""
+    """What a worker sends back: every output file's bytes and the summary, or the
+    report of armanim's own error (sent as text: a deterministic failure is a result,
+    never retried, and needs no exception pickled across versions)."""
 
     name: str
     files: dict[str, bytes]
-    summary: dict
+    summary: dict | None
+    error: str | None = None
+    status: str = "ok"
 
 
 @dataclass(frozen=True)
@@ -73,10 +78,15 @@ def run_task(task: SceneTask, video: bool, render_overrides: dict | None) -> Rem
     """Worker side: produce a scene's outputs in a temporary folder and return their bytes."""
     from armanim.pipeline import produce_outputs
 
-    scene = scene_from_bytes(task.raw, task.path, task.name)
-    with tempfile.TemporaryDirectory(prefix="armanim-") as tmp:
-        produced = produce_outputs(scene, Path(tmp), video=video, jobs=1, render_overrides=render_overrides)
-        files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
+    try:
+        scene = scene_from_bytes(task.raw, task.path, task.name)
+        with tempfile.TemporaryDirectory(prefix="armanim-") as tmp:
+            produced = produce_outputs(scene, Path(tmp), video=video, jobs=1, render_overrides=render_overrides)
+            files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
+    except SceneError as exc:
+        return RemoteRun(task.name, {}, None, exc.report(), "invalid")
+    except ArmanimError as exc:
+        return RemoteRun(task.name, {}, None, exc.report(), "failed")
     return RemoteRun(task.name, files, produced.summary)
 
 
@@ -128,6 +138,40 @@ def _failed(task: SceneTask, exc: BaseException) -> BatchEntry:
     return BatchEntry(task.name, "failed", task.path, message=message)
 
 
+_BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+_PRELOAD = ["armanim.pipeline", "armanim.render.draw", "armanim.render.video"]
+
+
+@contextlib.contextmanager
+def _one_blas_thread():
+    """Workers started meanwhile use one BLAS thread each: the pool already fills every
+    core, and BLAS threads on top only contend (as Dask's nanny also sets)."""
+    saved = {name: os.environ.get(name) for name in _BLAS_THREADS}
+    for name in _BLAS_THREADS:
+        os.environ.setdefault(name, "1")
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
+def _worker_context():
+    """forkserver with armanim's heavy imports preloaded once (each worker is then a
+    cheap fork of an importer that runs no threads); spawn where forkserver is missing."""
+    import multiprocessing
+
+    try:
+        context = multiprocessing.get_context("forkserver")
+    except ValueError:
+        return multiprocessing.get_context("spawn")
+    context.set_forkserver_preload(_PRELOAD)
+    return context
+
+
 class _LocalExecutor:
     """Scenes in this process (jobs=1) or in a pool of worker processes."""
 
@@ -142,10 +186,7 @@ class _LocalExecutor:
                 except Exception as exc:  # reported per scene; the batch goes on
                     yield task, None, exc
             return
-        import multiprocessing
-
-        context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=context) as pool:
+        with _one_blas_thread(), ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context()) as pool:
             futures = {pool.submit(run_task, task, video, overrides): task for task in tasks}
             try:
                 for future in as_completed(futures):
@@ -220,7 +261,9 @@ def run_tasks(
     if progress:
         progress(0, len(tasks))
     for task, run, exc in executor.map(tasks, video, render_overrides):
-        if exc is None:
+        if exc is None and run.error is not None:
+            entries[task.name] = BatchEntry(task.name, run.status, task.path, message=run.error)
+        elif exc is None:
             try:
                 entries[task.name] = _entry(task, run, write_remote_run(run, out_root))
             except ArmanimError as write_exc:

@@ -465,6 +465,7 @@ def run(
         )
     if not quiet:
         print_batch_table(entries, out_root / "index.csv")
+    print_batch_problems(entries)
     raise typer.Exit(batch_exit_code(entries, strict))
 
 
@@ -492,10 +493,14 @@ def print_batch_table(entries, index_path: Path) -> None:
         clearance = "" if e.min_clearance is None else f"{e.min_clearance:.3g}"
         table.add_row(e.name, f"[{style}]{e.status}[/{style}]", str(e.reached), str(e.missed), str(e.frames), clearance, e.folder)
     out.print(table)
+    out.print(f"index: {index_path}", highlight=False)
+
+
+def print_batch_problems(entries) -> None:
+    """Every invalid or failed scene's report on stderr (also with --quiet: errors are not chatter)."""
     for e in entries:
         if e.message:
             err.print(e.message, markup=False, highlight=False, soft_wrap=True)
-    out.print(f"index: {index_path}", highlight=False)
 
 
 @app.command()
@@ -536,10 +541,8 @@ def sweep(
         for row in rows:
             table.add_row(*(str(v) for v in row))
         out.print(table)
-        for e in entries:
-            if e.message:
-                err.print(e.message, markup=False, highlight=False, soft_wrap=True)
         out.print(f"table: {table_path}", highlight=False)
+    print_batch_problems(entries)
     raise typer.Exit(batch_exit_code(entries, strict=False))
 
 

@@ -109,11 +109,14 @@ def variants(scene_path: Path, settings: list[Setting]) -> list[Variant]:
     base_scene = load_scene(scene_path)
     data0 = read_yaml(base_scene.raw.decode("utf-8"), str(scene_path)).data
     result = []
-    for combo in itertools.product(*(s.values for s in settings)):
+    names: set[str] = set()
+    for combo in unique_combinations(settings):
         data = copy.deepcopy(data0)
         for setting, value in zip(settings, combo):
             _assign(data, setting.path, value)
-        name = "_".join([base_scene.name, *(f"{s.short}-{_label(v)}" for s, v in zip(settings, combo))])[:100]
+        name = _unique(
+            "_".join([base_scene.name, *(f"{s.short}-{_label(v)}" for s, v in zip(settings, combo))])[:96], names
+        )
         data["name"] = name
         text = f"# armanim sweep variant of {Path(scene_path).name}\n" + yaml.safe_dump(data, sort_keys=False)
         values = {s.path: v for s, v in zip(settings, combo)}
@@ -124,6 +127,27 @@ def variants(scene_path: Path, settings: list[Setting]) -> list[Variant]:
             continue
         result.append(Variant(values, name, SceneTask.from_scene(scene), None))
     return result
+
+
+def unique_combinations(settings: list[Setting]) -> list[tuple]:
+    """The product of the settings' values, each combination once (``0.1,0.1`` runs once)."""
+    seen, combos = set(), []
+    for combo in itertools.product(*(s.values for s in settings)):
+        key = repr(combo)
+        if key not in seen:
+            seen.add(key)
+            combos.append(combo)
+    return combos
+
+
+def _unique(name: str, taken: set[str]) -> str:
+    """``name``, or ``name-2``, ``name-3``... when labels that drop punctuation collide."""
+    candidate, k = name, 1
+    while candidate in taken:
+        k += 1
+        candidate = f"{name}-{k}"
+    taken.add(candidate)
+    return candidate
 
 
 def comparison_rows(settings: list[Setting], items: list[Variant], entries: list[BatchEntry]) -> tuple[list[str], list[list]]:
