@@ -4,7 +4,8 @@ Solving is not animating, so the steps are full ones: ``pinv`` and ``dls`` take
 beta = 1 (Newton-Raphson on the tip) and joints may turn up to 30 degrees per
 iteration, through the same barrier as the frame loop. ``newton`` runs the
 assignment's GDLS + NM, re-anchoring its regulariser at each answer until the tip is
-within tolerance (the regulariser alone would hold it a little short of the goal).
+within tolerance (the regulariser alone would hold it a little short of the goal);
+each answer also passes the barrier, so limits hold.
 A solve that stalls, e.g. pinned between two limits, restarts from the mirrored
 elbow and then from seeded random poses. Pure core: no I/O.
 """
@@ -17,12 +18,13 @@ import numpy as np
 
 from armanim.problem import Problem
 from armanim.solvers import arm_state, step_function
-from armanim.solvers.barrier import shorten_step, wrap_unlimited
+from armanim.solvers.barrier import shorten_step
 from armanim.solvers.newton import newton_solve
 
 FULL_TURN_PER_ITERATION = np.radians(30.0)
 STALL_ITERATIONS = 15  # iterations without progress before a restart
 ATTEMPT_ITERATIONS = 25  # full steps converge in a handful; a slow crawl is better restarted
+NEWTON_ROUNDS = 12  # re-anchorings of newton's regulariser per attempt
 RESTARTS = 4
 
 
@@ -121,16 +123,21 @@ def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget:
 
 
 def _newton_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[np.ndarray, int, int]:
-    s = problem.solver
-    phi = start
+    # newton's own line searches bound its steps: the barrier only guards limits and obstacles
+    fast = replace(problem, solver=replace(problem.solver, max_joint_step=2 * np.pi))
+    s = fast.solver
+    state = arm_state(fast, start)
     gd = nm = 0
-    while gd + nm < budget:
-        result = newton_solve(problem.arm, phi, goal, phi, s.w_target, s.w_regularizer)
+    for _ in range(NEWTON_ROUNDS):
+        if gd + nm >= budget:
+            break
+        result = newton_solve(fast.arm, state.phi, goal, state.phi, s.w_target, s.w_regularizer)
         gd += result.gd_iterations
         nm += result.nm_iterations
-        moved = float(np.max(np.abs(result.phi - phi)))
-        phi = result.phi
-        distance = float(np.linalg.norm(arm_state(problem, phi).tip - goal))
-        if distance < s.tolerance or moved < 1e-12:
+        moved = shorten_step(fast, state, result.phi - state.phi)  # limits and obstacles, as in the frame loop
+        if moved.scale == 0.0:
             break
-    return wrap_unlimited(problem, phi), gd, nm
+        state = moved.state
+        if np.linalg.norm(state.tip - goal) < s.tolerance:
+            break
+    return state.phi, gd, nm
