@@ -229,8 +229,6 @@ def test_an_unwritable_output_folder_fails_that_scene_only_exit_3(src, tmp_path)
     assert (out / "out-of-reach" / "trajectory.csv").is_file()
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: output/rundir.py swap_in renames a FILE standing at OUT/<name> to "
-                   "OUT/.<name>.old-PID and carries on (exit 0) instead of an OutputError 'a file stands where a folder is needed' (exit 3)")
 def test_a_file_where_the_output_folder_goes_fails_that_scene_exit_3(src, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
@@ -274,8 +272,6 @@ def test_a_scene_rejected_on_a_pool_worker_fails_alone(src, tmp_path):
     assert BAD_MESSAGE in entries[1].message
 
 
-@pytest.mark.xfail(strict=True, raises=TypeError, reason="BUG: errors.SceneError cannot be unpickled: "
-                   "pickle calls SceneError(report_text) but __init__ needs (file, problems); fix: define __reduce__")
 def test_scene_error_survives_pickling():
     import pickle
 

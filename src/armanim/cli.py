@@ -19,7 +19,7 @@ from rich.console import Console
 from rich.table import Table
 
 from armanim import __version__
-from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_INTERRUPTED, ArmanimError, UsageError
+from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, ArmanimError, UsageError
 
 app = typer.Typer(
     name="armanim",
@@ -52,6 +52,9 @@ def handle_errors(command):
         except KeyboardInterrupt:
             err.print("armanim: interrupted; nothing half-written was left behind", markup=False)
             raise typer.Exit(EXIT_INTERRUPTED) from None
+        except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
+            err.print(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", markup=False, highlight=False)
+            raise typer.Exit(EXIT_OUTPUT_FAILED) from None
 
     return wrapper
 
@@ -471,8 +474,6 @@ def run(
 
 def batch_exit_code(entries, strict: bool) -> int:
     """3 if a scene failed while writing, 2 if one was invalid, 1 if --strict and a goal was missed, else 0."""
-    from armanim.errors import EXIT_OUTPUT_FAILED
-
     statuses = {e.status for e in entries}
     if "failed" in statuses:
         return EXIT_OUTPUT_FAILED

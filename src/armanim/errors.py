@@ -60,6 +60,10 @@ class SceneError(ArmanimError):
     def report(self) -> str:
         return "\n".join(p.format(self.file) for p in self.problems)
 
+    def __reduce__(self):
+        # pickled to and from worker processes: rebuilt from its parts, not from its message
+        return (type(self), (self.file, self.problems))
+
 
 class UsageError(ArmanimError):
     """A bad flag or a flag combination that does not fit (exit 2)."""

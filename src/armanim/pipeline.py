@@ -16,7 +16,9 @@ from armanim.output.rundir import staged_folder
 from armanim.output.summary import summary_dict, write_summary
 from armanim.problem import Problem, RenderSettings
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
-from armanim.trajectory import Solution, solve_trajectory
+from armanim.errors import UsageError
+from armanim.scene.models import LIMITS
+from armanim.trajectory import Solution, frame_budget, solve_trajectory
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve" or "render"."""
@@ -113,6 +115,11 @@ def produce_outputs(
     settings = replace(render_settings(scene.model), **(render_overrides or {}))
     if settings.fps != problem.fps:
         problem = replace(problem, fps=settings.fps)
+        if frame_budget(problem) > LIMITS["total_frames"]:  # holds are counted in frames, so fps scales them
+            raise UsageError(
+                f"--fps {settings.fps:g}: the holds would make up to {frame_budget(problem):,} frames "
+                f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
+            )
     solution = solve_trajectory(problem, (lambda done, total: progress("solve", done, total)) if progress else None)
     summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}

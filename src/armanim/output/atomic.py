@@ -8,7 +8,9 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import signal
 import tempfile
+import threading
 from pathlib import Path
 from typing import Iterator
 
@@ -34,6 +36,37 @@ def output_error(path: Path, exc: OSError) -> OutputError:
 
 
 @contextlib.contextmanager
+def interrupts_deferred() -> Iterator[None]:
+    """Hold Ctrl-C and SIGTERM back while a clean-up or a swap runs, then deliver them.
+
+    A second Ctrl-C during the clean-up of the first must not leave a temporary file or
+    half a swap behind. Only the main thread can set signal handlers; elsewhere (or if a
+    handler was not set from Python) this does nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    old = {}
+    try:
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            handler = signal.getsignal(signum)
+            if handler is None:
+                continue
+            old[signum] = handler
+            signal.signal(signum, lambda n, frame: received.append(n))
+    except (ValueError, OSError):  # pragma: no cover  (not the main interpreter)
+        pass
+    try:
+        yield
+    finally:
+        for signum, handler in old.items():
+            signal.signal(signum, handler)
+        for signum in dict.fromkeys(received):
+            signal.raise_signal(signum)  # the usual handler runs now: KeyboardInterrupt, ...
+
+
+@contextlib.contextmanager
 def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
     """Yield a fresh temporary path in ``path``'s folder; on success rename it onto ``path``.
 
@@ -52,10 +85,12 @@ def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
         yield tmp
         os.replace(tmp, path)
     except OSError as exc:
-        tmp.unlink(missing_ok=True)
+        with interrupts_deferred():
+            tmp.unlink(missing_ok=True)
         raise output_error(path, exc) from None
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        with interrupts_deferred():
+            tmp.unlink(missing_ok=True)
         raise
 
 

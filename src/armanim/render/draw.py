@@ -468,13 +468,11 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
 
 
 def write_png(rgba: np.ndarray, path) -> None:
-    """Write an (H, W, 4) uint8 image to a PNG atomically (temporary file, then replace)."""
+    """Write an (H, W, 4) uint8 image to a PNG atomically (temporary file, then replace);
+    a write failure is an OutputError (exit 3)."""
     from matplotlib.image import imsave
 
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
+    from armanim.output.atomic import temporary_beside
+
+    with temporary_beside(Path(path)) as tmp:
         imsave(tmp, np.ascontiguousarray(rgba), format="png")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)

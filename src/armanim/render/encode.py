@@ -1,7 +1,9 @@
 """Encoding: frames streamed to the bundled ffmpeg, segments joined without re-encoding.
 
-Frames go through ``imageio_ffmpeg.write_frames`` (one pipe, no frame files, memory
-flat). ffmpeg's stderr is captured to a temporary file so that a failure becomes a
+Frames are piped to the ffmpeg bundled with imageio-ffmpeg (one pipe, no frame files,
+memory flat), started here with the command imageio-ffmpeg's ``write_frames`` uses, so
+that armanim owns the process: it is killed and waited for on any error or interrupt.
+ffmpeg's stderr is captured to a temporary file so that a failure becomes a
 :class:`~armanim.errors.RenderError` quoting ffmpeg's last lines. Every writer either
 closes cleanly or is aborted; nothing here moves files into place (see
 :mod:`armanim.render.video`).
@@ -12,7 +14,6 @@ from __future__ import annotations
 import contextlib
 import os
 import subprocess
-import sys
 import tempfile
 from fractions import Fraction
 from pathlib import Path
@@ -54,23 +55,27 @@ def pad_to(frame: np.ndarray, width: int, height: int) -> np.ndarray:
     return np.pad(frame, ((0, height - h), (0, width - w), (0, 0)), mode="edge")
 
 
-@contextlib.contextmanager
-def stderr_to(fd: int):
-    """Point file descriptor 2 at ``fd`` for the duration (children started inherit it)."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    os.dup2(fd, 2)
-    try:
-        yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-
-
 def tail(text: str, lines: int = LOG_LINES) -> str:
     """The last non-empty ``lines`` lines of ``text``."""
     kept = [line for line in text.splitlines() if line.strip()]
     return "\n".join(kept[-lines:])
+
+
+def ffmpeg_command(exe: str, path: Path, size: tuple[int, int], fps: Fraction, pix_fmt_in: str, codec: str,
+                   pix_fmt_out: str, output_params: list[str]) -> list[str]:
+    """The ffmpeg command that reads raw frames on stdin and encodes them into ``path``
+    (the command imageio-ffmpeg's ``write_frames`` builds, with ``macro_block_size=1``)."""
+    return [exe, "-y", "-f", "rawvideo", "-vcodec", "rawvideo", "-s", f"{size[0]}x{size[1]}",
+            "-pix_fmt", pix_fmt_in, "-r", str(fps), "-i", "-", "-an", "-vcodec", codec, "-pix_fmt", pix_fmt_out,
+            "-v", "error", *output_params, str(path)]
+
+
+def find_ffmpeg() -> str:
+    """:func:`ffmpeg_exe`, with a RenderError instead of imageio-ffmpeg's RuntimeError."""
+    try:
+        return ffmpeg_exe()
+    except Exception as err:  # noqa: BLE001  (imageio-ffmpeg raises RuntimeError, or ImportError)
+        raise RenderError(f"ffmpeg could not be found: {err} (reinstall imageio-ffmpeg, or set IMAGEIO_FFMPEG_EXE)") from None
 
 
 class FrameWriter:
@@ -87,7 +92,12 @@ class FrameWriter:
     fmt : {"mp4", "gif"}
 
     Use as a context manager: leaving it normally finishes the file and raises
-    :class:`RenderError` if ffmpeg failed; leaving it by an exception kills ffmpeg.
+    :class:`RenderError` if ffmpeg failed; leaving it by an exception (including
+    KeyboardInterrupt) kills ffmpeg and waits for it, so no ffmpeg outlives the writer.
+
+    ffmpeg runs in its own session: a Ctrl-C at the terminal reaches armanim, which
+    ends ffmpeg itself (ffmpeg would otherwise finish a half video on its own). Its
+    stderr goes to a temporary file, quoted in the error if it fails.
     """
 
     def __init__(self, path, size: tuple[int, int], fps: float, fmt: str):
@@ -96,37 +106,31 @@ class FrameWriter:
         self.out_size = video_size(*self.size, fmt)
         self.fps = Fraction(fps).limit_denominator(1001)
         self.fmt = fmt
-        self._gen = None
-        self._proc = None
+        self._proc: subprocess.Popen | None = None
         self._log = None
         self.frames = 0
 
     def _params(self) -> dict:
         if self.fmt == "mp4":
-            return dict(codec=MP4_CODEC, pix_fmt_in="rgba", pix_fmt_out=MP4_PIX_FMT, quality=None,
+            return dict(codec=MP4_CODEC, pix_fmt_in="rgba", pix_fmt_out=MP4_PIX_FMT,
                         output_params=[*MP4_PARAMS, "-f", "mp4"])
         if self.fmt == "gif":
-            return dict(codec="gif", pix_fmt_in="rgb24", pix_fmt_out="pal8", quality=None,
+            return dict(codec="gif", pix_fmt_in="rgb24", pix_fmt_out="pal8",
                         output_params=["-vf", GIF_FILTER, "-loop", "0", "-f", "gif"])
         raise RenderError(f"unknown video format {self.fmt!r} (expected 'mp4' or 'gif')")
 
     def open(self) -> "FrameWriter":
         """Start ffmpeg."""
-        import imageio_ffmpeg
-
         params = self._params()
-        self._log = tempfile.TemporaryFile(prefix="armanim-ffmpeg-")
-        self._gen = imageio_ffmpeg.write_frames(
-            str(self.path), self.out_size, fps=self.fps, macro_block_size=1,
-            ffmpeg_log_level="error", **params,
-        )
+        cmd = ffmpeg_command(find_ffmpeg(), self.path, self.out_size, self.fps, **params)
         try:
-            with stderr_to(self._log.fileno()):
-                self._gen.send(None)  # starts ffmpeg, which inherits the log as stderr
-        except Exception as err:
-            self._fail(err)
-        frame = getattr(self._gen, "gi_frame", None)
-        self._proc = frame.f_locals.get("p") if frame is not None else None
+            self._log = tempfile.TemporaryFile(prefix="armanim-ffmpeg-")
+            self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self._log,
+                                          start_new_session=True)
+        except OSError as err:
+            self.abort()
+            raise RenderError(f"ffmpeg could not be started ({cmd[0]}): {err.strerror or err} "
+                              "(reinstall imageio-ffmpeg, or set IMAGEIO_FFMPEG_EXE to a working ffmpeg)") from None
         return self
 
     def write(self, rgba: np.ndarray) -> None:
@@ -134,44 +138,48 @@ class FrameWriter:
         frame = rgba if self.fmt == "mp4" else rgba[..., :3]
         frame = np.ascontiguousarray(pad_to(frame, *self.out_size))
         try:
-            self._gen.send(frame)
-        except Exception as err:  # a broken pipe: ffmpeg has stopped
+            self._proc.stdin.write(memoryview(frame).cast("B"))
+        except (BrokenPipeError, OSError, ValueError) as err:  # ffmpeg has stopped
             self._fail(err)
         self.frames += 1
 
     def close(self) -> None:
         """Finish the file; raise :class:`RenderError` if ffmpeg did not succeed."""
-        if self._gen is None:
+        proc = self._proc
+        if proc is None:
             return
-        gen, self._gen = self._gen, None
         try:
-            gen.close()  # closes ffmpeg's stdin and waits for it
-        except Exception as err:
+            proc.stdin.close()  # ffmpeg finishes the file and exits
+        except (BrokenPipeError, OSError) as err:
             self._fail(err)
-        code = self._proc.returncode if self._proc is not None else 0
+        code = proc.wait()
         if code != 0 or not self.path.exists() or self.path.stat().st_size == 0:
             self._fail(None)
+        self._proc = None
         self._close_log()
 
     def abort(self) -> None:
-        """Stop ffmpeg at once (after an error or an interrupt); the file is left to the caller."""
-        if self._proc is not None and self._proc.poll() is None:
-            self._proc.kill()
-            self._proc.wait()
-        if self._gen is not None:
-            gen, self._gen = self._gen, None
+        """Stop ffmpeg at once (after an error or an interrupt) and wait for it; the file is left to the caller."""
+        proc, self._proc = self._proc, None
+        if proc is not None:
+            if proc.poll() is None:
+                with contextlib.suppress(OSError):
+                    proc.kill()
             with contextlib.suppress(Exception):
-                gen.close()
+                proc.stdin.close()
+            proc.wait()
         self._close_log()
 
     def _fail(self, err: Exception | None):
         if self._proc is not None:
             with contextlib.suppress(Exception):
+                self._proc.stdin.close()
+            with contextlib.suppress(Exception):
                 self._proc.wait(timeout=10)
         log = self._read_log()
         self.abort()
         detail = tail(log) or (str(err).splitlines()[0] if err else "no output")
-        raise RenderError(f"ffmpeg failed while writing {self.path.name}:\n{detail}") from err
+        raise RenderError(f"ffmpeg failed while writing {self.path.name}:\n{detail}") from None
 
     def _read_log(self) -> str:
         if self._log is None:
@@ -207,12 +215,16 @@ def concat_segments(segments: list[Path], path: Path, fmt: str) -> None:
     """
     listing = path.with_name(path.name + ".concat.txt")
     lines = ["file '" + str(Path(s).resolve()).replace("'", "'\\''") + "'" for s in segments]
-    listing.write_text("\n".join(lines) + "\n", encoding="utf-8")
     extra = ["-movflags", "+faststart"] if fmt == "mp4" else []
-    cmd = [ffmpeg_exe(), "-y", "-v", "error", "-f", "concat", "-safe", "0", "-i", str(listing),
+    cmd = [find_ffmpeg(), "-y", "-v", "error", "-f", "concat", "-safe", "0", "-i", str(listing),
            "-c", "copy", *extra, "-f", fmt, str(path)]
     try:
-        result = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        listing.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        result = subprocess.run(cmd, capture_output=True, text=True, check=False)  # killed on any exception
+    except OSError as err:
+        if err.filename == cmd[0]:
+            raise RenderError(f"ffmpeg could not be started ({cmd[0]}): {err.strerror or err}") from None
+        raise
     finally:
         listing.unlink(missing_ok=True)
     if result.returncode != 0:

@@ -13,6 +13,7 @@ import multiprocessing
 import os
 import queue as queue_module
 import shutil
+import signal
 import tempfile
 import traceback
 from pathlib import Path
@@ -20,7 +21,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from armanim.errors import RenderError
+from armanim.errors import OutputError, RenderError
 from armanim.problem import Problem, RenderSettings
 from armanim.trajectory import GoalReport, Trajectory
 
@@ -167,6 +168,12 @@ def render_video(
         else:
             _render_parallel(problem, trajectory, reports, settings, tmp, title, jobs, progress)
         os.replace(tmp, path)
+    except RenderError as exc:  # name the video the user asked for, not its temporary file
+        raise RenderError(str(exc).replace(tmp.name, path.name)) from None
+    except OSError as exc:  # the folder, the log file or the segment folder could not be written
+        from armanim.output.atomic import output_error
+
+        raise output_error(path, exc) from None
     finally:
         tmp.unlink(missing_ok=True)
 
@@ -193,10 +200,32 @@ def segment_bounds(frames: int, jobs: int) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
 
 
+_WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+class _Stopped(SystemExit):
+    """Raised in a worker by the parent's terminate() (SIGTERM): unwinds quietly, killing ffmpeg."""
+
+
 def _segment_worker(args: tuple, messages) -> None:
-    """Body of a worker process: draw and encode one segment, report through ``messages``."""
+    """Body of a worker process: draw and encode one segment, report through ``messages``.
+
+    A worker ignores Ctrl-C (the terminal sends it to the whole process group; the
+    parent decides) and turns SIGTERM, sent by the parent's ``terminate()``, into a
+    quiet exit that still runs every ``finally``: its ffmpeg is killed, no traceback.
+    Signals are blocked by the parent while it starts workers, so none arrives before
+    these handlers are in place.
+    """
     index = args[-1]
     problem, trajectory, reports, settings, path, title, start, stop, _ = args
+
+    def stop_worker(signum, frame):
+        messages.cancel_join_thread()  # the parent no longer reads: never block on exit
+        raise _Stopped(128 + signum)
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, stop_worker)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _WORKER_SIGNALS)
 
     def report(done: int) -> None:
         if done % PROGRESS_EVERY == 0 or done == stop - start:
@@ -206,12 +235,31 @@ def _segment_worker(args: tuple, messages) -> None:
         draw_segment(problem, trajectory, reports, settings, path, title=title, start=start, stop=stop,
                      progress=report)
         messages.put(("done", index, None))
+    except _Stopped:
+        raise
     except BaseException as err:  # noqa: BLE001  (reported to the parent, which raises)
-        detail = str(err) if isinstance(err, RenderError) else traceback.format_exc(limit=6)
+        if isinstance(err, (RenderError, OutputError)):
+            detail = str(err)
+        elif isinstance(err, OSError):
+            detail = f"cannot write {path.name}: {err.strerror or err}"
+        else:
+            detail = traceback.format_exc(limit=6)
         messages.put(("error", index, detail))
 
 
+@contextlib.contextmanager
+def _signals_blocked():
+    """Block SIGINT and SIGTERM in this thread for the duration (processes forked meanwhile
+    start with them blocked); signals that arrive are delivered when it ends."""
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _WORKER_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
 def _render_parallel(problem, trajectory, reports, settings, tmp: Path, title, jobs, progress) -> None:
+    from armanim.output.atomic import interrupts_deferred
     from armanim.render.encode import concat_segments
 
     ctx = multiprocessing.get_context()
@@ -227,31 +275,50 @@ def _render_parallel(problem, trajectory, reports, settings, tmp: Path, title, j
         )
         for i, ((a, b), p) in enumerate(zip(segments, paths))
     ]
+    started = []
     try:
-        for w in workers:
-            w.start()
+        with _signals_blocked():
+            for w in workers:
+                w.start()
+                started.append(w)
         _collect(workers, messages, progress)
         concat_segments(paths, tmp, settings.format)
     finally:
-        for w in workers:
-            if w.is_alive():
-                w.terminate()
+        with interrupts_deferred():  # a second Ctrl-C must not leave workers or files behind
+            _stop_workers(started)
+            messages.close()
+            shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _stop_workers(workers, grace: float = 10.0) -> None:
+    """Terminate the workers still running (each kills its ffmpeg) and wait for all of them."""
+    for w in workers:
+        if w.is_alive():
+            w.terminate()
+    for w in workers:
+        w.join(timeout=grace)
+        if w.is_alive():  # pragma: no cover  (stuck: no second chance)
+            w.kill()
             w.join()
-        messages.close()
-        shutil.rmtree(workdir, ignore_errors=True)
 
 
 def _collect(workers, messages, progress) -> None:
     """Wait for every worker, relaying progress; raise RenderError on the first failure."""
     done_frames = [0] * len(workers)
     finished: set[int] = set()
+    silent_exits: dict[int, int] = {}
     while len(finished) < len(workers):
         try:
             kind, index, value = messages.get(timeout=0.5)
         except queue_module.Empty:
             for i, w in enumerate(workers):
-                if i not in finished and not w.is_alive() and w.exitcode != 0:
+                if i in finished or w.is_alive():
+                    continue
+                if w.exitcode != 0:
                     raise RenderError(f"render worker {i} stopped unexpectedly (exit code {w.exitcode})")
+                silent_exits[i] = silent_exits.get(i, 0) + 1
+                if silent_exits[i] > 2:  # ended without a word after its messages were drained
+                    raise RenderError(f"render worker {i} ended without finishing its segment")
             continue
         if kind == "progress":
             done_frames[index] = value

@@ -12,7 +12,7 @@ from armanim.cost import clearances
 from armanim.errors import Diagnostic
 from armanim.kinematics import forward
 from armanim.scene.convert import scene_to_problem
-from armanim.scene.models import SceneModel
+from armanim.scene.models import LIMITS, SceneModel
 
 
 def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
@@ -20,7 +20,7 @@ def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
 
     The collision checks run once the arm itself is consistent.
     """
-    problems = list(_arm_problems(scene))
+    problems = list(_arm_problems(scene)) + list(_size_problems(scene))
     if not problems:
         problems += list(_collision_problems(scene_to_problem(scene)))
     return problems
@@ -45,6 +45,59 @@ def _arm_problems(scene: SceneModel):
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
                 yield "render.bounds", f"{axis} range must have min < max (got [{pair[0]:g}, {pair[1]:g}])"
+
+
+def frame_budget(scene: SceneModel) -> int:
+    """Most frames the scene can produce: frame 0, then every goal's frame cap and hold frames."""
+    fps = scene.render.fps
+    per_goal = scene.solver.max_frames_per_goal
+    return 1 + sum(per_goal + int(round(g.hold * fps)) for g in scene.goals)
+
+
+def _magnitudes(scene: SceneModel):
+    """(field path, value) of every coordinate and length of the scene."""
+    arm = scene.arm
+    yield from ((f"arm.base[{i}]", v) for i, v in enumerate(arm.base))
+    yield from ((f"arm.links[{i}]", v) for i, v in enumerate(arm.links))
+    yield "arm.width", arm.width
+    for k, obstacle in enumerate(scene.obstacles):
+        yield from ((f"obstacles[{k}].center[{i}]", v) for i, v in enumerate(obstacle.center))
+        yield f"obstacles[{k}].radius", obstacle.radius
+        if obstacle.influence is not None:
+            yield f"obstacles[{k}].influence", obstacle.influence
+    for k, goal in enumerate(scene.goals):
+        yield from ((f"goals[{k}].position[{i}]", v) for i, v in enumerate(goal.position))
+    solver = scene.solver
+    yield "solver.tolerance", solver.tolerance
+    yield "solver.damping", solver.damping
+    if solver.max_step is not None:
+        yield "solver.max_step", solver.max_step
+    if scene.render.bounds != "auto":
+        for axis, pair in zip("xyz", scene.render.bounds):
+            yield from ((f"render.bounds.{axis}", v) for v in pair)
+
+
+def _size_problems(scene: SceneModel):
+    big = LIMITS["magnitude"]
+    for path, value in _magnitudes(scene):
+        if abs(value) > big:
+            yield path, f"{value:g} is too large (expected at most {big:g} in size: choose a smaller unit)"
+    if sum(scene.arm.links) > big:
+        yield "arm.links", f"the arm is {sum(scene.arm.links):g} long (expected at most {big:g}: choose a smaller unit)"
+    weights = scene.solver.weights
+    for name in type(weights).model_fields:
+        value = getattr(weights, name)
+        if value > LIMITS["weight"]:
+            yield f"solver.weights.{name}", f"{value:g} is too large (expected at most {LIMITS['weight']:g})"
+    budget = frame_budget(scene)
+    limit = LIMITS["total_frames"]
+    if budget > limit:
+        holds = budget - 1 - len(scene.goals) * scene.solver.max_frames_per_goal
+        yield ("goals" if holds > budget // 2 else "solver.max_frames_per_goal"), (
+            f"the scene may run {budget:,} frames (max_frames_per_goal {scene.solver.max_frames_per_goal:,} and the holds "
+            f"at {scene.render.fps:g} fps over {len(scene.goals)} goals; expected at most {limit:,}: "
+            "lower max_frames_per_goal, the holds or the number of goals)"
+        )
 
 
 def _collision_problems(problem):

@@ -17,7 +17,9 @@ from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.scene.checks import as_diagnostics, scene_problems
 from armanim.scene.models import SCENE_VERSION, SceneModel
-from armanim.scene.yamlread import MAX_FILE_BYTES, YamlDocument, join_path, read_yaml
+from armanim.scene.yamlread import MAX_FILE_BYTES, TooLarge, YamlDocument, join_path, read_yaml
+
+MAX_PROBLEMS = 30  # problems listed for one file; the rest are counted
 
 
 @dataclass(frozen=True)
@@ -115,15 +117,21 @@ def validate_scene_text(text: str, file: str) -> SceneModel:
     try:
         model = SceneModel.model_validate(doc.data)
     except ValidationError as exc:
-        raise SceneError(file, _by_line(problems + [_diagnostic(err, doc) for err in exc.errors()])) from None
+        errors = [e for e in exc.errors(include_url=False) if not isinstance(e.get("input"), TooLarge)]
+        raise SceneError(file, _by_line(problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]], len(errors))) from None
     problems += as_diagnostics(scene_problems(model), doc.line_of)
     if problems:
         raise SceneError(file, _by_line(problems))
     return model
 
 
-def _by_line(problems: list[Diagnostic]) -> list[Diagnostic]:
-    return sorted(problems, key=lambda p: p.line or 0)
+def _by_line(problems: list[Diagnostic], model_errors: int = 0) -> list[Diagnostic]:
+    """Problems sorted by line; past MAX_PROBLEMS, one line says how many more there are."""
+    problems = sorted(problems, key=lambda p: p.line or 0)
+    total = len(problems) + max(0, model_errors - (MAX_PROBLEMS + 1))
+    if total <= MAX_PROBLEMS:
+        return problems
+    return problems[:MAX_PROBLEMS] + [Diagnostic("", f"... and {total - MAX_PROBLEMS} more problems (fix these first)")]
 
 
 def _path(loc: tuple) -> str:
@@ -181,9 +189,9 @@ def _message(err: dict, loc: tuple) -> str:
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         sign = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<", "less_than_equal": "<="}[kind]
         bound = next(iter(ctx.values()))
-        return f"must be {sign} {bound:g} (got {got!r})"
+        return f"must be {sign} {bound:g} (got {_describe(got)})"
     if kind in ("finite_number",):
-        return f"must be a finite number (got {got!r})"
+        return f"must be a finite number (got {_describe(got)})"
     if kind in ("too_short", "too_long"):
         return f"has {ctx.get('actual_length')} items (expected {_length_expectation(ctx)})"
     if kind in ("float_type", "int_type", "float_parsing", "int_from_float"):
@@ -219,4 +227,6 @@ def _describe(value) -> str:
         return repr(value if len(value) <= 40 else value[:37] + "...")
     if isinstance(value, (list, dict)):
         return f"a {type(value).__name__}"
+    if isinstance(value, int) and abs(value) >= 10**20:
+        return f"a {len(str(abs(value)))}-digit integer"
     return repr(value)

@@ -19,9 +19,14 @@ LIMITS = {
     "goals": 1000,
     "obstacles": 1000,
     "max_frames_per_goal": 100_000,
+    "total_frames": 1_000_000,  # frame 0 + every goal's max_frames_per_goal and hold frames (checks.py)
+    "magnitude": 1e9,  # largest |coordinate| or length, scene units (checks.py): squares stay far from overflow
+    "weight": 1e12,  # largest cost weight (checks.py)
 }
+"""Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
+(bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
 
-Finite = Annotated[float, Field(allow_inf_nan=False, strict=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]  # strict: "1" (a string) and true are not numbers
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Angle = Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)]
