@@ -101,7 +101,10 @@ def _is_number(text: str) -> bool:
 
 
 def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: str | None, direction: str | None):
-    """The Problem for ``fk``/``ik``: from ``--scene`` or from the arm flags (not both)."""
+    """The Problem for ``fk``/``ik``: from ``--scene`` or from the arm flags (not both).
+
+    Returns the problem and the loaded scene (None when the arm came from flags).
+    """
     from armanim.kinematics import Arm, default_axes
     from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
 
@@ -111,7 +114,8 @@ def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: s
             raise UsageError(f"{', '.join(flags)} cannot be combined with --scene (the scene defines the arm)")
         from armanim.scene import load_scene, scene_to_problem
 
-        return scene_to_problem(load_scene(scene).model), True
+        loaded = load_scene(scene)
+        return scene_to_problem(loaded.model), loaded
     lengths = parse_numbers(links, "--links") if links else np.ones(4)
     if np.any(lengths <= 0):
         raise UsageError(f"--links: every length must be > 0 (got {links!r})")
@@ -132,7 +136,7 @@ def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: s
         goals=(Goal(np.zeros(3)),),
         solver=SolverSettings(),
     )
-    return problem, False
+    return problem, None
 
 
 SceneOpt = Annotated[Optional[Path], typer.Option("--scene", help="Take the arm (and its limits) from a scene file.")]
@@ -168,7 +172,7 @@ def fk(
     """
     from armanim.kinematics import forward
 
-    problem, from_scene = arm_problem(scene, links, base, axes, direction)
+    problem, loaded = arm_problem(scene, links, base, axes, direction)
     values = parse_numbers(angles, "--angles", problem.arm.n)
     phi = values if radians else np.radians(values)
     pose = forward(problem.arm, phi)
@@ -185,17 +189,14 @@ def fk(
             angle = _fmt(np.degrees(phi[i])) if i < problem.arm.n else ""
             table.add_row(label, angle, *(_fmt(v) for v in p))
         out.print(table)
-    for note in limit_notes(problem, phi) if from_scene else []:
+    for note in limit_notes(problem, phi) if loaded else []:
         err.print(f"note: {note}", markup=False, highlight=False)
     if png is not None:
-        from armanim.render.draw import render_pose_png
         from armanim.problem import RenderSettings
+        from armanim.render.draw import render_pose_png
+        from armanim.scene import render_settings
 
-        settings = RenderSettings()
-        if scene is not None:
-            from armanim.scene import load_scene, render_settings
-
-            settings = render_settings(load_scene(scene).model)
+        settings = render_settings(loaded.model) if loaded else RenderSettings()
         render_pose_png(problem, phi, settings, png, title="armanim fk")
         if not as_json:
             out.print(f"wrote {png}", highlight=False)
@@ -238,7 +239,7 @@ def ik(
     from armanim.ik import solve_pose
     from armanim.solvers import METHODS
 
-    problem, from_scene = arm_problem(scene, links, base, axes, direction)
+    problem, loaded = arm_problem(scene, links, base, axes, direction)
     target = parse_numbers(goal, "--goal", 3)
     settings = problem.solver
     if method is not None:
@@ -249,7 +250,7 @@ def ik(
         if not tolerance > 0:
             raise UsageError(f"--tolerance: must be > 0 (got {tolerance})")
         settings = replace(settings, tolerance=tolerance)
-    elif not from_scene:
+    elif not loaded:
         settings = replace(settings, tolerance=1e-3)
     problem = replace(problem, solver=settings)
     phi0 = np.radians(parse_numbers(start, "--from", problem.arm.n)) if start else problem.home
