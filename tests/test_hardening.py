@@ -24,7 +24,7 @@ import pytest
 from conftest import SCENES
 
 from armanim.errors import RenderError, SceneError
-from armanim.scene import load_scene, validate_scene_text
+from armanim.scene import validate_scene_text
 from armanim.scene.models import LIMITS
 from armanim.scene.yamlread import MAX_DEPTH, MAX_FILE_BYTES, MAX_NODES
 

@@ -13,6 +13,7 @@ elbow and then from seeded random poses. Pure core: no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Iterator
 
 import numpy as np
 
@@ -64,18 +65,19 @@ def solving_settings(problem: Problem) -> Problem:
     return replace(problem, solver=replace(s, step=step, max_step=np.inf, max_joint_step=max(s.max_joint_step, FULL_TURN_PER_ITERATION)))
 
 
-def restart_poses(problem: Problem, start: np.ndarray, count: int) -> list[np.ndarray]:
-    """Starts to try in turn: ``start``, its mirrored elbow, then seeded random poses inside the limits."""
+def restart_poses(problem: Problem, start: np.ndarray, count: int) -> Iterator[np.ndarray]:
+    """Starts to try in turn: ``start``, its mirrored elbow, then seeded random poses
+    inside the limits (made only when asked for: most solves need just the first)."""
+    yield start
     lim = problem.limits
     mirrored = start.copy()
     mirrored[1:] = -mirrored[1:]
-    starts = [start, np.clip(mirrored, lim.lower + lim.margin, lim.upper - lim.margin)]
+    yield np.clip(mirrored, lim.lower + lim.margin, lim.upper - lim.margin)
     rng = np.random.default_rng(0)
     lo = np.where(lim.limited, lim.lower + lim.margin, -np.pi)
     hi = np.where(lim.limited, lim.upper - lim.margin, np.pi)
-    while len(starts) < count:
-        starts.append(rng.uniform(lo, hi))
-    return starts[:count]
+    for _ in range(count - 2):
+        yield rng.uniform(lo, hi)
 
 
 def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000) -> PoseSolution:

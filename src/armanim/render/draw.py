@@ -13,7 +13,6 @@ The camera is orthographic and fixed for a whole video (:class:`~armanim.render.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from pathlib import Path
 

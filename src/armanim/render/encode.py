@@ -12,7 +12,6 @@ closes cleanly or is aborted; nothing here moves files into place (see
 from __future__ import annotations
 
 import contextlib
-import os
 import subprocess
 import tempfile
 from fractions import Fraction
