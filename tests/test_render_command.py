@@ -68,3 +68,25 @@ def test_render_rejects_a_bad_view(tmp_path):
     result = runner.invoke(app, ["render", str(tmp_path), "--elevation", "120"])
     assert result.exit_code == 2
     assert "--elevation" in result.output
+
+
+def test_auto_bounds_hold_every_frame_of_the_run_and_every_goal_and_obstacle():
+    import numpy as np
+
+    from armanim.kinematics import forward
+    from armanim.render.bounds import auto_bounds
+    from armanim.scene import load_scene, scene_to_problem
+    from armanim.trajectory import solve_trajectory
+
+    problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)
+    points = forward(problem.arm, solve_trajectory(problem).trajectory.phi).points.reshape(-1, 3)
+    box = auto_bounds(problem, points)
+    lo, hi = box[:, 0], box[:, 1]
+    obstacles = problem.obstacles
+    assert np.all(points - problem.half_width >= lo) and np.all(points + problem.half_width <= hi)
+    assert np.all(obstacles.centers - obstacles.radii[:, None] >= lo)
+    assert np.all(obstacles.centers + obstacles.radii[:, None] <= hi)
+    goals = np.array([g.position for g in problem.goals])
+    assert np.all(goals >= lo) and np.all(goals <= hi)
+    reach_box = auto_bounds(problem)  # without a run: base +- reach, which holds any pose
+    assert np.all(reach_box[:, 0] <= lo) and np.all(reach_box[:, 1] >= hi)
