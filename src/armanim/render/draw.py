@@ -141,7 +141,7 @@ class SceneCanvas:
     # ----- static scene ---------------------------------------------------------------
 
     def _axes(self):
-        ax = self.fig.add_axes((0.0, 0.045, 1.0, 0.93), projection="3d", proj_type="ortho")
+        ax = self.fig.add_axes((0.0, 0.075, 1.0, 0.9), projection="3d", proj_type="ortho")
         b = self.bounds
         ax.set_xlim(*b[0])
         ax.set_ylim(*b[1])
