@@ -107,6 +107,8 @@ class SceneCanvas:
         The tip of every frame, for the trail.
     extent : (..., 3) array, optional
         Every joint position the video will show: ``render.bounds: auto`` fits them.
+    still : bool
+        One picture, not a video: the legend lists only what a single pose shows.
     """
 
     def __init__(
@@ -117,9 +119,11 @@ class SceneCanvas:
         title: str,
         tips: np.ndarray | None = None,
         extent: np.ndarray | None = None,
+        still: bool = False,
     ):
         self.problem = problem
         self.settings = settings
+        self.still = still
         self.width, self.height = (int(v) for v in settings.size)
         self.fig, self.canvas = make_figure(self.width, self.height)
         self.pt = 72.0 / self.fig.dpi  # points per pixel
@@ -174,7 +178,11 @@ class SceneCanvas:
             Line2D([], [], marker="X", markerfacecolor=GOAL_COLORS["missed"], markeredgecolor="white", **marker),
         ]
         labels = ["arm", "obstacle", "current goal", "next goals", "reached", "missed"]
-        if self.settings.trail:
+        if self.still:  # a single pose: the arm, the obstacles and the goals, no states or path
+            keep = [0, 3] if not len(self.problem.obstacles) else [0, 1, 3]
+            handles = [handles[i] for i in keep]
+            labels = [labels[i] if labels[i] != "next goals" else "goals" for i in keep]
+        elif self.settings.trail:
             handles.insert(1, Line2D([], [], color=TRAIL_COLOR, linewidth=2))
             labels.insert(1, "tip path")
         fig.legend(handles, labels, loc="lower center", ncols=len(labels), frameon=False, fontsize=9,
@@ -456,7 +464,7 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     """
     phi = np.asarray(phi, dtype=float)
     pose = forward(problem.arm, phi)
-    scene = SceneCanvas(problem, settings, title=title, extent=pose.points)
+    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, still=True)
     state = FrameState(
         pose=pose,
         trail_end=0,
