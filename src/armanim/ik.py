@@ -18,7 +18,7 @@ from typing import Iterator
 import numpy as np
 
 from armanim.problem import Problem
-from armanim.solvers import arm_state, step_function
+from armanim.solvers import ArmState, arm_state, step_function
 from armanim.solvers.barrier import shorten_step
 from armanim.solvers.newton import newton_solve
 
@@ -92,20 +92,19 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
     used = newton_used = 0
     starts = restart_poses(problem, start, 1 + RESTARTS)
     for restarts, first in enumerate(starts):
-        phi, its, nm_its = attempt(problem, goal, first, max_iterations - used)
+        state, its, nm_its = attempt(problem, goal, first, max_iterations - used)
         used += its
         newton_used += nm_its
-        tip = arm_state(problem, phi).tip
-        distance = float(np.linalg.norm(tip - goal))
+        distance = float(np.linalg.norm(state.tip - goal))
         if best is None or distance < best[2]:
-            best = (phi, tip, distance)
+            best = (state.phi, state.tip, distance)
         if distance < problem.solver.tolerance or used >= max_iterations:
             break
     phi, tip, distance = best
     return PoseSolution(phi, tip, distance, distance < problem.solver.tolerance, used, newton_used, restarts)
 
 
-def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[np.ndarray, int, int]:
+def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[ArmState, int, int]:
     fast = solving_settings(problem)
     step = step_function(fast.solver.method)
     state = arm_state(fast, start)
@@ -121,10 +120,10 @@ def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget:
             break
         state = shorten_step(fast, state, step(fast, state, goal).dphi).state
         iterations += 1
-    return state.phi, iterations, 0
+    return state, iterations, 0
 
 
-def _newton_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[np.ndarray, int, int]:
+def _newton_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[ArmState, int, int]:
     # newton's own line searches bound its steps: the barrier only guards limits and obstacles
     fast = replace(problem, solver=replace(problem.solver, max_joint_step=2 * np.pi))
     s = fast.solver
@@ -142,4 +141,4 @@ def _newton_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budge
         state = moved.state
         if np.linalg.norm(state.tip - goal) < s.tolerance:
             break
-    return state.phi, gd, nm
+    return state, gd, nm

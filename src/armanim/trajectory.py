@@ -13,11 +13,9 @@ from typing import Callable
 
 import numpy as np
 
-from armanim.cost import clearances, min_link_clearance
 from armanim.geometry import wrap_angle
-from armanim.kinematics import forward
 from armanim.problem import Problem
-from armanim.solvers import arm_state, step_function
+from armanim.solvers import ArmState, arm_state, step_function
 from armanim.solvers.barrier import shorten_step
 
 STALL_WINDOW = 30  # frames over which a missed goal's progress is judged
@@ -129,14 +127,16 @@ class _Recorder:
 
     phi: list = field(default_factory=list)
     tip: list = field(default_factory=list)
+    clearance: list = field(default_factory=list)
     goal: list = field(default_factory=list)
     distance: list = field(default_factory=list)
     iterations: list = field(default_factory=list)
     step_scale: list = field(default_factory=list)
 
-    def add(self, phi, tip, goal, distance, iterations=0, step_scale=0.0):
-        self.phi.append(phi)
-        self.tip.append(tip)
+    def add(self, state: ArmState, goal, distance, iterations=0, step_scale=0.0):
+        self.phi.append(state.phi)
+        self.tip.append(state.tip)
+        self.clearance.append(state.min_clearance)  # the barrier computed it for this very pose
         self.goal.append(goal)
         self.distance.append(distance)
         self.iterations.append(iterations)
@@ -170,9 +170,8 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
     step = step_function(s.method)
     rec = _Recorder()
     state = arm_state(problem, problem.home)
-    phi, tip = state.phi, state.tip
     first_goal = problem.goals[0].position
-    rec.add(phi, tip, 0, float(np.linalg.norm(tip - first_goal)))
+    rec.add(state, 0, float(np.linalg.norm(state.tip - first_goal)))
     reports = []
     later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
@@ -181,24 +180,23 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
         first = len(rec) if k else 0
         frames = iterations = newton_its = 0
         blocked: list[str | None] = []
-        distances = [float(np.linalg.norm(tip - target))]
+        distances = [float(np.linalg.norm(state.tip - target))]
         while distances[-1] >= s.tolerance and frames < s.max_frames_per_goal:
             proposal = step(problem, state, target)
             moved = shorten_step(problem, state, proposal.dphi)
             state = moved.state
-            phi, tip = state.phi, state.tip
-            distances.append(float(np.linalg.norm(tip - target)))
+            distances.append(float(np.linalg.norm(state.tip - target)))
             blocked.append(moved.blocked_by)
             frames += 1
             iterations += proposal.iterations
             newton_its += proposal.newton_iterations
-            rec.add(phi, tip, k, distances[-1], proposal.iterations, moved.scale)
+            rec.add(state, k, distances[-1], proposal.iterations, moved.scale)
             if progress:
                 progress(len(rec), len(rec) + s.max_frames_per_goal - frames + goal.hold_frames + later)
         reached = distances[-1] < s.tolerance
         if reached:
             for _ in range(goal.hold_frames):
-                rec.add(phi, tip, k, distances[-1])
+                rec.add(state, k, distances[-1])
         if progress:
             progress(len(rec), len(rec) + later)
         reports.append(
@@ -206,7 +204,7 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
                 index=k,
                 position=target,
                 reached=reached,
-                reason=None if reached else miss_reason(problem, phi, target, distances, blocked),
+                reason=None if reached else miss_reason(problem, state, target, distances, blocked),
                 frames=frames,
                 first_frame=first if len(rec) > first else -1,
                 last_frame=len(rec) - 1 if len(rec) > first else -1,
@@ -219,15 +217,13 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
 
 
 def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
-    phi = np.array(rec.phi)
     distance = np.array(rec.distance)
-    clearance = min_link_clearance(forward(problem.arm, phi), problem.obstacles, problem.half_width)
     return Trajectory(
-        phi=phi,
+        phi=np.array(rec.phi),
         tip=np.array(rec.tip),
         goal=np.array(rec.goal, dtype=int),
         distance=distance,
-        clearance=clearance,
+        clearance=np.array(rec.clearance),
         reached=distance < problem.solver.tolerance,
         iterations=np.array(rec.iterations, dtype=int),
         step_scale=np.array(rec.step_scale),
@@ -236,7 +232,7 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
 
 
 def miss_reason(
-    problem: Problem, phi: np.ndarray, goal: np.ndarray, distances: list[float], blocked: list[str | None]
+    problem: Problem, state: ArmState, goal: np.ndarray, distances: list[float], blocked: list[str | None]
 ) -> str:
     """Why a goal was missed: a key of :data:`MISS_REASONS`.
 
@@ -254,19 +250,16 @@ def miss_reason(
     window = distances[-STALL_WINDOW - 1 :]
     if window[0] - window[-1] >= problem.solver.tolerance:
         return "too_slow"
-    if "obstacle" in recent or _near_obstacle(problem, phi):
+    if "obstacle" in recent or _near_obstacle(problem, state):
         return "blocked_by_obstacle"
-    if "limit" in recent or _near_limit(problem, phi):
+    if "limit" in recent or _near_limit(problem, state.phi):
         return "blocked_by_limit"
     return "stalled"
 
 
-def _near_obstacle(problem: Problem, phi: np.ndarray) -> bool:
-    obstacles = problem.obstacles
-    if not len(obstacles):
-        return False
-    cl = clearances(forward(problem.arm, phi), obstacles, problem.half_width)
-    return bool(np.any(cl.d <= obstacles.influence))
+def _near_obstacle(problem: Problem, state: ArmState) -> bool:
+    cl = state.clearance
+    return cl is not None and bool(np.any(cl.d <= problem.obstacles.influence))
 
 
 def _near_limit(problem: Problem, phi: np.ndarray) -> bool:
