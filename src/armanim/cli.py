@@ -335,40 +335,42 @@ def schema(
 # ---------------------------------------------------------------- run
 
 
-def parse_size(text: str) -> tuple[int, int]:
-    """``"640x360"`` -> (640, 360), each side in [16, 7680]."""
+def parse_size(text: str) -> list[int]:
+    """``"640x360"`` -> [640, 360] (its range is the scene's ``render.size``, checked later)."""
     try:
-        w, h = (int(v) for v in text.lower().split("x"))
+        return [int(v) for v in text.lower().split("x", 1)]
     except ValueError:
         raise UsageError(f"--size: expected WIDTHxHEIGHT, e.g. 640x360 (got {text!r})") from None
-    if not (16 <= w <= 7680 and 16 <= h <= 7680):
-        raise UsageError(f"--size: each side must be in [16, 7680] (got {text!r})")
-    return w, h
+
+
+_FLAGS = {("fps",): "--fps", ("size",): "--size", ("format",): "--format",
+          ("view", "elevation"): "--elevation", ("view", "azimuth"): "--azimuth"}
 
 
 def render_overrides(
     size: str | None, fps: float | None, fmt: str | None, elevation: float | None = None, azimuth: float | None = None
 ) -> dict:
-    """RenderSettings fields given on the command line."""
-    overrides: dict = {}
-    if elevation is not None:
-        if not -90 <= elevation <= 90:
-            raise UsageError(f"--elevation: must be in [-90, 90] degrees (got {elevation:g})")
-        overrides["elevation"] = elevation
-    if azimuth is not None:
-        if not -360 <= azimuth <= 360:
-            raise UsageError(f"--azimuth: must be in [-360, 360] degrees (got {azimuth:g})")
-        overrides["azimuth"] = azimuth
-    if size:
-        overrides["size"] = parse_size(size)
-    if fps is not None:
-        if not 0 < fps <= 240:
-            raise UsageError(f"--fps: must be in (0, 240] (got {fps:g})")
-        overrides["fps"] = fps
-    if fmt:
-        if fmt not in ("mp4", "gif"):
-            raise UsageError(f"--format: expected mp4 or gif (got {fmt!r})")
-        overrides["format"] = fmt
+    """RenderSettings fields given on the command line, checked by the scene's own
+    ``render`` model, so a flag accepts exactly what the scene file accepts."""
+    from pydantic import ValidationError
+
+    from armanim.scene.loader import problem_message
+    from armanim.scene.models import RenderModel
+
+    given = {"fps": fps, "size": parse_size(size) if size else None, "format": fmt}
+    view = {k: v for k, v in (("elevation", elevation), ("azimuth", azimuth)) if v is not None}
+    data = {k: v for k, v in given.items() if v is not None} | ({"view": view} if view else {})
+    try:
+        model = RenderModel.model_validate(data)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        loc = tuple(part for part in err["loc"] if isinstance(part, str))
+        flag = _FLAGS.get(loc, f"--{loc[0]}")
+        raise UsageError(f"{flag}: {problem_message(err, tuple(err['loc']))}") from None
+    overrides = {k: getattr(model, k) for k in ("fps", "format") if k in data}
+    if "size" in data:
+        overrides["size"] = tuple(model.size)
+    overrides.update({k: getattr(model.view, k) for k in view})
     return overrides
 
 

@@ -146,7 +146,7 @@ def _path(loc: tuple) -> str:
 def _diagnostic(err: dict, doc: YamlDocument) -> Diagnostic:
     loc = tuple(err["loc"])
     path = _path(loc)
-    return Diagnostic(path, _message(err, loc), doc.line_of(path))
+    return Diagnostic(path, problem_message(err, loc), doc.line_of(path))
 
 
 def _allowed_keys(loc: tuple) -> list[str]:
@@ -170,7 +170,8 @@ def _allowed_keys(loc: tuple) -> list[str]:
     return list(model.model_fields)
 
 
-def _message(err: dict, loc: tuple) -> str:
+def problem_message(err: dict, loc: tuple) -> str:
+    """What is wrong, and what was expected, for one pydantic error at ``loc``."""
     kind = err["type"]
     got = err.get("input")
     ctx = err.get("ctx") or {}
