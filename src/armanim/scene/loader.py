@@ -16,7 +16,7 @@ from pydantic import ValidationError
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.scene.checks import as_diagnostics, scene_problems
-from armanim.scene.models import SCENE_VERSION, SceneModel
+from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
 from armanim.scene.yamlread import MAX_FILE_BYTES, TooLarge, YamlDocument, join_path, read_yaml
 
 MAX_PROBLEMS = 30  # problems listed for one file; the rest are counted
@@ -102,7 +102,23 @@ def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None) -> L
     """
     path = Path(path)
     model = validate_scene_text(decode_scene(raw, str(path)), str(path))
-    return LoadedScene(model=model, path=path, name=name or model.name or path.stem, sha256=hashlib.sha256(raw).hexdigest(), raw=raw)
+    name = name or model.name or stem_name(path)
+    return LoadedScene(model=model, path=path, name=name, sha256=hashlib.sha256(raw).hexdigest(), raw=raw)
+
+
+def stem_name(path: Path) -> str:
+    """The run name a scene without ``name:`` takes from its file name, if it is a safe folder name.
+
+    Raises
+    ------
+    SceneError
+        ``..yaml`` would name the output root itself, ``.x.yaml`` a hidden staging folder.
+    """
+    problem = name_problem(path.stem)
+    if problem is not None:
+        hint = "add a line such as `name: my-arm` to the scene, or rename the file"
+        raise SceneError(str(path), [Diagnostic("name", f"not set, so the file name gives the name, but {problem}: {hint}", 1)])
+    return path.stem
 
 
 def validate_scene_text(text: str, file: str) -> SceneModel:
@@ -206,7 +222,7 @@ def problem_message(err: dict, loc: tuple) -> str:
     if kind == "bool_type":
         return f"must be true or false (got {_describe(got)})"
     if kind == "string_pattern_mismatch":
-        return f"{got!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
+        return name_problem(got) or f"{got!r} is not a valid name"
     return f"{err['msg'][0].lower()}{err['msg'][1:]} (got {_describe(got)})"
 
 

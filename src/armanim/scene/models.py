@@ -8,6 +8,7 @@ Every field of ``scene-format.md`` with its default; unknown keys are errors
 
 from __future__ import annotations
 
+import re
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -25,6 +26,26 @@ LIMITS = {
 }
 """Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
 (bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
+
+NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]*$"
+NAME_MAX = 100
+"""A run's name becomes a folder name: one path component, never ``.``/``..`` or hidden (so it
+cannot be, or collide with, the hidden staging names beside it), no separators or control
+characters, and short enough for any file system."""
+
+
+def name_problem(name: str) -> str | None:
+    """Why ``name`` cannot name a run's folder (what is expected), or None if it can.
+
+    >>> name_problem("notes-arm") is None, name_problem("..")
+    (True, "'..' is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)")
+    """
+    if len(name) > NAME_MAX:
+        return f"a name of {len(name)} characters is too long (expected at most {NAME_MAX})"
+    if not re.fullmatch(NAME_PATTERN, name):
+        return f"{name!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
+    return None
+
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]  # strict: "1" (a string) and true are not numbers
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -157,7 +178,7 @@ class SceneModel(Strict):
     )
 
     version: Literal[1] = Field(description="Scene format version; this armanim reads version 1.")
-    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")] | None = Field(
+    name: Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=NAME_PATTERN)] | None = Field(
         default=None, description="Name of the run and its output folder; default: the file's stem."
     )
     arm: ArmModel
