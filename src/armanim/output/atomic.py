@@ -1,6 +1,8 @@
 """Atomic writes: a temporary file beside the target, then ``os.replace``.
 
 Nothing a user made is ever half-written: a reader sees the old file or the new one.
+Only a regular file (or nothing) is ever replaced: a write to a symbolic link goes to
+the file it points to, and a folder, device, FIFO or socket at the target is an error.
 """
 
 from __future__ import annotations
@@ -9,6 +11,7 @@ import contextlib
 import errno
 import os
 import signal
+import stat
 import tempfile
 import threading
 from pathlib import Path
@@ -66,13 +69,40 @@ def interrupts_deferred() -> Iterator[None]:
             signal.raise_signal(signum)  # the usual handler runs now: KeyboardInterrupt, ...
 
 
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISSOCK, "a socket"))
+
+
+def write_target(path: Path) -> Path:
+    """The file a write to ``path`` replaces: ``path``, or the file a link there points to.
+
+    Raises
+    ------
+    OutputError
+        Something other than a regular file stands there (exit 3); it is left as it was.
+    """
+    path = Path(path)
+    target = Path(os.path.realpath(path)) if path.is_symlink() else path
+    try:
+        mode = os.stat(target).st_mode
+    except FileNotFoundError:
+        return target
+    except OSError as exc:
+        raise output_error(path, exc) from None
+    for is_kind, kind in _KINDS:
+        if is_kind(mode):
+            raise OutputError(f"{path}: is {kind}, not a regular file; armanim writes only regular files (choose another path)")
+    return target
+
+
 @contextlib.contextmanager
 def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
     """Yield a fresh temporary path in ``path``'s folder; on success rename it onto ``path``.
 
-    On any exception the temporary file is removed and ``path`` is left untouched.
+    On any exception the temporary file is removed and ``path`` is left untouched. A link
+    at ``path`` is written through (its target is replaced); see :func:`write_target`.
     """
-    path = Path(path)
+    path = write_target(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix + ".tmp", dir=path.parent)

@@ -155,7 +155,9 @@ def render_video(
         ffmpeg failed (its last lines are in the message) or a worker died. No
         partial file is left at ``path``.
     """
-    path = Path(path)
+    from armanim.output.atomic import write_target
+
+    path = write_target(Path(path))
     frames = trajectory.frames
     if frames == 0:
         raise RenderError(f"cannot write {path.name}: the trajectory has no frames")
