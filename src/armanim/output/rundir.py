@@ -7,6 +7,12 @@ from interleaving: the second waits for the first. The swap and the clean-up hol
 Ctrl-C back until they are done, and a run killed outright (``kill -9``, a power
 cut) is tidied up by the next run of the same folder: its staging folder is
 removed, and an old folder it had moved aside is put back.
+
+armanim replaces only what it made: every run folder holds a marker file
+(:data:`MARKER`) listing the files armanim wrote into it, and an existing folder is
+replaced only if it is empty or holds nothing but the marker and the files it lists.
+Anything else at ``ROOT/<name>`` (a user's folder, a user's file added to a run, a
+link, a file) is an error that names what is there, and it is left as it was.
 """
 
 from __future__ import annotations
@@ -14,14 +20,21 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
+import json
 import os
+import stat
 import re
 import shutil
 import tempfile
 from pathlib import Path
 from typing import Iterator
 
-from armanim.output.atomic import current_umask, interrupts_deferred, output_error
+from armanim import __version__
+from armanim.errors import OutputError
+from armanim.output.atomic import current_umask, interrupts_deferred, output_error, write_text_atomic
+
+MARKER = ".armanim-run.json"
+"""In every run folder: says armanim made it and lists the files it wrote there."""
 
 
 @contextlib.contextmanager
@@ -40,18 +53,77 @@ def folder_lock(folder: Path) -> Iterator[None]:
         handle.close()
 
 
-def _not_a_file(final: Path) -> None:
-    """An OutputError if a file (not a folder) stands where the output folder goes."""
-    if final.exists() and not final.is_dir():
-        raise output_error(final, OSError(errno.ENOTDIR, "Not a directory", str(final)))
+def marked_files(folder: Path) -> set[str] | None:
+    """The file names ``folder``'s marker lists, or None if it has no valid marker."""
+    marker = Path(folder) / MARKER
+    try:
+        if not stat.S_ISREG(os.lstat(marker).st_mode) or os.lstat(marker).st_size > 100_000:
+            return None
+        data = json.loads(marker.read_text(encoding="utf-8"))
+        files = data["files"]
+        if data.get("made_by") != "armanim" or not all(isinstance(f, str) for f in files):
+            return None
+        return set(files)
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def write_marker(folder: Path) -> None:
+    """Mark ``folder`` as armanim's: list every file in it (call when it is complete)."""
+    files = sorted(p.name for p in Path(folder).iterdir() if p.name != MARKER)
+    data = {"made_by": "armanim", "armanim_version": __version__, "files": files,
+            "note": "armanim replaces this folder whole on the next run of its scene; files not listed here stop it"}
+    write_text_atomic(Path(folder) / MARKER, json.dumps(data, indent=2) + "\n")
+
+
+def replace_problem(final: Path) -> str | None:
+    """Why ``final`` must not be replaced by a run, or None if it may (absent, empty, or armanim's)."""
+    try:
+        mode = os.lstat(final).st_mode
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        return f"cannot be inspected ({exc.strerror or exc})"
+    if stat.S_ISLNK(mode):
+        return "is a link, which armanim did not make and does not replace"
+    if not stat.S_ISDIR(mode):
+        return "a file stands where a folder is needed"
+    try:
+        entries = sorted(p.name for p in final.iterdir())
+    except OSError as exc:
+        return f"cannot be listed ({exc.strerror or exc})"
+    if not entries:
+        return None
+    listed = marked_files(final)
+    if listed is None:
+        shown = ", ".join(entries[:5]) + (", ..." if len(entries) > 5 else "")
+        return f"this folder was not made by armanim (no {MARKER} in it; it holds {shown}), so it is not replaced"
+    foreign = [name for name in entries if name != MARKER and name not in listed]
+    if foreign:
+        shown = ", ".join(foreign[:5]) + (", ..." if len(foreign) > 5 else "")
+        return f"holds files armanim did not write ({shown}), so it is not replaced"
+    return None
+
+
+def check_replaceable(final: Path) -> None:
+    """An OutputError (exit 3) if ``final`` is something armanim did not make.
+
+    Raises
+    ------
+    OutputError
+        Saying what is there and how to proceed; nothing is moved or deleted.
+    """
+    problem = replace_problem(Path(final))
+    if problem is not None:
+        raise OutputError(f"{final}: {problem} (move it away, or choose another folder with --out)")
 
 
 def swap_in(staged: Path, final: Path) -> None:
     """Put ``staged`` in place of ``final`` (which may not exist), removing the old one.
 
-    A file standing at ``final`` is an error, never moved aside: only a folder is replaced.
+    Only a folder armanim made (see :func:`check_replaceable`) is replaced.
     """
-    _not_a_file(final)
+    check_replaceable(final)
     old = final.with_name(f".{final.name}.old-{os.getpid()}")
     try:
         if final.exists():
@@ -100,7 +172,7 @@ def staged_folder(final: Path) -> Iterator[Path]:
     final = Path(final)
     with folder_lock(final):
         recover(final)
-        _not_a_file(final)  # fail before the work, not after it
+        check_replaceable(final)  # fail before the work, not after it
         try:
             staged = Path(tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".partial", dir=final.parent))
             staged.chmod(0o777 & ~current_umask())
@@ -108,6 +180,7 @@ def staged_folder(final: Path) -> Iterator[Path]:
             raise output_error(final, exc) from None
         try:
             yield staged
+            write_marker(staged)
             with interrupts_deferred():
                 swap_in(staged, final)
         finally:
