@@ -609,10 +609,9 @@ def compare(
 
     Example: [bold]armanim compare tests/golden/notes-arm.csv outputs/notes-arm/trajectory.csv[/bold]
     """
-    from armanim.output.compare import compare_trajectories
-    from armanim.output.csvfile import read_trajectory_csv
+    from armanim.output.compare import compare_csv_files
 
-    result = compare_trajectories(read_trajectory_csv(expected), read_trajectory_csv(actual), atol_deg=atol_deg, atol=atol)
+    result = compare_csv_files(expected, actual, atol_deg=atol_deg, atol=atol)
     out.print(result.report, markup=False, highlight=False, soft_wrap=True)
     if not result.equal:
         raise typer.Exit(EXIT_CHECK_FAILED)

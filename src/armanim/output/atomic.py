@@ -11,13 +11,13 @@ import contextlib
 import errno
 import os
 import signal
-import stat
 import tempfile
 import threading
 from pathlib import Path
 from typing import Iterator
 
 from armanim.errors import OutputError
+from armanim.files import special_kind
 
 
 def current_umask() -> int:
@@ -69,10 +69,6 @@ def interrupts_deferred() -> Iterator[None]:
             signal.raise_signal(signum)  # the usual handler runs now: KeyboardInterrupt, ...
 
 
-_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
-          (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISSOCK, "a socket"))
-
-
 def write_target(path: Path) -> Path:
     """The file a write to ``path`` replaces: ``path``, or the file a link there points to.
 
@@ -89,9 +85,9 @@ def write_target(path: Path) -> Path:
         return target
     except OSError as exc:
         raise output_error(path, exc) from None
-    for is_kind, kind in _KINDS:
-        if is_kind(mode):
-            raise OutputError(f"{path}: is {kind}, not a regular file; armanim writes only regular files (choose another path)")
+    kind = special_kind(mode)
+    if kind is not None:
+        raise OutputError(f"{path}: is {kind}, not a regular file; armanim writes only regular files (choose another path)")
     return target
 
 

@@ -8,12 +8,14 @@ diagnostic columns ``step_scale`` and ``iterations`` are not compared.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from armanim.errors import Diagnostic, SceneError
-from armanim.output.csvfile import TrajectoryTable
+from armanim.output.csvfile import TrajectoryTable, open_trajectory_csv
 
 EXACT = ("frame", "goal", "reached")
 LENGTHS = ("x", "y", "z", "goal_distance", "clearance")
@@ -47,28 +49,83 @@ def _tolerance(column: str, atol_deg: float, atol: float) -> float:
     return atol
 
 
-def _first_reached(table: TrajectoryTable) -> dict[int, int]:
-    goal, reached = table.column("goal"), table.column("reached")
-    firsts: dict[int, int] = {}
-    for frame in np.nonzero(reached == 1)[0]:
-        firsts.setdefault(int(goal[frame]), int(frame))
-    return firsts
+class _Comparer:
+    """The running state of a comparison fed block by block (files of any length)."""
 
+    def __init__(self, expected_columns, actual_columns, atol_deg: float, atol: float, names: tuple[str, str],
+                 files: tuple[str, str] | None = None):
+        file = files[1] if files else names[1]
+        n_e = sum(1 for c in expected_columns if c.startswith("phi") and c.endswith("_deg"))
+        n_a = sum(1 for c in actual_columns if c.startswith("phi") and c.endswith("_deg"))
+        if n_e != n_a:
+            raise SceneError(file, [Diagnostic("", f"has {n_a} joints, {names[0]} has {n_e} (not the same arm)")])
+        self.columns = [c for c in expected_columns if c not in NOT_COMPARED]
+        missing = [c for c in self.columns if c not in actual_columns]
+        if missing:
+            raise SceneError(file, [Diagnostic("", f"lacks the column(s) {', '.join(missing)} that {names[0]} has")])
+        self.tolerances = {c: _tolerance(c, atol_deg, atol) for c in self.columns}
+        self.names = names
+        self.rows = [0, 0]
+        self.firsts: tuple[dict[int, int], dict[int, int]] = ({}, {})
+        self.first: tuple[int, str, object, object] | None = None
+        self.worst: dict[str, float] = {}
 
-def _frame_count_note(expected: TrajectoryTable, actual: TrajectoryTable) -> str:
-    fe, fa = len(expected.data), len(actual.data)
-    note = f"expected {fe} frames, got {fa}"
-    e_first, a_first = _first_reached(expected), _first_reached(actual)
-    for goal in sorted(set(e_first) | set(a_first)):
-        if goal not in a_first:
-            return note + f"; goal {goal} not reached (expected at frame {e_first[goal]})"
-        if goal not in e_first:
-            return note + f"; goal {goal} reached at frame {a_first[goal]} (expected missed)"
-        shift = e_first[goal] - a_first[goal]
-        if shift:
-            word = "earlier" if shift > 0 else "later"
-            return note + f"; goal {goal} reached {abs(shift)} frames {word}"
-    return note
+    def count(self, side: int, table: TrajectoryTable) -> None:
+        """Count a block of one side's rows and note the frames where goals are first reached."""
+        offset = self.rows[side]
+        goal, reached = table.column("goal"), table.column("reached")
+        for frame in np.nonzero(reached == 1)[0]:
+            if np.isfinite(goal[frame]):
+                self.firsts[side].setdefault(int(goal[frame]), offset + int(frame))
+        self.rows[side] += len(table.data)
+
+    def compare(self, expected: TrajectoryTable, actual: TrajectoryTable) -> None:
+        """Compare two blocks that start at the same frame (the shorter sets the common rows)."""
+        offset = min(self.rows)
+        frames = min(len(expected.data), len(actual.data))
+        for column in self.columns:
+            if column in expected.text:
+                e, a = expected.text[column][:frames], actual.text[column][:frames]
+                dev = np.where(e == a, 0.0, np.inf)
+            else:
+                e, a = expected.column(column)[:frames], actual.column(column)[:frames]
+                with np.errstate(invalid="ignore", over="ignore"):
+                    dev = np.where((e == a) | (np.isnan(e) & np.isnan(a)), 0.0, np.abs(e - a))
+                dev = np.where(np.isnan(dev), np.inf, dev)  # one empty, the other not
+            bad = np.nonzero(dev > self.tolerances[column])[0]
+            if len(bad):
+                self.worst[column] = max(self.worst.get(column, 0.0), float(dev.max()))
+                frame = offset + int(bad[0])
+                if self.first is None or frame < self.first[0]:
+                    self.first = (frame, column, e[bad[0]], a[bad[0]])
+
+    def result(self) -> Comparison:
+        """The comparison of everything fed so far."""
+        fe, fa = self.rows
+        if not self.worst and fe == fa:
+            return Comparison(True, f"trajectories agree: {fe} frames, {len(self.columns)} columns within tolerance")
+        lines = [] if fe == fa else [self._frame_count_note()]
+        if self.first is not None:
+            frame, column, e_val, a_val = self.first
+            lines.append(f"first difference: frame {frame}, column {column}: {self.names[0]} {_show(e_val)}, {self.names[1]} {_show(a_val)}")
+            lines.append("largest deviation per column (over the common frames):")
+            for column, dev in self.worst.items():
+                lines.append(f"  {column}: {_show(dev)} (tolerance {self.tolerances[column]:g})")
+        return Comparison(False, "\n".join(lines))
+
+    def _frame_count_note(self) -> str:
+        (fe, fa), (e_first, a_first) = self.rows, self.firsts
+        note = f"expected {fe} frames, got {fa}"
+        for goal in sorted(set(e_first) | set(a_first)):
+            if goal not in a_first:
+                return note + f"; goal {goal} not reached (expected at frame {e_first[goal]})"
+            if goal not in e_first:
+                return note + f"; goal {goal} reached at frame {a_first[goal]} (expected missed)"
+            shift = e_first[goal] - a_first[goal]
+            if shift:
+                word = "earlier" if shift > 0 else "later"
+                return note + f"; goal {goal} reached {abs(shift)} frames {word}"
+        return note
 
 
 def compare_trajectories(
@@ -87,43 +144,49 @@ def compare_trajectories(
         If the two do not describe the same arm (different joint counts) or lack a
         required column (exit 2: not comparable).
     """
-    if expected.n_joints != actual.n_joints:
-        raise SceneError(names[1], [Diagnostic("", f"has {actual.n_joints} joints, {names[0]} has {expected.n_joints} (not the same arm)")])
-    columns = [c for c in expected.columns if c not in NOT_COMPARED]
-    missing = [c for c in columns if c not in actual.columns]
-    if missing:
-        raise SceneError(names[1], [Diagnostic("", f"lacks the column(s) {', '.join(missing)}")])
-    frames = min(len(expected.data), len(actual.data))
-    lines: list[str] = []
-    first: tuple[int, str] | None = None
-    worst: list[tuple[str, float, float]] = []
-    for column in columns:
-        e = expected.column(column)[:frames]
-        a = actual.column(column)[:frames]
-        both_empty = np.isnan(e) & np.isnan(a)
-        dev = np.where(both_empty, 0.0, np.abs(e - a))
-        dev = np.where(np.isnan(dev), np.inf, dev)  # one empty, the other not
-        tol = _tolerance(column, atol_deg, atol)
-        bad = np.nonzero(dev > tol)[0]
-        if len(bad):
-            worst.append((column, float(dev.max()), tol))
-            if first is None or bad[0] < first[0]:
-                first = (int(bad[0]), column)
-    equal = not worst and len(expected.data) == len(actual.data)
-    if equal:
-        return Comparison(True, f"trajectories agree: {frames} frames, {len(columns)} columns within tolerance")
-    if len(expected.data) != len(actual.data):
-        lines.append(_frame_count_note(expected, actual))
-    if first is not None:
-        frame, column = first
-        e_val = expected.column(column)[frame]
-        a_val = actual.column(column)[frame]
-        lines.append(f"first difference: frame {frame}, column {column}: {names[0]} {_show(e_val)}, {names[1]} {_show(a_val)}")
-        lines.append("largest deviation per column (over the common frames):")
-        for column, dev, tol in worst:
-            lines.append(f"  {column}: {_show(dev)} (tolerance {tol:g})")
-    return Comparison(False, "\n".join(lines))
+    comparer = _Comparer(expected.columns, actual.columns, atol_deg, atol, names)
+    comparer.compare(expected, actual)
+    comparer.count(0, expected)
+    comparer.count(1, actual)
+    return comparer.result()
 
 
-def _show(value: float) -> str:
+def compare_csv_files(expected: Path, actual: Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> Comparison:
+    """Compare two trajectory.csv files block by block, in memory that does not grow with their length.
+
+    Raises
+    ------
+    SceneError
+        A file is missing, not a trajectory, or the two are not comparable (exit 2).
+    """
+    with open_trajectory_csv(expected) as (e_columns, e_blocks), open_trajectory_csv(actual) as (a_columns, a_blocks):
+        comparer = _Comparer(e_columns, a_columns, atol_deg, atol, ("expected", "actual"), (str(expected), str(actual)))
+        pending: list[TrajectoryTable | None] = [None, None]
+        streams = (e_blocks, a_blocks)
+        while True:
+            for side in (0, 1):  # keep a block of each side, aligned on the same frames
+                if pending[side] is None or len(pending[side].data) == 0:
+                    pending[side] = next(streams[side], None)
+            e, a = pending
+            if e is None or a is None:
+                break
+            frames = min(len(e.data), len(a.data))
+            comparer.compare(e, a)
+            comparer.count(0, _rows(e, 0, frames))
+            comparer.count(1, _rows(a, 0, frames))
+            pending = [_rows(e, frames, None), _rows(a, frames, None)]
+        for side in (0, 1):  # the longer file's remaining rows are only counted
+            rest = [pending[side]] if pending[side] is not None else []
+            for table in itertools.chain(rest, streams[side]):
+                comparer.count(side, table)
+    return comparer.result()
+
+
+def _rows(table: TrajectoryTable, start: int, stop: int | None) -> TrajectoryTable:
+    return TrajectoryTable(table.columns, table.data[start:stop], {c: v[start:stop] for c, v in table.text.items()})
+
+
+def _show(value) -> str:
+    if isinstance(value, str):
+        return repr(value)
     return "empty" if np.isnan(value) else f"{value:.10g}"

@@ -8,14 +8,17 @@ round-trip form), so reading the file back gives the same numbers bit for bit.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import BinaryIO, Iterable, Iterator
 
 import numpy as np
 
 from armanim.errors import Diagnostic, SceneError
+from armanim.files import open_regular
 from armanim.output.atomic import write_text_atomic
 from armanim.trajectory import Trajectory
 
@@ -71,12 +74,23 @@ def write_trajectory_csv(traj: Trajectory, path: Path) -> None:
     write_text_atomic(path, trajectory_csv_text(traj))
 
 
+REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")
+"""The contract's columns after the angles; every reader needs them."""
+TEXT_COLUMNS = ("mode",)
+"""Columns whose values are words (``ik`` / ``plan``), not numbers."""
+MAX_LINE_BYTES = 100_000  # a row of 64 joints is under 2,000 bytes
+BLOCK_ROWS = 16_384  # rows parsed at once when a file is streamed
+
+
 @dataclass(frozen=True)
 class TrajectoryTable:
-    """A trajectory.csv read back: its header and a float array per column."""
+    """A trajectory.csv (or a block of its rows) read back: its header, a float array per
+    column (NaN in text columns) and the text columns' words."""
 
     columns: tuple[str, ...]
     data: np.ndarray  # (F, C), NaN where a field is empty
+    text: dict[str, np.ndarray] = field(default_factory=dict)  # column -> (F,) str
+    first_line: int = 2  # file line of row 0, for messages
 
     @property
     def n_joints(self) -> int:
@@ -93,41 +107,159 @@ class TrajectoryTable:
         return np.stack([self.column(f"phi{i}_deg") for i in range(1, self.n_joints + 1)], axis=1)
 
 
-def read_trajectory_csv(path: Path) -> TrajectoryTable:
-    """Read a trajectory.csv written by armanim.
+def _problem(file: str, message: str, line: int | None = None) -> SceneError:
+    return SceneError(file, [Diagnostic("", message, line)])
+
+
+def check_header(row: list[str], file: str) -> tuple[str, ...]:
+    """The columns of a trajectory.csv header, checked against the contract.
 
     Raises
     ------
     SceneError
-        If the file is missing, unreadable or not an armanim trajectory (exit 2).
+        Not ``frame,time_s,goal,phi1_deg..phiN_deg,`` then x, y, z, goal_distance,
+        clearance and reached (exit 2); extra columns may follow.
     """
-    file = str(path)
+    expected = "expected a header frame,time_s,goal,phi1_deg,...,phiN_deg,x,y,z,goal_distance,clearance,reached"
+    if row[:3] != list(BASE_COLUMNS):
+        raise _problem(file, f"is not an armanim trajectory ({expected})", 1)
+    n = 0
+    while 3 + n < len(row) and row[3 + n] == f"phi{n + 1}_deg":
+        n += 1
+    stray = [c for c in row[3 + n:] if c.startswith("phi")]
+    if n == 0 or stray:
+        found = f"the column {stray[0]!r} is out of place; " if stray else ""
+        raise _problem(file, f"{found}joint columns must be phi1_deg, phi2_deg, ... right after goal ({expected})", 1)
+    missing = [c for c in REQUIRED_TAIL if c not in row]
+    if missing:
+        raise _problem(file, f"lacks the column(s) {', '.join(missing)} ({expected})", 1)
+    twice = sorted({c for c in row if row.count(c) > 1})
+    if twice:
+        raise _problem(file, f"has the column(s) {', '.join(twice)} more than once", 1)
+    return tuple(row)
+
+
+def _lines(handle: BinaryIO, file: str) -> Iterator[str]:
+    """Decoded lines of a file, each at most MAX_LINE_BYTES (a file without newlines is not read whole)."""
+    number = 0
+    while True:
+        raw = handle.readline(MAX_LINE_BYTES + 1)
+        number += 1
+        if not raw:
+            return
+        if len(raw) > MAX_LINE_BYTES:
+            raise _problem(file, f"line is longer than {MAX_LINE_BYTES:,} bytes (not a trajectory.csv)", number)
+        try:
+            yield raw.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise _problem(file, f"byte 0x{raw[exc.start]:02x} is not UTF-8 (not a trajectory.csv)", number) from None
+
+
+def _parse_block(rows: list[tuple[int, list[str]]], columns: tuple[str, ...], file: str) -> TrajectoryTable:
+    text_at = [i for i, c in enumerate(columns) if c in TEXT_COLUMNS]
+    for line, row in rows:
+        if len(row) != len(columns):
+            raise _problem(file, f"row has {len(row)} fields (expected {len(columns)}, as the header)", line)
+    fields = np.array([row for _, row in rows], dtype=object).reshape(len(rows), len(columns))
+    text = {columns[i]: fields[:, i].astype(str) for i in text_at}
+    fields[:, text_at] = "nan"
+    fields[fields == ""] = "nan"
     try:
-        if Path(path).is_dir():
-            raise SceneError(file, [Diagnostic("", "is a folder (expected a trajectory.csv file)")])
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise SceneError(file, [Diagnostic("", "no such file (expected a trajectory.csv written by armanim run)")]) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(file, [Diagnostic("", f"cannot be read as a text CSV: {exc}")]) from None
-    return parse_trajectory_csv(text, file)
+        data = fields.astype(float)
+    except ValueError:  # find the first field that is not a number, to name its line
+        for line, row in rows:
+            bad = [i for i, v in enumerate(row) if i not in text_at and v != "" and not _is_float(v)]
+            if bad:
+                raise _problem(file, f"{columns[bad[0]]}: {row[bad[0]][:40]!r} is not a number", line) from None
+        raise
+    return TrajectoryTable(columns, data, text, rows[0][0] if rows else 2)
+
+
+def _is_float(value: str) -> bool:
+    try:
+        float(value)
+        return True
+    except ValueError:
+        return False
+
+
+def table_blocks(lines: Iterable[str], file: str, block_rows: int = BLOCK_ROWS) -> tuple[tuple[str, ...], Iterator[TrajectoryTable]]:
+    """The checked header of trajectory.csv lines, and its rows as tables of ``block_rows`` rows.
+
+    Rows are parsed as the blocks are taken, so a file of any length is read in bounded memory.
+    """
+    reader = csv.reader(lines)
+    try:
+        head = next(reader, None)
+    except csv.Error as exc:
+        raise _problem(file, f"is not a CSV file: {exc}", 1) from None
+    if head is None:
+        raise _problem(file, "is empty (expected a trajectory.csv written by armanim run)")
+    columns = check_header(head, file)
+
+    def blocks() -> Iterator[TrajectoryTable]:
+        rows: list[tuple[int, list[str]]] = []
+        try:
+            for row in reader:
+                rows.append((reader.line_num, row))
+                if len(rows) == block_rows:
+                    yield _parse_block(rows, columns, file)
+                    rows = []
+        except csv.Error as exc:
+            raise _problem(file, f"is not a CSV file: {exc}", reader.line_num) from None
+        if rows:
+            yield _parse_block(rows, columns, file)
+
+    return columns, blocks()
+
+
+def concat_tables(columns: tuple[str, ...], tables: Iterable[TrajectoryTable]) -> TrajectoryTable:
+    """One table of every block's rows."""
+    tables = list(tables)
+    if not tables:
+        return TrajectoryTable(columns, np.empty((0, len(columns))), {c: np.array([], dtype=str) for c in columns if c in TEXT_COLUMNS})
+    text = {c: np.concatenate([t.text[c] for t in tables]) for c in tables[0].text}
+    return TrajectoryTable(columns, np.concatenate([t.data for t in tables]), text)
+
+
+@contextlib.contextmanager
+def open_trajectory_csv(path: Path, block_rows: int = BLOCK_ROWS) -> Iterator[tuple[tuple[str, ...], Iterator[TrajectoryTable]]]:
+    """Stream a trajectory.csv: ``with open_trajectory_csv(p) as (columns, blocks): ...``.
+
+    Raises
+    ------
+    SceneError
+        The file is missing, not a regular file, or not an armanim trajectory (exit 2).
+    """
+    with open_regular(path, "a trajectory.csv written by armanim run") as handle:
+        yield table_blocks(_lines(handle, str(path)), str(path), block_rows)
+
+
+def read_trajectory_csv(path: Path, max_rows: int | None = None) -> TrajectoryTable:
+    """Read a whole trajectory.csv written by armanim.
+
+    Parameters
+    ----------
+    path : Path
+    max_rows : int, optional
+        More rows than this are an error (a bound on the memory used).
+
+    Raises
+    ------
+    SceneError
+        If the file is missing, unreadable, too long or not an armanim trajectory (exit 2).
+    """
+    with open_trajectory_csv(path) as (columns, blocks):
+        tables, rows = [], 0
+        for table in blocks:
+            rows += len(table.data)
+            if max_rows is not None and rows > max_rows:
+                raise _problem(str(path), f"has more than {max_rows:,} rows (a run has at most that many frames)")
+            tables.append(table)
+    return concat_tables(columns, tables)
 
 
 def parse_trajectory_csv(text: str, file: str) -> TrajectoryTable:
     """Parse trajectory.csv text; ``file`` only names it in messages."""
-    try:
-        rows = list(csv.reader(io.StringIO(text)))
-    except csv.Error as exc:
-        raise SceneError(file, [Diagnostic("", f"is not a CSV file: {exc}")]) from None
-    if not rows or rows[0][:3] != list(BASE_COLUMNS) or not any(c.startswith("phi") for c in rows[0]):
-        raise SceneError(file, [Diagnostic("", "is not an armanim trajectory (expected a header starting frame,time_s,goal,phi1_deg,...)", 1)])
-    columns = tuple(rows[0])
-    data = np.empty((len(rows) - 1, len(columns)))
-    for r, row in enumerate(rows[1:], start=2):
-        if len(row) != len(columns):
-            raise SceneError(file, [Diagnostic("", f"row has {len(row)} fields (expected {len(columns)}, as the header)", r)])
-        try:
-            data[r - 2] = [float(v) if v != "" else np.nan for v in row]
-        except ValueError:
-            raise SceneError(file, [Diagnostic("", "a field is not a number", r)]) from None
-    return TrajectoryTable(columns=columns, data=data)
+    columns, blocks = table_blocks(io.StringIO(text), file)
+    return concat_tables(columns, blocks)

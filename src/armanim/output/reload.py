@@ -9,12 +9,15 @@ from pathlib import Path
 import numpy as np
 
 from armanim.errors import Diagnostic, SceneError
-from armanim.output.csvfile import read_trajectory_csv
+from armanim.files import read_bounded
+from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv
 from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
+from armanim.scene.models import LIMITS
 from armanim.trajectory import GoalReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
+MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB
 
 
 @dataclass(frozen=True)
@@ -28,7 +31,7 @@ class FinishedRun:
 
 def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
     try:
-        goals = json.loads(summary_path.read_text(encoding="utf-8"))["goals"]
+        goals = json.loads(read_bounded(summary_path, MAX_SUMMARY_BYTES, "an armanim summary.json"))["goals"]
         return tuple(
             GoalReport(
                 index=g["index"],
@@ -44,10 +47,43 @@ def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
             )
             for g in goals
         )
-    except FileNotFoundError:
-        raise SceneError(str(summary_path), [Diagnostic("", "no such file (expected the summary.json of an armanim run)")]) from None
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise SceneError(str(summary_path), [Diagnostic("", f"is not an armanim summary: {exc}")]) from None
+
+
+def _first_bad(table: TrajectoryTable, column: str, bad: np.ndarray, message: str) -> Diagnostic | None:
+    rows = np.nonzero(bad)[0]
+    if not len(rows):
+        return None
+    value = table.column(column)[rows[0]]
+    shown = "empty or NaN" if np.isnan(value) else f"{value:g}"
+    return Diagnostic("", f"{column}: {shown} {message}", table.first_line + int(rows[0]))
+
+
+def drawable_problem(table: TrajectoryTable, goals: int) -> Diagnostic | None:
+    """The first value of a trajectory table that cannot be drawn, or None.
+
+    Frames must count 0, 1, 2, ...; goals index the scene's goals; ``reached`` is 0 or 1;
+    every number is finite (``clearance`` may be empty) and at most LIMITS["magnitude"] in size.
+    """
+    if not len(table.data):
+        return Diagnostic("", "has a header but no rows (a run writes at least frame 0)", 2)
+    frame, goal, reached = table.column("frame"), table.column("goal"), table.column("reached")
+    limit = LIMITS["magnitude"]
+    checks = [(c, ~np.isfinite(table.column(c)), "is not a finite number")
+              for c in table.columns if c not in TEXT_COLUMNS and c != "clearance"]
+    checks += [(c, np.abs(table.column(c)) > limit, f"is too large (at most {limit:g} in size)")
+               for c in table.columns if c not in TEXT_COLUMNS]
+    checks += [("clearance", np.isinf(table.column("clearance")), "is not a finite number (empty when there are no obstacles)"),
+               ("frame", frame != np.arange(len(frame)), "is out of order (expected frames 0, 1, 2, ... one per row)"),
+               ("goal", (goal != np.round(goal)) | (goal < 0) | (goal > goals), f"is not a goal of the scene (expected 0 to {goals})"),
+               ("reached", (reached != 0) & (reached != 1), "is not 0 or 1")]
+    with np.errstate(invalid="ignore"):
+        for column, bad, message in checks:
+            found = _first_bad(table, column, bad, message)
+            if found is not None:
+                return found
+    return None
 
 
 def load_run(folder: str | Path) -> FinishedRun:
@@ -66,10 +102,15 @@ def load_run(folder: str | Path) -> FinishedRun:
         raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
     scene = load_scene(folder / SCENE_COPY)
     problem = scene_to_problem(scene.model)
-    table = read_trajectory_csv(folder / "trajectory.csv")
+    csv_path = folder / "trajectory.csv"
+    table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
     if table.n_joints != problem.arm.n:
-        raise SceneError(str(folder / "trajectory.csv"), [Diagnostic("", f"has {table.n_joints} joints, the scene's arm has {problem.arm.n}")])
+        raise SceneError(str(csv_path), [Diagnostic("", f"has {table.n_joints} joints, the scene's arm has {problem.arm.n}")])
+    problem_found = drawable_problem(table, len(problem.goals))
+    if problem_found is not None:
+        raise SceneError(str(csv_path), [problem_found])
     clearance = table.column("clearance")
+    frames = len(table.data)
     traj = Trajectory(
         phi=np.radians(table.angles_deg),
         tip=np.stack([table.column(c) for c in ("x", "y", "z")], axis=1),
@@ -77,8 +118,8 @@ def load_run(folder: str | Path) -> FinishedRun:
         distance=table.column("goal_distance"),
         clearance=np.where(np.isnan(clearance), np.inf, clearance),
         reached=table.column("reached") == 1,
-        iterations=table.column("iterations").astype(int),
-        step_scale=table.column("step_scale"),
+        iterations=table.column("iterations").astype(int) if "iterations" in table.columns else np.zeros(frames, int),
+        step_scale=table.column("step_scale") if "step_scale" in table.columns else np.ones(frames),
         fps=problem.fps,
     )
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(folder / "summary.json")))

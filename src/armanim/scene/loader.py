@@ -15,6 +15,7 @@ from pydantic import ValidationError
 
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
+from armanim.files import read_bounded
 from armanim.scene.checks import as_diagnostics, scene_problems
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
 from armanim.scene.yamlread import MAX_FILE_BYTES, TooLarge, YamlDocument, join_path, read_yaml
@@ -46,21 +47,8 @@ class LoadedScene:
 
 
 def read_scene_bytes(path: Path) -> bytes:
-    """Read a scene file's bytes, with clear errors for missing, unreadable or huge files."""
-    file = str(path)
-    try:
-        if path.is_dir():
-            raise SceneError(file, [Diagnostic("", "is a folder (expected a scene .yaml file)")])
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise SceneError(file, [Diagnostic("", f"is {size:,} bytes (a scene may be at most {MAX_FILE_BYTES:,} bytes)")])
-        return path.read_bytes()
-    except FileNotFoundError:
-        raise SceneError(file, [Diagnostic("", "no such file (check the path)")]) from None
-    except PermissionError:
-        raise SceneError(file, [Diagnostic("", "cannot be read: permission denied")]) from None
-    except OSError as exc:
-        raise SceneError(file, [Diagnostic("", f"cannot be read: {exc.strerror or exc}")]) from None
+    """Read a scene file's bytes, with clear errors for missing, unreadable, special or huge files."""
+    return read_bounded(path, MAX_FILE_BYTES, "a scene")
 
 
 def decode_scene(raw: bytes, file: str) -> str:

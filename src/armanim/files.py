@@ -1,0 +1,87 @@
+"""Input files read with bounds: regular files only, never more than a limit of bytes.
+
+The size a file reports is not trusted (``/dev/zero`` reports 0 and never ends), and
+opening a FIFO must not wait for a writer: a file is opened without blocking, checked
+to be a regular file, and then read up to a limit.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import stat
+from pathlib import Path
+from typing import BinaryIO
+
+from armanim.errors import Diagnostic, SceneError
+
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISSOCK, "a socket"))
+
+
+def special_kind(mode: int) -> str | None:
+    """What a file of this ``st_mode`` is, if it is not a regular file (``"a folder"``, ...).
+
+    >>> special_kind(stat.S_IFIFO), special_kind(stat.S_IFREG)
+    ('a FIFO (named pipe)', None)
+    """
+    for is_kind, kind in _KINDS:
+        if is_kind(mode):
+            return kind
+    return None
+
+
+def _error(path: Path, message: str) -> SceneError:
+    return SceneError(str(path), [Diagnostic("", message)])
+
+
+def open_regular(path: str | Path, what: str) -> BinaryIO:
+    """Open a regular file for reading in binary mode, never blocking on a FIFO.
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        What the file should be, for messages (e.g. ``"a scene .yaml file"``).
+
+    Raises
+    ------
+    SceneError
+        Missing, unreadable, or not a regular file (exit 2).
+    """
+    path = Path(path)
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+    except FileNotFoundError:
+        raise _error(path, f"no such file (expected {what})") from None
+    except PermissionError:
+        raise _error(path, "cannot be read: permission denied") from None
+    except OSError as exc:
+        raise _error(path, f"cannot be read: {exc.strerror or exc}") from None
+    kind = special_kind(os.fstat(fd).st_mode)
+    if kind is not None:
+        os.close(fd)
+        raise _error(path, f"is {kind}, not a regular file (expected {what})")
+    fcntl.fcntl(fd, fcntl.F_SETFL, fcntl.fcntl(fd, fcntl.F_GETFL) & ~os.O_NONBLOCK)
+    return os.fdopen(fd, "rb")
+
+
+def read_bounded(path: str | Path, limit: int, what: str) -> bytes:
+    """The bytes of a regular file of at most ``limit`` bytes (never reads more than that plus one).
+
+    Raises
+    ------
+    SceneError
+        As :func:`open_regular`, or the file is larger than ``limit`` (exit 2).
+    """
+    with open_regular(path, what) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        if size > limit:
+            raise _error(Path(path), f"is {size:,} bytes ({what} may be at most {limit:,} bytes)")
+        try:
+            data = handle.read(limit + 1)
+        except OSError as exc:
+            raise _error(Path(path), f"cannot be read: {exc.strerror or exc}") from None
+    if len(data) > limit:
+        raise _error(Path(path), f"is more than {limit:,} bytes ({what} may be at most {limit:,} bytes)")
+    return data
