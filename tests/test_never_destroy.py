@@ -144,3 +144,211 @@ def test_special_files_at_a_target_are_an_error(cli, tmp_path, kind):
         assert "not a regular file" in result.stderr
     after = os.stat(target)
     assert (before.st_ino, before.st_mode) == (after.st_ino, after.st_mode)
+
+
+# ------------------------------------------------------------------ 4. unbounded reads, FIFOs, devices
+
+
+def _golden() -> Path:
+    return Path(__file__).parent / "golden" / "notes-arm.csv"
+
+
+@pytest.mark.parametrize("kind", ["dev-zero", "fifo", "link-to-dev-zero"])
+def test_devices_and_fifos_are_refused_fast(tmp_path, kind):
+    special = tmp_path / "special.yaml"
+    if kind == "fifo":
+        os.mkfifo(special)
+    else:
+        special.symlink_to("/dev/zero") if kind == "link-to-dev-zero" else None
+        special = special if kind == "link-to-dev-zero" else Path("/dev/zero")
+    for args in (("validate", special), ("compare", special, _golden()), ("compare", _golden(), special),
+                 ("run", special, "--out", tmp_path / "out", "--no-video")):
+        start = time.monotonic()
+        result = armanim(*args, timeout=30)
+        assert result.returncode == 2, result.stderr
+        assert "not a regular file" in no_traceback(result)
+        assert time.monotonic() - start < 10
+
+
+def test_a_growing_file_is_read_only_to_its_bound(tmp_path):
+    """A scene whose reported size lies (it grows while read) is still read to the bound only."""
+    from armanim.errors import SceneError
+    from armanim.files import read_bounded
+
+    path = tmp_path / "big.yaml"
+    path.write_bytes(b"#" * 2000)
+    with pytest.raises(SceneError, match="at most 1,000 bytes"):
+        read_bounded(path, 1000, "a scene")
+    assert read_bounded(path, 2000, "a scene") == b"#" * 2000
+
+
+def test_a_csv_without_newlines_is_not_read_whole(cli, tmp_path):
+    path = tmp_path / "one-line.csv"
+    path.write_bytes(b"frame,time_s,goal," + b"9" * 300_000)
+    result = cli("compare", path, _golden())
+    assert result.exit_code == 2 and "longer than 100,000 bytes" in result.stderr
+
+
+# ------------------------------------------------------------------ 7. render takes the run's lock and stages
+
+
+@pytest.fixture()
+def run_folder(cli, tmp_path) -> Path:
+    scene = tmp_path / "r.yaml"
+    scene.write_text(SMALL + "render: {fps: 10, size: [64, 48]}\n")
+    assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
+    return tmp_path / "out" / "r"
+
+
+def test_render_waits_for_the_folder_lock_and_swaps_whole(run_folder):
+    from armanim.output.rundir import folder_lock
+
+    before = user_files(run_folder)
+    with folder_lock(run_folder):
+        proc = subprocess.Popen([sys.executable, "-m", "armanim", "render", str(run_folder), "-q", "--jobs", "1"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        time.sleep(2.0)
+        assert proc.poll() is None  # waiting for the lock, not writing
+        assert user_files(run_folder) == before
+    _, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 0, stderr
+    listed = json.loads((run_folder / MARKER).read_text())["files"]
+    assert sorted(p.name for p in run_folder.iterdir() if p.name != MARKER) == listed
+    assert {"animation.mp4", "plot.png"} <= set(listed)
+    assert [p.name for p in run_folder.parent.iterdir() if p.name.startswith(".r.") and p.name != ".r.lock"] == []
+
+
+def test_a_failed_render_leaves_the_run_folder_as_it_was(cli, run_folder, monkeypatch):
+    import armanim.render.plot as plot
+
+    def broken(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(plot, "plot_run", broken)
+    before = user_files(run_folder)
+    result = cli("render", run_folder, "-q", "--jobs", "1")
+    assert result.exit_code == 3, result.output
+    assert user_files(run_folder) == before
+    assert sorted(p.name for p in run_folder.parent.iterdir()) == [".r.lock", "r"]
+
+
+def test_render_refuses_a_folder_armanim_did_not_make(cli, run_folder):
+    (run_folder / MARKER).unlink()
+    before = user_files(run_folder)
+    result = cli("render", run_folder, "-q")
+    assert result.exit_code == 3 and "not made by armanim" in result.stderr
+    assert user_files(run_folder) == before
+
+
+def test_leftovers_of_a_killed_render_are_removed(tmp_path):
+    from armanim.render.video import remove_dead_leftovers
+
+    dead = psutil.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    mine = tmp_path / f"..animation.mp4.{os.getpid()}.part.abcd1234"
+    stale = tmp_path / f"..animation.mp4.{dead.pid}.part.abcd1234"
+    for folder in (mine, stale):
+        folder.mkdir()
+        (folder / "segment000.mp4").write_bytes(b"x")
+    (tmp_path / f".animation.mp4.{dead.pid}.part").write_bytes(b"x")
+    (tmp_path / "keep.txt").write_text("x")
+    remove_dead_leftovers(tmp_path / "animation.mp4")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([mine.name, "keep.txt"])
+
+
+# ------------------------------------------------------------------ 8. bad trajectory.csv, streaming compare
+
+
+def _edit_csv(path: Path, edit) -> None:
+    import csv
+
+    rows = list(csv.reader(path.open()))
+    edit(rows)
+    with path.open("w", newline="") as handle:
+        csv.writer(handle, lineterminator="\n").writerows(rows)
+
+
+def _drop(rows: list[list[str]], column: str) -> None:
+    at = rows[0].index(column)
+    for row in rows:
+        row.pop(at)
+
+
+BAD_ROWS = {
+    "no x": (lambda rows: _drop(rows, "x"), ":1: lacks the column(s) x"),
+    "no reached": (lambda rows: _drop(rows, "reached"), ":1: lacks the column(s) reached"),
+    "phiX_deg": (lambda rows: rows[0].__setitem__(4, "phiX_deg"), "'phiX_deg' is out of place"),
+    "NaN": (lambda rows: rows[2].__setitem__(7, "nan"), ":3: x: empty or NaN is not a finite number"),
+    "inf": (lambda rows: rows[2].__setitem__(7, "inf"), ":3: x: inf is not a finite number"),
+    "1e308": (lambda rows: rows[2].__setitem__(7, "1e308"), ":3: x: 1e+308 is too large"),
+    "header only": (lambda rows: rows.__delitem__(slice(1, None)), "has a header but no rows"),
+    "a word": (lambda rows: rows[2].__setitem__(1, "soon"), ":3: time_s: 'soon' is not a number"),
+    "ragged": (lambda rows: rows[2].pop(), ":3: row has"),
+}
+
+
+@pytest.mark.parametrize("name", BAD_ROWS)
+def test_render_of_a_bad_trajectory_is_exit_2_with_its_line(cli, run_folder, name):
+    edit, message = BAD_ROWS[name]
+    _edit_csv(run_folder / "trajectory.csv", edit)
+    before = user_files(run_folder)
+    result = cli("render", run_folder, "-q", "--jobs", "1")
+    assert result.exit_code == 2, result.output
+    assert message in result.stderr and "Traceback" not in result.output
+    assert user_files(run_folder) == before
+
+
+def test_render_without_the_diagnostic_columns_still_draws(cli, run_folder):
+    _edit_csv(run_folder / "trajectory.csv", lambda rows: [r.__delitem__(slice(-2, None)) for r in rows])
+    assert cli("render", run_folder, "-q", "--jobs", "1").exit_code == 0
+
+
+def test_compare_needs_the_contract_columns_in_both_files(cli, tmp_path):
+    expected = tmp_path / "expected.csv"
+    expected.write_bytes(_golden().read_bytes())
+    _edit_csv(expected, lambda rows: _drop(rows, "reached"))
+    result = cli("compare", expected, _golden())
+    assert result.exit_code == 2 and "lacks the column(s) reached" in result.stderr
+
+
+def test_identical_files_with_inf_and_a_mode_column_agree(cli, tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_bytes(_golden().read_bytes())
+    _edit_csv(path, lambda rows: [r.append("mode" if i == 0 else "ik") for i, r in enumerate(rows)] and rows[3].__setitem__(7, "inf"))
+    assert cli("compare", path, path).exit_code == 0
+    other = tmp_path / "u.csv"
+    other.write_bytes(path.read_bytes())
+    _edit_csv(other, lambda rows: rows[5].__setitem__(-1, "plan"))
+    result = cli("compare", path, other)
+    assert result.exit_code == 1 and "frame 4, column mode: expected 'ik', actual 'plan'" in result.stdout
+
+
+def test_compare_streams_long_files_in_flat_memory(tmp_path):
+    """200,000 rows against a copy differing in the last row: found, in memory far below the file's."""
+    rows = _golden().read_text().splitlines()
+    header, row = rows[0], rows[1].split(",")
+    path = tmp_path / "long.csv"
+    with path.open("w") as handle:
+        handle.write(header + "\n")
+        for i in range(200_000):
+            row[0] = str(i)
+            handle.write(",".join(row) + "\n")
+    other = tmp_path / "other.csv"
+    other.write_bytes(path.read_bytes()[:-40] + path.read_bytes()[-40:].replace(b",0,", b",1,", 1))
+    proc = psutil.Popen([sys.executable, "-m", "armanim", "compare", str(path), str(other)],
+                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    peak = 0
+    while proc.poll() is None:
+        with contextlib_suppress():
+            peak = max(peak, proc.memory_info().rss)
+        time.sleep(0.05)
+    out, err = proc.communicate()
+    assert proc.returncode == 1, err
+    assert "frame 199999" in out
+    assert peak < 250e6  # the rows as Python lists would take well over 1 GB
+
+
+def contextlib_suppress():
+    import contextlib
+
+    return contextlib.suppress(psutil.Error)

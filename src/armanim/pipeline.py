@@ -144,17 +144,27 @@ def rerender_run(
 
     Returns the written files by kind (``video``, ``plot``).
 
+    The folder is locked, staged and swapped as a run does, so a render never mixes
+    with a run of the same folder, and a failed render leaves the folder as it was.
+
     Raises
     ------
     SceneError
         The folder is not a complete armanim run (exit 2).
+    OutputError
+        The folder was not made by armanim, or an output could not be written (exit 3).
     """
     from armanim.output.reload import load_run
 
-    run = load_run(folder)
-    settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
-    problem = replace(run.problem, fps=settings.fps)
-    return render_outputs(problem, run.solution, settings, Path(folder), run.scene.name, jobs=jobs, progress=progress)
+    folder = Path(folder)
+    if not folder.is_dir():
+        load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
+    with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
+        run = load_run(folder)  # under the lock: no run is changing it
+        settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
+        problem = replace(run.problem, fps=settings.fps)
+        rendered = render_outputs(problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
+    return {kind: folder / path.name for kind, path in rendered.items()}
 
 
 def render_outputs(

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.errors import Diagnostic, SceneError
-from armanim.output.csvfile import TrajectoryTable, open_trajectory_csv
+from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, open_trajectory_csv
 
 EXACT = ("frame", "goal", "reached")
 LENGTHS = ("x", "y", "z", "goal_distance", "clearance")
@@ -40,7 +40,7 @@ class Comparison:
 
 
 def _tolerance(column: str, atol_deg: float, atol: float) -> float:
-    if column in EXACT:
+    if column in EXACT or column in TEXT_COLUMNS:
         return 0.0
     if column.startswith("phi") and column.endswith("_deg"):
         return atol_deg
@@ -110,7 +110,10 @@ class _Comparer:
             lines.append(f"first difference: frame {frame}, column {column}: {self.names[0]} {_show(e_val)}, {self.names[1]} {_show(a_val)}")
             lines.append("largest deviation per column (over the common frames):")
             for column, dev in self.worst.items():
-                lines.append(f"  {column}: {_show(dev)} (tolerance {self.tolerances[column]:g})")
+                if column in TEXT_COLUMNS:
+                    lines.append(f"  {column}: the words differ")
+                else:
+                    lines.append(f"  {column}: {_show(dev)} (tolerance {self.tolerances[column]:g})")
         return Comparison(False, "\n".join(lines))
 
     def _frame_count_note(self) -> str:
@@ -188,5 +191,5 @@ def _rows(table: TrajectoryTable, start: int, stop: int | None) -> TrajectoryTab
 
 def _show(value) -> str:
     if isinstance(value, str):
-        return repr(value)
+        return repr(str(value))
     return "empty" if np.isnan(value) else f"{value:.10g}"

@@ -162,12 +162,32 @@ def recover(final: Path) -> None:
                 os.rename(path, final)
 
 
-@contextlib.contextmanager
-def staged_folder(final: Path) -> Iterator[Path]:
-    """Yield an empty temporary folder; on success it replaces ``final`` whole.
+def _link_or_copy(source: str, target: str) -> None:
+    try:
+        os.link(source, target)  # the staged copy shares the bytes; new files replace links, never edit them
+    except OSError:
+        shutil.copy2(source, target)
 
-    On any exception, including KeyboardInterrupt, the temporary folder is removed
-    and ``final`` is left as it was.
+
+def _copy_run(final: Path, staged: Path) -> None:
+    """Put the files of the run folder ``final`` into ``staged`` (hard links where possible)."""
+    for entry in final.iterdir():
+        if entry.name == MARKER:
+            continue
+        if entry.is_dir() and not entry.is_symlink():
+            shutil.copytree(entry, staged / entry.name, copy_function=_link_or_copy)
+        else:
+            _link_or_copy(str(entry), str(staged / entry.name))
+
+
+@contextlib.contextmanager
+def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
+    """Yield a temporary folder; on success it replaces ``final`` whole.
+
+    The folder is empty, or with ``keep_files`` holds the files of ``final`` (which must then
+    be a run folder), so that a command that changes some of a run's files (``render``)
+    stages and swaps like a run. On any exception, including KeyboardInterrupt, the
+    temporary folder is removed and ``final`` is left as it was.
     """
     final = Path(final)
     with folder_lock(final):
@@ -179,6 +199,11 @@ def staged_folder(final: Path) -> Iterator[Path]:
         except OSError as exc:
             raise output_error(final, exc) from None
         try:
+            if keep_files and final.is_dir():
+                try:
+                    _copy_run(final, staged)
+                except OSError as exc:
+                    raise output_error(staged, exc) from None
             yield staged
             write_marker(staged)
             with interrupts_deferred():

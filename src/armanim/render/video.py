@@ -12,6 +12,7 @@ import contextlib
 import multiprocessing
 import os
 import queue as queue_module
+import re
 import shutil
 import signal
 import tempfile
@@ -162,6 +163,7 @@ def render_video(
     if frames == 0:
         raise RenderError(f"cannot write {path.name}: the trajectory has no frames")
     jobs = effective_jobs(jobs, frames, settings.format)
+    remove_dead_leftovers(path)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
     try:
         if jobs == 1:
@@ -178,6 +180,36 @@ def render_video(
         raise output_error(path, exc) from None
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def remove_dead_leftovers(path: Path) -> None:
+    """Remove the temporary video and segment folders beside ``path`` of renders whose
+    process is gone (killed outright); those of live processes are left alone."""
+    name = re.escape(path.name)
+    pattern = re.compile(rf"\.{name}\.([0-9]+)\.part|\.\.{name}\.([0-9]+)\.part\.[a-z0-9_]{{8}}")
+    try:
+        entries = list(path.parent.iterdir())
+    except OSError:
+        return
+    for entry in entries:
+        match = pattern.fullmatch(entry.name)
+        if match is None or _alive(int(match.group(1) or match.group(2))):
+            continue
+        if entry.is_dir() and not entry.is_symlink():
+            shutil.rmtree(entry, ignore_errors=True)
+        else:
+            with contextlib.suppress(OSError):
+                entry.unlink()
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, but is not ours
+        return True
+    return True
 
 
 def effective_jobs(jobs: int | None, frames: int, fmt: str) -> int:
