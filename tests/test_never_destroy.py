@@ -352,3 +352,85 @@ def contextlib_suppress():
     import contextlib
 
     return contextlib.suppress(psutil.Error)
+
+
+# ------------------------------------------------------------------ 9. no tracebacks
+
+
+@pytest.mark.parametrize("address", ["garbage", "xyz://127.0.0.1:1", "tcp://[::1"])
+def test_a_bad_scheduler_address_is_exit_2(cli, tmp_path, address):
+    pytest.importorskip("dask.distributed")
+    result = cli("run", NOTES, NOTES, "--out", tmp_path, "--no-video", "-q", "--scheduler", address)
+    assert result.exit_code == 2, result.output
+    assert "--scheduler" in result.stderr and "not a scheduler address" in result.stderr
+
+
+BAD_SETS = {
+    "5000 digits": ("solver.step=" + "9" * 5000, "5000-digit integer is too large"),
+    "alias bomb": ("solver.step=[&a [1,1,1,1,1,1,1,1,1], &b [*a,*a,*a,*a,*a,*a,*a,*a,*a], &c [*b,*b,*b,*b,*b,*b,*b,*b,*b], "
+                   "&d [*c,*c,*c,*c,*c,*c,*c,*c,*c], &e [*d,*d,*d,*d,*d,*d,*d,*d,*d]]", "alias bomb"),
+    "python tag": ("solver.method=!!python/object/apply:os.system [echo hi]", "unsupported YAML tag"),
+}
+
+
+@pytest.mark.parametrize("name", BAD_SETS)
+def test_set_values_go_through_the_bounded_reader(cli, tmp_path, name):
+    setting, message = BAD_SETS[name]
+    start = time.monotonic()
+    result = cli("sweep", NOTES, "--set", setting, "--out", tmp_path, "-q")
+    assert result.exit_code == 2 and message in result.stderr, result.output
+    assert time.monotonic() - start < 5
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_golden_json_that_is_not_armanim_s_is_ignored(cli, tmp_path):
+    (tmp_path / "notes-arm.csv").write_bytes((Path(__file__).parent / "golden" / "notes-arm.csv").read_bytes())
+    _edit_csv(tmp_path / "notes-arm.csv", lambda rows: rows[3].__setitem__(4, "1"))
+    for meta in ('{"scene_sha256": 5}', "[1, 2]", "not json"):
+        (tmp_path / "notes-arm.json").write_text(meta)
+        result = cli("check", NOTES, "--golden", tmp_path)
+        assert result.exit_code == 1 and "first difference" in result.stdout
+
+
+@pytest.mark.parametrize("args, flag", [(("fk", "--angles", "0,0,0,0", "--links", "1e300,1,1,1", "--png", "P"), "--links"),
+                                        (("ik", "--goal", "1,1,1", "--links", "1e308,1e308,1,1"), "--links"),
+                                        (("ik", "--goal", "1e300,1,1"), "--goal"),
+                                        (("fk", "--angles", "0,0", "--links", "1,1", "--base", "0,0,1e12"), "--base")])
+def test_huge_arm_flags_are_exit_2(cli, tmp_path, args, flag):
+    result = cli(*[str(tmp_path / "p.png") if a == "P" else a for a in args])
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith(f"{flag}: ") and "too large" in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+# ------------------------------------------------------------------ 10. fps, jobs, golden folder
+
+
+@pytest.mark.parametrize("where", ["scene", "flag"])
+def test_an_fps_ffmpeg_cannot_encode_is_exit_2(cli, tmp_path, where):
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL + ("render: {fps: 1.0e-300}\n" if where == "scene" else ""))
+    args = ("run", scene, "--out", tmp_path / "out", "-q") + (("--fps", "0.0001") if where == "flag" else ())
+    result = cli(*args)
+    assert result.exit_code == 2 and "must be >= 0.01" in result.stderr, result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_jobs_beyond_the_cores_are_lowered_with_a_note(tmp_path):
+    cores = len(os.sched_getaffinity(0))
+    result = armanim("run", NOTES, "--out", tmp_path, "--no-video", "-q", "--jobs", cores + 46)
+    assert result.returncode == 0, result.stderr
+    assert f"note: --jobs {cores + 46} is more than the {cores} cores here; using {cores}" in result.stderr
+
+
+def test_check_golden_that_is_a_file_is_exit_2(cli, tmp_path):
+    (tmp_path / "golden").write_text("x")
+    result = cli("check", NOTES, "--golden", tmp_path / "golden")
+    assert result.exit_code == 2 and "is a file (expected a folder" in result.stderr
+
+
+def test_update_never_writes_half_a_golden_pair(cli, tmp_path):
+    (tmp_path / "notes-arm.json").mkdir()
+    result = cli("check", NOTES, "--golden", tmp_path, "--update")
+    assert result.exit_code == 3 and "notes-arm.json: is a folder" in result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes-arm.json"]

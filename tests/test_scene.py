@@ -234,7 +234,7 @@ def test_goal_inside_an_obstacle(tmp_path, cli):
     rejected(tmp_path, cli, content, "goals[0]", L["goal0"], "inside obstacles[0]")
 
 
-@pytest.mark.parametrize("fps, fragment", [("0", "must be > 0"), ("-5", "must be > 0"), ("241", "must be <= 240")])
+@pytest.mark.parametrize("fps, fragment", [("0", "must be >= 0.01"), ("-5", "must be >= 0.01"), ("1e-300", "must be >= 0.01"), ("241", "must be <= 240")])
 def test_fps_out_of_range(tmp_path, cli, fps, fragment):
     rejected(tmp_path, cli, edit(L["fps"], f"  fps: {fps}"), "render.fps", L["fps"], fragment)
 

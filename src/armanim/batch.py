@@ -219,6 +219,8 @@ class _DaskExecutor:
         else:
             try:
                 client = self._client_cls(self.scheduler, timeout="10s")
+            except ValueError as exc:  # Dask's word for an address it cannot parse
+                raise UsageError(f"--scheduler: {self.scheduler!r} is not a scheduler address ({exc}; expected tcp://HOST:PORT or local)") from None
             except (OSError, TimeoutError) as exc:
                 raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {self.scheduler} ({exc})") from None
         try:

@@ -92,6 +92,19 @@ def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
     return values
 
 
+def parse_lengths(text: str, flag: str, count: int | None = None) -> np.ndarray:
+    """:func:`parse_numbers` for positions and lengths, held to the scene's size limit
+    (beyond it, squares of distances overflow)."""
+    from armanim.scene.models import LIMITS
+
+    values = parse_numbers(text, flag, count)
+    limit = LIMITS["magnitude"]
+    if np.any(np.abs(values) > limit):
+        big = values[np.argmax(np.abs(values))]
+        raise UsageError(f"{flag}: {big:g} is too large (expected at most {limit:g} in size: choose a smaller unit)")
+    return values
+
+
 def _is_number(text: str) -> bool:
     try:
         float(text)
@@ -116,9 +129,13 @@ def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: s
 
         loaded = load_scene(scene)
         return scene_to_problem(loaded.model), loaded
-    lengths = parse_numbers(links, "--links") if links else np.ones(4)
+    from armanim.scene.models import LIMITS
+
+    lengths = parse_lengths(links, "--links") if links else np.ones(4)
     if np.any(lengths <= 0):
         raise UsageError(f"--links: every length must be > 0 (got {links!r})")
+    if len(lengths) > LIMITS["links"]:
+        raise UsageError(f"--links: {len(lengths)} links (expected at most {LIMITS['links']})")
     n = len(lengths)
     names = [a.strip().lower() for a in axes.split(",")] if axes else default_axes(n)
     if len(names) != n or any(a not in ("x", "y", "z") for a in names):
@@ -126,7 +143,7 @@ def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: s
     dir_name = (direction or "z").lower()
     if dir_name not in ("x", "y", "z"):
         raise UsageError(f"--direction: expected x, y or z (got {direction!r})")
-    arm = Arm.from_names(lengths, base=parse_numbers(base, "--base", 3) if base else (0, 0, 0), axes=names, direction=dir_name)
+    arm = Arm.from_names(lengths, base=parse_lengths(base, "--base", 3) if base else (0, 0, 0), axes=names, direction=dir_name)
     problem = Problem(
         arm=arm,
         half_width=0.25,
@@ -144,6 +161,18 @@ LinksOpt = Annotated[Optional[str], typer.Option("--links", help="Link lengths, 
 BaseOpt = Annotated[Optional[str], typer.Option("--base", help="Base position x,y,z (default 0,0,0).")]
 AxesOpt = Annotated[Optional[str], typer.Option("--axes", help="Joint axes, e.g. z,y,y,y (default: z, then y).")]
 DirOpt = Annotated[Optional[str], typer.Option("--direction", help="Local axis the links extend along: x, y or z (default z).")]
+
+
+def usable_jobs(jobs: int | None) -> int | None:
+    """``--jobs``, at most the cores this process may use (more only add processes and
+    memory); a note on stderr says so when it is lowered."""
+    import os
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if jobs is not None and jobs > cores:
+        err.print(f"note: --jobs {jobs} is more than the {cores} cores here; using {cores}", markup=False, highlight=False)
+        return cores
+    return jobs
 
 
 def _fmt(v: float) -> str:
@@ -240,7 +269,7 @@ def ik(
     from armanim.solvers import METHODS
 
     problem, loaded = arm_problem(scene, links, base, axes, direction)
-    target = parse_numbers(goal, "--goal", 3)
+    target = parse_lengths(goal, "--goal", 3)
     settings = problem.solver
     if method is not None:
         if method not in METHODS:
@@ -452,6 +481,7 @@ def run(
     Example: [bold]armanim run scenes/notes-arm.yaml[/bold]   [bold]armanim run scenes/*.yaml --jobs 2 --no-video[/bold]
     """
     overrides = render_overrides(size, fps, fmt)
+    jobs = usable_jobs(jobs)
     if len(scenes) == 1 and not scheduler:
         from armanim.pipeline import run_scene
 
@@ -527,6 +557,7 @@ def sweep(
     from armanim.output.csvfile import table_csv_text
     from armanim.sweep import comparison_rows, parse_setting, variants
 
+    jobs = usable_jobs(jobs)
     parsed = [parse_setting(text) for text in settings]
     items = variants(scene, parsed)
     tasks = [v.task for v in items if v.task is not None]
@@ -584,6 +615,7 @@ def render(
     from armanim.pipeline import rerender_run
 
     overrides = render_overrides(size, fps, fmt, elevation, azimuth)
+    jobs = usable_jobs(jobs)
     with _Bars(enabled=not quiet and err.is_terminal) as bars:
         files = rerender_run(folder, jobs=jobs, render_overrides=overrides, progress=bars)
     if not quiet:
@@ -633,6 +665,8 @@ def check(
     """
     from armanim.golden import check_scene, update_golden
 
+    if golden.exists() and not golden.is_dir():
+        raise UsageError(f"--golden: {golden} is a file (expected a folder of golden files <name>.csv and <name>.json)")
     table = Table(title=f"golden trajectories in {golden}", title_justify="left")
     for col in ("scene", "golden file", "result"):
         table.add_column(col)

@@ -12,11 +12,16 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from armanim import __version__
-from armanim.output.atomic import write_text_atomic
+from armanim.errors import SceneError
+from armanim.files import read_bounded
+from armanim.output.atomic import write_target, write_text_atomic
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.trajectory import solve_trajectory
+
+
+MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
 
 
 @dataclass(frozen=True)
@@ -53,10 +58,12 @@ def golden_paths(golden_dir: Path, name: str) -> tuple[Path, Path]:
 
 
 def _recorded_sha(meta_path: Path) -> str | None:
+    """The scene sha256 recorded beside a golden file; None if it is missing or not one."""
     try:
-        return json.loads(meta_path.read_text(encoding="utf-8")).get("scene_sha256")
-    except (OSError, ValueError, AttributeError):
+        sha = json.loads(read_bounded(meta_path, MAX_META_BYTES, "a golden .json file")).get("scene_sha256")
+    except (SceneError, ValueError, AttributeError):
         return None
+    return sha if isinstance(sha, str) else None
 
 
 def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> GoldenResult:
@@ -80,6 +87,8 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
     """(Re)write a scene's golden CSV and metadata; status says new, changed or unchanged."""
     scene = load_scene(scene_path)
     csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
+    for path in (csv_path, meta_path):  # both can be written, or neither is: never half a pair
+        write_target(path)
     text = solve_csv_text(scene)
     old = csv_path.read_text(encoding="utf-8") if csv_path.exists() else None
     status = "new" if old is None else ("unchanged" if old == text else "changed")

@@ -60,10 +60,18 @@ def parse_setting(text: str) -> Setting:
     items = _split_values(values)
     if not items:
         raise UsageError(f"--set {path}: no values given (expected e.g. {path}=0.05,0.1)")
+    return Setting(path, tuple(_read_value(path, v) for v in items))
+
+
+def _read_value(path: str, text: str):
+    """One ``--set`` value, read by the same bounded YAML reader as scene files (no alias bombs)."""
     try:
-        return Setting(path, tuple(yaml.safe_load(v) for v in items))
-    except yaml.YAMLError:
-        raise UsageError(f"--set {path}: a value is not a plain number, word or list ({values!r})") from None
+        doc = read_yaml(text, f"--set {path}")
+    except SceneError as exc:
+        raise UsageError(f"--set {path}: {text[:40]!r} is not a plain number, word or list ({exc.problems[0].message})") from None
+    if doc.problems:
+        raise UsageError(f"--set {path}: {text[:40]!r}: {doc.problems[0].message}")
+    return doc.data
 
 
 def _assign(data: dict, path: str, value) -> None:

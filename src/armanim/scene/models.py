@@ -27,6 +27,10 @@ LIMITS = {
 """Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
 (bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
 
+MIN_FPS = 0.01
+"""Slowest frame rate (one frame per 100 s): ffmpeg takes the rate as a fraction with a
+denominator of at most 1001, so far slower rates would reach it as 0."""
+
 NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]*$"
 NAME_MAX = 100
 """A run's name becomes a folder name: one path component, never ``.``/``..`` or hidden (so it
@@ -154,7 +158,7 @@ Side = Annotated[int, Field(ge=16, le=7680)]
 class RenderModel(Strict):
     """The ``render`` section."""
 
-    fps: Annotated[float, Field(gt=0, le=240, allow_inf_nan=False)] = 30.0
+    fps: Annotated[float, Field(ge=MIN_FPS, le=240, allow_inf_nan=False)] = 30.0
     size: Annotated[list[Side], Field(min_length=2, max_length=2)] = Field(
         default=[1280, 720], description="Pixels, width x height."
     )
