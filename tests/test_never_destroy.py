@@ -434,3 +434,82 @@ def test_update_never_writes_half_a_golden_pair(cli, tmp_path):
     result = cli("check", NOTES, "--golden", tmp_path, "--update")
     assert result.exit_code == 3 and "notes-arm.json: is a folder" in result.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes-arm.json"]
+
+
+# ------------------------------------------------------------------ 5-6. stray processes, batch stop
+
+
+def _start(args, tmp_path: Path) -> psutil.Popen:
+    """armanim ARGS in its own session (so a group signal reaches only it), temporary files under tmp_path/tmp."""
+    (tmp_path / "tmp").mkdir(exist_ok=True)
+    env = {**os.environ, "TMPDIR": str(tmp_path / "tmp")}
+    return psutil.Popen([sys.executable, "-m", "armanim", *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                        text=True, start_new_session=True, env=env)
+
+
+def _wait_for_ffmpeg(proc: psutil.Popen, workers: int, timeout: float = 60.0) -> list[psutil.Process]:
+    """Every descendant, once ``workers`` python workers and at least one ffmpeg run."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, proc.communicate()
+        with contextlib_suppress():
+            kids = proc.children(recursive=True)
+            names = [k.name() for k in kids]
+            if any("ffmpeg" in n for n in names) and sum("python" in n for n in names) >= workers:
+                return kids
+        time.sleep(0.05)
+    raise AssertionError("rendering did not start")
+
+
+def _batch_scenes(tmp_path: Path, count: int = 4) -> list[Path]:
+    text = NOTES.read_text()
+    paths = []
+    for i in range(count):
+        path = tmp_path / f"s{i}.yaml"
+        path.write_text(text.replace("name: notes-arm", f"name: s{i}") if "name: notes-arm" in text else text)
+        paths.append(path)
+    return paths
+
+
+def test_a_killed_run_takes_its_render_workers_and_ffmpeg_with_it(tmp_path):
+    out = tmp_path / "out"
+    proc = _start(["run", NOTES, "--out", out, "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    kids = _wait_for_ffmpeg(proc, workers=2)
+    proc.kill()
+    proc.wait()
+    _, alive = psutil.wait_procs(kids, timeout=5)
+    assert alive == []
+    start = time.monotonic()
+    result = armanim("run", NOTES, "--out", out, "--no-video", "-q", timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert time.monotonic() - start < 20  # the lock was not held by a stray worker
+    assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
+
+
+def test_a_killed_batch_takes_its_workers_with_it(tmp_path):
+    proc = _start(["run", *_batch_scenes(tmp_path), "--out", tmp_path / "out", "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    kids = _wait_for_ffmpeg(proc, workers=2)
+    proc.kill()
+    proc.wait()
+    _, alive = psutil.wait_procs(kids, timeout=5)  # the forkserver and resource tracker too
+    assert alive == []
+
+
+@pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM"])
+def test_a_batch_stops_within_two_seconds_without_a_traceback(tmp_path, signame):
+    out = tmp_path / "out"
+    proc = _start(["run", *_batch_scenes(tmp_path), "--out", out, "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    kids = _wait_for_ffmpeg(proc, workers=2)
+    start = time.monotonic()
+    if signame == "SIGINT":
+        os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: to the whole group
+    else:
+        proc.send_signal(signal.SIGTERM)
+    _, stderr = proc.communicate(timeout=30)
+    assert time.monotonic() - start < 2.5
+    assert proc.returncode == 130
+    assert stderr == "armanim: interrupted; nothing half-written was left behind\n"
+    _, alive = psutil.wait_procs(kids, timeout=3)
+    assert alive == []  # workers, their ffmpeg, the forkserver and the resource tracker
+    assert list((tmp_path / "tmp").iterdir()) == []  # workers removed their temporary folders
+    assert [p.name for p in out.glob(".*") if not p.name.endswith(".lock")] == []

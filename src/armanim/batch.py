@@ -12,16 +12,18 @@ from __future__ import annotations
 import contextlib
 import os
 import tempfile
+import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable
 
 from armanim.errors import ArmanimError, SceneError, UsageError
-from armanim.output.atomic import write_bytes_atomic, write_text_atomic
+from armanim.output.atomic import interrupts_deferred, write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import table_csv_text
 from armanim.output.rundir import staged_folder
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
+from armanim.workers import Stopped, init_worker
 
 INDEX_COLUMNS = ("name", "status", "scene_file", "goals", "reached", "missed", "frames", "min_clearance", "folder", "message")
 
@@ -83,6 +85,8 @@ def run_task(task: SceneTask, video: bool, render_overrides: dict | None) -> Rem
         with tempfile.TemporaryDirectory(prefix="armanim-") as tmp:
             produced = produce_outputs(scene, Path(tmp), video=video, jobs=1, render_overrides=render_overrides)
             files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
+    except Stopped as stop:  # SIGTERM in a pool worker, its temporary folder and ffmpeg already gone:
+        os._exit(stop.code)  # end here, not in the executor's loop (which would send it back as a result)
     except SceneError as exc:
         return RemoteRun(task.name, {}, None, exc.report(), "invalid")
     except ArmanimError as exc:
@@ -186,16 +190,35 @@ class _LocalExecutor:
                 except Exception as exc:  # reported per scene; the batch goes on
                     yield task, None, exc
             return
-        with _one_blas_thread(), ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context()) as pool:
+        with _one_blas_thread():
+            pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(),
+                                       initializer=init_worker, initargs=(os.getpid(),))
+        try:
             futures = {pool.submit(run_task, task, video, overrides): task for task in tasks}
-            try:
-                for future in as_completed(futures):
-                    exc = future.exception()
-                    yield futures[future], (None if exc else future.result()), exc
-            except BaseException:
-                for future in futures:
-                    future.cancel()
-                raise
+            for future in as_completed(futures):
+                exc = future.exception()
+                yield futures[future], (None if exc else future.result()), exc
+        except BaseException:
+            with interrupts_deferred():  # a second Ctrl-C must not leave workers behind
+                _stop_pool(pool)
+            raise
+        pool.shutdown(wait=True)
+
+
+def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
+    """Stop a pool at once: queued scenes are dropped, running ones get SIGTERM (a worker's
+    quiet exit: its ffmpeg is killed, its temporary folder removed); none is waited for to finish."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())  # the executor has no public way
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.terminate()
+    deadline = time.monotonic() + grace
+    for process in processes:
+        process.join(max(0.0, deadline - time.monotonic()))
+        if process.is_alive():
+            process.kill()
+            process.join(1.0)
 
 
 class _DaskExecutor:

@@ -25,6 +25,7 @@ import numpy as np
 from armanim.errors import OutputError, RenderError
 from armanim.problem import Problem, RenderSettings
 from armanim.trajectory import GoalReport, Trajectory
+from armanim.workers import die_with
 
 CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
@@ -241,25 +242,28 @@ class _Stopped(SystemExit):
     """Raised in a worker by the parent's terminate() (SIGTERM): unwinds quietly, killing ffmpeg."""
 
 
-def _segment_worker(args: tuple, messages) -> None:
+def _segment_worker(args: tuple, messages, parent: int) -> None:
     """Body of a worker process: draw and encode one segment, report through ``messages``.
 
     A worker ignores Ctrl-C (the terminal sends it to the whole process group; the
     parent decides) and turns SIGTERM, sent by the parent's ``terminate()``, into a
     quiet exit that still runs every ``finally``: its ffmpeg is killed, no traceback.
     Signals are blocked by the parent while it starts workers, so none arrives before
-    these handlers are in place.
+    these handlers are in place. A worker whose parent ends (even by ``kill -9``) stops
+    the same way, so no worker or ffmpeg outlives armanim or holds its folder lock.
     """
     index = args[-1]
     problem, trajectory, reports, settings, path, title, start, stop, _ = args
 
     def stop_worker(signum, frame):
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # once: a second SIGTERM must not cut the clean-up short
         messages.cancel_join_thread()  # the parent no longer reads: never block on exit
         raise _Stopped(128 + signum)
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, stop_worker)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, _WORKER_SIGNALS)
+    die_with(parent)
 
     def report(done: int) -> None:
         if done % PROGRESS_EVERY == 0 or done == stop - start:
@@ -304,7 +308,7 @@ def _render_parallel(problem, trajectory, reports, settings, tmp: Path, title, j
     workers = [
         ctx.Process(
             target=_segment_worker,
-            args=((problem, trajectory, reports, settings, p, title, a, b, i), messages),
+            args=((problem, trajectory, reports, settings, p, title, a, b, i), messages, os.getpid()),
             daemon=True,
         )
         for i, ((a, b), p) in enumerate(zip(segments, paths))
