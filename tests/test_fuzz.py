@@ -1,4 +1,5 @@
-"""Fuzzing the scene loader and a short run (issue 7, item 3).
+"""Fuzzing the scene loader and a short run (issue 7, item 3), trajectory.csv inputs and
+``--set`` values (issue 12).
 
 Valid scenes (``strategies.scene_texts``) and valid scenes mutated (keys dropped,
 renamed, retyped; values made extreme: NaN, infinities, huge, negative, empty, strings)
@@ -16,6 +17,8 @@ from __future__ import annotations
 import copy
 import math
 import os
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import yaml
@@ -23,7 +26,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import scene_texts
 
-from armanim.errors import EXIT_BAD_INPUT, SceneError
+from armanim.errors import EXIT_BAD_INPUT, SceneError, UsageError
 from armanim.scene import scene_to_problem, validate_scene_text
 from armanim.trajectory import solve_trajectory
 
@@ -126,3 +129,107 @@ def test_mutated_scenes_give_a_result_or_a_scene_error(data):
 @given(st.text(max_size=300))
 def test_arbitrary_text_gives_a_scene_error(text):
     check_outcome(text)
+
+
+# ------------------------------------------------------------------ trajectory.csv inputs (issue 12)
+
+GOLDEN_ROWS = (Path(__file__).parent / "golden" / "notes-arm.csv").read_text().splitlines()[:12]
+CSV_FIELDS = ["", "nan", "NaN", "inf", "-inf", "1e308", "-1e308", "1e-400", "abc", "0x10", "1_000", " 1", "-0.0",
+              "9" * 400, "\x00", '"quoted, comma"', '"open quote', "ik", "plan", "\r", "1e9", "1e10"]
+COLUMN_NAMES = ["x", "reached", "phiX_deg", "phi9_deg", "mode", "iterations", "", "frame", "goal"]
+
+
+@st.composite
+def mutated_csv_texts(draw) -> str:
+    """The start of a golden trajectory.csv with 1-4 mutations: fields made extreme, columns
+    dropped, renamed or repeated, rows cut short or doubled, the text truncated."""
+    rows = [line.split(",") for line in GOLDEN_ROWS]
+    for _ in range(draw(st.integers(1, 4))):
+        op = draw(st.sampled_from(["field", "field", "drop column", "rename column", "add column", "short row",
+                                   "double row", "no rows"]))
+        r = draw(st.integers(0, len(rows) - 1))
+        c = draw(st.integers(0, len(rows[0]) - 1))
+        if op == "field" and r > 0 and c < len(rows[r]):
+            rows[r][c] = draw(st.sampled_from(CSV_FIELDS))
+        elif op == "drop column":
+            rows = [row[:c] + row[c + 1:] for row in rows]
+        elif op == "rename column":
+            rows[0][c] = draw(st.sampled_from(COLUMN_NAMES))
+        elif op == "add column":
+            rows = [row + ([draw(st.sampled_from(COLUMN_NAMES))] if i == 0 else [draw(st.sampled_from(CSV_FIELDS))])
+                    for i, row in enumerate(rows)]
+        elif op == "short row" and r > 0:
+            rows[r] = rows[r][:c]
+        elif op == "double row":
+            rows.insert(r, list(rows[r]))
+        elif op == "no rows":
+            rows = rows[:1]
+    text = "\n".join(",".join(row) for row in rows) + "\n"
+    return text[: draw(st.integers(0, len(text)))] if draw(st.booleans()) else text
+
+
+def check_csv_outcome(text: str) -> None:
+    """A table (drawable or with a named problem, equal to itself by file and by table) or a SceneError."""
+    from armanim.output.compare import compare_csv_files, compare_trajectories
+    from armanim.output.csvfile import parse_trajectory_csv
+    from armanim.output.reload import drawable_problem
+
+    try:
+        table = parse_trajectory_csv(text, "fuzz.csv")
+    except SceneError as exc:
+        assert exc.exit_code == EXIT_BAD_INPUT and exc.report().startswith("fuzz.csv"), exc.report()
+        return
+    problem = drawable_problem(table, goals=3)
+    if problem is None:
+        numbers = table.data[:, [i for i, c in enumerate(table.columns) if c not in ("clearance", "mode")]]
+        assert np.all(np.isfinite(numbers))
+    else:
+        assert problem.message and problem.line is not None
+    assert compare_trajectories(table, table).equal
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "t.csv"
+        path.write_text(text)
+        assert compare_csv_files(path, path).equal
+
+
+@FUZZ
+@given(mutated_csv_texts())
+def test_mutated_trajectory_csvs_give_a_table_or_a_scene_error(text):
+    check_csv_outcome(text)
+
+
+@FUZZ
+@given(st.text(max_size=300).map(lambda t: "frame,time_s,goal,phi1_deg,x,y,z,goal_distance,clearance,reached\n" + t))
+def test_arbitrary_rows_give_a_table_or_a_scene_error(text):
+    check_csv_outcome(text)
+
+
+# ------------------------------------------------------------------ --set values (issue 12)
+
+SET_PATHS = ["solver.step", "solver.method", "goals[0].hold", "arm.links", "render.fps", "name", "arm.links[1]"]
+SET_VALUES = st.one_of(
+    st.text(max_size=60),
+    st.sampled_from(["1e400", "9" * 500, "[&a [1,1], *a]", "&a [1, *a]", "!!python/object:os.system", "{a: 1}",
+                     "[1,2", "..", "~", "0.0001", "-1", "nan", ".inf", "1e-300", "[[[[[[1]]]]]]"]),
+)
+
+
+@FUZZ
+@given(st.sampled_from(SET_PATHS), st.lists(SET_VALUES, min_size=1, max_size=3))
+def test_set_values_give_variants_or_a_usage_error(path, values):
+    from armanim.sweep import parse_setting, variants
+
+    try:
+        setting = parse_setting(f"{path}={','.join(values)}")
+    except UsageError as exc:
+        assert exc.exit_code == EXIT_BAD_INPUT and str(exc).startswith("--set")
+        return
+    try:
+        items = variants(Path(__file__).parent.parent / "scenes" / "notes-arm.yaml", [setting])
+    except UsageError as exc:
+        assert str(exc).startswith("--set")
+        return
+    for item in items:
+        assert (item.task is None) != (item.rejected is None)
+        if item.rejected is not None:
+            assert item.rejected.status == "invalid" and item.rejected.message
