@@ -170,6 +170,12 @@ def test_devices_and_fifos_are_refused_fast(tmp_path, kind):
         assert time.monotonic() - start < 10
 
 
+def test_a_golden_csv_linked_to_dev_zero_is_refused(tmp_path):
+    (tmp_path / "notes-arm.csv").symlink_to("/dev/zero")
+    result = armanim("check", NOTES, "--golden", tmp_path, timeout=60)
+    assert result.returncode == 2 and "is a character device, not a regular file" in no_traceback(result)
+
+
 def test_a_growing_file_is_read_only_to_its_bound(tmp_path):
     """A scene whose reported size lies (it grows while read) is still read to the bound only."""
     from armanim.errors import SceneError
@@ -513,3 +519,12 @@ def test_a_batch_stops_within_two_seconds_without_a_traceback(tmp_path, signame)
     assert alive == []  # workers, their ffmpeg, the forkserver and the resource tracker
     assert list((tmp_path / "tmp").iterdir()) == []  # workers removed their temporary folders
     assert [p.name for p in out.glob(".*") if not p.name.endswith(".lock")] == []
+
+
+def test_every_test_the_reliability_page_names_exists():
+    import re
+
+    page = (Path(__file__).parent.parent / "docs" / "reliability.md").read_text()
+    named = set(re.findall(r"`(?:tests/test_never_destroy\.py)?::(test_\w+)", page))
+    here = {name for name in globals() if name.startswith("test_")}
+    assert named and named <= here, named - here
