@@ -28,7 +28,8 @@ def _stop(signum, frame):
     raise Stopped(128 + signum)
 
 
-def _alive(pid: int) -> bool:
+def alive(pid: int) -> bool:
+    """Whether process ``pid`` exists (one that is not ours counts)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -42,7 +43,7 @@ def _watch(pid: int, pidfd: int | None) -> None:
     if pidfd is not None:
         select.select([pidfd], [], [])  # readable once the process has ended
     else:
-        while _alive(pid):
+        while alive(pid):
             time.sleep(POLL_SECONDS)
     os.kill(os.getpid(), signal.SIGTERM)
 

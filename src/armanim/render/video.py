@@ -25,7 +25,7 @@ import numpy as np
 from armanim.errors import OutputError, RenderError
 from armanim.problem import Problem, RenderSettings
 from armanim.trajectory import GoalReport, Trajectory
-from armanim.workers import die_with
+from armanim.workers import Stopped, alive, die_with
 
 CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
@@ -194,23 +194,13 @@ def remove_dead_leftovers(path: Path) -> None:
         return
     for entry in entries:
         match = pattern.fullmatch(entry.name)
-        if match is None or _alive(int(match.group(1) or match.group(2))):
+        if match is None or alive(int(match.group(1) or match.group(2))):
             continue
         if entry.is_dir() and not entry.is_symlink():
             shutil.rmtree(entry, ignore_errors=True)
         else:
             with contextlib.suppress(OSError):
                 entry.unlink()
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:  # exists, but is not ours
-        return True
-    return True
 
 
 def effective_jobs(jobs: int | None, frames: int, fmt: str) -> int:
@@ -238,10 +228,6 @@ def segment_bounds(frames: int, jobs: int) -> list[tuple[int, int]]:
 _WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
-class _Stopped(SystemExit):
-    """Raised in a worker by the parent's terminate() (SIGTERM): unwinds quietly, killing ffmpeg."""
-
-
 def _segment_worker(args: tuple, messages, parent: int) -> None:
     """Body of a worker process: draw and encode one segment, report through ``messages``.
 
@@ -258,7 +244,7 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
     def stop_worker(signum, frame):
         signal.signal(signal.SIGTERM, signal.SIG_IGN)  # once: a second SIGTERM must not cut the clean-up short
         messages.cancel_join_thread()  # the parent no longer reads: never block on exit
-        raise _Stopped(128 + signum)
+        raise Stopped(128 + signum)
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, stop_worker)
@@ -273,7 +259,7 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
         draw_segment(problem, trajectory, reports, settings, path, title=title, start=start, stop=stop,
                      progress=report)
         messages.put(("done", index, None))
-    except _Stopped:
+    except Stopped:
         raise
     except BaseException as err:  # noqa: BLE001  (reported to the parent, which raises)
         if isinstance(err, (RenderError, OutputError)):
