@@ -492,6 +492,24 @@ def test_a_killed_run_takes_its_render_workers_and_ffmpeg_with_it(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
 
 
+def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(tmp_path):
+    out = tmp_path / "out"
+    assert armanim("run", NOTES, "--out", out, "--no-video", "-q").returncode == 0
+    folder = out / "notes-arm"
+    before = user_files(folder)
+    proc = _start(["render", folder, "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    kids = _wait_for_ffmpeg(proc, workers=2)
+    proc.kill()
+    proc.wait()
+    _, alive = psutil.wait_procs(kids, timeout=5)
+    assert alive == []
+    assert user_files(folder) == before  # the render worked on a staged copy
+    result = armanim("render", folder, "--jobs", "1", "--size", "64x48", "--fps", "60", "-q", timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
+    assert not [p for p in folder.iterdir() if ".part" in p.name]
+
+
 def test_a_killed_batch_takes_its_workers_with_it(tmp_path):
     proc = _start(["run", *_batch_scenes(tmp_path), "--out", tmp_path / "out", "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
     kids = _wait_for_ffmpeg(proc, workers=2)
