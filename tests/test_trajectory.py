@@ -12,6 +12,7 @@ from armanim.cost import clearances
 from armanim.geometry import wrap_angle
 from armanim.kinematics import forward
 from armanim.problem import Problem
+from armanim.solvers.barrier import limit_buffer
 from armanim.trajectory import MISS_REASONS, Solution, frame_budget, max_joint_step, solve_trajectory
 
 TINY = 1e-9
@@ -40,6 +41,9 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         cl = clearances(pose, problem.obstacles, problem.half_width)
         assert np.all(cl.d > 0), float(cl.d.min())
         np.testing.assert_allclose(traj.clearance, cl.links.min(axis=(-1, -2)), atol=1e-12)
+        # every link keeps solver.clearance (or, from a home closer than that, gets no closer)
+        floor = min(problem.solver.clearance, traj.clearance[0])
+        assert traj.clearance.min() >= floor - TINY, (traj.clearance.min(), floor)
     else:
         assert np.all(np.isinf(traj.clearance))
     # limited joints strictly inside their limits
@@ -47,6 +51,11 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     limited = lim.limited
     assert np.all(traj.phi[:, limited] > lim.lower[limited])
     assert np.all(traj.phi[:, limited] < lim.upper[limited])
+    # ... and keep the filter's buffer from them (or get no closer than home was)
+    gaps = np.minimum(traj.phi - lim.lower, lim.upper - traj.phi)[:, limited]
+    assert np.all(gaps >= np.minimum(limit_buffer(problem), gaps[0]) - TINY)
+    # modes: the method's steps, or a planned path when the planner is on
+    assert set(traj.mode) <= ({"ik", "plan"} if problem.solver.planner == "auto" else {"ik"})
     # unlimited joints wrapped (frame 0 may be any home)
     assert np.all(np.abs(traj.phi[1:, ~limited]) <= np.pi + TINY)
     # no joint turns more than max_joint_step in one frame (wrap-aware)
@@ -65,7 +74,9 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
             assert report.final_distance < problem.solver.tolerance
         else:
             assert report.reason in MISS_REASONS, report.reason
-            assert report.frames == problem.solver.max_frames_per_goal
+            # a miss ends early (stalled, planned in vain) or at the frame cap, and says which
+            at_cap = report.frames == problem.solver.max_frames_per_goal
+            assert at_cap or report.reason != "too_slow"
             assert report.final_distance >= problem.solver.tolerance
         assert 0 <= report.frames <= problem.solver.max_frames_per_goal
         if report.first_frame >= 0:

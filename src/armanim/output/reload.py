@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from armanim.errors import Diagnostic, SceneError
-from armanim.output.csvfile import read_trajectory_csv
+from armanim.output.csvfile import MODES, read_trajectory_csv
 from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
-from armanim.trajectory import GoalReport, Solution, Trajectory
+from armanim.trajectory import GoalReport, PlanningReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
 
@@ -41,6 +41,7 @@ def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
                 final_distance=g["final_distance"],
                 iterations=g["iterations"],
                 newton_iterations=g.get("newton_iterations", 0),
+                planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
             )
             for g in goals
         )
@@ -80,5 +81,6 @@ def load_run(folder: str | Path) -> FinishedRun:
         iterations=table.column("iterations").astype(int),
         step_scale=table.column("step_scale"),
         fps=problem.fps,
+        mode=np.array(MODES)[table.column("mode").astype(int)] if "mode" in table.columns else None,
     )
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(folder / "summary.json")))
