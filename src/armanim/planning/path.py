@@ -133,7 +133,7 @@ def rrt_connect(problem: Problem, start: np.ndarray, goals: np.ndarray) -> tuple
         return None, checks[0]
     path = pdef.getSolutionPath()
     og.PathSimplifier(si).simplifyMax(path)
-    waypoints = np.array([_array(path.getState(k), n)[0] for k in range(path.getStateCount())])
+    waypoints = np.array([_array(path.getState(k), n) for k in range(path.getStateCount())])
     return waypoints, checks[0]
 
 
@@ -163,4 +163,4 @@ def _state(space, phi: np.ndarray):
 
 
 def _array(state, n: int) -> np.ndarray:
-    return np.array([[state[j] for j in range(n)]])
+    return np.array([state[j] for j in range(n)])
