@@ -31,6 +31,7 @@ STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress tha
 MIN_STALL_FRAMES = 5
 STALL_PROGRESS = 0.05  # ... or less than this fraction of the distance still to go
 MAX_PLANS = 3  # plans per goal before it is given up as stalled
+ARRIVED = 1e-9  # radians: the arm is at a planned pose
 
 MISS_REASONS = {
     "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
@@ -215,6 +216,7 @@ class _Visit:
     newton_iterations: int = 0
     blocked: list = field(default_factory=list)
     path: list = field(default_factory=list)  # planned poses still to follow
+    overrun: int = 0  # frames spent steering to the path's last pose
     planning: PlanningReport | None = None
     reason: str | None = None
 
@@ -323,7 +325,7 @@ def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, vis
     """One filtered step: along the planned path if there is one, else the method's."""
     target = visit.goal.position
     if visit.path:
-        nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, visit.path.pop(0)), 0, 0, "plan"
+        nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
     else:
         proposal = step(problem, state, target)
@@ -336,6 +338,19 @@ def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, vis
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode)
     return moved.state
+
+
+def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
+    """The next pose of the planned path. Its last pose is kept as the target until the arm
+    is there (the filter may slow the approach near a surface or a limit), for at most a
+    stall window of extra frames, so that the method takes over only at the goal pose."""
+    if len(visit.path) > 1:
+        return visit.path.pop(0)
+    last = visit.path[0]
+    visit.overrun += 1
+    if np.abs(joint_offset(problem, state.phi, last)).max() < ARRIVED or visit.overrun > stall_frames(problem):
+        visit.path.clear()
+    return last
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -360,6 +375,7 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit) -> str | None:
     if plan.frames is None:
         return plan.reason
     visit.path = list(plan.frames)
+    visit.overrun = 0
     return None
 
 

@@ -166,7 +166,9 @@ def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | No
     x, _, flag, _ = daqp.solve(
         np.eye(n), -nominal, cons.rows.reshape(k, n), upper, lower, np.zeros(n + k, dtype=c_int)
     )
-    return np.asarray(x, dtype=float) if flag >= 1 and np.all(np.isfinite(x)) else None
+    if flag < 1 or not np.all(np.isfinite(x)):
+        return None
+    return np.clip(x, cons.lo, cons.hi)  # DAQP meets bounds to its tolerance (~1e-7): the cap is exact
 
 
 def filtered_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray:
