@@ -320,11 +320,20 @@ def test_compare_needs_the_contract_columns_in_both_files(cli, tmp_path):
 def test_identical_files_with_inf_and_a_mode_column_agree(cli, tmp_path):
     path = tmp_path / "t.csv"
     path.write_bytes(_golden().read_bytes())
-    _edit_csv(path, lambda rows: [r.append("mode" if i == 0 else "ik") for i, r in enumerate(rows)] and rows[3].__setitem__(7, "inf"))
+    def add_mode_and_inf(rows):
+        if "mode" not in rows[0]:
+            for i, row in enumerate(rows):
+                row.append("mode" if i == 0 else "ik")
+        at = rows[0].index("mode")
+        for row in rows[1:]:
+            row[at] = "ik"
+        rows[3][7] = "inf"
+
+    _edit_csv(path, add_mode_and_inf)
     assert cli("compare", path, path).exit_code == 0
     other = tmp_path / "u.csv"
     other.write_bytes(path.read_bytes())
-    _edit_csv(other, lambda rows: rows[5].__setitem__(-1, "plan"))
+    _edit_csv(other, lambda rows: rows[5].__setitem__(rows[0].index("mode"), "plan"))
     result = cli("compare", path, other)
     assert result.exit_code == 1 and "frame 4, column mode: expected 'ik', actual 'plan'" in result.stdout
 

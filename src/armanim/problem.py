@@ -85,6 +85,8 @@ class SolverSettings:
     jacobian: str = "analytic"
     damping: float = 0.05
     max_joint_step: float = np.radians(10.0)
+    clearance: float = 0.05
+    planner: str = "auto"
     w_goal: float = 1.0
     w_obstacles: float = 1.0
     w_limits: float = 1.0

@@ -2,7 +2,8 @@
 
 Columns (the contract's first, then extras):
 ``frame, time_s, goal, phi1_deg .. phiN_deg, x, y, z, goal_distance, clearance,
-reached, step_scale, iterations``. Floats are written with ``repr`` (shortest
+reached, step_scale, iterations, mode`` (mode: ``ik`` where the method stepped,
+``plan`` where the arm followed a planned path). Floats are written with ``repr`` (shortest
 round-trip form), so reading the file back gives the same numbers bit for bit.
 """
 
@@ -23,7 +24,9 @@ from armanim.output.atomic import write_text_atomic
 from armanim.trajectory import Trajectory
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
-TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations")
+TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode")
+MODES = ("ik", "plan")
+"""Values of the ``mode`` column (the reader refuses others)."""
 
 
 def header(n_joints: int) -> list[str]:
@@ -52,6 +55,7 @@ def format_row(traj: Trajectory, i: int) -> list[str]:
         "1" if traj.reached[i] else "0",
         _num(traj.step_scale[i]),
         str(int(traj.iterations[i])),
+        str(traj.mode[i]),
     ]
 
 
@@ -76,8 +80,8 @@ def write_trajectory_csv(traj: Trajectory, path: Path) -> None:
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")
 """The contract's columns after the angles; every reader needs them."""
-TEXT_COLUMNS = ("mode",)
-"""Columns whose values are words (``ik`` / ``plan``), not numbers."""
+TEXT_COLUMNS = {"mode": MODES}
+"""Columns whose values are words, not numbers, and the words each allows."""
 MAX_LINE_BYTES = 100_000  # a row of 64 joints is under 2,000 bytes
 BLOCK_ROWS = 16_384  # rows parsed at once when a file is streamed
 
@@ -162,6 +166,11 @@ def _parse_block(rows: list[tuple[int, list[str]]], columns: tuple[str, ...], fi
             raise _problem(file, f"row has {len(row)} fields (expected {len(columns)}, as the header)", line)
     fields = np.array([row for _, row in rows], dtype=object).reshape(len(rows), len(columns))
     text = {columns[i]: fields[:, i].astype(str) for i in text_at}
+    for column, words in text.items():
+        bad = np.nonzero(~np.isin(words, TEXT_COLUMNS[column]))[0]
+        if len(bad):
+            allowed = " or ".join(TEXT_COLUMNS[column])
+            raise _problem(file, f"{column}: {words[bad[0]][:40]!r} is not {allowed}", rows[bad[0]][0])
     fields[:, text_at] = "nan"
     fields[fields == ""] = "nan"
     try:

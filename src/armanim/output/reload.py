@@ -14,7 +14,7 @@ from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, read_trajector
 from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.scene.models import LIMITS
-from armanim.trajectory import GoalReport, Solution, Trajectory
+from armanim.trajectory import GoalReport, PlanningReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
 MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB
@@ -44,6 +44,7 @@ def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
                 final_distance=g["final_distance"],
                 iterations=g["iterations"],
                 newton_iterations=g.get("newton_iterations", 0),
+                planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
             )
             for g in goals
         )
@@ -121,5 +122,6 @@ def load_run(folder: str | Path) -> FinishedRun:
         iterations=table.column("iterations").astype(int) if "iterations" in table.columns else np.zeros(frames, int),
         step_scale=table.column("step_scale") if "step_scale" in table.columns else np.ones(frames),
         fps=problem.fps,
+        mode=table.text.get("mode"),
     )
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(folder / "summary.json")))

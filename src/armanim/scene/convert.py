@@ -32,6 +32,16 @@ def _obstacles(scene: SceneModel) -> Obstacles:
     )
 
 
+CLEARANCE_PER_WIDTH = 0.1
+"""Default ``solver.clearance`` as a fraction of ``arm.width``: a tenth of the arm's thickness."""
+
+
+def clearance(scene: SceneModel) -> float:
+    """d_safe: the scene's ``solver.clearance``, or ``arm.width / 10``."""
+    given = scene.solver.clearance
+    return float(given) if given is not None else CLEARANCE_PER_WIDTH * scene.arm.width
+
+
 def _solver(scene: SceneModel) -> SolverSettings:
     s = scene.solver
     return SolverSettings(
@@ -43,6 +53,8 @@ def _solver(scene: SceneModel) -> SolverSettings:
         jacobian=s.jacobian,
         damping=s.damping,
         max_joint_step=float(np.radians(s.max_joint_step)),
+        clearance=clearance(scene),
+        planner=s.planner,
         w_goal=s.weights.goal,
         w_obstacles=s.weights.obstacles,
         w_limits=s.weights.limits,
