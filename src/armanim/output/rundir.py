@@ -18,13 +18,12 @@ link, a file) is an error that names what is there, and it is left as it was.
 from __future__ import annotations
 
 import contextlib
-import errno
 import fcntl
 import json
 import os
-import stat
 import re
 import shutil
+import stat
 import tempfile
 from pathlib import Path
 from typing import Iterator
