@@ -334,7 +334,7 @@ def test_goal_list_and_mapping_forms_and_defaults(tmp_path):
     scene = load_scene(write(tmp_path, content, "defaults.yaml"))
     problem = scene_to_problem(scene.model)
     assert scene.name == "defaults"
-    assert [g.hold_frames for g in problem.goals] == [0, 15]
+    assert [g.hold for g in problem.goals] == [0, 0.5]
     np.testing.assert_allclose(problem.arm.axes, [[0, 0, 1], [0, 1, 0]])
     np.testing.assert_allclose(problem.arm.direction, [0, 0, 1])
     np.testing.assert_allclose(problem.home, 0.0)
