@@ -238,14 +238,19 @@ def _wrapped(problem: Problem, state: ArmState) -> ArmState:
     return ArmState(wrap_unlimited(problem, state.phi), state.pose, state.clearance)
 
 
+def pose_clearance(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """For (k, n) poses: (k,) smallest clearance of any link capsule to any obstacle (+inf if none)."""
+    phi = np.atleast_2d(phi)
+    if not len(problem.obstacles):
+        return np.full(len(phi), np.inf)
+    return clearances(forward(problem.arm, phi), problem.obstacles, problem.half_width).links.min(axis=(-1, -2))
+
+
 def pose_is_free(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """For (k, n) poses: (k,) bool, inside the limits by the buffer and every link capsule
     at least ``solver.clearance`` from every obstacle (the planner's validity test)."""
     phi = np.atleast_2d(phi)
     lim = problem.limits
     buffer = limit_buffer(problem)
-    ok = np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
-    if len(problem.obstacles):
-        cl = clearances(forward(problem.arm, phi), problem.obstacles, problem.half_width)
-        ok &= cl.links.min(axis=(-1, -2)) >= problem.solver.clearance
-    return ok
+    inside = np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
+    return inside & (pose_clearance(problem, phi) >= problem.solver.clearance)
