@@ -30,49 +30,6 @@ MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a pro
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
 
 
-def goal_status(trajectory: Trajectory, reports: Sequence[GoalReport], frame: int, goals: int) -> np.ndarray:
-    """Status code of every goal at ``frame`` (see :mod:`armanim.render.draw`).
-
-    Goals before the frame's goal are reached or missed as their reports say, the
-    frame's goal is current (or reached once within tolerance), later ones pending.
-
-    >>> from armanim.render.draw import STATUS_NAMES
-    >>> import types
-    >>> t = types.SimpleNamespace(goal=np.array([0, 1]), reached=np.array([False, False]))
-    >>> r = [types.SimpleNamespace(reached=False)]
-    >>> [STATUS_NAMES[s] for s in goal_status(t, r, 1, 3)]
-    ['missed', 'current', 'pending']
-    """
-    from armanim.render.draw import CURRENT, MISSED, PENDING, REACHED
-
-    k = int(trajectory.goal[frame])
-    status = np.full(goals, PENDING)
-    for j in range(min(k, goals)):
-        status[j] = REACHED if j >= len(reports) or reports[j].reached else MISSED
-    if k < goals:
-        status[k] = REACHED if trajectory.reached[frame] else CURRENT
-    return status
-
-
-def frame_caption(trajectory: Trajectory, reports: Sequence[GoalReport], frame: int, goals: int) -> str:
-    """Caption of a frame: time, goal k of N, distance, and moving / reached / missed.
-
-    A goal that will be missed says so, with the reason, during its last second.
-    """
-    k = int(trajectory.goal[frame])
-    state = "moving"
-    if trajectory.reached[frame]:
-        state = "reached"
-    elif k < len(reports) and not reports[k].reached:
-        last = reports[k].last_frame
-        if last >= 0 and frame > last - trajectory.fps:
-            state = "missed: " + (reports[k].reason or "not reached").replace("_", " ")
-    return (
-        f"t = {frame / trajectory.fps:7.2f} s   goal {k + 1} of {goals}   "
-        f"distance {trajectory.distance[frame]:8.3f}   {state}"
-    )
-
-
 def draw_segment(
     problem: Problem,
     trajectory: Trajectory,
@@ -90,12 +47,14 @@ def draw_segment(
     ``progress`` is called with the number of frames of this segment done so far.
     """
     from armanim.kinematics import Pose, forward
+    from armanim.render.caption import frame_activity, frame_caption, goal_status
     from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.encode import FrameWriter
 
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
     scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent)
     goals = len(problem.goals)
+    activity = frame_activity(trajectory, reports)
     with FrameWriter(path, settings.size, settings.fps, settings.format) as writer:
         for first in range(start, stop, CHUNK):
             last = min(first + CHUNK, stop)
@@ -106,7 +65,7 @@ def draw_segment(
                     pose=Pose(poses.points[i], poses.frames[i]),
                     trail_end=f + 1,
                     goal_status=goal_status(trajectory, reports, f, goals),
-                    caption=frame_caption(trajectory, reports, f, goals),
+                    caption=frame_caption(trajectory, f, goals, activity[f]),
                 )
                 writer.write(scene.draw(state))
                 if progress is not None:
