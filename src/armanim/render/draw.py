@@ -38,6 +38,7 @@ from armanim.problem import Problem, RenderSettings
 from armanim.render import scenery
 from armanim.render.bounds import resolve_bounds
 from armanim.render.caption import CURRENT, MISSED, PENDING, REACHED
+from armanim.render.glyphs import GlyphAtlas
 from armanim.render.camera import camera_rotation, fit_view, view_angles
 from armanim.render.mesh import perpendicular_basis, prism_faces, prism_local, prism_world
 from armanim.render.order import paint_order
@@ -71,6 +72,7 @@ FACE_EDGE_PX = 0.7  # faces are outlined in their own colour to close seams
 GHOST_ALPHA = 0.28  # opacity of the faint poses of a poster
 HIDDEN_ALPHA = 0.55  # opacity of a goal marker seen through a sphere
 MIN_FLOOR_ELEVATION = 5.0  # degrees: a floor seen more edge-on than this is not drawn
+CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
 FONT = {"title": 13, "caption": 10.5, "legend": 9, "goal": 9, "axis": 8}  # points
 
 
@@ -130,10 +132,13 @@ class SceneCanvas:
         Every joint position the pictures will show: ``render.bounds: auto`` fits them.
     still : bool
         One picture, not a video: the legend lists only what a single pose shows.
+    caption_template : str
+        The longest caption the frames will show: the caption's box is sized for it.
     """
 
     def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
-                 tips: np.ndarray | None = None, extent: np.ndarray | None = None, still: bool = False):
+                 tips: np.ndarray | None = None, extent: np.ndarray | None = None, still: bool = False,
+                 caption_template: str = CAPTION_TEMPLATE):
         self.problem = problem
         self.settings = settings
         self.still = still
@@ -152,7 +157,7 @@ class SceneCanvas:
         self._prepare_goals()
         self._prepare_trail(tips if settings.trail else None)
         self._make_artists()
-        self._draw_background(title)
+        self._draw_background(title, caption_template)
 
     # ----- camera and floor ------------------------------------------------------------
 
@@ -327,7 +332,7 @@ class SceneCanvas:
 
     # ----- the background, drawn once -------------------------------------------------
 
-    def _draw_background(self, title: str) -> None:
+    def _draw_background(self, title: str, caption_template: str) -> None:
         r = self.renderer
         r.clear()
         self.fig.draw(r)  # the white figure
@@ -340,8 +345,28 @@ class SceneCanvas:
                        color=TEXT_COLOR)
         self._draw_text("title", heading)
         self._draw_legend()
+        self._draw_caption_box(caption_template)
         self._place_goal_labels()
         self.background = self.canvas.copy_from_bbox(self.fig.bbox)
+        self.glyphs = GlyphAtlas(self.canvas, FONT["caption"], TEXT_COLOR)
+        self.label_stamps = [[self._stamp_label(label, code, hidden) for code in (PENDING, CURRENT, REACHED, MISSED)]
+                             for label, hidden in zip(self.goal_labels, self.goal_hidden)]
+
+    def _stamp_label(self, label: Text, code: int, hidden: bool):
+        """A goal number in one state, drawn once into a sprite (text is the slowest thing to draw)."""
+        label.set_color(GOAL_COLORS[STATUS_NAMES[code]] if code != PENDING else TEXT_COLOR)
+        label.set_alpha(HIDDEN_ALPHA if hidden else 1.0)
+        self.renderer.clear()
+        label.draw(self.renderer)
+        box = label.get_window_extent(self.renderer).padded(4)
+        x0, y0 = max(int(box.x0), 0), max(int(box.y0), 0)
+        x1, y1 = min(int(np.ceil(box.x1)), self.width), min(int(np.ceil(box.y1)), self.height)
+        if x1 <= x0 or y1 <= y0:
+            return None
+        rows, cols = slice(self.height - y1, self.height - y0), slice(x0, x1)
+        patch = np.asarray(self.canvas.buffer_rgba())[rows, cols].astype(np.float32)
+        alpha = patch[..., 3:] / 255.0
+        return rows, cols, patch[..., :3] * alpha, 1.0 - alpha
 
     def _draw_text(self, name: str, text: Text) -> None:
         text.set_figure(self.fig)
@@ -449,21 +474,19 @@ class SceneCanvas:
         for label in self.goal_labels:
             box = label.get_window_extent(self.renderer)
             sizes.append((box.width, box.height))
-        caption_box = self._caption_box()
-        keep_out = list(self.text_boxes.values()) + [caption_box]
+        keep_out = list(self.text_boxes.values())
         gap = 0.5 * self.goal_marks[PENDING].get_markersize() / self.pt
         corners = scenery.place_labels(self.goal_xy, np.array(sizes), gap, keep_out, self.layout.scene)
         for label, (x, y), (w, h) in zip(self.goal_labels, corners, sizes):
             label.set_position((x, y))
             self.text_boxes[f"goal {label.get_text()}"] = (x, y, x + w, y + h)
 
-    def _caption_box(self) -> tuple:
-        """The box the widest caption can take (measured on a caption of the longest kind)."""
-        self.caption.set_text("t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: not reached")
-        self.caption.update_bbox_position_size(self.renderer)
-        extents = tuple(self.caption.get_bbox_patch().get_window_extent(self.renderer).extents)
-        self.text_boxes["caption"] = extents
-        return extents
+    def _draw_caption_box(self, template: str) -> None:
+        """The caption's box, sized for ``template``; its text is stamped every frame."""
+        self.caption.set_text(template)
+        self.caption.set_color((0.0, 0.0, 0.0, 0.0))
+        self.caption.draw(self.renderer)
+        self.text_boxes["caption"] = tuple(self.caption.get_bbox_patch().get_window_extent(self.renderer).extents)
 
     # ----- per frame ------------------------------------------------------------------
 
@@ -491,8 +514,7 @@ class SceneCanvas:
             self.trail_front.set_data(self.trail_front_xy[: state.trail_end].T)
             self.trail_front.draw(renderer)
         self._draw_goals(state.goal_status)
-        self.caption.set_text(state.caption)
-        self.caption.draw(renderer)
+        self.glyphs.stamp(np.asarray(self.canvas.buffer_rgba()), state.caption, *self.layout.caption_xy)
         return np.asarray(self.canvas.buffer_rgba())
 
     def _draw_shadow(self, pose: Pose) -> np.ndarray | None:
@@ -612,10 +634,9 @@ class SceneCanvas:
                     self.goal_ring.draw(self.renderer)
                 artist.set_data(self.goal_xy[mask].T)
                 artist.draw(self.renderer)
-        for label, code, hidden in zip(self.goal_labels, status, self.goal_hidden):
-            label.set_color(GOAL_COLORS[STATUS_NAMES[code]] if code != PENDING else TEXT_COLOR)
-            label.set_alpha(HIDDEN_ALPHA if hidden else 1.0)
-            label.draw(self.renderer)
+        buffer = np.asarray(self.canvas.buffer_rgba())
+        for stamps, code in zip(self.label_stamps, status):
+            self._composite(buffer, stamps[code])
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
@@ -643,9 +664,9 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     """
     phi = np.asarray(phi, dtype=float)
     pose = forward(problem.arm, phi)
-    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, still=True)
-    state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING),
-                       caption=pose_caption(problem, phi))
+    caption = pose_caption(problem, phi)
+    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, still=True, caption_template=caption)
+    state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
     write_png(scene.draw(state), path)
 
 

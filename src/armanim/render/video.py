@@ -52,9 +52,11 @@ def draw_segment(
     from armanim.render.encode import FrameWriter
 
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
-    scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent)
     goals = len(problem.goals)
     activity = frame_activity(trajectory, reports)
+    captions = [frame_caption(trajectory, f, goals, activity[f]) for f in range(trajectory.frames)]
+    scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent,
+                        caption_template=max(captions, key=len))
     with FrameWriter(path, settings.size, settings.fps, settings.format) as writer:
         for first in range(start, stop, CHUNK):
             last = min(first + CHUNK, stop)
@@ -65,7 +67,7 @@ def draw_segment(
                     pose=Pose(poses.points[i], poses.frames[i]),
                     trail_end=f + 1,
                     goal_status=goal_status(trajectory, reports, f, goals),
-                    caption=frame_caption(trajectory, f, goals, activity[f]),
+                    caption=captions[f],
                 )
                 writer.write(scene.draw(state))
                 if progress is not None:
