@@ -69,7 +69,8 @@ JOINT_SCALE = 1.45  # joint dot radius / link half width
 BASE_SCALE = 3.0  # pedestal radius / link half width
 SAMPLES = 7  # points per part for the painter's order
 FACE_EDGE_PX = 0.7  # faces are outlined in their own colour to close seams
-GHOST_ALPHA = 0.28  # opacity of the faint poses of a poster
+GHOST_FADE = 0.7  # a poster's faint poses: the arm's colours this much toward white
+GHOST_COLOR = tuple(np.array(ARM_COLOR) * (1 - GHOST_FADE) + GHOST_FADE)
 HIDDEN_ALPHA = 0.55  # opacity of a goal marker seen through a sphere
 MIN_FLOOR_ELEVATION = 5.0  # degrees: a floor seen more edge-on than this is not drawn
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
@@ -130,18 +131,19 @@ class SceneCanvas:
         The tip of every frame, for the trail.
     extent : (..., 3) array, optional
         Every joint position the pictures will show: ``render.bounds: auto`` fits them.
-    still : bool
-        One picture, not a video: the legend lists only what a single pose shows.
+    picture : {"video", "pose", "poster"}
+        What is drawn: the legend lists only what it shows (a pose: no states, no
+        path; a poster: final states, the path and the faint poses on each goal).
     caption_template : str
         The longest caption the frames will show: the caption's box is sized for it.
     """
 
     def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
-                 tips: np.ndarray | None = None, extent: np.ndarray | None = None, still: bool = False,
+                 tips: np.ndarray | None = None, extent: np.ndarray | None = None, picture: str = "video",
                  caption_template: str = CAPTION_TEMPLATE):
         self.problem = problem
         self.settings = settings
-        self.still = still
+        self.picture = picture
         self.width, self.height = (int(v) for v in settings.size)
         self.layout = scenery.frame_layout(self.width, self.height)
         self.fig, self.canvas = make_figure(self.width, self.height, self.layout.dpi)
@@ -443,20 +445,25 @@ class SceneCanvas:
     def _legend_entries(self) -> tuple[list, list]:
         marker = dict(linestyle="none", markersize=8)
         entries = [("arm", Line2D([], [], color=ARM_COLOR, linewidth=5))]
-        if self.settings.trail and not self.still:
+        if self.picture == "poster":
+            entries.append(("arm on each goal", Line2D([], [], color=GHOST_COLOR, linewidth=5)))
+        if self.settings.trail and self.picture != "pose":
             entries.append(("tip path", Line2D([], [], color=TRAIL_COLOR, linewidth=2)))
         if len(self.problem.obstacles):
             entries.append(("obstacle", Line2D([], [], marker="o", markerfacecolor=OBSTACLE_COLOR,
                                                markeredgecolor="none", **marker)))
         pending = Line2D([], [], marker="o", markerfacecolor="white", markeredgecolor=GOAL_COLORS["pending"],
                          markeredgewidth=1.5, **marker)
-        if self.still:
+        if self.picture == "pose":
             entries.append(("goal", pending))
         else:
+            if self.picture == "video":
+                entries += [
+                    ("current goal", Line2D([], [], marker="*", markerfacecolor=GOAL_COLORS["current"],
+                                            markeredgecolor="k", markeredgewidth=0.6, **{**marker, "markersize": 12})),
+                    ("next goal", pending),
+                ]
             entries += [
-                ("current goal", Line2D([], [], marker="*", markerfacecolor=GOAL_COLORS["current"],
-                                        markeredgecolor="k", markeredgewidth=0.6, **{**marker, "markersize": 12})),
-                ("next goal", pending),
                 ("reached", Line2D([], [], marker="o", markerfacecolor=GOAL_COLORS["reached"],
                                    markeredgecolor="white", **marker)),
                 ("missed", Line2D([], [], marker="X", markerfacecolor=GOAL_COLORS["missed"],
@@ -472,7 +479,7 @@ class SceneCanvas:
         y = self.layout.legend_y / self.height
         legend = self.fig.legend(handles, labels, loc="center", bbox_to_anchor=(0.5, y), ncols=len(labels),
                                  frameon=False, fontsize=FONT["legend"], handlelength=1.5, columnspacing=1.1,
-                                 handletextpad=0.4, borderaxespad=0.0)
+                                 handletextpad=0.6, borderaxespad=0.0)
         legend.draw(self.renderer)
         for i, text in enumerate(legend.get_texts()):
             self.text_boxes[f"legend {i}"] = tuple(text.get_window_extent(self.renderer).extents)
@@ -563,11 +570,16 @@ class SceneCanvas:
         return self.sphere_order[hit[self.sphere_order]]
 
     def _draw_solids(self, state: FrameState, shadow) -> bool:
-        """Arm parts (and ghosts) with the spheres they overlap, in painter's order.
-        Returns whether any sphere was redrawn."""
-        parts = self._arm_parts(state.pose, 1.0)
+        """The poster's faint poses, then the arm, each with the spheres it overlaps, in
+        painter's order (so faint poses never cover the arm). Returns whether any sphere
+        was redrawn."""
+        touched = False
         for ghost in state.ghosts:
-            parts += self._arm_parts(ghost, GHOST_ALPHA)
+            touched |= self._draw_parts(self._arm_parts(ghost, ghost=True), None)
+        return self._draw_parts(self._arm_parts(state.pose), shadow) or touched
+
+    def _draw_parts(self, parts: list, shadow) -> bool:
+        """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""
         allpts = np.concatenate([p[0][:, :2] for p in parts])
         reach = max(p[1] for p in parts)
         arm_box = np.concatenate([allpts.min(axis=0) - reach, allpts.max(axis=0) + reach])
@@ -592,25 +604,28 @@ class SceneCanvas:
         self._flush(polys, colors)
         return bool(len(spheres))
 
-    def _arm_parts(self, pose: Pose, alpha: float) -> list[tuple[np.ndarray, float, tuple]]:
-        """Screen samples, radius and (polygons, RGBA colours) of the base, every link and every joint."""
+    def _arm_parts(self, pose: Pose, ghost: bool = False) -> list[tuple[np.ndarray, float, tuple]]:
+        """Screen samples, radius and (polygons, RGBA colours) of the base, every link and every joint;
+        a ghost (a poster's faint pose) has no base and its colours faded toward white."""
+        fade = (lambda rgb: with_alpha(rgb * (1 - GHOST_FADE) + GHOST_FADE, 1.0)) if ghost else \
+            (lambda rgb: with_alpha(rgb, 1.0))
         view = self.view
         verts = view.project(prism_world(pose, self.prism_local))  # (n, V, 3)
         normals = view.screen_normals(np.einsum("nab,fb->nfa", pose.frames, self.face_normals_local))
         joints = view.project(pose.points)  # (n+1, 3)
         t = np.linspace(0.0, 1.0, SAMPLES)[:, None]
         parts = []
-        if alpha == 1.0:
+        if not ghost:
             parts.append((self.base_samples, self.base_radius, ("solid", self.base_polys, self.base_colors)))
         link_radius = self.problem.half_width * self.ppu
         for i in range(len(verts)):
             front = np.flatnonzero(normals[i, :, 2] > 1e-9)
             polys = [verts[i, self.faces[f], :2] for f in front]
-            shade = with_alpha(lambert(normals[i, front], ARM_COLOR), alpha)
+            shade = fade(lambert(normals[i, front], ARM_COLOR))
             samples = joints[i] + t * (joints[i + 1] - joints[i])
             parts.append((samples, link_radius, ("solid", polys, shade)))
         r = self.joint_radius
-        joint_shade = with_alpha(np.array([JOINT_COLOR, JOINT_HIGHLIGHT]), alpha)
+        joint_shade = fade(np.array([JOINT_COLOR, JOINT_HIGHLIGHT]))
         for i in range(len(verts)):
             center = joints[i]
             disc = center[:2] + r * self.unit_circle
@@ -668,7 +683,7 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     phi = np.asarray(phi, dtype=float)
     pose = forward(problem.arm, phi)
     caption = pose_caption(problem, phi)
-    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, still=True, caption_template=caption)
+    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption)
     state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
     write_png(scene.draw(state), path)
 
