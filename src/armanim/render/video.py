@@ -28,6 +28,7 @@ from armanim.trajectory import GoalReport, Trajectory
 CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
+PALETTE_FRAMES = 12  # frames a GIF's palette is made from
 
 
 def draw_segment(
@@ -49,7 +50,7 @@ def draw_segment(
     from armanim.kinematics import Pose, forward
     from armanim.render.caption import frame_activity, frame_caption, goal_status
     from armanim.render.draw import FrameState, SceneCanvas
-    from armanim.render.encode import FrameWriter
+    from armanim.render.encode import FrameWriter, gif_palette
 
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
     goals = len(problem.goals)
@@ -57,21 +58,34 @@ def draw_segment(
     captions = [frame_caption(trajectory, f, goals, activity[f]) for f in range(trajectory.frames)]
     scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent,
                         caption_template=max(captions, key=len))
-    with FrameWriter(path, settings.size, settings.fps, settings.format) as writer:
+
+    def frame(f: int, pose: Pose) -> np.ndarray:
+        state = FrameState(pose=pose, trail_end=f + 1, goal_status=goal_status(trajectory, reports, f, goals),
+                           caption=captions[f])
+        return scene.draw(state)
+
+    with contextlib.ExitStack() as stack:
+        palette = None
+        if settings.format == "gif":  # one palette for the whole GIF, from frames spread over it
+            palette = stack.enter_context(gif_palette(path, settings.size, (
+                frame(f, forward(problem.arm, trajectory.phi[f])) for f in palette_frames(start, stop))))
+        writer = stack.enter_context(FrameWriter(path, settings.size, settings.fps, settings.format, palette=palette))
         for first in range(start, stop, CHUNK):
             last = min(first + CHUNK, stop)
             poses = forward(problem.arm, trajectory.phi[first:last])
             for f in range(first, last):
-                i = f - first
-                state = FrameState(
-                    pose=Pose(poses.points[i], poses.frames[i]),
-                    trail_end=f + 1,
-                    goal_status=goal_status(trajectory, reports, f, goals),
-                    caption=captions[f],
-                )
-                writer.write(scene.draw(state))
+                writer.write(frame(f, Pose(poses.points[f - first], poses.frames[f - first])))
                 if progress is not None:
                     progress(f + 1 - start)
+
+
+def palette_frames(start: int, stop: int, count: int = PALETTE_FRAMES) -> list[int]:
+    """Frames, spread evenly over ``[start, stop)``, from which a GIF's palette is made.
+
+    >>> palette_frames(0, 100, 5)
+    [0, 24, 49, 74, 99]
+    """
+    return sorted({int(f) for f in np.linspace(start, stop - 1, min(count, stop - start))})
 
 
 def render_video(
