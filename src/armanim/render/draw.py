@@ -68,6 +68,7 @@ PRISM_SIDES = 10  # faces around a link
 JOINT_SCALE = 1.45  # joint dot radius / link half width
 BASE_SCALE = 3.0  # pedestal radius / link half width
 SAMPLES = 7  # points per part for the painter's order
+RING_POINTS = 27  # diameter of the ring around the current goal
 FACE_EDGE_PX = 0.7  # faces are outlined in their own colour to close seams
 GHOST_FADE = 0.7  # a poster's faint poses: the arm's colours this much toward white
 GHOST_COLOR = tuple(np.array(ARM_COLOR) * (1 - GHOST_FADE) + GHOST_FADE)
@@ -174,7 +175,9 @@ class SceneCanvas:
             flo, fhi = self.floor_lo, self.floor_hi
             corners = np.array([[x, y, self.floor_z] for x in (flo[0], fhi[0]) for y in (flo[1], fhi[1])])
             points, radii = np.vstack([points, corners]), np.concatenate([radii, np.zeros(4)])
-        self.view = fit_view(self.rotation, points, radii, self.layout.scene, (self.width, self.height))
+        x0, y0, x1, y1 = self.layout.scene
+        m = RING_POINTS / 2 * self.layout.dpi / 72.0  # room for the current goal's ring at the edges
+        self.view = fit_view(self.rotation, points, radii, (x0 + m, y0 + m, x1 - m, y1 - m), (self.width, self.height))
         self.ppu = float(self.view.pixels_per_unit.mean())
 
     def _content(self, extent: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
@@ -321,7 +324,7 @@ class SceneCanvas:
                                               "markeredgecolor": s["markerfacecolor"] if k != PENDING
                                               else s["markeredgecolor"]}))
                              for k, s in style.items()}
-        self.goal_ring = own(Line2D([], [], linestyle="none", marker="o", markersize=27, markerfacecolor="none",
+        self.goal_ring = own(Line2D([], [], linestyle="none", marker="o", markersize=RING_POINTS, markerfacecolor="none",
                                     markeredgecolor=GOAL_COLORS["current"], markeredgewidth=1.8, alpha=0.8))
         lay = self.layout
         self.caption = own(Text(*lay.caption_xy, "", ha="left", va="top", fontsize=FONT["caption"],
@@ -437,9 +440,14 @@ class SceneCanvas:
             self._draw_pixels(Line2D([origin[0], tip[0]], [origin[1], tip[1]], color=color, linewidth=1.6,
                                      solid_capstyle="round"))
             length = np.linalg.norm(d)
-            place = origin + lay.gizmo_len * (d * 1.45 if length > 0.3 else np.array([0.7, -0.7]) * (axis - 0.5))
-            label = Text(*place, "xyz"[axis] + ("" if length > 0.3 else " (depth)"), ha="center", va="center",
-                         fontsize=FONT["axis"], color=color, fontweight="bold")
+            if length > 0.3:
+                place = origin + lay.gizmo_len * d * 1.45
+            else:  # an axis along the line of sight: a dot, labelled beside it
+                self._draw_pixels(Line2D([origin[0]], [origin[1]], marker="o", markersize=5, markerfacecolor="none",
+                                         markeredgecolor=color, markeredgewidth=1.4))
+                place = origin - 0.5 * lay.gizmo_len
+            label = Text(*place, "xyz"[axis], ha="center", va="center", fontsize=FONT["axis"], color=color,
+                         fontweight="bold")
             self._draw_text(f"axis {'xyz'[axis]}", label)
 
     def _legend_entries(self) -> tuple[list, list]:
@@ -493,7 +501,7 @@ class SceneCanvas:
             box = label.get_window_extent(self.renderer)
             sizes.append((box.width, box.height))
         keep_out = list(self.text_boxes.values())
-        gap = 0.4 * self.goal_ring.get_markersize() / self.pt  # clear of the current goal's ring
+        gap = 0.55 * RING_POINTS / self.pt  # clear of the current goal's ring
         corners = scenery.place_labels(self.goal_xy, np.array(sizes), gap, keep_out, self.layout.scene)
         for label, (x, y), (w, h) in zip(self.goal_labels, corners, sizes):
             label.set_position((x, y))

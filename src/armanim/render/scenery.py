@@ -60,7 +60,7 @@ def frame_layout(width: int, height: int, *, legend: bool = True) -> Layout:
     dpi = min(height / INCHES_HIGH, width / INCHES_WIDE)
     unit = dpi * INCHES_HIGH  # the height of a 16:9 frame of this text size
     top = height - 0.025 * unit
-    caption_top = top - 0.075 * unit
+    caption_top = top - 0.1 * unit
     scene_top = caption_top - 0.085 * unit
     scene_bottom = (0.085 if legend else 0.03) * unit
     side = 0.02 * unit
@@ -71,8 +71,8 @@ def frame_layout(width: int, height: int, *, legend: bool = True) -> Layout:
         scene=(side, scene_bottom, width - side, scene_top),
         title_xy=(0.015 * unit, top),
         caption_xy=(0.015 * unit, caption_top),
-        gizmo_xy=(width - 0.075 * unit, height - 0.085 * unit),
-        gizmo_len=0.045 * unit,
+        gizmo_xy=(width - 0.06 * unit, height - 0.052 * unit),
+        gizmo_len=0.028 * unit,
         legend_y=0.04 * unit,
     )
 
