@@ -501,7 +501,7 @@ class SceneCanvas:
             box = label.get_window_extent(self.renderer)
             sizes.append((box.width, box.height))
         keep_out = list(self.text_boxes.values())
-        gap = 0.55 * RING_POINTS / self.pt  # clear of the current goal's ring
+        gap = 0.45 * RING_POINTS / self.pt  # clear of the current goal's ring
         corners = scenery.place_labels(self.goal_xy, np.array(sizes), gap, keep_out, self.layout.scene)
         for label, (x, y), (w, h) in zip(self.goal_labels, corners, sizes):
             label.set_position((x, y))
