@@ -207,3 +207,16 @@ def test_an_unknown_quality_is_a_usage_error():
 
     with pytest.raises(UsageError, match="--quality"):
         render_overrides(None, None, None, quality="ultra")
+
+
+def test_plot_labels_each_limit_with_its_joints_and_numbers_goals_from_0():
+    from armanim.render.plot import plot_figure
+    from armanim.scene import load_scene, scene_to_problem
+    from armanim.trajectory import solve_trajectory
+
+    problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)
+    solution = solve_trajectory(problem)
+    canvas = plot_figure(problem, solution.trajectory, solution.goals, title="t")
+    texts = {t.get_text().strip() for ax in canvas.figure.axes for t in ax.texts}
+    assert {"phi2 max 100", "phi2 min -100", "phi3, phi4 max 150", "goal 0"} <= texts
+    assert not any("phi1" in t for t in texts)  # the unlimited base joint has no limit lines
