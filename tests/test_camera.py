@@ -112,7 +112,7 @@ def test_a_goal_behind_a_sphere_is_drawn_through_it():
     problem = problem_with(arm, [[0, 3, 2]], [1.5], [[-3.0, 3, 2]])
     scene, with_goal, _ = _frame(problem, np.zeros(1))
     assert scene.goal_hidden.tolist() == [True]
-    scene.goal_stamps[0] = [None] * 4
+    scene.goal_stamps.update({(0, code): None for code in range(4)})
     state_pose = forward(problem.arm, np.zeros(1))
     from armanim.render.draw import FrameState
 

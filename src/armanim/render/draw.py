@@ -31,7 +31,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patheffects import withStroke
 from matplotlib.text import Text
-from matplotlib.transforms import IdentityTransform
+from matplotlib.transforms import Affine2D, IdentityTransform
 
 from armanim.kinematics import Pose, forward
 from armanim.problem import Problem, RenderSettings
@@ -353,34 +353,58 @@ class SceneCanvas:
         self._draw_caption_box(caption_template)
         self._place_goal_labels()
         self.background = self.canvas.copy_from_bbox(self.fig.bbox)
-        self.glyphs = GlyphAtlas(self.canvas, FONT["caption"], TEXT_COLOR)
-        self.goal_stamps = [[self._stamp_goal(i, code) for code in (PENDING, CURRENT, REACHED, MISSED)]
-                            for i in range(len(self.goal_xy))]
+        self.scratch = self._scratch_canvas()
+        self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
+        self.goal_stamps: dict[tuple[int, int], tuple | None] = {}  # (goal, state) -> sprite, made when first shown
 
-    def _stamp_goal(self, i: int, code: int):
-        """Goal ``i``'s marker and number in one state, drawn once into a sprite
-        (drawing markers and text every frame was a third of a frame's time)."""
+    def _scratch_canvas(self) -> FigureCanvasAgg:
+        """A small canvas of the same dpi to draw sprites on (clearing the whole frame
+        for each of hundreds of sprites was slow at large sizes)."""
+        label = max((lab.get_window_extent(self.renderer) for lab in self.goal_labels),
+                    key=lambda box: box.width, default=None)
+        reach = RING_POINTS / self.pt + (max(label.width, label.height) if label is not None else 0.0)
+        side = int(np.ceil(2 * reach + 3 * FONT["caption"] / self.pt)) + 8
+        return make_figure(side, side, self.fig.dpi)[1]
+
+    def _goal_stamp(self, i: int, code: int):
+        """Goal ``i``'s marker and number in one state as a sprite, drawn the first time it is asked for."""
+        key = (int(i), int(code))
+        if key not in self.goal_stamps:
+            self.goal_stamps[key] = self._stamp_goal(self.scratch, *key)
+        return self.goal_stamps[key]
+
+    def _stamp_goal(self, scratch: FigureCanvasAgg, i: int, code: int):
+        """Goal ``i``'s marker and number in one state, drawn into a sprite on the
+        ``scratch`` canvas (drawing markers and text every frame was a third of a frame's time)."""
         hidden, xy = bool(self.goal_hidden[i]), self.goal_xy[i]
         label = self.goal_labels[i]
         label.set_color(GOAL_COLORS[STATUS_NAMES[code]] if code != PENDING else TEXT_COLOR)
         label.set_alpha(HIDDEN_ALPHA if hidden else 1.0)
-        self.renderer.clear()
-        artists = [(self.hidden_marks if hidden else self.goal_marks)[code]]
+        artists = [(self.hidden_marks if hidden else self.goal_marks)[code], label]
         if code == CURRENT and not hidden:
             artists.insert(0, self.goal_ring)
+        side = int(scratch.figure.bbox.width)
+        x0, y0 = int(np.floor(xy[0])) - side // 2, int(np.floor(xy[1])) - side // 2
+        shift = Affine2D().translate(-x0, -y0)
+        renderer = scratch.get_renderer()
+        renderer.clear()
         for artist in artists:
-            artist.set_data([xy[0]], [xy[1]])
-            artist.draw(self.renderer)
-        label.draw(self.renderer)
-        reach = self.goal_ring.get_markersize() / self.pt
-        box = label.get_window_extent(self.renderer).padded(4)
-        x0, y0 = max(int(min(box.x0, xy[0] - reach)), 0), max(int(min(box.y0, xy[1] - reach)), 0)
-        x1 = min(int(np.ceil(max(box.x1, xy[0] + reach))), self.width)
-        y1 = min(int(np.ceil(max(box.y1, xy[1] + reach))), self.height)
-        if x1 <= x0 or y1 <= y0:
+            if isinstance(artist, Line2D):
+                artist.set_data([xy[0]], [xy[1]])
+            artist.set_transform(shift)
+            artist.draw(renderer)
+            artist.set_transform(IdentityTransform())
+        drawn = np.asarray(scratch.buffer_rgba())  # rows top to bottom
+        used_rows = np.flatnonzero(drawn[..., 3].any(axis=1))
+        used_cols = np.flatnonzero(drawn[..., 3].any(axis=0))
+        if not len(used_rows):
             return None
-        rows, cols = slice(self.height - y1, self.height - y0), slice(x0, x1)
-        patch = np.asarray(self.canvas.buffer_rgba())[rows, cols].astype(np.float32)
+        top = self.height - (y0 + side)  # the scratch's first row, in frame rows
+        rows = slice(max(top + used_rows[0], 0), min(top + used_rows[-1] + 1, self.height))
+        cols = slice(max(x0 + used_cols[0], 0), min(x0 + used_cols[-1] + 1, self.width))
+        if cols.stop <= cols.start or rows.stop <= rows.start:
+            return None
+        patch = drawn[rows.start - top : rows.stop - top, cols.start - x0 : cols.stop - x0].astype(np.float32)
         alpha = patch[..., 3:] / 255.0
         return rows, cols, patch[..., :3] * alpha, 1.0 - alpha
 
@@ -662,7 +686,7 @@ class SceneCanvas:
         """Every goal: its marker (open and dimmed behind a sphere) and its number, pending goals first."""
         buffer = np.asarray(self.canvas.buffer_rgba())
         for i in np.argsort(status == CURRENT, kind="stable"):
-            self._composite(buffer, self.goal_stamps[i][status[i]])
+            self._composite(buffer, self._goal_stamp(i, status[i]))
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
