@@ -4,37 +4,36 @@ Drawing a line of text with matplotlib lays it out and rasterises every glyph ag
 (about 8 ms for a caption at 1280x720, half a frame's drawing). A caption in a
 monospaced font needs neither: each character sits at ``i x advance``. A
 :class:`GlyphAtlas` rasterises the 95 printable characters once, with matplotlib,
-into alpha sprites, and :meth:`GlyphAtlas.stamp` composites a string from them.
+at a font size nudged so that the advance is a whole number of pixels; a line is
+then one gather of character cells and one alpha blend.
 """
 
 from __future__ import annotations
-
-import string
 
 import numpy as np
 from matplotlib.text import Text
 from matplotlib.transforms import IdentityTransform
 
-CHARACTERS = string.printable[:95]  # digits, letters, punctuation, space
+FIRST, LAST = 32, 126  # printable ASCII: space to tilde
 
 
 class GlyphAtlas:
-    """The printable characters of one monospaced font, size and colour, as sprites.
+    """The printable characters of one monospaced font, size and colour, as cells.
 
     Parameters
     ----------
     canvas : FigureCanvasAgg
-        Its buffer is cleared while the atlas is built: build atlases before the
-        first frame, then restore the background.
+        A scratch canvas at the frame's dpi, at least one line high and a few
+        characters wide; its buffer is cleared while the atlas is built.
     fontsize : float
-        Points.
+        Points; nudged (by less than half a pixel per character) so the advance is whole.
     color : RGB tuple
     family : str
         A monospaced family.
 
     Attributes
     ----------
-    advance : float
+    advance : int
         Pixels from one character to the next.
     height : int
         Pixels of one line (a cell's height).
@@ -42,43 +41,53 @@ class GlyphAtlas:
 
     def __init__(self, canvas, fontsize: float, color, family: str = "DejaVu Sans Mono"):
         fig, renderer = canvas.figure, canvas.get_renderer()
-        probe = Text(0, 0, "M" * 40, fontsize=fontsize, family=family, transform=IdentityTransform())
-        probe.set_figure(fig)
-        box = probe.get_window_extent(renderer)
-        self.advance = box.width / 40.0
-        self.height = int(np.ceil(box.height))
-        cell = int(np.ceil(self.advance)) + 2
-        self.sprites: dict[str, np.ndarray] = {}
-        buffer_height = int(renderer.height)
-        for char in CHARACTERS:
-            renderer.clear()
-            glyph = Text(1, 1, char, fontsize=fontsize, family=family, color=color, va="bottom", ha="left",
-                         transform=IdentityTransform())
-            glyph.set_figure(fig)
-            glyph.draw(renderer)
-            rgba = np.asarray(canvas.buffer_rgba())[buffer_height - 1 - self.height : buffer_height, :cell]
-            self.sprites[char] = rgba.astype(np.float32) / 255.0
-        renderer.clear()
 
-    def width(self, text: str) -> float:
+        def text(s: str, size: float) -> Text:
+            t = Text(0, 0, s, fontsize=size, family=family, color=color, va="bottom", ha="left",
+                     transform=IdentityTransform())
+            t.set_figure(fig)
+            return t
+
+        advance = text("M" * 40, fontsize).get_window_extent(renderer).width / 40.0
+        self.advance = max(int(round(advance)), 1)
+        size = fontsize * self.advance / advance
+        self.height = int(np.ceil(text("Mg", size).get_window_extent(renderer).height))
+        rows = int(renderer.height)
+        cells = np.zeros((LAST - FIRST + 2, self.height, self.advance, 4), dtype=np.float32)  # last: unknown
+        for code in range(FIRST + 1, LAST + 1):
+            renderer.clear()
+            text(chr(code), size).draw(renderer)
+            rgba = np.asarray(canvas.buffer_rgba())[rows - self.height : rows, : self.advance].astype(np.float32)
+            alpha = rgba[..., 3:] / 255.0
+            cells[code - FIRST] = np.concatenate([rgba[..., :3] * alpha, alpha], axis=-1)
+        cells[-1] = cells[ord("?") - FIRST]
+        renderer.clear()
+        self.cells = cells
+
+    def line(self, text: str) -> np.ndarray:
+        """(height, len(text) x advance, 4) premultiplied RGB (0-255) and alpha (0-1) of a line.
+
+        Characters outside printable ASCII show as ``?``.
+        """
+        codes = np.frombuffer(text.encode("ascii", "replace"), dtype=np.uint8).astype(int) - FIRST
+        codes[(codes < 0) | (codes > LAST - FIRST)] = len(self.cells) - 1
+        cells = self.cells[codes]  # (L, h, a, 4)
+        return cells.transpose(1, 0, 2, 3).reshape(self.height, -1, 4)
+
+    def width(self, text: str) -> int:
         """Pixels a one-line string takes."""
         return len(text) * self.advance
 
     def stamp(self, buffer: np.ndarray, text: str, x: float, top: float) -> None:
-        """Composite ``text`` into an (H, W, 4) uint8 buffer (rows top to bottom),
-        its first cell's left edge at pixel ``x`` and its top at ``top`` (origin bottom left)."""
+        """Blend ``text`` into an (H, W, 4) uint8 buffer (rows top to bottom), its left
+        edge at pixel ``x`` and its top at ``top`` (origin bottom left)."""
         height, width = buffer.shape[:2]
-        row0 = int(round(height - top))
-        for i, char in enumerate(text):
-            sprite = self.sprites.get(char)
-            if sprite is None or char == " ":
-                continue
-            col0 = int(round(x + i * self.advance)) - 1
-            rows = slice(max(row0, 0), min(row0 + sprite.shape[0], height))
-            cols = slice(max(col0, 0), min(col0 + sprite.shape[1], width))
-            if rows.stop <= rows.start or cols.stop <= cols.start:
-                continue
-            part = sprite[rows.start - row0 : rows.stop - row0, cols.start - col0 : cols.stop - col0]
-            alpha = part[..., 3:]
-            region = buffer[rows, cols, :3]
-            region[...] = (region * (1.0 - alpha) + part[..., :3] * 255.0 * alpha + 0.5).astype(np.uint8)
+        image = self.line(text)
+        row0, col0 = int(round(height - top)), int(round(x))
+        rows = slice(max(row0, 0), min(row0 + image.shape[0], height))
+        cols = slice(max(col0, 0), min(col0 + image.shape[1], width))
+        if rows.stop <= rows.start or cols.stop <= cols.start:
+            return
+        part = image[rows.start - row0 : rows.stop - row0, cols.start - col0 : cols.stop - col0]
+        region = buffer[rows, cols, :3]
+        region[...] = (region * (1.0 - part[..., 3:]) + part[..., :3] + 0.5).astype(np.uint8)
