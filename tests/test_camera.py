@@ -220,3 +220,38 @@ def test_plot_labels_each_limit_with_its_joints_and_numbers_goals_from_0():
     texts = {t.get_text().strip() for ax in canvas.figure.axes for t in ax.texts}
     assert {"phi2 max 100", "phi2 min -100", "phi3, phi4 max 150", "goal 0"} <= texts
     assert not any("phi1" in t for t in texts)  # the unlimited base joint has no limit lines
+
+
+# ----- captions ------------------------------------------------------------------------------
+
+
+def _traj(phi, reached, mode=None):
+    import types
+
+    frames = len(phi)
+    t = types.SimpleNamespace(phi=np.array(phi, float)[:, None], reached=np.array(reached), fps=2.0,
+                              frames=frames, goal=np.zeros(frames, int), distance=np.ones(frames))
+    if mode is not None:
+        t.mode = np.array(mode)
+    return t
+
+
+def test_captions_say_moving_holding_stalled_planning_and_missed():
+    import types
+
+    from armanim.render.caption import frame_activity
+
+    reached = types.SimpleNamespace(reached=True, first_frame=0, last_frame=5, reason=None)
+    traj = _traj([0, 0.1, 0.2, 0.2, 0.2, 0.2], [False, False, True, True, True, True])
+    assert frame_activity(traj, [reached]).tolist() == ["moving", "moving", "reached", "holding", "holding",
+                                                        "holding"]
+    missed = types.SimpleNamespace(reached=False, first_frame=0, last_frame=5, reason="blocked_by_obstacle")
+    traj = _traj([0, 0.1, 0.1, 0.1, 0.1, 0.1], [False] * 6, mode=["ik", "plan", "ik", "ik", "ik", "ik"])
+    assert frame_activity(traj, [missed]).tolist() == ["moving", "planning", "stalled", "stalled",
+                                                       "missed: blocked by obstacle", "missed: blocked by obstacle"]
+
+
+def test_a_trajectory_without_mode_is_all_ik():
+    from armanim.render.caption import frame_modes
+
+    assert frame_modes(_traj([0, 1], [False, False])).tolist() == ["ik", "ik"]
