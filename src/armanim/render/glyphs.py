@@ -3,7 +3,7 @@
 Drawing a line of text with matplotlib lays it out and rasterises every glyph again
 (about 8 ms for a caption at 1280x720, half a frame's drawing). A caption in a
 monospaced font needs neither: each character sits at ``i x advance``. A
-:class:`GlyphAtlas` rasterises the 95 printable characters once, with matplotlib,
+:class:`GlyphAtlas` rasterises each printable character once, when first used, with matplotlib,
 at a font size nudged so that the advance is a whole number of pixels; a line is
 then one gather of character cells and one alpha blend.
 """
@@ -24,7 +24,8 @@ class GlyphAtlas:
     ----------
     canvas : FigureCanvasAgg
         A scratch canvas at the frame's dpi, at least one line high and a few
-        characters wide; its buffer is cleared while the atlas is built.
+        characters wide; kept, and cleared whenever a character is first drawn (each
+        character is drawn the first time a line uses it).
     fontsize : float
         Points; nudged (by less than half a pixel per character) so the advance is whole.
     color : RGB tuple
@@ -40,6 +41,7 @@ class GlyphAtlas:
     """
 
     def __init__(self, canvas, fontsize: float, color, family: str = "DejaVu Sans Mono"):
+        self.canvas = canvas
         fig, renderer = canvas.figure, canvas.get_renderer()
 
         def text(s: str, size: float) -> Text:
@@ -52,17 +54,25 @@ class GlyphAtlas:
         self.advance = max(int(round(advance)), 1)
         size = fontsize * self.advance / advance
         self.height = int(np.ceil(text("Mg", size).get_window_extent(renderer).height))
+        self._glyph = lambda char: text(char, size)
+        self.cells = np.zeros((LAST - FIRST + 2, self.height, self.advance, 4), dtype=np.float32)  # last: unknown
+        self.known = np.zeros(len(self.cells), dtype=bool)
+        self.known[0] = True  # the space is empty
+        self._draw_cells(np.array([ord("?") - FIRST]))
+        self.cells[-1] = self.cells[ord("?") - FIRST]
+        self.known[-1] = True
+
+    def _draw_cells(self, codes: np.ndarray) -> None:
+        """Rasterise the characters ``codes`` (offsets from the space) into their cells."""
+        renderer = self.canvas.get_renderer()
         rows = int(renderer.height)
-        cells = np.zeros((LAST - FIRST + 2, self.height, self.advance, 4), dtype=np.float32)  # last: unknown
-        for code in range(FIRST + 1, LAST + 1):
+        for code in np.unique(codes):
             renderer.clear()
-            text(chr(code), size).draw(renderer)
-            rgba = np.asarray(canvas.buffer_rgba())[rows - self.height : rows, : self.advance].astype(np.float32)
+            self._glyph(chr(FIRST + int(code))).draw(renderer)
+            rgba = np.asarray(self.canvas.buffer_rgba())[rows - self.height : rows, : self.advance].astype(np.float32)
             alpha = rgba[..., 3:] / 255.0
-            cells[code - FIRST] = np.concatenate([rgba[..., :3] * alpha, alpha], axis=-1)
-        cells[-1] = cells[ord("?") - FIRST]
-        renderer.clear()
-        self.cells = cells
+            self.cells[code] = np.concatenate([rgba[..., :3] * alpha, alpha], axis=-1)
+            self.known[code] = True
 
     def line(self, text: str) -> np.ndarray:
         """(height, len(text) x advance, 4) premultiplied RGB (0-255) and alpha (0-1) of a line.
@@ -71,6 +81,8 @@ class GlyphAtlas:
         """
         codes = np.frombuffer(text.encode("ascii", "replace"), dtype=np.uint8).astype(int) - FIRST
         codes[(codes < 0) | (codes > LAST - FIRST)] = len(self.cells) - 1
+        if not self.known[codes].all():
+            self._draw_cells(codes[~self.known[codes]])
         cells = self.cells[codes]  # (L, h, a, 4)
         return cells.transpose(1, 0, 2, 3).reshape(self.height, -1, 4)
 
