@@ -31,7 +31,7 @@ from armanim.ik import solve_pose
 from armanim.kinematics import Arm, forward
 from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
 from armanim.solvers import METHODS, arm_state
-from armanim.solvers.barrier import shorten_step
+from armanim.solvers.barrier import safe_step
 from armanim.solvers.linear import pinv_step
 
 # ---------------------------------------------------------------------------------------
@@ -198,7 +198,7 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
 
     # the two agree on the step itself where nothing is near (sanity, not timing)
     for state, goal in bare_cases[len(near):][:20]:
-        ours = shorten_step(bare, state, pinv_step(bare, state, goal).dphi)
+        ours = safe_step(bare, state, pinv_step(bare, state, goal).dphi)
         if ours.scale == 1.0:
             ref = plain_step(state.phi, goal, settings.step)
             assert np.allclose(ours.state.tip, forward(bare.arm, ref).tip, atol=1e-9), (
@@ -214,12 +214,12 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
         return batch
 
     def armanim_frame(prob):
-        return lambda state, goal: shorten_step(prob, state, pinv_step(prob, state, goal).dphi)
+        return lambda state, goal: safe_step(prob, state, pinv_step(prob, state, goal).dphi)
 
     frame = armanim_frame(problem)
     only_step = lambda state, goal: pinv_step(problem, state, goal)  # noqa: E731
     dphis = {id(state): pinv_step(problem, state, goal).dphi for state, goal in cases}
-    only_shorten = lambda state, goal: shorten_step(problem, state, dphis[id(state)])  # noqa: E731
+    only_shorten = lambda state, goal: safe_step(problem, state, dphis[id(state)])  # noqa: E731
     plain = lambda state, goal: plain_step(state.phi, goal, settings.step)  # noqa: E731
 
     t = interleaved_min(
@@ -234,7 +234,7 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
         },
         repeats,
     )
-    blocked = sum(shorten_step(problem, state, dphis[id(state)]).scale < min(
+    blocked = sum(safe_step(problem, state, dphis[id(state)]).scale < min(
         1.0, settings.max_joint_step / max(np.max(np.abs(dphis[id(state)])), 1e-300)) for state, _ in cases)
     print(f"    poses: {len(cases)} ({len(near)} with an obstacle within influence, {len(far)} free); "
           f"{blocked} steps shortened by a barrier; min of {repeats} interleaved repeats")

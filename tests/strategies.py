@@ -97,7 +97,7 @@ def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_
         if len(obstacles):
             gap = np.linalg.norm(target - obstacles.centers, axis=1) - obstacles.radii
             assume(np.all(gap > 0.05))
-        goals.append(Goal(target, draw(st.integers(0, 3))))
+        goals.append(Goal(target, draw(st.sampled_from([0.0, 0.05, 0.1]))))
     solver = SolverSettings(
         method=draw(st.sampled_from(methods)),
         step=draw(st.floats(0.05, 0.5)),
@@ -142,4 +142,43 @@ def scene_texts(draw) -> str:
         "solver:\n"
         f"  method: {method}\n"
         "  max_frames_per_goal: 30\n"
+    )
+
+
+@st.composite
+def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
+    """A cluttered scene as users write them: 3-6 links, limits on about half the joints,
+    1-4 spheres placed across the straight path between consecutive goals (pushed off
+    the arm's home capsules and the goals by solver.clearance), every method, planner on."""
+    from armanim.cost import clearances
+
+    arm = draw(arms(min_links=3, max_links=max_links))
+    home = draw(poses(arm.n)) * 0.3
+    half_width = draw(st.floats(0.1, 0.3))
+    limits = draw(limits_for(home, margin_deg=10.0))
+    solver = SolverSettings(
+        method=draw(st.sampled_from(METHODS)), max_step=0.5, max_frames_per_goal=150, clearance=0.05
+    )
+    goal_poses = [np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02) for _ in range(draw(st.integers(1, max_goals)))]
+    tips = forward(arm, np.array([home, *goal_poses])).tip
+    centers, radii = [], []
+    for a, b in zip(tips[:-1], tips[1:]):
+        t = draw(st.floats(0.3, 0.7))
+        centers.append(a + t * (b - a) + np.array(draw(st.tuples(*(st.floats(-0.3, 0.3) for _ in range(3))))))
+        radii.append(draw(st.floats(0.1, 0.4)) * max(np.linalg.norm(b - a), 0.5))
+    obstacles = Obstacles(np.array(centers), np.array(radii), np.array(radii) + 0.5)
+    keep = half_width + solver.clearance
+    cl = clearances(forward(arm, home), obstacles, half_width)
+    assume(np.all(cl.links > solver.clearance))
+    goal_gap = np.linalg.norm(tips[1:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
+    assume(np.all(goal_gap > keep))
+    return Problem(
+        arm=arm,
+        half_width=half_width,
+        home=home,
+        limits=limits,
+        obstacles=obstacles,
+        goals=tuple(Goal(tip) for tip in tips[1:]),
+        solver=solver,
+        fps=30.0,
     )

@@ -19,7 +19,7 @@ import numpy as np
 
 from armanim.problem import Problem
 from armanim.solvers import ArmState, arm_state, step_function
-from armanim.solvers.barrier import shorten_step
+from armanim.solvers.barrier import safe_step
 from armanim.solvers.newton import newton_solve
 
 FULL_TURN_PER_ITERATION = np.radians(30.0)
@@ -118,7 +118,7 @@ def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget:
             best, since_best = distance, 0
         elif (since_best := since_best + 1) >= STALL_ITERATIONS:
             break
-        state = shorten_step(fast, state, step(fast, state, goal).dphi).state
+        state = safe_step(fast, state, step(fast, state, goal).dphi).state
         iterations += 1
     return state, iterations, 0
 
@@ -135,7 +135,7 @@ def _newton_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budge
         result = newton_solve(fast.arm, state.phi, goal, state.phi, s.w_target, s.w_regularizer)
         gd += result.gd_iterations
         nm += result.nm_iterations
-        moved = shorten_step(fast, state, result.phi - state.phi)  # limits and obstacles, as in the frame loop
+        moved = safe_step(fast, state, result.phi - state.phi)  # limits and obstacles, as in the frame loop
         if moved.scale == 0.0:
             break
         state = moved.state

@@ -111,11 +111,10 @@ def produce_outputs(
     The one place a run is produced: used by :func:`run_scene` (into its staged
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
-    problem = scene_to_problem(scene.model)
     settings = replace(render_settings(scene.model), **(render_overrides or {}))
-    if settings.fps != problem.fps:
-        problem = replace(problem, fps=settings.fps)
-        if frame_budget(problem) > LIMITS["total_frames"]:  # holds are counted in frames, so fps scales them
+    problem = scene_to_problem(scene.model, fps=settings.fps)  # the run is solved at the fps it is shown at
+    if settings.fps != scene.model.render.fps:
+        if frame_budget(problem) > LIMITS["total_frames"]:  # holds are seconds, so a higher fps makes more frames
             raise UsageError(
                 f"--fps {settings.fps:g}: the holds would make up to {frame_budget(problem):,} frames "
                 f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
@@ -157,7 +156,6 @@ def rerender_run(
 
     run = load_run(folder)
     settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
-    problem = replace(run.problem, fps=settings.fps)
     target = Path(folder) if out is None else Path(out)
     if out is not None:
         try:
@@ -166,7 +164,8 @@ def rerender_run(
             from armanim.output.atomic import output_error
 
             raise output_error(target, exc) from None
-    return render_outputs(problem, run.solution, settings, target, run.scene.name, jobs=jobs, progress=progress)
+    # --fps sets the video's playback rate only: the frames and their times stay the run's own
+    return render_outputs(run.problem, run.solution, settings, target, run.scene.name, jobs=jobs, progress=progress)
 
 
 def render_outputs(

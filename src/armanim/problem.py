@@ -67,10 +67,18 @@ class Limits:
 
 @dataclass(frozen=True)
 class Goal:
-    """A goal position and how many frames to hold once it is reached."""
+    """A goal position and how long to stay once it is reached.
+
+    Attributes
+    ----------
+    position : (3,) array
+    hold : float
+        Seconds (the frame loop turns them into frames at the run's fps, in one place:
+        :func:`armanim.trajectory.hold_frames`).
+    """
 
     position: np.ndarray
-    hold_frames: int = 0
+    hold: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -85,6 +93,8 @@ class SolverSettings:
     jacobian: str = "analytic"
     damping: float = 0.05
     max_joint_step: float = np.radians(10.0)
+    clearance: float = 0.05
+    planner: str = "auto"
     w_goal: float = 1.0
     w_obstacles: float = 1.0
     w_limits: float = 1.0
@@ -108,7 +118,8 @@ class Problem:
     goals : tuple of Goal
     solver : SolverSettings
     fps : float
-        Frames per second, for ``time_s`` and holds.
+        Frames per second the run is solved at: the one owner of time (``time_s``,
+        holds, the stall window); ``--fps`` is applied before the problem is built.
     """
 
     arm: Arm

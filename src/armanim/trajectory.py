@@ -1,27 +1,42 @@
 """THE frame loop: the arm visits the goals in turn, one solver step per frame.
 
 Frame 0 is the home pose. For each goal the loop steps until |e - g| < tolerance,
-then holds the pose for the goal's hold frames; a goal not reached within
-``max_frames_per_goal`` is reported missed with a reason and the loop moves on.
-Not converging is a result (a :class:`GoalReport`), never an exception.
+then holds the pose for the goal's hold frames. Every frame's step is the method's
+proposal passed through the safety filter (:func:`armanim.solvers.barrier.safe_step`).
+
+When half a second of frames makes less progress than the tolerance (a local
+minimum, a saddle, a singular pose, circling), the goal has stalled: with
+``solver.planner: auto`` the loop plans (:mod:`armanim.planning`) and follows the
+planned path (frames of mode ``plan``), then the method finishes to the tolerance;
+with ``off`` the goal is missed at once. A goal is also missed when it is out of
+reach, when no free pose reaches it (``no_free_pose``), when no path is found
+(``no_path``), or after ``max_frames_per_goal`` frames. Not converging is a result (a
+:class:`GoalReport`), never an exception.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
 
 from armanim.geometry import wrap_angle
-from armanim.problem import Problem
-from armanim.solvers import ArmState, arm_state, step_function
-from armanim.solvers.barrier import shorten_step
+from armanim.planning import plan_motion
+from armanim.problem import Goal, Problem
+from armanim.solvers import ArmState, StepFunction, arm_state, step_function
+from armanim.solvers.barrier import safe_step
 
-STALL_WINDOW = 30  # frames over which a missed goal's progress is judged
+STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
+MIN_STALL_FRAMES = 5
+STALL_PROGRESS = 0.05  # ... or less than this fraction of the distance still to go
+MAX_PLANS = 3  # plans per goal before it is given up as stalled
+ARRIVED = 1e-9  # radians: the arm is at a planned pose
 
 MISS_REASONS = {
-    "out_of_reach": "out of reach: the goal is farther from the base than the arm's length",
+    "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
+    "no_free_pose": "no pose inside the limits and solver.clearance away from every obstacle puts the tip there",
+    "no_path": "no path to a free pose at the goal was found within the planning budget",
     "blocked_by_obstacle": "blocked by an obstacle",
     "blocked_by_limit": "blocked by a joint limit",
     "stalled": "stalled at a local minimum",
@@ -52,6 +67,8 @@ class GoalReport:
         Inner solver iterations summed over its frames.
     newton_iterations : int
         Of those, Newton iterations (``newton`` only).
+    planning : PlanningReport or None
+        What the planner did for this goal; None if it never planned.
     """
 
     index: int
@@ -64,6 +81,37 @@ class GoalReport:
     final_distance: float
     iterations: int
     newton_iterations: int = 0
+    planning: "PlanningReport | None" = None
+
+    @property
+    def planned(self) -> bool:
+        """Whether the planner ran for this goal."""
+        return self.planning is not None
+
+
+@dataclass(frozen=True)
+class PlanningReport:
+    """What the planner did for one goal (deterministic: no wall-clock times).
+
+    Attributes
+    ----------
+    plans : int
+        Times it planned (the goal stalled that often).
+    poses : int
+        Free goal poses the last plan found.
+    path : str
+        How the last plan connected: ``"straight"``, ``"rrt_connect"`` or ``"none"``.
+    frames : int
+        Frames spent following planned paths (mode ``plan``).
+    checks : int
+        Poses checked for collisions while searching paths, over all plans.
+    """
+
+    plans: int = 0
+    poses: int = 0
+    path: str = "none"
+    frames: int = 0
+    checks: int = 0
 
 
 @dataclass(frozen=True)
@@ -83,8 +131,11 @@ class Trajectory:
         The frame's goal is within tolerance.
     iterations : (F,) int array
     step_scale : (F,) array
-        Fraction of the proposed step the barrier let through (0 on frame 0 and holds).
+        |step taken| / |step proposed| (0 on frame 0 and holds).
     fps : float
+    mode : (F,) array of str
+        ``"ik"`` where the method stepped (and on frame 0 and holds), ``"plan"`` where the
+        arm followed a planned path.
     """
 
     phi: np.ndarray
@@ -96,6 +147,11 @@ class Trajectory:
     iterations: np.ndarray
     step_scale: np.ndarray
     fps: float
+    mode: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.mode is None:
+            object.__setattr__(self, "mode", np.full(len(self.phi), "ik"))
 
     @property
     def frames(self) -> int:
@@ -132,23 +188,76 @@ class _Recorder:
     distance: list = field(default_factory=list)
     iterations: list = field(default_factory=list)
     step_scale: list = field(default_factory=list)
+    mode: list = field(default_factory=list)
 
-    def add(self, state: ArmState, goal, distance, iterations=0, step_scale=0.0):
+    def add(self, state: ArmState, goal, distance, iterations=0, step_scale=0.0, mode="ik"):
         self.phi.append(state.phi)
         self.tip.append(state.tip)
-        self.clearance.append(state.min_clearance)  # the barrier computed it for this very pose
+        self.clearance.append(state.min_clearance)  # the filter computed it for this very pose
         self.goal.append(goal)
         self.distance.append(distance)
         self.iterations.append(iterations)
         self.step_scale.append(step_scale)
+        self.mode.append(mode)
 
     def __len__(self) -> int:
         return len(self.phi)
 
 
+@dataclass
+class _Visit:
+    """What happens while the arm heads for one goal."""
+
+    index: int
+    goal: Goal
+    distances: list
+    frames: int = 0
+    iterations: int = 0
+    newton_iterations: int = 0
+    blocked: list = field(default_factory=list)
+    path: list = field(default_factory=list)  # planned poses still to follow
+    overrun: int = 0  # frames spent steering to the path's last pose
+    planning: PlanningReport | None = None
+    reason: str | None = None
+
+
+def hold_frames(problem: Problem, goal: Goal) -> int:
+    """Frames a reached goal is held: its hold seconds at the run's fps.
+
+    >>> from types import SimpleNamespace
+    >>> hold_frames(SimpleNamespace(fps=40.0), Goal(np.zeros(3), hold=2.0))
+    80
+    """
+    return int(round(goal.hold * problem.fps))
+
+
 def frame_budget(problem: Problem) -> int:
     """Most frames a run can have: frame 0, every goal's frame cap and its hold."""
-    return 1 + sum(problem.solver.max_frames_per_goal + g.hold_frames for g in problem.goals)
+    return 1 + sum(problem.solver.max_frames_per_goal + hold_frames(problem, g) for g in problem.goals)
+
+
+def stall_frames(problem: Problem) -> int:
+    """Frames over which progress is judged: half a second, at least :data:`MIN_STALL_FRAMES`."""
+    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))
+
+
+def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
+    """Whether the last ``window`` frames brought the tip closer by less than the tolerance,
+    or than :data:`STALL_PROGRESS` of what is left above ``floor`` (the least distance
+    possible), whichever is larger.
+
+    >>> has_stalled([5.0, 4.0, 3.0], 2, 0.01), has_stalled([5.0, 5.0, 5.0], 2, 0.01)
+    (False, True)
+    """
+    if len(distances) <= window:
+        return False
+    now = distances[-1]
+    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * (now - floor))
+
+
+def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
+    """Whether ``goal`` is farther from the base than the arm is long."""
+    return bool(np.linalg.norm(goal - problem.arm.base) > problem.arm.reach + problem.solver.tolerance)
 
 
 def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | None = None) -> Solution:
@@ -166,54 +275,118 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
     -------
     Solution
     """
-    s = problem.solver
-    step = step_function(s.method)
+    step = step_function(problem.solver.method)
     rec = _Recorder()
     state = arm_state(problem, problem.home)
-    first_goal = problem.goals[0].position
-    rec.add(state, 0, float(np.linalg.norm(state.tip - first_goal)))
+    rec.add(state, 0, float(np.linalg.norm(state.tip - problem.goals[0].position)))
     reports = []
     later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
-        later -= s.max_frames_per_goal + goal.hold_frames
-        target = goal.position
-        first = len(rec) if k else 0
-        frames = iterations = newton_its = 0
-        blocked: list[str | None] = []
-        distances = [float(np.linalg.norm(state.tip - target))]
-        while distances[-1] >= s.tolerance and frames < s.max_frames_per_goal:
-            proposal = step(problem, state, target)
-            moved = shorten_step(problem, state, proposal.dphi)
-            state = moved.state
-            distances.append(float(np.linalg.norm(state.tip - target)))
-            blocked.append(moved.blocked_by)
-            frames += 1
-            iterations += proposal.iterations
-            newton_its += proposal.newton_iterations
-            rec.add(state, k, distances[-1], proposal.iterations, moved.scale)
+        later -= problem.solver.max_frames_per_goal + hold_frames(problem, goal)
+
+        def report_progress(visit: _Visit, goal=goal, later=later) -> None:
             if progress:
-                progress(len(rec), len(rec) + s.max_frames_per_goal - frames + goal.hold_frames + later)
-        reached = distances[-1] < s.tolerance
-        if reached:
-            for _ in range(goal.hold_frames):
-                rec.add(state, k, distances[-1])
+                cap = problem.solver.max_frames_per_goal
+                progress(len(rec), len(rec) + cap - visit.frames + hold_frames(problem, goal) + later)
+
+        state, report = _visit_goal(problem, step, rec, state, k, goal, report_progress)
+        reports.append(report)
         if progress:
             progress(len(rec), len(rec) + later)
-        reports.append(
-            GoalReport(
-                index=k,
-                position=target,
-                reached=reached,
-                reason=None if reached else miss_reason(problem, state, target, distances, blocked),
-                frames=frames,
-                first_frame=first if len(rec) > first else -1,
-                last_frame=len(rec) - 1 if len(rec) > first else -1,
-                final_distance=distances[-1],
-                iterations=iterations,
-                newton_iterations=newton_its,
-            )
-        )
     return Solution(trajectory=_finish(problem, rec), goals=tuple(reports))
+
+
+def _visit_goal(problem, step: StepFunction, rec: _Recorder, state: ArmState, k: int, goal: Goal, on_frame):
+    """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
+    s = problem.solver
+    first = len(rec) if k else 0
+    visit = _Visit(k, goal, [float(np.linalg.norm(state.tip - goal.position))])
+    window = stall_frames(problem)
+    floor = max(0.0, float(np.linalg.norm(goal.position - problem.arm.base)) - problem.arm.reach)
+    while visit.distances[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
+        state = _one_frame(problem, step, rec, state, visit)
+        on_frame(visit)
+        if not visit.path and has_stalled(visit.distances, window, s.tolerance, floor):
+            visit.reason = _escape(problem, state, visit)
+            if visit.reason is not None:
+                break
+    reached = visit.distances[-1] < s.tolerance
+    if reached:
+        for _ in range(hold_frames(problem, goal)):
+            rec.add(state, k, visit.distances[-1])
+    elif visit.reason is None:
+        visit.reason = miss_reason(problem, state, goal.position, visit.distances, visit.blocked)
+    return state, GoalReport(
+        index=k,
+        position=goal.position,
+        reached=reached,
+        reason=None if reached else visit.reason,
+        frames=visit.frames,
+        first_frame=first if len(rec) > first else -1,
+        last_frame=len(rec) - 1 if len(rec) > first else -1,
+        final_distance=visit.distances[-1],
+        iterations=visit.iterations,
+        newton_iterations=visit.newton_iterations,
+        planning=visit.planning,
+    )
+
+
+def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
+    """One filtered step: along the planned path if there is one, else the method's."""
+    target = visit.goal.position
+    if visit.path:
+        nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
+        visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
+    else:
+        proposal = step(problem, state, target)
+        nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
+    moved = safe_step(problem, state, nominal)
+    visit.distances.append(float(np.linalg.norm(moved.state.tip - target)))
+    visit.blocked.append(moved.blocked_by)
+    visit.frames += 1
+    visit.iterations += iterations
+    visit.newton_iterations += newton_its
+    rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode)
+    return moved.state
+
+
+def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
+    """The next pose of the planned path. Its last pose is kept as the target until the arm
+    is there (the filter may slow the approach near a surface or a limit), for at most a
+    stall window of extra frames, so that the method takes over only at the goal pose."""
+    if len(visit.path) > 1:
+        return visit.path.pop(0)
+    last = visit.path[0]
+    visit.overrun += 1
+    if np.abs(joint_offset(problem, state.phi, last)).max() < ARRIVED or visit.overrun > stall_frames(problem):
+        visit.path.clear()
+    return last
+
+
+def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """target - phi, unlimited joints the short way round."""
+    offset = target - phi
+    return np.where(problem.limits.limited, offset, wrap_angle(offset))
+
+
+def _escape(problem: Problem, state: ArmState, visit: _Visit) -> str | None:
+    """A stalled goal: plan a way out (None) or give it up (the reason)."""
+    target = visit.goal.position
+    if beyond_reach(problem, target):
+        return "out_of_reach"
+    local = miss_reason(problem, state, target, visit.distances, visit.blocked)
+    if problem.solver.planner == "off" or local == "numerical":  # a method that fails is reported, not planned around
+        return local
+    done = visit.planning or PlanningReport()
+    if done.plans >= MAX_PLANS:
+        return "stalled"
+    plan = plan_motion(problem, state.phi, target, seed=visit.index * MAX_PLANS + done.plans)
+    visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks)
+    if plan.frames is None:
+        return plan.reason
+    visit.path = list(plan.frames)
+    visit.overrun = 0
+    return None
 
 
 def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
@@ -228,27 +401,27 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         iterations=np.array(rec.iterations, dtype=int),
         step_scale=np.array(rec.step_scale),
         fps=problem.fps,
+        mode=np.array(rec.mode),
     )
 
 
 def miss_reason(
     problem: Problem, state: ArmState, goal: np.ndarray, distances: list[float], blocked: list[str | None]
 ) -> str:
-    """Why a goal was missed: a key of :data:`MISS_REASONS`.
+    """Why the local method missed a goal: a key of :data:`MISS_REASONS`.
 
-    Judged in order: out of reach; NaN proposals; then, if the last
-    ``STALL_WINDOW`` frames made less progress than the tolerance, an obstacle or a
-    limit that shortened those steps or whose barrier is active, else a local minimum;
-    otherwise the arm was still moving.
+    Judged in order: out of reach; NaN proposals; then, if the last stall window
+    made less progress than the tolerance, an obstacle or a limit that changed those
+    steps or whose barrier is active, else a local minimum; otherwise the arm was
+    still moving when ``max_frames_per_goal`` ran out.
     """
-    arm = problem.arm
-    if np.linalg.norm(goal - arm.base) > arm.reach + problem.solver.tolerance:
+    if beyond_reach(problem, goal):
         return "out_of_reach"
-    recent = blocked[-STALL_WINDOW:]
+    window = stall_frames(problem)
+    recent = blocked[-window:]
     if recent and recent.count("nan") > len(recent) // 2:
         return "numerical"
-    window = distances[-STALL_WINDOW - 1 :]
-    if window[0] - window[-1] >= problem.solver.tolerance:
+    if not has_stalled(distances, min(window, len(distances) - 1), problem.solver.tolerance):
         return "too_slow"
     if "obstacle" in recent or _near_obstacle(problem, state):
         return "blocked_by_obstacle"

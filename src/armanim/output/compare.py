@@ -2,7 +2,7 @@
 and :func:`armanim.testing.assert_trajectory_matches`.
 
 Angles are compared in degrees with ``atol_deg``; positions, distances and
-clearances in scene units with ``atol``; frame, goal and reached exactly. The
+clearances in scene units with ``atol``; frame, goal, reached and mode exactly. The
 diagnostic columns ``step_scale`` and ``iterations`` are not compared.
 """
 
@@ -15,7 +15,7 @@ import numpy as np
 from armanim.errors import Diagnostic, SceneError
 from armanim.output.csvfile import TrajectoryTable
 
-EXACT = ("frame", "goal", "reached")
+EXACT = ("frame", "goal", "reached", "mode")
 LENGTHS = ("x", "y", "z", "goal_distance", "clearance")
 NOT_COMPARED = ("step_scale", "iterations")
 

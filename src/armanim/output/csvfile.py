@@ -2,7 +2,8 @@
 
 Columns (the contract's first, then extras):
 ``frame, time_s, goal, phi1_deg .. phiN_deg, x, y, z, goal_distance, clearance,
-reached, step_scale, iterations``. Floats are written with ``repr`` (shortest
+reached, step_scale, iterations, mode`` (mode: ``ik`` where the method stepped,
+``plan`` where the arm followed a planned path). Floats are written with ``repr`` (shortest
 round-trip form), so reading the file back gives the same numbers bit for bit.
 """
 
@@ -20,7 +21,9 @@ from armanim.output.atomic import write_text_atomic
 from armanim.trajectory import Trajectory
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
-TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations")
+TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode")
+MODES = ("ik", "plan")
+"""Values of the ``mode`` column; a :class:`TrajectoryTable` holds their index."""
 
 
 def header(n_joints: int) -> list[str]:
@@ -35,12 +38,12 @@ def _num(value: float) -> str:
     return repr(value)
 
 
-def format_row(traj: Trajectory, i: int) -> list[str]:
-    """The CSV fields of frame ``i`` (angles in degrees; empty clearance without obstacles)."""
+def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
+    """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees; empty clearance without obstacles)."""
     clearance = traj.clearance[i]
     return [
         str(i),
-        _num(i / traj.fps),
+        _num(time_s),
         str(int(traj.goal[i])),
         *(_num(v) for v in np.degrees(traj.phi[i])),
         *(_num(v) for v in traj.tip[i]),
@@ -49,6 +52,7 @@ def format_row(traj: Trajectory, i: int) -> list[str]:
         "1" if traj.reached[i] else "0",
         _num(traj.step_scale[i]),
         str(int(traj.iterations[i])),
+        str(traj.mode[i]),
     ]
 
 
@@ -63,7 +67,8 @@ def table_csv_text(columns, rows) -> str:
 
 def trajectory_csv_text(traj: Trajectory) -> str:
     """The whole trajectory.csv as text."""
-    return table_csv_text(header(traj.phi.shape[1]), (format_row(traj, i) for i in range(traj.frames)))
+    time = traj.time
+    return table_csv_text(header(traj.phi.shape[1]), (format_row(traj, i, time[i]) for i in range(traj.frames)))
 
 
 def write_trajectory_csv(traj: Trajectory, path: Path) -> None:
@@ -113,6 +118,12 @@ def read_trajectory_csv(path: Path) -> TrajectoryTable:
     return parse_trajectory_csv(text, file)
 
 
+def _field(text: str, column: str) -> float:
+    if column == "mode":
+        return float(MODES.index(text))  # ValueError when it is not a known mode
+    return float(text) if text != "" else np.nan
+
+
 def parse_trajectory_csv(text: str, file: str) -> TrajectoryTable:
     """Parse trajectory.csv text; ``file`` only names it in messages."""
     try:
@@ -127,7 +138,7 @@ def parse_trajectory_csv(text: str, file: str) -> TrajectoryTable:
         if len(row) != len(columns):
             raise SceneError(file, [Diagnostic("", f"row has {len(row)} fields (expected {len(columns)}, as the header)", r)])
         try:
-            data[r - 2] = [float(v) if v != "" else np.nan for v in row]
+            data[r - 2] = [_field(v, c) for v, c in zip(row, columns)]
         except ValueError:
-            raise SceneError(file, [Diagnostic("", "a field is not a number", r)]) from None
+            raise SceneError(file, [Diagnostic("", "a field is not a number (or, in column mode, not ik or plan)", r)]) from None
     return TrajectoryTable(columns=columns, data=data)

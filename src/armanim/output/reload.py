@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from armanim.errors import Diagnostic, SceneError
-from armanim.output.csvfile import read_trajectory_csv
+from armanim.output.csvfile import MODES, read_trajectory_csv
 from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
-from armanim.trajectory import GoalReport, Solution, Trajectory
+from armanim.trajectory import GoalReport, PlanningReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
 
@@ -26,9 +26,20 @@ class FinishedRun:
     solution: Solution
 
 
-def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
+def _read_summary(summary_path: Path) -> dict:
     try:
-        goals = json.loads(summary_path.read_text(encoding="utf-8"))["goals"]
+        summary = json.loads(summary_path.read_text(encoding="utf-8"))
+        if not isinstance(summary, dict) or not isinstance(summary.get("goals"), list):
+            raise ValueError("no list of goals")
+        return summary
+    except FileNotFoundError:
+        raise SceneError(str(summary_path), [Diagnostic("", "no such file (expected the summary.json of an armanim run)")]) from None
+    except (OSError, ValueError) as exc:
+        raise SceneError(str(summary_path), [Diagnostic("", f"is not an armanim summary: {exc}")]) from None
+
+
+def _reports(summary: dict, summary_path: Path) -> tuple[GoalReport, ...]:
+    try:
         return tuple(
             GoalReport(
                 index=g["index"],
@@ -41,13 +52,18 @@ def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
                 final_distance=g["final_distance"],
                 iterations=g["iterations"],
                 newton_iterations=g.get("newton_iterations", 0),
+                planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
             )
-            for g in goals
+            for g in summary["goals"]
         )
-    except FileNotFoundError:
-        raise SceneError(str(summary_path), [Diagnostic("", "no such file (expected the summary.json of an armanim run)")]) from None
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+    except (ValueError, KeyError, TypeError) as exc:
         raise SceneError(str(summary_path), [Diagnostic("", f"is not an armanim summary: {exc}")]) from None
+
+
+def _run_fps(summary: dict, scene: LoadedScene) -> float:
+    """The fps the run was solved at (``run --fps`` may differ from the scene's)."""
+    fps = summary.get("fps")
+    return float(fps) if isinstance(fps, (int, float)) and not isinstance(fps, bool) and 0 < fps <= 240 else scene.model.render.fps
 
 
 def load_run(folder: str | Path) -> FinishedRun:
@@ -65,7 +81,8 @@ def load_run(folder: str | Path) -> FinishedRun:
     if missing:
         raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
     scene = load_scene(folder / SCENE_COPY)
-    problem = scene_to_problem(scene.model)
+    summary = _read_summary(folder / "summary.json")
+    problem = scene_to_problem(scene.model, fps=_run_fps(summary, scene))
     table = read_trajectory_csv(folder / "trajectory.csv")
     if table.n_joints != problem.arm.n:
         raise SceneError(str(folder / "trajectory.csv"), [Diagnostic("", f"has {table.n_joints} joints, the scene's arm has {problem.arm.n}")])
@@ -80,5 +97,6 @@ def load_run(folder: str | Path) -> FinishedRun:
         iterations=table.column("iterations").astype(int),
         step_scale=table.column("step_scale"),
         fps=problem.fps,
+        mode=np.array(MODES)[table.column("mode").astype(int)] if "mode" in table.columns else None,
     )
-    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(folder / "summary.json")))
+    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json")))

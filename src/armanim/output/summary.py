@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +43,8 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
             "final_distance": float(g.final_distance),
             "iterations": g.iterations,
             "newton_iterations": g.newton_iterations,
+            "planned": g.planned,
+            "planning": asdict(g.planning) if g.planning else None,
         }
         for g in solution.goals
     ]
@@ -49,14 +52,18 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
         "armanim_version": __version__,
         "scene": {"name": name, "file": scene_file, "sha256": sha256},
         "method": problem.solver.method,
+        "planner": problem.solver.planner,
+        "clearance": problem.solver.clearance,
         "fps": problem.fps,
         "totals": {
             "goals": len(goals),
             "reached": solution.reached,
             "missed": len(goals) - solution.reached,
             "frames": traj.frames,
-            "duration_s": traj.frames / problem.fps,
+            "duration_s": traj.frames / traj.fps,
             "iterations": int(traj.iterations.sum()),
+            "planned_goals": sum(g.planned for g in solution.goals),
+            "plan_frames": int(np.count_nonzero(traj.mode == "plan")),
         },
         "min_clearance": _round(traj.clearance.min()) if traj.frames else None,
         "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),

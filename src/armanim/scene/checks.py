@@ -37,14 +37,32 @@ def _arm_problems(scene: SceneModel):
         for i, pair in enumerate(arm.limits):
             if pair is not None and not pair[0] < pair[1]:
                 yield f"arm.limits[{i}]", f"min must be below max (got [{pair[0]:g}, {pair[1]:g}])"
-    if arm.home is not None and arm.limits is not None and len(arm.home) == n == len(arm.limits):
-        for i, (angle, pair) in enumerate(zip(arm.home, arm.limits)):
-            if pair is not None and pair[0] < pair[1] and not pair[0] < angle < pair[1]:
-                yield f"arm.home[{i}]", f"{angle:g} deg is outside joint {i + 1}'s limits (expected strictly inside [{pair[0]:g}, {pair[1]:g}])"
+    if arm.limits is not None and len(arm.limits) == n and (arm.home is None or len(arm.home) == n):
+        yield from _home_outside_limits(arm.home, arm.limits)
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
                 yield "render.bounds", f"{axis} range must have min < max (got [{pair[0]:g}, {pair[1]:g}])"
+
+
+def _home_outside_limits(home, limits):
+    """arm.home (given, or the default zeros) strictly inside every limited joint's range."""
+    given = home is not None
+    angles = home if given else [0.0] * len(limits)
+    for i, (angle, pair) in enumerate(zip(angles, limits)):
+        if pair is None or not pair[0] < pair[1] or pair[0] < angle < pair[1]:
+            continue
+        inside = min(max(angle, pair[0] + 1), pair[1] - 1) if pair[1] - pair[0] > 2 else (pair[0] + pair[1]) / 2
+        if given:
+            yield f"arm.home[{i}]", (
+                f"{angle:g} deg is outside joint {i + 1}'s limits arm.limits[{i}] = [{pair[0]:g}, {pair[1]:g}] "
+                f"(expected strictly inside: e.g. home[{i}]: {inside:g})"
+            )
+        else:
+            yield "arm.home", (
+                f"is not given, so joint {i + 1} starts at 0 deg, outside its limits arm.limits[{i}] = "
+                f"[{pair[0]:g}, {pair[1]:g}] (expected strictly inside: give arm.home with e.g. {inside:g} for joint {i + 1})"
+            )
 
 
 def frame_budget(scene: SceneModel) -> int:
@@ -104,16 +122,26 @@ def _collision_problems(problem):
     obstacles = problem.obstacles
     if not len(obstacles):
         return
+    d_safe = problem.solver.clearance
     cl = clearances(forward(problem.arm, problem.home), obstacles, problem.half_width)
-    for link, obs in zip(*np.nonzero(cl.links <= 0)):
+    for link, obs in zip(*np.nonzero(cl.links < d_safe)):
+        inside = cl.links[link, obs] <= 0
         yield f"obstacles[{obs}]", (
-            f"link {link + 1} of the arm's home pose is inside this obstacle (clearance {cl.links[link, obs]:.3g}; "
-            "expected the home pose clear of every obstacle: move the obstacle or change arm.home)"
+            f"link {link + 1} of the arm's home pose is {'inside this obstacle' if inside else 'closer to it than solver.clearance'} "
+            f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
+            "move the obstacle, change arm.home or lower solver.clearance)"
         )
     for k, goal in enumerate(problem.goals):
         gap = np.linalg.norm(goal.position - obstacles.centers, axis=1) - obstacles.radii
-        for obs in np.nonzero(gap <= 0)[0]:
-            yield f"goals[{k}]", f"lies inside obstacles[{obs}] (the tip can never reach it; move the goal or the obstacle)"
+        for obs in np.nonzero(gap < problem.half_width + d_safe)[0]:
+            if gap[obs] <= 0:
+                yield f"goals[{k}]", f"lies inside obstacles[{obs}] (the tip can never reach it; move the goal or the obstacle)"
+            else:
+                yield f"goals[{k}]", (
+                    f"is {gap[obs]:.3g} from the surface of obstacles[{obs}] (expected at least arm.width / 2 + "
+                    f"solver.clearance = {problem.half_width + d_safe:g}, so that the last link can keep its clearance "
+                    "there: move the goal or the obstacle, or lower solver.clearance)"
+                )
 
 
 def as_diagnostics(pairs, line_of) -> list[Diagnostic]:

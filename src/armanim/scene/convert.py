@@ -32,6 +32,16 @@ def _obstacles(scene: SceneModel) -> Obstacles:
     )
 
 
+CLEARANCE_PER_WIDTH = 0.1
+"""Default ``solver.clearance`` as a fraction of ``arm.width``: a tenth of the arm's thickness."""
+
+
+def clearance(scene: SceneModel) -> float:
+    """d_safe: the scene's ``solver.clearance``, or ``arm.width / 10``."""
+    given = scene.solver.clearance
+    return float(given) if given is not None else CLEARANCE_PER_WIDTH * scene.arm.width
+
+
 def _solver(scene: SceneModel) -> SolverSettings:
     s = scene.solver
     return SolverSettings(
@@ -43,6 +53,8 @@ def _solver(scene: SceneModel) -> SolverSettings:
         jacobian=s.jacobian,
         damping=s.damping,
         max_joint_step=float(np.radians(s.max_joint_step)),
+        clearance=clearance(scene),
+        planner=s.planner,
         w_goal=s.weights.goal,
         w_obstacles=s.weights.obstacles,
         w_limits=s.weights.limits,
@@ -51,12 +63,14 @@ def _solver(scene: SceneModel) -> SolverSettings:
     )
 
 
-def scene_to_problem(scene: SceneModel) -> Problem:
+def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     """Convert a validated scene to the solver's problem (radians, numpy arrays).
 
     Parameters
     ----------
     scene : SceneModel
+    fps : float, optional
+        Frames per second to solve at, when a command overrides ``render.fps``.
 
     Returns
     -------
@@ -64,14 +78,14 @@ def scene_to_problem(scene: SceneModel) -> Problem:
     """
     arm = scene.arm
     n = len(arm.links)
-    fps = scene.render.fps
+    fps = scene.render.fps if fps is None else fps
     return Problem(
         arm=Arm.from_names(arm.links, base=arm.base, axes=axis_names(scene), direction=arm.direction),
         half_width=arm.width / 2.0,
         home=np.radians(np.array(arm.home if arm.home is not None else [0.0] * n, dtype=float)),
         limits=_limits(scene),
         obstacles=_obstacles(scene),
-        goals=tuple(Goal(np.array(g.position, dtype=float), int(round(g.hold * fps))) for g in scene.goals),
+        goals=tuple(Goal(np.array(g.position, dtype=float), g.hold) for g in scene.goals),
         solver=_solver(scene),
         fps=fps,
     )

@@ -117,6 +117,14 @@ class SolverModel(Strict):
     max_joint_step: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
         default=10.0, description="No joint turns by more than this many degrees in one frame."
     )
+    clearance: Positive | None = Field(
+        default=None,
+        description="d_safe: the distance every arm part keeps from every obstacle surface, scene units; default arm.width / 10.",
+    )
+    planner: Literal["auto", "off"] = Field(
+        default="auto",
+        description="auto: escape stalls by planning a joint-space path; off: the pure local method (for teaching).",
+    )
     weights: WeightsModel = WeightsModel()
 
 

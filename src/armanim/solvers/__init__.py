@@ -3,7 +3,7 @@
 A method owns only its step: given the problem, the current angles and the goal, it
 proposes a joint update. The frame loop (:mod:`armanim.trajectory`) owns termination,
 holds and reached/missed, and passes every proposal through
-:func:`armanim.solvers.barrier.shorten_step`.
+:func:`armanim.solvers.barrier.safe_step` (the safety filter).
 """
 
 from __future__ import annotations

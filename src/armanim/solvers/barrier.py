@@ -1,30 +1,53 @@
-"""The barrier guarantee, in one place for every method.
+"""The safety filter: the closest safe step to a method's proposal, for every method.
 
-A proposed joint update is first scaled so that no joint turns by more than
-``solver.max_joint_step`` in one frame, then halved until the new pose keeps every
-link capsule out of every obstacle and every limited joint strictly inside its
-limits. A step that never becomes safe is not taken: the arm holds still.
+A method proposes dPhi_nom. After scaling it so that no joint turns by more than
+``solver.max_joint_step``, a small quadratic program returns the closest safe step
+
+    minimise |dPhi - dPhi_nom|^2
+    subject to  n . J_q dPhi >= -gamma (d - d_safe)      every link capsule near an obstacle
+                -gamma (phi_j - lo_j) <= dPhi_j <= gamma (hi_j - phi_j)   every limited joint
+                |dPhi_j| <= max_joint_step
+
+(a velocity damper, the discrete control-barrier condition: each frame closes at most
+the fraction gamma of what is left of a gap). d is the capsule's clearance to the
+sphere, n the unit normal at its closest point q, J_q that point's Jacobian;
+d_safe is ``solver.clearance``; lo_j and hi_j are the limits moved inward by
+:data:`LIMIT_BUFFER` of the limit margin. An arm touching a sphere therefore slides
+along it instead of stopping, and never rests on a surface or a limit.
+
+The constraints are linear, the true clearance is not, so the new pose is then
+checked exactly; only a step that fails that check is shortened (halved). When no
+constraint is active the method's own step is returned unchanged, without a QP.
+The QP is solved with DAQP (a dual active-set solver for small dense problems).
 """
 
 from __future__ import annotations
 
+from ctypes import c_int
 from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.cost import min_link_clearance
+from armanim.cost import clearances
 from armanim.geometry import wrap_angle
-from armanim.kinematics import forward
+from armanim.kinematics import forward, point_jacobian
 from armanim.problem import Problem
 from armanim.solvers.common import ArmState, arm_state
 
+GAMMA = 0.5
+"""Fraction of the remaining gap to a surface or a limit that one frame may close."""
+FILTER_MARGIN = 0.1
+"""The filter aims at d_safe (1 + FILTER_MARGIN): sliding along a curved surface drops
+below the tangent plane the QP sees, and the margin absorbs that without shortening."""
+LIMIT_BUFFER = 0.05
+"""Joints keep this fraction of ``arm.limit_margin`` from their limits (0.5 degrees by default)."""
 HALVINGS = 30
-CONTACT = 1e-9  # clearance that counts as touching: kept strictly positive
+NO_BOUND = 1e30  # DAQP's "no upper bound"
 
 
 @dataclass(frozen=True)
-class Shortened:
-    """Result of :func:`shorten_step`.
+class SafeStep:
+    """Result of :func:`safe_step`.
 
     Attributes
     ----------
@@ -32,9 +55,9 @@ class Shortened:
         The new, safe pose (unlimited joints wrapped to (-pi, pi]), with its
         kinematics and clearances, ready for the next step.
     scale : float
-        Fraction of the proposed step taken (1 = all of it, 0 = none).
+        |dPhi| / |dPhi_nom| of the step taken: 1 = the proposal as it was, 0 = none.
     blocked_by : str or None
-        What shortened the step beyond the joint-step cap: ``"obstacle"``,
+        What changed the proposal beyond the joint-step cap: ``"obstacle"``,
         ``"limit"``, ``"nan"`` (the proposal was not finite), or None.
     """
 
@@ -48,6 +71,32 @@ class Shortened:
         return self.state.phi
 
 
+@dataclass(frozen=True)
+class Constraints:
+    """The filter's linear constraints lower <= A dPhi and lo <= dPhi <= hi.
+
+    ``A`` has one row per (link, obstacle) pair near enough to matter.
+    """
+
+    rows: np.ndarray  # (k, n)
+    lower: np.ndarray  # (k,)
+    lo: np.ndarray  # (n,)
+    hi: np.ndarray  # (n,)
+    limit_active: bool
+
+    def satisfied_by(self, dphi: np.ndarray) -> bool:
+        """Whether ``dphi`` meets every constraint (to rounding)."""
+        eps = 1e-12
+        if np.any(dphi < self.lo - eps) or np.any(dphi > self.hi + eps):
+            return False
+        return not len(self.rows) or bool(np.all(self.rows @ dphi >= self.lower - eps))
+
+
+def limit_buffer(problem: Problem) -> float:
+    """Radians every limited joint keeps from its limits."""
+    return LIMIT_BUFFER * problem.limits.margin
+
+
 def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """Wrap the unlimited joints into (-pi, pi]; limited joints stay as they are."""
     if np.abs(phi).max() <= np.pi:  # the usual case: nothing to wrap
@@ -55,40 +104,148 @@ def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
     return np.where(problem.limits.limited, phi, wrap_angle(phi))
 
 
-def violations(problem: Problem, candidates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """For (k, n) candidate poses: (k,) bool of limit violations and of obstacle contact."""
+def joint_reach(problem: Problem) -> np.ndarray:
+    """(n,) farthest any arm point lies from joint j's axis: the links from j on, plus the width."""
+    links = problem.arm.links
+    return np.cumsum(links[::-1])[::-1] + problem.half_width
+
+
+def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
+    """Most any arm point can move under a joint change ``dphi`` (sum of |dphi_j| times joint_reach)."""
+    return float(np.abs(dphi) @ joint_reach(problem))
+
+
+def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+    """Per-joint bounds of dPhi: the joint-step cap and the limits' velocity damper."""
+    cap = problem.solver.max_joint_step
     lim = problem.limits
-    limit_bad = np.any((candidates <= lim.lower) | (candidates >= lim.upper), axis=-1)
-    if not len(problem.obstacles):
-        return limit_bad, np.zeros(len(candidates), dtype=bool)
-    clearance = min_link_clearance(forward(problem.arm, candidates), problem.obstacles, problem.half_width)
-    return limit_bad, ~(clearance > CONTACT)
+    buffer = limit_buffer(problem)
+    with np.errstate(invalid="ignore"):
+        lo = np.maximum(-cap, -GAMMA * (phi - (lim.lower + buffer)))
+        hi = np.minimum(cap, GAMMA * ((lim.upper - buffer) - phi))
+    lo = np.where(lim.limited, lo, -cap)
+    hi = np.where(lim.limited, hi, cap)
+    active = bool(np.any(lo > -cap) or np.any(hi < cap))
+    lo, hi = np.minimum(lo, 0.0), np.maximum(hi, 0.0)  # inside the buffer: never pushed past the cap, 0 always allowed
+    return lo, hi, active
 
 
-def shorten_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> Shortened:
-    """Take as much of ``dphi`` from ``state`` as the barriers allow (see the module docstring)."""
+def obstacle_rows(problem: Problem, state: ArmState, reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Constraint rows n . J_q and lower bounds -gamma (d - d_target) of the link-obstacle
+    pairs whose clearance is within ``reach`` of the target distance."""
+    n = problem.arm.n
+    if state.clearance is None:
+        return np.zeros((0, n)), np.zeros(0)
+    target = problem.solver.clearance * (1.0 + FILTER_MARGIN)
+    d = state.clearance.links
+    links, obstacles = np.nonzero(d - target < reach)
+    rows = np.empty((len(links), n))
+    for k, (link, obs) in enumerate(zip(links, obstacles)):
+        jac = point_jacobian(problem.arm, state.pose, link, state.clearance.t[link, obs])
+        rows[k] = state.clearance.normal[link, obs] @ jac
+    return rows, -GAMMA * (d[links, obstacles] - target)
+
+
+def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
+    """The constraints of the frame: only obstacle pairs that a step no larger than twice
+    the proposal could reach (0 is feasible, so the QP's answer is at most that far)."""
+    lo, hi, limit_active = joint_bounds(problem, state.phi)
+    reach = 2.0 * point_travel_bound(problem, nominal) + 1e-9
+    rows, lower = obstacle_rows(problem, state, reach)
+    return Constraints(rows, lower, lo, hi, limit_active)
+
+
+def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | None:
+    """Solve the filter's QP with DAQP; None when it has no solution."""
+    import daqp  # imported here: only frames with an active constraint need it
+
+    n = len(nominal)
+    k = len(cons.rows)
+    upper = np.concatenate([cons.hi, np.full(k, NO_BOUND)])
+    lower = np.concatenate([cons.lo, cons.lower])
+    x, _, flag, _ = daqp.solve(
+        np.eye(n), -nominal, cons.rows.reshape(k, n), upper, lower, np.zeros(n + k, dtype=c_int)
+    )
+    if flag < 1 or not np.all(np.isfinite(x)):
+        return None
+    return np.clip(x, cons.lo, cons.hi)  # DAQP meets bounds to its tolerance (~1e-7): the cap is exact
+
+
+def filtered_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray:
+    """The closest step meeting ``cons``; if even that is infeasible (the pose already sits
+    inside a margin), the closest step that does not close any gap further; else none."""
+    if cons.satisfied_by(nominal):
+        return nominal
+    dphi = closest_safe_step(nominal, cons)
+    if dphi is None:
+        relaxed = Constraints(cons.rows, np.minimum(cons.lower, 0.0), cons.lo, cons.hi, cons.limit_active)
+        dphi = closest_safe_step(nominal, relaxed)
+    return dphi if dphi is not None else np.zeros_like(nominal)
+
+
+def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray) -> ArmState | None:
+    """The pose ``phi`` as a state if it keeps every guarantee exactly, else None.
+
+    Guarantees: every limited joint at least the limit buffer inside its limits (or no
+    nearer than it already was), every link capsule at least ``solver.clearance`` from
+    every obstacle (or no nearer than it already was), and no NaN.
+    """
+    if not np.all(np.isfinite(phi)):
+        return None
+    lim = problem.limits
+    buffer = limit_buffer(problem)
+    gap_now = np.minimum(now.phi - lim.lower, lim.upper - now.phi)
+    gap = np.minimum(phi - lim.lower, lim.upper - phi)
+    if np.any(gap <= 0) or np.any(gap < np.minimum(buffer, gap_now)):
+        return None
+    candidate = arm_state(problem, phi)
+    if candidate.clearance is not None:
+        floor = min(problem.solver.clearance, now.min_clearance)
+        if not candidate.min_clearance >= floor:
+            return None
+    return candidate
+
+
+def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> SafeStep:
+    """The closest safe step to the proposal ``dphi`` (see the module docstring)."""
     biggest = float(np.abs(dphi).max(initial=0.0))
     if not biggest < np.inf:  # NaN or infinity somewhere in the proposal
-        return Shortened(state, 0.0, "nan")
-    phi = state.phi
-    cap = min(1.0, problem.solver.max_joint_step / biggest) if biggest > 0 else 1.0
-    full = phi + cap * dphi
-    lim = problem.limits
-    limit_bad = bool(((full <= lim.lower) | (full >= lim.upper)).any())
-    if not limit_bad:
-        candidate = arm_state(problem, full)
-        if candidate.min_clearance > CONTACT:
-            return Shortened(_wrapped(problem, candidate), cap, None)
-    blocked_by = "limit" if limit_bad else "obstacle"
-    scales = cap * 0.5 ** np.arange(1, HALVINGS + 1)
-    limit_bad, contact = violations(problem, phi + scales[:, None] * dphi)
-    safe = np.nonzero(~(limit_bad | contact))[0]
-    if len(safe) == 0:
-        return Shortened(state, 0.0, blocked_by)
-    scale = float(scales[safe[0]])
-    return Shortened(_wrapped(problem, arm_state(problem, phi + scale * dphi)), scale, blocked_by)
+        return SafeStep(state, 0.0, "nan")
+    if biggest == 0.0:
+        return SafeStep(state, 0.0, None)
+    nominal = dphi * min(1.0, problem.solver.max_joint_step / biggest)
+    cons = filter_constraints(problem, state, nominal)
+    step = filtered_step(nominal, cons)
+    for scale in 0.5 ** np.arange(HALVINGS + 1):
+        moved = exactly_safe(problem, state, state.phi + scale * step)
+        if moved is not None:
+            blocked = None if step is nominal and scale == 1.0 else blocker(problem, state, nominal, cons)
+            return SafeStep(_wrapped(problem, moved), float(np.linalg.norm(scale * step) / np.linalg.norm(dphi)), blocked)
+    return SafeStep(state, 0.0, blocker(problem, state, nominal, cons))
+
+
+def blocker(problem: Problem, state: ArmState, nominal: np.ndarray, cons: Constraints) -> str:
+    """What kept the proposal from being taken as it was: ``"obstacle"`` or ``"limit"``."""
+    if len(cons.rows) and np.any(cons.rows @ nominal < cons.lower - 1e-12):
+        return "obstacle"
+    if np.any(nominal < cons.lo - 1e-12) or np.any(nominal > cons.hi + 1e-12):
+        return "limit"
+    return "obstacle"  # the linear model allowed it, the exact clearance did not
 
 
 def _wrapped(problem: Problem, state: ArmState) -> ArmState:
     """The same pose with unlimited joints wrapped (the kinematics do not change)."""
     return ArmState(wrap_unlimited(problem, state.phi), state.pose, state.clearance)
+
+
+def pose_is_free(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """For (k, n) poses: (k,) bool, inside the limits by the buffer and every link capsule
+    at least ``solver.clearance`` from every obstacle (the planner's validity test)."""
+    phi = np.atleast_2d(phi)
+    lim = problem.limits
+    buffer = limit_buffer(problem)
+    ok = np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
+    if len(problem.obstacles):
+        cl = clearances(forward(problem.arm, phi), problem.obstacles, problem.half_width)
+        ok &= cl.links.min(axis=(-1, -2)) >= problem.solver.clearance
+    return ok

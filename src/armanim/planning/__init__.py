@@ -1,0 +1,78 @@
+"""The planner the frame loop calls when a local method stalls (``solver.planner: auto``).
+
+1. goal poses: many IK solves from deterministic seeds (:mod:`.poses`), kept when
+   inside the limits and at least ``solver.clearance`` from every obstacle;
+2. a path to the nearest of them: the straight joint-space segment, or OMPL's
+   RRT-Connect and its simplification (:mod:`.path`);
+3. frames along it, no joint above ``max_joint_step`` per frame, smooth start and stop
+   (:mod:`.follow`).
+
+Pure core: numpy and OMPL, no files, no printing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.planning.follow import path_frames
+from armanim.planning.path import plan_path
+from armanim.planning.poses import goal_poses
+from armanim.problem import Problem
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Result of :func:`plan_motion`.
+
+    Attributes
+    ----------
+    frames : (F, n) array or None
+        Poses to follow, one per frame; None when there is no plan.
+    reason : str or None
+        Why there is none: ``"out_of_reach"``, ``"no_free_pose"`` or ``"no_path"``.
+    poses : int
+        Free goal poses found.
+    source : str
+        ``"straight"``, ``"rrt_connect"`` or ``"none"``.
+    checks : int
+        Poses checked for collisions while searching a path.
+    """
+
+    frames: np.ndarray | None
+    reason: str | None
+    poses: int
+    source: str
+    checks: int
+
+
+def plan_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0) -> Plan:
+    """Plan from the pose ``phi_now`` to a free pose whose tip is at ``goal``.
+
+    Parameters
+    ----------
+    problem : Problem
+    phi_now : (n,) array
+        The current pose, radians.
+    goal : (3,) array
+    seed : int
+        Seed of the IK starts (the frame loop passes the goal's index and attempt).
+
+    Returns
+    -------
+    Plan
+    """
+    found = goal_poses(problem, phi_now, goal, seed)
+    if not found.reachable:
+        return Plan(None, "out_of_reach", 0, "none", 0)
+    if not len(found.poses):
+        return Plan(None, "no_free_pose", 0, "none", 0)
+    path = plan_path(problem, phi_now, found.poses)
+    if path.waypoints is None:
+        return Plan(None, "no_path", len(found.poses), path.source, path.checks)
+    frames = path_frames(path.waypoints, problem.solver.max_joint_step)
+    return Plan(frames, None, len(found.poses), path.source, path.checks)
+
+
+__all__ = ["Plan", "plan_motion"]

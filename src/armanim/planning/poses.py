@@ -1,0 +1,134 @@
+"""Goal poses: many inverse-kinematics solves at once, from deterministic seeds.
+
+Damped least squares on the tip, vectorised over the seeds (one batched forward
+kinematics and one batched Jacobian per iteration), limited joints clipped into their
+limits at every iteration. The poses kept are inside the limits with every link at
+least ``solver.clearance`` from every obstacle, nearest to the current pose first.
+Pure core: numpy only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.geometry import wrap_angle
+from armanim.kinematics import forward, tip_jacobian
+from armanim.problem import Problem
+from armanim.solvers.barrier import limit_buffer, pose_is_free
+
+SEEDS = 128
+ITERATIONS = 80
+TURN_PER_ITERATION = 0.4  # radians: larger steps jump between branches and oscillate
+DAMPING_PER_REACH = 1e-3  # lambda as a fraction of the arm's length
+HIT = 0.25  # a solve counts when its tip is within this fraction of the tolerance
+
+
+@dataclass(frozen=True)
+class GoalPoses:
+    """Result of :func:`goal_poses`.
+
+    Attributes
+    ----------
+    poses : (k, n) array
+        Free poses whose tip is at the goal, nearest to the current pose first
+        (unlimited joints taken the short way round from the current pose).
+    reachable : bool
+        Whether any solve reached the goal at all, limits and obstacles aside: False
+        means the goal is out of this arm's reach.
+    """
+
+    poses: np.ndarray
+    reachable: bool
+
+
+def seed_poses(problem: Problem, phi_now: np.ndarray, count: int, seed: int) -> np.ndarray:
+    """(count, n) starts: the current pose, its mirrored elbow, then seeded uniform poses
+    inside the limits (unlimited joints over a whole turn)."""
+    lo, hi = joint_ranges(problem)
+    rng = np.random.default_rng(seed)
+    starts = rng.uniform(lo, hi, size=(count, len(phi_now)))
+    starts[0] = phi_now
+    mirrored = phi_now.copy()
+    mirrored[1:] = -mirrored[1:]
+    starts[1] = np.clip(mirrored, lo, hi)
+    return starts
+
+
+def joint_ranges(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
+    """Where a joint may be: its limits less the buffer, or (-pi, pi] when unlimited."""
+    lim = problem.limits
+    buffer = limit_buffer(problem)
+    lo = np.where(lim.limited, lim.lower + buffer, -np.pi)
+    hi = np.where(lim.limited, lim.upper - buffer, np.pi)
+    return lo, hi
+
+
+def solve_many(problem: Problem, starts: np.ndarray, goal: np.ndarray, clip: bool = True) -> np.ndarray:
+    """Damped least-squares IK from every start at once; returns (S, n) poses.
+
+    With ``clip`` the limited joints are kept inside their limits at every iteration.
+    """
+    arm = problem.arm
+    lo, hi = joint_ranges(problem)
+    damping2 = (DAMPING_PER_REACH * arm.reach) ** 2
+    phi = starts.copy()
+    for _ in range(ITERATIONS):
+        pose = forward(arm, phi)
+        error = goal - pose.tip  # (S, 3)
+        jac = tip_jacobian(arm, pose)  # (S, 3, n)
+        gram = jac @ np.swapaxes(jac, -1, -2) + damping2 * np.eye(3)
+        dphi = np.einsum("sji,sj->si", jac, np.linalg.solve(gram, error[..., None])[..., 0])
+        biggest = np.abs(dphi).max(axis=-1, keepdims=True)
+        dphi *= np.minimum(1.0, TURN_PER_ITERATION / np.maximum(biggest, 1e-300))
+        phi = phi + dphi
+        if clip:
+            phi = np.clip(phi, lo, hi)
+    return phi
+
+
+def goal_poses(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0) -> GoalPoses:
+    """Free poses whose tip is at ``goal``, nearest to ``phi_now`` first.
+
+    Parameters
+    ----------
+    problem : Problem
+    phi_now : (n,) array
+        The current pose, radians.
+    goal : (3,) array
+    seed : int
+        Seed of the random starts (the same seed gives the same poses).
+
+    Returns
+    -------
+    GoalPoses
+    """
+    tolerance = HIT * problem.solver.tolerance
+    starts = seed_poses(problem, phi_now, SEEDS, seed)
+    solved = solve_many(problem, starts, goal)
+    hit = np.linalg.norm(forward(problem.arm, solved).tip - goal, axis=-1) < tolerance
+    reachable = bool(hit.any()) or _reachable_without_limits(problem, starts, goal, tolerance)
+    free = solved[hit & pose_is_free(problem, solved)]
+    free = nearest_first(problem, phi_now, free)
+    return GoalPoses(poses=free, reachable=reachable)
+
+
+def _reachable_without_limits(problem: Problem, starts: np.ndarray, goal: np.ndarray, tolerance: float) -> bool:
+    solved = solve_many(problem, starts, goal, clip=False)
+    return bool(np.any(np.linalg.norm(forward(problem.arm, solved).tip - goal, axis=-1) < tolerance))
+
+
+def nearest_first(problem: Problem, phi_now: np.ndarray, poses: np.ndarray) -> np.ndarray:
+    """Poses with unlimited joints moved the short way round from ``phi_now``, sorted by
+    joint-space distance from it; near-duplicates (within 1e-3 rad) dropped."""
+    if not len(poses):
+        return poses
+    unlimited = ~problem.limits.limited
+    poses = np.where(unlimited, phi_now + wrap_angle(poses - phi_now), poses)
+    order = np.argsort(np.linalg.norm(poses - phi_now, axis=-1), kind="stable")
+    kept: list[np.ndarray] = []
+    for pose in poses[order]:
+        if all(np.abs(pose - other).max() > 1e-3 for other in kept):
+            kept.append(pose)
+    return np.array(kept)

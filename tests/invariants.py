@@ -1,0 +1,90 @@
+"""The invariants every trajectory keeps, checked from scratch (used by several test modules)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from armanim.cost import clearances
+from armanim.geometry import wrap_angle
+from armanim.kinematics import forward
+from armanim.problem import Problem
+from armanim.solvers.barrier import limit_buffer
+from armanim.trajectory import MISS_REASONS, Solution, frame_budget, hold_frames, max_joint_step
+
+TINY = 1e-9
+
+
+def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
+    traj = solution.trajectory
+    F, n = traj.phi.shape
+    assert n == problem.arm.n and F >= 1
+    assert F <= frame_budget(problem)
+    for name in ("phi", "tip", "distance"):
+        assert np.all(np.isfinite(getattr(traj, name))), name
+    # frame 0 is home; frames are numbered 0..F-1 and timed by fps
+    np.testing.assert_array_equal(traj.phi[0], problem.home)
+    np.testing.assert_allclose(traj.time, np.arange(F) / problem.fps)
+    # the tip is FK of the angles
+    pose = forward(problem.arm, traj.phi)
+    np.testing.assert_allclose(traj.tip, pose.tip, atol=1e-9, rtol=0)
+    # distance to the frame's goal
+    goals = np.array([g.position for g in problem.goals])
+    np.testing.assert_allclose(traj.distance, np.linalg.norm(traj.tip - goals[traj.goal], axis=1), atol=1e-9)
+    # goal index never goes back
+    assert np.all(np.diff(traj.goal) >= 0) and traj.goal[0] == 0
+    # every link capsule (and the tip) stays clear of every obstacle, recomputed
+    if len(problem.obstacles):
+        cl = clearances(pose, problem.obstacles, problem.half_width)
+        assert np.all(cl.d > 0), float(cl.d.min())
+        np.testing.assert_allclose(traj.clearance, cl.links.min(axis=(-1, -2)), atol=1e-12)
+        # every link keeps solver.clearance (or, from a home closer than that, gets no closer)
+        floor = min(problem.solver.clearance, traj.clearance[0])
+        assert traj.clearance.min() >= floor - TINY, (traj.clearance.min(), floor)
+    else:
+        assert np.all(np.isinf(traj.clearance))
+    # limited joints strictly inside their limits
+    lim = problem.limits
+    limited = lim.limited
+    assert np.all(traj.phi[:, limited] > lim.lower[limited])
+    assert np.all(traj.phi[:, limited] < lim.upper[limited])
+    # ... and keep the filter's buffer from them (or get no closer than home was)
+    gaps = np.minimum(traj.phi - lim.lower, lim.upper - traj.phi)[:, limited]
+    assert np.all(gaps >= np.minimum(limit_buffer(problem), gaps[0]) - TINY)
+    # modes: the method's steps, or a planned path when the planner is on
+    assert set(traj.mode) <= ({"ik", "plan"} if problem.solver.planner == "auto" else {"ik"})
+    # unlimited joints wrapped (frame 0 may be any home)
+    assert np.all(np.abs(traj.phi[1:, ~limited]) <= np.pi + TINY)
+    # no joint turns more than max_joint_step in one frame (wrap-aware)
+    if F > 1:
+        steps = np.abs(wrap_angle(np.diff(traj.phi, axis=0)))
+        assert steps.max() <= problem.solver.max_joint_step + TINY
+        assert max_joint_step(traj.phi) == pytest.approx(steps.max())
+    # reached rows are within tolerance, and only those
+    np.testing.assert_array_equal(traj.reached, traj.distance < problem.solver.tolerance)
+    # per-goal reports
+    assert len(solution.goals) == len(problem.goals)
+    for k, report in enumerate(solution.goals):
+        assert report.index == k
+        if report.reached:
+            assert report.reason is None
+            assert report.final_distance < problem.solver.tolerance
+        else:
+            assert report.reason in MISS_REASONS, report.reason
+            # a miss ends early (stalled, planned in vain) or at the frame cap, and says which
+            at_cap = report.frames == problem.solver.max_frames_per_goal
+            assert at_cap or report.reason != "too_slow"
+            assert report.final_distance >= problem.solver.tolerance
+        assert 0 <= report.frames <= problem.solver.max_frames_per_goal
+        if report.first_frame >= 0:
+            rows = np.nonzero(traj.goal == k)[0]
+            assert report.last_frame == rows[-1]
+            assert report.final_distance == pytest.approx(traj.distance[report.last_frame])
+        if report.reached:
+            # holds: the goal's last frames repeat the reached pose
+            hold = hold_frames(problem, problem.goals[k])
+            if hold:
+                last = report.last_frame
+                assert np.all(traj.phi[last - hold + 1 : last + 1] == traj.phi[last])
+                assert np.all(traj.reached[last - hold + 1 : last + 1])
+    assert solution.reached == sum(g.reached for g in solution.goals)

@@ -1,0 +1,198 @@
+"""Motion that does not freeze: the safety filter, stall detection and the planner.
+
+The scenes are the failures reported against the first frame loop: an arm resting on
+a sphere's safety shell with the goal on the far side, a goal on the axis of the
+straight arm (no Jacobian column points along it), a goal behind a sphere, a wall
+of spheres that only a planned path gets around.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from conftest import ROOT
+from hypothesis import given, settings
+from invariants import assert_trajectory_invariants
+from strategies import cluttered_problems
+
+from armanim.cost import min_link_clearance
+from armanim.kinematics import Arm, forward
+from armanim.planning import plan_motion
+from armanim.planning.follow import path_frames
+from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.solvers import METHODS, arm_state, step_function
+from armanim.solvers.barrier import limit_buffer, pose_is_free, safe_step
+from armanim.trajectory import solve_trajectory
+
+NOTES_ARM = Arm.from_names([2, 5, 5, 5])  # base at the origin: straight up, the tip at (0, 0, 17)
+CONTACT = [((3.0, 0.0, 10.0), 2.7)]  # the straight arm's capsules exactly solver.clearance (0.05) from it
+WALL = [((4, 0, 12), 1.5), ((4, 0, 8.5), 1.5), ((4, 0, 15.5), 1.5), ((4, 3, 12), 1.5), ((4, -3, 12), 1.5)]
+
+
+def notes_problem(obstacles=(), goals=((7.0, 0.0, 9.0),), method="pinv", planner="auto", limits=None, home=None):
+    """The notes' arm at the origin with spheres (centre, radius) and goals."""
+    centers = np.array([c for c, _ in obstacles], dtype=float).reshape(-1, 3)
+    radii = np.array([r for _, r in obstacles], dtype=float)
+    return Problem(
+        arm=NOTES_ARM,
+        half_width=0.25,
+        home=np.zeros(4) if home is None else np.radians(home),
+        limits=limits or Limits.unlimited(4),
+        obstacles=Obstacles(centers, radii, radii.copy()) if obstacles else Obstacles.none(),
+        goals=tuple(Goal(np.array(g, dtype=float)) for g in goals),
+        solver=SolverSettings(method=method, max_step=0.5, planner=planner),
+    )
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_arm_resting_on_a_sphere_reaches_the_goal_on_its_far_side(method):
+    problem = notes_problem(CONTACT, method=method)
+    assert float(min_link_clearance(forward(problem.arm, problem.home), problem.obstacles, 0.25)) == pytest.approx(0.05)
+    solution = solve_trajectory(problem)
+    assert solution.goals[0].reached, solution.goals[0]
+    assert_trajectory_invariants(problem, solution)
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_goals_on_the_straight_arms_own_axis_are_reached(method):
+    problem = notes_problem(goals=((0.0, 0.0, 16.5), (0.0, 0.0, 3.0)), method=method)
+    solution = solve_trajectory(problem)
+    assert [g.reached for g in solution.goals] == [True, True], solution.goals
+    first = solution.goals[0]
+    assert first.planned and first.frames < 60  # stalled for half a second, then planned
+    assert_trajectory_invariants(problem, solution)
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_goal_directly_behind_a_sphere_is_reached(method):
+    problem = notes_problem([((0.0, 6.0, 11.5), 2.0)], goals=((0.0, 10.0, 8.0),), method=method)
+    solution = solve_trajectory(problem)
+    assert solution.goals[0].reached
+    assert "plan" in set(solution.trajectory.mode)
+    assert_trajectory_invariants(problem, solution)
+
+
+def test_wall_of_spheres_is_passed_by_rrt_connect():
+    problem = notes_problem(WALL, goals=((8.0, 0.0, 10.0),))
+    solution = solve_trajectory(problem)
+    goal = solution.goals[0]
+    assert goal.reached and goal.planning.path == "rrt_connect"
+    assert goal.planning.frames == np.count_nonzero(solution.trajectory.mode == "plan")
+    assert_trajectory_invariants(problem, solution)
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_planner_off_misses_a_stalled_goal_within_a_second(method):
+    problem = notes_problem(WALL, goals=((8.0, 0.0, 10.0),), method=method, planner="off")
+    solution = solve_trajectory(problem)
+    goal = solution.goals[0]
+    assert not goal.reached and goal.reason in {"blocked_by_obstacle", "stalled"}
+    assert goal.frames <= problem.fps and not goal.planned
+    assert set(solution.trajectory.mode) == {"ik"}
+
+
+def test_limits_alone_do_not_stop_pinv():
+    # the notes' limits and goals 20 degrees inside them: the filter slides along the limits
+    lim = Limits(np.radians([-180.0, -100, -150, -150]), np.radians([180.0, 100, 150, 150]), np.radians(10.0))
+    poses = np.radians([[30, 80, 130, -20], [-60, -80, 40, 130], [120, 60, -130, 0], [0, -80, -130, 120]])
+    goals = tuple(map(tuple, forward(NOTES_ARM, poses).tip))
+    problem = notes_problem(goals=goals, limits=lim, planner="off")
+    solution = solve_trajectory(problem)
+    assert all(g.reached for g in solution.goals), [(g.reason, g.final_distance) for g in solution.goals]
+    assert_trajectory_invariants(problem, solution)
+
+
+def test_goal_only_reachable_outside_the_limits_is_reported_as_no_free_pose():
+    # (0, 10, 8) needs the base turned by 90 degrees; its limits allow 10
+    lim = Limits(np.radians([-10.0, -100, -150, -150]), np.radians([10.0, 100, 150, 150]), np.radians(10.0))
+    solution = solve_trajectory(notes_problem(goals=((0.0, 10.0, 8.0),), limits=lim))
+    goal = solution.goals[0]
+    assert goal.reason == "no_free_pose" and goal.planned and goal.planning.poses == 0
+
+
+def test_out_of_reach_goal_is_not_planned():
+    solution = solve_trajectory(notes_problem(goals=((30.0, 0.0, 5.0),)))
+    assert solution.goals[0].reason == "out_of_reach" and not solution.goals[0].planned
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_planner_off_without_active_constraint_takes_the_methods_own_step(method):
+    problem = notes_problem(goals=((6.0, 2.0, 9.0),), method=method, planner="off", home=[10, 30, 40, 20])
+    problem = replace(problem, solver=replace(problem.solver, max_joint_step=np.pi))
+    state = arm_state(problem, problem.home)
+    proposal = step_function(method)(problem, state, problem.goals[0].position)
+    solution = solve_trajectory(problem)
+    np.testing.assert_array_equal(solution.trajectory.phi[1], problem.home + proposal.dphi)
+
+
+def test_filter_slides_along_a_sphere_instead_of_stopping():
+    problem = notes_problem(CONTACT)
+    state = arm_state(problem, problem.home)
+    into = safe_step(problem, state, np.array([0.0, 0.3, 0.0, 0.0]))  # tilts the whole arm into the sphere
+    assert into.blocked_by == "obstacle" and into.phi[1] < 0.1
+    assert into.phi[2] < 0  # the elbow bends the arm away instead: it moves, not freezes
+    sideways = safe_step(problem, state, np.array([0.2, 0.3, 0.0, 0.0]))  # ... with a turn about the base
+    assert sideways.blocked_by == "obstacle" and sideways.phi[0] > 0.1  # the free direction is kept
+    for moved in (into, sideways):
+        assert moved.state.min_clearance >= problem.solver.clearance
+
+
+def test_filter_stops_at_the_limit_buffer_and_keeps_the_other_joints():
+    lim = Limits(np.array([-np.inf, -0.2, -np.inf, -np.inf]), np.array([np.inf, 0.2, np.inf, np.inf]), 0.2)
+    problem = notes_problem(limits=lim)
+    state = arm_state(problem, np.array([0.0, 0.199, 0.0, 0.0]))
+    moved = safe_step(problem, state, np.array([0.0, 0.1, 0.1, 0.0]))
+    assert moved.blocked_by == "limit"
+    assert moved.phi[1] <= 0.199 and moved.phi[2] == pytest.approx(0.1)
+    state = arm_state(problem, np.array([0.0, 0.1, 0.0, 0.0]))
+    for _ in range(30):
+        state = safe_step(problem, state, np.array([0.0, 0.1, 0.0, 0.0])).state
+    assert 0.2 - limit_buffer(problem) - 1e-9 <= state.phi[1] < 0.2  # approaches the buffer, never the limit
+
+
+def test_plan_frames_are_free_and_within_the_joint_step():
+    problem = notes_problem(WALL, goals=((8.0, 0.0, 10.0),))
+    plan = plan_motion(problem, problem.home, problem.goals[0].position)
+    assert plan.reason is None and plan.source == "rrt_connect"
+    frames = np.vstack([problem.home, plan.frames])
+    assert np.abs(np.diff(frames, axis=0)).max() <= problem.solver.max_joint_step + 1e-12
+    assert np.linalg.norm(forward(problem.arm, plan.frames[-1]).tip - problem.goals[0].position) < problem.solver.tolerance
+    assert pose_is_free(problem, plan.frames[-1:]).all()
+
+
+def test_path_frames_start_and_stop_slowly():
+    frames = path_frames(np.array([[0.0, 0.0], [1.0, 0.5], [2.0, 0.5]]), 0.1)
+    speed = np.abs(np.diff(frames, axis=0)).max(axis=1)
+    assert speed.max() <= 0.1 + 1e-12
+    assert speed[0] < 0.2 * speed.max() and speed[-1] < 0.2 * speed.max()
+    np.testing.assert_allclose(frames[-1], [2.0, 0.5])
+
+
+@given(cluttered_problems())
+@settings(max_examples=12)
+def test_cluttered_scene_trajectory_invariants(problem):
+    assert_trajectory_invariants(problem, solve_trajectory(problem))
+
+
+def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(tmp_path):
+    # the second process plans another scene first: OMPL's process-wide random numbers
+    # must not leak from one plan into the next
+    program = (
+        "import sys, numpy as np\n"
+        "sys.path.insert(0, sys.argv[1])\n"
+        "from test_motion import WALL, CONTACT, notes_problem\n"
+        "from armanim.output.csvfile import trajectory_csv_text\n"
+        "from armanim.trajectory import solve_trajectory\n"
+        "if sys.argv[2] == 'warm':\n"
+        "    solve_trajectory(notes_problem(CONTACT, method='dls'))\n"
+        "print(trajectory_csv_text(solve_trajectory(notes_problem(WALL, goals=((8.0, 0.0, 10.0),))).trajectory), end='')\n"
+    )
+    tests = str(ROOT / "tests")
+    runs = [subprocess.run([sys.executable, "-c", program, tests, how], capture_output=True, text=True, check=True) for how in ("cold", "warm")]
+    assert ",plan" in runs[0].stdout
+    assert runs[0].stdout == runs[1].stdout
+    assert not any("leaked" in run.stderr for run in runs)  # OMPL's objects are freed before exit
