@@ -379,7 +379,7 @@ class SceneCanvas:
         hidden, xy = bool(self.goal_hidden[i]), self.goal_xy[i]
         label = self.goal_labels[i]
         label.set_color(GOAL_COLORS[STATUS_NAMES[code]] if code != PENDING else TEXT_COLOR)
-        label.set_alpha(HIDDEN_ALPHA if hidden else 1.0)
+        label.set_alpha(1.0)  # the number stays readable; only the marker of a hidden goal is dimmed
         artists = [(self.hidden_marks if hidden else self.goal_marks)[code], label]
         if code == CURRENT and not hidden:
             artists.insert(0, self.goal_ring)
