@@ -67,7 +67,7 @@ def run_scene(
     ----------
     path : scene file
     out_root : folder that receives one folder per scene
-    video : render the video and plot.png (False: CSV and summary only)
+    video : render the video, plot.png and poster.png (False: CSV and summary only)
     jobs : worker processes for rendering (default: all cores)
     render_overrides : RenderSettings fields to override (e.g. ``{"size": (320, 240)}``)
     progress : optional callback ``progress(stage, done, total)``
@@ -134,6 +134,7 @@ def produce_outputs(
 def rerender_run(
     folder: str | Path,
     *,
+    out: str | Path | None = None,
     jobs: int | None = None,
     render_overrides: dict | None = None,
     progress: Progress | None = None,
@@ -141,7 +142,10 @@ def rerender_run(
     """Re-render a finished run from its folder (scene.yaml, trajectory.csv, summary.json)
     without solving: another size, view, fps or format.
 
-    Returns the written files by kind (``video``, ``plot``).
+    ``out``: write the video, plot.png and poster.png into this folder (created if
+    needed) instead of replacing the run's own.
+
+    Returns the written files by kind (``video``, ``plot``, ``poster``).
 
     Raises
     ------
@@ -152,8 +156,16 @@ def rerender_run(
 
     run = load_run(folder)
     settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
+    target = Path(folder) if out is None else Path(out)
+    if out is not None:
+        try:
+            target.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            from armanim.output.atomic import output_error
+
+            raise output_error(target, exc) from None
     # --fps sets the video's playback rate only: the frames and their times stay the run's own
-    return render_outputs(run.problem, run.solution, settings, Path(folder), run.scene.name, jobs=jobs, progress=progress)
+    return render_outputs(run.problem, run.solution, settings, target, run.scene.name, jobs=jobs, progress=progress)
 
 
 def render_outputs(
@@ -166,8 +178,9 @@ def render_outputs(
     jobs: int | None = None,
     progress: Progress | None = None,
 ) -> dict[str, Path]:
-    """Render the video and plot.png of a solved run into ``folder``."""
+    """Render the video, plot.png and poster.png of a solved run into ``folder``."""
     from armanim.render.plot import plot_run
+    from armanim.render.poster import render_poster
     from armanim.render.video import render_video
 
     traj = solution.trajectory
@@ -185,4 +198,6 @@ def render_outputs(
     )
     plot_path = folder / "plot.png"
     plot_run(problem, traj, solution.goals, plot_path, title=title)
-    return {"video": video_path, "plot": plot_path}
+    poster_path = folder / "poster.png"
+    render_poster(problem, traj, solution.goals, settings, poster_path, title=title)
+    return {"video": video_path, "plot": plot_path, "poster": poster_path}

@@ -141,8 +141,9 @@ class RenderSettings:
     fps : float
     size : (int, int)
         Width and height in pixels.
-    elevation, azimuth : float
-        Camera angles in degrees (as matplotlib's ``view_init`` takes them).
+    elevation, azimuth : float or None
+        Camera angles in degrees (as matplotlib's ``view_init`` takes them); None:
+        face-on for a planar arm, else 25 and -60 (see :mod:`armanim.render.camera`).
     bounds : (3, 2) array or None
         [[xmin, xmax], [ymin, ymax], [zmin, zmax]]; None means auto.
     trail : bool
@@ -153,8 +154,8 @@ class RenderSettings:
 
     fps: float = 30.0
     size: tuple[int, int] = (1280, 720)
-    elevation: float = 25.0
-    azimuth: float = -60.0
+    elevation: float | None = None
+    azimuth: float | None = None
     bounds: np.ndarray | None = None
     trail: bool = True
     format: str = "mp4"

@@ -97,8 +97,8 @@ def render_settings(scene: SceneModel) -> RenderSettings:
     return RenderSettings(
         fps=r.fps,
         size=(int(r.size[0]), int(r.size[1])),
-        elevation=r.view.elevation,
-        azimuth=r.view.azimuth,
+        elevation=r.view.elevation if "elevation" in r.view.model_fields_set else None,
+        azimuth=r.view.azimuth if "azimuth" in r.view.model_fields_set else None,
         bounds=None if r.bounds == "auto" else np.array(r.bounds, dtype=float),
         trail=r.trail,
         format=r.format,
