@@ -391,3 +391,15 @@ def test_exponent_numbers_are_numbers(tmp_path):
     content = BASE.replace("  method: pinv\n", "  method: newton\n  tolerance: 1e-3\n  weights: {target: 1e3}\n")
     problem = scene_to_problem(load_scene(write(tmp_path, content)).model)
     assert problem.solver.tolerance == 1e-3 and problem.solver.w_target == 1e3
+
+
+@pytest.mark.parametrize("written, read", [("off", "off"), ("'off'", "off"), ("auto", "auto"), ("false", "off")])
+def test_planner_off_as_yaml_reads_it(tmp_path, written, read):
+    # YAML 1.1 reads a bare off as false: the scene still means the planner is off
+    content = BASE.replace("  method: pinv\n", f"  method: pinv\n  planner: {written}\n")
+    assert load_scene(write(tmp_path, content)).model.solver.planner == read
+
+
+def test_planner_rejects_other_values(tmp_path, cli):
+    content = BASE.replace("  method: pinv\n", "  method: pinv\n  planner: maybe\n")
+    rejected(tmp_path, cli, content, "solver.planner", L["method"] + 1, "'maybe' is not allowed", "'auto' or 'off'")

@@ -244,7 +244,7 @@ def stall_frames(problem: Problem) -> int:
 def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
     """Whether the last ``window`` frames brought the tip closer by less than the tolerance,
     or than :data:`STALL_PROGRESS` of what is left above ``floor`` (the least distance
-    possible), whichever is larger.
+    possible; +inf judges by the tolerance alone), whichever is larger.
 
     >>> has_stalled([5.0, 4.0, 3.0], 2, 0.01), has_stalled([5.0, 5.0, 5.0], 2, 0.01)
     (False, True)
@@ -252,7 +252,7 @@ def has_stalled(distances: list[float], window: int, tolerance: float, floor: fl
     if len(distances) <= window:
         return False
     now = distances[-1]
-    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * (now - floor))
+    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * max(now - floor, 0.0))
 
 
 def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
@@ -303,6 +303,8 @@ def _visit_goal(problem, step: StepFunction, rec: _Recorder, state: ArmState, k:
     visit = _Visit(k, goal, [float(np.linalg.norm(state.tip - goal.position))])
     window = stall_frames(problem)
     floor = max(0.0, float(np.linalg.norm(goal.position - problem.arm.base)) - problem.arm.reach)
+    if s.planner == "off":
+        floor = np.inf  # no planner to take over: only progress below the tolerance is a stall
     while visit.distances[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
         state = _one_frame(problem, step, rec, state, visit)
         on_frame(visit)

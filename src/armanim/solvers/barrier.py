@@ -220,8 +220,18 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> SafeStep:
         moved = exactly_safe(problem, state, state.phi + scale * step)
         if moved is not None:
             blocked = None if step is nominal and scale == 1.0 else blocker(problem, state, nominal, cons)
-            return SafeStep(_wrapped(problem, moved), float(np.linalg.norm(scale * step) / np.linalg.norm(dphi)), blocked)
+            return SafeStep(_wrapped(problem, moved), step_fraction(scale * step, dphi), blocked)
     return SafeStep(state, 0.0, blocker(problem, state, nominal, cons))
+
+
+def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
+    """|taken| / |proposed|, 0 when the proposal's length is not a positive finite number.
+
+    >>> step_fraction(np.array([0.5, 0.0]), np.array([1.0, 0.0])), step_fraction(np.zeros(2), np.full(2, 1e-320))
+    (0.5, 0.0)
+    """
+    length = float(np.linalg.norm(proposed))
+    return float(np.linalg.norm(taken)) / length if 0.0 < length < np.inf else 0.0
 
 
 def blocker(problem: Problem, state: ArmState, nominal: np.ndarray, cons: Constraints) -> str:
