@@ -10,7 +10,7 @@ from armanim.geometry import wrap_angle
 from armanim.kinematics import forward
 from armanim.problem import Problem
 from armanim.solvers.barrier import limit_buffer
-from armanim.trajectory import MISS_REASONS, Solution, frame_budget, max_joint_step
+from armanim.trajectory import MISS_REASONS, Solution, frame_budget, hold_frames, max_joint_step
 
 TINY = 1e-9
 
@@ -82,7 +82,7 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
             assert report.final_distance == pytest.approx(traj.distance[report.last_frame])
         if report.reached:
             # holds: the goal's last frames repeat the reached pose
-            hold = problem.goals[k].hold_frames
+            hold = hold_frames(problem, problem.goals[k])
             if hold:
                 last = report.last_frame
                 assert np.all(traj.phi[last - hold + 1 : last + 1] == traj.phi[last])

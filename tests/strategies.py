@@ -97,7 +97,7 @@ def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_
         if len(obstacles):
             gap = np.linalg.norm(target - obstacles.centers, axis=1) - obstacles.radii
             assume(np.all(gap > 0.05))
-        goals.append(Goal(target, draw(st.integers(0, 3))))
+        goals.append(Goal(target, draw(st.sampled_from([0.0, 0.05, 0.1]))))
     solver = SolverSettings(
         method=draw(st.sampled_from(methods)),
         step=draw(st.floats(0.05, 0.5)),

@@ -86,12 +86,12 @@ def test_wall_of_spheres_is_passed_by_rrt_connect():
 
 
 @pytest.mark.parametrize("method", sorted(METHODS))
-def test_planner_off_misses_a_stalled_goal_within_a_second(method):
+def test_planner_off_misses_a_stalled_goal_within_seconds(method):
     problem = notes_problem(WALL, goals=((8.0, 0.0, 10.0),), method=method, planner="off")
     solution = solve_trajectory(problem)
     goal = solution.goals[0]
     assert not goal.reached and goal.reason in {"blocked_by_obstacle", "stalled"}
-    assert goal.frames <= problem.fps and not goal.planned
+    assert goal.frames <= 2 * problem.fps and not goal.planned  # half a second after progress stops
     assert set(solution.trajectory.mode) == {"ik"}
 
 

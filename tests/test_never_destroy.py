@@ -470,20 +470,25 @@ def _start(args, tmp_path: Path) -> psutil.Popen:
 
 
 def _wait_for_ffmpeg(proc: psutil.Popen, workers: int, timeout: float = 60.0) -> list[psutil.Process]:
-    """Every descendant, once ``workers`` python workers and at least one ffmpeg run."""
+    """Every descendant, once ``workers`` python workers (not the forkserver or the resource
+    tracker) and at least one ffmpeg that encodes run."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         assert proc.poll() is None, proc.communicate()
         with contextlib_suppress():
             kids = proc.children(recursive=True)
-            names = [k.name() for k in kids]
-            if any("ffmpeg" in n for n in names) and sum("python" in n for n in names) >= workers:
+            lines = [(k.name(), " ".join(k.cmdline()), k.ppid()) for k in kids]
+            encoding = any("ffmpeg" in name and "rawvideo" in line for name, line, _ in lines)
+            helper = ("multiprocessing.forkserver import main", "resource_tracker")  # the pool's own, not workers
+            busy = sum("python" in name and not (parent == proc.pid and any(h in line for h in helper))
+                       for name, line, parent in lines)
+            if encoding and busy >= workers:
                 return kids
         time.sleep(0.05)
     raise AssertionError("rendering did not start")
 
 
-def _batch_scenes(tmp_path: Path, count: int = 4) -> list[Path]:
+def _batch_scenes(tmp_path: Path, count: int = 8) -> list[Path]:
     text = NOTES.read_text()
     paths = []
     for i in range(count):
@@ -495,7 +500,7 @@ def _batch_scenes(tmp_path: Path, count: int = 4) -> list[Path]:
 
 def test_a_killed_run_takes_its_render_workers_and_ffmpeg_with_it(tmp_path):
     out = tmp_path / "out"
-    proc = _start(["run", NOTES, "--out", out, "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    proc = _start(["run", NOTES, "--out", out, "--jobs", "2", "--size", "480x360", "-q"], tmp_path)
     kids = _wait_for_ffmpeg(proc, workers=2)
     proc.kill()
     proc.wait()
@@ -513,7 +518,7 @@ def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(tmp_path
     assert armanim("run", NOTES, "--out", out, "--no-video", "-q").returncode == 0
     folder = out / "notes-arm"
     before = user_files(folder)
-    proc = _start(["render", folder, "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    proc = _start(["render", folder, "--jobs", "2", "--size", "480x360", "-q"], tmp_path)
     kids = _wait_for_ffmpeg(proc, workers=2)
     proc.kill()
     proc.wait()
@@ -527,7 +532,7 @@ def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(tmp_path
 
 
 def test_a_killed_batch_takes_its_workers_with_it(tmp_path):
-    proc = _start(["run", *_batch_scenes(tmp_path), "--out", tmp_path / "out", "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    proc = _start(["run", *_batch_scenes(tmp_path), "--out", tmp_path / "out", "--jobs", "2", "--size", "480x360", "-q"], tmp_path)
     kids = _wait_for_ffmpeg(proc, workers=2)
     proc.kill()
     proc.wait()
@@ -538,7 +543,7 @@ def test_a_killed_batch_takes_its_workers_with_it(tmp_path):
 @pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM"])
 def test_a_batch_stops_within_two_seconds_without_a_traceback(tmp_path, signame):
     out = tmp_path / "out"
-    proc = _start(["run", *_batch_scenes(tmp_path), "--out", out, "--jobs", "2", "--size", "160x120", "-q"], tmp_path)
+    proc = _start(["run", *_batch_scenes(tmp_path), "--out", out, "--jobs", "2", "--size", "480x360", "-q"], tmp_path)
     kids = _wait_for_ffmpeg(proc, workers=2)
     start = time.monotonic()
     if signame == "SIGINT":

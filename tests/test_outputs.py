@@ -37,7 +37,7 @@ def test_run_writes_only_csv_and_summary_without_video(notes_run):
     assert notes_run.folder.name == "notes-arm"
     names = {p.name for p in notes_run.folder.iterdir()}
     assert {"summary.json", "trajectory.csv"} <= names
-    assert not names & {"animation.mp4", "animation.gif", "plot.png"}
+    assert not names & {"animation.mp4", "animation.gif", "plot.png", "poster.png"}
     assert not [n for n in names if n.endswith(".tmp")]
 
 

@@ -167,8 +167,6 @@ def test_a_failing_join_raises_render_error(tmp_path):
 
 
 def test_the_tip_is_drawn_in_the_arm_colour():
-    from mpl_toolkits.mplot3d import proj3d
-
     from armanim.render.draw import ARM_COLOR, PENDING, FrameState, SceneCanvas
 
     problem = make_problem(half_width=1.0, obstacles=False)
@@ -177,8 +175,7 @@ def test_the_tip_is_drawn_in_the_arm_colour():
     scene = SceneCanvas(problem, RenderSettings(size=(320, 240)), title="tip")
     state = FrameState(pose, 0, np.full(len(problem.goals), PENDING), "")
     rgba = scene.draw(state).copy()
-    x, y, _ = proj3d.proj_transform(*pose.tip[:, None], scene.ax.get_proj())
-    px, py = scene.ax.transData.transform([[x[0], y[0]]])[0]
+    px, py, _ = scene.view.project(pose.tip)
     pixel = rgba[int(rgba.shape[0] - py), int(px), :3].astype(float)
     arm = np.asarray(ARM_COLOR)
     cosine = pixel @ arm / (np.linalg.norm(pixel) * np.linalg.norm(arm))

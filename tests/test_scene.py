@@ -202,6 +202,40 @@ def test_home_on_a_limit_is_outside(tmp_path, cli):
     rejected(tmp_path, cli, edit(L["home"], "  home: [0, 90, 20]"), "arm.home[1]", L["home"], "strictly inside")
 
 
+def test_default_home_outside_the_limits_is_rejected(tmp_path, cli):
+    # home left out means all zeros; limits that exclude 0 need a home (the run used to start outside them)
+    content = edit(L["limits"], "  limits: [null, [10, 90], [-120, 120]]").replace("  home: [0, 10, 20]\n", "")
+    rejected(tmp_path, cli, content, "arm.home", L["arm"], "not given", "joint 2 starts at 0 deg", "arm.limits[1] = [10, 90]", "give arm.home")
+
+
+def test_home_closer_than_the_clearance_is_rejected(tmp_path, cli):
+    # the home pose's links pass about 1.3 from the surface of a sphere at (0, 0, 9) (out of
+    # the arm's plane): clear at the default clearance, too close for a clearance of 3
+    content = BASE.replace("  method: pinv\n", "  method: pinv\n  clearance: 3\n")
+    content = edit(L["center"], "  - center: [0, 0, 9]", content)
+    rejected(tmp_path, cli, content, "obstacles[0]", L["center"], "closer to it than solver.clearance", "lower solver.clearance")
+
+
+def test_goal_closer_than_the_clearance_is_rejected(tmp_path, cli):
+    # 0.3 from the sphere's surface: the last link (radius 0.25) plus clearance 0.05 would touch it
+    content = edit(L["goal0"], "  - [5, 5, 6.29]")
+    rejected(tmp_path, cli, content, "goals[0]", L["goal0"], "from the surface of obstacles[0]", "arm.width / 2 + solver.clearance = 0.3")
+
+
+def test_goal_with_two_coordinates_needs_exactly_three(tmp_path, cli):
+    rejected(tmp_path, cli, edit(L["goal0"], "  - [6, 15]"), "goals[0].position", L["goal0"], "has 2 items", "exactly 3")
+
+
+def test_goals_written_as_one_flat_list_get_a_hint(tmp_path, cli):
+    content = BASE.replace("goals:\n  - [3, 2, 4]\n", "goals: [3, 2, 4]\n")
+    rejected(tmp_path, cli, content, "goals[0]", L["goals"], "must be a point [x, y, z]", "goals: [[x, y, z]]")
+
+
+def test_clearance_must_be_positive(tmp_path, cli):
+    content = BASE.replace("  method: pinv\n", "  method: pinv\n  clearance: 0\n")
+    rejected(tmp_path, cli, content, "solver.clearance", L["method"] + 1, "must be > 0")
+
+
 @pytest.mark.parametrize(
     "line, new, field",
     [
@@ -300,7 +334,7 @@ def test_goal_list_and_mapping_forms_and_defaults(tmp_path):
     scene = load_scene(write(tmp_path, content, "defaults.yaml"))
     problem = scene_to_problem(scene.model)
     assert scene.name == "defaults"
-    assert [g.hold_frames for g in problem.goals] == [0, 15]
+    assert [g.hold for g in problem.goals] == [0, 0.5]
     np.testing.assert_allclose(problem.arm.axes, [[0, 0, 1], [0, 1, 0]])
     np.testing.assert_allclose(problem.arm.direction, [0, 0, 1])
     np.testing.assert_allclose(problem.home, 0.0)
@@ -357,3 +391,15 @@ def test_exponent_numbers_are_numbers(tmp_path):
     content = BASE.replace("  method: pinv\n", "  method: newton\n  tolerance: 1e-3\n  weights: {target: 1e3}\n")
     problem = scene_to_problem(load_scene(write(tmp_path, content)).model)
     assert problem.solver.tolerance == 1e-3 and problem.solver.w_target == 1e3
+
+
+@pytest.mark.parametrize("written, read", [("off", "off"), ("'off'", "off"), ("auto", "auto"), ("false", "off")])
+def test_planner_off_as_yaml_reads_it(tmp_path, written, read):
+    # YAML 1.1 reads a bare off as false: the scene still means the planner is off
+    content = BASE.replace("  method: pinv\n", f"  method: pinv\n  planner: {written}\n")
+    assert load_scene(write(tmp_path, content)).model.solver.planner == read
+
+
+def test_planner_rejects_other_values(tmp_path, cli):
+    content = BASE.replace("  method: pinv\n", "  method: pinv\n  planner: maybe\n")
+    rejected(tmp_path, cli, content, "solver.planner", L["method"] + 1, "'maybe' is not allowed", "'auto' or 'off'")

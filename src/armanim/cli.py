@@ -376,11 +376,25 @@ _FLAGS = {("fps",): "--fps", ("size",): "--size", ("format",): "--format",
           ("view", "elevation"): "--elevation", ("view", "azimuth"): "--azimuth"}
 
 
+QUALITY = {"low": ("854x480", 15.0), "medium": ("1280x720", 30.0), "high": ("1920x1080", 60.0),
+           "4k": ("3840x2160", 60.0)}  # --quality: size and fps, as manim's presets
+QualityOpt = Annotated[Optional[str], typer.Option(
+    "--quality", help="low (854x480@15), medium (1280x720@30), high (1920x1080@60) or 4k (3840x2160@60): "
+    "overrides the scene's render size and fps (--size and --fps override it in turn).")]
+
+
 def render_overrides(
-    size: str | None, fps: float | None, fmt: str | None, elevation: float | None = None, azimuth: float | None = None
+    size: str | None, fps: float | None, fmt: str | None, elevation: float | None = None, azimuth: float | None = None,
+    quality: str | None = None,
 ) -> dict:
     """RenderSettings fields given on the command line, checked by the scene's own
-    ``render`` model, so a flag accepts exactly what the scene file accepts."""
+    ``render`` model, so a flag accepts exactly what the scene file accepts.
+    ``quality`` names a preset of :data:`QUALITY`; ``size`` and ``fps`` win over it."""
+    if quality is not None:
+        if quality.lower() not in QUALITY:
+            raise UsageError(f"--quality: expected one of {', '.join(QUALITY)} (got {quality!r})")
+        preset_size, preset_fps = QUALITY[quality.lower()]
+        size, fps = size or preset_size, fps or preset_fps
     from pydantic import ValidationError
 
     from armanim.scene.loader import problem_message
@@ -471,16 +485,17 @@ def run(
     size: Annotated[Optional[str], typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
     fps: Annotated[Optional[float], typer.Option("--fps", help="Override render.fps.")] = None,
     fmt: Annotated[Optional[str], typer.Option("--format", help="Override render.format: mp4 or gif.")] = None,
+    quality: QualityOpt = None,
     strict: Annotated[bool, typer.Option("--strict", help="Exit 1 if any goal is missed.")] = False,
 ) -> None:
-    """Animate scenes: solve every goal, write trajectory.csv, summary.json, the video and plot.png.
+    """Animate scenes: solve every goal, write trajectory.csv, summary.json, the video, plot.png and poster.png.
 
     Several scenes run in parallel and also write OUT/index.csv; a bad scene is reported and
     the others finish (exit 2 if any scene was invalid, 3 if any failed while writing).
 
     Example: [bold]armanim run scenes/notes-arm.yaml[/bold]   [bold]armanim run scenes/*.yaml --jobs 2 --no-video[/bold]
     """
-    overrides = render_overrides(size, fps, fmt)
+    overrides = render_overrides(size, fps, fmt, quality=quality)
     jobs = usable_jobs(jobs)
     if len(scenes) == 1 and not scheduler:
         from armanim.pipeline import run_scene
@@ -607,6 +622,8 @@ def render(
     azimuth: Annotated[Optional[float], typer.Option("--azimuth", help="Camera azimuth, degrees.")] = None,
     jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")] = None,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+    quality: QualityOpt = None,
+    out_dir: Annotated[Optional[Path], typer.Option("--out", help="Write the video, plot.png and poster.png to this folder instead of replacing the run's.")] = None,
 ) -> None:
     """Re-render a finished run from its trajectory.csv, without solving (other size, view, fps or format).
 
@@ -614,10 +631,10 @@ def render(
     """
     from armanim.pipeline import rerender_run
 
-    overrides = render_overrides(size, fps, fmt, elevation, azimuth)
+    overrides = render_overrides(size, fps, fmt, elevation, azimuth, quality)
     jobs = usable_jobs(jobs)
     with _Bars(enabled=not quiet and err.is_terminal) as bars:
-        files = rerender_run(folder, jobs=jobs, render_overrides=overrides, progress=bars)
+        files = rerender_run(folder, out=out_dir, jobs=jobs, render_overrides=overrides, progress=bars)
     if not quiet:
         out.print("wrote " + ", ".join(str(p) for p in files.values()), highlight=False)
 

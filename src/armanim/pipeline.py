@@ -12,7 +12,7 @@ from typing import Callable
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.reload import SCENE_COPY
-from armanim.output.rundir import staged_folder
+from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.summary import summary_dict, write_summary
 from armanim.problem import Problem, RenderSettings
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
@@ -67,7 +67,7 @@ def run_scene(
     ----------
     path : scene file
     out_root : folder that receives one folder per scene
-    video : render the video and plot.png (False: CSV and summary only)
+    video : render the video, plot.png and poster.png (False: CSV and summary only)
     jobs : worker processes for rendering (default: all cores)
     render_overrides : RenderSettings fields to override (e.g. ``{"size": (320, 240)}``)
     progress : optional callback ``progress(stage, done, total)``
@@ -111,11 +111,10 @@ def produce_outputs(
     The one place a run is produced: used by :func:`run_scene` (into its staged
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
-    problem = scene_to_problem(scene.model)
     settings = replace(render_settings(scene.model), **(render_overrides or {}))
-    if settings.fps != problem.fps:
-        problem = replace(problem, fps=settings.fps)
-        if frame_budget(problem) > LIMITS["total_frames"]:  # holds are counted in frames, so fps scales them
+    problem = scene_to_problem(scene.model, fps=settings.fps)  # the run is solved at the fps it is shown at
+    if settings.fps != scene.model.render.fps:
+        if frame_budget(problem) > LIMITS["total_frames"]:  # holds are seconds, so a higher fps makes more frames
             raise UsageError(
                 f"--fps {settings.fps:g}: the holds would make up to {frame_budget(problem):,} frames "
                 f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
@@ -135,6 +134,7 @@ def produce_outputs(
 def rerender_run(
     folder: str | Path,
     *,
+    out: str | Path | None = None,
     jobs: int | None = None,
     render_overrides: dict | None = None,
     progress: Progress | None = None,
@@ -142,10 +142,14 @@ def rerender_run(
     """Re-render a finished run from its folder (scene.yaml, trajectory.csv, summary.json)
     without solving: another size, view, fps or format.
 
-    Returns the written files by kind (``video``, ``plot``).
+    ``out``: write the video, plot.png and poster.png into this folder (created if
+    needed) instead of replacing the run's own.
 
-    The folder is locked, staged and swapped as a run does, so a render never mixes
-    with a run of the same folder, and a failed render leaves the folder as it was.
+    Returns the written files by kind (``video``, ``plot``, ``poster``).
+
+    The run folder is locked, staged and swapped as a run does, so a render never mixes
+    with a run of the same folder, and a failed render leaves the folder as it was; with
+    ``out``, the run is read under its lock and each file is written atomically into ``out``.
 
     Raises
     ------
@@ -159,11 +163,23 @@ def rerender_run(
     folder = Path(folder)
     if not folder.is_dir():
         load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
+    if out is not None and Path(out).resolve() != folder.resolve():
+        with folder_lock(folder):  # read the run whole, never half replaced by a run of it
+            run = load_run(folder)
+        target = Path(out)
+        try:
+            target.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            from armanim.output.atomic import output_error
+
+            raise output_error(target, exc) from None
+        settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
+        # --fps sets the video's playback rate only: the frames and their times stay the run's own
+        return render_outputs(run.problem, run.solution, settings, target, run.scene.name, jobs=jobs, progress=progress)
     with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
         run = load_run(folder)  # under the lock: no run is changing it
         settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
-        problem = replace(run.problem, fps=settings.fps)
-        rendered = render_outputs(problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
+        rendered = render_outputs(run.problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
     return {kind: folder / path.name for kind, path in rendered.items()}
 
 
@@ -177,8 +193,9 @@ def render_outputs(
     jobs: int | None = None,
     progress: Progress | None = None,
 ) -> dict[str, Path]:
-    """Render the video and plot.png of a solved run into ``folder``."""
+    """Render the video, plot.png and poster.png of a solved run into ``folder``."""
     from armanim.render.plot import plot_run
+    from armanim.render.poster import render_poster
     from armanim.render.video import render_video
 
     traj = solution.trajectory
@@ -196,4 +213,6 @@ def render_outputs(
     )
     plot_path = folder / "plot.png"
     plot_run(problem, traj, solution.goals, plot_path, title=title)
-    return {"video": video_path, "plot": plot_path}
+    poster_path = folder / "poster.png"
+    render_poster(problem, traj, solution.goals, settings, poster_path, title=title)
+    return {"video": video_path, "plot": plot_path, "poster": poster_path}

@@ -67,10 +67,18 @@ class Limits:
 
 @dataclass(frozen=True)
 class Goal:
-    """A goal position and how many frames to hold once it is reached."""
+    """A goal position and how long to stay once it is reached.
+
+    Attributes
+    ----------
+    position : (3,) array
+    hold : float
+        Seconds (the frame loop turns them into frames at the run's fps, in one place:
+        :func:`armanim.trajectory.hold_frames`).
+    """
 
     position: np.ndarray
-    hold_frames: int = 0
+    hold: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -110,7 +118,8 @@ class Problem:
     goals : tuple of Goal
     solver : SolverSettings
     fps : float
-        Frames per second, for ``time_s`` and holds.
+        Frames per second the run is solved at: the one owner of time (``time_s``,
+        holds, the stall window); ``--fps`` is applied before the problem is built.
     """
 
     arm: Arm
@@ -132,8 +141,9 @@ class RenderSettings:
     fps : float
     size : (int, int)
         Width and height in pixels.
-    elevation, azimuth : float
-        Camera angles in degrees (as matplotlib's ``view_init`` takes them).
+    elevation, azimuth : float or None
+        Camera angles in degrees (as matplotlib's ``view_init`` takes them); None:
+        face-on for a planar arm, else 25 and -60 (see :mod:`armanim.render.camera`).
     bounds : (3, 2) array or None
         [[xmin, xmax], [ymin, ymax], [zmin, zmax]]; None means auto.
     trail : bool
@@ -144,8 +154,8 @@ class RenderSettings:
 
     fps: float = 30.0
     size: tuple[int, int] = (1280, 720)
-    elevation: float = 25.0
-    azimuth: float = -60.0
+    elevation: float | None = None
+    azimuth: float | None = None
     bounds: np.ndarray | None = None
     trail: bool = True
     format: str = "mp4"

@@ -221,9 +221,19 @@ class _Visit:
     reason: str | None = None
 
 
+def hold_frames(problem: Problem, goal: Goal) -> int:
+    """Frames a reached goal is held: its hold seconds at the run's fps.
+
+    >>> from types import SimpleNamespace
+    >>> hold_frames(SimpleNamespace(fps=40.0), Goal(np.zeros(3), hold=2.0))
+    80
+    """
+    return int(round(goal.hold * problem.fps))
+
+
 def frame_budget(problem: Problem) -> int:
     """Most frames a run can have: frame 0, every goal's frame cap and its hold."""
-    return 1 + sum(problem.solver.max_frames_per_goal + g.hold_frames for g in problem.goals)
+    return 1 + sum(problem.solver.max_frames_per_goal + hold_frames(problem, g) for g in problem.goals)
 
 
 def stall_frames(problem: Problem) -> int:
@@ -234,7 +244,7 @@ def stall_frames(problem: Problem) -> int:
 def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
     """Whether the last ``window`` frames brought the tip closer by less than the tolerance,
     or than :data:`STALL_PROGRESS` of what is left above ``floor`` (the least distance
-    possible), whichever is larger.
+    possible; +inf judges by the tolerance alone), whichever is larger.
 
     >>> has_stalled([5.0, 4.0, 3.0], 2, 0.01), has_stalled([5.0, 5.0, 5.0], 2, 0.01)
     (False, True)
@@ -242,7 +252,7 @@ def has_stalled(distances: list[float], window: int, tolerance: float, floor: fl
     if len(distances) <= window:
         return False
     now = distances[-1]
-    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * (now - floor))
+    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * max(now - floor, 0.0))
 
 
 def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
@@ -272,12 +282,12 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
     reports = []
     later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
-        later -= problem.solver.max_frames_per_goal + goal.hold_frames
+        later -= problem.solver.max_frames_per_goal + hold_frames(problem, goal)
 
         def report_progress(visit: _Visit, goal=goal, later=later) -> None:
             if progress:
                 cap = problem.solver.max_frames_per_goal
-                progress(len(rec), len(rec) + cap - visit.frames + goal.hold_frames + later)
+                progress(len(rec), len(rec) + cap - visit.frames + hold_frames(problem, goal) + later)
 
         state, report = _visit_goal(problem, step, rec, state, k, goal, report_progress)
         reports.append(report)
@@ -293,6 +303,8 @@ def _visit_goal(problem, step: StepFunction, rec: _Recorder, state: ArmState, k:
     visit = _Visit(k, goal, [float(np.linalg.norm(state.tip - goal.position))])
     window = stall_frames(problem)
     floor = max(0.0, float(np.linalg.norm(goal.position - problem.arm.base)) - problem.arm.reach)
+    if s.planner == "off":
+        floor = np.inf  # no planner to take over: only progress below the tolerance is a stall
     while visit.distances[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
         state = _one_frame(problem, step, rec, state, visit)
         on_frame(visit)
@@ -302,7 +314,7 @@ def _visit_goal(problem, step: StepFunction, rec: _Recorder, state: ArmState, k:
                 break
     reached = visit.distances[-1] < s.tolerance
     if reached:
-        for _ in range(goal.hold_frames):
+        for _ in range(hold_frames(problem, goal)):
             rec.add(state, k, visit.distances[-1])
     elif visit.reason is None:
         visit.reason = miss_reason(problem, state, goal.position, visit.distances, visit.blocked)

@@ -41,12 +41,12 @@ def _num(value: float) -> str:
     return repr(value)
 
 
-def format_row(traj: Trajectory, i: int) -> list[str]:
-    """The CSV fields of frame ``i`` (angles in degrees; empty clearance without obstacles)."""
+def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
+    """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees; empty clearance without obstacles)."""
     clearance = traj.clearance[i]
     return [
         str(i),
-        _num(i / traj.fps),
+        _num(time_s),
         str(int(traj.goal[i])),
         *(_num(v) for v in np.degrees(traj.phi[i])),
         *(_num(v) for v in traj.tip[i]),
@@ -70,7 +70,8 @@ def table_csv_text(columns, rows) -> str:
 
 def trajectory_csv_text(traj: Trajectory) -> str:
     """The whole trajectory.csv as text."""
-    return table_csv_text(header(traj.phi.shape[1]), (format_row(traj, i) for i in range(traj.frames)))
+    time = traj.time
+    return table_csv_text(header(traj.phi.shape[1]), (format_row(traj, i, time[i]) for i in range(traj.frames)))
 
 
 def write_trajectory_csv(traj: Trajectory, path: Path) -> None:

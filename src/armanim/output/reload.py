@@ -29,9 +29,18 @@ class FinishedRun:
     solution: Solution
 
 
-def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
+def _read_summary(summary_path: Path) -> dict:
     try:
-        goals = json.loads(read_bounded(summary_path, MAX_SUMMARY_BYTES, "an armanim summary.json"))["goals"]
+        summary = json.loads(read_bounded(summary_path, MAX_SUMMARY_BYTES, "an armanim summary.json"))
+        if not isinstance(summary, dict) or not isinstance(summary.get("goals"), list):
+            raise ValueError("no list of goals")
+        return summary
+    except ValueError as exc:
+        raise SceneError(str(summary_path), [Diagnostic("", f"is not an armanim summary: {exc}")]) from None
+
+
+def _reports(summary: dict, summary_path: Path) -> tuple[GoalReport, ...]:
+    try:
         return tuple(
             GoalReport(
                 index=g["index"],
@@ -46,10 +55,16 @@ def _reports(summary_path: Path) -> tuple[GoalReport, ...]:
                 newton_iterations=g.get("newton_iterations", 0),
                 planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
             )
-            for g in goals
+            for g in summary["goals"]
         )
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+    except (ValueError, KeyError, TypeError) as exc:
         raise SceneError(str(summary_path), [Diagnostic("", f"is not an armanim summary: {exc}")]) from None
+
+
+def _run_fps(summary: dict, scene: LoadedScene) -> float:
+    """The fps the run was solved at (``run --fps`` may differ from the scene's)."""
+    fps = summary.get("fps")
+    return float(fps) if isinstance(fps, (int, float)) and not isinstance(fps, bool) and 0 < fps <= 240 else scene.model.render.fps
 
 
 def _first_bad(table: TrajectoryTable, column: str, bad: np.ndarray, message: str) -> Diagnostic | None:
@@ -102,7 +117,8 @@ def load_run(folder: str | Path) -> FinishedRun:
     if missing:
         raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
     scene = load_scene(folder / SCENE_COPY)
-    problem = scene_to_problem(scene.model)
+    summary = _read_summary(folder / "summary.json")
+    problem = scene_to_problem(scene.model, fps=_run_fps(summary, scene))
     csv_path = folder / "trajectory.csv"
     table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
     if table.n_joints != problem.arm.n:
@@ -124,4 +140,4 @@ def load_run(folder: str | Path) -> FinishedRun:
         fps=problem.fps,
         mode=table.text.get("mode"),
     )
-    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(folder / "summary.json")))
+    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json")))

@@ -60,7 +60,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
             "reached": solution.reached,
             "missed": len(goals) - solution.reached,
             "frames": traj.frames,
-            "duration_s": traj.frames / problem.fps,
+            "duration_s": traj.frames / traj.fps,
             "iterations": int(traj.iterations.sum()),
             "planned_goals": sum(g.planned for g in solution.goals),
             "plan_frames": int(np.count_nonzero(traj.mode == "plan")),

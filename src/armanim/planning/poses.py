@@ -23,6 +23,7 @@ ITERATIONS = 80
 TURN_PER_ITERATION = 0.4  # radians: larger steps jump between branches and oscillate
 DAMPING_PER_REACH = 1e-3  # lambda as a fraction of the arm's length
 HIT = 0.25  # a solve counts when its tip is within this fraction of the tolerance
+MAX_TURN_JOINTS = 3  # unlimited joints whose long way round is offered too (2^3 variants per pose)
 
 
 @dataclass(frozen=True)
@@ -119,13 +120,27 @@ def _reachable_without_limits(problem: Problem, starts: np.ndarray, goal: np.nda
     return bool(np.any(np.linalg.norm(forward(problem.arm, solved).tip - goal, axis=-1) < tolerance))
 
 
+def turn_variants(problem: Problem, phi_now: np.ndarray, poses: np.ndarray) -> np.ndarray:
+    """Each pose with every unlimited joint reached the short way round from ``phi_now``
+    and the long way round (a joint at a and at a + 2 pi is the same pose, but the straight
+    path to one may pass an obstacle that the path to the other misses): (k 2^u, n) for u
+    unlimited joints, at most :data:`MAX_TURN_JOINTS` of them varied."""
+    short = np.where(problem.limits.limited, poses, phi_now + wrap_angle(poses - phi_now))
+    variants = [short]
+    for j in np.nonzero(~problem.limits.limited)[0][:MAX_TURN_JOINTS]:
+        longer = [v.copy() for v in variants]
+        for v in longer:
+            v[:, j] -= 2 * np.pi * np.sign(v[:, j] - phi_now[j])
+        variants += longer
+    return np.concatenate(variants)
+
+
 def nearest_first(problem: Problem, phi_now: np.ndarray, poses: np.ndarray) -> np.ndarray:
-    """Poses with unlimited joints moved the short way round from ``phi_now``, sorted by
-    joint-space distance from it; near-duplicates (within 1e-3 rad) dropped."""
+    """Poses and their :func:`turn_variants`, sorted by joint-space distance from
+    ``phi_now``; near-duplicates (within 1e-3 rad) dropped."""
     if not len(poses):
         return poses
-    unlimited = ~problem.limits.limited
-    poses = np.where(unlimited, phi_now + wrap_angle(poses - phi_now), poses)
+    poses = turn_variants(problem, phi_now, poses)
     order = np.argsort(np.linalg.norm(poses - phi_now, axis=-1), kind="stable")
     kept: list[np.ndarray] = []
     for pose in poses[order]:

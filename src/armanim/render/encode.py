@@ -23,8 +23,9 @@ from armanim.errors import RenderError
 
 MP4_CODEC = "libx264"
 MP4_PIX_FMT = "yuv420p"
-MP4_PARAMS = ["-preset", "fast", "-tune", "animation", "-crf", "20"]
-GIF_FILTER = "split[a][b];[a]palettegen=stats_mode=single:reserve_transparent=0[p];[b][p]paletteuse=new=1"
+MP4_PARAMS = ["-preset", "veryfast", "-tune", "animation", "-crf", "20"]  # veryfast: half the CPU of fast, no bigger here
+GIF_PALETTE = "palettegen=max_colors=128:stats_mode=full:reserve_transparent=0"
+GIF_USE = "[0:v][1:v]paletteuse=dither=bayer:bayer_scale=4:diff_mode=rectangle"
 LOG_LINES = 12  # lines of ffmpeg's output quoted in an error
 
 
@@ -61,12 +62,14 @@ def tail(text: str, lines: int = LOG_LINES) -> str:
 
 
 def ffmpeg_command(exe: str, path: Path, size: tuple[int, int], fps: Fraction, pix_fmt_in: str, codec: str,
-                   pix_fmt_out: str, output_params: list[str]) -> list[str]:
+                   pix_fmt_out: str, output_params: list[str], extra_inputs: tuple[str, ...] = ()) -> list[str]:
     """The ffmpeg command that reads raw frames on stdin and encodes them into ``path``
-    (the command imageio-ffmpeg's ``write_frames`` builds, with ``macro_block_size=1``)."""
+    (the command imageio-ffmpeg's ``write_frames`` builds, with ``macro_block_size=1``);
+    ``extra_inputs`` are further ``-i`` files (a GIF's palette)."""
+    inputs = [arg for name in extra_inputs for arg in ("-i", name)]
     return [exe, "-y", "-f", "rawvideo", "-vcodec", "rawvideo", "-s", f"{size[0]}x{size[1]}",
-            "-pix_fmt", pix_fmt_in, "-r", str(fps), "-i", "-", "-an", "-vcodec", codec, "-pix_fmt", pix_fmt_out,
-            "-v", "error", *output_params, str(path)]
+            "-pix_fmt", pix_fmt_in, "-r", str(fps), "-i", "-", *inputs, "-an", "-vcodec", codec,
+            "-pix_fmt", pix_fmt_out, "-v", "error", *output_params, str(path)]
 
 
 def find_ffmpeg() -> str:
@@ -89,6 +92,9 @@ class FrameWriter:
     fps : float
         Frames per second; passed to ffmpeg as an exact fraction.
     fmt : {"mp4", "gif"}
+    palette : str or Path, optional
+        For a GIF: the palette image (:func:`gif_palette`) every frame is mapped to;
+        without it ffmpeg's default palette is used.
 
     Use as a context manager: leaving it normally finishes the file and raises
     :class:`RenderError` if ffmpeg failed; leaving it by an exception (including
@@ -99,8 +105,9 @@ class FrameWriter:
     stderr goes to a temporary file, quoted in the error if it fails.
     """
 
-    def __init__(self, path, size: tuple[int, int], fps: float, fmt: str):
+    def __init__(self, path, size: tuple[int, int], fps: float, fmt: str, palette=None):
         self.path = Path(path)
+        self.palette = palette
         self.size = (int(size[0]), int(size[1]))
         self.out_size = video_size(*self.size, fmt)
         self.fps = Fraction(fps).limit_denominator(1001)
@@ -114,8 +121,10 @@ class FrameWriter:
             return dict(codec=MP4_CODEC, pix_fmt_in="rgba", pix_fmt_out=MP4_PIX_FMT,
                         output_params=[*MP4_PARAMS, "-f", "mp4"])
         if self.fmt == "gif":
+            use = ["-lavfi", GIF_USE] if self.palette is not None else []
             return dict(codec="gif", pix_fmt_in="rgb24", pix_fmt_out="pal8",
-                        output_params=["-vf", GIF_FILTER, "-loop", "0", "-f", "gif"])
+                        output_params=[*use, "-loop", "0", "-f", "gif"],
+                        extra_inputs=(str(self.palette),) if self.palette is not None else ())
         raise RenderError(f"unknown video format {self.fmt!r} (expected 'mp4' or 'gif')")
 
     def open(self) -> "FrameWriter":
@@ -199,6 +208,40 @@ class FrameWriter:
             self.close()
         else:
             self.abort()
+
+
+@contextlib.contextmanager
+def gif_palette(beside: Path, size: tuple[int, int], frames):
+    """Make one 128-colour palette from some RGBA ``frames`` (ffmpeg ``palettegen``) and
+    yield its path; the file (beside ``beside``) is removed afterwards.
+
+    One palette for the whole GIF, with ordered dithering and only the changed
+    rectangle of each frame stored, keeps a GIF small (an 11 s, 640x360 run is about
+    1 MB instead of 6 to 9 MB with a palette per frame).
+    """
+    path = Path(beside).with_name(f".{Path(beside).name}.palette.png")
+    cmd = [find_ffmpeg(), "-y", "-v", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{size[0]}x{size[1]}",
+           "-i", "-", "-vf", GIF_PALETTE, "-frames:v", "1", str(path)]
+    try:
+        with tempfile.TemporaryFile(prefix="armanim-ffmpeg-") as log:
+            proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log,
+                                    start_new_session=True)
+            try:
+                for rgba in frames:
+                    proc.stdin.write(np.ascontiguousarray(rgba[..., :3]).tobytes())
+                proc.stdin.close()
+            except BrokenPipeError:
+                pass
+            finally:
+                if proc.poll() is None and not proc.stdin.closed:
+                    proc.kill()
+                code = proc.wait()
+            log.seek(0)
+            if code != 0 or not path.exists():
+                raise RenderError(f"ffmpeg failed while making the GIF palette:\n{tail(log.read().decode('utf-8', 'replace'))}")
+        yield path
+    finally:
+        path.unlink(missing_ok=True)
 
 
 def concat_segments(segments: list[Path], path: Path, fmt: str) -> None:

@@ -20,8 +20,9 @@ def plot_run(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalRep
     """Plot goal distance, clearance and joint angles over time to a PNG.
 
     Top: distance of the tip to the current goal, and (with obstacles) the smallest
-    clearance of the arm to any obstacle, with the goals' spans shaded and marked
-    reached or missed. Bottom: every joint angle in degrees, with its limits dashed.
+    clearance of the arm to any obstacle, with the goals' spans shaded, numbered from 0
+    as in the video and the files, and marked reached or missed. Bottom: every joint
+    angle in degrees, with its limits dashed in the joint's colour and labelled.
 
     Parameters
     ----------
@@ -32,6 +33,14 @@ def plot_run(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalRep
         The PNG (``PLOT_SIZE`` pixels), written atomically.
     title : str
     """
+    canvas = plot_figure(problem, trajectory, reports, title=title)
+    canvas.draw()
+    write_png(np.asarray(canvas.buffer_rgba()), path)
+
+
+def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], *,
+                title: str) -> FigureCanvasAgg:
+    """The figure of :func:`plot_run`, on its Agg canvas, not yet drawn."""
     width, height = PLOT_SIZE
     fig = Figure(figsize=((width + 1e-3) / PLOT_DPI, (height + 1e-3) / PLOT_DPI), dpi=PLOT_DPI,
                  layout="constrained")
@@ -48,19 +57,43 @@ def plot_run(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalRep
     top.legend(loc="upper right", fontsize=9)
     top.grid(alpha=0.3)
     degrees = np.degrees(trajectory.phi)
-    limits = problem.limits
     for j in range(degrees.shape[1]):
-        color = f"C{j % 10}"
-        bottom.plot(t, degrees[:, j], color=color, label=f"phi{j + 1}")
-        if np.isfinite(limits.lower[j]):
-            for bound in (limits.lower[j], limits.upper[j]):
-                bottom.axhline(np.degrees(bound), color=color, linestyle="--", linewidth=0.8, alpha=0.7)
+        bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=f"phi{j + 1}")
+    _limit_lines(bottom, problem.limits)
     bottom.set_ylabel("joint angle (deg)")
     bottom.set_xlabel("time (s)")
-    bottom.legend(loc="upper right", fontsize=9, ncols=min(degrees.shape[1], 6))
+    bottom.legend(loc="upper left", fontsize=9, ncols=min(degrees.shape[1], 6))
     bottom.grid(alpha=0.3)
-    canvas.draw()
-    write_png(np.asarray(canvas.buffer_rgba()), path)
+    return canvas
+
+
+def limit_groups(lower: np.ndarray, upper: np.ndarray) -> list[tuple[float, str, list[int]]]:
+    """Every finite limit as (degrees, "min" or "max", joints sharing it), 0-based joints.
+
+    >>> limit_groups(np.radians([-np.inf, -100, -150, -150]), np.radians([np.inf, 100, 150, 150]))
+    [(-150.0, 'min', [2, 3]), (-100.0, 'min', [1]), (100.0, 'max', [1]), (150.0, 'max', [2, 3])]
+    """
+    groups: dict[tuple[float, str], list[int]] = {}
+    for side, values in (("min", lower), ("max", upper)):
+        for j, v in enumerate(values):
+            if np.isfinite(v):
+                groups.setdefault((round(float(np.degrees(v)), 6), side), []).append(j)
+    return [(value, side, joints) for (value, side), joints in sorted(groups.items())]
+
+
+def _limit_lines(ax, limits) -> None:
+    """Each limit dashed in its joint's colour (joints sharing a value take turns along
+    the dashes) and labelled at the right end, e.g. "phi3, phi4 max 150"."""
+    dash = 5.0
+    for value, side, joints in limit_groups(limits.lower, limits.upper):
+        k = len(joints)
+        for i, j in enumerate(joints):
+            ax.axhline(value, color=f"C{j % 10}", linewidth=1.0, alpha=0.8,
+                       linestyle=(i * dash, (dash, dash * (2 * k - 1))))
+        names = ", ".join(f"phi{j + 1}" for j in joints)
+        color = f"C{joints[0] % 10}" if k == 1 else "0.25"
+        ax.text(0.995, value, f"{names} {side} {value:g}", transform=ax.get_yaxis_transform(), ha="right",
+                va="bottom" if side == "max" else "top", fontsize=8, color=color)
 
 
 def _goal_spans(ax, trajectory: Trajectory, reports: Sequence[GoalReport]) -> None:
@@ -72,6 +105,6 @@ def _goal_spans(ax, trajectory: Trajectory, reports: Sequence[GoalReport]) -> No
         color = GOAL_COLORS["reached" if r.reached else "missed"]
         ax.axvspan(r.first_frame / fps, (r.last_frame + 1) / fps, color=color, alpha=0.08, linewidth=0)
         ax.axvline(r.first_frame / fps, color=color, linewidth=0.8, alpha=0.6)
-        label = f"goal {r.index + 1}" + ("" if r.reached else " (missed)")
+        label = f"goal {r.index}" + ("" if r.reached else " (missed)")
         ax.text(r.first_frame / fps, 1.0, " " + label, transform=ax.get_xaxis_transform(), va="top",
                 fontsize=8, color=color)

@@ -30,49 +30,7 @@ from armanim.workers import Stopped, alive, die_with
 CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
-
-
-def goal_status(trajectory: Trajectory, reports: Sequence[GoalReport], frame: int, goals: int) -> np.ndarray:
-    """Status code of every goal at ``frame`` (see :mod:`armanim.render.draw`).
-
-    Goals before the frame's goal are reached or missed as their reports say, the
-    frame's goal is current (or reached once within tolerance), later ones pending.
-
-    >>> from armanim.render.draw import STATUS_NAMES
-    >>> import types
-    >>> t = types.SimpleNamespace(goal=np.array([0, 1]), reached=np.array([False, False]))
-    >>> r = [types.SimpleNamespace(reached=False)]
-    >>> [STATUS_NAMES[s] for s in goal_status(t, r, 1, 3)]
-    ['missed', 'current', 'pending']
-    """
-    from armanim.render.draw import CURRENT, MISSED, PENDING, REACHED
-
-    k = int(trajectory.goal[frame])
-    status = np.full(goals, PENDING)
-    for j in range(min(k, goals)):
-        status[j] = REACHED if j >= len(reports) or reports[j].reached else MISSED
-    if k < goals:
-        status[k] = REACHED if trajectory.reached[frame] else CURRENT
-    return status
-
-
-def frame_caption(trajectory: Trajectory, reports: Sequence[GoalReport], frame: int, goals: int) -> str:
-    """Caption of a frame: time, goal k of N, distance, and moving / reached / missed.
-
-    A goal that will be missed says so, with the reason, during its last second.
-    """
-    k = int(trajectory.goal[frame])
-    state = "moving"
-    if trajectory.reached[frame]:
-        state = "reached"
-    elif k < len(reports) and not reports[k].reached:
-        last = reports[k].last_frame
-        if last >= 0 and frame > last - trajectory.fps:
-            state = "missed: " + (reports[k].reason or "not reached").replace("_", " ")
-    return (
-        f"t = {frame / trajectory.fps:7.2f} s   goal {k + 1} of {goals}   "
-        f"distance {trajectory.distance[frame]:8.3f}   {state}"
-    )
+PALETTE_FRAMES = 12  # frames a GIF's palette is made from
 
 
 def draw_segment(
@@ -92,27 +50,44 @@ def draw_segment(
     ``progress`` is called with the number of frames of this segment done so far.
     """
     from armanim.kinematics import Pose, forward
+    from armanim.render.caption import frame_activity, frame_caption, goal_status
     from armanim.render.draw import FrameState, SceneCanvas
-    from armanim.render.encode import FrameWriter
+    from armanim.render.encode import FrameWriter, gif_palette
 
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
-    scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent)
     goals = len(problem.goals)
-    with FrameWriter(path, settings.size, settings.fps, settings.format) as writer:
+    activity = frame_activity(trajectory, reports)
+    captions = [frame_caption(trajectory, f, goals, activity[f]) for f in range(trajectory.frames)]
+    scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent,
+                        caption_template=max(captions, key=len))
+
+    def frame(f: int, pose: Pose) -> np.ndarray:
+        state = FrameState(pose=pose, trail_end=f + 1, goal_status=goal_status(trajectory, reports, f, goals),
+                           caption=captions[f])
+        return scene.draw(state)
+
+    with contextlib.ExitStack() as stack:
+        palette = None
+        if settings.format == "gif":  # one palette for the whole GIF, from frames spread over it
+            palette = stack.enter_context(gif_palette(path, settings.size, (
+                frame(f, forward(problem.arm, trajectory.phi[f])) for f in palette_frames(start, stop))))
+        writer = stack.enter_context(FrameWriter(path, settings.size, settings.fps, settings.format, palette=palette))
         for first in range(start, stop, CHUNK):
             last = min(first + CHUNK, stop)
             poses = forward(problem.arm, trajectory.phi[first:last])
             for f in range(first, last):
-                i = f - first
-                state = FrameState(
-                    pose=Pose(poses.points[i], poses.frames[i]),
-                    trail_end=f + 1,
-                    goal_status=goal_status(trajectory, reports, f, goals),
-                    caption=frame_caption(trajectory, reports, f, goals),
-                )
-                writer.write(scene.draw(state))
+                writer.write(frame(f, Pose(poses.points[f - first], poses.frames[f - first])))
                 if progress is not None:
                     progress(f + 1 - start)
+
+
+def palette_frames(start: int, stop: int, count: int = PALETTE_FRAMES) -> list[int]:
+    """Frames, spread evenly over ``[start, stop)``, from which a GIF's palette is made.
+
+    >>> palette_frames(0, 100, 5)
+    [0, 24, 49, 74, 99]
+    """
+    return sorted({int(f) for f in np.linspace(start, stop - 1, min(count, stop - start))})
 
 
 def render_video(

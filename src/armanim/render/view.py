@@ -1,9 +1,7 @@
 """The fixed camera of a video as one affine map: world -> (pixel x, pixel y, nearness).
 
-matplotlib's 3D axes project with an orthographic camera here, so world to display
-pixels is affine. It is measured once from the axes (``proj3d.proj_transform``, then
-``ax.transData``) after the first draw, and then applied to whole batches of points
-with one matrix product.
+The camera is orthographic (:mod:`armanim.render.camera` builds the map), so world to
+display pixels is affine: one matrix product projects a whole batch of points.
 """
 
 from __future__ import annotations
@@ -32,26 +30,6 @@ class View:
     matrix: np.ndarray
     width: int
     height: int
-
-    @classmethod
-    def from_axes(cls, ax, width: int, height: int) -> "View":
-        """Measure the map of a drawn ``Axes3D`` (``ax.get_proj()`` must be current)."""
-        from mpl_toolkits.mplot3d import proj3d
-
-        basis = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
-        x, y, z = proj3d.proj_transform(*basis.T, ax.get_proj())
-        pix = ax.transData.transform(np.column_stack([x, y]))
-        screen = np.column_stack([pix, -np.asarray(z)])  # proj3d's z grows away from the viewer
-        origin = screen[0]
-        linear = (screen[1:] - origin).T  # columns: images of ex, ey, ez
-        # The depth row comes in its own units: rescale it to pixels so the map is a
-        # similarity (orthographic camera, equal aspect) and normals stay true.
-        scale = np.linalg.norm(linear[0])
-        depth_norm = np.linalg.norm(linear[2])
-        if depth_norm > 0:
-            linear[2] *= scale / depth_norm
-            origin = origin * np.array([1.0, 1.0, scale / depth_norm])
-        return cls(np.column_stack([linear, origin]), width, height)
 
     @property
     def linear(self) -> np.ndarray:

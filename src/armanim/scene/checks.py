@@ -90,6 +90,8 @@ def _magnitudes(scene: SceneModel):
     yield "solver.damping", solver.damping
     if solver.max_step is not None:
         yield "solver.max_step", solver.max_step
+    if solver.clearance is not None:
+        yield "solver.clearance", solver.clearance
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             yield from ((f"render.bounds.{axis}", v) for v in pair)

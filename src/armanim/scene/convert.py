@@ -63,12 +63,14 @@ def _solver(scene: SceneModel) -> SolverSettings:
     )
 
 
-def scene_to_problem(scene: SceneModel) -> Problem:
+def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     """Convert a validated scene to the solver's problem (radians, numpy arrays).
 
     Parameters
     ----------
     scene : SceneModel
+    fps : float, optional
+        Frames per second to solve at, when a command overrides ``render.fps``.
 
     Returns
     -------
@@ -76,14 +78,14 @@ def scene_to_problem(scene: SceneModel) -> Problem:
     """
     arm = scene.arm
     n = len(arm.links)
-    fps = scene.render.fps
+    fps = scene.render.fps if fps is None else fps
     return Problem(
         arm=Arm.from_names(arm.links, base=arm.base, axes=axis_names(scene), direction=arm.direction),
         half_width=arm.width / 2.0,
         home=np.radians(np.array(arm.home if arm.home is not None else [0.0] * n, dtype=float)),
         limits=_limits(scene),
         obstacles=_obstacles(scene),
-        goals=tuple(Goal(np.array(g.position, dtype=float), int(round(g.hold * fps))) for g in scene.goals),
+        goals=tuple(Goal(np.array(g.position, dtype=float), g.hold) for g in scene.goals),
         solver=_solver(scene),
         fps=fps,
     )
@@ -95,8 +97,8 @@ def render_settings(scene: SceneModel) -> RenderSettings:
     return RenderSettings(
         fps=r.fps,
         size=(int(r.size[0]), int(r.size[1])),
-        elevation=r.view.elevation,
-        azimuth=r.view.azimuth,
+        elevation=r.view.elevation if "elevation" in r.view.model_fields_set else None,
+        azimuth=r.view.azimuth if "azimuth" in r.view.model_fields_set else None,
         bounds=None if r.bounds == "auto" else np.array(r.bounds, dtype=float),
         trail=r.trail,
         format=r.format,

@@ -174,6 +174,10 @@ def _allowed_keys(loc: tuple) -> list[str]:
     return list(model.model_fields)
 
 
+POINT_FIELDS = ("base", "center", "position")
+"""Fields that hold exactly three coordinates."""
+
+
 def problem_message(err: dict, loc: tuple) -> str:
     """What is wrong, and what was expected, for one pydantic error at ``loc``."""
     kind = err["type"]
@@ -198,7 +202,11 @@ def problem_message(err: dict, loc: tuple) -> str:
     if kind in ("finite_number",):
         return f"must be a finite number (got {_describe(got)})"
     if kind in ("too_short", "too_long"):
+        if loc and loc[-1] in POINT_FIELDS:  # pydantic names only the violated bound
+            return f"has {ctx.get('actual_length')} items (expected exactly 3: a point [x, y, z])"
         return f"has {ctx.get('actual_length')} items (expected {_length_expectation(ctx)})"
+    if len(loc) == 2 and loc[0] == "goals" and isinstance(got, (int, float)) and not isinstance(got, bool):
+        return f"must be a point [x, y, z] or {{position: [x, y, z]}} (got {_describe(got)}; a single goal is written goals: [[x, y, z]])"
     if kind in ("float_type", "int_type", "float_parsing", "int_from_float"):
         return f"must be a number (got {_describe(got)})"
     if kind in ("list_type",):

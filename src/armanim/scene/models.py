@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
 
 SCENE_VERSION = 1
 
@@ -146,11 +146,20 @@ class SolverModel(Strict):
         default=None,
         description="d_safe: the distance every arm part keeps from every obstacle surface, scene units; default arm.width / 10.",
     )
-    planner: Literal["auto", "off"] = Field(
+    planner: Annotated[
+        Literal["auto", "off"],
+        WithJsonSchema({"anyOf": [{"enum": ["auto", "off"]}, {"type": "boolean"}]}),  # YAML 1.1: a bare off is false
+    ] = Field(
         default="auto",
-        description="auto: escape stalls by planning a joint-space path; off: the pure local method (for teaching).",
+        description="auto: escape stalls by planning a joint-space path; off (or false): the pure local method (for teaching).",
     )
     weights: WeightsModel = WeightsModel()
+
+    @field_validator("planner", mode="before")
+    @classmethod
+    def _planner_from_yaml_bool(cls, value):
+        # YAML 1.1 reads a bare off as false (and on as true): take what the user wrote
+        return {False: "off", True: "auto"}.get(value, value) if isinstance(value, bool) else value
 
 
 class ViewModel(Strict):

@@ -220,8 +220,18 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> SafeStep:
         moved = exactly_safe(problem, state, state.phi + scale * step)
         if moved is not None:
             blocked = None if step is nominal and scale == 1.0 else blocker(problem, state, nominal, cons)
-            return SafeStep(_wrapped(problem, moved), float(np.linalg.norm(scale * step) / np.linalg.norm(dphi)), blocked)
+            return SafeStep(_wrapped(problem, moved), step_fraction(scale * step, dphi), blocked)
     return SafeStep(state, 0.0, blocker(problem, state, nominal, cons))
+
+
+def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
+    """|taken| / |proposed|, 0 when the proposal's length is not a positive finite number.
+
+    >>> step_fraction(np.array([0.5, 0.0]), np.array([1.0, 0.0])), step_fraction(np.zeros(2), np.full(2, 1e-320))
+    (0.5, 0.0)
+    """
+    length = float(np.linalg.norm(proposed))
+    return float(np.linalg.norm(taken)) / length if 0.0 < length < np.inf else 0.0
 
 
 def blocker(problem: Problem, state: ArmState, nominal: np.ndarray, cons: Constraints) -> str:
@@ -238,14 +248,19 @@ def _wrapped(problem: Problem, state: ArmState) -> ArmState:
     return ArmState(wrap_unlimited(problem, state.phi), state.pose, state.clearance)
 
 
+def pose_clearance(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """For (k, n) poses: (k,) smallest clearance of any link capsule to any obstacle (+inf if none)."""
+    phi = np.atleast_2d(phi)
+    if not len(problem.obstacles):
+        return np.full(len(phi), np.inf)
+    return clearances(forward(problem.arm, phi), problem.obstacles, problem.half_width).links.min(axis=(-1, -2))
+
+
 def pose_is_free(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """For (k, n) poses: (k,) bool, inside the limits by the buffer and every link capsule
     at least ``solver.clearance`` from every obstacle (the planner's validity test)."""
     phi = np.atleast_2d(phi)
     lim = problem.limits
     buffer = limit_buffer(problem)
-    ok = np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
-    if len(problem.obstacles):
-        cl = clearances(forward(problem.arm, phi), problem.obstacles, problem.half_width)
-        ok &= cl.links.min(axis=(-1, -2)) >= problem.solver.clearance
-    return ok
+    inside = np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
+    return inside & (pose_clearance(problem, phi) >= problem.solver.clearance)

@@ -1,0 +1,88 @@
+"""What a frame says: each goal's marker state and the caption line.
+
+Goals are numbered from 0 everywhere a person reads them (caption, markers, plot,
+tables), as in trajectory.csv, summary.json and the scene's field paths (``goals[0]``).
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+STILL = 1e-4  # radians: a frame whose joints all turn less than this is a still arm
+PENDING, CURRENT, REACHED, MISSED = 0, 1, 2, 3
+
+
+def goal_status(trajectory, reports: Sequence, frame: int, goals: int) -> np.ndarray:
+    """Status code of every goal at ``frame`` (PENDING, CURRENT, REACHED or MISSED).
+
+    Goals before the frame's goal are reached or missed as their reports say, the
+    frame's goal is current (or reached once within tolerance), later ones pending.
+
+    >>> import types
+    >>> t = types.SimpleNamespace(goal=np.array([0, 1]), reached=np.array([False, False]))
+    >>> r = [types.SimpleNamespace(reached=False)]
+    >>> goal_status(t, r, 1, 3).tolist()
+    [3, 1, 0]
+    """
+    k = int(trajectory.goal[frame])
+    status = np.full(goals, PENDING)
+    for j in range(min(k, goals)):
+        status[j] = REACHED if j >= len(reports) or reports[j].reached else MISSED
+    if k < goals:
+        status[k] = REACHED if trajectory.reached[frame] else CURRENT
+    return status
+
+
+def frame_modes(trajectory) -> np.ndarray:
+    """(F,) "ik" or "plan" per frame; a trajectory without a ``mode`` is all "ik"."""
+    mode = getattr(trajectory, "mode", None)
+    if mode is None:
+        return np.full(trajectory.frames, "ik")
+    return np.asarray(mode).astype(str)
+
+
+def arm_still(phi: np.ndarray) -> np.ndarray:
+    """(F,) bool: no joint turned more than ``STILL`` since the previous frame (frame 0 moves).
+
+    >>> arm_still(np.array([[0.0], [0.5], [0.5]])).tolist()
+    [False, False, True]
+    """
+    still = np.zeros(len(phi), dtype=bool)
+    still[1:] = np.abs(np.diff(phi, axis=0)).max(axis=1, initial=0.0) < STILL
+    return still
+
+
+def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
+    """What the arm does at every frame: planning, holding, reached, moving, stalled or
+    "missed: <reason>" (during the last second of a goal its report says was missed).
+
+    Returns
+    -------
+    (F,) array of str
+    """
+    still = arm_still(trajectory.phi)
+    mode = frame_modes(trajectory)
+    activity = np.where(trajectory.reached, np.where(still, "holding", "reached"),
+                        np.where(still, "stalled", "moving")).astype(object)
+    activity[mode == "plan"] = "planning"
+    for r in reports:
+        if r.reached or r.last_frame < 0:
+            continue
+        first = max(r.first_frame, int(np.floor(r.last_frame - trajectory.fps)) + 1)
+        activity[first : r.last_frame + 1] = "missed: " + (r.reason or "not reached").replace("_", " ")
+    return activity
+
+
+def frame_caption(trajectory, frame: int, goals: int, activity: str) -> str:
+    """The caption of a frame: time, goal (0-based, of how many), distance and activity.
+
+    >>> import types
+    >>> t = types.SimpleNamespace(goal=np.array([1]), distance=np.array([0.5]), fps=30.0)
+    >>> frame_caption(t, 0, 4, "moving")
+    't =   0.00 s   goal 1 (of 0-3)   distance    0.500   moving'
+    """
+    k = int(trajectory.goal[frame])
+    return (f"t = {frame / trajectory.fps:6.2f} s   goal {k} (of 0-{goals - 1})   "
+            f"distance {trajectory.distance[frame]:8.3f}   {activity}")
