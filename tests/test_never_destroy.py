@@ -560,6 +560,15 @@ def test_a_batch_stops_within_two_seconds_without_a_traceback(tmp_path, signame)
     assert [p.name for p in out.glob(".*") if not p.name.endswith(".lock")] == []
 
 
+def test_fps_flag_that_makes_the_holds_too_long_is_exit_2(cli, tmp_path):
+    scene = tmp_path / "s.yaml"
+    scene.write_text("version: 1\narm: {links: [1, 1, 1, 1]}\ngoals:\n  - {position: [1, 1, 2], hold: 3600}\n"
+                     "  - {position: [1, 1, 2.5], hold: 3600}\nrender: {fps: 10}\n")
+    result = cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q", "--fps", "240")
+    assert result.exit_code == 2 and "--fps 240: the holds would make up to" in result.stderr, result.output
+    assert not (tmp_path / "out" / "s").exists()
+
+
 def test_every_test_the_reliability_page_names_exists():
     import re
 
