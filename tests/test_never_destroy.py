@@ -257,6 +257,7 @@ def test_leftovers_of_a_killed_render_are_removed(tmp_path):
         folder.mkdir()
         (folder / "segment000.mp4").write_bytes(b"x")
     (tmp_path / f".animation.mp4.{dead.pid}.part").write_bytes(b"x")
+    (tmp_path / f"..animation.mp4.{dead.pid}.part.x1y2z3w4.palette.png").write_bytes(b"x")
     (tmp_path / "keep.txt").write_text("x")
     remove_dead_leftovers(tmp_path / "animation.mp4")
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([mine.name, "keep.txt"])

@@ -12,6 +12,7 @@ closes cleanly or is aborted; nothing here moves files into place (see
 from __future__ import annotations
 
 import contextlib
+import os
 import subprocess
 import tempfile
 from fractions import Fraction
@@ -219,8 +220,12 @@ def gif_palette(beside: Path, size: tuple[int, int], frames):
     rectangle of each frame stored, keeps a GIF small (an 11 s, 640x360 run is about
     1 MB instead of 6 to 9 MB with a palette per frame).
     """
-    path = Path(beside).with_name(f".{Path(beside).name}.palette.png")
-    cmd = [find_ffmpeg(), "-y", "-v", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{size[0]}x{size[1]}",
+    exe = find_ffmpeg()
+    # a fresh name armanim made (never a user's file that happens to be called so), removed afterwards
+    fd, name = tempfile.mkstemp(prefix=f".{Path(beside).name}.", suffix=".palette.png", dir=Path(beside).parent)
+    os.close(fd)
+    path = Path(name)
+    cmd = [exe, "-y", "-v", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{size[0]}x{size[1]}",
            "-i", "-", "-vf", GIF_PALETTE, "-frames:v", "1", str(path)]
     try:
         with tempfile.TemporaryFile(prefix="armanim-ffmpeg-") as log:

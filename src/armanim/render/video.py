@@ -159,10 +159,10 @@ def render_video(
 
 
 def remove_dead_leftovers(path: Path) -> None:
-    """Remove the temporary video and segment folders beside ``path`` of renders whose
-    process is gone (killed outright); those of live processes are left alone."""
+    """Remove the temporary video, segment folders and GIF palettes beside ``path`` of
+    renders whose process is gone (killed outright); those of live processes are left alone."""
     name = re.escape(path.name)
-    pattern = re.compile(rf"\.{name}\.([0-9]+)\.part|\.\.{name}\.([0-9]+)\.part\.[a-z0-9_]{{8}}")
+    pattern = re.compile(rf"\.{name}\.([0-9]+)\.part|\.\.{name}\.([0-9]+)\.part\.[a-z0-9_]{{8}}(?:\.palette\.png)?")
     try:
         entries = list(path.parent.iterdir())
     except OSError:
