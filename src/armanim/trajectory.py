@@ -16,8 +16,8 @@ reach, when no free pose reaches it (``no_free_pose``), when no path is found
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Callable
 
 import numpy as np
 
@@ -81,7 +81,7 @@ class GoalReport:
     final_distance: float
     iterations: int
     newton_iterations: int = 0
-    planning: "PlanningReport | None" = None
+    planning: PlanningReport | None = None
 
     @property
     def planned(self) -> bool:
@@ -228,7 +228,7 @@ def hold_frames(problem: Problem, goal: Goal) -> int:
     >>> hold_frames(SimpleNamespace(fps=40.0), Goal(np.zeros(3), hold=2.0))
     80
     """
-    return int(round(goal.hold * problem.fps))
+    return int(round(goal.hold * problem.fps))  # noqa: RUF046 (numpy < 2 rounds to a float)
 
 
 def frame_budget(problem: Problem) -> int:
@@ -238,7 +238,7 @@ def frame_budget(problem: Problem) -> int:
 
 def stall_frames(problem: Problem) -> int:
     """Frames over which progress is judged: half a second, at least :data:`MIN_STALL_FRAMES`."""
-    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))
+    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))  # noqa: RUF046 (numpy < 2 rounds to a float)
 
 
 def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
