@@ -24,7 +24,7 @@ import numpy as np
 from armanim.geometry import wrap_angle
 from armanim.planning import plan_motion
 from armanim.problem import Goal, Problem
-from armanim.solvers import ArmState, StepFunction, arm_state, step_function
+from armanim.solvers import ArmState, Step, StepFunction, arm_state, step_function
 from armanim.solvers.barrier import safe_step
 
 STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
@@ -340,7 +340,7 @@ def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, vis
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
     else:
-        proposal = step(problem, state, target)
+        proposal = proposed_step(problem, step, state, target)
         nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
     moved = safe_step(problem, state, nominal)
     visit.distances.append(float(np.linalg.norm(moved.state.tip - target)))
@@ -350,6 +350,15 @@ def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, vis
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode)
     return moved.state
+
+
+def proposed_step(problem: Problem, step: StepFunction, state: ArmState, goal: np.ndarray) -> Step:
+    """The method's proposal; a linear-algebra failure (an SVD that does not converge) is a
+    NaN proposal, which the filter refuses and the goal's report calls ``numerical``."""
+    try:
+        return step(problem, state, goal)
+    except np.linalg.LinAlgError:
+        return Step(dphi=np.full(problem.arm.n, np.nan))
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
