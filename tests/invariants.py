@@ -10,7 +10,13 @@ from armanim.geometry import wrap_angle
 from armanim.kinematics import forward
 from armanim.problem import Problem
 from armanim.solvers.barrier import limit_buffer
-from armanim.trajectory import MISS_REASONS, Solution, frame_budget, hold_frames, max_joint_step
+from armanim.trajectory import (
+    MISS_REASONS,
+    Solution,
+    frame_budget,
+    hold_frames,
+    max_joint_step,
+)
 
 TINY = 1e-9
 

@@ -145,3 +145,12 @@ def test_assert_trajectory_matches_raises_with_report(tmp_path, golden_csv):
     changed = _csv(tmp_path, "changed.csv", _edit_line(text, 3, "phi2_deg", "7.0"))
     with pytest.raises(AssertionError, match="first difference: frame 2, column phi2_deg"):
         assert_trajectory_matches(ROOT / "scenes" / "out-of-reach.yaml", changed)
+
+
+def test_assert_trajectory_matches_finds_the_golden_file_by_the_scenes_name(tmp_path):
+    # the file is named after `name:`, not the file's stem: give the folder, as the docs do
+    scene = tmp_path / "renamed-file.yaml"
+    scene.write_text((ROOT / "scenes" / "out-of-reach.yaml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert_trajectory_matches(scene, GOLDEN, atol_deg=1e-6, atol=1e-6)
+    with pytest.raises(AssertionError, match="first difference"):
+        assert_trajectory_matches(scene, GOLDEN / "planar-nlink.csv")

@@ -196,3 +196,17 @@ def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(t
     assert ",plan" in runs[0].stdout
     assert runs[0].stdout == runs[1].stdout
     assert not any("leaked" in run.stderr for run in runs)  # OMPL's objects are freed before exit
+
+
+def test_a_step_whose_linear_algebra_fails_is_reported_as_numerical(monkeypatch):
+    from armanim.solvers import METHODS
+
+    def failing_step(problem, state, goal):
+        raise np.linalg.LinAlgError("SVD did not converge")
+
+    monkeypatch.setitem(METHODS, "pinv", failing_step)
+    problem = notes_problem(goals=((6.0, 2.0, 9.0),))
+    solution = solve_trajectory(problem)
+    goal = solution.goals[0]
+    assert not goal.reached and goal.reason == "numerical" and not goal.planned
+    assert np.all(solution.trajectory.phi == problem.home)  # the arm held its last safe pose

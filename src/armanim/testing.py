@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from armanim.golden import solve_csv_text
+from armanim.golden import golden_paths, solve_csv_text
 from armanim.output.compare import compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv
 from armanim.scene import load_scene
@@ -20,7 +20,8 @@ def assert_trajectory_matches(scene: str | Path, golden: str | Path, *, atol_deg
     Parameters
     ----------
     scene : path of the scene file
-    golden : path of the expected trajectory.csv
+    golden : path of the expected trajectory.csv, or the golden folder of ``armanim check
+        --update``, where the file is named after the scene's ``name:`` (default: its stem)
     atol_deg : tolerance on joint angles, degrees
     atol : tolerance on positions, distances and clearances, scene units
 
@@ -31,6 +32,8 @@ def assert_trajectory_matches(scene: str | Path, golden: str | Path, *, atol_deg
         column, the largest deviation per column, a frame-count mismatch.
     """
     loaded = load_scene(scene)
+    if Path(golden).is_dir():
+        golden = golden_paths(Path(golden), loaded.name)[0]
     expected = read_trajectory_csv(Path(golden))
     actual = parse_trajectory_csv(solve_csv_text(loaded), f"{scene} (this run)")
     result = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"))

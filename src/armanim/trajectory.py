@@ -16,15 +16,15 @@ reach, when no free pose reaches it (``no_free_pose``), when no path is found
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Callable
 
 import numpy as np
 
 from armanim.geometry import wrap_angle
 from armanim.planning import plan_motion
 from armanim.problem import Goal, Problem
-from armanim.solvers import ArmState, StepFunction, arm_state, step_function
+from armanim.solvers import ArmState, Step, StepFunction, arm_state, step_function
 from armanim.solvers.barrier import safe_step
 
 STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
@@ -81,7 +81,7 @@ class GoalReport:
     final_distance: float
     iterations: int
     newton_iterations: int = 0
-    planning: "PlanningReport | None" = None
+    planning: PlanningReport | None = None
 
     @property
     def planned(self) -> bool:
@@ -228,7 +228,7 @@ def hold_frames(problem: Problem, goal: Goal) -> int:
     >>> hold_frames(SimpleNamespace(fps=40.0), Goal(np.zeros(3), hold=2.0))
     80
     """
-    return int(round(goal.hold * problem.fps))
+    return int(round(goal.hold * problem.fps))  # noqa: RUF046 (numpy < 2 rounds to a float)
 
 
 def frame_budget(problem: Problem) -> int:
@@ -238,7 +238,7 @@ def frame_budget(problem: Problem) -> int:
 
 def stall_frames(problem: Problem) -> int:
     """Frames over which progress is judged: half a second, at least :data:`MIN_STALL_FRAMES`."""
-    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))
+    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))  # noqa: RUF046 (numpy < 2 rounds to a float)
 
 
 def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
@@ -340,7 +340,7 @@ def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, vis
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
     else:
-        proposal = step(problem, state, target)
+        proposal = proposed_step(problem, step, state, target)
         nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
     moved = safe_step(problem, state, nominal)
     visit.distances.append(float(np.linalg.norm(moved.state.tip - target)))
@@ -350,6 +350,15 @@ def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, vis
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode)
     return moved.state
+
+
+def proposed_step(problem: Problem, step: StepFunction, state: ArmState, goal: np.ndarray) -> Step:
+    """The method's proposal; a linear-algebra failure (an SVD that does not converge) is a
+    NaN proposal, which the filter refuses and the goal's report calls ``numerical``."""
+    try:
+        return step(problem, state, goal)
+    except np.linalg.LinAlgError:
+        return Step(dphi=np.full(problem.arm.n, np.nan))
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:

@@ -1,0 +1,910 @@
+"""Motion benchmark for armanim (issue 11, item 6): does the arm reach every goal it can?
+
+    python benchmarks/motion_bench.py                     # 40 scenes, every method, planner auto and off
+    python benchmarks/motion_bench.py --quick             # 8 scenes, for development
+    python benchmarks/motion_bench.py --scenes 100 --seed 3 --jobs 2
+    python benchmarks/motion_bench.py --methods pinv,dls --planner off
+    python benchmarks/motion_bench.py --list-misses       # one line per feasible goal that was missed
+    python benchmarks/motion_bench.py --dump-scene 7 /tmp/scenes   # scene 7 as YAML, for `armanim run`
+
+Scenes. A seeded generator (numpy ``Generator`` from ``--seed`` and the scene's index, so
+scene K is the same whatever ``--scenes`` is) draws random cluttered scenes: arms of 3-7
+links (the course notes' arm: axes z, y, y, ..., links along z; planar or planar-ish arms:
+axes z, links along x; arms with mixed axes), random link lengths and width, limits on
+about half the joints (home strictly inside them), 2-8 spheres (some across the straight
+line between consecutive goals, some next to the arm, some anywhere), and 3-6 goals that
+are the tips of random poses inside the limits and clear of the spheres, plus now and then
+a goal out of reach. Every scene is validated by armanim itself (``SceneModel`` and
+``scene_problems``); a scene that fails is redrawn. Each scene is solved with every
+method, with ``solver.planner`` ``auto`` and ``off`` when armanim has that field.
+
+Oracle. Each goal is labelled feasible or not WITHOUT armanim's solvers: a forward
+kinematics written here (the contract's chain, checked against
+``armanim.kinematics.forward`` at start), then a multi-start search
+(``scipy.optimize.least_squares`` with the joint limits as bounds, deterministic starts)
+for a pose whose tip is within tolerance/2 of the goal, with every joint inside its
+limits and every link capsule (radius width/2) at least ``clearance`` from every sphere's
+surface (``clearance`` = the scene's ``solver.clearance`` when armanim has that field,
+else 0.05). The oracle says nothing about whether a path to that pose exists: a planar
+arm can have goal poses that are clear but cut off from it by a sphere in its plane.
+
+Report. Per method and planner setting: feasible goals reached, goals reached that the
+oracle called infeasible (an oracle bug if not 0), the share of frames within 1e-3 of an
+obstacle surface, time per frame and per planned goal, and broken invariants (NaN, a
+limited joint on or past its limit, clearance below the setting, a joint turning more
+than ``max_joint_step`` in one frame). The exit code is 1 when an invariant is broken,
+else 0. Nothing here asserts on times. See benchmarks/README.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import multiprocessing
+import sys
+import time
+from collections import Counter, defaultdict
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+from pydantic import ValidationError
+from scipy.optimize import least_squares
+
+from armanim.cost import min_link_clearance
+from armanim.kinematics import Arm, forward
+from armanim.problem import Obstacles
+from armanim.scene.checks import scene_problems
+from armanim.scene.convert import scene_to_problem
+from armanim.scene.models import SceneModel, SolverModel
+from armanim.trajectory import solve_trajectory
+
+METHODS = ("pinv", "dls", "newton", "gradient")
+DEFAULT_CLEARANCE = 0.05  # the oracle's clearance when armanim has no solver.clearance
+NEAR_SURFACE = 1e-3  # a frame "touches" when its smallest clearance is below this
+AT_LIMIT = 1e-3  # radians: a frame "rests on a limit" when a joint is this close to it
+ROUNDING = 1e-9  # slack of the invariants
+GEN_CLEARANCE = 0.3  # the generator keeps home and goal poses this far from every sphere
+GEN_LIMIT_MARGIN = np.radians(20.0)  # ... and home and goal poses this far inside their limits
+ORACLE_STARTS = 48
+ORACLE_LIMIT_MARGIN = 1e-4  # radians: "strictly inside the limits"
+ORACLE_PENALTY_TARGET = 0.02  # the search aims for clearance + this
+AXES = np.eye(3)
+AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
+
+# ---------------------------------------------------------------------------------------
+# The oracle's own geometry
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """What the oracle knows of a scene, radians and scene units.
+
+    Attributes
+    ----------
+    base : (3,) array
+    links : (n,) array
+    axes : tuple of str
+        Joint axis names (x, y, z), each in its joint's own frame.
+    direction : (3,) array
+        Unit vector along which every link extends, in its joint's frame.
+    half_width : float
+    lower, upper : (n,) arrays
+        Limits in radians, -inf / +inf for a free joint.
+    centers : (m, 3) array
+    radii : (m,) array
+    home : (n,) array
+    tolerance, clearance : float
+    """
+
+    base: np.ndarray
+    links: np.ndarray
+    axes: tuple
+    direction: np.ndarray
+    half_width: float
+    lower: np.ndarray
+    upper: np.ndarray
+    centers: np.ndarray
+    radii: np.ndarray
+    home: np.ndarray
+    tolerance: float = 0.01
+    clearance: float = DEFAULT_CLEARANCE
+
+    @property
+    def reach(self) -> float:
+        """Sum of the link lengths."""
+        return float(self.links.sum())
+
+
+def axis_rotation(axis: str, angle: np.ndarray) -> np.ndarray:
+    """Rot(axis, angle) for a named coordinate axis, shape angle.shape + (3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    o, z = np.ones_like(c), np.zeros_like(c)
+    rows = {
+        "x": [[o, z, z], [z, c, -s], [z, s, c]],
+        "y": [[c, z, s], [z, o, z], [-s, z, c]],
+        "z": [[c, -s, z], [s, c, z], [z, z, o]],
+    }[axis]
+    return np.moveaxis(np.array(rows), (0, 1), (-2, -1))
+
+
+def joint_points(geo: Geometry, phi: np.ndarray) -> np.ndarray:
+    """The contract's chain, written independently of armanim: p_1 .. p_{n+1}, shape (..., n+1, 3).
+
+    R_i = R_{i-1} Rot(axis_i, phi_i) with R_0 = I; p_1 = base; p_{i+1} = p_i + R_i (l_i d).
+    """
+    phi = np.asarray(phi, dtype=float)
+    batch = phi.shape[:-1]
+    rot = np.broadcast_to(np.eye(3), batch + (3, 3))
+    points = [np.broadcast_to(geo.base, batch + (3,))]
+    for i, axis in enumerate(geo.axes):
+        rot = rot @ axis_rotation(axis, phi[..., i])
+        points.append(points[-1] + rot @ (geo.links[i] * geo.direction))
+    return np.stack(points, axis=-2)
+
+
+def capsule_clearances(geo: Geometry, points: np.ndarray) -> np.ndarray:
+    """Clearance of every link capsule to every sphere's surface, shape (..., n, m); negative inside."""
+    a = points[..., :-1, None, :]
+    ab = points[..., 1:, None, :] - a
+    t = np.clip(((geo.centers - a) * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
+    gap = a + t[..., None] * ab - geo.centers
+    return np.sqrt((gap * gap).sum(-1)) - geo.radii - geo.half_width
+
+
+def min_clearance(geo: Geometry, phi: np.ndarray) -> np.ndarray:
+    """Smallest capsule clearance of one pose or a batch, shape (...); +inf without spheres."""
+    points = joint_points(geo, phi)
+    if len(geo.radii) == 0:
+        return np.full(points.shape[:-2], np.inf)
+    return capsule_clearances(geo, points).min(axis=(-1, -2))
+
+
+def self_test_geometry(rng: np.random.Generator, poses: int = 200) -> None:
+    """Assert that the oracle's geometry is armanim's: joint points and capsule clearances agree to 1e-9.
+
+    Raises
+    ------
+    AssertionError
+        When the two forward kinematics or clearances differ on any random arm and pose.
+    """
+    for trial in range(12):
+        n = int(rng.integers(1, 8))
+        axes = tuple(rng.choice(["x", "y", "z"], size=n))
+        direction = str(rng.choice(["x", "y", "z"]))
+        geo = Geometry(
+            base=rng.uniform(-5, 5, 3), links=rng.uniform(0.5, 5, n), axes=axes, direction=AXES[AXIS_INDEX[direction]],
+            half_width=float(rng.uniform(0.1, 0.4)), lower=np.full(n, -np.inf), upper=np.full(n, np.inf),
+            centers=rng.uniform(-8, 8, (3, 3)), radii=rng.uniform(0.2, 2, 3), home=np.zeros(n),
+        )
+        arm = Arm.from_names(list(geo.links), base=tuple(geo.base), axes=list(axes), direction=direction)
+        phi = rng.uniform(-np.pi, np.pi, (poses, n))
+        ours = joint_points(geo, phi)
+        theirs = forward(arm, phi).points
+        assert np.max(np.abs(ours - theirs)) < 1e-9, f"oracle FK differs from armanim's (trial {trial})"
+        single = forward(arm, phi[0]).points
+        assert np.max(np.abs(ours[0] - single)) < 1e-9, "oracle FK differs from armanim's single-pose FK"
+        obstacles = Obstacles(centers=geo.centers, radii=geo.radii, influence=geo.radii)
+        armanim_cl = min_link_clearance(forward(arm, phi), obstacles, geo.half_width)
+        assert np.max(np.abs(min_clearance(geo, phi) - armanim_cl)) < 1e-9, "oracle clearance differs from armanim's"
+
+
+# ---------------------------------------------------------------------------------------
+# The oracle
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The oracle's label of one goal: ``feasible`` with a witness pose, else why not."""
+
+    feasible: bool
+    why: str  # "feasible", "out_of_reach" or "no_free_pose"
+    pose: np.ndarray | None = None
+
+
+def search_bounds(geo: Geometry) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of the IK search: the limits pulled in by ORACLE_LIMIT_MARGIN (free joints unbounded)."""
+    return geo.lower + ORACLE_LIMIT_MARGIN, geo.upper - ORACLE_LIMIT_MARGIN
+
+
+def start_poses(geo: Geometry, rng: np.random.Generator, count: int) -> np.ndarray:
+    """Deterministic starts of the search: home, the zero pose, then uniform draws inside the limits."""
+    lo, hi = search_bounds(geo)
+    box_lo, box_hi = np.maximum(lo, -np.pi), np.minimum(hi, np.pi)
+    draws = rng.uniform(box_lo, box_hi, (max(count - 2, 0), len(geo.links)))
+    starts = np.vstack([geo.home, np.zeros(len(geo.links)), draws])[:count]
+    return np.clip(starts, box_lo + 1e-7, box_hi - 1e-7)
+
+
+def oracle_residual(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Tip error (3) and one hinge term per link-sphere pair, max(0, clearance + target - d)."""
+    points = joint_points(geo, phi)
+    tip_error = points[-1] - goal
+    if len(geo.radii) == 0:
+        return tip_error
+    shortfall = np.maximum(0.0, geo.clearance + ORACLE_PENALTY_TARGET - capsule_clearances(geo, points))
+    return np.concatenate([tip_error, shortfall.ravel()])
+
+
+def is_witness(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> bool:
+    """True when ``phi`` proves the goal feasible: inside the limits, tip within tolerance/2, clear."""
+    inside = np.all(phi > geo.lower) and np.all(phi < geo.upper)
+    close = np.linalg.norm(joint_points(geo, phi)[-1] - goal) < geo.tolerance / 2
+    return bool(inside and close and min_clearance(geo, phi) >= geo.clearance)
+
+
+def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts: int = ORACLE_STARTS) -> Verdict:
+    """Label one goal feasible or not by a multi-start bounded least-squares search.
+
+    Parameters
+    ----------
+    geo : Geometry
+    goal : (3,) array
+    rng : numpy Generator
+        Source of the deterministic starts.
+    starts : int
+        Most starts tried; the search stops at the first witness.
+
+    Returns
+    -------
+    Verdict
+    """
+    if np.linalg.norm(goal - geo.base) > geo.reach:
+        return Verdict(False, "out_of_reach")
+    lo, hi = search_bounds(geo)
+    for start in start_poses(geo, rng, starts):
+        fit = least_squares(lambda p: oracle_residual(geo, goal, p), start, bounds=(lo, hi), xtol=1e-12, ftol=1e-12, gtol=1e-12)
+        if is_witness(geo, goal, fit.x):
+            return Verdict(True, "feasible", fit.x)
+    return Verdict(False, "no_free_pose")
+
+
+# ---------------------------------------------------------------------------------------
+# The scene generator
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass
+class Draft:
+    """A scene being drawn, radians inside; ``as_scene_dict`` writes it in scene-file form."""
+
+    kind: str
+    base: np.ndarray
+    links: np.ndarray
+    axes: list
+    direction: str
+    width: float
+    home: np.ndarray  # radians, rounded to 1e-3 degree
+    limits: list  # per joint None or (lo, hi) in whole degrees
+    spheres: list = field(default_factory=list)  # (center (3,), radius)
+    goals: list = field(default_factory=list)  # (3,) arrays
+    witnesses: list = field(default_factory=list)  # the generator's pose per goal (None: out of reach)
+
+    def geometry(self, clearance: float = DEFAULT_CLEARANCE, tolerance: float = 0.01) -> Geometry:
+        """The oracle's view of this draft."""
+        lower = np.array([np.radians(p[0]) if p else -np.inf for p in self.limits])
+        upper = np.array([np.radians(p[1]) if p else np.inf for p in self.limits])
+        return Geometry(
+            base=self.base, links=self.links, axes=tuple(self.axes), direction=AXES[AXIS_INDEX[self.direction]],
+            half_width=self.width / 2, lower=lower, upper=upper,
+            centers=np.array([c for c, _ in self.spheres]).reshape(-1, 3), radii=np.array([r for _, r in self.spheres]),
+            home=self.home, tolerance=tolerance, clearance=clearance,
+        )
+
+    def as_scene_dict(self, name: str, method: str = "pinv", planner: str | None = None) -> dict:
+        """The draft as a scene file's mapping (degrees), ready for ``SceneModel.model_validate``."""
+        solver = {"method": method}
+        if planner is not None:
+            solver["planner"] = planner
+        return {
+            "version": 1,
+            "name": name,
+            "arm": {
+                "base": floats(self.base),
+                "links": floats(self.links),
+                "axes": list(self.axes),
+                "direction": self.direction,
+                "home": floats(np.degrees(self.home), 3),
+                "limits": [None if p is None else [float(p[0]), float(p[1])] for p in self.limits],
+                "width": float(self.width),
+            },
+            "obstacles": [{"center": floats(c), "radius": float(r)} for c, r in self.spheres],
+            "goals": [floats(g) for g in self.goals],
+            "solver": solver,
+            "render": {"fps": 30},
+        }
+
+
+def floats(values, decimals: int = 4) -> list:
+    """Plain Python floats rounded for a readable scene file."""
+    return [round(float(v), decimals) for v in np.asarray(values).ravel()]
+
+
+def draw_arm(rng: np.random.Generator) -> Draft:
+    """An arm of 3-7 links: the course notes' kind, a planar(-ish) one or one with mixed axes; home and limits."""
+    n = int(rng.integers(3, 8))
+    kind = str(rng.choice(["notes", "planar", "mixed"], p=[0.4, 0.3, 0.3]))
+    if kind == "notes":
+        axes, direction = ["z"] + ["y"] * (n - 1), "z"
+        links = np.concatenate([[rng.uniform(1, 3)], rng.uniform(2, 6, n - 1)])
+    elif kind == "planar":
+        axes, direction = ["z"] * n, "x"
+        if rng.random() < 0.4:  # planar-ish: one joint lifts the arm out of its plane
+            axes[int(rng.integers(1, n))] = "y"
+        links = rng.uniform(1.5, 5, n)
+    else:
+        direction = str(rng.choice(["x", "y", "z"]))
+        choices = [a for a in "xyz" if a != direction]
+        axes = ["z" if direction != "z" else "x"] + [str(rng.choice(choices)) for _ in range(n - 1)]
+        links = rng.uniform(1, 5, n)
+    home = np.zeros(n) if rng.random() < 0.5 else np.radians(np.round(rng.uniform(-60, 60, n), 3))
+    limits = [draw_limit(rng, np.degrees(h)) if rng.random() < 0.5 else None for h in home]
+    return Draft(kind=kind, base=np.round(rng.uniform(-5, 5, 3), 4), links=np.round(links, 4), axes=axes,
+                 direction=direction, width=round(float(rng.uniform(0.3, 0.6)), 3), home=home, limits=limits)
+
+
+def draw_limit(rng: np.random.Generator, home_deg: float) -> tuple[float, float]:
+    """Whole-degree limits with home at least 25 degrees inside each, within [-175, 175]."""
+    lo = float(np.floor(rng.uniform(max(-175.0, home_deg - 150), home_deg - 25)))
+    hi = float(np.ceil(rng.uniform(home_deg + 25, min(175.0, home_deg + 150))))
+    return lo, hi
+
+
+def random_pose(rng: np.random.Generator, draft: Draft) -> np.ndarray:
+    """A pose inside the limits, GEN_LIMIT_MARGIN away from them (free joints anywhere)."""
+    geo = draft.geometry()
+    lo = np.where(np.isfinite(geo.lower), geo.lower + GEN_LIMIT_MARGIN, -np.pi)
+    hi = np.where(np.isfinite(geo.upper), geo.upper - GEN_LIMIT_MARGIN, np.pi)
+    return rng.uniform(lo, hi)
+
+
+def poses_clear(draft: Draft, poses: list, margin: float) -> bool:
+    """True when every pose's capsules are at least ``margin`` from every sphere of the draft."""
+    if not draft.spheres or not poses:
+        return True
+    return bool(np.all(min_clearance(draft.geometry(), np.array(poses)) >= margin))
+
+
+def draw_goal_poses(rng: np.random.Generator, draft: Draft) -> list:
+    """3-6 poses inside the limits whose tips will be the goals."""
+    return [random_pose(rng, draft) for _ in range(int(rng.integers(3, 7)))]
+
+
+def sphere_across(rng: np.random.Generator, a: np.ndarray, b: np.ndarray, size: float):
+    """A sphere on the straight segment a-b, a little off its middle."""
+    length = np.linalg.norm(b - a)
+    radius = float(np.clip(rng.uniform(0.15, 0.35) * length, 0.3, size))
+    offset = rng.normal(size=3) * 0.2 * radius
+    return a + rng.uniform(0.35, 0.65) * (b - a) + offset, radius
+
+
+def sphere_near_arm(rng: np.random.Generator, draft: Draft, pose: np.ndarray, size: float):
+    """A sphere just beside a random point of the arm in ``pose``."""
+    points = joint_points(draft.geometry(), pose)
+    link = int(rng.integers(0, len(draft.links)))
+    on_arm = points[link] + rng.uniform(0, 1) * (points[link + 1] - points[link])
+    radius = float(rng.uniform(0.3, 1.0) * size)
+    direction = rng.normal(size=3)
+    direction /= np.linalg.norm(direction)
+    gap = draft.width / 2 + GEN_CLEARANCE + rng.uniform(0.05, 0.8)
+    return on_arm + (radius + gap) * direction, radius
+
+
+def sphere_anywhere(rng: np.random.Generator, draft: Draft, size: float):
+    """A sphere anywhere within the arm's reach."""
+    direction = rng.normal(size=3)
+    direction /= np.linalg.norm(direction)
+    center = draft.base + direction * rng.uniform(0.3, 1.0) * draft.links.sum()
+    return center, float(rng.uniform(0.3, 1.0) * size)
+
+
+def place_spheres(rng: np.random.Generator, draft: Draft, goal_poses: list) -> None:
+    """Add 2-8 spheres: across the paths between consecutive tips, beside the arm, anywhere.
+
+    A sphere is kept only when home and every goal pose stay GEN_CLEARANCE clear of it.
+    """
+    geo = draft.geometry()
+    tips = [joint_points(geo, p)[-1] for p in [draft.home] + goal_poses]
+    size = float(np.mean(draft.links))
+    wanted = int(rng.integers(2, 9))
+    across = min(int(rng.integers(1, 5)), len(tips) - 1, wanted)
+    near = min(int(rng.integers(0, 3)), wanted - across)
+    kinds = ["across"] * across + ["near"] * near + ["anywhere"] * (wanted - across - near)
+    segments = rng.permutation(len(tips) - 1)
+    for i, kind in enumerate(kinds):
+        for _ in range(30):
+            if kind == "across":
+                k = int(segments[i % len(segments)])
+                candidate = sphere_across(rng, tips[k], tips[k + 1], size)
+            elif kind == "near":
+                pose = [draft.home] + goal_poses
+                candidate = sphere_near_arm(rng, draft, pose[int(rng.integers(0, len(pose)))], size)
+            else:
+                candidate = sphere_anywhere(rng, draft, size)
+            center = np.round(candidate[0], 4)
+            trial = Draft(**{**draft.__dict__, "spheres": [(center, round(candidate[1], 4))]})
+            if poses_clear(trial, [draft.home] + goal_poses, GEN_CLEARANCE):
+                draft.spheres.append((center, round(candidate[1], 4)))
+                break
+
+
+def out_of_reach_goal(rng: np.random.Generator, draft: Draft) -> np.ndarray:
+    """A point 1.1-1.5 times the arm's length from its base, outside every sphere."""
+    while True:
+        direction = rng.normal(size=3)
+        direction /= np.linalg.norm(direction)
+        goal = np.round(draft.base + direction * rng.uniform(1.1, 1.5) * draft.links.sum(), 4)
+        if all(np.linalg.norm(goal - c) > r + 1.0 for c, r in draft.spheres):
+            return goal
+
+
+def draw_scene(rng: np.random.Generator) -> Draft:
+    """One candidate scene (not yet validated by armanim)."""
+    draft = draw_arm(rng)
+    goal_poses = draw_goal_poses(rng, draft)
+    place_spheres(rng, draft, goal_poses)
+    geo = draft.geometry()
+    draft.goals = [np.round(joint_points(geo, p)[-1], 4) for p in goal_poses]
+    draft.witnesses = list(goal_poses)
+    if rng.random() < 0.2:
+        at = int(rng.integers(0, len(draft.goals) + 1))
+        draft.goals.insert(at, out_of_reach_goal(rng, draft))
+        draft.witnesses.insert(at, None)
+    return draft
+
+
+def armanim_rejects(scene: dict) -> list:
+    """armanim's own objections to a scene mapping: pydantic errors or cross-field problems (empty: valid)."""
+    try:
+        model = SceneModel.model_validate(scene)
+    except ValidationError as exc:
+        return [str(exc)]
+    return scene_problems(model)
+
+
+def make_scene(seed: int, index: int) -> Draft:
+    """Scene ``index`` of the benchmark for ``seed``: drawn until armanim accepts it.
+
+    Parameters
+    ----------
+    seed : int
+        The benchmark's ``--seed``.
+    index : int
+        0-based scene index; the scene depends only on (seed, index).
+
+    Returns
+    -------
+    Draft
+    """
+    rng = np.random.default_rng([seed, index])
+    while True:
+        draft = draw_scene(rng)
+        if len(draft.spheres) >= 2 and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
+            return draft
+
+
+def scene_name(seed: int, index: int, method: str | None = None, planner: str | None = None) -> str:
+    """The scene's ``name`` (and output folder of ``armanim run``)."""
+    return "-".join(str(p) for p in (f"bench-s{seed}-k{index}", method, planner) if p is not None)
+
+
+# ---------------------------------------------------------------------------------------
+# Running armanim
+# ---------------------------------------------------------------------------------------
+
+
+def planner_field_exists() -> bool:
+    """Whether this armanim has ``solver.planner``."""
+    return "planner" in SolverModel.model_fields
+
+
+def clearance_of(model: SceneModel) -> float | None:
+    """The scene's resolved ``solver.clearance`` (scene units), or None when armanim has no such field."""
+    if "clearance" not in SolverModel.model_fields:
+        return None
+    resolved = getattr(scene_to_problem(model).solver, "clearance", None)
+    value = resolved if resolved is not None else model.solver.clearance
+    return float(value) if value is not None else None
+
+
+def timed_solve(problem):
+    """Solve and time it: (solution, total seconds, per-goal end times in seconds from the start)."""
+    marks = []
+    start = time.perf_counter()
+
+    def progress(done, _bound):
+        marks.append((done, time.perf_counter() - start))
+
+    try:
+        solution = solve_trajectory(problem, progress=progress)
+    except TypeError:  # a solve_trajectory without progress
+        solution = solve_trajectory(problem)
+    return solution, time.perf_counter() - start, marks
+
+
+def goal_wall_times(reports, marks, total: float) -> list[float]:
+    """Wall time of each goal from the progress marks (nan when there are none)."""
+    if not marks:
+        return [float("nan")] * len(reports)
+    counts = np.array([m[0] for m in marks])
+    times = np.array([m[1] for m in marks])
+    ends, previous = [], 0.0
+    for report in reports:
+        last = report.last_frame + 1 if report.last_frame >= 0 else None
+        if last is not None:
+            upto = np.nonzero(counts <= last)[0]
+            previous = float(times[upto[-1]]) if len(upto) else previous
+        ends.append(previous)
+    return list(np.diff([0.0] + ends))
+
+
+def invariant_breaks(problem, trajectory, clearance: float | None, geo: Geometry) -> list[str]:
+    """Every invariant a trajectory breaks, as short messages (empty: all hold).
+
+    NaN anywhere; a limited joint on or past its limit; the smallest capsule clearance
+    (armanim's own and the oracle's recomputation) below the setting (or <= 0 without
+    one); a joint turning more than ``max_joint_step`` in a frame (wrap-aware).
+    """
+    breaks = []
+    phi = trajectory.phi
+    if not (np.all(np.isfinite(phi)) and np.all(np.isfinite(trajectory.tip)) and not np.any(np.isnan(trajectory.clearance))):
+        return ["NaN or infinity in phi, tip or clearance"]
+    lim = problem.limits
+    outside = (phi <= lim.lower) | (phi >= lim.upper)
+    if np.any(outside):
+        frame, joint = np.argwhere(outside)[0]
+        breaks.append(f"joint {joint + 1} at {np.degrees(phi[frame, joint]):.6g} deg on frame {frame} is not strictly inside its limits")
+    floor = clearance - ROUNDING if clearance is not None else 0.0
+    for source, values in (("armanim", trajectory.clearance), ("oracle", min_clearance(geo, phi))):
+        bad = values < floor if clearance is not None else values <= floor
+        if np.any(bad):
+            frame = int(np.argmax(bad))
+            wanted = f">= {clearance:.3g} (solver.clearance)" if clearance is not None else "> 0"
+            breaks.append(f"clearance {values[frame]:.3g} ({source}) on frame {frame}, expected {wanted}")
+    if len(phi) > 1:
+        turn = np.abs(np.mod(np.diff(phi, axis=0) + np.pi, 2 * np.pi) - np.pi)
+        if turn.max() > problem.solver.max_joint_step + ROUNDING:
+            frame = int(np.argmax(turn.max(axis=1))) + 1
+            breaks.append(f"a joint turned {np.degrees(turn.max()):.12g} deg on frame {frame} (max_joint_step "
+                          f"{np.degrees(problem.solver.max_joint_step):.12g}, excess {turn.max() - problem.solver.max_joint_step:.3g} rad)")
+    return breaks
+
+
+@dataclass
+class Run:
+    """One scene solved with one method and planner setting."""
+
+    scene: int
+    kind: str
+    method: str
+    planner: str
+    reached: list  # per goal
+    reasons: list  # per goal: None or the miss reason
+    planned: list  # per goal: True / False, or None when GoalReport has no ``planned``
+    easy: list  # per goal: for a feasible miss, whether a straight joint-space line to an oracle pose is clear
+    goal_seconds: list
+    frames: int
+    near_surface: int
+    at_limit: int
+    seconds: float
+    breaks: list
+
+
+def straight_line_clear(geo: Geometry, start: np.ndarray, end: np.ndarray) -> bool:
+    """True when the straight joint-space segment start-end stays inside the limits and never enters a sphere.
+
+    Sampled so that no arm point moves more than 0.02 (or the clearance, if smaller) between
+    samples, at most 20000 samples. The start is the arm's own pose, which may touch a surface,
+    so the test is clearance > 0, not >= the clearance setting.
+    """
+    travel = geo.reach * np.abs(end - start).sum()  # bounds how far any arm point moves along the segment
+    samples = int(min(max(np.ceil(travel / min(geo.clearance, 0.02)), 2), 20000))
+    path = start + np.linspace(0.0, 1.0, samples)[:, None] * (end - start)
+    inside = np.all((path > geo.lower) & (path < geo.upper))
+    return bool(inside and np.all(min_clearance(geo, path) > 0))
+
+
+def easy_misses(geo: Geometry, verdicts: list, reports, phi: np.ndarray) -> list:
+    """Per goal: for a feasible goal missed, whether the straight joint-space line from the arm's
+    last pose on that goal to the oracle's pose is clear (an easy miss); None otherwise."""
+    easy, pose = [], phi[0]
+    for verdict, report in zip(verdicts, reports):
+        pose = phi[report.last_frame] if report.last_frame >= 0 else pose
+        easy.append(straight_line_clear(geo, pose, verdict.pose) if verdict.feasible and not report.reached else None)
+    return easy
+
+
+def solve_one(draft: Draft, seed: int, index: int, method: str, planner: str, geo: Geometry, verdicts: list) -> Run:
+    """Solve a scene with one method and planner setting, and check its trajectory."""
+    field_planner = planner if planner_field_exists() else None
+    model = SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
+    problem = scene_to_problem(model)
+    try:
+        solution, seconds, marks = timed_solve(problem)
+    except Exception as exc:  # noqa: BLE001 - a crash is a broken invariant reported with its scene, not the end of the run
+        return crashed_run(draft, index, method, planner, exc)
+    traj = solution.trajectory
+    lim = problem.limits
+    gaps = np.minimum(traj.phi - lim.lower, lim.upper - traj.phi)
+    return Run(
+        scene=index, kind=draft.kind, method=method, planner=planner,
+        reached=[bool(g.reached) for g in solution.goals],
+        reasons=[g.reason for g in solution.goals],
+        planned=[getattr(g, "planned", None) for g in solution.goals],
+        easy=easy_misses(geo, verdicts, solution.goals, traj.phi),
+        goal_seconds=goal_wall_times(solution.goals, marks, seconds),
+        frames=int(traj.frames),
+        near_surface=int(np.sum(traj.clearance < NEAR_SURFACE)),
+        at_limit=int(np.sum(np.any(gaps < AT_LIMIT, axis=1))),
+        seconds=seconds,
+        breaks=invariant_breaks(problem, traj, clearance_of(model), geo),
+    )
+
+
+def crashed_run(draft: Draft, index: int, method: str, planner: str, exc: Exception) -> Run:
+    """The Run of a solve that raised: every goal missed with reason ``crash``, one broken invariant."""
+    goals = len(draft.goals)
+    return Run(
+        scene=index, kind=draft.kind, method=method, planner=planner, reached=[False] * goals,
+        reasons=["crash"] * goals, planned=[None] * goals, easy=[None] * goals, goal_seconds=[float("nan")] * goals,
+        frames=0, near_surface=0, at_limit=0, seconds=0.0, breaks=[f"solve_trajectory raised {type(exc).__name__}: {exc}"],
+    )
+
+
+@dataclass
+class SceneResult:
+    """Everything measured on one scene: the oracle's labels and one Run per method and planner."""
+
+    index: int
+    kind: str
+    verdicts: list
+    witness_missed: int  # goals whose generator pose is a witness but the oracle found none
+    oracle_seconds: float
+    runs: list
+
+
+def oracle_geometry(draft: Draft, seed: int, index: int) -> Geometry:
+    """The oracle's geometry of a scene, with armanim's tolerance and clearance setting."""
+    model = SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index)))
+    clearance = clearance_of(model)
+    return draft.geometry(DEFAULT_CLEARANCE if clearance is None else clearance, model.solver.tolerance)
+
+
+def label_scene(draft: Draft, geo: Geometry, seed: int, index: int) -> tuple[list, int]:
+    """The oracle's verdict on every goal, and how many generator witnesses it failed to match."""
+    verdicts, missed = [], 0
+    for k, goal in enumerate(draft.goals):
+        verdict = label_goal(geo, goal, np.random.default_rng([seed, index, k, 7]))
+        witness = draft.witnesses[k]
+        if not verdict.feasible and witness is not None and is_witness(geo, goal, witness):
+            missed += 1
+        verdicts.append(verdict)
+    return verdicts, missed
+
+
+def bench_scene(task: tuple) -> SceneResult:
+    """Worker: generate scene ``index``, label its goals, solve it with every method and planner setting."""
+    seed, index, methods, planners = task
+    draft = make_scene(seed, index)
+    geo = oracle_geometry(draft, seed, index)
+    start = time.perf_counter()
+    verdicts, missed = label_scene(draft, geo, seed, index)
+    oracle_seconds = time.perf_counter() - start
+    runs = [solve_one(draft, seed, index, m, p, geo, verdicts) for m in methods for p in planners]
+    return SceneResult(index, draft.kind, verdicts, missed, oracle_seconds, runs)
+
+
+# ---------------------------------------------------------------------------------------
+# The report
+# ---------------------------------------------------------------------------------------
+
+
+def percent(part: float, whole: float) -> str:
+    """``part/whole (x %)``, or ``-`` when whole is 0."""
+    return f"{part}/{whole} ({100.0 * part / whole:.0f} %)" if whole else "-"
+
+
+def summary_rows(results: list, methods: list, planners: list) -> list[list[str]]:
+    """One table row per method and planner setting."""
+    rows = []
+    for method in methods:
+        for planner in planners:
+            runs = [(r, run) for r in results for run in r.runs if run.method == method and run.planner == planner]
+            feasible = reached = bogus = frames = near = limit = broken = 0
+            seconds = 0.0
+            planned_times, any_planned_field = [], False
+            for r, run in runs:
+                for verdict, ok, was_planned, secs in zip(r.verdicts, run.reached, run.planned, run.goal_seconds):
+                    feasible += verdict.feasible
+                    reached += verdict.feasible and ok
+                    bogus += (not verdict.feasible) and ok
+                    any_planned_field |= was_planned is not None
+                    if was_planned:
+                        planned_times.append(secs)
+                frames += run.frames
+                near += run.near_surface
+                limit += run.at_limit
+                seconds += run.seconds
+                broken += len(run.breaks)
+            per_planned = f"{np.nanmean(planned_times):.2f} s ({len(planned_times)})" if planned_times else ("0 planned" if any_planned_field else "n/a")
+            rows.append([
+                method, planner, percent(reached, feasible), str(bogus),
+                f"{100.0 * near / max(frames, 1):.1f} %", f"{100.0 * limit / max(frames, 1):.1f} %",
+                f"{1000.0 * seconds / max(frames, 1):.2f}", per_planned, str(broken),
+            ])
+    return rows
+
+
+HEADER = ["method", "planner", "feasible reached", "reached infeasible", "frames <1e-3 of surface",
+          "frames on a limit", "ms/frame", "s/planned goal", "invariants broken"]
+
+
+def print_table(header: list, rows: list) -> None:
+    """A markdown table, columns padded."""
+    widths = [max(len(str(x)) for x in col) for col in zip(header, *rows)]
+    line = lambda cells: "| " + " | ".join(str(c).ljust(w) for c, w in zip(cells, widths)) + " |"
+    print(line(header))
+    print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
+    for row in rows:
+        print(line(row))
+
+
+def miss_reasons(results: list) -> dict:
+    """Counter of miss reasons on feasible goals, per (method, planner); key ``easy`` counts the
+    misses with a clear straight joint-space line to an oracle pose."""
+    counts = defaultdict(Counter)
+    for r in results:
+        for run in r.runs:
+            for verdict, ok, reason, easy in zip(r.verdicts, run.reached, run.reasons, run.easy):
+                if verdict.feasible and not ok:
+                    counts[(run.method, run.planner)][reason] += 1
+                    counts[(run.method, run.planner)]["(easy)"] += bool(easy)
+    return counts
+
+
+def kind_rows(results: list, planners: list) -> list[list[str]]:
+    """Feasible goals reached per arm kind and planner setting, all methods together."""
+    rows = []
+    for kind in sorted({r.kind for r in results}):
+        cells = [kind, str(sum(r.kind == kind for r in results))]
+        for planner in planners:
+            feasible = reached = 0
+            for r in (r for r in results if r.kind == kind):
+                for run in (run for run in r.runs if run.planner == planner):
+                    feasible += sum(v.feasible for v in r.verdicts)
+                    reached += sum(v.feasible and ok for v, ok in zip(r.verdicts, run.reached))
+            cells.append(percent(reached, feasible))
+        rows.append(cells)
+    return rows
+
+
+def print_report(results: list, methods: list, planners: list, list_misses: bool) -> int:
+    """Print every table; return the number of broken invariants."""
+    verdicts = [v for r in results for v in r.verdicts]
+    why = Counter(v.why for v in verdicts)
+    print(f"\n{len(results)} scenes, {len(verdicts)} goals: oracle says {why['feasible']} feasible, "
+          f"{why['out_of_reach']} out of reach, {why['no_free_pose']} without a free pose inside the limits; "
+          f"generator poses the oracle failed to match: {sum(r.witness_missed for r in results)}; "
+          f"oracle time {sum(r.oracle_seconds for r in results):.1f} s")
+    print(f"armanim: planner field {'present' if planner_field_exists() else 'absent (only the current behaviour, labelled off)'}, "
+          f"clearance field {'present' if 'clearance' in SolverModel.model_fields else f'absent (oracle clearance {DEFAULT_CLEARANCE})'}\n")
+    print_table(HEADER, summary_rows(results, methods, planners))
+    print("\nMisses of feasible goals by reason (easy: the straight joint-space line from the arm's last pose to the oracle's pose is clear):")
+    for (method, planner), counts in sorted(miss_reasons(results).items()):
+        easy = counts.pop("(easy)")
+        print(f"  {method:8s} {planner:4s} " + ", ".join(f"{reason} {n}" for reason, n in counts.most_common()) + f"; easy {easy}")
+    print("\nFeasible goals reached per arm kind (all methods):")
+    print_table(["arm kind", "scenes"] + [f"planner {p}" for p in planners], kind_rows(results, planners))
+    broken = 0
+    for r in results:
+        for run in r.runs:
+            for message in run.breaks:
+                broken += 1
+                print(f"INVARIANT scene {r.index} {run.method} {run.planner}: {message}")
+    flagged = [(r, run, k) for r in results for run in r.runs for k, (v, ok) in enumerate(zip(r.verdicts, run.reached)) if ok and not v.feasible]
+    for r, run, k in flagged:
+        print(f"ORACLE? scene {r.index} goal {k} reached by {run.method}/{run.planner} but labelled {r.verdicts[k].why}")
+    if list_misses:
+        print("\nFeasible goals missed (scene, goal, arm kind, method, planner, reason; easy: straight line clear):")
+        for r in results:
+            for run in r.runs:
+                for k, (v, ok, reason, easy) in enumerate(zip(r.verdicts, run.reached, run.reasons, run.easy)):
+                    if v.feasible and not ok:
+                        print(f"  scene {r.index:3d} goal {k} {r.kind:7s} {run.method:8s} {run.planner:4s} {reason}{' (easy)' if easy else ''}")
+    return broken
+
+
+# ---------------------------------------------------------------------------------------
+# Command line
+# ---------------------------------------------------------------------------------------
+
+
+def dump_scene(seed: int, index: int, folder: Path, methods: list, planners: list) -> None:
+    """Write scene ``index`` as YAML, one file per method (and planner setting when armanim has it)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    draft = make_scene(seed, index)
+    geo = oracle_geometry(draft, seed, index)
+    verdicts, _ = label_scene(draft, geo, seed, index)
+    for method in methods:
+        for planner in planners if planner_field_exists() else [None]:
+            name = scene_name(seed, index, method, planner)
+            text = f"# motion_bench.py --seed {seed}, scene {index} ({draft.kind} arm); oracle: " + ", ".join(
+                f"goals[{k}] {v.why}" for k, v in enumerate(verdicts)) + "\n"
+            text += yaml.safe_dump(draft.as_scene_dict(name, method, planner), sort_keys=False, default_flow_style=None)
+            path = folder / f"{name}.yaml"
+            path.write_text(text)
+            print(f"wrote {path}   (armanim run {path})")
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--scenes", type=int, default=40, help="number of random scenes (default 40)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the scene generator (default 0)")
+    parser.add_argument("--methods", default=",".join(METHODS), help="comma-separated methods (default all four)")
+    parser.add_argument("--planner", default="auto,off", help="comma-separated planner settings (default auto,off)")
+    parser.add_argument("--jobs", type=int, default=1, help="processes over scenes (default 1)")
+    parser.add_argument("--quick", action="store_true", help="8 scenes, for development")
+    parser.add_argument("--list-misses", action="store_true", help="print every feasible goal that was missed")
+    parser.add_argument("--dump-scene", nargs=2, metavar=("K", "DIR"), help="write scene K as YAML into DIR and exit")
+    args = parser.parse_args(argv)
+    args.methods = [m for m in args.methods.split(",") if m]
+    unknown = set(args.methods) - set(METHODS)
+    if unknown:
+        parser.error(f"unknown method(s) {sorted(unknown)}; expected some of {', '.join(METHODS)}")
+    args.planner = [p for p in args.planner.split(",") if p]
+    if args.quick:
+        args.scenes = 8
+    return args
+
+
+def effective_planners(requested: list) -> list:
+    """The planner settings to run: as asked when armanim has ``solver.planner``, else just ``off``."""
+    if planner_field_exists():
+        return requested
+    if requested != ["off"]:
+        print("note: this armanim has no solver.planner; running the current behaviour, labelled 'off'", file=sys.stderr)
+    return ["off"]
+
+
+def main(argv=None) -> int:
+    args = parse_args(argv)
+    began = time.perf_counter()
+    planners = effective_planners(args.planner)
+    if args.dump_scene:
+        dump_scene(args.seed, int(args.dump_scene[0]), Path(args.dump_scene[1]), args.methods, planners)
+        return 0
+    self_test_geometry(np.random.default_rng(12345))
+    print("self-test: the oracle's forward kinematics and clearances equal armanim's (1e-9)", file=sys.stderr)
+    tasks = [(args.seed, k, args.methods, planners) for k in range(args.scenes)]
+    results = []
+    if args.jobs > 1:
+        with multiprocessing.get_context("forkserver").Pool(args.jobs) as pool:
+            for result in pool.imap_unordered(bench_scene, tasks):
+                results.append(result)
+                report_progress(result, len(results), args.scenes, began)
+    else:
+        for task in tasks:
+            results.append(bench_scene(task))
+            report_progress(results[-1], len(results), args.scenes, began)
+    results.sort(key=lambda r: r.index)
+    print(f"motion_bench --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner {','.join(planners)}")
+    broken = print_report(results, args.methods, planners, args.list_misses)
+    print(f"\nbenchmark took {time.perf_counter() - began:.1f} s ({args.jobs} job(s))")
+    if broken:
+        print(f"{broken} invariant(s) broken", file=sys.stderr)
+    return 1 if broken else 0
+
+
+def report_progress(result: SceneResult, done: int, total: int, began: float) -> None:
+    """One line on stderr per finished scene."""
+    feasible = sum(v.feasible for v in result.verdicts)
+    reached = " ".join(f"{run.method[:2]}/{run.planner}:{sum(v.feasible and ok for v, ok in zip(result.verdicts, run.reached))}"
+                       for run in result.runs)
+    print(f"[{done}/{total} {time.perf_counter() - began:6.1f}s] scene {result.index} ({result.kind}, "
+          f"{len(result.verdicts)} goals, {feasible} feasible) {reached}", file=sys.stderr, flush=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
