@@ -744,7 +744,10 @@ HEADER = ["method", "planner", "feasible reached", "reached infeasible", "frames
 def print_table(header: list, rows: list) -> None:
     """A markdown table, columns padded."""
     widths = [max(len(str(x)) for x in col) for col in zip(header, *rows)]
-    line = lambda cells: "| " + " | ".join(str(c).ljust(w) for c, w in zip(cells, widths)) + " |"
+
+    def line(cells):
+        return "| " + " | ".join(str(c).ljust(w) for c, w in zip(cells, widths)) + " |"
+
     print(line(header))
     print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
     for row in rows:

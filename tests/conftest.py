@@ -6,7 +6,7 @@ Tests find their data through ``Path(__file__).parent``, never the working direc
 from __future__ import annotations
 
 import sys
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -34,7 +34,7 @@ settings.load_profile("armanim")
 BUNDLED = sorted(SCENES.glob("*.yaml"))
 
 
-@lru_cache(maxsize=None)
+@cache
 def solved_scene(path: Path):
     """(problem, solution) of a bundled scene, solved once per session."""
     from armanim.scene import load_scene, scene_to_problem

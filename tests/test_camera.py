@@ -202,8 +202,8 @@ def test_quality_presets_set_size_and_fps_and_explicit_flags_win():
 
 
 def test_an_unknown_quality_is_a_usage_error():
-    from armanim.errors import UsageError
     from armanim.cli import render_overrides
+    from armanim.errors import UsageError
 
     with pytest.raises(UsageError, match="--quality"):
         render_overrides(None, None, None, quality="ultra")

@@ -154,7 +154,7 @@ def test_ik_newton_prints_both_iteration_counts(cli):
     result = cli("ik", "--goal", "3,1,0", *PLANAR, "--method", "newton")
     assert result.exit_code == 0, result.output
     assert "converged" in result.stdout
-    line = next(l for l in result.stdout.splitlines() if l.startswith("iterations"))
+    line = next(text for text in result.stdout.splitlines() if text.startswith("iterations"))
     assert "gradient descent" in line and "Newton" in line
 
 

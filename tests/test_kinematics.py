@@ -49,7 +49,7 @@ def homogeneous(rot, trans):
 def notes_joint_points(phi, links=NOTES_LINKS, base=NOTES_BASE):
     """p_1..p_5 from the chain T01 T12 T23 T34 T45 of Eqs. 2-7, built by hand."""
     l1, l2, l3, l4 = links
-    tz = lambda l: np.array([0.0, 0.0, l])  # noqa: E731
+    tz = lambda length: np.array([0.0, 0.0, length])  # noqa: E731 (the notes' t_z(l), one line per factor)
     chain = [
         homogeneous(rz(phi[0]), np.asarray(base, dtype=float)),  # Eq. 2 (p1 = base)
         homogeneous(ry(phi[1]), tz(l1)),  # Eq. 3

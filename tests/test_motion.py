@@ -210,3 +210,16 @@ def test_a_step_whose_linear_algebra_fails_is_reported_as_numerical(monkeypatch)
     goal = solution.goals[0]
     assert not goal.reached and goal.reason == "numerical" and not goal.planned
     assert np.all(solution.trajectory.phi == problem.home)  # the arm held its last safe pose
+
+
+def test_goal_reports_survive_summary_json_both_ways():
+    import json
+
+    from armanim.output.summary import goal_report_dict, goal_report_from_dict
+
+    solution = solve_trajectory(notes_problem(WALL, goals=((8.0, 0.0, 10.0), (30.0, 0.0, 5.0))))
+    for report in solution.goals:  # one planned and reached, one missed out of reach
+        back = goal_report_from_dict(json.loads(json.dumps(goal_report_dict(report))))
+        assert back.planning == report.planning and back.reason == report.reason
+        np.testing.assert_array_equal(back.position, report.position)
+        assert (back.reached, back.frames, back.final_distance) == (report.reached, report.frames, report.final_distance)

@@ -6,9 +6,8 @@ import numpy as np
 import pytest
 from conftest import BUNDLED, solved_scene
 from hypothesis import given, settings
-from strategies import problems
-
 from invariants import assert_trajectory_invariants
+from strategies import problems
 
 from armanim.trajectory import frame_budget, solve_trajectory
 

@@ -13,10 +13,10 @@ import contextlib
 import os
 import tempfile
 import time
+from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Iterable
 
 from armanim.errors import ArmanimError, SceneError, UsageError
 from armanim.output.atomic import interrupts_deferred, write_bytes_atomic, write_text_atomic
@@ -37,7 +37,7 @@ class SceneTask:
     name: str
 
     @classmethod
-    def from_scene(cls, scene: LoadedScene) -> "SceneTask":
+    def from_scene(cls, scene: LoadedScene) -> SceneTask:
         """The task for a loaded scene."""
         return cls(scene.raw, str(scene.path), scene.name)
 

@@ -11,7 +11,7 @@ import json
 import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import numpy as np
 import typer
@@ -19,7 +19,14 @@ from rich.console import Console
 from rich.table import Table
 
 from armanim import __version__
-from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, ArmanimError, UsageError
+from armanim.errors import (
+    EXIT_BAD_INPUT,
+    EXIT_CHECK_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_OUTPUT_FAILED,
+    ArmanimError,
+    UsageError,
+)
 
 app = typer.Typer(
     name="armanim",
@@ -156,11 +163,11 @@ def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: s
     return problem, None
 
 
-SceneOpt = Annotated[Optional[Path], typer.Option("--scene", help="Take the arm (and its limits) from a scene file.")]
-LinksOpt = Annotated[Optional[str], typer.Option("--links", help="Link lengths, e.g. 2,5,5,5 (default: four unit links).")]
-BaseOpt = Annotated[Optional[str], typer.Option("--base", help="Base position x,y,z (default 0,0,0).")]
-AxesOpt = Annotated[Optional[str], typer.Option("--axes", help="Joint axes, e.g. z,y,y,y (default: z, then y).")]
-DirOpt = Annotated[Optional[str], typer.Option("--direction", help="Local axis the links extend along: x, y or z (default z).")]
+SceneOpt = Annotated[Path | None, typer.Option("--scene", help="Take the arm (and its limits) from a scene file.")]
+LinksOpt = Annotated[str | None, typer.Option("--links", help="Link lengths, e.g. 2,5,5,5 (default: four unit links).")]
+BaseOpt = Annotated[str | None, typer.Option("--base", help="Base position x,y,z (default 0,0,0).")]
+AxesOpt = Annotated[str | None, typer.Option("--axes", help="Joint axes, e.g. z,y,y,y (default: z, then y).")]
+DirOpt = Annotated[str | None, typer.Option("--direction", help="Local axis the links extend along: x, y or z (default z).")]
 
 
 def usable_jobs(jobs: int | None) -> int | None:
@@ -193,7 +200,7 @@ def fk(
     direction: DirOpt = None,
     radians: Annotated[bool, typer.Option("--radians", help="Angles are in radians.")] = False,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON: angles_deg, joints (base to tip), tip.")] = False,
-    png: Annotated[Optional[Path], typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
+    png: Annotated[Path | None, typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
 ) -> None:
     """Forward kinematics of one pose: joint positions and the tip.
 
@@ -255,9 +262,9 @@ def ik(
     base: BaseOpt = None,
     axes: AxesOpt = None,
     direction: DirOpt = None,
-    method: Annotated[Optional[str], typer.Option("--method", help="pinv, dls, newton or gradient (default: the scene's, else pinv).")] = None,
-    start: Annotated[Optional[str], typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")] = None,
-    tolerance: Annotated[Optional[float], typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001).")] = None,
+    method: Annotated[str | None, typer.Option("--method", help="pinv, dls, newton or gradient (default: the scene's, else pinv).")] = None,
+    start: Annotated[str | None, typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")] = None,
+    tolerance: Annotated[float | None, typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001).")] = None,
     max_iterations: Annotated[int, typer.Option("--max-iterations", min=1, help="Give up after this many steps.")] = 2000,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
@@ -344,7 +351,7 @@ def validate(
 @app.command()
 @handle_errors
 def schema(
-    output: Annotated[Optional[Path], typer.Option("--out", help="Write the schema to this file instead of stdout.")] = None,
+    output: Annotated[Path | None, typer.Option("--out", help="Write the schema to this file instead of stdout.")] = None,
 ) -> None:
     """Print the scene file's JSON Schema, for editors to complete and check scenes.
 
@@ -378,7 +385,7 @@ _FLAGS = {("fps",): "--fps", ("size",): "--size", ("format",): "--format",
 
 QUALITY = {"low": ("854x480", 15.0), "medium": ("1280x720", 30.0), "high": ("1920x1080", 60.0),
            "4k": ("3840x2160", 60.0)}  # --quality: size and fps, as manim's presets
-QualityOpt = Annotated[Optional[str], typer.Option(
+QualityOpt = Annotated[str | None, typer.Option(
     "--quality", help="low (854x480@15), medium (1280x720@30), high (1920x1080@60) or 4k (3840x2160@60): "
     "overrides the scene's render size and fps (--size and --fps override it in turn).")]
 
@@ -468,7 +475,7 @@ def _RateColumn():
 
 
 SchedulerOpt = Annotated[
-    Optional[str],
+    str | None,
     typer.Option("--scheduler", envvar="ARMANIM_SCHEDULER", help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.[dask]').", show_envvar=True),
 ]
 
@@ -480,11 +487,11 @@ def run(
     out_root: Annotated[Path, typer.Option("--out", help="Outputs go to OUT/<scene name>/.")] = Path("outputs"),
     no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")] = False,
-    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
+    jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
     scheduler: SchedulerOpt = None,
-    size: Annotated[Optional[str], typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
-    fps: Annotated[Optional[float], typer.Option("--fps", help="Override render.fps.")] = None,
-    fmt: Annotated[Optional[str], typer.Option("--format", help="Override render.format: mp4 or gif.")] = None,
+    size: Annotated[str | None, typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
+    fps: Annotated[float | None, typer.Option("--fps", help="Override render.fps.")] = None,
+    fmt: Annotated[str | None, typer.Option("--format", help="Override render.format: mp4 or gif.")] = None,
     quality: QualityOpt = None,
     strict: Annotated[bool, typer.Option("--strict", help="Exit 1 if any goal is missed.")] = False,
 ) -> None:
@@ -560,7 +567,7 @@ def sweep(
     out_root: Annotated[Path, typer.Option("--out", help="Variants go to OUT/<variant name>/, the table to OUT/<scene>-sweep.csv.")] = Path("outputs"),
     video: Annotated[bool, typer.Option("--video/--no-video", help="Render each variant's video (off by default: sweeps compare numbers).")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")] = False,
-    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")] = None,
+    jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")] = None,
     scheduler: SchedulerOpt = None,
 ) -> None:
     """Run a scene under every combination of settings and compare the results.
@@ -615,15 +622,15 @@ def print_goal_table(result) -> None:
 @handle_errors
 def render(
     folder: Annotated[Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/notes-arm.", show_default=False)],
-    size: Annotated[Optional[str], typer.Option("--size", help="Frame size WIDTHxHEIGHT, e.g. 640x360.")] = None,
-    fps: Annotated[Optional[float], typer.Option("--fps", help="Frames per second.")] = None,
-    fmt: Annotated[Optional[str], typer.Option("--format", help="mp4 or gif.")] = None,
-    elevation: Annotated[Optional[float], typer.Option("--elevation", help="Camera elevation, degrees.")] = None,
-    azimuth: Annotated[Optional[float], typer.Option("--azimuth", help="Camera azimuth, degrees.")] = None,
-    jobs: Annotated[Optional[int], typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")] = None,
+    size: Annotated[str | None, typer.Option("--size", help="Frame size WIDTHxHEIGHT, e.g. 640x360.")] = None,
+    fps: Annotated[float | None, typer.Option("--fps", help="Frames per second.")] = None,
+    fmt: Annotated[str | None, typer.Option("--format", help="mp4 or gif.")] = None,
+    elevation: Annotated[float | None, typer.Option("--elevation", help="Camera elevation, degrees.")] = None,
+    azimuth: Annotated[float | None, typer.Option("--azimuth", help="Camera azimuth, degrees.")] = None,
+    jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")] = None,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
     quality: QualityOpt = None,
-    out_dir: Annotated[Optional[Path], typer.Option("--out", help="Write the video, plot.png and poster.png to this folder instead of replacing the run's.")] = None,
+    out_dir: Annotated[Path | None, typer.Option("--out", help="Write the video, plot.png and poster.png to this folder instead of replacing the run's.")] = None,
 ) -> None:
     """Re-render a finished run from its trajectory.csv, without solving (other size, view, fps or format).
 

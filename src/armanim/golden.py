@@ -20,7 +20,6 @@ from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, tr
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.trajectory import solve_trajectory
 
-
 MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
 
 

@@ -12,8 +12,8 @@ elbow and then from seeded random poses. Pure core: no I/O.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
-from typing import Iterator
 
 import numpy as np
 
@@ -91,7 +91,7 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
     best = None
     used = newton_used = 0
     starts = restart_poses(problem, start, 1 + RESTARTS)
-    for restarts, first in enumerate(starts):
+    for restarts, first in enumerate(starts):  # noqa: B007 (the count is reported after the loop)
         state, its, nm_its = attempt(problem, goal, first, max_iterations - used)
         used += its
         newton_used += nm_its

@@ -11,8 +11,8 @@ positions (solvers, cost, renderer, CLI) calls :func:`forward`.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 import scipy.linalg
@@ -71,7 +71,7 @@ class Arm:
         base=(0.0, 0.0, 0.0),
         axes: list[str] | None = None,
         direction: str = "z",
-    ) -> "Arm":
+    ) -> Arm:
         """Build an arm from axis names, with the contract's default axes (z, then y).
 
         >>> Arm.from_names([2, 5, 5, 5], base=(5, 5, 0)).n

@@ -5,10 +5,11 @@ A silent, importable API: progress is a callback, nothing is printed here.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Callable
 
+from armanim.errors import UsageError
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.reload import SCENE_COPY
@@ -16,7 +17,6 @@ from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.summary import summary_dict, write_summary
 from armanim.problem import Problem, RenderSettings
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
-from armanim.errors import UsageError
 from armanim.scene.models import LIMITS
 from armanim.trajectory import Solution, frame_budget, solve_trajectory
 

@@ -31,7 +31,7 @@ class Obstacles:
     influence: np.ndarray
 
     @classmethod
-    def none(cls) -> "Obstacles":
+    def none(cls) -> Obstacles:
         """No obstacles."""
         return cls(np.zeros((0, 3)), np.zeros(0), np.zeros(0))
 
@@ -55,7 +55,7 @@ class Limits:
     margin: float
 
     @classmethod
-    def unlimited(cls, n: int, margin: float = np.radians(10.0)) -> "Limits":
+    def unlimited(cls, n: int, margin: float = np.radians(10.0)) -> Limits:
         """Limits for an arm whose joints all turn freely."""
         return cls(np.full(n, -np.inf), np.full(n, np.inf), margin)
 

@@ -13,8 +13,8 @@ import os
 import signal
 import tempfile
 import threading
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 from armanim.errors import OutputError
 from armanim.files import special_kind

@@ -11,10 +11,11 @@ import numpy as np
 from armanim.errors import Diagnostic, SceneError
 from armanim.files import read_bounded
 from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv
+from armanim.output.summary import goal_report_from_dict
 from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.scene.models import LIMITS
-from armanim.trajectory import GoalReport, PlanningReport, Solution, Trajectory
+from armanim.trajectory import GoalReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
 MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB
@@ -41,22 +42,7 @@ def _read_summary(summary_path: Path) -> dict:
 
 def _reports(summary: dict, summary_path: Path) -> tuple[GoalReport, ...]:
     try:
-        return tuple(
-            GoalReport(
-                index=g["index"],
-                position=np.array(g["position"], dtype=float),
-                reached=g["reached"],
-                reason=g["reason"],
-                frames=g["frames"],
-                first_frame=g["first_frame"],
-                last_frame=g["last_frame"],
-                final_distance=g["final_distance"],
-                iterations=g["iterations"],
-                newton_iterations=g.get("newton_iterations", 0),
-                planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
-            )
-            for g in summary["goals"]
-        )
+        return tuple(goal_report_from_dict(g) for g in summary["goals"])
     except (ValueError, KeyError, TypeError) as exc:
         raise SceneError(str(summary_path), [Diagnostic("", f"is not an armanim summary: {exc}")]) from None
 

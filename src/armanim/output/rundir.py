@@ -25,8 +25,8 @@ import re
 import shutil
 import stat
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 from armanim import __version__
 from armanim.errors import OutputError

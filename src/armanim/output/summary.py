@@ -11,7 +11,7 @@ import numpy as np
 from armanim import __version__
 from armanim.output.atomic import write_text_atomic
 from armanim.problem import Problem
-from armanim.trajectory import MISS_REASONS, Solution, max_joint_step
+from armanim.trajectory import MISS_REASONS, GoalReport, PlanningReport, Solution, max_joint_step
 
 
 def _round(value: float) -> float | None:
@@ -27,27 +27,46 @@ def min_limit_margin_deg(problem: Problem, phi: np.ndarray) -> float | None:
     return float(np.degrees(gaps.min()))
 
 
+def goal_report_dict(g: GoalReport) -> dict:
+    """One goal of summary.json (read back by :func:`goal_report_from_dict`)."""
+    return {
+        "index": g.index,
+        "position": [float(v) for v in g.position],
+        "reached": g.reached,
+        "reason": g.reason,
+        "reason_text": MISS_REASONS.get(g.reason) if g.reason else None,
+        "frames": g.frames,
+        "first_frame": g.first_frame,
+        "last_frame": g.last_frame,
+        "final_distance": float(g.final_distance),
+        "iterations": g.iterations,
+        "newton_iterations": g.newton_iterations,
+        "planned": g.planned,
+        "planning": asdict(g.planning) if g.planning else None,
+    }
+
+
+def goal_report_from_dict(g: dict) -> GoalReport:
+    """The GoalReport of one goal of summary.json; KeyError, TypeError or ValueError if it is not one."""
+    return GoalReport(
+        index=g["index"],
+        position=np.array(g["position"], dtype=float),
+        reached=g["reached"],
+        reason=g["reason"],
+        frames=g["frames"],
+        first_frame=g["first_frame"],
+        last_frame=g["last_frame"],
+        final_distance=g["final_distance"],
+        iterations=g["iterations"],
+        newton_iterations=g.get("newton_iterations", 0),
+        planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
+    )
+
+
 def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str) -> dict:
     """The summary as plain data (see docs/outputs in the README)."""
     traj = solution.trajectory
-    goals = [
-        {
-            "index": g.index,
-            "position": [float(v) for v in g.position],
-            "reached": g.reached,
-            "reason": g.reason,
-            "reason_text": MISS_REASONS.get(g.reason) if g.reason else None,
-            "frames": g.frames,
-            "first_frame": g.first_frame,
-            "last_frame": g.last_frame,
-            "final_distance": float(g.final_distance),
-            "iterations": g.iterations,
-            "newton_iterations": g.newton_iterations,
-            "planned": g.planned,
-            "planning": asdict(g.planning) if g.planning else None,
-        }
-        for g in solution.goals
-    ]
+    goals = [goal_report_dict(g) for g in solution.goals]
     return {
         "armanim_version": __version__,
         "scene": {"name": name, "file": scene_file, "sha256": sha256},

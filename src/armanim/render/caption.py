@@ -6,7 +6,7 @@ tables), as in trajectory.csv, summary.json and the scene's field paths (``goals
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 

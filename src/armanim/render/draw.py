@@ -37,9 +37,9 @@ from armanim.kinematics import Pose, forward
 from armanim.problem import Problem, RenderSettings
 from armanim.render import scenery
 from armanim.render.bounds import resolve_bounds
+from armanim.render.camera import camera_rotation, fit_view, view_angles
 from armanim.render.caption import CURRENT, MISSED, PENDING, REACHED
 from armanim.render.glyphs import GlyphAtlas
-from armanim.render.camera import camera_rotation, fit_view, view_angles
 from armanim.render.mesh import perpendicular_basis, prism_faces, prism_local, prism_world
 from armanim.render.order import paint_order
 from armanim.render.view import LIGHT, lambert

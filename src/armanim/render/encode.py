@@ -128,7 +128,7 @@ class FrameWriter:
                         extra_inputs=(str(self.palette),) if self.palette is not None else ())
         raise RenderError(f"unknown video format {self.fmt!r} (expected 'mp4' or 'gif')")
 
-    def open(self) -> "FrameWriter":
+    def open(self) -> FrameWriter:
         """Start ffmpeg."""
         params = self._params()
         cmd = ffmpeg_command(find_ffmpeg(), self.path, self.out_size, self.fps, **params)
@@ -201,7 +201,7 @@ class FrameWriter:
             self._log.close()
             self._log = None
 
-    def __enter__(self) -> "FrameWriter":
+    def __enter__(self) -> FrameWriter:
         return self.open()
 
     def __exit__(self, exc_type, exc, tb) -> None:

@@ -7,7 +7,7 @@ same renderer as the video's frames.
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 

@@ -17,8 +17,8 @@ import shutil
 import signal
 import tempfile
 import traceback
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -314,10 +314,10 @@ def _collect(workers, messages, progress) -> None:
                 if i in finished or w.is_alive():
                     continue
                 if w.exitcode != 0:
-                    raise RenderError(f"render worker {i} stopped unexpectedly (exit code {w.exitcode})")
+                    raise RenderError(f"render worker {i} stopped unexpectedly (exit code {w.exitcode})") from None
                 silent_exits[i] = silent_exits.get(i, 0) + 1
                 if silent_exits[i] > 2:  # ended without a word after its messages were drained
-                    raise RenderError(f"render worker {i} ended without finishing its segment")
+                    raise RenderError(f"render worker {i} ended without finishing its segment") from None
             continue
         if kind == "progress":
             done_frames[index] = value

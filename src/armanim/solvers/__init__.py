@@ -8,7 +8,7 @@ holds and reached/missed, and passes every proposal through
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

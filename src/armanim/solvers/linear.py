@@ -19,7 +19,7 @@ or the damped least-squares inverse J^T (J J^T + lambda^2 I)^-1.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

@@ -156,7 +156,7 @@ def newton_solve(
     f = fun(x)
     alpha = options.alpha
     gd_its = 0
-    for gd_its in range(1, options.gd_iterations + 1):
+    for gd_its in range(1, options.gd_iterations + 1):  # noqa: B007 (the count is reported after the loop)
         f, g, _ = objective_derivatives(arm, x, target, rest, w_tar, w_reg, hessian=False)
         if np.linalg.norm(g) < options.tolerance:
             break
@@ -171,7 +171,7 @@ def newton_solve(
 
     x_gd, f_gd = x, f
     nm_its = 0
-    for nm_its in range(1, options.nm_iterations + 1):
+    for nm_its in range(1, options.nm_iterations + 1):  # noqa: B007 (the count is reported after the loop)
         f, g, H = objective_derivatives(arm, x, target, rest, w_tar, w_reg)
         if np.linalg.norm(g) < options.tolerance:
             break

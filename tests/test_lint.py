@@ -1,0 +1,18 @@
+"""The code passes ruff (rules and the reason for every ignore: pyproject.toml [tool.ruff])."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+from conftest import ROOT
+
+
+def test_ruff_finds_nothing():
+    pytest.importorskip("ruff")  # in the test extra; skipped only outside it
+    result = subprocess.run(
+        [sys.executable, "-m", "ruff", "check", "--no-cache", "src", "tests", "benchmarks"],
+        cwd=ROOT, capture_output=True, text=True,
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
