@@ -38,7 +38,8 @@ def test_top_level_help_shows_an_example(cli):
 def test_every_command_help_shows_an_example(cli, name):
     result = cli(name, "--help")
     assert result.exit_code == 0, result.output
-    assert "Example: armanim" in " ".join(result.stdout.split()), result.stdout
+    flat = " ".join(result.stdout.split())
+    assert "Example: armanim" in flat or "Examples: armanim" in flat, result.stdout
 
 
 # ------------------------------------------------------------ fk
@@ -265,3 +266,40 @@ def test_progress_bars_render_on_a_terminal():
         bars.progress.refresh()
     text = screen.getvalue()
     assert "solve" in text and "render" in text and "10/10" in text
+
+
+def test_help_paragraphs_are_not_broken_mid_sentence():
+    # rich keeps a docstring's line breaks: a paragraph must be one line, or help breaks sentences
+    import ast
+
+    from conftest import ROOT
+
+    tree = ast.parse((ROOT / "src" / "armanim" / "cli.py").read_text(encoding="utf-8"))
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef) and ast.get_docstring(node) and node.decorator_list:
+            for paragraph in ast.get_docstring(node).split("\n\n"):
+                assert "\n" not in paragraph, (node.name, paragraph)
+
+
+def test_scheduler_help_shows_the_dask_extra(cli):
+    assert "'.[dask]'" in cli("run", "--help").stdout  # rich markup ate [dask] once
+
+
+def test_validate_counts_in_the_singular(cli, tmp_path):
+    scene = tmp_path / "one.yaml"
+    scene.write_text("version: 1\narm: {links: [2, 5, 5, 5]}\nobstacles: [{center: [9, 9, 9], radius: 1}]\ngoals: [[6, 0, 10]]\n")
+    assert "4 links, 1 goal, 1 obstacle, method pinv" in cli("validate", scene).stdout
+
+
+def test_ik_says_why_an_out_of_reach_goal_is_not_reached(cli):
+    result = cli("ik", "--goal", "30,0,0", "--links", "1,1,1,1", "--json")
+    data = json.loads(result.stdout)
+    assert not data["converged"] and data["reason"].startswith("out of reach: the goal is 30 from the base, the arm is 4 long")
+
+
+def test_strict_quiet_says_which_goal_was_missed_on_stderr(cli, tmp_path):
+    from conftest import SCENES
+
+    result = cli("run", SCENES / "out-of-reach.yaml", "--out", tmp_path, "--no-video", "--quiet", "--strict")
+    assert result.exit_code == 1
+    assert result.stdout == "" and "goal 0 missed (out_of_reach)" in result.stderr

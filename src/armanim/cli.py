@@ -299,6 +299,9 @@ def ik(
         "error": result.distance,
         "iterations": result.iterations,
     }
+    reason = unreached_reason(problem, target, result.converged)
+    if reason:
+        data["reason"] = reason
     if settings.method == "newton":
         data["gd_iterations"] = data.pop("iterations")
         data["newton_iterations"] = result.newton_iterations
@@ -307,6 +310,8 @@ def ik(
         return
     status = "[green]converged[/green]" if result.converged else "[red]not converged[/red]"
     out.print(f"{settings.method}: {status}, error {result.distance:.3g} (tolerance {settings.tolerance:g})")
+    if "reason" in data:
+        out.print(f"why: {data['reason']}", highlight=False)
     out.print("angles (deg): " + ", ".join(_fmt(v) for v in data["angles_deg"]), highlight=False)
     out.print("tip: " + ", ".join(_fmt(v) for v in result.tip), highlight=False)
     if settings.method == "newton":
@@ -339,11 +344,8 @@ def validate(
             _report(exc)
             continue
         m = scene.model
-        out.print(
-            f"ok {path} ({scene.name}: {len(m.arm.links)} links, {len(m.goals)} goals, "
-            f"{len(m.obstacles)} obstacles, method {m.solver.method})",
-            highlight=False,
-        )
+        counts = ", ".join(plural(k, word) for k, word in ((len(m.arm.links), "link"), (len(m.goals), "goal"), (len(m.obstacles), "obstacle")))
+        out.print(f"ok {path} ({scene.name}: {counts}, method {m.solver.method})", highlight=False)
     if failed:
         raise typer.Exit(EXIT_BAD_INPUT)
 
@@ -355,8 +357,7 @@ def schema(
 ) -> None:
     """Print the scene file's JSON Schema, for editors to complete and check scenes.
 
-    Example: [bold]armanim schema --out scene.schema.json[/bold], then start a scene with
-    [bold]# yaml-language-server: $schema=scene.schema.json[/bold]
+    Example: [bold]armanim schema --out scene.schema.json[/bold], then start a scene with [bold]# yaml-language-server: $schema=scene.schema.json[/bold]
     """
     from armanim.output.atomic import write_text_atomic
     from armanim.scene.models import SceneModel
@@ -476,7 +477,7 @@ def _RateColumn():
 
 SchedulerOpt = Annotated[
     str | None,
-    typer.Option("--scheduler", envvar="ARMANIM_SCHEDULER", help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.[dask]').", show_envvar=True),
+    typer.Option("--scheduler", envvar="ARMANIM_SCHEDULER", help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.\\[dask]').", show_envvar=True),
 ]
 
 
@@ -495,12 +496,15 @@ def run(
     quality: QualityOpt = None,
     strict: Annotated[bool, typer.Option("--strict", help="Exit 1 if any goal is missed.")] = False,
 ) -> None:
-    """Animate scenes: solve every goal, write trajectory.csv, summary.json, the video, plot.png and poster.png.
+    """Animate scenes: solve every goal and write OUT/<name>/ with the outputs.
 
-    Several scenes run in parallel and also write OUT/index.csv; a bad scene is reported and
-    the others finish (exit 2 if any scene was invalid, 3 if any failed while writing).
+    The outputs: trajectory.csv, summary.json, the video, plot.png and poster.png. Several scenes run in parallel and also write OUT/index.csv; a bad scene is reported and the others finish (exit 2 if any scene was invalid, 3 if any failed while writing).
 
-    Example: [bold]armanim run scenes/notes-arm.yaml[/bold]   [bold]armanim run scenes/*.yaml --jobs 2 --no-video[/bold]
+    Examples:
+
+    [bold]armanim run scenes/notes-arm.yaml[/bold]
+
+    [bold]armanim run scenes/*.yaml --jobs 2 --no-video[/bold]
     """
     overrides = render_overrides(size, fps, fmt, quality=quality)
     jobs = usable_jobs(jobs)
@@ -512,6 +516,9 @@ def run(
         if not quiet:
             print_goal_table(result)
         if strict and result.solution.reached < len(result.solution.goals):
+            for goal in result.solution.goals:
+                if not goal.reached:
+                    err.print(f"--strict: {scenes[0]}: goal {goal.index} missed ({goal.reason})", highlight=False)
             raise typer.Exit(EXIT_CHECK_FAILED)
         return
     from armanim.batch import run_batch
@@ -685,7 +692,8 @@ def check(
     """Run scenes without video and compare each with its golden trajectory; exit 1 on any difference.
 
     Example: [bold]armanim check scenes/*.yaml --golden tests/golden[/bold]
-    (after a deliberate change: [bold]armanim check scenes/*.yaml --golden tests/golden --update[/bold])
+
+    After a deliberate change: [bold]armanim check scenes/*.yaml --golden tests/golden --update[/bold]
     """
     from armanim.golden import check_scene, update_golden
 
@@ -712,6 +720,25 @@ def check(
         out.print(report, markup=False, highlight=False, soft_wrap=True)
     if failed:
         raise typer.Exit(EXIT_CHECK_FAILED)
+
+
+def unreached_reason(problem, target: np.ndarray, converged: bool) -> str | None:
+    """Why ``armanim ik`` did not converge, when it can be told: the goal out of reach."""
+    if converged:
+        return None
+    away = float(np.linalg.norm(target - problem.arm.base))
+    if away > problem.arm.reach:
+        return f"out of reach: the goal is {away:.4g} from the base, the arm is {problem.arm.reach:.4g} long (the tip is as close as it gets)"
+    return "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: try --from other angles)"
+
+
+def plural(count: int, word: str) -> str:
+    """``1 obstacle``, ``3 obstacles``.
+
+    >>> plural(1, "goal"), plural(0, "obstacle")
+    ('1 goal', '0 obstacles')
+    """
+    return f"{count} {word}" + ("" if count == 1 else "s")
 
 
 def _terminate(signum, frame):
