@@ -453,3 +453,11 @@ def test_dask_is_imported_only_when_asked_for(src, tmp_path):
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, env=clean_env())
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "False"
+
+
+def test_batch_progress_names_the_running_scenes(src, tmp_path):
+    from armanim.batch import run_batch
+
+    seen = []
+    run_batch([src / "a.yaml", src / "b.yaml"], tmp_path, jobs=1, video=False, progress=lambda *call: seen.append(call))
+    assert seen[0] == (0, 2, ("out-of-reach",)) and seen[1] == (1, 2, ("planar-nlink",)) and seen[-1] == (2, 2, ())

@@ -277,14 +277,20 @@ def run_tasks(
     scheduler: str | None = None,
     video: bool = True,
     render_overrides: dict | None = None,
-    progress: Callable[[int, int], None] | None = None,
+    progress: Callable[..., None] | None = None,
 ) -> list[BatchEntry]:
-    """Run validated tasks and write their outputs; one entry per task, in task order."""
-    executor = executor_for(jobs or os.cpu_count() or 1, scheduler)
+    """Run validated tasks and write their outputs; one entry per task, in task order.
+
+    ``progress(done, total, running)`` is called at the start and after each scene, with
+    the names of the scenes that are running (the first unfinished ones, one per worker).
+    """
+    workers = jobs or os.cpu_count() or 1
+    executor = executor_for(workers, scheduler)
     entries: dict[str, BatchEntry] = {}
+    unfinished = [t.name for t in tasks]
     done = 0
     if progress:
-        progress(0, len(tasks))
+        progress(0, len(tasks), tuple(unfinished[:workers]))
     for task, run, exc in executor.map(tasks, video, render_overrides):
         if exc is None and run.error is not None:
             entries[task.name] = BatchEntry(task.name, run.status, task.path, message=run.error)
@@ -296,8 +302,9 @@ def run_tasks(
         else:
             entries[task.name] = _failed(task, exc)
         done += 1
+        unfinished.remove(task.name)
         if progress:
-            progress(done, len(tasks))
+            progress(done, len(tasks), tuple(unfinished[:workers]))
     return [entries[t.name] for t in tasks]
 
 

@@ -454,12 +454,13 @@ class _Bars:
         if self.progress is not None:
             self.progress.__exit__(*exc)
 
-    def __call__(self, stage: str, done: int, total: int) -> None:
+    def __call__(self, stage: str, done: int, total: int, running: tuple[str, ...] = ()) -> None:
         if self.progress is None:
             return
         if stage not in self.tasks:
             self.tasks[stage] = self.progress.add_task(f"{stage:>6}", total=total)
-        self.progress.update(self.tasks[stage], completed=done, total=max(total, done))
+        label = f"{stage:>6} " + ", ".join(running) if running else f"{stage:>6}"
+        self.progress.update(self.tasks[stage], completed=done, total=max(total, done), description=label)
 
 
 def _RateColumn():
@@ -526,7 +527,7 @@ def run(
     with _Bars(enabled=not quiet and err.is_terminal) as bars:
         entries = run_batch(
             scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, render_overrides=overrides,
-            progress=lambda done, total: bars("scenes", done, total),
+            progress=lambda done, total, running=(): bars("scenes", done, total, running),
         )
     if not quiet:
         print_batch_table(entries, out_root / "index.csv")
@@ -591,7 +592,7 @@ def sweep(
     items = variants(scene, parsed)
     tasks = [v.task for v in items if v.task is not None]
     with _Bars(enabled=not quiet and err.is_terminal) as bars:
-        done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=lambda d, t: bars("variants", d, t))
+        done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=lambda d, t, running=(): bars("variants", d, t, running))
     by_name = {e.name: e for e in done}
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(parsed, items, entries)
