@@ -154,3 +154,14 @@ def test_assert_trajectory_matches_finds_the_golden_file_by_the_scenes_name(tmp_
     assert_trajectory_matches(scene, GOLDEN, atol_deg=1e-6, atol=1e-6)
     with pytest.raises(AssertionError, match="first difference"):
         assert_trajectory_matches(scene, GOLDEN / "planar-nlink.csv")
+
+
+def test_check_quiet_prints_nothing_when_every_trajectory_matches(tmp_path):
+    scene = ROOT / "scenes" / "out-of-reach.yaml"
+    quiet = runner.invoke(app, ["check", str(scene), "--golden", str(GOLDEN), "--quiet"])
+    assert quiet.exit_code == 0 and quiet.stdout == "", quiet.output
+    other = tmp_path / "golden"
+    other.mkdir()
+    shutil.copy(GOLDEN / "planar-nlink.csv", other / "out-of-reach.csv")
+    failed = runner.invoke(app, ["check", str(scene), "--golden", str(other), "-q"])
+    assert failed.exit_code == 1 and "out-of-reach:" in failed.stdout and "golden trajectories in" not in failed.stdout

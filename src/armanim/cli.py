@@ -689,6 +689,7 @@ def check(
     update: Annotated[bool, typer.Option("--update", help="(Re)write the golden files instead of checking.")] = False,
     atol_deg: AtolDeg = 1e-6,
     atol: Atol = 1e-6,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No table: only the report of each difference.")] = False,
 ) -> None:
     """Run scenes without video and compare each with its golden trajectory; exit 1 on any difference.
 
@@ -716,7 +717,8 @@ def check(
                 failed = True
                 reports.append(f"{result.scene.name}: {result.report}")
         table.add_row(result.scene.name, str(result.golden), f"[{style}]{result.status}[/{style}]")
-    out.print(table)
+    if not quiet:
+        out.print(table)
     for report in reports:
         out.print(report, markup=False, highlight=False, soft_wrap=True)
     if failed:
