@@ -255,3 +255,19 @@ def test_a_trajectory_without_mode_is_all_ik():
     from armanim.render.caption import frame_modes
 
     assert frame_modes(_traj([0, 1], [False, False])).tolist() == ["ik", "ik"]
+
+
+@pytest.mark.parametrize("reached, shown", [((True, True), {"reached"}), ((True, False), {"reached", "missed"})])
+def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
+    from types import SimpleNamespace
+
+    from armanim.render.draw import SceneCanvas, goal_outcomes
+
+    arm = Arm.from_names([2, 5, 5, 5])
+    problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=Limits.unlimited(4), obstacles=Obstacles.none(),
+                      goals=(Goal(np.array([6.0, 0, 9])), Goal(np.array([0.0, 6, 9]))), solver=SolverSettings())
+    reports = [SimpleNamespace(reached=r) for r in reached]
+    scene = SceneCanvas(problem, RenderSettings(size=(640, 360)), title="t", picture="poster", outcomes=goal_outcomes(reports))
+    _, labels = scene._legend_entries()
+    assert {"reached", "missed"} & set(labels) == shown
+    assert "obstacle" not in labels  # no obstacles in this scene

@@ -137,14 +137,18 @@ class SceneCanvas:
         path; a poster: final states, the path and the faint poses on each goal).
     caption_template : str
         The longest caption the frames will show: the caption's box is sized for it.
+    outcomes : set of str
+        The goal outcomes the pictures show (``"reached"``, ``"missed"``): only those are in
+        the legend.
     """
 
     def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
                  tips: np.ndarray | None = None, extent: np.ndarray | None = None, picture: str = "video",
-                 caption_template: str = CAPTION_TEMPLATE):
+                 caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"})):
         self.problem = problem
         self.settings = settings
         self.picture = picture
+        self.outcomes = outcomes
         self.width, self.height = (int(v) for v in settings.size)
         self.layout = scenery.frame_layout(self.width, self.height)
         self.fig, self.canvas = make_figure(self.width, self.height, self.layout.dpi)
@@ -495,12 +499,13 @@ class SceneCanvas:
                                             markeredgecolor="k", markeredgewidth=0.6, **{**marker, "markersize": 12})),
                     ("next goal", pending),
                 ]
-            entries += [
+            outcomes = [
                 ("reached", Line2D([], [], marker="o", markerfacecolor=GOAL_COLORS["reached"],
                                    markeredgecolor="white", **marker)),
                 ("missed", Line2D([], [], marker="X", markerfacecolor=GOAL_COLORS["missed"],
                                   markeredgecolor="white", **marker)),
             ]
+            entries += [entry for entry in outcomes if entry[0] in self.outcomes]
         if self.goal_hidden.any():
             entries.append(("behind a sphere", Line2D([], [], marker="o", markerfacecolor="none", alpha=HIDDEN_ALPHA,
                                                       markeredgecolor=GOAL_COLORS["pending"], **marker)))
@@ -718,6 +723,16 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption)
     state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
     write_png(scene.draw(state), path)
+
+
+def goal_outcomes(reports) -> frozenset:
+    """The outcomes among a run's goal reports: ``{"reached"}``, ``{"missed"}`` or both.
+
+    >>> from types import SimpleNamespace
+    >>> sorted(goal_outcomes([SimpleNamespace(reached=True), SimpleNamespace(reached=False)]))
+    ['missed', 'reached']
+    """
+    return frozenset("reached" if r.reached else "missed" for r in reports)
 
 
 def write_png(rgba: np.ndarray, path) -> None:

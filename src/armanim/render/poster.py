@@ -55,13 +55,13 @@ def render_poster(problem: Problem, trajectory, reports: Sequence, settings: Ren
     """
     from armanim.kinematics import Pose, forward
     from armanim.render.caption import MISSED, PENDING, REACHED
-    from armanim.render.draw import FrameState, SceneCanvas, write_png
+    from armanim.render.draw import FrameState, SceneCanvas, goal_outcomes, write_png
 
     poses = forward(problem.arm, trajectory.phi)
     last = trajectory.frames - 1
     caption = poster_caption(reports, trajectory.frames, trajectory.fps)
     scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=poses.points,
-                        caption_template=caption, picture="poster")
+                        caption_template=caption, picture="poster", outcomes=goal_outcomes(reports))
     status = np.full(len(problem.goals), PENDING)
     status[: len(reports)] = [REACHED if r.reached else MISSED for r in reports]
     ghosts = tuple(Pose(poses.points[f], poses.frames[f]) for f in strobe_frames(reports, trajectory.frames))

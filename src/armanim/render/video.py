@@ -51,7 +51,7 @@ def draw_segment(
     """
     from armanim.kinematics import Pose, forward
     from armanim.render.caption import frame_activity, frame_caption, goal_status
-    from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.draw import FrameState, SceneCanvas, goal_outcomes
     from armanim.render.encode import FrameWriter, gif_palette
 
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
@@ -59,7 +59,7 @@ def draw_segment(
     activity = frame_activity(trajectory, reports)
     captions = [frame_caption(trajectory, f, goals, activity[f]) for f in range(trajectory.frames)]
     scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent,
-                        caption_template=max(captions, key=len))
+                        caption_template=max(captions, key=len), outcomes=goal_outcomes(reports))
 
     def frame(f: int, pose: Pose) -> np.ndarray:
         state = FrameState(pose=pose, trail_end=f + 1, goal_status=goal_status(trajectory, reports, f, goals),
