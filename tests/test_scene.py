@@ -403,3 +403,13 @@ def test_planner_off_as_yaml_reads_it(tmp_path, written, read):
 def test_planner_rejects_other_values(tmp_path, cli):
     content = BASE.replace("  method: pinv\n", "  method: pinv\n  planner: maybe\n")
     rejected(tmp_path, cli, content, "solver.planner", L["method"] + 1, "'maybe' is not allowed", "'auto' or 'off'")
+
+
+def test_angles_that_look_like_radians_get_a_note_not_an_error(tmp_path, cli):
+    path = write(tmp_path, edit(L["home"], "  home: [0.5, 1.2, -0.3]"))
+    result = cli("validate", path)
+    assert result.exit_code == 0 and f"ok {path}" in result.stdout
+    assert f"note: {path}:{L['home']}: arm.home: these angles look like radians" in result.stderr
+    assert "0.5 rad would be 28.65" in result.stderr
+    quiet = cli("validate", write(tmp_path, BASE, "degrees.yaml"))  # whole degrees: no note
+    assert "note:" not in quiet.stderr

@@ -346,6 +346,7 @@ def validate(
         m = scene.model
         counts = ", ".join(plural(k, word) for k, word in ((len(m.arm.links), "link"), (len(m.goals), "goal"), (len(m.obstacles), "obstacle")))
         out.print(f"ok {path} ({scene.name}: {counts}, method {m.solver.method})", highlight=False)
+        print_notes(scene)
     if failed:
         raise typer.Exit(EXIT_BAD_INPUT)
 
@@ -515,6 +516,7 @@ def run(
         with _Bars(enabled=not quiet and err.is_terminal) as bars:
             result = run_scene(scenes[0], out_root, video=not no_video, jobs=jobs, render_overrides=overrides, progress=bars)
         if not quiet:
+            print_notes(result.scene)
             print_goal_table(result)
         if strict and result.solution.reached < len(result.solution.goals):
             for goal in result.solution.goals:
@@ -733,6 +735,12 @@ def unreached_reason(problem, target: np.ndarray, converged: bool) -> str | None
     if away > problem.arm.reach:
         return f"out of reach: the goal is {away:.4g} from the base, the arm is {problem.arm.reach:.4g} long (the tip is as close as it gets)"
     return "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: try --from other angles)"
+
+
+def print_notes(scene) -> None:
+    """A scene's notes (not errors) on stderr, as ``note: FILE:LINE: field: message``."""
+    for note in scene.notes:
+        err.print("note: " + note.format(str(scene.path)), markup=False, highlight=False, soft_wrap=True)
 
 
 def plural(count: int, word: str) -> str:

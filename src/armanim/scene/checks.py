@@ -6,6 +6,8 @@ collected, none stops the others.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from armanim.cost import clearances
@@ -144,6 +146,29 @@ def _collision_problems(problem):
                     f"solver.clearance = {problem.half_width + d_safe:g}, so that the last link can keep its clearance "
                     "there: move the goal or the obstacle, or lower solver.clearance)"
                 )
+
+
+RADIAN_LIKE = 6.3  # just above 2 pi: angles all smaller than this, and not whole, look like radians
+
+
+def radian_notes(scene: SceneModel) -> list[tuple[str, str]]:
+    """Notes (not errors) for angle fields whose values look like radians: every value
+    smaller than 6.3 in size and some not whole numbers. armanim reads degrees.
+
+    >>> from armanim.scene.models import SceneModel
+    >>> scene = SceneModel.model_validate({"version": 1, "arm": {"links": [1, 1], "home": [0.5, 1.2]}, "goals": [[1, 0, 1]]})
+    >>> radian_notes(scene)[0][0]
+    'arm.home'
+    """
+    arm = scene.arm
+    fields = {"arm.home": arm.home or [], "arm.limits": [v for pair in arm.limits or [] if pair for v in pair]}
+    notes = []
+    for path, values in fields.items():
+        if values and all(abs(v) < RADIAN_LIKE for v in values) and any(v != int(v) for v in values):
+            example = next(v for v in values if v != int(v))
+            notes.append((path, f"these angles look like radians (all below {RADIAN_LIKE} in size, not all whole); "
+                                f"armanim reads degrees: {example:g} rad would be {math.degrees(example):.4g}"))
+    return notes
 
 
 def as_diagnostics(pairs, line_of) -> list[Diagnostic]:

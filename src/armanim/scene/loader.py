@@ -16,7 +16,7 @@ from pydantic import ValidationError
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.files import read_bounded
-from armanim.scene.checks import as_diagnostics, scene_problems
+from armanim.scene.checks import as_diagnostics, radian_notes, scene_problems
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
 from armanim.scene.yamlread import MAX_FILE_BYTES, TooLarge, YamlDocument, join_path, read_yaml
 
@@ -37,6 +37,8 @@ class LoadedScene:
         Hex digest of the file's bytes.
     raw : bytes
         The file's bytes (copied into the run's output folder).
+    notes : tuple of Diagnostic
+        Things worth a second look that are not errors (angles that look like radians).
     """
 
     model: SceneModel
@@ -44,6 +46,7 @@ class LoadedScene:
     name: str
     sha256: str
     raw: bytes
+    notes: tuple[Diagnostic, ...] = ()
 
 
 def read_scene_bytes(path: Path) -> bytes:
@@ -89,9 +92,10 @@ def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None) -> L
     ``name`` overrides the scene's own name (sweep variants are named after their settings).
     """
     path = Path(path)
-    model = validate_scene_text(decode_scene(raw, str(path)), str(path))
+    model, doc = _validated(decode_scene(raw, str(path)), str(path))
     name = name or model.name or stem_name(path)
-    return LoadedScene(model=model, path=path, name=name, sha256=hashlib.sha256(raw).hexdigest(), raw=raw)
+    notes = tuple(as_diagnostics(radian_notes(model), doc.line_of))
+    return LoadedScene(model=model, path=path, name=name, sha256=hashlib.sha256(raw).hexdigest(), raw=raw, notes=notes)
 
 
 def stem_name(path: Path) -> str:
@@ -111,6 +115,11 @@ def stem_name(path: Path) -> str:
 
 def validate_scene_text(text: str, file: str) -> SceneModel:
     """Validate YAML text as a scene; ``file`` only names it in messages."""
+    return _validated(text, file)[0]
+
+
+def _validated(text: str, file: str):
+    """(model, parsed document) of a valid scene text; SceneError with every problem otherwise."""
     doc = read_yaml(text, file)
     problems = list(doc.problems)
     if doc.data is None and problems:
@@ -126,7 +135,7 @@ def validate_scene_text(text: str, file: str) -> SceneModel:
     problems += as_diagnostics(scene_problems(model), doc.line_of)
     if problems:
         raise SceneError(file, _by_line(problems))
-    return model
+    return model, doc
 
 
 def _by_line(problems: list[Diagnostic], model_errors: int = 0) -> list[Diagnostic]:
