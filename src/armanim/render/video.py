@@ -140,6 +140,8 @@ def render_video(
         raise RenderError(f"cannot write {path.name}: the trajectory has no frames")
     jobs = effective_jobs(jobs, frames, settings.format)
     remove_dead_leftovers(path)
+    # not output/atomic.py's temporary file: ffmpeg writes this one by name, and the PID in
+    # the name lets remove_dead_leftovers tell a killed render's file from a running one's
     tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
     try:
         if jobs == 1:

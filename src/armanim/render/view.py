@@ -50,11 +50,6 @@ class View:
         n = normals @ np.linalg.inv(self.linear)  # inverse transpose, row vectors
         return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-12)
 
-    def toward_viewer(self) -> np.ndarray:
-        """(3,) unit world vector pointing from the scene to the camera."""
-        w = np.linalg.inv(self.linear) @ np.array([0.0, 0.0, 1.0])
-        return w / np.linalg.norm(w)
-
 
 def lambert(normals: np.ndarray, color, ambient: float = 0.38, diffuse: float = 0.62) -> np.ndarray:
     """Flat shading of faces with screen-space unit normals, (..., 3) -> (..., 3) RGB."""
