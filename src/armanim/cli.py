@@ -125,9 +125,6 @@ def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: s
 
     Returns the problem and the loaded scene (None when the arm came from flags).
     """
-    from armanim.kinematics import Arm, default_axes
-    from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
-
     if scene is not None:
         flags = [f for f, v in (("--links", links), ("--base", base), ("--axes", axes), ("--direction", direction)) if v]
         if flags:
@@ -144,23 +141,35 @@ def arm_problem(scene: Path | None, links: str | None, base: str | None, axes: s
     if len(lengths) > LIMITS["links"]:
         raise UsageError(f"--links: {len(lengths)} links (expected at most {LIMITS['links']})")
     n = len(lengths)
-    names = [a.strip().lower() for a in axes.split(",")] if axes else default_axes(n)
-    if len(names) != n or any(a not in ("x", "y", "z") for a in names):
+    names = [a.strip().lower() for a in axes.split(",")] if axes else None
+    if names is not None and (len(names) != n or any(a not in ("x", "y", "z") for a in names)):
         raise UsageError(f"--axes: expected {n} of x, y, z separated by commas, one per link (got {axes!r})")
     dir_name = (direction or "z").lower()
     if dir_name not in ("x", "y", "z"):
         raise UsageError(f"--direction: expected x, y or z (got {direction!r})")
-    arm = Arm.from_names(lengths, base=parse_lengths(base, "--base", 3) if base else (0, 0, 0), axes=names, direction=dir_name)
-    problem = Problem(
-        arm=arm,
-        half_width=0.25,
-        home=np.zeros(n),
-        limits=Limits.unlimited(n),
-        obstacles=Obstacles.none(),
-        goals=(Goal(np.zeros(3)),),
-        solver=SolverSettings(),
-    )
-    return problem, None
+    arm = {"links": [float(v) for v in lengths], "direction": dir_name}
+    if base:
+        arm["base"] = [float(v) for v in parse_lengths(base, "--base", 3)]
+    if names:
+        arm["axes"] = names
+    return flag_scene_problem(arm), None
+
+
+def flag_scene_problem(arm: dict):
+    """The problem of a scene made of the arm flags alone, through the scene model, so that
+    every default (width, home, limits, solver) is the scene file's. Its goal is a placeholder."""
+    from pydantic import ValidationError
+
+    from armanim.scene import scene_to_problem
+    from armanim.scene.models import SceneModel
+
+    goal = [float(v) for v in np.asarray(arm.get("base", [0.0, 0.0, 0.0])) + 1.0]
+    try:
+        model = SceneModel.model_validate({"version": 1, "arm": arm, "goals": [goal]})
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        raise UsageError(f"--{first['loc'][1]}: {first['msg']}") from None
+    return scene_to_problem(model)
 
 
 SceneOpt = Annotated[Path | None, typer.Option("--scene", help="Take the arm (and its limits) from a scene file.")]
