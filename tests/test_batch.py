@@ -461,3 +461,19 @@ def test_batch_progress_names_the_running_scenes(src, tmp_path):
     seen = []
     run_batch([src / "a.yaml", src / "b.yaml"], tmp_path, jobs=1, video=False, progress=lambda *call: seen.append(call))
     assert seen[0] == (0, 2, ("out-of-reach",)) and seen[1] == (1, 2, ("planar-nlink",)) and seen[-1] == (2, 2, ())
+
+
+def test_sweep_and_batch_tables_fit_80_columns_without_cutting(src, tmp_path):
+    from rich.console import Console
+
+    from armanim.cli import sweep_screen_table
+
+    header = ["name", "solver.step", "solver.method", "status", "reached", "missed", "frames", "goal0_frames",
+              "goal1_frames", "min_clearance", "max_joint_step_deg"]
+    rows = [["notes-arm_step-0.05_method-pinv", 0.05, "pinv", "ok", 4, 0, 601, 145, 145, 0.138392, 10]]
+    console = Console(width=80, record=True)
+    console.print(sweep_screen_table("sweep", header, rows, 2))
+    text = console.export_text()
+    assert "…" not in text and "step" in text and "method" in text and "0.138392" in text
+    result = invoke("run", src / "a.yaml", src / "b.yaml", "--jobs", 1, "--no-video", "--out", tmp_path / "a-rather-long-output-root-folder")
+    assert result.exit_code == 0 and "…" not in result.stdout, result.stdout

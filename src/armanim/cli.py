@@ -561,8 +561,8 @@ def batch_exit_code(entries, strict: bool) -> int:
 def print_batch_table(entries, index_path: Path) -> None:
     """One line per scene of a batch, then every problem in full."""
     table = Table(title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok", title_justify="left")
-    for col in ("scene", "status", "reached", "missed", "frames", "min clearance", "folder"):
-        table.add_column(col, justify="right" if col in ("reached", "missed", "frames", "min clearance") else "left")
+    for col in ("scene", "status", "reached", "missed", "frames", "min clear.", "folder"):
+        table.add_column(col, justify="right" if col in ("reached", "missed", "frames", "min clear.") else "left", overflow="fold")
     for e in entries:
         style = {"ok": "green", "invalid": "red", "failed": "red"}[e.status]
         clearance = "" if e.min_clearance is None else f"{e.min_clearance:.3g}"
@@ -611,15 +611,34 @@ def sweep(
     write_text_atomic(table_path, table_csv_text(header, rows))
     write_text_atomic(out_root / "index.csv", index_csv_text(entries))
     if not quiet:
-        table = Table(title=f"sweep of {scene.name}: {len(items)} variants", title_justify="left")
-        for col in header:
-            table.add_column(col)
-        for row in rows:
-            table.add_row(*(str(v) for v in row))
-        out.print(table)
-        out.print(f"table: {table_path}", highlight=False)
+        out.print(sweep_screen_table(f"sweep of {scene.name}: {len(items)} variants", header, rows, len(parsed)))
+        out.print(f"table (every column, the variants' folder names): {table_path}", highlight=False)
     print_batch_problems(entries)
     raise typer.Exit(batch_exit_code(entries, strict=False))
+
+
+SWEEP_SCREEN_COLUMNS = {"status": "status", "reached": "reached", "missed": "missed", "frames": "frames", "min_clearance": "min clear."}
+"""Columns of the sweep CSV shown on screen, after the varied settings, with their short headers."""
+
+
+def sweep_screen_table(title: str, header: list[str], rows: list, settings: int) -> Table:
+    """The sweep's table for a terminal: the varied settings (named by their last part), then
+    the outcome columns; cells fold instead of being cut. The CSV keeps every column.
+
+    >>> sweep_screen_table("t", ["name", "solver.step", "status", "frames"], [["a", 0.1, "ok", 5]], 1).columns[0].header
+    'step'
+    """
+    varied = header[1 : 1 + settings]
+    short = [c.rsplit(".", 1)[-1] for c in varied]
+    labels = [s if short.count(s) == 1 else c for s, c in zip(short, varied)]  # full path where two would look alike
+    shown = [(header.index(c), label) for c, label in zip(varied, labels)]
+    shown += [(header.index(c), label) for c, label in SWEEP_SCREEN_COLUMNS.items() if c in header]
+    table = Table(title=title, title_justify="left")
+    for _, label in shown:
+        table.add_column(label, overflow="fold")
+    for row in rows:
+        table.add_row(*(str(row[i]) for i, _ in shown))
+    return table
 
 
 def print_goal_table(result) -> None:
