@@ -16,7 +16,7 @@ from pathlib import Path
 import yaml
 
 from armanim.batch import BatchEntry, SceneTask
-from armanim.errors import SceneError, UsageError
+from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
 
@@ -131,10 +131,22 @@ def variants(scene_path: Path, settings: list[Setting]) -> list[Variant]:
         try:
             scene = scene_from_bytes(text.encode("utf-8"), f"{scene_path} [{name}]", name)
         except SceneError as exc:
-            result.append(Variant(values, name, None, BatchEntry(name, "invalid", str(scene_path), message=exc.report())))
+            report = variant_error(exc, values).report()
+            result.append(Variant(values, name, None, BatchEntry(name, "invalid", str(scene_path), message=report)))
             continue
         result.append(Variant(values, name, SceneTask.from_scene(scene), None))
     return result
+
+
+def variant_error(exc: SceneError, values: dict) -> SceneError:
+    """A variant's problems without line numbers (they would point into the generated YAML,
+    not the user's file), each naming the ``--set`` value it comes from, if one does."""
+    problems = []
+    for p in exc.problems:
+        setting = next((path for path in values if p.path == path or p.path.startswith(path + ".") or p.path.startswith(path + "[")), None)
+        message = f"--set {setting}={_label(values[setting])}: {p.message}" if setting else p.message
+        problems.append(Diagnostic(p.path, message, None))
+    return SceneError(exc.file, problems)
 
 
 def unique_combinations(settings: list[Setting]) -> list[tuple]:
