@@ -24,6 +24,14 @@ import numpy as np
 from armanim.geometry import wrap_angle
 from armanim.planning import plan_motion
 from armanim.problem import Goal, Problem
+from armanim.solution import (  # the run's results, re-exported: they were defined here first
+    MISS_REASONS,
+    GoalReport,
+    PlanningReport,
+    Solution,
+    Trajectory,
+    max_joint_step,
+)
 from armanim.solvers import ArmState, Step, StepFunction, arm_state, step_function
 from armanim.solvers.barrier import safe_step
 
@@ -32,150 +40,6 @@ MIN_STALL_FRAMES = 5
 STALL_PROGRESS = 0.05  # ... or less than this fraction of the distance still to go
 MAX_PLANS = 3  # plans per goal before it is given up as stalled
 ARRIVED = 1e-9  # radians: the arm is at a planned pose
-
-MISS_REASONS = {
-    "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
-    "no_free_pose": "no pose inside the limits and solver.clearance away from every obstacle puts the tip there",
-    "no_path": "no path to a free pose at the goal was found within the planning budget",
-    "blocked_by_obstacle": "blocked by an obstacle",
-    "blocked_by_limit": "blocked by a joint limit",
-    "stalled": "stalled at a local minimum",
-    "too_slow": "still moving when max_frames_per_goal ran out",
-    "numerical": "the solver produced NaN or infinity; the arm held its last safe pose",
-}
-
-
-@dataclass(frozen=True)
-class GoalReport:
-    """How one goal went.
-
-    Attributes
-    ----------
-    index : int
-        0-based index into the scene's goals.
-    position : (3,) array
-    reached : bool
-    reason : str or None
-        For a missed goal, a key of :data:`MISS_REASONS`.
-    frames : int
-        Solver frames spent moving toward this goal (holds not counted).
-    first_frame, last_frame : int
-        Frame range of this goal in the trajectory, holds included (-1 if none).
-    final_distance : float
-        |e - g| when the goal was left.
-    iterations : int
-        Inner solver iterations summed over its frames.
-    newton_iterations : int
-        Of those, Newton iterations (``newton`` only).
-    planning : PlanningReport or None
-        What the planner did for this goal; None if it never planned.
-    """
-
-    index: int
-    position: np.ndarray
-    reached: bool
-    reason: str | None
-    frames: int
-    first_frame: int
-    last_frame: int
-    final_distance: float
-    iterations: int
-    newton_iterations: int = 0
-    planning: PlanningReport | None = None
-
-    @property
-    def planned(self) -> bool:
-        """Whether the planner ran for this goal."""
-        return self.planning is not None
-
-
-@dataclass(frozen=True)
-class PlanningReport:
-    """What the planner did for one goal (deterministic: no wall-clock times).
-
-    Attributes
-    ----------
-    plans : int
-        Times it planned (the goal stalled that often).
-    poses : int
-        Free goal poses the last plan found.
-    path : str
-        How the last plan connected: ``"straight"``, ``"rrt_connect"`` or ``"none"``.
-    frames : int
-        Frames spent following planned paths (mode ``plan``).
-    checks : int
-        Poses checked for collisions while searching paths, over all plans.
-    """
-
-    plans: int = 0
-    poses: int = 0
-    path: str = "none"
-    frames: int = 0
-    checks: int = 0
-
-
-@dataclass(frozen=True)
-class Trajectory:
-    """Every frame of a run, as arrays (radians inside).
-
-    Attributes
-    ----------
-    phi : (F, n) array
-    tip : (F, 3) array
-    goal : (F,) int array
-    distance : (F,) array
-        |e - g| to the frame's goal.
-    clearance : (F,) array
-        Smallest link-capsule clearance to any obstacle (+inf without obstacles).
-    reached : (F,) bool array
-        The frame's goal is within tolerance.
-    iterations : (F,) int array
-    step_scale : (F,) array
-        |step taken| / |step proposed| (0 on frame 0 and holds).
-    fps : float
-    mode : (F,) array of str
-        ``"ik"`` where the method stepped (and on frame 0 and holds), ``"plan"`` where the
-        arm followed a planned path.
-    """
-
-    phi: np.ndarray
-    tip: np.ndarray
-    goal: np.ndarray
-    distance: np.ndarray
-    clearance: np.ndarray
-    reached: np.ndarray
-    iterations: np.ndarray
-    step_scale: np.ndarray
-    fps: float
-    mode: np.ndarray | None = None
-
-    def __post_init__(self) -> None:
-        if self.mode is None:
-            object.__setattr__(self, "mode", np.full(len(self.phi), "ik"))
-
-    @property
-    def frames(self) -> int:
-        """Number of frames F."""
-        return len(self.phi)
-
-    @property
-    def time(self) -> np.ndarray:
-        """(F,) seconds: frame / fps."""
-        return np.arange(self.frames) / self.fps
-
-
-@dataclass(frozen=True)
-class Solution:
-    """A solved run: the trajectory and one report per goal."""
-
-    trajectory: Trajectory
-    goals: tuple[GoalReport, ...]
-
-    @property
-    def reached(self) -> int:
-        """Number of goals reached."""
-        return sum(g.reached for g in self.goals)
-
 
 @dataclass
 class _Recorder:
@@ -452,8 +316,7 @@ def _near_limit(problem: Problem, phi: np.ndarray) -> bool:
     return bool(np.any(gaps < lim.margin))
 
 
-def max_joint_step(phi: np.ndarray) -> float:
-    """Largest per-frame turn of any joint (radians), wrap-aware."""
-    if len(phi) < 2:
-        return 0.0
-    return float(np.max(np.abs(wrap_angle(np.diff(phi, axis=0)))))
+__all__ = [
+    "MISS_REASONS", "GoalReport", "PlanningReport", "Solution", "Trajectory", "frame_budget", "hold_frames",
+    "max_joint_step", "miss_reason", "solve_trajectory",
+]

@@ -114,32 +114,11 @@ def rrt_connect(problem: Problem, start: np.ndarray, goals: np.ndarray, search: 
     """
     from ompl import base as ob
     from ompl import geometric as og
-    from ompl import util as ou
 
-    ou.setLogLevel(ou.LOG_NONE)
-    ou.RNG.setSeed(OMPL_SEED)  # re-seeds the generator of every RNG OMPL creates from here on
-    for _ in range(search):
-        ou.RNG()  # each RNG made takes the next seed: the planner's RNGs get later ones
+    _seed_ompl(search)
     n = len(start)
     checks = [0]
-    space = ob.RealVectorStateSpace(n)
-    space.setBounds(_bounds(ob, problem, start))
-    si = ob.SpaceInformation(space)
-
-    def state_is_free(state) -> bool:
-        checks[0] += 1
-        return bool(pose_is_free(problem, _array(state, n))[0])
-
-    class SampledMotions(ob.MotionValidator):
-        def checkMotion(self, s1, s2, *_):
-            free, used = motion_is_free(problem, _array(s1, n), _array(s2, n))
-            checks[0] += used
-            return free
-
-    si.setStateValidityChecker(state_is_free)
-    validator = SampledMotions(si)
-    si.setMotionValidator(validator)
-    si.setup()
+    space, si, _validator = _space_information(ob, problem, start, checks)  # OMPL borrows the validator: keep it
     pdef = ob.ProblemDefinition(si)
     pdef.addStartState(_state(space, start))
     targets = ob.GoalStates(si)
@@ -163,6 +142,41 @@ def rrt_connect(problem: Problem, start: np.ndarray, goals: np.ndarray, search: 
     og.PathSimplifier(si).simplifyMax(path)
     waypoints = np.array([_array(path.getState(k), n) for k in range(path.getStateCount())])
     return waypoints, checks[0]
+
+
+def _seed_ompl(search: int) -> None:
+    """Make OMPL's next RNGs the same every time for this ``search`` number."""
+    from ompl import util as ou
+
+    ou.setLogLevel(ou.LOG_NONE)
+    ou.RNG.setSeed(OMPL_SEED)  # re-seeds the generator of every RNG OMPL creates from here on
+    for _ in range(search):
+        ou.RNG()  # each RNG made takes the next seed: the planner's RNGs get later ones
+
+
+def _space_information(ob, problem: Problem, start: np.ndarray, checks: list):
+    """OMPL's joint space for the arm, with the free-pose test and the sampled motion check
+    (both counting poses checked into ``checks[0]``); returns (space, si, validator)."""
+    n = len(start)
+    space = ob.RealVectorStateSpace(n)
+    space.setBounds(_bounds(ob, problem, start))
+    si = ob.SpaceInformation(space)
+
+    def state_is_free(state) -> bool:
+        checks[0] += 1
+        return bool(pose_is_free(problem, _array(state, n))[0])
+
+    class SampledMotions(ob.MotionValidator):
+        def checkMotion(self, s1, s2, *_):
+            free, used = motion_is_free(problem, _array(s1, n), _array(s2, n))
+            checks[0] += used
+            return free
+
+    si.setStateValidityChecker(state_is_free)
+    validator = SampledMotions(si)
+    si.setMotionValidator(validator)
+    si.setup()
+    return space, si, validator
 
 
 def _bounds(ob, problem: Problem, start: np.ndarray):
