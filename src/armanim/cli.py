@@ -60,7 +60,7 @@ def handle_errors(command):
             err.print("armanim: interrupted; nothing half-written was left behind", markup=False)
             raise typer.Exit(EXIT_INTERRUPTED) from None
         except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
-            err.print(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", markup=False, highlight=False)
+            err.print(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", markup=False, highlight=False, soft_wrap=True)
             raise typer.Exit(EXIT_OUTPUT_FAILED) from None
 
     return wrapper
@@ -186,7 +186,7 @@ def usable_jobs(jobs: int | None) -> int | None:
 
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     if jobs is not None and jobs > cores:
-        err.print(f"note: --jobs {jobs} is more than the {cores} cores here; using {cores}", markup=False, highlight=False)
+        err.print(f"note: --jobs {jobs} is more than the {cores} cores here; using {cores}", markup=False, highlight=False, soft_wrap=True)
         return cores
     return jobs
 
@@ -235,7 +235,7 @@ def fk(
             table.add_row(label, angle, *(_fmt(v) for v in p))
         out.print(table)
     for note in limit_notes(problem, phi) if loaded else []:
-        err.print(f"note: {note}", markup=False, highlight=False)
+        err.print(f"note: {note}", markup=False, highlight=False, soft_wrap=True)
     if png is not None:
         from armanim.problem import RenderSettings
         from armanim.render.draw import render_pose_png
@@ -354,7 +354,7 @@ def validate(
             continue
         m = scene.model
         counts = ", ".join(plural(k, word) for k, word in ((len(m.arm.links), "link"), (len(m.goals), "goal"), (len(m.obstacles), "obstacle")))
-        out.print(f"ok {path} ({scene.name}: {counts}, method {m.solver.method})", highlight=False)
+        out.print(f"ok {path} ({scene.name}: {counts}, method {m.solver.method})", highlight=False, soft_wrap=True)
         print_notes(scene)
     if failed:
         raise typer.Exit(EXIT_BAD_INPUT)
@@ -530,7 +530,7 @@ def run(
         if strict and result.solution.reached < len(result.solution.goals):
             for goal in result.solution.goals:
                 if not goal.reached:
-                    err.print(f"--strict: {scenes[0]}: goal {goal.index} missed ({goal.reason})", highlight=False)
+                    err.print(f"--strict: {scenes[0]}: goal {goal.index} missed ({goal.reason})", highlight=False, soft_wrap=True)
             raise typer.Exit(EXIT_CHECK_FAILED)
         return
     from armanim.batch import run_batch
@@ -653,7 +653,7 @@ def print_goal_table(result) -> None:
         outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {MISS_REASONS[g.reason]}"
         table.add_row(str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), f"{g.final_distance:.3g}")
     out.print(table)
-    out.print("outputs: " + ", ".join(str(p) for p in result.files.values()), highlight=False)
+    out.print("outputs: " + ", ".join(str(p) for p in result.files.values()), highlight=False, soft_wrap=True)
 
 
 @app.command()
