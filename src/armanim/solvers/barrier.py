@@ -82,7 +82,6 @@ class Constraints:
     lower: np.ndarray  # (k,)
     lo: np.ndarray  # (n,)
     hi: np.ndarray  # (n,)
-    limit_active: bool
 
     def satisfied_by(self, dphi: np.ndarray) -> bool:
         """Whether ``dphi`` meets every constraint (to rounding)."""
@@ -115,7 +114,7 @@ def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
     return float(np.abs(dphi) @ joint_reach(problem))
 
 
-def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per-joint bounds of dPhi: the joint-step cap and the limits' velocity damper."""
     cap = problem.solver.max_joint_step
     lim = problem.limits
@@ -125,9 +124,7 @@ def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndar
         hi = np.minimum(cap, GAMMA * ((lim.upper - buffer) - phi))
     lo = np.where(lim.limited, lo, -cap)
     hi = np.where(lim.limited, hi, cap)
-    active = bool(np.any(lo > -cap) or np.any(hi < cap))
-    lo, hi = np.minimum(lo, 0.0), np.maximum(hi, 0.0)  # inside the buffer: never pushed past the cap, 0 always allowed
-    return lo, hi, active
+    return np.minimum(lo, 0.0), np.maximum(hi, 0.0)  # inside the buffer: 0 is always allowed
 
 
 def obstacle_rows(problem: Problem, state: ArmState, reach: float) -> tuple[np.ndarray, np.ndarray]:
@@ -147,12 +144,16 @@ def obstacle_rows(problem: Problem, state: ArmState, reach: float) -> tuple[np.n
 
 
 def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
-    """The constraints of the frame: only obstacle pairs that a step no larger than twice
-    the proposal could reach (0 is feasible, so the QP's answer is at most that far)."""
-    lo, hi, limit_active = joint_bounds(problem, state.phi)
-    reach = 2.0 * point_travel_bound(problem, nominal) + 1e-9
+    """The constraints of the frame: only obstacle pairs that the QP's answer could reach.
+
+    0 is feasible, so the answer is within |nominal| of the nominal step (2-norm), hence at
+    most 2 |nominal| long, and no arm point moves more than that times |joint_reach|.
+    Pairs beyond are left out (the exact check still guards every pair).
+    """
+    lo, hi = joint_bounds(problem, state.phi)
+    reach = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(joint_reach(problem))) + 1e-9
     rows, lower = obstacle_rows(problem, state, reach)
-    return Constraints(rows, lower, lo, hi, limit_active)
+    return Constraints(rows, lower, lo, hi)
 
 
 def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | None:
@@ -178,7 +179,7 @@ def filtered_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray:
         return nominal
     dphi = closest_safe_step(nominal, cons)
     if dphi is None:
-        relaxed = Constraints(cons.rows, np.minimum(cons.lower, 0.0), cons.lo, cons.hi, cons.limit_active)
+        relaxed = Constraints(cons.rows, np.minimum(cons.lower, 0.0), cons.lo, cons.hi)
         dphi = closest_safe_step(nominal, relaxed)
     return dphi if dphi is not None else np.zeros_like(nominal)
 
