@@ -538,7 +538,7 @@ def run(
     with _Bars(enabled=not quiet and err.is_terminal) as bars:
         entries = run_batch(
             scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, render_overrides=overrides,
-            progress=lambda done, total, running=(): bars("scenes", done, total, running),
+            progress=functools.partial(bars, "scenes"),
         )
     if not quiet:
         print_batch_table(entries, out_root / "index.csv")
@@ -603,7 +603,7 @@ def sweep(
     items = variants(scene, parsed)
     tasks = [v.task for v in items if v.task is not None]
     with _Bars(enabled=not quiet and err.is_terminal) as bars:
-        done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=lambda d, t, running=(): bars("variants", d, t, running))
+        done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=functools.partial(bars, "variants"))
     by_name = {e.name: e for e in done}
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(parsed, items, entries)
@@ -757,10 +757,12 @@ def check(
 
 def unreached_reason(problem, target: np.ndarray, converged: bool) -> str | None:
     """Why ``armanim ik`` did not converge, when it can be told: the goal out of reach."""
+    from armanim.trajectory import beyond_reach
+
     if converged:
         return None
     away = float(np.linalg.norm(target - problem.arm.base))
-    if away > problem.arm.reach:
+    if beyond_reach(problem, target):
         return f"out of reach: the goal is {away:.4g} from the base, the arm is {problem.arm.reach:.4g} long (the tip is as close as it gets)"
     return "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: try --from other angles)"
 

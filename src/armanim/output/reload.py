@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from pydantic import ValidationError
 
 from armanim.errors import Diagnostic, SceneError
 from armanim.files import read_bounded
@@ -14,7 +15,7 @@ from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, read_trajector
 from armanim.output.summary import goal_report_from_dict
 from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
-from armanim.scene.models import LIMITS
+from armanim.scene.models import LIMITS, RenderModel
 from armanim.trajectory import GoalReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
@@ -48,9 +49,12 @@ def _reports(summary: dict, summary_path: Path) -> tuple[GoalReport, ...]:
 
 
 def _run_fps(summary: dict, scene: LoadedScene) -> float:
-    """The fps the run was solved at (``run --fps`` may differ from the scene's)."""
-    fps = summary.get("fps")
-    return float(fps) if isinstance(fps, (int, float)) and not isinstance(fps, bool) and 0 < fps <= 240 else scene.model.render.fps
+    """The fps the run was solved at (``run --fps`` may differ from the scene's); the
+    scene's when the summary's is not one a scene could have (the render model judges)."""
+    try:
+        return RenderModel.model_validate({"fps": summary.get("fps")}).fps
+    except ValidationError:
+        return scene.model.render.fps
 
 
 def _first_bad(table: TrajectoryTable, column: str, bad: np.ndarray, message: str) -> Diagnostic | None:

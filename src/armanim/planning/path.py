@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.problem import Problem
-from armanim.solvers.barrier import point_travel_bound, pose_clearance, pose_is_free
+from armanim.solvers.barrier import point_travel_bound, pose_clearance, pose_is_free, within_limits
 
 COARSE = 8  # clearances between the first samples of a motion (see motion_is_free)
 STRAIGHT_TRIES = 4  # nearest goal poses tried with a straight segment
@@ -71,7 +71,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray) -> tuple[bool
     d_safe = problem.solver.clearance
     coarse = motion_samples(problem, a, b, COARSE * d_safe)
     clear = pose_clearance(problem, coarse)
-    if not np.all(clear >= d_safe) or not pose_is_free(problem, coarse[[0, -1]]).all():
+    if not np.all(clear >= d_safe) or not within_limits(problem, coarse[[0, -1]]).all():
         return False, len(coarse)
     step = point_travel_bound(problem, coarse[1] - coarse[0])
     doubtful = np.nonzero(clear[:-1] + clear[1:] < step + d_safe)[0]

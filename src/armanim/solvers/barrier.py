@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.cost import clearances
+from armanim.cost import min_link_clearance
 from armanim.geometry import wrap_angle
 from armanim.kinematics import forward, point_jacobian
 from armanim.problem import Problem
@@ -83,12 +83,14 @@ class Constraints:
     lo: np.ndarray  # (n,)
     hi: np.ndarray  # (n,)
 
-    def satisfied_by(self, dphi: np.ndarray) -> bool:
-        """Whether ``dphi`` meets every constraint (to rounding)."""
+    def violated_by(self, dphi: np.ndarray) -> str | None:
+        """Which constraint ``dphi`` breaks (to rounding): ``"obstacle"``, ``"limit"``, or None."""
         eps = 1e-12
+        if len(self.rows) and np.any(self.rows @ dphi < self.lower - eps):
+            return "obstacle"
         if np.any(dphi < self.lo - eps) or np.any(dphi > self.hi + eps):
-            return False
-        return not len(self.rows) or bool(np.all(self.rows @ dphi >= self.lower - eps))
+            return "limit"
+        return None
 
 
 def limit_buffer(problem: Problem) -> float:
@@ -175,7 +177,7 @@ def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | No
 def filtered_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray:
     """The closest step meeting ``cons``; if even that is infeasible (the pose already sits
     inside a margin), the closest step that does not close any gap further; else none."""
-    if cons.satisfied_by(nominal):
+    if cons.violated_by(nominal) is None:
         return nominal
     dphi = closest_safe_step(nominal, cons)
     if dphi is None:
@@ -220,9 +222,9 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> SafeStep:
     for scale in 0.5 ** np.arange(HALVINGS + 1):
         moved = exactly_safe(problem, state, state.phi + scale * step)
         if moved is not None:
-            blocked = None if step is nominal and scale == 1.0 else blocker(problem, state, nominal, cons)
+            blocked = None if step is nominal and scale == 1.0 else blocker(nominal, cons)
             return SafeStep(_wrapped(problem, moved), step_fraction(scale * step, dphi), blocked)
-    return SafeStep(state, 0.0, blocker(problem, state, nominal, cons))
+    return SafeStep(state, 0.0, blocker(nominal, cons))
 
 
 def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
@@ -235,13 +237,9 @@ def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
     return float(np.linalg.norm(taken)) / length if 0.0 < length < np.inf else 0.0
 
 
-def blocker(problem: Problem, state: ArmState, nominal: np.ndarray, cons: Constraints) -> str:
+def blocker(nominal: np.ndarray, cons: Constraints) -> str:
     """What kept the proposal from being taken as it was: ``"obstacle"`` or ``"limit"``."""
-    if len(cons.rows) and np.any(cons.rows @ nominal < cons.lower - 1e-12):
-        return "obstacle"
-    if np.any(nominal < cons.lo - 1e-12) or np.any(nominal > cons.hi + 1e-12):
-        return "limit"
-    return "obstacle"  # the linear model allowed it, the exact clearance did not
+    return cons.violated_by(nominal) or "obstacle"  # else the linear model allowed it, the exact clearance did not
 
 
 def _wrapped(problem: Problem, state: ArmState) -> ArmState:
@@ -251,17 +249,18 @@ def _wrapped(problem: Problem, state: ArmState) -> ArmState:
 
 def pose_clearance(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """For (k, n) poses: (k,) smallest clearance of any link capsule to any obstacle (+inf if none)."""
-    phi = np.atleast_2d(phi)
-    if not len(problem.obstacles):
-        return np.full(len(phi), np.inf)
-    return clearances(forward(problem.arm, phi), problem.obstacles, problem.half_width).links.min(axis=(-1, -2))
+    return min_link_clearance(forward(problem.arm, np.atleast_2d(phi)), problem.obstacles, problem.half_width)
+
+
+def within_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """For (k, n) poses: (k,) bool, every limited joint at least the limit buffer inside its limits."""
+    lim = problem.limits
+    buffer = limit_buffer(problem)
+    return np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
 
 
 def pose_is_free(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """For (k, n) poses: (k,) bool, inside the limits by the buffer and every link capsule
     at least ``solver.clearance`` from every obstacle (the planner's validity test)."""
     phi = np.atleast_2d(phi)
-    lim = problem.limits
-    buffer = limit_buffer(problem)
-    inside = np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
-    return inside & (pose_clearance(problem, phi) >= problem.solver.clearance)
+    return within_limits(problem, phi) & (pose_clearance(problem, phi) >= problem.solver.clearance)
