@@ -377,6 +377,19 @@ def test_bad_set_syntax_exits_2_with_a_clear_message(src, tmp_path, setting, exp
     assert not any(tmp_path.iterdir())  # nothing is run or written
 
 
+def test_run_sweep_is_a_silent_api_that_returns_the_table_it_writes(src, tmp_path, capsys):
+    from armanim.sweep import parse_setting, run_sweep
+
+    result = run_sweep(src / "b.yaml", [parse_setting("solver.method=pinv,bogus")], tmp_path, jobs=1)
+    assert capsys.readouterr() == ("", "")  # results are returned; printing is the command's job
+    assert [(e.name, e.status) for e in result.entries] == [
+        ("planar-nlink_method-pinv", "ok"), ("planar-nlink_method-bogus", "invalid")]
+    assert result.table == tmp_path / "b-sweep.csv"
+    header, rows = sweep_rows(result.table)
+    assert header == result.header and [r["name"] for r in rows] == [row[0] for row in result.rows]
+    assert set(read_index(tmp_path)) == {"planar-nlink_method-pinv", "planar-nlink_method-bogus"}
+
+
 def test_sweep_needs_a_set(src, tmp_path):
     assert invoke("sweep", src / "b.yaml", "--out", tmp_path).exit_code == 2
 
@@ -466,7 +479,7 @@ def test_batch_progress_names_the_running_scenes(src, tmp_path):
 def test_sweep_and_batch_tables_fit_80_columns_without_cutting(src, tmp_path):
     from rich.console import Console
 
-    from armanim.cli import sweep_screen_table
+    from armanim.cli.sweep import sweep_screen_table
 
     header = ["name", "solver.step", "solver.method", "status", "reached", "missed", "frames", "goal0_frames",
               "goal1_frames", "min_clearance", "max_joint_step_deg"]

@@ -157,10 +157,11 @@ def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
 
 @pytest.mark.slow
 def test_an_11_second_640x360_gif_stays_well_under_3_mb(tmp_path):
+    from armanim.overrides import RenderOverrides
     from armanim.pipeline import run_scene
 
     result = run_scene(ROOT / "scenes" / "notes-arm.yaml", tmp_path,
-                       render_overrides={"size": (640, 360), "format": "gif"}, jobs=1)
+                       render_overrides=RenderOverrides(size=(640, 360), format="gif"), jobs=1)
     gif = result.files["video"]
     frames = result.solution.trajectory.frames
     assert frames / 30.0 > 10.5  # the run is about 11 s long
@@ -195,14 +196,14 @@ def test_render_out_keeps_the_run_video_byte_identical_and_writes_full_metadata(
 
 
 def test_quality_presets_set_size_and_fps_and_explicit_flags_win():
-    from armanim.cli import render_overrides
+    from armanim.cli.options import render_overrides
 
-    assert render_overrides(None, None, None, quality="high") == {"size": (1920, 1080), "fps": 60.0}
-    assert render_overrides("640x360", None, None, quality="low") == {"size": (640, 360), "fps": 15.0}
+    assert render_overrides(None, None, None, quality="high").given() == {"size": (1920, 1080), "fps": 60.0}
+    assert render_overrides("640x360", None, None, quality="low").given() == {"size": (640, 360), "fps": 15.0}
 
 
 def test_an_unknown_quality_is_a_usage_error():
-    from armanim.cli import render_overrides
+    from armanim.cli.options import render_overrides
     from armanim.errors import UsageError
 
     with pytest.raises(UsageError, match="--quality"):

@@ -22,6 +22,7 @@ from armanim.errors import ArmanimError, SceneError, UsageError
 from armanim.output.atomic import interrupts_deferred, write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import table_csv_text
 from armanim.output.rundir import staged_folder
+from armanim.overrides import RenderOverrides
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
 from armanim.workers import Stopped, init_worker
 
@@ -76,7 +77,7 @@ class BatchEntry:
     summary: dict | None = None
 
 
-def run_task(task: SceneTask, video: bool, render_overrides: dict | None) -> RemoteRun:
+def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | None) -> RemoteRun:
     """Worker side: produce a scene's outputs in a temporary folder and return their bytes."""
     from armanim.pipeline import produce_outputs
 
@@ -276,7 +277,7 @@ def run_tasks(
     jobs: int | None = None,
     scheduler: str | None = None,
     video: bool = True,
-    render_overrides: dict | None = None,
+    render_overrides: RenderOverrides | None = None,
     progress: Callable[..., None] | None = None,
 ) -> list[BatchEntry]:
     """Run validated tasks and write their outputs; one entry per task, in task order.
@@ -325,7 +326,7 @@ def run_batch(
     jobs: int | None = None,
     scheduler: str | None = None,
     video: bool = True,
-    render_overrides: dict | None = None,
+    render_overrides: RenderOverrides | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> list[BatchEntry]:
     """Run many scene files in parallel; write their outputs and ``ROOT/index.csv``.

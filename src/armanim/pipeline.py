@@ -6,7 +6,7 @@ A silent, importable API: progress is a callback, nothing is printed here.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 from armanim.errors import UsageError
@@ -15,6 +15,7 @@ from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.reload import SCENE_COPY
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.summary import summary_dict, write_summary
+from armanim.overrides import RenderOverrides
 from armanim.problem import Problem, RenderSettings
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.models import LIMITS
@@ -54,7 +55,7 @@ def run_scene(
     *,
     video: bool = True,
     jobs: int | None = None,
-    render_overrides: dict | None = None,
+    render_overrides: RenderOverrides | None = None,
     progress: Progress | None = None,
 ) -> RunResult:
     """Solve a scene and write its outputs under ``out_root/<name>/``.
@@ -69,7 +70,7 @@ def run_scene(
     out_root : folder that receives one folder per scene
     video : render the video, plot.png and poster.png (False: CSV and summary only)
     jobs : worker processes for rendering (default: all cores)
-    render_overrides : RenderSettings fields to override (e.g. ``{"size": (320, 240)}``)
+    render_overrides : render settings to change, e.g. ``RenderOverrides(size=(320, 240))``
     progress : optional callback ``progress(stage, done, total)``
 
     Raises
@@ -103,7 +104,7 @@ def produce_outputs(
     *,
     video: bool = True,
     jobs: int | None = None,
-    render_overrides: dict | None = None,
+    render_overrides: RenderOverrides | None = None,
     progress: Progress | None = None,
 ) -> Produced:
     """Solve a validated scene and write every output into ``folder`` (which must exist).
@@ -111,7 +112,7 @@ def produce_outputs(
     The one place a run is produced: used by :func:`run_scene` (into its staged
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
-    settings = replace(render_settings(scene.model), **(render_overrides or {}))
+    settings = settings_of(scene, render_overrides)
     problem = scene_to_problem(scene.model, fps=settings.fps)  # the run is solved at the fps it is shown at
     if settings.fps != scene.model.render.fps:
         if frame_budget(problem) > LIMITS["total_frames"]:  # holds are seconds, so a higher fps makes more frames
@@ -136,7 +137,7 @@ def rerender_run(
     *,
     out: str | Path | None = None,
     jobs: int | None = None,
-    render_overrides: dict | None = None,
+    render_overrides: RenderOverrides | None = None,
     progress: Progress | None = None,
 ) -> dict[str, Path]:
     """Re-render a finished run from its folder (scene.yaml, trajectory.csv, summary.json)
@@ -173,14 +174,19 @@ def rerender_run(
             from armanim.output.atomic import output_error
 
             raise output_error(target, exc) from None
-        settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
+        settings = settings_of(run.scene, render_overrides)
         # --fps sets the video's playback rate only: the frames and their times stay the run's own
         return render_outputs(run.problem, run.solution, settings, target, run.scene.name, jobs=jobs, progress=progress)
     with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
         run = load_run(folder)  # under the lock: no run is changing it
-        settings = replace(render_settings(run.scene.model), **(render_overrides or {}))
+        settings = settings_of(run.scene, render_overrides)
         rendered = render_outputs(run.problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
     return {kind: folder / path.name for kind, path in rendered.items()}
+
+
+def settings_of(scene: LoadedScene, overrides: RenderOverrides | None) -> RenderSettings:
+    """The scene's render settings with a command's overrides applied."""
+    return (overrides or RenderOverrides()).apply(render_settings(scene.model))
 
 
 def render_outputs(

@@ -64,6 +64,19 @@ class Limits:
         """(n,) bool: joints that have limits."""
         return np.isfinite(self.lower)
 
+    def notes(self, phi: np.ndarray) -> list[str]:
+        """One line per joint of the pose ``phi`` (radians) outside its limits.
+
+        >>> Limits(np.radians([-90.0, -90.0]), np.radians([90.0, 90.0]), 0.1).notes(np.radians([0.0, 120.0]))
+        ['joint 2 at 120 deg is outside its limits [-90, 90]']
+        """
+        outside = self.limited & ((phi < self.lower) | (phi > self.upper))
+        return [
+            f"joint {i + 1} at {np.degrees(phi[i]):.6g} deg is outside its limits "
+            f"[{np.degrees(self.lower[i]):g}, {np.degrees(self.upper[i]):g}]"
+            for i in np.nonzero(outside)[0]
+        ]
+
 
 @dataclass(frozen=True)
 class Goal:

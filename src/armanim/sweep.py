@@ -10,13 +10,16 @@ from __future__ import annotations
 import copy
 import itertools
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
 
-from armanim.batch import BatchEntry, SceneTask
+from armanim.batch import BatchEntry, SceneTask, index_csv_text, run_tasks
 from armanim.errors import Diagnostic, SceneError, UsageError
+from armanim.output.atomic import write_text_atomic
+from armanim.output.csvfile import table_csv_text
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
 
@@ -189,3 +192,55 @@ def comparison_rows(settings: list[Setting], items: list[Variant], entries: list
             "" if not s else f"{s['max_joint_step_deg']:.6g}",
         ])
     return header, rows
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """What :func:`run_sweep` did.
+
+    Attributes
+    ----------
+    variants : list of Variant
+        Every combination, in the order of the settings' product.
+    entries : list of BatchEntry
+        Each variant's outcome, in the same order (rejected variants included).
+    header, rows
+        The comparison table, as written to ``table``.
+    table : Path
+        ``ROOT/<scene>-sweep.csv``.
+    """
+
+    variants: list[Variant]
+    entries: list[BatchEntry]
+    header: list[str]
+    rows: list[list]
+    table: Path
+
+
+def run_sweep(
+    scene_path: str | Path,
+    settings: list[Setting],
+    out_root: str | Path,
+    *,
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    video: bool = False,
+    progress: Callable[..., None] | None = None,
+) -> SweepResult:
+    """Run every combination of ``settings`` on a scene as a batch; write each variant's
+    outputs under ``out_root/<variant name>/``, the comparison table and ``index.csv``.
+
+    ``progress(done, total, running)`` is called as :func:`armanim.batch.run_tasks` calls it.
+    A variant the scene model rejects is reported in its entry and not run.
+    """
+    scene_path, out_root = Path(scene_path), Path(out_root)
+    items = variants(scene_path, settings)
+    tasks = [v.task for v in items if v.task is not None]
+    done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=progress)
+    by_name = {e.name: e for e in done}
+    entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
+    header, rows = comparison_rows(settings, items, entries)
+    table = out_root / f"{scene_path.stem}-sweep.csv"
+    write_text_atomic(table, table_csv_text(header, rows))
+    write_text_atomic(out_root / "index.csv", index_csv_text(entries))
+    return SweepResult(items, entries, header, rows, table)

@@ -1,0 +1,94 @@
+"""The Typer application every command registers on, its consoles and its error handling.
+
+Every ArmanimError becomes its message on stderr and the contract's exit code; rich
+lives only in this package.
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import Annotated
+
+import typer
+from rich.console import Console
+
+from armanim import __version__
+from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, ArmanimError
+
+app = typer.Typer(
+    name="armanim",
+    help="Batch animator for articulated arms: inverse kinematics with cost minimisation, "
+    "trajectories, videos.\n\nExample: [bold]armanim run scenes/notes-arm.yaml[/bold]",
+    rich_markup_mode="rich",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_show_locals=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+out = Console()
+err = Console(stderr=True)
+
+
+def say(text: str, console: Console = out) -> None:
+    """Print a plain line (no rich markup or highlighting, never wrapped) to ``console``."""
+    console.print(text, markup=False, highlight=False, soft_wrap=True)
+
+
+def report(exc: ArmanimError) -> None:
+    """An error's report on stderr, as the contract writes it (``FILE:LINE: field: message``)."""
+    say(exc.report(), err)
+
+
+def handle_errors(command):
+    """Turn ArmanimError into its message and exit code; Ctrl-C into exit 130."""
+
+    @functools.wraps(command)
+    def wrapper(*args, **kwargs):
+        try:
+            return command(*args, **kwargs)
+        except ArmanimError as exc:
+            report(exc)
+            raise typer.Exit(exc.exit_code) from None
+        except KeyboardInterrupt:
+            say("armanim: interrupted; nothing half-written was left behind", err)
+            raise typer.Exit(EXIT_INTERRUPTED) from None
+        except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
+            say(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", err)
+            raise typer.Exit(EXIT_OUTPUT_FAILED) from None
+
+    return wrapper
+
+
+def _version(value: bool) -> None:
+    if value:
+        out.print(f"armanim {__version__}", highlight=False)
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Show the version and exit.")
+    ] = False,
+) -> None:
+    """Batch animator for articulated arms."""
+
+
+def print_notes(scene) -> None:
+    """A scene's notes (not errors) on stderr, as ``note: FILE:LINE: field: message``."""
+    for note in scene.notes:
+        say("note: " + note.format(str(scene.path)), err)
+
+
+def plural(count: int, word: str) -> str:
+    """``1 obstacle``, ``3 obstacles``.
+
+    >>> plural(1, "goal"), plural(0, "obstacle")
+    ('1 goal', '0 obstacles')
+    """
+    return f"{count} {word}" + ("" if count == 1 else "s")
+
+
+def fmt(value: float) -> str:
+    """A number for a table: six significant digits."""
+    return f"{value:.6g}"

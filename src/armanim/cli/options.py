@@ -1,0 +1,132 @@
+"""Options shared by several commands and the parsing of their values.
+
+Every value a flag takes is checked by the same rule as the scene file's field it
+stands for, so a flag accepts exactly what a scene accepts; a bad one is a UsageError
+(exit 2) naming the flag.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from armanim.cli.app import err, say
+from armanim.errors import UsageError
+from armanim.overrides import RenderOverrides
+
+QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")]
+JobsOpt = Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")]
+SchedulerOpt = Annotated[
+    str | None,
+    typer.Option("--scheduler", envvar="ARMANIM_SCHEDULER", help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.\\[dask]').", show_envvar=True),
+]
+QUALITY = {"low": ("854x480", 15.0), "medium": ("1280x720", 30.0), "high": ("1920x1080", 60.0),
+           "4k": ("3840x2160", 60.0)}  # --quality: size and fps, as manim's presets
+QualityOpt = Annotated[str | None, typer.Option(
+    "--quality", help="low (854x480@15), medium (1280x720@30), high (1920x1080@60) or 4k (3840x2160@60): "
+    "overrides the scene's render size and fps (--size and --fps override it in turn).")]
+
+
+def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
+    """``"0,30,45"`` -> array; a clear UsageError for anything else.
+
+    >>> parse_numbers("0, 30,45", "--angles").tolist()
+    [0.0, 30.0, 45.0]
+    """
+    parts = [p.strip() for p in text.replace(" ", ",").split(",") if p.strip()]
+    try:
+        values = np.array([float(p) for p in parts])
+    except ValueError:
+        bad = next(p for p in parts if not _is_number(p))
+        raise UsageError(f"{flag}: {bad!r} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)") from None
+    if not len(values) or not np.all(np.isfinite(values)):
+        raise UsageError(f"{flag}: expected finite comma-separated numbers (got {text!r})")
+    if count is not None and len(values) != count:
+        raise UsageError(f"{flag}: expected {count} numbers (got {len(values)}: {text!r})")
+    return values
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def parse_lengths(text: str, flag: str, count: int | None = None) -> np.ndarray:
+    """:func:`parse_numbers` for positions and lengths, held to the scene's size limit
+    (beyond it, squares of distances overflow)."""
+    from armanim.scene.models import LIMITS
+
+    values = parse_numbers(text, flag, count)
+    limit = LIMITS["magnitude"]
+    if np.any(np.abs(values) > limit):
+        big = values[np.argmax(np.abs(values))]
+        raise UsageError(f"{flag}: {big:g} is too large (expected at most {limit:g} in size: choose a smaller unit)")
+    return values
+
+
+def parse_size(text: str) -> list[int]:
+    """``"640x360"`` -> [640, 360] (its range is the scene's ``render.size``, checked later)."""
+    try:
+        return [int(v) for v in text.lower().split("x", 1)]
+    except ValueError:
+        raise UsageError(f"--size: expected WIDTHxHEIGHT, e.g. 640x360 (got {text!r})") from None
+
+
+def usable_jobs(jobs: int | None) -> int | None:
+    """``--jobs``, at most the cores this process may use (more only add processes and
+    memory); a note on stderr says so when it is lowered."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if jobs is not None and jobs > cores:
+        say(f"note: --jobs {jobs} is more than the {cores} cores here; using {cores}", err)
+        return cores
+    return jobs
+
+
+_FLAGS = {("fps",): "--fps", ("size",): "--size", ("format",): "--format",
+          ("view", "elevation"): "--elevation", ("view", "azimuth"): "--azimuth"}
+
+
+def render_overrides(
+    size: str | None, fps: float | None, fmt: str | None, elevation: float | None = None, azimuth: float | None = None,
+    quality: str | None = None,
+) -> RenderOverrides:
+    """The render settings given on the command line, checked by the scene's own
+    ``render`` model. ``quality`` names a preset of :data:`QUALITY`; ``size`` and ``fps`` win over it."""
+    if quality is not None:
+        if quality.lower() not in QUALITY:
+            raise UsageError(f"--quality: expected one of {', '.join(QUALITY)} (got {quality!r})")
+        preset_size, preset_fps = QUALITY[quality.lower()]
+        size, fps = size or preset_size, fps or preset_fps
+    given = {"fps": fps, "size": parse_size(size) if size else None, "format": fmt}
+    view = {k: v for k, v in (("elevation", elevation), ("azimuth", azimuth)) if v is not None}
+    data = {k: v for k, v in given.items() if v is not None} | ({"view": view} if view else {})
+    model = _checked_render_model(data)
+    return RenderOverrides(
+        size=tuple(model.size) if "size" in data else None,
+        fps=model.fps if "fps" in data else None,
+        format=model.format if "format" in data else None,
+        **{k: getattr(model.view, k) for k in view},
+    )
+
+
+def _checked_render_model(data: dict):
+    """``data`` validated by the scene's RenderModel; its first problem names the flag."""
+    from pydantic import ValidationError
+
+    from armanim.scene.loader import problem_message
+    from armanim.scene.models import RenderModel
+
+    try:
+        return RenderModel.model_validate(data)
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        loc = tuple(part for part in first["loc"] if isinstance(part, str))
+        flag = _FLAGS.get(loc, f"--{loc[0]}")
+        raise UsageError(f"{flag}: {problem_message(first, tuple(first['loc']))}") from None
+

@@ -1,0 +1,167 @@
+"""``armanim fk`` and ``armanim ik``: one pose of an arm, forward or inverse."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from armanim.cli.app import app, err, fmt, handle_errors, out, say
+from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, SceneOpt, arm_scene
+from armanim.cli.options import parse_lengths, parse_numbers
+from armanim.errors import UsageError
+
+
+@app.command()
+@handle_errors
+def fk(
+    angles: Annotated[str, typer.Option("--angles", help="Joint angles, comma-separated (degrees unless --radians). Negative first value: --angles=-30,10.")],
+    scene: SceneOpt = None,
+    links: LinksOpt = None,
+    base: BaseOpt = None,
+    axes: AxesOpt = None,
+    direction: DirOpt = None,
+    radians: Annotated[bool, typer.Option("--radians", help="Angles are in radians.")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON: angles_deg, joints (base to tip), tip.")] = False,
+    png: Annotated[Path | None, typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
+) -> None:
+    """Forward kinematics of one pose: joint positions and the tip.
+
+    Example: [bold]armanim fk --angles 0,30,45,10 --links 2,5,5,5 --base 5,5,0[/bold]
+    """
+    from armanim.kinematics import forward
+    from armanim.scene import scene_to_problem
+
+    model, loaded = arm_scene(scene, links, base, axes, direction)
+    problem = scene_to_problem(model)
+    values = parse_numbers(angles, "--angles", problem.arm.n)
+    phi = values if radians else np.radians(values)
+    pose = forward(problem.arm, phi)
+    if as_json:
+        angles_deg = np.degrees(values) if radians else values  # as typed, not round-tripped through radians
+        print(json.dumps({"angles_deg": angles_deg.tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist()}))
+    else:
+        out.print(pose_table(pose.points, phi))
+    for note in problem.limits.notes(phi) if loaded else []:
+        say(f"note: {note}", err)
+    if png is not None:
+        from armanim.render.draw import render_pose_png
+        from armanim.scene import render_settings
+
+        render_pose_png(problem, phi, render_settings(model), png, title="armanim fk")
+        if not as_json:
+            say(f"wrote {png}")
+
+
+def pose_table(points: np.ndarray, phi: np.ndarray) -> Table:
+    """Joint positions (base to tip) with each joint's angle in degrees."""
+    table = Table(title="Forward kinematics", title_justify="left")
+    for col in ("point", "angle (deg)", "x", "y", "z"):
+        table.add_column(col, justify="right" if col != "point" else "left")
+    for i, p in enumerate(points):
+        label = f"joint {i + 1}" if i < len(phi) else "tip"
+        angle = fmt(np.degrees(phi[i])) if i < len(phi) else ""
+        table.add_row(label, angle, *(fmt(v) for v in p))
+    return table
+
+
+@app.command()
+@handle_errors
+def ik(
+    goal: Annotated[str, typer.Option("--goal", help="Goal position x,y,z. Negative first value: --goal=-3,1,0.")],
+    scene: SceneOpt = None,
+    links: LinksOpt = None,
+    base: BaseOpt = None,
+    axes: AxesOpt = None,
+    direction: DirOpt = None,
+    method: Annotated[str | None, typer.Option("--method", help="pinv, dls, newton or gradient (default: the scene's, else pinv).")] = None,
+    start: Annotated[str | None, typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")] = None,
+    tolerance: Annotated[float | None, typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001).")] = None,
+    max_iterations: Annotated[int, typer.Option("--max-iterations", min=1, help="Give up after this many steps.")] = 2000,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Solve one pose to convergence: angles, tip, error and iteration counts.
+
+    Example: [bold]armanim ik --goal 3,1,0 --links 1,1,1,1 --axes z,z,z,z --direction x --method newton[/bold]
+    """
+    from armanim.ik import solve_pose
+
+    model, loaded = arm_scene(scene, links, base, axes, direction)
+    problem = ik_problem(model, method, tolerance, from_flags=loaded is None)
+    target = parse_lengths(goal, "--goal", 3)
+    phi0 = np.radians(parse_numbers(start, "--from", problem.arm.n)) if start else problem.home
+    result = solve_pose(problem, target, phi0, max_iterations)
+    data = ik_report(problem, target, result)
+    if as_json:
+        print(json.dumps(data))
+    else:
+        print_ik_report(data, problem.solver.tolerance)
+
+
+def ik_problem(model, method: str | None, tolerance: float | None, from_flags: bool):
+    """The scene's problem with ``--method`` and ``--tolerance`` applied (an arm made of
+    flags solves to 0.001 unless told otherwise: the scene default suits animation, not one pose)."""
+    from armanim.scene import scene_to_problem
+    from armanim.solvers import METHODS
+
+    problem = scene_to_problem(model)
+    settings = problem.solver
+    if method is not None:
+        if method not in METHODS:
+            raise UsageError(f"--method: {method!r} is not a method (expected one of {', '.join(METHODS)})")
+        settings = replace(settings, method=method)
+    if tolerance is not None and not tolerance > 0:
+        raise UsageError(f"--tolerance: must be > 0 (got {tolerance})")
+    if tolerance is not None or from_flags:
+        settings = replace(settings, tolerance=tolerance or 1e-3)
+    return replace(problem, solver=settings)
+
+
+def ik_report(problem, target: np.ndarray, result) -> dict:
+    """``armanim ik --json``'s fields: the method, the outcome, the pose, why it was not reached."""
+    data = {
+        "method": problem.solver.method,
+        "converged": result.converged,
+        "angles_deg": np.degrees(result.phi).tolist(),
+        "tip": result.tip.tolist(),
+        "error": result.distance,
+        "iterations": result.iterations,
+    }
+    reason = unreached_reason(problem, target, result.converged)
+    if reason:
+        data["reason"] = reason
+    if problem.solver.method == "newton":
+        data["gd_iterations"] = data.pop("iterations")
+        data["newton_iterations"] = result.newton_iterations
+    return data
+
+
+def print_ik_report(data: dict, tolerance: float) -> None:
+    """:func:`ik_report` for a terminal."""
+    status = "[green]converged[/green]" if data["converged"] else "[red]not converged[/red]"
+    out.print(f"{data['method']}: {status}, error {data['error']:.3g} (tolerance {tolerance:g})")
+    if "reason" in data:
+        say(f"why: {data['reason']}")
+    say("angles (deg): " + ", ".join(fmt(v) for v in data["angles_deg"]))
+    say("tip: " + ", ".join(fmt(v) for v in data["tip"]))
+    if "newton_iterations" in data:
+        say(f"iterations: gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']}")
+    else:
+        say(f"iterations: {data['iterations']}")
+
+
+def unreached_reason(problem, target: np.ndarray, converged: bool) -> str | None:
+    """Why ``armanim ik`` did not converge, when it can be told: the goal out of reach."""
+    from armanim.trajectory import beyond_reach
+
+    if converged:
+        return None
+    away = float(np.linalg.norm(target - problem.arm.base))
+    if beyond_reach(problem, target):
+        return f"out of reach: the goal is {away:.4g} from the base, the arm is {problem.arm.reach:.4g} long (the tip is as close as it gets)"
+    return "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: try --from other angles)"

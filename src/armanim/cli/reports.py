@@ -1,0 +1,66 @@
+"""What ``run``, ``sweep`` and batches print when they finish, and their exit codes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rich.table import Table
+
+from armanim.cli.app import err, out, say
+from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_OUTPUT_FAILED
+
+
+def print_goal_table(result) -> None:
+    """The per-goal table printed at the end of a run, then its output files."""
+    from armanim.trajectory import MISS_REASONS
+
+    sol = result.solution
+    title = f"{result.scene.name}: {sol.reached} of {len(sol.goals)} goals reached, {sol.trajectory.frames} frames"
+    table = Table(title=title, title_justify="left")
+    for col in ("goal", "position", "result", "frames", "distance"):
+        table.add_column(col, justify="right" if col in ("goal", "frames", "distance") else "left")
+    for g in sol.goals:
+        outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {MISS_REASONS[g.reason]}"
+        table.add_row(str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), f"{g.final_distance:.3g}")
+    out.print(table)
+    say("outputs: " + ", ".join(str(p) for p in result.files.values()))
+
+
+def print_missed_goals(result, path: Path) -> None:
+    """``--strict``: each missed goal of a run on stderr (also with --quiet)."""
+    for goal in result.solution.goals:
+        if not goal.reached:
+            say(f"--strict: {path}: goal {goal.index} missed ({goal.reason})", err)
+
+
+def batch_exit_code(entries, strict: bool) -> int:
+    """3 if a scene failed while writing, 2 if one was invalid, 1 if --strict and a goal was missed, else 0."""
+    statuses = {e.status for e in entries}
+    if "failed" in statuses:
+        return EXIT_OUTPUT_FAILED
+    if "invalid" in statuses:
+        return EXIT_BAD_INPUT
+    if strict and any(e.missed for e in entries):
+        return EXIT_CHECK_FAILED
+    return 0
+
+
+def print_batch_table(entries, index_path: Path) -> None:
+    """One line per scene of a batch, then where the index is."""
+    table = Table(title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok", title_justify="left")
+    numbers = ("reached", "missed", "frames", "min clear.")
+    for col in ("scene", "status", *numbers, "folder"):
+        table.add_column(col, justify="right" if col in numbers else "left", overflow="fold")
+    for e in entries:
+        style = {"ok": "green", "invalid": "red", "failed": "red"}[e.status]
+        clearance = "" if e.min_clearance is None else f"{e.min_clearance:.3g}"
+        table.add_row(e.name, f"[{style}]{e.status}[/{style}]", str(e.reached), str(e.missed), str(e.frames), clearance, e.folder)
+    out.print(table)
+    say(f"index: {index_path}")
+
+
+def print_batch_problems(entries) -> None:
+    """Every invalid or failed scene's report on stderr (also with --quiet: errors are not chatter)."""
+    for e in entries:
+        if e.message:
+            say(e.message, err)

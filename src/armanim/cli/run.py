@@ -1,0 +1,106 @@
+"""``armanim run`` and ``armanim render``: animate scenes, and redraw a finished run."""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from armanim.cli.app import app, handle_errors, print_notes, say
+from armanim.cli.options import JobsOpt, QualityOpt, QuietOpt, SchedulerOpt, render_overrides, usable_jobs
+from armanim.cli.progress import bars
+from armanim.cli.reports import (
+    batch_exit_code,
+    print_batch_problems,
+    print_batch_table,
+    print_goal_table,
+    print_missed_goals,
+)
+from armanim.errors import EXIT_CHECK_FAILED
+
+
+@app.command()
+@handle_errors
+def run(
+    scenes: Annotated[list[Path], typer.Argument(help="Scene files to run.", show_default=False)],
+    out_root: Annotated[Path, typer.Option("--out", help="Outputs go to OUT/<scene name>/.")] = Path("outputs"),
+    no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only.")] = False,
+    quiet: QuietOpt = False,
+    jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
+    scheduler: SchedulerOpt = None,
+    size: Annotated[str | None, typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
+    fps: Annotated[float | None, typer.Option("--fps", help="Override render.fps.")] = None,
+    fmt: Annotated[str | None, typer.Option("--format", help="Override render.format: mp4 or gif.")] = None,
+    quality: QualityOpt = None,
+    strict: Annotated[bool, typer.Option("--strict", help="Exit 1 if any goal is missed.")] = False,
+) -> None:
+    """Animate scenes: solve every goal and write OUT/<name>/ with the outputs.
+
+    The outputs: trajectory.csv, summary.json, the video, plot.png and poster.png. Several scenes run in parallel and also write OUT/index.csv; a bad scene is reported and the others finish (exit 2 if any scene was invalid, 3 if any failed while writing).
+
+    Examples:
+
+    [bold]armanim run scenes/notes-arm.yaml[/bold]
+
+    [bold]armanim run scenes/*.yaml --jobs 2 --no-video[/bold]
+    """
+    overrides = render_overrides(size, fps, fmt, quality=quality)
+    jobs = usable_jobs(jobs)
+    if len(scenes) == 1 and not scheduler:
+        run_one(scenes[0], out_root, video=not no_video, jobs=jobs, overrides=overrides, quiet=quiet, strict=strict)
+        return
+    from armanim.batch import run_batch
+
+    with bars(quiet) as shown:
+        entries = run_batch(
+            scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, render_overrides=overrides,
+            progress=functools.partial(shown, "scenes"),
+        )
+    if not quiet:
+        print_batch_table(entries, out_root / "index.csv")
+    print_batch_problems(entries)
+    raise typer.Exit(batch_exit_code(entries, strict))
+
+
+def run_one(path: Path, out_root: Path, *, video: bool, jobs, overrides, quiet: bool, strict: bool) -> None:
+    """One scene in this process, its video rendered by ``jobs`` workers."""
+    from armanim.pipeline import run_scene
+
+    with bars(quiet) as shown:
+        result = run_scene(path, out_root, video=video, jobs=jobs, render_overrides=overrides, progress=shown)
+    if not quiet:
+        print_notes(result.scene)
+        print_goal_table(result)
+    if strict and result.solution.reached < len(result.solution.goals):
+        print_missed_goals(result, path)
+        raise typer.Exit(EXIT_CHECK_FAILED)
+
+
+@app.command()
+@handle_errors
+def render(
+    folder: Annotated[Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/notes-arm.", show_default=False)],
+    size: Annotated[str | None, typer.Option("--size", help="Frame size WIDTHxHEIGHT, e.g. 640x360.")] = None,
+    fps: Annotated[float | None, typer.Option("--fps", help="Frames per second.")] = None,
+    fmt: Annotated[str | None, typer.Option("--format", help="mp4 or gif.")] = None,
+    elevation: Annotated[float | None, typer.Option("--elevation", help="Camera elevation, degrees.")] = None,
+    azimuth: Annotated[float | None, typer.Option("--azimuth", help="Camera azimuth, degrees.")] = None,
+    jobs: JobsOpt = None,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+    quality: QualityOpt = None,
+    out_dir: Annotated[Path | None, typer.Option("--out", help="Write the video, plot.png and poster.png to this folder instead of replacing the run's.")] = None,
+) -> None:
+    """Re-render a finished run from its trajectory.csv, without solving (other size, view, fps or format).
+
+    Example: [bold]armanim render outputs/notes-arm --size 640x360 --format gif[/bold]
+    """
+    from armanim.pipeline import rerender_run
+
+    overrides = render_overrides(size, fps, fmt, elevation, azimuth, quality)
+    jobs = usable_jobs(jobs)
+    with bars(quiet) as shown:
+        files = rerender_run(folder, out=out_dir, jobs=jobs, render_overrides=overrides, progress=shown)
+    if not quiet:
+        say("wrote " + ", ".join(str(p) for p in files.values()))

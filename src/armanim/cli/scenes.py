@@ -1,0 +1,64 @@
+"""``armanim validate`` and ``armanim schema``: scene files checked, and their JSON Schema."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from armanim.cli.app import app, handle_errors, plural, print_notes, report, say
+from armanim.errors import EXIT_BAD_INPUT
+
+
+@app.command()
+@handle_errors
+def validate(
+    scenes: Annotated[list[Path], typer.Argument(help="Scene files to check.", show_default=False)],
+) -> None:
+    """Check scene files: [green]ok[/green] or every problem, as FILE:LINE: field: message.
+
+    Example: [bold]armanim validate scenes/*.yaml[/bold]
+    """
+    from armanim.errors import SceneError
+    from armanim.scene import load_scene
+
+    failed = 0
+    for path in scenes:
+        try:
+            scene = load_scene(path)
+        except SceneError as exc:
+            failed += 1
+            report(exc)
+            continue
+        say(f"ok {path} ({scene.name}: {scene_counts(scene.model)}, method {scene.model.solver.method})")
+        print_notes(scene)
+    if failed:
+        raise typer.Exit(EXIT_BAD_INPUT)
+
+
+def scene_counts(model) -> str:
+    """``4 links, 1 goal, 0 obstacles``."""
+    counts = ((len(model.arm.links), "link"), (len(model.goals), "goal"), (len(model.obstacles), "obstacle"))
+    return ", ".join(plural(count, word) for count, word in counts)
+
+
+@app.command()
+@handle_errors
+def schema(
+    output: Annotated[Path | None, typer.Option("--out", help="Write the schema to this file instead of stdout.")] = None,
+) -> None:
+    """Print the scene file's JSON Schema, for editors to complete and check scenes.
+
+    Example: [bold]armanim schema --out scene.schema.json[/bold], then start a scene with [bold]# yaml-language-server: $schema=scene.schema.json[/bold]
+    """
+    from armanim.output.atomic import write_text_atomic
+    from armanim.scene.models import SceneModel
+
+    text = json.dumps(SceneModel.model_json_schema(), indent=2) + "\n"
+    if output is None:
+        sys.stdout.write(text)
+    else:
+        write_text_atomic(output, text)
