@@ -37,11 +37,7 @@ def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
     [0.0, 30.0, 45.0]
     """
     parts = [p.strip() for p in text.replace(" ", ",").split(",") if p.strip()]
-    try:
-        values = np.array([float(p) for p in parts])
-    except ValueError:
-        bad = next(p for p in parts if not _is_number(p))
-        raise UsageError(f"{flag}: {bad!r} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)") from None
+    values = np.array([_number(p, flag) for p in parts])
     if not len(values) or not np.all(np.isfinite(values)):
         raise UsageError(f"{flag}: expected finite comma-separated numbers (got {text!r})")
     if count is not None and len(values) != count:
@@ -49,12 +45,11 @@ def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
     return values
 
 
-def _is_number(text: str) -> bool:
+def _number(text: str, flag: str) -> float:
     try:
-        float(text)
-        return True
+        return float(text)
     except ValueError:
-        return False
+        raise UsageError(f"{flag}: {text!r} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)") from None
 
 
 def parse_lengths(text: str, flag: str, count: int | None = None) -> np.ndarray:
