@@ -17,8 +17,10 @@ from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.files import read_bounded
 from armanim.scene.checks import as_diagnostics, radian_notes, scene_problems
+from armanim.scene.fieldpaths import YamlDocument, join_path
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
-from armanim.scene.yamlread import MAX_FILE_BYTES, TooLarge, YamlDocument, join_path, read_yaml
+from armanim.scene.yamlread import MAX_FILE_BYTES, read_yaml
+from armanim.scene.yamlscalars import TooLarge
 
 MAX_PROBLEMS = 30  # problems listed for one file; the rest are counted
 
