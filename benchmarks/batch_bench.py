@@ -34,6 +34,7 @@ import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+from unittest import mock
 
 import yaml
 
@@ -75,18 +76,10 @@ ONE_BLAS_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM
 
 def timed_batch(paths, out: Path, environ: dict | None = None, **kwargs) -> float:
     """Seconds for run_batch; ``environ`` is set while it runs (spawned workers inherit it)."""
-    saved = {k: os.environ.get(k) for k in environ or {}}
-    os.environ.update(environ or {})
-    try:
+    with mock.patch.dict(os.environ, environ or {}):  # restored as it was, even on an error
         start = time.perf_counter()
         entries = run_batch(paths, out, video=True, **kwargs)
         elapsed = time.perf_counter() - start
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
     bad = [e for e in entries if e.status != "ok"]
     if bad:
         sys.exit(f"batch_bench: {len(bad)} scenes did not run: {bad[0].message}")

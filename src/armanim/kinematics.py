@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
-from armanim.geometry import axis_vector, skew
+from armanim.geometry import axis_vector, cross, skew
 
 _IDENTITY = np.eye(3)
 
@@ -189,22 +189,6 @@ def _forward_one(arm: Arm, phi: np.ndarray) -> Pose:
         frames[i] = rot
         points[i + 1] = points[i] + rot @ arm._offsets[i]
     return Pose(points=points, frames=frames, axes=(frames @ arm.axes[:, :, None])[:, :, 0])
-
-
-
-def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross product over the last axis, broadcasting: ``np.cross`` without its overhead.
-
-    >>> cross(np.array([1.0, 0, 0]), np.array([0.0, 1, 0]))
-    array([0., 0., 1.])
-    """
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
 
 
 def joint_axes_world(arm: Arm, pose: Pose) -> np.ndarray:

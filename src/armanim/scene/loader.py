@@ -17,8 +17,10 @@ from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.files import read_bounded
 from armanim.scene.checks import as_diagnostics, radian_notes, scene_problems
+from armanim.scene.fieldpaths import YamlDocument, join_path
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
-from armanim.scene.yamlread import MAX_FILE_BYTES, TooLarge, YamlDocument, join_path, read_yaml
+from armanim.scene.yamlread import MAX_FILE_BYTES, read_yaml
+from armanim.scene.yamlscalars import TooLarge
 
 MAX_PROBLEMS = 30  # problems listed for one file; the rest are counted
 
@@ -186,6 +188,16 @@ def _allowed_keys(loc: tuple) -> list[str]:
 POINT_FIELDS = ("base", "center", "position")
 """Fields that hold exactly three coordinates."""
 
+_BOUND_SIGNS = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<", "less_than_equal": "<="}
+_EXPECTED_TYPES = {
+    **dict.fromkeys(("float_type", "int_type", "float_parsing", "int_from_float"), "a number"),
+    "list_type": "a list",
+    **dict.fromkeys(("model_type", "model_attributes_type", "dict_type"), "a mapping of keys"),
+    "string_type": "a string",
+    "bool_type": "true or false",
+}
+"""What ``must be`` of a value of the wrong type, by pydantic's error type."""
+
 
 def problem_message(err: dict, loc: tuple) -> str:
     """What is wrong, and what was expected, for one pydantic error at ``loc``."""
@@ -193,42 +205,42 @@ def problem_message(err: dict, loc: tuple) -> str:
     got = err.get("input")
     ctx = err.get("ctx") or {}
     if kind == "extra_forbidden":
-        key = loc[-1]
-        allowed = _allowed_keys(loc)
-        close = difflib.get_close_matches(str(key), allowed, n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        return f"unknown key {key!r} ({hint}expected one of: {', '.join(allowed)})"
+        return _unknown_key_message(loc)
     if kind == "missing":
         return "is required but missing" + (" (add `version: 1`)" if loc == ("version",) else "")
     if loc == ("version",) and isinstance(got, int) and not isinstance(got, bool) and got > SCENE_VERSION:
         return f"version {got} is newer than this armanim {__version__} reads (it reads version {SCENE_VERSION}; upgrade armanim)"
     if kind == "literal_error":
         return f"{got!r} is not allowed (expected {ctx.get('expected')})"
-    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
-        sign = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<", "less_than_equal": "<="}[kind]
-        bound = next(iter(ctx.values()))
-        return f"must be {sign} {bound:g} (got {_describe(got)})"
-    if kind in ("finite_number",):
+    if kind in _BOUND_SIGNS:
+        return f"must be {_BOUND_SIGNS[kind]} {next(iter(ctx.values())):g} (got {_describe(got)})"
+    if kind == "finite_number":
         return f"must be a finite number (got {_describe(got)})"
     if kind in ("too_short", "too_long"):
-        if loc and loc[-1] in POINT_FIELDS:  # pydantic names only the violated bound
-            return f"has {ctx.get('actual_length')} items (expected exactly 3: a point [x, y, z])"
-        return f"has {ctx.get('actual_length')} items (expected {_length_expectation(ctx)})"
+        return _length_message(loc, ctx)
     if len(loc) == 2 and loc[0] == "goals" and isinstance(got, (int, float)) and not isinstance(got, bool):
         return f"must be a point [x, y, z] or {{position: [x, y, z]}} (got {_describe(got)}; a single goal is written goals: [[x, y, z]])"
-    if kind in ("float_type", "int_type", "float_parsing", "int_from_float"):
-        return f"must be a number (got {_describe(got)})"
-    if kind in ("list_type",):
-        return f"must be a list (got {_describe(got)})"
-    if kind in ("model_type", "model_attributes_type", "dict_type"):
-        return f"must be a mapping of keys (got {_describe(got)})"
-    if kind == "string_type":
-        return f"must be a string (got {_describe(got)})"
-    if kind == "bool_type":
-        return f"must be true or false (got {_describe(got)})"
+    if kind in _EXPECTED_TYPES:
+        return f"must be {_EXPECTED_TYPES[kind]} (got {_describe(got)})"
     if kind == "string_pattern_mismatch":
         return name_problem(got) or f"{got!r} is not a valid name"
     return f"{err['msg'][0].lower()}{err['msg'][1:]} (got {_describe(got)})"
+
+
+def _unknown_key_message(loc: tuple) -> str:
+    """The key at the end of ``loc`` is not a field there: say which are, and the closest."""
+    key = loc[-1]
+    allowed = _allowed_keys(loc)
+    close = difflib.get_close_matches(str(key), allowed, n=1)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    return f"unknown key {key!r} ({hint}expected one of: {', '.join(allowed)})"
+
+
+def _length_message(loc: tuple, ctx: dict) -> str:
+    """Too few or too many items; a point names its three coordinates (pydantic names only the violated bound)."""
+    if loc and loc[-1] in POINT_FIELDS:
+        return f"has {ctx.get('actual_length')} items (expected exactly 3: a point [x, y, z])"
+    return f"has {ctx.get('actual_length')} items (expected {_length_expectation(ctx)})"
 
 
 def _length_expectation(ctx: dict) -> str:

@@ -1,0 +1,146 @@
+"""Where a batch's scenes run: in this process, a pool of local worker processes, or Dask.
+
+Every executor has ``map(work, tasks, *args)``, which calls ``work(task, *args)`` for
+each task (``work`` is pickled to the workers: a module-level function; a task has a
+``name``) and yields ``(task, result, None)``, or ``(task, None, exception)`` for a
+call that raised, as the tasks finish.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+from armanim.errors import UsageError
+from armanim.output.atomic import interrupts_deferred
+from armanim.workers import init_worker
+
+_BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+_PRELOAD = ["armanim.pipeline", "armanim.render.draw", "armanim.render.video"]
+
+
+@contextlib.contextmanager
+def _one_blas_thread():
+    """Workers started meanwhile use one BLAS thread each: the pool already fills every
+    core, and BLAS threads on top only contend (as Dask's nanny also sets)."""
+    saved = {name: os.environ.get(name) for name in _BLAS_THREADS}
+    for name in _BLAS_THREADS:
+        os.environ.setdefault(name, "1")
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
+def _worker_context():
+    """forkserver with armanim's heavy imports preloaded once (each worker is then a
+    cheap fork of an importer that runs no threads); spawn where forkserver is missing."""
+    import multiprocessing
+
+    try:
+        context = multiprocessing.get_context("forkserver")
+    except ValueError:
+        return multiprocessing.get_context("spawn")
+    context.set_forkserver_preload(_PRELOAD)
+    return context
+
+
+class _LocalExecutor:
+    """Scenes in this process (jobs=1) or in a pool of worker processes."""
+
+    def __init__(self, jobs: int):
+        self.jobs = jobs
+
+    def map(self, work, tasks, *args):
+        """``(task, work(task, *args), None)`` or ``(task, None, exception)`` per task, as each ends."""
+        if self.jobs <= 1 or len(tasks) <= 1:
+            for task in tasks:
+                try:
+                    yield task, work(task, *args), None
+                except Exception as exc:  # reported per scene; the batch goes on
+                    yield task, None, exc
+            return
+        with _one_blas_thread():
+            pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(),
+                                       initializer=init_worker, initargs=(os.getpid(),))
+        try:
+            futures = {pool.submit(work, task, *args): task for task in tasks}
+            for future in as_completed(futures):
+                exc = future.exception()
+                yield futures[future], (None if exc else future.result()), exc
+        except BaseException:
+            with interrupts_deferred():  # a second Ctrl-C must not leave workers behind
+                _stop_pool(pool)
+            raise
+        pool.shutdown(wait=True)
+
+
+def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
+    """Stop a pool at once: queued scenes are dropped, running ones get SIGTERM (a worker's
+    quiet exit: its ffmpeg is killed, its temporary folder removed); none is waited for to finish."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())  # the executor has no public way
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.terminate()
+    deadline = time.monotonic() + grace
+    for process in processes:
+        process.join(max(0.0, deadline - time.monotonic()))
+        if process.is_alive():
+            process.kill()
+            process.join(1.0)
+
+
+class _DaskExecutor:
+    """Scenes on a Dask cluster: an existing scheduler address, or ``local``."""
+
+    def __init__(self, scheduler: str, jobs: int):
+        try:
+            from dask.distributed import Client, LocalCluster
+        except ImportError:
+            raise UsageError("--scheduler needs Dask, an optional extra: pip install -e '.[dask]'") from None
+        self._client_cls, self._cluster_cls = Client, LocalCluster
+        self.scheduler, self.jobs = scheduler, jobs
+
+    def map(self, work, tasks, *args):
+        """``(task, work(task, *args), None)`` or ``(task, None, exception)`` per task, as each ends."""
+        from dask.distributed import as_completed as dask_completed
+
+        cluster = None
+        if self.scheduler == "local":
+            cluster = self._cluster_cls(n_workers=self.jobs, threads_per_worker=1, processes=True, dashboard_address=None)
+            client = self._client_cls(cluster)
+        else:
+            try:
+                client = self._client_cls(self.scheduler, timeout="10s")
+            except ValueError as exc:  # Dask's word for an address it cannot parse
+                raise UsageError(f"--scheduler: {self.scheduler!r} is not a scheduler address ({exc}; expected tcp://HOST:PORT or local)") from None
+            except (OSError, TimeoutError) as exc:
+                raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {self.scheduler} ({exc})") from None
+        try:
+            futures = {
+                client.submit(work, task, *args, retries=2, pure=False, key=f"armanim-{i}-{task.name}"): task
+                for i, task in enumerate(tasks)
+            }
+            for future in dask_completed(futures):
+                task = futures[future]
+                if future.status == "error":
+                    yield task, None, future.exception()
+                else:
+                    yield task, future.result(), None
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def executor_for(jobs: int, scheduler: str | None):
+    """The local pool, or Dask when a scheduler is named (argument or ARMANIM_SCHEDULER)."""
+    scheduler = scheduler or os.environ.get("ARMANIM_SCHEDULER") or None
+    return _DaskExecutor(scheduler, jobs) if scheduler else _LocalExecutor(jobs)
