@@ -94,7 +94,7 @@ def _frame(problem, phi, size=(320, 240)):
 
 @pytest.mark.parametrize("sphere_x, arm_wins", [(-3.0, True), (3.0, False)])
 def test_a_link_in_front_of_a_sphere_is_drawn_after_it(sphere_x, arm_wins):
-    from armanim.render.draw import ARM_COLOR
+    from armanim.render.style import ARM_COLOR
 
     # Seen from +x: the arm stands along z at x = 0; the sphere behind it (x = -3) or in front (x = 3).
     arm = Arm.from_names([4.0], axes=["y"], direction="z")
@@ -261,7 +261,8 @@ def test_a_trajectory_without_mode_is_all_ik():
 def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     from types import SimpleNamespace
 
-    from armanim.render.draw import SceneCanvas, goal_outcomes
+    from armanim.render.caption import goal_outcomes
+    from armanim.render.draw import SceneCanvas
 
     arm = Arm.from_names([2, 5, 5, 5])
     problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=Limits.unlimited(4), obstacles=Obstacles.none(),

@@ -22,12 +22,10 @@ restores that background and draws what moves, straight into the Agg buffer:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection, PolyCollection
-from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patheffects import withStroke
 from matplotlib.text import Text
@@ -42,40 +40,37 @@ from armanim.render.caption import CURRENT, MISSED, PENDING, REACHED
 from armanim.render.glyphs import GlyphAtlas
 from armanim.render.mesh import perpendicular_basis, prism_faces, prism_local, prism_world
 from armanim.render.order import paint_order
+from armanim.render.pixels import composite, make_figure, write_png
+from armanim.render.style import (
+    ARM_COLOR,
+    AXIS_COLORS,
+    BASE_COLOR,
+    BASE_SCALE,
+    FACE_EDGE_PX,
+    FLOOR_COLOR,
+    FONT,
+    GHOST_COLOR,
+    GHOST_FADE,
+    GOAL_COLORS,
+    GRID_COLOR,
+    HIDDEN_ALPHA,
+    JOINT_COLOR,
+    JOINT_HIGHLIGHT,
+    JOINT_SCALE,
+    OBSTACLE_COLOR,
+    PRISM_SIDES,
+    RING_POINTS,
+    SHADOW_COLOR,
+    STATUS_NAMES,
+    TEXT_COLOR,
+    TRAIL_COLOR,
+    with_alpha,
+)
 from armanim.render.view import LIGHT, lambert
 
-BACKGROUND = (1.0, 1.0, 1.0)
-FLOOR_COLOR = (0.955, 0.96, 0.97)
-GRID_COLOR = (0.84, 0.85, 0.88)
-SHADOW_COLOR = (0.25, 0.27, 0.32)
-ARM_COLOR = (0.16, 0.42, 0.80)
-JOINT_COLOR = (0.16, 0.17, 0.20)
-JOINT_HIGHLIGHT = (0.55, 0.57, 0.62)
-BASE_COLOR = (0.50, 0.52, 0.56)
-OBSTACLE_COLOR = (0.85, 0.30, 0.25)
-TRAIL_COLOR = (0.95, 0.55, 0.05)
-TEXT_COLOR = (0.12, 0.12, 0.15)
-AXIS_COLORS = ((0.80, 0.20, 0.20), (0.15, 0.60, 0.20), (0.20, 0.35, 0.85))
-GOAL_COLORS = {
-    "pending": (0.45, 0.47, 0.52),
-    "current": (1.00, 0.76, 0.00),
-    "reached": (0.13, 0.62, 0.28),
-    "missed": (0.85, 0.10, 0.10),
-}
-STATUS_NAMES = ("pending", "current", "reached", "missed")
-
-PRISM_SIDES = 10  # faces around a link
-JOINT_SCALE = 1.45  # joint dot radius / link half width
-BASE_SCALE = 3.0  # pedestal radius / link half width
 SAMPLES = 7  # points per part for the painter's order
-RING_POINTS = 27  # diameter of the ring around the current goal
-FACE_EDGE_PX = 0.7  # faces are outlined in their own colour to close seams
-GHOST_FADE = 0.7  # a poster's faint poses: the arm's colours this much toward white
-GHOST_COLOR = tuple(np.array(ARM_COLOR) * (1 - GHOST_FADE) + GHOST_FADE)
-HIDDEN_ALPHA = 0.55  # opacity of a goal marker seen through a sphere
 MIN_FLOOR_ELEVATION = 5.0  # degrees: a floor seen more edge-on than this is not drawn
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
-FONT = {"title": 13, "caption": 10.5, "legend": 9, "goal": 9, "axis": 8}  # points
 
 
 @dataclass(frozen=True)
@@ -101,21 +96,6 @@ class FrameState:
     goal_status: np.ndarray
     caption: str
     ghosts: tuple = field(default=())
-
-
-def make_figure(width: int, height: int, dpi: float) -> tuple[Figure, FigureCanvasAgg]:
-    """A Figure whose Agg buffer is exactly ``width`` x ``height`` pixels.
-
-    The inch sizes get a thousandth of a pixel extra so float rounding cannot lose a pixel.
-    """
-    fig = Figure(figsize=((width + 1e-3) / dpi, (height + 1e-3) / dpi), dpi=dpi, facecolor=BACKGROUND)
-    return fig, FigureCanvasAgg(fig)
-
-
-def with_alpha(rgb: np.ndarray, alpha: float) -> np.ndarray:
-    """(..., 3) colours -> (..., 4) with a constant alpha."""
-    rgb = np.atleast_2d(rgb)
-    return np.concatenate([rgb, np.full(rgb.shape[:-1] + (1,), alpha)], axis=-1)
 
 
 class SceneCanvas:
@@ -456,7 +436,7 @@ class SceneCanvas:
                                              linestyles=[(0, (4, 4))], linewidths=0.8))
         buffer = np.asarray(self.canvas.buffer_rgba())
         for i in self.sphere_order:
-            self._composite(buffer, self.sprites[i])
+            composite(buffer, self.sprites[i])
 
     def _draw_gizmo(self) -> None:
         """Small world axes top right: x, y and z as the camera sees them."""
@@ -634,7 +614,7 @@ class SceneCanvas:
             if kind[0] == "sphere":
                 self._flush(polys, colors)
                 polys, colors = [], []
-                self._composite(buffer, self.sprites[kind[1]])
+                composite(buffer, self.sprites[kind[1]])
             else:
                 polys.extend(kind[1])
                 colors.append(kind[2])
@@ -679,19 +659,11 @@ class SceneCanvas:
         self.solids.set_edgecolor(color)
         self.solids.draw(self.renderer)
 
-    @staticmethod
-    def _composite(buffer: np.ndarray, sprite) -> None:
-        if sprite is None:
-            return
-        rows, cols, premultiplied, transparency = sprite
-        region = buffer[rows, cols, :3]
-        region[...] = (region * transparency + premultiplied + 0.5).astype(np.uint8)
-
     def _draw_goals(self, status: np.ndarray) -> None:
         """Every goal: its marker (open and dimmed behind a sphere) and its number, pending goals first."""
         buffer = np.asarray(self.canvas.buffer_rgba())
         for i in np.argsort(status == CURRENT, kind="stable"):
-            self._composite(buffer, self._goal_stamp(i, status[i]))
+            composite(buffer, self._goal_stamp(i, status[i]))
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
@@ -723,24 +695,3 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption)
     state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
     write_png(scene.draw(state), path)
-
-
-def goal_outcomes(reports) -> frozenset:
-    """The outcomes among a run's goal reports: ``{"reached"}``, ``{"missed"}`` or both.
-
-    >>> from types import SimpleNamespace
-    >>> sorted(goal_outcomes([SimpleNamespace(reached=True), SimpleNamespace(reached=False)]))
-    ['missed', 'reached']
-    """
-    return frozenset("reached" if r.reached else "missed" for r in reports)
-
-
-def write_png(rgba: np.ndarray, path) -> None:
-    """Write an (H, W, 4) uint8 image to a PNG atomically (temporary file, then replace);
-    a write failure is an OutputError (exit 3)."""
-    from matplotlib.image import imsave
-
-    from armanim.output.atomic import temporary_beside
-
-    with temporary_beside(Path(path)) as tmp:
-        imsave(tmp, np.ascontiguousarray(rgba), format="png")

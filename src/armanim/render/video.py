@@ -50,8 +50,8 @@ def draw_segment(
     ``progress`` is called with the number of frames of this segment done so far.
     """
     from armanim.kinematics import Pose, forward
-    from armanim.render.caption import frame_activity, frame_caption, goal_status
-    from armanim.render.draw import FrameState, SceneCanvas, goal_outcomes
+    from armanim.render.caption import frame_activity, frame_caption, goal_outcomes, goal_status
+    from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.encode import FrameWriter, gif_palette
 
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
