@@ -41,6 +41,7 @@ from armanim.render.glyphs import GlyphAtlas
 from armanim.render.mesh import perpendicular_basis, prism_faces, prism_local, prism_world
 from armanim.render.order import paint_order
 from armanim.render.pixels import composite, make_figure, write_png
+from armanim.render.spheres import SphereDiscs
 from armanim.render.style import (
     ARM_COLOR,
     AXIS_COLORS,
@@ -139,7 +140,7 @@ class SceneCanvas:
         self._fit(extent)
         self.text_boxes: dict[str, tuple] = {}
         self._prepare_arm()
-        self._prepare_obstacles()
+        self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         self._prepare_base()
         self._prepare_goals()
         self._prepare_trail(tips if settings.trail else None)
@@ -195,39 +196,6 @@ class SceneCanvas:
         circle = np.linspace(0, 2 * np.pi, 24, endpoint=False)
         self.unit_circle = np.column_stack([np.cos(circle), np.sin(circle)])
 
-    def _prepare_obstacles(self) -> None:
-        obs = self.problem.obstacles
-        self.sphere_centers = self.view.project(obs.centers) if len(obs) else np.zeros((0, 3))
-        self.sphere_radii = obs.radii * self.ppu
-        self.sprites = [self._sphere_sprite(c, r) for c, r in zip(self.sphere_centers, self.sphere_radii)]
-        self.sphere_order = np.argsort(self.sphere_centers[:, 2], kind="stable")  # far first
-        gap = np.linalg.norm(self.sphere_centers[:, None, :2] - self.sphere_centers[None, :, :2], axis=-1)
-        self.sphere_overlap = gap < self.sphere_radii[:, None] + self.sphere_radii[None, :]
-        np.fill_diagonal(self.sphere_overlap, False)
-
-    def _sphere_sprite(self, center: np.ndarray, radius: float):
-        """A sphere's disc shaded per pixel: (rows, cols, premultiplied RGB, 1 - alpha)."""
-        x0 = max(int(np.floor(center[0] - radius - 1)), 0)
-        x1 = min(int(np.ceil(center[0] + radius + 1)), self.width)
-        y0 = max(int(np.floor(center[1] - radius - 1)), 0)
-        y1 = min(int(np.ceil(center[1] + radius + 1)), self.height)
-        if x1 <= x0 or y1 <= y0 or radius <= 0:
-            return None
-        ys = np.arange(y1 - 1, y0 - 1, -1) + 0.5  # buffer rows run top to bottom
-        xs = np.arange(x0, x1) + 0.5
-        dx, dy = np.meshgrid((xs - center[0]) / radius, (ys - center[1]) / radius)
-        r2 = dx**2 + dy**2
-        dz = np.sqrt(np.clip(1.0 - r2, 0.0, None))
-        normal = np.stack([dx, dy, dz], axis=-1)
-        diffuse = np.clip(normal @ LIGHT, 0.0, 1.0)
-        half = LIGHT + np.array([0.0, 0.0, 1.0])
-        spec = np.clip(normal @ (half / np.linalg.norm(half)), 0.0, 1.0) ** 40
-        rgb = np.asarray(OBSTACLE_COLOR) * (0.32 + 0.68 * diffuse)[..., None] + 0.45 * spec[..., None]
-        alpha = np.clip((1.0 - np.sqrt(r2)) * radius + 0.5, 0.0, 1.0)[..., None]
-        rows = slice(self.height - y1, self.height - y0)
-        cols = slice(x0, x1)
-        return rows, cols, (np.clip(rgb, 0, 1) * 255 * alpha).astype(np.float32), (1.0 - alpha).astype(np.float32)
-
     def _prepare_base(self) -> None:
         """A pedestal under joint 1: a short vertical cylinder, static, culled once."""
         hw = self.problem.half_width
@@ -253,7 +221,7 @@ class SceneCanvas:
         goals = np.array([g.position for g in self.problem.goals], dtype=float).reshape(-1, 3)
         screen = self.view.project(goals)
         self.goal_xy = screen[:, :2]
-        self.goal_hidden = self._behind_spheres(screen)
+        self.goal_hidden = self.spheres.behind(screen)
 
     def _prepare_trail(self, tips: np.ndarray | None) -> None:
         if tips is None or len(tips) == 0:
@@ -261,23 +229,8 @@ class SceneCanvas:
             self.trail_front_xy = np.zeros((0, 2))
             return
         screen = self.view.project(np.asarray(tips, dtype=float))
-        self.trail_xy = np.where(self._behind_spheres(screen)[:, None], np.nan, screen[:, :2])
-        self.trail_front_xy = np.where(self._over_spheres(screen)[:, None], screen[:, :2], np.nan)
-
-    def _on_discs(self, screen: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(P, m) masks: point inside a sphere's disc, and nearer than its centre."""
-        gap = np.linalg.norm(screen[:, None, :2] - self.sphere_centers[None, :, :2], axis=-1)
-        inside = gap < self.sphere_radii[None, :]
-        nearer = screen[:, None, 2] > self.sphere_centers[None, :, 2]
-        return inside, nearer
-
-    def _behind_spheres(self, screen: np.ndarray) -> np.ndarray:
-        inside, nearer = self._on_discs(screen)
-        return np.any(inside & ~nearer, axis=1)
-
-    def _over_spheres(self, screen: np.ndarray) -> np.ndarray:
-        inside, nearer = self._on_discs(screen)
-        return np.any(inside & nearer, axis=1)
+        self.trail_xy = np.where(self.spheres.behind(screen)[:, None], np.nan, screen[:, :2])
+        self.trail_front_xy = np.where(self.spheres.in_front(screen)[:, None], screen[:, :2], np.nan)
 
     def _make_artists(self) -> None:
         ident = IdentityTransform()
@@ -428,15 +381,11 @@ class SceneCanvas:
 
     def _draw_static_spheres(self) -> None:
         """Every sphere into the background, far first, with its influence shell behind it."""
-        obs = self.problem.obstacles
-        shells = [self.sphere_centers[i, :2] + (obs.radii[i] + obs.influence[i]) * self.ppu * self.unit_circle
-                  for i in range(len(obs)) if obs.influence[i] > 0]
+        shells = self.spheres.shells(self.unit_circle)
         if shells:
             self._draw_pixels(PolyCollection(shells, facecolors="none", edgecolors=[(*OBSTACLE_COLOR, 0.35)],
                                              linestyles=[(0, (4, 4))], linewidths=0.8))
-        buffer = np.asarray(self.canvas.buffer_rgba())
-        for i in self.sphere_order:
-            composite(buffer, self.sprites[i])
+        self.spheres.composite(np.asarray(self.canvas.buffer_rgba()), self.spheres.order)
 
     def _draw_gizmo(self) -> None:
         """Small world axes top right: x, y and z as the camera sees them."""
@@ -567,25 +516,6 @@ class SceneCanvas:
         pad = width / self.pt
         return np.concatenate([drop.min(axis=0) - pad, drop.max(axis=0) + pad])
 
-    def _spheres_touched(self, boxes: list) -> np.ndarray:
-        """Indices of the spheres whose discs meet any of ``boxes`` (and the spheres in
-        front of those, which must be redrawn over them), far first."""
-        m = len(self.sphere_radii)
-        if not m:
-            return np.zeros(0, dtype=int)
-        hit = np.zeros(m, dtype=bool)
-        c, r = self.sphere_centers, self.sphere_radii
-        for b in boxes:
-            if b is not None:
-                hit |= (c[:, 0] + r >= b[0]) & (c[:, 0] - r <= b[2]) & (c[:, 1] + r >= b[1]) & (c[:, 1] - r <= b[3])
-        while True:
-            nearer = (self.sphere_overlap[hit].any(axis=0)) & ~hit
-            nearer &= c[:, 2] > c[hit, 2].min() if hit.any() else False
-            if not nearer.any():
-                break
-            hit |= nearer
-        return self.sphere_order[hit[self.sphere_order]]
-
     def _draw_solids(self, state: FrameState, shadow) -> bool:
         """The poster's faint poses, then the arm, each with the spheres it overlaps, in
         painter's order (so faint poses never cover the arm). Returns whether any sphere
@@ -600,10 +530,10 @@ class SceneCanvas:
         allpts = np.concatenate([p[0][:, :2] for p in parts])
         reach = max(p[1] for p in parts)
         arm_box = np.concatenate([allpts.min(axis=0) - reach, allpts.max(axis=0) + reach])
-        spheres = self._spheres_touched([arm_box, shadow])
-        samples = [p[0] for p in parts] + [np.repeat(self.sphere_centers[i][None, :], SAMPLES, axis=0)
+        spheres = self.spheres.touched([arm_box, shadow])
+        samples = [p[0] for p in parts] + [np.repeat(self.spheres.centers[i][None, :], SAMPLES, axis=0)
                                            for i in spheres]
-        radii = [p[1] for p in parts] + [self.sphere_radii[i] for i in spheres]
+        radii = [p[1] for p in parts] + [self.spheres.radii[i] for i in spheres]
         kinds = [p[2] for p in parts] + [("sphere", i) for i in spheres]
         order = paint_order(np.array(samples), np.array(radii))
         polys: list[np.ndarray] = []
@@ -614,7 +544,7 @@ class SceneCanvas:
             if kind[0] == "sphere":
                 self._flush(polys, colors)
                 polys, colors = [], []
-                composite(buffer, self.sprites[kind[1]])
+                composite(buffer, self.spheres.sprites[kind[1]])
             else:
                 polys.extend(kind[1])
                 colors.append(kind[2])
