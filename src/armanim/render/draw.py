@@ -38,38 +38,29 @@ from armanim.render.bounds import resolve_bounds
 from armanim.render.camera import camera_rotation, fit_view, view_angles
 from armanim.render.caption import CURRENT, MISSED, PENDING, REACHED
 from armanim.render.glyphs import GlyphAtlas
-from armanim.render.mesh import perpendicular_basis, prism_faces, prism_local, prism_world
 from armanim.render.order import paint_order
 from armanim.render.pixels import composite, make_figure, write_png
+from armanim.render.solids import ArmSolids, Part, point_samples
 from armanim.render.spheres import SphereDiscs
 from armanim.render.style import (
     ARM_COLOR,
     AXIS_COLORS,
-    BASE_COLOR,
     BASE_SCALE,
     FACE_EDGE_PX,
     FLOOR_COLOR,
     FONT,
     GHOST_COLOR,
-    GHOST_FADE,
     GOAL_COLORS,
     GRID_COLOR,
     HIDDEN_ALPHA,
-    JOINT_COLOR,
-    JOINT_HIGHLIGHT,
-    JOINT_SCALE,
     OBSTACLE_COLOR,
-    PRISM_SIDES,
     RING_POINTS,
     SHADOW_COLOR,
     STATUS_NAMES,
     TEXT_COLOR,
     TRAIL_COLOR,
-    with_alpha,
 )
-from armanim.render.view import LIGHT, lambert
 
-SAMPLES = 7  # points per part for the painter's order
 MIN_FLOOR_ELEVATION = 5.0  # degrees: a floor seen more edge-on than this is not drawn
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
 
@@ -139,9 +130,8 @@ class SceneCanvas:
         self.rotation = camera_rotation(self.elevation, self.azimuth)
         self._fit(extent)
         self.text_boxes: dict[str, tuple] = {}
-        self._prepare_arm()
+        self.arm = ArmSolids(problem.arm, problem.half_width, self.view, self.ppu)
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
-        self._prepare_base()
         self._prepare_goals()
         self._prepare_trail(tips if settings.trail else None)
         self._make_artists()
@@ -183,39 +173,6 @@ class SceneCanvas:
         return points, radii
 
     # ----- per-part preparation -------------------------------------------------------
-
-    def _prepare_arm(self) -> None:
-        arm, hw = self.problem.arm, self.problem.half_width
-        self.prism_local = prism_local(arm, hw, PRISM_SIDES)
-        self.faces = prism_faces(PRISM_SIDES)
-        u, v = perpendicular_basis(arm.direction)
-        mid = 2 * np.pi * (np.arange(PRISM_SIDES) + 1.0) / PRISM_SIDES
-        side_normals = np.cos(mid)[:, None] * u + np.sin(mid)[:, None] * v
-        self.face_normals_local = np.vstack([side_normals, -arm.direction, arm.direction])
-        self.joint_radius = JOINT_SCALE * hw * self.ppu
-        circle = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-        self.unit_circle = np.column_stack([np.cos(circle), np.sin(circle)])
-
-    def _prepare_base(self) -> None:
-        """A pedestal under joint 1: a short vertical cylinder, static, culled once."""
-        hw = self.problem.half_width
-        radius, height = BASE_SCALE * hw, 2.0 * hw
-        top = self.problem.arm.base
-        theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-        ring = radius * np.column_stack([np.cos(theta), np.sin(theta), np.zeros_like(theta)])
-        upper, lower = top + ring, top + ring - [0, 0, height]
-        polys = [np.array([lower[i], lower[(i + 1) % 24], upper[(i + 1) % 24], upper[i]]) for i in range(24)]
-        normals = [[np.cos(t + np.pi / 24), np.sin(t + np.pi / 24), 0.0] for t in theta]
-        polys += [upper, lower[::-1]]
-        normals += [[0, 0, 1.0], [0, 0, -1.0]]
-        screen_n = self.view.screen_normals(np.array(normals))
-        front = screen_n[:, 2] > 0
-        self.base_polys = [self.view.project(p)[:, :2] for p, f in zip(polys, front) if f]
-        self.base_colors = with_alpha(lambert(screen_n[front], BASE_COLOR), 1.0)
-        ends = self.view.project(np.array([top - [0, 0, height], top]))
-        self.base_samples = ends[0] + np.linspace(0, 1, SAMPLES)[:, None] * (ends[1] - ends[0])
-        self.base_radius = radius * self.ppu
-        self.base_shadow = scenery.floor_circle(top, radius * 1.1, self.floor_z)
 
     def _prepare_goals(self) -> None:
         goals = np.array([g.position for g in self.problem.goals], dtype=float).reshape(-1, 3)
@@ -360,7 +317,8 @@ class SceneCanvas:
         floor = PolyCollection([self.view.project(quad)[:, :2]], facecolors=[FLOOR_COLOR], edgecolors="none")
         grid = LineCollection(self.view.project(scenery.floor_grid(lo, hi, z))[..., :2], colors=[GRID_COLOR],
                               linewidths=0.6)
-        shadows = [self.base_shadow] + [scenery.floor_circle(c, r, z) for c, r in
+        base_shadow = scenery.floor_circle(self.problem.arm.base, BASE_SCALE * self.problem.half_width * 1.1, z)
+        shadows = [base_shadow] + [scenery.floor_circle(c, r, z) for c, r in
                                         zip(self.problem.obstacles.centers, self.problem.obstacles.radii)]
         soft = []
         for scale, alpha in ((1.12, 0.05), (1.0, 0.06), (0.85, 0.07)):
@@ -381,7 +339,7 @@ class SceneCanvas:
 
     def _draw_static_spheres(self) -> None:
         """Every sphere into the background, far first, with its influence shell behind it."""
-        shells = self.spheres.shells(self.unit_circle)
+        shells = self.spheres.shells()
         if shells:
             self._draw_pixels(PolyCollection(shells, facecolors="none", edgecolors=[(*OBSTACLE_COLOR, 0.35)],
                                              linestyles=[(0, (4, 4))], linewidths=0.8))
@@ -522,63 +480,30 @@ class SceneCanvas:
         was redrawn."""
         touched = False
         for ghost in state.ghosts:
-            touched |= self._draw_parts(self._arm_parts(ghost, ghost=True), None)
-        return self._draw_parts(self._arm_parts(state.pose), shadow) or touched
+            touched |= self._draw_parts(self.arm.parts(ghost, ghost=True), None)
+        return self._draw_parts(self.arm.parts(state.pose), shadow) or touched
 
-    def _draw_parts(self, parts: list, shadow) -> bool:
+    def _draw_parts(self, parts: list[Part], shadow) -> bool:
         """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""
-        allpts = np.concatenate([p[0][:, :2] for p in parts])
-        reach = max(p[1] for p in parts)
+        allpts = np.concatenate([p.samples[:, :2] for p in parts])
+        reach = max(p.radius for p in parts)
         arm_box = np.concatenate([allpts.min(axis=0) - reach, allpts.max(axis=0) + reach])
         spheres = self.spheres.touched([arm_box, shadow])
-        samples = [p[0] for p in parts] + [np.repeat(self.spheres.centers[i][None, :], SAMPLES, axis=0)
-                                           for i in spheres]
-        radii = [p[1] for p in parts] + [self.spheres.radii[i] for i in spheres]
-        kinds = [p[2] for p in parts] + [("sphere", i) for i in spheres]
-        order = paint_order(np.array(samples), np.array(radii))
+        samples = [p.samples for p in parts] + [point_samples(self.spheres.centers[i]) for i in spheres]
+        radii = [p.radius for p in parts] + [self.spheres.radii[i] for i in spheres]
         polys: list[np.ndarray] = []
         colors: list[np.ndarray] = []
         buffer = np.asarray(self.canvas.buffer_rgba())
-        for k in order:
-            kind = kinds[k]
-            if kind[0] == "sphere":
+        for k in paint_order(np.array(samples), np.array(radii)):
+            if k < len(parts):
+                polys.extend(parts[k].polygons)
+                colors.append(parts[k].colors)
+            else:  # a sphere's sprite covers what was painted before it
                 self._flush(polys, colors)
                 polys, colors = [], []
-                composite(buffer, self.spheres.sprites[kind[1]])
-            else:
-                polys.extend(kind[1])
-                colors.append(kind[2])
+                self.spheres.composite(buffer, [spheres[k - len(parts)]])
         self._flush(polys, colors)
         return bool(len(spheres))
-
-    def _arm_parts(self, pose: Pose, ghost: bool = False) -> list[tuple[np.ndarray, float, tuple]]:
-        """Screen samples, radius and (polygons, RGBA colours) of the base, every link and every joint;
-        a ghost (a poster's faint pose) has no base and its colours faded toward white."""
-        fade = (lambda rgb: with_alpha(rgb * (1 - GHOST_FADE) + GHOST_FADE, 1.0)) if ghost else \
-            (lambda rgb: with_alpha(rgb, 1.0))
-        view = self.view
-        verts = view.project(prism_world(pose, self.prism_local))  # (n, V, 3)
-        normals = view.screen_normals(np.einsum("nab,fb->nfa", pose.frames, self.face_normals_local))
-        joints = view.project(pose.points)  # (n+1, 3)
-        t = np.linspace(0.0, 1.0, SAMPLES)[:, None]
-        parts = []
-        if not ghost:
-            parts.append((self.base_samples, self.base_radius, ("solid", self.base_polys, self.base_colors)))
-        link_radius = self.problem.half_width * self.ppu
-        for i in range(len(verts)):
-            front = np.flatnonzero(normals[i, :, 2] > 1e-9)
-            polys = [verts[i, self.faces[f], :2] for f in front]
-            shade = fade(lambert(normals[i, front], ARM_COLOR))
-            samples = joints[i] + t * (joints[i + 1] - joints[i])
-            parts.append((samples, link_radius, ("solid", polys, shade)))
-        r = self.joint_radius
-        joint_shade = fade(np.array([JOINT_COLOR, JOINT_HIGHLIGHT]))
-        for i in range(len(verts)):
-            center = joints[i]
-            disc = center[:2] + r * self.unit_circle
-            glint = center[:2] + 0.45 * r * self.unit_circle + 0.25 * r * LIGHT[:2]
-            parts.append((np.repeat(center[None, :], SAMPLES, axis=0), r, ("solid", [disc, glint], joint_shade)))
-        return parts
 
     def _flush(self, polys: list[np.ndarray], colors: list[np.ndarray]) -> None:
         if not polys:

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from armanim.render.mesh import unit_circle
 from armanim.render.pixels import Sprite, composite
-from armanim.render.style import OBSTACLE_COLOR
+from armanim.render.style import CIRCLE_SIDES, OBSTACLE_COLOR
 from armanim.render.view import LIGHT, View
 
 
@@ -91,8 +92,9 @@ class SphereDiscs:
     def __len__(self) -> int:
         return len(self.radii)
 
-    def shells(self, circle: np.ndarray) -> list[np.ndarray]:
-        """The influence shells of the spheres that have one, as polygons around ``circle`` (k, 2)."""
+    def shells(self) -> list[np.ndarray]:
+        """The influence shells of the spheres that have one, as (k, 2) pixel polygons."""
+        circle = unit_circle(CIRCLE_SIDES)
         return [self.centers[i, :2] + self.shell_radii[i] * circle for i in range(len(self)) if self.has_shell[i]]
 
     def composite(self, buffer: np.ndarray, indices) -> None:

@@ -29,6 +29,7 @@ GOAL_COLORS = {
 STATUS_NAMES = ("pending", "current", "reached", "missed")  # by status code (armanim.render.caption)
 
 PRISM_SIDES = 10  # faces around a link
+CIRCLE_SIDES = 24  # polygon sides of a drawn circle (joints, base, influence shells)
 JOINT_SCALE = 1.45  # joint dot radius / link half width
 BASE_SCALE = 3.0  # pedestal radius / link half width
 RING_POINTS = 27  # diameter of the ring around the current goal
