@@ -111,13 +111,13 @@ def test_a_goal_behind_a_sphere_is_drawn_through_it():
     arm = Arm.from_names([4.0], axes=["y"], direction="z")
     problem = problem_with(arm, [[0, 3, 2]], [1.5], [[-3.0, 3, 2]])
     scene, with_goal, _ = _frame(problem, np.zeros(1))
-    assert scene.goal_hidden.tolist() == [True]
-    scene.goal_stamps.update({(0, code): None for code in range(4)})
+    assert scene.goals.hidden.tolist() == [True]
+    scene.goals.stamps.update({(0, code): None for code in range(4)})
     state_pose = forward(problem.arm, np.zeros(1))
     from armanim.render.draw import FrameState
 
     without = scene.draw(FrameState(state_pose, 0, np.zeros(1, dtype=int), "")).copy()
-    x, y = scene.goal_xy[0]
+    x, y = scene.goals.xy[0]
     rows = slice(int(scene.height - y) - 12, int(scene.height - y) + 12)
     cols = slice(int(x) - 12, int(x) + 12)
     assert np.abs(with_goal[rows, cols].astype(int) - without[rows, cols].astype(int)).max() > 40

@@ -27,19 +27,19 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.lines import Line2D
-from matplotlib.patheffects import withStroke
 from matplotlib.text import Text
-from matplotlib.transforms import Affine2D, IdentityTransform
+from matplotlib.transforms import IdentityTransform
 
 from armanim.kinematics import Pose, forward
 from armanim.problem import Problem, RenderSettings
 from armanim.render import scenery
 from armanim.render.bounds import resolve_bounds
 from armanim.render.camera import camera_rotation, fit_view, view_angles
-from armanim.render.caption import CURRENT, MISSED, PENDING, REACHED
+from armanim.render.caption import PENDING
 from armanim.render.glyphs import GlyphAtlas
+from armanim.render.markers import GoalMarkers
 from armanim.render.order import paint_order
-from armanim.render.pixels import composite, make_figure, write_png
+from armanim.render.pixels import make_figure, write_png
 from armanim.render.solids import ArmSolids, Part, point_samples
 from armanim.render.spheres import SphereDiscs
 from armanim.render.style import (
@@ -56,7 +56,6 @@ from armanim.render.style import (
     OBSTACLE_COLOR,
     RING_POINTS,
     SHADOW_COLOR,
-    STATUS_NAMES,
     TEXT_COLOR,
     TRAIL_COLOR,
 )
@@ -132,9 +131,9 @@ class SceneCanvas:
         self.text_boxes: dict[str, tuple] = {}
         self.arm = ArmSolids(problem.arm, problem.half_width, self.view, self.ppu)
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
-        self._prepare_goals()
         self._prepare_trail(tips if settings.trail else None)
         self._make_artists()
+        self._prepare_goals()
         self._draw_background(title, caption_template)
 
     # ----- camera and floor ------------------------------------------------------------
@@ -177,8 +176,7 @@ class SceneCanvas:
     def _prepare_goals(self) -> None:
         goals = np.array([g.position for g in self.problem.goals], dtype=float).reshape(-1, 3)
         screen = self.view.project(goals)
-        self.goal_xy = screen[:, :2]
-        self.goal_hidden = self.spheres.behind(screen)
+        self.goals = GoalMarkers(self.fig, screen, self.spheres.behind(screen), (self.width, self.height))
 
     def _prepare_trail(self, tips: np.ndarray | None) -> None:
         if tips is None or len(tips) == 0:
@@ -202,32 +200,11 @@ class SceneCanvas:
         self.shadow = own(LineCollection([], color=SHADOW_COLOR, capstyle="round"))
         self.trail = own(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, solid_capstyle="round", alpha=0.95))
         self.trail_front = own(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, alpha=0.95))
-        style = {
-            PENDING: dict(marker="o", markersize=9, markerfacecolor="white",
-                          markeredgecolor=GOAL_COLORS["pending"], markeredgewidth=1.8),
-            CURRENT: dict(marker="*", markersize=19, markerfacecolor=GOAL_COLORS["current"],
-                          markeredgecolor=(0.2, 0.15, 0.0), markeredgewidth=0.9),
-            REACHED: dict(marker="o", markersize=10, markerfacecolor=GOAL_COLORS["reached"],
-                          markeredgecolor="white", markeredgewidth=1.2),
-            MISSED: dict(marker="X", markersize=12, markerfacecolor=GOAL_COLORS["missed"],
-                         markeredgecolor="white", markeredgewidth=1.0),
-        }
-        self.goal_marks = {k: own(Line2D([], [], linestyle="none", **s)) for k, s in style.items()}
-        self.hidden_marks = {k: own(Line2D([], [], linestyle="none", alpha=HIDDEN_ALPHA,
-                                           **{**s, "markerfacecolor": "none",
-                                              "markeredgecolor": s["markerfacecolor"] if k != PENDING
-                                              else s["markeredgecolor"]}))
-                             for k, s in style.items()}
-        self.goal_ring = own(Line2D([], [], linestyle="none", marker="o", markersize=RING_POINTS, markerfacecolor="none",
-                                    markeredgecolor=GOAL_COLORS["current"], markeredgewidth=1.8, alpha=0.8))
         lay = self.layout
         self.caption = own(Text(*lay.caption_xy, "", ha="left", va="top", fontsize=FONT["caption"],
                                 family="DejaVu Sans Mono", color=TEXT_COLOR,
                                 bbox=dict(boxstyle="round,pad=0.3", facecolor="white",
                                           edgecolor=(0.8, 0.8, 0.84), alpha=0.92)))
-        self.goal_labels = [own(Text(0, 0, str(i), ha="left", va="bottom", fontsize=FONT["goal"], fontweight="bold",
-                                     path_effects=[withStroke(linewidth=2.5, foreground="white")]))
-                            for i in range(len(self.goal_xy))]
 
     # ----- the background, drawn once -------------------------------------------------
 
@@ -245,62 +222,19 @@ class SceneCanvas:
         self._draw_text("title", heading)
         self._draw_legend()
         self._draw_caption_box(caption_template)
-        self._place_goal_labels()
+        gap = 0.45 * RING_POINTS / self.pt  # clear of the current goal's ring
+        self.text_boxes.update(self.goals.place_labels(self.renderer, gap, list(self.text_boxes.values()),
+                                                       self.layout.scene))
         self.background = self.canvas.copy_from_bbox(self.fig.bbox)
         self.scratch = self._scratch_canvas()
         self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
-        self.goal_stamps: dict[tuple[int, int], tuple | None] = {}  # (goal, state) -> sprite, made when first shown
 
     def _scratch_canvas(self) -> FigureCanvasAgg:
         """A small canvas of the same dpi to draw sprites on (clearing the whole frame
         for each of hundreds of sprites was slow at large sizes)."""
-        label = max((lab.get_window_extent(self.renderer) for lab in self.goal_labels),
-                    key=lambda box: box.width, default=None)
-        reach = RING_POINTS / self.pt + (max(label.width, label.height) if label is not None else 0.0)
+        reach = RING_POINTS / self.pt + self.goals.largest_label(self.renderer)
         side = int(np.ceil(2 * reach + 3 * FONT["caption"] / self.pt)) + 8
         return make_figure(side, side, self.fig.dpi)[1]
-
-    def _goal_stamp(self, i: int, code: int):
-        """Goal ``i``'s marker and number in one state as a sprite, drawn the first time it is asked for."""
-        key = (int(i), int(code))
-        if key not in self.goal_stamps:
-            self.goal_stamps[key] = self._stamp_goal(self.scratch, *key)
-        return self.goal_stamps[key]
-
-    def _stamp_goal(self, scratch: FigureCanvasAgg, i: int, code: int):
-        """Goal ``i``'s marker and number in one state, drawn into a sprite on the
-        ``scratch`` canvas (drawing markers and text every frame was a third of a frame's time)."""
-        hidden, xy = bool(self.goal_hidden[i]), self.goal_xy[i]
-        label = self.goal_labels[i]
-        label.set_color(GOAL_COLORS[STATUS_NAMES[code]] if code != PENDING else TEXT_COLOR)
-        label.set_alpha(1.0)  # the number stays readable; only the marker of a hidden goal is dimmed
-        artists = [(self.hidden_marks if hidden else self.goal_marks)[code], label]
-        if code == CURRENT and not hidden:
-            artists.insert(0, self.goal_ring)
-        side = int(scratch.figure.bbox.width)
-        x0, y0 = int(np.floor(xy[0])) - side // 2, int(np.floor(xy[1])) - side // 2
-        shift = Affine2D().translate(-x0, -y0)
-        renderer = scratch.get_renderer()
-        renderer.clear()
-        for artist in artists:
-            if isinstance(artist, Line2D):
-                artist.set_data([xy[0]], [xy[1]])
-            artist.set_transform(shift)
-            artist.draw(renderer)
-            artist.set_transform(IdentityTransform())
-        drawn = np.asarray(scratch.buffer_rgba())  # rows top to bottom
-        used_rows = np.flatnonzero(drawn[..., 3].any(axis=1))
-        used_cols = np.flatnonzero(drawn[..., 3].any(axis=0))
-        if not len(used_rows):
-            return None
-        top = self.height - (y0 + side)  # the scratch's first row, in frame rows
-        rows = slice(max(top + used_rows[0], 0), min(top + used_rows[-1] + 1, self.height))
-        cols = slice(max(x0 + used_cols[0], 0), min(x0 + used_cols[-1] + 1, self.width))
-        if cols.stop <= cols.start or rows.stop <= rows.start:
-            return None
-        patch = drawn[rows.start - top : rows.stop - top, cols.start - x0 : cols.stop - x0].astype(np.float32)
-        alpha = patch[..., 3:] / 255.0
-        return rows, cols, patch[..., :3] * alpha, 1.0 - alpha
 
     def _draw_text(self, name: str, text: Text) -> None:
         text.set_figure(self.fig)
@@ -393,7 +327,7 @@ class SceneCanvas:
                                   markeredgecolor="white", **marker)),
             ]
             entries += [entry for entry in outcomes if entry[0] in self.outcomes]
-        if self.goal_hidden.any():
+        if self.goals.hidden.any():
             entries.append(("behind a sphere", Line2D([], [], marker="o", markerfacecolor="none", alpha=HIDDEN_ALPHA,
                                                       markeredgecolor=GOAL_COLORS["pending"], **marker)))
         return [h for _, h in entries], [label for label, _ in entries]
@@ -407,21 +341,6 @@ class SceneCanvas:
         legend.draw(self.renderer)
         for i, text in enumerate(legend.get_texts()):
             self.text_boxes[f"legend {i}"] = tuple(text.get_window_extent(self.renderer).extents)
-
-    def _place_goal_labels(self) -> None:
-        """Goal numbers beside their markers, clear of each other and of every other text."""
-        if not len(self.goal_labels):
-            return
-        sizes = []
-        for label in self.goal_labels:
-            box = label.get_window_extent(self.renderer)
-            sizes.append((box.width, box.height))
-        keep_out = list(self.text_boxes.values())
-        gap = 0.45 * RING_POINTS / self.pt  # clear of the current goal's ring
-        corners = scenery.place_labels(self.goal_xy, np.array(sizes), gap, keep_out, self.layout.scene)
-        for label, (x, y), (w, h) in zip(self.goal_labels, corners, sizes):
-            label.set_position((x, y))
-            self.text_boxes[f"goal {label.get_text()}"] = (x, y, x + w, y + h)
 
     def _draw_caption_box(self, template: str) -> None:
         """The caption's box, sized for ``template``; its text is stamped every frame."""
@@ -455,7 +374,7 @@ class SceneCanvas:
         if state.trail_end > 1 and touched:
             self.trail_front.set_data(self.trail_front_xy[: state.trail_end].T)
             self.trail_front.draw(renderer)
-        self._draw_goals(state.goal_status)
+        self.goals.draw(np.asarray(self.canvas.buffer_rgba()), state.goal_status, self.scratch)
         self.glyphs.stamp(np.asarray(self.canvas.buffer_rgba()), state.caption, *self.layout.caption_xy)
         return np.asarray(self.canvas.buffer_rgba())
 
@@ -514,11 +433,6 @@ class SceneCanvas:
         self.solids.set_edgecolor(color)
         self.solids.draw(self.renderer)
 
-    def _draw_goals(self, status: np.ndarray) -> None:
-        """Every goal: its marker (open and dimmed behind a sphere) and its number, pending goals first."""
-        buffer = np.asarray(self.canvas.buffer_rgba())
-        for i in np.argsort(status == CURRENT, kind="stable"):
-            composite(buffer, self._goal_stamp(i, status[i]))
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.transforms import IdentityTransform
 
 from armanim.render.style import BACKGROUND
 
@@ -46,3 +47,36 @@ def write_png(rgba: np.ndarray, path) -> None:
 
     with temporary_beside(Path(path)) as tmp:
         imsave(tmp, np.ascontiguousarray(rgba), format="png")
+
+
+def in_pixels(artist, fig: Figure):
+    """``artist``, attached to ``fig``, with its coordinates in the frame's pixels (origin bottom left)."""
+    artist.set_figure(fig)
+    artist.set_transform(IdentityTransform())
+    return artist
+
+
+def crop_sprite(drawn: np.ndarray, left: int, top: int, size: tuple[int, int]) -> Sprite | None:
+    """A sprite of what is drawn on a scratch buffer, cropped to its drawn pixels and to the frame.
+
+    Parameters
+    ----------
+    drawn : (h, w, 4) uint8 array
+        The scratch canvas's RGBA buffer, rows top to bottom.
+    left, top : int
+        The frame column and row (from the top) of the scratch's top left pixel.
+    size : (int, int)
+        The frame's width and height.
+    """
+    width, height = size
+    used_rows = np.flatnonzero(drawn[..., 3].any(axis=1))
+    used_cols = np.flatnonzero(drawn[..., 3].any(axis=0))
+    if not len(used_rows):
+        return None
+    rows = slice(max(top + used_rows[0], 0), min(top + used_rows[-1] + 1, height))
+    cols = slice(max(left + used_cols[0], 0), min(left + used_cols[-1] + 1, width))
+    if cols.stop <= cols.start or rows.stop <= rows.start:
+        return None
+    patch = drawn[rows.start - top : rows.stop - top, cols.start - left : cols.stop - left].astype(np.float32)
+    alpha = patch[..., 3:] / 255.0
+    return rows, cols, patch[..., :3] * alpha, 1.0 - alpha
