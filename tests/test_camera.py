@@ -269,6 +269,6 @@ def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
                       goals=(Goal(np.array([6.0, 0, 9])), Goal(np.array([0.0, 6, 9]))), solver=SolverSettings())
     reports = [SimpleNamespace(reached=r) for r in reached]
     scene = SceneCanvas(problem, RenderSettings(size=(640, 360)), title="t", picture="poster", outcomes=goal_outcomes(reports))
-    _, labels = scene._legend_entries()
+    labels = [text.get_text() for text in scene.fig.legends[0].get_texts()]  # the legend as drawn
     assert {"reached", "missed"} & set(labels) == shown
     assert "obstacle" not in labels  # no obstacles in this scene
