@@ -138,8 +138,8 @@ class SceneCanvas:
 
     def _make_artists(self) -> None:
         """The artists every frame draws again with new data."""
-        self.solids = in_pixels(PolyCollection([], linewidths=FACE_EDGE_PX * self.pt, antialiased=True), self.fig)
-        self.solids.set_offset_transform(IdentityTransform())
+        self.faces = in_pixels(PolyCollection([], linewidths=FACE_EDGE_PX * self.pt, antialiased=True), self.fig)
+        self.faces.set_offset_transform(IdentityTransform())
         self.shadow = in_pixels(LineCollection([], color=SHADOW_COLOR, capstyle="round"), self.fig)
         self.trail = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, solid_capstyle="round", alpha=0.95),
                                self.fig)
@@ -253,13 +253,14 @@ class SceneCanvas:
         return bool(len(spheres))
 
     def _flush(self, polys: list[np.ndarray], colors: list[np.ndarray]) -> None:
+        """Draw the faces gathered since the last sphere, in order, as one collection."""
         if not polys:
             return
         color = np.concatenate(colors)
-        self.solids.set_verts(polys)
-        self.solids.set_facecolor(color)
-        self.solids.set_edgecolor(color)
-        self.solids.draw(self.renderer)
+        self.faces.set_verts(polys)
+        self.faces.set_facecolor(color)
+        self.faces.set_edgecolor(color)
+        self.faces.draw(self.renderer)
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
