@@ -94,7 +94,7 @@ def _frame(problem, phi, size=(320, 240)):
 
 @pytest.mark.parametrize("sphere_x, arm_wins", [(-3.0, True), (3.0, False)])
 def test_a_link_in_front_of_a_sphere_is_drawn_after_it(sphere_x, arm_wins):
-    from armanim.render.draw import ARM_COLOR
+    from armanim.render.style import ARM_COLOR
 
     # Seen from +x: the arm stands along z at x = 0; the sphere behind it (x = -3) or in front (x = 3).
     arm = Arm.from_names([4.0], axes=["y"], direction="z")
@@ -111,13 +111,13 @@ def test_a_goal_behind_a_sphere_is_drawn_through_it():
     arm = Arm.from_names([4.0], axes=["y"], direction="z")
     problem = problem_with(arm, [[0, 3, 2]], [1.5], [[-3.0, 3, 2]])
     scene, with_goal, _ = _frame(problem, np.zeros(1))
-    assert scene.goal_hidden.tolist() == [True]
-    scene.goal_stamps.update({(0, code): None for code in range(4)})
+    assert scene.goals.hidden.tolist() == [True]
+    scene.goals.stamps.update({(0, code): None for code in range(4)})
     state_pose = forward(problem.arm, np.zeros(1))
     from armanim.render.draw import FrameState
 
     without = scene.draw(FrameState(state_pose, 0, np.zeros(1, dtype=int), "")).copy()
-    x, y = scene.goal_xy[0]
+    x, y = scene.goals.xy[0]
     rows = slice(int(scene.height - y) - 12, int(scene.height - y) + 12)
     cols = slice(int(x) - 12, int(x) + 12)
     assert np.abs(with_goal[rows, cols].astype(int) - without[rows, cols].astype(int)).max() > 40
@@ -262,13 +262,14 @@ def test_a_trajectory_without_mode_is_all_ik():
 def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     from types import SimpleNamespace
 
-    from armanim.render.draw import SceneCanvas, goal_outcomes
+    from armanim.render.caption import goal_outcomes
+    from armanim.render.draw import SceneCanvas
 
     arm = Arm.from_names([2, 5, 5, 5])
     problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=Limits.unlimited(4), obstacles=Obstacles.none(),
                       goals=(Goal(np.array([6.0, 0, 9])), Goal(np.array([0.0, 6, 9]))), solver=SolverSettings())
     reports = [SimpleNamespace(reached=r) for r in reached]
     scene = SceneCanvas(problem, RenderSettings(size=(640, 360)), title="t", picture="poster", outcomes=goal_outcomes(reports))
-    _, labels = scene._legend_entries()
+    labels = [text.get_text() for text in scene.fig.legends[0].get_texts()]  # the legend as drawn
     assert {"reached", "missed"} & set(labels) == shown
     assert "obstacle" not in labels  # no obstacles in this scene

@@ -58,7 +58,7 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
     if len(obstacles):
         lo.append((obstacles.centers - obstacles.radii[:, None]).min(axis=0))
         hi.append((obstacles.centers + obstacles.radii[:, None]).max(axis=0))
-    goals = np.array([g.position for g in problem.goals], dtype=float).reshape(-1, 3)
+    goals = goal_points(problem)
     if len(goals):
         lo.append(goals.min(axis=0))
         hi.append(goals.max(axis=0))
@@ -68,6 +68,11 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
     low, high = low - grow, high + grow
     pad = margin * float(np.max(high - low))
     return np.stack([low - pad, high + pad], axis=1)
+
+
+def goal_points(problem: Problem) -> np.ndarray:
+    """(N, 3) positions of the problem's goals, world units ((0, 3) without goals)."""
+    return np.array([g.position for g in problem.goals], dtype=float).reshape(-1, 3)
 
 
 def resolve_bounds(problem: Problem, settings: RenderSettings, points: np.ndarray | None = None) -> np.ndarray:

@@ -86,3 +86,13 @@ def frame_caption(trajectory, frame: int, goals: int, activity: str) -> str:
     k = int(trajectory.goal[frame])
     return (f"t = {frame / trajectory.fps:6.2f} s   goal {k} (of 0-{goals - 1})   "
             f"distance {trajectory.distance[frame]:8.3f}   {activity}")
+
+
+def goal_outcomes(reports) -> frozenset:
+    """The outcomes among a run's goal reports: ``{"reached"}``, ``{"missed"}`` or both.
+
+    >>> from types import SimpleNamespace
+    >>> sorted(goal_outcomes([SimpleNamespace(reached=True), SimpleNamespace(reached=False)]))
+    ['missed', 'reached']
+    """
+    return frozenset("reached" if r.reached else "missed" for r in reports)

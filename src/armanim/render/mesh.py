@@ -55,3 +55,24 @@ def prism_faces(sides: int) -> list[np.ndarray]:
     near_cap = np.arange(sides)[::-1]
     far_cap = sides + np.arange(sides)
     return quads + [near_cap, far_cap]
+
+
+def prism_face_normals(arm: Arm, sides: int) -> np.ndarray:
+    """Outward unit normals of :func:`prism_faces`, in the joint's frame, shape (sides + 2, 3)."""
+    u, v = perpendicular_basis(arm.direction)
+    mid = 2 * np.pi * (np.arange(sides) + 1.0) / sides
+    side_normals = np.cos(mid)[:, None] * u + np.sin(mid)[:, None] * v
+    return np.vstack([side_normals, -arm.direction, arm.direction])
+
+
+def unit_circle(sides: int) -> np.ndarray:
+    """(sides, 2) points of a regular polygon on the unit circle, the first at angle 0.
+
+    >>> unit_circle(4).round(12) + 0.0
+    array([[ 1.,  0.],
+           [ 0.,  1.],
+           [-1.,  0.],
+           [ 0., -1.]])
+    """
+    theta = np.linspace(0, 2 * np.pi, sides, endpoint=False)
+    return np.column_stack([np.cos(theta), np.sin(theta)])

@@ -9,7 +9,8 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from armanim.problem import Problem
-from armanim.render.draw import GOAL_COLORS, write_png
+from armanim.render.pixels import write_png
+from armanim.render.style import GOAL_COLORS
 from armanim.trajectory import GoalReport, Trajectory
 
 PLOT_SIZE = (1200, 800)  # pixels

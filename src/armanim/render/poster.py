@@ -54,8 +54,9 @@ def render_poster(problem: Problem, trajectory, reports: Sequence, settings: Ren
     title : str
     """
     from armanim.kinematics import Pose, forward
-    from armanim.render.caption import MISSED, PENDING, REACHED
-    from armanim.render.draw import FrameState, SceneCanvas, goal_outcomes, write_png
+    from armanim.render.caption import MISSED, PENDING, REACHED, goal_outcomes
+    from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.pixels import write_png
 
     poses = forward(problem.arm, trajectory.phi)
     last = trajectory.frames - 1

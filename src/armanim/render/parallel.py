@@ -1,0 +1,171 @@
+"""Render a video in worker processes: contiguous segments, each drawn and encoded by its
+own worker, joined without re-encoding.
+
+Workers start with SIGINT and SIGTERM blocked, ignore Ctrl-C (the parent decides),
+stop quietly on the parent's ``terminate()`` and when the parent dies, so no worker or
+ffmpeg outlives armanim. Progress and failures come back on a queue.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import multiprocessing
+import os
+import queue as queue_module
+import shutil
+import signal
+import tempfile
+import traceback
+from pathlib import Path
+
+import numpy as np
+
+from armanim.errors import OutputError, RenderError
+from armanim.render.segment import draw_segment
+from armanim.workers import Stopped, die_with
+
+PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
+
+
+def segment_bounds(frames: int, jobs: int) -> list[tuple[int, int]]:
+    """Contiguous, nearly equal ``(start, stop)`` ranges covering ``range(frames)``.
+
+    >>> segment_bounds(10, 3)
+    [(0, 3), (3, 6), (6, 10)]
+    """
+    edges = np.linspace(0, frames, jobs + 1).astype(int)
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+_WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def _segment_worker(args: tuple, messages, parent: int) -> None:
+    """Body of a worker process: draw and encode one segment, report through ``messages``.
+
+    A worker ignores Ctrl-C (the terminal sends it to the whole process group; the
+    parent decides) and turns SIGTERM, sent by the parent's ``terminate()``, into a
+    quiet exit that still runs every ``finally``: its ffmpeg is killed, no traceback.
+    Signals are blocked by the parent while it starts workers, so none arrives before
+    these handlers are in place. A worker whose parent ends (even by ``kill -9``) stops
+    the same way, so no worker or ffmpeg outlives armanim or holds its folder lock.
+    """
+    index = args[-1]
+    problem, trajectory, reports, settings, path, title, start, stop, _ = args
+
+    def stop_worker(signum, frame):
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # once: a second SIGTERM must not cut the clean-up short
+        messages.cancel_join_thread()  # the parent no longer reads: never block on exit
+        raise Stopped(128 + signum)
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, stop_worker)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _WORKER_SIGNALS)
+    die_with(parent)
+
+    def report(done: int) -> None:
+        if done % PROGRESS_EVERY == 0 or done == stop - start:
+            messages.put(("progress", index, done))
+
+    try:
+        draw_segment(problem, trajectory, reports, settings, path, title=title, start=start, stop=stop,
+                     progress=report)
+        messages.put(("done", index, None))
+    except Stopped:
+        raise
+    except BaseException as err:  # noqa: BLE001  (reported to the parent, which raises)
+        if isinstance(err, (RenderError, OutputError)):
+            detail = str(err)
+        elif isinstance(err, OSError):
+            detail = f"cannot write {path.name}: {err.strerror or err}"
+        else:
+            detail = traceback.format_exc(limit=6)
+        messages.put(("error", index, detail))
+
+
+@contextlib.contextmanager
+def _signals_blocked():
+    """Block SIGINT and SIGTERM in this thread for the duration (processes forked meanwhile
+    start with them blocked); signals that arrive are delivered when it ends."""
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _WORKER_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def render_parallel(problem, trajectory, reports, settings, tmp: Path, title, jobs, progress) -> None:
+    """Render the video ``tmp`` in ``jobs`` worker processes, one contiguous segment each, and
+    join the segments; the arguments are :func:`armanim.render.video.render_video`'s."""
+    from armanim.output.atomic import interrupts_deferred
+    from armanim.render.encode import concat_segments
+
+    ctx = multiprocessing.get_context()
+    workdir = Path(tempfile.mkdtemp(prefix=f".{tmp.name}.", dir=tmp.parent))
+    segments = segment_bounds(trajectory.frames, jobs)
+    paths = [workdir / f"segment{i:03d}.mp4" for i in range(len(segments))]
+    messages = ctx.Queue()
+    workers = [
+        ctx.Process(
+            target=_segment_worker,
+            args=((problem, trajectory, reports, settings, p, title, a, b, i), messages, os.getpid()),
+            daemon=True,
+        )
+        for i, ((a, b), p) in enumerate(zip(segments, paths))
+    ]
+    started = []
+    try:
+        with _signals_blocked():
+            for w in workers:
+                w.start()
+                started.append(w)
+        _collect(workers, messages, progress)
+        concat_segments(paths, tmp, settings.format)
+    finally:
+        with interrupts_deferred():  # a second Ctrl-C must not leave workers or files behind
+            _stop_workers(started)
+            messages.close()
+            shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _stop_workers(workers, grace: float = 10.0) -> None:
+    """Terminate the workers still running (each kills its ffmpeg) and wait for all of them."""
+    for w in workers:
+        if w.is_alive():
+            w.terminate()
+    for w in workers:
+        w.join(timeout=grace)
+        if w.is_alive():  # pragma: no cover  (stuck: no second chance)
+            w.kill()
+            w.join()
+
+
+def _collect(workers, messages, progress) -> None:
+    """Wait for every worker, relaying progress; raise RenderError on the first failure."""
+    done_frames = [0] * len(workers)
+    finished: set[int] = set()
+    silent_exits: dict[int, int] = {}
+    while len(finished) < len(workers):
+        try:
+            kind, index, value = messages.get(timeout=0.5)
+        except queue_module.Empty:
+            for i, w in enumerate(workers):
+                if i in finished or w.is_alive():
+                    continue
+                if w.exitcode != 0:
+                    raise RenderError(f"render worker {i} stopped unexpectedly (exit code {w.exitcode})") from None
+                silent_exits[i] = silent_exits.get(i, 0) + 1
+                if silent_exits[i] > 2:  # ended without a word after its messages were drained
+                    raise RenderError(f"render worker {i} ended without finishing its segment") from None
+            continue
+        if kind == "progress":
+            done_frames[index] = value
+            if progress is not None:
+                progress(sum(done_frames))
+        elif kind == "done":
+            finished.add(index)
+        else:
+            raise RenderError(f"render worker {index} failed:\n{value}")
+    for w in workers:
+        with contextlib.suppress(Exception):
+            w.join(timeout=30)

@@ -1,0 +1,144 @@
+"""The arm's solid parts, ready for the painter's order: link prisms, joint discs, the base.
+
+Each part is summarised for :func:`armanim.render.order.paint_order` as screen samples
+along its axis and a pixel radius, and carries the flat-shaded polygons that draw it.
+Link prisms are culled (back faces dropped) for every pose; the base pedestal never
+moves, so it is projected and culled once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.kinematics import Arm, Pose
+from armanim.render.mesh import prism_face_normals, prism_faces, prism_local, prism_world, unit_circle
+from armanim.render.style import (
+    ARM_COLOR,
+    BASE_COLOR,
+    BASE_SCALE,
+    CIRCLE_SIDES,
+    GHOST_FADE,
+    JOINT_COLOR,
+    JOINT_HIGHLIGHT,
+    JOINT_SCALE,
+    PRISM_SIDES,
+    with_alpha,
+)
+from armanim.render.view import LIGHT, View, lambert
+
+SAMPLES = 7  # points per part for the painter's order
+
+
+@dataclass(frozen=True)
+class Part:
+    """One solid as the painter's order sees it.
+
+    Attributes
+    ----------
+    samples : (SAMPLES, 3) array
+        Screen points (x px, y px, near) along the part's axis.
+    radius : float
+        Pixels around the samples that the part covers.
+    polygons : list of (k, 2) arrays
+        Pixel polygons that draw it, in drawing order.
+    colors : (len(polygons), 4) array
+        RGBA of each polygon.
+    """
+
+    samples: np.ndarray
+    radius: float
+    polygons: list
+    colors: np.ndarray
+
+
+def segment_samples(start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """(SAMPLES, 3) points evenly from ``start`` to ``end``, both included."""
+    return start + np.linspace(0.0, 1.0, SAMPLES)[:, None] * (end - start)
+
+
+def point_samples(point: np.ndarray) -> np.ndarray:
+    """(SAMPLES, 3): ``point`` repeated, the samples of a round part."""
+    return np.repeat(point[None, :], SAMPLES, axis=0)
+
+
+def solid_colors(rgb: np.ndarray, ghost: bool) -> np.ndarray:
+    """(k, 3) shades -> (k, 4) opaque RGBA; a ghost's (a poster's faint pose) faded toward white."""
+    if ghost:
+        rgb = rgb * (1 - GHOST_FADE) + GHOST_FADE
+    return with_alpha(rgb, 1.0)
+
+
+def pedestal(base: np.ndarray, half_width: float, view: View, ppu: float) -> Part:
+    """The base under joint 1: a short vertical cylinder, projected and culled once."""
+    radius, height = BASE_SCALE * half_width, 2.0 * half_width
+    theta = np.linspace(0, 2 * np.pi, CIRCLE_SIDES, endpoint=False)
+    ring = radius * np.column_stack([np.cos(theta), np.sin(theta), np.zeros_like(theta)])
+    upper, lower = base + ring, base + ring - [0, 0, height]
+    sides = len(theta)
+    polys = [np.array([lower[i], lower[(i + 1) % sides], upper[(i + 1) % sides], upper[i]]) for i in range(sides)]
+    normals = [[np.cos(t + np.pi / sides), np.sin(t + np.pi / sides), 0.0] for t in theta]
+    polys += [upper, lower[::-1]]
+    normals += [[0, 0, 1.0], [0, 0, -1.0]]
+    screen_n = view.screen_normals(np.array(normals))
+    front = screen_n[:, 2] > 0
+    ends = view.project(np.array([base - [0, 0, height], base]))
+    return Part(samples=segment_samples(ends[0], ends[1]), radius=radius * ppu,
+                polygons=[view.project(p)[:, :2] for p, f in zip(polys, front) if f],
+                colors=with_alpha(lambert(screen_n[front], BASE_COLOR), 1.0))
+
+
+class ArmSolids:
+    """The arm's parts in screen space, pose by pose.
+
+    Parameters
+    ----------
+    arm : Arm
+    half_width : float
+        Half the links' thickness, world units.
+    view : View
+        The camera.
+    ppu : float
+        Pixels per world unit.
+    """
+
+    def __init__(self, arm: Arm, half_width: float, view: View, ppu: float):
+        self.view = view
+        self.prism_local = prism_local(arm, half_width, PRISM_SIDES)
+        self.faces = prism_faces(PRISM_SIDES)
+        self.face_normals_local = prism_face_normals(arm, PRISM_SIDES)
+        self.link_radius = half_width * ppu
+        self.joint_radius = JOINT_SCALE * half_width * ppu
+        self.circle = unit_circle(CIRCLE_SIDES)
+        self.base = pedestal(arm.base, half_width, view, ppu)
+
+    def parts(self, pose: Pose, ghost: bool = False) -> list[Part]:
+        """The base, every link and every joint of ``pose``; a ghost (a poster's faint pose)
+        has no base and its colours faded toward white."""
+        joints = self.view.project(pose.points)  # (n+1, 3)
+        base = [] if ghost else [self.base]
+        return base + self._links(pose, joints, ghost) + self._joints(joints[:-1], ghost)
+
+    def _links(self, pose: Pose, joints: np.ndarray, ghost: bool) -> list[Part]:
+        """One prism per link, its back faces culled."""
+        verts = self.view.project(prism_world(pose, self.prism_local))  # (n, V, 3)
+        normals = self.view.screen_normals(np.einsum("nab,fb->nfa", pose.frames, self.face_normals_local))
+        parts = []
+        for i in range(len(verts)):
+            front = np.flatnonzero(normals[i, :, 2] > 1e-9)
+            parts.append(Part(samples=segment_samples(joints[i], joints[i + 1]), radius=self.link_radius,
+                              polygons=[verts[i, self.faces[f], :2] for f in front],
+                              colors=solid_colors(lambert(normals[i, front], ARM_COLOR), ghost)))
+        return parts
+
+    def _joints(self, centers: np.ndarray, ghost: bool) -> list[Part]:
+        """One dark disc with a lighter glint per joint (screen centres (n, 3))."""
+        r = self.joint_radius
+        shade = solid_colors(np.array([JOINT_COLOR, JOINT_HIGHLIGHT]), ghost)
+        parts = []
+        for center in centers:
+            disc = center[:2] + r * self.circle
+            glint = center[:2] + 0.45 * r * self.circle + 0.25 * r * LIGHT[:2]
+            parts.append(Part(samples=point_samples(center), radius=r, polygons=[disc, glint], colors=shade))
+        return parts
