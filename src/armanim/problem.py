@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.kinematics import Arm
+from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 
 
 @dataclass(frozen=True)
@@ -85,16 +86,16 @@ class Goal:
 class SolverSettings:
     """Every number of the solvers, from the scene's ``solver`` section (radians)."""
 
-    method: str = "pinv"
+    method: MethodName = "pinv"
     step: float = 0.1
     max_step: float = np.inf
     tolerance: float = 0.01
     max_frames_per_goal: int = 600
-    jacobian: str = "analytic"
+    jacobian: JacobianMode = "analytic"
     damping: float = 0.05
     max_joint_step: float = np.radians(10.0)
     clearance: float = 0.05
-    planner: str = "auto"
+    planner: PlannerMode = "auto"
     w_goal: float = 1.0
     w_obstacles: float = 1.0
     w_limits: float = 1.0
@@ -158,4 +159,4 @@ class RenderSettings:
     azimuth: float | None = None
     bounds: np.ndarray | None = None
     trail: bool = True
-    format: str = "mp4"
+    format: VideoFormat = "mp4"

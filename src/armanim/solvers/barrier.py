@@ -31,6 +31,7 @@ import numpy as np
 from armanim.cost import min_link_clearance
 from armanim.geometry import wrap_angle
 from armanim.kinematics import forward, point_jacobian
+from armanim.names import Blocker
 from armanim.problem import Problem
 from armanim.solvers.common import ArmState, arm_state
 
@@ -56,14 +57,14 @@ class SafeStep:
         kinematics and clearances, ready for the next step.
     scale : float
         |dPhi| / |dPhi_nom| of the step taken: 1 = the proposal as it was, 0 = none.
-    blocked_by : str or None
+    blocked_by : Blocker or None
         What changed the proposal beyond the joint-step cap: ``"obstacle"``,
         ``"limit"``, ``"nan"`` (the proposal was not finite), or None.
     """
 
     state: ArmState
     scale: float
-    blocked_by: str | None
+    blocked_by: Blocker | None
 
     @property
     def phi(self) -> np.ndarray:
@@ -83,7 +84,7 @@ class Constraints:
     lo: np.ndarray  # (n,)
     hi: np.ndarray  # (n,)
 
-    def violated_by(self, dphi: np.ndarray) -> str | None:
+    def violated_by(self, dphi: np.ndarray) -> Blocker | None:
         """Which constraint ``dphi`` breaks (to rounding): ``"obstacle"``, ``"limit"``, or None."""
         eps = 1e-12
         if len(self.rows) and np.any(self.rows @ dphi < self.lower - eps):
@@ -237,7 +238,7 @@ def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
     return float(np.linalg.norm(taken)) / length if 0.0 < length < np.inf else 0.0
 
 
-def blocker(nominal: np.ndarray, cons: Constraints) -> str:
+def blocker(nominal: np.ndarray, cons: Constraints) -> Blocker:
     """What kept the proposal from being taken as it was: ``"obstacle"`` or ``"limit"``."""
     return cons.violated_by(nominal) or "obstacle"  # else the linear model allowed it, the exact clearance did not
 
