@@ -204,7 +204,7 @@ def test_a_step_whose_linear_algebra_fails_is_reported_as_numerical(monkeypatch)
     def failing_step(problem, state, goal):
         raise np.linalg.LinAlgError("SVD did not converge")
 
-    monkeypatch.setitem(METHODS, "pinv", failing_step)
+    monkeypatch.setitem(METHODS, "pinv", replace(METHODS["pinv"], step_function=failing_step))
     problem = notes_problem(goals=((6.0, 2.0, 9.0),))
     solution = solve_trajectory(problem)
     goal = solution.goals[0]

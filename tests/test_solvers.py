@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import get_args
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ from conftest import SCENES, solved_scene
 
 from armanim.ik import solve_pose
 from armanim.kinematics import Arm, forward
+from armanim.names import MethodName
 from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
 from armanim.scene import load_scene, scene_to_problem
 from armanim.solvers import METHODS, arm_state, step_function
@@ -27,8 +29,9 @@ METHOD_SCENES = {
 
 def test_registry_has_the_four_methods():
     assert set(METHODS) == {"pinv", "dls", "newton", "gradient"}
+    assert tuple(METHODS) == get_args(MethodName)  # the registry and the scene's words agree
     for name in METHODS:
-        assert step_function(name) is METHODS[name]
+        assert step_function(name) is METHODS[name].step_function
     with pytest.raises(ValueError, match="unknown solver method"):
         step_function("simplex")
 
