@@ -180,24 +180,43 @@ def test_damped_inverse_formula():
 # ------------------------------------------------------------ ik (one pose to convergence)
 
 
-@pytest.mark.parametrize("method", sorted(METHODS))
-def test_ik_round_trip_fk_of_ik_is_the_goal(method):
-    arm = Arm.from_names([1.0] * 4, axes=["z"] * 4, direction="x")
-    goal = np.array([3.0, 1.0, 0.0])
-    tol = 1e-3
-    problem = Problem(
-        arm=arm,
+def planar_ik_problem(method: str, tol: float = 1e-3) -> Problem:
+    """A planar arm of four unit links with the goal (3, 1, 0)."""
+    return Problem(
+        arm=Arm.from_names([1.0] * 4, axes=["z"] * 4, direction="x"),
         half_width=0.1,
         home=np.zeros(4),
         limits=Limits.unlimited(4),
         obstacles=Obstacles.none(),
-        goals=(Goal(goal),),
+        goals=(Goal(np.array([3.0, 1.0, 0.0])),),
         solver=SolverSettings(method=method, tolerance=tol, step=0.3 if method != "gradient" else 0.5),
     )
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_ik_round_trip_fk_of_ik_is_the_goal(method):
+    tol = 1e-3
+    problem = planar_ik_problem(method, tol)
+    arm, goal = problem.arm, problem.goals[0].position
     result = solve_pose(problem, goal, np.radians([10.0, 10.0, 10.0, 10.0]), max_iterations=3000)
-    assert result.converged, result
+    assert result.converged and result.status == "converged", result
     np.testing.assert_allclose(forward(arm, result.phi).tip, result.tip, atol=1e-12)
     assert np.linalg.norm(result.tip - goal) < tol
     assert result.distance == pytest.approx(np.linalg.norm(result.tip - goal))
     if method == "newton":
         assert result.iterations >= 1 and result.newton_iterations >= 1  # GDLS, then Newton finishes
+
+
+def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
+    import armanim.solvers.linear
+
+    def fails(jac):
+        raise np.linalg.LinAlgError("SVD did not converge")
+
+    monkeypatch.setattr(armanim.solvers.linear, "pseudo_inverse", fails)
+    problem = planar_ik_problem("pinv")
+    start = np.radians([10.0, 10.0, 10.0, 10.0])
+    result = solve_pose(problem, problem.goals[0].position, start, max_iterations=100)
+    assert result.status == "numerical" and not result.converged
+    assert np.all(np.isfinite(result.phi)) and result.restarts == 4  # every start was tried
+    assert result.distance == pytest.approx(np.linalg.norm(forward(problem.arm, result.phi).tip - problem.goals[0].position))
