@@ -220,3 +220,25 @@ def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
     assert result.status == "numerical" and not result.converged
     assert np.all(np.isfinite(result.phi)) and result.restarts == 4  # every start was tried
     assert result.distance == pytest.approx(np.linalg.norm(forward(problem.arm, result.phi).tip - problem.goals[0].position))
+
+
+def test_ik_restarts_from_the_planner_seed_poses(monkeypatch):
+    # one set of starts for every solve from a pose: the pose, its mirrored elbow, then the
+    # planner's seeded random poses
+    import armanim.solvers.linear
+    from armanim.planning.poses import seed_poses
+
+    seen = []
+    jacobian_of_point = armanim.solvers.linear.jacobian_of_point
+
+    def recording(problem, phi, pose, link, t):
+        seen.append(np.array(phi))
+        return jacobian_of_point(problem, phi, pose, link, t)
+
+    monkeypatch.setattr(armanim.solvers.linear, "jacobian_of_point", recording)
+    problem = planar_ik_problem("pinv")
+    start = np.radians([10.0, 20.0, 30.0, 40.0])
+    result = solve_pose(problem, np.array([10.0, 0.0, 0.0]), start, max_iterations=1000)  # out of reach
+    assert result.restarts == 4 and not result.converged
+    for pose in seed_poses(problem, start, 1 + 4, seed=0):
+        assert any(np.array_equal(pose, phi) for phi in seen), np.degrees(pose)

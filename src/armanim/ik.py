@@ -15,12 +15,12 @@ fails in linear algebra ends its attempt, and an unconverged solve that met one 
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from armanim.names import PoseStatus
+from armanim.planning.poses import seed_poses
 from armanim.problem import Problem
 from armanim.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.solvers.barrier import safe_step
@@ -28,6 +28,7 @@ from armanim.solvers.barrier import safe_step
 FULL_TURN_PER_ITERATION = np.radians(30.0)
 STALL_ITERATIONS = 15  # steps without progress before a restart
 RESTARTS = 4
+SEED = 0  # of the random restarts: the same solve always restarts from the same poses
 
 
 @dataclass(frozen=True)
@@ -91,21 +92,6 @@ def solving_problem(problem: Problem) -> Problem:
     return replace(problem, solver=replace(s, step=step, max_step=np.inf, max_joint_step=turn))
 
 
-def restart_poses(problem: Problem, start: np.ndarray, count: int) -> Iterator[np.ndarray]:
-    """Starts to try in turn: ``start``, its mirrored elbow, then seeded random poses
-    inside the limits (made only when asked for: most solves need just the first)."""
-    yield start
-    lim = problem.limits
-    mirrored = start.copy()
-    mirrored[1:] = -mirrored[1:]
-    yield np.clip(mirrored, lim.lower + lim.margin, lim.upper - lim.margin)
-    rng = np.random.default_rng(0)
-    lo = np.where(lim.limited, lim.lower + lim.margin, -np.pi)
-    hi = np.where(lim.limited, lim.upper - lim.margin, np.pi)
-    for _ in range(count - 2):
-        yield rng.uniform(lo, hi)
-
-
 def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000) -> PoseSolution:
     """Solve for one pose whose tip is at ``goal``, starting from ``start`` (radians).
 
@@ -115,7 +101,8 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
         Its arm, limits, obstacles and solver settings (``method``, ``tolerance``).
     goal : (3,) array
     start : (n,) array
-        First pose tried; restarts follow from :func:`restart_poses`.
+        First pose tried; the restarts are the planner's next starts from it
+        (:func:`armanim.planning.poses.seed_poses`).
     max_iterations : int
         Bound on the steps over all attempts.
 
@@ -129,7 +116,7 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
     method = solver_method(problem.solver.method)
     tolerance = problem.solver.tolerance
     attempts: list[_Attempt] = []
-    for first in restart_poses(problem, np.asarray(start, dtype=float), 1 + RESTARTS):
+    for first in seed_poses(problem, np.asarray(start, dtype=float), 1 + RESTARTS, SEED):
         attempts.append(_attempt(solving, method, goal, first, max_iterations - sum(a.steps for a in attempts)))
         if attempts[-1].distance < tolerance or sum(a.steps for a in attempts) >= max_iterations:
             break
