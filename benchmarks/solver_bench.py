@@ -200,7 +200,7 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
     for state, goal in bare_cases[len(near):][:20]:
         ours = safe_step(bare, state, pinv_step(bare, state, goal).dphi)
         if ours.scale == 1.0:
-            ref = plain_step(state.phi, goal, settings.step)
+            ref = plain_step(state.phi, goal, settings.beta)
             assert np.allclose(ours.state.tip, forward(bare.arm, ref).tip, atol=1e-9), (
                 "armanim's pinv frame and the plain step disagree"
             )
@@ -220,7 +220,7 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
     only_step = lambda state, goal: pinv_step(problem, state, goal)  # noqa: E731
     dphis = {id(state): pinv_step(problem, state, goal).dphi for state, goal in cases}
     only_shorten = lambda state, goal: safe_step(problem, state, dphis[id(state)])  # noqa: E731
-    plain = lambda state, goal: plain_step(state.phi, goal, settings.step)  # noqa: E731
+    plain = lambda state, goal: plain_step(state.phi, goal, settings.beta)  # noqa: E731
 
     t = interleaved_min(
         {
@@ -309,7 +309,7 @@ def bench_solve(rng: np.random.Generator, count: int) -> None:
     # what-if rows, not judged: the linear methods with scene settings suited to solving rather
     # than animating (a full step beta = 1, joints may turn 30 degrees per iteration)
     for m in ("pinv", "dls"):
-        fast = replace(problems[m].solver, step=1.0, max_joint_step=float(np.radians(30.0)))
+        fast = replace(problems[m].solver, beta=1.0, max_joint_step=float(np.radians(30.0)))
         solvers[f"{m}*"] = lambda goal, p=replace(problems[m], solver=fast): solve_pose(p, goal, start, MAX_ITERATIONS)
     if chain is not None:
         full_start = np.zeros(len(chain.links))

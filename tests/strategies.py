@@ -100,7 +100,7 @@ def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_
         goals.append(Goal(target, draw(st.sampled_from([0.0, 0.05, 0.1]))))
     solver = SolverSettings(
         method=draw(st.sampled_from(methods)),
-        step=draw(st.floats(0.05, 0.5)),
+        beta=draw(st.floats(0.05, 0.5)),
         max_step=draw(st.sampled_from([np.inf, 0.3, 1.0])),
         tolerance=draw(st.sampled_from([0.01, 0.05])),
         max_frames_per_goal=max_frames,

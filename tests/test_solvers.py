@@ -105,7 +105,7 @@ def test_every_method_reaches_a_goal_on_a_clear_arm(method):
         limits=Limits.unlimited(4),
         obstacles=Obstacles.none(),
         goals=(Goal(goal),),
-        solver=SolverSettings(method=method, step=0.2 if method != "gradient" else 0.5, max_step=0.5),
+        solver=SolverSettings(method=method, beta=0.2 if method != "gradient" else 0.5, max_step=0.5),
     )
     solution = solve_trajectory(problem)
     assert solution.goals[0].reached, solution.goals[0]
@@ -189,7 +189,7 @@ def planar_ik_problem(method: str, tol: float = 1e-3) -> Problem:
         limits=Limits.unlimited(4),
         obstacles=Obstacles.none(),
         goals=(Goal(np.array([3.0, 1.0, 0.0])),),
-        solver=SolverSettings(method=method, tolerance=tol, step=0.3 if method != "gradient" else 0.5),
+        solver=SolverSettings(method=method, tolerance=tol, beta=0.3 if method != "gradient" else 0.5),
     )
 
 

@@ -87,9 +87,9 @@ def solving_problem(problem: Problem) -> Problem:
     """The problem with the settings of solving rather than animating (see the module docstring)."""
     s = problem.solver
     method = solver_method(s.method)
-    step = 1.0 if method.full_step_solves else s.step
+    beta = 1.0 if method.full_step_solves else s.beta
     turn = 2 * np.pi if method.bounds_own_steps else max(s.max_joint_step, FULL_TURN_PER_ITERATION)
-    return replace(problem, solver=replace(s, step=step, max_step=np.inf, max_joint_step=turn))
+    return replace(problem, solver=replace(s, beta=beta, max_step=np.inf, max_joint_step=turn))
 
 
 def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000) -> PoseSolution:

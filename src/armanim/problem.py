@@ -84,10 +84,27 @@ class Goal:
 
 @dataclass(frozen=True)
 class SolverSettings:
-    """Every number of the solvers, from the scene's ``solver`` section (radians)."""
+    """Every number of the solvers, from the scene's ``solver`` section (radians).
+
+    The names are the scene's (``solver.max_step`` is ``max_step``, ``weights.goal`` is
+    ``w_goal``) except ``beta``, the scene's ``solver.step``: a step is what a method
+    proposes, a change of the joint angles.
+
+    Attributes
+    ----------
+    method : MethodName
+    beta : float
+        The frame's task-space target is e + beta (g - e) (``gradient``: the descent rate).
+    max_step : float
+        Cap on the tip's travel per frame, |beta (g - e)|; inf for none.
+    max_joint_step : float
+        Radians any joint may turn in one frame.
+    clearance : float
+        d_safe, resolved (``arm.width / 10`` when the scene leaves it out).
+    """
 
     method: MethodName = "pinv"
-    step: float = 0.1
+    beta: float = 0.1
     max_step: float = np.inf
     tolerance: float = 0.01
     max_frames_per_goal: int = 600

@@ -49,8 +49,8 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
     """
     arm = problem.arm
     if points is None:
-        reach = arm.reach + problem.half_width
-        lo, hi = [arm.base - reach], [arm.base + reach]
+        extent = arm.reach + problem.half_width
+        lo, hi = [arm.base - extent], [arm.base + extent]
     else:
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         lo, hi = [pts.min(axis=0) - problem.half_width], [pts.max(axis=0) + problem.half_width]

@@ -366,8 +366,8 @@ class SceneCanvas:
         for each of hundreds of sprites was slow at large sizes)."""
         label = max((lab.get_window_extent(self.renderer) for lab in self.goal_labels),
                     key=lambda box: box.width, default=None)
-        reach = RING_POINTS / self.pt + (max(label.width, label.height) if label is not None else 0.0)
-        side = int(np.ceil(2 * reach + 3 * FONT["caption"] / self.pt)) + 8
+        extent = RING_POINTS / self.pt + (max(label.width, label.height) if label is not None else 0.0)
+        side = int(np.ceil(2 * extent + 3 * FONT["caption"] / self.pt)) + 8
         return make_figure(side, side, self.fig.dpi)[1]
 
     def _goal_stamp(self, i: int, code: int):
@@ -618,8 +618,8 @@ class SceneCanvas:
     def _draw_parts(self, parts: list, shadow) -> bool:
         """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""
         allpts = np.concatenate([p[0][:, :2] for p in parts])
-        reach = max(p[1] for p in parts)
-        arm_box = np.concatenate([allpts.min(axis=0) - reach, allpts.max(axis=0) + reach])
+        widest = max(p[1] for p in parts)
+        arm_box = np.concatenate([allpts.min(axis=0) - widest, allpts.max(axis=0) + widest])
         spheres = self._spheres_touched([arm_box, shadow])
         samples = [p[0] for p in parts] + [np.repeat(self.sphere_centers[i][None, :], SAMPLES, axis=0)
                                            for i in spheres]

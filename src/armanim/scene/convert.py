@@ -46,7 +46,7 @@ def _solver(scene: SceneModel) -> SolverSettings:
     s = scene.solver
     return SolverSettings(
         method=s.method,
-        step=s.step,
+        beta=s.step,
         max_step=s.max_step if s.max_step is not None else np.inf,
         tolerance=s.tolerance,
         max_frames_per_goal=s.max_frames_per_goal,
