@@ -30,6 +30,7 @@ from armanim.cost import clearances, min_link_clearance
 from armanim.ik import solve_pose
 from armanim.kinematics import Arm, forward
 from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.scene import default_solver_settings
 from armanim.solvers import METHODS, arm_state
 from armanim.solvers.barrier import safe_step
 from armanim.solvers.linear import pinv_step
@@ -76,8 +77,9 @@ def make_problem(obstacles: Obstacles, settings: SolverSettings) -> Problem:
         home=np.zeros(arm.n),
         limits=notes_limits(),
         obstacles=obstacles,
-        goals=(Goal(np.zeros(3)),),
+        goals=(Goal(np.zeros(3), hold=0.0),),
         solver=settings,
+        fps=30.0,
     )
 
 
@@ -184,7 +186,7 @@ def frame_cases(rng: np.random.Generator, problem: Problem, count: int):
 
 def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
     print("(a) one frame of pinv on the notes' arm, 3 obstacles vs plain numpy pinv step, no obstacles")
-    settings = SolverSettings(method="pinv")
+    settings = default_solver_settings(method="pinv")
     problem = make_problem(notes_obstacles(), settings)
     bare = make_problem(Obstacles.none(), settings)
     near, far, goals = frame_cases(rng, problem, poses)
@@ -285,7 +287,7 @@ def check_ikpy_fk(chain, arm: Arm, rng: np.random.Generator) -> float:
 def bench_solve(rng: np.random.Generator, count: int) -> None:
     print(f"(b) solve to |e - g| < {TOLERANCE:g} from the straight (singular) pose, {count} random "
           f"reachable targets, no obstacles, notes' limits")
-    base_settings = SolverSettings(tolerance=TOLERANCE)
+    base_settings = default_solver_settings(tolerance=TOLERANCE)
     problems = {m: make_problem(Obstacles.none(), replace(base_settings, method=m)) for m in METHODS}
     arm = problems["pinv"].arm
     limits = problems["pinv"].limits

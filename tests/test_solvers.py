@@ -12,8 +12,8 @@ from conftest import SCENES, solved_scene
 from armanim.ik import solve_pose
 from armanim.kinematics import Arm, forward
 from armanim.names import MethodName
-from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
-from armanim.scene import load_scene, scene_to_problem
+from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.scene import default_solver_settings, load_scene, scene_to_problem, unlimited_limits
 from armanim.solvers import METHODS, arm_state, step_function
 from armanim.solvers.barrier import safe_step
 from armanim.solvers.linear import damped_inverse
@@ -102,10 +102,11 @@ def test_every_method_reaches_a_goal_on_a_clear_arm(method):
         arm=arm,
         half_width=0.25,
         home=np.radians([0.0, 10.0, 10.0, 10.0]),
-        limits=Limits.unlimited(4),
+        limits=unlimited_limits(4),
         obstacles=Obstacles.none(),
-        goals=(Goal(goal),),
-        solver=SolverSettings(method=method, beta=0.2 if method != "gradient" else 0.5, max_step=0.5),
+        goals=(Goal(goal, hold=0.0),),
+        solver=default_solver_settings(method=method, beta=0.2 if method != "gradient" else 0.5, max_step=0.5),
+        fps=30.0,
     )
     solution = solve_trajectory(problem)
     assert solution.goals[0].reached, solution.goals[0]
@@ -119,17 +120,18 @@ def one_link_problem(**kw):
         arm=Arm.from_names([2.0], axes=["z"], direction="x"),
         half_width=0.25,
         home=np.zeros(1),
-        limits=Limits.unlimited(1),
+        limits=unlimited_limits(1),
         obstacles=Obstacles.none(),
-        goals=(Goal(np.array([0.0, 2.0, 0.0])),),
-        solver=SolverSettings(max_joint_step=np.radians(180.0)),
+        goals=(Goal(np.array([0.0, 2.0, 0.0]), hold=0.0),),
+        solver=default_solver_settings(max_joint_step=np.radians(180.0)),
+        fps=30.0,
     )
     defaults.update(kw)
     return Problem(**defaults)
 
 
 def test_safe_step_caps_the_joint_step():
-    problem = one_link_problem(solver=SolverSettings(max_joint_step=np.radians(10.0)))
+    problem = one_link_problem(solver=default_solver_settings(max_joint_step=np.radians(10.0)))
     moved = safe_step(problem, arm_state(problem, np.zeros(1)), np.array([1.0]))
     assert moved.phi[0] == pytest.approx(np.radians(10.0))
     assert moved.blocked_by is None
@@ -186,10 +188,11 @@ def planar_ik_problem(method: str, tol: float = 1e-3) -> Problem:
         arm=Arm.from_names([1.0] * 4, axes=["z"] * 4, direction="x"),
         half_width=0.1,
         home=np.zeros(4),
-        limits=Limits.unlimited(4),
+        limits=unlimited_limits(4),
         obstacles=Obstacles.none(),
-        goals=(Goal(np.array([3.0, 1.0, 0.0])),),
-        solver=SolverSettings(method=method, tolerance=tol, beta=0.3 if method != "gradient" else 0.5),
+        goals=(Goal(np.array([3.0, 1.0, 0.0]), hold=0.0),),
+        solver=default_solver_settings(method=method, tolerance=tol, beta=0.3 if method != "gradient" else 0.5),
+        fps=30.0,
     )
 
 
