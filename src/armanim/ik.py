@@ -8,7 +8,8 @@ the goal, its regulariser re-anchored at each answer until the tip is within tol
 and joints may turn up to 30 degrees per iteration, or without a cap where the method's
 own line searches bound its steps. Every step passes the same barrier as in the frame
 loop, so limits and obstacles hold. An attempt that stalls, e.g. pinned between two
-limits, restarts from the mirrored elbow and then from seeded random poses. A step that
+limits, restarts from the mirrored elbow and then from seeded random poses: the planner's
+starts (:func:`armanim.planning.poses.seed_poses`). A step that
 fails in linear algebra ends its attempt, and an unconverged solve that met one says
 ``numerical``. Pure core: no I/O.
 """
