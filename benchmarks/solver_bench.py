@@ -30,6 +30,7 @@ from armanim.cost import clearances, min_link_clearance
 from armanim.ik import solve_pose
 from armanim.kinematics import Arm, forward
 from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.scene import default_solver_settings
 from armanim.solvers import METHODS, arm_state
 from armanim.solvers.barrier import safe_step
 from armanim.solvers.linear import pinv_step
@@ -76,8 +77,9 @@ def make_problem(obstacles: Obstacles, settings: SolverSettings) -> Problem:
         home=np.zeros(arm.n),
         limits=notes_limits(),
         obstacles=obstacles,
-        goals=(Goal(np.zeros(3)),),
+        goals=(Goal(np.zeros(3), hold=0.0),),
         solver=settings,
+        fps=30.0,
     )
 
 
@@ -184,7 +186,7 @@ def frame_cases(rng: np.random.Generator, problem: Problem, count: int):
 
 def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
     print("(a) one frame of pinv on the notes' arm, 3 obstacles vs plain numpy pinv step, no obstacles")
-    settings = SolverSettings(method="pinv")
+    settings = default_solver_settings(method="pinv")
     problem = make_problem(notes_obstacles(), settings)
     bare = make_problem(Obstacles.none(), settings)
     near, far, goals = frame_cases(rng, problem, poses)
@@ -200,7 +202,7 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
     for state, goal in bare_cases[len(near):][:20]:
         ours = safe_step(bare, state, pinv_step(bare, state, goal).dphi)
         if ours.scale == 1.0:
-            ref = plain_step(state.phi, goal, settings.step)
+            ref = plain_step(state.phi, goal, settings.beta)
             assert np.allclose(ours.state.tip, forward(bare.arm, ref).tip, atol=1e-9), (
                 "armanim's pinv frame and the plain step disagree"
             )
@@ -220,7 +222,7 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
     only_step = lambda state, goal: pinv_step(problem, state, goal)  # noqa: E731
     dphis = {id(state): pinv_step(problem, state, goal).dphi for state, goal in cases}
     only_shorten = lambda state, goal: safe_step(problem, state, dphis[id(state)])  # noqa: E731
-    plain = lambda state, goal: plain_step(state.phi, goal, settings.step)  # noqa: E731
+    plain = lambda state, goal: plain_step(state.phi, goal, settings.beta)  # noqa: E731
 
     t = interleaved_min(
         {
@@ -285,7 +287,7 @@ def check_ikpy_fk(chain, arm: Arm, rng: np.random.Generator) -> float:
 def bench_solve(rng: np.random.Generator, count: int) -> None:
     print(f"(b) solve to |e - g| < {TOLERANCE:g} from the straight (singular) pose, {count} random "
           f"reachable targets, no obstacles, notes' limits")
-    base_settings = SolverSettings(tolerance=TOLERANCE)
+    base_settings = default_solver_settings(tolerance=TOLERANCE)
     problems = {m: make_problem(Obstacles.none(), replace(base_settings, method=m)) for m in METHODS}
     arm = problems["pinv"].arm
     limits = problems["pinv"].limits
@@ -309,7 +311,7 @@ def bench_solve(rng: np.random.Generator, count: int) -> None:
     # what-if rows, not judged: the linear methods with scene settings suited to solving rather
     # than animating (a full step beta = 1, joints may turn 30 degrees per iteration)
     for m in ("pinv", "dls"):
-        fast = replace(problems[m].solver, step=1.0, max_joint_step=float(np.radians(30.0)))
+        fast = replace(problems[m].solver, beta=1.0, max_joint_step=float(np.radians(30.0)))
         solvers[f"{m}*"] = lambda goal, p=replace(problems[m], solver=fast): solve_pose(p, goal, start, MAX_ITERATIONS)
     if chain is not None:
         full_start = np.zeros(len(chain.links))

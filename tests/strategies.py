@@ -12,7 +12,8 @@ from hypothesis import assume
 from hypothesis import strategies as st
 
 from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.scene import default_solver_settings
 
 AXES = ("x", "y", "z")
 METHODS = ("pinv", "dls", "newton", "gradient")
@@ -98,9 +99,9 @@ def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_
             gap = np.linalg.norm(target - obstacles.centers, axis=1) - obstacles.radii
             assume(np.all(gap > 0.05))
         goals.append(Goal(target, draw(st.sampled_from([0.0, 0.05, 0.1]))))
-    solver = SolverSettings(
+    solver = default_solver_settings(
         method=draw(st.sampled_from(methods)),
-        step=draw(st.floats(0.05, 0.5)),
+        beta=draw(st.floats(0.05, 0.5)),
         max_step=draw(st.sampled_from([np.inf, 0.3, 1.0])),
         tolerance=draw(st.sampled_from([0.01, 0.05])),
         max_frames_per_goal=max_frames,
@@ -156,7 +157,7 @@ def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
     home = draw(poses(arm.n)) * 0.3
     half_width = draw(st.floats(0.1, 0.3))
     limits = draw(limits_for(home, margin_deg=10.0))
-    solver = SolverSettings(
+    solver = default_solver_settings(
         method=draw(st.sampled_from(METHODS)), max_step=0.5, max_frames_per_goal=150, clearance=0.05
     )
     goal_poses = [np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02) for _ in range(draw(st.integers(1, max_goals)))]
@@ -178,7 +179,7 @@ def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
         home=home,
         limits=limits,
         obstacles=obstacles,
-        goals=tuple(Goal(tip) for tip in tips[1:]),
+        goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]),
         solver=solver,
         fps=30.0,
     )

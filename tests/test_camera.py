@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem, RenderSettings, SolverSettings
+from armanim.problem import Goal, Obstacles, Problem
 from armanim.render.camera import camera_rotation, fit_view, planar_normal, view_angles
+from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = sorted((ROOT / "scenes").glob("*.yaml"))
@@ -21,8 +22,8 @@ SIZES = [(640, 360), (1280, 720), (1920, 1080)]
 
 def problem_with(arm: Arm, centers, radii, goals, half_width=0.3) -> Problem:
     obs = Obstacles(np.array(centers, float).reshape(-1, 3), np.array(radii, float), np.zeros(len(radii)))
-    return Problem(arm, half_width, np.zeros(arm.n), Limits.unlimited(arm.n), obs,
-                   tuple(Goal(np.array(g, float)) for g in goals), SolverSettings(), fps=30.0)
+    return Problem(arm, half_width, np.zeros(arm.n), unlimited_limits(arm.n), obs,
+                   tuple(Goal(np.array(g, float), hold=0.0) for g in goals), default_solver_settings(), fps=30.0)
 
 
 # ----- projection -------------------------------------------------------------------------
@@ -86,7 +87,7 @@ def _frame(problem, phi, size=(320, 240)):
     from armanim.render.draw import FrameState, SceneCanvas
 
     pose = forward(problem.arm, phi)
-    scene = SceneCanvas(problem, RenderSettings(size=size, elevation=0.0, azimuth=0.0), title="t",
+    scene = SceneCanvas(problem, default_render_settings(size=size, elevation=0.0, azimuth=0.0), title="t",
                         extent=pose.points)
     state = FrameState(pose, 0, np.zeros(len(problem.goals), dtype=int), "")
     return scene, scene.draw(state).copy(), pose
@@ -266,10 +267,11 @@ def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     from armanim.render.draw import SceneCanvas
 
     arm = Arm.from_names([2, 5, 5, 5])
-    problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=Limits.unlimited(4), obstacles=Obstacles.none(),
-                      goals=(Goal(np.array([6.0, 0, 9])), Goal(np.array([0.0, 6, 9]))), solver=SolverSettings())
+    problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=unlimited_limits(4), obstacles=Obstacles.none(),
+                      goals=(Goal(np.array([6.0, 0, 9]), hold=0.0), Goal(np.array([0.0, 6, 9]), hold=0.0)),
+                      solver=default_solver_settings(), fps=30.0)
     reports = [SimpleNamespace(reached=r) for r in reached]
-    scene = SceneCanvas(problem, RenderSettings(size=(640, 360)), title="t", picture="poster", outcomes=goal_outcomes(reports))
+    scene = SceneCanvas(problem, default_render_settings(size=(640, 360)), title="t", picture="poster", outcomes=goal_outcomes(reports))
     labels = [text.get_text() for text in scene.fig.legends[0].get_texts()]  # the legend as drawn
     assert {"reached", "missed"} & set(labels) == shown
     assert "obstacle" not in labels  # no obstacles in this scene

@@ -155,8 +155,21 @@ def test_ik_newton_prints_both_iteration_counts(cli):
     result = cli("ik", "--goal", "3,1,0", *PLANAR, "--method", "newton")
     assert result.exit_code == 0, result.output
     assert "converged" in result.stdout
-    line = next(text for text in result.stdout.splitlines() if text.startswith("iterations"))
+    line = next(text for text in result.stdout.splitlines() if text.startswith("steps"))
     assert "gradient descent" in line and "Newton" in line
+
+
+def test_ik_says_when_linear_algebra_failed(cli, monkeypatch):
+    import armanim.solvers.linear
+
+    def fails(jac):
+        raise np.linalg.LinAlgError("SVD did not converge")
+
+    monkeypatch.setattr(armanim.solvers.linear, "pseudo_inverse", fails)
+    result = cli("ik", "--goal", "3,1,0", *PLANAR, "--from", "10,10,10,10", "--json")
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["status"] == "numerical" and data["reason"].startswith("numerical: a step failed in linear algebra")
 
 
 def test_ik_with_scene_uses_its_method(cli):

@@ -22,7 +22,8 @@ from armanim.cost import (
     total_cost_gradient,
 )
 from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.scene import default_solver_settings
 
 # ------------------------------------------------------------ F_R (Eq. 11)
 
@@ -148,8 +149,9 @@ def notes_problem(**solver):
             np.radians([-np.inf, -100, -150, -150]), np.radians([np.inf, 100, 150, 150]), float(np.radians(15))
         ),
         obstacles=Obstacles(np.array([[12.0, 9, 8]]), np.array([2.0]), np.array([2.0])),
-        goals=(Goal(np.array([14.0, 5, 6])),),
-        solver=SolverSettings(**solver),
+        goals=(Goal(np.array([14.0, 5, 6]), hold=0.0),),
+        solver=default_solver_settings(**solver),
+        fps=30.0,
     )
 
 

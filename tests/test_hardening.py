@@ -16,6 +16,7 @@ import sys
 import threading
 import time
 import tracemalloc
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -471,7 +472,7 @@ def test_solver_step_producing_nan(cli, tmp_path, monkeypatch):
     def nan_step(problem, state, goal):
         return Step(dphi=np.full(problem.arm.n, np.nan))
 
-    monkeypatch.setitem(METHODS, "newton", nan_step)
+    monkeypatch.setitem(METHODS, "newton", replace(METHODS["newton"], step_function=nan_step))
     scene = tmp_path / "nan.yaml"
     scene.write_text(PLANAR.read_text().replace("  tolerance: 0.01\n", "  tolerance: 0.01\n  max_frames_per_goal: 40\n"))
     result = cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet")

@@ -23,7 +23,8 @@ from armanim.cost import min_link_clearance
 from armanim.kinematics import Arm, forward
 from armanim.planning import plan_motion
 from armanim.planning.follow import path_frames
-from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.scene import default_solver_settings, unlimited_limits
 from armanim.solvers import METHODS, arm_state, step_function
 from armanim.solvers.barrier import limit_buffer, pose_is_free, safe_step
 from armanim.trajectory import solve_trajectory
@@ -41,10 +42,11 @@ def notes_problem(obstacles=(), goals=((7.0, 0.0, 9.0),), method="pinv", planner
         arm=NOTES_ARM,
         half_width=0.25,
         home=np.zeros(4) if home is None else np.radians(home),
-        limits=limits or Limits.unlimited(4),
+        limits=limits or unlimited_limits(4),
         obstacles=Obstacles(centers, radii, radii.copy()) if obstacles else Obstacles.none(),
-        goals=tuple(Goal(np.array(g, dtype=float)) for g in goals),
-        solver=SolverSettings(method=method, max_step=0.5, planner=planner),
+        goals=tuple(Goal(np.array(g, dtype=float), hold=0.0) for g in goals),
+        solver=default_solver_settings(method=method, max_step=0.5, planner=planner),
+        fps=30.0,
     )
 
 
@@ -204,7 +206,7 @@ def test_a_step_whose_linear_algebra_fails_is_reported_as_numerical(monkeypatch)
     def failing_step(problem, state, goal):
         raise np.linalg.LinAlgError("SVD did not converge")
 
-    monkeypatch.setitem(METHODS, "pinv", failing_step)
+    monkeypatch.setitem(METHODS, "pinv", replace(METHODS["pinv"], step_function=failing_step))
     problem = notes_problem(goals=((6.0, 2.0, 9.0),))
     solution = solve_trajectory(problem)
     goal = solution.goals[0]

@@ -94,10 +94,10 @@ def test_newton_solve_reaches_the_assignment_goals(n, goal):
 def test_newton_is_kept_only_when_it_lowers_f():
     arm = planar(4)
     target = np.array([3.0, 1.0, 0.0])
-    full = newton_solve(arm, np.zeros(4), target, np.zeros(4))
+    full = newton_solve(arm, np.zeros(4), target, np.zeros(4), W_TAR, W_REG)
     from armanim.solvers.newton import NewtonOptions
 
-    gd_only = newton_solve(arm, np.zeros(4), target, np.zeros(4), options=NewtonOptions(nm_iterations=0))
+    gd_only = newton_solve(arm, np.zeros(4), target, np.zeros(4), W_TAR, W_REG, NewtonOptions(nm_iterations=0))
     assert full.f <= gd_only.f
     if full.newton_kept:
         assert full.f < gd_only.f

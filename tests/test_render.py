@@ -11,7 +11,8 @@ import pytest
 
 from armanim.errors import RenderError
 from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem, RenderSettings, SolverSettings
+from armanim.problem import Goal, Obstacles, Problem
+from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
 from armanim.trajectory import GoalReport, Trajectory
 
 FRAMES = 12
@@ -26,8 +27,8 @@ def make_problem(half_width: float = 0.3, obstacles: bool = True) -> Problem:
         if obstacles
         else Obstacles.none()
     )
-    goals = (Goal(np.array([14.0, 5, 6])), Goal(np.array([6.0, 15, 9])))
-    return Problem(arm, half_width, np.zeros(4), Limits.unlimited(4), obs, goals, SolverSettings(), fps=30.0)
+    goals = (Goal(np.array([14.0, 5, 6]), hold=0.0), Goal(np.array([6.0, 15, 9]), hold=0.0))
+    return Problem(arm, half_width, np.zeros(4), unlimited_limits(4), obs, goals, default_solver_settings(), fps=30.0)
 
 
 def make_trajectory(problem: Problem, frames: int = FRAMES, fps: float = 30.0) -> Trajectory:
@@ -71,7 +72,7 @@ def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path)
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    render_video(problem, traj, reports, RenderSettings(fps=30, size=SIZE), out, title="t", jobs=1,
+    render_video(problem, traj, reports, default_render_settings(fps=30, size=SIZE), out, title="t", jobs=1,
                  progress=seen.append)
     frames, secs = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
@@ -90,7 +91,7 @@ def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    video.render_video(problem, traj, reports, RenderSettings(fps=24, size=SIZE), out, title="t", jobs=2,
+    video.render_video(problem, traj, reports, default_render_settings(fps=24, size=SIZE), out, title="t", jobs=2,
                        progress=seen.append)
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
@@ -106,7 +107,7 @@ def test_odd_sizes_are_padded_to_even_for_mp4(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "odd.mp4"
-    render_video(problem, traj, reports, RenderSettings(size=(161, 121)), out, title="t", jobs=1)
+    render_video(problem, traj, reports, default_render_settings(size=(161, 121)), out, title="t", jobs=1)
     assert tuple(video_meta(out)["size"]) == (162, 122)
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == FRAMES
 
@@ -118,7 +119,7 @@ def test_gif_frames_have_the_settings_duration(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(problem, traj, reports, RenderSettings(fps=20, size=(161, 121), format="gif"), out, title="t")
+    render_video(problem, traj, reports, default_render_settings(fps=20, size=(161, 121), format="gif"), out, title="t")
     with Image.open(out) as im:
         assert im.size == (161, 121)
         durations = []
@@ -136,7 +137,7 @@ def test_gif_total_duration_at_30_fps(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(problem, traj, reports, RenderSettings(fps=30, size=SIZE, format="gif"), out, title="t")
+    render_video(problem, traj, reports, default_render_settings(fps=30, size=SIZE, format="gif"), out, title="t")
     with Image.open(out) as im:
         durations = []
         for i in range(im.n_frames):
@@ -154,7 +155,7 @@ def test_ffmpeg_failure_raises_render_error_and_leaves_no_file(scene, tmp_path, 
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     with pytest.raises(RenderError) as info:
-        render_video(problem, traj, reports, RenderSettings(size=SIZE), out, title="t", jobs=1)
+        render_video(problem, traj, reports, default_render_settings(size=SIZE), out, title="t", jobs=1)
     assert "no_such_codec" in str(info.value)  # ffmpeg's own words are quoted
     assert list(tmp_path.iterdir()) == []
 
@@ -174,7 +175,7 @@ def test_the_tip_is_drawn_in_the_arm_colour():
     problem = make_problem(half_width=1.0, obstacles=False)
     phi = np.radians([20.0, 10.0, 20.0, 10.0])
     pose = forward(problem.arm, phi)
-    scene = SceneCanvas(problem, RenderSettings(size=(320, 240)), title="tip")
+    scene = SceneCanvas(problem, default_render_settings(size=(320, 240)), title="tip")
     state = FrameState(pose, 0, np.full(len(problem.goals), PENDING), "")
     rgba = scene.draw(state).copy()
     px, py, _ = scene.view.project(pose.tip)
@@ -191,7 +192,7 @@ def test_render_pose_png_has_the_settings_size(tmp_path):
     from armanim.render.draw import render_pose_png
 
     out = tmp_path / "pose.png"
-    render_pose_png(make_problem(), np.radians([10, 20, 30, 40]), RenderSettings(size=(201, 149)), out, title="fk")
+    render_pose_png(make_problem(), np.radians([10, 20, 30, 40]), default_render_settings(size=(201, 149)), out, title="fk")
     with Image.open(out) as im:
         assert im.size == (201, 149)
 
@@ -234,7 +235,7 @@ def test_a_solved_run_renders_at_full_size(tmp_path):
     problem = make_problem()
     solution = solve_trajectory(problem)
     out = tmp_path / "animation.mp4"
-    render_video(problem, solution.trajectory, solution.goals, RenderSettings(size=(640, 360)), out,
+    render_video(problem, solution.trajectory, solution.goals, default_render_settings(size=(640, 360)), out,
                  title="solved", jobs=2)
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == solution.trajectory.frames
     assert tuple(video_meta(out)["size"]) == (640, 360)

@@ -341,7 +341,7 @@ def test_goal_list_and_mapping_forms_and_defaults(tmp_path):
     assert not problem.limits.limited.any()
     assert problem.half_width == 0.25
     assert problem.limits.margin == pytest.approx(np.radians(10.0))
-    assert problem.solver.method == "pinv" and problem.solver.step == 0.1
+    assert problem.solver.method == "pinv" and problem.solver.beta == 0.1
     assert len(problem.obstacles) == 0
     assert problem.fps == 30.0
 

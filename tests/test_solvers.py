@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import get_args
 
 import numpy as np
 import pytest
@@ -10,8 +11,9 @@ from conftest import SCENES, solved_scene
 
 from armanim.ik import solve_pose
 from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
-from armanim.scene import load_scene, scene_to_problem
+from armanim.names import MethodName
+from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.scene import default_solver_settings, load_scene, scene_to_problem, unlimited_limits
 from armanim.solvers import METHODS, arm_state, step_function
 from armanim.solvers.barrier import safe_step
 from armanim.solvers.linear import damped_inverse
@@ -27,8 +29,9 @@ METHOD_SCENES = {
 
 def test_registry_has_the_four_methods():
     assert set(METHODS) == {"pinv", "dls", "newton", "gradient"}
+    assert tuple(METHODS) == get_args(MethodName)  # the registry and the scene's words agree
     for name in METHODS:
-        assert step_function(name) is METHODS[name]
+        assert step_function(name) is METHODS[name].step_function
     with pytest.raises(ValueError, match="unknown solver method"):
         step_function("simplex")
 
@@ -99,10 +102,11 @@ def test_every_method_reaches_a_goal_on_a_clear_arm(method):
         arm=arm,
         half_width=0.25,
         home=np.radians([0.0, 10.0, 10.0, 10.0]),
-        limits=Limits.unlimited(4),
+        limits=unlimited_limits(4),
         obstacles=Obstacles.none(),
-        goals=(Goal(goal),),
-        solver=SolverSettings(method=method, step=0.2 if method != "gradient" else 0.5, max_step=0.5),
+        goals=(Goal(goal, hold=0.0),),
+        solver=default_solver_settings(method=method, beta=0.2 if method != "gradient" else 0.5, max_step=0.5),
+        fps=30.0,
     )
     solution = solve_trajectory(problem)
     assert solution.goals[0].reached, solution.goals[0]
@@ -116,17 +120,18 @@ def one_link_problem(**kw):
         arm=Arm.from_names([2.0], axes=["z"], direction="x"),
         half_width=0.25,
         home=np.zeros(1),
-        limits=Limits.unlimited(1),
+        limits=unlimited_limits(1),
         obstacles=Obstacles.none(),
-        goals=(Goal(np.array([0.0, 2.0, 0.0])),),
-        solver=SolverSettings(max_joint_step=np.radians(180.0)),
+        goals=(Goal(np.array([0.0, 2.0, 0.0]), hold=0.0),),
+        solver=default_solver_settings(max_joint_step=np.radians(180.0)),
+        fps=30.0,
     )
     defaults.update(kw)
     return Problem(**defaults)
 
 
 def test_safe_step_caps_the_joint_step():
-    problem = one_link_problem(solver=SolverSettings(max_joint_step=np.radians(10.0)))
+    problem = one_link_problem(solver=default_solver_settings(max_joint_step=np.radians(10.0)))
     moved = safe_step(problem, arm_state(problem, np.zeros(1)), np.array([1.0]))
     assert moved.phi[0] == pytest.approx(np.radians(10.0))
     assert moved.blocked_by is None
@@ -177,24 +182,66 @@ def test_damped_inverse_formula():
 # ------------------------------------------------------------ ik (one pose to convergence)
 
 
-@pytest.mark.parametrize("method", sorted(METHODS))
-def test_ik_round_trip_fk_of_ik_is_the_goal(method):
-    arm = Arm.from_names([1.0] * 4, axes=["z"] * 4, direction="x")
-    goal = np.array([3.0, 1.0, 0.0])
-    tol = 1e-3
-    problem = Problem(
-        arm=arm,
+def planar_ik_problem(method: str, tol: float = 1e-3) -> Problem:
+    """A planar arm of four unit links with the goal (3, 1, 0)."""
+    return Problem(
+        arm=Arm.from_names([1.0] * 4, axes=["z"] * 4, direction="x"),
         half_width=0.1,
         home=np.zeros(4),
-        limits=Limits.unlimited(4),
+        limits=unlimited_limits(4),
         obstacles=Obstacles.none(),
-        goals=(Goal(goal),),
-        solver=SolverSettings(method=method, tolerance=tol, step=0.3 if method != "gradient" else 0.5),
+        goals=(Goal(np.array([3.0, 1.0, 0.0]), hold=0.0),),
+        solver=default_solver_settings(method=method, tolerance=tol, beta=0.3 if method != "gradient" else 0.5),
+        fps=30.0,
     )
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_ik_round_trip_fk_of_ik_is_the_goal(method):
+    tol = 1e-3
+    problem = planar_ik_problem(method, tol)
+    arm, goal = problem.arm, problem.goals[0].position
     result = solve_pose(problem, goal, np.radians([10.0, 10.0, 10.0, 10.0]), max_iterations=3000)
-    assert result.converged, result
+    assert result.converged and result.status == "converged", result
     np.testing.assert_allclose(forward(arm, result.phi).tip, result.tip, atol=1e-12)
     assert np.linalg.norm(result.tip - goal) < tol
     assert result.distance == pytest.approx(np.linalg.norm(result.tip - goal))
     if method == "newton":
         assert result.iterations >= 1 and result.newton_iterations >= 1  # GDLS, then Newton finishes
+
+
+def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
+    import armanim.solvers.linear
+
+    def fails(jac):
+        raise np.linalg.LinAlgError("SVD did not converge")
+
+    monkeypatch.setattr(armanim.solvers.linear, "pseudo_inverse", fails)
+    problem = planar_ik_problem("pinv")
+    start = np.radians([10.0, 10.0, 10.0, 10.0])
+    result = solve_pose(problem, problem.goals[0].position, start, max_iterations=100)
+    assert result.status == "numerical" and not result.converged
+    assert np.all(np.isfinite(result.phi)) and result.restarts == 4  # every start was tried
+    assert result.distance == pytest.approx(np.linalg.norm(forward(problem.arm, result.phi).tip - problem.goals[0].position))
+
+
+def test_ik_restarts_from_the_planner_seed_poses(monkeypatch):
+    # one set of starts for every solve from a pose: the pose, its mirrored elbow, then the
+    # planner's seeded random poses
+    import armanim.solvers.linear
+    from armanim.planning.poses import seed_poses
+
+    seen = []
+    jacobian_of_point = armanim.solvers.linear.jacobian_of_point
+
+    def recording(problem, phi, pose, link, t):
+        seen.append(np.array(phi))
+        return jacobian_of_point(problem, phi, pose, link, t)
+
+    monkeypatch.setattr(armanim.solvers.linear, "jacobian_of_point", recording)
+    problem = planar_ik_problem("pinv")
+    start = np.radians([10.0, 20.0, 30.0, 40.0])
+    result = solve_pose(problem, np.array([10.0, 0.0, 0.0]), start, max_iterations=1000)  # out of reach
+    assert result.restarts == 4 and not result.converged
+    for pose in seed_poses(problem, start, 1 + 4, seed=0):
+        assert any(np.array_equal(pose, phi) for phi in seen), np.degrees(pose)

@@ -43,3 +43,12 @@ def test_trajectory_is_deterministic_in_process():
     again = solve_trajectory(problem)
     np.testing.assert_array_equal(again.trajectory.phi, solution.trajectory.phi)
     np.testing.assert_array_equal(again.trajectory.tip, solution.trajectory.tip)
+
+
+def test_every_miss_reason_is_explained():
+    from typing import get_args
+
+    from armanim.names import MissReason
+    from armanim.trajectory import MISS_REASONS
+
+    assert tuple(MISS_REASONS) == get_args(MissReason)

@@ -18,23 +18,23 @@ from armanim.kinematics import Arm, Pose, forward, point_jacobian, tip_jacobian
 from armanim.problem import Limits, Obstacles, Problem
 
 
-def obstacle_field(d: np.ndarray, reach: np.ndarray) -> np.ndarray:
-    """F_R(d) = ln(R/d) for 0 < d <= R, 0 for d > R, +inf for d <= 0 (Eq. 11).
+def obstacle_field(d: np.ndarray, influence: np.ndarray) -> np.ndarray:
+    """F_R(d) = ln(R/d) for 0 < d <= R, 0 for d > R, +inf for d <= 0 (Eq. 11); R is the influence.
 
     >>> obstacle_field(np.array([0.5, 1.0, 2.0, 0.0]), np.array(1.0))
     array([0.69314718, 0.        , 0.        ,        inf])
     """
     d = np.asarray(d, dtype=float)
-    inside = (d > 0) & (d <= reach)
+    inside = (d > 0) & (d <= influence)
     safe = np.where(inside, d, 1.0)
-    value = np.where(inside, np.log(np.where(inside, reach, 1.0) / safe), 0.0)
+    value = np.where(inside, np.log(np.where(inside, influence, 1.0) / safe), 0.0)
     return np.where(d <= 0, np.inf, value)
 
 
-def obstacle_field_slope(d: np.ndarray, reach: np.ndarray) -> np.ndarray:
+def obstacle_field_slope(d: np.ndarray, influence: np.ndarray) -> np.ndarray:
     """dF_R/dd: -1/d inside the influence shell, 0 beyond it."""
     d = np.asarray(d, dtype=float)
-    inside = (d > 0) & (d <= reach)
+    inside = (d > 0) & (d <= influence)
     return np.where(inside, -1.0 / np.where(inside, d, 1.0), 0.0)
 
 

@@ -1,32 +1,35 @@
 """One pose solved to convergence (``armanim ik``), with the methods of the frame loop.
 
-Solving is not animating, so the steps are full ones: ``pinv`` and ``dls`` take
-beta = 1 (Newton-Raphson on the tip) and joints may turn up to 30 degrees per
-iteration, through the same barrier as the frame loop. ``newton`` runs the
-assignment's GDLS + NM, re-anchoring its regulariser at each answer until the tip is
-within tolerance (the regulariser alone would hold it a little short of the goal);
-each answer also passes the barrier, so limits hold.
-A solve that stalls, e.g. pinned between two limits, restarts from the mirrored
-elbow and then from seeded random poses. Pure core: no I/O.
+One attempt loop serves every method: what it must know of a method is data on the
+method's registry entry (:class:`armanim.solvers.Method`). Solving is not animating, so
+the steps are full ones: a method that solves with a full step takes beta = 1 (``pinv``
+and ``dls``: Newton-Raphson on the tip; ``newton``: the assignment's GDLS + NM solved to
+the goal, its regulariser re-anchored at each answer until the tip is within tolerance),
+and joints may turn up to 30 degrees per iteration, or without a cap where the method's
+own line searches bound its steps. Every step passes the same barrier as in the frame
+loop, so limits and obstacles hold. An attempt that stalls, e.g. pinned between two
+limits, restarts from the mirrored elbow and then from seeded random poses: the planner's
+starts (:func:`armanim.planning.poses.seed_poses`). A step that
+fails in linear algebra ends its attempt, and an unconverged solve that met one says
+``numerical``. Pure core: no I/O.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass, replace
 
 import numpy as np
 
+from armanim.names import PoseStatus
+from armanim.planning.poses import seed_poses
 from armanim.problem import Problem
-from armanim.solvers import ArmState, arm_state, step_function
+from armanim.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.solvers.barrier import safe_step
-from armanim.solvers.newton import newton_solve
 
 FULL_TURN_PER_ITERATION = np.radians(30.0)
-STALL_ITERATIONS = 15  # iterations without progress before a restart
-ATTEMPT_ITERATIONS = 25  # full steps converge in a handful; a slow crawl is better restarted
-NEWTON_ROUNDS = 12  # re-anchorings of newton's regulariser per attempt
+STALL_ITERATIONS = 15  # steps without progress before a restart
 RESTARTS = 4
+SEED = 0  # of the random restarts: the same solve always restarts from the same poses
 
 
 @dataclass(frozen=True)
@@ -39,10 +42,15 @@ class PoseSolution:
     tip : (3,) array
     distance : float
         |e - g| at the end.
-    converged : bool
-        distance < tolerance.
+    status : PoseStatus
+        ``"converged"`` (distance < tolerance), ``"not_converged"``, or ``"numerical"``
+        when a step failed in linear algebra and no attempt converged.
+    steps : int
+        Steps (proposals through the filter) over all attempts: what ``max_iterations`` bounds.
     iterations : int
-        Steps taken over all attempts (for newton: gradient-descent iterations).
+        Inner iterations over all attempts, Newton's aside (as :class:`armanim.solvers.Step`
+        counts them: one per step of ``pinv`` and ``dls``, line-search trials for
+        ``gradient``, gradient-descent iterations for ``newton``).
     newton_iterations : int
         Newton iterations (newton only).
     restarts : int
@@ -52,93 +60,103 @@ class PoseSolution:
     phi: np.ndarray
     tip: np.ndarray
     distance: float
-    converged: bool
+    status: PoseStatus
+    steps: int
     iterations: int
     newton_iterations: int = 0
     restarts: int = 0
 
+    @property
+    def converged(self) -> bool:
+        """Whether the tip ended within the tolerance."""
+        return self.status == "converged"
 
-def solving_settings(problem: Problem) -> Problem:
-    """The problem with full steps for solving (see the module docstring)."""
+
+@dataclass(frozen=True)
+class _Attempt:
+    """Where one attempt ended and what it spent."""
+
+    state: ArmState
+    distance: float
+    steps: int
+    iterations: int
+    newton_iterations: int
+    numerical: bool
+
+
+def solving_problem(problem: Problem) -> Problem:
+    """The problem with the settings of solving rather than animating (see the module docstring)."""
     s = problem.solver
-    step = 1.0 if s.method in ("pinv", "dls") else s.step
-    return replace(problem, solver=replace(s, step=step, max_step=np.inf, max_joint_step=max(s.max_joint_step, FULL_TURN_PER_ITERATION)))
-
-
-def restart_poses(problem: Problem, start: np.ndarray, count: int) -> Iterator[np.ndarray]:
-    """Starts to try in turn: ``start``, its mirrored elbow, then seeded random poses
-    inside the limits (made only when asked for: most solves need just the first)."""
-    yield start
-    lim = problem.limits
-    mirrored = start.copy()
-    mirrored[1:] = -mirrored[1:]
-    yield np.clip(mirrored, lim.lower + lim.margin, lim.upper - lim.margin)
-    rng = np.random.default_rng(0)
-    lo = np.where(lim.limited, lim.lower + lim.margin, -np.pi)
-    hi = np.where(lim.limited, lim.upper - lim.margin, np.pi)
-    for _ in range(count - 2):
-        yield rng.uniform(lo, hi)
+    method = solver_method(s.method)
+    beta = 1.0 if method.full_step_solves else s.beta
+    turn = 2 * np.pi if method.bounds_own_steps else max(s.max_joint_step, FULL_TURN_PER_ITERATION)
+    return replace(problem, solver=replace(s, beta=beta, max_step=np.inf, max_joint_step=turn))
 
 
 def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000) -> PoseSolution:
     """Solve for one pose whose tip is at ``goal``, starting from ``start`` (radians).
 
-    ``max_iterations`` bounds the steps over all attempts.
+    Parameters
+    ----------
+    problem : Problem
+        Its arm, limits, obstacles and solver settings (``method``, ``tolerance``).
+    goal : (3,) array
+    start : (n,) array
+        First pose tried; the restarts are the planner's next starts from it
+        (:func:`armanim.planning.poses.seed_poses`).
+    max_iterations : int
+        Bound on the steps over all attempts.
+
+    Returns
+    -------
+    PoseSolution
+        The pose of the attempt that came closest, and how the solve ended.
     """
     goal = np.asarray(goal, dtype=float)
-    start = np.asarray(start, dtype=float)
-    attempt = _newton_attempt if problem.solver.method == "newton" else _step_attempt
-    best = None
-    used = newton_used = 0
-    starts = restart_poses(problem, start, 1 + RESTARTS)
-    for restarts, first in enumerate(starts):  # noqa: B007 (the count is reported after the loop)
-        state, its, nm_its = attempt(problem, goal, first, max_iterations - used)
-        used += its
-        newton_used += nm_its
-        distance = float(np.linalg.norm(state.tip - goal))
-        if best is None or distance < best[2]:
-            best = (state.phi, state.tip, distance)
-        if distance < problem.solver.tolerance or used >= max_iterations:
+    solving = solving_problem(problem)
+    method = solver_method(problem.solver.method)
+    tolerance = problem.solver.tolerance
+    attempts: list[_Attempt] = []
+    for first in seed_poses(problem, np.asarray(start, dtype=float), 1 + RESTARTS, SEED):
+        attempts.append(_attempt(solving, method, goal, first, max_iterations - sum(a.steps for a in attempts)))
+        if attempts[-1].distance < tolerance or sum(a.steps for a in attempts) >= max_iterations:
             break
-    phi, tip, distance = best
-    return PoseSolution(phi, tip, distance, distance < problem.solver.tolerance, used, newton_used, restarts)
+    best = min(attempts, key=lambda a: a.distance)  # the first of equals
+    if best.distance < tolerance:
+        status = "converged"
+    else:
+        status = "numerical" if any(a.numerical for a in attempts) else "not_converged"
+    newton_iterations = sum(a.newton_iterations for a in attempts)
+    return PoseSolution(
+        phi=best.state.phi,
+        tip=best.state.tip,
+        distance=best.distance,
+        status=status,
+        steps=sum(a.steps for a in attempts),
+        iterations=sum(a.iterations for a in attempts) - newton_iterations,
+        newton_iterations=newton_iterations,
+        restarts=len(attempts) - 1,
+    )
 
 
-def _step_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[ArmState, int, int]:
-    fast = solving_settings(problem)
-    step = step_function(fast.solver.method)
-    state = arm_state(fast, start)
-    best, since_best, iterations = np.inf, 0, 0
-    limit = min(budget, ATTEMPT_ITERATIONS) if fast.solver.method in ("pinv", "dls") else budget
-    while iterations < limit:
+def _attempt(problem: Problem, method: Method, goal: np.ndarray, start: np.ndarray, budget: int) -> _Attempt:
+    """Filtered steps from ``start`` until the tip is within tolerance, the attempt stalls,
+    its steps (``budget`` or the method's ``attempt_steps``) run out, or a step is refused outright."""
+    state = arm_state(problem, start)
+    distance = float(np.linalg.norm(state.tip - goal))
+    best, since_best, steps, iterations, newton_iterations = distance, 0, 0, 0, 0
+    steps_cap = min(budget, method.attempt_steps or budget)
+    while distance >= problem.solver.tolerance and steps < steps_cap:
+        proposal = proposed_step(problem, method, state, goal)
+        moved = safe_step(problem, state, proposal.dphi)
+        steps, iterations = steps + 1, iterations + proposal.iterations
+        newton_iterations += proposal.newton_iterations
+        if moved.scale == 0.0:  # nothing moved: the same pose would propose the same again
+            return _Attempt(state, distance, steps, iterations, newton_iterations, moved.blocked_by == "nan")
+        state = moved.state
         distance = float(np.linalg.norm(state.tip - goal))
-        if distance < fast.solver.tolerance:
-            break
-        if distance < best - 0.1 * fast.solver.tolerance:
+        if distance < best - 0.1 * problem.solver.tolerance:
             best, since_best = distance, 0
         elif (since_best := since_best + 1) >= STALL_ITERATIONS:
             break
-        state = safe_step(fast, state, step(fast, state, goal).dphi).state
-        iterations += 1
-    return state, iterations, 0
-
-
-def _newton_attempt(problem: Problem, goal: np.ndarray, start: np.ndarray, budget: int) -> tuple[ArmState, int, int]:
-    # newton's own line searches bound its steps: the barrier only guards limits and obstacles
-    fast = replace(problem, solver=replace(problem.solver, max_joint_step=2 * np.pi))
-    s = fast.solver
-    state = arm_state(fast, start)
-    gd = nm = 0
-    for _ in range(NEWTON_ROUNDS):
-        if gd + nm >= budget:
-            break
-        result = newton_solve(fast.arm, state.phi, goal, state.phi, s.w_target, s.w_regularizer)
-        gd += result.gd_iterations
-        nm += result.nm_iterations
-        moved = safe_step(fast, state, result.phi - state.phi)  # limits and obstacles, as in the frame loop
-        if moved.scale == 0.0:
-            break
-        state = moved.state
-        if np.linalg.norm(state.tip - goal) < s.tolerance:
-            break
-    return state, gd, nm
+    return _Attempt(state, distance, steps, iterations, newton_iterations, False)

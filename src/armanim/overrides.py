@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 
+from armanim.names import VideoFormat
 from armanim.problem import RenderSettings
 
 
@@ -35,7 +36,7 @@ class RenderOverrides:
 
     size: tuple[int, int] | None = None
     fps: float | None = None
-    format: str | None = None
+    format: VideoFormat | None = None
     elevation: float | None = None
     azimuth: float | None = None
 

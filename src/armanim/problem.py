@@ -1,7 +1,9 @@
 """The solver's view of a scene: radians, numpy arrays, every default resolved.
 
 Built from a validated scene by :func:`armanim.scene.scene_to_problem` (the one place
-where degrees become radians). Pure core: no I/O.
+where degrees become radians). No field has a default: defaults are written once, in the
+scene model, and :mod:`armanim.scene.convert` builds default settings through it. Pure
+core: no I/O.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.kinematics import Arm
+from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 
 
 @dataclass(frozen=True)
@@ -55,8 +58,8 @@ class Limits:
     margin: float
 
     @classmethod
-    def unlimited(cls, n: int, margin: float = np.radians(10.0)) -> Limits:
-        """Limits for an arm whose joints all turn freely."""
+    def unlimited(cls, n: int, margin: float) -> Limits:
+        """Limits for an arm whose joints all turn freely (``margin`` in radians)."""
         return cls(np.full(n, -np.inf), np.full(n, np.inf), margin)
 
     @property
@@ -91,28 +94,45 @@ class Goal:
     """
 
     position: np.ndarray
-    hold: float = 0.0
+    hold: float
 
 
 @dataclass(frozen=True)
 class SolverSettings:
-    """Every number of the solvers, from the scene's ``solver`` section (radians)."""
+    """Every number of the solvers, from the scene's ``solver`` section (radians).
 
-    method: str = "pinv"
-    step: float = 0.1
-    max_step: float = np.inf
-    tolerance: float = 0.01
-    max_frames_per_goal: int = 600
-    jacobian: str = "analytic"
-    damping: float = 0.05
-    max_joint_step: float = np.radians(10.0)
-    clearance: float = 0.05
-    planner: str = "auto"
-    w_goal: float = 1.0
-    w_obstacles: float = 1.0
-    w_limits: float = 1.0
-    w_target: float = 1e3
-    w_regularizer: float = 1.0
+    The names are the scene's (``solver.max_step`` is ``max_step``, ``weights.goal`` is
+    ``w_goal``) except ``beta``, the scene's ``solver.step``: a step is what a method
+    proposes, a change of the joint angles.
+
+    Attributes
+    ----------
+    method : MethodName
+    beta : float
+        The frame's task-space target is e + beta (g - e) (``gradient``: the descent rate).
+    max_step : float
+        Cap on the tip's travel per frame, |beta (g - e)|; inf for none.
+    max_joint_step : float
+        Radians any joint may turn in one frame.
+    clearance : float
+        d_safe, resolved (``arm.width / 10`` when the scene leaves it out).
+    """
+
+    method: MethodName
+    beta: float
+    max_step: float
+    tolerance: float
+    max_frames_per_goal: int
+    jacobian: JacobianMode
+    damping: float
+    max_joint_step: float
+    clearance: float
+    planner: PlannerMode
+    w_goal: float
+    w_obstacles: float
+    w_limits: float
+    w_target: float
+    w_regularizer: float
 
 
 @dataclass(frozen=True)
@@ -142,7 +162,7 @@ class Problem:
     obstacles: Obstacles
     goals: tuple[Goal, ...]
     solver: SolverSettings
-    fps: float = 30.0
+    fps: float
 
 
 @dataclass(frozen=True)
@@ -165,10 +185,10 @@ class RenderSettings:
         ``"mp4"`` or ``"gif"``.
     """
 
-    fps: float = 30.0
-    size: tuple[int, int] = (1280, 720)
-    elevation: float | None = None
-    azimuth: float | None = None
-    bounds: np.ndarray | None = None
-    trail: bool = True
-    format: str = "mp4"
+    fps: float
+    size: tuple[int, int]
+    elevation: float | None
+    azimuth: float | None
+    bounds: np.ndarray | None
+    trail: bool
+    format: VideoFormat

@@ -10,8 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.geometry import wrap_angle
+from armanim.names import MissReason, PathSource
 
-MISS_REASONS = {
+MISS_REASONS: dict[MissReason, str] = {
     "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
     "no_free_pose": "no pose inside the limits and solver.clearance away from every obstacle puts the tip there",
     "no_path": "no path to a free pose at the goal was found within the planning budget",
@@ -33,8 +34,8 @@ class GoalReport:
         0-based index into the scene's goals.
     position : (3,) array
     reached : bool
-    reason : str or None
-        For a missed goal, a key of :data:`MISS_REASONS`.
+    reason : MissReason or None
+        For a missed goal, why (explained by :data:`MISS_REASONS`).
     frames : int
         Solver frames spent moving toward this goal (holds not counted).
     first_frame, last_frame : int
@@ -52,7 +53,7 @@ class GoalReport:
     index: int
     position: np.ndarray
     reached: bool
-    reason: str | None
+    reason: MissReason | None
     frames: int
     first_frame: int
     last_frame: int
@@ -77,7 +78,7 @@ class PlanningReport:
         Times it planned (the goal stalled that often).
     poses : int
         Free goal poses the last plan found.
-    path : str
+    path : PathSource
         How the last plan connected: ``"straight"``, ``"rrt_connect"`` or ``"none"``.
     frames : int
         Frames spent following planned paths (mode ``plan``).
@@ -87,7 +88,7 @@ class PlanningReport:
 
     plans: int = 0
     poses: int = 0
-    path: str = "none"
+    path: PathSource = "none"
     frames: int = 0
     checks: int = 0
 

@@ -5,7 +5,7 @@ then holds the pose for the goal's hold frames. Every frame's step is the method
 proposal passed through the safety filter (:func:`armanim.solvers.barrier.safe_step`).
 
 When half a second of frames makes less progress than the tolerance (a local
-minimum, a saddle, a singular pose, circling), the goal has stalled: with
+minimum, a saddle, a singular pose, circling), the goal has stalled (:mod:`armanim.stalls`): with
 ``solver.planner: auto`` the loop plans (:mod:`armanim.planning`) and follows the
 planned path (frames of mode ``plan``), then the method finishes to the tolerance;
 with ``off`` the goal is missed at once. A goal is also missed when it is out of
@@ -22,6 +22,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from armanim.geometry import wrap_angle
+from armanim.names import Blocker, MissReason
 from armanim.planning import plan_motion
 from armanim.problem import Goal, Problem
 from armanim.solution import (  # the run's results, re-exported: they were defined here first
@@ -32,14 +33,13 @@ from armanim.solution import (  # the run's results, re-exported: they were defi
     Trajectory,
     max_joint_step,
 )
-from armanim.solvers import ArmState, Step, StepFunction, arm_state, step_function
+from armanim.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.solvers.barrier import safe_step
+from armanim.stalls import beyond_reach, has_stalled, miss_reason, stall_frames
 
-STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
-MIN_STALL_FRAMES = 5
-STALL_PROGRESS = 0.05  # ... or less than this fraction of the distance still to go
 MAX_PLANS = 3  # plans per goal before it is given up as stalled
 ARRIVED = 1e-9  # radians: the arm is at a planned pose
+
 
 @dataclass
 class _Recorder:
@@ -78,11 +78,11 @@ class _Visit:
     frames: int = 0
     iterations: int = 0
     newton_iterations: int = 0
-    blocked: list = field(default_factory=list)
+    blocked: list[Blocker | None] = field(default_factory=list)
     path: list = field(default_factory=list)  # planned poses still to follow
     overrun: int = 0  # frames spent steering to the path's last pose
     planning: PlanningReport | None = None
-    reason: str | None = None
+    reason: MissReason | None = None
 
 
 def hold_frames(problem: Problem, goal: Goal) -> int:
@@ -100,30 +100,6 @@ def frame_budget(problem: Problem) -> int:
     return 1 + sum(problem.solver.max_frames_per_goal + hold_frames(problem, g) for g in problem.goals)
 
 
-def stall_frames(problem: Problem) -> int:
-    """Frames over which progress is judged: half a second, at least :data:`MIN_STALL_FRAMES`."""
-    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))  # noqa: RUF046 (numpy < 2 rounds to a float)
-
-
-def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
-    """Whether the last ``window`` frames brought the tip closer by less than the tolerance,
-    or than :data:`STALL_PROGRESS` of what is left above ``floor`` (the least distance
-    possible; +inf judges by the tolerance alone), whichever is larger.
-
-    >>> has_stalled([5.0, 4.0, 3.0], 2, 0.01), has_stalled([5.0, 5.0, 5.0], 2, 0.01)
-    (False, True)
-    """
-    if len(distances) <= window:
-        return False
-    now = distances[-1]
-    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * max(now - floor, 0.0))
-
-
-def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
-    """Whether ``goal`` is farther from the base than the arm is long."""
-    return bool(np.linalg.norm(goal - problem.arm.base) > problem.arm.reach + problem.solver.tolerance)
-
-
 def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | None = None) -> Solution:
     """Run the frame loop over every goal.
 
@@ -139,7 +115,7 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
     -------
     Solution
     """
-    step = step_function(problem.solver.method)
+    method = solver_method(problem.solver.method)
     rec = _Recorder()
     state = arm_state(problem, problem.home)
     rec.add(state, 0, float(np.linalg.norm(state.tip - problem.goals[0].position)))
@@ -153,14 +129,14 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
                 cap = problem.solver.max_frames_per_goal
                 progress(len(rec), len(rec) + cap - visit.frames + hold_frames(problem, goal) + later)
 
-        state, report = _visit_goal(problem, step, rec, state, k, goal, report_progress)
+        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress)
         reports.append(report)
         if progress:
             progress(len(rec), len(rec) + later)
     return Solution(trajectory=_finish(problem, rec), goals=tuple(reports))
 
 
-def _visit_goal(problem, step: StepFunction, rec: _Recorder, state: ArmState, k: int, goal: Goal, on_frame):
+def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal, on_frame):
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
     s = problem.solver
     first = len(rec) if k else 0
@@ -170,7 +146,7 @@ def _visit_goal(problem, step: StepFunction, rec: _Recorder, state: ArmState, k:
     if s.planner == "off":
         floor = np.inf  # no planner to take over: only progress below the tolerance is a stall
     while visit.distances[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
-        state = _one_frame(problem, step, rec, state, visit)
+        state = _one_frame(problem, method, rec, state, visit)
         on_frame(visit)
         if not visit.path and has_stalled(visit.distances, window, s.tolerance, floor):
             visit.reason = _escape(problem, state, visit)
@@ -197,14 +173,14 @@ def _visit_goal(problem, step: StepFunction, rec: _Recorder, state: ArmState, k:
     )
 
 
-def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
+def _one_frame(problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
     """One filtered step: along the planned path if there is one, else the method's."""
     target = visit.goal.position
     if visit.path:
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
     else:
-        proposal = proposed_step(problem, step, state, target)
+        proposal = proposed_step(problem, method, state, target)
         nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
     moved = safe_step(problem, state, nominal)
     visit.distances.append(float(np.linalg.norm(moved.state.tip - target)))
@@ -214,15 +190,6 @@ def _one_frame(problem, step: StepFunction, rec: _Recorder, state: ArmState, vis
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode)
     return moved.state
-
-
-def proposed_step(problem: Problem, step: StepFunction, state: ArmState, goal: np.ndarray) -> Step:
-    """The method's proposal; a linear-algebra failure (an SVD that does not converge) is a
-    NaN proposal, which the filter refuses and the goal's report calls ``numerical``."""
-    try:
-        return step(problem, state, goal)
-    except np.linalg.LinAlgError:
-        return Step(dphi=np.full(problem.arm.n, np.nan))
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
@@ -244,7 +211,7 @@ def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.nd
     return np.where(problem.limits.limited, offset, wrap_angle(offset))
 
 
-def _escape(problem: Problem, state: ArmState, visit: _Visit) -> str | None:
+def _escape(problem: Problem, state: ArmState, visit: _Visit) -> MissReason | None:
     """A stalled goal: plan a way out (None) or give it up (the reason)."""
     target = visit.goal.position
     if beyond_reach(problem, target):
@@ -280,43 +247,7 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
     )
 
 
-def miss_reason(
-    problem: Problem, state: ArmState, goal: np.ndarray, distances: list[float], blocked: list[str | None]
-) -> str:
-    """Why the local method missed a goal: a key of :data:`MISS_REASONS`.
-
-    Judged in order: out of reach; NaN proposals; then, if the last stall window
-    made less progress than the tolerance, an obstacle or a limit that changed those
-    steps or whose barrier is active, else a local minimum; otherwise the arm was
-    still moving when ``max_frames_per_goal`` ran out.
-    """
-    if beyond_reach(problem, goal):
-        return "out_of_reach"
-    window = stall_frames(problem)
-    recent = blocked[-window:]
-    if recent and recent.count("nan") > len(recent) // 2:
-        return "numerical"
-    if not has_stalled(distances, min(window, len(distances) - 1), problem.solver.tolerance):
-        return "too_slow"
-    if "obstacle" in recent or _near_obstacle(problem, state):
-        return "blocked_by_obstacle"
-    if "limit" in recent or _near_limit(problem, state.phi):
-        return "blocked_by_limit"
-    return "stalled"
-
-
-def _near_obstacle(problem: Problem, state: ArmState) -> bool:
-    cl = state.clearance
-    return cl is not None and bool(np.any(cl.d <= problem.obstacles.influence))
-
-
-def _near_limit(problem: Problem, phi: np.ndarray) -> bool:
-    lim = problem.limits
-    gaps = np.minimum(phi - lim.lower, lim.upper - phi)
-    return bool(np.any(gaps < lim.margin))
-
-
 __all__ = [
-    "MISS_REASONS", "GoalReport", "PlanningReport", "Solution", "Trajectory", "frame_budget", "hold_frames",
-    "max_joint_step", "miss_reason", "solve_trajectory",
+    "MISS_REASONS", "GoalReport", "PlanningReport", "Solution", "Trajectory", "beyond_reach", "frame_budget",
+    "hold_frames", "max_joint_step", "miss_reason", "solve_trajectory",
 ]

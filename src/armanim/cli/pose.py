@@ -127,12 +127,14 @@ def ik_report(problem, target: np.ndarray, result) -> dict:
     data = {
         "method": problem.solver.method,
         "converged": result.converged,
+        "status": result.status,
         "angles_deg": np.degrees(result.phi).tolist(),
         "tip": result.tip.tolist(),
         "error": result.distance,
+        "steps": result.steps,
         "iterations": result.iterations,
     }
-    reason = unreached_reason(problem, target, result.converged)
+    reason = unreached_reason(problem, target, result.status)
     if reason:
         data["reason"] = reason
     if problem.solver.method == "newton":
@@ -150,18 +152,21 @@ def print_ik_report(data: dict, tolerance: float) -> None:
     say("angles (deg): " + ", ".join(fmt(v) for v in data["angles_deg"]))
     say("tip: " + ", ".join(fmt(v) for v in data["tip"]))
     if "newton_iterations" in data:
-        say(f"iterations: gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']}")
+        say(f"steps: {data['steps']} (gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']} iterations)")
     else:
-        say(f"iterations: {data['iterations']}")
+        say(f"steps: {data['steps']} ({data['iterations']} iterations)")
 
 
-def unreached_reason(problem, target: np.ndarray, converged: bool) -> str | None:
-    """Why ``armanim ik`` did not converge, when it can be told: the goal out of reach."""
-    from armanim.trajectory import beyond_reach
+def unreached_reason(problem, target: np.ndarray, status: str) -> str | None:
+    """Why ``armanim ik`` did not converge, when it can be told: the goal out of reach, or
+    the linear algebra failing."""
+    from armanim.stalls import beyond_reach
 
-    if converged:
+    if status == "converged":
         return None
     away = float(np.linalg.norm(target - problem.arm.base))
     if beyond_reach(problem, target):
         return f"out of reach: the goal is {away:.4g} from the base, the arm is {problem.arm.reach:.4g} long (the tip is as close as it gets)"
+    if status == "numerical":
+        return "numerical: a step failed in linear algebra (a singular matrix or a NaN); try another --method or --from other angles"
     return "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: try --from other angles)"

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.names import MissReason, PathSource
 from armanim.planning.follow import path_frames
 from armanim.planning.path import plan_path
 from armanim.planning.poses import goal_poses
@@ -30,20 +31,20 @@ class Plan:
     ----------
     frames : (F, n) array or None
         Poses to follow, one per frame; None when there is no plan.
-    reason : str or None
+    reason : MissReason or None
         Why there is none: ``"out_of_reach"``, ``"no_free_pose"`` or ``"no_path"``.
     poses : int
         Free goal poses found.
-    source : str
+    source : PathSource
         ``"straight"``, ``"rrt_connect"`` or ``"none"``.
     checks : int
         Poses checked for collisions while searching a path.
     """
 
     frames: np.ndarray | None
-    reason: str | None
+    reason: MissReason | None
     poses: int
-    source: str
+    source: PathSource
     checks: int
 
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.names import PathSource
 from armanim.problem import Problem
 from armanim.solvers.barrier import point_travel_bound, pose_clearance, pose_is_free, within_limits
 
@@ -40,14 +41,14 @@ class JointPath:
     ----------
     waypoints : (k, n) array or None
         From the current pose to a goal pose; None when no path was found.
-    source : str
+    source : PathSource
         ``"straight"``, ``"rrt_connect"`` or ``"none"``.
     checks : int
         Poses checked for collisions (a machine-independent measure of the planning effort).
     """
 
     waypoints: np.ndarray | None
-    source: str
+    source: PathSource
     checks: int
 
 

@@ -45,8 +45,19 @@ class GoalPoses:
 
 
 def seed_poses(problem: Problem, phi_now: np.ndarray, count: int, seed: int) -> np.ndarray:
-    """(count, n) starts: the current pose, its mirrored elbow, then seeded uniform poses
-    inside the limits (unlimited joints over a whole turn)."""
+    """(count, n) starts of solves from ``phi_now``: the current pose, its mirrored elbow (every
+    joint after the first negated), then seeded uniform poses inside :func:`joint_ranges`.
+
+    The planner's goal-pose seeds and ``armanim ik``'s restarts (:mod:`armanim.ik`).
+    The random poses are rows 2.. of one ``(count, n)`` draw, so that a seed always gives
+    the planner the same starts.
+
+    >>> from types import SimpleNamespace
+    >>> from armanim.problem import Limits
+    >>> free = SimpleNamespace(limits=Limits.unlimited(2, margin=0.1))
+    >>> seed_poses(free, np.array([0.5, 1.0]), 3, seed=0)[:2].tolist()
+    [[0.5, 1.0], [0.5, -1.0]]
+    """
     lo, hi = joint_ranges(problem)
     rng = np.random.default_rng(seed)
     starts = rng.uniform(lo, hi, size=(count, len(phi_now)))

@@ -33,11 +33,9 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
 
     Examples
     --------
-    >>> from armanim.kinematics import Arm
-    >>> from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
-    >>> arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
-    >>> p = Problem(arm, 0.3, np.zeros(4), Limits.unlimited(4), Obstacles.none(),
-    ...             (Goal(np.array([14.0, 5, 6])),), SolverSettings())
+    >>> from armanim.scene import SceneModel, scene_to_problem
+    >>> arm = {"links": [2, 5, 5, 5], "base": [5, 5, 0], "width": 0.6}
+    >>> p = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": arm, "goals": [[14, 5, 6]]}))
     >>> auto_bounds(p, margin=0.0)
     array([[-12.3,  22.3],
            [-12.3,  22.3],
@@ -49,8 +47,8 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
     """
     arm = problem.arm
     if points is None:
-        reach = arm.reach + problem.half_width
-        lo, hi = [arm.base - reach], [arm.base + reach]
+        extent = arm.reach + problem.half_width
+        lo, hi = [arm.base - extent], [arm.base + extent]
     else:
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         lo, hi = [pts.min(axis=0) - problem.half_width], [pts.max(axis=0) + problem.half_width]

@@ -173,8 +173,8 @@ class SceneCanvas:
     def _scratch_canvas(self):
         """A small canvas of the same dpi to draw sprites on (clearing the whole frame
         for each of hundreds of sprites was slow at large sizes)."""
-        reach = RING_POINTS / self.pt + self.goals.largest_label(self.renderer)
-        side = int(np.ceil(2 * reach + 3 * FONT["caption"] / self.pt)) + 8
+        extent = RING_POINTS / self.pt + self.goals.largest_label(self.renderer)
+        side = int(np.ceil(2 * extent + 3 * FONT["caption"] / self.pt)) + 8
         return make_figure(side, side, self.fig.dpi)[1]
 
     # ----- per frame ------------------------------------------------------------------
@@ -233,8 +233,8 @@ class SceneCanvas:
     def _draw_parts(self, parts: list[Part], shadow) -> bool:
         """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""
         allpts = np.concatenate([p.samples[:, :2] for p in parts])
-        reach = max(p.radius for p in parts)
-        arm_box = np.concatenate([allpts.min(axis=0) - reach, allpts.max(axis=0) + reach])
+        widest = max(p.radius for p in parts)
+        arm_box = np.concatenate([allpts.min(axis=0) - widest, allpts.max(axis=0) + widest])
         spheres = self.spheres.touched([arm_box, shadow])
         samples = [p.samples for p in parts] + [point_samples(self.spheres.centers[i]) for i in spheres]
         radii = [p.radius for p in parts] + [self.spheres.radii[i] for i in spheres]

@@ -13,6 +13,8 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
 
+from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
+
 SCENE_VERSION = 1
 
 LIMITS = {
@@ -130,14 +132,14 @@ class WeightsModel(Strict):
 class SolverModel(Strict):
     """The ``solver`` section."""
 
-    method: Literal["pinv", "dls", "newton", "gradient"] = "pinv"
+    method: MethodName = "pinv"
     step: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = Field(
         default=0.1, description="beta: the frame's task-space step is beta * (g - e)."
     )
     max_step: Positive | None = Field(default=None, description="Cap on the tip's travel per frame; default none.")
     tolerance: Positive = Field(default=0.01, description="A goal is reached when |e - g| < tolerance.")
     max_frames_per_goal: Annotated[int, Field(ge=1, le=LIMITS["max_frames_per_goal"])] = 600
-    jacobian: Literal["analytic", "numeric"] = "analytic"
+    jacobian: JacobianMode = "analytic"
     damping: Positive = Field(default=0.05, description="lambda, for dls only.")
     max_joint_step: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
         default=10.0, description="No joint turns by more than this many degrees in one frame."
@@ -147,7 +149,7 @@ class SolverModel(Strict):
         description="d_safe: the distance every arm part keeps from every obstacle surface, scene units; default arm.width / 10.",
     )
     planner: Annotated[
-        Literal["auto", "off"],
+        PlannerMode,
         WithJsonSchema({"anyOf": [{"enum": ["auto", "off"]}, {"type": "boolean"}]}),  # YAML 1.1: a bare off is false
     ] = Field(
         default="auto",
@@ -184,7 +186,7 @@ class RenderModel(Strict):
         default="auto", description="auto, or [[xmin, xmax], [ymin, ymax], [zmin, zmax]]."
     )
     trail: bool = True
-    format: Literal["mp4", "gif"] = "mp4"
+    format: VideoFormat = "mp4"
 
 
 class SceneModel(Strict):

@@ -1,17 +1,21 @@
 """The four solver methods behind one registry, and the barrier every step goes through.
 
-A method owns only its step: given the problem, the current angles and the goal, it
-proposes a joint update. The frame loop (:mod:`armanim.trajectory`) owns termination,
-holds and reached/missed, and passes every proposal through
-:func:`armanim.solvers.barrier.safe_step` (the safety filter).
+A method owns only its step: given the problem, the current angles and the goal, its
+step function proposes a joint update (a :class:`Step`). The drivers own the loop: the
+frame loop (:mod:`armanim.trajectory`) owns termination, holds and reached/missed, the
+pose solver (:mod:`armanim.ik`) owns attempts and restarts; both pass every proposal
+through :func:`armanim.solvers.barrier.safe_step` (the safety filter). What a driver must
+know of a method is data on its registry entry (:class:`Method`), never a test of its name.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.names import MethodName
 from armanim.problem import Problem
 from armanim.solvers.common import ArmState, Step, arm_state
 from armanim.solvers.gradient import gradient_step
@@ -19,22 +23,73 @@ from armanim.solvers.linear import dls_step, pinv_step
 from armanim.solvers.newton import newton_step
 
 StepFunction = Callable[[Problem, ArmState, np.ndarray], Step]
-"""step(problem, state, goal) -> Step: a method's proposal for one frame."""
+"""step_function(problem, state, goal) -> Step: a method's proposal for one frame."""
 
-METHODS: dict[str, StepFunction] = {
-    "pinv": pinv_step,
-    "dls": dls_step,
-    "newton": newton_step,
-    "gradient": gradient_step,
+
+@dataclass(frozen=True)
+class Method:
+    """A solver method: its step function and how a pose is solved to convergence with it.
+
+    Attributes
+    ----------
+    step_function : StepFunction
+        The method's proposal for one frame (one iteration of a solve).
+    full_step_solves : bool
+        Solving takes beta = 1, so that each step aims at the goal itself (Newton-Raphson
+        on the tip for ``pinv`` and ``dls``; ``newton`` solves f to the goal). False
+        where beta is a descent rate rather than a fraction of the way (``gradient``).
+    bounds_own_steps : bool
+        The method's own line searches bound its joint steps (``newton``): solving lifts
+        the joint-step cap, and the filter only guards limits and obstacles.
+    attempt_steps : int or None
+        Steps of one attempt before a solve restarts elsewhere; None: the whole budget.
+        Full linear steps converge in a handful, so a slow crawl is better restarted;
+        a ``newton`` step is a whole solve (one re-anchoring of its regulariser).
+    """
+
+    step_function: StepFunction
+    full_step_solves: bool
+    bounds_own_steps: bool
+    attempt_steps: int | None
+
+
+METHODS: dict[MethodName, Method] = {
+    "pinv": Method(pinv_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25),
+    "dls": Method(dls_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25),
+    "newton": Method(newton_step, full_step_solves=True, bounds_own_steps=True, attempt_steps=12),
+    "gradient": Method(gradient_step, full_step_solves=False, bounds_own_steps=False, attempt_steps=None),
 }
+"""The registry: ``solver.method`` name -> :class:`Method`."""
 
 
-def step_function(method: str) -> StepFunction:
-    """The step function registered for a ``solver.method`` name."""
+def solver_method(name: MethodName) -> Method:
+    """The registry entry of a ``solver.method`` name.
+
+    >>> solver_method("dls").attempt_steps
+    25
+    """
     try:
-        return METHODS[method]
+        return METHODS[name]
     except KeyError:
-        raise ValueError(f"unknown solver method {method!r} (expected one of {', '.join(METHODS)})") from None
+        raise ValueError(f"unknown solver method {name!r} (expected one of {', '.join(METHODS)})") from None
 
 
-__all__ = ["METHODS", "ArmState", "Step", "StepFunction", "arm_state", "step_function"]
+def step_function(name: MethodName) -> StepFunction:
+    """The step function registered for a ``solver.method`` name."""
+    return solver_method(name).step_function
+
+
+def proposed_step(problem: Problem, method: Method, state: ArmState, goal: np.ndarray) -> Step:
+    """The method's proposal; a linear-algebra failure (a singular matrix, an SVD that does
+    not converge) is a NaN proposal, which the filter refuses (``blocked_by == "nan"``) and
+    the drivers report as ``numerical``."""
+    try:
+        return method.step_function(problem, state, goal)
+    except np.linalg.LinAlgError:
+        return Step(dphi=np.full(problem.arm.n, np.nan))
+
+
+__all__ = [
+    "METHODS", "ArmState", "Method", "Step", "StepFunction", "arm_state", "proposed_step", "solver_method",
+    "step_function",
+]

@@ -31,6 +31,7 @@ import numpy as np
 from armanim.cost import min_link_clearance
 from armanim.geometry import wrap_angle
 from armanim.kinematics import forward, point_jacobian
+from armanim.names import Blocker
 from armanim.problem import Problem
 from armanim.solvers.common import ArmState, arm_state
 
@@ -56,14 +57,14 @@ class SafeStep:
         kinematics and clearances, ready for the next step.
     scale : float
         |dPhi| / |dPhi_nom| of the step taken: 1 = the proposal as it was, 0 = none.
-    blocked_by : str or None
+    blocked_by : Blocker or None
         What changed the proposal beyond the joint-step cap: ``"obstacle"``,
         ``"limit"``, ``"nan"`` (the proposal was not finite), or None.
     """
 
     state: ArmState
     scale: float
-    blocked_by: str | None
+    blocked_by: Blocker | None
 
     @property
     def phi(self) -> np.ndarray:
@@ -83,7 +84,7 @@ class Constraints:
     lo: np.ndarray  # (n,)
     hi: np.ndarray  # (n,)
 
-    def violated_by(self, dphi: np.ndarray) -> str | None:
+    def violated_by(self, dphi: np.ndarray) -> Blocker | None:
         """Which constraint ``dphi`` breaks (to rounding): ``"obstacle"``, ``"limit"``, or None."""
         eps = 1e-12
         if len(self.rows) and np.any(self.rows @ dphi < self.lower - eps):
@@ -105,15 +106,16 @@ def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
     return np.where(problem.limits.limited, phi, wrap_angle(phi))
 
 
-def joint_reach(problem: Problem) -> np.ndarray:
-    """(n,) farthest any arm point lies from joint j's axis: the links from j on, plus the width."""
+def lever_arms(problem: Problem) -> np.ndarray:
+    """(n,) lever arm of each joint: the farthest any arm point lies from joint j's axis
+    (the links from j on, plus the links' collision radius)."""
     links = problem.arm.links
     return np.cumsum(links[::-1])[::-1] + problem.half_width
 
 
 def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
-    """Most any arm point can move under a joint change ``dphi`` (sum of |dphi_j| times joint_reach)."""
-    return float(np.abs(dphi) @ joint_reach(problem))
+    """Most any arm point can move under a joint change ``dphi`` (sum of |dphi_j| times its lever arm)."""
+    return float(np.abs(dphi) @ lever_arms(problem))
 
 
 def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -129,15 +131,15 @@ def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndar
     return np.minimum(lo, 0.0), np.maximum(hi, 0.0)  # inside the buffer: 0 is always allowed
 
 
-def obstacle_rows(problem: Problem, state: ArmState, reach: float) -> tuple[np.ndarray, np.ndarray]:
+def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.ndarray, np.ndarray]:
     """Constraint rows n . J_q and lower bounds -gamma (d - d_target) of the link-obstacle
-    pairs whose clearance is within ``reach`` of the target distance."""
+    pairs whose clearance is within ``travel`` (the most an arm point can move) of the target distance."""
     n = problem.arm.n
     if state.clearance is None:
         return np.zeros((0, n)), np.zeros(0)
     target = problem.solver.clearance * (1.0 + FILTER_MARGIN)
     d = state.clearance.links
-    links, obstacles = np.nonzero(d - target < reach)
+    links, obstacles = np.nonzero(d - target < travel)
     rows = np.empty((len(links), n))
     for k, (link, obs) in enumerate(zip(links, obstacles)):
         jac = point_jacobian(problem.arm, state.pose, link, state.clearance.t[link, obs])
@@ -149,12 +151,12 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -
     """The constraints of the frame: only obstacle pairs that the QP's answer could reach.
 
     0 is feasible, so the answer is within |nominal| of the nominal step (2-norm), hence at
-    most 2 |nominal| long, and no arm point moves more than that times |joint_reach|.
+    most 2 |nominal| long, and no arm point moves more than that times |lever_arms|.
     Pairs beyond are left out (the exact check still guards every pair).
     """
     lo, hi = joint_bounds(problem, state.phi)
-    reach = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(joint_reach(problem))) + 1e-9
-    rows, lower = obstacle_rows(problem, state, reach)
+    travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(lever_arms(problem))) + 1e-9
+    rows, lower = obstacle_rows(problem, state, travel)
     return Constraints(rows, lower, lo, hi)
 
 
@@ -237,7 +239,7 @@ def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
     return float(np.linalg.norm(taken)) / length if 0.0 < length < np.inf else 0.0
 
 
-def blocker(nominal: np.ndarray, cons: Constraints) -> str:
+def blocker(nominal: np.ndarray, cons: Constraints) -> Blocker:
     """What kept the proposal from being taken as it was: ``"obstacle"`` or ``"limit"``."""
     return cons.violated_by(nominal) or "obstacle"  # else the linear model allowed it, the exact clearance did not
 

@@ -71,7 +71,7 @@ class Step:
 
 def task_displacement(problem: Problem, tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
     """de = beta (g - e), its length capped at ``solver.max_step`` (notes' Eq. 22)."""
-    de = problem.solver.step * (goal - tip)
+    de = problem.solver.beta * (goal - tip)
     length = np.linalg.norm(de)
     cap = problem.solver.max_step
     return de * (cap / length) if length > cap else de

@@ -28,7 +28,7 @@ def gradient_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
     """One frame of gradient descent on C with a backtracking line search."""
     s = problem.solver
     phi = state.phi
-    dphi = -s.step * cost_gradient(problem, state, goal)
+    dphi = -s.beta * cost_gradient(problem, state, goal)
     travel = np.linalg.norm(tip_jacobian(problem.arm, state.pose) @ dphi)
     if travel > s.max_step:
         dphi = dphi * (s.max_step / travel)

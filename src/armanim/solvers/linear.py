@@ -34,15 +34,17 @@ def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:
     return np.linalg.solve(gram, jac).T
 
 
-def repulsion(gap: np.ndarray, reach: np.ndarray | float) -> np.ndarray:
-    """Length of a push away from a barrier: reach (reach/gap - 1) inside reach, else 0.
+def repulsion(gap: np.ndarray, influence: np.ndarray | float) -> np.ndarray:
+    """Length of a push away from a barrier: R (R/gap - 1) for a gap inside the influence R, else 0.
+
+    R is an obstacle's influence, or a limit's margin delta.
 
     >>> repulsion(np.array([0.5, 1.0, 2.0]), 1.0)
     array([1., 0., 0.])
     """
     gap = np.asarray(gap, dtype=float)
-    inside = (gap > 0) & (gap < reach)
-    return np.where(inside, reach * (reach / np.where(inside, gap, 1.0) - 1.0), 0.0)
+    inside = (gap > 0) & (gap < influence)
+    return np.where(inside, influence * (influence / np.where(inside, gap, 1.0) - 1.0), 0.0)
 
 
 def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray | None:
@@ -51,7 +53,7 @@ def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray | None:
     lo_gap, hi_gap = phi - limits.lower, limits.upper - phi
     if min(lo_gap.min(), hi_gap.min()) >= limits.margin:
         return None
-    scale = problem.solver.step * problem.solver.w_limits
+    scale = problem.solver.beta * problem.solver.w_limits
     return scale * (repulsion(lo_gap, limits.margin) - repulsion(hi_gap, limits.margin))
 
 
@@ -69,7 +71,7 @@ def linear_step(
     cl = state.clearance
     if cl is not None and np.any(cl.d < problem.obstacles.influence):
         obstacles = problem.obstacles
-        push = s.step * s.w_obstacles * repulsion(cl.d, obstacles.influence)
+        push = s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence)
         for part, obs in zip(*np.nonzero(push)):
             v = push[part, obs] * cl.normal[part, obs]
             if part == arm.n:  # the tip itself: the notes' term, in task space

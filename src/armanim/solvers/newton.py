@@ -135,59 +135,89 @@ def _line_search(fun, x, f0, direction, slope, alpha, opts: NewtonOptions):
     return None, f0, a
 
 
+@dataclass(frozen=True)
+class Objective:
+    """The f of one solve: the arm, the target e*, the rest pose and the weights, bound once."""
+
+    arm: Arm
+    target: np.ndarray
+    rest: np.ndarray
+    w_tar: float
+    w_reg: float
+
+    def value(self, phi: np.ndarray) -> float:
+        """f(Phi)."""
+        return objective(self.arm, phi, self.target, self.rest, self.w_tar, self.w_reg)
+
+    def derivatives(self, phi: np.ndarray, hessian: bool = True) -> tuple[float, np.ndarray, np.ndarray | None]:
+        """f, g and H (None without ``hessian``) at Phi: :func:`objective_derivatives`."""
+        return objective_derivatives(self.arm, phi, self.target, self.rest, self.w_tar, self.w_reg, hessian)
+
+
+def gradient_descent(f: Objective, phi: np.ndarray, options: NewtonOptions) -> tuple[np.ndarray, float, int]:
+    """GDLS from ``phi``: steepest descent with a warm-started Armijo line search, until |g| is
+    below the tolerance, a search fails, or an iteration lowers f by less than the handover
+    fraction. Returns the angles, their f and the iterations."""
+    x = np.asarray(phi, dtype=float).copy()
+    value = f.value(x)
+    alpha = options.alpha
+    iterations = 0
+    for iterations in range(1, options.gd_iterations + 1):  # noqa: B007 (the count is returned after the loop)
+        value, g, _ = f.derivatives(x, hessian=False)
+        if np.linalg.norm(g) < options.tolerance:
+            break
+        x_new, f_new, alpha = _line_search(f.value, x, value, -g, -(g @ g), alpha, options)
+        if x_new is None:
+            break
+        slow = value - f_new < options.handover * value
+        x, value = x_new, f_new
+        if slow:
+            break
+        alpha = min(options.alpha, 2.0 * alpha)  # warm start: the next search begins near this one
+    return x, value, iterations
+
+
+def newton_method(f: Objective, phi: np.ndarray, options: NewtonOptions) -> tuple[np.ndarray, int]:
+    """NM from ``phi``: modified Newton directions (:func:`newton_direction`) with an Armijo line
+    search from the full step, until |g| is below the tolerance or a direction or a search
+    fails. Returns the angles and the iterations."""
+    x = phi
+    iterations = 0
+    for iterations in range(1, options.nm_iterations + 1):  # noqa: B007 (the count is returned after the loop)
+        value, g, H = f.derivatives(x)
+        if np.linalg.norm(g) < options.tolerance:
+            break
+        direction = newton_direction(H, g)
+        if direction is None:
+            break
+        x_new, _, _ = _line_search(f.value, x, value, direction, g @ direction, 1.0, options)
+        if x_new is None:
+            break
+        x = x_new
+    return x, iterations
+
+
 def newton_solve(
     arm: Arm,
     phi: np.ndarray,
     target: np.ndarray,
     rest: np.ndarray,
-    w_tar: float = 1e3,
-    w_reg: float = 1.0,
+    w_tar: float,
+    w_reg: float,
     options: NewtonOptions = NewtonOptions(),
 ) -> NewtonResult:
     """Minimise f by GDLS, then NM from the GDLS answer, kept only if it lowers f.
 
     Angles are returned unwrapped; callers wrap unlimited joints.
     """
-
-    def fun(p):
-        return objective(arm, p, target, rest, w_tar, w_reg)
-
-    x = np.asarray(phi, dtype=float).copy()
-    f = fun(x)
-    alpha = options.alpha
-    gd_its = 0
-    for gd_its in range(1, options.gd_iterations + 1):  # noqa: B007 (the count is reported after the loop)
-        f, g, _ = objective_derivatives(arm, x, target, rest, w_tar, w_reg, hessian=False)
-        if np.linalg.norm(g) < options.tolerance:
-            break
-        x_new, f_new, alpha = _line_search(fun, x, f, -g, -(g @ g), alpha, options)
-        if x_new is None:
-            break
-        slow = f - f_new < options.handover * f
-        x, f = x_new, f_new
-        if slow:
-            break
-        alpha = min(options.alpha, 2.0 * alpha)  # warm start: the next search begins near this one
-
-    x_gd, f_gd = x, f
-    nm_its = 0
-    for nm_its in range(1, options.nm_iterations + 1):  # noqa: B007 (the count is reported after the loop)
-        f, g, H = objective_derivatives(arm, x, target, rest, w_tar, w_reg)
-        if np.linalg.norm(g) < options.tolerance:
-            break
-        direction = newton_direction(H, g)
-        if direction is None:
-            break
-        slope = g @ direction
-        x_new, f_new, _ = _line_search(fun, x, f, direction, slope, 1.0, options)
-        if x_new is None:
-            break
-        x, f = x_new, f_new
-    f = fun(x)
-    kept = f < f_gd
+    f = Objective(arm, target, rest, w_tar, w_reg)
+    x_gd, f_gd, gd_its = gradient_descent(f, phi, options)
+    x_nm, nm_its = newton_method(f, x_gd, options)
+    f_nm = f.value(x_nm)
+    kept = f_nm < f_gd
     return NewtonResult(
-        phi=x if kept else x_gd,
-        f=f if kept else f_gd,
+        phi=x_nm if kept else x_gd,
+        f=f_nm if kept else f_gd,
         gd_iterations=gd_its,
         nm_iterations=nm_its,
         newton_kept=bool(kept),

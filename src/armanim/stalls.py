@@ -1,0 +1,79 @@
+"""Judging the frame loop's progress toward a goal: when it has stalled, and why a goal was missed.
+
+A goal has stalled when half a second of frames brought the tip closer by less than the
+tolerance (or than a small fraction of the distance still to go). The frame loop
+(:mod:`armanim.trajectory`) then plans or gives up; :func:`miss_reason` names what kept
+the arm from the goal. Pure core: no I/O.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armanim.names import Blocker, MissReason
+from armanim.problem import Problem
+from armanim.solvers import ArmState
+
+STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
+MIN_STALL_FRAMES = 5
+STALL_PROGRESS = 0.05  # ... or less than this fraction of the distance still to go
+
+
+def stall_frames(problem: Problem) -> int:
+    """Frames over which progress is judged: half a second, at least :data:`MIN_STALL_FRAMES`."""
+    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))  # noqa: RUF046 (numpy < 2 rounds to a float)
+
+
+def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
+    """Whether the last ``window`` frames brought the tip closer by less than the tolerance,
+    or than :data:`STALL_PROGRESS` of what is left above ``floor`` (the least distance
+    possible; +inf judges by the tolerance alone), whichever is larger.
+
+    >>> has_stalled([5.0, 4.0, 3.0], 2, 0.01), has_stalled([5.0, 5.0, 5.0], 2, 0.01)
+    (False, True)
+    """
+    if len(distances) <= window:
+        return False
+    now = distances[-1]
+    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * max(now - floor, 0.0))
+
+
+def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
+    """Whether ``goal`` is farther from the base than the arm is long (its reach)."""
+    return bool(np.linalg.norm(goal - problem.arm.base) > problem.arm.reach + problem.solver.tolerance)
+
+
+def miss_reason(
+    problem: Problem, state: ArmState, goal: np.ndarray, distances: list[float], blocked: list[Blocker | None]
+) -> MissReason:
+    """Why the local method missed a goal (explained by :data:`armanim.solution.MISS_REASONS`).
+
+    Judged in order: out of reach; NaN proposals; then, if the last stall window
+    made less progress than the tolerance, an obstacle or a limit that changed those
+    steps or whose barrier is active, else a local minimum; otherwise the arm was
+    still moving when ``max_frames_per_goal`` ran out.
+    """
+    if beyond_reach(problem, goal):
+        return "out_of_reach"
+    window = stall_frames(problem)
+    recent = blocked[-window:]
+    if recent and recent.count("nan") > len(recent) // 2:
+        return "numerical"
+    if not has_stalled(distances, min(window, len(distances) - 1), problem.solver.tolerance):
+        return "too_slow"
+    if "obstacle" in recent or _near_obstacle(problem, state):
+        return "blocked_by_obstacle"
+    if "limit" in recent or _near_limit(problem, state.phi):
+        return "blocked_by_limit"
+    return "stalled"
+
+
+def _near_obstacle(problem: Problem, state: ArmState) -> bool:
+    cl = state.clearance
+    return cl is not None and bool(np.any(cl.d <= problem.obstacles.influence))
+
+
+def _near_limit(problem: Problem, phi: np.ndarray) -> bool:
+    lim = problem.limits
+    gaps = np.minimum(phi - lim.lower, lim.upper - phi)
+    return bool(np.any(gaps < lim.margin))
