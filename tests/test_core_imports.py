@@ -7,7 +7,8 @@ import subprocess
 import sys
 
 CORE = ["armanim", "armanim.kinematics", "armanim.cost", "armanim.solvers", "armanim.trajectory", "armanim.ik",
-        "armanim.geometry", "armanim.problem"]
+        "armanim.geometry", "armanim.problem", "armanim.linalg", "armanim.names", "armanim.stalls", "armanim.solution",
+        "armanim.planning", "armanim.overrides"]
 FORBIDDEN = ["matplotlib", "yaml", "pydantic", "typer", "rich", "click", "imageio"]
 
 

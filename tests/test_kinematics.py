@@ -11,7 +11,6 @@ from strategies import arm_and_pose, arms, poses
 
 from armanim.geometry import closest_on_segment, wrap_angle
 from armanim.kinematics import (
-    PINV_RTOL,
     Arm,
     forward,
     joint_rotations,
@@ -19,9 +18,9 @@ from armanim.kinematics import (
     numeric_jacobian,
     point_hessian,
     point_jacobian,
-    pseudo_inverse,
     tip_jacobian,
 )
+from armanim.linalg import PINV_RTOL, pseudo_inverse
 
 NOTES_LINKS = (2.0, 5.0, 5.0, 5.0)
 NOTES_BASE = (5.0, 5.0, 0.0)

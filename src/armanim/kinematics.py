@@ -1,11 +1,11 @@
-"""THE forward kinematics of armanim, its Jacobians and the pseudo-inverse.
+"""THE forward kinematics of armanim and its Jacobians (the pseudo-inverse is in :mod:`armanim.linalg`).
 
 The chain of the contract: joint i sits at p_i with world rotation
 R_i = R_{i-1} Rot(a_i, phi_i) (R_0 = I), p_1 = base and
 p_{i+1} = p_i + R_i (l_i d). The tip is e = p_{n+1}. For the default arm this is
 the course notes' chain T01 = [Rz(phi1), p1], T12 = [Ry(phi2), t_z(l1)], ...
 
-Pure core: numpy and scipy only, radians only, no I/O. Everything that needs joint
+Pure core: numpy only, radians only, no I/O. Everything that needs joint
 positions (solvers, cost, renderer, CLI) calls :func:`forward`.
 """
 
@@ -15,7 +15,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 
 from armanim.geometry import axis_vector, cross, skew
 
@@ -279,29 +278,3 @@ def numeric_jacobian(
     displaced = phi + h * np.eye(len(phi))
     f0 = fun(phi)
     return (fun(displaced) - f0).T / h
-
-
-_gesdd = scipy.linalg.get_lapack_funcs("gesdd", dtype=np.float64)  # scipy.linalg.svd's own driver, minus its per-call checks
-
-PINV_RTOL = 1e-6
-"""Singular values below this fraction of the largest are treated as zero: a
-forward-difference Jacobian (h = 1e-6) carries noise of about that size where the
-true Jacobian has lost rank, and inverting the noise would fling the arm."""
-
-
-def pseudo_inverse(jac: np.ndarray) -> np.ndarray:
-    """Moore-Penrose pseudo-inverse J+ = V D+ U^T (the notes' Eq. 20), from the SVD of
-    ``scipy.linalg``.
-
-    Singular values below ``PINV_RTOL`` times the largest count as zero.
-
-    >>> pseudo_inverse(np.array([[2.0, 0.0], [0.0, 0.0]]))
-    array([[0.5, 0. ],
-           [0. , 0. ]])
-    """
-    u, d, vt, info = _gesdd(jac, compute_uv=1, full_matrices=0)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"SVD did not converge (LAPACK gesdd info {info})")
-    keep = d > PINV_RTOL * d[0] if len(d) and d[0] > 0 else np.zeros(len(d), dtype=bool)
-    inverse = np.where(keep, 1.0 / np.where(keep, d, 1.0), 0.0)
-    return (vt.T * inverse) @ u.T

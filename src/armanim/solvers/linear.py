@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from armanim.kinematics import pseudo_inverse
+from armanim.linalg import pseudo_inverse
 from armanim.problem import Problem
 from armanim.solvers.common import ArmState, Step, jacobian_of_point, task_displacement
 
