@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import tempfile
 from collections.abc import Callable, Iterable
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -136,8 +137,16 @@ def _entry(task: SceneTask, run: RemoteRun, folder: Path) -> BatchEntry:
     )
 
 
+BROKEN_POOL_HINT = (
+    " (a worker process died; if armanim is called from a Python script, keep the call under "
+    "`if __name__ == \"__main__\":`, because each worker imports the script again; jobs=1 needs no workers)"
+)
+
+
 def _failed(task: SceneTask, exc: BaseException) -> BatchEntry:
     message = exc.report() if isinstance(exc, ArmanimError) else f"{task.path}: {type(exc).__name__}: {exc}"
+    if isinstance(exc, BrokenProcessPool):
+        message += BROKEN_POOL_HINT
     return BatchEntry(task.name, "failed", task.path, message=message)
 
 
