@@ -89,12 +89,21 @@ class Goal:
     ----------
     position : (3,) array
     hold : float
-        Seconds (the frame loop turns them into frames at the run's fps, in one place:
-        :func:`armanim.trajectory.hold_frames`).
+        Seconds (turned into frames at the run's fps by :func:`frames_in`, the one rule
+        for it: the frame loop's holds and the scene's frame budget both use it).
     """
 
     position: np.ndarray
     hold: float
+
+
+def frames_in(seconds: float, fps: float) -> int:
+    """Whole frames in ``seconds`` at ``fps``, rounded to the nearest.
+
+    >>> frames_in(2.0, 40.0), frames_in(0.5, 25.0)
+    (80, 12)
+    """
+    return int(round(seconds * fps))  # noqa: RUF046 (numpy < 2 rounds to a float)
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.names import Blocker, MissReason
-from armanim.problem import Problem
+from armanim.problem import Problem, frames_in
 from armanim.solvers import ArmState
 
 STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
@@ -21,7 +21,7 @@ STALL_PROGRESS = 0.05  # ... or less than this fraction of the distance still to
 
 def stall_frames(problem: Problem) -> int:
     """Frames over which progress is judged: half a second, at least :data:`MIN_STALL_FRAMES`."""
-    return max(MIN_STALL_FRAMES, int(round(STALL_SECONDS * problem.fps)))  # noqa: RUF046 (numpy < 2 rounds to a float)
+    return max(MIN_STALL_FRAMES, frames_in(STALL_SECONDS, problem.fps))
 
 
 def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:

@@ -24,7 +24,7 @@ import numpy as np
 from armanim.geometry import wrap_angle
 from armanim.names import Blocker, MissReason
 from armanim.planning import plan_motion
-from armanim.problem import Goal, Problem
+from armanim.problem import Goal, Problem, frames_in
 from armanim.solution import (  # the run's results, re-exported: they were defined here first
     MISS_REASONS,
     GoalReport,
@@ -92,7 +92,7 @@ def hold_frames(problem: Problem, goal: Goal) -> int:
     >>> hold_frames(SimpleNamespace(fps=40.0), Goal(np.zeros(3), hold=2.0))
     80
     """
-    return int(round(goal.hold * problem.fps))  # noqa: RUF046 (numpy < 2 rounds to a float)
+    return frames_in(goal.hold, problem.fps)
 
 
 def frame_budget(problem: Problem) -> int:

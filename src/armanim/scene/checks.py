@@ -13,6 +13,7 @@ import numpy as np
 from armanim.cost import clearances
 from armanim.errors import Diagnostic
 from armanim.kinematics import forward
+from armanim.problem import frames_in
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import LIMITS, SceneModel
 
@@ -71,7 +72,7 @@ def frame_budget(scene: SceneModel) -> int:
     """Most frames the scene can produce: frame 0, then every goal's frame cap and hold frames."""
     fps = scene.render.fps
     per_goal = scene.solver.max_frames_per_goal
-    return 1 + sum(per_goal + int(round(g.hold * fps)) for g in scene.goals)
+    return 1 + sum(per_goal + frames_in(g.hold, fps) for g in scene.goals)
 
 
 def _magnitudes(scene: SceneModel):
