@@ -9,14 +9,9 @@ from armanim.cost import clearances
 from armanim.geometry import wrap_angle
 from armanim.kinematics import forward
 from armanim.problem import Problem
+from armanim.solution import MISS_REASONS, Solution, max_joint_step
 from armanim.solvers.barrier import limit_buffer
-from armanim.trajectory import (
-    MISS_REASONS,
-    Solution,
-    frame_budget,
-    hold_frames,
-    max_joint_step,
-)
+from armanim.trajectory import frame_budget, hold_frames
 
 TINY = 1e-9
 

@@ -13,7 +13,7 @@ from armanim.errors import RenderError
 from armanim.kinematics import Arm, forward
 from armanim.problem import Goal, Obstacles, Problem
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
-from armanim.trajectory import GoalReport, Trajectory
+from armanim.solution import GoalReport, Trajectory
 
 FRAMES = 12
 SIZE = (160, 120)

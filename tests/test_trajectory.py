@@ -49,6 +49,6 @@ def test_every_miss_reason_is_explained():
     from typing import get_args
 
     from armanim.names import MissReason
-    from armanim.trajectory import MISS_REASONS
+    from armanim.solution import MISS_REASONS
 
     assert tuple(MISS_REASONS) == get_args(MissReason)

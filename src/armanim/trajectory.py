@@ -25,14 +25,7 @@ from armanim.geometry import wrap_angle
 from armanim.names import Blocker, MissReason
 from armanim.planning import plan_motion
 from armanim.problem import Goal, Problem, frames_in
-from armanim.solution import (  # the run's results, re-exported: they were defined here first
-    MISS_REASONS,
-    GoalReport,
-    PlanningReport,
-    Solution,
-    Trajectory,
-    max_joint_step,
-)
+from armanim.solution import GoalReport, PlanningReport, Solution, Trajectory
 from armanim.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.solvers.barrier import safe_step
 from armanim.stalls import beyond_reach, has_stalled, miss_reason, stall_frames
@@ -247,7 +240,4 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
     )
 
 
-__all__ = [
-    "MISS_REASONS", "GoalReport", "PlanningReport", "Solution", "Trajectory", "beyond_reach", "frame_budget",
-    "hold_frames", "max_joint_step", "miss_reason", "solve_trajectory",
-]
+__all__ = ["frame_budget", "hold_frames", "solve_trajectory"]

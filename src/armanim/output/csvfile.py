@@ -22,7 +22,7 @@ import numpy as np
 from armanim.errors import Diagnostic, SceneError
 from armanim.files import open_regular
 from armanim.output.atomic import write_text_atomic
-from armanim.trajectory import Trajectory
+from armanim.solution import Trajectory
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
 TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode")

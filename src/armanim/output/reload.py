@@ -16,7 +16,7 @@ from armanim.output.summary import goal_report_from_dict
 from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.scene.models import LIMITS, RenderModel
-from armanim.trajectory import GoalReport, Solution, Trajectory
+from armanim.solution import GoalReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
 MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB

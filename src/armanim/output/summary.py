@@ -11,7 +11,7 @@ import numpy as np
 from armanim import __version__
 from armanim.output.atomic import write_text_atomic
 from armanim.problem import Problem
-from armanim.trajectory import MISS_REASONS, GoalReport, PlanningReport, Solution, max_joint_step
+from armanim.solution import MISS_REASONS, GoalReport, PlanningReport, Solution, max_joint_step
 
 
 def _round(value: float) -> float | None:

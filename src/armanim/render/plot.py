@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from armanim.problem import Problem
 from armanim.render.pixels import write_png
 from armanim.render.style import GOAL_COLORS
-from armanim.trajectory import GoalReport, Trajectory
+from armanim.solution import GoalReport, Trajectory
 
 PLOT_SIZE = (1200, 800)  # pixels
 PLOT_DPI = 100

@@ -20,7 +20,7 @@ from armanim.errors import RenderError
 from armanim.problem import Problem, RenderSettings
 from armanim.render.parallel import render_parallel
 from armanim.render.segment import draw_segment
-from armanim.trajectory import GoalReport, Trajectory
+from armanim.solution import GoalReport, Trajectory
 from armanim.workers import alive
 
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
