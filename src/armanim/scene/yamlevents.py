@@ -44,6 +44,15 @@ class _Container:
         self.is_key = False  # a list or mapping used as a mapping key (rejected)
 
 
+def too_deep(max_depth: int) -> str:
+    """The message for a document nested deeper than ``max_depth`` levels.
+
+    >>> too_deep(64)
+    'nesting deeper than 64 levels (expected a flat scene as in docs/scene-format.md)'
+    """
+    return f"nesting deeper than {max_depth} levels (expected a flat scene as in docs/scene-format.md)"
+
+
 class EventBuilder:
     """Plain data from YAML events, at most ``max_nodes`` values and ``max_depth`` levels deep."""
 
@@ -71,7 +80,7 @@ class EventBuilder:
             self._fail(path, f"the document expands to more than {self.max_nodes:,} values (an alias bomb, or far more "
                              "data than a scene needs; see the limits in docs/reliability.md)", line)
         if len(self.stack) + depth > self.max_depth + 1:
-            self._fail(abbreviate(path), f"nesting deeper than {self.max_depth} levels (expected a flat scene as in docs/scene-format.md)", line)
+            self._fail(abbreviate(path), too_deep(self.max_depth), line)
 
     # ---------------------------------------------------------------- where values go
 

@@ -29,7 +29,7 @@ import yaml
 
 from armanim.errors import Diagnostic, SceneError
 from armanim.scene.fieldpaths import YamlDocument
-from armanim.scene.yamlevents import EventBuilder, event_line
+from armanim.scene.yamlevents import EventBuilder, event_line, too_deep
 from armanim.scene.yamlscalars import SceneLoader
 
 MAX_FILE_BYTES = 1_000_000
@@ -48,6 +48,8 @@ def _yaml_error(file: str, text: str, exc: yaml.YAMLError) -> SceneError:
         char = chr(exc.character) if isinstance(exc.character, int) else exc.character
         return SceneError(file, [Diagnostic("", f"character {char!r} is not allowed in YAML (control characters must be removed)", line)])
     problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+    if "maximum nesting depth" in problem:  # PyYAML >= 6.0.3 stops deep flow nesting in its scanner, before our count
+        return SceneError(file, [Diagnostic("", too_deep(MAX_DEPTH), line)])
     context = getattr(exc, "context", None)
     if context and context not in problem:
         problem = f"{problem} {context}"
@@ -85,7 +87,7 @@ def read_yaml(text: str, file: str) -> YamlDocument:
     except yaml.YAMLError as exc:
         raise _yaml_error(file, text, exc) from None
     except RecursionError:  # pragma: no cover  (the builder has no recursion; kept as a last guard)
-        raise SceneError(file, [Diagnostic("", f"nesting deeper than {MAX_DEPTH} levels")]) from None
+        raise SceneError(file, [Diagnostic("", too_deep(MAX_DEPTH))]) from None
     finally:
         dispose = getattr(parser, "dispose", None)
         if dispose is not None:
