@@ -6,7 +6,7 @@ Run: ``python benchmarks/batch_bench.py`` (about a minute and a half on two core
 16 scenes are generated in a temporary folder: 8 variants of the planar 4-link arm and
 8 of the course notes' arm (3 obstacles), each with 2 goals, rendered at 320x180 and
 15 fps with video and plot, so that one scene takes about 1-2 s. Everything goes through
-:func:`armanim.batch.run_batch`, in one run:
+:func:`armanim.runs.batch.run_batch`, in one run:
 
 1. ``jobs=1`` (in this process) against ``jobs=2`` (a spawn process pool):
    speed-up ratio, target >= 1.7x on 2 cores.
@@ -38,7 +38,7 @@ from unittest import mock
 
 import yaml
 
-from armanim.batch import run_batch
+from armanim.runs.batch import run_batch
 
 PLANAR = {
     "version": 1,
@@ -95,10 +95,10 @@ def _import_armanim(_: int = 0) -> float:
     import matplotlib.backends.backend_agg  # noqa: F401  (what a worker imports for its first scene)
     import matplotlib.figure  # noqa: F401
 
-    import armanim.pipeline  # noqa: F401
     import armanim.render.draw  # noqa: F401
     import armanim.render.plot  # noqa: F401
     import armanim.render.video  # noqa: F401
+    import armanim.runs.pipeline  # noqa: F401
 
     return time.perf_counter() - start
 
@@ -195,7 +195,7 @@ def main() -> None:
         print("fixed costs inside those times:")
         first, imports = spawn_startup()
         print(f"  spawn pool of 2: answers after {first:.2f} s, of which importing the pipeline, renderer and matplotlib "
-              f"{imports:.2f} s (armanim.batch itself comes with this script's import in each worker)")
+              f"{imports:.2f} s (armanim.runs.batch itself comes with this script's import in each worker)")
         if have_dask:
             up, down = cluster_startup()
             print(f"  LocalCluster of 2: start + connect {up:.2f} s, close {down:.2f} s")

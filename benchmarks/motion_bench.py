@@ -20,7 +20,7 @@ method, with ``solver.planner`` ``auto`` and ``off`` when armanim has that field
 
 Oracle. Each goal is labelled feasible or not WITHOUT armanim's solvers: a forward
 kinematics written here (the contract's chain, checked against
-``armanim.kinematics.forward`` at start), then a multi-start search
+``armanim.arm.kinematics.forward`` at start), then a multi-start search
 (``scipy.optimize.least_squares`` with the joint limits as bounds, deterministic starts)
 for a pose whose tip is within tolerance/2 of the goal, with every joint inside its
 limits and every link capsule (radius width/2) at least ``clearance`` from every sphere's
@@ -51,13 +51,13 @@ import yaml
 from pydantic import ValidationError
 from scipy.optimize import least_squares
 
-from armanim.cost import min_link_clearance
-from armanim.kinematics import Arm, forward
-from armanim.problem import Obstacles
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.trajectory import solve_trajectory
 from armanim.scene.checks import scene_problems
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import SceneModel, SolverModel
-from armanim.trajectory import solve_trajectory
+from armanim.world.distances import min_link_clearance
+from armanim.world.obstacles import Obstacles
 
 METHODS = ("pinv", "dls", "newton", "gradient")
 DEFAULT_CLEARANCE = 0.05  # the oracle's clearance when armanim has no solver.clearance

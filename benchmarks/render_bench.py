@@ -41,8 +41,8 @@ SIZE = (1280, 720)
 
 def solved(scene: str):
     """(loaded scene, problem, solution) of a scene file, solved at its own fps."""
+    from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import load_scene, scene_to_problem
-    from armanim.trajectory import solve_trajectory
 
     loaded = load_scene(scene)
     problem = scene_to_problem(loaded.model)
@@ -58,7 +58,7 @@ def baseline_child(scene: str, out: str, frames: int | None) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from armanim.kinematics import forward
+    from armanim.arm.kinematics import forward
 
     _, problem, solution = solved(scene)
     traj = solution.trajectory
@@ -119,7 +119,7 @@ def baseline(scene: str, work: Path, frames: int | None) -> tuple[float, int]:
 
 def drawing_only(scene: str) -> float:
     """Frames per second of SceneCanvas.draw alone, one core, every frame of the scene."""
-    from armanim.kinematics import Pose, forward
+    from armanim.arm.kinematics import Pose, forward
     from armanim.render.caption import frame_activity, frame_caption, goal_status
     from armanim.render.draw import FrameState, SceneCanvas
     from armanim.scene import render_settings

@@ -9,7 +9,7 @@
 
 (b) Solving to convergence (tolerance 1e-3, no obstacles) from the straight pose, a
     singular pose of this arm, to N random reachable targets: every armanim method via
-    ``armanim.ik.solve_pose`` against ikpy's ``Chain.inverse_kinematics``. Target:
+    ``armanim.motion.ik.solve_pose`` against ikpy's ``Chain.inverse_kinematics``. Target:
     armanim at least 20x faster than ikpy with at least its success rate.
 
 Only ratios of times measured in this run are printed as verdicts, so the numbers mean
@@ -26,14 +26,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from armanim.cost import clearances, min_link_clearance
-from armanim.ik import solve_pose
-from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem, SolverSettings
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.ik import solve_pose
+from armanim.motion.problem import Goal, Limits, Problem, SolverSettings
+from armanim.motion.solvers import METHODS, arm_state
+from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.linear import pinv_step
 from armanim.scene import default_solver_settings
-from armanim.solvers import METHODS, arm_state
-from armanim.solvers.barrier import safe_step
-from armanim.solvers.linear import pinv_step
+from armanim.world.distances import clearances, min_link_clearance
+from armanim.world.obstacles import Obstacles
 
 # ---------------------------------------------------------------------------------------
 # The course notes' arm, its limits and the obstacles of part (a)
@@ -300,7 +301,7 @@ def bench_solve(rng: np.random.Generator, count: int) -> None:
         chain = ikpy_chain(limits)
         mismatch = check_ikpy_fk(chain, arm, rng)
         assert mismatch < 1e-9, f"ikpy's chain is not the notes' arm: FK differs by {mismatch:g}"
-        print(f"    ikpy {ikpy.__version__}: FK matches armanim.kinematics.forward on 50 random poses "
+        print(f"    ikpy {ikpy.__version__}: FK matches armanim.arm.kinematics.forward on 50 random poses "
               f"(max |diff| {mismatch:.1e})")
     except ImportError:
         chain = None

@@ -37,8 +37,8 @@ BUNDLED = sorted(SCENES.glob("*.yaml"))
 @cache
 def solved_scene(path: Path):
     """(problem, solution) of a bundled scene, solved once per session."""
+    from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import load_scene, scene_to_problem
-    from armanim.trajectory import solve_trajectory
 
     problem = scene_to_problem(load_scene(path).model)
     return problem, solve_trajectory(problem)

@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armanim.cost import clearances
-from armanim.geometry import wrap_angle
-from armanim.kinematics import forward
-from armanim.problem import Problem
-from armanim.solution import MISS_REASONS, Solution, max_joint_step
-from armanim.solvers.barrier import limit_buffer
-from armanim.trajectory import frame_budget, hold_frames
+from armanim.arm.geometry import wrap_angle
+from armanim.arm.kinematics import forward
+from armanim.motion.problem import Problem
+from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step
+from armanim.motion.solvers.barrier import limit_buffer
+from armanim.motion.trajectory import frame_budget, hold_frames
+from armanim.world.distances import clearances
 
 TINY = 1e-9
 

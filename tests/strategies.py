@@ -11,9 +11,10 @@ import numpy as np
 from hypothesis import assume
 from hypothesis import strategies as st
 
-from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.problem import Goal, Limits, Problem
 from armanim.scene import default_solver_settings
+from armanim.world.obstacles import Obstacles
 
 AXES = ("x", "y", "z")
 METHODS = ("pinv", "dls", "newton", "gradient")
@@ -63,7 +64,7 @@ def limits_for(draw, home: np.ndarray, margin_deg: float | None = None) -> Limit
 @st.composite
 def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_count: int = 3) -> Obstacles:
     """0-3 spheres, each clear of the home pose's link capsules by at least 0.05."""
-    from armanim.cost import clearances
+    from armanim.world.distances import clearances
 
     m = draw(st.integers(0, max_count))
     if m == 0:
@@ -151,7 +152,7 @@ def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
     """A cluttered scene as users write them: 3-6 links, limits on about half the joints,
     1-4 spheres placed across the straight path between consecutive goals (pushed off
     the arm's home capsules and the goals by solver.clearance), every method, planner on."""
-    from armanim.cost import clearances
+    from armanim.world.distances import clearances
 
     arm = draw(arms(min_links=3, max_links=max_links))
     home = draw(poses(arm.n)) * 0.3

@@ -179,17 +179,17 @@ def test_a_good_batch_exits_0_and_strict_exits_1_on_a_missed_goal(src, tmp_path)
 
 
 def test_a_scene_that_fails_on_its_worker_is_failed_exit_3(src, tmp_path, monkeypatch):
-    import armanim.batch
+    import armanim.runs.batch
     from armanim.errors import OutputError
 
-    real = armanim.batch.run_task
+    real = armanim.runs.batch.run_task
 
     def flaky(task, video, overrides):
         if task.name == "planar-nlink":
             raise OutputError("disk on fire")
         return real(task, video, overrides)
 
-    monkeypatch.setattr(armanim.batch, "run_task", flaky)  # --jobs 1 runs tasks in this process
+    monkeypatch.setattr(armanim.runs.batch, "run_task", flaky)  # --jobs 1 runs tasks in this process
     result = invoke("run", src / "a.yaml", src / "b.yaml", "--jobs", 1, "--no-video", "--out", tmp_path)
     assert result.exit_code == 3, result.output
     assert "disk on fire" in result.output
@@ -202,12 +202,12 @@ def test_a_scene_that_fails_on_its_worker_is_failed_exit_3(src, tmp_path, monkey
 
 
 def test_an_unexpected_worker_exception_is_failed_with_its_type(src, tmp_path, monkeypatch):
-    import armanim.batch
+    import armanim.runs.batch
 
     def boom(task, video, overrides):
         raise RuntimeError("worker bug")
 
-    monkeypatch.setattr(armanim.batch, "run_task", boom)
+    monkeypatch.setattr(armanim.runs.batch, "run_task", boom)
     result = invoke("run", src / "a.yaml", src / "bad.yaml", "--jobs", 1, "--no-video", "-q", "--out", tmp_path)
     assert result.exit_code == 3  # failed outranks invalid
     index = read_index(tmp_path)
@@ -262,7 +262,7 @@ def test_the_same_file_twice_runs_once(src, tmp_path):
 
 
 def test_a_scene_rejected_on_a_pool_worker_fails_alone(src, tmp_path):
-    from armanim.batch import SceneTask, run_tasks
+    from armanim.runs.batch import SceneTask, run_tasks
     from armanim.scene import load_scene
 
     good = [SceneTask.from_scene(load_scene(src / f)) for f in ("a.yaml", "b.yaml")]
@@ -378,7 +378,7 @@ def test_bad_set_syntax_exits_2_with_a_clear_message(src, tmp_path, setting, exp
 
 
 def test_run_sweep_is_a_silent_api_that_returns_the_table_it_writes(src, tmp_path, capsys):
-    from armanim.sweep import parse_setting, run_sweep
+    from armanim.runs.sweep import parse_setting, run_sweep
 
     result = run_sweep(src / "b.yaml", [parse_setting("solver.method=pinv,bogus")], tmp_path, jobs=1)
     assert capsys.readouterr() == ("", "")  # results are returned; printing is the command's job
@@ -459,7 +459,7 @@ def test_without_dask_a_scheduler_exits_2_with_the_install_hint(src, tmp_path, m
 
 def test_dask_is_imported_only_when_asked_for(src, tmp_path):
     code = (
-        "import sys; from pathlib import Path; from armanim.batch import run_batch\n"
+        "import sys; from pathlib import Path; from armanim.runs.batch import run_batch\n"
         f"run_batch([Path({str(src / 'a.yaml')!r})], Path({str(tmp_path)!r}), jobs=1, video=False)\n"
         "print(any(m == 'dask' or m.startswith(('dask.', 'distributed')) for m in sys.modules))\n"
     )
@@ -469,7 +469,7 @@ def test_dask_is_imported_only_when_asked_for(src, tmp_path):
 
 
 def test_batch_progress_names_the_running_scenes(src, tmp_path):
-    from armanim.batch import run_batch
+    from armanim.runs.batch import run_batch
 
     seen = []
     run_batch([src / "a.yaml", src / "b.yaml"], tmp_path, jobs=1, video=False, progress=lambda *call: seen.append(call))

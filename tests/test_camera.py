@@ -10,10 +10,11 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
-from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Obstacles, Problem
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.problem import Goal, Problem
 from armanim.render.camera import camera_rotation, fit_view, planar_normal, view_angles
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
+from armanim.world.obstacles import Obstacles
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = sorted((ROOT / "scenes").glob("*.yaml"))
@@ -135,9 +136,9 @@ def _overlaps(boxes: dict) -> list:
 @pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
 @pytest.mark.parametrize("scene_path", SCENES, ids=lambda p: p.stem)
 def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
+    from armanim.motion.trajectory import solve_trajectory
     from armanim.render.draw import SceneCanvas
     from armanim.scene import load_scene, render_settings, scene_to_problem
-    from armanim.trajectory import solve_trajectory
 
     loaded = load_scene(scene_path)
     problem = scene_to_problem(loaded.model)
@@ -158,8 +159,8 @@ def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
 
 @pytest.mark.slow
 def test_an_11_second_640x360_gif_stays_well_under_3_mb(tmp_path):
-    from armanim.overrides import RenderOverrides
-    from armanim.pipeline import run_scene
+    from armanim.runs.overrides import RenderOverrides
+    from armanim.runs.pipeline import run_scene
 
     result = run_scene(ROOT / "scenes" / "notes-arm.yaml", tmp_path,
                        render_overrides=RenderOverrides(size=(640, 360), format="gif"), jobs=1)
@@ -212,9 +213,9 @@ def test_an_unknown_quality_is_a_usage_error():
 
 
 def test_plot_labels_each_limit_with_its_joints_and_numbers_goals_from_0():
+    from armanim.motion.trajectory import solve_trajectory
     from armanim.render.plot import plot_figure
     from armanim.scene import load_scene, scene_to_problem
-    from armanim.trajectory import solve_trajectory
 
     problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)
     solution = solve_trajectory(problem)

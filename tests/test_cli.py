@@ -12,7 +12,7 @@ import pytest
 from conftest import BUNDLED, SCENES
 
 from armanim import __version__
-from armanim.kinematics import Arm, forward
+from armanim.arm.kinematics import Arm, forward
 
 
 def command_names():
@@ -160,12 +160,12 @@ def test_ik_newton_prints_both_iteration_counts(cli):
 
 
 def test_ik_says_when_linear_algebra_failed(cli, monkeypatch):
-    import armanim.solvers.linear
+    import armanim.motion.solvers.linear
 
     def fails(jac):
         raise np.linalg.LinAlgError("SVD did not converge")
 
-    monkeypatch.setattr(armanim.solvers.linear, "pseudo_inverse", fails)
+    monkeypatch.setattr(armanim.motion.solvers.linear, "pseudo_inverse", fails)
     result = cli("ik", "--goal", "3,1,0", *PLANAR, "--from", "10,10,10,10", "--json")
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)

@@ -1,27 +1,71 @@
-"""The pure core imports no edge library (design.md: imports point one way)."""
+"""The pure core imports no edge library, and the rooms import one way (design.md).
+
+The pure core is every module under ``armanim.arm``, ``armanim.world`` and
+``armanim.motion``: numpy, scipy, DAQP and OMPL only. Rooms are ordered
+cli > runs > scene > render > output > motion > world > arm, and a module imports only
+from its own room or the rooms below it (``errors`` and ``names`` serve all).
+"""
 
 from __future__ import annotations
 
+import ast
 import json
 import subprocess
 import sys
+from pathlib import Path
 
-CORE = ["armanim", "armanim.kinematics", "armanim.cost", "armanim.solvers", "armanim.trajectory", "armanim.ik",
-        "armanim.geometry", "armanim.problem", "armanim.linalg", "armanim.names", "armanim.stalls", "armanim.solution",
-        "armanim.planning", "armanim.overrides"]
+import pytest
+
+SRC = Path(__file__).resolve().parent.parent / "src" / "armanim"
+CORE_ROOMS = ["arm", "world", "motion"]
+ROOMS = ["cli", "runs", "scene", "render", "output", "motion", "world", "arm"]  # top to bottom
+SHARED = {"errors", "names", "__init__", "__main__"}
 FORBIDDEN = ["matplotlib", "yaml", "pydantic", "typer", "rich", "click", "imageio"]
 
 
+def _modules(room: str) -> list[str]:
+    return sorted(
+        "armanim." + ".".join(p.relative_to(SRC).with_suffix("").parts).removesuffix(".__init__")
+        for p in (SRC / room).rglob("*.py")
+    )
+
+
 def test_core_loads_no_edge_library():
+    core = [m for room in CORE_ROOMS for m in _modules(room)]
+    assert len(core) > 20  # the walk found the rooms
     code = (
         "import importlib, json, sys\n"
-        f"for m in {CORE!r}: importlib.import_module(m)\n"
+        f"for m in {core!r}: importlib.import_module(m)\n"
         f"print(json.dumps(sorted(m for m in {FORBIDDEN!r} if m in sys.modules)))\n"
         "print(json.dumps(sorted(sys.modules)))\n"
     )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     loaded, modules = (json.loads(line) for line in proc.stdout.splitlines())
     assert loaded == [], loaded
-    assert "armanim.kinematics" in modules and "numpy" in modules  # the imports did happen
-    assert not [m for m in modules if m.startswith(("armanim.scene", "armanim.render", "armanim.cli", "armanim.pipeline"))]
+    assert "armanim.arm.kinematics" in modules and "numpy" in modules  # the imports did happen
+    edges = ("armanim.scene", "armanim.render", "armanim.cli", "armanim.runs", "armanim.output")
+    assert not [m for m in modules if m.startswith(edges)]
+
+
+def _imported_rooms(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text())
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names.add(node.module)
+        elif isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+    return {n.split(".")[1] for n in names if n.startswith("armanim.") and n.count(".") >= 1}
+
+
+@pytest.mark.parametrize("room", ROOMS)
+def test_imports_run_down_the_rooms(room):
+    above = set(ROOMS[: ROOMS.index(room)])
+    wrong = {str(p.relative_to(SRC)): sorted(_imported_rooms(p) & above) for p in (SRC / room).rglob("*.py")}
+    assert {k: v for k, v in wrong.items() if v} == {}
+
+
+def test_the_top_holds_only_the_shared_modules():
+    top = {p.stem for p in SRC.glob("*.py")}
+    assert top == SHARED | {"testing"}, top

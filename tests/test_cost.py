@@ -10,20 +10,20 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 from strategies import problems
 
-from armanim.cost import (
-    clearances,
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.cost import (
     goal_term,
     limit_barrier,
     limit_barrier_gradient,
-    min_link_clearance,
     obstacle_field,
     obstacle_field_slope,
     total_cost,
     total_cost_gradient,
 )
-from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.motion.problem import Goal, Limits, Problem
 from armanim.scene import default_solver_settings
+from armanim.world.distances import clearances, min_link_clearance
+from armanim.world.obstacles import Obstacles
 
 # ------------------------------------------------------------ F_R (Eq. 11)
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from conftest import SCENES
 
-from armanim.kinematics import Arm, forward
+from armanim.arm.kinematics import Arm, forward
 
 
 def armanim_exe() -> str:

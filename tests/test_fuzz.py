@@ -27,8 +27,8 @@ from hypothesis import strategies as st
 from strategies import scene_texts
 
 from armanim.errors import EXIT_BAD_INPUT, SceneError, UsageError
+from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import scene_to_problem, validate_scene_text
-from armanim.trajectory import solve_trajectory
 
 EXAMPLES = int(os.environ.get("ARMANIM_FUZZ_EXAMPLES", "60"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, database=None,
@@ -172,7 +172,7 @@ def check_csv_outcome(text: str) -> None:
     """A table (drawable or with a named problem, equal to itself by file and by table) or a SceneError."""
     from armanim.output.compare import compare_csv_files, compare_trajectories
     from armanim.output.csvfile import parse_trajectory_csv
-    from armanim.output.reload import drawable_problem
+    from armanim.runs.reload import drawable_problem
 
     try:
         table = parse_trajectory_csv(text, "fuzz.csv")
@@ -217,7 +217,7 @@ SET_VALUES = st.one_of(
 @FUZZ
 @given(st.sampled_from(SET_PATHS), st.lists(SET_VALUES, min_size=1, max_size=3))
 def test_set_values_give_variants_or_a_usage_error(path, values):
-    from armanim.sweep import parse_setting, variants
+    from armanim.runs.sweep import parse_setting, variants
 
     try:
         setting = parse_setting(f"{path}={','.join(values)}")

@@ -73,7 +73,7 @@ def tiny_scene(tmp_path_factory) -> Path:
 @pytest.fixture(scope="module")
 def previous_tiny(tiny_scene, tmp_path_factory) -> Path:
     """A complete earlier run of the tiny scene (CSV, summary, scene copy), made once."""
-    from armanim.pipeline import run_scene
+    from armanim.runs.pipeline import run_scene
 
     out = tmp_path_factory.mktemp("previous-tiny")
     run_scene(tiny_scene, out, video=False)
@@ -158,7 +158,7 @@ def test_exit_130_interrupted_in_process(cli, tmp_path, monkeypatch, tiny_scene,
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("armanim.pipeline.solve_trajectory", interrupted)
+    monkeypatch.setattr("armanim.runs.pipeline.solve_trajectory", interrupted)
     result = cli("run", tiny_scene, "--out", out, "--no-video", "--quiet")
     assert result.exit_code == 130, result.output
     assert "interrupted" in one_line_error(result)
@@ -467,7 +467,7 @@ def test_ffmpeg_missing_or_failing(cli, tmp_path, monkeypatch, tiny_scene, previ
 
 
 def test_solver_step_producing_nan(cli, tmp_path, monkeypatch):
-    from armanim.solvers import METHODS, Step
+    from armanim.motion.solvers import METHODS, Step
 
     def nan_step(problem, state, goal):
         return Step(dphi=np.full(problem.arm.n, np.nan))

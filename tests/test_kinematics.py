@@ -9,8 +9,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from strategies import arm_and_pose, arms, poses
 
-from armanim.geometry import closest_on_segment, wrap_angle
-from armanim.kinematics import (
+from armanim.arm.geometry import closest_on_segment, wrap_angle
+from armanim.arm.kinematics import (
     Arm,
     forward,
     joint_rotations,
@@ -20,7 +20,7 @@ from armanim.kinematics import (
     point_jacobian,
     tip_jacobian,
 )
-from armanim.linalg import PINV_RTOL, pseudo_inverse
+from armanim.arm.linalg import PINV_RTOL, pseudo_inverse
 
 NOTES_LINKS = (2.0, 5.0, 5.0, 5.0)
 NOTES_BASE = (5.0, 5.0, 0.0)

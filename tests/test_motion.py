@@ -19,15 +19,16 @@ from hypothesis import given, settings
 from invariants import assert_trajectory_invariants
 from strategies import cluttered_problems
 
-from armanim.cost import min_link_clearance
-from armanim.kinematics import Arm, forward
-from armanim.planning import plan_motion
-from armanim.planning.follow import path_frames
-from armanim.problem import Goal, Limits, Obstacles, Problem
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.planning import plan_motion
+from armanim.motion.planning.follow import path_frames
+from armanim.motion.problem import Goal, Limits, Problem
+from armanim.motion.solvers import METHODS, arm_state, step_function
+from armanim.motion.solvers.barrier import limit_buffer, pose_is_free, safe_step
+from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import default_solver_settings, unlimited_limits
-from armanim.solvers import METHODS, arm_state, step_function
-from armanim.solvers.barrier import limit_buffer, pose_is_free, safe_step
-from armanim.trajectory import solve_trajectory
+from armanim.world.distances import min_link_clearance
+from armanim.world.obstacles import Obstacles
 
 NOTES_ARM = Arm.from_names([2, 5, 5, 5])  # base at the origin: straight up, the tip at (0, 0, 17)
 CONTACT = [((3.0, 0.0, 10.0), 2.7)]  # the straight arm's capsules exactly solver.clearance (0.05) from it
@@ -188,7 +189,7 @@ def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(t
         "sys.path.insert(0, sys.argv[1])\n"
         "from test_motion import WALL, CONTACT, notes_problem\n"
         "from armanim.output.csvfile import trajectory_csv_text\n"
-        "from armanim.trajectory import solve_trajectory\n"
+        "from armanim.motion.trajectory import solve_trajectory\n"
         "if sys.argv[2] == 'warm':\n"
         "    solve_trajectory(notes_problem(CONTACT, method='dls'))\n"
         "print(trajectory_csv_text(solve_trajectory(notes_problem(WALL, goals=((8.0, 0.0, 10.0),))).trajectory), end='')\n"
@@ -201,7 +202,7 @@ def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(t
 
 
 def test_a_step_whose_linear_algebra_fails_is_reported_as_numerical(monkeypatch):
-    from armanim.solvers import METHODS
+    from armanim.motion.solvers import METHODS
 
     def failing_step(problem, state, goal):
         raise np.linalg.LinAlgError("SVD did not converge")

@@ -179,7 +179,7 @@ def test_a_golden_csv_linked_to_dev_zero_is_refused(tmp_path):
 def test_a_growing_file_is_read_only_to_its_bound(tmp_path):
     """A scene whose reported size lies (it grows while read) is still read to the bound only."""
     from armanim.errors import SceneError
-    from armanim.files import read_bounded
+    from armanim.output.files import read_bounded
 
     path = tmp_path / "big.yaml"
     path.write_bytes(b"#" * 2000)

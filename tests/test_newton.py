@@ -8,8 +8,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from strategies import arm_and_pose
 
-from armanim.kinematics import Arm, forward
-from armanim.solvers.newton import newton_direction, newton_solve, objective, objective_derivatives
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.solvers.newton import newton_direction, newton_solve, objective, objective_derivatives
 
 W_TAR, W_REG = 1e3, 1.0
 
@@ -95,7 +95,7 @@ def test_newton_is_kept_only_when_it_lowers_f():
     arm = planar(4)
     target = np.array([3.0, 1.0, 0.0])
     full = newton_solve(arm, np.zeros(4), target, np.zeros(4), W_TAR, W_REG)
-    from armanim.solvers.newton import NewtonOptions
+    from armanim.motion.solvers.newton import NewtonOptions
 
     gd_only = newton_solve(arm, np.zeros(4), target, np.zeros(4), W_TAR, W_REG, NewtonOptions(nm_iterations=0))
     assert full.f <= gd_only.f

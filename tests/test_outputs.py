@@ -16,9 +16,9 @@ import pytest
 from conftest import SCENES
 
 from armanim import __version__
-from armanim.kinematics import forward
+from armanim.arm.kinematics import forward
 from armanim.output.csvfile import read_trajectory_csv, trajectory_csv_text
-from armanim.pipeline import run_scene
+from armanim.runs.pipeline import run_scene
 
 REQUIRED_HEAD = ["frame", "time_s", "goal"]
 REQUIRED_TAIL = ["x", "y", "z", "goal_distance", "clearance", "reached"]

@@ -9,11 +9,12 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
+from armanim.arm.kinematics import Arm, forward
 from armanim.errors import RenderError
-from armanim.kinematics import Arm, forward
-from armanim.problem import Goal, Obstacles, Problem
+from armanim.motion.problem import Goal, Problem
+from armanim.motion.solution import GoalReport, Trajectory
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
-from armanim.solution import GoalReport, Trajectory
+from armanim.world.obstacles import Obstacles
 
 FRAMES = 12
 SIZE = (160, 120)
@@ -229,8 +230,8 @@ def test_importing_render_does_not_load_matplotlib():
 
 @pytest.mark.slow
 def test_a_solved_run_renders_at_full_size(tmp_path):
+    from armanim.motion.trajectory import solve_trajectory
     from armanim.render.video import render_video
-    from armanim.trajectory import solve_trajectory
 
     problem = make_problem()
     solution = solve_trajectory(problem)

@@ -73,10 +73,10 @@ def test_render_rejects_a_bad_view(tmp_path):
 def test_auto_bounds_hold_every_frame_of_the_run_and_every_goal_and_obstacle():
     import numpy as np
 
-    from armanim.kinematics import forward
+    from armanim.arm.kinematics import forward
+    from armanim.motion.trajectory import solve_trajectory
     from armanim.render.bounds import auto_bounds
     from armanim.scene import load_scene, scene_to_problem
-    from armanim.trajectory import solve_trajectory
 
     problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)
     points = forward(problem.arm, solve_trajectory(problem).trajectory.phi).points.reshape(-1, 3)

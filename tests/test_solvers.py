@@ -9,15 +9,16 @@ import numpy as np
 import pytest
 from conftest import SCENES, solved_scene
 
-from armanim.ik import solve_pose
-from armanim.kinematics import Arm, forward
+from armanim.arm.kinematics import Arm, forward
+from armanim.motion.ik import solve_pose
+from armanim.motion.problem import Goal, Limits, Problem
+from armanim.motion.solvers import METHODS, arm_state, step_function
+from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.linear import damped_inverse
+from armanim.motion.trajectory import solve_trajectory
 from armanim.names import MethodName
-from armanim.problem import Goal, Limits, Obstacles, Problem
 from armanim.scene import default_solver_settings, load_scene, scene_to_problem, unlimited_limits
-from armanim.solvers import METHODS, arm_state, step_function
-from armanim.solvers.barrier import safe_step
-from armanim.solvers.linear import damped_inverse
-from armanim.trajectory import solve_trajectory
+from armanim.world.obstacles import Obstacles
 
 METHOD_SCENES = {
     "pinv": "notes-arm.yaml",
@@ -152,7 +153,7 @@ def test_safe_step_stops_before_an_obstacle():
     problem = one_link_problem(obstacles=obstacles)
     moved = safe_step(problem, arm_state(problem, np.zeros(1)), np.array([np.pi / 2]))
     assert moved.blocked_by == "obstacle"
-    from armanim.cost import min_link_clearance
+    from armanim.world.distances import min_link_clearance
 
     assert float(min_link_clearance(forward(problem.arm, moved.phi), obstacles, 0.25)) >= problem.solver.clearance
     assert 0 < moved.phi[0] < np.pi / 2
@@ -211,12 +212,12 @@ def test_ik_round_trip_fk_of_ik_is_the_goal(method):
 
 
 def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
-    import armanim.solvers.linear
+    import armanim.motion.solvers.linear
 
     def fails(jac):
         raise np.linalg.LinAlgError("SVD did not converge")
 
-    monkeypatch.setattr(armanim.solvers.linear, "pseudo_inverse", fails)
+    monkeypatch.setattr(armanim.motion.solvers.linear, "pseudo_inverse", fails)
     problem = planar_ik_problem("pinv")
     start = np.radians([10.0, 10.0, 10.0, 10.0])
     result = solve_pose(problem, problem.goals[0].position, start, max_iterations=100)
@@ -228,17 +229,17 @@ def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
 def test_ik_restarts_from_the_planner_seed_poses(monkeypatch):
     # one set of starts for every solve from a pose: the pose, its mirrored elbow, then the
     # planner's seeded random poses
-    import armanim.solvers.linear
-    from armanim.planning.poses import seed_poses
+    import armanim.motion.solvers.linear
+    from armanim.motion.planning.poses import seed_poses
 
     seen = []
-    jacobian_of_point = armanim.solvers.linear.jacobian_of_point
+    jacobian_of_point = armanim.motion.solvers.linear.jacobian_of_point
 
     def recording(problem, phi, pose, link, t):
         seen.append(np.array(phi))
         return jacobian_of_point(problem, phi, pose, link, t)
 
-    monkeypatch.setattr(armanim.solvers.linear, "jacobian_of_point", recording)
+    monkeypatch.setattr(armanim.motion.solvers.linear, "jacobian_of_point", recording)
     problem = planar_ik_problem("pinv")
     start = np.radians([10.0, 20.0, 30.0, 40.0])
     result = solve_pose(problem, np.array([10.0, 0.0, 0.0]), start, max_iterations=1000)  # out of reach

@@ -7,7 +7,7 @@ import json
 import numpy as np
 
 from armanim.output.csvfile import read_trajectory_csv
-from armanim.output.reload import load_run
+from armanim.runs.reload import load_run
 
 SCENE = """\
 version: 1

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from invariants import assert_trajectory_invariants
 from strategies import problems
 
-from armanim.trajectory import frame_budget, solve_trajectory
+from armanim.motion.trajectory import frame_budget, solve_trajectory
 
 
 @pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
@@ -48,7 +48,7 @@ def test_trajectory_is_deterministic_in_process():
 def test_every_miss_reason_is_explained():
     from typing import get_args
 
+    from armanim.motion.solution import MISS_REASONS
     from armanim.names import MissReason
-    from armanim.solution import MISS_REASONS
 
     assert tuple(MISS_REASONS) == get_args(MissReason)

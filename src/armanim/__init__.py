@@ -1,7 +1,7 @@
 """armanim: batch animator for articulated arms.
 
 The package root stays light: importing :mod:`armanim` loads nothing heavy, so the
-pure core (``armanim.kinematics``, ``armanim.cost``, ``armanim.solvers``) can be used
+pure core (``armanim.arm.kinematics``, ``armanim.motion.cost``, ``armanim.motion.solvers``) can be used
 without YAML, pydantic, typer or matplotlib. The public API (documented in docs/python-api.md) is loaded on first use.
 """
 
@@ -12,16 +12,16 @@ __version__ = "0.1.0"
 _LAZY = {
     "load_scene": ("armanim.scene", "load_scene"),
     "scene_to_problem": ("armanim.scene", "scene_to_problem"),
-    "run_scene": ("armanim.pipeline", "run_scene"),
-    "rerender_run": ("armanim.pipeline", "rerender_run"),
-    "run_batch": ("armanim.batch", "run_batch"),
-    "run_sweep": ("armanim.sweep", "run_sweep"),
-    "parse_setting": ("armanim.sweep", "parse_setting"),
-    "RenderOverrides": ("armanim.overrides", "RenderOverrides"),
-    "solve_pose": ("armanim.ik", "solve_pose"),
-    "forward": ("armanim.kinematics", "forward"),
-    "Arm": ("armanim.kinematics", "Arm"),
-    "solve_trajectory": ("armanim.trajectory", "solve_trajectory"),
+    "run_scene": ("armanim.runs.pipeline", "run_scene"),
+    "rerender_run": ("armanim.runs.pipeline", "rerender_run"),
+    "run_batch": ("armanim.runs.batch", "run_batch"),
+    "run_sweep": ("armanim.runs.sweep", "run_sweep"),
+    "parse_setting": ("armanim.runs.sweep", "parse_setting"),
+    "RenderOverrides": ("armanim.runs.overrides", "RenderOverrides"),
+    "solve_pose": ("armanim.motion.ik", "solve_pose"),
+    "forward": ("armanim.arm.kinematics", "forward"),
+    "Arm": ("armanim.arm.kinematics", "Arm"),
+    "solve_trajectory": ("armanim.motion.trajectory", "solve_trajectory"),
 }
 
 __all__ = ["__version__", *_LAZY]

@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Literal
 
 MethodName = Literal["pinv", "dls", "newton", "gradient"]
-"""``solver.method``: the solver methods (the registry is :data:`armanim.solvers.METHODS`)."""
+"""``solver.method``: the solver methods (the registry is :data:`armanim.motion.solvers.METHODS`)."""
 
 JacobianMode = Literal["analytic", "numeric"]
 """``solver.jacobian``: analytic derivatives, or forward differences (the course notes' Eq. 15)."""
@@ -28,7 +28,7 @@ MissReason = Literal[
     "out_of_reach", "no_free_pose", "no_path", "blocked_by_obstacle", "blocked_by_limit", "stalled", "too_slow",
     "numerical",
 ]
-"""Why a goal of a run was missed (explained by :data:`armanim.solution.MISS_REASONS`)."""
+"""Why a goal of a run was missed (explained by :data:`armanim.motion.solution.MISS_REASONS`)."""
 
 PoseStatus = Literal["converged", "not_converged", "numerical"]
 """How one pose solved to convergence (``armanim ik``) ended: within the tolerance; not

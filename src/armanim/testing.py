@@ -8,9 +8,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from armanim.golden import golden_paths, solve_csv_text
 from armanim.output.compare import compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv
+from armanim.runs.golden import golden_paths, solve_csv_text
 from armanim.scene import load_scene
 
 

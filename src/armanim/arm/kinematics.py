@@ -1,4 +1,4 @@
-"""THE forward kinematics of armanim and its Jacobians (the pseudo-inverse is in :mod:`armanim.linalg`).
+"""THE forward kinematics of armanim and its Jacobians (the pseudo-inverse is in :mod:`armanim.arm.linalg`).
 
 The chain of the contract: joint i sits at p_i with world rotation
 R_i = R_{i-1} Rot(a_i, phi_i) (R_0 = I), p_1 = base and
@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from armanim.geometry import axis_vector, cross, skew
+from armanim.arm.geometry import axis_vector, cross, skew
 
 _IDENTITY = np.eye(3)
 

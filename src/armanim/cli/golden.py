@@ -55,7 +55,7 @@ def check(
 
     After a deliberate change: [bold]armanim check scenes/*.yaml --golden tests/golden --update[/bold]
     """
-    from armanim.golden import check_scene, update_golden
+    from armanim.runs.golden import check_scene, update_golden
 
     if golden.exists() and not golden.is_dir():
         raise UsageError(f"--golden: {golden} is a file (expected a folder of golden files <name>.csv and <name>.json)")

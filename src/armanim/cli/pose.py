@@ -34,7 +34,7 @@ def fk(
 
     Example: [bold]armanim fk --angles 0,30,45,10 --links 2,5,5,5 --base 5,5,0[/bold]
     """
-    from armanim.kinematics import forward
+    from armanim.arm.kinematics import forward
     from armanim.scene import scene_to_problem
 
     model, loaded = arm_scene(scene, links, base, axes, direction)
@@ -89,7 +89,7 @@ def ik(
 
     Example: [bold]armanim ik --goal 3,1,0 --links 1,1,1,1 --axes z,z,z,z --direction x --method newton[/bold]
     """
-    from armanim.ik import solve_pose
+    from armanim.motion.ik import solve_pose
 
     model, loaded = arm_scene(scene, links, base, axes, direction)
     problem = ik_problem(model, method, tolerance, from_flags=loaded is None)
@@ -106,8 +106,8 @@ def ik(
 def ik_problem(model, method: str | None, tolerance: float | None, from_flags: bool):
     """The scene's problem with ``--method`` and ``--tolerance`` applied (an arm made of
     flags solves to 0.001 unless told otherwise: the scene default suits animation, not one pose)."""
+    from armanim.motion.solvers import METHODS
     from armanim.scene import scene_to_problem
-    from armanim.solvers import METHODS
 
     problem = scene_to_problem(model)
     settings = problem.solver
@@ -160,7 +160,7 @@ def print_ik_report(data: dict, tolerance: float) -> None:
 def unreached_reason(problem, target: np.ndarray, status: str) -> str | None:
     """Why ``armanim ik`` did not converge, when it can be told: the goal out of reach, or
     the linear algebra failing."""
-    from armanim.stalls import beyond_reach
+    from armanim.motion.stalls import beyond_reach
 
     if status == "converged":
         return None

@@ -12,7 +12,7 @@ from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_OUTPUT_FAILED
 
 def print_goal_table(result) -> None:
     """The per-goal table printed at the end of a run, then its output files."""
-    from armanim.solution import MISS_REASONS
+    from armanim.motion.solution import MISS_REASONS
 
     sol = result.solution
     title = f"{result.scene.name}: {sol.reached} of {len(sol.goals)} goals reached, {sol.trajectory.frames} frames"

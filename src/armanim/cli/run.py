@@ -51,7 +51,7 @@ def run(
     if len(scenes) == 1 and not scheduler:
         run_one(scenes[0], out_root, video=not no_video, jobs=jobs, overrides=overrides, quiet=quiet, strict=strict)
         return
-    from armanim.batch import run_batch
+    from armanim.runs.batch import run_batch
 
     with bars(quiet) as shown:
         entries = run_batch(
@@ -66,7 +66,7 @@ def run(
 
 def run_one(path: Path, out_root: Path, *, video: bool, jobs, overrides, quiet: bool, strict: bool) -> None:
     """One scene in this process, its video rendered by ``jobs`` workers."""
-    from armanim.pipeline import run_scene
+    from armanim.runs.pipeline import run_scene
 
     with bars(quiet) as shown:
         result = run_scene(path, out_root, video=video, jobs=jobs, render_overrides=overrides, progress=shown)
@@ -96,7 +96,7 @@ def render(
 
     Example: [bold]armanim render outputs/notes-arm --size 640x360 --format gif[/bold]
     """
-    from armanim.pipeline import rerender_run
+    from armanim.runs.pipeline import rerender_run
 
     overrides = render_overrides(size, fps, fmt, elevation, azimuth, quality)
     jobs = usable_jobs(jobs)

@@ -30,7 +30,7 @@ def sweep(
 
     Example: [bold]armanim sweep scenes/notes-arm.yaml --set solver.step=0.05,0.1,0.2 --set solver.method=pinv,dls[/bold]
     """
-    from armanim.sweep import parse_setting, run_sweep
+    from armanim.runs.sweep import parse_setting, run_sweep
 
     jobs = usable_jobs(jobs)
     parsed = [parse_setting(text) for text in settings]

@@ -9,13 +9,12 @@ accept a batch of poses where their docstring says so. Pure core: no I/O.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from armanim.geometry import closest_on_segment
-from armanim.kinematics import Arm, Pose, forward, point_jacobian, tip_jacobian
-from armanim.problem import Limits, Obstacles, Problem
+from armanim.arm.kinematics import Arm, Pose, forward, point_jacobian, tip_jacobian
+from armanim.motion.problem import Limits, Problem
+from armanim.world.distances import Clearances, clearances
+from armanim.world.obstacles import Obstacles
 
 
 def obstacle_field(d: np.ndarray, influence: np.ndarray) -> np.ndarray:
@@ -68,64 +67,6 @@ def limit_barrier_gradient(phi: np.ndarray, limits: Limits) -> np.ndarray:
 def limit_gaps(phi: np.ndarray, limits: Limits) -> tuple[np.ndarray, np.ndarray]:
     """Distances (radians) of each joint to its lower and upper limit (inf if unlimited)."""
     return phi - limits.lower, limits.upper - phi
-
-
-@dataclass(frozen=True)
-class Clearances:
-    """Clearance of every arm part to every obstacle, for one pose or a batch.
-
-    Parts are the n link capsules (indices 0..n-1) and the tip as a point (index n).
-
-    Attributes
-    ----------
-    d : (..., n+1, m) array
-        Clearance to each obstacle's surface (negative inside).
-    t : (..., n+1, m) array
-        Fraction along the part's link of its point closest to the obstacle.
-    normal : (..., n+1, m, 3) array
-        Unit vector from the obstacle's centre to that closest point.
-    """
-
-    d: np.ndarray
-    t: np.ndarray
-    normal: np.ndarray
-
-    @property
-    def links(self) -> np.ndarray:
-        """(..., n, m): clearances of the link capsules only."""
-        return self.d[..., :-1, :]
-
-
-def clearances(pose: Pose, obstacles: Obstacles, half_width: float) -> Clearances:
-    """Clearances of the link capsules and of the tip to every obstacle.
-
-    Parameters
-    ----------
-    pose : Pose
-        One pose or a batch (points of shape (..., n+1, 3)).
-    obstacles : Obstacles
-    half_width : float
-        Capsule radius of the links.
-    """
-    pts = pose.points
-    ends = np.concatenate([pts[..., 1:, :], pts[..., -1:, :]], axis=-2)  # the tip: a zero-length segment
-    ab = (ends - pts)[..., None, :]  # (..., n+1, 1, 3)
-    t = closest_on_segment(pts[..., :, None, :], ends[..., :, None, :], obstacles.centers)  # (..., n+1, m)
-    t[..., -1, :] = 1.0  # the tip sits at the end of the last link
-    offset = pts[..., :, None, :] + t[..., None] * ab - obstacles.centers
-    dist = np.sqrt((offset * offset).sum(axis=-1))
-    radius = np.full((pts.shape[-2], 1), half_width)
-    radius[-1] = 0.0  # the tip is a point
-    d = dist - obstacles.radii - radius
-    normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
-    return Clearances(d=d, t=t, normal=normal)
-
-
-def min_link_clearance(pose: Pose, obstacles: Obstacles, half_width: float) -> np.ndarray:
-    """Smallest clearance of any link capsule to any obstacle, shape (...); +inf if none."""
-    if len(obstacles) == 0:
-        return np.full(pose.points.shape[:-2], np.inf)
-    return clearances(pose, obstacles, half_width).links.min(axis=(-1, -2))
 
 
 def goal_term(tip: np.ndarray, goal: np.ndarray) -> np.ndarray:

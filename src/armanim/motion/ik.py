@@ -1,7 +1,7 @@
 """One pose solved to convergence (``armanim ik``), with the methods of the frame loop.
 
 One attempt loop serves every method: what it must know of a method is data on the
-method's registry entry (:class:`armanim.solvers.Method`). Solving is not animating, so
+method's registry entry (:class:`armanim.motion.solvers.Method`). Solving is not animating, so
 the steps are full ones: a method that solves with a full step takes beta = 1 (``pinv``
 and ``dls``: Newton-Raphson on the tip; ``newton``: the assignment's GDLS + NM solved to
 the goal, its regulariser re-anchored at each answer until the tip is within tolerance),
@@ -9,7 +9,7 @@ and joints may turn up to 30 degrees per iteration, or without a cap where the m
 own line searches bound its steps. Every step passes the same barrier as in the frame
 loop, so limits and obstacles hold. An attempt that stalls, e.g. pinned between two
 limits, restarts from the mirrored elbow and then from seeded random poses: the planner's
-starts (:func:`armanim.planning.poses.seed_poses`). A step that
+starts (:func:`armanim.motion.planning.poses.seed_poses`). A step that
 fails in linear algebra ends its attempt, and an unconverged solve that met one says
 ``numerical``. Pure core: no I/O.
 """
@@ -20,11 +20,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from armanim.motion.planning.poses import seed_poses
+from armanim.motion.problem import Problem
+from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
+from armanim.motion.solvers.barrier import safe_step
 from armanim.names import PoseStatus
-from armanim.planning.poses import seed_poses
-from armanim.problem import Problem
-from armanim.solvers import ArmState, Method, arm_state, proposed_step, solver_method
-from armanim.solvers.barrier import safe_step
 
 FULL_TURN_PER_ITERATION = np.radians(30.0)
 STALL_ITERATIONS = 15  # steps without progress before a restart
@@ -48,7 +48,7 @@ class PoseSolution:
     steps : int
         Steps (proposals through the filter) over all attempts: what ``max_iterations`` bounds.
     iterations : int
-        Inner iterations over all attempts, Newton's aside (as :class:`armanim.solvers.Step`
+        Inner iterations over all attempts, Newton's aside (as :class:`armanim.motion.solvers.Step`
         counts them: one per step of ``pinv`` and ``dls``, line-search trials for
         ``gradient``, gradient-descent iterations for ``newton``).
     newton_iterations : int
@@ -103,7 +103,7 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
     goal : (3,) array
     start : (n,) array
         First pose tried; the restarts are the planner's next starts from it
-        (:func:`armanim.planning.poses.seed_poses`).
+        (:func:`armanim.motion.planning.poses.seed_poses`).
     max_iterations : int
         Bound on the steps over all attempts.
 

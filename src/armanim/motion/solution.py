@@ -1,6 +1,6 @@
 """What a solved run is: the trajectory's arrays and one report per goal (pure data).
 
-Made by the frame loop (:mod:`armanim.trajectory`), read by the outputs and the renderer.
+Made by the frame loop (:mod:`armanim.motion.trajectory`), read by the outputs and the renderer.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.geometry import wrap_angle
+from armanim.arm.geometry import wrap_angle
 from armanim.names import MissReason, PathSource
 
 MISS_REASONS: dict[MissReason, str] = {

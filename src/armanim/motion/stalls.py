@@ -2,7 +2,7 @@
 
 A goal has stalled when half a second of frames brought the tip closer by less than the
 tolerance (or than a small fraction of the distance still to go). The frame loop
-(:mod:`armanim.trajectory`) then plans or gives up; :func:`miss_reason` names what kept
+(:mod:`armanim.motion.trajectory`) then plans or gives up; :func:`miss_reason` names what kept
 the arm from the goal. Pure core: no I/O.
 """
 
@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from armanim.motion.problem import Problem, frames_in
+from armanim.motion.solvers import ArmState
 from armanim.names import Blocker, MissReason
-from armanim.problem import Problem, frames_in
-from armanim.solvers import ArmState
 
 STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
 MIN_STALL_FRAMES = 5
@@ -46,7 +46,7 @@ def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
 def miss_reason(
     problem: Problem, state: ArmState, goal: np.ndarray, distances: list[float], blocked: list[Blocker | None]
 ) -> MissReason:
-    """Why the local method missed a goal (explained by :data:`armanim.solution.MISS_REASONS`).
+    """Why the local method missed a goal (explained by :data:`armanim.motion.solution.MISS_REASONS`).
 
     Judged in order: out of reach; NaN proposals; then, if the last stall window
     made less progress than the tolerance, an obstacle or a limit that changed those

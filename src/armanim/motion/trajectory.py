@@ -2,11 +2,11 @@
 
 Frame 0 is the home pose. For each goal the loop steps until |e - g| < tolerance,
 then holds the pose for the goal's hold frames. Every frame's step is the method's
-proposal passed through the safety filter (:func:`armanim.solvers.barrier.safe_step`).
+proposal passed through the safety filter (:func:`armanim.motion.solvers.barrier.safe_step`).
 
 When half a second of frames makes less progress than the tolerance (a local
-minimum, a saddle, a singular pose, circling), the goal has stalled (:mod:`armanim.stalls`): with
-``solver.planner: auto`` the loop plans (:mod:`armanim.planning`) and follows the
+minimum, a saddle, a singular pose, circling), the goal has stalled (:mod:`armanim.motion.stalls`): with
+``solver.planner: auto`` the loop plans (:mod:`armanim.motion.planning`) and follows the
 planned path (frames of mode ``plan``), then the method finishes to the tolerance;
 with ``off`` the goal is missed at once. A goal is also missed when it is out of
 reach, when no free pose reaches it (``no_free_pose``), when no path is found
@@ -21,14 +21,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from armanim.geometry import wrap_angle
+from armanim.arm.geometry import wrap_angle
+from armanim.motion.planning import plan_motion
+from armanim.motion.problem import Goal, Problem, frames_in
+from armanim.motion.solution import GoalReport, PlanningReport, Solution, Trajectory
+from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
+from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.stalls import beyond_reach, has_stalled, miss_reason, stall_frames
 from armanim.names import Blocker, MissReason
-from armanim.planning import plan_motion
-from armanim.problem import Goal, Problem, frames_in
-from armanim.solution import GoalReport, PlanningReport, Solution, Trajectory
-from armanim.solvers import ArmState, Method, arm_state, proposed_step, solver_method
-from armanim.solvers.barrier import safe_step
-from armanim.stalls import beyond_reach, has_stalled, miss_reason, stall_frames
 
 MAX_PLANS = 3  # plans per goal before it is given up as stalled
 ARRIVED = 1e-9  # radians: the arm is at a planned pose

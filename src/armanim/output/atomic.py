@@ -17,7 +17,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from armanim.errors import OutputError
-from armanim.files import special_kind
+from armanim.output.files import special_kind
 
 
 def current_umask() -> int:

@@ -20,9 +20,9 @@ from typing import BinaryIO
 import numpy as np
 
 from armanim.errors import Diagnostic, SceneError
-from armanim.files import open_regular
+from armanim.motion.solution import Trajectory
 from armanim.output.atomic import write_text_atomic
-from armanim.solution import Trajectory
+from armanim.output.files import open_regular
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
 TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode")

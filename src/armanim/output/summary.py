@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from armanim import __version__
+from armanim.motion.problem import Problem
+from armanim.motion.solution import MISS_REASONS, GoalReport, PlanningReport, Solution, max_joint_step
 from armanim.output.atomic import write_text_atomic
-from armanim.problem import Problem
-from armanim.solution import MISS_REASONS, GoalReport, PlanningReport, Solution, max_joint_step
 
 
 def _round(value: float) -> float | None:

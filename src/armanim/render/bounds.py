@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem, RenderSettings
 
 MARGIN = 0.05  # fraction of the largest extent added on every side
 

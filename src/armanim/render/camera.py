@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.kinematics import Arm, forward
+from armanim.arm.kinematics import Arm, forward
 from armanim.render.view import View
 
 DEFAULT_ELEVATION = 25.0

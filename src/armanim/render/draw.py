@@ -32,8 +32,8 @@ from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.lines import Line2D
 from matplotlib.transforms import IdentityTransform
 
-from armanim.kinematics import Pose, forward
-from armanim.problem import Problem, RenderSettings
+from armanim.arm.kinematics import Pose, forward
+from armanim.motion.problem import Problem, RenderSettings
 from armanim.render import backdrop, scenery
 from armanim.render.bounds import goal_points
 from armanim.render.camera import camera_rotation, view_angles

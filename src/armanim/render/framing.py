@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem, RenderSettings
 from armanim.render import scenery
 from armanim.render.bounds import goal_points, resolve_bounds
 from armanim.render.camera import fit_view

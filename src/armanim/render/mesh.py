@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.kinematics import Arm, Pose
+from armanim.arm.kinematics import Arm, Pose
 
 
 def perpendicular_basis(direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

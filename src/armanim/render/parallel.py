@@ -22,7 +22,7 @@ import numpy as np
 
 from armanim.errors import OutputError, RenderError
 from armanim.render.segment import draw_segment
-from armanim.workers import Stopped, die_with
+from armanim.render.workers import Stopped, die_with
 
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
 

@@ -8,10 +8,10 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from armanim.problem import Problem
+from armanim.motion.problem import Problem
+from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render.pixels import write_png
 from armanim.render.style import GOAL_COLORS
-from armanim.solution import GoalReport, Trajectory
 
 PLOT_SIZE = (1200, 800)  # pixels
 PLOT_DPI = 100

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armanim.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem, RenderSettings
 
 
 def strobe_frames(reports: Sequence, frames: int) -> list[int]:
@@ -53,7 +53,7 @@ def render_poster(problem: Problem, trajectory, reports: Sequence, settings: Ren
         Written atomically.
     title : str
     """
-    from armanim.kinematics import Pose, forward
+    from armanim.arm.kinematics import Pose, forward
     from armanim.render.caption import MISSED, PENDING, REACHED, goal_outcomes
     from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.pixels import write_png

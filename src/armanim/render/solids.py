@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.kinematics import Arm, Pose
+from armanim.arm.kinematics import Arm, Pose
 from armanim.render.mesh import prism_face_normals, prism_faces, prism_local, prism_world, unit_circle
 from armanim.render.style import (
     ARM_COLOR,

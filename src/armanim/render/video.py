@@ -17,11 +17,11 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from armanim.errors import RenderError
-from armanim.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render.parallel import render_parallel
 from armanim.render.segment import draw_segment
-from armanim.solution import GoalReport, Trajectory
-from armanim.workers import alive
+from armanim.render.workers import alive
 
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
 

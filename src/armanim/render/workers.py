@@ -6,6 +6,9 @@ watches the armanim process (a pidfd where Linux has one, else polling) and, whe
 ends, sends itself SIGTERM: the worker's usual quiet exit, which kills its own ffmpeg and
 removes its temporary files. Workers ignore Ctrl-C: the terminal sends it to the whole
 process group, and the parent decides (it stops them with SIGTERM).
+
+It sits in ``render/``, the lowest room that starts worker processes (the frame
+renderers); ``runs/`` starts its batch workers with it too.
 """
 
 from __future__ import annotations

@@ -17,13 +17,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from armanim.errors import ArmanimError, SceneError
-from armanim.executors import executor_for
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import table_csv_text
 from armanim.output.rundir import staged_folder
-from armanim.overrides import RenderOverrides
+from armanim.render.workers import Stopped
+from armanim.runs.executors import executor_for
+from armanim.runs.overrides import RenderOverrides
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
-from armanim.workers import Stopped
 
 INDEX_COLUMNS = ("name", "status", "scene_file", "goals", "reached", "missed", "frames", "min_clearance", "folder", "message")
 
@@ -78,7 +78,7 @@ class BatchEntry:
 
 def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | None) -> RemoteRun:
     """Worker side: produce a scene's outputs in a temporary folder and return their bytes."""
-    from armanim.pipeline import produce_outputs
+    from armanim.runs.pipeline import produce_outputs
 
     try:
         scene = scene_from_bytes(task.raw, task.path, task.name)

@@ -15,10 +15,10 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from armanim.errors import UsageError
 from armanim.output.atomic import interrupts_deferred
-from armanim.workers import init_worker
+from armanim.render.workers import init_worker
 
 _BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-_PRELOAD = ["armanim.pipeline", "armanim.render.draw", "armanim.render.video"]
+_PRELOAD = ["armanim.runs.pipeline", "armanim.render.draw", "armanim.render.video"]
 
 
 @contextlib.contextmanager

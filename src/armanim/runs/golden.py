@@ -13,12 +13,12 @@ from pathlib import Path
 
 from armanim import __version__
 from armanim.errors import SceneError
-from armanim.files import read_bounded
+from armanim.motion.trajectory import solve_trajectory
 from armanim.output.atomic import write_target, write_text_atomic
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
+from armanim.output.files import read_bounded
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
-from armanim.trajectory import solve_trajectory
 
 MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
 

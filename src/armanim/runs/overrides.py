@@ -2,15 +2,15 @@
 
 Plain data: the command line checks each value against the scene's own ``render``
 model before it gets here, so an override accepts exactly what a scene file accepts.
-Pure core: no I/O.
+No I/O.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 
+from armanim.motion.problem import RenderSettings
 from armanim.names import VideoFormat
-from armanim.problem import RenderSettings
 
 
 @dataclass(frozen=True)

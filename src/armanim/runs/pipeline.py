@@ -10,16 +10,16 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from armanim.errors import UsageError
+from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
-from armanim.output.reload import SCENE_COPY
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.summary import summary_dict, write_summary
-from armanim.overrides import RenderOverrides
-from armanim.problem import Problem, RenderSettings
+from armanim.runs.overrides import RenderOverrides
+from armanim.runs.reload import SCENE_COPY
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.models import LIMITS
-from armanim.trajectory import Solution, frame_budget, solve_trajectory
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve" or "render"."""
@@ -159,7 +159,7 @@ def rerender_run(
     OutputError
         The folder was not made by armanim, or an output could not be written (exit 3).
     """
-    from armanim.output.reload import load_run
+    from armanim.runs.reload import load_run
 
     folder = Path(folder)
     if not folder.is_dir():

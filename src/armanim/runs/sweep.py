@@ -16,10 +16,10 @@ from pathlib import Path
 
 import yaml
 
-from armanim.batch import BatchEntry, SceneTask, index_csv_text, run_tasks
 from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
 from armanim.output.csvfile import table_csv_text
+from armanim.runs.batch import BatchEntry, SceneTask, index_csv_text, run_tasks
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
 
@@ -230,7 +230,7 @@ def run_sweep(
     """Run every combination of ``settings`` on a scene as a batch; write each variant's
     outputs under ``out_root/<variant name>/``, the comparison table and ``index.csv``.
 
-    ``progress(done, total, running)`` is called as :func:`armanim.batch.run_tasks` calls it.
+    ``progress(done, total, running)`` is called as :func:`armanim.runs.batch.run_tasks` calls it.
     A variant the scene model rejects is reported in its entry and not run.
     """
     scene_path, out_root = Path(scene_path), Path(out_root)

@@ -10,12 +10,12 @@ import math
 
 import numpy as np
 
-from armanim.cost import clearances
+from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
-from armanim.kinematics import forward
-from armanim.problem import frames_in
+from armanim.motion.problem import frames_in
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import LIMITS, SceneModel
+from armanim.world.distances import clearances
 
 
 def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:

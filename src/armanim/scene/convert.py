@@ -12,9 +12,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from armanim.kinematics import Arm, default_axes
-from armanim.problem import Goal, Limits, Obstacles, Problem, RenderSettings, SolverSettings
+from armanim.arm.kinematics import Arm, default_axes
+from armanim.motion.problem import Goal, Limits, Problem, RenderSettings, SolverSettings
 from armanim.scene.models import ArmModel, RenderModel, SceneModel, SolverModel
+from armanim.world.obstacles import Obstacles
 
 
 def axis_names(scene: SceneModel) -> list[str]:

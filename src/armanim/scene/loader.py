@@ -15,7 +15,7 @@ from pydantic import ValidationError
 
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
-from armanim.files import read_bounded
+from armanim.output.files import read_bounded
 from armanim.scene.checks import as_diagnostics, radian_notes, scene_problems
 from armanim.scene.fieldpaths import YamlDocument, join_path
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem

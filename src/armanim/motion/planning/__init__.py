@@ -16,11 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.motion.planning.follow import path_frames
+from armanim.motion.planning.path import plan_path
+from armanim.motion.planning.poses import goal_poses
+from armanim.motion.problem import Problem
 from armanim.names import MissReason, PathSource
-from armanim.planning.follow import path_frames
-from armanim.planning.path import plan_path
-from armanim.planning.poses import goal_poses
-from armanim.problem import Problem
 
 
 @dataclass(frozen=True)

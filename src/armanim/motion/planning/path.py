@@ -4,7 +4,7 @@ First the straight segment to each of the nearest goal poses; otherwise OMPL's
 RRT-Connect to any of them, then OMPL's path simplification. A motion is free when no
 pose along it comes closer than half of ``solver.clearance`` to an obstacle, certified
 from sampled clearances (:func:`motion_is_free`), and its ends are free poses
-(:func:`armanim.solvers.barrier.pose_is_free`). The frames that follow the path go
+(:func:`armanim.motion.solvers.barrier.pose_is_free`). The frames that follow the path go
 through the safety filter, which keeps the full clearance.
 
 OMPL's random numbers come from one process-wide generator; it is re-seeded with
@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.barrier import point_travel_bound, pose_clearance, pose_is_free, within_limits
 from armanim.names import PathSource
-from armanim.problem import Problem
-from armanim.solvers.barrier import point_travel_bound, pose_clearance, pose_is_free, within_limits
 
 COARSE = 8  # clearances between the first samples of a motion (see motion_is_free)
 STRAIGHT_TRIES = 4  # nearest goal poses tried with a straight segment

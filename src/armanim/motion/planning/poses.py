@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.geometry import wrap_angle
-from armanim.kinematics import forward, tip_jacobian
-from armanim.problem import Problem
-from armanim.solvers.barrier import limit_buffer, pose_is_free
+from armanim.arm.geometry import wrap_angle
+from armanim.arm.kinematics import forward, tip_jacobian
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.barrier import limit_buffer, pose_is_free
 
 SEEDS = 128
 ITERATIONS = 80
@@ -48,12 +48,12 @@ def seed_poses(problem: Problem, phi_now: np.ndarray, count: int, seed: int) -> 
     """(count, n) starts of solves from ``phi_now``: the current pose, its mirrored elbow (every
     joint after the first negated), then seeded uniform poses inside :func:`joint_ranges`.
 
-    The planner's goal-pose seeds and ``armanim ik``'s restarts (:mod:`armanim.ik`).
+    The planner's goal-pose seeds and ``armanim ik``'s restarts (:mod:`armanim.motion.ik`).
     The random poses are rows 2.. of one ``(count, n)`` draw, so that a seed always gives
     the planner the same starts.
 
     >>> from types import SimpleNamespace
-    >>> from armanim.problem import Limits
+    >>> from armanim.motion.problem import Limits
     >>> free = SimpleNamespace(limits=Limits.unlimited(2, margin=0.1))
     >>> seed_poses(free, np.array([0.5, 1.0]), 3, seed=0)[:2].tolist()
     [[0.5, 1.0], [0.5, -1.0]]

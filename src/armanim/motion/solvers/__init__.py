@@ -2,9 +2,9 @@
 
 A method owns only its step: given the problem, the current angles and the goal, its
 step function proposes a joint update (a :class:`Step`). The drivers own the loop: the
-frame loop (:mod:`armanim.trajectory`) owns termination, holds and reached/missed, the
-pose solver (:mod:`armanim.ik`) owns attempts and restarts; both pass every proposal
-through :func:`armanim.solvers.barrier.safe_step` (the safety filter). What a driver must
+frame loop (:mod:`armanim.motion.trajectory`) owns termination, holds and reached/missed, the
+pose solver (:mod:`armanim.motion.ik`) owns attempts and restarts; both pass every proposal
+through :func:`armanim.motion.solvers.barrier.safe_step` (the safety filter). What a driver must
 know of a method is data on its registry entry (:class:`Method`), never a test of its name.
 """
 
@@ -15,12 +15,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.common import ArmState, Step, arm_state
+from armanim.motion.solvers.gradient import gradient_step
+from armanim.motion.solvers.linear import dls_step, pinv_step
+from armanim.motion.solvers.newton import newton_step
 from armanim.names import MethodName
-from armanim.problem import Problem
-from armanim.solvers.common import ArmState, Step, arm_state
-from armanim.solvers.gradient import gradient_step
-from armanim.solvers.linear import dls_step, pinv_step
-from armanim.solvers.newton import newton_step
 
 StepFunction = Callable[[Problem, ArmState, np.ndarray], Step]
 """step_function(problem, state, goal) -> Step: a method's proposal for one frame."""

@@ -28,12 +28,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.cost import min_link_clearance
-from armanim.geometry import wrap_angle
-from armanim.kinematics import forward, point_jacobian
+from armanim.arm.geometry import wrap_angle
+from armanim.arm.kinematics import forward, point_jacobian
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.common import ArmState, arm_state
 from armanim.names import Blocker
-from armanim.problem import Problem
-from armanim.solvers.common import ArmState, arm_state
+from armanim.world.distances import min_link_clearance
 
 GAMMA = 0.5
 """Fraction of the remaining gap to a surface or a limit that one frame may close."""

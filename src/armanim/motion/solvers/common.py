@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.cost import Clearances, clearances
-from armanim.kinematics import Pose, forward, link_point, numeric_jacobian, point_jacobian, tip_jacobian
-from armanim.problem import Problem
+from armanim.arm.kinematics import Pose, forward, link_point, numeric_jacobian, point_jacobian, tip_jacobian
+from armanim.motion.problem import Problem
+from armanim.world.distances import Clearances, clearances
 
 
 @dataclass(frozen=True)

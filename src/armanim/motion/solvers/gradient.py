@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.cost import total_cost, total_cost_gradient
-from armanim.kinematics import numeric_jacobian, tip_jacobian
-from armanim.problem import Problem
-from armanim.solvers.common import ArmState, Step
+from armanim.arm.kinematics import numeric_jacobian, tip_jacobian
+from armanim.motion.cost import total_cost, total_cost_gradient
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.common import ArmState, Step
 
 HALVINGS = 30  # line-search trials: 2**-30 of a step is below any useful resolution
 

@@ -23,9 +23,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from armanim.linalg import pseudo_inverse
-from armanim.problem import Problem
-from armanim.solvers.common import ArmState, Step, jacobian_of_point, task_displacement
+from armanim.arm.linalg import pseudo_inverse
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.common import ArmState, Step, jacobian_of_point, task_displacement
 
 
 def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:

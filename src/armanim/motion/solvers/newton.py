@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.kinematics import Arm, forward, point_hessian, tip_jacobian
-from armanim.problem import Problem
-from armanim.solvers.common import ArmState, Step, task_displacement
+from armanim.arm.kinematics import Arm, forward, point_hessian, tip_jacobian
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.common import ArmState, Step, task_displacement
 
 
 @dataclass(frozen=True)

@@ -10,13 +10,13 @@ import numpy as np
 from pydantic import ValidationError
 
 from armanim.errors import Diagnostic, SceneError
-from armanim.files import read_bounded
+from armanim.motion.problem import Problem
+from armanim.motion.solution import GoalReport, Solution, Trajectory
 from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv
+from armanim.output.files import read_bounded
 from armanim.output.summary import goal_report_from_dict
-from armanim.problem import Problem
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.scene.models import LIMITS, RenderModel
-from armanim.solution import GoalReport, Solution, Trajectory
 
 SCENE_COPY = "scene.yaml"
 MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB
