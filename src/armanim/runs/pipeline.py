@@ -11,6 +11,7 @@ from pathlib import Path
 
 from armanim.errors import UsageError
 from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.resample import at_fps, resample
 from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
@@ -113,14 +114,16 @@ def produce_outputs(
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
     settings = settings_of(scene, render_overrides)
-    problem = scene_to_problem(scene.model, fps=settings.fps)  # the run is solved at the fps it is shown at
-    if settings.fps != scene.model.render.fps:
-        if frame_budget(problem) > LIMITS["total_frames"]:  # holds are seconds, so a higher fps makes more frames
-            raise UsageError(
-                f"--fps {settings.fps:g}: the holds would make up to {frame_budget(problem):,} frames "
-                f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
-            )
-    solution = solve_trajectory(problem, (lambda done, total: progress("solve", done, total)) if progress else None)
+    solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
+    frames = frame_budget(solved) * settings.fps / solved.fps
+    if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
+        raise UsageError(
+            f"--fps {settings.fps:g}: the holds would make up to {int(frames):,} frames "
+            f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
+        )
+    solution = solve_trajectory(solved, (lambda done, total: progress("solve", done, total)) if progress else None)
+    solution = resample(solved, solution, settings.fps)  # the same motion in seconds at the fps it is shown at
+    problem = at_fps(solved, settings.fps)
     summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
     write_bytes_atomic(folder / SCENE_COPY, scene.raw)

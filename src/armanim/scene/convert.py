@@ -79,7 +79,9 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     ----------
     scene : SceneModel
     fps : float, optional
-        Frames per second to solve at, when a command overrides ``render.fps``.
+        Frames per second of the frames the problem describes, when they are not the
+        scene's own (a finished run shown at ``run --fps``). The motion is always solved at
+        ``render.fps`` and sampled at another rate (:func:`armanim.motion.resample.resample`).
 
     Returns
     -------
