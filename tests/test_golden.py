@@ -3,6 +3,7 @@ commands that users put in their CI."""
 
 from __future__ import annotations
 
+import re
 import shutil
 from pathlib import Path
 
@@ -165,3 +166,38 @@ def test_check_quiet_prints_nothing_when_every_trajectory_matches(tmp_path):
     shutil.copy(GOLDEN / "planar-nlink.csv", other / "out-of-reach.csv")
     failed = runner.invoke(app, ["check", str(scene), "--golden", str(other), "-q"])
     assert failed.exit_code == 1 and "out-of-reach:" in failed.stdout and "golden trajectories in" not in failed.stdout
+
+
+def test_a_pass_with_an_edited_scene_says_the_scene_changed(tmp_path):
+    # before: `pass` and nothing else, so the golden file seemed to describe the edited scene
+    scene = tmp_path / "reach.yaml"
+    shutil.copy(ROOT / "scenes" / "out-of-reach.yaml", scene)
+    golden = tmp_path / "golden"
+    assert runner.invoke(app, ["check", str(scene), "--golden", str(golden), "--update"]).exit_code == 0
+    def table_text(result) -> str:  # the table's cells wrap at the terminal's width
+        return " ".join(re.sub(r"[│┃]", " ", result.output).split())
+
+    clean = runner.invoke(app, ["check", str(scene), "--golden", str(golden)])
+    assert clean.exit_code == 0 and "scene changed" not in table_text(clean)
+    scene.write_text(scene.read_text() + "# a comment: the trajectory stays the same\n")
+    edited = runner.invoke(app, ["check", str(scene), "--golden", str(golden)])
+    assert edited.exit_code == 0, edited.output
+    assert re.search(r"pass \(scene changed since .*the golden .*file; .*--update .*records .*it\)", table_text(edited))
+    assert runner.invoke(app, ["check", str(scene), "--golden", str(golden), "--update"]).exit_code == 0
+    assert "scene changed" not in table_text(runner.invoke(app, ["check", str(scene), "--golden", str(golden)]))
+
+
+def test_the_pytest_helper_says_the_scene_changed_in_its_failure(tmp_path):
+    from armanim.testing import assert_trajectory_matches
+
+    scene = tmp_path / "reach.yaml"
+    shutil.copy(ROOT / "scenes" / "out-of-reach.yaml", scene)
+    golden = tmp_path / "golden"
+    assert runner.invoke(app, ["check", str(scene), "--golden", str(golden), "--update"]).exit_code == 0
+    assert_trajectory_matches(scene, golden)  # the same scene: passes, no note needed
+    scene.write_text(scene.read_text().replace("[10, 9, 7]", "[10, 8, 7]"))
+    for where in (golden, golden / "out-of-reach.csv"):  # the folder or the file itself
+        with pytest.raises(AssertionError) as info:
+            assert_trajectory_matches(scene, where)
+        assert "note: reach.yaml changed since the golden file was written" in str(info.value)
+        assert "--update records it" in str(info.value)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from armanim.output.compare import compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv
-from armanim.runs.golden import golden_paths, solve_csv_text
+from armanim.runs.golden import golden_paths, scene_change_note, solve_csv_text
 from armanim.scene import load_scene
 
 
@@ -29,7 +29,9 @@ def assert_trajectory_matches(scene: str | Path, golden: str | Path, *, atol_deg
     ------
     AssertionError
         With the same report as ``armanim compare``: the first differing frame and
-        column, the largest deviation per column, a frame-count mismatch.
+        column, the largest deviation per column, a frame-count mismatch; and, as
+        ``armanim check`` says it, a note when the scene changed since the golden file
+        was written (its ``.json`` beside it records the scene's sha256).
     """
     loaded = load_scene(scene)
     if Path(golden).is_dir():
@@ -38,4 +40,5 @@ def assert_trajectory_matches(scene: str | Path, golden: str | Path, *, atol_deg
     actual = parse_trajectory_csv(solve_csv_text(loaded), f"{scene} (this run)")
     result = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"))
     if not result.equal:
-        raise AssertionError(f"{scene} does not match {golden}:\n{result.report}")
+        note = scene_change_note(loaded, Path(golden).with_suffix(".json"))
+        raise AssertionError(f"{scene} does not match {golden}:\n{result.report}" + (f"\nnote: {note}" if note else ""))

@@ -68,7 +68,9 @@ def check(
         style = STYLES.get(result.status, "red")
         if style == "red":
             failures.append(f"{result.scene.name}: {result.report}")
-        table.add_row(result.scene.name, str(result.golden), f"[{style}]{result.status}[/{style}]")
+        shown = result.status + (" (scene changed since the golden file; --update records it)"
+                                 if result.status == "pass" and result.scene_changed else "")
+        table.add_row(result.scene.name, str(result.golden), f"[{style}]{shown}[/{style}]")
     if not quiet:
         out.print(table)
     for failure in failures:

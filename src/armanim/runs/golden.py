@@ -65,6 +65,15 @@ def _recorded_sha(meta_path: Path) -> str | None:
     return sha if isinstance(sha, str) else None
 
 
+def scene_change_note(scene: LoadedScene, meta_path: Path) -> str | None:
+    """What to say when ``scene`` is not the scene recorded beside its golden file, else None."""
+    recorded = _recorded_sha(meta_path)
+    if recorded is None or recorded == scene.sha256:
+        return None
+    return (f"{scene.path.name} changed since the golden file was written (sha256 {recorded[:12]}... then, "
+            f"{scene.sha256[:12]}... now); --update records it")
+
+
 def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> GoldenResult:
     """Run a scene and compare its trajectory with its golden file."""
     scene = load_scene(scene_path)
@@ -74,12 +83,9 @@ def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, a
     expected = read_trajectory_csv(csv_path)
     actual = parse_trajectory_csv(solve_csv_text(scene), f"{scene.path} (this run)")
     result: Comparison = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"))
-    recorded = _recorded_sha(meta_path)
-    changed = recorded is not None and recorded != scene.sha256
-    report = result.report
-    if changed and not result.equal:
-        report += f"\nnote: {scene.path.name} changed since the golden file was written (sha256 {recorded[:12]}... then, {scene.sha256[:12]}... now)"
-    return GoldenResult(scene, csv_path, "pass" if result.equal else "fail", report, changed)
+    note = scene_change_note(scene, meta_path)
+    report = result.report + (f"\nnote: {note}" if note else "")
+    return GoldenResult(scene, csv_path, "pass" if result.equal else "fail", report, note is not None)
 
 
 def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
