@@ -6,6 +6,7 @@ import csv
 import hashlib
 import io
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -319,3 +320,29 @@ def test_strict_quiet_says_which_goal_was_missed_on_stderr(cli, tmp_path):
     result = cli("run", SCENES / "out-of-reach.yaml", "--out", tmp_path, "--no-video", "--quiet", "--strict")
     assert result.exit_code == 1
     assert result.stdout == "" and "goal 0 missed (out_of_reach)" in result.stderr
+
+
+POCKET = Path(__file__).parent / "data" / "ik-pocket.yaml"
+
+
+def test_ik_falls_back_on_the_planners_free_pose_search_and_says_so(cli, monkeypatch):
+    # before: `ik --scene` gave up where `run` succeeded (the method stalls; the planner finds a pose)
+    import armanim.motion.ik as ik
+    from armanim import load_scene, scene_to_problem
+    from armanim.arm.kinematics import forward
+    from armanim.motion.solvers.barrier import pose_is_free
+
+    problem = scene_to_problem(load_scene(POCKET).model)
+    goal = problem.goals[0].position
+    result = cli("ik", "--scene", POCKET, "--goal", ",".join(map(str, goal)), "--json")
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["converged"] and data["found_by"] == "free_pose_search"
+    phi = np.radians(data["angles_deg"])
+    assert np.linalg.norm(forward(problem.arm, phi).tip - goal) < problem.solver.tolerance  # checked from scratch
+    assert pose_is_free(problem, phi[None])[0]  # inside the limits, every link clear of every sphere
+    text = cli("ik", "--scene", POCKET, "--goal", ",".join(map(str, goal)))
+    assert "free-pose search" in text.stdout + text.stderr
+    monkeypatch.setattr(ik, "free_pose", lambda *args: None)  # the method alone does not get there
+    alone = ik.solve_pose(problem, goal, problem.home)
+    assert alone.status == "not_converged" and alone.found_by == "method"

@@ -31,6 +31,9 @@ MissReason = Literal[
 """Why a goal of a run was missed (explained by :data:`armanim.motion.solution.MISS_REASONS`)."""
 
 PoseStatus = Literal["converged", "not_converged", "numerical"]
+
+PoseFinder = Literal["method", "free_pose_search"]
+"""Who found the pose of ``armanim ik``: the scene's method, or the planner's free-pose search after it."""
 """How one pose solved to convergence (``armanim ik``) ended: within the tolerance; not
 within it when the iterations or restarts ran out; or a linear-algebra failure (NaN, a
 singular matrix, an SVD that did not converge) kept it from getting there."""

@@ -133,6 +133,7 @@ def ik_report(problem, target: np.ndarray, result) -> dict:
         "error": result.distance,
         "steps": result.steps,
         "iterations": result.iterations,
+        "found_by": result.found_by,
     }
     reason = unreached_reason(problem, target, result.status)
     if reason:
@@ -147,6 +148,8 @@ def print_ik_report(data: dict, tolerance: float) -> None:
     """:func:`ik_report` for a terminal."""
     status = "[green]converged[/green]" if data["converged"] else "[red]not converged[/red]"
     out.print(f"{data['method']}: {status}, error {data['error']:.3g} (tolerance {tolerance:g})")
+    if data["found_by"] == "free_pose_search":
+        say("found by the planner's free-pose search: the method alone did not converge from the start pose")
     if "reason" in data:
         say(f"why: {data['reason']}")
     say("angles (deg): " + ", ".join(fmt(v) for v in data["angles_deg"]))

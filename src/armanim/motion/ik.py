@@ -11,7 +11,10 @@ loop, so limits and obstacles hold. An attempt that stalls, e.g. pinned between 
 limits, restarts from the mirrored elbow and then from seeded random poses: the planner's
 starts (:func:`armanim.motion.planning.poses.seed_poses`). A step that
 fails in linear algebra ends its attempt, and an unconverged solve that met one says
-``numerical``. Pure core: no I/O.
+``numerical``. When no attempt converges (and none failed so), the planner's free-pose search (many damped
+least-squares solves at once, :func:`armanim.motion.planning.poses.goal_poses`) looks for a
+free pose at the goal, nearest to the start, as a run does when its method stalls; the
+result says which one found the pose. Pure core: no I/O.
 """
 
 from __future__ import annotations
@@ -20,11 +23,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from armanim.motion.planning.poses import seed_poses
+from armanim.motion.planning.poses import goal_poses, seed_poses
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
-from armanim.names import PoseStatus
+from armanim.names import PoseFinder, PoseStatus
 
 FULL_TURN_PER_ITERATION = np.radians(30.0)
 STALL_ITERATIONS = 15  # steps without progress before a restart
@@ -55,6 +58,9 @@ class PoseSolution:
         Newton iterations (newton only).
     restarts : int
         Attempts after the first.
+    found_by : PoseFinder
+        ``"method"``, or ``"free_pose_search"`` when the method's attempts did not converge
+        and the planner's free-pose search found the pose.
     """
 
     phi: np.ndarray
@@ -65,6 +71,7 @@ class PoseSolution:
     iterations: int
     newton_iterations: int = 0
     restarts: int = 0
+    found_by: PoseFinder = "method"
 
     @property
     def converged(self) -> bool:
@@ -127,6 +134,9 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
     else:
         status = "numerical" if any(a.numerical for a in attempts) else "not_converged"
     newton_iterations = sum(a.newton_iterations for a in attempts)
+    searched = free_pose(problem, goal, best.state.phi) if status == "not_converged" else None
+    if searched is not None:
+        best, status = _Attempt(searched, float(np.linalg.norm(searched.tip - goal)), 0, 0, 0, False), "converged"
     return PoseSolution(
         phi=best.state.phi,
         tip=best.state.tip,
@@ -136,7 +146,15 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
         iterations=sum(a.iterations for a in attempts) - newton_iterations,
         newton_iterations=newton_iterations,
         restarts=len(attempts) - 1,
+        found_by="method" if searched is None else "free_pose_search",
     )
+
+
+def free_pose(problem: Problem, goal: np.ndarray, near: np.ndarray) -> ArmState | None:
+    """The planner's free pose at ``goal`` nearest to ``near`` (inside the limits, every link
+    ``solver.clearance`` from every obstacle, the tip within the tolerance); None if none is found."""
+    found = goal_poses(problem, near, goal)
+    return arm_state(problem, found.poses[0]) if len(found.poses) else None
 
 
 def _attempt(problem: Problem, method: Method, goal: np.ndarray, start: np.ndarray, budget: int) -> _Attempt:
