@@ -6,6 +6,7 @@
     python benchmarks/motion_bench.py --methods pinv,dls --planner off
     python benchmarks/motion_bench.py --list-misses       # one line per feasible goal that was missed
     python benchmarks/motion_bench.py --dump-scene 7 /tmp/scenes   # scene 7 as YAML, for `armanim run`
+    python benchmarks/motion_bench.py --family hard --scenes 24 --planner auto   # the hard family
 
 Scenes. A seeded generator (numpy ``Generator`` from ``--seed`` and the scene's index, so
 scene K is the same whatever ``--scenes`` is) draws random cluttered scenes: arms of 3-7
@@ -66,6 +67,7 @@ AT_LIMIT = 1e-3  # radians: a frame "rests on a limit" when a joint is this clos
 ROUNDING = 1e-9  # slack of the invariants
 GEN_CLEARANCE = 0.3  # the generator keeps home and goal poses this far from every sphere
 GEN_LIMIT_MARGIN = np.radians(20.0)  # ... and home and goal poses this far inside their limits
+HARD_CLEARANCE = 0.12  # the hard family keeps home and goal poses only this far from every sphere
 ORACLE_STARTS = 48
 ORACLE_LIMIT_MARGIN = 1e-4  # radians: "strictly inside the limits"
 ORACLE_PENALTY_TARGET = 0.02  # the search aims for clearance + this
@@ -455,6 +457,88 @@ def draw_scene(rng: np.random.Generator) -> Draft:
     return draft
 
 
+def draw_tight_arm(rng: np.random.Generator) -> Draft:
+    """The hard family's arm: 7 links with mixed axes, a planar arm of 3-7, or the notes' kind;
+    every joint limited, 70-160 degrees of range with home at least 25 inside."""
+    draft = draw_arm(rng)
+    kind = str(rng.choice(["mixed", "planar", "notes"], p=[0.4, 0.35, 0.25]))
+    while draft.kind != kind or (kind == "mixed" and len(draft.links) != 7) or (kind == "planar" and "y" in draft.axes):
+        draft = draw_arm(rng)
+    home = np.degrees(draft.home)
+    draft.limits = [(float(np.floor(h - rng.uniform(25, 80))), float(np.ceil(h + rng.uniform(25, 80)))) for h in home]
+    draft.limits = [(max(lo, -175.0), min(hi, 175.0)) for lo, hi in draft.limits]
+    return draft
+
+
+def sphere_pair_across(rng: np.random.Generator, draft: Draft, a: np.ndarray, b: np.ndarray, size: float) -> list:
+    """Two spheres either side of the segment a-b, leaving a passage 2.5-5 arm widths wide."""
+    middle = a + rng.uniform(0.35, 0.65) * (b - a)
+    along = (b - a) / max(np.linalg.norm(b - a), 1e-9)
+    side = np.cross(along, rng.normal(size=3))
+    side /= max(np.linalg.norm(side), 1e-9)
+    radius = float(rng.uniform(0.4, 1.0) * size)
+    half_gap = rng.uniform(1.25, 2.5) * draft.width
+    return [(middle + s * (half_gap + radius) * side, radius) for s in (-1.0, 1.0)]
+
+
+def sphere_near_goal(rng: np.random.Generator, draft: Draft, pose: np.ndarray, size: float):
+    """A sphere beside the arm in a goal pose, only a few clearances away from it."""
+    center, radius = sphere_near_arm(rng, draft, pose, size)
+    points = joint_points(draft.geometry(), pose)
+    pull = GEN_CLEARANCE + rng.uniform(0.05, 0.6)  # sphere_near_arm leaves this much more than needed
+    direction = center - points[-1]
+    return center - pull * direction / max(np.linalg.norm(direction), 1e-9), radius
+
+
+def place_clutter(rng: np.random.Generator, draft: Draft, goal_poses: list) -> None:
+    """6-12 spheres: passages across the paths, spheres close to goal poses, the rest anywhere.
+
+    A sphere is kept only when home and every goal pose stay HARD_CLEARANCE clear of it."""
+    geo = draft.geometry()
+    tips = [joint_points(geo, p)[-1] for p in [draft.home] + goal_poses]
+    size = float(np.mean(draft.links)) * 0.6
+    poses = [draft.home] + goal_poses
+    for _ in range(int(rng.integers(6, 13))):
+        for _ in range(30):
+            kind = rng.choice(["passage", "near_goal", "across", "anywhere"], p=[0.3, 0.3, 0.2, 0.2])
+            k = int(rng.integers(0, len(tips) - 1))
+            if kind == "passage":
+                candidates = sphere_pair_across(rng, draft, tips[k], tips[k + 1], size)
+            elif kind == "near_goal":
+                candidates = [sphere_near_goal(rng, draft, goal_poses[int(rng.integers(0, len(goal_poses)))], size)]
+            elif kind == "across":
+                candidates = [sphere_across(rng, tips[k], tips[k + 1], size)]
+            else:
+                candidates = [sphere_anywhere(rng, draft, size)]
+            rounded = [(np.round(c, 4), round(float(r), 4)) for c, r in candidates]
+            trial = Draft(**{**draft.__dict__, "spheres": rounded})
+            if poses_clear(trial, poses, HARD_CLEARANCE):
+                draft.spheres.extend(rounded)
+                break
+
+
+def draw_hard_scene(rng: np.random.Generator) -> Draft:
+    """One candidate scene of the hard family: tight limits, 8-12 goals (some at the edge of
+    reach, some close to a sphere), dense clutter and narrow passages."""
+    draft = draw_tight_arm(rng)
+    goal_poses = [random_pose(rng, draft) for _ in range(int(rng.integers(8, 13)))]
+    for k in range(len(goal_poses)):
+        if rng.random() < 0.25:  # at the edge of reach: nearly straight (limits permitting)
+            geo = draft.geometry()
+            straight = np.clip(goal_poses[k] * 0.15, geo.lower + GEN_LIMIT_MARGIN, geo.upper - GEN_LIMIT_MARGIN)
+            goal_poses[k] = np.where(np.isfinite(geo.lower), straight, goal_poses[k])
+    place_clutter(rng, draft, goal_poses)
+    draft.goals = [np.round(joint_points(draft.geometry(), p)[-1], 4) for p in goal_poses]
+    draft.witnesses = list(goal_poses)
+    return draft
+
+
+FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene}
+"""Scene generators by ``--family``: the original distribution, and the hard one of issue 18
+(7-link mixed-axis and planar arms, tight limits everywhere, narrow passages, dense clutter,
+goals near spheres and at the edge of reach, 8-12 goals)."""
+
+
 def armanim_rejects(scene: dict) -> list:
     """armanim's own objections to a scene mapping: pydantic errors or cross-field problems (empty: valid)."""
     try:
@@ -464,7 +548,7 @@ def armanim_rejects(scene: dict) -> list:
     return scene_problems(model)
 
 
-def make_scene(seed: int, index: int) -> Draft:
+def make_scene(seed: int, index: int, family: str = "standard") -> Draft:
     """Scene ``index`` of the benchmark for ``seed``: drawn until armanim accepts it.
 
     Parameters
@@ -472,15 +556,17 @@ def make_scene(seed: int, index: int) -> Draft:
     seed : int
         The benchmark's ``--seed``.
     index : int
-        0-based scene index; the scene depends only on (seed, index).
+        0-based scene index; the scene depends only on (seed, index, family).
+    family : str
+        A key of :data:`FAMILIES`.
 
     Returns
     -------
     Draft
     """
-    rng = np.random.default_rng([seed, index])
+    rng = np.random.default_rng([seed, index] if family == "standard" else [seed, index, 1 + list(FAMILIES).index(family)])
     while True:
-        draft = draw_scene(rng)
+        draft = FAMILIES[family](rng)
         if len(draft.spheres) >= 2 and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
             return draft
 
@@ -686,8 +772,8 @@ def label_scene(draft: Draft, geo: Geometry, seed: int, index: int) -> tuple[lis
 
 def bench_scene(task: tuple) -> SceneResult:
     """Worker: generate scene ``index``, label its goals, solve it with every method and planner setting."""
-    seed, index, methods, planners = task
-    draft = make_scene(seed, index)
+    seed, index, methods, planners, family = task
+    draft = make_scene(seed, index, family)
     geo = oracle_geometry(draft, seed, index)
     start = time.perf_counter()
     verdicts, missed = label_scene(draft, geo, seed, index)
@@ -824,10 +910,10 @@ def print_report(results: list, methods: list, planners: list, list_misses: bool
 # ---------------------------------------------------------------------------------------
 
 
-def dump_scene(seed: int, index: int, folder: Path, methods: list, planners: list) -> None:
+def dump_scene(seed: int, index: int, folder: Path, methods: list, planners: list, family: str = "standard") -> None:
     """Write scene ``index`` as YAML, one file per method (and planner setting when armanim has it)."""
     folder.mkdir(parents=True, exist_ok=True)
-    draft = make_scene(seed, index)
+    draft = make_scene(seed, index, family)
     geo = oracle_geometry(draft, seed, index)
     verdicts, _ = label_scene(draft, geo, seed, index)
     for method in methods:
@@ -848,6 +934,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--methods", default=",".join(METHODS), help="comma-separated methods (default all four)")
     parser.add_argument("--planner", default="auto,off", help="comma-separated planner settings (default auto,off)")
     parser.add_argument("--jobs", type=int, default=1, help="processes over scenes (default 1)")
+    parser.add_argument("--family", choices=sorted(FAMILIES), default="standard",
+                        help="scene distribution: standard, or hard (issue 18: tight limits, passages, dense clutter, 8-12 goals)")
     parser.add_argument("--quick", action="store_true", help="8 scenes, for development")
     parser.add_argument("--list-misses", action="store_true", help="print every feasible goal that was missed")
     parser.add_argument("--dump-scene", nargs=2, metavar=("K", "DIR"), help="write scene K as YAML into DIR and exit")
@@ -876,11 +964,11 @@ def main(argv=None) -> int:
     began = time.perf_counter()
     planners = effective_planners(args.planner)
     if args.dump_scene:
-        dump_scene(args.seed, int(args.dump_scene[0]), Path(args.dump_scene[1]), args.methods, planners)
+        dump_scene(args.seed, int(args.dump_scene[0]), Path(args.dump_scene[1]), args.methods, planners, args.family)
         return 0
     self_test_geometry(np.random.default_rng(12345))
     print("self-test: the oracle's forward kinematics and clearances equal armanim's (1e-9)", file=sys.stderr)
-    tasks = [(args.seed, k, args.methods, planners) for k in range(args.scenes)]
+    tasks = [(args.seed, k, args.methods, planners, args.family) for k in range(args.scenes)]
     results = []
     if args.jobs > 1:
         with multiprocessing.get_context("forkserver").Pool(args.jobs) as pool:
@@ -892,7 +980,7 @@ def main(argv=None) -> int:
             results.append(bench_scene(task))
             report_progress(results[-1], len(results), args.scenes, began)
     results.sort(key=lambda r: r.index)
-    print(f"motion_bench --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner {','.join(planners)}")
+    print(f"motion_bench --family {args.family} --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner {','.join(planners)}")
     broken = print_report(results, args.methods, planners, args.list_misses)
     print(f"\nbenchmark took {time.perf_counter() - began:.1f} s ({args.jobs} job(s))")
     if broken:
