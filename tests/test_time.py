@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from invariants import assert_trajectory_invariants
 from strategies import cluttered_problems
 
+from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal, Problem
 from armanim.motion.resample import at_fps, resample
@@ -96,12 +97,22 @@ def test_a_scene_moves_the_same_in_seconds_at_15_30_and_60_fps(cli, tmp_path, na
         assert abs(duration - summaries[30]["totals"]["duration_s"]) <= 0.05 * duration
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(problem=cluttered_problems(max_goals=2), fps=st.sampled_from([7.0, 15.0, 24.0, 60.0, 90.0]))
 def test_every_resampled_frame_keeps_the_guarantees_at_that_rate(problem, fps):
     solved = solve_trajectory(problem)
     resampled = resample(problem, solved, fps)
-    assert_trajectory_invariants(at_fps(problem, fps), resampled)  # clearance, limits, joint speed, holds, reports
+    shown = at_fps(problem, fps)
+    # clearance, limits, holds, reports; the joint step at most the larger of one frame at this rate
+    # and one solved step (the fallback's bound) ...
+    loose = max(shown.solver.max_joint_step, problem.solver.max_joint_step)
+    assert_trajectory_invariants(replace(shown, solver=replace(shown.solver, max_joint_step=loose)), resampled)
+    # ... and within the speed at this rate, but where a frame shows a solved pose instead of an
+    # in-between one whose chord would cut a surface (docs/scene-format.md, "Frames and goals")
+    phi = resampled.trajectory.phi
+    fast = np.nonzero(np.abs(wrap_angle(np.diff(phi, axis=0))).max(axis=1, initial=0) > shown.solver.max_joint_step + 1e-9)[0]
+    solved_poses = {tuple(row) for row in solved.trajectory.phi}
+    assert all(tuple(phi[k]) in solved_poses or tuple(phi[k + 1]) in solved_poses for k in fast)
     assert [g.reached for g in resampled.goals] == [g.reached for g in solved.goals]
     assert [g.reason for g in resampled.goals] == [g.reason for g in solved.goals]
     assert resampled.trajectory.iterations.sum() == solved.trajectory.iterations.sum()
