@@ -14,7 +14,7 @@ from armanim.names import MissReason, PathSource
 
 MISS_REASONS: dict[MissReason, str] = {
     "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
-    "no_free_pose": "no pose inside the limits and solver.clearance away from every obstacle puts the tip there",
+    "no_free_pose": "no pose inside the limits and 1.1 x solver.clearance (what the filter keeps) away from every obstacle puts the tip there",
     "no_path": "no path to a free pose at the goal was found within the planning budget",
     "blocked_by_obstacle": "blocked by an obstacle",
     "blocked_by_limit": "blocked by a joint limit",

@@ -73,7 +73,7 @@ class _Visit:
     newton_iterations: int = 0
     blocked: list[Blocker | None] = field(default_factory=list)
     path: list = field(default_factory=list)  # planned poses still to follow
-    overrun: int = 0  # frames spent steering to the path's last pose
+    overrun: int = 0  # frames spent waiting for the arm to reach a pose of the path
     planning: PlanningReport | None = None
     reason: MissReason | None = None
 
@@ -186,16 +186,27 @@ def _one_frame(problem, method: Method, rec: _Recorder, state: ArmState, visit: 
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
-    """The next pose of the planned path. Its last pose is kept as the target until the arm
-    is there (the filter may slow the approach near a surface or a limit), for at most a
-    stall window of extra frames, so that the method takes over only at the goal pose."""
+    """The target of this frame on the planned path.
+
+    On schedule the path advances a pose per frame. It never runs ahead of the arm: when the
+    filter holds the arm back (near a surface or a limit), the next pose is kept as the target
+    until the arm is within a frame's step of it, and a path the arm cannot get near for a stall
+    window is dropped (the method takes over, and a stall plans again from where the arm is).
+    The last pose is kept as the target until the arm is there, for at most a stall window, so
+    that the method takes over only at the goal pose."""
+    head = visit.path[0]
     if len(visit.path) > 1:
-        return visit.path.pop(0)
-    last = visit.path[0]
+        if np.abs(joint_offset(problem, state.phi, head)).max() <= problem.solver.max_joint_step * (1 + 1e-9):
+            visit.overrun = 0
+            return visit.path.pop(0)
+        visit.overrun += 1  # the filter holds the arm back: wait for it
+        if visit.overrun > stall_frames(problem):
+            visit.path.clear()
+        return head
     visit.overrun += 1
-    if np.abs(joint_offset(problem, state.phi, last)).max() < ARRIVED or visit.overrun > stall_frames(problem):
+    if np.abs(joint_offset(problem, state.phi, head)).max() < ARRIVED or visit.overrun > stall_frames(problem):
         visit.path.clear()
-    return last
+    return head
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -4,8 +4,8 @@
    inside the limits and at least ``solver.clearance`` from every obstacle;
 2. a path to the nearest of them: the straight joint-space segment, or OMPL's
    RRT-Connect and its simplification (:mod:`.path`);
-3. frames along it, no joint above ``max_joint_step`` per frame, smooth start and stop
-   (:mod:`.follow`).
+3. frames along it, no joint above ``max_joint_step`` per frame, smooth start and stop,
+   and slower where the safety filter's damper would bend the path (:mod:`.follow`).
 
 Pure core: numpy and OMPL, no files, no printing.
 """
@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.motion.planning.follow import path_frames
+from armanim.motion.planning.follow import damper_paced, path_schedule, poses_along
 from armanim.motion.planning.path import plan_path
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Problem
@@ -72,7 +72,8 @@ def plan_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: i
     path = plan_path(problem, phi_now, found.poses)
     if path.waypoints is None:
         return Plan(None, "no_path", len(found.poses), path.source, path.checks)
-    frames = path_frames(path.waypoints, problem.solver.max_joint_step)
+    schedule = damper_paced(problem, path.waypoints, path_schedule(path.waypoints, problem.solver.max_joint_step))
+    frames = poses_along(path.waypoints, schedule)
     return Plan(frames, None, len(found.poses), path.source, path.checks)
 
 

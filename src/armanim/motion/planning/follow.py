@@ -28,13 +28,74 @@ def path_frames(waypoints: np.ndarray, max_joint_step: float) -> np.ndarray:
     >>> len(frames), float(frames[-1, 0]), bool(np.abs(np.diff(frames[:, 0])).max() <= 0.1)
     (15, 1.0, True)
     """
-    legs = np.abs(np.diff(waypoints, axis=0)).max(axis=1)
-    at = np.concatenate([[0.0], np.cumsum(legs)])
-    length = at[-1]
+    return poses_along(waypoints, path_schedule(waypoints, max_joint_step))
+
+
+def path_lengths(waypoints: np.ndarray) -> np.ndarray:
+    """(k,) where each waypoint lies along the path, in the largest joint change from the first."""
+    return np.concatenate([[0.0], np.cumsum(np.abs(np.diff(waypoints, axis=0)).max(axis=1))])
+
+
+def path_schedule(waypoints: np.ndarray, max_joint_step: float) -> np.ndarray:
+    """(F,) how far along the path each frame is: a smoothstep over the path's length, no
+    joint above ``max_joint_step`` per frame; the first frame after the start to the end."""
+    length = path_lengths(waypoints)[-1]
     if length == 0.0:
-        return waypoints[-1:].copy()
+        return np.array([0.0])
     count = int(np.ceil(PEAK_SPEED * length / max_joint_step))
-    s = length * smoothstep(np.arange(1, count + 1) / count)
+    return length * smoothstep(np.arange(1, count + 1) / count)
+
+
+def poses_along(waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """(F, n) the poses ``s`` along the piecewise-linear path ``waypoints`` (see :func:`path_lengths`)."""
+    at = path_lengths(waypoints)
+    legs = np.diff(at)
+    if at[-1] == 0.0:
+        return np.repeat(waypoints[-1:], len(s), axis=0)
     leg = np.clip(np.searchsorted(at, s, side="right") - 1, 0, len(legs) - 1)
     fraction = np.where(legs[leg] > 0, (s - at[leg]) / np.where(legs[leg] > 0, legs[leg], 1.0), 1.0)
     return waypoints[leg] + fraction[:, None] * (waypoints[leg + 1] - waypoints[leg])
+
+
+MAX_SPLITS = 8  # halvings of one frame interval (at most 256 frames in its place)
+
+
+def damper_paced(problem, waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The schedule ``s`` (see :func:`path_schedule`) with frames inserted wherever the safety
+    filter would not take a frame's step as it is.
+
+    The filter's velocity damper lets a frame close at most ``gamma`` of what is left of the gap
+    of each link to each surface and of each joint to its limits, as its linear constraints see
+    it (:mod:`armanim.motion.solvers.barrier`): a path that approaches faster is bent by the
+    filter, and the arm leaves it. Each such frame interval is halved, the new frames on the
+    path itself (not on chords across its corners), so the arm slows near surfaces and limits
+    and stays on the path.
+
+    Parameters
+    ----------
+    problem : Problem
+    waypoints : (k, n) array
+        The path, from the arm's pose.
+    s : (F,) array
+        How far along the path each frame is, increasing.
+
+    Returns
+    -------
+    (F',) array, F' >= F: the same frames with others in between.
+    """
+    from armanim.motion.solvers.barrier import takes_unchanged
+    from armanim.motion.solvers.common import arm_state
+
+    s = np.concatenate([[0.0], s])
+    settled = np.zeros(len(s) - 1, dtype=bool)  # intervals the filter takes as they are
+    for _ in range(MAX_SPLITS):
+        poses = poses_along(waypoints, s)
+        for k in np.nonzero(~settled)[0]:
+            settled[k] = takes_unchanged(problem, arm_state(problem, poses[k]), poses[k + 1] - poses[k])
+        too_fast = np.nonzero(~settled)[0]
+        if not len(too_fast):
+            break
+        s = np.insert(s, too_fast + 1, 0.5 * (s[too_fast] + s[too_fast + 1]))
+        settled = np.insert(settled, too_fast + 1, False)
+        settled[too_fast] = False
+    return s[1:]

@@ -1,11 +1,10 @@
 """A joint-space path from the current pose to one of the goal poses.
 
 First the straight segment to each of the nearest goal poses; otherwise OMPL's
-RRT-Connect to any of them, then OMPL's path simplification. A motion is free when no
-pose along it comes closer than half of ``solver.clearance`` to an obstacle, certified
-from sampled clearances (:func:`motion_is_free`), and its ends are free poses
-(:func:`armanim.motion.solvers.barrier.pose_is_free`). The frames that follow the path go
-through the safety filter, which keeps the full clearance.
+RRT-Connect to any of them, then OMPL's path simplification. A path keeps room above what
+the safety filter keeps (:func:`plan_path`): every pose on it, certified from sampled
+clearances (:func:`motion_is_free`), so that the frames that follow it through the filter
+are not held back.
 
 OMPL's random numbers come from one process-wide generator; it is re-seeded with
 :data:`OMPL_SEED` before every plan, so a plan depends only on its problem, not on what
@@ -20,10 +19,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import point_travel_bound, pose_clearance, pose_is_free, within_limits
+from armanim.motion.solvers.barrier import (
+    kept_clearance,
+    lever_arms,
+    obstacle_rows,
+    planning_floor,
+    point_travel_bound,
+    pose_clearance,
+    settle_clearance,
+    within_limits,
+)
+from armanim.motion.solvers.common import arm_state
 from armanim.names import PathSource
 
 COARSE = 8  # clearances between the first samples of a motion (see motion_is_free)
+CERTIFY_TO = 0.05  # of solver.clearance: a piece of motion this short is certified by its ends
+ESCAPE_TRAVELS = (1, 2, 4, 8, 16)  # clearances of arm travel tried for the step away from a surface
 STRAIGHT_TRIES = 4  # nearest goal poses tried with a straight segment
 OMPL_GOALS = 64  # goal poses handed to RRT-Connect
 OMPL_ITERATIONS = 15000  # planner iterations per search: the budget, counted so that it is deterministic
@@ -60,30 +71,49 @@ def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: floa
     return a + t * (b - a)
 
 
-def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray) -> tuple[bool, int]:
-    """Whether the segment a-b is free, and how many poses were checked.
+def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
+    """Whether no pose on the segment a-b comes closer than ``floor`` to an obstacle (to within
+    ``CERTIFY_TO * solver.clearance / 2``), and how many poses were checked.
 
-    Poses are checked :data:`COARSE` clearances apart first. Clearance changes no faster than
-    the arm's points move, so two neighbours with clearances c1, c2 whose points move at most
-    S between them certify every pose between them when c1 + c2 >= S + d_safe (nothing there
-    comes closer than d_safe / 2 to a surface). Only the others are sampled finely, no point
-    moving more than d_safe between samples. The limits are a box: free ends keep them.
+    Clearance changes no faster than the arm's points move, so two poses with clearances
+    c1, c2 whose points move at most S between them certify every pose between them when
+    c1 + c2 >= S + 2 floor. Poses :data:`COARSE` clearances apart are checked first; a pair
+    they do not certify is halved, level by level, until every piece is certified or shorter
+    than :data:`CERTIFY_TO` clearances, or a pose below ``floor`` is found. The limits are a
+    box: free ends keep them.
     """
     d_safe = problem.solver.clearance
     coarse = motion_samples(problem, a, b, COARSE * d_safe)
     clear = pose_clearance(problem, coarse)
-    if not np.all(clear >= d_safe) or not within_limits(problem, coarse[[0, -1]]).all():
-        return False, len(coarse)
-    step = point_travel_bound(problem, coarse[1] - coarse[0])
-    doubtful = np.nonzero(clear[:-1] + clear[1:] < step + d_safe)[0]
-    if not len(doubtful):
-        return True, len(coarse)
-    fine = np.concatenate([motion_samples(problem, coarse[i], coarse[i + 1], d_safe)[1:-1] for i in doubtful])
-    return bool(np.all(pose_clearance(problem, fine) >= d_safe)), len(coarse) + len(fine)
+    checks = len(coarse)
+    if not np.all(clear >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
+        return False, checks
+    lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
+    levers = lever_arms(problem)
+    while len(lo):
+        travel = np.abs(hi - lo) @ levers
+        doubtful = (c_lo + c_hi < travel + 2 * floor) & (travel > CERTIFY_TO * d_safe)
+        lo, hi, c_lo, c_hi = lo[doubtful], hi[doubtful], c_lo[doubtful], c_hi[doubtful]
+        if not len(lo):
+            break
+        mid = 0.5 * (lo + hi)
+        c_mid = pose_clearance(problem, mid)
+        checks += len(mid)
+        if not np.all(c_mid >= floor):
+            return False, checks
+        lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
+        c_lo, c_hi = np.concatenate([c_lo, c_mid]), np.concatenate([c_mid, c_hi])
+    return True, checks
 
 
 def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray) -> JointPath:
     """A free path from ``start`` to one of ``goals`` (nearest first), or none.
+
+    First with room: to the goal poses with room to settle, every pose of the path at least
+    :func:`~armanim.motion.solvers.barrier.settle_clearance` from every obstacle, so that the
+    filter (which slows every approach to what it keeps) lets the arm follow it; an arm resting
+    closer than that first steps straight away from the surfaces (:func:`escape_pose`). Then,
+    if that finds nothing, to any goal pose at the planning floor.
 
     Parameters
     ----------
@@ -91,25 +121,70 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray) -> JointPa
     start : (n,) array
         The current pose, radians.
     goals : (k, n) array
-        Free goal poses, nearest first.
+        Free goal poses, the roomy ones first, each group nearest first.
     """
+    room = settle_clearance(problem)
+    roomy = goals[pose_clearance(problem, goals) >= room]
+    begin, checks = start, 0
+    if len(roomy) and pose_clearance(problem, start)[0] < room:
+        begin, checks = escape_pose(problem, start, room)
+    if len(roomy) and begin is not None:
+        waypoints, source, used = search_path(problem, begin, roomy, room)
+        checks += used
+        if waypoints is not None:
+            head = [start] if begin is not start else []
+            return JointPath(np.concatenate([np.array(head).reshape(-1, len(start)), waypoints]), source, checks)
+    waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start))
+    return JointPath(waypoints, source, checks + used)
+
+
+def search_path(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float) -> tuple[np.ndarray | None, PathSource, int]:
+    """(waypoints or None, source, checks): the straight segment to one of the first goals,
+    else RRT-Connect to any of them, every pose at least ``floor`` from every obstacle."""
     checks = 0
     for goal in goals[:STRAIGHT_TRIES]:
-        free, used = motion_is_free(problem, start, goal)
+        free, used = motion_is_free(problem, start, goal, floor)
         checks += used
         if free:
-            return JointPath(np.stack([start, goal]), "straight", checks)
+            return np.stack([start, goal]), "straight", checks
     for search in range(OMPL_SEARCHES):
-        waypoints, used = rrt_connect(problem, start, goals[:OMPL_GOALS], search)
+        waypoints, used = rrt_connect(problem, start, goals[:OMPL_GOALS], floor, search)
         gc.collect()  # OMPL's Python callbacks form cycles with its objects: free them now, not at exit
         checks += used
         if waypoints is not None:
-            return JointPath(waypoints, "rrt_connect", checks)
-    return JointPath(None, "none", checks)
+            return waypoints, "rrt_connect", checks
+    return None, "none", checks
 
 
-def rrt_connect(problem: Problem, start: np.ndarray, goals: np.ndarray, search: int = 0) -> tuple[np.ndarray | None, int]:
+def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.ndarray | None, int]:
+    """(pose or None, checks): a pose one short straight move from ``start`` with every link at
+    least ``floor`` from every obstacle, the arm moved along the sum of the clearance gradients
+    of its links closer than that (away from the surfaces it rests at), its points travelling
+    :data:`ESCAPE_TRAVELS` clearances at most; the move itself keeps the planning floor."""
+    state = arm_state(problem, start)
+    rows, _ = obstacle_rows(problem, state, floor - kept_clearance(problem))
+    direction = rows.sum(axis=0)
+    travel = point_travel_bound(problem, direction)
+    checks = 0
+    if not travel > 0:
+        return None, checks
+    for clearances in ESCAPE_TRAVELS:
+        pose = start + direction * (clearances * problem.solver.clearance / travel)
+        checks += 1
+        if not (within_limits(problem, pose[None])[0] and pose_clearance(problem, pose[None])[0] >= floor):
+            continue
+        free, used = motion_is_free(problem, start, pose, planning_floor(problem, start))
+        checks += used
+        if free:
+            return pose, checks
+    return None, checks
+
+
+def rrt_connect(
+    problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, search: int = 0
+) -> tuple[np.ndarray | None, int]:
     """OMPL's RRT-Connect from ``start`` to any of ``goals``, simplified; (path or None, checks).
+    Every pose of the path keeps ``floor`` from every obstacle.
 
     ``search`` picks the random numbers: each value gives another, always the same, search.
     """
@@ -119,7 +194,7 @@ def rrt_connect(problem: Problem, start: np.ndarray, goals: np.ndarray, search: 
     _seed_ompl(search)
     n = len(start)
     checks = [0]
-    space, si, _validator = _space_information(ob, problem, start, checks)  # OMPL borrows the validator: keep it
+    space, si, _validator = _space_information(ob, problem, start, floor, checks)  # OMPL borrows the validator: keep it
     pdef = ob.ProblemDefinition(si)
     pdef.addStartState(_state(space, start))
     targets = ob.GoalStates(si)
@@ -155,9 +230,9 @@ def _seed_ompl(search: int) -> None:
         ou.RNG()  # each RNG made takes the next seed: the planner's RNGs get later ones
 
 
-def _space_information(ob, problem: Problem, start: np.ndarray, checks: list):
-    """OMPL's joint space for the arm, with the free-pose test and the sampled motion check
-    (both counting poses checked into ``checks[0]``); returns (space, si, validator)."""
+def _space_information(ob, problem: Problem, start: np.ndarray, floor: float, checks: list):
+    """OMPL's joint space for the arm, with the free-pose test and the certified motion check
+    at ``floor`` (both counting poses checked into ``checks[0]``); returns (space, si, validator)."""
     n = len(start)
     space = ob.RealVectorStateSpace(n)
     space.setBounds(_bounds(ob, problem, start))
@@ -165,11 +240,12 @@ def _space_information(ob, problem: Problem, start: np.ndarray, checks: list):
 
     def state_is_free(state) -> bool:
         checks[0] += 1
-        return bool(pose_is_free(problem, _array(state, n))[0])
+        phi = _array(state, n)[None]
+        return bool(within_limits(problem, phi)[0] and pose_clearance(problem, phi)[0] >= floor)
 
     class SampledMotions(ob.MotionValidator):
         def checkMotion(self, s1, s2, *_):
-            free, used = motion_is_free(problem, _array(s1, n), _array(s2, n))
+            free, used = motion_is_free(problem, _array(s1, n), _array(s2, n), floor)
             checks[0] += used
             return free
 

@@ -3,7 +3,10 @@
 Damped least squares on the tip, vectorised over the seeds (one batched forward
 kinematics and one batched Jacobian per iteration), limited joints clipped into their
 limits at every iteration. The poses kept are inside the limits with every link at
-least ``solver.clearance`` from every obstacle, nearest to the current pose first.
+least the planning floor from every obstacle (what the safety filter keeps,
+:func:`armanim.motion.solvers.barrier.planning_floor`): the roomy ones first (at least
+:func:`~armanim.motion.solvers.barrier.settle_clearance`, room to settle), then the others,
+each group nearest to the current pose first.
 Pure core: numpy only.
 """
 
@@ -16,7 +19,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward, tip_jacobian
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import limit_buffer, pose_is_free
+from armanim.motion.solvers.barrier import limit_buffer, planning_floor, pose_clearance, settle_clearance, within_limits
 
 SEEDS = 128
 ITERATIONS = 80
@@ -33,8 +36,8 @@ class GoalPoses:
     Attributes
     ----------
     poses : (k, n) array
-        Free poses whose tip is at the goal, nearest to the current pose first
-        (unlimited joints taken the short way round from the current pose).
+        Free poses whose tip is at the goal: those with room to settle first, each group
+        nearest to the current pose first (unlimited joints taken the short way round).
     reachable : bool
         Whether any solve reached the goal at all, limits and obstacles aside: False
         means the goal is out of this arm's reach.
@@ -121,9 +124,11 @@ def goal_poses(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: in
     solved = solve_many(problem, starts, goal)
     hit = np.linalg.norm(forward(problem.arm, solved).tip - goal, axis=-1) < tolerance
     reachable = bool(hit.any()) or _reachable_without_limits(problem, starts, goal, tolerance)
-    free = solved[hit & pose_is_free(problem, solved)]
-    free = nearest_first(problem, phi_now, free)
-    return GoalPoses(poses=free, reachable=reachable)
+    clear = pose_clearance(problem, solved)
+    free = hit & within_limits(problem, solved) & (clear >= planning_floor(problem, phi_now))
+    roomy = clear >= settle_clearance(problem)
+    poses = [nearest_first(problem, phi_now, solved[free & room]) for room in (roomy, ~roomy)]
+    return GoalPoses(poses=np.concatenate(poses), reachable=reachable)
 
 
 def _reachable_without_limits(problem: Problem, starts: np.ndarray, goal: np.ndarray, tolerance: float) -> bool:

@@ -40,6 +40,9 @@ GAMMA = 0.5
 FILTER_MARGIN = 0.1
 """The filter aims at d_safe (1 + FILTER_MARGIN): sliding along a curved surface drops
 below the tangent plane the QP sees, and the margin absorbs that without shortening."""
+SETTLE_MARGIN = 0.2
+"""The planner prefers goal poses at d_safe (1 + SETTLE_MARGIN): what the filter keeps and as
+much again, room for the method to settle to the tolerance without the filter pinning a link."""
 LIMIT_BUFFER = 0.05
 """Joints keep this fraction of ``arm.limit_margin`` from their limits (0.5 degrees by default)."""
 HALVINGS = 30
@@ -137,7 +140,7 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
     n = problem.arm.n
     if state.clearance is None:
         return np.zeros((0, n)), np.zeros(0)
-    target = problem.solver.clearance * (1.0 + FILTER_MARGIN)
+    target = kept_clearance(problem)
     d = state.clearance.links
     links, obstacles = np.nonzero(d - target < travel)
     rows = np.empty((len(links), n))
@@ -158,6 +161,14 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -
     travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(lever_arms(problem))) + 1e-9
     rows, lower = obstacle_rows(problem, state, travel)
     return Constraints(rows, lower, lo, hi)
+
+
+def takes_unchanged(problem: Problem, state: ArmState, dphi: np.ndarray) -> bool:
+    """Whether the filter takes the step ``dphi`` from ``state`` as it is: within the joint-step
+    cap, every linear constraint met (the planner paces its paths with this)."""
+    if not np.abs(dphi).max(initial=0.0) <= problem.solver.max_joint_step * (1 + 1e-9):
+        return False
+    return filter_constraints(problem, state, dphi).violated_by(dphi) is None
 
 
 def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | None:
@@ -259,6 +270,24 @@ def within_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
     lim = problem.limits
     buffer = limit_buffer(problem)
     return np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
+
+
+def kept_clearance(problem: Problem) -> float:
+    """The clearance the filter keeps every link at, d_safe (1 + FILTER_MARGIN): a link closer
+    than that is pushed out, so neither a goal pose nor a planned path may ask for less."""
+    return problem.solver.clearance * (1.0 + FILTER_MARGIN)
+
+
+def settle_clearance(problem: Problem) -> float:
+    """The clearance of the goal poses the planner tries first, d_safe (1 + SETTLE_MARGIN)."""
+    return problem.solver.clearance * (1.0 + SETTLE_MARGIN)
+
+
+def planning_floor(problem: Problem, phi_now: np.ndarray) -> float:
+    """The least clearance a plan from ``phi_now`` may come to: what the filter keeps, or the
+    arm's own clearance now when that is less (a plan out of a pose resting at the margin)."""
+    now = float(pose_clearance(problem, phi_now)[0])
+    return min(kept_clearance(problem), max(now, problem.solver.clearance))
 
 
 def pose_is_free(problem: Problem, phi: np.ndarray) -> np.ndarray:
