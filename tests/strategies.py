@@ -11,6 +11,7 @@ import numpy as np
 from hypothesis import assume
 from hypothesis import strategies as st
 
+from armanim.arm.capsules import joint_capsules
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.scene import default_solver_settings
@@ -79,7 +80,7 @@ def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_
     radii = np.array([draw(st.floats(0.0, 1.0)) for _ in range(m)])
     influence = np.array([draw(st.floats(0.2, 2.0)) for _ in range(m)])
     obstacles = Obstacles(centers=centers, radii=radii, influence=influence)
-    cl = clearances(forward(arm, home), obstacles, half_width)
+    cl = clearances(forward(arm, home), obstacles, joint_capsules(arm, half_width))
     assume(np.all(cl.links > 0.05))
     return obstacles
 
@@ -170,7 +171,7 @@ def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
         radii.append(draw(st.floats(0.1, 0.4)) * max(np.linalg.norm(b - a), 0.5))
     obstacles = Obstacles(np.array(centers), np.array(radii), np.array(radii) + 0.5)
     keep = half_width + solver.clearance
-    cl = clearances(forward(arm, home), obstacles, half_width)
+    cl = clearances(forward(arm, home), obstacles, joint_capsules(arm, half_width))
     assume(np.all(cl.links > solver.clearance))
     goal_gap = np.linalg.norm(tips[1:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
     assume(np.all(goal_gap > keep))

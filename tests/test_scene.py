@@ -336,7 +336,7 @@ def test_goal_list_and_mapping_forms_and_defaults(tmp_path):
     assert scene.name == "defaults"
     assert [g.hold for g in problem.goals] == [0, 0.5]
     np.testing.assert_allclose(problem.arm.axes, [[0, 0, 1], [0, 1, 0]])
-    np.testing.assert_allclose(problem.arm.direction, [0, 0, 1])
+    np.testing.assert_allclose(problem.arm.offsets, [[0, 0, 1], [0, 0, 2]])
     np.testing.assert_allclose(problem.home, 0.0)
     assert not problem.limits.limited.any()
     assert problem.half_width == 0.25
