@@ -107,6 +107,8 @@ def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray
     base = problem.arm.stand
     goals = goal_points(problem)
     obs = problem.obstacles
-    points = np.vstack([joints, base, base - [0.0, 0.0, 2 * hw], obs.centers.reshape(-1, 3), goals])
-    radii = np.concatenate([np.full(len(joints), hw), [BASE_SCALE * hw] * 2, obs.radii, np.zeros(len(goals))])
+    r = BASE_SCALE * problem.half_width
+    foot = base - [0.0, 0.0, 2 * problem.half_width] + r * np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]])
+    points = np.vstack([joints, base, foot, obs.centers.reshape(-1, 3), goals])
+    radii = np.concatenate([np.full(len(joints), hw), [r], np.zeros(len(foot)), obs.radii, np.zeros(len(goals))])
     return points, radii
