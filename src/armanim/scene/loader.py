@@ -222,6 +222,8 @@ def problem_message(err: dict, loc: tuple) -> str:
         return f"must be a point [x, y, z] or {{position: [x, y, z]}} (got {_describe(got)}; a single goal is written goals: [[x, y, z]])"
     if kind in _EXPECTED_TYPES:
         return f"must be {_EXPECTED_TYPES[kind]} (got {_describe(got)})"
+    if kind == "value_error":  # a model's own check (e.g. arm.robot): its message says it all
+        return str(ctx.get("error", err["msg"]))
     if kind == "string_pattern_mismatch":
         return name_problem(got) or f"{got!r} is not a valid name"
     return f"{err['msg'][0].lower()}{err['msg'][1:]} (got {_describe(got)})"

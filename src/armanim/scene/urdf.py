@@ -23,11 +23,13 @@ import numpy as np
 from armanim.arm.chain import ChainJoint, transform
 from armanim.errors import Diagnostic, SceneError
 from armanim.output.files import read_bounded
+from armanim.scene.models import LIMITS
 
 MAX_URDF_BYTES = 4 * 1024 * 1024
 """A URDF without meshes is 10-100 KB; 4 MB leaves room for long comments."""
 MAX_DEPTH = 32
 MAX_ELEMENTS = 200_000
+MAX_JOINTS = LIMITS["links"]  # moving joints on the arm's path: as many as an arm of links may have
 MOVING = ("revolute", "continuous")
 UNSUPPORTED = ("prismatic", "planar", "floating")
 
@@ -282,14 +284,16 @@ def _check_tree(robot: Robot) -> None:
             raise SceneError(file, [Diagnostic("", f"link {joint.child!r} is the child of joints {first.name!r} (line {first.line}) "
                                                    f"and {joint.name!r} (a URDF is a tree: each link has one parent joint)", joint.line)])
         parent[joint.child] = joint
+    rooted: set[str] = set()  # links known to lead up to a root: each link is walked once
     for joint in robot.joints.values():
         seen, link = set(), joint.child
-        while link in parent:
+        while link in parent and link not in rooted:
             if link in seen:
                 raise SceneError(file, [Diagnostic("", f"joints form a cycle through link {link!r} "
                                                        "(a URDF is a tree: follow the parent links to find it)", parent[link].line)])
             seen.add(link)
             link = parent[link].parent
+        rooted |= seen
     roots = [name for name in robot.links if name not in parent]
     if len(roots) != 1:
         names = ", ".join(repr(r) for r in roots[:5])
@@ -311,7 +315,11 @@ def chain_joints(robot: Robot, base: str, tip: str) -> list[ChainJoint]:
             raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} mimics another joint "
                               "(not supported yet: choose another tip_link)", joint.line)
         out.append(ChainJoint(joint.name, joint.origin, joint.axis if joint.kind in MOVING else None))
-    if not any(j.axis is not None for j in out):
+    moving = sum(j.axis is not None for j in out)
+    if moving > MAX_JOINTS:
+        raise robot.error(f"{moving:,} moving joints between {base!r} and {tip!r} (expected at most {MAX_JOINTS}, "
+                          "as for an arm of links)", robot.link_lines[tip])
+    if not moving:
         raise robot.error(f"no revolute or continuous joint between {base!r} and {tip!r} (nothing would move)",
                           robot.link_lines[tip])
     return out
