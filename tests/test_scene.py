@@ -326,7 +326,7 @@ def test_bundled_scenes_load(path):
 
     assert scene.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
     problem = scene_to_problem(scene.model)
-    assert problem.arm.n == len(scene.model.arm.links)
+    assert problem.arm.n == scene.model.arm.joint_count
 
 
 def test_goal_list_and_mapping_forms_and_defaults(tmp_path):

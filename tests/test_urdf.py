@@ -230,3 +230,22 @@ def test_unloaded_urdf_parse_is_fast_enough_to_guard_against_hangs():
     start = time.process_time()
     read_urdf(bundled_robot("panda").urdf)
     assert time.process_time() - start < 5.0  # ~5 ms unloaded: a hang guard, 1000x over
+
+
+def test_robots_command_and_fk_robot_agree_with_the_chain():
+    import json
+
+    from typer.testing import CliRunner
+
+    from armanim.cli import app
+
+    runner = CliRunner()
+    listed = runner.invoke(app, ["robots"])
+    assert listed.exit_code == 0 and "panda_joint7" in listed.stdout and "shoulder_pan_joint" in listed.stdout
+    home = "0,-45,0,-135,0,90,45"
+    fk = runner.invoke(app, ["fk", "--robot", "panda", f"--angles={home}", "--json"])
+    assert fk.exit_code == 0, fk.output
+    problem = scene_to_problem(load_scene(_scene_file("panda")).model)
+    np.testing.assert_allclose(json.loads(fk.stdout)["tip"], forward(problem.arm, problem.home).tip, atol=1e-12)
+    bad = runner.invoke(app, ["fk", "--robot", "pand", "--angles", "0"])
+    assert bad.exit_code == 2 and "robot 'pand' is not bundled" in bad.stderr

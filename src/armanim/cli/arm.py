@@ -37,6 +37,7 @@ def arm_scene(scene: Path | None, links: str | None, base: str | None, axes: str
             raise UsageError(f"{', '.join(flags)} cannot be combined with {chosen} (it defines the arm)")
     if robot is not None:
         return flag_scene({"robot": robot}), None
+    if scene is not None:
         from armanim.scene import load_scene
 
         loaded = load_scene(scene)
