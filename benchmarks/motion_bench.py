@@ -52,6 +52,7 @@ import yaml
 from pydantic import ValidationError
 from scipy.optimize import least_squares
 
+from armanim.arm.capsules import joint_capsules
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene.checks import scene_problems
@@ -188,7 +189,7 @@ def self_test_geometry(rng: np.random.Generator, poses: int = 200) -> None:
         single = forward(arm, phi[0]).points
         assert np.max(np.abs(ours[0] - single)) < 1e-9, "oracle FK differs from armanim's single-pose FK"
         obstacles = Obstacles(centers=geo.centers, radii=geo.radii, influence=geo.radii)
-        armanim_cl = min_link_clearance(forward(arm, phi), obstacles, geo.half_width)
+        armanim_cl = min_link_clearance(forward(arm, phi), obstacles, joint_capsules(arm, geo.half_width))
         assert np.max(np.abs(min_clearance(geo, phi) - armanim_cl)) < 1e-9, "oracle clearance differs from armanim's"
 
 

@@ -172,8 +172,8 @@ def frame_cases(rng: np.random.Generator, problem: Problem, count: int):
     while len(near) < want or len(far) < count - want:
         batch = random_poses(rng, 256, problem.limits)
         pose = forward(problem.arm, batch)
-        ok = min_link_clearance(pose, problem.obstacles, problem.half_width) > 0.05
-        cl = clearances(pose, problem.obstacles, problem.half_width)
+        ok = min_link_clearance(pose, problem.obstacles, problem.capsules) > 0.05
+        cl = clearances(pose, problem.obstacles, problem.capsules)
         inside = np.any(cl.d < problem.obstacles.influence, axis=(-1, -2))
         for phi, good, close in zip(batch, ok, inside):
             if not good:

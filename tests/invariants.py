@@ -36,7 +36,7 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     assert np.all(np.diff(traj.goal) >= 0) and traj.goal[0] == 0
     # every link capsule (and the tip) stays clear of every obstacle, recomputed
     if len(problem.obstacles):
-        cl = clearances(pose, problem.obstacles, problem.half_width)
+        cl = clearances(pose, problem.obstacles, problem.capsules)
         assert np.all(cl.d > 0), float(cl.d.min())
         np.testing.assert_allclose(traj.clearance, cl.links.min(axis=(-1, -2)), atol=1e-12)
         # every link keeps solver.clearance (or, from a home closer than that, gets no closer)

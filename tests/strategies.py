@@ -11,6 +11,7 @@ import numpy as np
 from hypothesis import assume
 from hypothesis import strategies as st
 
+from armanim.arm.capsules import joint_capsules
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.scene import default_solver_settings
@@ -79,7 +80,7 @@ def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_
     radii = np.array([draw(st.floats(0.0, 1.0)) for _ in range(m)])
     influence = np.array([draw(st.floats(0.2, 2.0)) for _ in range(m)])
     obstacles = Obstacles(centers=centers, radii=radii, influence=influence)
-    cl = clearances(forward(arm, home), obstacles, half_width)
+    cl = clearances(forward(arm, home), obstacles, joint_capsules(arm, half_width))
     assume(np.all(cl.links > 0.05))
     return obstacles
 
@@ -170,7 +171,7 @@ def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
         radii.append(draw(st.floats(0.1, 0.4)) * max(np.linalg.norm(b - a), 0.5))
     obstacles = Obstacles(np.array(centers), np.array(radii), np.array(radii) + 0.5)
     keep = half_width + solver.clearance
-    cl = clearances(forward(arm, home), obstacles, half_width)
+    cl = clearances(forward(arm, home), obstacles, joint_capsules(arm, half_width))
     assume(np.all(cl.links > solver.clearance))
     goal_gap = np.linalg.norm(tips[1:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
     assume(np.all(goal_gap > keep))
@@ -184,3 +185,36 @@ def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
         solver=solver,
         fps=30.0,
     )
+
+
+@st.composite
+def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem:
+    """A bundled robot (Panda or UR5) among 1-3 spheres, in metres: goals at the tool point of
+    random poses inside the limits, spheres near the straight paths between them, kept clear
+    of the home capsules and the goals; every method, planner on."""
+    from armanim.scene import scene_to_problem
+    from armanim.scene.models import SceneModel
+    from armanim.world.distances import clearances
+
+    robot = draw(st.sampled_from(robots))
+    base = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
+    arm, lim = base.arm, base.limits
+    lo, hi = np.maximum(lim.lower, -np.pi) + 0.1, np.minimum(lim.upper, np.pi) - 0.1
+    goal_poses = [np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=arm.n, max_size=arm.n))) * (hi - lo) + lo
+                  for _ in range(draw(st.integers(1, max_goals)))]
+    tips = forward(arm, np.array([base.home, *goal_poses])).tip
+    assume(np.all(tips[1:, 2] > 0.05))  # above the floor the robot stands on
+    centers, radii = [], []
+    for a, b in zip(tips[:-1], tips[1:]):
+        t = draw(st.floats(0.3, 0.7))
+        centers.append(a + t * (b - a) + np.array(draw(st.tuples(*(st.floats(-0.1, 0.1) for _ in range(3))))))
+        radii.append(draw(st.floats(0.03, 0.08)))
+    obstacles = Obstacles(np.array(centers), np.array(radii), np.array(radii) + 0.05)
+    solver = default_solver_settings(method=draw(st.sampled_from(METHODS)), max_step=0.02, tolerance=0.005,
+                                     max_frames_per_goal=120, clearance=0.02)
+    cl = clearances(forward(arm, base.home), obstacles, base.capsules)
+    assume(np.all(cl.links > solver.clearance))
+    goal_gap = np.linalg.norm(tips[1:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
+    assume(np.all(goal_gap > 0.1 + solver.clearance))
+    return Problem(arm=arm, half_width=base.half_width, home=base.home, limits=lim, obstacles=obstacles,
+                   goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0, capsules=base.capsules)

@@ -10,6 +10,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 from strategies import problems
 
+from armanim.arm.capsules import joint_capsules
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.cost import (
     goal_term,
@@ -121,19 +122,19 @@ def test_limit_barrier_gradient_matches_central_differences(phi, delta):
 def test_clearance_of_capsules_and_tip():
     arm = Arm.from_names([2.0], axes=["z"], direction="x")  # one link from (0,0,0) to (2,0,0)
     obstacles = Obstacles(np.array([[1.0, 3.0, 0.0], [4.0, 0.0, 0.0]]), np.array([1.0, 0.5]), np.array([1.0, 1.0]))
-    cl = clearances(forward(arm, np.zeros(1)), obstacles, half_width=0.25)
+    cl = clearances(forward(arm, np.zeros(1)), obstacles, joint_capsules(arm, 0.25))
     # link capsule: distance from segment minus obstacle radius minus half width
     np.testing.assert_allclose(cl.d[0], [3.0 - 1.0 - 0.25, 2.0 - 0.5 - 0.25])
     # the tip is a point: no half width
     np.testing.assert_allclose(cl.d[1], [np.hypot(1.0, 3.0) - 1.0, 2.0 - 0.5])
     np.testing.assert_allclose(cl.t[0], [0.5, 1.0])
     np.testing.assert_allclose(cl.normal[0, 0], [0.0, -1.0, 0.0])
-    assert float(min_link_clearance(forward(arm, np.zeros(1)), obstacles, 0.25)) == pytest.approx(1.25)
+    assert float(min_link_clearance(forward(arm, np.zeros(1)), obstacles, joint_capsules(arm, 0.25))) == pytest.approx(1.25)
 
 
 def test_min_link_clearance_without_obstacles_is_infinite():
     arm = Arm.from_names([1.0, 1.0])
-    assert np.all(np.isinf(min_link_clearance(forward(arm, np.zeros((3, 2))), Obstacles.none(), 0.1)))
+    assert np.all(np.isinf(min_link_clearance(forward(arm, np.zeros((3, 2))), Obstacles.none(), joint_capsules(arm, 0.1))))
 
 
 # ------------------------------------------------------------ the total cost
@@ -160,7 +161,7 @@ def test_total_cost_is_the_sum_of_its_weighted_terms():
     goal = problem.goals[0].position
     phi = np.radians([30.0, 40.0, 60.0, 140.0])
     pose = forward(problem.arm, phi)
-    cl = clearances(pose, problem.obstacles, problem.half_width)
+    cl = clearances(pose, problem.obstacles, problem.capsules)
     expected = (
         2.0 * np.linalg.norm(pose.tip - goal)
         + 3.0 * obstacle_field(cl.d, problem.obstacles.influence).sum()
@@ -186,7 +187,7 @@ def smooth_at(problem: Problem, phi: np.ndarray, goal: np.ndarray, margin: float
     if np.linalg.norm(pose.tip - goal) < margin:
         return False
     if len(problem.obstacles):
-        d = clearances(pose, problem.obstacles, problem.half_width).d
+        d = clearances(pose, problem.obstacles, problem.capsules).d
         if np.any(d <= 0.05) or np.any(np.abs(d - problem.obstacles.influence) < margin):
             return False
     lim = problem.limits
@@ -227,7 +228,7 @@ def test_total_cost_gradient_with_active_obstacle_and_limit():
     problem = replace(problem, obstacles=obstacles)
     goal = problem.goals[0].position
     assert smooth_at(problem, phi, goal)
-    cl = clearances(pose, obstacles, problem.half_width)
+    cl = clearances(pose, obstacles, problem.capsules)
     assert np.any(cl.d < obstacles.influence)
     h = 1e-6
     numeric = np.array(

@@ -172,7 +172,7 @@ PUBLISHED = {
 def test_point_jacobian_of_tip_equals_published_P_prime(n):
     arm = planar(n)
     pose = forward(arm, np.zeros(n))
-    jac = point_jacobian(arm, pose, n - 1, 1.0)
+    jac = point_jacobian(arm, pose, n - 1, pose.tip)
     np.testing.assert_allclose(jac[:2], PUBLISHED[n]["P1"], atol=1e-9)
     np.testing.assert_allclose(jac[2], 0.0, atol=1e-12)
     np.testing.assert_allclose(tip_jacobian(arm, pose), jac, atol=0)
@@ -181,7 +181,8 @@ def test_point_jacobian_of_tip_equals_published_P_prime(n):
 @pytest.mark.parametrize("n", [1, 2, 4])
 def test_point_hessian_of_tip_equals_published_P_double_prime(n):
     arm = planar(n)
-    hess = point_hessian(arm, forward(arm, np.zeros(n)), n - 1, 1.0)  # (3, n, n)
+    pose = forward(arm, np.zeros(n))
+    hess = point_hessian(arm, pose, n - 1, pose.tip)  # (3, n, n)
     published = np.array(PUBLISHED[n]["P2"], dtype=float).reshape(n, 2, n)  # [i, xy, j]
     np.testing.assert_allclose(hess[:2].transpose(1, 0, 2), published, atol=1e-9)
     np.testing.assert_allclose(hess[2], 0.0, atol=1e-12)
@@ -200,9 +201,10 @@ def test_batched_fk_equals_one_by_one(arm, frames, rnd):
         one = forward(arm, phi[k])
         np.testing.assert_allclose(batch.points[k], one.points, atol=1e-12)
         np.testing.assert_allclose(batch.frames[k], one.frames, atol=1e-12)
-    jac = point_jacobian(arm, batch, arm.n - 1, 0.5)
+    jac = point_jacobian(arm, batch, arm.n - 1, link_point(batch, arm.n - 1, 0.5))
     for k in range(frames):
-        np.testing.assert_allclose(jac[k], point_jacobian(arm, forward(arm, phi[k]), arm.n - 1, 0.5), atol=1e-12)
+        one = forward(arm, phi[k])
+        np.testing.assert_allclose(jac[k], point_jacobian(arm, one, arm.n - 1, link_point(one, arm.n - 1, 0.5)), atol=1e-12)
 
 
 def test_fk_accepts_2d_batch_shape():
@@ -238,7 +240,8 @@ def test_point_jacobian_of_any_point_matches_central_differences(ap, data):
     arm, phi = ap
     link = data.draw(st.integers(0, arm.n - 1))
     t = data.draw(st.floats(0.0, 1.0))
-    analytic = point_jacobian(arm, forward(arm, phi), link, t)
+    pose = forward(arm, phi)
+    analytic = point_jacobian(arm, pose, link, link_point(pose, link, t))
     numeric = central_jacobian(lambda p: link_point(forward(arm, p), link, t), phi)
     np.testing.assert_allclose(analytic, numeric, atol=1e-7 * max(1.0, arm.reach))
     np.testing.assert_array_equal(analytic[:, link + 1 :], 0.0)
@@ -249,8 +252,9 @@ def test_point_hessian_matches_central_differences_of_the_jacobian(ap, data):
     arm, phi = ap
     link = data.draw(st.integers(0, arm.n - 1))
     t = data.draw(st.floats(0.0, 1.0))
-    hess = point_hessian(arm, forward(arm, phi), link, t)
-    numeric = central_jacobian(lambda p: point_jacobian(arm, forward(arm, p), link, t), phi, h=1e-5)
+    pose = forward(arm, phi)
+    hess = point_hessian(arm, pose, link, link_point(pose, link, t))
+    numeric = central_jacobian(lambda p: _link_point_jacobian(arm, forward(arm, p), link, t), phi, h=1e-5)
     np.testing.assert_allclose(hess, numeric, atol=1e-6 * max(1.0, arm.reach))
     np.testing.assert_allclose(hess, np.swapaxes(hess, 1, 2), atol=1e-12)
 
@@ -306,3 +310,7 @@ def test_segment_distance_and_closest_point():
     assert float(closest_on_segment(a, b, np.array([-1.0, 1, 0]))) == 0.0
     assert float(closest_on_segment(a, b, np.array([5.0, 1, 0]))) == 1.0
     assert float(closest_on_segment(a, a, np.array([3.0, 4, 0]))) == 0.0  # a point: any t, 0 by convention
+
+
+def _link_point_jacobian(arm, pose, link, t):
+    return point_jacobian(arm, pose, link, link_point(pose, link, t))

@@ -69,7 +69,7 @@ def notes_problem(obstacles=(), goals=((7.0, 0.0, 9.0),), method="pinv", planner
 @pytest.mark.parametrize("method", sorted(METHODS))
 def test_arm_resting_on_a_sphere_reaches_the_goal_on_its_far_side(method):
     problem = notes_problem(CONTACT, method=method)
-    assert float(min_link_clearance(forward(problem.arm, problem.home), problem.obstacles, 0.25)) == pytest.approx(0.05)
+    assert float(min_link_clearance(forward(problem.arm, problem.home), problem.obstacles, problem.capsules)) == pytest.approx(0.05)
     solution = solve_trajectory(problem)
     assert solution.goals[0].reached, solution.goals[0]
     assert_trajectory_invariants(problem, solution)

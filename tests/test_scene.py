@@ -326,7 +326,7 @@ def test_bundled_scenes_load(path):
 
     assert scene.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
     problem = scene_to_problem(scene.model)
-    assert problem.arm.n == len(scene.model.arm.links)
+    assert problem.arm.n == scene.model.arm.joint_count
 
 
 def test_goal_list_and_mapping_forms_and_defaults(tmp_path):
@@ -336,7 +336,7 @@ def test_goal_list_and_mapping_forms_and_defaults(tmp_path):
     assert scene.name == "defaults"
     assert [g.hold for g in problem.goals] == [0, 0.5]
     np.testing.assert_allclose(problem.arm.axes, [[0, 0, 1], [0, 1, 0]])
-    np.testing.assert_allclose(problem.arm.direction, [0, 0, 1])
+    np.testing.assert_allclose(problem.arm.offsets, [[0, 0, 1], [0, 0, 2]])
     np.testing.assert_allclose(problem.home, 0.0)
     assert not problem.limits.limited.any()
     assert problem.half_width == 0.25

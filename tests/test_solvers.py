@@ -155,7 +155,7 @@ def test_safe_step_stops_before_an_obstacle():
     assert moved.blocked_by == "obstacle"
     from armanim.world.distances import min_link_clearance
 
-    assert float(min_link_clearance(forward(problem.arm, moved.phi), obstacles, 0.25)) >= problem.solver.clearance
+    assert float(min_link_clearance(forward(problem.arm, moved.phi), obstacles, problem.capsules)) >= problem.solver.clearance
     assert 0 < moved.phi[0] < np.pi / 2
 
 
@@ -233,13 +233,13 @@ def test_ik_restarts_from_the_planner_seed_poses(monkeypatch):
     from armanim.motion.planning.poses import seed_poses
 
     seen = []
-    jacobian_of_point = armanim.motion.solvers.linear.jacobian_of_point
+    jacobian_of_tip = armanim.motion.solvers.linear.jacobian_of_tip
 
-    def recording(problem, phi, pose, link, t):
+    def recording(problem, phi, pose):
         seen.append(np.array(phi))
-        return jacobian_of_point(problem, phi, pose, link, t)
+        return jacobian_of_tip(problem, phi, pose)
 
-    monkeypatch.setattr(armanim.motion.solvers.linear, "jacobian_of_point", recording)
+    monkeypatch.setattr(armanim.motion.solvers.linear, "jacobian_of_tip", recording)
     problem = planar_ik_problem("pinv")
     start = np.radians([10.0, 20.0, 30.0, 40.0])
     result = solve_pose(problem, np.array([10.0, 0.0, 0.0]), start, max_iterations=1000)  # out of reach

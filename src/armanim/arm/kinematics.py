@@ -1,9 +1,9 @@
 """THE forward kinematics of armanim and its Jacobians (the pseudo-inverse is in :mod:`armanim.arm.linalg`).
 
-The chain of the contract: joint i sits at p_i with world rotation
-R_i = R_{i-1} Rot(a_i, phi_i) (R_0 = I), p_1 = base and
-p_{i+1} = p_i + R_i (l_i d). The tip is e = p_{n+1}. For the default arm this is
-the course notes' chain T01 = [Rz(phi1), p1], T12 = [Ry(phi2), t_z(l1)], ...
+The chain (:class:`Arm`): joint i sits at p_i with world rotation
+R_i = R_{i-1} T_{i-1} Rot(a_i, phi_i), p_1 = base and p_{i+1} = p_i + R_i o_i. The tip
+is e = p_{n+1}. For the default arm (o_i = l_i d, no T) this is the course notes' chain
+T01 = [Rz(phi1), p1], T12 = [Ry(phi2), t_z(l1)], ...
 
 Pure core: numpy only, radians only, no I/O. Everything that needs joint
 positions (solvers, cost, renderer, CLI) calls :func:`forward`.
@@ -23,44 +23,73 @@ _IDENTITY = np.eye(3)
 
 @dataclass(frozen=True)
 class Arm:
-    """An articulated arm: serial revolute joints, straight links.
+    """A serial chain of revolute joints: each joint turns about its own axis, then a fixed
+    transform carries its frame to the next joint (or, after the last, to the tip).
+
+    Joint i sits at p_i with world rotation R_i = R_{i-1} T_{i-1} Rot(a_i, phi_i), where
+    R_0 = ``base_rotation`` and T_i = ``turns[i]``; p_1 = ``base`` and
+    p_{i+1} = p_i + R_i o_i with o_i = ``offsets[i]``. The tip is p_{n+1}. Today's arms
+    (:meth:`from_names`) are the special case o_i = l_i d, no turns, no base rotation; a URDF
+    chain (fixed joints folded into the next origin) is the general one.
 
     Parameters
     ----------
     base : (3,) array
         World position of joint 1.
-    links : (n,) array
-        Link lengths; link i runs from joint i to joint i+1.
     axes : (n, 3) array
         Unit rotation axis of each joint, in the joint's own frame.
-    direction : (3,) array
-        Unit vector, in each joint's frame, along which its link extends.
+    offsets : (n, 3) array
+        From joint i to joint i+1 (the last: to the tip), in joint i's frame, after it turned.
+    base_rotation : (3, 3) array or None
+        World rotation of joint 1's frame before it turns; None: the identity.
+    turns : (n, 3, 3) array or None
+        Rotation from joint i's frame to joint i+1's (the last: to the tool frame); None: all identity.
+    joint_names : tuple of str
+        One name per joint (a URDF's), or empty.
+    mount : (3,) array or None
+        World position of the robot's base link, where it stands (a URDF arm's first joint
+        may sit above it); None: ``base``.
     """
 
     base: np.ndarray
-    links: np.ndarray
     axes: np.ndarray
-    direction: np.ndarray
+    offsets: np.ndarray
+    base_rotation: np.ndarray | None = None
+    turns: np.ndarray | None = None
+    joint_names: tuple[str, ...] = ()
+    mount: np.ndarray | None = None
     _k: np.ndarray = field(init=False, repr=False, compare=False)
     _k2: np.ndarray = field(init=False, repr=False, compare=False)
-    _offsets: np.ndarray = field(init=False, repr=False, compare=False)
+    _links: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        for name in ("base", "links", "axes", "direction"):
-            object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
+        for name in ("base", "axes", "offsets", "base_rotation", "turns", "mount"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, np.asarray(value, dtype=float))
         k = np.stack([skew(a) for a in self.axes])
         object.__setattr__(self, "_k", k)
         object.__setattr__(self, "_k2", k @ k)
-        object.__setattr__(self, "_offsets", self.links[:, None] * self.direction[None, :])
+        object.__setattr__(self, "_links", np.sqrt((self.offsets * self.offsets).sum(axis=1)))
 
     @property
     def n(self) -> int:
-        """Number of joints (= number of links)."""
-        return len(self.links)
+        """Number of joints."""
+        return len(self.axes)
+
+    @property
+    def stand(self) -> np.ndarray:
+        """(3,) where the robot stands: ``mount``, or joint 1 for an arm of links."""
+        return self.base if self.mount is None else self.mount
+
+    @property
+    def links(self) -> np.ndarray:
+        """(n,) |o_i|: the distance from joint i to joint i+1 (the last: to the tip)."""
+        return self._links
 
     @property
     def reach(self) -> float:
-        """Sum of the link lengths: no tip is farther than this from the base."""
+        """Sum of the link lengths: no tip is farther than this from joint 1."""
         return float(self.links.sum())
 
     @classmethod
@@ -71,7 +100,7 @@ class Arm:
         axes: list[str] | None = None,
         direction: str = "z",
     ) -> Arm:
-        """Build an arm from axis names, with the contract's default axes (z, then y).
+        """Build an arm of straight links along ``direction``, with the contract's default axes (z, then y).
 
         >>> Arm.from_names([2, 5, 5, 5], base=(5, 5, 0)).n
         4
@@ -80,9 +109,8 @@ class Arm:
         names = axes if axes is not None else default_axes(n)
         return cls(
             base=np.asarray(base, dtype=float),
-            links=np.asarray(links, dtype=float),
             axes=np.stack([axis_vector(a) for a in names]),
-            direction=axis_vector(direction),
+            offsets=np.asarray(links, dtype=float)[:, None] * axis_vector(direction)[None, :],
         )
 
 
@@ -152,12 +180,19 @@ def forward(arm: Arm, phi: np.ndarray) -> Pose:
     frames = np.empty(batch + (arm.n, 3, 3))
     points = np.empty(batch + (arm.n + 1, 3))
     points[..., 0, :] = arm.base
-    rot = np.broadcast_to(np.eye(3), batch + (3, 3))
+    rot = np.broadcast_to(_start_rotation(arm), batch + (3, 3))
     for i in range(arm.n):
         rot = rot @ local[..., i, :, :]
         frames[..., i, :, :] = rot
-        points[..., i + 1, :] = points[..., i, :] + rot @ arm._offsets[i]
+        points[..., i + 1, :] = points[..., i, :] + rot @ arm.offsets[i]
+        if arm.turns is not None:
+            rot = rot @ arm.turns[i]
     return Pose(points=points, frames=frames)
+
+
+def _start_rotation(arm: Arm) -> np.ndarray:
+    """R_0: the world rotation of joint 1's frame before it turns."""
+    return _IDENTITY if arm.base_rotation is None else arm.base_rotation
 
 
 def joint_rotations(arm: Arm, phi: np.ndarray) -> np.ndarray:
@@ -182,11 +217,13 @@ def _forward_one(arm: Arm, phi: np.ndarray) -> Pose:
     frames = np.empty((arm.n, 3, 3))
     points = np.empty((arm.n + 1, 3))
     points[0] = arm.base
-    rot = _IDENTITY
+    rot = _start_rotation(arm)
     for i in range(arm.n):
         rot = rot @ local[i]
         frames[i] = rot
-        points[i + 1] = points[i] + rot @ arm._offsets[i]
+        points[i + 1] = points[i] + rot @ arm.offsets[i]
+        if arm.turns is not None:
+            rot = rot @ arm.turns[i]
     return Pose(points=points, frames=frames, axes=(frames @ arm.axes[:, :, None])[:, :, 0])
 
 
@@ -203,8 +240,8 @@ def link_point(pose: Pose, link: int, t: float) -> np.ndarray:
     return a + t * (pose.points[..., link + 1, :] - a)
 
 
-def point_jacobian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarray:
-    """Analytic Jacobian d q / d phi of a point q carried by link ``link``.
+def point_jacobian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.ndarray:
+    """Analytic Jacobian d q / d phi of a point q carried by joint ``link``'s frame.
 
     Column j is w_j x (q - p_j) for the joints j <= link that move the point, and 0
     for the joints after it.
@@ -213,24 +250,24 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarra
     ----------
     arm, pose : the arm and its pose from :func:`forward` (single or batched).
     link : int
-        0-based link index carrying the point.
-    t : float
-        Fraction along the link, 0 at joint ``link``, 1 at joint ``link + 1``.
+        0-based index of the joint whose frame carries the point (link i runs from joint i).
+    point : (..., 3) array
+        Where the point is, in the world (e.g. ``link_point(pose, link, t)``).
 
     Returns
     -------
     (..., 3, n) array
 
     >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
-    >>> point_jacobian(arm, forward(arm, np.zeros(2)), link=1) + 0.0
+    >>> pose = forward(arm, np.zeros(2))
+    >>> point_jacobian(arm, pose, 1, pose.tip) + 0.0
     array([[0., 0.],
            [2., 1.],
            [0., 0.]])
     """
-    q = link_point(pose, link, t)
     w = joint_axes_world(arm, pose)
     jac = np.zeros(pose.points.shape[:-2] + (3, arm.n))
-    lever = q[..., None, :] - pose.points[..., : link + 1, :]
+    lever = point[..., None, :] - pose.points[..., : link + 1, :]
     jac[..., :, : link + 1] = np.swapaxes(cross(w[..., : link + 1, :], lever), -1, -2)
     return jac
 
@@ -238,23 +275,23 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarra
 def tip_jacobian(arm: Arm, pose: Pose) -> np.ndarray:
     """Analytic Jacobian of the tip, (..., 3, n): the course notes' Eq. 14.
 
-    :func:`point_jacobian` at the end of the last link, where every joint moves the
-    point, written without the masking (it runs every frame).
+    :func:`point_jacobian` at the tip, where every joint moves the point, written
+    without the masking (it runs every frame).
     """
     lever = pose.tip[..., None, :] - pose.points[..., :-1, :]
     return np.swapaxes(cross(joint_axes_world(arm, pose), lever), -1, -2)
 
 
-def point_hessian(arm: Arm, pose: Pose, link: int, t: float = 1.0) -> np.ndarray:
-    """Second derivatives d^2 q / d phi_i d phi_j of a point on a link, shape (3, n, n).
+def point_hessian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.ndarray:
+    """Second derivatives d^2 q / d phi_i d phi_j of a point carried by joint ``link``'s frame,
+    shape (3, n, n); ``point`` (3,) is where it is in the world.
 
     For i <= j <= link: w_i x (w_j x (q - p_j)), symmetric in i, j; zero for joints
     after ``link``. These are the n-link assignment's P'' blocks. Single pose only.
     """
-    q = link_point(pose, link, t)
     w = joint_axes_world(arm, pose)
     k = link + 1
-    d = cross(w[:k], q - pose.points[:k])  # (k, 3): column j of the Jacobian
+    d = cross(w[:k], point - pose.points[:k])  # (k, 3): column j of the Jacobian
     second = cross(w[:k, None, :], d[None, :, :])  # [i, j] = w_i x (w_j x (q - p_j))
     upper = np.triu(np.ones((k, k), dtype=bool))  # i <= j
     block = np.where(upper[..., None], second, np.swapaxes(second, 0, 1))

@@ -16,19 +16,28 @@ SceneOpt = Annotated[Path | None, typer.Option("--scene", help="Take the arm (an
 LinksOpt = Annotated[str | None, typer.Option("--links", help="Link lengths, e.g. 2,5,5,5 (default: four unit links).")]
 BaseOpt = Annotated[str | None, typer.Option("--base", help="Base position x,y,z (default 0,0,0).")]
 AxesOpt = Annotated[str | None, typer.Option("--axes", help="Joint axes, e.g. z,y,y,y (default: z, then y).")]
+RobotOpt = Annotated[str | None, typer.Option("--robot", help="A bundled robot (armanim robots lists them), e.g. panda.")]
 DirOpt = Annotated[str | None, typer.Option("--direction", help="Local axis the links extend along: x, y or z (default z).")]
 
 
-def arm_scene(scene: Path | None, links: str | None, base: str | None, axes: str | None, direction: str | None):
-    """The scene model of ``fk``/``ik``: loaded from ``--scene`` or made of the arm flags (not both).
+def arm_scene(scene: Path | None, links: str | None, base: str | None, axes: str | None, direction: str | None,
+              robot: str | None = None):
+    """The scene model of ``fk``/``ik``: loaded from ``--scene``, a bundled ``--robot``, or made
+    of the arm flags (one of the three).
 
     Returns the model and the loaded scene (None when the arm came from flags: its goal
     is a placeholder and it has no file).
     """
-    if scene is not None:
+    if scene is not None or robot is not None:
         flags = [f for f, v in (("--links", links), ("--base", base), ("--axes", axes), ("--direction", direction)) if v]
+        chosen = "--scene" if scene is not None else "--robot"
+        if scene is not None and robot is not None:
+            flags.append("--robot")
         if flags:
-            raise UsageError(f"{', '.join(flags)} cannot be combined with --scene (the scene defines the arm)")
+            raise UsageError(f"{', '.join(flags)} cannot be combined with {chosen} (it defines the arm)")
+    if robot is not None:
+        return flag_scene({"robot": robot}), None
+    if scene is not None:
         from armanim.scene import load_scene
 
         loaded = load_scene(scene)
@@ -81,4 +90,6 @@ def flag_scene(arm: dict):
         return SceneModel.model_validate({"version": 1, "arm": arm, "goals": [goal]})
     except ValidationError as exc:
         first = exc.errors()[0]
-        raise UsageError(f"--{first['loc'][1]}: {first['msg']}") from None
+        flag = first["loc"][1] if len(first["loc"]) > 1 else next(iter(arm))
+        message = first["ctx"]["error"] if first["type"] == "value_error" else first["msg"]
+        raise UsageError(f"--{flag}: {message}") from None

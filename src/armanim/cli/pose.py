@@ -12,7 +12,7 @@ import typer
 from rich.table import Table
 
 from armanim.cli.app import app, err, fmt, handle_errors, out, say
-from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, SceneOpt, arm_scene
+from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
 from armanim.cli.options import parse_lengths, parse_numbers
 from armanim.errors import UsageError
 
@@ -26,18 +26,19 @@ def fk(
     base: BaseOpt = None,
     axes: AxesOpt = None,
     direction: DirOpt = None,
+    robot: RobotOpt = None,
     radians: Annotated[bool, typer.Option("--radians", help="Angles are in radians.")] = False,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON: angles_deg, joints (base to tip), tip.")] = False,
     png: Annotated[Path | None, typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
 ) -> None:
     """Forward kinematics of one pose: joint positions and the tip.
 
-    Example: [bold]armanim fk --angles 0,30,45,10 --links 2,5,5,5 --base 5,5,0[/bold]
+    Example: [bold]armanim fk --angles 0,30,45,10 --links 2,5,5,5 --base 5,5,0[/bold], or [bold]armanim fk --robot panda --angles=0,-45,0,-135,0,90,45[/bold]
     """
     from armanim.arm.kinematics import forward
     from armanim.scene import scene_to_problem
 
-    model, loaded = arm_scene(scene, links, base, axes, direction)
+    model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     problem = scene_to_problem(model)
     values = parse_numbers(angles, "--angles", problem.arm.n)
     phi = values if radians else np.radians(values)
@@ -79,6 +80,7 @@ def ik(
     base: BaseOpt = None,
     axes: AxesOpt = None,
     direction: DirOpt = None,
+    robot: RobotOpt = None,
     method: Annotated[str | None, typer.Option("--method", help="pinv, dls, newton or gradient (default: the scene's, else pinv).")] = None,
     start: Annotated[str | None, typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")] = None,
     tolerance: Annotated[float | None, typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001).")] = None,
@@ -91,7 +93,7 @@ def ik(
     """
     from armanim.motion.ik import solve_pose
 
-    model, loaded = arm_scene(scene, links, base, axes, direction)
+    model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     problem = ik_problem(model, method, tolerance, from_flags=loaded is None)
     target = parse_lengths(goal, "--goal", 3)
     phi0 = np.radians(parse_numbers(start, "--from", problem.arm.n)) if start else problem.home

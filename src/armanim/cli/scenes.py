@@ -40,9 +40,15 @@ def validate(
 
 
 def scene_counts(model) -> str:
-    """``4 links, 1 goal, 0 obstacles``."""
-    counts = ((len(model.arm.links), "link"), (len(model.goals), "goal"), (len(model.obstacles), "obstacle"))
-    return ", ".join(plural(count, word) for count, word in counts)
+    """``4 links, 1 goal, 0 obstacles``; a URDF arm names its joints: ``7 joints (panda_joint1 .. panda_joint7), ...``."""
+    arm = model.arm
+    if arm.is_urdf:
+        names = arm._robot.joint_names
+        first = f"{plural(len(names), 'joint')} ({', '.join(names)})"
+    else:
+        first = plural(len(arm.links), "link")
+    counts = ((len(model.goals), "goal"), (len(model.obstacles), "obstacle"))
+    return ", ".join([first] + [plural(count, word) for count, word in counts])
 
 
 @app.command()

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.arm.kinematics import Arm, Pose, forward, point_jacobian, tip_jacobian
+from armanim.arm.capsules import Capsules, capsule_point_jacobian
+from armanim.arm.kinematics import Arm, Pose, forward, link_point, point_jacobian, tip_jacobian
 from armanim.motion.problem import Limits, Problem
 from armanim.world.distances import Clearances, clearances
 from armanim.world.obstacles import Obstacles
@@ -85,13 +86,13 @@ def total_cost(
     pose = pose if pose is not None else forward(problem.arm, phi)
     cost = s.w_goal * goal_term(pose.tip, goal)
     if len(problem.obstacles):
-        cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.half_width)
+        cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.capsules)
         field = obstacle_field(cl.d, problem.obstacles.influence)
         cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
     return cost + s.w_limits * limit_barrier(phi, problem.limits)
 
 
-def obstacle_cost_gradient(arm: Arm, pose: Pose, cl: Clearances, obstacles: Obstacles) -> np.ndarray:
+def obstacle_cost_gradient(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, obstacles: Obstacles) -> np.ndarray:
     """Gradient (n,) of sum F_R(d) over parts and obstacles, for a single pose.
 
     Each concerned part contributes F_R'(d) n^T J_q, with J_q the Jacobian of its
@@ -100,10 +101,16 @@ def obstacle_cost_gradient(arm: Arm, pose: Pose, cl: Clearances, obstacles: Obst
     grad = np.zeros(arm.n)
     slope = obstacle_field_slope(cl.d, obstacles.influence)
     for part, obs in zip(*np.nonzero(slope)):
-        link = min(part, arm.n - 1)
-        jac = point_jacobian(arm, pose, link, cl.t[part, obs])
-        grad += slope[part, obs] * (cl.normal[part, obs] @ jac)
+        grad += slope[part, obs] * (cl.normal[part, obs] @ part_jacobian(arm, capsules, pose, cl, part, obs))
     return grad
+
+
+def part_jacobian(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, part: int, obs: int) -> np.ndarray:
+    """(3, n) Jacobian of the point of part ``part`` closest to obstacle ``obs``: on a capsule,
+    or the tip (the end of the last link)."""
+    if part == cl.tip:
+        return point_jacobian(arm, pose, arm.n - 1, link_point(pose, arm.n - 1, 1.0))
+    return capsule_point_jacobian(arm, capsules, pose, part, cl.t[part, obs])
 
 
 def total_cost_gradient(
@@ -122,6 +129,6 @@ def total_cost_gradient(
     if dist > 0:
         grad += s.w_goal * (diff / dist) @ tip_jacobian(arm, pose)
     if len(problem.obstacles):
-        cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.half_width)
-        grad += s.w_obstacles * obstacle_cost_gradient(arm, pose, cl, problem.obstacles)
+        cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.capsules)
+        grad += s.w_obstacles * obstacle_cost_gradient(arm, problem.capsules, pose, cl, problem.obstacles)
     return grad + s.w_limits * limit_barrier_gradient(phi, problem.limits)

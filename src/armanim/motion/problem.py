@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.kinematics import Arm
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 from armanim.world.obstacles import Obstacles
@@ -127,7 +128,8 @@ class Problem:
     ----------
     arm : Arm
     half_width : float
-        Collision radius of every link (the scene's ``arm.width / 2``).
+        Half the scene's ``arm.width``: how thick the renderer draws joints and the base,
+        and the radius of today's joint-to-joint capsules.
     home : (n,) array
         Frame 0's joint angles.
     limits : Limits
@@ -137,6 +139,9 @@ class Problem:
     fps : float
         Frames per second the run is solved at: the one owner of time (``time_s``,
         holds, the stall window); ``--fps`` is applied before the problem is built.
+    capsules : Capsules
+        The arm's collision capsules, which every guarantee is about. Left out (None), they
+        are today's: one per link from joint to joint, of radius ``half_width``.
     """
 
     arm: Arm
@@ -147,6 +152,11 @@ class Problem:
     goals: tuple[Goal, ...]
     solver: SolverSettings
     fps: float
+    capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
+
+    def __post_init__(self) -> None:
+        if self.capsules is None:
+            object.__setattr__(self, "capsules", joint_capsules(self.arm, self.half_width))
 
 
 @dataclass(frozen=True)

@@ -104,7 +104,7 @@ def resample(problem: Problem, solution: Solution, fps: float) -> Solution:
         tip=pose.tip,
         goal=goal,
         distance=distance,
-        clearance=min_link_clearance(pose, problem.obstacles, problem.half_width),
+        clearance=min_link_clearance(pose, problem.obstacles, problem.capsules),
         reached=distance < problem.solver.tolerance,
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
@@ -141,7 +141,7 @@ def _safe_fractions(problem: Problem, start: np.ndarray, offset: np.ndarray, a: 
     if len(problem.obstacles) == 0 or len(between) == 0:
         return a
     d = min_link_clearance(forward(problem.arm, start[between] + a[between, None] * offset[between]),
-                           problem.obstacles, problem.half_width)
+                           problem.obstacles, problem.capsules)
     unsafe = between[d < problem.solver.clearance]
     a = a.copy()
     a[unsafe] = np.round(a[unsafe])

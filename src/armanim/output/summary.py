@@ -70,6 +70,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
     return {
         "armanim_version": __version__,
         "scene": {"name": name, "file": scene_file, "sha256": sha256},
+        "joints": list(problem.arm.joint_names) or None,  # a URDF arm's joints, phi1 first; None for an arm of links
         "method": problem.solver.method,
         "planner": problem.solver.planner,
         "clearance": problem.solver.clearance,

@@ -119,7 +119,8 @@ def planar_normal(arm: Arm) -> np.ndarray | None:
     n = world_axes[0] / np.linalg.norm(world_axes[0])
     if np.any(np.linalg.norm(np.cross(world_axes, n), axis=1) > PLANAR_TOL):
         return None
-    if abs(float(arm.direction @ arm.axes[0])) > PLANAR_TOL or np.any(np.abs(arm.axes @ arm.direction) > PLANAR_TOL):
+    links = np.einsum("nab,nb->na", pose.frames, arm.offsets)
+    if np.any(np.abs(links @ n) > PLANAR_TOL * np.maximum(arm.links, 1.0)):
         return None
     return n + 0.0
 

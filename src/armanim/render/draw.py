@@ -32,6 +32,7 @@ from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.lines import Line2D
 from matplotlib.transforms import IdentityTransform
 
+from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, forward
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.render import backdrop, scenery
@@ -112,7 +113,7 @@ class SceneCanvas:
         self.rotation = camera_rotation(elevation, azimuth)
         framing = frame_scene(problem, settings, extent, self.rotation, elevation, self.layout)
         self.view, self.ppu, self.floor = framing.view, framing.ppu, framing.floor
-        self.arm = ArmSolids(problem.arm, problem.half_width, self.view, self.ppu)
+        self.arm = ArmSolids(problem.arm, problem.capsules, problem.half_width, self.view, self.ppu)
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         goals = self.view.project(goal_points(problem))
         self.goals = GoalMarkers(self.fig, goals, self.spheres.behind(goals), (self.width, self.height))
@@ -167,7 +168,7 @@ class SceneCanvas:
     def _floor_shadows(self) -> list[np.ndarray]:
         """Rings on the floor under the base and under every sphere (light straight overhead)."""
         z, obstacles = self.floor.z, self.problem.obstacles
-        base = scenery.floor_circle(self.problem.arm.base, BASE_SCALE * self.problem.half_width * 1.1, z)
+        base = scenery.floor_circle(self.problem.arm.stand, BASE_SCALE * self.problem.half_width * 1.1, z)
         return [base] + [scenery.floor_circle(c, r, z) for c, r in zip(obstacles.centers, obstacles.radii)]
 
     def _scratch_canvas(self):
@@ -210,15 +211,17 @@ class SceneCanvas:
         """The arm's soft shadow on the floor; returns its screen box (x0, y0, x1, y1)."""
         if self.floor is None:
             return None
-        drop = self.view.project(scenery.on_floor(pose.points, self.floor.z))[:, :2]
-        segments = np.stack([drop[:-1], drop[1:]], axis=1)
-        width = 2 * self.problem.half_width * self.ppu * self.pt
+        caps = self.problem.capsules
+        a, b = (self.view.project(scenery.on_floor(end, self.floor.z))[:, :2] for end in capsule_ends(caps, pose))
+        segments = np.stack([a, b], axis=1)
+        width = 2 * caps.radius * self.ppu * self.pt
         self.shadow.set_segments(segments)
         for scale, alpha in ((1.7, 0.06), (1.0, 0.10)):
             self.shadow.set_linewidth(width * scale)
             self.shadow.set_alpha(alpha)
             self.shadow.draw(self.renderer)
-        pad = width / self.pt
+        pad = float(width.max()) / self.pt
+        drop = np.vstack([a, b])
         return np.concatenate([drop.min(axis=0) - pad, drop.max(axis=0) + pad])
 
     def _draw_solids(self, state: FrameState, shadow) -> bool:

@@ -98,15 +98,17 @@ def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray
     The settings' bounds box if given, else every joint in ``extent`` (or, without it,
     the box the arm can reach); then the base, the spheres and the goals.
     """
-    hw = problem.half_width
+    hw = max(problem.half_width, float(problem.capsules.radius.max(initial=0.0)))
     if settings.bounds is not None or extent is None:
         box = resolve_bounds(problem, settings, None)
         joints = np.array([[x, y, z] for x in box[0] for y in box[1] for z in box[2]])
     else:
         joints = np.asarray(extent, dtype=float).reshape(-1, 3)
-    base = problem.arm.base
+    base = problem.arm.stand
     goals = goal_points(problem)
     obs = problem.obstacles
-    points = np.vstack([joints, base, base - [0.0, 0.0, 2 * hw], obs.centers.reshape(-1, 3), goals])
-    radii = np.concatenate([np.full(len(joints), hw), [BASE_SCALE * hw] * 2, obs.radii, np.zeros(len(goals))])
+    r = BASE_SCALE * problem.half_width
+    foot = base - [0.0, 0.0, 2 * problem.half_width] + r * np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]])
+    points = np.vstack([joints, base, foot, obs.centers.reshape(-1, 3), goals])
+    radii = np.concatenate([np.full(len(joints), hw), [r], np.zeros(len(foot)), obs.radii, np.zeros(len(goals))])
     return points, radii

@@ -1,16 +1,17 @@
-"""Link solids as polygon meshes: each link's prism is built in its own frame.
+"""Capsule solids as polygon meshes: each capsule's prism is built in its joint's frame.
 
-A link of length l_i is a prism with ``sides`` faces around the local axis
-``direction`` (d), running from 0 to l_i * d in joint i's frame, then moved to the
-world by that joint's frame: x_world = p_i + R_i x_local (the course notes'
-section 2.2). Pure numpy: no drawing here.
+A capsule from s to e (radius r) is drawn as a prism with ``sides`` faces around the axis
+e - s, in the frame of the joint that carries it, then moved to the world by that joint's
+frame: x_world = p_k + R_k x_local (the course notes' section 2.2). Today's arms have one
+capsule per link, from 0 to l_i d. Pure numpy: no drawing here.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from armanim.arm.kinematics import Arm, Pose
+from armanim.arm.capsules import Capsules
+from armanim.arm.kinematics import Pose
 
 
 def perpendicular_basis(direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -27,23 +28,36 @@ def perpendicular_basis(direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return u, np.cross(d, u)
 
 
-def prism_local(arm: Arm, radius: float, sides: int) -> np.ndarray:
-    """Vertices of every link's prism in its joint's frame, shape (n, 2 * sides, 3).
+def capsule_axes(start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """(c, 3) unit axis of every segment; z for a zero-length one (a sphere)."""
+    axis = end - start
+    length = np.linalg.norm(axis, axis=-1, keepdims=True)
+    return np.where(length > 0, axis / np.where(length > 0, length, 1.0), [0.0, 0.0, 1.0])
 
-    Ring 0 (the first ``sides`` vertices) lies around the joint, ring 1 around the
-    link's far end.
+
+def prism_vertices(start: np.ndarray, end: np.ndarray, radius: np.ndarray, sides: int) -> np.ndarray:
+    """Vertices of a prism around every segment, shape (c, 2 * sides, 3), in the segments' frame.
+
+    Ring 0 (the first ``sides`` vertices) lies around ``start``, ring 1 around ``end``.
     """
-    u, v = perpendicular_basis(arm.direction)
     theta = 2 * np.pi * (np.arange(sides) + 0.5) / sides
-    ring = radius * (np.cos(theta)[:, None] * u + np.sin(theta)[:, None] * v)  # (sides, 3)
-    ends = arm.links[:, None, None] * arm.direction  # (n, 1, 3)
-    return np.concatenate([np.broadcast_to(ring, ends.shape[:1] + ring.shape), ring + ends], axis=1)
+    out = []
+    for s, e, r, d in zip(start, end, radius, capsule_axes(start, end)):
+        u, v = perpendicular_basis(d)
+        ring = r * (np.cos(theta)[:, None] * u + np.sin(theta)[:, None] * v)  # (sides, 3)
+        out.append(np.concatenate([ring + s, ring + e]))
+    return np.array(out).reshape(-1, 2 * sides, 3)
 
 
-def prism_world(pose: Pose, local: np.ndarray) -> np.ndarray:
-    """Move local prism vertices to the world: p_i + R_i x, shape (..., n, V, 3)."""
-    rotated = np.einsum("...nab,nvb->...nva", pose.frames, local)
-    return rotated + pose.points[..., :-1, None, :]
+def prism_local(capsules: Capsules, sides: int) -> np.ndarray:
+    """Vertices of every capsule's prism in its joint's frame, shape (c, 2 * sides, 3)."""
+    return prism_vertices(capsules.start, capsules.end, capsules.radius, sides)
+
+
+def prism_world(pose: Pose, local: np.ndarray, link: np.ndarray) -> np.ndarray:
+    """Move local prism vertices to the world: p_k + R_k x, shape (..., c, V, 3)."""
+    rotated = np.einsum("...cab,cvb->...cva", pose.frames[..., link, :, :], local)
+    return rotated + pose.points[..., link, None, :]
 
 
 def prism_faces(sides: int) -> list[np.ndarray]:
@@ -57,12 +71,15 @@ def prism_faces(sides: int) -> list[np.ndarray]:
     return quads + [near_cap, far_cap]
 
 
-def prism_face_normals(arm: Arm, sides: int) -> np.ndarray:
-    """Outward unit normals of :func:`prism_faces`, in the joint's frame, shape (sides + 2, 3)."""
-    u, v = perpendicular_basis(arm.direction)
+def prism_face_normals(start: np.ndarray, end: np.ndarray, sides: int) -> np.ndarray:
+    """Outward unit normals of :func:`prism_faces` of every segment, shape (c, sides + 2, 3)."""
     mid = 2 * np.pi * (np.arange(sides) + 1.0) / sides
-    side_normals = np.cos(mid)[:, None] * u + np.sin(mid)[:, None] * v
-    return np.vstack([side_normals, -arm.direction, arm.direction])
+    out = []
+    for d in capsule_axes(start, end):
+        u, v = perpendicular_basis(d)
+        side_normals = np.cos(mid)[:, None] * u + np.sin(mid)[:, None] * v
+        out.append(np.vstack([side_normals, -d, d]))
+    return np.array(out).reshape(-1, sides + 2, 3)
 
 
 def unit_circle(sides: int) -> np.ndarray:

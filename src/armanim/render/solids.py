@@ -1,9 +1,10 @@
-"""The arm's solid parts, ready for the painter's order: link prisms, joint discs, the base.
+"""The arm's solid parts, ready for the painter's order: capsule prisms, joint discs, the base.
 
 Each part is summarised for :func:`armanim.render.order.paint_order` as screen samples
 along its axis and a pixel radius, and carries the flat-shaded polygons that draw it.
-Link prisms are culled (back faces dropped) for every pose; the base pedestal never
-moves, so it is projected and culled once.
+Capsule prisms are culled (back faces dropped) for every pose; the base pedestal (and the
+column up to joint 1 of a robot whose first joint sits above its base) never moves, so it
+is projected and culled once.
 """
 
 from __future__ import annotations
@@ -12,8 +13,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.kinematics import Arm, Pose
-from armanim.render.mesh import prism_face_normals, prism_faces, prism_local, prism_world, unit_circle
+from armanim.render.mesh import (
+    prism_face_normals,
+    prism_faces,
+    prism_local,
+    prism_vertices,
+    prism_world,
+    unit_circle,
+)
 from armanim.render.style import (
     ARM_COLOR,
     BASE_COLOR,
@@ -89,45 +98,67 @@ def pedestal(base: np.ndarray, half_width: float, view: View, ppu: float) -> Par
                 colors=with_alpha(lambert(screen_n[front], BASE_COLOR), 1.0))
 
 
+def column(arm: Arm, radius: float, view: View, ppu: float) -> list[Part]:
+    """The fixed column from where the robot stands up to joint 1 (none for an arm of links),
+    projected and culled once."""
+    start, end = arm.stand[None, :], arm.base[None, :]
+    if not np.linalg.norm(end - start) > 0:
+        return []
+    verts = view.project(prism_vertices(start, end, np.array([radius]), PRISM_SIDES)[0])
+    normals = view.screen_normals(prism_face_normals(start, end, PRISM_SIDES)[0])
+    front = np.flatnonzero(normals[:, 2] > 1e-9)
+    faces = prism_faces(PRISM_SIDES)
+    ends = view.project(np.vstack([start, end]))
+    return [Part(samples=segment_samples(ends[0], ends[1]), radius=radius * ppu,
+                 polygons=[verts[faces[f], :2] for f in front], colors=with_alpha(lambert(normals[front], BASE_COLOR), 1.0))]
+
+
 class ArmSolids:
     """The arm's parts in screen space, pose by pose.
 
     Parameters
     ----------
     arm : Arm
+    capsules : Capsules
+        The solids drawn: the arm's collision capsules.
     half_width : float
-        Half the links' thickness, world units.
+        Half the arm's drawn thickness (joint discs and the base), world units.
     view : View
         The camera.
     ppu : float
         Pixels per world unit.
     """
 
-    def __init__(self, arm: Arm, half_width: float, view: View, ppu: float):
+    def __init__(self, arm: Arm, capsules: Capsules, half_width: float, view: View, ppu: float):
         self.view = view
-        self.prism_local = prism_local(arm, half_width, PRISM_SIDES)
+        self.capsules = capsules
+        self.prism_local = prism_local(capsules, PRISM_SIDES)
         self.faces = prism_faces(PRISM_SIDES)
-        self.face_normals_local = prism_face_normals(arm, PRISM_SIDES)
-        self.link_radius = half_width * ppu
+        self.face_normals_local = prism_face_normals(capsules.start, capsules.end, PRISM_SIDES)
+        self.link_radius = capsules.radius * ppu
         self.joint_radius = JOINT_SCALE * half_width * ppu
         self.circle = unit_circle(CIRCLE_SIDES)
-        self.base = pedestal(arm.base, half_width, view, ppu)
+        first = capsules.radius[capsules.link == 0]
+        self.base = [pedestal(arm.stand, half_width, view, ppu)]
+        self.base += column(arm, float(first.max()) if len(first) else half_width, view, ppu)
 
     def parts(self, pose: Pose, ghost: bool = False) -> list[Part]:
-        """The base, every link and every joint of ``pose``; a ghost (a poster's faint pose)
+        """The base, every capsule and every joint of ``pose``; a ghost (a poster's faint pose)
         has no base and its colours faded toward white."""
         joints = self.view.project(pose.points)  # (n+1, 3)
-        base = [] if ghost else [self.base]
-        return base + self._links(pose, joints, ghost) + self._joints(joints[:-1], ghost)
+        base = [] if ghost else list(self.base)
+        return base + self._links(pose, ghost) + self._joints(joints[:-1], ghost)
 
-    def _links(self, pose: Pose, joints: np.ndarray, ghost: bool) -> list[Part]:
-        """One prism per link, its back faces culled."""
-        verts = self.view.project(prism_world(pose, self.prism_local))  # (n, V, 3)
-        normals = self.view.screen_normals(np.einsum("nab,fb->nfa", pose.frames, self.face_normals_local))
+    def _links(self, pose: Pose, ghost: bool) -> list[Part]:
+        """One prism per capsule, its back faces culled."""
+        link = self.capsules.link
+        verts = self.view.project(prism_world(pose, self.prism_local, link))  # (c, V, 3)
+        normals = self.view.screen_normals(np.einsum("cab,cfb->cfa", pose.frames[link], self.face_normals_local))
+        a, b = (self.view.project(end) for end in capsule_ends(self.capsules, pose))
         parts = []
         for i in range(len(verts)):
             front = np.flatnonzero(normals[i, :, 2] > 1e-9)
-            parts.append(Part(samples=segment_samples(joints[i], joints[i + 1]), radius=self.link_radius,
+            parts.append(Part(samples=segment_samples(a[i], b[i]), radius=float(self.link_radius[i]),
                               polygons=[verts[i, self.faces[f], :2] for f in front],
                               colors=solid_colors(lambert(normals[i, front], ARM_COLOR), ghost)))
         return parts

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
 from armanim.motion.problem import frames_in
@@ -25,27 +26,35 @@ def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
     """
     problems = list(_arm_problems(scene)) + list(_size_problems(scene))
     if not problems:
-        problems += list(_collision_problems(scene_to_problem(scene)))
+        problems += list(_collision_problems(scene_to_problem(scene), "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
     return problems
 
 
 def _arm_problems(scene: SceneModel):
     arm = scene.arm
-    n = len(arm.links)
+    n = arm.joint_count
     for field in ("axes", "home", "limits"):
         values = getattr(arm, field)
         if values is not None and len(values) != n:
-            yield f"arm.{field}", f"has {len(values)} entries, the arm has {n} links (expected one per joint)"
+            yield f"arm.{field}", f"has {len(values)} entries, the arm has {n} {'joints' if arm.is_urdf else 'links'} (expected one per joint)"
     if arm.limits is not None:
         for i, pair in enumerate(arm.limits):
             if pair is not None and not pair[0] < pair[1]:
                 yield f"arm.limits[{i}]", f"min must be below max (got [{pair[0]:g}, {pair[1]:g}])"
-    if arm.limits is not None and len(arm.limits) == n and (arm.home is None or len(arm.home) == n):
-        yield from _home_outside_limits(arm.home, arm.limits)
+    limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
+    if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
+        bundled = arm._robot.bundled if arm.is_urdf else None
+        yield from _home_outside_limits(arm.home if arm.home is not None or bundled is None else list(bundled.home), limits)
+
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
                 yield "render.bounds", f"{axis} range must have min < max (got [{pair[0]:g}, {pair[1]:g}])"
+
+
+def _urdf_limits_degrees(arm) -> list:
+    """The URDF's joint limits in degrees (None for a continuous joint)."""
+    return [[math.degrees(p[0]), math.degrees(p[1])] if p is not None else None for p in arm._robot.limits]
 
 
 def _home_outside_limits(home, limits):
@@ -78,9 +87,9 @@ def frame_budget(scene: SceneModel) -> int:
 def _magnitudes(scene: SceneModel):
     """(field path, value) of every coordinate and length of the scene."""
     arm = scene.arm
-    yield from ((f"arm.base[{i}]", v) for i, v in enumerate(arm.base))
-    yield from ((f"arm.links[{i}]", v) for i, v in enumerate(arm.links))
-    yield "arm.width", arm.width
+    yield from ((f"arm.base[{i}]", v) for i, v in enumerate(arm.base or ()))
+    yield from ((f"arm.links[{i}]", v) for i, v in enumerate(arm.links or ()))
+    yield "arm.width", arm.resolved_width
     for k, obstacle in enumerate(scene.obstacles):
         yield from ((f"obstacles[{k}].center[{i}]", v) for i, v in enumerate(obstacle.center))
         yield f"obstacles[{k}].radius", obstacle.radius
@@ -105,7 +114,7 @@ def _size_problems(scene: SceneModel):
     for path, value in _magnitudes(scene):
         if abs(value) > big:
             yield path, f"{value:g} is too large (expected at most {big:g} in size: choose a smaller unit)"
-    if sum(scene.arm.links) > big:
+    if sum(scene.arm.links or ()) > big:
         yield "arm.links", f"the arm is {sum(scene.arm.links):g} long (expected at most {big:g}: choose a smaller unit)"
     weights = scene.solver.weights
     for name in type(weights).model_fields:
@@ -123,12 +132,12 @@ def _size_problems(scene: SceneModel):
         )
 
 
-def _collision_problems(problem):
+def _collision_problems(problem, tip_size: str):
     obstacles = problem.obstacles
     if not len(obstacles):
         return
     d_safe = problem.solver.clearance
-    cl = clearances(forward(problem.arm, problem.home), obstacles, problem.half_width)
+    cl = clearances(forward(problem.arm, problem.home), obstacles, problem.capsules)
     for link, obs in zip(*np.nonzero(cl.links < d_safe)):
         inside = cl.links[link, obs] <= 0
         yield f"obstacles[{obs}]", (
@@ -138,13 +147,14 @@ def _collision_problems(problem):
         )
     for k, goal in enumerate(problem.goals):
         gap = np.linalg.norm(goal.position - obstacles.centers, axis=1) - obstacles.radii
-        for obs in np.nonzero(gap < problem.half_width + d_safe)[0]:
+        keep = tip_radius(problem.arm, problem.capsules) + d_safe
+        for obs in np.nonzero(gap < keep)[0]:
             if gap[obs] <= 0:
                 yield f"goals[{k}]", f"lies inside obstacles[{obs}] (the tip can never reach it; move the goal or the obstacle)"
             else:
                 yield f"goals[{k}]", (
-                    f"is {gap[obs]:.3g} from the surface of obstacles[{obs}] (expected at least arm.width / 2 + "
-                    f"solver.clearance = {problem.half_width + d_safe:g}, so that the last link can keep its clearance "
+                    f"is {gap[obs]:.3g} from the surface of obstacles[{obs}] (expected at least {tip_size} + "
+                    f"solver.clearance = {keep:g}, so that the last link can keep its clearance "
                     "there: move the goal or the obstacle, or lower solver.clearance)"
                 )
 
@@ -175,3 +185,14 @@ def radian_notes(scene: SceneModel) -> list[tuple[str, str]]:
 def as_diagnostics(pairs, line_of) -> list[Diagnostic]:
     """Attach line numbers to (path, message) pairs."""
     return [Diagnostic(path, message, line_of(path)) for path, message in pairs]
+
+
+def fallback_notes(scene: SceneModel) -> list[tuple[str, str]]:
+    """A note naming the URDF arm's moving links that have no collision primitive (a mesh, or
+    none) and so get a joint-to-joint capsule of radius ``arm.width / 2``."""
+    arm = scene.arm
+    if not arm.is_urdf or not arm._robot.fallback_links:
+        return []
+    links = ", ".join(arm._robot.fallback_links)
+    return [("arm.collision", f"links {links} have no collision primitive (a mesh, or none): each gets a capsule from its "
+                              f"joint to the next of radius arm.width / 2 = {arm.resolved_width / 2:g} (give arm.collision to set them)")]

@@ -12,9 +12,11 @@ from dataclasses import replace
 
 import numpy as np
 
+from armanim.arm.capsules import Capsules, frame_capsules
+from armanim.arm.chain import SerialChain, serial_chain, transform
 from armanim.arm.kinematics import Arm, default_axes
 from armanim.motion.problem import Goal, Limits, Problem, RenderSettings, SolverSettings
-from armanim.scene.models import ArmModel, RenderModel, SceneModel, SolverModel
+from armanim.scene.models import LINKS_WIDTH, ArmModel, RenderModel, SceneModel, SolverModel
 from armanim.world.obstacles import Obstacles
 
 
@@ -24,11 +26,65 @@ def axis_names(scene: SceneModel) -> list[str]:
 
 
 def _limits(arm: ArmModel) -> Limits:
-    n = len(arm.links)
-    pairs = arm.limits if arm.limits is not None else [None] * n
+    n = arm.joint_count
+    if arm.limits is None and arm.is_urdf:  # the URDF's own, in radians already
+        pairs = [np.degrees(p) if p is not None else None for p in arm._robot.limits]
+    else:
+        pairs = arm.limits if arm.limits is not None else [None] * n
     lower = np.array([np.radians(p[0]) if p is not None else -np.inf for p in pairs])
     upper = np.array([np.radians(p[1]) if p is not None else np.inf for p in pairs])
     return Limits(lower=lower, upper=upper, margin=float(np.radians(arm.limit_margin)))
+
+
+def home_degrees(arm: ArmModel) -> list[float]:
+    """``arm.home``, or the bundled robot's, or all zeros (degrees)."""
+    if arm.home is not None:
+        return list(arm.home)
+    bundled = arm._robot.bundled if arm.is_urdf else None
+    return list(bundled.home) if bundled is not None else [0.0] * arm.joint_count
+
+
+def urdf_chain(arm: ArmModel) -> SerialChain:
+    """The URDF arm's chain, placed by ``base`` and ``base_rpy`` and ended by ``tool``."""
+    zero = [0.0, 0.0, 0.0]
+    mount = transform(arm.base or zero, np.radians(arm.base_rpy or zero))
+    tool = transform(arm.tool.xyz, np.radians(arm.tool.rpy)) if arm.tool is not None else np.eye(4)
+    return serial_chain(mount, list(arm._robot.joints), tool)
+
+
+def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
+    """The URDF arm's capsules moved into the frames of the joints that carry them, and a
+    joint-to-joint capsule of radius width / 2 for each moving link without one. Links
+    before the first moving joint never move and carry none."""
+    robot = arm._robot
+    links, starts, ends, radii, names = [], [], [], [], []
+    for spec in robot.capsules:
+        index = robot.path_links.index(spec.link) if spec.link in robot.path_links else -1
+        carrier = chain.carriers[index] if index >= 0 else -1
+        if carrier < 0:
+            continue
+        place = chain.link_offsets[index]
+        links.append(carrier)
+        starts.append(place[:3, :3] @ spec.start + place[:3, 3])
+        ends.append(place[:3, :3] @ spec.end + place[:3, 3])
+        radii.append(spec.radius)
+        names.append(spec.link)
+    for link in robot.fallback_links:
+        carrier = chain.carriers[robot.path_links.index(link)]
+        links.append(carrier)
+        starts.append(np.zeros(3))
+        ends.append(chain.arm.offsets[carrier])
+        radii.append(arm.resolved_width / 2.0)
+        names.append(link)
+    return frame_capsules(chain.arm, links, np.reshape(starts, (-1, 3)), np.reshape(ends, (-1, 3)), radii, names)
+
+
+def scene_arm(arm: ArmModel, axes: list[str]) -> tuple[Arm, Capsules | None]:
+    """The scene's arm and its capsules (None: today's joint-to-joint capsules)."""
+    if not arm.is_urdf:
+        return Arm.from_names(arm.links, base=arm.base or (0.0, 0.0, 0.0), axes=axes, direction=arm.direction or "z"), None
+    chain = urdf_chain(arm)
+    return chain.arm, urdf_capsules(arm, chain)
 
 
 def _obstacles(scene: SceneModel) -> Obstacles:
@@ -88,17 +144,18 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     Problem
     """
     arm = scene.arm
-    n = len(arm.links)
     fps = scene.render.fps if fps is None else fps
+    chain, capsules = scene_arm(arm, axis_names(scene) if not arm.is_urdf else [])
     return Problem(
-        arm=Arm.from_names(arm.links, base=arm.base, axes=axis_names(scene), direction=arm.direction),
-        half_width=arm.width / 2.0,
-        home=np.radians(np.array(arm.home if arm.home is not None else [0.0] * n, dtype=float)),
+        arm=chain,
+        half_width=arm.resolved_width / 2.0,
+        home=np.radians(np.array(home_degrees(arm), dtype=float)),
         limits=_limits(arm),
         obstacles=_obstacles(scene),
         goals=tuple(Goal(np.array(g.position, dtype=float), g.hold) for g in scene.goals),
-        solver=solver_settings(scene.solver, arm.width),
+        solver=solver_settings(scene.solver, arm.resolved_width),
         fps=fps,
+        capsules=capsules,
     )
 
 
@@ -128,7 +185,7 @@ def default_solver_settings(**changes) -> SolverSettings:
     >>> settings.method, settings.beta, settings.clearance
     ('dls', 0.1, 0.05)
     """
-    return replace(solver_settings(SolverModel(), _arm_default("width")), **changes)
+    return replace(solver_settings(SolverModel(), LINKS_WIDTH), **changes)
 
 
 def default_render_settings(**changes) -> RenderSettings:

@@ -16,7 +16,7 @@ from pydantic import ValidationError
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.output.files import read_bounded
-from armanim.scene.checks import as_diagnostics, radian_notes, scene_problems
+from armanim.scene.checks import as_diagnostics, fallback_notes, radian_notes, scene_problems
 from armanim.scene.fieldpaths import YamlDocument, join_path
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
 from armanim.scene.yamlread import MAX_FILE_BYTES, read_yaml
@@ -96,7 +96,7 @@ def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None) -> L
     path = Path(path)
     model, doc = _validated(decode_scene(raw, str(path)), str(path))
     name = name or model.name or stem_name(path)
-    notes = tuple(as_diagnostics(radian_notes(model), doc.line_of))
+    notes = tuple(as_diagnostics(radian_notes(model) + fallback_notes(model), doc.line_of))
     return LoadedScene(model=model, path=path, name=name, sha256=hashlib.sha256(raw).hexdigest(), raw=raw, notes=notes)
 
 
@@ -130,7 +130,7 @@ def _validated(text: str, file: str):
         kind = type(doc.data).__name__ if doc.data is not None else "null"
         raise SceneError(file, problems + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)])
     try:
-        model = SceneModel.model_validate(doc.data)
+        model = SceneModel.model_validate(doc.data, context={"scene_dir": Path(file).parent})
     except ValidationError as exc:
         errors = [e for e in exc.errors(include_url=False) if not isinstance(e.get("input"), TooLarge)]
         raise SceneError(file, _by_line(problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]], len(errors))) from None
@@ -222,6 +222,8 @@ def problem_message(err: dict, loc: tuple) -> str:
         return f"must be a point [x, y, z] or {{position: [x, y, z]}} (got {_describe(got)}; a single goal is written goals: [[x, y, z]])"
     if kind in _EXPECTED_TYPES:
         return f"must be {_EXPECTED_TYPES[kind]} (got {_describe(got)})"
+    if kind == "value_error":  # a model's own check (e.g. arm.robot): its message says it all
+        return str(ctx.get("error", err["msg"]))
     if kind == "string_pattern_mismatch":
         return name_problem(got) or f"{got!r} is not a valid name"
     return f"{err['msg'][0].lower()}{err['msg'][1:]} (got {_describe(got)})"

@@ -11,7 +11,16 @@ from __future__ import annotations
 import re
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PrivateAttr,
+    ValidationInfo,
+    WithJsonSchema,
+    field_validator,
+    model_validator,
+)
 
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 
@@ -67,25 +76,93 @@ class Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
-class ArmModel(Strict):
-    """The ``arm`` section."""
+class CapsuleModel(Strict):
+    """One collision capsule, in its URDF link's frame (metres)."""
 
-    base: Vector3 = Field(default=[0.0, 0.0, 0.0], description="World position of joint 1.")
-    links: Annotated[list[Positive], Field(min_length=1, max_length=LIMITS["links"])] = Field(
-        description="Link lengths; link i runs from joint i to joint i+1, the last ends at the tip."
+    link: Annotated[str, Field(min_length=1, max_length=200)] = Field(description="The URDF link that carries it.")
+    from_: Vector3 = Field(alias="from", description="One end of the capsule's segment, in the link's frame.")
+    to: Vector3 = Field(description="The other end, in the link's frame (the same point: a sphere).")
+    radius: NonNegative = Field(description="Every point within this distance of the segment is the arm's.")
+
+
+class ToolModel(Strict):
+    """The tool frame: the tip, placed in the tip link's frame."""
+
+    xyz: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tip's position in the tip link's frame (metres).")
+    rpy: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
+
+
+UrdfName = Annotated[str, Field(min_length=1, max_length=200)]
+
+
+class ArmModel(Strict):
+    """The ``arm`` section: straight links (``links``), or a robot from a URDF (``urdf`` or ``robot``)."""
+
+    base: Vector3 | None = Field(
+        default=None, description="World position of joint 1 (links) or of base_link (URDF); default the origin."
+    )
+    links: Annotated[list[Positive], Field(min_length=1, max_length=LIMITS["links"])] | None = Field(
+        default=None, description="Link lengths; link i runs from joint i to joint i+1, the last ends at the tip."
     )
     axes: list[AxisName] | None = Field(
-        default=None, description="Each joint's rotation axis in its own frame; default z, then y."
+        default=None, description="Each joint's rotation axis in its own frame; default z, then y (links only)."
     )
-    direction: AxisName = Field(default="z", description="Local axis along which every link extends.")
-    home: list[Angle] | None = Field(default=None, description="Starting joint angles, degrees; default all 0.")
+    direction: AxisName | None = Field(default=None, description="Local axis along which every link extends; default z (links only).")
+    urdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
+        default=None, description="A URDF file, relative to the scene file: the arm is its chain from base_link to tip_link."
+    )
+    robot: Annotated[str, Field(min_length=1, max_length=100)] | None = Field(
+        default=None, description="A bundled robot (armanim robots lists them): panda, ur5, iiwa."
+    )
+    base_link: UrdfName | None = Field(default=None, description="The URDF link the arm starts at; default the root (or the robot's).")
+    tip_link: UrdfName | None = Field(default=None, description="The URDF link the arm ends at; default the only leaf (or the robot's).")
+    base_rpy: Vector3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
+    tool: ToolModel | None = Field(default=None, description="The tip in tip_link's frame; default its origin.")
+    collision: Literal["auto"] | Annotated[list[CapsuleModel], Field(max_length=1000)] | None = Field(
+        default=None, description="auto (the URDF's primitives, or the robot's capsules), or a list of capsules."
+    )
+    home: list[Angle] | None = Field(default=None, description="Starting joint angles, degrees; default all 0 (or the robot's).")
     limits: list[Annotated[list[Angle], Field(min_length=2, max_length=2)] | None] | None = Field(
-        default=None, description="Per joint [min, max] in degrees, or null for an unlimited joint."
+        default=None, description="Per joint [min, max] in degrees, or null for an unlimited joint; default the URDF's."
     )
     limit_margin: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
         default=10.0, description="delta of the limit barrier, degrees."
     )
-    width: Positive = Field(default=0.5, description="Drawn thickness of the links; collision radius width/2.")
+    width: Positive | None = Field(
+        default=None,
+        description="Drawn thickness of the links, collision radius width/2 of joint-to-joint capsules; default 0.5 (links) or 0.1 (URDF, metres).",
+    )
+
+    _robot: object = PrivateAttr(default=None)  # the resolved URDF arm (armanim.scene.robots.RobotArm)
+
+    @model_validator(mode="after")
+    def _resolve_robot(self, info: ValidationInfo):
+        from armanim.scene.robots import resolve_robot  # the URDF reader: only URDF arms need it
+
+        self._robot = resolve_robot(self, info.context)
+        return self
+
+    @property
+    def is_urdf(self) -> bool:
+        """Whether the arm comes from a URDF (``urdf`` or ``robot``)."""
+        return self.urdf is not None or self.robot is not None
+
+    @property
+    def joint_count(self) -> int:
+        """Number of joints."""
+        return len(self._robot.joint_names) if self._robot is not None else len(self.links or ())
+
+    @property
+    def resolved_width(self) -> float:
+        """``width``, or its default: 0.5 for links, 0.1 (metres) for a URDF arm."""
+        if self.width is not None:
+            return float(self.width)
+        return URDF_WIDTH if self.is_urdf else LINKS_WIDTH
+
+
+LINKS_WIDTH = 0.5
+URDF_WIDTH = 0.1
+"""Default ``arm.width`` of a link arm (scene units) and of a URDF arm (metres)."""
 
 
 class ObstacleModel(Strict):

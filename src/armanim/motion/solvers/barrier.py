@@ -28,8 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.arm import capsules as arm_capsules
 from armanim.arm.geometry import wrap_angle
-from armanim.arm.kinematics import forward, point_jacobian
+from armanim.arm.kinematics import forward
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState, arm_state
 from armanim.names import Blocker
@@ -110,10 +111,9 @@ def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
 
 
 def lever_arms(problem: Problem) -> np.ndarray:
-    """(n,) lever arm of each joint: the farthest any arm point lies from joint j's axis
-    (the links from j on, plus the links' collision radius)."""
-    links = problem.arm.links
-    return np.cumsum(links[::-1])[::-1] + problem.half_width
+    """(n,) lever arm of each joint: the farthest any point of the capsules it moves lies
+    from joint j (:func:`armanim.arm.capsules.lever_arms`)."""
+    return arm_capsules.lever_arms(problem.arm, problem.capsules)
 
 
 def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
@@ -135,19 +135,19 @@ def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.ndarray, np.ndarray]:
-    """Constraint rows n . J_q and lower bounds -gamma (d - d_target) of the link-obstacle
+    """Constraint rows n . J_q and lower bounds -gamma (d - d_target) of the capsule-obstacle
     pairs whose clearance is within ``travel`` (the most an arm point can move) of the target distance."""
     n = problem.arm.n
     if state.clearance is None:
         return np.zeros((0, n)), np.zeros(0)
     target = kept_clearance(problem)
     d = state.clearance.links
-    links, obstacles = np.nonzero(d - target < travel)
-    rows = np.empty((len(links), n))
-    for k, (link, obs) in enumerate(zip(links, obstacles)):
-        jac = point_jacobian(problem.arm, state.pose, link, state.clearance.t[link, obs])
-        rows[k] = state.clearance.normal[link, obs] @ jac
-    return rows, -GAMMA * (d[links, obstacles] - target)
+    parts, obstacles = np.nonzero(d - target < travel)
+    rows = np.empty((len(parts), n))
+    for k, (part, obs) in enumerate(zip(parts, obstacles)):
+        jac = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, part, state.clearance.t[part, obs])
+        rows[k] = state.clearance.normal[part, obs] @ jac
+    return rows, -GAMMA * (d[parts, obstacles] - target)
 
 
 def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
@@ -262,7 +262,7 @@ def _wrapped(problem: Problem, state: ArmState) -> ArmState:
 
 def pose_clearance(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """For (k, n) poses: (k,) smallest clearance of any link capsule to any obstacle (+inf if none)."""
-    return min_link_clearance(forward(problem.arm, np.atleast_2d(phi)), problem.obstacles, problem.half_width)
+    return min_link_clearance(forward(problem.arm, np.atleast_2d(phi)), problem.obstacles, problem.capsules)
 
 
 def within_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.arm.kinematics import Pose, forward, link_point, numeric_jacobian, point_jacobian, tip_jacobian
+from armanim.arm.capsules import capsule_point, capsule_point_jacobian
+from armanim.arm.kinematics import Pose, forward, link_point, numeric_jacobian, tip_jacobian
 from armanim.motion.problem import Problem
 from armanim.world.distances import Clearances, clearances
 
@@ -37,7 +38,7 @@ class ArmState:
 
     @property
     def min_clearance(self) -> float:
-        """Smallest link-capsule clearance (+inf without obstacles)."""
+        """Smallest capsule clearance (+inf without obstacles)."""
         return float(self.clearance.links.min()) if self.clearance is not None else np.inf
 
 
@@ -45,7 +46,7 @@ def arm_state(problem: Problem, phi: np.ndarray) -> ArmState:
     """Forward kinematics and clearances of one pose."""
     phi = np.asarray(phi, dtype=float)
     pose = forward(problem.arm, phi)
-    cl = clearances(pose, problem.obstacles, problem.half_width) if len(problem.obstacles) else None
+    cl = clearances(pose, problem.obstacles, problem.capsules) if len(problem.obstacles) else None
     return ArmState(phi, pose, cl)
 
 
@@ -77,11 +78,19 @@ def task_displacement(problem: Problem, tip: np.ndarray, goal: np.ndarray) -> np
     return de * (cap / length) if length > cap else de
 
 
-def jacobian_of_point(problem: Problem, phi: np.ndarray, pose: Pose, link: int, t: float) -> np.ndarray:
-    """(3, n) Jacobian of a point on a link: analytic, or forward differences (Eq. 15)
-    when the scene says ``jacobian: numeric``."""
+def jacobian_of_tip(problem: Problem, phi: np.ndarray, pose: Pose) -> np.ndarray:
+    """(3, n) Jacobian of the tip: analytic, or forward differences (Eq. 15) when the
+    scene says ``jacobian: numeric``."""
+    arm = problem.arm
     if problem.solver.jacobian == "numeric":
-        return numeric_jacobian(lambda p: link_point(forward(problem.arm, p), link, t), phi)
-    if link == problem.arm.n - 1 and t == 1.0:
-        return tip_jacobian(problem.arm, pose)
-    return point_jacobian(problem.arm, pose, link, t)
+        return numeric_jacobian(lambda p: link_point(forward(arm, p), arm.n - 1, 1.0), phi)
+    return tip_jacobian(arm, pose)
+
+
+def jacobian_of_capsule_point(problem: Problem, phi: np.ndarray, pose: Pose, capsule: int, t: float) -> np.ndarray:
+    """(3, n) Jacobian of the point at fraction ``t`` along a capsule: analytic, or forward
+    differences (Eq. 15) when the scene says ``jacobian: numeric``."""
+    caps = problem.capsules
+    if problem.solver.jacobian == "numeric":
+        return numeric_jacobian(lambda p: capsule_point(caps, forward(problem.arm, p), capsule, t), phi)
+    return capsule_point_jacobian(problem.arm, caps, pose, capsule, t)

@@ -25,7 +25,7 @@ import numpy as np
 
 from armanim.arm.linalg import pseudo_inverse
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.common import ArmState, Step, jacobian_of_point, task_displacement
+from armanim.motion.solvers.common import ArmState, Step, jacobian_of_capsule_point, jacobian_of_tip, task_displacement
 
 
 def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:
@@ -61,9 +61,9 @@ def linear_step(
     problem: Problem, state: ArmState, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray]
 ) -> Step:
     """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse."""
-    arm, s = problem.arm, problem.solver
+    s = problem.solver
     phi, pose = state.phi, state.pose
-    jac = jacobian_of_point(problem, phi, pose, arm.n - 1, 1.0)
+    jac = jacobian_of_tip(problem, phi, pose)
     jac_inv = invert(jac)
     dphi = jac_inv @ task_displacement(problem, pose.tip, goal)
 
@@ -74,10 +74,10 @@ def linear_step(
         push = s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence)
         for part, obs in zip(*np.nonzero(push)):
             v = push[part, obs] * cl.normal[part, obs]
-            if part == arm.n:  # the tip itself: the notes' term, in task space
+            if part == cl.tip:  # the tip itself: the notes' term, in task space
                 dphi = dphi + jac_inv @ v
             else:
-                jac_q = jacobian_of_point(problem, phi, pose, part, cl.t[part, obs])
+                jac_q = jacobian_of_capsule_point(problem, phi, pose, part, cl.t[part, obs])
                 pushed = invert(jac_q) @ v
                 secondary = pushed if secondary is None else secondary + pushed
     if secondary is not None:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.arm.kinematics import Arm, forward, point_hessian, tip_jacobian
+from armanim.arm.kinematics import Arm, forward, link_point, point_hessian, tip_jacobian
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState, Step, task_displacement
 
@@ -100,7 +100,7 @@ def objective_derivatives(
     g = w_tar * dp @ jac + w_reg * dtheta
     if not hessian:
         return float(f), g, None
-    hess = point_hessian(arm, pose, arm.n - 1, 1.0)
+    hess = point_hessian(arm, pose, arm.n - 1, link_point(pose, arm.n - 1, 1.0))
     H = w_tar * (jac.T @ jac + np.einsum("a,aij->ij", dp, hess)) + w_reg * np.eye(arm.n)
     return float(f), g, H
 

@@ -1,0 +1,159 @@
+"""The arm's collision capsules: segments with a radius, each carried by one joint's frame.
+
+A capsule is every point within ``radius`` of the segment from ``start`` to ``end``, both
+given in the frame of the joint that carries it (the URDF link that joint moves). Today's
+arms have one capsule per link, from the joint to the next joint, of radius ``width / 2``
+(:func:`joint_capsules`); a URDF arm has the capsules of its collision model. Every
+consumer (clearances, the cost, the safety filter, the planner, the renderer) takes the
+capsules' world ends from :func:`capsule_ends`. Pure core: numpy only, no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from armanim.arm.kinematics import Arm, Pose, point_jacobian
+
+
+@dataclass(frozen=True)
+class Capsules:
+    """The collision capsules of an arm.
+
+    Parameters
+    ----------
+    link : (c,) int array
+        0-based index of the joint whose frame carries each capsule.
+    start, end : (c, 3) arrays
+        The ends of each capsule's segment in that frame (scene units).
+    radius : (c,) array
+        Each capsule's radius (scene units, >= 0).
+    names : tuple of str
+        A name per capsule (its URDF link), or empty.
+    """
+
+    link: np.ndarray
+    start: np.ndarray
+    end: np.ndarray
+    radius: np.ndarray
+    names: tuple[str, ...] = ()
+    joint_segment: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "link", np.asarray(self.link, dtype=int))
+        for name in ("start", "end", "radius"):
+            object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
+        if self.joint_segment is None:
+            object.__setattr__(self, "joint_segment", np.zeros(len(self.link), dtype=bool))
+
+    def __len__(self) -> int:
+        return len(self.link)
+
+
+def joint_capsules(arm: Arm, radius: float) -> Capsules:
+    """Today's capsules: link i from joint i to joint i+1 (the last to the tip), all of one radius.
+
+    >>> caps = joint_capsules(Arm.from_names([2, 5]), 0.25)
+    >>> caps.link.tolist(), caps.end.tolist(), caps.radius.tolist()
+    ([0, 1], [[0.0, 0.0, 2.0], [0.0, 0.0, 5.0]], [0.25, 0.25])
+    """
+    return Capsules(
+        link=np.arange(arm.n),
+        start=np.zeros((arm.n, 3)),
+        end=arm.offsets.copy(),
+        radius=np.full(arm.n, float(radius)),
+        joint_segment=np.ones(arm.n, dtype=bool),
+    )
+
+
+def frame_capsules(arm: Arm, link, start, end, radius, names=()) -> Capsules:
+    """Capsules in joint frames; those that run exactly from a joint to the next one are
+    marked, so that their world ends are the chain's own joint points (bit for bit).
+
+    >>> arm = Arm.from_names([2, 5])
+    >>> frame_capsules(arm, [1], [[0, 0, 0]], [[0, 0, 5]], [0.1]).joint_segment.tolist()
+    [True]
+    """
+    link = np.asarray(link, dtype=int)
+    start, end = np.asarray(start, dtype=float).reshape(-1, 3), np.asarray(end, dtype=float).reshape(-1, 3)
+    segment = np.all(start == 0.0, axis=1) & np.all(end == arm.offsets[link], axis=1)
+    return Capsules(link, start, end, np.asarray(radius, dtype=float), tuple(names), segment)
+
+
+def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+    """World ends a, b of every capsule's segment, each of shape (..., c, 3).
+
+    x_world = p_k + R_k x for a capsule carried by joint k; a joint-to-joint capsule takes
+    the pose's joint points p_k, p_{k+1} themselves.
+
+    >>> from armanim.arm.kinematics import forward
+    >>> arm = Arm.from_names([2, 5], base=(1, 0, 0))
+    >>> a, b = capsule_ends(joint_capsules(arm, 0.1), forward(arm, np.zeros(2)))
+    >>> a.tolist(), b.tolist()
+    ([[1.0, 0.0, 0.0], [1.0, 0.0, 2.0]], [[1.0, 0.0, 2.0], [1.0, 0.0, 7.0]])
+    """
+    link = capsules.link
+    if capsules.joint_segment.all():
+        return pose.points[..., link, :], pose.points[..., link + 1, :]
+    origin = pose.points[..., link, :]
+    frames = pose.frames[..., link, :, :]
+    a = origin + np.einsum("...cab,cb->...ca", frames, capsules.start)
+    b = origin + np.einsum("...cab,cb->...ca", frames, capsules.end)
+    segment = capsules.joint_segment[:, None]
+    return np.where(segment, origin, a), np.where(segment, pose.points[..., link + 1, :], b)
+
+
+def capsule_point(capsules: Capsules, pose: Pose, capsule: int, t: float) -> np.ndarray:
+    """The point at fraction ``t`` along capsule ``capsule``'s segment, in the world, (..., 3)."""
+    a, b = capsule_ends(capsules, pose)
+    a, b = a[..., capsule, :], b[..., capsule, :]
+    return a + t * (b - a)
+
+
+def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule: int, t: float) -> np.ndarray:
+    """(..., 3, n) analytic Jacobian of the point at fraction ``t`` along capsule ``capsule``.
+
+    >>> from armanim.arm.kinematics import forward
+    >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
+    >>> capsule_point_jacobian(arm, joint_capsules(arm, 0.1), forward(arm, np.zeros(2)), 1, 0.5)[1].tolist()
+    [1.5, 0.5]
+    """
+    point = capsule_point(capsules, pose, capsule, t)
+    return point_jacobian(arm, pose, int(capsules.link[capsule]), point)
+
+
+def tip_radius(arm: Arm, capsules: Capsules) -> float:
+    """The largest radius of the capsules the last joint carries (0 if none): how far the
+    arm's solid reaches around its tip.
+
+    >>> tip_radius(Arm.from_names([2, 5]), joint_capsules(Arm.from_names([2, 5]), 0.25))
+    0.25
+    """
+    last = capsules.radius[capsules.link == arm.n - 1]
+    return float(last.max()) if len(last) else 0.0
+
+
+def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
+    """(n,) the farthest any capsule point moved by joint j lies from joint j's origin.
+
+    A capsule carried by joint k >= j lies within |o_j| + ... + |o_k| + pad of p_j, where
+    pad is the radius plus how far its ends stick out (its start from p_k, or its end
+    from p_{k+1}, whichever is nearer for each end); joint-to-joint capsules stick out by
+    their radius alone.
+
+    >>> lever_arms(Arm.from_names([2, 5]), joint_capsules(Arm.from_names([2, 5]), 0.25)).tolist()
+    [7.25, 5.25]
+    """
+    tail = np.cumsum(arm.links[::-1])[::-1]
+    off = arm.offsets[capsules.link]
+    start = np.minimum(_norm(capsules.start), _norm(capsules.start - off))
+    end = np.minimum(_norm(capsules.end), _norm(capsules.end - off))
+    pad = np.where(capsules.joint_segment, 0.0, np.maximum(start, end)) + capsules.radius
+    by_link = np.zeros(arm.n)
+    np.maximum.at(by_link, capsules.link, pad)
+    return tail + np.maximum.accumulate(by_link[::-1])[::-1]
+
+
+def _norm(v: np.ndarray) -> np.ndarray:
+    return np.sqrt((v * v).sum(axis=-1))

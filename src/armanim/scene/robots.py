@@ -1,0 +1,269 @@
+"""URDF arms in a scene: the bundled robots, and a scene's ``arm.urdf`` or ``arm.robot`` resolved.
+
+:func:`resolve_robot` runs while the scene is validated: it reads the URDF, picks the path
+from ``base_link`` to ``tip_link`` and the collision capsules (in URDF units: metres and
+radians). The scene's own angles (``base_rpy``, ``tool.rpy``, ``home``, ``limits``) become
+radians in :mod:`armanim.scene.convert`, as every other angle does.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from armanim.arm.chain import ChainJoint
+from armanim.scene.urdf import Robot, chain_joints, read_urdf
+
+ROBOTS = ("panda", "ur5", "iiwa")
+"""The bundled robots, each a folder of ``armanim/arm/robots/`` (URDF, licence, robot.yaml)."""
+
+
+@dataclass(frozen=True)
+class BundledRobot:
+    """A bundled robot's description: where its URDF is and the defaults it brings."""
+
+    name: str
+    title: str
+    urdf: Path
+    base_link: str
+    tip_link: str
+    home: tuple[float, ...]  # degrees
+    collision: object  # "auto" or a list of {link, from, to, radius}
+    width: float
+    source: str
+
+
+@cache
+def bundled_robot(name: str) -> BundledRobot:
+    """The bundled robot ``name`` (one of :data:`ROBOTS`); KeyError if there is none."""
+    if name not in ROBOTS:
+        raise KeyError(name)
+    folder = resources.files("armanim.arm").joinpath("robots", name)
+    info = yaml.safe_load(folder.joinpath("robot.yaml").read_text(encoding="utf-8"))  # package data, not user input
+    return BundledRobot(name=name, title=info["title"], urdf=Path(str(folder.joinpath(info["urdf"]))),
+                        base_link=info["base_link"], tip_link=info["tip_link"], home=tuple(info["home"]),
+                        collision=info["collision"], width=float(info["width"]), source=info["source"])
+
+
+@dataclass(frozen=True)
+class CapsuleSpec:
+    """A capsule in its link's frame (metres)."""
+
+    link: str
+    start: np.ndarray
+    end: np.ndarray
+    radius: float
+
+
+@dataclass(frozen=True)
+class UrdfArm:
+    """A scene's URDF arm, resolved: the path of joints and the capsules, in URDF units.
+
+    Attributes
+    ----------
+    file : str
+        The URDF as messages name it.
+    joints : tuple of ChainJoint
+        From base_link to tip_link.
+    joint_names : tuple of str
+        The moving joints, in order (``phi1`` is the first).
+    limits : tuple of (lower, upper) radians or None
+        Per moving joint, from the URDF (None: continuous).
+    path_links : tuple of str
+        The child link of each joint of ``joints``.
+    capsules : tuple of CapsuleSpec
+    fallback_links : tuple of str
+        Moving links without a usable collision primitive: they get a joint-to-joint capsule of radius width / 2.
+    bundled : BundledRobot or None
+    """
+
+    file: str
+    joints: tuple[ChainJoint, ...]
+    joint_names: tuple[str, ...]
+    limits: tuple[tuple[float, float] | None, ...]
+    path_links: tuple[str, ...]
+    capsules: tuple[CapsuleSpec, ...]
+    fallback_links: tuple[str, ...]
+    bundled: BundledRobot | None
+
+
+def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
+    """The URDF arm of a scene's ``arm`` section, or None for an arm of links.
+
+    ``context`` may give ``scene_dir``, the folder ``arm.urdf`` is relative to (default: the
+    working folder). Problems of the scene raise ValueError (pydantic reports them at
+    ``arm``); problems of the URDF file raise its SceneError (``FILE:LINE: message``).
+    """
+    _check_kind(arm)
+    if not arm.is_urdf:
+        return None
+    bundled = _bundled(arm.robot) if arm.robot is not None else None
+    if bundled is not None:
+        path, shown = bundled.urdf, f"robot {bundled.name}'s URDF"
+    else:
+        folder = Path((context or {}).get("scene_dir") or ".")
+        path = folder / arm.urdf
+        shown = str(path)
+    robot = read_urdf(path, shown)
+    base = _link(robot, arm.base_link or (bundled.base_link if bundled else robot.root), "base_link")
+    tip = _link(robot, arm.tip_link or (bundled.tip_link if bundled else _only_leaf(robot)), "tip_link")
+    joints = chain_joints(robot, base, tip)
+    path_joints = robot.path(base, tip)
+    moving = [j for j in path_joints if j.kind in ("revolute", "continuous")]
+    links = tuple(j.child for j in path_joints)
+    collision = arm.collision if arm.collision is not None else (bundled.collision if bundled else "auto")
+    if collision == "auto":
+        capsules = tuple(c for link in links for c in primitive_capsules(link, robot))
+    else:
+        capsules = tuple(_listed_capsules(collision, (base, *links)))
+    return UrdfArm(
+        file=shown,
+        joints=tuple(joints),
+        joint_names=tuple(j.name for j in moving),
+        limits=tuple(j.limits for j in moving),
+        path_links=links,
+        capsules=capsules,
+        fallback_links=_uncovered(joints, links, capsules),
+        bundled=bundled,
+    )
+
+
+def _check_kind(arm) -> None:
+    """Exactly one of links, urdf, robot; the fields of the other kind left out."""
+    given = [name for name in ("links", "urdf", "robot") if getattr(arm, name) is not None]
+    if len(given) != 1:
+        raise ValueError(f"gives {' and '.join(given) if given else 'none of links, urdf, robot'} "
+                         "(expected exactly one: links for an arm of straight links, urdf for a URDF file, robot for a bundled robot)")
+    wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision") if given[0] == "links" else ("axes", "direction")
+    for name in wrong:
+        if getattr(arm, name) is not None:
+            kind = "an arm of links" if given[0] == "links" else "a URDF arm"
+            raise ValueError(f"{name} does not apply to {kind} (remove it)")
+
+
+def _bundled(name: str) -> BundledRobot:
+    try:
+        return bundled_robot(name)
+    except KeyError:
+        raise ValueError(f"robot {name!r} is not bundled (expected one of: {', '.join(ROBOTS)}; "
+                         "or give your own file with arm.urdf)") from None
+
+
+def _link(robot: Robot, name: str, field: str) -> str:
+    if name not in robot.links:
+        close = [n for n in robot.links if name.lower() in n.lower()][:3]
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise ValueError(f"{field} {name!r} is not a link of {robot.file} ({hint}it has {len(robot.links)} links: "
+                         f"{', '.join(list(robot.links)[:12])}{', ...' if len(robot.links) > 12 else ''})")
+    return name
+
+
+def _only_leaf(robot: Robot) -> str:
+    leaves = robot.leaves
+    if len(leaves) != 1:
+        raise ValueError(f"tip_link is not given and {robot.file} has {len(leaves)} leaf links "
+                         f"({', '.join(leaves[:12])}): set arm.tip_link to the link the arm ends at")
+    return leaves[0]
+
+
+def primitive_capsules(link: str, robot: Robot) -> list[CapsuleSpec]:
+    """The capsules of a link's ``<collision>`` primitives, in its frame: a cylinder becomes
+    the capsule around its axis, a sphere a zero-length capsule, a box the capsule along its
+    longest side that holds it; meshes give none. Capsules inside another are dropped."""
+    out = []
+    for prim in robot.links[link]:
+        if prim.kind == "mesh":
+            continue
+        local = _primitive_segment(prim.kind, prim.size)
+        ends = prim.origin[:3, :3] @ np.array(local[:2]).T + prim.origin[:3, 3:4]
+        out.append(CapsuleSpec(link, ends[:, 0], ends[:, 1], local[2]))
+    return [c for i, c in enumerate(out) if not any(j != i and _inside(c, o) and (not _inside(o, c) or j < i)
+                                                    for j, o in enumerate(out))]
+
+
+def _primitive_segment(kind: str, size) -> tuple[np.ndarray, np.ndarray, float]:
+    if kind == "cylinder":
+        radius, length = size
+        return np.array([0, 0, -length / 2]), np.array([0, 0, length / 2]), float(radius)
+    if kind == "sphere":
+        return np.zeros(3), np.zeros(3), float(size[0])
+    half = np.asarray(size, dtype=float) / 2  # box
+    axis = int(np.argmax(half))
+    rest = np.delete(half, axis)
+    tip = np.zeros(3)
+    tip[axis] = half[axis]
+    return -tip, tip, float(np.hypot(*rest))
+
+
+def _inside(inner: CapsuleSpec, outer: CapsuleSpec) -> bool:
+    """Whether capsule ``inner`` lies within ``outer`` (both ends' balls do: the distance to a segment is convex)."""
+    ab = outer.end - outer.start
+    length2 = float(ab @ ab)
+    for p in (inner.start, inner.end):
+        t = 0.0 if length2 == 0 else min(1.0, max(0.0, float((p - outer.start) @ ab) / length2))
+        if np.linalg.norm(p - (outer.start + t * ab)) + inner.radius > outer.radius + 1e-12:
+            return False
+    return True
+
+
+def _listed_capsules(collision, links: tuple[str, ...]):
+    for i, capsule in enumerate(collision):
+        link = capsule.link if hasattr(capsule, "link") else capsule["link"]
+        if link not in links:
+            raise ValueError(f"collision[{i}].link {link!r} is not a link from base_link to tip_link "
+                             f"(expected one of: {', '.join(links)})")
+        get = (lambda k, c=capsule: getattr(c, "from_" if k == "from" else k)) if hasattr(capsule, "link") else capsule.__getitem__
+        yield CapsuleSpec(link, np.asarray(get("from"), dtype=float), np.asarray(get("to"), dtype=float), float(get("radius")))
+
+
+def _uncovered(joints: list[ChainJoint], links: tuple[str, ...], capsules) -> tuple[str, ...]:
+    """The moving joints' links (each named by the first link a joint moves) none of whose
+    carried links has a capsule."""
+    covered = {c.link for c in capsules}
+    out, group, moving = [], [], False
+    for joint, link in zip(joints, links):
+        if joint.axis is not None:
+            if moving and not covered.intersection(group):
+                out.append(group[0])
+            group, moving = [], True
+        group.append(link)
+    if moving and not covered.intersection(group):
+        out.append(group[0])
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class RobotSummary:
+    """What ``armanim robots`` shows of a bundled robot (degrees and metres)."""
+
+    name: str
+    title: str
+    joints: tuple[str, ...]
+    limits_deg: tuple[tuple[float, float] | None, ...]
+    reach: float
+    capsules: int
+
+
+def robot_summaries() -> list[RobotSummary]:
+    """Every bundled robot: its joints, their limits, its reach from joint 1 and its capsules.
+
+    >>> [s.name for s in robot_summaries()]
+    ['panda', 'ur5', 'iiwa']
+    """
+    from armanim.scene.convert import scene_to_problem
+    from armanim.scene.models import SceneModel
+
+    out = []
+    for name in ROBOTS:
+        problem = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}))
+        lim = problem.limits
+        limits = tuple((float(np.degrees(lo)), float(np.degrees(hi))) if np.isfinite(lo) else None
+                       for lo, hi in zip(lim.lower, lim.upper))
+        out.append(RobotSummary(name, bundled_robot(name).title, problem.arm.joint_names, limits,
+                                problem.arm.reach, len(problem.capsules)))
+    return out

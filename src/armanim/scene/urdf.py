@@ -1,0 +1,334 @@
+"""Read a URDF robot description: its joints, links and collision primitives, with lines.
+
+Untrusted input is parsed with expat under guards (the job ``defusedxml`` does): no DTD
+and so no entity expansion, at most :data:`MAX_URDF_BYTES`, :data:`MAX_DEPTH` levels of
+nesting and :data:`MAX_ELEMENTS` elements (10,000 joints and their children). Meshes are
+never read. Every problem is a :class:`SceneError` of ``FILE:LINE: message`` (exit 2).
+
+The arm is the path from ``base_link`` to ``tip_link``, found by walking from the tip up
+through each link's one parent joint (unique in a tree). Revolute and continuous joints
+on it move, fixed ones fold into the next origin; any other type on it is an error,
+anything off it is ignored.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.parsers.expat
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from armanim.arm.chain import ChainJoint, transform
+from armanim.errors import Diagnostic, SceneError
+from armanim.output.files import read_bounded
+from armanim.scene.models import LIMITS
+
+MAX_URDF_BYTES = 4 * 1024 * 1024
+"""A URDF without meshes is 10-100 KB; 4 MB leaves room for long comments."""
+MAX_DEPTH = 32
+MAX_ELEMENTS = 200_000
+MAX_JOINTS = LIMITS["links"]  # moving joints on the arm's path: as many as an arm of links may have
+MOVING = ("revolute", "continuous")
+UNSUPPORTED = ("prismatic", "planar", "floating")
+
+
+@dataclass
+class Element:
+    """One XML element: tag, attributes, 1-based line, children."""
+
+    tag: str
+    attrib: dict
+    line: int
+    children: list = field(default_factory=list)
+
+    def find(self, tag: str) -> Element | None:
+        return next((c for c in self.children if c.tag == tag), None)
+
+    def findall(self, tag: str) -> list[Element]:
+        return [c for c in self.children if c.tag == tag]
+
+
+@dataclass(frozen=True)
+class Primitive:
+    """A ``<collision>`` shape in its link's frame: ``kind`` cylinder, sphere, box or mesh."""
+
+    kind: str
+    origin: np.ndarray  # (4, 4)
+    size: tuple[float, ...]  # cylinder (radius, length); sphere (radius,); box (x, y, z); mesh ()
+    line: int
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A URDF joint as written (radians, metres)."""
+
+    name: str
+    kind: str
+    parent: str
+    child: str
+    origin: np.ndarray
+    axis: np.ndarray
+    limits: tuple[float, float] | None
+    mimic: bool
+    line: int
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A parsed URDF: links (with their collision primitives) and joints, by name."""
+
+    file: str
+    name: str
+    links: dict[str, list[Primitive]]
+    link_lines: dict[str, int]
+    joints: dict[str, Joint]
+
+    @property
+    def parent_joint(self) -> dict[str, Joint]:
+        """Child link -> the joint above it."""
+        return {j.child: j for j in self.joints.values()}
+
+    @property
+    def root(self) -> str:
+        """The one link that is no joint's child."""
+        children = {j.child for j in self.joints.values()}
+        return next(name for name in self.links if name not in children)
+
+    @property
+    def leaves(self) -> list[str]:
+        """Links that are no joint's parent, in file order."""
+        parents = {j.parent for j in self.joints.values()}
+        return [name for name in self.links if name not in parents]
+
+    def path(self, base: str, tip: str) -> list[Joint]:
+        """The joints from ``base`` down to ``tip``, in order (walking up from the tip)."""
+        up = self.parent_joint
+        joints, link = [], tip
+        while link != base:
+            joint = up.get(link)
+            if joint is None:
+                raise self.error(f"no path from base_link {base!r} down to tip_link {tip!r} "
+                                 f"({tip!r} is not below {base!r}: choose links on one branch)", self.link_lines[tip])
+            joints.append(joint)
+            link = joint.parent
+        return joints[::-1]
+
+    def error(self, message: str, line: int | None = None) -> SceneError:
+        return SceneError(self.file, [Diagnostic("", message, line)])
+
+
+def read_urdf(path: Path, shown: str | None = None) -> Robot:
+    """Read and check a URDF file (``shown`` names it in messages; default: the path)."""
+    file = shown or str(path)
+    raw = read_bounded(path, MAX_URDF_BYTES, "a URDF robot description")
+    return parse_urdf(raw, file)
+
+
+def parse_urdf(raw: bytes, file: str) -> Robot:
+    """Parse URDF bytes (``file`` names them in messages).
+
+    >>> robot = parse_urdf(b'<robot name="r"><link name="a"/><link name="b"/>'
+    ...     b'<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>', "r.urdf")
+    >>> robot.root, robot.leaves, robot.joints["j"].axis.tolist()
+    ('a', ['b'], [1.0, 0.0, 0.0])
+    """
+    root = _parse_xml(raw, file)
+    if root.tag != "robot":
+        raise SceneError(file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: a URDF file)", root.line)])
+    links, lines = {}, {}
+    for el in root.findall("link"):
+        name = _name(el, file, "link")
+        if name in links:
+            raise SceneError(file, [Diagnostic("", f"link {name!r} is defined twice (first on line {lines[name]})", el.line)])
+        links[name], lines[name] = [_primitive(c, file) for c in el.findall("collision")], el.line
+    joints: dict[str, Joint] = {}
+    for el in root.findall("joint"):
+        joint = _joint(el, file, links)
+        if joint.name in joints:
+            raise SceneError(file, [Diagnostic("", f"joint {joint.name!r} is defined twice (first on line {joints[joint.name].line})", el.line)])
+        joints[joint.name] = joint
+    if not links:
+        raise SceneError(file, [Diagnostic("", "has no <link> (expected a robot's links and joints)", root.line)])
+    robot = Robot(file, root.attrib.get("name", ""), links, lines, joints)
+    _check_tree(robot)
+    return robot
+
+
+def _parse_xml(raw: bytes, file: str) -> Element:
+    """A tree of :class:`Element` from bytes, refusing DTDs, deep nesting and floods of elements."""
+    parser = xml.parsers.expat.ParserCreate()
+    stack: list[Element] = []
+    top: list[Element] = []
+    count = [0]
+
+    def refuse(message: str) -> None:
+        raise SceneError(file, [Diagnostic("", message, parser.CurrentLineNumber)])
+
+    def start(tag, attrib):
+        count[0] += 1
+        if count[0] > MAX_ELEMENTS:
+            refuse(f"has more than {MAX_ELEMENTS:,} elements (expected a robot description of at most 10,000 joints)")
+        if len(stack) >= MAX_DEPTH:
+            refuse(f"nests elements more than {MAX_DEPTH} deep (expected a URDF: robot, link, collision, geometry, ...)")
+        el = Element(tag, dict(attrib), parser.CurrentLineNumber)
+        (stack[-1].children if stack else top).append(el)
+        stack.append(el)
+
+    def doctype(*_):
+        refuse("declares a DTD (<!DOCTYPE>), which URDF does not use and armanim does not read "
+               "(entity expansion is refused: remove the declaration)")
+
+    parser.StartElementHandler = start
+    parser.EndElementHandler = lambda tag: stack.pop()
+    parser.StartDoctypeDeclHandler = doctype
+    parser.EntityDeclHandler = doctype
+    try:
+        parser.Parse(raw, True)
+    except xml.parsers.expat.ExpatError as exc:
+        message = xml.parsers.expat.ErrorString(exc.code)
+        raise SceneError(file, [Diagnostic("", f"is not well-formed XML: {message} (column {exc.offset + 1})", exc.lineno)]) from None
+    if not top:
+        raise SceneError(file, [Diagnostic("", "has no elements (expected a <robot>)", 1)])
+    return top[0]
+
+
+def _name(el: Element, file: str, what: str) -> str:
+    name = el.attrib.get("name")
+    if not name:
+        raise SceneError(file, [Diagnostic("", f"a <{what}> has no name attribute (every {what} needs a unique name)", el.line)])
+    return name
+
+
+def _numbers(el: Element | None, key: str, count: int, default, file: str, what: str) -> tuple[float, ...]:
+    """``count`` finite numbers from attribute ``key`` of ``el`` (``default`` when absent)."""
+    if el is None or key not in el.attrib:
+        return tuple(default)
+    text = el.attrib[key]
+    try:
+        values = tuple(float(v) for v in text.split())
+    except ValueError:
+        values = ()
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise SceneError(file, [Diagnostic("", f"{what}: {key}={text!r} (expected {count} finite numbers separated by spaces)", el.line)])
+    return values
+
+
+def _origin(el: Element, file: str, what: str) -> np.ndarray:
+    origin = el.find("origin")
+    xyz = _numbers(origin, "xyz", 3, (0.0, 0.0, 0.0), file, f"{what} <origin>")
+    rpy = _numbers(origin, "rpy", 3, (0.0, 0.0, 0.0), file, f"{what} <origin>")
+    return transform(xyz, rpy)
+
+
+def _primitive(el: Element, file: str) -> Primitive:
+    origin = _origin(el, file, "<collision>")
+    geometry = el.find("geometry")
+    shape = geometry.children[0] if geometry is not None and geometry.children else None
+    if shape is None:
+        return Primitive("mesh", origin, (), el.line)  # nothing usable: treated like a mesh
+    sizes = {
+        "cylinder": lambda: (*_numbers(shape, "radius", 1, (), file, "<cylinder>"), *_numbers(shape, "length", 1, (), file, "<cylinder>")),
+        "sphere": lambda: _numbers(shape, "radius", 1, (), file, "<sphere>"),
+        "box": lambda: _numbers(shape, "size", 3, (), file, "<box>"),
+    }
+    if shape.tag not in sizes:
+        return Primitive("mesh", origin, (), shape.line)
+    for attr in {"cylinder": ("radius", "length"), "sphere": ("radius",), "box": ("size",)}[shape.tag]:
+        if attr not in shape.attrib:
+            raise SceneError(file, [Diagnostic("", f"<{shape.tag}> has no {attr} attribute", shape.line)])
+    size = sizes[shape.tag]()
+    if any(v < 0 for v in size):
+        raise SceneError(file, [Diagnostic("", f"<{shape.tag}> has a negative size {size} (expected sizes >= 0)", shape.line)])
+    return Primitive(shape.tag, origin, size, shape.line)
+
+
+def _joint(el: Element, file: str, links: dict) -> Joint:
+    name = _name(el, file, "joint")
+    what = f"joint {name!r}"
+    kind = el.attrib.get("type", "")
+    ends = {}
+    for end in ("parent", "child"):
+        sub = el.find(end)
+        link = sub.attrib.get("link") if sub is not None else None
+        if not link:
+            raise SceneError(file, [Diagnostic("", f"{what} has no <{end} link=...>", el.line)])
+        if link not in links:
+            raise SceneError(file, [Diagnostic("", f"{what}: {end} link {link!r} is not defined (no <link name={link!r}>)", sub.line)])
+        ends[end] = link
+    axis = np.array(_numbers(el.find("axis"), "xyz", 3, (1.0, 0.0, 0.0), file, f"{what} <axis>"))
+    if kind in MOVING and not np.linalg.norm(axis) > 0:
+        raise SceneError(file, [Diagnostic("", f"{what} has the axis 0 0 0 (expected a direction, e.g. xyz=\"0 0 1\")", el.find("axis").line)])
+    limit = el.find("limit")
+    limits = None
+    if kind == "revolute":
+        if limit is None or "lower" not in limit.attrib or "upper" not in limit.attrib:
+            raise SceneError(file, [Diagnostic("", f"{what} is revolute but has no <limit lower=... upper=...> "
+                                                   "(give its limits in radians, or make it continuous)", el.line)])
+        lower, upper = (_numbers(limit, k, 1, (), file, f"{what} <limit>")[0] for k in ("lower", "upper"))
+        if not lower < upper:
+            raise SceneError(file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is not below upper {upper:g}", limit.line)])
+        limits = (lower, upper)
+    return Joint(name, kind, ends["parent"], ends["child"], _origin(el, file, what), axis, limits,
+                 el.find("mimic") is not None, el.line)
+
+
+def _check_tree(robot: Robot) -> None:
+    """One parent per link, no cycle, one root."""
+    file = robot.file
+    parent: dict[str, Joint] = {}
+    for joint in robot.joints.values():
+        if joint.child in parent:
+            first = parent[joint.child]
+            raise SceneError(file, [Diagnostic("", f"link {joint.child!r} is the child of joints {first.name!r} (line {first.line}) "
+                                                   f"and {joint.name!r} (a URDF is a tree: each link has one parent joint)", joint.line)])
+        parent[joint.child] = joint
+    rooted: set[str] = set()  # links known to lead up to a root: each link is walked once
+    for joint in robot.joints.values():
+        seen, link = set(), joint.child
+        while link in parent and link not in rooted:
+            if link in seen:
+                raise SceneError(file, [Diagnostic("", f"joints form a cycle through link {link!r} "
+                                                       "(a URDF is a tree: follow the parent links to find it)", parent[link].line)])
+            seen.add(link)
+            link = parent[link].parent
+        rooted |= seen
+    roots = [name for name in robot.links if name not in parent]
+    if len(roots) != 1:
+        names = ", ".join(repr(r) for r in roots[:5])
+        raise SceneError(file, [Diagnostic("", f"has {len(roots)} root links ({names}; expected one link that no joint has as child)",
+                                           robot.link_lines[roots[1]] if len(roots) > 1 else None)])
+
+
+def chain_joints(robot: Robot, base: str, tip: str) -> list[ChainJoint]:
+    """The joints from ``base`` to ``tip`` as the chain takes them; an unsupported joint on
+    the path is an error naming it and its line."""
+    out = []
+    for joint in robot.path(base, tip):
+        if joint.kind in UNSUPPORTED or joint.kind not in (*MOVING, "fixed"):
+            kind = joint.kind or "(none)"
+            raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} is of type {kind!r} "
+                              "(armanim moves revolute and continuous joints and folds fixed ones; "
+                              "choose another base_link or tip_link)", joint.line)
+        if joint.mimic and joint.kind in MOVING:
+            raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} mimics another joint "
+                              "(not supported yet: choose another tip_link)", joint.line)
+        out.append(ChainJoint(joint.name, joint.origin, joint.axis if joint.kind in MOVING else None))
+    moving = sum(j.axis is not None for j in out)
+    if moving > MAX_JOINTS:
+        raise robot.error(f"{moving:,} moving joints between {base!r} and {tip!r} (expected at most {MAX_JOINTS}, "
+                          "as for an arm of links)", robot.link_lines[tip])
+    if not moving:
+        raise robot.error(f"no revolute or continuous joint between {base!r} and {tip!r} (nothing would move)",
+                          robot.link_lines[tip])
+    return out
+
+
+def default_tip(robot: Robot) -> str:
+    """The only leaf link; an error listing the leaves when there are several."""
+    leaves = robot.leaves
+    if len(leaves) == 1:
+        return leaves[0]
+    names = ", ".join(repr(n) for n in leaves[:12])
+    raise robot.error(f"has {len(leaves)} leaf links ({names}): set arm.tip_link to the one the arm ends at")
