@@ -184,10 +184,10 @@ def test_a_scene_that_fails_on_its_worker_is_failed_exit_3(src, tmp_path, monkey
 
     real = armanim.runs.batch.run_task
 
-    def flaky(task, video, overrides):
+    def flaky(task, *args):  # (task, video, overrides, viewer)
         if task.name == "planar-nlink":
             raise OutputError("disk on fire")
-        return real(task, video, overrides)
+        return real(task, *args)
 
     monkeypatch.setattr(armanim.runs.batch, "run_task", flaky)  # --jobs 1 runs tasks in this process
     result = invoke("run", src / "a.yaml", src / "b.yaml", "--jobs", 1, "--no-video", "--out", tmp_path)
@@ -204,7 +204,7 @@ def test_a_scene_that_fails_on_its_worker_is_failed_exit_3(src, tmp_path, monkey
 def test_an_unexpected_worker_exception_is_failed_with_its_type(src, tmp_path, monkeypatch):
     import armanim.runs.batch
 
-    def boom(task, video, overrides):
+    def boom(task, *args):
         raise RuntimeError("worker bug")
 
     monkeypatch.setattr(armanim.runs.batch, "run_task", boom)
