@@ -51,7 +51,7 @@
     setFrame, play, pause, setSpeed,
     setView: (name) => setView(name),
     goalStates: (k) => goalStates(k === undefined ? api.frame : k),
-    nextDraw: () => new Promise((resolve) => { waiters.push(resolve); st.dirty = true; }),
+    nextDraw: () => new Promise((resolve) => { if (!renderer) resolve(0); else { waiters.push(resolve); st.dirty = true; } }),
   };
   const waiters = [];
   window.armanim = api;
@@ -69,6 +69,7 @@
 
   // ---- the page's fixed parts ------------------------------------------------------
   $("title").textContent = D.title;
+  if (!D.obstacles.length) $("clearance").parentElement.hidden = true;  // no obstacles: no clearance to show
   document.title = D.title + " - armanim";
   const slider = $("slider");
   slider.max = String(F - 1);
@@ -98,6 +99,7 @@
     renderer = new T.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   } catch (e) {
     $("nogl").hidden = false;
+    $("labels").hidden = true;  // nothing to label
   }
   const scene = new T.Scene();
   scene.background = new T.Color(S.background);
@@ -264,6 +266,11 @@
     const c = plotCache.getContext("2d"); c.setTransform(r, 0, 0, r, 0, 0);
     c.fillStyle = "#fff"; c.fillRect(0, 0, w, h);
     const Ya = (v) => PT + (h - PT - PB) * (amax - v) / (amax - amin), Yd = (v) => PT + (h - PT - PB) * (1 - v / dmax);
+    const planning = D.activities.indexOf("planning");  // frames that follow a planned path: shaded
+    if (planning >= 0) {
+      c.fillStyle = "#eef2fb";
+      for (let f = 0; f < F; f++) if (D.activity[f] === planning) c.fillRect(plotX(f - 0.5, w), PT, Math.max((w - PL - PR) / Math.max(F - 1, 1), 1), h - PT - PB);
+    }
     c.font = "11px system-ui, 'DejaVu Sans', sans-serif"; c.fillStyle = "#555"; c.strokeStyle = "#e4e5ea";
     for (let f = 1; f < F; f++) if (D.goal[f] !== D.goal[f - 1]) { c.beginPath(); c.moveTo(plotX(f, w), PT); c.lineTo(plotX(f, w), h - PB); c.stroke(); }
     c.strokeStyle = "#c8cad2"; c.beginPath(); c.moveTo(PL, PT); c.lineTo(PL, h - PB); c.lineTo(w - PR, h - PB); c.lineTo(w - PR, PT); c.stroke();
@@ -280,7 +287,8 @@
     c.strokeStyle = "#111"; c.lineWidth = 1.4; c.setLineDash([5, 3]); c.beginPath();
     for (let f = 0; f < F; f += step) { const x = plotX(f, w), y = Yd(D.distance[f]); f ? c.lineTo(x, y) : c.moveTo(x, y); }
     c.stroke(); c.setLineDash([]);
-    c.textAlign = "center"; c.fillStyle = "#111"; c.fillText("- - goal distance", (PL + w - PR) / 2, h - 6);
+    c.textAlign = "center"; c.fillStyle = "#111";
+    c.fillText("joint angles (left, colours as in the table)   - - goal distance (right)" + (planning >= 0 ? "   shaded: planning" : ""), (PL + w - PR) / 2, h - 6);
   }
   function drawPlot(f) {
     const r = window.devicePixelRatio || 1, w = plot.clientWidth, h = plot.clientHeight;
