@@ -214,3 +214,22 @@ def test_view_open_hands_the_page_to_the_browser(cli, run_folder, monkeypatch):
     monkeypatch.setattr(webbrowser, "open", lambda url: False)
     result = cli("view", run_folder, "--open")
     assert result.exit_code == 0 and "no web browser could be started" in result.stderr
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("ci", ["", "true"])
+def test_without_a_browser_the_browser_tests_skip_saying_how_to_install_one_or_fail_in_ci(ci):
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "ARMANIM_BROWSER": "/nonexistent/chromium", "CI": ci}
+    proc = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-rs", "-p", "no:cacheprovider", "tests/test_viewer_browser.py", "-k", "frame_count"],
+        cwd=ROOT, env=env, capture_output=True, text=True, timeout=300,
+    )
+    if ci:
+        assert proc.returncode == 1 and "1 error" in proc.stdout and "CI=true" in proc.stdout, proc.stdout
+    else:
+        assert proc.returncode == 0 and "1 skipped" in proc.stdout, proc.stdout
+    assert "apt-get install chromium-headless-shell" in proc.stdout
