@@ -13,7 +13,7 @@
   // ---- the state, and the page API -------------------------------------------------
   // Playing is a function of the clock: frame = f0 + floor(elapsed * fps * speed), so the
   // frame is right whenever it is read, however often the browser draws.
-  const st = { frame: 0, playing: false, speed: 1, t0: 0, f0: 0, shown: -1, dirty: true, drawn: 0 };
+  const st = { frame: 0, playing: false, speed: 1, t0: 0, f0: 0, shown: -1, shownPlaying: null, dirty: true, drawn: 0 };
   function sync(now) {
     if (!st.playing) return;
     const f = st.f0 + Math.floor(((now === undefined ? performance.now() : now) - st.t0) / 1000 * D.fps * st.speed);
@@ -311,9 +311,12 @@
   // ---- showing a frame ------------------------------------------------------------
   function show() {
     const f = st.frame;
-    const playBtn = $("play");
-    playBtn.textContent = st.playing ? "Pause" : "Play";
-    playBtn.setAttribute("aria-label", st.playing ? "pause" : "play");
+    if (st.playing !== st.shownPlaying) {
+      st.shownPlaying = st.playing;
+      const playBtn = $("play");
+      playBtn.textContent = st.playing ? "Pause" : "Play";
+      playBtn.setAttribute("aria-label", st.playing ? "pause" : "play");
+    }
     if (f === st.shown) return;
     st.shown = f;
     slider.value = String(f);
