@@ -45,6 +45,13 @@ def test_the_bundle_is_the_recorded_three_js_version_and_sha256():
     assert "Three.js Authors" in raw[:300].decode() and "SPDX-License-Identifier: MIT" in raw[:300].decode()
 
 
+def test_the_inlined_scripts_are_the_files_byte_for_byte():
+    from armanim.render.viewer.page import asset_text, inline_script
+
+    for code in (three_bundle(), asset_text("page.js")):  # nothing in them needs the </script guard
+        assert inline_script(code) == code
+
+
 def test_the_bundle_is_package_data():
     pyproject = (ROOT / "pyproject.toml").read_text()
     assert '"render/viewer/assets/*"' in pyproject
@@ -145,8 +152,14 @@ def test_run_no_video_writes_no_viewer_unless_asked(cli, scene, tmp_path):
     assert (folder / "viewer.html").read_text().startswith("<!doctype html>")
 
 
-@pytest.mark.slow
-def test_run_writes_the_viewer_beside_the_video_unless_told_not_to(cli, scene, tmp_path):
+def test_run_writes_the_viewer_beside_the_video_unless_told_not_to(cli, scene, tmp_path, monkeypatch):
+    import armanim.runs.pipeline as pipeline
+
+    def video(problem, solution, settings, folder, title, **kwargs):  # a stand-in: the flags, not the drawing
+        (folder / "animation.mp4").write_bytes(b"video")
+        return {"video": folder / "animation.mp4"}
+
+    monkeypatch.setattr(pipeline, "render_outputs", video)  # the real video beside it: tests/test_render_command.py
     assert cli("run", scene, "--out", tmp_path / "a", "-q", "--jobs", "1").exit_code == 0
     assert {"viewer.html", "animation.mp4"} <= set(listed(tmp_path / "a" / "small"))
     assert cli("run", scene, "--out", tmp_path / "b", "-q", "--jobs", "1", "--no-viewer").exit_code == 0
