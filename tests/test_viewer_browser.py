@@ -219,6 +219,11 @@ def test_space_plays_and_pauses(page):
     assert page.js("armanim.playing")
     page.page.keyboard.press("Space")
     assert not page.js("armanim.playing")
+    page.page.locator("#shells").focus()  # nor tick a focused box
+    page.page.keyboard.press("Space")
+    assert page.js("armanim.playing") and page.page.locator("#shells").is_checked()
+    page.page.keyboard.press("Space")
+    assert not page.js("armanim.playing")
 
 
 def test_play_stops_at_the_last_frame(page):

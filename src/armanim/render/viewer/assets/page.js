@@ -358,7 +358,11 @@
       ev.preventDefault(); step(-1);
     }
   });
-  window.addEventListener("keyup", (ev) => { if (ev.key === " " && ev.target && ev.target.tagName === "BUTTON") ev.preventDefault(); });
+  // Space on a focused button or box would also click it on keyup: play/pause is all it does here
+  window.addEventListener("keyup", (ev) => {
+    const t = ev.target;
+    if (ev.key === " " && t && (t.tagName === "BUTTON" || (t.tagName === "INPUT" && t.type === "checkbox"))) ev.preventDefault();
+  });
 
   // ---- drawing ----------------------------------------------------------------------
   const tmp = new T.Vector3();
