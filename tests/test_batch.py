@@ -184,10 +184,10 @@ def test_a_scene_that_fails_on_its_worker_is_failed_exit_3(src, tmp_path, monkey
 
     real = armanim.runs.batch.run_task
 
-    def flaky(task, video, overrides):
+    def flaky(task, *args):  # (task, video, overrides, viewer)
         if task.name == "planar-nlink":
             raise OutputError("disk on fire")
-        return real(task, video, overrides)
+        return real(task, *args)
 
     monkeypatch.setattr(armanim.runs.batch, "run_task", flaky)  # --jobs 1 runs tasks in this process
     result = invoke("run", src / "a.yaml", src / "b.yaml", "--jobs", 1, "--no-video", "--out", tmp_path)
@@ -204,7 +204,7 @@ def test_a_scene_that_fails_on_its_worker_is_failed_exit_3(src, tmp_path, monkey
 def test_an_unexpected_worker_exception_is_failed_with_its_type(src, tmp_path, monkeypatch):
     import armanim.runs.batch
 
-    def boom(task, video, overrides):
+    def boom(task, *args):
         raise RuntimeError("worker bug")
 
     monkeypatch.setattr(armanim.runs.batch, "run_task", boom)
@@ -289,7 +289,7 @@ def test_a_tiny_video_batch_returns_video_and_plot(src, tmp_path):
     result = invoke("run", src / "b.yaml", src / "bad.yaml", "--jobs", 2, "--size", "64x48", "--fps", 10, "-q", "--out", tmp_path)
     assert result.exit_code == 2
     folder = tmp_path / "planar-nlink"
-    assert sorted(p.name for p in folder.iterdir()) == [".armanim-run.json", "animation.mp4", "plot.png", "poster.png", "scene.yaml", "summary.json", "trajectory.csv"]
+    assert sorted(p.name for p in folder.iterdir()) == [".armanim-run.json", "animation.mp4", "plot.png", "poster.png", "scene.yaml", "summary.json", "trajectory.csv", "viewer.html"]
     reader = imageio_ffmpeg.read_frames(str(folder / "animation.mp4"))
     meta = next(reader)
     frames = sum(1 for _ in reader)

@@ -34,6 +34,7 @@ def test_every_python_api_example_runs_in_order(tmp_path):
     assert "outputs/notes-arm\n" in text and "converged" in text and "notes-arm-sweep.csv" in text
     assert (tmp_path / "outputs" / "index.csv").is_file()  # the batch and the sweep wrote theirs
     assert (tmp_path / "outputs" / "notes-arm-side" / "poster.png").is_file()
+    assert "outputs/notes-arm-viewer.html\n" in text and (tmp_path / "outputs" / "notes-arm-viewer.html").is_file()
 
 
 @pytest.mark.slow

@@ -26,7 +26,8 @@ from armanim.errors import EXIT_CHECK_FAILED
 def run(
     scenes: Annotated[list[Path], typer.Argument(help="Scene files to run.", show_default=False)],
     out_root: Annotated[Path, typer.Option("--out", help="Outputs go to OUT/<scene name>/.")] = Path("outputs"),
-    no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only.")] = False,
+    no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only (and viewer.html with --viewer).")] = False,
+    viewer: Annotated[bool | None, typer.Option("--viewer/--no-viewer", help="Write viewer.html, the interactive 3-D page (default: when the video is written).", show_default=False)] = None,
     quiet: QuietOpt = False,
     jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
     scheduler: SchedulerOpt = None,
@@ -38,7 +39,7 @@ def run(
 ) -> None:
     """Animate scenes: solve every goal and write OUT/<name>/ with the outputs.
 
-    The outputs: trajectory.csv, summary.json, the video, plot.png and poster.png. Several scenes run in parallel and also write OUT/index.csv; a bad scene is reported and the others finish (exit 2 if any scene was invalid, 3 if any failed while writing).
+    The outputs: trajectory.csv, summary.json, the video, plot.png, poster.png and viewer.html (open it in a browser; see docs/viewer.md). Several scenes run in parallel and also write OUT/index.csv; a bad scene is reported and the others finish (exit 2 if any scene was invalid, 3 if any failed while writing).
 
     Examples:
 
@@ -49,13 +50,13 @@ def run(
     overrides = render_overrides(size, fps, fmt, quality=quality)
     jobs = usable_jobs(jobs)
     if len(scenes) == 1 and not scheduler:
-        run_one(scenes[0], out_root, video=not no_video, jobs=jobs, overrides=overrides, quiet=quiet, strict=strict)
+        run_one(scenes[0], out_root, video=not no_video, viewer=viewer, jobs=jobs, overrides=overrides, quiet=quiet, strict=strict)
         return
     from armanim.runs.batch import run_batch
 
     with bars(quiet) as shown:
         entries = run_batch(
-            scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, render_overrides=overrides,
+            scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, viewer=viewer, render_overrides=overrides,
             progress=functools.partial(shown, "scenes"),
         )
     if not quiet:
@@ -64,12 +65,12 @@ def run(
     raise typer.Exit(batch_exit_code(entries, strict))
 
 
-def run_one(path: Path, out_root: Path, *, video: bool, jobs, overrides, quiet: bool, strict: bool) -> None:
+def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, jobs, overrides, quiet: bool, strict: bool) -> None:
     """One scene in this process, its video rendered by ``jobs`` workers."""
     from armanim.runs.pipeline import run_scene
 
     with bars(quiet) as shown:
-        result = run_scene(path, out_root, video=video, jobs=jobs, render_overrides=overrides, progress=shown)
+        result = run_scene(path, out_root, video=video, viewer=viewer, jobs=jobs, render_overrides=overrides, progress=shown)
     if not quiet:
         print_notes(result.scene)
         print_goal_table(result)

@@ -76,14 +76,14 @@ class BatchEntry:
     summary: dict | None = None
 
 
-def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | None) -> RemoteRun:
+def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | None, viewer: bool | None = None) -> RemoteRun:
     """Worker side: produce a scene's outputs in a temporary folder and return their bytes."""
     from armanim.runs.pipeline import produce_outputs
 
     try:
         scene = scene_from_bytes(task.raw, task.path, task.name)
         with tempfile.TemporaryDirectory(prefix="armanim-") as tmp:
-            produced = produce_outputs(scene, Path(tmp), video=video, jobs=1, render_overrides=render_overrides)
+            produced = produce_outputs(scene, Path(tmp), video=video, viewer=viewer, jobs=1, render_overrides=render_overrides)
             files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
     except Stopped as stop:  # SIGTERM in a pool worker, its temporary folder and ffmpeg already gone:
         os._exit(stop.code)  # end here, not in the executor's loop (which would send it back as a result)
@@ -157,6 +157,7 @@ def run_tasks(
     jobs: int | None = None,
     scheduler: str | None = None,
     video: bool = True,
+    viewer: bool | None = None,
     render_overrides: RenderOverrides | None = None,
     progress: Callable[..., None] | None = None,
 ) -> list[BatchEntry]:
@@ -172,7 +173,7 @@ def run_tasks(
     done = 0
     if progress:
         progress(0, len(tasks), tuple(unfinished[:workers]))
-    for task, run, exc in executor.map(run_task, tasks, video, render_overrides):
+    for task, run, exc in executor.map(run_task, tasks, video, render_overrides, viewer):
         if exc is None and run.error is not None:
             entries[task.name] = BatchEntry(task.name, run.status, task.path, message=run.error)
         elif exc is None:
@@ -206,6 +207,7 @@ def run_batch(
     jobs: int | None = None,
     scheduler: str | None = None,
     video: bool = True,
+    viewer: bool | None = None,
     render_overrides: RenderOverrides | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> list[BatchEntry]:
@@ -215,7 +217,8 @@ def run_batch(
     """
     paths = list(dict.fromkeys(Path(p) for p in paths))  # the same file twice runs once
     tasks, rejected = load_tasks(paths)
-    done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, render_overrides=render_overrides, progress=progress)
+    done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, viewer=viewer,
+                     render_overrides=render_overrides, progress=progress)
     by_file = {e.scene_file: e for e in [*done, *rejected]}
     entries = [by_file[str(p)] for p in paths if str(p) in by_file]
     write_text_atomic(Path(out_root) / "index.csv", index_csv_text(entries))

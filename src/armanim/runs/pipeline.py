@@ -9,7 +9,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from armanim.errors import UsageError
+from armanim.errors import OutputError, UsageError
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.resample import at_fps, resample
 from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
@@ -38,7 +38,7 @@ class RunResult:
     folder : Path
         The run's output folder.
     files : dict[str, Path]
-        Written outputs by kind: ``scene``, ``trajectory``, ``summary``, ``video``, ``plot``.
+        Written outputs by kind: ``scene``, ``trajectory``, ``summary``, ``viewer``, ``video``, ``plot``, ``poster``.
     summary : dict
     """
 
@@ -55,6 +55,7 @@ def run_scene(
     out_root: str | Path = "outputs",
     *,
     video: bool = True,
+    viewer: bool | None = None,
     jobs: int | None = None,
     render_overrides: RenderOverrides | None = None,
     progress: Progress | None = None,
@@ -70,6 +71,7 @@ def run_scene(
     path : scene file
     out_root : folder that receives one folder per scene
     video : render the video, plot.png and poster.png (False: CSV and summary only)
+    viewer : write viewer.html, the interactive page (None: when ``video`` is True)
     jobs : worker processes for rendering (default: all cores)
     render_overrides : render settings to change, e.g. ``RenderOverrides(size=(320, 240))``
     progress : optional callback ``progress(stage, done, total)``
@@ -84,7 +86,8 @@ def run_scene(
     scene = load_scene(path)
     folder = Path(out_root) / scene.name
     with staged_folder(folder) as staged:
-        produced = produce_outputs(scene, staged, video=video, jobs=jobs, render_overrides=render_overrides, progress=progress)
+        produced = produce_outputs(scene, staged, video=video, viewer=viewer, jobs=jobs, render_overrides=render_overrides,
+                                   progress=progress)
     files = {kind: folder / name for kind, name in produced.names.items()}
     return RunResult(scene, produced.problem, produced.solution, folder, files, produced.summary)
 
@@ -104,6 +107,7 @@ def produce_outputs(
     folder: Path,
     *,
     video: bool = True,
+    viewer: bool | None = None,
     jobs: int | None = None,
     render_overrides: RenderOverrides | None = None,
     progress: Progress | None = None,
@@ -129,6 +133,11 @@ def produce_outputs(
     write_bytes_atomic(folder / SCENE_COPY, scene.raw)
     write_trajectory_csv(solution.trajectory, folder / names["trajectory"])
     write_summary(summary, folder / names["summary"])
+    if video if viewer is None else viewer:
+        from armanim.render.viewer import VIEWER_FILE, write_viewer
+
+        write_viewer(problem, solution.trajectory, solution.goals, settings, folder / VIEWER_FILE, title=scene.name)
+        names["viewer"] = VIEWER_FILE
     if video:
         rendered = render_outputs(problem, solution, settings, folder, scene.name, jobs=jobs, progress=progress)
         names.update({kind: path.name for kind, path in rendered.items()})
@@ -185,6 +194,61 @@ def rerender_run(
         settings = settings_of(run.scene, render_overrides)
         rendered = render_outputs(run.problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
     return {kind: folder / path.name for kind, path in rendered.items()}
+
+
+def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Path:
+    """(Re)write the viewer page of a finished run from its folder, without solving.
+
+    Parameters
+    ----------
+    folder : an output folder of ``armanim run`` (scene.yaml, trajectory.csv, summary.json)
+    out : write the page to this file instead of the run's own ``viewer.html``; an existing
+        file is replaced only if it is a viewer page armanim wrote
+
+    Returns
+    -------
+    Path
+        The page written.
+
+    Without ``out`` the run folder is locked, staged and swapped as a run does, and the
+    marker lists ``viewer.html``; with ``out`` the run is read under its lock and the page is
+    written atomically.
+
+    Raises
+    ------
+    SceneError
+        The folder is not a complete armanim run (exit 2).
+    OutputError
+        The folder was not made by armanim, something other than an armanim page stands at
+        ``out``, or the page could not be written (exit 3).
+    """
+    from armanim.render.viewer import VIEWER_FILE, write_viewer
+    from armanim.render.viewer.page import replace_problem
+    from armanim.runs.reload import load_run
+
+    folder = Path(folder)
+    load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
+    own = folder / VIEWER_FILE
+    if out is None or Path(out).resolve() == own.resolve():
+        with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
+            run = load_run(folder)
+            write_viewer(run.problem, run.solution.trajectory, run.solution.goals, settings_of(run.scene, None),
+                         staged / VIEWER_FILE, title=run.scene.name)
+        return own
+    target = Path(out)
+    problem = replace_problem(target)
+    if problem is not None:
+        raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
+    with folder_lock(folder):  # read the run whole, never half replaced by a run of it
+        run = load_run(folder)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        from armanim.output.atomic import output_error
+
+        raise output_error(target.parent, exc) from None
+    return write_viewer(run.problem, run.solution.trajectory, run.solution.goals, settings_of(run.scene, None), target,
+                        title=run.scene.name)
 
 
 def settings_of(scene: LoadedScene, overrides: RenderOverrides | None) -> RenderSettings:

@@ -1,0 +1,404 @@
+// The armanim viewer page: draws one run's frames with three.js (window.THREE).
+// Every position comes from the data block, computed by armanim's forward kinematics in
+// Python; this code only places solids where the data says. Text from the data is set
+// with textContent, never as markup. Page API: window.armanim (docs/viewer.md).
+"use strict";
+(function () {
+  const D = JSON.parse(document.getElementById("armanim-data").textContent);
+  const F = D.frames, N = D.joints.length, P = N + 1, S = D.style;
+  const $ = (id) => document.getElementById(id);
+  const clamp = (v, lo, hi) => Math.max(lo, Math.min(hi, v));
+  const PLOT_COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+
+  // ---- the state, and the page API -------------------------------------------------
+  // Playing is a function of the clock: frame = f0 + floor(elapsed * fps * speed), so the
+  // frame is right whenever it is read, however often the browser draws.
+  const st = { frame: 0, playing: false, speed: 1, t0: 0, f0: 0, shown: -1, shownPlaying: null, dirty: true, drawn: 0 };
+  function sync(now) {
+    if (!st.playing) return;
+    const f = st.f0 + Math.floor(((now === undefined ? performance.now() : now) - st.t0) / 1000 * D.fps * st.speed);
+    if (f >= F - 1) { st.frame = F - 1; st.playing = false; } else st.frame = Math.max(f, 0);
+  }
+  function anchor() { st.t0 = performance.now(); st.f0 = st.frame; }
+  function setFrame(k) {
+    sync();
+    k = Math.round(Number(k));
+    st.frame = clamp(Number.isFinite(k) ? k : 0, 0, F - 1);
+    if (st.playing) anchor();
+    show();
+  }
+  function play() {
+    sync();
+    if (st.frame >= F - 1) st.frame = 0;
+    st.playing = F > 1;
+    anchor(); show();
+  }
+  function pause() { sync(); st.playing = false; show(); }
+  function setSpeed(s) {
+    sync(); st.speed = clamp(Number(s) || 1, 0.25, 4); anchor();
+    const sel = $("speed"); if (Number(sel.value) !== st.speed) sel.value = String(st.speed);
+  }
+  const api = {
+    get frame() { sync(); return st.frame; },
+    frames: F,
+    fps: D.fps,
+    get playing() { sync(); return st.playing; },
+    get speed() { return st.speed; },
+    get drawn() { return st.drawn; },
+    ready: false,
+    webgl: false,
+    data: D,
+    setFrame, play, pause, setSpeed,
+    setView: (name) => setView(name),
+    goalStates: (k) => goalStates(k === undefined ? api.frame : k),
+    nextDraw: () => new Promise((resolve) => { if (!renderer) resolve(0); else { waiters.push(resolve); st.dirty = true; } }),
+  };
+  const waiters = [];
+  window.armanim = api;
+
+  // ---- what a frame says ---------------------------------------------------------
+  function goalStates(f) {
+    const k = D.goal[f];
+    return D.goals.map((g, j) => {
+      if (f === F - 1 || j < k || (g.last >= 0 && f >= g.last)) return g.reached ? "reached" : "missed";
+      if (j === k) return D.reached[f] ? "reached" : "current";
+      return "pending";
+    });
+  }
+  const fixed = (v, d) => (v === null || v === undefined ? "none" : v.toFixed(d));
+
+  // ---- the page's fixed parts ------------------------------------------------------
+  $("title").textContent = D.title;
+  if (!D.obstacles.length) $("clearance").parentElement.hidden = true;  // no obstacles: no clearance to show
+  document.title = D.title + " - armanim";
+  const slider = $("slider");
+  slider.max = String(F - 1);
+  $("last").textContent = String(F - 1);
+  const tbody = document.querySelector("#angles tbody"), angleCells = [];
+  D.joints.forEach((name, j) => {
+    const tr = document.createElement("tr"), th = document.createElement("td"), td = document.createElement("td");
+    th.textContent = name; th.style.setProperty("--c", PLOT_COLORS[j % PLOT_COLORS.length]);
+    td.className = "angle"; td.dataset.joint = String(j);
+    tr.append(th, td); tbody.append(tr); angleCells.push(td);
+  });
+  const labels = D.goals.map((g, i) => {
+    const el = document.createElement("div");
+    const ring = document.createElement("span"), num = document.createElement("span");
+    ring.className = "ring"; num.className = "num"; num.textContent = String(i);
+    el.className = "goal-label"; el.dataset.goal = String(i); el.append(ring, num);
+    $("labels").append(el); return el;
+  });
+
+  // ---- the 3-D scene (world z up, as in armanim) --------------------------------------
+  const T = window.THREE, view = $("view");
+  const box = D.view.box, lo = new T.Vector3(...box[0]), hi = new T.Vector3(...box[1]);
+  const center = lo.clone().add(hi).multiplyScalar(0.5), size = Math.max(hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-9);
+  const hw = D.arm.half_width;
+  let renderer = null;
+  try {
+    renderer = new T.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  } catch (e) {
+    $("nogl").hidden = false;
+    $("labels").hidden = true;  // nothing to label
+  }
+  const scene = new T.Scene();
+  scene.background = new T.Color(S.background);
+  const camera = new T.OrthographicCamera(-1, 1, 1, -1, size * 0.001, size * 100);
+  camera.up.set(0, 0, 1);
+  scene.add(camera);
+  scene.add(new T.HemisphereLight(0xffffff, 0x8a8d96, 1.1));
+  const key = new T.DirectionalLight(0xffffff, 1.9);  // the video's light: from the viewer's upper left
+  key.position.set(-0.45, 0.6, 0.66); camera.add(key); camera.add(key.target);
+  const sun = new T.DirectionalLight(0xffffff, 0.6);  // overhead, for the shadows on the floor (as in the video)
+  const fl = D.view.floor;
+  sun.position.set(center.x, center.y, hi.z + size); sun.target.position.set(center.x, center.y, fl.z);
+  sun.castShadow = true;
+  const half = size * 0.75;
+  Object.assign(sun.shadow.camera, { left: -half, right: half, top: half, bottom: -half, near: 0.01 * size, far: 3 * size });
+  sun.shadow.mapSize.set(2048, 2048); sun.shadow.radius = 6;
+  scene.add(sun, sun.target);
+
+  // the floor: a plane with a grid, a little under the scene
+  const fw = fl.hi[0] - fl.lo[0], fh = fl.hi[1] - fl.lo[1];
+  const floor = new T.Mesh(new T.PlaneGeometry(fw, fh), new T.MeshBasicMaterial({ color: S.floor }));  // flat, as in the video
+  floor.position.set((fl.lo[0] + fl.hi[0]) / 2, (fl.lo[1] + fl.hi[1]) / 2, fl.z); floor.receiveShadow = true;
+  scene.add(floor);
+  const shadowOnly = new T.Mesh(new T.PlaneGeometry(fw, fh), new T.ShadowMaterial({ opacity: 0.18 }));
+  shadowOnly.position.copy(floor.position); shadowOnly.position.z += size * 1e-4; shadowOnly.receiveShadow = true;
+  scene.add(shadowOnly);
+  const grid = [];
+  for (let x = Math.ceil(fl.lo[0] / fl.step) * fl.step; x <= fl.hi[0] + 1e-9; x += fl.step) grid.push(x, fl.lo[1], fl.z, x, fl.hi[1], fl.z);
+  for (let y = Math.ceil(fl.lo[1] / fl.step) * fl.step; y <= fl.hi[1] + 1e-9; y += fl.step) grid.push(fl.lo[0], y, fl.z, fl.hi[0], y, fl.z);
+  const gridGeo = new T.BufferGeometry(); gridGeo.setAttribute("position", new T.BufferAttribute(new Float32Array(grid), 3));
+  const gridLines = new T.LineSegments(gridGeo, new T.LineBasicMaterial({ color: S.grid }));
+  gridLines.position.z = size * 2e-4; scene.add(gridLines);
+
+  // obstacles: shaded spheres and their influence shells
+  const shells = [];
+  for (const o of D.obstacles) {
+    const r = o.radius > 0 ? o.radius : hw * 0.6;
+    const s = new T.Mesh(new T.SphereGeometry(r, 48, 32), new T.MeshPhongMaterial({ color: S.obstacle, shininess: 40, specular: 0x555555 }));
+    s.position.fromArray(o.center); s.castShadow = true; scene.add(s);
+    if (o.influence > 0) {
+      const sh = new T.Mesh(new T.SphereGeometry(o.radius + o.influence, 48, 24),
+        new T.MeshBasicMaterial({ color: S.obstacle, transparent: true, opacity: 0.05, depthWrite: false }));
+      const wire = new T.Mesh(new T.SphereGeometry(o.radius + o.influence, 16, 8),
+        new T.MeshBasicMaterial({ color: S.obstacle, wireframe: true, transparent: true, opacity: 0.13, depthWrite: false }));
+      sh.position.fromArray(o.center); wire.position.fromArray(o.center); scene.add(sh, wire); shells.push(sh, wire);
+    }
+  }
+
+  // goals: small spheres coloured by their state at the frame
+  const goalR = Math.max(hw * 1.2, size * 0.008);
+  // (and faintly through whatever hides them, as the video shows a goal behind a sphere)
+  const goalGeo = new T.SphereGeometry(goalR, 24, 16);
+  const goalMeshes = D.goals.map((g) => {
+    const m = new T.Mesh(goalGeo, new T.MeshLambertMaterial({ color: S.goals.pending }));
+    const ghost = new T.Mesh(goalGeo, new T.MeshBasicMaterial({ color: S.goals.pending, transparent: true, opacity: 0.45, depthTest: false, depthWrite: false }));
+    ghost.renderOrder = 10; m.userData.ghost = ghost;
+    m.position.fromArray(g.position); ghost.position.fromArray(g.position); scene.add(m, ghost); return m;
+  });
+
+  // the arm: a capsule per link (the collision shape, radius width/2), a disc per joint, the base
+  const armMat = new T.MeshPhongMaterial({ color: S.arm, shininess: 30 });
+  const jointMat = new T.MeshPhongMaterial({ color: S.joint, shininess: 60 });
+  const links = D.arm.links.map((len) => {
+    const c = new T.Mesh(new T.CapsuleGeometry(hw, Math.max(len, 1e-9), 6, 20), armMat);
+    c.castShadow = true; scene.add(c); return c;
+  });
+  const joints = [];
+  for (let i = 0; i < N; i++) {
+    const b = new T.Mesh(new T.SphereGeometry(hw * S.joint_scale, 24, 16), jointMat);
+    b.castShadow = true; scene.add(b); joints.push(b);
+  }
+  const base = new T.Mesh(new T.CylinderGeometry(hw * S.base_scale, hw * S.base_scale, 2 * hw, 32), new T.MeshPhongMaterial({ color: S.base }));
+  base.rotation.x = Math.PI / 2; base.position.set(D.arm.base[0], D.arm.base[1], D.arm.base[2] - hw); base.castShadow = true;
+  scene.add(base);
+
+  // the tip's path: all tips in one buffer, drawn up to the frame
+  const trailPos = new Float32Array(F * 3);
+  for (let f = 0; f < F; f++) for (let k = 0; k < 3; k++) trailPos[f * 3 + k] = D.points[(f * P + N) * 3 + k];
+  const trailGeo = new T.BufferGeometry(); trailGeo.setAttribute("position", new T.BufferAttribute(trailPos, 3));
+  const trail = new T.Line(trailGeo, new T.LineBasicMaterial({ color: S.trail }));
+  trail.frustumCulled = false; scene.add(trail);
+  $("trail").checked = D.view.trail; trail.visible = D.view.trail;
+
+  const Y = new T.Vector3(0, 1, 0), a = new T.Vector3(), b = new T.Vector3(), d = new T.Vector3();
+  function pose(f) {
+    const p = D.points, o = f * P * 3;
+    for (let i = 0; i < N; i++) {
+      a.set(p[o + i * 3], p[o + i * 3 + 1], p[o + i * 3 + 2]);
+      b.set(p[o + i * 3 + 3], p[o + i * 3 + 4], p[o + i * 3 + 5]);
+      joints[i].position.copy(a);
+      links[i].position.addVectors(a, b).multiplyScalar(0.5);
+      d.subVectors(b, a);
+      if (d.lengthSq() > 0) links[i].quaternion.setFromUnitVectors(Y, d.normalize());
+    }
+    trailGeo.setDrawRange(0, f + 1);
+  }
+
+  // ---- the camera: the video's view, front, side, top; orbit, pan and zoom ----------
+  const controls = new T.OrbitControls(camera, renderer ? renderer.domElement : view);
+  controls.enableDamping = false;
+  controls.addEventListener("change", () => { st.dirty = true; });
+  let halfHeight = size;  // half the frustum's height at zoom 1, world units
+  const fitPoints = [[fl.lo[0], fl.lo[1], fl.z, 0], [fl.hi[0], fl.lo[1], fl.z, 0], [fl.lo[0], fl.hi[1], fl.z, 0], [fl.hi[0], fl.hi[1], fl.z, 0],
+    [D.arm.base[0], D.arm.base[1], D.arm.base[2] - 2 * hw, hw * S.base_scale]];
+  D.obstacles.forEach((o) => fitPoints.push([...o.center, o.radius + o.influence]));
+  D.goals.forEach((g) => fitPoints.push([...g.position, goalR * 3]));
+  if (D.view.bounds) for (const x of D.view.bounds[0]) for (const y of D.view.bounds[1]) for (const z of D.view.bounds[2]) fitPoints.push([x, y, z, 0]);
+  const VIEWS = {
+    video: [D.view.elevation, D.view.azimuth],
+    front: [0, -90],
+    side: [0, 0],
+    top: [90, -90],
+  };
+  function setView(name) {
+    const va = VIEWS[name] || VIEWS.video;
+    const e = clamp(va[0], -89.95, 89.95) * Math.PI / 180, az = va[1] * Math.PI / 180;
+    const toward = new T.Vector3(Math.cos(e) * Math.cos(az), Math.cos(e) * Math.sin(az), Math.sin(e));
+    const right = new T.Vector3(-Math.sin(az), Math.cos(az), 0), up = new T.Vector3().crossVectors(toward, right);
+    // fit what the video fits: every joint of every frame, the spheres, the goals, the floor
+    let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
+    const fit = (x, y, z, r) => {
+      const u = x * right.x + y * right.y + z * right.z, v = x * up.x + y * up.y + z * up.z;
+      x0 = Math.min(x0, u - r); x1 = Math.max(x1, u + r); y0 = Math.min(y0, v - r); y1 = Math.max(y1, v + r);
+    };
+    for (const q of fitPoints) fit(q[0], q[1], q[2], q[3]);
+    const pts = D.points;
+    if (!D.view.bounds) for (let i = 0; i < pts.length; i += 3) fit(pts[i], pts[i + 1], pts[i + 2], hw);
+    // into the view less room for the caption above and the help line below (pixels)
+    const W = Math.max(view.clientWidth, 1), H = Math.max(view.clientHeight, 1), MT = 46, MB = 22, MX = 12;
+    const usableH = Math.max(H - MT - MB, H * 0.5), usableW = Math.max(W - 2 * MX, W * 0.5);
+    const ppu = Math.min(usableH / Math.max(y1 - y0, 1e-9), usableW / Math.max(x1 - x0, 1e-9)) / 1.03;
+    halfHeight = H / 2 / ppu;
+    const shift = (MT - MB) / 2 / ppu;  // the content's centre sits this far below the view's
+    const target = center.clone().sub(right.clone().multiplyScalar(center.dot(right) - (x0 + x1) / 2))
+      .sub(up.clone().multiplyScalar(center.dot(up) - (y0 + y1) / 2 - shift));
+    controls.target.copy(target);
+    camera.position.copy(target).addScaledVector(toward, size * 4);
+    camera.zoom = 1;
+    frustum();
+    camera.lookAt(target);
+    controls.update();
+    st.dirty = true;
+  }
+  function viewAspect() { return Math.max(view.clientWidth, 1) / Math.max(view.clientHeight, 1); }
+  function frustum() {
+    const aspect = viewAspect();
+    camera.left = -halfHeight * aspect; camera.right = halfHeight * aspect; camera.top = halfHeight; camera.bottom = -halfHeight;
+    camera.updateProjectionMatrix();
+  }
+  document.querySelectorAll("#views button").forEach((btn) => btn.addEventListener("click", () => { setView(btn.dataset.view); btn.blur(); }));
+
+  // ---- the plot: joint angles and the goal distance over time -------------------------
+  const plot = $("plot"), pc = plot.getContext("2d"), PL = 48, PR = 52, PT = 10, PB = 22;
+  let plotCache = null, amin = Infinity, amax = -Infinity, dmax = 0;
+  for (let i = 0; i < F * N; i++) { amin = Math.min(amin, D.angles_deg[i]); amax = Math.max(amax, D.angles_deg[i]); }
+  for (let f = 0; f < F; f++) dmax = Math.max(dmax, D.distance[f]);
+  if (amax - amin < 1) { amin -= 1; amax += 1; }
+  if (dmax <= 0) dmax = 1;
+  const plotX = (f, w) => PL + (w - PL - PR) * f / Math.max(F - 1, 1);
+  function drawPlotBase() {
+    const r = window.devicePixelRatio || 1, w = plot.clientWidth, h = plot.clientHeight;
+    plotCache = document.createElement("canvas");
+    plotCache.width = Math.max(1, Math.round(w * r)); plotCache.height = Math.max(1, Math.round(h * r));
+    const c = plotCache.getContext("2d"); c.setTransform(r, 0, 0, r, 0, 0);
+    c.fillStyle = "#fff"; c.fillRect(0, 0, w, h);
+    const Ya = (v) => PT + (h - PT - PB) * (amax - v) / (amax - amin), Yd = (v) => PT + (h - PT - PB) * (1 - v / dmax);
+    const planning = D.activities.indexOf("planning");  // frames that follow a planned path: shaded
+    if (planning >= 0) {
+      c.fillStyle = "#eef2fb";
+      for (let f = 0; f < F; f++) if (D.activity[f] === planning) c.fillRect(plotX(f - 0.5, w), PT, Math.max((w - PL - PR) / Math.max(F - 1, 1), 1), h - PT - PB);
+    }
+    c.font = "11px system-ui, 'DejaVu Sans', sans-serif"; c.fillStyle = "#555"; c.strokeStyle = "#e4e5ea";
+    for (let f = 1; f < F; f++) if (D.goal[f] !== D.goal[f - 1]) { c.beginPath(); c.moveTo(plotX(f, w), PT); c.lineTo(plotX(f, w), h - PB); c.stroke(); }
+    c.strokeStyle = "#c8cad2"; c.beginPath(); c.moveTo(PL, PT); c.lineTo(PL, h - PB); c.lineTo(w - PR, h - PB); c.lineTo(w - PR, PT); c.stroke();
+    if (amin < 0 && amax > 0) { c.setLineDash([2, 3]); c.beginPath(); c.moveTo(PL, Ya(0)); c.lineTo(w - PR, Ya(0)); c.stroke(); c.setLineDash([]); }
+    c.textAlign = "right"; c.fillText(amax.toFixed(0) + "°", PL - 4, PT + 9); c.fillText(amin.toFixed(0) + "°", PL - 4, h - PB);
+    c.textAlign = "left"; c.fillText(dmax.toPrecision(3), w - PR + 4, PT + 9); c.fillText("0", w - PR + 4, h - PB);
+    c.fillText("0 s", PL, h - 6); c.textAlign = "right"; c.fillText(((F - 1) / D.fps).toFixed(2) + " s", w - PR, h - 6);
+    const step = Math.max(1, Math.floor(F / Math.max(w * 2, 1)));
+    for (let j = 0; j < N; j++) {
+      c.strokeStyle = PLOT_COLORS[j % PLOT_COLORS.length]; c.lineWidth = 1.3; c.beginPath();
+      for (let f = 0; f < F; f += step) { const x = plotX(f, w), y = Ya(D.angles_deg[f * N + j]); f ? c.lineTo(x, y) : c.moveTo(x, y); }
+      c.stroke();
+    }
+    c.strokeStyle = "#111"; c.lineWidth = 1.4; c.setLineDash([5, 3]); c.beginPath();
+    for (let f = 0; f < F; f += step) { const x = plotX(f, w), y = Yd(D.distance[f]); f ? c.lineTo(x, y) : c.moveTo(x, y); }
+    c.stroke(); c.setLineDash([]);
+    c.textAlign = "center"; c.fillStyle = "#111";
+    c.fillText("joint angles (left, colours as in the table)   - - goal distance (right)" + (planning >= 0 ? "   shaded: planning" : ""), (PL + w - PR) / 2, h - 6);
+  }
+  function drawPlot(f) {
+    const r = window.devicePixelRatio || 1, w = plot.clientWidth, h = plot.clientHeight;
+    if (!plotCache || plotCache.width !== Math.max(1, Math.round(w * r)) || plotCache.height !== Math.max(1, Math.round(h * r))) {
+      plot.width = Math.max(1, Math.round(w * r)); plot.height = Math.max(1, Math.round(h * r)); drawPlotBase();
+    }
+    pc.setTransform(1, 0, 0, 1, 0, 0); pc.drawImage(plotCache, 0, 0);
+    pc.setTransform(r, 0, 0, r, 0, 0); pc.strokeStyle = "#000"; pc.lineWidth = 1.5;
+    pc.beginPath(); pc.moveTo(plotX(f, w), PT - 4); pc.lineTo(plotX(f, w), h - PB + 4); pc.stroke();
+  }
+  function seekFromPlot(ev) {
+    const rect = plot.getBoundingClientRect(), w = rect.width;
+    setFrame(Math.round((ev.clientX - rect.left - PL) / Math.max(w - PL - PR, 1) * (F - 1)));
+  }
+  let plotDrag = false;
+  plot.addEventListener("pointerdown", (ev) => { plotDrag = true; plot.setPointerCapture(ev.pointerId); seekFromPlot(ev); });
+  plot.addEventListener("pointermove", (ev) => { if (plotDrag) seekFromPlot(ev); });
+  plot.addEventListener("pointerup", () => { plotDrag = false; });
+
+  // ---- showing a frame ------------------------------------------------------------
+  function show() {
+    const f = st.frame;
+    if (st.playing !== st.shownPlaying) {
+      st.shownPlaying = st.playing;
+      const playBtn = $("play");
+      playBtn.textContent = st.playing ? "Pause" : "Play";
+      playBtn.setAttribute("aria-label", st.playing ? "pause" : "play");
+    }
+    if (f === st.shown) return;
+    st.shown = f;
+    slider.value = String(f);
+    $("frame").textContent = String(f);
+    $("time").textContent = (f / D.fps).toFixed(2);
+    document.body.dataset.frame = String(f);
+    const k = D.goal[f], ngoals = D.goals.length;
+    $("goal").textContent = ngoals ? `${k} (of 0-${ngoals - 1})` : "none";
+    $("distance").textContent = fixed(D.distance[f], 3);
+    $("clearance").textContent = fixed(D.clearance[f], 3);
+    $("state").textContent = D.activities[D.activity[f]];
+    for (let j = 0; j < N; j++) angleCells[j].textContent = D.angles_deg[f * N + j].toFixed(2);
+    const states = goalStates(f);
+    states.forEach((s, i) => {
+      goalMeshes[i].material.color.set(S.goals[s]); goalMeshes[i].userData.ghost.material.color.set(S.goals[s]);
+      labels[i].dataset.state = s; labels[i].style.color = S.goals[s];
+    });
+    pose(f);
+    drawPlot(f);
+    st.dirty = true;
+  }
+
+  // ---- controls ---------------------------------------------------------------------
+  $("play").addEventListener("click", () => (st.playing ? pause() : play()));
+  $("speed").addEventListener("change", (ev) => setSpeed(ev.target.value));
+  slider.addEventListener("input", () => setFrame(slider.value));
+  $("shells").addEventListener("change", (ev) => { shells.forEach((s) => { s.visible = ev.target.checked; }); st.dirty = true; });
+  $("trail").addEventListener("change", (ev) => { trail.visible = ev.target.checked; st.dirty = true; });
+  function step(by) { if (st.playing) pause(); setFrame(st.frame + by); }
+  window.addEventListener("keydown", (ev) => {
+    const tag = ev.target && ev.target.tagName;
+    if (tag === "SELECT" || ev.ctrlKey || ev.metaKey || ev.altKey) return;
+    if (ev.key === " " || ev.key === "Spacebar") {
+      ev.preventDefault();
+      if (!ev.repeat) (st.playing ? pause() : play());
+    } else if (ev.key === "ArrowRight" || ev.key === "ArrowUp") {
+      ev.preventDefault(); step(1);  // preventDefault: a focused slider does not step as well
+    } else if (ev.key === "ArrowLeft" || ev.key === "ArrowDown") {
+      ev.preventDefault(); step(-1);
+    }
+  });
+  // Space on a focused button or box would also click it on keyup: play/pause is all it does here
+  window.addEventListener("keyup", (ev) => {
+    const t = ev.target;
+    if (ev.key === " " && t && (t.tagName === "BUTTON" || (t.tagName === "INPUT" && t.type === "checkbox"))) ev.preventDefault();
+  });
+
+  // ---- drawing ----------------------------------------------------------------------
+  const tmp = new T.Vector3();
+  function placeLabels() {
+    const w = view.clientWidth, h = view.clientHeight;
+    goalMeshes.forEach((m, i) => {
+      tmp.copy(m.position).project(camera);
+      labels[i].style.left = ((tmp.x + 1) / 2 * w).toFixed(1) + "px";
+      labels[i].style.top = ((1 - tmp.y) / 2 * h).toFixed(1) + "px";
+    });
+  }
+  function resize() {
+    if (renderer) renderer.setSize(view.clientWidth, view.clientHeight, false);
+    frustum(); drawPlot(st.frame); st.dirty = true;
+  }
+  function loop(now) {
+    sync(now);
+    show();
+    if (st.dirty && renderer) {
+      renderer.render(scene, camera); placeLabels(); st.drawn++;
+    }
+    st.dirty = false;
+    if (renderer) waiters.splice(0).forEach((resolve) => resolve(st.drawn));
+    requestAnimationFrame(loop);
+  }
+  if (renderer) {
+    renderer.setPixelRatio(window.devicePixelRatio || 1);
+    renderer.shadowMap.enabled = true; renderer.shadowMap.type = T.PCFShadowMap;
+    renderer.domElement.tabIndex = 0;
+    view.prepend(renderer.domElement);
+    api.webgl = true;
+  }
+  window.addEventListener("resize", resize);
+  resize();
+  setView("video");
+  show();
+  api.ready = true;
+  requestAnimationFrame(loop);
+})();

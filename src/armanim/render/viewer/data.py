@@ -1,0 +1,207 @@
+"""The data a viewer page shows: one solved run as plain, rounded JSON values.
+
+Joint positions come from armanim's own forward kinematics (:func:`armanim.arm.kinematics.forward`),
+so the page never computes a pose; the caption's activity per frame comes from
+:func:`armanim.render.caption.frame_activity`, as in the video. The format is documented
+in docs/viewer.md ("The data format"); :data:`FORMAT` names its version.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from armanim import __version__
+from armanim.arm.kinematics import forward
+from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.solution import GoalReport, Trajectory
+from armanim.render import scenery, style
+from armanim.render.camera import planar_normal, view_angles
+from armanim.render.caption import frame_activity
+from armanim.render.framing import scene_content
+
+FORMAT = "armanim-viewer/1"
+"""The data format's name and version (docs/viewer.md)."""
+
+ANGLE_DECIMALS = 2  # joint angles in degrees: 0.01 degree, as the page shows them
+RESOLUTION = 10_000  # positions and distances keep at least 1/RESOLUTION of the scene's size
+
+
+def position_decimals(size: float) -> int:
+    """Decimals that keep positions to at least ``size / RESOLUTION`` (between 0 and 12).
+
+    >>> position_decimals(20.0), position_decimals(1.0), position_decimals(0.3)
+    (3, 4, 5)
+    """
+    if not np.isfinite(size) or size <= 0:
+        return 4
+    return int(np.clip(-np.floor(np.log10(size / RESOLUTION)), 0, 12))
+
+
+def rounded(values: np.ndarray, decimals: int) -> list:
+    """A flat list of ``values`` rounded to ``decimals``; whole numbers become ints (shorter JSON).
+
+    >>> rounded(np.array([[1.0, 2.345], [-0.0, 3.0]]), 2)
+    [1, 2.35, 0, 3]
+    """
+    flat = np.round(np.asarray(values, dtype=float).ravel(), decimals) + 0.0  # + 0.0: no "-0"
+    return [int(v) if v.is_integer() else v for v in flat.tolist()]
+
+
+def hex_color(rgb) -> str:
+    """An RGB colour in 0..1 as ``#rrggbb``.
+
+    >>> hex_color((1.0, 0.5, 0.0))
+    '#ff8000'
+    """
+    return "#" + "".join(f"{int(round(float(c) * 255)):02x}" for c in rgb[:3])
+
+
+def page_style() -> dict:
+    """The video's colours and sizes (:mod:`armanim.render.style`), for the page to draw with."""
+    return {
+        "background": hex_color(style.BACKGROUND),
+        "floor": hex_color(style.FLOOR_COLOR),
+        "grid": hex_color(style.GRID_COLOR),
+        "arm": hex_color(style.ARM_COLOR),
+        "joint": hex_color(style.JOINT_COLOR),
+        "base": hex_color(style.BASE_COLOR),
+        "obstacle": hex_color(style.OBSTACLE_COLOR),
+        "trail": hex_color(style.TRAIL_COLOR),
+        "goals": {state: hex_color(rgb) for state, rgb in style.GOAL_COLORS.items()},
+        "joint_scale": style.JOINT_SCALE,
+        "base_scale": style.BASE_SCALE,
+    }
+
+
+def goal_entries(problem: Problem, reports: Sequence[GoalReport]) -> list[dict]:
+    """One entry per goal: position, outcome and the frames it spans (summary.json's)."""
+    entries = []
+    for i, goal in enumerate(problem.goals):
+        report = reports[i] if i < len(reports) else None
+        entries.append({
+            "position": [float(v) for v in goal.position],
+            "reached": bool(report.reached) if report else False,
+            "reason": report.reason if report else None,
+            "first": int(report.first_frame) if report else -1,
+            "last": int(report.last_frame) if report else -1,
+        })
+    return entries
+
+
+def activity_codes(trajectory: Trajectory, reports: Sequence[GoalReport]) -> tuple[list[str], list[int]]:
+    """The caption's activities (``moving``, ``holding``, ...) as names and one index per frame."""
+    activity = frame_activity(trajectory, reports)
+    names = sorted(set(activity.tolist()))
+    index = {name: i for i, name in enumerate(names)}
+    return names, [index[a] for a in activity.tolist()]
+
+
+def view_settings(problem: Problem, settings: RenderSettings, points: np.ndarray) -> dict:
+    """The video's camera angles, the box the page fits its views to, and the floor."""
+    elevation, azimuth = view_angles(problem.arm, settings.elevation, settings.azimuth)
+    content, radii = scene_content(problem, settings, points)
+    lo, hi = (content - radii[:, None]).min(axis=0), (content + radii[:, None]).max(axis=0)
+    size = float(np.max(hi - lo))
+    floor_lo, floor_hi = scenery.floor_rect(lo[:2], hi[:2])
+    floor_z = scenery.floor_height(lo[2], size)
+    return {
+        "elevation": float(elevation),
+        "azimuth": float(azimuth),
+        "planar": planar_normal(problem.arm) is not None,
+        "box": [[float(v) for v in lo], [float(v) for v in hi]],
+        "floor": {
+            "z": float(floor_z),
+            "lo": [float(v) for v in floor_lo],
+            "hi": [float(v) for v in floor_hi],
+            "step": scenery.nice_step(float(np.max(floor_hi - floor_lo))),
+        },
+        "bounds": None if settings.bounds is None else np.asarray(settings.bounds, dtype=float).reshape(3, 2).tolist(),
+        "trail": bool(settings.trail),
+    }
+
+
+def viewer_data(
+    problem: Problem,
+    trajectory: Trajectory,
+    reports: Sequence[GoalReport],
+    settings: RenderSettings,
+    *,
+    title: str,
+    joint_names: Sequence[str] | None = None,
+) -> dict:
+    """Everything the viewer page needs about a run, as JSON-ready values.
+
+    Parameters
+    ----------
+    problem : Problem
+        The run's arm, obstacles and goals.
+    trajectory : Trajectory
+        Its frames (angles in radians; the joints' positions are computed here).
+    reports : sequence of GoalReport
+        One per goal, as in summary.json.
+    settings : RenderSettings
+        The camera angles, bounds and trail of the video.
+    title : str
+        Shown as the page's title (any text: the page escapes it).
+    joint_names : sequence of str, optional
+        One per joint (default ``phi1`` .. ``phiN``, the CSV's columns without ``_deg``).
+
+    Returns
+    -------
+    dict
+        Plain lists, numbers and strings (no NaN or infinity): the format of docs/viewer.md.
+
+    Examples
+    --------
+    >>> from armanim.scene import SceneModel, scene_to_problem
+    >>> from armanim.scene import render_settings
+    >>> from armanim.motion.trajectory import solve_trajectory
+    >>> model = SceneModel.model_validate({"version": 1, "arm": {"links": [1, 1]}, "goals": [[1, 0, 1]]})
+    >>> problem = scene_to_problem(model)
+    >>> solution = solve_trajectory(problem)
+    >>> data = viewer_data(problem, solution.trajectory, solution.goals, render_settings(model), title="two")
+    >>> data["format"], data["joints"], data["frames"] == solution.trajectory.frames
+    ('armanim-viewer/1', ['phi1', 'phi2'], True)
+    >>> len(data["points"]) == data["frames"] * 3 * 3  # (frames, joints + 1, xyz), frame after frame
+    True
+    """
+    n = problem.arm.n
+    points = forward(problem.arm, trajectory.phi).points  # (F, n+1, 3): the one kinematics
+    view = view_settings(problem, settings, points)
+    size = float(np.max(np.subtract(view["box"][1], view["box"][0])))
+    decimals = position_decimals(size)
+    names, codes = activity_codes(trajectory, reports)
+    clearance = np.asarray(trajectory.clearance, dtype=float)
+    finite = np.isfinite(clearance)
+    obstacles = problem.obstacles
+    return {
+        "format": FORMAT,
+        "armanim": __version__,
+        "title": str(title),
+        "fps": float(trajectory.fps),
+        "frames": int(trajectory.frames),
+        "joints": [str(j) for j in joint_names] if joint_names is not None else [f"phi{i + 1}" for i in range(n)],
+        "decimals": decimals,
+        "arm": {
+            "links": [float(v) for v in problem.arm.links],
+            "half_width": float(problem.half_width),
+            "base": [float(v) for v in problem.arm.base],
+        },
+        "points": rounded(points, decimals),
+        "angles_deg": rounded(np.degrees(trajectory.phi), ANGLE_DECIMALS),
+        "goal": [int(g) for g in trajectory.goal],
+        "distance": rounded(trajectory.distance, decimals),
+        "clearance": [v if ok else None for v, ok in zip(rounded(np.where(finite, clearance, 0.0), decimals), finite)],
+        "reached": [int(bool(r)) for r in trajectory.reached],
+        "activities": names,
+        "activity": codes,
+        "goals": goal_entries(problem, reports),
+        "obstacles": [
+            {"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}
+            for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence)
+        ],
+        "view": view,
+        "style": page_style(),
+    }

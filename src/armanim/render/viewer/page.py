@@ -1,0 +1,134 @@
+"""The viewer page: one HTML file holding the page, the run's data and three.js.
+
+The parts are package data in ``assets/``: ``page.html`` (the markup, with placeholders),
+``page.css``, ``page.js`` (the page's own code) and ``three-viewer.min.js`` (three.js,
+bundled once by ``tools/viewer-js/build.sh``; its version and sha256 are in
+``three-viewer.json``). Nothing is fetched when the page opens: it works from ``file://``.
+
+Every text that comes from a run (the title, joint names, reasons) travels inside the
+JSON data block and is put on the page as text, never as markup; the block itself is
+escaped so that no ``</script>``, comment or quote in it can end it (:func:`script_json`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import html
+import json
+import os
+import stat
+from functools import cache
+from importlib import resources
+from pathlib import Path
+
+ASSETS = "assets"
+GENERATOR = "armanim viewer"
+"""The page's ``<meta name="generator">``: how ``armanim view`` knows a page it may replace."""
+
+
+def asset_text(name: str) -> str:
+    """The text of one file of ``assets/`` (package data)."""
+    return resources.files(__package__).joinpath(ASSETS, name).read_text(encoding="utf-8")
+
+
+@cache
+def bundle_info() -> dict:
+    """The three.js bundle's record: ``three`` (version), ``esbuild``, ``bytes``, ``sha256``."""
+    return json.loads(asset_text("three-viewer.json"))
+
+
+@cache
+def three_bundle() -> str:
+    """The minified three.js bundle (window.THREE), as the maintainer script wrote it."""
+    return asset_text(bundle_info()["file"])
+
+
+def bundle_sha256() -> str:
+    """sha256 of the bundle's bytes, to compare with :func:`bundle_info`'s record."""
+    return hashlib.sha256(three_bundle().encode("utf-8")).hexdigest()
+
+
+def script_json(data: object) -> str:
+    """``data`` as JSON that is safe inside ``<script type="application/json">``.
+
+    ``<``, ``>`` and ``&`` become ``\\u003c``, ``\\u003e`` and ``\\u0026`` (JSON.parse turns
+    them back), so no ``</script>``, ``<!--`` or ``<script`` can appear in the block;
+    non-ASCII is escaped too (U+2028 and U+2029 included). NaN and infinity are refused:
+    they are not JSON.
+
+    >>> script_json({"title": "</script><b>"})
+    '{"title":"\\\\u003c/script\\\\u003e\\\\u003cb\\\\u003e"}'
+    """
+    text = json.dumps(data, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
+    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
+
+def inline_script(code: str) -> str:
+    """JavaScript source made safe to sit in a ``<script>`` element.
+
+    A ``</script`` or ``<!--`` in it (in a string or comment of a library) would end or
+    change the element; ``<\\/script`` and ``<\\!--`` mean the same in JavaScript strings.
+    """
+    return code.replace("</script", "<\\/script").replace("</SCRIPT", "<\\/SCRIPT").replace("<!--", "<\\!--")
+
+
+def viewer_html(data: dict) -> str:
+    """The whole page for ``data`` (from :func:`armanim.render.viewer.data.viewer_data`).
+
+    Examples
+    --------
+    >>> page = viewer_html({"title": "a <b> & 'c'"})
+    >>> page.startswith("<!doctype html>"), "<title>a &lt;b&gt; &amp; &#x27;c&#x27; - armanim</title>" in page
+    (True, True)
+    """
+    parts = {
+        "ARMANIM_GENERATOR": GENERATOR,
+        "ARMANIM_TITLE": html.escape(str(data.get("title", "")), quote=True),
+        "/*ARMANIM_CSS*/": asset_text("page.css"),
+        "/*ARMANIM_DATA*/": script_json(data),
+        "/*ARMANIM_THREE*/": inline_script(three_bundle()),
+        "/*ARMANIM_PAGE*/": inline_script(asset_text("page.js")),
+    }
+    pieces, rest = [], asset_text("page.html")
+    for marker, part in parts.items():  # in the template's order, one pass: a part never fills another's marker
+        head, found, rest = rest.partition(marker)
+        if not found:
+            raise ValueError(f"page.html lacks the placeholder {marker} (or has it out of order)")
+        pieces += [head, part]
+    return "".join(pieces) + rest
+
+
+def is_viewer_page(path: str | Path, limit: int = 4096) -> bool:
+    """Whether ``path`` is a regular file (or a link to one) that starts like a page armanim wrote.
+
+    Only its first ``limit`` bytes are read; a missing file, a folder or a device is not.
+    """
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return False
+        with open(path, "rb") as handle:
+            head = handle.read(limit)
+    except OSError:
+        return False
+    return f'<meta name="generator" content="{GENERATOR}">'.encode() in head
+
+
+def replace_problem(path: str | Path) -> str | None:
+    """Why a page must not be written at ``path``, or None if it may (nothing there, or armanim's page).
+
+    >>> replace_problem("/nonexistent/viewer.html") is None
+    True
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return None if not os.path.islink(path) else "is a link to nothing, which armanim did not make"
+    except OSError as exc:
+        return f"cannot be inspected ({exc.strerror or exc})"
+    if stat.S_ISDIR(mode):
+        return "is a folder (expected a file name, e.g. viewer.html)"
+    if not stat.S_ISREG(mode):
+        return "is not a regular file, so armanim does not write there"
+    if not is_viewer_page(path):
+        return "is a file armanim did not write (not a viewer page), so it is not replaced"
+    return None
