@@ -13,6 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from armanim import __version__
+from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import forward
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.solution import GoalReport, Trajectory
@@ -168,7 +169,9 @@ def viewer_data(
     True
     """
     n = problem.arm.n
-    points = forward(problem.arm, trajectory.phi).points  # (F, n+1, 3): the one kinematics
+    pose = forward(problem.arm, trajectory.phi)  # the one kinematics
+    points = pose.points  # (F, n+1, 3)
+    starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
     view = view_settings(problem, settings, points)
     size = float(np.max(np.subtract(view["box"][1], view["box"][0])))
     decimals = position_decimals(size)
@@ -190,6 +193,10 @@ def viewer_data(
             "base": [float(v) for v in problem.arm.base],
         },
         "points": rounded(points, decimals),
+        "capsules": {
+            "radius": [float(r) for r in problem.capsules.radius],
+            "ends": rounded(np.stack([starts, ends], axis=2), decimals),
+        },
         "angles_deg": rounded(np.degrees(trajectory.phi), ANGLE_DECIMALS),
         "goal": [int(g) for g in trajectory.goal],
         "distance": rounded(trajectory.distance, decimals),

@@ -159,11 +159,13 @@
     m.position.fromArray(g.position); ghost.position.fromArray(g.position); scene.add(m, ghost); return m;
   });
 
-  // the arm: a capsule per link (the collision shape, radius width/2), a disc per joint, the base
+  // the arm: its collision capsules (the shapes clearance is measured on), a disc per joint, the base
   const armMat = new T.MeshPhongMaterial({ color: S.arm, shininess: 30 });
   const jointMat = new T.MeshPhongMaterial({ color: S.joint, shininess: 60 });
-  const links = D.arm.links.map((len) => {
-    const c = new T.Mesh(new T.CapsuleGeometry(hw, Math.max(len, 1e-9), 6, 20), armMat);
+  const C = D.capsules.radius.length, E = D.capsules.ends;  // ends: F x C x 2 x 3
+  const links = D.capsules.radius.map((r, i) => {
+    const o = i * 6, len = Math.hypot(E[o + 3] - E[o], E[o + 4] - E[o + 1], E[o + 5] - E[o + 2]);
+    const c = new T.Mesh(new T.CapsuleGeometry(Math.max(r, 1e-9), Math.max(len, 1e-9), 6, 20), armMat);
     c.castShadow = true; scene.add(c); return c;
   });
   const joints = [];
@@ -186,10 +188,11 @@
   const Y = new T.Vector3(0, 1, 0), a = new T.Vector3(), b = new T.Vector3(), d = new T.Vector3();
   function pose(f) {
     const p = D.points, o = f * P * 3;
-    for (let i = 0; i < N; i++) {
-      a.set(p[o + i * 3], p[o + i * 3 + 1], p[o + i * 3 + 2]);
-      b.set(p[o + i * 3 + 3], p[o + i * 3 + 4], p[o + i * 3 + 5]);
-      joints[i].position.copy(a);
+    for (let i = 0; i < N; i++) joints[i].position.set(p[o + i * 3], p[o + i * 3 + 1], p[o + i * 3 + 2]);
+    for (let i = 0; i < C; i++) {
+      const e = (f * C + i) * 6;
+      a.set(E[e], E[e + 1], E[e + 2]);
+      b.set(E[e + 3], E[e + 4], E[e + 5]);
       links[i].position.addVectors(a, b).multiplyScalar(0.5);
       d.subVectors(b, a);
       if (d.lengthSq() > 0) links[i].quaternion.setFromUnitVectors(Y, d.normalize());
