@@ -14,8 +14,9 @@ from pathlib import Path
 
 import pytest
 from conftest import DOCS, TESTS
+from signals import Command, Sweep
 
-from armanim.errors import UsageError
+from armanim.errors import INTERRUPTED, UsageError
 
 # ------------------------------------------------------------------ 4. a scheduler that never answers
 
@@ -46,6 +47,67 @@ def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words):
 
     with pytest.raises(UsageError, match=words):
         connect_client(failing_client, "tcp://127.0.0.1:9", seconds=30)
+
+
+# ------------------------------------------------------------------ 7, 8. signals over each command's life
+
+TINY = ("version: 1\nname: tiny\narm:\n  links: [1, 1]\ngoals:\n  - [1, 1, 0]\n  - {{position: [0, 1.5, 0.5], hold: 3}}\n"
+        "solver: {{step: {step}}}\nrender: {{fps: 10, size: [96, 64]}}\n")  # about 70 frames: two render workers
+
+
+def _scenes(folder: Path, count: int = 1) -> tuple[list[str], list[str]]:
+    """``count`` new scenes and their previous versions (same names, another step: other bytes)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    new, old = [], []
+    for i in range(count):
+        for step, paths in ((0.1, new), (0.3, old)):
+            path = folder / f"{'new' if step == 0.1 else 'old'}{i}.yaml"
+            path.write_text(TINY.format(step=step).replace("name: tiny", f"name: tiny{i}"))
+            paths.append(str(path))
+    return new, old
+
+
+def _commands(folder: Path) -> dict:
+    new, old = _scenes(folder / "scenes", 2)
+    run_folder = ["out/tiny0"]
+    batch = ["out/tiny0", "out/tiny1"]
+    sweep = ["out/tiny0_step-0.1", "out/tiny0_step-0.2"]
+    return {
+        "run": Command("run", ["run", new[0], "--out", "{out}", "--jobs", "2"], run_folder,
+                       [["run", old[0], "--out", "{out}", "--jobs", "2"]]),
+        "batch": Command("batch", ["run", *new, "--out", "{out}", "--jobs", "2"], [*batch, "out/index.csv"],
+                         [["run", *old, "--out", "{out}", "--jobs", "2", "--no-video"]]),
+        "sweep": Command("sweep", ["sweep", new[0], "--set", "solver.step=0.1,0.2", "--out", "{out}", "--jobs", "2"],
+                         [*sweep, "out/new0-sweep.csv"],
+                         [["sweep", old[0], "--set", "solver.step=0.1,0.2", "--set", "solver.max_step=0.4", "--out", "{out}", "--jobs", "2"]]),
+        "check --update": Command("check", ["check", *new, "--golden", "{golden}", "--update"], ["golden"],
+                                  [["check", *old, "--golden", "{golden}", "--update"]]),
+        "render": Command("render", ["render", "{out}/tiny0", "--jobs", "2", "--size", "80x48"], run_folder,
+                          [["run", new[0], "--out", "{out}", "--no-video"]]),
+    }
+
+
+MOMENTS = {  # a handful per command (each attempt is a real process); benchmarks/signal_campaign.py sweeps many more
+    "run": [("start", 0.0, "SIGTERM"), ("ffmpeg", 0.2, "SIGINT"), ("commit", 0.0, "SIGINT")],
+    "batch": [("workers", 0.0, "SIGINT"), ("commit", 0.0, "SIGTERM")],
+    "sweep": [("workers", 0.0, "SIGTERM")],
+    "check --update": [("start", 0.5, "SIGINT")],
+    "render": [("ffmpeg", 0.0, "SIGINT")],
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MOMENTS)
+def test_a_signal_at_any_moment_ends_with_0_or_130_and_old_or_new_outputs(tmp_path, name):
+    """Ctrl-C (to the group) and SIGTERM (to armanim) over each command's life, at the commit too:
+    exit 0 or 130, no traceback, each folder (golden pair) old or whole new, no litter, no process left."""
+    sweep = Sweep(_commands(tmp_path)[name], tmp_path / "sweep")
+    outcomes = [sweep.attempt(moment, delay, signame) for moment, delay, signame in MOMENTS[name]]
+    wrong = {o.moment + " " + o.signame: o.problems() + [o.stderr[-2000:]] for o in outcomes if o.problems()}
+    assert wrong == {}
+    for o in outcomes:
+        interrupted = o.code == 130
+        assert o.stderr.strip().splitlines()[-1:] == ([INTERRUPTED] if interrupted else o.stderr.strip().splitlines()[-1:])
 
 
 # ------------------------------------------------------------------ the page of promises

@@ -13,7 +13,8 @@ import typer
 from rich.console import Console
 
 from armanim import __version__
-from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, ArmanimError
+from armanim.cli.interrupts import command_signals, ignore_until_exit
+from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, INTERRUPTED, ArmanimError
 
 app = typer.Typer(
     name="armanim",
@@ -40,23 +41,31 @@ def report(exc: ArmanimError) -> None:
 
 
 def handle_errors(command):
-    """Turn ArmanimError into its message and exit code; Ctrl-C into exit 130."""
+    """Turn ArmanimError into its message and exit code; Ctrl-C and SIGTERM into exit 130
+    (see :mod:`armanim.cli.interrupts`)."""
 
     @functools.wraps(command)
     def wrapper(*args, **kwargs):
-        try:
-            return command(*args, **kwargs)
-        except ArmanimError as exc:
-            report(exc)
-            raise typer.Exit(exc.exit_code) from None
-        except KeyboardInterrupt:
-            say("armanim: interrupted; nothing half-written was left behind", err)
-            raise typer.Exit(EXIT_INTERRUPTED) from None
-        except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
-            say(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", err)
-            raise typer.Exit(EXIT_OUTPUT_FAILED) from None
+        with command_signals():
+            return _reported(command, *args, **kwargs)
 
     return wrapper
+
+
+def _reported(command, *args, **kwargs):
+    """``command(...)``, its errors as their messages and exit codes."""
+    try:
+        return command(*args, **kwargs)
+    except ArmanimError as exc:
+        report(exc)
+        raise typer.Exit(exc.exit_code) from None
+    except KeyboardInterrupt:
+        ignore_until_exit()
+        say(INTERRUPTED, err)
+        raise typer.Exit(EXIT_INTERRUPTED) from None
+    except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
+        say(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", err)
+        raise typer.Exit(EXIT_OUTPUT_FAILED) from None
 
 
 def _version(value: bool) -> None:

@@ -29,7 +29,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from armanim import __version__
-from armanim.errors import OutputError
+from armanim.errors import InterruptedAfterCommit, OutputError
 from armanim.output.atomic import current_umask, interrupts_deferred, output_error, write_text_atomic
 
 MARKER = ".armanim-run.json"
@@ -187,6 +187,12 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
     be a run folder), so that a command that changes some of a run's files (``render``)
     stages and swaps like a run. On any exception, including KeyboardInterrupt, the
     temporary folder is removed and ``final`` is left as it was.
+
+    Raises
+    ------
+    InterruptedAfterCommit
+        Ctrl-C or SIGTERM came during the swap (it is held back until the swap is done):
+        the new folder is in place.
     """
     final = Path(final)
     with folder_lock(final):
@@ -197,6 +203,7 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
             staged.chmod(0o777 & ~current_umask())
         except OSError as exc:
             raise output_error(final, exc) from None
+        committed = False
         try:
             if keep_files and final.is_dir():
                 try:
@@ -207,6 +214,11 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
             write_marker(staged)
             with interrupts_deferred():
                 swap_in(staged, final)
+                committed = True
+        except KeyboardInterrupt:
+            if committed:  # held back during the swap: the new folder is whole and in place
+                raise InterruptedAfterCommit(final) from None
+            raise
         finally:
             with interrupts_deferred():
                 shutil.rmtree(staged, ignore_errors=True)

@@ -10,6 +10,7 @@ is reported and the others finish. ``ROOT/index.csv`` lists every scene.
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 from collections.abc import Callable, Iterable
 from concurrent.futures.process import BrokenProcessPool
@@ -20,7 +21,7 @@ from armanim.errors import ArmanimError, SceneError
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import table_csv_text
 from armanim.output.rundir import staged_folder
-from armanim.render.workers import Stopped
+from armanim.render.workers import temp_prefix, undone_on_stop
 from armanim.runs.executors import executor_for
 from armanim.runs.overrides import RenderOverrides
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
@@ -82,11 +83,10 @@ def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | N
 
     try:
         scene = scene_from_bytes(task.raw, task.path, task.name)
-        with tempfile.TemporaryDirectory(prefix="armanim-") as tmp:
-            produced = produce_outputs(scene, Path(tmp), video=video, jobs=1, render_overrides=render_overrides)
-            files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
-    except Stopped as stop:  # SIGTERM in a pool worker, its temporary folder and ffmpeg already gone:
-        os._exit(stop.code)  # end here, not in the executor's loop (which would send it back as a result)
+        with tempfile.TemporaryDirectory(prefix=temp_prefix()) as tmp:
+            with undone_on_stop(lambda: shutil.rmtree(tmp, ignore_errors=True)):  # a SIGTERM'd worker removes it
+                produced = produce_outputs(scene, Path(tmp), video=video, jobs=1, render_overrides=render_overrides)
+                files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
     except SceneError as exc:
         return RemoteRun(task.name, {}, None, exc.report(), "invalid")
     except ArmanimError as exc:

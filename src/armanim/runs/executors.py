@@ -10,13 +10,16 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
+import tempfile
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
 
 from armanim.errors import UsageError
 from armanim.output.atomic import interrupts_deferred
-from armanim.render.workers import init_worker
+from armanim.render.workers import init_worker, signals_blocked, temp_prefix
 
 CONNECT_SECONDS = 10.0
 """How long a Dask scheduler may take to answer, from the connection to the handshake."""
@@ -69,11 +72,18 @@ class _LocalExecutor:
                 except Exception as exc:  # reported per scene; the batch goes on
                     yield task, None, exc
             return
-        with _one_blas_thread():
+        # the pool's processes (and the forkserver, the first time) start with SIGINT and SIGTERM
+        # blocked, until init_worker has put its handlers in place: no traceback from a
+        # preload or an initializer, whatever moment a Ctrl-C comes
+        with _one_blas_thread(), signals_blocked():
             pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(),
                                        initializer=init_worker, initargs=(os.getpid(),))
+            try:
+                futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
+            except BaseException:
+                _stop_pool(pool)
+                raise
         try:
-            futures = {pool.submit(work, task, *args): task for task in tasks}
             for future in as_completed(futures):
                 exc = future.exception()
                 yield futures[future], (None if exc else future.result()), exc
@@ -98,6 +108,14 @@ def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
         if process.is_alive():
             process.kill()
             process.join(1.0)
+    remove_worker_folders()
+
+
+def remove_worker_folders() -> None:
+    """Remove the temporary folders this process's workers left (a worker killed outright)."""
+    with contextlib.suppress(OSError):
+        for folder in Path(tempfile.gettempdir()).glob(temp_prefix() + "*"):
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 class _DaskExecutor:
