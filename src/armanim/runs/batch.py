@@ -19,7 +19,7 @@ from pathlib import Path
 
 from armanim.errors import ArmanimError, SceneError
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
-from armanim.output.csvfile import table_csv_text
+from armanim.output.csvfile import check_table_replaceable, table_csv_text
 from armanim.output.rundir import staged_folder
 from armanim.render.workers import temp_prefix, undone_on_stop
 from armanim.runs.executors import executor_for
@@ -189,6 +189,15 @@ def run_tasks(
     return [entries[t.name] for t in tasks]
 
 
+def is_index_header(line: str) -> bool:
+    """Whether ``line`` is the first line of an index.csv armanim wrote.
+
+    >>> is_index_header(",".join(INDEX_COLUMNS)), is_index_header("my,own,table")
+    (True, False)
+    """
+    return line == ",".join(INDEX_COLUMNS)
+
+
 def index_csv_text(entries: list[BatchEntry]) -> str:
     """index.csv: one row per scene."""
     rows = (
@@ -214,9 +223,17 @@ def run_batch(
     Returns the entries in the order of ``paths`` (invalid scenes included).
     """
     paths = list(dict.fromkeys(Path(p) for p in paths))  # the same file twice runs once
+    index = Path(out_root) / "index.csv"
+    check_table_replaceable(index, is_index_header)  # a user's index.csv: exit 3 before any work
     tasks, rejected = load_tasks(paths)
     done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, render_overrides=render_overrides, progress=progress)
     by_file = {e.scene_file: e for e in [*done, *rejected]}
     entries = [by_file[str(p)] for p in paths if str(p) in by_file]
-    write_text_atomic(Path(out_root) / "index.csv", index_csv_text(entries))
+    write_index(index, entries)
     return entries
+
+
+def write_index(path: Path, entries: list[BatchEntry]) -> None:
+    """Write ``index.csv``, replacing only an index.csv armanim wrote."""
+    check_table_replaceable(path, is_index_header)
+    write_text_atomic(path, index_csv_text(entries))

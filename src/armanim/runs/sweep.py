@@ -18,8 +18,8 @@ import yaml
 
 from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
-from armanim.output.csvfile import table_csv_text
-from armanim.runs.batch import BatchEntry, SceneTask, index_csv_text, run_tasks
+from armanim.output.csvfile import check_table_replaceable, table_csv_text
+from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks, write_index
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
 
@@ -173,6 +173,21 @@ def _unique(name: str, taken: set[str]) -> str:
     return candidate
 
 
+SWEEP_TAIL = ("min_clearance", "max_joint_step_deg")
+
+
+def is_sweep_header(line: str) -> bool:
+    """Whether ``line`` is the first line of a sweep table armanim wrote (its columns vary with the settings).
+
+    >>> is_sweep_header("name,solver.step,status,reached,missed,frames,goal0_frames,min_clearance,max_joint_step_deg")
+    True
+    >>> is_sweep_header("name,notes")
+    False
+    """
+    columns = line.split(",")
+    return columns[:1] == ["name"] and tuple(columns[-2:]) == SWEEP_TAIL and "status" in columns
+
+
 def comparison_rows(settings: list[Setting], items: list[Variant], entries: list[BatchEntry]) -> tuple[list[str], list[list]]:
     """Header and rows of the sweep table: settings, goals, frames per goal, clearance, joint step.
 
@@ -180,7 +195,7 @@ def comparison_rows(settings: list[Setting], items: list[Variant], entries: list
     """
     n_goals = max((len(e.summary["goals"]) for e in entries if e.summary), default=0)
     header = ["name", *(s.path for s in settings), "status", "reached", "missed", "frames",
-              *(f"goal{k}_frames" for k in range(n_goals)), "min_clearance", "max_joint_step_deg"]
+              *(f"goal{k}_frames" for k in range(n_goals)), *SWEEP_TAIL]
     rows = []
     for variant, entry in zip(items, entries):
         s = entry.summary
@@ -234,13 +249,16 @@ def run_sweep(
     A variant the scene model rejects is reported in its entry and not run.
     """
     scene_path, out_root = Path(scene_path), Path(out_root)
+    table = out_root / f"{scene_path.stem}-sweep.csv"
+    check_table_replaceable(table, is_sweep_header)  # a user's file at these names: exit 3 before any work
+    check_table_replaceable(out_root / "index.csv", is_index_header)
     items = variants(scene_path, settings)
     tasks = [v.task for v in items if v.task is not None]
     done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=progress)
     by_name = {e.name: e for e in done}
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)
-    table = out_root / f"{scene_path.stem}-sweep.csv"
+    check_table_replaceable(table, is_sweep_header)
     write_text_atomic(table, table_csv_text(header, rows))
-    write_text_atomic(out_root / "index.csv", index_csv_text(entries))
+    write_index(out_root / "index.csv", entries)
     return SweepResult(items, entries, header, rows, table)
