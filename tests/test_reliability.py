@@ -8,15 +8,168 @@ anything takes (benchmarks/reliability_bench.py measures that); waits are hang g
 from __future__ import annotations
 
 import ast
+import errno
 import re
 import threading
+import tracemalloc
 from pathlib import Path
 
 import pytest
-from conftest import DOCS, TESTS
-from signals import Command, Sweep
+from conftest import DOCS, SCENES, TESTS
+from signals import Command, Sweep, snapshot
 
 from armanim.errors import INTERRUPTED, UsageError
+from armanim.output.rundir import MARKER
+
+NOTES = SCENES / "notes-arm.yaml"
+SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
+
+
+def _small(folder: Path, name: str) -> Path:
+    path = folder / f"{name}.yaml"
+    path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
+    return path
+
+
+# ------------------------------------------------------------------ 1. user files at armanim's fixed names
+
+
+def test_a_user_index_csv_stops_a_batch_before_any_work(cli, tmp_path):
+    a, b = _small(tmp_path, "a"), _small(tmp_path, "b")
+    out = tmp_path / "proj"
+    out.mkdir()
+    (out / "index.csv").write_text("my precious index\n")
+    result = cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1")
+    assert result.exit_code == 3, result.output
+    assert "index.csv: this file was not written by armanim" in result.stderr and "move it away" in result.stderr
+    assert (out / "index.csv").read_text() == "my precious index\n"
+    assert sorted(p.name for p in out.iterdir()) == ["index.csv"]  # refused before any scene ran
+    (out / "index.csv").unlink()
+    for _ in range(2):  # armanim's own index.csv is replaced
+        assert cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1").exit_code == 0
+    assert (out / "index.csv").read_text().startswith("name,status,")
+
+
+@pytest.mark.parametrize("name", ["notes-arm-sweep.csv", "index.csv"])
+def test_a_user_file_at_a_sweep_table_stops_the_sweep(cli, tmp_path, name):
+    (tmp_path / name).write_text("mine\n")
+    result = cli("sweep", NOTES, "--set", "solver.step=0.1,0.2", "--out", tmp_path, "-q", "--jobs", "1")
+    assert result.exit_code == 3 and "was not written by armanim" in result.stderr, result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name] and (tmp_path / name).read_text() == "mine\n"
+
+
+@pytest.fixture()
+def finished_run(cli, tmp_path) -> Path:
+    assert cli("run", _small(tmp_path, "r"), "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
+    return tmp_path / "out" / "r"
+
+
+def test_render_out_writes_only_into_a_new_empty_or_armanim_folder(cli, tmp_path, finished_run):
+    figures = tmp_path / "figures"
+    figures.mkdir()
+    (figures / "plot.png").write_text("my figure")
+    result = cli("render", finished_run, "--out", figures, "-q", "--jobs", "1")
+    assert result.exit_code == 3 and "not made by armanim" in result.stderr and "plot.png" in result.stderr
+    assert sorted(p.name for p in figures.iterdir()) == ["plot.png"] and (figures / "plot.png").read_text() == "my figure"
+    fresh = tmp_path / "fresh"
+    for _ in range(2):  # a new folder, then the folder armanim marked: replaced
+        assert cli("render", finished_run, "--out", fresh, "-q", "--jobs", "1").exit_code == 0
+    assert sorted(p.name for p in fresh.iterdir()) == [MARKER, "animation.mp4", "plot.png", "poster.png"]
+
+
+def test_render_out_inside_the_run_folder_is_refused(cli, finished_run):
+    before = snapshot(finished_run)
+    result = cli("render", finished_run, "--out", finished_run / "small", "-q", "--jobs", "1")
+    assert result.exit_code == 2 and "is inside the run folder" in result.stderr, result.output
+    assert snapshot(finished_run) == before
+
+
+# ------------------------------------------------------------------ 2. the marker records what armanim wrote
+
+
+def test_a_user_folder_at_a_listed_name_stops_the_next_run(cli, tmp_path, finished_run):
+    (finished_run / "summary.json").unlink()
+    (finished_run / "summary.json").mkdir()
+    (finished_run / "summary.json" / "notes.txt").write_text("notes")
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3, result.output
+    assert "changed since armanim wrote them (summary.json" in result.stderr
+    assert (finished_run / "summary.json" / "notes.txt").read_text() == "notes"
+
+
+def test_a_listed_file_edited_since_stops_the_next_run(cli, tmp_path, finished_run):
+    with (finished_run / "trajectory.csv").open("a") as handle:
+        handle.write("# my note\n")
+    before = snapshot(finished_run)
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3 and "trajectory.csv" in result.stderr, result.output
+    assert snapshot(finished_run) == before
+
+
+@pytest.mark.parametrize("marker", ['{"made_by": "armanim", "files": null}', "not json"])
+def test_an_unreadable_marker_is_named_as_such(cli, tmp_path, finished_run, marker):
+    (finished_run / MARKER).write_text(marker)
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3 and f"its {MARKER} cannot be read as armanim's marker" in result.stderr, result.output
+    assert "no .armanim-run.json" not in result.stderr
+
+
+# ------------------------------------------------------------------ 3, 9. golden pairs
+
+
+def _pair(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+@pytest.mark.parametrize("previous", [False, True])
+def test_a_failure_on_the_second_golden_file_leaves_the_pair_as_it_was(cli, tmp_path, monkeypatch, previous):
+    import os
+
+    golden = tmp_path / "golden"
+    golden.mkdir()
+    scene = tmp_path / "g.yaml"
+    scene.write_text(SMALL + "name: g\n")
+    if previous:
+        assert cli("check", scene, "--golden", golden, "--update", "-q").exit_code == 0
+        scene.write_text(SMALL.replace("[1, 1, 2]", "[1, 1.5, 2]") + "name: g\n")
+    before = _pair(golden)
+    real_replace = os.replace
+
+    def full_on_json(src, dst):
+        if str(dst).endswith("g.json"):
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real_replace(src, dst)
+
+    monkeypatch.setattr("armanim.output.atomic.os.replace", full_on_json)
+    result = cli("check", scene, "--golden", golden, "--update", "-q")
+    assert result.exit_code == 3 and "g.json: the disk is full" in result.stderr, result.output
+    assert _pair(golden) == before  # old/old (or nothing), never a new CSV beside an old JSON; no temporary file
+
+
+def test_update_with_a_golden_csv_that_is_not_utf8_replaces_it(cli, tmp_path):
+    (tmp_path / "notes-arm.csv").write_bytes(b"frame,\xff\xfe\n")
+    result = cli("check", NOTES, "--golden", tmp_path, "--update")
+    assert result.exit_code == 0 and "changed" in result.stdout, result.output
+    assert (tmp_path / "notes-arm.csv").read_bytes().startswith(b"frame,time_s,")
+
+
+def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):
+    from armanim.runs.golden import golden_status
+
+    big = tmp_path / "big.csv"
+    with big.open("wb") as handle:
+        handle.truncate(2**31)  # 2 GiB, sparse
+    tracemalloc.start()
+    try:
+        status = golden_status(big, b"frame,time_s\n0,0.0\n")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert status == "changed" and peak < 2**20
+    same = tmp_path / "same.csv"
+    same.write_bytes(b"frame\n0\n")
+    assert golden_status(same, b"frame\n0\n") == "unchanged" and golden_status(tmp_path / "none.csv", b"x") == "new"
+
 
 # ------------------------------------------------------------------ 4. a scheduler that never answers
 
