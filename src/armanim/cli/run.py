@@ -55,6 +55,8 @@ def run(
         return
     from armanim.runs.batch import run_batch
 
+    if not quiet:
+        say(f"batch: {len(dict.fromkeys(scenes))} scenes", err)
     with bars(quiet) as shown:
         entries = run_batch(
             scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, render_overrides=overrides,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import itertools
+import math
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -23,6 +24,8 @@ from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
 
+MAX_VARIANTS = 1_000
+"""The most variants one sweep runs (as a scene has at most 1,000 goals): more is a typo, or a job for a batch."""
 _PATH = re.compile(r"^[A-Za-z_]\w*(\[\d+\])?(\.[A-Za-z_]\w*(\[\d+\])?)*$")
 
 
@@ -152,6 +155,24 @@ def variant_error(exc: SceneError, values: dict) -> SceneError:
     return SceneError(exc.file, problems)
 
 
+def variant_count(settings: list[Setting]) -> int:
+    """How many variants the settings make, computed from the numbers of values before any is built.
+
+    >>> variant_count([Setting("solver.step", (0.1, 0.2)), Setting("solver.method", ("pinv", "dls", "pinv"))])
+    4
+
+    Raises
+    ------
+    UsageError
+        More than :data:`MAX_VARIANTS` combinations (exit 2).
+    """
+    product = math.prod(len(s.values) for s in settings)
+    if product > MAX_VARIANTS:
+        sizes = " x ".join(f"{len(s.values):,}" for s in settings)
+        raise UsageError(f"--set: {product:,} variants ({sizes} values; at most {MAX_VARIANTS:,} in one sweep: give fewer values)")
+    return len(unique_combinations(settings))
+
+
 def unique_combinations(settings: list[Setting]) -> list[tuple]:
     """The product of the settings' values, each combination once (``0.1,0.1`` runs once)."""
     seen, combos = set(), []
@@ -247,7 +268,13 @@ def run_sweep(
 
     ``progress(done, total, running)`` is called as :func:`armanim.runs.batch.run_tasks` calls it.
     A variant the scene model rejects is reported in its entry and not run.
+
+    Raises
+    ------
+    UsageError
+        More than :data:`MAX_VARIANTS` variants (checked before any is built).
     """
+    variant_count(settings)
     scene_path, out_root = Path(scene_path), Path(out_root)
     table = out_root / f"{scene_path.stem}-sweep.csv"
     check_table_replaceable(table, is_sweep_header)  # a user's file at these names: exit 3 before any work
