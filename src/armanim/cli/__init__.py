@@ -18,9 +18,11 @@ for _module in COMMAND_MODULES:
 
 def main() -> None:
     """Run the command line in this process (see :mod:`armanim.__main__`, which calls it)."""
+    from armanim.cli.app import quiet_when_closed
     from armanim.cli.interrupts import own_the_process
 
     own_the_process()
+    quiet_when_closed()
     app()
 
 

@@ -6,7 +6,10 @@ lives only in this package.
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import os
+import sys
 from typing import Annotated
 
 import typer
@@ -28,6 +31,49 @@ app = typer.Typer(
 )
 out = Console()
 err = Console(stderr=True)
+
+
+class QuietWhenClosed:
+    """A text stream that a closed reader (``armanim validate s.yaml | head -0``) cannot break.
+
+    The first BrokenPipeError points the stream's file descriptor at /dev/null: the rest of
+    the output is dropped, and the command ends with its own exit code (a failed check
+    stays exit 1, a pass exit 0), never click's exit 1 for a broken pipe.
+    """
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            self._drop_the_rest()
+            return len(text)
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            self._drop_the_rest()
+
+    def _drop_the_rest(self) -> None:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, self._stream.fileno())
+        os.close(devnull)
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+def quiet_when_closed() -> None:
+    """Wrap this process's stdout and stderr in :class:`QuietWhenClosed` (the armanim process only)."""
+    for name in ("stdout", "stderr"):
+        stream = getattr(sys, name)
+        if stream is not None and not isinstance(stream, QuietWhenClosed):
+            with contextlib.suppress(OSError, ValueError, AttributeError):
+                stream.fileno()  # a real file descriptor (not a test's capture)
+                setattr(sys, name, QuietWhenClosed(stream))
 
 
 def say(text: str, console: Console = out) -> None:
