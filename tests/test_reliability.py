@@ -202,6 +202,108 @@ def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words):
         connect_client(failing_client, "tcp://127.0.0.1:9", seconds=30)
 
 
+# ------------------------------------------------------------------ 5, 6. sweeps have a bound and say their size
+
+
+def test_a_sweep_beyond_the_limit_is_exit_2_before_anything_is_built(cli, tmp_path):
+    from armanim.runs.sweep import MAX_VARIANTS
+
+    steps = ",".join(str(0.001 * (i + 1)) for i in range(50))
+    tolerances = ",".join(str(0.0001 * (i + 1)) for i in range(MAX_VARIANTS // 50 + 1))
+    result = cli("sweep", NOTES, "--set", f"solver.step={steps}", "--set", f"solver.tolerance={tolerances}", "--out", tmp_path)
+    assert result.exit_code == 2, result.output
+    assert f"--set: 1,050 variants (50 x 21 values; at most {MAX_VARIANTS:,} in one sweep" in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_sweep_and_a_batch_say_their_size_first(cli, tmp_path):
+    result = cli("sweep", _small(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1")
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines()[0] == f"sweep of {tmp_path / 's.yaml'}: 2 variants (solver.step)"
+    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "o", "--no-video", "--jobs", "1")
+    assert result.exit_code == 0 and result.stderr.splitlines()[0] == "batch: 2 scenes", result.output
+
+
+# ------------------------------------------------------------------ 10. a closed pipe
+
+
+@pytest.mark.parametrize("args, code", [(["validate", NOTES], 0), (["check", NOTES, "--golden", TESTS / "golden"], 0),
+                                        (["fk", "--angles", "0,0,0,0"], 0), (["check", "BROKEN", "--golden", "GOLDEN"], 1)])
+def test_a_closed_pipe_keeps_the_command_s_own_exit_code(tmp_path, args, code):
+    """``armanim validate s.yaml | head -0``: exit 0 (a failed check stays 1), never click's 1 for EPIPE, no message."""
+    import subprocess
+    import sys
+
+    if "BROKEN" in args:  # a golden file that differs: the check fails whether or not anyone reads
+        (tmp_path / "notes-arm.csv").write_text((TESTS / "golden" / "notes-arm.csv").read_text().replace(",0,", ",1,", 1))
+        args = ["check", NOTES, "--golden", tmp_path]
+    proc = subprocess.Popen([sys.executable, "-m", "armanim", *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # the reader is gone before armanim writes
+    stderr = proc.stderr.read().decode()
+    assert proc.wait(timeout=300) == code, stderr
+    assert "Traceback" not in stderr and "Broken pipe" not in stderr
+
+
+# ------------------------------------------------------------------ the wrong-but-harmless list
+
+
+def test_render_refuses_a_scene_yaml_that_is_not_the_run_s(cli, finished_run):
+    (finished_run / "scene.yaml").write_text(SMALL.replace("[1, 1, 2]", "[1, 2, 1]") + "name: r\n")
+    result = cli("render", finished_run, "-q", "--jobs", "1")
+    assert result.exit_code == 2 and "scene.yaml: is not the scene this run solved" in result.stderr, result.output
+
+
+@pytest.mark.parametrize("column, value, message", [("goal", "1", "goal: 1 is not a goal of the scene (expected 0 to 0)"),
+                                                    ("time_s", "-5", "time_s: -5 is negative")])
+def test_render_refuses_a_goal_past_the_last_and_a_negative_time(cli, finished_run, column, value, message):
+    lines = (finished_run / "trajectory.csv").read_text().splitlines()
+    at = lines[0].split(",").index(column)
+    row = lines[2].split(",")
+    row[at] = value
+    lines[2] = ",".join(row)
+    (finished_run / "trajectory.csv").write_text("\n".join(lines) + "\n")
+    result = cli("render", finished_run, "-q", "--jobs", "1")
+    assert result.exit_code == 2 and f"trajectory.csv:3: {message}" in result.stderr, result.output
+
+
+def test_a_scene_yaml_linked_to_a_device_is_named_as_one(cli, finished_run):
+    (finished_run / "scene.yaml").unlink()
+    (finished_run / "scene.yaml").symlink_to("/dev/zero")
+    result = cli("render", finished_run, "-q")
+    assert result.exit_code == 2 and "is a character device, not a regular file" in result.stderr, result.output
+
+
+def test_a_huge_flag_value_is_cut_in_the_message(cli):
+    result = cli("fk", "--angles", ",".join(["1"] * 60_000))
+    assert result.exit_code == 2 and "(got 60,000:" in result.stderr and "(119,999 characters)" in result.stderr
+    assert len(result.stderr) < 300, len(result.stderr)
+
+
+def test_a_disk_full_message_names_the_run_folder_not_its_staging(cli, tmp_path, monkeypatch):
+    import os
+
+    real_fsync = os.fsync
+
+    def full(fd):
+        if ".partial/" in os.readlink(f"/proc/self/fd/{fd}"):  # OUT is full (not TMPDIR: that message names TMPDIR)
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real_fsync(fd)
+
+    monkeypatch.setattr("armanim.output.atomic.os.fsync", full)
+    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "out", "--no-video", "-q", "--jobs", "1")
+    assert result.exit_code == 3, result.output
+    assert f"{tmp_path / 'out' / 'a'}/scene.yaml: the disk is full" in result.stderr and ".partial" not in result.stderr
+
+
+def test_a_dangling_link_at_the_lock_is_refused_not_followed(cli, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".a.lock").symlink_to(tmp_path / "elsewhere")
+    result = cli("run", _small(tmp_path, "a"), "--out", out, "--no-video", "-q")
+    assert result.exit_code == 3 and ".a.lock: is a link" in result.stderr, result.output
+    assert not (tmp_path / "elsewhere").exists()
+
+
 # ------------------------------------------------------------------ 7, 8. signals over each command's life
 
 TINY = ("version: 1\nname: tiny\narm:\n  links: [1, 1]\ngoals:\n  - [1, 1, 0]\n  - {{position: [0, 1.5, 0.5], hold: 3}}\n"

@@ -18,6 +18,7 @@ link, a file) is an error that names what is there, and it is left as it was.
 from __future__ import annotations
 
 import contextlib
+import errno
 import fcntl
 import json
 import os
@@ -39,10 +40,14 @@ MARKER = ".armanim-run.json"
 @contextlib.contextmanager
 def folder_lock(folder: Path) -> Iterator[None]:
     """Hold an exclusive lock on ``folder`` (a hidden ``.<name>.lock`` file beside it)."""
+    lock = folder.parent / f".{folder.name}.lock"
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
-        handle = open(folder.parent / f".{folder.name}.lock", "a")
+        # never through a link: a dangling one would make armanim create a file where it points
+        handle = os.fdopen(os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), "a")
     except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise OutputError(f"{lock}: is a link, which armanim did not make and does not follow (remove it)") from None
         raise output_error(folder, exc) from None
     try:
         fcntl.flock(handle, fcntl.LOCK_EX)
@@ -237,13 +242,16 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
             raise output_error(final, exc) from None
         committed = False
         try:
-            if keep_files and final.is_dir():
-                try:
-                    _copy_run(final, staged)
-                except OSError as exc:
-                    raise output_error(staged, exc) from None
-            yield staged
-            write_marker(staged)
+            try:
+                if keep_files and final.is_dir():
+                    try:
+                        _copy_run(final, staged)
+                    except OSError as exc:
+                        raise output_error(staged, exc) from None
+                yield staged
+                write_marker(staged)
+            except OutputError as exc:  # name the folder the user knows, not the hidden staging folder
+                raise type(exc)(str(exc).replace(str(staged), str(final))) from None
             with interrupts_deferred():
                 swap_in(staged, final)
                 committed = True

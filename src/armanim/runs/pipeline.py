@@ -168,8 +168,7 @@ def rerender_run(
     from armanim.runs.reload import load_run
 
     folder = Path(folder)
-    if not folder.is_dir():
-        load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
+    load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
     if out is not None and Path(out).resolve() != folder.resolve():
         target = Path(out)
         if target.resolve().is_relative_to(folder.resolve()):
