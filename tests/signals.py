@@ -38,14 +38,21 @@ LITTER = (".partial", ".old-", ".tmp", ".part", ".concat")
 HANG_GUARD = 300.0  # seconds: far beyond any unloaded attempt (a few seconds)
 
 
-def snapshot(folder: Path) -> dict[str, str]:
-    """sha256 of every file below ``folder`` (or of the file ``folder``) by relative path ({} if it is missing)."""
+def snapshot(folder: Path, *roots: Path) -> dict[str, str]:
+    """sha256 of every file below ``folder`` (or of the file ``folder``) by relative path ({} if
+    it is missing); the paths ``roots`` in a file's bytes are read as ``<ROOT>`` (index.csv
+    names each run folder by its path)."""
+    def digest(path: Path) -> str:
+        data = path.read_bytes()
+        for root in roots:
+            data = data.replace(str(root).encode(), b"<ROOT>")
+        return hashlib.sha256(data).hexdigest()
+
     if folder.is_file():
-        return {folder.name: hashlib.sha256(folder.read_bytes()).hexdigest()}
+        return {folder.name: digest(folder)}
     if not folder.exists():
         return {}
-    return {str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(folder.rglob("*")) if p.is_file()}
+    return {str(p.relative_to(folder)): digest(p) for p in sorted(folder.rglob("*")) if p.is_file()}
 
 
 def _catches_sigterm(pid: int) -> bool:
@@ -113,8 +120,8 @@ class Sweep:
             for args in command.prepare_args:
                 self._run(args, where)
         self._run(command.args, self.expected_new)
-        self.old = {f: snapshot(self.template / f) for f in command.folders}
-        self.new = {f: snapshot(self.expected_new / f) for f in command.folders}
+        self.old = {f: snapshot(self.template / f, self.template) for f in command.folders}
+        self.new = {f: snapshot(self.expected_new / f, self.expected_new) for f in command.folders}
 
     def _fill(self, args: list[str], where: Path) -> list[str]:
         return [a.format(out=where / "out", golden=where / "golden") for a in args]
@@ -167,7 +174,7 @@ class Sweep:
                 os.killpg(proc.pid, signal.SIGKILL)
         _, alive = psutil.wait_procs(list(seen.values()), timeout=60)  # a hang guard: they go at once
         strays = [f"{p.pid} {p.name()}" for p in alive if p.is_running() and p.status() != psutil.STATUS_ZOMBIE]
-        states = {f: self._state(where / f, f) for f in self.command.folders}
+        states = {f: self._state(where, f) for f in self.command.folders}
         litter = [str(p.relative_to(where)) for p in where.rglob("*") if any(mark in p.name for mark in LITTER)]
         litter += [f"$TMPDIR/{p.name}" for p in tmp.iterdir()]
         shutil.rmtree(tmp, ignore_errors=True)
@@ -176,8 +183,8 @@ class Sweep:
             shutil.rmtree(where, ignore_errors=True)
         return outcome
 
-    def _state(self, folder: Path, name: str) -> str:
-        now = snapshot(folder)
+    def _state(self, where: Path, name: str) -> str:
+        now = snapshot(where / name, where, self.template)  # the previous files were made in the template
         return "old" if now == self.old[name] else "new" if now == self.new[name] else "mixed"
 
     def _wait_for(self, moment: str, proc: psutil.Popen, where: Path, seen: dict) -> bool:
