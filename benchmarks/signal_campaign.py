@@ -32,6 +32,8 @@ def main() -> int:
     parser.add_argument("--commands", nargs="*", default=None, help="run, batch, sweep, 'check --update', render (default: all)")
     parser.add_argument("--delays", nargs="*", type=float, default=[0.0, 0.001, 0.003, 0.02, 0.1, 0.4, 1.0],
                         help="seconds after each moment (default: 0 1 ms 3 ms 20 ms 0.1 0.4 1)")
+    parser.add_argument("--twice", type=float, default=None, metavar="SECONDS",
+                        help="send each signal twice, this far apart (a double Ctrl-C)")
     parser.add_argument("--keep", type=Path, default=None, help="keep the attempts' folders here")
     args = parser.parse_args()
     root = Path(args.keep or tempfile.mkdtemp(prefix="armanim-signals-"))
@@ -43,7 +45,7 @@ def main() -> int:
         for moment in MOMENTS:
             for delay in args.delays:
                 for signame in ("SIGINT", "SIGTERM"):
-                    outcome = sweep.attempt(moment, delay, signame)
+                    outcome = sweep.attempt(moment, delay, signame, args.twice)
                     attempts += 1
                     problems = outcome.problems()
                     wrong += bool(problems)

@@ -131,8 +131,9 @@ class Sweep:
                               timeout=HANG_GUARD)
         assert proc.returncode == 0, proc.stderr
 
-    def attempt(self, moment: str, delay: float, signame: str) -> Outcome:
-        """Run the command in a copy of the previous state; signal it at ``moment`` + ``delay`` s."""
+    def attempt(self, moment: str, delay: float, signame: str, again: float | None = None) -> Outcome:
+        """Run the command in a copy of the previous state; signal it at ``moment`` + ``delay`` s
+        (and, with ``again``, a second time that many seconds later: a double Ctrl-C)."""
         self.count += 1
         where = self.root / f"attempt{self.count}"
         shutil.copytree(self.template, where)
@@ -158,13 +159,15 @@ class Sweep:
         if fired:
             time.sleep(delay)
             sig = getattr(signal, signame)
-            try:
-                if signame == "SIGINT":
-                    os.killpg(proc.pid, sig)  # a terminal's Ctrl-C: the whole group
-                else:
-                    proc.send_signal(sig)  # kill: armanim alone
-            except ProcessLookupError:
-                fired = False
+            for pause in [0.0] if again is None else [0.0, again]:
+                time.sleep(pause)
+                try:
+                    if signame == "SIGINT":
+                        os.killpg(proc.pid, sig)  # a terminal's Ctrl-C: the whole group
+                    else:
+                        proc.send_signal(sig)  # kill: armanim alone
+                except (ProcessLookupError, psutil.NoSuchProcess):
+                    fired = fired and pause > 0
         try:
             _, stderr = proc.communicate(timeout=HANG_GUARD)
         finally:
@@ -178,7 +181,7 @@ class Sweep:
         litter = [str(p.relative_to(where)) for p in where.rglob("*") if any(mark in p.name for mark in LITTER)]
         litter += [f"$TMPDIR/{p.name}" for p in tmp.iterdir()]
         shutil.rmtree(tmp, ignore_errors=True)
-        outcome = Outcome(f"{moment}+{delay:g}", signame, proc.returncode, stderr, states, litter, strays, fired)
+        outcome = Outcome(f"{moment}+{delay:g}" + ("" if again is None else f" twice ({again:g} s apart)"), signame, proc.returncode, stderr, states, litter, strays, fired)
         if not outcome.problems():
             shutil.rmtree(where, ignore_errors=True)
         return outcome
