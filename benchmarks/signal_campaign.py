@@ -21,7 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))  # the harness and the commands are the tests' own (one owner)
 
-MOMENTS = ("start", "workers", "ffmpeg", "commit")
+MOMENTS = ("start", "workers", "ffmpeg", "poster", "commit")
 
 
 def main() -> int:

@@ -5,8 +5,10 @@ command) and benchmarks/signal_campaign.py (many more).
 A moment is an event in the process's life, not a time, so that a busy machine moves the
 moment, never the verdict: ``start`` (its SIGTERM handler is installed, i.e. the entry
 module runs), ``workers`` (a worker process runs), ``ffmpeg`` (an ffmpeg encodes),
-``commit`` (a staged marker ``OUT/.<name>.*.partial/.armanim-run.json`` appears: the swap
-is imminent), each with an optional delay in seconds after it.
+``poster`` (the staging folder's last file, ``poster.png``, is being drawn: the commit
+follows within tens of milliseconds), ``commit`` (a staged marker
+``OUT/.<name>.*.partial/.armanim-run.json`` appears: the swap is imminent; it lasts a few
+milliseconds, so polling may miss it), each with an optional delay in seconds after it.
 
 After each attempt:
 
@@ -21,6 +23,7 @@ After each attempt:
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import shutil
 import signal
@@ -34,6 +37,7 @@ from pathlib import Path
 
 import psutil
 
+MARKER = ".armanim-run.json"
 LITTER = (".partial", ".old-", ".tmp", ".part", ".concat")
 HANG_GUARD = 300.0  # seconds: far beyond any unloaded attempt (a few seconds)
 
@@ -43,6 +47,8 @@ def snapshot(folder: Path, *roots: Path) -> dict[str, str]:
     it is missing); the paths ``roots`` in a file's bytes are read as ``<ROOT>`` (index.csv
     names each run folder by its path)."""
     def digest(path: Path) -> str:
+        if path.name == MARKER:  # its list of files (their times differ from run to run)
+            return hashlib.sha256(" ".join(sorted(json.loads(path.read_text())["files"])).encode()).hexdigest()
         data = path.read_bytes()
         for root in roots:
             data = data.replace(str(root).encode(), b"<ROOT>")
@@ -202,13 +208,16 @@ class Sweep:
     def _came(self, moment: str, proc: psutil.Popen, where: Path, seen: dict) -> bool:
         if moment == "start":
             return _catches_sigterm(proc.pid)
-        if moment == "commit":
+        if moment == "commit":  # a few milliseconds long: polling may miss it
             return any(where.glob("out/.*.partial/.armanim-run.json"))
+        if moment == "poster":  # the last file before the commit is being drawn
+            return any(where.glob("out/.*.partial/.poster.png.*")) or any(where.glob("out/.*.partial/poster.png"))
         try:
             kids = list(seen.values())
-            if moment == "workers":
-                return any("python" in k.name() and "forkserver" not in " ".join(k.cmdline()) and
-                           "resource_tracker" not in " ".join(k.cmdline()) for k in kids if k.is_running())
+            if moment == "workers":  # a pool's helpers (forkserver, resource tracker) are not workers
+                helper = ("forkserver", "resource_tracker")
+                return any("python" in k.name() and (k.ppid() != proc.pid or not any(h in " ".join(k.cmdline()) for h in helper))
+                           for k in kids if k.is_running())
             if moment == "ffmpeg":
                 return any("ffmpeg" in k.name() for k in kids if k.is_running())
         except psutil.Error:

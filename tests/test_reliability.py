@@ -343,11 +343,11 @@ def _commands(folder: Path) -> dict:
 
 
 MOMENTS = {  # a handful per command (each attempt is a real process); benchmarks/signal_campaign.py sweeps many more
-    "run": [("start", 0.0, "SIGTERM"), ("ffmpeg", 0.2, "SIGINT"), ("commit", 0.0, "SIGINT")],
-    "batch": [("workers", 0.0, "SIGINT"), ("commit", 0.0, "SIGTERM")],
+    "run": [("start", 0.0, "SIGTERM"), ("ffmpeg", 0.2, "SIGINT"), ("poster", 0.0, "SIGINT"), ("poster", 0.05, "SIGTERM")],
+    "batch": [("workers", 0.0, "SIGINT"), ("ffmpeg", 0.1, "SIGTERM")],
     "sweep": [("workers", 0.0, "SIGTERM")],
     "check --update": [("start", 0.5, "SIGINT")],
-    "render": [("ffmpeg", 0.0, "SIGINT")],
+    "render": [("ffmpeg", 0.0, "SIGINT"), ("poster", 0.02, "SIGTERM")],
 }
 
 
@@ -360,6 +360,7 @@ def test_a_signal_at_any_moment_ends_with_0_or_130_and_old_or_new_outputs(tmp_pa
     outcomes = [sweep.attempt(moment, delay, signame) for moment, delay, signame in MOMENTS[name]]
     wrong = {o.moment + " " + o.signame: o.problems() + [o.stderr[-2000:]] for o in outcomes if o.problems()}
     assert wrong == {}
+    assert all(o.fired for o in outcomes), [o.moment for o in outcomes if not o.fired]  # each moment came: a real test
     for o in outcomes:
         interrupted = o.code == 130
         assert o.stderr.strip().splitlines()[-1:] == ([INTERRUPTED] if interrupted else o.stderr.strip().splitlines()[-1:])
