@@ -62,6 +62,7 @@ def run(
             scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, render_overrides=overrides,
             progress=functools.partial(shown, "scenes"),
         )
+    ignore_until_exit()  # every scene and index.csv are in place: the batch has its outcome
     if not quiet:
         print_batch_table(entries, out_root / "index.csv")
     print_batch_problems(entries)

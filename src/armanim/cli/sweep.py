@@ -10,6 +10,7 @@ import typer
 from rich.table import Table
 
 from armanim.cli.app import app, err, handle_errors, out, say
+from armanim.cli.interrupts import ignore_until_exit
 from armanim.cli.options import JobsOpt, SchedulerOpt, usable_jobs
 from armanim.cli.progress import bars
 from armanim.cli.reports import batch_exit_code, print_batch_problems
@@ -40,6 +41,7 @@ def sweep(
     with bars(quiet) as shown:
         result = run_sweep(scene, parsed, out_root, jobs=jobs, scheduler=scheduler, video=video,
                            progress=functools.partial(shown, "variants"))
+    ignore_until_exit()  # every variant, the table and index.csv are in place: the sweep has its outcome
     if not quiet:
         title = f"sweep of {scene.name}: {len(result.variants)} variants"
         out.print(sweep_screen_table(title, result.header, result.rows, len(parsed)))
