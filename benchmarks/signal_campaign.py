@@ -54,6 +54,8 @@ def main() -> int:
                     print(f"{name:>15} {moment:>8}+{delay:<6g} {signame:<7} exit {outcome.code:>3}  "
                           f"{' '.join(f'{k}={v}' for k, v in outcome.states.items())}  {'' if outcome.fired else '(ended first) '}{verdict}",
                           flush=True)
+                    if problems:
+                        print("    stderr: " + outcome.stderr[-3000:].replace("\n", "\n    "), flush=True)
     print(f"\n{attempts} attempts: {attempts - wrong} right, {wrong} wrong ({skipped} ended before their moment); folders in {root}")
     return 1 if wrong else 0
 
