@@ -187,7 +187,7 @@ def test_render_out_keeps_the_run_video_byte_identical_and_writes_full_metadata(
                                  "--jobs", "1", "-q"])
     assert result.exit_code == 0, result.output
     assert {p.name: p.read_bytes() for p in run.iterdir()} == before
-    assert {p.name for p in other.iterdir()} == {"animation.mp4", "plot.png", "poster.png"}
+    assert {p.name for p in other.iterdir()} == {"animation.mp4", "plot.png", "poster.png", ".armanim-run.json"}  # marked
     rows = len((run / "trajectory.csv").read_text().splitlines()) - 1
     reader = imageio_ffmpeg.read_frames(str(other / "animation.mp4"))
     meta = next(reader)

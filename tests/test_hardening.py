@@ -209,12 +209,12 @@ HOSTILE = {
 
 @pytest.mark.parametrize("name", HOSTILE)
 def test_hostile_yaml_is_rejected_fast_with_bounded_memory(name):
+    """Rejected with its FILE:LINE: path: message, in bounded memory (a tracemalloc peak, the
+    same on any machine). How fast is measured by benchmarks/reliability_bench.py, not here:
+    a wall-clock bound fails on a busy machine."""
     text, field, line, words = HOSTILE[name]
-    started = time.perf_counter()
     with pytest.raises(SceneError) as info:
         validate_scene_text(text, "hostile.yaml")
-    elapsed = time.perf_counter() - started
-    assert elapsed < 1.0, f"{name}: {elapsed:.2f} s"
     tracemalloc.start()
     try:
         with pytest.raises(SceneError):
@@ -249,13 +249,21 @@ def test_hostile_yaml_through_the_cli_is_file_line_path_message(cli, tmp_path):
 
 
 def test_huge_file_is_rejected_before_reading(cli, tmp_path):
+    from armanim.scene import load_scene
+
     path = tmp_path / "huge.yaml"
     path.write_text(SMALL + "#" * (MAX_FILE_BYTES + 10) + "\n")
-    started = time.perf_counter()
     result = cli("validate", path)
-    assert time.perf_counter() - started < 1.0
     assert result.exit_code == 2
     assert f"a scene may be at most {MAX_FILE_BYTES:,} bytes" in result.stderr
+    tracemalloc.start()
+    try:
+        with pytest.raises(SceneError):
+            load_scene(path)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < MAX_FILE_BYTES / 10, f"peak {peak:,} bytes: the file was read"  # its size says no first
 
 
 def test_non_utf8_bytes_name_their_line(cli, tmp_path):
@@ -272,9 +280,7 @@ def test_largest_valid_scene_still_loads(tmp_path):
     goals = "".join(f"  - {{position: [1, {i % 7}, 2], hold: 0.1}}\n" for i in range(LIMITS["goals"]))
     obstacles = "".join(f"  - {{center: [{20 + i}, 30, 40], radius: 0.5, influence: 1}}\n" for i in range(LIMITS["obstacles"]))
     text = f"version: 1\narm:\n  links: [{links}]\nobstacles:\n{obstacles}goals:\n{goals}solver: {{max_frames_per_goal: 900}}\n"
-    started = time.perf_counter()
-    model = validate_scene_text(text, "big.yaml")
-    assert time.perf_counter() - started < 5.0
+    model = validate_scene_text(text, "big.yaml")  # its time: benchmarks/reliability_bench.py
     assert len(model.goals) == LIMITS["goals"] and len(model.obstacles) == LIMITS["obstacles"]
 
 
@@ -337,7 +343,7 @@ def test_interrupt_mid_render_leaves_nothing_behind(previous_notes, tmp_path, si
     assert snapshot(out / "notes-arm") == before
     assert leftovers(out) == []
     assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
-    gone, alive = psutil.wait_procs(children, timeout=5)
+    gone, alive = psutil.wait_procs(children, timeout=60)  # a hang guard; the promptness is benchmarked
     assert not [p for p in alive if p.status() != psutil.STATUS_ZOMBIE], alive
     strays = [p.info for p in psutil.process_iter(["pid", "cmdline"]) if any(str(out) in c for c in p.info["cmdline"] or [])]
     assert strays == []
@@ -362,11 +368,11 @@ def test_two_runs_of_the_same_folder_never_interleave(tmp_path):
 
     a = threading.Thread(target=writer, args=("a", 0.1))
     a.start()
-    first_inside.wait(5)
+    assert first_inside.wait(120)
     b = threading.Thread(target=writer, args=("b", 0.0))
     b.start()
-    a.join(10)
-    b.join(10)
+    a.join(120)
+    b.join(120)
     assert events == ["a in", "a out", "b in", "b out"]
     assert {p.read_text() for p in final.iterdir() if p.name != MARKER} == {"b"}
     assert leftovers(tmp_path) == []

@@ -1,6 +1,29 @@
-"""``python -m armanim``: the same as the ``armanim`` command."""
+"""The ``armanim`` command: the console script and ``python -m armanim``.
 
-from armanim.cli import main
+Its first act, before any other import, makes Ctrl-C and SIGTERM quiet. Until a command
+starts nothing has been written, so a signal then ends the process at once with the
+contract's line and exit 130 (importing typer, rich and numpy takes most of a second; an
+interrupt inside an import would otherwise print a traceback, and SIGTERM would kill
+with -15). :mod:`armanim.cli.interrupts` takes over while a command runs.
+"""
+
+import os
+import signal
+
+
+def _quit_before_the_command(signum, frame):
+    os.write(2, b"armanim: interrupted; nothing half-written was left behind\n")  # errors.INTERRUPTED (not imported yet)
+    os._exit(130)
+
+
+def main() -> None:
+    """Entry point of the ``armanim`` console script."""
+    signal.signal(signal.SIGINT, _quit_before_the_command)
+    signal.signal(signal.SIGTERM, _quit_before_the_command)
+    from armanim.cli import main as run_command
+
+    run_command()
+
 
 if __name__ == "__main__":
     main()

@@ -14,6 +14,9 @@ EXIT_BAD_INPUT = 2
 EXIT_OUTPUT_FAILED = 3
 EXIT_INTERRUPTED = 130
 
+INTERRUPTED = "armanim: interrupted; nothing half-written was left behind"
+"""The one line on stderr of an interrupted command (exit 130)."""
+
 
 class ArmanimError(Exception):
     """Base of every error armanim reports to a user (never shown as a traceback)."""
@@ -77,3 +80,15 @@ class OutputError(ArmanimError):
 
 class RenderError(OutputError):
     """Drawing or encoding failed, e.g. ffmpeg exited with an error (exit 3)."""
+
+
+class InterruptedAfterCommit(KeyboardInterrupt):
+    """Ctrl-C or SIGTERM that came while a folder was being swapped in, after the swap.
+
+    It is a KeyboardInterrupt (a caller asked to stop, and stops), but the new outputs at
+    ``folder`` are complete and in place: a command whose last output this was has succeeded.
+    """
+
+    def __init__(self, folder):
+        super().__init__(str(folder))
+        self.folder = folder

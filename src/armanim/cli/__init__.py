@@ -16,15 +16,13 @@ for _module in COMMAND_MODULES:
     importlib.import_module(f"armanim.cli.{_module}")
 
 
-def _terminate(signum, frame):
-    raise KeyboardInterrupt  # SIGTERM takes the same clean-up path as Ctrl-C
-
-
 def main() -> None:
-    """Entry point of the ``armanim`` console script."""
-    import signal
+    """Run the command line in this process (see :mod:`armanim.__main__`, which calls it)."""
+    from armanim.cli.app import quiet_when_closed
+    from armanim.cli.interrupts import own_the_process
 
-    signal.signal(signal.SIGTERM, _terminate)
+    own_the_process()
+    quiet_when_closed()
     app()
 
 

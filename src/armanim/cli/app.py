@@ -6,14 +6,18 @@ lives only in this package.
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import os
+import sys
 from typing import Annotated
 
 import typer
 from rich.console import Console
 
 from armanim import __version__
-from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, ArmanimError
+from armanim.cli.interrupts import command_signals, ignore_until_exit
+from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, INTERRUPTED, ArmanimError
 
 app = typer.Typer(
     name="armanim",
@@ -29,6 +33,49 @@ out = Console()
 err = Console(stderr=True)
 
 
+class QuietWhenClosed:
+    """A text stream that a closed reader (``armanim validate s.yaml | head -0``) cannot break.
+
+    The first BrokenPipeError points the stream's file descriptor at /dev/null: the rest of
+    the output is dropped, and the command ends with its own exit code (a failed check
+    stays exit 1, a pass exit 0), never click's exit 1 for a broken pipe.
+    """
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            self._drop_the_rest()
+            return len(text)
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            self._drop_the_rest()
+
+    def _drop_the_rest(self) -> None:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, self._stream.fileno())
+        os.close(devnull)
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+def quiet_when_closed() -> None:
+    """Wrap this process's stdout and stderr in :class:`QuietWhenClosed` (the armanim process only)."""
+    for name in ("stdout", "stderr"):
+        stream = getattr(sys, name)
+        if stream is not None and not isinstance(stream, QuietWhenClosed):
+            with contextlib.suppress(OSError, ValueError, AttributeError):
+                stream.fileno()  # a real file descriptor (not a test's capture)
+                setattr(sys, name, QuietWhenClosed(stream))
+
+
 def say(text: str, console: Console = out) -> None:
     """Print a plain line (no rich markup or highlighting, never wrapped) to ``console``."""
     console.print(text, markup=False, highlight=False, soft_wrap=True)
@@ -40,23 +87,31 @@ def report(exc: ArmanimError) -> None:
 
 
 def handle_errors(command):
-    """Turn ArmanimError into its message and exit code; Ctrl-C into exit 130."""
+    """Turn ArmanimError into its message and exit code; Ctrl-C and SIGTERM into exit 130
+    (see :mod:`armanim.cli.interrupts`)."""
 
     @functools.wraps(command)
     def wrapper(*args, **kwargs):
-        try:
-            return command(*args, **kwargs)
-        except ArmanimError as exc:
-            report(exc)
-            raise typer.Exit(exc.exit_code) from None
-        except KeyboardInterrupt:
-            say("armanim: interrupted; nothing half-written was left behind", err)
-            raise typer.Exit(EXIT_INTERRUPTED) from None
-        except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
-            say(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", err)
-            raise typer.Exit(EXIT_OUTPUT_FAILED) from None
+        with command_signals():
+            return _reported(command, *args, **kwargs)
 
     return wrapper
+
+
+def _reported(command, *args, **kwargs):
+    """``command(...)``, its errors as their messages and exit codes."""
+    try:
+        return command(*args, **kwargs)
+    except ArmanimError as exc:
+        report(exc)
+        raise typer.Exit(exc.exit_code) from None
+    except KeyboardInterrupt:
+        ignore_until_exit()
+        say(INTERRUPTED, err)
+        raise typer.Exit(EXIT_INTERRUPTED) from None
+    except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
+        say(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", err)
+        raise typer.Exit(EXIT_OUTPUT_FAILED) from None
 
 
 def _version(value: bool) -> None:

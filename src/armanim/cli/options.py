@@ -39,17 +39,28 @@ def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
     parts = [p.strip() for p in text.replace(" ", ",").split(",") if p.strip()]
     values = np.array([_number(p, flag) for p in parts])
     if not len(values) or not np.all(np.isfinite(values)):
-        raise UsageError(f"{flag}: expected finite comma-separated numbers (got {text!r})")
+        raise UsageError(f"{flag}: expected finite comma-separated numbers (got {shown(text)})")
     if count is not None and len(values) != count:
-        raise UsageError(f"{flag}: expected {count} numbers (got {len(values)}: {text!r})")
+        raise UsageError(f"{flag}: expected {count} numbers (got {len(values):,}: {shown(text)})")
     return values
+
+
+def shown(text: str, limit: int = 60) -> str:
+    """``text`` quoted for a message, cut to ``limit`` characters (a flag may hold 100 kB).
+
+    >>> shown("0,1"), shown("1," * 40, limit=10)
+    ("'0,1'", "'1,1,1,1,1,...' (80 characters)")
+    """
+    if len(text) <= limit:
+        return repr(text)
+    return f"{text[:limit]!r}"[:-1] + f"...' ({len(text):,} characters)"
 
 
 def _number(text: str, flag: str) -> float:
     try:
         return float(text)
     except ValueError:
-        raise UsageError(f"{flag}: {text!r} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)") from None
+        raise UsageError(f"{flag}: {shown(text)} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)") from None
 
 
 def parse_lengths(text: str, flag: str, count: int | None = None) -> np.ndarray:

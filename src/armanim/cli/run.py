@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import contextlib
 import functools
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from armanim.cli.app import app, handle_errors, print_notes, say
+from armanim.cli.app import app, err, handle_errors, print_notes, say
+from armanim.cli.interrupts import ignore_until_exit
 from armanim.cli.options import JobsOpt, QualityOpt, QuietOpt, SchedulerOpt, render_overrides, usable_jobs
 from armanim.cli.progress import bars
 from armanim.cli.reports import (
@@ -18,7 +20,7 @@ from armanim.cli.reports import (
     print_goal_table,
     print_missed_goals,
 )
-from armanim.errors import EXIT_CHECK_FAILED
+from armanim.errors import EXIT_CHECK_FAILED, InterruptedAfterCommit
 
 
 @app.command()
@@ -54,11 +56,14 @@ def run(
         return
     from armanim.runs.batch import run_batch
 
+    if not quiet:
+        say(f"batch: {len(dict.fromkeys(scenes))} scenes", err)
     with bars(quiet) as shown:
         entries = run_batch(
             scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, viewer=viewer, render_overrides=overrides,
             progress=functools.partial(shown, "scenes"),
         )
+    ignore_until_exit()  # every scene and index.csv are in place: the batch has its outcome
     if not quiet:
         print_batch_table(entries, out_root / "index.csv")
     print_batch_problems(entries)
@@ -69,14 +74,29 @@ def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, job
     """One scene in this process, its video rendered by ``jobs`` workers."""
     from armanim.runs.pipeline import run_scene
 
-    with bars(quiet) as shown:
+    with committed_is_done(), bars(quiet) as shown:
         result = run_scene(path, out_root, video=video, viewer=viewer, jobs=jobs, render_overrides=overrides, progress=shown)
+    ignore_until_exit()  # the outputs are in place: the run has succeeded, whatever comes now
     if not quiet:
         print_notes(result.scene)
         print_goal_table(result)
     if strict and result.solution.reached < len(result.solution.goals):
         print_missed_goals(result, path)
         raise typer.Exit(EXIT_CHECK_FAILED)
+
+
+@contextlib.contextmanager
+def committed_is_done():
+    """A command whose one output folder was swapped in as Ctrl-C or SIGTERM came has succeeded: exit 0, saying so.
+
+    Never "interrupted" about outputs that are in place.
+    """
+    try:
+        yield
+    except InterruptedAfterCommit as done:
+        ignore_until_exit()
+        say(f"armanim: the outputs were written to {done.folder} just as the interrupt came", err)
+        raise typer.Exit(0) from None
 
 
 @app.command()
@@ -101,7 +121,8 @@ def render(
 
     overrides = render_overrides(size, fps, fmt, elevation, azimuth, quality)
     jobs = usable_jobs(jobs)
-    with bars(quiet) as shown:
+    with committed_is_done(), bars(quiet) as shown:
         files = rerender_run(folder, out=out_dir, jobs=jobs, render_overrides=overrides, progress=shown)
+    ignore_until_exit()
     if not quiet:
         say("wrote " + ", ".join(str(p) for p in files.values()))

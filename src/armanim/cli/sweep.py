@@ -9,7 +9,8 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from armanim.cli.app import app, handle_errors, out, say
+from armanim.cli.app import app, err, handle_errors, out, say
+from armanim.cli.interrupts import ignore_until_exit
 from armanim.cli.options import JobsOpt, SchedulerOpt, usable_jobs
 from armanim.cli.progress import bars
 from armanim.cli.reports import batch_exit_code, print_batch_problems
@@ -26,17 +27,21 @@ def sweep(
     jobs: JobsOpt = None,
     scheduler: SchedulerOpt = None,
 ) -> None:
-    """Run a scene under every combination of settings and compare the results.
+    """Run a scene under every combination of settings (at most 1,000) and compare the results.
 
     Example: [bold]armanim sweep scenes/notes-arm.yaml --set solver.step=0.05,0.1,0.2 --set solver.method=pinv,dls[/bold]
     """
-    from armanim.runs.sweep import parse_setting, run_sweep
+    from armanim.runs.sweep import parse_setting, run_sweep, variant_count
 
     jobs = usable_jobs(jobs)
     parsed = [parse_setting(text) for text in settings]
+    count = variant_count(parsed)  # at most MAX_VARIANTS, said before anything is built or run
+    if not quiet:
+        say(f"sweep of {scene}: {count} variants ({' x '.join(s.path for s in parsed)})", err)
     with bars(quiet) as shown:
         result = run_sweep(scene, parsed, out_root, jobs=jobs, scheduler=scheduler, video=video,
                            progress=functools.partial(shown, "variants"))
+    ignore_until_exit()  # every variant, the table and index.csv are in place: the sweep has its outcome
     if not quiet:
         title = f"sweep of {scene.name}: {len(result.variants)} variants"
         out.print(sweep_screen_table(title, result.header, result.rows, len(parsed)))

@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import secrets
 import signal
 import tempfile
 import threading
@@ -91,6 +92,25 @@ def write_target(path: Path) -> Path:
     return target
 
 
+def _fresh_temporary(path: Path, suffix: str = "") -> Path:
+    """A new, empty temporary file in ``path``'s folder (the folder is made if needed)."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix + ".tmp", dir=path.parent)
+        os.fchmod(fd, 0o666 & ~current_umask())  # mkstemp makes 0600; outputs get the usual mode
+        os.close(fd)
+    except OSError as exc:
+        raise output_error(path, exc) from None
+    return Path(tmp_name)
+
+
+def _write_synced(path: Path, data: bytes) -> None:
+    with open(path, "wb") as handle:
+        handle.write(data)
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
 @contextlib.contextmanager
 def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
     """Yield a fresh temporary path in ``path``'s folder; on success rename it onto ``path``.
@@ -99,14 +119,7 @@ def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
     at ``path`` is written through (its target is replaced); see :func:`write_target`.
     """
     path = write_target(path)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix + ".tmp", dir=path.parent)
-        os.fchmod(fd, 0o666 & ~current_umask())  # mkstemp makes 0600; outputs get the usual mode
-        os.close(fd)
-    except OSError as exc:
-        raise output_error(path, exc) from None
-    tmp = Path(tmp_name)
+    tmp = _fresh_temporary(path, suffix)
     try:
         yield tmp
         os.replace(tmp, path)
@@ -120,13 +133,64 @@ def temporary_beside(path: Path, suffix: str = "") -> Iterator[Path]:
         raise
 
 
+def write_all_or_none(files: dict[Path, bytes]) -> None:
+    """Write several files so that a reader finds all of them new or all of them as they were.
+
+    Every file is first written in full to a temporary file beside it; then, with Ctrl-C
+    held back, the old ones are kept aside (hard links) and the new ones renamed into place
+    one after the other. If any step fails (a full disk, a denied rename), the files
+    already replaced get their old contents back (or are removed if they were new).
+
+    Raises
+    ------
+    OutputError
+        A file could not be written (exit 3); every target is as it was.
+    """
+    targets = {write_target(path): data for path, data in files.items()}
+    staged: dict[Path, Path] = {}
+    kept: dict[Path, Path] = {}
+    try:
+        for target, data in targets.items():
+            staged[target] = _fresh_temporary(target)
+            try:
+                _write_synced(staged[target], data)
+            except OSError as exc:
+                raise output_error(target, exc) from None
+        with interrupts_deferred():
+            _replace_all(staged, kept)
+    finally:
+        with interrupts_deferred():
+            for leftover in [*staged.values(), *kept.values()]:
+                leftover.unlink(missing_ok=True)
+
+
+def _replace_all(staged: dict[Path, Path], kept: dict[Path, Path]) -> None:
+    """Rename each staged file onto its target, the old ones kept aside first (hard links,
+    recorded in ``kept``); on a failure, put back what was already replaced."""
+    done: list[Path] = []
+    current = None
+    try:
+        for current in staged:
+            if current.exists():
+                kept[current] = current.with_name(f".{current.name}.{os.getpid()}.{secrets.token_hex(4)}.old.tmp")
+                os.link(current, kept[current])
+        for current, tmp in staged.items():
+            os.replace(tmp, current)
+            done.append(current)
+    except OSError as exc:
+        for replaced in reversed(done):
+            with contextlib.suppress(OSError):
+                if replaced in kept:
+                    os.replace(kept.pop(replaced), replaced)
+                else:
+                    replaced.unlink()
+        raise output_error(current, exc) from None
+
+
 def write_bytes_atomic(path: Path, data: bytes) -> None:
     """Write bytes to ``path`` atomically (flushed to disk before the rename)."""
     with temporary_beside(path) as tmp:
-        with open(tmp, "wb") as handle:
-            handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
+        _write_synced(tmp, data)
 
 
 def write_text_atomic(path: Path, text: str) -> None:

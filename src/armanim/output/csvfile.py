@@ -12,16 +12,16 @@ from __future__ import annotations
 import contextlib
 import csv
 import io
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
 
 import numpy as np
 
-from armanim.errors import Diagnostic, SceneError
+from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
-from armanim.output.atomic import write_text_atomic
+from armanim.output.atomic import write_target, write_text_atomic
 from armanim.output.files import open_regular
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
@@ -67,6 +67,28 @@ def table_csv_text(columns, rows) -> str:
     writer.writerow(columns)
     writer.writerows(rows)
     return buffer.getvalue()
+
+
+def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
+    """An OutputError (exit 3) if a file at ``path`` is not a table armanim wrote (``index.csv``,
+    a sweep's table), recognised by ``is_ours(first line)``; absent, or armanim's, is fine.
+
+    Raises
+    ------
+    OutputError
+        The file is someone else's (it is left as it was), or not a regular file.
+    """
+    target = write_target(path)  # a folder, device or FIFO there: exit 3
+    try:
+        with open(target, "rb") as handle:
+            first = handle.readline(MAX_LINE_BYTES).decode("utf-8", "replace").rstrip("\r\n")
+    except FileNotFoundError:
+        return
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot be read to tell whether armanim wrote it ({exc.strerror or exc})") from None
+    if not is_ours(first):
+        raise OutputError(f"{path}: this file was not written by armanim (its first line is not armanim's header), "
+                          "so it is not replaced (move it away, or choose another folder with --out)")
 
 
 def trajectory_csv_text(traj: Trajectory) -> str:

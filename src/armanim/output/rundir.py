@@ -18,6 +18,7 @@ link, a file) is an error that names what is there, and it is left as it was.
 from __future__ import annotations
 
 import contextlib
+import errno
 import fcntl
 import json
 import os
@@ -29,7 +30,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from armanim import __version__
-from armanim.errors import OutputError
+from armanim.errors import InterruptedAfterCommit, OutputError
 from armanim.output.atomic import current_umask, interrupts_deferred, output_error, write_text_atomic
 
 MARKER = ".armanim-run.json"
@@ -39,10 +40,14 @@ MARKER = ".armanim-run.json"
 @contextlib.contextmanager
 def folder_lock(folder: Path) -> Iterator[None]:
     """Hold an exclusive lock on ``folder`` (a hidden ``.<name>.lock`` file beside it)."""
+    lock = folder.parent / f".{folder.name}.lock"
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
-        handle = open(folder.parent / f".{folder.name}.lock", "a")
+        # never through a link: a dangling one would make armanim create a file where it points
+        handle = os.fdopen(os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), "a")
     except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise OutputError(f"{lock}: is a link, which armanim did not make and does not follow (remove it)") from None
         raise output_error(folder, exc) from None
     try:
         fcntl.flock(handle, fcntl.LOCK_EX)
@@ -52,27 +57,56 @@ def folder_lock(folder: Path) -> Iterator[None]:
         handle.close()
 
 
-def marked_files(folder: Path) -> set[str] | None:
-    """The file names ``folder``'s marker lists, or None if it has no valid marker."""
+def file_stamp(path: Path) -> dict | None:
+    """What the marker records of a file armanim wrote: its size and mtime (ns); None if
+    ``path`` is not a regular file (a folder, a link, ...)."""
+    try:
+        info = os.lstat(path)
+    except OSError:
+        return None
+    if not stat.S_ISREG(info.st_mode):
+        return None
+    return {"bytes": info.st_size, "mtime_ns": info.st_mtime_ns}
+
+
+def marked_files(folder: Path) -> dict[str, dict | None] | None:
+    """The files ``folder``'s marker lists, each with its recorded :func:`file_stamp` (None
+    for a marker of an armanim before 0.1 that recorded names only), or None without a valid marker."""
     marker = Path(folder) / MARKER
     try:
         if not stat.S_ISREG(os.lstat(marker).st_mode) or os.lstat(marker).st_size > 100_000:
             return None
         data = json.loads(marker.read_text(encoding="utf-8"))
         files = data["files"]
-        if data.get("made_by") != "armanim" or not all(isinstance(f, str) for f in files):
+        if data.get("made_by") != "armanim":
             return None
-        return set(files)
-    except (OSError, ValueError, KeyError, TypeError):
+        if isinstance(files, list) and all(isinstance(f, str) for f in files):
+            return dict.fromkeys(files)
+        if isinstance(files, dict) and all(isinstance(s, dict) for s in files.values()):
+            return files
+        return None
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
 
 
 def write_marker(folder: Path) -> None:
-    """Mark ``folder`` as armanim's: list every file in it (call when it is complete)."""
-    files = sorted(p.name for p in Path(folder).iterdir() if p.name != MARKER)
+    """Mark ``folder`` as armanim's: list every file in it with its size and mtime (call when
+    it is complete), so that only armanim's own, unchanged files count as armanim's."""
+    files = {p.name: file_stamp(p) for p in sorted(Path(folder).iterdir()) if p.name != MARKER}
     data = {"made_by": "armanim", "armanim_version": __version__, "files": files,
-            "note": "armanim replaces this folder whole on the next run of its scene; files not listed here stop it"}
+            "note": "armanim replaces this folder whole on the next run of its scene; files not listed here, "
+                    "or changed since, stop it"}
     write_text_atomic(Path(folder) / MARKER, json.dumps(data, indent=2) + "\n")
+
+
+def _changed(folder: Path, name: str, recorded: dict | None) -> bool:
+    """Whether ``folder/name`` is no longer the regular file armanim wrote there."""
+    now = file_stamp(folder / name)
+    return now is None or (recorded is not None and now != recorded)
+
+
+def _shown(names: list[str]) -> str:
+    return ", ".join(names[:5]) + (", ..." if len(names) > 5 else "")
 
 
 def replace_problem(final: Path) -> str | None:
@@ -95,12 +129,15 @@ def replace_problem(final: Path) -> str | None:
         return None
     listed = marked_files(final)
     if listed is None:
-        shown = ", ".join(entries[:5]) + (", ..." if len(entries) > 5 else "")
-        return f"this folder was not made by armanim (no {MARKER} in it; it holds {shown}), so it is not replaced"
+        if MARKER in entries:
+            return f"its {MARKER} cannot be read as armanim's marker, so it is not replaced"
+        return f"this folder was not made by armanim (no {MARKER} in it; it holds {_shown(entries)}), so it is not replaced"
     foreign = [name for name in entries if name != MARKER and name not in listed]
     if foreign:
-        shown = ", ".join(foreign[:5]) + (", ..." if len(foreign) > 5 else "")
-        return f"holds files armanim did not write ({shown}), so it is not replaced"
+        return f"holds files armanim did not write ({_shown(foreign)}), so it is not replaced"
+    changed = [name for name in entries if name != MARKER and _changed(final, name, listed[name])]
+    if changed:
+        return f"holds files changed since armanim wrote them ({_shown(changed)}: now another file, a folder or a link), so it is not replaced"
     return None
 
 
@@ -187,6 +224,12 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
     be a run folder), so that a command that changes some of a run's files (``render``)
     stages and swaps like a run. On any exception, including KeyboardInterrupt, the
     temporary folder is removed and ``final`` is left as it was.
+
+    Raises
+    ------
+    InterruptedAfterCommit
+        Ctrl-C or SIGTERM came during the swap (it is held back until the swap is done):
+        the new folder is in place.
     """
     final = Path(final)
     with folder_lock(final):
@@ -197,16 +240,25 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
             staged.chmod(0o777 & ~current_umask())
         except OSError as exc:
             raise output_error(final, exc) from None
+        committed = False
         try:
-            if keep_files and final.is_dir():
-                try:
-                    _copy_run(final, staged)
-                except OSError as exc:
-                    raise output_error(staged, exc) from None
-            yield staged
-            write_marker(staged)
+            try:
+                if keep_files and final.is_dir():
+                    try:
+                        _copy_run(final, staged)
+                    except OSError as exc:
+                        raise output_error(staged, exc) from None
+                yield staged
+                write_marker(staged)
+            except OutputError as exc:  # name the folder the user knows, not the hidden staging folder
+                raise type(exc)(str(exc).replace(str(staged), str(final))) from None
             with interrupts_deferred():
                 swap_in(staged, final)
+                committed = True
+        except KeyboardInterrupt:
+            if committed:  # held back during the swap: the new folder is whole and in place
+                raise InterruptedAfterCommit(final) from None
+            raise
         finally:
             with interrupts_deferred():
                 shutil.rmtree(staged, ignore_errors=True)

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.errors import RenderError
+from armanim.render.workers import forget, on_stop, undone_on_stop
 
 MP4_CODEC = "libx264"
 MP4_PIX_FMT = "yuv420p"
@@ -115,6 +116,7 @@ class FrameWriter:
         self.fmt = fmt
         self._proc: subprocess.Popen | None = None
         self._log = None
+        self._undo: int | None = None
         self.frames = 0
 
     def _params(self) -> dict:
@@ -136,6 +138,7 @@ class FrameWriter:
             self._log = tempfile.TemporaryFile(prefix="armanim-ffmpeg-")
             self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self._log,
                                           start_new_session=True)
+            self._undo = on_stop(self._proc.kill)  # a worker stopped meanwhile kills its ffmpeg
         except OSError as err:
             self.abort()
             raise RenderError(f"ffmpeg could not be started ({cmd[0]}): {err.strerror or err} "
@@ -197,6 +200,9 @@ class FrameWriter:
         return self._log.read().decode("utf-8", "replace")
 
     def _close_log(self) -> None:
+        if self._undo is not None:
+            forget(self._undo)
+            self._undo = None
         if self._log is not None:
             self._log.close()
             self._log = None
@@ -231,16 +237,17 @@ def gif_palette(beside: Path, size: tuple[int, int], frames):
         with tempfile.TemporaryFile(prefix="armanim-ffmpeg-") as log:
             proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log,
                                     start_new_session=True)
-            try:
-                for rgba in frames:
-                    proc.stdin.write(np.ascontiguousarray(rgba[..., :3]).tobytes())
-                proc.stdin.close()
-            except BrokenPipeError:
-                pass
-            finally:
-                if proc.poll() is None and not proc.stdin.closed:
-                    proc.kill()
-                code = proc.wait()
+            with undone_on_stop(proc.kill):  # a worker stopped meanwhile kills this ffmpeg too
+                try:
+                    for rgba in frames:
+                        proc.stdin.write(np.ascontiguousarray(rgba[..., :3]).tobytes())
+                    proc.stdin.close()
+                except BrokenPipeError:
+                    pass
+                finally:
+                    if proc.poll() is None and not proc.stdin.closed:
+                        proc.kill()
+                    code = proc.wait()
             log.seek(0)
             if code != 0 or not path.exists():
                 raise RenderError(f"ffmpeg failed while making the GIF palette:\n{tail(log.read().decode('utf-8', 'replace'))}")

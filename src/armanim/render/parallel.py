@@ -13,7 +13,6 @@ import multiprocessing
 import os
 import queue as queue_module
 import shutil
-import signal
 import tempfile
 import traceback
 from pathlib import Path
@@ -22,7 +21,7 @@ import numpy as np
 
 from armanim.errors import OutputError, RenderError
 from armanim.render.segment import draw_segment
-from armanim.render.workers import Stopped, die_with
+from armanim.render.workers import init_worker, signals_blocked
 
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
 
@@ -37,31 +36,19 @@ def segment_bounds(frames: int, jobs: int) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
 
 
-_WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
-
 def _segment_worker(args: tuple, messages, parent: int) -> None:
     """Body of a worker process: draw and encode one segment, report through ``messages``.
 
     A worker ignores Ctrl-C (the terminal sends it to the whole process group; the
     parent decides) and turns SIGTERM, sent by the parent's ``terminate()``, into a
-    quiet exit that still runs every ``finally``: its ffmpeg is killed, no traceback.
+    quiet exit that kills its ffmpeg (:func:`armanim.render.workers.init_worker`).
     Signals are blocked by the parent while it starts workers, so none arrives before
     these handlers are in place. A worker whose parent ends (even by ``kill -9``) stops
     the same way, so no worker or ffmpeg outlives armanim or holds its folder lock.
     """
     index = args[-1]
     problem, trajectory, reports, settings, path, title, start, stop, _ = args
-
-    def stop_worker(signum, frame):
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # once: a second SIGTERM must not cut the clean-up short
-        messages.cancel_join_thread()  # the parent no longer reads: never block on exit
-        raise Stopped(128 + signum)
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, stop_worker)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, _WORKER_SIGNALS)
-    die_with(parent)
+    init_worker(parent)
 
     def report(done: int) -> None:
         if done % PROGRESS_EVERY == 0 or done == stop - start:
@@ -71,8 +58,6 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
         draw_segment(problem, trajectory, reports, settings, path, title=title, start=start, stop=stop,
                      progress=report)
         messages.put(("done", index, None))
-    except Stopped:
-        raise
     except BaseException as err:  # noqa: BLE001  (reported to the parent, which raises)
         if isinstance(err, (RenderError, OutputError)):
             detail = str(err)
@@ -81,17 +66,6 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
         else:
             detail = traceback.format_exc(limit=6)
         messages.put(("error", index, detail))
-
-
-@contextlib.contextmanager
-def _signals_blocked():
-    """Block SIGINT and SIGTERM in this thread for the duration (processes forked meanwhile
-    start with them blocked); signals that arrive are delivered when it ends."""
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, _WORKER_SIGNALS)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def render_parallel(problem, trajectory, reports, settings, tmp: Path, title, jobs, progress) -> None:
@@ -115,7 +89,7 @@ def render_parallel(problem, trajectory, reports, settings, tmp: Path, title, jo
     ]
     started = []
     try:
-        with _signals_blocked():
+        with signals_blocked():
             for w in workers:
                 w.start()
                 started.append(w)

@@ -1,11 +1,18 @@
-"""Worker processes that never outlive the armanim process that started them.
+"""Worker processes that never outlive the armanim process that started them, and stop
+quietly: no traceback, no ffmpeg and no temporary folder left.
 
 A worker killed with its parent (``kill -9``, a power cut of the terminal) would go on
 drawing, encoding and holding the run folder's lock until its work is done. Each worker
 watches the armanim process (a pidfd where Linux has one, else polling) and, when it
-ends, sends itself SIGTERM: the worker's usual quiet exit, which kills its own ffmpeg and
-removes its temporary files. Workers ignore Ctrl-C: the terminal sends it to the whole
+ends, sends itself SIGTERM. Workers ignore Ctrl-C: the terminal sends it to the whole
 process group, and the parent decides (it stops them with SIGTERM).
+
+A SIGTERM in a worker does not raise in whatever frame happens to run (an initializer, a
+weakref callback or the pool's own loop would print it, or swallow it and carry on):
+the handler runs the worker's registered clean-ups (:func:`undone_on_stop`: kill its
+ffmpeg, remove its temporary folder) and ends the process with ``os._exit``. Workers are
+started with SIGINT and SIGTERM blocked (:func:`signals_blocked`) and unblock them only
+once these handlers are in place.
 
 It sits in ``render/``, the lowest room that starts worker processes (the frame
 renderers); ``runs/`` starts its batch workers with it too.
@@ -13,22 +20,60 @@ renderers); ``runs/`` starts its batch workers with it too.
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import os
 import select
 import signal
 import threading
 import time
+from collections.abc import Callable, Iterator
 
 POLL_SECONDS = 0.5  # where there is no pidfd
+WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+TEMP_PREFIX = "armanim-"
+"""Temporary folders of armanim's workers are ``$TMPDIR/armanim-<PID>-*``, PID the armanim
+process that started the worker, so that it removes what a stopped worker left."""
+
+_UNDO: dict[int, Callable[[], None]] = {}
+_KEYS = itertools.count()
+_parent: list[int] = []  # in a worker: the armanim process that started it
 
 
-class Stopped(SystemExit):
-    """Raised in a worker by SIGTERM: unwinds quietly, running every ``finally`` (no traceback)."""
+def on_stop(undo: Callable[[], None]) -> int:
+    """Run ``undo()`` if this worker is stopped (SIGTERM) before :func:`forget` of the key returned.
+
+    Outside a worker it only records ``undo``. ``undo`` runs in a signal handler just
+    before ``os._exit``: it must be quick and must not wait for a lock (killing a process
+    and removing a folder are fine).
+    """
+    key = next(_KEYS)
+    _UNDO[key] = undo
+    return key
+
+
+def forget(key: int) -> None:
+    """The clean-up registered as ``key`` is no longer needed."""
+    _UNDO.pop(key, None)
+
+
+@contextlib.contextmanager
+def undone_on_stop(undo: Callable[[], None]) -> Iterator[None]:
+    """:func:`on_stop` for the duration of a block."""
+    key = on_stop(undo)
+    try:
+        yield
+    finally:
+        forget(key)
 
 
 def _stop(signum, frame):
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second SIGTERM (the pool's own) must not cut the clean-up short
-    raise Stopped(128 + signum)
+    """SIGTERM in a worker: undo what it was doing, then end at once with 128 + signum."""
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    for undo in reversed(list(_UNDO.values())):
+        with contextlib.suppress(Exception):
+            undo()
+    os._exit(128 + signum)
 
 
 def alive(pid: int) -> bool:
@@ -64,7 +109,36 @@ def die_with(pid: int) -> None:
 
 
 def init_worker(parent: int) -> None:
-    """Set up a worker process: Ctrl-C ignored, SIGTERM a quiet exit, and gone with ``parent``."""
+    """Set up a worker process: Ctrl-C ignored, SIGTERM a quiet exit, and gone with ``parent``.
+
+    The worker was started with both signals blocked (:func:`signals_blocked`); they are
+    unblocked last, so one that came meanwhile finds these handlers (a pending SIGINT is
+    dropped, a pending SIGTERM ends the worker quietly).
+    """
+    _parent[:] = [parent]
+    _UNDO.clear()  # a forked worker must never run its parent's clean-ups
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _stop)
     die_with(parent)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, WORKER_SIGNALS)
+
+
+@contextlib.contextmanager
+def signals_blocked() -> Iterator[None]:
+    """Block SIGINT and SIGTERM in this thread for the duration; processes started
+    meanwhile (and a forkserver, and what it forks) start with them blocked. Signals
+    that arrive are delivered when it ends."""
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, WORKER_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def temp_prefix() -> str:
+    """The prefix of a worker's temporary folder: ``armanim-<PID of the armanim process>-``.
+
+    >>> temp_prefix() == f"armanim-{os.getpid()}-"  # not in a worker: this process's
+    True
+    """
+    return f"{TEMP_PREFIX}{(_parent or [os.getpid()])[0]}-"

@@ -10,6 +10,7 @@ is reported and the others finish. ``ROOT/index.csv`` lists every scene.
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 from collections.abc import Callable, Iterable
 from concurrent.futures.process import BrokenProcessPool
@@ -18,9 +19,9 @@ from pathlib import Path
 
 from armanim.errors import ArmanimError, SceneError
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
-from armanim.output.csvfile import table_csv_text
+from armanim.output.csvfile import check_table_replaceable, table_csv_text
 from armanim.output.rundir import staged_folder
-from armanim.render.workers import Stopped
+from armanim.render.workers import temp_prefix, undone_on_stop
 from armanim.runs.executors import executor_for
 from armanim.runs.overrides import RenderOverrides
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
@@ -82,11 +83,10 @@ def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | N
 
     try:
         scene = scene_from_bytes(task.raw, task.path, task.name)
-        with tempfile.TemporaryDirectory(prefix="armanim-") as tmp:
-            produced = produce_outputs(scene, Path(tmp), video=video, viewer=viewer, jobs=1, render_overrides=render_overrides)
-            files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
-    except Stopped as stop:  # SIGTERM in a pool worker, its temporary folder and ffmpeg already gone:
-        os._exit(stop.code)  # end here, not in the executor's loop (which would send it back as a result)
+        with tempfile.TemporaryDirectory(prefix=temp_prefix()) as tmp:
+            with undone_on_stop(lambda: shutil.rmtree(tmp, ignore_errors=True)):  # a SIGTERM'd worker removes it
+                produced = produce_outputs(scene, Path(tmp), video=video, viewer=viewer, jobs=1, render_overrides=render_overrides)
+                files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
     except SceneError as exc:
         return RemoteRun(task.name, {}, None, exc.report(), "invalid")
     except ArmanimError as exc:
@@ -190,6 +190,15 @@ def run_tasks(
     return [entries[t.name] for t in tasks]
 
 
+def is_index_header(line: str) -> bool:
+    """Whether ``line`` is the first line of an index.csv armanim wrote.
+
+    >>> is_index_header(",".join(INDEX_COLUMNS)), is_index_header("my,own,table")
+    (True, False)
+    """
+    return line == ",".join(INDEX_COLUMNS)
+
+
 def index_csv_text(entries: list[BatchEntry]) -> str:
     """index.csv: one row per scene."""
     rows = (
@@ -216,10 +225,18 @@ def run_batch(
     Returns the entries in the order of ``paths`` (invalid scenes included).
     """
     paths = list(dict.fromkeys(Path(p) for p in paths))  # the same file twice runs once
+    index = Path(out_root) / "index.csv"
+    check_table_replaceable(index, is_index_header)  # a user's index.csv: exit 3 before any work
     tasks, rejected = load_tasks(paths)
     done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, viewer=viewer,
                      render_overrides=render_overrides, progress=progress)
     by_file = {e.scene_file: e for e in [*done, *rejected]}
     entries = [by_file[str(p)] for p in paths if str(p) in by_file]
-    write_text_atomic(Path(out_root) / "index.csv", index_csv_text(entries))
+    write_index(index, entries)
     return entries
+
+
+def write_index(path: Path, entries: list[BatchEntry]) -> None:
+    """Write ``index.csv``, replacing only an index.csv armanim wrote."""
+    check_table_replaceable(path, is_index_header)
+    write_text_atomic(path, index_csv_text(entries))

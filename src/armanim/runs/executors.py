@@ -10,13 +10,19 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
+import tempfile
+import threading
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
 
 from armanim.errors import UsageError
 from armanim.output.atomic import interrupts_deferred
-from armanim.render.workers import init_worker
+from armanim.render.workers import init_worker, signals_blocked, temp_prefix
 
+CONNECT_SECONDS = 10.0
+"""How long a Dask scheduler may take to answer, from the connection to the handshake."""
 _BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 _PRELOAD = ["armanim.runs.pipeline", "armanim.render.draw", "armanim.render.video"]
 
@@ -66,11 +72,18 @@ class _LocalExecutor:
                 except Exception as exc:  # reported per scene; the batch goes on
                     yield task, None, exc
             return
-        with _one_blas_thread():
+        # the pool's processes (and the forkserver, the first time) start with SIGINT and SIGTERM
+        # blocked, until init_worker has put its handlers in place: no traceback from a
+        # preload or an initializer, whatever moment a Ctrl-C comes
+        with _one_blas_thread(), signals_blocked():
             pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(),
                                        initializer=init_worker, initargs=(os.getpid(),))
+            try:
+                futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
+            except BaseException:
+                _stop_pool(pool)
+                raise
         try:
-            futures = {pool.submit(work, task, *args): task for task in tasks}
             for future in as_completed(futures):
                 exc = future.exception()
                 yield futures[future], (None if exc else future.result()), exc
@@ -95,6 +108,14 @@ def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
         if process.is_alive():
             process.kill()
             process.join(1.0)
+    remove_worker_folders()
+
+
+def remove_worker_folders() -> None:
+    """Remove the temporary folders this process's workers left (a worker killed outright)."""
+    with contextlib.suppress(OSError):
+        for folder in Path(tempfile.gettempdir()).glob(temp_prefix() + "*"):
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 class _DaskExecutor:
@@ -117,12 +138,7 @@ class _DaskExecutor:
             cluster = self._cluster_cls(n_workers=self.jobs, threads_per_worker=1, processes=True, dashboard_address=None)
             client = self._client_cls(cluster)
         else:
-            try:
-                client = self._client_cls(self.scheduler, timeout="10s")
-            except ValueError as exc:  # Dask's word for an address it cannot parse
-                raise UsageError(f"--scheduler: {self.scheduler!r} is not a scheduler address ({exc}; expected tcp://HOST:PORT or local)") from None
-            except (OSError, TimeoutError) as exc:
-                raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {self.scheduler} ({exc})") from None
+            client = connect_client(self._client_cls, self.scheduler)
         try:
             futures = {
                 client.submit(work, task, *args, retries=2, pure=False, key=f"armanim-{i}-{task.name}"): task
@@ -138,6 +154,40 @@ class _DaskExecutor:
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+def connect_client(client_cls, address: str, seconds: float = CONNECT_SECONDS):
+    """A Dask ``Client`` of the scheduler at ``address``, or a UsageError within ``seconds``.
+
+    ``Client(timeout=...)`` bounds the connection but not the handshake: a server that
+    accepts and never answers would keep it waiting without end. So the client is made
+    on a thread that is given up after the deadline (it is a daemon: it cannot hold the exit).
+
+    Raises
+    ------
+    UsageError
+        Not an address, not reachable, or no answer within ``seconds`` (exit 2).
+    """
+    outcome: dict = {}
+
+    def attempt() -> None:
+        try:
+            outcome["client"] = client_cls(address, timeout=f"{seconds}s")
+        except Exception as exc:  # noqa: BLE001  (reported below, in the caller's thread)
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=attempt, name="armanim-dask-connect", daemon=True)
+    thread.start()
+    thread.join(seconds + 1.0)
+    error = outcome.get("error")
+    if "client" in outcome:
+        return outcome["client"]
+    if isinstance(error, ValueError):  # Dask's word for an address it cannot parse
+        raise UsageError(f"--scheduler: {address!r} is not a scheduler address ({error}; expected tcp://HOST:PORT or local)")
+    if error is not None:
+        raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} ({error})")
+    raise UsageError(f"--scheduler: the Dask scheduler at {address} did not answer within {seconds:g} s "
+                     "(is a Dask scheduler running there? check the address and port)")
 
 
 def executor_for(jobs: int, scheduler: str | None):

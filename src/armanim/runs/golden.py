@@ -8,16 +8,17 @@ that the scene itself changed.
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
 from armanim import __version__
 from armanim.errors import SceneError
 from armanim.motion.trajectory import solve_trajectory
-from armanim.output.atomic import write_target, write_text_atomic
+from armanim.output.atomic import write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
-from armanim.output.files import read_bounded
+from armanim.output.files import open_regular, read_bounded
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 
 MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
@@ -89,16 +90,35 @@ def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, a
 
 
 def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
-    """(Re)write a scene's golden CSV and metadata; status says new, changed or unchanged."""
+    """(Re)write a scene's golden CSV and metadata; status says new, changed or unchanged.
+
+    The pair is written all or none (:func:`armanim.output.atomic.write_all_or_none`): a
+    failure on either file leaves both as they were.
+    """
     scene = load_scene(scene_path)
     csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
-    for path in (csv_path, meta_path):  # both can be written, or neither is: never half a pair
+    for path in (csv_path, meta_path):  # a folder or device at either: exit 3 before the solve
         write_target(path)
-    text = solve_csv_text(scene)
-    old = csv_path.read_text(encoding="utf-8") if csv_path.exists() else None
-    status = "new" if old is None else ("unchanged" if old == text else "changed")
-    if status != "unchanged":
-        write_text_atomic(csv_path, text)
+    data = solve_csv_text(scene).encode("utf-8")
+    status = golden_status(csv_path, data)
     meta = {"armanim_version": __version__, "scene_file": scene.path.name, "scene_sha256": scene.sha256}
-    write_text_atomic(meta_path, json.dumps(meta, indent=2) + "\n")
+    files = {meta_path: (json.dumps(meta, indent=2) + "\n").encode("utf-8")}
+    if status != "unchanged":
+        files = {csv_path: data, **files}
+    write_all_or_none(files)
     return GoldenResult(scene, csv_path, status, f"{status}: {csv_path}")
+
+
+def golden_status(csv_path: Path, data: bytes) -> str:
+    """``new``, ``unchanged`` or ``changed``: the golden file at ``csv_path`` against ``data``.
+
+    Bytes are compared, never decoded (a file that is not UTF-8 has simply changed), and at
+    most ``len(data)`` bytes are read: a file of another size has changed without reading it.
+    """
+    try:
+        with open_regular(csv_path, "a golden .csv file") as handle:
+            if os.fstat(handle.fileno()).st_size != len(data):
+                return "changed"
+            return "unchanged" if handle.read(len(data) + 1) == data else "changed"
+    except SceneError:
+        return "new" if not csv_path.exists() and not csv_path.is_symlink() else "changed"

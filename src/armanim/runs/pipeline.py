@@ -155,40 +155,42 @@ def rerender_run(
     """Re-render a finished run from its folder (scene.yaml, trajectory.csv, summary.json)
     without solving: another size, view, fps or format.
 
-    ``out``: write the video, plot.png and poster.png into this folder (created if
-    needed) instead of replacing the run's own.
+    ``out``: write the video, plot.png and poster.png into this folder instead of replacing
+    the run's own. It must be new, empty or one armanim marked (an earlier ``render --out``,
+    whose other files are kept), and not inside the run folder.
 
     Returns the written files by kind (``video``, ``plot``, ``poster``).
 
     The run folder is locked, staged and swapped as a run does, so a render never mixes
     with a run of the same folder, and a failed render leaves the folder as it was; with
-    ``out``, the run is read under its lock and each file is written atomically into ``out``.
+    ``out``, the run is read under its lock and ``out`` is staged and swapped the same way.
 
     Raises
     ------
     SceneError
         The folder is not a complete armanim run (exit 2).
     OutputError
-        The folder was not made by armanim, or an output could not be written (exit 3).
+        The folder (or ``out``) was not made by armanim, or an output could not be written (exit 3).
+    UsageError
+        ``out`` is inside the run folder (exit 2).
     """
     from armanim.runs.reload import load_run
 
     folder = Path(folder)
-    if not folder.is_dir():
-        load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
+    load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
     if out is not None and Path(out).resolve() != folder.resolve():
+        target = Path(out)
+        if target.resolve().is_relative_to(folder.resolve()):
+            raise UsageError(f"--out: {target} is inside the run folder {folder}, which the next run replaces "
+                             "whole (choose a folder outside it)")
         with folder_lock(folder):  # read the run whole, never half replaced by a run of it
             run = load_run(folder)
-        target = Path(out)
-        try:
-            target.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            from armanim.output.atomic import output_error
-
-            raise output_error(target, exc) from None
         settings = settings_of(run.scene, render_overrides)
-        # --fps sets the video's playback rate only: the frames and their times stay the run's own
-        return render_outputs(run.problem, run.solution, settings, target, run.scene.name, jobs=jobs, progress=progress)
+        # staged and swapped like a run folder: into a new, empty or armanim-marked folder only, its
+        # other files kept; --fps sets the video's playback rate only: the frames and their times stay the run's own
+        with staged_folder(target, keep_files=True) as staged:
+            rendered = render_outputs(run.problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
+        return {kind: target / path.name for kind, path in rendered.items()}
     with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
         run = load_run(folder)  # under the lock: no run is changing it
         settings = settings_of(run.scene, render_overrides)

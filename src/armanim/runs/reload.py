@@ -82,7 +82,8 @@ def drawable_problem(table: TrajectoryTable, goals: int) -> Diagnostic | None:
                for c in table.columns if c not in TEXT_COLUMNS]
     checks += [("clearance", np.isinf(table.column("clearance")), "is not a finite number (empty when there are no obstacles)"),
                ("frame", frame != np.arange(len(frame)), "is out of order (expected frames 0, 1, 2, ... one per row)"),
-               ("goal", (goal != np.round(goal)) | (goal < 0) | (goal > goals), f"is not a goal of the scene (expected 0 to {goals})"),
+               ("goal", (goal != np.round(goal)) | (goal < 0) | (goal >= goals), f"is not a goal of the scene (expected 0 to {goals - 1})"),
+               ("time_s", table.column("time_s") < 0, "is negative (times count from 0 s)"),
                ("reached", (reached != 0) & (reached != 1), "is not 0 or 1")]
     with np.errstate(invalid="ignore"):
         for column, bad, message in checks:
@@ -103,11 +104,16 @@ def load_run(folder: str | Path) -> FinishedRun:
     folder = Path(folder)
     if not folder.is_dir():
         raise SceneError(str(folder), [Diagnostic("", "no such folder (expected an output folder of armanim run, e.g. outputs/notes-arm)")])
-    missing = [name for name in (SCENE_COPY, "trajectory.csv", "summary.json") if not (folder / name).is_file()]
+    missing = [name for name in (SCENE_COPY, "trajectory.csv", "summary.json")
+               if not (folder / name).exists() and not (folder / name).is_symlink()]  # a device there is named when read
     if missing:
         raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
     scene = load_scene(folder / SCENE_COPY)
     summary = _read_summary(folder / "summary.json")
+    recorded = (summary.get("scene") or {}).get("sha256") if isinstance(summary.get("scene"), dict) else None
+    if recorded is not None and recorded != scene.sha256:
+        raise SceneError(str(folder / SCENE_COPY), [Diagnostic("", f"is not the scene this run solved (sha256 {scene.sha256[:12]}..., "
+                                                                  f"summary.json records {str(recorded)[:12]}...): run armanim run again")])
     problem = scene_to_problem(scene.model, fps=_run_fps(summary, scene))
     csv_path = folder / "trajectory.csv"
     table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import itertools
+import math
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -18,11 +19,13 @@ import yaml
 
 from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
-from armanim.output.csvfile import table_csv_text
-from armanim.runs.batch import BatchEntry, SceneTask, index_csv_text, run_tasks
+from armanim.output.csvfile import check_table_replaceable, table_csv_text
+from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks, write_index
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
 
+MAX_VARIANTS = 1_000
+"""The most variants one sweep runs (as a scene has at most 1,000 goals): more is a typo, or a job for a batch."""
 _PATH = re.compile(r"^[A-Za-z_]\w*(\[\d+\])?(\.[A-Za-z_]\w*(\[\d+\])?)*$")
 
 
@@ -152,6 +155,24 @@ def variant_error(exc: SceneError, values: dict) -> SceneError:
     return SceneError(exc.file, problems)
 
 
+def variant_count(settings: list[Setting]) -> int:
+    """How many variants the settings make, computed from the numbers of values before any is built.
+
+    >>> variant_count([Setting("solver.step", (0.1, 0.2)), Setting("solver.method", ("pinv", "dls", "pinv"))])
+    4
+
+    Raises
+    ------
+    UsageError
+        More than :data:`MAX_VARIANTS` combinations (exit 2).
+    """
+    product = math.prod(len(s.values) for s in settings)
+    if product > MAX_VARIANTS:
+        sizes = " x ".join(f"{len(s.values):,}" for s in settings)
+        raise UsageError(f"--set: {product:,} variants ({sizes} values; at most {MAX_VARIANTS:,} in one sweep: give fewer values)")
+    return len(unique_combinations(settings))
+
+
 def unique_combinations(settings: list[Setting]) -> list[tuple]:
     """The product of the settings' values, each combination once (``0.1,0.1`` runs once)."""
     seen, combos = set(), []
@@ -173,6 +194,21 @@ def _unique(name: str, taken: set[str]) -> str:
     return candidate
 
 
+SWEEP_TAIL = ("min_clearance", "max_joint_step_deg")
+
+
+def is_sweep_header(line: str) -> bool:
+    """Whether ``line`` is the first line of a sweep table armanim wrote (its columns vary with the settings).
+
+    >>> is_sweep_header("name,solver.step,status,reached,missed,frames,goal0_frames,min_clearance,max_joint_step_deg")
+    True
+    >>> is_sweep_header("name,notes")
+    False
+    """
+    columns = line.split(",")
+    return columns[:1] == ["name"] and tuple(columns[-2:]) == SWEEP_TAIL and "status" in columns
+
+
 def comparison_rows(settings: list[Setting], items: list[Variant], entries: list[BatchEntry]) -> tuple[list[str], list[list]]:
     """Header and rows of the sweep table: settings, goals, frames per goal, clearance, joint step.
 
@@ -180,7 +216,7 @@ def comparison_rows(settings: list[Setting], items: list[Variant], entries: list
     """
     n_goals = max((len(e.summary["goals"]) for e in entries if e.summary), default=0)
     header = ["name", *(s.path for s in settings), "status", "reached", "missed", "frames",
-              *(f"goal{k}_frames" for k in range(n_goals)), "min_clearance", "max_joint_step_deg"]
+              *(f"goal{k}_frames" for k in range(n_goals)), *SWEEP_TAIL]
     rows = []
     for variant, entry in zip(items, entries):
         s = entry.summary
@@ -232,15 +268,24 @@ def run_sweep(
 
     ``progress(done, total, running)`` is called as :func:`armanim.runs.batch.run_tasks` calls it.
     A variant the scene model rejects is reported in its entry and not run.
+
+    Raises
+    ------
+    UsageError
+        More than :data:`MAX_VARIANTS` variants (checked before any is built).
     """
+    variant_count(settings)
     scene_path, out_root = Path(scene_path), Path(out_root)
+    table = out_root / f"{scene_path.stem}-sweep.csv"
+    check_table_replaceable(table, is_sweep_header)  # a user's file at these names: exit 3 before any work
+    check_table_replaceable(out_root / "index.csv", is_index_header)
     items = variants(scene_path, settings)
     tasks = [v.task for v in items if v.task is not None]
     done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=progress)
     by_name = {e.name: e for e in done}
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)
-    table = out_root / f"{scene_path.stem}-sweep.csv"
+    check_table_replaceable(table, is_sweep_header)
     write_text_atomic(table, table_csv_text(header, rows))
-    write_text_atomic(out_root / "index.csv", index_csv_text(entries))
+    write_index(out_root / "index.csv", entries)
     return SweepResult(items, entries, header, rows, table)

@@ -1,0 +1,405 @@
+"""Issue 19: the holes the second attack campaign found (research/redteam-2026-12.md), each
+held by a test that failed before its fix.
+
+Each test is named in docs/reliability.md, which it keeps true. No test asserts how long
+anything takes (benchmarks/reliability_bench.py measures that); waits are hang guards only.
+"""
+
+from __future__ import annotations
+
+import ast
+import errno
+import re
+import threading
+import tracemalloc
+from pathlib import Path
+
+import pytest
+from conftest import DOCS, SCENES, TESTS
+from signals import Command, Sweep, snapshot
+
+from armanim.errors import INTERRUPTED, UsageError
+from armanim.output.rundir import MARKER
+
+NOTES = SCENES / "notes-arm.yaml"
+SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
+
+
+def _small(folder: Path, name: str) -> Path:
+    path = folder / f"{name}.yaml"
+    path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
+    return path
+
+
+# ------------------------------------------------------------------ 1. user files at armanim's fixed names
+
+
+def test_a_user_index_csv_stops_a_batch_before_any_work(cli, tmp_path):
+    a, b = _small(tmp_path, "a"), _small(tmp_path, "b")
+    out = tmp_path / "proj"
+    out.mkdir()
+    (out / "index.csv").write_text("my precious index\n")
+    result = cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1")
+    assert result.exit_code == 3, result.output
+    assert "index.csv: this file was not written by armanim" in result.stderr and "move it away" in result.stderr
+    assert (out / "index.csv").read_text() == "my precious index\n"
+    assert sorted(p.name for p in out.iterdir()) == ["index.csv"]  # refused before any scene ran
+    (out / "index.csv").unlink()
+    for _ in range(2):  # armanim's own index.csv is replaced
+        assert cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1").exit_code == 0
+    assert (out / "index.csv").read_text().startswith("name,status,")
+
+
+@pytest.mark.parametrize("name", ["notes-arm-sweep.csv", "index.csv"])
+def test_a_user_file_at_a_sweep_table_stops_the_sweep(cli, tmp_path, name):
+    (tmp_path / name).write_text("mine\n")
+    result = cli("sweep", NOTES, "--set", "solver.step=0.1,0.2", "--out", tmp_path, "-q", "--jobs", "1")
+    assert result.exit_code == 3 and "was not written by armanim" in result.stderr, result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name] and (tmp_path / name).read_text() == "mine\n"
+
+
+@pytest.fixture()
+def finished_run(cli, tmp_path) -> Path:
+    assert cli("run", _small(tmp_path, "r"), "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
+    return tmp_path / "out" / "r"
+
+
+def test_render_out_writes_only_into_a_new_empty_or_armanim_folder(cli, tmp_path, finished_run):
+    figures = tmp_path / "figures"
+    figures.mkdir()
+    (figures / "plot.png").write_text("my figure")
+    result = cli("render", finished_run, "--out", figures, "-q", "--jobs", "1")
+    assert result.exit_code == 3 and "not made by armanim" in result.stderr and "plot.png" in result.stderr
+    assert sorted(p.name for p in figures.iterdir()) == ["plot.png"] and (figures / "plot.png").read_text() == "my figure"
+    fresh = tmp_path / "fresh"
+    for _ in range(2):  # a new folder, then the folder armanim marked: replaced
+        assert cli("render", finished_run, "--out", fresh, "-q", "--jobs", "1").exit_code == 0
+    assert sorted(p.name for p in fresh.iterdir()) == [MARKER, "animation.mp4", "plot.png", "poster.png"]
+
+
+def test_render_out_inside_the_run_folder_is_refused(cli, finished_run):
+    before = snapshot(finished_run)
+    result = cli("render", finished_run, "--out", finished_run / "small", "-q", "--jobs", "1")
+    assert result.exit_code == 2 and "is inside the run folder" in result.stderr, result.output
+    assert snapshot(finished_run) == before
+
+
+# ------------------------------------------------------------------ 2. the marker records what armanim wrote
+
+
+def test_a_user_folder_at_a_listed_name_stops_the_next_run(cli, tmp_path, finished_run):
+    (finished_run / "summary.json").unlink()
+    (finished_run / "summary.json").mkdir()
+    (finished_run / "summary.json" / "notes.txt").write_text("notes")
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3, result.output
+    assert "changed since armanim wrote them (summary.json" in result.stderr
+    assert (finished_run / "summary.json" / "notes.txt").read_text() == "notes"
+
+
+def test_a_listed_file_edited_since_stops_the_next_run(cli, tmp_path, finished_run):
+    with (finished_run / "trajectory.csv").open("a") as handle:
+        handle.write("# my note\n")
+    before = snapshot(finished_run)
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3 and "trajectory.csv" in result.stderr, result.output
+    assert snapshot(finished_run) == before
+
+
+@pytest.mark.parametrize("marker", ['{"made_by": "armanim", "files": null}', "not json"])
+def test_an_unreadable_marker_is_named_as_such(cli, tmp_path, finished_run, marker):
+    (finished_run / MARKER).write_text(marker)
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3 and f"its {MARKER} cannot be read as armanim's marker" in result.stderr, result.output
+    assert "no .armanim-run.json" not in result.stderr
+
+
+# ------------------------------------------------------------------ 3, 9. golden pairs
+
+
+def _pair(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+@pytest.mark.parametrize("previous", [False, True])
+def test_a_failure_on_the_second_golden_file_leaves_the_pair_as_it_was(cli, tmp_path, monkeypatch, previous):
+    import os
+
+    golden = tmp_path / "golden"
+    golden.mkdir()
+    scene = tmp_path / "g.yaml"
+    scene.write_text(SMALL + "name: g\n")
+    if previous:
+        assert cli("check", scene, "--golden", golden, "--update", "-q").exit_code == 0
+        scene.write_text(SMALL.replace("[1, 1, 2]", "[1, 1.5, 2]") + "name: g\n")
+    before = _pair(golden)
+    real_replace = os.replace
+
+    def full_on_json(src, dst):
+        if str(dst).endswith("g.json"):
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real_replace(src, dst)
+
+    monkeypatch.setattr("armanim.output.atomic.os.replace", full_on_json)
+    result = cli("check", scene, "--golden", golden, "--update", "-q")
+    assert result.exit_code == 3 and "g.json: the disk is full" in result.stderr, result.output
+    assert _pair(golden) == before  # old/old (or nothing), never a new CSV beside an old JSON; no temporary file
+
+
+def test_update_with_a_golden_csv_that_is_not_utf8_replaces_it(cli, tmp_path):
+    (tmp_path / "notes-arm.csv").write_bytes(b"frame,\xff\xfe\n")
+    result = cli("check", NOTES, "--golden", tmp_path, "--update")
+    assert result.exit_code == 0 and "changed" in result.stdout, result.output
+    assert (tmp_path / "notes-arm.csv").read_bytes().startswith(b"frame,time_s,")
+
+
+def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):
+    from armanim.runs.golden import golden_status
+
+    big = tmp_path / "big.csv"
+    with big.open("wb") as handle:
+        handle.truncate(2**31)  # 2 GiB, sparse
+    tracemalloc.start()
+    try:
+        status = golden_status(big, b"frame,time_s\n0,0.0\n")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert status == "changed" and peak < 2**20
+    same = tmp_path / "same.csv"
+    same.write_bytes(b"frame\n0\n")
+    assert golden_status(same, b"frame\n0\n") == "unchanged" and golden_status(tmp_path / "none.csv", b"x") == "new"
+
+
+# ------------------------------------------------------------------ 4. a scheduler that never answers
+
+
+def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline():
+    """The client is made on a thread that is given up: Client(timeout=...) does not bound the handshake."""
+    from armanim.runs.executors import connect_client
+
+    release = threading.Event()
+
+    def silent_client(address, timeout):
+        release.wait()  # accepts, never answers
+
+    try:
+        with pytest.raises(UsageError, match=r"the Dask scheduler at tcp://127.0.0.1:9 did not answer within 0.2 s"):
+            connect_client(silent_client, "tcp://127.0.0.1:9", seconds=0.2)
+    finally:
+        release.set()
+
+
+@pytest.mark.parametrize("error, words", [(ValueError("bad"), "is not a scheduler address"),
+                                          (OSError("refused"), "cannot reach the Dask scheduler at")])
+def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words):
+    from armanim.runs.executors import connect_client
+
+    def failing_client(address, timeout):
+        raise error
+
+    with pytest.raises(UsageError, match=words):
+        connect_client(failing_client, "tcp://127.0.0.1:9", seconds=30)
+
+
+# ------------------------------------------------------------------ 5, 6. sweeps have a bound and say their size
+
+
+def test_a_sweep_beyond_the_limit_is_exit_2_before_anything_is_built(cli, tmp_path):
+    from armanim.runs.sweep import MAX_VARIANTS
+
+    steps = ",".join(str(0.001 * (i + 1)) for i in range(50))
+    tolerances = ",".join(str(0.0001 * (i + 1)) for i in range(MAX_VARIANTS // 50 + 1))
+    result = cli("sweep", NOTES, "--set", f"solver.step={steps}", "--set", f"solver.tolerance={tolerances}", "--out", tmp_path)
+    assert result.exit_code == 2, result.output
+    assert f"--set: 1,050 variants (50 x 21 values; at most {MAX_VARIANTS:,} in one sweep" in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_sweep_and_a_batch_say_their_size_first(cli, tmp_path):
+    result = cli("sweep", _small(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1")
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines()[0] == f"sweep of {tmp_path / 's.yaml'}: 2 variants (solver.step)"
+    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "o", "--no-video", "--jobs", "1")
+    assert result.exit_code == 0 and result.stderr.splitlines()[0] == "batch: 2 scenes", result.output
+
+
+# ------------------------------------------------------------------ 10. a closed pipe
+
+
+@pytest.mark.parametrize("args, code", [(["validate", NOTES], 0), (["check", NOTES, "--golden", TESTS / "golden"], 0),
+                                        (["fk", "--angles", "0,0,0,0"], 0), (["check", "BROKEN", "--golden", "GOLDEN"], 1)])
+def test_a_closed_pipe_keeps_the_command_s_own_exit_code(tmp_path, args, code):
+    """``armanim validate s.yaml | head -0``: exit 0 (a failed check stays 1), never click's 1 for EPIPE, no message."""
+    import subprocess
+    import sys
+
+    if "BROKEN" in args:  # a golden file that differs: the check fails whether or not anyone reads
+        (tmp_path / "notes-arm.csv").write_text((TESTS / "golden" / "notes-arm.csv").read_text().replace(",0,", ",1,", 1))
+        args = ["check", NOTES, "--golden", tmp_path]
+    proc = subprocess.Popen([sys.executable, "-m", "armanim", *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # the reader is gone before armanim writes
+    stderr = proc.stderr.read().decode()
+    assert proc.wait(timeout=300) == code, stderr
+    assert "Traceback" not in stderr and "Broken pipe" not in stderr
+
+
+# ------------------------------------------------------------------ the wrong-but-harmless list
+
+
+def test_render_refuses_a_scene_yaml_that_is_not_the_run_s(cli, finished_run):
+    (finished_run / "scene.yaml").write_text(SMALL.replace("[1, 1, 2]", "[1, 2, 1]") + "name: r\n")
+    result = cli("render", finished_run, "-q", "--jobs", "1")
+    assert result.exit_code == 2 and "scene.yaml: is not the scene this run solved" in result.stderr, result.output
+
+
+@pytest.mark.parametrize("column, value, message", [("goal", "1", "goal: 1 is not a goal of the scene (expected 0 to 0)"),
+                                                    ("time_s", "-5", "time_s: -5 is negative")])
+def test_render_refuses_a_goal_past_the_last_and_a_negative_time(cli, finished_run, column, value, message):
+    lines = (finished_run / "trajectory.csv").read_text().splitlines()
+    at = lines[0].split(",").index(column)
+    row = lines[2].split(",")
+    row[at] = value
+    lines[2] = ",".join(row)
+    (finished_run / "trajectory.csv").write_text("\n".join(lines) + "\n")
+    result = cli("render", finished_run, "-q", "--jobs", "1")
+    assert result.exit_code == 2 and f"trajectory.csv:3: {message}" in result.stderr, result.output
+
+
+def test_a_scene_yaml_linked_to_a_device_is_named_as_one(cli, finished_run):
+    (finished_run / "scene.yaml").unlink()
+    (finished_run / "scene.yaml").symlink_to("/dev/zero")
+    result = cli("render", finished_run, "-q")
+    assert result.exit_code == 2 and "is a character device, not a regular file" in result.stderr, result.output
+
+
+def test_a_huge_flag_value_is_cut_in_the_message(cli):
+    result = cli("fk", "--angles", ",".join(["1"] * 60_000))
+    assert result.exit_code == 2 and "(got 60,000:" in result.stderr and "(119,999 characters)" in result.stderr
+    assert len(result.stderr) < 300, len(result.stderr)
+
+
+def test_a_disk_full_message_names_the_run_folder_not_its_staging(cli, tmp_path, monkeypatch):
+    import os
+
+    real_fsync = os.fsync
+
+    def full(fd):
+        if ".partial/" in os.readlink(f"/proc/self/fd/{fd}"):  # OUT is full (not TMPDIR: that message names TMPDIR)
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real_fsync(fd)
+
+    monkeypatch.setattr("armanim.output.atomic.os.fsync", full)
+    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "out", "--no-video", "-q", "--jobs", "1")
+    assert result.exit_code == 3, result.output
+    assert f"{tmp_path / 'out' / 'a'}/scene.yaml: the disk is full" in result.stderr and ".partial" not in result.stderr
+
+
+def test_a_dangling_link_at_the_lock_is_refused_not_followed(cli, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".a.lock").symlink_to(tmp_path / "elsewhere")
+    result = cli("run", _small(tmp_path, "a"), "--out", out, "--no-video", "-q")
+    assert result.exit_code == 3 and ".a.lock: is a link" in result.stderr, result.output
+    assert not (tmp_path / "elsewhere").exists()
+
+
+# ------------------------------------------------------------------ 7, 8. signals over each command's life
+
+TINY = ("version: 1\nname: tiny\narm:\n  links: [1, 1]\ngoals:\n  - [1, 1, 0]\n  - {{position: [0, 1.5, 0.5], hold: 3}}\n"
+        "solver: {{step: {step}}}\nrender: {{fps: 10, size: [96, 64]}}\n")  # about 70 frames: two render workers
+
+
+def _scenes(folder: Path, count: int = 1) -> tuple[list[str], list[str]]:
+    """``count`` new scenes and their previous versions (same names, another step: other bytes)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    new, old = [], []
+    for i in range(count):
+        for step, paths in ((0.1, new), (0.3, old)):
+            path = folder / f"{'new' if step == 0.1 else 'old'}{i}.yaml"
+            path.write_text(TINY.format(step=step).replace("name: tiny", f"name: tiny{i}"))
+            paths.append(str(path))
+    return new, old
+
+
+def _commands(folder: Path) -> dict:
+    new, old = _scenes(folder / "scenes", 2)
+    run_folder = ["out/tiny0"]
+    batch = ["out/tiny0", "out/tiny1"]
+    sweep = ["out/tiny0_step-0.1", "out/tiny0_step-0.2"]
+    return {
+        "run": Command("run", ["run", new[0], "--out", "{out}", "--jobs", "2"], run_folder,
+                       [["run", old[0], "--out", "{out}", "--jobs", "2"]]),
+        "batch": Command("batch", ["run", *new, "--out", "{out}", "--jobs", "2"], [*batch, "out/index.csv"],
+                         [["run", *old, "--out", "{out}", "--jobs", "2", "--no-video"]]),
+        "sweep": Command("sweep", ["sweep", new[0], "--set", "solver.step=0.1,0.2", "--out", "{out}", "--jobs", "2"],
+                         [*sweep, "out/new0-sweep.csv"],
+                         [["sweep", old[0], "--set", "solver.step=0.1,0.2", "--set", "solver.max_step=0.4", "--out", "{out}", "--jobs", "2"]]),
+        "check --update": Command("check", ["check", *new, "--golden", "{golden}", "--update"], ["golden"],
+                                  [["check", *old, "--golden", "{golden}", "--update"]]),
+        "render": Command("render", ["render", "{out}/tiny0", "--jobs", "2", "--size", "80x48"], run_folder,
+                          [["run", new[0], "--out", "{out}", "--no-video"]]),
+    }
+
+
+MOMENTS = {  # a handful per command (each attempt is a real process); benchmarks/signal_campaign.py sweeps many more
+    "run": [("start", 0.0, "SIGTERM"), ("ffmpeg", 0.2, "SIGINT"), ("poster", 0.0, "SIGINT"), ("poster", 0.05, "SIGTERM")],
+    "batch": [("workers", 0.0, "SIGINT"), ("ffmpeg", 0.1, "SIGTERM")],
+    "sweep": [("workers", 0.0, "SIGTERM")],
+    "check --update": [("start", 0.5, "SIGINT")],
+    "render": [("ffmpeg", 0.0, "SIGINT"), ("poster", 0.02, "SIGTERM")],
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", MOMENTS)
+def test_a_signal_at_any_moment_ends_with_0_or_130_and_old_or_new_outputs(tmp_path, name):
+    """Ctrl-C (to the group) and SIGTERM (to armanim) over each command's life, at the commit too:
+    exit 0 or 130, no traceback, each folder (golden pair) old or whole new, no litter, no process left."""
+    sweep = Sweep(_commands(tmp_path)[name], tmp_path / "sweep")
+    outcomes = [sweep.attempt(moment, delay, signame) for moment, delay, signame in MOMENTS[name]]
+    wrong = {o.moment + " " + o.signame: o.problems() + [o.stderr[-2000:]] for o in outcomes if o.problems()}
+    assert wrong == {}
+    assert all(o.fired for o in outcomes), [o.moment for o in outcomes if not o.fired]  # each moment came: a real test
+    for o in outcomes:
+        interrupted = o.code == 130
+        assert o.stderr.strip().splitlines()[-1:] == ([INTERRUPTED] if interrupted else o.stderr.strip().splitlines()[-1:])
+
+
+# ------------------------------------------------------------------ the page of promises
+
+
+def named_tests(page: str) -> set[tuple[str, str]]:
+    r"""(test file, test name) of every test docs/reliability.md names.
+
+    A name is ``tests/FILE.py::test_x``; ``::test_x`` (in the file named last on the page);
+    or a bare ``test_x`` (in the file named before it on its line, else ``tests/test_hardening.py``).
+
+    >>> sorted(named_tests("| `test_a` | `tests/test_b.py::test_c`, `::test_d[x]` |\n| `test_e`, `::test_f` |"))
+    [('test_b.py', 'test_c'), ('test_b.py', 'test_d'), ('test_b.py', 'test_f'), ('test_hardening.py', 'test_a'), ('test_hardening.py', 'test_e')]
+    """
+    found, last = set(), "test_hardening.py"
+    for line in page.splitlines():
+        on_line = "test_hardening.py"
+        for ref in re.findall(r"`([^`]*test_\w+[^`]*)`", line):
+            match = re.fullmatch(r"(tests/(test_\w+\.py))?(::)?(test_\w+)(?:\[.*\])?", ref.strip())
+            if match is None:
+                continue
+            if match.group(2):
+                last = on_line = match.group(2)
+            found.add((match.group(2) or (last if match.group(3) else on_line), match.group(4)))
+    return found
+
+
+def test_every_test_the_reliability_page_names_exists():
+    named = named_tests((DOCS / "reliability.md").read_text(encoding="utf-8"))
+    defined = {(path.name, node.name) for path in TESTS.glob("test_*.py")
+               for node in ast.parse(path.read_text()).body if isinstance(node, ast.FunctionDef)}
+    assert len(named) > 50 and named <= defined, sorted(named - defined)
+
+
+def test_the_reliability_page_names_every_test_of_this_file():
+    named = {name for file, name in named_tests((DOCS / "reliability.md").read_text(encoding="utf-8"))
+             if file == Path(__file__).name}
+    here = {name for name in globals() if name.startswith("test_") and "reliability_page" not in name}
+    assert here <= named, sorted(here - named)
