@@ -7,6 +7,7 @@
     python benchmarks/motion_bench.py --list-misses       # one line per feasible goal that was missed
     python benchmarks/motion_bench.py --dump-scene 7 /tmp/scenes   # scene 7 as YAML, for `armanim run`
     python benchmarks/motion_bench.py --family hard --scenes 24 --planner auto   # the hard family
+    python benchmarks/motion_bench.py --family robots --scenes 12 --planner auto   # Panda, UR5, iiwa (issue 20)
 
 Scenes. A seeded generator (numpy ``Generator`` from ``--seed`` and the scene's index, so
 scene K is the same whatever ``--scenes`` is) draws random cluttered scenes: arms of 3-7
@@ -29,6 +30,24 @@ surface (``clearance`` = the scene's ``solver.clearance`` when armanim has that 
 else 0.05). The oracle says nothing about whether a path to that pose exists: a planar
 arm can have goal poses that are clear but cut off from it by a sphere in its plane.
 
+Robot family (``--family robots``, issue 20). One bundled robot per scene, chosen by the
+scene's rng: Franka Panda, UR5 or KUKA LBR iiwa (``arm: {robot: ...}``, metres), at its
+home pose, among 3-10 spheres (radius 0.03-0.1 m, influence 0.1 m), with 3-5 goals that are
+the tool points of random poses inside the URDF limits (10 degrees in, within +-180, tool
+0.1 m above the base) and ``solver`` tolerance 0.005, clearance 0.02, max_step 0.02 as the
+bundled robot scenes. Its oracle's kinematics is pinocchio's (``pin.buildModelFromUrdf`` of
+the bundled URDF, reduced to the chain's joints; ``forwardKinematics`` and
+``updateFramePlacements`` give the tool point and every link frame), and its clearances are
+armanim's capsule *data* (link, two points in the link frame, radius) placed by pinocchio's
+frames; a start-up self-test checks both against armanim's FK and clearances (1e-9) on random
+poses. The same multi-start bounded least-squares search as above labels every goal, with
+pinocchio's tool point and these clearances in its residual (no reach shortcut: a robot's
+reach here is only sampled). Every drawn goal is the tool point of a clear pose, so all are
+feasible by construction, the search is checked against the generator's poses ("generator
+poses the oracle failed to match") and "reached infeasible" has nothing to count. Like the
+other families' oracle, it says nothing about whether a path exists, nor about
+self-collision or a floor (armanim checks neither).
+
 Report. Per method and planner setting: feasible goals reached, goals reached that the
 oracle called infeasible (an oracle bug if not 0), the share of frames within 1e-3 of an
 obstacle surface, time per frame and per planned goal, and broken invariants (NaN, a
@@ -44,7 +63,7 @@ import multiprocessing
 import sys
 import time
 from collections import Counter, defaultdict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -58,6 +77,7 @@ from armanim.motion.trajectory import solve_trajectory
 from armanim.scene.checks import scene_problems
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import SceneModel, SolverModel
+from armanim.scene.robots import bundled_robot
 from armanim.world.distances import min_link_clearance
 from armanim.world.obstacles import Obstacles
 
@@ -158,6 +178,9 @@ def capsule_clearances(geo: Geometry, points: np.ndarray) -> np.ndarray:
 
 def min_clearance(geo: Geometry, phi: np.ndarray) -> np.ndarray:
     """Smallest capsule clearance of one pose or a batch, shape (...); +inf without spheres."""
+    if isinstance(geo, RobotGeometry):
+        phi = np.asarray(phi, dtype=float)
+        return geo.clearances(phi).min(axis=(-1, -2)) if len(geo.radii) else np.full(phi.shape[:-1], np.inf)
     points = joint_points(geo, phi)
     if len(geo.radii) == 0:
         return np.full(points.shape[:-2], np.inf)
@@ -216,25 +239,31 @@ def start_poses(geo: Geometry, rng: np.random.Generator, count: int) -> np.ndarr
     """Deterministic starts of the search: home, the zero pose, then uniform draws inside the limits."""
     lo, hi = search_bounds(geo)
     box_lo, box_hi = np.maximum(lo, -np.pi), np.minimum(hi, np.pi)
-    draws = rng.uniform(box_lo, box_hi, (max(count - 2, 0), len(geo.links)))
-    starts = np.vstack([geo.home, np.zeros(len(geo.links)), draws])[:count]
+    draws = rng.uniform(box_lo, box_hi, (max(count - 2, 0), len(geo.lower)))
+    starts = np.vstack([geo.home, np.zeros(len(geo.lower)), draws])[:count]
     return np.clip(starts, box_lo + 1e-7, box_hi - 1e-7)
 
 
 def oracle_residual(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """Tip error (3) and one hinge term per link-sphere pair, max(0, clearance + target - d)."""
-    points = joint_points(geo, phi)
-    tip_error = points[-1] - goal
-    if len(geo.radii) == 0:
+    if isinstance(geo, RobotGeometry):
+        tip, a, b = geo.placements(phi)
+        tip_error = tip - goal
+        gaps = geo.capsule_gaps(a, b) if len(geo.radii) else None
+    else:
+        points = joint_points(geo, phi)
+        tip_error = points[-1] - goal
+        gaps = capsule_clearances(geo, points) if len(geo.radii) else None
+    if gaps is None:
         return tip_error
-    shortfall = np.maximum(0.0, geo.clearance + ORACLE_PENALTY_TARGET - capsule_clearances(geo, points))
+    shortfall = np.maximum(0.0, geo.clearance + ORACLE_PENALTY_TARGET - gaps)
     return np.concatenate([tip_error, shortfall.ravel()])
 
 
 def is_witness(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> bool:
     """True when ``phi`` proves the goal feasible: inside the limits, tip within tolerance/2, clear."""
     inside = np.all(phi > geo.lower) and np.all(phi < geo.upper)
-    close = np.linalg.norm(joint_points(geo, phi)[-1] - goal) < geo.tolerance / 2
+    close = np.linalg.norm(tip_of(geo, phi) - goal) < geo.tolerance / 2
     return bool(inside and close and min_clearance(geo, phi) >= geo.clearance)
 
 
@@ -254,7 +283,7 @@ def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts
     -------
     Verdict
     """
-    if np.linalg.norm(goal - geo.base) > geo.reach:
+    if not isinstance(geo, RobotGeometry) and np.linalg.norm(goal - geo.base) > geo.reach:  # a robot's reach is sampled: no shortcut
         return Verdict(False, "out_of_reach")
     lo, hi = search_bounds(geo)
     for start in start_poses(geo, rng, starts):
@@ -262,6 +291,129 @@ def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts
         if is_witness(geo, goal, fit.x):
             return Verdict(True, "feasible", fit.x)
     return Verdict(False, "no_free_pose")
+
+
+# ---------------------------------------------------------------------------------------
+# The robot family (issue 20): bundled URDF arms, the oracle's kinematics from pinocchio
+# ---------------------------------------------------------------------------------------
+
+ROBOT_NAMES = ("panda", "ur5", "iiwa")
+ROBOT_SOLVER = {"tolerance": 0.005, "clearance": 0.02, "max_step": 0.02}  # as the bundled robot scenes, metres
+ROBOT_GEN_CLEARANCE = 0.05  # the robot family keeps home and goal poses this far from every sphere (metres)
+ROBOT_BASE_KEEP_OUT = 0.2  # ... and every sphere centre this far from the base (capsules of the base are not checked)
+
+
+@dataclass(frozen=True)
+class RobotGeometry:
+    """What the oracle knows of a robot scene: pinocchio's model of the bundled URDF and
+    armanim's capsule data (link name, two points in that link's frame, radius), metres and radians.
+
+    The capsules are data read from the robot's files; every transform that places them is
+    pinocchio's (``forwardKinematics`` + ``updateFramePlacements``), not armanim's chain.
+    Capsules on links that no moving joint carries (the robot's base) are left out, as
+    armanim leaves them out.
+    """
+
+    robot: str
+    model: object  # pin.Model
+    tip_frame: int
+    cap_frames: tuple  # frame id per capsule
+    cap_a: np.ndarray  # (k, 3) in the link frame
+    cap_b: np.ndarray  # (k, 3)
+    cap_r: np.ndarray  # (k,)
+    lower: np.ndarray
+    upper: np.ndarray
+    centers: np.ndarray
+    radii: np.ndarray
+    home: np.ndarray
+    base: np.ndarray
+    reach: float
+    tolerance: float = ROBOT_SOLVER["tolerance"]
+    clearance: float = ROBOT_SOLVER["clearance"]
+
+    def placements(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Tip (..., 3) and capsule ends (..., k, 3) twice, by pinocchio's forward kinematics."""
+        import pinocchio as pin
+
+        phi = np.asarray(phi, dtype=float)
+        flat = phi.reshape(-1, phi.shape[-1])
+        data = self.model.createData()
+        tips = np.empty((len(flat), 3))
+        a = np.empty((len(flat), len(self.cap_r), 3))
+        b = np.empty_like(a)
+        for i, q in enumerate(flat):
+            pin.forwardKinematics(self.model, data, q)
+            pin.updateFramePlacements(self.model, data)
+            tips[i] = data.oMf[self.tip_frame].translation
+            for k, frame in enumerate(self.cap_frames):
+                placement = data.oMf[frame]
+                a[i, k] = placement.rotation @ self.cap_a[k] + placement.translation
+                b[i, k] = placement.rotation @ self.cap_b[k] + placement.translation
+        batch = phi.shape[:-1]
+        return tips.reshape(batch + (3,)), a.reshape(batch + a.shape[1:]), b.reshape(batch + b.shape[1:])
+
+    def tip(self, phi: np.ndarray) -> np.ndarray:
+        """The tool point (the tip link's origin), shape (..., 3)."""
+        return self.placements(phi)[0]
+
+    def clearances(self, phi: np.ndarray) -> np.ndarray:
+        """Clearance of every capsule to every sphere's surface, shape (..., k, m); negative inside."""
+        _, a, b = self.placements(phi)
+        return self.capsule_gaps(a, b)
+
+    def capsule_gaps(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Clearances (..., k, m) of the capsules with ends ``a``, ``b`` (..., k, 3) to every sphere."""
+        a, ab = a[..., None, :], (b - a)[..., None, :]
+        t = np.clip(((self.centers - a) * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
+        gap = a + t[..., None] * ab - self.centers
+        return np.sqrt((gap * gap).sum(-1)) - self.radii - self.cap_r[:, None]
+
+
+def robot_geometry(robot: str, centers: np.ndarray, radii: np.ndarray, tolerance: float = ROBOT_SOLVER["tolerance"],
+                   clearance: float = ROBOT_SOLVER["clearance"]) -> RobotGeometry:
+    """The oracle's geometry of bundled robot ``robot`` among the given spheres."""
+    import pinocchio as pin
+
+    model, capsules = robot_model(robot)
+    keep = [c for c in capsules if model.frames[model.getFrameId(c.link)].parentJoint != 0]
+    lower, upper = np.array(model.lowerPositionLimit), np.array(model.upperPositionLimit)
+    bundled = bundled_robot(robot)
+    home = np.radians(np.array(bundled.home, dtype=float))
+    # reach: the farthest the tool point gets from the base over a fixed sample of poses, plus 10 %
+    sample = np.random.default_rng(0).uniform(np.maximum(lower, -np.pi), np.minimum(upper, np.pi), (400, model.nq))
+    data = model.createData()
+    tip_frame = model.getFrameId(bundled.tip_link)
+    far = 0.0
+    for q in sample:
+        pin.framesForwardKinematics(model, data, q)
+        far = max(far, float(np.linalg.norm(data.oMf[tip_frame].translation)))
+    return RobotGeometry(
+        robot=robot, model=model, tip_frame=tip_frame, cap_frames=tuple(model.getFrameId(c.link) for c in keep),
+        cap_a=np.array([c.start for c in keep], dtype=float), cap_b=np.array([c.end for c in keep], dtype=float),
+        cap_r=np.array([c.radius for c in keep], dtype=float), lower=lower, upper=upper,
+        centers=np.asarray(centers, dtype=float).reshape(-1, 3), radii=np.asarray(radii, dtype=float),
+        home=home, base=np.zeros(3), reach=1.1 * far, tolerance=tolerance, clearance=clearance,
+    )
+
+
+_ROBOT_MODELS: dict = {}
+
+
+def robot_model(robot: str):
+    """pinocchio's model of a bundled robot's URDF, and the robot's capsule data as armanim reads it."""
+    if robot not in _ROBOT_MODELS:
+        import pinocchio as pin
+
+        full = pin.buildModelFromUrdf(str(bundled_robot(robot).urdf))
+        scene = SceneModel.model_validate({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
+        robot_arm = scene.arm._robot  # the chain's joint names and the capsule data, as the scene reads them
+        off_chain = [j for j in range(1, full.njoints) if full.names[j] not in robot_arm.joint_names]  # e.g. Panda's fingers
+        model = pin.buildReducedModel(full, off_chain, pin.neutral(full)) if off_chain else full
+        assert list(model.names)[1:] == list(robot_arm.joint_names), f"{robot}: pinocchio's joints differ from the chain's"
+        assert model.nq == model.nv, f"{robot}: a joint with nq != nv (continuous) is not handled here"
+        assert not robot_arm.fallback_links, f"{robot}: fallback capsules are not modelled by the oracle"
+        _ROBOT_MODELS[robot] = (model, robot_arm.capsules)
+    return _ROBOT_MODELS[robot]
 
 
 # ---------------------------------------------------------------------------------------
@@ -284,9 +436,14 @@ class Draft:
     spheres: list = field(default_factory=list)  # (center (3,), radius)
     goals: list = field(default_factory=list)  # (3,) arrays
     witnesses: list = field(default_factory=list)  # the generator's pose per goal (None: out of reach)
+    robot: str | None = None  # a bundled robot (the robot family): base, links, axes, direction, limits unused
 
     def geometry(self, clearance: float = DEFAULT_CLEARANCE, tolerance: float = 0.01) -> Geometry:
         """The oracle's view of this draft."""
+        if self.robot is not None:
+            centers = np.array([c for c, _ in self.spheres]).reshape(-1, 3)
+            return replace(base_geometry(self.robot), centers=centers, radii=np.array([r for _, r in self.spheres]),
+                           tolerance=tolerance, clearance=clearance)
         lower = np.array([np.radians(p[0]) if p else -np.inf for p in self.limits])
         upper = np.array([np.radians(p[1]) if p else np.inf for p in self.limits])
         return Geometry(
@@ -301,6 +458,13 @@ class Draft:
         solver = {"method": method}
         if planner is not None:
             solver["planner"] = planner
+        if self.robot is not None:
+            return {
+                "version": 1, "name": name, "arm": {"robot": self.robot},
+                "obstacles": [{"center": floats(c), "radius": float(r), "influence": 0.1} for c, r in self.spheres],
+                "goals": [floats(g) for g in self.goals],
+                "solver": {**solver, **ROBOT_SOLVER}, "render": {"fps": 30},
+            }
         return {
             "version": 1,
             "name": name,
@@ -534,10 +698,93 @@ def draw_hard_scene(rng: np.random.Generator) -> Draft:
     return draft
 
 
-FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene}
-"""Scene generators by ``--family``: the original distribution, and the hard one of issue 18
+_BASE_GEOMETRY: dict = {}
+
+
+def base_geometry(robot: str) -> RobotGeometry:
+    """The robot's geometry without spheres (cached: its reach takes 400 poses to find)."""
+    if robot not in _BASE_GEOMETRY:
+        _BASE_GEOMETRY[robot] = robot_geometry(robot, np.zeros((0, 3)), np.zeros(0))
+    return _BASE_GEOMETRY[robot]
+
+
+def tip_of(geo, phi: np.ndarray) -> np.ndarray:
+    """The tip of one pose or a batch, for either kind of geometry."""
+    return geo.tip(phi) if isinstance(geo, RobotGeometry) else joint_points(geo, phi)[..., -1, :]
+
+
+def self_test_robots(rng: np.random.Generator, poses: int = 40) -> None:
+    """Assert that pinocchio's tool point and the oracle's capsule clearances equal armanim's (1e-9) on
+    every bundled robot: a check of the two sides, not a source of the oracle's numbers."""
+    for robot in ROBOT_NAMES:
+        geo = base_geometry(robot)
+        centers, radii = rng.uniform(-0.6, 0.6, (4, 3)), rng.uniform(0.03, 0.1, 4)
+        geo = replace(geo, centers=centers, radii=radii)
+        model = SceneModel.model_validate({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
+        problem = scene_to_problem(model)
+        phi = rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi), (poses, len(geo.lower)))
+        pose = forward(problem.arm, phi)
+        assert np.max(np.abs(geo.tip(phi) - pose.tip)) < 1e-9, f"{robot}: pinocchio's tool point differs from armanim's"
+        obstacles = Obstacles(centers=centers, radii=radii, influence=radii)
+        theirs = min_link_clearance(pose, obstacles, problem.capsules)
+        assert np.max(np.abs(min_clearance(geo, phi) - theirs)) < 1e-9, f"{robot}: the oracle's capsule clearance differs from armanim's"
+
+
+def robot_pose(rng: np.random.Generator, geo: RobotGeometry) -> np.ndarray:
+    """A pose inside the limits, 10 degrees away from them, within +-180 degrees, tool point 0.1 m above the base."""
+    lo = np.maximum(geo.lower + np.radians(10.0), -np.pi)
+    hi = np.minimum(geo.upper - np.radians(10.0), np.pi)
+    while True:
+        pose = rng.uniform(lo, hi)
+        if geo.tip(pose)[2] > 0.1:
+            return pose
+
+
+def draw_robot_scene(rng: np.random.Generator) -> Draft:
+    """One candidate scene of the robot family: a bundled robot (Panda, UR5 or iiwa) at its home
+    pose, 3-5 goals that are the tool points of random poses inside the limits, 3-10 spheres
+    (across the tool's straight paths between goals, beside the arm in a goal pose, anywhere
+    within reach), each kept only when home and every goal pose stay ROBOT_GEN_CLEARANCE clear."""
+    robot = ROBOT_NAMES[int(rng.integers(0, len(ROBOT_NAMES)))]
+    geo = base_geometry(robot)
+    goal_poses = [robot_pose(rng, geo) for _ in range(int(rng.integers(3, 6)))]
+    poses = np.array([geo.home] + goal_poses)
+    tips, ends_a, ends_b = geo.placements(poses)
+    draft = Draft(kind=robot, base=np.zeros(3), links=np.array([geo.reach]), axes=[], direction="z", width=0.1,
+                  home=geo.home, limits=[], robot=robot)
+    for _ in range(int(rng.integers(3, 11))):
+        for _ in range(30):
+            kind = rng.choice(["across", "near", "anywhere"], p=[0.4, 0.3, 0.3])
+            radius = float(rng.uniform(0.03, 0.1))
+            if kind == "across":
+                k = int(rng.integers(0, len(tips) - 1))
+                center = tips[k] + rng.uniform(0.35, 0.65) * (tips[k + 1] - tips[k]) + rng.normal(size=3) * 0.3 * radius
+            elif kind == "near":
+                k, c = int(rng.integers(1, len(poses))), int(rng.integers(0, len(geo.cap_r)))
+                on_arm = ends_a[k, c] + rng.uniform(0, 1) * (ends_b[k, c] - ends_a[k, c])
+                direction = rng.normal(size=3)
+                gap = geo.cap_r[c] + ROBOT_GEN_CLEARANCE + rng.uniform(0.01, 0.1)
+                center = on_arm + (radius + gap) * direction / np.linalg.norm(direction)
+            else:
+                direction = rng.normal(size=3)
+                center = direction / np.linalg.norm(direction) * rng.uniform(0.3, 1.0) * geo.reach / 1.1
+            center, radius = np.round(center, 4), round(radius, 4)
+            if np.linalg.norm(center) < ROBOT_BASE_KEEP_OUT + radius:
+                continue
+            trial = replace(geo, centers=center[None], radii=np.array([radius]))
+            if np.all(min_clearance(trial, poses) >= ROBOT_GEN_CLEARANCE):
+                draft.spheres.append((center, radius))
+                break
+    draft.goals = [np.round(t, 4) for t in tips[1:]]
+    draft.witnesses = list(goal_poses)
+    return draft
+
+
+FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene, "robots": draw_robot_scene}
+"""Scene generators by ``--family``: the original distribution, the hard one of issue 18
 (7-link mixed-axis and planar arms, tight limits everywhere, narrow passages, dense clutter,
-goals near spheres and at the edge of reach, 8-12 goals)."""
+goals near spheres and at the edge of reach, 8-12 goals) and the robots of issue 20
+(a bundled Panda, UR5 or iiwa among 3-10 spheres, 3-5 goals)."""
 
 
 def armanim_rejects(scene: dict) -> list:
@@ -568,7 +815,7 @@ def make_scene(seed: int, index: int, family: str = "standard") -> Draft:
     rng = np.random.default_rng([seed, index] if family == "standard" else [seed, index, 1 + list(FAMILIES).index(family)])
     while True:
         draft = FAMILIES[family](rng)
-        if len(draft.spheres) >= 2 and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
+        if len(draft.spheres) >= (3 if family == "robots" else 2) and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
             return draft
 
 
@@ -763,8 +1010,8 @@ def label_scene(draft: Draft, geo: Geometry, seed: int, index: int) -> tuple[lis
     """The oracle's verdict on every goal, and how many generator witnesses it failed to match."""
     verdicts, missed = [], 0
     for k, goal in enumerate(draft.goals):
-        verdict = label_goal(geo, goal, np.random.default_rng([seed, index, k, 7]))
         witness = draft.witnesses[k]
+        verdict = label_goal(geo, goal, np.random.default_rng([seed, index, k, 7]))
         if not verdict.feasible and witness is not None and is_witness(geo, goal, witness):
             missed += 1
         verdicts.append(verdict)
@@ -936,7 +1183,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--planner", default="auto,off", help="comma-separated planner settings (default auto,off)")
     parser.add_argument("--jobs", type=int, default=1, help="processes over scenes (default 1)")
     parser.add_argument("--family", choices=sorted(FAMILIES), default="standard",
-                        help="scene distribution: standard, or hard (issue 18: tight limits, passages, dense clutter, 8-12 goals)")
+                        help="scene distribution: standard, hard (issue 18: tight limits, passages, dense clutter, 8-12 goals) "
+                             "or robots (issue 20: bundled Panda, UR5, iiwa; pinocchio oracle, witness labels)")
     parser.add_argument("--quick", action="store_true", help="8 scenes, for development")
     parser.add_argument("--list-misses", action="store_true", help="print every feasible goal that was missed")
     parser.add_argument("--dump-scene", nargs=2, metavar=("K", "DIR"), help="write scene K as YAML into DIR and exit")
@@ -969,6 +1217,9 @@ def main(argv=None) -> int:
         return 0
     self_test_geometry(np.random.default_rng(12345))
     print("self-test: the oracle's forward kinematics and clearances equal armanim's (1e-9)", file=sys.stderr)
+    if args.family == "robots":
+        self_test_robots(np.random.default_rng(12345))
+        print("self-test: pinocchio's tool point and the oracle's robot capsule clearances equal armanim's (1e-9)", file=sys.stderr)
     tasks = [(args.seed, k, args.methods, planners, args.family) for k in range(args.scenes)]
     results = []
     if args.jobs > 1:
