@@ -140,7 +140,8 @@ def scene(tmp_path) -> Path:
 
 
 def listed(folder: Path) -> list[str]:
-    return json.loads((folder / MARKER).read_text())["files"]
+    """The names the run folder's marker lists (it records each file's size and time)."""
+    return sorted(json.loads((folder / MARKER).read_text())["files"])
 
 
 def test_run_no_video_writes_no_viewer_unless_asked(cli, scene, tmp_path):
