@@ -203,8 +203,8 @@ def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray) -> ArmState |
     """The pose ``phi`` as a state if it keeps every guarantee exactly, else None.
 
     Guarantees: every limited joint at least the limit buffer inside its limits (or no
-    nearer than it already was), every link capsule at least ``solver.clearance`` from
-    every obstacle (or no nearer than it already was), and no NaN.
+    nearer than it already was), every link capsule and the tip at least ``solver.clearance``
+    from every obstacle (or no nearer than they already were), and no NaN.
     """
     if not np.all(np.isfinite(phi)):
         return None
@@ -218,6 +218,11 @@ def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray) -> ArmState |
     if candidate.clearance is not None:
         floor = min(problem.solver.clearance, now.min_clearance)
         if not candidate.min_clearance >= floor:
+            return None
+        # the tip too: a robot's tool point can lie beyond its last capsule (a link-by-link arm's
+        # tip ends its last capsule, at least clearance + width/2 away, so this never binds there)
+        tip_floor = min(problem.solver.clearance, float(now.clearance.d[..., -1, :].min()))
+        if not float(candidate.clearance.d[..., -1, :].min()) >= tip_floor:
             return None
     return candidate
 
