@@ -1,8 +1,9 @@
 """The planner the frame loop calls when a local method stalls (``solver.planner: auto``).
 
 1. goal poses: many IK solves from deterministic seeds (:mod:`.poses`), kept when
-   inside the limits and at least ``solver.clearance`` from every obstacle;
-2. a path to the nearest of them: the straight joint-space segment, or OMPL's
+   inside the limits and at least the planning floor (what the safety filter keeps) from
+   every obstacle, the roomy ones first;
+2. a path to them, keeping that margin: the straight joint-space segment, or OMPL's
    RRT-Connect and its simplification (:mod:`.path`);
 3. frames along it, no joint above ``max_joint_step`` per frame, smooth start and stop,
    and slower where the safety filter's damper would bend the path (:mod:`.follow`).
