@@ -306,6 +306,14 @@ def test_failed_render_leaves_previous_outputs_untouched(cli, monkeypatch, tiny_
     assert leftovers(out) == []
 
 
+def _name_or_empty(child: psutil.Process) -> str:
+    """A child's name, or "" when it ended between listing and asking (a short-lived worker)."""
+    try:
+        return child.name()
+    except psutil.NoSuchProcess:
+        return ""
+
+
 def _wait_for_rendering(proc, out: Path, timeout: float = 60.0) -> list[psutil.Process]:
     """Wait until the run's staging folder holds video work and ffmpeg runs; its children then."""
     deadline = time.monotonic() + timeout
@@ -313,7 +321,7 @@ def _wait_for_rendering(proc, out: Path, timeout: float = 60.0) -> list[psutil.P
         staged = list(out.glob(".notes-arm.*.partial"))
         if staged and any("animation" in p.name for p in staged[0].iterdir()):
             children = psutil.Process(proc.pid).children(recursive=True)
-            if any("ffmpeg" in c.name() for c in children):
+            if any("ffmpeg" in _name_or_empty(c) for c in children):
                 return children
         time.sleep(0.05)
     pytest.fail(f"rendering never started (exit {proc.poll()})")
