@@ -16,7 +16,8 @@ from armanim.errors import Diagnostic
 from armanim.motion.problem import frames_in
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import LIMITS, SceneModel
-from armanim.world.distances import clearances
+from armanim.world.distances import clearances, point_clearances
+from armanim.world.obstacles import FLOOR
 
 
 def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
@@ -91,10 +92,9 @@ def _magnitudes(scene: SceneModel):
     yield from ((f"arm.links[{i}]", v) for i, v in enumerate(arm.links or ()))
     yield "arm.width", arm.resolved_width
     for k, obstacle in enumerate(scene.obstacles):
-        yield from ((f"obstacles[{k}].center[{i}]", v) for i, v in enumerate(obstacle.center))
-        yield f"obstacles[{k}].radius", obstacle.radius
-        if obstacle.influence is not None:
-            yield f"obstacles[{k}].influence", obstacle.influence
+        yield from _obstacle_magnitudes(f"obstacles[{k}]", obstacle)
+    if scene.floor is not None:
+        yield "floor", scene.floor
     for k, goal in enumerate(scene.goals):
         yield from ((f"goals[{k}].position[{i}]", v) for i, v in enumerate(goal.position))
     solver = scene.solver
@@ -107,6 +107,24 @@ def _magnitudes(scene: SceneModel):
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             yield from ((f"render.bounds.{axis}", v) for v in pair)
+
+
+def _obstacle_magnitudes(path: str, obstacle):
+    """(field path, value) of every coordinate and length of one obstacle."""
+    shape = obstacle.box or obstacle.capsule
+    own = f"{path}.{obstacle.kind}" if shape is not None else path
+    fields = {"center": 3, "size": 3, "from_": 3, "to": 3, "radius": 1}
+    for name in fields:
+        value = getattr(shape if shape is not None else obstacle, name, None)
+        if value is None:
+            continue
+        label = "from" if name == "from_" else name
+        if isinstance(value, list):
+            yield from ((f"{own}.{label}[{i}]", v) for i, v in enumerate(value))
+        else:
+            yield f"{own}.{label}", value
+    if obstacle.influence is not None:
+        yield f"{path}.influence", obstacle.influence
 
 
 def _size_problems(scene: SceneModel):
@@ -137,26 +155,53 @@ def _collision_problems(problem, tip_size: str):
     if not len(obstacles):
         return
     d_safe = problem.solver.clearance
+    yield from _floor_problems(problem)
     cl = clearances(forward(problem.arm, problem.home), obstacles, problem.capsules)
     for link, obs in zip(*np.nonzero(cl.links < d_safe)):
         inside = cl.links[link, obs] <= 0
-        yield f"obstacles[{obs}]", (
-            f"link {link + 1} of the arm's home pose is {'inside this obstacle' if inside else 'closer to it than solver.clearance'} "
+        yield _obstacle_path(obstacles, obs), (
+            f"link {link + 1} of the arm's home pose is {'inside ' + _this(obstacles, obs) if inside else 'closer to ' + _it(obstacles, obs) + ' than solver.clearance'} "
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
-            "move the obstacle, change arm.home or lower solver.clearance)"
+            f"move {_the(obstacles, obs)}, change arm.home or lower solver.clearance)"
         )
+    keep = tip_radius(problem.arm, problem.capsules) + d_safe
     for k, goal in enumerate(problem.goals):
-        gap = np.linalg.norm(goal.position - obstacles.centers, axis=1) - obstacles.radii
-        keep = tip_radius(problem.arm, problem.capsules) + d_safe
+        gap = point_clearances(goal.position[None], obstacles)[0]
         for obs in np.nonzero(gap < keep)[0]:
+            where = _obstacle_path(obstacles, obs)
             if gap[obs] <= 0:
-                yield f"goals[{k}]", f"lies inside obstacles[{obs}] (the tip can never reach it; move the goal or the obstacle)"
+                yield f"goals[{k}]", f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_the(obstacles, obs)})"
             else:
                 yield f"goals[{k}]", (
-                    f"is {gap[obs]:.3g} from the surface of obstacles[{obs}] (expected at least {tip_size} + "
+                    f"is {gap[obs]:.3g} from {'the floor' if where == 'floor' else 'the surface of ' + where} (expected at least {tip_size} + "
                     f"solver.clearance = {keep:g}, so that the last link can keep its clearance "
-                    "there: move the goal or the obstacle, or lower solver.clearance)"
+                    f"there: move the goal or {_the(obstacles, obs)}, or lower solver.clearance)"
                 )
+
+
+def _floor_problems(problem):
+    """The floor below the arm's base (the base stands on it or above it)."""
+    floor = problem.obstacles.floor
+    base = float(problem.arm.base[2])
+    if floor is not None and floor > base:
+        yield "floor", f"{floor:g} is above the arm's base (base z = {base:g}; expected the floor at or below the base)"
+
+
+def _obstacle_path(obstacles, column: int) -> str:
+    """The field path of a clearance column: ``obstacles[k]``, or ``floor`` (the last column)."""
+    return "floor" if obstacles.kinds[column] == FLOOR else f"obstacles[{column}]"
+
+
+def _this(obstacles, column: int) -> str:
+    return "the floor" if obstacles.kinds[column] == FLOOR else "this obstacle"
+
+
+def _it(obstacles, column: int) -> str:
+    return "the floor" if obstacles.kinds[column] == FLOOR else "it"
+
+
+def _the(obstacles, column: int) -> str:
+    return "the floor" if obstacles.kinds[column] == FLOOR else "the obstacle"
 
 
 RADIAN_LIKE = 6.3  # just above 2 pi: angles all smaller than this, and not whole, look like radians

@@ -13,11 +13,11 @@ from dataclasses import replace
 import numpy as np
 
 from armanim.arm.capsules import Capsules, frame_capsules
-from armanim.arm.chain import SerialChain, serial_chain, transform
+from armanim.arm.chain import SerialChain, rpy_rotation, serial_chain, transform
 from armanim.arm.kinematics import Arm, default_axes
 from armanim.motion.problem import Goal, Limits, Problem, RenderSettings, SolverSettings
 from armanim.scene.models import LINKS_WIDTH, ArmModel, RenderModel, SceneModel, SolverModel
-from armanim.world.obstacles import Obstacles
+from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 
 
 def axis_names(scene: SceneModel) -> list[str]:
@@ -88,12 +88,33 @@ def scene_arm(arm: ArmModel, axes: list[str]) -> tuple[Arm, Capsules | None]:
 
 
 def _obstacles(scene: SceneModel) -> Obstacles:
-    if not scene.obstacles:
+    """The scene's obstacles in the scene's order (box angles become a rotation here), the floor last."""
+    if not scene.obstacles and scene.floor is None:
         return Obstacles.none()
+    spheres = [o for o in scene.obstacles if o.kind == "sphere"]
+    boxes = [o.box for o in scene.obstacles if o.kind == "box"]
+    rods = [o.capsule for o in scene.obstacles if o.kind == "capsule"]
+    kinds = [{"sphere": SPHERE, "box": BOX, "capsule": ROD}[o.kind] for o in scene.obstacles]
+    influence = [o.resolved_influence for o in scene.obstacles]
+    if scene.floor is not None:
+        kinds.append(FLOOR)
+        influence.append(0.0)  # the floor has no field: the safety filter alone keeps it
     return Obstacles(
-        centers=np.array([o.center for o in scene.obstacles], dtype=float),
-        radii=np.array([o.radius for o in scene.obstacles], dtype=float),
-        influence=np.array([o.influence if o.influence is not None else o.radius for o in scene.obstacles], dtype=float),
+        centers=np.array([o.center for o in spheres], dtype=float).reshape(-1, 3),
+        radii=np.array([o.radius for o in spheres], dtype=float),
+        influence=np.array(influence, dtype=float),
+        boxes=Boxes(
+            centers=np.array([b.center for b in boxes], dtype=float).reshape(-1, 3),
+            half=np.array([b.size for b in boxes], dtype=float).reshape(-1, 3) / 2.0,
+            rotations=np.array([rpy_rotation(np.radians(b.rpy)) for b in boxes]).reshape(-1, 3, 3),
+        ),
+        rods=Rods(
+            start=np.array([r.from_ for r in rods], dtype=float).reshape(-1, 3),
+            end=np.array([r.to for r in rods], dtype=float).reshape(-1, 3),
+            radius=np.array([r.radius for r in rods], dtype=float),
+        ),
+        floor=float(scene.floor) if scene.floor is not None else None,
+        kinds=np.array(kinds, dtype=int),
     )
 
 

@@ -165,14 +165,77 @@ URDF_WIDTH = 0.1
 """Default ``arm.width`` of a link arm (scene units) and of a URDF arm (metres)."""
 
 
-class ObstacleModel(Strict):
-    """One spherical obstacle."""
+class BoxModel(Strict):
+    """A solid box: its centre, full edge lengths and orientation."""
 
     center: Vector3
-    radius: NonNegative = Field(description="Radius of the solid sphere no arm part may enter.")
-    influence: Positive | None = Field(
-        default=None, description="R: how far beyond the surface the avoidance field reaches; default = radius."
+    size: Annotated[list[Positive], Field(min_length=3, max_length=3)] = Field(
+        description="Full edge lengths along the box's own x, y, z axes (each > 0)."
     )
+    rpy: Annotated[list[Angle], Field(min_length=3, max_length=3)] = Field(
+        default=[0.0, 0.0, 0.0], description="Roll, pitch, yaw of the box in the world, degrees (URDF: R = Rz(yaw) Ry(pitch) Rx(roll))."
+    )
+
+
+class RodModel(Strict):
+    """A solid capsule (a post, a bar): every point within ``radius`` of the segment ``from``-``to``."""
+
+    from_: Vector3 = Field(alias="from", description="One end of the capsule's axis.")
+    to: Vector3 = Field(description="The other end (the same point: a sphere).")
+    radius: Positive = Field(description="Radius of the solid capsule (> 0).")
+
+
+SHAPE_FORMS = ("center", "box", "capsule")
+"""The keys that say an obstacle's shape: a sphere (``center`` and ``radius``), ``box`` or ``capsule``."""
+
+
+class ObstacleModel(Strict):
+    """One obstacle: a sphere ``{center, radius}`` (the default form), ``{box: ...}`` or ``{capsule: ...}``."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        frozen=True,
+        strict=True,
+        json_schema_extra={"oneOf": [{"required": ["center", "radius"]}, {"required": ["box"]}, {"required": ["capsule"]}]},
+    )
+
+    center: Vector3 | None = Field(default=None, description="A sphere's centre.")
+    radius: NonNegative | None = Field(default=None, description="Radius of the solid sphere no arm part may enter.")
+    box: BoxModel | None = Field(default=None, description="A solid box instead of a sphere.")
+    capsule: RodModel | None = Field(default=None, description="A solid capsule instead of a sphere.")
+    influence: Positive | None = Field(
+        default=None,
+        description="R: how far beyond the surface the avoidance field reaches; default the sphere's or capsule's radius, half a box's shortest edge.",
+    )
+
+    @model_validator(mode="after")
+    def _one_shape(self):
+        given = [key for key in SHAPE_FORMS if getattr(self, key) is not None]
+        if len(given) != 1:
+            what = "none" if not given else " and ".join(given)
+            raise ValueError(
+                f"an obstacle is one shape (got {what}): expected {{center, radius}} (a sphere), {{box: {{center, size, rpy}}}} "
+                "or {capsule: {from, to, radius}}"
+            )
+        if self.center is not None and self.radius is None:
+            raise ValueError("a sphere needs a radius (expected {center: [x, y, z], radius: r})")
+        if self.radius is not None and self.center is None:
+            raise ValueError("radius belongs to a sphere, which needs a center (a box or capsule gives its own inside box: or capsule:)")
+        return self
+
+    @property
+    def kind(self) -> str:
+        """``"sphere"``, ``"box"`` or ``"capsule"``."""
+        return "box" if self.box is not None else "capsule" if self.capsule is not None else "sphere"
+
+    @property
+    def resolved_influence(self) -> float:
+        """``influence``, or its default: the sphere's or capsule's radius, half the box's shortest edge."""
+        if self.influence is not None:
+            return float(self.influence)
+        if self.box is not None:
+            return min(self.box.size) / 2.0
+        return float(self.capsule.radius if self.capsule is not None else self.radius)
 
 
 class GoalModel(Strict):
@@ -283,6 +346,9 @@ class SceneModel(Strict):
     )
     arm: ArmModel
     obstacles: Annotated[list[ObstacleModel], Field(max_length=LIMITS["obstacles"])] = []
+    floor: Finite | None = Field(
+        default=None, description="Height of a floor plane z = floor that every link keeps solver.clearance above (the base excepted); default none."
+    )
     goals: Annotated[list[GoalModel], Field(min_length=1, max_length=LIMITS["goals"])]
     solver: SolverModel = SolverModel()
     render: RenderModel = RenderModel()

@@ -1,31 +1,117 @@
-"""The obstacles of the world: solid spheres, each with an influence shell.
+"""The obstacles of the world: solid spheres, boxes, capsules and a floor, each (but the
+floor) with an influence shell.
 
+Clearances (:mod:`armanim.world.distances`) have one column per obstacle, in the order of
+:attr:`Obstacles.columns` (the scene's order), then one for the floor when there is one.
 Pure core: numpy only, scene units, no I/O.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
+
+SPHERE, BOX, ROD, FLOOR = 0, 1, 2, 3
+"""Kinds of obstacle (:attr:`Obstacles.kinds`)."""
+
+
+@dataclass(frozen=True)
+class Boxes:
+    """Solid boxes.
+
+    Attributes
+    ----------
+    centers : (k, 3) array
+    half : (k, 3) array
+        Half the edge lengths along the box's own axes (> 0).
+    rotations : (k, 3, 3) array
+        World-from-box rotation of each box (its columns are the box's axes in the world).
+    """
+
+    centers: np.ndarray
+    half: np.ndarray
+    rotations: np.ndarray
+
+    @classmethod
+    def none(cls) -> Boxes:
+        """No boxes."""
+        return cls(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3, 3)))
+
+    def __len__(self) -> int:
+        return len(self.centers)
+
+    def corners(self) -> np.ndarray:
+        """(k, 8, 3) world corners of every box, corner j at signs (-1)^bits of j (x: bit 2, y: bit 1, z: bit 0).
+
+        >>> Boxes(np.zeros((1, 3)), np.array([[1.0, 2, 3]]), np.eye(3)[None]).corners()[0, 7].tolist()
+        [1.0, 2.0, 3.0]
+        """
+        signs = np.array([[1 if j & 4 else -1, 1 if j & 2 else -1, 1 if j & 1 else -1] for j in range(8)], dtype=float)
+        local = signs[None] * self.half[:, None, :]
+        return self.centers[:, None, :] + np.einsum("kab,kjb->kja", self.rotations, local)
+
+
+@dataclass(frozen=True)
+class Rods:
+    """Solid capsules (posts, bars): every point within ``radius`` of the segment ``start``-``end``.
+
+    Attributes
+    ----------
+    start, end : (k, 3) arrays
+    radius : (k,) array
+        > 0.
+    """
+
+    start: np.ndarray
+    end: np.ndarray
+    radius: np.ndarray
+
+    @classmethod
+    def none(cls) -> Rods:
+        """No capsules."""
+        return cls(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
+
+    def __len__(self) -> int:
+        return len(self.radius)
 
 
 @dataclass(frozen=True)
 class Obstacles:
-    """Solid spheres with an influence shell.
+    """The world's solids.
 
     Attributes
     ----------
-    centers : (m, 3) array
-    radii : (m,) array
+    centers : (s, 3) array
+        The spheres' centres.
+    radii : (s,) array
         Radius of each solid sphere (0 allowed: the notes' point obstacle).
     influence : (m,) array
-        R of the field F_R: how far beyond the surface the penalty reaches.
+        R of the field F_R of every column of the clearances: how far beyond the surface
+        the penalty reaches (the floor's is 0: it has no field, the safety filter alone keeps it).
+    boxes : Boxes
+    rods : Rods
+        Capsule obstacles.
+    floor : float or None
+        Height of the plane z = floor that every link but those the first joint carries
+        keeps its clearance above; None: no floor.
+    kinds : (m,) int array or None
+        Kind of each column (:data:`SPHERE`, :data:`BOX`, :data:`ROD`, :data:`FLOOR`), the
+        floor last; None: the spheres, then the boxes, then the rods, then the floor.
     """
 
     centers: np.ndarray
     radii: np.ndarray
     influence: np.ndarray
+    boxes: Boxes = field(default_factory=Boxes.none)
+    rods: Rods = field(default_factory=Rods.none)
+    floor: float | None = None
+    kinds: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.kinds is None:
+            counts = (len(self.radii), len(self.boxes), len(self.rods), int(self.floor is not None))
+            object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, FLOOR], counts))
 
     @classmethod
     def none(cls) -> Obstacles:
@@ -33,4 +119,18 @@ class Obstacles:
         return cls(np.zeros((0, 3)), np.zeros(0), np.zeros(0))
 
     def __len__(self) -> int:
-        return len(self.radii)
+        """Columns of the clearances: every obstacle and the floor."""
+        return len(self.kinds)
+
+    @property
+    def spheres_only(self) -> bool:
+        """Whether every obstacle is a sphere and there is no floor (the clearances of old)."""
+        return len(self.boxes) == 0 and len(self.rods) == 0 and self.floor is None
+
+    def columns(self, kind: int) -> np.ndarray:
+        """Indices of the clearances' columns of one kind, in the order of that kind's arrays.
+
+        >>> Obstacles(np.zeros((1, 3)), np.ones(1), np.ones(2), floor=0.0).columns(FLOOR).tolist()
+        [1]
+        """
+        return np.nonzero(self.kinds == kind)[0]

@@ -1,0 +1,159 @@
+"""Closest points between a segment and a solid, in closed form (numpy, batched).
+
+A link capsule is a segment with a radius; its clearance to a solid is the least signed
+distance of its segment's points to the solid, less the radius. Each function here
+returns, for segments a-b, the fraction t along the segment of that least point and the
+solid's signed distance there (negative inside), with the unit normal (the signed
+distance's gradient there, pointing out of the solid). Everything broadcasts over leading
+dimensions. Pure core: numpy only.
+
+Exact: the least distance of a segment to a box or to a segment is a convex problem in
+one or two variables whose pieces are quadratics; each function evaluates every piece's
+minimiser in closed form and keeps the least (measured against coal's GJK in the tests).
+"""
+
+from __future__ import annotations
+
+from itertools import combinations
+
+import numpy as np
+
+
+def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Dot product over the last axis, (...)."""
+    return (u * v).sum(axis=-1)
+
+
+def safe_ratio(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+    """num / den, 0 where den is 0."""
+    nonzero = den != 0.0
+    return np.where(nonzero, num / np.where(nonzero, den, 1.0), 0.0)
+
+
+def segment_segment(a: np.ndarray, b: np.ndarray, c: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Closest points of segments a-b and c-e: (s, t, offset), with s along a-b, t along c-e
+    and offset = (a + s (b - a)) - (c + t (e - c)), shapes (...), (...), (..., 3).
+
+    The squared distance is a convex quadratic on the unit square: its least value is the
+    free minimiser when it lies inside, else on an edge, where it is the clamped 1-D minimiser.
+
+    >>> s, t, off = segment_segment(np.zeros(3), np.array([2.0, 0, 0]), np.array([1.0, -1, 1]), np.array([1.0, 1, 1]))
+    >>> float(s), float(t), off.tolist()
+    (0.5, 0.5, [0.0, 0.0, -1.0])
+    """
+    a, b, c, e = np.broadcast_arrays(a, b, c, e)
+    d1, d2, r = b - a, e - c, a - c
+    aa, ee, bb, cc, ff = dot(d1, d1), dot(d2, d2), dot(d1, d2), dot(d1, r), dot(d2, r)
+    denom = aa * ee - bb * bb
+    free = denom > 1e-12 * aa * ee
+    s_free, t_free = safe_ratio(bb * ff - cc * ee, np.where(free, denom, 0.0)), safe_ratio(aa * ff - bb * cc, np.where(free, denom, 0.0))
+    inside = free & (s_free >= 0) & (s_free <= 1) & (t_free >= 0) & (t_free <= 1)
+    one, zero = np.ones_like(aa), np.zeros_like(aa)
+    s = np.stack([zero, one, np.clip(safe_ratio(-cc, aa), 0, 1), np.clip(safe_ratio(bb - cc, aa), 0, 1), s_free], axis=-1)
+    t = np.stack([np.clip(safe_ratio(ff, ee), 0, 1), np.clip(safe_ratio(ff + bb, ee), 0, 1), zero, one, t_free], axis=-1)
+    offset = r[..., None, :] + s[..., None] * d1[..., None, :] - t[..., None] * d2[..., None, :]
+    dist2 = dot(offset, offset)
+    dist2[..., 4] = np.where(inside, dist2[..., 4], np.inf)
+    best = np.argmin(dist2, axis=-1)[..., None]
+    pick = np.take_along_axis
+    return pick(s, best, -1)[..., 0], pick(t, best, -1)[..., 0], pick(offset, best[..., None], -2)[..., 0, :]
+
+
+def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Signed distance of points ``p`` (box frame, (..., 3)) to the box of half edges ``half``, (...).
+
+    >>> box_signed_distance(np.array([[2.0, 0, 0], [0.5, 0, 0]]), np.ones(3)).tolist()
+    [1.0, -0.5]
+    """
+    q = np.abs(p) - half
+    outside = np.sqrt(dot(np.maximum(q, 0.0), np.maximum(q, 0.0)))
+    return outside + np.minimum(q.max(axis=-1), 0.0)
+
+
+def box_normal(p: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Unit outward normal of the box's signed distance at ``p`` (box frame), (..., 3): from
+    the nearest surface point outside, the deepest face's normal inside (ties: the first axis)."""
+    q = np.abs(p) - half
+    gap = p - np.clip(p, -half, half)
+    outside = np.sqrt(dot(gap, gap))
+    axis = np.argmax(q, axis=-1)
+    face = np.where(np.arange(3) == axis[..., None], np.where(p >= 0, 1.0, -1.0), 0.0)
+    return np.where((outside > 0)[..., None], gap / np.where(outside > 0, outside, 1.0)[..., None], face)
+
+
+def _outside_candidates(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """(..., 9) fractions along x0 + t u that contain the least distance to the box when the
+    segment stays outside it: its ends and the least point of each piece between the
+    crossings of the box's slab planes (where the squared distance is one quadratic)."""
+    crossings = np.concatenate([safe_ratio(half - x0, u), safe_ratio(-half - x0, u)], axis=-1)
+    ends = np.zeros(x0.shape[:-1] + (2,))
+    ends[..., 1] = 1.0
+    knots = np.sort(np.concatenate([np.clip(crossings, 0.0, 1.0), ends], axis=-1), axis=-1)  # (..., 8)
+    lo, hi = knots[..., :-1], knots[..., 1:]
+    mid = 0.5 * (lo + hi)
+    x = x0[..., None, :] + mid[..., None] * u[..., None, :]  # (..., 7, 3)
+    side = np.where(x > half[..., None, :], 1.0, np.where(x < -half[..., None, :], -1.0, 0.0))
+    out = side != 0.0
+    uu = u[..., None, :]
+    curvature = np.where(out, uu * uu, 0.0).sum(axis=-1)
+    slope = np.where(out, uu * (x0[..., None, :] - side * half[..., None, :]), 0.0).sum(axis=-1)
+    best = np.clip(safe_ratio(-slope, curvature), lo, hi)
+    return np.concatenate([ends, np.where(curvature > 0, best, lo)], axis=-1)
+
+
+_PAIRS = np.array(list(combinations(range(6), 2)))
+"""The 15 pairs of the box's six face functions h_i -+ x_i (i = 0, 1, 2 with +, then with -)."""
+
+
+def _inside_candidates(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """(..., 15) fractions where two of the depth functions h_i - sigma x_i(t) cross: the
+    depth inside the box (their least) is concave and piecewise linear, so its greatest value
+    along the segment lies at one of them or at an end."""
+    sigma = np.array([1.0, 1.0, 1.0, -1.0, -1.0, -1.0])
+    level = np.concatenate([half, half], axis=-1) - sigma * np.concatenate([x0, x0], axis=-1)  # (..., 6)
+    rate = -sigma * np.concatenate([u, u], axis=-1)
+    i, j = _PAIRS[:, 0], _PAIRS[:, 1]
+    return np.clip(safe_ratio(level[..., j] - level[..., i], rate[..., i] - rate[..., j]), 0.0, 1.0)
+
+
+def segment_box(
+    a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.ndarray, rotation: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Least signed distance of segment a-b to a box: (t, distance, normal), shapes (...), (...), (..., 3).
+
+    Parameters
+    ----------
+    a, b : (..., 3) arrays
+        The segment's ends, world.
+    center, half : (..., 3) arrays
+        The box's centre (world) and half edges.
+    rotation : (..., 3, 3) array
+        World-from-box rotation.
+
+    Returns
+    -------
+    t : fraction along a-b of the least point; distance : its signed distance to the box
+    (negative inside: minus its depth); normal : the world unit normal there.
+
+    >>> t, d, n = segment_box(np.array([3.0, 0, 0]), np.array([0.0, 0, 3]), np.zeros(3), np.ones(3), np.eye(3))
+    >>> float(t), round(float(d) ** 2, 12), np.round(n ** 2, 12).tolist()
+    (0.5, 0.5, [0.5, 0.0, 0.5])
+    """
+    to_box = np.swapaxes(rotation, -1, -2)
+    x0 = np.einsum("...ab,...b->...a", to_box, a - center)
+    u = np.einsum("...ab,...b->...a", to_box, b - a)
+    x0, u, half = np.broadcast_arrays(x0, u, half)
+    t = _outside_candidates(x0, u, half)
+    sdf = box_signed_distance(x0[..., None, :] + t[..., None] * u[..., None, :], half[..., None, :])
+    best = np.argmin(sdf, axis=-1)[..., None]
+    t_best, d_best = np.take_along_axis(t, best, -1)[..., 0], np.take_along_axis(sdf, best, -1)[..., 0]
+    touching = d_best <= 0.0
+    if np.any(touching):  # the segment enters the box: find its deepest point
+        x0_in, u_in, half_in = x0[touching], u[touching], half[touching]
+        t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), t[touching]], axis=-1)
+        sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
+        deepest = np.argmin(sdf_in, axis=-1)[..., None]
+        t_best[touching] = np.take_along_axis(t_in, deepest, -1)[..., 0]
+        d_best[touching] = np.take_along_axis(sdf_in, deepest, -1)[..., 0]
+    local = box_normal(x0 + t_best[..., None] * u, half)
+    return t_best, d_best, np.einsum("...ab,...b->...a", rotation, local)

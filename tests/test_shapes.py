@@ -1,0 +1,291 @@
+"""Boxes, capsules and a floor: exact distances (against coal and brute force), their
+Jacobian rows, and the scene's shape forms and their checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from armanim.arm.capsules import capsule_point_jacobian, joint_capsules
+from armanim.arm.chain import rpy_rotation
+from armanim.arm.kinematics import Arm, forward
+from armanim.world.closest import box_signed_distance, segment_box, segment_segment
+from armanim.world.distances import clearances, point_clearances, sphere_clearances
+from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
+
+coal = pytest.importorskip("coal")  # the oracle (the test extra)
+
+
+def coal_request():
+    request = coal.DistanceRequest()
+    request.gjk_tolerance = 1e-13
+    return request
+
+
+def coal_capsule(a, b, radius):
+    """coal's capsule (axis along its local z, centred) around the segment a-b."""
+    axis = b - a
+    length = float(np.linalg.norm(axis))
+    z = axis / length
+    x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+    x /= np.linalg.norm(x)
+    return coal.Capsule(radius, length), coal.Transform3s(np.stack([x, np.cross(z, x), z], axis=1), (a + b) / 2)
+
+
+def coal_distance(shape1, tf1, shape2, tf2):
+    result = coal.DistanceResult()
+    distance = coal.distance(shape1, tf1, shape2, tf2, coal_request(), result)
+    return distance, result
+
+
+def random_box(rng):
+    return rng.normal(size=3), rng.uniform(0.05, 1.0, 3), rpy_rotation(rng.uniform(-np.pi, np.pi, 3))
+
+
+def test_segment_box_matches_coal():
+    rng = np.random.default_rng(22)
+    compared = 0
+    for _ in range(400):
+        center, half, rotation = random_box(rng)
+        a = center + rng.normal(size=3) * 1.5
+        b = a + rng.normal(size=3)
+        radius = 0.03
+        t, dist, normal = segment_box(a, b, center, half, rotation)
+        if dist - radius < 1e-3:
+            continue  # coal's penetration depth is another measure than ours inside
+        capsule, tf = coal_capsule(a, b, radius)
+        expected, result = coal_distance(coal.Box(*(2 * half)), coal.Transform3s(rotation, center), capsule, tf)
+        assert abs((dist - radius) - expected) < 1e-9
+        on_box = a + t * (b - a) - dist * normal  # the box point closest to the segment
+        np.testing.assert_allclose(on_box, result.getNearestPoint1(), atol=1e-6)
+        np.testing.assert_allclose(normal, result.normal, atol=1e-6)
+        compared += 1
+    assert compared > 200
+
+
+def test_segment_segment_matches_coal():
+    rng = np.random.default_rng(7)
+    compared = 0
+    for _ in range(400):
+        a, c = rng.normal(size=3), rng.normal(size=3)
+        b, e = a + rng.normal(size=3), c + rng.normal(size=3)
+        s, t, offset = segment_segment(a, b, c, e)
+        dist = float(np.linalg.norm(offset)) - 0.05 - 0.02
+        if dist < 1e-3:
+            continue
+        one, tf1 = coal_capsule(c, e, 0.05)
+        two, tf2 = coal_capsule(a, b, 0.02)
+        expected, result = coal_distance(one, tf1, two, tf2)
+        assert abs(dist - expected) < 1e-9
+        np.testing.assert_allclose(a + s * (b - a) - 0.02 * offset / np.linalg.norm(offset), result.getNearestPoint2(), atol=1e-6)
+        compared += 1
+    assert compared > 200
+
+
+def test_parallel_and_point_segments():
+    # parallel segments: any pair along the overlap is closest; the distance is exact
+    s, t, offset = segment_segment(np.zeros(3), np.array([2.0, 0, 0]), np.array([1.0, 1, 0]), np.array([3.0, 1, 0]))
+    assert np.linalg.norm(offset) == pytest.approx(1.0, abs=1e-15)
+    # a point (the tip) against a segment, and a point against a point
+    s, t, offset = segment_segment(np.array([1.0, 5, 0]), np.array([1.0, 5, 0]), np.zeros(3), np.array([2.0, 0, 0]))
+    assert (float(t), offset.tolist()) == (0.5, [0.0, 5.0, 0.0])
+    s, t, offset = segment_segment(np.ones(3), np.ones(3), np.zeros(3), np.zeros(3))
+    assert offset.tolist() == [1.0, 1.0, 1.0]
+
+
+def sample_box_surface(center, half, rotation, per_edge=41):
+    """Points on the six faces of a box (a grid per face), world."""
+    g = np.linspace(-1.0, 1.0, per_edge)
+    u, v = np.meshgrid(g, g)
+    faces = []
+    for axis in range(3):
+        others = [k for k in range(3) if k != axis]
+        for sign in (-1.0, 1.0):
+            local = np.zeros(u.shape + (3,))
+            local[..., axis] = sign * half[axis]
+            local[..., others[0]] = u * half[others[0]]
+            local[..., others[1]] = v * half[others[1]]
+            faces.append(local.reshape(-1, 3))
+    return center + np.concatenate(faces) @ rotation.T
+
+
+def test_segment_box_against_surface_sampling():
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        center, half, rotation = random_box(rng)
+        a = center + rng.normal(size=3) * 1.5
+        b = a + rng.normal(size=3)
+        t, dist, normal = segment_box(a, b, center, half, rotation)
+        along = a + np.linspace(0, 1, 801)[:, None] * (b - a)
+        local = (along - center) @ rotation
+        sdf = box_signed_distance(local, half)
+        assert dist <= sdf.min() + 1e-12  # ours is the least (sampling can only miss it)
+        assert sdf.min() - dist < np.linalg.norm(b - a) / 800 + 1e-12
+        if dist > 0:
+            surface = sample_box_surface(center, half, rotation)
+            gaps = np.linalg.norm(along[:, None, :] - surface[None, :, :], axis=-1).min()
+            spacing = 2 * np.linalg.norm(half) / 40 + np.linalg.norm(b - a) / 800
+            assert dist <= gaps + 1e-12 and gaps - dist < spacing
+
+
+def test_inside_a_box_is_negative_the_deepest_point():
+    half = np.array([1.0, 2.0, 3.0])
+    # a point inside: minus its distance to the nearest face, the normal out of that face
+    t, dist, normal = segment_box(np.array([0.5, 0, 0]), np.array([0.5, 0, 0]), np.zeros(3), half, np.eye(3))
+    assert float(dist) == -0.5 and normal.tolist() == [1.0, 0.0, 0.0]
+    # a segment through the box: its deepest points (depth 1, all of |z| <= 2: t in [0.3, 0.7])
+    t, dist, normal = segment_box(np.array([0.0, 0, -5]), np.array([0.0, 0, 5]), np.zeros(3), half, np.eye(3))
+    assert 0.3 <= float(t) <= 0.7 and float(dist) == -1.0
+
+
+def test_box_normal_is_the_gradient_of_the_distance():
+    rng = np.random.default_rng(5)
+    center, half, rotation = random_box(rng)
+    for _ in range(30):
+        p = center + rng.normal(size=3) * 1.5
+        t, dist, normal = segment_box(p, p, center, half, rotation)
+        h = 1e-6
+        grad = [(segment_box(p + h * e, p + h * e, center, half, rotation)[1] - segment_box(p - h * e, p - h * e, center, half, rotation)[1]) / (2 * h) for e in np.eye(3)]
+        if abs(dist) > 1e-3:
+            np.testing.assert_allclose(grad, normal, atol=1e-5)
+
+
+def mixed_obstacles(floor=0.0) -> Obstacles:
+    boxes = Boxes(np.array([[8.0, 5, 3], [3.0, 2, 6]]), np.array([[1.0, 2, 0.5], [0.5, 0.5, 0.5]]),
+                  np.stack([rpy_rotation([0.2, 0.1, 0.5]), np.eye(3)]))
+    rods = Rods(np.array([[2.0, 8, 0]]), np.array([[2.0, 8, 6]]), np.array([0.3]))
+    kinds = np.array([BOX, SPHERE, ROD, BOX, FLOOR])
+    return Obstacles(np.array([[9.0, 9, 9]]), np.array([1.0]), np.array([0.5, 1, 0.3, 0.25, 0.0]), boxes, rods, floor, kinds)
+
+
+def test_clearances_columns_follow_the_scene_and_batch():
+    arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    caps = joint_capsules(arm, 0.25)
+    obstacles = mixed_obstacles()
+    phi = np.random.default_rng(0).uniform(-2, 2, (6, 4))
+    batch = clearances(forward(arm, phi), obstacles, caps)
+    assert batch.d.shape == (6, 5, 5) and batch.normal.shape == (6, 5, 5, 3)
+    for k in range(6):
+        one = clearances(forward(arm, phi[k]), obstacles, caps)
+        np.testing.assert_array_equal(one.d, batch.d[k])
+    pose = forward(arm, phi[0])
+    spheres = clearances(pose, Obstacles(obstacles.centers, obstacles.radii, np.ones(1)), caps)
+    np.testing.assert_array_equal(batch.d[0][:, 1], spheres.d[:, 0])
+    # the floor: the first link (it stands on the base) is left out, the others are measured from their lower end
+    assert batch.d[0, 0, 4] == np.inf
+    lower = np.minimum(pose.points[1:-1, 2], pose.points[2:, 2]) - 0.25
+    np.testing.assert_allclose(batch.d[0, 1:4, 4], lower)
+    assert batch.d[0, 4, 4] == pose.tip[2]
+
+
+def test_spheres_only_clearances_are_the_old_ones():
+    arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    caps = joint_capsules(arm, 0.25)
+    obstacles = Obstacles(np.array([[9.0, 9, 9], [3, 3, 3]]), np.array([1.0, 0.0]), np.array([1.0, 1.0]))
+    pose = forward(arm, np.array([0.3, 0.4, -0.5, 0.6]))
+    cl = clearances(pose, obstacles, caps)
+    tip = pose.points[-1:]
+    ref = sphere_clearances(np.concatenate([pose.points[:-1], tip]), np.concatenate([pose.points[1:], tip]), np.append(caps.radius, 0.0), obstacles)
+    np.testing.assert_array_equal(cl.d, ref.d)
+
+
+@pytest.mark.parametrize("column", [0, 2, 3, 4])
+def test_jacobian_rows_match_finite_differences(column):
+    """n . J_q (the filter's row, the cost's gradient) is the derivative of the clearance."""
+    arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    caps = joint_capsules(arm, 0.25)
+    obstacles = mixed_obstacles()
+    rng = np.random.default_rng(column)
+    checked = 0
+    for _ in range(40):
+        phi = rng.uniform(-2, 2, 4)
+        pose = forward(arm, phi)
+        cl = clearances(pose, obstacles, caps)
+        for part in range(1, 4):
+            if not 0.05 < cl.d[part, column] < 5:
+                continue
+            row = cl.normal[part, column] @ capsule_point_jacobian(arm, caps, pose, part, cl.t[part, column])
+            h = 1e-6
+            numeric = [(clearances(forward(arm, phi + h * e), obstacles, caps).d[part, column]
+                        - clearances(forward(arm, phi - h * e), obstacles, caps).d[part, column]) / (2 * h) for e in np.eye(4)]
+            np.testing.assert_allclose(row, numeric, atol=2e-5)
+            checked += 1
+    assert checked >= 5
+
+
+def test_point_clearances():
+    obstacles = mixed_obstacles(floor=-1.0)
+    d = point_clearances(np.array([[8.0, 5, 6], [2.0, 8, 3]]), obstacles)
+    assert d.shape == (2, 5)
+    assert d[1, 2] == pytest.approx(-0.3)  # on the post's axis: inside by its radius
+    assert d[0, 4] == 7.0
+
+
+# --- the scene's shape forms and their checks --------------------------------------------
+
+SHAPES = """\
+version: 1
+arm:
+  base: [0, 0, 0]
+  links: [2, 3, 3]
+  axes: [z, y, y]
+obstacles:
+  - {center: [5, 5, 5], radius: 1}
+  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, 0, 30]}
+  - capsule: {from: [-4, 0, 0], to: [-4, 0, 3], radius: 0.5}
+floor: 0
+goals:
+  - [3, 2, 4]
+"""
+# line numbers of SHAPES
+S = {"sphere": 7, "box": 8, "capsule": 9, "floor": 10, "goal0": 12}
+
+
+@pytest.fixture
+def scene_rejected(tmp_path, cli):
+    from test_scene import rejected
+
+    return lambda content, field, line, *fragments: rejected(tmp_path, cli, content, field, line, *fragments)
+
+
+def test_shapes_load_in_scene_order(tmp_path):
+    from test_scene import write
+
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(write(tmp_path, SHAPES)).model)
+    obstacles = problem.obstacles
+    assert obstacles.kinds.tolist() == [SPHERE, BOX, ROD, FLOOR]
+    assert obstacles.influence.tolist() == [1.0, 0.5, 0.5, 0.0]  # the defaults: radius, half the shortest edge, radius
+    np.testing.assert_allclose(obstacles.boxes.half, [[0.5, 1, 1]])
+    np.testing.assert_allclose(obstacles.boxes.rotations[0] @ [1, 0, 0], [np.cos(np.pi / 6), 0.5, 0], atol=1e-15)
+    assert obstacles.floor == 0.0 and obstacles.rods.radius.tolist() == [0.5]
+
+
+@pytest.mark.parametrize("line, new, field, fragment", [
+    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 0, 2]}", "obstacles[1].box.size[1]", "must be > 0 (got 0)"),
+    (S["capsule"], "  - capsule: {from: [-4, 0, 0], to: [-4, 0, 3], radius: -0.5}", "obstacles[2].capsule.radius", "must be > 0"),
+    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, .nan, 0]}", "obstacles[1].box.rpy[1]", "finite"),
+    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, 400, 0]}", "obstacles[1].box.rpy[1]", "<= 360"),
+    (S["box"], "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, radius: 1}", "obstacles[1]", "a sphere, which needs a center"),
+    (S["box"], "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, center: [1, 1, 1], radius: 1}", "obstacles[1]", "got center and box"),
+    (S["box"], "  - box: {center: [4, -4, 1], sizes: [1, 2, 2]}", "obstacles[1].box.sizes", "did you mean 'size'"),
+    (S["floor"], "floor: 0.5", "floor", "above the arm's base"),
+    (S["floor"], "floor: 3.9", "floor", "above the arm's base"),
+])
+def test_shape_fields_are_checked(scene_rejected, line, new, field, fragment):
+    from test_scene import edit
+
+    scene_rejected(edit(line, new, SHAPES), field, line, fragment)
+
+
+def test_home_and_goals_clear_of_every_shape(scene_rejected):
+    from test_scene import edit
+
+    # the home pose (straight up along z from the origin) inside a box, closer than the clearance to a capsule
+    scene_rejected(edit(S["box"], "  - box: {center: [0, 0, 4], size: [1, 1, 1]}", SHAPES), "obstacles[1]", S["box"], "home pose is inside this obstacle")
+    scene_rejected(edit(S["capsule"], "  - capsule: {from: [0.3, -1, 0], to: [0.3, 1, 9], radius: 0.04}", SHAPES), "obstacles[2]", S["capsule"], "closer to it than solver.clearance")
+    scene_rejected(edit(S["goal0"], "  - [4, -4, 1.5]", SHAPES), "goals[0]", S["goal0"], "inside obstacles[1]")
+    scene_rejected(edit(S["goal0"], "  - [-4, 0.6, 2]", SHAPES), "goals[0]", S["goal0"], "from the surface of obstacles[2]")
+    scene_rejected(edit(S["goal0"], "  - [3, 2, -0.5]", SHAPES), "goals[0]", S["goal0"], "lies below the floor")
+    scene_rejected(edit(S["goal0"], "  - [3, 2, 0.2]", SHAPES), "goals[0]", S["goal0"], "is 0.2 from the floor")
