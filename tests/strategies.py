@@ -218,3 +218,77 @@ def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem
     assume(np.all(goal_gap > 0.1 + solver.clearance))
     return Problem(arm=arm, half_width=base.half_width, home=base.home, limits=lim, obstacles=obstacles,
                    goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0, capsules=base.capsules)
+
+
+@st.composite
+def shapes_across(draw, tips: np.ndarray, scale: float, spread: float) -> Obstacles:
+    """Obstacles across the straight paths between consecutive ``tips``: for each, a sphere, a
+    box (any orientation) or a capsule (any direction) of about ``scale`` times the path's
+    length, moved off the path by up to ``spread``; the kinds in a drawn order."""
+    from armanim.arm.chain import rpy_rotation
+    from armanim.world.obstacles import BOX, ROD, SPHERE, Boxes, Rods
+
+    spheres, boxes, rods, kinds, influence = [], [], [], [], []
+    for a, b in zip(tips[:-1], tips[1:]):
+        t = draw(st.floats(0.3, 0.7))
+        center = a + t * (b - a) + np.array(draw(st.tuples(*(st.floats(-spread, spread) for _ in range(3)))))
+        size = draw(st.floats(0.1, 0.4)) * max(np.linalg.norm(b - a), 0.5) * scale
+        kind = draw(st.sampled_from([SPHERE, BOX, ROD]))
+        kinds.append(kind)
+        influence.append(size + 0.5 * scale)
+        if kind == SPHERE:
+            spheres.append((center, size))
+        elif kind == BOX:
+            half = size * np.array(draw(st.tuples(*(st.floats(0.2, 1.0) for _ in range(3)))))
+            boxes.append((center, half, rpy_rotation(draw(st.tuples(angles, angles, angles)))))
+        else:
+            direction = np.array(draw(st.tuples(*(st.floats(-1.0, 1.0) for _ in range(3)))))
+            assume(np.linalg.norm(direction) > 0.1)
+            half_length = size * draw(st.floats(0.0, 2.0)) * direction / np.linalg.norm(direction)
+            rods.append((center - half_length, center + half_length, size * draw(st.floats(0.2, 0.6))))
+    return Obstacles(
+        np.array([c for c, _ in spheres]).reshape(-1, 3), np.array([r for _, r in spheres]), np.array(influence),
+        Boxes(np.array([c for c, _, _ in boxes]).reshape(-1, 3), np.array([h for _, h, _ in boxes]).reshape(-1, 3),
+              np.array([r for _, _, r in boxes]).reshape(-1, 3, 3)),
+        Rods(np.array([a for a, _, _ in rods]).reshape(-1, 3), np.array([b for _, b, _ in rods]).reshape(-1, 3),
+             np.array([r for _, _, r in rods])),
+        kinds=np.array(kinds, dtype=int),
+    )
+
+
+def with_floor(obstacles: Obstacles, floor: float | None) -> Obstacles:
+    """The same obstacles with a floor plane (its column last, no field)."""
+    from dataclasses import replace
+
+    from armanim.world.obstacles import FLOOR
+
+    if floor is None:
+        return obstacles
+    return replace(obstacles, influence=np.append(obstacles.influence, 0.0), floor=float(floor),
+                   kinds=np.append(obstacles.kinds, FLOOR))
+
+
+@st.composite
+def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: int = 80) -> Problem:
+    """:func:`cluttered_problems` with spheres, boxes and capsules mixed, and a floor below the
+    base or none; the home capsules and the goals kept clear of every shape."""
+    from armanim.world.distances import clearances, point_clearances
+
+    arm = draw(arms(min_links=3, max_links=max_links))
+    home = draw(poses(arm.n)) * 0.3
+    half_width = draw(st.floats(0.1, 0.3))
+    limits = draw(limits_for(home, margin_deg=10.0))
+    solver = default_solver_settings(
+        method=draw(st.sampled_from(METHODS)), max_step=0.5, max_frames_per_goal=max_frames, clearance=0.05
+    )
+    goal_poses = [np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02) for _ in range(draw(st.integers(1, max_goals)))]
+    tips = forward(arm, np.array([home, *goal_poses])).tip
+    obstacles = draw(shapes_across(tips, scale=1.0, spread=0.3))
+    floor = draw(st.one_of(st.none(), st.floats(0.0, 1.0).map(lambda drop: float(arm.base[2]) - drop)))
+    obstacles = with_floor(obstacles, floor)
+    capsules = joint_capsules(arm, half_width)
+    cl = clearances(forward(arm, home), obstacles, capsules)
+    assume(np.all(cl.links > solver.clearance))
+    assume(np.all(point_clearances(tips[1:], obstacles) > half_width + solver.clearance))
+    return Problem(arm=arm, half_width=half_width, home=home, limits=limits, obstacles=obstacles,
+                   goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0)

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from strategies import shaped_problems
 
 from armanim.arm.capsules import capsule_point_jacobian, joint_capsules
 from armanim.arm.chain import rpy_rotation
@@ -289,3 +291,86 @@ def test_home_and_goals_clear_of_every_shape(scene_rejected):
     scene_rejected(edit(S["goal0"], "  - [-4, 0.6, 2]", SHAPES), "goals[0]", S["goal0"], "from the surface of obstacles[2]")
     scene_rejected(edit(S["goal0"], "  - [3, 2, -0.5]", SHAPES), "goals[0]", S["goal0"], "lies below the floor")
     scene_rejected(edit(S["goal0"], "  - [3, 2, 0.2]", SHAPES), "goals[0]", S["goal0"], "is 0.2 from the floor")
+
+
+# --- the motion keeps every shape: the filter, the floor, the invariants --------------------
+
+
+def notes_among(goals, boxes=(), rods=(), floor=None, method="pinv", planner="off"):
+    """The notes' arm at the origin (straight up) among boxes (centre, size, rpy radians) and capsules."""
+    from dataclasses import replace
+
+    from strategies import with_floor
+    from test_motion import notes_problem
+
+    problem = notes_problem(goals=goals, method=method, planner=planner)
+    kinds = [BOX] * len(boxes) + [ROD] * len(rods)
+    obstacles = Obstacles(
+        np.zeros((0, 3)), np.zeros(0), np.full(len(kinds), 0.5),
+        Boxes(np.array([c for c, _, _ in boxes], float).reshape(-1, 3), np.array([s for _, s, _ in boxes], float).reshape(-1, 3) / 2,
+              np.array([rpy_rotation(r) for _, _, r in boxes]).reshape(-1, 3, 3)),
+        Rods(np.array([a for a, _, _ in rods], float).reshape(-1, 3), np.array([b for _, b, _ in rods], float).reshape(-1, 3),
+             np.array([r for _, _, r in rods], float)),
+        kinds=np.array(kinds, dtype=int),
+    )
+    return replace(problem, obstacles=with_floor(obstacles, floor))
+
+
+@pytest.mark.parametrize("method", ["pinv", "dls"])
+@pytest.mark.parametrize("rpy, goal", [((0.0, 0.0, 0.0), 9.0), ((0.0, 0.0, np.pi / 4), 10.0)], ids=["edge", "corner"])
+def test_filter_slides_along_a_box_and_around_its_edge(method, rpy, goal):
+    """Planner off: the arm comes down over a block, slides along its top face, round its far
+    edge (or, the block turned 45 degrees, over its top's corners and round its vertical edge) and down its side to a goal beside it, never stopping."""
+    from armanim.motion.trajectory import solve_trajectory
+    from invariants import assert_trajectory_invariants
+
+    problem = notes_among(((goal, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), rpy)], method=method)
+    solution = solve_trajectory(problem)
+    assert [g.reached for g in solution.goals] == [True]
+    assert_trajectory_invariants(problem, solution)
+    clearance = solution.trajectory.clearance
+    assert clearance.min() >= problem.solver.clearance
+    assert clearance.min() < 2 * problem.solver.clearance  # it did run along the surface
+
+
+def test_filter_slides_instead_of_stopping_at_a_box_face():
+    from armanim.motion.solvers.barrier import safe_step
+    from armanim.motion.solvers.common import arm_state
+
+    # a wall whose face is exactly solver.clearance (0.05) beyond the straight arm's capsules (radius 0.25)
+    problem = notes_among(((7.0, 0.0, 9.0),), boxes=[((1.3, 0.0, 10.0), (2.0, 4.0, 8.0), (0.0, 0.0, 0.0))])
+    state = arm_state(problem, problem.home)
+    assert state.min_clearance == pytest.approx(0.05)
+    sideways = safe_step(problem, state, np.array([0.2, 0.3, 0.0, 0.0]))  # into the wall, with a turn about the base
+    assert sideways.blocked_by == "obstacle" and sideways.phi[0] > 0.1  # the free direction is kept
+    assert sideways.state.min_clearance >= problem.solver.clearance
+
+
+def test_goal_below_the_floor_is_missed_not_passed_through():
+    from armanim.motion.trajectory import solve_trajectory
+
+    problem = notes_among(((9.0, 0.0, -1.0),), floor=0.0, planner="auto")
+    solution = solve_trajectory(problem)
+    report = solution.goals[0]
+    assert not report.reached and report.reason == "no_free_pose"
+    pose = forward(problem.arm, solution.trajectory.phi)
+    assert np.all(pose.points[:, 2:, 2] >= 0.25 + problem.solver.clearance - 1e-12)  # every joint past link 1 stayed above
+    assert np.all(pose.tip[:, 2] >= problem.solver.clearance)
+
+
+def test_floor_is_kept_with_the_planner_off():
+    from armanim.motion.trajectory import solve_trajectory
+
+    problem = notes_among(((12.0, 0.0, 0.6),), floor=0.0, method="dls")
+    solution = solve_trajectory(problem)
+    cl = clearances(forward(problem.arm, solution.trajectory.phi), problem.obstacles, problem.capsules)
+    assert cl.d[..., -1].min() >= problem.solver.clearance
+
+
+@given(shaped_problems(max_links=5, max_goals=2))
+@settings(max_examples=6)
+def test_shaped_scene_trajectory_invariants(problem):
+    from armanim.motion.trajectory import solve_trajectory
+    from invariants import assert_trajectory_invariants
+
+    assert_trajectory_invariants(problem, solve_trajectory(problem))

@@ -27,7 +27,8 @@ def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 def safe_ratio(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     """num / den, 0 where den is 0."""
     nonzero = den != 0.0
-    return np.where(nonzero, num / np.where(nonzero, den, 1.0), 0.0)
+    with np.errstate(over="ignore"):  # a huge ratio (a segment almost parallel to a plane) is clipped by the callers
+        return np.where(nonzero, num / np.where(nonzero, den, 1.0), 0.0)
 
 
 def segment_segment(a: np.ndarray, b: np.ndarray, c: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -87,7 +88,7 @@ def _outside_candidates(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.n
     crossings of the box's slab planes (where the squared distance is one quadratic)."""
     crossings = np.concatenate([safe_ratio(half - x0, u), safe_ratio(-half - x0, u)], axis=-1)
     ends = np.zeros(x0.shape[:-1] + (2,))
-    ends[..., 1] = 1.0
+    ends[..., 0] = 1.0  # the far end first: of tied points (a link along a face) the one a joint moves most
     knots = np.sort(np.concatenate([np.clip(crossings, 0.0, 1.0), ends], axis=-1), axis=-1)  # (..., 8)
     lo, hi = knots[..., :-1], knots[..., 1:]
     mid = 0.5 * (lo + hi)

@@ -132,7 +132,7 @@ def rod_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: 
 def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray):
     """(d, t, normal) of the parts to the plane z = ``floor``, (..., p, 1): the lower end's
     height above it less the radius; +inf for the ``exempt`` parts ((p,) bool)."""
-    lower_end = ends[..., 2] < pts[..., 2]
+    lower_end = ends[..., 2] <= pts[..., 2]  # a level part: its far end, the one its joint moves most
     height = np.minimum(pts[..., 2], ends[..., 2]) - floor - radius
     d = np.where(exempt, np.inf, height)[..., None]
     t = np.where(lower_end, 1.0, 0.0)

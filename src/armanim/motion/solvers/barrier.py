@@ -10,10 +10,11 @@ A method proposes dPhi_nom. After scaling it so that no joint turns by more than
 
 (a velocity damper, the discrete control-barrier condition: each frame closes at most
 the fraction gamma of what is left of a gap). d is the capsule's clearance to the
-sphere, n the unit normal at its closest point q, J_q that point's Jacobian;
+obstacle (sphere, box, capsule, or the floor), q the point of its segment nearest the
+solid, n the solid's outward unit normal there, J_q that point's Jacobian;
 d_safe is ``solver.clearance``; lo_j and hi_j are the limits moved inward by
-:data:`LIMIT_BUFFER` of the limit margin. An arm touching a sphere therefore slides
-along it instead of stopping, and never rests on a surface or a limit.
+:data:`LIMIT_BUFFER` of the limit margin. An arm touching a solid therefore slides
+along it (a box: along a face, round an edge) instead of stopping, and never rests on a surface or a limit.
 
 The constraints are linear, the true clearance is not, so the new pose is then
 checked exactly; only a step that fails that check is shortened (halved). When no
