@@ -6,11 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from invariants import assert_trajectory_invariants
 from strategies import shaped_problems
 
 from armanim.arm.capsules import capsule_point_jacobian, joint_capsules
 from armanim.arm.chain import rpy_rotation
 from armanim.arm.kinematics import Arm, forward
+from armanim.motion.trajectory import solve_trajectory
 from armanim.world.closest import box_signed_distance, segment_box, segment_segment
 from armanim.world.distances import clearances, point_clearances, sphere_clearances
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
@@ -321,9 +323,6 @@ def notes_among(goals, boxes=(), rods=(), floor=None, method="pinv", planner="of
 def test_filter_slides_along_a_box_and_around_its_edge(method, rpy, goal):
     """Planner off: the arm comes down over a block, slides along its top face, round its far
     edge (or, the block turned 45 degrees, over its top's corners and round its vertical edge) and down its side to a goal beside it, never stopping."""
-    from armanim.motion.trajectory import solve_trajectory
-    from invariants import assert_trajectory_invariants
-
     problem = notes_among(((goal, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), rpy)], method=method)
     solution = solve_trajectory(problem)
     assert [g.reached for g in solution.goals] == [True]
@@ -347,8 +346,6 @@ def test_filter_slides_instead_of_stopping_at_a_box_face():
 
 
 def test_goal_below_the_floor_is_missed_not_passed_through():
-    from armanim.motion.trajectory import solve_trajectory
-
     problem = notes_among(((9.0, 0.0, -1.0),), floor=0.0, planner="auto")
     solution = solve_trajectory(problem)
     report = solution.goals[0]
@@ -359,8 +356,6 @@ def test_goal_below_the_floor_is_missed_not_passed_through():
 
 
 def test_floor_is_kept_with_the_planner_off():
-    from armanim.motion.trajectory import solve_trajectory
-
     problem = notes_among(((12.0, 0.0, 0.6),), floor=0.0, method="dls")
     solution = solve_trajectory(problem)
     cl = clearances(forward(problem.arm, solution.trajectory.phi), problem.obstacles, problem.capsules)
@@ -370,7 +365,4 @@ def test_floor_is_kept_with_the_planner_off():
 @given(shaped_problems(max_links=5, max_goals=2))
 @settings(max_examples=6)
 def test_shaped_scene_trajectory_invariants(problem):
-    from armanim.motion.trajectory import solve_trajectory
-    from invariants import assert_trajectory_invariants
-
     assert_trajectory_invariants(problem, solve_trajectory(problem))
