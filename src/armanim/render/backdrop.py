@@ -139,7 +139,7 @@ def draw_legend(sheet: Sheet, layout: scenery.Layout, entries: list[tuple[str, L
 
 
 def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: frozenset,
-                   hidden_goal: bool) -> list[tuple[str, Line2D]]:
+                   hidden_goal: bool, hidden_by: str = "a sphere") -> list[tuple[str, Line2D]]:
     """(label, handle) of what a picture shows.
 
     Parameters
@@ -154,7 +154,9 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     outcomes : set of str
         The goal outcomes shown, ``"reached"`` and / or ``"missed"``.
     hidden_goal : bool
-        Some goal is behind a sphere.
+        Some goal is behind a sphere (or a box or capsule).
+    hidden_by : str
+        What hides it, in the legend: ``"a sphere"``, or ``"an obstacle"`` among boxes and capsules.
     """
     marker = dict(linestyle="none", markersize=8)
     entries = [("arm", Line2D([], [], color=ARM_COLOR, linewidth=5))]
@@ -172,7 +174,7 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     else:
         entries += goal_entries(picture, outcomes, pending, marker)
     if hidden_goal:
-        entries.append(("behind a sphere", Line2D([], [], marker="o", markerfacecolor="none", alpha=HIDDEN_ALPHA,
+        entries.append((f"behind {hidden_by}", Line2D([], [], marker="o", markerfacecolor="none", alpha=HIDDEN_ALPHA,
                                                   markeredgecolor=GOAL_COLORS["pending"], **marker)))
     return entries
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.motion.problem import Problem, RenderSettings
+from armanim.render.shapes import shape_extent
 
 MARGIN = 0.05  # fraction of the largest extent added on every side
 
@@ -53,9 +54,13 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         lo, hi = [pts.min(axis=0) - problem.half_width], [pts.max(axis=0) + problem.half_width]
     obstacles = problem.obstacles
-    if len(obstacles):
+    if len(obstacles.radii):
         lo.append((obstacles.centers - obstacles.radii[:, None]).min(axis=0))
         hi.append((obstacles.centers + obstacles.radii[:, None]).max(axis=0))
+    if len(obstacles.boxes) + len(obstacles.rods):
+        points, radii = shape_extent(obstacles.boxes, obstacles.rods)
+        lo.append((points - radii[:, None]).min(axis=0))
+        hi.append((points + radii[:, None]).max(axis=0))
     goals = goal_points(problem)
     if len(goals):
         lo.append(goals.min(axis=0))

@@ -3,9 +3,10 @@
 The scene is projected by armanim's own camera (:mod:`armanim.render.camera`, orthographic;
 :mod:`armanim.render.framing` fits it into the frame) and drawn with 2-D artists in pixel
 coordinates. What never changes is drawn once and kept as a pixel background
-(:mod:`armanim.render.backdrop`): the floor (a light grid under the scene) with the soft
-shadows of the spheres and the base, the obstacle spheres themselves (far first), their
-influence shells, the world axes in a corner, the title and the legend. Each frame
+(:mod:`armanim.render.backdrop`): the floor (a light grid under the scene, at the scene's
+``floor`` when it has one) with the soft shadows of the obstacles and the base, the obstacles
+themselves (far first: sphere sprites, boxes and capsules as shaded solids,
+:mod:`armanim.render.shapes`), their influence shells, the world axes in a corner, the title and the legend. Each frame
 restores that background and draws what moves, straight into the Agg buffer:
 
 1. the arm's soft shadow on the floor, and the tip's trail (hidden where it runs
@@ -42,9 +43,10 @@ from armanim.render.caption import PENDING
 from armanim.render.framing import frame_scene
 from armanim.render.glyphs import GlyphAtlas
 from armanim.render.markers import GoalMarkers
-from armanim.render.order import paint_order
+from armanim.render.order import order_by, overlap_ahead, paint_order
 from armanim.render.pixels import in_pixels, make_figure, write_png
-from armanim.render.solids import ArmSolids, Part, point_samples
+from armanim.render.shapes import ShapeSolids, box_corners
+from armanim.render.solids import SAMPLES, ArmSolids, Part, point_samples
 from armanim.render.spheres import SphereDiscs
 from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR
 
@@ -115,12 +117,18 @@ class SceneCanvas:
         self.view, self.ppu, self.floor = framing.view, framing.ppu, framing.floor
         self.arm = ArmSolids(problem.arm, problem.capsules, problem.half_width, self.view, self.ppu)
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
+        obstacles = problem.obstacles
+        self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if len(obstacles.boxes) + len(obstacles.rods) else None
+        if self.shapes is not None:
+            self._prepare_obstacle_order()
         goals = self.view.project(goal_points(problem))
-        self.goals = GoalMarkers(self.fig, goals, self.spheres.behind(goals), (self.width, self.height))
+        self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height))
         self._prepare_trail(tips if settings.trail else None)
         self._make_artists()
-        legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(len(problem.obstacles)),
-                                         outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()))
+        solids = len(obstacles.radii) + len(obstacles.boxes) + len(obstacles.rods)  # the floor is no red solid
+        legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids),
+                                         outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
+                                         hidden_by="a sphere" if self.shapes is None else "an obstacle")
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
         self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
@@ -134,8 +142,57 @@ class SceneCanvas:
             self.trail_front_xy = np.zeros((0, 2))
             return
         screen = self.view.project(np.asarray(tips, dtype=float))
-        self.trail_xy = np.where(self.spheres.behind(screen)[:, None], np.nan, screen[:, :2])
-        self.trail_front_xy = np.where(self.spheres.in_front(screen)[:, None], screen[:, :2], np.nan)
+        self.trail_xy = np.where(self._behind(screen)[:, None], np.nan, screen[:, :2])
+        front = self.spheres.in_front(screen)
+        if self.shapes is not None:
+            front = front | self.shapes.in_front(screen)
+        self.trail_front_xy = np.where(front[:, None], screen[:, :2], np.nan)
+
+    def _behind(self, screen: np.ndarray) -> np.ndarray:
+        """(P,) bool: screen points (P, 3) hidden by an obstacle (a sphere, a box, a capsule)."""
+        hidden = self.spheres.behind(screen)
+        return hidden | self.shapes.behind(screen) if self.shapes is not None else hidden
+
+    def _prepare_obstacle_order(self) -> None:
+        """With boxes or capsules: every obstacle's screen box, its painter's order (drawn
+        once), and which obstacles cover which (redrawn when a moving part touches one)."""
+        spheres, shapes = self.spheres, self.shapes
+        c, r = spheres.centers, spheres.radii
+        sphere_boxes = np.column_stack([c[:, 0] - r, c[:, 1] - r, c[:, 0] + r, c[:, 1] + r]).reshape(-1, 4)
+        self.obstacle_bbox = np.vstack([sphere_boxes, shapes.bbox])
+        items = [point_samples(c[i]) for i in range(len(spheres))] + [p.samples for p in shapes.parts]
+        radii = np.concatenate([r, [p.radius for p in shapes.parts]])
+        box_of = np.concatenate([np.full(len(spheres), -1), shapes.box_of])
+        order = self._order(np.array(items).reshape(-1, SAMPLES, 3), radii, box_of)
+        self.obstacle_order = order
+        rank = np.empty(len(order), dtype=int)
+        rank[order] = np.arange(len(order))
+        b = self.obstacle_bbox
+        overlap = (b[:, None, 0] <= b[None, :, 2]) & (b[None, :, 0] <= b[:, None, 2]) & (b[:, None, 1] <= b[None, :, 3]) & (b[None, :, 1] <= b[:, None, 3])
+        self.obstacle_covers = overlap & (rank[None, :] > rank[:, None])  # [i, j]: j is drawn after i over it
+
+    def _order(self, samples: np.ndarray, radii: np.ndarray, box_of: np.ndarray) -> list[int]:
+        """Painter's order of parts, boxes (``box_of`` >= 0) put by the depth along the rays
+        through the other parts' samples, the rest by their overlapping samples."""
+        ahead = overlap_ahead(samples, radii)
+        boxes = np.flatnonzero(box_of >= 0)
+        if len(boxes):
+            scores = self.shapes.box_ahead(samples)[:, box_of[boxes]]  # (N, k): part ahead of box
+            ahead[:, boxes] = scores
+            ahead[boxes, :] = -scores.T
+            ahead[np.ix_(boxes, boxes)] = 0.0
+            for i, bi in enumerate(boxes):  # box against box: the corners of one against the other
+                corners = self.view.project(box_corners(*self._box(box_of[bi])))[None]
+                for j, bj in enumerate(boxes):
+                    if bi != bj:
+                        ahead[bi, bj] = self.shapes.box_ahead(corners)[0, box_of[bj]]
+            ahead = 0.5 * (ahead - ahead.T)
+            np.fill_diagonal(ahead, 0.0)
+        return order_by(ahead, samples[..., 2].mean(axis=1))
+
+    def _box(self, k: int):
+        boxes = self.problem.obstacles.boxes
+        return boxes.centers[k], boxes.half[k], boxes.rotations[k]
 
     def _make_artists(self) -> None:
         """The artists every frame draws again with new data."""
@@ -153,8 +210,11 @@ class SceneCanvas:
         sheet = backdrop.Sheet(self.fig, self.renderer)
         if self.floor is not None:
             backdrop.draw_floor(sheet, self.view, self.floor, self._floor_shadows())
-        backdrop.draw_shells(sheet, self.spheres.shells())
-        self.spheres.composite(np.asarray(self.canvas.buffer_rgba()), self.spheres.order)
+        backdrop.draw_shells(sheet, self.spheres.shells() + (self.shapes.shells() if self.shapes is not None else []))
+        if self.shapes is None:
+            self.spheres.composite(np.asarray(self.canvas.buffer_rgba()), self.spheres.order)
+        else:
+            self._draw_obstacles(self.obstacle_order)
         backdrop.draw_gizmo(sheet, self.layout, self.rotation)
         backdrop.draw_title(sheet, self.layout, title)
         backdrop.draw_legend(sheet, self.layout, legend)
@@ -169,7 +229,8 @@ class SceneCanvas:
         """Rings on the floor under the base and under every sphere (light straight overhead)."""
         z, obstacles = self.floor.z, self.problem.obstacles
         base = scenery.floor_circle(self.problem.arm.stand, BASE_SCALE * self.problem.half_width * 1.1, z)
-        return [base] + [scenery.floor_circle(c, r, z) for c, r in zip(obstacles.centers, obstacles.radii)]
+        rings = [base] + [scenery.floor_circle(c, r, z) for c, r in zip(obstacles.centers, obstacles.radii)]
+        return rings + (self.shapes.floor_shadows(z) if self.shapes is not None else [])
 
     def _scratch_canvas(self):
         """A small canvas of the same dpi to draw sprites on (clearing the whole frame
@@ -238,6 +299,8 @@ class SceneCanvas:
         allpts = np.concatenate([p.samples[:, :2] for p in parts])
         widest = max(p.radius for p in parts)
         arm_box = np.concatenate([allpts.min(axis=0) - widest, allpts.max(axis=0) + widest])
+        if self.shapes is not None:
+            return self._draw_parts_among_shapes(parts, [arm_box, shadow])
         spheres = self.spheres.touched([arm_box, shadow])
         samples = [p.samples for p in parts] + [point_samples(self.spheres.centers[i]) for i in spheres]
         radii = [p.radius for p in parts] + [self.spheres.radii[i] for i in spheres]
@@ -254,6 +317,63 @@ class SceneCanvas:
                 self.spheres.composite(buffer, [spheres[k - len(parts)]])
         self._flush(polys, colors)
         return bool(len(spheres))
+
+    def _touched_obstacles(self, boxes: list) -> np.ndarray:
+        """Obstacles (spheres, then the shapes' parts) whose screen boxes meet any of ``boxes``,
+        and every one drawn over those; in their painter's order."""
+        b = self.obstacle_bbox
+        hit = np.zeros(len(b), dtype=bool)
+        for box in boxes:
+            if box is not None:
+                hit |= (b[:, 2] >= box[0]) & (b[:, 0] <= box[2]) & (b[:, 3] >= box[1]) & (b[:, 1] <= box[3])
+        while True:
+            more = self.obstacle_covers[hit].any(axis=0) & ~hit
+            if not more.any():
+                break
+            hit |= more
+        return np.array([i for i in self.obstacle_order if hit[i]], dtype=int)
+
+    def _draw_parts_among_shapes(self, parts: list[Part], boxes: list) -> bool:
+        """Parts and the obstacles they overlap, in one painter's order (boxes by ray depth)."""
+        touched = self._touched_obstacles(boxes)
+        spheres = len(self.spheres)
+        obstacle_parts = [self._obstacle_item(i) for i in touched]
+        samples = np.array([p.samples for p in parts] + [p.samples for p in obstacle_parts])
+        radii = np.array([p.radius for p in parts] + [p.radius for p in obstacle_parts])
+        box_of = np.concatenate([np.full(len(parts), -1),
+                                 [self.shapes.box_of[i - spheres] if i >= spheres else -1 for i in touched]]).astype(int)
+        order = self._order(samples, radii, box_of)
+        self._paint([*parts, *obstacle_parts], order, len(parts), touched)
+        return bool(len(touched))
+
+    def _obstacle_item(self, i: int) -> Part:
+        """Obstacle ``i`` as a part: a sphere (drawn by its sprite) or a shape's part."""
+        spheres = len(self.spheres)
+        if i < spheres:
+            return Part(point_samples(self.spheres.centers[i]), float(self.spheres.radii[i]), [], np.zeros((0, 4)))
+        return self.shapes.parts[i - spheres]
+
+    def _draw_obstacles(self, indices) -> None:
+        """Obstacles ``indices`` (spheres, then the shapes' parts), in that order."""
+        items = [self._obstacle_item(i) for i in indices]
+        self._paint(items, list(range(len(items))), 0, np.asarray(indices, dtype=int))
+
+    def _paint(self, items: list[Part], order: list[int], moving: int, obstacles: np.ndarray) -> None:
+        """Draw ``items`` in ``order``; the first ``moving`` are the arm's, the rest the
+        ``obstacles`` (indices among spheres then shape parts; a sphere is its sprite)."""
+        polys: list[np.ndarray] = []
+        colors: list[np.ndarray] = []
+        buffer = np.asarray(self.canvas.buffer_rgba())
+        for k in order:
+            sphere = k >= moving and obstacles[k - moving] < len(self.spheres)
+            if sphere:
+                self._flush(polys, colors)
+                polys, colors = [], []
+                self.spheres.composite(buffer, [obstacles[k - moving]])
+            else:
+                polys.extend(items[k].polygons)
+                colors.append(items[k].colors)
+        self._flush(polys, colors)
 
     def _flush(self, polys: list[np.ndarray], colors: list[np.ndarray]) -> None:
         """Draw the faces gathered since the last sphere, in order, as one collection."""

@@ -15,6 +15,7 @@ from armanim.motion.problem import Problem, RenderSettings
 from armanim.render import scenery
 from armanim.render.bounds import goal_points, resolve_bounds
 from armanim.render.camera import fit_view
+from armanim.render.shapes import shape_extent
 from armanim.render.style import BASE_SCALE, RING_POINTS
 from armanim.render.view import View
 
@@ -64,7 +65,7 @@ class Framing:
 
 def frame_scene(problem: Problem, settings: RenderSettings, extent: np.ndarray | None, rotation: np.ndarray,
                 elevation: float, layout: scenery.Layout) -> Framing:
-    """The floor, then the view that fits everything into ``layout.scene``.
+    """The floor (at the scene's ``floor`` when it has one), then the view that fits everything into ``layout.scene``.
 
     Parameters
     ----------
@@ -84,7 +85,9 @@ def frame_scene(problem: Problem, settings: RenderSettings, extent: np.ndarray |
     lo, hi = (points - radii[:, None]).min(axis=0), (points + radii[:, None]).max(axis=0)
     floor = None
     if elevation >= MIN_FLOOR_ELEVATION:
-        floor = Floor(scenery.floor_height(lo[2], float(np.max(hi - lo))), *scenery.floor_rect(lo[:2], hi[:2]))
+        given = problem.obstacles.floor
+        z = scenery.floor_height(lo[2], float(np.max(hi - lo))) if given is None else float(given)
+        floor = Floor(z, *scenery.floor_rect(lo[:2], hi[:2]))
         points, radii = np.vstack([points, floor.quad()]), np.concatenate([radii, np.zeros(4)])
     x0, y0, x1, y1 = layout.scene
     m = RING_POINTS / 2 * layout.dpi / 72.0  # room for the current goal's ring at the edges
@@ -109,6 +112,7 @@ def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray
     obs = problem.obstacles
     r = BASE_SCALE * problem.half_width
     foot = base - [0.0, 0.0, 2 * problem.half_width] + r * np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]])
-    points = np.vstack([joints, base, foot, obs.centers.reshape(-1, 3), goals])
-    radii = np.concatenate([np.full(len(joints), hw), [r], np.zeros(len(foot)), obs.radii, np.zeros(len(goals))])
+    shapes, shape_radii = shape_extent(obs.boxes, obs.rods)
+    points = np.vstack([joints, base, foot, obs.centers.reshape(-1, 3), shapes, goals])
+    radii = np.concatenate([np.full(len(joints), hw), [r], np.zeros(len(foot)), obs.radii, shape_radii, np.zeros(len(goals))])
     return points, radii

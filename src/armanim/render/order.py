@@ -40,16 +40,27 @@ def paint_order(samples: np.ndarray, radii: np.ndarray) -> list[int]:
     >>> paint_order(s, np.array([2.0, 2.0, 2.0]))
     [1, 2, 0]
     """
-    n = len(samples)
+    return order_by(overlap_ahead(samples, radii), samples[..., 2].mean(axis=1))
+
+
+def overlap_ahead(samples: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """(N, N): ahead[a, b] > 0 when part a is nearer than part b where they overlap on screen
+    (the summed depth differences of their overlapping samples; 0 when they do not overlap)."""
     xy = samples[..., :2]
     near = samples[..., 2]
     gap = np.linalg.norm(xy[:, :, None, None, :] - xy[None, None, :, :, :], axis=-1)  # (N,S,N,S)
     overlap = gap < (radii[:, None, None, None] + radii[None, None, :, None])
     ahead = np.where(overlap, near[:, :, None, None] - near[None, None, :, :], 0.0).sum(axis=(1, 3))
     np.fill_diagonal(ahead, 0.0)
+    return ahead
+
+
+def order_by(ahead: np.ndarray, mean_near: np.ndarray) -> list[int]:
+    """Topological order of the "far one first" graph of ``ahead`` (:func:`overlap_ahead`),
+    the farthest free part first; a cycle is broken by drawing the farthest part left."""
+    n = len(ahead)
     before = ahead > 1e-9  # before[a, b]: a is nearer than b, so b is drawn first
     indegree = before.sum(axis=1)  # how many parts must be drawn before each one
-    mean_near = near.mean(axis=1)
     heap = [(mean_near[i], i) for i in range(n) if indegree[i] == 0]
     heapq.heapify(heap)
     done = np.zeros(n, dtype=bool)

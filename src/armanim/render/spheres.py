@@ -14,6 +14,7 @@ from armanim.render.mesh import unit_circle
 from armanim.render.pixels import Sprite, composite
 from armanim.render.style import CIRCLE_SIDES, OBSTACLE_COLOR
 from armanim.render.view import LIGHT, View
+from armanim.world.obstacles import SPHERE
 
 
 def sphere_sprite(center: np.ndarray, radius: float, size: tuple[int, int]) -> Sprite | None:
@@ -79,10 +80,11 @@ class SphereDiscs:
     """
 
     def __init__(self, obstacles, view: View, ppu: float):
-        self.centers = view.project(obstacles.centers) if len(obstacles) else np.zeros((0, 3))
+        influence = obstacles.influence[obstacles.columns(SPHERE)]
+        self.centers = view.project(obstacles.centers) if len(obstacles.radii) else np.zeros((0, 3))
         self.radii = obstacles.radii * ppu
-        self.shell_radii = (obstacles.radii + obstacles.influence) * ppu
-        self.has_shell = obstacles.influence > 0
+        self.shell_radii = (obstacles.radii + influence) * ppu
+        self.has_shell = influence > 0
         self.sprites = [sphere_sprite(c, r, (view.width, view.height)) for c, r in zip(self.centers, self.radii)]
         self.order = np.argsort(self.centers[:, 2], kind="stable")
         gap = np.linalg.norm(self.centers[:, None, :2] - self.centers[None, :, :2], axis=-1)
