@@ -391,9 +391,10 @@ def test_goal_behind_a_box_is_drawn_through_it():
 
 
 def test_spheres_only_pictures_take_the_sphere_path():
+    from test_cost import notes_problem
+
     from armanim.render.draw import SceneCanvas
     from armanim.scene import default_render_settings
-    from test_cost import notes_problem
 
     problem = notes_problem()
     assert SceneCanvas(problem, default_render_settings(size=(64, 48)), title="t").shapes is None

@@ -181,11 +181,11 @@ class SceneCanvas:
             ahead[:, boxes] = scores
             ahead[boxes, :] = -scores.T
             ahead[np.ix_(boxes, boxes)] = 0.0
-            for i, bi in enumerate(boxes):  # box against box: the corners of one against the other
-                corners = self.view.project(box_corners(*self._box(box_of[bi])))[None]
-                for j, bj in enumerate(boxes):
+            for bi in boxes:  # box against box: the corners of one against the other
+                scores = self.shapes.box_ahead(self.view.project(box_corners(*self._box(box_of[bi])))[None])[0]
+                for bj in boxes:
                     if bi != bj:
-                        ahead[bi, bj] = self.shapes.box_ahead(corners)[0, box_of[bj]]
+                        ahead[bi, bj] = scores[box_of[bj]]
             ahead = 0.5 * (ahead - ahead.T)
             np.fill_diagonal(ahead, 0.0)
         return order_by(ahead, samples[..., 2].mean(axis=1))
