@@ -412,3 +412,21 @@ def test_poster_and_pose_of_every_shape(tmp_path):
     render_poster(problem, solution.trajectory, solution.goals, settings, tmp_path / "poster.png", title="shapes")
     render_pose_png(problem, problem.home, settings, tmp_path / "pose.png", title="shapes")
     assert (tmp_path / "poster.png").stat().st_size > 0 and (tmp_path / "pose.png").stat().st_size > 0
+
+
+def test_viewer_data_carries_boxes_capsules_and_the_floor():
+    from armanim.render.viewer.data import shape_entries, viewer_data
+    from armanim.scene import default_render_settings
+
+    problem = notes_among(((9.0, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), (0.0, 0.0, 0.5))],
+                          rods=[((-4.0, 0.0, 0.0), (-4.0, 0.0, 8.0), 0.5)], floor=-0.5)
+    solution = solve_trajectory(problem)
+    data = viewer_data(problem, solution.trajectory, solution.goals, default_render_settings(size=(64, 48)), title="t")
+    assert data["obstacles"] == [] and data["view"]["floor"]["z"] == -0.5
+    (box,) = data["boxes"]
+    assert box["size"] == [4.0, 4.0, 4.0] and box["influence"] == 0.5
+    np.testing.assert_allclose(box["rotation"], rpy_rotation([0.0, 0.0, 0.5]))
+    assert data["obstacle_capsules"] == [{"from": [-4.0, 0.0, 0.0], "to": [-4.0, 0.0, 8.0], "radius": 0.5, "influence": 0.5}]
+    from test_cost import notes_problem
+
+    assert shape_entries(notes_problem().obstacles) == {}  # spheres: the page's data as it always was

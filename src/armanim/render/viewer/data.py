@@ -21,6 +21,7 @@ from armanim.render import scenery, style
 from armanim.render.camera import planar_normal, view_angles
 from armanim.render.caption import frame_activity
 from armanim.render.framing import scene_content
+from armanim.world.obstacles import BOX, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"
 """The data format's name and version (docs/viewer.md)."""
@@ -106,7 +107,8 @@ def view_settings(problem: Problem, settings: RenderSettings, points: np.ndarray
     lo, hi = (content - radii[:, None]).min(axis=0), (content + radii[:, None]).max(axis=0)
     size = float(np.max(hi - lo))
     floor_lo, floor_hi = scenery.floor_rect(lo[:2], hi[:2])
-    floor_z = scenery.floor_height(lo[2], size)
+    given = problem.obstacles.floor
+    floor_z = scenery.floor_height(lo[2], size) if given is None else float(given)  # the scene's floor, when it has one
     return {
         "elevation": float(elevation),
         "azimuth": float(azimuth),
@@ -207,8 +209,29 @@ def viewer_data(
         "goals": goal_entries(problem, reports),
         "obstacles": [
             {"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}
-            for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence)
+            for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)])
         ],
+        **shape_entries(obstacles),
         "view": view,
         "style": page_style(),
     }
+
+
+def shape_entries(obstacles) -> dict:
+    """The boxes (centre, full edges, world-from-box rotation as rows) and capsule obstacles
+    (ends, radius), each with its influence; the keys only when there are any (a scene of
+    spheres writes the page it always wrote)."""
+    out = {}
+    boxes, rods = obstacles.boxes, obstacles.rods
+    if len(boxes):
+        out["boxes"] = [
+            {"center": [float(v) for v in c], "size": [float(2 * v) for v in h], "rotation": np.asarray(r, dtype=float).tolist(),
+             "influence": float(i)}
+            for c, h, r, i in zip(boxes.centers, boxes.half, boxes.rotations, obstacles.influence[obstacles.columns(BOX)])
+        ]
+    if len(rods):
+        out["obstacle_capsules"] = [
+            {"from": [float(v) for v in a], "to": [float(v) for v in b], "radius": float(r), "influence": float(i)}
+            for a, b, r, i in zip(rods.start, rods.end, rods.radius, obstacles.influence[obstacles.columns(ROD)])
+        ]
+    return out

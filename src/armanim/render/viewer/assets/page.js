@@ -69,7 +69,7 @@
 
   // ---- the page's fixed parts ------------------------------------------------------
   $("title").textContent = D.title;
-  if (!D.obstacles.length) $("clearance").parentElement.hidden = true;  // no obstacles: no clearance to show
+  if (!D.obstacles.length && !D.boxes && !D.obstacle_capsules && D.clearance.every((v) => v === null)) $("clearance").parentElement.hidden = true;  // no obstacles (nor floor): no clearance to show
   document.title = D.title + " - armanim";
   const slider = $("slider");
   slider.max = String(F - 1);
@@ -147,6 +147,55 @@
       sh.position.fromArray(o.center); wire.position.fromArray(o.center); scene.add(sh, wire); shells.push(sh, wire);
     }
   }
+  // boxes (rotation: world-from-box, rows) and capsule obstacles, shaded alike; their shells: the box grown
+  // by its influence, the capsule's radius grown by it
+  const obstacleMat = new T.MeshPhongMaterial({ color: S.obstacle, shininess: 40, specular: 0x555555 });
+  const shellMats = [new T.MeshBasicMaterial({ color: S.obstacle, transparent: true, opacity: 0.05, depthWrite: false }),
+    new T.MeshBasicMaterial({ color: S.obstacle, wireframe: true, transparent: true, opacity: 0.13, depthWrite: false })];
+  const place = (mesh, position, quaternion) => { mesh.position.fromArray(position); mesh.quaternion.copy(quaternion); return mesh; };
+  // a box's six faces in world coordinates (the bundle keeps no BoxGeometry): half edges h, rotation R (rows)
+  const boxGeometry = (center, h, R) => {
+    const pos = [], nor = [], idx = [];
+    for (let axis = 0; axis < 3; axis++) for (const sign of [-1, 1]) {
+      const u = (axis + 1) % 3, v = (axis + 2) % 3, base = pos.length / 3;
+      for (const [su, sv] of [[-1, -1], [1, -1], [1, 1], [-1, 1]]) {
+        const local = [0, 0, 0]; local[axis] = sign * h[axis]; local[u] = su * h[u]; local[v] = sv * h[v];
+        for (let r = 0; r < 3; r++) {
+          pos.push(center[r] + R[r][0] * local[0] + R[r][1] * local[1] + R[r][2] * local[2]);
+          nor.push(sign * R[r][axis]);
+        }
+      }
+      idx.push(...(sign > 0 ? [base, base + 1, base + 2, base, base + 2, base + 3] : [base, base + 2, base + 1, base, base + 3, base + 2]));
+    }
+    const g = new T.BufferGeometry();
+    g.setAttribute("position", new T.BufferAttribute(new Float32Array(pos), 3));
+    g.setAttribute("normal", new T.BufferAttribute(new Float32Array(nor), 3));
+    g.setIndex(idx);
+    return g;
+  };
+  for (const b of D.boxes || []) {
+    const half = b.size.map((v) => v / 2);
+    const solid = new T.Mesh(boxGeometry(b.center, half, b.rotation), obstacleMat);
+    solid.castShadow = true; solid.receiveShadow = true; scene.add(solid);
+    if (b.influence > 0) {
+      const grown = boxGeometry(b.center, half.map((v) => v + b.influence), b.rotation);
+      for (const mat of shellMats) { const sh = new T.Mesh(grown, mat); scene.add(sh); shells.push(sh); }
+    }
+  }
+  for (const c of D.obstacle_capsules || []) {
+    const a = new T.Vector3().fromArray(c.from), e = new T.Vector3().fromArray(c.to);
+    const axis = e.clone().sub(a), len = axis.length();
+    const q = new T.Quaternion().setFromUnitVectors(new T.Vector3(0, 1, 0), len > 0 ? axis.clone().normalize() : new T.Vector3(0, 1, 0));
+    const mid = a.clone().add(e).multiplyScalar(0.5).toArray();
+    const solid = place(new T.Mesh(new T.CapsuleGeometry(c.radius, Math.max(len, 1e-9), 8, 24), obstacleMat), mid, q);
+    solid.castShadow = true; scene.add(solid);
+    if (c.influence > 0) {
+      for (const mat of shellMats) {
+        const sh = place(new T.Mesh(new T.CapsuleGeometry(c.radius + c.influence, Math.max(len, 1e-9), 8, 16), mat), mid, q);
+        scene.add(sh); shells.push(sh);
+      }
+    }
+  }
 
   // goals: small spheres coloured by their state at the frame
   const goalR = Math.max(hw * 1.2, size * 0.008);
@@ -208,6 +257,8 @@
   const fitPoints = [[fl.lo[0], fl.lo[1], fl.z, 0], [fl.hi[0], fl.lo[1], fl.z, 0], [fl.lo[0], fl.hi[1], fl.z, 0], [fl.hi[0], fl.hi[1], fl.z, 0],
     [D.arm.base[0], D.arm.base[1], D.arm.base[2] - 2 * hw, hw * S.base_scale]];
   D.obstacles.forEach((o) => fitPoints.push([...o.center, o.radius + o.influence]));
+  (D.boxes || []).forEach((b) => fitPoints.push([...b.center, 0.5 * Math.hypot(...b.size) + b.influence]));
+  (D.obstacle_capsules || []).forEach((c) => { fitPoints.push([...c.from, c.radius + c.influence]); fitPoints.push([...c.to, c.radius + c.influence]); });
   D.goals.forEach((g) => fitPoints.push([...g.position, goalR * 3]));
   if (D.view.bounds) for (const x of D.view.bounds[0]) for (const y of D.view.bounds[1]) for (const z of D.view.bounds[2]) fitPoints.push([x, y, z, 0]);
   const VIEWS = {
