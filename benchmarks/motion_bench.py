@@ -78,7 +78,7 @@ from armanim.scene.checks import scene_problems
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import SceneModel, SolverModel
 from armanim.scene.robots import bundled_robot
-from armanim.world.distances import min_link_clearance
+from armanim.world.distances import clearances, min_link_clearance
 from armanim.world.obstacles import Obstacles
 
 METHODS = ("pinv", "dls", "newton", "gradient")
@@ -98,6 +98,74 @@ AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 # ---------------------------------------------------------------------------------------
 # The oracle's own geometry
 # ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Solids:
+    """Boxes, capsule obstacles and a floor as the oracle knows them (issue 22): their
+    distances to the arm's capsules are coal's (the FCL successor, GJK), not armanim's
+    closed forms; the floor's is the capsule's lower end's height (the capsules the first
+    joint carries are left out, as the contract says).
+
+    Attributes
+    ----------
+    boxes : tuple of (center (3,), half (3,), rotation (3, 3))
+    rods : tuple of (a (3,), b (3,), radius)
+    floor : float or None
+    """
+
+    boxes: tuple = ()
+    rods: tuple = ()
+    floor: float | None = None
+
+    def __len__(self) -> int:
+        return len(self.boxes) + len(self.rods) + int(self.floor is not None)
+
+    def coal_shapes(self) -> list:
+        """(coal geometry, coal transform) of every box and capsule (built once per call site)."""
+        import coal
+
+        shapes = [(coal.Box(*(2 * np.asarray(h))), coal.Transform3s(np.asarray(r), np.asarray(c))) for c, h, r in self.boxes]
+        shapes += [coal_capsule(np.asarray(a), np.asarray(b), float(r)) for a, b, r in self.rods]
+        return shapes
+
+
+def coal_capsule(a: np.ndarray, b: np.ndarray, radius: float):
+    """coal's capsule (its axis along its local z, centred) around the segment a-b."""
+    import coal
+
+    axis = b - a
+    length = float(np.linalg.norm(axis))
+    z = axis / length if length > 0 else np.array([0.0, 0.0, 1.0])
+    x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+    x /= np.linalg.norm(x)
+    return coal.Capsule(radius, length), coal.Transform3s(np.stack([x, np.cross(z, x), z], axis=1), (a + b) / 2)
+
+
+def solid_gaps(solids: Solids, a: np.ndarray, b: np.ndarray, radius: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """Clearances (..., k, s) of capsules with ends a, b (..., k, 3) and radii (k,) to the boxes,
+    the capsule obstacles (coal, one call per pair) and the floor; ``first`` (k,) marks the
+    capsules the floor leaves out (+inf)."""
+    import coal
+
+    batch = a.shape[:-1]
+    flat_a, flat_b = a.reshape(-1, 3), b.reshape(-1, 3)
+    k = len(radius)
+    shapes = solids.coal_shapes()
+    out = np.empty((len(flat_a), len(solids)))
+    request = coal.DistanceRequest()
+    request.gjk_tolerance = 1e-13
+    for row, (p, q) in enumerate(zip(flat_a, flat_b)):
+        r = float(radius[row % k])
+        capsule, tf = coal_capsule(p, q, r) if np.linalg.norm(q - p) > 0 else (coal.Sphere(r), coal.Transform3s(np.eye(3), p))
+        for col, (shape, placement) in enumerate(shapes):
+            out[row, col] = coal.distance(shape, placement, capsule, tf, request, coal.DistanceResult())
+        if solids.floor is not None:
+            out[row, -1] = np.inf if first[row % k] else min(p[2], q[2]) - solids.floor - r
+    return out.reshape(batch + (len(solids),))
+
+
+NO_SOLIDS = Solids()
 
 
 @dataclass(frozen=True)
@@ -133,6 +201,7 @@ class Geometry:
     home: np.ndarray
     tolerance: float = 0.01
     clearance: float = DEFAULT_CLEARANCE
+    solids: Solids = NO_SOLIDS
 
     @property
     def reach(self) -> float:
@@ -168,21 +237,33 @@ def joint_points(geo: Geometry, phi: np.ndarray) -> np.ndarray:
 
 
 def capsule_clearances(geo: Geometry, points: np.ndarray) -> np.ndarray:
-    """Clearance of every link capsule to every sphere's surface, shape (..., n, m); negative inside."""
+    """Clearance of every link capsule to every sphere's surface, then to every solid (boxes,
+    capsules, the floor), shape (..., n, m + s); negative inside."""
     a = points[..., :-1, None, :]
     ab = points[..., 1:, None, :] - a
     t = np.clip(((geo.centers - a) * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
     gap = a + t[..., None] * ab - geo.centers
-    return np.sqrt((gap * gap).sum(-1)) - geo.radii - geo.half_width
+    spheres = np.sqrt((gap * gap).sum(-1)) - geo.radii - geo.half_width
+    if not len(geo.solids):
+        return spheres
+    n = len(geo.links)
+    first = np.arange(n) == 0
+    solids = solid_gaps(geo.solids, points[..., :-1, :], points[..., 1:, :], np.full(n, geo.half_width), first)
+    return np.concatenate([spheres, solids], axis=-1)
+
+
+def has_obstacles(geo) -> bool:
+    """Whether the oracle has anything to keep the arm from: spheres or solids."""
+    return bool(len(geo.radii) or len(geo.solids))
 
 
 def min_clearance(geo: Geometry, phi: np.ndarray) -> np.ndarray:
     """Smallest capsule clearance of one pose or a batch, shape (...); +inf without spheres."""
     if isinstance(geo, RobotGeometry):
         phi = np.asarray(phi, dtype=float)
-        return geo.clearances(phi).min(axis=(-1, -2)) if len(geo.radii) else np.full(phi.shape[:-1], np.inf)
+        return geo.clearances(phi).min(axis=(-1, -2)) if has_obstacles(geo) else np.full(phi.shape[:-1], np.inf)
     points = joint_points(geo, phi)
-    if len(geo.radii) == 0:
+    if not has_obstacles(geo):
         return np.full(points.shape[:-2], np.inf)
     return capsule_clearances(geo, points).min(axis=(-1, -2))
 
@@ -249,11 +330,11 @@ def oracle_residual(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> np.ndar
     if isinstance(geo, RobotGeometry):
         tip, a, b = geo.placements(phi)
         tip_error = tip - goal
-        gaps = geo.capsule_gaps(a, b) if len(geo.radii) else None
+        gaps = geo.capsule_gaps(a, b) if has_obstacles(geo) else None
     else:
         points = joint_points(geo, phi)
         tip_error = points[-1] - goal
-        gaps = capsule_clearances(geo, points) if len(geo.radii) else None
+        gaps = capsule_clearances(geo, points) if has_obstacles(geo) else None
     if gaps is None:
         return tip_error
     shortfall = np.maximum(0.0, geo.clearance + ORACLE_PENALTY_TARGET - gaps)
@@ -330,6 +411,8 @@ class RobotGeometry:
     reach: float
     tolerance: float = ROBOT_SOLVER["tolerance"]
     clearance: float = ROBOT_SOLVER["clearance"]
+    cap_first: np.ndarray | None = None  # (k,) the capsules the first joint carries (the floor leaves them out)
+    solids: Solids = NO_SOLIDS
 
     def placements(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Tip (..., 3) and capsule ends (..., k, 3) twice, by pinocchio's forward kinematics."""
@@ -362,11 +445,15 @@ class RobotGeometry:
         return self.capsule_gaps(a, b)
 
     def capsule_gaps(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """Clearances (..., k, m) of the capsules with ends ``a``, ``b`` (..., k, 3) to every sphere."""
+        """Clearances (..., k, m + s) of the capsules with ends ``a``, ``b`` (..., k, 3) to every sphere, then every solid."""
+        ends = a, b
         a, ab = a[..., None, :], (b - a)[..., None, :]
         t = np.clip(((self.centers - a) * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
         gap = a + t[..., None] * ab - self.centers
-        return np.sqrt((gap * gap).sum(-1)) - self.radii - self.cap_r[:, None]
+        spheres = np.sqrt((gap * gap).sum(-1)) - self.radii - self.cap_r[:, None]
+        if not len(self.solids):
+            return spheres
+        return np.concatenate([spheres, solid_gaps(self.solids, *ends, self.cap_r, self.cap_first)], axis=-1)
 
 
 def robot_geometry(robot: str, centers: np.ndarray, radii: np.ndarray, tolerance: float = ROBOT_SOLVER["tolerance"],
@@ -391,6 +478,7 @@ def robot_geometry(robot: str, centers: np.ndarray, radii: np.ndarray, tolerance
         robot=robot, model=model, tip_frame=tip_frame, cap_frames=tuple(model.getFrameId(c.link) for c in keep),
         cap_a=np.array([c.start for c in keep], dtype=float), cap_b=np.array([c.end for c in keep], dtype=float),
         cap_r=np.array([c.radius for c in keep], dtype=float), lower=lower, upper=upper,
+        cap_first=np.array([model.frames[model.getFrameId(c.link)].parentJoint == 1 for c in keep]),
         centers=np.asarray(centers, dtype=float).reshape(-1, 3), radii=np.asarray(radii, dtype=float),
         home=home, base=np.zeros(3), reach=1.1 * far, tolerance=tolerance, clearance=clearance,
     )
@@ -437,21 +525,53 @@ class Draft:
     goals: list = field(default_factory=list)  # (3,) arrays
     witnesses: list = field(default_factory=list)  # the generator's pose per goal (None: out of reach)
     robot: str | None = None  # a bundled robot (the robot family): base, links, axes, direction, limits unused
+    boxes: list = field(default_factory=list)  # (center (3,), size (3,) full edges, rpy (3,) degrees)
+    rods: list = field(default_factory=list)  # (from (3,), to (3,), radius)
+    floor: float | None = None
+    influence: float | None = None  # of the boxes and capsules (None: the scene's default)
+
+    def solids(self) -> Solids:
+        """The oracle's view of the boxes, capsules and floor."""
+        from armanim.arm.chain import rpy_rotation  # a rotation is data here: the contract's formula of rpy
+
+        boxes = tuple((np.asarray(c, float), np.asarray(sz, float) / 2, rpy_rotation(np.radians(r))) for c, sz, r in self.boxes)
+        return Solids(boxes, tuple((np.asarray(a, float), np.asarray(b, float), float(r)) for a, b, r in self.rods), self.floor)
 
     def geometry(self, clearance: float = DEFAULT_CLEARANCE, tolerance: float = 0.01) -> Geometry:
         """The oracle's view of this draft."""
         if self.robot is not None:
             centers = np.array([c for c, _ in self.spheres]).reshape(-1, 3)
             return replace(base_geometry(self.robot), centers=centers, radii=np.array([r for _, r in self.spheres]),
-                           tolerance=tolerance, clearance=clearance)
+                           tolerance=tolerance, clearance=clearance, solids=self.solids())
         lower = np.array([np.radians(p[0]) if p else -np.inf for p in self.limits])
         upper = np.array([np.radians(p[1]) if p else np.inf for p in self.limits])
         return Geometry(
             base=self.base, links=self.links, axes=tuple(self.axes), direction=AXES[AXIS_INDEX[self.direction]],
             half_width=self.width / 2, lower=lower, upper=upper,
             centers=np.array([c for c, _ in self.spheres]).reshape(-1, 3), radii=np.array([r for _, r in self.spheres]),
-            home=self.home, tolerance=tolerance, clearance=clearance,
+            home=self.home, tolerance=tolerance, clearance=clearance, solids=self.solids(),
         )
+
+    def shape_entries(self) -> list:
+        """The boxes and capsules as scene-file obstacles."""
+        extra = {} if self.influence is None else {"influence": self.influence}
+        boxes = [{"box": {"center": floats(c), "size": floats(sz), "rpy": floats(r, 3)}, **extra} for c, sz, r in self.boxes]
+        rods = [{"capsule": {"from": floats(a), "to": floats(b), "radius": float(r)}, **extra} for a, b, r in self.rods]
+        return boxes + rods
+
+    def with_floor(self, scene: dict) -> dict:
+        """``scene`` with the draft's shapes appended to its obstacles and its floor."""
+        scene["obstacles"] = scene["obstacles"] + self.shape_entries()
+        if self.floor is not None:
+            scene["floor"] = float(self.floor)
+        return scene
+
+    def spheres_twin(self) -> Draft:
+        """The same scene with every box and capsule replaced by the largest sphere inside it (at
+        its centre): a scene of spheres only, for timing frames against the shapes' cost."""
+        inner = [(np.asarray(c, float), round(float(min(sz)) / 2, 4)) for c, sz, _ in self.boxes]
+        inner += [((np.asarray(a, float) + np.asarray(b, float)) / 2, float(r)) for a, b, r in self.rods]
+        return replace(self, spheres=list(self.spheres) + inner, boxes=[], rods=[], floor=None)
 
     def as_scene_dict(self, name: str, method: str = "pinv", planner: str | None = None) -> dict:
         """The draft as a scene file's mapping (degrees), ready for ``SceneModel.model_validate``."""
@@ -459,13 +579,13 @@ class Draft:
         if planner is not None:
             solver["planner"] = planner
         if self.robot is not None:
-            return {
+            return self.with_floor({
                 "version": 1, "name": name, "arm": {"robot": self.robot},
                 "obstacles": [{"center": floats(c), "radius": float(r), "influence": 0.1} for c, r in self.spheres],
                 "goals": [floats(g) for g in self.goals],
                 "solver": {**solver, **ROBOT_SOLVER}, "render": {"fps": 30},
-            }
-        return {
+            })
+        return self.with_floor({
             "version": 1,
             "name": name,
             "arm": {
@@ -481,7 +601,7 @@ class Draft:
             "goals": [floats(g) for g in self.goals],
             "solver": solver,
             "render": {"fps": 30},
-        }
+        })
 
 
 def floats(values, decimals: int = 4) -> list:
@@ -529,7 +649,7 @@ def random_pose(rng: np.random.Generator, draft: Draft) -> np.ndarray:
 
 def poses_clear(draft: Draft, poses: list, margin: float) -> bool:
     """True when every pose's capsules are at least ``margin`` from every sphere of the draft."""
-    if not draft.spheres or not poses:
+    if not (draft.spheres or draft.boxes or draft.rods or draft.floor is not None) or not poses:
         return True
     return bool(np.all(min_clearance(draft.geometry(), np.array(poses)) >= margin))
 
@@ -730,6 +850,38 @@ def self_test_robots(rng: np.random.Generator, poses: int = 40) -> None:
         assert np.max(np.abs(min_clearance(geo, phi) - theirs)) < 1e-9, f"{robot}: the oracle's capsule clearance differs from armanim's"
 
 
+def self_test_solids(rng: np.random.Generator, poses: int = 60) -> None:
+    """Assert that the oracle's clearances (coal) to boxes, capsules and a floor equal armanim's closed
+    forms to 1e-9 on random arms and poses where every part is clear (inside, the two measure
+    penetration differently), robots included."""
+    from armanim.arm.chain import rpy_rotation
+    from armanim.world.obstacles import BOX, FLOOR, ROD, Boxes, Rods
+
+    for trial in range(6):
+        n = int(rng.integers(2, 7))
+        arm = Arm.from_names(list(rng.uniform(1, 4, n)), base=tuple(rng.uniform(-2, 2, 3)), axes=list(rng.choice(["x", "y", "z"], n)))
+        boxes = [(rng.uniform(-8, 8, 3), rng.uniform(0.5, 3, 3), rng.uniform(-180, 180, 3)) for _ in range(2)]
+        rods = [(a, a + rng.normal(size=3) * 2, float(rng.uniform(0.2, 1))) for a in rng.uniform(-8, 8, (2, 3))]
+        floor = float(arm.base[2] - 1.0)
+        draft = Draft(kind="test", base=arm.base, links=arm.links, axes=[], direction="z", width=0.4, home=np.zeros(n), limits=[],
+                      boxes=boxes, rods=rods, floor=floor)
+        solids = draft.solids()
+        obstacles = Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(5),
+                              Boxes(np.array([c for c, _, _ in boxes]), np.array([sz for _, sz, _ in boxes]) / 2,
+                                    np.array([rpy_rotation(np.radians(r)) for _, _, r in boxes])),
+                              Rods(np.array([a for a, _, _ in rods]), np.array([b for _, b, _ in rods]), np.array([r for _, _, r in rods])),
+                              floor, np.array([BOX, BOX, ROD, ROD, FLOOR]))
+        phi = rng.uniform(-np.pi, np.pi, (poses, n))
+        pose = forward(arm, phi)
+        ours = clearances(pose, obstacles, joint_capsules(arm, 0.2)).links
+        theirs = solid_gaps(solids, pose.points[:, :-1], pose.points[:, 1:], np.full(n, 0.2), np.arange(n) == 0)
+        clear = np.all(ours > 1e-6, axis=(-1, -2)) & np.all(theirs > 1e-6, axis=(-1, -2))
+        assert clear.sum() >= 5, "too few clear poses to compare"
+        both_inf = np.isinf(ours) & np.isinf(theirs)  # the floor's column of the first link: left out by both
+        diff = np.abs(np.where(both_inf, 0.0, ours - theirs))
+        assert np.max(diff[clear]) < 1e-9, f"the oracle's solid clearances differ from armanim's by {np.max(diff[clear]):.3g}"
+
+
 def robot_pose(rng: np.random.Generator, geo: RobotGeometry) -> np.ndarray:
     """A pose inside the limits, 10 degrees away from them, within +-180 degrees, tool point 0.1 m above the base."""
     lo = np.maximum(geo.lower + np.radians(10.0), -np.pi)
@@ -780,7 +932,148 @@ def draw_robot_scene(rng: np.random.Generator) -> Draft:
     return draft
 
 
-FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene, "robots": draw_robot_scene}
+# ---------------------------------------------------------------------------------------
+# The shapes families (issue 22): tables, shelves, walls with a gap, posts, and a floor
+# ---------------------------------------------------------------------------------------
+
+
+def along_rpy(along: np.ndarray, roll: float) -> list:
+    """rpy (degrees) of a box whose own x axis points along ``along`` (R = Rz(yaw) Ry(pitch) Rx(roll))."""
+    along = along / max(np.linalg.norm(along), 1e-12)
+    return [roll, float(np.degrees(-np.arcsin(np.clip(along[2], -1, 1)))), float(np.degrees(np.arctan2(along[1], along[0])))]
+
+
+def shape_table(rng, tip, scale: dict) -> dict:
+    """A table under a goal tip: its top ``scale['gap']`` and a little more below the tip."""
+    thick = rng.uniform(*scale["thick"])
+    gap = scale["gap"] + rng.uniform(0.1, 1.0) * scale["slack"]
+    center = tip - [0.0, 0.0, gap + thick / 2]
+    size = [rng.uniform(*scale["top"]), rng.uniform(*scale["top"]), thick]
+    return {"boxes": [(center, size, [0.0, 0.0, rng.uniform(-45, 45)])]}
+
+
+def shape_shelf(rng, tip, scale: dict) -> dict:
+    """Two boards above and below a goal tip (a shelf's compartment around it)."""
+    thick = rng.uniform(*scale["board"])
+    half_gap = scale["gap"] + rng.uniform(0.2, 1.0) * scale["slack"]
+    size = [rng.uniform(*scale["top"]), rng.uniform(*scale["top"]), thick]
+    yaw = rng.uniform(-45, 45)
+    return {"boxes": [(tip + [0.0, 0.0, s * (half_gap + thick / 2)], size, [0.0, 0.0, yaw]) for s in (-1.0, 1.0)]}
+
+
+def shape_wall(rng, a, b, scale: dict) -> dict:
+    """A wall across the path a-b with a gap in it: two slabs either side of the path."""
+    from armanim.arm.chain import rpy_rotation
+
+    rpy = along_rpy(b - a, rng.uniform(-90, 90))
+    side = rpy_rotation(np.radians(rpy))[:, 1]
+    middle = a + rng.uniform(0.35, 0.65) * (b - a)
+    size = [rng.uniform(*scale["board"]), rng.uniform(*scale["wall"]), rng.uniform(*scale["wall"])]
+    half_gap = rng.uniform(*scale["passage"])
+    return {"boxes": [(middle + s * (half_gap + size[1] / 2) * side, size, rpy) for s in (-1.0, 1.0)]}
+
+
+def shape_post(rng, a, b, scale: dict) -> dict:
+    """A vertical capsule across the path a-b."""
+    center = a + rng.uniform(0.35, 0.65) * (b - a) + rng.normal(size=3) * scale["jitter"]
+    half = rng.uniform(*scale["post_half"]) * np.array([0.0, 0.0, 1.0])
+    return {"rods": [(center - half, center + half, rng.uniform(*scale["post_r"]))]}
+
+
+def rounded_shapes(shapes: dict) -> dict:
+    """The shapes with their numbers rounded as a scene file writes them."""
+    return {"boxes": [(np.round(c, 4), [round(float(v), 4) for v in sz], [round(float(v), 3) for v in r]) for c, sz, r in shapes.get("boxes", [])],
+            "rods": [(np.round(a, 4), np.round(b, 4), round(float(r), 4)) for a, b, r in shapes.get("rods", [])]}
+
+
+def place_shapes(rng, draft: Draft, poses: list, tips: list, scale: dict, keep: float, count: int) -> None:
+    """Add ``count`` shapes (tables, shelves, walls with a gap, posts), each kept only when
+    every pose stays ``keep`` clear of it (and of the base: ``scale['base']``)."""
+    for _ in range(count):
+        for _ in range(30):
+            kind = rng.choice(["table", "shelf", "wall", "post"])
+            k = int(rng.integers(1, len(tips)))
+            shapes = rounded_shapes(shape_table(rng, tips[k], scale) if kind == "table" else
+                                    shape_shelf(rng, tips[k], scale) if kind == "shelf" else
+                                    shape_wall(rng, tips[k - 1], tips[k], scale) if kind == "wall" else
+                                    shape_post(rng, tips[k - 1], tips[k], scale))
+            trial = replace(draft, spheres=[], boxes=shapes["boxes"], rods=shapes["rods"], floor=None)
+            if poses_clear(trial, poses, keep) and base_clear(trial, scale["base"]):
+                draft.boxes.extend(shapes["boxes"])
+                draft.rods.extend(shapes["rods"])
+                break
+
+
+def base_clear(draft: Draft, room: float) -> bool:
+    """Whether no shape comes within ``room`` of the segment from the base 0.3 m (or a link length) down."""
+    base = draft.base if draft.robot is None else np.zeros(3)
+    solids = replace(draft.solids(), floor=None)
+    if not len(solids):
+        return True
+    drop = np.array([0.0, 0.0, 0.3 if draft.robot else float(draft.links[0])])
+    return bool(np.all(solid_gaps(solids, (base - drop)[None], base[None], np.array([room]), np.zeros(1, bool)) > 0))
+
+
+LINK_SCALE = {"thick": (0.1, 0.3), "board": (0.1, 0.2), "top": (1.0, 3.0), "wall": (1.0, 3.0), "passage": (0.8, 1.5),
+              "post_half": (1.0, 3.0), "post_r": (0.15, 0.4), "jitter": 0.2, "base": 0.5}
+ROBOT_SCALE = {"thick": (0.03, 0.06), "board": (0.02, 0.03), "top": (0.3, 0.6), "wall": (0.2, 0.5), "passage": (0.12, 0.25),
+               "post_half": (0.15, 0.3), "post_r": (0.02, 0.04), "jitter": 0.02, "base": 0.12}
+
+
+def poses_above(rng, draft: Draft, draw_pose, count: int, keep: float) -> list:
+    """``count`` poses (from ``draw_pose()``) that keep ``keep`` from the draft's floor (60 tries each)."""
+    poses = []
+    for _ in range(count):
+        for _ in range(60):
+            pose = draw_pose()
+            if poses_clear(draft, [pose], keep):
+                poses.append(pose)
+                break
+    return poses
+
+
+def draw_shapes_scene(rng: np.random.Generator) -> Draft:
+    """One candidate scene of the shapes family (issue 22): an arm of the standard family (the notes'
+    kind, planar, mixed; 3-7 links), a floor under its base in 60 % of the scenes, 3-6 goal poses
+    above it, then 2-5 tables, shelves, walls with a gap and posts across and around the goals."""
+    draft = draw_arm(rng)
+    size = float(np.mean(draft.links))
+    if rng.random() < 0.6:
+        draft.floor = round(float(draft.base[2] - rng.uniform(0.0, 0.5) * size), 4)
+        if not poses_clear(draft, [draft.home], GEN_CLEARANCE):
+            draft.floor = None
+    goal_poses = poses_above(rng, draft, lambda: random_pose(rng, draft), int(rng.integers(3, 7)), GEN_CLEARANCE)
+    tips = [joint_points(draft.geometry(), p)[-1] for p in [draft.home] + goal_poses]
+    scale = {k: tuple(v * size for v in val) if isinstance(val, tuple) else val * size for k, val in LINK_SCALE.items()}
+    scale.update(gap=draft.width / 2 + GEN_CLEARANCE, slack=0.3 * size, passage=(1.25 * draft.width, 2.5 * draft.width))
+    place_shapes(rng, draft, [draft.home] + goal_poses, tips, scale, GEN_CLEARANCE, int(rng.integers(2, 6)))
+    draft.influence = round(0.3 * size, 4)
+    draft.goals = [np.round(t, 4) for t in tips[1:]]
+    draft.witnesses = list(goal_poses)
+    return draft
+
+
+def draw_robot_shapes_scene(rng: np.random.Generator) -> Draft:
+    """One candidate scene of the robot-shapes family (issue 22): a bundled Panda, UR5 or iiwa
+    standing on the floor (z = 0), 3-5 goals (tool points of poses above the floor), 2-4 tables,
+    shelves, walls with a gap and posts across and around them (metres)."""
+    robot = ROBOT_NAMES[int(rng.integers(0, len(ROBOT_NAMES)))]
+    geo = base_geometry(robot)
+    draft = Draft(kind=robot, base=np.zeros(3), links=np.array([geo.reach]), axes=[], direction="z", width=0.1,
+                  home=geo.home, limits=[], robot=robot, floor=0.0, influence=0.05)
+    goal_poses = poses_above(rng, draft, lambda: robot_pose(rng, geo), int(rng.integers(3, 6)), ROBOT_GEN_CLEARANCE)
+    tips = list(geo.placements(np.array([geo.home] + goal_poses))[0])
+    tip_room = 0.07 + ROBOT_GEN_CLEARANCE  # the largest tool capsule radius of the bundled robots, and the margin
+    scale = dict(ROBOT_SCALE, gap=tip_room, slack=0.05)
+    place_shapes(rng, draft, [geo.home] + goal_poses, tips, scale, ROBOT_GEN_CLEARANCE, int(rng.integers(2, 5)))
+    draft.goals = [np.round(t, 4) for t in tips[1:]]
+    draft.witnesses = list(goal_poses)
+    return draft
+
+
+FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene, "robots": draw_robot_scene,
+            "shapes": draw_shapes_scene, "robot-shapes": draw_robot_shapes_scene}
+SHAPE_FAMILIES = ("shapes", "robot-shapes")
 """Scene generators by ``--family``: the original distribution, the hard one of issue 18
 (7-link mixed-axis and planar arms, tight limits everywhere, narrow passages, dense clutter,
 goals near spheres and at the edge of reach, 8-12 goals) and the robots of issue 20
@@ -815,7 +1108,9 @@ def make_scene(seed: int, index: int, family: str = "standard") -> Draft:
     rng = np.random.default_rng([seed, index] if family == "standard" else [seed, index, 1 + list(FAMILIES).index(family)])
     while True:
         draft = FAMILIES[family](rng)
-        if len(draft.spheres) >= (3 if family == "robots" else 2) and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
+        enough = (len(draft.boxes) + len(draft.rods) >= 2 and len(draft.goals) >= 2) if family in SHAPE_FAMILIES else \
+            len(draft.spheres) >= (3 if family == "robots" else 2)
+        if enough and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
             return draft
 
 
@@ -997,6 +1292,8 @@ class SceneResult:
     witness_missed: int  # goals whose generator pose is a witness but the oracle found none
     oracle_seconds: float
     runs: list
+    twin_runs: list = field(default_factory=list)  # (method, frames, seconds) of the spheres-only twin (shape families)
+    distance_seconds: tuple = ()  # (shapes single, twin single, shapes batched, twin batched) seconds per pose
 
 
 def oracle_geometry(draft: Draft, seed: int, index: int) -> Geometry:
@@ -1027,7 +1324,55 @@ def bench_scene(task: tuple) -> SceneResult:
     verdicts, missed = label_scene(draft, geo, seed, index)
     oracle_seconds = time.perf_counter() - start
     runs = [solve_one(draft, seed, index, m, p, geo, verdicts) for m in methods for p in planners]
-    return SceneResult(index, draft.kind, verdicts, missed, oracle_seconds, runs)
+    twins = [twin_timing(draft, seed, index, m, planners[0]) for m in methods] if family in SHAPE_FAMILIES else []
+    distances = distance_timing(draft, seed, index) if family in SHAPE_FAMILIES else ()
+    return SceneResult(index, draft.kind, verdicts, missed, oracle_seconds, runs, twins, distances)
+
+
+def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch: int = 2000) -> tuple:
+    """Seconds per pose of armanim's clearances (forward kinematics included) with the scene's shapes
+    and with its spheres-only twin: one pose at a time (what each frame's filter computes) and
+    ``batch`` poses at once (what the planner checks), the best of three rounds each."""
+    problems = [scene_to_problem(SceneModel.model_validate(d.as_scene_dict(scene_name(seed, index)))) for d in (draft, draft.spheres_twin())]
+    rng = np.random.default_rng([seed, index, 22])
+    phi = rng.uniform(-np.pi, np.pi, (batch, problems[0].arm.n))
+    out = []
+    for single in (True, False):
+        for problem in problems:
+            best = np.inf
+            for _ in range(3):
+                start = time.perf_counter()
+                if single:
+                    for q in phi[:poses]:
+                        clearances(forward(problem.arm, q), problem.obstacles, problem.capsules)
+                else:
+                    clearances(forward(problem.arm, phi), problem.obstacles, problem.capsules)
+                best = min(best, (time.perf_counter() - start) / (poses if single else batch))
+            out.append(best)
+    return tuple(out)
+
+
+def twin_timing(draft: Draft, seed: int, index: int, method: str, planner: str) -> tuple:
+    """(method, frames, seconds) of the scene's spheres-only twin (:meth:`Draft.spheres_twin`) solved alike."""
+    twin = draft.spheres_twin()
+    field_planner = planner if planner_field_exists() else None
+    model = SceneModel.model_validate(twin.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
+    solution, seconds, _ = timed_solve(scene_to_problem(model))
+    return method, int(solution.trajectory.frames), seconds
+
+
+def twin_rows(results: list, methods: list, planner: str) -> list[list[str]]:
+    """Per method: ms per frame with the shapes, with their spheres-only twins, and the ratio."""
+    rows = []
+    for method in methods:
+        runs = [run for r in results for run in r.runs if run.method == method and run.planner == planner]
+        twins = [t for r in results for t in r.twin_runs if t[0] == method]
+        if not runs or not twins:
+            continue
+        shaped = 1000.0 * sum(r.seconds for r in runs) / max(sum(r.frames for r in runs), 1)
+        spheres = 1000.0 * sum(t[2] for t in twins) / max(sum(t[1] for t in twins), 1)
+        rows.append([method, f"{shaped:.2f}", f"{spheres:.2f}", f"{shaped / spheres:.2f}x"])
+    return rows
 
 
 # ---------------------------------------------------------------------------------------
@@ -1132,6 +1477,16 @@ def print_report(results: list, methods: list, planners: list, list_misses: bool
     for (method, planner), counts in sorted(miss_reasons(results).items()):
         easy = counts.pop("(easy)")
         print(f"  {method:8s} {planner:4s} " + ", ".join(f"{reason} {n}" for reason, n in counts.most_common()) + f"; easy {easy}")
+    if any(r.twin_runs for r in results):
+        print(f"\nTime per frame against the same scenes with spheres only (each box and capsule replaced by the largest "
+              f"sphere inside it, the floor dropped; planner {planners[0]}):")
+        print_table(["method", "ms/frame shapes", "ms/frame spheres twin", "ratio"], twin_rows(results, methods, planners[0]))
+        timed = np.array([r.distance_seconds for r in results if r.distance_seconds])
+        if len(timed):
+            single, batched = timed[:, 0].sum() / timed[:, 1].sum(), timed[:, 2].sum() / timed[:, 3].sum()
+            print(f"armanim's clearances per pose (FK included), shapes / spheres twin: one pose at a time "
+                  f"{1e6 * timed[:, 0].mean():.0f} / {1e6 * timed[:, 1].mean():.0f} us = {single:.2f}x; "
+                  f"2000 at once {1e6 * timed[:, 2].mean():.1f} / {1e6 * timed[:, 3].mean():.1f} us = {batched:.2f}x")
     print("\nFeasible goals reached per arm kind (all methods):")
     print_table(["arm kind", "scenes"] + [f"planner {p}" for p in planners], kind_rows(results, planners))
     broken = 0
@@ -1183,8 +1538,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--planner", default="auto,off", help="comma-separated planner settings (default auto,off)")
     parser.add_argument("--jobs", type=int, default=1, help="processes over scenes (default 1)")
     parser.add_argument("--family", choices=sorted(FAMILIES), default="standard",
-                        help="scene distribution: standard, hard (issue 18: tight limits, passages, dense clutter, 8-12 goals) "
-                             "or robots (issue 20: bundled Panda, UR5, iiwa; pinocchio oracle, witness labels)")
+                        help="scene distribution: standard, hard (issue 18: tight limits, passages, dense clutter, 8-12 goals), "
+                             "robots (issue 20: bundled Panda, UR5, iiwa; pinocchio oracle, witness labels), "
+                             "shapes or robot-shapes (issue 22: tables, shelves, walls with a gap, posts, a floor; coal oracle)")
     parser.add_argument("--quick", action="store_true", help="8 scenes, for development")
     parser.add_argument("--list-misses", action="store_true", help="print every feasible goal that was missed")
     parser.add_argument("--dump-scene", nargs=2, metavar=("K", "DIR"), help="write scene K as YAML into DIR and exit")
@@ -1217,7 +1573,10 @@ def main(argv=None) -> int:
         return 0
     self_test_geometry(np.random.default_rng(12345))
     print("self-test: the oracle's forward kinematics and clearances equal armanim's (1e-9)", file=sys.stderr)
-    if args.family == "robots":
+    if args.family in SHAPE_FAMILIES:
+        self_test_solids(np.random.default_rng(12345))
+        print("self-test: the oracle's (coal's) clearances to boxes, capsules and the floor equal armanim's (1e-9)", file=sys.stderr)
+    if args.family in ("robots", "robot-shapes"):
         self_test_robots(np.random.default_rng(12345))
         print("self-test: pinocchio's tool point and the oracle's robot capsule clearances equal armanim's (1e-9)", file=sys.stderr)
     tasks = [(args.seed, k, args.methods, planners, args.family) for k in range(args.scenes)]
