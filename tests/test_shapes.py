@@ -430,3 +430,17 @@ def test_viewer_data_carries_boxes_capsules_and_the_floor():
     from test_cost import notes_problem
 
     assert shape_entries(notes_problem().obstacles) == {}  # spheres: the page's data as it always was
+
+
+def test_smallest_clearance_is_the_least_of_all_clearances():
+    """The pruned batch minimum (the planner's) equals the least of the full clearances."""
+    from armanim.world.distances import min_link_clearance
+
+    arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    caps = joint_capsules(arm, 0.25)
+    obstacles = mixed_obstacles()
+    phi = np.random.default_rng(4).uniform(-np.pi, np.pi, (500, 4))
+    pose = forward(arm, phi)
+    full = clearances(pose, obstacles, caps).links.min(axis=(-1, -2))
+    np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), full, rtol=0, atol=1e-12)
+    assert min_link_clearance(forward(arm, phi[0]), obstacles, caps).shape == ()
