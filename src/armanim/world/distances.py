@@ -197,8 +197,8 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     if obstacles.floor is not None:
         height = floor_clearances(a, b, radius, obstacles.floor, capsules.link == 0, tip=False)[0]
         best = np.minimum(best, height.min(axis=(-1, -2)))
-    bounds = [box_bounds(a, b, radius, obstacles.boxes), shape_bounds(a, b, radius, *solid_spheres(obstacles)[1])]
-    for low, high in bounds:
+    bounds = [box_bounds(a, b, radius, obstacles.boxes), shape_bounds(a, b, radius, *rod_balls(obstacles.rods))]
+    for _, high in bounds:
         best = np.minimum(best, high.min(axis=(-1, -2), initial=np.inf))
     for (low, _), exact in zip(bounds, (_box_exact, _rod_exact)):
         doubt = low <= best[..., None, None]
@@ -211,15 +211,11 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     return best
 
 
-def solid_spheres(obstacles: Obstacles) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """(centre (k, 3), circumradius (k,), inradius (k,)) of the boxes, then of the capsule
-    obstacles: every point of the solid is within the first of its centre, and the second's ball is inside it."""
-    boxes, rods = obstacles.boxes, obstacles.rods
+def rod_balls(rods: Rods) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(centre (k, 3), outer radius (k,), inner radius (k,)) of the capsule obstacles: every point
+    of a capsule is within the outer ball about its centre, and the inner ball is inside it."""
     half_length = 0.5 * np.sqrt(((rods.end - rods.start) ** 2).sum(axis=-1))
-    return [
-        (boxes.centers, np.sqrt((boxes.half**2).sum(axis=-1)), boxes.half.min(axis=-1, initial=np.inf)),
-        (0.5 * (rods.start + rods.end), half_length + rods.radius, rods.radius),
-    ]
+    return 0.5 * (rods.start + rods.end), half_length + rods.radius, rods.radius
 
 
 def box_bounds(a, b, radius, boxes: Boxes) -> tuple[np.ndarray, np.ndarray]:
@@ -248,8 +244,8 @@ def _outside(p: np.ndarray, half: np.ndarray) -> np.ndarray:
 
 
 def shape_bounds(a, b, radius, centers, outer, inner) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper bounds (..., c, k) of the capsules' clearances to solids given by
-    :func:`solid_spheres` (the solid lies between its inner and outer ball)."""
+    """Lower and upper bounds (..., c, k) of the capsules' clearances to solids that lie between
+    an inner and an outer ball about ``centers`` (:func:`rod_balls`)."""
     if not len(centers):
         empty = np.full(a.shape[:-1] + (0,), np.inf)
         return empty, empty
