@@ -444,3 +444,27 @@ def test_smallest_clearance_is_the_least_of_all_clearances():
     full = clearances(pose, obstacles, caps).links.min(axis=(-1, -2))
     np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), full, rtol=0, atol=1e-12)
     assert min_link_clearance(forward(arm, phi[0]), obstacles, caps).shape == ()
+
+
+def test_a_shapes_run_is_byte_identical_in_two_processes():
+    """ur5-table plans round its post: the same CSV bytes from a fresh process and from one
+    that planned it once already (OMPL's random numbers must not leak between plans)."""
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    program = (
+        "import sys\n"
+        "from armanim.scene import load_scene, scene_to_problem\n"
+        "from armanim.output.csvfile import trajectory_csv_text\n"
+        "from armanim.motion.trajectory import solve_trajectory\n"
+        "solve = lambda name: solve_trajectory(scene_to_problem(load_scene(sys.argv[1] + '/scenes/' + name + '.yaml').model))\n"
+        "if sys.argv[2] == 'warm':\n"
+        "    solve('ur5-table')\n"
+        "print(trajectory_csv_text(solve('ur5-table').trajectory), end='')\n"
+    )
+    runs = [subprocess.run([sys.executable, "-c", program, str(ROOT), how], capture_output=True, text=True, check=True)
+            for how in ("cold", "warm")]
+    assert ",plan" in runs[0].stdout
+    assert runs[0].stdout == runs[1].stdout
