@@ -55,9 +55,20 @@ def segment_segment(a: np.ndarray, b: np.ndarray, c: np.ndarray, e: np.ndarray) 
     offset = r[..., None, :] + s[..., None] * d1[..., None, :] - t[..., None] * d2[..., None, :]
     dist2 = dot(offset, offset)
     dist2[..., 4] = np.where(inside, dist2[..., 4], np.inf)
-    best = np.argmin(dist2, axis=-1)[..., None]
-    pick = np.take_along_axis
-    return pick(s, best, -1)[..., 0], pick(t, best, -1)[..., 0], pick(offset, best[..., None], -2)[..., 0, :]
+    _, s_best, t_best, offset_best = least(dist2, s, t, offset)
+    return s_best, t_best, offset_best
+
+
+def least(values: np.ndarray, *others: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The least of ``values`` (..., K) along its last axis, and the entries of ``others``
+    (..., K) or (..., K, 3) at the same place (the first of ties)."""
+    best = np.argmin(values, axis=-1)
+    flat = best.reshape(-1) + values.shape[-1] * np.arange(best.size)
+    picked = [values.reshape(-1)[flat].reshape(best.shape)]
+    for other in others:
+        tail = other.shape[values.ndim:]
+        picked.append(other.reshape((-1,) + tail)[flat].reshape(best.shape + tail))
+    return tuple(picked)
 
 
 def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
@@ -146,15 +157,12 @@ def segment_box(
     x0, u, half = np.broadcast_arrays(x0, u, half)
     t = _outside_candidates(x0, u, half)
     sdf = box_signed_distance(x0[..., None, :] + t[..., None] * u[..., None, :], half[..., None, :])
-    best = np.argmin(sdf, axis=-1)[..., None]
-    t_best, d_best = np.take_along_axis(t, best, -1)[..., 0], np.take_along_axis(sdf, best, -1)[..., 0]
+    d_best, t_best = least(sdf, t)
     touching = d_best <= 0.0
     if np.any(touching):  # the segment enters the box: find its deepest point
         x0_in, u_in, half_in = x0[touching], u[touching], half[touching]
         t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), t[touching]], axis=-1)
         sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
-        deepest = np.argmin(sdf_in, axis=-1)[..., None]
-        t_best[touching] = np.take_along_axis(t_in, deepest, -1)[..., 0]
-        d_best[touching] = np.take_along_axis(sdf_in, deepest, -1)[..., 0]
+        d_best[touching], t_best[touching] = least(sdf_in, t_in)
     local = box_normal(x0 + t_best[..., None] * u, half)
     return t_best, d_best, np.einsum("...ab,...b->...a", rotation, local)
