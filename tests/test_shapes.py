@@ -293,6 +293,9 @@ def test_home_and_goals_clear_of_every_shape(scene_rejected):
     scene_rejected(edit(S["goal0"], "  - [-4, 0.6, 2]", SHAPES), "goals[0]", S["goal0"], "from the surface of obstacles[2]")
     scene_rejected(edit(S["goal0"], "  - [3, 2, -0.5]", SHAPES), "goals[0]", S["goal0"], "lies below the floor")
     scene_rejected(edit(S["goal0"], "  - [3, 2, 0.2]", SHAPES), "goals[0]", S["goal0"], "is 0.2 from the floor")
+    # the home pose tilted so that link 3 dips into the floor (link 1 stands on the base: it may touch it)
+    tilted = SHAPES.replace("  axes: [z, y, y]\n", "  axes: [z, y, y]\n  home: [0, 120, 0]\n")
+    scene_rejected(tilted, "floor", S["floor"] + 1, "link 3 of the arm's home pose is inside the floor")
 
 
 # --- the motion keeps every shape: the filter, the floor, the invariants --------------------
