@@ -44,7 +44,6 @@ def scene():
 def coal_objects(obstacles):
     """coal's boxes and capsules with their placements."""
     import coal
-
     from motion_bench import coal_capsule
 
     boxes, rods = obstacles.boxes, obstacles.rods
@@ -55,7 +54,6 @@ def coal_objects(obstacles):
 def coal_clearances(shapes, a, b, radius):
     """(k, s) clearances of segments a-b (k, 3) of radii (k,) to every shape, one coal call per pair."""
     import coal
-
     from motion_bench import coal_capsule
 
     request = coal.DistanceRequest()
