@@ -308,3 +308,22 @@ def test_a_3000_frame_7_joint_run_stays_under_3_mb_and_plays(browser, tmp_path):
         assert page.shown()["frame"] == 2999 and len(page.shown()["angles"]) == 7
     finally:
         page.page.close()
+
+
+def test_boxes_capsules_and_the_floor_are_drawn(browser, tmp_path_factory, tmp_path):
+    """ur5-table (a box, a capsule, the floor): the page loads without an error and shows the obstacles' red."""
+    import numpy as np
+    from PIL import Image
+
+    from armanim.runs.pipeline import run_scene
+
+    folder = run_scene(SCENES / "ur5-table.yaml", tmp_path_factory.mktemp("shapes"), video=False, viewer=True).folder
+    page = Page(browser, folder / "viewer.html")
+    assert page.errors == []
+    assert page.js("armanim.data.boxes.length") == 1 and page.js("armanim.data.obstacle_capsules.length") == 1
+    shot = tmp_path / "view.png"
+    page.js("armanim.nextDraw()")
+    page.page.locator("#view canvas").screenshot(path=shot)
+    rgb = np.asarray(Image.open(shot).convert("RGB")).astype(int)
+    red = (rgb[..., 0] > rgb[..., 1] + 80) & (rgb[..., 0] > rgb[..., 2] + 80)
+    assert red.sum() > 3000, red.sum()
