@@ -17,7 +17,7 @@ from armanim.render.mesh import prism_face_normals, prism_faces, prism_vertices,
 from armanim.render.solids import Part, point_samples, segment_samples
 from armanim.render.style import CIRCLE_SIDES, JOINT_HIGHLIGHT, OBSTACLE_COLOR, PRISM_SIDES, with_alpha
 from armanim.render.view import LIGHT, View, lambert
-from armanim.world.obstacles import BOX, ROD
+from armanim.world.obstacles import BOX, ROD, Boxes
 
 BOX_FACES = np.array([[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])
 """Corner indices of the six faces (corner j at signs (-1)^bits of j: x bit 2, y bit 1, z bit 0)."""
@@ -47,9 +47,8 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
 
 
 def box_corners(center: np.ndarray, half: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-    """(8, 3) world corners of one box (corner order of :data:`BOX_FACES`)."""
-    signs = np.array([[1 if j & 4 else -1, 1 if j & 2 else -1, 1 if j & 1 else -1] for j in range(8)], dtype=float)
-    return center + (signs * half) @ rotation.T
+    """(8, 3) world corners of one box (corner order of :data:`BOX_FACES`: :meth:`Boxes.corners`)."""
+    return Boxes(np.asarray(center)[None], np.asarray(half)[None], np.asarray(rotation)[None]).corners()[0]
 
 
 def stadium(a: np.ndarray, b: np.ndarray, radius: float, sides: int = CIRCLE_SIDES) -> np.ndarray:
