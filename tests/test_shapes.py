@@ -95,6 +95,9 @@ def test_parallel_and_point_segments():
     assert (float(t), offset.tolist()) == (0.5, [0.0, 5.0, 0.0])
     s, t, offset = segment_segment(np.ones(3), np.ones(3), np.zeros(3), np.zeros(3))
     assert offset.tolist() == [1.0, 1.0, 1.0]
+    # a capsule obstacle that is a sphere (from == to) against a link
+    s, t, offset = segment_segment(np.zeros(3), np.array([4.0, 0, 0]), np.array([1.0, 2, 0]), np.array([1.0, 2, 0]))
+    assert (float(s), offset.tolist()) == (0.25, [0.0, -2.0, 0.0])
 
 
 def sample_box_surface(center, half, rotation, per_edge=41):

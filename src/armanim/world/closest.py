@@ -35,28 +35,27 @@ def segment_segment(a: np.ndarray, b: np.ndarray, c: np.ndarray, e: np.ndarray) 
     """Closest points of segments a-b and c-e: (s, t, offset), with s along a-b, t along c-e
     and offset = (a + s (b - a)) - (c + t (e - c)), shapes (...), (...), (..., 3).
 
-    The squared distance is a convex quadratic on the unit square: its least value is the
-    free minimiser when it lies inside, else on an edge, where it is the clamped 1-D minimiser.
+    Ericson's closed form (Real-Time Collision Detection, 5.1.9): the squared distance is a
+    convex quadratic on the unit square; s from the lines' closest points clamped, t the
+    nearest to that point clamped, then s again for a clamped t. A zero-length a-b (the tip)
+    and parallel segments take s = 0 first; a zero-length c-e (a capsule that is a sphere) the
+    point of a-b nearest to it.
 
     >>> s, t, off = segment_segment(np.zeros(3), np.array([2.0, 0, 0]), np.array([1.0, -1, 1]), np.array([1.0, 1, 1]))
     >>> float(s), float(t), off.tolist()
     (0.5, 0.5, [0.0, 0.0, -1.0])
     """
-    a, b, c, e = np.broadcast_arrays(a, b, c, e)
     d1, d2, r = b - a, e - c, a - c
     aa, ee, bb, cc, ff = dot(d1, d1), dot(d2, d2), dot(d1, d2), dot(d1, r), dot(d2, r)
     denom = aa * ee - bb * bb
-    free = denom > 1e-12 * aa * ee
-    s_free, t_free = safe_ratio(bb * ff - cc * ee, np.where(free, denom, 0.0)), safe_ratio(aa * ff - bb * cc, np.where(free, denom, 0.0))
-    inside = free & (s_free >= 0) & (s_free <= 1) & (t_free >= 0) & (t_free <= 1)
-    one, zero = np.ones_like(aa), np.zeros_like(aa)
-    s = np.stack([zero, one, np.clip(safe_ratio(-cc, aa), 0, 1), np.clip(safe_ratio(bb - cc, aa), 0, 1), s_free], axis=-1)
-    t = np.stack([np.clip(safe_ratio(ff, ee), 0, 1), np.clip(safe_ratio(ff + bb, ee), 0, 1), zero, one, t_free], axis=-1)
-    offset = r[..., None, :] + s[..., None] * d1[..., None, :] - t[..., None] * d2[..., None, :]
-    dist2 = dot(offset, offset)
-    dist2[..., 4] = np.where(inside, dist2[..., 4], np.inf)
-    _, s_best, t_best, offset_best = least(dist2, s, t, offset)
-    return s_best, t_best, offset_best
+    s = np.clip(safe_ratio(bb * ff - cc * ee, np.where(denom > 1e-12 * aa * ee, denom, 0.0)), 0.0, 1.0)
+    s = np.where(ee > 0.0, s, np.clip(safe_ratio(-cc, aa), 0.0, 1.0))  # c-e a point: the nearest point of a-b to it
+    t = safe_ratio(bb * s + ff, ee)
+    below, above = t < 0.0, t > 1.0
+    s = np.where(below, np.clip(safe_ratio(-cc, aa), 0.0, 1.0), np.where(above, np.clip(safe_ratio(bb - cc, aa), 0.0, 1.0), s))
+    t = np.clip(t, 0.0, 1.0)
+    offset = r + s[..., None] * d1 - t[..., None] * d2
+    return s, t, offset
 
 
 def least(values: np.ndarray, *others: np.ndarray) -> tuple[np.ndarray, ...]:
