@@ -368,10 +368,17 @@ def test_floor_is_kept_with_the_planner_off():
     assert cl.d[..., -1].min() >= problem.solver.clearance
 
 
-@given(shaped_problems(max_links=5, max_goals=2))
-@settings(max_examples=6)
+@given(shaped_problems(max_links=5, max_goals=2, max_frames=60))
+@settings(max_examples=5)
 def test_shaped_scene_trajectory_invariants(problem):
-    assert_trajectory_invariants(problem, solve_trajectory(problem))
+    from unittest import mock
+
+    from armanim.motion.planning import path as path_module
+
+    # a thirtieth of the RRT budget, as the suite's other hypothesis trajectory tests (main's
+    # invariants.small_planning_budget): a goal with no path would spend the whole of it
+    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // 30):
+        assert_trajectory_invariants(problem, solve_trajectory(problem))
 
 
 # --- pictures ---------------------------------------------------------------------------------
