@@ -118,21 +118,21 @@ def sample_box_surface(center, half, rotation, per_edge=41):
 
 def test_segment_box_against_surface_sampling():
     rng = np.random.default_rng(3)
-    for _ in range(20):
+    edge, along = 25, 401  # samples per box edge and along the segment
+    for _ in range(12):
         center, half, rotation = random_box(rng)
         a = center + rng.normal(size=3) * 1.5
         b = a + rng.normal(size=3)
         t, dist, normal = segment_box(a, b, center, half, rotation)
-        along = a + np.linspace(0, 1, 801)[:, None] * (b - a)
-        local = (along - center) @ rotation
-        sdf = box_signed_distance(local, half)
+        points = a + np.linspace(0, 1, along)[:, None] * (b - a)
+        sdf = box_signed_distance((points - center) @ rotation, half)
+        step = np.linalg.norm(b - a) / (along - 1)
         assert dist <= sdf.min() + 1e-12  # ours is the least (sampling can only miss it)
-        assert sdf.min() - dist < np.linalg.norm(b - a) / 800 + 1e-12
+        assert sdf.min() - dist < step + 1e-12
         if dist > 0:
-            surface = sample_box_surface(center, half, rotation)
-            gaps = np.linalg.norm(along[:, None, :] - surface[None, :, :], axis=-1).min()
-            spacing = 2 * np.linalg.norm(half) / 40 + np.linalg.norm(b - a) / 800
-            assert dist <= gaps + 1e-12 and gaps - dist < spacing
+            surface = sample_box_surface(center, half, rotation, edge)
+            gaps = np.sqrt(((points[:, None, :] - surface[None, :, :]) ** 2).sum(axis=-1)).min()
+            assert dist <= gaps + 1e-12 and gaps - dist < 2 * np.linalg.norm(half) / (edge - 1) + step
 
 
 def test_inside_a_box_is_negative_the_deepest_point():
