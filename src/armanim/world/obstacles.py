@@ -112,6 +112,8 @@ class Obstacles:
         if self.kinds is None:
             counts = (len(self.radii), len(self.boxes), len(self.rods), int(self.floor is not None))
             object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, FLOOR], counts))
+        columns = {kind: np.nonzero(self.kinds == kind)[0] for kind in (SPHERE, BOX, ROD, FLOOR)}
+        object.__setattr__(self, "_columns", columns)  # asked for on every clearance computation
 
     @classmethod
     def none(cls) -> Obstacles:
@@ -133,4 +135,4 @@ class Obstacles:
         >>> Obstacles(np.zeros((1, 3)), np.ones(1), np.ones(2), floor=0.0).columns(FLOOR).tolist()
         [1]
         """
-        return np.nonzero(self.kinds == kind)[0]
+        return self._columns[kind]
