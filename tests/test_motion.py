@@ -12,6 +12,7 @@ import subprocess
 import sys
 from dataclasses import replace
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -22,6 +23,7 @@ from invariants import assert_trajectory_invariants
 from strategies import cluttered_problems
 
 from armanim.arm.kinematics import Arm, forward
+from armanim.motion.planning import path as path_module
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.follow import path_frames
 from armanim.motion.planning.path import CERTIFY_TO, motion_is_free, motion_samples
@@ -194,7 +196,11 @@ def test_path_frames_start_and_stop_slowly():
 @given(cluttered_problems())
 @settings(max_examples=12)
 def test_cluttered_scene_trajectory_invariants(problem):
-    assert_trajectory_invariants(problem, solve_trajectory(problem))
+    # A goal with no path spends the planner's whole budget (4 x 15,000 RRT iterations, up to
+    # a minute) before it is reported; a thirtieth of it tests the same invariants, and the
+    # motion benchmark measures what the whole budget finds
+    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // 30):
+        assert_trajectory_invariants(problem, solve_trajectory(problem))
 
 
 def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(tmp_path):
