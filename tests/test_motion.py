@@ -12,18 +12,16 @@ import subprocess
 import sys
 from dataclasses import replace
 from pathlib import Path
-from unittest import mock
 
 import numpy as np
 import pytest
 from conftest import ROOT
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from invariants import assert_trajectory_invariants
+from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import cluttered_problems
 
 from armanim.arm.kinematics import Arm, forward
-from armanim.motion.planning import path as path_module
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.follow import path_frames
 from armanim.motion.planning.path import CERTIFY_TO, motion_is_free, motion_samples
@@ -196,10 +194,7 @@ def test_path_frames_start_and_stop_slowly():
 @given(cluttered_problems())
 @settings(max_examples=12)
 def test_cluttered_scene_trajectory_invariants(problem):
-    # A goal with no path spends the planner's whole budget (4 x 15,000 RRT iterations, up to
-    # a minute) before it is reported; a thirtieth of it tests the same invariants, and the
-    # motion benchmark measures what the whole budget finds
-    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // 30):
+    with small_planning_budget():
         assert_trajectory_invariants(problem, solve_trajectory(problem))
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
-from invariants import assert_trajectory_invariants
+from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import robot_problems
 
 from armanim.arm.capsules import capsule_point, capsule_point_jacobian
@@ -239,7 +239,8 @@ def test_a_run_of_your_own_urdf_renders_and_views_after_the_scene_folder_is_gone
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(robot_problems())
 def test_robot_trajectories_keep_every_invariant(problem):
-    assert_trajectory_invariants(problem, solve_trajectory(problem))
+    with small_planning_budget():
+        assert_trajectory_invariants(problem, solve_trajectory(problem))
 
 
 def test_panda_run_is_byte_identical_on_rerun():
