@@ -16,10 +16,10 @@ from armanim import __version__
 from armanim.errors import SceneError
 from armanim.motion.trajectory import solve_trajectory
 from armanim.output.atomic import write_all_or_none, write_target
-from armanim.output.rundir import directory_lock
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.output.files import open_regular, read_bounded
+from armanim.output.rundir import directory_lock
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 
 MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
