@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import contextlib
+from unittest import mock
+
 import numpy as np
 import pytest
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
+from armanim.motion.planning import path as path_module
 from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step
 from armanim.motion.solvers.barrier import limit_buffer
@@ -14,6 +18,18 @@ from armanim.motion.trajectory import frame_budget, hold_frames
 from armanim.world.distances import clearances
 
 TINY = 1e-9
+
+
+@contextlib.contextmanager
+def small_planning_budget(share: int = 30):
+    """The planner's RRT budget divided by ``share`` meanwhile.
+
+    A random goal with no path spends the whole budget (4 x 15,000 RRT iterations, up to a
+    minute) before it is reported; a thirtieth of it tests the same invariants, and
+    benchmarks/motion_bench.py measures what the whole budget finds.
+    """
+    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // share):
+        yield
 
 
 def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:

@@ -162,8 +162,11 @@ def test_jobs_1_and_jobs_2_give_byte_identical_outputs(batch_j1, batch_j2):
 
 
 def test_the_installed_command_runs_a_batch(src, tmp_path):
+    """Also with a TMPDIR too long for the workers' socket path (AF_UNIX: 107 bytes)."""
+    tmp = tmp_path / ("long-temporary-folder-" * 6)
+    tmp.mkdir()
     proc = subprocess.run([armanim_exe(), *map(str, batch_args(src, tmp_path / "out", 2))],
-                          capture_output=True, text=True, timeout=120, cwd=tmp_path, env=clean_env())
+                          capture_output=True, text=True, timeout=120, cwd=tmp_path, env={**clean_env(), "TMPDIR": str(tmp)})
     assert proc.returncode == 2, proc.stderr
     assert BAD_MESSAGE in proc.stderr
     assert "Traceback" not in proc.stderr

@@ -135,6 +135,24 @@ def test_check_update_then_check_passes_then_scene_edit_fails(tmp_path):
     assert runner.invoke(app, ["check", str(scene), "--golden", str(golden)]).exit_code == 0
 
 
+def test_two_updates_of_one_golden_folder_take_turns_and_leave_no_lock_file(tmp_path):
+    import threading
+
+    from armanim.output.rundir import directory_lock
+    from armanim.runs.golden import update_golden
+
+    golden = tmp_path / "golden"
+    done = threading.Event()
+    with directory_lock(golden):  # another `check --update` of this folder is writing
+        worker = threading.Thread(target=lambda: (update_golden(ROOT / "scenes" / "out-of-reach.yaml", golden), done.set()))
+        worker.start()
+        assert not done.wait(1.0)  # it waits for the folder (a solve of this scene takes ~0.1 s)
+        assert not list(golden.iterdir())
+    worker.join(timeout=120)  # a hang guard
+    assert done.is_set()
+    assert sorted(p.name for p in golden.iterdir()) == ["out-of-reach.csv", "out-of-reach.json"]
+
+
 def test_check_without_golden_file_fails(tmp_path):
     result = runner.invoke(app, ["check", str(ROOT / "scenes" / "out-of-reach.yaml"), "--golden", str(tmp_path)])
     assert result.exit_code == 1

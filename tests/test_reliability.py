@@ -351,13 +351,23 @@ MOMENTS = {  # a handful per command (each attempt is a real process); benchmark
 }
 
 
+def _attempt_until_the_moment_comes(sweep: Sweep, moment: str, delay: float, signame: str, tries: int = 3):
+    """An attempt whose moment came (or that went wrong); a busy machine can make a short
+    moment (the poster) pass between two polls, so such an attempt is made again."""
+    for _ in range(tries):
+        outcome = sweep.attempt(moment, delay, signame)
+        if outcome.fired or outcome.problems():
+            return outcome
+    return outcome
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", MOMENTS)
 def test_a_signal_at_any_moment_ends_with_0_or_130_and_old_or_new_outputs(tmp_path, name):
     """Ctrl-C (to the group) and SIGTERM (to armanim) over each command's life, at the commit too:
     exit 0 or 130, no traceback, each folder (golden pair) old or whole new, no litter, no process left."""
     sweep = Sweep(_commands(tmp_path)[name], tmp_path / "sweep")
-    outcomes = [sweep.attempt(moment, delay, signame) for moment, delay, signame in MOMENTS[name]]
+    outcomes = [_attempt_until_the_moment_comes(sweep, *moment) for moment in MOMENTS[name]]
     wrong = {o.moment + " " + o.signame: o.problems() + [o.stderr[-2000:]] for o in outcomes if o.problems()}
     assert wrong == {}
     assert all(o.fired for o in outcomes), [o.moment for o in outcomes if not o.fired]  # each moment came: a real test

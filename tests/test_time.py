@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from invariants import assert_trajectory_invariants
+from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import cluttered_problems
 
 from armanim.arm.geometry import wrap_angle
@@ -100,7 +100,8 @@ def test_a_scene_moves_the_same_in_seconds_at_15_30_and_60_fps(cli, tmp_path, na
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])  # as the suite's profile
 @given(problem=cluttered_problems(max_goals=2), fps=st.sampled_from([7.0, 15.0, 24.0, 60.0, 90.0]))
 def test_every_resampled_frame_keeps_the_guarantees_at_that_rate(problem, fps):
-    solved = solve_trajectory(problem)
+    with small_planning_budget():
+        solved = solve_trajectory(problem)
     resampled = resample(problem, solved, fps)
     shown = at_fps(problem, fps)
     # clearance, limits, holds, reports; the joint step at most the larger of one frame at this rate

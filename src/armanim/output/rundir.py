@@ -57,6 +57,23 @@ def folder_lock(folder: Path) -> Iterator[None]:
         handle.close()
 
 
+@contextlib.contextmanager
+def directory_lock(folder: Path) -> Iterator[None]:
+    """Hold an exclusive lock on ``folder`` itself, made if missing (no lock file is left in it
+    or beside it: for folders the user keeps, such as golden files under version control)."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    except OSError as exc:
+        raise output_error(folder, exc) from None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        fcntl.flock(fd, fcntl.LOCK_UN)
+        os.close(fd)
+
+
 def file_stamp(path: Path) -> dict | None:
     """What the marker records of a file armanim wrote: its size and mtime (ns); None if
     ``path`` is not a regular file (a folder, a link, ...)."""

@@ -25,6 +25,9 @@ CONNECT_SECONDS = 10.0
 """How long a Dask scheduler may take to answer, from the connection to the handshake."""
 _BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 _PRELOAD = ["armanim.runs.pipeline", "armanim.render.draw", "armanim.render.video"]
+_SOCKET_PATH_BYTES = 107  # AF_UNIX: sun_path holds 108 bytes with its final NUL
+_SOCKET_NAME_BYTES = 40  # what multiprocessing adds to TMPDIR: /pymp-XXXXXXXX/listener-XXXXXXXX
+_SHORT_TEMP_DIRS = ("/tmp", "/var/tmp", "/dev/shm")
 
 
 @contextlib.contextmanager
@@ -53,8 +56,27 @@ def _worker_context():
         context = multiprocessing.get_context("forkserver")
     except ValueError:
         return multiprocessing.get_context("spawn")
+    _socket_dir_short_enough()
     context.set_forkserver_preload(_PRELOAD)
     return context
+
+
+def _socket_dir_short_enough() -> None:
+    """Make multiprocessing's folder (where the forkserver's socket goes) under a short system
+    folder when TMPDIR is too long for a socket path, as Python 3.13 does; otherwise every
+    pool fails with "AF_UNIX path too long". The folder is removed at exit as before."""
+    from multiprocessing import util
+
+    if len(os.fsencode(tempfile.gettempdir())) + _SOCKET_NAME_BYTES <= _SOCKET_PATH_BYTES:
+        return
+    short = next((d for d in _SHORT_TEMP_DIRS if os.path.isdir(d) and os.access(d, os.W_OK | os.X_OK)), None)
+    if short is None:
+        return  # nowhere shorter: the pool reports the error as before
+    saved, tempfile.tempdir = tempfile.tempdir, short
+    try:
+        util.get_temp_dir()  # made once per process and kept: later sockets go there too
+    finally:
+        tempfile.tempdir = saved
 
 
 class _LocalExecutor:

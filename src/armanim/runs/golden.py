@@ -19,6 +19,7 @@ from armanim.output.atomic import write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.output.files import open_regular, read_bounded
+from armanim.output.rundir import directory_lock
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 
 MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
@@ -93,19 +94,21 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
     """(Re)write a scene's golden CSV and metadata; status says new, changed or unchanged.
 
     The pair is written all or none (:func:`armanim.output.atomic.write_all_or_none`): a
-    failure on either file leaves both as they were.
+    failure on either file leaves both as they were. Two updates of the same golden folder
+    at once take turns (a lock on the folder), so a pair never mixes two updates.
     """
     scene = load_scene(scene_path)
     csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
     for path in (csv_path, meta_path):  # a folder or device at either: exit 3 before the solve
         write_target(path)
     data = solve_csv_text(scene).encode("utf-8")
-    status = golden_status(csv_path, data)
     meta = {"armanim_version": __version__, "scene_file": scene.path.name, "scene_sha256": scene.sha256}
     files = {meta_path: (json.dumps(meta, indent=2) + "\n").encode("utf-8")}
-    if status != "unchanged":
-        files = {csv_path: data, **files}
-    write_all_or_none(files)
+    with directory_lock(csv_path.parent):
+        status = golden_status(csv_path, data)
+        if status != "unchanged":
+            files = {csv_path: data, **files}
+        write_all_or_none(files)
     return GoldenResult(scene, csv_path, status, f"{status}: {csv_path}")
 
 

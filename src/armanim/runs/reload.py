@@ -19,6 +19,8 @@ from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.scene.models import LIMITS, RenderModel
 
 SCENE_COPY = "scene.yaml"
+ROBOT_COPY = "robot.urdf"
+"""A run of a user's URDF arm keeps a copy of the file (the scene's ``arm.urdf`` names the original)."""
 MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB
 
 
@@ -108,7 +110,8 @@ def load_run(folder: str | Path) -> FinishedRun:
                if not (folder / name).exists() and not (folder / name).is_symlink()]  # a device there is named when read
     if missing:
         raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
-    scene = load_scene(folder / SCENE_COPY)
+    robot = folder / ROBOT_COPY
+    scene = load_scene(folder / SCENE_COPY, urdf_file=robot if robot.exists() or robot.is_symlink() else None)
     summary = _read_summary(folder / "summary.json")
     recorded = (summary.get("scene") or {}).get("sha256") if isinstance(summary.get("scene"), dict) else None
     if recorded is not None and recorded != scene.sha256:

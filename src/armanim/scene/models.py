@@ -9,6 +9,7 @@ Every field of ``scene-format.md`` with its default; unknown keys are errors
 from __future__ import annotations
 
 import re
+from pathlib import Path
 from typing import Annotated, Literal
 
 from pydantic import (
@@ -146,6 +147,11 @@ class ArmModel(Strict):
     def is_urdf(self) -> bool:
         """Whether the arm comes from a URDF (``urdf`` or ``robot``)."""
         return self.urdf is not None or self.robot is not None
+
+    @property
+    def urdf_source(self) -> Path | None:
+        """The user's URDF file this arm was read from (None for links or a bundled robot)."""
+        return self._robot.source if self._robot is not None else None
 
     @property
     def joint_count(self) -> int:

@@ -80,6 +80,8 @@ class UrdfArm:
     fallback_links : tuple of str
         Moving links without a usable collision primitive: they get a joint-to-joint capsule of radius width / 2.
     bundled : BundledRobot or None
+    source : Path or None
+        The user's URDF file that was read (None for a bundled robot).
     """
 
     file: str
@@ -90,13 +92,14 @@ class UrdfArm:
     capsules: tuple[CapsuleSpec, ...]
     fallback_links: tuple[str, ...]
     bundled: BundledRobot | None
+    source: Path | None = None
 
 
 def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
     """The URDF arm of a scene's ``arm`` section, or None for an arm of links.
 
     ``context`` may give ``scene_dir``, the folder ``arm.urdf`` is relative to (default: the
-    working folder). Problems of the scene raise ValueError (pydantic reports them at
+    working folder), and ``urdf_file``, a file read in its place (a run folder's copy). Problems of the scene raise ValueError (pydantic reports them at
     ``arm``); problems of the URDF file raise its SceneError (``FILE:LINE: message``).
     """
     _check_kind(arm)
@@ -106,8 +109,8 @@ def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
     if bundled is not None:
         path, shown = bundled.urdf, f"robot {bundled.name}'s URDF"
     else:
-        folder = Path((context or {}).get("scene_dir") or ".")
-        path = folder / arm.urdf
+        context = context or {}
+        path = Path(context["urdf_file"]) if context.get("urdf_file") else Path(context.get("scene_dir") or ".") / arm.urdf
         shown = str(path)
     robot = read_urdf(path, shown)
     base = _link(robot, arm.base_link or (bundled.base_link if bundled else robot.root), "base_link")
@@ -130,6 +133,7 @@ def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
         capsules=capsules,
         fallback_links=_uncovered(joints, links, capsules),
         bundled=bundled,
+        source=None if bundled is not None else path,
     )
 
 
