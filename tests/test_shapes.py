@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from hypothesis import given, settings
-from invariants import assert_trajectory_invariants
+from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import shaped_problems
 
 from armanim.arm.capsules import capsule_point_jacobian, joint_capsules
@@ -371,13 +371,7 @@ def test_floor_is_kept_with_the_planner_off():
 @given(shaped_problems(max_links=5, max_goals=2, max_frames=60))
 @settings(max_examples=5)
 def test_shaped_scene_trajectory_invariants(problem):
-    from unittest import mock
-
-    from armanim.motion.planning import path as path_module
-
-    # a thirtieth of the RRT budget, as the suite's other hypothesis trajectory tests (main's
-    # invariants.small_planning_budget): a goal with no path would spend the whole of it
-    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // 30):
+    with small_planning_budget():  # a goal with no path would spend the whole RRT budget
         assert_trajectory_invariants(problem, solve_trajectory(problem))
 
 
