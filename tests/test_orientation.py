@@ -129,7 +129,7 @@ def test_orientation_gradient_is_exact_against_finite_differences(kind):
         phi = RNG.uniform(-2, 2, arm.n)
         r, grad = orientation_gradient(goal, arm, forward(arm, phi))
 
-        def half_square(p):
+        def half_square(p, goal=goal):
             return 0.5 * np.sum(orientation_residual(goal, tool_rotation(arm, forward(arm, p))) ** 2, axis=-1)
 
         h = 1e-6
@@ -226,3 +226,127 @@ def test_bad_orientations_are_clear_errors_with_field_and_line(tmp_path, goal, e
     with pytest.raises(SceneError) as info:
         load_scene(_scene(tmp_path, f"  - {goal}"))
     assert expected in info.value.report()
+
+
+# ------------------------------------------------------------------ every method reaches pose goals
+
+from dataclasses import replace  # noqa: E402
+
+from armanim.motion.ik import solve_pose  # noqa: E402
+from armanim.motion.orientation import orientation_rows  # noqa: E402
+from armanim.motion.problem import Goal  # noqa: E402
+from armanim.motion.solvers.barrier import within_limits  # noqa: E402
+from armanim.motion.trajectory import solve_trajectory  # noqa: E402
+from armanim.output.csvfile import trajectory_csv_text  # noqa: E402
+from armanim.output.summary import goal_report_dict  # noqa: E402
+from armanim.scene.models import SceneModel  # noqa: E402
+
+METHODS = ["pinv", "dls", "newton", "gradient"]
+ARMS = {
+    "panda": {"robot": "panda"},
+    "ur5": {"robot": "ur5"},
+    "iiwa": {"robot": "iiwa"},
+    "six": {"links": [1.0, 2.0, 2.0, 0.5, 0.5, 0.3], "axes": ["z", "y", "y", "x", "y", "z"]},
+}
+
+
+def _problem(arm: dict, method: str, **solver):
+    scene = SceneModel.model_validate({"version": 1, "arm": arm, "goals": [[0.3, 0.0, 0.4]],
+                                       "solver": {"method": method, "tolerance": 1e-3, **solver}})
+    return scene_to_problem(scene)
+
+
+def _free_pose_goal(problem, seed: int, kind: str) -> Goal:
+    """A goal made from the tool frame of a random free pose inside the limits."""
+    rng = np.random.default_rng(seed)
+    lo = np.where(problem.limits.limited, problem.limits.lower, -np.pi)
+    hi = np.where(problem.limits.limited, problem.limits.upper, np.pi)
+    while True:
+        phi = rng.uniform(lo + 0.2 * (hi - lo), hi - 0.2 * (hi - lo))
+        pose = forward(problem.arm, phi)
+        if within_limits(problem, phi[None])[0] and pose.tip[2] > 0.1 * problem.arm.reach:
+            break
+    rot = tool_rotation(problem.arm, pose)
+    orientation = Orientation(rotation=rot) if kind == "rotation" else Orientation(axis=rot[:, 2])
+    return Goal(pose.tip.copy(), 0.0, orientation)
+
+
+@pytest.mark.parametrize("arm", list(ARMS))
+@pytest.mark.parametrize("method", METHODS)
+def test_every_method_reaches_a_pose_goal_from_a_free_pose(arm, method):
+    problem = _problem(ARMS[arm], method)
+    goals = (_free_pose_goal(problem, 7, "rotation"), _free_pose_goal(problem, 8, "axis"))
+    solution = solve_trajectory(replace(problem, goals=goals))
+    for goal in solution.goals:
+        assert goal.reached, (goal.reason, goal.final_distance, np.degrees(goal.final_orientation_error))
+        assert goal.final_distance < 1e-3 and np.degrees(goal.final_orientation_error) < 1.0
+    assert np.all(within_limits(problem, solution.trajectory.phi))
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_solve_pose_meets_position_and_orientation(method):
+    problem = _problem(ARMS["panda"], method)
+    goal = _free_pose_goal(problem, 11, "rotation")
+    result = solve_pose(problem, goal.position, problem.home, orientation=goal.orientation)
+    assert result.converged and result.distance < 1e-3 and np.degrees(result.orientation_error) < 1.0
+
+
+def test_tool_axis_goals_leave_the_roll_free():
+    """Turning a tool frame about its own z changes nothing of a tool-axis goal's error, and the
+    task has only the two rows perpendicular to the tool's z."""
+    problem = _problem(ARMS["ur5"], "pinv")
+    goal = _free_pose_goal(problem, 3, "axis")
+    rot = rotation_exp(RNG.normal(size=3))
+    goal = Orientation(axis=rot[:, 2])
+    for roll in np.linspace(-np.pi, np.pi, 9):
+        assert orientation_angle(goal, rot @ rotation_exp(np.array([0.0, 0.0, roll]))) < 1e-9
+    rows = orientation_rows(goal, rot)
+    assert rows.shape == (2, 3) and np.allclose(rows @ rot[:, 2], 0.0)
+    # reached from home, the roll ends wherever the motion took it, not at the source pose's
+    goal = _free_pose_goal(problem, 3, "axis")
+    end = solve_trajectory(replace(problem, goals=(goal,)))
+    assert end.goals[0].reached
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_four_joints_reach_the_position_and_report_the_orientation_unreachable(method):
+    scene = SceneModel.model_validate({
+        "version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
+        "goals": [{"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}}, [5, 12, 9]],
+        "solver": {"method": method},
+    })
+    problem = scene_to_problem(scene)
+    solution = solve_trajectory(problem)
+    first, second = solution.goals
+    assert not first.reached and first.reason == "orientation_unreachable"
+    assert first.final_distance < problem.solver.tolerance
+    assert 85.0 < np.degrees(first.final_orientation_error) < 115.0  # at least 90 degrees can never go
+    report = goal_report_dict(first)
+    assert report["final_orientation_error_deg"] == pytest.approx(np.degrees(first.final_orientation_error))
+    assert goal_report_dict(second)["final_orientation_error_deg"] is None and second.reached
+
+
+def test_planar_arm_with_a_tool_axis_out_of_its_plane():
+    scene = SceneModel.model_validate({
+        "version": 1, "arm": {"links": [1, 1, 1], "axes": ["z", "z", "z"], "direction": "x"},
+        "goals": [{"position": [1.5, 1.0, 0.0], "tool_axis": [1, 0, 1]}], "solver": {"planner": "off"},
+    })
+    goal = solve_trajectory(scene_to_problem(scene)).goals[0]
+    assert goal.reason == "orientation_unreachable" and np.degrees(goal.final_orientation_error) == pytest.approx(45.0, abs=0.5)
+
+
+def test_pose_goal_runs_are_byte_identical_and_log_the_tool_frame():
+    problem = _problem(ARMS["panda"], "dls")
+    goals = (_free_pose_goal(problem, 5, "rotation"), Goal(np.array([0.3, 0.2, 0.5]), 0.0))
+    problem = replace(problem, goals=goals)
+    first = trajectory_csv_text(solve_trajectory(problem).trajectory)
+    assert trajectory_csv_text(solve_trajectory(problem).trajectory) == first
+    lines = first.splitlines()
+    header = lines[0].split(",")
+    assert header[-5:] == ["qw", "qx", "qy", "qz", "orientation_error_deg"]
+    rows = [dict(zip(header, line.split(","))) for line in lines[1:]]
+    for row in rows:
+        phi = np.radians([float(row[f"phi{i}_deg"]) for i in range(1, 8)])
+        rot = tool_rotation(problem.arm, forward(problem.arm, phi))
+        np.testing.assert_allclose(quaternion_rotation([float(row[c]) for c in ("qw", "qx", "qy", "qz")]), rot, atol=1e-12)
+        assert (row["orientation_error_deg"] == "") == (row["goal"] == "1")

@@ -13,6 +13,8 @@ radians only, no I/O.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from armanim.arm.geometry import skew
@@ -135,6 +137,8 @@ def rotation_log(rot: np.ndarray) -> np.ndarray:
     [0.3, -0.2, 0.1]
     """
     rot = np.asarray(rot, dtype=float)
+    if rot.ndim == 2:
+        return _log_one(rot)
     skew_part = 0.5 * np.stack(
         [rot[..., 2, 1] - rot[..., 1, 2], rot[..., 0, 2] - rot[..., 2, 0], rot[..., 1, 0] - rot[..., 0, 1]], axis=-1
     )  # sin(angle) * axis
@@ -148,13 +152,30 @@ def rotation_log(rot: np.ndarray) -> np.ndarray:
         return scale[..., None] * skew_part
     # axis from the symmetric part: (R + R^T)/2 = cos I + (1 - cos) a a^T
     sym = 0.5 * (rot + np.swapaxes(rot, -1, -2))
-    outer = (sym - cos[..., None, None] * np.eye(3)) / (1.0 - cos)[..., None, None]
+    outer = (sym - cos[..., None, None] * np.eye(3)) / np.where(near_pi, 1.0 - cos, 1.0)[..., None, None]
     column = np.argmax(np.diagonal(outer, axis1=-2, axis2=-1), axis=-1)
     axis = np.take_along_axis(outer, column[..., None, None], -1)[..., 0]
-    axis = axis / np.linalg.norm(axis, axis=-1, keepdims=True)
+    length = np.linalg.norm(axis, axis=-1, keepdims=True)
+    axis = axis / np.where(length > 0, length, 1.0)
     sign = np.where(np.sum(axis * skew_part, axis=-1) < 0, -1.0, 1.0)
     far = sign[..., None] * angle[..., None] * axis
     return np.where(near_pi[..., None], far, scale[..., None] * skew_part)
+
+
+def _log_one(rot: np.ndarray) -> np.ndarray:
+    """:func:`rotation_log` of one rotation, in scalar arithmetic (the solvers' hot path); the
+    same formulas, batch code near pi."""
+    sx, sy, sz = 0.5 * (rot[2, 1] - rot[1, 2]), 0.5 * (rot[0, 2] - rot[2, 0]), 0.5 * (rot[1, 0] - rot[0, 1])
+    cos = min(1.0, max(-1.0, 0.5 * (rot[0, 0] + rot[1, 1] + rot[2, 2] - 1.0)))
+    sin = math.sqrt(sx * sx + sy * sy + sz * sz)
+    angle = math.atan2(sin, cos)
+    if angle < 1e-4:
+        scale = 1.0 + angle * angle / 6.0
+    elif cos < -0.9:
+        return rotation_log(rot[None])[0]
+    else:
+        scale = angle / sin
+    return np.array([scale * sx, scale * sy, scale * sz])
 
 
 def alignment_vector(current: np.ndarray, target: np.ndarray) -> np.ndarray:

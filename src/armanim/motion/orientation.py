@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.kinematics import Arm, Pose, angular_jacobian, forward, tip_jacobian, tool_rotation
-from armanim.arm.rotations import alignment_vector, perpendicular_basis, rotation_exp, rotation_log
+from armanim.arm.rotations import alignment_vector, perpendicular_basis, rotation_exp, rotation_log, rotation_quaternion
 
 PRIORITY_WEIGHT = 1e-4
 """For an arm that cannot hold every orientation at a position (:func:`holds_orientation` is
@@ -151,3 +151,30 @@ def holds_orientation(arm: Arm, orientation: Orientation) -> bool:
     task = np.concatenate([tip_jacobian(arm, pose), rows @ angular_jacobian(arm, pose)], axis=-2)
     rank = max(int(np.linalg.matrix_rank(t, tol=1e-9 * max(np.abs(t).max(), 1.0))) for t in task)
     return rank == 3 + orientation.rows
+
+
+def frame_orientations(
+    arm: Arm, orientations: list[Orientation | None], phi: np.ndarray, goal: np.ndarray
+) -> tuple[np.ndarray | None, np.ndarray]:
+    """Per frame of a trajectory: the tool's angle (radians) to its goal's orientation (F,), NaN
+    where that goal has none (None when no goal has one), and the tool frame's quaternion (F, 4).
+
+    Parameters
+    ----------
+    arm : Arm
+    orientations : list of Orientation or None
+        One per goal of the run.
+    phi : (F, n) array
+    goal : (F,) int array
+        The goal of each frame.
+    """
+    rot = tool_rotation(arm, forward(arm, np.asarray(phi, dtype=float).reshape(-1, arm.n)))
+    quaternions = rotation_quaternion(rot)
+    if all(o is None for o in orientations):
+        return None, quaternions
+    angle = np.full(len(rot), np.nan)
+    for k, orientation in enumerate(orientations):
+        mine = goal == k
+        if orientation is not None and mine.any():
+            angle[mine] = orientation_angle(orientation, rot[mine])
+    return angle, quaternions

@@ -18,7 +18,15 @@ from armanim.arm.kinematics import Arm, default_axes
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Goal, Limits, Problem, RenderSettings, SolverSettings
-from armanim.scene.models import LINKS_WIDTH, ArmModel, GoalModel, OrientationModel, RenderModel, SceneModel, SolverModel
+from armanim.scene.models import (
+    LINKS_WIDTH,
+    ArmModel,
+    GoalModel,
+    OrientationModel,
+    RenderModel,
+    SceneModel,
+    SolverModel,
+)
 from armanim.world.obstacles import Obstacles
 
 
