@@ -350,3 +350,25 @@ def test_pose_goal_runs_are_byte_identical_and_log_the_tool_frame():
         rot = tool_rotation(problem.arm, forward(problem.arm, phi))
         np.testing.assert_allclose(quaternion_rotation([float(row[c]) for c in ("qw", "qx", "qy", "qz")]), rot, atol=1e-12)
         assert (row["orientation_error_deg"] == "") == (row["goal"] == "1")
+
+
+# ------------------------------------------------------------------ pictures
+
+
+def test_pictures_draw_triads_and_the_caption_the_angle_only_with_orientations(tmp_path):
+    from matplotlib.image import imread
+
+    from armanim.render.caption import frame_caption
+    from armanim.render.draw import render_pose_png
+    from armanim.scene import default_render_settings
+
+    problem = _problem(ARMS["panda"], "pinv")
+    oriented = replace(problem, goals=(_free_pose_goal(problem, 2, "rotation"), _free_pose_goal(problem, 4, "axis")))
+    plain = replace(oriented, goals=tuple(replace(g, orientation=None) for g in oriented.goals))
+    settings = default_render_settings(size=(160, 120))
+    for name, p in (("with", oriented), ("without", plain)):
+        render_pose_png(p, p.home, settings, tmp_path / f"{name}.png", title="t")
+    assert not np.array_equal(imread(tmp_path / "with.png"), imread(tmp_path / "without.png"))
+    solution = solve_trajectory(replace(oriented, goals=oriented.goals[:1]))
+    assert " deg   " in frame_caption(solution.trajectory, 1, 1, "moving")
+    assert "angle" not in frame_caption(solve_trajectory(replace(plain, goals=plain.goals[:1])).trajectory, 1, 1, "moving")
