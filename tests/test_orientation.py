@@ -372,3 +372,20 @@ def test_pictures_draw_triads_and_the_caption_the_angle_only_with_orientations(t
     solution = solve_trajectory(replace(oriented, goals=oriented.goals[:1]))
     assert " deg   " in frame_caption(solution.trajectory, 1, 1, "moving")
     assert "angle" not in frame_caption(solve_trajectory(replace(plain, goals=plain.goals[:1])).trajectory, 1, 1, "moving")
+
+
+def test_viewer_data_carries_orientations_only_for_oriented_runs():
+    from armanim.render.viewer.data import viewer_data
+    from armanim.scene import default_render_settings
+
+    problem = _problem(ARMS["ur5"], "pinv")
+    oriented = replace(problem, goals=(_free_pose_goal(problem, 2, "rotation"), _free_pose_goal(problem, 4, "axis")))
+    solution = solve_trajectory(oriented)
+    data = viewer_data(oriented, solution.trajectory, solution.goals, default_render_settings(), title="o")
+    frames = solution.trajectory.frames
+    assert len(data["orientation"]["quaternion_wxyz"]) == 4 * frames and len(data["orientation"]["angle_deg"]) == frames
+    assert "rotation" in data["goals"][0] and "tool_axis" in data["goals"][1]
+    plain = replace(oriented, goals=tuple(replace(g, orientation=None) for g in oriented.goals))
+    solution = solve_trajectory(plain)
+    data = viewer_data(plain, solution.trajectory, solution.goals, default_render_settings(), title="p")
+    assert "orientation" not in data and "rotation" not in data["goals"][0]
