@@ -389,3 +389,15 @@ def test_viewer_data_carries_orientations_only_for_oriented_runs():
     solution = solve_trajectory(plain)
     data = viewer_data(plain, solution.trajectory, solution.goals, default_render_settings(), title="p")
     assert "orientation" not in data and "rotation" not in data["goals"][0]
+
+
+def test_pose_goal_trajectories_keep_every_invariant():
+    from invariants import assert_trajectory_invariants
+
+    scene = SceneModel.model_validate({
+        "version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
+        "goals": [{"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}}, {"position": [10, 8, 9], "tool_axis": [1, 0, 0]}, [5, 12, 9]],
+        "obstacles": [{"center": [9, 9, 12], "radius": 1.0}],
+    })
+    problem = scene_to_problem(scene)
+    assert_trajectory_invariants(problem, solve_trajectory(problem))

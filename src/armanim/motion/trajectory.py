@@ -76,8 +76,8 @@ class _Visit:
     index: int
     goal: Goal
     distances: list
-    angles: list  # radians to the goal's orientation, None entries for a position-only goal
-    progress: list  # pose_distance: the distances themselves for a position-only goal
+    angles: list | None = None  # radians to the goal's orientation; None entries for a position-only goal
+    progress: list | None = None  # pose_distance: the distances themselves for a position-only goal
     frames: int = 0
     iterations: int = 0
     newton_iterations: int = 0
@@ -86,6 +86,12 @@ class _Visit:
     overrun: int = 0  # frames spent waiting for the arm to reach a pose of the path
     planning: PlanningReport | None = None
     reason: MissReason | None = None
+
+    def __post_init__(self) -> None:
+        if self.angles is None:
+            self.angles = [None] * len(self.distances)
+        if self.progress is None:
+            self.progress = list(self.distances)
 
 
 def hold_frames(problem: Problem, goal: Goal) -> int:
