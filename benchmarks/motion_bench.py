@@ -8,6 +8,7 @@
     python benchmarks/motion_bench.py --dump-scene 7 /tmp/scenes   # scene 7 as YAML, for `armanim run`
     python benchmarks/motion_bench.py --family hard --scenes 24 --planner auto   # the hard family
     python benchmarks/motion_bench.py --family robots --scenes 12 --planner auto   # Panda, UR5, iiwa (issue 20)
+    python benchmarks/motion_bench.py --family poses --scenes 12 --planner auto    # their goals with orientations (issue 21)
 
 Scenes. A seeded generator (numpy ``Generator`` from ``--seed`` and the scene's index, so
 scene K is the same whatever ``--scenes`` is) draws random cluttered scenes: arms of 3-7
@@ -72,7 +73,7 @@ from pydantic import ValidationError
 from scipy.optimize import least_squares
 
 from armanim.arm.capsules import joint_capsules
-from armanim.arm.kinematics import Arm, forward
+from armanim.arm.kinematics import Arm, forward, tool_rotation
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene.checks import scene_problems
 from armanim.scene.convert import scene_to_problem
@@ -325,11 +326,18 @@ def start_poses(geo: Geometry, rng: np.random.Generator, count: int) -> np.ndarr
     return np.clip(starts, box_lo + 1e-7, box_hi - 1e-7)
 
 
-def oracle_residual(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """Tip error (3) and one hinge term per link-sphere pair, max(0, clearance + target - d)."""
+ORACLE_ORIENTATION_WEIGHT = 0.3  # metres per radian in the oracle's residual (the poses family)
+ORIENTATION_TOLERANCE = np.radians(1.0)  # armanim's default solver.orientation_tolerance
+
+
+def oracle_residual(geo: Geometry, goal: np.ndarray, phi: np.ndarray, orientation: np.ndarray | None = None) -> np.ndarray:
+    """Tip error (3), the weighted rotation error (3, pinocchio's log3 of R_goal R^T, only with an
+    ``orientation``) and one hinge term per link-sphere pair, max(0, clearance + target - d)."""
     if isinstance(geo, RobotGeometry):
         tip, a, b = geo.placements(phi)
         tip_error = tip - goal
+        if orientation is not None:
+            tip_error = np.concatenate([tip_error, ORACLE_ORIENTATION_WEIGHT * geo.rotation_error(phi, orientation)])
         gaps = geo.capsule_gaps(a, b) if has_obstacles(geo) else None
     else:
         points = joint_points(geo, phi)
@@ -341,14 +349,18 @@ def oracle_residual(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> np.ndar
     return np.concatenate([tip_error, shortfall.ravel()])
 
 
-def is_witness(geo: Geometry, goal: np.ndarray, phi: np.ndarray) -> bool:
-    """True when ``phi`` proves the goal feasible: inside the limits, tip within tolerance/2, clear."""
+def is_witness(geo: Geometry, goal: np.ndarray, phi: np.ndarray, orientation: np.ndarray | None = None) -> bool:
+    """True when ``phi`` proves the goal feasible: inside the limits, tip within tolerance/2, clear
+    (and, with an ``orientation``, the tool within half the orientation tolerance of it)."""
     inside = np.all(phi > geo.lower) and np.all(phi < geo.upper)
     close = np.linalg.norm(tip_of(geo, phi) - goal) < geo.tolerance / 2
+    if orientation is not None:
+        close = close and np.linalg.norm(geo.rotation_error(phi, orientation)) < ORIENTATION_TOLERANCE / 2
     return bool(inside and close and min_clearance(geo, phi) >= geo.clearance)
 
 
-def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts: int = ORACLE_STARTS) -> Verdict:
+def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts: int = ORACLE_STARTS,
+               orientation: np.ndarray | None = None) -> Verdict:
     """Label one goal feasible or not by a multi-start bounded least-squares search.
 
     Parameters
@@ -368,8 +380,8 @@ def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts
         return Verdict(False, "out_of_reach")
     lo, hi = search_bounds(geo)
     for start in start_poses(geo, rng, starts):
-        fit = least_squares(lambda p: oracle_residual(geo, goal, p), start, bounds=(lo, hi), xtol=1e-12, ftol=1e-12, gtol=1e-12)
-        if is_witness(geo, goal, fit.x):
+        fit = least_squares(lambda p: oracle_residual(geo, goal, p, orientation), start, bounds=(lo, hi), xtol=1e-12, ftol=1e-12, gtol=1e-12)
+        if is_witness(geo, goal, fit.x, orientation):
             return Verdict(True, "feasible", fit.x)
     return Verdict(False, "no_free_pose")
 
@@ -438,6 +450,20 @@ class RobotGeometry:
     def tip(self, phi: np.ndarray) -> np.ndarray:
         """The tool point (the tip link's origin), shape (..., 3)."""
         return self.placements(phi)[0]
+
+    def rotation(self, phi: np.ndarray) -> np.ndarray:
+        """The tool frame's world rotation (3, 3) of one pose, by pinocchio."""
+        import pinocchio as pin
+
+        data = self.model.createData()
+        pin.framesForwardKinematics(self.model, data, np.asarray(phi, dtype=float))
+        return np.array(data.oMf[self.tip_frame].rotation)
+
+    def rotation_error(self, phi: np.ndarray, orientation: np.ndarray) -> np.ndarray:
+        """pinocchio's log3 of R_goal R^T (3,): the rotation vector still to turn, radians."""
+        import pinocchio as pin
+
+        return np.array(pin.log3(orientation @ self.rotation(phi).T))
 
     def clearances(self, phi: np.ndarray) -> np.ndarray:
         """Clearance of every capsule to every sphere's surface, shape (..., k, m); negative inside."""
@@ -524,6 +550,7 @@ class Draft:
     spheres: list = field(default_factory=list)  # (center (3,), radius)
     goals: list = field(default_factory=list)  # (3,) arrays
     witnesses: list = field(default_factory=list)  # the generator's pose per goal (None: out of reach)
+    orientations: list = field(default_factory=list)  # the tool's rotation (3, 3) per goal (the poses family), else empty
     robot: str | None = None  # a bundled robot (the robot family): base, links, axes, direction, limits unused
     boxes: list = field(default_factory=list)  # (center (3,), size (3,) full edges, rpy (3,) degrees)
     rods: list = field(default_factory=list)  # (from (3,), to (3,), radius)
@@ -582,7 +609,7 @@ class Draft:
             return self.with_floor({
                 "version": 1, "name": name, "arm": {"robot": self.robot},
                 "obstacles": [{"center": floats(c), "radius": float(r), "influence": 0.1} for c, r in self.spheres],
-                "goals": [floats(g) for g in self.goals],
+                "goals": [goal_entry(g, self.orientations[k] if self.orientations else None) for k, g in enumerate(self.goals)],
                 "solver": {**solver, **ROBOT_SOLVER}, "render": {"fps": 30},
             })
         return self.with_floor({
@@ -602,6 +629,17 @@ class Draft:
             "solver": solver,
             "render": {"fps": 30},
         })
+
+
+def goal_entry(position: np.ndarray, rotation: np.ndarray | None):
+    """A goal of the scene file: the point, or the point and the tool's orientation as a quaternion
+    (pinocchio's, written w first, 9 decimals)."""
+    if rotation is None:
+        return floats(position)
+    import pinocchio as pin
+
+    q = pin.Quaternion(np.asarray(rotation, dtype=float)).coeffs()  # x, y, z, w
+    return {"position": floats(position), "orientation": {"quaternion_wxyz": floats([q[3], q[0], q[1], q[2]], 9)}}
 
 
 def floats(values, decimals: int = 4) -> list:
@@ -845,6 +883,8 @@ def self_test_robots(rng: np.random.Generator, poses: int = 40) -> None:
         phi = rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi), (poses, len(geo.lower)))
         pose = forward(problem.arm, phi)
         assert np.max(np.abs(geo.tip(phi) - pose.tip)) < 1e-9, f"{robot}: pinocchio's tool point differs from armanim's"
+        rotations = tool_rotation(problem.arm, pose)
+        assert max(np.abs(geo.rotation(q) - r).max() for q, r in zip(phi[:8], rotations)) < 1e-9, f"{robot}: pinocchio's tool frame differs from armanim's"
         obstacles = Obstacles(centers=centers, radii=radii, influence=radii)
         theirs = min_link_clearance(pose, obstacles, problem.capsules)
         assert np.max(np.abs(min_clearance(geo, phi) - theirs)) < 1e-9, f"{robot}: the oracle's capsule clearance differs from armanim's"
@@ -1071,9 +1111,22 @@ def draw_robot_shapes_scene(rng: np.random.Generator) -> Draft:
     return draft
 
 
-FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene, "robots": draw_robot_scene,
+def draw_pose_scene(rng: np.random.Generator) -> Draft:
+    """One candidate scene of the poses family (issue 21): the robot family's scene, each goal with
+    the tool's orientation of its generator pose as well (a 6-D goal)."""
+    draft = draw_robot_scene(rng)
+    geo = base_geometry(draft.robot)
+    draft.orientations = [geo.rotation(pose) for pose in draft.witnesses]
+    draft.kind = f"{draft.robot}-pose"
+    return draft
+
+
+FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene, "robots": draw_robot_scene, "poses": draw_pose_scene,
             "shapes": draw_shapes_scene, "robot-shapes": draw_robot_shapes_scene}
 SHAPE_FAMILIES = ("shapes", "robot-shapes")
+FAMILY_STREAMS = {"hard": 2, "robots": 3, "shapes": 4, "robot-shapes": 5, "poses": 4}
+"""The random stream of each family's scenes, fixed so that published figures stay reproducible
+(poses and shapes share a number; their generators differ, so their scenes do too)."""
 """Scene generators by ``--family``: the original distribution, the hard one of issue 18
 (7-link mixed-axis and planar arms, tight limits everywhere, narrow passages, dense clutter,
 goals near spheres and at the edge of reach, 8-12 goals) and the robots of issue 20
@@ -1105,11 +1158,11 @@ def make_scene(seed: int, index: int, family: str = "standard") -> Draft:
     -------
     Draft
     """
-    rng = np.random.default_rng([seed, index] if family == "standard" else [seed, index, 1 + list(FAMILIES).index(family)])
+    rng = np.random.default_rng([seed, index] if family == "standard" else [seed, index, FAMILY_STREAMS[family]])
     while True:
         draft = FAMILIES[family](rng)
         enough = (len(draft.boxes) + len(draft.rods) >= 2 and len(draft.goals) >= 2) if family in SHAPE_FAMILIES else \
-            len(draft.spheres) >= (3 if family == "robots" else 2)
+            len(draft.spheres) >= (3 if family in ("robots", "poses") else 2)
         if enough and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
             return draft
 
@@ -1308,8 +1361,9 @@ def label_scene(draft: Draft, geo: Geometry, seed: int, index: int) -> tuple[lis
     verdicts, missed = [], 0
     for k, goal in enumerate(draft.goals):
         witness = draft.witnesses[k]
-        verdict = label_goal(geo, goal, np.random.default_rng([seed, index, k, 7]))
-        if not verdict.feasible and witness is not None and is_witness(geo, goal, witness):
+        orientation = draft.orientations[k] if draft.orientations else None
+        verdict = label_goal(geo, goal, np.random.default_rng([seed, index, k, 7]), orientation=orientation)
+        if not verdict.feasible and witness is not None and is_witness(geo, goal, witness, orientation):
             missed += 1
         verdicts.append(verdict)
     return verdicts, missed
@@ -1577,7 +1631,7 @@ def main(argv=None) -> int:
     if args.family in SHAPE_FAMILIES:
         self_test_solids(np.random.default_rng(12345))
         print("self-test: the oracle's (coal's) clearances to boxes, capsules and the floor equal armanim's (1e-9)", file=sys.stderr)
-    if args.family in ("robots", "robot-shapes"):
+    if args.family in ("robots", "poses", "robot-shapes"):
         self_test_robots(np.random.default_rng(12345))
         print("self-test: pinocchio's tool point and the oracle's robot capsule clearances equal armanim's (1e-9)", file=sys.stderr)
     tasks = [(args.seed, k, args.methods, planners, args.family) for k in range(args.scenes)]

@@ -77,8 +77,9 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         steps = np.abs(wrap_angle(np.diff(traj.phi, axis=0)))
         assert steps.max() <= problem.solver.max_joint_step + TINY
         assert max_joint_step(traj.phi) == pytest.approx(steps.max())
-    # reached rows are within tolerance, and only those
-    np.testing.assert_array_equal(traj.reached, traj.distance < problem.solver.tolerance)
+    # reached rows are within tolerance (and the orientation tolerance, where the goal has one), and only those
+    turned = True if traj.orientation_error is None else ~(traj.orientation_error >= problem.solver.orientation_tolerance)
+    np.testing.assert_array_equal(traj.reached, (traj.distance < problem.solver.tolerance) & turned)
     # per-goal reports
     assert len(solution.goals) == len(problem.goals)
     for k, report in enumerate(solution.goals):
@@ -86,12 +87,15 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         if report.reached:
             assert report.reason is None
             assert report.final_distance < problem.solver.tolerance
+            assert report.final_orientation_error is None or report.final_orientation_error < problem.solver.orientation_tolerance
         else:
             assert report.reason in MISS_REASONS, report.reason
             # a miss ends early (stalled, planned in vain) or at the frame cap, and says which
             at_cap = report.frames == problem.solver.max_frames_per_goal
             assert at_cap or report.reason != "too_slow"
-            assert report.final_distance >= problem.solver.tolerance
+            angle = report.final_orientation_error
+            assert report.final_distance >= problem.solver.tolerance or (
+                angle is not None and angle >= problem.solver.orientation_tolerance)
         assert 0 <= report.frames <= problem.solver.max_frames_per_goal
         if report.first_frame >= 0:
             rows = np.nonzero(traj.goal == k)[0]

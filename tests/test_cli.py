@@ -50,7 +50,7 @@ def test_fk_json_default_arm(cli):
     result = cli("fk", "--angles", "0,30,45,10", "--json")
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)
-    assert set(data) == {"angles_deg", "joints", "tip"}
+    assert set(data) == {"angles_deg", "joints", "tip", "tip_quaternion_wxyz", "tip_rpy_deg"}
     np.testing.assert_allclose(data["angles_deg"], [0, 30, 45, 10], atol=1e-12)
     arm = Arm.from_names([1.0] * 4)  # default: four unit links, axes z, y, y, y
     pose = forward(arm, np.radians([0, 30, 45, 10]))

@@ -28,7 +28,7 @@ def test_installed_fk_json(tmp_path):
                           capture_output=True, text=True, cwd=tmp_path, timeout=60)
     assert proc.returncode == 0, proc.stderr
     data = json.loads(proc.stdout)
-    assert set(data) == {"angles_deg", "joints", "tip"}
+    assert set(data) == {"angles_deg", "joints", "tip", "tip_quaternion_wxyz", "tip_rpy_deg"}
     pose = forward(Arm.from_names([1.0] * 4), np.radians([0, 30, 45, 10]))
     np.testing.assert_allclose(data["tip"], pose.tip, atol=1e-12)
     assert len(data["joints"]) == 5

@@ -26,7 +26,7 @@ VideoFormat = Literal["mp4", "gif"]
 
 MissReason = Literal[
     "out_of_reach", "no_free_pose", "no_path", "blocked_by_obstacle", "blocked_by_limit", "stalled", "too_slow",
-    "numerical",
+    "numerical", "orientation_unreachable",
 ]
 """Why a goal of a run was missed (explained by :data:`armanim.motion.solution.MISS_REASONS`)."""
 

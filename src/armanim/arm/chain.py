@@ -14,20 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.kinematics import Arm
-
-
-def rpy_rotation(rpy) -> np.ndarray:
-    """R = Rz(yaw) Ry(pitch) Rx(roll) of URDF's ``rpy`` (radians), shape (3, 3).
-
-    >>> np.round(rpy_rotation([0, 0, np.pi / 2]) @ [1, 0, 0], 12) + 0.0
-    array([0., 1., 0.])
-    """
-    roll, pitch, yaw = (float(v) for v in rpy)
-    cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
-    rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
-    ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
-    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
-    return rz @ ry @ rx
+from armanim.arm.rotations import rpy_rotation  # the one owner of rpy (re-exported here for URDF code)
 
 
 def transform(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)) -> np.ndarray:

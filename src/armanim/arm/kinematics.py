@@ -282,6 +282,29 @@ def tip_jacobian(arm: Arm, pose: Pose) -> np.ndarray:
     return np.swapaxes(cross(joint_axes_world(arm, pose), lever), -1, -2)
 
 
+def tool_rotation(arm: Arm, pose: Pose) -> np.ndarray:
+    """World rotation of the tool frame, (..., 3, 3): R_n T_n, the last joint's frame carried
+    by its fixed turn to the tool (the last joint's own frame for an arm without turns).
+
+    >>> arm = Arm.from_names([1.0], axes=["z"])
+    >>> np.round(tool_rotation(arm, forward(arm, np.array([np.pi / 2]))) @ [1, 0, 0], 12) + 0.0
+    array([0., 1., 0.])
+    """
+    last = pose.frames[..., -1, :, :]
+    return last if arm.turns is None else last @ arm.turns[-1]
+
+
+def angular_jacobian(arm: Arm, pose: Pose) -> np.ndarray:
+    """Geometric angular Jacobian of the tool frame, (..., 3, n): column j is w_j, the world
+    axis of joint j (the tool's angular velocity per joint rate).
+
+    >>> arm = Arm.from_names([1, 1], axes=["z", "y"])
+    >>> angular_jacobian(arm, forward(arm, np.zeros(2))).tolist()
+    [[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]
+    """
+    return np.swapaxes(joint_axes_world(arm, pose), -1, -2)
+
+
 def point_hessian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.ndarray:
     """Second derivatives d^2 q / d phi_i d phi_j of a point carried by joint ``link``'s frame,
     shape (3, n, n); ``point`` (3,) is where it is in the world.

@@ -28,14 +28,15 @@ def fk(
     direction: DirOpt = None,
     robot: RobotOpt = None,
     radians: Annotated[bool, typer.Option("--radians", help="Angles are in radians.")] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="Print JSON: angles_deg, joints (base to tip), tip.")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON: angles_deg, joints (base to tip), tip, tip_quaternion_wxyz, tip_rpy_deg.")] = False,
     png: Annotated[Path | None, typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
 ) -> None:
     """Forward kinematics of one pose: joint positions and the tip.
 
     Example: [bold]armanim fk --angles 0,30,45,10 --links 2,5,5,5 --base 5,5,0[/bold], or [bold]armanim fk --robot panda --angles=0,-45,0,-135,0,90,45[/bold]
     """
-    from armanim.arm.kinematics import forward
+    from armanim.arm.kinematics import forward, tool_rotation
+    from armanim.arm.rotations import rotation_quaternion, rotation_rpy
     from armanim.scene import scene_to_problem
 
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
@@ -45,9 +46,16 @@ def fk(
     pose = forward(problem.arm, phi)
     if as_json:
         angles_deg = np.degrees(values) if radians else values  # as typed, not round-tripped through radians
-        print(json.dumps({"angles_deg": angles_deg.tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist()}))
+        rot = tool_rotation(problem.arm, pose)
+        print(json.dumps({
+            "angles_deg": angles_deg.tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist(),
+            "tip_quaternion_wxyz": rotation_quaternion(rot).tolist(), "tip_rpy_deg": np.degrees(rotation_rpy(rot)).tolist(),
+        }))
     else:
         out.print(pose_table(pose.points, phi))
+        rot = tool_rotation(problem.arm, pose)
+        say("tool rpy (deg): " + ", ".join(fmt(v) for v in np.degrees(rotation_rpy(rot)))
+            + "; quaternion wxyz: " + ", ".join(fmt(v) for v in rotation_quaternion(rot)))
     for note in problem.limits.notes(phi) if loaded else []:
         say(f"note: {note}", err)
     if png is not None:
@@ -85,24 +93,68 @@ def ik(
     start: Annotated[str | None, typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")] = None,
     tolerance: Annotated[float | None, typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001).")] = None,
     max_iterations: Annotated[int, typer.Option("--max-iterations", min=1, help="Give up after this many steps.")] = 2000,
+    orientation: Annotated[str | None, typer.Option(
+        "--orientation",
+        help="The tool's orientation too (degrees): rpy=R,P,Y (URDF's fixed axes), quat=W,X,Y,Z, axis=X,Y,Z,ANGLE, or tool_axis=X,Y,Z (only the tool's z, roll free).",
+    )] = None,
+    orientation_tolerance: Annotated[float | None, typer.Option(
+        "--orientation-tolerance", help="Degrees: converged when the tool's angle is below it too (default: the scene's, else 1).")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Solve one pose to convergence: angles, tip, error and iteration counts.
 
-    Example: [bold]armanim ik --goal 3,1,0 --links 1,1,1,1 --axes z,z,z,z --direction x --method newton[/bold]
+    Example: [bold]armanim ik --goal 3,1,0 --links 1,1,1,1 --axes z,z,z,z --direction x --method newton[/bold], or [bold]armanim ik --robot panda --goal 0.5,0,0.3 --orientation rpy=180,0,0[/bold]
     """
     from armanim.motion.ik import solve_pose
 
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     problem = ik_problem(model, method, tolerance, from_flags=loaded is None)
     target = parse_lengths(goal, "--goal", 3)
+    wanted = parse_orientation(orientation) if orientation is not None else None
+    if orientation_tolerance is not None:
+        if not 0 < orientation_tolerance <= 180:
+            raise UsageError(f"--orientation-tolerance: expected degrees in (0, 180] (got {orientation_tolerance:g})")
+        problem = replace(problem, solver=replace(problem.solver, orientation_tolerance=float(np.radians(orientation_tolerance))))
     phi0 = np.radians(parse_numbers(start, "--from", problem.arm.n)) if start else problem.home
-    result = solve_pose(problem, target, phi0, max_iterations)
+    result = solve_pose(problem, target, phi0, max_iterations, orientation=wanted)
     data = ik_report(problem, target, result)
     if as_json:
         print(json.dumps(data))
     else:
-        print_ik_report(data, problem.solver.tolerance)
+        print_ik_report(data, problem.solver.tolerance, np.degrees(problem.solver.orientation_tolerance))
+
+
+ORIENTATION_FORMS = {"rpy": 3, "quat": 4, "axis": 4, "tool_axis": 3}
+"""``ik --orientation`` forms and how many numbers each takes."""
+
+
+def parse_orientation(text: str):
+    """``--orientation FORM=NUMBERS`` as an :class:`~armanim.motion.orientation.Orientation`,
+    through the scene's own model and conversion (one validation, one place for degrees).
+
+    >>> parse_orientation("axis=0,0,1,90").rotation.round(12).tolist()[0]
+    [0.0, -1.0, 0.0]
+    """
+    from pydantic import ValidationError
+
+    from armanim.motion.orientation import Orientation
+    from armanim.scene.convert import orientation_rotation
+    from armanim.scene.models import GoalModel, OrientationModel
+
+    form, _, numbers = text.partition("=")
+    form = form.strip()
+    if form not in ORIENTATION_FORMS or not numbers:
+        raise UsageError(f"--orientation: expected rpy=R,P,Y, quat=W,X,Y,Z, axis=X,Y,Z,ANGLE or tool_axis=X,Y,Z (got {text!r})")
+    values = parse_numbers(numbers, f"--orientation {form}", ORIENTATION_FORMS[form]).tolist()
+    try:
+        if form == "tool_axis":
+            GoalModel(position=[0.0, 0.0, 0.0], tool_axis=values)
+            return Orientation(axis=np.array(values))
+        fields = {"rpy": values} if form == "rpy" else {"quaternion_wxyz": values} if form == "quat" else {"axis": values[:3], "angle": values[3]}
+        return Orientation(rotation=orientation_rotation(OrientationModel(**fields)))
+    except ValidationError as exc:
+        message = exc.errors()[0]["msg"].removeprefix("Value error, ")
+        raise UsageError(f"--orientation: {message}") from None
 
 
 def ik_problem(model, method: str | None, tolerance: float | None, from_flags: bool):
@@ -137,7 +189,12 @@ def ik_report(problem, target: np.ndarray, result) -> dict:
         "iterations": result.iterations,
         "found_by": result.found_by,
     }
+    if result.orientation_error is not None:
+        data["orientation_error_deg"] = float(np.degrees(result.orientation_error))
     reason = unreached_reason(problem, target, result.status)
+    if reason and result.orientation_error is not None and result.distance < problem.solver.tolerance:
+        reason = (f"orientation_unreachable: the tip is at the goal, the tool {np.degrees(result.orientation_error):.3g} deg from its "
+                  "orientation, the closest these attempts found (an arm with fewer than 6 joints cannot hold every orientation)")
     if reason:
         data["reason"] = reason
     if problem.solver.method == "newton":
@@ -146,10 +203,12 @@ def ik_report(problem, target: np.ndarray, result) -> dict:
     return data
 
 
-def print_ik_report(data: dict, tolerance: float) -> None:
-    """:func:`ik_report` for a terminal."""
+def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float = 1.0) -> None:
+    """:func:`ik_report` for a terminal (``orientation_tolerance`` in degrees)."""
     status = "[green]converged[/green]" if data["converged"] else "[red]not converged[/red]"
     out.print(f"{data['method']}: {status}, error {data['error']:.3g} (tolerance {tolerance:g})")
+    if "orientation_error_deg" in data:
+        say(f"orientation error {data['orientation_error_deg']:.3g} deg (tolerance {orientation_tolerance:g})")
     if data["found_by"] == "free_pose_search":
         say("found by the planner's free-pose search: the method alone did not converge from the start pose")
     if "reason" in data:

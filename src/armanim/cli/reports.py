@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 from rich.table import Table
 
 from armanim.cli.app import err, out, say
@@ -17,11 +18,16 @@ def print_goal_table(result) -> None:
     sol = result.solution
     title = f"{result.scene.name}: {sol.reached} of {len(sol.goals)} goals reached, {sol.trajectory.frames} frames"
     table = Table(title=title, title_justify="left")
-    for col in ("goal", "position", "result", "frames", "distance"):
-        table.add_column(col, justify="right" if col in ("goal", "frames", "distance") else "left")
+    oriented = any(g.final_orientation_error is not None for g in sol.goals)  # the angle column only then
+    columns = ("goal", "position", "result", "frames", "distance") + (("angle (deg)",) if oriented else ())
+    for col in columns:
+        table.add_column(col, justify="left" if col in ("position", "result") else "right")
     for g in sol.goals:
         outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {MISS_REASONS[g.reason]}"
-        table.add_row(str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), f"{g.final_distance:.3g}")
+        row = [str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), f"{g.final_distance:.3g}"]
+        if oriented:
+            row.append("" if g.final_orientation_error is None else f"{np.degrees(g.final_orientation_error):.3g}")
+        table.add_row(*row)
     out.print(table)
     say("outputs: " + ", ".join(str(p) for p in result.files.values()))
 

@@ -2,6 +2,10 @@
 
 C(Phi) = w_goal |e - g| + w_obstacles sum F_R(d) + w_limits sum L(phi_j)
 
+and, for a goal with an orientation, + w_goal w |r|: the angle still to turn (radians) times the
+orientation weight w (length per radian), a length like |e - g| (scaled by
+:data:`~armanim.motion.orientation.PRIORITY_WEIGHT` for an arm that cannot hold the orientation).
+
 where d is the clearance of each arm part to each obstacle's surface: the tip as a
 point (the notes' term) and every link as a capsule of radius width/2. Functions
 accept a batch of poses where their docstring says so. Pure core: no I/O.
@@ -12,7 +16,14 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_point_jacobian
-from armanim.arm.kinematics import Arm, Pose, forward, link_point, point_jacobian, tip_jacobian
+from armanim.arm.kinematics import Arm, Pose, forward, link_point, point_jacobian, tip_jacobian, tool_rotation
+from armanim.motion.orientation import (
+    PRIORITY_WEIGHT,
+    Orientation,
+    holds_orientation,
+    orientation_angle,
+    orientation_gradient,
+)
 from armanim.motion.problem import Limits, Problem
 from armanim.world.distances import Clearances, clearances
 from armanim.world.obstacles import Obstacles
@@ -75,16 +86,29 @@ def goal_term(tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
     return np.linalg.norm(tip - goal, axis=-1)
 
 
+def orientation_cost_weight(problem: Problem, orientation: Orientation) -> float:
+    """The weight of the angle |r| in C: w_goal w, or a :data:`PRIORITY_WEIGHT` of it for an arm
+    that cannot hold the orientation."""
+    s = problem.solver
+    weight = s.w_goal * s.orientation_weight
+    return weight if holds_orientation(problem.arm, orientation) else PRIORITY_WEIGHT * weight
+
+
 def total_cost(
-    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None
+    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None,
+    orientation: Orientation | None = None,
 ) -> np.ndarray:
     """C(Phi) for one pose or a batch (..., n); +inf where a barrier is crossed.
 
-    ``pose`` and ``cl`` may be passed when already known for ``phi``.
+    ``pose`` and ``cl`` may be passed when already known for ``phi``; ``orientation`` adds
+    the goal's orientation term.
     """
     s = problem.solver
     pose = pose if pose is not None else forward(problem.arm, phi)
     cost = s.w_goal * goal_term(pose.tip, goal)
+    if orientation is not None:
+        angle = orientation_angle(orientation, tool_rotation(problem.arm, pose))
+        cost = cost + orientation_cost_weight(problem, orientation) * angle
     if len(problem.obstacles):
         cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.capsules)
         field = obstacle_field(cl.d, problem.obstacles.influence)
@@ -114,11 +138,13 @@ def part_jacobian(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, part
 
 
 def total_cost_gradient(
-    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None
+    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None,
+    orientation: Orientation | None = None,
 ) -> np.ndarray:
     """Analytic gradient of :func:`total_cost` for one pose, shape (n,).
 
-    ``pose`` and ``cl`` may be passed when already known for ``phi``.
+    ``pose`` and ``cl`` may be passed when already known for ``phi``. The orientation term's
+    gradient is -(r / |r|)^T J_w (:func:`armanim.motion.orientation.orientation_gradient`).
     """
     s = problem.solver
     arm = problem.arm
@@ -128,6 +154,11 @@ def total_cost_gradient(
     grad = np.zeros(arm.n)
     if dist > 0:
         grad += s.w_goal * (diff / dist) @ tip_jacobian(arm, pose)
+    if orientation is not None:
+        r, half_square_gradient = orientation_gradient(orientation, arm, pose)
+        angle = np.linalg.norm(r)
+        if angle > 0:
+            grad += orientation_cost_weight(problem, orientation) * half_square_gradient / angle
     if len(problem.obstacles):
         cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.capsules)
         grad += s.w_obstacles * obstacle_cost_gradient(arm, problem.capsules, pose, cl, problem.obstacles)

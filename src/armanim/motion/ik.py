@@ -14,7 +14,9 @@ fails in linear algebra ends its attempt, and an unconverged solve that met one 
 ``numerical``. When no attempt converges (and none failed so), the planner's free-pose search (many damped
 least-squares solves at once, :func:`armanim.motion.planning.poses.goal_poses`) looks for a
 free pose at the goal, nearest to the start, as a run does when its method stalls; the
-result says which one found the pose. Pure core: no I/O.
+result says which one found the pose. A goal with an orientation is solved as a pose
+(every method's pose task, :mod:`armanim.motion.orientation`) and converges when both the
+distance and the angle are within their tolerances. Pure core: no I/O.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from armanim.arm.kinematics import tool_rotation
+from armanim.motion.orientation import Orientation, orientation_angle, pose_distance
 from armanim.motion.planning.poses import goal_poses, seed_poses
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
@@ -61,6 +65,8 @@ class PoseSolution:
     found_by : PoseFinder
         ``"method"``, or ``"free_pose_search"`` when the method's attempts did not converge
         and the planner's free-pose search found the pose.
+    orientation_error : float or None
+        Radians from the tool frame to the goal's orientation at the end; None without one.
     """
 
     phi: np.ndarray
@@ -72,6 +78,7 @@ class PoseSolution:
     newton_iterations: int = 0
     restarts: int = 0
     found_by: PoseFinder = "method"
+    orientation_error: float | None = None
 
     @property
     def converged(self) -> bool:
@@ -84,7 +91,7 @@ class _Attempt:
     """Where one attempt ended and what it spent."""
 
     state: ArmState
-    distance: float
+    distance: float  # the progress measure: pose_distance for a goal with an orientation
     steps: int
     iterations: int
     newton_iterations: int
@@ -100,8 +107,22 @@ def solving_problem(problem: Problem) -> Problem:
     return replace(problem, solver=replace(s, beta=beta, max_step=np.inf, max_joint_step=turn))
 
 
-def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000) -> PoseSolution:
-    """Solve for one pose whose tip is at ``goal``, starting from ``start`` (radians).
+def pose_errors(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None) -> tuple[float, float | None, float]:
+    """|e - g|, the tool's angle to ``orientation`` (None without one), and the two as one
+    progress measure (:func:`armanim.motion.orientation.pose_distance`)."""
+    distance = float(np.linalg.norm(state.tip - goal))
+    if orientation is None:
+        return distance, None, distance
+    angle = float(orientation_angle(orientation, tool_rotation(problem.arm, state.pose)))
+    s = problem.solver
+    return distance, angle, float(pose_distance(distance, angle, s.tolerance, s.orientation_tolerance))
+
+
+def solve_pose(
+    problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000, orientation: Orientation | None = None
+) -> PoseSolution:
+    """Solve for one pose whose tip is at ``goal`` (and whose tool meets ``orientation``, if
+    given), starting from ``start`` (radians).
 
     Parameters
     ----------
@@ -113,6 +134,8 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
         (:func:`armanim.motion.planning.poses.seed_poses`).
     max_iterations : int
         Bound on the steps over all attempts.
+    orientation : Orientation, optional
+        The tool frame's target rotation, or its z axis's target direction.
 
     Returns
     -------
@@ -125,7 +148,7 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
     tolerance = problem.solver.tolerance
     attempts: list[_Attempt] = []
     for first in seed_poses(problem, np.asarray(start, dtype=float), 1 + RESTARTS, SEED):
-        attempts.append(_attempt(solving, method, goal, first, max_iterations - sum(a.steps for a in attempts)))
+        attempts.append(_attempt(solving, method, goal, first, max_iterations - sum(a.steps for a in attempts), orientation))
         if attempts[-1].distance < tolerance or sum(a.steps for a in attempts) >= max_iterations:
             break
     best = min(attempts, key=lambda a: a.distance)  # the first of equals
@@ -134,45 +157,51 @@ def solve_pose(problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterat
     else:
         status = "numerical" if any(a.numerical for a in attempts) else "not_converged"
     newton_iterations = sum(a.newton_iterations for a in attempts)
-    searched = free_pose(problem, goal, best.state.phi) if status == "not_converged" else None
+    searched = free_pose(problem, goal, best.state.phi, orientation) if status == "not_converged" else None
     if searched is not None:
-        best, status = _Attempt(searched, float(np.linalg.norm(searched.tip - goal)), 0, 0, 0, False), "converged"
+        best, status = _Attempt(searched, pose_errors(problem, searched, goal, orientation)[2], 0, 0, 0, False), "converged"
+    distance, angle, _ = pose_errors(problem, best.state, goal, orientation)
     return PoseSolution(
         phi=best.state.phi,
         tip=best.state.tip,
-        distance=best.distance,
+        distance=distance,
         status=status,
         steps=sum(a.steps for a in attempts),
         iterations=sum(a.iterations for a in attempts) - newton_iterations,
         newton_iterations=newton_iterations,
         restarts=len(attempts) - 1,
         found_by="method" if searched is None else "free_pose_search",
+        orientation_error=angle,
     )
 
 
-def free_pose(problem: Problem, goal: np.ndarray, near: np.ndarray) -> ArmState | None:
+def free_pose(problem: Problem, goal: np.ndarray, near: np.ndarray, orientation: Orientation | None = None) -> ArmState | None:
     """The planner's free pose at ``goal`` nearest to ``near`` (inside the limits, every link
-    ``solver.clearance`` from every obstacle, the tip within the tolerance); None if none is found."""
-    found = goal_poses(problem, near, goal)
+    ``solver.clearance`` from every obstacle, the tip within the tolerance, the tool at
+    ``orientation`` if given); None if none is found."""
+    found = goal_poses(problem, near, goal, orientation=orientation)
     return arm_state(problem, found.poses[0]) if len(found.poses) else None
 
 
-def _attempt(problem: Problem, method: Method, goal: np.ndarray, start: np.ndarray, budget: int) -> _Attempt:
-    """Filtered steps from ``start`` until the tip is within tolerance, the attempt stalls,
-    its steps (``budget`` or the method's ``attempt_steps``) run out, or a step is refused outright."""
+def _attempt(
+    problem: Problem, method: Method, goal: np.ndarray, start: np.ndarray, budget: int, orientation: Orientation | None = None
+) -> _Attempt:
+    """Filtered steps from ``start`` until the tip is within tolerance (and the tool within the
+    orientation tolerance), the attempt stalls, its steps (``budget`` or the method's
+    ``attempt_steps``) run out, or a step is refused outright."""
     state = arm_state(problem, start)
-    distance = float(np.linalg.norm(state.tip - goal))
+    distance = pose_errors(problem, state, goal, orientation)[2]
     best, since_best, steps, iterations, newton_iterations = distance, 0, 0, 0, 0
     steps_cap = min(budget, method.attempt_steps or budget)
     while distance >= problem.solver.tolerance and steps < steps_cap:
-        proposal = proposed_step(problem, method, state, goal)
+        proposal = proposed_step(problem, method, state, goal, orientation)
         moved = safe_step(problem, state, proposal.dphi)
         steps, iterations = steps + 1, iterations + proposal.iterations
         newton_iterations += proposal.newton_iterations
         if moved.scale == 0.0:  # nothing moved: the same pose would propose the same again
             return _Attempt(state, distance, steps, iterations, newton_iterations, moved.blocked_by == "nan")
         state = moved.state
-        distance = float(np.linalg.norm(state.tip - goal))
+        distance = pose_errors(problem, state, goal, orientation)[2]
         if distance < best - 0.1 * problem.solver.tolerance:
             best, since_best = distance, 0
         elif (since_best := since_best + 1) >= STALL_ITERATIONS:

@@ -14,6 +14,7 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.kinematics import Arm
+from armanim.motion.orientation import Orientation
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 from armanim.world.obstacles import Obstacles
 
@@ -59,7 +60,8 @@ class Limits:
 
 @dataclass(frozen=True)
 class Goal:
-    """A goal position and how long to stay once it is reached.
+    """A goal position, the tool's orientation there if the goal sets one, and how long to stay
+    once it is reached.
 
     Attributes
     ----------
@@ -67,10 +69,13 @@ class Goal:
     hold : float
         Seconds (turned into frames at the run's fps by :func:`frames_in`, the one rule
         for it: the frame loop's holds and the scene's frame budget both use it).
+    orientation : Orientation or None
+        A full rotation or a tool axis (:mod:`armanim.motion.orientation`); None: position only.
     """
 
     position: np.ndarray
     hold: float
+    orientation: Orientation | None = None
 
 
 def frames_in(seconds: float, fps: float) -> int:
@@ -101,6 +106,11 @@ class SolverSettings:
         Radians any joint may turn in one frame.
     clearance : float
         d_safe, resolved (``arm.width / 10`` when the scene leaves it out).
+    orientation_weight : float
+        w, length per radian: the pose task is [p_g - p ; w r] (resolved: the arm's reach / 4
+        when the scene leaves it out).
+    orientation_tolerance : float
+        Radians: a goal with an orientation is reached when its angle is below this too.
     """
 
     method: MethodName
@@ -118,6 +128,8 @@ class SolverSettings:
     w_limits: float
     w_target: float
     w_regularizer: float
+    orientation_weight: float
+    orientation_tolerance: float
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
+from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
 from armanim.motion.trajectory import hold_frames
@@ -99,17 +100,21 @@ def resample(problem: Problem, solution: Solution, fps: float) -> Solution:
     pose = forward(problem.arm, phi)
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     spent = np.concatenate([[0], np.cumsum(src.iterations)])[np.floor(at).astype(int) + 1]
+    angle, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal)
+    turned = True if angle is None else ~(angle >= problem.solver.orientation_tolerance)
     trajectory = Trajectory(
         phi=phi,
         tip=pose.tip,
         goal=goal,
         distance=distance,
         clearance=min_link_clearance(pose, problem.obstacles, problem.capsules),
-        reached=distance < problem.solver.tolerance,
+        reached=(distance < problem.solver.tolerance) & turned,
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
         fps=fps,
         mode=np.where(held, "ik", src.mode[source]),
+        orientation_error=angle,
+        tool_quaternion=quaternions,
     )
     moving = np.zeros(len(at), dtype=bool)
     moving[1:] = ~held[1:]

@@ -21,6 +21,7 @@ MISS_REASONS: dict[MissReason, str] = {
     "stalled": "stalled at a local minimum",
     "too_slow": "still moving when max_frames_per_goal ran out",
     "numerical": "the solver produced NaN or infinity; the arm held its last safe pose",
+    "orientation_unreachable": "the tip reached the position, but no pose of this arm turns the tool to the goal's orientation there; the angle left is reported",
 }
 
 
@@ -48,6 +49,9 @@ class GoalReport:
         Of those, Newton iterations (``newton`` only).
     planning : PlanningReport or None
         What the planner did for this goal; None if it never planned.
+    final_orientation_error : float or None
+        Radians: the angle from the tool frame to the goal's orientation (or of the tool's z to
+        its tool axis) when the goal was left; None for a position-only goal.
     """
 
     index: int
@@ -61,6 +65,7 @@ class GoalReport:
     iterations: int
     newton_iterations: int = 0
     planning: PlanningReport | None = None
+    final_orientation_error: float | None = None
 
     @property
     def planned(self) -> bool:
@@ -115,6 +120,12 @@ class Trajectory:
     mode : (F,) array of str
         ``"ik"`` where the method stepped (and on frame 0 and holds), ``"plan"`` where the
         arm followed a planned path.
+    orientation_error : (F,) array or None
+        Radians from the tool frame to the frame's goal orientation, NaN where that goal has
+        none; None: no goal of the run has one.
+    tool_quaternion : (F, 4) array or None
+        The tool frame's world rotation as a unit quaternion (w, x, y, z), w >= 0; None where
+        not computed.
     """
 
     phi: np.ndarray
@@ -127,6 +138,8 @@ class Trajectory:
     step_scale: np.ndarray
     fps: float
     mode: np.ndarray | None = None
+    orientation_error: np.ndarray | None = None
+    tool_quaternion: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.mode is None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from armanim.motion.orientation import Orientation, holds_orientation
 from armanim.motion.problem import Problem, frames_in
 from armanim.motion.solvers import ArmState
 from armanim.names import Blocker, MissReason
@@ -36,6 +37,23 @@ def has_stalled(distances: list[float], window: int, tolerance: float, floor: fl
         return False
     now = distances[-1]
     return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * max(now - floor, 0.0))
+
+
+def pose_stalled(
+    distances: list[float], angles: list[float | None], window: int, tolerance: float, angle_tolerance: float, floor: float = 0.0
+) -> bool:
+    """:func:`has_stalled` for a goal that may have an orientation: the tip's distance has stalled
+    and so has the angle (in lengths: ``angle_tolerance`` counts as ``tolerance``), so that an
+    orientation the arm cannot improve does not cut short a tip still on its way. A position-only
+    goal (``angles`` None) is judged on its distances alone, as :func:`has_stalled`.
+
+    >>> pose_stalled([5.0, 4.0, 3.0], [1.0, 1.0, 1.0], 2, 0.01, 0.01), pose_stalled([5.0, 5.0, 5.0], [1.0, 1.0, 1.0], 2, 0.01, 0.01)
+    (False, True)
+    """
+    if not angles or angles[-1] is None:
+        return has_stalled(distances, window, tolerance, floor)
+    scaled = [a * (tolerance / angle_tolerance) for a in angles]
+    return has_stalled(distances, window, tolerance, floor) and has_stalled(scaled, window, tolerance, 0.0 if np.isfinite(floor) else floor)
 
 
 def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
@@ -66,6 +84,17 @@ def miss_reason(
     if "limit" in recent or _near_limit(problem, state.phi):
         return "blocked_by_limit"
     return "stalled"
+
+
+def orientation_unreachable(problem: Problem, orientation: Orientation | None, distance: float, angle: float | None) -> bool:
+    """Whether a goal is missed for its orientation alone on an arm that cannot hold it: the
+    tip within the tolerance, the angle not, and too few joints for the orientation
+    (:func:`armanim.motion.orientation.holds_orientation`). (The planner also finds it so, from
+    many starts, for arms that have the joints.)"""
+    if orientation is None or angle is None:
+        return False
+    s = problem.solver
+    return distance < s.tolerance and angle >= s.orientation_tolerance and not holds_orientation(problem.arm, orientation)
 
 
 def _near_obstacle(problem: Problem, state: ArmState) -> bool:

@@ -1,6 +1,7 @@
 """THE frame loop: the arm visits the goals in turn, one solver step per frame.
 
-Frame 0 is the home pose. For each goal the loop steps until |e - g| < tolerance,
+Frame 0 is the home pose. For each goal the loop steps until |e - g| < tolerance (and,
+for a goal with an orientation, the tool's angle to it is below ``orientation_tolerance``),
 then holds the pose for the goal's hold frames. Every frame's step is the method's
 proposal passed through the safety filter (:func:`armanim.motion.solvers.barrier.safe_step`).
 
@@ -10,8 +11,11 @@ minimum, a saddle, a singular pose, circling), the goal has stalled (:mod:`arman
 planned path (frames of mode ``plan``), then the method finishes to the tolerance;
 with ``off`` the goal is missed at once. A goal is also missed when it is out of
 reach, when no free pose reaches it (``no_free_pose``), when no path is found
-(``no_path``), or after ``max_frames_per_goal`` frames. Not converging is a result (a
-:class:`GoalReport`), never an exception.
+(``no_path``), when the tip is at a goal but the arm cannot turn the tool to its
+orientation there (``orientation_unreachable``, the angle left reported), or after
+``max_frames_per_goal`` frames. Not converging is a result (a :class:`GoalReport`), never
+an exception. Progress toward a goal with an orientation is judged on one number,
+:func:`armanim.motion.orientation.pose_distance`.
 """
 
 from __future__ import annotations
@@ -22,12 +26,14 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
+from armanim.arm.kinematics import tool_rotation
+from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
 from armanim.motion.problem import Goal, Problem, frames_in
 from armanim.motion.solution import GoalReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
-from armanim.motion.stalls import beyond_reach, has_stalled, miss_reason, stall_frames
+from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
 
 MAX_PLANS = 3  # plans per goal before it is given up as stalled
@@ -46,8 +52,9 @@ class _Recorder:
     iterations: list = field(default_factory=list)
     step_scale: list = field(default_factory=list)
     mode: list = field(default_factory=list)
+    angle: list = field(default_factory=list)
 
-    def add(self, state: ArmState, goal, distance, iterations=0, step_scale=0.0, mode="ik"):
+    def add(self, state: ArmState, goal, distance, iterations=0, step_scale=0.0, mode="ik", angle=None):
         self.phi.append(state.phi)
         self.tip.append(state.tip)
         self.clearance.append(state.min_clearance)  # the filter computed it for this very pose
@@ -56,6 +63,7 @@ class _Recorder:
         self.iterations.append(iterations)
         self.step_scale.append(step_scale)
         self.mode.append(mode)
+        self.angle.append(np.nan if angle is None else angle)
 
     def __len__(self) -> int:
         return len(self.phi)
@@ -68,6 +76,8 @@ class _Visit:
     index: int
     goal: Goal
     distances: list
+    angles: list | None = None  # radians to the goal's orientation; None entries for a position-only goal
+    progress: list | None = None  # pose_distance: the distances themselves for a position-only goal
     frames: int = 0
     iterations: int = 0
     newton_iterations: int = 0
@@ -76,6 +86,12 @@ class _Visit:
     overrun: int = 0  # frames spent waiting for the arm to reach a pose of the path
     planning: PlanningReport | None = None
     reason: MissReason | None = None
+
+    def __post_init__(self) -> None:
+        if self.angles is None:
+            self.angles = [None] * len(self.distances)
+        if self.progress is None:
+            self.progress = list(self.distances)
 
 
 def hold_frames(problem: Problem, goal: Goal) -> int:
@@ -91,6 +107,17 @@ def hold_frames(problem: Problem, goal: Goal) -> int:
 def frame_budget(problem: Problem) -> int:
     """Most frames a run can have: frame 0, every goal's frame cap and its hold."""
     return 1 + sum(problem.solver.max_frames_per_goal + hold_frames(problem, g) for g in problem.goals)
+
+
+def goal_errors(problem: Problem, state: ArmState, goal: Goal) -> tuple[float, float | None, float]:
+    """|e - g|, the tool's angle to the goal's orientation (None without one), and the two
+    as one progress measure (:func:`armanim.motion.orientation.pose_distance`)."""
+    distance = float(np.linalg.norm(state.tip - goal.position))
+    if goal.orientation is None:
+        return distance, None, distance
+    angle = float(orientation_angle(goal.orientation, tool_rotation(problem.arm, state.pose)))
+    s = problem.solver
+    return distance, angle, float(pose_distance(distance, angle, s.tolerance, s.orientation_tolerance))
 
 
 def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | None = None) -> Solution:
@@ -111,7 +138,8 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
     method = solver_method(problem.solver.method)
     rec = _Recorder()
     state = arm_state(problem, problem.home)
-    rec.add(state, 0, float(np.linalg.norm(state.tip - problem.goals[0].position)))
+    distance, angle, _ = goal_errors(problem, state, problem.goals[0])
+    rec.add(state, 0, distance, angle=angle)
     reports = []
     later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
@@ -133,24 +161,27 @@ def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
     s = problem.solver
     first = len(rec) if k else 0
-    visit = _Visit(k, goal, [float(np.linalg.norm(state.tip - goal.position))])
+    distance, angle, progress = goal_errors(problem, state, goal)
+    visit = _Visit(k, goal, [distance], [angle], [progress])
     window = stall_frames(problem)
     floor = max(0.0, float(np.linalg.norm(goal.position - problem.arm.base)) - problem.arm.reach)
     if s.planner == "off":
         floor = np.inf  # no planner to take over: only progress below the tolerance is a stall
-    while visit.distances[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
+    while visit.progress[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
         state = _one_frame(problem, method, rec, state, visit)
         on_frame(visit)
-        if not visit.path and has_stalled(visit.distances, window, s.tolerance, floor):
+        if not visit.path and pose_stalled(visit.distances, visit.angles, window, s.tolerance, s.orientation_tolerance, floor):
             visit.reason = _escape(problem, state, visit)
             if visit.reason is not None:
                 break
-    reached = visit.distances[-1] < s.tolerance
+    reached = visit.progress[-1] < s.tolerance
     if reached:
         for _ in range(hold_frames(problem, goal)):
-            rec.add(state, k, visit.distances[-1])
+            rec.add(state, k, visit.distances[-1], angle=visit.angles[-1])
     elif visit.reason is None:
-        visit.reason = miss_reason(problem, state, goal.position, visit.distances, visit.blocked)
+        visit.reason = miss_reason(problem, state, goal.position, visit.progress, visit.blocked)
+        if orientation_unreachable(problem, goal.orientation, visit.distances[-1], visit.angles[-1]):
+            visit.reason = "orientation_unreachable"
     return state, GoalReport(
         index=k,
         position=goal.position,
@@ -163,6 +194,7 @@ def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int
         iterations=visit.iterations,
         newton_iterations=visit.newton_iterations,
         planning=visit.planning,
+        final_orientation_error=visit.angles[-1],
     )
 
 
@@ -173,15 +205,18 @@ def _one_frame(problem, method: Method, rec: _Recorder, state: ArmState, visit: 
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
     else:
-        proposal = proposed_step(problem, method, state, target)
+        proposal = proposed_step(problem, method, state, target, visit.goal.orientation)
         nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
     moved = safe_step(problem, state, nominal)
-    visit.distances.append(float(np.linalg.norm(moved.state.tip - target)))
+    distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
+    visit.distances.append(distance)
+    visit.angles.append(angle)
+    visit.progress.append(progress)
     visit.blocked.append(moved.blocked_by)
     visit.frames += 1
     visit.iterations += iterations
     visit.newton_iterations += newton_its
-    rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode)
+    rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode, angle)
     return moved.state
 
 
@@ -216,17 +251,29 @@ def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.nd
 
 
 def _escape(problem: Problem, state: ArmState, visit: _Visit) -> MissReason | None:
-    """A stalled goal: plan a way out (None) or give it up (the reason)."""
-    target = visit.goal.position
+    """A stalled goal: plan a way out (None) or give it up (the reason).
+
+    A goal whose orientation the planner finds unreachable at its position is given up as
+    ``orientation_unreachable`` once the tip is there; before that, the plan goes to the
+    position alone (the position comes first)."""
+    target, orientation = visit.goal.position, visit.goal.orientation
     if beyond_reach(problem, target):
         return "out_of_reach"
-    local = miss_reason(problem, state, target, visit.distances, visit.blocked)
+    local = miss_reason(problem, state, target, visit.progress, visit.blocked)
+    if local != "numerical" and orientation_unreachable(problem, orientation, visit.distances[-1], visit.angles[-1]):
+        local = "orientation_unreachable"
     if problem.solver.planner == "off" or local == "numerical":  # a method that fails is reported, not planned around
         return local
     done = visit.planning or PlanningReport()
     if done.plans >= MAX_PLANS:
         return "stalled"
-    plan = plan_motion(problem, state.phi, target, seed=visit.index * MAX_PLANS + done.plans)
+    seed = visit.index * MAX_PLANS + done.plans
+    plan = plan_motion(problem, state.phi, target, seed=seed, orientation=orientation)
+    if plan.reason == "orientation_unreachable":
+        if visit.distances[-1] < problem.solver.tolerance:
+            visit.planning = replace(done, plans=done.plans + 1)
+            return plan.reason
+        plan = plan_motion(problem, state.phi, target, seed=seed)
     visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks)
     if plan.frames is None:
         return plan.reason
@@ -237,17 +284,23 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit) -> MissReason | No
 
 def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
     distance = np.array(rec.distance)
+    angle = np.array(rec.angle, dtype=float)
+    turned = ~(angle >= problem.solver.orientation_tolerance)  # NaN (no orientation) counts as met
+    phi, goal = np.array(rec.phi), np.array(rec.goal, dtype=int)
+    _, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal)
     return Trajectory(
         phi=np.array(rec.phi),
         tip=np.array(rec.tip),
         goal=np.array(rec.goal, dtype=int),
         distance=distance,
         clearance=np.array(rec.clearance),
-        reached=distance < problem.solver.tolerance,
+        reached=(distance < problem.solver.tolerance) & turned,
         iterations=np.array(rec.iterations, dtype=int),
         step_scale=np.array(rec.step_scale),
         fps=problem.fps,
         mode=np.array(rec.mode),
+        orientation_error=angle if any(g.orientation is not None for g in problem.goals) else None,
+        tool_quaternion=quaternions,
     )
 
 

@@ -2,8 +2,10 @@
 
 Columns (the contract's first, then extras):
 ``frame, time_s, goal, phi1_deg .. phiN_deg, x, y, z, goal_distance, clearance,
-reached, step_scale, iterations, mode`` (mode: ``ik`` where the method stepped,
-``plan`` where the arm followed a planned path). Floats are written with ``repr`` (shortest
+reached, step_scale, iterations, mode, qw, qx, qy, qz, orientation_error_deg`` (mode: ``ik``
+where the method stepped, ``plan`` where the arm followed a planned path; ``qw .. qz`` the
+tool frame's unit quaternion, w >= 0; ``orientation_error_deg`` the tool's angle to the
+frame's goal orientation, empty for a position-only goal). Floats are written with ``repr`` (shortest
 round-trip form), so reading the file back gives the same numbers bit for bit.
 """
 
@@ -25,7 +27,10 @@ from armanim.output.atomic import write_target, write_text_atomic
 from armanim.output.files import open_regular
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
-TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode")
+TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode",
+                "qw", "qx", "qy", "qz", "orientation_error_deg")
+EMPTY_ALLOWED = ("clearance", "orientation_error_deg")
+"""Numeric columns that may be empty: no obstacles; a position-only goal."""
 MODES = ("ik", "plan")
 """Values of the ``mode`` column (the reader refuses others)."""
 
@@ -43,8 +48,11 @@ def _num(value: float) -> str:
 
 
 def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
-    """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees; empty clearance without obstacles)."""
+    """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees; empty clearance without
+    obstacles, empty orientation error for a position-only goal)."""
     clearance = traj.clearance[i]
+    angle = np.nan if traj.orientation_error is None else traj.orientation_error[i]
+    quaternion = traj.tool_quaternion[i] if traj.tool_quaternion is not None else np.full(4, np.nan)
     return [
         str(i),
         _num(time_s),
@@ -57,6 +65,8 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
         _num(traj.step_scale[i]),
         str(int(traj.iterations[i])),
         str(traj.mode[i]),
+        *(_num(v) if np.isfinite(v) else "" for v in quaternion),
+        _num(np.degrees(angle)) if np.isfinite(angle) else "",
     ]
 
 

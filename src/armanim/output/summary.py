@@ -39,6 +39,7 @@ def goal_report_dict(g: GoalReport) -> dict:
         "first_frame": g.first_frame,
         "last_frame": g.last_frame,
         "final_distance": float(g.final_distance),
+        "final_orientation_error_deg": None if g.final_orientation_error is None else float(np.degrees(g.final_orientation_error)),
         "iterations": g.iterations,
         "newton_iterations": g.newton_iterations,
         "planned": g.planned,
@@ -60,6 +61,7 @@ def goal_report_from_dict(g: dict) -> GoalReport:
         iterations=g["iterations"],
         newton_iterations=g.get("newton_iterations", 0),
         planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
+        final_orientation_error=None if g.get("final_orientation_error_deg") is None else float(np.radians(g["final_orientation_error_deg"])),
     )
 
 

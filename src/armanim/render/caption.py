@@ -76,7 +76,8 @@ def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
 
 
 def frame_caption(trajectory, frame: int, goals: int, activity: str) -> str:
-    """The caption of a frame: time, goal (0-based, of how many), distance and activity.
+    """The caption of a frame: time, goal (0-based, of how many), distance, the tool's angle to
+    the goal's orientation (only while the goal has one) and activity.
 
     >>> import types
     >>> t = types.SimpleNamespace(goal=np.array([1]), distance=np.array([0.5]), fps=30.0)
@@ -84,8 +85,10 @@ def frame_caption(trajectory, frame: int, goals: int, activity: str) -> str:
     't =   0.00 s   goal 1 (of 0-3)   distance    0.500   moving'
     """
     k = int(trajectory.goal[frame])
+    angles = getattr(trajectory, "orientation_error", None)
+    angle = f"angle {np.degrees(angles[frame]):6.1f} deg   " if angles is not None and np.isfinite(angles[frame]) else ""
     return (f"t = {frame / trajectory.fps:6.2f} s   goal {k} (of 0-{goals - 1})   "
-            f"distance {trajectory.distance[frame]:8.3f}   {activity}")
+            f"distance {trajectory.distance[frame]:8.3f}   {angle}{activity}")
 
 
 def goal_outcomes(reports) -> frozenset:

@@ -21,6 +21,10 @@ restores that background and draws what moves, straight into the Agg buffer:
 4. the numbered goal markers (:mod:`armanim.render.markers`; a goal behind a sphere is
    drawn through it, dimmed and open) and the caption (:mod:`armanim.render.glyphs`).
 
+When a goal has an orientation, the tool's RGB triad is drawn at the tip every frame and each
+oriented goal's faint triad (a blue arrow for a tool-axis goal) with the background
+(:mod:`armanim.render.triads`).
+
 :func:`render_pose_png` draws one pose this way (``armanim fk --png``).
 """
 
@@ -34,7 +38,7 @@ from matplotlib.lines import Line2D
 from matplotlib.transforms import IdentityTransform
 
 from armanim.arm.capsules import capsule_ends
-from armanim.arm.kinematics import Pose, forward
+from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.render import backdrop, scenery
 from armanim.render.bounds import goal_points
@@ -49,6 +53,15 @@ from armanim.render.shapes import ShapeSolids, box_corners
 from armanim.render.solids import SAMPLES, ArmSolids, Part, point_samples
 from armanim.render.spheres import SphereDiscs
 from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR
+from armanim.render.triads import (
+    GOAL_ALPHA,
+    TRIAD_PER_REACH,
+    arrow_heads,
+    frame_segments,
+    goal_segments,
+    has_orientations,
+    screen_lines,
+)
 
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
 
@@ -123,6 +136,8 @@ class SceneCanvas:
             self._prepare_obstacle_order()
         goals = self.view.project(goal_points(problem))
         self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height))
+        self.triads = has_orientations(problem.goals)
+        self.triad_length = TRIAD_PER_REACH * problem.arm.reach
         self._prepare_trail(tips if settings.trail else None)
         self._make_artists()
         solids = len(obstacles.radii) + len(obstacles.boxes) + len(obstacles.rods)  # the floor is no red solid
@@ -215,6 +230,8 @@ class SceneCanvas:
             self.spheres.composite(np.asarray(self.canvas.buffer_rgba()), self.spheres.order)
         else:
             self._draw_obstacles(self.obstacle_order)
+        if self.triads:
+            self._draw_goal_triads(sheet)
         backdrop.draw_gizmo(sheet, self.layout, self.rotation)
         backdrop.draw_title(sheet, self.layout, title)
         backdrop.draw_legend(sheet, self.layout, legend)
@@ -224,6 +241,21 @@ class SceneCanvas:
                                                         self.layout.scene))
         self.text_boxes = sheet.text_boxes
         self.background = self.canvas.copy_from_bbox(self.fig.bbox)
+
+    def _draw_goal_triads(self, sheet) -> None:
+        """Each oriented goal's faint triad, or its tool axis as one arrow."""
+        segments, colors = goal_segments(self.problem.goals, self.triad_length)
+        sheet.draw(screen_lines(self.view, segments, colors, GOAL_ALPHA, 1.6))
+        arrows = [k for k, g in enumerate(_segment_goals(self.problem.goals)) if g.orientation.axis is not None]
+        if arrows:
+            sheet.draw(arrow_heads(self.view, segments[arrows], [colors[k] for k in arrows], GOAL_ALPHA, 7.0))
+
+    def _draw_tool_triad(self, pose: Pose) -> None:
+        """The tool frame's RGB axes at the tip."""
+        segments, colors = frame_segments(pose.tip, tool_rotation(self.problem.arm, pose), self.triad_length)
+        lines = in_pixels(screen_lines(self.view, segments, colors, 1.0, 2.2), self.fig)
+        lines.set_offset_transform(IdentityTransform())
+        lines.draw(self.renderer)
 
     def _floor_shadows(self) -> list[np.ndarray]:
         """Rings on the floor under the base and under every sphere (light straight overhead)."""
@@ -264,6 +296,8 @@ class SceneCanvas:
         if state.trail_end > 1 and touched:
             self.trail_front.set_data(self.trail_front_xy[: state.trail_end].T)
             self.trail_front.draw(renderer)
+        if self.triads:
+            self._draw_tool_triad(state.pose)
         self.goals.draw(np.asarray(self.canvas.buffer_rgba()), state.goal_status, self.scratch)
         self.glyphs.stamp(np.asarray(self.canvas.buffer_rgba()), state.caption, *self.layout.caption_xy)
         return np.asarray(self.canvas.buffer_rgba())
@@ -384,6 +418,15 @@ class SceneCanvas:
         self.faces.set_facecolor(color)
         self.faces.set_edgecolor(color)
         self.faces.draw(self.renderer)
+
+
+def _segment_goals(goals) -> list:
+    """The goal each segment of :func:`~armanim.render.triads.goal_segments` belongs to, in order."""
+    owners = []
+    for g in goals:
+        if g.orientation is not None:
+            owners += [g] * (3 if g.orientation.rotation is not None else 1)
+    return owners
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:

@@ -10,9 +10,10 @@ import numpy as np
 from pydantic import ValidationError
 
 from armanim.errors import Diagnostic, SceneError
+from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
-from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv
+from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv
 from armanim.output.files import read_bounded
 from armanim.output.summary import goal_report_from_dict
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
@@ -72,14 +73,14 @@ def drawable_problem(table: TrajectoryTable, goals: int) -> Diagnostic | None:
     """The first value of a trajectory table that cannot be drawn, or None.
 
     Frames must count 0, 1, 2, ...; goals index the scene's goals; ``reached`` is 0 or 1;
-    every number is finite (``clearance`` may be empty) and at most LIMITS["magnitude"] in size.
+    every number is finite (``clearance`` and ``orientation_error_deg`` may be empty) and at most LIMITS["magnitude"] in size.
     """
     if not len(table.data):
         return Diagnostic("", "has a header but no rows (a run writes at least frame 0)", 2)
     frame, goal, reached = table.column("frame"), table.column("goal"), table.column("reached")
     limit = LIMITS["magnitude"]
     checks = [(c, ~np.isfinite(table.column(c)), "is not a finite number")
-              for c in table.columns if c not in TEXT_COLUMNS and c != "clearance"]
+              for c in table.columns if c not in TEXT_COLUMNS and c not in EMPTY_ALLOWED]
     checks += [(c, np.abs(table.column(c)) > limit, f"is too large (at most {limit:g} in size)")
                for c in table.columns if c not in TEXT_COLUMNS]
     checks += [("clearance", np.isinf(table.column("clearance")), "is not a finite number (empty when there are no obstacles)"),
@@ -127,6 +128,13 @@ def load_run(folder: str | Path) -> FinishedRun:
         raise SceneError(str(csv_path), [problem_found])
     clearance = table.column("clearance")
     frames = len(table.data)
+    angle, quaternions = frame_orientations(
+        problem.arm, [g.orientation for g in problem.goals], np.radians(table.angles_deg), table.column("goal").astype(int)
+    )
+    if "orientation_error_deg" in table.columns and angle is not None:
+        angle = np.radians(table.column("orientation_error_deg"))
+    if all(c in table.columns for c in ("qw", "qx", "qy", "qz")):
+        quaternions = np.stack([table.column(c) for c in ("qw", "qx", "qy", "qz")], axis=1)
     traj = Trajectory(
         phi=np.radians(table.angles_deg),
         tip=np.stack([table.column(c) for c in ("x", "y", "z")], axis=1),
@@ -138,5 +146,7 @@ def load_run(folder: str | Path) -> FinishedRun:
         step_scale=table.column("step_scale") if "step_scale" in table.columns else np.ones(frames),
         fps=problem.fps,
         mode=table.text.get("mode"),
+        orientation_error=angle,
+        tool_quaternion=quaternions,
     )
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json")))

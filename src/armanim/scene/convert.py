@@ -13,10 +13,20 @@ from dataclasses import replace
 import numpy as np
 
 from armanim.arm.capsules import Capsules, frame_capsules
-from armanim.arm.chain import SerialChain, rpy_rotation, serial_chain, transform
+from armanim.arm.chain import SerialChain, serial_chain, transform
 from armanim.arm.kinematics import Arm, default_axes
+from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
+from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Goal, Limits, Problem, RenderSettings, SolverSettings
-from armanim.scene.models import LINKS_WIDTH, ArmModel, RenderModel, SceneModel, SolverModel
+from armanim.scene.models import (
+    LINKS_WIDTH,
+    ArmModel,
+    GoalModel,
+    OrientationModel,
+    RenderModel,
+    SceneModel,
+    SolverModel,
+)
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 
 
@@ -127,9 +137,25 @@ def clearance(solver: SolverModel, width: float) -> float:
     return float(solver.clearance) if solver.clearance is not None else CLEARANCE_PER_WIDTH * width
 
 
-def solver_settings(s: SolverModel, width: float) -> SolverSettings:
-    """The scene's ``solver`` section as the solvers' settings (radians; ``width`` is the arm's,
-    for the default clearance). ``solver.step`` becomes ``beta``."""
+DEFAULT_REACH = 17.0
+"""The reach :func:`default_solver_settings` resolves the orientation weight with: the course
+notes' arm (links 2, 5, 5, 5)."""
+
+ORIENTATION_WEIGHT_PER_REACH = 0.25
+"""Default ``solver.orientation_weight`` as a fraction of the arm's reach (length per radian):
+a radian of tool rotation weighs like a quarter of the arm's length, about how far a radian
+of a wrist joint moves a point at the middle of the forearm. It scales with the arm, so the
+notes' arm (reach 17) and a 1 m robot balance position and orientation alike."""
+
+
+def orientation_weight(solver: SolverModel, reach: float) -> float:
+    """w: the scene's ``solver.orientation_weight``, or the arm's reach / 4."""
+    return float(solver.orientation_weight) if solver.orientation_weight is not None else ORIENTATION_WEIGHT_PER_REACH * reach
+
+
+def solver_settings(s: SolverModel, width: float, reach: float = DEFAULT_REACH) -> SolverSettings:
+    """The scene's ``solver`` section as the solvers' settings (radians; ``width`` and ``reach``
+    are the arm's, for the default clearance and orientation weight). ``solver.step`` becomes ``beta``."""
     return SolverSettings(
         method=s.method,
         beta=s.step,
@@ -146,6 +172,8 @@ def solver_settings(s: SolverModel, width: float) -> SolverSettings:
         w_limits=s.weights.limits,
         w_target=s.weights.target,
         w_regularizer=s.weights.regularizer,
+        orientation_weight=orientation_weight(s, reach),
+        orientation_tolerance=float(np.radians(s.orientation_tolerance)),
     )
 
 
@@ -173,11 +201,33 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
         home=np.radians(np.array(home_degrees(arm), dtype=float)),
         limits=_limits(arm),
         obstacles=_obstacles(scene),
-        goals=tuple(Goal(np.array(g.position, dtype=float), g.hold) for g in scene.goals),
-        solver=solver_settings(scene.solver, arm.resolved_width),
+        goals=tuple(Goal(np.array(g.position, dtype=float), g.hold, goal_orientation(g)) for g in scene.goals),
+        solver=solver_settings(scene.solver, arm.resolved_width, chain.reach),
         fps=fps,
         capsules=capsules,
     )
+
+
+def orientation_rotation(o: OrientationModel) -> np.ndarray:
+    """R_g (3, 3) of a goal's ``orientation`` (degrees become radians here).
+
+    >>> np.round(orientation_rotation(OrientationModel(rpy=[0, 0, 90])) @ [1, 0, 0], 12) + 0.0
+    array([0., 1., 0.])
+    """
+    if o.rpy is not None:
+        return rpy_rotation(np.radians(o.rpy))
+    if o.quaternion_wxyz is not None:
+        return quaternion_rotation(o.quaternion_wxyz)
+    return axis_angle_rotation(o.axis, np.radians(o.angle))
+
+
+def goal_orientation(goal: GoalModel) -> Orientation | None:
+    """A goal's :class:`Orientation` (a rotation or a tool axis), or None for a position-only goal."""
+    if goal.orientation is not None:
+        return Orientation(rotation=orientation_rotation(goal.orientation))
+    if goal.tool_axis is not None:
+        return Orientation(axis=np.array(goal.tool_axis, dtype=float))
+    return None
 
 
 def render_settings(scene: SceneModel) -> RenderSettings:

@@ -244,6 +244,50 @@ class ObstacleModel(Strict):
         return float(self.capsule.radius if self.capsule is not None else self.radius)
 
 
+QUATERNION_BAND = (0.99, 1.01)
+"""|q| a goal's ``quaternion_wxyz`` may have: normalised inside the band, an error outside it."""
+
+
+def _nonzero(vector: list[float], what: str) -> list[float]:
+    if not any(v != 0 for v in vector):
+        raise ValueError(f"{what} is the zero vector (expected a direction: any length > 0)")
+    return vector
+
+
+class OrientationModel(Strict):
+    """A goal's tool orientation, exactly one form (degrees): ``rpy`` (URDF's fixed-axis
+    roll-pitch-yaw, R = Rz(yaw) Ry(pitch) Rx(roll)), ``quaternion_wxyz``, or ``axis`` and ``angle``."""
+
+    rpy: Annotated[list[Finite], Field(min_length=3, max_length=3)] | None = Field(
+        default=None, description="[roll, pitch, yaw] in degrees: R = Rz(yaw) Ry(pitch) Rx(roll), as URDF's <origin rpy>."
+    )
+    quaternion_wxyz: Annotated[list[Finite], Field(min_length=4, max_length=4)] | None = Field(
+        default=None, description="[w, x, y, z], scalar first; |q| within [0.99, 1.01] (normalised)."
+    )
+    axis: Vector3 | None = Field(default=None, description="Rotation axis (any length > 0), with angle.")
+    angle: Finite | None = Field(default=None, description="Degrees about axis.")
+
+    @model_validator(mode="after")
+    def _one_form(self):
+        forms = [name for name in ("rpy", "quaternion_wxyz", "axis") if getattr(self, name) is not None]
+        if len(forms) != 1:
+            raise ValueError(
+                f"sets {' and '.join(forms) if forms else 'no form'} (expected exactly one of rpy, quaternion_wxyz, or axis with angle)"
+            )
+        if (self.axis is None) != (self.angle is None):
+            raise ValueError("axis and angle go together (expected both, e.g. {axis: [0, 0, 1], angle: 30})")
+        if self.axis is not None:
+            _nonzero(self.axis, "axis")
+        if self.quaternion_wxyz is not None:
+            norm = sum(v * v for v in self.quaternion_wxyz) ** 0.5
+            lo, hi = QUATERNION_BAND
+            if not lo <= norm <= hi:
+                raise ValueError(
+                    f"quaternion_wxyz has length {norm:.6g} (expected a unit quaternion: length within [{lo:g}, {hi:g}], [w, x, y, z])"
+                )
+        return self
+
+
 class GoalModel(Strict):
     """One goal; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``."""
 
@@ -251,6 +295,23 @@ class GoalModel(Strict):
     hold: Annotated[float, Field(ge=0, le=3600, allow_inf_nan=False)] = Field(
         default=0.0, description="Seconds to stay after reaching it."
     )
+    orientation: OrientationModel | None = Field(
+        default=None, description="The tool frame's orientation at the goal (6-D goal); default none (position only)."
+    )
+    tool_axis: Vector3 | None = Field(
+        default=None, description="World direction of the tool's z axis at the goal, roll free (5-D goal); default none."
+    )
+
+    @field_validator("tool_axis")
+    @classmethod
+    def _axis_not_zero(cls, value):
+        return _nonzero(value, "tool_axis") if value is not None else value
+
+    @model_validator(mode="after")
+    def _one_orientation(self):
+        if self.orientation is not None and self.tool_axis is not None:
+            raise ValueError("sets both orientation and tool_axis (expected at most one: tool_axis leaves the roll free, orientation fixes it)")
+        return self
 
     @model_validator(mode="before")
     @classmethod
@@ -300,6 +361,13 @@ class SolverModel(Strict):
     ] = Field(
         default="auto",
         description="auto: escape stalls by planning a joint-space path; off (or false): the pure local method (for teaching).",
+    )
+    orientation_weight: Positive | None = Field(
+        default=None,
+        description="Length per radian: how much a radian of tool rotation weighs against a unit of distance; default the arm's reach / 4.",
+    )
+    orientation_tolerance: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
+        default=1.0, description="Degrees: a goal with an orientation is reached when the tool is within this angle of it (and within tolerance)."
     )
     weights: WeightsModel = WeightsModel()
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.motion.orientation import Orientation
 from armanim.motion.planning.follow import damper_paced, path_schedule, poses_along
 from armanim.motion.planning.path import plan_path
 from armanim.motion.planning.poses import goal_poses
@@ -33,7 +34,8 @@ class Plan:
     frames : (F, n) array or None
         Poses to follow, one per frame; None when there is no plan.
     reason : MissReason or None
-        Why there is none: ``"out_of_reach"``, ``"no_free_pose"`` or ``"no_path"``.
+        Why there is none: ``"out_of_reach"``, ``"orientation_unreachable"`` (the position is
+        reachable, the orientation there is not), ``"no_free_pose"`` or ``"no_path"``.
     poses : int
         Free goal poses found.
     source : PathSource
@@ -49,8 +51,11 @@ class Plan:
     checks: int
 
 
-def plan_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0) -> Plan:
-    """Plan from the pose ``phi_now`` to a free pose whose tip is at ``goal``.
+def plan_motion(
+    problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0, orientation: Orientation | None = None
+) -> Plan:
+    """Plan from the pose ``phi_now`` to a free pose whose tip is at ``goal`` (and whose tool
+    meets ``orientation``, when the goal has one).
 
     Parameters
     ----------
@@ -65,9 +70,11 @@ def plan_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: i
     -------
     Plan
     """
-    found = goal_poses(problem, phi_now, goal, seed)
+    found = goal_poses(problem, phi_now, goal, seed, orientation)
     if not found.reachable:
         return Plan(None, "out_of_reach", 0, "none", 0)
+    if not found.orientable:
+        return Plan(None, "orientation_unreachable", 0, "none", 0)
     if not len(found.poses):
         return Plan(None, "no_free_pose", 0, "none", 0)
     path = plan_path(problem, phi_now, found.poses)

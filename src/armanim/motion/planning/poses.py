@@ -2,7 +2,9 @@
 
 Damped least squares on the tip, vectorised over the seeds (one batched forward
 kinematics and one batched Jacobian per iteration), limited joints clipped into their
-limits at every iteration. The poses kept are inside the limits with every link at
+limits at every iteration. A goal with an orientation solves the stacked pose task
+[p_g - p ; w B r] with [J_v ; w B J_w] instead, and a pose counts only when it meets the
+orientation too. The poses kept are inside the limits with every link at
 least the planning floor from every obstacle (what the safety filter keeps,
 :func:`armanim.motion.solvers.barrier.planning_floor`): the roomy ones first (at least
 :func:`~armanim.motion.solvers.barrier.settle_clearance`, room to settle), then the others,
@@ -17,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.arm.kinematics import forward, tip_jacobian
+from armanim.arm.kinematics import Pose, forward, tip_jacobian, tool_rotation
+from armanim.motion.orientation import Orientation, orientation_angle, orientation_task
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import limit_buffer, planning_floor, pose_clearance, settle_clearance, within_limits
 
@@ -41,10 +44,14 @@ class GoalPoses:
     reachable : bool
         Whether any solve reached the goal at all, limits and obstacles aside: False
         means the goal is out of this arm's reach.
+    orientable : bool
+        For a goal with an orientation: False when solves reach the position but none
+        (limits and obstacles aside) meets the orientation there (``orientation_unreachable``).
     """
 
     poses: np.ndarray
     reachable: bool
+    orientable: bool = True
 
 
 def seed_poses(problem: Problem, phi_now: np.ndarray, count: int, seed: int) -> np.ndarray:
@@ -80,20 +87,46 @@ def joint_ranges(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def solve_many(problem: Problem, starts: np.ndarray, goal: np.ndarray, clip: bool = True) -> np.ndarray:
+def pose_task(problem: Problem, pose: Pose, goal: np.ndarray, orientation: Orientation | None) -> tuple[np.ndarray, np.ndarray]:
+    """The batched task error (S, m) and Jacobian (S, m, n): the tip's (m = 3), stacked with
+    the weighted rotation rows w B r and w B J_w for a goal with an orientation."""
+    error = goal - pose.tip  # (S, 3)
+    jac = tip_jacobian(problem.arm, pose)  # (S, 3, n)
+    if orientation is None:
+        return error, jac
+    w = problem.solver.orientation_weight
+    rot_error, rot_jac = orientation_task(orientation, problem.arm, pose)
+    return np.concatenate([error, w * rot_error], -1), np.concatenate([jac, w * rot_jac], -2)
+
+
+def hits(problem: Problem, phi: np.ndarray, goal: np.ndarray, orientation: Orientation | None, fraction: float = HIT) -> np.ndarray:
+    """(S,) bool: poses whose tip is within ``fraction`` of the tolerance of the goal, and whose
+    tool is within that fraction of the orientation tolerance of its orientation (if any)."""
+    pose = forward(problem.arm, phi)
+    hit = np.linalg.norm(pose.tip - goal, axis=-1) < fraction * problem.solver.tolerance
+    if orientation is not None:
+        angle = orientation_angle(orientation, tool_rotation(problem.arm, pose))
+        hit &= angle < fraction * problem.solver.orientation_tolerance
+    return hit
+
+
+def solve_many(
+    problem: Problem, starts: np.ndarray, goal: np.ndarray, clip: bool = True, orientation: Orientation | None = None
+) -> np.ndarray:
     """Damped least-squares IK from every start at once; returns (S, n) poses.
 
-    With ``clip`` the limited joints are kept inside their limits at every iteration.
+    With ``clip`` the limited joints are kept inside their limits at every iteration; with an
+    ``orientation`` the whole pose task is solved (:func:`pose_task`).
     """
     arm = problem.arm
     lo, hi = joint_ranges(problem)
     damping2 = (DAMPING_PER_REACH * arm.reach) ** 2
     phi = starts.copy()
+    rows = 3 if orientation is None else 3 + orientation.rows
     for _ in range(ITERATIONS):
         pose = forward(arm, phi)
-        error = goal - pose.tip  # (S, 3)
-        jac = tip_jacobian(arm, pose)  # (S, 3, n)
-        gram = jac @ np.swapaxes(jac, -1, -2) + damping2 * np.eye(3)
+        error, jac = pose_task(problem, pose, goal, orientation)
+        gram = jac @ np.swapaxes(jac, -1, -2) + damping2 * np.eye(rows)
         dphi = np.einsum("sji,sj->si", jac, np.linalg.solve(gram, error[..., None])[..., 0])
         biggest = np.abs(dphi).max(axis=-1, keepdims=True)
         dphi *= np.minimum(1.0, TURN_PER_ITERATION / np.maximum(biggest, 1e-300))
@@ -103,8 +136,11 @@ def solve_many(problem: Problem, starts: np.ndarray, goal: np.ndarray, clip: boo
     return phi
 
 
-def goal_poses(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0) -> GoalPoses:
-    """Free poses whose tip is at ``goal``, nearest to ``phi_now`` first.
+def goal_poses(
+    problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0, orientation: Orientation | None = None
+) -> GoalPoses:
+    """Free poses whose tip is at ``goal`` (with the tool at ``orientation``, if given), nearest
+    to ``phi_now`` first.
 
     Parameters
     ----------
@@ -114,26 +150,31 @@ def goal_poses(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: in
     goal : (3,) array
     seed : int
         Seed of the random starts (the same seed gives the same poses).
+    orientation : Orientation, optional
+        The goal's orientation: the poses meet it too.
 
     Returns
     -------
     GoalPoses
     """
-    tolerance = HIT * problem.solver.tolerance
     starts = seed_poses(problem, phi_now, SEEDS, seed)
-    solved = solve_many(problem, starts, goal)
-    hit = np.linalg.norm(forward(problem.arm, solved).tip - goal, axis=-1) < tolerance
-    reachable = bool(hit.any()) or _reachable_without_limits(problem, starts, goal, tolerance)
+    solved = solve_many(problem, starts, goal, orientation=orientation)
+    hit = hits(problem, solved, goal, orientation)
+    reachable = bool(hit.any()) or _reachable_without_limits(problem, starts, goal, orientation)
+    orientable = True
+    if not reachable and orientation is not None:  # the position alone may still be reachable
+        reachable = _reachable_without_limits(problem, starts, goal, None)
+        orientable = not reachable
     clear = pose_clearance(problem, solved)
     free = hit & within_limits(problem, solved) & (clear >= planning_floor(problem, phi_now))
     roomy = clear >= settle_clearance(problem)
     poses = [nearest_first(problem, phi_now, solved[free & room]) for room in (roomy, ~roomy)]
-    return GoalPoses(poses=np.concatenate(poses), reachable=reachable)
+    return GoalPoses(poses=np.concatenate(poses), reachable=reachable, orientable=orientable)
 
 
-def _reachable_without_limits(problem: Problem, starts: np.ndarray, goal: np.ndarray, tolerance: float) -> bool:
-    solved = solve_many(problem, starts, goal, clip=False)
-    return bool(np.any(np.linalg.norm(forward(problem.arm, solved).tip - goal, axis=-1) < tolerance))
+def _reachable_without_limits(problem: Problem, starts: np.ndarray, goal: np.ndarray, orientation: Orientation | None) -> bool:
+    solved = solve_many(problem, starts, goal, clip=False, orientation=orientation)
+    return bool(np.any(hits(problem, solved, goal, orientation)))
 
 
 def turn_variants(problem: Problem, phi_now: np.ndarray, poses: np.ndarray) -> np.ndarray:

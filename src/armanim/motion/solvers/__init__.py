@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState, Step, arm_state
 from armanim.motion.solvers.gradient import gradient_step
@@ -22,8 +23,10 @@ from armanim.motion.solvers.linear import dls_step, pinv_step
 from armanim.motion.solvers.newton import newton_step
 from armanim.names import MethodName
 
-StepFunction = Callable[[Problem, ArmState, np.ndarray], Step]
-"""step_function(problem, state, goal) -> Step: a method's proposal for one frame."""
+StepFunction = Callable[..., Step]
+"""step_function(problem, state, goal, orientation=None) -> Step: a method's proposal for one
+frame toward the goal position (and the goal's :class:`~armanim.motion.orientation.Orientation`,
+when it has one)."""
 
 
 @dataclass(frozen=True)
@@ -79,12 +82,16 @@ def step_function(name: MethodName) -> StepFunction:
     return solver_method(name).step_function
 
 
-def proposed_step(problem: Problem, method: Method, state: ArmState, goal: np.ndarray) -> Step:
+def proposed_step(
+    problem: Problem, method: Method, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None
+) -> Step:
     """The method's proposal; a linear-algebra failure (a singular matrix, an SVD that does
     not converge) is a NaN proposal, which the filter refuses (``blocked_by == "nan"``) and
     the drivers report as ``numerical``."""
     try:
-        return method.step_function(problem, state, goal)
+        if orientation is None:  # position-only goals call the methods exactly as before
+            return method.step_function(problem, state, goal)
+        return method.step_function(problem, state, goal, orientation)
     except np.linalg.LinAlgError:
         return Step(dphi=np.full(problem.arm.n, np.nan))
 

@@ -78,6 +78,15 @@ def task_displacement(problem: Problem, tip: np.ndarray, goal: np.ndarray) -> np
     return de * (cap / length) if length > cap else de
 
 
+def rotation_displacement(problem: Problem, error: np.ndarray) -> np.ndarray:
+    """The frame's step of the rotation task: beta w B r, its length (a length, like the
+    tip's) capped at ``solver.max_step``."""
+    s = problem.solver
+    step = s.beta * s.orientation_weight * error
+    length = np.linalg.norm(step)
+    return step * (s.max_step / length) if length > s.max_step else step
+
+
 def jacobian_of_tip(problem: Problem, phi: np.ndarray, pose: Pose) -> np.ndarray:
     """(3, n) Jacobian of the tip: analytic, or forward differences (Eq. 15) when the
     scene says ``jacobian: numeric``."""

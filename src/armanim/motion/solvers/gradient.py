@@ -11,32 +11,33 @@ import numpy as np
 
 from armanim.arm.kinematics import numeric_jacobian, tip_jacobian
 from armanim.motion.cost import total_cost, total_cost_gradient
+from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState, Step
 
 HALVINGS = 30  # line-search trials: 2**-30 of a step is below any useful resolution
 
 
-def cost_gradient(problem: Problem, state: ArmState, goal: np.ndarray) -> np.ndarray:
+def cost_gradient(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> np.ndarray:
     """grad C at the state's pose: analytic, or the forward-difference gradient when numeric."""
     if problem.solver.jacobian == "numeric":
-        return numeric_jacobian(lambda p: total_cost(problem, p, goal)[..., None], state.phi)[0]
-    return total_cost_gradient(problem, state.phi, goal, state.pose, state.clearance)
+        return numeric_jacobian(lambda p: total_cost(problem, p, goal, orientation=orientation)[..., None], state.phi)[0]
+    return total_cost_gradient(problem, state.phi, goal, state.pose, state.clearance, orientation)
 
 
-def gradient_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
-    """One frame of gradient descent on C with a backtracking line search."""
+def gradient_step(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:
+    """One frame of gradient descent on C (with the goal's orientation term) with a backtracking line search."""
     s = problem.solver
     phi = state.phi
-    dphi = -s.beta * cost_gradient(problem, state, goal)
+    dphi = -s.beta * cost_gradient(problem, state, goal, orientation)
     travel = np.linalg.norm(tip_jacobian(problem.arm, state.pose) @ dphi)
     if travel > s.max_step:
         dphi = dphi * (s.max_step / travel)
-    now = total_cost(problem, phi, goal, state.pose, state.clearance)
-    if total_cost(problem, phi + dphi, goal) < now:  # the whole step is usually taken
+    now = total_cost(problem, phi, goal, state.pose, state.clearance, orientation)
+    if total_cost(problem, phi + dphi, goal, orientation=orientation) < now:  # the whole step is usually taken
         return Step(dphi=dphi, iterations=1)
     scales = 0.5 ** np.arange(1, HALVINGS)
-    better = np.nonzero(total_cost(problem, phi + scales[:, None] * dphi, goal) < now)[0]
+    better = np.nonzero(total_cost(problem, phi + scales[:, None] * dphi, goal, orientation=orientation) < now)[0]
     if len(better) == 0:
         return Step(dphi=np.zeros_like(phi), iterations=HALVINGS)
     first = int(better[0])

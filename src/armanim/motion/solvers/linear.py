@@ -15,6 +15,15 @@ next to an obstacle stays reachable).
 
 The two methods differ only in the inverse: the pseudo-inverse (``scipy.linalg.pinv``)
 or the damped least-squares inverse J^T (J J^T + lambda^2 I)^-1.
+
+A goal with an orientation adds the rotation task [w B r] with Jacobian w B J_w
+(:func:`armanim.motion.orientation.orientation_task`), second in priority (task-priority IK):
+
+dPhi_2 = (J_2 N_1)^+ (beta w B r - J_2 dPhi_1),   N_1 = I - J^+ J
+
+so the tip's task is never traded for the orientation: an arm with too few joints reaches
+the position and turns the tool as close as the rest of its freedom allows. The obstacle and
+limit pushes then act in the null space of both tasks.
 """
 
 from __future__ import annotations
@@ -24,8 +33,16 @@ from collections.abc import Callable
 import numpy as np
 
 from armanim.arm.linalg import pseudo_inverse
+from armanim.motion.orientation import Orientation, orientation_task
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.common import ArmState, Step, jacobian_of_capsule_point, jacobian_of_tip, task_displacement
+from armanim.motion.solvers.common import (
+    ArmState,
+    Step,
+    jacobian_of_capsule_point,
+    jacobian_of_tip,
+    rotation_displacement,
+    task_displacement,
+)
 
 
 def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:
@@ -57,10 +74,32 @@ def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray | None:
     return scale * (repulsion(lo_gap, limits.margin) - repulsion(hi_gap, limits.margin))
 
 
+def orientation_in_null_space(
+    problem: Problem, state: ArmState, orientation: Orientation, jac: np.ndarray,
+    dphi: np.ndarray, invert: Callable[[np.ndarray], np.ndarray],
+) -> tuple[np.ndarray, np.ndarray]:
+    """The step with the rotation task added in the null space of the tip's, and the projector
+    (n, n) onto the null space of both (where the secondary pushes go).
+
+    The projectors are exact (from the pseudo-inverse) for both methods: the damped inverse's
+    I - J^T (J J^T + lambda^2 I)^-1 J lets a secondary task move the tip along a singular
+    direction (the straight arm at home), where the tip's task is weakest; ``invert`` (damped
+    for ``dls``) only solves the rotation task inside that null space."""
+    w = problem.solver.orientation_weight
+    error, jac_w = orientation_task(orientation, problem.arm, state.pose)
+    jac_r = w * jac_w
+    null_tip = np.eye(len(dphi)) - pseudo_inverse(jac) @ jac
+    restricted = jac_r @ null_tip
+    dphi = dphi + invert(restricted) @ (rotation_displacement(problem, error) - jac_r @ dphi)
+    return dphi, null_tip - pseudo_inverse(restricted) @ restricted
+
+
 def linear_step(
-    problem: Problem, state: ArmState, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray]
+    problem: Problem, state: ArmState, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray],
+    orientation: Orientation | None = None,
 ) -> Step:
-    """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse."""
+    """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse (and the
+    rotation task second when the goal has an ``orientation``)."""
     s = problem.solver
     phi, pose = state.phi, state.pose
     jac = jacobian_of_tip(problem, phi, pose)
@@ -80,17 +119,21 @@ def linear_step(
                 jac_q = jacobian_of_capsule_point(problem, phi, pose, part, cl.t[part, obs])
                 pushed = invert(jac_q) @ v
                 secondary = pushed if secondary is None else secondary + pushed
-    if secondary is not None:
+    if orientation is not None:
+        dphi, null_both = orientation_in_null_space(problem, state, orientation, jac, dphi, invert)
+        if secondary is not None:
+            dphi = dphi + null_both @ secondary
+    elif secondary is not None:
         dphi = dphi + secondary - jac_inv @ (jac @ secondary)
     return Step(dphi=dphi)
 
 
-def pinv_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
+def pinv_step(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:
     """``pinv``: the course notes' Algorithm 2 with the pseudo-inverse (Eqs. 19-20)."""
-    return linear_step(problem, state, goal, pseudo_inverse)
+    return linear_step(problem, state, goal, pseudo_inverse, orientation)
 
 
-def dls_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
+def dls_step(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:
     """``dls``: damped least squares with ``solver.damping``; smooth near singular poses."""
     damping = problem.solver.damping
-    return linear_step(problem, state, goal, lambda jac: damped_inverse(jac, damping))
+    return linear_step(problem, state, goal, lambda jac: damped_inverse(jac, damping), orientation)

@@ -7,6 +7,16 @@ H(Phi) = w_tar (P'^T P' + (e - e*) . P'') + w_reg I
 
 In the frame loop e* is the frame's target e + de and Phi_rest the previous frame's
 angles; ``armanim ik`` solves to the goal itself from a rest pose.
+
+A goal with an orientation adds 1/2 w_rot |r|^2, r = log(R* R^T) (or the tool axis's
+alignment, :mod:`armanim.motion.orientation`), to f, with
+
+g += -w_rot J_w^T r (exact),   H += w_rot (B J_w)^T (B J_w) (Gauss-Newton),
+
+w_rot = w_tar w^2 for the orientation weight w (length per radian), so that a radian weighs
+as w of distance. For an arm that cannot hold the orientation at every position
+(:func:`~armanim.motion.orientation.holds_orientation` False), w_rot is scaled by
+:data:`~armanim.motion.orientation.PRIORITY_WEIGHT`: position first.
 """
 
 from __future__ import annotations
@@ -15,9 +25,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.arm.kinematics import Arm, forward, link_point, point_hessian, tip_jacobian
+from armanim.arm.kinematics import Arm, forward, link_point, point_hessian, tip_jacobian, tool_rotation
+from armanim.motion.orientation import (
+    PRIORITY_WEIGHT,
+    Orientation,
+    holds_orientation,
+    orientation_gradient,
+    orientation_residual,
+    orientation_task,
+    partial_orientation,
+)
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.common import ArmState, Step, task_displacement
+from armanim.motion.solvers.common import ArmState, Step, rotation_displacement, task_displacement
 
 
 @dataclass(frozen=True)
@@ -66,12 +85,18 @@ class NewtonResult:
 
 
 def objective(
-    arm: Arm, phi: np.ndarray, target: np.ndarray, rest: np.ndarray, w_tar: float, w_reg: float
+    arm: Arm, phi: np.ndarray, target: np.ndarray, rest: np.ndarray, w_tar: float, w_reg: float,
+    orientation: Orientation | None = None, w_rot: float = 0.0,
 ) -> float:
-    """f(Phi), the assignment's objective."""
-    dp = forward(arm, phi).tip - target
+    """f(Phi), the assignment's objective (plus 1/2 w_rot |r|^2 with an ``orientation``)."""
+    pose = forward(arm, phi)
+    dp = pose.tip - target
     dtheta = phi - rest
-    return 0.5 * w_tar * dp @ dp + 0.5 * w_reg * dtheta @ dtheta
+    f = 0.5 * w_tar * dp @ dp + 0.5 * w_reg * dtheta @ dtheta
+    if orientation is not None:
+        r = orientation_residual(orientation, tool_rotation(arm, pose))
+        f = f + 0.5 * w_rot * r @ r
+    return f
 
 
 def objective_derivatives(
@@ -82,8 +107,11 @@ def objective_derivatives(
     w_tar: float,
     w_reg: float,
     hessian: bool = True,
+    orientation: Orientation | None = None,
+    w_rot: float = 0.0,
 ) -> tuple[float, np.ndarray, np.ndarray | None]:
-    """f, its gradient g (n,) and Hessian H (n, n), as the assignment writes them.
+    """f, its gradient g (n,) and Hessian H (n, n), as the assignment writes them, with the
+    orientation term (exact gradient, Gauss-Newton Hessian) when ``orientation`` is given.
 
     With ``hessian=False`` (gradient descent needs none) H is returned as None.
 
@@ -98,10 +126,16 @@ def objective_derivatives(
     jac = tip_jacobian(arm, pose)
     f = 0.5 * w_tar * dp @ dp + 0.5 * w_reg * dtheta @ dtheta
     g = w_tar * dp @ jac + w_reg * dtheta
+    if orientation is not None:
+        r, grad = orientation_gradient(orientation, arm, pose)
+        f, g = f + 0.5 * w_rot * r @ r, g + w_rot * grad
     if not hessian:
         return float(f), g, None
     hess = point_hessian(arm, pose, arm.n - 1, link_point(pose, arm.n - 1, 1.0))
     H = w_tar * (jac.T @ jac + np.einsum("a,aij->ij", dp, hess)) + w_reg * np.eye(arm.n)
+    if orientation is not None:
+        _, jac_r = orientation_task(orientation, arm, pose)
+        H = H + w_rot * jac_r.T @ jac_r
     return float(f), g, H
 
 
@@ -137,21 +171,26 @@ def _line_search(fun, x, f0, direction, slope, alpha, opts: NewtonOptions):
 
 @dataclass(frozen=True)
 class Objective:
-    """The f of one solve: the arm, the target e*, the rest pose and the weights, bound once."""
+    """The f of one solve: the arm, the target e*, the rest pose and the weights, bound once
+    (and the target orientation with its weight w_rot, for a goal with one)."""
 
     arm: Arm
     target: np.ndarray
     rest: np.ndarray
     w_tar: float
     w_reg: float
+    orientation: Orientation | None = None
+    w_rot: float = 0.0
 
     def value(self, phi: np.ndarray) -> float:
         """f(Phi)."""
-        return objective(self.arm, phi, self.target, self.rest, self.w_tar, self.w_reg)
+        return objective(self.arm, phi, self.target, self.rest, self.w_tar, self.w_reg, self.orientation, self.w_rot)
 
     def derivatives(self, phi: np.ndarray, hessian: bool = True) -> tuple[float, np.ndarray, np.ndarray | None]:
         """f, g and H (None without ``hessian``) at Phi: :func:`objective_derivatives`."""
-        return objective_derivatives(self.arm, phi, self.target, self.rest, self.w_tar, self.w_reg, hessian)
+        return objective_derivatives(
+            self.arm, phi, self.target, self.rest, self.w_tar, self.w_reg, hessian, self.orientation, self.w_rot
+        )
 
 
 def gradient_descent(f: Objective, phi: np.ndarray, options: NewtonOptions) -> tuple[np.ndarray, float, int]:
@@ -205,12 +244,14 @@ def newton_solve(
     w_tar: float,
     w_reg: float,
     options: NewtonOptions = NewtonOptions(),
+    orientation: Orientation | None = None,
+    w_rot: float = 0.0,
 ) -> NewtonResult:
     """Minimise f by GDLS, then NM from the GDLS answer, kept only if it lowers f.
 
     Angles are returned unwrapped; callers wrap unlimited joints.
     """
-    f = Objective(arm, target, rest, w_tar, w_reg)
+    f = Objective(arm, target, rest, w_tar, w_reg, orientation, w_rot)
     x_gd, f_gd, gd_its = gradient_descent(f, phi, options)
     x_nm, nm_its = newton_method(f, x_gd, options)
     f_nm = f.value(x_nm)
@@ -224,12 +265,35 @@ def newton_solve(
     )
 
 
-def newton_step(problem: Problem, state: ArmState, goal: np.ndarray) -> Step:
-    """One frame: solve f to the frame target e* = e + de, regularised to the current pose."""
+def rotation_weight(problem: Problem, orientation: Orientation) -> float:
+    """w_rot = w_tar w^2, scaled by :data:`PRIORITY_WEIGHT` for an arm that cannot hold the orientation."""
+    s = problem.solver
+    w_rot = s.w_target * s.orientation_weight**2
+    return w_rot if holds_orientation(problem.arm, orientation) else PRIORITY_WEIGHT * w_rot
+
+
+def frame_orientation(problem: Problem, state: ArmState, orientation: Orientation) -> Orientation:
+    """The frame's target orientation: the tool turned part of the way to the goal's, as the
+    frame's target position e + de is (beta of the rotation, as long as ``max_step`` allows)."""
+    rot = tool_rotation(problem.arm, state.pose)
+    r = orientation_residual(orientation, rot)
+    w = problem.solver.orientation_weight
+    return partial_orientation(orientation, rot, rotation_displacement(problem, r) / w)
+
+
+def newton_step(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:
+    """One frame: solve f to the frame target e* = e + de (and the frame's orientation),
+    regularised to the current pose."""
     arm, s = problem.arm, problem.solver
     phi, tip = state.phi, state.tip
     target = tip + task_displacement(problem, tip, goal)
-    result = newton_solve(arm, phi, target, phi, s.w_target, s.w_regularizer)
+    if orientation is None:
+        result = newton_solve(arm, phi, target, phi, s.w_target, s.w_regularizer)
+    else:
+        result = newton_solve(
+            arm, phi, target, phi, s.w_target, s.w_regularizer,
+            orientation=frame_orientation(problem, state, orientation), w_rot=rotation_weight(problem, orientation),
+        )
     return Step(
         dphi=result.phi - phi,
         iterations=result.gd_iterations + result.nm_iterations,

@@ -15,12 +15,14 @@ import numpy as np
 from armanim import __version__
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import forward
+from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render import scenery, style
 from armanim.render.camera import planar_normal, view_angles
 from armanim.render.caption import frame_activity
 from armanim.render.framing import scene_content
+from armanim.render.triads import TRIAD_PER_REACH, has_orientations
 from armanim.world.obstacles import BOX, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"
@@ -88,8 +90,37 @@ def goal_entries(problem: Problem, reports: Sequence[GoalReport]) -> list[dict]:
             "reason": report.reason if report else None,
             "first": int(report.first_frame) if report else -1,
             "last": int(report.last_frame) if report else -1,
+            **goal_orientation_entry(goal),
         })
     return entries
+
+
+def orientation_entry(problem: Problem, trajectory: Trajectory, decimals: int) -> dict | None:
+    """For a run with a goal that has an orientation (else None): the tool frame's quaternion per
+    frame (flat F x 4, w x y z), the tool's angle to the frame's goal orientation per frame
+    (degrees, null where the goal has none), the triads' length and their x, y, z colours."""
+    if not has_orientations(problem.goals):
+        return None
+    quaternions = trajectory.tool_quaternion
+    if quaternions is None:
+        quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], trajectory.phi, trajectory.goal)[1]
+    angles = trajectory.orientation_error if trajectory.orientation_error is not None else np.full(trajectory.frames, np.nan)
+    return {
+        "quaternion_wxyz": rounded(quaternions, 6),
+        "angle_deg": [None if not np.isfinite(a) else round(float(np.degrees(a)), 3) for a in angles],
+        "triad": round(float(TRIAD_PER_REACH * problem.arm.reach), decimals + 2),
+        "colors": [hex_color(c) for c in style.AXIS_COLORS],
+    }
+
+
+def goal_orientation_entry(goal) -> dict:
+    """A goal's orientation for the page: its rotation (rows) or its tool axis; {} for none."""
+    o = goal.orientation
+    if o is None:
+        return {}
+    if o.rotation is not None:
+        return {"rotation": [[float(v) for v in row] for row in o.rotation]}
+    return {"tool_axis": [float(v) for v in o.axis]}
 
 
 def activity_codes(trajectory: Trajectory, reports: Sequence[GoalReport]) -> tuple[list[str], list[int]]:
@@ -181,7 +212,7 @@ def viewer_data(
     clearance = np.asarray(trajectory.clearance, dtype=float)
     finite = np.isfinite(clearance)
     obstacles = problem.obstacles
-    return {
+    data = {
         "format": FORMAT,
         "armanim": __version__,
         "title": str(title),
@@ -215,6 +246,10 @@ def viewer_data(
         "view": view,
         "style": page_style(),
     }
+    oriented = orientation_entry(problem, trajectory, decimals)
+    if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
+        data["orientation"] = oriented
+    return data
 
 
 def shape_entries(obstacles) -> dict:

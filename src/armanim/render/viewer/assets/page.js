@@ -208,6 +208,36 @@
     m.position.fromArray(g.position); ghost.position.fromArray(g.position); scene.add(m, ghost); return m;
   });
 
+  // orientations (only in a run with an oriented goal): the tool frame's x, y, z axes at the tip
+  // in red, green, blue, and each such goal's triad faintly (a tool-axis goal: its z alone)
+  const O = D.orientation, toolAxes = [];
+  function segment(color, opacity) {
+    const g = new T.BufferGeometry();
+    g.setAttribute("position", new T.BufferAttribute(new Float32Array(6), 3));
+    const l = new T.Line(g, new T.LineBasicMaterial({ color, transparent: opacity < 1, opacity }));
+    l.frustumCulled = false; scene.add(l); return l;
+  }
+  function place(line, from, dir, len) {
+    const p = line.geometry.attributes.position;
+    p.setXYZ(0, from[0], from[1], from[2]);
+    p.setXYZ(1, from[0] + len * dir[0], from[1] + len * dir[1], from[2] + len * dir[2]);
+    p.needsUpdate = true;
+  }
+  if (O) {
+    for (let i = 0; i < 3; i++) toolAxes.push(segment(O.colors[i], 1));
+    D.goals.forEach((g) => {
+      if (g.rotation) for (let i = 0; i < 3; i++) place(segment(O.colors[i], 0.45), g.position, [g.rotation[0][i], g.rotation[1][i], g.rotation[2][i]], O.triad);
+      else if (g.tool_axis) place(segment(O.colors[2], 0.45), g.position, g.tool_axis, O.triad);
+    });
+  }
+  const UNIT = [new T.Vector3(1, 0, 0), new T.Vector3(0, 1, 0), new T.Vector3(0, 0, 1)], q = new T.Quaternion(), u = new T.Vector3();
+  function toolFrame(f) {
+    const Q = O.quaternion_wxyz, o = (f * P + N) * 3;
+    q.set(Q[f * 4 + 1], Q[f * 4 + 2], Q[f * 4 + 3], Q[f * 4]);  // three.js: x, y, z, w
+    const tip = [D.points[o], D.points[o + 1], D.points[o + 2]];
+    for (let i = 0; i < 3; i++) { u.copy(UNIT[i]).applyQuaternion(q); place(toolAxes[i], tip, [u.x, u.y, u.z], O.triad); }
+  }
+
   // the arm: its collision capsules (the shapes clearance is measured on), a disc per joint, the base
   const armMat = new T.MeshPhongMaterial({ color: S.arm, shininess: 30 });
   const jointMat = new T.MeshPhongMaterial({ color: S.joint, shininess: 60 });
@@ -247,6 +277,7 @@
       if (d.lengthSq() > 0) links[i].quaternion.setFromUnitVectors(Y, d.normalize());
     }
     trailGeo.setDrawRange(0, f + 1);
+    if (O) toolFrame(f);
   }
 
   // ---- the camera: the video's view, front, side, top; orbit, pan and zoom ----------
@@ -379,7 +410,7 @@
     document.body.dataset.frame = String(f);
     const k = D.goal[f], ngoals = D.goals.length;
     $("goal").textContent = ngoals ? `${k} (of 0-${ngoals - 1})` : "none";
-    $("distance").textContent = fixed(D.distance[f], 3);
+    $("distance").textContent = fixed(D.distance[f], 3) + (O && O.angle_deg[f] !== null ? `, angle ${O.angle_deg[f].toFixed(1)}°` : "");
     $("clearance").textContent = fixed(D.clearance[f], 3);
     $("state").textContent = D.activities[D.activity[f]];
     for (let j = 0; j < N; j++) angleCells[j].textContent = D.angles_deg[f * N + j].toFixed(2);
