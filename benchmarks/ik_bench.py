@@ -1,7 +1,8 @@
-"""6-D pose IK benchmark (issue 21): armanim's four methods, robotics-toolbox ``ik_LM`` and ikpy.
+"""Single-pose IK benchmark: armanim's four methods, robotics-toolbox ``ik_LM`` and ikpy, on
+6-D pose targets (issue 21) or, with ``--position-only``, on the targets' positions alone (issue 20).
 
     python benchmarks/ik_bench.py [--targets 500] [--robots panda,ur5] [--methods pinv,dls,newton,gradient]
-                                  [--quick] [--seed 0] [--no-references]
+                                  [--quick] [--seed 0] [--no-references] [--position-only]
 
 N random reachable 6-D targets per robot (the tool frame of random poses drawn uniformly inside
 the joint limits, so every target has a solution), solved cold from the robot's home pose, with
@@ -64,12 +65,15 @@ def targets(problem, count: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.
     return phi, pose.tip, tool_rotation(problem.arm, pose)
 
 
-def judged(problem, phi: np.ndarray, position: np.ndarray, rotation: np.ndarray) -> bool:
-    """Success: inside the limits, the tool within 1e-4 m and 0.1 degree, by armanim's FK."""
+def judged(problem, phi: np.ndarray, position: np.ndarray, rotation: np.ndarray | None) -> bool:
+    """Success: inside the limits, the tool within 1e-4 m and (unless ``rotation`` is None: a
+    position target) 0.1 degree, by armanim's FK."""
     phi = np.asarray(phi, dtype=float)
     if not np.all(np.isfinite(phi)) or not within_limits(problem, phi[None])[0]:
         return False
     pose = forward(problem.arm, phi)
+    if rotation is None:
+        return bool(np.linalg.norm(pose.tip - position) < POSITION_TOLERANCE)
     angle = orientation_angle(Orientation(rotation=rotation), tool_rotation(problem.arm, pose))
     return bool(np.linalg.norm(pose.tip - position) < POSITION_TOLERANCE and np.degrees(angle) < ANGLE_TOLERANCE_DEG)
 
@@ -121,9 +125,10 @@ def rtb_solver(robot: str, problem):
 
     def solve(position, rotation, q0):
         t = np.eye(4)
-        t[:3, :3], t[:3, 3] = rotation, position
+        t[:3, :3], t[:3, 3] = np.eye(3) if rotation is None else rotation, position
+        mask = [1, 1, 1, 0, 0, 0] if rotation is None else [1, 1, 1, 1, 1, 1]  # a position target weighs no rotation
         sol = model.ik_LM(SE3(t, check=False), end=end, start=start, q0=q0, joint_limits=True,
-                          tol=1e-12, ilimit=100, slimit=100)
+                          tol=1e-12, ilimit=100, slimit=100, mask=mask)
         return np.asarray(sol[0], dtype=float)
 
     return (fk, solve), None
@@ -160,7 +165,10 @@ def ikpy_solver(robot: str, problem):
     def solve(position, rotation, q0):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            q = chain.inverse_kinematics(position, rotation, orientation_mode="all", initial_position=full(q0))
+            if rotation is None:
+                q = chain.inverse_kinematics(position, initial_position=full(q0))
+            else:
+                q = chain.inverse_kinematics(position, rotation, orientation_mode="all", initial_position=full(q0))
         return np.asarray(q)[moving]
 
     return (fk, solve), None
@@ -187,7 +195,8 @@ def run_armanim(robot: str, method: str, goals) -> tuple[float, float, dict]:
     ok, spent, finders = 0, 0.0, {"method": 0, "free_pose_search": 0, "failed": 0}
     for position, rotation in zip(*goals):
         start = time.perf_counter()
-        result = solve_pose(problem, position, problem.home, MAX_ITERATIONS, orientation=Orientation(rotation=rotation))
+        orientation = None if rotation is None else Orientation(rotation=rotation)
+        result = solve_pose(problem, position, problem.home, MAX_ITERATIONS, orientation=orientation)
         spent += time.perf_counter() - start
         good = judged(problem, result.phi, position, rotation)
         ok += good
@@ -217,15 +226,18 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--quick", action="store_true", help="20 targets per robot")
     parser.add_argument("--no-references", action="store_true", help="armanim's methods only")
+    parser.add_argument("--position-only", action="store_true", help="the same targets' positions alone (3-D goals)")
     args = parser.parse_args()
     count = 20 if args.quick else args.targets
-    print(f"{count} random reachable 6-D targets per robot, cold start from home; success: "
-          f"inside the limits, {POSITION_TOLERANCE:g} m and {ANGLE_TOLERANCE_DEG:g} deg (armanim's FK)")
+    kind = "3-D position" if args.position_only else "6-D"
+    judge = f"{POSITION_TOLERANCE:g} m" + ("" if args.position_only else f" and {ANGLE_TOLERANCE_DEG:g} deg")
+    print(f"{count} random reachable {kind} targets per robot, cold start from home; success: "
+          f"inside the limits, {judge} (armanim's FK)")
     print(f"{'robot':6} {'solver':24} {'success':>9} {'ms/solve':>9}   notes")
     for robot in args.robots.split(","):
         base = robot_problem(robot, "pinv")
         _, positions, rotations = targets(base, count, args.seed)
-        goals = (positions, rotations)
+        goals = (positions, [None] * count if args.position_only else rotations)
         for method in args.methods.split(","):
             rate, seconds, finders = run_armanim(robot, method, goals)
             verdict = "met" if rate >= TARGET_SUCCESS else "not met"
@@ -234,7 +246,8 @@ def main() -> None:
                   f"free-pose search {finders['free_pose_search']}, failed {finders['failed']}")
         if args.no_references:
             continue
-        for name, make in (("robotics-toolbox ik_LM", rtb_solver), ("ikpy (orientation all)", ikpy_solver)):
+        ikpy_name = "ikpy (position)" if args.position_only else "ikpy (orientation all)"
+        for name, make in (("robotics-toolbox ik_LM", rtb_solver), (ikpy_name, ikpy_solver)):
             solver, why = make(robot, base)
             if solver is None:
                 print(f"{robot:6} {name:24} {'skipped':>9}   {why}")

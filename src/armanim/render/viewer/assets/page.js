@@ -217,7 +217,7 @@
     const l = new T.Line(g, new T.LineBasicMaterial({ color, transparent: opacity < 1, opacity }));
     l.frustumCulled = false; scene.add(l); return l;
   }
-  function place(line, from, dir, len) {
+  function setSegment(line, from, dir, len) {
     const p = line.geometry.attributes.position;
     p.setXYZ(0, from[0], from[1], from[2]);
     p.setXYZ(1, from[0] + len * dir[0], from[1] + len * dir[1], from[2] + len * dir[2]);
@@ -226,8 +226,8 @@
   if (O) {
     for (let i = 0; i < 3; i++) toolAxes.push(segment(O.colors[i], 1));
     D.goals.forEach((g) => {
-      if (g.rotation) for (let i = 0; i < 3; i++) place(segment(O.colors[i], 0.45), g.position, [g.rotation[0][i], g.rotation[1][i], g.rotation[2][i]], O.triad);
-      else if (g.tool_axis) place(segment(O.colors[2], 0.45), g.position, g.tool_axis, O.triad);
+      if (g.rotation) for (let i = 0; i < 3; i++) setSegment(segment(O.colors[i], 0.45), g.position, [g.rotation[0][i], g.rotation[1][i], g.rotation[2][i]], O.triad);
+      else if (g.tool_axis) setSegment(segment(O.colors[2], 0.45), g.position, g.tool_axis, O.triad);
     });
   }
   const UNIT = [new T.Vector3(1, 0, 0), new T.Vector3(0, 1, 0), new T.Vector3(0, 0, 1)], q = new T.Quaternion(), u = new T.Vector3();
@@ -235,7 +235,7 @@
     const Q = O.quaternion_wxyz, o = (f * P + N) * 3;
     q.set(Q[f * 4 + 1], Q[f * 4 + 2], Q[f * 4 + 3], Q[f * 4]);  // three.js: x, y, z, w
     const tip = [D.points[o], D.points[o + 1], D.points[o + 2]];
-    for (let i = 0; i < 3; i++) { u.copy(UNIT[i]).applyQuaternion(q); place(toolAxes[i], tip, [u.x, u.y, u.z], O.triad); }
+    for (let i = 0; i < 3; i++) { u.copy(UNIT[i]).applyQuaternion(q); setSegment(toolAxes[i], tip, [u.x, u.y, u.z], O.triad); }
   }
 
   // the arm: its collision capsules (the shapes clearance is measured on), a disc per joint, the base
