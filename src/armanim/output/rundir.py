@@ -50,10 +50,9 @@ def folder_lock(folder: Path) -> Iterator[None]:
             raise OutputError(f"{lock}: is a link, which armanim did not make and does not follow (remove it)") from None
         raise output_error(folder, exc) from None
     try:
-        fcntl.flock(handle, fcntl.LOCK_EX)
-        yield
+        with _exclusively(handle.fileno()):
+            yield
     finally:
-        fcntl.flock(handle, fcntl.LOCK_UN)
         handle.close()
 
 
@@ -67,11 +66,20 @@ def directory_lock(folder: Path) -> Iterator[None]:
     except OSError as exc:
         raise output_error(folder, exc) from None
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
+        with _exclusively(fd):
+            yield
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def _exclusively(fd: int) -> Iterator[None]:
+    """Hold an exclusive ``flock`` on the open file ``fd`` meanwhile (waiting for it first)."""
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    try:
         yield
     finally:
         fcntl.flock(fd, fcntl.LOCK_UN)
-        os.close(fd)
 
 
 def file_stamp(path: Path) -> dict | None:
