@@ -8,6 +8,7 @@ anything takes (benchmarks/reliability_bench.py measures that); waits are hang g
 from __future__ import annotations
 
 import ast
+import contextlib
 import errno
 import re
 import threading
@@ -374,6 +375,77 @@ def test_a_signal_at_any_moment_ends_with_0_or_130_and_old_or_new_outputs(tmp_pa
     for o in outcomes:
         interrupted = o.code == 130
         assert o.stderr.strip().splitlines()[-1:] == ([INTERRUPTED] if interrupted else o.stderr.strip().splitlines()[-1:])
+
+
+@pytest.fixture()
+def ctrl_c_raises():
+    """Ctrl-C raises KeyboardInterrupt here (a test runner's worker may have set another handler), and a
+    second thread that does not block it is there: where the kernel delivers a process's signal while
+    the main thread blocks it (as a progress bar's refresh thread is in a real batch)."""
+    import signal
+
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    idle = threading.Event()
+    threading.Thread(target=idle.wait, name="test-idle", daemon=True).start()
+    yield
+    idle.set()
+    signal.signal(signal.SIGINT, old)
+
+
+def test_a_ctrl_c_while_processes_start_is_raised_only_when_they_have_started(ctrl_c_raises):
+    """Blocking the signal in the starting thread is not enough: another thread receives it, and Python
+    runs the handler in the main thread at once, between a process's start and its caller's record of it."""
+    import os
+    import signal
+    import time
+
+    from armanim.render.workers import signals_blocked
+
+    reached = []
+    with pytest.raises(KeyboardInterrupt):
+        with signals_blocked():
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.3)  # time for the other thread to take it; Python would raise right after
+            reached.append("the end of the block")
+    assert reached == ["the end of the block"]
+
+
+def test_a_ctrl_c_as_the_pool_starts_a_worker_leaves_no_worker_running(ctrl_c_raises, monkeypatch):
+    """The batch's pool: a Ctrl-C just after the forkserver made a worker, before the pool listed it.
+    The worker must be stopped with the rest (left running, it died with a traceback on the terminal
+    once the batch had ended: the CI failure of [batch] at "workers")."""
+    import multiprocessing.popen_forkserver
+    import operator
+    import os
+    import signal
+    import types
+
+    import psutil
+
+    from armanim.runs.executors import _LocalExecutor, _worker_context
+
+    if _worker_context().get_start_method() != "forkserver":
+        pytest.skip("the race is the forkserver's")
+    launched = []
+    launch = multiprocessing.popen_forkserver.Popen._launch
+
+    def launch_then_ctrl_c(self, process_obj):
+        launch(self, process_obj)
+        launched.append(self.pid)
+        if len(launched) == 1:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(multiprocessing.popen_forkserver.Popen, "_launch", launch_then_ctrl_c)
+    tasks = [types.SimpleNamespace(name=n) for n in "ab"]
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            list(_LocalExecutor(2).map(operator.attrgetter("name"), tasks))
+        running = [pid for pid in launched if psutil.pid_exists(pid) and psutil.Process(pid).status() != "zombie"]
+        assert launched and running == []
+    finally:
+        for pid in launched:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
 
 
 # ------------------------------------------------------------------ the page of promises

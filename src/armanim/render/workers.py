@@ -125,14 +125,25 @@ def init_worker(parent: int) -> None:
 
 @contextlib.contextmanager
 def signals_blocked() -> Iterator[None]:
-    """Block SIGINT and SIGTERM in this thread for the duration; processes started
-    meanwhile (and a forkserver, and what it forks) start with them blocked. Signals
-    that arrive are delivered when it ends."""
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, WORKER_SIGNALS)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+    """Hold SIGINT and SIGTERM back while processes start, and deliver them when it ends.
+
+    Two things are needed. The signals are blocked in this thread, so that processes
+    started meanwhile (and a forkserver, and what it forks) start with them blocked. And
+    their Python handlers are held back (:func:`armanim.output.atomic.interrupts_deferred`):
+    the kernel gives a process's signal to any thread that does not block it (a progress
+    bar's), yet Python runs the handler in the main thread, which would raise
+    KeyboardInterrupt between a process's start and its caller's record of it, leaving a
+    worker nobody stops (it then dies unpickling what its ended parent unlinked, with a
+    traceback on the terminal).
+    """
+    from armanim.output.atomic import interrupts_deferred
+
+    with interrupts_deferred():
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, WORKER_SIGNALS)
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)  # then the held signals are delivered
 
 
 def temp_prefix() -> str:

@@ -94,24 +94,23 @@ class _LocalExecutor:
                 except Exception as exc:  # reported per scene; the batch goes on
                     yield task, None, exc
             return
-        # the pool's processes (and the forkserver, the first time) start with SIGINT and SIGTERM
-        # blocked, until init_worker has put its handlers in place: no traceback from a
-        # preload or an initializer, whatever moment a Ctrl-C comes
-        with _one_blas_thread(), signals_blocked():
-            pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(),
-                                       initializer=init_worker, initargs=(os.getpid(),))
-            try:
-                futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
-            except BaseException:
-                _stop_pool(pool)
-                raise
+        pool = None
         try:
+            # the pool's processes (and the forkserver, the first time) start with SIGINT and SIGTERM
+            # blocked, until init_worker has put its handlers in place, and a Ctrl-C meanwhile is
+            # raised only once every started worker is in the pool's list: no traceback from a
+            # preload or an initializer, and no worker left running, whatever moment it comes
+            with _one_blas_thread(), signals_blocked():
+                pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(),
+                                           initializer=init_worker, initargs=(os.getpid(),))
+                futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
             for future in as_completed(futures):
                 exc = future.exception()
                 yield futures[future], (None if exc else future.result()), exc
         except BaseException:
-            with interrupts_deferred():  # a second Ctrl-C must not leave workers behind
-                _stop_pool(pool)
+            if pool is not None:
+                with interrupts_deferred():  # a second Ctrl-C must not leave workers behind
+                    _stop_pool(pool)
             raise
         pool.shutdown(wait=True)
 
