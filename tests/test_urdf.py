@@ -233,6 +233,24 @@ def test_a_run_of_your_own_urdf_renders_and_views_after_the_scene_folder_is_gone
     assert (moved / "viewer.html").exists()
 
 
+def test_the_run_keeps_the_urdf_it_solved_with_even_if_the_file_changes_meanwhile(tmp_path, cli, monkeypatch):
+    """The robot.urdf of a run is the bytes that were read and solved with, not a second read
+    of a file the user may be editing while the arm is solved."""
+    import armanim.runs.pipeline as pipeline
+
+    (tmp_path / "t.urdf").write_bytes(TORTURE.read_bytes())
+    scene = _write(tmp_path, "  urdf: t.urdf\n  tip_link: tool\n  width: 0.04", "[[0.3, 0.2, 0.6]]")
+    solve = pipeline.solve_trajectory
+
+    def edited_while_solving(*args, **kwargs):
+        (tmp_path / "t.urdf").write_text("<robot name='edited'/>")
+        return solve(*args, **kwargs)
+
+    monkeypatch.setattr(pipeline, "solve_trajectory", edited_while_solving)
+    assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet").exit_code == 0
+    assert (tmp_path / "out" / "s" / "robot.urdf").read_bytes() == TORTURE.read_bytes()
+
+
 # ------------------------------------------------------------------ motion
 
 

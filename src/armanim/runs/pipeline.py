@@ -15,14 +15,12 @@ from armanim.motion.resample import at_fps, resample
 from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
-from armanim.output.files import read_bounded
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.summary import summary_dict, write_summary
 from armanim.runs.overrides import RenderOverrides
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.models import LIMITS
-from armanim.scene.urdf import MAX_URDF_BYTES
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve" or "render"."""
@@ -135,7 +133,7 @@ def produce_outputs(
     write_bytes_atomic(folder / SCENE_COPY, scene.raw)
     urdf = scene.model.arm.urdf_source
     if urdf is not None:  # the run re-renders without the user's folder (render, view, a moved run)
-        write_bytes_atomic(folder / ROBOT_COPY, read_bounded(urdf, MAX_URDF_BYTES, "a URDF robot description"))
+        write_bytes_atomic(folder / ROBOT_COPY, urdf)
         names["robot"] = ROBOT_COPY
     write_trajectory_csv(solution.trajectory, folder / names["trajectory"])
     write_summary(summary, folder / names["summary"])

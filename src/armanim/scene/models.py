@@ -9,7 +9,6 @@ Every field of ``scene-format.md`` with its default; unknown keys are errors
 from __future__ import annotations
 
 import re
-from pathlib import Path
 from typing import Annotated, Literal
 
 from pydantic import (
@@ -149,8 +148,8 @@ class ArmModel(Strict):
         return self.urdf is not None or self.robot is not None
 
     @property
-    def urdf_source(self) -> Path | None:
-        """The user's URDF file this arm was read from (None for links or a bundled robot)."""
+    def urdf_source(self) -> bytes | None:
+        """The bytes of the user's URDF this arm was read from (None for links or a bundled robot)."""
         return self._robot.source if self._robot is not None else None
 
     @property

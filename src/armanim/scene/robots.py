@@ -80,8 +80,10 @@ class UrdfArm:
     fallback_links : tuple of str
         Moving links without a usable collision primitive: they get a joint-to-joint capsule of radius width / 2.
     bundled : BundledRobot or None
-    source : Path or None
-        The user's URDF file that was read (None for a bundled robot).
+    source : bytes or None
+        The bytes of the user's URDF file that were read and solved with (None for a bundled
+        robot): what a run folder keeps as its copy, never a second read of a file that may
+        have changed since.
     """
 
     file: str
@@ -92,7 +94,7 @@ class UrdfArm:
     capsules: tuple[CapsuleSpec, ...]
     fallback_links: tuple[str, ...]
     bundled: BundledRobot | None
-    source: Path | None = None
+    source: bytes | None = None
 
 
 def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
@@ -133,7 +135,7 @@ def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
         capsules=capsules,
         fallback_links=_uncovered(joints, links, capsules),
         bundled=bundled,
-        source=None if bundled is not None else path,
+        source=None if bundled is not None else robot.raw,
     )
 
 

@@ -77,13 +77,15 @@ class Joint:
 
 @dataclass(frozen=True)
 class Robot:
-    """A parsed URDF: links (with their collision primitives) and joints, by name."""
+    """A parsed URDF: links (with their collision primitives) and joints, by name, and the
+    bytes it was parsed from."""
 
     file: str
     name: str
     links: dict[str, list[Primitive]]
     link_lines: dict[str, int]
     joints: dict[str, Joint]
+    raw: bytes = b""
 
     @property
     def parent_joint(self) -> dict[str, Joint]:
@@ -151,7 +153,7 @@ def parse_urdf(raw: bytes, file: str) -> Robot:
         joints[joint.name] = joint
     if not links:
         raise SceneError(file, [Diagnostic("", "has no <link> (expected a robot's links and joints)", root.line)])
-    robot = Robot(file, root.attrib.get("name", ""), links, lines, joints)
+    robot = Robot(file, root.attrib.get("name", ""), links, lines, joints, raw)
     _check_tree(robot)
     return robot
 
