@@ -121,13 +121,13 @@ class Sweep:
         self.template = self.root / "template"
         self.expected_new = self.root / "new"
         self.count = 0
-        for where in (self.template, self.expected_new):
-            where.mkdir(parents=True)
-            for args in command.prepare_args:
-                self._run(args, where)
+        self.template.mkdir(parents=True)
+        for args in command.prepare_args:
+            self._run(args, self.template)
+        shutil.copytree(self.template, self.expected_new)  # as each attempt starts: from a copy of the previous state
         self._run(command.args, self.expected_new)
         self.old = {f: snapshot(self.template / f, self.template) for f in command.folders}
-        self.new = {f: snapshot(self.expected_new / f, self.expected_new) for f in command.folders}
+        self.new = {f: snapshot(self.expected_new / f, self.expected_new, self.template) for f in command.folders}
 
     def _fill(self, args: list[str], where: Path) -> list[str]:
         return [a.format(out=where / "out", golden=where / "golden") for a in args]

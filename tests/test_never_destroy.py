@@ -544,7 +544,7 @@ def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(tmp_path
     _, alive = psutil.wait_procs(kids, timeout=60)
     assert alive == []
     assert user_files(folder) == before  # the render worked on a staged copy
-    result = armanim("render", folder, "--jobs", "1", "--size", "64x48", "--fps", "60", "-q", timeout=120)
+    result = armanim("render", folder, "--jobs", "1", "--size", "64x48", "--fps", "10", "-q", timeout=120)
     assert result.returncode == 0, result.stderr
     assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
     assert not [p for p in folder.iterdir() if ".part" in p.name]
