@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import functools
 from itertools import combinations
 from pathlib import Path
 
@@ -134,24 +133,17 @@ def _overlaps(boxes: dict) -> list:
             if p[0] < q[2] and q[0] < p[2] and p[1] < q[3] and q[1] < p[3]]
 
 
-@functools.cache
-def _solved(scene_path: Path):
-    """A bundled scene, its problem and its trajectory, solved once for all the sizes."""
-    from armanim.motion.trajectory import solve_trajectory
-    from armanim.scene import load_scene, scene_to_problem
-
-    loaded = load_scene(scene_path)
-    problem = scene_to_problem(loaded.model)
-    return loaded, problem, solve_trajectory(problem).trajectory
-
-
 @pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
 @pytest.mark.parametrize("scene_path", SCENES, ids=lambda p: p.stem)
 def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
-    from armanim.render.draw import SceneCanvas
-    from armanim.scene import render_settings
+    from conftest import solved_scene
 
-    loaded, problem, traj = _solved(scene_path)
+    from armanim.render.draw import SceneCanvas
+    from armanim.scene import load_scene, render_settings
+
+    loaded = load_scene(scene_path)
+    problem, solution = solved_scene(scene_path)  # once for the three sizes
+    traj = solution.trajectory
     settings = dataclasses.replace(render_settings(loaded.model), size=size)
     canvas = SceneCanvas(problem, settings, title=loaded.name, tips=traj.tip,
                          extent=forward(problem.arm, traj.phi).points)

@@ -239,7 +239,7 @@ def test_without_a_browser_the_browser_tests_skip_saying_how_to_install_one_or_f
 
     env = {**os.environ, "ARMANIM_BROWSER": "/nonexistent/chromium", "CI": ci}
     proc = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-rs", "-p", "no:cacheprovider", "tests/test_viewer_browser.py", "-k", "frame_count"],
+        [sys.executable, "-m", "pytest", "-q", "-n", "0", "-rs", "-p", "no:cacheprovider", "tests/test_viewer_browser.py", "-k", "frame_count"],
         cwd=ROOT, env=env, capture_output=True, text=True, timeout=300,
     )
     if ci:
