@@ -1,7 +1,7 @@
 """The pure core imports no edge library, and the rooms import one way (design.md).
 
 The pure core is every module under ``armanim.arm``, ``armanim.world`` and
-``armanim.motion``: numpy, scipy, DAQP and OMPL only. Rooms are ordered
+``armanim.motion``: numpy, DAQP and OMPL only. Rooms are ordered
 cli > runs > scene > render > output > motion > world > arm, and a module imports only
 from its own room or the rooms below it (``errors`` and ``names`` serve all).
 """
@@ -46,6 +46,20 @@ def test_core_loads_no_edge_library():
     assert "armanim.arm.kinematics" in modules and "numpy" in modules  # the imports did happen
     edges = ("armanim.scene", "armanim.render", "armanim.cli", "armanim.runs", "armanim.output")
     assert not [m for m in modules if m.startswith(edges)]
+
+
+def test_no_module_of_armanim_imports_a_library_it_does_not_declare():
+    """scipy is the test extra's (an oracle), not a run-time dependency: a fresh install
+    without the test extra must never need it, whatever command runs."""
+    modules = [m for room in ROOMS for m in _modules(room)] + ["armanim", "armanim.testing"]
+    code = (
+        "import importlib, sys\n"
+        f"for m in {modules!r}: importlib.import_module(m)\n"
+        "print(sorted(m for m in ('scipy', 'pinocchio', 'coal', 'hypothesis', 'playwright', 'psutil') if m in sys.modules))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
 
 
 def _imported_rooms(path: Path) -> set[str]:
