@@ -124,17 +124,22 @@ def obstacle_cost_gradient(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearan
     """
     grad = np.zeros(arm.n)
     slope = obstacle_field_slope(cl.d, obstacles.influence)
-    for part, obs in zip(*np.nonzero(slope)):
-        grad += slope[part, obs] * (cl.normal[part, obs] @ part_jacobian(arm, capsules, pose, cl, part, obs))
+    parts, obs = np.nonzero(slope)
+    for k, jac in enumerate(part_jacobians(arm, capsules, pose, cl, parts, obs)):
+        grad += slope[parts[k], obs[k]] * (cl.normal[parts[k], obs[k]] @ jac)
     return grad
 
 
-def part_jacobian(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, part: int, obs: int) -> np.ndarray:
-    """(3, n) Jacobian of the point of part ``part`` closest to obstacle ``obs``: on a capsule,
-    or the tip (the end of the last link)."""
-    if part == cl.tip:
-        return point_jacobian(arm, pose, arm.n - 1, link_point(pose, arm.n - 1, 1.0))
-    return capsule_point_jacobian(arm, capsules, pose, part, cl.t[part, obs])
+def part_jacobians(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, parts: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """(k, 3, n) Jacobians of the points of parts ``parts`` (k,) closest to obstacles ``obs`` (k,),
+    one pose: on a capsule, or the tip (the end of the last link)."""
+    jacs = np.empty((len(parts), 3, arm.n))
+    at_tip = parts == cl.tip
+    if np.any(at_tip):
+        jacs[at_tip] = point_jacobian(arm, pose, arm.n - 1, link_point(pose, arm.n - 1, 1.0))
+    if not np.all(at_tip):
+        jacs[~at_tip] = capsule_point_jacobian(arm, capsules, pose, parts[~at_tip], cl.t[parts[~at_tip], obs[~at_tip]])
+    return jacs
 
 
 def total_cost_gradient(

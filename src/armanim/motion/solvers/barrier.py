@@ -145,9 +145,11 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
     d = state.clearance.links
     parts, obstacles = np.nonzero(d - target < travel)
     rows = np.empty((len(parts), n))
-    for k, (part, obs) in enumerate(zip(parts, obstacles)):
-        jac = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, part, state.clearance.t[part, obs])
-        rows[k] = state.clearance.normal[part, obs] @ jac
+    if len(parts):
+        jacs = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles])
+        normals = state.clearance.normal[parts, obstacles]
+        for k in range(len(parts)):
+            rows[k] = normals[k] @ jacs[k]
     return rows, -GAMMA * (d[parts, obstacles] - target)
 
 
