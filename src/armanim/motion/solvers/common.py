@@ -63,11 +63,16 @@ class Step:
         Newton iterations for ``newton``; line-search trials for ``gradient``).
     newton_iterations : int
         Of those, Newton iterations (``newton`` only).
+    ahead : ArmState or None
+        The state at ``phi + dphi`` when the method computed it (``gradient`` prices the
+        whole step), so that the filter's exact check of that very pose need not compute
+        its kinematics and clearances again; None otherwise.
     """
 
     dphi: np.ndarray
     iterations: int = 1
     newton_iterations: int = 0
+    ahead: ArmState | None = None
 
 
 def task_displacement(problem: Problem, tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
