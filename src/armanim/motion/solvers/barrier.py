@@ -114,7 +114,7 @@ def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
 def lever_arms(problem: Problem) -> np.ndarray:
     """(n,) lever arm of each joint: the farthest any point of the capsules it moves lies
     from joint j (:func:`armanim.arm.capsules.lever_arms`)."""
-    return arm_capsules.lever_arms(problem.arm, problem.capsules)
+    return problem.lever_arms
 
 
 def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
