@@ -78,8 +78,8 @@ def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     [1.0, -0.5]
     """
     q = np.abs(p) - half
-    outside = np.sqrt(dot(np.maximum(q, 0.0), np.maximum(q, 0.0)))
-    return outside + np.minimum(q.max(axis=-1), 0.0)
+    beyond = np.maximum(q, 0.0)
+    return np.sqrt(dot(beyond, beyond)) + np.minimum(q.max(axis=-1), 0.0)
 
 
 def box_normal(p: np.ndarray, half: np.ndarray) -> np.ndarray:
@@ -103,14 +103,15 @@ def _outside_candidates(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.n
     """(..., 9) fractions along x0 + t u that contain the least distance to the box when the
     segment stays outside it: its ends and the least point of each piece between the
     crossings of the box's slab planes (where the squared distance is one quadratic)."""
-    crossings = safe_ratio(np.concatenate([half - x0, -half - x0], axis=-1), np.concatenate([u, u], axis=-1))
+    low = -half
+    crossings = safe_ratio(np.concatenate([half - x0, low - x0], axis=-1), np.concatenate([u, u], axis=-1))
     ends = np.empty(x0.shape[:-1] + (2,))
     ends[...] = _FAR_END_FIRST
     knots = np.sort(np.concatenate([np.clip(crossings, 0.0, 1.0), ends], axis=-1), axis=-1)  # (..., 8)
     lo, hi = knots[..., :-1], knots[..., 1:]
     mid = 0.5 * (lo + hi)
     x = x0[..., None, :] + mid[..., None] * u[..., None, :]  # (..., 7, 3)
-    side = np.where(x > half[..., None, :], 1.0, np.where(x < -half[..., None, :], -1.0, 0.0))
+    side = np.where(x > half[..., None, :], 1.0, np.where(x < low[..., None, :], -1.0, 0.0))
     out = side != 0.0
     uu = u[..., None, :]
     curvature = np.where(out, uu * uu, 0.0).sum(axis=-1)

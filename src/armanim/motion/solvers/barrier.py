@@ -144,12 +144,10 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
     target = kept_clearance(problem)
     d = state.clearance.links
     parts, obstacles = np.nonzero(d - target < travel)
-    rows = np.empty((len(parts), n))
-    if len(parts):
-        jacs = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles])
-        normals = state.clearance.normal[parts, obstacles]
-        for k in range(len(parts)):
-            rows[k] = normals[k] @ jacs[k]
+    if not len(parts):
+        return np.zeros((0, n)), np.zeros(0)
+    jacs = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles])
+    rows = np.matmul(state.clearance.normal[parts, obstacles][:, None, :], jacs)[:, 0, :]  # each row n . J_q, as one alone
     return rows, -GAMMA * (d[parts, obstacles] - target)
 
 
