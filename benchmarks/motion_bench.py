@@ -1192,8 +1192,10 @@ def clearance_of(model: SceneModel) -> float | None:
 
 
 def timed_solve(problem):
-    """Solve and time it: (solution, total seconds, per-goal end times in seconds from the start)."""
+    """Solve and time it: (solution, total seconds, per-goal end times in seconds from the start,
+    CPU seconds of this process: less hit than the wall clock by other work on the machine)."""
     marks = []
+    cpu = time.process_time()
     start = time.perf_counter()
 
     def progress(done, _bound):
@@ -1203,7 +1205,7 @@ def timed_solve(problem):
         solution = solve_trajectory(problem, progress=progress)
     except TypeError:  # a solve_trajectory without progress
         solution = solve_trajectory(problem)
-    return solution, time.perf_counter() - start, marks
+    return solution, time.perf_counter() - start, marks, time.process_time() - cpu
 
 
 def goal_wall_times(reports, marks, total: float) -> list[float]:
@@ -1272,6 +1274,7 @@ class Run:
     at_limit: int
     seconds: float
     breaks: list
+    cpu_seconds: float = 0.0
 
 
 def straight_line_clear(geo: Geometry, start: np.ndarray, end: np.ndarray) -> bool:
@@ -1304,7 +1307,7 @@ def solve_one(draft: Draft, seed: int, index: int, method: str, planner: str, ge
     model = SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
     problem = scene_to_problem(model)
     try:
-        solution, seconds, marks = timed_solve(problem)
+        solution, seconds, marks, cpu_seconds = timed_solve(problem)
     except Exception as exc:  # noqa: BLE001 - a crash is a broken invariant reported with its scene, not the end of the run
         return crashed_run(draft, index, method, planner, exc)
     traj = solution.trajectory
@@ -1322,6 +1325,7 @@ def solve_one(draft: Draft, seed: int, index: int, method: str, planner: str, ge
         at_limit=int(np.sum(np.any(gaps < AT_LIMIT, axis=1))),
         seconds=seconds,
         breaks=invariant_breaks(problem, traj, clearance_of(model), geo),
+        cpu_seconds=cpu_seconds,
     )
 
 
@@ -1345,7 +1349,7 @@ class SceneResult:
     witness_missed: int  # goals whose generator pose is a witness but the oracle found none
     oracle_seconds: float
     runs: list
-    twin_runs: list = field(default_factory=list)  # (method, frames, seconds) of the spheres-only twin (shape families)
+    twin_runs: list = field(default_factory=list)  # (method, frames, seconds, CPU seconds) of the spheres-only twin (shape families)
     distance_seconds: tuple = ()  # (shapes single, twin single, shapes batched, twin batched) seconds per pose
 
 
@@ -1408,25 +1412,30 @@ def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch
 
 
 def twin_timing(draft: Draft, seed: int, index: int, method: str, planner: str) -> tuple:
-    """(method, frames, seconds) of the scene's spheres-only twin (:meth:`Draft.spheres_twin`) solved alike."""
+    """(method, frames, seconds, CPU seconds) of the scene's spheres-only twin (:meth:`Draft.spheres_twin`) solved alike."""
     twin = draft.spheres_twin()
     field_planner = planner if planner_field_exists() else None
     model = SceneModel.model_validate(twin.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
-    solution, seconds, _ = timed_solve(scene_to_problem(model))
-    return method, int(solution.trajectory.frames), seconds
+    solution, seconds, _, cpu_seconds = timed_solve(scene_to_problem(model))
+    return method, int(solution.trajectory.frames), seconds, cpu_seconds
 
 
 def twin_rows(results: list, methods: list, planner: str) -> list[list[str]]:
-    """Per method: ms per frame with the shapes, with their spheres-only twins, and the ratio."""
+    """Per method: ms per frame with the shapes, with their spheres-only twins, and the ratio; the
+    same in CPU time (the wall clock's ratio moves with whatever else the machine runs)."""
     rows = []
     for method in methods:
         runs = [run for r in results for run in r.runs if run.method == method and run.planner == planner]
         twins = [t for r in results for t in r.twin_runs if t[0] == method]
         if not runs or not twins:
             continue
-        shaped = 1000.0 * sum(r.seconds for r in runs) / max(sum(r.frames for r in runs), 1)
-        spheres = 1000.0 * sum(t[2] for t in twins) / max(sum(t[1] for t in twins), 1)
-        rows.append([method, f"{shaped:.2f}", f"{spheres:.2f}", f"{shaped / spheres:.2f}x"])
+        frames, twin_frames = max(sum(r.frames for r in runs), 1), max(sum(t[1] for t in twins), 1)
+        shaped = 1000.0 * sum(r.seconds for r in runs) / frames
+        spheres = 1000.0 * sum(t[2] for t in twins) / twin_frames
+        cpu_shaped = 1000.0 * sum(r.cpu_seconds for r in runs) / frames
+        cpu_spheres = 1000.0 * sum(t[3] for t in twins) / twin_frames
+        rows.append([method, f"{shaped:.2f}", f"{spheres:.2f}", f"{shaped / spheres:.2f}x",
+                     f"{cpu_shaped:.2f}", f"{cpu_spheres:.2f}", f"{cpu_shaped / cpu_spheres:.2f}x"])
     return rows
 
 
@@ -1535,7 +1544,7 @@ def print_report(results: list, methods: list, planners: list, list_misses: bool
     if any(r.twin_runs for r in results):
         print(f"\nTime per frame against the same scenes with spheres only (each box and capsule replaced by the largest "
               f"sphere inside it, the floor dropped; planner {planners[0]}):")
-        print_table(["method", "ms/frame shapes", "ms/frame spheres twin", "ratio"], twin_rows(results, methods, planners[0]))
+        print_table(["method", "ms/frame shapes", "ms/frame spheres twin", "ratio", "CPU ms/frame shapes", "CPU ms/frame twin", "CPU ratio"], twin_rows(results, methods, planners[0]))
         timed = np.array([r.distance_seconds for r in results if r.distance_seconds])
         if len(timed):
             single, batched = timed[:, 0].sum() / timed[:, 1].sum(), timed[:, 2].sum() / timed[:, 3].sum()

@@ -475,3 +475,75 @@ def test_a_shapes_run_is_byte_identical_in_two_processes():
             for how in ("cold", "warm")]
     assert ",plan" in runs[0].stdout
     assert runs[0].stdout == runs[1].stdout
+
+
+def random_shapes(rng, boxes=3, rods=2, floor=True) -> Obstacles:
+    """Boxes, capsules, a sphere and a floor about the notes' arm (base (5, 5, 0), 17 long)."""
+    centers = rng.uniform([-2, -2, 0], [12, 12, 14], (boxes, 3))
+    box = Boxes(centers, rng.uniform(0.05, 2.5, (boxes, 3)), np.stack([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(boxes)]))
+    start = rng.uniform([-2, -2, 0], [12, 12, 14], (rods, 3))
+    rod = Rods(start, start + rng.normal(size=(rods, 3)) * rng.choice([0.0, 3.0], (rods, 1)), rng.uniform(0.05, 1.0, rods))
+    kinds = rng.permutation(np.repeat([BOX, ROD, SPHERE], [boxes, rods, 1]))
+    kinds = np.append(kinds, FLOOR) if floor else kinds
+    influence = np.where(kinds == FLOOR, 0.0, rng.uniform(0.1, 4.0, len(kinds)))
+    return Obstacles(rng.uniform(0, 10, (1, 3)), rng.uniform(0, 1, 1), influence, box, rod, -1.0 if floor else None, kinds)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_clearances_within_reach_are_the_exact_ones_bit_for_bit(seed):
+    """Pairs pruned by their lower bound (the cost's line search asks for the clearances within
+    each obstacle's influence) are only those beyond reach: everything within it is the unpruned
+    exact number, bit for bit, also for reaches set at a pair's exact clearance and one ulp either
+    side of it, for single poses and batches; the field F_R summed over them is the same number."""
+    from armanim.motion.cost import obstacle_field
+
+    rng = np.random.default_rng([22, seed])
+    arm = Arm.from_names(list(rng.uniform(1, 6, rng.integers(3, 7))), base=(5, 5, 0))
+    caps = joint_capsules(arm, rng.uniform(0.05, 0.5))
+    obstacles = random_shapes(rng, floor=bool(seed % 2))
+    compared = pruned = 0
+    for phi in (rng.uniform(-np.pi, np.pi, arm.n), rng.uniform(-np.pi, np.pi, (40, arm.n))):
+        pose = forward(arm, phi)
+        full = clearances(pose, obstacles, caps)
+        finite = full.d[np.isfinite(full.d)]
+        exact_at = rng.choice(finite, len(obstacles))  # reaches at some pair's exact clearance
+        for reach in (obstacles.influence, exact_at, np.nextafter(exact_at, np.inf), np.nextafter(exact_at, -np.inf),
+                      rng.uniform(-1, 6, len(obstacles))):
+            within = clearances(pose, obstacles, caps, reach=reach)
+            near = full.d <= reach
+            np.testing.assert_array_equal(within.d[near], full.d[near])
+            np.testing.assert_array_equal(within.t[near], full.t[near])
+            np.testing.assert_array_equal(within.normal[near], full.normal[near])
+            assert np.all((within.d[~near] == full.d[~near]) | (within.d[~near] == np.inf))  # beyond reach: exact or +inf
+            compared, pruned = compared + int(near.sum()), pruned + int(np.sum(within.d != full.d))
+        field = obstacle_field(full.d, obstacles.influence).sum(axis=(-1, -2))
+        assert np.array_equal(obstacle_field(clearances(pose, obstacles, caps, reach=obstacles.influence).d, obstacles.influence).sum(axis=(-1, -2)), field)
+    assert compared > 0 and pruned > 0
+
+
+def test_clearances_within_reach_match_coal():
+    """The pairs a pruned call computes are coal's distances too (where every part is clear)."""
+    rng = np.random.default_rng(2212)
+    arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    caps = joint_capsules(arm, 0.25)
+    obstacles = random_shapes(rng, floor=False)
+    boxes, rods = obstacles.boxes, obstacles.rods
+    compared = 0
+    for phi in rng.uniform(-np.pi, np.pi, (30, 4)):
+        pose = forward(arm, phi)
+        cl = clearances(pose, obstacles, caps, reach=np.full(len(obstacles), 2.0))
+        for column, kind in enumerate(obstacles.kinds):
+            if kind not in (BOX, ROD):
+                continue
+            k = int(np.nonzero(obstacles.columns(kind) == column)[0][0])
+            shape = (coal.Box(*(2 * boxes.half[k])), coal.Transform3s(boxes.rotations[k], boxes.centers[k])) if kind == BOX else \
+                coal_capsule(rods.start[k], rods.end[k], float(rods.radius[k])) if np.any(rods.start[k] != rods.end[k]) else None
+            for part in range(4):
+                d = cl.d[part, column]
+                if shape is None or not 1e-3 < d < np.inf:
+                    continue
+                a, b = pose.points[part], pose.points[part + 1]
+                expected, _ = coal_distance(*shape, *coal_capsule(a, b, 0.25))
+                assert abs(d - expected) < 1e-9
+                compared += 1
+    assert compared > 20

@@ -246,3 +246,21 @@ def test_ik_restarts_from_the_planner_seed_poses(monkeypatch):
     assert result.restarts == 4 and not result.converged
     for pose in seed_poses(problem, start, 1 + 4, seed=0):
         assert any(np.array_equal(pose, phi) for phi in seen), np.degrees(pose)
+
+
+@pytest.mark.parametrize("scene", ["breen-gradient", "ur5-table"])
+def test_gradient_hands_on_the_state_of_its_whole_step_and_the_filter_reuses_it(scene):
+    # the filter's exact check of phi + dphi takes the gradient's own state of that pose; it
+    # must be bit for bit the one it would compute, and the filtered step the same without it
+    problem = scene_to_problem(load_scene(SCENES / f"{scene}.yaml").model)
+    state = arm_state(problem, problem.home)
+    for _ in range(25):
+        proposal = step_function("gradient")(problem, state, problem.goals[0].position)
+        if proposal.ahead is not None:
+            again = arm_state(problem, state.phi + proposal.dphi)
+            assert proposal.ahead.phi.tobytes() == again.phi.tobytes()
+            for field in ("d", "t", "normal"):
+                np.testing.assert_array_equal(getattr(proposal.ahead.clearance, field), getattr(again.clearance, field))
+        reused, computed = safe_step(problem, state, proposal.dphi, proposal.ahead), safe_step(problem, state, proposal.dphi)
+        assert reused.phi.tobytes() == computed.phi.tobytes() and (reused.scale, reused.blocked_by) == (computed.scale, computed.blocked_by)
+        state = computed.state

@@ -99,6 +99,22 @@ def test_capsule_point_jacobian_matches_finite_differences():
         np.testing.assert_allclose(capsule_point_jacobian(arm, caps, forward(arm, phi), c, 0.7), numeric, atol=1e-6)
 
 
+def test_capsule_point_jacobians_in_one_call_are_each_the_one_alone():
+    # the filter's rows and the cost's gradient take every pair's Jacobian in one call: bit for bit
+    # what one point alone gives (the goldens depend on it), contiguous like it
+    problem = scene_to_problem(load_scene(_scene_file("panda")).model)
+    caps, arm = problem.capsules, problem.arm
+    rng = np.random.default_rng(22)
+    for _ in range(20):
+        pose = forward(arm, rng.uniform(-2, 2, arm.n))
+        which, t = rng.integers(0, len(caps), 6), rng.uniform(0, 1, 6)
+        together = capsule_point_jacobian(arm, caps, pose, which, t)
+        assert together.shape == (6, 3, arm.n) and together[0].flags.c_contiguous
+        for k in range(6):
+            np.testing.assert_array_equal(together[k], capsule_point_jacobian(arm, caps, pose, which[k], t[k]))
+    assert capsule_point_jacobian(arm, caps, pose, which[:0], t[:0]).shape == (0, 3, arm.n)
+
+
 _SCENES: dict = {}
 
 

@@ -104,15 +104,20 @@ def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray
     return np.where(segment, origin, a), np.where(segment, pose.points[..., link + 1, :], b)
 
 
-def capsule_point(capsules: Capsules, pose: Pose, capsule: int, t: float) -> np.ndarray:
-    """The point at fraction ``t`` along capsule ``capsule``'s segment, in the world, (..., 3)."""
+def capsule_point(capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
+    """The point at fraction ``t`` along capsule ``capsule``'s segment, in the world, (..., 3);
+    for (k,) arrays ``capsule`` and ``t`` (a single pose), the k points, (k, 3)."""
     a, b = capsule_ends(capsules, pose)
     a, b = a[..., capsule, :], b[..., capsule, :]
+    if np.ndim(capsule):
+        t = np.asarray(t)[:, None]
     return a + t * (b - a)
 
 
-def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule: int, t: float) -> np.ndarray:
-    """(..., 3, n) analytic Jacobian of the point at fraction ``t`` along capsule ``capsule``.
+def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
+    """(..., 3, n) analytic Jacobian of the point at fraction ``t`` along capsule ``capsule``;
+    for (k,) arrays ``capsule`` and ``t`` (a single pose), the k points' Jacobians in one
+    call, (k, 3, n), each the same as alone.
 
     >>> from armanim.arm.kinematics import forward
     >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
@@ -120,7 +125,8 @@ def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule: in
     [1.5, 0.5]
     """
     point = capsule_point(capsules, pose, capsule, t)
-    return point_jacobian(arm, pose, int(capsules.link[capsule]), point)
+    link = capsules.link[capsule] if np.ndim(capsule) else int(capsules.link[capsule])
+    return point_jacobian(arm, pose, link, point)
 
 
 def tip_radius(arm: Arm, capsules: Capsules) -> float:

@@ -249,14 +249,15 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.nda
     Parameters
     ----------
     arm, pose : the arm and its pose from :func:`forward` (single or batched).
-    link : int
-        0-based index of the joint whose frame carries the point (link i runs from joint i).
-    point : (..., 3) array
+    link : int or (k,) int array
+        0-based index of the joint whose frame carries the point (link i runs from joint i);
+        an array: one per point, for k points of a single pose.
+    point : (..., 3) array, or (k, 3) with an array ``link``
         Where the point is, in the world (e.g. ``link_point(pose, link, t)``).
 
     Returns
     -------
-    (..., 3, n) array
+    (..., 3, n) array, or (k, 3, n) with an array ``link`` (the same columns, every point's in one call)
 
     >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
     >>> pose = forward(arm, np.zeros(2))
@@ -266,6 +267,10 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.nda
            [0., 0.]])
     """
     w = joint_axes_world(arm, pose)
+    if np.ndim(link):
+        lever = point[:, None, :] - pose.points[:-1, :]  # (k, n, 3)
+        moves = np.arange(arm.n) <= np.asarray(link)[:, None]  # (k, n): the joints that move point i
+        return np.ascontiguousarray(np.swapaxes(np.where(moves[..., None], cross(w, lever), 0.0), -1, -2))  # laid out as one alone
     jac = np.zeros(pose.points.shape[:-2] + (3, arm.n))
     lever = point[..., None, :] - pose.points[..., : link + 1, :]
     jac[..., :, : link + 1] = np.swapaxes(cross(w[..., : link + 1, :], lever), -1, -2)

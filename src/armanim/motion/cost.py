@@ -101,7 +101,8 @@ def total_cost(
     """C(Phi) for one pose or a batch (..., n); +inf where a barrier is crossed.
 
     ``pose`` and ``cl`` may be passed when already known for ``phi``; ``orientation`` adds
-    the goal's orientation term.
+    the goal's orientation term. Without ``cl``, only the clearances that can be within an
+    obstacle's influence are computed (F_R is 0 beyond it: the same sum, bit for bit).
     """
     s = problem.solver
     pose = pose if pose is not None else forward(problem.arm, phi)
@@ -110,8 +111,9 @@ def total_cost(
         angle = orientation_angle(orientation, tool_rotation(problem.arm, pose))
         cost = cost + orientation_cost_weight(problem, orientation) * angle
     if len(problem.obstacles):
-        cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.capsules)
-        field = obstacle_field(cl.d, problem.obstacles.influence)
+        obstacles = problem.obstacles
+        cl = cl if cl is not None else clearances(pose, obstacles, problem.capsules, reach=obstacles.influence)
+        field = obstacle_field(cl.d, obstacles.influence)
         cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
     return cost + s.w_limits * limit_barrier(phi, problem.limits)
 
@@ -124,17 +126,22 @@ def obstacle_cost_gradient(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearan
     """
     grad = np.zeros(arm.n)
     slope = obstacle_field_slope(cl.d, obstacles.influence)
-    for part, obs in zip(*np.nonzero(slope)):
-        grad += slope[part, obs] * (cl.normal[part, obs] @ part_jacobian(arm, capsules, pose, cl, part, obs))
+    parts, obs = np.nonzero(slope)
+    for k, jac in enumerate(part_jacobians(arm, capsules, pose, cl, parts, obs)):
+        grad += slope[parts[k], obs[k]] * (cl.normal[parts[k], obs[k]] @ jac)
     return grad
 
 
-def part_jacobian(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, part: int, obs: int) -> np.ndarray:
-    """(3, n) Jacobian of the point of part ``part`` closest to obstacle ``obs``: on a capsule,
-    or the tip (the end of the last link)."""
-    if part == cl.tip:
-        return point_jacobian(arm, pose, arm.n - 1, link_point(pose, arm.n - 1, 1.0))
-    return capsule_point_jacobian(arm, capsules, pose, part, cl.t[part, obs])
+def part_jacobians(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, parts: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """(k, 3, n) Jacobians of the points of parts ``parts`` (k,) closest to obstacles ``obs`` (k,),
+    one pose: on a capsule, or the tip (the end of the last link)."""
+    jacs = np.empty((len(parts), 3, arm.n))
+    at_tip = parts == cl.tip
+    if np.any(at_tip):
+        jacs[at_tip] = point_jacobian(arm, pose, arm.n - 1, link_point(pose, arm.n - 1, 1.0))
+    if not np.all(at_tip):
+        jacs[~at_tip] = capsule_point_jacobian(arm, capsules, pose, parts[~at_tip], cl.t[parts[~at_tip], obs[~at_tip]])
+    return jacs
 
 
 def total_cost_gradient(

@@ -195,7 +195,7 @@ def _attempt(
     steps_cap = min(budget, method.attempt_steps or budget)
     while distance >= problem.solver.tolerance and steps < steps_cap:
         proposal = proposed_step(problem, method, state, goal, orientation)
-        moved = safe_step(problem, state, proposal.dphi)
+        moved = safe_step(problem, state, proposal.dphi, proposal.ahead)
         steps, iterations = steps + 1, iterations + proposal.iterations
         newton_iterations += proposal.newton_iterations
         if moved.scale == 0.0:  # nothing moved: the same pose would propose the same again

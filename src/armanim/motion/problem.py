@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.capsules import Capsules, joint_capsules
+from armanim.arm.capsules import lever_arms as capsule_lever_arms
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
@@ -169,6 +170,13 @@ class Problem:
     def __post_init__(self) -> None:
         if self.capsules is None:
             object.__setattr__(self, "capsules", joint_capsules(self.arm, self.half_width))
+        object.__setattr__(self, "_lever_arms", capsule_lever_arms(self.arm, self.capsules))  # asked for every frame
+
+    @property
+    def lever_arms(self) -> np.ndarray:
+        """(n,) lever arm of each joint, scene units: the farthest any point of the capsules
+        it moves lies from joint j (:func:`armanim.arm.capsules.lever_arms`, computed once)."""
+        return self._lever_arms
 
 
 @dataclass(frozen=True)

@@ -207,7 +207,7 @@ def _one_frame(problem, method: Method, rec: _Recorder, state: ArmState, visit: 
     else:
         proposal = proposed_step(problem, method, state, target, visit.goal.orientation)
         nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
-    moved = safe_step(problem, state, nominal)
+    moved = safe_step(problem, state, nominal, None if visit.path else proposal.ahead)
     distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
     visit.distances.append(distance)
     visit.angles.append(angle)

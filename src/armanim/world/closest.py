@@ -49,10 +49,11 @@ def segment_segment(a: np.ndarray, b: np.ndarray, c: np.ndarray, e: np.ndarray) 
     aa, ee, bb, cc, ff = dot(d1, d1), dot(d2, d2), dot(d1, d2), dot(d1, r), dot(d2, r)
     denom = aa * ee - bb * bb
     s = np.clip(safe_ratio(bb * ff - cc * ee, np.where(denom > 1e-12 * aa * ee, denom, 0.0)), 0.0, 1.0)
-    s = np.where(ee > 0.0, s, np.clip(safe_ratio(-cc, aa), 0.0, 1.0))  # c-e a point: the nearest point of a-b to it
+    nearest_to_c = np.clip(safe_ratio(-cc, aa), 0.0, 1.0)  # the point of a-b nearest to c
+    s = np.where(ee > 0.0, s, nearest_to_c)  # c-e a point: the nearest point of a-b to it
     t = safe_ratio(bb * s + ff, ee)
     below, above = t < 0.0, t > 1.0
-    s = np.where(below, np.clip(safe_ratio(-cc, aa), 0.0, 1.0), np.where(above, np.clip(safe_ratio(bb - cc, aa), 0.0, 1.0), s))
+    s = np.where(below, nearest_to_c, np.where(above, np.clip(safe_ratio(bb - cc, aa), 0.0, 1.0), s))
     t = np.clip(t, 0.0, 1.0)
     offset = r + s[..., None] * d1 - t[..., None] * d2
     return s, t, offset
@@ -77,33 +78,40 @@ def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     [1.0, -0.5]
     """
     q = np.abs(p) - half
-    outside = np.sqrt(dot(np.maximum(q, 0.0), np.maximum(q, 0.0)))
-    return outside + np.minimum(q.max(axis=-1), 0.0)
+    beyond = np.maximum(q, 0.0)
+    return np.sqrt(dot(beyond, beyond)) + np.minimum(q.max(axis=-1), 0.0)
 
 
 def box_normal(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     """Unit outward normal of the box's signed distance at ``p`` (box frame), (..., 3): from
     the nearest surface point outside, the deepest face's normal inside (ties: the first axis)."""
-    q = np.abs(p) - half
     gap = p - np.clip(p, -half, half)
     outside = np.sqrt(dot(gap, gap))
+    if (outside > 0).all():  # every point outside (what a frame mostly has): no face to choose
+        return gap / outside[..., None]
+    q = np.abs(p) - half
     axis = np.argmax(q, axis=-1)
     face = np.where(np.arange(3) == axis[..., None], np.where(p >= 0, 1.0, -1.0), 0.0)
     return np.where((outside > 0)[..., None], gap / np.where(outside > 0, outside, 1.0)[..., None], face)
+
+
+_FAR_END_FIRST = np.array([1.0, 0.0])
+"""The segment's ends as candidates, the far end first: of tied points (a link along a face) the one a joint moves most."""
 
 
 def _outside_candidates(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
     """(..., 9) fractions along x0 + t u that contain the least distance to the box when the
     segment stays outside it: its ends and the least point of each piece between the
     crossings of the box's slab planes (where the squared distance is one quadratic)."""
-    crossings = np.concatenate([safe_ratio(half - x0, u), safe_ratio(-half - x0, u)], axis=-1)
-    ends = np.zeros(x0.shape[:-1] + (2,))
-    ends[..., 0] = 1.0  # the far end first: of tied points (a link along a face) the one a joint moves most
+    low = -half
+    crossings = safe_ratio(np.concatenate([half - x0, low - x0], axis=-1), np.concatenate([u, u], axis=-1))
+    ends = np.empty(x0.shape[:-1] + (2,))
+    ends[...] = _FAR_END_FIRST
     knots = np.sort(np.concatenate([np.clip(crossings, 0.0, 1.0), ends], axis=-1), axis=-1)  # (..., 8)
     lo, hi = knots[..., :-1], knots[..., 1:]
     mid = 0.5 * (lo + hi)
     x = x0[..., None, :] + mid[..., None] * u[..., None, :]  # (..., 7, 3)
-    side = np.where(x > half[..., None, :], 1.0, np.where(x < -half[..., None, :], -1.0, 0.0))
+    side = np.where(x > half[..., None, :], 1.0, np.where(x < low[..., None, :], -1.0, 0.0))
     out = side != 0.0
     uu = u[..., None, :]
     curvature = np.where(out, uu * uu, 0.0).sum(axis=-1)
@@ -153,13 +161,15 @@ def segment_box(
     to_box = np.swapaxes(rotation, -1, -2)
     x0 = np.einsum("...ab,...b->...a", to_box, a - center)
     u = np.einsum("...ab,...b->...a", to_box, b - a)
-    x0, u, half = np.broadcast_arrays(x0, u, half)
+    half = np.asarray(half)
+    if x0.shape != u.shape or half.shape != x0.shape[x0.ndim - half.ndim:]:  # else half alone broadcasts, where it is used
+        x0, u, half = np.broadcast_arrays(x0, u, half)
     t = _outside_candidates(x0, u, half)
     sdf = box_signed_distance(x0[..., None, :] + t[..., None] * u[..., None, :], half[..., None, :])
     d_best, t_best = least(sdf, t)
     touching = d_best <= 0.0
-    if np.any(touching):  # the segment enters the box: find its deepest point
-        x0_in, u_in, half_in = x0[touching], u[touching], half[touching]
+    if touching.any():  # the segment enters the box: find its deepest point
+        x0_in, u_in, half_in = x0[touching], u[touching], np.broadcast_to(half, x0.shape)[touching]
         t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), t[touching]], axis=-1)
         sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
         d_best[touching], t_best[touching] = least(sdf_in, t_in)

@@ -54,7 +54,7 @@ class Clearances:
         return self.d.shape[-2] - 1
 
 
-def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearances:
+def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.ndarray | None = None) -> Clearances:
     """Clearances of the capsules and of the tip to every obstacle (and the floor).
 
     Parameters
@@ -64,6 +64,12 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearanc
     obstacles : Obstacles
     capsules : Capsules
         The arm's collision capsules.
+    reach : (m,) array or None
+        Scene units, per column. When given, the box and capsule-obstacle pairs whose
+        conservative lower bound (:func:`box_bounds`, :func:`shape_bounds`) exceeds their
+        column's reach are not computed: their d is +inf (t and normal 0), which only says
+        that the clearance is beyond reach. Every clearance within reach is exact, bit for bit
+        what None gives. None: every pair exactly.
 
     Returns
     -------
@@ -82,8 +88,8 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearanc
     d, t, normal = np.empty(shape), np.empty(shape), np.empty(shape + (3,))
     kinds = (
         (SPHERE, lambda: astuple(sphere_clearances(pts, ends, radius, obstacles))),
-        (BOX, lambda: box_clearances(pts, ends, radius, obstacles.boxes)),
-        (ROD, lambda: rod_clearances(pts, ends, radius, obstacles.rods)),
+        (BOX, lambda: box_clearances(pts, ends, radius, obstacles.boxes, _reach_of(reach, obstacles, BOX))),
+        (ROD, lambda: rod_clearances(pts, ends, radius, obstacles.rods, _reach_of(reach, obstacles, ROD))),
         (FLOOR, lambda: floor_clearances(pts, ends, radius, obstacles.floor, standing(capsules))),
     )
     for kind, compute in kinds:
@@ -112,22 +118,78 @@ def sphere_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obs
     return Clearances(d=d, t=t, normal=normal)
 
 
-def box_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, boxes: Boxes):
+def _reach_of(reach: np.ndarray | None, obstacles: Obstacles, kind: int) -> np.ndarray | None:
+    """The reach (k,) of one kind's columns, or None."""
+    return None if reach is None else np.asarray(reach, dtype=float)[obstacles.columns(kind)]
+
+
+BOUND_SLACK = 1e-9
+"""A pair is computed exactly when its lower bound is within this (relative, plus as much
+absolute) above its reach: the bound and the exact value are rounded apart, and a pair whose
+exact clearance is at its reach must never be left out by the last bit of its bound."""
+
+
+def within_reach(low: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Indices (as ``np.nonzero``) of the pairs whose lower bound ``low`` (..., p, k) does not
+    exceed the column's ``reach`` (k,) (with :data:`BOUND_SLACK`): those whose clearance can be within it."""
+    return np.nonzero(low <= reach + BOUND_SLACK * (1.0 + np.abs(reach)))
+
+
+def _pruned(pts: np.ndarray, k: int, where: tuple, exact) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(d, t, normal) of shape (..., p, k): +inf, 0 and 0, with ``exact()``'s (d, t, normal) of
+    the pairs at ``where`` put in place."""
+    shape = pts.shape[:-1] + (k,)
+    d, t, normal = np.full(shape, np.inf), np.zeros(shape), np.zeros(shape + (3,))
+    if len(where[0]):
+        d[where], t[where], normal[where] = exact()
+    t[..., -1, :] = 1.0
+    return d, t, normal
+
+
+def box_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, boxes: Boxes, reach: np.ndarray | None = None):
     """(d, t, normal) of the parts to the boxes, (..., p, k): the least signed distance of
-    each part's segment to each box less the part's radius (:func:`~armanim.world.closest.segment_box`)."""
+    each part's segment to each box less the part's radius (:func:`~armanim.world.closest.segment_box`).
+    With ``reach`` (k,), the pairs that :func:`box_bounds` puts beyond it are +inf (see :func:`clearances`)."""
+    if reach is not None:
+        where = within_reach(box_bounds(pts, ends, radius, boxes)[0], reach)
+        return _pruned(pts, len(boxes), where, lambda: box_pairs(pts, ends, radius, boxes, where))
     t, dist, normal = segment_box(pts[..., :, None, :], ends[..., :, None, :], boxes.centers, boxes.half, boxes.rotations)
     t[..., -1, :] = 1.0
     return dist - radius[:, None], t, normal
 
 
-def rod_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: Rods):
+def box_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, boxes: Boxes, where: tuple):
+    """(d, t, normal) of the part-box pairs at the indices ``where`` of (..., p, k) only, each (K,)
+    or (K, 3): the same numbers as :func:`box_clearances` at those places (bit for bit)."""
+    *pose, part, box = where
+    at = tuple(pose) + (part,)
+    t, dist, normal = segment_box(pts[at], ends[at], boxes.centers[box], boxes.half[box], boxes.rotations[box])
+    return dist - radius[part], t, normal
+
+
+def rod_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: Rods, reach: np.ndarray | None = None):
     """(d, t, normal) of the parts to the capsule obstacles, (..., p, k): the distance between
-    the two segments less both radii, the normal from the obstacle's axis to the part's."""
+    the two segments less both radii, the normal from the obstacle's axis to the part's.
+    With ``reach`` (k,), the pairs that :func:`shape_bounds` puts beyond it are +inf (see :func:`clearances`)."""
+    if reach is not None:
+        where = within_reach(shape_bounds(pts, ends, radius, *rod_balls(rods))[0], reach)
+        return _pruned(pts, len(rods), where, lambda: rod_pairs(pts, ends, radius, rods, where))
     t, _, offset = segment_segment(pts[..., :, None, :], ends[..., :, None, :], rods.start, rods.end)
     t[..., -1, :] = 1.0
     dist = np.sqrt((offset * offset).sum(axis=-1))
     normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
     return dist - rods.radius - radius[:, None], t, normal
+
+
+def rod_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: Rods, where: tuple):
+    """(d, t, normal) of the part-capsule pairs at the indices ``where`` of (..., p, k) only: the
+    same numbers as :func:`rod_clearances` at those places (bit for bit)."""
+    *pose, part, rod = where
+    at = tuple(pose) + (part,)
+    t, _, offset = segment_segment(pts[at], ends[at], rods.start[rod], rods.end[rod])
+    dist = np.sqrt((offset * offset).sum(axis=-1))
+    normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
+    return dist - rods.radius[rod] - radius[part], t, normal
 
 
 def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray, tip: bool = True):
@@ -257,16 +319,9 @@ def shape_bounds(a, b, radius, centers, outer, inner) -> tuple[np.ndarray, np.nd
 
 def _box_exact(a, b, radius, obstacles: Obstacles, where: tuple) -> np.ndarray:
     """Exact clearances of the capsule-box pairs at the indices ``where`` of (..., c, k)."""
-    boxes = obstacles.boxes
-    *pose, part, box = where
-    ends = tuple(pose) + (part,)
-    return segment_box(a[ends], b[ends], boxes.centers[box], boxes.half[box], boxes.rotations[box])[1] - radius[part]
+    return box_pairs(a, b, radius, obstacles.boxes, where)[0]
 
 
 def _rod_exact(a, b, radius, obstacles: Obstacles, where: tuple) -> np.ndarray:
     """Exact clearances of the capsule-capsule pairs at the indices ``where`` of (..., c, k)."""
-    rods = obstacles.rods
-    *pose, part, rod = where
-    ends = tuple(pose) + (part,)
-    offset = segment_segment(a[ends], b[ends], rods.start[rod], rods.end[rod])[2]
-    return np.sqrt((offset * offset).sum(axis=-1)) - rods.radius[rod] - radius[part]
+    return rod_pairs(a, b, radius, obstacles.rods, where)[0]

@@ -114,7 +114,7 @@ def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
 def lever_arms(problem: Problem) -> np.ndarray:
     """(n,) lever arm of each joint: the farthest any point of the capsules it moves lies
     from joint j (:func:`armanim.arm.capsules.lever_arms`)."""
-    return arm_capsules.lever_arms(problem.arm, problem.capsules)
+    return problem.lever_arms
 
 
 def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
@@ -144,10 +144,10 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
     target = kept_clearance(problem)
     d = state.clearance.links
     parts, obstacles = np.nonzero(d - target < travel)
-    rows = np.empty((len(parts), n))
-    for k, (part, obs) in enumerate(zip(parts, obstacles)):
-        jac = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, part, state.clearance.t[part, obs])
-        rows[k] = state.clearance.normal[part, obs] @ jac
+    if not len(parts):
+        return np.zeros((0, n)), np.zeros(0)
+    jacs = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles])
+    rows = np.matmul(state.clearance.normal[parts, obstacles][:, None, :], jacs)[:, 0, :]  # each row n . J_q, as one alone
     return rows, -GAMMA * (d[parts, obstacles] - target)
 
 
@@ -200,8 +200,11 @@ def filtered_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray:
     return dphi if dphi is not None else np.zeros_like(nominal)
 
 
-def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray) -> ArmState | None:
+def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray, known: ArmState | None = None) -> ArmState | None:
     """The pose ``phi`` as a state if it keeps every guarantee exactly, else None.
+
+    ``known``: that pose's state when the caller has it already (its angles bit for bit
+    ``phi``); else it is computed here.
 
     Guarantees: every limited joint at least the limit buffer inside its limits (or no
     nearer than it already was), every link capsule and the tip at least ``solver.clearance``
@@ -215,7 +218,7 @@ def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray) -> ArmState |
     gap = np.minimum(phi - lim.lower, lim.upper - phi)
     if np.any(gap <= 0) or np.any(gap < np.minimum(buffer, gap_now)):
         return None
-    candidate = arm_state(problem, phi)
+    candidate = known if known is not None else arm_state(problem, phi)
     if candidate.clearance is not None:
         floor = min(problem.solver.clearance, now.min_clearance)
         if not candidate.min_clearance >= floor:
@@ -228,8 +231,12 @@ def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray) -> ArmState |
     return candidate
 
 
-def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> SafeStep:
-    """The closest safe step to the proposal ``dphi`` (see the module docstring)."""
+def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray, ahead: ArmState | None = None) -> SafeStep:
+    """The closest safe step to the proposal ``dphi`` (see the module docstring).
+
+    ``ahead``: the state at ``state.phi + dphi`` if the method computed it (:class:`Step`); it
+    is used for the exact check of a candidate pose that is bit for bit that one.
+    """
     biggest = float(np.abs(dphi).max(initial=0.0))
     if not biggest < np.inf:  # NaN or infinity somewhere in the proposal
         return SafeStep(state, 0.0, "nan")
@@ -239,7 +246,9 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray) -> SafeStep:
     cons = filter_constraints(problem, state, nominal)
     step = filtered_step(nominal, cons)
     for scale in 0.5 ** np.arange(HALVINGS + 1):
-        moved = exactly_safe(problem, state, state.phi + scale * step)
+        phi = state.phi + scale * step
+        known = ahead if ahead is not None and ahead.phi.tobytes() == phi.tobytes() else None
+        moved = exactly_safe(problem, state, phi, known)
         if moved is not None:
             blocked = None if step is nominal and scale == 1.0 else blocker(nominal, cons)
             return SafeStep(_wrapped(problem, moved), step_fraction(scale * step, dphi), blocked)

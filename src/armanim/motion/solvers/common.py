@@ -63,11 +63,16 @@ class Step:
         Newton iterations for ``newton``; line-search trials for ``gradient``).
     newton_iterations : int
         Of those, Newton iterations (``newton`` only).
+    ahead : ArmState or None
+        The state at ``phi + dphi`` when the method computed it (``gradient`` prices the
+        whole step), so that the filter's exact check of that very pose need not compute
+        its kinematics and clearances again; None otherwise.
     """
 
     dphi: np.ndarray
     iterations: int = 1
     newton_iterations: int = 0
+    ahead: ArmState | None = None
 
 
 def task_displacement(problem: Problem, tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
@@ -96,10 +101,13 @@ def jacobian_of_tip(problem: Problem, phi: np.ndarray, pose: Pose) -> np.ndarray
     return tip_jacobian(arm, pose)
 
 
-def jacobian_of_capsule_point(problem: Problem, phi: np.ndarray, pose: Pose, capsule: int, t: float) -> np.ndarray:
+def jacobian_of_capsule_point(problem: Problem, phi: np.ndarray, pose: Pose, capsule, t) -> np.ndarray:
     """(3, n) Jacobian of the point at fraction ``t`` along a capsule: analytic, or forward
-    differences (Eq. 15) when the scene says ``jacobian: numeric``."""
+    differences (Eq. 15) when the scene says ``jacobian: numeric``; for (k,) arrays ``capsule``
+    and ``t``, the k points' Jacobians, (k, 3, n)."""
     caps = problem.capsules
     if problem.solver.jacobian == "numeric":
+        if np.ndim(capsule):
+            return np.array([jacobian_of_capsule_point(problem, phi, pose, c, s) for c, s in zip(capsule, t)]).reshape(-1, 3, len(phi))
         return numeric_jacobian(lambda p: capsule_point(caps, forward(problem.arm, p), capsule, t), phi)
     return capsule_point_jacobian(problem.arm, caps, pose, capsule, t)

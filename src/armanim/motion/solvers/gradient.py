@@ -13,7 +13,7 @@ from armanim.arm.kinematics import numeric_jacobian, tip_jacobian
 from armanim.motion.cost import total_cost, total_cost_gradient
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.common import ArmState, Step
+from armanim.motion.solvers.common import ArmState, Step, arm_state
 
 HALVINGS = 30  # line-search trials: 2**-30 of a step is below any useful resolution
 
@@ -34,8 +34,9 @@ def gradient_step(problem: Problem, state: ArmState, goal: np.ndarray, orientati
     if travel > s.max_step:
         dphi = dphi * (s.max_step / travel)
     now = total_cost(problem, phi, goal, state.pose, state.clearance, orientation)
-    if total_cost(problem, phi + dphi, goal, orientation=orientation) < now:  # the whole step is usually taken
-        return Step(dphi=dphi, iterations=1)
+    whole = arm_state(problem, phi + dphi)  # the filter checks this very pose next: it is handed on
+    if total_cost(problem, whole.phi, goal, whole.pose, whole.clearance, orientation) < now:  # the whole step is usually taken
+        return Step(dphi=dphi, iterations=1, ahead=whole)
     scales = 0.5 ** np.arange(1, HALVINGS)
     better = np.nonzero(total_cost(problem, phi + scales[:, None] * dphi, goal, orientation=orientation) < now)[0]
     if len(better) == 0:

@@ -111,13 +111,15 @@ def linear_step(
     if cl is not None and np.any(cl.d < problem.obstacles.influence):
         obstacles = problem.obstacles
         push = s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence)
-        for part, obs in zip(*np.nonzero(push)):
+        pushing = np.nonzero(push)
+        on_links = pushing[0] != cl.tip
+        jacs = iter(jacobian_of_capsule_point(problem, phi, pose, pushing[0][on_links], cl.t[pushing][on_links]))
+        for part, obs in zip(*pushing):
             v = push[part, obs] * cl.normal[part, obs]
             if part == cl.tip:  # the tip itself: the notes' term, in task space
                 dphi = dphi + jac_inv @ v
             else:
-                jac_q = jacobian_of_capsule_point(problem, phi, pose, part, cl.t[part, obs])
-                pushed = invert(jac_q) @ v
+                pushed = invert(next(jacs)) @ v
                 secondary = pushed if secondary is None else secondary + pushed
     if orientation is not None:
         dphi, null_both = orientation_in_null_space(problem, state, orientation, jac, dphi, invert)
