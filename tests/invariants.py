@@ -11,6 +11,7 @@ import pytest
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
 from armanim.motion.planning import path as path_module
+from armanim.motion.planning import poses as poses_module
 from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step
 from armanim.motion.solvers.barrier import limit_buffer
@@ -21,14 +22,17 @@ TINY = 1e-9
 
 
 @contextlib.contextmanager
-def small_planning_budget(share: int = 30):
-    """The planner's RRT budget divided by ``share`` meanwhile.
+def small_planning_budget(share: int = 30, seed_share: int = 4):
+    """The planner's RRT budget divided by ``share``, and its goal poses' random starts by
+    ``seed_share``, meanwhile.
 
     A random goal with no path spends the whole budget (4 x 15,000 RRT iterations, up to a
-    minute) before it is reported; a thirtieth of it tests the same invariants, and
-    benchmarks/motion_bench.py measures what the whole budget finds.
+    minute) before it is reported, and planning (the goal poses from 128 starts, then RRT)
+    took most of a random scene's solve; a thirtieth of the one and a quarter of the other
+    test the same invariants, and benchmarks/motion_bench.py measures what the whole budget finds.
     """
-    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // share):
+    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // share), \
+            mock.patch.object(poses_module, "SEEDS", poses_module.SEEDS // seed_share):
         yield
 
 

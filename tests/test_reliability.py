@@ -330,12 +330,12 @@ def _commands(folder: Path) -> dict:
     sweep = ["out/tiny0_step-0.1", "out/tiny0_step-0.2"]
     return {
         "run": Command("run", ["run", new[0], "--out", "{out}", "--jobs", "2"], run_folder,
-                       [["run", old[0], "--out", "{out}", "--jobs", "2"]]),
+                       [["run", old[0], "--out", "{out}", "--no-video"]]),  # the previous outputs need no video to differ
         "batch": Command("batch", ["run", *new, "--out", "{out}", "--jobs", "2"], [*batch, "out/index.csv"],
                          [["run", *old, "--out", "{out}", "--jobs", "2", "--no-video"]]),
         "sweep": Command("sweep", ["sweep", new[0], "--set", "solver.step=0.1,0.2", "--out", "{out}", "--jobs", "2"],
                          [*sweep, "out/new0-sweep.csv"],
-                         [["sweep", old[0], "--set", "solver.step=0.1,0.2", "--set", "solver.max_step=0.4", "--out", "{out}", "--jobs", "2"]]),
+                         [["sweep", old[0], "--set", "solver.step=0.1,0.2", "--set", "solver.max_step=0.4", "--out", "{out}", "--jobs", "2", "--no-video"]]),
         "check --update": Command("check", ["check", *new, "--golden", "{golden}", "--update"], ["golden"],
                                   [["check", *old, "--golden", "{golden}", "--update"]]),
         "render": Command("render", ["render", "{out}/tiny0", "--jobs", "2", "--size", "80x48"], run_folder,
