@@ -111,11 +111,15 @@ def sphere_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obs
     t = closest_on_segment(pts[..., :, None, :], ends[..., :, None, :], obstacles.centers)  # (..., c+1, m)
     if tip:
         t[..., -1, :] = 1.0  # the tip sits at the end of its zero-length segment
-    offset = pts[..., :, None, :] + t[..., None] * ab - obstacles.centers
+    dist, normal = length_and_direction(pts[..., :, None, :] + t[..., None] * ab - obstacles.centers)
+    return Clearances(d=dist - obstacles.radii - radius[:, None], t=t, normal=normal)
+
+
+def length_and_direction(offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """|offset| (...) and the unit vector offset / |offset| (..., 3), 0 where the offset is 0:
+    the distance between two closest points and the normal from the solid's to the part's."""
     dist = np.sqrt((offset * offset).sum(axis=-1))
-    d = dist - obstacles.radii - radius[:, None]
-    normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
-    return Clearances(d=d, t=t, normal=normal)
+    return dist, offset / np.where(dist > 0, dist, 1.0)[..., None]
 
 
 def _reach_of(reach: np.ndarray | None, obstacles: Obstacles, kind: int) -> np.ndarray | None:
@@ -176,8 +180,7 @@ def rod_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: 
         return _pruned(pts, len(rods), where, lambda: rod_pairs(pts, ends, radius, rods, where))
     t, _, offset = segment_segment(pts[..., :, None, :], ends[..., :, None, :], rods.start, rods.end)
     t[..., -1, :] = 1.0
-    dist = np.sqrt((offset * offset).sum(axis=-1))
-    normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
+    dist, normal = length_and_direction(offset)
     return dist - rods.radius - radius[:, None], t, normal
 
 
@@ -187,8 +190,7 @@ def rod_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: Rods,
     *pose, part, rod = where
     at = tuple(pose) + (part,)
     t, _, offset = segment_segment(pts[at], ends[at], rods.start[rod], rods.end[rod])
-    dist = np.sqrt((offset * offset).sum(axis=-1))
-    normal = offset / np.where(dist > 0, dist, 1.0)[..., None]
+    dist, normal = length_and_direction(offset)
     return dist - rods.radius[rod] - radius[part], t, normal
 
 
