@@ -21,7 +21,6 @@ import numpy as np
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
     kept_clearance,
-    lever_arms,
     obstacle_rows,
     planning_floor,
     point_travel_bound,
@@ -89,7 +88,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     if not np.all(clear >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
         return False, checks
     lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
-    levers = lever_arms(problem)
+    levers = problem.lever_arms
     while len(lo):
         travel = np.abs(hi - lo) @ levers
         doubtful = (c_lo + c_hi < travel + 2 * floor) & (travel > CERTIFY_TO * d_safe)

@@ -111,15 +111,9 @@ def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
     return np.where(problem.limits.limited, phi, wrap_angle(phi))
 
 
-def lever_arms(problem: Problem) -> np.ndarray:
-    """(n,) lever arm of each joint: the farthest any point of the capsules it moves lies
-    from joint j (:func:`armanim.arm.capsules.lever_arms`)."""
-    return problem.lever_arms
-
-
 def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
     """Most any arm point can move under a joint change ``dphi`` (sum of |dphi_j| times its lever arm)."""
-    return float(np.abs(dphi) @ lever_arms(problem))
+    return float(np.abs(dphi) @ problem.lever_arms)
 
 
 def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -155,11 +149,11 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -
     """The constraints of the frame: only obstacle pairs that the QP's answer could reach.
 
     0 is feasible, so the answer is within |nominal| of the nominal step (2-norm), hence at
-    most 2 |nominal| long, and no arm point moves more than that times |lever_arms|.
+    most 2 |nominal| long, and no arm point moves more than that times |problem.lever_arms|.
     Pairs beyond are left out (the exact check still guards every pair).
     """
     lo, hi = joint_bounds(problem, state.phi)
-    travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(lever_arms(problem))) + 1e-9
+    travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(problem.lever_arms)) + 1e-9
     rows, lower = obstacle_rows(problem, state, travel)
     return Constraints(rows, lower, lo, hi)
 
