@@ -160,9 +160,9 @@ def _collision_problems(problem, tip_size: str):
     for link, obs in zip(*np.nonzero(cl.links < d_safe)):
         inside = cl.links[link, obs] <= 0
         yield _obstacle_path(obstacles, obs), (
-            f"link {link + 1} of the arm's home pose is {'inside ' + _this(obstacles, obs) if inside else 'closer to ' + _it(obstacles, obs) + ' than solver.clearance'} "
+            f"link {link + 1} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, 'this obstacle') if inside else 'closer to ' + _floor_or(obstacles, obs, 'it') + ' than solver.clearance'} "
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
-            f"move {_the(obstacles, obs)}, change arm.home or lower solver.clearance)"
+            f"move {_floor_or(obstacles, obs, 'the obstacle')}, change arm.home or lower solver.clearance)"
         )
     keep = tip_radius(problem.arm, problem.capsules) + d_safe
     for k, goal in enumerate(problem.goals):
@@ -170,12 +170,12 @@ def _collision_problems(problem, tip_size: str):
         for obs in np.nonzero(gap < keep)[0]:
             where = _obstacle_path(obstacles, obs)
             if gap[obs] <= 0:
-                yield f"goals[{k}]", f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_the(obstacles, obs)})"
+                yield f"goals[{k}]", f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_floor_or(obstacles, obs, 'the obstacle')})"
             else:
                 yield f"goals[{k}]", (
                     f"is {gap[obs]:.3g} from {'the floor' if where == 'floor' else 'the surface of ' + where} (expected at least {tip_size} + "
                     f"solver.clearance = {keep:g}, so that the last link can keep its clearance "
-                    f"there: move the goal or {_the(obstacles, obs)}, or lower solver.clearance)"
+                    f"there: move the goal or {_floor_or(obstacles, obs, 'the obstacle')}, or lower solver.clearance)"
                 )
 
 
@@ -192,16 +192,9 @@ def _obstacle_path(obstacles, column: int) -> str:
     return "floor" if obstacles.kinds[column] == FLOOR else f"obstacles[{column}]"
 
 
-def _this(obstacles, column: int) -> str:
-    return "the floor" if obstacles.kinds[column] == FLOOR else "this obstacle"
-
-
-def _it(obstacles, column: int) -> str:
-    return "the floor" if obstacles.kinds[column] == FLOOR else "it"
-
-
-def _the(obstacles, column: int) -> str:
-    return "the floor" if obstacles.kinds[column] == FLOOR else "the obstacle"
+def _floor_or(obstacles, column: int, words: str) -> str:
+    """How a message names a clearance column: ``the floor``, or ``words`` for an obstacle."""
+    return "the floor" if obstacles.kinds[column] == FLOOR else words
 
 
 RADIAN_LIKE = 6.3  # just above 2 pi: angles all smaller than this, and not whole, look like radians
