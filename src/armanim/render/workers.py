@@ -29,6 +29,8 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 
+from armanim.output.atomic import interrupts_deferred
+
 POLL_SECONDS = 0.5  # where there is no pidfd
 WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 TEMP_PREFIX = "armanim-"
@@ -136,8 +138,6 @@ def signals_blocked() -> Iterator[None]:
     worker nobody stops (it then dies unpickling what its ended parent unlinked, with a
     traceback on the terminal).
     """
-    from armanim.output.atomic import interrupts_deferred
-
     with interrupts_deferred():
         old = signal.pthread_sigmask(signal.SIG_BLOCK, WORKER_SIGNALS)
         try:
