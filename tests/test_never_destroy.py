@@ -518,6 +518,25 @@ def _batch_scenes(tmp_path: Path, count: int = 8) -> list[Path]:
     return paths
 
 
+def test_a_worker_finds_its_temporary_folder_before_a_signal_can_stop_it():
+    """Python finds its temporary folder on first use by writing and removing a probe file
+    there; a worker stopped (os._exit) between the two left that file in $TMPDIR (the signal
+    sweep's "litter: $TMPDIR/dqu801b3" at render's ffmpeg moment, under load). init_worker,
+    run with the signals still blocked, must have done it already."""
+    program = (
+        "import os, tempfile\n"
+        "from armanim.render.workers import init_worker\n"
+        "tempfile.tempdir = None  # as in a worker whose parent never asked\n"
+        "init_worker(os.getppid())\n"
+        "print(tempfile.tempdir)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    import tempfile
+
+    assert proc.stdout.strip() == tempfile.gettempdir()
+
+
 def test_a_killed_run_takes_its_render_workers_and_ffmpeg_with_it(tmp_path):
     out = tmp_path / "out"
     proc = _start(["run", NOTES, "--out", out, "--jobs", "2", "--size", "480x360", "-q"], tmp_path)

@@ -25,6 +25,7 @@ import itertools
 import os
 import select
 import signal
+import tempfile
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -115,10 +116,15 @@ def init_worker(parent: int) -> None:
 
     The worker was started with both signals blocked (:func:`signals_blocked`); they are
     unblocked last, so one that came meanwhile finds these handlers (a pending SIGINT is
-    dropped, a pending SIGTERM ends the worker quietly).
+    dropped, a pending SIGTERM ends the worker quietly), and what must not be cut short by
+    them (finding the temporary folder) is done before.
     """
     _parent[:] = [parent]
     _UNDO.clear()  # a forked worker must never run its parent's clean-ups
+    # Python finds its temporary folder on first use by writing and removing a probe file there
+    # (8 random characters); a SIGTERM's os._exit between the two would leave it behind, so
+    # that happens now, while the signals are still blocked
+    tempfile.gettempdir()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _stop)
     die_with(parent)
