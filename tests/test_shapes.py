@@ -13,7 +13,7 @@ from armanim.arm.capsules import capsule_point_jacobian, joint_capsules
 from armanim.arm.chain import rpy_rotation
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.trajectory import solve_trajectory
-from armanim.world.closest import box_signed_distance, segment_box, segment_segment
+from armanim.world.closest import box_signed_distance, segment_box
 from armanim.world.distances import clearances, point_clearances, sphere_clearances
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 
@@ -67,37 +67,67 @@ def test_segment_box_matches_coal():
     assert compared > 200
 
 
-def test_segment_segment_matches_coal():
+def segment_to_axis(a, b, start, end):
+    """(t, distance, normal) of segment a-b to the capsule obstacle start-end's axis (:meth:`Rods.axes`)."""
+    axis = Rods(np.asarray(start, float)[None], np.asarray(end, float)[None], np.ones(1)).axes()
+    return segment_box(np.asarray(a, float), np.asarray(b, float), axis.centers[0], axis.half[0], axis.rotations[0])
+
+
+def test_segment_to_a_capsule_axis_matches_coal():
     rng = np.random.default_rng(7)
     compared = 0
     for _ in range(400):
         a, c = rng.normal(size=3), rng.normal(size=3)
         b, e = a + rng.normal(size=3), c + rng.normal(size=3)
-        s, t, offset = segment_segment(a, b, c, e)
-        dist = float(np.linalg.norm(offset)) - 0.05 - 0.02
-        if dist < 1e-3:
+        t, dist, normal = segment_to_axis(a, b, c, e)
+        clearance = float(dist) - 0.05 - 0.02
+        if clearance < 1e-3:
             continue
         one, tf1 = coal_capsule(c, e, 0.05)
         two, tf2 = coal_capsule(a, b, 0.02)
         expected, result = coal_distance(one, tf1, two, tf2)
-        assert abs(dist - expected) < 1e-9
-        np.testing.assert_allclose(a + s * (b - a) - 0.02 * offset / np.linalg.norm(offset), result.getNearestPoint2(), atol=1e-6)
+        assert abs(clearance - expected) < 1e-9
+        np.testing.assert_allclose(a + t * (b - a) - 0.02 * normal, result.getNearestPoint2(), atol=1e-6)
+        np.testing.assert_allclose(normal, result.normal, atol=1e-6)
         compared += 1
     assert compared > 200
 
 
 def test_parallel_and_point_segments():
-    # parallel segments: any pair along the overlap is closest; the distance is exact
-    s, t, offset = segment_segment(np.zeros(3), np.array([2.0, 0, 0]), np.array([1.0, 1, 0]), np.array([3.0, 1, 0]))
-    assert np.linalg.norm(offset) == pytest.approx(1.0, abs=1e-15)
+    # parallel segments: any pair along the overlap is closest; the distance is exact, the far end's point taken
+    t, dist, normal = segment_to_axis(np.zeros(3), np.array([2.0, 0, 0]), np.array([1.0, 1, 0]), np.array([3.0, 1, 0]))
+    assert float(dist) == pytest.approx(1.0, abs=1e-15) and float(t) == 1.0
+    np.testing.assert_allclose(normal, [0.0, -1.0, 0.0], atol=1e-15)
     # a point (the tip) against a segment, and a point against a point
-    s, t, offset = segment_segment(np.array([1.0, 5, 0]), np.array([1.0, 5, 0]), np.zeros(3), np.array([2.0, 0, 0]))
-    assert (float(t), offset.tolist()) == (0.5, [0.0, 5.0, 0.0])
-    s, t, offset = segment_segment(np.ones(3), np.ones(3), np.zeros(3), np.zeros(3))
-    assert offset.tolist() == [1.0, 1.0, 1.0]
+    t, dist, normal = segment_to_axis(np.array([1.0, 5, 0]), np.array([1.0, 5, 0]), np.zeros(3), np.array([2.0, 0, 0]))
+    assert float(dist) == pytest.approx(5.0, abs=1e-15)
+    np.testing.assert_allclose(normal, [0.0, 1.0, 0.0], atol=1e-15)
+    t, dist, normal = segment_to_axis(np.ones(3), np.ones(3), np.zeros(3), np.zeros(3))
+    assert float(dist) == pytest.approx(np.sqrt(3.0), abs=1e-15)
+    np.testing.assert_allclose(normal, np.ones(3) / np.sqrt(3.0), atol=1e-15)
     # a capsule obstacle that is a sphere (from == to) against a link
-    s, t, offset = segment_segment(np.zeros(3), np.array([4.0, 0, 0]), np.array([1.0, 2, 0]), np.array([1.0, 2, 0]))
-    assert (float(s), offset.tolist()) == (0.25, [0.0, -2.0, 0.0])
+    t, dist, normal = segment_to_axis(np.zeros(3), np.array([4.0, 0, 0]), np.array([1.0, 2, 0]), np.array([1.0, 2, 0]))
+    assert float(t) == pytest.approx(0.25, abs=1e-15) and float(dist) == pytest.approx(2.0, abs=1e-15)
+    np.testing.assert_allclose(normal, [0.0, -1.0, 0.0], atol=1e-15)
+    # segments that cross: distance 0, and a unit normal (no division by zero)
+    t, dist, normal = segment_to_axis(np.array([-1.0, 0, 0]), np.array([1.0, 0, 0]), np.array([0.0, -1, 0]), np.array([0.0, 1, 0]))
+    assert float(dist) == 0.0 and float(t) == pytest.approx(0.5) and float(np.linalg.norm(normal)) == pytest.approx(1.0)
+
+
+def test_a_segment_through_a_box_is_found_inside_at_every_angle():
+    # the least outside point of a segment that passes through a box lies on its surface,
+    # where rounding puts it either side: its depth must be searched for, never read as 0
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        center, half, rotation = random_box(rng)
+        inside = center + rotation @ (rng.uniform(-0.9, 0.9, 3) * half)
+        direction = rng.normal(size=3)
+        a, b = inside - 3 * direction, inside + 3 * direction * rng.uniform(0.5, 1.5)
+        t, dist, normal = segment_box(a, b, center, half, rotation)
+        point = (a + t * (b - a) - center) @ rotation
+        assert float(dist) < 0 and float(dist) == pytest.approx(float(box_signed_distance(point, half)), abs=1e-12)
+        depth = box_signed_distance((inside - center) @ rotation, half)
+        assert float(dist) <= float(depth) + 1e-12  # at least as deep as the point it passes through
 
 
 def sample_box_surface(center, half, rotation, per_edge=41):

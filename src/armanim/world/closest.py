@@ -1,15 +1,16 @@
 """Closest points between a segment and a solid, in closed form (numpy, batched).
 
 A link capsule is a segment with a radius; its clearance to a solid is the least signed
-distance of its segment's points to the solid, less the radius. Each function here
-returns, for segments a-b, the fraction t along the segment of that least point and the
-solid's signed distance there (negative inside), with the unit normal (the signed
-distance's gradient there, pointing out of the solid). Everything broadcasts over leading
-dimensions. Pure core: numpy only.
+distance of its segment's points to the solid, less the radius. :func:`segment_box` returns,
+for segments a-b, the fraction t along the segment of that least point and the box's signed
+distance there (negative inside), with the unit normal (the signed distance's gradient
+there, pointing out of the box). A box may be flat or a segment (edges of length 0): a
+capsule obstacle is its axis, a box with one edge, grown by its radius. Everything
+broadcasts over leading dimensions. Pure core: numpy only.
 
-Exact: the least distance of a segment to a box or to a segment is a convex problem in
-one or two variables whose pieces are quadratics; each function evaluates every piece's
-minimiser in closed form and keeps the least (measured against coal's GJK in the tests).
+Exact: the least distance of a segment to a box is a convex problem in one variable whose
+pieces are quadratics (outside) or linear (inside); the minimiser is found on its piece in
+closed form (measured against coal's GJK and against sampling in the tests).
 """
 
 from __future__ import annotations
@@ -29,34 +30,6 @@ def safe_ratio(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     nonzero = den != 0.0
     with np.errstate(over="ignore"):  # a huge ratio (a segment almost parallel to a plane) is clipped by the callers
         return np.where(nonzero, num / np.where(nonzero, den, 1.0), 0.0)
-
-
-def segment_segment(a: np.ndarray, b: np.ndarray, c: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Closest points of segments a-b and c-e: (s, t, offset), with s along a-b, t along c-e
-    and offset = (a + s (b - a)) - (c + t (e - c)), shapes (...), (...), (..., 3).
-
-    Ericson's closed form (Real-Time Collision Detection, 5.1.9): the squared distance is a
-    convex quadratic on the unit square; s from the lines' closest points clamped, t the
-    nearest to that point clamped, then s again for a clamped t. A zero-length a-b (the tip)
-    and parallel segments take s = 0 first; a zero-length c-e (a capsule that is a sphere) the
-    point of a-b nearest to it.
-
-    >>> s, t, off = segment_segment(np.zeros(3), np.array([2.0, 0, 0]), np.array([1.0, -1, 1]), np.array([1.0, 1, 1]))
-    >>> float(s), float(t), off.tolist()
-    (0.5, 0.5, [0.0, 0.0, -1.0])
-    """
-    d1, d2, r = b - a, e - c, a - c
-    aa, ee, bb, cc, ff = dot(d1, d1), dot(d2, d2), dot(d1, d2), dot(d1, r), dot(d2, r)
-    denom = aa * ee - bb * bb
-    s = np.clip(safe_ratio(bb * ff - cc * ee, np.where(denom > 1e-12 * aa * ee, denom, 0.0)), 0.0, 1.0)
-    nearest_to_c = np.clip(safe_ratio(-cc, aa), 0.0, 1.0)  # the point of a-b nearest to c
-    s = np.where(ee > 0.0, s, nearest_to_c)  # c-e a point: the nearest point of a-b to it
-    t = safe_ratio(bb * s + ff, ee)
-    below, above = t < 0.0, t > 1.0
-    s = np.where(below, nearest_to_c, np.where(above, np.clip(safe_ratio(bb - cc, aa), 0.0, 1.0), s))
-    t = np.clip(t, 0.0, 1.0)
-    offset = r + s[..., None] * d1 - t[..., None] * d2
-    return s, t, offset
 
 
 def least(values: np.ndarray, *others: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -95,31 +68,6 @@ def box_normal(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     return np.where((outside > 0)[..., None], gap / np.where(outside > 0, outside, 1.0)[..., None], face)
 
 
-_FAR_END_FIRST = np.array([1.0, 0.0])
-"""The segment's ends as candidates, the far end first: of tied points (a link along a face) the one a joint moves most."""
-
-
-def _outside_candidates(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """(..., 9) fractions along x0 + t u that contain the least distance to the box when the
-    segment stays outside it: its ends and the least point of each piece between the
-    crossings of the box's slab planes (where the squared distance is one quadratic)."""
-    low = -half
-    crossings = safe_ratio(np.concatenate([half - x0, low - x0], axis=-1), np.concatenate([u, u], axis=-1))
-    ends = np.empty(x0.shape[:-1] + (2,))
-    ends[...] = _FAR_END_FIRST
-    knots = np.sort(np.concatenate([np.clip(crossings, 0.0, 1.0), ends], axis=-1), axis=-1)  # (..., 8)
-    lo, hi = knots[..., :-1], knots[..., 1:]
-    mid = 0.5 * (lo + hi)
-    x = x0[..., None, :] + mid[..., None] * u[..., None, :]  # (..., 7, 3)
-    side = np.where(x > half[..., None, :], 1.0, np.where(x < low[..., None, :], -1.0, 0.0))
-    out = side != 0.0
-    uu = u[..., None, :]
-    curvature = np.where(out, uu * uu, 0.0).sum(axis=-1)
-    slope = np.where(out, uu * (x0[..., None, :] - side * half[..., None, :]), 0.0).sum(axis=-1)
-    best = np.clip(safe_ratio(-slope, curvature), lo, hi)
-    return np.concatenate([ends, np.where(curvature > 0, best, lo)], axis=-1)
-
-
 _PAIRS = np.array(list(combinations(range(6), 2)))
 """The 15 pairs of the box's six face functions h_i -+ x_i (i = 0, 1, 2 with +, then with -)."""
 
@@ -140,12 +88,22 @@ def segment_box(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Least signed distance of segment a-b to a box: (t, distance, normal), shapes (...), (...), (..., 3).
 
+    Outside the box, the squared distance g(t) of a + t (b - a) is convex, and its derivative
+    is piecewise linear and nondecreasing, with knots where the segment crosses the box's
+    six slab planes. The least point is where that derivative changes sign: between the
+    first knot where it is positive and the knot before, on one piece, where a closed form
+    gives it. Of tied points (a link along a face) it is the one nearest b, the far end,
+    which a joint moves most. A segment that reaches within :data:`TOUCHING` of the box
+    is searched again among the candidates of its depth inside (:func:`_inside_candidates`).
+    A box may have edges of length 0: with half edges (L/2, 0, 0) it is a segment, and
+    the distance is between two segments (a capsule obstacle's axis).
+
     Parameters
     ----------
     a, b : (..., 3) arrays
         The segment's ends, world.
     center, half : (..., 3) arrays
-        The box's centre (world) and half edges.
+        The box's centre (world) and half edges (>= 0).
     rotation : (..., 3, 3) array
         World-from-box rotation.
 
@@ -158,20 +116,61 @@ def segment_box(
     >>> float(t), round(float(d) ** 2, 12), np.round(n ** 2, 12).tolist()
     (0.5, 0.5, [0.5, 0.0, 0.5])
     """
-    to_box = np.swapaxes(rotation, -1, -2)
-    x0 = np.einsum("...ab,...b->...a", to_box, a - center)
-    u = np.einsum("...ab,...b->...a", to_box, b - a)
-    half = np.asarray(half)
-    if x0.shape != u.shape or half.shape != x0.shape[x0.ndim - half.ndim:]:  # else half alone broadcasts, where it is used
-        x0, u, half = np.broadcast_arrays(x0, u, half)
-    t = _outside_candidates(x0, u, half)
-    sdf = box_signed_distance(x0[..., None, :] + t[..., None] * u[..., None, :], half[..., None, :])
-    d_best, t_best = least(sdf, t)
-    touching = d_best <= 0.0
-    if touching.any():  # the segment enters the box: find its deepest point
+    x0 = np.matmul((a - center)[..., None, :], rotation)[..., 0, :]  # box frame: (R^T v) as a row is v R
+    u = np.matmul((b - a)[..., None, :], rotation)[..., 0, :]
+    if x0.shape != u.shape:
+        x0, u = np.broadcast_arrays(x0, u)
+    single = x0.ndim == 1  # one segment: computed as a batch of one, so that its results are arrays
+    if single:
+        x0, u = x0[None], u[None]
+    half = np.asarray(half, dtype=float)
+    low = -half
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # u_i = 0: no crossing (its knots go to an end)
+        t = _least_outside(x0, u, low, half)
+    xt = x0 + t[..., None] * u
+    gap = xt - np.minimum(np.maximum(xt, low), half)
+    dist = np.sqrt((gap * gap).sum(axis=-1))
+    touching = dist <= TOUCHING
+    if touching.any():  # the segment reaches the box: find its deepest point
         x0_in, u_in, half_in = x0[touching], u[touching], np.broadcast_to(half, x0.shape)[touching]
-        t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), t[touching]], axis=-1)
+        ends = np.broadcast_to(_FAR_END_FIRST, x0_in.shape[:-1] + (2,))
+        t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), ends, t[touching][..., None]], axis=-1)
         sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
-        d_best[touching], t_best[touching] = least(sdf_in, t_in)
-    local = box_normal(x0 + t_best[..., None] * u, half)
-    return t_best, d_best, np.einsum("...ab,...b->...a", rotation, local)
+        dist[touching], t[touching] = least(sdf_in, t_in)
+        local = box_normal(x0 + t[..., None] * u, half)
+    else:
+        local = gap / dist[..., None]
+    normal = np.matmul(rotation, local[..., None])[..., 0]
+    return (t[0], dist[0], normal[0]) if single else (t, dist, normal)
+
+
+TOUCHING = 1e-9
+"""Scene units: a segment whose least outside distance to a box is this or less may enter it
+(rounding puts a point on the surface a little either side), so its depth is searched for."""
+
+_FAR_END_FIRST = np.array([1.0, 0.0])
+"""The segment's ends as candidates inside, the far end first (of ties, the one a joint moves most)."""
+
+
+def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """(...) the largest t in [0, 1] that minimises the squared distance of x0 + t u (box
+    frame, (..., 3)) to the box [low, half]: where its derivative, sum_i u_i e_i(t) with e the
+    excess beyond the box, stops being <= 0 (0 inside the box)."""
+    knots = np.empty(x0.shape[:-1] + (8,))  # the six slab crossings, clipped to [0, 1], and the ends
+    inverse = 1.0 / u
+    np.multiply(half - x0, inverse, out=knots[..., 0:3])
+    np.multiply(low - x0, inverse, out=knots[..., 3:6])
+    crossings = knots[..., :6]
+    np.fmin(np.fmax(crossings, 0.0, out=crossings), 1.0, out=crossings)  # fmax: a NaN (0/0) goes to 0
+    knots[..., 6:] = _FAR_END_FIRST
+    x = x0[..., None, :] + knots[..., None] * u[..., None, :]
+    excess = x - np.minimum(np.maximum(x, low[..., None, :]), half[..., None, :])
+    slope = (excess * u[..., None, :]).sum(axis=-1)
+    right = np.where(slope > 0.0, knots, 2.0).min(axis=-1)  # the first knot where g rises (2: none)
+    left = np.where(knots < right[..., None], knots, 0.0).max(axis=-1)  # the knot before it
+    right = np.minimum(right, 1.0)
+    mid = x0 + (0.5 * (left + right))[..., None] * u  # on (left, right) the same coordinates are beyond the box
+    near = np.minimum(np.maximum(mid, low), half)
+    moving = np.where(mid != near, u, 0.0)
+    root = -(moving * (x0 - near)).sum(axis=-1) / (moving * u).sum(axis=-1)  # where that piece's derivative is 0
+    return np.fmax(np.fmin(root, right), left)  # fmin: a flat piece (0/0) takes its right end

@@ -19,8 +19,8 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.geometry import closest_on_segment
 from armanim.arm.kinematics import Pose
-from armanim.world.closest import segment_box, segment_segment
-from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
+from armanim.world.closest import segment_box
+from armanim.world.obstacles import FLOOR, SPHERE, Obstacles
 
 
 @dataclass(frozen=True)
@@ -66,10 +66,10 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.n
         The arm's collision capsules.
     reach : (m,) array or None
         Scene units, per column. When given, the box and capsule-obstacle pairs whose
-        conservative lower bound (:func:`box_bounds`, :func:`shape_bounds`) exceeds their
-        column's reach are not computed: their d is +inf (t and normal 0), which only says
-        that the clearance is beyond reach. Every clearance within reach is exact, bit for bit
-        what None gives. None: every pair exactly.
+        conservative lower bound (:func:`solid_bounds`) exceeds their column's reach are not
+        computed: their d is +inf (t and normal 0), which only says that the clearance is
+        beyond reach. Every clearance within reach is exact, bit for bit what None gives.
+        None: every pair exactly.
 
     Returns
     -------
@@ -84,18 +84,17 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.n
     radius = np.append(capsules.radius, 0.0)  # the tip is a point
     if obstacles.spheres_only:
         return sphere_clearances(pts, ends, radius, obstacles)
-    shape = pts.shape[:-1] + (len(obstacles),)
-    d, t, normal = np.empty(shape), np.empty(shape), np.empty(shape + (3,))
-    kinds = (
-        (SPHERE, lambda: astuple(sphere_clearances(pts, ends, radius, obstacles))),
-        (BOX, lambda: box_clearances(pts, ends, radius, obstacles.boxes, _reach_of(reach, obstacles, BOX))),
-        (ROD, lambda: rod_clearances(pts, ends, radius, obstacles.rods, _reach_of(reach, obstacles, ROD))),
-        (FLOOR, lambda: floor_clearances(pts, ends, radius, obstacles.floor, standing(capsules))),
-    )
-    for kind, compute in kinds:
-        columns = obstacles.columns(kind)
-        if len(columns):
-            d[..., columns], t[..., columns], normal[..., columns, :] = compute()
+    kinds = []  # (d, t, normal) of the spheres, the solids, the floor: the columns in that order
+    if len(obstacles.radii):
+        kinds.append(astuple(sphere_clearances(pts, ends, radius, obstacles)))
+    if len(obstacles.solid_radius):
+        kinds.append(solid_clearances(pts, ends, radius, obstacles, None if reach is None else np.asarray(reach, dtype=float)[obstacles.solid_columns]))
+    if obstacles.floor is not None:
+        kinds.append(floor_clearances(pts, ends, radius, obstacles.floor, standing(capsules)))
+    d, t, normal = kinds[0] if len(kinds) == 1 else (np.concatenate(c, axis=axis) for c, axis in zip(zip(*kinds), (-1, -1, -2)))
+    order = obstacles.scene_order
+    if order is not None:
+        d, t, normal = d[..., order], t[..., order], normal[..., order, :]
     return Clearances(d=d, t=t, normal=normal)
 
 
@@ -122,11 +121,6 @@ def length_and_direction(offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return dist, offset / np.where(dist > 0, dist, 1.0)[..., None]
 
 
-def _reach_of(reach: np.ndarray | None, obstacles: Obstacles, kind: int) -> np.ndarray | None:
-    """The reach (k,) of one kind's columns, or None."""
-    return None if reach is None else np.asarray(reach, dtype=float)[obstacles.columns(kind)]
-
-
 BOUND_SLACK = 1e-9
 """A pair is computed exactly when its lower bound is within this (relative, plus as much
 absolute) above its reach: the bound and the exact value are rounded apart, and a pair whose
@@ -150,48 +144,29 @@ def _pruned(pts: np.ndarray, k: int, where: tuple, exact) -> tuple[np.ndarray, n
     return d, t, normal
 
 
-def box_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, boxes: Boxes, reach: np.ndarray | None = None):
-    """(d, t, normal) of the parts to the boxes, (..., p, k): the least signed distance of
-    each part's segment to each box less the part's radius (:func:`~armanim.world.closest.segment_box`).
-    With ``reach`` (k,), the pairs that :func:`box_bounds` puts beyond it are +inf (see :func:`clearances`)."""
+def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, reach: np.ndarray | None = None):
+    """(d, t, normal) of the parts to the solids (the boxes and capsule obstacles, in the scene's order), (..., p, k):
+    the least signed distance of each part's segment to each solid's box (a capsule's: its
+    axis, :meth:`~armanim.world.obstacles.Rods.axes`) less both radii
+    (:func:`~armanim.world.closest.segment_box`), the normal out of the solid.
+    With ``reach`` (k,), the pairs that :func:`solid_bounds` puts beyond it are +inf (see :func:`clearances`)."""
     if reach is not None:
-        where = within_reach(box_bounds(pts, ends, radius, boxes)[0], reach)
-        return _pruned(pts, len(boxes), where, lambda: box_pairs(pts, ends, radius, boxes, where))
-    t, dist, normal = segment_box(pts[..., :, None, :], ends[..., :, None, :], boxes.centers, boxes.half, boxes.rotations)
+        where = within_reach(solid_bounds(pts, ends, radius, obstacles)[0], reach)
+        return _pruned(pts, len(obstacles.solid_radius), where, lambda: solid_pairs(pts, ends, radius, obstacles, where))
+    solids = obstacles.solids
+    t, dist, normal = segment_box(pts[..., :, None, :], ends[..., :, None, :], solids.centers, solids.half, solids.rotations)
     t[..., -1, :] = 1.0
-    return dist - radius[:, None], t, normal
+    return dist - obstacles.solid_radius - radius[:, None], t, normal
 
 
-def box_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, boxes: Boxes, where: tuple):
-    """(d, t, normal) of the part-box pairs at the indices ``where`` of (..., p, k) only, each (K,)
-    or (K, 3): the same numbers as :func:`box_clearances` at those places (bit for bit)."""
-    *pose, part, box = where
+def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, where: tuple):
+    """(d, t, normal) of the part-solid pairs at the indices ``where`` of (..., p, k) only, each (K,)
+    or (K, 3): the same numbers as :func:`solid_clearances` at those places (bit for bit)."""
+    *pose, part, solid = where
     at = tuple(pose) + (part,)
-    t, dist, normal = segment_box(pts[at], ends[at], boxes.centers[box], boxes.half[box], boxes.rotations[box])
-    return dist - radius[part], t, normal
-
-
-def rod_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: Rods, reach: np.ndarray | None = None):
-    """(d, t, normal) of the parts to the capsule obstacles, (..., p, k): the distance between
-    the two segments less both radii, the normal from the obstacle's axis to the part's.
-    With ``reach`` (k,), the pairs that :func:`shape_bounds` puts beyond it are +inf (see :func:`clearances`)."""
-    if reach is not None:
-        where = within_reach(shape_bounds(pts, ends, radius, *rod_balls(rods))[0], reach)
-        return _pruned(pts, len(rods), where, lambda: rod_pairs(pts, ends, radius, rods, where))
-    t, _, offset = segment_segment(pts[..., :, None, :], ends[..., :, None, :], rods.start, rods.end)
-    t[..., -1, :] = 1.0
-    dist, normal = length_and_direction(offset)
-    return dist - rods.radius - radius[:, None], t, normal
-
-
-def rod_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, rods: Rods, where: tuple):
-    """(d, t, normal) of the part-capsule pairs at the indices ``where`` of (..., p, k) only: the
-    same numbers as :func:`rod_clearances` at those places (bit for bit)."""
-    *pose, part, rod = where
-    at = tuple(pose) + (part,)
-    t, _, offset = segment_segment(pts[at], ends[at], rods.start[rod], rods.end[rod])
-    dist, normal = length_and_direction(offset)
-    return dist - rods.radius[rod] - radius[part], t, normal
+    solids = obstacles.solids
+    t, dist, normal = segment_box(pts[at], ends[at], solids.centers[solid], solids.half[solid], solids.rotations[solid])
+    return dist - obstacles.solid_radius[solid] - radius[part], t, normal
 
 
 def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray, tip: bool = True):
@@ -228,13 +203,10 @@ def point_clearances(points: np.ndarray, obstacles: Obstacles) -> np.ndarray:
     spheres = obstacles.columns(SPHERE)
     if len(spheres):
         d[:, spheres] = np.linalg.norm(points[:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
-    if len(obstacles.boxes):
-        boxes = obstacles.boxes
-        d[:, obstacles.columns(BOX)] = segment_box(points[:, None], points[:, None], boxes.centers, boxes.half, boxes.rotations)[1]
-    if len(obstacles.rods):
-        rods = obstacles.rods
-        offset = segment_segment(points[:, None], points[:, None], rods.start, rods.end)[2]
-        d[:, obstacles.columns(ROD)] = np.sqrt((offset * offset).sum(axis=-1)) - rods.radius
+    if len(obstacles.solid_radius):
+        solids = obstacles.solids
+        dist = segment_box(points[:, None], points[:, None], solids.centers, solids.half, solids.rotations)[1]
+        d[:, obstacles.solid_columns] = dist - obstacles.solid_radius
     if obstacles.floor is not None:
         d[:, obstacles.columns(FLOOR)] = points[:, 2:] - obstacles.floor
     return d
@@ -245,9 +217,9 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
 
     The same number as the least of :func:`clearances`' links, found with less work among
     boxes and capsules (the planner asks it of thousands of poses): each box's and capsule
-    obstacle's exact clearance is computed only where a cheap lower bound (the distance to
-    its centre less its circumradius) is below a pose's best upper bound (the same less its
-    inradius, or an exact sphere's or the floor's clearance).
+    obstacle's exact clearance is computed only where a cheap lower bound
+    (:func:`solid_bounds`) is below a pose's best upper bound (the same function's, or an
+    exact sphere's or the floor's clearance).
     """
     if len(obstacles) == 0:
         return np.full(pose.points.shape[:-2], np.inf)
@@ -261,69 +233,37 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     if obstacles.floor is not None:
         height = floor_clearances(a, b, radius, obstacles.floor, capsules.link == 0, tip=False)[0]
         best = np.minimum(best, height.min(axis=(-1, -2)))
-    bounds = [box_bounds(a, b, radius, obstacles.boxes), shape_bounds(a, b, radius, *rod_balls(obstacles.rods))]
-    for _, high in bounds:
-        best = np.minimum(best, high.min(axis=(-1, -2), initial=np.inf))
-    for (low, _), exact in zip(bounds, (_box_exact, _rod_exact)):
+    if len(obstacles.solid_radius):
+        low, high = solid_bounds(a, b, radius, obstacles)
+        best = np.minimum(best, high.min(axis=(-1, -2)))
         doubt = low <= best[..., None, None]
         if np.any(doubt):
             where = np.nonzero(doubt)
-            d = exact(a, b, radius, obstacles, where)
             found = np.full(doubt.shape, np.inf)
-            found[where] = d
+            found[where] = solid_pairs(a, b, radius, obstacles, where)[0]
             best = np.minimum(best, found.min(axis=(-1, -2)))
     return best
 
 
-def rod_balls(rods: Rods) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(centre (k, 3), outer radius (k,), inner radius (k,)) of the capsule obstacles: every point
-    of a capsule is within the outer ball about its centre, and the inner ball is inside it."""
-    half_length = 0.5 * np.sqrt(((rods.end - rods.start) ** 2).sum(axis=-1))
-    return 0.5 * (rods.start + rods.end), half_length + rods.radius, rods.radius
-
-
-def box_bounds(a, b, radius, boxes: Boxes) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper bounds (..., c, k) of the capsules' clearances to the boxes: in each box's
-    frame, the gap between the box and the segment's bounding box (the segment lies inside
-    that; when they overlap, minus the box's inradius, the deepest a point can be inside),
-    and the distance of the segment's ends and middle to the box."""
-    if not len(boxes):
-        empty = np.full(a.shape[:-1] + (0,), np.inf)
-        return empty, empty
-    to_box = np.swapaxes(boxes.rotations, -1, -2)
-    x0 = np.einsum("kab,...ckb->...cka", to_box, a[..., :, None, :] - boxes.centers)
-    x1 = np.einsum("kab,...ckb->...cka", to_box, b[..., :, None, :] - boxes.centers)
-    half = boxes.half
+def solid_bounds(a, b, radius, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds (..., c, k) of the capsules' clearances to the solids: in each
+    solid's box frame, the gap between the box and the segment's bounding box (the segment lies
+    inside that; when they overlap, minus the box's inradius, the deepest a point can be
+    inside), and the distance of the segment's ends and middle to the box; both less the radii."""
+    solids = obstacles.solids
+    to_box = np.swapaxes(solids.rotations, -1, -2)
+    x0 = np.einsum("kab,...ckb->...cka", to_box, a[..., :, None, :] - solids.centers)
+    x1 = np.einsum("kab,...ckb->...cka", to_box, b[..., :, None, :] - solids.centers)
+    half = solids.half
     gap = np.maximum(np.maximum(np.minimum(x0, x1) - half, -half - np.maximum(x0, x1)), 0.0)
     apart = np.sqrt((gap * gap).sum(axis=-1))
-    low = np.where(apart > 0, apart, -half.min(axis=-1)) - radius[:, None]  # overlapping: as deep as the box allows
+    grown = obstacles.solid_radius + radius[:, None]
+    low = np.where(apart > 0, apart, -half.min(axis=-1)) - grown  # overlapping: as deep as the box allows
     high = np.minimum(np.minimum(_outside(x0, half), _outside(x1, half)), _outside(0.5 * (x0 + x1), half))
-    return low, high - radius[:, None]
+    return low, high - grown
 
 
 def _outside(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     """Distance (...) of points ``p`` (box frame) to the box (0 inside)."""
     gap = p - np.clip(p, -half, half)
     return np.sqrt((gap * gap).sum(axis=-1))
-
-
-def shape_bounds(a, b, radius, centers, outer, inner) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper bounds (..., c, k) of the capsules' clearances to solids that lie between
-    an inner and an outer ball about ``centers`` (:func:`rod_balls`)."""
-    if not len(centers):
-        empty = np.full(a.shape[:-1] + (0,), np.inf)
-        return empty, empty
-    t = closest_on_segment(a[..., :, None, :], b[..., :, None, :], centers)
-    offset = a[..., :, None, :] + t[..., None] * (b - a)[..., :, None, :] - centers
-    dist = np.sqrt((offset * offset).sum(axis=-1)) - radius[:, None]
-    return dist - outer, dist - inner
-
-
-def _box_exact(a, b, radius, obstacles: Obstacles, where: tuple) -> np.ndarray:
-    """Exact clearances of the capsule-box pairs at the indices ``where`` of (..., c, k)."""
-    return box_pairs(a, b, radius, obstacles.boxes, where)[0]
-
-
-def _rod_exact(a, b, radius, obstacles: Obstacles, where: tuple) -> np.ndarray:
-    """Exact clearances of the capsule-capsule pairs at the indices ``where`` of (..., c, k)."""
-    return rod_pairs(a, b, radius, obstacles.rods, where)[0]

@@ -75,6 +75,24 @@ class Rods:
     def __len__(self) -> int:
         return len(self.radius)
 
+    def axes(self) -> Boxes:
+        """Each capsule's axis as a box with one edge (half edges (length / 2, 0, 0), its x axis
+        along start-end): the capsule is every point within ``radius`` of that box.
+
+        >>> axis = Rods(np.zeros((1, 3)), np.array([[0.0, 0, 2]]), np.ones(1)).axes()
+        >>> axis.centers.tolist(), axis.half.tolist(), axis.rotations[0, :, 0].tolist()
+        ([[0.0, 0.0, 1.0]], [[1.0, 0.0, 0.0]], [0.0, 0.0, 1.0])
+        """
+        along = self.end - self.start
+        length = np.sqrt((along * along).sum(axis=-1))
+        x = np.where(length[:, None] > 0, along / np.where(length > 0, length, 1.0)[:, None], [1.0, 0.0, 0.0])
+        helper = np.where(np.abs(x[:, :1]) < 0.9, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
+        y = np.cross(x, helper)
+        y /= np.sqrt((y * y).sum(axis=-1))[:, None]
+        half = np.zeros((len(self), 3))
+        half[:, 0] = 0.5 * length
+        return Boxes(0.5 * (self.start + self.end), half, np.stack([x, y, np.cross(x, y)], axis=-1))
+
 
 @dataclass(frozen=True)
 class Obstacles:
@@ -98,6 +116,19 @@ class Obstacles:
     kinds : (m,) int array or None
         Kind of each column (:data:`SPHERE`, :data:`BOX`, :data:`ROD`, :data:`FLOOR`), the
         floor last; None: the spheres, then the boxes, then the rods, then the floor.
+
+    Derived (set on construction, read on every clearance computation)
+    ------------------------------------------------------------------
+    solids : Boxes
+        The boxes and the capsule obstacles' axes (:meth:`Rods.axes`) in the scene's order:
+        one pass of :func:`~armanim.world.closest.segment_box` measures both.
+    solid_radius : (k,) array
+        What each solid is grown by: 0 for a box, the radius for a capsule.
+    solid_columns : (k,) int array
+        The solids' columns of the clearances.
+    scene_order : (m,) int array or None
+        The columns in the scene's order taken from those of the spheres, the solids, then
+        the floor (None: the same order).
     """
 
     centers: np.ndarray
@@ -114,6 +145,15 @@ class Obstacles:
             object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, FLOOR], counts))
         columns = {kind: np.nonzero(self.kinds == kind)[0] for kind in (SPHERE, BOX, ROD, FLOOR)}
         object.__setattr__(self, "_columns", columns)  # asked for on every clearance computation
+        axes = self.rods.axes()
+        order = np.argsort(np.concatenate([columns[BOX], columns[ROD]]), kind="stable")  # the solids in the scene's order
+        solids = Boxes(*(np.concatenate([getattr(self.boxes, f), getattr(axes, f)])[order] for f in ("centers", "half", "rotations")))
+        object.__setattr__(self, "solids", solids)
+        object.__setattr__(self, "solid_radius", np.concatenate([np.zeros(len(self.boxes)), self.rods.radius])[order])
+        object.__setattr__(self, "solid_columns", np.concatenate([columns[BOX], columns[ROD]])[order])
+        canonical = np.concatenate([columns[SPHERE], self.solid_columns, columns[FLOOR]])
+        in_order = bool(np.all(canonical == np.arange(len(canonical))))
+        object.__setattr__(self, "scene_order", None if in_order else np.argsort(canonical))
 
     @classmethod
     def none(cls) -> Obstacles:
