@@ -10,6 +10,7 @@ import pytest
 from conftest import SCENES, solved_scene
 
 from armanim.arm.kinematics import Arm, forward
+from armanim.arm.linalg import pseudo_inverse
 from armanim.motion.ik import solve_pose
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.motion.solvers import METHODS, arm_state, step_function
@@ -178,6 +179,21 @@ def test_damped_inverse_formula():
     lam = 0.3
     expected = jac.T @ np.linalg.inv(jac @ jac.T + lam**2 * np.eye(3))
     np.testing.assert_allclose(damped_inverse(jac, lam), expected, atol=1e-12)
+
+
+def test_a_stack_of_jacobians_is_inverted_each_bit_for_bit_as_alone():
+    # the link pushes are inverted in one call: the trajectories (and goldens) must not move
+    rng = np.random.default_rng(4)
+    for _ in range(300):
+        n, k = rng.integers(1, 8), rng.integers(1, 6)
+        stack = rng.normal(size=(k, 3, n))
+        stack[: k // 2, :, -1] = 0.0  # some of them singular
+        for invert in (pseudo_inverse, lambda j: damped_inverse(j, 0.2)):
+            together = invert(stack)
+            assert together.shape == (k, n, 3)
+            for one, jac in zip(together, stack):
+                assert np.array_equal(one, invert(jac))
+    assert pseudo_inverse(np.zeros((0, 3, 4))).shape == (0, 4, 3)
 
 
 # ------------------------------------------------------------ ik (one pose to convergence)

@@ -19,15 +19,16 @@ true Jacobian has lost rank, and inverting the noise would fling the arm."""
 def pseudo_inverse(jac: np.ndarray) -> np.ndarray:
     """Moore-Penrose pseudo-inverse J+ = V D+ U^T (the notes' Eq. 20), from the SVD.
 
-    Singular values below ``PINV_RTOL`` times the largest count as zero.
+    Singular values below ``PINV_RTOL`` times the largest count as zero. A stack of matrices
+    is inverted in one call, each bit for bit as alone.
 
     Parameters
     ----------
-    jac : (m, n) array
+    jac : (..., m, n) array
 
     Returns
     -------
-    (n, m) array
+    (..., n, m) array
 
     Raises
     ------
@@ -39,6 +40,7 @@ def pseudo_inverse(jac: np.ndarray) -> np.ndarray:
            [0. , 0. ]])
     """
     u, d, vt = np.linalg.svd(jac, full_matrices=False)
-    keep = d > PINV_RTOL * d[0] if len(d) and d[0] > 0 else np.zeros(len(d), dtype=bool)
+    top = d[..., :1]
+    keep = (d > PINV_RTOL * top) & (top > 0)
     inverse = np.where(keep, 1.0 / np.where(keep, d, 1.0), 0.0)
-    return (vt.T * inverse) @ u.T
+    return np.matmul(np.swapaxes(vt, -1, -2) * inverse[..., None, :], np.swapaxes(u, -1, -2))

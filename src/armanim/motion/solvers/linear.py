@@ -13,8 +13,10 @@ steers around obstacles; the links' repulsion and the limit push are moved into 
 null space of J, so they reshape the arm without pulling the tip off its goal (a goal
 next to an obstacle stays reachable).
 
-The two methods differ only in the inverse: the pseudo-inverse (``scipy.linalg.pinv``)
-or the damped least-squares inverse J^T (J J^T + lambda^2 I)^-1.
+The two methods differ only in the inverse: the pseudo-inverse
+(:func:`armanim.arm.linalg.pseudo_inverse`) or the damped least-squares inverse
+J^T (J J^T + lambda^2 I)^-1. The links' pushes are inverted in one call (a stack of
+Jacobians), each bit for bit as alone.
 
 A goal with an orientation adds the rotation task [w B r] with Jacobian w B J_w
 (:func:`armanim.motion.orientation.orientation_task`), second in priority (task-priority IK):
@@ -46,9 +48,10 @@ from armanim.motion.solvers.common import (
 
 
 def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:
-    """J^T (J J^T + lambda^2 I)^-1, the damped least-squares inverse of a (3, n) Jacobian."""
-    gram = jac @ jac.T + damping**2 * np.eye(jac.shape[0])
-    return np.linalg.solve(gram, jac).T
+    """J^T (J J^T + lambda^2 I)^-1, the damped least-squares inverse of a (3, n) Jacobian, or
+    of each of a stack (..., 3, n), each bit for bit as alone: (..., n, 3)."""
+    gram = np.matmul(jac, np.swapaxes(jac, -1, -2)) + damping**2 * np.eye(jac.shape[-2])
+    return np.swapaxes(np.linalg.solve(gram, jac), -1, -2)
 
 
 def repulsion(gap: np.ndarray, influence: np.ndarray | float) -> np.ndarray:
@@ -98,8 +101,9 @@ def linear_step(
     problem: Problem, state: ArmState, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray],
     orientation: Orientation | None = None,
 ) -> Step:
-    """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse (and the
-    rotation task second when the goal has an ``orientation``)."""
+    """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse (of a
+    (3, n) Jacobian or a stack of them), and the rotation task second when the goal has an
+    ``orientation``."""
     s = problem.solver
     phi, pose = state.phi, state.pose
     jac = jacobian_of_tip(problem, phi, pose)
@@ -113,13 +117,13 @@ def linear_step(
         push = s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence)
         pushing = np.nonzero(push)
         on_links = pushing[0] != cl.tip
-        jacs = iter(jacobian_of_capsule_point(problem, phi, pose, pushing[0][on_links], cl.t[pushing][on_links]))
+        inverses = iter(invert(jacobian_of_capsule_point(problem, phi, pose, pushing[0][on_links], cl.t[pushing][on_links])))
         for part, obs in zip(*pushing):
             v = push[part, obs] * cl.normal[part, obs]
             if part == cl.tip:  # the tip itself: the notes' term, in task space
                 dphi = dphi + jac_inv @ v
             else:
-                pushed = invert(next(jacs)) @ v
+                pushed = next(inverses) @ v
                 secondary = pushed if secondary is None else secondary + pushed
     if orientation is not None:
         dphi, null_both = orientation_in_null_space(problem, state, orientation, jac, dphi, invert)
