@@ -551,6 +551,32 @@ def test_clearances_within_reach_are_the_exact_ones_bit_for_bit(seed):
     assert compared > 0 and pruned > 0
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_solid_bounds_hold_the_exact_clearance_between_them(seed):
+    """The planner and the line search trust these bounds to leave pairs out: every exact
+    capsule clearance lies between them (batches of random arms, boxes, capsules and poses,
+    boxes crossed by links included)."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.world.distances import solid_bounds, solid_clearances
+
+    rng = np.random.default_rng([2205, seed])
+    arm = Arm.from_names(list(rng.uniform(1, 6, rng.integers(3, 7))), base=(5, 5, 0))
+    caps = joint_capsules(arm, rng.uniform(0.05, 0.5))
+    obstacles = random_shapes(rng, floor=False)
+    a, b = capsule_ends(caps, forward(arm, rng.uniform(-np.pi, np.pi, (300, arm.n))))
+    low, high = solid_bounds(a, b, caps.radius, obstacles)
+    tip = np.zeros(a.shape[:-2] + (1, 3))  # solid_clearances takes the parts with the tip last
+    exact = solid_clearances(np.concatenate([a, tip], -2), np.concatenate([b, tip], -2), np.append(caps.radius, 0.0), obstacles)[0][..., :-1, :]
+    assert np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
+    assert np.mean(high - low) > 0  # the bounds are not all tight
+    # a link through a box: its clearance is negative, and still between the bounds
+    middle = 0.5 * (a[0, 1] + b[0, 1])
+    crossed = Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(1), Boxes(middle[None], np.full((1, 3), 0.2), np.eye(3)[None]))
+    low, high = solid_bounds(a[0], b[0], caps.radius, crossed)
+    exact = solid_clearances(a[0], b[0], caps.radius, crossed)[0]
+    assert exact[1, 0] < 0 and np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
+
+
 def test_clearances_within_reach_match_coal():
     """The pairs a pruned call computes are coal's distances too (where every part is clear)."""
     rng = np.random.default_rng(2212)
