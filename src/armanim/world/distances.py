@@ -251,14 +251,19 @@ def solid_bounds(a, b, radius, obstacles: Obstacles) -> tuple[np.ndarray, np.nda
     inside that; when they overlap, minus the box's inradius, the deepest a point can be
     inside), and the distance of the segment's ends and middle to the box; both less the radii."""
     solids = obstacles.solids
-    half, low = solids.half[:, None, :], -solids.half[:, None, :]
-    ends = np.stack([a, b], axis=-2)[..., :, None, :, :]  # (..., c, 1, 2, 3)
-    x = np.matmul(ends - solids.centers[:, None, :], solids.rotations)  # box frames, (..., c, k, 2, 3)
-    points = np.concatenate([x, 0.5 * (x[..., :1, :] + x[..., 1:, :])], axis=-2)  # the ends and the middle
-    outside = points - np.minimum(np.maximum(points, low), half)
-    high = np.sqrt((outside * outside).sum(axis=-1)).min(axis=-1)
-    gap = np.maximum(np.maximum(x.min(axis=-2) - solids.half, -solids.half - x.max(axis=-2)), 0.0)
+    to_box = np.swapaxes(solids.rotations, -1, -2)
+    x0 = np.einsum("kab,...ckb->...cka", to_box, a[..., :, None, :] - solids.centers)
+    x1 = np.einsum("kab,...ckb->...cka", to_box, b[..., :, None, :] - solids.centers)
+    half = solids.half
+    gap = np.maximum(np.maximum(np.minimum(x0, x1) - half, -half - np.maximum(x0, x1)), 0.0)
     apart = np.sqrt((gap * gap).sum(axis=-1))
     grown = obstacles.solid_radius + radius[:, None]
-    low_bound = np.where(apart > 0, apart, -solids.half.min(axis=-1)) - grown  # overlapping: as deep as the box allows
-    return low_bound, high - grown
+    low = np.where(apart > 0, apart, -half.min(axis=-1)) - grown  # overlapping: as deep as the box allows
+    high = np.minimum(np.minimum(_outside(x0, half), _outside(x1, half)), _outside(0.5 * (x0 + x1), half))
+    return low, high - grown
+
+
+def _outside(p: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Distance (...) of points ``p`` (box frame) to the box (0 inside)."""
+    gap = p - np.clip(p, -half, half)
+    return np.sqrt((gap * gap).sum(axis=-1))
