@@ -1385,7 +1385,8 @@ def bench_scene(task: tuple) -> SceneResult:
     runs = [solve_one(draft, seed, index, m, p, geo, verdicts) for m in methods for p in planners]
     timings = [paired_timing(draft, seed, index, run, rounds) for run in runs if run.planner == planners[0]] if family in SHAPE_FAMILIES else []
     distances = distance_timing(draft, seed, index) if family in SHAPE_FAMILIES else ()
-    return SceneResult(index, draft.kind, verdicts, missed, oracle_seconds, runs, [t for _, t in timings], distances, [s for s, _ in timings])
+    return SceneResult(index, draft.kind, verdicts, missed, oracle_seconds, runs,
+                       twin_runs=[t for _, t in timings], shape_times=[s for s, _ in timings], distance_seconds=distances)
 
 
 def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch: int = 2000) -> tuple:
