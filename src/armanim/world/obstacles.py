@@ -126,6 +126,11 @@ class Obstacles:
         What each solid is grown by: 0 for a box, the radius for a capsule.
     solid_columns : (k,) int array
         The solids' columns of the clearances.
+    solid_axes : (3, 3k) array
+        Every solid's rotation side by side: a row of world points times it gives the points
+        in every solid's frame (less :attr:`solid_origins`), one product for all.
+    solid_origins : (k, 3) array
+        Each solid's centre in its own frame's axes (R^T c).
     scene_order : (m,) int array or None
         The columns in the scene's order taken from those of the spheres, the solids, then
         the floor (None: the same order).
@@ -151,6 +156,8 @@ class Obstacles:
         object.__setattr__(self, "solids", solids)
         object.__setattr__(self, "solid_radius", np.concatenate([np.zeros(len(self.boxes)), self.rods.radius])[order])
         object.__setattr__(self, "solid_columns", np.concatenate([columns[BOX], columns[ROD]])[order])
+        object.__setattr__(self, "solid_axes", np.ascontiguousarray(solids.rotations.transpose(1, 0, 2).reshape(3, -1)))
+        object.__setattr__(self, "solid_origins", np.einsum("kba,kb->ka", solids.rotations, solids.centers))
         canonical = np.concatenate([columns[SPHERE], self.solid_columns, columns[FLOOR]])
         in_order = bool(np.all(canonical == np.arange(len(canonical))))
         object.__setattr__(self, "scene_order", None if in_order else np.argsort(canonical))
