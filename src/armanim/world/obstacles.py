@@ -150,17 +150,8 @@ class Obstacles:
             object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, FLOOR], counts))
         columns = {kind: np.nonzero(self.kinds == kind)[0] for kind in (SPHERE, BOX, ROD, FLOOR)}
         object.__setattr__(self, "_columns", columns)  # asked for on every clearance computation
-        axes = self.rods.axes()
-        order = np.argsort(np.concatenate([columns[BOX], columns[ROD]]), kind="stable")  # the solids in the scene's order
-        solids = Boxes(*(np.concatenate([getattr(self.boxes, f), getattr(axes, f)])[order] for f in ("centers", "half", "rotations")))
-        object.__setattr__(self, "solids", solids)
-        object.__setattr__(self, "solid_radius", np.concatenate([np.zeros(len(self.boxes)), self.rods.radius])[order])
-        object.__setattr__(self, "solid_columns", np.concatenate([columns[BOX], columns[ROD]])[order])
-        object.__setattr__(self, "solid_axes", np.ascontiguousarray(solids.rotations.transpose(1, 0, 2).reshape(3, -1)))
-        object.__setattr__(self, "solid_origins", np.einsum("kba,kb->ka", solids.rotations, solids.centers))
-        canonical = np.concatenate([columns[SPHERE], self.solid_columns, columns[FLOOR]])
-        in_order = bool(np.all(canonical == np.arange(len(canonical))))
-        object.__setattr__(self, "scene_order", None if in_order else np.argsort(canonical))
+        for name, value in _derived_solids(self.boxes, self.rods, columns).items():
+            object.__setattr__(self, name, value)
 
     @classmethod
     def none(cls) -> Obstacles:
@@ -183,3 +174,22 @@ class Obstacles:
         [1]
         """
         return self._columns[kind]
+
+
+def _derived_solids(boxes: Boxes, rods: Rods, columns: dict) -> dict:
+    """:class:`Obstacles`' derived fields (``solids`` ... ``scene_order``, see its docstring) from
+    its boxes, capsules and each kind's columns."""
+    axes = rods.axes()
+    solid_columns = np.concatenate([columns[BOX], columns[ROD]])
+    order = np.argsort(solid_columns, kind="stable")  # the solids in the scene's order
+    solids = Boxes(*(np.concatenate([getattr(boxes, f), getattr(axes, f)])[order] for f in ("centers", "half", "rotations")))
+    canonical = np.concatenate([columns[SPHERE], solid_columns[order], columns[FLOOR]])
+    in_order = bool(np.all(canonical == np.arange(len(canonical))))
+    return {
+        "solids": solids,
+        "solid_radius": np.concatenate([np.zeros(len(boxes)), rods.radius])[order],
+        "solid_columns": solid_columns[order],
+        "solid_axes": np.ascontiguousarray(solids.rotations.transpose(1, 0, 2).reshape(3, -1)),
+        "solid_origins": np.einsum("kba,kb->ka", solids.rotations, solids.centers),
+        "scene_order": None if in_order else np.argsort(canonical),
+    }
