@@ -44,6 +44,16 @@ def least(values: np.ndarray, *others: np.ndarray) -> tuple[np.ndarray, ...]:
     return tuple(picked)
 
 
+def excess_beyond(p: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """How far points ``p`` (box frame, (..., 3)) lie beyond the box [low, half] along each axis,
+    (..., 3): p less its nearest point of the box, 0 inside; its length is the distance.
+
+    >>> excess_beyond(np.array([2.0, 0.5, -3.0]), -np.ones(3), np.ones(3)).tolist()
+    [1.0, 0.0, -2.0]
+    """
+    return p - np.minimum(np.maximum(p, low), half)
+
+
 def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     """Signed distance of points ``p`` (box frame, (..., 3)) to the box of half edges ``half``, (...).
 
@@ -58,7 +68,7 @@ def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
 def box_normal(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     """Unit outward normal of the box's signed distance at ``p`` (box frame), (..., 3): from
     the nearest surface point outside, the deepest face's normal inside (ties: the first axis)."""
-    gap = p - np.clip(p, -half, half)
+    gap = excess_beyond(p, -half, half)
     outside = np.sqrt(dot(gap, gap))
     if (outside > 0).all():  # every point outside (what a frame mostly has): no face to choose
         return gap / outside[..., None]
@@ -128,7 +138,7 @@ def segment_box(
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # u_i = 0: no crossing (its knots go to an end)
         t = _least_outside(x0, u, low, half)
     xt = x0 + t[..., None] * u
-    gap = xt - np.minimum(np.maximum(xt, low), half)
+    gap = excess_beyond(xt, low, half)
     dist = np.sqrt((gap * gap).sum(axis=-1))
     touching = dist <= TOUCHING
     if touching.any():  # the segment reaches the box: find its deepest point
@@ -164,7 +174,7 @@ def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, half: np.ndar
     np.fmin(np.fmax(crossings, 0.0, out=crossings), 1.0, out=crossings)  # fmax: a NaN (0/0) goes to 0
     knots[..., 6:] = _FAR_END_FIRST
     x = x0[..., None, :] + knots[..., None] * u[..., None, :]
-    excess = x - np.minimum(np.maximum(x, low[..., None, :]), half[..., None, :])
+    excess = excess_beyond(x, low[..., None, :], half[..., None, :])
     slope = (excess * u[..., None, :]).sum(axis=-1)
     right = np.where(slope > 0.0, knots, 2.0).min(axis=-1)  # the first knot where g rises (2: none)
     left = np.where(knots < right[..., None], knots, 0.0).max(axis=-1)  # the knot before it

@@ -19,7 +19,7 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.geometry import closest_on_segment
 from armanim.arm.kinematics import Pose
-from armanim.world.closest import segment_box
+from armanim.world.closest import excess_beyond, segment_box
 from armanim.world.obstacles import FLOOR, SPHERE, Obstacles
 
 
@@ -269,5 +269,5 @@ def solid_bounds(a, b, radius, obstacles: Obstacles) -> tuple[np.ndarray, np.nda
 
 def _outside(p: np.ndarray, half: np.ndarray) -> np.ndarray:
     """Distance (...) of points ``p`` (box frame) to the box (0 inside)."""
-    gap = p - np.minimum(np.maximum(p, -half), half)
+    gap = excess_beyond(p, -half, half)
     return np.sqrt((gap * gap).sum(axis=-1))
