@@ -290,6 +290,21 @@ def test_the_planned_path_never_runs_ahead_of_an_arm_the_filter_holds_back():
     assert visit.path == []  # held back for a stall window: the path is dropped, the method takes over
 
 
+def test_a_frame_that_ends_its_path_takes_the_planned_step():
+    # the frame that reaches a path's last pose ends the path; it must still take the
+    # planned step (it read the method's proposal, which no planned frame has, and crashed)
+    from armanim.motion.solution import PlanningReport
+    from armanim.motion.solvers import solver_method
+    from armanim.motion.trajectory import _one_frame, _Recorder
+
+    problem = notes_problem(method="gradient")
+    state = arm_state(problem, np.zeros(4))
+    visit = _Visit(0, problem.goals[0], [1.0], path=[np.zeros(4)], planning=PlanningReport())
+    moved = _one_frame(problem, solver_method("gradient"), _Recorder(), state, visit)
+    assert visit.path == [] and visit.frames == 1 and visit.planning.frames == 1
+    np.testing.assert_array_equal(moved.phi, state.phi)  # at the last pose: the planned step is 0
+
+
 def test_a_goal_pinned_at_the_margin_is_reached_with_one_plan():
     # before: the filter bent a path planned right down to its own margin, the arm stopped
     # 4.6 from the goal at 1.1 clearances, and three plans from the same pocket failed alike

@@ -201,13 +201,15 @@ def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int
 def _one_frame(problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
     """One filtered step: along the planned path if there is one, else the method's."""
     target = visit.goal.position
-    if visit.path:
+    if visit.path:  # (following it may end it: the last pose reached, or the arm held back too long)
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
+        ahead = None
     else:
         proposal = proposed_step(problem, method, state, target, visit.goal.orientation)
         nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
-    moved = safe_step(problem, state, nominal, None if visit.path else proposal.ahead)
+        ahead = proposal.ahead
+    moved = safe_step(problem, state, nominal, ahead)
     distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
     visit.distances.append(distance)
     visit.angles.append(angle)
