@@ -45,8 +45,9 @@ def least(values: np.ndarray, *others: np.ndarray) -> tuple[np.ndarray, ...]:
 
 
 def excess_beyond(p: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """How far points ``p`` (box frame, (..., 3)) lie beyond the box [low, half] along each axis,
-    (..., 3): p less its nearest point of the box, 0 inside; its length is the distance.
+    """How far points ``p`` (box frame) lie beyond the box [low, half] along each axis: p less
+    its nearest point of the box, 0 inside; its length is the distance. Elementwise: points
+    (..., 3) with bounds (3,), or coordinates first, (3, ...) with bounds that broadcast.
 
     >>> excess_beyond(np.array([2.0, 0.5, -3.0]), -np.ones(3), np.ones(3)).tolist()
     [1.0, 0.0, -2.0]
@@ -128,30 +129,36 @@ def segment_box(
     """
     x0 = np.matmul((a - center)[..., None, :], rotation)[..., 0, :]  # box frame: (R^T v) as a row is v R
     u = np.matmul((b - a)[..., None, :], rotation)[..., 0, :]
-    if x0.shape != u.shape:
-        x0, u = np.broadcast_arrays(x0, u)
-    single = x0.ndim == 1  # one segment: computed as a batch of one, so that its results are arrays
-    if single:
-        x0, u = x0[None], u[None]
-    half = np.asarray(half, dtype=float)
+    shape = np.broadcast_shapes(x0.shape, u.shape, np.shape(half))
+    t, dist, local = _least_in_box_frame(*(np.broadcast_to(v, shape).reshape(-1, 3).T for v in (x0, u, half)))
+    normal = np.matmul(rotation, local.T.reshape(shape + (1,)))[..., 0]
+    return t.reshape(shape[:-1]), dist.reshape(shape[:-1]), normal
+
+
+def _least_in_box_frame(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`segment_box` in the box frame, coordinates first: x0 + t u against [-half, half],
+    each (3, N); (t (N,), distance (N,), the unit normal in the box frame (3, N)).
+
+    Laid out with the N pairs last, every operation runs along them (a batch's cost is in
+    its size, not in loops over three coordinates)."""
     low = -half
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # u_i = 0: no crossing (its knots go to an end)
         t = _least_outside(x0, u, low, half)
-    xt = x0 + t[..., None] * u
+    xt = t * u
+    xt += x0
     gap = excess_beyond(xt, low, half)
-    dist = np.sqrt((gap * gap).sum(axis=-1))
+    squares = gap * gap
+    dist = np.sqrt(squares[0] + squares[1] + squares[2])
     touching = dist <= TOUCHING
-    if touching.any():  # the segment reaches the box: find its deepest point
-        x0_in, u_in, half_in = x0[touching], u[touching], np.broadcast_to(half, x0.shape)[touching]
-        ends = np.broadcast_to(_FAR_END_FIRST, x0_in.shape[:-1] + (2,))
-        t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), ends, t[touching][..., None]], axis=-1)
-        sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
-        dist[touching], t[touching] = least(sdf_in, t_in)
-        local = box_normal(x0 + t[..., None] * u, half)
-    else:
-        local = gap / dist[..., None]
-    normal = np.matmul(rotation, local[..., None])[..., 0]
-    return (t[0], dist[0], normal[0]) if single else (t, dist, normal)
+    if not touching.any():
+        gap /= dist
+        return t, dist, gap
+    x0_in, u_in, half_in = x0[:, touching].T, u[:, touching].T, half[:, touching].T  # the segment reaches the box: find its deepest point
+    ends = np.broadcast_to(_FAR_END_FIRST, x0_in.shape[:-1] + (2,))
+    t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), ends, t[touching][..., None]], axis=-1)
+    sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
+    dist[touching], t[touching] = least(sdf_in, t_in)
+    return t, dist, box_normal((x0 + t * u).T, half.T).T
 
 
 TOUCHING = 1e-9
@@ -163,24 +170,30 @@ _FAR_END_FIRST = np.array([1.0, 0.0])
 
 
 def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """(...) the largest t in [0, 1] that minimises the squared distance of x0 + t u (box
-    frame, (..., 3)) to the box [low, half]: where its derivative, sum_i u_i e_i(t) with e the
-    excess beyond the box, stops being <= 0 (0 inside the box)."""
-    knots = np.empty(x0.shape[:-1] + (8,))  # the six slab crossings, clipped to [0, 1], and the ends
+    """(N,) the largest t in [0, 1] that minimises the squared distance of x0 + t u (box
+    frame, coordinates first: (3, N)) to the box [low, half]: where its derivative,
+    sum_i u_i e_i(t) with e the excess beyond the box, stops being <= 0 (0 inside the box)."""
+    knots = np.empty((8,) + x0.shape[1:])  # the six slab crossings, clipped to [0, 1], and the ends
     inverse = 1.0 / u
-    np.multiply(half - x0, inverse, out=knots[..., 0:3])
-    np.multiply(low - x0, inverse, out=knots[..., 3:6])
-    crossings = knots[..., :6]
+    np.multiply(half - x0, inverse, out=knots[0:3])
+    np.multiply(low - x0, inverse, out=knots[3:6])
+    crossings = knots[:6]
     np.fmin(np.fmax(crossings, 0.0, out=crossings), 1.0, out=crossings)  # fmax: a NaN (0/0) goes to 0
-    knots[..., 6:] = _FAR_END_FIRST
-    x = x0[..., None, :] + knots[..., None] * u[..., None, :]
-    excess = excess_beyond(x, low[..., None, :], half[..., None, :])
-    slope = (excess * u[..., None, :]).sum(axis=-1)
-    right = np.where(slope > 0.0, knots, 2.0).min(axis=-1)  # the first knot where g rises (2: none)
-    left = np.where(knots < right[..., None], knots, 0.0).max(axis=-1)  # the knot before it
+    knots[6:] = _FAR_END_FIRST[:, None]
+    x = knots[:, None] * u  # (8, 3, N): each knot's point
+    x += x0
+    excess = excess_beyond(x, low, half)
+    excess *= u
+    slope = excess[:, 0] + excess[:, 1]
+    slope += excess[:, 2]
+    right = np.where(slope > 0.0, knots, 2.0).min(axis=0)  # the first knot where g rises (2: none)
+    left = np.where(knots < right, knots, 0.0).max(axis=0)  # the knot before it
     right = np.minimum(right, 1.0)
-    mid = x0 + (0.5 * (left + right))[..., None] * u  # on (left, right) the same coordinates are beyond the box
+    mid = (0.5 * (left + right)) * u  # on (left, right) the same coordinates are beyond the box
+    mid += x0
     near = np.minimum(np.maximum(mid, low), half)
     moving = np.where(mid != near, u, 0.0)
-    root = -(moving * (x0 - near)).sum(axis=-1) / (moving * u).sum(axis=-1)  # where that piece's derivative is 0
+    offset = moving * (x0 - near)
+    rate = moving * u
+    root = -(offset[0] + offset[1] + offset[2]) / (rate[0] + rate[1] + rate[2])  # where that piece's derivative is 0
     return np.fmax(np.fmin(root, right), left)  # fmin: a flat piece (0/0) takes its right end

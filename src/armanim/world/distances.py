@@ -253,21 +253,27 @@ def solid_bounds(a, b, radius, obstacles: Obstacles) -> tuple[np.ndarray, np.nda
 
     The ends go into every box frame by one matrix product (:attr:`Obstacles.solid_axes`),
     rotated before the centre is taken off: bounds, so rounding at 1e-15 of the coordinates
-    does not matter (the callers allow 1e-9)."""
+    does not matter (the callers allow 1e-9). Laid out solid, coordinate, then the segments
+    (k, 3, M), each operation runs along all of a batch's segments."""
     solids = obstacles.solids
-    shape = a.shape[:-1] + solids.half.shape
-    x0 = (a.reshape(-1, 3) @ obstacles.solid_axes).reshape(shape) - obstacles.solid_origins
-    x1 = (b.reshape(-1, 3) @ obstacles.solid_axes).reshape(shape) - obstacles.solid_origins
-    half = solids.half
+    k = len(solids.half)
+    x0 = (obstacles.solid_axes @ a.reshape(-1, 3).T).reshape(k, 3, -1) - obstacles.solid_origins
+    x1 = (obstacles.solid_axes @ b.reshape(-1, 3).T).reshape(k, 3, -1) - obstacles.solid_origins
+    half = obstacles.solid_half
     gap = np.maximum(np.maximum(np.minimum(x0, x1) - half, -half - np.maximum(x0, x1)), 0.0)
-    apart = np.sqrt((gap * gap).sum(axis=-1))
-    grown = obstacles.solid_radius + radius[:, None]
-    low = np.where(apart > 0, apart, -half.min(axis=-1)) - grown  # overlapping: as deep as the box allows
-    high = np.minimum(np.minimum(_outside(x0, half), _outside(x1, half)), _outside(0.5 * (x0 + x1), half))
-    return low, high - grown
+    apart = _length(gap)
+    grown = obstacles.solid_radius[:, None] + np.broadcast_to(radius, a.shape[:-1]).reshape(1, -1)
+    low = np.where(apart > 0, apart, -solids.half.min(axis=-1)[:, None]) - grown  # overlapping: as deep as the box allows
+    high = np.minimum(np.minimum(_outside(x0, half), _outside(x1, half)), _outside(0.5 * (x0 + x1), half)) - grown
+    return tuple(np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (low, high))
+
+
+def _length(v: np.ndarray) -> np.ndarray:
+    """Length (k, M) of vectors laid out (k, 3, M)."""
+    squares = v * v
+    return np.sqrt(squares[:, 0] + squares[:, 1] + squares[:, 2])
 
 
 def _outside(p: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """Distance (...) of points ``p`` (box frame) to the box (0 inside)."""
-    gap = excess_beyond(p, -half, half)
-    return np.sqrt((gap * gap).sum(axis=-1))
+    """Distance (k, M) of points ``p`` (each solid's frame, (k, 3, M)) to the box (0 inside)."""
+    return _length(excess_beyond(p, -half, half))

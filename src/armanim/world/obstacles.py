@@ -126,11 +126,14 @@ class Obstacles:
         What each solid is grown by: 0 for a box, the radius for a capsule.
     solid_columns : (k,) int array
         The solids' columns of the clearances.
-    solid_axes : (3, 3k) array
-        Every solid's rotation side by side: a row of world points times it gives the points
-        in every solid's frame (less :attr:`solid_origins`), one product for all.
-    solid_origins : (k, 3) array
+    solid_axes : (3k, 3) array
+        Every solid's transposed rotation stacked: it times a (3, M) column of world points
+        gives the points in every solid's frame, (k, 3, M) (less :attr:`solid_origins`), one
+        product for all.
+    solid_origins : (k, 3, 1) array
         Each solid's centre in its own frame's axes (R^T c).
+    solid_half : (k, 3, 1) array
+        The solids' half edges laid out as :attr:`solid_axes`' products.
     scene_order : (m,) int array or None
         The columns in the scene's order taken from those of the spheres, the solids, then
         the floor (None: the same order).
@@ -189,7 +192,8 @@ def _derived_solids(boxes: Boxes, rods: Rods, columns: dict) -> dict:
         "solids": solids,
         "solid_radius": np.concatenate([np.zeros(len(boxes)), rods.radius])[order],
         "solid_columns": solid_columns[order],
-        "solid_axes": np.ascontiguousarray(solids.rotations.transpose(1, 0, 2).reshape(3, -1)),
-        "solid_origins": np.einsum("kba,kb->ka", solids.rotations, solids.centers),
+        "solid_axes": np.ascontiguousarray(solids.rotations.transpose(0, 2, 1).reshape(-1, 3)),
+        "solid_origins": np.einsum("kba,kb->ka", solids.rotations, solids.centers)[:, :, None],
+        "solid_half": solids.half[:, :, None],
         "scene_order": None if in_order else np.argsort(canonical),
     }
