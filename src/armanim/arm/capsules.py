@@ -82,10 +82,11 @@ def frame_capsules(arm: Arm, link, start, end, radius, names=()) -> Capsules:
 
 
 def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
-    """World ends a, b of every capsule's segment, each of shape (..., c, 3).
+    """World ends a, b of every capsule's segment, each of shape (..., c, 3), read-only.
 
     x_world = p_k + R_k x for a capsule carried by joint k; a joint-to-joint capsule takes
-    the pose's joint points p_k, p_{k+1} themselves.
+    the pose's joint points p_k, p_{k+1} themselves. Computed once per pose and capsules
+    (kept in :attr:`Pose.memo`).
 
     >>> from armanim.arm.kinematics import forward
     >>> arm = Arm.from_names([2, 5], base=(1, 0, 0))
@@ -93,6 +94,18 @@ def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray
     >>> a.tolist(), b.tolist()
     ([[1.0, 0.0, 0.0], [1.0, 0.0, 2.0]], [[1.0, 0.0, 2.0], [1.0, 0.0, 7.0]])
     """
+    kept = pose.memo.get("capsule_ends")
+    if kept is not None and kept[0] is capsules:
+        return kept[1]
+    ends = _world_ends(capsules, pose)
+    for end in ends:
+        end.flags.writeable = False  # shared by every consumer of the pose
+    pose.memo["capsule_ends"] = (capsules, ends)
+    return ends
+
+
+def _world_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`capsule_ends`, computed."""
     link = capsules.link
     if capsules.joint_segment.all():
         return pose.points[..., link, :], pose.points[..., link + 1, :]
@@ -117,13 +130,32 @@ def capsule_point(capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
 def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
     """(..., 3, n) analytic Jacobian of the point at fraction ``t`` along capsule ``capsule``;
     for (k,) arrays ``capsule`` and ``t`` (a single pose), the k points' Jacobians in one
-    call, (k, 3, n), each the same as alone.
+    call, (k, 3, n), each the same as alone, each computed once per pose (a frame's pushes,
+    filter rows and cost gradient ask for the same closest points: kept in :attr:`Pose.memo`).
 
     >>> from armanim.arm.kinematics import forward
     >>> arm = Arm.from_names([1, 1], axes=["z", "z"], direction="x")
     >>> capsule_point_jacobian(arm, joint_capsules(arm, 0.1), forward(arm, np.zeros(2)), 1, 0.5)[1].tolist()
     [1.5, 0.5]
     """
+    if not np.ndim(capsule):
+        return _point_jacobians(arm, capsules, pose, capsule, t)
+    kept = pose.memo.get("capsule_point_jacobians")
+    if kept is None or kept[0] is not arm or kept[1] is not capsules:
+        kept = pose.memo["capsule_point_jacobians"] = (arm, capsules, {})
+    known = kept[2]
+    points = list(zip(np.asarray(capsule).tolist(), np.asarray(t, dtype=float).tolist()))
+    missing = [point for point in dict.fromkeys(points) if point not in known]
+    if missing:
+        fresh = _point_jacobians(arm, capsules, pose, np.array([c for c, _ in missing]), np.array([s for _, s in missing]))
+        known.update(zip(missing, fresh))
+    if not points:
+        return np.zeros((0, 3, arm.n))
+    return np.stack([known[point] for point in points])
+
+
+def _point_jacobians(arm: Arm, capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
+    """:func:`capsule_point_jacobian`, computed."""
     point = capsule_point(capsules, pose, capsule, t)
     link = capsules.link[capsule] if np.ndim(capsule) else int(capsules.link[capsule])
     return point_jacobian(arm, pose, link, point)

@@ -136,11 +136,17 @@ class Pose:
     axes : (..., n, 3) array or None
         w_j = R_j a_j, each joint's axis in the world (kept by single-pose FK, which the
         Jacobians of a frame reuse); None where not computed.
+    memo : dict
+        What has been computed from this pose and is asked for again within a frame (the
+        capsules' world ends, the Jacobians of points on them), filled by their functions in
+        :mod:`armanim.arm.capsules`: each is computed once per pose, however many consumers
+        (clearances, the method's pushes, the filter's rows, the cost's gradient) ask.
     """
 
     points: np.ndarray
     frames: np.ndarray
     axes: np.ndarray | None = None  # (..., n, 3) world joint axes, when forward computed them
+    memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
     def tip(self) -> np.ndarray:

@@ -129,18 +129,37 @@ def segment_box(
     """
     x0 = np.matmul((a - center)[..., None, :], rotation)[..., 0, :]  # box frame: (R^T v) as a row is v R
     u = np.matmul((b - a)[..., None, :], rotation)[..., 0, :]
-    shape = np.broadcast_shapes(x0.shape, u.shape, np.shape(half))
-    t, dist, local = _least_in_box_frame(*(np.broadcast_to(v, shape).reshape(-1, 3).T for v in (x0, u, half)))
-    normal = np.matmul(rotation, local.T.reshape(shape + (1,)))[..., 0]
-    return t.reshape(shape[:-1]), dist.reshape(shape[:-1]), normal
+    single = x0.ndim == 1 and u.ndim == 1 and np.ndim(half) == 1  # one segment: computed as a batch of one, so that its results are arrays
+    if single:
+        x0, u = x0[None], u[None]
+    half = np.asarray(half, dtype=float)
+    half = half.reshape((1,) * (x0.ndim - half.ndim) + half.shape)
+    t, dist, local = _least_in_box_frame(coordinates_first(x0), coordinates_first(u), coordinates_first(half))
+    normal = np.matmul(rotation, coordinates_last(local)[..., None])[..., 0]
+    return (t[0], dist[0], normal[0]) if single else (t, dist, normal)
+
+
+def coordinates_first(v: np.ndarray) -> np.ndarray:
+    """The view (3, ...) of points ``v`` (..., 3).
+
+    >>> coordinates_first(np.zeros((4, 5, 3))).shape
+    (3, 4, 5)
+    """
+    return v.transpose((v.ndim - 1,) + tuple(range(v.ndim - 1)))
+
+
+def coordinates_last(v: np.ndarray) -> np.ndarray:
+    """The view (..., 3) of points ``v`` (3, ...): :func:`coordinates_first` undone."""
+    return v.transpose(tuple(range(1, v.ndim)) + (0,))
 
 
 def _least_in_box_frame(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`segment_box` in the box frame, coordinates first: x0 + t u against [-half, half],
-    each (3, N); (t (N,), distance (N,), the unit normal in the box frame (3, N)).
+    (3, ...) each (``half`` broadcast); (t (...), distance (...), the unit normal in the box
+    frame (3, ...)).
 
-    Laid out with the N pairs last, every operation runs along them (a batch's cost is in
-    its size, not in loops over three coordinates)."""
+    With the coordinates first, every operation runs along all of the pairs at once (a batch's
+    cost is in its size, not in loops over three coordinates)."""
     low = -half
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # u_i = 0: no crossing (its knots go to an end)
         t = _least_outside(x0, u, low, half)
@@ -153,12 +172,13 @@ def _least_in_box_frame(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> tupl
     if not touching.any():
         gap /= dist
         return t, dist, gap
-    x0_in, u_in, half_in = x0[:, touching].T, u[:, touching].T, half[:, touching].T  # the segment reaches the box: find its deepest point
+    half = np.broadcast_to(half, x0.shape)  # the segment reaches the box: find its deepest point
+    x0_in, u_in, half_in = x0[:, touching].T, u[:, touching].T, half[:, touching].T
     ends = np.broadcast_to(_FAR_END_FIRST, x0_in.shape[:-1] + (2,))
     t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), ends, t[touching][..., None]], axis=-1)
     sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
     dist[touching], t[touching] = least(sdf_in, t_in)
-    return t, dist, box_normal((x0 + t * u).T, half.T).T
+    return t, dist, coordinates_first(box_normal(coordinates_last(x0 + t * u), coordinates_last(half)))
 
 
 TOUCHING = 1e-9
@@ -170,8 +190,8 @@ _FAR_END_FIRST = np.array([1.0, 0.0])
 
 
 def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """(N,) the largest t in [0, 1] that minimises the squared distance of x0 + t u (box
-    frame, coordinates first: (3, N)) to the box [low, half]: where its derivative,
+    """(...) the largest t in [0, 1] that minimises the squared distance of x0 + t u (box
+    frame, coordinates first: (3, ...)) to the box [low, half]: where its derivative,
     sum_i u_i e_i(t) with e the excess beyond the box, stops being <= 0 (0 inside the box)."""
     knots = np.empty((8,) + x0.shape[1:])  # the six slab crossings, clipped to [0, 1], and the ends
     inverse = 1.0 / u
@@ -179,8 +199,9 @@ def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, half: np.ndar
     np.multiply(low - x0, inverse, out=knots[3:6])
     crossings = knots[:6]
     np.fmin(np.fmax(crossings, 0.0, out=crossings), 1.0, out=crossings)  # fmax: a NaN (0/0) goes to 0
-    knots[6:] = _FAR_END_FIRST[:, None]
-    x = knots[:, None] * u  # (8, 3, N): each knot's point
+    knots[6] = _FAR_END_FIRST[0]
+    knots[7] = _FAR_END_FIRST[1]
+    x = knots[:, None] * u  # (8, 3, ...): each knot's point
     x += x0
     excess = excess_beyond(x, low, half)
     excess *= u

@@ -24,7 +24,6 @@ The QP is solved with DAQP (a dual active-set solver for small dense problems).
 
 from __future__ import annotations
 
-from ctypes import c_int
 from dataclasses import dataclass
 
 import numpy as np
@@ -175,7 +174,7 @@ def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | No
     upper = np.concatenate([cons.hi, np.full(k, NO_BOUND)])
     lower = np.concatenate([cons.lo, cons.lower])
     x, _, flag, _ = daqp.solve(
-        np.eye(n), -nominal, cons.rows.reshape(k, n), upper, lower, np.zeros(n + k, dtype=c_int)
+        np.eye(n), -nominal, cons.rows.reshape(k, n), upper, lower, np.zeros(n + k, dtype=np.intc)
     )
     if flag < 1 or not np.all(np.isfinite(x)):
         return None
