@@ -125,8 +125,8 @@ def test_a_segment_through_a_box_is_found_inside_at_every_angle():
         a, b = inside - 3 * direction, inside + 3 * direction * rng.uniform(0.5, 1.5)
         t, dist, normal = segment_box(a, b, center, half, rotation)
         point = (a + t * (b - a) - center) @ rotation
-        assert float(dist) < 0 and float(dist) == pytest.approx(float(box_signed_distance(point, -half, half)), abs=1e-12)
-        depth = box_signed_distance((inside - center) @ rotation, -half, half)
+        assert float(dist) < 0 and float(dist) == pytest.approx(float(box_signed_distance(point, half)), abs=1e-12)
+        depth = box_signed_distance((inside - center) @ rotation, half)
         assert float(dist) <= float(depth) + 1e-12  # at least as deep as the point it passes through
 
 
@@ -155,7 +155,7 @@ def test_segment_box_against_surface_sampling():
         b = a + rng.normal(size=3)
         t, dist, normal = segment_box(a, b, center, half, rotation)
         points = a + np.linspace(0, 1, along)[:, None] * (b - a)
-        sdf = box_signed_distance((points - center) @ rotation, -half, half)
+        sdf = box_signed_distance((points - center) @ rotation, half)
         step = np.linalg.norm(b - a) / (along - 1)
         assert dist <= sdf.min() + 1e-12  # ours is the least (sampling can only miss it)
         assert sdf.min() - dist < step + 1e-12
@@ -554,30 +554,26 @@ def test_clearances_within_reach_are_the_exact_ones_bit_for_bit(seed):
 @pytest.mark.parametrize("seed", range(4))
 def test_solid_bounds_hold_the_exact_clearance_between_them(seed):
     """The planner and the line search trust these bounds to leave pairs out: every exact
-    capsule clearance lies between them (batches of random arms, boxes, capsules, a floor and
-    poses, boxes crossed by links and links below the floor included)."""
+    capsule clearance lies between them (batches of random arms, boxes, capsules and poses,
+    boxes crossed by links included)."""
     from armanim.arm.capsules import capsule_ends
-    from armanim.world.distances import solid_bounds, solid_clearances, standing
+    from armanim.world.distances import solid_bounds, solid_clearances
 
     rng = np.random.default_rng([2205, seed])
     arm = Arm.from_names(list(rng.uniform(1, 6, rng.integers(3, 7))), base=(5, 5, 0))
     caps = joint_capsules(arm, rng.uniform(0.05, 0.5))
-    obstacles = random_shapes(rng, floor=bool(seed % 2))
-    on_base = standing(caps)
+    obstacles = random_shapes(rng, floor=False)
     a, b = capsule_ends(caps, forward(arm, rng.uniform(-np.pi, np.pi, (300, arm.n))))
-    low, high = solid_bounds(a, b, caps.radius, obstacles, on_base)
+    low, high = solid_bounds(a, b, caps.radius, obstacles)
     tip = np.zeros(a.shape[:-2] + (1, 3))  # solid_clearances takes the parts with the tip last
-    exact = solid_clearances(np.concatenate([a, tip], -2), np.concatenate([b, tip], -2), np.append(caps.radius, 0.0), obstacles, on_base)[0][..., :-1, :]
+    exact = solid_clearances(np.concatenate([a, tip], -2), np.concatenate([b, tip], -2), np.append(caps.radius, 0.0), obstacles)[0][..., :-1, :]
     assert np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
-    assert np.mean(high[np.isfinite(high)] - low[np.isfinite(high)]) > 0  # the bounds are not all tight
-    if obstacles.floor is not None:  # the floor: links below it too; the first link stands on the base (+inf)
-        floor = obstacles.solids.floor
-        assert np.all(exact[..., 0, floor] == np.inf) and np.any(exact[..., 1:, floor] < 0)
+    assert np.mean(high - low) > 0  # the bounds are not all tight
     # a link through a box: its clearance is negative, and still between the bounds
     middle = 0.5 * (a[0, 1] + b[0, 1])
     crossed = Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(1), Boxes(middle[None], np.full((1, 3), 0.2), np.eye(3)[None]))
-    low, high = solid_bounds(a[0], b[0], caps.radius, crossed, on_base)
-    exact = solid_clearances(a[0], b[0], caps.radius, crossed, on_base)[0]
+    low, high = solid_bounds(a[0], b[0], caps.radius, crossed)
+    exact = solid_clearances(a[0], b[0], caps.radius, crossed)[0]
     assert exact[1, 0] < 0 and np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
 
 

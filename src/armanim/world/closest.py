@@ -5,8 +5,7 @@ distance of its segment's points to the solid, less the radius. :func:`segment_b
 for segments a-b, the fraction t along the segment of that least point and the box's signed
 distance there (negative inside), with the unit normal (the signed distance's gradient
 there, pointing out of the box). A box may be flat or a segment (edges of length 0): a
-capsule obstacle is its axis, a box with one edge, grown by its radius. A box may also be
-unbounded (:func:`segment_bounds`): the floor is the half-space below it. Everything
+capsule obstacle is its axis, a box with one edge, grown by its radius. Everything
 broadcasts over leading dimensions. Pure core: numpy only.
 
 Exact: the least distance of a segment to a box is a convex problem in one variable whose
@@ -45,51 +44,38 @@ def least(values: np.ndarray, *others: np.ndarray) -> tuple[np.ndarray, ...]:
     return tuple(picked)
 
 
-def excess_beyond(p: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """How far points ``p`` (box frame) lie beyond the box [low, high] along each axis: p less
+def excess_beyond(p: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """How far points ``p`` (box frame) lie beyond the box [low, half] along each axis: p less
     its nearest point of the box, 0 inside; its length is the distance. Elementwise: points
     (..., 3) with bounds (3,), or coordinates first, (3, ...) with bounds that broadcast.
 
     >>> excess_beyond(np.array([2.0, 0.5, -3.0]), -np.ones(3), np.ones(3)).tolist()
     [1.0, 0.0, -2.0]
     """
-    return p - np.minimum(np.maximum(p, low), high)
+    return p - np.minimum(np.maximum(p, low), half)
 
 
-def face_offsets(p: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """How far points ``p`` (box frame, (..., 3)) lie outside each axis's slab [low, high],
-    (..., 3): the larger of p - high and low - p, negative inside (minus the depth from the
-    nearer face); -inf along an unbounded axis.
+def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Signed distance of points ``p`` (box frame, (..., 3)) to the box of half edges ``half``, (...).
 
-    >>> face_offsets(np.array([2.0, 0.5, -3.0]), -np.ones(3), np.ones(3)).tolist()
-    [1.0, -0.5, 2.0]
-    """
-    return np.maximum(p - high, low - p)
-
-
-def box_signed_distance(p: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """Signed distance of points ``p`` (box frame, (..., 3)) to the box [low, high], (...).
-
-    >>> box_signed_distance(np.array([[2.0, 0, 0], [0.5, 0, 0]]), -np.ones(3), np.ones(3)).tolist()
+    >>> box_signed_distance(np.array([[2.0, 0, 0], [0.5, 0, 0]]), np.ones(3)).tolist()
     [1.0, -0.5]
     """
-    q = face_offsets(p, low, high)
+    q = np.abs(p) - half
     beyond = np.maximum(q, 0.0)
     return np.sqrt(dot(beyond, beyond)) + np.minimum(q.max(axis=-1), 0.0)
 
 
-def box_normal(p: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """Unit outward normal of the signed distance to the box [low, high] at ``p`` (box frame),
-    (..., 3): from the nearest surface point outside, the deepest face's normal inside (ties:
-    the first axis; of a face's two sides, the one of the half of the slab ``p`` is in)."""
-    gap = excess_beyond(p, low, high)
+def box_normal(p: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Unit outward normal of the box's signed distance at ``p`` (box frame), (..., 3): from
+    the nearest surface point outside, the deepest face's normal inside (ties: the first axis)."""
+    gap = excess_beyond(p, -half, half)
     outside = np.sqrt(dot(gap, gap))
     if (outside > 0).all():  # every point outside (what a frame mostly has): no face to choose
         return gap / outside[..., None]
-    axis = np.argmax(face_offsets(p, low, high), axis=-1)
-    with np.errstate(invalid="ignore"):  # an unbounded axis's middle is nan: never the deepest face
-        side = np.where(p >= 0.5 * (low + high), 1.0, -1.0)
-    face = np.where(np.arange(3) == axis[..., None], side, 0.0)
+    q = np.abs(p) - half
+    axis = np.argmax(q, axis=-1)
+    face = np.where(np.arange(3) == axis[..., None], np.where(p >= 0, 1.0, -1.0), 0.0)
     return np.where((outside > 0)[..., None], gap / np.where(outside > 0, outside, 1.0)[..., None], face)
 
 
@@ -97,15 +83,15 @@ _PAIRS = np.array(list(combinations(range(6), 2)))
 """The 15 pairs of the box's six face functions h_i -+ x_i (i = 0, 1, 2 with +, then with -)."""
 
 
-def _inside_candidates(x0: np.ndarray, u: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """(..., 15) fractions where two of the depth functions (high_i - x_i(t), x_i(t) - low_i)
-    cross: the depth inside the box (their least) is concave and piecewise linear, so its
-    greatest value along the segment lies at one of them or at an end. An unbounded face
-    never crosses (its candidate, nan, goes to 1: the far end, as among ties)."""
-    level = np.concatenate([high - x0, x0 - low], axis=-1)  # (..., 6)
-    rate = np.concatenate([-u, u], axis=-1)
+def _inside_candidates(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """(..., 15) fractions where two of the depth functions h_i - sigma x_i(t) cross: the
+    depth inside the box (their least) is concave and piecewise linear, so its greatest value
+    along the segment lies at one of them or at an end."""
+    sigma = np.array([1.0, 1.0, 1.0, -1.0, -1.0, -1.0])
+    level = np.concatenate([half, half], axis=-1) - sigma * np.concatenate([x0, x0], axis=-1)  # (..., 6)
+    rate = -sigma * np.concatenate([u, u], axis=-1)
     i, j = _PAIRS[:, 0], _PAIRS[:, 1]
-    return np.fmax(np.fmin(safe_ratio(level[..., j] - level[..., i], rate[..., i] - rate[..., j]), 1.0), 0.0)
+    return np.clip(safe_ratio(level[..., j] - level[..., i], rate[..., i] - rate[..., j]), 0.0, 1.0)
 
 
 def segment_box(
@@ -141,29 +127,14 @@ def segment_box(
     >>> float(t), round(float(d) ** 2, 12), np.round(n ** 2, 12).tolist()
     (0.5, 0.5, [0.5, 0.0, 0.5])
     """
-    half = np.asarray(half, dtype=float)
-    return segment_bounds(a, b, center, -half, half, rotation)
-
-
-def segment_bounds(
-    a: np.ndarray, b: np.ndarray, center: np.ndarray, low: np.ndarray, high: np.ndarray, rotation: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`segment_box` for a box given by its bounds in its own frame: the points x with
-    low <= R^T (x - center) <= high, where a bound may be infinite (the floor z = f is the
-    half-space of centre (0, 0, f), no rotation, low (-inf, -inf, -inf), high (inf, inf, 0)).
-
-    >>> t, d, n = segment_bounds(np.array([0.0, 0, 3]), np.array([9.0, 0, 1]), np.zeros(3),
-    ...                          np.full(3, -np.inf), np.array([np.inf, np.inf, 0.0]), np.eye(3))
-    >>> float(t), float(d), n.tolist()
-    (1.0, 1.0, [0.0, 0.0, 1.0])
-    """
     x0 = np.matmul((a - center)[..., None, :], rotation)[..., 0, :]  # box frame: (R^T v) as a row is v R
     u = np.matmul((b - a)[..., None, :], rotation)[..., 0, :]
-    single = x0.ndim == 1 and u.ndim == 1 and np.ndim(low) == 1  # one segment: computed as a batch of one, so that its results are arrays
+    single = x0.ndim == 1 and u.ndim == 1 and np.ndim(half) == 1  # one segment: computed as a batch of one, so that its results are arrays
     if single:
         x0, u = x0[None], u[None]
-    low, high = (np.reshape(v, (1,) * (x0.ndim - np.ndim(v)) + np.shape(v)) for v in (low, high))
-    t, dist, local = _least_in_box_frame(*(coordinates_first(v) for v in (x0, u, low, high)))
+    half = np.asarray(half, dtype=float)
+    half = half.reshape((1,) * (x0.ndim - half.ndim) + half.shape)
+    t, dist, local = _least_in_box_frame(coordinates_first(x0), coordinates_first(u), coordinates_first(half))
     normal = np.matmul(rotation, coordinates_last(local)[..., None])[..., 0]
     return (t[0], dist[0], normal[0]) if single else (t, dist, normal)
 
@@ -182,33 +153,32 @@ def coordinates_last(v: np.ndarray) -> np.ndarray:
     return v.transpose(tuple(range(1, v.ndim)) + (0,))
 
 
-def _least_in_box_frame(x0: np.ndarray, u: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`segment_bounds` in the box frame, coordinates first: x0 + t u against [low, high],
-    (3, ...) each (the bounds broadcast); (t (...), distance (...), the unit normal in the box
+def _least_in_box_frame(x0: np.ndarray, u: np.ndarray, half: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`segment_box` in the box frame, coordinates first: x0 + t u against [-half, half],
+    (3, ...) each (``half`` broadcast); (t (...), distance (...), the unit normal in the box
     frame (3, ...)).
 
     With the coordinates first, every operation runs along all of the pairs at once (a batch's
     cost is in its size, not in loops over three coordinates)."""
+    low = -half
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # u_i = 0: no crossing (its knots go to an end)
-        t = _least_outside(x0, u, low, high)
+        t = _least_outside(x0, u, low, half)
     xt = t * u
     xt += x0
-    gap = excess_beyond(xt, low, high)
+    gap = excess_beyond(xt, low, half)
     squares = gap * gap
     dist = np.sqrt(squares[0] + squares[1] + squares[2])
     touching = dist <= TOUCHING
     if not touching.any():
         gap /= dist
         return t, dist, gap
-    low, high = (np.broadcast_to(v, x0.shape) for v in (low, high))  # the segment reaches the box: find its deepest point
-    x0_in, u_in, low_in, high_in = (v[:, touching].T for v in (x0, u, low, high))
+    half = np.broadcast_to(half, x0.shape)  # the segment reaches the box: find its deepest point
+    x0_in, u_in, half_in = x0[:, touching].T, u[:, touching].T, half[:, touching].T
     ends = np.broadcast_to(_FAR_END_FIRST, x0_in.shape[:-1] + (2,))
-    with np.errstate(invalid="ignore"):  # an unbounded face: inf - inf
-        candidates = _inside_candidates(x0_in, u_in, low_in, high_in)
-    t_in = np.concatenate([candidates, ends, t[touching][..., None]], axis=-1)
-    sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], low_in[..., None, :], high_in[..., None, :])
+    t_in = np.concatenate([_inside_candidates(x0_in, u_in, half_in), ends, t[touching][..., None]], axis=-1)
+    sdf_in = box_signed_distance(x0_in[..., None, :] + t_in[..., None] * u_in[..., None, :], half_in[..., None, :])
     dist[touching], t[touching] = least(sdf_in, t_in)
-    return t, dist, coordinates_first(box_normal(*(coordinates_last(v) for v in (x0 + t * u, low, high))))
+    return t, dist, coordinates_first(box_normal(coordinates_last(x0 + t * u), coordinates_last(half)))
 
 
 TOUCHING = 1e-9
@@ -219,13 +189,13 @@ _FAR_END_FIRST = np.array([1.0, 0.0])
 """The segment's ends as candidates inside, the far end first (of ties, the one a joint moves most)."""
 
 
-def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
     """(...) the largest t in [0, 1] that minimises the squared distance of x0 + t u (box
-    frame, coordinates first: (3, ...)) to the box [low, high]: where its derivative,
+    frame, coordinates first: (3, ...)) to the box [low, half]: where its derivative,
     sum_i u_i e_i(t) with e the excess beyond the box, stops being <= 0 (0 inside the box)."""
     knots = np.empty((8,) + x0.shape[1:])  # the six slab crossings, clipped to [0, 1], and the ends
     inverse = 1.0 / u
-    np.multiply(high - x0, inverse, out=knots[0:3])
+    np.multiply(half - x0, inverse, out=knots[0:3])
     np.multiply(low - x0, inverse, out=knots[3:6])
     crossings = knots[:6]
     np.fmin(np.fmax(crossings, 0.0, out=crossings), 1.0, out=crossings)  # fmax: a NaN (0/0) goes to 0
@@ -233,7 +203,7 @@ def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, high: np.ndar
     knots[7] = _FAR_END_FIRST[1]
     x = knots[:, None] * u  # (8, 3, ...): each knot's point
     x += x0
-    excess = excess_beyond(x, low, high)
+    excess = excess_beyond(x, low, half)
     excess *= u
     slope = excess[:, 0] + excess[:, 1]
     slope += excess[:, 2]
@@ -242,7 +212,7 @@ def _least_outside(x0: np.ndarray, u: np.ndarray, low: np.ndarray, high: np.ndar
     right = np.minimum(right, 1.0)
     mid = (0.5 * (left + right)) * u  # on (left, right) the same coordinates are beyond the box
     mid += x0
-    near = np.minimum(np.maximum(mid, low), high)
+    near = np.minimum(np.maximum(mid, low), half)
     moving = np.where(mid != near, u, 0.0)
     offset = moving * (x0 - near)
     rate = moving * u

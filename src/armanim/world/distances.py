@@ -19,8 +19,8 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.geometry import closest_on_segment
 from armanim.arm.kinematics import Pose
-from armanim.world.closest import excess_beyond, segment_bounds
-from armanim.world.obstacles import SPHERE, Obstacles
+from armanim.world.closest import excess_beyond, segment_box
+from armanim.world.obstacles import FLOOR, SPHERE, Obstacles
 
 
 @dataclass(frozen=True)
@@ -84,12 +84,13 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.n
     radius = np.append(capsules.radius, 0.0)  # the tip is a point
     if obstacles.spheres_only:
         return sphere_clearances(pts, ends, radius, obstacles)
-    kinds = []  # (d, t, normal) of the spheres, then of the solids (the floor among them): the columns in that order
+    kinds = []  # (d, t, normal) of the spheres, the solids, the floor: the columns in that order
     if len(obstacles.radii):
         kinds.append(astuple(sphere_clearances(pts, ends, radius, obstacles)))
-    if len(obstacles.solids):
-        within = None if reach is None else np.asarray(reach, dtype=float)[obstacles.solids.columns]
-        kinds.append(solid_clearances(pts, ends, radius, obstacles, standing(capsules), within))
+    if len(obstacles.solid_radius):
+        kinds.append(solid_clearances(pts, ends, radius, obstacles, None if reach is None else np.asarray(reach, dtype=float)[obstacles.solid_columns]))
+    if obstacles.floor is not None:
+        kinds.append(floor_clearances(pts, ends, radius, obstacles.floor, standing(capsules)))
     d, t, normal = kinds[0] if len(kinds) == 1 else (np.concatenate(c, axis=axis) for c, axis in zip(zip(*kinds), (-1, -1, -2)))
     order = obstacles.scene_order
     if order is not None:
@@ -143,25 +144,19 @@ def _pruned(pts: np.ndarray, k: int, where: tuple, exact) -> tuple[np.ndarray, n
     return d, t, normal
 
 
-def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, on_base: np.ndarray,
-                     reach: np.ndarray | None = None):
-    """(d, t, normal) of the parts to the solids (the boxes and capsule obstacles in the scene's
-    order, then the floor: :class:`~armanim.world.obstacles.Solids`), (..., p, k): the least
-    signed distance of each part's segment to each solid (a capsule's: its axis,
-    :meth:`~armanim.world.obstacles.Rods.axes`) less both radii
-    (:func:`~armanim.world.closest.segment_bounds`), the normal out of the solid; the floor's
-    is +inf for the parts ``on_base`` (:func:`standing`).
+def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, reach: np.ndarray | None = None):
+    """(d, t, normal) of the parts to the solids (the boxes and capsule obstacles, in the scene's order), (..., p, k):
+    the least signed distance of each part's segment to each solid's box (a capsule's: its
+    axis, :meth:`~armanim.world.obstacles.Rods.axes`) less both radii
+    (:func:`~armanim.world.closest.segment_box`), the normal out of the solid.
     With ``reach`` (k,), the pairs that :func:`solid_bounds` puts beyond it are +inf (see :func:`clearances`)."""
-    solids = obstacles.solids
     if reach is not None:
-        where = within_reach(solid_bounds(pts, ends, radius, obstacles, on_base)[0], reach)
-        return _pruned(pts, len(solids), where, lambda: solid_pairs(pts, ends, radius, obstacles, where))
-    t, dist, normal = segment_bounds(pts[..., :, None, :], ends[..., :, None, :], solids.centers, solids.low, solids.high, solids.rotations)
+        where = within_reach(solid_bounds(pts, ends, radius, obstacles)[0], reach)
+        return _pruned(pts, len(obstacles.solid_radius), where, lambda: solid_pairs(pts, ends, radius, obstacles, where))
+    solids = obstacles.solids
+    t, dist, normal = segment_box(pts[..., :, None, :], ends[..., :, None, :], solids.centers, solids.half, solids.rotations)
     t[..., -1, :] = 1.0
-    d = dist - solids.radius - radius[:, None]
-    if solids.floor is not None:
-        d[..., on_base, solids.floor] = np.inf
-    return d, t, normal
+    return dist - obstacles.solid_radius - radius[:, None], t, normal
 
 
 def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, where: tuple):
@@ -170,14 +165,29 @@ def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles
     *pose, part, solid = where
     at = tuple(pose) + (part,)
     solids = obstacles.solids
-    t, dist, normal = segment_bounds(pts[at], ends[at], solids.centers[solid], solids.low[solid], solids.high[solid], solids.rotations[solid])
-    return dist - solids.radius[solid] - radius[part], t, normal
+    t, dist, normal = segment_box(pts[at], ends[at], solids.centers[solid], solids.half[solid], solids.rotations[solid])
+    return dist - obstacles.solid_radius[solid] - radius[part], t, normal
+
+
+def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray, tip: bool = True):
+    """(d, t, normal) of the parts to the plane z = ``floor``, (..., p, 1): the lower end's
+    height above it less the radius; +inf for the ``exempt`` parts ((p,) bool); the last part
+    is the tip unless ``tip`` is False."""
+    lower_end = ends[..., 2] <= pts[..., 2]  # a level part: its far end, the one its joint moves most
+    height = np.minimum(pts[..., 2], ends[..., 2]) - floor - radius
+    d = np.where(exempt, np.inf, height)[..., None]
+    t = np.where(lower_end, 1.0, 0.0)
+    if tip:
+        t[..., -1] = 1.0
+    normal = np.zeros(d.shape + (3,))
+    normal[..., 2] = 1.0
+    return d, t[..., None], normal
 
 
 def standing(capsules: Capsules) -> np.ndarray:
-    """Indices of the capsules the floor leaves out: those the first joint carries (they stand
-    on the base); the tip never."""
-    return np.nonzero(capsules.link == 0)[0]
+    """(c+1,) bool: the parts the floor leaves out, the capsules the first joint carries
+    (they stand on the base); the tip never."""
+    return np.append(capsules.link == 0, False)
 
 
 def point_clearances(points: np.ndarray, obstacles: Obstacles) -> np.ndarray:
@@ -193,10 +203,12 @@ def point_clearances(points: np.ndarray, obstacles: Obstacles) -> np.ndarray:
     spheres = obstacles.columns(SPHERE)
     if len(spheres):
         d[:, spheres] = np.linalg.norm(points[:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
-    solids = obstacles.solids
-    if len(solids):
-        dist = segment_bounds(points[:, None], points[:, None], solids.centers, solids.low, solids.high, solids.rotations)[1]
-        d[:, solids.columns] = dist - solids.radius
+    if len(obstacles.solid_radius):
+        solids = obstacles.solids
+        dist = segment_box(points[:, None], points[:, None], solids.centers, solids.half, solids.rotations)[1]
+        d[:, obstacles.solid_columns] = dist - obstacles.solid_radius
+    if obstacles.floor is not None:
+        d[:, obstacles.columns(FLOOR)] = points[:, 2:] - obstacles.floor
     return d
 
 
@@ -204,9 +216,10 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     """Smallest clearance of any capsule to any obstacle, shape (...); +inf if none.
 
     The same number as the least of :func:`clearances`' links, found with less work among
-    boxes, capsules and the floor (the planner asks it of thousands of poses): each solid's
-    exact clearance is computed only where a cheap lower bound (:func:`solid_bounds`) is
-    below a pose's best upper bound (the same function's, or an exact sphere's clearance).
+    boxes and capsules (the planner asks it of thousands of poses): each box's and capsule
+    obstacle's exact clearance is computed only where a cheap lower bound
+    (:func:`solid_bounds`) is below a pose's best upper bound (the same function's, or an
+    exact sphere's or the floor's clearance).
     """
     if len(obstacles) == 0:
         return np.full(pose.points.shape[:-2], np.inf)
@@ -217,8 +230,11 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     best = np.full(a.shape[:-2], np.inf)
     if len(obstacles.radii):
         best = np.minimum(best, sphere_clearances(a, b, radius, obstacles, tip=False).d.min(axis=(-1, -2)))
-    if len(obstacles.solids):
-        low, high = solid_bounds(a, b, radius, obstacles, standing(capsules))
+    if obstacles.floor is not None:
+        height = floor_clearances(a, b, radius, obstacles.floor, capsules.link == 0, tip=False)[0]
+        best = np.minimum(best, height.min(axis=(-1, -2)))
+    if len(obstacles.solid_radius):
+        low, high = solid_bounds(a, b, radius, obstacles)
         best = np.minimum(best, high.min(axis=(-1, -2)))
         doubt = low <= best[..., None, None]
         if np.any(doubt):
@@ -229,31 +245,27 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     return best
 
 
-def solid_bounds(a, b, radius, obstacles: Obstacles, on_base: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def solid_bounds(a, b, radius, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds (..., c, k) of the capsules' clearances to the solids: in each
-    solid's frame, the gap between the solid and the segment's bounding box (the segment lies
-    inside that; when they overlap, minus the solid's inradius, the deepest a point can be
-    inside), and the distance of the segment's ends and middle to the solid; both less the
-    radii. The floor's are +inf for the capsules ``on_base``, as its clearance.
+    solid's box frame, the gap between the box and the segment's bounding box (the segment lies
+    inside that; when they overlap, minus the box's inradius, the deepest a point can be
+    inside), and the distance of the segment's ends and middle to the box; both less the radii.
 
-    The ends go into every solid's frame by one matrix product (:attr:`Solids.axes`),
+    The ends go into every box frame by one matrix product (:attr:`Obstacles.solid_axes`),
     rotated before the centre is taken off: bounds, so rounding at 1e-15 of the coordinates
     does not matter (the callers allow 1e-9). Laid out solid, coordinate, then the segments
     (k, 3, M), each operation runs along all of a batch's segments."""
     solids = obstacles.solids
-    k = len(solids)
-    x0 = (solids.axes @ a.reshape(-1, 3).T).reshape(k, 3, -1) - solids.origins
-    x1 = (solids.axes @ b.reshape(-1, 3).T).reshape(k, 3, -1) - solids.origins
-    low, high = solids.low_first, solids.high_first
-    gap = np.maximum(np.maximum(np.minimum(x0, x1) - high, low - np.maximum(x0, x1)), 0.0)
+    k = len(solids.half)
+    x0 = (obstacles.solid_axes @ a.reshape(-1, 3).T).reshape(k, 3, -1) - obstacles.solid_origins
+    x1 = (obstacles.solid_axes @ b.reshape(-1, 3).T).reshape(k, 3, -1) - obstacles.solid_origins
+    half = obstacles.solid_half
+    gap = np.maximum(np.maximum(np.minimum(x0, x1) - half, -half - np.maximum(x0, x1)), 0.0)
     apart = _length(gap)
-    grown = solids.radius[:, None] + np.broadcast_to(radius, a.shape[:-1]).reshape(1, -1)
-    below = np.where(apart > 0, apart, -solids.inradius[:, None]) - grown  # overlapping: as deep as the solid allows
-    above = np.minimum(np.minimum(_outside(x0, low, high), _outside(x1, low, high)), _outside(0.5 * (x0 + x1), low, high)) - grown
-    below, above = (np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (below, above))
-    if solids.floor is not None:
-        below[..., on_base, solids.floor] = above[..., on_base, solids.floor] = np.inf
-    return below, above
+    grown = obstacles.solid_radius[:, None] + np.broadcast_to(radius, a.shape[:-1]).reshape(1, -1)
+    low = np.where(apart > 0, apart, -solids.half.min(axis=-1)[:, None]) - grown  # overlapping: as deep as the box allows
+    high = np.minimum(np.minimum(_outside(x0, half), _outside(x1, half)), _outside(0.5 * (x0 + x1), half)) - grown
+    return tuple(np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (low, high))
 
 
 def _length(v: np.ndarray) -> np.ndarray:
@@ -262,6 +274,6 @@ def _length(v: np.ndarray) -> np.ndarray:
     return np.sqrt(squares[:, 0] + squares[:, 1] + squares[:, 2])
 
 
-def _outside(p: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """Distance (k, M) of points ``p`` (each solid's frame, (k, 3, M)) to the solid [low, high] (0 inside)."""
-    return _length(excess_beyond(p, low, high))
+def _outside(p: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Distance (k, M) of points ``p`` (each solid's frame, (k, 3, M)) to the box (0 inside)."""
+    return _length(excess_beyond(p, -half, half))

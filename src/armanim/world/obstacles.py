@@ -119,13 +119,24 @@ class Obstacles:
 
     Derived (set on construction, read on every clearance computation)
     ------------------------------------------------------------------
-    solids : Solids
-        Every obstacle but the spheres as a box in its own frame: the boxes and the capsule
-        obstacles' axes (:meth:`Rods.axes`) in the scene's order, then the floor (a half-space):
-        one pass of :func:`~armanim.world.closest.segment_bounds` measures them all.
+    solids : Boxes
+        The boxes and the capsule obstacles' axes (:meth:`Rods.axes`) in the scene's order:
+        one pass of :func:`~armanim.world.closest.segment_box` measures both.
+    solid_radius : (k,) array
+        What each solid is grown by: 0 for a box, the radius for a capsule.
+    solid_columns : (k,) int array
+        The solids' columns of the clearances.
+    solid_axes : (3k, 3) array
+        Every solid's transposed rotation stacked: it times a (3, M) column of world points
+        gives the points in every solid's frame, (k, 3, M) (less :attr:`solid_origins`), one
+        product for all.
+    solid_origins : (k, 3, 1) array
+        Each solid's centre in its own frame's axes (R^T c).
+    solid_half : (k, 3, 1) array
+        The solids' half edges laid out as :attr:`solid_axes`' products.
     scene_order : (m,) int array or None
-        The columns in the scene's order taken from those of the spheres, then the solids'
-        (None: the same order).
+        The columns in the scene's order taken from those of the spheres, the solids, then
+        the floor (None: the same order).
     """
 
     centers: np.ndarray
@@ -142,10 +153,8 @@ class Obstacles:
             object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, FLOOR], counts))
         columns = {kind: np.nonzero(self.kinds == kind)[0] for kind in (SPHERE, BOX, ROD, FLOOR)}
         object.__setattr__(self, "_columns", columns)  # asked for on every clearance computation
-        object.__setattr__(self, "solids", Solids.of(self.boxes, self.rods, self.floor, columns))
-        canonical = np.concatenate([columns[SPHERE], self.solids.columns])
-        in_order = bool(np.all(canonical == np.arange(len(canonical))))
-        object.__setattr__(self, "scene_order", None if in_order else np.argsort(canonical))
+        for name, value in _derived_solids(self.boxes, self.rods, columns).items():
+            object.__setattr__(self, name, value)
 
     @classmethod
     def none(cls) -> Obstacles:
@@ -170,77 +179,21 @@ class Obstacles:
         return self._columns[kind]
 
 
-@dataclass(frozen=True)
-class Solids:
-    """The obstacles that :func:`~armanim.world.closest.segment_bounds` measures, k of them:
-    each the points x with low <= R^T (x - center) <= high, grown by ``radius``.
-
-    Attributes
-    ----------
-    centers : (k, 3) array
-    rotations : (k, 3, 3) array
-        World-from-solid rotation.
-    low, high : (k, 3) arrays
-        The bounds in the solid's frame (a box: -half, half; the floor: -inf but z <= 0).
-    radius : (k,) array
-        What each is grown by: a capsule obstacle's radius, else 0.
-    columns : (k,) int array
-        Its column of the clearances.
-    floor : int or None
-        Which of them is the floor.
-    axes : (3k, 3) array
-        Every transposed rotation stacked: it times a (3, M) column of world points gives the
-        points in every solid's frame, (k, 3, M) (less ``origins``), one product for all.
-    origins : (k, 3, 1) array
-        Each centre in its own frame's axes (R^T c).
-    low_first, high_first : (k, 3, 1) arrays
-        The bounds laid out as ``axes``' products.
-    inradius : (k,) array
-        How deep a point can be inside (inf for the floor).
-    """
-
-    centers: np.ndarray
-    rotations: np.ndarray
-    low: np.ndarray
-    high: np.ndarray
-    radius: np.ndarray
-    columns: np.ndarray
-    floor: int | None
-    axes: np.ndarray
-    origins: np.ndarray
-    low_first: np.ndarray
-    high_first: np.ndarray
-    inradius: np.ndarray
-
-    def __len__(self) -> int:
-        return len(self.radius)
-
-    @classmethod
-    def of(cls, boxes: Boxes, rods: Rods, floor: float | None, columns: dict) -> Solids:
-        """The boxes and capsule axes in the order of their columns, then the floor.
-
-        >>> solids = Obstacles(np.zeros((0, 3)), np.zeros(0), np.zeros(1), floor=-2.0).solids
-        >>> solids.centers.tolist(), solids.high.tolist(), solids.floor
-        ([[0.0, 0.0, -2.0]], [[inf, inf, 0.0]], 0)
-        """
-        axes = rods.axes()
-        shape_columns = np.concatenate([columns[BOX], columns[ROD]])
-        order = np.argsort(shape_columns, kind="stable")  # the boxes and capsules in the scene's order
-        half = np.concatenate([boxes.half, axes.half])[order]
-        parts = {
-            "centers": np.concatenate([boxes.centers, axes.centers])[order],
-            "rotations": np.concatenate([boxes.rotations, axes.rotations])[order],
-            "low": -half, "high": half,
-            "radius": np.concatenate([np.zeros(len(boxes)), rods.radius])[order],
-            "columns": shape_columns[order],
-        }
-        if floor is not None:
-            plane = {"centers": [[0.0, 0.0, floor]], "rotations": [np.eye(3)], "low": [[-np.inf] * 3],
-                     "high": [[np.inf, np.inf, 0.0]], "radius": [0.0], "columns": columns[FLOOR]}
-            parts = {name: np.concatenate([value, np.asarray(plane[name], dtype=value.dtype)]) for name, value in parts.items()}
-        rotations, low, high = parts["rotations"], parts["low"], parts["high"]
-        return cls(**parts, floor=None if floor is None else len(half),
-                   axes=np.ascontiguousarray(rotations.transpose(0, 2, 1).reshape(-1, 3)),
-                   origins=np.einsum("kba,kb->ka", rotations, parts["centers"])[:, :, None],
-                   low_first=low[:, :, None], high_first=high[:, :, None],
-                   inradius=(0.5 * (high - low)).min(axis=-1))
+def _derived_solids(boxes: Boxes, rods: Rods, columns: dict) -> dict:
+    """:class:`Obstacles`' derived fields (``solids`` ... ``scene_order``, see its docstring) from
+    its boxes, capsules and each kind's columns."""
+    axes = rods.axes()
+    solid_columns = np.concatenate([columns[BOX], columns[ROD]])
+    order = np.argsort(solid_columns, kind="stable")  # the solids in the scene's order
+    solids = Boxes(*(np.concatenate([getattr(boxes, f), getattr(axes, f)])[order] for f in ("centers", "half", "rotations")))
+    canonical = np.concatenate([columns[SPHERE], solid_columns[order], columns[FLOOR]])
+    in_order = bool(np.all(canonical == np.arange(len(canonical))))
+    return {
+        "solids": solids,
+        "solid_radius": np.concatenate([np.zeros(len(boxes)), rods.radius])[order],
+        "solid_columns": solid_columns[order],
+        "solid_axes": np.ascontiguousarray(solids.rotations.transpose(0, 2, 1).reshape(-1, 3)),
+        "solid_origins": np.einsum("kba,kb->ka", solids.rotations, solids.centers)[:, :, None],
+        "solid_half": solids.half[:, :, None],
+        "scene_order": None if in_order else np.argsort(canonical),
+    }
