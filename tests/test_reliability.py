@@ -377,6 +377,48 @@ def test_a_signal_at_any_moment_ends_with_0_or_130_and_old_or_new_outputs(tmp_pa
         assert o.stderr.strip().splitlines()[-1:] == ([INTERRUPTED] if interrupted else o.stderr.strip().splitlines()[-1:])
 
 
+_SWALLOWED_CTRL_C = """
+import gc, signal, sys, weakref
+from armanim.cli.interrupts import command_signals, own_the_process
+if sys.argv[1] == "process":
+    own_the_process()
+
+class Node:  # matplotlib's transform tree: parents held by weak references with a callback
+    pass
+
+try:
+    with command_signals():
+        parent, reached = Node(), []
+        def forget(ref):  # the Ctrl-C comes while the garbage collector runs this callback
+            signal.raise_signal(signal.SIGINT)
+            reached.append("the callback's end")
+        ref = weakref.ref(parent, forget)
+        del parent
+        gc.collect()
+        for _ in range(1000):
+            reached.append("the command went on")
+except KeyboardInterrupt:
+    print(reached, "interrupted")
+    sys.exit(130)
+print(reached, "finished")
+"""
+
+
+@pytest.mark.parametrize("mode", ["process", "runner"])
+def test_a_ctrl_c_swallowed_in_a_weakref_callback_still_interrupts_at_once(tmp_path, mode):
+    """Python cannot raise in a weakref callback or ``__del__``: it prints "Exception ignored" and goes
+    on, here with the first Ctrl-C spent. It left matplotlib's transform tree half-updated, and the
+    render went on to fail with a traceback and exit 1 (CI, [render] at "ffmpeg", [run] at "poster").
+    The interrupt must come back at once, silently, in the armanim process and in a test's runner."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "swallowed.py"
+    script.write_text(_SWALLOWED_CTRL_C)
+    done = subprocess.run([sys.executable, str(script), mode], capture_output=True, text=True, timeout=60)
+    assert (done.returncode, done.stdout.strip(), done.stderr) == (130, "[] interrupted", "")
+
+
 @pytest.fixture()
 def ctrl_c_raises():
     """Ctrl-C raises KeyboardInterrupt here (a test runner's worker may have set another handler), and a

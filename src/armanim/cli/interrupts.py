@@ -7,7 +7,12 @@ finished one with its own exit code, never a traceback or death by a signal (-2,
    at once with exit 130; nothing has been written yet;
 2. while the command runs (:func:`command_signals`): both signals raise KeyboardInterrupt, so
    every clean-up runs (staging folders, temporary files, workers, ffmpeg), then exit 130.
-   The first signal makes later ones ignored: a second Ctrl-C cannot cut a clean-up short;
+   The first signal makes later ones ignored: a second Ctrl-C cannot cut a clean-up short.
+   Python swallows an exception raised where nothing can catch it (a ``__del__``, a weakref
+   callback run by the garbage collector) and prints "Exception ignored"; a KeyboardInterrupt
+   swallowed so is raised again, silently, at the next Python call or return
+   (:func:`_redeliver_swallowed`), so the command never goes on with the first signal spent
+   and half-updated state behind it (matplotlib's transform tree, say);
 3. once the command has decided its exit code (or its last output is in place): both
    signals are ignored until the process ends, so interpreter shutdown is never interrupted.
 
@@ -18,7 +23,9 @@ handlers come back afterwards.
 from __future__ import annotations
 
 import contextlib
+import functools
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 
@@ -37,6 +44,25 @@ def _interrupt(signum, frame):
     raise KeyboardInterrupt
 
 
+def _redeliver_swallowed(unraisable, *, previous) -> None:
+    """``sys.unraisablehook`` while a command runs: a KeyboardInterrupt that Python could not
+    raise (it came in a ``__del__`` or a weakref callback) is raised again, silently, in the
+    main thread's next Python call or return after this hook; anything else goes to ``previous``."""
+    if isinstance(unraisable.exc_value, KeyboardInterrupt) and threading.current_thread() is threading.main_thread():
+        sys.setprofile(_raise_the_swallowed_interrupt)
+    else:
+        previous(unraisable)
+
+
+def _raise_the_swallowed_interrupt(frame, event, arg) -> None:
+    """A profile function that raises KeyboardInterrupt at its first event outside the hook (an
+    exception raised in the hook would be swallowed again), then removes itself."""
+    if frame.f_code is _redeliver_swallowed.__code__:
+        return
+    sys.setprofile(None)
+    raise KeyboardInterrupt
+
+
 def ignore_until_exit() -> None:
     """Phase 3: SIGINT and SIGTERM are ignored from now on (in the armanim process only)."""
     if _process[0] and threading.current_thread() is threading.main_thread():
@@ -51,9 +77,14 @@ def command_signals() -> Iterator[None]:
         yield
         return
     previous = {signum: signal.signal(signum, _interrupt) for signum in SIGNALS}
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = functools.partial(_redeliver_swallowed, previous=previous_hook)
     try:
         yield
     finally:
+        sys.unraisablehook = previous_hook
+        if sys.getprofile() is _raise_the_swallowed_interrupt:
+            sys.setprofile(None)
         if _process[0]:
             ignore_until_exit()
         else:
