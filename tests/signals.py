@@ -43,7 +43,8 @@ HANG_GUARD = 300.0  # seconds: far beyond any unloaded attempt (a few seconds)
 
 
 def snapshot(folder: Path, *roots: Path) -> dict[str, str]:
-    """sha256 of every file below ``folder`` (or of the file ``folder``) by relative path ({} if
+    """sha256 of every file below ``folder`` (or of the file ``folder``, or of the files its
+    last part matches as a glob: ``golden/tiny0.*``, a golden pair) by relative path ({} if
     it is missing); the paths ``roots`` in a file's bytes are read as ``<ROOT>`` (index.csv
     names each run folder by its path)."""
     def digest(path: Path) -> str:
@@ -54,6 +55,8 @@ def snapshot(folder: Path, *roots: Path) -> dict[str, str]:
             data = data.replace(str(root).encode(), b"<ROOT>")
         return hashlib.sha256(data).hexdigest()
 
+    if "*" in folder.name:
+        return {p.name: digest(p) for p in sorted(folder.parent.glob(folder.name)) if p.is_file()}
     if folder.is_file():
         return {folder.name: digest(folder)}
     if not folder.exists():
@@ -75,7 +78,8 @@ def _catches_sigterm(pid: int) -> bool:
 @dataclass
 class Command:
     """One armanim command to interrupt: its arguments (``{out}``, ``{golden}`` are filled in),
-    and the folders (relative to the attempt's folder) that must be old or new afterwards."""
+    and the folders (relative to the attempt's folder; a glob such as ``golden/tiny0.*`` for a
+    golden pair) that must each be old or new afterwards."""
 
     name: str
     args: list[str]

@@ -336,7 +336,7 @@ def _commands(folder: Path) -> dict:
         "sweep": Command("sweep", ["sweep", new[0], "--set", "solver.step=0.1,0.2", "--out", "{out}", "--jobs", "2"],
                          [*sweep, "out/new0-sweep.csv"],
                          [["sweep", old[0], "--set", "solver.step=0.1,0.2", "--set", "solver.max_step=0.4", "--out", "{out}", "--jobs", "2", "--no-video"]]),
-        "check --update": Command("check", ["check", *new, "--golden", "{golden}", "--update"], ["golden"],
+        "check --update": Command("check", ["check", *new, "--golden", "{golden}", "--update"], ["golden/tiny0.*", "golden/tiny1.*"],
                                   [["check", *old, "--golden", "{golden}", "--update"]]),
         "render": Command("render", ["render", "{out}/tiny0", "--jobs", "2", "--size", "80x48"], run_folder,
                           [["run", new[0], "--out", "{out}", "--no-video"]]),
