@@ -490,6 +490,35 @@ def test_a_ctrl_c_as_the_pool_starts_a_worker_leaves_no_worker_running(ctrl_c_ra
                 os.kill(pid, signal.SIGKILL)
 
 
+def _forkserver_masks(task) -> dict[str, int]:
+    """In a batch worker: the signal masks of its parent, the pool's forkserver."""
+    import os
+
+    status = Path(f"/proc/{os.getppid()}/status").read_text().splitlines()
+    return {line.split(":")[0]: int(line.split()[1], 16) for line in status if line.startswith(("SigBlk", "SigIgn"))}
+
+
+def test_a_batch_worker_starts_with_ctrl_c_and_sigterm_blocked():
+    """The forkserver is started by fork and exec, which resets the signal mask: its workers ran their
+    first milliseconds with Python's default handlers, so a Ctrl-C raised a traceback there and the
+    parent's SIGTERM killed one between the halves of Python's temporary-folder probe ("litter:
+    $TMPDIR/dimjs171" at a batch's "workers" moment, under load). The forkserver blocks both (what
+    it forks inherits that) and ignores Ctrl-C."""
+    import signal
+    import types
+
+    from armanim.runs.executors import _LocalExecutor, _worker_context
+
+    if _worker_context().get_start_method() != "forkserver" or not Path("/proc/self/status").exists():
+        pytest.skip("the forkserver's, read from /proc")
+    tasks = [types.SimpleNamespace(name=n) for n in "ab"]
+    results = [(result, exc) for _, result, exc in _LocalExecutor(2).map(_forkserver_masks, tasks)]
+    both = (1 << (signal.SIGINT - 1)) | (1 << (signal.SIGTERM - 1))
+    for masks, exc in results:
+        assert exc is None
+        assert masks["SigBlk"] & both == both and masks["SigIgn"] & (1 << (signal.SIGINT - 1))
+
+
 # ------------------------------------------------------------------ the page of promises
 
 
