@@ -352,9 +352,10 @@ MOMENTS = {  # a handful per command (each attempt is a real process); benchmark
 }
 
 
-def _attempt_until_the_moment_comes(sweep: Sweep, moment: str, delay: float, signame: str, tries: int = 3):
+def _attempt_until_the_moment_comes(sweep: Sweep, moment: str, delay: float, signame: str, tries: int = 8):
     """An attempt whose moment came (or that went wrong); a busy machine can make a short
-    moment (the poster) pass between two polls, so such an attempt is made again."""
+    moment (the poster: tens of milliseconds) pass between two polls, so such an attempt is
+    made again (with both cores busy, 3 tries missed it in about one run of the sweep in four)."""
     for _ in range(tries):
         outcome = sweep.attempt(moment, delay, signame)
         if outcome.fired or outcome.problems():
