@@ -491,6 +491,63 @@ def test_a_ctrl_c_as_the_pool_starts_a_worker_leaves_no_worker_running(ctrl_c_ra
                 os.kill(pid, signal.SIGKILL)
 
 
+class _TransformThatMeetsACtrlC:
+    """A matplotlib transform's matrix, asked for while a Ctrl-C comes."""
+
+    def __array__(self, dtype=None, copy=None):
+        import signal
+
+        import numpy as np
+
+        signal.raise_signal(signal.SIGINT)
+        return np.eye(3)
+
+
+def test_a_ctrl_c_that_matplotlib_turns_into_an_error_still_ends_with_130(capsys):
+    """matplotlib's pybind11 layer clears a KeyboardInterrupt raised while it converts a transform and
+    raises "Invalid affine transformation matrix" instead: CI's [render] at "ffmpeg" ended with that
+    traceback and exit 1. After a signal, any error is the signal's."""
+    import numpy as np
+    import typer
+    from matplotlib import _path
+
+    from armanim.cli.app import handle_errors
+
+    def drawing():
+        _path.affine_transform(np.zeros((2, 2)), _TransformThatMeetsACtrlC())
+
+    with pytest.raises(ValueError, match="Invalid affine transformation matrix"):
+        drawing()  # the library's doing, outside a command (Python's own handler raised)
+    with pytest.raises(typer.Exit) as exited:
+        handle_errors(drawing)()
+    assert exited.value.exit_code == 130 and capsys.readouterr().err.strip() == INTERRUPTED
+
+
+def test_a_batch_in_one_process_stops_at_an_error_that_follows_a_signal():
+    """With --jobs 1 a scene's error is reported and the batch goes on; one that a Ctrl-C became
+    (above) must stop the batch instead, or the user's Ctrl-C is lost (later ones are ignored)."""
+    import types
+
+    from armanim.runs.executors import _LocalExecutor
+    from armanim.runs.interrupted import forget_signal, note_signal
+
+    def work(task):
+        if task.name == "b":
+            note_signal()  # what the handler does as the Ctrl-C comes
+        raise ValueError(task.name)
+
+    tasks = [types.SimpleNamespace(name=n) for n in "abc"]
+    forget_signal()  # as a command starts
+    try:
+        seen = []
+        with pytest.raises(ValueError, match="b"):
+            for task, _, exc in _LocalExecutor(1).map(work, tasks):
+                seen.append((task.name, str(exc)))
+        assert seen == [("a", "a")]  # an ordinary error is the scene's; the batch went on to b, not to c
+    finally:
+        forget_signal()
+
+
 def _forkserver_masks(task) -> dict[str, int]:
     """In a batch worker: the signal masks of its parent, the pool's forkserver."""
     import os

@@ -18,6 +18,7 @@ from rich.console import Console
 from armanim import __version__
 from armanim.cli.interrupts import command_signals, ignore_until_exit
 from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, INTERRUPTED, ArmanimError
+from armanim.runs.interrupted import signal_came
 
 app = typer.Typer(
     name="armanim",
@@ -99,19 +100,31 @@ def handle_errors(command):
 
 
 def _reported(command, *args, **kwargs):
-    """``command(...)``, its errors as their messages and exit codes."""
+    """``command(...)``, its errors as their messages and exit codes; after a Ctrl-C or
+    SIGTERM, any error is the signal's (:mod:`armanim.runs.interrupted`)."""
     try:
         return command(*args, **kwargs)
-    except ArmanimError as exc:
-        report(exc)
-        raise typer.Exit(exc.exit_code) from None
+    except typer.Exit:  # the command's own exit code (a click Exit is a RuntimeError)
+        raise
     except KeyboardInterrupt:
-        ignore_until_exit()
-        say(INTERRUPTED, err)
-        raise typer.Exit(EXIT_INTERRUPTED) from None
-    except OSError as exc:  # a safety net: writers raise OutputError, but the system may fail elsewhere
-        say(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", err)
-        raise typer.Exit(EXIT_OUTPUT_FAILED) from None
+        _interrupted()
+    except Exception as exc:
+        if signal_came():
+            _interrupted()
+        if isinstance(exc, ArmanimError):
+            report(exc)
+            raise typer.Exit(exc.exit_code) from None
+        if isinstance(exc, OSError):  # a safety net: writers raise OutputError, but the system may fail elsewhere
+            say(f"armanim: {exc.filename or 'output'}: {exc.strerror or exc}", err)
+            raise typer.Exit(EXIT_OUTPUT_FAILED) from None
+        raise
+
+
+def _interrupted() -> None:
+    """End the command as interrupted: the contract's line and exit 130."""
+    ignore_until_exit()
+    say(INTERRUPTED, err)
+    raise typer.Exit(EXIT_INTERRUPTED) from None
 
 
 def _version(value: bool) -> None:

@@ -12,7 +12,9 @@ finished one with its own exit code, never a traceback or death by a signal (-2,
    callback run by the garbage collector) and prints "Exception ignored"; a KeyboardInterrupt
    swallowed so is raised again, silently, at the next Python call or return
    (:func:`_redeliver_swallowed`), so the command never goes on with the first signal spent
-   and half-updated state behind it (matplotlib's transform tree, say);
+   and half-updated state behind it (matplotlib's transform tree, say). A library may also
+   turn the KeyboardInterrupt into an error of its own (:mod:`armanim.runs.interrupted`):
+   any error after a signal ends the command as interrupted;
 3. once the command has decided its exit code (or its last output is in place): both
    signals are ignored until the process ends, so interpreter shutdown is never interrupted.
 
@@ -29,6 +31,8 @@ import sys
 import threading
 from collections.abc import Iterator
 
+from armanim.runs.interrupted import forget_signal, note_signal
+
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _process = [False]  # set by main(): this is the armanim process, its signals are ours to the end
 
@@ -39,6 +43,7 @@ def own_the_process() -> None:
 
 
 def _interrupt(signum, frame):
+    note_signal()
     if _process[0]:
         ignore_until_exit()
     raise KeyboardInterrupt
@@ -76,6 +81,7 @@ def command_signals() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield
         return
+    forget_signal()
     previous = {signum: signal.signal(signum, _interrupt) for signum in SIGNALS}
     previous_hook = sys.unraisablehook
     sys.unraisablehook = functools.partial(_redeliver_swallowed, previous=previous_hook)

@@ -20,6 +20,7 @@ from pathlib import Path
 from armanim.errors import UsageError
 from armanim.output.atomic import interrupts_deferred
 from armanim.render.workers import init_worker, signals_blocked, temp_prefix
+from armanim.runs.interrupted import signal_came
 
 CONNECT_SECONDS = 10.0
 """How long a Dask scheduler may take to answer, from the connection to the handshake."""
@@ -92,6 +93,8 @@ class _LocalExecutor:
                 try:
                     yield task, work(task, *args), None
                 except Exception as exc:  # reported per scene; the batch goes on
+                    if signal_came():  # a Ctrl-C a library turned into its own error: the batch stops
+                        raise
                     yield task, None, exc
             return
         pool = None
