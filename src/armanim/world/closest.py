@@ -134,7 +134,10 @@ def segment_box(
         x0, u = x0[None], u[None]
     half = np.asarray(half, dtype=float)
     half = half.reshape((1,) * (x0.ndim - half.ndim) + half.shape)
-    t, dist, local = _least_in_box_frame(coordinates_first(x0), coordinates_first(u), coordinates_first(half))
+    # copied coordinates first: some 50 operations follow, and on a transposed view each would
+    # step through memory three values at a time
+    x0, u = np.ascontiguousarray(coordinates_first(x0)), np.ascontiguousarray(coordinates_first(u))
+    t, dist, local = _least_in_box_frame(x0, u, coordinates_first(half))
     normal = np.matmul(rotation, coordinates_last(local)[..., None])[..., 0]
     return (t[0], dist[0], normal[0]) if single else (t, dist, normal)
 
