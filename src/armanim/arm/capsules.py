@@ -39,6 +39,11 @@ class Capsules:
     radius: np.ndarray
     names: tuple[str, ...] = ()
     joint_segment: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
+    part_radius: np.ndarray = field(init=False, repr=False, compare=False)
+    """(c+1,) the radius of every part that clearances are measured from: the capsules', then
+    the tip's, 0 (a point)."""
+    on_base: np.ndarray = field(init=False, repr=False, compare=False)
+    """(c+1,) bool: the parts the first joint carries (they stand on the base); the tip never."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "link", np.asarray(self.link, dtype=int))
@@ -46,6 +51,8 @@ class Capsules:
             object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
         if self.joint_segment is None:
             object.__setattr__(self, "joint_segment", np.zeros(len(self.link), dtype=bool))
+        object.__setattr__(self, "part_radius", np.append(self.radius, 0.0))  # asked every frame: made once
+        object.__setattr__(self, "on_base", np.append(self.link == 0, False))
 
     def __len__(self) -> int:
         return len(self.link)

@@ -81,7 +81,7 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.n
     tip = pose.points[..., -1:, :]
     pts = np.concatenate([a, tip], axis=-2)
     ends = np.concatenate([b, tip], axis=-2)  # the tip: a zero-length segment
-    radius = np.append(capsules.radius, 0.0)  # the tip is a point
+    radius = capsules.part_radius  # the tip is a point: 0
     if obstacles.spheres_only:
         return sphere_clearances(pts, ends, radius, obstacles)
     kinds = []  # (d, t, normal) of the spheres, the solids, the floor: the columns in that order
@@ -90,7 +90,7 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.n
     if len(obstacles.solid_radius):
         kinds.append(solid_clearances(pts, ends, radius, obstacles, None if reach is None else np.asarray(reach, dtype=float)[obstacles.solid_columns]))
     if obstacles.floor is not None:
-        kinds.append(floor_clearances(pts, ends, radius, obstacles.floor, standing(capsules)))
+        kinds.append(floor_clearances(pts, ends, radius, obstacles.floor, capsules.on_base))
     d, t, normal = kinds[0] if len(kinds) == 1 else (np.concatenate(c, axis=axis) for c, axis in zip(zip(*kinds), (-1, -1, -2)))
     order = obstacles.scene_order
     if order is not None:
@@ -182,12 +182,6 @@ def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floo
     normal = np.zeros(d.shape + (3,))
     normal[..., 2] = 1.0
     return d, t[..., None], normal
-
-
-def standing(capsules: Capsules) -> np.ndarray:
-    """(c+1,) bool: the parts the floor leaves out, the capsules the first joint carries
-    (they stand on the base); the tip never."""
-    return np.append(capsules.link == 0, False)
 
 
 def point_clearances(points: np.ndarray, obstacles: Obstacles) -> np.ndarray:
