@@ -491,6 +491,37 @@ def test_a_ctrl_c_as_the_pool_starts_a_worker_leaves_no_worker_running(ctrl_c_ra
                 os.kill(pid, signal.SIGKILL)
 
 
+_CTRL_C_IN_TEXT = """
+import typer
+from armanim.cli.app import handle_errors
+from armanim.cli.interrupts import own_the_process
+
+app = typer.Typer()
+
+
+@app.command()
+@handle_errors
+def make() -> None:
+    exec("import signal; signal.raise_signal(signal.SIGINT)")  # as a dataclass makes its methods from text
+
+
+own_the_process()
+app()
+"""
+
+
+def test_a_ctrl_c_in_code_run_from_text_ends_with_130_not_by_the_signal(tmp_path):
+    """CPython notes a KeyboardInterrupt that leaves exec'd text (dataclasses and pydantic make their
+    methods so) in a flag that catching it does not clear, and ``python -m`` then killed itself with
+    SIGINT at exit: the signal campaign's "render start+0.4 SIGINT: exit -2", after the right line."""
+    import subprocess
+    import sys
+
+    (tmp_path / "ctrl_c_in_text.py").write_text(_CTRL_C_IN_TEXT)
+    done = subprocess.run([sys.executable, "-m", "ctrl_c_in_text"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert (done.returncode, done.stderr.strip()) == (130, INTERRUPTED)
+
+
 class _TransformThatMeetsACtrlC:
     """A matplotlib transform's matrix, asked for while a Ctrl-C comes."""
 

@@ -69,10 +69,21 @@ def _raise_the_swallowed_interrupt(frame, event, arg) -> None:
 
 
 def ignore_until_exit() -> None:
-    """Phase 3: SIGINT and SIGTERM are ignored from now on (in the armanim process only)."""
+    """Phase 3: SIGINT and SIGTERM are ignored from now on, and the exit code is the command's
+    own (in the armanim process only)."""
     if _process[0] and threading.current_thread() is threading.main_thread():
         for signum in SIGNALS:
             signal.signal(signum, signal.SIG_IGN)
+        _forget_pythons_unhandled_interrupt()
+
+
+def _forget_pythons_unhandled_interrupt() -> None:
+    """CPython notes a KeyboardInterrupt that leaves code it runs from text (``exec`` or
+    ``eval`` of a string: dataclasses, namedtuple and pydantic make their methods so, as a
+    command imports them) in a process-wide flag that catching it does not clear; at exit,
+    ``python -m armanim`` then killed itself with SIGINT (-2) whatever exit code the command
+    had chosen. Each run of text starts by clearing that flag: this one runs nothing else."""
+    exec("pass")  # a constant: nothing from outside is run
 
 
 @contextlib.contextmanager
