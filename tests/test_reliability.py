@@ -552,6 +552,9 @@ def test_a_ctrl_c_that_matplotlib_turns_into_an_error_still_ends_with_130(capsys
     with pytest.raises(typer.Exit) as exited:
         handle_errors(drawing)()
     assert exited.value.exit_code == 130 and capsys.readouterr().err.strip() == INTERRUPTED
+    from armanim.runs.interrupted import signal_came
+
+    assert not signal_came()  # answered: a batch run through the API later is not taken for interrupted
 
 
 def test_a_batch_in_one_process_stops_at_an_error_that_follows_a_signal():

@@ -53,6 +53,7 @@ class Capsules:
             object.__setattr__(self, "joint_segment", np.zeros(len(self.link), dtype=bool))
         object.__setattr__(self, "part_radius", np.append(self.radius, 0.0))  # asked every frame: made once
         object.__setattr__(self, "on_base", np.append(self.link == 0, False))
+        self.part_radius.flags.writeable = self.on_base.flags.writeable = False  # shared by every clearance computation
 
     def __len__(self) -> int:
         return len(self.link)

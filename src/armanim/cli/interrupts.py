@@ -99,6 +99,7 @@ def command_signals() -> Iterator[None]:
     try:
         yield
     finally:
+        forget_signal()  # the command has answered it; an API call made later is not interrupted
         sys.unraisablehook = previous_hook
         if sys.getprofile() is _raise_the_swallowed_interrupt:
             sys.setprofile(None)
