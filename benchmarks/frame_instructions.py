@@ -8,11 +8,13 @@ capsules and floor, and as its spheres-only twin (``Draft.spheres_twin``: each s
 the largest sphere inside it, the floor dropped), each in a fresh Python under valgrind's
 callgrind, which counts the instructions executed: the same count on every run, whatever else
 the machine does. A run that loads the same scenes without solving them is the baseline
-(interpreter start, imports, URDF and scene loading) taken off each. CPU time per frame (``motion_bench.py --timing-rounds``)
-is what the target names; on a shared machine the same solve's CPU-time ratio moves by 10-20 %
-from one run to the next, and this count is the steady reference beside it (time per
-instruction is alike in both: 0.19-0.29 ns on the machine this was written on, for segment-box
-and sphere distances alike). Needs ``valgrind`` on PATH; about a minute per scene and method.
+(interpreter start, imports, URDF and scene loading) taken off each. CPU time per frame
+(``motion_bench.py --timing-rounds``) is what the target names; on a busy machine the same
+solve's CPU-time ratio moves by 10-20 % from one run to the next, and this count shows a
+change's effect where that time cannot. It is not the target's measure: the shapes' many small
+numpy calls spend more time per instruction than the spheres' few, so the count's ratio runs
+some 5-6 % under the timed one (benchmarks/README.md). Needs ``valgrind`` on PATH; about a
+minute per scene and method.
 """
 
 from __future__ import annotations

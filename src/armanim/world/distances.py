@@ -225,7 +225,7 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     if len(obstacles.radii):
         best = np.minimum(best, sphere_clearances(a, b, radius, obstacles, tip=False).d.min(axis=(-1, -2)))
     if obstacles.floor is not None:
-        height = floor_clearances(a, b, radius, obstacles.floor, capsules.link == 0, tip=False)[0]
+        height = floor_clearances(a, b, radius, obstacles.floor, capsules.on_base[:-1], tip=False)[0]
         best = np.minimum(best, height.min(axis=(-1, -2)))
     if len(obstacles.solid_radius):
         low, high = solid_bounds(a, b, radius, obstacles)
