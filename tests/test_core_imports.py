@@ -1,7 +1,7 @@
 """The pure core imports no edge library, and the rooms import one way (design.md).
 
 The pure core is every module under ``armanim.arm``, ``armanim.world`` and
-``armanim.motion``: numpy, DAQP and OMPL only. Rooms are ordered
+``armanim.motion``: numpy, DAQP, OMPL and numba (the compiled closed form) only. Rooms are ordered
 cli > runs > scene > render > output > motion > world > arm, and a module imports only
 from its own room or the rooms below it (``errors`` and ``names`` serve all).
 """
@@ -30,8 +30,14 @@ def _modules(room: str) -> list[str]:
     )
 
 
+COMPILED = "armanim.world.compiled"
+"""The one module that imports numba, which loads pyyaml for its own settings and scipy when
+installed: left out of the walks below (:func:`test_numba_loads_only_for_boxes_and_capsules`
+holds it to the runs that need it)."""
+
+
 def test_core_loads_no_edge_library():
-    core = [m for room in CORE_ROOMS for m in _modules(room)]
+    core = [m for room in CORE_ROOMS for m in _modules(room) if m != COMPILED]
     assert len(core) > 20  # the walk found the rooms
     code = (
         "import importlib, json, sys\n"
@@ -51,7 +57,7 @@ def test_core_loads_no_edge_library():
 def test_no_module_of_armanim_imports_a_library_it_does_not_declare():
     """scipy is the test extra's (an oracle), not a run-time dependency: a fresh install
     without the test extra must never need it, whatever command runs."""
-    modules = [m for room in ROOMS for m in _modules(room)] + ["armanim", "armanim.testing"]
+    modules = [m for room in ROOMS for m in _modules(room) if m != COMPILED] + ["armanim", "armanim.testing"]
     code = (
         "import importlib, sys\n"
         f"for m in {modules!r}: importlib.import_module(m)\n"
@@ -83,3 +89,31 @@ def test_imports_run_down_the_rooms(room):
 def test_the_top_holds_only_the_shared_modules():
     top = {p.stem for p in SRC.glob("*.py")}
     assert top == SHARED | {"testing"}, top
+
+
+def test_numba_loads_only_for_boxes_and_capsules():
+    """The compiled closed form is the only user of numba, imported on the first box: every
+    other module, and a run among spheres only, start without its 0.2 s import."""
+    modules = [m for room in ROOMS for m in _modules(room) if m != COMPILED] + ["armanim", "armanim.testing"]
+    code = (
+        "import importlib, sys\n"
+        "import numpy as np\n"
+        f"for m in {modules!r}: importlib.import_module(m)\n"
+        "from armanim.arm.capsules import joint_capsules\n"
+        "from armanim.arm.kinematics import Arm, forward\n"
+        "from armanim.world.distances import clearances\n"
+        "from armanim.world.obstacles import Obstacles\n"
+        "arm = Arm.from_names([2, 5])\n"
+        "pose = forward(arm, np.zeros(2))\n"
+        "clearances(pose, Obstacles(np.array([[3.0, 3, 3]]), np.ones(1), np.ones(1)), joint_capsules(arm, 0.1))\n"
+        "print('numba' in sys.modules)\n"
+        "clearances(pose, Obstacles(np.zeros((0, 3)), np.zeros(0), np.zeros(1), floor=-1.0), joint_capsules(arm, 0.1))\n"
+        "print('numba' in sys.modules)\n"
+        "from armanim.world.obstacles import Boxes\n"
+        "box = Boxes(np.array([[3.0, 3, 3]]), np.ones((1, 3)), np.eye(3)[None])\n"
+        "clearances(pose, Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(1), boxes=box), joint_capsules(arm, 0.1))\n"
+        "print('numba' in sys.modules)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["False", "False", "True"]

@@ -13,11 +13,18 @@ from armanim.arm.capsules import capsule_point_jacobian, joint_capsules
 from armanim.arm.chain import rpy_rotation
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.trajectory import solve_trajectory
-from armanim.world.closest import box_signed_distance, segment_box
+from armanim.world.closest import segment_box
 from armanim.world.distances import clearances, point_clearances, sphere_clearances
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 
 coal = pytest.importorskip("coal")  # the oracle (the test extra)
+
+
+def box_signed_distance(p: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """The test's own signed distance of points ``p`` (box frame, (..., 3)) to the box of half
+    edges ``half`` (negative inside), written apart from the compiled one."""
+    q = np.abs(p) - half
+    return np.linalg.norm(np.maximum(q, 0.0), axis=-1) + np.minimum(q.max(axis=-1), 0.0)
 
 
 def coal_request():

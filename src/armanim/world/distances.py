@@ -19,7 +19,7 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.geometry import closest_on_segment
 from armanim.arm.kinematics import Pose
-from armanim.world.closest import excess_beyond, segment_box
+from armanim.world.closest import excess_beyond, segment_box_grid, segment_box_pairs
 from armanim.world.obstacles import FLOOR, SPHERE, Obstacles
 
 
@@ -154,7 +154,7 @@ def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obst
         where = within_reach(solid_bounds(pts, ends, radius, obstacles)[0], reach)
         return _pruned(pts, len(obstacles.solid_radius), where, lambda: solid_pairs(pts, ends, radius, obstacles, where))
     solids = obstacles.solids
-    t, dist, normal = segment_box(pts[..., :, None, :], ends[..., :, None, :], solids.centers, solids.half, solids.rotations)
+    t, dist, normal = segment_box_grid(pts, ends, solids.centers, solids.half, solids.rotations)
     t[..., -1, :] = 1.0
     return dist - obstacles.solid_radius - radius[:, None], t, normal
 
@@ -163,9 +163,9 @@ def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles
     """(d, t, normal) of the part-solid pairs at the indices ``where`` of (..., p, k) only, each (K,)
     or (K, 3): the same numbers as :func:`solid_clearances` at those places (bit for bit)."""
     *pose, part, solid = where
-    at = tuple(pose) + (part,)
+    segment = np.ravel_multi_index(tuple(pose) + (part,), pts.shape[:-1])
     solids = obstacles.solids
-    t, dist, normal = segment_box(pts[at], ends[at], solids.centers[solid], solids.half[solid], solids.rotations[solid])
+    t, dist, normal = segment_box_pairs(pts.reshape(-1, 3), ends.reshape(-1, 3), solids.centers, solids.half, solids.rotations, segment, solid)
     return dist - obstacles.solid_radius[solid] - radius[part], t, normal
 
 
@@ -199,7 +199,7 @@ def point_clearances(points: np.ndarray, obstacles: Obstacles) -> np.ndarray:
         d[:, spheres] = np.linalg.norm(points[:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
     if len(obstacles.solid_radius):
         solids = obstacles.solids
-        dist = segment_box(points[:, None], points[:, None], solids.centers, solids.half, solids.rotations)[1]
+        dist = segment_box_grid(points, points, solids.centers, solids.half, solids.rotations)[1]
         d[:, obstacles.solid_columns] = dist - obstacles.solid_radius
     if obstacles.floor is not None:
         d[:, obstacles.columns(FLOOR)] = points[:, 2:] - obstacles.floor
