@@ -527,35 +527,32 @@ def random_shapes(rng, boxes=3, rods=2, floor=True) -> Obstacles:
 
 
 @pytest.mark.parametrize("seed", range(6))
-def test_clearances_within_reach_are_the_exact_ones_bit_for_bit(seed):
-    """Pairs pruned by their lower bound (the cost's line search asks for the clearances within
-    each obstacle's influence) are only those beyond reach: everything within it is the unpruned
-    exact number, bit for bit, also for reaches set at a pair's exact clearance and one ulp either
-    side of it, for single poses and batches; the field F_R summed over them is the same number."""
-    from armanim.motion.cost import obstacle_field
+def test_a_pairs_numbers_do_not_depend_on_its_batch(seed):
+    """The planner measures the pairs its bounds leave in doubt (``solid_pairs``), the frame
+    every pair of one pose (``solid_clearances``): each pair has the same numbers, bit for bit,
+    whichever way and in whatever batch it is computed."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.world.distances import solid_clearances, solid_pairs
 
     rng = np.random.default_rng([22, seed])
     arm = Arm.from_names(list(rng.uniform(1, 6, rng.integers(3, 7))), base=(5, 5, 0))
     caps = joint_capsules(arm, rng.uniform(0.05, 0.5))
     obstacles = random_shapes(rng, floor=bool(seed % 2))
-    compared = pruned = 0
-    for phi in (rng.uniform(-np.pi, np.pi, arm.n), rng.uniform(-np.pi, np.pi, (40, arm.n))):
-        pose = forward(arm, phi)
-        full = clearances(pose, obstacles, caps)
-        finite = full.d[np.isfinite(full.d)]
-        exact_at = rng.choice(finite, len(obstacles))  # reaches at some pair's exact clearance
-        for reach in (obstacles.influence, exact_at, np.nextafter(exact_at, np.inf), np.nextafter(exact_at, -np.inf),
-                      rng.uniform(-1, 6, len(obstacles))):
-            within = clearances(pose, obstacles, caps, reach=reach)
-            near = full.d <= reach
-            np.testing.assert_array_equal(within.d[near], full.d[near])
-            np.testing.assert_array_equal(within.t[near], full.t[near])
-            np.testing.assert_array_equal(within.normal[near], full.normal[near])
-            assert np.all((within.d[~near] == full.d[~near]) | (within.d[~near] == np.inf))  # beyond reach: exact or +inf
-            compared, pruned = compared + int(near.sum()), pruned + int(np.sum(within.d != full.d))
-        field = obstacle_field(full.d, obstacles.influence).sum(axis=(-1, -2))
-        assert np.array_equal(obstacle_field(clearances(pose, obstacles, caps, reach=obstacles.influence).d, obstacles.influence).sum(axis=(-1, -2)), field)
-    assert compared > 0 and pruned > 0
+    phi = rng.uniform(-np.pi, np.pi, (40, arm.n))
+    a, b = capsule_ends(caps, forward(arm, phi))
+    tip = forward(arm, phi).points[..., -1:, :]  # as clearances lays the parts out: the capsules, then the tip
+    a, b = np.concatenate([a, tip], axis=-2), np.concatenate([b, tip], axis=-2)
+    grid = solid_clearances(a, b, caps.part_radius, obstacles)
+    where = np.nonzero(rng.random(grid[0].shape) < 0.3)
+    picked = solid_pairs(a, b, caps.part_radius, obstacles, where)
+    capsule = where[1] < len(caps)  # the tip's t is set to 1 by solid_clearances alone
+    for n, (together, alone) in enumerate(zip(grid, picked)):
+        keep = capsule if n == 1 else slice(None)
+        np.testing.assert_array_equal(together[where][keep], alone[keep])
+    for k in (0, 17, 39):  # one pose alone: its rows of the batch
+        one = solid_clearances(a[k], b[k], caps.part_radius, obstacles)
+        for together, alone in zip(grid, one):
+            np.testing.assert_array_equal(together[k], alone)
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -584,8 +581,8 @@ def test_solid_bounds_hold_the_exact_clearance_between_them(seed):
     assert exact[1, 0] < 0 and np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
 
 
-def test_clearances_within_reach_match_coal():
-    """The pairs a pruned call computes are coal's distances too (where every part is clear)."""
+def test_clearances_match_coal():
+    """Every box and capsule-obstacle clearance of a pose is coal's distance too (where the part is clear)."""
     rng = np.random.default_rng(2212)
     arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
     caps = joint_capsules(arm, 0.25)
@@ -594,7 +591,7 @@ def test_clearances_within_reach_match_coal():
     compared = 0
     for phi in rng.uniform(-np.pi, np.pi, (30, 4)):
         pose = forward(arm, phi)
-        cl = clearances(pose, obstacles, caps, reach=np.full(len(obstacles), 2.0))
+        cl = clearances(pose, obstacles, caps)
         for column, kind in enumerate(obstacles.kinds):
             if kind not in (BOX, ROD):
                 continue

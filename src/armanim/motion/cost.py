@@ -101,8 +101,7 @@ def total_cost(
     """C(Phi) for one pose or a batch (..., n); +inf where a barrier is crossed.
 
     ``pose`` and ``cl`` may be passed when already known for ``phi``; ``orientation`` adds
-    the goal's orientation term. Without ``cl``, only the clearances that can be within an
-    obstacle's influence are computed (F_R is 0 beyond it: the same sum, bit for bit).
+    the goal's orientation term.
     """
     s = problem.solver
     pose = pose if pose is not None else forward(problem.arm, phi)
@@ -112,7 +111,7 @@ def total_cost(
         cost = cost + orientation_cost_weight(problem, orientation) * angle
     if len(problem.obstacles):
         obstacles = problem.obstacles
-        cl = cl if cl is not None else clearances(pose, obstacles, problem.capsules, reach=obstacles.influence)
+        cl = cl if cl is not None else clearances(pose, obstacles, problem.capsules)
         field = obstacle_field(cl.d, obstacles.influence)
         cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
     return cost + s.w_limits * limit_barrier(phi, problem.limits)

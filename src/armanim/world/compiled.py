@@ -4,11 +4,14 @@ One pose's clearances to a table, a shelf and a floor are a few dozen segment-bo
 written with numpy they were some 45 array operations, each a fixed 0.3-0.8 us whatever the
 number of pairs, so a robot frame spent 50 us on them. Compiled, a pair is a few dozen
 floating-point operations: the same pose's pairs take some 2 us. Every pair is computed by
-the one function :func:`_pair`, whether it comes from a grid of segments and boxes, a list
-of pairs or a broadcast, so a pair's numbers do not depend on the batch it is in (bit for
-bit). numba compiles on first use and caches the machine code beside this file (or in the
-user's cache folder when that is not writable); it is imported only when a scene has a box
-or a capsule obstacle. Pure core: numpy and numba only, scene units.
+the one function :func:`_pair`, whether it comes from a grid of segments and boxes or a list
+of pairs, so a pair's numbers do not depend on the batch it is in (bit for bit). numba
+compiles on first use and caches the machine code beside this file (or in the user's cache
+folder when that is not writable); it is imported only when a scene has a box or a capsule
+obstacle. Pure core: numpy and numba only, scene units.
+
+The work space of a pair is one scratch array, read at fixed offsets, and every function is
+inlined into the two loops: a view or a call per pair would cost more than the pair.
 """
 
 from __future__ import annotations
@@ -21,19 +24,24 @@ TOUCHING = 1e-9
 (rounding puts a point on the surface a little either side), so its depth is searched for."""
 
 _JIT = dict(cache=True, error_model="numpy", nogil=True)  # numpy's error model: x / 0 is inf or NaN, as the closed form expects
+_INLINE = dict(inline="always", **_JIT)
+
+X0, U, KNOTS, GAP, CANDIDATES, SCRATCH = 0, 3, 6, 14, 6, 24
+"""Offsets into a pair's scratch array: its start x0 and direction u in the box frame (3 each),
+the knots (8), the gap to the box (3); the deepest point's 18 candidates reuse the knots' place."""
 
 
-@numba.njit(inline="always", **_JIT)
+@numba.njit(**_INLINE)
 def _clamp(x, low, high):
     """min(max(x, low), high), as numpy's maximum and minimum compute it (x is never NaN here)."""
     return min(max(x, low), high)
 
 
-@numba.njit(**_JIT)
-def _least_outside(x0, u, h, knots):
+@numba.njit(**_INLINE)
+def _least_outside(s, h):
     """The largest t in [0, 1] that minimises the squared distance of x0 + t u (box frame,
-    (3,) each) to the box [-h, h]: where its derivative, sum_i u_i e_i(t) with e the excess
-    beyond the box, stops being <= 0 (0 inside the box). ``knots``: (8,) scratch.
+    in the scratch ``s``) to the box [-h, h]: where its derivative, sum_i u_i e_i(t) with e
+    the excess beyond the box, stops being <= 0 (0 inside the box).
 
     The derivative is piecewise linear and nondecreasing, with knots where the segment
     crosses the box's six slab planes: it is evaluated at each knot and at both ends; on the
@@ -41,126 +49,125 @@ def _least_outside(x0, u, h, knots):
     root is its minimiser.
     """
     for i in range(3):
-        inverse = 1.0 / u[i]  # u_i = 0: +-inf, no crossing (its knots go to an end)
-        for j, bound in ((i, h[i]), (i + 3, -h[i])):
-            k = (bound - x0[i]) * inverse
-            knots[j] = min(1.0, 0.0 if k != k else max(k, 0.0))  # a NaN (0/0) goes to 0
-    knots[6] = 1.0  # the ends, the far end first
-    knots[7] = 0.0
+        inverse = 1.0 / s[U + i]  # u_i = 0: +-inf, no crossing (its knots go to an end)
+        k = (h[i] - s[X0 + i]) * inverse
+        s[KNOTS + i] = min(1.0, 0.0 if k != k else max(k, 0.0))  # a NaN (0/0) goes to 0
+        k = (-h[i] - s[X0 + i]) * inverse
+        s[KNOTS + 3 + i] = min(1.0, 0.0 if k != k else max(k, 0.0))
+    s[KNOTS + 6] = 1.0  # the ends, the far end first
+    s[KNOTS + 7] = 0.0
     right = 2.0  # the first knot where the squared distance rises (2: none)
     for j in range(8):
+        knot = s[KNOTS + j]
         slope = 0.0
         for i in range(3):
-            x = knots[j] * u[i] + x0[i]
-            slope += (x - _clamp(x, -h[i], h[i])) * u[i]
-        if slope > 0.0 and knots[j] < right:
-            right = knots[j]
+            x = knot * s[U + i] + s[X0 + i]
+            slope += (x - _clamp(x, -h[i], h[i])) * s[U + i]
+        if slope > 0.0 and knot < right:
+            right = knot
     left = 0.0  # the knot before it
     for j in range(8):
-        if knots[j] < right and knots[j] > left:
-            left = knots[j]
+        knot = s[KNOTS + j]
+        if knot < right and knot > left:
+            left = knot
     right = min(right, 1.0)
     middle = 0.5 * (left + right)
     offset = 0.0
     rate = 0.0
     for i in range(3):
-        x = middle * u[i] + x0[i]
+        x = middle * s[U + i] + s[X0 + i]
         near = _clamp(x, -h[i], h[i])
         if x != near:  # beyond the box on this piece
-            offset += u[i] * (x0[i] - near)
-            rate += u[i] * u[i]
+            offset += s[U + i] * (s[X0 + i] - near)
+            rate += s[U + i] * s[U + i]
     root = -offset / rate  # where the piece's derivative is 0; 0/0 on a flat piece
     t = right if root != root else min(root, right)  # a flat piece takes its right end
     return max(t, left)
 
 
-@numba.njit(**_JIT)
-def _signed_distance(x0, u, t, h):
-    """Signed distance of x0 + t u (box frame) to the box [-h, h]."""
+@numba.njit(**_INLINE)
+def _signed_distance(s, t, h):
+    """Signed distance of x0 + t u (box frame, in the scratch ``s``) to the box [-h, h]."""
     beyond = 0.0
     deepest = -np.inf
     for i in range(3):
-        q = abs(t * u[i] + x0[i]) - h[i]
+        q = abs(t * s[U + i] + s[X0 + i]) - h[i]
         beyond += max(q, 0.0) ** 2
         deepest = max(deepest, q)
     return np.sqrt(beyond) + min(deepest, 0.0)
 
 
-@numba.njit(**_JIT)
-def _deepest(x0, u, h, t_outside, candidates):
+@numba.njit(**_INLINE)
+def _deepest(s, h, t_outside):
     """(t, signed distance) of the segment's deepest point in the box: its depth (the least
     of the six face functions h_i -+ x_i(t)) is concave and piecewise linear, so its greatest
     value lies where two of them cross, at an end, or at ``t_outside``. Ties: the first of
-    the crossings (faces in the order +x, +y, +z, -x, -y, -z), the far end, the near end.
-    ``candidates``: (18,) scratch."""
-    n = 0
+    the crossings (faces in the order +x, +y, +z, -x, -y, -z), the far end, the near end."""
+    n = CANDIDATES
     for i in range(6):
         for j in range(i + 1, 6):
             si = 1.0 if i < 3 else -1.0
             sj = 1.0 if j < 3 else -1.0
-            level_i = h[i % 3] - si * x0[i % 3]
-            level_j = h[j % 3] - sj * x0[j % 3]
-            den = (-si * u[i % 3]) - (-sj * u[j % 3])
+            level_i = h[i % 3] - si * s[X0 + i % 3]
+            level_j = h[j % 3] - sj * s[X0 + j % 3]
+            den = (-si * s[U + i % 3]) - (-sj * s[U + j % 3])
             ratio = (level_j - level_i) / den if den != 0.0 else 0.0
-            candidates[n] = min(max(ratio, 0.0), 1.0)
+            s[n] = min(max(ratio, 0.0), 1.0)
             n += 1
-    candidates[15] = 1.0
-    candidates[16] = 0.0
-    candidates[17] = t_outside
-    best_t = candidates[0]
-    best = _signed_distance(x0, u, best_t, h)
-    for k in range(1, 18):
-        d = _signed_distance(x0, u, candidates[k], h)
+    s[n] = 1.0
+    s[n + 1] = 0.0
+    s[n + 2] = t_outside
+    best_t = s[CANDIDATES]
+    best = _signed_distance(s, best_t, h)
+    for k in range(CANDIDATES + 1, n + 3):
+        d = _signed_distance(s, s[k], h)
         if d < best:
-            best, best_t = d, candidates[k]
+            best, best_t = d, s[k]
     return best_t, best
 
 
-@numba.njit(**_JIT)
-def _pair(a, b, center, h, rotation, out, scratch):
-    """Segment a-b against one box: writes the world unit normal into ``out`` (3,) and
-    returns (t, signed distance); ``scratch``: (24,) work space."""
-    x0 = scratch[0:3]
-    u = scratch[3:6]
-    for i in range(3):  # the box frame: R^T (a - c) and R^T (b - a)
-        x0[i] = (a[0] - center[0]) * rotation[0, i] + (a[1] - center[1]) * rotation[1, i] + (a[2] - center[2]) * rotation[2, i]
-        u[i] = (b[0] - a[0]) * rotation[0, i] + (b[1] - a[1]) * rotation[1, i] + (b[2] - a[2]) * rotation[2, i]
-    t = _least_outside(x0, u, h, scratch[6:14])
-    gap = scratch[14:17]
+@numba.njit(**_INLINE)
+def _gap(s, t, h):
+    """Writes x0 + t u less its nearest point of the box into the scratch; returns its squared length."""
     squares = 0.0
     for i in range(3):
-        x = t * u[i] + x0[i]
-        gap[i] = x - _clamp(x, -h[i], h[i])
-        squares += gap[i] * gap[i]
-    dist = np.sqrt(squares)
-    if dist <= TOUCHING:  # the segment reaches the box: its deepest point, and the deepest face's normal
-        t, dist = _deepest(x0, u, h, t, scratch[6:24])
-        squares = 0.0
+        x = t * s[U + i] + s[X0 + i]
+        s[GAP + i] = x - _clamp(x, -h[i], h[i])
+        squares += s[GAP + i] * s[GAP + i]
+    return squares
+
+
+@numba.njit(**_INLINE)
+def _pair(a, b, center, h, rotation, s, normal):
+    """Segment a-b ((3,) each) against one box: writes the world unit normal into ``normal``
+    (3,) and returns (t, signed distance); ``s``: the (SCRATCH,) work space."""
+    for i in range(3):  # the box frame: R^T (a - c) and R^T (b - a)
+        s[X0 + i] = (a[0] - center[0]) * rotation[0, i] + (a[1] - center[1]) * rotation[1, i] + (a[2] - center[2]) * rotation[2, i]
+        s[U + i] = (b[0] - a[0]) * rotation[0, i] + (b[1] - a[1]) * rotation[1, i] + (b[2] - a[2]) * rotation[2, i]
+    t = _least_outside(s, h)
+    dist = np.sqrt(_gap(s, t, h))
+    if dist > TOUCHING:
         for i in range(3):
-            x = t * u[i] + x0[i]
-            gap[i] = x - _clamp(x, -h[i], h[i])
-            squares += gap[i] * gap[i]
+            s[GAP + i] /= dist
+    else:  # the segment reaches the box: its deepest point, and the deepest face's normal
+        t, dist = _deepest(s, h, t)
+        squares = _gap(s, t, h)
         if squares > 0.0:
             outside = np.sqrt(squares)
             for i in range(3):
-                gap[i] /= outside
+                s[GAP + i] /= outside
         else:
             axis = 0
             deepest = -np.inf
             for i in range(3):
-                x = t * u[i] + x0[i]
-                q = abs(x) - h[i]
+                q = abs(t * s[U + i] + s[X0 + i]) - h[i]
                 if q > deepest:
                     deepest, axis = q, i
-            x = t * u[axis] + x0[axis]
             for i in range(3):
-                gap[i] = 0.0
-            gap[axis] = 1.0 if x >= 0.0 else -1.0
-    else:
-        for i in range(3):
-            gap[i] /= dist
+                s[GAP + i] = 0.0
+            s[GAP + axis] = 1.0 if t * s[U + axis] + s[X0 + axis] >= 0.0 else -1.0
     for c in range(3):  # back to the world: R n
-        out[c] = rotation[c, 0] * gap[0] + rotation[c, 1] * gap[1] + rotation[c, 2] * gap[2]
+        normal[c] = rotation[c, 0] * s[GAP] + rotation[c, 1] * s[GAP + 1] + rotation[c, 2] * s[GAP + 2]
     return t, dist
 
 
@@ -168,17 +175,17 @@ def _pair(a, b, center, h, rotation, out, scratch):
 def segment_box_grid(a, b, centers, half, rotations, t, dist, normal):
     """Every segment a_m-b_m ((M, 3) each) against every box ((K, 3), (K, 3), (K, 3, 3)):
     fills t and dist (M, K) and normal (M, K, 3)."""
-    scratch = np.empty(24)
+    s = np.empty(SCRATCH)
     for m in range(a.shape[0]):
         for k in range(centers.shape[0]):
-            t[m, k], dist[m, k] = _pair(a[m], b[m], centers[k], half[k], rotations[k], normal[m, k], scratch)
+            t[m, k], dist[m, k] = _pair(a[m], b[m], centers[k], half[k], rotations[k], s, normal[m, k])
 
 
 @numba.njit(**_JIT)
 def segment_box_pairs(a, b, centers, half, rotations, segment, box, t, dist, normal):
     """Segment ``segment[p]`` against box ``box[p]`` for each pair p: fills t and dist (P,)
     and normal (P, 3)."""
-    scratch = np.empty(24)
+    s = np.empty(SCRATCH)
     for p in range(segment.shape[0]):
         m, k = segment[p], box[p]
-        t[p], dist[p] = _pair(a[m], b[m], centers[k], half[k], rotations[k], normal[p], scratch)
+        t[p], dist[p] = _pair(a[m], b[m], centers[k], half[k], rotations[k], s, normal[p])

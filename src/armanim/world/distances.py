@@ -54,7 +54,7 @@ class Clearances:
         return self.d.shape[-2] - 1
 
 
-def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.ndarray | None = None) -> Clearances:
+def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearances:
     """Clearances of the capsules and of the tip to every obstacle (and the floor).
 
     Parameters
@@ -64,12 +64,6 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.n
     obstacles : Obstacles
     capsules : Capsules
         The arm's collision capsules.
-    reach : (m,) array or None
-        Scene units, per column. When given, the box and capsule-obstacle pairs whose
-        conservative lower bound (:func:`solid_bounds`) exceeds their column's reach are not
-        computed: their d is +inf (t and normal 0), which only says that the clearance is
-        beyond reach. Every clearance within reach is exact, bit for bit what None gives.
-        None: every pair exactly.
 
     Returns
     -------
@@ -88,7 +82,7 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules, reach: np.n
     if len(obstacles.radii):
         kinds.append(astuple(sphere_clearances(pts, ends, radius, obstacles)))
     if len(obstacles.solid_radius):
-        kinds.append(solid_clearances(pts, ends, radius, obstacles, None if reach is None else np.asarray(reach, dtype=float)[obstacles.solid_columns]))
+        kinds.append(solid_clearances(pts, ends, radius, obstacles))
     if obstacles.floor is not None:
         kinds.append(floor_clearances(pts, ends, radius, obstacles.floor, capsules.on_base))
     d, t, normal = kinds[0] if len(kinds) == 1 else (np.concatenate(c, axis=axis) for c, axis in zip(zip(*kinds), (-1, -1, -2)))
@@ -121,38 +115,11 @@ def length_and_direction(offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return dist, offset / np.where(dist > 0, dist, 1.0)[..., None]
 
 
-BOUND_SLACK = 1e-9
-"""A pair is computed exactly when its lower bound is within this (relative, plus as much
-absolute) above its reach: the bound and the exact value are rounded apart, and a pair whose
-exact clearance is at its reach must never be left out by the last bit of its bound."""
-
-
-def within_reach(low: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Indices (as ``np.nonzero``) of the pairs whose lower bound ``low`` (..., p, k) does not
-    exceed the column's ``reach`` (k,) (with :data:`BOUND_SLACK`): those whose clearance can be within it."""
-    return np.nonzero(low <= reach + BOUND_SLACK * (1.0 + np.abs(reach)))
-
-
-def _pruned(pts: np.ndarray, k: int, where: tuple, exact) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(d, t, normal) of shape (..., p, k): +inf, 0 and 0, with ``exact()``'s (d, t, normal) of
-    the pairs at ``where`` put in place."""
-    shape = pts.shape[:-1] + (k,)
-    d, t, normal = np.full(shape, np.inf), np.zeros(shape), np.zeros(shape + (3,))
-    if len(where[0]):
-        d[where], t[where], normal[where] = exact()
-    t[..., -1, :] = 1.0
-    return d, t, normal
-
-
-def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, reach: np.ndarray | None = None):
+def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles):
     """(d, t, normal) of the parts to the solids (the boxes and capsule obstacles, in the scene's order), (..., p, k):
     the least signed distance of each part's segment to each solid's box (a capsule's: its
     axis, :meth:`~armanim.world.obstacles.Rods.axes`) less both radii
-    (:func:`~armanim.world.closest.segment_box`), the normal out of the solid.
-    With ``reach`` (k,), the pairs that :func:`solid_bounds` puts beyond it are +inf (see :func:`clearances`)."""
-    if reach is not None:
-        where = within_reach(solid_bounds(pts, ends, radius, obstacles)[0], reach)
-        return _pruned(pts, len(obstacles.solid_radius), where, lambda: solid_pairs(pts, ends, radius, obstacles, where))
+    (:func:`~armanim.world.closest.segment_box`), the normal out of the solid."""
     solids = obstacles.solids
     t, dist, normal = segment_box_grid(pts, ends, solids.centers, solids.half, solids.rotations)
     t[..., -1, :] = 1.0
