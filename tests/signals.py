@@ -42,6 +42,16 @@ LITTER = (".partial", ".old-", ".tmp", ".part", ".concat")
 HANG_GUARD = 300.0  # seconds: far beyond any unloaded attempt (a few seconds)
 
 
+def _partial_has(where: Path, moment: str) -> bool:
+    """Whether a run's staging folder under ``where/out`` holds the file that marks ``moment``:
+    the commit's record, or the poster being drawn (the last file before the commit)."""
+    patterns = {"commit": [".armanim-run.json"], "poster": [".poster.png.*", "poster.png"]}[moment]
+    try:
+        return any(any(where.glob(f"out/.*.partial/{name}")) for name in patterns)
+    except FileNotFoundError:  # the run renamed its staging folder while the glob read it: not this time
+        return False
+
+
 def snapshot(folder: Path, *roots: Path) -> dict[str, str]:
     """sha256 of every file below ``folder`` (or of the file ``folder``, or of the files its
     last part matches as a glob: ``golden/tiny0.*``, a golden pair) by relative path ({} if
@@ -212,10 +222,8 @@ class Sweep:
     def _came(self, moment: str, proc: psutil.Popen, where: Path, seen: dict) -> bool:
         if moment == "start":
             return _catches_sigterm(proc.pid)
-        if moment == "commit":  # a few milliseconds long: polling may miss it
-            return any(where.glob("out/.*.partial/.armanim-run.json"))
-        if moment == "poster":  # the last file before the commit is being drawn
-            return any(where.glob("out/.*.partial/.poster.png.*")) or any(where.glob("out/.*.partial/poster.png"))
+        if moment in ("commit", "poster"):
+            return _partial_has(where, moment)
         try:
             kids = list(seen.values())
             if moment == "workers":  # a pool's helpers (forkserver, resource tracker) are not workers
