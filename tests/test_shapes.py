@@ -514,6 +514,27 @@ def test_a_shapes_run_is_byte_identical_in_two_processes():
     assert runs[0].stdout == runs[1].stdout
 
 
+def test_boxes_are_measured_where_numba_finds_no_folder_to_cache_in():
+    """A read-only install run by a user with no writable home leaves numba no cache folder:
+    it refuses ``cache=True`` there, and the closed form must compile in memory instead of
+    every box scene ending in a traceback."""
+    import subprocess
+    import sys
+
+    program = (
+        "import numba.core.caching as caching\n"
+        "impl = getattr(caching, 'CacheImpl', None) or caching._CacheImpl  # its name in numba >= 0.61, before\n"
+        "impl._locator_classes = []  # as numba finds none: no writable folder\n"
+        "import numpy as np\n"
+        "from armanim.world.closest import segment_box\n"
+        "t, d, n = segment_box(np.array([3.0, 0, 0]), np.array([0.0, 0, 3]), np.zeros(3), np.ones(3), np.eye(3))\n"
+        "print(float(t), round(float(d) ** 2, 12))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["0.5", "0.5"]
+
+
 def random_shapes(rng, boxes=3, rods=2, floor=True) -> Obstacles:
     """Boxes, capsules, a sphere and a floor about the notes' arm (base (5, 5, 0), 17 long)."""
     centers = rng.uniform([-2, -2, 0], [12, 12, 14], (boxes, 3))

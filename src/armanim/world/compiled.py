@@ -7,8 +7,9 @@ floating-point operations: the same pose's pairs take some 2 us. Every pair is c
 the one function :func:`_pair`, whether it comes from a grid of segments and boxes or a list
 of pairs, so a pair's numbers do not depend on the batch it is in (bit for bit). numba
 compiles on first use and caches the machine code beside this file (or in the user's cache
-folder when that is not writable); it is imported only when a scene has a box or a capsule
-obstacle. Pure core: numpy and numba only, scene units.
+folder when that is not writable, or nowhere when neither is: then each process compiles
+again); it is imported only when a scene has a box or a capsule obstacle. Pure core: numpy
+and numba only, scene units.
 
 The work space of a pair is one scratch array, read at fixed offsets, and every function is
 inlined into the two loops: a view or a call per pair would cost more than the pair.
@@ -23,21 +24,39 @@ TOUCHING = 1e-9
 """Scene units: a segment whose least outside distance to a box is this or less may enter it
 (rounding puts a point on the surface a little either side), so its depth is searched for."""
 
-_JIT = dict(cache=True, error_model="numpy", nogil=True)  # numpy's error model: x / 0 is inf or NaN, as the closed form expects
+_JIT = dict(error_model="numpy", nogil=True)  # numpy's error model: x / 0 is inf or NaN, as the closed form expects
 _INLINE = dict(inline="always", **_JIT)
+
+
+def _compiled(**options):
+    """``numba.njit(**options)`` with its machine code cached on disk where numba finds a
+    writable folder (beside this file, ``NUMBA_CACHE_DIR`` or the user's cache folder), and
+    compiled afresh in each process where it finds none (a read-only install run by a user
+    without a writable home: numba refuses ``cache=True`` there instead of going without)."""
+
+    def compile_(function):
+        try:
+            return numba.njit(cache=True, **options)(function)
+        except RuntimeError as error:
+            if "no locator available" not in str(error):
+                raise
+            return numba.njit(cache=False, **options)(function)
+
+    return compile_
+
 
 X0, U, KNOTS, GAP, CANDIDATES, SCRATCH = 0, 3, 6, 14, 6, 24
 """Offsets into a pair's scratch array: its start x0 and direction u in the box frame (3 each),
 the knots (8), the gap to the box (3); the deepest point's 18 candidates reuse the knots' place."""
 
 
-@numba.njit(**_INLINE)
+@_compiled(**_INLINE)
 def _clamp(x, low, high):
     """min(max(x, low), high), as numpy's maximum and minimum compute it (x is never NaN here)."""
     return min(max(x, low), high)
 
 
-@numba.njit(**_INLINE)
+@_compiled(**_INLINE)
 def _least_outside(s, h):
     """The largest t in [0, 1] that minimises the squared distance of x0 + t u (box frame,
     in the scratch ``s``) to the box [-h, h]: where its derivative, sum_i u_i e_i(t) with e
@@ -85,7 +104,7 @@ def _least_outside(s, h):
     return max(t, left)
 
 
-@numba.njit(**_INLINE)
+@_compiled(**_INLINE)
 def _signed_distance(s, t, h):
     """Signed distance of x0 + t u (box frame, in the scratch ``s``) to the box [-h, h]."""
     beyond = 0.0
@@ -97,7 +116,7 @@ def _signed_distance(s, t, h):
     return np.sqrt(beyond) + min(deepest, 0.0)
 
 
-@numba.njit(**_INLINE)
+@_compiled(**_INLINE)
 def _deepest(s, h, t_outside):
     """(t, signed distance) of the segment's deepest point in the box: its depth (the least
     of the six face functions h_i -+ x_i(t)) is concave and piecewise linear, so its greatest
@@ -126,7 +145,7 @@ def _deepest(s, h, t_outside):
     return best_t, best
 
 
-@numba.njit(**_INLINE)
+@_compiled(**_INLINE)
 def _gap(s, t, h):
     """Writes x0 + t u less its nearest point of the box into the scratch; returns its squared length."""
     squares = 0.0
@@ -137,7 +156,7 @@ def _gap(s, t, h):
     return squares
 
 
-@numba.njit(**_INLINE)
+@_compiled(**_INLINE)
 def _pair(a, b, center, h, rotation, s, normal):
     """Segment a-b ((3,) each) against one box: writes the world unit normal into ``normal``
     (3,) and returns (t, signed distance); ``s``: the (SCRATCH,) work space."""
@@ -171,7 +190,7 @@ def _pair(a, b, center, h, rotation, s, normal):
     return t, dist
 
 
-@numba.njit(**_JIT)
+@_compiled(**_JIT)
 def segment_box_grid(a, b, centers, half, rotations, t, dist, normal):
     """Every segment a_m-b_m ((M, 3) each) against every box ((K, 3), (K, 3), (K, 3, 3)):
     fills t and dist (M, K) and normal (M, K, 3)."""
@@ -181,7 +200,7 @@ def segment_box_grid(a, b, centers, half, rotations, t, dist, normal):
             t[m, k], dist[m, k] = _pair(a[m], b[m], centers[k], half[k], rotations[k], s, normal[m, k])
 
 
-@numba.njit(**_JIT)
+@_compiled(**_JIT)
 def segment_box_pairs(a, b, centers, half, rotations, segment, box, t, dist, normal):
     """Segment ``segment[p]`` against box ``box[p]`` for each pair p: fills t and dist (P,)
     and normal (P, 3)."""
