@@ -11,6 +11,7 @@ import ast
 import contextlib
 import errno
 import re
+import socket
 import threading
 import tracemalloc
 from pathlib import Path
@@ -175,7 +176,22 @@ def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):
 # ------------------------------------------------------------------ 4. a scheduler that never answers
 
 
-def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline():
+@pytest.fixture
+def listening_port():
+    """A port on 127.0.0.1 that accepts connections (the kernel's backlog) and never answers."""
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        yield server.getsockname()[1]
+
+
+@pytest.fixture
+def closed_port():
+    """A port on 127.0.0.1 that nothing listens on: bound and released."""
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        port = server.getsockname()[1]
+    return port
+
+
+def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline(listening_port):
     """The client is made on a thread that is given up: Client(timeout=...) does not bound the handshake."""
     from armanim.runs.executors import connect_client
 
@@ -184,23 +200,40 @@ def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline():
     def silent_client(address, timeout):
         release.wait()  # accepts, never answers
 
+    address = f"tcp://127.0.0.1:{listening_port}"
     try:
-        with pytest.raises(UsageError, match=r"the Dask scheduler at tcp://127.0.0.1:9 did not answer within 0.2 s"):
-            connect_client(silent_client, "tcp://127.0.0.1:9", seconds=0.2)
+        with pytest.raises(UsageError, match=rf"the Dask scheduler at {address} did not answer within 0.2 s"):
+            connect_client(silent_client, address, seconds=0.2)
     finally:
         release.set()
 
 
 @pytest.mark.parametrize("error, words", [(ValueError("bad"), "is not a scheduler address"),
                                           (OSError("refused"), "cannot reach the Dask scheduler at")])
-def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words):
+def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words, listening_port):
     from armanim.runs.executors import connect_client
 
     def failing_client(address, timeout):
         raise error
 
     with pytest.raises(UsageError, match=words):
-        connect_client(failing_client, "tcp://127.0.0.1:9", seconds=30)
+        connect_client(failing_client, f"tcp://127.0.0.1:{listening_port}", seconds=30)
+
+
+@pytest.mark.parametrize("address, words", [("tcp://127.0.0.1:{closed}", r"connection refused: nothing listens on port {closed}"),
+                                            ("127.0.0.1:{closed}", r"connection refused"),
+                                            ("tcp://no-such-host.invalid:8786", r"no such host 'no-such-host.invalid'")])
+def test_a_refused_scheduler_is_reported_at_once_not_after_the_timeout(address, words, closed_port):
+    """Dask's client retries a refused port for its whole timeout and then calls it a timeout;
+    armanim asks the port first, so the client is never made and the reason is the real one."""
+    from armanim.runs.executors import connect_client
+
+    def client_that_must_not_be_made(address, timeout):
+        raise AssertionError("the client was made for a port that refuses")
+
+    address = address.format(closed=closed_port)
+    with pytest.raises(UsageError, match=rf"cannot reach the Dask scheduler at {re.escape(address)} \({words.format(closed=closed_port)}"):
+        connect_client(client_that_must_not_be_made, address, seconds=30)
 
 
 # ------------------------------------------------------------------ 5, 6. sweeps have a bound and say their size

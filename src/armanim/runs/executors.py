@@ -11,11 +11,13 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+import socket
 import tempfile
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
+from urllib.parse import urlsplit
 
 from armanim.errors import UsageError
 from armanim.output.atomic import interrupts_deferred
@@ -186,23 +188,28 @@ def connect_client(client_cls, address: str, seconds: float = CONNECT_SECONDS):
     ``Client(timeout=...)`` bounds the connection but not the handshake: a server that
     accepts and never answers would keep it waiting without end. So the client is made
     on a thread that is given up after the deadline (it is a daemon: it cannot hold the exit).
+    A refused port is reported at once: the port is asked first (see ``_refuse_if_nothing_listens``),
+    and the time that takes counts against the same ``seconds``.
 
     Raises
     ------
     UsageError
         Not an address, not reachable, or no answer within ``seconds`` (exit 2).
     """
+    deadline = time.monotonic() + seconds
+    _refuse_if_nothing_listens(address, seconds)
+    left = max(deadline - time.monotonic(), 0.01)
     outcome: dict = {}
 
     def attempt() -> None:
         try:
-            outcome["client"] = client_cls(address, timeout=f"{seconds}s")
+            outcome["client"] = client_cls(address, timeout=f"{left}s")
         except Exception as exc:  # noqa: BLE001  (reported below, in the caller's thread)
             outcome["error"] = exc
 
     thread = threading.Thread(target=attempt, name="armanim-dask-connect", daemon=True)
     thread.start()
-    thread.join(seconds + 1.0)
+    thread.join(left + 1.0)
     error = outcome.get("error")
     if "client" in outcome:
         return outcome["client"]
@@ -210,8 +217,58 @@ def connect_client(client_cls, address: str, seconds: float = CONNECT_SECONDS):
         raise UsageError(f"--scheduler: {address!r} is not a scheduler address ({error}; expected tcp://HOST:PORT or local)")
     if error is not None:
         raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} ({error})")
-    raise UsageError(f"--scheduler: the Dask scheduler at {address} did not answer within {seconds:g} s "
-                     "(is a Dask scheduler running there? check the address and port)")
+    raise _no_answer(address, seconds)
+
+
+def _tcp_endpoint(address: str) -> tuple[str, int] | None:
+    """The host and port a ``tcp://`` or ``tls://`` scheduler address names, or None
+    where it names none plainly (another scheme, no port): Dask then judges it alone.
+
+    >>> _tcp_endpoint("tcp://10.0.0.5:8786"), _tcp_endpoint("[::1]:8786"), _tcp_endpoint("ucx://h:1")
+    (('10.0.0.5', 8786), ('::1', 8786), None)
+    >>> _tcp_endpoint("tcp://[::1"), _tcp_endpoint("tcp://h:99999"), _tcp_endpoint("garbage")
+    (None, None, None)
+    """
+    try:
+        parts = urlsplit(address if "://" in address else f"tcp://{address}")
+        port = parts.port
+    except ValueError:
+        return None
+    if parts.scheme not in ("tcp", "tls") or not parts.hostname or port is None:
+        return None
+    return parts.hostname, port
+
+
+def _refuse_if_nothing_listens(address: str, seconds: float) -> None:
+    """Raise at once where the scheduler's host refuses the connection: Dask's client
+    would retry a refused port until its whole timeout has passed and then call it a timeout.
+
+    Raises
+    ------
+    UsageError
+        The port is closed, or the host has no address (exit 2).
+    """
+    endpoint = _tcp_endpoint(address)
+    if endpoint is None:
+        return
+    try:
+        socket.create_connection(endpoint, timeout=seconds).close()
+    except ConnectionRefusedError:
+        raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} (connection refused: nothing "
+                         f"listens on port {endpoint[1]} there; start one with `dask scheduler`, or check the "
+                         "address and port)") from None
+    except socket.gaierror as exc:
+        raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} "
+                         f"(no such host {endpoint[0]!r}: {exc.strerror})") from None
+    except TimeoutError:
+        raise _no_answer(address, seconds) from None
+    except OSError:
+        return  # an unreachable network, say: Dask's own attempt reports it in its words
+
+
+def _no_answer(address: str, seconds: float) -> UsageError:
+    return UsageError(f"--scheduler: the Dask scheduler at {address} did not answer within {seconds:g} s "
+                      "(is a Dask scheduler running there? check the address and port)")
 
 
 def executor_for(jobs: int, scheduler: str | None):
