@@ -282,6 +282,29 @@ def test_progress_bars_render_on_a_terminal():
     assert "solve" in text and "render" in text and "10/10" in text
 
 
+def test_the_plan_bar_starts_over_for_each_plan(monkeypatch):
+    """Each plan counts its search from 0: the bar's rate and time left are the new plan's, not the last one's."""
+    import functools
+    import io
+    import itertools
+
+    from rich.console import Console
+
+    import armanim.cli.progress as progress_module
+
+    clock = itertools.count(0.0, 1.0)  # a second between readings of the time
+    monkeypatch.setattr(progress_module, "Progress", functools.partial(progress_module.Progress, get_time=lambda: next(clock)))
+    with progress_module.Bars(enabled=True, console=Console(file=io.StringIO(), force_terminal=True, width=100)) as bars:
+        for done in (0, 500, 1000, 2000):
+            bars("plan", done, 2000)
+        task = bars.progress.tasks[0]
+        assert task.speed and task.completed == 2000
+        bars("plan", 0, 2000)  # the next plan
+        assert task.completed == 0 and task.speed is None and not task.finished
+        bars("plan", 500, 2000)
+        assert task.completed == 500
+
+
 def test_help_paragraphs_are_not_broken_mid_sentence():
     # rich keeps a docstring's line breaks: a paragraph must be one line, or help breaks sentences
     import ast

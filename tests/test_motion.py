@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import DOCS, ROOT
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from invariants import assert_trajectory_invariants, small_planning_budget
@@ -24,7 +24,14 @@ from strategies import cluttered_problems
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.follow import path_frames
-from armanim.motion.planning.path import CERTIFY_TO, motion_is_free, motion_samples
+from armanim.motion.planning.path import (
+    CERTIFY_TO,
+    OMPL_ITERATIONS,
+    OMPL_SEARCHES,
+    motion_is_free,
+    motion_samples,
+    plan_iterations,
+)
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.motion.solvers import METHODS, arm_state, step_function
@@ -181,6 +188,50 @@ def test_plan_frames_are_free_and_within_the_joint_step():
     assert np.abs(np.diff(frames, axis=0)).max() <= problem.solver.max_joint_step + 1e-12
     assert np.linalg.norm(forward(problem.arm, plan.frames[-1]).tip - problem.goals[0].position) < problem.solver.tolerance
     assert pose_is_free(problem, plan.frames[-1:]).all()
+
+
+def test_a_plan_tells_its_search_as_it_goes_and_plans_the_same():
+    """The iterations a plan's path search has used, for the plan bar: rising, at most the budget,
+    ending full; and being told changes nothing of the plan."""
+    problem = notes_problem(WALL, goals=((8.0, 0.0, 10.0),))
+    told = []
+    plan = plan_motion(problem, problem.home, problem.goals[0].position, searched=lambda done, most: told.append((done, most)))
+    np.testing.assert_array_equal(plan.frames, plan_motion(problem, problem.home, problem.goals[0].position).frames)
+    assert plan.source == "rrt_connect" and len(told) >= 2
+    done = [d for d, most in told]
+    assert {most for _, most in told} == {plan_iterations()}
+    assert done == sorted(done) and done[0] in (0, plan_iterations() // 2) and done[-1] == plan_iterations()
+
+
+def test_a_goal_without_a_path_tells_the_whole_search_budget():
+    """An arm held nearly rigid by its limits turns about its base only, and spheres at 90 degrees
+    either side of it close both ways round: the free pose behind it has no path, and every search runs."""
+    bent = np.radians([0.0, 60.0, 30.0, 0.0])
+    lim = Limits(np.r_[-np.inf, bent[1:] - np.radians(2)], np.r_[np.inf, bent[1:] + np.radians(2)], np.radians(0.5))
+    tip = forward(NOTES_ARM, bent).tip
+    radius = np.hypot(*tip[:2])
+    sides = [((0.0, side * radius, tip[2]), 2.5) for side in (1, -1)]
+    problem = notes_problem(sides, goals=((-tip[0], tip[1], tip[2]),), limits=lim, home=np.degrees(bent))
+    told = []
+    with small_planning_budget():
+        plan = plan_motion(problem, problem.home, problem.goals[0].position, searched=lambda done, most: told.append(done))
+        most = plan_iterations()
+    assert plan.reason == "no_path", plan.reason
+    assert told[-1] == most and max(told[:-1]) >= most // 2  # the last search ran to its end before the plan ended
+
+
+def test_the_docs_give_the_planning_budget_the_code_has():
+    scene_format, python_api = (" ".join((DOCS / page).read_text(encoding="utf-8").split()) for page in ("scene-format.md", "python-api.md"))
+    assert OMPL_SEARCHES == 2 and f"two searches of {OMPL_ITERATIONS:,} iterations" in scene_format
+    assert f"whole budget, {plan_iterations():,} iterations" in scene_format
+    assert f"of at most {plan_iterations():,}" in python_api
+
+
+def test_a_straight_plan_tells_nothing():
+    problem = notes_problem(goals=((6.0, 2.0, 9.0),))
+    told = []
+    plan = plan_motion(problem, problem.home, problem.goals[0].position, searched=lambda *a: told.append(a))
+    assert plan.source == "straight" and told == []
 
 
 def test_path_frames_start_and_stop_slowly():

@@ -116,6 +116,17 @@ def test_two_runs_are_byte_identical(tmp_path, scene):
         assert a.files[kind].read_bytes() == b.files[kind].read_bytes(), kind
 
 
+def test_a_run_shows_its_plans_and_writes_what_a_quiet_run_writes(tmp_path):
+    """The bars' "plan" stage: a planned run reports its search; its files are a quiet run's."""
+    seen = []
+    told = run_scene(SCENES / "planning-wall.yaml", tmp_path / "told", video=False, progress=lambda *call: seen.append(call))
+    quiet = run_scene(SCENES / "planning-wall.yaml", tmp_path / "quiet", video=False)
+    assert {stage for stage, *_ in seen} == {"solve", "plan"}
+    assert any(stage == "plan" and done == most for stage, done, most in seen)
+    for kind in ("trajectory", "summary"):
+        assert told.files[kind].read_bytes() == quiet.files[kind].read_bytes(), kind
+
+
 def armanim_command() -> list[str]:
     exe = Path(sys.executable).parent / "armanim"
     return [str(exe)] if exe.exists() else [sys.executable, "-m", "armanim"]

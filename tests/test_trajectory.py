@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import BUNDLED, solved_scene
+from conftest import BUNDLED, SCENES, solved_scene
 from hypothesis import given, settings
 from invariants import assert_trajectory_invariants
 from strategies import problems
@@ -36,6 +36,20 @@ def test_progress_callback_counts_frames(problem):
     assert done == sorted(done)
     assert totals == sorted(totals, reverse=True)  # the bound only shrinks
     assert all(d <= t <= frame_budget(problem) for d, t in seen)
+
+
+def test_planning_is_told_between_frames_and_changes_nothing():
+    """planning-wall's first goal is planned round the wall: the search is told as it goes, each
+    plan ending full, and the trajectory is the one solved without being told."""
+    problem, quiet = solved_scene(SCENES / "planning-wall.yaml")
+    seen = []
+    solution = solve_trajectory(problem, progress=lambda *call: seen.append(("solve", *call)),
+                                planning=lambda *call: seen.append(("plan", *call)))
+    np.testing.assert_array_equal(solution.trajectory.phi, quiet.trajectory.phi)
+    plans = [call for call in seen if call[0] == "plan"]
+    assert solution.goals[0].planning.path == "rrt_connect" and plans
+    ends = [k for k, call in enumerate(seen) if call[0] == "plan" and call[1] == call[2]]
+    assert ends and all(seen[k + 1][0] == "solve" for k in ends)  # a plan ends before the next frame
 
 
 def test_trajectory_is_deterministic_in_process():

@@ -1,4 +1,4 @@
-"""Progress bars on stderr: one per stage (solve, render, scenes, variants), with the
+"""Progress bars on stderr: one per stage (solve, plan, render, scenes, variants), with the
 rate and the time left."""
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ class Bars:
         self.console = console or err
         self.progress: Progress | None = None
         self.tasks: dict[str, int] = {}
+        self.done: dict[str, int] = {}
 
     def __enter__(self):
         if self.enabled:
@@ -45,8 +46,12 @@ class Bars:
             return
         if stage not in self.tasks:
             self.tasks[stage] = self.progress.add_task(f"{stage:>6}", total=total)
+        task = self.tasks[stage]
+        if done < self.done.get(stage, 0):  # the stage starts over (the next plan): its rate and time left too
+            self.progress.reset(task, total=total)
+        self.done[stage] = done
         label = f"{stage:>6} " + ", ".join(running) if running else f"{stage:>6}"
-        self.progress.update(self.tasks[stage], completed=done, total=max(total, done), description=label)
+        self.progress.update(task, completed=done, total=max(total, done), description=label)
 
 
 def bars(quiet: bool) -> Bars:

@@ -29,6 +29,7 @@ from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import tool_rotation
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
+from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in
 from armanim.motion.solution import GoalReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
@@ -120,7 +121,9 @@ def goal_errors(problem: Problem, state: ArmState, goal: Goal) -> tuple[float, f
     return distance, angle, float(pose_distance(distance, angle, s.tolerance, s.orientation_tolerance))
 
 
-def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | None = None) -> Solution:
+def solve_trajectory(
+    problem: Problem, progress: Callable[[int, int], None] | None = None, planning: Searched | None = None
+) -> Solution:
     """Run the frame loop over every goal.
 
     Parameters
@@ -130,6 +133,9 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
         Called after every frame with the frames produced so far and the most the
         run can still have in all (that bound shrinks as goals are reached early, and
         equals the frame count at the end).
+    planning : callable, optional
+        ``planning(done, most)``: the iterations of a plan's path search as it goes, between two
+        frames (:data:`armanim.motion.planning.path.Searched`); each plan counts from 0 again.
 
     Returns
     -------
@@ -150,14 +156,14 @@ def solve_trajectory(problem: Problem, progress: Callable[[int, int], None] | No
                 cap = problem.solver.max_frames_per_goal
                 progress(len(rec), len(rec) + cap - visit.frames + hold_frames(problem, goal) + later)
 
-        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress)
+        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning)
         reports.append(report)
         if progress:
             progress(len(rec), len(rec) + later)
     return Solution(trajectory=_finish(problem, rec), goals=tuple(reports))
 
 
-def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal, on_frame):
+def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal, on_frame, planning=None):
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
     s = problem.solver
     first = len(rec) if k else 0
@@ -171,7 +177,7 @@ def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int
         state = _one_frame(problem, method, rec, state, visit)
         on_frame(visit)
         if not visit.path and pose_stalled(visit.distances, visit.angles, window, s.tolerance, s.orientation_tolerance, floor):
-            visit.reason = _escape(problem, state, visit)
+            visit.reason = _escape(problem, state, visit, planning)
             if visit.reason is not None:
                 break
     reached = visit.progress[-1] < s.tolerance
@@ -252,7 +258,7 @@ def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.nd
     return np.where(problem.limits.limited, offset, wrap_angle(offset))
 
 
-def _escape(problem: Problem, state: ArmState, visit: _Visit) -> MissReason | None:
+def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched | None = None) -> MissReason | None:
     """A stalled goal: plan a way out (None) or give it up (the reason).
 
     A goal whose orientation the planner finds unreachable at its position is given up as
@@ -270,12 +276,12 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit) -> MissReason | No
     if done.plans >= MAX_PLANS:
         return "stalled"
     seed = visit.index * MAX_PLANS + done.plans
-    plan = plan_motion(problem, state.phi, target, seed=seed, orientation=orientation)
+    plan = plan_motion(problem, state.phi, target, seed=seed, orientation=orientation, searched=planning)
     if plan.reason == "orientation_unreachable":
         if visit.distances[-1] < problem.solver.tolerance:
             visit.planning = replace(done, plans=done.plans + 1)
             return plan.reason
-        plan = plan_motion(problem, state.phi, target, seed=seed)
+        plan = plan_motion(problem, state.phi, target, seed=seed, searched=planning)
     visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks)
     if plan.frames is None:
         return plan.reason

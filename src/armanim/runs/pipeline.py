@@ -23,7 +23,8 @@ from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_pro
 from armanim.scene.models import LIMITS
 
 Progress = Callable[[str, int, int], None]
-"""progress(stage, done, total): stage is "solve" or "render"."""
+"""progress(stage, done, total): stage is "solve", "plan" (a plan's path search, in iterations,
+counting from 0 again for each plan, between two solve frames) or "render"."""
 
 
 @dataclass(frozen=True)
@@ -125,7 +126,8 @@ def produce_outputs(
             f"--fps {settings.fps:g}: the holds would make up to {int(frames):,} frames "
             f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
         )
-    solution = solve_trajectory(solved, (lambda done, total: progress("solve", done, total)) if progress else None)
+    solution = solve_trajectory(solved, (lambda done, total: progress("solve", done, total)) if progress else None,
+                                (lambda done, most: progress("plan", done, most)) if progress else None)
     solution = resample(solved, solution, settings.fps)  # the same motion in seconds at the fps it is shown at
     problem = at_fps(solved, settings.fps)
     summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)

@@ -19,7 +19,7 @@ import numpy as np
 
 from armanim.motion.orientation import Orientation
 from armanim.motion.planning.follow import damper_paced, path_schedule, poses_along
-from armanim.motion.planning.path import plan_path
+from armanim.motion.planning.path import Searched, plan_path
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Problem
 from armanim.names import MissReason, PathSource
@@ -52,7 +52,8 @@ class Plan:
 
 
 def plan_motion(
-    problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0, orientation: Orientation | None = None
+    problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0, orientation: Orientation | None = None,
+    searched: Searched | None = None,
 ) -> Plan:
     """Plan from the pose ``phi_now`` to a free pose whose tip is at ``goal`` (and whose tool
     meets ``orientation``, when the goal has one).
@@ -65,6 +66,10 @@ def plan_motion(
     goal : (3,) array
     seed : int
         Seed of the IK starts (the frame loop passes the goal's index and attempt).
+    orientation : Orientation, optional
+    searched : callable, optional
+        ``searched(done, most)``: the path search's iterations, as it goes
+        (:data:`armanim.motion.planning.path.Searched`).
 
     Returns
     -------
@@ -77,7 +82,7 @@ def plan_motion(
         return Plan(None, "orientation_unreachable", 0, "none", 0)
     if not len(found.poses):
         return Plan(None, "no_free_pose", 0, "none", 0)
-    path = plan_path(problem, phi_now, found.poses)
+    path = plan_path(problem, phi_now, found.poses, searched)
     if path.waypoints is None:
         return Plan(None, "no_path", len(found.poses), path.source, path.checks)
     schedule = damper_paced(problem, path.waypoints, path_schedule(path.waypoints, problem.solver.max_joint_step))

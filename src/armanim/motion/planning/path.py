@@ -14,6 +14,7 @@ the process planned before (a batch worker gives the same trajectory as a fresh 
 from __future__ import annotations
 
 import gc
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,9 +39,16 @@ STRAIGHT_TRIES = 4  # nearest goal poses tried with a straight segment
 OMPL_GOALS = 64  # goal poses handed to RRT-Connect
 OMPL_ITERATIONS = 15000  # planner iterations per search: the budget, counted so that it is deterministic
 OMPL_SEARCHES = 2  # searches with different random numbers before a goal has no path
+TICK_ITERATIONS = 500  # how often a search reports its iterations (see Searched)
 RRT_RANGE = 1.2  # radians: RRT-Connect's longest edge (measured on six hard cases: 0.13 rad found 1, 0.6 found 3, 1.2 found 5)
 OMPL_SEED = 20251123
 UNLIMITED_SPAN = 2 * np.pi  # an unlimited joint plans within +-2 pi
+
+
+Searched = Callable[[int, int], None]
+"""``searched(done, most)``: a plan's RRT-Connect iterations so far and the most it may take
+(:func:`plan_iterations`), called as its searches go on and with ``done == most`` when the plan
+ends, so that a caller can show the minute a goal with no path may take."""
 
 
 @dataclass(frozen=True)
@@ -105,7 +113,16 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     return True, checks
 
 
-def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray) -> JointPath:
+def plan_iterations() -> int:
+    """The most RRT-Connect iterations one :func:`plan_path` may take: it searches at two floors.
+
+    >>> plan_iterations() == 2 * OMPL_SEARCHES * OMPL_ITERATIONS
+    True
+    """
+    return 2 * OMPL_SEARCHES * OMPL_ITERATIONS
+
+
+def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: Searched | None = None) -> JointPath:
     """A free path from ``start`` to one of ``goals`` (nearest first), or none.
 
     First with room: to the goal poses with room to settle, every pose of the path at least
@@ -121,25 +138,48 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray) -> JointPa
         The current pose, radians.
     goals : (k, n) array
         Free goal poses, the roomy ones first, each group nearest first.
+    searched : callable, optional
+        Told the RRT-Connect iterations as they go (see :data:`Searched`); not called for a
+        plan that needs no search.
     """
+    most, ticked = plan_iterations(), False
+
+    def tick(done: int) -> None:
+        nonlocal ticked
+        ticked = True
+        searched(done, most)
+
+    path = _path_at_two_floors(problem, start, goals, tick if searched else None)
+    if ticked:
+        searched(most, most)
+    return path
+
+
+def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, tick: Callable[[int], None] | None) -> JointPath:
+    """:func:`plan_path`'s search: with room to settle first, then at the planning floor;
+    ``tick(done)`` counts the iterations of both searches, the second from half :func:`plan_iterations`."""
     room = settle_clearance(problem)
     roomy = goals[pose_clearance(problem, goals) >= room]
     begin, checks = start, 0
     if len(roomy) and pose_clearance(problem, start)[0] < room:
         begin, checks = escape_pose(problem, start, room)
     if len(roomy) and begin is not None:
-        waypoints, source, used = search_path(problem, begin, roomy, room)
+        waypoints, source, used = search_path(problem, begin, roomy, room, tick)
         checks += used
         if waypoints is not None:
             head = [start] if begin is not start else []
             return JointPath(np.concatenate([np.array(head).reshape(-1, len(start)), waypoints]), source, checks)
-    waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start))
+    waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start), tick, first=OMPL_SEARCHES)
     return JointPath(waypoints, source, checks + used)
 
 
-def search_path(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float) -> tuple[np.ndarray | None, PathSource, int]:
+def search_path(
+    problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
+    tick: Callable[[int], None] | None = None, first: int = 0,
+) -> tuple[np.ndarray | None, PathSource, int]:
     """(waypoints or None, source, checks): the straight segment to one of the first goals,
-    else RRT-Connect to any of them, every pose at least ``floor`` from every obstacle."""
+    else RRT-Connect to any of them, every pose at least ``floor`` from every obstacle.
+    ``tick(done)`` is told the iterations, counted as though ``first`` searches had run before."""
     checks = 0
     for goal in goals[:STRAIGHT_TRIES]:
         free, used = motion_is_free(problem, start, goal, floor)
@@ -147,7 +187,9 @@ def search_path(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: f
         if free:
             return np.stack([start, goal]), "straight", checks
     for search in range(OMPL_SEARCHES):
-        waypoints, used = rrt_connect(problem, start, goals[:OMPL_GOALS], floor, search)
+        before = (first + search) * OMPL_ITERATIONS
+        counted = (lambda done, before=before: tick(before + done)) if tick else None
+        waypoints, used = rrt_connect(problem, start, goals[:OMPL_GOALS], floor, search, counted)
         gc.collect()  # OMPL's Python callbacks form cycles with its objects: free them now, not at exit
         checks += used
         if waypoints is not None:
@@ -180,12 +222,14 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
 
 
 def rrt_connect(
-    problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, search: int = 0
+    problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, search: int = 0,
+    tick: Callable[[int], None] | None = None,
 ) -> tuple[np.ndarray | None, int]:
     """OMPL's RRT-Connect from ``start`` to any of ``goals``, simplified; (path or None, checks).
     Every pose of the path keeps ``floor`` from every obstacle.
 
     ``search`` picks the random numbers: each value gives another, always the same, search.
+    ``tick(iterations)`` is called as the search starts and every :data:`TICK_ITERATIONS`.
     """
     from ompl import base as ob
     from ompl import geometric as og
@@ -208,7 +252,12 @@ def rrt_connect(
 
     def out_of_budget() -> bool:
         iterations[0] += 1
+        if tick and iterations[0] % TICK_ITERATIONS == 0:
+            tick(iterations[0])
         return iterations[0] > OMPL_ITERATIONS
+
+    if tick:
+        tick(0)
 
     planner.solve(ob.PlannerTerminationCondition(out_of_budget))
     if not pdef.hasExactSolution():
