@@ -216,7 +216,7 @@ def connect_client(client_cls, address: str, seconds: float = CONNECT_SECONDS):
     if isinstance(error, ValueError):  # Dask's word for an address it cannot parse
         raise UsageError(f"--scheduler: {address!r} is not a scheduler address ({error}; expected tcp://HOST:PORT or local)")
     if error is not None:
-        raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} ({error})")
+        raise _unreachable(address, str(error))
     raise _no_answer(address, seconds)
 
 
@@ -254,16 +254,18 @@ def _refuse_if_nothing_listens(address: str, seconds: float) -> None:
     try:
         socket.create_connection(endpoint, timeout=seconds).close()
     except ConnectionRefusedError:
-        raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} (connection refused: nothing "
-                         f"listens on port {endpoint[1]} there; start one with `dask scheduler`, or check the "
-                         "address and port)") from None
+        raise _unreachable(address, f"connection refused: nothing listens on port {endpoint[1]} there; start one "
+                           "with `dask scheduler`, or check the address and port") from None
     except socket.gaierror as exc:
-        raise UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} "
-                         f"(no such host {endpoint[0]!r}: {exc.strerror})") from None
+        raise _unreachable(address, f"no such host {endpoint[0]!r}: {exc.strerror}") from None
     except TimeoutError:
         raise _no_answer(address, seconds) from None
     except OSError:
         return  # an unreachable network, say: Dask's own attempt reports it in its words
+
+
+def _unreachable(address: str, why: str) -> UsageError:
+    return UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} ({why})")
 
 
 def _no_answer(address: str, seconds: float) -> UsageError:
