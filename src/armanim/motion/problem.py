@@ -88,6 +88,43 @@ def frames_in(seconds: float, fps: float) -> int:
     return int(round(seconds * fps))  # noqa: RUF046 (numpy < 2 rounds to a float)
 
 
+LINK_ACCELERATION_PER_SPEED = 4.0
+"""1/s: a link arm's default ``max_joint_acceleration`` is its speed times this (full speed in a
+quarter of a second); a URDF arm's comes from its robot (``robot.yaml``) or the scene."""
+
+
+@dataclass(frozen=True)
+class RateLimits:
+    """How fast each joint may move: the clock's limits (radians and seconds).
+
+    Attributes
+    ----------
+    speed : (n,) array
+        rad/s, each joint's ``max_joint_speed``.
+    acceleration : (n,) array
+        rad/s^2, each joint's ``max_joint_acceleration``.
+    jerk : (n,) array or None
+        rad/s^3, each joint's ``max_joint_jerk``; None: the clock bounds speed and
+        acceleration only.
+    """
+
+    speed: np.ndarray
+    acceleration: np.ndarray
+    jerk: np.ndarray | None = None
+
+
+def link_arm_rates(n: int, max_joint_step: float, fps: float) -> RateLimits:
+    """A link arm's default limits: ``max_joint_step`` (radians per frame) at ``fps`` as a speed,
+    and :data:`LINK_ACCELERATION_PER_SPEED` times that as an acceleration.
+
+    >>> r = link_arm_rates(2, np.radians(10.0), 30.0)
+    >>> np.degrees(r.speed).round(6).tolist(), np.degrees(r.acceleration).round(6).tolist(), r.jerk
+    ([300.0, 300.0], [1200.0, 1200.0], None)
+    """
+    speed = np.full(n, max_joint_step * fps)
+    return RateLimits(speed, LINK_ACCELERATION_PER_SPEED * speed)
+
+
 @dataclass(frozen=True)
 class SolverSettings:
     """Every number of the solvers, from the scene's ``solver`` section (radians).
@@ -155,6 +192,9 @@ class Problem:
     capsules : Capsules
         The arm's collision capsules, which every guarantee is about. Left out (None), they
         are today's: one per link from joint to joint, of radius ``half_width``.
+    rates : RateLimits
+        Each joint's speed, acceleration (and jerk) limits, which the clock keeps. Left out
+        (None): :func:`link_arm_rates` of ``solver.max_joint_step`` at ``fps``.
     """
 
     arm: Arm
@@ -166,10 +206,13 @@ class Problem:
     solver: SolverSettings
     fps: float
     capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
+    rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
 
     def __post_init__(self) -> None:
         if self.capsules is None:
             object.__setattr__(self, "capsules", joint_capsules(self.arm, self.half_width))
+        if self.rates is None:
+            object.__setattr__(self, "rates", link_arm_rates(len(self.home), self.solver.max_joint_step, self.fps))
         object.__setattr__(self, "_lever_arms", capsule_lever_arms(self.arm, self.capsules))  # asked for every frame
 
     @property
