@@ -36,11 +36,31 @@ def small_planning_budget(share: int = 30, seed_share: int = 4):
         yield
 
 
+RATE_TOLERANCE = 1e-9
+"""Relative: the frames' finite-difference speeds and accelerations may exceed the limits by
+rounding only."""
+
+
+def assert_within_rates(problem: Problem, traj) -> None:
+    """Every frame of a timed trajectory within each joint's speed and acceleration limits
+    (differences over 1/fps, unlimited joints wrap-aware), the clock's velocities finite and
+    0 where the arm rests."""
+    steps = wrap_angle(np.diff(traj.phi, axis=0))
+    speed = np.abs(steps) * traj.fps
+    assert np.all(speed <= problem.rates.speed * (1 + RATE_TOLERANCE)), float((speed / problem.rates.speed).max())
+    accel = np.abs(np.diff(steps, axis=0)) * traj.fps**2
+    assert np.all(accel <= problem.rates.acceleration * (1 + RATE_TOLERANCE)), float((accel / problem.rates.acceleration).max())
+    assert np.all(np.isfinite(traj.velocity)) and np.all(np.abs(traj.velocity) <= problem.rates.speed * (1 + 1e-6))
+    rest = np.concatenate([[True], np.all(steps == 0, axis=1)]) & np.concatenate([np.all(steps == 0, axis=1), [True]])
+    assert np.all(traj.velocity[rest] == 0)
+
+
 def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     traj = solution.trajectory
     F, n = traj.phi.shape
     assert n == problem.arm.n and F >= 1
-    assert F <= frame_budget(problem)
+    timed = traj.velocity is not None  # on the clock: its limits, not the solver's step, bound the motion
+    assert timed or F <= frame_budget(problem)
     for name in ("phi", "tip", "distance"):
         assert np.all(np.isfinite(getattr(traj, name))), name
     # frame 0 is home; frames are numbered 0..F-1 and timed by fps
@@ -76,8 +96,10 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     assert set(traj.mode) <= ({"ik", "plan"} if problem.solver.planner == "auto" else {"ik"})
     # unlimited joints wrapped (frame 0 may be any home)
     assert np.all(np.abs(traj.phi[1:, ~limited]) <= np.pi + TINY)
-    # no joint turns more than max_joint_step in one frame (wrap-aware)
-    if F > 1:
+    if timed:
+        assert_within_rates(problem, traj)
+    # no joint turns more than max_joint_step in one solved frame (wrap-aware)
+    elif F > 1:
         steps = np.abs(wrap_angle(np.diff(traj.phi, axis=0)))
         assert steps.max() <= problem.solver.max_joint_step + TINY
         assert max_joint_step(traj.phi) == pytest.approx(steps.max())
@@ -96,11 +118,11 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
             assert report.reason in MISS_REASONS, report.reason
             # a miss ends early (stalled, planned in vain) or at the frame cap, and says which
             at_cap = report.frames == problem.solver.max_frames_per_goal
-            assert at_cap or report.reason != "too_slow"
+            assert timed or at_cap or report.reason != "too_slow"
             angle = report.final_orientation_error
             assert report.final_distance >= problem.solver.tolerance or (
                 angle is not None and angle >= problem.solver.orientation_tolerance)
-        assert 0 <= report.frames <= problem.solver.max_frames_per_goal
+        assert 0 <= report.frames and (timed or report.frames <= problem.solver.max_frames_per_goal)
         if report.first_frame >= 0:
             rows = np.nonzero(traj.goal == k)[0]
             assert report.last_frame == rows[-1]

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import json
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +16,7 @@ from strategies import cluttered_problems
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal, Problem
-from armanim.motion.resample import at_fps, resample, sample_times
+from armanim.motion.retime import at_fps, retime
 from armanim.motion.solution import GoalReport, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance
 from armanim.motion.trajectory import solve_trajectory
@@ -97,47 +96,34 @@ def test_a_scene_moves_the_same_in_seconds_at_15_30_and_60_fps(cli, tmp_path, na
         assert abs(duration - summaries[30]["totals"]["duration_s"]) <= 0.05 * duration
 
 
-@given(steps=st.integers(1, 5000), rates=st.sampled_from([(30.0, 24.0), (30.0, 7.0), (24.0, 30.0), (25.0, 60.0), (30.0, 90.0), (60.0, 15.0)]))
-def test_the_samples_that_fall_on_solved_frames_are_those_frames_exactly(steps, rates):
-    """The last sample is the last solved frame, bit for bit (at 108.99999999999999 a frame's
-    iterations were dropped: hypothesis found 1937 of 1952 at 24 fps), and so is every sample
-    that lands on a whole solved frame."""
-    times = sample_times(steps, *rates)
-    assert times[-1] == steps
-    count = len(times)
-    on_frames = [k for k in range(1, count + 1) if k * steps % count == 0]
-    assert all(times[k - 1] == k * steps // count for k in on_frames)
-    assert np.all(np.diff(times) > 0) and np.diff(times, prepend=0).max() <= steps / count + 1e-12
-
-
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])  # as the suite's profile
 @given(problem=cluttered_problems(max_goals=2), fps=st.sampled_from([7.0, 15.0, 24.0, 60.0, 90.0]))
-def test_every_resampled_frame_keeps_the_guarantees_at_that_rate(problem, fps):
+def test_every_retimed_frame_keeps_the_guarantees_at_that_rate(problem, fps):
     with small_planning_budget():
         solved = solve_trajectory(problem)
-    resampled = resample(problem, solved, fps)
+    timed = retime(problem, solved, fps)
     shown = at_fps(problem, fps)
-    # clearance, limits, holds, reports; the joint step at most the larger of one frame at this rate
-    # and one solved step (the fallback's bound) ...
-    loose = max(shown.solver.max_joint_step, problem.solver.max_joint_step)
-    assert_trajectory_invariants(replace(shown, solver=replace(shown.solver, max_joint_step=loose)), resampled)
-    # ... and within the speed at this rate, but where a frame shows a solved pose instead of an
-    # in-between one whose chord would cut a surface (docs/scene-format.md, "Frames and goals")
-    phi = resampled.trajectory.phi
-    fast = np.nonzero(np.abs(wrap_angle(np.diff(phi, axis=0))).max(axis=1, initial=0) > shown.solver.max_joint_step + 1e-9)[0]
-    solved_poses = {tuple(row) for row in solved.trajectory.phi}
-    assert all(tuple(phi[k]) in solved_poses or tuple(phi[k + 1]) in solved_poses for k in fast)
-    assert [g.reached for g in resampled.goals] == [g.reached for g in solved.goals]
-    assert [g.reason for g in resampled.goals] == [g.reason for g in solved.goals]
-    assert resampled.trajectory.iterations.sum() == solved.trajectory.iterations.sum()
-    for g_new, g_old in zip(resampled.goals, solved.goals):  # the same seconds of motion, to a frame
-        assert abs(g_new.frames / fps - g_old.frames / problem.fps) <= 1 / fps + 1e-9
+    # clearance, limits, holds, reports, and each joint's speed and acceleration within its limits
+    assert_trajectory_invariants(shown, timed)
+    assert [g.reached for g in timed.goals] == [g.reached for g in solved.goals]
+    assert [g.reason for g in timed.goals] == [g.reason for g in solved.goals]
+    assert timed.trajectory.iterations.sum() == solved.trajectory.iterations.sum()
+    for g, report in zip(timed.goals, solved.goals):  # every goal ends on its last solved pose, at rest
+        if g.frames:
+            last, solved_last = (r.first_frame + r.frames - 1 + (r.index == 0) for r in (g, report))
+            gap = wrap_angle(timed.trajectory.phi[last] - solved.trajectory.phi[solved_last])
+            np.testing.assert_allclose(gap, 0, atol=1e-9)
+            assert np.all(timed.trajectory.velocity[last] == 0)
+            assert g.timing.peak_speed_ratio <= 1 + 1e-9 and g.timing.peak_acceleration_ratio <= 1 + 1e-9
+            assert g.timing.duration == pytest.approx(g.frames / fps)
 
 
-def test_at_the_scenes_own_fps_nothing_is_resampled():
+def test_the_clock_is_the_same_at_every_fps():
     problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)
     solved = solve_trajectory(problem)
-    assert resample(problem, solved, problem.fps) is solved and at_fps(problem, problem.fps) is problem
+    durations = {fps: [g.timing.duration for g in retime(problem, solved, fps).goals] for fps in (15.0, 30.0, 60.0)}
+    for fps in (15.0, 60.0):  # whole frames: each goal rounds up by less than one frame
+        np.testing.assert_allclose(durations[fps], durations[30.0], atol=1 / 15)
 
 
 def test_an_in_between_pose_that_would_cut_an_obstacle_is_moved_back():
@@ -161,11 +147,6 @@ def test_an_in_between_pose_that_would_cut_an_obstacle_is_moved_back():
     solved = Solution(trajectory, (report,))
     straight = np.radians(np.linspace(-60.0, 60.0, 11))
     assert pose_clearance(problem, straight[:, None]).min() < 0  # plain interpolation would cut the sphere
-    resampled = resample(problem, solved, 100.0)
-    shown = at_fps(problem, 100.0)
-    solved_step = replace(shown, solver=replace(shown.solver, max_joint_step=problem.solver.max_joint_step))
-    assert_trajectory_invariants(solved_step, resampled)  # the joint-speed bound is then the solved step's
-    assert resampled.trajectory.clearance.min() >= problem.solver.clearance
-    shown = np.round(np.degrees(resampled.trajectory.phi[:, 0]), 9)
-    assert {-48.0, 48.0} <= set(shown) and not set(shown) & {-12.0, 0.0, 12.0}  # safe in-between poses only
-    np.testing.assert_array_equal(resampled.trajectory.phi[-1], phi[-1])  # the solved pose itself ends the motion
+    timed = retime(problem, solved, 100.0)
+    assert timed.trajectory.clearance.min() >= problem.solver.clearance  # safe in-between poses only
+    np.testing.assert_array_equal(timed.trajectory.phi[-1], phi[-1])  # the solved pose itself ends the motion

@@ -52,6 +52,8 @@ class GoalReport:
     final_orientation_error : float or None
         Radians: the angle from the tool frame to the goal's orientation (or of the tool's z to
         its tool axis) when the goal was left; None for a position-only goal.
+    timing : GoalTiming or None
+        The clock's account of the goal's motion; None before the solution is retimed.
     """
 
     index: int
@@ -66,11 +68,35 @@ class GoalReport:
     newton_iterations: int = 0
     planning: PlanningReport | None = None
     final_orientation_error: float | None = None
+    timing: GoalTiming | None = None
 
     @property
     def planned(self) -> bool:
         """Whether the planner ran for this goal."""
         return self.planning is not None
+
+
+@dataclass(frozen=True)
+class GoalTiming:
+    """How long a goal's motion took on the clock, and how near its limits it came.
+
+    Attributes
+    ----------
+    duration : float
+        Seconds from rest to rest (holds not counted).
+    peak_speed_ratio, peak_acceleration_ratio : float
+        The largest of any joint's frame-to-frame speed (first differences over 1/fps) and
+        acceleration (second differences over 1/fps^2, at rest before and after) over its
+        limit: at most 1. 0 for a goal the arm did not move toward.
+    speed_joint, acceleration_joint : int or None
+        0-based index of the joint with that peak (None when the arm did not move).
+    """
+
+    duration: float
+    peak_speed_ratio: float
+    peak_acceleration_ratio: float
+    speed_joint: int | None
+    acceleration_joint: int | None
 
 
 @dataclass(frozen=True)
@@ -126,6 +152,9 @@ class Trajectory:
     tool_quaternion : (F, 4) array or None
         The tool frame's world rotation as a unit quaternion (w, x, y, z), w >= 0; None where
         not computed.
+    velocity : (F, n) array or None
+        Each joint's speed at the frame on the clock, rad/s (0 at rest); None for a solution
+        not yet retimed (the solver's own frames).
     """
 
     phi: np.ndarray
@@ -140,6 +169,7 @@ class Trajectory:
     mode: np.ndarray | None = None
     orientation_error: np.ndarray | None = None
     tool_quaternion: np.ndarray | None = None
+    velocity: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.mode is None:

@@ -2,10 +2,11 @@
 
 Columns (the contract's first, then extras):
 ``frame, time_s, goal, phi1_deg .. phiN_deg, x, y, z, goal_distance, clearance,
-reached, step_scale, iterations, mode, qw, qx, qy, qz, orientation_error_deg`` (mode: ``ik``
-where the method stepped, ``plan`` where the arm followed a planned path; ``qw .. qz`` the
-tool frame's unit quaternion, w >= 0; ``orientation_error_deg`` the tool's angle to the
-frame's goal orientation, empty for a position-only goal). Floats are written with ``repr`` (shortest
+reached, step_scale, iterations, mode, qw, qx, qy, qz, orientation_error_deg,
+dphi1_deg_s .. dphiN_deg_s`` (mode: ``ik`` where the method stepped, ``plan`` where the arm
+followed a planned path; ``qw .. qz`` the tool frame's unit quaternion, w >= 0;
+``orientation_error_deg`` the tool's angle to the frame's goal orientation, empty for a
+position-only goal; ``dphiK_deg_s`` joint K's velocity on the clock). Floats are written with ``repr`` (shortest
 round-trip form), so reading the file back gives the same numbers bit for bit.
 """
 
@@ -37,7 +38,17 @@ MODES = ("ik", "plan")
 
 def header(n_joints: int) -> list[str]:
     """Column names for an arm of ``n_joints`` joints."""
-    return [*BASE_COLUMNS, *(f"phi{i}_deg" for i in range(1, n_joints + 1)), *TAIL_COLUMNS]
+    return [*BASE_COLUMNS, *(f"phi{i}_deg" for i in range(1, n_joints + 1)), *TAIL_COLUMNS,
+            *velocity_columns(n_joints)]
+
+
+def velocity_columns(n_joints: int) -> list[str]:
+    """The joint-velocity columns (the clock's, degrees per second), after the contract's.
+
+    >>> velocity_columns(2)
+    ['dphi1_deg_s', 'dphi2_deg_s']
+    """
+    return [f"dphi{i}_deg_s" for i in range(1, n_joints + 1)]
 
 
 def _num(value: float) -> str:
@@ -53,6 +64,7 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
     clearance = traj.clearance[i]
     angle = np.nan if traj.orientation_error is None else traj.orientation_error[i]
     quaternion = traj.tool_quaternion[i] if traj.tool_quaternion is not None else np.full(4, np.nan)
+    velocity = traj.velocity[i] if traj.velocity is not None else np.zeros(traj.phi.shape[1])
     return [
         str(i),
         _num(time_s),
@@ -67,6 +79,7 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
         str(traj.mode[i]),
         *(_num(v) if np.isfinite(v) else "" for v in quaternion),
         _num(np.degrees(angle)) if np.isfinite(angle) else "",
+        *(_num(v) for v in np.degrees(velocity)),
     ]
 
 

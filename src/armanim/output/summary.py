@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 
@@ -10,7 +11,7 @@ import numpy as np
 
 from armanim import __version__
 from armanim.motion.problem import Problem
-from armanim.motion.solution import MISS_REASONS, GoalReport, PlanningReport, Solution, max_joint_step
+from armanim.motion.solution import MISS_REASONS, GoalReport, GoalTiming, PlanningReport, Solution, max_joint_step
 from armanim.output.atomic import write_text_atomic
 
 
@@ -27,7 +28,7 @@ def min_limit_margin_deg(problem: Problem, phi: np.ndarray) -> float | None:
     return float(np.degrees(gaps.min()))
 
 
-def goal_report_dict(g: GoalReport) -> dict:
+def goal_report_dict(g: GoalReport, joint_names: Sequence[str] = ()) -> dict:
     """One goal of summary.json (read back by :func:`goal_report_from_dict`)."""
     return {
         "index": g.index,
@@ -44,10 +45,43 @@ def goal_report_dict(g: GoalReport) -> dict:
         "newton_iterations": g.newton_iterations,
         "planned": g.planned,
         "planning": asdict(g.planning) if g.planning else None,
+        **timing_dict(g.timing, joint_names),
     }
 
 
-def goal_report_from_dict(g: dict) -> GoalReport:
+def timing_dict(timing: GoalTiming | None, joint_names: Sequence[str] = ()) -> dict:
+    """A goal's clock fields of summary.json: ``duration_s``, ``peak_speed_ratio`` and
+    ``peak_acceleration_ratio`` (each <= 1) with the joints that reach them (empty before the clock)."""
+    if timing is None:
+        return {}
+
+    def name(j: int | None) -> str | None:
+        return None if j is None else joint_label(joint_names, j)
+
+    return {
+        "duration_s": timing.duration,
+        "peak_speed_ratio": timing.peak_speed_ratio,
+        "peak_speed_joint": name(timing.speed_joint),
+        "peak_acceleration_ratio": timing.peak_acceleration_ratio,
+        "peak_acceleration_joint": name(timing.acceleration_joint),
+    }
+
+
+def timing_from_dict(g: dict, joint_names: Sequence[str] = ()) -> GoalTiming | None:
+    """The GoalTiming of one goal of summary.json (None for a run from before the clock)."""
+    if "duration_s" not in g:
+        return None
+
+    def index(name: str | None) -> int | None:
+        if name is None or name in joint_names:
+            return None if name is None else list(joint_names).index(name)
+        return int(str(name).removeprefix("phi")) - 1  # ValueError: not a joint's name
+
+    return GoalTiming(float(g["duration_s"]), float(g["peak_speed_ratio"]), float(g["peak_acceleration_ratio"]),
+                      index(g["peak_speed_joint"]), index(g["peak_acceleration_joint"]))
+
+
+def goal_report_from_dict(g: dict, joint_names: Sequence[str] = ()) -> GoalReport:
     """The GoalReport of one goal of summary.json; KeyError, TypeError or ValueError if it is not one."""
     return GoalReport(
         index=g["index"],
@@ -62,13 +96,29 @@ def goal_report_from_dict(g: dict) -> GoalReport:
         newton_iterations=g.get("newton_iterations", 0),
         planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
         final_orientation_error=None if g.get("final_orientation_error_deg") is None else float(np.radians(g["final_orientation_error_deg"])),
+        timing=timing_from_dict(g, joint_names),
     )
+
+
+def joint_label(joint_names: Sequence[str], j: int) -> str:
+    """Joint ``j``'s (0-based) name in summary.json: the URDF's, or ``phi{j+1}`` for an arm of links.
+
+    >>> joint_label((), 0), joint_label(("shoulder", "elbow"), 1)
+    ('phi1', 'elbow')
+    """
+    return joint_names[j] if j < len(joint_names) else f"phi{j + 1}"
+
+
+def joint_labels(problem: Problem) -> list[str]:
+    """Every joint's :func:`joint_label`."""
+    return [joint_label(problem.arm.joint_names, j) for j in range(problem.arm.n)]
 
 
 def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str) -> dict:
     """The summary as plain data (see docs/outputs in the README)."""
     traj = solution.trajectory
-    goals = [goal_report_dict(g) for g in solution.goals]
+    goals = [goal_report_dict(g, joint_labels(problem)) for g in solution.goals]
+    rates = problem.rates
     return {
         "armanim_version": __version__,
         "scene": {"name": name, "file": scene_file, "sha256": sha256},
@@ -90,6 +140,8 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
         "min_clearance": _round(traj.clearance.min()) if traj.frames else None,
         "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),
         "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi))),
+        "max_joint_speed_deg_s": [float(v) for v in np.degrees(rates.speed)],
+        "max_joint_acceleration_deg_s2": [float(v) for v in np.degrees(rates.acceleration)],
         "goals": goals,
     }
 

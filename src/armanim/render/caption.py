@@ -75,20 +75,34 @@ def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
     return activity
 
 
-def frame_caption(trajectory, frame: int, goals: int, activity: str) -> str:
+def frame_caption(trajectory, frame: int, goals: int, activity: str, speed_limits: np.ndarray | None = None) -> str:
     """The caption of a frame: time, goal (0-based, of how many), distance, the tool's angle to
-    the goal's orientation (only while the goal has one) and activity.
+    the goal's orientation (only while the goal has one), the limiting joint's speed as a share
+    of its limit (with ``speed_limits``, rad/s, on a trajectory with velocities) and activity.
 
     >>> import types
     >>> t = types.SimpleNamespace(goal=np.array([1]), distance=np.array([0.5]), fps=30.0)
     >>> frame_caption(t, 0, 4, "moving")
     't =   0.00 s   goal 1 (of 0-3)   distance    0.500   moving'
+    >>> t.velocity = np.array([[0.5, -1.5]])
+    >>> frame_caption(t, 0, 4, "moving", np.array([1.0, 2.0]))
+    't =   0.00 s   goal 1 (of 0-3)   distance    0.500   speed  75% (phi2)   moving'
     """
     k = int(trajectory.goal[frame])
     angles = getattr(trajectory, "orientation_error", None)
     angle = f"angle {np.degrees(angles[frame]):6.1f} deg   " if angles is not None and np.isfinite(angles[frame]) else ""
     return (f"t = {frame / trajectory.fps:6.2f} s   goal {k} (of 0-{goals - 1})   "
-            f"distance {trajectory.distance[frame]:8.3f}   {angle}{activity}")
+            f"distance {trajectory.distance[frame]:8.3f}   {angle}{_speed_share(trajectory, frame, speed_limits)}{activity}")
+
+
+def _speed_share(trajectory, frame: int, speed_limits: np.ndarray | None) -> str:
+    """"speed  75% (phi2)   ": the joint nearest its speed limit at the frame ("" without velocities)."""
+    velocity = getattr(trajectory, "velocity", None)
+    if velocity is None or speed_limits is None:
+        return ""
+    share = np.abs(velocity[frame]) / speed_limits
+    j = int(np.argmax(share))
+    return f"speed {100 * share[j]:3.0f}% (phi{j + 1})   "
 
 
 def goal_outcomes(reports) -> frozenset:

@@ -22,8 +22,9 @@ def plot_run(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalRep
 
     Top: distance of the tip to the current goal, and (with obstacles) the smallest
     clearance of the arm to any obstacle, with the goals' spans shaded, numbered from 0
-    as in the video and the files, and marked reached or missed. Bottom: every joint
-    angle in degrees, with its limits dashed in the joint's colour and labelled.
+    as in the video and the files, and marked reached or missed. Middle: every joint
+    angle in degrees, with its limits dashed in the joint's colour and labelled. Bottom:
+    every joint's speed as a share of its limit.
 
     Parameters
     ----------
@@ -46,7 +47,7 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
     fig = Figure(figsize=((width + 1e-3) / PLOT_DPI, (height + 1e-3) / PLOT_DPI), dpi=PLOT_DPI,
                  layout="constrained")
     canvas = FigureCanvasAgg(fig)
-    top, bottom = fig.subplots(2, 1, sharex=True)
+    top, bottom, speeds = fig.subplots(3, 1, sharex=True, height_ratios=(1, 1, 0.7))
     fig.suptitle(title, fontweight="bold")
     t = trajectory.time
     _goal_spans(top, trajectory, reports)
@@ -62,10 +63,29 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
         bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=f"phi{j + 1}")
     _limit_lines(bottom, problem.limits)
     bottom.set_ylabel("joint angle (deg)")
-    bottom.set_xlabel("time (s)")
     bottom.legend(loc="upper left", fontsize=9, ncols=min(degrees.shape[1], 6))
     bottom.grid(alpha=0.3)
+    _speed_panel(speeds, problem, trajectory)
+    speeds.set_xlabel("time (s)")
     return canvas
+
+
+def _speed_panel(ax, problem: Problem, trajectory: Trajectory) -> None:
+    """Each joint's speed as a percentage of its ``max_joint_speed`` (the clock's velocities; the
+    frames' differences for a run from before the clock), the limit at 100 %."""
+    if trajectory.velocity is not None:
+        velocity = trajectory.velocity
+    else:
+        velocity = np.vstack([np.zeros((1, trajectory.phi.shape[1])), np.diff(trajectory.phi, axis=0) * trajectory.fps])
+    share = 100 * np.abs(velocity) / problem.rates.speed
+    for j in range(share.shape[1]):
+        ax.plot(trajectory.time, share[:, j], color=f"C{j % 10}", linewidth=1.0)
+    ax.axhline(100.0, color="0.25", linewidth=1.0, linestyle="--")
+    ax.text(0.995, 100.0, "speed limit", transform=ax.get_yaxis_transform(), ha="right", va="bottom", fontsize=8,
+            color="0.25")
+    ax.set_ylim(0, max(110.0, float(share.max()) * 1.05))
+    ax.set_ylabel("joint speed (% of limit)")
+    ax.grid(alpha=0.3)
 
 
 def limit_groups(lower: np.ndarray, upper: np.ndarray) -> list[tuple[float, str, list[int]]]:

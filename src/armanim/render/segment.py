@@ -64,7 +64,7 @@ def frame_drawer(problem: Problem, trajectory: Trajectory, reports: Sequence[Goa
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
     goals = len(problem.goals)
     activity = frame_activity(trajectory, reports)
-    captions = [frame_caption(trajectory, f, goals, activity[f]) for f in range(trajectory.frames)]
+    captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
     scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent,
                         caption_template=max(captions, key=len), outcomes=goal_outcomes(reports))
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from armanim import __version__
 from armanim.errors import SceneError
+from armanim.motion.retime import retime
 from armanim.motion.trajectory import solve_trajectory
 from armanim.output.atomic import write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
@@ -50,7 +51,8 @@ class GoldenResult:
 
 def solve_csv_text(scene: LoadedScene) -> str:
     """The trajectory.csv text a run of ``scene`` writes (no files, no video)."""
-    return trajectory_csv_text(solve_trajectory(scene_to_problem(scene.model)).trajectory)
+    problem = scene_to_problem(scene.model)
+    return trajectory_csv_text(retime(problem, solve_trajectory(problem), problem.fps).trajectory)
 
 
 def golden_paths(golden_dir: Path, name: str) -> tuple[Path, Path]:

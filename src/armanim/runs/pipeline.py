@@ -11,7 +11,7 @@ from pathlib import Path
 
 from armanim.errors import OutputError, UsageError
 from armanim.motion.problem import Problem, RenderSettings
-from armanim.motion.resample import at_fps, resample
+from armanim.motion.retime import at_fps, retime
 from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
@@ -128,7 +128,7 @@ def produce_outputs(
         )
     solution = solve_trajectory(solved, (lambda done, total: progress("solve", done, total)) if progress else None,
                                 (lambda done, most: progress("plan", done, most)) if progress else None)
-    solution = resample(solved, solution, settings.fps)  # the same motion in seconds at the fps it is shown at
+    solution = retime(solved, solution, settings.fps)  # the solved path on the clock, at the fps it is shown at
     problem = at_fps(solved, settings.fps)
     summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}

@@ -13,7 +13,7 @@ from armanim.errors import Diagnostic, SceneError
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
-from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv
+from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv, velocity_columns
 from armanim.output.files import read_bounded
 from armanim.output.summary import goal_report_from_dict
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
@@ -46,7 +46,7 @@ def _read_summary(summary_path: Path) -> dict:
 
 def _reports(summary: dict, summary_path: Path) -> tuple[GoalReport, ...]:
     try:
-        return tuple(goal_report_from_dict(g) for g in summary["goals"])
+        return tuple(goal_report_from_dict(g, summary.get("joints") or ()) for g in summary["goals"])
     except (ValueError, KeyError, TypeError) as exc:
         raise SceneError(str(summary_path), [Diagnostic("", f"is not an armanim summary: {exc}")]) from None
 
@@ -135,6 +135,9 @@ def load_run(folder: str | Path) -> FinishedRun:
         angle = np.radians(table.column("orientation_error_deg"))
     if all(c in table.columns for c in ("qw", "qx", "qy", "qz")):
         quaternions = np.stack([table.column(c) for c in ("qw", "qx", "qy", "qz")], axis=1)
+    speeds = velocity_columns(problem.arm.n)
+    velocity = np.radians(np.stack([table.column(c) for c in speeds], axis=1)) if all(
+        c in table.columns for c in speeds) else None  # a run from before the clock has none
     traj = Trajectory(
         phi=np.radians(table.angles_deg),
         tip=np.stack([table.column(c) for c in ("x", "y", "z")], axis=1),
@@ -148,5 +151,6 @@ def load_run(folder: str | Path) -> FinishedRun:
         mode=table.text.get("mode"),
         orientation_error=angle,
         tool_quaternion=quaternions,
+        velocity=velocity,
     )
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json")))

@@ -28,7 +28,7 @@ _JIT = dict(error_model="numpy", nogil=True)  # numpy's error model: x / 0 is in
 _INLINE = dict(inline="always", **_JIT)
 
 
-def _compiled(**options):
+def compiled(**options):
     """``numba.njit(**options)`` with its machine code cached on disk where numba finds a
     writable folder (beside this file, ``NUMBA_CACHE_DIR`` or the user's cache folder), and
     compiled afresh in each process where it finds none (a read-only install run by a user
@@ -50,13 +50,13 @@ X0, U, KNOTS, GAP, CANDIDATES, SCRATCH = 0, 3, 6, 14, 6, 24
 the knots (8), the gap to the box (3); the deepest point's 18 candidates reuse the knots' place."""
 
 
-@_compiled(**_INLINE)
+@compiled(**_INLINE)
 def _clamp(x, low, high):
     """min(max(x, low), high), as numpy's maximum and minimum compute it (x is never NaN here)."""
     return min(max(x, low), high)
 
 
-@_compiled(**_INLINE)
+@compiled(**_INLINE)
 def _least_outside(s, h):
     """The largest t in [0, 1] that minimises the squared distance of x0 + t u (box frame,
     in the scratch ``s``) to the box [-h, h]: where its derivative, sum_i u_i e_i(t) with e
@@ -104,7 +104,7 @@ def _least_outside(s, h):
     return max(t, left)
 
 
-@_compiled(**_INLINE)
+@compiled(**_INLINE)
 def _signed_distance(s, t, h):
     """Signed distance of x0 + t u (box frame, in the scratch ``s``) to the box [-h, h]."""
     beyond = 0.0
@@ -116,7 +116,7 @@ def _signed_distance(s, t, h):
     return np.sqrt(beyond) + min(deepest, 0.0)
 
 
-@_compiled(**_INLINE)
+@compiled(**_INLINE)
 def _deepest(s, h, t_outside):
     """(t, signed distance) of the segment's deepest point in the box: its depth (the least
     of the six face functions h_i -+ x_i(t)) is concave and piecewise linear, so its greatest
@@ -145,7 +145,7 @@ def _deepest(s, h, t_outside):
     return best_t, best
 
 
-@_compiled(**_INLINE)
+@compiled(**_INLINE)
 def _gap(s, t, h):
     """Writes x0 + t u less its nearest point of the box into the scratch; returns its squared length."""
     squares = 0.0
@@ -156,7 +156,7 @@ def _gap(s, t, h):
     return squares
 
 
-@_compiled(**_INLINE)
+@compiled(**_INLINE)
 def _pair(a, b, center, h, rotation, s, normal):
     """Segment a-b ((3,) each) against one box: writes the world unit normal into ``normal``
     (3,) and returns (t, signed distance); ``s``: the (SCRATCH,) work space."""
@@ -190,7 +190,7 @@ def _pair(a, b, center, h, rotation, s, normal):
     return t, dist
 
 
-@_compiled(**_JIT)
+@compiled(**_JIT)
 def segment_box_grid(a, b, centers, half, rotations, t, dist, normal):
     """Every segment a_m-b_m ((M, 3) each) against every box ((K, 3), (K, 3), (K, 3, 3)):
     fills t and dist (M, K) and normal (M, K, 3)."""
@@ -200,7 +200,7 @@ def segment_box_grid(a, b, centers, half, rotations, t, dist, normal):
             t[m, k], dist[m, k] = _pair(a[m], b[m], centers[k], half[k], rotations[k], s, normal[m, k])
 
 
-@_compiled(**_JIT)
+@compiled(**_JIT)
 def segment_box_pairs(a, b, centers, half, rotations, segment, box, t, dist, normal):
     """Segment ``segment[p]`` against box ``box[p]`` for each pair p: fills t and dist (P,)
     and normal (P, 3)."""

@@ -1,0 +1,436 @@
+"""The clock: when the arm is where, within each joint's speed and acceleration limits.
+
+The frame loop decides *where* the arm goes: for each goal its solved poses (the method's
+steps, the planner's path, the finishing steps) are a path in joint space. The clock decides
+*when*: the fastest motion along exactly that path that starts and ends at rest and keeps
+every joint within ``problem.rates`` (:class:`armanim.motion.problem.RateLimits`).
+
+1. **The path** (:func:`joint_path`): a piecewise cubic through every solved pose, in order,
+   parametrised by joint-space arc length, with Fritsch-Carlson (PCHIP) slopes: each joint
+   moves monotonically between two solved poses, so the path never leaves the box of two
+   neighbouring poses and stays inside the joint limits as they do.
+2. **The time law** (:func:`time_optimal`): TOPP-RA (Pham and Pham, IEEE T-RO 2018) on a grid
+   over the path: a backward pass of controllable sets of the squared path speed, then a
+   greedy forward pass, for box limits on each joint's speed and acceleration.
+3. **The check** (:func:`sampled_motion`): the time law is scaled by the least factor that
+   keeps every joint's speed and acceleration, evaluated densely, within the limits and
+   rounds the motion to whole frames; the frames are then checked as the contract states
+   them (differences over ``1 / fps``) and the time is stretched further if one is over.
+   So every frame's finite-difference speed and acceleration are within the limits, with
+   the first and last step at most half the acceleration's reach (the arm starts and stops
+   at rest: two goals' motions meet without a jump of acceleration).
+
+Where the smooth path between two solved poses would pass closer to an obstacle than
+``solver.clearance``, that piece of path is the straight chord between them (stopping at
+its ends); where even the chord cuts the clearance, the frame shows the nearer solved pose,
+as before the clock. Pure core: numpy only.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from armanim.arm.geometry import wrap_angle
+from armanim.motion.solution import GoalTiming
+
+GRID_PER_STEP = 32
+"""TOPP grid points per solved step of the path (its knots and the midpoints)."""
+CHECK_PER_STEP = 4
+"""Points per grid interval where the scaled time law is checked against the limits."""
+SAFETY_PROBES = 3
+"""Points inside each solved step where the smooth path's clearance is checked."""
+
+
+@dataclass(frozen=True)
+class JointPath:
+    """A path through solved poses: knots at arc length ``s``, PCHIP slopes ``slopes``.
+
+    Attributes
+    ----------
+    s : (m,) array
+        Arc length of each knot (radians of joint space, strictly increasing from 0).
+    poses : (m, n) array
+        The knots: the solved poses, repeated ones dropped, unlimited joints unwrapped.
+    slopes : (m, n) array
+        dq/ds at each knot.
+    frames : (m,) int array
+        The solved frame each knot is (offset from the first pose of the goal).
+    """
+
+    s: np.ndarray
+    poses: np.ndarray
+    slopes: np.ndarray
+    frames: np.ndarray
+
+    @property
+    def length(self) -> float:
+        """Arc length of the whole path (0 for a path that does not move)."""
+        return float(self.s[-1])
+
+    def evaluate(self, s: np.ndarray, derivative: int = 0) -> np.ndarray:
+        """(k, n) the path, or its first or second derivative in ``s``, at arc lengths ``s`` (k,).
+
+        The second derivative is the one of the step ``s`` falls in (from the right at a knot).
+
+        >>> p = joint_path(np.array([[0.0], [1.0], [2.0]]), np.array([True]))
+        >>> p.evaluate(np.array([0.5, 1.5])).ravel().tolist(), p.evaluate(np.array([0.25]), 1).ravel().tolist()
+        ([0.5, 1.5], [1.0])
+        """
+        k = np.clip(np.searchsorted(self.s, s, side="right") - 1, 0, len(self.s) - 2)
+        h = (self.s[k + 1] - self.s[k])[:, None]
+        t = ((s - self.s[k])[:, None]) / h
+        p0, p1, d0, d1 = self.poses[k], self.poses[k + 1], self.slopes[k] * h, self.slopes[k + 1] * h
+        if derivative == 0:
+            basis = (2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2)
+            scale = 1.0
+        elif derivative == 1:
+            basis = (6 * t**2 - 6 * t, 3 * t**2 - 4 * t + 1, -6 * t**2 + 6 * t, 3 * t**2 - 2 * t)
+            scale = 1 / h
+        else:
+            basis = (12 * t - 6, 6 * t - 4, 6 - 12 * t, 6 * t - 2)
+            scale = 1 / h**2
+        return scale * (basis[0] * p0 + basis[1] * d0 + basis[2] * p1 + basis[3] * d1)
+
+    def step_of(self, s: np.ndarray) -> np.ndarray:
+        """(k,) the solved frame each arc length ``s`` heads for (the knot itself at a knot)."""
+        k = np.searchsorted(self.s, s - 1e-12 * max(self.length, 1.0), side="left")
+        return self.frames[np.clip(k, 0, len(self.s) - 1)]
+
+
+def unwrapped(poses: np.ndarray, limited: np.ndarray) -> np.ndarray:
+    """(m, n) ``poses`` with each unlimited joint's turn from pose to pose the short way round.
+
+    >>> unwrapped(np.array([[3.0], [-3.0]]), np.array([False])).round(4).tolist()
+    [[3.0], [3.2832]]
+    """
+    steps = np.diff(poses, axis=0)
+    steps = np.where(limited, steps, wrap_angle(steps))
+    return np.concatenate([poses[:1], poses[:1] + np.cumsum(steps, axis=0)])
+
+
+def pchip_slopes(s: np.ndarray, poses: np.ndarray) -> np.ndarray:
+    """(m, n) Fritsch-Carlson slopes at the knots ``s`` (m,) of ``poses`` (m, n), as scipy's
+    ``PchipInterpolator`` chooses them: each joint monotone between two knots.
+
+    >>> pchip_slopes(np.array([0.0, 1.0, 2.0]), np.array([[0.0], [1.0], [1.0]])).ravel().tolist()
+    [1.5, 0.0, 0.0]
+    """
+    h = np.diff(s)[:, None]
+    m = np.diff(poses, axis=0) / h
+    d = np.zeros_like(poses)
+    if len(s) == 2:
+        return np.repeat(m, 2, axis=0)
+    w1, w2 = 2 * h[1:] + h[:-1], h[1:] + 2 * h[:-1]
+    same = (np.sign(m[:-1]) * np.sign(m[1:])) > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d[1:-1] = np.where(same, (w1 + w2) / (w1 / m[:-1] + w2 / m[1:]), 0.0)
+    d[0] = _end_slope(h[0], h[1], m[0], m[1])
+    d[-1] = _end_slope(h[-1], h[-2], m[-1], m[-2])
+    return d
+
+
+def _end_slope(h0, h1, m0, m1) -> np.ndarray:
+    """scipy's shape-preserving three-point slope at an end of a PCHIP."""
+    d = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
+    d = np.where(np.sign(d) != np.sign(m0), 0.0, d)
+    return np.where((np.sign(m0) != np.sign(m1)) & (np.abs(d) > np.abs(3 * m0)), 3 * m0, d)
+
+
+def joint_path(poses: np.ndarray, limited: np.ndarray, chords: np.ndarray | None = None) -> JointPath:
+    """The smooth path through ``poses`` (m, n), radians, in order.
+
+    Parameters
+    ----------
+    poses : (m, n) array
+        The solved poses, first to last; repeated poses are dropped.
+    limited : (n,) bool array
+        Joints with limits (the others turn the short way round between poses).
+    chords : (m - 1,) bool array, optional
+        Solved steps to take along their straight chord, at rest at both ends.
+
+    Returns
+    -------
+    JointPath
+    """
+    poses = unwrapped(poses, limited)
+    lengths = np.linalg.norm(np.diff(poses, axis=0), axis=1)
+    moves = lengths > 1e-12
+    keep = np.concatenate([[True], moves])
+    frames = np.nonzero(keep)[0]
+    s = np.concatenate([[0.0], np.cumsum(lengths[moves])])
+    knots = poses[keep]
+    if len(s) < 2:
+        return JointPath(s, knots, np.zeros_like(knots), frames)
+    slopes = pchip_slopes(s, knots)
+    if chords is not None and np.any(chords[moves]):
+        straight = np.nonzero(chords[moves])[0]
+        slopes[straight] = 0.0
+        slopes[straight + 1] = 0.0
+    return JointPath(s, knots, slopes, frames)
+
+
+@dataclass(frozen=True)
+class TimeLaw:
+    """A time law s(t) on a grid: constant path acceleration between grid points.
+
+    Attributes
+    ----------
+    s : (N,) array
+        Grid points (arc length).
+    t : (N,) array
+        Seconds at which the motion passes each grid point (t[0] = 0).
+    speed : (N,) array
+        ds/dt at each grid point (0 at both ends).
+    accel : (N - 1,) array
+        d2s/dt2 on each grid interval.
+    """
+
+    s: np.ndarray
+    t: np.ndarray
+    speed: np.ndarray
+    accel: np.ndarray
+
+    @property
+    def duration(self) -> float:
+        """Seconds from rest to rest."""
+        return float(self.t[-1])
+
+    def at(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(s, ds/dt, d2s/dt2) at times ``t`` (k,), each (k,)."""
+        i = np.clip(np.searchsorted(self.t, t, side="right") - 1, 0, len(self.accel) - 1)
+        tau = t - self.t[i]
+        u = self.accel[i]
+        s = np.minimum(self.s[i] + self.speed[i] * tau + 0.5 * u * tau**2, self.s[i + 1])
+        return np.maximum(s, self.s[i]), np.maximum(self.speed[i] + u * tau, 0.0), u
+
+
+def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -> TimeLaw:
+    """The fastest time law along ``path`` from rest to rest within box limits (TOPP-RA).
+
+    Parameters
+    ----------
+    path : JointPath
+        A path that moves (``path.length > 0``).
+    speed, acceleration : (n,) arrays
+        Each joint's limits, rad/s and rad/s^2.
+
+    Returns
+    -------
+    TimeLaw
+        The limits hold at :data:`COLLOCATION` points of every grid interval; between them
+        :func:`sampled_motion` checks and scales.
+
+    Notes
+    -----
+    With x = (ds/dt)^2 and u = d2s/dt2 constant on a grid interval [s_i, s_i + h], the
+    squared speed at a fraction f of it is x + 2 f h u, so each joint's speed and acceleration
+    (q'(s) u + q''(s) x there) at every collocation point is linear in (u, x): a lower and an
+    upper bound on u, affine in x. The backward pass finds the largest x at each grid point
+    from which the end can still be reached at rest (the controllable set [0, hi]: resting is
+    always allowed); the forward pass takes the largest u that stays in the next set.
+
+    >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
+    >>> law = time_optimal(p, np.array([10.0]), np.array([1.0]))
+    >>> round(law.duration, 6)  # bang-bang over one radian at 1 rad/s^2: 2 s
+    2.0
+    """
+    s = _grid(path.s)
+    h = np.diff(s)
+    from armanim.motion.passes import backward_pass, forward_pass, pairwise_cap  # compiled: numba is imported here
+
+    lo_b, lo_k, hi_b, hi_k, x_cap = _interval_bounds(path, s, h, speed, acceleration)
+    pairwise_cap(lo_b, lo_k, hi_b, hi_k, x_cap)
+    # u >= -x / 2h (the next point's x is not negative) against every upper bound
+    x_cap = np.minimum(x_cap, np.min(_bound(0.0, -1 / (2 * h[:, None]), hi_b, hi_k), axis=1))
+    # u <= (hi[i+1] - x) / 2h against every lower bound: x <= hi[i+1] * w + base
+    slope = lo_k + 1 / (2 * h[:, None])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(slope > 0, 1 / (2 * h[:, None] * slope), 0.0)
+        base = np.where(slope > 0, -lo_b / slope, np.inf)
+    hi = np.zeros_like(s)
+    backward_pass(x_cap, w, base, hi)
+    x = np.zeros_like(s)
+    forward_pass(hi_b, hi_k, h, hi, x)
+    u = np.diff(x) / (2 * h)
+    v = np.sqrt(x)
+    dt = 2 * h / np.maximum(v[:-1] + v[1:], 1e-300)
+    return TimeLaw(s, np.concatenate([[0.0], np.cumsum(dt)]), v, u)
+
+
+COLLOCATION = (0.0, 0.5, 1.0)
+"""Fractions of each grid interval where the time law keeps the limits (1.0: the end of the
+interval, approached from inside it)."""
+GRID_MIN = 1024
+"""Fewest grid intervals of a path (a short path's steps are split further)."""
+
+
+def _grid(knots: np.ndarray) -> np.ndarray:
+    """(N,) the knots and evenly spaced points inside each step: :data:`GRID_PER_STEP` per
+    step, or more, so that there are at least :data:`GRID_MIN` intervals."""
+    per = max(GRID_PER_STEP, math.ceil(GRID_MIN / (len(knots) - 1)))
+    f = np.arange(per) / per
+    inner = knots[:-1, None] + f * np.diff(knots)[:, None]
+    return np.concatenate([inner.ravel(), knots[-1:]])
+
+
+def _interval_bounds(path: JointPath, s: np.ndarray, h: np.ndarray, speed: np.ndarray, acceleration: np.ndarray):
+    """The limits on each grid interval as bounds on u: lo_b + lo_k x <= u <= hi_b + hi_k x,
+    each (N - 1, P), and x <= x_cap (N - 1,)."""
+    lows, highs, caps = [], [], [np.full(len(h), np.inf)]
+    for f in COLLOCATION:
+        at = s[:-1] + f * h * (1 - 1e-9)
+        d1, d2 = path.evaluate(at, 1), path.evaluate(at, 2)
+        reach = 2 * f * h[:, None]  # x at the point is x + reach * u
+        a1 = d1 + reach * d2  # the joint's acceleration is a1 u + d2 x
+        with np.errstate(divide="ignore", invalid="ignore"):
+            top = np.where(a1 != 0, acceleration / np.abs(a1), np.inf)
+            k = np.where(a1 != 0, -d2 / a1, 0.0)
+            caps.append(np.min(np.where((a1 == 0) & (d2 != 0), acceleration / np.abs(d2), np.inf), axis=1))
+            v2 = np.min(np.where(d1 != 0, (speed / np.abs(d1)) ** 2, np.inf), axis=1)  # x + reach u <= v2
+        lows.append((-top, k))
+        highs.append((top, k))
+        if f == 0:
+            caps.append(v2)
+        else:
+            highs.append(((v2 / reach[:, 0])[:, None], (-1 / reach[:, 0])[:, None]))
+    lo_b, lo_k = (np.concatenate([b[i] for b in lows], axis=1) for i in (0, 1))
+    hi_b, hi_k = (np.concatenate([b[i] for b in highs], axis=1) for i in (0, 1))
+    return lo_b, lo_k, hi_b, hi_k, np.min(caps, axis=0)
+
+
+def _bound(lo_b, lo_k, hi_b, hi_k) -> np.ndarray:
+    """The largest x at which lo_b + lo_k x <= hi_b + hi_k x still holds (+inf if every x does)."""
+    slope = lo_k - hi_k
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(slope > 0, (hi_b - lo_b) / slope, np.inf)
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One goal's motion sampled at the frame rate.
+
+    Attributes
+    ----------
+    phi : (K, n) array
+        Poses at 1/fps, 2/fps, ... K/fps after the start (the last is the path's end); radians.
+    velocity : (K, n) array
+        Each joint's speed there, rad/s (0 on the last frame).
+    heads_for : (K,) int array
+        The solved frame (offset from the start pose) each frame heads for.
+    duration : float
+        K / fps seconds.
+    """
+
+    phi: np.ndarray
+    velocity: np.ndarray
+    heads_for: np.ndarray
+    duration: float
+
+    def timing(self, start: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float) -> GoalTiming:
+        """The motion's :class:`GoalTiming` from its frames, starting at rest at ``start`` (n,)."""
+        if len(self.phi) == 0:
+            return GoalTiming(0.0, 0.0, 0.0, None, None)
+        steps = wrap_angle(np.diff(np.concatenate([start[None], start[None], self.phi, self.phi[-1:]]), axis=0))
+        v = np.max(np.abs(steps), axis=0) * fps / speed
+        a = np.max(np.abs(np.diff(steps, axis=0)), axis=0) * fps**2 / acceleration
+        return GoalTiming(self.duration, float(v.max()), float(a.max()), int(np.argmax(v)), int(np.argmax(a)))
+
+
+def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleration: np.ndarray, fps: float) -> Motion:
+    """The time law slowed by the least factor that keeps every limit, sampled at ``fps``.
+
+    The factor covers the limits checked densely on the continuous motion (the grid's
+    constraints hold only at its points) and a whole number of frames; then the frames
+    themselves are checked as the contract states the limits (first and second differences
+    over 1/fps, with the arm at rest before the first frame and after the last) and the
+    time is stretched again if one is over.
+    """
+    t = _check_times(law)
+    s, sd, sdd = law.at(t)
+    d1 = path.evaluate(s, 1)
+    q_vel = np.abs(d1 * sd[:, None]) / speed
+    q_acc = np.abs(d1 * sdd[:, None] + path.evaluate(s, 2) * (sd**2)[:, None]) / acceleration
+    scale = max(1.0, float(q_vel.max()), math.sqrt(float(q_acc.max())))
+    start, end = path.poses[0], path.poses[-1]
+    for _ in range(32):
+        count = max(1, math.ceil(law.duration * scale * fps - 1e-9))
+        scale = count / (fps * law.duration)
+        times = np.arange(1, count + 1) / fps / scale
+        s, sd, _ = law.at(np.minimum(times, law.duration))
+        s[-1] = path.length
+        phi = path.evaluate(s)
+        phi[-1] = end
+        over = _frame_excess(np.concatenate([start[None], phi]), speed, acceleration, fps)
+        if over <= 1.0 + 1e-9:  # rounding: a bang-bang step is exactly at its limit
+            break
+        scale *= over * (1 + 1e-9)
+    velocity = path.evaluate(s, 1) * (sd / scale)[:, None]
+    velocity[-1] = 0.0
+    return Motion(phi, velocity, path.step_of(s), count / fps)
+
+
+def _check_times(law: TimeLaw) -> np.ndarray:
+    """Times inside every grid interval (and just before its end) where the limits are checked."""
+    f = np.arange(CHECK_PER_STEP + 1) / CHECK_PER_STEP
+    f[-1] = 1 - 1e-9
+    dt = np.diff(law.t)
+    return (law.t[:-1, None] + f * dt[:, None]).ravel()
+
+
+def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float) -> float:
+    """The factor by which time must stretch for frames ``phi`` (rest pose first, at rest
+    after the last) to keep the limits: 1 when they do. A stretch by k divides speeds by k and
+    accelerations by k**2."""
+    v = np.diff(phi, axis=0) * fps
+    a = np.diff(np.concatenate([phi, phi[-1:]]), 2, axis=0) * fps**2 if len(phi) > 1 else np.zeros((0, len(speed)))
+    ends = np.abs(np.stack([phi[1] - phi[0], phi[-1] - phi[-2]])) * 2 * fps**2 if len(phi) > 1 else a
+    ratio_v = float(np.max(np.abs(v) / speed, initial=0.0))
+    ratio_a = max(float(np.max(np.abs(a) / acceleration, initial=0.0)), float(np.max(ends / acceleration, initial=0.0)))
+    return max(1.0, ratio_v, math.sqrt(ratio_a))
+
+
+def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
+                clear: Callable[[np.ndarray], np.ndarray] | None = None) -> Motion:
+    """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``.
+
+    The first pose is where the arm already is (it is not a frame of the result); a path
+    that does not move takes no frames. ``clear(phi)``, (k, n) -> (k,) bool, says which
+    poses keep the clearance: a solved step whose smooth path does not, at
+    :data:`SAFETY_PROBES` points inside it, is taken along its chord; a frame that still
+    does not (the chord cuts a curved surface) shows the solved pose it heads for.
+
+    >>> m = goal_motion(np.array([[0.0], [1.0]]), np.array([True]), np.array([10.0]), np.array([1.0]), 10.0)
+    >>> len(m.phi), float(m.phi[-1, 0]), m.duration
+    (20, 1.0, 2.0)
+    """
+    path = joint_path(poses, limited)
+    n = poses.shape[1]
+    if path.length == 0:
+        return Motion(np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, dtype=int), 0.0)
+    if clear is not None and len(path.s) > 2:
+        f = np.arange(1, SAFETY_PROBES + 1) / (SAFETY_PROBES + 1)
+        probes = (path.s[:-1, None] + f * np.diff(path.s)[:, None]).ravel()
+        unsafe = ~clear(path.evaluate(probes)).reshape(-1, SAFETY_PROBES).all(axis=1)
+        if np.any(unsafe):
+            chords = np.zeros(len(poses) - 1, dtype=bool)
+            chords[path.frames[1:][unsafe] - 1] = True
+            path = joint_path(poses, limited, chords)
+    law = time_optimal(path, speed, acceleration)
+    motion = sampled_motion(path, law, speed, acceleration, fps)
+    phi = motion.phi
+    if clear is not None:
+        bad = ~clear(phi)
+        if np.any(bad):
+            phi = phi.copy()
+            phi[bad] = unwrapped(poses, limited)[motion.heads_for[bad]]
+    phi = np.where(limited, phi, wrap_angle(phi))
+    phi[-1] = poses[-1]  # the goal's last solved pose itself, not its unwrapped copy
+    return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
+
+
+__all__ = ["JointPath", "Motion", "TimeLaw", "goal_motion", "joint_path", "pchip_slopes", "sampled_motion",
+           "time_optimal", "unwrapped"]

@@ -1,0 +1,144 @@
+"""The clock (issue 34): the fastest motion along a solved path within each joint's speed and
+acceleration limits, checked against toppra (TOPP-RA's maintained implementation), scipy's
+PCHIP and the limits' own definition on the frames (finite differences)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.interpolate import PchipInterpolator
+
+from armanim.motion.clock import goal_motion, joint_path, pchip_slopes, sampled_motion, time_optimal
+
+
+def _random_path(seed: int, n: int, steps: int, jitter: float) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    drift = rng.normal(size=n) * 0.05
+    return np.concatenate([np.zeros((1, n)), np.cumsum(drift + rng.normal(size=(steps, n)) * jitter, axis=0)])
+
+
+def _limits(seed: int, n: int) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed + 1)
+    return rng.uniform(0.5, 3.0, n), rng.uniform(2.0, 20.0, n)
+
+
+def _frame_ratios(start: np.ndarray, phi: np.ndarray, speed, acceleration, fps) -> tuple[float, float]:
+    """The largest finite-difference speed and acceleration over their limits, at rest before and after."""
+    seq = np.concatenate([start[None], start[None], phi, phi[-1:]])
+    v = np.abs(np.diff(seq, axis=0)) * fps / speed
+    a = np.abs(np.diff(seq, 2, axis=0)) * fps**2 / acceleration
+    return float(v.max()), float(a.max())
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(1, 7), steps=st.integers(1, 60),
+       jitter=st.sampled_from([0.0, 0.002, 0.02, 0.1]), fps=st.sampled_from([7.0, 15.0, 30.0, 60.0]))
+def test_every_frame_keeps_every_joints_speed_and_acceleration(seed, n, steps, jitter, fps):
+    poses = _random_path(seed, n, steps, jitter)
+    speed, acceleration = _limits(seed, n)
+    motion = goal_motion(poses, np.ones(n, dtype=bool), speed, acceleration, fps)
+    v, a = _frame_ratios(poses[0], motion.phi, speed, acceleration, fps)
+    assert v <= 1 + 1e-9 and a <= 1 + 1e-9
+    np.testing.assert_array_equal(motion.phi[-1], poses[-1])  # ends on the last solved pose, at rest
+    assert np.all(motion.velocity[-1] == 0) and motion.duration == pytest.approx(len(motion.phi) / fps)
+    # where a frame moves little, its velocity agrees with the frames around it (the clock's own, not a guess)
+    central = (motion.phi[2:] - motion.phi[:-2]) * fps / 2
+    assert np.all(np.abs(motion.velocity[1:-1] - central) <= acceleration / fps + 1e-9)
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(1, 7), steps=st.integers(2, 40))
+def test_the_path_passes_every_solved_pose_in_order_and_stays_between_neighbours(seed, n, steps):
+    poses = _random_path(seed, n, steps, 0.05)
+    path = joint_path(poses, np.ones(n, dtype=bool))
+    np.testing.assert_allclose(path.evaluate(path.s), poses[path.frames], atol=1e-12)
+    assert np.all(np.diff(path.s) > 0) and path.frames[0] == 0 and path.frames[-1] == steps
+    s = np.linspace(0, path.length, 2001)
+    q = path.evaluate(s)
+    k = np.clip(np.searchsorted(path.s, s, side="right") - 1, 0, len(path.s) - 2)
+    low = np.minimum(path.poses[k], path.poses[k + 1]) - 1e-12
+    high = np.maximum(path.poses[k], path.poses[k + 1]) + 1e-12
+    assert np.all((q >= low) & (q <= high))  # so a path between poses inside the limits stays inside them
+
+
+def test_the_slopes_are_scipys_pchip():
+    poses = _random_path(3, 4, 25, 0.05)
+    s = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(poses, axis=0), axis=1))])
+    expected = PchipInterpolator(s, poses, axis=0).derivative()(s)
+    np.testing.assert_allclose(pchip_slopes(s, poses), expected, rtol=1e-10, atol=1e-12)
+    path = joint_path(poses, np.ones(4, dtype=bool))
+    grid = np.linspace(0, path.length, 777)
+    for order in (0, 1, 2):
+        oracle = PchipInterpolator(s, poses, axis=0).derivative(order) if order else PchipInterpolator(s, poses, axis=0)
+        inside = ~np.isin(grid, s)  # the second derivative jumps at a knot
+        np.testing.assert_allclose(path.evaluate(grid, order)[inside], oracle(grid)[inside], rtol=1e-9, atol=1e-9)
+
+
+def test_an_unlimited_joint_turns_the_short_way_round():
+    poses = np.radians([[170.0], [-170.0]])  # 20 degrees through 180, not 340 back through 0
+    motion = goal_motion(poses, np.array([False]), np.array([1.0]), np.array([5.0]), 30.0)
+    assert np.all(np.abs(motion.phi) >= np.radians(170.0) - 1e-12)
+    assert motion.phi[-1, 0] == poses[-1, 0]
+
+
+def test_a_path_that_does_not_move_takes_no_time():
+    motion = goal_motion(np.zeros((5, 3)), np.ones(3, dtype=bool), np.ones(3), np.ones(3), 30.0)
+    assert len(motion.phi) == 0 and motion.duration == 0.0
+
+
+def test_one_radian_at_rest_both_ends_is_the_textbook_profile():
+    # speed-limited: accelerate to 1 rad/s in 0.5 s (0.25 rad), cruise 0.5 rad, brake: 1.5 s in all
+    law = time_optimal(joint_path(np.array([[0.0], [1.0]]), np.array([True])), np.array([1.0]), np.array([2.0]))
+    assert law.duration == pytest.approx(1.5, rel=1e-9)
+    # acceleration-limited: bang-bang, 2 sqrt(1 / 2) s
+    law = time_optimal(joint_path(np.array([[0.0], [1.0]]), np.array([True])), np.array([10.0]), np.array([2.0]))
+    assert law.duration == pytest.approx(2 * np.sqrt(0.5), rel=1e-9)
+
+
+toppra = pytest.importorskip("toppra")
+
+
+class _Path(toppra.interpolator.AbstractGeometricPath):
+    """The clock's own path for toppra: both time exactly the same geometry."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def __call__(self, s, order=0):
+        return self.path.evaluate(np.atleast_1d(np.asarray(s, dtype=float)), order)
+
+    @property
+    def dof(self):
+        return self.path.poses.shape[1]
+
+    @property
+    def path_interval(self):
+        return np.array([0.0, self.path.length])
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_the_duration_is_toppras_time_optimal_one(seed):
+    """Within 2 % of toppra on the same path (8000 grid points), and never more than its own
+    discretisation below it: toppra keeps the limits at its grid points only (its time law
+    breaks the accelerations between them, measured here), the clock everywhere."""
+    import toppra.algorithm
+    import toppra.constraint
+
+    toppra.setup_logging("WARNING")
+    n = 1 + seed % 7
+    poses = _random_path(seed, n, 10 + 7 * seed, 0.02)
+    speed, acceleration = _limits(seed, n)
+    path = joint_path(poses, np.ones(n, dtype=bool))
+    constraints = [toppra.constraint.JointVelocityConstraint(np.stack([-speed, speed], axis=1)),
+                   toppra.constraint.JointAccelerationConstraint(np.stack([-acceleration, acceleration], axis=1))]
+    oracle = toppra.algorithm.TOPPRA(constraints, _Path(path), gridpoints=np.linspace(0, path.length, 8000),
+                                     parametrizer="ParametrizeConstAccel").compute_trajectory(0, 0)
+    t = np.linspace(0, oracle.duration, 100_000)
+    oracle_excess = max(1.0, float(np.max(np.abs(oracle(t, 2)) / acceleration)))
+    law = time_optimal(path, speed, acceleration)
+    motion = sampled_motion(path, law, speed, acceleration, 1000.0)
+    assert law.duration <= 1.02 * oracle.duration
+    assert motion.duration <= 1.02 * oracle.duration + 1e-3
+    assert law.duration >= oracle.duration / np.sqrt(oracle_excess) - 1e-9  # never faster than the limits allow
