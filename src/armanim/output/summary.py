@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 
@@ -65,8 +66,10 @@ def goal_report_from_dict(g: dict) -> GoalReport:
     )
 
 
-def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str) -> dict:
-    """The summary as plain data (see docs/outputs in the README)."""
+def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
+                 rate_notes: Sequence[str] = ()) -> dict:
+    """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
+    joint rate limits above the robot's own (:func:`armanim.scene.checks.rate_note_lines`)."""
     traj = solution.trajectory
     goals = [goal_report_dict(g) for g in solution.goals]
     return {
@@ -91,6 +94,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
         "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),
         "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi))),
         "goals": goals,
+        "rate_notes": list(rate_notes),
     }
 
 

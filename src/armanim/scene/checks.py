@@ -280,6 +280,11 @@ def rate_notes(scene: SceneModel) -> list[tuple[str, str]]:
     return notes
 
 
+def rate_note_lines(scene: SceneModel) -> list[str]:
+    """:func:`rate_notes` as lines ``field.path: message`` (summary.json's ``rate_notes``; [] when none)."""
+    return [f"{path}: {message}" for path, message in rate_notes(scene)]
+
+
 def _joint_span(indices) -> str:
     """``joint 3``, ``joints 1-4`` or ``joints 1, 3, 6`` (1-based) of 0-based indices.
 
