@@ -15,7 +15,7 @@ from armanim.motion.problem import LINK_ACCELERATION_PER_SPEED
 from armanim.scene import load_scene, scene_to_problem
 from armanim.scene.checks import rate_note_lines, rate_notes
 from armanim.scene.models import RATE_BOUNDS, URDF_SPEED
-from armanim.scene.robots import RATE_UNITS, ROBOTS, bundled_robot
+from armanim.scene.robots import RATE_UNITS, ROBOTS, bundled_robot, published_joint_names
 from armanim.scene.urdf import read_urdf
 
 TORTURE = Path(__file__).resolve().parent / "urdf" / "torture.urdf"
@@ -111,7 +111,19 @@ def test_urdf_arm_rate_lengths_and_published_jerk(tmp_path, cli):
     rejected(tmp_path, cli, scene_text("max_joint_speed: [100, 100, 100]", ROBOT, "panda"), "arm.max_joint_speed", RATE_LINE,
              "has 3 values, the arm has 7 joints (give one per joint, or one number for all)")
     rejected(tmp_path, cli, scene_text("max_joint_jerk: robot", ROBOT, "ur5"), "arm.max_joint_jerk", RATE_LINE,
-             "robot ur5's maker publishes no jerk limits")
+             "robot ur5's maker publishes no jerk limits for these joints")
+
+
+def test_published_rates_go_by_joint_name(tmp_path):
+    """A bundled robot cut short (tip_link) keeps each of its joints' own published limits."""
+    text = scene_text("tip_link: panda_link5\n  home: [0, -45, 0, -135, 0]\n  max_joint_jerk: robot", ROBOT, "panda")
+    rates = scene_to_problem(load_scene(write(tmp_path, text)).model).rates
+    np.testing.assert_allclose(rates.speed, [2.175] * 4 + [2.61])
+    np.testing.assert_allclose(rates.acceleration, FRANKA_ACCELERATION[:5])
+    np.testing.assert_allclose(rates.jerk, FRANKA_JERK[:5])
+    text = scene_text("base_link: panda_link2\n  home: [0, -135, 0, 90, 45]", ROBOT, "panda")
+    rates = scene_to_problem(load_scene(write(tmp_path, text)).model).rates
+    np.testing.assert_allclose(rates.acceleration, FRANKA_ACCELERATION[2:])
 
 
 def test_every_problem_is_reported_at_once(tmp_path):
@@ -243,7 +255,8 @@ def test_bundled_robots_published_limits(tmp_path):
 @pytest.mark.parametrize("name", ROBOTS)
 def test_robot_yaml_rates_are_whole_and_sourced(name):
     robot = bundled_robot(name)
-    joints = len(scene_to_problem(load_scene_of(name)).arm.joint_names)
+    joints = len(published_joint_names(name))
+    assert scene_to_problem(load_scene_of(name)).arm.joint_names == published_joint_names(name)
     for field, rate in robot.rates:
         assert rate.unit in RATE_UNITS[field]
         assert len(rate.values) == joints and all(v > 0 for v in rate.values)

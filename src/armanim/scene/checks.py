@@ -67,8 +67,8 @@ def _rate_problems(arm):
         if bundled is None:
             yield "arm.max_joint_jerk", ("robot means the bundled robot's published jerk limits, and this arm is not a bundled "
                                          "robot (give deg/s^3: one number, or one per joint)")
-        elif bundled.rate("max_joint_jerk") is None:
-            yield "arm.max_joint_jerk", (f"robot {bundled.name}'s maker publishes no jerk limits "
+        elif bundled.rate("max_joint_jerk") is None or np.isnan(robot_rates(arm)["max_joint_jerk"][0]).any():
+            yield "arm.max_joint_jerk", (f"robot {bundled.name}'s maker publishes no jerk limits for these joints "
                                          "(give deg/s^3: one number, or one per joint)")
 
 

@@ -38,6 +38,7 @@ from armanim.scene.models import (
     SceneModel,
     SolverModel,
 )
+from armanim.scene.robots import published_joint_names
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 
 
@@ -240,9 +241,14 @@ def robot_rates(arm: ArmModel) -> dict[str, tuple[np.ndarray, str]]:
     bundled = robot.bundled
     for name in RATE_FIELDS if bundled is not None else ():
         published = bundled.rate(name)
-        if published is not None:
-            values = np.array(published.values, dtype=float)
-            own[name] = (np.radians(values) if published.unit.startswith("deg") else values, f"the maker's, in robot {bundled.name}'s robot.yaml")
+        if published is None:
+            continue
+        by_joint = dict(zip(published_joint_names(bundled.name), published.values))  # the scene may choose other links
+        values = np.array([by_joint.get(joint, np.nan) for joint in robot.joint_names], dtype=float)
+        values = np.radians(values) if published.unit.startswith("deg") else values
+        if name in own:  # a joint the maker's list does not name keeps the URDF's
+            values = np.where(np.isnan(values), own[name][0], values)
+        own[name] = (values, f"the maker's, in robot {bundled.name}'s robot.yaml")
     return own
 
 
@@ -279,7 +285,10 @@ def rate_limits(scene: SceneModel) -> RateLimits:
     given = _given_rates(arm.max_joint_speed, n)
     speed = given if given is not None else speed
     given = _given_rates(arm.max_joint_acceleration, n)
-    acceleration = given if given is not None else own.get("max_joint_acceleration", (LINK_ACCELERATION_PER_SPEED * speed,))[0]
+    if given is None:
+        published = own.get("max_joint_acceleration", (np.full(n, np.nan),))[0]
+        given = np.where(np.isnan(published), LINK_ACCELERATION_PER_SPEED * speed, published)
+    acceleration = given
     if arm.max_joint_jerk == "robot":
         jerk = own["max_joint_jerk"][0]
     else:

@@ -17,7 +17,7 @@ import numpy as np
 import yaml
 
 from armanim.arm.chain import ChainJoint
-from armanim.scene.urdf import Robot, chain_joints, joint_speeds, read_urdf
+from armanim.scene.urdf import MOVING, Robot, chain_joints, joint_speeds, read_urdf
 
 ROBOTS = ("panda", "ur5", "iiwa")
 """The bundled robots, each a folder of ``armanim/arm/robots/`` (URDF, licence, robot.yaml)."""
@@ -82,6 +82,15 @@ def bundled_robot(name: str) -> BundledRobot:
                         base_link=info["base_link"], tip_link=info["tip_link"], home=tuple(info["home"]),
                         collision=info["collision"], width=float(info["width"]), source=info["source"],
                         rates=_published_rates(info))
+
+
+@cache
+def published_joint_names(name: str) -> tuple[str, ...]:
+    """The joints a bundled robot's published rates are listed for: its own chain's, from its
+    ``base_link`` to its ``tip_link`` (a scene may choose others; rates go by joint name)."""
+    robot = bundled_robot(name)
+    urdf = read_urdf(robot.urdf, f"robot {name}'s URDF")
+    return tuple(j.name for j in urdf.path(robot.base_link, robot.tip_link) if j.kind in MOVING)
 
 
 @dataclass(frozen=True)
