@@ -15,6 +15,7 @@ _LAZY = {
     "run_scene": ("armanim.runs.pipeline", "run_scene"),
     "rerender_run": ("armanim.runs.pipeline", "rerender_run"),
     "write_run_viewer": ("armanim.runs.pipeline", "write_run_viewer"),
+    "export_run": ("armanim.runs.export", "export_run"),
     "run_batch": ("armanim.runs.batch", "run_batch"),
     "run_sweep": ("armanim.runs.sweep", "run_sweep"),
     "parse_setting": ("armanim.runs.sweep", "parse_setting"),

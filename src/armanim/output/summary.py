@@ -114,8 +114,10 @@ def joint_labels(problem: Problem) -> list[str]:
     return [joint_label(problem.arm.joint_names, j) for j in range(problem.arm.n)]
 
 
-def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str) -> dict:
-    """The summary as plain data (see docs/outputs in the README)."""
+def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
+                 rate_notes: Sequence[str] = ()) -> dict:
+    """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
+    joint rate limits above the robot's own (:func:`armanim.scene.checks.rate_note_lines`)."""
     traj = solution.trajectory
     goals = [goal_report_dict(g, joint_labels(problem)) for g in solution.goals]
     rates = problem.rates
@@ -143,6 +145,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
         "max_joint_speed_deg_s": [float(v) for v in np.degrees(rates.speed)],
         "max_joint_acceleration_deg_s2": [float(v) for v in np.degrees(rates.acceleration)],
         "goals": goals,
+        "rate_notes": list(rate_notes),
     }
 
 

@@ -20,6 +20,7 @@ from armanim.output.summary import summary_dict, write_summary
 from armanim.runs.overrides import RenderOverrides
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
+from armanim.scene.checks import rate_note_lines
 from armanim.scene.models import LIMITS
 
 Progress = Callable[[str, int, int], None]
@@ -130,7 +131,8 @@ def produce_outputs(
                                 (lambda done, most: progress("plan", done, most)) if progress else None)
     solution = retime(solved, solution, settings.fps)  # the solved path on the clock, at the fps it is shown at
     problem = at_fps(solved, settings.fps)
-    summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256)
+    summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256,
+                           rate_notes=rate_note_lines(scene.model))
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
     write_bytes_atomic(folder / SCENE_COPY, scene.raw)
     urdf = scene.model.arm.urdf_source

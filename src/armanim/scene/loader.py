@@ -16,7 +16,7 @@ from pydantic import ValidationError
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.output.files import read_bounded
-from armanim.scene.checks import as_diagnostics, fallback_notes, radian_notes, scene_problems
+from armanim.scene.checks import as_diagnostics, fallback_notes, radian_notes, rate_notes, scene_problems
 from armanim.scene.fieldpaths import YamlDocument, join_path
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
 from armanim.scene.yamlread import MAX_FILE_BYTES, read_yaml
@@ -40,7 +40,8 @@ class LoadedScene:
     raw : bytes
         The file's bytes (copied into the run's output folder).
     notes : tuple of Diagnostic
-        Things worth a second look that are not errors (angles that look like radians).
+        Things worth a second look that are not errors (angles that look like radians, joint rates
+        above the robot's own).
     """
 
     model: SceneModel
@@ -101,7 +102,7 @@ def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None, *,
     path = Path(path)
     model, doc = _validated(decode_scene(raw, str(path)), str(path), urdf_file)
     name = name or model.name or stem_name(path)
-    notes = tuple(as_diagnostics(radian_notes(model) + fallback_notes(model), doc.line_of))
+    notes = tuple(as_diagnostics(radian_notes(model) + fallback_notes(model) + rate_notes(model), doc.line_of))
     return LoadedScene(model=model, path=path, name=name, sha256=hashlib.sha256(raw).hexdigest(), raw=raw, notes=notes)
 
 

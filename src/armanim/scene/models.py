@@ -9,13 +9,15 @@ Every field of ``scene-format.md`` with its default; unknown keys are errors
 from __future__ import annotations
 
 import re
-from typing import Annotated, Literal
+from typing import Annotated, Literal, Union
 
 from pydantic import (
     BaseModel,
     ConfigDict,
+    Discriminator,
     Field,
     PrivateAttr,
+    Tag,
     ValidationInfo,
     WithJsonSchema,
     field_validator,
@@ -94,6 +96,33 @@ class ToolModel(Strict):
 
 UrdfName = Annotated[str, Field(min_length=1, max_length=200)]
 
+RATE_BOUNDS = {"max_joint_speed": 1e5, "max_joint_acceleration": 1e7, "max_joint_jerk": 1e10}
+"""Largest ``arm.max_joint_speed`` (deg/s: about 280 turns a second), ``max_joint_acceleration``
+(deg/s^2) and ``max_joint_jerk`` (deg/s^3) a scene may give: far above any arm's (a Panda's
+are 150, 1,150 and 573,000), low enough that the clock's arithmetic stays far from overflow."""
+
+
+def _rate_form(value) -> str:
+    """Which form of a joint rate was written: a list (one per joint), or one number."""
+    return "list[float]" if isinstance(value, list) else "float"
+
+
+def _rate_or_robot_form(value) -> str:
+    """As :func:`_rate_form`, or ``robot`` (any string: the only word allowed)."""
+    return "literal[robot]" if isinstance(value, str) else _rate_form(value)
+
+
+def _joint_rate(name: str, robot: bool = False):
+    """A joint rate field's type: one number > 0 for every joint, or a list with one per joint,
+    each at most :data:`RATE_BOUNDS`; with ``robot``, also the word ``robot`` (the bundled
+    robot's published value). The tags name the forms as pydantic names union branches, so
+    that messages name the field itself (``arm.max_joint_speed[2]``)."""
+    rate = Annotated[float, Field(gt=0, le=RATE_BOUNDS[name], allow_inf_nan=False)]
+    forms = [Annotated[rate, Tag("float")], Annotated[Annotated[list[rate], Field(max_length=LIMITS["links"])], Tag("list[float]")]]
+    if robot:
+        forms.append(Annotated[Literal["robot"], Tag("literal[robot]")])
+    return Annotated[Union[tuple(forms)], Discriminator(_rate_or_robot_form if robot else _rate_form)]  # noqa: UP007
+
 
 class ArmModel(Strict):
     """The ``arm`` section: straight links (``links``), or a robot from a URDF (``urdf`` or ``robot``)."""
@@ -132,6 +161,20 @@ class ArmModel(Strict):
         default=None,
         description="Drawn thickness of the links, collision radius width/2 of joint-to-joint capsules; default 0.5 (links) or 0.1 (URDF, metres).",
     )
+    max_joint_speed: _joint_rate("max_joint_speed") | None = Field(
+        default=None,
+        description="deg/s, one number or one per joint: the clock keeps every joint's speed within it; default the robot's "
+                    "(robot.yaml, else the URDF's <limit velocity>, else 180), or solver.max_joint_step x render.fps (links).",
+    )
+    max_joint_acceleration: _joint_rate("max_joint_acceleration") | None = Field(
+        default=None,
+        description="deg/s^2, one number or one per joint; default the robot's published one (robot.yaml), else 4 x max_joint_speed per second.",
+    )
+    max_joint_jerk: _joint_rate("max_joint_jerk", robot=True) | None = Field(
+        default=None,
+        description="deg/s^3, one number or one per joint, or robot (the bundled robot's published one): the clock is also "
+                    "jerk-bounded; default none (speed and acceleration only).",
+    )
 
     _robot: object = PrivateAttr(default=None)  # the resolved URDF arm (armanim.scene.robots.RobotArm)
 
@@ -168,6 +211,14 @@ class ArmModel(Strict):
 LINKS_WIDTH = 0.5
 URDF_WIDTH = 0.1
 """Default ``arm.width`` of a link arm (scene units) and of a URDF arm (metres)."""
+
+URDF_SPEED = 180.0
+"""deg/s: ``arm.max_joint_speed`` of a URDF joint whose ``<limit>`` gives no velocity (and whose
+robot publishes none): half a turn a second, a typical cobot's joint speed (a UR5's 180, a
+Panda's 125 to 150)."""
+
+RATE_FIELDS = ("max_joint_speed", "max_joint_acceleration", "max_joint_jerk")
+"""The arm's joint rate fields (deg/s, deg/s^2, deg/s^3), in this order."""
 
 
 class BoxModel(Strict):

@@ -17,15 +17,33 @@ import numpy as np
 import yaml
 
 from armanim.arm.chain import ChainJoint
-from armanim.scene.urdf import Robot, chain_joints, read_urdf
+from armanim.scene.urdf import MOVING, Robot, chain_joints, joint_speeds, read_urdf
 
 ROBOTS = ("panda", "ur5", "iiwa")
 """The bundled robots, each a folder of ``armanim/arm/robots/`` (URDF, licence, robot.yaml)."""
 
 
+RATE_UNITS = {"max_joint_speed": ("rad/s", "deg/s"), "max_joint_acceleration": ("rad/s^2", "deg/s^2"),
+              "max_joint_jerk": ("rad/s^3", "deg/s^3")}
+"""The rates a robot.yaml may publish (its ``rates``), each in one of these units."""
+
+
+@dataclass(frozen=True)
+class PublishedRate:
+    """A joint rate a robot's maker publishes, as published (one value per joint, in ``unit``)."""
+
+    values: tuple[float, ...]
+    unit: str
+    source: str
+
+
 @dataclass(frozen=True)
 class BundledRobot:
-    """A bundled robot's description: where its URDF is and the defaults it brings."""
+    """A bundled robot's description: where its URDF is and the defaults it brings.
+
+    ``rates`` holds the maker's published joint limits, (scene field name, rate) pairs
+    (``max_joint_speed``, ``max_joint_acceleration``, ``max_joint_jerk``), where published.
+    """
 
     name: str
     title: str
@@ -36,6 +54,21 @@ class BundledRobot:
     collision: object  # "auto" or a list of {link, from, to, radius}
     width: float
     source: str
+    rates: tuple[tuple[str, PublishedRate], ...] = ()
+
+    def rate(self, name: str) -> PublishedRate | None:
+        """The published rate of scene field ``name`` (e.g. ``max_joint_acceleration``), or None."""
+        return dict(self.rates).get(name)
+
+
+def _published_rates(info: dict) -> tuple[tuple[str, PublishedRate], ...]:
+    """robot.yaml's ``rates`` (package data, checked by the tests) as (field name, rate) pairs."""
+    out = {}
+    for name, rate in (info.get("rates") or {}).items():
+        if name not in RATE_UNITS or rate["unit"] not in RATE_UNITS[name]:
+            raise ValueError(f"robot.yaml: rates.{name} in {rate.get('unit')!r}: not a rate armanim reads")
+        out[name] = PublishedRate(tuple(float(v) for v in rate["values"]), rate["unit"], " ".join(rate["source"].split()))
+    return tuple(out.items())
 
 
 @cache
@@ -47,7 +80,17 @@ def bundled_robot(name: str) -> BundledRobot:
     info = yaml.safe_load(folder.joinpath("robot.yaml").read_text(encoding="utf-8"))  # package data, not user input
     return BundledRobot(name=name, title=info["title"], urdf=Path(str(folder.joinpath(info["urdf"]))),
                         base_link=info["base_link"], tip_link=info["tip_link"], home=tuple(info["home"]),
-                        collision=info["collision"], width=float(info["width"]), source=info["source"])
+                        collision=info["collision"], width=float(info["width"]), source=info["source"],
+                        rates=_published_rates(info))
+
+
+@cache
+def published_joint_names(name: str) -> tuple[str, ...]:
+    """The joints a bundled robot's published rates are listed for: its own chain's, from its
+    ``base_link`` to its ``tip_link`` (a scene may choose others; rates go by joint name)."""
+    robot = bundled_robot(name)
+    urdf = read_urdf(robot.urdf, f"robot {name}'s URDF")
+    return tuple(j.name for j in urdf.path(robot.base_link, robot.tip_link) if j.kind in MOVING)
 
 
 @dataclass(frozen=True)
@@ -74,6 +117,8 @@ class UrdfArm:
         The moving joints, in order (``phi1`` is the first).
     limits : tuple of (lower, upper) radians or None
         Per moving joint, from the URDF (None: continuous).
+    velocities : tuple of float or None
+        Per moving joint, the URDF's ``<limit velocity>`` in rad/s (None: not given).
     path_links : tuple of str
         The child link of each joint of ``joints``.
     capsules : tuple of CapsuleSpec
@@ -95,6 +140,7 @@ class UrdfArm:
     fallback_links: tuple[str, ...]
     bundled: BundledRobot | None
     source: bytes | None = None
+    velocities: tuple[float | None, ...] = ()
 
 
 def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
@@ -136,6 +182,7 @@ def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
         fallback_links=_uncovered(joints, links, capsules),
         bundled=bundled,
         source=None if bundled is not None else robot.raw,
+        velocities=joint_speeds(robot, moving),
     )
 
 

@@ -73,6 +73,8 @@ class Joint:
     limits: tuple[float, float] | None
     mimic: bool
     line: int
+    velocity: float | None = None  # <limit velocity>, rad/s, as written (checked > 0 on the arm's path: :func:`joint_speeds`)
+    limit_line: int | None = None
 
 
 @dataclass(frozen=True)
@@ -272,8 +274,11 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
         if not lower < upper:
             raise SceneError(file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is not below upper {upper:g}", limit.line)])
         limits = (lower, upper)
+    velocity = None
+    if kind in MOVING and limit is not None and "velocity" in limit.attrib:
+        velocity = _numbers(limit, "velocity", 1, (), file, f"{what} <limit>")[0]
     return Joint(name, kind, ends["parent"], ends["child"], _origin(el, file, what), axis, limits,
-                 el.find("mimic") is not None, el.line)
+                 el.find("mimic") is not None, el.line, velocity, limit.line if limit is not None else None)
 
 
 def _check_tree(robot: Robot) -> None:
@@ -325,6 +330,28 @@ def chain_joints(robot: Robot, base: str, tip: str) -> list[ChainJoint]:
         raise robot.error(f"no revolute or continuous joint between {base!r} and {tip!r} (nothing would move)",
                           robot.link_lines[tip])
     return out
+
+
+def joint_speeds(robot: Robot, joints: list[Joint]) -> tuple[float | None, ...]:
+    """Each joint's ``<limit velocity>`` (rad/s), None where the URDF gives none (``effort`` is
+    not read). Only the arm's own joints are checked, so a gripper's ``velocity="0"`` elsewhere
+    in the file does no harm.
+
+    Raises
+    ------
+    SceneError
+        A velocity of the arm is 0 or negative, with its line (exit 2).
+
+    >>> robot = parse_urdf(b'<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="continuous">'
+    ...     b'<parent link="a"/><child link="b"/><limit effort="1" velocity="2.5"/></joint></robot>', "r.urdf")
+    >>> joint_speeds(robot, [robot.joints["j"]])
+    (2.5,)
+    """
+    for joint in joints:
+        if joint.velocity is not None and not joint.velocity > 0:
+            raise robot.error(f"joint {joint.name!r}: <limit> velocity {joint.velocity:g} is not a speed (expected rad/s > 0, "
+                              "or leave velocity out for armanim's default max_joint_speed)", joint.limit_line)
+    return tuple(j.velocity for j in joints)
 
 
 def default_tip(robot: Robot) -> str:

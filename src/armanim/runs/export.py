@@ -1,0 +1,157 @@
+"""``armanim export``: a finished run in another program's format, without solving.
+
+``joint-trajectory``: the run as a ROS ``trajectory_msgs/JointTrajectory`` in JSON
+(:mod:`armanim.output.jointtrajectory`): the joints' names (a URDF arm's, else ``phi1`` ..
+``phiN``), and at every frame of ``trajectory.csv`` the positions (radians), velocities
+(rad/s) and ``time_from_start`` (its ``time_s``).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from armanim.errors import Diagnostic, OutputError, SceneError, UsageError
+from armanim.output.atomic import output_error, write_text_atomic
+from armanim.output.csvfile import TrajectoryTable, read_trajectory_csv
+from armanim.output.jointtrajectory import (
+    finite_difference_velocities,
+    is_joint_trajectory_file,
+    joint_trajectory,
+    joint_trajectory_text,
+)
+from armanim.output.rundir import folder_lock, staged_folder
+from armanim.scene.models import LIMITS
+
+EXPORT_FORMATS = ("joint-trajectory",)
+"""What ``armanim export --format`` writes."""
+JOINT_TRAJECTORY_FILE = "joint_trajectory.json"
+"""The file ``export --format joint-trajectory`` writes into the run folder (without ``--out``)."""
+
+
+def velocity_columns(n: int) -> list[str]:
+    """The trajectory.csv columns of the joints' velocities (deg/s), ``dphi1_deg_s`` first.
+
+    >>> velocity_columns(2)
+    ['dphi1_deg_s', 'dphi2_deg_s']
+    """
+    return [f"dphi{i}_deg_s" for i in range(1, n + 1)]
+
+
+def run_velocities(table: TrajectoryTable, time_s: np.ndarray, positions: np.ndarray, file: str) -> np.ndarray:
+    """(F, n) rad/s: the clock's velocities from ``dphiK_deg_s``; a run written before those
+    columns existed gets central finite differences of its positions over ``time_s``.
+
+    Raises
+    ------
+    SceneError
+        Some velocity columns but not all of them (exit 2).
+    """
+    columns = velocity_columns(positions.shape[1])
+    present = [c for c in columns if c in table.columns]
+    if not present:
+        return finite_difference_velocities(time_s, positions)
+    if len(present) != len(columns):
+        missing = [c for c in columns if c not in table.columns]
+        raise SceneError(file, [Diagnostic("", f"has {', '.join(present[:3])} but not {', '.join(missing[:3])} "
+                                               "(expected a velocity column for every joint: dphi1_deg_s ..)", 1)])
+    return np.radians(np.stack([table.column(c) for c in columns], axis=1))
+
+
+def _increasing_times(table: TrajectoryTable, file: str) -> np.ndarray:
+    """``time_s``, which a trajectory message needs strictly increasing."""
+    time_s = table.column("time_s")
+    bad = np.nonzero(np.diff(time_s) <= 0)[0]
+    if len(bad):
+        row = int(bad[0]) + 1
+        raise SceneError(file, [Diagnostic("", f"time_s: {time_s[row]:g} does not come after {time_s[row - 1]:g} "
+                                               "(a joint trajectory needs increasing times)", table.first_line + row)])
+    return time_s
+
+
+def run_joint_trajectory(folder: Path) -> str:
+    """The JSON text of the run in ``folder`` as a JointTrajectory message (read the folder under its lock)."""
+    from armanim.runs.reload import load_run
+
+    run = load_run(folder)
+    csv_path = folder / "trajectory.csv"
+    table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
+    positions = np.radians(table.angles_deg)
+    time_s = _increasing_times(table, str(csv_path))
+    velocities = run_velocities(table, time_s, positions, str(csv_path))
+    names = list(run.problem.arm.joint_names) or [f"phi{i}" for i in range(1, positions.shape[1] + 1)]
+    return joint_trajectory_text(joint_trajectory(names, time_s, positions, velocities))
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    """Whether ``path`` would be written inside ``folder`` (links resolved)."""
+    parent = path.parent.resolve()
+    return parent == folder.resolve() or folder.resolve() in parent.parents
+
+
+def _replace_problem(target: Path) -> str | None:
+    """Why the export must not be written at ``target``, or None (nothing there, or an exported trajectory)."""
+    try:
+        info = os.stat(target)
+    except FileNotFoundError:
+        return None if not os.path.islink(target) else "is a link to nothing, which armanim did not make"
+    except OSError as exc:
+        return f"cannot be inspected ({exc.strerror or exc})"
+    if os.path.isdir(target):
+        return f"is a folder (expected a file name, e.g. {JOINT_TRAJECTORY_FILE})"
+    if not os.path.isfile(target) or info.st_size > 2**31:
+        return "is not a regular file, so armanim does not write there"
+    if not is_joint_trajectory_file(target):
+        return "is a file armanim did not write (not a joint trajectory), so it is not replaced"
+    return None
+
+
+def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | Path | None = None) -> Path:
+    """Write a finished run in another format, without solving; return the file written.
+
+    Parameters
+    ----------
+    folder : an output folder of ``armanim run``
+    fmt : one of :data:`EXPORT_FORMATS`
+    out : the file to write; default the run folder's own ``joint_trajectory.json``, staged and
+        swapped in like a run (the folder's marker lists it). A file elsewhere is written
+        atomically, replacing only a joint trajectory; another file inside the run folder is
+        refused, since a run folder holds only what armanim lists in it.
+
+    Raises
+    ------
+    UsageError
+        An unknown format, or ``out`` inside the run folder under another name (exit 2).
+    SceneError
+        The folder is not a complete armanim run, or its trajectory cannot be exported (exit 2).
+    OutputError
+        Something other than an exported trajectory stands at ``out``, or it could not be written (exit 3).
+    """
+    if fmt not in EXPORT_FORMATS:
+        raise UsageError(f"--format {fmt!r} is not a format armanim exports (expected one of: {', '.join(EXPORT_FORMATS)})")
+    from armanim.runs.reload import load_run
+
+    folder = Path(folder)
+    load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
+    own = folder / JOINT_TRAJECTORY_FILE
+    if out is None or Path(out).resolve() == own.resolve():
+        with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
+            write_text_atomic(staged / JOINT_TRAJECTORY_FILE, run_joint_trajectory(folder))
+        return own
+    target = Path(out)
+    if _inside(target, folder):
+        raise UsageError(f"--out {target}: is inside the run folder {folder}, which holds only the files armanim lists in it "
+                         f"(leave --out out to write {own}, or choose a file outside the folder)")
+    problem = _replace_problem(target)
+    if problem is not None:
+        raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
+    with folder_lock(folder):  # read the run whole, never half replaced by a run of it
+        text = run_joint_trajectory(folder)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_error(target.parent, exc) from None
+    write_text_atomic(target, text)
+    return target

@@ -1,0 +1,167 @@
+"""``armanim export --format joint-trajectory``: the run as a ROS JointTrajectory in JSON. The
+round trip against the CSV itself (positions in radians, times equal time_s, the joints'
+names), velocities from the dphi columns or, for older runs, central differences, and every
+refusal with its exit code."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armanim.output.jointtrajectory import MESSAGE_KEYS, POINT_KEYS
+from armanim.output.rundir import MARKER, marked_files
+
+LINKS = """\
+version: 1
+arm:
+  links: [1, 1, 0.5]
+goals:
+  - [1, 0.5, 1]
+  - position: [0.5, -1, 1.2]
+    hold: 0.3
+render:
+  fps: 10
+  size: [64, 48]
+"""
+
+PANDA = """\
+version: 1
+arm:
+  robot: panda
+goals:
+  - [0.45, 0.1, 0.45]
+render:
+  fps: 10
+  size: [64, 48]
+"""
+
+
+def solved_run(tmp_path: Path, cli, text: str, name: str = "tiny") -> Path:
+    scene = tmp_path / f"{name}.yaml"
+    scene.write_text(text, encoding="utf-8")
+    result = cli("run", scene, "--no-video", "--quiet", "--out", tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    return tmp_path / "out" / name
+
+
+def csv_rows(folder: Path) -> tuple[list[str], list[dict]]:
+    with open(folder / "trajectory.csv", newline="", encoding="utf-8") as handle:
+        reader = csv.DictReader(handle)
+        return list(reader.fieldnames), list(reader)
+
+
+def seconds(duration: dict) -> float:
+    assert set(duration) == {"sec", "nanosec"} and 0 <= duration["nanosec"] < 10**9
+    return duration["sec"] + duration["nanosec"] * 1e-9
+
+
+def assert_round_trip(message: dict, folder: Path, names: list[str]) -> None:
+    """Positions equal the CSV's angles in radians, times its time_s (to the nanosecond), the
+    message has exactly ROS's fields."""
+    columns, rows = csv_rows(folder)
+    n = len(names)
+    assert tuple(message) == MESSAGE_KEYS and message["joint_names"] == names
+    assert message["header"] == {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}
+    assert len(message["points"]) == len(rows)
+    for point, row in zip(message["points"], rows):
+        assert tuple(point) == POINT_KEYS
+        assert point["positions"] == [float(np.radians(float(row[f"phi{k}_deg"]))) for k in range(1, n + 1)]
+        assert len(point["velocities"]) == n and point["accelerations"] == [] and point["effort"] == []
+        assert abs(seconds(point["time_from_start"]) - float(row["time_s"])) <= 0.5e-9
+    times = [seconds(p["time_from_start"]) for p in message["points"]]
+    assert all(b > a for a, b in zip(times, times[1:]))
+
+
+def test_link_arm_round_trip_into_the_run_folder(tmp_path, cli):
+    folder = solved_run(tmp_path, cli, LINKS)
+    result = cli("export", folder, "--format", "joint-trajectory")
+    assert result.exit_code == 0, result.output
+    path = folder / "joint_trajectory.json"
+    assert result.stdout.strip() == str(path)
+    message = json.loads(path.read_text(encoding="utf-8"))
+    assert_round_trip(message, folder, ["phi1", "phi2", "phi3"])
+    assert "joint_trajectory.json" in marked_files(folder)  # armanim's file: the next run replaces the folder whole
+    rerun = cli("run", tmp_path / "tiny.yaml", "--no-video", "--quiet", "--out", tmp_path / "out")
+    assert rerun.exit_code == 0, rerun.output
+
+
+def test_urdf_arm_names_its_joints(tmp_path, cli):
+    folder = solved_run(tmp_path, cli, PANDA, "ptiny")
+    out = tmp_path / "elsewhere" / "panda.json"
+    result = cli("export", folder, "--out", out)
+    assert result.exit_code == 0, result.output
+    assert_round_trip(json.loads(out.read_text()), folder, [f"panda_joint{k}" for k in range(1, 8)])
+    assert not (folder / "joint_trajectory.json").exists()
+    again = cli("export", folder, "--out", out)  # an exported trajectory is replaced
+    assert again.exit_code == 0, again.output
+
+
+def test_velocities_of_a_run_without_velocity_columns_are_central_differences(tmp_path, cli):
+    folder = solved_run(tmp_path, cli, LINKS)
+    columns, rows = csv_rows(folder)
+    if any(c.startswith("dphi") for c in columns):  # this armanim logs the clock's velocities: drop them, as an old run
+        kept = [c for c in columns if not c.startswith("dphi")]
+        with open(folder / "trajectory.csv", "w", newline="", encoding="utf-8") as handle:
+            writer = csv.DictWriter(handle, kept, extrasaction="ignore", lineterminator="\n")
+            writer.writeheader()
+            writer.writerows(rows)
+    out = tmp_path / "old.json"
+    assert cli("export", folder, "--out", out).exit_code == 0
+    message = json.loads(out.read_text())
+    t = np.array([float(r["time_s"]) for r in rows])
+    phi = np.radians([[float(r[f"phi{k}_deg"]) for k in (1, 2, 3)] for r in rows])
+    velocities = np.array([p["velocities"] for p in message["points"]])
+    for i in range(1, len(rows) - 1):  # inside: (phi[i+1] - phi[i-1]) / (t[i+1] - t[i-1]) on these even steps
+        np.testing.assert_allclose(velocities[i], (phi[i + 1] - phi[i - 1]) / (t[i + 1] - t[i - 1]), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(velocities[0], (phi[1] - phi[0]) / (t[1] - t[0]), rtol=1e-9, atol=1e-12)
+
+
+def test_velocity_columns_are_used_when_present(tmp_path, cli):
+    """A run with ``dphiK_deg_s`` columns exports those, in rad/s (not a finite difference)."""
+    folder = solved_run(tmp_path, cli, LINKS)
+    columns, rows = csv_rows(folder)
+    new = [c for c in columns if not c.startswith("dphi")] + ["dphi1_deg_s", "dphi2_deg_s", "dphi3_deg_s"]
+    for i, row in enumerate(rows):
+        row.update({"dphi1_deg_s": repr(float(i)), "dphi2_deg_s": "-90.0", "dphi3_deg_s": "0.0"})
+    with open(folder / "trajectory.csv", "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, new, extrasaction="ignore", lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    out = tmp_path / "v.json"
+    assert cli("export", folder, "--out", out).exit_code == 0
+    velocities = np.array([p["velocities"] for p in json.loads(out.read_text())["points"]])
+    np.testing.assert_allclose(velocities[:, 0], np.radians(np.arange(len(rows), dtype=float)), rtol=1e-15)
+    np.testing.assert_allclose(velocities[:, 1], -np.pi / 2, rtol=1e-15)
+    # some velocity columns but not all: a clear error, nothing written
+    with open(folder / "trajectory.csv", "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, new[:-1], extrasaction="ignore", lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    bad = cli("export", folder, "--out", tmp_path / "partial.json")
+    assert bad.exit_code == 2 and "dphi3_deg_s" in bad.stderr and not (tmp_path / "partial.json").exists()
+
+
+@pytest.mark.parametrize("case", ["missing", "not-a-run", "format", "inside", "foreign", "folder"])
+def test_refusals(tmp_path, cli, case):
+    folder = solved_run(tmp_path, cli, LINKS)
+    before = {p.name: p.read_bytes() for p in folder.iterdir() if p.is_file()}
+    foreign = tmp_path / "notes.json"
+    foreign.write_text('{"mine": true}\n', encoding="utf-8")
+    args, code, fragment = {
+        "missing": ((tmp_path / "nope",), 2, "no such folder"),
+        "not-a-run": ((tmp_path,), 2, "is not a complete armanim run"),
+        "format": ((folder, "--format", "csv"), 2, "--format 'csv' is not a format armanim exports (expected one of: joint-trajectory)"),
+        "inside": ((folder, "--out", folder / "mine.json"), 2, "is inside the run folder"),
+        "foreign": ((folder, "--out", foreign), 3, "is a file armanim did not write (not a joint trajectory)"),
+        "folder": ((folder, "--out", tmp_path / "out"), 3, "is a folder"),
+    }[case]
+    result = cli("export", *args)
+    assert result.exit_code == code, result.output
+    assert fragment in result.stderr and "Traceback" not in result.output
+    assert {p.name: p.read_bytes() for p in folder.iterdir() if p.is_file()} == before  # the run is as it was
+    assert foreign.read_text() == '{"mine": true}\n'
+    assert not (folder / "mine.json").exists() and MARKER in before
