@@ -45,6 +45,10 @@ SAFETY_PROBES = 3
 """Points inside each solved step where the smooth path's clearance is checked."""
 
 
+class ClockTooLong(ValueError):
+    """The clock would make more frames than allowed (limits far too low for the path)."""
+
+
 @dataclass(frozen=True)
 class JointPath:
     """A path through solved poses: knots at arc length ``s``, PCHIP slopes ``slopes``.
@@ -340,7 +344,8 @@ class Motion:
         return GoalTiming(self.duration, float(v.max()), float(a.max()), int(np.argmax(v)), int(np.argmax(a)))
 
 
-def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleration: np.ndarray, fps: float) -> Motion:
+def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleration: np.ndarray, fps: float,
+                   most_frames: float = np.inf) -> Motion:
     """The time law slowed by the least factor that keeps every limit, sampled at ``fps``.
 
     The factor covers the limits checked densely on the continuous motion (the grid's
@@ -348,6 +353,11 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     themselves are checked as the contract states the limits (first and second differences
     over 1/fps, with the arm at rest before the first frame and after the last) and the
     time is stretched again if one is over.
+
+    Raises
+    ------
+    ClockTooLong
+        The motion would take more than ``most_frames`` frames.
     """
     t = _check_times(law)
     s, sd, sdd = law.at(t)
@@ -357,7 +367,10 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     scale = max(1.0, float(q_vel.max()), math.sqrt(float(q_acc.max())))
     start, end = path.poses[0], path.poses[-1]
     for _ in range(32):
-        count = max(1, math.ceil(law.duration * scale * fps - 1e-9))
+        frames = law.duration * scale * fps
+        if not frames <= most_frames:  # NaN too
+            raise ClockTooLong(f"{frames:.3g} frames for one goal's motion (at most {most_frames:.3g})")
+        count = max(1, math.ceil(frames - 1e-9))
         scale = count / (fps * law.duration)
         times = np.arange(1, count + 1) / fps / scale
         s, sd, _ = law.at(np.minimum(times, law.duration))
@@ -394,14 +407,15 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
 
 
 def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                clear: Callable[[np.ndarray], np.ndarray] | None = None) -> Motion:
+                clear: Callable[[np.ndarray], np.ndarray] | None = None, most_frames: float = np.inf) -> Motion:
     """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``.
 
     The first pose is where the arm already is (it is not a frame of the result); a path
     that does not move takes no frames. ``clear(phi)``, (k, n) -> (k,) bool, says which
     poses keep the clearance: a solved step whose smooth path does not, at
     :data:`SAFETY_PROBES` points inside it, is taken along its chord; a frame that still
-    does not (the chord cuts a curved surface) shows the solved pose it heads for.
+    does not (the chord cuts a curved surface) shows the solved pose it heads for. Raises
+    :class:`ClockTooLong` past ``most_frames`` frames.
 
     >>> m = goal_motion(np.array([[0.0], [1.0]]), np.array([True]), np.array([10.0]), np.array([1.0]), 10.0)
     >>> len(m.phi), float(m.phi[-1, 0]), m.duration
@@ -420,7 +434,7 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
             chords[path.frames[1:][unsafe] - 1] = True
             path = joint_path(poses, limited, chords)
     law = time_optimal(path, speed, acceleration)
-    motion = sampled_motion(path, law, speed, acceleration, fps)
+    motion = sampled_motion(path, law, speed, acceleration, fps, most_frames)
     phi = motion.phi
     if clear is not None:
         bad = ~clear(phi)
@@ -432,5 +446,5 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
 
 
-__all__ = ["JointPath", "Motion", "TimeLaw", "goal_motion", "joint_path", "pchip_slopes", "sampled_motion",
+__all__ = ["ClockTooLong", "JointPath", "Motion", "TimeLaw", "goal_motion", "joint_path", "pchip_slopes", "sampled_motion",
            "time_optimal", "unwrapped"]

@@ -21,10 +21,10 @@ from dataclasses import replace
 import numpy as np
 
 from armanim.arm.kinematics import forward
-from armanim.motion.clock import GoalTiming, goal_motion
+from armanim.motion.clock import ClockTooLong, goal_motion
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
-from armanim.motion.solution import GoalReport, Solution, Trajectory
+from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.trajectory import hold_frames
 from armanim.world.distances import min_link_clearance
 
@@ -47,7 +47,7 @@ def at_fps(problem: Problem, fps: float) -> Problem:
     return replace(problem, solver=solver, fps=fps)
 
 
-def retime(problem: Problem, solution: Solution, fps: float) -> Solution:
+def retime(problem: Problem, solution: Solution, fps: float, most_frames: float = np.inf) -> Solution:
     """``solution`` (solved at ``problem.fps``) on the clock, as frames at ``fps``.
 
     Parameters
@@ -58,6 +58,8 @@ def retime(problem: Problem, solution: Solution, fps: float) -> Solution:
     solution : Solution
     fps : float
         Frames per second of the result.
+    most_frames : float
+        The most frames the result may have (its memory), holds included.
 
     Returns
     -------
@@ -66,21 +68,29 @@ def retime(problem: Problem, solution: Solution, fps: float) -> Solution:
         first and last frames and timing in the new frames; iterations (each solved frame's
         counted once), final distances and reasons as solved. The trajectory carries each
         frame's joint velocities (the clock's, rad/s).
+
+    Raises
+    ------
+    ClockTooLong
+        The motion would take more than ``most_frames`` frames.
     """
     src, out = solution.trajectory, at_fps(problem, fps)
     n = src.phi.shape[1]
     rates = problem.rates
     phi, velocity, source, held, goal = [src.phi[:1]], [np.zeros((1, n))], [np.zeros(1, dtype=int)], [[False]], [[0]]
     timings = []
-    start = 0
+    start = made = 0
     for g in solution.goals:
         poses = src.phi[start:start + g.frames + 1]
         motion = goal_motion(poses, problem.limits.limited, rates.speed, rates.acceleration, fps,
-                             clear=lambda p: safe_pose(problem, p))
+                             clear=lambda p: safe_pose(problem, p), most_frames=most_frames - made)
         heads_for = start + motion.heads_for
         if len(heads_for):
             heads_for[-1] = start + g.frames  # the last solved frame, repeated poses or not
         hold = hold_frames(out, problem.goals[g.index]) if g.reached else 0
+        made += len(motion.phi) + hold
+        if made > most_frames:
+            raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
         phi += [motion.phi, np.repeat(poses[-1:], hold, axis=0)]
         velocity += [motion.velocity, np.zeros((hold, n))]
         source += [heads_for, np.full(hold, start + g.frames)]

@@ -14,13 +14,12 @@ from pathlib import Path
 
 from armanim import __version__
 from armanim.errors import SceneError
-from armanim.motion.retime import retime
-from armanim.motion.trajectory import solve_trajectory
 from armanim.output.atomic import write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.output.files import open_regular, read_bounded
 from armanim.output.rundir import directory_lock
+from armanim.runs.pipeline import timed_solution
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 
 MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
@@ -52,7 +51,7 @@ class GoldenResult:
 def solve_csv_text(scene: LoadedScene) -> str:
     """The trajectory.csv text a run of ``scene`` writes (no files, no video)."""
     problem = scene_to_problem(scene.model)
-    return trajectory_csv_text(retime(problem, solve_trajectory(problem), problem.fps).trajectory)
+    return trajectory_csv_text(timed_solution(scene, problem, problem.fps).trajectory)
 
 
 def golden_paths(golden_dir: Path, name: str) -> tuple[Path, Path]:

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from armanim.errors import OutputError, UsageError
+from armanim.motion.clock import ClockTooLong
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.retime import at_fps, retime
 from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
@@ -127,9 +128,7 @@ def produce_outputs(
             f"--fps {settings.fps:g}: the holds would make up to {int(frames):,} frames "
             f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
         )
-    solution = solve_trajectory(solved, (lambda done, total: progress("solve", done, total)) if progress else None,
-                                (lambda done, most: progress("plan", done, most)) if progress else None)
-    solution = retime(solved, solution, settings.fps)  # the solved path on the clock, at the fps it is shown at
+    solution = timed_solution(scene, solved, settings.fps, progress)
     problem = at_fps(solved, settings.fps)
     summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256,
                            rate_notes=rate_note_lines(scene.model))
@@ -150,6 +149,23 @@ def produce_outputs(
         rendered = render_outputs(problem, solution, settings, folder, scene.name, jobs=jobs, progress=progress)
         names.update({kind: path.name for kind, path in rendered.items()})
     return Produced(problem, solution, summary, names)
+
+
+def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: Progress | None = None) -> Solution:
+    """The scene's path solved at ``problem.fps`` and put on the clock at ``fps``.
+
+    Raises
+    ------
+    UsageError
+        The clock would make more than the total frame limit (joint limits far too low).
+    """
+    solution = solve_trajectory(problem, (lambda done, total: progress("solve", done, total)) if progress else None,
+                                (lambda done, most: progress("plan", done, most)) if progress else None)
+    try:
+        return retime(problem, solution, fps, most_frames=LIMITS["total_frames"])
+    except ClockTooLong as exc:
+        raise UsageError(f"{scene.path}: arm.max_joint_speed / max_joint_acceleration: the clock would make {exc} at "
+                         f"{fps:g} fps (raise the limits, or lower --fps)") from None
 
 
 def rerender_run(
