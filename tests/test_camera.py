@@ -8,8 +8,8 @@ from pathlib import Path
 
 import imageio_ffmpeg
 import numpy as np
-import yaml
 import pytest
+import yaml
 
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal, Problem
