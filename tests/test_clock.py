@@ -142,3 +142,26 @@ def test_the_duration_is_toppras_time_optimal_one(seed):
     assert law.duration <= 1.02 * oracle.duration
     assert motion.duration <= 1.02 * oracle.duration + 1e-3
     assert law.duration >= oracle.duration / np.sqrt(oracle_excess) - 1e-9  # never faster than the limits allow
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(1, 7), steps=st.integers(1, 40),
+       jitter=st.sampled_from([0.0, 0.002, 0.02]), fps=st.sampled_from([15.0, 30.0, 60.0]))
+def test_with_a_jerk_limit_every_frame_keeps_speed_acceleration_and_jerk(seed, n, steps, jitter, fps):
+    poses = _random_path(seed, n, steps, jitter)
+    speed, acceleration = _limits(seed, n)
+    jerk = np.random.default_rng(seed + 2).uniform(20.0, 500.0, n)
+    motion = goal_motion(poses, np.ones(n, dtype=bool), speed, acceleration, fps, jerk=jerk)
+    v, a = _frame_ratios(poses[0], motion.phi, speed, acceleration, fps)
+    seq = np.concatenate([poses[:1]] * 3 + [motion.phi] + [motion.phi[-1:]] * 2)
+    j = float((np.abs(np.diff(seq, 3, axis=0)) * fps**3 / jerk).max())
+    assert v <= 1 + 1e-9 and a <= 1 + 1e-9 and j <= 1 + 1e-9
+    np.testing.assert_array_equal(motion.phi[-1], poses[-1])
+
+
+def test_a_jerk_limit_makes_the_motion_no_faster():
+    poses = _random_path(5, 3, 20, 0.01)
+    speed, acceleration = _limits(5, 3)
+    free = goal_motion(poses, np.ones(3, dtype=bool), speed, acceleration, 30.0)
+    smooth = goal_motion(poses, np.ones(3, dtype=bool), speed, acceleration, 30.0, jerk=np.full(3, 50.0))
+    assert smooth.duration >= free.duration

@@ -76,9 +76,10 @@ class JointPath:
         return float(self.s[-1])
 
     def evaluate(self, s: np.ndarray, derivative: int = 0) -> np.ndarray:
-        """(k, n) the path, or its first or second derivative in ``s``, at arc lengths ``s`` (k,).
+        """(k, n) the path, or its first, second or third derivative in ``s``, at arc lengths ``s`` (k,).
 
-        The second derivative is the one of the step ``s`` falls in (from the right at a knot).
+        The second and third derivatives are the ones of the step ``s`` falls in (from the right
+        at a knot).
 
         >>> p = joint_path(np.array([[0.0], [1.0], [2.0]]), np.array([True]))
         >>> p.evaluate(np.array([0.5, 1.5])).ravel().tolist(), p.evaluate(np.array([0.25]), 1).ravel().tolist()
@@ -94,9 +95,13 @@ class JointPath:
         elif derivative == 1:
             basis = (6 * t**2 - 6 * t, 3 * t**2 - 4 * t + 1, -6 * t**2 + 6 * t, 3 * t**2 - 2 * t)
             scale = 1 / h
-        else:
+        elif derivative == 2:
             basis = (12 * t - 6, 6 * t - 4, 6 - 12 * t, 6 * t - 2)
             scale = 1 / h**2
+        else:
+            one = np.ones_like(t)
+            basis = (12 * one, 6 * one, -12 * one, 6 * one)
+            scale = 1 / h**3
         return scale * (basis[0] * p0 + basis[1] * d0 + basis[2] * p1 + basis[3] * d1)
 
     def step_of(self, s: np.ndarray) -> np.ndarray:
@@ -377,7 +382,7 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
         s[-1] = path.length
         phi = path.evaluate(s)
         phi[-1] = end
-        over = _frame_excess(np.concatenate([start[None], phi]), speed, acceleration, fps)
+        over = _frame_excess(np.concatenate([start[None], phi]), speed, acceleration, fps=fps)
         if over <= 1.0 + 1e-9:  # rounding: a bang-bang step is exactly at its limit
             break
         scale *= over * (1 + 1e-9)
@@ -394,20 +399,86 @@ def _check_times(law: TimeLaw) -> np.ndarray:
     return (law.t[:-1, None] + f * dt[:, None]).ravel()
 
 
-def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float) -> float:
+def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray | None = None,
+                  fps: float = 1.0) -> float:
     """The factor by which time must stretch for frames ``phi`` (rest pose first, at rest
-    after the last) to keep the limits: 1 when they do. A stretch by k divides speeds by k and
-    accelerations by k**2."""
+    after the last) to keep the limits: 1 when they do. A stretch by k divides speeds by k,
+    accelerations by k**2 and jerks (third differences, at rest before and after) by k**3."""
     v = np.diff(phi, axis=0) * fps
     a = np.diff(np.concatenate([phi, phi[-1:]]), 2, axis=0) * fps**2 if len(phi) > 1 else np.zeros((0, len(speed)))
     ends = np.abs(np.stack([phi[1] - phi[0], phi[-1] - phi[-2]])) * 2 * fps**2 if len(phi) > 1 else a
     ratio_v = float(np.max(np.abs(v) / speed, initial=0.0))
     ratio_a = max(float(np.max(np.abs(a) / acceleration, initial=0.0)), float(np.max(ends / acceleration, initial=0.0)))
-    return max(1.0, ratio_v, math.sqrt(ratio_a))
+    if jerk is None:
+        return max(1.0, ratio_v, math.sqrt(ratio_a))
+    third = np.diff(np.concatenate([phi[:1], phi[:1], phi, phi[-1:], phi[-1:]]), 3, axis=0) * fps**3
+    ratio_j = float(np.max(np.abs(third) / jerk, initial=0.0))
+    return max(1.0, ratio_v, math.sqrt(ratio_a), ratio_j ** (1 / 3))
+
+
+def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,
+                        most_frames: float = np.inf) -> Motion:
+    """A jerk-limited motion along ``path`` from rest to rest (zero acceleration at both ends),
+    sampled at ``fps``: ruckig's time-optimal profile of the path parameter under the largest
+    path speed, acceleration and jerk that keep every joint within its limits everywhere on
+    the path (:func:`path_rates`), stretched to whole frames and checked on the frames
+    (differences over 1/fps up to the third, at rest before and after) as :func:`sampled_motion`
+    does.
+
+    >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
+    >>> m = jerk_limited_motion(p, np.array([10.0]), np.array([1.0]), np.array([100.0]), 10.0)
+    >>> float(m.phi[-1, 0]), 2.0 < m.duration < 2.5  # a little longer than bang-bang's 2 s
+    (1.0, True)
+    """
+    import ruckig  # only a jerk-bounded clock needs it
+
+    v, a, j = path_rates(path, speed, acceleration, jerk)
+    otg, profile, goal = ruckig.Ruckig(1), ruckig.Trajectory(1), ruckig.InputParameter(1)
+    goal.current_position, goal.target_position = [0.0], [path.length]
+    goal.max_velocity, goal.max_acceleration, goal.max_jerk = [v], [a], [j]
+    otg.calculate(goal, profile)
+    duration = float(profile.duration)
+    scale = 1.0
+    start, end = path.poses[0], path.poses[-1]
+    for _ in range(32):
+        frames = duration * scale * fps
+        if not frames <= most_frames:
+            raise ClockTooLong(f"{frames:.3g} frames for one goal's motion (at most {most_frames:.3g})")
+        count = max(1, math.ceil(frames - 1e-9))
+        scale = count / (fps * duration)
+        states = np.array([profile.at_time(t)[:2] for t in np.arange(1, count + 1) / fps / scale])[:, :, 0]
+        s, sd = np.clip(states[:, 0], 0.0, path.length), states[:, 1]
+        s[-1] = path.length
+        phi = path.evaluate(s)
+        phi[-1] = end
+        over = _frame_excess(np.concatenate([start[None], phi]), speed, acceleration, jerk, fps)
+        if over <= 1.0 + 1e-9:
+            break
+        scale *= over * (1 + 1e-9)
+    velocity = path.evaluate(s, 1) * (sd / scale)[:, None]
+    velocity[-1] = 0.0
+    return Motion(phi, velocity, path.step_of(s), count / fps)
+
+
+def path_rates(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray) -> tuple[float, float, float]:
+    """The largest path speed V, acceleration A and jerk J that keep every joint within its
+    limits at every point of ``path`` (checked on the TOPP grid): with the path's derivatives
+    d1, d2, d3 in s, d1 V <= v, d1 A + d2 V^2 <= a and d1 J + 3 d2 V A + d3 V^3 <= j (absolute
+    values), half of each joint's acceleration and a third of its jerk left to the path's
+    curvature."""
+    s = _grid(path.s)
+    d1, d2, d3 = (np.abs(path.evaluate(s, k)) for k in (1, 2, 3))
+    with np.errstate(divide="ignore"):
+        v = min(float(np.min(speed / d1)), math.sqrt(float(np.min(acceleration / (2 * d2)))),
+                float(np.min(jerk / (3 * d3))) ** (1 / 3))
+        a = min(float(np.min((acceleration - d2 * v**2) / d1)), float(np.min(jerk / (9 * d2 * v))))
+        j = float(np.min((jerk - 3 * d2 * v * a - d3 * v**3) / d1))
+    return v, a, j
 
 
 def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                clear: Callable[[np.ndarray], np.ndarray] | None = None, most_frames: float = np.inf) -> Motion:
+                clear: Callable[[np.ndarray], np.ndarray] | None = None, most_frames: float = np.inf,
+                jerk: np.ndarray | None = None) -> Motion:
     """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``.
 
     The first pose is where the arm already is (it is not a frame of the result); a path
@@ -433,8 +504,10 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
             chords = np.zeros(len(poses) - 1, dtype=bool)
             chords[path.frames[1:][unsafe] - 1] = True
             path = joint_path(poses, limited, chords)
-    law = time_optimal(path, speed, acceleration)
-    motion = sampled_motion(path, law, speed, acceleration, fps, most_frames)
+    if jerk is None:
+        motion = sampled_motion(path, time_optimal(path, speed, acceleration), speed, acceleration, fps, most_frames)
+    else:
+        motion = jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames)
     phi = motion.phi
     if clear is not None:
         bad = ~clear(phi)
@@ -446,5 +519,5 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
 
 
-__all__ = ["ClockTooLong", "JointPath", "Motion", "TimeLaw", "goal_motion", "joint_path", "pchip_slopes", "sampled_motion",
+__all__ = ["ClockTooLong", "JointPath", "Motion", "TimeLaw", "goal_motion", "jerk_limited_motion", "path_rates", "joint_path", "pchip_slopes", "sampled_motion",
            "time_optimal", "unwrapped"]

@@ -83,7 +83,8 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     for g in solution.goals:
         poses = src.phi[start:start + g.frames + 1]
         motion = goal_motion(poses, problem.limits.limited, rates.speed, rates.acceleration, fps,
-                             clear=lambda p: safe_pose(problem, p), most_frames=most_frames - made)
+                             clear=lambda p: safe_pose(problem, p), most_frames=most_frames - made,
+                             jerk=rates.jerk)
         heads_for = start + motion.heads_for
         if len(heads_for):
             heads_for[-1] = start + g.frames  # the last solved frame, repeated poses or not
