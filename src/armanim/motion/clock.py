@@ -37,7 +37,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.motion.solution import GoalTiming
 
-GRID_PER_STEP = 32
+GRID_PER_STEP = 8
 """TOPP grid points per solved step of the path (its knots and the midpoints)."""
 CHECK_PER_STEP = 4
 """Points per grid interval where the scaled time law is checked against the limits."""
@@ -85,24 +85,11 @@ class JointPath:
         >>> p.evaluate(np.array([0.5, 1.5])).ravel().tolist(), p.evaluate(np.array([0.25]), 1).ravel().tolist()
         ([0.5, 1.5], [1.0])
         """
-        k = np.clip(np.searchsorted(self.s, s, side="right") - 1, 0, len(self.s) - 2)
-        h = (self.s[k + 1] - self.s[k])[:, None]
-        t = ((s - self.s[k])[:, None]) / h
-        p0, p1, d0, d1 = self.poses[k], self.poses[k + 1], self.slopes[k] * h, self.slopes[k + 1] * h
-        if derivative == 0:
-            basis = (2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2)
-            scale = 1.0
-        elif derivative == 1:
-            basis = (6 * t**2 - 6 * t, 3 * t**2 - 4 * t + 1, -6 * t**2 + 6 * t, 3 * t**2 - 2 * t)
-            scale = 1 / h
-        elif derivative == 2:
-            basis = (12 * t - 6, 6 * t - 4, 6 - 12 * t, 6 * t - 2)
-            scale = 1 / h**2
-        else:
-            one = np.ones_like(t)
-            basis = (12 * one, 6 * one, -12 * one, 6 * one)
-            scale = 1 / h**3
-        return scale * (basis[0] * p0 + basis[1] * d0 + basis[2] * p1 + basis[3] * d1)
+        from armanim.motion.passes import hermite  # compiled: a path is evaluated at thousands of points
+
+        out = np.empty((len(s), self.poses.shape[1]))
+        hermite(self.s, self.poses, self.slopes, np.ascontiguousarray(s, dtype=float), derivative, out)
+        return out
 
     def step_of(self, s: np.ndarray) -> np.ndarray:
         """(k,) the solved frame each arc length ``s`` heads for (the knot itself at a knot)."""
@@ -273,7 +260,7 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
 COLLOCATION = (0.0, 0.5, 1.0)
 """Fractions of each grid interval where the time law keeps the limits (1.0: the end of the
 interval, approached from inside it)."""
-GRID_MIN = 1024
+GRID_MIN = 256
 """Fewest grid intervals of a path (a short path's steps are split further)."""
 
 

@@ -53,3 +53,29 @@ def pairwise_cap(lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.
                     value = (hi_b[i, q] - lo_b[i, p]) / slope
                     if value < x_cap[i]:
                         x_cap[i] = value
+
+
+@compiled(**_JIT)
+def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndarray, derivative: int,
+            out: np.ndarray) -> None:
+    """Fill ``out`` (k, n) with the piecewise cubic Hermite path through ``poses`` (m, n) with
+    ``slopes`` (m, n) at ``knots`` (m,), or its ``derivative`` (0 to 3) in s, at ``s`` (k,); each
+    point in the step it falls in (from the right at a knot), as
+    :meth:`armanim.motion.clock.JointPath.evaluate` defines it."""
+    last = len(knots) - 2
+    for i in range(len(s)):
+        k = np.searchsorted(knots, s[i], side="right") - 1
+        k = min(max(k, 0), last)
+        h = knots[k + 1] - knots[k]
+        t = (s[i] - knots[k]) / h
+        if derivative == 0:
+            b0, b1, b2, b3, scale = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2, 1.0
+        elif derivative == 1:
+            b0, b1, b2, b3, scale = 6 * t**2 - 6 * t, 3 * t**2 - 4 * t + 1, -6 * t**2 + 6 * t, 3 * t**2 - 2 * t, 1 / h
+        elif derivative == 2:
+            b0, b1, b2, b3, scale = 12 * t - 6, 6 * t - 4, 6 - 12 * t, 6 * t - 2, 1 / h**2
+        else:
+            b0, b1, b2, b3, scale = 12.0, 6.0, -12.0, 6.0, 1 / h**3
+        for j in range(poses.shape[1]):
+            out[i, j] = scale * (b0 * poses[k, j] + b1 * h * slopes[k, j] + b2 * poses[k + 1, j]
+                                 + b3 * h * slopes[k + 1, j])
