@@ -217,7 +217,8 @@ def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem
     goal_gap = np.linalg.norm(tips[1:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
     assume(np.all(goal_gap > 0.1 + solver.clearance))
     return Problem(arm=arm, half_width=base.half_width, home=base.home, limits=lim, obstacles=obstacles,
-                   goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0, capsules=base.capsules)
+                   goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0, capsules=base.capsules,
+                   rates=base.rates)  # the robot's own speed and acceleration limits
 
 
 @st.composite

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from invariants import assert_trajectory_invariants, small_planning_budget
-from strategies import cluttered_problems
+from strategies import cluttered_problems, robot_problems
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Arm, forward
@@ -116,6 +116,16 @@ def test_every_retimed_frame_keeps_the_guarantees_at_that_rate(problem, fps):
             assert np.all(timed.trajectory.velocity[last] == 0)
             assert g.timing.peak_speed_ratio <= 1 + 1e-9 and g.timing.peak_acceleration_ratio <= 1 + 1e-9
             assert g.timing.duration == pytest.approx(g.frames / fps)
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(problem=robot_problems(), fps=st.sampled_from([15.0, 30.0, 60.0]))
+def test_a_robots_frames_keep_its_own_speed_and_acceleration_limits(problem, fps):
+    with small_planning_budget():
+        solved = solve_trajectory(problem)
+    timed = retime(problem, solved, fps)
+    assert_trajectory_invariants(at_fps(problem, fps), timed)  # within problem.rates: the URDF's and Franka's / UR's
+    assert all(g.timing.peak_speed_ratio <= 1 + 1e-9 for g in timed.goals)
 
 
 def test_the_clock_is_the_same_at_every_fps():
