@@ -37,7 +37,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.motion.solution import GoalTiming
 
-GRID_PER_STEP = 8
+GRID_PER_STEP = 16
 """TOPP grid points per solved step of the path (its knots and the midpoints)."""
 CHECK_PER_STEP = 4
 """Points per grid interval where the scaled time law is checked against the limits."""
@@ -260,7 +260,7 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
 COLLOCATION = (0.0, 0.5, 1.0)
 """Fractions of each grid interval where the time law keeps the limits (1.0: the end of the
 interval, approached from inside it)."""
-GRID_MIN = 256
+GRID_MIN = 512
 """Fewest grid intervals of a path (a short path's steps are split further)."""
 
 
@@ -465,15 +465,16 @@ def path_rates(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jer
 
 def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
                 clear: Callable[[np.ndarray], np.ndarray] | None = None, most_frames: float = np.inf,
-                jerk: np.ndarray | None = None) -> Motion:
+                jerk: np.ndarray | None = None, certified: np.ndarray | None = None) -> Motion:
     """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``.
 
     The first pose is where the arm already is (it is not a frame of the result); a path
     that does not move takes no frames. ``clear(phi)``, (k, n) -> (k,) bool, says which
     poses keep the clearance: a solved step whose smooth path does not, at
     :data:`SAFETY_PROBES` points inside it, is taken along its chord; a frame that still
-    does not (the chord cuts a curved surface) shows the solved pose it heads for. Raises
-    :class:`ClockTooLong` past ``most_frames`` frames.
+    does not (the chord cuts a curved surface) shows the solved pose it heads for. Steps that
+    ``certified`` (m - 1,) bool marks (every pose between their two solved poses is known to be
+    clear) are not asked about. Raises :class:`ClockTooLong` past ``most_frames`` frames.
 
     >>> m = goal_motion(np.array([[0.0], [1.0]]), np.array([True]), np.array([10.0]), np.array([1.0]), 10.0)
     >>> len(m.phi), float(m.phi[-1, 0]), m.duration
@@ -483,10 +484,13 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     n = poses.shape[1]
     if path.length == 0:
         return Motion(np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, dtype=int), 0.0)
-    if clear is not None and len(path.s) > 2:
+    doubtful = np.ones(len(poses) - 1, dtype=bool) if certified is None else ~certified  # by solved step
+    asked = doubtful[path.frames[1:] - 1]  # by step of the path (repeated poses dropped)
+    if clear is not None and len(path.s) > 2 and np.any(asked):
         f = np.arange(1, SAFETY_PROBES + 1) / (SAFETY_PROBES + 1)
-        probes = (path.s[:-1, None] + f * np.diff(path.s)[:, None]).ravel()
-        unsafe = ~clear(path.evaluate(probes)).reshape(-1, SAFETY_PROBES).all(axis=1)
+        probes = (path.s[:-1][asked, None] + f * np.diff(path.s)[asked, None]).ravel()
+        unsafe = np.zeros(len(asked), dtype=bool)
+        unsafe[asked] = ~clear(path.evaluate(probes)).reshape(-1, SAFETY_PROBES).all(axis=1)
         if np.any(unsafe):
             chords = np.zeros(len(poses) - 1, dtype=bool)
             chords[path.frames[1:][unsafe] - 1] = True
@@ -496,8 +500,10 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     else:
         motion = jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames)
     phi = motion.phi
-    if clear is not None:
-        bad = ~clear(phi)
+    check = doubtful[np.maximum(motion.heads_for, 1) - 1]  # the frames inside a doubtful step
+    if clear is not None and np.any(check):
+        bad = np.zeros(len(phi), dtype=bool)
+        bad[check] = ~clear(phi[check])
         if np.any(bad):
             phi = phi.copy()
             phi[bad] = unwrapped(poses, limited)[motion.heads_for[bad]]

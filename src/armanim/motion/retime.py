@@ -20,6 +20,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
 from armanim.motion.clock import ClockTooLong, goal_motion
 from armanim.motion.orientation import frame_orientations
@@ -84,7 +85,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         poses = src.phi[start:start + g.frames + 1]
         motion = goal_motion(poses, problem.limits.limited, rates.speed, rates.acceleration, fps,
                              clear=lambda p: safe_pose(problem, p), most_frames=most_frames - made,
-                             jerk=rates.jerk)
+                             jerk=rates.jerk, certified=certified_steps(problem, poses, src.clearance[start:start + g.frames + 1]))
         heads_for = start + motion.heads_for
         if len(heads_for):
             heads_for[-1] = start + g.frames  # the last solved frame, repeated poses or not
@@ -124,6 +125,16 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     moving = np.zeros(len(phi), dtype=bool)
     moving[1:] = ~held[1:]
     return Solution(trajectory, tuple(_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings)))
+
+
+def certified_steps(problem: Problem, poses: np.ndarray, clearance: np.ndarray) -> np.ndarray:
+    """(m - 1,) bool: the solved steps between ``poses`` (m, n) every pose between whose ends
+    (each joint within the range of its two values, as the clock's path keeps it) keeps
+    ``solver.clearance``: no point of the capsules moves farther from either end than the sum of
+    each joint's lever arm times its turn, so the farther end's ``clearance`` (m,) less that is a
+    lower bound."""
+    reach = np.abs(wrap_angle(np.diff(poses, axis=0))) @ problem.lever_arms
+    return np.maximum(clearance[:-1], clearance[1:]) - reach >= problem.solver.clearance
 
 
 def safe_pose(problem: Problem, phi: np.ndarray) -> np.ndarray:
