@@ -42,14 +42,17 @@ rounding only."""
 
 
 def assert_within_rates(problem: Problem, traj) -> None:
-    """Every frame of a timed trajectory within each joint's speed and acceleration limits
-    (differences over 1/fps, unlimited joints wrap-aware), the clock's velocities finite and
-    0 where the arm rests."""
+    """Every frame of a timed trajectory within each joint's speed, acceleration (and jerk, where
+    the problem bounds it) limits (differences over 1/fps, unlimited joints wrap-aware), the
+    clock's velocities finite and 0 where the arm rests."""
     steps = wrap_angle(np.diff(traj.phi, axis=0))
     speed = np.abs(steps) * traj.fps
     assert np.all(speed <= problem.rates.speed * (1 + RATE_TOLERANCE)), float((speed / problem.rates.speed).max())
     accel = np.abs(np.diff(steps, axis=0)) * traj.fps**2
     assert np.all(accel <= problem.rates.acceleration * (1 + RATE_TOLERANCE)), float((accel / problem.rates.acceleration).max())
+    if problem.rates.jerk is not None:
+        jerk = np.abs(np.diff(steps, 2, axis=0)) * traj.fps**3
+        assert np.all(jerk <= problem.rates.jerk * (1 + RATE_TOLERANCE)), float((jerk / problem.rates.jerk).max())
     assert np.all(np.isfinite(traj.velocity)) and np.all(np.abs(traj.velocity) <= problem.rates.speed * (1 + 1e-6))
     rest = np.concatenate([[True], np.all(steps == 0, axis=1)]) & np.concatenate([np.all(steps == 0, axis=1), [True]])
     assert np.all(traj.velocity[rest] == 0)

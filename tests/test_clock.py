@@ -165,3 +165,18 @@ def test_a_jerk_limit_makes_the_motion_no_faster():
     free = goal_motion(poses, np.ones(3, dtype=bool), speed, acceleration, 30.0)
     smooth = goal_motion(poses, np.ones(3, dtype=bool), speed, acceleration, 30.0, jerk=np.full(3, 50.0))
     assert smooth.duration >= free.duration
+
+
+def test_a_jerk_limited_motion_is_never_faster_than_ruckigs_time_optimal_one():
+    """On a straight path one joint's jerk-limited optimum is ruckig's (the maintained
+    state-to-state library): the clock may take longer (it smooths the speed-and-acceleration
+    optimum over 2 a / j seconds, which costs most where the jerk limit dominates), never less."""
+    ruckig = pytest.importorskip("ruckig")
+    for distance, v, a, j in ((1.0, 2.0, 5.0, 50.0), (0.3, 1.0, 10.0, 40.0), (2.0, 0.5, 1.0, 1000.0)):
+        otg, profile, goal = ruckig.Ruckig(1), ruckig.Trajectory(1), ruckig.InputParameter(1)
+        goal.current_position, goal.target_position = [0.0], [distance]
+        goal.max_velocity, goal.max_acceleration, goal.max_jerk = [v], [a], [j]
+        otg.calculate(goal, profile)
+        motion = goal_motion(np.array([[0.0], [distance]]), np.array([True]), np.array([v]), np.array([a]), 1000.0,
+                             jerk=np.array([j]))
+        assert profile.duration - 1e-3 <= motion.duration <= 1.5 * profile.duration + 1e-3, (distance, v, a, j)

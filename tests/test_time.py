@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -126,6 +127,15 @@ def test_a_robots_frames_keep_its_own_speed_and_acceleration_limits(problem, fps
     timed = retime(problem, solved, fps)
     assert_trajectory_invariants(at_fps(problem, fps), timed)  # within problem.rates: the URDF's and Franka's / UR's
     assert all(g.timing.peak_speed_ratio <= 1 + 1e-9 for g in timed.goals)
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(problem=robot_problems(), fps=st.sampled_from([15.0, 30.0, 60.0]), jerk=st.floats(50.0, 5000.0))
+def test_with_a_jerk_limit_a_robots_frames_keep_it_too(problem, fps, jerk):
+    problem = replace(problem, rates=replace(problem.rates, jerk=np.full(problem.arm.n, jerk)))
+    with small_planning_budget():
+        solved = solve_trajectory(problem)
+    assert_trajectory_invariants(at_fps(problem, fps), retime(problem, solved, fps))  # goals meet without a jerk too
 
 
 def test_the_clock_is_the_same_at_every_fps():

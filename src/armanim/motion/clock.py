@@ -195,6 +195,17 @@ class TimeLaw:
         """Seconds from rest to rest."""
         return float(self.t[-1])
 
+    def integral(self, t: np.ndarray) -> np.ndarray:
+        """(k,) the integral of s over time from 0 to ``t`` (k,), at rest at s = 0 before the
+        start and at the end after it (path length times seconds)."""
+        dt = np.diff(self.t)
+        pieces = self.s[:-1] * dt + self.speed[:-1] * dt**2 / 2 + self.accel * dt**3 / 6
+        before = np.concatenate([[0.0], np.cumsum(pieces)])
+        i = np.clip(np.searchsorted(self.t, t, side="right") - 1, 0, len(self.accel) - 1)
+        tau = np.clip(t, 0.0, self.t[-1]) - self.t[i]
+        inside = before[i] + self.s[i] * tau + self.speed[i] * tau**2 / 2 + self.accel[i] * tau**3 / 6
+        return np.where(t <= 0, 0.0, inside + self.s[-1] * np.maximum(t - self.t[-1], 0.0))
+
     def at(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(s, ds/dt, d2s/dt2) at times ``t`` (k,), each (k,)."""
         i = np.clip(np.searchsorted(self.t, t, side="right") - 1, 0, len(self.accel) - 1)
@@ -405,26 +416,29 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
 
 def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,
                         most_frames: float = np.inf) -> Motion:
-    """A jerk-limited motion along ``path`` from rest to rest (zero acceleration at both ends),
-    sampled at ``fps``: ruckig's time-optimal profile of the path parameter under the largest
-    path speed, acceleration and jerk that keep every joint within its limits everywhere on
-    the path (:func:`path_rates`), stretched to whole frames and checked on the frames
-    (differences over 1/fps up to the third, at rest before and after) as :func:`sampled_motion`
-    does.
+    """A jerk-limited motion along ``path`` from rest to rest, sampled at ``fps``: the
+    time-optimal law (:func:`time_optimal`) with its path speed averaged over a sliding window of
+    tau = max_j 2 a_j / j_j seconds, which makes the path acceleration continuous and its jerk at
+    most 2 A / tau (the window adds tau to the motion and keeps its length), then stretched to
+    whole frames and checked on the frames (differences over 1/fps up to the third, at rest before
+    and after) as :func:`sampled_motion` does.
 
     >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
     >>> m = jerk_limited_motion(p, np.array([10.0]), np.array([1.0]), np.array([100.0]), 10.0)
     >>> float(m.phi[-1, 0]), 2.0 < m.duration < 2.5  # a little longer than bang-bang's 2 s
     (1.0, True)
     """
-    import ruckig  # only a jerk-bounded clock needs it
+    law = time_optimal(path, speed, acceleration)
+    tau = float(np.max(2 * acceleration / jerk))
 
-    v, a, j = path_rates(path, speed, acceleration, jerk)
-    otg, profile, goal = ruckig.Ruckig(1), ruckig.Trajectory(1), ruckig.InputParameter(1)
-    goal.current_position, goal.target_position = [0.0], [path.length]
-    goal.max_velocity, goal.max_acceleration, goal.max_jerk = [v], [a], [j]
-    otg.calculate(goal, profile)
-    duration = float(profile.duration)
+    def smoothed(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """s and ds/dt of the averaged law at times ``t``: the window's mean of s's speed is
+        (s(t) - s(t - tau)) / tau, its integral (I(t) - I(t - tau)) / tau, both exact."""
+        position = (law.integral(t) - law.integral(t - tau)) / tau
+        ahead, behind = (law.at(np.clip(u, 0.0, law.duration))[0] for u in (t, t - tau))
+        return np.minimum(position, path.length), (ahead - np.where(t - tau > 0, behind, 0.0)) / tau
+
+    duration = law.duration + tau
     scale = 1.0
     start, end = path.poses[0], path.poses[-1]
     for _ in range(32):
@@ -433,34 +447,18 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
             raise ClockTooLong(f"{frames:.3g} frames for one goal's motion (at most {most_frames:.3g})")
         count = max(1, math.ceil(frames - 1e-9))
         scale = count / (fps * duration)
-        states = np.array([profile.at_time(t)[:2] for t in np.arange(1, count + 1) / fps / scale])[:, :, 0]
-        s, sd = np.clip(states[:, 0], 0.0, path.length), states[:, 1]
-        s[-1] = path.length
-        phi = path.evaluate(s)
+        times = np.arange(1, count + 1) / fps / scale
+        at, sd = smoothed(times)
+        at[-1] = path.length
+        phi = path.evaluate(at)
         phi[-1] = end
         over = _frame_excess(np.concatenate([start[None], phi]), speed, acceleration, jerk, fps)
         if over <= 1.0 + 1e-9:
             break
         scale *= over * (1 + 1e-9)
-    velocity = path.evaluate(s, 1) * (sd / scale)[:, None]
+    velocity = path.evaluate(at, 1) * (sd / scale)[:, None]
     velocity[-1] = 0.0
-    return Motion(phi, velocity, path.step_of(s), count / fps)
-
-
-def path_rates(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray) -> tuple[float, float, float]:
-    """The largest path speed V, acceleration A and jerk J that keep every joint within its
-    limits at every point of ``path`` (checked on the TOPP grid): with the path's derivatives
-    d1, d2, d3 in s, d1 V <= v, d1 A + d2 V^2 <= a and d1 J + 3 d2 V A + d3 V^3 <= j (absolute
-    values), half of each joint's acceleration and a third of its jerk left to the path's
-    curvature."""
-    s = _grid(path.s)
-    d1, d2, d3 = (np.abs(path.evaluate(s, k)) for k in (1, 2, 3))
-    with np.errstate(divide="ignore"):
-        v = min(float(np.min(speed / d1)), math.sqrt(float(np.min(acceleration / (2 * d2)))),
-                float(np.min(jerk / (3 * d3))) ** (1 / 3))
-        a = min(float(np.min((acceleration - d2 * v**2) / d1)), float(np.min(jerk / (9 * d2 * v))))
-        j = float(np.min((jerk - 3 * d2 * v * a - d3 * v**3) / d1))
-    return v, a, j
+    return Motion(phi, velocity, path.step_of(at), count / fps)
 
 
 def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
@@ -512,5 +510,5 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
 
 
-__all__ = ["ClockTooLong", "JointPath", "Motion", "TimeLaw", "goal_motion", "jerk_limited_motion", "path_rates", "joint_path", "pchip_slopes", "sampled_motion",
+__all__ = ["ClockTooLong", "JointPath", "Motion", "TimeLaw", "goal_motion", "jerk_limited_motion", "joint_path", "pchip_slopes", "sampled_motion",
            "time_optimal", "unwrapped"]
