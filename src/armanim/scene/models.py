@@ -399,7 +399,7 @@ class SolverModel(Strict):
     jacobian: JacobianMode = "analytic"
     damping: Positive = Field(default=0.05, description="lambda, for dls only.")
     max_joint_step: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
-        default=10.0, description="No joint turns by more than this many degrees in one frame of render.fps (a speed: another fps samples the same motion)."
+        default=10.0, description="No joint turns by more than this many degrees in one solver step (a solved frame of render.fps); arm.max_joint_speed is the speed."
     )
     clearance: Positive | None = Field(
         default=None,
