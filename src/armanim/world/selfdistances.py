@@ -1,0 +1,142 @@
+"""Exact distances between the arm's own capsules: the pairs the allowed-collision matrix leaves enabled.
+
+A pair (A, B) of collision capsules is apart by the distance between their segments less both
+radii (negative when they overlap). The segment-segment closed form is the segment-box one of
+:mod:`armanim.world.closest` (compiled), with B's segment as a box of one edge
+(:meth:`~armanim.world.obstacles.Rods.axes`), as the capsule obstacles are measured: one kernel
+for every capsule distance. The normal points from B's closest point to A's, so a pair's gap
+grows along ``n . (J_A - J_B)`` (:func:`self_rows`: the difference of the two closest points'
+Jacobians, the envelope theorem dropping the fractions' derivatives). One pose or a batch.
+Pure core: numpy only, no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from armanim.arm.capsules import Capsules, capsule_ends, capsule_point_jacobian
+from armanim.arm.kinematics import Arm, Pose
+from armanim.world.closest import segment_box_pairs
+from armanim.world.compiled import TOUCHING
+from armanim.world.obstacles import Rods
+
+
+@dataclass(frozen=True)
+class SelfPairs:
+    """The capsule pairs whose distance is kept (the enabled pairs of the allowed-collision matrix).
+
+    Attributes
+    ----------
+    first, second : (P,) int arrays
+        Capsule indices of each enabled pair (first < second).
+    clearance : float
+        ``solver.self_clearance``: every enabled pair keeps at least this far apart, scene units.
+    names : tuple of (str, str)
+        Each enabled pair's link names, as the run's outputs print them.
+    allowed : tuple of (str, str, str)
+        Every allowed link pair (never checked) and the reason it is allowed (MoveIt's words:
+        ``Adjacent``, ``Default``, ``Never``, ``User``, ``SRDF``, ``Same``).
+    mode : str
+        How the matrix was made: ``auto``, ``srdf``, ``off``.
+    """
+
+    first: np.ndarray
+    second: np.ndarray
+    clearance: float
+    names: tuple[tuple[str, str], ...] = ()
+    allowed: tuple[tuple[str, str, str], ...] = ()
+    mode: str = "off"
+    labels: tuple[str, ...] = field(init=False, repr=False, compare=False)
+    """(P,) each enabled pair as ``a|b`` (the trajectory's ``self_pair`` column)."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "first", np.asarray(self.first, dtype=int).reshape(-1))
+        object.__setattr__(self, "second", np.asarray(self.second, dtype=int).reshape(-1))
+        object.__setattr__(self, "labels", tuple(f"{a}|{b}" for a, b in self.names))
+
+    @classmethod
+    def none(cls, clearance: float = 0.0) -> SelfPairs:
+        """No pair checked (``arm.self_collision: off``)."""
+        return cls(np.zeros(0, dtype=int), np.zeros(0, dtype=int), float(clearance))
+
+    def __len__(self) -> int:
+        return len(self.first)
+
+
+@dataclass(frozen=True)
+class SelfGaps:
+    """How far apart each enabled pair is, for one pose or a batch.
+
+    Attributes
+    ----------
+    d : (..., P) array
+        Distance between the two capsules' surfaces (negative: they overlap), scene units.
+    t, s : (..., P) arrays
+        Fraction along the first's and the second's segment of their closest points.
+    normal : (..., P, 3) array
+        Unit vector from the second's closest point to the first's.
+    """
+
+    d: np.ndarray
+    t: np.ndarray
+    s: np.ndarray
+    normal: np.ndarray
+
+    @property
+    def least(self) -> np.ndarray:
+        """(...) the smallest gap over the pairs (+inf when there is none)."""
+        return self.d.min(axis=-1, initial=np.inf)
+
+
+def self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
+    """Gaps of the enabled pairs at one pose or a batch (points (..., n+1, 3)).
+
+    >>> from armanim.arm.kinematics import Arm, forward
+    >>> from armanim.arm.capsules import joint_capsules
+    >>> arm = Arm.from_names([1, 1, 1], axes=["z", "z", "z"], direction="x")
+    >>> pose = forward(arm, np.radians([0.0, 170.0, 0.0]))   # folded back: link 3 over link 1
+    >>> gaps = self_gaps(pose, joint_capsules(arm, 0.05), SelfPairs([0], [2], 0.01))
+    >>> round(float(gaps.d[0]), 4), gaps.normal.shape
+    (0.0736, (1, 3))
+    """
+    a, b = capsule_ends(capsules, pose)
+    batch = a.shape[:-2]
+    i, j = pairs.first, pairs.second
+    count = int(np.prod(batch, dtype=int)) * len(i)
+    if count == 0:
+        empty = np.zeros(batch + (len(i),))
+        return SelfGaps(empty, empty.copy(), empty.copy(), np.zeros(batch + (len(i), 3)))
+    a_i, b_i = a[..., i, :].reshape(-1, 3), b[..., i, :].reshape(-1, 3)
+    a_j, b_j = a[..., j, :].reshape(-1, 3), b[..., j, :].reshape(-1, 3)
+    axes = Rods(a_j, b_j, np.ones(count)).axes()
+    every = np.arange(count)
+    t, dist, normal = segment_box_pairs(a_i, b_i, axes.centers, axes.half, axes.rotations, every, every)
+    near = a_i + t[:, None] * (b_i - a_i)
+    other = near - np.where(dist > TOUCHING, dist, 0.0)[:, None] * normal
+    along = b_j - a_j
+    length2 = (along * along).sum(axis=-1)
+    s = np.clip(((other - a_j) * along).sum(axis=-1) / np.where(length2 > 0, length2, 1.0), 0.0, 1.0)
+    d = dist.reshape(batch + (len(i),)) - capsules.radius[i] - capsules.radius[j]
+    shape = batch + (len(i),)
+    return SelfGaps(d, t.reshape(shape), s.reshape(shape), normal.reshape(shape + (3,)))
+
+
+def least_self_gap(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> np.ndarray:
+    """(...) the smallest gap of any enabled pair (+inf without pairs)."""
+    if not len(pairs):
+        return np.full(pose.points.shape[:-2], np.inf)
+    return self_gaps(pose, capsules, pairs).least
+
+
+def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which) -> np.ndarray:
+    """(k, n) rows n . (J_A - J_B) of the pairs ``which`` (k,), one pose: how each pair's gap
+    changes with the joint angles (the difference of the two closest points' Jacobians, along
+    the normal)."""
+    which = np.asarray(which, dtype=int)
+    if not len(which):
+        return np.zeros((0, arm.n))
+    jac_a = capsule_point_jacobian(arm, capsules, pose, pairs.first[which], gaps.t[which])
+    jac_b = capsule_point_jacobian(arm, capsules, pose, pairs.second[which], gaps.s[which])
+    return np.einsum("ka,kan->kn", gaps.normal[which], jac_a - jac_b)
