@@ -115,3 +115,143 @@ def test_pair_rows_match_finite_differences():
         assert np.allclose(rows[apart], numeric[apart], atol=1e-5)
         checked += int(apart.sum())
     assert checked > 100
+
+
+# --- the allowed-collision matrix ---------------------------------------------------------
+
+from armanim.arm import selfcollision  # noqa: E402
+from armanim.errors import SceneError  # noqa: E402
+from armanim.scene.convert import scene_to_problem  # noqa: E402
+from armanim.scene.loader import load_scene  # noqa: E402
+
+
+def planar_chain(links=(1.0, 1.0, 1.0, 1.0, 0.3)) -> Arm:
+    return Arm.from_names(list(links), axes=["z"] * len(links), direction="x")
+
+
+def test_matrix_rules_on_a_hand_made_chain():
+    arm = planar_chain()
+    caps = joint_capsules(arm, 0.05)
+    lower, upper = np.radians([-170.0, -170, -170, -170, -5]), np.radians([170.0, 170, 170, 170, 5])
+    home = np.radians([0.0, 0, 0, 0, 0])
+    folded = np.radians([0.0, 0, 175, 0, 0])  # link 3 back over link 2, link 4 over link 1: a default pose where they touch
+    allowed = selfcollision.automatic_matrix(arm, caps, lower, upper, [home, folded], 0.01, samples=2000)
+    adjacent = {("link1", "link2"), ("link2", "link3"), ("link3", "link4"), ("link4", "link5")}
+    assert {p for p, r in allowed.items() if r == "Adjacent"} == adjacent
+    poses = selfcollision.random_poses(lower, upper, 2000)
+    kinds = set()
+    for a, b in selfcollision.link_pairs(caps):
+        if (a, b) in adjacent:
+            continue
+        i, j = int(a[4:]) - 1, int(b[4:]) - 1  # the brute-force oracle on the joint points
+        def gap(phi, i=i, j=j):
+            points = forward(arm, phi).points
+            return brute_segment_distance(points[i], points[i + 1], points[j], points[j + 1], 401) - 0.1
+        expected = "Default" if min(gap(home), gap(folded)) < 0.01 else "Never" if min(gap(p) for p in poses[:300]) >= 0.01 else None
+        if expected != "Never":  # 300 brute-force poses may miss a near pose that 2000 find: "Never" is checked one way only
+            assert allowed.get((a, b)) == expected, (a, b)
+        kinds.add(allowed.get((a, b)))
+    assert {"Default", "Never", None} <= kinds  # every rule fired, and some pairs stay checked
+    assert ("link1", "link4") in allowed and allowed[("link1", "link4")] == "Default"
+    # deterministic: the same arm, the same matrix
+    assert allowed == selfcollision.automatic_matrix(arm, caps, lower, upper, [home, folded], 0.01, samples=2000)
+
+
+def test_allow_and_check_lists_change_the_enabled_pairs():
+    arm = planar_chain()
+    caps = joint_capsules(arm, 0.05)
+    allowed = {("link1", "link2"): "Adjacent", ("link1", "link3"): "Never"}
+    base = selfcollision.enabled_pairs(caps, allowed, 0.01, "auto")
+    assert ("link1", "link3") not in base.names and ("link1", "link2") not in base.names
+    more = selfcollision.enabled_pairs(caps, {**allowed, ("link2", "link5"): "User"}, 0.01, "auto", check=[("link3", "link1")])
+    assert ("link1", "link3") in more.names and ("link2", "link5") not in more.names
+    assert ("link2", "link5", "User") in more.allowed and all(p[:2] != ("link1", "link3") for p in more.allowed)
+
+
+def scene_dict(**arm):
+    return {"version": 1, "arm": {"links": [1.0, 1.0, 1.0, 1.0], "axes": ["z", "z", "z", "z"], "direction": "x", **arm},
+            "goals": [[2.0, 1.0, 0.0]], "solver": {"clearance": 0.02}}
+
+
+def write_scene(tmp_path, data) -> str:
+    import yaml
+
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return str(path)
+
+
+def test_scene_field_forms(tmp_path):
+    off = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict(self_collision=False))).model)
+    assert len(off.self_pairs) == 0
+    auto = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict())).model)
+    assert auto.self_pairs.clearance == pytest.approx(0.01) and ("link1", "link3") in auto.self_pairs.names
+    listed = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict(
+        self_collision={"auto": True, "allow": [["link1", "link3"]], "check": [["link1", "link2"]]}))).model)
+    assert ("link1", "link3") not in listed.self_pairs.names and ("link1", "link2") in listed.self_pairs.names
+
+
+def test_unknown_link_names_are_scene_errors(tmp_path):
+    with pytest.raises(SceneError, match=r"self_collision.allow\[0\] names 'link9'"):
+        load_scene(write_scene(tmp_path, scene_dict(self_collision={"auto": True, "allow": [["link1", "link9"]]})))
+    (tmp_path / "arm.srdf").write_text('<robot name="r">\n<disable_collisions link1="link1" link2="link3"/>\n'
+                                       '<disable_collisions link1="link1" link2="nope" reason="Never"/>\n</robot>\n')
+    with pytest.raises(SceneError) as err:
+        load_scene(write_scene(tmp_path, scene_dict(self_collision={"srdf": "arm.srdf"})))
+    assert f"{tmp_path / 'arm.srdf'}:3:" in str(err.value) and "'nope' is not a link" in str(err.value)
+    (tmp_path / "arm.srdf").write_text('<!DOCTYPE robot [<!ENTITY a "b">]><robot/>')
+    with pytest.raises(SceneError, match="DTD"):
+        load_scene(write_scene(tmp_path, scene_dict(self_collision={"srdf": "arm.srdf"})))
+
+
+CHAIN_URDF = """<robot name="chain">
+  <link name="base"/>
+{links}
+{joints}
+</robot>
+"""
+
+
+def chain_urdf(count: int = 5) -> str:
+    links = "\n".join(
+        f'  <link name="l{k}"><collision><origin xyz="0 0 0.2"/><geometry><cylinder radius="0.04" length="0.4"/></geometry></collision></link>'
+        for k in range(count))
+    joints = "\n".join(
+        f'  <joint name="j{k}" type="revolute"><parent link="{"base" if k == 0 else f"l{k - 1}"}"/><child link="l{k}"/>'
+        f'<origin xyz="0 0 {0.0 if k == 0 else 0.4}"/><axis xyz="{"0 0 1" if k % 2 == 0 else "0 1 0"}"/>'
+        f'<limit lower="-2.9" upper="2.9" effort="1" velocity="1"/></joint>'
+        for k in range(count))
+    return CHAIN_URDF.format(links=links, joints=joints)
+
+
+def test_srdf_pairs_match_pinocchio(tmp_path):
+    pin = pytest.importorskip("pinocchio")
+    (tmp_path / "chain.urdf").write_text(chain_urdf())
+    (tmp_path / "chain.srdf").write_text('<?xml version="1.0"?>\n<robot name="chain">\n'
+                                         '  <group name="arm"><chain base_link="base" tip_link="l4"/></group>\n'
+                                         '  <disable_collisions link1="l0" link2="l1" reason="Adjacent"/>\n'
+                                         '  <disable_collisions link1="l2" link2="l0" reason="Never"/>\n'
+                                         '  <disable_collisions link1="l3" link2="l4"/>\n'
+                                         '  <disable_collisions link1="base" link2="l4" reason="Never"/>\n</robot>\n')
+    scene = {"version": 1, "arm": {"urdf": "chain.urdf", "self_collision": {"srdf": "chain.srdf"}}, "goals": [[0.3, 0.0, 0.8]]}
+    problem = scene_to_problem(load_scene(write_scene(tmp_path, scene)).model)
+    ours = {frozenset(p) for p in problem.self_pairs.names}
+    model = pin.buildModelFromUrdf(str(tmp_path / "chain.urdf"))
+    geom = pin.buildGeomFromUrdf(model, str(tmp_path / "chain.urdf"), pin.GeometryType.COLLISION)
+    geom.addAllCollisionPairs()
+    pin.removeCollisionPairs(model, geom, str(tmp_path / "chain.srdf"))
+    link = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    theirs = {frozenset((link[p.first], link[p.second])) for p in geom.collisionPairs}
+    assert ours == theirs
+    assert frozenset(("l0", "l2")) not in ours and frozenset(("l0", "l3")) in ours
+    assert ("l2", "l0", "Never") in problem.self_pairs.allowed and ("l3", "l4", "SRDF") in problem.self_pairs.allowed
+
+
+def test_bundled_matrices_are_what_the_rules_give():
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    tool = Path(__file__).resolve().parent.parent / "tools" / "self_collision_matrix.py"
+    done = subprocess.run([sys.executable, str(tool), "--check"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr

@@ -18,6 +18,7 @@ from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 from armanim.world.obstacles import Obstacles
+from armanim.world.selfdistances import SelfPairs
 
 
 @dataclass(frozen=True)
@@ -155,6 +156,9 @@ class Problem:
     capsules : Capsules
         The arm's collision capsules, which every guarantee is about. Left out (None), they
         are today's: one per link from joint to joint, of radius ``half_width``.
+    self_pairs : SelfPairs
+        The pairs of those capsules kept ``self_pairs.clearance`` apart (the enabled pairs of
+        the allowed-collision matrix). Left out (None): none (``arm.self_collision: off``).
     """
 
     arm: Arm
@@ -166,10 +170,13 @@ class Problem:
     solver: SolverSettings
     fps: float
     capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
+    self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
 
     def __post_init__(self) -> None:
         if self.capsules is None:
             object.__setattr__(self, "capsules", joint_capsules(self.arm, self.half_width))
+        if self.self_pairs is None:
+            object.__setattr__(self, "self_pairs", SelfPairs.none())
         object.__setattr__(self, "_lever_arms", capsule_lever_arms(self.arm, self.capsules))  # asked for every frame
 
     @property
