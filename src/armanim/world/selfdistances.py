@@ -101,6 +101,16 @@ def self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
     >>> round(float(gaps.d[0]), 4), gaps.normal.shape
     (0.0736, (1, 3))
     """
+    kept = pose.memo.get("self_gaps")
+    if kept is not None and kept[0] is capsules and kept[1] is pairs:
+        return kept[2]
+    gaps = _self_gaps(pose, capsules, pairs)
+    pose.memo["self_gaps"] = (capsules, pairs, gaps)  # the cost, the filter and the record ask for the same pose's
+    return gaps
+
+
+def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
+    """:func:`self_gaps`, computed."""
     a, b = capsule_ends(capsules, pose)
     batch = a.shape[:-2]
     i, j = pairs.first, pairs.second
