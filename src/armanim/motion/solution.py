@@ -14,7 +14,7 @@ from armanim.names import MissReason, PathSource
 
 MISS_REASONS: dict[MissReason, str] = {
     "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
-    "no_free_pose": "no pose inside the limits and 1.1 x solver.clearance (what the filter keeps) away from every obstacle puts the tip there",
+    "no_free_pose": "no pose inside the limits and 1.1 x solver.clearance (what the filter keeps) away from every obstacle, with every enabled pair of the arm's own links self_clearance apart, puts the tip there",
     "no_path": "no path to a free pose at the goal was found within the planning budget",
     "blocked_by_obstacle": "blocked by an obstacle",
     "blocked_by_limit": "blocked by a joint limit",
@@ -89,6 +89,8 @@ class PlanningReport:
         Frames spent following planned paths (mode ``plan``).
     checks : int
         Poses checked for collisions while searching paths, over all plans.
+    self_pair : str or None
+        When the last plan found no free pose because of the arm's own pair: that pair, ``a|b``.
     """
 
     plans: int = 0
@@ -96,6 +98,7 @@ class PlanningReport:
     path: PathSource = "none"
     frames: int = 0
     checks: int = 0
+    self_pair: str | None = None
 
 
 @dataclass(frozen=True)

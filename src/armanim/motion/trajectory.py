@@ -282,7 +282,8 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched
             visit.planning = replace(done, plans=done.plans + 1)
             return plan.reason
         plan = plan_motion(problem, state.phi, target, seed=seed, searched=planning)
-    visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks)
+    visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks,
+                             self_pair=plan.self_pair)
     if plan.frames is None:
         return plan.reason
     visit.path = list(plan.frames)
