@@ -129,6 +129,10 @@ class Trajectory:
     tool_quaternion : (F, 4) array or None
         The tool frame's world rotation as a unit quaternion (w, x, y, z), w >= 0; None where
         not computed.
+    self_clearance : (F,) array or None
+        The least gap of any enabled pair of the arm's own capsules; None without enabled pairs.
+    self_pair : (F,) array of str or None
+        That pair's links, ``a|b``; None without enabled pairs.
     """
 
     phi: np.ndarray
@@ -143,6 +147,8 @@ class Trajectory:
     mode: np.ndarray | None = None
     orientation_error: np.ndarray | None = None
     tool_quaternion: np.ndarray | None = None
+    self_clearance: np.ndarray | None = None
+    self_pair: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.mode is None:

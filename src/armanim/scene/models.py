@@ -189,6 +189,11 @@ class ArmModel(Strict):
         return self._robot.source if self._robot is not None else None
 
     @property
+    def srdf_source(self) -> bytes | None:
+        """The bytes of the SRDF ``self_collision`` read (None without one)."""
+        return self._srdf.source if self._srdf is not None else None
+
+    @property
     def joint_count(self) -> int:
         """Number of joints."""
         return len(self._robot.joint_names) if self._robot is not None else len(self.links or ())
