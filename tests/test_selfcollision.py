@@ -187,8 +187,14 @@ def test_scene_field_forms(tmp_path):
     auto = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict())).model)
     assert auto.self_pairs.clearance == pytest.approx(0.01) and ("link1", "link3") in auto.self_pairs.names
     listed = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict(
-        self_collision={"auto": True, "allow": [["link1", "link3"]], "check": [["link1", "link2"]]}))).model)
-    assert ("link1", "link3") not in listed.self_pairs.names and ("link1", "link2") in listed.self_pairs.names
+        self_collision={"auto": True, "allow": [["link1", "link3"]]}))).model)
+    assert ("link1", "link3") not in listed.self_pairs.names and ("link1", "link3", "User") in listed.self_pairs.allowed
+    checked = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict(
+        self_collision={"auto": True, "allow": [["link1", "link3"]], "check": [["link3", "link1"]]}))).model)
+    assert ("link1", "link3") in checked.self_pairs.names  # check wins over allow
+    # checking an adjacent pair, which touches at its joint: the home pose is an error naming the pair
+    with pytest.raises(SceneError, match=r"arm: the home pose has link1 and link2 overlapping \(gap -0.5"):
+        load_scene(write_scene(tmp_path, scene_dict(self_collision={"auto": True, "check": [["link1", "link2"]]})))
 
 
 def test_unknown_link_names_are_scene_errors(tmp_path):
@@ -230,6 +236,8 @@ def test_srdf_pairs_match_pinocchio(tmp_path):
     (tmp_path / "chain.srdf").write_text('<?xml version="1.0"?>\n<robot name="chain">\n'
                                          '  <group name="arm"><chain base_link="base" tip_link="l4"/></group>\n'
                                          '  <disable_collisions link1="l0" link2="l1" reason="Adjacent"/>\n'
+                                         '  <disable_collisions link1="l1" link2="l2" reason="Adjacent"/>\n'
+                                         '  <disable_collisions link1="l2" link2="l3" reason="Adjacent"/>\n'
                                          '  <disable_collisions link1="l2" link2="l0" reason="Never"/>\n'
                                          '  <disable_collisions link1="l3" link2="l4"/>\n'
                                          '  <disable_collisions link1="base" link2="l4" reason="Never"/>\n</robot>\n')
@@ -255,3 +263,99 @@ def test_bundled_matrices_are_what_the_rules_give():
     tool = Path(__file__).resolve().parent.parent / "tools" / "self_collision_matrix.py"
     done = subprocess.run([sys.executable, str(tool), "--check"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
+
+
+# --- runs keep every enabled pair apart -------------------------------------------------------
+
+from hypothesis import HealthCheck, assume, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+from invariants import assert_trajectory_invariants, small_planning_budget  # noqa: E402
+
+from armanim.motion.problem import Goal  # noqa: E402
+from armanim.motion.solvers import METHODS  # noqa: E402
+from armanim.motion.trajectory import solve_trajectory  # noqa: E402
+from armanim.scene.convert import default_solver_settings  # noqa: E402
+from armanim.scene.models import SceneModel  # noqa: E402
+
+
+def robot_problem(robot: str, **solver):
+    """A bundled robot's problem with its own allowed-collision matrix, in metres."""
+    from dataclasses import replace
+
+    base = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
+    return replace(base, solver=default_solver_settings(**{"max_step": 0.02, "tolerance": 0.005, "max_frames_per_goal": 120,
+                                                           "clearance": 0.02, **solver}))
+
+
+@st.composite
+def near_body_problems(draw):
+    """Panda or UR5, its self pairs enabled (self_clearance 0.01), goals at the tool point of
+    random in-limit poses close to the body (within 0.3 m of the base's vertical axis), so that
+    straight joint paths and random free poses cross or fold the arm onto itself."""
+    from dataclasses import replace
+
+    robot = draw(st.sampled_from(["panda", "ur5"]))
+    problem = robot_problem(robot, method=draw(st.sampled_from(sorted(METHODS))))
+    lim = problem.limits
+    lo, hi = np.maximum(lim.lower, -np.pi) + 0.1, np.minimum(lim.upper, np.pi) - 0.1
+    poses = np.array([np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=problem.arm.n, max_size=problem.arm.n))) * (hi - lo) + lo
+                      for _ in range(draw(st.integers(1, 2)))])
+    tips = forward(problem.arm, poses).tip
+    assume(np.all(tips[:, 2] > 0.1) and np.all(np.linalg.norm(tips[:, :2] - problem.arm.base[:2], axis=1) < 0.3))
+    return replace(problem, goals=tuple(Goal(tip, hold=0.0) for tip in tips))
+
+
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(near_body_problems())
+def test_runs_near_the_body_keep_every_enabled_pair_apart(problem):
+    with small_planning_budget():
+        solution = solve_trajectory(problem)
+    assert_trajectory_invariants(problem, solution)  # every frame: every enabled pair >= self_clearance
+
+
+def test_panda_shelf_has_no_frame_under_self_clearance():
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parent.parent / "scenes" / "panda-shelf.yaml"
+    problem = scene_to_problem(load_scene(scene).model)
+    assert ("panda_link5", "panda_link7") in problem.self_pairs.names  # the pair the run used to pass through
+    solution = solve_trajectory(problem)
+    assert_trajectory_invariants(problem, solution)
+    assert solution.trajectory.self_clearance.min() >= problem.self_pairs.clearance
+    assert solution.reached == len(problem.goals)
+    off = solve_trajectory(replace_pairs(problem))  # the same scene with self_collision: off passes link 5 through link 7
+    gaps = self_gaps(forward(problem.arm, off.trajectory.phi), problem.capsules, problem.self_pairs).d
+    assert (gaps.min(axis=1) < 0).sum() > 100
+
+
+def replace_pairs(problem):
+    from dataclasses import replace
+
+    return replace(problem, self_pairs=SelfPairs.none())
+
+
+def test_a_goal_whose_only_poses_fold_the_arm_is_a_no_free_pose_miss_naming_the_pair():
+    """A planar chain whose only pose at the goal folds link 4 onto link 1: planner on, no free pose."""
+    from dataclasses import replace
+
+    from armanim.motion.problem import Limits
+    from armanim.world.obstacles import Obstacles
+
+    arm = Arm.from_names([1.0, 1.0, 1.0], axes=["z", "z", "z"], direction="x")
+    caps = joint_capsules(arm, 0.1)
+    pairs = selfcollision.enabled_pairs(caps, {("link1", "link2"): "Adjacent", ("link2", "link3"): "Adjacent"}, 0.05, "auto")
+    limits = Limits(np.radians([-10.0, -170, -170]), np.radians([10.0, 170, 170]), np.radians(10.0))
+    goal = np.array([0.4, 0.0, 0.0])  # only reached with link 3 folded back over link 1
+    from armanim.motion.problem import Problem
+
+    problem = Problem(arm=arm, half_width=0.1, home=np.zeros(3), limits=limits, obstacles=Obstacles.none(),
+                      goals=(Goal(goal, 0.0),), solver=default_solver_settings(tolerance=0.01, max_frames_per_goal=200, clearance=0.1),
+                      fps=30.0, capsules=caps, self_pairs=pairs)
+    with small_planning_budget():
+        solution = solve_trajectory(problem)
+    assert_trajectory_invariants(problem, solution)
+    report = solution.goals[0]
+    assert not report.reached and report.reason == "no_free_pose"
+    assert report.planning.self_pair == "link1|link3"
+    free = solve_trajectory(replace(problem, self_pairs=SelfPairs.none()))
+    assert free.goals[0].reached  # without the pair the goal is reached, through the arm

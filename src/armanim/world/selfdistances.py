@@ -18,9 +18,6 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_ends, capsule_point_jacobian
 from armanim.arm.kinematics import Arm, Pose
-from armanim.world.closest import segment_box_pairs
-from armanim.world.compiled import TOUCHING
-from armanim.world.obstacles import Rods
 
 
 @dataclass(frozen=True)
@@ -110,27 +107,29 @@ def self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
 
 
 def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
-    """:func:`self_gaps`, computed."""
+    """:func:`self_gaps`, computed (:func:`armanim.world.compiled.segment_segment_pairs`)."""
+    from armanim.world import compiled
+
     a, b = capsule_ends(capsules, pose)
     batch = a.shape[:-2]
-    i, j = pairs.first, pairs.second
-    count = int(np.prod(batch, dtype=int)) * len(i)
-    if count == 0:
-        empty = np.zeros(batch + (len(i),))
-        return SelfGaps(empty, empty.copy(), empty.copy(), np.zeros(batch + (len(i), 3)))
-    a_i, b_i = a[..., i, :].reshape(-1, 3), b[..., i, :].reshape(-1, 3)
-    a_j, b_j = a[..., j, :].reshape(-1, 3), b[..., j, :].reshape(-1, 3)
-    axes = Rods(a_j, b_j, np.ones(count)).axes()
-    every = np.arange(count)
-    t, dist, normal = segment_box_pairs(a_i, b_i, axes.centers, axes.half, axes.rotations, every, every)
-    near = a_i + t[:, None] * (b_i - a_i)
-    other = near - np.where(dist > TOUCHING, dist, 0.0)[:, None] * normal
-    along = b_j - a_j
-    length2 = (along * along).sum(axis=-1)
-    s = np.clip(((other - a_j) * along).sum(axis=-1) / np.where(length2 > 0, length2, 1.0), 0.0, 1.0)
-    d = dist.reshape(batch + (len(i),)) - capsules.radius[i] - capsules.radius[j]
-    shape = batch + (len(i),)
+    shape = batch + (len(pairs),)
+    poses = int(np.prod(batch, dtype=int))
+    if poses * len(pairs) == 0:
+        empty = np.zeros(shape)
+        return SelfGaps(empty, empty.copy(), empty.copy(), np.zeros(shape + (3,)))
+    c = a.shape[-2]
+    offset = (np.arange(poses) * c)[:, None]
+    first, second = (offset + pairs.first).reshape(-1), (offset + pairs.second).reshape(-1)
+    count = len(first)
+    t, s, dist, normal = np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))
+    compiled.segment_segment_pairs(_rows(a), _rows(b), first, second, t, s, dist, normal)
+    d = dist.reshape(shape) - (capsules.radius[pairs.first] + capsules.radius[pairs.second])
     return SelfGaps(d, t.reshape(shape), s.reshape(shape), normal.reshape(shape + (3,)))
+
+
+def _rows(v: np.ndarray) -> np.ndarray:
+    """(..., 3) points as C-contiguous (N, 3) float rows."""
+    return np.ascontiguousarray(v, dtype=float).reshape(-1, 3)
 
 
 def least_self_gap(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> np.ndarray:
