@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from armanim.arm.capsules import Capsules, capsule_ends, capsule_point_jacobian
-from armanim.arm.kinematics import Arm, Pose
+from armanim.arm.capsules import Capsules, capsule_ends, capsule_point
+from armanim.arm.kinematics import Arm, Pose, point_jacobian
 
 
 @dataclass(frozen=True)
@@ -146,6 +146,7 @@ def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: 
     which = np.asarray(which, dtype=int)
     if not len(which):
         return np.zeros((0, arm.n))
-    jac_a = capsule_point_jacobian(arm, capsules, pose, pairs.first[which], gaps.t[which])
-    jac_b = capsule_point_jacobian(arm, capsules, pose, pairs.second[which], gaps.s[which])
-    return np.einsum("ka,kan->kn", gaps.normal[which], jac_a - jac_b)
+    capsule = np.concatenate([pairs.first[which], pairs.second[which]])  # both ends of every pair in one call
+    jac = point_jacobian(arm, pose, capsules.link[capsule], capsule_point(capsules, pose, capsule, np.concatenate([gaps.t[which], gaps.s[which]])))
+    k = len(which)
+    return np.einsum("ka,kan->kn", gaps.normal[which], jac[:k] - jac[k:])

@@ -145,12 +145,13 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
     return rows, -GAMMA * (d[parts, obstacles] - target)
 
 
-def self_pair_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.ndarray, np.ndarray]:
+def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Constraint rows n . (J_A - J_B) and lower bounds -gamma (d - d_target) of the enabled pairs
-    of the arm's own capsules whose gap is within ``travel`` of :func:`kept_self_clearance`.
+    of the arm's own capsules whose gap is within ``travel`` ((P,) per pair, or one bound) of
+    :func:`kept_self_clearance`.
 
     A pair's gap depends only on the joints between its two capsules, and in the first one's frame
-    the second's points move no more than the arm's points do: ``travel`` bounds its change too."""
+    the second's points move no more than the arm's points do: the arm's travel bounds its change too."""
     n = problem.arm.n
     gaps = state.self_gaps
     if gaps is None:
@@ -161,6 +162,17 @@ def self_pair_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np
         return np.zeros((0, n)), np.zeros(0)
     rows = self_rows(problem.arm, problem.capsules, state.pose, problem.self_pairs, gaps, which)
     return rows, -GAMMA * (gaps.d[which] - target)
+
+
+def pair_levers(problem: Problem) -> np.ndarray:
+    """(P,) for each enabled pair, the 2-norm of the lever arms of the joints between its two
+    capsules' joints: a step dPhi changes the pair's gap by at most |dPhi| times this (the joints
+    up to the first capsule's move both alike)."""
+    pairs = problem.self_pairs
+    squares = np.concatenate([[0.0], np.cumsum(problem.lever_arms**2)])
+    link = problem.capsules.link
+    lo, hi = np.minimum(link[pairs.first], link[pairs.second]), np.maximum(link[pairs.first], link[pairs.second])
+    return np.sqrt(np.maximum(squares[hi + 1] - squares[lo + 1], 0.0))
 
 
 def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
@@ -174,7 +186,7 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -
     travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(problem.lever_arms)) + 1e-9
     rows, lower = obstacle_rows(problem, state, travel)
     if state.self_gaps is not None:
-        own, own_lower = self_pair_rows(problem, state, travel)
+        own, own_lower = self_pair_rows(problem, state, 2.0 * float(np.linalg.norm(nominal)) * pair_levers(problem) + 1e-9)
         if len(own):
             rows, lower = np.concatenate([rows, own]), np.concatenate([lower, own_lower])
     return Constraints(rows, lower, lo, hi)
