@@ -411,3 +411,33 @@ def test_off_leaves_the_self_columns_empty(cli, tmp_path):
     summary = json.loads((folder / "summary.json").read_text())
     assert summary["min_self_clearance"] is None and summary["self_collision"]["mode"] == "off"
     assert "enabled: []" in (folder / "self-collision.yaml").read_text()
+
+
+def test_certified_motion_checks_cover_the_arms_own_pairs():
+    """motion_is_free's step bound covers pairs that move relative to each other: whatever it
+    certifies, a fine sampling of the same straight motion keeps the floor (to its certification slack)."""
+    from armanim.motion.planning.path import CERTIFY_TO, motion_is_free
+    from armanim.motion.problem import Limits, Problem
+    from armanim.motion.solvers.barrier import pose_clearance
+    from armanim.world.obstacles import Obstacles
+
+    arm = Arm.from_names([1.0, 0.8, 0.8, 0.6, 0.4], axes=["z", "y", "y", "x", "y"])
+    caps = joint_capsules(arm, 0.05)
+    allowed = {(f"link{k}", f"link{k + 1}"): "Adjacent" for k in range(1, 5)}
+    pairs = selfcollision.enabled_pairs(caps, allowed, 0.02, "auto")
+    problem = Problem(arm=arm, half_width=0.05, home=np.zeros(5), limits=Limits.unlimited(5, np.radians(10.0)),
+                      obstacles=Obstacles.none(), goals=(Goal(np.array([1.0, 0, 1.0]), 0.0),),
+                      solver=default_solver_settings(clearance=0.04), fps=30.0, capsules=caps, self_pairs=pairs)
+    rng = np.random.default_rng(35)
+    certified = refused = 0
+    for _ in range(60):
+        a, b = rng.uniform(-2.5, 2.5, (2, 5))
+        floor = 0.044
+        free, _ = motion_is_free(problem, a, b, floor)
+        fine = pose_clearance(problem, a + np.linspace(0, 1, 2001)[:, None] * (b - a))
+        if free:
+            certified += 1
+            assert fine.min() >= floor - CERTIFY_TO * problem.solver.clearance / 2 - 1e-9
+        else:
+            refused += 1
+    assert certified >= 5 and refused >= 5  # both answers were exercised
