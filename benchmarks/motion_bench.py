@@ -50,6 +50,19 @@ poses the oracle failed to match") and "reached infeasible" has nothing to count
 other families' oracle, it says nothing about whether a path exists, nor about
 self-collision or a floor (armanim checks neither).
 
+Self-collision family (``--family self``, issue 35). Panda, UR5, iiwa and a 6-joint URDF chain of
+this file's own (cylinders whose axes alternate z, y: it folds onto itself), one per scene in turn,
+no obstacles, the bundled robot scenes' solver settings (self_clearance = clearance / 2 = 0.01 m),
+``self_collision: auto``. Three goals per scene: tool points of random poses inside the limits
+(10 degrees in) whose straight line from the previous tool point (home's first) passes within
+0.15 m of the base's vertical axis, through the body, each pose free (every enabled pair at least
+self_clearance + 0.2 x clearance apart, by coal; the tool 0.1 m above the base): feasible by
+construction (no path claimed). Every method runs with ``self_collision`` auto and off (planner
+auto); coal measures every frame's enabled pairs (capsules placed by armanim's forward kinematics,
+which tests/test_urdf.py checks against pinocchio). Reported per robot and method: goals reached,
+frames with an enabled pair under self_clearance, invariants broken (NaN, a limit, max_joint_step,
+a pair under self_clearance), CPU ms per frame of each and their ratio.
+
 Report. Per method and planner setting: feasible goals reached, goals reached that the
 oracle called infeasible (an oracle bug if not 0), the share of frames within 1e-3 of an
 obstacle surface, time per frame and per planned goal, and broken invariants (NaN, a

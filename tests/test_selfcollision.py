@@ -119,10 +119,10 @@ def test_pair_rows_match_finite_differences():
 
 # --- the allowed-collision matrix ---------------------------------------------------------
 
-from armanim.arm import selfcollision  # noqa: E402
 from armanim.errors import SceneError  # noqa: E402
 from armanim.scene.convert import scene_to_problem  # noqa: E402
 from armanim.scene.loader import load_scene  # noqa: E402
+from armanim.world import selfcollision  # noqa: E402
 
 
 def planar_chain(links=(1.0, 1.0, 1.0, 1.0, 0.3)) -> Arm:

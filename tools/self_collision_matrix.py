@@ -4,7 +4,7 @@
     python tools/self_collision_matrix.py --check    # exit 1 if a committed file differs
 
 Each file lists every link pair never checked and MoveIt's reason for it (Adjacent, Default,
-Never: :mod:`armanim.arm.selfcollision`), computed at :data:`CLEARANCE` metres, so that it serves
+Never: :mod:`armanim.world.selfcollision`), computed at :data:`CLEARANCE` metres, so that it serves
 every scene whose ``solver.self_clearance`` is at most that; runs then never sample.
 """
 
@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from armanim.arm import selfcollision
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import SceneModel
 from armanim.scene.robots import ROBOTS, SELF_COLLISION_FILE
+from armanim.world import selfcollision
 
 CLEARANCE = 0.02
 """Metres: how near counts as touching for the committed matrices (a scene's self_clearance up to this uses them)."""

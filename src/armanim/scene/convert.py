@@ -12,7 +12,6 @@ from dataclasses import replace
 
 import numpy as np
 
-from armanim.arm import selfcollision
 from armanim.arm.capsules import Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
 from armanim.arm.kinematics import Arm, default_axes
@@ -28,6 +27,7 @@ from armanim.scene.models import (
     SceneModel,
     SolverModel,
 )
+from armanim.world import selfcollision
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 from armanim.world.selfdistances import SelfPairs
 
@@ -189,7 +189,7 @@ def self_clearance(solver: SolverModel, d_safe: float) -> float:
 
 
 def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> SelfPairs:
-    """The enabled pairs of the arm's own capsules (:mod:`armanim.arm.selfcollision`): ``off``,
+    """The enabled pairs of the arm's own capsules (:mod:`armanim.world.selfcollision`): ``off``,
     an SRDF's pairs allowed (every other pair of links on different joints checked, as pinocchio's
     ``addAllCollisionPairs`` and ``removeCollisionPairs`` do), or MoveIt's rules (a bundled robot's
     committed matrix when its capsules and limits are its own and the clearance is within the
@@ -228,7 +228,7 @@ _MATRICES: dict = {}
 
 
 def _sampled_matrix(chain: Arm, capsules: Capsules, lower, upper, defaults: tuple[bytes, ...], clearance: float):
-    """:func:`armanim.arm.selfcollision.automatic_matrix`, kept per arm (a run converts its scene more than once)."""
+    """:func:`armanim.world.selfcollision.automatic_matrix`, kept per arm (a run converts its scene more than once)."""
     key = (chain.offsets.tobytes(), repr(chain.joint_names), capsules.link.tobytes(), capsules.start.tobytes(), capsules.end.tobytes(),
            capsules.radius.tobytes(), capsules.names, lower.tobytes(), upper.tobytes(), defaults, clearance, _axes_key(chain))
     if key not in _MATRICES:
