@@ -9,6 +9,7 @@
     python benchmarks/motion_bench.py --family hard --scenes 24 --planner auto   # the hard family
     python benchmarks/motion_bench.py --family robots --scenes 12 --planner auto   # Panda, UR5, iiwa (issue 20)
     python benchmarks/motion_bench.py --family poses --scenes 12 --planner auto    # their goals with orientations (issue 21)
+    python benchmarks/motion_bench.py --family self --scenes 12                    # goals across the body (issue 35)
 
 Scenes. A seeded generator (numpy ``Generator`` from ``--seed`` and the scene's index, so
 scene K is the same whatever ``--scenes`` is) draws random cluttered scenes: arms of 3-7
@@ -49,6 +50,19 @@ poses the oracle failed to match") and "reached infeasible" has nothing to count
 other families' oracle, it says nothing about whether a path exists, nor about
 self-collision or a floor (armanim checks neither).
 
+Self-collision family (``--family self``, issue 35). Panda, UR5, iiwa and a 6-joint URDF chain of
+this file's own (cylinders whose axes alternate z, y: it folds onto itself), one per scene in turn,
+no obstacles, the bundled robot scenes' solver settings (self_clearance = clearance / 2 = 0.01 m),
+``self_collision: auto``. Three goals per scene: tool points of random poses inside the limits
+(10 degrees in) whose straight line from the previous tool point (home's first) passes within
+0.15 m of the base's vertical axis, through the body, each pose free (every enabled pair at least
+self_clearance + 0.2 x clearance apart, by coal; the tool 0.1 m above the base): feasible by
+construction (no path claimed). Every method runs with ``self_collision`` auto and off (planner
+auto); coal measures every frame's enabled pairs (capsules placed by armanim's forward kinematics,
+which tests/test_urdf.py checks against pinocchio). Reported per robot and method: goals reached,
+frames with an enabled pair under self_clearance, invariants broken (NaN, a limit, max_joint_step,
+a pair under self_clearance), CPU ms per frame of each and their ratio.
+
 Report. Per method and planner setting: feasible goals reached, goals reached that the
 oracle called infeasible (an oracle bug if not 0), the share of frames within 1e-3 of an
 obstacle surface, time per frame and per planned goal, and broken invariants (NaN, a
@@ -81,6 +95,7 @@ from armanim.scene.models import SceneModel, SolverModel
 from armanim.scene.robots import bundled_robot
 from armanim.world.distances import clearances, min_link_clearance
 from armanim.world.obstacles import Obstacles
+from armanim.world.selfdistances import self_gaps
 
 METHODS = ("pinv", "dls", "newton", "gradient")
 DEFAULT_CLEARANCE = 0.05  # the oracle's clearance when armanim has no solver.clearance
@@ -1620,7 +1635,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--methods", default=",".join(METHODS), help="comma-separated methods (default all four)")
     parser.add_argument("--planner", default="auto,off", help="comma-separated planner settings (default auto,off)")
     parser.add_argument("--jobs", type=int, default=1, help="processes over scenes (default 1)")
-    parser.add_argument("--family", choices=sorted(FAMILIES), default="standard",
+    parser.add_argument("--family", choices=sorted([*FAMILIES, "self"]), default="standard",
                         help="scene distribution: standard, hard (issue 18: tight limits, passages, dense clutter, 8-12 goals), "
                              "robots (issue 20: bundled Panda, UR5, iiwa; pinocchio oracle, witness labels), "
                              "shapes or robot-shapes (issue 22: tables, shelves, walls with a gap, posts, a floor; coal oracle)")
@@ -1657,6 +1672,8 @@ def main(argv=None) -> int:
     if args.dump_scene:
         dump_scene(args.seed, int(args.dump_scene[0]), Path(args.dump_scene[1]), args.methods, planners, args.family)
         return 0
+    if args.family == "self":
+        return self_family(args)
     self_test_geometry(np.random.default_rng(12345))
     print("self-test: the oracle's forward kinematics and clearances equal armanim's (1e-9)", file=sys.stderr)
     if args.family in SHAPE_FAMILIES:
@@ -1680,6 +1697,174 @@ def main(argv=None) -> int:
     print(f"motion_bench --family {args.family} --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner {','.join(planners)}")
     broken = print_report(results, args.methods, planners, args.list_misses)
     print(f"\nbenchmark took {time.perf_counter() - began:.1f} s ({args.jobs} job(s))")
+    if broken:
+        print(f"{broken} invariant(s) broken", file=sys.stderr)
+    return 1 if broken else 0
+
+
+# --- The self-collision family (issue 35) -----------------------------------------------------
+
+SELF_ROBOTS = ("panda", "ur5", "iiwa", "chain")
+"""Bundled robots, and a URDF chain of this file's own (:data:`CHAIN_URDF`): one per scene in turn."""
+SELF_GOALS = 3
+SELF_DRAWS = 4000  # random poses tried per scene for goals that cross the body
+SELF_STREAM = 6
+CHAIN_URDF = """<robot name="fold-chain">
+  <link name="base"/>
+{links}
+{joints}
+</robot>
+"""
+
+
+def chain_urdf_text(count: int = 6) -> str:
+    """A 6-joint chain of 0.3 m cylinders (radius 0.04) whose axes alternate z, y: it folds onto itself."""
+    links = "\n".join(f'  <link name="c{k}"><collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.04" '
+                      f'length="0.3"/></geometry></collision></link>' for k in range(count))
+    joints = "\n".join(f'  <joint name="q{k}" type="revolute"><parent link="{"base" if k == 0 else f"c{k - 1}"}"/>'
+                       f'<child link="c{k}"/><origin xyz="0 0 {0.05 if k == 0 else 0.3}"/>'
+                       f'<axis xyz="{"0 0 1" if k % 2 == 0 else "0 1 0"}"/>'
+                       f'<limit lower="-2.8" upper="2.8" effort="1" velocity="1"/></joint>' for k in range(count))
+    return CHAIN_URDF.format(links=links, joints=joints)
+
+
+def self_scene_problem(robot: str, folder: Path, goals: list, self_collision="auto"):
+    """The problem of a self-collision scene: a bundled robot or the chain, no obstacles, the bundled
+    robot scenes' solver settings (self_clearance: clearance / 2 = 0.01 m)."""
+    arm = {"robot": robot} if robot != "chain" else {"urdf": str(folder / "chain.urdf"), "home": [0, 30, 60, 0, 30, 0]}
+    scene = {"version": 1, "arm": {**arm, "self_collision": self_collision}, "goals": goals, "solver": dict(ROBOT_SOLVER)}
+    return scene_to_problem(SceneModel.model_validate(scene, context={"scene_dir": folder}))
+
+
+def coal_pair_gaps(problem, phi: np.ndarray) -> np.ndarray:
+    """(F,) the least gap of any enabled pair at each pose, by coal (capsules placed by the arm's
+    forward kinematics; coal measures the distance)."""
+    import coal
+
+    from armanim.arm.capsules import capsule_ends
+
+    pairs, caps = problem.self_pairs, problem.capsules
+    a, b = capsule_ends(caps, forward(problem.arm, np.atleast_2d(phi)))
+    out = np.full(len(a), np.inf)
+    request = coal.DistanceRequest()
+    for f in range(len(a)):
+        shapes = [coal_capsule(a[f, k], b[f, k], float(caps.radius[k])) for k in range(len(caps))]
+        for i, j in zip(pairs.first, pairs.second):
+            result = coal.DistanceResult()
+            out[f] = min(out[f], coal.distance(*shapes[i], *shapes[j], request, result))
+    return out
+
+
+SELF_THROUGH = 0.15
+"""Metres: a goal's straight line from the previous tool point (home's first) passes this near the base's
+vertical axis, through the robot's body."""
+
+
+def segment_axis_distance(a: np.ndarray, b: np.ndarray, base: np.ndarray) -> float:
+    """Least horizontal distance of the segment a-b (above z = base + 0.05) to the vertical line through ``base``."""
+    t = np.linspace(0.0, 1.0, 101)[:, None]
+    points = a + t * (b - a)
+    high = points[:, 2] > base[2] + 0.05
+    if not high.any():
+        return np.inf
+    return float(np.linalg.norm(points[high, :2] - base[:2], axis=1).min())
+
+
+def draw_self_goals(problem, rng: np.random.Generator) -> tuple[list, int]:
+    """Goal poses whose tool point lies across the body from the previous one (home's first): the
+    straight line between them passes within :data:`SELF_THROUGH` of the base's vertical axis,
+    so the arm must swing round or fold past itself; each pose free (every enabled pair at least
+    self_clearance + 0.2 x clearance apart by coal, the planner's room to settle; the tool 0.1 m
+    above the base): feasible by construction. Returns (poses, draws tried)."""
+    lim = problem.limits
+    lo, hi = np.maximum(lim.lower, -np.pi) + np.radians(10), np.minimum(lim.upper, np.pi) - np.radians(10)
+    keep = problem.self_pairs.clearance + 0.2 * problem.solver.clearance
+    base = problem.arm.base
+    found, tried = [], 0
+    previous = forward(problem.arm, problem.home).tip
+    while len(found) < SELF_GOALS and tried < SELF_DRAWS:
+        tried += 1
+        pose = lo + (hi - lo) * rng.random(problem.arm.n)
+        tip = forward(problem.arm, pose).tip
+        if tip[2] < base[2] + 0.1 or segment_axis_distance(previous, tip, base) > SELF_THROUGH:
+            continue
+        if self_gaps(forward(problem.arm, pose), problem.capsules, problem.self_pairs).least < keep:
+            continue
+        if coal_pair_gaps(problem, pose)[0] >= keep + 1e-6:
+            found.append(pose)
+            previous = tip
+    return found, tried
+
+
+def self_breaks(problem, trajectory, gaps: np.ndarray) -> list[str]:
+    """The invariants a self-collision run breaks: NaN, a joint on or past its limit, a joint turning more
+    than max_joint_step, an enabled pair under self_clearance (coal)."""
+    phi = trajectory.phi
+    if not np.all(np.isfinite(phi)):
+        return ["NaN in phi"]
+    breaks = []
+    lim = problem.limits
+    if np.any((phi <= lim.lower) | (phi >= lim.upper)):
+        breaks.append("a joint on or past its limit")
+    if len(phi) > 1 and np.abs(np.mod(np.diff(phi, axis=0) + np.pi, 2 * np.pi) - np.pi).max() > problem.solver.max_joint_step + ROUNDING:
+        breaks.append("a joint turned more than max_joint_step")
+    if gaps.min() < problem.self_pairs.clearance - ROUNDING:
+        breaks.append(f"an enabled pair {gaps.min():.3g} apart (self_clearance {problem.self_pairs.clearance:g})")
+    return breaks
+
+
+def self_family(args) -> int:
+    """``--family self``: per robot and method, goals reached (of the oracle-feasible ones), frames with
+    an enabled pair under self_clearance and invariants broken, with self_collision auto and off, and
+    the CPU time per frame of each."""
+    import tempfile
+
+    from armanim.world.selfdistances import SelfPairs
+
+    rows: dict = defaultdict(lambda: Counter())
+    broken = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        (folder / "chain.urdf").write_text(chain_urdf_text())
+        for k in range(args.scenes):
+            robot = SELF_ROBOTS[k % len(SELF_ROBOTS)]
+            rng = np.random.default_rng([args.seed, k, SELF_STREAM])
+            base = self_scene_problem(robot, folder, [[0.4, 0.0, 0.4]])
+            poses, tried = draw_self_goals(base, rng)
+            if not poses:
+                print(f"scene {k} ({robot}): no goal crossing the body in {tried} draws", file=sys.stderr)
+                continue
+            tips = forward(base.arm, np.array(poses)).tip
+            problem = self_scene_problem(robot, folder, [[float(v) for v in t] for t in tips])
+            for method in args.methods:
+                on = replace(problem, solver=replace(problem.solver, method=method))
+                for mode, prob in (("auto", on), ("off", replace(on, self_pairs=SelfPairs.none()))):
+                    solution, _, _, cpu = timed_solve(prob)
+                    gaps = coal_pair_gaps(problem, solution.trajectory.phi)
+                    row = rows[(robot, method, mode)]
+                    row["goals"] += len(poses)
+                    row["reached"] += solution.reached
+                    row["frames"] += solution.trajectory.frames
+                    row["under"] += int((gaps < problem.self_pairs.clearance - ROUNDING).sum())
+                    row["cpu_us"] += int(cpu * 1e6)
+                    if mode == "auto":
+                        found = self_breaks(problem, solution.trajectory, gaps)
+                        row["breaks"] += len(found)
+                        broken += len(found)
+            print(f"[{k + 1}/{args.scenes}] scene {k} ({robot}, {len(poses)} goals crossing the body, {tried} draws)", file=sys.stderr, flush=True)
+    print(f"motion_bench --family self --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner auto")
+    header = ["robot", "method", "reached (auto)", "frames under (auto)", "broken", "ms/frame (auto)",
+              "reached (off)", "frames under (off)", "ms/frame (off)", "time ratio"]
+    table = []
+    for robot in SELF_ROBOTS:
+        for method in args.methods:
+            a, o = rows.get((robot, method, "auto")), rows.get((robot, method, "off"))
+            if not a:
+                continue
+            ms_a, ms_o = a["cpu_us"] / 1e3 / a["frames"], o["cpu_us"] / 1e3 / o["frames"]
+            table.append([robot, method, f"{a['reached']}/{a['goals']}", f"{a['under']}/{a['frames']}", str(a["breaks"]),
+                          f"{ms_a:.2f}", f"{o['reached']}/{o['goals']}", f"{o['under']}/{o['frames']}", f"{ms_o:.2f}", f"{ms_a / ms_o:.2f}"])
+    print_table(header, table)
     if broken:
         print(f"{broken} invariant(s) broken", file=sys.stderr)
     return 1 if broken else 0

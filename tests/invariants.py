@@ -17,6 +17,7 @@ from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step
 from armanim.motion.solvers.barrier import limit_buffer
 from armanim.motion.trajectory import frame_budget, hold_frames
 from armanim.world.distances import clearances
+from armanim.world.selfdistances import self_gaps
 
 TINY = 1e-9
 
@@ -87,6 +88,17 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         assert traj.clearance.min() >= floor - TINY, (traj.clearance.min(), floor)
     else:
         assert np.all(np.isinf(traj.clearance))
+    # every enabled pair of the arm's own capsules keeps self_clearance (or, from a home nearer than
+    # that, gets no nearer), recomputed; the trajectory's self columns say the least gap and its pair
+    pairs = problem.self_pairs
+    if len(pairs):
+        gaps = self_gaps(pose, problem.capsules, pairs).d
+        least = gaps.min(axis=1)
+        assert least.min() >= min(pairs.clearance, least[0]) - TINY, (least.min(), pairs.labels[int(gaps.min(axis=0).argmin())])
+        np.testing.assert_allclose(traj.self_clearance, least, atol=1e-12)
+        assert all(label in pairs.labels for label in traj.self_pair)
+    else:
+        assert traj.self_clearance is None and traj.self_pair is None
     # limited joints strictly inside their limits
     lim = problem.limits
     limited = lim.limited

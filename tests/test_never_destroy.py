@@ -109,7 +109,7 @@ def test_a_user_file_added_to_a_run_folder_stops_the_next_run(cli, tmp_path):
     scene.write_text(SMALL)
     assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
     folder = tmp_path / "out" / "notes"
-    assert sorted(json.loads((folder / MARKER).read_text())["files"]) == ["scene.yaml", "summary.json", "trajectory.csv"]
+    assert sorted(json.loads((folder / MARKER).read_text())["files"]) == ["scene.yaml", "self-collision.yaml", "summary.json", "trajectory.csv"]
     (folder / "thesis.txt").write_text("mine")
     result = cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q")
     assert result.exit_code == 3 and "thesis.txt" in result.stderr, result.output
@@ -364,14 +364,15 @@ def test_compare_streams_long_files_in_flat_memory(tmp_path):
     """200,000 rows against a copy differing in the last row: found, in memory far below the file's."""
     rows = _golden().read_text().splitlines()
     header, row = rows[0], rows[1].split(",")
-    path = tmp_path / "long.csv"
-    with path.open("w") as handle:
-        handle.write(header + "\n")
+    path, other = tmp_path / "long.csv", tmp_path / "other.csv"
+    reached = header.split(",").index("reached")
+    with path.open("w") as handle, other.open("w") as changed:
+        for out in (handle, changed):
+            out.write(header + "\n")
         for i in range(200_000):
             row[0] = str(i)
             handle.write(",".join(row) + "\n")
-    other = tmp_path / "other.csv"
-    other.write_bytes(path.read_bytes()[:-40] + path.read_bytes()[-40:].replace(b",0,", b",1,", 1))
+            changed.write(",".join(row[:reached] + ["1" if i == 199_999 else row[reached]] + row[reached + 1:]) + "\n")
     proc = psutil.Popen([sys.executable, "-m", "armanim", "compare", str(path), str(other)],
                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     peak = 0

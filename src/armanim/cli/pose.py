@@ -191,6 +191,13 @@ def ik_report(problem, target: np.ndarray, result) -> dict:
     }
     if result.orientation_error is not None:
         data["orientation_error_deg"] = float(np.degrees(result.orientation_error))
+    if len(problem.self_pairs):  # the arm's own enabled pairs: the least gap and its pair
+        from armanim.arm.kinematics import forward
+        from armanim.world.selfdistances import self_gaps
+
+        gaps = self_gaps(forward(problem.arm, result.phi), problem.capsules, problem.self_pairs).d
+        data["self_clearance"] = float(gaps.min())
+        data["self_pair"] = problem.self_pairs.labels[int(gaps.argmin())]
     reason = unreached_reason(problem, target, result.status)
     if reason and result.orientation_error is not None and result.distance < problem.solver.tolerance:
         reason = (f"orientation_unreachable: the tip is at the goal, the tool {np.degrees(result.orientation_error):.3g} deg from its "
@@ -215,6 +222,8 @@ def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float =
         say(f"why: {data['reason']}")
     say("angles (deg): " + ", ".join(fmt(v) for v in data["angles_deg"]))
     say("tip: " + ", ".join(fmt(v) for v in data["tip"]))
+    if "self_clearance" in data:
+        say(f"self clearance: {data['self_clearance']:.3g} ({data['self_pair'].replace('|', ' to ')})")
     if "newton_iterations" in data:
         say(f"steps: {data['steps']} (gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']} iterations)")
     else:

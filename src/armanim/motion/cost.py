@@ -2,6 +2,9 @@
 
 C(Phi) = w_goal |e - g| + w_obstacles sum F_R(d) + w_limits sum L(phi_j)
 
+(the sum over F_R runs over every arm part and obstacle, and over every enabled pair of the
+arm's own capsules, d their gap and R twice ``self_clearance``)
+
 and, for a goal with an orientation, + w_goal w |r|: the angle still to turn (radians) times the
 orientation weight w (length per radian), a length like |e - g| (scaled by
 :data:`~armanim.motion.orientation.PRIORITY_WEIGHT` for an arm that cannot hold the orientation).
@@ -27,6 +30,7 @@ from armanim.motion.orientation import (
 from armanim.motion.problem import Limits, Problem
 from armanim.world.distances import Clearances, clearances
 from armanim.world.obstacles import Obstacles
+from armanim.world.selfdistances import self_gaps, self_rows
 
 
 def obstacle_field(d: np.ndarray, influence: np.ndarray) -> np.ndarray:
@@ -114,6 +118,9 @@ def total_cost(
         cl = cl if cl is not None else clearances(pose, obstacles, problem.capsules)
         field = obstacle_field(cl.d, obstacles.influence)
         cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
+    gaps = pair_gaps(problem, pose)
+    if gaps is not None:  # the arm's own pairs: the same field between two of its parts
+        cost = cost + s.w_obstacles * obstacle_field(gaps.d, self_influence(problem)).sum(axis=-1)
     return cost + s.w_limits * limit_barrier(phi, problem.limits)
 
 
@@ -129,6 +136,30 @@ def obstacle_cost_gradient(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearan
     for k, jac in enumerate(part_jacobians(arm, capsules, pose, cl, parts, obs)):
         grad += slope[parts[k], obs[k]] * (cl.normal[parts[k], obs[k]] @ jac)
     return grad
+
+
+SELF_INFLUENCE = 2.0
+"""R of the field between two of the arm's own capsules, in ``self_clearance``: a pair nearer
+than twice its clearance is pushed apart (the pictures tint such a pair too)."""
+
+
+def self_influence(problem: Problem) -> float:
+    """R of the field between an enabled pair: :data:`SELF_INFLUENCE` x ``self_clearance``."""
+    return SELF_INFLUENCE * problem.self_pairs.clearance
+
+
+def pair_gaps(problem: Problem, pose: Pose):
+    """The enabled pairs' gaps of ``pose`` (one or a batch), or None without pairs."""
+    return self_gaps(pose, problem.capsules, problem.self_pairs) if len(problem.self_pairs) else None
+
+
+def self_cost_gradient(problem: Problem, pose: Pose, gaps) -> np.ndarray:
+    """Gradient (n,) of sum F_R(d) over the enabled pairs, one pose: F_R'(d) n . (J_A - J_B)."""
+    slope = obstacle_field_slope(gaps.d, self_influence(problem))
+    which = np.nonzero(slope)[0]
+    if not len(which):
+        return np.zeros(problem.arm.n)
+    return slope[which] @ self_rows(problem.arm, problem.capsules, pose, problem.self_pairs, gaps, which)
 
 
 def part_jacobians(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, parts: np.ndarray, obs: np.ndarray) -> np.ndarray:
@@ -168,4 +199,7 @@ def total_cost_gradient(
     if len(problem.obstacles):
         cl = cl if cl is not None else clearances(pose, problem.obstacles, problem.capsules)
         grad += s.w_obstacles * obstacle_cost_gradient(arm, problem.capsules, pose, cl, problem.obstacles)
+    gaps = pair_gaps(problem, pose)
+    if gaps is not None:
+        grad += s.w_obstacles * self_cost_gradient(problem, pose, gaps)
     return grad + s.w_limits * limit_barrier_gradient(phi, problem.limits)

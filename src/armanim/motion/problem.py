@@ -18,6 +18,7 @@ from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 from armanim.world.obstacles import Obstacles
+from armanim.world.selfdistances import SelfPairs
 
 
 @dataclass(frozen=True)
@@ -195,6 +196,9 @@ class Problem:
     rates : RateLimits
         Each joint's speed, acceleration (and jerk) limits, which the clock keeps. Left out
         (None): :func:`link_arm_rates` of ``solver.max_joint_step`` at ``fps``.
+    self_pairs : SelfPairs
+        The pairs of those capsules kept ``self_pairs.clearance`` apart (the enabled pairs of
+        the allowed-collision matrix). Left out (None): none (``arm.self_collision: off``).
     """
 
     arm: Arm
@@ -207,12 +211,15 @@ class Problem:
     fps: float
     capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
     rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
+    self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
 
     def __post_init__(self) -> None:
         if self.capsules is None:
             object.__setattr__(self, "capsules", joint_capsules(self.arm, self.half_width))
         if self.rates is None:
             object.__setattr__(self, "rates", link_arm_rates(len(self.home), self.solver.max_joint_step, self.fps))
+        if self.self_pairs is None:
+            object.__setattr__(self, "self_pairs", SelfPairs.none())
         object.__setattr__(self, "_lever_arms", capsule_lever_arms(self.arm, self.capsules))  # asked for every frame
 
     @property

@@ -26,7 +26,8 @@ from armanim.motion.clock import ClockTooLong, goal_motion
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
-from armanim.motion.trajectory import hold_frames
+from armanim.motion.solvers.barrier import pose_clearance, self_shift
+from armanim.motion.trajectory import hold_frames, with_self_clearance
 from armanim.world.distances import min_link_clearance
 
 
@@ -81,11 +82,13 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     phi, velocity, source, held, goal = [src.phi[:1]], [np.zeros((1, n))], [np.zeros(1, dtype=int)], [[False]], [[0]]
     timings = []
     start = made = 0
+    solved_clearance = src.clearance if src.self_clearance is None else \
+        np.minimum(src.clearance, src.self_clearance + self_shift(problem))  # as pose_clearance judges both
     for g in solution.goals:
         poses = src.phi[start:start + g.frames + 1]
         motion = goal_motion(poses, problem.limits.limited, rates.speed, rates.acceleration, fps,
                              clear=lambda p: safe_pose(problem, p), most_frames=most_frames - made,
-                             jerk=rates.jerk, certified=certified_steps(problem, poses, src.clearance[start:start + g.frames + 1]))
+                             jerk=rates.jerk, certified=certified_steps(problem, poses, solved_clearance[start:start + g.frames + 1]))
         heads_for = start + motion.heads_for
         if len(heads_for):
             heads_for[-1] = start + g.frames  # the last solved frame, repeated poses or not
@@ -124,24 +127,27 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     )
     moving = np.zeros(len(phi), dtype=bool)
     moving[1:] = ~held[1:]
+    trajectory = with_self_clearance(problem, trajectory)
     return Solution(trajectory, tuple(_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings)))
 
 
 def certified_steps(problem: Problem, poses: np.ndarray, clearance: np.ndarray) -> np.ndarray:
     """(m - 1,) bool: the solved steps between ``poses`` (m, n) every pose between whose ends
     (each joint within the range of its two values, as the clock's path keeps it) keeps
-    ``solver.clearance``: no point of the capsules moves farther from either end than the sum of
-    each joint's lever arm times its turn, so the farther end's ``clearance`` (m,) less that is a
-    lower bound."""
+    ``solver.clearance`` (as :func:`~armanim.motion.solvers.barrier.pose_clearance` judges it,
+    the arm's own pairs included): no point of the capsules moves farther from either end than
+    the sum of each joint's lever arm times its turn (nor, in one capsule's frame, any point of the
+    other of a pair), so the farther end's ``clearance`` (m,) less that is a lower bound."""
     reach = np.abs(wrap_angle(np.diff(poses, axis=0))) @ problem.lever_arms
     return np.maximum(clearance[:-1], clearance[1:]) - reach >= problem.solver.clearance
 
 
 def safe_pose(problem: Problem, phi: np.ndarray) -> np.ndarray:
-    """(k,) bool: which poses ``phi`` (k, n) keep ``solver.clearance`` from every obstacle."""
-    if len(problem.obstacles) == 0:
+    """(k,) bool: which poses ``phi`` (k, n) keep ``solver.clearance`` from every obstacle and
+    ``self_clearance`` between every enabled pair of the arm's own capsules."""
+    if len(problem.obstacles) == 0 and len(problem.self_pairs) == 0:
         return np.ones(len(phi), dtype=bool)
-    return min_link_clearance(forward(problem.arm, phi), problem.obstacles, problem.capsules) >= problem.solver.clearance
+    return pose_clearance(problem, phi) >= problem.solver.clearance
 
 
 def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: GoalTiming) -> GoalReport:

@@ -14,7 +14,7 @@ from armanim.names import MissReason, PathSource
 
 MISS_REASONS: dict[MissReason, str] = {
     "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
-    "no_free_pose": "no pose inside the limits and 1.1 x solver.clearance (what the filter keeps) away from every obstacle puts the tip there",
+    "no_free_pose": "no pose inside the limits and 1.1 x solver.clearance (what the filter keeps) away from every obstacle, with every enabled pair of the arm's own links self_clearance apart, puts the tip there",
     "no_path": "no path to a free pose at the goal was found within the planning budget",
     "blocked_by_obstacle": "blocked by an obstacle",
     "blocked_by_limit": "blocked by a joint limit",
@@ -115,6 +115,8 @@ class PlanningReport:
         Frames spent following planned paths (mode ``plan``).
     checks : int
         Poses checked for collisions while searching paths, over all plans.
+    self_pair : str or None
+        When the last plan found no free pose because of the arm's own pair: that pair, ``a|b``.
     """
 
     plans: int = 0
@@ -122,6 +124,7 @@ class PlanningReport:
     path: PathSource = "none"
     frames: int = 0
     checks: int = 0
+    self_pair: str | None = None
 
 
 @dataclass(frozen=True)
@@ -155,6 +158,10 @@ class Trajectory:
     velocity : (F, n) array or None
         Each joint's speed at the frame on the clock, rad/s (0 at rest); None for a solution
         not yet retimed (the solver's own frames).
+    self_clearance : (F,) array or None
+        The least gap of any enabled pair of the arm's own capsules; None without enabled pairs.
+    self_pair : (F,) array of str or None
+        That pair's links, ``a|b``; None without enabled pairs.
     """
 
     phi: np.ndarray
@@ -170,6 +177,8 @@ class Trajectory:
     orientation_error: np.ndarray | None = None
     tool_quaternion: np.ndarray | None = None
     velocity: np.ndarray | None = None
+    self_clearance: np.ndarray | None = None
+    self_pair: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.mode is None:

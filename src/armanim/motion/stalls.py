@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from armanim.motion.cost import self_influence
 from armanim.motion.orientation import Orientation, holds_orientation
 from armanim.motion.problem import Problem, frames_in
 from armanim.motion.solvers import ArmState
@@ -98,8 +99,12 @@ def orientation_unreachable(problem: Problem, orientation: Orientation | None, d
 
 
 def _near_obstacle(problem: Problem, state: ArmState) -> bool:
+    """Whether a part is within an obstacle's influence, or an enabled pair of the arm's own
+    parts within theirs (the arm blocked by itself counts as blocked by an obstacle)."""
     cl = state.clearance
-    return cl is not None and bool(np.any(cl.d <= problem.obstacles.influence))
+    if cl is not None and bool(np.any(cl.d <= problem.obstacles.influence)):
+        return True
+    return state.self_gaps is not None and bool(np.any(state.self_gaps.d <= self_influence(problem)))
 
 
 def _near_limit(problem: Problem, phi: np.ndarray) -> bool:

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.arm.kinematics import tool_rotation
+from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
@@ -36,6 +36,7 @@ from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, s
 from armanim.motion.solvers.barrier import safe_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
+from armanim.world.selfdistances import self_gaps
 
 MAX_PLANS = 3  # plans per goal before it is given up as stalled
 ARRIVED = 1e-9  # radians: the arm is at a planned pose
@@ -282,12 +283,24 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched
             visit.planning = replace(done, plans=done.plans + 1)
             return plan.reason
         plan = plan_motion(problem, state.phi, target, seed=seed, searched=planning)
-    visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks)
+    visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks,
+                             self_pair=plan.self_pair)
     if plan.frames is None:
         return plan.reason
     visit.path = list(plan.frames)
     visit.overrun = 0
     return None
+
+
+def with_self_clearance(problem: Problem, traj: Trajectory) -> Trajectory:
+    """``traj`` with its frames' least self gap and pair (:attr:`Trajectory.self_clearance`)
+    measured from its angles; unchanged without enabled pairs."""
+    if not len(problem.self_pairs) or not traj.frames:
+        return replace(traj, self_clearance=None, self_pair=None)
+    gaps = self_gaps(forward(problem.arm, traj.phi), problem.capsules, problem.self_pairs).d
+    nearest = gaps.argmin(axis=1)
+    labels = np.array(problem.self_pairs.labels)
+    return replace(traj, self_clearance=gaps[np.arange(len(gaps)), nearest], self_pair=labels[nearest])
 
 
 def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
@@ -296,7 +309,7 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
     turned = ~(angle >= problem.solver.orientation_tolerance)  # NaN (no orientation) counts as met
     phi, goal = np.array(rec.phi), np.array(rec.goal, dtype=int)
     _, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal)
-    return Trajectory(
+    return with_self_clearance(problem, Trajectory(
         phi=np.array(rec.phi),
         tip=np.array(rec.tip),
         goal=np.array(rec.goal, dtype=int),
@@ -309,7 +322,7 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         mode=np.array(rec.mode),
         orientation_error=angle if any(g.orientation is not None for g in problem.goals) else None,
         tool_quaternion=quaternions,
-    )
+    ))
 
 
-__all__ = ["frame_budget", "hold_frames", "solve_trajectory"]
+__all__ = ["frame_budget", "hold_frames", "solve_trajectory", "with_self_clearance"]

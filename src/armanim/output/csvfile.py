@@ -2,11 +2,13 @@
 
 Columns (the contract's first, then extras):
 ``frame, time_s, goal, phi1_deg .. phiN_deg, x, y, z, goal_distance, clearance,
-reached, step_scale, iterations, mode, qw, qx, qy, qz, orientation_error_deg,
-dphi1_deg_s .. dphiN_deg_s`` (mode: ``ik`` where the method stepped, ``plan`` where the arm
-followed a planned path; ``qw .. qz`` the tool frame's unit quaternion, w >= 0;
+reached, step_scale, iterations, mode, qw, qx, qy, qz, orientation_error_deg, self_clearance,
+self_pair, dphi1_deg_s .. dphiN_deg_s`` (mode: ``ik`` where the method stepped, ``plan`` where
+the arm followed a planned path; ``qw .. qz`` the tool frame's unit quaternion, w >= 0;
 ``orientation_error_deg`` the tool's angle to the frame's goal orientation, empty for a
-position-only goal; ``dphiK_deg_s`` joint K's velocity on the clock). Floats are written with ``repr`` (shortest
+position-only goal; ``self_clearance`` the least gap of an enabled pair of the arm's own capsules
+and ``self_pair`` that pair's links ``a|b``, both empty without enabled pairs; ``dphiK_deg_s``
+joint K's velocity on the clock). Floats are written with ``repr`` (shortest
 round-trip form), so reading the file back gives the same numbers bit for bit.
 """
 
@@ -29,9 +31,9 @@ from armanim.output.files import open_regular
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
 TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode",
-                "qw", "qx", "qy", "qz", "orientation_error_deg")
-EMPTY_ALLOWED = ("clearance", "orientation_error_deg")
-"""Numeric columns that may be empty: no obstacles; a position-only goal."""
+                "qw", "qx", "qy", "qz", "orientation_error_deg", "self_clearance", "self_pair")
+EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance")
+"""Numeric columns that may be empty: no obstacles; a position-only goal; no enabled pair of the arm's own links."""
 MODES = ("ik", "plan")
 """Values of the ``mode`` column (the reader refuses others)."""
 
@@ -79,6 +81,8 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
         str(traj.mode[i]),
         *(_num(v) if np.isfinite(v) else "" for v in quaternion),
         _num(np.degrees(angle)) if np.isfinite(angle) else "",
+        _num(traj.self_clearance[i]) if traj.self_clearance is not None else "",
+        str(traj.self_pair[i]) if traj.self_pair is not None else "",
         *(_num(v) for v in np.degrees(velocity)),
     ]
 
@@ -127,8 +131,8 @@ def write_trajectory_csv(traj: Trajectory, path: Path) -> None:
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")
 """The contract's columns after the angles; every reader needs them."""
-TEXT_COLUMNS = {"mode": MODES}
-"""Columns whose values are words, not numbers, and the words each allows."""
+TEXT_COLUMNS = {"mode": MODES, "self_pair": None}
+"""Columns whose values are words, not numbers, and the words each allows (None: any)."""
 MAX_LINE_BYTES = 100_000  # a row of 64 joints is under 2,000 bytes
 BLOCK_ROWS = 16_384  # rows parsed at once when a file is streamed
 
@@ -214,6 +218,8 @@ def _parse_block(rows: list[tuple[int, list[str]]], columns: tuple[str, ...], fi
     fields = np.array([row for _, row in rows], dtype=object).reshape(len(rows), len(columns))
     text = {columns[i]: fields[:, i].astype(str) for i in text_at}
     for column, words in text.items():
+        if TEXT_COLUMNS[column] is None:
+            continue
         bad = np.nonzero(~np.isin(words, TEXT_COLUMNS[column]))[0]
         if len(bad):
             allowed = " or ".join(TEXT_COLUMNS[column])

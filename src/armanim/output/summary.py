@@ -114,6 +114,26 @@ def joint_labels(problem: Problem) -> list[str]:
     return [joint_label(problem.arm.joint_names, j) for j in range(problem.arm.n)]
 
 
+def self_collision_summary(problem: Problem, traj) -> dict:
+    """summary.json's self-collision keys: the least gap of an enabled pair over the frames, that
+    pair, and the allowed-collision matrix's size (None where no pair is enabled)."""
+    pairs = problem.self_pairs
+    least = None
+    if traj.self_clearance is not None and traj.frames:
+        k = int(np.argmin(traj.self_clearance))
+        least = (float(traj.self_clearance[k]), str(traj.self_pair[k]))
+    return {
+        "min_self_clearance": least[0] if least else None,
+        "min_self_pair": least[1] if least else None,
+        "self_collision": {
+            "mode": pairs.mode,
+            "self_clearance": pairs.clearance if pairs.mode != "off" else None,
+            "enabled_pairs": len(set(pairs.names)),
+            "allowed_pairs": len(pairs.allowed),
+        },
+    }
+
+
 def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
                  rate_notes: Sequence[str] = ()) -> dict:
     """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
@@ -140,6 +160,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
             "plan_frames": int(np.count_nonzero(traj.mode == "plan")),
         },
         "min_clearance": _round(traj.clearance.min()) if traj.frames else None,
+        **self_collision_summary(problem, traj),
         "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),
         "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi))),
         "max_joint_speed_deg_s": [float(v) for v in np.degrees(rates.speed)],

@@ -50,7 +50,7 @@ from armanim.render.markers import GoalMarkers
 from armanim.render.order import order_by, overlap_ahead, paint_order
 from armanim.render.pixels import in_pixels, make_figure, write_png
 from armanim.render.shapes import ShapeSolids, box_corners
-from armanim.render.solids import SAMPLES, ArmSolids, Part, point_samples
+from armanim.render.solids import SAMPLES, ArmSolids, Part, near_capsules, point_samples
 from armanim.render.spheres import SphereDiscs
 from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR
 from armanim.render.triads import (
@@ -326,7 +326,7 @@ class SceneCanvas:
         touched = False
         for ghost in state.ghosts:
             touched |= self._draw_parts(self.arm.parts(ghost, ghost=True), None)
-        return self._draw_parts(self.arm.parts(state.pose), shadow) or touched
+        return self._draw_parts(self.arm.parts(state.pose, near=near_capsules(self.problem, state.pose)), shadow) or touched
 
     def _draw_parts(self, parts: list[Part], shadow) -> bool:
         """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""

@@ -33,6 +33,7 @@ from armanim.render.style import (
     JOINT_HIGHLIGHT,
     JOINT_SCALE,
     PRISM_SIDES,
+    SELF_NEAR_COLOR,
     with_alpha,
 )
 from armanim.render.view import LIGHT, View, lambert
@@ -142,14 +143,15 @@ class ArmSolids:
         self.base = [pedestal(arm.stand, half_width, view, ppu)]
         self.base += column(arm, float(first.max()) if len(first) else half_width, view, ppu)
 
-    def parts(self, pose: Pose, ghost: bool = False) -> list[Part]:
+    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
         """The base, every capsule and every joint of ``pose``; a ghost (a poster's faint pose)
-        has no base and its colours faded toward white."""
+        has no base and its colours faded toward white; the capsules ``near`` marks ((c,) bool:
+        a pair of the arm's own links close together) are tinted."""
         joints = self.view.project(pose.points)  # (n+1, 3)
         base = [] if ghost else list(self.base)
-        return base + self._links(pose, ghost) + self._joints(joints[:-1], ghost)
+        return base + self._links(pose, ghost, near) + self._joints(joints[:-1], ghost)
 
-    def _links(self, pose: Pose, ghost: bool) -> list[Part]:
+    def _links(self, pose: Pose, ghost: bool, near: np.ndarray | None = None) -> list[Part]:
         """One prism per capsule, its back faces culled."""
         link = self.capsules.link
         verts = self.view.project(prism_world(pose, self.prism_local, link))  # (c, V, 3)
@@ -160,7 +162,7 @@ class ArmSolids:
             front = np.flatnonzero(normals[i, :, 2] > 1e-9)
             parts.append(Part(samples=segment_samples(a[i], b[i]), radius=float(self.link_radius[i]),
                               polygons=[verts[i, self.faces[f], :2] for f in front],
-                              colors=solid_colors(lambert(normals[i, front], ARM_COLOR), ghost)))
+                              colors=solid_colors(lambert(normals[i, front], SELF_NEAR_COLOR if near is not None and near[i] else ARM_COLOR), ghost)))
         return parts
 
     def _joints(self, centers: np.ndarray, ghost: bool) -> list[Part]:
@@ -173,3 +175,22 @@ class ArmSolids:
             glint = center[:2] + 0.45 * r * self.circle + 0.25 * r * LIGHT[:2]
             parts.append(Part(samples=point_samples(center), radius=r, polygons=[disc, glint], colors=shade))
         return parts
+
+
+NEAR_FACTOR = 2.0
+"""A pair of the arm's own links is tinted within this many ``self_clearance`` (as the cost's field reaches)."""
+
+
+def near_capsules(problem, pose: Pose) -> np.ndarray | None:
+    """(c,) bool: the capsules in an enabled pair of the arm's own links closer than
+    :data:`NEAR_FACTOR` x ``self_clearance`` at ``pose`` (one pose); None without enabled pairs."""
+    pairs = problem.self_pairs
+    if not len(pairs):
+        return None
+    from armanim.world.selfdistances import self_gaps
+
+    close = self_gaps(pose, problem.capsules, pairs).d < NEAR_FACTOR * pairs.clearance
+    near = np.zeros(len(problem.capsules), dtype=bool)
+    near[pairs.first[close]] = True
+    near[pairs.second[close]] = True
+    return near

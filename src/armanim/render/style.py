@@ -13,6 +13,9 @@ FLOOR_COLOR = (0.955, 0.96, 0.97)
 GRID_COLOR = (0.84, 0.85, 0.88)
 SHADOW_COLOR = (0.25, 0.27, 0.32)
 ARM_COLOR = (0.16, 0.42, 0.80)
+SELF_NEAR_COLOR = (0.93, 0.66, 0.12)
+"""Both capsules of an enabled pair of the arm's own links within twice ``self_clearance``: why the
+elbow swings out."""
 JOINT_COLOR = (0.16, 0.17, 0.20)
 JOINT_HIGHLIGHT = (0.55, 0.57, 0.62)
 BASE_COLOR = (0.50, 0.52, 0.56)

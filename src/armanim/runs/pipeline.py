@@ -17,9 +17,10 @@ from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.rundir import folder_lock, staged_folder
+from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
 from armanim.output.summary import summary_dict, write_summary
 from armanim.runs.overrides import RenderOverrides
-from armanim.runs.reload import ROBOT_COPY, SCENE_COPY
+from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.checks import rate_note_lines
 from armanim.scene.models import LIMITS
@@ -138,6 +139,12 @@ def produce_outputs(
     if urdf is not None:  # the run re-renders without the user's folder (render, view, a moved run)
         write_bytes_atomic(folder / ROBOT_COPY, urdf)
         names["robot"] = ROBOT_COPY
+    srdf = scene.model.arm.srdf_source
+    if srdf is not None:  # as the URDF: the run reloads without the user's folder
+        write_bytes_atomic(folder / SRDF_COPY, srdf)
+        names["srdf"] = SRDF_COPY
+    write_self_collision(solved.self_pairs, folder / SELF_COLLISION_FILE)
+    names["self_collision"] = SELF_COLLISION_FILE
     write_trajectory_csv(solution.trajectory, folder / names["trajectory"])
     write_summary(summary, folder / names["summary"])
     if video if viewer is None else viewer:

@@ -13,6 +13,7 @@ from armanim.errors import Diagnostic, SceneError
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
+from armanim.motion.trajectory import with_self_clearance
 from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv, velocity_columns
 from armanim.output.files import read_bounded
 from armanim.output.summary import goal_report_from_dict
@@ -21,6 +22,7 @@ from armanim.scene.models import LIMITS, RenderModel
 
 SCENE_COPY = "scene.yaml"
 ROBOT_COPY = "robot.urdf"
+SRDF_COPY = "robot.srdf"
 """A run of a user's URDF arm keeps a copy of the file (the scene's ``arm.urdf`` names the original)."""
 MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB
 
@@ -111,8 +113,9 @@ def load_run(folder: str | Path) -> FinishedRun:
                if not (folder / name).exists() and not (folder / name).is_symlink()]  # a device there is named when read
     if missing:
         raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
-    robot = folder / ROBOT_COPY
-    scene = load_scene(folder / SCENE_COPY, urdf_file=robot if robot.exists() or robot.is_symlink() else None)
+    robot, srdf = folder / ROBOT_COPY, folder / SRDF_COPY
+    scene = load_scene(folder / SCENE_COPY, urdf_file=robot if robot.exists() or robot.is_symlink() else None,
+                       srdf_file=srdf if srdf.exists() or srdf.is_symlink() else None)
     summary = _read_summary(folder / "summary.json")
     recorded = (summary.get("scene") or {}).get("sha256") if isinstance(summary.get("scene"), dict) else None
     if recorded is not None and recorded != scene.sha256:
@@ -153,4 +156,5 @@ def load_run(folder: str | Path) -> FinishedRun:
         tool_quaternion=quaternions,
         velocity=velocity,
     )
+    traj = with_self_clearance(problem, traj)  # measured again from the angles (the pictures tint near pairs)
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json")))

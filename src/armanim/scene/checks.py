@@ -18,6 +18,7 @@ from armanim.scene.convert import rate_limits, robot_rates, scene_to_problem
 from armanim.scene.models import LIMITS, RATE_FIELDS, SceneModel
 from armanim.world.distances import clearances, point_clearances
 from armanim.world.obstacles import FLOOR
+from armanim.world.selfdistances import self_gaps
 
 
 def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
@@ -27,8 +28,29 @@ def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
     """
     problems = list(_arm_problems(scene)) + list(_size_problems(scene))
     if not problems:
-        problems += list(_collision_problems(scene_to_problem(scene), "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
+        problem = scene_to_problem(scene)
+        problems += list(_collision_problems(problem, "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
+        problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
     return problems
+
+
+def _self_collision_problems(problem, path: str):
+    """Enabled pairs of the arm's own capsules closer than ``solver.self_clearance`` at home, each named."""
+    pairs = problem.self_pairs
+    if not len(pairs):
+        return
+    gaps = self_gaps(forward(problem.arm, problem.home), problem.capsules, pairs).d
+    seen = set()
+    for k in np.argsort(gaps, kind="stable"):
+        if not gaps[k] < pairs.clearance or pairs.names[k] in seen:
+            continue
+        seen.add(pairs.names[k])
+        a, b = pairs.names[k]
+        yield path, (
+            f"the home pose has {a} and {b} {'overlapping' if gaps[k] <= 0 else 'closer than solver.self_clearance'} "
+            f"(gap {gaps[k]:.3g}, expected at least solver.self_clearance = {pairs.clearance:g}: change arm.home, "
+            f"allow the pair (arm.self_collision: {{auto: true, allow: [[{a}, {b}]]}}) or lower solver.self_clearance)"
+        )
 
 
 def _arm_problems(scene: SceneModel):

@@ -12,7 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from armanim.arm.capsules import Capsules, frame_capsules
+from armanim.arm.capsules import Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
 from armanim.arm.kinematics import Arm, default_axes
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
@@ -39,7 +39,9 @@ from armanim.scene.models import (
     SolverModel,
 )
 from armanim.scene.robots import published_joint_names
+from armanim.world import selfcollision
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
+from armanim.world.selfdistances import SelfPairs
 
 
 def axis_names(scene: SceneModel) -> list[str]:
@@ -189,6 +191,69 @@ def solver_settings(s: SolverModel, width: float, reach: float = DEFAULT_REACH) 
     )
 
 
+SELF_CLEARANCE_PER_CLEARANCE = 0.5
+"""Default ``solver.self_clearance`` as a fraction of ``solver.clearance``."""
+
+
+def self_clearance(solver: SolverModel, d_safe: float) -> float:
+    """The scene's ``solver.self_clearance``, or ``solver.clearance / 2``."""
+    return float(solver.self_clearance) if solver.self_clearance is not None else SELF_CLEARANCE_PER_CLEARANCE * d_safe
+
+
+def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> SelfPairs:
+    """The enabled pairs of the arm's own capsules (:mod:`armanim.world.selfcollision`): ``off``,
+    an SRDF's pairs allowed (every other pair of links on different joints checked, as pinocchio's
+    ``addAllCollisionPairs`` and ``removeCollisionPairs`` do), or MoveIt's rules (a bundled robot's
+    committed matrix when its capsules and limits are its own and the clearance is within the
+    matrix's), then the scene's ``allow`` and ``check`` lists."""
+    spec = arm.self_collision
+    if spec == "off":
+        return SelfPairs.none(clearance)
+    allow = [] if isinstance(spec, str) else [(a, b) for a, b in spec.allow]
+    check = [] if isinstance(spec, str) else [(a, b) for a, b in spec.check]
+    if not isinstance(spec, str) and spec.srdf is not None:
+        allowed = {(a, b): reason for a, b, reason in arm._srdf.pairs}
+        mode = "srdf"
+    else:
+        allowed = _automatic_matrix(arm, chain, capsules, limits, home, clearance)
+        mode = "auto"
+    allowed.update({pair: selfcollision.USER for pair in allow})
+    return selfcollision.enabled_pairs(capsules, allowed, clearance, mode, check)
+
+
+def _automatic_matrix(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> dict:
+    """MoveIt's rules: the bundled robot's committed matrix when it applies, else sampled here."""
+    bundled = arm._robot.bundled if arm.is_urdf else None
+    if bundled is not None and arm.collision is None and arm.limits is None:
+        from armanim.scene.robots import bundled_matrix
+
+        matrix = bundled_matrix(bundled.name)
+        if matrix is not None and clearance <= matrix.clearance:
+            return {(a, b): reason for a, b, reason in matrix.allowed}
+    defaults = [np.radians(np.array(bundled.home, dtype=float)) if bundled is not None else home]
+    if arm.is_urdf and bundled is None:  # a bundled robot's default is its home (its robot.yaml, as MoveIt's "ready")
+        defaults.append(selfcollision.default_pose(limits.lower, limits.upper))
+    return dict(_sampled_matrix(chain, capsules, limits.lower, limits.upper, tuple(d.tobytes() for d in defaults), clearance))
+
+
+_MATRICES: dict = {}
+
+
+def _sampled_matrix(chain: Arm, capsules: Capsules, lower, upper, defaults: tuple[bytes, ...], clearance: float):
+    """:func:`armanim.world.selfcollision.automatic_matrix`, kept per arm (a run converts its scene more than once)."""
+    key = (chain.offsets.tobytes(), repr(chain.joint_names), capsules.link.tobytes(), capsules.start.tobytes(), capsules.end.tobytes(),
+           capsules.radius.tobytes(), capsules.names, lower.tobytes(), upper.tobytes(), defaults, clearance, _axes_key(chain))
+    if key not in _MATRICES:
+        poses = [np.frombuffer(d) for d in defaults]
+        _MATRICES[key] = tuple(selfcollision.automatic_matrix(chain, capsules, lower, upper, poses, clearance).items())
+    return _MATRICES[key]
+
+
+def _axes_key(chain: Arm) -> bytes:
+    """The parts of an arm's geometry beyond its offsets (axes, fixed rotations), as bytes."""
+    return b"".join(np.asarray(v).tobytes() for v in vars(chain).values() if isinstance(v, np.ndarray))
+
+
 def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     """Convert a validated scene to the solver's problem (radians, numpy arrays).
 
@@ -207,17 +272,22 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     arm = scene.arm
     fps = scene.render.fps if fps is None else fps
     chain, capsules = scene_arm(arm, axis_names(scene) if not arm.is_urdf else [])
+    solver = solver_settings(scene.solver, arm.resolved_width, chain.reach)
+    home = np.radians(np.array(home_degrees(arm), dtype=float))
+    limits = _limits(arm)
+    every = capsules if capsules is not None else joint_capsules(chain, arm.resolved_width / 2.0)
     return Problem(
         arm=chain,
         half_width=arm.resolved_width / 2.0,
-        home=np.radians(np.array(home_degrees(arm), dtype=float)),
-        limits=_limits(arm),
+        home=home,
+        limits=limits,
         obstacles=_obstacles(scene),
         goals=tuple(Goal(np.array(g.position, dtype=float), g.hold, goal_orientation(g)) for g in scene.goals),
-        solver=solver_settings(scene.solver, arm.resolved_width, chain.reach),
+        solver=solver,
         fps=fps,
         capsules=capsules,
         rates=rate_limits(scene),
+        self_pairs=self_pairs(arm, chain, every, limits, home, self_clearance(scene.solver, solver.clearance)),
     )
 
 

@@ -69,7 +69,7 @@ def decode_scene(raw: bytes, file: str) -> str:
         raise SceneError(file, [Diagnostic("", f"byte 0x{raw[exc.start]:02x} is not UTF-8 (save the file as UTF-8)", line)]) from None
 
 
-def load_scene(path: str | Path, *, urdf_file: str | Path | None = None) -> LoadedScene:
+def load_scene(path: str | Path, *, urdf_file: str | Path | None = None, srdf_file: str | Path | None = None) -> LoadedScene:
     """Read and validate a scene file.
 
     Parameters
@@ -78,6 +78,8 @@ def load_scene(path: str | Path, *, urdf_file: str | Path | None = None) -> Load
     urdf_file : str or Path, optional
         Read an ``arm.urdf`` arm from this file instead of the path the scene gives (a run
         folder keeps its own copy of the robot, so it re-renders wherever it is moved).
+    srdf_file : str or Path, optional
+        Likewise, an ``arm.self_collision.srdf`` file read in place of the scene's.
 
     Returns
     -------
@@ -89,18 +91,18 @@ def load_scene(path: str | Path, *, urdf_file: str | Path | None = None) -> Load
         With every problem found, each with its field path and line.
     """
     path = Path(path)
-    return scene_from_bytes(read_scene_bytes(path), path, urdf_file=urdf_file)
+    return scene_from_bytes(read_scene_bytes(path), path, urdf_file=urdf_file, srdf_file=srdf_file)
 
 
 def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None, *,
-                     urdf_file: str | Path | None = None) -> LoadedScene:
+                     urdf_file: str | Path | None = None, srdf_file: str | Path | None = None) -> LoadedScene:
     """Validate a scene given as bytes (e.g. sent to a worker); ``path`` names it.
 
     ``name`` overrides the scene's own name (sweep variants are named after their settings);
-    ``urdf_file`` as for :func:`load_scene`.
+    ``urdf_file`` and ``srdf_file`` as for :func:`load_scene`.
     """
     path = Path(path)
-    model, doc = _validated(decode_scene(raw, str(path)), str(path), urdf_file)
+    model, doc = _validated(decode_scene(raw, str(path)), str(path), urdf_file, srdf_file)
     name = name or model.name or stem_name(path)
     notes = tuple(as_diagnostics(radian_notes(model) + fallback_notes(model) + rate_notes(model), doc.line_of))
     return LoadedScene(model=model, path=path, name=name, sha256=hashlib.sha256(raw).hexdigest(), raw=raw, notes=notes)
@@ -126,7 +128,7 @@ def validate_scene_text(text: str, file: str) -> SceneModel:
     return _validated(text, file)[0]
 
 
-def _validated(text: str, file: str, urdf_file: str | Path | None = None):
+def _validated(text: str, file: str, urdf_file: str | Path | None = None, srdf_file: str | Path | None = None):
     """(model, parsed document) of a valid scene text; SceneError with every problem otherwise."""
     doc = read_yaml(text, file)
     problems = list(doc.problems)
@@ -136,7 +138,8 @@ def _validated(text: str, file: str, urdf_file: str | Path | None = None):
         kind = type(doc.data).__name__ if doc.data is not None else "null"
         raise SceneError(file, problems + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)])
     try:
-        model = SceneModel.model_validate(doc.data, context={"scene_dir": Path(file).parent, "urdf_file": urdf_file})
+        model = SceneModel.model_validate(doc.data, context={"scene_dir": Path(file).parent, "urdf_file": urdf_file,
+                                                                     "srdf_file": srdf_file})
     except ValidationError as exc:
         errors = [e for e in exc.errors(include_url=False) if not isinstance(e.get("input"), TooLarge)]
         raise SceneError(file, _by_line(problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]], len(errors))) from None

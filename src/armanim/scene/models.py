@@ -95,6 +95,26 @@ class ToolModel(Strict):
 
 
 UrdfName = Annotated[str, Field(min_length=1, max_length=200)]
+LinkPair = Annotated[list[UrdfName], Field(min_length=2, max_length=2)]
+
+
+class SelfCollisionModel(Strict):
+    """``arm.self_collision`` as a mapping: MoveIt's rules (``auto: true``) or an SRDF, with the
+    user's own ``allow`` and ``check`` pairs of links on top."""
+
+    auto: bool | None = Field(default=None, description="true: the allowed-collision matrix by MoveIt's rules (adjacent, default, never).")
+    srdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
+        default=None, description="An SRDF file, relative to the scene file: its <disable_collisions link1= link2=/> pairs are allowed."
+    )
+    allow: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(default=[], description="Link pairs never checked.")
+    check: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(default=[], description="Link pairs checked whatever the rules say.")
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if (self.auto is True) == (self.srdf is not None):
+            raise ValueError("gives " + ("both auto: true and srdf" if self.srdf is not None else "neither auto: true nor srdf")
+                             + " (expected one: auto: true for MoveIt's rules, or srdf: FILE)")
+        return self
 
 RATE_BOUNDS = {"max_joint_speed": 1e5, "max_joint_acceleration": 1e7, "max_joint_jerk": 1e10}
 """Largest ``arm.max_joint_speed`` (deg/s: about 280 turns a second), ``max_joint_acceleration``
@@ -175,14 +195,30 @@ class ArmModel(Strict):
         description="deg/s^3, one number or one per joint, or robot (the bundled robot's published one): the clock is also "
                     "jerk-bounded; default none (speed and acceleration only).",
     )
+    self_collision: Literal["auto", "off"] | SelfCollisionModel = Field(
+        default="auto",
+        description="auto: every pair of the arm's own links keeps solver.self_clearance except those MoveIt's rules allow; "
+        "off: none is checked; or {auto: true, allow: [[a, b]], check: [[a, b]]}, or {srdf: FILE}.",
+    )
 
     _robot: object = PrivateAttr(default=None)  # the resolved URDF arm (armanim.scene.robots.RobotArm)
+    _srdf: object = PrivateAttr(default=None)  # the SRDF's allowed pairs (armanim.scene.srdf.Srdf)
+
+    @field_validator("self_collision", mode="before")
+    @classmethod
+    def _self_collision_from_yaml_bool(cls, value):
+        # YAML 1.1 reads a bare off as false: take what the user wrote
+        return {False: "off", True: "auto"}.get(value, value) if isinstance(value, bool) else value
 
     @model_validator(mode="after")
     def _resolve_robot(self, info: ValidationInfo):
         from armanim.scene.robots import resolve_robot  # the URDF reader: only URDF arms need it
 
         self._robot = resolve_robot(self, info.context)
+        if not isinstance(self.self_collision, str):
+            from armanim.scene.srdf import resolve_self_collision
+
+            self._srdf = resolve_self_collision(self, info.context)
         return self
 
     @property
@@ -194,6 +230,11 @@ class ArmModel(Strict):
     def urdf_source(self) -> bytes | None:
         """The bytes of the user's URDF this arm was read from (None for links or a bundled robot)."""
         return self._robot.source if self._robot is not None else None
+
+    @property
+    def srdf_source(self) -> bytes | None:
+        """The bytes of the SRDF ``self_collision`` read (None without one)."""
+        return self._srdf.source if self._srdf is not None else None
 
     @property
     def joint_count(self) -> int:
@@ -404,6 +445,10 @@ class SolverModel(Strict):
     clearance: Positive | None = Field(
         default=None,
         description="d_safe: the distance every arm part keeps from every obstacle surface, scene units; default arm.width / 10.",
+    )
+    self_clearance: Positive | None = Field(
+        default=None,
+        description="The distance every enabled pair of the arm's own parts keeps apart, scene units; default clearance / 2.",
     )
     planner: Annotated[
         PlannerMode,

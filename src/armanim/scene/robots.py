@@ -93,6 +93,34 @@ def published_joint_names(name: str) -> tuple[str, ...]:
     return tuple(j.name for j in urdf.path(robot.base_link, robot.tip_link) if j.kind in MOVING)
 
 
+SELF_COLLISION_FILE = "self-collision.yaml"
+"""A bundled robot's allowed-collision matrix (package data, written by tools/self_collision_matrix.py)."""
+
+
+@dataclass(frozen=True)
+class BundledMatrix:
+    """A bundled robot's committed allowed-collision matrix: the link pairs never checked and why.
+
+    ``clearance`` (metres) is how near counted as touching when it was computed: it serves every
+    scene whose ``solver.self_clearance`` is at most that (a pair never that near is never nearer)."""
+
+    clearance: float
+    samples: int
+    seed: int
+    allowed: tuple[tuple[str, str, str], ...]
+
+
+@cache
+def bundled_matrix(name: str) -> BundledMatrix | None:
+    """The committed matrix of bundled robot ``name``, or None if it ships none."""
+    file = resources.files("armanim.arm").joinpath("robots", name, SELF_COLLISION_FILE)
+    if not file.is_file():
+        return None
+    info = yaml.safe_load(file.read_text(encoding="utf-8"))  # package data, not user input
+    return BundledMatrix(float(info["clearance"]), int(info["samples"]), int(info["seed"]),
+                         tuple((str(a), str(b), str(reason)) for a, b, reason in info["allowed"]))
+
+
 @dataclass(frozen=True)
 class CapsuleSpec:
     """A capsule in its link's frame (metres)."""
@@ -141,6 +169,8 @@ class UrdfArm:
     bundled: BundledRobot | None
     source: bytes | None = None
     velocities: tuple[float | None, ...] = ()
+    links: tuple[str, ...] = ()
+    """Every link of the URDF (names an SRDF or ``self_collision`` lists may use)."""
 
 
 def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
@@ -183,6 +213,7 @@ def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
         bundled=bundled,
         source=None if bundled is not None else robot.raw,
         velocities=joint_speeds(robot, moving),
+        links=tuple(robot.links),
     )
 
 

@@ -208,3 +208,52 @@ def segment_box_pairs(a, b, centers, half, rotations, segment, box, t, dist, nor
     for p in range(segment.shape[0]):
         m, k = segment[p], box[p]
         t[p], dist[p] = _pair(a[m], b[m], centers[k], half[k], rotations[k], s, normal[p])
+
+
+@compiled(**_JIT)
+def segment_segment_pairs(a, b, first, second, t, s_out, dist, normal):
+    """Segment ``first[p]`` against segment ``second[p]`` (rows of a-b, (M, 3) each) for each pair
+    p, by the same segment-box closed form (:func:`_pair`): the second segment is a box of one
+    edge (half edges (length / 2, 0, 0) along it, as :meth:`armanim.world.obstacles.Rods.axes`
+    builds a capsule obstacle's axis). Fills t (the first's fraction), s_out (the second's
+    fraction of its point nearest the first's), dist (P,) and normal (P, 3) (out of the second)."""
+    s = np.empty(SCRATCH)
+    center = np.empty(3)
+    half = np.zeros(3)
+    rotation = np.empty((3, 3))
+    x = np.empty(3)
+    y = np.empty(3)
+    for p in range(first.shape[0]):
+        i, j = first[p], second[p]
+        length2 = 0.0
+        for c in range(3):
+            x[c] = b[j, c] - a[j, c]
+            length2 += x[c] * x[c]
+        length = np.sqrt(length2)
+        if length > 0.0:
+            for c in range(3):
+                x[c] /= length
+        else:
+            x[0], x[1], x[2] = 1.0, 0.0, 0.0
+        if abs(x[0]) < 0.9:  # y = x cross the helper axis (e_x, or e_y when x is near e_x)
+            y[0], y[1], y[2] = 0.0, x[2], -x[1]
+        else:
+            y[0], y[1], y[2] = -x[2], 0.0, x[0]
+        norm = np.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])
+        for c in range(3):
+            y[c] /= norm
+            rotation[c, 0] = x[c]
+            rotation[c, 1] = y[c]
+            center[c] = 0.5 * (a[j, c] + b[j, c])
+        rotation[0, 2] = x[1] * y[2] - x[2] * y[1]
+        rotation[1, 2] = x[2] * y[0] - x[0] * y[2]
+        rotation[2, 2] = x[0] * y[1] - x[1] * y[0]
+        half[0] = 0.5 * length
+        tp, dp = _pair(a[i], b[i], center, half, rotation, s, normal[p])
+        t[p], dist[p] = tp, dp
+        back = dp if dp > TOUCHING else 0.0
+        along = 0.0
+        for c in range(3):
+            other = a[i, c] + tp * (b[i, c] - a[i, c]) - back * normal[p, c]
+            along += (other - a[j, c]) * (b[j, c] - a[j, c])
+        s_out[p] = _clamp(along / length2, 0.0, 1.0) if length2 > 0.0 else 0.0

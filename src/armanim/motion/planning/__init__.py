@@ -42,6 +42,8 @@ class Plan:
         ``"straight"``, ``"rrt_connect"`` or ``"none"``.
     checks : int
         Poses checked for collisions while searching a path.
+    self_pair : str or None
+        For ``no_free_pose``: the arm's own pair (``a|b``) that kept the goal's poses out, if one did.
     """
 
     frames: np.ndarray | None
@@ -49,6 +51,7 @@ class Plan:
     poses: int
     source: PathSource
     checks: int
+    self_pair: str | None = None
 
 
 def plan_motion(
@@ -81,7 +84,7 @@ def plan_motion(
     if not found.orientable:
         return Plan(None, "orientation_unreachable", 0, "none", 0)
     if not len(found.poses):
-        return Plan(None, "no_free_pose", 0, "none", 0)
+        return Plan(None, "no_free_pose", 0, "none", 0, found.self_pair)
     path = plan_path(problem, phi_now, found.poses, searched)
     if path.waypoints is None:
         return Plan(None, "no_path", len(found.poses), path.source, path.checks)

@@ -26,6 +26,7 @@ from armanim.motion.solvers.barrier import (
     planning_floor,
     point_travel_bound,
     pose_clearance,
+    self_pair_rows,
     settle_clearance,
     within_limits,
 )
@@ -88,6 +89,11 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     they do not certify is halved, level by level, until every piece is certified or shorter
     than :data:`CERTIFY_TO` clearances, or a pose below ``floor`` is found. The limits are a
     box: free ends keep them.
+
+    The enabled pairs of the arm's own capsules are in ``pose_clearance`` too (their gaps
+    shifted by a constant) and the same bound covers them: a pair's gap depends only on the
+    joints between its two capsules, and in the first one's frame the second's points move no
+    faster than the sum of |dphi_j| times joint j's lever arm, the bound S uses.
     """
     d_safe = problem.solver.clearance
     coarse = motion_samples(problem, a, b, COARSE * d_safe)
@@ -204,7 +210,8 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
     :data:`ESCAPE_TRAVELS` clearances at most; the move itself keeps the planning floor."""
     state = arm_state(problem, start)
     rows, _ = obstacle_rows(problem, state, floor - kept_clearance(problem))
-    direction = rows.sum(axis=0)
+    own, _ = self_pair_rows(problem, state, floor - kept_clearance(problem))
+    direction = rows.sum(axis=0) + own.sum(axis=0)
     travel = point_travel_bound(problem, direction)
     checks = 0
     if not travel > 0:

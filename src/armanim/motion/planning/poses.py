@@ -22,7 +22,15 @@ from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tip_jacobian, tool_rotation
 from armanim.motion.orientation import Orientation, orientation_angle, orientation_task
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import limit_buffer, planning_floor, pose_clearance, settle_clearance, within_limits
+from armanim.motion.solvers.barrier import (
+    limit_buffer,
+    planning_floor,
+    pose_clearance,
+    self_shift,
+    settle_clearance,
+    within_limits,
+)
+from armanim.world.selfdistances import self_gaps
 
 SEEDS = 128
 ITERATIONS = 80
@@ -47,11 +55,15 @@ class GoalPoses:
     orientable : bool
         For a goal with an orientation: False when solves reach the position but none
         (limits and obstacles aside) meets the orientation there (``orientation_unreachable``).
+    self_pair : str or None
+        When no pose is free and some were kept out by the arm's own enabled pairs: the pair
+        (``a|b``) nearest in most of them.
     """
 
     poses: np.ndarray
     reachable: bool
     orientable: bool = True
+    self_pair: str | None = None
 
 
 def seed_poses(problem: Problem, phi_now: np.ndarray, count: int, seed: int) -> np.ndarray:
@@ -166,10 +178,25 @@ def goal_poses(
         reachable = _reachable_without_limits(problem, starts, goal, None)
         orientable = not reachable
     clear = pose_clearance(problem, solved)
-    free = hit & within_limits(problem, solved) & (clear >= planning_floor(problem, phi_now))
+    floor = planning_floor(problem, phi_now)
+    free = hit & within_limits(problem, solved) & (clear >= floor)
     roomy = clear >= settle_clearance(problem)
     poses = [nearest_first(problem, phi_now, solved[free & room]) for room in (roomy, ~roomy)]
-    return GoalPoses(poses=np.concatenate(poses), reachable=reachable, orientable=orientable)
+    pair = blocking_pair(problem, solved[hit & within_limits(problem, solved) & ~free], floor) if not free.any() else None
+    return GoalPoses(poses=np.concatenate(poses), reachable=reachable, orientable=orientable, self_pair=pair)
+
+
+def blocking_pair(problem: Problem, poses: np.ndarray, floor: float) -> str | None:
+    """The enabled pair (``a|b``) nearest in most of the ``poses`` (k, n) that the arm's own
+    pairs keep below ``floor``, or None when none is."""
+    pairs = problem.self_pairs
+    if not len(pairs) or not len(poses):
+        return None
+    gaps = self_gaps(forward(problem.arm, poses), problem.capsules, pairs).d
+    kept_out = gaps.min(axis=1) + self_shift(problem) < floor
+    if not kept_out.any():
+        return None
+    return pairs.labels[int(np.bincount(gaps[kept_out].argmin(axis=1)).argmax())]
 
 
 def _reachable_without_limits(problem: Problem, starts: np.ndarray, goal: np.ndarray, orientation: Orientation | None) -> bool:

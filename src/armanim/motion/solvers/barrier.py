@@ -35,6 +35,7 @@ from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState, arm_state
 from armanim.names import Blocker
 from armanim.world.distances import min_link_clearance
+from armanim.world.selfdistances import least_self_gap, self_rows
 
 GAMMA = 0.5
 """Fraction of the remaining gap to a surface or a limit that one frame may close."""
@@ -144,6 +145,36 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
     return rows, -GAMMA * (d[parts, obstacles] - target)
 
 
+def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Constraint rows n . (J_A - J_B) and lower bounds -gamma (d - d_target) of the enabled pairs
+    of the arm's own capsules whose gap is within ``travel`` ((P,) per pair, or one bound) of
+    :func:`kept_self_clearance`.
+
+    A pair's gap depends only on the joints between its two capsules, and in the first one's frame
+    the second's points move no more than the arm's points do: the arm's travel bounds its change too."""
+    n = problem.arm.n
+    gaps = state.self_gaps
+    if gaps is None:
+        return np.zeros((0, n)), np.zeros(0)
+    target = kept_self_clearance(problem)
+    which = np.nonzero(gaps.d - target < travel)[0]
+    if not len(which):
+        return np.zeros((0, n)), np.zeros(0)
+    rows = self_rows(problem.arm, problem.capsules, state.pose, problem.self_pairs, gaps, which)
+    return rows, -GAMMA * (gaps.d[which] - target)
+
+
+def pair_levers(problem: Problem) -> np.ndarray:
+    """(P,) for each enabled pair, the 2-norm of the lever arms of the joints between its two
+    capsules' joints: a step dPhi changes the pair's gap by at most |dPhi| times this (the joints
+    up to the first capsule's move both alike)."""
+    pairs = problem.self_pairs
+    squares = np.concatenate([[0.0], np.cumsum(problem.lever_arms**2)])
+    link = problem.capsules.link
+    lo, hi = np.minimum(link[pairs.first], link[pairs.second]), np.maximum(link[pairs.first], link[pairs.second])
+    return np.sqrt(np.maximum(squares[hi + 1] - squares[lo + 1], 0.0))
+
+
 def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
     """The constraints of the frame: only obstacle pairs that the QP's answer could reach.
 
@@ -154,6 +185,10 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -
     lo, hi = joint_bounds(problem, state.phi)
     travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(problem.lever_arms)) + 1e-9
     rows, lower = obstacle_rows(problem, state, travel)
+    if state.self_gaps is not None:
+        own, own_lower = self_pair_rows(problem, state, 2.0 * float(np.linalg.norm(nominal)) * pair_levers(problem) + 1e-9)
+        if len(own):
+            rows, lower = np.concatenate([rows, own]), np.concatenate([lower, own_lower])
     return Constraints(rows, lower, lo, hi)
 
 
@@ -201,7 +236,9 @@ def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray, known: ArmSta
 
     Guarantees: every limited joint at least the limit buffer inside its limits (or no
     nearer than it already was), every link capsule and the tip at least ``solver.clearance``
-    from every obstacle (or no nearer than they already were), and no NaN.
+    from every obstacle (or no nearer than they already were), every enabled pair of the arm's
+    own capsules at least ``solver.self_clearance`` apart (or no nearer than it already was),
+    and no NaN.
     """
     if not np.all(np.isfinite(phi)):
         return None
@@ -220,6 +257,9 @@ def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray, known: ArmSta
         # tip ends its last capsule, at least clearance + width/2 away, so this never binds there)
         tip_floor = min(problem.solver.clearance, float(now.clearance.d[..., -1, :].min()))
         if not float(candidate.clearance.d[..., -1, :].min()) >= tip_floor:
+            return None
+    if candidate.self_gaps is not None:  # every enabled pair of the arm's own parts, likewise
+        if not candidate.min_self_gap >= min(problem.self_pairs.clearance, now.min_self_gap):
             return None
     return candidate
 
@@ -265,12 +305,30 @@ def blocker(nominal: np.ndarray, cons: Constraints) -> Blocker:
 
 def _wrapped(problem: Problem, state: ArmState) -> ArmState:
     """The same pose with unlimited joints wrapped (the kinematics do not change)."""
-    return ArmState(wrap_unlimited(problem, state.phi), state.pose, state.clearance)
+    return ArmState(wrap_unlimited(problem, state.phi), state.pose, state.clearance, state.self_gaps)
 
 
 def pose_clearance(problem: Problem, phi: np.ndarray) -> np.ndarray:
-    """For (k, n) poses: (k,) smallest clearance of any link capsule to any obstacle (+inf if none)."""
-    return min_link_clearance(forward(problem.arm, np.atleast_2d(phi)), problem.obstacles, problem.capsules)
+    """For (k, n) poses: (k,) smallest clearance of any link capsule to any obstacle and of any
+    enabled pair of the arm's own capsules, the latter counted from ``self_clearance`` as the
+    former from ``clearance`` (its gap plus :func:`self_shift`), so that one floor judges both
+    (+inf if neither)."""
+    pose = forward(problem.arm, np.atleast_2d(phi))
+    clear = min_link_clearance(pose, problem.obstacles, problem.capsules)
+    if len(problem.self_pairs):
+        clear = np.minimum(clear, least_self_gap(pose, problem.capsules, problem.self_pairs) + self_shift(problem))
+    return clear
+
+
+def self_shift(problem: Problem) -> float:
+    """``clearance - self_clearance``: what a pair's gap is shifted by to be judged as a clearance."""
+    return problem.solver.clearance - problem.self_pairs.clearance
+
+
+def kept_self_clearance(problem: Problem) -> float:
+    """The gap the filter keeps every enabled pair at: ``self_clearance`` and the filter's margin
+    of ``clearance`` (:func:`kept_clearance` shifted by :func:`self_shift`)."""
+    return kept_clearance(problem) - self_shift(problem)
 
 
 def within_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:

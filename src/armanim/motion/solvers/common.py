@@ -11,6 +11,7 @@ from armanim.arm.capsules import capsule_point, capsule_point_jacobian
 from armanim.arm.kinematics import Pose, forward, link_point, numeric_jacobian, tip_jacobian
 from armanim.motion.problem import Problem
 from armanim.world.distances import Clearances, clearances
+from armanim.world.selfdistances import SelfGaps, self_gaps
 
 
 @dataclass(frozen=True)
@@ -25,11 +26,14 @@ class ArmState:
         Its joint points and frames.
     clearance : Clearances or None
         Clearances of every part to every obstacle (None without obstacles).
+    self_gaps : SelfGaps or None
+        Gaps of the enabled pairs of the arm's own capsules (None without enabled pairs).
     """
 
     phi: np.ndarray
     pose: Pose
     clearance: Clearances | None
+    self_gaps: SelfGaps | None = None
 
     @property
     def tip(self) -> np.ndarray:
@@ -41,13 +45,19 @@ class ArmState:
         """Smallest capsule clearance (+inf without obstacles)."""
         return float(self.clearance.links.min()) if self.clearance is not None else np.inf
 
+    @property
+    def min_self_gap(self) -> float:
+        """Smallest gap of an enabled pair of the arm's own capsules (+inf without one)."""
+        return float(self.self_gaps.least) if self.self_gaps is not None else np.inf
+
 
 def arm_state(problem: Problem, phi: np.ndarray) -> ArmState:
-    """Forward kinematics and clearances of one pose."""
+    """Forward kinematics, clearances and self gaps of one pose."""
     phi = np.asarray(phi, dtype=float)
     pose = forward(problem.arm, phi)
     cl = clearances(pose, problem.obstacles, problem.capsules) if len(problem.obstacles) else None
-    return ArmState(phi, pose, cl)
+    gaps = self_gaps(pose, problem.capsules, problem.self_pairs) if len(problem.self_pairs) else None
+    return ArmState(phi, pose, cl, gaps)
 
 
 @dataclass(frozen=True)
@@ -111,3 +121,12 @@ def jacobian_of_capsule_point(problem: Problem, phi: np.ndarray, pose: Pose, cap
             return np.array([jacobian_of_capsule_point(problem, phi, pose, c, s) for c, s in zip(capsule, t)]).reshape(-1, 3, len(phi))
         return numeric_jacobian(lambda p: capsule_point(caps, forward(problem.arm, p), capsule, t), phi)
     return capsule_point_jacobian(problem.arm, caps, pose, capsule, t)
+
+
+def self_pair_jacobians(problem: Problem, phi: np.ndarray, pose: Pose, gaps: SelfGaps, which: np.ndarray) -> np.ndarray:
+    """(k, 3, n) J_A - J_B of the enabled pairs ``which`` (k,): how fast the first capsule's
+    closest point moves away from the second's (analytic, or as ``solver.jacobian`` says)."""
+    pairs = problem.self_pairs
+    first = jacobian_of_capsule_point(problem, phi, pose, pairs.first[which], gaps.t[which])
+    second = jacobian_of_capsule_point(problem, phi, pose, pairs.second[which], gaps.s[which])
+    return first - second

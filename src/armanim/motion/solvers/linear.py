@@ -35,6 +35,7 @@ from collections.abc import Callable
 import numpy as np
 
 from armanim.arm.linalg import pseudo_inverse
+from armanim.motion.cost import self_influence
 from armanim.motion.orientation import Orientation, orientation_task
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import (
@@ -43,6 +44,7 @@ from armanim.motion.solvers.common import (
     jacobian_of_capsule_point,
     jacobian_of_tip,
     rotation_displacement,
+    self_pair_jacobians,
     task_displacement,
 )
 
@@ -124,6 +126,15 @@ def linear_step(
                 dphi = dphi + jac_inv @ v
             else:
                 pushed = next(inverses) @ v
+                secondary = pushed if secondary is None else secondary + pushed
+    gaps = state.self_gaps
+    if gaps is not None and np.any(gaps.d < self_influence(problem)):  # the arm's own pairs: pushed apart along their normal
+        push = s.beta * s.w_obstacles * repulsion(gaps.d, self_influence(problem))
+        which = np.nonzero(push)[0]
+        if len(which):
+            relative = self_pair_jacobians(problem, phi, pose, gaps, which)
+            for k, inverse in zip(which, invert(relative)):
+                pushed = inverse @ (push[k] * gaps.normal[k])
                 secondary = pushed if secondary is None else secondary + pushed
     if orientation is not None:
         dphi, null_both = orientation_in_null_space(problem, state, orientation, jac, dphi, invert)

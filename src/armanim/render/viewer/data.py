@@ -69,6 +69,7 @@ def page_style() -> dict:
         "floor": hex_color(style.FLOOR_COLOR),
         "grid": hex_color(style.GRID_COLOR),
         "arm": hex_color(style.ARM_COLOR),
+        "self_near": hex_color(style.SELF_NEAR_COLOR),
         "joint": hex_color(style.JOINT_COLOR),
         "base": hex_color(style.BASE_COLOR),
         "obstacle": hex_color(style.OBSTACLE_COLOR),
@@ -229,6 +230,7 @@ def viewer_data(
         "capsules": {
             "radius": [float(r) for r in problem.capsules.radius],
             "ends": rounded(np.stack([starts, ends], axis=2), decimals),
+            **near_entries(problem, pose),
         },
         "angles_deg": rounded(np.degrees(trajectory.phi), ANGLE_DECIMALS),
         "goal": [int(g) for g in trajectory.goal],
@@ -270,3 +272,19 @@ def shape_entries(obstacles) -> dict:
             for a, b, r, i in zip(rods.start, rods.end, rods.radius, obstacles.influence[obstacles.columns(ROD)])
         ]
     return out
+
+
+def near_entries(problem: Problem, pose) -> dict:
+    """``near``: per frame, the capsules of an enabled pair of the arm's own links within
+    twice ``self_clearance`` (tinted, as in the video); nothing without enabled pairs."""
+    pairs = problem.self_pairs
+    if not len(pairs):
+        return {}
+    from armanim.render.solids import NEAR_FACTOR
+    from armanim.world.selfdistances import self_gaps
+
+    close = self_gaps(pose, problem.capsules, pairs).d < NEAR_FACTOR * pairs.clearance  # (F, P)
+    frames = []
+    for row in close:
+        frames.append(sorted({int(c) for c in np.concatenate([pairs.first[row], pairs.second[row]])}))
+    return {"near": frames}

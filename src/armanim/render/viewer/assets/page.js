@@ -240,6 +240,7 @@
 
   // the arm: its collision capsules (the shapes clearance is measured on), a disc per joint, the base
   const armMat = new T.MeshPhongMaterial({ color: S.arm, shininess: 30 });
+  const nearMat = new T.MeshPhongMaterial({ color: S.self_near || S.arm, shininess: 30 });  // a pair of the arm's own links close together
   const jointMat = new T.MeshPhongMaterial({ color: S.joint, shininess: 60 });
   const C = D.capsules.radius.length, E = D.capsules.ends;  // ends: F x C x 2 x 3
   const links = D.capsules.radius.map((r, i) => {
@@ -275,7 +276,9 @@
       links[i].position.addVectors(a, b).multiplyScalar(0.5);
       d.subVectors(b, a);
       if (d.lengthSq() > 0) links[i].quaternion.setFromUnitVectors(Y, d.normalize());
+      links[i].material = armMat;
     }
+    if (D.capsules.near) for (const i of D.capsules.near[f]) links[i].material = nearMat;
     trailGeo.setDrawRange(0, f + 1);
     if (O) toolFrame(f);
   }

@@ -1,0 +1,152 @@
+"""Exact distances between the arm's own capsules: the pairs the allowed-collision matrix leaves enabled.
+
+A pair (A, B) of collision capsules is apart by the distance between their segments less both
+radii (negative when they overlap). The segment-segment closed form is the segment-box one of
+:mod:`armanim.world.closest` (compiled), with B's segment as a box of one edge
+(:meth:`~armanim.world.obstacles.Rods.axes`), as the capsule obstacles are measured: one kernel
+for every capsule distance. The normal points from B's closest point to A's, so a pair's gap
+grows along ``n . (J_A - J_B)`` (:func:`self_rows`: the difference of the two closest points'
+Jacobians, the envelope theorem dropping the fractions' derivatives). One pose or a batch.
+Pure core: numpy only, no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from armanim.arm.capsules import Capsules, capsule_ends, capsule_point
+from armanim.arm.kinematics import Arm, Pose, point_jacobian
+
+
+@dataclass(frozen=True)
+class SelfPairs:
+    """The capsule pairs whose distance is kept (the enabled pairs of the allowed-collision matrix).
+
+    Attributes
+    ----------
+    first, second : (P,) int arrays
+        Capsule indices of each enabled pair (first < second).
+    clearance : float
+        ``solver.self_clearance``: every enabled pair keeps at least this far apart, scene units.
+    names : tuple of (str, str)
+        Each enabled pair's link names, as the run's outputs print them.
+    allowed : tuple of (str, str, str)
+        Every allowed link pair (never checked) and the reason it is allowed (MoveIt's words:
+        ``Adjacent``, ``Default``, ``Never``, ``User``, ``SRDF``, ``Same``).
+    mode : str
+        How the matrix was made: ``auto``, ``srdf``, ``off``.
+    """
+
+    first: np.ndarray
+    second: np.ndarray
+    clearance: float
+    names: tuple[tuple[str, str], ...] = ()
+    allowed: tuple[tuple[str, str, str], ...] = ()
+    mode: str = "off"
+    labels: tuple[str, ...] = field(init=False, repr=False, compare=False)
+    """(P,) each enabled pair as ``a|b`` (the trajectory's ``self_pair`` column)."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "first", np.asarray(self.first, dtype=int).reshape(-1))
+        object.__setattr__(self, "second", np.asarray(self.second, dtype=int).reshape(-1))
+        object.__setattr__(self, "labels", tuple(f"{a}|{b}" for a, b in self.names))
+
+    @classmethod
+    def none(cls, clearance: float = 0.0) -> SelfPairs:
+        """No pair checked (``arm.self_collision: off``)."""
+        return cls(np.zeros(0, dtype=int), np.zeros(0, dtype=int), float(clearance))
+
+    def __len__(self) -> int:
+        return len(self.first)
+
+
+@dataclass(frozen=True)
+class SelfGaps:
+    """How far apart each enabled pair is, for one pose or a batch.
+
+    Attributes
+    ----------
+    d : (..., P) array
+        Distance between the two capsules' surfaces (negative: they overlap), scene units.
+    t, s : (..., P) arrays
+        Fraction along the first's and the second's segment of their closest points.
+    normal : (..., P, 3) array
+        Unit vector from the second's closest point to the first's.
+    """
+
+    d: np.ndarray
+    t: np.ndarray
+    s: np.ndarray
+    normal: np.ndarray
+
+    @property
+    def least(self) -> np.ndarray:
+        """(...) the smallest gap over the pairs (+inf when there is none)."""
+        return self.d.min(axis=-1, initial=np.inf)
+
+
+def self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
+    """Gaps of the enabled pairs at one pose or a batch (points (..., n+1, 3)).
+
+    >>> from armanim.arm.kinematics import Arm, forward
+    >>> from armanim.arm.capsules import joint_capsules
+    >>> arm = Arm.from_names([1, 1, 1], axes=["z", "z", "z"], direction="x")
+    >>> pose = forward(arm, np.radians([0.0, 170.0, 0.0]))   # folded back: link 3 over link 1
+    >>> gaps = self_gaps(pose, joint_capsules(arm, 0.05), SelfPairs([0], [2], 0.01))
+    >>> round(float(gaps.d[0]), 4), gaps.normal.shape
+    (0.0736, (1, 3))
+    """
+    kept = pose.memo.get("self_gaps")
+    if kept is not None and kept[0] is capsules and kept[1] is pairs:
+        return kept[2]
+    gaps = _self_gaps(pose, capsules, pairs)
+    pose.memo["self_gaps"] = (capsules, pairs, gaps)  # the cost, the filter and the record ask for the same pose's
+    return gaps
+
+
+def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
+    """:func:`self_gaps`, computed (:func:`armanim.world.compiled.segment_segment_pairs`)."""
+    from armanim.world import compiled
+
+    a, b = capsule_ends(capsules, pose)
+    batch = a.shape[:-2]
+    shape = batch + (len(pairs),)
+    poses = int(np.prod(batch, dtype=int))
+    if poses * len(pairs) == 0:
+        empty = np.zeros(shape)
+        return SelfGaps(empty, empty.copy(), empty.copy(), np.zeros(shape + (3,)))
+    c = a.shape[-2]
+    offset = (np.arange(poses) * c)[:, None]
+    first, second = (offset + pairs.first).reshape(-1), (offset + pairs.second).reshape(-1)
+    count = len(first)
+    t, s, dist, normal = np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))
+    compiled.segment_segment_pairs(_rows(a), _rows(b), first, second, t, s, dist, normal)
+    d = dist.reshape(shape) - (capsules.radius[pairs.first] + capsules.radius[pairs.second])
+    return SelfGaps(d, t.reshape(shape), s.reshape(shape), normal.reshape(shape + (3,)))
+
+
+def _rows(v: np.ndarray) -> np.ndarray:
+    """(..., 3) points as C-contiguous (N, 3) float rows."""
+    return np.ascontiguousarray(v, dtype=float).reshape(-1, 3)
+
+
+def least_self_gap(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> np.ndarray:
+    """(...) the smallest gap of any enabled pair (+inf without pairs)."""
+    if not len(pairs):
+        return np.full(pose.points.shape[:-2], np.inf)
+    return self_gaps(pose, capsules, pairs).least
+
+
+def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which) -> np.ndarray:
+    """(k, n) rows n . (J_A - J_B) of the pairs ``which`` (k,), one pose: how each pair's gap
+    changes with the joint angles (the difference of the two closest points' Jacobians, along
+    the normal)."""
+    which = np.asarray(which, dtype=int)
+    if not len(which):
+        return np.zeros((0, arm.n))
+    capsule = np.concatenate([pairs.first[which], pairs.second[which]])  # both ends of every pair in one call
+    jac = point_jacobian(arm, pose, capsules.link[capsule], capsule_point(capsules, pose, capsule, np.concatenate([gaps.t[which], gaps.s[which]])))
+    k = len(which)
+    return np.einsum("ka,kan->kn", gaps.normal[which], jac[:k] - jac[k:])
