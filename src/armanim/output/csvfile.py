@@ -173,7 +173,7 @@ def check_header(row: list[str], file: str) -> tuple[str, ...]:
         raise _problem(file, f"lacks the column(s) {', '.join(missing)} ({expected})", 1)
     twice = sorted({c for c in row if row.count(c) > 1})
     if twice:
-        raise _problem(file, f"has the column(s) {', '.join(twice)} more than once", 1)
+        raise _problem(file, f"has the column(s) {', '.join(twice[:8])}{f' and {len(twice) - 8:,} more' if len(twice) > 8 else ''} more than once", 1)
     return tuple(row)
 
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
-from armanim.errors import Diagnostic
+from armanim.errors import Diagnostic, shown
 from armanim.motion.problem import frames_in
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import LIMITS, SceneModel
@@ -42,6 +42,7 @@ def _arm_problems(scene: SceneModel):
         for i, pair in enumerate(arm.limits):
             if pair is not None and not pair[0] < pair[1]:
                 yield f"arm.limits[{i}]", f"min must be below max (got [{pair[0]:g}, {pair[1]:g}])"
+    yield from _narrow_limits(arm)
     limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
     if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
         bundled = arm._robot.bundled if arm.is_urdf else None
@@ -51,6 +52,24 @@ def _arm_problems(scene: SceneModel):
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
                 yield "render.bounds", f"{axis} range must have min < max (got [{pair[0]:g}, {pair[1]:g}])"
+
+
+def _narrow_limits(arm):
+    """Joint ranges no wider than the buffer the planner keeps inside each limit, twice
+    (LIMIT_BUFFER of arm.limit_margin at each end): nowhere left for a pose to be."""
+    from armanim.motion.solvers.barrier import LIMIT_BUFFER
+
+    least = 2 * LIMIT_BUFFER * arm.limit_margin
+    advice = f"expected wider than 2 x {LIMIT_BUFFER:g} x arm.limit_margin = {least:g} deg"
+    if arm.limits is not None:
+        for i, pair in enumerate(arm.limits):
+            if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
+                yield f"arm.limits[{i}]", f"a range of {pair[1] - pair[0]:g} deg is too narrow ({advice}: widen it or lower arm.limit_margin)"
+    elif arm.is_urdf:
+        for name, pair in zip(arm._robot.joint_names, _urdf_limits_degrees(arm)):
+            if pair is not None and pair[1] - pair[0] <= least:
+                yield "arm.limit_margin", (f"the URDF's joint {shown(name)} has a range of {pair[1] - pair[0]:g} deg, too narrow "
+                                           f"({advice}: lower arm.limit_margin, or give arm.limits)")
 
 
 def _urdf_limits_degrees(arm) -> list:
@@ -91,6 +110,11 @@ def _magnitudes(scene: SceneModel):
     yield from ((f"arm.base[{i}]", v) for i, v in enumerate(arm.base or ()))
     yield from ((f"arm.links[{i}]", v) for i, v in enumerate(arm.links or ()))
     yield "arm.width", arm.resolved_width
+    if arm.tool is not None:
+        yield from ((f"arm.tool.xyz[{i}]", v) for i, v in enumerate(arm.tool.xyz))
+    for k, capsule in enumerate(arm.collision if isinstance(arm.collision, list) else ()):
+        for label, value in (("from", capsule.from_), ("to", capsule.to), ("radius", [capsule.radius])):
+            yield from ((f"arm.collision[{k}].{label}[{i}]" if label != "radius" else f"arm.collision[{k}].radius", v) for i, v in enumerate(value))
     for k, obstacle in enumerate(scene.obstacles):
         yield from _obstacle_magnitudes(f"obstacles[{k}]", obstacle)
     if scene.floor is not None:

@@ -38,6 +38,10 @@ LIMITS = {
 """Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
 (bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
 
+MIN_JOINT_STEP = 0.001
+"""Smallest ``solver.max_joint_step``, degrees: a joint's whole turn is then at most 540,000
+frames, so a planned path too long for the frames left is a miss, never an allocation."""
+
 MIN_FPS = 0.01
 """Slowest frame rate (one frame per 100 s): ffmpeg takes the rate as a fraction with a
 denominator of at most 1001, so far slower rates would reach it as 0."""
@@ -67,6 +71,7 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Angle = Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)]
 Vector3 = Annotated[list[Finite], Field(min_length=3, max_length=3)]
+Angles3 = Annotated[list[Angle], Field(min_length=3, max_length=3)]  # roll, pitch, yaw: each within [-360, 360]
 AxisName = Literal["x", "y", "z"]
 
 
@@ -89,7 +94,7 @@ class ToolModel(Strict):
     """The tool frame: the tip, placed in the tip link's frame."""
 
     xyz: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tip's position in the tip link's frame (metres).")
-    rpy: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
+    rpy: Angles3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
 
 
 UrdfName = Annotated[str, Field(min_length=1, max_length=200)]
@@ -116,7 +121,7 @@ class ArmModel(Strict):
     )
     base_link: UrdfName | None = Field(default=None, description="The URDF link the arm starts at; default the root (or the robot's).")
     tip_link: UrdfName | None = Field(default=None, description="The URDF link the arm ends at; default the only leaf (or the robot's).")
-    base_rpy: Vector3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
+    base_rpy: Angles3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
     tool: ToolModel | None = Field(default=None, description="The tip in tip_link's frame; default its origin.")
     collision: Literal["auto"] | Annotated[list[CapsuleModel], Field(max_length=1000)] | None = Field(
         default=None, description="auto (the URDF's primitives, or the robot's capsules), or a list of capsules."
@@ -257,14 +262,14 @@ class OrientationModel(Strict):
     """A goal's tool orientation, exactly one form (degrees): ``rpy`` (URDF's fixed-axis
     roll-pitch-yaw, R = Rz(yaw) Ry(pitch) Rx(roll)), ``quaternion_wxyz``, or ``axis`` and ``angle``."""
 
-    rpy: Annotated[list[Finite], Field(min_length=3, max_length=3)] | None = Field(
+    rpy: Annotated[list[Angle], Field(min_length=3, max_length=3)] | None = Field(
         default=None, description="[roll, pitch, yaw] in degrees: R = Rz(yaw) Ry(pitch) Rx(roll), as URDF's <origin rpy>."
     )
     quaternion_wxyz: Annotated[list[Finite], Field(min_length=4, max_length=4)] | None = Field(
         default=None, description="[w, x, y, z], scalar first; |q| within [0.99, 1.01] (normalised)."
     )
     axis: Vector3 | None = Field(default=None, description="Rotation axis (any length > 0), with angle.")
-    angle: Finite | None = Field(default=None, description="Degrees about axis.")
+    angle: Angle | None = Field(default=None, description="Degrees about axis, within [-360, 360].")
 
     @model_validator(mode="after")
     def _one_form(self):
@@ -347,7 +352,7 @@ class SolverModel(Strict):
     max_frames_per_goal: Annotated[int, Field(ge=1, le=LIMITS["max_frames_per_goal"])] = 600
     jacobian: JacobianMode = "analytic"
     damping: Positive = Field(default=0.05, description="lambda, for dls only.")
-    max_joint_step: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
+    max_joint_step: Annotated[float, Field(ge=MIN_JOINT_STEP, le=180, allow_inf_nan=False)] = Field(
         default=10.0, description="No joint turns by more than this many degrees in one frame of render.fps (a speed: another fps samples the same motion)."
     )
     clearance: Positive | None = Field(

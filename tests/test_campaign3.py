@@ -1,0 +1,182 @@
+"""Issue 36: the holes the third attack campaign found (research/redteam-2026-12-04.md), by
+their roots. Each test failed on main 3ddd2c2; the values are of the kinds the campaign tried,
+not only its examples.
+
+1. one bounded reading of every number (scene and URDF): a floor for max_joint_step, the
+   planner's schedule capped by the frames left, safe normalisation, URDF magnitudes, narrow
+   limits, strict JSON out;
+2. every file read back is read with a depth guard;
+3. output hygiene (index.csv cells, names escaped, reserved names, short messages).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armanim.arm.geometry import unit_vector
+from armanim.errors import SceneError
+from armanim.motion.orientation import Orientation
+from armanim.motion.planning.follow import damper_paced, path_schedule
+from armanim.output.jsontext import json_text, parse_json
+from armanim.scene import scene_to_problem, validate_scene_text
+from armanim.scene.urdf import parse_urdf
+
+ARM = "version: 1\narm: {links: [1, 1, 1, 1]}\n"
+
+
+def scene_error(text: str) -> str:
+    """The report of the SceneError ``text`` must raise."""
+    with pytest.raises(SceneError) as caught:
+        validate_scene_text(text, "s.yaml")
+    return caught.value.report()
+
+
+# ------------------------------------------------------------------ 1. numbers
+
+
+@pytest.mark.parametrize("step", ["1e-9", "1e-6", "1e-300", "0.0009"])
+def test_a_max_joint_step_below_the_floor_is_refused_with_its_line(step):
+    report = scene_error(ARM + f"goals: [[1, 1, 2]]\nsolver: {{max_joint_step: {step}}}\n")
+    assert report.startswith("s.yaml:4: solver.max_joint_step: ") and "0.001" in report
+
+
+@pytest.mark.parametrize("length", [3.0, 300.0, 1e300])
+def test_a_path_longer_than_the_frames_left_is_no_schedule_and_no_allocation(length):
+    waypoints = np.array([[0.0, 0.0], [length, -length]])
+    assert path_schedule(waypoints, np.radians(0.001), most=600) is None
+    assert path_schedule(waypoints, 1e-300, most=10**9) is None  # not even a count overflow
+    short = path_schedule(np.array([[0.0], [0.5]]), 0.1, most=600)
+    assert short is not None and len(short) <= 600 and short[-1] == 0.5
+
+
+def test_the_damper_never_makes_a_schedule_longer_than_the_frames_left():
+    from armanim.scene import load_scene  # a scene with obstacles, so the damper has work
+
+    problem = scene_to_problem(load_scene(Path(__file__).parents[1] / "scenes" / "planning-wall.yaml").model)
+    start = problem.home
+    waypoints = np.stack([start, start + 2.0])
+    schedule = path_schedule(waypoints, problem.solver.max_joint_step)
+    assert len(damper_paced(problem, waypoints, schedule, most=len(schedule) + 3)) <= len(schedule) + 3
+
+
+def test_a_plan_longer_than_the_frames_left_is_a_too_slow_miss():
+    from armanim.motion.planning import plan_motion
+    from armanim.scene import load_scene
+
+    problem = scene_to_problem(load_scene(Path(__file__).parents[1] / "scenes" / "planning-wall.yaml").model)
+    goal = problem.goals[1].position
+    free = plan_motion(problem, problem.home, goal)
+    assert free.frames is not None and len(free.frames) <= problem.solver.max_frames_per_goal
+    tight = plan_motion(problem, problem.home, goal, frames_left=3)
+    assert tight.frames is None and tight.reason == "too_slow"
+
+
+@pytest.mark.parametrize("vector", [[1e-320, 0, 0], [1e-200, 1e-200, 0], [1e308, 0, 1e308], [-1e308, -1e308, -1e308],
+                                    [5e-324, 5e-324, 0], [0, -0.0, 3e-310]])
+def test_a_direction_of_any_finite_size_is_normalised_exactly(vector):
+    unit = unit_vector(vector)
+    exact = np.sign(vector) * (np.array(vector) != 0) / math.sqrt(sum(v != 0 for v in vector))  # equal components here
+    assert np.all(np.isfinite(unit)) and np.allclose(unit, exact, atol=1e-15)
+    assert np.allclose(Orientation(axis=np.array(vector, dtype=float)).axis, exact, atol=1e-15)
+
+
+@pytest.mark.parametrize("form", ["tool_axis: [1e-320, 0, 0]", "tool_axis: [1e308, 0, 1e308]",
+                                  "orientation: {axis: [1e-200, 1e-200, 0], angle: 30}",
+                                  "orientation: {axis: [1e308, 1e308, 1e308], angle: 30}"])
+def test_extreme_orientation_vectors_mean_their_direction(form):
+    model = validate_scene_text(ARM + f"goals:\n  - {{position: [1, 1, 2], {form}}}\n", "s.yaml")
+    goal = scene_to_problem(model).goals[0].orientation
+    if goal.axis is not None:
+        assert np.allclose(goal.axis, unit_vector([1, 0, 0] if "1e-320" in form else [1, 0, 1]))
+    else:  # 30 degrees about the vector's direction, never the identity or NaN
+        assert np.isclose(np.degrees(np.arccos((np.trace(goal.rotation) - 1) / 2)), 30.0)
+
+
+@pytest.mark.parametrize("field", ["orientation: {axis: [0, 0, 1], angle: 1e308}", "orientation: {rpy: [1e308, 0, 0]}",
+                                   "orientation: {rpy: [0, 361, 0]}"])
+def test_goal_angles_are_bounded_like_every_other_angle(field):
+    report = scene_error(ARM + f"goals:\n  - {{position: [1, 1, 2], {field}}}\n")
+    assert "s.yaml:4: goals[0].orientation." in report and "360" in report
+
+
+def urdf(origin="0 0 0.3", axis="0 1 0", lower="-2", upper="2", size='radius="0.03" length="0.3"') -> bytes:
+    links = "".join(f'<link name="l{i}"><collision><geometry><cylinder {size}/></geometry></collision></link>' for i in range(3))
+    joints = "".join(
+        f'<joint name="j{i}" type="revolute"><parent link="l{i}"/><child link="l{i + 1}"/><origin xyz="{origin}"/>'
+        f'<axis xyz="{axis}"/><limit lower="{lower}" upper="{upper}"/></joint>\n' for i in range(2))
+    return f'<robot name="r">\n{links}\n{joints}</robot>'.encode()
+
+
+@pytest.mark.parametrize("kwargs", [{"origin": "1e200 0 0"}, {"origin": "0 0 -2e9"}, {"lower": "-1e308"},
+                                    {"upper": "1e10"}, {"size": 'radius="1e300" length="1"'}, {"axis": "0 1e10 0"}])
+def test_urdf_numbers_are_bounded_as_a_scene_s_with_their_line(kwargs):
+    with pytest.raises(SceneError, match=r"^r\.urdf:[23]: .*above 1e\+09 in size") as caught:
+        parse_urdf(urdf(**kwargs), "r.urdf")
+    assert len(caught.value.report()) < 300
+
+
+@pytest.mark.parametrize("number", ["-1_0", "1_000", "0x10", "inf", "nan", "Infinity", "1e", "--1", "1.2.3", "١"])
+def test_a_urdf_number_is_written_as_urdf_writes_it(number):
+    with pytest.raises(SceneError, match="finite numbers"):
+        parse_urdf(urdf(origin=f"0 0 {number}"), "r.urdf")
+
+
+@pytest.mark.parametrize("axis", ["1e-200 0 0", "1e9 1e9 0", "0 0 -5e-324"])
+def test_a_urdf_axis_of_any_finite_size_is_its_direction(axis):
+    from armanim.arm.chain import serial_chain
+    from armanim.scene.urdf import chain_joints
+
+    robot = parse_urdf(urdf(axis=axis), "r.urdf")
+    arm = serial_chain(np.eye(4), chain_joints(robot, "l0", "l2"), np.eye(4)).arm
+    assert np.allclose(arm.axes, unit_vector([float(v) for v in axis.split()]))
+
+
+@pytest.mark.parametrize("limits,margin", [("[[-0.4, 0.4], null, null, null]", ""), ("[[-5, 5], null, null, null]", "  limit_margin: 180\n")])
+def test_a_joint_range_narrower_than_the_planner_s_buffer_is_refused_with_the_field(limits, margin):
+    report = scene_error(f"version: 1\narm:\n  links: [1, 1, 1, 1]\n  limits: {limits}\n{margin}goals: [[1, 1, 2]]\n")
+    assert report.startswith("s.yaml:4: arm.limits[0]: a range of ") and "limit_margin" in report
+
+
+def test_a_urdf_range_narrower_than_the_buffer_names_the_joint(tmp_path):
+    (tmp_path / "r.urdf").write_bytes(urdf(lower="-1e-300", upper="1e-300"))
+    (tmp_path / "s.yaml").write_text("version: 1\narm: {urdf: r.urdf, base_link: l0, tip_link: l2}\ngoals: [[0.1, 0.1, 0.4]]\n")
+    from armanim.scene import load_scene
+
+    with pytest.raises(SceneError, match=r"arm.limit_margin: the URDF's joint 'j0' has a range of 1.14592e-298 deg"):
+        load_scene(tmp_path / "s.yaml")
+
+
+def test_the_planner_seeds_within_a_range_narrower_than_its_buffer():
+    from types import SimpleNamespace
+
+    from armanim.motion.planning.poses import seed_poses
+    from armanim.motion.problem import Limits
+
+    narrow = SimpleNamespace(limits=Limits(np.array([-0.007, -np.inf]), np.array([0.007, np.inf]), margin=np.radians(10)))
+    seeds = seed_poses(narrow, np.zeros(2), 16, seed=1)
+    assert np.all(np.abs(seeds[:, 0]) <= 0.007)
+
+
+def test_json_is_written_strictly_and_read_with_a_depth_guard():
+    with pytest.raises(ValueError):
+        json_text({"final_distance": math.inf})
+    for deep in ("[" * 1500 + "]" * 1500, '{"a":' * 100_000 + "1" + "}" * 100_000):
+        with pytest.raises(ValueError, match="nested too deep"):
+            parse_json(deep)
+
+
+def test_numpy_warnings_never_reach_the_terminal(tmp_path):
+    scene = tmp_path / "w.yaml"
+    scene.write_text(ARM + "goals:\n  - {position: [1, 1, 2], tool_axis: [0, 0, -1]}\n"
+                     "solver: {orientation_weight: 1e-300, max_frames_per_goal: 30}\nrender: {size: [64, 48]}\n")
+    done = subprocess.run([sys.executable, "-m", "armanim", "run", str(scene), "--out", str(tmp_path / "o"), "--no-video", "--quiet"],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0 and "Warning" not in done.stderr, done.stderr
+    json.loads((tmp_path / "o" / "w" / "summary.json").read_text(), parse_constant=lambda c: pytest.fail(f"{c} in summary.json"))
