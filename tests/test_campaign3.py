@@ -180,3 +180,112 @@ def test_numpy_warnings_never_reach_the_terminal(tmp_path):
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0 and "Warning" not in done.stderr, done.stderr
     json.loads((tmp_path / "o" / "w" / "summary.json").read_text(), parse_constant=lambda c: pytest.fail(f"{c} in summary.json"))
+
+
+# ------------------------------------------------------------------ 2. files read back
+
+
+SMALL = ARM + "goals: [[1, 1, 2]]\nrender: {fps: 10, size: [64, 48]}\nsolver: {max_frames_per_goal: 40}\n"
+
+
+@pytest.fixture()
+def finished_run(cli, tmp_path) -> Path:
+    (tmp_path / "deep.yaml").write_text(SMALL + "name: deep\n")
+    cli("run", tmp_path / "deep.yaml", "--out", tmp_path / "o", "--no-video", "--quiet")
+    return tmp_path / "o" / "deep"
+
+
+@pytest.mark.parametrize("text", ["[" * 1500 + "]" * 1500, '{"goals":' * 50_000 + "1" + "}" * 50_000])
+@pytest.mark.parametrize("command", ["view", "render"])
+def test_a_deeply_nested_summary_is_one_line_and_exit_2(cli, finished_run, text, command):
+    (finished_run / "summary.json").write_text(text)
+    result = cli(command, finished_run)
+    assert result.exit_code == 2
+    assert result.stderr.strip() == f"{finished_run / 'summary.json'}: is not an armanim summary: nested too deep"
+
+
+def test_a_deeply_nested_golden_json_is_ignored(cli, tmp_path):
+    (tmp_path / "deep.yaml").write_text(SMALL + "name: deep\n")
+    assert cli("check", tmp_path / "deep.yaml", "--golden", tmp_path / "g", "--update", "--quiet").exit_code == 0
+    (tmp_path / "g" / "deep.json").write_text("[" * 40_000 + "]" * 40_000)
+    assert cli("check", tmp_path / "deep.yaml", "--golden", tmp_path / "g").exit_code == 0
+
+
+# ------------------------------------------------------------------ 3. output hygiene
+
+
+def test_index_csv_cells_never_start_a_formula(cli, tmp_path):
+    import csv
+
+    names = ['=HYPERLINK("http:__x","open")+1', "@SUM(1+1)", "+1", "-cmd", "\tx"]
+    for k, stem in enumerate(names):
+        (tmp_path / f"{stem}.yaml").write_text(SMALL + f"name: s{k}\n" + ("goals: [[1, 1, 99]]\n" if k == 1 else ""))  # k=1: invalid
+    (tmp_path / "-bad.yaml").write_text("version: 1\n")  # an invalid scene: its stem and message are cells too
+    result = cli("run", *sorted(tmp_path.glob("*.yaml")), "--out", tmp_path / "o", "--no-video", "--jobs", "1", "--quiet")
+    assert result.exit_code == 2
+    cells = [c for row in csv.reader((tmp_path / "o" / "index.csv").open(newline="")) for c in row]
+    assert not [c for c in cells if c[:1] in ("=", "+", "-", "@", "\t", "\r")]
+    assert {"'-bad", "'@SUM(1+1)"} <= set(cells)  # the stems of the invalid scenes, kept as text
+
+
+def names_urdf(name: str) -> bytes:
+    return urdf().replace(b'name="j1"', f'name="{name}"'.encode())
+
+
+@pytest.mark.parametrize("name", ["j1)&#10;ok evil.yaml (all good", "a&#x202e;b", "c&#x9b;31m", "d&#13;e", "x" * 5000])
+def test_names_from_files_are_printed_escaped(cli, tmp_path, name):
+    (tmp_path / "r.urdf").write_bytes(names_urdf(name))
+    (tmp_path / "s.yaml").write_text("version: 1\narm: {urdf: r.urdf, base_link: l0, tip_link: l2}\ngoals: [[0.1, 0.1, 0.4]]\n")
+    result = cli("validate", tmp_path / "s.yaml")
+    assert result.exit_code == 0 and len(result.stdout.splitlines()) == 1, result.stdout
+    assert result.stdout.isprintable() or result.stdout[:-1].isprintable()
+    assert len(result.stdout) < 700
+
+
+@pytest.mark.parametrize("name", ["index.csv", "INDEX.CSV", "notes-sweep.csv", "a-Sweep.CSV"])
+def test_names_of_armanim_s_own_tables_are_refused_at_validate(name):
+    report = scene_error(SMALL + f"name: {name}\n")
+    assert report.startswith("s.yaml:6: name: ") and "table armanim writes" in report
+
+
+def test_view_out_inside_the_run_folder_is_refused(cli, finished_run):
+    result = cli("view", finished_run, "--out", finished_run / "extra.html")
+    assert result.exit_code == 2 and "inside the run folder" in result.stderr
+    assert not (finished_run / "extra.html").exists()
+    assert cli("view", finished_run, "--out", finished_run / "viewer.html").exit_code == 0
+
+
+def test_a_golden_csv_with_thousands_of_extra_columns_is_a_short_message_naming_the_file(cli, tmp_path):
+    (tmp_path / "wide.yaml").write_text(SMALL + "name: wide\n")
+    cli("check", tmp_path / "wide.yaml", "--golden", tmp_path / "g", "--update", "--quiet")
+    golden = tmp_path / "g" / "wide.csv"
+    rows = golden.read_text().splitlines()
+    extra = 12_000
+    golden.write_text("\n".join([rows[0] + "," + ",".join(f"c{i}" for i in range(extra))]
+                                + [r + "," + ",".join(["0"] * extra) for r in rows[1:]]) + "\n")
+    result = cli("check", tmp_path / "wide.yaml", "--golden", tmp_path / "g")
+    assert result.exit_code == 2 and len(result.stderr) < 400 and str(golden) in result.stderr and "11,992 more" in result.stderr
+
+
+def test_every_line_of_a_message_is_short_and_printable():
+    from armanim.errors import message_lines
+
+    text = message_lines("a.yaml:1: " + "x\u202e\x9b" * 10_000 + "\nsecond")
+    first, second = text.split("\n")
+    assert len(first) < 700 and first.isprintable() and second == "second"
+
+
+def test_validate_reports_every_problem_of_a_file_in_one_pass():
+    text = ("version: 1\narm:\n  links: [1, 1, 1, 1]\n  limits: [[10, -10], null, null, null]\n"
+            "obstacles:\n  - {center: [0, 0, 1], radius: 0.3}\ngoals: [[1, 1, 2]]\nrender: {size: [10, 10000000]}\n")
+    report = scene_error(text)
+    for expected in ("s.yaml:4: arm.limits[0]: min must be below max", "s.yaml:6: obstacles[0]: link 1 of the arm's home pose is inside",
+                     "s.yaml:8: render.size[0]: must be >= 16", "s.yaml:8: render.size[1]: must be <= 7680"):
+        assert expected in report, report
+
+
+@pytest.mark.parametrize("field,exact", [("goals: [{position: [1, 1, 2], tool_axis: [1, 0]}]", "goals[0].tool_axis: has 2 items (expected exactly 3)"),
+                                         ("goals: [[1, 1, 2]]\nrender: {size: [64]}", "render.size: has 1 items (expected exactly 2)"),
+                                         ("goals: [{position: [1, 1, 2], orientation: {quaternion_wxyz: [1, 0, 0]}}]", "(expected exactly 4)")])
+def test_a_list_of_a_fixed_length_says_exactly(field, exact):
+    assert exact in scene_error(ARM + field + "\n")

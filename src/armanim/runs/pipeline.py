@@ -229,6 +229,8 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
     OutputError
         The folder was not made by armanim, something other than an armanim page stands at
         ``out``, or the page could not be written (exit 3).
+    UsageError
+        ``out`` is inside the run folder but not its viewer.html (exit 2).
     """
     from armanim.render.viewer import VIEWER_FILE, write_viewer
     from armanim.render.viewer.page import replace_problem
@@ -244,6 +246,9 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
                          staged / VIEWER_FILE, title=run.scene.name)
         return own
     target = Path(out)
+    if target.resolve().is_relative_to(folder.resolve()):
+        raise UsageError(f"--out: {target} is inside the run folder {folder}, which the next run replaces whole "
+                         f"(leave --out out to write {own}, or choose a file outside it)")
     problem = replace_problem(target)
     if problem is not None:
         raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")

@@ -20,24 +20,31 @@ from armanim.world.distances import clearances, point_clearances
 from armanim.world.obstacles import FLOOR
 
 
-def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
+def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str, str]]:
     """Every cross-field problem of a validated scene, as (field path, message) pairs.
 
-    The collision checks run once the arm itself is consistent.
+    The collision checks run once the arm itself is consistent (and only if ``collisions``).
     """
-    problems = list(_arm_problems(scene)) + list(_size_problems(scene))
-    if not problems:
+    counts, sizes = list(_count_problems(scene)), list(_size_problems(scene))
+    problems = counts + list(_arm_problems(scene)) + sizes
+    if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
         problems += list(_collision_problems(scene_to_problem(scene), "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
     return problems
 
 
-def _arm_problems(scene: SceneModel):
+def _count_problems(scene: SceneModel):
+    """arm.axes, home and limits of another length than the arm's joints (the arm is then unknown)."""
     arm = scene.arm
     n = arm.joint_count
     for field in ("axes", "home", "limits"):
         values = getattr(arm, field)
         if values is not None and len(values) != n:
             yield f"arm.{field}", f"has {len(values)} entries, the arm has {n} {'joints' if arm.is_urdf else 'links'} (expected one per joint)"
+
+
+def _arm_problems(scene: SceneModel):
+    arm = scene.arm
+    n = arm.joint_count
     if arm.limits is not None:
         for i, pair in enumerate(arm.limits):
             if pair is not None and not pair[0] < pair[1]:

@@ -63,6 +63,9 @@ def name_problem(name: str) -> str | None:
         return f"a name of {len(name)} characters is too long (expected at most {NAME_MAX})"
     if not re.fullmatch(NAME_PATTERN, name):
         return f"{name!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
+    if name.casefold() == "index.csv" or name.casefold().endswith("-sweep.csv"):
+        return (f"{name!r} is the name of a table armanim writes beside the run folders (index.csv, "
+                "SCENE-sweep.csv): choose another name")
     return None
 
 
@@ -430,3 +433,11 @@ class SceneModel(Strict):
     goals: Annotated[list[GoalModel], Field(min_length=1, max_length=LIMITS["goals"])]
     solver: SolverModel = SolverModel()
     render: RenderModel = RenderModel()
+
+    @field_validator("name")
+    @classmethod
+    def _not_a_table_name(cls, value):
+        problem = name_problem(value) if value is not None else None
+        if problem is not None:
+            raise ValueError(problem)
+        return value
