@@ -289,3 +289,45 @@ def test_validate_reports_every_problem_of_a_file_in_one_pass():
                                          ("goals: [{position: [1, 1, 2], orientation: {quaternion_wxyz: [1, 0, 0]}}]", "(expected exactly 4)")])
 def test_a_list_of_a_fixed_length_says_exactly(field, exact):
     assert exact in scene_error(ARM + field + "\n")
+
+
+# ------------------------------------------------------------------ 4. render keeps the run's seconds
+
+
+def test_retimed_frames_keep_the_run_s_poses_at_its_own_times():
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.runs.retime import retime
+
+    problem = scene_to_problem(validate_scene_text(SMALL.replace("[[1, 1, 2]]", "[[1, 1, 2], [-1, 1, 2]]"), "s.yaml"))
+    solution = solve_trajectory(problem)
+    src = solution.trajectory
+    double = retime(problem, solution, 2 * src.fps)
+    assert double.trajectory.frames == 2 * src.frames - 1
+    assert np.allclose(double.trajectory.time[-1], src.time[-1])
+    assert np.allclose(double.trajectory.phi[::2], src.phi)  # the run's own poses, at their own seconds
+    assert np.allclose(double.trajectory.phi[1::2], 0.5 * (src.phi[:-1] + src.phi[1:]))  # limited-free here: none wrap
+    assert np.allclose(double.trajectory.tip[::2], src.tip) and np.array_equal(double.trajectory.goal[::2], src.goal)
+    for before, after in zip(solution.goals, double.goals):
+        heads = 2 * before.first_frame - (1 if before.index else 0)  # the in-between frame heads for the next goal's first
+        assert (after.first_frame, after.last_frame, after.reached) == (heads, 2 * before.last_frame, before.reached)
+    half = retime(problem, solution, src.fps / 2)
+    assert np.isclose(half.trajectory.time[-1], src.time[-1]) and np.allclose(half.trajectory.phi[-1], src.phi[-1])
+
+
+@pytest.mark.slow
+def test_render_at_another_fps_keeps_the_run_s_real_time(cli, finished_run):
+    import imageio_ffmpeg
+
+    own = imageio_ffmpeg.count_frames_and_secs(str(finished_run / "animation.mp4")) if (finished_run / "animation.mp4").exists() else None
+    frames = len((finished_run / "trajectory.csv").read_text().splitlines()) - 1
+    for fps in (25, 5):
+        assert cli("render", finished_run, "--fps", fps, "--out", finished_run.parent / f"r{fps}", "--quiet").exit_code == 0
+        count, seconds = imageio_ffmpeg.count_frames_and_secs(str(finished_run.parent / f"r{fps}" / "animation.mp4"))
+        assert abs(count / fps - frames / 10) <= 2 / fps, (count, frames, own)
+
+
+def test_render_at_an_fps_beyond_the_frame_limit_is_refused_before_drawing(cli, tmp_path):
+    (tmp_path / "slow.yaml").write_text(ARM + "name: slow\ngoals: [{position: [1, 1, 2], hold: 3600}]\nrender: {fps: 0.01, size: [64, 48]}\n")
+    assert cli("run", tmp_path / "slow.yaml", "--out", tmp_path / "o", "--no-video", "--quiet").exit_code == 0
+    result = cli("render", tmp_path / "o" / "slow", "--fps", 240, "--out", tmp_path / "r")
+    assert result.exit_code == 2 and "expected at most 1,000,000" in result.stderr and not (tmp_path / "r").exists()
