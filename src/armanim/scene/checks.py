@@ -7,6 +7,7 @@ collected, none stops the others.
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
@@ -158,11 +159,18 @@ def _obstacle_magnitudes(path: str, obstacle):
         yield f"{path}.influence", obstacle.influence
 
 
+POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|max_step|clearance)|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|influence)")
+"""The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
+largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
+
+
 def _size_problems(scene: SceneModel):
-    big = LIMITS["magnitude"]
+    big, small = LIMITS["magnitude"], LIMITS["smallest"]
     for path, value in _magnitudes(scene):
         if abs(value) > big:
             yield path, f"{value:g} is too large (expected at most {big:g} in size: choose a smaller unit)"
+        elif 0 < value < small and POSITIVE_LENGTHS.fullmatch(path):
+            yield path, f"{value:g} is too small (expected at least {small:g}: choose a larger unit)"
     if sum(scene.arm.links or ()) > big:
         yield "arm.links", f"the arm is {sum(scene.arm.links):g} long (expected at most {big:g}: choose a smaller unit)"
     weights = scene.solver.weights

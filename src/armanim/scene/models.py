@@ -33,6 +33,7 @@ LIMITS = {
     "max_frames_per_goal": 100_000,
     "total_frames": 1_000_000,  # frame 0 + every goal's max_frames_per_goal and hold frames (checks.py)
     "magnitude": 1e9,  # largest |coordinate| or length, scene units (checks.py): squares stay far from overflow
+    "smallest": 1e-9,  # smallest link, width, tolerance, clearance, max_step, box edge, capsule radius, influence (checks.py)
     "weight": 1e12,  # largest cost weight (checks.py)
 }
 """Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
