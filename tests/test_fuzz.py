@@ -171,7 +171,7 @@ def mutated_csv_texts(draw) -> str:
 def check_csv_outcome(text: str) -> None:
     """A table (drawable or with a named problem, equal to itself by file and by table) or a SceneError."""
     from armanim.output.compare import compare_csv_files, compare_trajectories
-    from armanim.output.csvfile import EMPTY_ALLOWED, parse_trajectory_csv
+    from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, parse_trajectory_csv
     from armanim.runs.reload import drawable_problem
 
     try:
@@ -181,7 +181,7 @@ def check_csv_outcome(text: str) -> None:
         return
     problem = drawable_problem(table, goals=3)
     if problem is None:
-        numbers = table.data[:, [i for i, c in enumerate(table.columns) if c not in (*EMPTY_ALLOWED, "mode")]]
+        numbers = table.data[:, [i for i, c in enumerate(table.columns) if c not in (*EMPTY_ALLOWED, *TEXT_COLUMNS)]]
         assert np.all(np.isfinite(numbers))
     else:
         assert problem.message and problem.line is not None

@@ -20,6 +20,12 @@ def main() -> None:
     """Entry point of the ``armanim`` console script."""
     signal.signal(signal.SIGINT, _quit_before_the_command)
     signal.signal(signal.SIGTERM, _quit_before_the_command)
+    import warnings
+
+    # numpy's floating-point RuntimeWarnings are not the user's business: a value they would
+    # warn about is checked where it matters (and the processes this one starts do the same)
+    os.environ.setdefault("PYTHONWARNINGS", "ignore::RuntimeWarning")
+    warnings.filterwarnings("ignore", category=RuntimeWarning)
     from armanim.cli import main as run_command
 
     run_command()

@@ -18,6 +18,65 @@ INTERRUPTED = "armanim: interrupted; nothing half-written was left behind"
 """The one line on stderr of an interrupted command (exit 130)."""
 
 
+SHOWN_CHARACTERS = 80
+"""Longest piece of a user's text (a name, a flag value) quoted in a message."""
+
+
+def shown(text: str, limit: int = SHOWN_CHARACTERS) -> str:
+    """``text`` quoted for a message: control and format characters escaped (a newline or a
+    right-to-left override from a file cannot forge or reorder output lines), cut after
+    ``limit`` characters with the length said.
+
+    >>> print(shown("j1\\nok evil.yaml\\u202e"), shown("x" * 100, 4))
+    'j1\\nok evil.yaml\\u202e' 'xxxx...' (100 characters)
+    """
+    if len(text) <= limit:
+        return repr(text)
+    return repr(text[:limit])[:-1] + f"...' ({len(text):,} characters)"
+
+
+MESSAGE_LINE = 600
+"""Longest line of a message armanim prints: a longer one is cut (its length said)."""
+
+
+def printable(text: str) -> str:
+    """``text`` with every character that is not printable (newline, tab, C1 controls, format
+    characters such as the right-to-left override) written as its escape, unquoted.
+
+    >>> printable("ok a.yaml"), printable("j1\\nok\\u202e")
+    ('ok a.yaml', 'j1\\\\nok\\\\u202e')
+    """
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def message_lines(text: str, limit: int = MESSAGE_LINE) -> str:
+    """A message as printed: each line :func:`printable` and cut after ``limit`` characters.
+
+    >>> len(message_lines("x" * 5000)) < 700
+    True
+    """
+    lines = []
+    for line in text.split("\n"):
+        line = printable(line)
+        if len(line) > limit:
+            line = line[:limit] + f" ... (cut: the line has {len(line):,} characters)"
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def shown_list(names, limit: int = 8) -> str:
+    """Names for a message, each :func:`shown`, the first ``limit`` and a count of the rest.
+
+    >>> shown_list([f"c{i}" for i in range(12000)], 3)
+    "'c0', 'c1', 'c2' and 11,997 more"
+    """
+    names = list(names)
+    head = ", ".join(shown(n) for n in names[:limit])
+    return head if len(names) <= limit else f"{head} and {len(names) - limit:,} more"
+
+
 class ArmanimError(Exception):
     """Base of every error armanim reports to a user (never shown as a traceback)."""
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.arm.geometry import unit_vector
 from armanim.arm.kinematics import Arm
 from armanim.arm.rotations import rpy_rotation  # the one owner of rpy (re-exported here for URDF code)
 
@@ -105,7 +106,7 @@ def serial_chain(mount: np.ndarray, joints: list[ChainJoint], tool: np.ndarray) 
             else:
                 offsets.append(rel[:3, 3].copy())
                 turns.append(rel[:3, :3].copy())
-            axes.append(np.asarray(joint.axis, dtype=float) / np.linalg.norm(joint.axis))
+            axes.append(unit_vector(joint.axis))
             carrier += 1
             rel = np.eye(4)
         carriers.append(carrier)

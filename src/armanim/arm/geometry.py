@@ -23,6 +23,23 @@ def axis_vector(name: str) -> np.ndarray:
     return AXIS_VECTORS[name].copy()
 
 
+def unit_vector(v) -> np.ndarray:
+    """``v / |v|`` for any finite nonzero vector (...,  k), however small or large its components.
+
+    Scaled by its largest component first, so that the length neither underflows (1e-320)
+    nor overflows (1e308); a zero or non-finite vector is a ValueError, never NaN.
+
+    >>> unit_vector([1e-320, 0, 0]).tolist(), unit_vector([1e308, 0, 1e308]).round(12).tolist()
+    ([1.0, 0.0, 0.0], [0.707106781187, 0.0, 0.707106781187])
+    """
+    v = np.asarray(v, dtype=float)
+    biggest = np.abs(v).max(axis=-1, keepdims=True) if v.size else np.zeros(v.shape[:-1] + (1,))
+    if not (np.all(np.isfinite(v)) and np.all(biggest > 0)):
+        raise ValueError("a direction must be finite and nonzero")
+    scaled = v / biggest
+    return scaled / np.sqrt(np.sum(scaled * scaled, axis=-1, keepdims=True))
+
+
 def skew(v: np.ndarray) -> np.ndarray:
     """Cross-product matrix ``[v]x`` with ``skew(v) @ u == cross(v, u)``."""
     x, y, z = v

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from armanim.arm.geometry import skew
+from armanim.arm.geometry import skew, unit_vector
 
 SMALL_ANGLE = 1e-8
 """Below this angle (radians) exp and log use their Taylor series (no division by sin)."""
@@ -61,7 +61,7 @@ def quaternion_rotation(q_wxyz) -> np.ndarray:
            [ 0., -1.,  0.],
            [ 0.,  0.,  1.]])
     """
-    w, x, y, z = np.asarray(q_wxyz, dtype=float) / np.linalg.norm(q_wxyz)
+    w, x, y, z = unit_vector(q_wxyz)
     return np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
@@ -123,8 +123,7 @@ def axis_angle_rotation(axis, angle: float) -> np.ndarray:
     >>> np.round(axis_angle_rotation([0, 0, 2], np.pi) @ [1, 0, 0], 12) + 0.0
     array([-1.,  0.,  0.])
     """
-    axis = np.asarray(axis, dtype=float)
-    return rotation_exp(axis / np.linalg.norm(axis) * float(angle))
+    return rotation_exp(unit_vector(axis) * float(angle))
 
 
 def rotation_log(rot: np.ndarray) -> np.ndarray:

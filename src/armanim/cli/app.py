@@ -17,7 +17,7 @@ from rich.console import Console
 
 from armanim import __version__
 from armanim.cli.interrupts import command_signals, ignore_until_exit
-from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, INTERRUPTED, ArmanimError
+from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, INTERRUPTED, ArmanimError, message_lines
 from armanim.runs.interrupted import signal_came
 
 app = typer.Typer(
@@ -84,7 +84,7 @@ def say(text: str, console: Console = out) -> None:
 
 def report(exc: ArmanimError) -> None:
     """An error's report on stderr, as the contract writes it (``FILE:LINE: field: message``)."""
-    say(exc.report(), err)
+    say(message_lines(exc.report()), err)
 
 
 def handle_errors(command):
@@ -145,7 +145,7 @@ def _main(
 def print_notes(scene) -> None:
     """A scene's notes (not errors) on stderr, as ``note: FILE:LINE: field: message``."""
     for note in scene.notes:
-        say("note: " + note.format(str(scene.path)), err)
+        say(message_lines("note: " + note.format(str(scene.path))), err)
 
 
 def plural(count: int, word: str) -> str:

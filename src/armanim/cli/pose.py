@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated
@@ -15,6 +14,7 @@ from armanim.cli.app import app, err, fmt, handle_errors, out, say
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
 from armanim.cli.options import parse_lengths, parse_numbers
 from armanim.errors import UsageError
+from armanim.output.jsontext import json_text
 
 
 @app.command()
@@ -47,7 +47,7 @@ def fk(
     if as_json:
         angles_deg = np.degrees(values) if radians else values  # as typed, not round-tripped through radians
         rot = tool_rotation(problem.arm, pose)
-        print(json.dumps({
+        print(json_text({
             "angles_deg": angles_deg.tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist(),
             "tip_quaternion_wxyz": rotation_quaternion(rot).tolist(), "tip_rpy_deg": np.degrees(rotation_rpy(rot)).tolist(),
         }))
@@ -119,7 +119,7 @@ def ik(
     result = solve_pose(problem, target, phi0, max_iterations, orientation=wanted)
     data = ik_report(problem, target, result)
     if as_json:
-        print(json.dumps(data))
+        print(json_text(data))
     else:
         print_ik_report(data, problem.solver.tolerance, np.degrees(problem.solver.orientation_tolerance))
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -10,7 +9,8 @@ from typing import Annotated
 import typer
 
 from armanim.cli.app import app, handle_errors, plural, print_notes, report, say
-from armanim.errors import EXIT_BAD_INPUT
+from armanim.errors import EXIT_BAD_INPUT, message_lines, shown_list
+from armanim.output.jsontext import json_text
 
 
 @app.command()
@@ -33,7 +33,7 @@ def validate(
             failed += 1
             report(exc)
             continue
-        say(f"ok {path} ({scene.name}: {scene_counts(scene.model)}, method {scene.model.solver.method})")
+        say(message_lines(f"ok {path} ({scene.name}: {scene_counts(scene.model)}, method {scene.model.solver.method})"))
         print_notes(scene)
     if failed:
         raise typer.Exit(EXIT_BAD_INPUT)
@@ -44,7 +44,8 @@ def scene_counts(model) -> str:
     arm = model.arm
     if arm.is_urdf:
         names = arm._robot.joint_names
-        first = f"{plural(len(names), 'joint')} ({', '.join(names)})"
+        plain = all(n.isprintable() and len(n) <= 80 for n in names)  # else quoted and escaped: a name cannot forge a line
+        first = f"{plural(len(names), 'joint')} ({', '.join(names) if plain else shown_list(names)})"
     else:
         first = plural(len(arm.links), "link")
     counts = ((len(model.goals), "goal"), (len(model.obstacles), "obstacle"))
@@ -63,7 +64,7 @@ def schema(
     from armanim.output.atomic import write_text_atomic
     from armanim.scene.models import SceneModel
 
-    text = json.dumps(SceneModel.model_json_schema(), indent=2) + "\n"
+    text = json_text(SceneModel.model_json_schema(), indent=2) + "\n"
     if output is None:
         sys.stdout.write(text)
     else:

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from armanim.arm.geometry import unit_vector
 from armanim.arm.kinematics import Arm, Pose, angular_jacobian, forward, tip_jacobian, tool_rotation
 from armanim.arm.rotations import alignment_vector, perpendicular_basis, rotation_exp, rotation_log, rotation_quaternion
 
@@ -52,8 +53,7 @@ class Orientation:
         if (self.rotation is None) == (self.axis is None):
             raise ValueError("an orientation sets exactly one of rotation and axis")
         if self.axis is not None:
-            axis = np.asarray(self.axis, dtype=float)
-            object.__setattr__(self, "axis", axis / np.linalg.norm(axis))
+            object.__setattr__(self, "axis", unit_vector(self.axis))
         else:
             object.__setattr__(self, "rotation", np.asarray(self.rotation, dtype=float))
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from armanim.errors import Diagnostic, SceneError
+from armanim.errors import Diagnostic, SceneError, shown, shown_list
 from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, open_trajectory_csv
 
 EXACT = ("frame", "goal", "reached", "mode")
@@ -65,7 +65,8 @@ class _Comparer:
         self.columns = [c for c in expected_columns if c not in NOT_COMPARED]
         missing = [c for c in self.columns if c not in actual_columns]
         if missing:
-            raise SceneError(file, [Diagnostic("", f"lacks the column(s) {', '.join(missing)} that {names[0]} has")])
+            other = files[0] if files else names[0]
+            raise SceneError(file, [Diagnostic("", f"lacks {plural_columns(missing)} that {other} has")])
         self.tolerances = {c: _tolerance(c, atol_deg, atol) for c in self.columns}
         self.names = names
         self.rows = [0, 0]
@@ -141,6 +142,7 @@ def compare_trajectories(
     atol_deg: float = 1e-6,
     atol: float = 1e-6,
     names: tuple[str, str] = ("expected", "actual"),
+    files: tuple[str, str] | None = None,
 ) -> Comparison:
     """Compare two trajectory tables column by column.
 
@@ -150,7 +152,7 @@ def compare_trajectories(
         If the two do not describe the same arm (different joint counts) or lack a
         required column (exit 2: not comparable).
     """
-    comparer = _Comparer(expected.columns, actual.columns, atol_deg, atol, names)
+    comparer = _Comparer(expected.columns, actual.columns, atol_deg, atol, names, files)
     comparer.compare(expected, actual)
     comparer.count(0, expected)
     comparer.count(1, actual)
@@ -186,6 +188,15 @@ def compare_csv_files(expected: Path, actual: Path, *, atol_deg: float = 1e-6, a
             for table in itertools.chain(rest, streams[side]):
                 comparer.count(side, table)
     return comparer.result()
+
+
+def plural_columns(columns: list[str]) -> str:
+    """``the column 'x'``, or the first few of many and a count (a message stays one short line).
+
+    >>> plural_columns(["c0"]), plural_columns([f"c{i}" for i in range(12000)])
+    ("the column 'c0'", "the columns 'c0', 'c1', 'c2', 'c3', 'c4', 'c5', 'c6', 'c7' and 11,992 more")
+    """
+    return f"the column {shown(columns[0])}" if len(columns) == 1 else f"the columns {shown_list(columns)}"
 
 
 def _rows(table: TrajectoryTable, start: int, stop: int | None) -> TrajectoryTable:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import io
+import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -87,13 +88,34 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
     ]
 
 
-def table_csv_text(columns, rows) -> str:
-    """CSV text (LF line ends) of a header and rows: trajectory.csv, index.csv, sweep tables."""
+def table_csv_text(columns, rows, text_cells: bool = False) -> str:
+    """CSV text (LF line ends) of a header and rows: trajectory.csv, index.csv, sweep tables.
+
+    With ``text_cells`` (tables that hold free text: index.csv, the sweep tables), a text cell that a spreadsheet would run as a formula (it starts with ``=``, ``+``, ``-``,
+    ``@``, a tab or a carriage return, and is not a number) is written with a leading ``'``
+    (OWASP's rule for CSV injection): a scene file named ``=HYPERLINK(...).yaml`` stays text.
+
+    >>> print(table_csv_text(["file", "x"], [["=1+1.yaml", "-0.5"], ["@a", -2]], text_cells=True), end="")
+    file,x
+    '=1+1.yaml,-0.5
+    '@a,-2
+    """
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(columns)
-    writer.writerows(rows)
+    writer.writerows(([spreadsheet_text(cell) for cell in row] for row in rows) if text_cells else rows)
     return buffer.getvalue()
+
+
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
+PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|[+-]?inf|nan")
+
+
+def spreadsheet_text(cell):
+    """``cell``, with a ``'`` before a text a spreadsheet would take for a formula."""
+    if isinstance(cell, str) and cell.startswith(FORMULA_STARTS) and not PLAIN_NUMBER.fullmatch(cell):
+        return "'" + cell
+    return cell
 
 
 def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
@@ -190,7 +212,7 @@ def check_header(row: list[str], file: str) -> tuple[str, ...]:
         raise _problem(file, f"lacks the column(s) {', '.join(missing)} ({expected})", 1)
     twice = sorted({c for c in row if row.count(c) > 1})
     if twice:
-        raise _problem(file, f"has the column(s) {', '.join(twice)} more than once", 1)
+        raise _problem(file, f"has the column(s) {', '.join(twice[:8])}{f' and {len(twice) - 8:,} more' if len(twice) > 8 else ''} more than once", 1)
     return tuple(row)
 
 

@@ -20,7 +20,6 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
-import json
 import os
 import re
 import shutil
@@ -32,6 +31,7 @@ from pathlib import Path
 from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError
 from armanim.output.atomic import current_umask, interrupts_deferred, output_error, write_text_atomic
+from armanim.output.jsontext import json_text, parse_json
 
 MARKER = ".armanim-run.json"
 """In every run folder: says armanim made it and lists the files it wrote there."""
@@ -101,7 +101,7 @@ def marked_files(folder: Path) -> dict[str, dict | None] | None:
     try:
         if not stat.S_ISREG(os.lstat(marker).st_mode) or os.lstat(marker).st_size > 100_000:
             return None
-        data = json.loads(marker.read_text(encoding="utf-8"))
+        data = parse_json(marker.read_text(encoding="utf-8"))
         files = data["files"]
         if data.get("made_by") != "armanim":
             return None
@@ -121,7 +121,7 @@ def write_marker(folder: Path) -> None:
     data = {"made_by": "armanim", "armanim_version": __version__, "files": files,
             "note": "armanim replaces this folder whole on the next run of its scene; files not listed here, "
                     "or changed since, stop it"}
-    write_text_atomic(Path(folder) / MARKER, json.dumps(data, indent=2) + "\n")
+    write_text_atomic(Path(folder) / MARKER, json_text(data, indent=2) + "\n")
 
 
 def _changed(folder: Path, name: str, recorded: dict | None) -> bool:

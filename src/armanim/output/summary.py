@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
@@ -13,6 +12,7 @@ from armanim import __version__
 from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, GoalReport, GoalTiming, PlanningReport, Solution, max_joint_step
 from armanim.output.atomic import write_text_atomic
+from armanim.output.jsontext import json_text
 
 
 def _round(value: float) -> float | None:
@@ -172,4 +172,4 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
 
 def write_summary(summary: dict, path: Path) -> None:
     """Write summary.json atomically (sorted keys stay in the order above; 2-space indent)."""
-    write_text_atomic(path, json.dumps(summary, indent=2) + "\n")
+    write_text_atomic(path, json_text(summary, indent=2) + "\n")

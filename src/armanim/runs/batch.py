@@ -206,7 +206,7 @@ def index_csv_text(entries: list[BatchEntry]) -> str:
          "" if e.min_clearance is None else repr(float(e.min_clearance)), e.folder, e.message]
         for e in entries
     )
-    return table_csv_text(INDEX_COLUMNS, rows)
+    return table_csv_text(INDEX_COLUMNS, rows, text_cells=True)
 
 
 def run_batch(

@@ -7,7 +7,6 @@ that the scene itself changed.
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,6 +17,7 @@ from armanim.output.atomic import write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.output.files import open_regular, read_bounded
+from armanim.output.jsontext import json_text, parse_json
 from armanim.output.rundir import directory_lock
 from armanim.runs.pipeline import timed_solution
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
@@ -62,7 +62,7 @@ def golden_paths(golden_dir: Path, name: str) -> tuple[Path, Path]:
 def _recorded_sha(meta_path: Path) -> str | None:
     """The scene sha256 recorded beside a golden file; None if it is missing or not one."""
     try:
-        sha = json.loads(read_bounded(meta_path, MAX_META_BYTES, "a golden .json file")).get("scene_sha256")
+        sha = parse_json(read_bounded(meta_path, MAX_META_BYTES, "a golden .json file")).get("scene_sha256")
     except (SceneError, ValueError, AttributeError):
         return None
     return sha if isinstance(sha, str) else None
@@ -85,7 +85,8 @@ def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, a
         return GoldenResult(scene, csv_path, "missing", f"no golden file {csv_path} (create it with --update)")
     expected = read_trajectory_csv(csv_path)
     actual = parse_trajectory_csv(solve_csv_text(scene), f"{scene.path} (this run)")
-    result: Comparison = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"))
+    result: Comparison = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"),
+                                               files=(str(csv_path), f"{scene.path} (this run)"))
     note = scene_change_note(scene, meta_path)
     report = result.report + (f"\nnote: {note}" if note else "")
     return GoldenResult(scene, csv_path, "pass" if result.equal else "fail", report, note is not None)
@@ -104,7 +105,7 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
         write_target(path)
     data = solve_csv_text(scene).encode("utf-8")
     meta = {"armanim_version": __version__, "scene_file": scene.path.name, "scene_sha256": scene.sha256}
-    files = {meta_path: (json.dumps(meta, indent=2) + "\n").encode("utf-8")}
+    files = {meta_path: (json_text(meta, indent=2) + "\n").encode("utf-8")}
     with directory_lock(csv_path.parent):
         status = golden_status(csv_path, data)
         if status != "unchanged":

@@ -21,6 +21,7 @@ from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collisi
 from armanim.output.summary import summary_dict, write_summary
 from armanim.runs.overrides import RenderOverrides
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY
+from armanim.runs.resample import resample_run, resampled_frames
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.checks import rate_note_lines
 from armanim.scene.models import LIMITS
@@ -208,7 +209,8 @@ def rerender_run(
     from armanim.runs.reload import load_run
 
     folder = Path(folder)
-    load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
+    first = load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
+    _check_resampled_frames(first.solution.trajectory, settings_of(first.scene, render_overrides).fps)
     if out is not None and Path(out).resolve() != folder.resolve():
         target = Path(out)
         if target.resolve().is_relative_to(folder.resolve()):
@@ -218,15 +220,25 @@ def rerender_run(
             run = load_run(folder)
         settings = settings_of(run.scene, render_overrides)
         # staged and swapped like a run folder: into a new, empty or armanim-marked folder only, its
-        # other files kept; --fps sets the video's playback rate only: the frames and their times stay the run's own
+        # other files kept; another fps samples the run's motion at its own times (the same seconds)
+        solution = resample_run(run.problem, run.solution, settings.fps)
         with staged_folder(target, keep_files=True) as staged:
-            rendered = render_outputs(run.problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
+            rendered = render_outputs(run.problem, solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
         return {kind: target / path.name for kind, path in rendered.items()}
     with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
         run = load_run(folder)  # under the lock: no run is changing it
         settings = settings_of(run.scene, render_overrides)
-        rendered = render_outputs(run.problem, run.solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
+        solution = resample_run(run.problem, run.solution, settings.fps)
+        rendered = render_outputs(run.problem, solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
     return {kind: folder / path.name for kind, path in rendered.items()}
+
+
+def _check_resampled_frames(trajectory, fps: float) -> None:
+    """A UsageError (exit 2) when the run at ``fps`` would make more frames than a run may."""
+    frames = resampled_frames(trajectory.frames, trajectory.fps, fps)
+    if frames > LIMITS["total_frames"]:
+        raise UsageError(f"--fps: the run's {trajectory.frames:,} frames at {trajectory.fps:g} fps are {frames:,} frames at "
+                         f"{fps:g} fps (expected at most {LIMITS['total_frames']:,}: choose a lower --fps or --quality)")
 
 
 def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Path:
@@ -254,6 +266,8 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
     OutputError
         The folder was not made by armanim, something other than an armanim page stands at
         ``out``, or the page could not be written (exit 3).
+    UsageError
+        ``out`` is inside the run folder but not its viewer.html (exit 2).
     """
     from armanim.render.viewer import VIEWER_FILE, write_viewer
     from armanim.render.viewer.page import replace_problem
@@ -269,6 +283,9 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
                          staged / VIEWER_FILE, title=run.scene.name)
         return own
     target = Path(out)
+    if target.resolve().is_relative_to(folder.resolve()):
+        raise UsageError(f"--out: {target} is inside the run folder {folder}, which the next run replaces whole "
+                         f"(leave --out out to write {own}, or choose a file outside it)")
     problem = replace_problem(target)
     if problem is not None:
         raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")

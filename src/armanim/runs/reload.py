@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,6 +15,7 @@ from armanim.motion.solution import GoalReport, Solution, Trajectory
 from armanim.motion.trajectory import with_self_clearance
 from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv, velocity_columns
 from armanim.output.files import read_bounded
+from armanim.output.jsontext import parse_json
 from armanim.output.summary import goal_report_from_dict
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 from armanim.scene.models import LIMITS, RenderModel
@@ -38,7 +38,7 @@ class FinishedRun:
 
 def _read_summary(summary_path: Path) -> dict:
     try:
-        summary = json.loads(read_bounded(summary_path, MAX_SUMMARY_BYTES, "an armanim summary.json"))
+        summary = parse_json(read_bounded(summary_path, MAX_SUMMARY_BYTES, "an armanim summary.json"))
         if not isinstance(summary, dict) or not isinstance(summary.get("goals"), list):
             raise ValueError("no list of goals")
         return summary

@@ -286,6 +286,6 @@ def run_sweep(
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)
     check_table_replaceable(table, is_sweep_header)
-    write_text_atomic(table, table_csv_text(header, rows))
+    write_text_atomic(table, table_csv_text(header, rows, text_cells=True))
     write_index(out_root / "index.csv", entries)
     return SweepResult(items, entries, header, rows, table)

@@ -7,12 +7,13 @@ collected, none stops the others.
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
 from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
-from armanim.errors import Diagnostic
+from armanim.errors import Diagnostic, shown
 from armanim.motion.problem import frames_in
 from armanim.scene.convert import rate_limits, robot_rates, scene_to_problem
 from armanim.scene.models import LIMITS, RATE_FIELDS, SceneModel
@@ -21,13 +22,15 @@ from armanim.world.obstacles import FLOOR
 from armanim.world.selfdistances import self_gaps
 
 
-def scene_problems(scene: SceneModel) -> list[tuple[str, str]]:
+def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str, str]]:
     """Every cross-field problem of a validated scene, as (field path, message) pairs.
 
-    The collision checks run once the arm itself is consistent.
+    The collision checks run once the arm itself is consistent (and only if ``collisions``).
     """
-    problems = list(_arm_problems(scene)) + list(_size_problems(scene))
-    if not problems:
+    counts = list(_count_problems(scene)) + list(_rate_problems(scene.arm))
+    sizes = list(_size_problems(scene))
+    problems = counts + list(_arm_problems(scene)) + sizes
+    if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
         problem = scene_to_problem(scene)
         problems += list(_collision_problems(problem, "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
         problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
@@ -53,18 +56,24 @@ def _self_collision_problems(problem, path: str):
         )
 
 
-def _arm_problems(scene: SceneModel):
+def _count_problems(scene: SceneModel):
+    """arm.axes, home and limits of another length than the arm's joints (the arm is then unknown)."""
     arm = scene.arm
     n = arm.joint_count
     for field in ("axes", "home", "limits"):
         values = getattr(arm, field)
         if values is not None and len(values) != n:
             yield f"arm.{field}", f"has {len(values)} entries, the arm has {n} {'joints' if arm.is_urdf else 'links'} (expected one per joint)"
-    yield from _rate_problems(arm)
+
+
+def _arm_problems(scene: SceneModel):
+    arm = scene.arm
+    n = arm.joint_count
     if arm.limits is not None:
         for i, pair in enumerate(arm.limits):
             if pair is not None and not pair[0] < pair[1]:
                 yield f"arm.limits[{i}]", f"min must be below max (got [{pair[0]:g}, {pair[1]:g}])"
+    yield from _narrow_limits(arm)
     limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
     if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
         bundled = arm._robot.bundled if arm.is_urdf else None
@@ -92,6 +101,24 @@ def _rate_problems(arm):
         elif bundled.rate("max_joint_jerk") is None or np.isnan(robot_rates(arm)["max_joint_jerk"][0]).any():
             yield "arm.max_joint_jerk", (f"robot {bundled.name}'s maker publishes no jerk limits for these joints "
                                          "(give deg/s^3: one number, or one per joint)")
+
+
+def _narrow_limits(arm):
+    """Joint ranges no wider than the buffer the planner keeps inside each limit, twice
+    (LIMIT_BUFFER of arm.limit_margin at each end): nowhere left for a pose to be."""
+    from armanim.motion.solvers.barrier import LIMIT_BUFFER
+
+    least = 2 * LIMIT_BUFFER * arm.limit_margin
+    advice = f"expected wider than 2 x {LIMIT_BUFFER:g} x arm.limit_margin = {least:g} deg"
+    if arm.limits is not None:
+        for i, pair in enumerate(arm.limits):
+            if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
+                yield f"arm.limits[{i}]", f"a range of {pair[1] - pair[0]:g} deg is too narrow ({advice}: widen it or lower arm.limit_margin)"
+    elif arm.is_urdf:
+        for name, pair in zip(arm._robot.joint_names, _urdf_limits_degrees(arm)):
+            if pair is not None and pair[1] - pair[0] <= least:
+                yield "arm.limit_margin", (f"the URDF's joint {shown(name)} has a range of {pair[1] - pair[0]:g} deg, too narrow "
+                                           f"({advice}: lower arm.limit_margin, or give arm.limits)")
 
 
 def _urdf_limits_degrees(arm) -> list:
@@ -132,6 +159,11 @@ def _magnitudes(scene: SceneModel):
     yield from ((f"arm.base[{i}]", v) for i, v in enumerate(arm.base or ()))
     yield from ((f"arm.links[{i}]", v) for i, v in enumerate(arm.links or ()))
     yield "arm.width", arm.resolved_width
+    if arm.tool is not None:
+        yield from ((f"arm.tool.xyz[{i}]", v) for i, v in enumerate(arm.tool.xyz))
+    for k, capsule in enumerate(arm.collision if isinstance(arm.collision, list) else ()):
+        for label, value in (("from", capsule.from_), ("to", capsule.to), ("radius", [capsule.radius])):
+            yield from ((f"arm.collision[{k}].{label}[{i}]" if label != "radius" else f"arm.collision[{k}].radius", v) for i, v in enumerate(value))
     for k, obstacle in enumerate(scene.obstacles):
         yield from _obstacle_magnitudes(f"obstacles[{k}]", obstacle)
     if scene.floor is not None:
@@ -168,11 +200,18 @@ def _obstacle_magnitudes(path: str, obstacle):
         yield f"{path}.influence", obstacle.influence
 
 
+POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|max_step|clearance)|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|influence)")
+"""The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
+largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
+
+
 def _size_problems(scene: SceneModel):
-    big = LIMITS["magnitude"]
+    big, small = LIMITS["magnitude"], LIMITS["smallest"]
     for path, value in _magnitudes(scene):
         if abs(value) > big:
             yield path, f"{value:g} is too large (expected at most {big:g} in size: choose a smaller unit)"
+        elif 0 < value < small and POSITIVE_LENGTHS.fullmatch(path):
+            yield path, f"{value:g} is too small (expected at least {small:g}: choose a larger unit)"
     if sum(scene.arm.links or ()) > big:
         yield "arm.links", f"the arm is {sum(scene.arm.links):g} long (expected at most {big:g}: choose a smaller unit)"
     weights = scene.solver.weights

@@ -6,7 +6,9 @@ read ``FILE:LINE: field.path: what is wrong (what is expected)``.
 
 from __future__ import annotations
 
+import copy
 import difflib
+import functools
 import hashlib
 from dataclasses import dataclass
 from pathlib import Path
@@ -142,11 +144,40 @@ def _validated(text: str, file: str, urdf_file: str | Path | None = None, srdf_f
                                                                      "srdf_file": srdf_file})
     except ValidationError as exc:
         errors = [e for e in exc.errors(include_url=False) if not isinstance(e.get("input"), TooLarge)]
-        raise SceneError(file, _by_line(problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]], len(errors))) from None
+        found = problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]]
+        found += _problems_beside(doc, [tuple(e["loc"]) for e in errors], file, urdf_file, {p.path for p in found})
+        raise SceneError(file, _by_line(found, len(errors))) from None
     problems += as_diagnostics(scene_problems(model), doc.line_of)
     if problems:
         raise SceneError(file, _by_line(problems))
     return model, doc
+
+
+SETTINGS = ("name", "floor", "render", "solver")
+"""Top-level keys whose bad values can be left out (their defaults taken) to check the rest."""
+
+
+def _problems_beside(doc: YamlDocument, bad: list[tuple], file: str, urdf_file, known: set[str]) -> list[Diagnostic]:
+    """The cross-field problems of a scene whose only field errors are in settings (render,
+    solver, name, floor): checked with those values left out, so that one pass reports every
+    problem. An error in the arm, the goals or the obstacles makes these checks impossible:
+    none then. Checks that involve a left-out solver value (the clearance ones) are skipped."""
+    if not bad or not all(loc and loc[0] in SETTINGS for loc in bad):
+        return []
+    data = copy.deepcopy(doc.data)
+    for loc in bad:
+        section = data.get(loc[0])
+        if len(loc) > 1 and isinstance(section, dict):
+            section.pop(loc[1], None)
+        else:
+            data.pop(loc[0], None)
+    try:
+        model = SceneModel.model_validate(data, context={"scene_dir": Path(file).parent, "urdf_file": urdf_file})
+    except (ValidationError, SceneError):
+        return []
+    collisions = not any(loc[0] == "solver" for loc in bad)
+    found = as_diagnostics(scene_problems(model, collisions=collisions), doc.line_of)
+    return [p for p in found if p.path not in known]
 
 
 def _by_line(problems: list[Diagnostic], model_errors: int = 0) -> list[Diagnostic]:
@@ -251,16 +282,58 @@ def _length_message(loc: tuple, ctx: dict) -> str:
     """Too few or too many items; a point names its three coordinates (pydantic names only the violated bound)."""
     if loc and loc[-1] in POINT_FIELDS:
         return f"has {ctx.get('actual_length')} items (expected exactly 3: a point [x, y, z])"
-    return f"has {ctx.get('actual_length')} items (expected {_length_expectation(ctx)})"
+    return f"has {ctx.get('actual_length')} items (expected {_length_expectation(ctx, loc)})"
 
 
-def _length_expectation(ctx: dict) -> str:
+def _length_expectation(ctx: dict, loc: tuple = ()) -> str:
     lo, hi = ctx.get("min_length"), ctx.get("max_length")
+    exact = _exact_length(loc)
+    if exact is not None:
+        return f"exactly {exact}"
     if lo is not None and lo == hi:
         return f"exactly {lo}"
     if lo is not None and hi is not None:
         return f"{lo} to {hi}"
     return f"at least {lo}" if lo is not None else f"at most {hi}"
+
+
+@functools.cache
+def _scene_schema() -> dict:
+    return SceneModel.model_json_schema()
+
+
+def _schema_nodes(nodes: list, schema: dict) -> list:
+    """``nodes`` with every ``$ref`` resolved and every anyOf/oneOf/allOf spread out."""
+    out = []
+    for node in nodes:
+        if "$ref" in node:
+            node = schema["$defs"][node["$ref"].rsplit("/", 1)[-1]]
+        out.append(node)
+        for key in ("anyOf", "oneOf", "allOf"):
+            out += _schema_nodes([n for n in node.get(key, ()) if isinstance(n, dict)], schema)
+    return out
+
+
+def _exact_length(loc: tuple) -> int | None:
+    """The one length the list at ``loc`` must have (a point, an rpy, a limit pair), from the
+    scene's schema; None when it may have several (pydantic's error names only the violated bound).
+
+    >>> _exact_length(("goals", 0, "tool_axis")), _exact_length(("arm", "limits", 2)), _exact_length(("goals",))
+    (3, 2, None)
+    """
+    schema = _scene_schema()
+    nodes = [schema]
+    for part in loc:
+        nodes = _schema_nodes(nodes, schema)
+        if isinstance(part, int):
+            nodes = [n["items"] for n in nodes if isinstance(n.get("items"), dict)]
+        else:
+            nodes = [n["properties"][part] for n in nodes if part in n.get("properties", {})]
+    lengths = {(n.get("minItems"), n.get("maxItems")) for n in _schema_nodes(nodes, schema) if n.get("type") == "array"}
+    if len(lengths) == 1:
+        lo, hi = next(iter(lengths))
+        return lo if lo is not None and lo == hi else None
+    return None
 
 
 def _describe(value) -> str:

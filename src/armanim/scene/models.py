@@ -35,10 +35,15 @@ LIMITS = {
     "max_frames_per_goal": 100_000,
     "total_frames": 1_000_000,  # frame 0 + every goal's max_frames_per_goal and hold frames (checks.py)
     "magnitude": 1e9,  # largest |coordinate| or length, scene units (checks.py): squares stay far from overflow
+    "smallest": 1e-9,  # smallest link, width, tolerance, clearance, max_step, box edge, capsule radius, influence (checks.py)
     "weight": 1e12,  # largest cost weight (checks.py)
 }
 """Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
 (bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
+
+MIN_JOINT_STEP = 0.001
+"""Smallest ``solver.max_joint_step``, degrees: a joint's whole turn is then at most 540,000
+frames, so a planned path too long for the frames left is a miss, never an allocation."""
 
 MIN_FPS = 0.01
 """Slowest frame rate (one frame per 100 s): ffmpeg takes the rate as a fraction with a
@@ -61,6 +66,9 @@ def name_problem(name: str) -> str | None:
         return f"a name of {len(name)} characters is too long (expected at most {NAME_MAX})"
     if not re.fullmatch(NAME_PATTERN, name):
         return f"{name!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
+    if name.casefold() == "index.csv" or name.casefold().endswith("-sweep.csv"):
+        return (f"{name!r} is the name of a table armanim writes beside the run folders (index.csv, "
+                "SCENE-sweep.csv): choose another name")
     return None
 
 
@@ -69,6 +77,7 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Angle = Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)]
 Vector3 = Annotated[list[Finite], Field(min_length=3, max_length=3)]
+Angles3 = Annotated[list[Angle], Field(min_length=3, max_length=3)]  # roll, pitch, yaw: each within [-360, 360]
 AxisName = Literal["x", "y", "z"]
 
 
@@ -91,7 +100,7 @@ class ToolModel(Strict):
     """The tool frame: the tip, placed in the tip link's frame."""
 
     xyz: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tip's position in the tip link's frame (metres).")
-    rpy: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
+    rpy: Angles3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
 
 
 UrdfName = Annotated[str, Field(min_length=1, max_length=200)]
@@ -165,7 +174,7 @@ class ArmModel(Strict):
     )
     base_link: UrdfName | None = Field(default=None, description="The URDF link the arm starts at; default the root (or the robot's).")
     tip_link: UrdfName | None = Field(default=None, description="The URDF link the arm ends at; default the only leaf (or the robot's).")
-    base_rpy: Vector3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
+    base_rpy: Angles3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
     tool: ToolModel | None = Field(default=None, description="The tip in tip_link's frame; default its origin.")
     collision: Literal["auto"] | Annotated[list[CapsuleModel], Field(max_length=1000)] | None = Field(
         default=None, description="auto (the URDF's primitives, or the robot's capsules), or a list of capsules."
@@ -349,14 +358,14 @@ class OrientationModel(Strict):
     """A goal's tool orientation, exactly one form (degrees): ``rpy`` (URDF's fixed-axis
     roll-pitch-yaw, R = Rz(yaw) Ry(pitch) Rx(roll)), ``quaternion_wxyz``, or ``axis`` and ``angle``."""
 
-    rpy: Annotated[list[Finite], Field(min_length=3, max_length=3)] | None = Field(
+    rpy: Annotated[list[Angle], Field(min_length=3, max_length=3)] | None = Field(
         default=None, description="[roll, pitch, yaw] in degrees: R = Rz(yaw) Ry(pitch) Rx(roll), as URDF's <origin rpy>."
     )
     quaternion_wxyz: Annotated[list[Finite], Field(min_length=4, max_length=4)] | None = Field(
         default=None, description="[w, x, y, z], scalar first; |q| within [0.99, 1.01] (normalised)."
     )
     axis: Vector3 | None = Field(default=None, description="Rotation axis (any length > 0), with angle.")
-    angle: Finite | None = Field(default=None, description="Degrees about axis.")
+    angle: Angle | None = Field(default=None, description="Degrees about axis, within [-360, 360].")
 
     @model_validator(mode="after")
     def _one_form(self):
@@ -439,7 +448,7 @@ class SolverModel(Strict):
     max_frames_per_goal: Annotated[int, Field(ge=1, le=LIMITS["max_frames_per_goal"])] = 600
     jacobian: JacobianMode = "analytic"
     damping: Positive = Field(default=0.05, description="lambda, for dls only.")
-    max_joint_step: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
+    max_joint_step: Annotated[float, Field(ge=MIN_JOINT_STEP, le=180, allow_inf_nan=False)] = Field(
         default=10.0, description="No joint turns by more than this many degrees in one solver step (a solved frame of render.fps); arm.max_joint_speed is the speed."
     )
     clearance: Positive | None = Field(
@@ -521,3 +530,11 @@ class SceneModel(Strict):
     goals: Annotated[list[GoalModel], Field(min_length=1, max_length=LIMITS["goals"])]
     solver: SolverModel = SolverModel()
     render: RenderModel = RenderModel()
+
+    @field_validator("name")
+    @classmethod
+    def _not_a_table_name(cls, value):
+        problem = name_problem(value) if value is not None else None
+        if problem is not None:
+            raise ValueError(problem)
+        return value

@@ -14,6 +14,7 @@ anything off it is ignored.
 from __future__ import annotations
 
 import math
+import re
 import xml.parsers.expat
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.chain import ChainJoint, transform
-from armanim.errors import Diagnostic, SceneError
+from armanim.errors import Diagnostic, SceneError, shown
 from armanim.output.files import read_bounded
 from armanim.scene.models import LIMITS
 
@@ -32,6 +33,9 @@ MAX_ELEMENTS = 200_000
 MAX_JOINTS = LIMITS["links"]  # moving joints on the arm's path: as many as an arm of links may have
 MOVING = ("revolute", "continuous")
 UNSUPPORTED = ("prismatic", "planar", "floating")
+NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+"""A URDF number as XML Schema's double writes it: no ``_`` (Python's ``float`` reads
+``-1_0`` as -10), no hex, no ``inf`` or ``nan``."""
 
 
 @dataclass
@@ -210,12 +214,14 @@ def _numbers(el: Element | None, key: str, count: int, default, file: str, what:
     if el is None or key not in el.attrib:
         return tuple(default)
     text = el.attrib[key]
-    try:
-        values = tuple(float(v) for v in text.split())
-    except ValueError:
-        values = ()
+    words = text.split()
+    values = tuple(float(v) for v in words) if all(NUMBER.fullmatch(v) for v in words) else ()
     if len(values) != count or not all(math.isfinite(v) for v in values):
-        raise SceneError(file, [Diagnostic("", f"{what}: {key}={text!r} (expected {count} finite numbers separated by spaces)", el.line)])
+        raise SceneError(file, [Diagnostic("", f"{what}: {key}={shown(text)} (expected {count} finite numbers separated by spaces)", el.line)])
+    big = LIMITS["magnitude"]
+    if any(abs(v) > big for v in values):
+        raise SceneError(file, [Diagnostic("", f"{what}: {key}={shown(text)} has a number above {big:g} in size "
+                                               "(expected at most that, as in a scene: choose a smaller unit)", el.line)])
     return values
 
 
@@ -262,7 +268,7 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
             raise SceneError(file, [Diagnostic("", f"{what}: {end} link {link!r} is not defined (no <link name={link!r}>)", sub.line)])
         ends[end] = link
     axis = np.array(_numbers(el.find("axis"), "xyz", 3, (1.0, 0.0, 0.0), file, f"{what} <axis>"))
-    if kind in MOVING and not np.linalg.norm(axis) > 0:
+    if kind in MOVING and not np.abs(axis).max() > 0:
         raise SceneError(file, [Diagnostic("", f"{what} has the axis 0 0 0 (expected a direction, e.g. xyz=\"0 0 1\")", el.find("axis").line)])
     limit = el.find("limit")
     limits = None

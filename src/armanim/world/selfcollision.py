@@ -112,7 +112,9 @@ def default_pose(lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     [0.0, -1.5708]
     """
     inside = (lower <= 0.0) & (upper >= 0.0)
-    return np.where(inside | ~np.isfinite(lower), 0.0, 0.5 * (lower + upper))
+    limited = np.isfinite(lower) & np.isfinite(upper)
+    middle = 0.5 * (np.where(limited, lower, 0.0) + np.where(limited, upper, 0.0))  # no inf - inf for a free joint
+    return np.where(inside | ~limited, 0.0, middle)
 
 
 def random_poses(lower: np.ndarray, upper: np.ndarray, count: int = NEVER_SAMPLES, seed: int = NEVER_SEED) -> np.ndarray:

@@ -35,7 +35,8 @@ class Plan:
         Poses to follow, one per frame; None when there is no plan.
     reason : MissReason or None
         Why there is none: ``"out_of_reach"``, ``"orientation_unreachable"`` (the position is
-        reachable, the orientation there is not), ``"no_free_pose"`` or ``"no_path"``.
+        reachable, the orientation there is not), ``"no_free_pose"``, ``"no_path"`` or
+        ``"too_slow"`` (a path that takes more frames than are left).
     poses : int
         Free goal poses found.
     source : PathSource
@@ -56,7 +57,7 @@ class Plan:
 
 def plan_motion(
     problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0, orientation: Orientation | None = None,
-    searched: Searched | None = None,
+    searched: Searched | None = None, frames_left: int | None = None,
 ) -> Plan:
     """Plan from the pose ``phi_now`` to a free pose whose tip is at ``goal`` (and whose tool
     meets ``orientation``, when the goal has one).
@@ -73,6 +74,9 @@ def plan_motion(
     searched : callable, optional
         ``searched(done, most)``: the path search's iterations, as it goes
         (:data:`armanim.motion.planning.path.Searched`).
+    frames_left : int, optional
+        Frames the goal may still take; default ``solver.max_frames_per_goal``. A path that
+        needs more is no plan (``"too_slow"``), and nothing its length would take is allocated.
 
     Returns
     -------
@@ -88,8 +92,11 @@ def plan_motion(
     path = plan_path(problem, phi_now, found.poses, searched)
     if path.waypoints is None:
         return Plan(None, "no_path", len(found.poses), path.source, path.checks)
-    schedule = damper_paced(problem, path.waypoints, path_schedule(path.waypoints, problem.solver.max_joint_step))
-    frames = poses_along(path.waypoints, schedule)
+    most = problem.solver.max_frames_per_goal if frames_left is None else frames_left
+    schedule = path_schedule(path.waypoints, problem.solver.max_joint_step, most)
+    if schedule is None:  # the path takes more frames than the goal has left
+        return Plan(None, "too_slow", len(found.poses), path.source, path.checks)
+    frames = poses_along(path.waypoints, damper_paced(problem, path.waypoints, schedule, most))
     return Plan(frames, None, len(found.poses), path.source, path.checks)
 
 

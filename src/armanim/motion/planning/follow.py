@@ -36,13 +36,24 @@ def path_lengths(waypoints: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.abs(np.diff(waypoints, axis=0)).max(axis=1))])
 
 
-def path_schedule(waypoints: np.ndarray, max_joint_step: float) -> np.ndarray:
+def path_schedule(waypoints: np.ndarray, max_joint_step: float, most: int | None = None) -> np.ndarray | None:
     """(F,) how far along the path each frame is: a smoothstep over the path's length, no
-    joint above ``max_joint_step`` per frame; the first frame after the start to the end."""
+    joint above ``max_joint_step`` per frame; the first frame after the start to the end.
+
+    None when that takes more than ``most`` frames (the frames left to the goal): the count
+    is found before anything is allocated, so a long path is a miss, never a huge array.
+
+    >>> path_schedule(np.array([[0.0], [3.0]]), 1e-6, most=1000) is None
+    True
+    """
     length = path_lengths(waypoints)[-1]
     if length == 0.0:
         return np.array([0.0])
-    count = int(np.ceil(PEAK_SPEED * length / max_joint_step))
+    with np.errstate(over="ignore"):  # a count too large to hold is inf, and no schedule
+        frames = PEAK_SPEED * length / max_joint_step
+    if not np.isfinite(frames) or (most is not None and frames > most):
+        return None
+    count = int(np.ceil(frames))
     return length * smoothstep(np.arange(1, count + 1) / count)
 
 
@@ -60,7 +71,7 @@ def poses_along(waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
 MAX_SPLITS = 8  # halvings of one frame interval (at most 256 frames in its place)
 
 
-def damper_paced(problem, waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
+def damper_paced(problem, waypoints: np.ndarray, s: np.ndarray, most: int | None = None) -> np.ndarray:
     """The schedule ``s`` (see :func:`path_schedule`) with frames inserted wherever the safety
     filter would not take a frame's step as it is.
 
@@ -78,6 +89,9 @@ def damper_paced(problem, waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
         The path, from the arm's pose.
     s : (F,) array
         How far along the path each frame is, increasing.
+    most : int, optional
+        The frames left to the goal: no halving makes the schedule longer than that (the arm
+        then waits on the path where the filter holds it back).
 
     Returns
     -------
@@ -93,7 +107,7 @@ def damper_paced(problem, waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
         for k in np.nonzero(~settled)[0]:
             settled[k] = takes_unchanged(problem, arm_state(problem, poses[k]), poses[k + 1] - poses[k])
         too_fast = np.nonzero(~settled)[0]
-        if not len(too_fast):
+        if not len(too_fast) or (most is not None and len(s) - 1 + len(too_fast) > most):
             break
         s = np.insert(s, too_fast + 1, 0.5 * (s[too_fast] + s[too_fast + 1]))
         settled = np.insert(settled, too_fast + 1, False)

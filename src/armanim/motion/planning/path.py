@@ -34,6 +34,8 @@ from armanim.motion.solvers.common import arm_state
 from armanim.names import PathSource
 
 COARSE = 8  # clearances between the first samples of a motion (see motion_is_free)
+MAX_SAMPLES = 100_000  # poses one motion check may take (a clearance tiny beside the arm: the motion is not taken)
+MAX_HALVINGS = 40  # levels of halving in a motion check (2^-40 of a coarse piece)
 CERTIFY_TO = 0.05  # of solver.clearance: a piece of motion this short is certified by its ends
 ESCAPE_TRAVELS = (1, 2, 4, 8, 16)  # clearances of arm travel tried for the step away from a surface
 STRAIGHT_TRIES = 4  # nearest goal poses tried with a straight segment
@@ -71,11 +73,15 @@ class JointPath:
     checks: int
 
 
-def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: float) -> np.ndarray:
+def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: float) -> np.ndarray | None:
     """(k, n) poses along the segment a-b (both ends included), no arm point moving more
-    than ``spacing`` between neighbours."""
-    count = int(np.ceil(point_travel_bound(problem, b - a) / spacing)) + 1
-    t = np.linspace(0.0, 1.0, max(count, 2))[:, None]
+    than ``spacing`` between neighbours; None when that takes more than :data:`MAX_SAMPLES`
+    (a clearance far below the arm's size: the motion cannot be certified, and is not taken)."""
+    with np.errstate(over="ignore", divide="ignore"):
+        count = point_travel_bound(problem, b - a) / spacing
+    if not count <= MAX_SAMPLES:
+        return None
+    t = np.linspace(0.0, 1.0, max(int(np.ceil(count)) + 1, 2))[:, None]
     return a + t * (b - a)
 
 
@@ -97,13 +103,17 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     """
     d_safe = problem.solver.clearance
     coarse = motion_samples(problem, a, b, COARSE * d_safe)
+    if coarse is None:
+        return False, 0
     clear = pose_clearance(problem, coarse)
     checks = len(coarse)
     if not np.all(clear >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
         return False, checks
     lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
     levers = problem.lever_arms
-    while len(lo):
+    for _ in range(MAX_HALVINGS):
+        if not len(lo):
+            return True, checks
         travel = np.abs(hi - lo) @ levers
         doubtful = (c_lo + c_hi < travel + 2 * floor) & (travel > CERTIFY_TO * d_safe)
         lo, hi, c_lo, c_hi = lo[doubtful], hi[doubtful], c_lo[doubtful], c_hi[doubtful]
@@ -116,7 +126,9 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
             return False, checks
         lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
         c_lo, c_hi = np.concatenate([c_lo, c_mid]), np.concatenate([c_mid, c_hi])
-    return True, checks
+        if len(lo) > MAX_SAMPLES:
+            return False, checks  # more pieces in doubt than a motion may take: not certified
+    return not len(lo), checks
 
 
 def plan_iterations() -> int:

@@ -96,7 +96,8 @@ def joint_ranges(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
     buffer = limit_buffer(problem)
     lo = np.where(lim.limited, lim.lower + buffer, -np.pi)
     hi = np.where(lim.limited, lim.upper - buffer, np.pi)
-    return lo, hi
+    middle = 0.5 * (lo + hi)  # a range narrower than twice the buffer: its midpoint
+    return np.minimum(lo, middle), np.maximum(hi, middle)
 
 
 def pose_task(problem: Problem, pose: Pose, goal: np.ndarray, orientation: Orientation | None) -> tuple[np.ndarray, np.ndarray]:

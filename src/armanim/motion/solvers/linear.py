@@ -56,6 +56,10 @@ def damped_inverse(jac: np.ndarray, damping: float) -> np.ndarray:
     return np.swapaxes(np.linalg.solve(gram, jac), -1, -2)
 
 
+CLOSEST_GAP = 1e-12
+"""Of the influence: the push is computed for gaps no smaller than this (R / gap stays below 1e12)."""
+
+
 def repulsion(gap: np.ndarray, influence: np.ndarray | float) -> np.ndarray:
     """Length of a push away from a barrier: R (R/gap - 1) for a gap inside the influence R, else 0.
 
@@ -66,6 +70,7 @@ def repulsion(gap: np.ndarray, influence: np.ndarray | float) -> np.ndarray:
     """
     gap = np.asarray(gap, dtype=float)
     inside = (gap > 0) & (gap < influence)
+    gap = np.maximum(gap, np.multiply(influence, CLOSEST_GAP))  # a pose a hair's breadth from its barrier: a finite push
     return np.where(inside, influence * (influence / np.where(inside, gap, 1.0) - 1.0), 0.0)
 
 

@@ -38,7 +38,7 @@ def position_decimals(size: float) -> int:
     >>> position_decimals(20.0), position_decimals(1.0), position_decimals(0.3)
     (3, 4, 5)
     """
-    if not np.isfinite(size) or size <= 0:
+    if not np.isfinite(size) or not size / RESOLUTION > 0:  # (a subnormal size divides to 0)
         return 4
     return int(np.clip(-np.floor(np.log10(size / RESOLUTION)), 0, 12))
 
