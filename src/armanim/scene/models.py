@@ -152,7 +152,10 @@ class ArmModel(Strict):
         default=None,
         description="Drawn thickness of the links, collision radius width/2 of joint-to-joint capsules; default 0.5 (links) or 0.1 (URDF, metres).",
     )
-    self_collision: Literal["auto", "off"] | SelfCollisionModel = Field(
+    self_collision: Annotated[
+        Literal["auto", "off"],
+        WithJsonSchema({"anyOf": [{"enum": ["auto", "off"]}, {"type": "boolean"}]}),  # YAML 1.1: a bare off is false
+    ] | SelfCollisionModel = Field(
         default="auto",
         description="auto: every pair of the arm's own links keeps solver.self_clearance except those MoveIt's rules allow; "
         "off: none is checked; or {auto: true, allow: [[a, b]], check: [[a, b]]}, or {srdf: FILE}.",
