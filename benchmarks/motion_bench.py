@@ -1865,9 +1865,31 @@ def self_family(args) -> int:
             table.append([robot, method, f"{a['reached']}/{a['goals']}", f"{a['under']}/{a['frames']}", str(a["breaks"]),
                           f"{ms_a:.2f}", f"{o['reached']}/{o['goals']}", f"{o['under']}/{o['frames']}", f"{ms_o:.2f}", f"{ms_a / ms_o:.2f}"])
     print_table(header, table)
+    print("\nframe cost of the enabled pairs on the bundled scenes (CPU ms per frame, best of 3; issue 35's bar: 1.5x)")
+    print_table(["scene", "enabled pairs", "ms/frame (auto)", "ms/frame (off)", "ratio"], bundled_frame_costs())
     if broken:
         print(f"{broken} invariant(s) broken", file=sys.stderr)
     return 1 if broken else 0
+
+
+BUNDLED_SCENES = ("panda-place", "panda-clutter", "panda-shelf", "ur5-table", "ur5-pen", "ur5-around", "iiwa-redundancy")
+
+
+def bundled_frame_costs(rounds: int = 3) -> list[list[str]]:
+    """CPU time per frame of each bundled robot scene with ``self_collision`` auto and off."""
+    from armanim.scene.loader import load_scene
+    from armanim.world.selfdistances import SelfPairs
+
+    rows = []
+    for name in BUNDLED_SCENES:
+        problem = scene_to_problem(load_scene(Path(__file__).resolve().parent.parent / "scenes" / f"{name}.yaml").model)
+        best = {}
+        for mode, prob in (("auto", problem), ("off", replace(problem, self_pairs=SelfPairs.none()))) * rounds:
+            solution, _, _, cpu = timed_solve(prob)
+            best[mode] = min(best.get(mode, np.inf), cpu / solution.trajectory.frames)
+        rows.append([name, str(len(set(problem.self_pairs.names))), f"{best['auto'] * 1e3:.2f}", f"{best['off'] * 1e3:.2f}",
+                     f"{best['auto'] / best['off']:.2f}"])
+    return rows
 
 
 def report_progress(result: SceneResult, done: int, total: int, began: float) -> None:

@@ -204,7 +204,10 @@ class ArmModel(Strict):
         description="deg/s^3, one number or one per joint, or robot (the bundled robot's published one): the clock is also "
                     "jerk-bounded; default none (speed and acceleration only).",
     )
-    self_collision: Literal["auto", "off"] | SelfCollisionModel = Field(
+    self_collision: Annotated[
+        Literal["auto", "off"],
+        WithJsonSchema({"anyOf": [{"enum": ["auto", "off"]}, {"type": "boolean"}]}),  # YAML 1.1: a bare off is false
+    ] | SelfCollisionModel = Field(
         default="auto",
         description="auto: every pair of the arm's own links keeps solver.self_clearance except those MoveIt's rules allow; "
         "off: none is checked; or {auto: true, allow: [[a, b]], check: [[a, b]]}, or {srdf: FILE}.",

@@ -23,11 +23,13 @@ from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
     kept_clearance,
     obstacle_rows,
+    pair_lever_rows,
     planning_floor,
     point_travel_bound,
     pose_clearance,
     self_pair_rows,
     settle_clearance,
+    split_clearances,
     within_limits,
 )
 from armanim.motion.solvers.common import arm_state
@@ -96,39 +98,55 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     than :data:`CERTIFY_TO` clearances, or a pose below ``floor`` is found. The limits are a
     box: free ends keep them.
 
-    The enabled pairs of the arm's own capsules are in ``pose_clearance`` too (their gaps
-    shifted by a constant) and the same bound covers them: a pair's gap depends only on the
-    joints between its two capsules, and in the first one's frame the second's points move no
-    faster than the sum of |dphi_j| times joint j's lever arm, the bound S uses.
+    The enabled pairs of the arm's own capsules are judged alike, each by its own travel: a
+    pair's gap (shifted by ``clearance - self_clearance``) depends only on the joints between its
+    two capsules, and in the first one's frame the second's points move no faster than the sum
+    of |dphi_j| times joint j's lever arm over those joints (:func:`pair_lever_rows`), so a
+    wrist pair is not held to the whole arm's travel.
     """
     d_safe = problem.solver.clearance
     coarse = motion_samples(problem, a, b, COARSE * d_safe)
     if coarse is None:
         return False, 0
-    clear = pose_clearance(problem, coarse)
+    clear, own = split_clearances(problem, coarse)
     checks = len(coarse)
-    if not np.all(clear >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
+    if not np.all(_least(clear, own) >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
         return False, checks
-    lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
     levers = problem.lever_arms
+    pair_levers = pair_lever_rows(problem).T if own is not None else None  # (n, P)
+    lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
+    o_lo, o_hi = (own[:-1], own[1:]) if own is not None else (None, None)
     for _ in range(MAX_HALVINGS):
         if not len(lo):
             return True, checks
-        travel = np.abs(hi - lo) @ levers
-        doubtful = (c_lo + c_hi < travel + 2 * floor) & (travel > CERTIFY_TO * d_safe)
+        step = np.abs(hi - lo)
+        travel = step @ levers
+        doubtful = c_lo + c_hi < travel + 2 * floor
+        if own is not None:  # each pair by the joints between its capsules alone
+            doubtful |= np.any(o_lo + o_hi < step @ pair_levers + 2 * floor, axis=1)
+        doubtful &= travel > CERTIFY_TO * d_safe
         lo, hi, c_lo, c_hi = lo[doubtful], hi[doubtful], c_lo[doubtful], c_hi[doubtful]
+        if own is not None:
+            o_lo, o_hi = o_lo[doubtful], o_hi[doubtful]
         if not len(lo):
             break
         mid = 0.5 * (lo + hi)
-        c_mid = pose_clearance(problem, mid)
+        c_mid, o_mid = split_clearances(problem, mid)
         checks += len(mid)
-        if not np.all(c_mid >= floor):
+        if not np.all(_least(c_mid, o_mid) >= floor):
             return False, checks
         lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
         c_lo, c_hi = np.concatenate([c_lo, c_mid]), np.concatenate([c_mid, c_hi])
+        if own is not None:
+            o_lo, o_hi = np.concatenate([o_lo, o_mid]), np.concatenate([o_mid, o_hi])
         if len(lo) > MAX_SAMPLES:
             return False, checks  # more pieces in doubt than a motion may take: not certified
     return not len(lo), checks
+
+
+def _least(clear: np.ndarray, own: np.ndarray | None) -> np.ndarray:
+    """(k,) the least of the obstacle clearances and the shifted pair gaps (:func:`pose_clearance`)."""
+    return clear if own is None else np.minimum(clear, own.min(axis=-1))
 
 
 def plan_iterations() -> int:

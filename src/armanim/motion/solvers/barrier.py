@@ -35,7 +35,7 @@ from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState, arm_state
 from armanim.names import Blocker
 from armanim.world.distances import min_link_clearance
-from armanim.world.selfdistances import least_self_gap, self_rows
+from armanim.world.selfdistances import self_gaps, self_rows
 
 GAMMA = 0.5
 """Fraction of the remaining gap to a surface or a limit that one frame may close."""
@@ -165,14 +165,9 @@ def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray
 
 
 def pair_levers(problem: Problem) -> np.ndarray:
-    """(P,) for each enabled pair, the 2-norm of the lever arms of the joints between its two
-    capsules' joints: a step dPhi changes the pair's gap by at most |dPhi| times this (the joints
-    up to the first capsule's move both alike)."""
-    pairs = problem.self_pairs
-    squares = np.concatenate([[0.0], np.cumsum(problem.lever_arms**2)])
-    link = problem.capsules.link
-    lo, hi = np.minimum(link[pairs.first], link[pairs.second]), np.maximum(link[pairs.first], link[pairs.second])
-    return np.sqrt(np.maximum(squares[hi + 1] - squares[lo + 1], 0.0))
+    """(P,) for each enabled pair, the 2-norm of its :func:`pair_lever_rows`: a step dPhi changes
+    the pair's gap by at most |dPhi| times this."""
+    return np.sqrt((pair_lever_rows(problem) ** 2).sum(axis=1))
 
 
 def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
@@ -313,11 +308,28 @@ def pose_clearance(problem: Problem, phi: np.ndarray) -> np.ndarray:
     enabled pair of the arm's own capsules, the latter counted from ``self_clearance`` as the
     former from ``clearance`` (its gap plus :func:`self_shift`), so that one floor judges both
     (+inf if neither)."""
+    clear, own = split_clearances(problem, phi)
+    return clear if own is None else np.minimum(clear, own.min(axis=-1))
+
+
+def split_clearances(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """For (k, n) poses: (k,) the smallest obstacle clearance, and (k, P) every enabled pair's gap
+    plus :func:`self_shift` (None without enabled pairs): :func:`pose_clearance`'s two parts."""
     pose = forward(problem.arm, np.atleast_2d(phi))
     clear = min_link_clearance(pose, problem.obstacles, problem.capsules)
-    if len(problem.self_pairs):
-        clear = np.minimum(clear, least_self_gap(pose, problem.capsules, problem.self_pairs) + self_shift(problem))
-    return clear
+    if not len(problem.self_pairs):
+        return clear, None
+    return clear, self_gaps(pose, problem.capsules, problem.self_pairs).d + self_shift(problem)
+
+
+def pair_lever_rows(problem: Problem) -> np.ndarray:
+    """(P, n) each enabled pair's lever arms: joint j's (:attr:`Problem.lever_arms`) where it lies
+    between the pair's two capsules' joints, else 0 (the joints up to the first move both alike):
+    a change dPhi moves the pair's gap by at most |dPhi| . row."""
+    pairs, link = problem.self_pairs, problem.capsules.link
+    lo, hi = np.minimum(link[pairs.first], link[pairs.second]), np.maximum(link[pairs.first], link[pairs.second])
+    joint = np.arange(problem.arm.n)
+    return np.where((joint > lo[:, None]) & (joint <= hi[:, None]), problem.lever_arms, 0.0)
 
 
 def self_shift(problem: Problem) -> float:
