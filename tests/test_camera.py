@@ -199,7 +199,9 @@ def test_render_out_keeps_the_run_video_byte_identical_and_writes_full_metadata(
     reader.close()
     assert tuple(meta["size"]) == (80, 60)
     assert meta["fps"] == pytest.approx(12)
-    assert imageio_ffmpeg.count_frames_and_secs(str(other / "animation.mp4"))[0] == rows
+    from armanim.runs.resample import resampled_frames
+
+    assert imageio_ffmpeg.count_frames_and_secs(str(other / "animation.mp4"))[0] == resampled_frames(rows, 30.0, 12.0)
 
 
 def test_quality_presets_set_size_and_fps_and_explicit_flags_win():

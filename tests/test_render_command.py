@@ -10,6 +10,7 @@ import pytest
 from typer.testing import CliRunner
 
 from armanim.cli import app
+from armanim.runs.resample import resampled_frames
 
 ROOT = Path(__file__).resolve().parent.parent
 runner = CliRunner()
@@ -49,7 +50,7 @@ def test_render_redraws_at_another_size_and_fps_without_solving(finished_run, tm
     assert tuple(meta["size"]) == (80, 60)
     assert meta["fps"] == pytest.approx(12)
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(folder / "animation.mp4"))
-    assert frames == _rows(folder)
+    assert frames == resampled_frames(_rows(folder), 30.0, 12.0)  # the run's seconds at 12 fps
     assert (folder / "trajectory.csv").read_bytes() == csv_before  # nothing re-solved or rewritten
 
 
