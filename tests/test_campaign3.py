@@ -48,12 +48,13 @@ def test_a_max_joint_step_below_the_floor_is_refused_with_its_line(step):
 
 
 @pytest.mark.parametrize("length", [3.0, 300.0, 1e300])
-def test_a_path_longer_than_the_frames_left_is_no_schedule_and_no_allocation(length):
+def test_a_path_longer_than_the_frames_left_is_followed_as_far_as_they_go(length):
     waypoints = np.array([[0.0, 0.0], [length, -length]])
-    assert path_schedule(waypoints, np.radians(0.001), most=600) is None
-    assert path_schedule(waypoints, 1e-300, most=10**9) is None  # not even a count overflow
+    for step, most in ((np.radians(0.001), 600), (1e-300, 10**6)):  # a count of 1e306, or inf: never allocated
+        s = path_schedule(waypoints, step, most=most)
+        assert len(s) == most and np.all(np.diff(s) >= 0) and np.all(np.diff(s) <= step / 0.66) and s[-1] < length
     short = path_schedule(np.array([[0.0], [0.5]]), 0.1, most=600)
-    assert short is not None and len(short) <= 600 and short[-1] == 0.5
+    assert len(short) == 8 and short[-1] == 0.5
 
 
 def test_the_damper_never_makes_a_schedule_longer_than_the_frames_left():
@@ -66,7 +67,7 @@ def test_the_damper_never_makes_a_schedule_longer_than_the_frames_left():
     assert len(damper_paced(problem, waypoints, schedule, most=len(schedule) + 3)) <= len(schedule) + 3
 
 
-def test_a_plan_longer_than_the_frames_left_is_a_too_slow_miss():
+def test_a_plan_longer_than_the_frames_left_stops_where_they_end():
     from armanim.motion.planning import plan_motion
     from armanim.scene import load_scene
 
@@ -75,7 +76,8 @@ def test_a_plan_longer_than_the_frames_left_is_a_too_slow_miss():
     free = plan_motion(problem, problem.home, goal)
     assert free.frames is not None and len(free.frames) <= problem.solver.max_frames_per_goal
     tight = plan_motion(problem, problem.home, goal, frames_left=3)
-    assert tight.frames is None and tight.reason == "too_slow"
+    assert len(tight.frames) == 3
+    assert not np.allclose(tight.frames[-1], free.frames[-1])  # short of the goal pose: the goal ends too_slow at its cap
 
 
 @pytest.mark.parametrize("vector", [[1e-320, 0, 0], [1e-200, 1e-200, 0], [1e308, 0, 1e308], [-1e308, -1e308, -1e308],
@@ -331,3 +333,38 @@ def test_render_at_an_fps_beyond_the_frame_limit_is_refused_before_drawing(cli, 
     assert cli("run", tmp_path / "slow.yaml", "--out", tmp_path / "o", "--no-video", "--quiet").exit_code == 0
     result = cli("render", tmp_path / "o" / "slow", "--fps", 240, "--out", tmp_path / "r")
     assert result.exit_code == 2 and "expected at most 1,000,000" in result.stderr and not (tmp_path / "r").exists()
+
+
+@pytest.mark.parametrize("field", ["solver: {orientation_tolerance: 5e-324}", "solver: {orientation_tolerance: 1e-300}",
+                                   "arm: {links: [1, 1, 1, 1], limit_margin: 5e-324}"])
+def test_angles_that_would_be_zero_radians_are_refused(field):
+    text = "version: 1\n" + (field + "\n" if field.startswith("arm") else "arm: {links: [1, 1, 1, 1]}\n" + field + "\n")
+    report = scene_error(text + "goals:\n  - {position: [1, 1, 2], tool_axis: [0, 0, 1]}\n")
+    assert "must be >= 1e-06" in report  # found by benchmarks/fuzz_bench.py: a ZeroDivisionError in pose_distance
+
+
+@pytest.mark.parametrize("field", ["links: [1, 1e-300, 1]", "links: [1, 1, 1], width: 5e-324"])
+def test_lengths_below_the_smallest_are_refused(field):
+    assert "is too small (expected at least 1e-09: choose a larger unit)" in scene_error(
+        "version: 1\narm: {" + field + "}\ngoals: [[1, 1, 1]]\n")
+
+
+def test_fk_png_draws_no_goal_and_names_none_in_the_legend():
+    from armanim.render.backdrop import legend_entries
+
+    labels = [label for label, _ in legend_entries("pose", trail=True, obstacles=False, outcomes=frozenset(), hidden_goal=False, goals=False)]
+    assert labels == ["arm"]
+
+
+@pytest.mark.parametrize("args,noise", [(["ik", "--robot", "ur5", "--goal", "0.4,0.2,0.3"], "e-1"),
+                                        (["fk", "--robot", "panda", "--angles", "0,0,0,-90,0,90,45"], "e-1"),
+                                        (["fk", "--robot", "ur5", "--angles", "0,-90,90,-90,-90,0"], "e-1")])
+def test_numbers_zero_to_the_arm_s_precision_print_as_0(cli, args, noise):
+    result = cli(*args)
+    assert result.exit_code == 0 and noise not in result.stdout and "-0 " not in result.stdout, result.stdout
+
+
+def test_jobs_0_is_a_one_line_message(cli):
+    result = cli("run", Path(__file__).parents[1] / "scenes" / "notes-arm.yaml", "--jobs", "0", "--no-video")
+    assert result.exit_code == 2 and result.stderr.strip().splitlines() == [
+        "--jobs: expected at least 1 worker process (got 0; leave it out to use every core)"]

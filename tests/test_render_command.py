@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+import math
 import shutil
 from pathlib import Path
 
@@ -10,7 +12,6 @@ import pytest
 from typer.testing import CliRunner
 
 from armanim.cli import app
-from armanim.runs.resample import resampled_frames
 
 ROOT = Path(__file__).resolve().parent.parent
 runner = CliRunner()
@@ -50,7 +51,9 @@ def test_render_redraws_at_another_size_and_fps_without_solving(finished_run, tm
     assert tuple(meta["size"]) == (80, 60)
     assert meta["fps"] == pytest.approx(12)
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(folder / "animation.mp4"))
-    assert frames == resampled_frames(_rows(folder), 30.0, 12.0)  # the run's seconds at 12 fps
+    run_fps = json.loads((folder / "summary.json").read_text())["fps"]
+    seconds = (_rows(folder) - 1) / run_fps  # the run's own duration, kept at 12 fps (issue 36): frames at k / 12 and the end
+    assert frames == math.floor(seconds * 12 + 1e-9) + 1 + (0 if abs(seconds * 12 - round(seconds * 12)) < 1e-9 else 1)
     assert (folder / "trajectory.csv").read_bytes() == csv_before  # nothing re-solved or rewritten
 
 

@@ -157,6 +157,9 @@ def plural(count: int, word: str) -> str:
     return f"{count} {word}" + ("" if count == 1 else "s")
 
 
-def fmt(value: float) -> str:
-    """A number for a table: six significant digits."""
-    return f"{value:.6g}"
+def fmt(value: float, scale: float = 1.0) -> str:
+    """A number for a table: :func:`armanim.numbers.number` (six significant digits, 0 below
+    1e-9 of ``scale``)."""
+    from armanim.numbers import number
+
+    return number(value, scale)

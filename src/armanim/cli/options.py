@@ -18,7 +18,7 @@ from armanim.errors import UsageError
 from armanim.runs.overrides import RenderOverrides
 
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")]
-JobsOpt = Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores).")]
+JobsOpt = Annotated[int | None, typer.Option("--jobs", "-j", help="Worker processes (default: all cores).")]
 SchedulerOpt = Annotated[
     str | None,
     typer.Option("--scheduler", envvar="ARMANIM_SCHEDULER", help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.\\[dask]').", show_envvar=True),
@@ -87,6 +87,8 @@ def parse_size(text: str) -> list[int]:
 def usable_jobs(jobs: int | None) -> int | None:
     """``--jobs``, at most the cores this process may use (more only add processes and
     memory); a note on stderr says so when it is lowered."""
+    if jobs is not None and jobs < 1:  # checked here, not by click: one line, as every usage error
+        raise UsageError(f"--jobs: expected at least 1 worker process (got {jobs}; leave it out to use every core)")
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     if jobs is not None and jobs > cores:
         say(f"note: --jobs {jobs} is more than the {cores} cores here; using {cores}", err)

@@ -14,6 +14,7 @@ from armanim.cli.app import app, err, fmt, handle_errors, out, say
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
 from armanim.cli.options import parse_lengths, parse_numbers
 from armanim.errors import UsageError
+from armanim.numbers import number
 from armanim.output.jsontext import json_text
 
 
@@ -52,9 +53,9 @@ def fk(
             "tip_quaternion_wxyz": rotation_quaternion(rot).tolist(), "tip_rpy_deg": np.degrees(rotation_rpy(rot)).tolist(),
         }))
     else:
-        out.print(pose_table(pose.points, phi))
+        out.print(pose_table(pose.points, phi, problem.arm.reach))
         rot = tool_rotation(problem.arm, pose)
-        say("tool rpy (deg): " + ", ".join(fmt(v) for v in np.degrees(rotation_rpy(rot)))
+        say("tool rpy (deg): " + ", ".join(fmt(v, 360) for v in np.degrees(rotation_rpy(rot)))
             + "; quaternion wxyz: " + ", ".join(fmt(v) for v in rotation_quaternion(rot)))
     for note in problem.limits.notes(phi) if loaded else []:
         say(f"note: {note}", err)
@@ -62,20 +63,22 @@ def fk(
         from armanim.render.draw import render_pose_png
         from armanim.scene import render_settings
 
-        render_pose_png(problem, phi, render_settings(model), png, title="armanim fk")
+        # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend
+        render_pose_png(replace(problem, goals=()), phi, render_settings(model), png, title="armanim fk")
         if not as_json:
             say(f"wrote {png}")
 
 
-def pose_table(points: np.ndarray, phi: np.ndarray) -> Table:
-    """Joint positions (base to tip) with each joint's angle in degrees."""
+def pose_table(points: np.ndarray, phi: np.ndarray, reach: float = 1.0) -> Table:
+    """Joint positions (base to tip) with each joint's angle in degrees (lengths to the
+    precision of an arm of ``reach``)."""
     table = Table(title="Forward kinematics", title_justify="left")
     for col in ("point", "angle (deg)", "x", "y", "z"):
         table.add_column(col, justify="right" if col != "point" else "left")
     for i, p in enumerate(points):
         label = f"joint {i + 1}" if i < len(phi) else "tip"
-        angle = fmt(np.degrees(phi[i])) if i < len(phi) else ""
-        table.add_row(label, angle, *(fmt(v) for v in p))
+        angle = fmt(np.degrees(phi[i]), 360) if i < len(phi) else ""
+        table.add_row(label, angle, *(fmt(v, reach) for v in p))
     return table
 
 
@@ -112,8 +115,10 @@ def ik(
     target = parse_lengths(goal, "--goal", 3)
     wanted = parse_orientation(orientation) if orientation is not None else None
     if orientation_tolerance is not None:
-        if not 0 < orientation_tolerance <= 180:
-            raise UsageError(f"--orientation-tolerance: expected degrees in (0, 180] (got {orientation_tolerance:g})")
+        from armanim.scene.models import MIN_DEGREES
+
+        if not MIN_DEGREES <= orientation_tolerance <= 180:
+            raise UsageError(f"--orientation-tolerance: expected degrees in [{MIN_DEGREES:g}, 180] (got {orientation_tolerance:g})")
         problem = replace(problem, solver=replace(problem.solver, orientation_tolerance=float(np.radians(orientation_tolerance))))
     phi0 = np.radians(parse_numbers(start, "--from", problem.arm.n)) if start else problem.home
     result = solve_pose(problem, target, phi0, max_iterations, orientation=wanted)
@@ -121,7 +126,7 @@ def ik(
     if as_json:
         print(json_text(data))
     else:
-        print_ik_report(data, problem.solver.tolerance, np.degrees(problem.solver.orientation_tolerance))
+        print_ik_report(data, problem.solver.tolerance, np.degrees(problem.solver.orientation_tolerance), problem.arm.reach)
 
 
 ORIENTATION_FORMS = {"rpy": 3, "quat": 4, "axis": 4, "tool_axis": 3}
@@ -210,20 +215,21 @@ def ik_report(problem, target: np.ndarray, result) -> dict:
     return data
 
 
-def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float = 1.0) -> None:
-    """:func:`ik_report` for a terminal (``orientation_tolerance`` in degrees)."""
+def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float = 1.0, reach: float = 1.0) -> None:
+    """:func:`ik_report` for a terminal (``orientation_tolerance`` in degrees; lengths to the
+    precision of an arm of ``reach``)."""
     status = "[green]converged[/green]" if data["converged"] else "[red]not converged[/red]"
-    out.print(f"{data['method']}: {status}, error {data['error']:.3g} (tolerance {tolerance:g})")
+    out.print(f"{data['method']}: {status}, error {number(data['error'], reach, 3)} (tolerance {tolerance:g})")
     if "orientation_error_deg" in data:
-        say(f"orientation error {data['orientation_error_deg']:.3g} deg (tolerance {orientation_tolerance:g})")
+        say(f"orientation error {number(data['orientation_error_deg'], 360, 3)} deg (tolerance {orientation_tolerance:g})")
     if data["found_by"] == "free_pose_search":
         say("found by the planner's free-pose search: the method alone did not converge from the start pose")
     if "reason" in data:
         say(f"why: {data['reason']}")
-    say("angles (deg): " + ", ".join(fmt(v) for v in data["angles_deg"]))
-    say("tip: " + ", ".join(fmt(v) for v in data["tip"]))
+    say("angles (deg): " + ", ".join(fmt(v, 360) for v in data["angles_deg"]))
+    say("tip: " + ", ".join(fmt(v, reach) for v in data["tip"]))
     if "self_clearance" in data:
-        say(f"self clearance: {data['self_clearance']:.3g} ({data['self_pair'].replace('|', ' to ')})")
+        say(f"self clearance: {fmt(data['self_clearance'], reach)} ({data['self_pair'].replace('|', ' to ')})")
     if "newton_iterations" in data:
         say(f"steps: {data['steps']} (gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']} iterations)")
     else:

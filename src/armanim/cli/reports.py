@@ -9,6 +9,7 @@ from rich.table import Table
 
 from armanim.cli.app import err, out, say
 from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_OUTPUT_FAILED
+from armanim.numbers import number
 
 
 def print_goal_table(result) -> None:
@@ -24,9 +25,10 @@ def print_goal_table(result) -> None:
         table.add_column(col, justify="left" if col in ("position", "result") else "right")
     for g in sol.goals:
         outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {MISS_REASONS[g.reason]}"
-        row = [str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), f"{g.final_distance:.3g}"]
+        reach = result.problem.arm.reach
+        row = [str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), number(g.final_distance, reach, 3)]
         if oriented:
-            row.append("" if g.final_orientation_error is None else f"{np.degrees(g.final_orientation_error):.3g}")
+            row.append("" if g.final_orientation_error is None else number(np.degrees(g.final_orientation_error), 360, 3))
         table.add_row(*row)
     out.print(table)
     say("outputs: " + ", ".join(str(p) for p in result.files.values()))
@@ -59,7 +61,7 @@ def print_batch_table(entries, index_path: Path) -> None:
         table.add_column(col, justify="right" if col in numbers else "left", overflow="fold")
     for e in entries:
         style = {"ok": "green", "invalid": "red", "failed": "red"}[e.status]
-        clearance = "" if e.min_clearance is None else f"{e.min_clearance:.3g}"
+        clearance = "" if e.min_clearance is None else number(e.min_clearance, digits=3)
         table.add_row(e.name, f"[{style}]{e.status}[/{style}]", str(e.reached), str(e.missed), str(e.frames), clearance, e.folder)
     out.print(table)
     say(f"index: {index_path}")

@@ -31,7 +31,7 @@ def run(
     no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only (and viewer.html with --viewer).")] = False,
     viewer: Annotated[bool | None, typer.Option("--viewer/--no-viewer", help="Write viewer.html, the interactive 3-D page (default: when the video is written).", show_default=False)] = None,
     quiet: QuietOpt = False,
-    jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
+    jobs: Annotated[int | None, typer.Option("--jobs", "-j", help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
     scheduler: SchedulerOpt = None,
     size: Annotated[str | None, typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
     fps: Annotated[float | None, typer.Option("--fps", help="Override render.fps.")] = None,

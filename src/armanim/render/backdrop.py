@@ -139,7 +139,7 @@ def draw_legend(sheet: Sheet, layout: scenery.Layout, entries: list[tuple[str, L
 
 
 def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: frozenset,
-                   hidden_goal: bool, hidden_by: str = "a sphere") -> list[tuple[str, Line2D]]:
+                   hidden_goal: bool, hidden_by: str = "a sphere", goals: bool = True) -> list[tuple[str, Line2D]]:
     """(label, handle) of what a picture shows.
 
     Parameters
@@ -157,6 +157,8 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
         Some goal is behind a sphere (or a box or capsule).
     hidden_by : str
         What hides it, in the legend: ``"a sphere"``, or ``"an obstacle"`` among boxes and capsules.
+    goals : bool
+        The picture has goals (``fk --png`` draws none, and names none).
     """
     marker = dict(linestyle="none", markersize=8)
     entries = [("arm", Line2D([], [], color=ARM_COLOR, linewidth=5))]
@@ -170,7 +172,7 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     pending = Line2D([], [], marker="o", markerfacecolor="white", markeredgecolor=GOAL_COLORS["pending"],
                      markeredgewidth=1.5, **marker)
     if picture == "pose":
-        entries.append(("goal", pending))
+        entries += [("goal", pending)] if goals else []
     else:
         entries += goal_entries(picture, outcomes, pending, marker)
     if hidden_goal:

@@ -40,6 +40,7 @@ from matplotlib.transforms import IdentityTransform
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
+from armanim.numbers import number
 from armanim.render import backdrop, scenery
 from armanim.render.bounds import goal_points
 from armanim.render.camera import camera_rotation, view_angles
@@ -143,7 +144,8 @@ class SceneCanvas:
         solids = len(obstacles.radii) + len(obstacles.boxes) + len(obstacles.rods)  # the floor is no red solid
         legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids),
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
-                                         hidden_by="a sphere" if self.shapes is None else "an obstacle")
+                                         hidden_by="a sphere" if self.shapes is None else "an obstacle",
+                                         goals=bool(len(problem.goals)))
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
         self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
@@ -432,8 +434,8 @@ def _segment_goals(goals) -> list:
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
     """Caption of a single pose: its joint angles in degrees and its tip."""
     tip = forward(problem.arm, phi).tip
-    angles = ", ".join(f"{a:.1f}" for a in np.degrees(phi))
-    return f"phi = [{angles}] deg   tip = ({tip[0]:.3f}, {tip[1]:.3f}, {tip[2]:.3f})"
+    angles = ", ".join(number(a, 360, 4) for a in np.degrees(phi))
+    return f"phi = [{angles}] deg   tip = ({', '.join(number(v, problem.arm.reach, 4) for v in tip)})"
 
 
 def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings, path, *, title: str) -> None:

@@ -45,6 +45,10 @@ MIN_JOINT_STEP = 0.001
 """Smallest ``solver.max_joint_step``, degrees: a joint's whole turn is then at most 540,000
 frames, so a planned path too long for the frames left is a miss, never an allocation."""
 
+MIN_DEGREES = 1e-6
+"""Smallest ``arm.limit_margin`` and ``solver.orientation_tolerance``, degrees: in radians they
+stay normal floats the solvers divide by (5e-324 degrees is 0 radians)."""
+
 MIN_FPS = 0.01
 """Slowest frame rate (one frame per 100 s): ffmpeg takes the rate as a fraction with a
 denominator of at most 1001, so far slower rates would reach it as 0."""
@@ -183,7 +187,7 @@ class ArmModel(Strict):
     limits: list[Annotated[list[Angle], Field(min_length=2, max_length=2)] | None] | None = Field(
         default=None, description="Per joint [min, max] in degrees, or null for an unlimited joint; default the URDF's."
     )
-    limit_margin: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
+    limit_margin: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
         default=10.0, description="delta of the limit barrier, degrees."
     )
     width: Positive | None = Field(
@@ -473,7 +477,7 @@ class SolverModel(Strict):
         default=None,
         description="Length per radian: how much a radian of tool rotation weighs against a unit of distance; default the arm's reach / 4.",
     )
-    orientation_tolerance: Annotated[float, Field(gt=0, le=180, allow_inf_nan=False)] = Field(
+    orientation_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
         default=1.0, description="Degrees: a goal with an orientation is reached when the tool is within this angle of it (and within tolerance)."
     )
     weights: WeightsModel = WeightsModel()

@@ -35,8 +35,7 @@ class Plan:
         Poses to follow, one per frame; None when there is no plan.
     reason : MissReason or None
         Why there is none: ``"out_of_reach"``, ``"orientation_unreachable"`` (the position is
-        reachable, the orientation there is not), ``"no_free_pose"``, ``"no_path"`` or
-        ``"too_slow"`` (a path that takes more frames than are left).
+        reachable, the orientation there is not), ``"no_free_pose"`` or ``"no_path"``.
     poses : int
         Free goal poses found.
     source : PathSource
@@ -76,7 +75,7 @@ def plan_motion(
         (:data:`armanim.motion.planning.path.Searched`).
     frames_left : int, optional
         Frames the goal may still take; default ``solver.max_frames_per_goal``. A path that
-        needs more is no plan (``"too_slow"``), and nothing its length would take is allocated.
+        needs more is followed as far as they go (nothing its length would take is allocated).
 
     Returns
     -------
@@ -93,9 +92,7 @@ def plan_motion(
     if path.waypoints is None:
         return Plan(None, "no_path", len(found.poses), path.source, path.checks)
     most = problem.solver.max_frames_per_goal if frames_left is None else frames_left
-    schedule = path_schedule(path.waypoints, problem.solver.max_joint_step, most)
-    if schedule is None:  # the path takes more frames than the goal has left
-        return Plan(None, "too_slow", len(found.poses), path.source, path.checks)
+    schedule = path_schedule(path.waypoints, problem.solver.max_joint_step, most)  # at most the frames left
     frames = poses_along(path.waypoints, damper_paced(problem, path.waypoints, schedule, most))
     return Plan(frames, None, len(found.poses), path.source, path.checks)
 

@@ -36,25 +36,25 @@ def path_lengths(waypoints: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.abs(np.diff(waypoints, axis=0)).max(axis=1))])
 
 
-def path_schedule(waypoints: np.ndarray, max_joint_step: float, most: int | None = None) -> np.ndarray | None:
+def path_schedule(waypoints: np.ndarray, max_joint_step: float, most: int | None = None) -> np.ndarray:
     """(F,) how far along the path each frame is: a smoothstep over the path's length, no
     joint above ``max_joint_step`` per frame; the first frame after the start to the end.
 
-    None when that takes more than ``most`` frames (the frames left to the goal): the count
-    is found before anything is allocated, so a long path is a miss, never a huge array.
+    At most ``most`` frames (the frames left to the goal): a longer path is followed as far
+    as they go (the goal is then missed as ``too_slow`` at its frame cap), and only those
+    frames are made, so a long path is never a huge array.
 
-    >>> path_schedule(np.array([[0.0], [3.0]]), 1e-6, most=1000) is None
-    True
+    >>> s = path_schedule(np.array([[0.0], [3.0]]), 1e-6, most=1000)
+    >>> len(s), bool(s[-1] < 1e-3)
+    (1000, True)
     """
     length = path_lengths(waypoints)[-1]
     if length == 0.0:
         return np.array([0.0])
-    with np.errstate(over="ignore"):  # a count too large to hold is inf, and no schedule
-        frames = PEAK_SPEED * length / max_joint_step
-    if not np.isfinite(frames) or (most is not None and frames > most):
-        return None
-    count = int(np.ceil(frames))
-    return length * smoothstep(np.arange(1, count + 1) / count)
+    with np.errstate(over="ignore"):
+        count = np.ceil(PEAK_SPEED * length / max_joint_step)  # may be huge, or inf: only ``most`` are made
+    made = int(min(count, most)) if most is not None else int(count)
+    return length * smoothstep(np.arange(1, made + 1) / count)
 
 
 def poses_along(waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:

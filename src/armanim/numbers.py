@@ -1,0 +1,34 @@
+"""THE number formatter of tables, captions and messages.
+
+A value that is zero to the arm's precision prints as ``0`` (kinematics leaves 1e-17 where
+the exact answer is 0: ``4.19919e-17`` in a table is noise, not a length), ``-0`` never
+prints, and every value has the same number of significant digits. The unit is named by the
+caller (a column heading or the words around it).
+"""
+
+from __future__ import annotations
+
+import math
+
+PRECISION = 1e-9
+"""Of a value's scale (the arm's reach for lengths, a turn for degrees, 1 for a unit
+quaternion): smaller values print as 0."""
+
+DIGITS = 6
+
+
+def number(value: float, scale: float = 1.0, digits: int = DIGITS) -> str:
+    """``value`` with ``digits`` significant digits; 0 when it is below PRECISION of ``scale``.
+
+    >>> number(4.19919e-17), number(-1.36821e-17, scale=0.85), number(0.514159265), number(-0.0)
+    ('0', '0', '0.514159', '0')
+    >>> number(-89.99999999999, scale=360), number(1.5e-6, scale=17), number(float("nan"))
+    ('-90', '1.5e-06', 'nan')
+    """
+    value = float(value)
+    if not math.isfinite(value):
+        return f"{value}"
+    if abs(value) < PRECISION * abs(scale):
+        return "0"
+    text = f"{value:.{digits}g}"
+    return "0" if text in ("-0", "0") else text
