@@ -247,10 +247,16 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
     """
     s = _grid(path.s)
     h = np.diff(s)
-    from armanim.motion.passes import backward_pass, forward_pass, pairwise_cap  # compiled: numba is imported here
+    from armanim.motion.passes import backward_pass, forward_pass, interval_bounds  # compiled: numba is imported here
 
-    lo_b, lo_k, hi_b, hi_k, x_cap = _interval_bounds(path, s, h, speed, acceleration)
-    pairwise_cap(lo_b, lo_k, hi_b, hi_k, x_cap)
+    fractions = np.array(COLLOCATION)
+    at = (s[:-1] + fractions[:, None] * h * (1 - 1e-9)).ravel()
+    d1, d2 = (path.evaluate(at, k).reshape(len(fractions), len(h), -1) for k in (1, 2))
+    n = d1.shape[2]
+    lo_b, lo_k = np.empty((len(h), len(fractions) * n)), np.empty((len(h), len(fractions) * n))
+    hi_b, hi_k = np.empty((len(h), len(fractions) * (n + 1))), np.empty((len(h), len(fractions) * (n + 1)))
+    x_cap = np.empty(len(h))
+    interval_bounds(d1, d2, h, fractions, speed, acceleration, lo_b, lo_k, hi_b, hi_k, x_cap)
     # u >= -x / 2h (the next point's x is not negative) against every upper bound
     x_cap = np.minimum(x_cap, np.min(_bound(0.0, -1 / (2 * h[:, None]), hi_b, hi_k), axis=1))
     # u <= (hi[i+1] - x) / 2h against every lower bound: x <= hi[i+1] * w + base
@@ -282,31 +288,6 @@ def _grid(knots: np.ndarray) -> np.ndarray:
     f = np.arange(per) / per
     inner = knots[:-1, None] + f * np.diff(knots)[:, None]
     return np.concatenate([inner.ravel(), knots[-1:]])
-
-
-def _interval_bounds(path: JointPath, s: np.ndarray, h: np.ndarray, speed: np.ndarray, acceleration: np.ndarray):
-    """The limits on each grid interval as bounds on u: lo_b + lo_k x <= u <= hi_b + hi_k x,
-    each (N - 1, P), and x <= x_cap (N - 1,)."""
-    lows, highs, caps = [], [], [np.full(len(h), np.inf)]
-    for f in COLLOCATION:
-        at = s[:-1] + f * h * (1 - 1e-9)
-        d1, d2 = path.evaluate(at, 1), path.evaluate(at, 2)
-        reach = 2 * f * h[:, None]  # x at the point is x + reach * u
-        a1 = d1 + reach * d2  # the joint's acceleration is a1 u + d2 x
-        with np.errstate(divide="ignore", invalid="ignore"):
-            top = np.where(a1 != 0, acceleration / np.abs(a1), np.inf)
-            k = np.where(a1 != 0, -d2 / a1, 0.0)
-            caps.append(np.min(np.where((a1 == 0) & (d2 != 0), acceleration / np.abs(d2), np.inf), axis=1))
-            v2 = np.min(np.where(d1 != 0, (speed / np.abs(d1)) ** 2, np.inf), axis=1)  # x + reach u <= v2
-        lows.append((-top, k))
-        highs.append((top, k))
-        if f == 0:
-            caps.append(v2)
-        else:
-            highs.append(((v2 / reach[:, 0])[:, None], (-1 / reach[:, 0])[:, None]))
-    lo_b, lo_k = (np.concatenate([b[i] for b in lows], axis=1) for i in (0, 1))
-    hi_b, hi_k = (np.concatenate([b[i] for b in highs], axis=1) for i in (0, 1))
-    return lo_b, lo_k, hi_b, hi_k, np.min(caps, axis=0)
 
 
 def _bound(lo_b, lo_k, hi_b, hi_k) -> np.ndarray:

@@ -42,20 +42,6 @@ def forward_pass(hi_b: np.ndarray, hi_k: np.ndarray, h: np.ndarray, hi: np.ndarr
 
 
 @compiled(**_JIT)
-def pairwise_cap(lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray, x_cap: np.ndarray) -> None:
-    """Lower ``x_cap`` (N,) to the largest x at which every lower bound lo_b + lo_k x on the
-    path acceleration stays below every upper bound hi_b + hi_k x, on each interval."""
-    for i in range(len(x_cap)):
-        for p in range(lo_b.shape[1]):
-            for q in range(hi_b.shape[1]):
-                slope = lo_k[i, p] - hi_k[i, q]
-                if slope > 0:
-                    value = (hi_b[i, q] - lo_b[i, p]) / slope
-                    if value < x_cap[i]:
-                        x_cap[i] = value
-
-
-@compiled(**_JIT)
 def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndarray, derivative: int,
             out: np.ndarray) -> None:
     """Fill ``out`` (k, n) with the piecewise cubic Hermite path through ``poses`` (m, n) with
@@ -79,3 +65,63 @@ def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndar
         for j in range(poses.shape[1]):
             out[i, j] = scale * (b0 * poses[k, j] + b1 * h * slopes[k, j] + b2 * poses[k + 1, j]
                                  + b3 * h * slopes[k + 1, j])
+
+
+@compiled(**_JIT)
+def interval_bounds(d1: np.ndarray, d2: np.ndarray, h: np.ndarray, fractions: np.ndarray, speed: np.ndarray,
+                    acceleration: np.ndarray, lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray,
+                    x_cap: np.ndarray) -> None:
+    """Fill the bounds of :func:`armanim.motion.clock.time_optimal` on each grid interval i from the
+    path's derivatives ``d1``, ``d2`` (C, N, n) at its C collocation points (``fractions`` of h[i]):
+    each joint's acceleration a1 u + d2 x within +-a (a1 = d1 + 2 f h d2) as lo_b + lo_k x <= u <=
+    hi_b + hi_k x (columns c n + j), each joint's speed as x + 2 f h u <= (v / |d1|)^2 (one upper
+    bound per point inside the interval, the last columns; at f = 0 a cap on x), and x_cap (N,)
+    the largest x at which every lower bound stays below every upper bound (the grid's maximum
+    velocity curve), found by Newton's method on their concave gap from the right."""
+    count, n = d1.shape[0], d1.shape[2]
+    for i in range(len(h)):
+        cap = np.inf
+        for c in range(count):
+            reach = 2 * fractions[c] * h[i]
+            v2 = np.inf
+            for j in range(n):
+                a1 = d1[c, i, j] + reach * d2[c, i, j]
+                col = c * n + j
+                if a1 != 0:
+                    top = acceleration[j] / abs(a1)
+                    lo_b[i, col], hi_b[i, col] = -top, top
+                    lo_k[i, col] = hi_k[i, col] = -d2[c, i, j] / a1
+                else:
+                    lo_b[i, col], hi_b[i, col] = -np.inf, np.inf
+                    lo_k[i, col] = hi_k[i, col] = 0.0
+                    if d2[c, i, j] != 0:
+                        cap = min(cap, acceleration[j] / abs(d2[c, i, j]))
+                if d1[c, i, j] != 0:
+                    v2 = min(v2, (speed[j] / abs(d1[c, i, j])) ** 2)
+            col = count * n + c
+            if reach == 0:
+                cap = min(cap, v2)
+                hi_b[i, col], hi_k[i, col] = np.inf, 0.0
+            else:
+                hi_b[i, col], hi_k[i, col] = v2 / reach, -1 / reach
+        x = cap if cap < np.inf else 1e300
+        for _ in range(hi_b.shape[1] + lo_b.shape[1]):  # a concave piecewise-linear gap: a few steps
+            low, p = -np.inf, -1
+            for q in range(lo_b.shape[1]):
+                value = lo_b[i, q] + lo_k[i, q] * x
+                if value > low:
+                    low, p = value, q
+            high, r = np.inf, -1
+            for q in range(hi_b.shape[1]):
+                value = hi_b[i, q] + hi_k[i, q] * x
+                if value < high:
+                    high, r = value, q
+            gap = high - low
+            if gap >= 0 or p < 0 or r < 0:
+                break
+            slope = hi_k[i, r] - lo_k[i, p]
+            if slope >= 0:
+                x = 0.0
+                break
+            x = max(x - gap / slope, 0.0)
+        x_cap[i] = x

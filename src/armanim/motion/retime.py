@@ -26,7 +26,7 @@ from armanim.motion.clock import ClockTooLong, goal_motion
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
-from armanim.motion.solvers.barrier import pose_clearance, self_shift
+from armanim.motion.solvers.barrier import pair_lever_rows, pose_clearance, split_clearances
 from armanim.motion.trajectory import hold_frames, with_self_clearance
 from armanim.world.distances import min_link_clearance
 
@@ -82,13 +82,11 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     phi, velocity, source, held, goal = [src.phi[:1]], [np.zeros((1, n))], [np.zeros(1, dtype=int)], [[False]], [[0]]
     timings = []
     start = made = 0
-    solved_clearance = src.clearance if src.self_clearance is None else \
-        np.minimum(src.clearance, src.self_clearance + self_shift(problem))  # as pose_clearance judges both
     for g in solution.goals:
         poses = src.phi[start:start + g.frames + 1]
         motion = goal_motion(poses, problem.limits.limited, rates.speed, rates.acceleration, fps,
                              clear=lambda p: safe_pose(problem, p), most_frames=most_frames - made,
-                             jerk=rates.jerk, certified=certified_steps(problem, poses, solved_clearance[start:start + g.frames + 1]))
+                             jerk=rates.jerk, certified=certified_steps(problem, poses))
         heads_for = start + motion.heads_for
         if len(heads_for):
             heads_for[-1] = start + g.frames  # the last solved frame, repeated poses or not
@@ -131,15 +129,21 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     return Solution(trajectory, tuple(_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings)))
 
 
-def certified_steps(problem: Problem, poses: np.ndarray, clearance: np.ndarray) -> np.ndarray:
+def certified_steps(problem: Problem, poses: np.ndarray) -> np.ndarray:
     """(m - 1,) bool: the solved steps between ``poses`` (m, n) every pose between whose ends
     (each joint within the range of its two values, as the clock's path keeps it) keeps
-    ``solver.clearance`` (as :func:`~armanim.motion.solvers.barrier.pose_clearance` judges it,
-    the arm's own pairs included): no point of the capsules moves farther from either end than
-    the sum of each joint's lever arm times its turn (nor, in one capsule's frame, any point of the
-    other of a pair), so the farther end's ``clearance`` (m,) less that is a lower bound."""
-    reach = np.abs(wrap_angle(np.diff(poses, axis=0))) @ problem.lever_arms
-    return np.maximum(clearance[:-1], clearance[1:]) - reach >= problem.solver.clearance
+    ``solver.clearance`` from the obstacles and ``self_clearance`` between the arm's enabled
+    pairs: no point of the capsules moves farther from either end than the sum of each joint's
+    lever arm times its turn, and no pair's gap changes by more than that sum over the joints
+    between its two capsules (:func:`~armanim.motion.solvers.barrier.pair_lever_rows`), so the
+    farther end's clearance less that is a lower bound."""
+    clear, own = split_clearances(problem, poses)
+    step = np.abs(wrap_angle(np.diff(poses, axis=0)))
+    floor = problem.solver.clearance
+    certified = np.maximum(clear[:-1], clear[1:]) - step @ problem.lever_arms >= floor
+    if own is not None:
+        certified &= np.all(np.maximum(own[:-1], own[1:]) - step @ pair_lever_rows(problem).T >= floor, axis=1)
+    return certified
 
 
 def safe_pose(problem: Problem, phi: np.ndarray) -> np.ndarray:
