@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 from itertools import combinations
 from pathlib import Path
 
@@ -199,9 +200,10 @@ def test_render_out_keeps_the_run_video_byte_identical_and_writes_full_metadata(
     reader.close()
     assert tuple(meta["size"]) == (80, 60)
     assert meta["fps"] == pytest.approx(12)
-    from armanim.runs.resample import resampled_frames
+    from armanim.runs.resample import resampled_frames  # the run's seconds kept at 12 fps (issue 36)
 
-    assert imageio_ffmpeg.count_frames_and_secs(str(other / "animation.mp4"))[0] == resampled_frames(rows, 30.0, 12.0)
+    run_fps = json.loads((run / "summary.json").read_text())["fps"]
+    assert imageio_ffmpeg.count_frames_and_secs(str(other / "animation.mp4"))[0] == resampled_frames(rows, run_fps, 12)
 
 
 def test_quality_presets_set_size_and_fps_and_explicit_flags_win():

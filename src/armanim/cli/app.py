@@ -158,8 +158,8 @@ def plural(count: int, word: str) -> str:
 
 
 def fmt(value: float, scale: float = 1.0) -> str:
-    """A number for a table: :func:`armanim.numbers.number` (six significant digits, 0 below
+    """A number for a table: :func:`armanim.output.numbers.number` (six significant digits, 0 below
     1e-9 of ``scale``)."""
-    from armanim.numbers import number
+    from armanim.output.numbers import number
 
     return number(value, scale)

@@ -14,8 +14,8 @@ from armanim.cli.app import app, err, fmt, handle_errors, out, say
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
 from armanim.cli.options import parse_lengths, parse_numbers
 from armanim.errors import UsageError
-from armanim.numbers import number
 from armanim.output.jsontext import json_text
+from armanim.output.numbers import number
 
 
 @app.command()

@@ -9,7 +9,7 @@ from rich.table import Table
 
 from armanim.cli.app import err, out, say
 from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_OUTPUT_FAILED
-from armanim.numbers import number
+from armanim.output.numbers import number
 
 
 def print_goal_table(result) -> None:

@@ -40,7 +40,7 @@ from matplotlib.transforms import IdentityTransform
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
-from armanim.numbers import number
+from armanim.output.numbers import number
 from armanim.render import backdrop, scenery
 from armanim.render.bounds import goal_points
 from armanim.render.camera import camera_rotation, view_angles
