@@ -450,8 +450,9 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     The first pose is where the arm already is (it is not a frame of the result); a path
     that does not move takes no frames. ``clear(phi)``, (k, n) -> (k,) bool, says which
     poses keep the clearance: a solved step whose smooth path does not, at
-    :data:`SAFETY_PROBES` points inside it, is taken along its chord; a frame that still
-    does not (the chord cuts a curved surface) shows the solved pose it heads for. Steps that
+    :data:`SAFETY_PROBES` points inside it or at a frame, is taken along its chord (and the
+    motion timed again); a frame on a chord that still does not (the chord cuts a curved
+    surface) shows the solved pose it heads for. Steps that
     ``certified`` (m - 1,) bool marks (every pose between their two solved poses is known to be
     clear) are not asked about. Raises :class:`ClockTooLong` past ``most_frames`` frames.
 
@@ -464,28 +465,32 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     if path.length == 0:
         return Motion(np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, dtype=int), 0.0)
     doubtful = np.ones(len(poses) - 1, dtype=bool) if certified is None else ~certified  # by solved step
+    chords = np.zeros(len(poses) - 1, dtype=bool)
     asked = doubtful[path.frames[1:] - 1]  # by step of the path (repeated poses dropped)
     if clear is not None and len(path.s) > 2 and np.any(asked):
         f = np.arange(1, SAFETY_PROBES + 1) / (SAFETY_PROBES + 1)
         probes = (path.s[:-1][asked, None] + f * np.diff(path.s)[asked, None]).ravel()
         unsafe = np.zeros(len(asked), dtype=bool)
         unsafe[asked] = ~clear(path.evaluate(probes)).reshape(-1, SAFETY_PROBES).all(axis=1)
-        if np.any(unsafe):
-            chords = np.zeros(len(poses) - 1, dtype=bool)
-            chords[path.frames[1:][unsafe] - 1] = True
-            path = joint_path(poses, limited, chords)
-    if jerk is None:
-        motion = sampled_motion(path, time_optimal(path, speed, acceleration), speed, acceleration, fps, most_frames)
-    else:
-        motion = jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames)
-    phi = motion.phi
-    check = doubtful[np.maximum(motion.heads_for, 1) - 1]  # the frames inside a doubtful step
-    if clear is not None and np.any(check):
+        chords[path.frames[1:][unsafe] - 1] = True
+    while True:  # a step whose frames come too close is taken along its chord, and the motion timed again
+        path = joint_path(poses, limited, chords if chords.any() else None)
+        if jerk is None:
+            motion = sampled_motion(path, time_optimal(path, speed, acceleration), speed, acceleration, fps, most_frames)
+        else:
+            motion = jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames)
+        phi = motion.phi
+        step = np.maximum(motion.heads_for, 1) - 1  # the solved step each frame lies in
+        check = doubtful[step]
         bad = np.zeros(len(phi), dtype=bool)
-        bad[check] = ~clear(phi[check])
-        if np.any(bad):
-            phi = phi.copy()
-            phi[bad] = unwrapped(poses, limited)[motion.heads_for[bad]]
+        if clear is not None and np.any(check):
+            bad[check] = ~clear(phi[check])
+        if not np.any(bad & ~chords[step]):
+            break
+        chords[step[bad]] = True
+    if np.any(bad):  # even the chord cuts the clearance: the frame shows the solved pose it heads for
+        phi = phi.copy()
+        phi[bad] = unwrapped(poses, limited)[motion.heads_for[bad]]
     phi = np.where(limited, phi, wrap_angle(phi))
     phi[-1] = poses[-1]  # the goal's last solved pose itself, not its unwrapped copy
     return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
