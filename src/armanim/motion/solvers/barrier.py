@@ -288,8 +288,15 @@ def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
 
     >>> step_fraction(np.array([0.5, 0.0]), np.array([1.0, 0.0])), step_fraction(np.zeros(2), np.full(2, 1e-320))
     (0.5, 0.0)
+    >>> round(step_fraction(np.array([1e190, 0.0]), np.array([1e200, 0.0])), 20)
+    1e-10
     """
-    length = float(np.linalg.norm(proposed))
+    with np.errstate(over="ignore"):
+        length = float(np.linalg.norm(proposed))
+    if length == np.inf:  # finite components whose squares overflow (a proposal of 1e200): scaled first
+        biggest = float(np.abs(proposed).max())
+        if biggest < np.inf:
+            return float(np.linalg.norm(taken / biggest) / np.linalg.norm(proposed / biggest))
     return float(np.linalg.norm(taken)) / length if 0.0 < length < np.inf else 0.0
 
 
