@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from armanim.errors import Diagnostic, SceneError
+from armanim.errors import Diagnostic, SceneError, message_lines
 from armanim.output.files import read_bounded
 from armanim.scene.urdf import MAX_URDF_BYTES, _parse_xml
 
@@ -84,5 +84,8 @@ def resolve_self_collision(arm, context: dict | None) -> Srdf:
         return Srdf()
     context = context or {}
     path = Path(context["srdf_file"]) if context.get("srdf_file") else Path(context.get("scene_dir") or ".") / spec.srdf
-    raw = read_bounded(path, MAX_URDF_BYTES, "an SRDF file")
+    try:
+        raw = read_bounded(path, MAX_URDF_BYTES, "an SRDF file")
+    except SceneError as exc:  # a file that cannot be read is the scene's problem, at its field
+        raise ValueError(f"self_collision.srdf: {message_lines(exc.report())}") from None
     return Srdf(parse_srdf(raw, str(path), links), raw)
