@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from armanim.errors import Diagnostic, OutputError, SceneError, UsageError
-from armanim.output.atomic import output_error, write_text_atomic
+from armanim.errors import Diagnostic, SceneError, UsageError
+from armanim.output.atomic import write_text_atomic
 from armanim.output.csvfile import TrajectoryTable, read_trajectory_csv
 from armanim.output.jointtrajectory import (
     finite_difference_velocities,
@@ -22,7 +22,6 @@ from armanim.output.jointtrajectory import (
     joint_trajectory,
     joint_trajectory_text,
 )
-from armanim.output.rundir import folder_lock, staged_folder
 from armanim.scene.models import LIMITS
 
 EXPORT_FORMATS = ("joint-trajectory",)
@@ -85,12 +84,6 @@ def run_joint_trajectory(folder: Path) -> str:
     return joint_trajectory_text(joint_trajectory(names, time_s, positions, velocities))
 
 
-def _inside(path: Path, folder: Path) -> bool:
-    """Whether ``path`` would be written inside ``folder`` (links resolved)."""
-    parent = path.parent.resolve()
-    return parent == folder.resolve() or folder.resolve() in parent.parents
-
-
 def _replace_problem(target: Path) -> str | None:
     """Why the export must not be written at ``target``, or None (nothing there, or an exported trajectory)."""
     try:
@@ -131,27 +124,10 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
     """
     if fmt not in EXPORT_FORMATS:
         raise UsageError(f"--format {fmt!r} is not a format armanim exports (expected one of: {', '.join(EXPORT_FORMATS)})")
-    from armanim.runs.reload import load_run
+    from armanim.runs.pipeline import write_run_file
 
-    folder = Path(folder)
-    load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
-    own = folder / JOINT_TRAJECTORY_FILE
-    if out is None or Path(out).resolve() == own.resolve():
-        with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
-            write_text_atomic(staged / JOINT_TRAJECTORY_FILE, run_joint_trajectory(folder))
-        return own
-    target = Path(out)
-    if _inside(target, folder):
-        raise UsageError(f"--out {target}: is inside the run folder {folder}, which holds only the files armanim lists in it "
-                         f"(leave --out out to write {own}, or choose a file outside the folder)")
-    problem = _replace_problem(target)
-    if problem is not None:
-        raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
-    with folder_lock(folder):  # read the run whole, never half replaced by a run of it
+    def trajectory(folder: Path):
         text = run_joint_trajectory(folder)
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise output_error(target.parent, exc) from None
-    write_text_atomic(target, text)
-    return target
+        return lambda path: write_text_atomic(path, text)
+
+    return write_run_file(folder, JOINT_TRAJECTORY_FILE, out, trajectory, _replace_problem)

@@ -253,52 +253,65 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
     Returns
     -------
     Path
-        The page written.
-
-    Without ``out`` the run folder is locked, staged and swapped as a run does, and the
-    marker lists ``viewer.html``; with ``out`` the run is read under its lock and the page is
-    written atomically.
-
-    Raises
-    ------
-    SceneError
-        The folder is not a complete armanim run (exit 2).
-    OutputError
-        The folder was not made by armanim, something other than an armanim page stands at
-        ``out``, or the page could not be written (exit 3).
-    UsageError
-        ``out`` is inside the run folder but not its viewer.html (exit 2).
+        The page written (:func:`write_run_file`).
     """
     from armanim.render.viewer import VIEWER_FILE, write_viewer
     from armanim.render.viewer.page import replace_problem
     from armanim.runs.reload import load_run
 
+    def page(folder: Path):
+        run = load_run(folder)
+        return lambda path: write_viewer(run.problem, run.solution.trajectory, run.solution.goals,
+                                         settings_of(run.scene, None), path, title=run.scene.name)
+
+    return write_run_file(folder, VIEWER_FILE, out, page, replace_problem)
+
+
+def write_run_file(folder: str | Path, name: str, out: str | Path | None, read: Callable[[Path], Callable[[Path], object]],
+                   replace_problem: Callable[[Path], str | None]) -> Path:
+    """Write a file made from a finished run, without solving: the run folder's own ``name``, or
+    ``out`` outside the folder. ``read(folder)`` reads the run and returns ``write(path)``.
+
+    Without ``out`` (or with the folder's own ``name``) the run folder is locked, staged and
+    swapped as a run does, and its marker lists ``name``; with ``out`` the run is read under its
+    lock and the file written atomically, replacing only what ``replace_problem(path)`` (the
+    reason it must not be replaced, or None) allows.
+
+    Raises
+    ------
+    SceneError
+        The folder is not a complete armanim run (exit 2).
+    UsageError
+        ``out`` is inside the run folder but not its ``name`` (exit 2).
+    OutputError
+        The folder was not made by armanim, something ``replace_problem`` refuses stands at
+        ``out``, or the file could not be written (exit 3).
+    """
+    from armanim.output.atomic import output_error
+    from armanim.runs.reload import load_run
+
     folder = Path(folder)
     load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
-    own = folder / VIEWER_FILE
+    own = folder / name
     if out is None or Path(out).resolve() == own.resolve():
         with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
-            run = load_run(folder)
-            write_viewer(run.problem, run.solution.trajectory, run.solution.goals, settings_of(run.scene, None),
-                         staged / VIEWER_FILE, title=run.scene.name)
+            read(folder)(staged / name)
         return own
     target = Path(out)
     if target.resolve().is_relative_to(folder.resolve()):
-        raise UsageError(f"--out: {target} is inside the run folder {folder}, which the next run replaces whole "
-                         f"(leave --out out to write {own}, or choose a file outside it)")
+        raise UsageError(f"--out {target}: is inside the run folder {folder}, which holds only the files armanim lists "
+                         f"in it (leave --out out to write {own}, or choose a file outside the folder)")
     problem = replace_problem(target)
     if problem is not None:
         raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
     with folder_lock(folder):  # read the run whole, never half replaced by a run of it
-        run = load_run(folder)
+        write = read(folder)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        from armanim.output.atomic import output_error
-
         raise output_error(target.parent, exc) from None
-    return write_viewer(run.problem, run.solution.trajectory, run.solution.goals, settings_of(run.scene, None), target,
-                        title=run.scene.name)
+    write(target)
+    return target
 
 
 def settings_of(scene: LoadedScene, overrides: RenderOverrides | None) -> RenderSettings:
