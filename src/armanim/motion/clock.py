@@ -38,7 +38,12 @@ from armanim.arm.geometry import wrap_angle
 from armanim.motion.solution import GoalTiming
 
 GRID_PER_STEP = 16
-"""TOPP grid points per solved step of the path (its knots and the midpoints)."""
+"""TOPP grid points per solved step of the path (its knot and evenly spaced points inside it)."""
+COLLOCATION = (0.0, 0.5, 1.0)
+"""Fractions of each grid interval where the time law keeps the limits (1.0: the end of the
+interval, approached from inside it)."""
+GRID_MIN = 512
+"""Fewest grid intervals of a path (a short path's steps are split further)."""
 CHECK_PER_STEP = 4
 """Points per grid interval where the scaled time law is checked against the limits."""
 SAFETY_PROBES = 3
@@ -274,11 +279,6 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
     return TimeLaw(s, np.concatenate([[0.0], np.cumsum(dt)]), v, u)
 
 
-COLLOCATION = (0.0, 0.5, 1.0)
-"""Fractions of each grid interval where the time law keeps the limits (1.0: the end of the
-interval, approached from inside it)."""
-GRID_MIN = 512
-"""Fewest grid intervals of a path (a short path's steps are split further)."""
 
 
 def _grid(knots: np.ndarray) -> np.ndarray:
