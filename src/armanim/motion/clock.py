@@ -250,10 +250,10 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
     >>> round(law.duration, 6)  # bang-bang over one radian at 1 rad/s^2: 2 s
     2.0
     """
-    s = _grid(path.s)
-    h = np.diff(s)
     from armanim.motion.passes import backward_pass, forward_pass, interval_bounds  # compiled: numba is imported here
 
+    s = _grid(path.s)
+    h = np.diff(s)
     fractions = np.array(COLLOCATION)
     at = (s[:-1] + fractions[:, None] * h * (1 - 1e-9)).ravel()
     d1, d2 = (path.evaluate(at, k).reshape(len(fractions), len(h), -1) for k in (1, 2))
@@ -417,7 +417,7 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
         (s(t) - s(t - tau)) / tau, its integral (I(t) - I(t - tau)) / tau, both exact."""
         position = (law.integral(t) - law.integral(t - tau)) / tau
         ahead, behind = (law.at(np.clip(u, 0.0, law.duration))[0] for u in (t, t - tau))
-        return np.minimum(position, path.length), (ahead - np.where(t - tau > 0, behind, 0.0)) / tau
+        return np.minimum(position, path.length), (ahead - behind) / tau  # s = 0 before the start
 
     duration = law.duration + tau
     scale = 1.0
