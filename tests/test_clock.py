@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import PchipInterpolator
 
-from armanim.motion.clock import goal_motion, joint_path, pchip_slopes, sampled_motion, time_optimal
+from armanim.motion.clock import joint_path, pchip_slopes, sampled_motion, time_optimal
+from armanim.motion.goalmotion import goal_motion
 
 
 def _random_path(seed: int, n: int, steps: int, jitter: float) -> np.ndarray:

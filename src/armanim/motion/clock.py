@@ -29,7 +29,6 @@ as before the clock. Pure core: numpy only.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,8 +45,6 @@ GRID_MIN = 512
 """Fewest grid intervals of a path (a short path's steps are split further)."""
 CHECK_PER_STEP = 4
 """Points per grid interval where the scaled time law is checked against the limits."""
-SAFETY_PROBES = 3
-"""Points inside each solved step where the smooth path's clearance is checked."""
 
 
 class ClockTooLong(ValueError):
@@ -250,7 +247,7 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
     >>> round(law.duration, 6)  # bang-bang over one radian at 1 rad/s^2: 2 s
     2.0
     """
-    from armanim.motion.passes import backward_pass, forward_pass, interval_bounds  # compiled: numba is imported here
+    from armanim.motion.passes import backward_pass, forward_pass, interval_bounds, pass_bounds  # compiled: numba here
 
     s = _grid(path.s)
     h = np.diff(s)
@@ -260,15 +257,9 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
     n = d1.shape[2]
     lo_b, lo_k = np.empty((len(h), len(fractions) * n)), np.empty((len(h), len(fractions) * n))
     hi_b, hi_k = np.empty((len(h), len(fractions) * (n + 1))), np.empty((len(h), len(fractions) * (n + 1)))
-    x_cap = np.empty(len(h))
+    x_cap, w, base = np.empty(len(h)), np.empty_like(lo_b), np.empty_like(lo_b)
     interval_bounds(d1, d2, h, fractions, speed, acceleration, lo_b, lo_k, hi_b, hi_k, x_cap)
-    # u >= -x / 2h (the next point's x is not negative) against every upper bound
-    x_cap = np.minimum(x_cap, np.min(_bound(0.0, -1 / (2 * h[:, None]), hi_b, hi_k), axis=1))
-    # u <= (hi[i+1] - x) / 2h against every lower bound: x <= hi[i+1] * w + base
-    slope = lo_k + 1 / (2 * h[:, None])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        w = np.where(slope > 0, 1 / (2 * h[:, None] * slope), 0.0)
-        base = np.where(slope > 0, -lo_b / slope, np.inf)
+    pass_bounds(h, lo_b, lo_k, hi_b, hi_k, x_cap, w, base)
     hi = np.zeros_like(s)
     backward_pass(x_cap, w, base, hi)
     x = np.zeros_like(s)
@@ -288,13 +279,6 @@ def _grid(knots: np.ndarray) -> np.ndarray:
     f = np.arange(per) / per
     inner = knots[:-1, None] + f * np.diff(knots)[:, None]
     return np.concatenate([inner.ravel(), knots[-1:]])
-
-
-def _bound(lo_b, lo_k, hi_b, hi_k) -> np.ndarray:
-    """The largest x at which lo_b + lo_k x <= hi_b + hi_k x still holds (+inf if every x does)."""
-    slope = lo_k - hi_k
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(slope > 0, (hi_b - lo_b) / slope, np.inf)
 
 
 @dataclass(frozen=True)
@@ -343,12 +327,11 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     ClockTooLong
         The motion would take more than ``most_frames`` frames.
     """
-    t = _check_times(law)
-    s, sd, sdd = law.at(t)
-    d1 = path.evaluate(s, 1)
-    q_vel = np.abs(d1 * sd[:, None]) / speed
-    q_acc = np.abs(d1 * sdd[:, None] + path.evaluate(s, 2) * (sd**2)[:, None]) / acceleration
-    scale = max(1.0, float(q_vel.max()), math.sqrt(float(q_acc.max())))
+    from armanim.motion.passes import law_excess
+
+    q_vel, q_acc = law_excess(law.t, law.s, law.speed, law.accel, path.s, path.poses, path.slopes, _check_fractions(),
+                              speed, acceleration)
+    scale = max(1.0, q_vel, math.sqrt(q_acc))
     start, end = path.poses[0], path.poses[-1]
     for _ in range(32):
         frames = law.duration * scale * fps
@@ -370,12 +353,12 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     return Motion(phi, velocity, path.step_of(s), count / fps)
 
 
-def _check_times(law: TimeLaw) -> np.ndarray:
-    """Times inside every grid interval (and just before its end) where the limits are checked."""
+def _check_fractions() -> np.ndarray:
+    """Fractions of every grid interval (its start, inside it, and just before its end) where the
+    limits are checked."""
     f = np.arange(CHECK_PER_STEP + 1) / CHECK_PER_STEP
     f[-1] = 1 - 1e-9
-    dt = np.diff(law.t)
-    return (law.t[:-1, None] + f * dt[:, None]).ravel()
+    return f
 
 
 def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray | None = None,
@@ -442,59 +425,5 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
     return Motion(phi, velocity, path.step_of(at), count / fps)
 
 
-def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                clear: Callable[[np.ndarray], np.ndarray] | None = None, most_frames: float = np.inf,
-                jerk: np.ndarray | None = None, certified: np.ndarray | None = None) -> Motion:
-    """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``.
-
-    The first pose is where the arm already is (it is not a frame of the result); a path
-    that does not move takes no frames. ``clear(phi)``, (k, n) -> (k,) bool, says which
-    poses keep the clearance: a solved step whose smooth path does not, at
-    :data:`SAFETY_PROBES` points inside it or at a frame, is taken along its chord (and the
-    motion timed again); a frame on a chord that still does not (the chord cuts a curved
-    surface) shows the solved pose it heads for. Steps that
-    ``certified`` (m - 1,) bool marks (every pose between their two solved poses is known to be
-    clear) are not asked about. Raises :class:`ClockTooLong` past ``most_frames`` frames.
-
-    >>> m = goal_motion(np.array([[0.0], [1.0]]), np.array([True]), np.array([10.0]), np.array([1.0]), 10.0)
-    >>> len(m.phi), float(m.phi[-1, 0]), m.duration
-    (20, 1.0, 2.0)
-    """
-    path = joint_path(poses, limited)
-    n = poses.shape[1]
-    if path.length == 0:
-        return Motion(np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, dtype=int), 0.0)
-    doubtful = np.ones(len(poses) - 1, dtype=bool) if certified is None else ~certified  # by solved step
-    chords = np.zeros(len(poses) - 1, dtype=bool)
-    asked = doubtful[path.frames[1:] - 1]  # by step of the path (repeated poses dropped)
-    if clear is not None and len(path.s) > 2 and np.any(asked):
-        f = np.arange(1, SAFETY_PROBES + 1) / (SAFETY_PROBES + 1)
-        probes = (path.s[:-1][asked, None] + f * np.diff(path.s)[asked, None]).ravel()
-        unsafe = np.zeros(len(asked), dtype=bool)
-        unsafe[asked] = ~clear(path.evaluate(probes)).reshape(-1, SAFETY_PROBES).all(axis=1)
-        chords[path.frames[1:][unsafe] - 1] = True
-    while True:  # a step whose frames come too close is taken along its chord, and the motion timed again
-        path = joint_path(poses, limited, chords if chords.any() else None)
-        if jerk is None:
-            motion = sampled_motion(path, time_optimal(path, speed, acceleration), speed, acceleration, fps, most_frames)
-        else:
-            motion = jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames)
-        phi = motion.phi
-        step = np.maximum(motion.heads_for, 1) - 1  # the solved step each frame lies in
-        check = doubtful[step]
-        bad = np.zeros(len(phi), dtype=bool)
-        if clear is not None and np.any(check):
-            bad[check] = ~clear(phi[check])
-        if not np.any(bad & ~chords[step]):
-            break
-        chords[step[bad]] = True
-    if np.any(bad):  # even the chord cuts the clearance: the frame shows the solved pose it heads for
-        phi = phi.copy()
-        phi[bad] = unwrapped(poses, limited)[motion.heads_for[bad]]
-    phi = np.where(limited, phi, wrap_angle(phi))
-    phi[-1] = poses[-1]  # the goal's last solved pose itself, not its unwrapped copy
-    return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
-
-
-__all__ = ["ClockTooLong", "JointPath", "Motion", "TimeLaw", "goal_motion", "jerk_limited_motion", "joint_path", "pchip_slopes", "sampled_motion",
-           "time_optimal", "unwrapped"]
+__all__ = ["ClockTooLong", "JointPath", "Motion", "TimeLaw", "jerk_limited_motion", "joint_path", "pchip_slopes",
+           "sampled_motion", "time_optimal", "unwrapped"]

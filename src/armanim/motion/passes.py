@@ -41,6 +41,35 @@ def forward_pass(hi_b: np.ndarray, hi_k: np.ndarray, h: np.ndarray, hi: np.ndarr
         x[i + 1] = min(max(x[i] + 2 * h[i] * most, 0.0), hi[i + 1])
 
 
+@compiled(inline="always", **_JIT)
+def _basis(t: float, h: float, derivative: int) -> tuple[float, float, float, float, float]:
+    """The cubic Hermite basis (b0, b1, b2, b3) at a step's fraction ``t``, or its
+    ``derivative`` (0 to 3) in s, and the factor 1 / h**derivative that goes with it."""
+    if derivative == 0:
+        return 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2, 1.0
+    if derivative == 1:
+        return 6 * t**2 - 6 * t, 3 * t**2 - 4 * t + 1, -6 * t**2 + 6 * t, 3 * t**2 - 2 * t, 1 / h
+    if derivative == 2:
+        return 12 * t - 6, 6 * t - 4, 6 - 12 * t, 6 * t - 2, 1 / h**2
+    return 12.0, 6.0, -12.0, 6.0, 1 / h**3
+
+
+@compiled(inline="always", **_JIT)
+def _step(knots: np.ndarray, s: float) -> int:
+    """The step of ``knots`` that arc length ``s`` falls in (from the right at a knot)."""
+    k = np.searchsorted(knots, s, side="right") - 1
+    return min(max(k, 0), len(knots) - 2)
+
+
+@compiled(inline="always", **_JIT)
+def _hermite_at(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, k: int, t: float, derivative: int,
+                j: int) -> float:
+    """Joint j of the path, or its ``derivative``, at fraction ``t`` of step k."""
+    h = knots[k + 1] - knots[k]
+    b0, b1, b2, b3, scale = _basis(t, h, derivative)
+    return scale * (b0 * poses[k, j] + b1 * h * slopes[k, j] + b2 * poses[k + 1, j] + b3 * h * slopes[k + 1, j])
+
+
 @compiled(**_JIT)
 def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndarray, derivative: int,
             out: np.ndarray) -> None:
@@ -48,23 +77,64 @@ def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndar
     ``slopes`` (m, n) at ``knots`` (m,), or its ``derivative`` (0 to 3) in s, at ``s`` (k,); each
     point in the step it falls in (from the right at a knot), as
     :meth:`armanim.motion.clock.JointPath.evaluate` defines it."""
-    last = len(knots) - 2
     for i in range(len(s)):
-        k = np.searchsorted(knots, s[i], side="right") - 1
-        k = min(max(k, 0), last)
-        h = knots[k + 1] - knots[k]
-        t = (s[i] - knots[k]) / h
-        if derivative == 0:
-            b0, b1, b2, b3, scale = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2, 1.0
-        elif derivative == 1:
-            b0, b1, b2, b3, scale = 6 * t**2 - 6 * t, 3 * t**2 - 4 * t + 1, -6 * t**2 + 6 * t, 3 * t**2 - 2 * t, 1 / h
-        elif derivative == 2:
-            b0, b1, b2, b3, scale = 12 * t - 6, 6 * t - 4, 6 - 12 * t, 6 * t - 2, 1 / h**2
-        else:
-            b0, b1, b2, b3, scale = 12.0, 6.0, -12.0, 6.0, 1 / h**3
+        k = _step(knots, s[i])
+        t = (s[i] - knots[k]) / (knots[k + 1] - knots[k])
         for j in range(poses.shape[1]):
-            out[i, j] = scale * (b0 * poses[k, j] + b1 * h * slopes[k, j] + b2 * poses[k + 1, j]
-                                 + b3 * h * slopes[k + 1, j])
+            out[i, j] = _hermite_at(knots, poses, slopes, k, t, derivative, j)
+
+
+@compiled(**_JIT)
+def law_excess(law_t: np.ndarray, law_s: np.ndarray, law_speed: np.ndarray, law_accel: np.ndarray,
+               knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, fractions: np.ndarray,
+               speed: np.ndarray, acceleration: np.ndarray) -> tuple[float, float]:
+    """The largest ratio of any joint's speed to its limit, and of its acceleration to its
+    limit, of the time law (grid times ``law_t``, points ``law_s``, path speeds ``law_speed``
+    and constant path accelerations ``law_accel`` on its intervals) along the path, at the
+    ``fractions`` of every grid interval: what :class:`armanim.motion.clock.TimeLaw`'s ``at``
+    and :func:`hermite` give there, without their arrays (NaN for both if any is NaN)."""
+    last = len(law_accel) - 1
+    most_v, most_a, nan = 0.0, 0.0, False
+    for g in range(len(law_t) - 1):
+        dt = law_t[g + 1] - law_t[g]
+        for f in fractions:
+            t = law_t[g] + f * dt
+            i = min(max(np.searchsorted(law_t, t, side="right") - 1, 0), last)
+            tau = t - law_t[i]
+            u = law_accel[i]
+            s = max(min(law_s[i] + law_speed[i] * tau + 0.5 * u * tau**2, law_s[i + 1]), law_s[i])
+            sd = max(law_speed[i] + u * tau, 0.0)
+            k = _step(knots, s)
+            frac = (s - knots[k]) / (knots[k + 1] - knots[k])
+            for j in range(poses.shape[1]):
+                d1 = _hermite_at(knots, poses, slopes, k, frac, 1, j)
+                d2 = _hermite_at(knots, poses, slopes, k, frac, 2, j)
+                v, a = abs(d1 * sd) / speed[j], abs(d1 * u + d2 * sd**2) / acceleration[j]
+                nan |= v != v or a != a
+                most_v, most_a = max(most_v, v), max(most_a, a)
+    return (np.nan, np.nan) if nan else (most_v, most_a)
+
+
+@compiled(**_JIT)
+def pass_bounds(h: np.ndarray, lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray,
+                x_cap: np.ndarray, w: np.ndarray, base: np.ndarray) -> None:
+    """Lower ``x_cap`` (N,) where u >= -x / 2h (the next point's x is not negative) would pass an
+    upper bound, and fill the backward pass's ``w``, ``base`` (N, P): u <= (hi[i+1] - x) / 2h
+    against each lower bound p is x <= hi[i+1] w + base (w = 0, base = inf where every x keeps it)."""
+    for i in range(len(h)):
+        least = -1 / (2 * h[i])
+        for q in range(hi_b.shape[1]):
+            slope = least - hi_k[i, q]
+            if slope > 0:
+                x_cap[i] = min(x_cap[i], (hi_b[i, q] - 0.0) / slope)
+        inverse = 1 / (2 * h[i])
+        for p in range(lo_b.shape[1]):
+            slope = lo_k[i, p] + inverse
+            if slope > 0:
+                w[i, p] = 1 / (2 * h[i] * slope)
+                base[i, p] = -lo_b[i, p] / slope
+            else:
+                w[i, p], base[i, p] = 0.0, np.inf
 
 
 @compiled(**_JIT)

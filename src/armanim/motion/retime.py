@@ -10,7 +10,7 @@ in seconds at 15, 30 or 60 fps, and reaches and misses the same goals.
 
 Every sampled pose keeps the guarantees a solved one does: limits by the path's shape (each
 joint monotone between two solved poses), clearance by checking the path between solved
-poses (:func:`safe_pose`). Pure core: numpy only.
+poses (:func:`path_safety`). Pure core: numpy only.
 """
 
 from __future__ import annotations
@@ -22,11 +22,12 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.clock import ClockTooLong, goal_motion
+from armanim.motion.clock import ClockTooLong
+from armanim.motion.goalmotion import PathSafety, goal_motion, two_sided_bound
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
-from armanim.motion.solvers.barrier import pair_lever_rows, pose_clearance, split_clearances
+from armanim.motion.solvers.barrier import pose_clearance, self_shift
 from armanim.motion.trajectory import hold_frames, with_self_clearance
 from armanim.world.distances import min_link_clearance
 
@@ -82,11 +83,13 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     phi, velocity, source, held, goal = [src.phi[:1]], [np.zeros((1, n))], [np.zeros(1, dtype=int)], [[False]], [[0]]
     timings = []
     start = made = 0
+    safety = path_safety(problem, src)
     for g in solution.goals:
         poses = src.phi[start:start + g.frames + 1]
+        piece = slice(start, start + g.frames + 1)
         motion = goal_motion(poses, problem.limits.limited, rates.speed, rates.acceleration, fps,
-                             clear=lambda p: safe_pose(problem, p), most_frames=most_frames - made,
-                             jerk=rates.jerk, certified=certified_steps(problem, poses))
+                             replace(safety, at_poses=safety.at_poses[piece], certified=safety.certified[start:start + g.frames]),
+                             most_frames - made, rates.jerk)
         heads_for = start + motion.heads_for
         if len(heads_for):
             heads_for[-1] = start + g.frames  # the last solved frame, repeated poses or not
@@ -125,33 +128,31 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     )
     moving = np.zeros(len(phi), dtype=bool)
     moving[1:] = ~held[1:]
-    trajectory = with_self_clearance(problem, trajectory)
+    trajectory = with_self_clearance(problem, trajectory, pose)
     return Solution(trajectory, tuple(_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings)))
 
 
-def certified_steps(problem: Problem, poses: np.ndarray) -> np.ndarray:
-    """(m - 1,) bool: the solved steps between ``poses`` (m, n) every pose between whose ends
-    (each joint within the range of its two values, as the clock's path keeps it) keeps
-    ``solver.clearance`` from the obstacles and ``self_clearance`` between the arm's enabled
-    pairs: no point of the capsules moves farther from either end than the sum of each joint's
-    lever arm times its turn, and no pair's gap changes by more than that sum over the joints
-    between its two capsules (:func:`~armanim.motion.solvers.barrier.pair_lever_rows`), so the
-    farther end's clearance less that is a lower bound."""
-    clear, own = split_clearances(problem, poses)
-    step = np.abs(wrap_angle(np.diff(poses, axis=0)))
+def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
+    """What keeps ``trajectory``'s solved path clear (:class:`~armanim.motion.goalmotion.PathSafety`):
+    :func:`pose_clearance` against ``solver.clearance``, the solved frames' clearances as the
+    solve measured them, and the steps between frames certified from them by lever arms.
+
+    No point of the capsules moves by more than L . |dPhi| (each joint's lever arm times its
+    turn), and no pair's gap changes by more (the pair rows of
+    :func:`~armanim.motion.solvers.barrier.pair_lever_rows` are at most the lever arms): so
+    :func:`~armanim.motion.goalmotion.two_sided_bound` of the two frames' clearances, obstacles
+    and pairs each, bounds every pose between them on the clock's path (each joint within the
+    range of its two values).
+    """
+    reach = np.abs(wrap_angle(np.diff(trajectory.phi, axis=0))) @ problem.lever_arms
     floor = problem.solver.clearance
-    certified = np.maximum(clear[:-1], clear[1:]) - step @ problem.lever_arms >= floor
-    if own is not None:
-        certified &= np.all(np.maximum(own[:-1], own[1:]) - step @ pair_lever_rows(problem).T >= floor, axis=1)
-    return certified
-
-
-def safe_pose(problem: Problem, phi: np.ndarray) -> np.ndarray:
-    """(k,) bool: which poses ``phi`` (k, n) keep ``solver.clearance`` from every obstacle and
-    ``self_clearance`` between every enabled pair of the arm's own capsules."""
-    if len(problem.obstacles) == 0 and len(problem.self_pairs) == 0:
-        return np.ones(len(phi), dtype=bool)
-    return pose_clearance(problem, phi) >= problem.solver.clearance
+    clear = trajectory.clearance
+    certified = two_sided_bound(clear[:-1], clear[1:], reach) >= floor
+    if trajectory.self_clearance is not None:
+        own = trajectory.self_clearance + self_shift(problem)
+        certified &= two_sided_bound(own[:-1], own[1:], reach) >= floor
+        clear = np.minimum(clear, own)
+    return PathSafety(lambda phi: pose_clearance(problem, phi), floor, problem.lever_arms, clear, certified)
 
 
 def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: GoalTiming) -> GoalReport:
@@ -170,4 +171,4 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
     )
 
 
-__all__ = ["at_fps", "retime", "safe_pose"]
+__all__ = ["at_fps", "path_safety", "retime"]

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.arm.kinematics import forward, tool_rotation
+from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
@@ -292,12 +292,13 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched
     return None
 
 
-def with_self_clearance(problem: Problem, traj: Trajectory) -> Trajectory:
+def with_self_clearance(problem: Problem, traj: Trajectory, pose: Pose | None = None) -> Trajectory:
     """``traj`` with its frames' least self gap and pair (:attr:`Trajectory.self_clearance`)
-    measured from its angles; unchanged without enabled pairs."""
+    measured from its angles (or their ``pose``, when the caller has it); unchanged without
+    enabled pairs."""
     if not len(problem.self_pairs) or not traj.frames:
         return replace(traj, self_clearance=None, self_pair=None)
-    gaps = self_gaps(forward(problem.arm, traj.phi), problem.capsules, problem.self_pairs).d
+    gaps = self_gaps(forward(problem.arm, traj.phi) if pose is None else pose, problem.capsules, problem.self_pairs).d
     nearest = gaps.argmin(axis=1)
     labels = np.array(problem.self_pairs.labels)
     return replace(traj, self_clearance=gaps[np.arange(len(gaps)), nearest], self_pair=labels[nearest])
