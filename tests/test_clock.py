@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from scipy.interpolate import PchipInterpolator
 
 from armanim.motion.clock import joint_path, pchip_slopes, sampled_motion, time_optimal
-from armanim.motion.goalmotion import goal_motion
+from armanim.motion.goalmotion import PathSafety, goal_motion, probed_steps, two_sided_bound
 
 
 def _random_path(seed: int, n: int, steps: int, jitter: float) -> np.ndarray:
@@ -181,3 +181,42 @@ def test_a_jerk_limited_motion_is_never_faster_than_ruckigs_time_optimal_one():
         motion = goal_motion(np.array([[0.0], [distance]]), np.array([True]), np.array([v]), np.array([a]), 1000.0,
                              jerk=np.array([j]))
         assert profile.duration - 1e-3 <= motion.duration <= 1.5 * profile.duration + 1e-3, (distance, v, a, j)
+
+
+@settings(max_examples=60, deadline=None)
+@given(c0=st.floats(-1, 1), c1=st.floats(-1, 1), reach=st.floats(0, 2))
+def test_the_two_sided_bound_is_the_least_clearance_a_lever_allows(c0, c1, reach):
+    """Against brute force over where between the ends the pose is: max(c0 - d, c1 - (reach - d))."""
+    d = np.linspace(0.0, reach, 20001)
+    least = float(np.min(np.maximum(c0 - d, c1 - (reach - d))))
+    bound = float(two_sided_bound(np.array([c0]), np.array([c1]), np.array([reach]))[0])
+    assert bound <= least + 1e-12
+    assert bound >= least - 2 * reach / 20000 - 1e-12
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(1, 6), steps=st.integers(2, 30))
+def test_a_step_its_probes_certify_keeps_the_floor_everywhere(seed, n, steps):
+    """A clearance with lever arms L (|c(q) - c(q')| <= L . |q - q'|): every point of a step
+    probed_steps certifies, sampled densely on the smooth path, keeps the floor; a step it finds
+    unsafe has a point under it."""
+    rng = np.random.default_rng(seed)
+    poses = _random_path(seed, n, steps, 0.1)
+    lever = rng.uniform(0.1, 1.0, n)
+    centre = poses[rng.integers(len(poses))] + rng.normal(size=n) * 0.05
+
+    def clearance(phi):
+        return np.abs(phi - centre) @ lever
+
+    floor = float(np.quantile(clearance(poses), 0.3))
+    path = joint_path(poses, np.ones(n, dtype=bool))
+    safety = PathSafety(clearance, floor, lever, clearance(poses), np.zeros(len(poses) - 1, dtype=bool))
+    asked = np.ones(len(path.s) - 1, dtype=bool)
+    unsafe, proven = probed_steps(path, safety, asked)
+    assert not np.any(unsafe & proven)
+    for k in range(len(path.s) - 1):
+        dense = clearance(path.evaluate(np.linspace(path.s[k], path.s[k + 1], 400)))
+        if proven[k]:
+            assert dense.min() >= floor - 1e-12
+        if unsafe[k]:
+            assert dense.min() < floor
