@@ -93,18 +93,20 @@ def law_excess(law_t: np.ndarray, law_s: np.ndarray, law_speed: np.ndarray, law_
     and constant path accelerations ``law_accel`` on its intervals) along the path, at the
     ``fractions`` of every grid interval: what :class:`armanim.motion.clock.TimeLaw`'s ``at``
     and :func:`hermite` give there, without their arrays (NaN for both if any is NaN)."""
-    last = len(law_accel) - 1
+    last, i, k = len(law_accel) - 1, 0, 0
     most_v, most_a, nan = 0.0, 0.0, False
     for g in range(len(law_t) - 1):
         dt = law_t[g + 1] - law_t[g]
         for f in fractions:
             t = law_t[g] + f * dt
-            i = min(max(np.searchsorted(law_t, t, side="right") - 1, 0), last)
+            while i < last and law_t[i + 1] <= t:  # the times only grow: searchsorted's answer, found by walking
+                i += 1
             tau = t - law_t[i]
             u = law_accel[i]
             s = max(min(law_s[i] + law_speed[i] * tau + 0.5 * u * tau**2, law_s[i + 1]), law_s[i])
             sd = max(law_speed[i] + u * tau, 0.0)
-            k = _step(knots, s)
+            while k < len(knots) - 2 and knots[k + 1] <= s:  # and so do the arc lengths
+                k += 1
             frac = (s - knots[k]) / (knots[k + 1] - knots[k])
             for j in range(poses.shape[1]):
                 d1 = _hermite_at(knots, poses, slopes, k, frac, 1, j)
@@ -193,5 +195,8 @@ def interval_bounds(d1: np.ndarray, d2: np.ndarray, h: np.ndarray, fractions: np
             if slope >= 0:
                 x = 0.0
                 break
-            x = max(x - gap / slope, 0.0)
+            step = max(x - gap / slope, 0.0)
+            if step == x:  # at the root up to rounding: the gap stays a hair below 0 where x can no longer move
+                break
+            x = step
         x_cap[i] = x
