@@ -82,33 +82,55 @@ def probed_steps(path: JointPath, safety: PathSafety, asked: np.ndarray) -> tupl
     Each step is probed at its midpoint (of arc length); a step whose two halves that does not
     certify, and whose midpoint keeps the floor, at its quarter points too.
     """
-    unsafe, proven = np.zeros(len(asked), dtype=bool), np.zeros(len(asked), dtype=bool)
-    steps = np.nonzero(asked)[0]
-    if len(steps) == 0:
-        return unsafe, proven
-    floor, ends, h = safety.floor, safety.at_poses[path.frames], np.diff(path.s)
-    mid = path.evaluate(path.s[steps] + 0.5 * h[steps])
-    c_mid = safety.clearance(mid)
-    halves = _pieces_clear(path, safety, steps, ends, [mid], [c_mid])
-    proven[steps[halves]] = True
-    unsafe[steps[~halves & ~(c_mid >= floor)]] = True
-    more = ~halves & (c_mid >= floor)
-    if np.any(more):
-        steps = steps[more]
-        quarter = [path.evaluate(path.s[steps] + f * h[steps]) for f in (0.25, 0.75)]
-        c_quarter = [safety.clearance(q) for q in quarter]
+    return probed_paths([path], [safety], [asked])[0]
+
+
+def probed_paths(paths: list[JointPath], safeties: list[PathSafety], asked: list[np.ndarray]
+                 ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`probed_steps` for several paths at once, their probes measured in two batches (the
+    midpoints, then the quarter points) by the first safety's ``clearance``."""
+    out = [(np.zeros(len(a), dtype=bool), np.zeros(len(a), dtype=bool)) for a in asked]
+    steps = [np.nonzero(a)[0] for a in asked]
+    live = [i for i in range(len(paths)) if len(steps[i])]
+    if not live:
+        return out
+    measure, floor = safeties[live[0]].clearance, safeties[live[0]].floor
+    h = [np.diff(path.s) for path in paths]
+    mid = {i: paths[i].evaluate(paths[i].s[steps[i]] + 0.5 * h[i][steps[i]]) for i in live}
+    c_mid = dict(zip(live, _measured(measure, [mid[i] for i in live])))
+    more = {}
+    for i in live:
+        unsafe, proven = out[i]
+        halves = _pieces_clear(paths[i], safeties[i], steps[i], [mid[i]], [c_mid[i]])
+        proven[steps[i][halves]] = True
+        unsafe[steps[i][~halves & ~(c_mid[i] >= floor)]] = True
+        if np.any(~halves & (c_mid[i] >= floor)):
+            more[i] = ~halves & (c_mid[i] >= floor)
+    quarter = {i: [paths[i].evaluate(paths[i].s[steps[i][m]] + f * h[i][steps[i][m]]) for f in (0.25, 0.75)]
+               for i, m in more.items()}
+    measured = iter(_measured(measure, [q for i in more for q in quarter[i]]))
+    for i, m in more.items():
+        unsafe, proven = out[i]
+        c_quarter = [next(measured), next(measured)]
         kept = (c_quarter[0] >= floor) & (c_quarter[1] >= floor)
-        unsafe[steps[~kept]] = True
-        inner, cleared = [quarter[0], mid[more], quarter[1]], [c_quarter[0], c_mid[more], c_quarter[1]]
-        proven[steps[kept & _pieces_clear(path, safety, steps, ends, inner, cleared)]] = True
-    return unsafe, proven
+        unsafe[steps[i][m][~kept]] = True
+        inner, cleared = [quarter[i][0], mid[i][m], quarter[i][1]], [c_quarter[0], c_mid[i][m], c_quarter[1]]
+        proven[steps[i][m][kept & _pieces_clear(paths[i], safeties[i], steps[i][m], inner, cleared)]] = True
+    return out
 
 
-def _pieces_clear(path: JointPath, safety: PathSafety, steps: np.ndarray, ends: np.ndarray, inner: list,
-                  cleared: list) -> np.ndarray:
+def _measured(measure: Callable[[np.ndarray], np.ndarray], groups: list[np.ndarray]) -> list[np.ndarray]:
+    """Each group of poses' clearances, measured in one call."""
+    if not groups:
+        return []
+    return np.split(measure(np.concatenate(groups)), np.cumsum([len(g) for g in groups])[:-1])
+
+
+def _pieces_clear(path: JointPath, safety: PathSafety, steps: np.ndarray, inner: list, cleared: list) -> np.ndarray:
     """(len(steps),) bool: every piece of each step between its ends and the ``inner`` poses
     (each (len(steps), n), in order along the step, with clearances ``cleared``) certified by
     :func:`two_sided_bound`."""
+    ends = safety.at_poses[path.frames]
     poses = [path.poses[steps]] + inner + [path.poses[steps + 1]]
     clear = [ends[steps]] + cleared + [ends[steps + 1]]
     ok = np.ones(len(steps), dtype=bool)
@@ -121,49 +143,126 @@ def _pieces_clear(path: JointPath, safety: PathSafety, steps: np.ndarray, ends: 
 def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
                 safety: PathSafety | None = None, most_frames: float = np.inf,
                 jerk: np.ndarray | None = None) -> Motion:
-    """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``.
-
-    The first pose is where the arm already is (it is not a frame of the result); a path
-    that does not move takes no frames. With ``safety``, a solved step not certified clear
-    whose smooth path comes under the floor at a probe (:func:`probed_steps`) or at a frame is
-    taken along its chord (and the motion timed again); a frame on a chord that still does
-    not shows the solved pose it heads for. Raises :class:`~armanim.motion.clock.ClockTooLong`
-    past ``most_frames`` frames.
+    """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``
+    (:func:`goal_motions` for one goal).
 
     >>> m = goal_motion(np.array([[0.0], [1.0]]), np.array([True]), np.array([10.0]), np.array([1.0]), 10.0)
     >>> len(m.phi), float(m.phi[-1, 0]), m.duration
     (20, 1.0, 2.0)
     """
-    path = joint_path(poses, limited)
-    n = poses.shape[1]
-    if path.length == 0:
-        return Motion(np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, dtype=int), 0.0)
-    solved_step = path.frames[1:] - 1  # the solved step each step of the path is (repeated poses dropped)
-    doubtful = np.zeros(len(poses) - 1, dtype=bool) if safety is None else ~safety.certified
-    chords, proven = np.zeros(len(poses) - 1, dtype=bool), np.zeros(len(path.s) - 1, dtype=bool)
-    asked = doubtful[solved_step]
-    if safety is not None and len(path.s) > 2 and np.any(asked):
-        unsafe, proven = probed_steps(path, safety, asked)
-        chords[solved_step[unsafe]] = True
-    while True:  # a step whose frames come too close is taken along its chord, and the motion timed again
-        if chords.any():
-            path = joint_path(poses, limited, chords)
-        motion = _timed(path, speed, acceleration, fps, most_frames, jerk)
-        step = np.maximum(motion.heads_for, 1) - 1  # the solved step each frame lies in
-        check = (doubtful & ~_still_proven(proven, chords[solved_step], solved_step, len(poses) - 1))[step]
-        bad = np.zeros(len(motion.phi), dtype=bool)
-        if safety is not None and np.any(check):
-            bad[check] = ~(safety.clearance(motion.phi[check]) >= safety.floor)
-        if not np.any(bad & ~chords[step]):
-            break
-        chords[step[bad]] = True
-    phi = motion.phi
-    if np.any(bad):  # even the chord cuts the clearance: the frame shows the solved pose it heads for
-        phi = phi.copy()
-        phi[bad] = unwrapped(poses, limited)[motion.heads_for[bad]]
-    phi = np.where(limited, phi, wrap_angle(phi))
-    phi[-1] = poses[-1]  # the goal's last solved pose itself, not its unwrapped copy
-    return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
+    return goal_motions([poses], limited, speed, acceleration, fps, None if safety is None else [safety], most_frames,
+                        jerk)[0]
+
+
+def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
+                 safeties: list[PathSafety] | None = None, most_frames: float = np.inf, jerk: np.ndarray | None = None,
+                 holds: list[int] | None = None) -> list[Motion]:
+    """The motions through each goal's solved ``poses`` (m_i, n), one after the other, each from
+    rest to rest at ``fps``.
+
+    The first pose of each is where the arm already is (it is not a frame of the result); a
+    path that does not move takes no frames. With ``safeties`` (one a goal), a solved step not
+    certified clear whose smooth path comes under the floor at a probe (:func:`probed_steps`) or
+    at a frame is taken along its chord (and that motion timed again); a frame on a chord that
+    still does not shows the solved pose it heads for. The goals' probes and frames are measured
+    together, a few calls in all. Raises :class:`~armanim.motion.clock.ClockTooLong` where a
+    goal's motion would pass ``most_frames`` less the frames (and ``holds``, one a goal) of the
+    goals before it.
+    """
+    holds = [0] * len(poses) if holds is None else holds
+    goals = [_Goal.start(p, limited, None if safeties is None else safeties[i]) for i, p in enumerate(poses)]
+    probing = [g for g in goals if g.safety is not None and len(g.path.s) > 2 and np.any(g.asked)]
+    for g, (unsafe, proven) in zip(probing, probed_paths([g.path for g in probing], [g.safety for g in probing],
+                                                         [g.asked for g in probing])):
+        g.proven = proven
+        g.chords[g.solved_step[unsafe]] = True
+    pending = [i for i, g in enumerate(goals) if g.path.length > 0]
+    while pending:  # a step whose frames come too close is taken along its chord, and its motion timed again
+        for i in pending:
+            before = sum(len(goals[j].motion.phi) + holds[j] for j in range(i) if goals[j].motion is not None)
+            goals[i].time(speed, acceleration, fps, most_frames - before, jerk)
+        checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].check)]
+        found = _measured(goals[checked[0]].safety.clearance, [goals[i].motion.phi[goals[i].check] for i in checked]) \
+            if checked else []
+        pending = [i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= goals[i].safety.floor))]
+    return [g.finished() for g in goals]
+
+
+@dataclass
+class _Goal:
+    """One goal's path while it is timed: its chords, the steps its probes proved, its motion."""
+
+    poses: np.ndarray
+    limited: np.ndarray
+    path: JointPath
+    safety: PathSafety | None
+    doubtful: np.ndarray
+    chords: np.ndarray
+    proven: np.ndarray
+    motion: Motion | None = None
+    bad: np.ndarray | None = None
+
+    @classmethod
+    def start(cls, poses: np.ndarray, limited: np.ndarray, safety: PathSafety | None) -> _Goal:
+        """The smooth path through ``poses``, no step along its chord yet."""
+        path = joint_path(poses, limited)
+        steps = len(poses) - 1
+        doubtful = np.zeros(steps, dtype=bool) if safety is None else ~safety.certified
+        return cls(poses, limited, path, safety, doubtful, np.zeros(steps, dtype=bool), np.zeros(len(path.s) - 1, dtype=bool))
+
+    @property
+    def solved_step(self) -> np.ndarray:
+        """The solved step each step of the path is (repeated poses dropped)."""
+        return self.path.frames[1:] - 1
+
+    @property
+    def asked(self) -> np.ndarray:
+        """The path's steps not certified clear."""
+        return self.doubtful[self.solved_step]
+
+    @property
+    def frame_step(self) -> np.ndarray:
+        """The solved step each frame of the motion lies in."""
+        return np.maximum(self.motion.heads_for, 1) - 1
+
+    @property
+    def check(self) -> np.ndarray:
+        """The motion's frames to measure: in a doubtful step its probes have not proved (or whose
+        shape a chord has changed since)."""
+        proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
+        return (self.doubtful & ~proven)[self.frame_step]
+
+    def time(self, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
+             jerk: np.ndarray | None) -> None:
+        """Put the path, with its chords, on the clock."""
+        if self.chords.any():
+            self.path = joint_path(self.poses, self.limited, self.chords)
+        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk)
+        self.bad = np.zeros(len(self.motion.phi), dtype=bool)
+
+    def chord_bad_frames(self, under: np.ndarray) -> bool:
+        """Note which checked frames came ``under`` the floor; take the steps they lie in along
+        their chords. True if that adds a chord (the motion must be timed again)."""
+        self.bad[self.check] = under
+        step = self.frame_step
+        again = bool(np.any(self.bad & ~self.chords[step]))
+        if again:
+            self.chords[step[self.bad]] = True
+        return again
+
+    def finished(self) -> Motion:
+        """The motion's frames, unlimited joints wrapped, a frame on a chord that still cuts the
+        clearance showing the solved pose it heads for, the last frame the last solved pose."""
+        n = self.poses.shape[1]
+        if self.motion is None:
+            return Motion(np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, dtype=int), 0.0)
+        motion, phi = self.motion, self.motion.phi
+        if np.any(self.bad):
+            phi = phi.copy()
+            phi[self.bad] = unwrapped(self.poses, self.limited)[motion.heads_for[self.bad]]
+        phi = np.where(self.limited, phi, wrap_angle(phi))
+        phi[-1] = self.poses[-1]  # the goal's last solved pose itself, not its unwrapped copy
+        return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
 
 
 def _timed(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,

@@ -23,7 +23,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
 from armanim.motion.clock import ClockTooLong
-from armanim.motion.goalmotion import PathSafety, goal_motion, two_sided_bound
+from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
@@ -82,28 +82,27 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     rates = problem.rates
     phi, velocity, source, held, goal = [src.phi[:1]], [np.zeros((1, n))], [np.zeros(1, dtype=int)], [[False]], [[0]]
     timings = []
-    start = made = 0
+    starts = np.cumsum([0] + [g.frames + (hold_frames(problem, problem.goals[g.index]) if g.reached else 0)
+                              for g in solution.goals])
+    holds = [hold_frames(out, problem.goals[g.index]) if g.reached else 0 for g in solution.goals]
     safety = path_safety(problem, src)
-    for g in solution.goals:
-        poses = src.phi[start:start + g.frames + 1]
-        piece = slice(start, start + g.frames + 1)
-        motion = goal_motion(poses, problem.limits.limited, rates.speed, rates.acceleration, fps,
-                             replace(safety, at_poses=safety.at_poses[piece], certified=safety.certified[start:start + g.frames]),
-                             most_frames - made, rates.jerk)
-        heads_for = start + motion.heads_for
+    pieces = [slice(start, start + g.frames + 1) for start, g in zip(starts, solution.goals)]
+    motions = goal_motions([src.phi[p] for p in pieces], problem.limits.limited, rates.speed, rates.acceleration, fps,
+                           [replace(safety, at_poses=safety.at_poses[p], certified=safety.certified[p.start:p.stop - 1])
+                            for p in pieces], most_frames, rates.jerk, holds)
+    made = sum(len(m.phi) for m in motions) + sum(holds)
+    if made > most_frames:
+        raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
+    for g, piece, motion, hold in zip(solution.goals, pieces, motions, holds):
+        heads_for = piece.start + motion.heads_for
         if len(heads_for):
-            heads_for[-1] = start + g.frames  # the last solved frame, repeated poses or not
-        hold = hold_frames(out, problem.goals[g.index]) if g.reached else 0
-        made += len(motion.phi) + hold
-        if made > most_frames:
-            raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
-        phi += [motion.phi, np.repeat(poses[-1:], hold, axis=0)]
+            heads_for[-1] = piece.stop - 1  # the last solved frame, repeated poses or not
+        phi += [motion.phi, np.repeat(src.phi[piece.stop - 1:piece.stop], hold, axis=0)]
         velocity += [motion.velocity, np.zeros((hold, n))]
-        source += [heads_for, np.full(hold, start + g.frames)]
+        source += [heads_for, np.full(hold, piece.stop - 1)]
         held += [np.zeros(len(motion.phi), dtype=bool), np.ones(hold, dtype=bool)]
         goal += [np.full(len(motion.phi) + hold, g.index)]
-        timings.append(motion.timing(poses[0], rates.speed, rates.acceleration, fps))
-        start += g.frames + (hold_frames(problem, problem.goals[g.index]) if g.reached else 0)
+        timings.append(motion.timing(src.phi[piece.start], rates.speed, rates.acceleration, fps))
     phi, velocity = np.concatenate(phi), np.concatenate(velocity)
     source, held, goal = np.concatenate(source), np.concatenate(held), np.concatenate(goal)
     pose = forward(problem.arm, phi)
