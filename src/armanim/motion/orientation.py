@@ -154,7 +154,7 @@ def holds_orientation(arm: Arm, orientation: Orientation) -> bool:
 
 
 def frame_orientations(
-    arm: Arm, orientations: list[Orientation | None], phi: np.ndarray, goal: np.ndarray
+    arm: Arm, orientations: list[Orientation | None], phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None
 ) -> tuple[np.ndarray | None, np.ndarray]:
     """Per frame of a trajectory: the tool's angle (radians) to its goal's orientation (F,), NaN
     where that goal has none (None when no goal has one), and the tool frame's quaternion (F, 4).
@@ -167,8 +167,12 @@ def frame_orientations(
     phi : (F, n) array
     goal : (F,) int array
         The goal of each frame.
+    pose : Pose, optional
+        ``forward(arm, phi)``, when the caller has it.
     """
-    rot = tool_rotation(arm, forward(arm, np.asarray(phi, dtype=float).reshape(-1, arm.n)))
+    if pose is None:
+        pose = forward(arm, np.asarray(phi, dtype=float).reshape(-1, arm.n))
+    rot = tool_rotation(arm, pose)
     quaternions = rotation_quaternion(rot)
     if all(o is None for o in orientations):
         return None, quaternions

@@ -108,7 +108,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     pose = forward(problem.arm, phi)
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     spent = np.concatenate([[0], np.cumsum(src.iterations)])[source + 1]
-    angle, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal)
+    angle, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal, pose)
     turned = True if angle is None else ~(angle >= problem.solver.orientation_tolerance)
     trajectory = Trajectory(
         phi=phi,
