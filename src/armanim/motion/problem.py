@@ -221,12 +221,36 @@ class Problem:
         if self.self_pairs is None:
             object.__setattr__(self, "self_pairs", SelfPairs.none())
         object.__setattr__(self, "_lever_arms", capsule_lever_arms(self.arm, self.capsules))  # asked for every frame
+        rows = pair_lever_rows(self.self_pairs, self.capsules, self._lever_arms)
+        object.__setattr__(self, "_pair_lever_rows", rows)
+        object.__setattr__(self, "_pair_levers", np.sqrt((rows**2).sum(axis=1)))
 
     @property
     def lever_arms(self) -> np.ndarray:
         """(n,) lever arm of each joint, scene units: the farthest any point of the capsules
         it moves lies from joint j (:func:`armanim.arm.capsules.lever_arms`, computed once)."""
         return self._lever_arms
+
+    @property
+    def pair_lever_rows(self) -> np.ndarray:
+        """(P, n) each enabled pair's lever arms (:func:`pair_lever_rows`, computed once)."""
+        return self._pair_lever_rows
+
+    @property
+    def pair_levers(self) -> np.ndarray:
+        """(P,) the 2-norm of each enabled pair's lever arms: a step dPhi changes the pair's gap by
+        at most |dPhi| times this (computed once)."""
+        return self._pair_levers
+
+
+def pair_lever_rows(pairs: SelfPairs, capsules: Capsules, lever_arms: np.ndarray) -> np.ndarray:
+    """(P, n) each enabled pair's lever arms: joint j's (``lever_arms`` (n,)) where it lies between
+    the pair's two capsules' joints, else 0 (the joints up to the first move both alike): a change
+    dPhi moves the pair's gap by at most |dPhi| . row."""
+    link = capsules.link
+    lo, hi = np.minimum(link[pairs.first], link[pairs.second]), np.maximum(link[pairs.first], link[pairs.second])
+    joint = np.arange(len(lever_arms))
+    return np.where((joint > lo[:, None]) & (joint <= hi[:, None]), lever_arms, 0.0)
 
 
 @dataclass(frozen=True)

@@ -138,7 +138,7 @@ def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
 
     No point of the capsules moves by more than L . |dPhi| (each joint's lever arm times its
     turn), and no pair's gap changes by more (the pair rows of
-    :func:`~armanim.motion.solvers.barrier.pair_lever_rows` are at most the lever arms): so
+    :attr:`~armanim.motion.problem.Problem.pair_lever_rows` are at most the lever arms): so
     :func:`~armanim.motion.goalmotion.two_sided_bound` of the two frames' clearances, obstacles
     and pairs each, bounds every pose between them on the clock's path (each joint within the
     range of its two values).

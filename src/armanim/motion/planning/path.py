@@ -23,7 +23,6 @@ from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
     kept_clearance,
     obstacle_rows,
-    pair_lever_rows,
     planning_floor,
     point_travel_bound,
     pose_clearance,
@@ -101,7 +100,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     The enabled pairs of the arm's own capsules are judged alike, each by its own travel: a
     pair's gap (shifted by ``clearance - self_clearance``) depends only on the joints between its
     two capsules, and in the first one's frame the second's points move no faster than the sum
-    of |dphi_j| times joint j's lever arm over those joints (:func:`pair_lever_rows`), so a
+    of |dphi_j| times joint j's lever arm over those joints (:attr:`Problem.pair_lever_rows`), so a
     wrist pair is not held to the whole arm's travel.
     """
     d_safe = problem.solver.clearance
@@ -113,7 +112,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     if not np.all(_least(clear, own) >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
         return False, checks
     levers = problem.lever_arms
-    pair_levers = pair_lever_rows(problem).T if own is not None else None  # (n, P)
+    pair_levers = problem.pair_lever_rows.T if own is not None else None  # (n, P)
     lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
     o_lo, o_hi = (own[:-1], own[1:]) if own is not None else (None, None)
     for _ in range(MAX_HALVINGS):

@@ -165,9 +165,9 @@ def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray
 
 
 def pair_levers(problem: Problem) -> np.ndarray:
-    """(P,) for each enabled pair, the 2-norm of its :func:`pair_lever_rows`: a step dPhi changes
-    the pair's gap by at most |dPhi| times this."""
-    return np.sqrt((pair_lever_rows(problem) ** 2).sum(axis=1))
+    """(P,) for each enabled pair, the 2-norm of its :attr:`~armanim.motion.problem.Problem.pair_lever_rows`:
+    a step dPhi changes the pair's gap by at most |dPhi| times this."""
+    return problem.pair_levers
 
 
 def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
@@ -327,16 +327,6 @@ def split_clearances(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.
     if not len(problem.self_pairs):
         return clear, None
     return clear, self_gaps(pose, problem.capsules, problem.self_pairs).d + self_shift(problem)
-
-
-def pair_lever_rows(problem: Problem) -> np.ndarray:
-    """(P, n) each enabled pair's lever arms: joint j's (:attr:`Problem.lever_arms`) where it lies
-    between the pair's two capsules' joints, else 0 (the joints up to the first move both alike):
-    a change dPhi moves the pair's gap by at most |dPhi| . row."""
-    pairs, link = problem.self_pairs, problem.capsules.link
-    lo, hi = np.minimum(link[pairs.first], link[pairs.second]), np.maximum(link[pairs.first], link[pairs.second])
-    joint = np.arange(problem.arm.n)
-    return np.where((joint > lo[:, None]) & (joint <= hi[:, None]), problem.lever_arms, 0.0)
 
 
 def self_shift(problem: Problem) -> float:
