@@ -1,11 +1,12 @@
-"""The fixed world box of a video: computed once, so the camera never moves."""
+"""The fixed world box of a video (computed once, so the camera never moves) and the world
+extent of the boxes and capsules in it."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from armanim.motion.problem import Problem, RenderSettings
-from armanim.render.shapes import shape_extent
+from armanim.world.obstacles import Boxes
 
 MARGIN = 0.05  # fraction of the largest extent added on every side
 
@@ -83,3 +84,16 @@ def resolve_bounds(problem: Problem, settings: RenderSettings, points: np.ndarra
     if settings.bounds is not None:
         return np.asarray(settings.bounds, dtype=float).reshape(3, 2)
     return auto_bounds(problem, points)
+
+
+def box_corners(center: np.ndarray, half: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """(8, 3) world corners of one box (corner order of :data:`armanim.render.shapes.BOX_FACES`, :meth:`Boxes.corners`)."""
+    return Boxes(np.asarray(center)[None], np.asarray(half)[None], np.asarray(rotation)[None]).corners()[0]
+
+
+def shape_extent(boxes, rods) -> tuple[np.ndarray, np.ndarray]:
+    """World points (P, 3) and radii (P,) that hold every box (its corners) and capsule (its ends)."""
+    corners = [box_corners(c, h, r) for c, h, r in zip(boxes.centers, boxes.half, boxes.rotations)]
+    points = np.vstack(corners + [rods.start, rods.end]).reshape(-1, 3)
+    radii = np.concatenate([np.zeros(8 * len(boxes)), rods.radius, rods.radius])
+    return points, radii

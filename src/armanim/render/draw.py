@@ -42,7 +42,7 @@ from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.output.numbers import number
 from armanim.render import backdrop, scenery
-from armanim.render.bounds import goal_points
+from armanim.render.bounds import box_corners, goal_points
 from armanim.render.camera import camera_rotation, view_angles
 from armanim.render.caption import PENDING
 from armanim.render.framing import frame_scene
@@ -50,7 +50,7 @@ from armanim.render.glyphs import GlyphAtlas
 from armanim.render.markers import GoalMarkers
 from armanim.render.order import order_by, overlap_ahead, paint_order
 from armanim.render.pixels import in_pixels, make_figure, write_png
-from armanim.render.shapes import ShapeSolids, box_corners
+from armanim.render.shapes import ShapeSolids
 from armanim.render.solids import SAMPLES, ArmSolids, Part, near_capsules, point_samples
 from armanim.render.spheres import SphereDiscs
 from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR

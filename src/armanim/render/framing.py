@@ -13,9 +13,8 @@ import numpy as np
 
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.render import scenery
-from armanim.render.bounds import goal_points, resolve_bounds
+from armanim.render.bounds import goal_points, resolve_bounds, shape_extent
 from armanim.render.camera import fit_view
-from armanim.render.shapes import shape_extent
 from armanim.render.style import BASE_SCALE, RING_POINTS
 from armanim.render.view import View
 

@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from armanim.render.bounds import box_corners, shape_extent
 from armanim.render.mesh import prism_face_normals, prism_faces, prism_vertices, unit_circle
 from armanim.render.solids import Part, point_samples, segment_samples
 from armanim.render.style import CIRCLE_SIDES, JOINT_HIGHLIGHT, OBSTACLE_COLOR, PRISM_SIDES, with_alpha
 from armanim.render.view import LIGHT, View, lambert
-from armanim.world.obstacles import BOX, ROD, Boxes
+from armanim.world.obstacles import BOX, ROD
 
 BOX_FACES = np.array([[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])
 """Corner indices of the six faces (corner j at signs (-1)^bits of j: x bit 2, y bit 1, z bit 0)."""
@@ -44,11 +45,6 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
         return out[:-1]
 
     return np.array(half(pts) + half(pts[::-1]))
-
-
-def box_corners(center: np.ndarray, half: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-    """(8, 3) world corners of one box (corner order of :data:`BOX_FACES`: :meth:`Boxes.corners`)."""
-    return Boxes(np.asarray(center)[None], np.asarray(half)[None], np.asarray(rotation)[None]).corners()[0]
 
 
 def stadium(a: np.ndarray, b: np.ndarray, radius: float, sides: int = CIRCLE_SIDES) -> np.ndarray:
@@ -214,14 +210,6 @@ class ShapeSolids:
     def extent(self) -> tuple[np.ndarray, np.ndarray]:
         """World points (P, 3) and radii (P,) that hold every box and capsule."""
         return shape_extent(self.boxes, self.rods)
-
-
-def shape_extent(boxes, rods) -> tuple[np.ndarray, np.ndarray]:
-    """World points (P, 3) and radii (P,) that hold every box (its corners) and capsule (its ends)."""
-    corners = [box_corners(c, h, r) for c, h, r in zip(boxes.centers, boxes.half, boxes.rotations)]
-    points = np.vstack(corners + [rods.start, rods.end]).reshape(-1, 3)
-    radii = np.concatenate([np.zeros(8 * len(boxes)), rods.radius, rods.radius])
-    return points, radii
 
 
 def _part_box(part: Part) -> np.ndarray:
