@@ -14,7 +14,7 @@ import yaml
 
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal, Problem
-from armanim.render.camera import camera_rotation, fit_view, planar_normal, view_angles
+from armanim.render.camera.projection import camera_rotation, fit_view, planar_normal, view_angles
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
 from armanim.world.obstacles import Obstacles
 

@@ -211,7 +211,7 @@ def test_plot_run_writes_a_png(scene, tmp_path):
 
 
 def test_auto_bounds_hold_every_reachable_point_obstacle_and_goal():
-    from armanim.render.bounds import auto_bounds
+    from armanim.render.camera.bounds import auto_bounds
 
     problem = make_problem()
     box = auto_bounds(problem)

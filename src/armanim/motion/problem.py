@@ -240,7 +240,7 @@ class RenderSettings:
         Width and height in pixels.
     elevation, azimuth : float or None
         Camera angles in degrees (as matplotlib's ``view_init`` takes them); None:
-        face-on for a planar arm, else 25 and -60 (see :mod:`armanim.render.camera`).
+        face-on for a planar arm, else 25 and -60 (see :mod:`armanim.render.camera.projection`).
     bounds : (3, 2) array or None
         [[xmin, xmax], [ymin, ymax], [zmin, zmax]]; None means auto.
     trail : bool

@@ -6,7 +6,7 @@ modules that draw. Import the function you need from its module:
 - :func:`armanim.render.video.render_video`: a trajectory to MP4 or GIF.
 - :func:`armanim.render.draw.render_pose_png`: one pose to a PNG.
 - :func:`armanim.render.plot.plot_run`: distance, clearance and joint angles over time.
-- :func:`armanim.render.bounds.auto_bounds`: the fixed world box of a video.
+- :func:`armanim.render.camera.bounds.auto_bounds`: the fixed world box of a video.
 
 The same names are also reachable as attributes of this package, loaded on first use.
 """
@@ -17,7 +17,7 @@ _LAZY = {
     "render_video": "armanim.render.video",
     "render_pose_png": "armanim.render.draw",
     "plot_run": "armanim.render.plot",
-    "auto_bounds": "armanim.render.bounds",
+    "auto_bounds": "armanim.render.camera.bounds",
 }
 
 __all__ = list(_LAZY)

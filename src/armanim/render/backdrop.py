@@ -17,7 +17,8 @@ from matplotlib.text import Text
 from matplotlib.transforms import IdentityTransform
 
 from armanim.render import scenery
-from armanim.render.framing import Floor
+from armanim.render.camera.framing import Floor
+from armanim.render.camera.view import View
 from armanim.render.style import (
     ARM_COLOR,
     AXIS_COLORS,
@@ -32,7 +33,6 @@ from armanim.render.style import (
     TEXT_COLOR,
     TRAIL_COLOR,
 )
-from armanim.render.view import View
 
 SHADOW_LAYERS = ((1.12, 0.05), (1.0, 0.06), (0.85, 0.07))  # (scale, opacity): nested discs of a soft shadow
 

@@ -1,7 +1,7 @@
 """Draw frames of an arm scene: a matplotlib Figure on the Agg canvas, no pyplot, no 3-D axes.
 
-The scene is projected by armanim's own camera (:mod:`armanim.render.camera`, orthographic;
-:mod:`armanim.render.framing` fits it into the frame) and drawn with 2-D artists in pixel
+The scene is projected by armanim's own camera (:mod:`armanim.render.camera.projection`, orthographic;
+:mod:`armanim.render.camera.framing` fits it into the frame) and drawn with 2-D artists in pixel
 coordinates. What never changes is drawn once and kept as a pixel background
 (:mod:`armanim.render.backdrop`): the floor (a light grid under the scene, at the scene's
 ``floor`` when it has one) with the soft shadows of the obstacles and the base, the obstacles
@@ -42,10 +42,10 @@ from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.output.numbers import number
 from armanim.render import backdrop, scenery
-from armanim.render.bounds import box_corners, goal_points
-from armanim.render.camera import camera_rotation, view_angles
+from armanim.render.camera.bounds import box_corners, goal_points
+from armanim.render.camera.framing import frame_scene
+from armanim.render.camera.projection import camera_rotation, view_angles
 from armanim.render.caption import PENDING
-from armanim.render.framing import frame_scene
 from armanim.render.glyphs import GlyphAtlas
 from armanim.render.markers import GoalMarkers
 from armanim.render.order import order_by, overlap_ahead, paint_order

@@ -15,6 +15,7 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.kinematics import Arm, Pose
+from armanim.render.camera.view import LIGHT, View, lambert
 from armanim.render.mesh import (
     prism_face_normals,
     prism_faces,
@@ -36,7 +37,6 @@ from armanim.render.style import (
     SELF_NEAR_COLOR,
     with_alpha,
 )
-from armanim.render.view import LIGHT, View, lambert
 
 SAMPLES = 7  # points per part for the painter's order
 

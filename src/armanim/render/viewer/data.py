@@ -19,9 +19,9 @@ from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render import scenery, style
-from armanim.render.camera import planar_normal, view_angles
+from armanim.render.camera.framing import scene_content
+from armanim.render.camera.projection import planar_normal, view_angles
 from armanim.render.caption import frame_activity
-from armanim.render.framing import scene_content
 from armanim.render.triads import TRIAD_PER_REACH, has_orientations
 from armanim.world.obstacles import BOX, ROD, SPHERE
 

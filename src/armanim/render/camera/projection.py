@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.arm.kinematics import Arm, forward
-from armanim.render.view import View
+from armanim.render.camera.view import View
 
 DEFAULT_ELEVATION = 25.0
 DEFAULT_AZIMUTH = -60.0

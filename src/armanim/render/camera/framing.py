@@ -2,7 +2,7 @@
 
 Pure numpy: what must be in the picture (every joint the pictures show, or the
 settings' bounds box; the base, the spheres, the goals and the floor) is fitted into
-the frame's scene rectangle by :func:`armanim.render.camera.fit_view`.
+the frame's scene rectangle by :func:`armanim.render.camera.projection.fit_view`.
 """
 
 from __future__ import annotations
@@ -13,10 +13,10 @@ import numpy as np
 
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.render import scenery
-from armanim.render.bounds import goal_points, resolve_bounds, shape_extent
-from armanim.render.camera import fit_view
+from armanim.render.camera.bounds import goal_points, resolve_bounds, shape_extent
+from armanim.render.camera.projection import fit_view
+from armanim.render.camera.view import View
 from armanim.render.style import BASE_SCALE, RING_POINTS
-from armanim.render.view import View
 
 MIN_FLOOR_ELEVATION = 5.0  # degrees: a floor seen more edge-on than this is not drawn
 
@@ -74,7 +74,7 @@ def frame_scene(problem: Problem, settings: RenderSettings, extent: np.ndarray |
     extent : (..., 3) array or None
         Every joint position the pictures show.
     rotation : (3, 3) array
-        The camera's rotation (:func:`armanim.render.camera.camera_rotation`).
+        The camera's rotation (:func:`armanim.render.camera.projection.camera_rotation`).
     elevation : float
         The camera's elevation, degrees.
     layout : Layout

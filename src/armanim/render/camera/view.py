@@ -1,6 +1,6 @@
 """The fixed camera of a video as one affine map: world -> (pixel x, pixel y, nearness).
 
-The camera is orthographic (:mod:`armanim.render.camera` builds the map), so world to
+The camera is orthographic (:mod:`armanim.render.camera.projection` builds the map), so world to
 display pixels is affine: one matrix product projects a whole batch of points.
 """
 
