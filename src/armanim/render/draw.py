@@ -6,15 +6,15 @@ coordinates. What never changes is drawn once and kept as a pixel background
 (:mod:`armanim.render.backdrop`): the floor (a light grid under the scene, at the scene's
 ``floor`` when it has one) with the soft shadows of the obstacles and the base, the obstacles
 themselves (far first: sphere sprites, boxes and capsules as shaded solids,
-:mod:`armanim.render.shapes`), their influence shells, the world axes in a corner, the title and the legend. Each frame
+:mod:`armanim.render.solids.shapes`), their influence shells, the world axes in a corner, the title and the legend. Each frame
 restores that background and draws what moves, straight into the Agg buffer:
 
 1. the arm's soft shadow on the floor, and the tip's trail (hidden where it runs
    behind a sphere);
-2. the solid parts (:mod:`armanim.render.solids`) in painter's order (link prisms,
+2. the solid parts (:mod:`armanim.render.solids.arm`) in painter's order (link prisms,
    joints, base, and the spheres the arm or its shadow overlaps on screen this frame;
-   see :mod:`armanim.render.order`). Spheres are exact orthographic discs shaded per
-   pixel once (sprites, :mod:`armanim.render.spheres`), then alpha-composited in their
+   see :mod:`armanim.render.solids.order`). Spheres are exact orthographic discs shaded per
+   pixel once (sprites, :mod:`armanim.render.solids.spheres`), then alpha-composited in their
    place in the order; the other spheres stay in the background, so a scene with a
    thousand obstacles costs little more per frame;
 3. the trail again where it passes in front of a sphere;
@@ -48,11 +48,11 @@ from armanim.render.camera.projection import camera_rotation, view_angles
 from armanim.render.caption import PENDING
 from armanim.render.glyphs import GlyphAtlas
 from armanim.render.markers import GoalMarkers
-from armanim.render.order import order_by, overlap_ahead, paint_order
 from armanim.render.pixels import in_pixels, make_figure, write_png
-from armanim.render.shapes import ShapeSolids
-from armanim.render.solids import SAMPLES, ArmSolids, Part, near_capsules, point_samples
-from armanim.render.spheres import SphereDiscs
+from armanim.render.solids.arm import SAMPLES, ArmSolids, Part, near_capsules, point_samples
+from armanim.render.solids.order import order_by, overlap_ahead, paint_order
+from armanim.render.solids.shapes import ShapeSolids
+from armanim.render.solids.spheres import SphereDiscs
 from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR
 from armanim.render.triads import (
     GOAL_ALPHA,

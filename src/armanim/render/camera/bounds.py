@@ -87,7 +87,7 @@ def resolve_bounds(problem: Problem, settings: RenderSettings, points: np.ndarra
 
 
 def box_corners(center: np.ndarray, half: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-    """(8, 3) world corners of one box (corner order of :data:`armanim.render.shapes.BOX_FACES`, :meth:`Boxes.corners`)."""
+    """(8, 3) world corners of one box (corner order of :data:`armanim.render.solids.shapes.BOX_FACES`, :meth:`Boxes.corners`)."""
     return Boxes(np.asarray(center)[None], np.asarray(half)[None], np.asarray(rotation)[None]).corners()[0]
 
 

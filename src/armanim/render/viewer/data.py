@@ -280,7 +280,7 @@ def near_entries(problem: Problem, pose) -> dict:
     pairs = problem.self_pairs
     if not len(pairs):
         return {}
-    from armanim.render.solids import NEAR_FACTOR
+    from armanim.render.solids.arm import NEAR_FACTOR
     from armanim.world.selfdistances import self_gaps
 
     close = self_gaps(pose, problem.capsules, pairs).d < NEAR_FACTOR * pairs.clearance  # (F, P)

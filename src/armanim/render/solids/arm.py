@@ -1,6 +1,6 @@
 """The arm's solid parts, ready for the painter's order: capsule prisms, joint discs, the base.
 
-Each part is summarised for :func:`armanim.render.order.paint_order` as screen samples
+Each part is summarised for :func:`armanim.render.solids.order.paint_order` as screen samples
 along its axis and a pixel radius, and carries the flat-shaded polygons that draw it.
 Capsule prisms are culled (back faces dropped) for every pose; the base pedestal (and the
 column up to joint 1 of a robot whose first joint sits above its base) never moves, so it
@@ -16,7 +16,7 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.kinematics import Arm, Pose
 from armanim.render.camera.view import LIGHT, View, lambert
-from armanim.render.mesh import (
+from armanim.render.solids.mesh import (
     prism_face_normals,
     prism_faces,
     prism_local,

@@ -15,8 +15,8 @@ import numpy as np
 
 from armanim.render.camera.bounds import box_corners, shape_extent
 from armanim.render.camera.view import LIGHT, View, lambert
-from armanim.render.mesh import prism_face_normals, prism_faces, prism_vertices, unit_circle
-from armanim.render.solids import Part, point_samples, segment_samples
+from armanim.render.solids.arm import Part, point_samples, segment_samples
+from armanim.render.solids.mesh import prism_face_normals, prism_faces, prism_vertices, unit_circle
 from armanim.render.style import CIRCLE_SIDES, JOINT_HIGHLIGHT, OBSTACLE_COLOR, PRISM_SIDES, with_alpha
 from armanim.world.obstacles import BOX, ROD
 
