@@ -251,7 +251,7 @@ def _traj(phi, reached, mode=None):
 def test_captions_say_moving_holding_stalled_planning_and_missed():
     import types
 
-    from armanim.render.caption import frame_activity
+    from armanim.render.overlay.caption import frame_activity
 
     reached = types.SimpleNamespace(reached=True, first_frame=0, last_frame=5, reason=None)
     traj = _traj([0, 0.1, 0.2, 0.2, 0.2, 0.2], [False, False, True, True, True, True])
@@ -264,7 +264,7 @@ def test_captions_say_moving_holding_stalled_planning_and_missed():
 
 
 def test_a_trajectory_without_mode_is_all_ik():
-    from armanim.render.caption import frame_modes
+    from armanim.render.overlay.caption import frame_modes
 
     assert frame_modes(_traj([0, 1], [False, False])).tolist() == ["ik", "ik"]
 
@@ -273,8 +273,8 @@ def test_a_trajectory_without_mode_is_all_ik():
 def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     from types import SimpleNamespace
 
-    from armanim.render.caption import goal_outcomes
     from armanim.render.draw import SceneCanvas
+    from armanim.render.overlay.caption import goal_outcomes
 
     arm = Arm.from_names([2, 5, 5, 5])
     problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=unlimited_limits(4), obstacles=Obstacles.none(),

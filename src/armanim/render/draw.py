@@ -18,12 +18,12 @@ restores that background and draws what moves, straight into the Agg buffer:
    place in the order; the other spheres stay in the background, so a scene with a
    thousand obstacles costs little more per frame;
 3. the trail again where it passes in front of a sphere;
-4. the numbered goal markers (:mod:`armanim.render.markers`; a goal behind a sphere is
-   drawn through it, dimmed and open) and the caption (:mod:`armanim.render.glyphs`).
+4. the numbered goal markers (:mod:`armanim.render.overlay.markers`; a goal behind a sphere is
+   drawn through it, dimmed and open) and the caption (:mod:`armanim.render.overlay.glyphs`).
 
 When a goal has an orientation, the tool's RGB triad is drawn at the tip every frame and each
 oriented goal's faint triad (a blue arrow for a tool-axis goal) with the background
-(:mod:`armanim.render.triads`).
+(:mod:`armanim.render.overlay.triads`).
 
 :func:`render_pose_png` draws one pose this way (``armanim fk --png``).
 """
@@ -45,16 +45,10 @@ from armanim.render import backdrop, scenery
 from armanim.render.camera.bounds import box_corners, goal_points
 from armanim.render.camera.framing import frame_scene
 from armanim.render.camera.projection import camera_rotation, view_angles
-from armanim.render.caption import PENDING
-from armanim.render.glyphs import GlyphAtlas
-from armanim.render.markers import GoalMarkers
-from armanim.render.pixels import in_pixels, make_figure, write_png
-from armanim.render.solids.arm import SAMPLES, ArmSolids, Part, near_capsules, point_samples
-from armanim.render.solids.order import order_by, overlap_ahead, paint_order
-from armanim.render.solids.shapes import ShapeSolids
-from armanim.render.solids.spheres import SphereDiscs
-from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR
-from armanim.render.triads import (
+from armanim.render.overlay.caption import PENDING
+from armanim.render.overlay.glyphs import GlyphAtlas
+from armanim.render.overlay.markers import GoalMarkers
+from armanim.render.overlay.triads import (
     GOAL_ALPHA,
     TRIAD_PER_REACH,
     arrow_heads,
@@ -63,6 +57,12 @@ from armanim.render.triads import (
     has_orientations,
     screen_lines,
 )
+from armanim.render.pixels import in_pixels, make_figure, write_png
+from armanim.render.solids.arm import SAMPLES, ArmSolids, Part, near_capsules, point_samples
+from armanim.render.solids.order import order_by, overlap_ahead, paint_order
+from armanim.render.solids.shapes import ShapeSolids
+from armanim.render.solids.spheres import SphereDiscs
+from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR
 
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
 
@@ -423,7 +423,7 @@ class SceneCanvas:
 
 
 def _segment_goals(goals) -> list:
-    """The goal each segment of :func:`~armanim.render.triads.goal_segments` belongs to, in order."""
+    """The goal each segment of :func:`~armanim.render.overlay.triads.goal_segments` belongs to, in order."""
     owners = []
     for g in goals:
         if g.orientation is not None:

@@ -54,8 +54,8 @@ def render_poster(problem: Problem, trajectory, reports: Sequence, settings: Ren
     title : str
     """
     from armanim.arm.kinematics import Pose, forward
-    from armanim.render.caption import MISSED, PENDING, REACHED, goal_outcomes
     from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.overlay.caption import MISSED, PENDING, REACHED, goal_outcomes
     from armanim.render.pixels import write_png
 
     poses = forward(problem.arm, trajectory.phi)

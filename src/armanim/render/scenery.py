@@ -1,7 +1,7 @@
 """What surrounds the arm: the frame's layout, the floor, shadows and label placement.
 
 Pure numpy geometry (no matplotlib): :mod:`armanim.render.backdrop` and
-:mod:`armanim.render.markers` turn it into artists.
+:mod:`armanim.render.overlay.markers` turn it into artists.
 Sizes are fractions of the frame, so a picture looks the same at every size.
 """
 

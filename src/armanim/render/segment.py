@@ -16,7 +16,7 @@ import numpy as np
 from armanim.arm.kinematics import Arm, Pose, forward
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.solution import GoalReport, Trajectory
-from armanim.render.caption import frame_activity, frame_caption, goal_outcomes, goal_status
+from armanim.render.overlay.caption import frame_activity, frame_caption, goal_outcomes, goal_status
 
 CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 PALETTE_FRAMES = 12  # frames a GIF's palette is made from

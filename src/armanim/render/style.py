@@ -29,7 +29,7 @@ GOAL_COLORS = {
     "reached": (0.13, 0.62, 0.28),
     "missed": (0.85, 0.10, 0.10),
 }
-STATUS_NAMES = ("pending", "current", "reached", "missed")  # by status code (armanim.render.caption)
+STATUS_NAMES = ("pending", "current", "reached", "missed")  # by status code (armanim.render.overlay.caption)
 
 PRISM_SIDES = 10  # faces around a link
 CIRCLE_SIDES = 24  # polygon sides of a drawn circle (joints, base, influence shells)

@@ -2,7 +2,7 @@
 
 Joint positions come from armanim's own forward kinematics (:func:`armanim.arm.kinematics.forward`),
 so the page never computes a pose; the caption's activity per frame comes from
-:func:`armanim.render.caption.frame_activity`, as in the video. The format is documented
+:func:`armanim.render.overlay.caption.frame_activity`, as in the video. The format is documented
 in docs/viewer.md ("The data format"); :data:`FORMAT` names its version.
 """
 
@@ -21,8 +21,8 @@ from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render import scenery, style
 from armanim.render.camera.framing import scene_content
 from armanim.render.camera.projection import planar_normal, view_angles
-from armanim.render.caption import frame_activity
-from armanim.render.triads import TRIAD_PER_REACH, has_orientations
+from armanim.render.overlay.caption import frame_activity
+from armanim.render.overlay.triads import TRIAD_PER_REACH, has_orientations
 from armanim.world.obstacles import BOX, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"

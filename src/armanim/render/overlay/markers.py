@@ -18,7 +18,7 @@ from matplotlib.text import Text
 from matplotlib.transforms import Affine2D, IdentityTransform
 
 from armanim.render import scenery
-from armanim.render.caption import CURRENT, MISSED, PENDING, REACHED
+from armanim.render.overlay.caption import CURRENT, MISSED, PENDING, REACHED
 from armanim.render.pixels import Sprite, composite, crop_sprite, in_pixels
 from armanim.render.style import FONT, GOAL_COLORS, HIDDEN_ALPHA, RING_POINTS, STATUS_NAMES, TEXT_COLOR
 
