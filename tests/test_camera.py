@@ -98,7 +98,7 @@ def _frame(problem, phi, size=(320, 240)):
 
 @pytest.mark.parametrize("sphere_x, arm_wins", [(-3.0, True), (3.0, False)])
 def test_a_link_in_front_of_a_sphere_is_drawn_after_it(sphere_x, arm_wins):
-    from armanim.render.style import ARM_COLOR
+    from armanim.render.paint.style import ARM_COLOR
 
     # Seen from +x: the arm stands along z at x = 0; the sphere behind it (x = -3) or in front (x = 3).
     arm = Arm.from_names([4.0], axes=["y"], direction="z")

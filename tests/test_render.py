@@ -171,7 +171,7 @@ def test_a_failing_join_raises_render_error(tmp_path):
 def test_the_tip_is_drawn_in_the_arm_colour():
     from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.overlay.caption import PENDING
-    from armanim.render.style import ARM_COLOR
+    from armanim.render.paint.style import ARM_COLOR
 
     problem = make_problem(half_width=1.0, obstacles=False)
     phi = np.radians([20.0, 10.0, 20.0, 10.0])

@@ -16,10 +16,10 @@ from matplotlib.lines import Line2D
 from matplotlib.text import Text
 from matplotlib.transforms import IdentityTransform
 
-from armanim.render import scenery
 from armanim.render.camera.framing import Floor
 from armanim.render.camera.view import View
-from armanim.render.style import (
+from armanim.render.paint import scenery
+from armanim.render.paint.style import (
     ARM_COLOR,
     AXIS_COLORS,
     FLOOR_COLOR,

@@ -41,7 +41,7 @@ from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.output.numbers import number
-from armanim.render import backdrop, scenery
+from armanim.render import backdrop
 from armanim.render.camera.bounds import box_corners, goal_points
 from armanim.render.camera.framing import frame_scene
 from armanim.render.camera.projection import camera_rotation, view_angles
@@ -57,12 +57,21 @@ from armanim.render.overlay.triads import (
     has_orientations,
     screen_lines,
 )
-from armanim.render.pixels import in_pixels, make_figure, write_png
+from armanim.render.paint import scenery
+from armanim.render.paint.pixels import in_pixels, make_figure, write_png
+from armanim.render.paint.style import (
+    BASE_SCALE,
+    FACE_EDGE_PX,
+    FONT,
+    RING_POINTS,
+    SHADOW_COLOR,
+    TEXT_COLOR,
+    TRAIL_COLOR,
+)
 from armanim.render.solids.arm import SAMPLES, ArmSolids, Part, near_capsules, point_samples
 from armanim.render.solids.order import order_by, overlap_ahead, paint_order
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
-from armanim.render.style import BASE_SCALE, FACE_EDGE_PX, FONT, RING_POINTS, SHADOW_COLOR, TEXT_COLOR, TRAIL_COLOR
 
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
 

@@ -10,8 +10,8 @@ from matplotlib.figure import Figure
 
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
-from armanim.render.pixels import write_png
-from armanim.render.style import GOAL_COLORS
+from armanim.render.paint.pixels import write_png
+from armanim.render.paint.style import GOAL_COLORS
 
 PLOT_SIZE = (1200, 800)  # pixels
 PLOT_DPI = 100

@@ -56,7 +56,7 @@ def render_poster(problem: Problem, trajectory, reports: Sequence, settings: Ren
     from armanim.arm.kinematics import Pose, forward
     from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.overlay.caption import MISSED, PENDING, REACHED, goal_outcomes
-    from armanim.render.pixels import write_png
+    from armanim.render.paint.pixels import write_png
 
     poses = forward(problem.arm, trajectory.phi)
     last = trajectory.frames - 1

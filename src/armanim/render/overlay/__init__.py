@@ -6,5 +6,5 @@ glyphs and orientation triads.
 - :mod:`.glyphs`: the caption's monospaced characters drawn once and stamped.
 - :mod:`.triads`: the tool's and the oriented goals' RGB axes.
 
-Draws on :mod:`armanim.render.canvas`; knows nothing of the camera or the solids.
+Draws on :mod:`armanim.render.paint`; knows nothing of the camera or the solids.
 """

@@ -17,10 +17,10 @@ from matplotlib.patheffects import withStroke
 from matplotlib.text import Text
 from matplotlib.transforms import Affine2D, IdentityTransform
 
-from armanim.render import scenery
 from armanim.render.overlay.caption import CURRENT, MISSED, PENDING, REACHED
-from armanim.render.pixels import Sprite, composite, crop_sprite, in_pixels
-from armanim.render.style import FONT, GOAL_COLORS, HIDDEN_ALPHA, RING_POINTS, STATUS_NAMES, TEXT_COLOR
+from armanim.render.paint import scenery
+from armanim.render.paint.pixels import Sprite, composite, crop_sprite, in_pixels
+from armanim.render.paint.style import FONT, GOAL_COLORS, HIDDEN_ALPHA, RING_POINTS, STATUS_NAMES, TEXT_COLOR
 
 MARKER_STYLES = {
     PENDING: dict(marker="o", markersize=9, markerfacecolor="white",

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.collections import LineCollection
 
-from armanim.render.style import AXIS_COLORS
+from armanim.render.paint.style import AXIS_COLORS
 
 TRIAD_PER_REACH = 0.12
 """Length of a triad's axes as a fraction of the arm's reach."""

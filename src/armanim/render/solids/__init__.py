@@ -8,5 +8,5 @@ sprites, and the painter's order that draws them far first.
 - :mod:`.shapes`: obstacle boxes and capsules: shaded faces, ray depth, outlines, shadows.
 - :mod:`.order`: the painter's order of overlapping parts.
 
-Projects through :mod:`armanim.render.camera`; draws on :mod:`armanim.render.canvas`.
+Projects through :mod:`armanim.render.camera`; draws on :mod:`armanim.render.paint`.
 """

@@ -16,15 +16,7 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.kinematics import Arm, Pose
 from armanim.render.camera.view import LIGHT, View, lambert
-from armanim.render.solids.mesh import (
-    prism_face_normals,
-    prism_faces,
-    prism_local,
-    prism_vertices,
-    prism_world,
-    unit_circle,
-)
-from armanim.render.style import (
+from armanim.render.paint.style import (
     ARM_COLOR,
     BASE_COLOR,
     BASE_SCALE,
@@ -36,6 +28,14 @@ from armanim.render.style import (
     PRISM_SIDES,
     SELF_NEAR_COLOR,
     with_alpha,
+)
+from armanim.render.solids.mesh import (
+    prism_face_normals,
+    prism_faces,
+    prism_local,
+    prism_vertices,
+    prism_world,
+    unit_circle,
 )
 
 SAMPLES = 7  # points per part for the painter's order

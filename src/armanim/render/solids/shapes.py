@@ -15,9 +15,9 @@ import numpy as np
 
 from armanim.render.camera.bounds import box_corners, shape_extent
 from armanim.render.camera.view import LIGHT, View, lambert
+from armanim.render.paint.style import CIRCLE_SIDES, JOINT_HIGHLIGHT, OBSTACLE_COLOR, PRISM_SIDES, with_alpha
 from armanim.render.solids.arm import Part, point_samples, segment_samples
 from armanim.render.solids.mesh import prism_face_normals, prism_faces, prism_vertices, unit_circle
-from armanim.render.style import CIRCLE_SIDES, JOINT_HIGHLIGHT, OBSTACLE_COLOR, PRISM_SIDES, with_alpha
 from armanim.world.obstacles import BOX, ROD
 
 BOX_FACES = np.array([[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]])

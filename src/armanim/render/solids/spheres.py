@@ -11,9 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.render.camera.view import LIGHT, View
-from armanim.render.pixels import Sprite, composite
+from armanim.render.paint.pixels import Sprite, composite
+from armanim.render.paint.style import CIRCLE_SIDES, OBSTACLE_COLOR
 from armanim.render.solids.mesh import unit_circle
-from armanim.render.style import CIRCLE_SIDES, OBSTACLE_COLOR
 from armanim.world.obstacles import SPHERE
 
 

@@ -18,11 +18,11 @@ from armanim.arm.kinematics import forward
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.solution import GoalReport, Trajectory
-from armanim.render import scenery, style
 from armanim.render.camera.framing import scene_content
 from armanim.render.camera.projection import planar_normal, view_angles
 from armanim.render.overlay.caption import frame_activity
 from armanim.render.overlay.triads import TRIAD_PER_REACH, has_orientations
+from armanim.render.paint import scenery, style
 from armanim.world.obstacles import BOX, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"
@@ -63,7 +63,7 @@ def hex_color(rgb) -> str:
 
 
 def page_style() -> dict:
-    """The video's colours and sizes (:mod:`armanim.render.style`), for the page to draw with."""
+    """The video's colours and sizes (:mod:`armanim.render.paint.style`), for the page to draw with."""
     return {
         "background": hex_color(style.BACKGROUND),
         "floor": hex_color(style.FLOOR_COLOR),

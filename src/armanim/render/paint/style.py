@@ -1,7 +1,7 @@
 """How the pictures look: colours, sizes and fonts of the frames, the poster and the plot.
 
 Colours are RGB in 0..1. Sizes in points scale with the frame (see
-:func:`armanim.render.scenery.frame_layout`); the others are ratios or pixels, as noted.
+:func:`armanim.render.paint.scenery.frame_layout`); the others are ratios or pixels, as noted.
 """
 
 from __future__ import annotations

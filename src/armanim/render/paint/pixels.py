@@ -15,7 +15,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.transforms import IdentityTransform
 
-from armanim.render.style import BACKGROUND
+from armanim.render.paint.style import BACKGROUND
 
 Sprite = tuple[slice, slice, np.ndarray, np.ndarray]
 
