@@ -120,8 +120,8 @@ def baseline(scene: str, work: Path, frames: int | None) -> tuple[float, int]:
 def drawing_only(scene: str) -> float:
     """Frames per second of SceneCanvas.draw alone, one core, every frame of the scene."""
     from armanim.arm.kinematics import Pose, forward
-    from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.overlay.caption import frame_activity, frame_caption, goal_status
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
     from armanim.scene import render_settings
 
     loaded, problem, solution = solved(scene)

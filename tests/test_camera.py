@@ -87,7 +87,7 @@ def test_the_planar_scene_file_without_a_view_gets_none():
 
 
 def _frame(problem, phi, size=(320, 240)):
-    from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     pose = forward(problem.arm, phi)
     scene = SceneCanvas(problem, default_render_settings(size=size, elevation=0.0, azimuth=0.0), title="t",
@@ -118,7 +118,7 @@ def test_a_goal_behind_a_sphere_is_drawn_through_it():
     assert scene.goals.hidden.tolist() == [True]
     scene.goals.stamps.update({(0, code): None for code in range(4)})
     state_pose = forward(problem.arm, np.zeros(1))
-    from armanim.render.draw import FrameState
+    from armanim.render.pictures.canvas import FrameState
 
     without = scene.draw(FrameState(state_pose, 0, np.zeros(1, dtype=int), "")).copy()
     x, y = scene.goals.xy[0]
@@ -140,7 +140,7 @@ def _overlaps(boxes: dict) -> list:
 def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
     from conftest import solved_scene
 
-    from armanim.render.draw import SceneCanvas
+    from armanim.render.pictures.canvas import SceneCanvas
     from armanim.scene import load_scene, render_settings
 
     loaded = load_scene(scene_path)
@@ -223,7 +223,7 @@ def test_an_unknown_quality_is_a_usage_error():
 
 def test_plot_labels_each_limit_with_its_joints_and_numbers_goals_from_0():
     from armanim.motion.trajectory import solve_trajectory
-    from armanim.render.plot import plot_figure
+    from armanim.render.pictures.plot import plot_figure
     from armanim.scene import load_scene, scene_to_problem
 
     problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)
@@ -273,8 +273,8 @@ def test_a_trajectory_without_mode_is_all_ik():
 def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     from types import SimpleNamespace
 
-    from armanim.render.draw import SceneCanvas
     from armanim.render.overlay.caption import goal_outcomes
+    from armanim.render.pictures.canvas import SceneCanvas
 
     arm = Arm.from_names([2, 5, 5, 5])
     problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=unlimited_limits(4), obstacles=Obstacles.none(),

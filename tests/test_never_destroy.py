@@ -237,7 +237,7 @@ def test_render_waits_for_the_folder_lock_and_swaps_whole(run_folder):
 
 
 def test_a_failed_render_leaves_the_run_folder_as_it_was(cli, run_folder, monkeypatch):
-    import armanim.render.plot as plot
+    import armanim.render.pictures.plot as plot
 
     def broken(*args, **kwargs):
         raise OSError(28, "No space left on device")

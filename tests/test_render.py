@@ -169,9 +169,9 @@ def test_a_failing_join_raises_render_error(tmp_path):
 
 
 def test_the_tip_is_drawn_in_the_arm_colour():
-    from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.overlay.caption import PENDING
     from armanim.render.paint.style import ARM_COLOR
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     problem = make_problem(half_width=1.0, obstacles=False)
     phi = np.radians([20.0, 10.0, 20.0, 10.0])
@@ -190,7 +190,7 @@ def test_the_tip_is_drawn_in_the_arm_colour():
 def test_render_pose_png_has_the_settings_size(tmp_path):
     from PIL import Image
 
-    from armanim.render.draw import render_pose_png
+    from armanim.render.pictures.canvas import render_pose_png
 
     out = tmp_path / "pose.png"
     render_pose_png(make_problem(), np.radians([10, 20, 30, 40]), default_render_settings(size=(201, 149)), out, title="fk")
@@ -201,7 +201,7 @@ def test_render_pose_png_has_the_settings_size(tmp_path):
 def test_plot_run_writes_a_png(scene, tmp_path):
     from PIL import Image
 
-    from armanim.render.plot import PLOT_SIZE, plot_run
+    from armanim.render.pictures.plot import PLOT_SIZE, plot_run
 
     problem, traj, reports = scene
     out = tmp_path / "plot.png"

@@ -424,7 +424,7 @@ def shelf_problem():
 
 
 def test_goal_behind_a_box_is_drawn_through_it():
-    from armanim.render.draw import SceneCanvas
+    from armanim.render.pictures.canvas import SceneCanvas
     from armanim.scene import default_render_settings
 
     problem = shelf_problem()
@@ -437,7 +437,7 @@ def test_goal_behind_a_box_is_drawn_through_it():
 def test_spheres_only_pictures_take_the_sphere_path():
     from test_cost import notes_problem
 
-    from armanim.render.draw import SceneCanvas
+    from armanim.render.pictures.canvas import SceneCanvas
     from armanim.scene import default_render_settings
 
     problem = notes_problem()
@@ -445,8 +445,8 @@ def test_spheres_only_pictures_take_the_sphere_path():
 
 
 def test_poster_and_pose_of_every_shape(tmp_path):
-    from armanim.render.draw import render_pose_png
-    from armanim.render.poster import render_poster
+    from armanim.render.pictures.canvas import render_pose_png
+    from armanim.render.pictures.poster import render_poster
     from armanim.scene import default_render_settings
 
     problem = notes_among(((9.0, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), (0.0, 0.0, 0.5))],

@@ -59,7 +59,7 @@ def frame_drawer(problem: Problem, trajectory: Trajectory, reports: Sequence[Goa
 
     The frame returned is the canvas's live buffer: consume it before the next call.
     """
-    from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
     goals = len(problem.goals)

@@ -330,8 +330,8 @@ def render_outputs(
     progress: Progress | None = None,
 ) -> dict[str, Path]:
     """Render the video, plot.png and poster.png of a solved run into ``folder``."""
-    from armanim.render.plot import plot_run
-    from armanim.render.poster import render_poster
+    from armanim.render.pictures.plot import plot_run
+    from armanim.render.pictures.poster import render_poster
     from armanim.render.video import render_video
 
     traj = solution.trajectory

@@ -1,6 +1,6 @@
 """What surrounds the arm: the frame's layout, the floor, shadows and label placement.
 
-Pure numpy geometry (no matplotlib): :mod:`armanim.render.backdrop` and
+Pure numpy geometry (no matplotlib): :mod:`armanim.render.pictures.backdrop` and
 :mod:`armanim.render.overlay.markers` turn it into artists.
 Sizes are fractions of the frame, so a picture looks the same at every size.
 """

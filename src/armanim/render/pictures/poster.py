@@ -54,9 +54,9 @@ def render_poster(problem: Problem, trajectory, reports: Sequence, settings: Ren
     title : str
     """
     from armanim.arm.kinematics import Pose, forward
-    from armanim.render.draw import FrameState, SceneCanvas
     from armanim.render.overlay.caption import MISSED, PENDING, REACHED, goal_outcomes
     from armanim.render.paint.pixels import write_png
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     poses = forward(problem.arm, trajectory.phi)
     last = trajectory.frames - 1

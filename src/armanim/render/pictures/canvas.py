@@ -3,7 +3,7 @@
 The scene is projected by armanim's own camera (:mod:`armanim.render.camera.projection`, orthographic;
 :mod:`armanim.render.camera.framing` fits it into the frame) and drawn with 2-D artists in pixel
 coordinates. What never changes is drawn once and kept as a pixel background
-(:mod:`armanim.render.backdrop`): the floor (a light grid under the scene, at the scene's
+(:mod:`armanim.render.pictures.backdrop`): the floor (a light grid under the scene, at the scene's
 ``floor`` when it has one) with the soft shadows of the obstacles and the base, the obstacles
 themselves (far first: sphere sprites, boxes and capsules as shaded solids,
 :mod:`armanim.render.solids.shapes`), their influence shells, the world axes in a corner, the title and the legend. Each frame
@@ -41,7 +41,6 @@ from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.output.numbers import number
-from armanim.render import backdrop
 from armanim.render.camera.bounds import box_corners, goal_points
 from armanim.render.camera.framing import frame_scene
 from armanim.render.camera.projection import camera_rotation, view_angles
@@ -68,6 +67,7 @@ from armanim.render.paint.style import (
     TEXT_COLOR,
     TRAIL_COLOR,
 )
+from armanim.render.pictures import backdrop
 from armanim.render.solids.arm import SAMPLES, ArmSolids, Part, near_capsules, point_samples
 from armanim.render.solids.order import order_by, overlap_ahead, paint_order
 from armanim.render.solids.shapes import ShapeSolids
