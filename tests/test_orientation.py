@@ -359,7 +359,7 @@ def test_pictures_draw_triads_and_the_caption_the_angle_only_with_orientations(t
     from matplotlib.image import imread
 
     from armanim.render.overlay.caption import frame_caption
-    from armanim.render.pictures.canvas import render_pose_png
+    from armanim.render.pictures.pose import render_pose_png
     from armanim.scene import default_render_settings
 
     problem = _problem(ARMS["panda"], "pinv")

@@ -190,7 +190,7 @@ def test_the_tip_is_drawn_in_the_arm_colour():
 def test_render_pose_png_has_the_settings_size(tmp_path):
     from PIL import Image
 
-    from armanim.render.pictures.canvas import render_pose_png
+    from armanim.render.pictures.pose import render_pose_png
 
     out = tmp_path / "pose.png"
     render_pose_png(make_problem(), np.radians([10, 20, 30, 40]), default_render_settings(size=(201, 149)), out, title="fk")

@@ -445,7 +445,7 @@ def test_spheres_only_pictures_take_the_sphere_path():
 
 
 def test_poster_and_pose_of_every_shape(tmp_path):
-    from armanim.render.pictures.canvas import render_pose_png
+    from armanim.render.pictures.pose import render_pose_png
     from armanim.render.pictures.poster import render_poster
     from armanim.scene import default_render_settings
 

@@ -25,7 +25,7 @@ When a goal has an orientation, the tool's RGB triad is drawn at the tip every f
 oriented goal's faint triad (a blue arrow for a tool-axis goal) with the background
 (:mod:`armanim.render.overlay.triads`).
 
-:func:`render_pose_png` draws one pose this way (``armanim fk --png``).
+:func:`armanim.render.pictures.pose.render_pose_png` draws one pose this way (``armanim fk --png``).
 """
 
 from __future__ import annotations
@@ -38,13 +38,11 @@ from matplotlib.lines import Line2D
 from matplotlib.transforms import IdentityTransform
 
 from armanim.arm.capsules import capsule_ends
-from armanim.arm.kinematics import Pose, forward, tool_rotation
+from armanim.arm.kinematics import Pose, tool_rotation
 from armanim.motion.problem import Problem, RenderSettings
-from armanim.output.numbers import number
-from armanim.render.camera.bounds import box_corners, goal_points
+from armanim.render.camera.bounds import goal_points
 from armanim.render.camera.framing import frame_scene
 from armanim.render.camera.projection import camera_rotation, view_angles
-from armanim.render.overlay.caption import PENDING
 from armanim.render.overlay.glyphs import GlyphAtlas
 from armanim.render.overlay.markers import GoalMarkers
 from armanim.render.overlay.triads import (
@@ -57,7 +55,7 @@ from armanim.render.overlay.triads import (
     screen_lines,
 )
 from armanim.render.paint import scenery
-from armanim.render.paint.pixels import in_pixels, make_figure, write_png
+from armanim.render.paint.pixels import in_pixels, make_figure
 from armanim.render.paint.style import (
     BASE_SCALE,
     FACE_EDGE_PX,
@@ -68,8 +66,9 @@ from armanim.render.paint.style import (
     TRAIL_COLOR,
 )
 from armanim.render.pictures import backdrop
-from armanim.render.solids.arm import SAMPLES, ArmSolids, Part, near_capsules, point_samples
-from armanim.render.solids.order import order_by, overlap_ahead, paint_order
+from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
+from armanim.render.solids.obstacle_order import ObstacleOrder
+from armanim.render.solids.order import paint_order
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
@@ -142,8 +141,7 @@ class SceneCanvas:
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         obstacles = problem.obstacles
         self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if len(obstacles.boxes) + len(obstacles.rods) else None
-        if self.shapes is not None:
-            self._prepare_obstacle_order()
+        self.obstacle_order = ObstacleOrder(self.spheres, self.shapes, self.view) if self.shapes is not None else None
         goals = self.view.project(goal_points(problem))
         self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height))
         self.triads = has_orientations(problem.goals)
@@ -179,47 +177,6 @@ class SceneCanvas:
         hidden = self.spheres.behind(screen)
         return hidden | self.shapes.behind(screen) if self.shapes is not None else hidden
 
-    def _prepare_obstacle_order(self) -> None:
-        """With boxes or capsules: every obstacle's screen box, its painter's order (drawn
-        once), and which obstacles cover which (redrawn when a moving part touches one)."""
-        spheres, shapes = self.spheres, self.shapes
-        c, r = spheres.centers, spheres.radii
-        sphere_boxes = np.column_stack([c[:, 0] - r, c[:, 1] - r, c[:, 0] + r, c[:, 1] + r]).reshape(-1, 4)
-        self.obstacle_bbox = np.vstack([sphere_boxes, shapes.bbox])
-        items = [point_samples(c[i]) for i in range(len(spheres))] + [p.samples for p in shapes.parts]
-        radii = np.concatenate([r, [p.radius for p in shapes.parts]])
-        box_of = np.concatenate([np.full(len(spheres), -1), shapes.box_of])
-        order = self._order(np.array(items).reshape(-1, SAMPLES, 3), radii, box_of)
-        self.obstacle_order = order
-        rank = np.empty(len(order), dtype=int)
-        rank[order] = np.arange(len(order))
-        b = self.obstacle_bbox
-        overlap = (b[:, None, 0] <= b[None, :, 2]) & (b[None, :, 0] <= b[:, None, 2]) & (b[:, None, 1] <= b[None, :, 3]) & (b[None, :, 1] <= b[:, None, 3])
-        self.obstacle_covers = overlap & (rank[None, :] > rank[:, None])  # [i, j]: j is drawn after i over it
-
-    def _order(self, samples: np.ndarray, radii: np.ndarray, box_of: np.ndarray) -> list[int]:
-        """Painter's order of parts, boxes (``box_of`` >= 0) put by the depth along the rays
-        through the other parts' samples, the rest by their overlapping samples."""
-        ahead = overlap_ahead(samples, radii)
-        boxes = np.flatnonzero(box_of >= 0)
-        if len(boxes):
-            scores = self.shapes.box_ahead(samples)[:, box_of[boxes]]  # (N, k): part ahead of box
-            ahead[:, boxes] = scores
-            ahead[boxes, :] = -scores.T
-            ahead[np.ix_(boxes, boxes)] = 0.0
-            for bi in boxes:  # box against box: the corners of one against the other
-                scores = self.shapes.box_ahead(self.view.project(box_corners(*self._box(box_of[bi])))[None])[0]
-                for bj in boxes:
-                    if bi != bj:
-                        ahead[bi, bj] = scores[box_of[bj]]
-            ahead = 0.5 * (ahead - ahead.T)
-            np.fill_diagonal(ahead, 0.0)
-        return order_by(ahead, samples[..., 2].mean(axis=1))
-
-    def _box(self, k: int):
-        boxes = self.problem.obstacles.boxes
-        return boxes.centers[k], boxes.half[k], boxes.rotations[k]
-
     def _make_artists(self) -> None:
         """The artists every frame draws again with new data."""
         self.faces = in_pixels(PolyCollection([], linewidths=FACE_EDGE_PX * self.pt, antialiased=True), self.fig)
@@ -240,7 +197,7 @@ class SceneCanvas:
         if self.shapes is None:
             self.spheres.composite(np.asarray(self.canvas.buffer_rgba()), self.spheres.order)
         else:
-            self._draw_obstacles(self.obstacle_order)
+            self._draw_obstacles(self.obstacle_order.order)
         if self.triads:
             self._draw_goal_triads(sheet)
         backdrop.draw_gizmo(sheet, self.layout, self.rotation)
@@ -363,44 +320,22 @@ class SceneCanvas:
         self._flush(polys, colors)
         return bool(len(spheres))
 
-    def _touched_obstacles(self, boxes: list) -> np.ndarray:
-        """Obstacles (spheres, then the shapes' parts) whose screen boxes meet any of ``boxes``,
-        and every one drawn over those; in their painter's order."""
-        b = self.obstacle_bbox
-        hit = np.zeros(len(b), dtype=bool)
-        for box in boxes:
-            if box is not None:
-                hit |= (b[:, 2] >= box[0]) & (b[:, 0] <= box[2]) & (b[:, 3] >= box[1]) & (b[:, 1] <= box[3])
-        while True:
-            more = self.obstacle_covers[hit].any(axis=0) & ~hit
-            if not more.any():
-                break
-            hit |= more
-        return np.array([i for i in self.obstacle_order if hit[i]], dtype=int)
-
     def _draw_parts_among_shapes(self, parts: list[Part], boxes: list) -> bool:
         """Parts and the obstacles they overlap, in one painter's order (boxes by ray depth)."""
-        touched = self._touched_obstacles(boxes)
+        touched = self.obstacle_order.touched(boxes)
         spheres = len(self.spheres)
-        obstacle_parts = [self._obstacle_item(i) for i in touched]
+        obstacle_parts = [self.obstacle_order.item(i) for i in touched]
         samples = np.array([p.samples for p in parts] + [p.samples for p in obstacle_parts])
         radii = np.array([p.radius for p in parts] + [p.radius for p in obstacle_parts])
         box_of = np.concatenate([np.full(len(parts), -1),
                                  [self.shapes.box_of[i - spheres] if i >= spheres else -1 for i in touched]]).astype(int)
-        order = self._order(samples, radii, box_of)
+        order = self.obstacle_order.paint_order(samples, radii, box_of)
         self._paint([*parts, *obstacle_parts], order, len(parts), touched)
         return bool(len(touched))
 
-    def _obstacle_item(self, i: int) -> Part:
-        """Obstacle ``i`` as a part: a sphere (drawn by its sprite) or a shape's part."""
-        spheres = len(self.spheres)
-        if i < spheres:
-            return Part(point_samples(self.spheres.centers[i]), float(self.spheres.radii[i]), [], np.zeros((0, 4)))
-        return self.shapes.parts[i - spheres]
-
     def _draw_obstacles(self, indices) -> None:
         """Obstacles ``indices`` (spheres, then the shapes' parts), in that order."""
-        items = [self._obstacle_item(i) for i in indices]
+        items = [self.obstacle_order.item(i) for i in indices]
         self._paint(items, list(range(len(items))), 0, np.asarray(indices, dtype=int))
 
     def _paint(self, items: list[Part], order: list[int], moving: int, obstacles: np.ndarray) -> None:
@@ -438,34 +373,3 @@ def _segment_goals(goals) -> list:
         if g.orientation is not None:
             owners += [g] * (3 if g.orientation.rotation is not None else 1)
     return owners
-
-
-def pose_caption(problem: Problem, phi: np.ndarray) -> str:
-    """Caption of a single pose: its joint angles in degrees and its tip."""
-    tip = forward(problem.arm, phi).tip
-    angles = ", ".join(number(a, 360, 4) for a in np.degrees(phi))
-    return f"phi = [{angles}] deg   tip = ({', '.join(number(v, problem.arm.reach, 4) for v in tip)})"
-
-
-def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings, path, *, title: str) -> None:
-    """Draw one pose of the arm to a PNG of ``settings.size`` pixels.
-
-    Parameters
-    ----------
-    problem : Problem
-        The arm, its obstacles and goals (all goals drawn as pending).
-    phi : (n,) array
-        Joint angles, radians.
-    settings : RenderSettings
-        Size, view and bounds (``trail``, ``fps`` and ``format`` are not used).
-    path : str or Path
-        The PNG to write; written to a temporary file beside it, then moved in place.
-    title : str
-        Shown top left.
-    """
-    phi = np.asarray(phi, dtype=float)
-    pose = forward(problem.arm, phi)
-    caption = pose_caption(problem, phi)
-    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption)
-    state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
-    write_png(scene.draw(state), path)

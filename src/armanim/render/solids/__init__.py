@@ -7,6 +7,8 @@ sprites, and the painter's order that draws them far first.
 - :mod:`.spheres`: obstacle spheres as exact discs shaded once into sprites.
 - :mod:`.shapes`: obstacle boxes and capsules: shaded faces, ray depth, outlines, shadows.
 - :mod:`.order`: the painter's order of overlapping parts.
+- :mod:`.obstacle_order`: with boxes or capsules, the obstacles' order among themselves and
+  among the arm's parts.
 
 Projects through :mod:`armanim.render.camera`; draws on :mod:`armanim.render.paint`.
 """
