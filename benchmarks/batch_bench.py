@@ -97,7 +97,7 @@ def _import_armanim(_: int = 0) -> float:
 
     import armanim.render.pictures.canvas  # noqa: F401
     import armanim.render.pictures.plot  # noqa: F401
-    import armanim.render.video  # noqa: F401
+    import armanim.render.video.movie  # noqa: F401
     import armanim.runs.pipeline  # noqa: F401
 
     return time.perf_counter() - start

@@ -141,7 +141,7 @@ def drawing_only(scene: str) -> float:
 
 def encoding_only(frames: int, work: Path) -> float:
     """Frames per second of the MP4 writer alone, one process, fed frames of a moving square."""
-    from armanim.render.encode import FrameWriter
+    from armanim.render.video.encode import FrameWriter
 
     canvas = np.full((SIZE[1], SIZE[0], 4), 255, dtype=np.uint8)
     start = time.perf_counter()
@@ -163,7 +163,7 @@ def lengthen(trajectory, frames: int):
 
 def memory_child(scene: str, frames: int, out: str) -> None:
     """In a fresh process: render ``frames`` frames at 640x360, print peak RSS (self and children), KiB."""
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
     from armanim.scene import render_settings
 
     loaded, problem, solution = solved(scene)

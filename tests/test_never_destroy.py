@@ -259,7 +259,7 @@ def test_render_refuses_a_folder_armanim_did_not_make(cli, run_folder):
 
 
 def test_leftovers_of_a_killed_render_are_removed(tmp_path):
-    from armanim.render.video import remove_dead_leftovers
+    from armanim.render.video.movie import remove_dead_leftovers
 
     dead = psutil.Popen([sys.executable, "-c", "pass"])
     dead.wait()

@@ -68,7 +68,7 @@ def scene():
 
 
 def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path):
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
@@ -86,7 +86,7 @@ def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path)
 
 
 def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
-    from armanim.render import video
+    from armanim.render.video import movie as video
 
     monkeypatch.setattr(video, "MIN_FRAMES_PER_JOB", 4)
     problem, traj, reports = scene
@@ -104,7 +104,7 @@ def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
 
 
 def test_odd_sizes_are_padded_to_even_for_mp4(scene, tmp_path):
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "odd.mp4"
@@ -116,7 +116,7 @@ def test_odd_sizes_are_padded_to_even_for_mp4(scene, tmp_path):
 def test_gif_frames_have_the_settings_duration(scene, tmp_path):
     from PIL import Image
 
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
@@ -134,7 +134,7 @@ def test_gif_frames_have_the_settings_duration(scene, tmp_path):
 def test_gif_total_duration_at_30_fps(scene, tmp_path):
     from PIL import Image
 
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
@@ -149,8 +149,8 @@ def test_gif_total_duration_at_30_fps(scene, tmp_path):
 
 
 def test_ffmpeg_failure_raises_render_error_and_leaves_no_file(scene, tmp_path, monkeypatch):
-    from armanim.render import encode
-    from armanim.render.video import render_video
+    from armanim.render.video import encode
+    from armanim.render.video.movie import render_video
 
     monkeypatch.setattr(encode, "MP4_CODEC", "no_such_codec")
     problem, traj, reports = scene
@@ -162,7 +162,7 @@ def test_ffmpeg_failure_raises_render_error_and_leaves_no_file(scene, tmp_path, 
 
 
 def test_a_failing_join_raises_render_error(tmp_path):
-    from armanim.render.encode import concat_segments
+    from armanim.render.video.encode import concat_segments
 
     with pytest.raises(RenderError):
         concat_segments([tmp_path / "missing.mp4"], tmp_path / "out.mp4", "mp4")
@@ -231,7 +231,7 @@ def test_importing_render_does_not_load_matplotlib():
 @pytest.mark.slow
 def test_a_solved_run_renders_at_full_size(tmp_path):
     from armanim.motion.trajectory import solve_trajectory
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem = make_problem()
     solution = solve_trajectory(problem)

@@ -332,7 +332,7 @@ def render_outputs(
     """Render the video, plot.png and poster.png of a solved run into ``folder``."""
     from armanim.render.pictures.plot import plot_run
     from armanim.render.pictures.poster import render_poster
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     traj = solution.trajectory
     video_path = folder / f"animation.{settings.format}"

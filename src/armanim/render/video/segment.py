@@ -1,7 +1,7 @@
 """One contiguous run of a trajectory's frames, drawn and encoded into one file.
 
 A video of one job is one segment; with several jobs each worker process draws its own
-(:mod:`armanim.render.parallel`). Every segment frames the scene by the whole run, so
+(:mod:`armanim.render.video.parallel`). Every segment frames the scene by the whole run, so
 segments join without a jump.
 """
 
@@ -38,7 +38,7 @@ def draw_segment(
 
     ``progress`` is called with the number of frames of this segment done so far.
     """
-    from armanim.render.encode import FrameWriter, gif_palette
+    from armanim.render.video.encode import FrameWriter, gif_palette
 
     frame = frame_drawer(problem, trajectory, reports, settings, title=title)
     with contextlib.ExitStack() as stack:

@@ -6,7 +6,7 @@ that armanim owns the process: it is killed and waited for on any error or inter
 ffmpeg's stderr is captured to a temporary file so that a failure becomes a
 :class:`~armanim.errors.RenderError` quoting ffmpeg's last lines. Every writer either
 closes cleanly or is aborted; nothing here moves files into place (see
-:mod:`armanim.render.video`).
+:mod:`armanim.render.video.movie`).
 """
 
 from __future__ import annotations

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.errors import OutputError, RenderError
-from armanim.render.segment import draw_segment
+from armanim.render.video.segment import draw_segment
 from armanim.render.workers import init_worker, signals_blocked
 
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
@@ -70,9 +70,9 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
 
 def render_parallel(problem, trajectory, reports, settings, tmp: Path, title, jobs, progress) -> None:
     """Render the video ``tmp`` in ``jobs`` worker processes, one contiguous segment each, and
-    join the segments; the arguments are :func:`armanim.render.video.render_video`'s."""
+    join the segments; the arguments are :func:`armanim.render.video.movie.render_video`'s."""
     from armanim.output.atomic import interrupts_deferred
-    from armanim.render.encode import concat_segments
+    from armanim.render.video.encode import concat_segments
 
     ctx = multiprocessing.get_context()
     workdir = Path(tempfile.mkdtemp(prefix=f".{tmp.name}.", dir=tmp.parent))

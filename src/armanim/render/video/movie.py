@@ -1,8 +1,8 @@
 """A trajectory to a video: one video frame per trajectory row, at the settings' fps.
 
 With several jobs the frames are split into contiguous segments; each worker process
-draws and encodes its own segment (:mod:`armanim.render.segment`), and the segments are
-joined without re-encoding (:mod:`armanim.render.parallel`).
+draws and encodes its own segment (:mod:`armanim.render.video.segment`), and the segments are
+joined without re-encoding (:mod:`armanim.render.video.parallel`).
 The result goes to a temporary file beside the target and is moved in place only when
 complete: a failure or an interrupt leaves no partial video.
 """
@@ -19,8 +19,8 @@ from pathlib import Path
 from armanim.errors import RenderError
 from armanim.motion.problem import Problem, RenderSettings
 from armanim.motion.solution import GoalReport, Trajectory
-from armanim.render.parallel import render_parallel
-from armanim.render.segment import draw_segment
+from armanim.render.video.parallel import render_parallel
+from armanim.render.video.segment import draw_segment
 from armanim.render.workers import alive
 
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
