@@ -162,7 +162,7 @@ def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
 
 @pytest.mark.slow
 def test_an_11_second_640x360_gif_stays_well_under_3_mb(tmp_path):
-    from armanim.runs.overrides import RenderOverrides
+    from armanim.render.settings import RenderOverrides
     from armanim.runs.pipeline import run_scene
 
     scene = yaml.safe_load((ROOT / "scenes" / "notes-arm.yaml").read_text())
