@@ -16,7 +16,7 @@ from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.capsules import lever_arms as capsule_lever_arms
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
-from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
+from armanim.names import JacobianMode, MethodName, PlannerMode
 from armanim.world.obstacles import Obstacles
 from armanim.world.selfdistances import SelfPairs
 
@@ -227,32 +227,3 @@ class Problem:
         """(n,) lever arm of each joint, scene units: the farthest any point of the capsules
         it moves lies from joint j (:func:`armanim.arm.capsules.lever_arms`, computed once)."""
         return self._lever_arms
-
-
-@dataclass(frozen=True)
-class RenderSettings:
-    """The scene's ``render`` section, resolved (plain data; drawing lives in ``render/``).
-
-    Attributes
-    ----------
-    fps : float
-    size : (int, int)
-        Width and height in pixels.
-    elevation, azimuth : float or None
-        Camera angles in degrees (as matplotlib's ``view_init`` takes them); None:
-        face-on for a planar arm, else 25 and -60 (see :mod:`armanim.render.camera.projection`).
-    bounds : (3, 2) array or None
-        [[xmin, xmax], [ymin, ymax], [zmin, zmax]]; None means auto.
-    trail : bool
-        Draw the tip's path.
-    format : str
-        ``"mp4"`` or ``"gif"``.
-    """
-
-    fps: float
-    size: tuple[int, int]
-    elevation: float | None
-    azimuth: float | None
-    bounds: np.ndarray | None
-    trail: bool
-    format: VideoFormat

@@ -1,16 +1,48 @@
-"""The render settings a command changes for one run (``--size``, ``--fps``, ...).
+"""What the pictures of a run are asked to be: the scene's ``render`` section resolved
+(:class:`RenderSettings`, built by :func:`armanim.scene.render_settings`) and what a command
+changes in it for one run (:class:`RenderOverrides`: ``--size``, ``--fps``, ...).
 
-Plain data: the command line checks each value against the scene's own ``render``
-model before it gets here, so an override accepts exactly what a scene file accepts.
-No I/O.
+Plain data, read only by the render room (the solver never sees it): the command line checks
+each override against the scene's own ``render`` model before it gets here, so an override
+accepts exactly what a scene file accepts. No I/O. The lowest floor of :mod:`armanim.render`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 
-from armanim.motion.problem import RenderSettings
+import numpy as np
+
 from armanim.names import VideoFormat
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """The scene's ``render`` section, resolved (plain data, read by the render room only).
+
+    Attributes
+    ----------
+    fps : float
+    size : (int, int)
+        Width and height in pixels.
+    elevation, azimuth : float or None
+        Camera angles in degrees (as matplotlib's ``view_init`` takes them); None:
+        face-on for a planar arm, else 25 and -60 (see :mod:`armanim.render.camera.projection`).
+    bounds : (3, 2) array or None
+        [[xmin, xmax], [ymin, ymax], [zmin, zmax]]; None means auto.
+    trail : bool
+        Draw the tip's path.
+    format : str
+        ``"mp4"`` or ``"gif"``.
+    """
+
+    fps: float
+    size: tuple[int, int]
+    elevation: float | None
+    azimuth: float | None
+    bounds: np.ndarray | None
+    trail: bool
+    format: VideoFormat
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from armanim.errors import OutputError, UsageError
 from armanim.motion.clock import ClockTooLong
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.motion.retime import at_fps, retime
 from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
@@ -19,7 +19,7 @@ from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
 from armanim.output.summary import summary_dict, write_summary
-from armanim.render.settings import RenderOverrides
+from armanim.render.settings import RenderOverrides, RenderSettings
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY
 from armanim.runs.resample import resample_run, resampled_frames
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem

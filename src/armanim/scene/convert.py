@@ -23,10 +23,10 @@ from armanim.motion.problem import (
     Limits,
     Problem,
     RateLimits,
-    RenderSettings,
     SolverSettings,
     link_arm_rates,
 )
+from armanim.render.settings import RenderSettings
 from armanim.scene.models import (
     LINKS_WIDTH,
     RATE_FIELDS,

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
+from armanim.render.settings import RenderSettings
 from armanim.world.obstacles import Boxes
 
 MARGIN = 0.05  # fraction of the largest extent added on every side

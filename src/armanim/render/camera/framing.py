@@ -11,12 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.render.camera.bounds import goal_points, resolve_bounds, shape_extent
 from armanim.render.camera.projection import fit_view
 from armanim.render.camera.view import View
 from armanim.render.paint import scenery
 from armanim.render.paint.style import BASE_SCALE, RING_POINTS
+from armanim.render.settings import RenderSettings
 
 MIN_FLOOR_ELEVATION = 5.0  # degrees: a floor seen more edge-on than this is not drawn
 

@@ -39,7 +39,7 @@ from matplotlib.transforms import IdentityTransform
 
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, tool_rotation
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.render.camera.bounds import goal_points
 from armanim.render.camera.framing import frame_scene
 from armanim.render.camera.projection import camera_rotation, view_angles
@@ -66,6 +66,7 @@ from armanim.render.paint.style import (
     TRAIL_COLOR,
 )
 from armanim.render.pictures import backdrop
+from armanim.render.settings import RenderSettings
 from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order

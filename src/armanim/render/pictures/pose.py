@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.arm.kinematics import forward
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.output.numbers import number
 from armanim.render.overlay.caption import PENDING
 from armanim.render.paint.pixels import write_png
 from armanim.render.pictures.canvas import FrameState, SceneCanvas
+from armanim.render.settings import RenderSettings
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:

@@ -11,7 +11,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
+from armanim.render.settings import RenderSettings
 
 
 def strobe_frames(reports: Sequence, frames: int) -> list[int]:

@@ -17,8 +17,9 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from armanim.errors import RenderError
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
+from armanim.render.settings import RenderSettings
 from armanim.render.video.parallel import render_parallel
 from armanim.render.video.segment import draw_segment
 from armanim.render.workers import alive

@@ -14,9 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.kinematics import Arm, Pose, forward
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render.overlay.caption import frame_activity, frame_caption, goal_outcomes, goal_status
+from armanim.render.settings import RenderSettings
 
 CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 PALETTE_FRAMES = 12  # frames a GIF's palette is made from

@@ -16,13 +16,14 @@ from armanim import __version__
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import forward
 from armanim.motion.orientation import frame_orientations
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render.camera.framing import scene_content
 from armanim.render.camera.projection import planar_normal, view_angles
 from armanim.render.overlay.caption import frame_activity
 from armanim.render.overlay.triads import TRIAD_PER_REACH, has_orientations
 from armanim.render.paint import scenery, style
+from armanim.render.settings import RenderSettings
 from armanim.world.obstacles import BOX, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"
