@@ -163,13 +163,16 @@ def lengthen(trajectory, frames: int):
 
 def memory_child(scene: str, frames: int, out: str) -> None:
     """In a fresh process: render ``frames`` frames at 640x360, print peak RSS (self and children), KiB."""
+    from armanim.motion.solution import Solution
+    from armanim.output.solved import SolvedRun
+    from armanim.render.settings import OutputOptions
     from armanim.render.video.movie import render_video
     from armanim.scene import render_settings
 
     loaded, problem, solution = solved(scene)
     settings = dataclasses.replace(render_settings(loaded.model), size=(640, 360))
-    render_video(problem, lengthen(solution.trajectory, frames), solution.goals, settings, Path(out),
-                 title="benchmark", jobs=1)
+    run = SolvedRun("benchmark", problem, Solution(lengthen(solution.trajectory, frames), solution.goals))
+    render_video(run, OutputOptions(settings, jobs=1), Path(out))
     own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     print(json.dumps({"self_kib": own, "children_kib": children}))

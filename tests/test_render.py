@@ -12,7 +12,9 @@ import pytest
 from armanim.arm.kinematics import Arm, forward
 from armanim.errors import RenderError
 from armanim.motion.problem import Goal, Problem
-from armanim.motion.solution import GoalReport, Trajectory
+from armanim.motion.solution import GoalReport, Solution, Trajectory
+from armanim.output.solved import SolvedRun
+from armanim.render.settings import OutputOptions
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
 from armanim.world.obstacles import Obstacles
 
@@ -54,6 +56,16 @@ def make_reports(frames: int = FRAMES) -> tuple[GoalReport, ...]:
     )
 
 
+def solved(problem: Problem, traj: Trajectory, reports, title: str = "t") -> SolvedRun:
+    """The run a writer takes, named ``title``."""
+    return SolvedRun(title, problem, Solution(traj, tuple(reports)))
+
+
+def options(jobs: int | None = None, **settings) -> OutputOptions:
+    """The default render settings with ``settings`` changed, drawn by ``jobs`` workers."""
+    return OutputOptions(default_render_settings(**settings), jobs=jobs)
+
+
 def video_meta(path) -> dict:
     reader = imageio_ffmpeg.read_frames(str(path))
     meta = next(reader)
@@ -73,8 +85,7 @@ def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path)
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    render_video(problem, traj, reports, default_render_settings(fps=30, size=SIZE), out, title="t", jobs=1,
-                 progress=seen.append)
+    render_video(solved(problem, traj, reports), options(fps=30, size=SIZE, jobs=1), out, progress=seen.append)
     frames, secs = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
     assert frames == FRAMES
@@ -92,8 +103,7 @@ def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    video.render_video(problem, traj, reports, default_render_settings(fps=24, size=SIZE), out, title="t", jobs=2,
-                       progress=seen.append)
+    video.render_video(solved(problem, traj, reports), options(fps=24, size=SIZE, jobs=2), out, progress=seen.append)
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
     assert frames == FRAMES
@@ -108,7 +118,7 @@ def test_odd_sizes_are_padded_to_even_for_mp4(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "odd.mp4"
-    render_video(problem, traj, reports, default_render_settings(size=(161, 121)), out, title="t", jobs=1)
+    render_video(solved(problem, traj, reports), options(size=(161, 121), jobs=1), out)
     assert tuple(video_meta(out)["size"]) == (162, 122)
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == FRAMES
 
@@ -120,7 +130,7 @@ def test_gif_frames_have_the_settings_duration(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(problem, traj, reports, default_render_settings(fps=20, size=(161, 121), format="gif"), out, title="t")
+    render_video(solved(problem, traj, reports), options(fps=20, size=(161, 121), format="gif"), out)
     with Image.open(out) as im:
         assert im.size == (161, 121)
         durations = []
@@ -138,7 +148,7 @@ def test_gif_total_duration_at_30_fps(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(problem, traj, reports, default_render_settings(fps=30, size=SIZE, format="gif"), out, title="t")
+    render_video(solved(problem, traj, reports), options(fps=30, size=SIZE, format="gif"), out)
     with Image.open(out) as im:
         durations = []
         for i in range(im.n_frames):
@@ -156,7 +166,7 @@ def test_ffmpeg_failure_raises_render_error_and_leaves_no_file(scene, tmp_path, 
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     with pytest.raises(RenderError) as info:
-        render_video(problem, traj, reports, default_render_settings(size=SIZE), out, title="t", jobs=1)
+        render_video(solved(problem, traj, reports), options(size=SIZE, jobs=1), out)
     assert "no_such_codec" in str(info.value)  # ffmpeg's own words are quoted
     assert list(tmp_path.iterdir()) == []
 
@@ -205,7 +215,7 @@ def test_plot_run_writes_a_png(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "plot.png"
-    plot_run(problem, traj, reports, out, title="run")
+    plot_run(solved(problem, traj, reports, "run"), options(), out)
     with Image.open(out) as im:
         assert im.size == PLOT_SIZE
 
@@ -236,7 +246,6 @@ def test_a_solved_run_renders_at_full_size(tmp_path):
     problem = make_problem()
     solution = solve_trajectory(problem)
     out = tmp_path / "animation.mp4"
-    render_video(problem, solution.trajectory, solution.goals, default_render_settings(size=(640, 360)), out,
-                 title="solved", jobs=2)
+    render_video(SolvedRun("solved", problem, solution), options(size=(640, 360), jobs=2), out)
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == solution.trajectory.frames
     assert tuple(video_meta(out)["size"]) == (640, 360)

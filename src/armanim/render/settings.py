@@ -1,6 +1,7 @@
 """What the pictures of a run are asked to be: the scene's ``render`` section resolved
-(:class:`RenderSettings`, built by :func:`armanim.scene.render_settings`) and what a command
-changes in it for one run (:class:`RenderOverrides`: ``--size``, ``--fps``, ...).
+(:class:`RenderSettings`, built by :func:`armanim.scene.render_settings`), what a command
+changes in it for one run (:class:`RenderOverrides`: ``--size``, ``--fps``, ...), and which of a
+run's outputs are written and how (:class:`OutputOptions`).
 
 Plain data, read only by the render room (the solver never sees it): the command line checks
 each override against the scene's own ``render`` model before it gets here, so an override
@@ -79,3 +80,28 @@ class RenderOverrides:
     def apply(self, settings: RenderSettings) -> RenderSettings:
         """``settings`` with the given fields replaced."""
         return replace(settings, **self.given())
+
+
+@dataclass(frozen=True)
+class OutputOptions:
+    """How a solved run is written: the pictures' settings and which outputs.
+
+    trajectory.csv and summary.json are always written; these choose the rest. Every writer of
+    a run takes ``(run, options, path)`` (:class:`armanim.output.solved.SolvedRun`).
+
+    Attributes
+    ----------
+    render : RenderSettings
+        Size, format, view, bounds and trail of the pictures.
+    video : bool
+        Write the video, plot.png and poster.png.
+    viewer : bool
+        Write viewer.html.
+    jobs : int or None
+        Worker processes drawing the video (None: every core).
+    """
+
+    render: RenderSettings
+    video: bool = True
+    viewer: bool = True
+    jobs: int | None = None

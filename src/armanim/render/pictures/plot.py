@@ -10,14 +10,16 @@ from matplotlib.figure import Figure
 
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
+from armanim.output.solved import SolvedRun
 from armanim.render.paint.pixels import write_png
 from armanim.render.paint.style import GOAL_COLORS
+from armanim.render.settings import OutputOptions
 
 PLOT_SIZE = (1200, 800)  # pixels
 PLOT_DPI = 100
 
 
-def plot_run(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], path, *, title: str) -> None:
+def plot_run(run: SolvedRun, options: OutputOptions, path) -> None:
     """Plot goal distance, clearance and joint angles over time to a PNG.
 
     Top: distance of the tip to the current goal, and (with obstacles) the smallest
@@ -28,14 +30,14 @@ def plot_run(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalRep
 
     Parameters
     ----------
-    problem : Problem
-    trajectory : Trajectory
-    reports : sequence of GoalReport
+    run : SolvedRun
+        The run; its name is the title.
+    options : OutputOptions
+        Not used: the plot has its own size (``PLOT_SIZE`` pixels).
     path : str or Path
-        The PNG (``PLOT_SIZE`` pixels), written atomically.
-    title : str
+        The PNG, written atomically.
     """
-    canvas = plot_figure(problem, trajectory, reports, title=title)
+    canvas = plot_figure(run.problem, run.trajectory, run.reports, title=run.name)
     canvas.draw()
     write_png(np.asarray(canvas.buffer_rgba()), path)
 

@@ -11,8 +11,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from armanim.motion.problem import Problem
-from armanim.render.settings import RenderSettings
+from armanim.output.solved import SolvedRun
+from armanim.render.settings import OutputOptions
 
 
 def strobe_frames(reports: Sequence, frames: int) -> list[int]:
@@ -39,30 +39,28 @@ def poster_caption(reports: Sequence, frames: int, fps: float) -> str:
     return f"{goals}{reached} reached, {len(reports) - reached} missed   {frames / fps:.2f} s, {frames} frames"
 
 
-def render_poster(problem: Problem, trajectory, reports: Sequence, settings: RenderSettings, path, *,
-                  title: str) -> None:
-    """Draw the strobe picture of a run to a PNG of ``settings.size`` pixels.
+def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
+    """Draw the strobe picture of a run to a PNG of ``options.render.size`` pixels.
 
     Parameters
     ----------
-    problem : Problem
-    trajectory : Trajectory
-    reports : sequence of GoalReport
-    settings : RenderSettings
-        Size, view, bounds and trail (``fps`` and ``format`` are not used).
+    run : SolvedRun
+        The run; its name is the title.
+    options : OutputOptions
+        ``render``: size, view, bounds and trail (``fps`` and ``format`` are not used).
     path : str or Path
         Written atomically.
-    title : str
     """
     from armanim.arm.kinematics import Pose, forward
     from armanim.render.overlay.caption import MISSED, PENDING, REACHED, goal_outcomes
     from armanim.render.paint.pixels import write_png
     from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
+    problem, trajectory, reports, settings = run.problem, run.trajectory, run.reports, options.render
     poses = forward(problem.arm, trajectory.phi)
     last = trajectory.frames - 1
     caption = poster_caption(reports, trajectory.frames, trajectory.fps)
-    scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=poses.points,
+    scene = SceneCanvas(problem, settings, title=run.name, tips=trajectory.tip, extent=poses.points,
                         caption_template=caption, picture="poster", outcomes=goal_outcomes(reports))
     status = np.full(len(problem.goals), PENDING)
     status[: len(reports)] = [REACHED if r.reached else MISSED for r in reports]

@@ -13,13 +13,12 @@ import contextlib
 import os
 import re
 import shutil
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from pathlib import Path
 
 from armanim.errors import RenderError
-from armanim.motion.problem import Problem
-from armanim.motion.solution import GoalReport, Trajectory
-from armanim.render.settings import RenderSettings
+from armanim.output.solved import SolvedRun
+from armanim.render.settings import OutputOptions
 from armanim.render.video.parallel import render_parallel
 from armanim.render.video.segment import draw_segment
 from armanim.render.workers import alive
@@ -27,39 +26,23 @@ from armanim.render.workers import alive
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
 
 
-def render_video(
-    problem: Problem,
-    trajectory: Trajectory,
-    reports: Sequence[GoalReport],
-    settings: RenderSettings,
-    path,
-    *,
-    title: str,
-    jobs: int | None = None,
-    progress: Callable[[int], None] | None = None,
-) -> None:
-    """Render a trajectory to an MP4 or a GIF, one video frame per trajectory row.
+def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Callable[[int], None] | None = None) -> None:
+    """Render a run to an MP4 or a GIF, one video frame per trajectory row.
 
     Parameters
     ----------
-    problem : Problem
-        The arm, obstacles and goals that are drawn.
-    trajectory : Trajectory
-        Frames to draw (F rows).
-    reports : sequence of GoalReport
-        Reached / missed per goal, for the goal markers and the caption.
-    settings : RenderSettings
-        ``fps`` (exact frame rate of the video), ``size`` (pixels; an MP4 of odd
+    run : SolvedRun
+        The arm, obstacles and goals that are drawn, the frames (F rows), the goals'
+        reports (for the markers and the caption); its name is shown top left on every frame.
+    options : OutputOptions
+        ``render``: ``fps`` (exact frame rate of the video), ``size`` (pixels; an MP4 of odd
         width or height is padded by one pixel, as yuv420p needs even sides),
-        view, bounds, trail, ``format`` ("mp4": libx264 yuv420p; "gif").
+        view, bounds, trail, ``format`` ("mp4": libx264 yuv420p; "gif"). ``jobs``: worker
+        processes, each drawing and encoding a contiguous segment, joined without
+        re-encoding; default ``os.cpu_count()``, limited so every worker gets at least
+        ``MIN_FRAMES_PER_JOB`` frames. GIFs are always one job.
     path : str or Path
         The video file. Written to a temporary file beside it, then moved in place.
-    title : str
-        Shown top left on every frame.
-    jobs : int, optional
-        Worker processes, each drawing and encoding a contiguous segment, joined
-        without re-encoding. Default ``os.cpu_count()``; limited so every worker
-        gets at least ``MIN_FRAMES_PER_JOB`` frames. GIFs are always one job.
     progress : callable, optional
         Called with the number of frames done so far.
 
@@ -72,20 +55,20 @@ def render_video(
     from armanim.output.atomic import write_target
 
     path = write_target(Path(path))
-    frames = trajectory.frames
+    settings = options.render
+    frames = run.trajectory.frames
     if frames == 0:
         raise RenderError(f"cannot write {path.name}: the trajectory has no frames")
-    jobs = effective_jobs(jobs, frames, settings.format)
+    jobs = effective_jobs(options.jobs, frames, settings.format)
     remove_dead_leftovers(path)
     # not output/atomic.py's temporary file: ffmpeg writes this one by name, and the PID in
     # the name lets remove_dead_leftovers tell a killed render's file from a running one's
     tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
     try:
         if jobs == 1:
-            draw_segment(problem, trajectory, reports, settings, tmp, title=title, start=0, stop=frames,
-                         progress=progress)
+            draw_segment(run, settings, tmp, start=0, stop=frames, progress=progress)
         else:
-            render_parallel(problem, trajectory, reports, settings, tmp, title, jobs, progress)
+            render_parallel(run, settings, tmp, jobs, progress)
         os.replace(tmp, path)
     except RenderError as exc:  # name the video the user asked for, not its temporary file
         raise RenderError(str(exc).replace(tmp.name, path.name)) from None

@@ -15,11 +15,14 @@ import queue as queue_module
 import shutil
 import tempfile
 import traceback
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from armanim.errors import OutputError, RenderError
+from armanim.output.solved import SolvedRun
+from armanim.render.settings import RenderSettings
 from armanim.render.video.segment import draw_segment
 from armanim.render.workers import init_worker, signals_blocked
 
@@ -46,8 +49,7 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
     these handlers are in place. A worker whose parent ends (even by ``kill -9``) stops
     the same way, so no worker or ffmpeg outlives armanim or holds its folder lock.
     """
-    index = args[-1]
-    problem, trajectory, reports, settings, path, title, start, stop, _ = args
+    run, settings, path, start, stop, index = args
     init_worker(parent)
 
     def report(done: int) -> None:
@@ -55,8 +57,7 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
             messages.put(("progress", index, done))
 
     try:
-        draw_segment(problem, trajectory, reports, settings, path, title=title, start=start, stop=stop,
-                     progress=report)
+        draw_segment(run, settings, path, start=start, stop=stop, progress=report)
         messages.put(("done", index, None))
     except BaseException as err:  # noqa: BLE001  (reported to the parent, which raises)
         if isinstance(err, (RenderError, OutputError)):
@@ -68,21 +69,22 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
         messages.put(("error", index, detail))
 
 
-def render_parallel(problem, trajectory, reports, settings, tmp: Path, title, jobs, progress) -> None:
-    """Render the video ``tmp`` in ``jobs`` worker processes, one contiguous segment each, and
-    join the segments; the arguments are :func:`armanim.render.video.movie.render_video`'s."""
+def render_parallel(run: SolvedRun, settings: RenderSettings, tmp: Path, jobs: int,
+                    progress: Callable[[int], None] | None) -> None:
+    """Render the video ``tmp`` of ``run`` in ``jobs`` worker processes, one contiguous segment
+    each, and join the segments (see :func:`armanim.render.video.movie.render_video`)."""
     from armanim.output.atomic import interrupts_deferred
     from armanim.render.video.encode import concat_segments
 
     ctx = multiprocessing.get_context()
     workdir = Path(tempfile.mkdtemp(prefix=f".{tmp.name}.", dir=tmp.parent))
-    segments = segment_bounds(trajectory.frames, jobs)
+    segments = segment_bounds(run.trajectory.frames, jobs)
     paths = [workdir / f"segment{i:03d}.mp4" for i in range(len(segments))]
     messages = ctx.Queue()
     workers = [
         ctx.Process(
             target=_segment_worker,
-            args=((problem, trajectory, reports, settings, p, title, a, b, i), messages, os.getpid()),
+            args=((run, settings, p, a, b, i), messages, os.getpid()),
             daemon=True,
         )
         for i, ((a, b), p) in enumerate(zip(segments, paths))

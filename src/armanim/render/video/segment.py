@@ -8,14 +8,13 @@ segments join without a jump.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
 
 from armanim.arm.kinematics import Arm, Pose, forward
-from armanim.motion.problem import Problem
-from armanim.motion.solution import GoalReport, Trajectory
+from armanim.output.solved import SolvedRun
 from armanim.render.overlay.caption import frame_activity, frame_caption, goal_outcomes, goal_status
 from armanim.render.settings import RenderSettings
 
@@ -23,25 +22,16 @@ CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 PALETTE_FRAMES = 12  # frames a GIF's palette is made from
 
 
-def draw_segment(
-    problem: Problem,
-    trajectory: Trajectory,
-    reports: Sequence[GoalReport],
-    settings: RenderSettings,
-    path: Path,
-    *,
-    title: str,
-    start: int,
-    stop: int,
-    progress: Callable[[int], None] | None = None,
-) -> None:
-    """Draw frames ``start`` to ``stop - 1`` and encode them into ``path``.
+def draw_segment(run: SolvedRun, settings: RenderSettings, path: Path, *, start: int, stop: int,
+                 progress: Callable[[int], None] | None = None) -> None:
+    """Draw frames ``start`` to ``stop - 1`` of ``run`` and encode them into ``path``.
 
     ``progress`` is called with the number of frames of this segment done so far.
     """
     from armanim.render.video.encode import FrameWriter, gif_palette
 
-    frame = frame_drawer(problem, trajectory, reports, settings, title=title)
+    problem, trajectory = run.problem, run.trajectory
+    frame = frame_drawer(run, settings)
     with contextlib.ExitStack() as stack:
         palette = None
         if settings.format == "gif":  # one palette for the whole GIF, from frames spread over it
@@ -54,19 +44,20 @@ def draw_segment(
                 progress(f + 1 - start)
 
 
-def frame_drawer(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], settings: RenderSettings,
-                 *, title: str) -> Callable[[int, Pose], np.ndarray]:
-    """The scene of a run drawn once, as a function of (frame number, pose) -> RGBA frame.
+def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pose], np.ndarray]:
+    """The scene of a run drawn once (its name the title), as a function of (frame number,
+    pose) -> RGBA frame.
 
     The frame returned is the canvas's live buffer: consume it before the next call.
     """
     from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
+    problem, trajectory, reports = run.problem, run.trajectory, run.reports
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
     goals = len(problem.goals)
     activity = frame_activity(trajectory, reports)
     captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
-    scene = SceneCanvas(problem, settings, title=title, tips=trajectory.tip, extent=extent,
+    scene = SceneCanvas(problem, settings, title=run.name, tips=trajectory.tip, extent=extent,
                         caption_template=max(captions, key=len), outcomes=goal_outcomes(reports))
 
     def frame(f: int, pose: Pose) -> np.ndarray:
