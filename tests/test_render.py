@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import subprocess
 import sys
 
@@ -56,8 +57,9 @@ def make_reports(frames: int = FRAMES) -> tuple[GoalReport, ...]:
     )
 
 
-def solved(problem: Problem, traj: Trajectory, reports, title: str = "t") -> SolvedRun:
-    """The run a writer takes, named ``title``."""
+def solved(problem: Problem, traj: Trajectory, reports, title: str = "t", fps: float | None = None) -> SolvedRun:
+    """The run a writer takes, named ``title``, its frames at ``fps`` (default: the trajectory's)."""
+    traj = traj if fps is None else dataclasses.replace(traj, fps=float(fps))
     return SolvedRun(title, problem, Solution(traj, tuple(reports)))
 
 
@@ -85,7 +87,7 @@ def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path)
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    render_video(solved(problem, traj, reports), options(fps=30, size=SIZE, jobs=1), out, progress=seen.append)
+    render_video(solved(problem, traj, reports, fps=30), options(size=SIZE, jobs=1), out, progress=seen.append)
     frames, secs = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
     assert frames == FRAMES
@@ -103,7 +105,7 @@ def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    video.render_video(solved(problem, traj, reports), options(fps=24, size=SIZE, jobs=2), out, progress=seen.append)
+    video.render_video(solved(problem, traj, reports, fps=24), options(size=SIZE, jobs=2), out, progress=seen.append)
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
     assert frames == FRAMES
@@ -130,7 +132,7 @@ def test_gif_frames_have_the_settings_duration(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(solved(problem, traj, reports), options(fps=20, size=(161, 121), format="gif"), out)
+    render_video(solved(problem, traj, reports, fps=20), options(size=(161, 121), format="gif"), out)
     with Image.open(out) as im:
         assert im.size == (161, 121)
         durations = []
@@ -148,7 +150,7 @@ def test_gif_total_duration_at_30_fps(scene, tmp_path):
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(solved(problem, traj, reports), options(fps=30, size=SIZE, format="gif"), out)
+    render_video(solved(problem, traj, reports, fps=30), options(size=SIZE, format="gif"), out)
     with Image.open(out) as im:
         durations = []
         for i in range(im.n_frames):

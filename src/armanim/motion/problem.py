@@ -188,8 +188,10 @@ class Problem:
     goals : tuple of Goal
     solver : SolverSettings
     fps : float
-        Frames per second the run is solved at: the one owner of time (``time_s``,
-        holds, the stall window); ``--fps`` is applied before the problem is built.
+        Frames per second of the frames the problem describes: the scene's own ``render.fps``
+        while the motion is solved (the one owner of time: ``time_s``, holds, the stall window),
+        the output rate (``--fps``) once the solution is on the clock
+        (:func:`armanim.motion.retime.at_fps`).
     capsules : Capsules
         The arm's collision capsules, which every guarantee is about. Left out (None), they
         are today's: one per link from joint to joint, of radius ``half_width``.

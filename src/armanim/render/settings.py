@@ -21,9 +21,11 @@ from armanim.names import VideoFormat
 class RenderSettings:
     """The scene's ``render`` section, resolved (plain data, read by the render room only).
 
+    Its ``fps`` is not here: the rate of a run's frames is the run's own
+    (:attr:`armanim.output.solved.SolvedRun.fps`), chosen once by :func:`armanim.runs.pipeline.output_fps`.
+
     Attributes
     ----------
-    fps : float
     size : (int, int)
         Width and height in pixels.
     elevation, azimuth : float or None
@@ -37,7 +39,6 @@ class RenderSettings:
         ``"mp4"`` or ``"gif"``.
     """
 
-    fps: float
     size: tuple[int, int]
     elevation: float | None
     azimuth: float | None
@@ -48,14 +49,16 @@ class RenderSettings:
 
 @dataclass(frozen=True)
 class RenderOverrides:
-    """RenderSettings fields given on the command line; None leaves the scene's value.
+    """Render settings given on the command line; None leaves the scene's value.
 
     Attributes
     ----------
     size : (int, int) or None
         Width and height in pixels.
     fps : float or None
-        Frames per second; a run is also solved at this rate (holds are seconds).
+        Frames per second of the run's frames (the video, trajectory.csv, the viewer). The
+        motion is still solved at the scene's own ``render.fps`` and then put on the clock, or
+        a finished run resampled, at this rate: the same seconds either way.
     format : str or None
         ``"mp4"`` or ``"gif"``.
     elevation, azimuth : float or None
@@ -78,8 +81,8 @@ class RenderOverrides:
         return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) is not None}
 
     def apply(self, settings: RenderSettings) -> RenderSettings:
-        """``settings`` with the given fields replaced."""
-        return replace(settings, **self.given())
+        """``settings`` with the given fields replaced (``fps`` is the run's, not the settings')."""
+        return replace(settings, **{k: v for k, v in self.given().items() if k != "fps"})
 
 
 @dataclass(frozen=True)

@@ -122,16 +122,17 @@ def produce_outputs(
     The one place a run is produced: used by :func:`run_scene` (into its staged
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
-    settings = settings_of(scene, render_overrides)
+    fps = output_fps(scene, render_overrides)
     solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
-    frames = frame_budget(solved) * settings.fps / solved.fps
+    frames = frame_budget(solved) * fps / solved.fps
     if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
         raise UsageError(
-            f"--fps {settings.fps:g}: the holds would make up to {int(frames):,} frames "
+            f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
             f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
         )
-    run = solved_run(scene, solved, timed_solution(scene, solved, settings.fps, progress), settings.fps)
-    options = OutputOptions(settings, video=video, viewer=video if viewer is None else viewer, jobs=jobs)
+    run = solved_run(scene, solved, timed_solution(scene, solved, fps, progress), fps)
+    options = OutputOptions(settings_of(scene, render_overrides), video=video, viewer=video if viewer is None else viewer,
+                            jobs=jobs)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
     write_bytes_atomic(folder / SCENE_COPY, scene.raw)
     urdf = scene.model.arm.urdf_source
@@ -220,7 +221,7 @@ def rerender_run(
 
     folder = Path(folder)
     first = load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
-    _check_resampled_frames(first.solution.trajectory, settings_of(first.scene, render_overrides).fps)
+    _check_resampled_frames(first.solution.trajectory, output_fps(first.scene, render_overrides))
     if out is not None and Path(out).resolve() != folder.resolve():
         target = Path(out)
         if target.resolve().is_relative_to(folder.resolve()):
@@ -243,8 +244,8 @@ def rerender_run(
 
 def redrawn(run: FinishedRun, overrides: RenderOverrides | None, jobs: int | None) -> tuple[SolvedRun, OutputOptions]:
     """A finished run as a solved run at the command's fps, and the options to draw it again."""
-    settings = settings_of(run.scene, overrides)
-    return solved_run(run.scene, run.problem, run.solution, settings.fps), OutputOptions(settings, jobs=jobs)
+    solved = solved_run(run.scene, run.problem, run.solution, output_fps(run.scene, overrides))
+    return solved, OutputOptions(settings_of(run.scene, overrides), jobs=jobs)
 
 
 def _check_resampled_frames(trajectory, fps: float) -> None:
@@ -331,6 +332,15 @@ def write_run_file(folder: str | Path, name: str, out: str | Path | None, read: 
 def settings_of(scene: LoadedScene, overrides: RenderOverrides | None) -> RenderSettings:
     """The scene's render settings with a command's overrides applied."""
     return (overrides or RenderOverrides()).apply(render_settings(scene.model))
+
+
+def output_fps(scene: LoadedScene, overrides: RenderOverrides | None) -> float:
+    """The rate of a run's frames: the command's ``--fps``, else the scene's ``render.fps``.
+
+    The one place it is chosen; :func:`solved_run` puts the run at it, and every writer reads
+    it from the run (the motion itself is always solved at the scene's own rate).
+    """
+    return overrides.fps if overrides is not None and overrides.fps is not None else scene.model.render.fps
 
 
 def render_outputs(run: SolvedRun, options: OutputOptions, folder: Path, *, progress: Progress | None = None) -> dict[str, Path]:

@@ -30,7 +30,7 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     phi : (n,) array
         Joint angles, radians.
     settings : RenderSettings
-        Size, view and bounds (``trail``, ``fps`` and ``format`` are not used).
+        Size, view and bounds (``trail`` and ``format`` are not used).
     path : str or Path
         The PNG to write; written to a temporary file beside it, then moved in place.
     title : str

@@ -47,7 +47,7 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     run : SolvedRun
         The run; its name is the title.
     options : OutputOptions
-        ``render``: size, view, bounds and trail (``fps`` and ``format`` are not used).
+        ``render``: size, view, bounds and trail (``format`` is not used).
     path : str or Path
         Written atomically.
     """

@@ -1,4 +1,4 @@
-"""A trajectory to a video: one video frame per trajectory row, at the settings' fps.
+"""A trajectory to a video: one video frame per trajectory row, at the run's fps.
 
 With several jobs the frames are split into contiguous segments; each worker process
 draws and encodes its own segment (:mod:`armanim.render.video.segment`), and the segments are
@@ -32,10 +32,11 @@ def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Call
     Parameters
     ----------
     run : SolvedRun
-        The arm, obstacles and goals that are drawn, the frames (F rows), the goals'
-        reports (for the markers and the caption); its name is shown top left on every frame.
+        The arm, obstacles and goals that are drawn, the frames (F rows; ``run.fps`` is the
+        exact frame rate of the video), the goals' reports (for the markers and the caption);
+        its name is shown top left on every frame.
     options : OutputOptions
-        ``render``: ``fps`` (exact frame rate of the video), ``size`` (pixels; an MP4 of odd
+        ``render``: ``size`` (pixels; an MP4 of odd
         width or height is padded by one pixel, as yuv420p needs even sides),
         view, bounds, trail, ``format`` ("mp4": libx264 yuv420p; "gif"). ``jobs``: worker
         processes, each drawing and encoding a contiguous segment, joined without

@@ -37,7 +37,7 @@ def draw_segment(run: SolvedRun, settings: RenderSettings, path: Path, *, start:
         if settings.format == "gif":  # one palette for the whole GIF, from frames spread over it
             palette = stack.enter_context(gif_palette(path, settings.size, (
                 frame(f, forward(problem.arm, trajectory.phi[f])) for f in palette_frames(start, stop))))
-        writer = stack.enter_context(FrameWriter(path, settings.size, settings.fps, settings.format, palette=palette))
+        writer = stack.enter_context(FrameWriter(path, settings.size, run.fps, settings.format, palette=palette))
         for f, pose in chunked_poses(problem.arm, trajectory.phi, start, stop):
             writer.write(frame(f, pose))
             if progress is not None:
