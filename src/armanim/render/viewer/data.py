@@ -205,15 +205,9 @@ def viewer_data(
     """
     n = problem.arm.n
     pose = forward(problem.arm, trajectory.phi)  # the one kinematics
-    points = pose.points  # (F, n+1, 3)
-    starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
-    view = view_settings(problem, settings, points)
-    size = float(np.max(np.subtract(view["box"][1], view["box"][0])))
-    decimals = position_decimals(size)
+    view = view_settings(problem, settings, pose.points)
+    decimals = position_decimals(float(np.max(np.subtract(view["box"][1], view["box"][0]))))
     names, codes = activity_codes(trajectory, reports)
-    clearance = np.asarray(trajectory.clearance, dtype=float)
-    finite = np.isfinite(clearance)
-    obstacles = problem.obstacles
     data = {
         "format": FORMAT,
         "armanim": __version__,
@@ -227,7 +221,29 @@ def viewer_data(
             "half_width": float(problem.half_width),
             "base": [float(v) for v in problem.arm.base],
         },
-        "points": rounded(points, decimals),
+        **frame_entries(problem, trajectory, pose, decimals),
+        "activities": names,
+        "activity": codes,
+        "goals": goal_entries(problem, reports),
+        "obstacles": sphere_entries(problem.obstacles),
+        **shape_entries(problem.obstacles),
+        "view": view,
+        "style": page_style(),
+    }
+    oriented = orientation_entry(problem, trajectory, decimals)
+    if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
+        data["orientation"] = oriented
+    return data
+
+
+def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int) -> dict:
+    """What changes frame by frame: the joints' positions (``pose.points``, (F, n+1, 3)), the
+    capsules' ends, the angles, the goal, its distance, the clearance and ``reached``."""
+    starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
+    clearance = np.asarray(trajectory.clearance, dtype=float)
+    finite = np.isfinite(clearance)
+    return {
+        "points": rounded(pose.points, decimals),
         "capsules": {
             "radius": [float(r) for r in problem.capsules.radius],
             "ends": rounded(np.stack([starts, ends], axis=2), decimals),
@@ -238,21 +254,15 @@ def viewer_data(
         "distance": rounded(trajectory.distance, decimals),
         "clearance": [v if ok else None for v, ok in zip(rounded(np.where(finite, clearance, 0.0), decimals), finite)],
         "reached": [int(bool(r)) for r in trajectory.reached],
-        "activities": names,
-        "activity": codes,
-        "goals": goal_entries(problem, reports),
-        "obstacles": [
-            {"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}
-            for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)])
-        ],
-        **shape_entries(obstacles),
-        "view": view,
-        "style": page_style(),
     }
-    oriented = orientation_entry(problem, trajectory, decimals)
-    if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
-        data["orientation"] = oriented
-    return data
+
+
+def sphere_entries(obstacles) -> list[dict]:
+    """The sphere obstacles: centre, radius and influence."""
+    return [
+        {"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}
+        for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)])
+    ]
 
 
 def shape_entries(obstacles) -> dict:
