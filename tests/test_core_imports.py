@@ -2,7 +2,7 @@
 
 The pure core is every module under ``armanim.arm``, ``armanim.world`` and
 ``armanim.motion``: numpy, DAQP, OMPL and numba (the compiled closed form) only. Rooms are ordered
-cli > runs > scene > render > output > motion > world > arm, and a module imports only
+cli > runs > scene > render > output > procs > motion > world > arm, and a module imports only
 from its own room or the rooms below it (``errors`` and ``names`` serve all). Inside
 ``render``, the sub-rooms are ordered the same way (:data:`RENDER_ROOMS`).
 """
@@ -19,7 +19,7 @@ import pytest
 
 SRC = Path(__file__).resolve().parent.parent / "src" / "armanim"
 CORE_ROOMS = ["arm", "world", "motion"]
-ROOMS = ["cli", "runs", "scene", "render", "output", "motion", "world", "arm"]  # top to bottom
+ROOMS = ["cli", "runs", "scene", "render", "output", "procs", "motion", "world", "arm"]  # top to bottom
 RENDER_ROOMS = ["viewer", "video", "pictures", "overlay", "solids", "camera", "paint", "settings", "workers"]  # render's, top to bottom
 SHARED = {"errors", "names", "__init__", "__main__"}
 FORBIDDEN = ["matplotlib", "yaml", "pydantic", "typer", "rich", "click", "imageio"]
@@ -52,7 +52,7 @@ def test_core_loads_no_edge_library():
     loaded, modules = (json.loads(line) for line in proc.stdout.splitlines())
     assert loaded == [], loaded
     assert "armanim.arm.kinematics" in modules and "numpy" in modules  # the imports did happen
-    edges = ("armanim.scene", "armanim.render", "armanim.cli", "armanim.runs", "armanim.output")
+    edges = ("armanim.scene", "armanim.render", "armanim.cli", "armanim.runs", "armanim.output", "armanim.procs")
     assert not [m for m in modules if m.startswith(edges)]
 
 

@@ -30,7 +30,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 
-from armanim.output.atomic import interrupts_deferred
+from armanim.procs.deferred import interrupts_deferred
 
 POLL_SECONDS = 0.5  # where there is no pidfd
 WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -137,7 +137,7 @@ def signals_blocked() -> Iterator[None]:
 
     Two things are needed. The signals are blocked in this thread, so that processes
     started meanwhile (and a forkserver, and what it forks) start with them blocked. And
-    their Python handlers are held back (:func:`armanim.output.atomic.interrupts_deferred`):
+    their Python handlers are held back (:func:`armanim.procs.deferred.interrupts_deferred`):
     the kernel gives a process's signal to any thread that does not block it (a progress
     bar's), yet Python runs the handler in the main thread, which would raise
     KeyboardInterrupt between a process's start and its caller's record of it, leaving a

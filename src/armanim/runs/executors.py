@@ -20,7 +20,7 @@ from pathlib import Path
 from urllib.parse import urlsplit
 
 from armanim.errors import UsageError
-from armanim.output.atomic import interrupts_deferred
+from armanim.procs.deferred import interrupts_deferred
 from armanim.render.workers import init_worker, signals_blocked, temp_prefix
 from armanim.runs.interrupted import signal_came
 

@@ -73,7 +73,7 @@ def render_parallel(run: SolvedRun, settings: RenderSettings, tmp: Path, jobs: i
                     progress: Callable[[int], None] | None) -> None:
     """Render the video ``tmp`` of ``run`` in ``jobs`` worker processes, one contiguous segment
     each, and join the segments (see :func:`armanim.render.video.movie.render_video`)."""
-    from armanim.output.atomic import interrupts_deferred
+    from armanim.procs.deferred import interrupts_deferred
     from armanim.render.video.encode import concat_segments
 
     ctx = multiprocessing.get_context()

@@ -1,0 +1,9 @@
+"""Processes and signals: how armanim starts workers, stops them and is interrupted.
+
+The rooms that start processes (runs/ for batches, render/ for a video's segments) or must not
+be cut short by a signal (output/'s atomic writes and folder swaps) import this room; it
+imports none of them (only :mod:`armanim.errors`), so it sits below output/ and above the
+pure core, which never starts a process.
+
+- :mod:`.deferred`: Ctrl-C and SIGTERM held back while a clean-up or a swap runs.
+"""
