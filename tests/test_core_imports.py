@@ -20,7 +20,7 @@ import pytest
 SRC = Path(__file__).resolve().parent.parent / "src" / "armanim"
 CORE_ROOMS = ["arm", "world", "motion"]
 ROOMS = ["cli", "runs", "scene", "render", "output", "procs", "motion", "world", "arm"]  # top to bottom
-RENDER_ROOMS = ["viewer", "video", "pictures", "overlay", "solids", "camera", "paint", "settings", "workers"]  # render's, top to bottom
+RENDER_ROOMS = ["viewer", "video", "pictures", "overlay", "solids", "camera", "paint", "settings"]  # render's, top to bottom
 SHARED = {"errors", "names", "__init__", "__main__"}
 FORBIDDEN = ["matplotlib", "yaml", "pydantic", "typer", "rich", "click", "imageio"]
 

@@ -526,7 +526,7 @@ def test_a_worker_finds_its_temporary_folder_before_a_signal_can_stop_it():
     run with the signals still blocked, must have done it already."""
     program = (
         "import os, tempfile\n"
-        "from armanim.render.workers import init_worker\n"
+        "from armanim.procs.workers import init_worker\n"
         "tempfile.tempdir = None  # as in a worker whose parent never asked\n"
         "init_worker(os.getppid())\n"
         "print(tempfile.tempdir)\n"

@@ -475,7 +475,7 @@ def test_a_ctrl_c_while_processes_start_is_raised_only_when_they_have_started(ct
     import signal
     import time
 
-    from armanim.render.workers import signals_blocked
+    from armanim.procs.workers import signals_blocked
 
     reached = []
     with pytest.raises(KeyboardInterrupt):

@@ -21,8 +21,8 @@ from armanim.errors import ArmanimError, SceneError
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import check_table_replaceable, table_csv_text
 from armanim.output.rundir import staged_folder
+from armanim.procs.workers import temp_prefix, undone_on_stop
 from armanim.render.settings import RenderOverrides
-from armanim.render.workers import temp_prefix, undone_on_stop
 from armanim.runs.executors import executor_for
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
 

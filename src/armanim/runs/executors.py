@@ -21,7 +21,7 @@ from urllib.parse import urlsplit
 
 from armanim.errors import UsageError
 from armanim.procs.deferred import interrupts_deferred
-from armanim.render.workers import init_worker, signals_blocked, temp_prefix
+from armanim.procs.workers import init_worker, signals_blocked, temp_prefix
 from armanim.runs.interrupted import signal_came
 
 CONNECT_SECONDS = 10.0

@@ -1,6 +1,6 @@
 """Imported first by the batch pool's forkserver (``executors._PRELOAD``): it blocks SIGINT and
 SIGTERM there, so that every worker the forkserver forks starts with them blocked until
-:func:`armanim.render.workers.init_worker` has put its handlers in place.
+:func:`armanim.procs.workers.init_worker` has put its handlers in place.
 
 The forkserver does not inherit the mask of the thread that starts it (Python starts it
 through fork and exec, which resets the mask), so without this a worker runs its first
@@ -21,7 +21,7 @@ import multiprocessing.forkserver
 import signal
 import sys
 
-from armanim.render.workers import WORKER_SIGNALS
+from armanim.procs.workers import WORKER_SIGNALS
 
 
 def _importing_forkserver() -> bool:

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.errors import RenderError
-from armanim.render.workers import forget, on_stop, undone_on_stop
+from armanim.procs.workers import forget, on_stop, undone_on_stop
 
 MP4_CODEC = "libx264"
 MP4_PIX_FMT = "yuv420p"

@@ -18,10 +18,10 @@ from pathlib import Path
 
 from armanim.errors import RenderError
 from armanim.output.solved import SolvedRun
+from armanim.procs.workers import alive
 from armanim.render.settings import OutputOptions
 from armanim.render.video.parallel import render_parallel
 from armanim.render.video.segment import draw_segment
-from armanim.render.workers import alive
 
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
 

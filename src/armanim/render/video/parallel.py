@@ -22,9 +22,9 @@ import numpy as np
 
 from armanim.errors import OutputError, RenderError
 from armanim.output.solved import SolvedRun
+from armanim.procs.workers import init_worker, signals_blocked
 from armanim.render.settings import RenderSettings
 from armanim.render.video.segment import draw_segment
-from armanim.render.workers import init_worker, signals_blocked
 
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
 
@@ -44,7 +44,7 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
 
     A worker ignores Ctrl-C (the terminal sends it to the whole process group; the
     parent decides) and turns SIGTERM, sent by the parent's ``terminate()``, into a
-    quiet exit that kills its ffmpeg (:func:`armanim.render.workers.init_worker`).
+    quiet exit that kills its ffmpeg (:func:`armanim.procs.workers.init_worker`).
     Signals are blocked by the parent while it starts workers, so none arrives before
     these handlers are in place. A worker whose parent ends (even by ``kill -9``) stops
     the same way, so no worker or ffmpeg outlives armanim or holds its folder lock.

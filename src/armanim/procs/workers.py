@@ -14,8 +14,8 @@ ffmpeg, remove its temporary folder) and ends the process with ``os._exit``. Wor
 started with SIGINT and SIGTERM blocked (:func:`signals_blocked`) and unblock them only
 once these handlers are in place.
 
-It sits in ``render/``, the lowest room that starts worker processes (the frame
-renderers); ``runs/`` starts its batch workers with it too.
+It sits in ``procs/``, the process room: ``render/`` starts a video's segment workers with it
+and ``runs/`` its batch workers.
 """
 
 from __future__ import annotations
