@@ -585,7 +585,7 @@ def test_a_ctrl_c_that_matplotlib_turns_into_an_error_still_ends_with_130(capsys
     with pytest.raises(typer.Exit) as exited:
         handle_errors(drawing)()
     assert exited.value.exit_code == 130 and capsys.readouterr().err.strip() == INTERRUPTED
-    from armanim.runs.interrupted import signal_came
+    from armanim.procs.interrupted import signal_came
 
     assert not signal_came()  # answered: a batch run through the API later is not taken for interrupted
 
@@ -595,8 +595,8 @@ def test_a_batch_in_one_process_stops_at_an_error_that_follows_a_signal():
     (above) must stop the batch instead, or the user's Ctrl-C is lost (later ones are ignored)."""
     import types
 
+    from armanim.procs.interrupted import forget_signal, note_signal
     from armanim.runs.executors import _LocalExecutor
-    from armanim.runs.interrupted import forget_signal, note_signal
 
     def work(task):
         if task.name == "b":

@@ -21,8 +21,8 @@ from urllib.parse import urlsplit
 
 from armanim.errors import UsageError
 from armanim.procs.deferred import interrupts_deferred
+from armanim.procs.interrupted import signal_came
 from armanim.procs.workers import init_worker, signals_blocked, temp_prefix
-from armanim.runs.interrupted import signal_came
 
 CONNECT_SECONDS = 10.0
 """How long a Dask scheduler may take to answer, from the connection to the handshake."""
