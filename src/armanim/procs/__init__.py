@@ -7,6 +7,7 @@ pure core, which never starts a process.
 
 - :mod:`.deferred`: Ctrl-C and SIGTERM held back while a clean-up or a swap runs.
 - :mod:`.interrupted`: whether Ctrl-C or SIGTERM came while the current command ran.
+- :mod:`.forkserver_signals`: the batch pool's forkserver starts with SIGINT and SIGTERM blocked.
 - :mod:`.workers`: worker processes that never outlive armanim and stop quietly (their
   clean-ups, signals blocked while they start, the parent watched).
 """

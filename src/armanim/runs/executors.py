@@ -27,7 +27,7 @@ from armanim.procs.workers import init_worker, signals_blocked, temp_prefix
 CONNECT_SECONDS = 10.0
 """How long a Dask scheduler may take to answer, from the connection to the handshake."""
 _BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-_PRELOAD = ["armanim.runs.forkserver_signals", "armanim.runs.pipeline", "armanim.render.pictures.canvas", "armanim.render.video.movie"]  # the first blocks the signals its workers start with
+_PRELOAD = ["armanim.procs.forkserver_signals", "armanim.runs.pipeline", "armanim.render.pictures.canvas", "armanim.render.video.movie"]  # the first blocks the signals its workers start with
 _SOCKET_PATH_BYTES = 107  # AF_UNIX: sun_path holds 108 bytes with its final NUL
 _SOCKET_NAME_BYTES = 40  # what multiprocessing adds to TMPDIR: /pymp-XXXXXXXX/listener-XXXXXXXX
 _SHORT_TEMP_DIRS = ("/tmp", "/var/tmp", "/dev/shm")
