@@ -5,6 +5,8 @@ be cut short by a signal (output/'s atomic writes and folder swaps) import this 
 imports none of them (only :mod:`armanim.errors`), so it sits below output/ and above the
 pure core, which never starts a process.
 
+- :mod:`.executors`: where a batch's scenes run: in this process, a pool of local workers, or
+  Dask.
 - :mod:`.deferred`: Ctrl-C and SIGTERM held back while a clean-up or a swap runs.
 - :mod:`.interrupted`: whether Ctrl-C or SIGTERM came while the current command ran.
 - :mod:`.forkserver_signals`: the batch pool's forkserver starts with SIGINT and SIGTERM blocked.

@@ -21,9 +21,9 @@ from armanim.errors import ArmanimError, SceneError
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import check_table_replaceable, table_csv_text
 from armanim.output.rundir import staged_folder
+from armanim.procs.executors import executor_for
 from armanim.procs.workers import temp_prefix, undone_on_stop
 from armanim.render.settings import RenderOverrides
-from armanim.runs.executors import executor_for
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
 
 INDEX_COLUMNS = ("name", "status", "scene_file", "goals", "reached", "missed", "frames", "min_clearance", "folder", "message")
