@@ -15,6 +15,7 @@ import socket
 import tempfile
 import threading
 import time
+from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from urllib.parse import urlsplit
@@ -27,7 +28,7 @@ from armanim.procs.workers import init_worker, signals_blocked, temp_prefix
 CONNECT_SECONDS = 10.0
 """How long a Dask scheduler may take to answer, from the connection to the handshake."""
 _BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-_PRELOAD = ["armanim.procs.forkserver_signals", "armanim.runs.pipeline", "armanim.render.pictures.canvas", "armanim.render.video.movie"]  # the first blocks the signals its workers start with
+_PRELOAD = ["armanim.procs.forkserver_signals"]  # first: it blocks the signals the workers start with
 _SOCKET_PATH_BYTES = 107  # AF_UNIX: sun_path holds 108 bytes with its final NUL
 _SOCKET_NAME_BYTES = 40  # what multiprocessing adds to TMPDIR: /pymp-XXXXXXXX/listener-XXXXXXXX
 _SHORT_TEMP_DIRS = ("/tmp", "/var/tmp", "/dev/shm")
@@ -50,9 +51,10 @@ def _one_blas_thread():
                 os.environ[name] = value
 
 
-def _worker_context():
-    """forkserver with armanim's heavy imports preloaded once (each worker is then a
-    cheap fork of an importer that runs no threads); spawn where forkserver is missing."""
+def _worker_context(preload: Sequence[str] = ()):
+    """forkserver with the workers' heavy imports (``preload``, module names) loaded once (each
+    worker is then a cheap fork of an importer that runs no threads); spawn where forkserver
+    is missing."""
     import multiprocessing
 
     try:
@@ -60,7 +62,7 @@ def _worker_context():
     except ValueError:
         return multiprocessing.get_context("spawn")
     _socket_dir_short_enough()
-    context.set_forkserver_preload(_PRELOAD)
+    context.set_forkserver_preload([*_PRELOAD, *preload])
     return context
 
 
@@ -83,10 +85,12 @@ def _socket_dir_short_enough() -> None:
 
 
 class _LocalExecutor:
-    """Scenes in this process (jobs=1) or in a pool of worker processes."""
+    """Scenes in this process (jobs=1) or in a pool of worker processes, whose forkserver
+    imports ``preload`` (module names) once."""
 
-    def __init__(self, jobs: int):
+    def __init__(self, jobs: int, preload: Sequence[str] = ()):
         self.jobs = jobs
+        self.preload = tuple(preload)
 
     def map(self, work, tasks, *args):
         """``(task, work(task, *args), None)`` or ``(task, None, exception)`` per task, as each ends."""
@@ -106,7 +110,7 @@ class _LocalExecutor:
             # raised only once every started worker is in the pool's list: no traceback from a
             # preload or an initializer, and no worker left running, whatever moment it comes
             with _one_blas_thread(), signals_blocked():
-                pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(),
+                pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(self.preload),
                                            initializer=init_worker, initargs=(os.getpid(),))
                 futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
             for future in as_completed(futures):
@@ -273,7 +277,8 @@ def _no_answer(address: str, seconds: float) -> UsageError:
                       "(is a Dask scheduler running there? check the address and port)")
 
 
-def executor_for(jobs: int, scheduler: str | None):
-    """The local pool, or Dask when a scheduler is named (argument or ARMANIM_SCHEDULER)."""
+def executor_for(jobs: int, scheduler: str | None, preload: Sequence[str] = ()):
+    """The local pool (its forkserver importing ``preload``, the workers' heavy modules, once),
+    or Dask when a scheduler is named (argument or ARMANIM_SCHEDULER)."""
     scheduler = scheduler or os.environ.get("ARMANIM_SCHEDULER") or None
-    return _DaskExecutor(scheduler, jobs) if scheduler else _LocalExecutor(jobs)
+    return _DaskExecutor(scheduler, jobs) if scheduler else _LocalExecutor(jobs, preload)
