@@ -122,27 +122,11 @@ def produce_outputs(
     The one place a run is produced: used by :func:`run_scene` (into its staged
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
-    fps = output_fps(scene, render_overrides)
-    solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
-    frames = frame_budget(solved) * fps / solved.fps
-    if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
-        raise UsageError(
-            f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
-            f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
-        )
-    run = solved_run(scene, solved, timed_solution(scene, solved, fps, progress), fps)
+    run = solve_scene(scene, output_fps(scene, render_overrides), progress)
     options = OutputOptions(settings_of(scene, render_overrides), video=video, viewer=video if viewer is None else viewer,
                             jobs=jobs)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
-    write_bytes_atomic(folder / SCENE_COPY, scene.raw)
-    urdf = scene.model.arm.urdf_source
-    if urdf is not None:  # the run re-renders without the user's folder (render, view, a moved run)
-        write_bytes_atomic(folder / ROBOT_COPY, urdf)
-        names["robot"] = ROBOT_COPY
-    srdf = scene.model.arm.srdf_source
-    if srdf is not None:  # as the URDF: the run reloads without the user's folder
-        write_bytes_atomic(folder / SRDF_COPY, srdf)
-        names["srdf"] = SRDF_COPY
+    names.update(write_sources(scene, folder))
     write_self_collision(run.problem.self_pairs, folder / SELF_COLLISION_FILE)
     names["self_collision"] = SELF_COLLISION_FILE
     write_trajectory_csv(run, folder / names["trajectory"])
@@ -156,6 +140,37 @@ def produce_outputs(
         rendered = render_outputs(run, options, folder, progress=progress)
         names.update({kind: path.name for kind, path in rendered.items()})
     return Produced(run, run_summary(run), names)
+
+
+def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None) -> SolvedRun:
+    """Solve a validated scene at its own rate and put it on the clock at ``fps``.
+
+    Raises
+    ------
+    UsageError
+        The run would make more than the total frame limit at ``fps`` (exit 2).
+    """
+    solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
+    frames = frame_budget(solved) * fps / solved.fps
+    if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
+        raise UsageError(
+            f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
+            f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
+        )
+    return solved_run(scene, solved, timed_solution(scene, solved, fps, progress), fps)
+
+
+def write_sources(scene: LoadedScene, folder: Path) -> dict[str, str]:
+    """Copy the scene (and a user's URDF and SRDF) into ``folder``, so the run re-renders and
+    reloads without the user's folder (render, view, a moved run); their names by kind."""
+    write_bytes_atomic(folder / SCENE_COPY, scene.raw)
+    names = {}
+    for kind, name, source in (("robot", ROBOT_COPY, scene.model.arm.urdf_source),
+                               ("srdf", SRDF_COPY, scene.model.arm.srdf_source)):
+        if source is not None:
+            write_bytes_atomic(folder / name, source)
+            names[kind] = name
+    return names
 
 
 def solved_run(scene: LoadedScene, problem: Problem, solution: Solution, fps: float) -> SolvedRun:
