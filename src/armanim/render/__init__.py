@@ -9,6 +9,15 @@ modules that draw. Import the function you need from its module:
 - :func:`armanim.render.camera.bounds.auto_bounds`: the fixed world box of a video.
 
 The same names are also reachable as attributes of this package, loaded on first use.
+
+The room is split into sub-rooms by role, each importing only from those below it (top to
+bottom): ``viewer/`` (the interactive page), ``video/`` (frames to a video file, in worker
+processes), ``pictures/`` (the scene canvas and the still pictures), ``overlay/`` (markers,
+captions, triads), ``solids/`` (the arm's and the obstacles' solids, the painter's order),
+``camera/`` (projection, bounds, framing), ``paint/`` (palette, layout, pixels) and
+:mod:`armanim.render.settings` (what a run's pictures are asked to be). Writers take
+``(run, options, path)``: a :class:`~armanim.output.solved.SolvedRun` and
+:class:`~armanim.render.settings.OutputOptions`.
 """
 
 from __future__ import annotations
