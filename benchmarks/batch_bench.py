@@ -95,9 +95,9 @@ def _import_armanim(_: int = 0) -> float:
     import matplotlib.backends.backend_agg  # noqa: F401  (what a worker imports for its first scene)
     import matplotlib.figure  # noqa: F401
 
-    import armanim.render.draw  # noqa: F401
-    import armanim.render.plot  # noqa: F401
-    import armanim.render.video  # noqa: F401
+    import armanim.render.pictures.canvas  # noqa: F401
+    import armanim.render.pictures.plot  # noqa: F401
+    import armanim.render.video.movie  # noqa: F401
     import armanim.runs.pipeline  # noqa: F401
 
     return time.perf_counter() - start

@@ -189,7 +189,7 @@ def silent_scheduler(repeats: int, base: float) -> None:
         print("silent scheduler: skipped (needs pip install -e '.[dask]')")
         return
     print(f"silent Dask scheduler (baseline: armanim --version, {base * 1000:.0f} ms)")
-    from armanim.runs.executors import CONNECT_SECONDS
+    from armanim.procs.executors import CONNECT_SECONDS
 
     server = socket.create_server(("127.0.0.1", 0))
     held: list[socket.socket] = []

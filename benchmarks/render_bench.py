@@ -120,8 +120,8 @@ def baseline(scene: str, work: Path, frames: int | None) -> tuple[float, int]:
 def drawing_only(scene: str) -> float:
     """Frames per second of SceneCanvas.draw alone, one core, every frame of the scene."""
     from armanim.arm.kinematics import Pose, forward
-    from armanim.render.caption import frame_activity, frame_caption, goal_status
-    from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.overlay.caption import frame_activity, frame_caption, goal_status
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
     from armanim.scene import render_settings
 
     loaded, problem, solution = solved(scene)
@@ -141,7 +141,7 @@ def drawing_only(scene: str) -> float:
 
 def encoding_only(frames: int, work: Path) -> float:
     """Frames per second of the MP4 writer alone, one process, fed frames of a moving square."""
-    from armanim.render.encode import FrameWriter
+    from armanim.render.video.encode import FrameWriter
 
     canvas = np.full((SIZE[1], SIZE[0], 4), 255, dtype=np.uint8)
     start = time.perf_counter()
@@ -163,13 +163,16 @@ def lengthen(trajectory, frames: int):
 
 def memory_child(scene: str, frames: int, out: str) -> None:
     """In a fresh process: render ``frames`` frames at 640x360, print peak RSS (self and children), KiB."""
-    from armanim.render.video import render_video
+    from armanim.motion.solution import Solution
+    from armanim.output.solved import SolvedRun
+    from armanim.render.settings import OutputOptions
+    from armanim.render.video.movie import render_video
     from armanim.scene import render_settings
 
     loaded, problem, solution = solved(scene)
     settings = dataclasses.replace(render_settings(loaded.model), size=(640, 360))
-    render_video(problem, lengthen(solution.trajectory, frames), solution.goals, settings, Path(out),
-                 title="benchmark", jobs=1)
+    run = SolvedRun("benchmark", problem, Solution(lengthen(solution.trajectory, frames), solution.goals))
+    render_video(run, OutputOptions(settings, jobs=1), Path(out))
     own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     print(json.dumps({"self_kib": own, "children_kib": children}))

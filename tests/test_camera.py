@@ -14,7 +14,7 @@ import yaml
 
 from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal, Problem
-from armanim.render.camera import camera_rotation, fit_view, planar_normal, view_angles
+from armanim.render.camera.projection import camera_rotation, fit_view, planar_normal, view_angles
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
 from armanim.world.obstacles import Obstacles
 
@@ -87,7 +87,7 @@ def test_the_planar_scene_file_without_a_view_gets_none():
 
 
 def _frame(problem, phi, size=(320, 240)):
-    from armanim.render.draw import FrameState, SceneCanvas
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     pose = forward(problem.arm, phi)
     scene = SceneCanvas(problem, default_render_settings(size=size, elevation=0.0, azimuth=0.0), title="t",
@@ -98,7 +98,7 @@ def _frame(problem, phi, size=(320, 240)):
 
 @pytest.mark.parametrize("sphere_x, arm_wins", [(-3.0, True), (3.0, False)])
 def test_a_link_in_front_of_a_sphere_is_drawn_after_it(sphere_x, arm_wins):
-    from armanim.render.style import ARM_COLOR
+    from armanim.render.paint.style import ARM_COLOR
 
     # Seen from +x: the arm stands along z at x = 0; the sphere behind it (x = -3) or in front (x = 3).
     arm = Arm.from_names([4.0], axes=["y"], direction="z")
@@ -118,7 +118,7 @@ def test_a_goal_behind_a_sphere_is_drawn_through_it():
     assert scene.goals.hidden.tolist() == [True]
     scene.goals.stamps.update({(0, code): None for code in range(4)})
     state_pose = forward(problem.arm, np.zeros(1))
-    from armanim.render.draw import FrameState
+    from armanim.render.pictures.canvas import FrameState
 
     without = scene.draw(FrameState(state_pose, 0, np.zeros(1, dtype=int), "")).copy()
     x, y = scene.goals.xy[0]
@@ -140,7 +140,7 @@ def _overlaps(boxes: dict) -> list:
 def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
     from conftest import solved_scene
 
-    from armanim.render.draw import SceneCanvas
+    from armanim.render.pictures.canvas import SceneCanvas
     from armanim.scene import load_scene, render_settings
 
     loaded = load_scene(scene_path)
@@ -162,7 +162,7 @@ def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
 
 @pytest.mark.slow
 def test_an_11_second_640x360_gif_stays_well_under_3_mb(tmp_path):
-    from armanim.runs.overrides import RenderOverrides
+    from armanim.render.settings import RenderOverrides
     from armanim.runs.pipeline import run_scene
 
     scene = yaml.safe_load((ROOT / "scenes" / "notes-arm.yaml").read_text())
@@ -223,7 +223,7 @@ def test_an_unknown_quality_is_a_usage_error():
 
 def test_plot_labels_each_limit_with_its_joints_and_numbers_goals_from_0():
     from armanim.motion.trajectory import solve_trajectory
-    from armanim.render.plot import plot_figure
+    from armanim.render.pictures.plot import plot_figure
     from armanim.scene import load_scene, scene_to_problem
 
     problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)
@@ -251,7 +251,7 @@ def _traj(phi, reached, mode=None):
 def test_captions_say_moving_holding_stalled_planning_and_missed():
     import types
 
-    from armanim.render.caption import frame_activity
+    from armanim.render.overlay.caption import frame_activity
 
     reached = types.SimpleNamespace(reached=True, first_frame=0, last_frame=5, reason=None)
     traj = _traj([0, 0.1, 0.2, 0.2, 0.2, 0.2], [False, False, True, True, True, True])
@@ -264,7 +264,7 @@ def test_captions_say_moving_holding_stalled_planning_and_missed():
 
 
 def test_a_trajectory_without_mode_is_all_ik():
-    from armanim.render.caption import frame_modes
+    from armanim.render.overlay.caption import frame_modes
 
     assert frame_modes(_traj([0, 1], [False, False])).tolist() == ["ik", "ik"]
 
@@ -273,8 +273,8 @@ def test_a_trajectory_without_mode_is_all_ik():
 def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     from types import SimpleNamespace
 
-    from armanim.render.caption import goal_outcomes
-    from armanim.render.draw import SceneCanvas
+    from armanim.render.overlay.caption import goal_outcomes
+    from armanim.render.pictures.canvas import SceneCanvas
 
     arm = Arm.from_names([2, 5, 5, 5])
     problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=unlimited_limits(4), obstacles=Obstacles.none(),

@@ -350,7 +350,7 @@ def test_lengths_below_the_smallest_are_refused(field):
 
 
 def test_fk_png_draws_no_goal_and_names_none_in_the_legend():
-    from armanim.render.backdrop import legend_entries
+    from armanim.render.pictures.backdrop import legend_entries
 
     labels = [label for label, _ in legend_entries("pose", trail=True, obstacles=False, outcomes=frozenset(), hidden_goal=False, goals=False)]
     assert labels == ["arm"]

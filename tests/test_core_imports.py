@@ -2,8 +2,9 @@
 
 The pure core is every module under ``armanim.arm``, ``armanim.world`` and
 ``armanim.motion``: numpy, DAQP, OMPL and numba (the compiled closed form) only. Rooms are ordered
-cli > runs > scene > render > output > motion > world > arm, and a module imports only
-from its own room or the rooms below it (``errors`` and ``names`` serve all).
+cli > runs > scene > render > output > procs > motion > world > arm, and a module imports only
+from its own room or the rooms below it (``errors`` and ``names`` serve all). Inside
+``render``, the sub-rooms are ordered the same way (:data:`RENDER_ROOMS`).
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ import pytest
 
 SRC = Path(__file__).resolve().parent.parent / "src" / "armanim"
 CORE_ROOMS = ["arm", "world", "motion"]
-ROOMS = ["cli", "runs", "scene", "render", "output", "motion", "world", "arm"]  # top to bottom
+ROOMS = ["cli", "runs", "scene", "render", "output", "procs", "motion", "world", "arm"]  # top to bottom
+RENDER_ROOMS = ["viewer", "video", "pictures", "overlay", "solids", "camera", "paint", "settings"]  # render's, top to bottom
 SHARED = {"errors", "names", "__init__", "__main__"}
 FORBIDDEN = ["matplotlib", "yaml", "pydantic", "typer", "rich", "click", "imageio"]
 
@@ -50,7 +52,7 @@ def test_core_loads_no_edge_library():
     loaded, modules = (json.loads(line) for line in proc.stdout.splitlines())
     assert loaded == [], loaded
     assert "armanim.arm.kinematics" in modules and "numpy" in modules  # the imports did happen
-    edges = ("armanim.scene", "armanim.render", "armanim.cli", "armanim.runs", "armanim.output")
+    edges = ("armanim.scene", "armanim.render", "armanim.cli", "armanim.runs", "armanim.output", "armanim.procs")
     assert not [m for m in modules if m.startswith(edges)]
 
 
@@ -83,6 +85,37 @@ def _imported_rooms(path: Path) -> set[str]:
 def test_imports_run_down_the_rooms(room):
     above = set(ROOMS[: ROOMS.index(room)])
     wrong = {str(p.relative_to(SRC)): sorted(_imported_rooms(p) & above) for p in (SRC / room).rglob("*.py")}
+    assert {k: v for k, v in wrong.items() if v} == {}
+
+
+def _imported_render_rooms(path: Path) -> set[str]:
+    """The sub-rooms of ``armanim.render`` a module imports (``from armanim.render import x``
+    names sub-room ``x``)."""
+    rooms = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module == "armanim.render" and node.level == 0:
+            rooms.update(alias.name for alias in node.names)
+        names = [node.module] if isinstance(node, ast.ImportFrom) and node.module and node.level == 0 else []
+        names += [alias.name for alias in node.names] if isinstance(node, ast.Import) else []
+        rooms.update(n.split(".")[2] for n in names if n.startswith("armanim.render."))
+    return rooms
+
+
+def _render_room(path: Path) -> str:
+    return path.relative_to(SRC / "render").with_suffix("").parts[0]
+
+
+def test_every_module_of_render_is_in_an_ordered_sub_room():
+    rooms = {_render_room(p) for p in (SRC / "render").rglob("*.py")} - {"__init__"}
+    assert rooms == set(RENDER_ROOMS)
+
+
+@pytest.mark.parametrize("room", RENDER_ROOMS)
+def test_render_imports_run_down_its_sub_rooms(room):
+    above = set(RENDER_ROOMS[: RENDER_ROOMS.index(room)])
+    paths = [p for p in (SRC / "render").rglob("*.py") if _render_room(p) == room]
+    assert paths
+    wrong = {str(p.relative_to(SRC)): sorted(_imported_render_rooms(p) & above) for p in paths}
     assert {k: v for k, v in wrong.items() if v} == {}
 
 

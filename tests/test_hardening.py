@@ -288,7 +288,7 @@ def test_largest_valid_scene_still_loads(tmp_path):
 
 
 def test_failed_render_leaves_previous_outputs_untouched(cli, monkeypatch, tiny_scene, previous_run):
-    from armanim.render import encode
+    from armanim.render.video import encode
 
     out, before = previous_run
     calls = []

@@ -237,7 +237,7 @@ def test_render_waits_for_the_folder_lock_and_swaps_whole(run_folder):
 
 
 def test_a_failed_render_leaves_the_run_folder_as_it_was(cli, run_folder, monkeypatch):
-    import armanim.render.plot as plot
+    import armanim.render.pictures.plot as plot
 
     def broken(*args, **kwargs):
         raise OSError(28, "No space left on device")
@@ -259,7 +259,7 @@ def test_render_refuses_a_folder_armanim_did_not_make(cli, run_folder):
 
 
 def test_leftovers_of_a_killed_render_are_removed(tmp_path):
-    from armanim.render.video import remove_dead_leftovers
+    from armanim.render.video.movie import remove_dead_leftovers
 
     dead = psutil.Popen([sys.executable, "-c", "pass"])
     dead.wait()
@@ -526,7 +526,7 @@ def test_a_worker_finds_its_temporary_folder_before_a_signal_can_stop_it():
     run with the signals still blocked, must have done it already."""
     program = (
         "import os, tempfile\n"
-        "from armanim.render.workers import init_worker\n"
+        "from armanim.procs.workers import init_worker\n"
         "tempfile.tempdir = None  # as in a worker whose parent never asked\n"
         "init_worker(os.getppid())\n"
         "print(tempfile.tempdir)\n"

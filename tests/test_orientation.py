@@ -358,8 +358,8 @@ def test_pose_goal_runs_are_byte_identical_and_log_the_tool_frame():
 def test_pictures_draw_triads_and_the_caption_the_angle_only_with_orientations(tmp_path):
     from matplotlib.image import imread
 
-    from armanim.render.caption import frame_caption
-    from armanim.render.draw import render_pose_png
+    from armanim.render.overlay.caption import frame_caption
+    from armanim.render.pictures.pose import render_pose_png
     from armanim.scene import default_render_settings
 
     problem = _problem(ARMS["panda"], "pinv")

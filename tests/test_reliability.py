@@ -193,7 +193,7 @@ def closed_port():
 
 def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline(listening_port):
     """The client is made on a thread that is given up: Client(timeout=...) does not bound the handshake."""
-    from armanim.runs.executors import connect_client
+    from armanim.procs.executors import connect_client
 
     release = threading.Event()
 
@@ -211,7 +211,7 @@ def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline(listening
 @pytest.mark.parametrize("error, words", [(ValueError("bad"), "is not a scheduler address"),
                                           (OSError("refused"), "cannot reach the Dask scheduler at")])
 def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words, listening_port):
-    from armanim.runs.executors import connect_client
+    from armanim.procs.executors import connect_client
 
     def failing_client(address, timeout):
         raise error
@@ -226,7 +226,7 @@ def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words, listenin
 def test_a_refused_scheduler_is_reported_at_once_not_after_the_timeout(address, words, closed_port):
     """Dask's client retries a refused port for its whole timeout and then calls it a timeout;
     armanim asks the port first, so the client is never made and the reason is the real one."""
-    from armanim.runs.executors import connect_client
+    from armanim.procs.executors import connect_client
 
     def client_that_must_not_be_made(address, timeout):
         raise AssertionError("the client was made for a port that refuses")
@@ -475,7 +475,7 @@ def test_a_ctrl_c_while_processes_start_is_raised_only_when_they_have_started(ct
     import signal
     import time
 
-    from armanim.render.workers import signals_blocked
+    from armanim.procs.workers import signals_blocked
 
     reached = []
     with pytest.raises(KeyboardInterrupt):
@@ -498,7 +498,7 @@ def test_a_ctrl_c_as_the_pool_starts_a_worker_leaves_no_worker_running(ctrl_c_ra
 
     import psutil
 
-    from armanim.runs.executors import _LocalExecutor, _worker_context
+    from armanim.procs.executors import _LocalExecutor, _worker_context
 
     if _worker_context().get_start_method() != "forkserver":
         pytest.skip("the race is the forkserver's")
@@ -585,7 +585,7 @@ def test_a_ctrl_c_that_matplotlib_turns_into_an_error_still_ends_with_130(capsys
     with pytest.raises(typer.Exit) as exited:
         handle_errors(drawing)()
     assert exited.value.exit_code == 130 and capsys.readouterr().err.strip() == INTERRUPTED
-    from armanim.runs.interrupted import signal_came
+    from armanim.procs.interrupted import signal_came
 
     assert not signal_came()  # answered: a batch run through the API later is not taken for interrupted
 
@@ -595,8 +595,8 @@ def test_a_batch_in_one_process_stops_at_an_error_that_follows_a_signal():
     (above) must stop the batch instead, or the user's Ctrl-C is lost (later ones are ignored)."""
     import types
 
-    from armanim.runs.executors import _LocalExecutor
-    from armanim.runs.interrupted import forget_signal, note_signal
+    from armanim.procs.executors import _LocalExecutor
+    from armanim.procs.interrupted import forget_signal, note_signal
 
     def work(task):
         if task.name == "b":
@@ -632,7 +632,7 @@ def test_a_batch_worker_starts_with_ctrl_c_and_sigterm_blocked():
     import signal
     import types
 
-    from armanim.runs.executors import _LocalExecutor, _worker_context
+    from armanim.procs.executors import _LocalExecutor, _worker_context
 
     if _worker_context().get_start_method() != "forkserver" or not Path("/proc/self/status").exists():
         pytest.skip("the forkserver's, read from /proc")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import subprocess
 import sys
 
@@ -12,7 +13,9 @@ import pytest
 from armanim.arm.kinematics import Arm, forward
 from armanim.errors import RenderError
 from armanim.motion.problem import Goal, Problem
-from armanim.motion.solution import GoalReport, Trajectory
+from armanim.motion.solution import GoalReport, Solution, Trajectory
+from armanim.output.solved import SolvedRun
+from armanim.render.settings import OutputOptions
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
 from armanim.world.obstacles import Obstacles
 
@@ -54,6 +57,17 @@ def make_reports(frames: int = FRAMES) -> tuple[GoalReport, ...]:
     )
 
 
+def solved(problem: Problem, traj: Trajectory, reports, title: str = "t", fps: float | None = None) -> SolvedRun:
+    """The run a writer takes, named ``title``, its frames at ``fps`` (default: the trajectory's)."""
+    traj = traj if fps is None else dataclasses.replace(traj, fps=float(fps))
+    return SolvedRun(title, problem, Solution(traj, tuple(reports)))
+
+
+def options(jobs: int | None = None, **settings) -> OutputOptions:
+    """The default render settings with ``settings`` changed, drawn by ``jobs`` workers."""
+    return OutputOptions(default_render_settings(**settings), jobs=jobs)
+
+
 def video_meta(path) -> dict:
     reader = imageio_ffmpeg.read_frames(str(path))
     meta = next(reader)
@@ -68,13 +82,12 @@ def scene():
 
 
 def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path):
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    render_video(problem, traj, reports, default_render_settings(fps=30, size=SIZE), out, title="t", jobs=1,
-                 progress=seen.append)
+    render_video(solved(problem, traj, reports, fps=30), options(size=SIZE, jobs=1), out, progress=seen.append)
     frames, secs = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
     assert frames == FRAMES
@@ -86,14 +99,13 @@ def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path)
 
 
 def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
-    from armanim.render import video
+    from armanim.render.video import movie as video
 
     monkeypatch.setattr(video, "MIN_FRAMES_PER_JOB", 4)
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     seen = []
-    video.render_video(problem, traj, reports, default_render_settings(fps=24, size=SIZE), out, title="t", jobs=2,
-                       progress=seen.append)
+    video.render_video(solved(problem, traj, reports, fps=24), options(size=SIZE, jobs=2), out, progress=seen.append)
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(out))
     meta = video_meta(out)
     assert frames == FRAMES
@@ -104,11 +116,11 @@ def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
 
 
 def test_odd_sizes_are_padded_to_even_for_mp4(scene, tmp_path):
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "odd.mp4"
-    render_video(problem, traj, reports, default_render_settings(size=(161, 121)), out, title="t", jobs=1)
+    render_video(solved(problem, traj, reports), options(size=(161, 121), jobs=1), out)
     assert tuple(video_meta(out)["size"]) == (162, 122)
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == FRAMES
 
@@ -116,11 +128,11 @@ def test_odd_sizes_are_padded_to_even_for_mp4(scene, tmp_path):
 def test_gif_frames_have_the_settings_duration(scene, tmp_path):
     from PIL import Image
 
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(problem, traj, reports, default_render_settings(fps=20, size=(161, 121), format="gif"), out, title="t")
+    render_video(solved(problem, traj, reports, fps=20), options(size=(161, 121), format="gif"), out)
     with Image.open(out) as im:
         assert im.size == (161, 121)
         durations = []
@@ -134,11 +146,11 @@ def test_gif_frames_have_the_settings_duration(scene, tmp_path):
 def test_gif_total_duration_at_30_fps(scene, tmp_path):
     from PIL import Image
 
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem, traj, reports = scene
     out = tmp_path / "animation.gif"
-    render_video(problem, traj, reports, default_render_settings(fps=30, size=SIZE, format="gif"), out, title="t")
+    render_video(solved(problem, traj, reports, fps=30), options(size=SIZE, format="gif"), out)
     with Image.open(out) as im:
         durations = []
         for i in range(im.n_frames):
@@ -149,29 +161,29 @@ def test_gif_total_duration_at_30_fps(scene, tmp_path):
 
 
 def test_ffmpeg_failure_raises_render_error_and_leaves_no_file(scene, tmp_path, monkeypatch):
-    from armanim.render import encode
-    from armanim.render.video import render_video
+    from armanim.render.video import encode
+    from armanim.render.video.movie import render_video
 
     monkeypatch.setattr(encode, "MP4_CODEC", "no_such_codec")
     problem, traj, reports = scene
     out = tmp_path / "animation.mp4"
     with pytest.raises(RenderError) as info:
-        render_video(problem, traj, reports, default_render_settings(size=SIZE), out, title="t", jobs=1)
+        render_video(solved(problem, traj, reports), options(size=SIZE, jobs=1), out)
     assert "no_such_codec" in str(info.value)  # ffmpeg's own words are quoted
     assert list(tmp_path.iterdir()) == []
 
 
 def test_a_failing_join_raises_render_error(tmp_path):
-    from armanim.render.encode import concat_segments
+    from armanim.render.video.encode import concat_segments
 
     with pytest.raises(RenderError):
         concat_segments([tmp_path / "missing.mp4"], tmp_path / "out.mp4", "mp4")
 
 
 def test_the_tip_is_drawn_in_the_arm_colour():
-    from armanim.render.caption import PENDING
-    from armanim.render.draw import FrameState, SceneCanvas
-    from armanim.render.style import ARM_COLOR
+    from armanim.render.overlay.caption import PENDING
+    from armanim.render.paint.style import ARM_COLOR
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     problem = make_problem(half_width=1.0, obstacles=False)
     phi = np.radians([20.0, 10.0, 20.0, 10.0])
@@ -190,7 +202,7 @@ def test_the_tip_is_drawn_in_the_arm_colour():
 def test_render_pose_png_has_the_settings_size(tmp_path):
     from PIL import Image
 
-    from armanim.render.draw import render_pose_png
+    from armanim.render.pictures.pose import render_pose_png
 
     out = tmp_path / "pose.png"
     render_pose_png(make_problem(), np.radians([10, 20, 30, 40]), default_render_settings(size=(201, 149)), out, title="fk")
@@ -201,17 +213,17 @@ def test_render_pose_png_has_the_settings_size(tmp_path):
 def test_plot_run_writes_a_png(scene, tmp_path):
     from PIL import Image
 
-    from armanim.render.plot import PLOT_SIZE, plot_run
+    from armanim.render.pictures.plot import PLOT_SIZE, plot_run
 
     problem, traj, reports = scene
     out = tmp_path / "plot.png"
-    plot_run(problem, traj, reports, out, title="run")
+    plot_run(solved(problem, traj, reports, "run"), options(), out)
     with Image.open(out) as im:
         assert im.size == PLOT_SIZE
 
 
 def test_auto_bounds_hold_every_reachable_point_obstacle_and_goal():
-    from armanim.render.bounds import auto_bounds
+    from armanim.render.camera.bounds import auto_bounds
 
     problem = make_problem()
     box = auto_bounds(problem)
@@ -231,12 +243,11 @@ def test_importing_render_does_not_load_matplotlib():
 @pytest.mark.slow
 def test_a_solved_run_renders_at_full_size(tmp_path):
     from armanim.motion.trajectory import solve_trajectory
-    from armanim.render.video import render_video
+    from armanim.render.video.movie import render_video
 
     problem = make_problem()
     solution = solve_trajectory(problem)
     out = tmp_path / "animation.mp4"
-    render_video(problem, solution.trajectory, solution.goals, default_render_settings(size=(640, 360)), out,
-                 title="solved", jobs=2)
+    render_video(SolvedRun("solved", problem, solution), options(size=(640, 360), jobs=2), out)
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == solution.trajectory.frames
     assert tuple(video_meta(out)["size"]) == (640, 360)

@@ -79,7 +79,7 @@ def test_auto_bounds_hold_every_frame_of_the_run_and_every_goal_and_obstacle():
 
     from armanim.arm.kinematics import forward
     from armanim.motion.trajectory import solve_trajectory
-    from armanim.render.bounds import auto_bounds
+    from armanim.render.camera.bounds import auto_bounds
     from armanim.scene import load_scene, scene_to_problem
 
     problem = scene_to_problem(load_scene(ROOT / "scenes" / "notes-arm.yaml").model)

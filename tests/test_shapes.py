@@ -424,7 +424,7 @@ def shelf_problem():
 
 
 def test_goal_behind_a_box_is_drawn_through_it():
-    from armanim.render.draw import SceneCanvas
+    from armanim.render.pictures.canvas import SceneCanvas
     from armanim.scene import default_render_settings
 
     problem = shelf_problem()
@@ -437,7 +437,7 @@ def test_goal_behind_a_box_is_drawn_through_it():
 def test_spheres_only_pictures_take_the_sphere_path():
     from test_cost import notes_problem
 
-    from armanim.render.draw import SceneCanvas
+    from armanim.render.pictures.canvas import SceneCanvas
     from armanim.scene import default_render_settings
 
     problem = notes_problem()
@@ -445,15 +445,17 @@ def test_spheres_only_pictures_take_the_sphere_path():
 
 
 def test_poster_and_pose_of_every_shape(tmp_path):
-    from armanim.render.draw import render_pose_png
-    from armanim.render.poster import render_poster
+    from armanim.output.solved import SolvedRun
+    from armanim.render.pictures.pose import render_pose_png
+    from armanim.render.pictures.poster import render_poster
+    from armanim.render.settings import OutputOptions
     from armanim.scene import default_render_settings
 
     problem = notes_among(((9.0, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), (0.0, 0.0, 0.5))],
                           rods=[((-4.0, 0.0, 0.0), (-4.0, 0.0, 8.0), 0.5)], floor=-0.5)
     solution = solve_trajectory(problem)
     settings = default_render_settings(size=(64, 48))
-    render_poster(problem, solution.trajectory, solution.goals, settings, tmp_path / "poster.png", title="shapes")
+    render_poster(SolvedRun("shapes", problem, solution), OutputOptions(settings), tmp_path / "poster.png")
     render_pose_png(problem, problem.home, settings, tmp_path / "pose.png", title="shapes")
     assert (tmp_path / "poster.png").stat().st_size > 0 and (tmp_path / "pose.png").stat().st_size > 0
 

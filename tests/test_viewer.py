@@ -15,7 +15,10 @@ from conftest import ROOT, SCENES
 from viewer_runs import synthetic_run
 
 from armanim.arm.kinematics import forward
+from armanim.motion.solution import Solution
 from armanim.output.rundir import MARKER
+from armanim.output.solved import SolvedRun
+from armanim.render.settings import OutputOptions
 from armanim.render.viewer import write_viewer
 from armanim.render.viewer.data import viewer_data
 from armanim.render.viewer.page import GENERATOR, bundle_info, script_json, three_bundle, viewer_html
@@ -125,7 +128,8 @@ def test_a_planar_arm_starts_face_on():
 @pytest.mark.parametrize(("frames", "joints", "bound"), [(700, 4, 1_000_000), (3000, 7, 3_000_000)])
 def test_the_page_stays_under_its_size_bound(tmp_path, frames, joints, bound):
     problem, trajectory, reports, settings = synthetic_run(frames, joints)
-    path = write_viewer(problem, trajectory, reports, settings, tmp_path / "viewer.html", title="synthetic")
+    run = SolvedRun("synthetic", problem, Solution(trajectory, tuple(reports)))
+    path = write_viewer(run, OutputOptions(settings), tmp_path / "viewer.html")
     assert path.stat().st_size <= bound, path.stat().st_size
 
 
@@ -156,7 +160,7 @@ def test_run_no_video_writes_no_viewer_unless_asked(cli, scene, tmp_path):
 def test_run_writes_the_viewer_beside_the_video_unless_told_not_to(cli, scene, tmp_path, monkeypatch):
     import armanim.runs.pipeline as pipeline
 
-    def video(problem, solution, settings, folder, title, **kwargs):  # a stand-in: the flags, not the drawing
+    def video(run, options, folder, **kwargs):  # a stand-in: the flags, not the drawing
         (folder / "animation.mp4").write_bytes(b"video")
         return {"video": folder / "animation.mp4"}
 

@@ -296,10 +296,14 @@ def test_hostile_text_stays_text(browser, tmp_path):
 def test_a_3000_frame_7_joint_run_stays_under_3_mb_and_plays(browser, tmp_path):
     from viewer_runs import synthetic_run
 
+    from armanim.motion.solution import Solution
+    from armanim.output.solved import SolvedRun
+    from armanim.render.settings import OutputOptions
     from armanim.render.viewer import write_viewer
 
     problem, trajectory, reports, settings = synthetic_run(3000, 7)
-    path = write_viewer(problem, trajectory, reports, settings, tmp_path / "viewer.html", title="synthetic-7")
+    run = SolvedRun("synthetic-7", problem, Solution(trajectory, tuple(reports)))
+    path = write_viewer(run, OutputOptions(settings), tmp_path / "viewer.html")
     assert path.stat().st_size <= 3_000_000
     page = Page(browser, path)
     try:

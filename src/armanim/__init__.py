@@ -19,7 +19,7 @@ _LAZY = {
     "run_batch": ("armanim.runs.batch", "run_batch"),
     "run_sweep": ("armanim.runs.sweep", "run_sweep"),
     "parse_setting": ("armanim.runs.sweep", "parse_setting"),
-    "RenderOverrides": ("armanim.runs.overrides", "RenderOverrides"),
+    "RenderOverrides": ("armanim.render.settings", "RenderOverrides"),
     "solve_pose": ("armanim.motion.ik", "solve_pose"),
     "forward": ("armanim.arm.kinematics", "forward"),
     "Arm": ("armanim.arm.kinematics", "Arm"),

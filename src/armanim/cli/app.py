@@ -18,7 +18,7 @@ from rich.console import Console
 from armanim import __version__
 from armanim.cli.interrupts import command_signals, ignore_until_exit
 from armanim.errors import EXIT_INTERRUPTED, EXIT_OUTPUT_FAILED, INTERRUPTED, ArmanimError, message_lines
-from armanim.runs.interrupted import signal_came
+from armanim.procs.interrupted import signal_came
 
 app = typer.Typer(
     name="armanim",
@@ -101,7 +101,7 @@ def handle_errors(command):
 
 def _reported(command, *args, **kwargs):
     """``command(...)``, its errors as their messages and exit codes; after a Ctrl-C or
-    SIGTERM, any error is the signal's (:mod:`armanim.runs.interrupted`)."""
+    SIGTERM, any error is the signal's (:mod:`armanim.procs.interrupted`)."""
     try:
         return command(*args, **kwargs)
     except typer.Exit:  # the command's own exit code (a click Exit is a RuntimeError)

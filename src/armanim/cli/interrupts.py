@@ -13,7 +13,7 @@ finished one with its own exit code, never a traceback or death by a signal (-2,
    swallowed so is raised again, silently, at the next Python call or return
    (:func:`_redeliver_swallowed`), so the command never goes on with the first signal spent
    and half-updated state behind it (matplotlib's transform tree, say). A library may also
-   turn the KeyboardInterrupt into an error of its own (:mod:`armanim.runs.interrupted`):
+   turn the KeyboardInterrupt into an error of its own (:mod:`armanim.procs.interrupted`):
    any error after a signal ends the command as interrupted;
 3. once the command has decided its exit code (or its last output is in place): both
    signals are ignored until the process ends, so interpreter shutdown is never interrupted.
@@ -31,7 +31,7 @@ import sys
 import threading
 from collections.abc import Iterator
 
-from armanim.runs.interrupted import forget_signal, note_signal
+from armanim.procs.interrupted import forget_signal, note_signal
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _process = [False]  # set by main(): this is the armanim process, its signals are ours to the end

@@ -15,7 +15,7 @@ import typer
 
 from armanim.cli.app import err, say
 from armanim.errors import UsageError
-from armanim.runs.overrides import RenderOverrides
+from armanim.render.settings import RenderOverrides
 
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")]
 JobsOpt = Annotated[int | None, typer.Option("--jobs", "-j", help="Worker processes (default: all cores).")]

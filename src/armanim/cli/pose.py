@@ -60,7 +60,7 @@ def fk(
     for note in problem.limits.notes(phi) if loaded else []:
         say(f"note: {note}", err)
     if png is not None:
-        from armanim.render.draw import render_pose_png
+        from armanim.render.pictures.pose import render_pose_png
         from armanim.scene import render_settings
 
         # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend

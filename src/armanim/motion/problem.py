@@ -16,7 +16,7 @@ from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.capsules import lever_arms as capsule_lever_arms
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
-from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
+from armanim.names import JacobianMode, MethodName, PlannerMode
 from armanim.world.obstacles import Obstacles
 from armanim.world.selfdistances import SelfPairs
 
@@ -188,8 +188,10 @@ class Problem:
     goals : tuple of Goal
     solver : SolverSettings
     fps : float
-        Frames per second the run is solved at: the one owner of time (``time_s``,
-        holds, the stall window); ``--fps`` is applied before the problem is built.
+        Frames per second of the frames the problem describes: the scene's own ``render.fps``
+        while the motion is solved (the one owner of time: ``time_s``, holds, the stall window),
+        the output rate (``--fps``) once the solution is on the clock
+        (:func:`armanim.motion.retime.at_fps`).
     capsules : Capsules
         The arm's collision capsules, which every guarantee is about. Left out (None), they
         are today's: one per link from joint to joint, of radius ``half_width``.
@@ -251,32 +253,3 @@ def pair_lever_rows(pairs: SelfPairs, capsules: Capsules, lever_arms: np.ndarray
     lo, hi = np.minimum(link[pairs.first], link[pairs.second]), np.maximum(link[pairs.first], link[pairs.second])
     joint = np.arange(len(lever_arms))
     return np.where((joint > lo[:, None]) & (joint <= hi[:, None]), lever_arms, 0.0)
-
-
-@dataclass(frozen=True)
-class RenderSettings:
-    """The scene's ``render`` section, resolved (plain data; drawing lives in ``render/``).
-
-    Attributes
-    ----------
-    fps : float
-    size : (int, int)
-        Width and height in pixels.
-    elevation, azimuth : float or None
-        Camera angles in degrees (as matplotlib's ``view_init`` takes them); None:
-        face-on for a planar arm, else 25 and -60 (see :mod:`armanim.render.camera`).
-    bounds : (3, 2) array or None
-        [[xmin, xmax], [ymin, ymax], [zmin, zmax]]; None means auto.
-    trail : bool
-        Draw the tip's path.
-    format : str
-        ``"mp4"`` or ``"gif"``.
-    """
-
-    fps: float
-    size: tuple[int, int]
-    elevation: float | None
-    azimuth: float | None
-    bounds: np.ndarray | None
-    trail: bool
-    format: VideoFormat

@@ -11,14 +11,13 @@ import contextlib
 import errno
 import os
 import secrets
-import signal
 import tempfile
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 
 from armanim.errors import OutputError
 from armanim.output.files import special_kind
+from armanim.procs.deferred import interrupts_deferred
 
 
 def current_umask() -> int:
@@ -37,37 +36,6 @@ def output_error(path: Path, exc: OSError) -> OutputError:
     if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
         return OutputError(f"{path}: cannot write here: permission denied (choose another folder with --out)")
     return OutputError(f"{path}: cannot write: {exc.strerror or exc}")
-
-
-@contextlib.contextmanager
-def interrupts_deferred() -> Iterator[None]:
-    """Hold Ctrl-C and SIGTERM back while a clean-up or a swap runs, then deliver them.
-
-    A second Ctrl-C during the clean-up of the first must not leave a temporary file or
-    half a swap behind. Only the main thread can set signal handlers; elsewhere (or if a
-    handler was not set from Python) this does nothing.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    received: list[int] = []
-    old = {}
-    try:
-        for signum in (signal.SIGINT, signal.SIGTERM):
-            handler = signal.getsignal(signum)
-            if handler is None:
-                continue
-            old[signum] = handler
-            signal.signal(signum, lambda n, frame: received.append(n))
-    except (ValueError, OSError):  # pragma: no cover  (not the main interpreter)
-        pass
-    try:
-        yield
-    finally:
-        for signum, handler in old.items():
-            signal.signal(signum, handler)
-        for signum in dict.fromkeys(received):
-            signal.raise_signal(signum)  # the usual handler runs now: KeyboardInterrupt, ...
 
 
 def write_target(path: Path) -> Path:

@@ -29,6 +29,7 @@ from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
 from armanim.output.atomic import write_target, write_text_atomic
 from armanim.output.files import open_regular
+from armanim.output.solved import SolvedRun
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
 TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode",
@@ -146,9 +147,9 @@ def trajectory_csv_text(traj: Trajectory) -> str:
     return table_csv_text(header(traj.phi.shape[1]), (format_row(traj, i, time[i]) for i in range(traj.frames)))
 
 
-def write_trajectory_csv(traj: Trajectory, path: Path) -> None:
-    """Write trajectory.csv atomically."""
-    write_text_atomic(path, trajectory_csv_text(traj))
+def write_trajectory_csv(run: SolvedRun, path: Path) -> None:
+    """Write the run's trajectory.csv atomically (it has no options: every run writes it whole)."""
+    write_text_atomic(path, trajectory_csv_text(run.trajectory))
 
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")

@@ -30,8 +30,9 @@ from pathlib import Path
 
 from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError
-from armanim.output.atomic import current_umask, interrupts_deferred, output_error, write_text_atomic
+from armanim.output.atomic import current_umask, output_error, write_text_atomic
 from armanim.output.jsontext import json_text, parse_json
+from armanim.procs.deferred import interrupts_deferred
 
 MARKER = ".armanim-run.json"
 """In every run folder: says armanim made it and lists the files it wrote there."""

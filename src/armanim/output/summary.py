@@ -13,6 +13,7 @@ from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, GoalReport, GoalTiming, PlanningReport, Solution, max_joint_step
 from armanim.output.atomic import write_text_atomic
 from armanim.output.jsontext import json_text
+from armanim.output.solved import SolvedRun
 
 
 def _round(value: float) -> float | None:
@@ -170,6 +171,13 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
     }
 
 
-def write_summary(summary: dict, path: Path) -> None:
-    """Write summary.json atomically (sorted keys stay in the order above; 2-space indent)."""
-    write_text_atomic(path, json_text(summary, indent=2) + "\n")
+def run_summary(run: SolvedRun) -> dict:
+    """The summary of a solved run as plain data (:func:`summary_dict`)."""
+    return summary_dict(run.problem, run.solution, name=run.name, scene_file=run.scene_file, sha256=run.sha256,
+                        rate_notes=run.rate_notes)
+
+
+def write_summary(run: SolvedRun, path: Path) -> None:
+    """Write the run's summary.json atomically (keys in the order above; 2-space indent; it has
+    no options)."""
+    write_text_atomic(path, json_text(run_summary(run), indent=2) + "\n")

@@ -21,10 +21,13 @@ from armanim.errors import ArmanimError, SceneError
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import check_table_replaceable, table_csv_text
 from armanim.output.rundir import staged_folder
-from armanim.render.workers import temp_prefix, undone_on_stop
-from armanim.runs.executors import executor_for
-from armanim.runs.overrides import RenderOverrides
+from armanim.procs.executors import executor_for
+from armanim.procs.workers import temp_prefix, undone_on_stop
+from armanim.render.settings import RenderOverrides
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
+
+WORKER_PRELOAD = ("armanim.runs.pipeline", "armanim.render.pictures.canvas", "armanim.render.video.movie")
+"""What a batch's local workers import once, in the pool's forkserver, before any scene."""
 
 INDEX_COLUMNS = ("name", "status", "scene_file", "goals", "reached", "missed", "frames", "min_clearance", "folder", "message")
 
@@ -167,7 +170,7 @@ def run_tasks(
     the names of the scenes that are running (the first unfinished ones, one per worker).
     """
     workers = jobs or os.cpu_count() or 1
-    executor = executor_for(workers, scheduler)
+    executor = executor_for(workers, scheduler, WORKER_PRELOAD)
     entries: dict[str, BatchEntry] = {}
     unfinished = [t.name for t in tasks]
     done = 0

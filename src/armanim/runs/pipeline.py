@@ -11,16 +11,17 @@ from pathlib import Path
 
 from armanim.errors import OutputError, UsageError
 from armanim.motion.clock import ClockTooLong
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.motion.retime import at_fps, retime
 from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
-from armanim.output.summary import summary_dict, write_summary
-from armanim.runs.overrides import RenderOverrides
-from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY
+from armanim.output.solved import SolvedRun
+from armanim.output.summary import run_summary, write_summary
+from armanim.render.settings import OutputOptions, RenderOverrides, RenderSettings
+from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY, FinishedRun
 from armanim.runs.resample import resample_run, resampled_frames
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.checks import rate_note_lines
@@ -94,15 +95,14 @@ def run_scene(
         produced = produce_outputs(scene, staged, video=video, viewer=viewer, jobs=jobs, render_overrides=render_overrides,
                                    progress=progress)
     files = {kind: folder / name for kind, name in produced.names.items()}
-    return RunResult(scene, produced.problem, produced.solution, folder, files, produced.summary)
+    return RunResult(scene, produced.run.problem, produced.run.solution, folder, files, produced.summary)
 
 
 @dataclass(frozen=True)
 class Produced:
     """What :func:`produce_outputs` made: the solved run and its file names by kind."""
 
-    problem: Problem
-    solution: Solution
+    run: SolvedRun
     summary: dict
     names: dict[str, str]
 
@@ -122,41 +122,67 @@ def produce_outputs(
     The one place a run is produced: used by :func:`run_scene` (into its staged
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
-    settings = settings_of(scene, render_overrides)
-    solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
-    frames = frame_budget(solved) * settings.fps / solved.fps
-    if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
-        raise UsageError(
-            f"--fps {settings.fps:g}: the holds would make up to {int(frames):,} frames "
-            f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
-        )
-    solution = timed_solution(scene, solved, settings.fps, progress)
-    problem = at_fps(solved, settings.fps)
-    summary = summary_dict(problem, solution, name=scene.name, scene_file=scene.path.name, sha256=scene.sha256,
-                           rate_notes=rate_note_lines(scene.model))
+    run = solve_scene(scene, output_fps(scene, render_overrides), progress)
+    options = OutputOptions(settings_of(scene, render_overrides), video=video, viewer=video if viewer is None else viewer,
+                            jobs=jobs)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
-    write_bytes_atomic(folder / SCENE_COPY, scene.raw)
-    urdf = scene.model.arm.urdf_source
-    if urdf is not None:  # the run re-renders without the user's folder (render, view, a moved run)
-        write_bytes_atomic(folder / ROBOT_COPY, urdf)
-        names["robot"] = ROBOT_COPY
-    srdf = scene.model.arm.srdf_source
-    if srdf is not None:  # as the URDF: the run reloads without the user's folder
-        write_bytes_atomic(folder / SRDF_COPY, srdf)
-        names["srdf"] = SRDF_COPY
-    write_self_collision(solved.self_pairs, folder / SELF_COLLISION_FILE)
+    names.update(write_sources(scene, folder))
+    write_self_collision(run.problem.self_pairs, folder / SELF_COLLISION_FILE)
     names["self_collision"] = SELF_COLLISION_FILE
-    write_trajectory_csv(solution.trajectory, folder / names["trajectory"])
-    write_summary(summary, folder / names["summary"])
-    if video if viewer is None else viewer:
+    write_trajectory_csv(run, folder / names["trajectory"])
+    write_summary(run, folder / names["summary"])
+    if options.viewer:
         from armanim.render.viewer import VIEWER_FILE, write_viewer
 
-        write_viewer(problem, solution.trajectory, solution.goals, settings, folder / VIEWER_FILE, title=scene.name)
+        write_viewer(run, options, folder / VIEWER_FILE)
         names["viewer"] = VIEWER_FILE
-    if video:
-        rendered = render_outputs(problem, solution, settings, folder, scene.name, jobs=jobs, progress=progress)
+    if options.video:
+        rendered = render_outputs(run, options, folder, progress=progress)
         names.update({kind: path.name for kind, path in rendered.items()})
-    return Produced(problem, solution, summary, names)
+    return Produced(run, run_summary(run), names)
+
+
+def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None) -> SolvedRun:
+    """Solve a validated scene at its own rate and put it on the clock at ``fps``.
+
+    Raises
+    ------
+    UsageError
+        The run would make more than the total frame limit at ``fps`` (exit 2).
+    """
+    solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
+    frames = frame_budget(solved) * fps / solved.fps
+    if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
+        raise UsageError(
+            f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
+            f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
+        )
+    return solved_run(scene, solved, timed_solution(scene, solved, fps, progress), fps)
+
+
+def write_sources(scene: LoadedScene, folder: Path) -> dict[str, str]:
+    """Copy the scene (and a user's URDF and SRDF) into ``folder``, so the run re-renders and
+    reloads without the user's folder (render, view, a moved run); their names by kind."""
+    write_bytes_atomic(folder / SCENE_COPY, scene.raw)
+    names = {}
+    for kind, name, source in (("robot", ROBOT_COPY, scene.model.arm.urdf_source),
+                               ("srdf", SRDF_COPY, scene.model.arm.srdf_source)):
+        if source is not None:
+            write_bytes_atomic(folder / name, source)
+            names[kind] = name
+    return names
+
+
+def solved_run(scene: LoadedScene, problem: Problem, solution: Solution, fps: float) -> SolvedRun:
+    """The one maker of a :class:`SolvedRun`: ``solution`` of ``problem`` (a fresh solve on the
+    clock, or a finished run read back) as frames at ``fps``, with the problem at that rate.
+
+    A solution already at ``fps`` is kept as it is; another rate samples the same motion in
+    the same seconds (:func:`armanim.runs.resample.resample_run`).
+    """
+    solution = resample_run(problem, solution, fps)
+    return SolvedRun(scene.name, at_fps(problem, fps), solution, scene_file=scene.path.name, sha256=scene.sha256,
+                     rate_notes=tuple(rate_note_lines(scene.model)))
 
 
 def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: Progress | None = None) -> Solution:
@@ -210,7 +236,7 @@ def rerender_run(
 
     folder = Path(folder)
     first = load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
-    _check_resampled_frames(first.solution.trajectory, settings_of(first.scene, render_overrides).fps)
+    _check_resampled_frames(first.solution.trajectory, output_fps(first.scene, render_overrides))
     if out is not None and Path(out).resolve() != folder.resolve():
         target = Path(out)
         if target.resolve().is_relative_to(folder.resolve()):
@@ -218,19 +244,23 @@ def rerender_run(
                              "whole (choose a folder outside it)")
         with folder_lock(folder):  # read the run whole, never half replaced by a run of it
             run = load_run(folder)
-        settings = settings_of(run.scene, render_overrides)
         # staged and swapped like a run folder: into a new, empty or armanim-marked folder only, its
         # other files kept; another fps samples the run's motion at its own times (the same seconds)
-        solution = resample_run(run.problem, run.solution, settings.fps)
+        solved, options = redrawn(run, render_overrides, jobs)
         with staged_folder(target, keep_files=True) as staged:
-            rendered = render_outputs(run.problem, solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
+            rendered = render_outputs(solved, options, staged, progress=progress)
         return {kind: target / path.name for kind, path in rendered.items()}
     with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
         run = load_run(folder)  # under the lock: no run is changing it
-        settings = settings_of(run.scene, render_overrides)
-        solution = resample_run(run.problem, run.solution, settings.fps)
-        rendered = render_outputs(run.problem, solution, settings, staged, run.scene.name, jobs=jobs, progress=progress)
+        solved, options = redrawn(run, render_overrides, jobs)
+        rendered = render_outputs(solved, options, staged, progress=progress)
     return {kind: folder / path.name for kind, path in rendered.items()}
+
+
+def redrawn(run: FinishedRun, overrides: RenderOverrides | None, jobs: int | None) -> tuple[SolvedRun, OutputOptions]:
+    """A finished run as a solved run at the command's fps, and the options to draw it again."""
+    solved = solved_run(run.scene, run.problem, run.solution, output_fps(run.scene, overrides))
+    return solved, OutputOptions(settings_of(run.scene, overrides), jobs=jobs)
 
 
 def _check_resampled_frames(trajectory, fps: float) -> None:
@@ -261,8 +291,8 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
 
     def page(folder: Path):
         run = load_run(folder)
-        return lambda path: write_viewer(run.problem, run.solution.trajectory, run.solution.goals,
-                                         settings_of(run.scene, None), path, title=run.scene.name)
+        solved = solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps)  # at its own rate
+        return lambda path: write_viewer(solved, OutputOptions(settings_of(run.scene, None)), path)
 
     return write_run_file(folder, VIEWER_FILE, out, page, replace_problem)
 
@@ -319,36 +349,26 @@ def settings_of(scene: LoadedScene, overrides: RenderOverrides | None) -> Render
     return (overrides or RenderOverrides()).apply(render_settings(scene.model))
 
 
-def render_outputs(
-    problem: Problem,
-    solution: Solution,
-    settings: RenderSettings,
-    folder: Path,
-    title: str,
-    *,
-    jobs: int | None = None,
-    progress: Progress | None = None,
-) -> dict[str, Path]:
-    """Render the video, plot.png and poster.png of a solved run into ``folder``."""
-    from armanim.render.plot import plot_run
-    from armanim.render.poster import render_poster
-    from armanim.render.video import render_video
+def output_fps(scene: LoadedScene, overrides: RenderOverrides | None) -> float:
+    """The rate of a run's frames: the command's ``--fps``, else the scene's ``render.fps``.
 
-    traj = solution.trajectory
-    video_path = folder / f"animation.{settings.format}"
-    total = traj.frames
-    render_video(
-        problem,
-        traj,
-        solution.goals,
-        settings,
-        video_path,
-        title=title,
-        jobs=jobs,
-        progress=(lambda done: progress("render", done, total)) if progress else None,
-    )
+    The one place it is chosen; :func:`solved_run` puts the run at it, and every writer reads
+    it from the run (the motion itself is always solved at the scene's own rate).
+    """
+    return overrides.fps if overrides is not None and overrides.fps is not None else scene.model.render.fps
+
+
+def render_outputs(run: SolvedRun, options: OutputOptions, folder: Path, *, progress: Progress | None = None) -> dict[str, Path]:
+    """Render the video, plot.png and poster.png of a solved run into ``folder``."""
+    from armanim.render.pictures.plot import plot_run
+    from armanim.render.pictures.poster import render_poster
+    from armanim.render.video.movie import render_video
+
+    video_path = folder / f"animation.{options.render.format}"
+    total = run.trajectory.frames
+    render_video(run, options, video_path, progress=(lambda done: progress("render", done, total)) if progress else None)
     plot_path = folder / "plot.png"
-    plot_run(problem, traj, solution.goals, plot_path, title=title)
+    plot_run(run, options, plot_path)
     poster_path = folder / "poster.png"
-    render_poster(problem, traj, solution.goals, settings, poster_path, title=title)
+    render_poster(run, options, poster_path)
     return {"video": video_path, "plot": plot_path, "poster": poster_path}

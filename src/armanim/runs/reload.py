@@ -54,8 +54,9 @@ def _reports(summary: dict, summary_path: Path) -> tuple[GoalReport, ...]:
 
 
 def _run_fps(summary: dict, scene: LoadedScene) -> float:
-    """The fps the run was solved at (``run --fps`` may differ from the scene's); the
-    scene's when the summary's is not one a scene could have (the render model judges)."""
+    """The rate of the run's frames, as summary.json records it (``run --fps`` may differ from
+    the scene's, at which the motion was solved); the scene's when the summary's is not one a
+    scene could have (the render model judges)."""
     try:
         return RenderModel.model_validate({"fps": summary.get("fps")}).fps
     except ValidationError:

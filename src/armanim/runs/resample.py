@@ -9,7 +9,8 @@ clearance, the arm's own closest pair and the tool's orientation are computed fo
 the joints' velocities interpolated as the poses are. Goal reports keep their
 results, with their first and last frames counted in the new frames.
 
-This only draws a run again: solving at another rate is ``run --fps``.
+This only draws a run again; ``run --fps`` solves the scene anew (always at its own
+``render.fps``) and puts that motion on the clock at the other rate.
 """
 
 from __future__ import annotations

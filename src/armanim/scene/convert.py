@@ -23,10 +23,10 @@ from armanim.motion.problem import (
     Limits,
     Problem,
     RateLimits,
-    RenderSettings,
     SolverSettings,
     link_arm_rates,
 )
+from armanim.render.settings import RenderSettings
 from armanim.scene.models import (
     LINKS_WIDTH,
     RATE_FIELDS,
@@ -263,7 +263,8 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     fps : float, optional
         Frames per second of the frames the problem describes, when they are not the
         scene's own (a finished run shown at ``run --fps``). The motion is always solved at
-        ``render.fps`` and sampled at another rate (:func:`armanim.motion.resample.resample`).
+        ``render.fps``, then put on the clock at the output rate (:func:`armanim.motion.retime.retime`)
+        or, for a finished run, resampled (:func:`armanim.runs.resample.resample_run`).
 
     Returns
     -------
@@ -396,7 +397,6 @@ def render_settings(scene: SceneModel) -> RenderSettings:
 def render_section_settings(r: RenderModel) -> RenderSettings:
     """A ``render`` section as plain settings (camera angles None where the section leaves them out)."""
     return RenderSettings(
-        fps=r.fps,
         size=(int(r.size[0]), int(r.size[1])),
         elevation=r.view.elevation if "elevation" in r.view.model_fields_set else None,
         azimuth=r.view.azimuth if "azimuth" in r.view.model_fields_set else None,
@@ -420,8 +420,8 @@ def default_solver_settings(**changes) -> SolverSettings:
 def default_render_settings(**changes) -> RenderSettings:
     """The render settings of a scene that leaves ``render`` out, with ``changes`` applied.
 
-    >>> default_render_settings(size=(320, 240)).fps
-    30.0
+    >>> default_render_settings(size=(320, 240)).size
+    (320, 240)
     """
     return replace(render_section_settings(RenderModel()), **changes)
 

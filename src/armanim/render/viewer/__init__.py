@@ -10,25 +10,27 @@ docs/viewer.md describes the page, its controls, its API (``window.armanim``) an
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from armanim.output.solved import SolvedRun
+    from armanim.render.settings import OutputOptions
 
 VIEWER_FILE = "viewer.html"
 """The page's name in a run folder."""
 
 
-def write_viewer(problem, trajectory, reports: Sequence, settings, path: str | Path, *, title: str) -> Path:
+def write_viewer(run: SolvedRun, options: OutputOptions, path: str | Path) -> Path:
     """Write the viewer page of a solved run to ``path`` (atomically) and return the path.
 
     Parameters
     ----------
-    problem : Problem
-    trajectory : Trajectory
-    reports : sequence of GoalReport
-    settings : RenderSettings
-        The video's camera angles, bounds and trail.
+    run : SolvedRun
+        The run; its name is shown on the page (any text: it is escaped).
+    options : OutputOptions
+        ``render``: the video's camera angles, bounds and trail.
     path : file to write (a temporary file beside it is moved into place)
-    title : shown on the page (any text: it is escaped)
 
     Raises
     ------
@@ -40,7 +42,8 @@ def write_viewer(problem, trajectory, reports: Sequence, settings, path: str | P
     from armanim.render.viewer.page import viewer_html
 
     path = Path(path)
-    write_text_atomic(path, viewer_html(viewer_data(problem, trajectory, reports, settings, title=title)))
+    data = viewer_data(run.problem, run.trajectory, run.reports, options.render, title=run.name)
+    write_text_atomic(path, viewer_html(data))
     return path
 
 

@@ -2,7 +2,7 @@
 
 Joint positions come from armanim's own forward kinematics (:func:`armanim.arm.kinematics.forward`),
 so the page never computes a pose; the caption's activity per frame comes from
-:func:`armanim.render.caption.frame_activity`, as in the video. The format is documented
+:func:`armanim.render.overlay.caption.frame_activity`, as in the video. The format is documented
 in docs/viewer.md ("The data format"); :data:`FORMAT` names its version.
 """
 
@@ -16,13 +16,14 @@ from armanim import __version__
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import forward
 from armanim.motion.orientation import frame_orientations
-from armanim.motion.problem import Problem, RenderSettings
+from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
-from armanim.render import scenery, style
-from armanim.render.camera import planar_normal, view_angles
-from armanim.render.caption import frame_activity
-from armanim.render.framing import scene_content
-from armanim.render.triads import TRIAD_PER_REACH, has_orientations
+from armanim.render.camera.framing import scene_content
+from armanim.render.camera.projection import planar_normal, view_angles
+from armanim.render.overlay.caption import frame_activity
+from armanim.render.overlay.triads import TRIAD_PER_REACH, has_orientations
+from armanim.render.paint import scenery, style
+from armanim.render.settings import RenderSettings
 from armanim.world.obstacles import BOX, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"
@@ -63,7 +64,7 @@ def hex_color(rgb) -> str:
 
 
 def page_style() -> dict:
-    """The video's colours and sizes (:mod:`armanim.render.style`), for the page to draw with."""
+    """The video's colours and sizes (:mod:`armanim.render.paint.style`), for the page to draw with."""
     return {
         "background": hex_color(style.BACKGROUND),
         "floor": hex_color(style.FLOOR_COLOR),
@@ -204,15 +205,9 @@ def viewer_data(
     """
     n = problem.arm.n
     pose = forward(problem.arm, trajectory.phi)  # the one kinematics
-    points = pose.points  # (F, n+1, 3)
-    starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
-    view = view_settings(problem, settings, points)
-    size = float(np.max(np.subtract(view["box"][1], view["box"][0])))
-    decimals = position_decimals(size)
+    view = view_settings(problem, settings, pose.points)
+    decimals = position_decimals(float(np.max(np.subtract(view["box"][1], view["box"][0]))))
     names, codes = activity_codes(trajectory, reports)
-    clearance = np.asarray(trajectory.clearance, dtype=float)
-    finite = np.isfinite(clearance)
-    obstacles = problem.obstacles
     data = {
         "format": FORMAT,
         "armanim": __version__,
@@ -226,7 +221,29 @@ def viewer_data(
             "half_width": float(problem.half_width),
             "base": [float(v) for v in problem.arm.base],
         },
-        "points": rounded(points, decimals),
+        **frame_entries(problem, trajectory, pose, decimals),
+        "activities": names,
+        "activity": codes,
+        "goals": goal_entries(problem, reports),
+        "obstacles": sphere_entries(problem.obstacles),
+        **shape_entries(problem.obstacles),
+        "view": view,
+        "style": page_style(),
+    }
+    oriented = orientation_entry(problem, trajectory, decimals)
+    if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
+        data["orientation"] = oriented
+    return data
+
+
+def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int) -> dict:
+    """What changes frame by frame: the joints' positions (``pose.points``, (F, n+1, 3)), the
+    capsules' ends, the angles, the goal, its distance, the clearance and ``reached``."""
+    starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
+    clearance = np.asarray(trajectory.clearance, dtype=float)
+    finite = np.isfinite(clearance)
+    return {
+        "points": rounded(pose.points, decimals),
         "capsules": {
             "radius": [float(r) for r in problem.capsules.radius],
             "ends": rounded(np.stack([starts, ends], axis=2), decimals),
@@ -237,21 +254,15 @@ def viewer_data(
         "distance": rounded(trajectory.distance, decimals),
         "clearance": [v if ok else None for v, ok in zip(rounded(np.where(finite, clearance, 0.0), decimals), finite)],
         "reached": [int(bool(r)) for r in trajectory.reached],
-        "activities": names,
-        "activity": codes,
-        "goals": goal_entries(problem, reports),
-        "obstacles": [
-            {"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}
-            for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)])
-        ],
-        **shape_entries(obstacles),
-        "view": view,
-        "style": page_style(),
     }
-    oriented = orientation_entry(problem, trajectory, decimals)
-    if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
-        data["orientation"] = oriented
-    return data
+
+
+def sphere_entries(obstacles) -> list[dict]:
+    """The sphere obstacles: centre, radius and influence."""
+    return [
+        {"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}
+        for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)])
+    ]
 
 
 def shape_entries(obstacles) -> dict:
@@ -280,7 +291,7 @@ def near_entries(problem: Problem, pose) -> dict:
     pairs = problem.self_pairs
     if not len(pairs):
         return {}
-    from armanim.render.solids import NEAR_FACTOR
+    from armanim.render.solids.arm import NEAR_FACTOR
     from armanim.world.selfdistances import self_gaps
 
     close = self_gaps(pose, problem.capsules, pairs).d < NEAR_FACTOR * pairs.clearance  # (F, P)

@@ -1,0 +1,61 @@
+"""A solved run: the one value every writer of a run reads.
+
+Made once per run by :func:`armanim.runs.pipeline.solved_run` (a fresh solve, or a finished
+run read back for another fps); trajectory.csv, summary.json, the viewer page, the video, the
+plot and the poster are each written from it, as ``writer(run, ..., path)``.
+
+It lives here, in the lowest room that writes it (output/ writes the CSV and the summary, and
+render/ above it draws the pictures), and not in motion/: besides the problem and its solution
+it carries the scene's name and the identity of its file, which the pure core never sees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from armanim.motion.problem import Problem
+from armanim.motion.solution import GoalReport, Solution, Trajectory
+
+
+@dataclass(frozen=True)
+class SolvedRun:
+    """A scene solved and put on the clock at its output rate.
+
+    Attributes
+    ----------
+    name : str
+        The scene's name: its run folder and the pictures' title.
+    problem : Problem
+        The problem at the output rate: ``problem.fps`` is the rate of the trajectory's frames.
+    solution : Solution
+        The trajectory (F frames at ``problem.fps``) and one report per goal.
+    scene_file : str
+        The scene file's name, as summary.json records it.
+    sha256 : str
+        Of the scene file's bytes.
+    rate_notes : tuple of str
+        The scene's joint rate limits above the robot's own
+        (:func:`armanim.scene.checks.rate_note_lines`), for summary.json.
+    """
+
+    name: str
+    problem: Problem
+    solution: Solution
+    scene_file: str = ""
+    sha256: str = ""
+    rate_notes: tuple[str, ...] = ()
+
+    @property
+    def trajectory(self) -> Trajectory:
+        """The frames of the run."""
+        return self.solution.trajectory
+
+    @property
+    def reports(self) -> tuple[GoalReport, ...]:
+        """One report per goal: reached or missed, its frames."""
+        return self.solution.goals
+
+    @property
+    def fps(self) -> float:
+        """Frames per second of the trajectory: the one rate of everything written from the run."""
+        return self.solution.trajectory.fps

@@ -1,0 +1,284 @@
+"""Where a batch's scenes run: in this process, a pool of local worker processes, or Dask.
+
+Every executor has ``map(work, tasks, *args)``, which calls ``work(task, *args)`` for
+each task (``work`` is pickled to the workers: a module-level function; a task has a
+``name``) and yields ``(task, result, None)``, or ``(task, None, exception)`` for a
+call that raised, as the tasks finish.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import socket
+import tempfile
+import threading
+import time
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+from urllib.parse import urlsplit
+
+from armanim.errors import UsageError
+from armanim.procs.deferred import interrupts_deferred
+from armanim.procs.interrupted import signal_came
+from armanim.procs.workers import init_worker, signals_blocked, temp_prefix
+
+CONNECT_SECONDS = 10.0
+"""How long a Dask scheduler may take to answer, from the connection to the handshake."""
+_BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+_PRELOAD = ["armanim.procs.forkserver_signals"]  # first: it blocks the signals the workers start with
+_SOCKET_PATH_BYTES = 107  # AF_UNIX: sun_path holds 108 bytes with its final NUL
+_SOCKET_NAME_BYTES = 40  # what multiprocessing adds to TMPDIR: /pymp-XXXXXXXX/listener-XXXXXXXX
+_SHORT_TEMP_DIRS = ("/tmp", "/var/tmp", "/dev/shm")
+
+
+@contextlib.contextmanager
+def _one_blas_thread():
+    """Workers started meanwhile use one BLAS thread each: the pool already fills every
+    core, and BLAS threads on top only contend (as Dask's nanny also sets)."""
+    saved = {name: os.environ.get(name) for name in _BLAS_THREADS}
+    for name in _BLAS_THREADS:
+        os.environ.setdefault(name, "1")
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
+def _worker_context(preload: Sequence[str] = ()):
+    """forkserver with the workers' heavy imports (``preload``, module names) loaded once (each
+    worker is then a cheap fork of an importer that runs no threads); spawn where forkserver
+    is missing."""
+    import multiprocessing
+
+    try:
+        context = multiprocessing.get_context("forkserver")
+    except ValueError:
+        return multiprocessing.get_context("spawn")
+    _socket_dir_short_enough()
+    context.set_forkserver_preload([*_PRELOAD, *preload])
+    return context
+
+
+def _socket_dir_short_enough() -> None:
+    """Make multiprocessing's folder (where the forkserver's socket goes) under a short system
+    folder when TMPDIR is too long for a socket path, as Python 3.13 does; otherwise every
+    pool fails with "AF_UNIX path too long". The folder is removed at exit as before."""
+    from multiprocessing import util
+
+    if len(os.fsencode(tempfile.gettempdir())) + _SOCKET_NAME_BYTES <= _SOCKET_PATH_BYTES:
+        return
+    short = next((d for d in _SHORT_TEMP_DIRS if os.path.isdir(d) and os.access(d, os.W_OK | os.X_OK)), None)
+    if short is None:
+        return  # nowhere shorter: the pool reports the error as before
+    saved, tempfile.tempdir = tempfile.tempdir, short
+    try:
+        util.get_temp_dir()  # made once per process and kept: later sockets go there too
+    finally:
+        tempfile.tempdir = saved
+
+
+class _LocalExecutor:
+    """Scenes in this process (jobs=1) or in a pool of worker processes, whose forkserver
+    imports ``preload`` (module names) once."""
+
+    def __init__(self, jobs: int, preload: Sequence[str] = ()):
+        self.jobs = jobs
+        self.preload = tuple(preload)
+
+    def map(self, work, tasks, *args):
+        """``(task, work(task, *args), None)`` or ``(task, None, exception)`` per task, as each ends."""
+        if self.jobs <= 1 or len(tasks) <= 1:
+            for task in tasks:
+                try:
+                    yield task, work(task, *args), None
+                except Exception as exc:  # reported per scene; the batch goes on
+                    if signal_came():  # a Ctrl-C a library turned into its own error: the batch stops
+                        raise
+                    yield task, None, exc
+            return
+        pool = None
+        try:
+            # the pool's processes (and the forkserver, the first time) start with SIGINT and SIGTERM
+            # blocked, until init_worker has put its handlers in place, and a Ctrl-C meanwhile is
+            # raised only once every started worker is in the pool's list: no traceback from a
+            # preload or an initializer, and no worker left running, whatever moment it comes
+            with _one_blas_thread(), signals_blocked():
+                pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(self.preload),
+                                           initializer=init_worker, initargs=(os.getpid(),))
+                futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
+            for future in as_completed(futures):
+                exc = future.exception()
+                yield futures[future], (None if exc else future.result()), exc
+        except BaseException:
+            if pool is not None:
+                with interrupts_deferred():  # a second Ctrl-C must not leave workers behind
+                    _stop_pool(pool)
+            raise
+        pool.shutdown(wait=True)
+
+
+def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
+    """Stop a pool at once: queued scenes are dropped, running ones get SIGTERM (a worker's
+    quiet exit: its ffmpeg is killed, its temporary folder removed); none is waited for to finish."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())  # the executor has no public way
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.terminate()
+    deadline = time.monotonic() + grace
+    for process in processes:
+        process.join(max(0.0, deadline - time.monotonic()))
+        if process.is_alive():
+            process.kill()
+            process.join(1.0)
+    remove_worker_folders()
+
+
+def remove_worker_folders() -> None:
+    """Remove the temporary folders this process's workers left (a worker killed outright)."""
+    with contextlib.suppress(OSError):
+        for folder in Path(tempfile.gettempdir()).glob(temp_prefix() + "*"):
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+class _DaskExecutor:
+    """Scenes on a Dask cluster: an existing scheduler address, or ``local``."""
+
+    def __init__(self, scheduler: str, jobs: int):
+        try:
+            from dask.distributed import Client, LocalCluster
+        except ImportError:
+            raise UsageError("--scheduler needs Dask, an optional extra: pip install -e '.[dask]'") from None
+        self._client_cls, self._cluster_cls = Client, LocalCluster
+        self.scheduler, self.jobs = scheduler, jobs
+
+    def map(self, work, tasks, *args):
+        """``(task, work(task, *args), None)`` or ``(task, None, exception)`` per task, as each ends."""
+        from dask.distributed import as_completed as dask_completed
+
+        cluster = None
+        if self.scheduler == "local":
+            cluster = self._cluster_cls(n_workers=self.jobs, threads_per_worker=1, processes=True, dashboard_address=None)
+            client = self._client_cls(cluster)
+        else:
+            client = connect_client(self._client_cls, self.scheduler)
+        try:
+            futures = {
+                client.submit(work, task, *args, retries=2, pure=False, key=f"armanim-{i}-{task.name}"): task
+                for i, task in enumerate(tasks)
+            }
+            for future in dask_completed(futures):
+                task = futures[future]
+                if future.status == "error":
+                    yield task, None, future.exception()
+                else:
+                    yield task, future.result(), None
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def connect_client(client_cls, address: str, seconds: float = CONNECT_SECONDS):
+    """A Dask ``Client`` of the scheduler at ``address``, or a UsageError within ``seconds``.
+
+    ``Client(timeout=...)`` bounds the connection but not the handshake: a server that
+    accepts and never answers would keep it waiting without end. So the client is made
+    on a thread that is given up after the deadline (it is a daemon: it cannot hold the exit).
+    A refused port is reported at once: the port is asked first (see ``_refuse_if_nothing_listens``),
+    and the time that takes counts against the same ``seconds``.
+
+    Raises
+    ------
+    UsageError
+        Not an address, not reachable, or no answer within ``seconds`` (exit 2).
+    """
+    deadline = time.monotonic() + seconds
+    _refuse_if_nothing_listens(address, seconds)
+    left = max(deadline - time.monotonic(), 0.01)
+    outcome: dict = {}
+
+    def attempt() -> None:
+        try:
+            outcome["client"] = client_cls(address, timeout=f"{left}s")
+        except Exception as exc:  # noqa: BLE001  (reported below, in the caller's thread)
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=attempt, name="armanim-dask-connect", daemon=True)
+    thread.start()
+    thread.join(left + 1.0)
+    error = outcome.get("error")
+    if "client" in outcome:
+        return outcome["client"]
+    if isinstance(error, ValueError):  # Dask's word for an address it cannot parse
+        raise UsageError(f"--scheduler: {address!r} is not a scheduler address ({error}; expected tcp://HOST:PORT or local)")
+    if error is not None:
+        raise _unreachable(address, str(error))
+    raise _no_answer(address, seconds)
+
+
+def _tcp_endpoint(address: str) -> tuple[str, int] | None:
+    """The host and port a ``tcp://`` or ``tls://`` scheduler address names, or None
+    where it names none plainly (another scheme, no port): Dask then judges it alone.
+
+    >>> _tcp_endpoint("tcp://10.0.0.5:8786"), _tcp_endpoint("[::1]:8786"), _tcp_endpoint("ucx://h:1")
+    (('10.0.0.5', 8786), ('::1', 8786), None)
+    >>> _tcp_endpoint("tcp://[::1"), _tcp_endpoint("tcp://h:99999"), _tcp_endpoint("garbage")
+    (None, None, None)
+    """
+    try:
+        parts = urlsplit(address if "://" in address else f"tcp://{address}")
+        port = parts.port
+    except ValueError:
+        return None
+    if parts.scheme not in ("tcp", "tls") or not parts.hostname or port is None:
+        return None
+    return parts.hostname, port
+
+
+def _refuse_if_nothing_listens(address: str, seconds: float) -> None:
+    """Raise at once where the scheduler's host refuses the connection: Dask's client
+    would retry a refused port until its whole timeout has passed and then call it a timeout.
+
+    Raises
+    ------
+    UsageError
+        The port is closed, or the host has no address (exit 2).
+    """
+    endpoint = _tcp_endpoint(address)
+    if endpoint is None:
+        return
+    try:
+        socket.create_connection(endpoint, timeout=seconds).close()
+    except ConnectionRefusedError:
+        raise _unreachable(address, f"connection refused: nothing listens on port {endpoint[1]} there; start one "
+                           "with `dask scheduler`, or check the address and port") from None
+    except socket.gaierror as exc:
+        raise _unreachable(address, f"no such host {endpoint[0]!r}: {exc.strerror}") from None
+    except TimeoutError:
+        raise _no_answer(address, seconds) from None
+    except OSError:
+        return  # an unreachable network, say: Dask's own attempt reports it in its words
+
+
+def _unreachable(address: str, why: str) -> UsageError:
+    return UsageError(f"--scheduler: cannot reach the Dask scheduler at {address} ({why})")
+
+
+def _no_answer(address: str, seconds: float) -> UsageError:
+    return UsageError(f"--scheduler: the Dask scheduler at {address} did not answer within {seconds:g} s "
+                      "(is a Dask scheduler running there? check the address and port)")
+
+
+def executor_for(jobs: int, scheduler: str | None, preload: Sequence[str] = ()):
+    """The local pool (its forkserver importing ``preload``, the workers' heavy modules, once),
+    or Dask when a scheduler is named (argument or ARMANIM_SCHEDULER)."""
+    scheduler = scheduler or os.environ.get("ARMANIM_SCHEDULER") or None
+    return _DaskExecutor(scheduler, jobs) if scheduler else _LocalExecutor(jobs, preload)

@@ -1,0 +1,376 @@
+"""Draw frames of an arm scene: a matplotlib Figure on the Agg canvas, no pyplot, no 3-D axes.
+
+The scene is projected by armanim's own camera (:mod:`armanim.render.camera.projection`, orthographic;
+:mod:`armanim.render.camera.framing` fits it into the frame) and drawn with 2-D artists in pixel
+coordinates. What never changes is drawn once and kept as a pixel background
+(:mod:`armanim.render.pictures.backdrop`): the floor (a light grid under the scene, at the scene's
+``floor`` when it has one) with the soft shadows of the obstacles and the base, the obstacles
+themselves (far first: sphere sprites, boxes and capsules as shaded solids,
+:mod:`armanim.render.solids.shapes`), their influence shells, the world axes in a corner, the title and the legend. Each frame
+restores that background and draws what moves, straight into the Agg buffer:
+
+1. the arm's soft shadow on the floor, and the tip's trail (hidden where it runs
+   behind a sphere);
+2. the solid parts (:mod:`armanim.render.solids.arm`) in painter's order (link prisms,
+   joints, base, and the spheres the arm or its shadow overlaps on screen this frame;
+   see :mod:`armanim.render.solids.order`). Spheres are exact orthographic discs shaded per
+   pixel once (sprites, :mod:`armanim.render.solids.spheres`), then alpha-composited in their
+   place in the order; the other spheres stay in the background, so a scene with a
+   thousand obstacles costs little more per frame;
+3. the trail again where it passes in front of a sphere;
+4. the numbered goal markers (:mod:`armanim.render.overlay.markers`; a goal behind a sphere is
+   drawn through it, dimmed and open) and the caption (:mod:`armanim.render.overlay.glyphs`).
+
+When a goal has an orientation, the tool's RGB triad is drawn at the tip every frame and each
+oriented goal's faint triad (a blue arrow for a tool-axis goal) with the background
+(:mod:`armanim.render.overlay.triads`).
+
+:func:`armanim.render.pictures.pose.render_pose_png` draws one pose this way (``armanim fk --png``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from matplotlib.collections import LineCollection, PolyCollection
+from matplotlib.lines import Line2D
+from matplotlib.transforms import IdentityTransform
+
+from armanim.arm.capsules import capsule_ends
+from armanim.arm.kinematics import Pose, tool_rotation
+from armanim.motion.problem import Problem
+from armanim.render.camera.bounds import goal_points
+from armanim.render.camera.framing import frame_scene
+from armanim.render.camera.projection import camera_rotation, view_angles
+from armanim.render.overlay.glyphs import GlyphAtlas
+from armanim.render.overlay.markers import GoalMarkers
+from armanim.render.overlay.triads import (
+    GOAL_ALPHA,
+    TRIAD_PER_REACH,
+    arrow_heads,
+    frame_segments,
+    goal_segments,
+    has_orientations,
+    screen_lines,
+)
+from armanim.render.paint import scenery
+from armanim.render.paint.pixels import in_pixels, make_figure
+from armanim.render.paint.style import (
+    BASE_SCALE,
+    FACE_EDGE_PX,
+    FONT,
+    RING_POINTS,
+    SHADOW_COLOR,
+    TEXT_COLOR,
+    TRAIL_COLOR,
+)
+from armanim.render.pictures import backdrop
+from armanim.render.settings import RenderSettings
+from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
+from armanim.render.solids.obstacle_order import ObstacleOrder
+from armanim.render.solids.order import paint_order
+from armanim.render.solids.shapes import ShapeSolids
+from armanim.render.solids.spheres import SphereDiscs
+
+CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
+
+
+@dataclass(frozen=True)
+class FrameState:
+    """What one frame shows, beyond the static scene.
+
+    Attributes
+    ----------
+    pose : Pose
+        Joint points (n+1, 3) and frames (n, 3, 3) of a single pose.
+    trail_end : int
+        Number of trail points shown (the tips of frames 0 .. trail_end-1); 0 for none.
+    goal_status : (N,) int array
+        One of PENDING, CURRENT, REACHED, MISSED per goal.
+    caption : str
+        The dynamic caption line (time, goal, distance, state).
+    ghosts : tuple of Pose
+        Poses drawn faintly (a poster's strobe), in the same painter's order.
+    """
+
+    pose: Pose
+    trail_end: int
+    goal_status: np.ndarray
+    caption: str
+    ghosts: tuple = field(default=())
+
+
+class SceneCanvas:
+    """A scene drawn once, ready to draw frames fast.
+
+    Parameters
+    ----------
+    problem : Problem
+    settings : RenderSettings
+        Size, view, bounds and trail.
+    title : str
+        Shown top left on every frame.
+    tips : (F, 3) array, optional
+        The tip of every frame, for the trail.
+    extent : (..., 3) array, optional
+        Every joint position the pictures will show: ``render.bounds: auto`` fits them.
+    picture : {"video", "pose", "poster"}
+        What is drawn: the legend lists only what it shows (a pose: no states, no
+        path; a poster: final states, the path and the faint poses on each goal).
+    caption_template : str
+        The longest caption the frames will show: the caption's box is sized for it.
+    outcomes : set of str
+        The goal outcomes the pictures show (``"reached"``, ``"missed"``): only those are in
+        the legend.
+    """
+
+    def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
+                 tips: np.ndarray | None = None, extent: np.ndarray | None = None, picture: str = "video",
+                 caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"})):
+        self.problem = problem
+        self.width, self.height = (int(v) for v in settings.size)
+        self.layout = scenery.frame_layout(self.width, self.height)
+        self.fig, self.canvas = make_figure(self.width, self.height, self.layout.dpi)
+        self.pt = 72.0 / self.fig.dpi  # points per pixel
+        self.renderer = self.canvas.get_renderer()
+        elevation, azimuth = view_angles(problem.arm, settings.elevation, settings.azimuth)
+        self.rotation = camera_rotation(elevation, azimuth)
+        framing = frame_scene(problem, settings, extent, self.rotation, elevation, self.layout)
+        self.view, self.ppu, self.floor = framing.view, framing.ppu, framing.floor
+        self.arm = ArmSolids(problem.arm, problem.capsules, problem.half_width, self.view, self.ppu)
+        self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
+        obstacles = problem.obstacles
+        self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if len(obstacles.boxes) + len(obstacles.rods) else None
+        self.obstacle_order = ObstacleOrder(self.spheres, self.shapes, self.view) if self.shapes is not None else None
+        goals = self.view.project(goal_points(problem))
+        self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height))
+        self.triads = has_orientations(problem.goals)
+        self.triad_length = TRIAD_PER_REACH * problem.arm.reach
+        self._prepare_trail(tips if settings.trail else None)
+        self._make_artists()
+        solids = len(obstacles.radii) + len(obstacles.boxes) + len(obstacles.rods)  # the floor is no red solid
+        legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids),
+                                         outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
+                                         hidden_by="a sphere" if self.shapes is None else "an obstacle",
+                                         goals=bool(len(problem.goals)))
+        self._draw_background(title, legend, caption_template)
+        self.scratch = self._scratch_canvas()
+        self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
+
+    # ----- drawn once -----------------------------------------------------------------
+
+    def _prepare_trail(self, tips: np.ndarray | None) -> None:
+        """The tip's path on screen: where it runs behind a sphere and where in front of one."""
+        if tips is None or len(tips) == 0:
+            self.trail_xy = np.zeros((0, 2))
+            self.trail_front_xy = np.zeros((0, 2))
+            return
+        screen = self.view.project(np.asarray(tips, dtype=float))
+        self.trail_xy = np.where(self._behind(screen)[:, None], np.nan, screen[:, :2])
+        front = self.spheres.in_front(screen)
+        if self.shapes is not None:
+            front = front | self.shapes.in_front(screen)
+        self.trail_front_xy = np.where(front[:, None], screen[:, :2], np.nan)
+
+    def _behind(self, screen: np.ndarray) -> np.ndarray:
+        """(P,) bool: screen points (P, 3) hidden by an obstacle (a sphere, a box, a capsule)."""
+        hidden = self.spheres.behind(screen)
+        return hidden | self.shapes.behind(screen) if self.shapes is not None else hidden
+
+    def _make_artists(self) -> None:
+        """The artists every frame draws again with new data."""
+        self.faces = in_pixels(PolyCollection([], linewidths=FACE_EDGE_PX * self.pt, antialiased=True), self.fig)
+        self.faces.set_offset_transform(IdentityTransform())
+        self.shadow = in_pixels(LineCollection([], color=SHADOW_COLOR, capstyle="round"), self.fig)
+        self.trail = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, solid_capstyle="round", alpha=0.95),
+                               self.fig)
+        self.trail_front = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, alpha=0.95), self.fig)
+
+    def _draw_background(self, title: str, legend: list, caption_template: str) -> None:
+        """Draw what never changes and keep it as the pixel background of every frame."""
+        self.renderer.clear()
+        self.fig.draw(self.renderer)  # the white figure
+        sheet = backdrop.Sheet(self.fig, self.renderer)
+        if self.floor is not None:
+            backdrop.draw_floor(sheet, self.view, self.floor, self._floor_shadows())
+        backdrop.draw_shells(sheet, self.spheres.shells() + (self.shapes.shells() if self.shapes is not None else []))
+        if self.shapes is None:
+            self.spheres.composite(np.asarray(self.canvas.buffer_rgba()), self.spheres.order)
+        else:
+            self._draw_obstacles(self.obstacle_order.order)
+        if self.triads:
+            self._draw_goal_triads(sheet)
+        backdrop.draw_gizmo(sheet, self.layout, self.rotation)
+        backdrop.draw_title(sheet, self.layout, title)
+        backdrop.draw_legend(sheet, self.layout, legend)
+        backdrop.draw_caption_box(sheet, self.layout, caption_template)
+        gap = 0.45 * RING_POINTS / self.pt  # clear of the current goal's ring
+        sheet.text_boxes.update(self.goals.place_labels(self.renderer, gap, list(sheet.text_boxes.values()),
+                                                        self.layout.scene))
+        self.text_boxes = sheet.text_boxes
+        self.background = self.canvas.copy_from_bbox(self.fig.bbox)
+
+    def _draw_goal_triads(self, sheet) -> None:
+        """Each oriented goal's faint triad, or its tool axis as one arrow."""
+        segments, colors = goal_segments(self.problem.goals, self.triad_length)
+        sheet.draw(screen_lines(self.view, segments, colors, GOAL_ALPHA, 1.6))
+        arrows = [k for k, g in enumerate(_segment_goals(self.problem.goals)) if g.orientation.axis is not None]
+        if arrows:
+            sheet.draw(arrow_heads(self.view, segments[arrows], [colors[k] for k in arrows], GOAL_ALPHA, 7.0))
+
+    def _draw_tool_triad(self, pose: Pose) -> None:
+        """The tool frame's RGB axes at the tip."""
+        segments, colors = frame_segments(pose.tip, tool_rotation(self.problem.arm, pose), self.triad_length)
+        lines = in_pixels(screen_lines(self.view, segments, colors, 1.0, 2.2), self.fig)
+        lines.set_offset_transform(IdentityTransform())
+        lines.draw(self.renderer)
+
+    def _floor_shadows(self) -> list[np.ndarray]:
+        """Rings on the floor under the base and under every sphere (light straight overhead)."""
+        z, obstacles = self.floor.z, self.problem.obstacles
+        base = scenery.floor_circle(self.problem.arm.stand, BASE_SCALE * self.problem.half_width * 1.1, z)
+        rings = [base] + [scenery.floor_circle(c, r, z) for c, r in zip(obstacles.centers, obstacles.radii)]
+        return rings + (self.shapes.floor_shadows(z) if self.shapes is not None else [])
+
+    def _scratch_canvas(self):
+        """A small canvas of the same dpi to draw sprites on (clearing the whole frame
+        for each of hundreds of sprites was slow at large sizes)."""
+        extent = RING_POINTS / self.pt + self.goals.largest_label(self.renderer)
+        side = int(np.ceil(2 * extent + 3 * FONT["caption"] / self.pt)) + 8
+        return make_figure(side, side, self.fig.dpi)[1]
+
+    # ----- per frame ------------------------------------------------------------------
+
+    def draw(self, state: FrameState) -> np.ndarray:
+        """Draw one frame and return the canvas buffer.
+
+        Parameters
+        ----------
+        state : FrameState
+
+        Returns
+        -------
+        (height, width, 4) uint8 array
+            RGBA, rows top to bottom. It is the live Agg buffer: consume it (encode
+            or copy) before the next call.
+        """
+        self.canvas.restore_region(self.background)
+        renderer = self.renderer
+        shadow = self._draw_shadow(state.pose)
+        if state.trail_end > 1:
+            self.trail.set_data(self.trail_xy[: state.trail_end].T)
+            self.trail.draw(renderer)
+        touched = self._draw_solids(state, shadow)
+        if state.trail_end > 1 and touched:
+            self.trail_front.set_data(self.trail_front_xy[: state.trail_end].T)
+            self.trail_front.draw(renderer)
+        if self.triads:
+            self._draw_tool_triad(state.pose)
+        self.goals.draw(np.asarray(self.canvas.buffer_rgba()), state.goal_status, self.scratch)
+        self.glyphs.stamp(np.asarray(self.canvas.buffer_rgba()), state.caption, *self.layout.caption_xy)
+        return np.asarray(self.canvas.buffer_rgba())
+
+    def _draw_shadow(self, pose: Pose) -> np.ndarray | None:
+        """The arm's soft shadow on the floor; returns its screen box (x0, y0, x1, y1)."""
+        if self.floor is None:
+            return None
+        caps = self.problem.capsules
+        a, b = (self.view.project(scenery.on_floor(end, self.floor.z))[:, :2] for end in capsule_ends(caps, pose))
+        segments = np.stack([a, b], axis=1)
+        width = 2 * caps.radius * self.ppu * self.pt
+        self.shadow.set_segments(segments)
+        for scale, alpha in ((1.7, 0.06), (1.0, 0.10)):
+            self.shadow.set_linewidth(width * scale)
+            self.shadow.set_alpha(alpha)
+            self.shadow.draw(self.renderer)
+        pad = float(width.max()) / self.pt
+        drop = np.vstack([a, b])
+        return np.concatenate([drop.min(axis=0) - pad, drop.max(axis=0) + pad])
+
+    def _draw_solids(self, state: FrameState, shadow) -> bool:
+        """The poster's faint poses, then the arm, each with the spheres it overlaps, in
+        painter's order (so faint poses never cover the arm). Returns whether any sphere
+        was redrawn."""
+        touched = False
+        for ghost in state.ghosts:
+            touched |= self._draw_parts(self.arm.parts(ghost, ghost=True), None)
+        return self._draw_parts(self.arm.parts(state.pose, near=near_capsules(self.problem, state.pose)), shadow) or touched
+
+    def _draw_parts(self, parts: list[Part], shadow) -> bool:
+        """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""
+        allpts = np.concatenate([p.samples[:, :2] for p in parts])
+        widest = max(p.radius for p in parts)
+        arm_box = np.concatenate([allpts.min(axis=0) - widest, allpts.max(axis=0) + widest])
+        if self.shapes is not None:
+            return self._draw_parts_among_shapes(parts, [arm_box, shadow])
+        spheres = self.spheres.touched([arm_box, shadow])
+        samples = [p.samples for p in parts] + [point_samples(self.spheres.centers[i]) for i in spheres]
+        radii = [p.radius for p in parts] + [self.spheres.radii[i] for i in spheres]
+        polys: list[np.ndarray] = []
+        colors: list[np.ndarray] = []
+        buffer = np.asarray(self.canvas.buffer_rgba())
+        for k in paint_order(np.array(samples), np.array(radii)):
+            if k < len(parts):
+                polys.extend(parts[k].polygons)
+                colors.append(parts[k].colors)
+            else:  # a sphere's sprite covers what was painted before it
+                self._flush(polys, colors)
+                polys, colors = [], []
+                self.spheres.composite(buffer, [spheres[k - len(parts)]])
+        self._flush(polys, colors)
+        return bool(len(spheres))
+
+    def _draw_parts_among_shapes(self, parts: list[Part], boxes: list) -> bool:
+        """Parts and the obstacles they overlap, in one painter's order (boxes by ray depth)."""
+        touched = self.obstacle_order.touched(boxes)
+        spheres = len(self.spheres)
+        obstacle_parts = [self.obstacle_order.item(i) for i in touched]
+        samples = np.array([p.samples for p in parts] + [p.samples for p in obstacle_parts])
+        radii = np.array([p.radius for p in parts] + [p.radius for p in obstacle_parts])
+        box_of = np.concatenate([np.full(len(parts), -1),
+                                 [self.shapes.box_of[i - spheres] if i >= spheres else -1 for i in touched]]).astype(int)
+        order = self.obstacle_order.paint_order(samples, radii, box_of)
+        self._paint([*parts, *obstacle_parts], order, len(parts), touched)
+        return bool(len(touched))
+
+    def _draw_obstacles(self, indices) -> None:
+        """Obstacles ``indices`` (spheres, then the shapes' parts), in that order."""
+        items = [self.obstacle_order.item(i) for i in indices]
+        self._paint(items, list(range(len(items))), 0, np.asarray(indices, dtype=int))
+
+    def _paint(self, items: list[Part], order: list[int], moving: int, obstacles: np.ndarray) -> None:
+        """Draw ``items`` in ``order``; the first ``moving`` are the arm's, the rest the
+        ``obstacles`` (indices among spheres then shape parts; a sphere is its sprite)."""
+        polys: list[np.ndarray] = []
+        colors: list[np.ndarray] = []
+        buffer = np.asarray(self.canvas.buffer_rgba())
+        for k in order:
+            sphere = k >= moving and obstacles[k - moving] < len(self.spheres)
+            if sphere:
+                self._flush(polys, colors)
+                polys, colors = [], []
+                self.spheres.composite(buffer, [obstacles[k - moving]])
+            else:
+                polys.extend(items[k].polygons)
+                colors.append(items[k].colors)
+        self._flush(polys, colors)
+
+    def _flush(self, polys: list[np.ndarray], colors: list[np.ndarray]) -> None:
+        """Draw the faces gathered since the last sphere, in order, as one collection."""
+        if not polys:
+            return
+        color = np.concatenate(colors)
+        self.faces.set_verts(polys)
+        self.faces.set_facecolor(color)
+        self.faces.set_edgecolor(color)
+        self.faces.draw(self.renderer)
+
+
+def _segment_goals(goals) -> list:
+    """The goal each segment of :func:`~armanim.render.overlay.triads.goal_segments` belongs to, in order."""
+    owners = []
+    for g in goals:
+        if g.orientation is not None:
+            owners += [g] * (3 if g.orientation.rotation is not None else 1)
+    return owners

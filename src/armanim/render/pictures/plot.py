@@ -1,0 +1,133 @@
+"""``plot.png``: how a run went, over time (matplotlib Figure + Agg, no pyplot)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from armanim.motion.problem import Problem
+from armanim.motion.solution import GoalReport, Trajectory
+from armanim.output.solved import SolvedRun
+from armanim.render.paint.pixels import write_png
+from armanim.render.paint.style import GOAL_COLORS
+from armanim.render.settings import OutputOptions
+
+PLOT_SIZE = (1200, 800)  # pixels
+PLOT_DPI = 100
+
+
+def plot_run(run: SolvedRun, options: OutputOptions, path) -> None:
+    """Plot goal distance, clearance and joint angles over time to a PNG.
+
+    Top: distance of the tip to the current goal, and (with obstacles) the smallest
+    clearance of the arm to any obstacle, with the goals' spans shaded, numbered from 0
+    as in the video and the files, and marked reached or missed. Middle: every joint
+    angle in degrees, with its limits dashed in the joint's colour and labelled. Bottom:
+    every joint's speed as a share of its limit.
+
+    Parameters
+    ----------
+    run : SolvedRun
+        The run; its name is the title.
+    options : OutputOptions
+        Not used: the plot has its own size (``PLOT_SIZE`` pixels).
+    path : str or Path
+        The PNG, written atomically.
+    """
+    canvas = plot_figure(run.problem, run.trajectory, run.reports, title=run.name)
+    canvas.draw()
+    write_png(np.asarray(canvas.buffer_rgba()), path)
+
+
+def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], *,
+                title: str) -> FigureCanvasAgg:
+    """The figure of :func:`plot_run`, on its Agg canvas, not yet drawn."""
+    width, height = PLOT_SIZE
+    fig = Figure(figsize=((width + 1e-3) / PLOT_DPI, (height + 1e-3) / PLOT_DPI), dpi=PLOT_DPI,
+                 layout="constrained")
+    canvas = FigureCanvasAgg(fig)
+    top, bottom, speeds = fig.subplots(3, 1, sharex=True, height_ratios=(1, 1, 0.7))
+    fig.suptitle(title, fontweight="bold")
+    t = trajectory.time
+    _goal_spans(top, trajectory, reports)
+    top.plot(t, trajectory.distance, color="C0", label="distance to goal")
+    if len(problem.obstacles) and np.isfinite(trajectory.clearance).any():
+        top.plot(t, trajectory.clearance, color="C3", label="clearance to obstacles")
+        top.axhline(0.0, color="C3", linewidth=0.8, linestyle=":")
+    top.set_ylabel("scene units")
+    top.legend(loc="upper right", fontsize=9)
+    top.grid(alpha=0.3)
+    degrees = np.degrees(trajectory.phi)
+    for j in range(degrees.shape[1]):
+        bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=f"phi{j + 1}")
+    _limit_lines(bottom, problem.limits)
+    bottom.set_ylabel("joint angle (deg)")
+    bottom.legend(loc="upper left", fontsize=9, ncols=min(degrees.shape[1], 6))
+    bottom.grid(alpha=0.3)
+    _speed_panel(speeds, problem, trajectory)
+    speeds.set_xlabel("time (s)")
+    return canvas
+
+
+def _speed_panel(ax, problem: Problem, trajectory: Trajectory) -> None:
+    """Each joint's speed as a percentage of its ``max_joint_speed`` (the clock's velocities; the
+    frames' differences for a run from before the clock), the limit at 100 %."""
+    if trajectory.velocity is not None:
+        velocity = trajectory.velocity
+    else:
+        velocity = np.vstack([np.zeros((1, trajectory.phi.shape[1])), np.diff(trajectory.phi, axis=0) * trajectory.fps])
+    share = 100 * np.abs(velocity) / problem.rates.speed
+    for j in range(share.shape[1]):
+        ax.plot(trajectory.time, share[:, j], color=f"C{j % 10}", linewidth=1.0)
+    ax.axhline(100.0, color="0.25", linewidth=1.0, linestyle="--")
+    ax.text(0.995, 100.0, "speed limit", transform=ax.get_yaxis_transform(), ha="right", va="bottom", fontsize=8,
+            color="0.25")
+    ax.set_ylim(0, max(110.0, float(share.max()) * 1.05))
+    ax.set_ylabel("joint speed (% of limit)")
+    ax.grid(alpha=0.3)
+
+
+def limit_groups(lower: np.ndarray, upper: np.ndarray) -> list[tuple[float, str, list[int]]]:
+    """Every finite limit as (degrees, "min" or "max", joints sharing it), 0-based joints.
+
+    >>> limit_groups(np.radians([-np.inf, -100, -150, -150]), np.radians([np.inf, 100, 150, 150]))
+    [(-150.0, 'min', [2, 3]), (-100.0, 'min', [1]), (100.0, 'max', [1]), (150.0, 'max', [2, 3])]
+    """
+    groups: dict[tuple[float, str], list[int]] = {}
+    for side, values in (("min", lower), ("max", upper)):
+        for j, v in enumerate(values):
+            if np.isfinite(v):
+                groups.setdefault((round(float(np.degrees(v)), 6), side), []).append(j)
+    return [(value, side, joints) for (value, side), joints in sorted(groups.items())]
+
+
+def _limit_lines(ax, limits) -> None:
+    """Each limit dashed in its joint's colour (joints sharing a value take turns along
+    the dashes) and labelled at the right end, e.g. "phi3, phi4 max 150"."""
+    dash = 5.0
+    for value, side, joints in limit_groups(limits.lower, limits.upper):
+        k = len(joints)
+        for i, j in enumerate(joints):
+            ax.axhline(value, color=f"C{j % 10}", linewidth=1.0, alpha=0.8,
+                       linestyle=(i * dash, (dash, dash * (2 * k - 1))))
+        names = ", ".join(f"phi{j + 1}" for j in joints)
+        color = f"C{joints[0] % 10}" if k == 1 else "0.25"
+        ax.text(0.995, value, f"{names} {side} {value:g}", transform=ax.get_yaxis_transform(), ha="right",
+                va="bottom" if side == "max" else "top", fontsize=8, color=color)
+
+
+def _goal_spans(ax, trajectory: Trajectory, reports: Sequence[GoalReport]) -> None:
+    """Shade each goal's frames, green if reached, red if missed, and label it."""
+    fps = trajectory.fps
+    for r in reports:
+        if r.first_frame < 0:
+            continue
+        color = GOAL_COLORS["reached" if r.reached else "missed"]
+        ax.axvspan(r.first_frame / fps, (r.last_frame + 1) / fps, color=color, alpha=0.08, linewidth=0)
+        ax.axvline(r.first_frame / fps, color=color, linewidth=0.8, alpha=0.6)
+        label = f"goal {r.index}" + ("" if r.reached else " (missed)")
+        ax.text(r.first_frame / fps, 1.0, " " + label, transform=ax.get_xaxis_transform(), va="top",
+                fontsize=8, color=color)

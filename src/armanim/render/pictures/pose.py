@@ -1,0 +1,44 @@
+"""One pose of the arm to a PNG (``armanim fk --png``), drawn by the scene canvas."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armanim.arm.kinematics import forward
+from armanim.motion.problem import Problem
+from armanim.output.numbers import number
+from armanim.render.overlay.caption import PENDING
+from armanim.render.paint.pixels import write_png
+from armanim.render.pictures.canvas import FrameState, SceneCanvas
+from armanim.render.settings import RenderSettings
+
+
+def pose_caption(problem: Problem, phi: np.ndarray) -> str:
+    """Caption of a single pose: its joint angles in degrees and its tip."""
+    tip = forward(problem.arm, phi).tip
+    angles = ", ".join(number(a, 360, 4) for a in np.degrees(phi))
+    return f"phi = [{angles}] deg   tip = ({', '.join(number(v, problem.arm.reach, 4) for v in tip)})"
+
+
+def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings, path, *, title: str) -> None:
+    """Draw one pose of the arm to a PNG of ``settings.size`` pixels.
+
+    Parameters
+    ----------
+    problem : Problem
+        The arm, its obstacles and goals (all goals drawn as pending).
+    phi : (n,) array
+        Joint angles, radians.
+    settings : RenderSettings
+        Size, view and bounds (``trail`` and ``format`` are not used).
+    path : str or Path
+        The PNG to write; written to a temporary file beside it, then moved in place.
+    title : str
+        Shown top left.
+    """
+    phi = np.asarray(phi, dtype=float)
+    pose = forward(problem.arm, phi)
+    caption = pose_caption(problem, phi)
+    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption)
+    state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
+    write_png(scene.draw(state), path)
