@@ -59,7 +59,7 @@ no obstacles, the bundled robot scenes' solver settings (self_clearance = cleara
 self_clearance + 0.2 x clearance apart, by coal; the tool 0.1 m above the base): feasible by
 construction (no path claimed). Every method runs with ``self_collision`` auto and off (planner
 auto); coal measures every frame's enabled pairs (capsules placed by armanim's forward kinematics,
-which tests/test_urdf.py checks against pinocchio). Reported per robot and method: goals reached,
+which tests/arm/test_urdf.py checks against pinocchio). Reported per robot and method: goals reached,
 frames with an enabled pair under self_clearance, invariants broken (NaN, a limit, max_joint_step,
 a pair under self_clearance), CPU ms per frame of each and their ratio.
 

@@ -24,7 +24,7 @@ from armanim.scene import load_scene, scene_to_problem
 from armanim.scene.robots import ROBOTS, bundled_robot
 from armanim.scene.urdf import chain_joints, parse_urdf, read_urdf
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1]
 TORTURE = HERE / "urdf" / "torture.urdf"
 CASES = [(TORTURE, "world", "tool")] + [(bundled_robot(r).urdf, bundled_robot(r).base_link, bundled_robot(r).tip_link) for r in ROBOTS]
 

@@ -345,7 +345,7 @@ def test_strict_quiet_says_which_goal_was_missed_on_stderr(cli, tmp_path):
     assert result.stdout == "" and "goal 0 missed (out_of_reach)" in result.stderr
 
 
-POCKET = Path(__file__).parent / "data" / "ik-pocket.yaml"
+POCKET = Path(__file__).parents[1] / "data" / "ik-pocket.yaml"
 
 
 def test_ik_falls_back_on_the_planners_free_pose_search_and_says_so(cli, monkeypatch):

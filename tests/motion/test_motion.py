@@ -361,7 +361,7 @@ def test_a_goal_pinned_at_the_margin_is_reached_with_one_plan():
     # 4.6 from the goal at 1.1 clearances, and three plans from the same pocket failed alike
     from armanim import load_scene, scene_to_problem
 
-    problem = scene_to_problem(load_scene(Path(__file__).parent / "data" / "planner-pocket.yaml").model)
+    problem = scene_to_problem(load_scene(Path(__file__).parents[1] / "data" / "planner-pocket.yaml").model)
     solution = solve_trajectory(problem)
     goal = solution.goals[0]
     assert goal.reached and goal.planning.plans == 1, goal

@@ -18,7 +18,7 @@ from armanim.render.camera import camera_rotation, fit_view, planar_normal, view
 from armanim.scene import default_render_settings, default_solver_settings, unlimited_limits
 from armanim.world.obstacles import Obstacles
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 SCENES = sorted((ROOT / "scenes").glob("*.yaml"))
 SIZES = [(640, 360), (1280, 720), (1920, 1080)]
 

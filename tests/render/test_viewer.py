@@ -160,7 +160,7 @@ def test_run_writes_the_viewer_beside_the_video_unless_told_not_to(cli, scene, t
         (folder / "animation.mp4").write_bytes(b"video")
         return {"video": folder / "animation.mp4"}
 
-    monkeypatch.setattr(pipeline, "render_outputs", video)  # the real video beside it: tests/test_render_command.py
+    monkeypatch.setattr(pipeline, "render_outputs", video)  # the real video beside it: tests/runs/test_render_command.py
     assert cli("run", scene, "--out", tmp_path / "a", "-q", "--jobs", "1").exit_code == 0
     assert {"viewer.html", "animation.mp4"} <= set(listed(tmp_path / "a" / "small"))
     assert cli("run", scene, "--out", tmp_path / "b", "-q", "--jobs", "1", "--no-viewer").exit_code == 0
@@ -239,7 +239,7 @@ def test_without_a_browser_the_browser_tests_skip_saying_how_to_install_one_or_f
 
     env = {**os.environ, "ARMANIM_BROWSER": "/nonexistent/chromium", "CI": ci}
     proc = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-n", "0", "-rs", "-p", "no:cacheprovider", "tests/test_viewer_browser.py", "-k", "frame_count"],
+        [sys.executable, "-m", "pytest", "-q", "-n", "0", "-rs", "-p", "no:cacheprovider", "tests/render/test_viewer_browser.py", "-k", "frame_count"],
         cwd=ROOT, env=env, capture_output=True, text=True, timeout=300,
     )
     if ci:

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "scenes"
 
 BAD_SCENE = "version: 1\narm:\n  links: [1, -1]\ngoals:\n  - [1, 0, 0]\n"

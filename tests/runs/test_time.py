@@ -70,7 +70,7 @@ def test_a_finished_run_keeps_its_own_clock(cli, tmp_path):
 
 # ---------------------------------------------------------------- one motion at any fps (issue 18)
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _goal_seconds(summary: dict) -> list[float]:

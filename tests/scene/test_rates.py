@@ -18,7 +18,7 @@ from armanim.scene.models import RATE_BOUNDS, URDF_SPEED
 from armanim.scene.robots import RATE_UNITS, ROBOTS, bundled_robot, published_joint_names
 from armanim.scene.urdf import read_urdf
 
-TORTURE = Path(__file__).resolve().parent / "urdf" / "torture.urdf"
+TORTURE = Path(__file__).resolve().parents[1] / "urdf" / "torture.urdf"
 
 LINKS = """\
 version: 1

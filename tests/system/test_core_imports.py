@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-SRC = Path(__file__).resolve().parent.parent / "src" / "armanim"
+SRC = Path(__file__).resolve().parents[2] / "src" / "armanim"
 CORE_ROOMS = ["arm", "world", "motion"]
 ROOMS = ["cli", "runs", "scene", "render", "output", "motion", "world", "arm"]  # top to bottom
 SHARED = {"errors", "names", "__init__", "__main__"}

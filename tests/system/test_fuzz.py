@@ -8,7 +8,7 @@ for a few frames. The only allowed outcomes are a result or armanim's own SceneE
 (exit 2): any other exception fails the test.
 
 A bounded number of examples runs in CI; for a long run set ARMANIM_FUZZ_EXAMPLES,
-e.g. ``ARMANIM_FUZZ_EXAMPLES=20000 python -m pytest tests/test_fuzz.py`` (see
+e.g. ``ARMANIM_FUZZ_EXAMPLES=20000 python -m pytest tests/system/test_fuzz.py`` (see
 docs/reliability.md).
 """
 
@@ -133,7 +133,7 @@ def test_arbitrary_text_gives_a_scene_error(text):
 
 # ------------------------------------------------------------------ trajectory.csv inputs (issue 12)
 
-GOLDEN_ROWS = (Path(__file__).parent / "golden" / "notes-arm.csv").read_text().splitlines()[:12]
+GOLDEN_ROWS = (Path(__file__).parents[1] / "golden" / "notes-arm.csv").read_text().splitlines()[:12]
 CSV_FIELDS = ["", "nan", "NaN", "inf", "-inf", "1e308", "-1e308", "1e-400", "abc", "0x10", "1_000", " 1", "-0.0",
               "9" * 400, "\x00", '"quoted, comma"', '"open quote', "ik", "plan", "\r", "1e9", "1e10"]
 COLUMN_NAMES = ["x", "reached", "phiX_deg", "phi9_deg", "mode", "iterations", "", "frame", "goal"]
@@ -225,7 +225,7 @@ def test_set_values_give_variants_or_a_usage_error(path, values):
         assert exc.exit_code == EXIT_BAD_INPUT and str(exc).startswith("--set")
         return
     try:
-        items = variants(Path(__file__).parent.parent / "scenes" / "notes-arm.yaml", [setting])
+        items = variants(Path(__file__).parents[2] / "scenes" / "notes-arm.yaml", [setting])
     except UsageError as exc:
         assert str(exc).startswith("--set")
         return

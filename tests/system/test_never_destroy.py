@@ -164,7 +164,7 @@ def test_special_files_at_a_target_are_an_error(cli, tmp_path, kind):
 
 
 def _golden() -> Path:
-    return Path(__file__).parent / "golden" / "notes-arm.csv"
+    return Path(__file__).parents[1] / "golden" / "notes-arm.csv"
 
 
 @pytest.mark.parametrize("kind", ["dev-zero", "fifo", "link-to-dev-zero"])
@@ -427,7 +427,7 @@ def test_set_values_go_through_the_bounded_reader(cli, tmp_path, name):
 
 
 def test_a_golden_json_that_is_not_armanim_s_is_ignored(cli, tmp_path):
-    (tmp_path / "notes-arm.csv").write_bytes((Path(__file__).parent / "golden" / "notes-arm.csv").read_bytes())
+    (tmp_path / "notes-arm.csv").write_bytes((Path(__file__).parents[1] / "golden" / "notes-arm.csv").read_bytes())
     _edit_csv(tmp_path / "notes-arm.csv", lambda rows: rows[3].__setitem__(4, "1"))
     for meta in ('{"scene_sha256": 5}', "[1, 2]", "not json"):
         (tmp_path / "notes-arm.json").write_text(meta)

@@ -260,7 +260,7 @@ def test_bundled_matrices_are_what_the_rules_give():
     import sys
     from pathlib import Path
 
-    tool = Path(__file__).resolve().parent.parent / "tools" / "self_collision_matrix.py"
+    tool = Path(__file__).resolve().parents[2] / "tools" / "self_collision_matrix.py"
     done = subprocess.run([sys.executable, str(tool), "--check"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
 
@@ -316,7 +316,7 @@ def test_runs_near_the_body_keep_every_enabled_pair_apart(problem):
 def test_panda_shelf_has_no_frame_under_self_clearance():
     from pathlib import Path
 
-    scene = Path(__file__).resolve().parent.parent / "scenes" / "panda-shelf.yaml"
+    scene = Path(__file__).resolve().parents[2] / "scenes" / "panda-shelf.yaml"
     problem = scene_to_problem(load_scene(scene).model)
     assert ("panda_link5", "panda_link7") in problem.self_pairs.names  # the pair the run used to pass through
     solution = solve_trajectory(problem)
