@@ -254,7 +254,7 @@ def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(t
     # must not leak from one plan into the next
     program = (
         "import sys, numpy as np\n"
-        "sys.path.insert(0, sys.argv[1])\n"
+        "sys.path[:0] = [sys.argv[1], sys.argv[1] + '/motion']\n"
         "from test_motion import WALL, CONTACT, notes_problem\n"
         "from armanim.output.csvfile import trajectory_csv_text\n"
         "from armanim.motion.trajectory import solve_trajectory\n"
