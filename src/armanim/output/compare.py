@@ -21,7 +21,6 @@ from armanim.errors import Diagnostic, SceneError, shown, shown_list
 from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, open_trajectory_csv
 
 EXACT = ("frame", "goal", "reached", "mode")
-LENGTHS = ("x", "y", "z", "goal_distance", "clearance")
 NOT_COMPARED = ("step_scale", "iterations")
 
 
