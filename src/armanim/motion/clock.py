@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -134,7 +135,7 @@ def pchip_slopes(s: np.ndarray, poses: np.ndarray) -> np.ndarray:
     return d
 
 
-def _end_slope(h0, h1, m0, m1) -> np.ndarray:
+def _end_slope(h0: np.ndarray, h1: np.ndarray, m0: np.ndarray, m1: np.ndarray) -> np.ndarray:
     """scipy's shape-preserving three-point slope at an end of a PCHIP."""
     d = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
     d = np.where(np.sign(d) != np.sign(m0), 0.0, d)
@@ -290,7 +291,7 @@ def _grid(knots: np.ndarray) -> np.ndarray:
     return np.concatenate([inner.ravel(), knots[-1:]])
 
 
-def _bound(lo_b, lo_k, hi_b, hi_k) -> np.ndarray:
+def _bound(lo_b: float | np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray) -> np.ndarray:
     """The largest x at which lo_b + lo_k x <= hi_b + hi_k x still holds (+inf if every x does)."""
     slope = lo_k - hi_k
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -392,7 +393,7 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
         return max(1.0, ratio_v, math.sqrt(ratio_a))
     third = np.diff(np.concatenate([phi[:1], phi[:1], phi, phi[-1:], phi[-1:]]), 3, axis=0) * fps**3
     ratio_j = float(np.max(np.abs(third) / jerk, initial=0.0))
-    return max(1.0, ratio_v, math.sqrt(ratio_a), ratio_j ** (1 / 3))
+    return cast(float, max(1.0, ratio_v, math.sqrt(ratio_a), ratio_j ** (1 / 3)))
 
 
 def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,

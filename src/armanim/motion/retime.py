@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import Any, cast
 
 import numpy as np
 
@@ -79,6 +80,12 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     src, out = solution.trajectory, at_fps(problem, fps)
     n = src.phi.shape[1]
     rates = problem.rates
+    # each name holds its goals' parts, then (np.concatenate) the joined array: typed Any for both
+    phi: Any
+    velocity: Any
+    source: Any
+    held: Any
+    goal: Any
     phi, velocity, source, held, goal = [src.phi[:1]], [np.zeros((1, n))], [np.zeros(1, dtype=int)], [[False]], [[0]]
     timings = []
     start = made = 0
@@ -118,7 +125,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
         fps=fps,
-        mode=np.where(held, "ik", src.mode[source]),
+        mode=np.where(held, "ik", src.mode[source]),  # type: ignore[index]  # a solved trajectory has its modes
         orientation_error=angle,
         tool_quaternion=quaternions,
         velocity=velocity,
@@ -143,7 +150,7 @@ def certified_steps(problem: Problem, poses: np.ndarray) -> np.ndarray:
     certified = np.maximum(clear[:-1], clear[1:]) - step @ problem.lever_arms >= floor
     if own is not None:
         certified &= np.all(np.maximum(own[:-1], own[1:]) - step @ pair_lever_rows(problem).T >= floor, axis=1)
-    return certified
+    return cast(np.ndarray, certified)
 
 
 def safe_pose(problem: Problem, phi: np.ndarray) -> np.ndarray:
@@ -159,7 +166,7 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
     mine = np.nonzero(trajectory.goal == g.index)[0]
     planning = g.planning
     if planning is not None:
-        planning = replace(planning, frames=int(np.sum(trajectory.mode[mine] == "plan")))
+        planning = replace(planning, frames=int(np.sum(trajectory.mode[mine] == "plan")))  # type: ignore[index]  # the retimed trajectory has its modes
     return replace(
         g,
         frames=int(moving[mine].sum()),
