@@ -52,6 +52,7 @@ def interrupts_deferred() -> Iterator[None]:
         return
     received: list[int] = []
     old = {}
+    signum: int  # SIGINT and SIGTERM, then the numbers received
     try:
         for signum in (signal.SIGINT, signal.SIGTERM):
             handler = signal.getsignal(signum)
@@ -168,7 +169,7 @@ def _replace_all(staged: dict[Path, Path], kept: dict[Path, Path]) -> None:
     """Rename each staged file onto its target, the old ones kept aside first (hard links,
     recorded in ``kept``); on a failure, put back what was already replaced."""
     done: list[Path] = []
-    current = None
+    current: Path | None = None
     try:
         for current in staged:
             if current.exists():
@@ -184,6 +185,7 @@ def _replace_all(staged: dict[Path, Path], kept: dict[Path, Path]) -> None:
                     os.replace(kept.pop(replaced), replaced)
                 else:
                     replaced.unlink()
+        assert current is not None  # os.link or os.replace failed on a target
         raise output_error(current, exc) from None
 
 
