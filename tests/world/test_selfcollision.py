@@ -1,6 +1,8 @@
-"""Self-collision: capsule-capsule distances (against coal and brute force), the pair rows
-against finite differences, the allowed-collision matrix's rules, SRDF parsing (against
-pinocchio), and runs that keep every enabled pair apart."""
+"""Self-collision in the pure core: capsule-capsule distances (against coal and brute force),
+the pair rows against finite differences, the allowed-collision matrix's rules and the bundled
+matrices they give (the scene's fields and SRDF: tests/scene/test_self_collision_fields.py; runs
+that keep the pairs apart: tests/motion/test_self_collision_runs.py; the run folder:
+tests/runs/test_self_collision_outputs.py)."""
 
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ import pytest
 
 from armanim.arm.capsules import Capsules, capsule_ends, joint_capsules
 from armanim.arm.kinematics import Arm, forward
+from armanim.world import selfcollision
 from armanim.world.selfdistances import SelfPairs, self_gaps, self_rows
 
 
@@ -117,14 +120,6 @@ def test_pair_rows_match_finite_differences():
     assert checked > 100
 
 
-# --- the allowed-collision matrix ---------------------------------------------------------
-
-from armanim.errors import SceneError  # noqa: E402
-from armanim.scene.convert import scene_to_problem  # noqa: E402
-from armanim.scene.loader import load_scene  # noqa: E402
-from armanim.world import selfcollision  # noqa: E402
-
-
 def planar_chain(links=(1.0, 1.0, 1.0, 1.0, 0.3)) -> Arm:
     return Arm.from_names(list(links), axes=["z"] * len(links), direction="x")
 
@@ -168,93 +163,6 @@ def test_allow_and_check_lists_change_the_enabled_pairs():
     assert ("link2", "link5", "User") in more.allowed and all(p[:2] != ("link1", "link3") for p in more.allowed)
 
 
-def scene_dict(**arm):
-    return {"version": 1, "arm": {"links": [1.0, 1.0, 1.0, 1.0], "axes": ["z", "z", "z", "z"], "direction": "x", **arm},
-            "goals": [[2.0, 1.0, 0.0]], "solver": {"clearance": 0.02}}
-
-
-def write_scene(tmp_path, data) -> str:
-    import yaml
-
-    path = tmp_path / "scene.yaml"
-    path.write_text(yaml.safe_dump(data))
-    return str(path)
-
-
-def test_scene_field_forms(tmp_path):
-    off = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict(self_collision=False))).model)
-    assert len(off.self_pairs) == 0
-    auto = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict())).model)
-    assert auto.self_pairs.clearance == pytest.approx(0.01) and ("link1", "link3") in auto.self_pairs.names
-    listed = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict(
-        self_collision={"auto": True, "allow": [["link1", "link3"]]}))).model)
-    assert ("link1", "link3") not in listed.self_pairs.names and ("link1", "link3", "User") in listed.self_pairs.allowed
-    checked = scene_to_problem(load_scene(write_scene(tmp_path, scene_dict(
-        self_collision={"auto": True, "allow": [["link1", "link3"]], "check": [["link3", "link1"]]}))).model)
-    assert ("link1", "link3") in checked.self_pairs.names  # check wins over allow
-    # checking an adjacent pair, which touches at its joint: the home pose is an error naming the pair
-    with pytest.raises(SceneError, match=r"arm: the home pose has link1 and link2 overlapping \(gap -0.5"):
-        load_scene(write_scene(tmp_path, scene_dict(self_collision={"auto": True, "check": [["link1", "link2"]]})))
-
-
-def test_unknown_link_names_are_scene_errors(tmp_path):
-    with pytest.raises(SceneError, match=r"self_collision.allow\[0\] names 'link9'"):
-        load_scene(write_scene(tmp_path, scene_dict(self_collision={"auto": True, "allow": [["link1", "link9"]]})))
-    (tmp_path / "arm.srdf").write_text('<robot name="r">\n<disable_collisions link1="link1" link2="link3"/>\n'
-                                       '<disable_collisions link1="link1" link2="nope" reason="Never"/>\n</robot>\n')
-    with pytest.raises(SceneError) as err:
-        load_scene(write_scene(tmp_path, scene_dict(self_collision={"srdf": "arm.srdf"})))
-    assert f"{tmp_path / 'arm.srdf'}:3:" in str(err.value) and "'nope' is not a link" in str(err.value)
-    (tmp_path / "arm.srdf").write_text('<!DOCTYPE robot [<!ENTITY a "b">]><robot/>')
-    with pytest.raises(SceneError, match="DTD"):
-        load_scene(write_scene(tmp_path, scene_dict(self_collision={"srdf": "arm.srdf"})))
-
-
-CHAIN_URDF = """<robot name="chain">
-  <link name="base"/>
-{links}
-{joints}
-</robot>
-"""
-
-
-def chain_urdf(count: int = 5) -> str:
-    links = "\n".join(
-        f'  <link name="l{k}"><collision><origin xyz="0 0 0.2"/><geometry><cylinder radius="0.04" length="0.4"/></geometry></collision></link>'
-        for k in range(count))
-    joints = "\n".join(
-        f'  <joint name="j{k}" type="revolute"><parent link="{"base" if k == 0 else f"l{k - 1}"}"/><child link="l{k}"/>'
-        f'<origin xyz="0 0 {0.0 if k == 0 else 0.4}"/><axis xyz="{"0 0 1" if k % 2 == 0 else "0 1 0"}"/>'
-        f'<limit lower="-2.9" upper="2.9" effort="1" velocity="1"/></joint>'
-        for k in range(count))
-    return CHAIN_URDF.format(links=links, joints=joints)
-
-
-def test_srdf_pairs_match_pinocchio(tmp_path):
-    pin = pytest.importorskip("pinocchio")
-    (tmp_path / "chain.urdf").write_text(chain_urdf())
-    (tmp_path / "chain.srdf").write_text('<?xml version="1.0"?>\n<robot name="chain">\n'
-                                         '  <group name="arm"><chain base_link="base" tip_link="l4"/></group>\n'
-                                         '  <disable_collisions link1="l0" link2="l1" reason="Adjacent"/>\n'
-                                         '  <disable_collisions link1="l1" link2="l2" reason="Adjacent"/>\n'
-                                         '  <disable_collisions link1="l2" link2="l3" reason="Adjacent"/>\n'
-                                         '  <disable_collisions link1="l2" link2="l0" reason="Never"/>\n'
-                                         '  <disable_collisions link1="l3" link2="l4"/>\n'
-                                         '  <disable_collisions link1="base" link2="l4" reason="Never"/>\n</robot>\n')
-    scene = {"version": 1, "arm": {"urdf": "chain.urdf", "self_collision": {"srdf": "chain.srdf"}}, "goals": [[0.3, 0.0, 0.8]]}
-    problem = scene_to_problem(load_scene(write_scene(tmp_path, scene)).model)
-    ours = {frozenset(p) for p in problem.self_pairs.names}
-    model = pin.buildModelFromUrdf(str(tmp_path / "chain.urdf"))
-    geom = pin.buildGeomFromUrdf(model, str(tmp_path / "chain.urdf"), pin.GeometryType.COLLISION)
-    geom.addAllCollisionPairs()
-    pin.removeCollisionPairs(model, geom, str(tmp_path / "chain.srdf"))
-    link = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
-    theirs = {frozenset((link[p.first], link[p.second])) for p in geom.collisionPairs}
-    assert ours == theirs
-    assert frozenset(("l0", "l2")) not in ours and frozenset(("l0", "l3")) in ours
-    assert ("l2", "l0", "Never") in problem.self_pairs.allowed and ("l3", "l4", "SRDF") in problem.self_pairs.allowed
-
-
 def test_bundled_matrices_are_what_the_rules_give():
     import subprocess
     import sys
@@ -263,182 +171,3 @@ def test_bundled_matrices_are_what_the_rules_give():
     tool = Path(__file__).resolve().parents[2] / "tools" / "self_collision_matrix.py"
     done = subprocess.run([sys.executable, str(tool), "--check"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
-
-
-# --- runs keep every enabled pair apart -------------------------------------------------------
-
-from hypothesis import HealthCheck, assume, given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
-from invariants import assert_trajectory_invariants, small_planning_budget  # noqa: E402
-
-from armanim.motion.problem import Goal  # noqa: E402
-from armanim.motion.solvers import METHODS  # noqa: E402
-from armanim.motion.trajectory import solve_trajectory  # noqa: E402
-from armanim.scene.convert import default_solver_settings  # noqa: E402
-from armanim.scene.models import SceneModel  # noqa: E402
-
-
-def robot_problem(robot: str, **solver):
-    """A bundled robot's problem with its own allowed-collision matrix, in metres."""
-    from dataclasses import replace
-
-    base = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
-    return replace(base, solver=default_solver_settings(**{"max_step": 0.02, "tolerance": 0.005, "max_frames_per_goal": 120,
-                                                           "clearance": 0.02, **solver}))
-
-
-@st.composite
-def near_body_problems(draw):
-    """Panda or UR5, its self pairs enabled (self_clearance 0.01), goals at the tool point of
-    random in-limit poses close to the body (within 0.3 m of the base's vertical axis), so that
-    straight joint paths and random free poses cross or fold the arm onto itself."""
-    from dataclasses import replace
-
-    robot = draw(st.sampled_from(["panda", "ur5"]))
-    problem = robot_problem(robot, method=draw(st.sampled_from(sorted(METHODS))))
-    lim = problem.limits
-    lo, hi = np.maximum(lim.lower, -np.pi) + 0.1, np.minimum(lim.upper, np.pi) - 0.1
-    poses = np.array([np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=problem.arm.n, max_size=problem.arm.n))) * (hi - lo) + lo
-                      for _ in range(draw(st.integers(1, 2)))])
-    tips = forward(problem.arm, poses).tip
-    assume(np.all(tips[:, 2] > 0.1) and np.all(np.linalg.norm(tips[:, :2] - problem.arm.base[:2], axis=1) < 0.3))
-    return replace(problem, goals=tuple(Goal(tip, hold=0.0) for tip in tips))
-
-
-@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
-@given(near_body_problems())
-def test_runs_near_the_body_keep_every_enabled_pair_apart(problem):
-    with small_planning_budget():
-        solution = solve_trajectory(problem)
-    assert_trajectory_invariants(problem, solution)  # every frame: every enabled pair >= self_clearance
-
-
-def test_panda_shelf_has_no_frame_under_self_clearance():
-    from pathlib import Path
-
-    scene = Path(__file__).resolve().parents[2] / "scenes" / "panda-shelf.yaml"
-    problem = scene_to_problem(load_scene(scene).model)
-    assert ("panda_link5", "panda_link7") in problem.self_pairs.names  # the pair the run used to pass through
-    solution = solve_trajectory(problem)
-    assert_trajectory_invariants(problem, solution)
-    assert solution.trajectory.self_clearance.min() >= problem.self_pairs.clearance
-    assert solution.reached == len(problem.goals)
-    off = solve_trajectory(replace_pairs(problem))  # the same scene with self_collision: off passes link 5 through link 7
-    gaps = self_gaps(forward(problem.arm, off.trajectory.phi), problem.capsules, problem.self_pairs).d
-    assert (gaps.min(axis=1) < 0).sum() > 100
-
-
-def replace_pairs(problem):
-    from dataclasses import replace
-
-    return replace(problem, self_pairs=SelfPairs.none())
-
-
-def test_a_goal_whose_only_poses_fold_the_arm_is_a_no_free_pose_miss_naming_the_pair():
-    """A planar chain whose only pose at the goal folds link 4 onto link 1: planner on, no free pose."""
-    from dataclasses import replace
-
-    from armanim.motion.problem import Limits
-    from armanim.world.obstacles import Obstacles
-
-    arm = Arm.from_names([1.0, 1.0, 1.0], axes=["z", "z", "z"], direction="x")
-    caps = joint_capsules(arm, 0.1)
-    pairs = selfcollision.enabled_pairs(caps, {("link1", "link2"): "Adjacent", ("link2", "link3"): "Adjacent"}, 0.05, "auto")
-    limits = Limits(np.radians([-10.0, -170, -170]), np.radians([10.0, 170, 170]), np.radians(10.0))
-    goal = np.array([0.4, 0.0, 0.0])  # only reached with link 3 folded back over link 1
-    from armanim.motion.problem import Problem
-
-    problem = Problem(arm=arm, half_width=0.1, home=np.zeros(3), limits=limits, obstacles=Obstacles.none(),
-                      goals=(Goal(goal, 0.0),), solver=default_solver_settings(tolerance=0.01, max_frames_per_goal=200, clearance=0.1),
-                      fps=30.0, capsules=caps, self_pairs=pairs)
-    with small_planning_budget():
-        solution = solve_trajectory(problem)
-    assert_trajectory_invariants(problem, solution)
-    report = solution.goals[0]
-    assert not report.reached and report.reason == "no_free_pose"
-    assert report.planning.self_pair == "link1|link3"
-    free = solve_trajectory(replace(problem, self_pairs=SelfPairs.none()))
-    assert free.goals[0].reached  # without the pair the goal is reached, through the arm
-
-
-# --- outputs -----------------------------------------------------------------------------------
-
-
-def test_run_folder_says_what_was_checked_and_reloads_with_its_srdf(cli, tmp_path):
-    import csv
-    import json
-    import shutil
-
-    import yaml
-
-    from armanim.runs.reload import load_run
-
-    (tmp_path / "chain.urdf").write_text(chain_urdf())
-    (tmp_path / "chain.srdf").write_text('<robot name="chain">\n'
-                                         + "".join(f'  <disable_collisions link1="l{k}" link2="l{k + 1}" reason="Adjacent"/>\n' for k in range(4))
-                                         + '  <disable_collisions link1="l0" link2="l4" reason="Never"/>\n</robot>\n')
-    scene = {"version": 1, "name": "chain", "arm": {"urdf": "chain.urdf", "self_collision": {"srdf": "chain.srdf"}, "home": [0, 20, 0, 20, 0]},
-             "goals": [[0.3, 0.2, 0.9]], "solver": {"max_frames_per_goal": 60}}
-    path = write_scene(tmp_path, scene)
-    assert cli("run", path, "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
-    folder = tmp_path / "out" / "chain"
-    matrix = yaml.safe_load((folder / "self-collision.yaml").read_text())
-    assert matrix["mode"] == "srdf" and ["l0", "l4", "Never"] in matrix["allowed"] and ["l0", "l2"] in matrix["enabled"]
-    summary = json.loads((folder / "summary.json").read_text())
-    assert summary["self_collision"] == {"mode": "srdf", "self_clearance": pytest.approx(0.005), "enabled_pairs": len(matrix["enabled"]),
-                                         "allowed_pairs": 5}
-    rows = list(csv.DictReader((folder / "trajectory.csv").open()))
-    n = sum(c.startswith("dphi") for c in rows[0])  # the joints' velocities come last
-    assert list(rows[0])[-2 - n:-n] == ["self_clearance", "self_pair"] and n == sum(c.startswith("phi") for c in rows[0])
-    least = min(float(r["self_clearance"]) for r in rows)
-    assert least == summary["min_self_clearance"] >= 0.005
-    assert summary["min_self_pair"] in {r["self_pair"] for r in rows}
-    assert (folder / "robot.srdf").read_bytes() == (tmp_path / "chain.srdf").read_bytes()
-    moved = shutil.move(str(folder), str(tmp_path / "elsewhere"))  # the user's files no longer beside it
-    (tmp_path / "chain.srdf").unlink()
-    run = load_run(moved)
-    assert run.problem.self_pairs.mode == "srdf" and run.solution.trajectory.self_clearance.min() == least
-
-
-def test_off_leaves_the_self_columns_empty(cli, tmp_path):
-    import csv
-    import json
-
-    path = write_scene(tmp_path, scene_dict(self_collision="off"))
-    assert cli("run", path, "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
-    folder = tmp_path / "out" / "scene"
-    rows = list(csv.DictReader((folder / "trajectory.csv").open()))
-    assert all(r["self_clearance"] == "" and r["self_pair"] == "" for r in rows)
-    summary = json.loads((folder / "summary.json").read_text())
-    assert summary["min_self_clearance"] is None and summary["self_collision"]["mode"] == "off"
-    assert "enabled: []" in (folder / "self-collision.yaml").read_text()
-
-
-def test_certified_motion_checks_cover_the_arms_own_pairs():
-    """motion_is_free's step bound covers pairs that move relative to each other: whatever it
-    certifies, a fine sampling of the same straight motion keeps the floor (to its certification slack)."""
-    from armanim.motion.planning.path import CERTIFY_TO, motion_is_free
-    from armanim.motion.problem import Limits, Problem
-    from armanim.motion.solvers.barrier import pose_clearance
-    from armanim.world.obstacles import Obstacles
-
-    arm = Arm.from_names([1.0, 0.8, 0.8, 0.6, 0.4], axes=["z", "y", "y", "x", "y"])
-    caps = joint_capsules(arm, 0.05)
-    allowed = {(f"link{k}", f"link{k + 1}"): "Adjacent" for k in range(1, 5)}
-    pairs = selfcollision.enabled_pairs(caps, allowed, 0.02, "auto")
-    problem = Problem(arm=arm, half_width=0.05, home=np.zeros(5), limits=Limits.unlimited(5, np.radians(10.0)),
-                      obstacles=Obstacles.none(), goals=(Goal(np.array([1.0, 0, 1.0]), 0.0),),
-                      solver=default_solver_settings(clearance=0.04), fps=30.0, capsules=caps, self_pairs=pairs)
-    rng = np.random.default_rng(35)
-    certified = refused = 0
-    for _ in range(60):
-        a, b = rng.uniform(-2.5, 2.5, (2, 5))
-        floor = 0.044
-        free, _ = motion_is_free(problem, a, b, floor)
-        fine = pose_clearance(problem, a + np.linspace(0, 1, 2001)[:, None] * (b - a))
-        if free:
-            certified += 1
-            assert fine.min() >= floor - CERTIFY_TO * problem.solver.clearance / 2 - 1e-9
-        else:
-            refused += 1
-    assert certified >= 5 and refused >= 5  # both answers were exercised

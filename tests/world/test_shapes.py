@@ -1,18 +1,15 @@
-"""Boxes, capsules and a floor: exact distances (against coal and brute force), their
-Jacobian rows, and the scene's shape forms and their checks."""
+"""Boxes, capsules and a floor: exact distances (against coal and brute force) and their
+Jacobian rows (the scene's shape forms: tests/scene/test_shape_forms.py; the motion among them:
+tests/motion/test_motion_among_shapes.py; their pictures: tests/render/test_shape_pictures.py)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from invariants import assert_trajectory_invariants, small_planning_budget
-from strategies import shaped_problems
 
 from armanim.arm.capsules import capsule_point_jacobian, joint_capsules
 from armanim.arm.chain import rpy_rotation
 from armanim.arm.kinematics import Arm, forward
-from armanim.motion.trajectory import solve_trajectory
 from armanim.world.closest import segment_box
 from armanim.world.distances import clearances, point_clearances, sphere_clearances
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
@@ -265,217 +262,6 @@ def test_point_clearances():
     assert d[0, 4] == 7.0
 
 
-# --- the scene's shape forms and their checks --------------------------------------------
-
-SHAPES = """\
-version: 1
-arm:
-  base: [0, 0, 0]
-  links: [2, 3, 3]
-  axes: [z, y, y]
-obstacles:
-  - {center: [5, 5, 5], radius: 1}
-  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, 0, 30]}
-  - capsule: {from: [-4, 0, 0], to: [-4, 0, 3], radius: 0.5}
-floor: 0
-goals:
-  - [3, 2, 4]
-"""
-# line numbers of SHAPES
-S = {"sphere": 7, "box": 8, "capsule": 9, "floor": 10, "goal0": 12}
-
-
-@pytest.fixture
-def scene_rejected(tmp_path, cli):
-    from test_scene import rejected
-
-    return lambda content, field, line, *fragments: rejected(tmp_path, cli, content, field, line, *fragments)
-
-
-def test_shapes_load_in_scene_order(tmp_path):
-    from test_scene import write
-
-    from armanim.scene import load_scene, scene_to_problem
-
-    problem = scene_to_problem(load_scene(write(tmp_path, SHAPES)).model)
-    obstacles = problem.obstacles
-    assert obstacles.kinds.tolist() == [SPHERE, BOX, ROD, FLOOR]
-    assert obstacles.influence.tolist() == [1.0, 0.5, 0.5, 0.0]  # the defaults: radius, half the shortest edge, radius
-    np.testing.assert_allclose(obstacles.boxes.half, [[0.5, 1, 1]])
-    np.testing.assert_allclose(obstacles.boxes.rotations[0] @ [1, 0, 0], [np.cos(np.pi / 6), 0.5, 0], atol=1e-15)
-    assert obstacles.floor == 0.0 and obstacles.rods.radius.tolist() == [0.5]
-
-
-@pytest.mark.parametrize("line, new, field, fragment", [
-    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 0, 2]}", "obstacles[1].box.size[1]", "must be > 0 (got 0)"),
-    (S["capsule"], "  - capsule: {from: [-4, 0, 0], to: [-4, 0, 3], radius: -0.5}", "obstacles[2].capsule.radius", "must be > 0"),
-    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, .nan, 0]}", "obstacles[1].box.rpy[1]", "finite"),
-    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, 400, 0]}", "obstacles[1].box.rpy[1]", "<= 360"),
-    (S["box"], "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, radius: 1}", "obstacles[1]", "a sphere, which needs a center"),
-    (S["box"], "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, center: [1, 1, 1], radius: 1}", "obstacles[1]", "got center and box"),
-    (S["box"], "  - box: {center: [4, -4, 1], sizes: [1, 2, 2]}", "obstacles[1].box.sizes", "did you mean 'size'"),
-    (S["floor"], "floor: 0.5", "floor", "above the arm's base"),
-    (S["floor"], "floor: 3.9", "floor", "above the arm's base"),
-])
-def test_shape_fields_are_checked(scene_rejected, line, new, field, fragment):
-    from test_scene import edit
-
-    scene_rejected(edit(line, new, SHAPES), field, line, fragment)
-
-
-def test_home_and_goals_clear_of_every_shape(scene_rejected):
-    from test_scene import edit
-
-    # the home pose (straight up along z from the origin) inside a box, closer than the clearance to a capsule
-    scene_rejected(edit(S["box"], "  - box: {center: [0, 0, 4], size: [1, 1, 1]}", SHAPES), "obstacles[1]", S["box"], "home pose is inside this obstacle")
-    scene_rejected(edit(S["capsule"], "  - capsule: {from: [0.3, -1, 0], to: [0.3, 1, 9], radius: 0.04}", SHAPES), "obstacles[2]", S["capsule"], "closer to it than solver.clearance")
-    scene_rejected(edit(S["goal0"], "  - [4, -4, 1.5]", SHAPES), "goals[0]", S["goal0"], "inside obstacles[1]")
-    scene_rejected(edit(S["goal0"], "  - [-4, 0.6, 2]", SHAPES), "goals[0]", S["goal0"], "from the surface of obstacles[2]")
-    scene_rejected(edit(S["goal0"], "  - [3, 2, -0.5]", SHAPES), "goals[0]", S["goal0"], "lies below the floor")
-    scene_rejected(edit(S["goal0"], "  - [3, 2, 0.2]", SHAPES), "goals[0]", S["goal0"], "is 0.2 from the floor")
-    # the home pose tilted so that link 3 dips into the floor (link 1 stands on the base: it may touch it)
-    tilted = SHAPES.replace("  axes: [z, y, y]\n", "  axes: [z, y, y]\n  home: [0, 120, 0]\n")
-    scene_rejected(tilted, "floor", S["floor"] + 1, "link 3 of the arm's home pose is inside the floor")
-
-
-# --- the motion keeps every shape: the filter, the floor, the invariants --------------------
-
-
-def notes_among(goals, boxes=(), rods=(), floor=None, method="pinv", planner="off"):
-    """The notes' arm at the origin (straight up) among boxes (centre, size, rpy radians) and capsules."""
-    from dataclasses import replace
-
-    from strategies import with_floor
-    from test_motion import notes_problem
-
-    problem = notes_problem(goals=goals, method=method, planner=planner)
-    kinds = [BOX] * len(boxes) + [ROD] * len(rods)
-    obstacles = Obstacles(
-        np.zeros((0, 3)), np.zeros(0), np.full(len(kinds), 0.5),
-        Boxes(np.array([c for c, _, _ in boxes], float).reshape(-1, 3), np.array([s for _, s, _ in boxes], float).reshape(-1, 3) / 2,
-              np.array([rpy_rotation(r) for _, _, r in boxes]).reshape(-1, 3, 3)),
-        Rods(np.array([a for a, _, _ in rods], float).reshape(-1, 3), np.array([b for _, b, _ in rods], float).reshape(-1, 3),
-             np.array([r for _, _, r in rods], float)),
-        kinds=np.array(kinds, dtype=int),
-    )
-    return replace(problem, obstacles=with_floor(obstacles, floor))
-
-
-@pytest.mark.parametrize("method", ["pinv", "dls"])
-@pytest.mark.parametrize("rpy, goal", [((0.0, 0.0, 0.0), 9.0), ((0.0, 0.0, np.pi / 4), 10.0)], ids=["edge", "corner"])
-def test_filter_slides_along_a_box_and_around_its_edge(method, rpy, goal):
-    """Planner off: the arm comes down over a block, slides along its top face, round its far
-    edge (or, the block turned 45 degrees, over its top's corners and round its vertical edge) and down its side to a goal beside it, never stopping."""
-    problem = notes_among(((goal, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), rpy)], method=method)
-    solution = solve_trajectory(problem)
-    assert [g.reached for g in solution.goals] == [True]
-    assert_trajectory_invariants(problem, solution)
-    clearance = solution.trajectory.clearance
-    assert clearance.min() >= problem.solver.clearance
-    assert clearance.min() < 2 * problem.solver.clearance  # it did run along the surface
-
-
-def test_filter_slides_instead_of_stopping_at_a_box_face():
-    from armanim.motion.solvers.barrier import safe_step
-    from armanim.motion.solvers.common import arm_state
-
-    # a wall whose face is exactly solver.clearance (0.05) beyond the straight arm's capsules (radius 0.25)
-    problem = notes_among(((7.0, 0.0, 9.0),), boxes=[((1.3, 0.0, 10.0), (2.0, 4.0, 8.0), (0.0, 0.0, 0.0))])
-    state = arm_state(problem, problem.home)
-    assert state.min_clearance == pytest.approx(0.05)
-    sideways = safe_step(problem, state, np.array([0.2, 0.3, 0.0, 0.0]))  # into the wall, with a turn about the base
-    assert sideways.blocked_by == "obstacle" and sideways.phi[0] > 0.1  # the free direction is kept
-    assert sideways.state.min_clearance >= problem.solver.clearance
-
-
-def test_goal_below_the_floor_is_missed_not_passed_through():
-    problem = notes_among(((9.0, 0.0, -1.0),), floor=0.0, planner="auto")
-    solution = solve_trajectory(problem)
-    report = solution.goals[0]
-    assert not report.reached and report.reason == "no_free_pose"
-    pose = forward(problem.arm, solution.trajectory.phi)
-    assert np.all(pose.points[:, 2:, 2] >= 0.25 + problem.solver.clearance - 1e-12)  # every joint past link 1 stayed above
-    assert np.all(pose.tip[:, 2] >= problem.solver.clearance)
-
-
-def test_floor_is_kept_with_the_planner_off():
-    problem = notes_among(((12.0, 0.0, 0.6),), floor=0.0, method="dls")
-    solution = solve_trajectory(problem)
-    cl = clearances(forward(problem.arm, solution.trajectory.phi), problem.obstacles, problem.capsules)
-    assert cl.d[..., -1].min() >= problem.solver.clearance
-
-
-@given(shaped_problems(max_links=5, max_goals=2, max_frames=60))
-@settings(max_examples=5)
-def test_shaped_scene_trajectory_invariants(problem):
-    with small_planning_budget():  # a goal with no path would spend the whole RRT budget
-        assert_trajectory_invariants(problem, solve_trajectory(problem))
-
-
-# --- pictures ---------------------------------------------------------------------------------
-
-
-def shelf_problem():
-    from conftest import ROOT
-
-    from armanim.scene import load_scene, scene_to_problem
-
-    return scene_to_problem(load_scene(ROOT / "scenes" / "panda-shelf.yaml").model)
-
-
-def test_goal_behind_a_box_is_drawn_through_it():
-    from armanim.render.draw import SceneCanvas
-    from armanim.scene import default_render_settings
-
-    problem = shelf_problem()
-    canvas = SceneCanvas(problem, default_render_settings(size=(96, 64)), title="t", extent=forward(problem.arm, problem.home).points)
-    # goal 0 sits between the boards under the upper one; goal 1 shows under its front edge; 2 and 3 are above
-    assert canvas.goals.hidden.tolist() == [True, False, False, False]
-    assert canvas.shapes is not None and len(canvas.shapes.parts) == 2
-
-
-def test_spheres_only_pictures_take_the_sphere_path():
-    from test_cost import notes_problem
-
-    from armanim.render.draw import SceneCanvas
-    from armanim.scene import default_render_settings
-
-    problem = notes_problem()
-    assert SceneCanvas(problem, default_render_settings(size=(64, 48)), title="t").shapes is None
-
-
-def test_poster_and_pose_of_every_shape(tmp_path):
-    from armanim.render.draw import render_pose_png
-    from armanim.render.poster import render_poster
-    from armanim.scene import default_render_settings
-
-    problem = notes_among(((9.0, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), (0.0, 0.0, 0.5))],
-                          rods=[((-4.0, 0.0, 0.0), (-4.0, 0.0, 8.0), 0.5)], floor=-0.5)
-    solution = solve_trajectory(problem)
-    settings = default_render_settings(size=(64, 48))
-    render_poster(problem, solution.trajectory, solution.goals, settings, tmp_path / "poster.png", title="shapes")
-    render_pose_png(problem, problem.home, settings, tmp_path / "pose.png", title="shapes")
-    assert (tmp_path / "poster.png").stat().st_size > 0 and (tmp_path / "pose.png").stat().st_size > 0
-
-
-def test_viewer_data_carries_boxes_capsules_and_the_floor():
-    from armanim.render.viewer.data import shape_entries, viewer_data
-    from armanim.scene import default_render_settings
-
-    problem = notes_among(((9.0, 0.0, 1.0),), boxes=[((6.0, 0.0, 2.0), (4.0, 4.0, 4.0), (0.0, 0.0, 0.5))],
-                          rods=[((-4.0, 0.0, 0.0), (-4.0, 0.0, 8.0), 0.5)], floor=-0.5)
-    solution = solve_trajectory(problem)
-    data = viewer_data(problem, solution.trajectory, solution.goals, default_render_settings(size=(64, 48)), title="t")
-    assert data["obstacles"] == [] and data["view"]["floor"]["z"] == -0.5
-    (box,) = data["boxes"]
-    assert box["size"] == [4.0, 4.0, 4.0] and box["influence"] == 0.5
-    np.testing.assert_allclose(box["rotation"], rpy_rotation([0.0, 0.0, 0.5]))
-    assert data["obstacle_capsules"] == [{"from": [-4.0, 0.0, 0.0], "to": [-4.0, 0.0, 8.0], "radius": 0.5, "influence": 0.5}]
-    from test_cost import notes_problem
-
-    assert shape_entries(notes_problem().obstacles) == {}  # spheres: the page's data as it always was
-
-
 def test_smallest_clearance_is_the_least_of_all_clearances():
     """The pruned batch minimum (the planner's) equals the least of the full clearances."""
     from armanim.world.distances import min_link_clearance
@@ -488,30 +274,6 @@ def test_smallest_clearance_is_the_least_of_all_clearances():
     full = clearances(pose, obstacles, caps).links.min(axis=(-1, -2))
     np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), full, rtol=0, atol=1e-12)
     assert min_link_clearance(forward(arm, phi[0]), obstacles, caps).shape == ()
-
-
-def test_a_shapes_run_is_byte_identical_in_two_processes():
-    """ur5-table plans round its post: the same CSV bytes from a fresh process and from one
-    that planned it once already (OMPL's random numbers must not leak between plans)."""
-    import subprocess
-    import sys
-
-    from conftest import ROOT
-
-    program = (
-        "import sys\n"
-        "from armanim.scene import load_scene, scene_to_problem\n"
-        "from armanim.output.csvfile import trajectory_csv_text\n"
-        "from armanim.motion.trajectory import solve_trajectory\n"
-        "solve = lambda name: solve_trajectory(scene_to_problem(load_scene(sys.argv[1] + '/scenes/' + name + '.yaml').model))\n"
-        "if sys.argv[2] == 'warm':\n"
-        "    solve('ur5-table')\n"
-        "print(trajectory_csv_text(solve('ur5-table').trajectory), end='')\n"
-    )
-    runs = [subprocess.run([sys.executable, "-c", program, str(ROOT), how], capture_output=True, text=True, check=True)
-            for how in ("cold", "warm")]
-    assert ",plan" in runs[0].stdout
-    assert runs[0].stdout == runs[1].stdout
 
 
 def test_boxes_are_measured_where_numba_finds_no_folder_to_cache_in():
