@@ -45,7 +45,7 @@ def scene():
 def coal_objects(obstacles):
     """coal's boxes and capsules with their placements."""
     import coal
-    from motion_bench import coal_capsule
+    from oracles.geometry import coal_capsule
 
     boxes, rods = obstacles.boxes, obstacles.rods
     shapes = [(coal.Box(*(2 * h)), coal.Transform3s(r, c)) for c, h, r in zip(boxes.centers, boxes.half, boxes.rotations)]
@@ -55,7 +55,7 @@ def coal_objects(obstacles):
 def coal_clearances(shapes, a, b, radius):
     """(k, s) clearances of segments a-b (k, 3) of radii (k,) to every shape, one coal call per pair."""
     import coal
-    from motion_bench import coal_capsule
+    from oracles.geometry import coal_capsule
 
     request = coal.DistanceRequest()
     request.gjk_tolerance = 1e-13

@@ -28,7 +28,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-import motion_bench as mb
+from generators.families import SHAPE_FAMILIES, make_scene, scene_name
 
 SOLVE = """
 import pickle, sys
@@ -56,19 +56,19 @@ def counted(scenes: list, folder: Path, solve: bool = True) -> tuple[int, int]:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--family", choices=sorted(mb.SHAPE_FAMILIES), default="robot-shapes")
+    parser.add_argument("--family", choices=sorted(SHAPE_FAMILIES), default="robot-shapes")
     parser.add_argument("--scenes", type=int, default=4, help="scenes 0..N-1 of the family (default 4)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--methods", default="dls,gradient", help="comma-separated methods (default dls,gradient)")
     args = parser.parse_args(argv)
-    drafts = [mb.make_scene(args.seed, k, args.family) for k in range(args.scenes)]
+    drafts = [make_scene(args.seed, k, args.family) for k in range(args.scenes)]
     print(f"| method | shapes: M instructions/frame | spheres twin | ratio |   ({args.family}, seed {args.seed}, {args.scenes} scenes, planner off)")
     print("|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         for method in [m for m in args.methods.split(",") if m]:
             per_frame = []
             for twin in (False, True):
-                scenes = [(d.spheres_twin() if twin else d).as_scene_dict(mb.scene_name(args.seed, k, method, "off"), method, "off")
+                scenes = [(d.spheres_twin() if twin else d).as_scene_dict(scene_name(args.seed, k, method, "off"), method, "off")
                           for k, d in enumerate(drafts)]
                 instructions, frames = counted(scenes, Path(tmp))
                 per_frame.append((instructions - counted(scenes, Path(tmp), solve=False)[0]) / max(frames, 1) / 1e6)

@@ -36,7 +36,7 @@ from pathlib import Path
 import psutil
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))  # the hostile inputs are the tests' own (one owner)
+sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tests" / "scene")]  # the hostile inputs are the tests' own (one owner)
 
 NOTES = ROOT / "scenes" / "notes-arm.yaml"
 
@@ -69,8 +69,8 @@ def armanim(*args, **kwargs) -> subprocess.CompletedProcess:
 
 
 def hostile_yaml(repeats: int) -> None:
-    """Every hostile scene of tests/test_hardening.py is rejected fast (promise: 1 s; 0.1 s for the alias bomb)."""
-    from test_hardening import HOSTILE, _bomb
+    """Every hostile scene of tests/scene/test_hostile_yaml.py is rejected fast (promise: 1 s; 0.1 s for the alias bomb)."""
+    from test_hostile_yaml import HOSTILE, _bomb
 
     from armanim.errors import SceneError
     from armanim.scene import validate_scene_text

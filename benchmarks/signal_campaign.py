@@ -3,7 +3,7 @@
 Run: ``python benchmarks/signal_campaign.py`` (some 15-30 minutes on two cores),
 ``--commands run batch`` for some, ``--delays 0 0.002 0.02 0.3 1`` to change the moments.
 
-tests/test_reliability.py interrupts each command at a handful of moments; this script
+tests/system/test_signal_moments.py interrupts each command at a handful of moments; this script
 interrupts it at every moment of :data:`MOMENTS` plus each delay, with SIGINT to the group
 (a terminal's Ctrl-C) and SIGTERM to armanim (``kill``), and checks each attempt as the
 test does (tests/signals.py): exit 0 or 130, no traceback, every folder old or whole new,
@@ -19,14 +19,14 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))  # the harness and the commands are the tests' own (one owner)
+sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tests" / "system")]  # the harness and the commands are the tests' own (one owner)
 
 MOMENTS = ("start", "workers", "ffmpeg", "poster", "commit")
 
 
 def main() -> int:
     from signals import Sweep
-    from test_reliability import _commands
+    from test_signal_moments import _commands
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--commands", nargs="*", default=None, help="run, batch, sweep, 'check --update', render (default: all)")

@@ -91,13 +91,13 @@ def bundled(fps: float) -> list[dict]:
 
 def families(seed: int, count: int, fps: float) -> list[dict]:
     """The motion benchmark's robot and robot-shapes families, ``count`` scenes each."""
-    import motion_bench
+    from generators.families import make_scene, scene_name
 
     rows = []
     for family in ("robots", "robot-shapes"):
         for index in range(count):
-            draft = motion_bench.make_scene(seed, index, family)
-            name = motion_bench.scene_name(seed, index)
+            draft = make_scene(seed, index, family)
+            name = scene_name(seed, index)
             problem = scene_to_problem(SceneModel.model_validate(draft.as_scene_dict(name)))
             rows.append(measure(f"{family}/{index}", problem, fps))
     return rows

@@ -17,9 +17,16 @@ ROOT = TESTS.parent
 SCENES = ROOT / "scenes"
 DOCS = ROOT / "docs"
 
-# strategies.py sits beside the tests; --import-mode=importlib does not put it on sys.path.
-if str(TESTS) not in sys.path:
-    sys.path.insert(0, str(TESTS))
+ROOMS = ("arm", "world", "motion", "procs", "scene", "output", "render", "runs", "cli", "system")
+"""The folders of tests/, one per room of src/armanim (system: what deliberately crosses rooms)."""
+
+# The shared helpers (strategies.py, invariants.py, ...) sit at tests/ top, and a few tests use
+# another file's helpers by its name (``from test_scene import write``): --import-mode=importlib
+# puts none of these folders on sys.path. Test file names are unique across the rooms
+# (tests/system/test_layout.py) so that a name means one file.
+for folder in [TESTS, *(TESTS / room for room in ROOMS)]:
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
 
 settings.register_profile(
     "armanim",

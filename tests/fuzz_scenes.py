@@ -1,6 +1,6 @@
 """Hostile scenes and URDFs, and the invariants every one of them must keep (issue 36, item 5).
 
-Shared by ``tests/test_fuzz_hostile.py`` (a short profile in the suite) and
+Shared by ``tests/system/test_fuzz_hostile.py`` (a short profile in the suite) and
 ``benchmarks/fuzz_bench.py`` (the long run whose count is in benchmarks/README.md).
 
 Scenes are drawn from ``docs/scene.schema.json`` itself (:func:`from_json_schema`), tamed only in

@@ -1,5 +1,5 @@
 """A signal sweep: interrupt a real armanim process at chosen moments of its life and check
-what it leaves (issue 19). Used by tests/test_reliability.py (a handful of moments per
+what it leaves (issue 19). Used by tests/system/test_signal_moments.py (a handful of moments per
 command) and benchmarks/signal_campaign.py (many more).
 
 A moment is an event in the process's life, not a time, so that a busy machine moves the

@@ -11,7 +11,7 @@
 #   src/armanim/render/viewer/assets/three-viewer.json      its three.js and esbuild versions, bytes and sha256
 #
 # Commit both. Users and CI never run this and never need node: the bundle is package
-# data, and tests/test_viewer.py checks it against the recorded version and sha256.
+# data, and tests/render/test_viewer.py checks it against the recorded version and sha256.
 # To move to another three.js: change the versions in package.json, run
 # `npm install --package-lock-only` here, then this script, then the viewer tests.
 set -euo pipefail

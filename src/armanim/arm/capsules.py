@@ -11,8 +11,10 @@ capsules' world ends from :func:`capsule_ends`. Pure core: numpy only, no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from armanim.arm.kinematics import Arm, Pose, point_jacobian
 
@@ -38,7 +40,7 @@ class Capsules:
     end: np.ndarray
     radius: np.ndarray
     names: tuple[str, ...] = ()
-    joint_segment: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
+    joint_segment: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[arg-type]  # None: __post_init__ fills it
     part_radius: np.ndarray = field(init=False, repr=False, compare=False)
     """(c+1,) the radius of every part that clearances are measured from: the capsules', then
     the tip's, 0 (a point)."""
@@ -75,7 +77,8 @@ def joint_capsules(arm: Arm, radius: float) -> Capsules:
     )
 
 
-def frame_capsules(arm: Arm, link, start, end, radius, names=()) -> Capsules:
+def frame_capsules(arm: Arm, link: ArrayLike, start: ArrayLike, end: ArrayLike, radius: ArrayLike,
+                   names: tuple[str, ...] = ()) -> Capsules:
     """Capsules in joint frames; those that run exactly from a joint to the next one are
     marked, so that their world ends are the chain's own joint points (bit for bit).
 
@@ -104,7 +107,7 @@ def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray
     """
     kept = pose.memo.get("capsule_ends")
     if kept is not None and kept[0] is capsules:
-        return kept[1]
+        return cast("tuple[np.ndarray, np.ndarray]", kept[1])
     ends = _world_ends(capsules, pose)
     for end in ends:
         end.flags.writeable = False  # shared by every consumer of the pose
@@ -125,17 +128,17 @@ def _world_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]
     return np.where(segment, origin, a), np.where(segment, pose.points[..., link + 1, :], b)
 
 
-def capsule_point(capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
+def capsule_point(capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray) -> np.ndarray:
     """The point at fraction ``t`` along capsule ``capsule``'s segment, in the world, (..., 3);
     for (k,) arrays ``capsule`` and ``t`` (a single pose), the k points, (k, 3)."""
     a, b = capsule_ends(capsules, pose)
     a, b = a[..., capsule, :], b[..., capsule, :]
     if np.ndim(capsule):
         t = np.asarray(t)[:, None]
-    return a + t * (b - a)
+    return cast(np.ndarray, a + t * (b - a))
 
 
-def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
+def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray) -> np.ndarray:
     """(..., 3, n) analytic Jacobian of the point at fraction ``t`` along capsule ``capsule``;
     for (k,) arrays ``capsule`` and ``t`` (a single pose), the k points' Jacobians in one
     call, (k, 3, n), each the same as alone, each computed once per pose (a frame's pushes,
@@ -151,7 +154,7 @@ def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule, t)
     kept = pose.memo.get("capsule_point_jacobians")
     if kept is None or kept[0] is not arm or kept[1] is not capsules:
         kept = pose.memo["capsule_point_jacobians"] = (arm, capsules, {})
-    known = kept[2]
+    known: dict[tuple[int, float], np.ndarray] = kept[2]
     points = list(zip(np.asarray(capsule).tolist(), np.asarray(t, dtype=float).tolist()))
     missing = [point for point in dict.fromkeys(points) if point not in known]
     if missing:
@@ -162,7 +165,7 @@ def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule, t)
     return np.array([known[point] for point in points])  # a copy, as np.stack makes, at a third of its overhead
 
 
-def _point_jacobians(arm: Arm, capsules: Capsules, pose: Pose, capsule, t) -> np.ndarray:
+def _point_jacobians(arm: Arm, capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray) -> np.ndarray:
     """:func:`capsule_point_jacobian`, computed."""
     point = capsule_point(capsules, pose, capsule, t)
     link = capsules.link[capsule] if np.ndim(capsule) else int(capsules.link[capsule])
@@ -202,4 +205,4 @@ def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
 
 
 def _norm(v: np.ndarray) -> np.ndarray:
-    return np.sqrt((v * v).sum(axis=-1))
+    return cast(np.ndarray, np.sqrt((v * v).sum(axis=-1)))

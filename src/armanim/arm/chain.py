@@ -9,16 +9,18 @@ any one length unit), no I/O.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from armanim.arm.geometry import unit_vector
 from armanim.arm.kinematics import Arm
 from armanim.arm.rotations import rpy_rotation  # the one owner of rpy (re-exported here for URDF code)
 
 
-def transform(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)) -> np.ndarray:
+def transform(xyz: ArrayLike = (0.0, 0.0, 0.0), rpy: Sequence[float] | np.ndarray = (0.0, 0.0, 0.0)) -> np.ndarray:
     """The 4x4 homogeneous transform of a URDF ``<origin xyz rpy>``.
 
     >>> transform([1, 2, 3])[:3, 3].tolist()
@@ -96,7 +98,7 @@ def serial_chain(mount: np.ndarray, joints: list[ChainJoint], tool: np.ndarray) 
         raise ValueError("the chain has no moving joint")
     rel = np.array(mount, dtype=float)  # the current link's frame, in the carrier's frame
     carrier = -1
-    start = None
+    start: np.ndarray | None = None
     axes, offsets, turns, carriers, placed = [], [], [], [], []
     for joint in joints:
         rel = rel @ joint.origin
@@ -111,6 +113,7 @@ def serial_chain(mount: np.ndarray, joints: list[ChainJoint], tool: np.ndarray) 
             rel = np.eye(4)
         carriers.append(carrier)
         placed.append(rel.copy())
+    assert start is not None  # the chain has a moving joint (checked above)
     rel = rel @ tool
     offsets.append(rel[:3, 3].copy())
     turns.append(rel[:3, :3].copy())

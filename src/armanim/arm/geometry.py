@@ -5,7 +5,10 @@ Radians everywhere; numpy only. No file, print or plotting in here.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 AXIS_VECTORS = {
     "x": np.array([1.0, 0.0, 0.0]),
@@ -23,7 +26,7 @@ def axis_vector(name: str) -> np.ndarray:
     return AXIS_VECTORS[name].copy()
 
 
-def unit_vector(v) -> np.ndarray:
+def unit_vector(v: ArrayLike) -> np.ndarray:
     """``v / |v|`` for any finite nonzero vector (...,  k), however small or large its components.
 
     Scaled by its largest component first, so that the length neither underflows (1e-320)
@@ -37,7 +40,7 @@ def unit_vector(v) -> np.ndarray:
     if not (np.all(np.isfinite(v)) and np.all(biggest > 0)):
         raise ValueError("a direction must be finite and nonzero")
     scaled = v / biggest
-    return scaled / np.sqrt(np.sum(scaled * scaled, axis=-1, keepdims=True))
+    return cast(np.ndarray, scaled / np.sqrt(np.sum(scaled * scaled, axis=-1, keepdims=True)))
 
 
 def skew(v: np.ndarray) -> np.ndarray:

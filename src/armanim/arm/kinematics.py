@@ -11,10 +11,12 @@ positions (solvers, cost, renderer, CLI) calls :func:`forward`.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from armanim.arm.geometry import axis_vector, cross, skew
 
@@ -95,8 +97,8 @@ class Arm:
     @classmethod
     def from_names(
         cls,
-        links,
-        base=(0.0, 0.0, 0.0),
+        links: Sequence[float] | np.ndarray,
+        base: ArrayLike = (0.0, 0.0, 0.0),
         axes: list[str] | None = None,
         direction: str = "z",
     ) -> Arm:
@@ -146,7 +148,7 @@ class Pose:
     points: np.ndarray
     frames: np.ndarray
     axes: np.ndarray | None = None  # (..., n, 3) world joint axes, when forward computed them
-    memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    memo: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
     def tip(self) -> np.ndarray:
@@ -214,7 +216,7 @@ def joint_rotations(arm: Arm, phi: np.ndarray) -> np.ndarray:
     """
     s = np.sin(phi)[..., None, None]
     c = np.cos(phi)[..., None, None]
-    return _IDENTITY + s * arm._k + (1.0 - c) * arm._k2
+    return cast(np.ndarray, _IDENTITY + s * arm._k + (1.0 - c) * arm._k2)
 
 
 def _forward_one(arm: Arm, phi: np.ndarray) -> Pose:
@@ -237,13 +239,13 @@ def joint_axes_world(arm: Arm, pose: Pose) -> np.ndarray:
     """World direction w_j = R_j a_j of every joint axis, shape (..., n, 3)."""
     if pose.axes is not None:
         return pose.axes
-    return np.einsum("...jab,jb->...ja", pose.frames, arm.axes)
+    return cast(np.ndarray, np.einsum("...jab,jb->...ja", pose.frames, arm.axes))
 
 
 def link_point(pose: Pose, link: int, t: float) -> np.ndarray:
     """The point at fraction ``t`` along link ``link`` (0-based), shape (..., 3)."""
     a = pose.points[..., link, :]
-    return a + t * (pose.points[..., link + 1, :] - a)
+    return cast(np.ndarray, a + t * (pose.points[..., link + 1, :] - a))
 
 
 def point_jacobian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.ndarray:
@@ -348,4 +350,4 @@ def numeric_jacobian(
     phi = np.asarray(phi, dtype=float)
     displaced = phi + h * np.eye(len(phi))
     f0 = fun(phi)
-    return (fun(displaced) - f0).T / h
+    return cast(np.ndarray, (fun(displaced) - f0).T / h)

@@ -8,6 +8,8 @@ more per call in numpy's wrapper (a few ms for a whole scene).
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 PINV_RTOL = 1e-6
@@ -43,4 +45,4 @@ def pseudo_inverse(jac: np.ndarray) -> np.ndarray:
     top = d[..., :1]
     keep = (d > PINV_RTOL * top) & (top > 0)
     inverse = np.where(keep, 1.0 / np.where(keep, d, 1.0), 0.0)
-    return np.matmul(np.swapaxes(vt, -1, -2) * inverse[..., None, :], np.swapaxes(u, -1, -2))
+    return cast(np.ndarray, np.matmul(np.swapaxes(vt, -1, -2) * inverse[..., None, :], np.swapaxes(u, -1, -2)))

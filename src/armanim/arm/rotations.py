@@ -14,8 +14,11 @@ radians only, no I/O.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from armanim.arm.geometry import skew, unit_vector
 
@@ -23,7 +26,7 @@ SMALL_ANGLE = 1e-8
 """Below this angle (radians) exp and log use their Taylor series (no division by sin)."""
 
 
-def rpy_rotation(rpy) -> np.ndarray:
+def rpy_rotation(rpy: Sequence[float] | np.ndarray) -> np.ndarray:
     """R = Rz(yaw) Ry(pitch) Rx(roll) of URDF's ``rpy`` (radians), shape (3, 3).
 
     >>> np.round(rpy_rotation([0, 0, np.pi / 2]) @ [1, 0, 0], 12) + 0.0
@@ -34,7 +37,7 @@ def rpy_rotation(rpy) -> np.ndarray:
     rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
     ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
     rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
-    return rz @ ry @ rx
+    return cast(np.ndarray, rz @ ry @ rx)
 
 
 def rotation_rpy(rot: np.ndarray) -> np.ndarray:
@@ -53,7 +56,7 @@ def rotation_rpy(rot: np.ndarray) -> np.ndarray:
     return np.stack([roll, pitch, yaw], axis=-1)
 
 
-def quaternion_rotation(q_wxyz) -> np.ndarray:
+def quaternion_rotation(q_wxyz: ArrayLike) -> np.ndarray:
     """The rotation (3, 3) of a quaternion (w, x, y, z), normalised first (any length > 0).
 
     >>> np.round(quaternion_rotation([0, 0, 0, 1]), 12) + 0.0
@@ -114,10 +117,10 @@ def rotation_exp(vector: np.ndarray) -> np.ndarray:
     a = np.where(small, 1.0 - angle**2 / 6.0, np.sin(safe) / safe)
     b = np.where(small, 0.5 - angle**2 / 24.0, (1.0 - np.cos(safe)) / safe**2)
     k = skew_batch(v)
-    return np.eye(3) + a * k + b * (k @ k)
+    return cast(np.ndarray, np.eye(3) + a * k + b * (k @ k))
 
 
-def axis_angle_rotation(axis, angle: float) -> np.ndarray:
+def axis_angle_rotation(axis: ArrayLike, angle: float) -> np.ndarray:
     """The rotation (3, 3) by ``angle`` radians about ``axis`` (any length > 0).
 
     >>> np.round(axis_angle_rotation([0, 0, 2], np.pi) @ [1, 0, 0], 12) + 0.0
@@ -148,7 +151,7 @@ def rotation_log(rot: np.ndarray) -> np.ndarray:
     scale = np.where(small, 1.0 + angle**2 / 6.0, angle / np.where(sin > 0, sin, 1.0))
     near_pi = (cos < -0.9) & ~small
     if not np.any(near_pi):
-        return scale[..., None] * skew_part
+        return cast(np.ndarray, scale[..., None] * skew_part)
     # axis from the symmetric part: (R + R^T)/2 = cos I + (1 - cos) a a^T
     sym = 0.5 * (rot + np.swapaxes(rot, -1, -2))
     outer = (sym - cos[..., None, None] * np.eye(3)) / np.where(near_pi, 1.0 - cos, 1.0)[..., None, None]
@@ -158,7 +161,7 @@ def rotation_log(rot: np.ndarray) -> np.ndarray:
     axis = axis / np.where(length > 0, length, 1.0)
     sign = np.where(np.sum(axis * skew_part, axis=-1) < 0, -1.0, 1.0)
     far = sign[..., None] * angle[..., None] * axis
-    return np.where(near_pi[..., None], far, scale[..., None] * skew_part)
+    return cast(np.ndarray, np.where(near_pi[..., None], far, scale[..., None] * skew_part))
 
 
 def _log_one(rot: np.ndarray) -> np.ndarray:
@@ -171,7 +174,7 @@ def _log_one(rot: np.ndarray) -> np.ndarray:
     if angle < 1e-4:
         scale = 1.0 + angle * angle / 6.0
     elif cos < -0.9:
-        return rotation_log(rot[None])[0]
+        return cast(np.ndarray, rotation_log(rot[None])[0])
     else:
         scale = angle / sin
     return np.array([scale * sx, scale * sy, scale * sz])
@@ -197,7 +200,7 @@ def alignment_vector(current: np.ndarray, target: np.ndarray) -> np.ndarray:
     fallback = np.cross(current, least)
     axis = np.where((sin < 1e-12)[..., None], fallback, normal)
     axis = axis / np.linalg.norm(axis, axis=-1, keepdims=True)
-    return angle[..., None] * axis
+    return cast(np.ndarray, angle[..., None] * axis)
 
 
 def perpendicular_basis(axis: np.ndarray) -> np.ndarray:

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -131,7 +132,7 @@ def pchip_slopes(s: np.ndarray, poses: np.ndarray) -> np.ndarray:
     return d
 
 
-def _end_slope(h0, h1, m0, m1) -> np.ndarray:
+def _end_slope(h0: np.ndarray, h1: np.ndarray, m0: np.ndarray, m1: np.ndarray) -> np.ndarray:
     """scipy's shape-preserving three-point slope at an end of a PCHIP."""
     d = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
     d = np.where(np.sign(d) != np.sign(m0), 0.0, d)
@@ -375,7 +376,7 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
         return max(1.0, ratio_v, math.sqrt(ratio_a))
     third = np.diff(np.concatenate([phi[:1], phi[:1], phi, phi[-1:], phi[-1:]]), 3, axis=0) * fps**3
     ratio_j = float(np.max(np.abs(third) / jerk, initial=0.0))
-    return max(1.0, ratio_v, math.sqrt(ratio_a), ratio_j ** (1 / 3))
+    return cast(float, max(1.0, ratio_v, math.sqrt(ratio_a), ratio_j ** (1 / 3)))
 
 
 def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,

@@ -16,6 +16,8 @@ accept a batch of poses where their docstring says so. Pure core: no I/O.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_point_jacobian
@@ -30,10 +32,10 @@ from armanim.motion.orientation import (
 from armanim.motion.problem import Limits, Problem
 from armanim.world.distances import Clearances, clearances
 from armanim.world.obstacles import Obstacles
-from armanim.world.selfdistances import self_gaps, self_rows
+from armanim.world.selfdistances import SelfGaps, self_gaps, self_rows
 
 
-def obstacle_field(d: np.ndarray, influence: np.ndarray) -> np.ndarray:
+def obstacle_field(d: np.ndarray, influence: float | np.ndarray) -> np.ndarray:
     """F_R(d) = ln(R/d) for 0 < d <= R, 0 for d > R, +inf for d <= 0 (Eq. 11); R is the influence.
 
     >>> obstacle_field(np.array([0.5, 1.0, 2.0, 0.0]), np.array(1.0))
@@ -46,7 +48,7 @@ def obstacle_field(d: np.ndarray, influence: np.ndarray) -> np.ndarray:
     return np.where(d <= 0, np.inf, value)
 
 
-def obstacle_field_slope(d: np.ndarray, influence: np.ndarray) -> np.ndarray:
+def obstacle_field_slope(d: np.ndarray, influence: float | np.ndarray) -> np.ndarray:
     """dF_R/dd: -1/d inside the influence shell, 0 beyond it."""
     d = np.asarray(d, dtype=float)
     inside = (d > 0) & (d <= influence)
@@ -67,7 +69,7 @@ def limit_barrier(phi: np.ndarray, limits: Limits) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         lo = np.where(lo_gap <= 0, np.inf, np.where(lo_gap < delta, np.log(delta / lo_gap), 0.0))
         hi = np.where(hi_gap <= 0, np.inf, np.where(hi_gap < delta, np.log(delta / hi_gap), 0.0))
-    return (lo + hi).sum(axis=-1)
+    return cast(np.ndarray, (lo + hi).sum(axis=-1))
 
 
 def limit_barrier_gradient(phi: np.ndarray, limits: Limits) -> np.ndarray:
@@ -87,7 +89,7 @@ def limit_gaps(phi: np.ndarray, limits: Limits) -> tuple[np.ndarray, np.ndarray]
 
 def goal_term(tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
     """|e - g| for (..., 3) tips."""
-    return np.linalg.norm(tip - goal, axis=-1)
+    return cast(np.ndarray, np.linalg.norm(tip - goal, axis=-1))
 
 
 def orientation_cost_weight(problem: Problem, orientation: Orientation) -> float:
@@ -148,18 +150,18 @@ def self_influence(problem: Problem) -> float:
     return SELF_INFLUENCE * problem.self_pairs.clearance
 
 
-def pair_gaps(problem: Problem, pose: Pose):
+def pair_gaps(problem: Problem, pose: Pose) -> SelfGaps | None:
     """The enabled pairs' gaps of ``pose`` (one or a batch), or None without pairs."""
     return self_gaps(pose, problem.capsules, problem.self_pairs) if len(problem.self_pairs) else None
 
 
-def self_cost_gradient(problem: Problem, pose: Pose, gaps) -> np.ndarray:
+def self_cost_gradient(problem: Problem, pose: Pose, gaps: SelfGaps) -> np.ndarray:
     """Gradient (n,) of sum F_R(d) over the enabled pairs, one pose: F_R'(d) n . (J_A - J_B)."""
     slope = obstacle_field_slope(gaps.d, self_influence(problem))
     which = np.nonzero(slope)[0]
     if not len(which):
         return np.zeros(problem.arm.n)
-    return slope[which] @ self_rows(problem.arm, problem.capsules, pose, problem.self_pairs, gaps, which)
+    return cast(np.ndarray, slope[which] @ self_rows(problem.arm, problem.capsules, pose, problem.self_pairs, gaps, which))
 
 
 def part_jacobians(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, parts: np.ndarray, obs: np.ndarray) -> np.ndarray:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -71,7 +72,7 @@ def two_sided_bound(c0: np.ndarray, c1: np.ndarray, reach: np.ndarray) -> np.nda
     >>> two_sided_bound(np.array([1.0, 1.0]), np.array([1.0, 0.0]), np.array([1.5, 0.5]))
     array([0.25, 0.5 ])
     """
-    return np.maximum(np.maximum(c0, c1) - reach, (c0 + c1 - reach) / 2)
+    return cast(np.ndarray, np.maximum(np.maximum(c0, c1) - reach, (c0 + c1 - reach) / 2))
 
 
 def probed_steps(path: JointPath, safety: PathSafety, asked: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -126,7 +127,8 @@ def _measured(measure: Callable[[np.ndarray], np.ndarray], groups: list[np.ndarr
     return np.split(measure(np.concatenate(groups)), np.cumsum([len(g) for g in groups])[:-1])
 
 
-def _pieces_clear(path: JointPath, safety: PathSafety, steps: np.ndarray, inner: list, cleared: list) -> np.ndarray:
+def _pieces_clear(path: JointPath, safety: PathSafety, steps: np.ndarray, inner: list[np.ndarray],
+                  cleared: list[np.ndarray]) -> np.ndarray:
     """(len(steps),) bool: every piece of each step between its ends and the ``inner`` poses
     (each (len(steps), n), in order along the step, with clearances ``cleared``) certified by
     :func:`two_sided_bound`."""
@@ -171,20 +173,20 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     """
     holds = [0] * len(poses) if holds is None else holds
     goals = [_Goal.start(p, limited, None if safeties is None else safeties[i]) for i, p in enumerate(poses)]
-    probing = [g for g in goals if g.safety is not None and len(g.path.s) > 2 and np.any(g.asked)]
-    for g, (unsafe, proven) in zip(probing, probed_paths([g.path for g in probing], [g.safety for g in probing],
-                                                         [g.asked for g in probing])):
+    probing = [(g, g.safety) for g in goals if g.safety is not None and len(g.path.s) > 2 and np.any(g.asked)]
+    for (g, _), (unsafe, proven) in zip(probing, probed_paths([g.path for g, _ in probing], [safety for _, safety in probing],
+                                                              [g.asked for g, _ in probing])):
         g.proven = proven
         g.chords[g.solved_step[unsafe]] = True
     pending = [i for i, g in enumerate(goals) if g.path.length > 0]
     while pending:  # a step whose frames come too close is taken along its chord, and its motion timed again
         for i in pending:
-            before = sum(len(goals[j].motion.phi) + holds[j] for j in range(i) if goals[j].motion is not None)
-            goals[i].time(speed, acceleration, fps, most_frames - before, jerk)
+            goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk)
         checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].check)]
-        found = _measured(goals[checked[0]].safety.clearance, [goals[i].motion.phi[goals[i].check] for i in checked]) \
-            if checked else []
-        pending = [i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= goals[i].safety.floor))]
+        if not checked or safeties is None:
+            break
+        found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].check] for i in checked])
+        pending = [i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= safeties[0].floor))]
     return [g.finished() for g in goals]
 
 
@@ -211,6 +213,17 @@ class _Goal:
         return cls(poses, limited, path, safety, doubtful, np.zeros(steps, dtype=bool), np.zeros(len(path.s) - 1, dtype=bool))
 
     @property
+    def timed(self) -> Motion:
+        """The motion (after :meth:`time`)."""
+        assert self.motion is not None, "the path is timed first"
+        return self.motion
+
+    @property
+    def frames(self) -> int:
+        """Frames of the motion so far (0 before it is timed)."""
+        return 0 if self.motion is None else len(self.motion.phi)
+
+    @property
     def solved_step(self) -> np.ndarray:
         """The solved step each step of the path is (repeated poses dropped)."""
         return self.path.frames[1:] - 1
@@ -218,19 +231,19 @@ class _Goal:
     @property
     def asked(self) -> np.ndarray:
         """The path's steps not certified clear."""
-        return self.doubtful[self.solved_step]
+        return cast(np.ndarray, self.doubtful[self.solved_step])
 
     @property
     def frame_step(self) -> np.ndarray:
         """The solved step each frame of the motion lies in."""
-        return np.maximum(self.motion.heads_for, 1) - 1
+        return cast(np.ndarray, np.maximum(self.timed.heads_for, 1) - 1)
 
     @property
     def check(self) -> np.ndarray:
         """The motion's frames to measure: in a doubtful step its probes have not proved (or whose
         shape a chord has changed since)."""
         proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
-        return (self.doubtful & ~proven)[self.frame_step]
+        return cast(np.ndarray, (self.doubtful & ~proven)[self.frame_step])
 
     def time(self, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
              jerk: np.ndarray | None) -> None:
@@ -243,11 +256,13 @@ class _Goal:
     def chord_bad_frames(self, under: np.ndarray) -> bool:
         """Note which checked frames came ``under`` the floor; take the steps they lie in along
         their chords. True if that adds a chord (the motion must be timed again)."""
-        self.bad[self.check] = under
+        bad = np.zeros(self.frames, dtype=bool)
+        bad[self.check] = under
+        self.bad = bad
         step = self.frame_step
-        again = bool(np.any(self.bad & ~self.chords[step]))
+        again = bool(np.any(bad & ~self.chords[step]))
         if again:
-            self.chords[step[self.bad]] = True
+            self.chords[step[bad]] = True
         return again
 
     def finished(self) -> Motion:

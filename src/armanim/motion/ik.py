@@ -152,6 +152,7 @@ def solve_pose(
         if attempts[-1].distance < tolerance or sum(a.steps for a in attempts) >= max_iterations:
             break
     best = min(attempts, key=lambda a: a.distance)  # the first of equals
+    status: PoseStatus
     if best.distance < tolerance:
         status = "converged"
     else:

@@ -21,6 +21,7 @@ work on [p_g - p ; w r] with [J_v ; w J_w]. Pure core: numpy only, radians only.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -74,12 +75,13 @@ def orientation_residual(orientation: Orientation, rot: np.ndarray) -> np.ndarra
     """
     if orientation.rotation is not None:
         return rotation_log(orientation.rotation @ np.swapaxes(rot, -1, -2))
+    assert orientation.axis is not None  # an orientation is a rotation or a tool axis
     return alignment_vector(rot[..., :, 2], orientation.axis)
 
 
 def orientation_angle(orientation: Orientation, rot: np.ndarray) -> np.ndarray:
     """|r| (...,): the angle (radians) still to turn, in [0, pi]."""
-    return np.linalg.norm(orientation_residual(orientation, rot), axis=-1)
+    return cast(np.ndarray, np.linalg.norm(orientation_residual(orientation, rot), axis=-1))
 
 
 def orientation_rows(orientation: Orientation, rot: np.ndarray) -> np.ndarray:
@@ -118,7 +120,8 @@ def partial_orientation(orientation: Orientation, rot: np.ndarray, step: np.ndar
     return Orientation(axis=turn @ rot[:, 2])
 
 
-def pose_distance(distance, angle, tolerance: float, angle_tolerance: float):
+def pose_distance(distance: float | np.ndarray, angle: float | np.ndarray | None, tolerance: float,
+                  angle_tolerance: float) -> float | np.ndarray:
     """One number for the progress toward a pose goal, in lengths: max(|p_g - p|, angle scaled so
     that ``angle_tolerance`` counts as ``tolerance``). Below ``tolerance`` exactly when both
     tolerances hold; ``angle`` None (a position-only goal): the distance itself.

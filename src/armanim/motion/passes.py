@@ -57,7 +57,7 @@ def _basis(t: float, h: float, derivative: int) -> tuple[float, float, float, fl
 @compiled(inline="always", **_JIT)
 def _step(knots: np.ndarray, s: float) -> int:
     """The step of ``knots`` that arc length ``s`` falls in (from the right at a knot)."""
-    k = np.searchsorted(knots, s, side="right") - 1
+    k = int(np.searchsorted(knots, s, side="right")) - 1
     return min(max(k, 0), len(knots) - 2)
 
 
@@ -67,7 +67,7 @@ def _hermite_at(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, k: int
     """Joint j of the path, or its ``derivative``, at fraction ``t`` of step k."""
     h = knots[k + 1] - knots[k]
     b0, b1, b2, b3, scale = _basis(t, h, derivative)
-    return scale * (b0 * poses[k, j] + b1 * h * slopes[k, j] + b2 * poses[k + 1, j] + b3 * h * slopes[k + 1, j])
+    return float(scale * (b0 * poses[k, j] + b1 * h * slopes[k, j] + b2 * poses[k + 1, j] + b3 * h * slopes[k + 1, j]))
 
 
 @compiled(**_JIT)

@@ -8,7 +8,8 @@ core: no I/O.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -44,7 +45,7 @@ class Limits:
     @property
     def limited(self) -> np.ndarray:
         """(n,) bool: joints that have limits."""
-        return np.isfinite(self.lower)
+        return cast(np.ndarray, np.isfinite(self.lower))
 
     def notes(self, phi: np.ndarray) -> list[str]:
         """One line per joint of the pose ``phi`` (radians) outside its limits.
@@ -214,6 +215,9 @@ class Problem:
     capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
     rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
     self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
+    _lever_arms: np.ndarray = field(init=False, repr=False, compare=False)  # set by __post_init__
+    _pair_lever_rows: np.ndarray = field(init=False, repr=False, compare=False)
+    _pair_levers: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.capsules is None:

@@ -22,7 +22,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.clock import ClockTooLong
+from armanim.motion.clock import ClockTooLong, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
@@ -78,33 +78,20 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         The motion would take more than ``most_frames`` frames.
     """
     src, out = solution.trajectory, at_fps(problem, fps)
-    n = src.phi.shape[1]
     rates = problem.rates
-    phi, velocity, source, held, goal = [src.phi[:1]], [np.zeros((1, n))], [np.zeros(1, dtype=int)], [[False]], [[0]]
-    timings = []
     starts = np.cumsum([0] + [g.frames + (hold_frames(problem, problem.goals[g.index]) if g.reached else 0)
                               for g in solution.goals])
     holds = [hold_frames(out, problem.goals[g.index]) if g.reached else 0 for g in solution.goals]
     safety = path_safety(problem, src)
-    pieces = [slice(start, start + g.frames + 1) for start, g in zip(starts, solution.goals)]
+    pieces = [slice(int(start), int(start) + g.frames + 1) for start, g in zip(starts, solution.goals)]
     motions = goal_motions([src.phi[p] for p in pieces], problem.limits.limited, rates.speed, rates.acceleration, fps,
                            [replace(safety, at_poses=safety.at_poses[p], certified=safety.certified[p.start:p.stop - 1])
                             for p in pieces], most_frames, rates.jerk, holds)
     made = sum(len(m.phi) for m in motions) + sum(holds)
     if made > most_frames:
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
-    for g, piece, motion, hold in zip(solution.goals, pieces, motions, holds):
-        heads_for = piece.start + motion.heads_for
-        if len(heads_for):
-            heads_for[-1] = piece.stop - 1  # the last solved frame, repeated poses or not
-        phi += [motion.phi, np.repeat(src.phi[piece.stop - 1:piece.stop], hold, axis=0)]
-        velocity += [motion.velocity, np.zeros((hold, n))]
-        source += [heads_for, np.full(hold, piece.stop - 1)]
-        held += [np.zeros(len(motion.phi), dtype=bool), np.ones(hold, dtype=bool)]
-        goal += [np.full(len(motion.phi) + hold, g.index)]
-        timings.append(motion.timing(src.phi[piece.start], rates.speed, rates.acceleration, fps))
-    phi, velocity = np.concatenate(phi), np.concatenate(velocity)
-    source, held, goal = np.concatenate(source), np.concatenate(held), np.concatenate(goal)
+    phi, velocity, source, held, goal = _joined(src.phi, [g.index for g in solution.goals], pieces, motions, holds)
+    timings = [m.timing(src.phi[p.start], rates.speed, rates.acceleration, fps) for m, p in zip(motions, pieces)]
     pose = forward(problem.arm, phi)
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     spent = np.concatenate([[0], np.cumsum(src.iterations)])[source + 1]
@@ -120,7 +107,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
         fps=fps,
-        mode=np.where(held, "ik", src.mode[source]),
+        mode=np.where(held, "ik", src.mode[source]),  # type: ignore[index]  # a solved trajectory has its modes
         orientation_error=angle,
         tool_quaternion=quaternions,
         velocity=velocity,
@@ -129,6 +116,30 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     moving[1:] = ~held[1:]
     trajectory = with_self_clearance(problem, trajectory, pose)
     return Solution(trajectory, tuple(_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings)))
+
+
+def _joined(solved: np.ndarray, goals: list[int], pieces: list[slice], motions: list[Motion], holds: list[int]
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The run's frames: the start pose, then each goal's motion and its hold. Per frame (F,):
+    the angles (F, n), the clock's velocities (F, n), the solved frame each heads for, whether it
+    is held, and its goal (index into the problem's goals)."""
+    n = solved.shape[1]
+    phi: list[np.ndarray] = [solved[:1]]
+    velocity: list[np.ndarray] = [np.zeros((1, n))]
+    source: list[np.ndarray] = [np.zeros(1, dtype=int)]
+    held: list[np.ndarray] = [np.zeros(1, dtype=bool)]
+    goal: list[np.ndarray] = [np.zeros(1, dtype=int)]
+    for index, piece, motion, hold in zip(goals, pieces, motions, holds):
+        heads_for = piece.start + motion.heads_for
+        if len(heads_for):
+            heads_for[-1] = piece.stop - 1  # the last solved frame, repeated poses or not
+        phi += [motion.phi, np.repeat(solved[piece.stop - 1:piece.stop], hold, axis=0)]
+        velocity += [motion.velocity, np.zeros((hold, n))]
+        source += [heads_for, np.full(hold, piece.stop - 1)]
+        held += [np.zeros(len(motion.phi), dtype=bool), np.ones(hold, dtype=bool)]
+        goal += [np.full(len(motion.phi) + hold, index)]
+    return (np.concatenate(phi), np.concatenate(velocity), np.concatenate(source), np.concatenate(held),
+            np.concatenate(goal))
 
 
 def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
@@ -159,7 +170,7 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
     mine = np.nonzero(trajectory.goal == g.index)[0]
     planning = g.planning
     if planning is not None:
-        planning = replace(planning, frames=int(np.sum(trajectory.mode[mine] == "plan")))
+        planning = replace(planning, frames=int(np.sum(trajectory.mode[mine] == "plan")))  # type: ignore[index]  # the retimed trajectory has its modes
     return replace(
         g,
         frames=int(moving[mine].sum()),

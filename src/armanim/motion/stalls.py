@@ -8,6 +8,8 @@ the arm from the goal. Pure core: no I/O.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from armanim.motion.cost import self_influence
@@ -53,7 +55,7 @@ def pose_stalled(
     """
     if not angles or angles[-1] is None:
         return has_stalled(distances, window, tolerance, floor)
-    scaled = [a * (tolerance / angle_tolerance) for a in angles]
+    scaled = [cast(float, a) * (tolerance / angle_tolerance) for a in angles]  # a goal's angles: all None or none
     return has_stalled(distances, window, tolerance, floor) and has_stalled(scaled, window, tolerance, 0.0 if np.isfinite(floor) else floor)
 
 

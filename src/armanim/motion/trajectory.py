@@ -46,17 +46,18 @@ ARRIVED = 1e-9  # radians: the arm is at a planned pose
 class _Recorder:
     """Rows of the trajectory as the loop produces them."""
 
-    phi: list = field(default_factory=list)
-    tip: list = field(default_factory=list)
-    clearance: list = field(default_factory=list)
-    goal: list = field(default_factory=list)
-    distance: list = field(default_factory=list)
-    iterations: list = field(default_factory=list)
-    step_scale: list = field(default_factory=list)
-    mode: list = field(default_factory=list)
-    angle: list = field(default_factory=list)
+    phi: list[np.ndarray] = field(default_factory=list)
+    tip: list[np.ndarray] = field(default_factory=list)
+    clearance: list[float] = field(default_factory=list)
+    goal: list[int] = field(default_factory=list)
+    distance: list[float] = field(default_factory=list)
+    iterations: list[int] = field(default_factory=list)
+    step_scale: list[float] = field(default_factory=list)
+    mode: list[str] = field(default_factory=list)
+    angle: list[float] = field(default_factory=list)
 
-    def add(self, state: ArmState, goal, distance, iterations=0, step_scale=0.0, mode="ik", angle=None):
+    def add(self, state: ArmState, goal: int, distance: float, iterations: int = 0, step_scale: float = 0.0,
+            mode: str = "ik", angle: float | None = None) -> None:
         self.phi.append(state.phi)
         self.tip.append(state.tip)
         self.clearance.append(state.min_clearance)  # the filter computed it for this very pose
@@ -77,14 +78,14 @@ class _Visit:
 
     index: int
     goal: Goal
-    distances: list
-    angles: list | None = None  # radians to the goal's orientation; None entries for a position-only goal
-    progress: list | None = None  # pose_distance: the distances themselves for a position-only goal
+    distances: list[float]
+    angles: list[float | None] = None  # type: ignore[assignment]  # radians to the goal's orientation; None entries for a position-only goal (None: all None)
+    progress: list[float] = None  # type: ignore[assignment]  # pose_distance: the distances themselves for a position-only goal (None: those)
     frames: int = 0
     iterations: int = 0
     newton_iterations: int = 0
     blocked: list[Blocker | None] = field(default_factory=list)
-    path: list = field(default_factory=list)  # planned poses still to follow
+    path: list[np.ndarray] = field(default_factory=list)  # planned poses still to follow
     overrun: int = 0  # frames spent waiting for the arm to reach a pose of the path
     planning: PlanningReport | None = None
     reason: MissReason | None = None
@@ -152,7 +153,7 @@ def solve_trajectory(
     for k, goal in enumerate(problem.goals):
         later -= problem.solver.max_frames_per_goal + hold_frames(problem, goal)
 
-        def report_progress(visit: _Visit, goal=goal, later=later) -> None:
+        def report_progress(visit: _Visit, goal: Goal = goal, later: int = later) -> None:
             if progress:
                 cap = problem.solver.max_frames_per_goal
                 progress(len(rec), len(rec) + cap - visit.frames + hold_frames(problem, goal) + later)
@@ -164,7 +165,8 @@ def solve_trajectory(
     return Solution(trajectory=_finish(problem, rec), goals=tuple(reports))
 
 
-def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal, on_frame, planning=None):
+def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal,
+                on_frame: Callable[[_Visit], None], planning: Searched | None = None) -> tuple[ArmState, GoalReport]:
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
     s = problem.solver
     first = len(rec) if k else 0
@@ -205,11 +207,12 @@ def _visit_goal(problem, method: Method, rec: _Recorder, state: ArmState, k: int
     )
 
 
-def _one_frame(problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
+def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
     """One filtered step: along the planned path if there is one, else the method's."""
     target = visit.goal.position
     if visit.path:  # (following it may end it: the last pose reached, or the arm held back too long)
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
+        assert visit.planning is not None  # a path comes with its planning report
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
         ahead = None
     else:

@@ -136,7 +136,7 @@ def _replace_all(staged: dict[Path, Path], kept: dict[Path, Path]) -> None:
     """Rename each staged file onto its target, the old ones kept aside first (hard links,
     recorded in ``kept``); on a failure, put back what was already replaced."""
     done: list[Path] = []
-    current = None
+    current: Path | None = None
     try:
         for current in staged:
             if current.exists():
@@ -152,6 +152,7 @@ def _replace_all(staged: dict[Path, Path], kept: dict[Path, Path]) -> None:
                     os.replace(kept.pop(replaced), replaced)
                 else:
                     replaced.unlink()
+        assert current is not None  # os.link or os.replace failed on a target
         raise output_error(current, exc) from None
 
 

@@ -21,7 +21,6 @@ from armanim.errors import Diagnostic, SceneError, shown, shown_list
 from armanim.output.csvfile import TEXT_COLUMNS, TrajectoryTable, open_trajectory_csv
 
 EXACT = ("frame", "goal", "reached", "mode")
-LENGTHS = ("x", "y", "z", "goal_distance", "clearance")
 NOT_COMPARED = ("step_scale", "iterations")
 
 
@@ -173,7 +172,8 @@ def compare_csv_files(expected: Path, actual: Path, *, atol_deg: float = 1e-6, a
         streams = (e_blocks, a_blocks)
         while True:
             for side in (0, 1):  # keep a block of each side, aligned on the same frames
-                if pending[side] is None or len(pending[side].data) == 0:
+                held = pending[side]
+                if held is None or len(held.data) == 0:
                     pending[side] = next(streams[side], None)
             e, a = pending
             if e is None or a is None:
@@ -184,7 +184,8 @@ def compare_csv_files(expected: Path, actual: Path, *, atol_deg: float = 1e-6, a
             comparer.count(1, _rows(a, 0, frames))
             pending = [_rows(e, frames, None), _rows(a, frames, None)]
         for side in (0, 1):  # the longer file's remaining rows are only counted
-            rest = [pending[side]] if pending[side] is not None else []
+            held = pending[side]
+            rest = [held] if held is not None else []
             for table in itertools.chain(rest, streams[side]):
                 comparer.count(side, table)
     return comparer.result()

@@ -80,7 +80,7 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
         "1" if traj.reached[i] else "0",
         _num(traj.step_scale[i]),
         str(int(traj.iterations[i])),
-        str(traj.mode[i]),
+        str(traj.mode[i]),  # type: ignore[index]  # a solved trajectory has its modes
         *(_num(v) if np.isfinite(v) else "" for v in quaternion),
         _num(np.degrees(angle)) if np.isfinite(angle) else "",
         _num(traj.self_clearance[i]) if traj.self_clearance is not None else "",
@@ -241,11 +241,12 @@ def _parse_block(rows: list[tuple[int, list[str]]], columns: tuple[str, ...], fi
     fields = np.array([row for _, row in rows], dtype=object).reshape(len(rows), len(columns))
     text = {columns[i]: fields[:, i].astype(str) for i in text_at}
     for column, words in text.items():
-        if TEXT_COLUMNS[column] is None:
+        allowed_words = TEXT_COLUMNS[column]
+        if allowed_words is None:
             continue
-        bad = np.nonzero(~np.isin(words, TEXT_COLUMNS[column]))[0]
+        bad = np.nonzero(~np.isin(words, allowed_words))[0]
         if len(bad):
-            allowed = " or ".join(TEXT_COLUMNS[column])
+            allowed = " or ".join(allowed_words)
             raise _problem(file, f"{column}: {words[bad[0]][:40]!r} is not {allowed}", rows[bad[0]][0])
     fields[:, text_at] = "nan"
     fields[fields == ""] = "nan"
@@ -253,9 +254,9 @@ def _parse_block(rows: list[tuple[int, list[str]]], columns: tuple[str, ...], fi
         data = fields.astype(float)
     except ValueError:  # find the first field that is not a number, to name its line
         for line, row in rows:
-            bad = [i for i, v in enumerate(row) if i not in text_at and v != "" and not _is_float(v)]
-            if bad:
-                raise _problem(file, f"{columns[bad[0]]}: {row[bad[0]][:40]!r} is not a number", line) from None
+            not_numbers = [i for i, v in enumerate(row) if i not in text_at and v != "" and not _is_float(v)]
+            if not_numbers:
+                raise _problem(file, f"{columns[not_numbers[0]]}: {row[not_numbers[0]][:40]!r} is not a number", line) from None
         raise
     return TrajectoryTable(columns, data, text, rows[0][0] if rows else 2)
 
@@ -320,7 +321,7 @@ def open_trajectory_csv(path: Path, block_rows: int = BLOCK_ROWS) -> Iterator[tu
         yield table_blocks(_lines(handle, str(path)), str(path), block_rows)
 
 
-def read_trajectory_csv(path: Path, max_rows: int | None = None) -> TrajectoryTable:
+def read_trajectory_csv(path: Path, max_rows: float | None = None) -> TrajectoryTable:
     """Read a whole trajectory.csv written by armanim.
 
     Parameters

@@ -20,6 +20,7 @@ def interrupts_deferred() -> Iterator[None]:
         yield
         return
     received: list[int] = []
+    signum: int  # SIGINT and SIGTERM, then the numbers received
     old = {}
     try:
         for signum in (signal.SIGINT, signal.SIGTERM):

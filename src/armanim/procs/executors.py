@@ -114,8 +114,8 @@ class _LocalExecutor:
                                            initializer=init_worker, initargs=(os.getpid(),))
                 futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
             for future in as_completed(futures):
-                exc = future.exception()
-                yield futures[future], (None if exc else future.result()), exc
+                error = future.exception()
+                yield futures[future], (None if error else future.result()), error
         except BaseException:
             if pool is not None:
                 with interrupts_deferred():  # a second Ctrl-C must not leave workers behind

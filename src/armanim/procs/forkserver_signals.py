@@ -20,13 +20,14 @@ from __future__ import annotations
 import multiprocessing.forkserver
 import signal
 import sys
+from types import FrameType
 
 from armanim.procs.workers import WORKER_SIGNALS
 
 
 def _importing_forkserver() -> bool:
     """Whether this import runs inside ``multiprocessing.forkserver.main`` (its preload)."""
-    frame = sys._getframe(1)
+    frame: FrameType | None = sys._getframe(1)
     while frame is not None:
         if frame.f_code is multiprocessing.forkserver.main.__code__:
             return True

@@ -125,6 +125,7 @@ def load_tasks(paths: Iterable[Path]) -> tuple[list[SceneTask], list[BatchEntry]
 
 def _entry(task: SceneTask, run: RemoteRun, folder: Path) -> BatchEntry:
     s = run.summary
+    assert s is not None  # a run that finished sends its summary
     totals = s["totals"]
     return BatchEntry(
         name=task.name,

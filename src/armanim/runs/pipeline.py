@@ -13,7 +13,8 @@ from armanim.errors import OutputError, UsageError
 from armanim.motion.clock import ClockTooLong
 from armanim.motion.problem import Problem
 from armanim.motion.retime import at_fps, retime
-from armanim.motion.trajectory import Solution, frame_budget, solve_trajectory
+from armanim.motion.solution import Solution
+from armanim.motion.trajectory import frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.rundir import folder_lock, staged_folder

@@ -122,6 +122,7 @@ def variants(scene_path: Path, settings: list[Setting]) -> list[Variant]:
     """Every combination of the settings as a validated scene (or its validation errors)."""
     base_scene = load_scene(scene_path)
     data0 = read_yaml(base_scene.raw.decode("utf-8"), str(scene_path)).data
+    assert isinstance(data0, dict)  # load_scene validated it: a mapping
     result = []
     names: set[str] = set()
     for combo in unique_combinations(settings):

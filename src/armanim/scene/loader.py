@@ -10,8 +10,10 @@ import copy
 import difflib
 import functools
 import hashlib
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from pydantic import ValidationError
 
@@ -239,7 +241,7 @@ _EXPECTED_TYPES = {
 """What ``must be`` of a value of the wrong type, by pydantic's error type."""
 
 
-def problem_message(err: dict, loc: tuple) -> str:
+def problem_message(err: Mapping[str, Any], loc: tuple[int | str, ...]) -> str:
     """What is wrong, and what was expected, for one pydantic error at ``loc``."""
     kind = err["type"]
     got = err.get("input")

@@ -358,12 +358,3 @@ def joint_speeds(robot: Robot, joints: list[Joint]) -> tuple[float | None, ...]:
             raise robot.error(f"joint {joint.name!r}: <limit> velocity {joint.velocity:g} is not a speed (expected rad/s > 0, "
                               "or leave velocity out for armanim's default max_joint_speed)", joint.limit_line)
     return tuple(j.velocity for j in joints)
-
-
-def default_tip(robot: Robot) -> str:
-    """The only leaf link; an error listing the leaves when there are several."""
-    leaves = robot.leaves
-    if len(leaves) == 1:
-        return leaves[0]
-    names = ", ".join(repr(n) for n in leaves[:12])
-    raise robot.error(f"has {len(leaves)} leaf links ({names}): set arm.tip_link to the one the arm ends at")

@@ -16,7 +16,10 @@ lay out the pairs.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 
 def excess_beyond(p: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarray:
@@ -27,7 +30,7 @@ def excess_beyond(p: np.ndarray, low: np.ndarray, half: np.ndarray) -> np.ndarra
     >>> excess_beyond(np.array([2.0, 0.5, -3.0]), -np.ones(3), np.ones(3)).tolist()
     [1.0, 0.0, -2.0]
     """
-    return p - np.minimum(np.maximum(p, low), half)
+    return cast(np.ndarray, p - np.minimum(np.maximum(p, low), half))
 
 
 def segment_box(
@@ -75,7 +78,8 @@ def segment_box(
     return t.reshape(shape)[()], dist.reshape(shape)[()], normal.reshape(shape + (3,))
 
 
-def segment_box_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.ndarray, rotation: np.ndarray):
+def segment_box_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.ndarray,
+                     rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`segment_box` of every segment a-b ((..., p, 3) each) against every box
     (center and half (k, 3), rotation (k, 3, 3)): t and distance (..., p, k), normal (..., p, k, 3).
 
@@ -93,16 +97,18 @@ def segment_box_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.
     return t.reshape(segments + (k,)), dist.reshape(segments + (k,)), normal.reshape(segments + (k, 3))
 
 
-def segment_box_pairs(a, b, center, half, rotation, segment, box):
+def segment_box_pairs(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.ndarray, rotation: np.ndarray, segment: ArrayLike,
+                      box: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`segment_box` of the pairs (``segment[p]``, ``box[p]``) of the segments a-b
     ((M, 3) each) and the boxes ((K, 3), (K, 3), (K, 3, 3)): t and distance (P,), normal
     (P, 3); each pair's numbers are those :func:`segment_box_grid` gives it, bit for bit."""
     from armanim.world import compiled
 
+    segment, box = np.asarray(segment, dtype=np.intp), np.asarray(box, dtype=np.intp)
     n = len(segment)
     t, dist, normal = np.empty(n), np.empty(n), np.empty((n, 3))
     compiled.segment_box_pairs(_rows(a), _rows(b), _rows(center), _rows(half), _rows(rotation, 2),
-                               np.asarray(segment, dtype=np.intp), np.asarray(box, dtype=np.intp), t, dist, normal)
+                               segment, box, t, dist, normal)
     return t, dist, normal
 
 

@@ -17,6 +17,9 @@ inlined into the two loops: a view or a call per pair would cost more than the p
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any, TypeVar, cast
+
 import numba
 import numpy as np
 
@@ -24,23 +27,25 @@ TOUCHING = 1e-9
 """Scene units: a segment whose least outside distance to a box is this or less may enter it
 (rounding puts a point on the surface a little either side), so its depth is searched for."""
 
+F = TypeVar("F", bound=Callable[..., Any])
+
 _JIT = dict(error_model="numpy", nogil=True)  # numpy's error model: x / 0 is inf or NaN, as the closed form expects
 _INLINE = dict(inline="always", **_JIT)
 
 
-def compiled(**options):
+def compiled(**options: Any) -> Callable[[F], F]:
     """``numba.njit(**options)`` with its machine code cached on disk where numba finds a
     writable folder (beside this file, ``NUMBA_CACHE_DIR`` or the user's cache folder), and
     compiled afresh in each process where it finds none (a read-only install run by a user
     without a writable home: numba refuses ``cache=True`` there instead of going without)."""
 
-    def compile_(function):
+    def compile_(function: F) -> F:  # numba's dispatcher is called as the function is (numba ships no types)
         try:
-            return numba.njit(cache=True, **options)(function)
+            return cast(F, numba.njit(cache=True, **options)(function))
         except RuntimeError as error:
             if "no locator available" not in str(error):
                 raise
-            return numba.njit(cache=False, **options)(function)
+            return cast(F, numba.njit(cache=False, **options)(function))
 
     return compile_
 
@@ -51,13 +56,13 @@ the knots (8), the gap to the box (3); the deepest point's 18 candidates reuse t
 
 
 @compiled(**_INLINE)
-def _clamp(x, low, high):
+def _clamp(x: float, low: float, high: float) -> float:
     """min(max(x, low), high), as numpy's maximum and minimum compute it (x is never NaN here)."""
     return min(max(x, low), high)
 
 
 @compiled(**_INLINE)
-def _least_outside(s, h):
+def _least_outside(s: np.ndarray, h: np.ndarray) -> float:
     """The largest t in [0, 1] that minimises the squared distance of x0 + t u (box frame,
     in the scratch ``s``) to the box [-h, h]: where its derivative, sum_i u_i e_i(t) with e
     the excess beyond the box, stops being <= 0 (0 inside the box).
@@ -105,7 +110,7 @@ def _least_outside(s, h):
 
 
 @compiled(**_INLINE)
-def _signed_distance(s, t, h):
+def _signed_distance(s: np.ndarray, t: float, h: np.ndarray) -> float:
     """Signed distance of x0 + t u (box frame, in the scratch ``s``) to the box [-h, h]."""
     beyond = 0.0
     deepest = -np.inf
@@ -113,11 +118,11 @@ def _signed_distance(s, t, h):
         q = abs(t * s[U + i] + s[X0 + i]) - h[i]
         beyond += max(q, 0.0) ** 2
         deepest = max(deepest, q)
-    return np.sqrt(beyond) + min(deepest, 0.0)
+    return np.sqrt(beyond) + min(deepest, 0.0)  # type: ignore[no-any-return]  # numba compiles this: no typing.cast in nopython mode
 
 
 @compiled(**_INLINE)
-def _deepest(s, h, t_outside):
+def _deepest(s: np.ndarray, h: np.ndarray, t_outside: float) -> tuple[float, float]:
     """(t, signed distance) of the segment's deepest point in the box: its depth (the least
     of the six face functions h_i -+ x_i(t)) is concave and piecewise linear, so its greatest
     value lies where two of them cross, at an end, or at ``t_outside``. Ties: the first of
@@ -146,7 +151,7 @@ def _deepest(s, h, t_outside):
 
 
 @compiled(**_INLINE)
-def _gap(s, t, h):
+def _gap(s: np.ndarray, t: float, h: np.ndarray) -> float:
     """Writes x0 + t u less its nearest point of the box into the scratch; returns its squared length."""
     squares = 0.0
     for i in range(3):
@@ -157,7 +162,7 @@ def _gap(s, t, h):
 
 
 @compiled(**_INLINE)
-def _pair(a, b, center, h, rotation, s, normal):
+def _pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, h: np.ndarray, rotation: np.ndarray, s: np.ndarray, normal: np.ndarray) -> tuple[float, float]:
     """Segment a-b ((3,) each) against one box: writes the world unit normal into ``normal``
     (3,) and returns (t, signed distance); ``s``: the (SCRATCH,) work space."""
     for i in range(3):  # the box frame: R^T (a - c) and R^T (b - a)
@@ -191,7 +196,7 @@ def _pair(a, b, center, h, rotation, s, normal):
 
 
 @compiled(**_JIT)
-def segment_box_grid(a, b, centers, half, rotations, t, dist, normal):
+def segment_box_grid(a: np.ndarray, b: np.ndarray, centers: np.ndarray, half: np.ndarray, rotations: np.ndarray, t: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
     """Every segment a_m-b_m ((M, 3) each) against every box ((K, 3), (K, 3), (K, 3, 3)):
     fills t and dist (M, K) and normal (M, K, 3)."""
     s = np.empty(SCRATCH)
@@ -201,7 +206,8 @@ def segment_box_grid(a, b, centers, half, rotations, t, dist, normal):
 
 
 @compiled(**_JIT)
-def segment_box_pairs(a, b, centers, half, rotations, segment, box, t, dist, normal):
+def segment_box_pairs(a: np.ndarray, b: np.ndarray, centers: np.ndarray, half: np.ndarray, rotations: np.ndarray, segment: np.ndarray, box: np.ndarray,
+                      t: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
     """Segment ``segment[p]`` against box ``box[p]`` for each pair p: fills t and dist (P,)
     and normal (P, 3)."""
     s = np.empty(SCRATCH)
@@ -211,7 +217,7 @@ def segment_box_pairs(a, b, centers, half, rotations, segment, box, t, dist, nor
 
 
 @compiled(**_JIT)
-def segment_segment_pairs(a, b, first, second, t, s_out, dist, normal):
+def segment_segment_pairs(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
     """Segment ``first[p]`` against segment ``second[p]`` (rows of a-b, (M, 3) each) for each pair
     p, by the same segment-box closed form (:func:`_pair`): the second segment is a box of one
     edge (half edges (length / 2, 0, 0) along it, as :meth:`armanim.world.obstacles.Rods.axes`

@@ -13,6 +13,7 @@ batch of poses. Pure core: numpy only, no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -51,7 +52,7 @@ class Clearances:
     @property
     def tip(self) -> int:
         """Index of the tip among the parts (after the capsules)."""
-        return self.d.shape[-2] - 1
+        return cast(int, self.d.shape[-2] - 1)
 
 
 def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearances:
@@ -115,7 +116,7 @@ def length_and_direction(offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return dist, offset / np.where(dist > 0, dist, 1.0)[..., None]
 
 
-def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles):
+def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(d, t, normal) of the parts to the solids (the boxes and capsule obstacles, in the scene's order), (..., p, k):
     the least signed distance of each part's segment to each solid's box (a capsule's: its
     axis, :meth:`~armanim.world.obstacles.Rods.axes`) less both radii
@@ -126,7 +127,8 @@ def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obst
     return dist - obstacles.solid_radius - radius[:, None], t, normal
 
 
-def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, where: tuple):
+def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles,
+                where: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(d, t, normal) of the part-solid pairs at the indices ``where`` of (..., p, k) only, each (K,)
     or (K, 3): the same numbers as :func:`solid_clearances` at those places (bit for bit)."""
     *pose, part, solid = where
@@ -136,7 +138,8 @@ def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles
     return dist - obstacles.solid_radius[solid] - radius[part], t, normal
 
 
-def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray, tip: bool = True):
+def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray,
+                     tip: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(d, t, normal) of the parts to the plane z = ``floor``, (..., p, 1): the lower end's
     height above it less the radius; +inf for the ``exempt`` parts ((p,) bool); the last part
     is the tip unless ``tip`` is False."""
@@ -185,7 +188,7 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     if len(obstacles) == 0:
         return np.full(pose.points.shape[:-2], np.inf)
     if obstacles.spheres_only:
-        return clearances(pose, obstacles, capsules).links.min(axis=(-1, -2))
+        return cast(np.ndarray, clearances(pose, obstacles, capsules).links.min(axis=(-1, -2)))
     a, b = capsule_ends(capsules, pose)
     radius = capsules.radius
     best = np.full(a.shape[:-2], np.inf)
@@ -206,7 +209,7 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     return best
 
 
-def solid_bounds(a, b, radius, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray]:
+def solid_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds (..., c, k) of the capsules' clearances to the solids: in each
     solid's box frame, the gap between the box and the segment's bounding box (the segment lies
     inside that; when they overlap, minus the box's inradius, the deepest a point can be
@@ -232,7 +235,7 @@ def solid_bounds(a, b, radius, obstacles: Obstacles) -> tuple[np.ndarray, np.nda
 def _length(v: np.ndarray) -> np.ndarray:
     """Length (k, M) of vectors laid out (k, 3, M)."""
     squares = v * v
-    return np.sqrt(squares[:, 0] + squares[:, 1] + squares[:, 2])
+    return cast(np.ndarray, np.sqrt(squares[:, 0] + squares[:, 1] + squares[:, 2]))
 
 
 def _outside(p: np.ndarray, half: np.ndarray) -> np.ndarray:

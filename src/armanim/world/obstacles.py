@@ -9,6 +9,7 @@ Pure core: numpy only, scene units, no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
 
@@ -49,7 +50,7 @@ class Boxes:
         """
         signs = np.array([[1 if j & 4 else -1, 1 if j & 2 else -1, 1 if j & 1 else -1] for j in range(8)], dtype=float)
         local = signs[None] * self.half[:, None, :]
-        return self.centers[:, None, :] + np.einsum("kab,kjb->kja", self.rotations, local)
+        return cast(np.ndarray, self.centers[:, None, :] + np.einsum("kab,kjb->kja", self.rotations, local))
 
 
 @dataclass(frozen=True)
@@ -145,7 +146,16 @@ class Obstacles:
     boxes: Boxes = field(default_factory=Boxes.none)
     rods: Rods = field(default_factory=Rods.none)
     floor: float | None = None
-    kinds: np.ndarray | None = None
+    kinds: np.ndarray = None  # type: ignore[assignment]  # None: __post_init__ fills it from the counts
+    # derived: set by __post_init__ (see the docstring), never passed
+    solids: Boxes = field(init=False, repr=False, compare=False)
+    solid_radius: np.ndarray = field(init=False, repr=False, compare=False)
+    solid_columns: np.ndarray = field(init=False, repr=False, compare=False)
+    solid_axes: np.ndarray = field(init=False, repr=False, compare=False)
+    solid_origins: np.ndarray = field(init=False, repr=False, compare=False)
+    solid_half: np.ndarray = field(init=False, repr=False, compare=False)
+    scene_order: np.ndarray | None = field(init=False, repr=False, compare=False)
+    _columns: dict[int, np.ndarray] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.kinds is None:
@@ -179,7 +189,7 @@ class Obstacles:
         return self._columns[kind]
 
 
-def _derived_solids(boxes: Boxes, rods: Rods, columns: dict) -> dict:
+def _derived_solids(boxes: Boxes, rods: Rods, columns: dict[int, np.ndarray]) -> dict[str, Any]:
     """:class:`Obstacles`' derived fields (``solids`` ... ``scene_order``, see its docstring) from
     its boxes, capsules and each kind's columns."""
     axes = rods.axes()

@@ -21,6 +21,8 @@ numpy only; files (bundled matrices, SRDF) are read in :mod:`armanim.scene`.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from armanim.arm.capsules import Capsules
@@ -160,7 +162,7 @@ def automatic_matrix(
 
 def enabled_pairs(
     capsules: Capsules, allowed: dict[tuple[str, str], str], clearance: float, mode: str,
-    check: list[tuple[str, str]] = (),
+    check: Sequence[tuple[str, str]] = (),
 ) -> SelfPairs:
     """The :class:`SelfPairs` of every capsule pair of distinct, moving-apart links whose link
     pair is not ``allowed`` (or is listed in ``check``), with the allowed pairs' reasons.

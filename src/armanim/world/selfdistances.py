@@ -13,6 +13,7 @@ Pure core: numpy only, no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -84,7 +85,7 @@ class SelfGaps:
     @property
     def least(self) -> np.ndarray:
         """(...) the smallest gap over the pairs (+inf when there is none)."""
-        return self.d.min(axis=-1, initial=np.inf)
+        return cast(np.ndarray, self.d.min(axis=-1, initial=np.inf))
 
 
 def self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
@@ -100,7 +101,7 @@ def self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
     """
     kept = pose.memo.get("self_gaps")
     if kept is not None and kept[0] is capsules and kept[1] is pairs:
-        return kept[2]
+        return cast(SelfGaps, kept[2])
     gaps = _self_gaps(pose, capsules, pairs)
     pose.memo["self_gaps"] = (capsules, pairs, gaps)  # the cost, the filter and the record ask for the same pose's
     return gaps
@@ -139,7 +140,7 @@ def least_self_gap(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> np.ndarr
     return self_gaps(pose, capsules, pairs).least
 
 
-def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which) -> np.ndarray:
+def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which: np.ndarray) -> np.ndarray:
     """(k, n) rows n . (J_A - J_B) of the pairs ``which`` (k,), one pose: how each pair's gap
     changes with the joint angles (the difference of the two closest points' Jacobians, along
     the normal)."""
@@ -149,4 +150,4 @@ def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: 
     capsule = np.concatenate([pairs.first[which], pairs.second[which]])  # both ends of every pair in one call
     jac = point_jacobian(arm, pose, capsules.link[capsule], capsule_point(capsules, pose, capsule, np.concatenate([gaps.t[which], gaps.s[which]])))
     k = len(which)
-    return np.einsum("ka,kan->kn", gaps.normal[which], jac[:k] - jac[k:])
+    return cast(np.ndarray, np.einsum("ka,kan->kn", gaps.normal[which], jac[:k] - jac[k:]))

@@ -3,7 +3,11 @@ starting and stopping smoothly. Pure core: numpy only."""
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
+
+from armanim.motion.problem import Problem
 
 PEAK_SPEED = 1.5  # the smoothstep's peak slope: the middle frames run at max_joint_step
 
@@ -14,7 +18,7 @@ def smoothstep(u: np.ndarray) -> np.ndarray:
     >>> smoothstep(np.array([0.0, 0.5, 1.0]))
     array([0. , 0.5, 1. ])
     """
-    return u * u * (3.0 - 2.0 * u)
+    return cast(np.ndarray, u * u * (3.0 - 2.0 * u))
 
 
 def path_frames(waypoints: np.ndarray, max_joint_step: float) -> np.ndarray:
@@ -54,7 +58,7 @@ def path_schedule(waypoints: np.ndarray, max_joint_step: float, most: int | None
     with np.errstate(over="ignore"):
         count = np.ceil(PEAK_SPEED * length / max_joint_step)  # may be huge, or inf: only ``most`` are made
     made = int(min(count, most)) if most is not None else int(count)
-    return length * smoothstep(np.arange(1, made + 1) / count)
+    return cast(np.ndarray, length * smoothstep(np.arange(1, made + 1) / count))
 
 
 def poses_along(waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -65,13 +69,13 @@ def poses_along(waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
         return np.repeat(waypoints[-1:], len(s), axis=0)
     leg = np.clip(np.searchsorted(at, s, side="right") - 1, 0, len(legs) - 1)
     fraction = np.where(legs[leg] > 0, (s - at[leg]) / np.where(legs[leg] > 0, legs[leg], 1.0), 1.0)
-    return waypoints[leg] + fraction[:, None] * (waypoints[leg + 1] - waypoints[leg])
+    return cast(np.ndarray, waypoints[leg] + fraction[:, None] * (waypoints[leg + 1] - waypoints[leg]))
 
 
 MAX_SPLITS = 8  # halvings of one frame interval (at most 256 frames in its place)
 
 
-def damper_paced(problem, waypoints: np.ndarray, s: np.ndarray, most: int | None = None) -> np.ndarray:
+def damper_paced(problem: Problem, waypoints: np.ndarray, s: np.ndarray, most: int | None = None) -> np.ndarray:
     """The schedule ``s`` (see :func:`path_schedule`) with frames inserted wherever the safety
     filter would not take a frame's step as it is.
 

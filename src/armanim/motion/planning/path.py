@@ -16,6 +16,7 @@ from __future__ import annotations
 import gc
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 
@@ -83,7 +84,7 @@ def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: floa
     if not count <= MAX_SAMPLES:
         return None
     t = np.linspace(0.0, 1.0, max(int(np.ceil(count)) + 1, 2))[:, None]
-    return a + t * (b - a)
+    return cast("np.ndarray | None", a + t * (b - a))
 
 
 def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
@@ -122,10 +123,12 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
         travel = step @ levers
         doubtful = c_lo + c_hi < travel + 2 * floor
         if own is not None:  # each pair by the joints between its capsules alone
+            assert o_lo is not None and o_hi is not None and pair_levers is not None  # set with own
             doubtful |= np.any(o_lo + o_hi < step @ pair_levers + 2 * floor, axis=1)
         doubtful &= travel > CERTIFY_TO * d_safe
         lo, hi, c_lo, c_hi = lo[doubtful], hi[doubtful], c_lo[doubtful], c_hi[doubtful]
         if own is not None:
+            assert o_lo is not None and o_hi is not None  # set with own
             o_lo, o_hi = o_lo[doubtful], o_hi[doubtful]
         if not len(lo):
             break
@@ -182,10 +185,11 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
     def tick(done: int) -> None:
         nonlocal ticked
         ticked = True
+        assert searched is not None  # tick is handed on only with searched
         searched(done, most)
 
     path = _path_at_two_floors(problem, start, goals, tick if searched else None)
-    if ticked:
+    if ticked and searched is not None:  # ticked: searched was given
         searched(most, most)
     return path
 
@@ -195,7 +199,8 @@ def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, 
     ``tick(done)`` counts the iterations of both searches, the second from half :func:`plan_iterations`."""
     room = settle_clearance(problem)
     roomy = goals[pose_clearance(problem, goals) >= room]
-    begin, checks = start, 0
+    begin: np.ndarray | None = start
+    checks = 0
     if len(roomy) and pose_clearance(problem, start)[0] < room:
         begin, checks = escape_pose(problem, start, room)
     if len(roomy) and begin is not None:
@@ -314,7 +319,7 @@ def _seed_ompl(search: int) -> None:
         ou.RNG()  # each RNG made takes the next seed: the planner's RNGs get later ones
 
 
-def _space_information(ob, problem: Problem, start: np.ndarray, floor: float, checks: list):
+def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: float, checks: list[int]) -> tuple[Any, Any, Any]:
     """OMPL's joint space for the arm, with the free-pose test and the certified motion check
     at ``floor`` (both counting poses checked into ``checks[0]``); returns (space, si, validator)."""
     n = len(start)
@@ -322,13 +327,13 @@ def _space_information(ob, problem: Problem, start: np.ndarray, floor: float, ch
     space.setBounds(_bounds(ob, problem, start))
     si = ob.SpaceInformation(space)
 
-    def state_is_free(state) -> bool:
+    def state_is_free(state: Any) -> bool:
         checks[0] += 1
         phi = _array(state, n)[None]
         return bool(within_limits(problem, phi)[0] and pose_clearance(problem, phi)[0] >= floor)
 
-    class SampledMotions(ob.MotionValidator):
-        def checkMotion(self, s1, s2, *_):
+    class SampledMotions(ob.MotionValidator):  # type: ignore[misc]  # OMPL's Python bindings ship no types: the base is Any
+        def checkMotion(self, s1: Any, s2: Any, *_: Any) -> bool:
             free, used = motion_is_free(problem, _array(s1, n), _array(s2, n), floor)
             checks[0] += used
             return free
@@ -340,7 +345,7 @@ def _space_information(ob, problem: Problem, start: np.ndarray, floor: float, ch
     return space, si, validator
 
 
-def _bounds(ob, problem: Problem, start: np.ndarray):
+def _bounds(ob: Any, problem: Problem, start: np.ndarray) -> Any:
     lim = problem.limits
     bounds = ob.RealVectorBounds(len(start))
     for j in range(len(start)):
@@ -353,12 +358,12 @@ def _bounds(ob, problem: Problem, start: np.ndarray):
     return bounds
 
 
-def _state(space, phi: np.ndarray):
+def _state(space: Any, phi: np.ndarray) -> Any:
     state = space.allocState()
     for j, value in enumerate(phi):
         state[j] = float(value)
     return state
 
 
-def _array(state, n: int) -> np.ndarray:
+def _array(state: Any, n: int) -> np.ndarray:
     return np.array([state[j] for j in range(n)])

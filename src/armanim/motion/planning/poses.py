@@ -15,6 +15,7 @@ Pure core: numpy only.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -120,7 +121,7 @@ def hits(problem: Problem, phi: np.ndarray, goal: np.ndarray, orientation: Orien
     if orientation is not None:
         angle = orientation_angle(orientation, tool_rotation(problem.arm, pose))
         hit &= angle < fraction * problem.solver.orientation_tolerance
-    return hit
+    return cast(np.ndarray, hit)
 
 
 def solve_many(

@@ -25,6 +25,7 @@ The QP is solved with DAQP (a dual active-set solver for small dense problems).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -208,7 +209,7 @@ def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | No
     )
     if flag < 1 or not np.all(np.isfinite(x)):
         return None
-    return np.clip(x, cons.lo, cons.hi)  # DAQP meets bounds to its tolerance (~1e-7): the cap is exact
+    return cast("np.ndarray | None", np.clip(x, cons.lo, cons.hi))  # DAQP meets bounds to its tolerance (~1e-7): the cap is exact
 
 
 def filtered_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray:
@@ -250,6 +251,7 @@ def exactly_safe(problem: Problem, now: ArmState, phi: np.ndarray, known: ArmSta
             return None
         # the tip too: a robot's tool point can lie beyond its last capsule (a link-by-link arm's
         # tip ends its last capsule, at least clearance + width/2 away, so this never binds there)
+        assert now.clearance is not None  # the same problem's states: both have clearances, or neither
         tip_floor = min(problem.solver.clearance, float(now.clearance.d[..., -1, :].min()))
         if not float(candidate.clearance.d[..., -1, :].min()) >= tip_floor:
             return None
@@ -344,7 +346,7 @@ def within_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
     """For (k, n) poses: (k,) bool, every limited joint at least the limit buffer inside its limits."""
     lim = problem.limits
     buffer = limit_buffer(problem)
-    return np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1)
+    return cast(np.ndarray, np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1))
 
 
 def kept_clearance(problem: Problem) -> float:

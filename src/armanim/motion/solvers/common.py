@@ -4,6 +4,7 @@ the Jacobians chosen by ``solver.jacobian``."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -90,7 +91,7 @@ def task_displacement(problem: Problem, tip: np.ndarray, goal: np.ndarray) -> np
     de = problem.solver.beta * (goal - tip)
     length = np.linalg.norm(de)
     cap = problem.solver.max_step
-    return de * (cap / length) if length > cap else de
+    return cast(np.ndarray, de * (cap / length) if length > cap else de)
 
 
 def rotation_displacement(problem: Problem, error: np.ndarray) -> np.ndarray:
@@ -111,14 +112,15 @@ def jacobian_of_tip(problem: Problem, phi: np.ndarray, pose: Pose) -> np.ndarray
     return tip_jacobian(arm, pose)
 
 
-def jacobian_of_capsule_point(problem: Problem, phi: np.ndarray, pose: Pose, capsule, t) -> np.ndarray:
+def jacobian_of_capsule_point(problem: Problem, phi: np.ndarray, pose: Pose, capsule: int | np.ndarray,
+                              t: float | np.ndarray) -> np.ndarray:
     """(3, n) Jacobian of the point at fraction ``t`` along a capsule: analytic, or forward
     differences (Eq. 15) when the scene says ``jacobian: numeric``; for (k,) arrays ``capsule``
     and ``t``, the k points' Jacobians, (k, 3, n)."""
     caps = problem.capsules
     if problem.solver.jacobian == "numeric":
         if np.ndim(capsule):
-            return np.array([jacobian_of_capsule_point(problem, phi, pose, c, s) for c, s in zip(capsule, t)]).reshape(-1, 3, len(phi))
+            return np.array([jacobian_of_capsule_point(problem, phi, pose, c, s) for c, s in zip(np.asarray(capsule), np.asarray(t))]).reshape(-1, 3, len(phi))
         return numeric_jacobian(lambda p: capsule_point(caps, forward(problem.arm, p), capsule, t), phi)
     return capsule_point_jacobian(problem.arm, caps, pose, capsule, t)
 
@@ -129,4 +131,4 @@ def self_pair_jacobians(problem: Problem, phi: np.ndarray, pose: Pose, gaps: Sel
     pairs = problem.self_pairs
     first = jacobian_of_capsule_point(problem, phi, pose, pairs.first[which], gaps.t[which])
     second = jacobian_of_capsule_point(problem, phi, pose, pairs.second[which], gaps.s[which])
-    return first - second
+    return cast(np.ndarray, first - second)

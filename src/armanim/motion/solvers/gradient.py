@@ -7,6 +7,8 @@ until C decreases (C is +inf past a barrier, so a barrier is never crossed).
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from armanim.arm.kinematics import numeric_jacobian, tip_jacobian
@@ -21,7 +23,7 @@ HALVINGS = 30  # line-search trials: 2**-30 of a step is below any useful resolu
 def cost_gradient(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> np.ndarray:
     """grad C at the state's pose: analytic, or the forward-difference gradient when numeric."""
     if problem.solver.jacobian == "numeric":
-        return numeric_jacobian(lambda p: total_cost(problem, p, goal, orientation=orientation)[..., None], state.phi)[0]
+        return cast(np.ndarray, numeric_jacobian(lambda p: total_cost(problem, p, goal, orientation=orientation)[..., None], state.phi)[0])
     return total_cost_gradient(problem, state.phi, goal, state.pose, state.clearance, orientation)
 
 

@@ -31,6 +31,7 @@ limit pushes then act in the null space of both tasks.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import cast
 
 import numpy as np
 
@@ -81,7 +82,7 @@ def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray | None:
     if min(lo_gap.min(), hi_gap.min()) >= limits.margin:
         return None
     scale = problem.solver.beta * problem.solver.w_limits
-    return scale * (repulsion(lo_gap, limits.margin) - repulsion(hi_gap, limits.margin))
+    return cast("np.ndarray | None", scale * (repulsion(lo_gap, limits.margin) - repulsion(hi_gap, limits.margin)))
 
 
 def orientation_in_null_space(

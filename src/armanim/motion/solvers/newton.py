@@ -21,7 +21,9 @@ as w of distance. For an arm that cannot hold the orientation at every position
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -96,7 +98,7 @@ def objective(
     if orientation is not None:
         r = orientation_residual(orientation, tool_rotation(arm, pose))
         f = f + 0.5 * w_rot * r @ r
-    return f
+    return cast(float, f)
 
 
 def objective_derivatives(
@@ -150,10 +152,11 @@ def newton_direction(H: np.ndarray, g: np.ndarray) -> np.ndarray | None:
         return None
     eigenvalues, vectors = np.linalg.eigh(H)
     floor = 1e-8 * max(float(np.abs(eigenvalues).max()), 1e-12)
-    return -(vectors @ ((vectors.T @ g) / np.maximum(eigenvalues, floor)))
+    return cast("np.ndarray | None", -(vectors @ ((vectors.T @ g) / np.maximum(eigenvalues, floor))))
 
 
-def _line_search(fun, x, f0, direction, slope, alpha, opts: NewtonOptions):
+def _line_search(fun: Callable[[np.ndarray], float], x: np.ndarray, f0: float, direction: np.ndarray, slope: float,
+                 alpha: float, opts: NewtonOptions) -> tuple[np.ndarray | None, float, float]:
     """Backtrack from ``alpha`` until f(x + a d) <= f0 + 1e-4 a slope (Armijo).
 
     Returns the new point, its f and the step length taken (None, f0, a on failure).
@@ -226,6 +229,7 @@ def newton_method(f: Objective, phi: np.ndarray, options: NewtonOptions) -> tupl
         value, g, H = f.derivatives(x)
         if np.linalg.norm(g) < options.tolerance:
             break
+        assert H is not None  # derivatives() with the Hessian
         direction = newton_direction(H, g)
         if direction is None:
             break

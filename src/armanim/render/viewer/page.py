@@ -12,7 +12,6 @@ escaped so that no ``</script>``, comment or quote in it can end it (:func:`scri
 
 from __future__ import annotations
 
-import hashlib
 import html
 import json
 import os
@@ -41,11 +40,6 @@ def bundle_info() -> dict:
 def three_bundle() -> str:
     """The minified three.js bundle (window.THREE), as the maintainer script wrote it."""
     return asset_text(bundle_info()["file"])
-
-
-def bundle_sha256() -> str:
-    """sha256 of the bundle's bytes, to compare with :func:`bundle_info`'s record."""
-    return hashlib.sha256(three_bundle().encode("utf-8")).hexdigest()
 
 
 def script_json(data: object) -> str:

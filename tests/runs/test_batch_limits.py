@@ -1,0 +1,132 @@
+"""Batches, sweeps and schedulers under hostile conditions (issue 19): a user's table at an
+index or sweep name stops them before any work, their size is said first and bounded, a
+scheduler that never answers, fails or refuses is exit 2 with its reason.
+
+Each test is named in docs/reliability.md, which it keeps true.
+"""
+
+from __future__ import annotations
+
+import re
+import socket
+import threading
+from pathlib import Path
+
+import pytest
+from conftest import SCENES
+
+from armanim.errors import UsageError
+
+NOTES = SCENES / "notes-arm.yaml"
+
+
+SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
+
+
+def _small(folder: Path, name: str) -> Path:
+    path = folder / f"{name}.yaml"
+    path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
+    return path
+
+
+def test_a_user_index_csv_stops_a_batch_before_any_work(cli, tmp_path):
+    a, b = _small(tmp_path, "a"), _small(tmp_path, "b")
+    out = tmp_path / "proj"
+    out.mkdir()
+    (out / "index.csv").write_text("my precious index\n")
+    result = cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1")
+    assert result.exit_code == 3, result.output
+    assert "index.csv: this file was not written by armanim" in result.stderr and "move it away" in result.stderr
+    assert (out / "index.csv").read_text() == "my precious index\n"
+    assert sorted(p.name for p in out.iterdir()) == ["index.csv"]  # refused before any scene ran
+    (out / "index.csv").unlink()
+    for _ in range(2):  # armanim's own index.csv is replaced
+        assert cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1").exit_code == 0
+    assert (out / "index.csv").read_text().startswith("name,status,")
+
+
+@pytest.mark.parametrize("name", ["notes-arm-sweep.csv", "index.csv"])
+def test_a_user_file_at_a_sweep_table_stops_the_sweep(cli, tmp_path, name):
+    (tmp_path / name).write_text("mine\n")
+    result = cli("sweep", NOTES, "--set", "solver.step=0.1,0.2", "--out", tmp_path, "-q", "--jobs", "1")
+    assert result.exit_code == 3 and "was not written by armanim" in result.stderr, result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name] and (tmp_path / name).read_text() == "mine\n"
+
+
+@pytest.fixture
+def listening_port():
+    """A port on 127.0.0.1 that accepts connections (the kernel's backlog) and never answers."""
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        yield server.getsockname()[1]
+
+
+@pytest.fixture
+def closed_port():
+    """A port on 127.0.0.1 that nothing listens on: bound and released."""
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        port = server.getsockname()[1]
+    return port
+
+
+def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline(listening_port):
+    """The client is made on a thread that is given up: Client(timeout=...) does not bound the handshake."""
+    from armanim.procs.executors import connect_client
+
+    release = threading.Event()
+
+    def silent_client(address, timeout):
+        release.wait()  # accepts, never answers
+
+    address = f"tcp://127.0.0.1:{listening_port}"
+    try:
+        with pytest.raises(UsageError, match=rf"the Dask scheduler at {address} did not answer within 0.2 s"):
+            connect_client(silent_client, address, seconds=0.2)
+    finally:
+        release.set()
+
+
+@pytest.mark.parametrize("error, words", [(ValueError("bad"), "is not a scheduler address"),
+                                          (OSError("refused"), "cannot reach the Dask scheduler at")])
+def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words, listening_port):
+    from armanim.procs.executors import connect_client
+
+    def failing_client(address, timeout):
+        raise error
+
+    with pytest.raises(UsageError, match=words):
+        connect_client(failing_client, f"tcp://127.0.0.1:{listening_port}", seconds=30)
+
+
+@pytest.mark.parametrize("address, words", [("tcp://127.0.0.1:{closed}", r"connection refused: nothing listens on port {closed}"),
+                                            ("127.0.0.1:{closed}", r"connection refused"),
+                                            ("tcp://no-such-host.invalid:8786", r"no such host 'no-such-host.invalid'")])
+def test_a_refused_scheduler_is_reported_at_once_not_after_the_timeout(address, words, closed_port):
+    """Dask's client retries a refused port for its whole timeout and then calls it a timeout;
+    armanim asks the port first, so the client is never made and the reason is the real one."""
+    from armanim.procs.executors import connect_client
+
+    def client_that_must_not_be_made(address, timeout):
+        raise AssertionError("the client was made for a port that refuses")
+
+    address = address.format(closed=closed_port)
+    with pytest.raises(UsageError, match=rf"cannot reach the Dask scheduler at {re.escape(address)} \({words.format(closed=closed_port)}"):
+        connect_client(client_that_must_not_be_made, address, seconds=30)
+
+
+def test_a_sweep_beyond_the_limit_is_exit_2_before_anything_is_built(cli, tmp_path):
+    from armanim.runs.sweep import MAX_VARIANTS
+
+    steps = ",".join(str(0.001 * (i + 1)) for i in range(50))
+    tolerances = ",".join(str(0.0001 * (i + 1)) for i in range(MAX_VARIANTS // 50 + 1))
+    result = cli("sweep", NOTES, "--set", f"solver.step={steps}", "--set", f"solver.tolerance={tolerances}", "--out", tmp_path)
+    assert result.exit_code == 2, result.output
+    assert f"--set: 1,050 variants (50 x 21 values; at most {MAX_VARIANTS:,} in one sweep" in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_sweep_and_a_batch_say_their_size_first(cli, tmp_path):
+    result = cli("sweep", _small(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1")
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines()[0] == f"sweep of {tmp_path / 's.yaml'}: 2 variants (solver.step)"
+    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "o", "--no-video", "--jobs", "1")
+    assert result.exit_code == 0 and result.stderr.splitlines()[0] == "batch: 2 scenes", result.output

@@ -1,0 +1,73 @@
+"""`check --update` (issue 19): a failure on the second golden file leaves the pair as it was,
+a golden CSV that is not UTF-8 is replaced, the old CSV is compared without reading it whole.
+
+Each test is named in docs/reliability.md, which it keeps true.
+"""
+
+from __future__ import annotations
+
+import errno
+import tracemalloc
+from pathlib import Path
+
+import pytest
+from conftest import SCENES
+
+NOTES = SCENES / "notes-arm.yaml"
+
+
+SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
+
+
+def _pair(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+@pytest.mark.parametrize("previous", [False, True])
+def test_a_failure_on_the_second_golden_file_leaves_the_pair_as_it_was(cli, tmp_path, monkeypatch, previous):
+    import os
+
+    golden = tmp_path / "golden"
+    golden.mkdir()
+    scene = tmp_path / "g.yaml"
+    scene.write_text(SMALL + "name: g\n")
+    if previous:
+        assert cli("check", scene, "--golden", golden, "--update", "-q").exit_code == 0
+        scene.write_text(SMALL.replace("[1, 1, 2]", "[1, 1.5, 2]") + "name: g\n")
+    before = _pair(golden)
+    real_replace = os.replace
+
+    def full_on_json(src, dst):
+        if str(dst).endswith("g.json"):
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real_replace(src, dst)
+
+    monkeypatch.setattr("armanim.output.atomic.os.replace", full_on_json)
+    result = cli("check", scene, "--golden", golden, "--update", "-q")
+    assert result.exit_code == 3 and "g.json: the disk is full" in result.stderr, result.output
+    assert _pair(golden) == before  # old/old (or nothing), never a new CSV beside an old JSON; no temporary file
+
+
+def test_update_with_a_golden_csv_that_is_not_utf8_replaces_it(cli, tmp_path):
+    (tmp_path / "notes-arm.csv").write_bytes(b"frame,\xff\xfe\n")
+    result = cli("check", NOTES, "--golden", tmp_path, "--update")
+    assert result.exit_code == 0 and "changed" in result.stdout, result.output
+    assert (tmp_path / "notes-arm.csv").read_bytes().startswith(b"frame,time_s,")
+
+
+def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):
+    from armanim.runs.golden import golden_status
+
+    big = tmp_path / "big.csv"
+    with big.open("wb") as handle:
+        handle.truncate(2**31)  # 2 GiB, sparse
+    tracemalloc.start()
+    try:
+        status = golden_status(big, b"frame,time_s\n0,0.0\n")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert status == "changed" and peak < 2**20
+    same = tmp_path / "same.csv"
+    same.write_bytes(b"frame\n0\n")
+    assert golden_status(same, b"frame\n0\n") == "unchanged" and golden_status(tmp_path / "none.csv", b"x") == "new"

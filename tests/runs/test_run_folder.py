@@ -1,0 +1,132 @@
+"""The run folder's rules (issue 19): a user's file or folder at a listed name stops the next run,
+`render --out` writes only into a new, empty or armanim folder, `render` refuses a scene or goal
+that is not the run's, full disks and dangling links are named as such.
+
+Each test is named in docs/reliability.md, which it keeps true.
+"""
+
+from __future__ import annotations
+
+import errno
+from pathlib import Path
+
+import pytest
+from conftest import SCENES
+from signals import snapshot
+
+from armanim.output.rundir import MARKER
+
+NOTES = SCENES / "notes-arm.yaml"
+
+
+SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
+
+
+def _small(folder: Path, name: str) -> Path:
+    path = folder / f"{name}.yaml"
+    path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
+    return path
+
+
+@pytest.fixture()
+def finished_run(cli, tmp_path) -> Path:
+    assert cli("run", _small(tmp_path, "r"), "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
+    return tmp_path / "out" / "r"
+
+
+def test_render_out_writes_only_into_a_new_empty_or_armanim_folder(cli, tmp_path, finished_run):
+    figures = tmp_path / "figures"
+    figures.mkdir()
+    (figures / "plot.png").write_text("my figure")
+    result = cli("render", finished_run, "--out", figures, "-q", "--jobs", "1")
+    assert result.exit_code == 3 and "not made by armanim" in result.stderr and "plot.png" in result.stderr
+    assert sorted(p.name for p in figures.iterdir()) == ["plot.png"] and (figures / "plot.png").read_text() == "my figure"
+    fresh = tmp_path / "fresh"
+    for _ in range(2):  # a new folder, then the folder armanim marked: replaced
+        assert cli("render", finished_run, "--out", fresh, "-q", "--jobs", "1").exit_code == 0
+    assert sorted(p.name for p in fresh.iterdir()) == [MARKER, "animation.mp4", "plot.png", "poster.png"]
+
+
+def test_render_out_inside_the_run_folder_is_refused(cli, finished_run):
+    before = snapshot(finished_run)
+    result = cli("render", finished_run, "--out", finished_run / "small", "-q", "--jobs", "1")
+    assert result.exit_code == 2 and "is inside the run folder" in result.stderr, result.output
+    assert snapshot(finished_run) == before
+
+
+def test_a_user_folder_at_a_listed_name_stops_the_next_run(cli, tmp_path, finished_run):
+    (finished_run / "summary.json").unlink()
+    (finished_run / "summary.json").mkdir()
+    (finished_run / "summary.json" / "notes.txt").write_text("notes")
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3, result.output
+    assert "changed since armanim wrote them (summary.json" in result.stderr
+    assert (finished_run / "summary.json" / "notes.txt").read_text() == "notes"
+
+
+def test_a_listed_file_edited_since_stops_the_next_run(cli, tmp_path, finished_run):
+    with (finished_run / "trajectory.csv").open("a") as handle:
+        handle.write("# my note\n")
+    before = snapshot(finished_run)
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3 and "trajectory.csv" in result.stderr, result.output
+    assert snapshot(finished_run) == before
+
+
+@pytest.mark.parametrize("marker", ['{"made_by": "armanim", "files": null}', "not json"])
+def test_an_unreadable_marker_is_named_as_such(cli, tmp_path, finished_run, marker):
+    (finished_run / MARKER).write_text(marker)
+    result = cli("run", tmp_path / "r.yaml", "--out", tmp_path / "out", "--no-video", "-q")
+    assert result.exit_code == 3 and f"its {MARKER} cannot be read as armanim's marker" in result.stderr, result.output
+    assert "no .armanim-run.json" not in result.stderr
+
+
+def test_render_refuses_a_scene_yaml_that_is_not_the_run_s(cli, finished_run):
+    (finished_run / "scene.yaml").write_text(SMALL.replace("[1, 1, 2]", "[1, 2, 1]") + "name: r\n")
+    result = cli("render", finished_run, "-q", "--jobs", "1")
+    assert result.exit_code == 2 and "scene.yaml: is not the scene this run solved" in result.stderr, result.output
+
+
+@pytest.mark.parametrize("column, value, message", [("goal", "1", "goal: 1 is not a goal of the scene (expected 0 to 0)"),
+                                                    ("time_s", "-5", "time_s: -5 is negative")])
+def test_render_refuses_a_goal_past_the_last_and_a_negative_time(cli, finished_run, column, value, message):
+    lines = (finished_run / "trajectory.csv").read_text().splitlines()
+    at = lines[0].split(",").index(column)
+    row = lines[2].split(",")
+    row[at] = value
+    lines[2] = ",".join(row)
+    (finished_run / "trajectory.csv").write_text("\n".join(lines) + "\n")
+    result = cli("render", finished_run, "-q", "--jobs", "1")
+    assert result.exit_code == 2 and f"trajectory.csv:3: {message}" in result.stderr, result.output
+
+
+def test_a_scene_yaml_linked_to_a_device_is_named_as_one(cli, finished_run):
+    (finished_run / "scene.yaml").unlink()
+    (finished_run / "scene.yaml").symlink_to("/dev/zero")
+    result = cli("render", finished_run, "-q")
+    assert result.exit_code == 2 and "is a character device, not a regular file" in result.stderr, result.output
+
+
+def test_a_disk_full_message_names_the_run_folder_not_its_staging(cli, tmp_path, monkeypatch):
+    import os
+
+    real_fsync = os.fsync
+
+    def full(fd):
+        if ".partial/" in os.readlink(f"/proc/self/fd/{fd}"):  # OUT is full (not TMPDIR: that message names TMPDIR)
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real_fsync(fd)
+
+    monkeypatch.setattr("armanim.output.atomic.os.fsync", full)
+    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "out", "--no-video", "-q", "--jobs", "1")
+    assert result.exit_code == 3, result.output
+    assert f"{tmp_path / 'out' / 'a'}/scene.yaml: the disk is full" in result.stderr and ".partial" not in result.stderr
+
+
+def test_a_dangling_link_at_the_lock_is_refused_not_followed(cli, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".a.lock").symlink_to(tmp_path / "elsewhere")
+    result = cli("run", _small(tmp_path, "a"), "--out", out, "--no-video", "-q")
+    assert result.exit_code == 3 and ".a.lock: is a link" in result.stderr, result.output
+    assert not (tmp_path / "elsewhere").exists()

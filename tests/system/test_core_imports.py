@@ -1,0 +1,153 @@
+"""The pure core imports no edge library, and the rooms import one way (design.md).
+
+The pure core is every module under ``armanim.arm``, ``armanim.world`` and
+``armanim.motion``: numpy, DAQP, OMPL and numba (the compiled closed form) only. Rooms are ordered
+cli > runs > scene > render > output > procs > motion > world > arm, and a module imports only
+from its own room or the rooms below it (``errors`` and ``names`` serve all). Inside
+``render``, the sub-rooms are ordered the same way (:data:`RENDER_ROOMS`).
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[2] / "src" / "armanim"
+CORE_ROOMS = ["arm", "world", "motion"]
+ROOMS = ["cli", "runs", "scene", "render", "output", "procs", "motion", "world", "arm"]  # top to bottom
+RENDER_ROOMS = ["viewer", "video", "pictures", "overlay", "solids", "camera", "paint", "settings"]  # render's, top to bottom
+SHARED = {"errors", "names", "__init__", "__main__"}
+FORBIDDEN = ["matplotlib", "yaml", "pydantic", "typer", "rich", "click", "imageio"]
+
+
+def _modules(room: str) -> list[str]:
+    return sorted(
+        "armanim." + ".".join(p.relative_to(SRC).with_suffix("").parts).removesuffix(".__init__")
+        for p in (SRC / room).rglob("*.py")
+    )
+
+
+COMPILED = ("armanim.world.compiled", "armanim.motion.passes")
+"""The one module that imports numba, which loads pyyaml for its own settings and scipy when
+installed: left out of the walks below (:func:`test_numba_loads_only_for_boxes_and_capsules`
+holds it to the runs that need it)."""
+
+
+def test_core_loads_no_edge_library():
+    core = [m for room in CORE_ROOMS for m in _modules(room) if m not in COMPILED]
+    assert len(core) > 20  # the walk found the rooms
+    code = (
+        "import importlib, json, sys\n"
+        f"for m in {core!r}: importlib.import_module(m)\n"
+        f"print(json.dumps(sorted(m for m in {FORBIDDEN!r} if m in sys.modules)))\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    loaded, modules = (json.loads(line) for line in proc.stdout.splitlines())
+    assert loaded == [], loaded
+    assert "armanim.arm.kinematics" in modules and "numpy" in modules  # the imports did happen
+    edges = ("armanim.scene", "armanim.render", "armanim.cli", "armanim.runs", "armanim.output", "armanim.procs")
+    assert not [m for m in modules if m.startswith(edges)]
+
+
+def test_no_module_of_armanim_imports_a_library_it_does_not_declare():
+    """scipy is the test extra's (an oracle), not a run-time dependency: a fresh install
+    without the test extra must never need it, whatever command runs."""
+    modules = [m for room in ROOMS for m in _modules(room) if m not in COMPILED] + ["armanim", "armanim.testing"]
+    code = (
+        "import importlib, sys\n"
+        f"for m in {modules!r}: importlib.import_module(m)\n"
+        "print(sorted(m for m in ('scipy', 'pinocchio', 'coal', 'hypothesis', 'playwright', 'psutil') if m in sys.modules))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
+
+
+def _imported_rooms(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text())
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names.add(node.module)
+        elif isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+    return {n.split(".")[1] for n in names if n.startswith("armanim.") and n.count(".") >= 1}
+
+
+@pytest.mark.parametrize("room", ROOMS)
+def test_imports_run_down_the_rooms(room):
+    above = set(ROOMS[: ROOMS.index(room)])
+    wrong = {str(p.relative_to(SRC)): sorted(_imported_rooms(p) & above) for p in (SRC / room).rglob("*.py")}
+    assert {k: v for k, v in wrong.items() if v} == {}
+
+
+def _imported_render_rooms(path: Path) -> set[str]:
+    """The sub-rooms of ``armanim.render`` a module imports (``from armanim.render import x``
+    names sub-room ``x``)."""
+    rooms = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module == "armanim.render" and node.level == 0:
+            rooms.update(alias.name for alias in node.names)
+        names = [node.module] if isinstance(node, ast.ImportFrom) and node.module and node.level == 0 else []
+        names += [alias.name for alias in node.names] if isinstance(node, ast.Import) else []
+        rooms.update(n.split(".")[2] for n in names if n.startswith("armanim.render."))
+    return rooms
+
+
+def _render_room(path: Path) -> str:
+    return path.relative_to(SRC / "render").with_suffix("").parts[0]
+
+
+def test_every_module_of_render_is_in_an_ordered_sub_room():
+    rooms = {_render_room(p) for p in (SRC / "render").rglob("*.py")} - {"__init__"}
+    assert rooms == set(RENDER_ROOMS)
+
+
+@pytest.mark.parametrize("room", RENDER_ROOMS)
+def test_render_imports_run_down_its_sub_rooms(room):
+    above = set(RENDER_ROOMS[: RENDER_ROOMS.index(room)])
+    paths = [p for p in (SRC / "render").rglob("*.py") if _render_room(p) == room]
+    assert paths
+    wrong = {str(p.relative_to(SRC)): sorted(_imported_render_rooms(p) & above) for p in paths}
+    assert {k: v for k, v in wrong.items() if v} == {}
+
+
+def test_the_top_holds_only_the_shared_modules():
+    top = {p.stem for p in SRC.glob("*.py")}
+    assert top == SHARED | {"testing"}, top
+
+
+def test_numba_loads_only_for_boxes_and_capsules():
+    """numba is imported by the compiled closed form (on the first box) and the clock's passes
+    (when a run is retimed) only: every other module, and distances among spheres only, start
+    without its 0.2 s import (fk, validate, the planner's checks)."""
+    modules = [m for room in ROOMS for m in _modules(room) if m not in COMPILED] + ["armanim", "armanim.testing"]
+    code = (
+        "import importlib, sys\n"
+        "import numpy as np\n"
+        f"for m in {modules!r}: importlib.import_module(m)\n"
+        "from armanim.arm.capsules import joint_capsules\n"
+        "from armanim.arm.kinematics import Arm, forward\n"
+        "from armanim.world.distances import clearances\n"
+        "from armanim.world.obstacles import Obstacles\n"
+        "arm = Arm.from_names([2, 5])\n"
+        "pose = forward(arm, np.zeros(2))\n"
+        "clearances(pose, Obstacles(np.array([[3.0, 3, 3]]), np.ones(1), np.ones(1)), joint_capsules(arm, 0.1))\n"
+        "print('numba' in sys.modules)\n"
+        "clearances(pose, Obstacles(np.zeros((0, 3)), np.zeros(0), np.zeros(1), floor=-1.0), joint_capsules(arm, 0.1))\n"
+        "print('numba' in sys.modules)\n"
+        "from armanim.world.obstacles import Boxes\n"
+        "box = Boxes(np.array([[3.0, 3, 3]]), np.ones((1, 3)), np.eye(3)[None])\n"
+        "clearances(pose, Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(1), boxes=box), joint_capsules(arm, 0.1))\n"
+        "print('numba' in sys.modules)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["False", "False", "True"]
