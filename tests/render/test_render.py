@@ -99,7 +99,7 @@ def test_mp4_has_one_frame_per_row_at_the_settings_fps_and_size(scene, tmp_path)
 
 
 def test_two_jobs_give_the_same_video_as_one(scene, tmp_path, monkeypatch):
-    from armanim.render.video.movie import movie as video
+    from armanim.render.video import movie as video
 
     monkeypatch.setattr(video, "MIN_FRAMES_PER_JOB", 4)
     problem, traj, reports = scene
@@ -161,7 +161,8 @@ def test_gif_total_duration_at_30_fps(scene, tmp_path):
 
 
 def test_ffmpeg_failure_raises_render_error_and_leaves_no_file(scene, tmp_path, monkeypatch):
-    from armanim.render.video.movie import encode, render_video
+    from armanim.render.video import encode
+    from armanim.render.video.movie import render_video
 
     monkeypatch.setattr(encode, "MP4_CODEC", "no_such_codec")
     problem, traj, reports = scene

@@ -102,7 +102,7 @@ def test_exit_130_interrupted_in_process(cli, tmp_path, monkeypatch, tiny_scene,
 
 
 def test_failed_render_leaves_previous_outputs_untouched(cli, monkeypatch, tiny_scene, previous_run):
-    from armanim.render.video.movie import encode
+    from armanim.render.video import encode
 
     out, before = previous_run
     calls = []
