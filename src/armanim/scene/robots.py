@@ -319,35 +319,3 @@ def _uncovered(joints: list[ChainJoint], links: tuple[str, ...], capsules) -> tu
     if moving and not covered.intersection(group):
         out.append(group[0])
     return tuple(out)
-
-
-@dataclass(frozen=True)
-class RobotSummary:
-    """What ``armanim robots`` shows of a bundled robot (degrees and metres)."""
-
-    name: str
-    title: str
-    joints: tuple[str, ...]
-    limits_deg: tuple[tuple[float, float] | None, ...]
-    reach: float
-    capsules: int
-
-
-def robot_summaries() -> list[RobotSummary]:
-    """Every bundled robot: its joints, their limits, its reach from joint 1 and its capsules.
-
-    >>> [s.name for s in robot_summaries()]
-    ['panda', 'ur5', 'iiwa']
-    """
-    from armanim.scene.convert import scene_to_problem
-    from armanim.scene.models import SceneModel
-
-    out = []
-    for name in ROBOTS:
-        problem = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}))
-        lim = problem.limits
-        limits = tuple((float(np.degrees(lo)), float(np.degrees(hi))) if np.isfinite(lo) else None
-                       for lo, hi in zip(lim.lower, lim.upper))
-        out.append(RobotSummary(name, bundled_robot(name).title, problem.arm.joint_names, limits,
-                                problem.arm.reach, len(problem.capsules)))
-    return out
