@@ -89,6 +89,7 @@ from scipy.optimize import least_squares
 from armanim.arm.capsules import joint_capsules
 from armanim.arm.kinematics import Arm, forward, tool_rotation
 from armanim.motion.trajectory import solve_trajectory
+from armanim.scene import scene_model
 from armanim.scene.checks import scene_problems
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import SceneModel, SolverModel
@@ -534,8 +535,8 @@ def robot_model(robot: str):
         import pinocchio as pin
 
         full = pin.buildModelFromUrdf(str(bundled_robot(robot).urdf))
-        scene = SceneModel.model_validate({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
-        robot_arm = scene.arm._robot  # the chain's joint names and the capsule data, as the scene reads them
+        scene = scene_model({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
+        robot_arm = scene.arm.urdf_arm  # the chain's joint names and the capsule data, as the scene reads them
         off_chain = [j for j in range(1, full.njoints) if full.names[j] not in robot_arm.joint_names]  # e.g. Panda's fingers
         model = pin.buildReducedModel(full, off_chain, pin.neutral(full)) if off_chain else full
         assert list(model.names)[1:] == list(robot_arm.joint_names), f"{robot}: pinocchio's joints differ from the chain's"
@@ -616,7 +617,7 @@ class Draft:
         return replace(self, spheres=list(self.spheres) + inner, boxes=[], rods=[], floor=None)
 
     def as_scene_dict(self, name: str, method: str = "pinv", planner: str | None = None) -> dict:
-        """The draft as a scene file's mapping (degrees), ready for ``SceneModel.model_validate``."""
+        """The draft as a scene file's mapping (degrees), ready for ``scene_model``."""
         solver = {"method": method}
         if planner is not None:
             solver["planner"] = planner
@@ -893,7 +894,7 @@ def self_test_robots(rng: np.random.Generator, poses: int = 40) -> None:
         geo = base_geometry(robot)
         centers, radii = rng.uniform(-0.6, 0.6, (4, 3)), rng.uniform(0.03, 0.1, 4)
         geo = replace(geo, centers=centers, radii=radii)
-        model = SceneModel.model_validate({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
+        model = scene_model({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
         problem = scene_to_problem(model)
         phi = rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi), (poses, len(geo.lower)))
         pose = forward(problem.arm, phi)
@@ -1152,7 +1153,7 @@ goals near spheres and at the edge of reach, 8-12 goals) and the robots of issue
 def armanim_rejects(scene: dict) -> list:
     """armanim's own objections to a scene mapping: pydantic errors or cross-field problems (empty: valid)."""
     try:
-        model = SceneModel.model_validate(scene)
+        model = scene_model(scene)
     except ValidationError as exc:
         return [str(exc)]
     return scene_problems(model)
@@ -1320,7 +1321,7 @@ def easy_misses(geo: Geometry, verdicts: list, reports, phi: np.ndarray) -> list
 def solve_one(draft: Draft, seed: int, index: int, method: str, planner: str, geo: Geometry, verdicts: list) -> Run:
     """Solve a scene with one method and planner setting, and check its trajectory."""
     field_planner = planner if planner_field_exists() else None
-    model = SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
+    model = scene_model(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
     problem = scene_to_problem(model)
     try:
         solution, seconds, marks, cpu_seconds = timed_solve(problem)
@@ -1372,7 +1373,7 @@ class SceneResult:
 
 def oracle_geometry(draft: Draft, seed: int, index: int) -> Geometry:
     """The oracle's geometry of a scene, with armanim's tolerance and clearance setting."""
-    model = SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index)))
+    model = scene_model(draft.as_scene_dict(scene_name(seed, index)))
     clearance = clearance_of(model)
     return draft.geometry(DEFAULT_CLEARANCE if clearance is None else clearance, model.solver.tolerance)
 
@@ -1410,7 +1411,7 @@ def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch
     and with its spheres-only twin: every clearance of one pose at a time (what each frame's filter
     computes) and the smallest of ``batch`` poses at once (``min_link_clearance``: what the planner
     checks), the best of three rounds each."""
-    problems = [scene_to_problem(SceneModel.model_validate(d.as_scene_dict(scene_name(seed, index)))) for d in (draft, draft.spheres_twin())]
+    problems = [scene_to_problem(scene_model(d.as_scene_dict(scene_name(seed, index)))) for d in (draft, draft.spheres_twin())]
     rng = np.random.default_rng([seed, index, 22])
     phi = rng.uniform(-np.pi, np.pi, (batch, problems[0].arm.n))
     out = []
@@ -1432,7 +1433,7 @@ def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch
 def scene_problem(draft: Draft, seed: int, index: int, method: str, planner: str):
     """armanim's problem of a draft solved with one method and planner setting."""
     field_planner = planner if planner_field_exists() else None
-    return scene_to_problem(SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner)))
+    return scene_to_problem(scene_model(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner)))
 
 
 def paired_timing(draft: Draft, seed: int, index: int, run: Run, rounds: int) -> tuple[tuple, tuple]:
@@ -1733,7 +1734,7 @@ def self_scene_problem(robot: str, folder: Path, goals: list, self_collision="au
     robot scenes' solver settings (self_clearance: clearance / 2 = 0.01 m)."""
     arm = {"robot": robot} if robot != "chain" else {"urdf": str(folder / "chain.urdf"), "home": [0, 30, 60, 0, 30, 0]}
     scene = {"version": 1, "arm": {**arm, "self_collision": self_collision}, "goals": goals, "solver": dict(ROBOT_SOLVER)}
-    return scene_to_problem(SceneModel.model_validate(scene, context={"scene_dir": folder}))
+    return scene_to_problem(scene_model(scene, folder))
 
 
 def coal_pair_gaps(problem, phi: np.ndarray) -> np.ndarray:

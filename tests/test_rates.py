@@ -265,9 +265,9 @@ def test_robot_yaml_rates_are_whole_and_sourced(name):
 
 
 def load_scene_of(robot: str):
-    from armanim.scene.models import SceneModel
+    from armanim.scene import scene_model
 
-    return SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0.1, 0.4]]})
+    return scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0.1, 0.4]]})
 
 
 # ------------------------------------------------------------ notes

@@ -274,15 +274,15 @@ from invariants import assert_trajectory_invariants, small_planning_budget  # no
 from armanim.motion.problem import Goal  # noqa: E402
 from armanim.motion.solvers import METHODS  # noqa: E402
 from armanim.motion.trajectory import solve_trajectory  # noqa: E402
+from armanim.scene import scene_model  # noqa: E402
 from armanim.scene.convert import default_solver_settings  # noqa: E402
-from armanim.scene.models import SceneModel  # noqa: E402
 
 
 def robot_problem(robot: str, **solver):
     """A bundled robot's problem with its own allowed-collision matrix, in metres."""
     from dataclasses import replace
 
-    base = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
+    base = scene_to_problem(scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
     return replace(base, solver=default_solver_settings(**{"max_step": 0.02, "tolerance": 0.005, "max_frames_per_goal": 120,
                                                            "clearance": 0.02, **solver}))
 

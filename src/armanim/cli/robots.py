@@ -27,13 +27,12 @@ def robot_summaries() -> list[RobotSummary]:
     >>> [s.name for s in robot_summaries()]
     ['panda', 'ur5', 'iiwa']
     """
-    from armanim.scene.convert import scene_to_problem  # the scene room: pydantic, the URDF reader
-    from armanim.scene.models import SceneModel
+    from armanim.scene import scene_model, scene_to_problem  # the scene room: pydantic, the URDF reader
     from armanim.scene.robots import ROBOTS, bundled_robot
 
     summaries = []
     for name in ROBOTS:
-        problem = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}))
+        problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}))
         lim = problem.limits
         limits = tuple((float(np.degrees(lo)), float(np.degrees(hi))) if np.isfinite(lo) else None
                        for lo, hi in zip(lim.lower, lim.upper))

@@ -7,10 +7,10 @@ from armanim.scene.convert import (
     scene_to_problem,
     unlimited_limits,
 )
-from armanim.scene.loader import LoadedScene, load_scene, scene_from_bytes, validate_scene_text
+from armanim.scene.loader import LoadedScene, load_scene, scene_from_bytes, scene_model, validate_scene_text
 from armanim.scene.models import SceneModel
 
 __all__ = [
     "LoadedScene", "SceneModel", "default_render_settings", "default_solver_settings", "load_scene", "render_settings",
-    "scene_from_bytes", "scene_to_problem", "unlimited_limits", "validate_scene_text",
+    "scene_from_bytes", "scene_model", "scene_to_problem", "unlimited_limits", "validate_scene_text",
 ]

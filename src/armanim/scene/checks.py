@@ -76,7 +76,7 @@ def _arm_problems(scene: SceneModel):
     yield from _narrow_limits(arm)
     limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
     if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
-        bundled = arm._robot.bundled if arm.is_urdf else None
+        bundled = arm.urdf_arm.bundled if arm.is_urdf else None
         yield from _home_outside_limits(arm.home if arm.home is not None or bundled is None else list(bundled.home), limits)
 
     if scene.render.bounds != "auto":
@@ -94,7 +94,7 @@ def _rate_problems(arm):
             yield f"arm.{field}", (f"has {len(values)} values, the arm has {n} joints "
                                    "(give one per joint, or one number for all)")
     if arm.max_joint_jerk == "robot":
-        bundled = arm._robot.bundled if arm.is_urdf else None
+        bundled = arm.urdf_arm.bundled if arm.is_urdf else None
         if bundled is None:
             yield "arm.max_joint_jerk", ("robot means the bundled robot's published jerk limits, and this arm is not a bundled "
                                          "robot (give deg/s^3: one number, or one per joint)")
@@ -115,7 +115,7 @@ def _narrow_limits(arm):
             if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
                 yield f"arm.limits[{i}]", f"a range of {pair[1] - pair[0]:g} deg is too narrow ({advice}: widen it or lower arm.limit_margin)"
     elif arm.is_urdf:
-        for name, pair in zip(arm._robot.joint_names, _urdf_limits_degrees(arm)):
+        for name, pair in zip(arm.urdf_arm.joint_names, _urdf_limits_degrees(arm)):
             if pair is not None and pair[1] - pair[0] <= least:
                 yield "arm.limit_margin", (f"the URDF's joint {shown(name)} has a range of {pair[1] - pair[0]:g} deg, too narrow "
                                            f"({advice}: lower arm.limit_margin, or give arm.limits)")
@@ -123,7 +123,7 @@ def _narrow_limits(arm):
 
 def _urdf_limits_degrees(arm) -> list:
     """The URDF's joint limits in degrees (None for a continuous joint)."""
-    return [[math.degrees(p[0]), math.degrees(p[1])] if p is not None else None for p in arm._robot.limits]
+    return [[math.degrees(p[0]), math.degrees(p[1])] if p is not None else None for p in arm.urdf_arm.limits]
 
 
 def _home_outside_limits(home, limits):
@@ -308,9 +308,8 @@ def rate_notes(scene: SceneModel) -> list[tuple[str, str]]:
     animation may be faster than the robot), but no real robot of that kind could follow it.
     One note per field, naming the joints.
 
-    >>> from armanim.scene.models import SceneModel
-    >>> scene = SceneModel.model_validate({"version": 1, "arm": {"robot": "panda", "max_joint_speed": 130},
-    ...                                    "goals": [[0.5, 0, 0.5]]})
+    >>> from armanim.scene.loader import scene_model
+    >>> scene = scene_model({"version": 1, "arm": {"robot": "panda", "max_joint_speed": 130}, "goals": [[0.5, 0, 0.5]]})
     >>> path, message = rate_notes(scene)[0]
     >>> path, message[:57]
     ('arm.max_joint_speed', "130 deg/s is above the robot's own limit for joints 1-4 (")
@@ -328,7 +327,7 @@ def rate_notes(scene: SceneModel) -> list[tuple[str, str]]:
             continue
         unit = RATE_UNITS[field]
         given = getattr(arm, field)
-        names = arm._robot.joint_names
+        names = arm.urdf_arm.joint_names
         if isinstance(given, list):
             listed = [f"{names[i]} {given[i]:g} > {np.degrees(limit[i]):.4g}" for i in over[:3]]
             start = "is above"
@@ -369,8 +368,8 @@ def fallback_notes(scene: SceneModel) -> list[tuple[str, str]]:
     """A note naming the URDF arm's moving links that have no collision primitive (a mesh, or
     none) and so get a joint-to-joint capsule of radius ``arm.width / 2``."""
     arm = scene.arm
-    if not arm.is_urdf or not arm._robot.fallback_links:
+    if not arm.is_urdf or not arm.urdf_arm.fallback_links:
         return []
-    links = ", ".join(arm._robot.fallback_links)
+    links = ", ".join(arm.urdf_arm.fallback_links)
     return [("arm.collision", f"links {links} have no collision primitive (a mesh, or none): each gets a capsule from its "
                               f"joint to the next of radius arm.width / 2 = {arm.resolved_width / 2:g} (give arm.collision to set them)")]

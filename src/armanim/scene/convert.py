@@ -38,7 +38,7 @@ from armanim.scene.models import (
     SceneModel,
     SolverModel,
 )
-from armanim.scene.robots import published_joint_names
+from armanim.scene.robots import bundled_matrix, published_joint_names
 from armanim.world import selfcollision
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 from armanim.world.selfdistances import SelfPairs
@@ -52,7 +52,7 @@ def axis_names(scene: SceneModel) -> list[str]:
 def _limits(arm: ArmModel) -> Limits:
     n = arm.joint_count
     if arm.limits is None and arm.is_urdf:  # the URDF's own, in radians already
-        pairs = [np.degrees(p) if p is not None else None for p in arm._robot.limits]
+        pairs = [np.degrees(p) if p is not None else None for p in arm.urdf_arm.limits]
     else:
         pairs = arm.limits if arm.limits is not None else [None] * n
     lower = np.array([np.radians(p[0]) if p is not None else -np.inf for p in pairs])
@@ -64,7 +64,7 @@ def home_degrees(arm: ArmModel) -> list[float]:
     """``arm.home``, or the bundled robot's, or all zeros (degrees)."""
     if arm.home is not None:
         return list(arm.home)
-    bundled = arm._robot.bundled if arm.is_urdf else None
+    bundled = arm.urdf_arm.bundled if arm.is_urdf else None
     return list(bundled.home) if bundled is not None else [0.0] * arm.joint_count
 
 
@@ -73,14 +73,14 @@ def urdf_chain(arm: ArmModel) -> SerialChain:
     zero = [0.0, 0.0, 0.0]
     mount = transform(arm.base or zero, np.radians(arm.base_rpy or zero))
     tool = transform(arm.tool.xyz, np.radians(arm.tool.rpy)) if arm.tool is not None else np.eye(4)
-    return serial_chain(mount, list(arm._robot.joints), tool)
+    return serial_chain(mount, list(arm.urdf_arm.joints), tool)
 
 
 def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
     """The URDF arm's capsules moved into the frames of the joints that carry them, and a
     joint-to-joint capsule of radius width / 2 for each moving link without one. Links
     before the first moving joint never move and carry none."""
-    robot = arm._robot
+    robot = arm.urdf_arm
     links, starts, ends, radii, names = [], [], [], [], []
     for spec in robot.capsules:
         index = robot.path_links.index(spec.link) if spec.link in robot.path_links else -1
@@ -212,7 +212,7 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
     allow = [] if isinstance(spec, str) else [(a, b) for a, b in spec.allow]
     check = [] if isinstance(spec, str) else [(a, b) for a, b in spec.check]
     if not isinstance(spec, str) and spec.srdf is not None:
-        allowed = {(a, b): reason for a, b, reason in arm._srdf.pairs}
+        allowed = {(a, b): reason for a, b, reason in arm.srdf_pairs}
         mode = "srdf"
     else:
         allowed = _automatic_matrix(arm, chain, capsules, limits, home, clearance)
@@ -223,10 +223,8 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
 
 def _automatic_matrix(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> dict:
     """MoveIt's rules: the bundled robot's committed matrix when it applies, else sampled here."""
-    bundled = arm._robot.bundled if arm.is_urdf else None
+    bundled = arm.urdf_arm.bundled if arm.is_urdf else None
     if bundled is not None and arm.collision is None and arm.limits is None:
-        from armanim.scene.robots import bundled_matrix
-
         matrix = bundled_matrix(bundled.name)
         if matrix is not None and clearance <= matrix.clearance:
             return {(a, b): reason for a, b, reason in matrix.allowed}
@@ -297,15 +295,15 @@ def robot_rates(arm: ArmModel) -> dict[str, tuple[np.ndarray, str]]:
     else the URDF's ``<limit velocity>``; acceleration and jerk are robot.yaml's, where its
     maker publishes them. An arm of links has none.
 
-    >>> from armanim.scene.models import SceneModel
-    >>> arm = SceneModel.model_validate({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.5, 0, 0.5]]}).arm
+    >>> from armanim.scene.loader import scene_model
+    >>> arm = scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.5, 0, 0.5]]}).arm
     >>> own = robot_rates(arm)
     >>> sorted(own), own["max_joint_speed"][0][:2].tolist(), own["max_joint_acceleration"][1]
     (['max_joint_acceleration', 'max_joint_jerk', 'max_joint_speed'], [2.175, 2.175], "the maker's, in robot panda's robot.yaml")
     """
     if not arm.is_urdf:
         return {}
-    robot = arm._robot
+    robot = arm.urdf_arm
     own = {"max_joint_speed": (np.array([np.nan if v is None else v for v in robot.velocities], dtype=float),
                                "the URDF's <limit velocity>")}
     bundled = robot.bundled

@@ -26,6 +26,10 @@ LIMITS = {
 """Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
 (bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
 
+ROBOTS = ("panda", "ur5", "iiwa")
+"""The bundled robots a scene may name (``arm.robot``), each a folder of ``armanim/arm/robots/``
+(URDF, licence, robot.yaml: :mod:`armanim.scene.robots` reads them)."""
+
 MIN_JOINT_STEP = 0.001
 """Smallest ``solver.max_joint_step``, degrees: a joint's whole turn is then at most 540,000
 frames, so a planned path too long for the frames left is a miss, never an allocation."""

@@ -14,7 +14,6 @@ from pydantic import (
     ConfigDict,
     Field,
     PrivateAttr,
-    ValidationInfo,
     WithJsonSchema,
     field_validator,
     model_validator,
@@ -28,6 +27,7 @@ from armanim.scene.fields import (
     MIN_JOINT_STEP,
     NAME_MAX,
     NAME_PATTERN,
+    ROBOTS,
     Angle,
     Angles3,
     AxisName,
@@ -142,8 +142,8 @@ class ArmModel(Strict):
         "off: none is checked; or {auto: true, allow: [[a, b]], check: [[a, b]]}, or {srdf: FILE}.",
     )
 
-    _robot: object = PrivateAttr(default=None)  # the resolved URDF arm (armanim.scene.robots.RobotArm)
-    _srdf: object = PrivateAttr(default=None)  # the SRDF's allowed pairs (armanim.scene.srdf.Srdf)
+    _robot: object = PrivateAttr(default=None)  # the URDF arm read after validation (armanim.scene.robots.UrdfArm)
+    _srdf: object = PrivateAttr(default=None)  # the SRDF's allowed pairs, read after validation (armanim.scene.srdf.Srdf)
 
     @field_validator("self_collision", mode="before")
     @classmethod
@@ -152,15 +152,44 @@ class ArmModel(Strict):
         return {False: "off", True: "auto"}.get(value, value) if isinstance(value, bool) else value
 
     @model_validator(mode="after")
-    def _resolve_robot(self, info: ValidationInfo):
-        from armanim.scene.robots import resolve_robot  # the URDF reader: only URDF arms need it
-
-        self._robot = resolve_robot(self, info.context)
-        if not isinstance(self.self_collision, str):
-            from armanim.scene.srdf import resolve_self_collision
-
-            self._srdf = resolve_self_collision(self, info.context)
+    def _one_kind(self):
+        """Exactly one of links, urdf, robot; the fields of the other kind left out; a robot that is bundled."""
+        given = [name for name in ("links", "urdf", "robot") if getattr(self, name) is not None]
+        if len(given) != 1:
+            raise ValueError(f"gives {' and '.join(given) if given else 'none of links, urdf, robot'} "
+                             "(expected exactly one: links for an arm of straight links, urdf for a URDF file, robot for a bundled robot)")
+        wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision") if given[0] == "links" else ("axes", "direction")
+        for name in wrong:
+            if getattr(self, name) is not None:
+                kind = "an arm of links" if given[0] == "links" else "a URDF arm"
+                raise ValueError(f"{name} does not apply to {kind} (remove it)")
+        if self.robot is not None and self.robot not in ROBOTS:
+            raise ValueError(f"robot {self.robot!r} is not bundled (expected one of: {', '.join(ROBOTS)}; "
+                             "or give your own file with arm.urdf)")
         return self
+
+    def with_files(self, robot, srdf) -> ArmModel:
+        """This arm with what its files say: ``robot``, the URDF arm (``armanim.scene.robots.UrdfArm``,
+        None for links), and ``srdf``, the SRDF's pairs (``armanim.scene.srdf.Srdf``, or None).
+        :func:`armanim.scene.robots.read_arm_files` reads them, after validation."""
+        arm = self.model_copy()
+        arm._robot, arm._srdf = robot, srdf
+        return arm
+
+    @property
+    def urdf_arm(self):
+        """The URDF arm (``armanim.scene.robots.UrdfArm``) its file gave; None for an arm of links.
+
+        Raises
+        ------
+        RuntimeError
+            The arm is a URDF's and its file was not read: validate a scene with
+            :func:`armanim.scene.load_scene` or :func:`armanim.scene.scene_model`, which read it.
+        """
+        if self._robot is None and self.is_urdf:
+            raise RuntimeError("this URDF arm's file was not read: validate the scene with armanim.scene.load_scene, "
+                               "scene_from_bytes or scene_model (SceneModel.model_validate reads no file)")
+        return self._robot
 
     @property
     def is_urdf(self) -> bool:
@@ -173,6 +202,14 @@ class ArmModel(Strict):
         return self._robot.source if self._robot is not None else None
 
     @property
+    def srdf_pairs(self) -> tuple[tuple[str, str, str], ...]:
+        """(link1, link2, reason) of the SRDF ``self_collision`` read (() without one)."""
+        if self._srdf is None and not isinstance(self.self_collision, str) and self.self_collision.srdf is not None:
+            raise RuntimeError("this arm's SRDF was not read: validate the scene with armanim.scene.load_scene, "
+                               "scene_from_bytes or scene_model (SceneModel.model_validate reads no file)")
+        return self._srdf.pairs if self._srdf is not None else ()
+
+    @property
     def srdf_source(self) -> bytes | None:
         """The bytes of the SRDF ``self_collision`` read (None without one)."""
         return self._srdf.source if self._srdf is not None else None
@@ -180,7 +217,7 @@ class ArmModel(Strict):
     @property
     def joint_count(self) -> int:
         """Number of joints."""
-        return len(self._robot.joint_names) if self._robot is not None else len(self.links or ())
+        return len(self.urdf_arm.joint_names) if self.is_urdf else len(self.links or ())
 
     @property
     def resolved_width(self) -> float:
