@@ -27,11 +27,10 @@ from armanim.motion.problem import (
     SolverSettings,
     link_arm_rates,
 )
+from armanim.scene.armmodel import LINKS_WIDTH, ArmModel
 from armanim.scene.models import (
-    LINKS_WIDTH,
     RATE_FIELDS,
     URDF_SPEED,
-    ArmModel,
     GoalModel,
     OrientationModel,
     RenderModel,

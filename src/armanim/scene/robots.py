@@ -17,8 +17,9 @@ import numpy as np
 import yaml
 
 from armanim.arm.chain import ChainJoint
+from armanim.scene.armmodel import ArmModel
 from armanim.scene.fields import ROBOTS
-from armanim.scene.models import ArmModel, SceneModel
+from armanim.scene.models import SceneModel
 from armanim.scene.srdf import resolve_self_collision
 from armanim.scene.urdf import MOVING, Robot, chain_joints, joint_speeds, read_urdf
 
