@@ -13,9 +13,8 @@ import pytest
 from armanim.errors import SceneError
 from armanim.motion.problem import LINK_ACCELERATION_PER_SPEED
 from armanim.scene import load_scene, scene_to_problem
-from armanim.scene.checks import rate_note_lines, rate_notes
 from armanim.scene.fields import RATE_BOUNDS
-from armanim.scene.models import URDF_SPEED
+from armanim.scene.limits import URDF_SPEED, rate_note_lines, rate_notes
 from armanim.scene.robots import RATE_UNITS, ROBOTS, bundled_robot, published_joint_names
 from armanim.scene.urdf import read_urdf
 

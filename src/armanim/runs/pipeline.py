@@ -23,7 +23,7 @@ from armanim.runs.overrides import RenderOverrides
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY
 from armanim.runs.resample import resample_run, resampled_frames
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
-from armanim.scene.checks import rate_note_lines
+from armanim.scene.limits import rate_note_lines
 from armanim.scene.models import LIMITS
 
 Progress = Callable[[str, int, int], None]

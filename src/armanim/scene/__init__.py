@@ -5,8 +5,8 @@ from armanim.scene.convert import (
     default_solver_settings,
     render_settings,
     scene_to_problem,
-    unlimited_limits,
 )
+from armanim.scene.limits import unlimited_limits
 from armanim.scene.loader import LoadedScene, load_scene, scene_from_bytes, scene_model, validate_scene_text
 from armanim.scene.models import SceneModel
 

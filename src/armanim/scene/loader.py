@@ -19,8 +19,9 @@ from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.output.files import read_bounded
 from armanim.scene.armmodel import ArmModel
-from armanim.scene.checks import as_diagnostics, fallback_notes, radian_notes, rate_notes, scene_problems
+from armanim.scene.checks import as_diagnostics, fallback_notes, radian_notes, scene_problems
 from armanim.scene.fieldpaths import YamlDocument, join_path
+from armanim.scene.limits import rate_notes
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
 from armanim.scene.robots import read_arm_files, read_scene_files
 from armanim.scene.yamlread import MAX_FILE_BYTES, read_yaml

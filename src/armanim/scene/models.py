@@ -41,15 +41,6 @@ from armanim.scene.fields import (
 SCENE_VERSION = 1
 
 
-URDF_SPEED = 180.0
-"""deg/s: ``arm.max_joint_speed`` of a URDF joint whose ``<limit>`` gives no velocity (and whose
-robot publishes none): half a turn a second, a typical cobot's joint speed (a UR5's 180, a
-Panda's 125 to 150)."""
-
-RATE_FIELDS = ("max_joint_speed", "max_joint_acceleration", "max_joint_jerk")
-"""The arm's joint rate fields (deg/s, deg/s^2, deg/s^3), in this order."""
-
-
 class BoxModel(Strict):
     """A solid box: its centre, full edge lengths and orientation."""
 
