@@ -123,6 +123,22 @@ def test_imports_run_down_the_rooms(room):
     assert {k: v for k, v in wrong.items() if v} == {}
 
 
+def test_the_cli_asks_the_rooms_below_and_never_the_core_directly():
+    """``armanim`` commands are thin: they parse flags and print answers of the silent API
+    (``runs``, ``scene``, ``render``, ``output``), never calling the pure core themselves."""
+    core = ("armanim.motion", "armanim.arm", "armanim.world")
+    found = {}
+    for path in (SRC / "cli").rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        names = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module]
+        names += [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+        wrong = sorted(n for n in names if n.startswith(core))
+        if wrong:
+            found[path.name] = wrong
+    assert len(list((SRC / "cli").rglob("*.py"))) > 10  # the walk found the commands
+    assert found == {}
+
+
 def test_the_top_holds_only_the_shared_modules():
     top = {p.stem for p in SRC.glob("*.py")}
     assert top == SHARED | {"testing"}, top

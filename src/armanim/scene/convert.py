@@ -286,6 +286,36 @@ def orientation_rotation(o: OrientationModel) -> np.ndarray:
     return axis_angle_rotation(o.axis, np.radians(o.angle))
 
 
+def orientation_flag(form: str, values: list[float]) -> Orientation:
+    """``ik --orientation FORM=VALUES`` (``rpy``, ``quat``, ``axis`` with the angle last, or
+    ``tool_axis``; degrees) as an :class:`Orientation`, checked by the scene's own models and
+    converted as a goal's ``orientation`` is.
+
+    Raises
+    ------
+    pydantic.ValidationError
+        The values are not an orientation (a zero axis, a quaternion far from unit length, ...).
+
+    >>> orientation_flag("axis", [0, 0, 1, 90]).rotation.round(12).tolist()[0]
+    [0.0, -1.0, 0.0]
+    """
+    if form == "tool_axis":
+        GoalModel(position=[0.0, 0.0, 0.0], tool_axis=values)
+        return Orientation(axis=np.array(values))
+    fields = {"rpy": values} if form == "rpy" else {"quaternion_wxyz": values} if form == "quat" else {"axis": values[:3], "angle": values[3]}
+    return Orientation(rotation=orientation_rotation(OrientationModel(**fields)))
+
+
+def radians(degrees):
+    """Angles in degrees (a number or an array), as a scene or ``fk``'s and ``ik``'s flags give
+    them, in radians: the flags' angles take the scene's own conversion, here.
+
+    >>> float(radians(180.0)), radians(np.array([90.0, -45.0])).tolist()
+    (3.141592653589793, [1.5707963267948966, -0.7853981633974483])
+    """
+    return np.radians(degrees)
+
+
 def goal_orientation(goal: GoalModel) -> Orientation | None:
     """A goal's :class:`Orientation` (a rotation or a tool axis), or None for a position-only goal."""
     if goal.orientation is not None:
