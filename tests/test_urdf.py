@@ -295,8 +295,7 @@ def test_the_run_keeps_the_urdf_it_solved_with_even_if_the_file_changes_meanwhil
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(robot_problems())
 def test_robot_trajectories_keep_every_invariant(problem):
-    with small_planning_budget():
-        assert_trajectory_invariants(problem, solve_trajectory(problem))
+    assert_trajectory_invariants(problem, solve_trajectory(small_planning_budget(problem)))
 
 
 def test_panda_run_is_byte_identical_on_rerun():

@@ -16,6 +16,7 @@ from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.capsules import lever_arms as capsule_lever_arms
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
+from armanim.motion.tunables import DEFAULTS, Tunables
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
 from armanim.world.obstacles import Obstacles
 from armanim.world.selfdistances import SelfPairs
@@ -199,6 +200,9 @@ class Problem:
     self_pairs : SelfPairs
         The pairs of those capsules kept ``self_pairs.clearance`` apart (the enabled pairs of
         the allowed-collision matrix). Left out (None): none (``arm.self_collision: off``).
+    tunables : Tunables
+        The safety filter's gains and the stall test's and planner's tunables
+        (:mod:`armanim.motion.tunables`); left out, their documented defaults.
     """
 
     arm: Arm
@@ -212,6 +216,7 @@ class Problem:
     capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
     rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
     self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
+    tunables: Tunables = DEFAULTS
 
     def __post_init__(self) -> None:
         if self.capsules is None:

@@ -18,7 +18,7 @@ import numpy as np
 
 from armanim.errors import shown
 from armanim.motion.problem import LINK_ACCELERATION_PER_SPEED, Limits, RateLimits, link_arm_rates
-from armanim.motion.solvers.barrier import LIMIT_BUFFER
+from armanim.motion.tunables import DEFAULTS
 from armanim.scene.armmodel import ArmModel
 from armanim.scene.models import SceneModel
 from armanim.scene.robots import published_joint_names
@@ -142,9 +142,11 @@ def limit_problems(arm: ArmModel):
 
 def _narrow_limits(arm):
     """Joint ranges no wider than the buffer the planner keeps inside each limit, twice
-    (LIMIT_BUFFER of arm.limit_margin at each end): nowhere left for a pose to be."""
-    least = 2 * LIMIT_BUFFER * arm.limit_margin
-    advice = f"expected wider than 2 x {LIMIT_BUFFER:g} x arm.limit_margin = {least:g} deg"
+    (the filter's ``limit_buffer`` of arm.limit_margin at each end, the default gains a scene's
+    problem holds): nowhere left for a pose to be."""
+    buffer = DEFAULTS.filter.limit_buffer
+    least = 2 * buffer * arm.limit_margin
+    advice = f"expected wider than 2 x {buffer:g} x arm.limit_margin = {least:g} deg"
     if arm.limits is not None:
         for i, pair in enumerate(arm.limits):
             if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
