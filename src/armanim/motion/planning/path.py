@@ -103,6 +103,15 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     checks = len(coarse)
     if not np.all(_least(clear, own) >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
         return False, checks
+    return _certified(problem, coarse, clear, own, floor, checks)
+
+
+def _certified(problem: Problem, coarse: np.ndarray, clear: np.ndarray, own: np.ndarray | None, floor: float,
+               checks: int) -> tuple[bool, int]:
+    """:func:`motion_is_free`'s halving: the pieces between the ``coarse`` poses (k, n), with
+    their clearances ``clear`` (k,) and shifted pair gaps ``own`` (k, P) or None, halved level by
+    level until each is certified; (free, checks) with the poses checked added to ``checks``."""
+    d_safe, opts = problem.solver.clearance, problem.tunables.planner
     levers = problem.lever_arms
     pair_levers = pair_lever_rows(problem).T if own is not None else None  # (n, P)
     lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
@@ -280,6 +289,20 @@ def rrt_connect(
     planner.setRange(opts.rrt_range)
     planner.setProblemDefinition(pdef)
     planner.setup()
+    if tick:
+        tick(0)
+    planner.solve(ob.PlannerTerminationCondition(_budget(opts, tick)))
+    if not pdef.hasExactSolution():
+        return None, checks[0]
+    path = pdef.getSolutionPath()
+    og.PathSimplifier(si).simplifyMax(path)
+    waypoints = np.array([_array(path.getState(k), n) for k in range(path.getStateCount())])
+    return waypoints, checks[0]
+
+
+def _budget(opts: PlannerOptions, tick: Callable[[int], None] | None) -> Callable[[], bool]:
+    """OMPL's termination test for one search: true once it was asked more than ``ompl_iterations``
+    times (the budget, counted so that it is deterministic), telling ``tick`` every ``tick_iterations``."""
     iterations = [0]
 
     def out_of_budget() -> bool:
@@ -288,16 +311,7 @@ def rrt_connect(
             tick(iterations[0])
         return iterations[0] > opts.ompl_iterations
 
-    if tick:
-        tick(0)
-
-    planner.solve(ob.PlannerTerminationCondition(out_of_budget))
-    if not pdef.hasExactSolution():
-        return None, checks[0]
-    path = pdef.getSolutionPath()
-    og.PathSimplifier(si).simplifyMax(path)
-    waypoints = np.array([_array(path.getState(k), n) for k in range(path.getStateCount())])
-    return waypoints, checks[0]
+    return out_of_budget
 
 
 def _seed_ompl(search: int, seed: int) -> None:
