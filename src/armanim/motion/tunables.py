@@ -1,4 +1,4 @@
-"""The safety filter's gains and the stall test's and planner's tunables, as small frozen objects.
+"""The safety filter's and cost's gains, the stall test's, planner's and single-pose IK's tunables, as small frozen objects.
 
 Each carries its own documented defaults, the way mink's limits and pink's barriers carry
 their gains: a :class:`~armanim.motion.problem.Problem` holds one :class:`Tunables`
@@ -15,6 +15,8 @@ constants (math, units, a library's sentinel).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+import numpy as np
 
 
 @dataclass(frozen=True)
@@ -161,13 +163,56 @@ class PoseSearchOptions:
 
 
 @dataclass(frozen=True)
+class CostGains:
+    """Gains of the cost's terms that no scene field sets (:mod:`armanim.motion.cost`).
+
+    Attributes
+    ----------
+    self_influence : float
+        R of the field between two of the arm's own capsules, in ``self_clearance``: a pair
+        nearer than twice its clearance is pushed apart (the pictures tint such a pair too).
+    priority_weight : float
+        For an arm that cannot hold every orientation at a position, the cost methods weigh the
+        orientation term by this fraction: position first, the angle minimised with what is left
+        (the linear methods do it exactly, in the null space).
+    """
+
+    self_influence: float = 2.0
+    priority_weight: float = 1e-4
+
+
+@dataclass(frozen=True)
+class IkOptions:
+    """Solving one pose to convergence (:mod:`armanim.motion.ik`, ``armanim ik``).
+
+    Attributes
+    ----------
+    full_turn_per_iteration : float
+        Radians: the least joint step a solve allows itself (``solver.max_joint_step`` when larger).
+    stall_iterations : int
+        Steps without progress before a restart.
+    restarts : int
+        Random restarts after the first attempt.
+    seed : int
+        Of the random restarts: the same solve always restarts from the same poses.
+    """
+
+    full_turn_per_iteration: float = float(np.radians(30.0))
+    stall_iterations: int = 15
+    restarts: int = 4
+    seed: int = 0
+
+
+@dataclass(frozen=True)
 class Tunables:
-    """Every tunable of the frame loop's filter, stall test and planner (``problem.tunables``)."""
+    """Every tunable of the filter, the cost, the stall test, the planner and single-pose IK (``problem.tunables``)."""
 
     filter: FilterGains = field(default_factory=FilterGains)
     stalls: StallOptions = field(default_factory=StallOptions)
     planner: PlannerOptions = field(default_factory=PlannerOptions)
     poses: PoseSearchOptions = field(default_factory=PoseSearchOptions)
+    cost: CostGains = field(default_factory=CostGains)
+    ik: IkOptions = field(default_factory=IkOptions)
 
 
 DEFAULTS = Tunables()
