@@ -34,8 +34,8 @@ SOLVE = """
 import pickle, sys
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import scene_to_problem
-from armanim.scene.models import SceneModel
-scenes = [scene_to_problem(SceneModel.model_validate(d)) for d in pickle.load(open(sys.argv[1], "rb"))]
+from armanim.scene import scene_model
+scenes = [scene_to_problem(scene_model(d)) for d in pickle.load(open(sys.argv[1], "rb"))]
 if sys.argv[2] == "solve":
     print("FRAMES", sum(solve_trajectory(problem).trajectory.frames for problem in scenes))
 """

@@ -35,8 +35,7 @@ from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion.ik import solve_pose
 from armanim.motion.orientation import Orientation, orientation_angle
 from armanim.motion.solvers.barrier import within_limits
-from armanim.scene import scene_to_problem
-from armanim.scene.models import SceneModel
+from armanim.scene import scene_model, scene_to_problem
 from armanim.scene.robots import bundled_robot
 
 POSITION_TOLERANCE = 1e-4  # metres
@@ -48,7 +47,7 @@ LIMIT_MARGIN = 0.05  # radians: targets' poses are drawn this far inside the lim
 
 def robot_problem(robot: str, method: str):
     """The bundled robot with armanim ik's settings at the benchmark's tolerances."""
-    scene = SceneModel.model_validate({
+    scene = scene_model({
         "version": 1, "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]],
         "solver": {"method": method, "tolerance": POSITION_TOLERANCE * 0.5, "orientation_tolerance": ANGLE_TOLERANCE_DEG * 0.5},
     })

@@ -31,7 +31,7 @@ from armanim.arm.geometry import wrap_angle  # noqa: E402
 from armanim.motion.clock import joint_path  # noqa: E402
 from armanim.motion.retime import retime  # noqa: E402
 from armanim.motion.trajectory import hold_frames, solve_trajectory  # noqa: E402
-from armanim.scene import SceneModel, load_scene, scene_to_problem  # noqa: E402
+from armanim.scene import load_scene, scene_model, scene_to_problem  # noqa: E402
 
 
 def toppra_duration(path, speed: np.ndarray, acceleration: np.ndarray) -> float:
@@ -98,7 +98,7 @@ def families(seed: int, count: int, fps: float) -> list[dict]:
         for index in range(count):
             draft = make_scene(seed, index, family)
             name = scene_name(seed, index)
-            problem = scene_to_problem(SceneModel.model_validate(draft.as_scene_dict(name)))
+            problem = scene_to_problem(scene_model(draft.as_scene_dict(name)))
             rows.append(measure(f"{family}/{index}", problem, fps))
     return rows
 

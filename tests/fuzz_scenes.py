@@ -27,6 +27,7 @@ import io
 import json
 import math
 import warnings
+from dataclasses import replace
 from functools import cache
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
@@ -251,17 +252,10 @@ def scene_yaml(data: dict) -> str:
     return yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=10_000)
 
 
-@contextlib.contextmanager
-def short_planner(iterations: int = 300):
-    """The planner's search budget cut for fuzzing: a goal with no path costs milliseconds."""
-    from armanim.motion.planning import path
-
-    before = path.OMPL_ITERATIONS
-    path.OMPL_ITERATIONS = iterations
-    try:
-        yield
-    finally:
-        path.OMPL_ITERATIONS = before
+def short_planner(problem, iterations: int = 300):
+    """``problem`` with the planner's search budget cut for fuzzing: a goal with no path costs milliseconds."""
+    t = problem.tunables
+    return replace(problem, tunables=replace(t, planner=replace(t.planner, ompl_iterations=iterations)))
 
 
 def strict_json(text: str):
@@ -306,8 +300,7 @@ def check_scene_text(text: str, file: str) -> str:
             assert all(len(line) < 800 and line.isprintable() for line in report.splitlines()), report
             return "error"
         problem = scene_to_problem(model)
-        with short_planner():
-            solution = solve_trajectory(problem)
+        solution = solve_trajectory(short_planner(problem))
         traj = solution.trajectory
         assert 1 <= traj.frames <= frame_budget(model)
         csv_text = trajectory_csv_text(traj)

@@ -2,16 +2,13 @@
 
 from __future__ import annotations
 
-import contextlib
-from unittest import mock
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.planning import path as path_module
-from armanim.motion.planning import poses as poses_module
 from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step
 from armanim.motion.solvers.barrier import limit_buffer
@@ -22,19 +19,18 @@ from armanim.world.selfdistances import self_gaps
 TINY = 1e-9
 
 
-@contextlib.contextmanager
-def small_planning_budget(share: int = 30, seed_share: int = 4):
-    """The planner's RRT budget divided by ``share``, and its goal poses' random starts by
-    ``seed_share``, meanwhile.
+def small_planning_budget(problem: Problem, share: int = 30, seed_share: int = 4) -> Problem:
+    """``problem`` with the planner's RRT budget divided by ``share``, and its goal poses' random
+    starts by ``seed_share`` (``problem.tunables``).
 
     A random goal with no path spends the whole budget (4 x 15,000 RRT iterations, up to a
     minute) before it is reported, and planning (the goal poses from 128 starts, then RRT)
     took most of a random scene's solve; a thirtieth of the one and a quarter of the other
     test the same invariants, and benchmarks/motion_bench.py measures what the whole budget finds.
     """
-    with mock.patch.object(path_module, "OMPL_ITERATIONS", path_module.OMPL_ITERATIONS // share), \
-            mock.patch.object(poses_module, "SEEDS", poses_module.SEEDS // seed_share):
-        yield
+    t = problem.tunables
+    return replace(problem, tunables=replace(t, planner=replace(t.planner, ompl_iterations=t.planner.ompl_iterations // share),
+                                             poses=replace(t.poses, seeds=t.poses.seeds // seed_share)))
 
 
 RATE_TOLERANCE = 1e-9

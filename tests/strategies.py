@@ -192,12 +192,11 @@ def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem
     """A bundled robot (Panda or UR5) among 1-3 spheres, in metres: goals at the tool point of
     random poses inside the limits, spheres near the straight paths between them, kept clear
     of the home capsules and the goals; every method, planner on."""
-    from armanim.scene import scene_to_problem
-    from armanim.scene.models import SceneModel
+    from armanim.scene import scene_model, scene_to_problem
     from armanim.world.distances import clearances
 
     robot = draw(st.sampled_from(robots))
-    base = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
+    base = scene_to_problem(scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
     arm, lim = base.arm, base.limits
     lo, hi = np.maximum(lim.lower, -np.pi) + 0.1, np.minimum(lim.upper, np.pi) - 0.1
     goal_poses = [np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=arm.n, max_size=arm.n))) * (hi - lo) + lo

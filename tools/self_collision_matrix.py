@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
-from armanim.scene.models import SceneModel
 from armanim.scene.robots import ROBOTS, SELF_COLLISION_FILE
 from armanim.world import selfcollision
 
@@ -28,7 +28,7 @@ ROBOTS_DIR = Path(__file__).resolve().parent.parent / "src" / "armanim" / "arm" 
 
 def matrix_text(robot: str) -> str:
     """The committed file of bundled robot ``robot``."""
-    scene = SceneModel.model_validate({"version": 1, "arm": {"robot": robot, "self_collision": "off"}, "goals": [[0.5, 0.0, 0.5]]})
+    scene = scene_model({"version": 1, "arm": {"robot": robot, "self_collision": "off"}, "goals": [[0.5, 0.0, 0.5]]})
     problem = scene_to_problem(scene)
     lim = problem.limits
     allowed = selfcollision.automatic_matrix(problem.arm, problem.capsules, lim.lower, lim.upper, [problem.home], CLEARANCE)

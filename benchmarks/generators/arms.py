@@ -93,7 +93,7 @@ class Draft:
         return replace(self, spheres=list(self.spheres) + inner, boxes=[], rods=[], floor=None)
 
     def as_scene_dict(self, name: str, method: str = "pinv", planner: str | None = None) -> dict:
-        """The draft as a scene file's mapping (degrees), ready for ``SceneModel.model_validate``."""
+        """The draft as a scene file's mapping (degrees), ready for ``scene_model``."""
         solver = {"method": method}
         if planner is not None:
             solver["planner"] = planner

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 from pydantic import ValidationError
 
+from armanim.scene import scene_model
 from armanim.scene.checks import scene_problems
-from armanim.scene.models import SceneModel
 from generators.arms import Draft, draw_hard_scene, draw_robot_scene, draw_scene
 from generators.shapes import draw_pose_scene, draw_robot_shapes_scene, draw_shapes_scene
 
@@ -31,7 +31,7 @@ goals near spheres and at the edge of reach, 8-12 goals) and the robots of issue
 def armanim_rejects(scene: dict) -> list:
     """armanim's own objections to a scene mapping: pydantic errors or cross-field problems (empty: valid)."""
     try:
-        model = SceneModel.model_validate(scene)
+        model = scene_model(scene)
     except ValidationError as exc:
         return [str(exc)]
     return scene_problems(model)

@@ -10,8 +10,8 @@ import numpy as np
 from oracles.robots import ROBOT_SOLVER, coal_pair_gaps
 
 from armanim.arm.kinematics import forward
+from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
-from armanim.scene.models import SceneModel
 from armanim.world.selfdistances import self_gaps
 
 SELF_ROBOTS = ("panda", "ur5", "iiwa", "chain")
@@ -51,7 +51,7 @@ def self_scene_problem(robot: str, folder: Path, goals: list, self_collision="au
     robot scenes' solver settings (self_clearance: clearance / 2 = 0.01 m)."""
     arm = {"robot": robot} if robot != "chain" else {"urdf": str(folder / "chain.urdf"), "home": [0, 30, 60, 0, 30, 0]}
     scene = {"version": 1, "arm": {**arm, "self_collision": self_collision}, "goals": goals, "solver": dict(ROBOT_SOLVER)}
-    return scene_to_problem(SceneModel.model_validate(scene, context={"scene_dir": folder}))
+    return scene_to_problem(scene_model(scene, folder))
 
 
 SELF_THROUGH = 0.15

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.kinematics import forward
-from armanim.scene.models import SceneModel
+from armanim.scene import scene_model
 from armanim.scene.robots import bundled_robot
 from oracles.geometry import (
     NO_SOLIDS,
@@ -170,8 +170,8 @@ def robot_model(robot: str):
         import pinocchio as pin
 
         full = pin.buildModelFromUrdf(str(bundled_robot(robot).urdf))
-        scene = SceneModel.model_validate({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
-        robot_arm = scene.arm._robot  # the chain's joint names and the capsule data, as the scene reads them
+        scene = scene_model({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
+        robot_arm = scene.arm.urdf_arm  # the chain's joint names and the capsule data, as the scene reads them
         off_chain = [j for j in range(1, full.njoints) if full.names[j] not in robot_arm.joint_names]  # e.g. Panda's fingers
         model = pin.buildReducedModel(full, off_chain, pin.neutral(full)) if off_chain else full
         assert list(model.names)[1:] == list(robot_arm.joint_names), f"{robot}: pinocchio's joints differ from the chain's"

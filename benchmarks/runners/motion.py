@@ -17,6 +17,7 @@ from oracles.robots import min_clearance
 
 from armanim.arm.kinematics import forward
 from armanim.motion.trajectory import solve_trajectory
+from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.models import SceneModel, SolverModel
 from armanim.world.distances import clearances, min_link_clearance
@@ -160,7 +161,7 @@ def easy_misses(geo: Geometry, verdicts: list, reports, phi: np.ndarray) -> list
 def solve_one(draft: Draft, seed: int, index: int, method: str, planner: str, geo: Geometry, verdicts: list) -> Run:
     """Solve a scene with one method and planner setting, and check its trajectory."""
     field_planner = planner if planner_field_exists() else None
-    model = SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
+    model = scene_model(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
     problem = scene_to_problem(model)
     try:
         solution, seconds, marks, cpu_seconds = timed_solve(problem)
@@ -212,7 +213,7 @@ class SceneResult:
 
 def oracle_geometry(draft: Draft, seed: int, index: int) -> Geometry:
     """The oracle's geometry of a scene, with armanim's tolerance and clearance setting."""
-    model = SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index)))
+    model = scene_model(draft.as_scene_dict(scene_name(seed, index)))
     clearance = clearance_of(model)
     return draft.geometry(DEFAULT_CLEARANCE if clearance is None else clearance, model.solver.tolerance)
 
@@ -250,7 +251,7 @@ def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch
     and with its spheres-only twin: every clearance of one pose at a time (what each frame's filter
     computes) and the smallest of ``batch`` poses at once (``min_link_clearance``: what the planner
     checks), the best of three rounds each."""
-    problems = [scene_to_problem(SceneModel.model_validate(d.as_scene_dict(scene_name(seed, index)))) for d in (draft, draft.spheres_twin())]
+    problems = [scene_to_problem(scene_model(d.as_scene_dict(scene_name(seed, index)))) for d in (draft, draft.spheres_twin())]
     rng = np.random.default_rng([seed, index, 22])
     phi = rng.uniform(-np.pi, np.pi, (batch, problems[0].arm.n))
     out = []
@@ -272,7 +273,7 @@ def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch
 def scene_problem(draft: Draft, seed: int, index: int, method: str, planner: str):
     """armanim's problem of a draft solved with one method and planner setting."""
     field_planner = planner if planner_field_exists() else None
-    return scene_to_problem(SceneModel.model_validate(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner)))
+    return scene_to_problem(scene_model(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner)))
 
 
 def paired_timing(draft: Draft, seed: int, index: int, run: Run, rounds: int) -> tuple[tuple, tuple]:

@@ -14,8 +14,8 @@ from oracles.robots import ROBOT_NAMES, base_geometry, min_clearance
 
 from armanim.arm.capsules import joint_capsules
 from armanim.arm.kinematics import Arm, forward, tool_rotation
+from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
-from armanim.scene.models import SceneModel
 from armanim.world.distances import clearances, min_link_clearance
 from armanim.world.obstacles import Obstacles
 
@@ -56,7 +56,7 @@ def self_test_robots(rng: np.random.Generator, poses: int = 40) -> None:
         geo = base_geometry(robot)
         centers, radii = rng.uniform(-0.6, 0.6, (4, 3)), rng.uniform(0.03, 0.1, 4)
         geo = replace(geo, centers=centers, radii=radii)
-        model = SceneModel.model_validate({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
+        model = scene_model({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
         problem = scene_to_problem(model)
         phi = rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi), (poses, len(geo.lower)))
         pose = forward(problem.arm, phi)

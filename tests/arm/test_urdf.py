@@ -212,6 +212,28 @@ def test_bad_urdf_arm_in_a_scene(tmp_path, arm, expected):
     assert expected in info.value.report()
 
 
+def test_the_yaml_is_validated_without_reading_a_file_and_the_loader_reads_it_after(tmp_path):
+    from armanim.scene import scene_model
+    from armanim.scene.models import SceneModel
+
+    data = {"version": 1, "arm": {"urdf": "missing.urdf"}, "goals": [[0.4, 0, 0.4]]}
+    model = SceneModel.model_validate(data)  # no file is read by validation
+    with pytest.raises(RuntimeError, match="file was not read"):
+        _ = model.arm.joint_count
+    with pytest.raises(SceneError, match="missing.urdf: no such file"):
+        scene_model(data, tmp_path)
+    assert scene_model(data | {"arm": {"robot": "panda"}}).arm.joint_count == 7
+
+
+def test_a_link_the_urdf_lacks_is_reported_with_the_yamls_own_problems(tmp_path):
+    path = _write(tmp_path, "  robot: panda\n  tip_link: panda_hand_tc", goals="[[0.4, 0, 0.4]]\nsolver: {step: 2}")
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    lines = info.value.report().splitlines()
+    assert any("s.yaml:2: arm: tip_link 'panda_hand_tc' is not a link" in line for line in lines)
+    assert any("solver.step" in line for line in lines)
+
+
 def test_own_urdf_relative_to_the_scene_with_auto_capsules_and_a_note(tmp_path):
     (tmp_path / "robots").mkdir()
     (tmp_path / "robots" / "t.urdf").write_bytes(TORTURE.read_bytes())
@@ -273,8 +295,7 @@ def test_the_run_keeps_the_urdf_it_solved_with_even_if_the_file_changes_meanwhil
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(robot_problems())
 def test_robot_trajectories_keep_every_invariant(problem):
-    with small_planning_budget():
-        assert_trajectory_invariants(problem, solve_trajectory(problem))
+    assert_trajectory_invariants(problem, solve_trajectory(small_planning_budget(problem)))
 
 
 def test_panda_run_is_byte_identical_on_rerun():

@@ -54,7 +54,9 @@ def test_the_planner_seeds_within_a_range_narrower_than_its_buffer():
 
     from armanim.motion.planning.poses import seed_poses
     from armanim.motion.problem import Limits
+    from armanim.motion.tunables import DEFAULTS
 
-    narrow = SimpleNamespace(limits=Limits(np.array([-0.007, -np.inf]), np.array([0.007, np.inf]), margin=np.radians(10)))
+    narrow = SimpleNamespace(limits=Limits(np.array([-0.007, -np.inf]), np.array([0.007, np.inf]), margin=np.radians(10)),
+                             tunables=DEFAULTS)
     seeds = seed_poses(narrow, np.zeros(2), 16, seed=1)
     assert np.all(np.abs(seeds[:, 0]) <= 0.007)

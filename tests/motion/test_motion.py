@@ -25,9 +25,6 @@ from armanim.arm.kinematics import Arm, forward
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.follow import path_frames
 from armanim.motion.planning.path import (
-    CERTIFY_TO,
-    OMPL_ITERATIONS,
-    OMPL_SEARCHES,
     motion_is_free,
     motion_samples,
     plan_iterations,
@@ -49,6 +46,7 @@ from armanim.motion.solvers.barrier import (
 )
 from armanim.motion.stalls import stall_frames
 from armanim.motion.trajectory import _next_on_path, _Visit, solve_trajectory
+from armanim.motion.tunables import DEFAULTS
 from armanim.scene import default_solver_settings, unlimited_limits
 from armanim.world.distances import min_link_clearance
 from armanim.world.obstacles import Obstacles
@@ -213,16 +211,17 @@ def test_a_goal_without_a_path_tells_the_whole_search_budget():
     sides = [((0.0, side * radius, tip[2]), 2.5) for side in (1, -1)]
     problem = notes_problem(sides, goals=((-tip[0], tip[1], tip[2]),), limits=lim, home=np.degrees(bent))
     told = []
-    with small_planning_budget():
-        plan = plan_motion(problem, problem.home, problem.goals[0].position, searched=lambda done, most: told.append(done))
-        most = plan_iterations()
+    small = small_planning_budget(problem)
+    plan = plan_motion(small, small.home, small.goals[0].position, searched=lambda done, most: told.append(done))
+    most = plan_iterations(small.tunables.planner)
     assert plan.reason == "no_path", plan.reason
     assert told[-1] == most and max(told[:-1]) >= most // 2  # the last search ran to its end before the plan ended
 
 
 def test_the_docs_give_the_planning_budget_the_code_has():
     scene_format, python_api = (" ".join((DOCS / page).read_text(encoding="utf-8").split()) for page in ("scene-format.md", "python-api.md"))
-    assert OMPL_SEARCHES == 2 and f"two searches of {OMPL_ITERATIONS:,} iterations" in scene_format
+    planner = DEFAULTS.planner
+    assert planner.ompl_searches == 2 and f"two searches of {planner.ompl_iterations:,} iterations" in scene_format
     assert f"whole budget, {plan_iterations():,} iterations" in scene_format
     assert f"of at most {plan_iterations():,}" in python_api
 
@@ -245,8 +244,7 @@ def test_path_frames_start_and_stop_slowly():
 @given(cluttered_problems())
 @settings(max_examples=12)
 def test_cluttered_scene_trajectory_invariants(problem):
-    with small_planning_budget():
-        assert_trajectory_invariants(problem, solve_trajectory(problem))
+    assert_trajectory_invariants(problem, solve_trajectory(small_planning_budget(problem)))
 
 
 def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(tmp_path):
@@ -313,7 +311,7 @@ def test_a_certified_motion_keeps_the_floor_everywhere_and_a_refused_one_breaks_
     lowest = float(pose_clearance(problem, dense).min()) if len(problem.obstacles) else np.inf
     inside = bool(within_limits(problem, np.stack([a, b])).all())
     if free:
-        assert lowest >= floor - CERTIFY_TO * problem.solver.clearance / 2 - 1e-9
+        assert lowest >= floor - DEFAULTS.planner.certify_to * problem.solver.clearance / 2 - 1e-9
     elif inside:  # refused only where some pose really comes closer than the floor (to the oracle's spacing)
         assert lowest < floor + spacing / 2 + 1e-9
 

@@ -239,7 +239,7 @@ from armanim.motion.solvers.barrier import within_limits  # noqa: E402
 from armanim.motion.trajectory import solve_trajectory  # noqa: E402
 from armanim.output.csvfile import trajectory_csv_text  # noqa: E402
 from armanim.output.summary import goal_report_dict  # noqa: E402
-from armanim.scene.models import SceneModel  # noqa: E402
+from armanim.scene import scene_model  # noqa: E402
 
 METHODS = ["pinv", "dls", "newton", "gradient"]
 ARMS = {
@@ -251,7 +251,7 @@ ARMS = {
 
 
 def _problem(arm: dict, method: str, **solver):
-    scene = SceneModel.model_validate({"version": 1, "arm": arm, "goals": [[0.3, 0.0, 0.4]],
+    scene = scene_model({"version": 1, "arm": arm, "goals": [[0.3, 0.0, 0.4]],
                                        "solver": {"method": method, "tolerance": 1e-3, **solver}})
     return scene_to_problem(scene)
 
@@ -310,7 +310,7 @@ def test_tool_axis_goals_leave_the_roll_free():
 
 @pytest.mark.parametrize("method", METHODS)
 def test_four_joints_reach_the_position_and_report_the_orientation_unreachable(method):
-    scene = SceneModel.model_validate({
+    scene = scene_model({
         "version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
         "goals": [{"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}}, [5, 12, 9]],
         "solver": {"method": method},
@@ -327,7 +327,7 @@ def test_four_joints_reach_the_position_and_report_the_orientation_unreachable(m
 
 
 def test_planar_arm_with_a_tool_axis_out_of_its_plane():
-    scene = SceneModel.model_validate({
+    scene = scene_model({
         "version": 1, "arm": {"links": [1, 1, 1], "axes": ["z", "z", "z"], "direction": "x"},
         "goals": [{"position": [1.5, 1.0, 0.0], "tool_axis": [1, 0, 1]}], "solver": {"planner": "off"},
     })
@@ -394,7 +394,7 @@ def test_viewer_data_carries_orientations_only_for_oriented_runs():
 def test_pose_goal_trajectories_keep_every_invariant():
     from invariants import assert_trajectory_invariants
 
-    scene = SceneModel.model_validate({
+    scene = scene_model({
         "version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
         "goals": [{"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}}, {"position": [10, 8, 9], "tool_axis": [1, 0, 0]}, [5, 12, 9]],
         "obstacles": [{"center": [9, 9, 12], "radius": 1.0}],

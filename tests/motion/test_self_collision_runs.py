@@ -13,9 +13,9 @@ from armanim.arm.kinematics import Arm, forward
 from armanim.motion.problem import Goal
 from armanim.motion.solvers import METHODS
 from armanim.motion.trajectory import solve_trajectory
+from armanim.scene import scene_model
 from armanim.scene.convert import default_solver_settings, scene_to_problem
 from armanim.scene.loader import load_scene
-from armanim.scene.models import SceneModel
 from armanim.world import selfcollision
 from armanim.world.selfdistances import SelfPairs, self_gaps
 
@@ -24,7 +24,7 @@ def robot_problem(robot: str, **solver):
     """A bundled robot's problem with its own allowed-collision matrix, in metres."""
     from dataclasses import replace
 
-    base = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
+    base = scene_to_problem(scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
     return replace(base, solver=default_solver_settings(**{"max_step": 0.02, "tolerance": 0.005, "max_frames_per_goal": 120,
                                                            "clearance": 0.02, **solver}))
 
@@ -50,8 +50,7 @@ def near_body_problems(draw):
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(near_body_problems())
 def test_runs_near_the_body_keep_every_enabled_pair_apart(problem):
-    with small_planning_budget():
-        solution = solve_trajectory(problem)
+    solution = solve_trajectory(small_planning_budget(problem))
     assert_trajectory_invariants(problem, solution)  # every frame: every enabled pair >= self_clearance
 
 
@@ -93,8 +92,7 @@ def test_a_goal_whose_only_poses_fold_the_arm_is_a_no_free_pose_miss_naming_the_
     problem = Problem(arm=arm, half_width=0.1, home=np.zeros(3), limits=limits, obstacles=Obstacles.none(),
                       goals=(Goal(goal, 0.0),), solver=default_solver_settings(tolerance=0.01, max_frames_per_goal=200, clearance=0.1),
                       fps=30.0, capsules=caps, self_pairs=pairs)
-    with small_planning_budget():
-        solution = solve_trajectory(problem)
+    solution = solve_trajectory(small_planning_budget(problem))
     assert_trajectory_invariants(problem, solution)
     report = solution.goals[0]
     assert not report.reached and report.reason == "no_free_pose"
@@ -106,9 +104,10 @@ def test_a_goal_whose_only_poses_fold_the_arm_is_a_no_free_pose_miss_naming_the_
 def test_certified_motion_checks_cover_the_arms_own_pairs():
     """motion_is_free's step bound covers pairs that move relative to each other: whatever it
     certifies, a fine sampling of the same straight motion keeps the floor (to its certification slack)."""
-    from armanim.motion.planning.path import CERTIFY_TO, motion_is_free
+    from armanim.motion.planning.path import motion_is_free
     from armanim.motion.problem import Limits, Problem
     from armanim.motion.solvers.barrier import pose_clearance
+    from armanim.motion.tunables import DEFAULTS
     from armanim.world.obstacles import Obstacles
 
     arm = Arm.from_names([1.0, 0.8, 0.8, 0.6, 0.4], axes=["z", "y", "y", "x", "y"])
@@ -127,7 +126,7 @@ def test_certified_motion_checks_cover_the_arms_own_pairs():
         fine = pose_clearance(problem, a + np.linspace(0, 1, 2001)[:, None] * (b - a))
         if free:
             certified += 1
-            assert fine.min() >= floor - CERTIFY_TO * problem.solver.clearance / 2 - 1e-9
+            assert fine.min() >= floor - DEFAULTS.planner.certify_to * problem.solver.clearance / 2 - 1e-9
         else:
             refused += 1
     assert certified >= 5 and refused >= 5  # both answers were exercised

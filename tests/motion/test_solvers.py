@@ -10,7 +10,7 @@ import pytest
 from conftest import SCENES, solved_scene
 
 from armanim.arm.kinematics import Arm, forward
-from armanim.arm.linalg import pseudo_inverse
+from armanim.arm.linalg import PINV_RTOL, pseudo_inverse, singular_factors
 from armanim.motion.ik import solve_pose
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.motion.solvers import METHODS, arm_state, step_function
@@ -194,6 +194,27 @@ def test_a_stack_of_jacobians_is_inverted_each_bit_for_bit_as_alone():
             for one, jac in zip(together, stack):
                 assert np.array_equal(one, invert(jac))
     assert pseudo_inverse(np.zeros((0, 3, 4))).shape == (0, 4, 3)
+
+
+def test_the_pseudo_inverse_is_eq20_of_gesdds_factors_bit_for_bit():
+    # scipy.linalg.svd (the design card's solver) and numpy.linalg.svd both call LAPACK's
+    # gesdd: the factors, and so J+ = V D+ U^T and every trajectory, are the same bits
+    rng = np.random.default_rng(37)
+    for _ in range(500):
+        shape = (*rng.integers(1, 4, size=rng.integers(0, 2)), 3, int(rng.integers(1, 8)))
+        jac = rng.normal(size=shape)
+        jac[..., -1] *= rng.random() < 0.3  # some of them singular
+        u, d, vt = np.linalg.svd(jac, full_matrices=False)
+        keep = (d > PINV_RTOL * d[..., :1]) & (d[..., :1] > 0)
+        inverse = np.where(keep, 1.0 / np.where(keep, d, 1.0), 0.0)
+        expected = np.matmul(np.swapaxes(vt, -1, -2) * inverse[..., None, :], np.swapaxes(u, -1, -2))
+        assert all(np.array_equal(a, b) for a, b in zip(singular_factors(jac), (u, d, vt)))
+        assert np.array_equal(pseudo_inverse(jac), expected)
+
+
+def test_a_pseudo_inverse_of_a_nan_is_a_linear_algebra_error():
+    with pytest.raises(np.linalg.LinAlgError):
+        pseudo_inverse(np.array([[np.nan, 1.0], [0.0, 1.0]]))
 
 
 # ------------------------------------------------------------ ik (one pose to convergence)

@@ -100,8 +100,7 @@ def test_a_scene_moves_the_same_in_seconds_at_15_30_and_60_fps(cli, tmp_path, na
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])  # as the suite's profile
 @given(problem=cluttered_problems(max_goals=2), fps=st.sampled_from([7.0, 15.0, 24.0, 60.0, 90.0]))
 def test_every_retimed_frame_keeps_the_guarantees_at_that_rate(problem, fps):
-    with small_planning_budget():
-        solved = solve_trajectory(problem)
+    solved = solve_trajectory(small_planning_budget(problem))
     timed = retime(problem, solved, fps)
     shown = at_fps(problem, fps)
     # clearance, limits, holds, reports, and each joint's speed and acceleration within its limits
@@ -122,8 +121,7 @@ def test_every_retimed_frame_keeps_the_guarantees_at_that_rate(problem, fps):
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(problem=robot_problems(), fps=st.sampled_from([15.0, 30.0, 60.0]))
 def test_a_robots_frames_keep_its_own_speed_and_acceleration_limits(problem, fps):
-    with small_planning_budget():
-        solved = solve_trajectory(problem)
+    solved = solve_trajectory(small_planning_budget(problem))
     timed = retime(problem, solved, fps)
     assert_trajectory_invariants(at_fps(problem, fps), timed)  # within problem.rates: the URDF's and Franka's / UR's
     assert all(g.timing.peak_speed_ratio <= 1 + 1e-9 for g in timed.goals)
@@ -133,8 +131,7 @@ def test_a_robots_frames_keep_its_own_speed_and_acceleration_limits(problem, fps
 @given(problem=robot_problems(), fps=st.sampled_from([15.0, 30.0, 60.0]), jerk=st.floats(50.0, 5000.0))
 def test_with_a_jerk_limit_a_robots_frames_keep_it_too(problem, fps, jerk):
     problem = replace(problem, rates=replace(problem.rates, jerk=np.full(problem.arm.n, jerk)))
-    with small_planning_budget():
-        solved = solve_trajectory(problem)
+    solved = solve_trajectory(small_planning_budget(problem))
     assert_trajectory_invariants(at_fps(problem, fps), retime(problem, solved, fps))  # goals meet without a jerk too
 
 

@@ -13,8 +13,8 @@ import pytest
 from armanim.errors import SceneError
 from armanim.motion.problem import LINK_ACCELERATION_PER_SPEED
 from armanim.scene import load_scene, scene_to_problem
-from armanim.scene.checks import rate_note_lines, rate_notes
-from armanim.scene.models import RATE_BOUNDS, URDF_SPEED
+from armanim.scene.fields import RATE_BOUNDS
+from armanim.scene.limits import URDF_SPEED, rate_note_lines, rate_notes
 from armanim.scene.robots import RATE_UNITS, ROBOTS, bundled_robot, published_joint_names
 from armanim.scene.urdf import read_urdf
 
@@ -264,9 +264,9 @@ def test_robot_yaml_rates_are_whole_and_sourced(name):
 
 
 def load_scene_of(robot: str):
-    from armanim.scene.models import SceneModel
+    from armanim.scene import scene_model
 
-    return SceneModel.model_validate({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0.1, 0.4]]})
+    return scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0.1, 0.4]]})
 
 
 # ------------------------------------------------------------ notes

@@ -1,7 +1,8 @@
 """The pure core imports no edge library, and the rooms import one way (design.md).
 
 The pure core is every module under ``armanim.arm``, ``armanim.world`` and
-``armanim.motion``: numpy, DAQP, OMPL and numba (the compiled closed form) only. Rooms are ordered
+``armanim.motion``: numpy, scipy.linalg (the pseudo-inverse's SVD, imported at the first
+solve), DAQP, OMPL and numba (the compiled closed form) only. Rooms are ordered
 cli > runs > scene > render > output > procs > motion > world > arm, and a module imports only
 from its own room or the rooms below it (``errors`` and ``names`` serve all). Inside
 ``render``, the sub-rooms are ordered the same way (:data:`RENDER_ROOMS`).
@@ -57,8 +58,9 @@ def test_core_loads_no_edge_library():
 
 
 def test_no_module_of_armanim_imports_a_library_it_does_not_declare():
-    """scipy is the test extra's (an oracle), not a run-time dependency: a fresh install
-    without the test extra must never need it, whatever command runs."""
+    """No module of armanim loads scipy when imported (scipy.linalg is the pseudo-inverse's
+    SVD, imported at the first solve: :func:`test_commands_that_never_solve_never_import_scipy`),
+    nor a test extra's library (oracles): a fresh install without the test extra runs every command."""
     modules = [m for room in ROOMS for m in _modules(room) if m not in COMPILED] + ["armanim", "armanim.testing"]
     code = (
         "import importlib, sys\n"
@@ -68,6 +70,41 @@ def test_no_module_of_armanim_imports_a_library_it_does_not_declare():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("args", [
+    ["--version"], ["schema"], ["validate", "scenes/notes-arm.yaml"], ["validate", "scenes/panda-place.yaml"],
+    ["fk", "--angles", "0,30,45,10", "--links", "2,5,5,5"], ["fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45"],
+], ids=lambda a: "-".join(a[:2]))
+def test_commands_that_never_solve_never_import_scipy(args):
+    """scipy.linalg costs about 0.3 s to import (benchmarks/README.md): only a solve pays it.
+    The command runs with scipy unimportable (numba, which some of them load for the arm's own
+    distances, imports scipy only when it can: with scipy installed it pays for it anyway)."""
+    code = (
+        "import sys\n"
+        "sys.modules['scipy'] = None  # any import of scipy fails\n"
+        "from typer.testing import CliRunner\n"
+        "from armanim.cli import app\n"
+        f"result = CliRunner().invoke(app, {args!r})\n"
+        "print(result.exit_code, repr(result.exception))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "0 None"
+
+
+def test_a_solve_loads_scipy_linalg():
+    code = (
+        "import sys\n"
+        "import numpy as np\n"
+        "from armanim.arm.linalg import pseudo_inverse\n"
+        "print('scipy.linalg' in sys.modules)\n"
+        "pseudo_inverse(np.eye(3))\n"
+        "print('scipy.linalg' in sys.modules)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["False", "True"]
 
 
 def _imported_rooms(path: Path) -> set[str]:
@@ -117,6 +154,22 @@ def test_render_imports_run_down_its_sub_rooms(room):
     assert paths
     wrong = {str(p.relative_to(SRC)): sorted(_imported_render_rooms(p) & above) for p in paths}
     assert {k: v for k, v in wrong.items() if v} == {}
+
+
+def test_the_cli_asks_the_rooms_below_and_never_the_core_directly():
+    """``armanim`` commands are thin: they parse flags and print answers of the silent API
+    (``runs``, ``scene``, ``render``, ``output``), never calling the pure core themselves."""
+    core = ("armanim.motion", "armanim.arm", "armanim.world")
+    found = {}
+    for path in (SRC / "cli").rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        names = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module]
+        names += [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+        wrong = sorted(n for n in names if n.startswith(core))
+        if wrong:
+            found[path.name] = wrong
+    assert len(list((SRC / "cli").rglob("*.py"))) > 10  # the walk found the commands
+    assert found == {}
 
 
 def test_the_top_holds_only_the_shared_modules():

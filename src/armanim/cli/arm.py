@@ -84,12 +84,14 @@ def flag_scene(arm: dict):
     from pydantic import ValidationError
 
     from armanim.scene.models import SceneModel
+    from armanim.scene.robots import read_scene_files
 
     goal = [float(v) for v in np.asarray(arm.get("base", [0.0, 0.0, 0.0])) + 1.0]
     try:
-        return SceneModel.model_validate({"version": 1, "arm": arm, "goals": [goal]})
+        model = SceneModel.model_validate({"version": 1, "arm": arm, "goals": [goal]})
     except ValidationError as exc:
         first = exc.errors()[0]
         flag = first["loc"][1] if len(first["loc"]) > 1 else next(iter(arm))
         message = first["ctx"]["error"] if first["type"] == "value_error" else first["msg"]
         raise UsageError(f"--{flag}: {message}") from None
+    return read_scene_files(model)  # a bundled robot's URDF

@@ -1,4 +1,8 @@
-"""``armanim fk`` and ``armanim ik``: one pose of an arm, forward or inverse."""
+"""``armanim fk`` and ``armanim ik``: one pose of an arm, forward or inverse.
+
+Thin commands: the flags' text is parsed here, and :mod:`armanim.runs.pose` answers
+(silently, with values); this module only prints the answer.
+"""
 
 from __future__ import annotations
 
@@ -36,48 +40,41 @@ def fk(
 
     Example: [bold]armanim fk --angles 0,30,45,10 --links 2,5,5,5 --base 5,5,0[/bold], or [bold]armanim fk --robot panda --angles=0,-45,0,-135,0,90,45[/bold]
     """
-    from armanim.arm.kinematics import forward, tool_rotation
-    from armanim.arm.rotations import rotation_quaternion, rotation_rpy
-    from armanim.scene import scene_to_problem
+    from armanim.runs.pose import forward_pose
 
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
-    problem = scene_to_problem(model)
-    values = parse_numbers(angles, "--angles", problem.arm.n)
-    phi = values if radians else np.radians(values)
-    pose = forward(problem.arm, phi)
+    values = parse_numbers(angles, "--angles", model.arm.joint_count)
+    answer = forward_pose(model, values, in_radians=radians, with_notes=loaded is not None)
     if as_json:
-        angles_deg = np.degrees(values) if radians else values  # as typed, not round-tripped through radians
-        rot = tool_rotation(problem.arm, pose)
         print(json_text({
-            "angles_deg": angles_deg.tolist(), "joints": pose.points.tolist(), "tip": pose.tip.tolist(),
-            "tip_quaternion_wxyz": rotation_quaternion(rot).tolist(), "tip_rpy_deg": np.degrees(rotation_rpy(rot)).tolist(),
+            "angles_deg": answer.angles_deg.tolist(), "joints": answer.joints.tolist(), "tip": answer.tip.tolist(),
+            "tip_quaternion_wxyz": answer.tip_quaternion_wxyz.tolist(), "tip_rpy_deg": answer.tip_rpy_deg.tolist(),
         }))
     else:
-        out.print(pose_table(pose.points, phi, problem.arm.reach))
-        rot = tool_rotation(problem.arm, pose)
-        say("tool rpy (deg): " + ", ".join(fmt(v, 360) for v in np.degrees(rotation_rpy(rot)))
-            + "; quaternion wxyz: " + ", ".join(fmt(v) for v in rotation_quaternion(rot)))
-    for note in problem.limits.notes(phi) if loaded else []:
+        out.print(pose_table(answer.joints, answer.joint_degrees, answer.problem.arm.reach))
+        say("tool rpy (deg): " + ", ".join(fmt(v, 360) for v in answer.tip_rpy_deg)
+            + "; quaternion wxyz: " + ", ".join(fmt(v) for v in answer.tip_quaternion_wxyz))
+    for note in answer.notes:
         say(f"note: {note}", err)
     if png is not None:
         from armanim.render.pictures.pose import render_pose_png
         from armanim.scene import render_settings
 
         # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend
-        render_pose_png(replace(problem, goals=()), phi, render_settings(model), png, title="armanim fk")
+        render_pose_png(replace(answer.problem, goals=()), answer.phi, render_settings(model), png, title="armanim fk")
         if not as_json:
             say(f"wrote {png}")
 
 
-def pose_table(points: np.ndarray, phi: np.ndarray, reach: float = 1.0) -> Table:
-    """Joint positions (base to tip) with each joint's angle in degrees (lengths to the
+def pose_table(points: np.ndarray, degrees: np.ndarray, reach: float = 1.0) -> Table:
+    """Joint positions (base to tip) with each joint's angle ``degrees`` (lengths to the
     precision of an arm of ``reach``)."""
     table = Table(title="Forward kinematics", title_justify="left")
     for col in ("point", "angle (deg)", "x", "y", "z"):
         table.add_column(col, justify="right" if col != "point" else "left")
     for i, p in enumerate(points):
-        label = f"joint {i + 1}" if i < len(phi) else "tip"
-        angle = fmt(np.degrees(phi[i]), 360) if i < len(phi) else ""
+        label = f"joint {i + 1}" if i < len(degrees) else "tip"
+        angle = fmt(degrees[i], 360) if i < len(degrees) else ""
         table.add_row(label, angle, *(fmt(v, reach) for v in p))
     return table
 
@@ -108,25 +105,21 @@ def ik(
 
     Example: [bold]armanim ik --goal 3,1,0 --links 1,1,1,1 --axes z,z,z,z --direction x --method newton[/bold], or [bold]armanim ik --robot panda --goal 0.5,0,0.3 --orientation rpy=180,0,0[/bold]
     """
-    from armanim.motion.ik import solve_pose
+    from armanim.runs.pose import ik_problem, ik_report, solve_ik, with_orientation_tolerance
 
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     problem = ik_problem(model, method, tolerance, from_flags=loaded is None)
     target = parse_lengths(goal, "--goal", 3)
     wanted = parse_orientation(orientation) if orientation is not None else None
     if orientation_tolerance is not None:
-        from armanim.scene.models import MIN_DEGREES
-
-        if not MIN_DEGREES <= orientation_tolerance <= 180:
-            raise UsageError(f"--orientation-tolerance: expected degrees in [{MIN_DEGREES:g}, 180] (got {orientation_tolerance:g})")
-        problem = replace(problem, solver=replace(problem.solver, orientation_tolerance=float(np.radians(orientation_tolerance))))
-    phi0 = np.radians(parse_numbers(start, "--from", problem.arm.n)) if start else problem.home
-    result = solve_pose(problem, target, phi0, max_iterations, orientation=wanted)
-    data = ik_report(problem, target, result)
+        problem = with_orientation_tolerance(problem, orientation_tolerance)
+    start_deg = parse_numbers(start, "--from", problem.arm.n) if start else None
+    answer = solve_ik(problem, target, start_deg, max_iterations, orientation=wanted)
+    data = ik_report(answer)
     if as_json:
         print(json_text(data))
     else:
-        print_ik_report(data, problem.solver.tolerance, np.degrees(problem.solver.orientation_tolerance), problem.arm.reach)
+        print_ik_report(data, problem.solver.tolerance, answer.orientation_tolerance_deg, problem.arm.reach)
 
 
 ORIENTATION_FORMS = {"rpy": 3, "quat": 4, "axis": 4, "tool_axis": 3}
@@ -135,16 +128,14 @@ ORIENTATION_FORMS = {"rpy": 3, "quat": 4, "axis": 4, "tool_axis": 3}
 
 def parse_orientation(text: str):
     """``--orientation FORM=NUMBERS`` as an :class:`~armanim.motion.orientation.Orientation`,
-    through the scene's own model and conversion (one validation, one place for degrees).
+    through the scene's own model and conversion (:func:`armanim.scene.convert.orientation_flag`).
 
     >>> parse_orientation("axis=0,0,1,90").rotation.round(12).tolist()[0]
     [0.0, -1.0, 0.0]
     """
     from pydantic import ValidationError
 
-    from armanim.motion.orientation import Orientation
-    from armanim.scene.convert import orientation_rotation
-    from armanim.scene.models import GoalModel, OrientationModel
+    from armanim.scene.convert import orientation_flag
 
     form, _, numbers = text.partition("=")
     form = form.strip()
@@ -152,67 +143,10 @@ def parse_orientation(text: str):
         raise UsageError(f"--orientation: expected rpy=R,P,Y, quat=W,X,Y,Z, axis=X,Y,Z,ANGLE or tool_axis=X,Y,Z (got {text!r})")
     values = parse_numbers(numbers, f"--orientation {form}", ORIENTATION_FORMS[form]).tolist()
     try:
-        if form == "tool_axis":
-            GoalModel(position=[0.0, 0.0, 0.0], tool_axis=values)
-            return Orientation(axis=np.array(values))
-        fields = {"rpy": values} if form == "rpy" else {"quaternion_wxyz": values} if form == "quat" else {"axis": values[:3], "angle": values[3]}
-        return Orientation(rotation=orientation_rotation(OrientationModel(**fields)))
+        return orientation_flag(form, values)
     except ValidationError as exc:
         message = exc.errors()[0]["msg"].removeprefix("Value error, ")
         raise UsageError(f"--orientation: {message}") from None
-
-
-def ik_problem(model, method: str | None, tolerance: float | None, from_flags: bool):
-    """The scene's problem with ``--method`` and ``--tolerance`` applied (an arm made of
-    flags solves to 0.001 unless told otherwise: the scene default suits animation, not one pose)."""
-    from armanim.motion.solvers import METHODS
-    from armanim.scene import scene_to_problem
-
-    problem = scene_to_problem(model)
-    settings = problem.solver
-    if method is not None:
-        if method not in METHODS:
-            raise UsageError(f"--method: {method!r} is not a method (expected one of {', '.join(METHODS)})")
-        settings = replace(settings, method=method)
-    if tolerance is not None and not tolerance > 0:
-        raise UsageError(f"--tolerance: must be > 0 (got {tolerance})")
-    if tolerance is not None or from_flags:
-        settings = replace(settings, tolerance=tolerance or 1e-3)
-    return replace(problem, solver=settings)
-
-
-def ik_report(problem, target: np.ndarray, result) -> dict:
-    """``armanim ik --json``'s fields: the method, the outcome, the pose, why it was not reached."""
-    data = {
-        "method": problem.solver.method,
-        "converged": result.converged,
-        "status": result.status,
-        "angles_deg": np.degrees(result.phi).tolist(),
-        "tip": result.tip.tolist(),
-        "error": result.distance,
-        "steps": result.steps,
-        "iterations": result.iterations,
-        "found_by": result.found_by,
-    }
-    if result.orientation_error is not None:
-        data["orientation_error_deg"] = float(np.degrees(result.orientation_error))
-    if len(problem.self_pairs):  # the arm's own enabled pairs: the least gap and its pair
-        from armanim.arm.kinematics import forward
-        from armanim.world.selfdistances import self_gaps
-
-        gaps = self_gaps(forward(problem.arm, result.phi), problem.capsules, problem.self_pairs).d
-        data["self_clearance"] = float(gaps.min())
-        data["self_pair"] = problem.self_pairs.labels[int(gaps.argmin())]
-    reason = unreached_reason(problem, target, result.status)
-    if reason and result.orientation_error is not None and result.distance < problem.solver.tolerance:
-        reason = (f"orientation_unreachable: the tip is at the goal, the tool {np.degrees(result.orientation_error):.3g} deg from its "
-                  "orientation, the closest these attempts found (an arm with fewer than 6 joints cannot hold every orientation)")
-    if reason:
-        data["reason"] = reason
-    if problem.solver.method == "newton":
-        data["gd_iterations"] = data.pop("iterations")
-        data["newton_iterations"] = result.newton_iterations
-    return data
 
 
 def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float = 1.0, reach: float = 1.0) -> None:
@@ -234,18 +168,3 @@ def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float =
         say(f"steps: {data['steps']} (gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']} iterations)")
     else:
         say(f"steps: {data['steps']} ({data['iterations']} iterations)")
-
-
-def unreached_reason(problem, target: np.ndarray, status: str) -> str | None:
-    """Why ``armanim ik`` did not converge, when it can be told: the goal out of reach, or
-    the linear algebra failing."""
-    from armanim.motion.stalls import beyond_reach
-
-    if status == "converged":
-        return None
-    away = float(np.linalg.norm(target - problem.arm.base))
-    if beyond_reach(problem, target):
-        return f"out of reach: the goal is {away:.4g} from the base, the arm is {problem.arm.reach:.4g} long (the tip is as close as it gets)"
-    if status == "numerical":
-        return "numerical: a step failed in linear algebra (a singular matrix or a NaN); try another --method or --from other angles"
-    return "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: try --from other angles)"

@@ -14,8 +14,6 @@ from armanim.output.numbers import number
 
 def print_goal_table(result) -> None:
     """The per-goal table printed at the end of a run, then its output files."""
-    from armanim.motion.solution import MISS_REASONS
-
     sol = result.solution
     title = f"{result.scene.name}: {sol.reached} of {len(sol.goals)} goals reached, {sol.trajectory.frames} frames"
     table = Table(title=title, title_justify="left")
@@ -24,7 +22,7 @@ def print_goal_table(result) -> None:
     for col in columns:
         table.add_column(col, justify="left" if col in ("position", "result") else "right")
     for g in sol.goals:
-        outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {MISS_REASONS[g.reason]}"
+        outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {g.reason_text}"
         reach = result.problem.arm.reach
         row = [str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), number(g.final_distance, reach, 3)]
         if oriented:

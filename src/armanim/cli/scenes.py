@@ -43,7 +43,7 @@ def scene_counts(model) -> str:
     """``4 links, 1 goal, 0 obstacles``; a URDF arm names its joints: ``7 joints (panda_joint1 .. panda_joint7), ...``."""
     arm = model.arm
     if arm.is_urdf:
-        names = arm._robot.joint_names
+        names = arm.urdf_arm.joint_names
         plain = all(n.isprintable() and len(n) <= 80 for n in names)  # else quoted and escaped: a name cannot forge a line
         first = f"{plural(len(names), 'joint')} ({', '.join(names) if plain else shown_list(names)})"
     else:

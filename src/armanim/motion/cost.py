@@ -7,7 +7,7 @@ arm's own capsules, d their gap and R twice ``self_clearance``)
 
 and, for a goal with an orientation, + w_goal w |r|: the angle still to turn (radians) times the
 orientation weight w (length per radian), a length like |e - g| (scaled by
-:data:`~armanim.motion.orientation.PRIORITY_WEIGHT` for an arm that cannot hold the orientation).
+:attr:`~armanim.motion.tunables.CostGains.priority_weight` for an arm that cannot hold the orientation).
 
 where d is the clearance of each arm part to each obstacle's surface: the tip as a
 point (the notes' term) and every link as a capsule of radius width/2. Functions
@@ -23,7 +23,6 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_point_jacobian
 from armanim.arm.kinematics import Arm, Pose, forward, link_point, point_jacobian, tip_jacobian, tool_rotation
 from armanim.motion.orientation import (
-    PRIORITY_WEIGHT,
     Orientation,
     holds_orientation,
     orientation_angle,
@@ -93,11 +92,11 @@ def goal_term(tip: np.ndarray, goal: np.ndarray) -> np.ndarray:
 
 
 def orientation_cost_weight(problem: Problem, orientation: Orientation) -> float:
-    """The weight of the angle |r| in C: w_goal w, or a :data:`PRIORITY_WEIGHT` of it for an arm
+    """The weight of the angle |r| in C: w_goal w, or a ``priority_weight`` (the cost gains') of it for an arm
     that cannot hold the orientation."""
     s = problem.solver
     weight = s.w_goal * s.orientation_weight
-    return weight if holds_orientation(problem.arm, orientation) else PRIORITY_WEIGHT * weight
+    return weight if holds_orientation(problem.arm, orientation) else problem.tunables.cost.priority_weight * weight
 
 
 def total_cost(
@@ -140,14 +139,9 @@ def obstacle_cost_gradient(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearan
     return grad
 
 
-SELF_INFLUENCE = 2.0
-"""R of the field between two of the arm's own capsules, in ``self_clearance``: a pair nearer
-than twice its clearance is pushed apart (the pictures tint such a pair too)."""
-
-
 def self_influence(problem: Problem) -> float:
-    """R of the field between an enabled pair: :data:`SELF_INFLUENCE` x ``self_clearance``."""
-    return SELF_INFLUENCE * problem.self_pairs.clearance
+    """R of the field between an enabled pair: the cost gains' ``self_influence`` x ``self_clearance``."""
+    return problem.tunables.cost.self_influence * problem.self_pairs.clearance
 
 
 def pair_gaps(problem: Problem, pose: Pose) -> SelfGaps | None:

@@ -33,11 +33,6 @@ from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, s
 from armanim.motion.solvers.barrier import safe_step
 from armanim.names import PoseFinder, PoseStatus
 
-FULL_TURN_PER_ITERATION = np.radians(30.0)
-STALL_ITERATIONS = 15  # steps without progress before a restart
-RESTARTS = 4
-SEED = 0  # of the random restarts: the same solve always restarts from the same poses
-
 
 @dataclass(frozen=True)
 class PoseSolution:
@@ -103,7 +98,7 @@ def solving_problem(problem: Problem) -> Problem:
     s = problem.solver
     method = solver_method(s.method)
     beta = 1.0 if method.full_step_solves else s.beta
-    turn = 2 * np.pi if method.bounds_own_steps else max(s.max_joint_step, FULL_TURN_PER_ITERATION)
+    turn = 2 * np.pi if method.bounds_own_steps else max(s.max_joint_step, problem.tunables.ik.full_turn_per_iteration)
     return replace(problem, solver=replace(s, beta=beta, max_step=np.inf, max_joint_step=turn))
 
 
@@ -147,7 +142,8 @@ def solve_pose(
     method = solver_method(problem.solver.method)
     tolerance = problem.solver.tolerance
     attempts: list[_Attempt] = []
-    for first in seed_poses(problem, np.asarray(start, dtype=float), 1 + RESTARTS, SEED):
+    opts = problem.tunables.ik
+    for first in seed_poses(problem, np.asarray(start, dtype=float), 1 + opts.restarts, opts.seed):
         attempts.append(_attempt(solving, method, goal, first, max_iterations - sum(a.steps for a in attempts), orientation))
         if attempts[-1].distance < tolerance or sum(a.steps for a in attempts) >= max_iterations:
             break
@@ -205,6 +201,6 @@ def _attempt(
         distance = pose_errors(problem, state, goal, orientation)[2]
         if distance < best - 0.1 * problem.solver.tolerance:
             best, since_best = distance, 0
-        elif (since_best := since_best + 1) >= STALL_ITERATIONS:
+        elif (since_best := since_best + 1) >= problem.tunables.ik.stall_iterations:
             break
     return _Attempt(state, distance, steps, iterations, newton_iterations, False)

@@ -29,11 +29,6 @@ from armanim.arm.geometry import unit_vector
 from armanim.arm.kinematics import Arm, Pose, angular_jacobian, forward, tip_jacobian, tool_rotation
 from armanim.arm.rotations import alignment_vector, perpendicular_basis, rotation_exp, rotation_log, rotation_quaternion
 
-PRIORITY_WEIGHT = 1e-4
-"""For an arm that cannot hold every orientation at a position (:func:`holds_orientation` is
-False), the cost methods weigh the orientation term by this fraction: position first, the
-angle minimised with what is left (the linear methods do it exactly, in the null space)."""
-
 
 @dataclass(frozen=True)
 class Orientation:

@@ -17,6 +17,7 @@ from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.capsules import lever_arms as capsule_lever_arms
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
+from armanim.motion.tunables import DEFAULTS, Tunables
 from armanim.names import JacobianMode, MethodName, PlannerMode
 from armanim.world.obstacles import Obstacles
 from armanim.world.selfdistances import SelfPairs
@@ -202,6 +203,9 @@ class Problem:
     self_pairs : SelfPairs
         The pairs of those capsules kept ``self_pairs.clearance`` apart (the enabled pairs of
         the allowed-collision matrix). Left out (None): none (``arm.self_collision: off``).
+    tunables : Tunables
+        The safety filter's gains and the stall test's and planner's tunables
+        (:mod:`armanim.motion.tunables`); left out, their documented defaults.
     """
 
     arm: Arm
@@ -215,6 +219,7 @@ class Problem:
     capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
     rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
     self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
+    tunables: Tunables = DEFAULTS
     _lever_arms: np.ndarray = field(init=False, repr=False, compare=False)  # set by __post_init__
     _pair_lever_rows: np.ndarray = field(init=False, repr=False, compare=False)
     _pair_levers: np.ndarray = field(init=False, repr=False, compare=False)

@@ -71,6 +71,11 @@ class GoalReport:
     timing: GoalTiming | None = None
 
     @property
+    def reason_text(self) -> str | None:
+        """What :data:`MISS_REASONS` says of ``reason`` (None for a reached goal)."""
+        return MISS_REASONS[self.reason] if self.reason else None
+
+    @property
     def planned(self) -> bool:
         """Whether the planner ran for this goal."""
         return self.planning is not None

@@ -1,7 +1,8 @@
 """Judging the frame loop's progress toward a goal: when it has stalled, and why a goal was missed.
 
 A goal has stalled when half a second of frames brought the tip closer by less than the
-tolerance (or than a small fraction of the distance still to go). The frame loop
+tolerance (or than a small fraction of the distance still to go): ``problem.tunables.stalls``
+(:class:`~armanim.motion.tunables.StallOptions`). The frame loop
 (:mod:`armanim.motion.trajectory`) then plans or gives up; :func:`miss_reason` names what kept
 the arm from the goal. Pure core: no I/O.
 """
@@ -16,22 +17,22 @@ from armanim.motion.cost import self_influence
 from armanim.motion.orientation import Orientation, holds_orientation
 from armanim.motion.problem import Problem, frames_in
 from armanim.motion.solvers import ArmState
+from armanim.motion.tunables import DEFAULTS
 from armanim.names import Blocker, MissReason
-
-STALL_SECONDS = 0.5  # a goal has stalled when this long makes less progress than the tolerance
-MIN_STALL_FRAMES = 5
-STALL_PROGRESS = 0.05  # ... or less than this fraction of the distance still to go
 
 
 def stall_frames(problem: Problem) -> int:
-    """Frames over which progress is judged: half a second, at least :data:`MIN_STALL_FRAMES`."""
-    return max(MIN_STALL_FRAMES, frames_in(STALL_SECONDS, problem.fps))
+    """Frames over which progress is judged: the stall options' ``seconds`` (half a second), at
+    least their ``min_frames``."""
+    stalls = problem.tunables.stalls
+    return max(stalls.min_frames, frames_in(stalls.seconds, problem.fps))
 
 
-def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0) -> bool:
+def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0,
+                progress: float = DEFAULTS.stalls.progress) -> bool:
     """Whether the last ``window`` frames brought the tip closer by less than the tolerance,
-    or than :data:`STALL_PROGRESS` of what is left above ``floor`` (the least distance
-    possible; +inf judges by the tolerance alone), whichever is larger.
+    or than ``progress`` (``problem.tunables.stalls.progress``) of what is left above ``floor``
+    (the least distance possible; +inf judges by the tolerance alone), whichever is larger.
 
     >>> has_stalled([5.0, 4.0, 3.0], 2, 0.01), has_stalled([5.0, 5.0, 5.0], 2, 0.01)
     (False, True)
@@ -39,11 +40,12 @@ def has_stalled(distances: list[float], window: int, tolerance: float, floor: fl
     if len(distances) <= window:
         return False
     now = distances[-1]
-    return distances[-window - 1] - now < max(tolerance, STALL_PROGRESS * max(now - floor, 0.0))
+    return distances[-window - 1] - now < max(tolerance, progress * max(now - floor, 0.0))
 
 
 def pose_stalled(
-    distances: list[float], angles: list[float | None], window: int, tolerance: float, angle_tolerance: float, floor: float = 0.0
+    distances: list[float], angles: list[float | None], window: int, tolerance: float, angle_tolerance: float, floor: float = 0.0,
+    progress: float = DEFAULTS.stalls.progress,
 ) -> bool:
     """:func:`has_stalled` for a goal that may have an orientation: the tip's distance has stalled
     and so has the angle (in lengths: ``angle_tolerance`` counts as ``tolerance``), so that an
@@ -54,9 +56,10 @@ def pose_stalled(
     (False, True)
     """
     if not angles or angles[-1] is None:
-        return has_stalled(distances, window, tolerance, floor)
+        return has_stalled(distances, window, tolerance, floor, progress)
     scaled = [cast(float, a) * (tolerance / angle_tolerance) for a in angles]  # a goal's angles: all None or none
-    return has_stalled(distances, window, tolerance, floor) and has_stalled(scaled, window, tolerance, 0.0 if np.isfinite(floor) else floor)
+    return (has_stalled(distances, window, tolerance, floor, progress)
+            and has_stalled(scaled, window, tolerance, 0.0 if np.isfinite(floor) else floor, progress))
 
 
 def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
@@ -80,7 +83,7 @@ def miss_reason(
     recent = blocked[-window:]
     if recent and recent.count("nan") > len(recent) // 2:
         return "numerical"
-    if not has_stalled(distances, min(window, len(distances) - 1), problem.solver.tolerance):
+    if not has_stalled(distances, min(window, len(distances) - 1), problem.solver.tolerance, progress=problem.tunables.stalls.progress):
         return "too_slow"
     if "obstacle" in recent or _near_obstacle(problem, state):
         return "blocked_by_obstacle"

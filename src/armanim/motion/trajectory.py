@@ -38,9 +38,6 @@ from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreach
 from armanim.names import Blocker, MissReason
 from armanim.world.selfdistances import self_gaps
 
-MAX_PLANS = 3  # plans per goal before it is given up as stalled
-ARRIVED = 1e-9  # radians: the arm is at a planned pose
-
 
 @dataclass
 class _Recorder:
@@ -179,7 +176,8 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
     while visit.progress[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
         state = _one_frame(problem, method, rec, state, visit)
         on_frame(visit)
-        if not visit.path and pose_stalled(visit.distances, visit.angles, window, s.tolerance, s.orientation_tolerance, floor):
+        if not visit.path and pose_stalled(visit.distances, visit.angles, window, s.tolerance, s.orientation_tolerance, floor,
+                                               problem.tunables.stalls.progress):
             visit.reason = _escape(problem, state, visit, planning)
             if visit.reason is not None:
                 break
@@ -251,7 +249,7 @@ def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarra
             visit.path.clear()
         return head
     visit.overrun += 1
-    if np.abs(joint_offset(problem, state.phi, head)).max() < ARRIVED or visit.overrun > stall_frames(problem):
+    if np.abs(joint_offset(problem, state.phi, head)).max() < problem.tunables.planner.arrived or visit.overrun > stall_frames(problem):
         visit.path.clear()
     return head
 
@@ -277,9 +275,10 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched
     if problem.solver.planner == "off" or local == "numerical":  # a method that fails is reported, not planned around
         return local
     done = visit.planning or PlanningReport()
-    if done.plans >= MAX_PLANS:
+    max_plans = problem.tunables.planner.max_plans
+    if done.plans >= max_plans:
         return "stalled"
-    seed = visit.index * MAX_PLANS + done.plans
+    seed = visit.index * max_plans + done.plans
     plan = plan_motion(problem, state.phi, target, seed=seed, orientation=orientation, searched=planning)
     if plan.reason == "orientation_unreachable":
         if visit.distances[-1] < problem.solver.tolerance:

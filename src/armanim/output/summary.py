@@ -138,7 +138,7 @@ def self_collision_summary(problem: Problem, traj) -> dict:
 def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
                  rate_notes: Sequence[str] = ()) -> dict:
     """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
-    joint rate limits above the robot's own (:func:`armanim.scene.checks.rate_note_lines`)."""
+    joint rate limits above the robot's own (:func:`armanim.scene.limits.rate_note_lines`)."""
     traj = solution.trajectory
     goals = [goal_report_dict(g, joint_labels(problem)) for g in solution.goals]
     rates = problem.rates

@@ -25,7 +25,7 @@ from armanim.render.settings import OutputOptions, RenderOverrides, RenderSettin
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY, FinishedRun
 from armanim.runs.resample import resample_run, resampled_frames
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
-from armanim.scene.checks import rate_note_lines
+from armanim.scene.limits import rate_note_lines
 from armanim.scene.models import LIMITS
 
 Progress = Callable[[str, int, int], None]

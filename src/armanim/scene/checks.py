@@ -13,10 +13,11 @@ import numpy as np
 
 from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
-from armanim.errors import Diagnostic, shown
+from armanim.errors import Diagnostic
 from armanim.motion.problem import frames_in
-from armanim.scene.convert import rate_limits, robot_rates, scene_to_problem
-from armanim.scene.models import LIMITS, RATE_FIELDS, SceneModel
+from armanim.scene.convert import scene_to_problem
+from armanim.scene.limits import limit_problems, rate_problems
+from armanim.scene.models import LIMITS, SceneModel
 from armanim.world.distances import clearances, point_clearances
 from armanim.world.obstacles import FLOOR
 from armanim.world.selfdistances import self_gaps
@@ -27,7 +28,7 @@ def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str
 
     The collision checks run once the arm itself is consistent (and only if ``collisions``).
     """
-    counts = list(_count_problems(scene)) + list(_rate_problems(scene.arm))
+    counts = list(_count_problems(scene)) + list(rate_problems(scene.arm))
     sizes = list(_size_problems(scene))
     problems = counts + list(_arm_problems(scene)) + sizes
     if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
@@ -67,83 +68,11 @@ def _count_problems(scene: SceneModel):
 
 
 def _arm_problems(scene: SceneModel):
-    arm = scene.arm
-    n = arm.joint_count
-    if arm.limits is not None:
-        for i, pair in enumerate(arm.limits):
-            if pair is not None and not pair[0] < pair[1]:
-                yield f"arm.limits[{i}]", f"min must be below max (got [{pair[0]:g}, {pair[1]:g}])"
-    yield from _narrow_limits(arm)
-    limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
-    if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
-        bundled = arm._robot.bundled if arm.is_urdf else None
-        yield from _home_outside_limits(arm.home if arm.home is not None or bundled is None else list(bundled.home), limits)
-
+    yield from limit_problems(scene.arm)
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
                 yield "render.bounds", f"{axis} range must have min < max (got [{pair[0]:g}, {pair[1]:g}])"
-
-
-def _rate_problems(arm):
-    """Joint rate lists with one value per joint; ``max_joint_jerk: robot`` only for a robot that publishes one."""
-    n = arm.joint_count
-    for field in RATE_FIELDS:
-        values = getattr(arm, field)
-        if isinstance(values, list) and len(values) != n:
-            yield f"arm.{field}", (f"has {len(values)} values, the arm has {n} joints "
-                                   "(give one per joint, or one number for all)")
-    if arm.max_joint_jerk == "robot":
-        bundled = arm._robot.bundled if arm.is_urdf else None
-        if bundled is None:
-            yield "arm.max_joint_jerk", ("robot means the bundled robot's published jerk limits, and this arm is not a bundled "
-                                         "robot (give deg/s^3: one number, or one per joint)")
-        elif bundled.rate("max_joint_jerk") is None or np.isnan(robot_rates(arm)["max_joint_jerk"][0]).any():
-            yield "arm.max_joint_jerk", (f"robot {bundled.name}'s maker publishes no jerk limits for these joints "
-                                         "(give deg/s^3: one number, or one per joint)")
-
-
-def _narrow_limits(arm):
-    """Joint ranges no wider than the buffer the planner keeps inside each limit, twice
-    (LIMIT_BUFFER of arm.limit_margin at each end): nowhere left for a pose to be."""
-    from armanim.motion.solvers.barrier import LIMIT_BUFFER
-
-    least = 2 * LIMIT_BUFFER * arm.limit_margin
-    advice = f"expected wider than 2 x {LIMIT_BUFFER:g} x arm.limit_margin = {least:g} deg"
-    if arm.limits is not None:
-        for i, pair in enumerate(arm.limits):
-            if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
-                yield f"arm.limits[{i}]", f"a range of {pair[1] - pair[0]:g} deg is too narrow ({advice}: widen it or lower arm.limit_margin)"
-    elif arm.is_urdf:
-        for name, pair in zip(arm._robot.joint_names, _urdf_limits_degrees(arm)):
-            if pair is not None and pair[1] - pair[0] <= least:
-                yield "arm.limit_margin", (f"the URDF's joint {shown(name)} has a range of {pair[1] - pair[0]:g} deg, too narrow "
-                                           f"({advice}: lower arm.limit_margin, or give arm.limits)")
-
-
-def _urdf_limits_degrees(arm) -> list:
-    """The URDF's joint limits in degrees (None for a continuous joint)."""
-    return [[math.degrees(p[0]), math.degrees(p[1])] if p is not None else None for p in arm._robot.limits]
-
-
-def _home_outside_limits(home, limits):
-    """arm.home (given, or the default zeros) strictly inside every limited joint's range."""
-    given = home is not None
-    angles = home if given else [0.0] * len(limits)
-    for i, (angle, pair) in enumerate(zip(angles, limits)):
-        if pair is None or not pair[0] < pair[1] or pair[0] < angle < pair[1]:
-            continue
-        inside = min(max(angle, pair[0] + 1), pair[1] - 1) if pair[1] - pair[0] > 2 else (pair[0] + pair[1]) / 2
-        if given:
-            yield f"arm.home[{i}]", (
-                f"{angle:g} deg is outside joint {i + 1}'s limits arm.limits[{i}] = [{pair[0]:g}, {pair[1]:g}] "
-                f"(expected strictly inside: e.g. home[{i}]: {inside:g})"
-            )
-        else:
-            yield "arm.home", (
-                f"is not given, so joint {i + 1} starts at 0 deg, outside its limits arm.limits[{i}] = "
-                f"[{pair[0]:g}, {pair[1]:g}] (expected strictly inside: give arm.home with e.g. {inside:g} for joint {i + 1})"
-            )
 
 
 def frame_budget(scene: SceneModel) -> int:
@@ -300,66 +229,6 @@ def radian_notes(scene: SceneModel) -> list[tuple[str, str]]:
     return notes
 
 
-RATE_UNITS = {"max_joint_speed": "deg/s", "max_joint_acceleration": "deg/s^2", "max_joint_jerk": "deg/s^3"}
-
-
-def rate_notes(scene: SceneModel) -> list[tuple[str, str]]:
-    """Notes (not errors) for joint rates the scene sets above the robot's own: allowed (an
-    animation may be faster than the robot), but no real robot of that kind could follow it.
-    One note per field, naming the joints.
-
-    >>> from armanim.scene.models import SceneModel
-    >>> scene = SceneModel.model_validate({"version": 1, "arm": {"robot": "panda", "max_joint_speed": 130},
-    ...                                    "goals": [[0.5, 0, 0.5]]})
-    >>> path, message = rate_notes(scene)[0]
-    >>> path, message[:57]
-    ('arm.max_joint_speed', "130 deg/s is above the robot's own limit for joints 1-4 (")
-    """
-    arm = scene.arm
-    own = robot_rates(arm)
-    used = rate_limits(scene)
-    notes = []
-    for field, values in zip(RATE_FIELDS, (used.speed, used.acceleration, used.jerk)):
-        if getattr(arm, field) is None or field not in own or values is None:
-            continue
-        limit, source = own[field]
-        over = np.nonzero(values > limit * (1 + 1e-9))[0]  # NaN (the robot gives none) is never exceeded
-        if not len(over):
-            continue
-        unit = RATE_UNITS[field]
-        given = getattr(arm, field)
-        names = arm._robot.joint_names
-        if isinstance(given, list):
-            listed = [f"{names[i]} {given[i]:g} > {np.degrees(limit[i]):.4g}" for i in over[:3]]
-            start = "is above"
-        else:
-            listed = [f"{names[i]} {np.degrees(limit[i]):.4g}" for i in over[:3]]
-            start = f"{given:g} {unit} is above"
-        notes.append((f"arm.{field}", f"{start} the robot's own limit for {_joint_span(over)} ({', '.join(listed)}"
-                                      f"{', ...' if len(over) > 3 else ''} {unit}: {source}); allowed, but a real robot "
-                                      "could not follow this motion"))
-    return notes
-
-
-def rate_note_lines(scene: SceneModel) -> list[str]:
-    """:func:`rate_notes` as lines ``field.path: message`` (summary.json's ``rate_notes``; [] when none)."""
-    return [f"{path}: {message}" for path, message in rate_notes(scene)]
-
-
-def _joint_span(indices) -> str:
-    """``joint 3``, ``joints 1-4`` or ``joints 1, 3, 6`` (1-based) of 0-based indices.
-
-    >>> _joint_span([2]), _joint_span([0, 1, 2, 3]), _joint_span([0, 2, 5])
-    ('joint 3', 'joints 1-4', 'joints 1, 3, 6')
-    """
-    indices = [int(i) + 1 for i in indices]
-    if len(indices) == 1:
-        return f"joint {indices[0]}"
-    if indices == list(range(indices[0], indices[-1] + 1)):
-        return f"joints {indices[0]}-{indices[-1]}"
-    return "joints " + ", ".join(map(str, indices))
-
-
 def as_diagnostics(pairs, line_of) -> list[Diagnostic]:
     """Attach line numbers to (path, message) pairs."""
     return [Diagnostic(path, message, line_of(path)) for path, message in pairs]
@@ -369,8 +238,8 @@ def fallback_notes(scene: SceneModel) -> list[tuple[str, str]]:
     """A note naming the URDF arm's moving links that have no collision primitive (a mesh, or
     none) and so get a joint-to-joint capsule of radius ``arm.width / 2``."""
     arm = scene.arm
-    if not arm.is_urdf or not arm._robot.fallback_links:
+    if not arm.is_urdf or not arm.urdf_arm.fallback_links:
         return []
-    links = ", ".join(arm._robot.fallback_links)
+    links = ", ".join(arm.urdf_arm.fallback_links)
     return [("arm.collision", f"links {links} have no collision primitive (a mesh, or none): each gets a capsule from its "
                               f"joint to the next of radius arm.width / 2 = {arm.resolved_width / 2:g} (give arm.collision to set them)")]

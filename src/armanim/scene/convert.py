@@ -3,7 +3,7 @@
 The scene model is also the one place defaults are written: the core's settings have
 none, and code that wants the defaults without a scene file (tests, benchmarks, the
 command line's arm flags) builds them here, through the model (:func:`default_solver_settings`,
-:func:`default_render_settings`, :func:`unlimited_limits`).
+:func:`default_render_settings`, :func:`armanim.scene.limits.unlimited_limits`).
 """
 
 from __future__ import annotations
@@ -18,27 +18,22 @@ from armanim.arm.kinematics import Arm, default_axes
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import (
-    LINK_ACCELERATION_PER_SPEED,
     Goal,
     Limits,
     Problem,
-    RateLimits,
     SolverSettings,
-    link_arm_rates,
 )
 from armanim.render.settings import RenderSettings
+from armanim.scene.armmodel import LINKS_WIDTH, ArmModel
+from armanim.scene.limits import joint_limits, rate_limits
 from armanim.scene.models import (
-    LINKS_WIDTH,
-    RATE_FIELDS,
-    URDF_SPEED,
-    ArmModel,
     GoalModel,
     OrientationModel,
     RenderModel,
     SceneModel,
     SolverModel,
 )
-from armanim.scene.robots import published_joint_names
+from armanim.scene.robots import bundled_matrix
 from armanim.world import selfcollision
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 from armanim.world.selfdistances import SelfPairs
@@ -49,22 +44,11 @@ def axis_names(scene: SceneModel) -> list[str]:
     return list(scene.arm.axes) if scene.arm.axes is not None else default_axes(len(scene.arm.links))
 
 
-def _limits(arm: ArmModel) -> Limits:
-    n = arm.joint_count
-    if arm.limits is None and arm.is_urdf:  # the URDF's own, in radians already
-        pairs = [np.degrees(p) if p is not None else None for p in arm._robot.limits]
-    else:
-        pairs = arm.limits if arm.limits is not None else [None] * n
-    lower = np.array([np.radians(p[0]) if p is not None else -np.inf for p in pairs])
-    upper = np.array([np.radians(p[1]) if p is not None else np.inf for p in pairs])
-    return Limits(lower=lower, upper=upper, margin=float(np.radians(arm.limit_margin)))
-
-
 def home_degrees(arm: ArmModel) -> list[float]:
     """``arm.home``, or the bundled robot's, or all zeros (degrees)."""
     if arm.home is not None:
         return list(arm.home)
-    bundled = arm._robot.bundled if arm.is_urdf else None
+    bundled = arm.urdf_arm.bundled if arm.is_urdf else None
     return list(bundled.home) if bundled is not None else [0.0] * arm.joint_count
 
 
@@ -73,14 +57,14 @@ def urdf_chain(arm: ArmModel) -> SerialChain:
     zero = [0.0, 0.0, 0.0]
     mount = transform(arm.base or zero, np.radians(arm.base_rpy or zero))
     tool = transform(arm.tool.xyz, np.radians(arm.tool.rpy)) if arm.tool is not None else np.eye(4)
-    return serial_chain(mount, list(arm._robot.joints), tool)
+    return serial_chain(mount, list(arm.urdf_arm.joints), tool)
 
 
 def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
     """The URDF arm's capsules moved into the frames of the joints that carry them, and a
     joint-to-joint capsule of radius width / 2 for each moving link without one. Links
     before the first moving joint never move and carry none."""
-    robot = arm._robot
+    robot = arm.urdf_arm
     links, starts, ends, radii, names = [], [], [], [], []
     for spec in robot.capsules:
         index = robot.path_links.index(spec.link) if spec.link in robot.path_links else -1
@@ -212,7 +196,7 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
     allow = [] if isinstance(spec, str) else [(a, b) for a, b in spec.allow]
     check = [] if isinstance(spec, str) else [(a, b) for a, b in spec.check]
     if not isinstance(spec, str) and spec.srdf is not None:
-        allowed = {(a, b): reason for a, b, reason in arm._srdf.pairs}
+        allowed = {(a, b): reason for a, b, reason in arm.srdf_pairs}
         mode = "srdf"
     else:
         allowed = _automatic_matrix(arm, chain, capsules, limits, home, clearance)
@@ -223,10 +207,8 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
 
 def _automatic_matrix(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> dict:
     """MoveIt's rules: the bundled robot's committed matrix when it applies, else sampled here."""
-    bundled = arm._robot.bundled if arm.is_urdf else None
+    bundled = arm.urdf_arm.bundled if arm.is_urdf else None
     if bundled is not None and arm.collision is None and arm.limits is None:
-        from armanim.scene.robots import bundled_matrix
-
         matrix = bundled_matrix(bundled.name)
         if matrix is not None and clearance <= matrix.clearance:
             return {(a, b): reason for a, b, reason in matrix.allowed}
@@ -275,7 +257,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     chain, capsules = scene_arm(arm, axis_names(scene) if not arm.is_urdf else [])
     solver = solver_settings(scene.solver, arm.resolved_width, chain.reach)
     home = np.radians(np.array(home_degrees(arm), dtype=float))
-    limits = _limits(arm)
+    limits = joint_limits(arm)
     every = capsules if capsules is not None else joint_capsules(chain, arm.resolved_width / 2.0)
     return Problem(
         arm=chain,
@@ -292,81 +274,6 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
     )
 
 
-def robot_rates(arm: ArmModel) -> dict[str, tuple[np.ndarray, str]]:
-    """A URDF arm's own joint rate limits, radians: scene field name -> ((n,) values, NaN where
-    the robot gives none; where they come from). The speed is the robot.yaml's published one,
-    else the URDF's ``<limit velocity>``; acceleration and jerk are robot.yaml's, where its
-    maker publishes them. An arm of links has none.
-
-    >>> from armanim.scene.models import SceneModel
-    >>> arm = SceneModel.model_validate({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.5, 0, 0.5]]}).arm
-    >>> own = robot_rates(arm)
-    >>> sorted(own), own["max_joint_speed"][0][:2].tolist(), own["max_joint_acceleration"][1]
-    (['max_joint_acceleration', 'max_joint_jerk', 'max_joint_speed'], [2.175, 2.175], "the maker's, in robot panda's robot.yaml")
-    """
-    if not arm.is_urdf:
-        return {}
-    robot = arm._robot
-    own = {"max_joint_speed": (np.array([np.nan if v is None else v for v in robot.velocities], dtype=float),
-                               "the URDF's <limit velocity>")}
-    bundled = robot.bundled
-    for name in RATE_FIELDS if bundled is not None else ():
-        published = bundled.rate(name)
-        if published is None:
-            continue
-        by_joint = dict(zip(published_joint_names(bundled.name), published.values))  # the scene may choose other links
-        values = np.array([by_joint.get(joint, np.nan) for joint in robot.joint_names], dtype=float)
-        values = np.radians(values) if published.unit.startswith("deg") else values
-        if name in own:  # a joint the maker's list does not name keeps the URDF's
-            values = np.where(np.isnan(values), own[name][0], values)
-        own[name] = (values, f"the maker's, in robot {bundled.name}'s robot.yaml")
-    return own
-
-
-def _given_rates(value, n: int) -> np.ndarray | None:
-    """A rate field as the scene gives it (one number for all, or one per joint), radians; None if left out."""
-    if value is None:
-        return None
-    return np.radians(np.broadcast_to(np.asarray(value, dtype=float), (n,))).copy()
-
-
-def rate_limits(scene: SceneModel) -> RateLimits:
-    """The joint rate limits the clock keeps (radians): the scene's ``arm.max_joint_speed``,
-    ``max_joint_acceleration`` and ``max_joint_jerk``, or their defaults.
-
-    Speed: a URDF arm's own (:func:`robot_rates`; :data:`URDF_SPEED` for a joint without one),
-    an arm of links ``solver.max_joint_step`` x ``render.fps`` (the scene's own fps, whatever
-    rate the frames are later sampled at). Acceleration: the robot's published one, else
-    :data:`LINK_ACCELERATION_PER_SPEED` x the speed per second. Jerk: only when the scene sets
-    ``max_joint_jerk`` (``robot``: the bundled robot's published one).
-
-    >>> from armanim.scene.models import SceneModel
-    >>> scene = SceneModel.model_validate({"version": 1, "arm": {"links": [1, 1], "max_joint_speed": [90, 45]}, "goals": [[1, 0, 1]]})
-    >>> r = rate_limits(scene)
-    >>> np.degrees(r.speed).round(9).tolist(), np.degrees(r.acceleration).round(9).tolist(), r.jerk
-    ([90.0, 45.0], [360.0, 180.0], None)
-    """
-    arm = scene.arm
-    n = arm.joint_count
-    own = robot_rates(arm)
-    if arm.is_urdf:
-        speed = np.where(np.isnan(own["max_joint_speed"][0]), np.radians(URDF_SPEED), own["max_joint_speed"][0])
-    else:
-        speed = link_arm_rates(n, float(np.radians(scene.solver.max_joint_step)), scene.render.fps).speed
-    given = _given_rates(arm.max_joint_speed, n)
-    speed = given if given is not None else speed
-    given = _given_rates(arm.max_joint_acceleration, n)
-    if given is None:
-        published = own.get("max_joint_acceleration", (np.full(n, np.nan),))[0]
-        given = np.where(np.isnan(published), LINK_ACCELERATION_PER_SPEED * speed, published)
-    acceleration = given
-    if arm.max_joint_jerk == "robot":
-        jerk = own["max_joint_jerk"][0]
-    else:
-        jerk = _given_rates(arm.max_joint_jerk, n)
-    return RateLimits(speed=speed, acceleration=acceleration, jerk=jerk)
-
-
 def orientation_rotation(o: OrientationModel) -> np.ndarray:
     """R_g (3, 3) of a goal's ``orientation`` (degrees become radians here).
 
@@ -378,6 +285,36 @@ def orientation_rotation(o: OrientationModel) -> np.ndarray:
     if o.quaternion_wxyz is not None:
         return quaternion_rotation(o.quaternion_wxyz)
     return axis_angle_rotation(o.axis, np.radians(o.angle))
+
+
+def orientation_flag(form: str, values: list[float]) -> Orientation:
+    """``ik --orientation FORM=VALUES`` (``rpy``, ``quat``, ``axis`` with the angle last, or
+    ``tool_axis``; degrees) as an :class:`Orientation`, checked by the scene's own models and
+    converted as a goal's ``orientation`` is.
+
+    Raises
+    ------
+    pydantic.ValidationError
+        The values are not an orientation (a zero axis, a quaternion far from unit length, ...).
+
+    >>> orientation_flag("axis", [0, 0, 1, 90]).rotation.round(12).tolist()[0]
+    [0.0, -1.0, 0.0]
+    """
+    if form == "tool_axis":
+        GoalModel(position=[0.0, 0.0, 0.0], tool_axis=values)
+        return Orientation(axis=np.array(values))
+    fields = {"rpy": values} if form == "rpy" else {"quaternion_wxyz": values} if form == "quat" else {"axis": values[:3], "angle": values[3]}
+    return Orientation(rotation=orientation_rotation(OrientationModel(**fields)))
+
+
+def radians(degrees):
+    """Angles in degrees (a number or an array), as a scene or ``fk``'s and ``ik``'s flags give
+    them, in radians: the flags' angles take the scene's own conversion, here.
+
+    >>> float(radians(180.0)), radians(np.array([90.0, -45.0])).tolist()
+    (3.141592653589793, [1.5707963267948966, -0.7853981633974483])
+    """
+    return np.radians(degrees)
 
 
 def goal_orientation(goal: GoalModel) -> Orientation | None:
@@ -426,10 +363,3 @@ def default_render_settings(**changes) -> RenderSettings:
     return replace(render_section_settings(RenderModel()), **changes)
 
 
-def unlimited_limits(n: int) -> Limits:
-    """Limits of ``n`` freely turning joints, with the scene's default ``arm.limit_margin``."""
-    return Limits.unlimited(n, margin=float(np.radians(_arm_default("limit_margin"))))
-
-
-def _arm_default(name: str):
-    return ArmModel.model_fields[name].default

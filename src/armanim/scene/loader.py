@@ -20,9 +20,12 @@ from pydantic import ValidationError
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
 from armanim.output.files import read_bounded
-from armanim.scene.checks import as_diagnostics, fallback_notes, radian_notes, rate_notes, scene_problems
+from armanim.scene.armmodel import ArmModel
+from armanim.scene.checks import as_diagnostics, fallback_notes, radian_notes, scene_problems
 from armanim.scene.fieldpaths import YamlDocument, join_path
+from armanim.scene.limits import rate_notes
 from armanim.scene.models import SCENE_VERSION, SceneModel, name_problem
+from armanim.scene.robots import read_arm_files, read_scene_files
 from armanim.scene.yamlread import MAX_FILE_BYTES, read_yaml
 from armanim.scene.yamlscalars import TooLarge
 
@@ -141,18 +144,61 @@ def _validated(text: str, file: str, urdf_file: str | Path | None = None, srdf_f
     if not isinstance(doc.data, dict):
         kind = type(doc.data).__name__ if doc.data is not None else "null"
         raise SceneError(file, problems + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)])
-    try:
-        model = SceneModel.model_validate(doc.data, context={"scene_dir": Path(file).parent, "urdf_file": urdf_file,
-                                                                     "srdf_file": srdf_file})
-    except ValidationError as exc:
-        errors = [e for e in exc.errors(include_url=False) if not isinstance(e.get("input"), TooLarge)]
+    files = (Path(file).parent, urdf_file, srdf_file)
+    model, errors = _validated_model(doc.data, files)
+    if model is None:
         found = problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]]
         found += _problems_beside(doc, [tuple(e["loc"]) for e in errors], file, urdf_file, {p.path for p in found})
-        raise SceneError(file, _by_line(found, len(errors))) from None
+        raise SceneError(file, _by_line(found, len(errors)))
     problems += as_diagnostics(scene_problems(model), doc.line_of)
     if problems:
         raise SceneError(file, _by_line(problems))
     return model, doc
+
+
+def _validated_model(data: dict, files: tuple) -> tuple[SceneModel | None, list[Any]]:
+    """(the scene with its arm's files read, []) or (None, pydantic's errors): the YAML is
+    validated first, then the URDF and SRDF are read (``files``: the scene's folder and the
+    files read in their place, :func:`armanim.scene.robots.read_arm_files`) once the arm
+    section is valid, whatever else is wrong, so that one pass reports every problem.
+
+    A problem of the arm section that only its files tell (a link the URDF does not have) is
+    one more error at ``arm``, after those of ``version`` and ``name``; a problem of a file
+    itself is its SceneError (``FILE:LINE: message``), raised at once.
+    """
+    try:
+        model, errors = SceneModel.model_validate(data), []
+    except ValidationError as exc:
+        model, errors = None, [e for e in exc.errors(include_url=False) if not isinstance(e.get("input"), TooLarge)]
+    if any(e["loc"] and e["loc"][0] == "arm" for e in errors):
+        return None, errors  # the arm is not known: its files are not read
+    try:
+        arm = read_arm_files(model.arm if model is not None else ArmModel.model_validate(data["arm"]), *files)
+    except ValueError as exc:
+        at = sum(1 for e in errors if e["loc"] and e["loc"][0] in ("version", "name"))  # pydantic's order of fields
+        error = {"type": "value_error", "loc": ("arm",), "msg": f"Value error, {exc}", "input": data.get("arm"), "ctx": {"error": exc}}
+        return None, errors[:at] + [error] + errors[at:]
+    return (model.model_copy(update={"arm": arm}) if model is not None else None), errors
+
+
+def scene_model(data: dict, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
+                srdf_file: str | Path | None = None) -> SceneModel:
+    """A scene given as a mapping (not a file), validated, then its arm's files read
+    (``arm.urdf`` relative to ``scene_dir``; see :func:`armanim.scene.robots.read_arm_files`).
+
+    Raises
+    ------
+    pydantic.ValidationError
+        The mapping is not a scene.
+    ValueError
+        The arm names something its URDF does not have.
+    SceneError
+        A URDF or SRDF file is bad.
+
+    >>> scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.5, 0, 0.5]]}).arm.joint_count
+    7
+    """
+    return read_scene_files(SceneModel.model_validate(data), scene_dir, urdf_file, srdf_file)
 
 
 SETTINGS = ("name", "floor", "render", "solver")
@@ -174,8 +220,8 @@ def _problems_beside(doc: YamlDocument, bad: list[tuple], file: str, urdf_file, 
         else:
             data.pop(loc[0], None)
     try:
-        model = SceneModel.model_validate(data, context={"scene_dir": Path(file).parent, "urdf_file": urdf_file})
-    except (ValidationError, SceneError):
+        model = read_scene_files(SceneModel.model_validate(data), Path(file).parent, urdf_file)
+    except (ValidationError, ValueError, SceneError):
         return []
     collisions = not any(loc[0] == "solver" for loc in bad)
     found = as_diagnostics(scene_problems(model, collisions=collisions), doc.line_of)

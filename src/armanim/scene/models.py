@@ -3,279 +3,42 @@
 Every field of ``scene-format.md`` with its default; unknown keys are errors
 (``extra="forbid"``) and models are frozen. Checks that involve several fields
 (lengths that must agree, the home pose clear of obstacles, ...) are in
-:mod:`armanim.scene.checks`, so that every problem is reported at once.
+:mod:`armanim.scene.checks`, so that every problem is reported at once. The ``arm`` section's
+models are in :mod:`armanim.scene.armmodel`.
 """
 
 from __future__ import annotations
 
-import re
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
 from pydantic import (
-    BaseModel,
     ConfigDict,
-    Discriminator,
     Field,
-    PrivateAttr,
-    Tag,
-    ValidationInfo,
     WithJsonSchema,
     field_validator,
     model_validator,
 )
 
 from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
+from armanim.scene.armmodel import ArmModel
+from armanim.scene.fields import (
+    LIMITS,
+    MIN_DEGREES,
+    MIN_FPS,
+    MIN_JOINT_STEP,
+    NAME_MAX,
+    NAME_PATTERN,
+    Angle,
+    Finite,
+    NonNegative,
+    Positive,
+    Side,
+    Strict,
+    Vector3,
+    name_problem,
+)
 
 SCENE_VERSION = 1
-
-LIMITS = {
-    "links": 64,
-    "goals": 1000,
-    "obstacles": 1000,
-    "max_frames_per_goal": 100_000,
-    "total_frames": 1_000_000,  # frame 0 + every goal's max_frames_per_goal and hold frames (checks.py)
-    "magnitude": 1e9,  # largest |coordinate| or length, scene units (checks.py): squares stay far from overflow
-    "smallest": 1e-9,  # smallest link, width, tolerance, clearance, max_step, box edge, capsule radius, influence (checks.py)
-    "weight": 1e12,  # largest cost weight (checks.py)
-}
-"""Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
-(bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
-
-MIN_JOINT_STEP = 0.001
-"""Smallest ``solver.max_joint_step``, degrees: a joint's whole turn is then at most 540,000
-frames, so a planned path too long for the frames left is a miss, never an allocation."""
-
-MIN_DEGREES = 1e-6
-"""Smallest ``arm.limit_margin`` and ``solver.orientation_tolerance``, degrees: in radians they
-stay normal floats the solvers divide by (5e-324 degrees is 0 radians)."""
-
-MIN_FPS = 0.01
-"""Slowest frame rate (one frame per 100 s): ffmpeg takes the rate as a fraction with a
-denominator of at most 1001, so far slower rates would reach it as 0."""
-
-NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]*$"
-NAME_MAX = 100
-"""A run's name becomes a folder name: one path component, never ``.``/``..`` or hidden (so it
-cannot be, or collide with, the hidden staging names beside it), no separators or control
-characters, and short enough for any file system."""
-
-
-def name_problem(name: str) -> str | None:
-    """Why ``name`` cannot name a run's folder (what is expected), or None if it can.
-
-    >>> name_problem("notes-arm") is None, name_problem("..")
-    (True, "'..' is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)")
-    """
-    if len(name) > NAME_MAX:
-        return f"a name of {len(name)} characters is too long (expected at most {NAME_MAX})"
-    if not re.fullmatch(NAME_PATTERN, name):
-        return f"{name!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
-    if name.casefold() == "index.csv" or name.casefold().endswith("-sweep.csv"):
-        return (f"{name!r} is the name of a table armanim writes beside the run folders (index.csv, "
-                "SCENE-sweep.csv): choose another name")
-    return None
-
-
-Finite = Annotated[float, Field(allow_inf_nan=False)]  # strict: "1" (a string) and true are not numbers
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-Angle = Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)]
-Vector3 = Annotated[list[Finite], Field(min_length=3, max_length=3)]
-Angles3 = Annotated[list[Angle], Field(min_length=3, max_length=3)]  # roll, pitch, yaw: each within [-360, 360]
-AxisName = Literal["x", "y", "z"]
-
-
-class Strict(BaseModel):
-    """Base of every scene model: unknown keys rejected, instances frozen, no string-to-number coercion."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-
-class CapsuleModel(Strict):
-    """One collision capsule, in its URDF link's frame (metres)."""
-
-    link: Annotated[str, Field(min_length=1, max_length=200)] = Field(description="The URDF link that carries it.")
-    from_: Vector3 = Field(alias="from", description="One end of the capsule's segment, in the link's frame.")
-    to: Vector3 = Field(description="The other end, in the link's frame (the same point: a sphere).")
-    radius: NonNegative = Field(description="Every point within this distance of the segment is the arm's.")
-
-
-class ToolModel(Strict):
-    """The tool frame: the tip, placed in the tip link's frame."""
-
-    xyz: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tip's position in the tip link's frame (metres).")
-    rpy: Angles3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
-
-
-UrdfName = Annotated[str, Field(min_length=1, max_length=200)]
-LinkPair = Annotated[list[UrdfName], Field(min_length=2, max_length=2)]
-
-
-class SelfCollisionModel(Strict):
-    """``arm.self_collision`` as a mapping: MoveIt's rules (``auto: true``) or an SRDF, with the
-    user's own ``allow`` and ``check`` pairs of links on top."""
-
-    auto: bool | None = Field(default=None, description="true: the allowed-collision matrix by MoveIt's rules (adjacent, default, never).")
-    srdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
-        default=None, description="An SRDF file, relative to the scene file: its <disable_collisions link1= link2=/> pairs are allowed."
-    )
-    allow: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(default=[], description="Link pairs never checked.")
-    check: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(default=[], description="Link pairs checked whatever the rules say.")
-
-    @model_validator(mode="after")
-    def _one_source(self):
-        if (self.auto is True) == (self.srdf is not None):
-            raise ValueError("gives " + ("both auto: true and srdf" if self.srdf is not None else "neither auto: true nor srdf")
-                             + " (expected one: auto: true for MoveIt's rules, or srdf: FILE)")
-        return self
-
-RATE_BOUNDS = {"max_joint_speed": 1e5, "max_joint_acceleration": 1e7, "max_joint_jerk": 1e10}
-"""Largest ``arm.max_joint_speed`` (deg/s: about 280 turns a second), ``max_joint_acceleration``
-(deg/s^2) and ``max_joint_jerk`` (deg/s^3) a scene may give: far above any arm's (a Panda's
-are 150, 1,150 and 573,000), low enough that the clock's arithmetic stays far from overflow."""
-
-
-def _rate_form(value) -> str:
-    """Which form of a joint rate was written: a list (one per joint), or one number."""
-    return "list[float]" if isinstance(value, list) else "float"
-
-
-def _rate_or_robot_form(value) -> str:
-    """As :func:`_rate_form`, or ``robot`` (any string: the only word allowed)."""
-    return "literal[robot]" if isinstance(value, str) else _rate_form(value)
-
-
-def _joint_rate(name: str, robot: bool = False):
-    """A joint rate field's type: one number > 0 for every joint, or a list with one per joint,
-    each at most :data:`RATE_BOUNDS`; with ``robot``, also the word ``robot`` (the bundled
-    robot's published value). The tags name the forms as pydantic names union branches, so
-    that messages name the field itself (``arm.max_joint_speed[2]``)."""
-    rate = Annotated[float, Field(gt=0, le=RATE_BOUNDS[name], allow_inf_nan=False)]
-    forms = [Annotated[rate, Tag("float")], Annotated[Annotated[list[rate], Field(max_length=LIMITS["links"])], Tag("list[float]")]]
-    if robot:
-        forms.append(Annotated[Literal["robot"], Tag("literal[robot]")])
-    return Annotated[Union[tuple(forms)], Discriminator(_rate_or_robot_form if robot else _rate_form)]  # noqa: UP007
-
-
-class ArmModel(Strict):
-    """The ``arm`` section: straight links (``links``), or a robot from a URDF (``urdf`` or ``robot``)."""
-
-    base: Vector3 | None = Field(
-        default=None, description="World position of joint 1 (links) or of base_link (URDF); default the origin."
-    )
-    links: Annotated[list[Positive], Field(min_length=1, max_length=LIMITS["links"])] | None = Field(
-        default=None, description="Link lengths; link i runs from joint i to joint i+1, the last ends at the tip."
-    )
-    axes: list[AxisName] | None = Field(
-        default=None, description="Each joint's rotation axis in its own frame; default z, then y (links only)."
-    )
-    direction: AxisName | None = Field(default=None, description="Local axis along which every link extends; default z (links only).")
-    urdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
-        default=None, description="A URDF file, relative to the scene file: the arm is its chain from base_link to tip_link."
-    )
-    robot: Annotated[str, Field(min_length=1, max_length=100)] | None = Field(
-        default=None, description="A bundled robot (armanim robots lists them): panda, ur5, iiwa."
-    )
-    base_link: UrdfName | None = Field(default=None, description="The URDF link the arm starts at; default the root (or the robot's).")
-    tip_link: UrdfName | None = Field(default=None, description="The URDF link the arm ends at; default the only leaf (or the robot's).")
-    base_rpy: Angles3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
-    tool: ToolModel | None = Field(default=None, description="The tip in tip_link's frame; default its origin.")
-    collision: Literal["auto"] | Annotated[list[CapsuleModel], Field(max_length=1000)] | None = Field(
-        default=None, description="auto (the URDF's primitives, or the robot's capsules), or a list of capsules."
-    )
-    home: list[Angle] | None = Field(default=None, description="Starting joint angles, degrees; default all 0 (or the robot's).")
-    limits: list[Annotated[list[Angle], Field(min_length=2, max_length=2)] | None] | None = Field(
-        default=None, description="Per joint [min, max] in degrees, or null for an unlimited joint; default the URDF's."
-    )
-    limit_margin: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
-        default=10.0, description="delta of the limit barrier, degrees."
-    )
-    width: Positive | None = Field(
-        default=None,
-        description="Drawn thickness of the links, collision radius width/2 of joint-to-joint capsules; default 0.5 (links) or 0.1 (URDF, metres).",
-    )
-    max_joint_speed: _joint_rate("max_joint_speed") | None = Field(
-        default=None,
-        description="deg/s, one number or one per joint: the clock keeps every joint's speed within it; default the robot's "
-                    "(robot.yaml, else the URDF's <limit velocity>, else 180), or solver.max_joint_step x render.fps (links).",
-    )
-    max_joint_acceleration: _joint_rate("max_joint_acceleration") | None = Field(
-        default=None,
-        description="deg/s^2, one number or one per joint; default the robot's published one (robot.yaml), else 4 x max_joint_speed per second.",
-    )
-    max_joint_jerk: _joint_rate("max_joint_jerk", robot=True) | None = Field(
-        default=None,
-        description="deg/s^3, one number or one per joint, or robot (the bundled robot's published one): the clock is also "
-                    "jerk-bounded; default none (speed and acceleration only).",
-    )
-    self_collision: Annotated[
-        Literal["auto", "off"],
-        WithJsonSchema({"anyOf": [{"enum": ["auto", "off"]}, {"type": "boolean"}]}),  # YAML 1.1: a bare off is false
-    ] | SelfCollisionModel = Field(
-        default="auto",
-        description="auto: every pair of the arm's own links keeps solver.self_clearance except those MoveIt's rules allow; "
-        "off: none is checked; or {auto: true, allow: [[a, b]], check: [[a, b]]}, or {srdf: FILE}.",
-    )
-
-    _robot: object = PrivateAttr(default=None)  # the resolved URDF arm (armanim.scene.robots.RobotArm)
-    _srdf: object = PrivateAttr(default=None)  # the SRDF's allowed pairs (armanim.scene.srdf.Srdf)
-
-    @field_validator("self_collision", mode="before")
-    @classmethod
-    def _self_collision_from_yaml_bool(cls, value):
-        # YAML 1.1 reads a bare off as false: take what the user wrote
-        return {False: "off", True: "auto"}.get(value, value) if isinstance(value, bool) else value
-
-    @model_validator(mode="after")
-    def _resolve_robot(self, info: ValidationInfo):
-        from armanim.scene.robots import resolve_robot  # the URDF reader: only URDF arms need it
-
-        self._robot = resolve_robot(self, info.context)
-        if not isinstance(self.self_collision, str):
-            from armanim.scene.srdf import resolve_self_collision
-
-            self._srdf = resolve_self_collision(self, info.context)
-        return self
-
-    @property
-    def is_urdf(self) -> bool:
-        """Whether the arm comes from a URDF (``urdf`` or ``robot``)."""
-        return self.urdf is not None or self.robot is not None
-
-    @property
-    def urdf_source(self) -> bytes | None:
-        """The bytes of the user's URDF this arm was read from (None for links or a bundled robot)."""
-        return self._robot.source if self._robot is not None else None
-
-    @property
-    def srdf_source(self) -> bytes | None:
-        """The bytes of the SRDF ``self_collision`` read (None without one)."""
-        return self._srdf.source if self._srdf is not None else None
-
-    @property
-    def joint_count(self) -> int:
-        """Number of joints."""
-        return len(self._robot.joint_names) if self._robot is not None else len(self.links or ())
-
-    @property
-    def resolved_width(self) -> float:
-        """``width``, or its default: 0.5 for links, 0.1 (metres) for a URDF arm."""
-        if self.width is not None:
-            return float(self.width)
-        return URDF_WIDTH if self.is_urdf else LINKS_WIDTH
-
-
-LINKS_WIDTH = 0.5
-URDF_WIDTH = 0.1
-"""Default ``arm.width`` of a link arm (scene units) and of a URDF arm (metres)."""
-
-URDF_SPEED = 180.0
-"""deg/s: ``arm.max_joint_speed`` of a URDF joint whose ``<limit>`` gives no velocity (and whose
-robot publishes none): half a turn a second, a typical cobot's joint speed (a UR5's 180, a
-Panda's 125 to 150)."""
-
-RATE_FIELDS = ("max_joint_speed", "max_joint_acceleration", "max_joint_jerk")
-"""The arm's joint rate fields (deg/s, deg/s^2, deg/s^3), in this order."""
 
 
 class BoxModel(Strict):
@@ -496,7 +259,6 @@ class ViewModel(Strict):
     azimuth: Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)] = -60.0
 
 
-Side = Annotated[int, Field(ge=16, le=7680)]
 
 
 class RenderModel(Strict):

@@ -17,11 +17,11 @@ import numpy as np
 import yaml
 
 from armanim.arm.chain import ChainJoint
+from armanim.scene.armmodel import ArmModel
+from armanim.scene.fields import ROBOTS
+from armanim.scene.models import SceneModel
+from armanim.scene.srdf import resolve_self_collision
 from armanim.scene.urdf import MOVING, Robot, chain_joints, joint_speeds, read_urdf
-
-ROBOTS = ("panda", "ur5", "iiwa")
-"""The bundled robots, each a folder of ``armanim/arm/robots/`` (URDF, licence, robot.yaml)."""
-
 
 RATE_UNITS = {"max_joint_speed": ("rad/s", "deg/s"), "max_joint_acceleration": ("rad/s^2", "deg/s^2"),
               "max_joint_jerk": ("rad/s^3", "deg/s^3")}
@@ -173,22 +173,48 @@ class UrdfArm:
     """Every link of the URDF (names an SRDF or ``self_collision`` lists may use)."""
 
 
-def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
-    """The URDF arm of a scene's ``arm`` section, or None for an arm of links.
+def read_scene_files(scene: SceneModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
+                     srdf_file: str | Path | None = None) -> SceneModel:
+    """The validated ``scene`` with its arm's files read (:func:`read_arm_files`)."""
+    return scene.model_copy(update={"arm": read_arm_files(scene.arm, scene_dir, urdf_file, srdf_file)})
 
-    ``context`` may give ``scene_dir``, the folder ``arm.urdf`` is relative to (default: the
-    working folder), and ``urdf_file``, a file read in its place (a run folder's copy). Problems of the scene raise ValueError (pydantic reports them at
-    ``arm``); problems of the URDF file raise its SceneError (``FILE:LINE: message``).
+
+def read_arm_files(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
+                   srdf_file: str | Path | None = None) -> ArmModel:
+    """A validated ``arm`` section with what its files say: the URDF arm (:func:`resolve_robot`)
+    and the SRDF's pairs (:func:`armanim.scene.srdf.resolve_self_collision`).
+
+    ``scene_dir`` is the folder ``arm.urdf`` and ``self_collision.srdf`` are relative to;
+    ``urdf_file`` and ``srdf_file`` are read in their place (a run folder's copies).
+
+    Raises
+    ------
+    ValueError
+        A problem of the scene's arm section (a link that is not the URDF's): reported at ``arm``.
+    SceneError
+        A problem of the URDF or SRDF file, ``FILE:LINE: message`` (exit 2).
     """
-    _check_kind(arm)
+    robot = resolve_robot(arm, scene_dir, urdf_file)
+    if isinstance(arm.self_collision, str):
+        return arm.with_files(robot, None)
+    links = robot.links if robot is not None else tuple(f"link{k + 1}" for k in range(len(arm.links or ())))
+    return arm.with_files(robot, resolve_self_collision(arm.self_collision, links, scene_dir, srdf_file))
+
+
+def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None) -> UrdfArm | None:
+    """The URDF arm of a validated ``arm`` section, or None for an arm of links.
+
+    ``arm.urdf`` is relative to ``scene_dir``; ``urdf_file`` is read in its place (a run
+    folder's copy). Problems of the scene raise ValueError (reported at ``arm``); problems of
+    the URDF file raise its SceneError (``FILE:LINE: message``).
+    """
     if not arm.is_urdf:
         return None
-    bundled = _bundled(arm.robot) if arm.robot is not None else None
+    bundled = bundled_robot(arm.robot) if arm.robot is not None else None
     if bundled is not None:
         path, shown = bundled.urdf, f"robot {bundled.name}'s URDF"
     else:
-        context = context or {}
-        path = Path(context["urdf_file"]) if context.get("urdf_file") else Path(context.get("scene_dir") or ".") / arm.urdf
+        path = Path(urdf_file) if urdf_file else Path(scene_dir or ".") / arm.urdf
         shown = str(path)
     robot = read_urdf(path, shown)
     base = _link(robot, arm.base_link or (bundled.base_link if bundled else robot.root), "base_link")
@@ -215,27 +241,6 @@ def resolve_robot(arm, context: dict | None) -> UrdfArm | None:
         velocities=joint_speeds(robot, moving),
         links=tuple(robot.links),
     )
-
-
-def _check_kind(arm) -> None:
-    """Exactly one of links, urdf, robot; the fields of the other kind left out."""
-    given = [name for name in ("links", "urdf", "robot") if getattr(arm, name) is not None]
-    if len(given) != 1:
-        raise ValueError(f"gives {' and '.join(given) if given else 'none of links, urdf, robot'} "
-                         "(expected exactly one: links for an arm of straight links, urdf for a URDF file, robot for a bundled robot)")
-    wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision") if given[0] == "links" else ("axes", "direction")
-    for name in wrong:
-        if getattr(arm, name) is not None:
-            kind = "an arm of links" if given[0] == "links" else "a URDF arm"
-            raise ValueError(f"{name} does not apply to {kind} (remove it)")
-
-
-def _bundled(name: str) -> BundledRobot:
-    try:
-        return bundled_robot(name)
-    except KeyError:
-        raise ValueError(f"robot {name!r} is not bundled (expected one of: {', '.join(ROBOTS)}; "
-                         "or give your own file with arm.urdf)") from None
 
 
 def _link(robot: Robot, name: str, field: str) -> str:
@@ -319,35 +324,3 @@ def _uncovered(joints: list[ChainJoint], links: tuple[str, ...], capsules) -> tu
     if moving and not covered.intersection(group):
         out.append(group[0])
     return tuple(out)
-
-
-@dataclass(frozen=True)
-class RobotSummary:
-    """What ``armanim robots`` shows of a bundled robot (degrees and metres)."""
-
-    name: str
-    title: str
-    joints: tuple[str, ...]
-    limits_deg: tuple[tuple[float, float] | None, ...]
-    reach: float
-    capsules: int
-
-
-def robot_summaries() -> list[RobotSummary]:
-    """Every bundled robot: its joints, their limits, its reach from joint 1 and its capsules.
-
-    >>> [s.name for s in robot_summaries()]
-    ['panda', 'ur5', 'iiwa']
-    """
-    from armanim.scene.convert import scene_to_problem
-    from armanim.scene.models import SceneModel
-
-    out = []
-    for name in ROBOTS:
-        problem = scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}))
-        lim = problem.limits
-        limits = tuple((float(np.degrees(lo)), float(np.degrees(hi))) if np.isfinite(lo) else None
-                       for lo, hi in zip(lim.lower, lim.upper))
-        out.append(RobotSummary(name, bundled_robot(name).title, problem.arm.joint_names, limits,
-                                problem.arm.reach, len(problem.capsules)))
-    return out

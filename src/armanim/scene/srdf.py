@@ -33,13 +33,6 @@ class Srdf:
     source: bytes | None = None
 
 
-def arm_link_names(arm) -> tuple[str, ...]:
-    """The link names ``self_collision`` may name: the URDF's links, or ``link1``... for an arm of links."""
-    if arm._robot is not None:
-        return arm._robot.links
-    return tuple(f"link{k + 1}" for k in range(len(arm.links or ())))
-
-
 def parse_srdf(raw: bytes, file: str, links: tuple[str, ...]) -> tuple[tuple[str, str, str], ...]:
     """The ``<disable_collisions>`` pairs of SRDF bytes whose links are all in ``links``.
 
@@ -66,12 +59,11 @@ def parse_srdf(raw: bytes, file: str, links: tuple[str, ...]) -> tuple[tuple[str
     return tuple(pairs)
 
 
-def resolve_self_collision(arm, context: dict | None) -> Srdf:
-    """Check the link names of ``arm.self_collision``'s ``allow`` and ``check`` lists (a
-    ValueError, reported at ``arm``) and read its SRDF, if any (relative to the scene's folder,
-    or the file ``context["srdf_file"]``: a run folder's copy)."""
-    spec = arm.self_collision
-    links = arm_link_names(arm)
+def resolve_self_collision(spec, links: tuple[str, ...], scene_dir: str | Path = ".", srdf_file: str | Path | None = None) -> Srdf:
+    """Check the link names of ``arm.self_collision``'s ``allow`` and ``check`` lists (``spec``, a
+    ``SelfCollisionModel``; a ValueError, reported at ``arm``) against ``links``, the names it may use
+    (the URDF's links, or ``link1``... for an arm of links), and read its SRDF, if any (relative to
+    ``scene_dir``, or the file ``srdf_file``: a run folder's copy)."""
     for field in ("allow", "check"):
         for k, pair in enumerate(getattr(spec, field)):
             for name in pair:
@@ -82,8 +74,7 @@ def resolve_self_collision(arm, context: dict | None) -> Srdf:
                 raise ValueError(f"self_collision.{field}[{k}] pairs {pair[0]!r} with itself (expected two different links)")
     if spec.srdf is None:
         return Srdf()
-    context = context or {}
-    path = Path(context["srdf_file"]) if context.get("srdf_file") else Path(context.get("scene_dir") or ".") / spec.srdf
+    path = Path(srdf_file) if srdf_file else Path(scene_dir or ".") / spec.srdf
     try:
         raw = read_bounded(path, MAX_URDF_BYTES, "an SRDF file")
     except SceneError as exc:  # a file that cannot be read is the scene's problem, at its field

@@ -24,7 +24,7 @@ import numpy as np
 from armanim.arm.chain import ChainJoint, transform
 from armanim.errors import Diagnostic, SceneError, shown
 from armanim.output.files import read_bounded
-from armanim.scene.models import LIMITS
+from armanim.scene.fields import LIMITS
 
 MAX_URDF_BYTES = 4 * 1024 * 1024
 """A URDF without meshes is 10-100 KB; 4 MB leaves room for long comments."""

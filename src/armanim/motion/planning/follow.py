@@ -9,7 +9,7 @@ import numpy as np
 
 from armanim.motion.problem import Problem
 
-PEAK_SPEED = 1.5  # the smoothstep's peak slope: the middle frames run at max_joint_step
+PEAK_SPEED = 1.5  # the smoothstep's peak slope (d/du of 3u^2 - 2u^3 at u = 1/2): the middle frames run at max_joint_step
 
 
 def smoothstep(u: np.ndarray) -> np.ndarray:
@@ -72,9 +72,6 @@ def poses_along(waypoints: np.ndarray, s: np.ndarray) -> np.ndarray:
     return cast(np.ndarray, waypoints[leg] + fraction[:, None] * (waypoints[leg + 1] - waypoints[leg]))
 
 
-MAX_SPLITS = 8  # halvings of one frame interval (at most 256 frames in its place)
-
-
 def damper_paced(problem: Problem, waypoints: np.ndarray, s: np.ndarray, most: int | None = None) -> np.ndarray:
     """The schedule ``s`` (see :func:`path_schedule`) with frames inserted wherever the safety
     filter would not take a frame's step as it is.
@@ -106,7 +103,7 @@ def damper_paced(problem: Problem, waypoints: np.ndarray, s: np.ndarray, most: i
 
     s = np.concatenate([[0.0], s])
     settled = np.zeros(len(s) - 1, dtype=bool)  # intervals the filter takes as they are
-    for _ in range(MAX_SPLITS):
+    for _ in range(problem.tunables.planner.max_splits):
         poses = poses_along(waypoints, s)
         for k in np.nonzero(~settled)[0]:
             settled[k] = takes_unchanged(problem, arm_state(problem, poses[k]), poses[k + 1] - poses[k])

@@ -6,8 +6,9 @@ the safety filter keeps (:func:`plan_path`): every pose on it, certified from sa
 clearances (:func:`motion_is_free`), so that the frames that follow it through the filter
 are not held back.
 
-OMPL's random numbers come from one process-wide generator; it is re-seeded with
-:data:`OMPL_SEED` before every plan, so a plan depends only on its problem, not on what
+Its tunables (the budget, the certification's steps, OMPL's seed) are ``problem.tunables.planner``
+(:class:`~armanim.motion.tunables.PlannerOptions`). OMPL's random numbers come from one
+process-wide generator; it is re-seeded with the options' ``ompl_seed`` before every plan, so a plan depends only on its problem, not on what
 the process planned before (a batch worker gives the same trajectory as a fresh run).
 """
 
@@ -33,20 +34,9 @@ from armanim.motion.solvers.barrier import (
     within_limits,
 )
 from armanim.motion.solvers.common import arm_state
+from armanim.motion.tunables import DEFAULTS, PlannerOptions
 from armanim.names import PathSource
 
-COARSE = 8  # clearances between the first samples of a motion (see motion_is_free)
-MAX_SAMPLES = 100_000  # poses one motion check may take (a clearance tiny beside the arm: the motion is not taken)
-MAX_HALVINGS = 40  # levels of halving in a motion check (2^-40 of a coarse piece)
-CERTIFY_TO = 0.05  # of solver.clearance: a piece of motion this short is certified by its ends
-ESCAPE_TRAVELS = (1, 2, 4, 8, 16)  # clearances of arm travel tried for the step away from a surface
-STRAIGHT_TRIES = 4  # nearest goal poses tried with a straight segment
-OMPL_GOALS = 64  # goal poses handed to RRT-Connect
-OMPL_ITERATIONS = 15000  # planner iterations per search: the budget, counted so that it is deterministic
-OMPL_SEARCHES = 2  # searches with different random numbers before a goal has no path
-TICK_ITERATIONS = 500  # how often a search reports its iterations (see Searched)
-RRT_RANGE = 1.2  # radians: RRT-Connect's longest edge (measured on six hard cases: 0.13 rad found 1, 0.6 found 3, 1.2 found 5)
-OMPL_SEED = 20251123
 UNLIMITED_SPAN = 2 * np.pi  # an unlimited joint plans within +-2 pi
 
 
@@ -77,11 +67,11 @@ class JointPath:
 
 def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: float) -> np.ndarray | None:
     """(k, n) poses along the segment a-b (both ends included), no arm point moving more
-    than ``spacing`` between neighbours; None when that takes more than :data:`MAX_SAMPLES`
+    than ``spacing`` between neighbours; None when that takes more than the planner's ``max_samples``
     (a clearance far below the arm's size: the motion cannot be certified, and is not taken)."""
     with np.errstate(over="ignore", divide="ignore"):
         count = point_travel_bound(problem, b - a) / spacing
-    if not count <= MAX_SAMPLES:
+    if not count <= problem.tunables.planner.max_samples:
         return None
     t = np.linspace(0.0, 1.0, max(int(np.ceil(count)) + 1, 2))[:, None]
     return cast("np.ndarray | None", a + t * (b - a))
@@ -89,13 +79,13 @@ def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: floa
 
 def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
     """Whether no pose on the segment a-b comes closer than ``floor`` to an obstacle (to within
-    ``CERTIFY_TO * solver.clearance / 2``), and how many poses were checked.
+    ``certify_to * solver.clearance / 2``, the planner's options), and how many poses were checked.
 
     Clearance changes no faster than the arm's points move, so two poses with clearances
     c1, c2 whose points move at most S between them certify every pose between them when
-    c1 + c2 >= S + 2 floor. Poses :data:`COARSE` clearances apart are checked first; a pair
+    c1 + c2 >= S + 2 floor. Poses ``coarse`` clearances apart are checked first; a pair
     they do not certify is halved, level by level, until every piece is certified or shorter
-    than :data:`CERTIFY_TO` clearances, or a pose below ``floor`` is found. The limits are a
+    than ``certify_to`` clearances, or a pose below ``floor`` is found. The limits are a
     box: free ends keep them.
 
     The enabled pairs of the arm's own capsules are judged alike, each by its own travel: a
@@ -105,18 +95,28 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     wrist pair is not held to the whole arm's travel.
     """
     d_safe = problem.solver.clearance
-    coarse = motion_samples(problem, a, b, COARSE * d_safe)
+    opts = problem.tunables.planner
+    coarse = motion_samples(problem, a, b, opts.coarse * d_safe)
     if coarse is None:
         return False, 0
     clear, own = split_clearances(problem, coarse)
     checks = len(coarse)
     if not np.all(_least(clear, own) >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
         return False, checks
+    return _certified(problem, coarse, clear, own, floor, checks)
+
+
+def _certified(problem: Problem, coarse: np.ndarray, clear: np.ndarray, own: np.ndarray | None, floor: float,
+               checks: int) -> tuple[bool, int]:
+    """:func:`motion_is_free`'s halving: the pieces between the ``coarse`` poses (k, n), with
+    their clearances ``clear`` (k,) and shifted pair gaps ``own`` (k, P) or None, halved level by
+    level until each is certified; (free, checks) with the poses checked added to ``checks``."""
+    d_safe, opts = problem.solver.clearance, problem.tunables.planner
     levers = problem.lever_arms
     pair_levers = problem.pair_lever_rows.T if own is not None else None  # (n, P)
     lo, hi, c_lo, c_hi = coarse[:-1], coarse[1:], clear[:-1], clear[1:]
     o_lo, o_hi = (own[:-1], own[1:]) if own is not None else (None, None)
-    for _ in range(MAX_HALVINGS):
+    for _ in range(opts.max_halvings):
         if not len(lo):
             return True, checks
         step = np.abs(hi - lo)
@@ -125,7 +125,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
         if own is not None:  # each pair by the joints between its capsules alone
             assert o_lo is not None and o_hi is not None and pair_levers is not None  # set with own
             doubtful |= np.any(o_lo + o_hi < step @ pair_levers + 2 * floor, axis=1)
-        doubtful &= travel > CERTIFY_TO * d_safe
+        doubtful &= travel > opts.certify_to * d_safe
         lo, hi, c_lo, c_hi = lo[doubtful], hi[doubtful], c_lo[doubtful], c_hi[doubtful]
         if own is not None:
             assert o_lo is not None and o_hi is not None  # set with own
@@ -141,7 +141,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
         c_lo, c_hi = np.concatenate([c_lo, c_mid]), np.concatenate([c_mid, c_hi])
         if own is not None:
             o_lo, o_hi = np.concatenate([o_lo, o_mid]), np.concatenate([o_mid, o_hi])
-        if len(lo) > MAX_SAMPLES:
+        if len(lo) > opts.max_samples:
             return False, checks  # more pieces in doubt than a motion may take: not certified
     return not len(lo), checks
 
@@ -151,13 +151,14 @@ def _least(clear: np.ndarray, own: np.ndarray | None) -> np.ndarray:
     return clear if own is None else np.minimum(clear, own.min(axis=-1))
 
 
-def plan_iterations() -> int:
-    """The most RRT-Connect iterations one :func:`plan_path` may take: it searches at two floors.
+def plan_iterations(planner: PlannerOptions = DEFAULTS.planner) -> int:
+    """The most RRT-Connect iterations one :func:`plan_path` may take with ``planner``
+    (``problem.tunables.planner``): it searches at two floors.
 
-    >>> plan_iterations() == 2 * OMPL_SEARCHES * OMPL_ITERATIONS
+    >>> plan_iterations() == 2 * DEFAULTS.planner.ompl_searches * DEFAULTS.planner.ompl_iterations
     True
     """
-    return 2 * OMPL_SEARCHES * OMPL_ITERATIONS
+    return planner.plan_iterations
 
 
 def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: Searched | None = None) -> JointPath:
@@ -180,7 +181,7 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
         Told the RRT-Connect iterations as they go (see :data:`Searched`); not called for a
         plan that needs no search.
     """
-    most, ticked = plan_iterations(), False
+    most, ticked = plan_iterations(problem.tunables.planner), False
 
     def tick(done: int) -> None:
         nonlocal ticked
@@ -209,7 +210,8 @@ def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, 
         if waypoints is not None:
             head = [start] if begin is not start else []
             return JointPath(np.concatenate([np.array(head).reshape(-1, len(start)), waypoints]), source, checks)
-    waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start), tick, first=OMPL_SEARCHES)
+    waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start), tick,
+                                          first=problem.tunables.planner.ompl_searches)
     return JointPath(waypoints, source, checks + used)
 
 
@@ -220,16 +222,16 @@ def search_path(
     """(waypoints or None, source, checks): the straight segment to one of the first goals,
     else RRT-Connect to any of them, every pose at least ``floor`` from every obstacle.
     ``tick(done)`` is told the iterations, counted as though ``first`` searches had run before."""
-    checks = 0
-    for goal in goals[:STRAIGHT_TRIES]:
+    checks, opts = 0, problem.tunables.planner
+    for goal in goals[:opts.straight_tries]:
         free, used = motion_is_free(problem, start, goal, floor)
         checks += used
         if free:
             return np.stack([start, goal]), "straight", checks
-    for search in range(OMPL_SEARCHES):
-        before = (first + search) * OMPL_ITERATIONS
+    for search in range(opts.ompl_searches):
+        before = (first + search) * opts.ompl_iterations
         counted = (lambda done, before=before: tick(before + done)) if tick else None
-        waypoints, used = rrt_connect(problem, start, goals[:OMPL_GOALS], floor, search, counted)
+        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted)
         gc.collect()  # OMPL's Python callbacks form cycles with its objects: free them now, not at exit
         checks += used
         if waypoints is not None:
@@ -241,7 +243,7 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
     """(pose or None, checks): a pose one short straight move from ``start`` with every link at
     least ``floor`` from every obstacle, the arm moved along the sum of the clearance gradients
     of its links closer than that (away from the surfaces it rests at), its points travelling
-    :data:`ESCAPE_TRAVELS` clearances at most; the move itself keeps the planning floor."""
+    the planner's ``escape_travels`` clearances at most; the move itself keeps the planning floor."""
     state = arm_state(problem, start)
     rows, _ = obstacle_rows(problem, state, floor - kept_clearance(problem))
     own, _ = self_pair_rows(problem, state, floor - kept_clearance(problem))
@@ -250,7 +252,7 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
     checks = 0
     if not travel > 0:
         return None, checks
-    for clearances in ESCAPE_TRAVELS:
+    for clearances in problem.tunables.planner.escape_travels:
         pose = start + direction * (clearances * problem.solver.clearance / travel)
         checks += 1
         if not (within_limits(problem, pose[None])[0] and pose_clearance(problem, pose[None])[0] >= floor):
@@ -270,12 +272,14 @@ def rrt_connect(
     Every pose of the path keeps ``floor`` from every obstacle.
 
     ``search`` picks the random numbers: each value gives another, always the same, search.
-    ``tick(iterations)`` is called as the search starts and every :data:`TICK_ITERATIONS`.
+    ``tick(iterations)`` is called as the search starts and every ``tick_iterations`` (the
+    planner's options, whose ``ompl_iterations`` is the budget).
     """
     from ompl import base as ob
     from ompl import geometric as og
 
-    _seed_ompl(search)
+    opts = problem.tunables.planner
+    _seed_ompl(search, opts.ompl_seed)
     n = len(start)
     checks = [0]
     space, si, _validator = _space_information(ob, problem, start, floor, checks)  # OMPL borrows the validator: keep it
@@ -286,21 +290,12 @@ def rrt_connect(
         targets.addState(_state(space, goal))
     pdef.setGoal(targets)
     planner = og.RRTConnect(si)
-    planner.setRange(RRT_RANGE)
+    planner.setRange(opts.rrt_range)
     planner.setProblemDefinition(pdef)
     planner.setup()
-    iterations = [0]
-
-    def out_of_budget() -> bool:
-        iterations[0] += 1
-        if tick and iterations[0] % TICK_ITERATIONS == 0:
-            tick(iterations[0])
-        return iterations[0] > OMPL_ITERATIONS
-
     if tick:
         tick(0)
-
-    planner.solve(ob.PlannerTerminationCondition(out_of_budget))
+    planner.solve(ob.PlannerTerminationCondition(_budget(opts, tick)))
     if not pdef.hasExactSolution():
         return None, checks[0]
     path = pdef.getSolutionPath()
@@ -309,12 +304,26 @@ def rrt_connect(
     return waypoints, checks[0]
 
 
-def _seed_ompl(search: int) -> None:
-    """Make OMPL's next RNGs the same every time for this ``search`` number."""
+def _budget(opts: PlannerOptions, tick: Callable[[int], None] | None) -> Callable[[], bool]:
+    """OMPL's termination test for one search: true once it was asked more than ``ompl_iterations``
+    times (the budget, counted so that it is deterministic), telling ``tick`` every ``tick_iterations``."""
+    iterations = [0]
+
+    def out_of_budget() -> bool:
+        iterations[0] += 1
+        if tick and iterations[0] % opts.tick_iterations == 0:
+            tick(iterations[0])
+        return iterations[0] > opts.ompl_iterations
+
+    return out_of_budget
+
+
+def _seed_ompl(search: int, seed: int) -> None:
+    """Make OMPL's next RNGs the same every time for this ``search`` number (from ``seed``)."""
     from ompl import util as ou
 
     ou.setLogLevel(ou.LOG_NONE)
-    ou.RNG.setSeed(OMPL_SEED)  # re-seeds the generator of every RNG OMPL creates from here on
+    ou.RNG.setSeed(seed)  # re-seeds the generator of every RNG OMPL creates from here on
     for _ in range(search):
         ou.RNG()  # each RNG made takes the next seed: the planner's RNGs get later ones
 

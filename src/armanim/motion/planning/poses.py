@@ -33,13 +33,6 @@ from armanim.motion.solvers.barrier import (
 )
 from armanim.world.selfdistances import self_gaps
 
-SEEDS = 128
-ITERATIONS = 80
-TURN_PER_ITERATION = 0.4  # radians: larger steps jump between branches and oscillate
-DAMPING_PER_REACH = 1e-3  # lambda as a fraction of the arm's length
-HIT = 0.25  # a solve counts when its tip is within this fraction of the tolerance
-MAX_TURN_JOINTS = 3  # unlimited joints whose long way round is offered too (2^3 variants per pose)
-
 
 @dataclass(frozen=True)
 class GoalPoses:
@@ -77,7 +70,8 @@ def seed_poses(problem: Problem, phi_now: np.ndarray, count: int, seed: int) -> 
 
     >>> from types import SimpleNamespace
     >>> from armanim.motion.problem import Limits
-    >>> free = SimpleNamespace(limits=Limits.unlimited(2, margin=0.1))
+    >>> from armanim.motion.tunables import DEFAULTS
+    >>> free = SimpleNamespace(limits=Limits.unlimited(2, margin=0.1), tunables=DEFAULTS)
     >>> seed_poses(free, np.array([0.5, 1.0]), 3, seed=0)[:2].tolist()
     [[0.5, 1.0], [0.5, -1.0]]
     """
@@ -113,9 +107,12 @@ def pose_task(problem: Problem, pose: Pose, goal: np.ndarray, orientation: Orien
     return np.concatenate([error, w * rot_error], -1), np.concatenate([jac, w * rot_jac], -2)
 
 
-def hits(problem: Problem, phi: np.ndarray, goal: np.ndarray, orientation: Orientation | None, fraction: float = HIT) -> np.ndarray:
-    """(S,) bool: poses whose tip is within ``fraction`` of the tolerance of the goal, and whose
-    tool is within that fraction of the orientation tolerance of its orientation (if any)."""
+def hits(problem: Problem, phi: np.ndarray, goal: np.ndarray, orientation: Orientation | None,
+         fraction: float | None = None) -> np.ndarray:
+    """(S,) bool: poses whose tip is within ``fraction`` (default the pose search's ``hit``) of the
+    tolerance of the goal, and whose tool is within that fraction of the orientation tolerance of
+    its orientation (if any)."""
+    fraction = problem.tunables.poses.hit if fraction is None else fraction
     pose = forward(problem.arm, phi)
     hit = np.linalg.norm(pose.tip - goal, axis=-1) < fraction * problem.solver.tolerance
     if orientation is not None:
@@ -134,16 +131,17 @@ def solve_many(
     """
     arm = problem.arm
     lo, hi = joint_ranges(problem)
-    damping2 = (DAMPING_PER_REACH * arm.reach) ** 2
+    opts = problem.tunables.poses
+    damping2 = (opts.damping_per_reach * arm.reach) ** 2
     phi = starts.copy()
     rows = 3 if orientation is None else 3 + orientation.rows
-    for _ in range(ITERATIONS):
+    for _ in range(opts.iterations):
         pose = forward(arm, phi)
         error, jac = pose_task(problem, pose, goal, orientation)
         gram = jac @ np.swapaxes(jac, -1, -2) + damping2 * np.eye(rows)
         dphi = np.einsum("sji,sj->si", jac, np.linalg.solve(gram, error[..., None])[..., 0])
         biggest = np.abs(dphi).max(axis=-1, keepdims=True)
-        dphi *= np.minimum(1.0, TURN_PER_ITERATION / np.maximum(biggest, 1e-300))
+        dphi *= np.minimum(1.0, opts.turn_per_iteration / np.maximum(biggest, 1e-300))
         phi = phi + dphi
         if clip:
             phi = np.clip(phi, lo, hi)
@@ -171,7 +169,7 @@ def goal_poses(
     -------
     GoalPoses
     """
-    starts = seed_poses(problem, phi_now, SEEDS, seed)
+    starts = seed_poses(problem, phi_now, problem.tunables.poses.seeds, seed)
     solved = solve_many(problem, starts, goal, orientation=orientation)
     hit = hits(problem, solved, goal, orientation)
     reachable = bool(hit.any()) or _reachable_without_limits(problem, starts, goal, orientation)
@@ -210,10 +208,10 @@ def turn_variants(problem: Problem, phi_now: np.ndarray, poses: np.ndarray) -> n
     """Each pose with every unlimited joint reached the short way round from ``phi_now``
     and the long way round (a joint at a and at a + 2 pi is the same pose, but the straight
     path to one may pass an obstacle that the path to the other misses): (k 2^u, n) for u
-    unlimited joints, at most :data:`MAX_TURN_JOINTS` of them varied."""
+    unlimited joints, at most the pose search's ``max_turn_joints`` of them varied."""
     short = np.where(problem.limits.limited, poses, phi_now + wrap_angle(poses - phi_now))
     variants = [short]
-    for j in np.nonzero(~problem.limits.limited)[0][:MAX_TURN_JOINTS]:
+    for j in np.nonzero(~problem.limits.limited)[0][:problem.tunables.poses.max_turn_joints]:
         longer = [v.copy() for v in variants]
         for v in longer:
             v[:, j] -= 2 * np.pi * np.sign(v[:, j] - phi_now[j])

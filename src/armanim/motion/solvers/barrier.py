@@ -9,11 +9,12 @@ A method proposes dPhi_nom. After scaling it so that no joint turns by more than
                 |dPhi_j| <= max_joint_step
 
 (a velocity damper, the discrete control-barrier condition: each frame closes at most
-the fraction gamma of what is left of a gap). d is the capsule's clearance to the
+the fraction gamma of what is left of a gap). The gains are ``problem.tunables.filter``
+(:class:`~armanim.motion.tunables.FilterGains`). d is the capsule's clearance to the
 obstacle (sphere, box, capsule, or the floor), q the point of its segment nearest the
 solid, n the solid's outward unit normal there, J_q that point's Jacobian;
 d_safe is ``solver.clearance``; lo_j and hi_j are the limits moved inward by
-:data:`LIMIT_BUFFER` of the limit margin. An arm touching a solid therefore slides
+:attr:`~armanim.motion.tunables.FilterGains.limit_buffer` of the limit margin. An arm touching a solid therefore slides
 along it (a box: along a face, round an edge) instead of stopping, and never rests on a surface or a limit.
 
 The constraints are linear, the true clearance is not, so the new pose is then
@@ -38,17 +39,6 @@ from armanim.names import Blocker
 from armanim.world.distances import min_link_clearance
 from armanim.world.selfdistances import self_gaps, self_rows
 
-GAMMA = 0.5
-"""Fraction of the remaining gap to a surface or a limit that one frame may close."""
-FILTER_MARGIN = 0.1
-"""The filter aims at d_safe (1 + FILTER_MARGIN): sliding along a curved surface drops
-below the tangent plane the QP sees, and the margin absorbs that without shortening."""
-SETTLE_MARGIN = 0.2
-"""The planner prefers goal poses at d_safe (1 + SETTLE_MARGIN): what the filter keeps and as
-much again, room for the method to settle to the tolerance without the filter pinning a link."""
-LIMIT_BUFFER = 0.05
-"""Joints keep this fraction of ``arm.limit_margin`` from their limits (0.5 degrees by default)."""
-HALVINGS = 30
 NO_BOUND = 1e30  # DAQP's "no upper bound"
 
 
@@ -102,7 +92,7 @@ class Constraints:
 
 def limit_buffer(problem: Problem) -> float:
     """Radians every limited joint keeps from its limits."""
-    return LIMIT_BUFFER * problem.limits.margin
+    return problem.tunables.filter.limit_buffer * problem.limits.margin
 
 
 def wrap_unlimited(problem: Problem, phi: np.ndarray) -> np.ndarray:
@@ -122,9 +112,10 @@ def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndar
     cap = problem.solver.max_joint_step
     lim = problem.limits
     buffer = limit_buffer(problem)
+    gamma = problem.tunables.filter.gamma
     with np.errstate(invalid="ignore"):
-        lo = np.maximum(-cap, -GAMMA * (phi - (lim.lower + buffer)))
-        hi = np.minimum(cap, GAMMA * ((lim.upper - buffer) - phi))
+        lo = np.maximum(-cap, -gamma * (phi - (lim.lower + buffer)))
+        hi = np.minimum(cap, gamma * ((lim.upper - buffer) - phi))
     lo = np.where(lim.limited, lo, -cap)
     hi = np.where(lim.limited, hi, cap)
     return np.minimum(lo, 0.0), np.maximum(hi, 0.0)  # inside the buffer: 0 is always allowed
@@ -143,7 +134,7 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
         return np.zeros((0, n)), np.zeros(0)
     jacs = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles])
     rows = np.matmul(state.clearance.normal[parts, obstacles][:, None, :], jacs)[:, 0, :]  # each row n . J_q, as one alone
-    return rows, -GAMMA * (d[parts, obstacles] - target)
+    return rows, -problem.tunables.filter.gamma * (d[parts, obstacles] - target)
 
 
 def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -162,7 +153,7 @@ def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray
     if not len(which):
         return np.zeros((0, n)), np.zeros(0)
     rows = self_rows(problem.arm, problem.capsules, state.pose, problem.self_pairs, gaps, which)
-    return rows, -GAMMA * (gaps.d[which] - target)
+    return rows, -problem.tunables.filter.gamma * (gaps.d[which] - target)
 
 
 def pair_levers(problem: Problem) -> np.ndarray:
@@ -275,7 +266,7 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray, ahead: ArmSta
     nominal = dphi * min(1.0, problem.solver.max_joint_step / biggest)
     cons = filter_constraints(problem, state, nominal)
     step = filtered_step(nominal, cons)
-    for scale in 0.5 ** np.arange(HALVINGS + 1):
+    for scale in 0.5 ** np.arange(problem.tunables.filter.halvings + 1):
         phi = state.phi + scale * step
         known = ahead if ahead is not None and ahead.phi.tobytes() == phi.tobytes() else None
         moved = exactly_safe(problem, state, phi, known)
@@ -350,14 +341,14 @@ def within_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
 
 
 def kept_clearance(problem: Problem) -> float:
-    """The clearance the filter keeps every link at, d_safe (1 + FILTER_MARGIN): a link closer
+    """The clearance the filter keeps every link at, d_safe (1 + ``filter_margin``): a link closer
     than that is pushed out, so neither a goal pose nor a planned path may ask for less."""
-    return problem.solver.clearance * (1.0 + FILTER_MARGIN)
+    return problem.solver.clearance * (1.0 + problem.tunables.filter.filter_margin)
 
 
 def settle_clearance(problem: Problem) -> float:
-    """The clearance of the goal poses the planner tries first, d_safe (1 + SETTLE_MARGIN)."""
-    return problem.solver.clearance * (1.0 + SETTLE_MARGIN)
+    """The clearance of the goal poses the planner tries first, d_safe (1 + ``settle_margin``)."""
+    return problem.solver.clearance * (1.0 + problem.tunables.filter.settle_margin)
 
 
 def planning_floor(problem: Problem, phi_now: np.ndarray) -> float:

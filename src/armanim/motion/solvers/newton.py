@@ -16,7 +16,7 @@ g += -w_rot J_w^T r (exact),   H += w_rot (B J_w)^T (B J_w) (Gauss-Newton),
 w_rot = w_tar w^2 for the orientation weight w (length per radian), so that a radian weighs
 as w of distance. For an arm that cannot hold the orientation at every position
 (:func:`~armanim.motion.orientation.holds_orientation` False), w_rot is scaled by
-:data:`~armanim.motion.orientation.PRIORITY_WEIGHT`: position first.
+:attr:`~armanim.motion.tunables.CostGains.priority_weight`: position first.
 """
 
 from __future__ import annotations
@@ -29,7 +29,6 @@ import numpy as np
 
 from armanim.arm.kinematics import Arm, forward, link_point, point_hessian, tip_jacobian, tool_rotation
 from armanim.motion.orientation import (
-    PRIORITY_WEIGHT,
     Orientation,
     holds_orientation,
     orientation_gradient,
@@ -270,10 +269,10 @@ def newton_solve(
 
 
 def rotation_weight(problem: Problem, orientation: Orientation) -> float:
-    """w_rot = w_tar w^2, scaled by :data:`PRIORITY_WEIGHT` for an arm that cannot hold the orientation."""
+    """w_rot = w_tar w^2, scaled by the cost gains' ``priority_weight`` for an arm that cannot hold the orientation."""
     s = problem.solver
     w_rot = s.w_target * s.orientation_weight**2
-    return w_rot if holds_orientation(problem.arm, orientation) else PRIORITY_WEIGHT * w_rot
+    return w_rot if holds_orientation(problem.arm, orientation) else problem.tunables.cost.priority_weight * w_rot
 
 
 def frame_orientation(problem: Problem, state: ArmState, orientation: Orientation) -> Orientation:

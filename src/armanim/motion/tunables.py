@@ -1,0 +1,219 @@
+"""The safety filter's and cost's gains, the stall test's, planner's and single-pose IK's tunables, as small frozen objects.
+
+Each carries its own documented defaults, the way mink's limits and pink's barriers carry
+their gains: a :class:`~armanim.motion.problem.Problem` holds one :class:`Tunables`
+(``problem.tunables``, the defaults unless a caller gives others: a test's smaller planning
+budget, a benchmark's variant) and every function reads its numbers from there, never from a
+module global. No scene field sets them (the scene's own numbers are
+:class:`~armanim.motion.problem.SolverSettings`). Module constants are left only for true
+constants (math, units, a library's sentinel).
+
+>>> Tunables().planner.ompl_iterations, Tunables().filter.gamma
+(15000, 0.5)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class FilterGains:
+    """The safety filter's gains (:mod:`armanim.motion.solvers.barrier`).
+
+    Attributes
+    ----------
+    gamma : float
+        Fraction of the remaining gap to a surface or a limit that one frame may close.
+    filter_margin : float
+        The filter aims at d_safe (1 + filter_margin): sliding along a curved surface drops
+        below the tangent plane the QP sees, and the margin absorbs that without shortening.
+    settle_margin : float
+        The planner prefers goal poses at d_safe (1 + settle_margin): what the filter keeps and
+        as much again, room for the method to settle to the tolerance without the filter
+        pinning a link.
+    limit_buffer : float
+        Joints keep this fraction of ``arm.limit_margin`` from their limits (0.5 degrees by default).
+    halvings : int
+        Halvings of a step the filter tries before it holds the arm still.
+    """
+
+    gamma: float = 0.5
+    filter_margin: float = 0.1
+    settle_margin: float = 0.2
+    limit_buffer: float = 0.05
+    halvings: int = 30
+
+
+@dataclass(frozen=True)
+class StallOptions:
+    """When a goal has stalled (:mod:`armanim.motion.stalls`).
+
+    Attributes
+    ----------
+    seconds : float
+        A goal has stalled when this long makes less progress than the tolerance ...
+    progress : float
+        ... or less than this fraction of the distance still to go, whichever is larger.
+    min_frames : int
+        The window is at least this many frames, whatever the frame rate.
+    """
+
+    seconds: float = 0.5
+    progress: float = 0.05
+    min_frames: int = 5
+
+
+@dataclass(frozen=True)
+class PlannerOptions:
+    """The joint-space planner's tunables (:mod:`armanim.motion.planning`) and the frame loop's
+    use of it (:mod:`armanim.motion.trajectory`).
+
+    Attributes
+    ----------
+    coarse : int
+        Clearances between the first samples of a motion (see ``motion_is_free``).
+    max_samples : int
+        Poses one motion check may take (a clearance tiny beside the arm: the motion is not taken).
+    max_halvings : int
+        Levels of halving in a motion check (2^-40 of a coarse piece).
+    certify_to : float
+        Of ``solver.clearance``: a piece of motion this short is certified by its ends.
+    escape_travels : tuple of int
+        Clearances of arm travel tried for the step away from a surface.
+    straight_tries : int
+        Nearest goal poses tried with a straight segment.
+    ompl_goals : int
+        Goal poses handed to RRT-Connect.
+    ompl_iterations : int
+        Planner iterations per search: the budget, counted so that it is deterministic.
+    ompl_searches : int
+        Searches with different random numbers before a goal has no path.
+    tick_iterations : int
+        How often a search reports its iterations (see ``Searched``).
+    rrt_range : float
+        Radians: RRT-Connect's longest edge (measured on six hard cases: 0.13 rad found 1,
+        0.6 found 3, 1.2 found 5).
+    ompl_seed : int
+        OMPL's process-wide generator is re-seeded with this before every plan, so a plan
+        depends only on its problem.
+    max_splits : int
+        Halvings of one frame interval when the filter holds a planned frame back (at most
+        256 frames in its place).
+    max_plans : int
+        Plans per goal before it is given up as stalled.
+    arrived : float
+        Radians: the arm is at a planned pose.
+    """
+
+    coarse: int = 8
+    max_samples: int = 100_000
+    max_halvings: int = 40
+    certify_to: float = 0.05
+    escape_travels: tuple[int, ...] = (1, 2, 4, 8, 16)
+    straight_tries: int = 4
+    ompl_goals: int = 64
+    ompl_iterations: int = 15000
+    ompl_searches: int = 2
+    tick_iterations: int = 500
+    rrt_range: float = 1.2
+    ompl_seed: int = 20251123
+    max_splits: int = 8
+    max_plans: int = 3
+    arrived: float = 1e-9
+
+    @property
+    def plan_iterations(self) -> int:
+        """The most RRT-Connect iterations one plan may take: it searches at two floors.
+
+        >>> PlannerOptions().plan_iterations
+        60000
+        """
+        return 2 * self.ompl_searches * self.ompl_iterations
+
+
+@dataclass(frozen=True)
+class PoseSearchOptions:
+    """The planner's search for free goal poses (:mod:`armanim.motion.planning.poses`).
+
+    Attributes
+    ----------
+    seeds : int
+        Random starts of the batched damped least-squares solves.
+    iterations : int
+        Iterations of each solve.
+    turn_per_iteration : float
+        Radians: larger steps jump between branches and oscillate.
+    damping_per_reach : float
+        lambda as a fraction of the arm's length.
+    hit : float
+        A solve counts when its tip is within this fraction of the tolerance.
+    max_turn_joints : int
+        Unlimited joints whose long way round is offered too (2^3 variants per pose).
+    """
+
+    seeds: int = 128
+    iterations: int = 80
+    turn_per_iteration: float = 0.4
+    damping_per_reach: float = 1e-3
+    hit: float = 0.25
+    max_turn_joints: int = 3
+
+
+@dataclass(frozen=True)
+class CostGains:
+    """Gains of the cost's terms that no scene field sets (:mod:`armanim.motion.cost`).
+
+    Attributes
+    ----------
+    self_influence : float
+        R of the field between two of the arm's own capsules, in ``self_clearance``: a pair
+        nearer than twice its clearance is pushed apart (the pictures tint such a pair too).
+    priority_weight : float
+        For an arm that cannot hold every orientation at a position, the cost methods weigh the
+        orientation term by this fraction: position first, the angle minimised with what is left
+        (the linear methods do it exactly, in the null space).
+    """
+
+    self_influence: float = 2.0
+    priority_weight: float = 1e-4
+
+
+@dataclass(frozen=True)
+class IkOptions:
+    """Solving one pose to convergence (:mod:`armanim.motion.ik`, ``armanim ik``).
+
+    Attributes
+    ----------
+    full_turn_per_iteration : float
+        Radians: the least joint step a solve allows itself (``solver.max_joint_step`` when larger).
+    stall_iterations : int
+        Steps without progress before a restart.
+    restarts : int
+        Random restarts after the first attempt.
+    seed : int
+        Of the random restarts: the same solve always restarts from the same poses.
+    """
+
+    full_turn_per_iteration: float = float(np.radians(30.0))
+    stall_iterations: int = 15
+    restarts: int = 4
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class Tunables:
+    """Every tunable of the filter, the cost, the stall test, the planner and single-pose IK (``problem.tunables``)."""
+
+    filter: FilterGains = field(default_factory=FilterGains)
+    stalls: StallOptions = field(default_factory=StallOptions)
+    planner: PlannerOptions = field(default_factory=PlannerOptions)
+    poses: PoseSearchOptions = field(default_factory=PoseSearchOptions)
+    cost: CostGains = field(default_factory=CostGains)
+    ik: IkOptions = field(default_factory=IkOptions)
+
+
+DEFAULTS = Tunables()
+"""The defaults (frozen, shared): what every problem holds unless told otherwise."""
