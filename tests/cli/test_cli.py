@@ -107,6 +107,8 @@ def test_fk_notes_a_joint_outside_the_scene_limits(cli):
         (["fk", "--angles", "0,30,nan,10"], "finite"),
         (["fk", "--angles", "0,0,0,0", "--scene", str(SCENES / "notes-arm.yaml"), "--links", "1,1,1,1"], "cannot be combined with --scene"),
         (["fk", "--angles", "0,0", "--links", "1,-1"], "--links"),
+        # found by the hostile fuzzer: lengths a scene file refuses underflowed the pose search's damping (a traceback)
+        (["ik", "--links", "2.24e-169", "--goal=0,0,1", "--json"], "--links: a length is too small (expected at least 1e-09"),
         (["fk", "--angles", "0,0", "--links", "1,1", "--axes", "z"], "--axes"),
         (["fk", "--angles", "0,0,0,0", "--direction", "w"], "--direction"),
         (["ik", "--goal", "1,2"], "expected 3 numbers"),

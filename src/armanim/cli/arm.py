@@ -53,6 +53,9 @@ def _links(links: str | None) -> list[float]:
     lengths = parse_lengths(links, "--links") if links else np.ones(4)
     if np.any(lengths <= 0):
         raise UsageError(f"--links: every length must be > 0 (got {links!r})")
+    if np.any(lengths < LIMITS["smallest"]):  # as a scene file's links: smaller ones underflow the solver's damping
+        raise UsageError(f"--links: a length is too small (expected at least {LIMITS['smallest']:g}: choose a larger unit; "
+                         f"got {links!r})")
     if len(lengths) > LIMITS["links"]:
         raise UsageError(f"--links: {len(lengths)} links (expected at most {LIMITS['links']})")
     return [float(v) for v in lengths]
