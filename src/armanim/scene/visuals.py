@@ -157,10 +157,10 @@ def default_package_dirs(urdf_dir: Path) -> list[Path]:
 
 
 def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path],
-                warn: Callable[[str], None]) -> list[LinkMesh]:
+                warn: Callable[[str], None], budget: int | None = TRIANGLE_BUDGET) -> list[LinkMesh]:
     """Each link's visuals as one :class:`LinkMesh` in its frame (links in the order they come),
-    simplified to :data:`TRIANGLE_BUDGET` in all; a visual that cannot be read is left out and
-    ``warn`` told why."""
+    simplified to ``budget`` triangles in all (None: as read); a visual that cannot be read is
+    left out and ``warn`` told why."""
     parts: dict[str, list[LinkMesh]] = {}
     for spec in specs:
         mesh = _spec_mesh(spec, urdf_dir, package_dirs, warn)
@@ -168,8 +168,8 @@ def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path
             parts.setdefault(spec.link, []).append(mesh)
     meshes = [_joined(link, pieces) for link, pieces in parts.items()]
     total = sum(m.triangles for m in meshes)
-    if total > TRIANGLE_BUDGET:
-        meshes = [simplified(m, max(12, int(m.triangles * TRIANGLE_BUDGET / total))) for m in meshes]
+    if budget is not None and total > budget:
+        meshes = [simplified(m, max(12, int(m.triangles * budget / total))) for m in meshes]
     return meshes
 
 
@@ -251,15 +251,31 @@ def simplified(mesh: LinkMesh, triangles: int) -> LinkMesh:
     pieces = []
     colors, which = np.unique(np.round(mesh.colors, 4), axis=0, return_inverse=True)
     for c, rgb in enumerate(colors):
-        faces = mesh.faces[which.reshape(-1) == c]
-        used, local = np.unique(faces, return_inverse=True)
-        share = max(4, int(round(triangles * len(faces) / mesh.triangles)))
-        points, kept = np.asarray(mesh.vertices[used], dtype=np.float32), local.reshape(-1, 3).astype(np.int32)
-        if len(faces) > share:
-            points, kept = fast_simplification.simplify(points, kept, target_reduction=1.0 - share / len(faces))
+        points, kept = welded(mesh.vertices, mesh.faces[which.reshape(-1) == c])
+        share = max(4, int(round(triangles * len(kept) / mesh.triangles)))
+        points, kept = points.astype(np.float32), kept.astype(np.int32)
+        if len(kept) > share:
+            points, kept = fast_simplification.simplify(points, kept, target_reduction=1.0 - share / len(kept))
         pieces.append(LinkMesh(mesh.link, np.asarray(points, dtype=float), np.asarray(kept, dtype=int),
                                np.tile(rgb, (len(kept), 1))))
     return _joined(mesh.link, pieces)
+
+
+def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices ``faces`` use, each position once (files often repeat a vertex per face for
+    its normals, which leaves decimation no edge to collapse), and the faces on them without
+    the ones that become degenerate.
+
+    >>> v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    >>> points, faces = welded(v, np.array([[0, 1, 2], [3, 5, 4]]))
+    >>> len(points), faces.tolist()
+    (4, [[0, 2, 1], [2, 3, 1]])
+    """
+    points, inverse = np.unique(np.round(vertices, 9), axis=0, return_inverse=True)
+    faces = inverse.reshape(-1)[faces]
+    good = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
+    used, local = np.unique(faces[good], return_inverse=True)
+    return points[used], local.reshape(-1, 3)
 
 
 def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chain: SerialChain,
