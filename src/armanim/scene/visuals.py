@@ -261,6 +261,18 @@ def simplified(mesh: LinkMesh, triangles: int) -> LinkMesh:
     return _joined(mesh.link, pieces)
 
 
+def bundled_link_meshes(folder: Path) -> list[LinkMesh]:
+    """A bundled robot's simplified visual meshes (``visual.npz`` in its ``folder``, written by
+    tools/bundle_meshes.py), each in its link's frame; none when the robot ships none."""
+    path = folder / "visual.npz"
+    if not path.is_file():
+        return []
+    with np.load(path) as arrays:
+        links = dict.fromkeys(key.split("/")[0] for key in arrays.files)  # in the file's order
+        return [LinkMesh(link, arrays[f"{link}/vertices"].astype(float), arrays[f"{link}/faces"].astype(int),
+                         arrays[f"{link}/colors"].astype(float) / 255.0) for link in links]
+
+
 def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The vertices ``faces`` use, each position once (files often repeat a vertex per face for
     its normals, which leaves decimation no edge to collapse), and the faces on them without
@@ -305,5 +317,5 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
     return placed_meshes(kept, carriers, offsets)
 
 
-__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "chain_meshes", "default_package_dirs", "link_meshes",
+__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
            "mesh_path", "simplified", "visual_specs"]
