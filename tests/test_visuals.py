@@ -121,3 +121,46 @@ def test_simplifying_keeps_the_budget_the_colours_and_the_shape():
     assert {tuple(c) for c in small.colors} == {(1.0, 0.0, 0.0), (0.0, 0.0, 1.0)}
     radius = np.linalg.norm(small.vertices, axis=1)
     assert 0.95 < radius.min() and radius.max() < 1.02  # quadric collapse keeps the surface within 2 %
+
+
+def _panda_meshes():
+    from armanim.scene.visuals import bundled_link_meshes
+
+    robot = read_urdf(ROBOTS / "panda" / "panda.urdf")
+    chain = serial_chain(np.eye(4), chain_joints(robot, "panda_link0", "panda_hand_tcp"), np.eye(4))
+    return chain, chain_meshes(bundled_link_meshes(ROBOTS / "panda"), robot, "panda_link0", "panda_hand_tcp", chain, np.eye(4))
+
+
+def test_the_bundled_panda_has_every_link_its_hand_and_fingers_within_budget():
+    _, meshes = _panda_meshes()
+    assert meshes.links == ("panda_link0", *(f"panda_link{k}" for k in range(1, 8)), "panda_hand", "panda_leftfinger",
+                            "panda_rightfinger")
+    assert 5_000 <= meshes.triangles <= 15_000
+    assert np.all((meshes.colors >= 0) & (meshes.colors <= 1)) and len(np.unique(meshes.colors, axis=0)) >= 2
+
+
+def test_the_viewer_data_places_every_vertex_where_the_kinematics_does():
+    """Rebuilt from the page's data as the page does (each group's vertices turned by its carrier's
+    quaternion and moved to its joint), every vertex is where mesh_vertices puts it, to the data's rounding."""
+    from armanim.arm.rotations import quaternion_rotation
+    from armanim.render.viewer.data import mesh_entries
+
+    chain, meshes = _panda_meshes()
+    phi = np.random.default_rng(3).uniform(-1.5, 1.5, (4, chain.arm.n))
+    pose = forward(chain.arm, phi)
+    data = mesh_entries(meshes, pose, 5)
+    expected = mesh_vertices(meshes, pose)
+    placement = np.reshape(data["frames"], (len(phi), len(data["carriers"]), 7))
+    for group in data["groups"]:
+        local = np.reshape(group["positions"], (-1, 3))
+        mine = meshes.carrier == group["carrier"]
+        assert len(local) == mine.sum() and len(group["colors"]) == 3 * len(local)
+        assert max(group["indices"]) < len(local) and len(group["indices"]) % 3 == 0
+        for f in range(len(phi)):
+            if group["carrier"] < 0:
+                world = local
+            else:
+                at = placement[f, data["carriers"].index(group["carrier"])]
+                world = local @ quaternion_rotation(at[3:]).T + at[:3]
+            assert np.allclose(world, expected[f][mine], atol=5e-5)
+    assert sum(len(g["indices"]) for g in data["groups"]) == 3 * meshes.triangles
