@@ -39,6 +39,7 @@ from matplotlib.transforms import IdentityTransform
 
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, tool_rotation
+from armanim.arm.visuals import ArmMeshes
 from armanim.motion.problem import Problem
 from armanim.render.camera.bounds import goal_points
 from armanim.render.camera.framing import frame_scene
@@ -55,7 +56,7 @@ from armanim.render.overlay.triads import (
     screen_lines,
 )
 from armanim.render.paint import scenery
-from armanim.render.paint.pixels import in_pixels, make_figure
+from armanim.render.paint.pixels import composite, in_pixels, make_figure
 from armanim.render.paint.style import (
     BASE_SCALE,
     FACE_EDGE_PX,
@@ -70,6 +71,7 @@ from armanim.render.settings import RenderSettings
 from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order
+from armanim.render.solids.robot import RobotMeshes
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
@@ -127,7 +129,8 @@ class SceneCanvas:
 
     def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
                  tips: np.ndarray | None = None, extent: np.ndarray | None = None, picture: str = "video",
-                 caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"})):
+                 caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"}),
+                 meshes: ArmMeshes | None = None):
         self.problem = problem
         self.width, self.height = (int(v) for v in settings.size)
         self.layout = scenery.frame_layout(self.width, self.height)
@@ -138,7 +141,7 @@ class SceneCanvas:
         self.rotation = camera_rotation(elevation, azimuth)
         framing = frame_scene(problem, settings, extent, self.rotation, elevation, self.layout)
         self.view, self.ppu, self.floor = framing.view, framing.ppu, framing.floor
-        self.arm = ArmSolids(problem.arm, problem.capsules, problem.half_width, self.view, self.ppu)
+        self.arm = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height))
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         obstacles = problem.obstacles
         self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if len(obstacles.boxes) + len(obstacles.rods) else None
@@ -311,7 +314,11 @@ class SceneCanvas:
         colors: list[np.ndarray] = []
         buffer = np.asarray(self.canvas.buffer_rgba())
         for k in paint_order(np.array(samples), np.array(radii)):
-            if k < len(parts):
+            if k < len(parts) and parts[k].sprite is not None:  # a mesh link's pixels cover what was painted before
+                self._flush(polys, colors)
+                polys, colors = [], []
+                composite(buffer, parts[k].sprite)
+            elif k < len(parts):
                 polys.extend(parts[k].polygons)
                 colors.append(parts[k].colors)
             else:  # a sphere's sprite covers what was painted before it
@@ -351,6 +358,10 @@ class SceneCanvas:
                 self._flush(polys, colors)
                 polys, colors = [], []
                 self.spheres.composite(buffer, [obstacles[k - moving]])
+            elif items[k].sprite is not None:
+                self._flush(polys, colors)
+                polys, colors = [], []
+                composite(buffer, items[k].sprite)
             else:
                 polys.extend(items[k].polygons)
                 colors.append(items[k].colors)
@@ -365,6 +376,15 @@ class SceneCanvas:
         self.faces.set_facecolor(color)
         self.faces.set_edgecolor(color)
         self.faces.draw(self.renderer)
+
+
+def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int]) -> ArmSolids | RobotMeshes:
+    """The arm as the pictures draw it: its visual meshes when it has some, else its capsules."""
+    if meshes is None or not meshes.triangles:
+        return ArmSolids(problem.arm, problem.capsules, problem.half_width, view, ppu)
+    index = {name: k for k, name in enumerate(meshes.links)}
+    capsule_links = np.array([index.get(name, -1) for name in problem.capsules.names], dtype=int)
+    return RobotMeshes(meshes, capsule_links, view, ppu, size)
 
 
 def _segment_goals(goals) -> list:

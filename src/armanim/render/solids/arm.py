@@ -16,6 +16,7 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.kinematics import Arm, Pose
 from armanim.render.camera.view import LIGHT, View, lambert
+from armanim.render.paint.pixels import Sprite
 from armanim.render.paint.style import (
     ARM_COLOR,
     BASE_COLOR,
@@ -55,12 +56,15 @@ class Part:
         Pixel polygons that draw it, in drawing order.
     colors : (len(polygons), 4) array
         RGBA of each polygon.
+    sprite : Sprite or None
+        Pixels drawn after the polygons (a robot link's rasterised mesh), or None.
     """
 
     samples: np.ndarray
     radius: float
     polygons: list
     colors: np.ndarray
+    sprite: Sprite | None = None
 
 
 def segment_samples(start: np.ndarray, end: np.ndarray) -> np.ndarray:
