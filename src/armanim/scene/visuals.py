@@ -23,6 +23,7 @@ import numpy as np
 
 from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
+from armanim.scene.convert import urdf_chain, urdf_mount
 from armanim.scene.urdf import Element, Robot, _parse_xml
 
 DEFAULT_RGB = (0.72, 0.74, 0.78)
@@ -273,6 +274,32 @@ def bundled_link_meshes(folder: Path) -> list[LinkMesh]:
                          arrays[f"{link}/colors"].astype(float) / 255.0) for link in links]
 
 
+def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None) -> tuple[ArmMeshes | None, list[str]]:
+    """The look of a scene's URDF arm (``arm``: a validated :class:`~armanim.scene.armmodel.ArmModel`
+    with its files read): a bundled robot's shipped meshes, or the visuals of a user's URDF
+    found under ``package_dirs`` (default: the URDF's folder and its parents), simplified to
+    about ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), placed on the arm's
+    chain as the scene mounts it; and a note per visual that could not be read. None (no meshes)
+    for an arm of links or a URDF without visuals."""
+    urdf = arm.urdf_arm if arm.is_urdf else None
+    if urdf is None or urdf.robot is None:
+        return None, []
+    notes: list[str] = []
+    if urdf.bundled is not None:
+        meshes = bundled_link_meshes(urdf.bundled.urdf.parent)
+    else:
+        folder = urdf.folder or Path(".")
+        specs = visual_specs(urdf.robot.raw, urdf.file)
+        meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append)
+    if not meshes:
+        return None, notes
+    total = sum(m.triangles for m in meshes)
+    if triangles is not None and total > triangles:
+        meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
+    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, urdf_chain(arm), urdf_mount(arm))
+    return (placed if placed.triangles else None), [f"{urdf.file}: {note}" for note in notes]
+
+
 def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The vertices ``faces`` use, each position once (files often repeat a vertex per face for
     its normals, which leaves decimation no edge to collapse), and the faces on them without
@@ -317,5 +344,5 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
     return placed_meshes(kept, carriers, offsets)
 
 
-__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
+__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "scene_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
            "mesh_path", "simplified", "visual_specs"]

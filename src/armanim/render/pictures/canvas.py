@@ -56,7 +56,7 @@ from armanim.render.overlay.triads import (
     screen_lines,
 )
 from armanim.render.paint import scenery
-from armanim.render.paint.pixels import composite, in_pixels, make_figure
+from armanim.render.paint.pixels import in_pixels, make_figure
 from armanim.render.paint.style import (
     BASE_SCALE,
     FACE_EDGE_PX,
@@ -71,7 +71,8 @@ from armanim.render.settings import RenderSettings
 from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order
-from armanim.render.solids.robot import RobotMeshes
+from armanim.render.solids.raster import draw_triangles
+from armanim.render.solids.robot import MeshesAndCapsules, RobotMeshes
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
@@ -141,7 +142,7 @@ class SceneCanvas:
         self.rotation = camera_rotation(elevation, azimuth)
         framing = frame_scene(problem, settings, extent, self.rotation, elevation, self.layout)
         self.view, self.ppu, self.floor = framing.view, framing.ppu, framing.floor
-        self.arm = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height))
+        self.arm = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height), settings.robot)
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         obstacles = problem.obstacles
         self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if len(obstacles.boxes) + len(obstacles.rods) else None
@@ -313,12 +314,15 @@ class SceneCanvas:
         polys: list[np.ndarray] = []
         colors: list[np.ndarray] = []
         buffer = np.asarray(self.canvas.buffer_rgba())
+        meshes = RasterQueue((self.width, self.height))
         for k in paint_order(np.array(samples), np.array(radii)):
-            if k < len(parts) and parts[k].sprite is not None:  # a mesh link's pixels cover what was painted before
+            if k < len(parts) and parts[k].raster is not None:  # a mesh link's pixels cover what was painted before
                 self._flush(polys, colors)
                 polys, colors = [], []
-                composite(buffer, parts[k].sprite)
-            elif k < len(parts):
+                meshes.add(parts[k].raster, buffer)
+                continue
+            meshes.flush(buffer)
+            if k < len(parts):
                 polys.extend(parts[k].polygons)
                 colors.append(parts[k].colors)
             else:  # a sphere's sprite covers what was painted before it
@@ -326,6 +330,7 @@ class SceneCanvas:
                 polys, colors = [], []
                 self.spheres.composite(buffer, [spheres[k - len(parts)]])
         self._flush(polys, colors)
+        meshes.flush(buffer)
         return bool(len(spheres))
 
     def _draw_parts_among_shapes(self, parts: list[Part], boxes: list) -> bool:
@@ -352,20 +357,23 @@ class SceneCanvas:
         polys: list[np.ndarray] = []
         colors: list[np.ndarray] = []
         buffer = np.asarray(self.canvas.buffer_rgba())
+        meshes = RasterQueue((self.width, self.height))
         for k in order:
-            sphere = k >= moving and obstacles[k - moving] < len(self.spheres)
-            if sphere:
+            if items[k].raster is not None:
+                self._flush(polys, colors)
+                polys, colors = [], []
+                meshes.add(items[k].raster, buffer)
+                continue
+            meshes.flush(buffer)
+            if k >= moving and obstacles[k - moving] < len(self.spheres):
                 self._flush(polys, colors)
                 polys, colors = [], []
                 self.spheres.composite(buffer, [obstacles[k - moving]])
-            elif items[k].sprite is not None:
-                self._flush(polys, colors)
-                polys, colors = [], []
-                composite(buffer, items[k].sprite)
             else:
                 polys.extend(items[k].polygons)
                 colors.append(items[k].colors)
         self._flush(polys, colors)
+        meshes.flush(buffer)
 
     def _flush(self, polys: list[np.ndarray], colors: list[np.ndarray]) -> None:
         """Draw the faces gathered since the last sphere, in order, as one collection."""
@@ -378,13 +386,42 @@ class SceneCanvas:
         self.faces.draw(self.renderer)
 
 
-def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int]) -> ArmSolids | RobotMeshes:
-    """The arm as the pictures draw it: its visual meshes when it has some, else its capsules."""
-    if meshes is None or not meshes.triangles:
-        return ArmSolids(problem.arm, problem.capsules, problem.half_width, view, ppu)
+class RasterQueue:
+    """Mesh parts that follow each other in the painter's order, drawn as one sprite (one
+    z-buffer: the links among themselves are then drawn as they occlude each other)."""
+
+    def __init__(self, size: tuple[int, int]):
+        self.size = size
+        self.points: np.ndarray | None = None
+        self.rgb: np.ndarray | None = None
+        self.faces: list[np.ndarray] = []
+
+    def add(self, raster: tuple[np.ndarray, np.ndarray, np.ndarray], buffer: np.ndarray) -> None:
+        """Queue one part's triangles (drawing the queue first if they are another pose's)."""
+        points, faces, rgb = raster
+        if self.points is not None and points is not self.points:
+            self.flush(buffer)
+        self.points, self.rgb = points, rgb
+        self.faces.append(faces)
+
+    def flush(self, buffer: np.ndarray) -> None:
+        """Draw the queued triangles into ``buffer``."""
+        if self.faces and self.points is not None and self.rgb is not None:
+            draw_triangles(buffer, self.points, np.concatenate(self.faces), self.rgb)
+        self.points, self.rgb, self.faces = None, None, []
+
+
+def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int],
+               look: str = "mesh") -> ArmSolids | RobotMeshes | MeshesAndCapsules:
+    """The arm as the pictures draw it (``render.robot``): its visual meshes when it has some,
+    its capsules, or both; an arm without meshes is its capsules."""
+    capsules = ArmSolids(problem.arm, problem.capsules, problem.half_width, view, ppu)
+    if meshes is None or not meshes.triangles or look == "capsules":
+        return capsules
     index = {name: k for k, name in enumerate(meshes.links)}
     capsule_links = np.array([index.get(name, -1) for name in problem.capsules.names], dtype=int)
-    return RobotMeshes(meshes, capsule_links, view, ppu, size)
+    robot = RobotMeshes(meshes, capsule_links, view, ppu, size)
+    return MeshesAndCapsules(robot, capsules) if look == "both" else robot
 
 
 def _segment_goals(goals) -> list:

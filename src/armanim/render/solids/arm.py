@@ -16,7 +16,6 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.kinematics import Arm, Pose
 from armanim.render.camera.view import LIGHT, View, lambert
-from armanim.render.paint.pixels import Sprite
 from armanim.render.paint.style import (
     ARM_COLOR,
     BASE_COLOR,
@@ -56,15 +55,17 @@ class Part:
         Pixel polygons that draw it, in drawing order.
     colors : (len(polygons), 4) array
         RGBA of each polygon.
-    sprite : Sprite or None
-        Pixels drawn after the polygons (a robot link's rasterised mesh), or None.
+    raster : (points, faces, rgb) or None
+        Triangles drawn by the rasteriser instead of polygons (a robot link's mesh): screen
+        points (V, 3), the part's faces (k, 3) into them, per-vertex colours (V, 3); parts
+        that follow each other in the painter's order and share ``points`` are drawn as one.
     """
 
     samples: np.ndarray
     radius: float
     polygons: list
     colors: np.ndarray
-    sprite: Sprite | None = None
+    raster: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
 def segment_samples(start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -153,9 +154,9 @@ class ArmSolids:
         a pair of the arm's own links close together) are tinted."""
         joints = self.view.project(pose.points)  # (n+1, 3)
         base = [] if ghost else list(self.base)
-        return base + self._links(pose, ghost, near) + self._joints(joints[:-1], ghost)
+        return base + self.links(pose, ghost, near) + self._joints(joints[:-1], ghost)
 
-    def _links(self, pose: Pose, ghost: bool, near: np.ndarray | None = None) -> list[Part]:
+    def links(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
         """One prism per capsule, its back faces culled."""
         link = self.capsules.link
         verts = self.view.project(prism_world(pose, self.prism_local, link))  # (c, V, 3)

@@ -44,20 +44,90 @@ def fill_samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, x0: flo
             continue
         if area < 0.0:  # either winding: b and c swapped
             b, c, bx, by, cx, cy, area = c, b, cx, cy, bx, by, -area
+        inverse = 1.0 / area
         j0, j1 = max(int(math.ceil(min(ax, bx, cx))), 0), min(int(math.floor(max(ax, bx, cx))), cols - 1)
         i0, i1 = max(int(math.ceil(min(ay, by, cy))), 0), min(int(math.floor(max(ay, by, cy))), rows - 1)
         for i in range(i0, i1 + 1):
-            for j in range(j0, j1 + 1):
+            lo, hi = j0, j1
+            lo, hi = _row_span(lo, hi, i, bx, by, cx - bx, cy - by)
+            lo, hi = _row_span(lo, hi, i, cx, cy, ax - cx, ay - cy)
+            lo, hi = _row_span(lo, hi, i, ax, ay, bx - ax, by - ay)
+            for j in range(lo, hi + 1):
                 w0 = (cx - bx) * (i - by) - (cy - by) * (j - bx)  # weight of a: the edge b -> c
                 w1 = (ax - cx) * (i - cy) - (ay - cy) * (j - cx)  # of b: the edge c -> a
                 w2 = (bx - ax) * (i - ay) - (by - ay) * (j - ax)  # of c: the edge a -> b
                 if not (_inside(w0, cx - bx, cy - by) and _inside(w1, ax - cx, ay - cy) and _inside(w2, bx - ax, by - ay)):
                     continue
-                near = (w0 * points[a, 2] + w1 * points[b, 2] + w2 * points[c, 2]) / area
+                w0, w1, w2 = w0 * inverse, w1 * inverse, w2 * inverse  # barycentric weights
+                near = w0 * points[a, 2] + w1 * points[b, 2] + w2 * points[c, 2]
                 if near > depth[i, j]:
                     depth[i, j] = near
                     for k in range(3):
-                        color[i, j, k] = (w0 * rgb[a, k] + w1 * rgb[b, k] + w2 * rgb[c, k]) / area
+                        color[i, j, k] = w0 * rgb[a, k] + w1 * rgb[b, k] + w2 * rgb[c, k]
+
+
+@compiled(**_JIT)
+def resolve_samples(depth: np.ndarray, color: np.ndarray, ss: int, premultiplied: np.ndarray, clear: np.ndarray) -> None:
+    """Average each pixel's ``ss`` x ``ss`` samples: ``premultiplied`` (h, w, 3) RGB 0-255 times
+    cover and ``clear`` (h, w, 1) 1 - cover, rows top to bottom (the sample grid's rows run up)."""
+    h, w = premultiplied.shape[0], premultiplied.shape[1]
+    share = 1.0 / (ss * ss)
+    for i in range(h):
+        row = h - 1 - i
+        for j in range(w):
+            hits, r, g, b = 0, 0.0, 0.0, 0.0
+            for a in range(ss):
+                for c in range(ss):
+                    y, x = i * ss + a, j * ss + c
+                    if depth[y, x] > -np.inf:
+                        hits += 1
+                        r += color[y, x, 0]
+                        g += color[y, x, 1]
+                        b += color[y, x, 2]
+            premultiplied[row, j, 0] = min(r * share, 1.0) * 255.0  # (interpolation may round a hair past 1)
+            premultiplied[row, j, 1] = min(g * share, 1.0) * 255.0
+            premultiplied[row, j, 2] = min(b * share, 1.0) * 255.0
+            clear[row, j, 0] = 1.0 - hits * share
+
+
+@compiled(**_JIT)
+def blend_samples(depth: np.ndarray, color: np.ndarray, ss: int, buffer: np.ndarray, top: int, left: int) -> None:
+    """Average each pixel's ``ss`` x ``ss`` samples and lay them over ``buffer`` (H, W, 4 uint8,
+    rows top to bottom) at row ``top``, column ``left`` (the sample grid's rows run up): a pixel
+    covered by a share c of its samples becomes its old colour times 1 - c plus theirs, as
+    :func:`armanim.render.paint.pixels.composite` lays a sprite."""
+    h, w = depth.shape[0] // ss, depth.shape[1] // ss
+    share = 1.0 / (ss * ss)
+    for i in range(h):
+        row = top + h - 1 - i
+        for j in range(w):
+            hits, r, g, b = 0, 0.0, 0.0, 0.0
+            for a in range(ss):
+                for c in range(ss):
+                    y, x = i * ss + a, j * ss + c
+                    if depth[y, x] > -np.inf:
+                        hits += 1
+                        r += color[y, x, 0]
+                        g += color[y, x, 1]
+                        b += color[y, x, 2]
+            if hits == 0:
+                continue
+            keep = 1.0 - hits * share
+            for k, v in ((0, r), (1, g), (2, b)):
+                buffer[row, left + j, k] = np.uint8(buffer[row, left + j, k] * keep + min(v * share, 1.0) * 255.0 + 0.5)
+
+
+@compiled(inline="always", **_JIT)
+def _row_span(lo: int, hi: int, i: int, px: float, py: float, dx: float, dy: float) -> tuple[int, int]:
+    """The columns [lo, hi] of row ``i`` narrowed to where the edge from (px, py) along (dx, dy)
+    can leave a sample inside (its weight dx (i - py) - dy (j - px) not below 0), a column wider
+    each side than the algebra says so that rounding never drops one (the exact test decides)."""
+    c = dx * (i - py) + dy * px
+    if dy > 0.0:
+        return lo, min(hi, int(math.floor(c / dy)) + 1)
+    if dy < 0.0:
+        return max(lo, int(math.ceil(c / dy)) - 1), hi
+    return (lo, hi) if c >= 0.0 else (lo, lo - 1)
 
 
 @compiled(inline="always", **_JIT)
@@ -84,22 +154,44 @@ def triangle_sprite(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size
     ((slice(1, 3, None), slice(1, 3, None)), [[1.0, 1.0], [1.0, 1.0]])
     """
     width, height = size
-    used = points[np.unique(faces)] if len(faces) else points[:0]
-    if not len(used):
+    box = _box(points, faces, width, height)
+    if box is None:
         return None
-    x0, y0 = max(int(np.floor(used[:, 0].min())), 0), max(int(np.floor(used[:, 1].min())), 0)
-    x1, y1 = min(int(np.ceil(used[:, 0].max())), width), min(int(np.ceil(used[:, 1].max())), height)
-    if x1 <= x0 or y1 <= y0:
-        return None
-    depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf)
+    x0, y0, x1, y1 = box
+    h, w = y1 - y0, x1 - x0
+    depth = np.full((h * ss, w * ss), -np.inf)
     color = np.zeros(depth.shape + (3,))
     fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
                  np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
-    h, w = y1 - y0, x1 - x0
-    cover = np.isfinite(depth).reshape(h, ss, w, ss).mean(axis=(1, 3))[::-1]  # rows top to bottom
-    premultiplied = color.reshape(h, ss, w, ss, 3).mean(axis=(1, 3))[::-1] * 255.0
-    rows = slice(height - y1, height - y0)
-    return rows, slice(x0, x1), premultiplied.astype(np.float32), (1.0 - cover)[..., None].astype(np.float32)
+    premultiplied, clear = np.empty((h, w, 3), dtype=np.float32), np.empty((h, w, 1), dtype=np.float32)
+    resolve_samples(depth, color, ss, premultiplied, clear)
+    return slice(height - y1, height - y0), slice(x0, x1), premultiplied, clear
 
 
-__all__ = ["SUPERSAMPLE", "fill_samples", "triangle_sprite"]
+def draw_triangles(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb: np.ndarray,
+                   ss: int = SUPERSAMPLE) -> None:
+    """Draw triangles straight into a frame ``buffer`` (H, W, 4 uint8): what
+    :func:`triangle_sprite` draws, composited, without the sprite in between."""
+    height, width = buffer.shape[:2]
+    box = _box(points, faces, width, height)
+    if box is None:
+        return
+    x0, y0, x1, y1 = box
+    depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf, dtype=np.float32)
+    color = np.empty(depth.shape + (3,), dtype=np.float32)
+    fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
+                 np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
+    blend_samples(depth, color, ss, buffer, height - y1, x0)
+
+
+def _box(points: np.ndarray, faces: np.ndarray, width: int, height: int) -> tuple[int, int, int, int] | None:
+    """The pixels (x0, y0, x1, y1; y up) the triangles' corners span inside the frame, or None."""
+    if not len(faces):
+        return None
+    corners = points[faces.ravel(), :2]
+    x0, y0 = max(int(np.floor(corners[:, 0].min())), 0), max(int(np.floor(corners[:, 1].min())), 0)
+    x1, y1 = min(int(np.ceil(corners[:, 0].max())), width), min(int(np.ceil(corners[:, 1].max())), height)
+    return (x0, y0, x1, y1) if x1 > x0 and y1 > y0 else None
+
+
+__all__ = ["SUPERSAMPLE", "blend_samples", "draw_triangles", "fill_samples", "resolve_samples", "triangle_sprite"]

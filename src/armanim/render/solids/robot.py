@@ -10,16 +10,17 @@ capsules, from a segment and a radius that bound the link (computed once from it
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from armanim.arm.kinematics import Pose
 from armanim.arm.visuals import ArmMeshes, mesh_vertices
 from armanim.render.camera.view import View, lambert
 from armanim.render.paint.style import GHOST_FADE, SELF_NEAR_COLOR
-from armanim.render.solids.arm import Part, segment_samples
-from armanim.render.solids.raster import triangle_sprite
+from armanim.render.solids.arm import ArmSolids, Part, segment_samples
 
-NEAR_TINT = 0.55
+NEAR_TINT = 0.4
 """How far a link in a close pair of the arm's own links is tinted toward the warning colour."""
 
 
@@ -51,25 +52,19 @@ class RobotMeshes:
 
     def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
         """One part per link: its sprite, and the segment and radius that order it."""
-        world = mesh_vertices(self.meshes, pose)
-        screen = self.view.project(world)
-        shade = self._shades(pose, ghost)
-        tinted = self._tinted_links(near)
+        screen = self.view.project(mesh_vertices(self.meshes, pose))
+        rgb = self._shades(pose, ghost)
+        for k in self._tinted_links(near):
+            used = self.meshes.faces[self.link_faces[k]].ravel()
+            rgb[used] = rgb[used] * (1 - NEAR_TINT) + np.asarray(SELF_NEAR_COLOR) * NEAR_TINT
         parts = []
         for k, faces in enumerate(self.link_faces):
             tri = self.meshes.faces[faces]
-            facing = _signed_areas(screen, tri) > 0.0
-            rgb = shade
-            if k in tinted:
-                rgb = shade.copy()
-                used = tri.ravel()
-                rgb[used] = rgb[used] * (1 - NEAR_TINT) + np.asarray(SELF_NEAR_COLOR) * NEAR_TINT
-            sprite = triangle_sprite(screen, tri[facing], rgb, self.size)
             start, end, radius = self.bounds[k]
-            carrier = self.meshes.carrier[tri[0, 0]] if len(tri) else -1
-            ends = self.view.project(_placed(np.array([start, end]), pose, int(carrier)))
+            carrier = int(self.meshes.carrier[tri[0, 0]]) if len(tri) else -1
+            ends = self.view.project(_placed(np.array([start, end]), pose, carrier))
             parts.append(Part(samples=segment_samples(ends[0], ends[1]), radius=radius * self.ppu, polygons=[],
-                              colors=np.zeros((0, 4)), sprite=sprite))
+                              colors=np.zeros((0, 4)), raster=(screen, tri[_signed_areas(screen, tri) > 0.0], rgb)))
         return parts
 
     def _shades(self, pose: Pose, ghost: bool) -> np.ndarray:
@@ -87,6 +82,23 @@ class RobotMeshes:
         if near is None:
             return set()
         return {int(k) for k in self.capsule_links[near] if k >= 0}
+
+
+CAPSULE_ALPHA = 0.35
+"""Opacity of the capsules drawn over the meshes (``render.robot: both``)."""
+
+
+class MeshesAndCapsules:
+    """The robot as it looks with its capsules translucent over it (``render.robot: both``)."""
+
+    def __init__(self, meshes: RobotMeshes, capsules: ArmSolids):
+        self.meshes, self.capsules = meshes, capsules
+
+    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
+        """The links' meshes and the capsules, each capsule's colours at :data:`CAPSULE_ALPHA`."""
+        capsules = [replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), CAPSULE_ALPHA)]))
+                    for p in self.capsules.links(pose, ghost, near)]
+        return self.meshes.parts(pose, ghost, near) + capsules
 
 
 def vertex_normals(meshes: ArmMeshes) -> np.ndarray:
@@ -128,4 +140,4 @@ def _signed_areas(screen: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
 
-__all__ = ["RobotMeshes", "bounding_segment", "vertex_normals"]
+__all__ = ["CAPSULE_ALPHA", "MeshesAndCapsules", "RobotMeshes", "bounding_segment", "vertex_normals"]

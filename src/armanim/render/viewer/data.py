@@ -239,7 +239,7 @@ def viewer_data(
     if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
         data["orientation"] = oriented
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
-        data["meshes"] = mesh_entries(meshes, pose, decimals)
+        data["meshes"] = mesh_entries(meshes, pose, decimals) | {"look": settings.robot}
     return data
 
 

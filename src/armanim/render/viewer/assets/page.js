@@ -460,9 +460,13 @@
   slider.addEventListener("input", () => setFrame(slider.value));
   $("shells").addEventListener("change", (ev) => { shells.forEach((s) => { s.visible = ev.target.checked; }); st.dirty = true; });
   $("trail").addEventListener("change", (ev) => { trail.visible = ev.target.checked; st.dirty = true; });
-  const showCapsules = (on) => { links.forEach((c) => { c.visible = on; }); joints.forEach((j) => { j.visible = on; }); base.visible = on || !D.meshes; };
+  // with meshes, the capsules alone are toggled (the mesh shows the joints and the base)
+  const showCapsules = (on) => { links.forEach((c) => { c.visible = on; }); joints.forEach((j) => { j.visible = !D.meshes; }); base.visible = !D.meshes; };
   if (D.meshes) {
-    showCapsules(false);  // the robot as it looks; the capsules (what clearance is measured on) on demand
+    const both = D.meshes.look === "both";  // render.robot: the capsules translucent over the meshes
+    if (both) for (const m of [armMat, nearMat]) { m.transparent = true; m.opacity = 0.35; m.depthWrite = false; }
+    showCapsules(both);  // else the robot as it looks; the capsules (what clearance is measured on) on demand
+    $("capsules").checked = both;
     $("capsules").addEventListener("change", (ev) => { showCapsules(ev.target.checked); st.dirty = true; });
   } else $("capsules").parentElement.hidden = true;
   function step(by) { if (st.playing) pause(); setFrame(st.frame + by); }

@@ -15,7 +15,7 @@ from armanim.scene.urdf import chain_joints, read_urdf
 from armanim.scene.visuals import DEFAULT_RGB, chain_meshes, link_meshes, simplified, visual_specs
 
 trimesh = pytest.importorskip("trimesh")
-ROBOTS = Path(__file__).resolve().parent.parent / "src" / "armanim" / "arm" / "robots"
+ROBOTS = Path(__file__).resolve().parents[2] / "src" / "armanim" / "arm" / "robots"
 
 
 def _probe_meshes(robot, points: np.ndarray) -> list[LinkMesh]:
