@@ -164,7 +164,9 @@ def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) ->
         return run, ()
     width, height = settings.size
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
-    meshes, notes = scene_meshes(scene.model.arm, triangles=budget)
+    arm = scene.model.arm
+    dirs = [scene.path.parent / d for d in arm.package_dirs] if arm.package_dirs else None
+    meshes, notes = scene_meshes(arm, dirs, triangles=budget)
     return replace(run, meshes=meshes), tuple(notes)
 
 

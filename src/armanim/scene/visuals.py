@@ -30,6 +30,9 @@ DEFAULT_RGB = (0.72, 0.74, 0.78)
 """The colour of a visual that names none (a light grey, as RViz draws one)."""
 TRIANGLE_BUDGET = 60_000
 """Most triangles drawn for one robot: the renderer draws every one each frame."""
+WELD = 1e-3
+"""Vertices closer than this share of their mesh's size are one (0.4 mm on a UR5 link): COLLADA
+exports repeat a vertex with rounding apart, and decimation cannot collapse an edge between copies."""
 MAX_MESH_BYTES = 64 * 1024 * 1024
 """Largest mesh file read (the Panda's largest COLLADA is 1.7 MB, a detailed arm's 23 MB in all)."""
 
@@ -302,15 +305,19 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
 
 def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The vertices ``faces`` use, each position once (files often repeat a vertex per face for
-    its normals, which leaves decimation no edge to collapse), and the faces on them without
-    the ones that become degenerate.
+    its normals, or nearly: which leaves decimation no edge to collapse), vertices within
+    :data:`WELD` of the mesh's size taken as one, and the faces on them without the ones that
+    become degenerate.
 
     >>> v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
     >>> points, faces = welded(v, np.array([[0, 1, 2], [3, 5, 4]]))
     >>> len(points), faces.tolist()
     (4, [[0, 2, 1], [2, 3, 1]])
     """
-    points, inverse = np.unique(np.round(vertices, 9), axis=0, return_inverse=True)
+    span = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 1.0
+    cells = np.round(vertices / (WELD * span if span > 0 else 1.0))
+    _, first, inverse = np.unique(cells, axis=0, return_index=True, return_inverse=True)
+    points = vertices[first]
     faces = inverse.reshape(-1)[faces]
     good = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
     used, local = np.unique(faces[good], return_inverse=True)

@@ -157,7 +157,7 @@ class SceneCanvas:
         legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids),
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
                                          hidden_by="a sphere" if self.shapes is None else "an obstacle",
-                                         goals=bool(len(problem.goals)))
+                                         goals=bool(len(problem.goals)), robot=not isinstance(self.arm, ArmSolids))
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
         self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
