@@ -22,6 +22,8 @@ PlannerMode = Literal["auto", "off"]
 """``solver.planner``: plan a way out of a stall, or keep the pure local method."""
 
 VideoFormat = Literal["mp4", "gif"]
+RobotLook = Literal["mesh", "capsules", "both"]
+"""How a robot with visual meshes is drawn (``render.robot``)."""
 """``render.format``."""
 
 MissReason = Literal[

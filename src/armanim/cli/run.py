@@ -9,7 +9,7 @@ from typing import Annotated
 
 import typer
 
-from armanim.cli.app import app, err, handle_errors, print_notes, say
+from armanim.cli.app import app, err, handle_errors, message_lines, print_notes, say
 from armanim.cli.interrupts import ignore_until_exit
 from armanim.cli.options import JobsOpt, QualityOpt, QuietOpt, SchedulerOpt, render_overrides, usable_jobs
 from armanim.cli.progress import bars
@@ -79,6 +79,8 @@ def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, job
     ignore_until_exit()  # the outputs are in place: the run has succeeded, whatever comes now
     if not quiet:
         print_notes(result.scene)
+        for note in result.notes:
+            say(message_lines("note: " + note), err)
         print_goal_table(result)
     if strict and result.solution.reached < len(result.solution.goals):
         print_missed_goals(result, path)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from armanim.arm.visuals import ArmMeshes
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
 
@@ -36,6 +37,9 @@ class SolvedRun:
     rate_notes : tuple of str
         The scene's joint rate limits above the robot's own
         (:func:`armanim.scene.checks.rate_note_lines`), for summary.json.
+    meshes : ArmMeshes or None
+        How the robot looks (its URDF's visual meshes, placed on the arm's frames), for the
+        pictures; None: it is drawn as its capsules.
     """
 
     name: str
@@ -44,6 +48,7 @@ class SolvedRun:
     scene_file: str = ""
     sha256: str = ""
     rate_notes: tuple[str, ...] = ()
+    meshes: ArmMeshes | None = None
 
     @property
     def trajectory(self) -> Trajectory:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from armanim.names import VideoFormat
+from armanim.names import RobotLook, VideoFormat
 
 
 @dataclass(frozen=True)
@@ -37,6 +37,9 @@ class RenderSettings:
         Draw the tip's path.
     format : str
         ``"mp4"`` or ``"gif"``.
+    robot : str
+        How a robot with visual meshes is drawn: ``"mesh"`` (as it looks), ``"capsules"`` (the
+        shapes every clearance is measured on) or ``"both"`` (the capsules translucent over it).
     """
 
     size: tuple[int, int]
@@ -45,6 +48,7 @@ class RenderSettings:
     bounds: np.ndarray | None
     trail: bool
     format: VideoFormat
+    robot: RobotLook = "mesh"
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@ A silent, importable API: progress is a callback, nothing is printed here.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from armanim.errors import OutputError, UsageError
@@ -27,6 +27,7 @@ from armanim.runs.resample import resample_run, resampled_frames
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.limits import rate_note_lines
 from armanim.scene.models import LIMITS
+from armanim.scene.visuals import scene_meshes
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve", "plan" (a plan's path search, in iterations,
@@ -47,6 +48,8 @@ class RunResult:
     files : dict[str, Path]
         Written outputs by kind: ``scene``, ``robot`` (a copy of a user's URDF), ``trajectory``, ``summary``, ``viewer``, ``video``, ``plot``, ``poster``.
     summary : dict
+    notes : tuple of str
+        What the pictures could not show as asked (a robot mesh that could not be read).
     """
 
     scene: LoadedScene
@@ -55,6 +58,7 @@ class RunResult:
     folder: Path
     files: dict[str, Path]
     summary: dict
+    notes: tuple[str, ...] = ()
 
 
 def run_scene(
@@ -96,7 +100,7 @@ def run_scene(
         produced = produce_outputs(scene, staged, video=video, viewer=viewer, jobs=jobs, render_overrides=render_overrides,
                                    progress=progress)
     files = {kind: folder / name for kind, name in produced.names.items()}
-    return RunResult(scene, produced.run.problem, produced.run.solution, folder, files, produced.summary)
+    return RunResult(scene, produced.run.problem, produced.run.solution, folder, files, produced.summary, produced.notes)
 
 
 @dataclass(frozen=True)
@@ -106,6 +110,7 @@ class Produced:
     run: SolvedRun
     summary: dict
     names: dict[str, str]
+    notes: tuple[str, ...] = ()
 
 
 def produce_outputs(
@@ -126,6 +131,9 @@ def produce_outputs(
     run = solve_scene(scene, output_fps(scene, render_overrides), progress)
     options = OutputOptions(settings_of(scene, render_overrides), video=video, viewer=video if viewer is None else viewer,
                             jobs=jobs)
+    notes: tuple[str, ...] = ()
+    if options.video or options.viewer:
+        run, notes = with_meshes(run, scene, options.render)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
     names.update(write_sources(scene, folder))
     write_self_collision(run.problem.self_pairs, folder / SELF_COLLISION_FILE)
@@ -140,7 +148,26 @@ def produce_outputs(
     if options.video:
         rendered = render_outputs(run, options, folder, progress=progress)
         names.update({kind: path.name for kind, path in rendered.items()})
-    return Produced(run, run_summary(run), names)
+    return Produced(run, run_summary(run), names, notes)
+
+
+MESH_TRIANGLES = 5_000
+"""Triangles of a robot drawn in a 1280 x 720 frame (in proportion to a frame's pixels, at least
+3,000): finer than a pixel's worth on screen is time spent for nothing (docs/rendering.md)."""
+
+
+def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) -> tuple[SolvedRun, tuple[str, ...]]:
+    """``run`` with its robot's look for pictures drawn with ``settings``
+    (:func:`armanim.scene.visuals.scene_meshes`; none for ``render.robot: capsules``), and a note
+    per visual mesh that could not be read (its link is drawn as its capsules)."""
+    if settings.robot == "capsules":
+        return run, ()
+    width, height = settings.size
+    budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
+    arm = scene.model.arm
+    dirs = [scene.path.parent / d for d in arm.package_dirs] if arm.package_dirs else None
+    meshes, notes = scene_meshes(arm, dirs, triangles=budget)
+    return replace(run, meshes=meshes), tuple(notes)
 
 
 def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None) -> SolvedRun:
@@ -261,7 +288,8 @@ def rerender_run(
 def redrawn(run: FinishedRun, overrides: RenderOverrides | None, jobs: int | None) -> tuple[SolvedRun, OutputOptions]:
     """A finished run as a solved run at the command's fps, and the options to draw it again."""
     solved = solved_run(run.scene, run.problem, run.solution, output_fps(run.scene, overrides))
-    return solved, OutputOptions(settings_of(run.scene, overrides), jobs=jobs)
+    settings = settings_of(run.scene, overrides)
+    return with_meshes(solved, run.scene, settings)[0], OutputOptions(settings, jobs=jobs)
 
 
 def _check_resampled_frames(trajectory, fps: float) -> None:
@@ -292,8 +320,9 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
 
     def page(folder: Path):
         run = load_run(folder)
-        solved = solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps)  # at its own rate
-        return lambda path: write_viewer(solved, OutputOptions(settings_of(run.scene, None)), path)
+        settings = settings_of(run.scene, None)
+        solved = with_meshes(solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps), run.scene, settings)[0]
+        return lambda path: write_viewer(solved, OutputOptions(settings), path)  # at its own rate
 
     return write_run_file(folder, VIEWER_FILE, out, page, replace_problem)
 

@@ -81,6 +81,12 @@ class ArmModel(Strict):
     urdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
         default=None, description="A URDF file, relative to the scene file: the arm is its chain from base_link to tip_link."
     )
+    package_dirs: Annotated[list[Annotated[str, Field(min_length=1, max_length=4096)]], Field(max_length=32)] | None = Field(
+        default=None,
+        description="Folders where the URDF's package://NAME/... meshes are found (NAME/... under one of them, or ... "
+                    "in one named NAME), relative to the scene file; default: the URDF's folder and its parents. "
+                    "For drawing only.",
+    )
     robot: Annotated[str, Field(min_length=1, max_length=100)] | None = Field(
         default=None, description="A bundled robot (armanim robots lists them): panda, ur5, iiwa."
     )
@@ -141,7 +147,7 @@ class ArmModel(Strict):
         if len(given) != 1:
             raise ValueError(f"gives {' and '.join(given) if given else 'none of links, urdf, robot'} "
                              "(expected exactly one: links for an arm of straight links, urdf for a URDF file, robot for a bundled robot)")
-        wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision") if given[0] == "links" else ("axes", "direction")
+        wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision", "package_dirs") if given[0] == "links" else ("axes", "direction")
         for name in wrong:
             if getattr(self, name) is not None:
                 kind = "an arm of links" if given[0] == "links" else "a URDF arm"

@@ -52,10 +52,15 @@ def home_degrees(arm: ArmModel) -> list[float]:
     return list(bundled.home) if bundled is not None else [0.0] * arm.joint_count
 
 
+def urdf_mount(arm: ArmModel) -> np.ndarray:
+    """(4, 4) the URDF arm's base link in the world: ``base`` and ``base_rpy`` (degrees)."""
+    zero = [0.0, 0.0, 0.0]
+    return transform(arm.base or zero, np.radians(arm.base_rpy or zero))
+
+
 def urdf_chain(arm: ArmModel) -> SerialChain:
     """The URDF arm's chain, placed by ``base`` and ``base_rpy`` and ended by ``tool``."""
-    zero = [0.0, 0.0, 0.0]
-    mount = transform(arm.base or zero, np.radians(arm.base_rpy or zero))
+    mount = urdf_mount(arm)
     tool = transform(arm.tool.xyz, np.radians(arm.tool.rpy)) if arm.tool is not None else np.eye(4)
     return serial_chain(mount, list(arm.urdf_arm.joints), tool)
 
@@ -340,6 +345,7 @@ def render_section_settings(r: RenderModel) -> RenderSettings:
         bounds=None if r.bounds == "auto" else np.array(r.bounds, dtype=float),
         trail=r.trail,
         format=r.format,
+        robot=r.robot,
     )
 
 

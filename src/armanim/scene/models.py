@@ -19,7 +19,7 @@ from pydantic import (
     model_validator,
 )
 
-from armanim.names import JacobianMode, MethodName, PlannerMode, VideoFormat
+from armanim.names import JacobianMode, MethodName, PlannerMode, RobotLook, VideoFormat
 from armanim.scene.armmodel import ArmModel
 from armanim.scene.fields import (
     LIMITS,
@@ -274,6 +274,11 @@ class RenderModel(Strict):
     )
     trail: bool = True
     format: VideoFormat = "mp4"
+    robot: RobotLook = Field(
+        default="mesh",
+        description="A robot with visual meshes drawn as it looks (mesh), as the capsules every clearance is measured on "
+                    "(capsules), or both (the capsules translucent over it). An arm of links is always its capsules.",
+    )
 
 
 class SceneModel(Strict):

@@ -8,7 +8,7 @@ radians in :mod:`armanim.scene.convert`, as every other angle does.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -171,6 +171,12 @@ class UrdfArm:
     velocities: tuple[float | None, ...] = ()
     links: tuple[str, ...] = ()
     """Every link of the URDF (names an SRDF or ``self_collision`` lists may use)."""
+    base_link: str = ""
+    tip_link: str = ""
+    robot: Robot | None = field(default=None, repr=False, compare=False)
+    """The parsed URDF (its links' visuals are drawn from it: :mod:`armanim.scene.visuals`)."""
+    folder: Path | None = None
+    """The folder of the URDF file read (mesh files are relative to it); None for a bundled robot."""
 
 
 def read_scene_files(scene: SceneModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
@@ -240,6 +246,10 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
         source=None if bundled is not None else robot.raw,
         velocities=joint_speeds(robot, moving),
         links=tuple(robot.links),
+        base_link=base,
+        tip_link=tip,
+        robot=robot,
+        folder=None if bundled is not None else path.parent,
     )
 
 

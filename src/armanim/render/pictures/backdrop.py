@@ -138,8 +138,13 @@ def draw_legend(sheet: Sheet, layout: scenery.Layout, entries: list[tuple[str, L
         sheet.text_boxes[f"legend {i}"] = tuple(text.get_window_extent(sheet.renderer).extents)
 
 
+ROBOT_LEGEND_COLOR = (0.62, 0.64, 0.68)
+"""The legend's swatch of a robot drawn with its meshes (their light grey, shaded)."""
+
+
 def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: frozenset,
-                   hidden_goal: bool, hidden_by: str = "a sphere", goals: bool = True) -> list[tuple[str, Line2D]]:
+                   hidden_goal: bool, hidden_by: str = "a sphere", goals: bool = True,
+                   robot: bool = False) -> list[tuple[str, Line2D]]:
     """(label, handle) of what a picture shows.
 
     Parameters
@@ -159,11 +164,14 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
         What hides it, in the legend: ``"a sphere"``, or ``"an obstacle"`` among boxes and capsules.
     goals : bool
         The picture has goals (``fk --png`` draws none, and names none).
+    robot : bool
+        The arm is drawn with its meshes: "robot", in the meshes' grey, names it.
     """
     marker = dict(linestyle="none", markersize=8)
-    entries = [("arm", Line2D([], [], color=ARM_COLOR, linewidth=5))]
+    name = "robot" if robot else "arm"
+    entries = [(name, Line2D([], [], color=ROBOT_LEGEND_COLOR if robot else ARM_COLOR, linewidth=5))]
     if picture == "poster":
-        entries.append(("arm on each goal", Line2D([], [], color=GHOST_COLOR, linewidth=5)))
+        entries.append((f"{name} on each goal", Line2D([], [], color=GHOST_COLOR, linewidth=5)))
     if trail and picture != "pose":
         entries.append(("tip path", Line2D([], [], color=TRAIL_COLOR, linewidth=2)))
     if obstacles:

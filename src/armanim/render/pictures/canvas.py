@@ -39,6 +39,7 @@ from matplotlib.transforms import IdentityTransform
 
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, tool_rotation
+from armanim.arm.visuals import ArmMeshes
 from armanim.motion.problem import Problem
 from armanim.render.camera.bounds import goal_points
 from armanim.render.camera.framing import frame_scene
@@ -70,6 +71,8 @@ from armanim.render.settings import RenderSettings
 from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order
+from armanim.render.solids.raster import draw_triangles
+from armanim.render.solids.robot import MeshesAndCapsules, RobotMeshes
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
@@ -127,7 +130,8 @@ class SceneCanvas:
 
     def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
                  tips: np.ndarray | None = None, extent: np.ndarray | None = None, picture: str = "video",
-                 caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"})):
+                 caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"}),
+                 meshes: ArmMeshes | None = None):
         self.problem = problem
         self.width, self.height = (int(v) for v in settings.size)
         self.layout = scenery.frame_layout(self.width, self.height)
@@ -138,7 +142,7 @@ class SceneCanvas:
         self.rotation = camera_rotation(elevation, azimuth)
         framing = frame_scene(problem, settings, extent, self.rotation, elevation, self.layout)
         self.view, self.ppu, self.floor = framing.view, framing.ppu, framing.floor
-        self.arm = ArmSolids(problem.arm, problem.capsules, problem.half_width, self.view, self.ppu)
+        self.arm = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height), settings.robot)
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         obstacles = problem.obstacles
         self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if len(obstacles.boxes) + len(obstacles.rods) else None
@@ -153,7 +157,7 @@ class SceneCanvas:
         legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids),
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
                                          hidden_by="a sphere" if self.shapes is None else "an obstacle",
-                                         goals=bool(len(problem.goals)))
+                                         goals=bool(len(problem.goals)), robot=not isinstance(self.arm, ArmSolids))
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
         self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
@@ -310,7 +314,14 @@ class SceneCanvas:
         polys: list[np.ndarray] = []
         colors: list[np.ndarray] = []
         buffer = np.asarray(self.canvas.buffer_rgba())
+        meshes = RasterQueue((self.width, self.height))
         for k in paint_order(np.array(samples), np.array(radii)):
+            if k < len(parts) and parts[k].raster is not None:  # a mesh link's pixels cover what was painted before
+                self._flush(polys, colors)
+                polys, colors = [], []
+                meshes.add(parts[k].raster, buffer)
+                continue
+            meshes.flush(buffer)
             if k < len(parts):
                 polys.extend(parts[k].polygons)
                 colors.append(parts[k].colors)
@@ -319,6 +330,7 @@ class SceneCanvas:
                 polys, colors = [], []
                 self.spheres.composite(buffer, [spheres[k - len(parts)]])
         self._flush(polys, colors)
+        meshes.flush(buffer)
         return bool(len(spheres))
 
     def _draw_parts_among_shapes(self, parts: list[Part], boxes: list) -> bool:
@@ -345,9 +357,15 @@ class SceneCanvas:
         polys: list[np.ndarray] = []
         colors: list[np.ndarray] = []
         buffer = np.asarray(self.canvas.buffer_rgba())
+        meshes = RasterQueue((self.width, self.height))
         for k in order:
-            sphere = k >= moving and obstacles[k - moving] < len(self.spheres)
-            if sphere:
+            if items[k].raster is not None:
+                self._flush(polys, colors)
+                polys, colors = [], []
+                meshes.add(items[k].raster, buffer)
+                continue
+            meshes.flush(buffer)
+            if k >= moving and obstacles[k - moving] < len(self.spheres):
                 self._flush(polys, colors)
                 polys, colors = [], []
                 self.spheres.composite(buffer, [obstacles[k - moving]])
@@ -355,6 +373,7 @@ class SceneCanvas:
                 polys.extend(items[k].polygons)
                 colors.append(items[k].colors)
         self._flush(polys, colors)
+        meshes.flush(buffer)
 
     def _flush(self, polys: list[np.ndarray], colors: list[np.ndarray]) -> None:
         """Draw the faces gathered since the last sphere, in order, as one collection."""
@@ -365,6 +384,44 @@ class SceneCanvas:
         self.faces.set_facecolor(color)
         self.faces.set_edgecolor(color)
         self.faces.draw(self.renderer)
+
+
+class RasterQueue:
+    """Mesh parts that follow each other in the painter's order, drawn as one sprite (one
+    z-buffer: the links among themselves are then drawn as they occlude each other)."""
+
+    def __init__(self, size: tuple[int, int]):
+        self.size = size
+        self.points: np.ndarray | None = None
+        self.rgb: np.ndarray | None = None
+        self.faces: list[np.ndarray] = []
+
+    def add(self, raster: tuple[np.ndarray, np.ndarray, np.ndarray], buffer: np.ndarray) -> None:
+        """Queue one part's triangles (drawing the queue first if they are another pose's)."""
+        points, faces, rgb = raster
+        if self.points is not None and points is not self.points:
+            self.flush(buffer)
+        self.points, self.rgb = points, rgb
+        self.faces.append(faces)
+
+    def flush(self, buffer: np.ndarray) -> None:
+        """Draw the queued triangles into ``buffer``."""
+        if self.faces and self.points is not None and self.rgb is not None:
+            draw_triangles(buffer, self.points, np.concatenate(self.faces), self.rgb)
+        self.points, self.rgb, self.faces = None, None, []
+
+
+def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int],
+               look: str = "mesh") -> ArmSolids | RobotMeshes | MeshesAndCapsules:
+    """The arm as the pictures draw it (``render.robot``): its visual meshes when it has some,
+    its capsules, or both; an arm without meshes is its capsules."""
+    capsules = ArmSolids(problem.arm, problem.capsules, problem.half_width, view, ppu)
+    if meshes is None or not meshes.triangles or look == "capsules":
+        return capsules
+    index = {name: k for k, name in enumerate(meshes.links)}
+    capsule_links = np.array([index.get(name, -1) for name in problem.capsules.names], dtype=int)
+    robot = RobotMeshes(meshes, capsule_links, view, ppu, size)
+    return MeshesAndCapsules(robot, capsules) if look == "both" else robot
 
 
 def _segment_goals(goals) -> list:

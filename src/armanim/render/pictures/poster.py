@@ -60,7 +60,7 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     poses = forward(problem.arm, trajectory.phi)
     last = trajectory.frames - 1
     caption = poster_caption(reports, trajectory.frames, trajectory.fps)
-    scene = SceneCanvas(problem, settings, title=run.name, tips=trajectory.tip, extent=poses.points,
+    scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=poses.points,
                         caption_template=caption, picture="poster", outcomes=goal_outcomes(reports))
     status = np.full(len(problem.goals), PENDING)
     status[: len(reports)] = [REACHED if r.reached else MISSED for r in reports]

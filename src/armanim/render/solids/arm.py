@@ -55,12 +55,17 @@ class Part:
         Pixel polygons that draw it, in drawing order.
     colors : (len(polygons), 4) array
         RGBA of each polygon.
+    raster : (points, faces, rgb) or None
+        Triangles drawn by the rasteriser instead of polygons (a robot link's mesh): screen
+        points (V, 3), the part's faces (k, 3) into them, per-vertex colours (V, 3); parts
+        that follow each other in the painter's order and share ``points`` are drawn as one.
     """
 
     samples: np.ndarray
     radius: float
     polygons: list
     colors: np.ndarray
+    raster: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
 def segment_samples(start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -149,9 +154,9 @@ class ArmSolids:
         a pair of the arm's own links close together) are tinted."""
         joints = self.view.project(pose.points)  # (n+1, 3)
         base = [] if ghost else list(self.base)
-        return base + self._links(pose, ghost, near) + self._joints(joints[:-1], ghost)
+        return base + self.links(pose, ghost, near) + self._joints(joints[:-1], ghost)
 
-    def _links(self, pose: Pose, ghost: bool, near: np.ndarray | None = None) -> list[Part]:
+    def links(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
         """One prism per capsule, its back faces culled."""
         link = self.capsules.link
         verts = self.view.project(prism_world(pose, self.prism_local, link))  # (c, V, 3)

@@ -57,7 +57,7 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     goals = len(problem.goals)
     activity = frame_activity(trajectory, reports)
     captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
-    scene = SceneCanvas(problem, settings, title=run.name, tips=trajectory.tip, extent=extent,
+    scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=extent,
                         caption_template=max(captions, key=len), outcomes=goal_outcomes(reports))
 
     def frame(f: int, pose: Pose) -> np.ndarray:

@@ -15,6 +15,8 @@ import numpy as np
 from armanim import __version__
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import forward
+from armanim.arm.rotations import rotation_quaternion
+from armanim.arm.visuals import ArmMeshes
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
@@ -166,6 +168,7 @@ def viewer_data(
     *,
     title: str,
     joint_names: Sequence[str] | None = None,
+    meshes: ArmMeshes | None = None,
 ) -> dict:
     """Everything the viewer page needs about a run, as JSON-ready values.
 
@@ -183,6 +186,8 @@ def viewer_data(
         Shown as the page's title (any text: the page escapes it).
     joint_names : sequence of str, optional
         One per joint (default ``phi1`` .. ``phiN``, the CSV's columns without ``_deg``).
+    meshes : ArmMeshes, optional
+        The robot's visual meshes: drawn instead of its capsules (a toggle shows those).
 
     Returns
     -------
@@ -233,7 +238,33 @@ def viewer_data(
     oriented = orientation_entry(problem, trajectory, decimals)
     if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
         data["orientation"] = oriented
+    if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
+        data["meshes"] = mesh_entries(meshes, pose, decimals) | {"look": settings.robot}
     return data
+
+
+def mesh_entries(meshes: ArmMeshes, pose, decimals: int) -> dict:
+    """The robot's meshes, each carrier's triangles once (vertices in its frame, RGB per vertex,
+    two decimals), and per frame where each moving carrier is: its joint's position and its
+    frame's quaternion (w, x, y, z), (F, K, 7) frame after frame. Carrier -1 (links that never
+    move) is in the world."""
+    groups = []
+    for carrier in np.unique(meshes.carrier):
+        used = np.nonzero(meshes.carrier == carrier)[0]
+        mine = np.all(meshes.carrier[meshes.faces] == carrier, axis=1)
+        local = np.full(len(meshes.vertices), -1)
+        local[used] = np.arange(len(used))
+        color = np.zeros((len(meshes.vertices), 3))
+        color[meshes.faces[mine][::-1].ravel()] = np.repeat(meshes.colors[mine][::-1], 3, axis=0)  # the first face's
+        groups.append({
+            "carrier": int(carrier),
+            "positions": rounded(meshes.vertices[used], decimals),
+            "colors": rounded(color[used], 2),
+            "indices": [int(v) for v in local[meshes.faces[mine]].ravel()],
+        })
+    moving = [int(k) for k in np.unique(meshes.carrier) if k >= 0]
+    placement = np.concatenate([pose.points[:, moving, :], rotation_quaternion(pose.frames[:, moving])], axis=-1)
+    return {"groups": groups, "carriers": moving, "frames": rounded(placement, max(decimals, 6))}
 
 
 def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int) -> dict:

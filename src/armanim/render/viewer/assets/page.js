@@ -253,6 +253,24 @@
     const b = new T.Mesh(new T.SphereGeometry(hw * S.joint_scale, 24, 16), jointMat);
     b.castShadow = true; scene.add(b); joints.push(b);
   }
+  // the robot's meshes (its URDF's visuals), when the run has them: each carrier's triangles once, moved every frame
+  const meshGroups = [];
+  if (D.meshes) {
+    const linear = (c) => (c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4));  // the data's sRGB, as three.js lights
+    const meshMat = new T.MeshPhongMaterial({ vertexColors: true, shininess: 40 });
+    for (const g of D.meshes.groups) {
+      const geo = new T.BufferGeometry();
+      geo.setAttribute("position", new T.BufferAttribute(new Float32Array(g.positions), 3));
+      geo.setAttribute("color", new T.BufferAttribute(new Float32Array(g.colors.map(linear)), 3));
+      geo.setIndex(g.indices);
+      geo.computeVertexNormals();
+      const m = new T.Mesh(geo, meshMat);
+      m.castShadow = true;
+      const holder = new T.Group();
+      holder.add(m); scene.add(holder);
+      meshGroups.push({ holder, slot: D.meshes.carriers.indexOf(g.carrier) });
+    }
+  }
   const base = new T.Mesh(new T.CylinderGeometry(hw * S.base_scale, hw * S.base_scale, 2 * hw, 32), new T.MeshPhongMaterial({ color: S.base }));
   base.rotation.x = Math.PI / 2; base.position.set(D.arm.base[0], D.arm.base[1], D.arm.base[2] - hw); base.castShadow = true;
   scene.add(base);
@@ -279,6 +297,15 @@
       links[i].material = armMat;
     }
     if (D.capsules.near) for (const i of D.capsules.near[f]) links[i].material = nearMat;
+    if (D.meshes) {
+      const K = D.meshes.carriers.length, M = D.meshes.frames;
+      for (const g of meshGroups) {
+        if (g.slot < 0) continue;  // links that never move
+        const o = (f * K + g.slot) * 7;
+        g.holder.position.set(M[o], M[o + 1], M[o + 2]);
+        g.holder.quaternion.set(M[o + 4], M[o + 5], M[o + 6], M[o + 3]);  // three.js: x, y, z, w
+      }
+    }
     trailGeo.setDrawRange(0, f + 1);
     if (O) toolFrame(f);
   }
@@ -433,6 +460,15 @@
   slider.addEventListener("input", () => setFrame(slider.value));
   $("shells").addEventListener("change", (ev) => { shells.forEach((s) => { s.visible = ev.target.checked; }); st.dirty = true; });
   $("trail").addEventListener("change", (ev) => { trail.visible = ev.target.checked; st.dirty = true; });
+  // with meshes, the capsules alone are toggled (the mesh shows the joints and the base)
+  const showCapsules = (on) => { links.forEach((c) => { c.visible = on; }); joints.forEach((j) => { j.visible = !D.meshes; }); base.visible = !D.meshes; };
+  if (D.meshes) {
+    const both = D.meshes.look === "both";  // render.robot: the capsules translucent over the meshes
+    if (both) for (const m of [armMat, nearMat]) { m.transparent = true; m.opacity = 0.35; m.depthWrite = false; }
+    showCapsules(both);  // else the robot as it looks; the capsules (what clearance is measured on) on demand
+    $("capsules").checked = both;
+    $("capsules").addEventListener("change", (ev) => { showCapsules(ev.target.checked); st.dirty = true; });
+  } else $("capsules").parentElement.hidden = true;
   function step(by) { if (st.playing) pause(); setFrame(st.frame + by); }
   window.addEventListener("keydown", (ev) => {
     const tag = ev.target && ev.target.tagName;

@@ -1,0 +1,143 @@
+"""The robot as it looks: each link's visual mesh as one part of the painter's order.
+
+Each link's triangles are placed by the pose (:func:`armanim.arm.visuals.mesh_vertices`),
+projected, the ones facing away dropped, shaded per vertex (one light plus ambient, as the
+capsules are) and drawn into a sprite by the z-buffer rasteriser
+(:mod:`armanim.render.solids.raster`): within a link the nearest surface wins each pixel; between
+links, obstacles and the arm's other parts the painter's order decides, as it does for the
+capsules, from a segment and a radius that bound the link (computed once from its vertices).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from armanim.arm.kinematics import Pose
+from armanim.arm.visuals import ArmMeshes, mesh_vertices
+from armanim.render.camera.view import View, lambert
+from armanim.render.paint.style import GHOST_FADE, SELF_NEAR_COLOR
+from armanim.render.solids.arm import ArmSolids, Part, segment_samples
+
+NEAR_TINT = 0.4
+"""How far a link in a close pair of the arm's own links is tinted toward the warning colour."""
+
+
+class RobotMeshes:
+    """The robot's links as the camera sees them, pose by pose.
+
+    Parameters
+    ----------
+    meshes : ArmMeshes
+    capsule_links : (c,) int array
+        The link (index into ``meshes.links``) of each of the arm's capsules, -1 for none: a
+        link is tinted when one of its capsules is in a close pair.
+    view : View
+    ppu : float
+        Pixels per world unit.
+    size : (int, int)
+        The frame's width and height in pixels.
+    """
+
+    def __init__(self, meshes: ArmMeshes, capsule_links: np.ndarray, view: View, ppu: float, size: tuple[int, int]):
+        self.meshes, self.view, self.ppu, self.size = meshes, view, ppu, size
+        self.capsule_links = capsule_links
+        self.link_faces = [np.flatnonzero(meshes.part == k) for k in range(len(meshes.links))]
+        self.normals = vertex_normals(meshes)
+        vertex_color = np.zeros((len(meshes.vertices), 3))
+        vertex_color[meshes.faces.ravel()] = np.repeat(meshes.colors, 3, axis=0)
+        self.vertex_color = vertex_color
+        self.bounds = [bounding_segment(meshes.vertices[np.unique(meshes.faces[f])]) for f in self.link_faces]
+
+    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
+        """One part per link: its sprite, and the segment and radius that order it."""
+        screen = self.view.project(mesh_vertices(self.meshes, pose))
+        rgb = self._shades(pose, ghost)
+        for k in self._tinted_links(near):
+            used = self.meshes.faces[self.link_faces[k]].ravel()
+            rgb[used] = rgb[used] * (1 - NEAR_TINT) + np.asarray(SELF_NEAR_COLOR) * NEAR_TINT
+        parts = []
+        for k, faces in enumerate(self.link_faces):
+            tri = self.meshes.faces[faces]
+            start, end, radius = self.bounds[k]
+            carrier = int(self.meshes.carrier[tri[0, 0]]) if len(tri) else -1
+            ends = self.view.project(_placed(np.array([start, end]), pose, carrier))
+            parts.append(Part(samples=segment_samples(ends[0], ends[1]), radius=radius * self.ppu, polygons=[],
+                              colors=np.zeros((0, 4)), raster=(screen, tri[_signed_areas(screen, tri) > 0.0], rgb)))
+        return parts
+
+    def _shades(self, pose: Pose, ghost: bool) -> np.ndarray:
+        """(V, 3) each vertex's colour lit by the light at ``pose`` (its normal turned by its carrier)."""
+        moving = self.meshes.carrier >= 0
+        normals = self.normals.copy()
+        if np.any(moving):
+            normals[moving] = np.einsum("vab,vb->va", pose.frames[self.meshes.carrier[moving]], self.normals[moving])
+        screen = self.view.screen_normals(normals)
+        rgb = lambert(screen, np.ones(3)) * self.vertex_color
+        return rgb * (1 - GHOST_FADE) + GHOST_FADE if ghost else rgb
+
+    def _tinted_links(self, near: np.ndarray | None) -> set[int]:
+        """The links with a capsule in a close pair."""
+        if near is None:
+            return set()
+        return {int(k) for k in self.capsule_links[near] if k >= 0}
+
+
+CAPSULE_ALPHA = 0.35
+"""Opacity of the capsules drawn over the meshes (``render.robot: both``)."""
+
+
+class MeshesAndCapsules:
+    """The robot as it looks with its capsules translucent over it (``render.robot: both``)."""
+
+    def __init__(self, meshes: RobotMeshes, capsules: ArmSolids):
+        self.meshes, self.capsules = meshes, capsules
+
+    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
+        """The links' meshes and the capsules, each capsule's colours at :data:`CAPSULE_ALPHA`."""
+        capsules = [replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), CAPSULE_ALPHA)]))
+                    for p in self.capsules.links(pose, ghost, near)]
+        return self.meshes.parts(pose, ghost, near) + capsules
+
+
+def vertex_normals(meshes: ArmMeshes) -> np.ndarray:
+    """(V, 3) unit normals, each the area-weighted mean of its faces' (in the carrier's frame)."""
+    v = meshes.vertices
+    a, b, c = (v[meshes.faces[:, i]] for i in range(3))
+    face = np.cross(b - a, c - a)  # length: twice the area
+    out = np.zeros_like(v)
+    for i in range(3):
+        np.add.at(out, meshes.faces[:, i], face)
+    length = np.linalg.norm(out, axis=1, keepdims=True)
+    return np.divide(out, length, out=np.zeros_like(out), where=length > 0)
+
+
+def bounding_segment(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """A segment along ``points``' (k, 3) longest spread and the radius around it that holds them
+    all: the link as the painter's order sees it."""
+    if not len(points):
+        return np.zeros(3), np.zeros(3), 0.0
+    center = points.mean(axis=0)
+    _, _, axes = np.linalg.svd(points - center, full_matrices=False)
+    along = (points - center) @ axes[0]
+    start, end = center + along.min() * axes[0], center + along.max() * axes[0]
+    t = np.clip(along - along.min(), 0.0, None)[:, None] / max(float(np.ptp(along)), 1e-12)
+    radius = float(np.linalg.norm(points - (start + t * (end - start)), axis=1).max())
+    return start, end, radius
+
+
+def _placed(points: np.ndarray, pose: Pose, carrier: int) -> np.ndarray:
+    """``points`` (k, 3) in joint ``carrier``'s frame (the world for -1) placed at ``pose``."""
+    if carrier < 0:
+        return points
+    return pose.points[carrier] + points @ pose.frames[carrier].T
+
+
+def _signed_areas(screen: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(k,) twice the signed screen area of each triangle (positive: counter-clockwise, facing the camera)."""
+    a, b, c = (screen[tri[:, i], :2] for i in range(3))
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+__all__ = ["CAPSULE_ALPHA", "MeshesAndCapsules", "RobotMeshes", "bounding_segment", "vertex_normals"]

@@ -1,0 +1,355 @@
+"""A URDF's ``<visual>`` elements, read for drawing the robot (never for clearance).
+
+Each link's visuals (meshes in STL, OBJ or COLLADA with their ``scale``; ``box``, ``cylinder`` and
+``sphere`` shapes) are read with trimesh (pycollada for COLLADA), placed by their ``<origin>``
+in the link's frame, and coloured: a COLLADA file keeps the materials it was authored with,
+any other visual takes its URDF ``<material>`` colour (named inline or at the top of the file),
+else :data:`DEFAULT_RGB`. A robot of more than :data:`TRIANGLE_BUDGET` triangles is simplified
+(quadric decimation, fast-simplification), each link in proportion to its share.
+
+Mesh files are found as ROS users expect: ``package://NAME/rest`` in ``NAME/rest`` under any
+of ``package_dirs`` (or ``rest`` under a folder of those named ``NAME``), ``file://`` as a path,
+anything else relative to the URDF's folder. A visual that cannot be read is left out with a
+warning naming the link and the file (its link is then drawn as its capsules); never an error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from armanim.arm.chain import SerialChain, transform
+from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
+from armanim.scene.convert import urdf_chain, urdf_mount
+from armanim.scene.urdf import Element, Robot, _parse_xml
+
+DEFAULT_RGB = (0.72, 0.74, 0.78)
+"""The colour of a visual that names none (a light grey, as RViz draws one)."""
+TRIANGLE_BUDGET = 60_000
+"""Most triangles drawn for one robot: the renderer draws every one each frame."""
+WELD = 1e-3
+"""Vertices closer than this share of their mesh's size are one (0.4 mm on a UR5 link): COLLADA
+exports repeat a vertex with rounding apart, and decimation cannot collapse an edge between copies."""
+MAX_MESH_BYTES = 64 * 1024 * 1024
+"""Largest mesh file read (the Panda's largest COLLADA is 1.7 MB, a detailed arm's 23 MB in all)."""
+
+
+@dataclass(frozen=True)
+class VisualSpec:
+    """One ``<visual>`` as the URDF writes it.
+
+    Attributes
+    ----------
+    link : str
+    origin : (4, 4) array
+        The visual's frame in its link's.
+    kind : str
+        ``mesh``, ``box``, ``cylinder`` or ``sphere``.
+    filename : str or None
+        A mesh's ``filename`` as written.
+    scale : (3,) tuple of float
+        A mesh's ``scale`` (1 1 1 when not given).
+    size : tuple of float
+        box (x, y, z); cylinder (radius, length); sphere (radius,).
+    rgb : (3,) tuple of float or None
+        Its ``<material>`` colour, if it names one with a colour.
+    line : int
+    """
+
+    link: str
+    origin: np.ndarray
+    kind: str
+    filename: str | None
+    scale: tuple[float, ...]
+    size: tuple[float, ...]
+    rgb: tuple[float, float, float] | None
+    line: int
+
+
+def visual_specs(raw: bytes, file: str) -> list[VisualSpec]:
+    """Every ``<visual>`` of every link, in file order (the bytes were parsed as a URDF before,
+    so only what drawing needs is read here; a visual it cannot use is skipped).
+
+    >>> specs = visual_specs(b'<robot name="r"><material name="red"><color rgba="1 0 0 1"/></material>'
+    ...     b'<link name="a"><visual><origin xyz="0 0 1"/><geometry><box size="1 2 3"/></geometry>'
+    ...     b'<material name="red"/></visual></link></robot>', "r.urdf")
+    >>> [(s.link, s.kind, s.size, s.rgb, float(s.origin[2, 3])) for s in specs]
+    [('a', 'box', (1.0, 2.0, 3.0), (1.0, 0.0, 0.0), 1.0)]
+    """
+    root = _parse_xml(raw, file)
+    named = {m.attrib.get("name"): _rgb(m) for m in root.findall("material")}
+    specs = []
+    for link in root.findall("link"):
+        for visual in link.findall("visual"):
+            spec = _visual(link.attrib.get("name", ""), visual, named)
+            if spec is not None:
+                specs.append(spec)
+    return specs
+
+
+def _visual(link: str, el: Element, named: dict) -> VisualSpec | None:
+    """One visual's spec, or None when its geometry is missing or unreadable."""
+    geometry = el.find("geometry")
+    shape = geometry.children[0] if geometry is not None and geometry.children else None
+    if shape is None or shape.tag not in ("mesh", "box", "cylinder", "sphere"):
+        return None
+    origin = el.find("origin")
+    try:
+        xyz, rpy = (_floats(origin.attrib.get(k, "0 0 0") if origin is not None else "0 0 0", 3) for k in ("xyz", "rpy"))
+        scale = _floats(shape.attrib.get("scale", "1 1 1"), 3) if shape.tag == "mesh" else (1.0, 1.0, 1.0)
+        keys = {"mesh": (), "box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",)}[shape.tag]
+        size = tuple(v for k in keys for v in _floats(shape.attrib[k], 3 if k == "size" else 1))
+    except (KeyError, ValueError):
+        return None
+    material = el.find("material")
+    rgb = None
+    if material is not None:
+        rgb = _rgb(material) or named.get(material.attrib.get("name"))
+    return VisualSpec(link, transform(xyz, rpy), shape.tag, shape.attrib.get("filename"), scale, size, rgb, el.line)
+
+
+def _floats(text: str, count: int) -> tuple[float, ...]:
+    """``count`` finite numbers from a space-separated attribute."""
+    values = tuple(float(v) for v in text.split())
+    if len(values) != count or not all(np.isfinite(values)):
+        raise ValueError(text)
+    return values
+
+
+def _rgb(material: Element) -> tuple[float, float, float] | None:
+    """A ``<material>``'s ``<color rgba>`` as RGB in 0..1, or None."""
+    color = material.find("color")
+    try:
+        rgba = _floats(color.attrib["rgba"], 4) if color is not None else None
+    except (KeyError, ValueError):
+        return None
+    return None if rgba is None else tuple(float(np.clip(v, 0.0, 1.0)) for v in rgba[:3])  # type: ignore[return-value]
+
+
+def mesh_path(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Path | None:
+    """Where a mesh ``filename`` is: ``package://NAME/rest`` under ``package_dirs`` (``NAME/rest``
+    in one of them, or ``rest`` in one named ``NAME``), ``file://`` a path, else relative to
+    ``urdf_dir``; None when no such file exists.
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     (Path(d) / "pkg" / "meshes").mkdir(parents=True)
+    ...     _ = (Path(d) / "pkg" / "meshes" / "a.stl").write_bytes(b"")
+    ...     found = mesh_path("package://pkg/meshes/a.stl", Path(d) / "x", [Path(d)])
+    ...     str(found.relative_to(d))
+    'pkg/meshes/a.stl'
+    """
+    if filename.startswith("package://"):
+        name, _, rest = filename[len("package://"):].partition("/")
+        for folder in package_dirs:
+            for candidate in (folder / name / rest, folder / rest if folder.name == name else None):
+                if candidate is not None and candidate.is_file():
+                    return candidate
+        return None
+    path = Path(filename[len("file://"):]) if filename.startswith("file://") else urdf_dir / filename
+    return path if path.is_file() else None
+
+
+def default_package_dirs(urdf_dir: Path) -> list[Path]:
+    """The URDF's folder and each of its parents, nearest first (where a ROS package's
+    ``package://`` names usually resolve)."""
+    folder = urdf_dir.resolve()
+    return [folder, *folder.parents]
+
+
+def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path],
+                warn: Callable[[str], None], budget: int | None = TRIANGLE_BUDGET) -> list[LinkMesh]:
+    """Each link's visuals as one :class:`LinkMesh` in its frame (links in the order they come),
+    simplified to ``budget`` triangles in all (None: as read); a visual that cannot be read is
+    left out and ``warn`` told why."""
+    parts: dict[str, list[LinkMesh]] = {}
+    for spec in specs:
+        mesh = _spec_mesh(spec, urdf_dir, package_dirs, warn)
+        if mesh is not None and mesh.triangles:
+            parts.setdefault(spec.link, []).append(mesh)
+    meshes = [_joined(link, pieces) for link, pieces in parts.items()]
+    total = sum(m.triangles for m in meshes)
+    if budget is not None and total > budget:
+        meshes = [simplified(m, max(12, int(m.triangles * budget / total))) for m in meshes]
+    return meshes
+
+
+def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn: Callable[[str], None]) -> LinkMesh | None:
+    """One visual's triangles in its link's frame, or None (and a warning) when unreadable."""
+    import trimesh
+
+    if spec.kind == "mesh":
+        path = mesh_path(spec.filename or "", urdf_dir, package_dirs)
+        if path is None:
+            warn(f"link {spec.link!r}: mesh {spec.filename!r} not found (line {spec.line}; set arm.package_dirs "
+                 "to the folders its package:// names live in): drawn as its capsules")
+            return None
+        try:
+            if path.stat().st_size > MAX_MESH_BYTES:
+                raise ValueError(f"larger than {MAX_MESH_BYTES // 2**20} MB")
+            mesh = _file_mesh(spec, path)
+        except Exception as error:  # a user's file: any reader error is a warning, never a failed run
+            warn(f"link {spec.link!r}: mesh {str(path)!r} could not be read ({type(error).__name__}: {error}): "
+                 "drawn as its capsules")
+            return None
+    else:
+        shape = {"box": lambda: trimesh.creation.box(extents=spec.size),
+                 "cylinder": lambda: trimesh.creation.cylinder(radius=spec.size[0], height=spec.size[1], sections=24),
+                 "sphere": lambda: trimesh.creation.icosphere(subdivisions=2, radius=spec.size[0])}[spec.kind]()
+        mesh = LinkMesh(spec.link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
+                        np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)))
+    vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
+    return LinkMesh(spec.link, vertices, mesh.faces, mesh.colors)
+
+
+def _file_mesh(spec: VisualSpec, path: Path) -> LinkMesh:
+    """A mesh file's triangles, scaled, in the visual's frame, coloured as the module says."""
+    import trimesh
+
+    scene = trimesh.load(str(path), force="scene")
+    own = path.suffix.lower() == ".dae"  # COLLADA carries authored materials; STL and OBJ take the URDF's colour
+    vertices, faces, colors, start = [], [], [], 0
+    for geometry in scene.dump():  # every geometry node placed by the file's own transforms (cameras left out)
+        if not hasattr(geometry, "faces") or not len(geometry.faces):
+            continue
+        rgb = _mesh_rgb(geometry) if own else None
+        vertices.append(np.asarray(geometry.vertices, dtype=float) * np.asarray(spec.scale))
+        faces.append(np.asarray(geometry.faces, dtype=int) + start)
+        colors.append(np.tile(rgb or spec.rgb or DEFAULT_RGB, (len(geometry.faces), 1)))
+        start += len(geometry.vertices)
+    if not faces:
+        raise ValueError("no triangles")
+    flip = np.prod(spec.scale) < 0  # a mirroring scale turns every triangle inside out
+    faces_all = np.concatenate(faces)
+    return LinkMesh(spec.link, np.concatenate(vertices), faces_all[:, ::-1] if flip else faces_all, np.concatenate(colors))
+
+
+def _mesh_rgb(geometry) -> tuple[float, float, float] | None:
+    """A trimesh geometry's own main colour (RGB 0..1), or None."""
+    visual = geometry.visual
+    material = getattr(visual, "material", None)
+    color = getattr(material, "main_color", None) if material is not None else None
+    if color is None and getattr(visual, "kind", None) in ("face", "vertex"):
+        color = np.asarray(visual.face_colors).mean(axis=0)
+    return None if color is None else tuple(float(v) / 255.0 for v in np.asarray(color)[:3])  # type: ignore[return-value]
+
+
+def _joined(link: str, pieces: list[LinkMesh]) -> LinkMesh:
+    """One link's visuals as one mesh."""
+    offsets = np.cumsum([0] + [len(p.vertices) for p in pieces])[:-1]
+    return LinkMesh(link, np.concatenate([p.vertices for p in pieces]),
+                    np.concatenate([p.faces + o for p, o in zip(pieces, offsets)]),
+                    np.concatenate([p.colors for p in pieces]))
+
+
+def simplified(mesh: LinkMesh, triangles: int) -> LinkMesh:
+    """``mesh`` decimated to about ``triangles`` (fast-simplification's quadric edge collapse),
+    one colour at a time so that the colours' borders stay; unchanged when it has no more."""
+    if mesh.triangles <= triangles:
+        return mesh
+    import fast_simplification
+
+    pieces = []
+    colors, which = np.unique(np.round(mesh.colors, 4), axis=0, return_inverse=True)
+    for c, rgb in enumerate(colors):
+        points, kept = welded(mesh.vertices, mesh.faces[which.reshape(-1) == c])
+        share = max(4, int(round(triangles * len(kept) / mesh.triangles)))
+        points, kept = points.astype(np.float32), kept.astype(np.int32)
+        if len(kept) > share:
+            points, kept = fast_simplification.simplify(points, kept, target_reduction=1.0 - share / len(kept))
+        pieces.append(LinkMesh(mesh.link, np.asarray(points, dtype=float), np.asarray(kept, dtype=int),
+                               np.tile(rgb, (len(kept), 1))))
+    return _joined(mesh.link, pieces)
+
+
+def bundled_link_meshes(folder: Path) -> list[LinkMesh]:
+    """A bundled robot's simplified visual meshes (``visual.npz`` in its ``folder``, written by
+    tools/bundle_meshes.py), each in its link's frame; none when the robot ships none."""
+    path = folder / "visual.npz"
+    if not path.is_file():
+        return []
+    with np.load(path) as arrays:
+        links = dict.fromkeys(key.split("/")[0] for key in arrays.files)  # in the file's order
+        return [LinkMesh(link, arrays[f"{link}/vertices"].astype(float), arrays[f"{link}/faces"].astype(int),
+                         arrays[f"{link}/colors"].astype(float) / 255.0) for link in links]
+
+
+def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None) -> tuple[ArmMeshes | None, list[str]]:
+    """The look of a scene's URDF arm (``arm``: a validated :class:`~armanim.scene.armmodel.ArmModel`
+    with its files read): a bundled robot's shipped meshes, or the visuals of a user's URDF
+    found under ``package_dirs`` (default: the URDF's folder and its parents), simplified to
+    about ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), placed on the arm's
+    chain as the scene mounts it; and a note per visual that could not be read. None (no meshes)
+    for an arm of links or a URDF without visuals."""
+    urdf = arm.urdf_arm if arm.is_urdf else None
+    if urdf is None or urdf.robot is None:
+        return None, []
+    notes: list[str] = []
+    if urdf.bundled is not None:
+        meshes = bundled_link_meshes(urdf.bundled.urdf.parent)
+    else:
+        folder = urdf.folder or Path(".")
+        specs = visual_specs(urdf.robot.raw, urdf.file)
+        meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append)
+    if not meshes:
+        return None, notes
+    total = sum(m.triangles for m in meshes)
+    if triangles is not None and total > triangles:
+        meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
+    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, urdf_chain(arm), urdf_mount(arm))
+    return (placed if placed.triangles else None), [f"{urdf.file}: {note}" for note in notes]
+
+
+def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices ``faces`` use, each position once (files often repeat a vertex per face for
+    its normals, or nearly: which leaves decimation no edge to collapse), vertices within
+    :data:`WELD` of the mesh's size taken as one, and the faces on them without the ones that
+    become degenerate.
+
+    >>> v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    >>> points, faces = welded(v, np.array([[0, 1, 2], [3, 5, 4]]))
+    >>> len(points), faces.tolist()
+    (4, [[0, 2, 1], [2, 3, 1]])
+    """
+    span = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 1.0
+    cells = np.round(vertices / (WELD * span if span > 0 else 1.0))
+    _, first, inverse = np.unique(cells, axis=0, return_index=True, return_inverse=True)
+    points = vertices[first]
+    faces = inverse.reshape(-1)[faces]
+    good = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
+    used, local = np.unique(faces[good], return_inverse=True)
+    return points[used], local.reshape(-1, 3)
+
+
+def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chain: SerialChain,
+                 mount: np.ndarray) -> ArmMeshes:
+    """The links' meshes placed on the chain's frames: a link on the path from ``base`` to
+    ``tip`` on its carrier, the base link where the chain is mounted, and a link hanging off
+    the path (a gripper below the tip) where its joints' zero puts it below the nearest link on
+    the path. ``mount`` (4, 4) is the base link's frame in the world. Links not below the base
+    (a ``world`` link above it) are not drawn."""
+    path = robot.path(base, tip)
+    place = {base: (-1, np.asarray(mount, dtype=float))}
+    for i, joint in enumerate(path):
+        place[joint.child] = (chain.carriers[i], np.asarray(chain.link_offsets[i]))
+    up = robot.parent_joint
+    kept, carriers, offsets = [], [], []
+    for mesh in meshes:
+        link, hang = mesh.link, np.eye(4)
+        while link not in place and link in up:
+            hang = up[link].origin @ hang
+            link = up[link].parent
+        if link not in place:
+            continue
+        carrier, offset = place[link]
+        kept.append(mesh)
+        carriers.append(carrier)
+        offsets.append(offset @ hang)
+    return placed_meshes(kept, carriers, offsets)
+
+
+__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "scene_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
+           "mesh_path", "simplified", "visual_specs"]

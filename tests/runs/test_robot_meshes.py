@@ -1,0 +1,85 @@
+"""A run draws its robot with the URDF's meshes (issue 38): found under package_dirs, a missing
+one a note (never a failed run), render.robot choosing the look, the bundled robots' own."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+trimesh = pytest.importorskip("trimesh")
+
+URDF = """<?xml version="1.0"?>
+<robot name="two">
+  <link name="base"><visual><geometry><mesh filename="package://two_description/meshes/base.stl"/></geometry></visual></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="2"/></joint>
+  <link name="l1">
+    <visual><origin xyz="0 0 0.15"/><geometry><box size="0.05 0.05 0.3"/></geometry><material name="red"><color rgba="0.8 0.1 0.1 1"/></material></visual>
+    <collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.03" length="0.3"/></geometry></collision>
+  </link>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="2"/></joint>
+  <link name="l2">
+    <visual><geometry><mesh filename="package://two_description/meshes/gone.stl"/></geometry></visual>
+    <collision><origin xyz="0 0 0.1"/><geometry><cylinder radius="0.03" length="0.2"/></geometry></collision>
+  </link>
+  <joint name="tip" type="fixed"><parent link="l2"/><child link="hand"/><origin xyz="0 0 0.2"/></joint>
+  <link name="hand"/>
+</robot>
+"""
+
+
+def _scene(tmp_path: Path, look: str = "mesh", package_dirs: str = "[pkgs]") -> Path:
+    (tmp_path / "pkgs" / "two_description" / "meshes").mkdir(parents=True, exist_ok=True)
+    trimesh.creation.cylinder(radius=0.08, height=0.1, sections=24).export(tmp_path / "pkgs" / "two_description" / "meshes" / "base.stl")
+    (tmp_path / "robots").mkdir(exist_ok=True)
+    (tmp_path / "robots" / "two.urdf").write_text(URDF)
+    scene = tmp_path / "two.yaml"
+    scene.write_text(f"version: 1\narm: {{urdf: robots/two.urdf, package_dirs: {package_dirs}}}\n"
+                     f"goals:\n  - [0.2, 0.1, 0.4]\nrender: {{size: [160, 120], fps: 10, robot: {look}}}\n")
+    return scene
+
+
+def _viewer_data(page: Path) -> dict:
+    text = page.read_text()
+    return json.loads(re.search(r'<script type="application/json" id="armanim-data">(.*?)</script>', text, re.S).group(1))
+
+
+def test_a_users_urdf_is_drawn_with_its_meshes_and_a_missing_one_is_a_note(cli, tmp_path):
+    result = cli("run", str(_scene(tmp_path)), "--out", str(tmp_path / "out"), "--no-video", "--viewer")
+    assert result.exit_code == 0, result.output
+    assert "note:" in result.stderr and "'l2'" in result.stderr and "gone.stl" in result.stderr, result.stderr
+    assert "arm.package_dirs" in result.stderr and "Traceback" not in result.output
+    data = _viewer_data(tmp_path / "out" / "two" / "viewer.html")
+    triangles = sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3
+    assert triangles == 12 + 24 * 4  # the box and the STL cylinder (24 sections: 4 triangles each)
+    assert data["meshes"]["look"] == "mesh"
+
+
+def test_without_the_package_dirs_the_meshes_are_notes_and_capsules_draw_the_robot(cli, tmp_path):
+    result = cli("run", str(_scene(tmp_path, package_dirs="[elsewhere]")), "--out", str(tmp_path / "out"), "--no-video",
+                 "--viewer")
+    assert result.exit_code == 0, result.output
+    assert result.stderr.count("note:") == 2  # base.stl and gone.stl: the box alone is drawn as a mesh
+    data = _viewer_data(tmp_path / "out" / "two" / "viewer.html")
+    assert sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3 == 12
+
+
+def test_render_robot_capsules_reads_no_mesh(cli, tmp_path):
+    result = cli("run", str(_scene(tmp_path, look="capsules")), "--out", str(tmp_path / "out"), "--no-video", "--viewer")
+    assert result.exit_code == 0, result.output
+    assert "note:" not in result.stderr
+    assert "meshes" not in _viewer_data(tmp_path / "out" / "two" / "viewer.html")
+
+
+def test_a_bundled_robot_brings_its_own_meshes_and_the_poster_draws_them(cli, tmp_path):
+    scene = tmp_path / "panda.yaml"
+    scene.write_text("version: 1\narm: {robot: panda}\ngoals:\n  - [0.5, 0.2, 0.4]\nrender: {size: [160, 120], fps: 5}\n")
+    result = cli("run", str(scene), "--out", str(tmp_path / "out"), "--jobs", "1")
+    assert result.exit_code == 0, result.output
+    data = _viewer_data(tmp_path / "out" / "panda" / "viewer.html")
+    assert len(data["meshes"]["groups"]) == 8  # the base and seven joints' links (the hand rides on the seventh)
+    assert (tmp_path / "out" / "panda" / "poster.png").stat().st_size > 0

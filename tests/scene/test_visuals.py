@@ -1,0 +1,166 @@
+"""The robot's look (issue 38): a URDF's <visual> meshes and shapes read, coloured and placed on
+the chain's frames, checked against pinocchio's frame placements and trimesh's own geometry."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armanim.arm.chain import serial_chain, transform
+from armanim.arm.kinematics import forward
+from armanim.arm.visuals import LinkMesh, mesh_vertices
+from armanim.scene.urdf import chain_joints, read_urdf
+from armanim.scene.visuals import DEFAULT_RGB, chain_meshes, link_meshes, simplified, visual_specs
+
+trimesh = pytest.importorskip("trimesh")
+ROBOTS = Path(__file__).resolve().parents[2] / "src" / "armanim" / "arm" / "robots"
+
+
+def _probe_meshes(robot, points: np.ndarray) -> list[LinkMesh]:
+    """One mesh per link of the URDF whose vertices are ``points`` (k, 3) in the link's frame."""
+    return [LinkMesh(name, points, np.zeros((0, 3), dtype=int), np.zeros((0, 3))) for name in robot.links]
+
+
+@pytest.mark.parametrize("name, base, tip", [("panda", "panda_link0", "panda_hand_tcp"), ("ur5", "base_link", "tool0"),
+                                             ("iiwa", "lbr_iiwa_link_0", "lbr_iiwa_link_7")])
+def test_every_links_frame_is_where_pinocchio_puts_it(name, base, tip):
+    """A point fixed in each link's frame lands where pinocchio's frame placement of that link puts it,
+    for the links on the arm's path, the base and the links hanging below the tip (the Panda's
+    hand and fingers, at their joints' zero)."""
+    pin = pytest.importorskip("pinocchio")
+    urdf = ROBOTS / name / f"{name}.urdf"
+    robot = read_urdf(urdf)
+    mount = transform([0.1, -0.2, 0.05], [0.0, 0.0, 0.3])
+    chain = serial_chain(mount, chain_joints(robot, base, tip), np.eye(4))
+    points = np.array([[0.0, 0.0, 0.0], [0.1, -0.2, 0.3]])
+    placed = chain_meshes(_probe_meshes(robot, points), robot, base, tip, chain, mount)
+    model = pin.buildModelFromUrdf(str(urdf))
+    data = model.createData()
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        phi = rng.uniform(-1.5, 1.5, chain.arm.n)
+        q = pin.neutral(model)
+        for k, joint in enumerate(chain.arm.joint_names):
+            q[model.joints[model.getJointId(joint)].idx_q] = phi[k]
+        pin.framesForwardKinematics(model, data, q)
+        world = mesh_vertices(placed, forward(chain.arm, phi)).reshape(len(placed.links), len(points), 3)
+        for i, link in enumerate(placed.links):
+            frame = data.oMf[model.getFrameId(link)]
+            expected = (mount[:3, :3] @ (frame.rotation @ points.T + frame.translation[:, None])).T + mount[:3, 3]
+            assert np.allclose(world[i], expected, atol=1e-12), link
+    assert base in placed.links and tip in placed.links
+    if name == "panda":
+        assert {"panda_hand", "panda_leftfinger", "panda_rightfinger"} <= set(placed.links)
+
+
+def _urdf(tmp_path: Path, visuals: str) -> Path:
+    path = tmp_path / "r.urdf"
+    path.write_text(f'<robot name="r"><material name="blue"><color rgba="0 0 1 1"/></material>'
+                    f'<link name="a">{visuals}</link></robot>')
+    return path
+
+
+def _read(path: Path, package_dirs=()):
+    warnings: list[str] = []
+    meshes = link_meshes(visual_specs(path.read_bytes(), str(path)), path.parent, list(package_dirs), warnings.append)
+    return meshes, warnings
+
+
+@pytest.mark.parametrize("suffix", ["stl", "obj", "dae"])
+def test_a_mesh_file_is_read_scaled_and_placed_by_its_origin(tmp_path, suffix):
+    box = trimesh.creation.box(extents=[1.0, 2.0, 3.0])
+    box.export(tmp_path / f"box.{suffix}")
+    path = _urdf(tmp_path, f'<visual><origin xyz="1 0 0" rpy="0 0 1.5707963267948966"/><geometry>'
+                           f'<mesh filename="box.{suffix}" scale="2 1 1"/></geometry><material name="blue"/></visual>')
+    (mesh,), warnings = _read(path)
+    assert not warnings and mesh.link == "a" and mesh.triangles == 12
+    lo, hi = mesh.vertices.min(axis=0), mesh.vertices.max(axis=0)
+    # scaled to 2 x 2 x 3, turned 90 degrees about z (x <-> y), moved 1 along x
+    assert np.allclose(hi - lo, [2.0, 2.0, 3.0]) and np.allclose((hi + lo) / 2, [1.0, 0.0, 0.0])
+    if suffix != "dae":  # COLLADA keeps its own material; the others take the URDF's colour
+        assert np.allclose(mesh.colors, [0.0, 0.0, 1.0])
+
+
+def test_the_shapes_are_their_sizes_and_a_colourless_one_is_grey(tmp_path):
+    path = _urdf(tmp_path, '<visual><geometry><box size="1 2 3"/></geometry></visual>'
+                           '<visual><origin xyz="0 0 5"/><geometry><sphere radius="0.5"/></geometry></visual>'
+                           '<visual><origin xyz="0 0 -5"/><geometry><cylinder radius="0.25" length="2"/></geometry>'
+                           '<material name="x"><color rgba="1 0 0 1"/></material></visual>')
+    (mesh,), _ = _read(path)
+    z = mesh.vertices[:, 2]
+    assert np.isclose(z.max(), 5.5) and np.isclose(z.min(), -6.0)
+    assert np.allclose(np.ptp(mesh.vertices[np.abs(z) <= 1.5], axis=0), [1.0, 2.0, 3.0])
+    reds = np.all(np.isclose(mesh.colors, [1.0, 0.0, 0.0]), axis=1)
+    assert reds.any() and np.allclose(mesh.colors[~reds], DEFAULT_RGB)
+
+
+def test_package_names_resolve_under_the_package_dirs_and_a_missing_file_is_a_warning(tmp_path):
+    (tmp_path / "pkgs" / "arm_description" / "meshes").mkdir(parents=True)
+    trimesh.creation.box().export(tmp_path / "pkgs" / "arm_description" / "meshes" / "a.stl")
+    path = _urdf(tmp_path, '<visual><geometry><mesh filename="package://arm_description/meshes/a.stl"/></geometry></visual>'
+                           '<visual><geometry><mesh filename="package://arm_description/meshes/gone.stl"/></geometry></visual>'
+                           '<visual><geometry><mesh filename="broken.stl"/></geometry></visual>')
+    (tmp_path / "broken.stl").write_bytes(b"solid nothing here\nthis is not an STL")
+    (mesh,), warnings = _read(path, [tmp_path / "pkgs"])
+    assert mesh.triangles == 12
+    assert len(warnings) == 2
+    assert "gone.stl" in warnings[0] and "'a'" in warnings[0] and "arm.package_dirs" in warnings[0]
+    assert "broken.stl" in warnings[1]
+    _, unresolved = _read(path, [])
+    assert len(unresolved) == 3
+
+
+def test_simplifying_keeps_the_budget_the_colours_and_the_shape():
+    sphere = trimesh.creation.icosphere(subdivisions=4)  # 5,120 triangles
+    colors = np.where(sphere.triangles_center[:, 2:3] > 0, [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    mesh = LinkMesh("a", np.asarray(sphere.vertices), np.asarray(sphere.faces), colors)
+    small = simplified(mesh, 500)
+    assert 400 <= small.triangles <= 600
+    assert {tuple(c) for c in small.colors} == {(1.0, 0.0, 0.0), (0.0, 0.0, 1.0)}
+    radius = np.linalg.norm(small.vertices, axis=1)
+    assert 0.95 < radius.min() and radius.max() < 1.02  # quadric collapse keeps the surface within 2 %
+
+
+def _panda_meshes():
+    from armanim.scene.visuals import bundled_link_meshes
+
+    robot = read_urdf(ROBOTS / "panda" / "panda.urdf")
+    chain = serial_chain(np.eye(4), chain_joints(robot, "panda_link0", "panda_hand_tcp"), np.eye(4))
+    return chain, chain_meshes(bundled_link_meshes(ROBOTS / "panda"), robot, "panda_link0", "panda_hand_tcp", chain, np.eye(4))
+
+
+def test_the_bundled_panda_has_every_link_its_hand_and_fingers_within_budget():
+    _, meshes = _panda_meshes()
+    assert meshes.links == ("panda_link0", *(f"panda_link{k}" for k in range(1, 8)), "panda_hand", "panda_leftfinger",
+                            "panda_rightfinger")
+    assert 5_000 <= meshes.triangles <= 15_000
+    assert np.all((meshes.colors >= 0) & (meshes.colors <= 1)) and len(np.unique(meshes.colors, axis=0)) >= 2
+
+
+def test_the_viewer_data_places_every_vertex_where_the_kinematics_does():
+    """Rebuilt from the page's data as the page does (each group's vertices turned by its carrier's
+    quaternion and moved to its joint), every vertex is where mesh_vertices puts it, to the data's rounding."""
+    from armanim.arm.rotations import quaternion_rotation
+    from armanim.render.viewer.data import mesh_entries
+
+    chain, meshes = _panda_meshes()
+    phi = np.random.default_rng(3).uniform(-1.5, 1.5, (4, chain.arm.n))
+    pose = forward(chain.arm, phi)
+    data = mesh_entries(meshes, pose, 5)
+    expected = mesh_vertices(meshes, pose)
+    placement = np.reshape(data["frames"], (len(phi), len(data["carriers"]), 7))
+    for group in data["groups"]:
+        local = np.reshape(group["positions"], (-1, 3))
+        mine = meshes.carrier == group["carrier"]
+        assert len(local) == mine.sum() and len(group["colors"]) == 3 * len(local)
+        assert max(group["indices"]) < len(local) and len(group["indices"]) % 3 == 0
+        for f in range(len(phi)):
+            if group["carrier"] < 0:
+                world = local
+            else:
+                at = placement[f, data["carriers"].index(group["carrier"])]
+                world = local @ quaternion_rotation(at[3:]).T + at[:3]
+            assert np.allclose(world, expected[f][mine], atol=5e-5)
+    assert sum(len(g["indices"]) for g in data["groups"]) == 3 * meshes.triangles
