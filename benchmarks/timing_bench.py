@@ -28,7 +28,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from armanim.arm.geometry import wrap_angle  # noqa: E402
-from armanim.motion.clock import joint_path  # noqa: E402
+from armanim.motion.jointpath import joint_path  # noqa: E402
 from armanim.motion.retime import retime  # noqa: E402
 from armanim.motion.trajectory import hold_frames, solve_trajectory  # noqa: E402
 from armanim.scene import load_scene, scene_model, scene_to_problem  # noqa: E402

@@ -23,15 +23,8 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.motion.clock import (
-    JointPath,
-    Motion,
-    jerk_limited_motion,
-    joint_path,
-    sampled_motion,
-    time_optimal,
-    unwrapped,
-)
+from armanim.motion.clock import Motion, jerk_limited_motion, sampled_motion, time_optimal
+from armanim.motion.jointpath import JointPath, joint_path, unwrapped
 
 
 @dataclass(frozen=True)

@@ -76,7 +76,7 @@ def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndar
     """Fill ``out`` (k, n) with the piecewise cubic Hermite path through ``poses`` (m, n) with
     ``slopes`` (m, n) at ``knots`` (m,), or its ``derivative`` (0 to 3) in s, at ``s`` (k,); each
     point in the step it falls in (from the right at a knot), as
-    :meth:`armanim.motion.clock.JointPath.evaluate` defines it."""
+    :meth:`armanim.motion.jointpath.JointPath.evaluate` defines it."""
     for i in range(len(s)):
         k = _step(knots, s[i])
         t = (s[i] - knots[k]) / (knots[k + 1] - knots[k])
@@ -176,27 +176,34 @@ def interval_bounds(d1: np.ndarray, d2: np.ndarray, h: np.ndarray, fractions: np
                 hi_b[i, col], hi_k[i, col] = np.inf, 0.0
             else:
                 hi_b[i, col], hi_k[i, col] = v2 / reach, -1 / reach
-        x = cap if cap < np.inf else 1e300
-        for _ in range(hi_b.shape[1] + lo_b.shape[1]):  # a concave piecewise-linear gap: a few steps
-            low, p = -np.inf, -1
-            for q in range(lo_b.shape[1]):
-                value = lo_b[i, q] + lo_k[i, q] * x
-                if value > low:
-                    low, p = value, q
-            high, r = np.inf, -1
-            for q in range(hi_b.shape[1]):
-                value = hi_b[i, q] + hi_k[i, q] * x
-                if value < high:
-                    high, r = value, q
-            gap = high - low
-            if gap >= 0 or p < 0 or r < 0:
-                break
-            slope = hi_k[i, r] - lo_k[i, p]
-            if slope >= 0:
-                x = 0.0
-                break
-            step = max(x - gap / slope, 0.0)
-            if step == x:  # at the root up to rounding: the gap stays a hair below 0 where x can no longer move
-                break
-            x = step
+        x = _largest_feasible(lo_b[i], lo_k[i], hi_b[i], hi_k[i], cap if cap < np.inf else 1e300)
         x_cap[i] = x
+
+
+@compiled(inline="always", **_JIT)
+def _largest_feasible(lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray, x: float) -> float:
+    """The largest x at most ``x`` where every lower bound lo_b + lo_k x stays below every upper
+    bound hi_b + hi_k x: Newton's method from the right on their gap (concave, piecewise linear:
+    a few steps)."""
+    for _ in range(len(hi_b) + len(lo_b)):
+        low, p = -np.inf, -1
+        for q in range(len(lo_b)):
+            value = lo_b[q] + lo_k[q] * x
+            if value > low:
+                low, p = value, q
+        high, r = np.inf, -1
+        for q in range(len(hi_b)):
+            value = hi_b[q] + hi_k[q] * x
+            if value < high:
+                high, r = value, q
+        gap = high - low
+        if gap >= 0 or p < 0 or r < 0:
+            break
+        slope = hi_k[r] - lo_k[p]
+        if slope >= 0:
+            return 0.0
+        step = max(x - gap / slope, 0.0)
+        if step == x:  # at the root up to rounding: the gap stays a hair below 0 where x can no longer move
+            break
+        x = step
+    return float(x)

@@ -99,6 +99,44 @@ def drawable_problem(table: TrajectoryTable, goals: int) -> Diagnostic | None:
     return None
 
 
+def _read_trajectory(csv_path: Path, problem: Problem) -> Trajectory:
+    """A run's trajectory.csv as the :class:`Trajectory` it was written from (angles in radians;
+    the self gaps are measured again from the angles)."""
+    table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
+    if table.n_joints != problem.arm.n:
+        raise SceneError(str(csv_path), [Diagnostic("", f"has {table.n_joints} joints, the scene's arm has {problem.arm.n}")])
+    problem_found = drawable_problem(table, len(problem.goals))
+    if problem_found is not None:
+        raise SceneError(str(csv_path), [problem_found])
+    clearance = table.column("clearance")
+    frames = len(table.data)
+    angle, quaternions = frame_orientations(
+        problem.arm, [g.orientation for g in problem.goals], np.radians(table.angles_deg), table.column("goal").astype(int)
+    )
+    if "orientation_error_deg" in table.columns and angle is not None:
+        angle = np.radians(table.column("orientation_error_deg"))
+    if all(c in table.columns for c in ("qw", "qx", "qy", "qz")):
+        quaternions = np.stack([table.column(c) for c in ("qw", "qx", "qy", "qz")], axis=1)
+    speeds = velocity_columns(problem.arm.n)
+    velocity = np.radians(np.stack([table.column(c) for c in speeds], axis=1)) if all(
+        c in table.columns for c in speeds) else None  # a run from before the clock has none
+    return Trajectory(
+        phi=np.radians(table.angles_deg),
+        tip=np.stack([table.column(c) for c in ("x", "y", "z")], axis=1),
+        goal=table.column("goal").astype(int),
+        distance=table.column("goal_distance"),
+        clearance=np.where(np.isnan(clearance), np.inf, clearance),
+        reached=table.column("reached") == 1,
+        iterations=table.column("iterations").astype(int) if "iterations" in table.columns else np.zeros(frames, int),
+        step_scale=table.column("step_scale") if "step_scale" in table.columns else np.ones(frames),
+        fps=problem.fps,
+        mode=table.text.get("mode"),
+        orientation_error=angle,
+        tool_quaternion=quaternions,
+        velocity=velocity,
+    )
+
+
 def load_run(folder: str | Path) -> FinishedRun:
     """Read a run folder written by ``armanim run``.
 
@@ -123,39 +161,5 @@ def load_run(folder: str | Path) -> FinishedRun:
         raise SceneError(str(folder / SCENE_COPY), [Diagnostic("", f"is not the scene this run solved (sha256 {scene.sha256[:12]}..., "
                                                                   f"summary.json records {str(recorded)[:12]}...): run armanim run again")])
     problem = scene_to_problem(scene.model, fps=_run_fps(summary, scene))
-    csv_path = folder / "trajectory.csv"
-    table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
-    if table.n_joints != problem.arm.n:
-        raise SceneError(str(csv_path), [Diagnostic("", f"has {table.n_joints} joints, the scene's arm has {problem.arm.n}")])
-    problem_found = drawable_problem(table, len(problem.goals))
-    if problem_found is not None:
-        raise SceneError(str(csv_path), [problem_found])
-    clearance = table.column("clearance")
-    frames = len(table.data)
-    angle, quaternions = frame_orientations(
-        problem.arm, [g.orientation for g in problem.goals], np.radians(table.angles_deg), table.column("goal").astype(int)
-    )
-    if "orientation_error_deg" in table.columns and angle is not None:
-        angle = np.radians(table.column("orientation_error_deg"))
-    if all(c in table.columns for c in ("qw", "qx", "qy", "qz")):
-        quaternions = np.stack([table.column(c) for c in ("qw", "qx", "qy", "qz")], axis=1)
-    speeds = velocity_columns(problem.arm.n)
-    velocity = np.radians(np.stack([table.column(c) for c in speeds], axis=1)) if all(
-        c in table.columns for c in speeds) else None  # a run from before the clock has none
-    traj = Trajectory(
-        phi=np.radians(table.angles_deg),
-        tip=np.stack([table.column(c) for c in ("x", "y", "z")], axis=1),
-        goal=table.column("goal").astype(int),
-        distance=table.column("goal_distance"),
-        clearance=np.where(np.isnan(clearance), np.inf, clearance),
-        reached=table.column("reached") == 1,
-        iterations=table.column("iterations").astype(int) if "iterations" in table.columns else np.zeros(frames, int),
-        step_scale=table.column("step_scale") if "step_scale" in table.columns else np.ones(frames),
-        fps=problem.fps,
-        mode=table.text.get("mode"),
-        orientation_error=angle,
-        tool_quaternion=quaternions,
-        velocity=velocity,
-    )
-    traj = with_self_clearance(problem, traj)  # measured again from the angles (the pictures tint near pairs)
+    traj = with_self_clearance(problem, _read_trajectory(folder / "trajectory.csv", problem))  # the pictures tint near pairs
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json")))

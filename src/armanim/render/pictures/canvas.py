@@ -71,8 +71,7 @@ from armanim.render.settings import RenderSettings
 from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order
-from armanim.render.solids.raster import draw_triangles
-from armanim.render.solids.robot import MeshesAndCapsules, RobotMeshes
+from armanim.render.solids.robot import RasterQueue, arm_solids
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
@@ -384,44 +383,6 @@ class SceneCanvas:
         self.faces.set_facecolor(color)
         self.faces.set_edgecolor(color)
         self.faces.draw(self.renderer)
-
-
-class RasterQueue:
-    """Mesh parts that follow each other in the painter's order, drawn as one sprite (one
-    z-buffer: the links among themselves are then drawn as they occlude each other)."""
-
-    def __init__(self, size: tuple[int, int]):
-        self.size = size
-        self.points: np.ndarray | None = None
-        self.rgb: np.ndarray | None = None
-        self.faces: list[np.ndarray] = []
-
-    def add(self, raster: tuple[np.ndarray, np.ndarray, np.ndarray], buffer: np.ndarray) -> None:
-        """Queue one part's triangles (drawing the queue first if they are another pose's)."""
-        points, faces, rgb = raster
-        if self.points is not None and points is not self.points:
-            self.flush(buffer)
-        self.points, self.rgb = points, rgb
-        self.faces.append(faces)
-
-    def flush(self, buffer: np.ndarray) -> None:
-        """Draw the queued triangles into ``buffer``."""
-        if self.faces and self.points is not None and self.rgb is not None:
-            draw_triangles(buffer, self.points, np.concatenate(self.faces), self.rgb)
-        self.points, self.rgb, self.faces = None, None, []
-
-
-def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int],
-               look: str = "mesh") -> ArmSolids | RobotMeshes | MeshesAndCapsules:
-    """The arm as the pictures draw it (``render.robot``): its visual meshes when it has some,
-    its capsules, or both; an arm without meshes is its capsules."""
-    capsules = ArmSolids(problem.arm, problem.capsules, problem.half_width, view, ppu)
-    if meshes is None or not meshes.triangles or look == "capsules":
-        return capsules
-    index = {name: k for k, name in enumerate(meshes.links)}
-    capsule_links = np.array([index.get(name, -1) for name in problem.capsules.names], dtype=int)
-    robot = RobotMeshes(meshes, capsule_links, view, ppu, size)
-    return MeshesAndCapsules(robot, capsules) if look == "both" else robot
 
 
 def _segment_goals(goals) -> list:

@@ -16,9 +16,11 @@ import numpy as np
 
 from armanim.arm.kinematics import Pose
 from armanim.arm.visuals import ArmMeshes, mesh_vertices
+from armanim.motion.problem import Problem
 from armanim.render.camera.view import View, lambert
 from armanim.render.paint.style import GHOST_FADE, SELF_NEAR_COLOR
 from armanim.render.solids.arm import ArmSolids, Part, segment_samples
+from armanim.render.solids.raster import draw_triangles
 
 NEAR_TINT = 0.4
 """How far a link in a close pair of the arm's own links is tinted toward the warning colour."""
@@ -101,6 +103,44 @@ class MeshesAndCapsules:
         return self.meshes.parts(pose, ghost, near) + capsules
 
 
+class RasterQueue:
+    """Mesh parts that follow each other in the painter's order, drawn as one sprite (one
+    z-buffer: the links among themselves are then drawn as they occlude each other)."""
+
+    def __init__(self, size: tuple[int, int]):
+        self.size = size
+        self.points: np.ndarray | None = None
+        self.rgb: np.ndarray | None = None
+        self.faces: list[np.ndarray] = []
+
+    def add(self, raster: tuple[np.ndarray, np.ndarray, np.ndarray], buffer: np.ndarray) -> None:
+        """Queue one part's triangles (drawing the queue first if they are another pose's)."""
+        points, faces, rgb = raster
+        if self.points is not None and points is not self.points:
+            self.flush(buffer)
+        self.points, self.rgb = points, rgb
+        self.faces.append(faces)
+
+    def flush(self, buffer: np.ndarray) -> None:
+        """Draw the queued triangles into ``buffer``."""
+        if self.faces and self.points is not None and self.rgb is not None:
+            draw_triangles(buffer, self.points, np.concatenate(self.faces), self.rgb)
+        self.points, self.rgb, self.faces = None, None, []
+
+
+def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int],
+               look: str = "mesh") -> ArmSolids | RobotMeshes | MeshesAndCapsules:
+    """The arm as the pictures draw it (``render.robot``): its visual meshes when it has some,
+    its capsules, or both; an arm without meshes is its capsules."""
+    capsules = ArmSolids(problem.arm, problem.capsules, problem.half_width, view, ppu)
+    if meshes is None or not meshes.triangles or look == "capsules":
+        return capsules
+    index = {name: k for k, name in enumerate(meshes.links)}
+    capsule_links = np.array([index.get(name, -1) for name in problem.capsules.names], dtype=int)
+    robot = RobotMeshes(meshes, capsule_links, view, ppu, size)
+    return MeshesAndCapsules(robot, capsules) if look == "both" else robot
+
+
 def vertex_normals(meshes: ArmMeshes) -> np.ndarray:
     """(V, 3) unit normals, each the area-weighted mean of its faces' (in the carrier's frame)."""
     v = meshes.vertices
@@ -140,4 +180,4 @@ def _signed_areas(screen: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
 
-__all__ = ["CAPSULE_ALPHA", "MeshesAndCapsules", "RobotMeshes", "bounding_segment", "vertex_normals"]
+__all__ = ["CAPSULE_ALPHA", "MeshesAndCapsules", "RasterQueue", "RobotMeshes", "arm_solids", "bounding_segment", "vertex_normals"]

@@ -1,0 +1,129 @@
+"""The rasteriser's compiled loops (numba): filling a triangle's samples and laying a sample
+grid over a frame. Imported by :mod:`armanim.render.solids.raster` when it first draws, so that
+a picture of an arm of links never loads numba."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armanim.world.compiled import compiled
+
+_JIT = dict(error_model="numpy", nogil=True)
+
+
+@compiled(**_JIT)
+def fill_samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, x0: float, y0: float, ss: int,
+                 depth: np.ndarray, color: np.ndarray) -> None:
+    """Fill the sample grids ``depth`` (H, W) (-inf where empty) and ``color`` (H, W, 3) with the
+    triangles ``faces`` (k, 3) of ``points`` (V, 3: x px, y px up, near) coloured ``rgb`` (V, 3).
+    Sample (i, j) sits at x = x0 + (j + 0.5) / ss, y = y0 + (i + 0.5) / ss; a sample on an edge
+    shared by two triangles belongs to one of them (the top-left rule), so no sample is left
+    out between them and none is drawn twice."""
+    rows, cols = depth.shape
+    for f in range(faces.shape[0]):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        ax, ay = (points[a, 0] - x0) * ss - 0.5, (points[a, 1] - y0) * ss - 0.5
+        bx, by = (points[b, 0] - x0) * ss - 0.5, (points[b, 1] - y0) * ss - 0.5
+        cx, cy = (points[c, 0] - x0) * ss - 0.5, (points[c, 1] - y0) * ss - 0.5
+        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+        if area == 0.0 or area != area:
+            continue
+        if area < 0.0:  # either winding: b and c swapped
+            b, c, bx, by, cx, cy, area = c, b, cx, cy, bx, by, -area
+        inverse = 1.0 / area
+        j0, j1 = max(int(math.ceil(min(ax, bx, cx))), 0), min(int(math.floor(max(ax, bx, cx))), cols - 1)
+        i0, i1 = max(int(math.ceil(min(ay, by, cy))), 0), min(int(math.floor(max(ay, by, cy))), rows - 1)
+        for i in range(i0, i1 + 1):
+            lo, hi = j0, j1
+            lo, hi = _row_span(lo, hi, i, bx, by, cx - bx, cy - by)
+            lo, hi = _row_span(lo, hi, i, cx, cy, ax - cx, ay - cy)
+            lo, hi = _row_span(lo, hi, i, ax, ay, bx - ax, by - ay)
+            for j in range(lo, hi + 1):
+                w0 = (cx - bx) * (i - by) - (cy - by) * (j - bx)  # weight of a: the edge b -> c
+                w1 = (ax - cx) * (i - cy) - (ay - cy) * (j - cx)  # of b: the edge c -> a
+                w2 = (bx - ax) * (i - ay) - (by - ay) * (j - ax)  # of c: the edge a -> b
+                if not (_inside(w0, cx - bx, cy - by) and _inside(w1, ax - cx, ay - cy) and _inside(w2, bx - ax, by - ay)):
+                    continue
+                w0, w1, w2 = w0 * inverse, w1 * inverse, w2 * inverse  # barycentric weights
+                near = w0 * points[a, 2] + w1 * points[b, 2] + w2 * points[c, 2]
+                if near > depth[i, j]:
+                    depth[i, j] = near
+                    for k in range(3):
+                        color[i, j, k] = w0 * rgb[a, k] + w1 * rgb[b, k] + w2 * rgb[c, k]
+
+
+@compiled(**_JIT)
+def resolve_samples(depth: np.ndarray, color: np.ndarray, ss: int, premultiplied: np.ndarray, clear: np.ndarray) -> None:
+    """Average each pixel's ``ss`` x ``ss`` samples: ``premultiplied`` (h, w, 3) RGB 0-255 times
+    cover and ``clear`` (h, w, 1) 1 - cover, rows top to bottom (the sample grid's rows run up)."""
+    h, w = premultiplied.shape[0], premultiplied.shape[1]
+    share = 1.0 / (ss * ss)
+    for i in range(h):
+        row = h - 1 - i
+        for j in range(w):
+            hits, r, g, b = 0, 0.0, 0.0, 0.0
+            for a in range(ss):
+                for c in range(ss):
+                    y, x = i * ss + a, j * ss + c
+                    if depth[y, x] > -np.inf:
+                        hits += 1
+                        r += color[y, x, 0]
+                        g += color[y, x, 1]
+                        b += color[y, x, 2]
+            premultiplied[row, j, 0] = min(r * share, 1.0) * 255.0  # (interpolation may round a hair past 1)
+            premultiplied[row, j, 1] = min(g * share, 1.0) * 255.0
+            premultiplied[row, j, 2] = min(b * share, 1.0) * 255.0
+            clear[row, j, 0] = 1.0 - hits * share
+
+
+@compiled(**_JIT)
+def blend_samples(depth: np.ndarray, color: np.ndarray, ss: int, buffer: np.ndarray, top: int, left: int) -> None:
+    """Average each pixel's ``ss`` x ``ss`` samples and lay them over ``buffer`` (H, W, 4 uint8,
+    rows top to bottom) at row ``top``, column ``left`` (the sample grid's rows run up): a pixel
+    covered by a share c of its samples becomes its old colour times 1 - c plus theirs, as
+    :func:`armanim.render.paint.pixels.composite` lays a sprite."""
+    h, w = depth.shape[0] // ss, depth.shape[1] // ss
+    share = 1.0 / (ss * ss)
+    for i in range(h):
+        row = top + h - 1 - i
+        for j in range(w):
+            hits, r, g, b = 0, 0.0, 0.0, 0.0
+            for a in range(ss):
+                for c in range(ss):
+                    y, x = i * ss + a, j * ss + c
+                    if depth[y, x] > -np.inf:
+                        hits += 1
+                        r += color[y, x, 0]
+                        g += color[y, x, 1]
+                        b += color[y, x, 2]
+            if hits == 0:
+                continue
+            keep = 1.0 - hits * share
+            for k, v in ((0, r), (1, g), (2, b)):
+                buffer[row, left + j, k] = np.uint8(buffer[row, left + j, k] * keep + min(v * share, 1.0) * 255.0 + 0.5)
+
+
+@compiled(inline="always", **_JIT)
+def _row_span(lo: int, hi: int, i: int, px: float, py: float, dx: float, dy: float) -> tuple[int, int]:
+    """The columns [lo, hi] of row ``i`` narrowed to where the edge from (px, py) along (dx, dy)
+    can leave a sample inside (its weight dx (i - py) - dy (j - px) not below 0), a column wider
+    each side than the algebra says so that rounding never drops one (the exact test decides)."""
+    c = dx * (i - py) + dy * px
+    if dy > 0.0:
+        return lo, min(hi, int(math.floor(c / dy)) + 1)
+    if dy < 0.0:
+        return max(lo, int(math.ceil(c / dy)) - 1), hi
+    return (lo, hi) if c >= 0.0 else (lo, lo - 1)
+
+
+@compiled(inline="always", **_JIT)
+def _inside(w: float, dx: float, dy: float) -> bool:
+    """A sample with edge weight ``w`` is the triangle's: inside, or on a top or left edge
+    (direction dx, dy, counter-clockwise triangle, y up)."""
+    if w > 0.0:
+        return True
+    if w < 0.0:
+        return False
+    return dy < 0.0 or (dy == 0.0 and dx > 0.0)
