@@ -25,6 +25,7 @@ from armanim.render.paint.style import (
     FLOOR_COLOR,
     FONT,
     GHOST_COLOR,
+    GHOST_FADE,
     GOAL_COLORS,
     GRID_COLOR,
     HIDDEN_ALPHA,
@@ -171,7 +172,8 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     name = "robot" if robot else "arm"
     entries = [(name, Line2D([], [], color=ROBOT_LEGEND_COLOR if robot else ARM_COLOR, linewidth=5))]
     if picture == "poster":
-        entries.append((f"{name} on each goal", Line2D([], [], color=GHOST_COLOR, linewidth=5)))
+        ghost = tuple(c * (1 - GHOST_FADE) + GHOST_FADE for c in ROBOT_LEGEND_COLOR) if robot else GHOST_COLOR
+        entries.append((f"{name} on each goal", Line2D([], [], color=ghost, linewidth=5)))
     if trail and picture != "pose":
         entries.append(("tip path", Line2D([], [], color=TRAIL_COLOR, linewidth=2)))
     if obstacles:
