@@ -54,6 +54,21 @@ def fill_samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, x0: flo
                         color[i, j, k] = w0 * rgb[a, k] + w1 * rgb[b, k] + w2 * rgb[c, k]
 
 
+@compiled(inline="always", **_JIT)
+def _pixel_sums(depth: np.ndarray, color: np.ndarray, ss: int, i: int, j: int) -> tuple[int, float, float, float]:
+    """Pixel (i, j)'s covered samples: how many, and the sums of their red, green and blue."""
+    hits, r, g, b = 0, 0.0, 0.0, 0.0
+    for a in range(ss):
+        for c in range(ss):
+            y, x = i * ss + a, j * ss + c
+            if depth[y, x] > -np.inf:
+                hits += 1
+                r += color[y, x, 0]
+                g += color[y, x, 1]
+                b += color[y, x, 2]
+    return hits, r, g, b
+
+
 @compiled(**_JIT)
 def resolve_samples(depth: np.ndarray, color: np.ndarray, ss: int, premultiplied: np.ndarray, clear: np.ndarray) -> None:
     """Average each pixel's ``ss`` x ``ss`` samples: ``premultiplied`` (h, w, 3) RGB 0-255 times
@@ -63,15 +78,7 @@ def resolve_samples(depth: np.ndarray, color: np.ndarray, ss: int, premultiplied
     for i in range(h):
         row = h - 1 - i
         for j in range(w):
-            hits, r, g, b = 0, 0.0, 0.0, 0.0
-            for a in range(ss):
-                for c in range(ss):
-                    y, x = i * ss + a, j * ss + c
-                    if depth[y, x] > -np.inf:
-                        hits += 1
-                        r += color[y, x, 0]
-                        g += color[y, x, 1]
-                        b += color[y, x, 2]
+            hits, r, g, b = _pixel_sums(depth, color, ss, i, j)
             premultiplied[row, j, 0] = min(r * share, 1.0) * 255.0  # (interpolation may round a hair past 1)
             premultiplied[row, j, 1] = min(g * share, 1.0) * 255.0
             premultiplied[row, j, 2] = min(b * share, 1.0) * 255.0
@@ -89,15 +96,7 @@ def blend_samples(depth: np.ndarray, color: np.ndarray, ss: int, buffer: np.ndar
     for i in range(h):
         row = top + h - 1 - i
         for j in range(w):
-            hits, r, g, b = 0, 0.0, 0.0, 0.0
-            for a in range(ss):
-                for c in range(ss):
-                    y, x = i * ss + a, j * ss + c
-                    if depth[y, x] > -np.inf:
-                        hits += 1
-                        r += color[y, x, 0]
-                        g += color[y, x, 1]
-                        b += color[y, x, 2]
+            hits, r, g, b = _pixel_sums(depth, color, ss, i, j)
             if hits == 0:
                 continue
             keep = 1.0 - hits * share
