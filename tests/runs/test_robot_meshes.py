@@ -57,6 +57,7 @@ def test_a_users_urdf_is_drawn_with_its_meshes_and_a_missing_one_is_a_note(cli, 
     triangles = sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3
     assert triangles == 12 + 24 * 4  # the box and the STL cylinder (24 sections: 4 triangles each)
     assert data["meshes"]["look"] == "mesh"
+    assert data["meshes"]["uncovered"] == [1]  # l2's capsule: its mesh is missing, so the capsule is drawn
 
 
 def test_without_the_package_dirs_the_meshes_are_notes_and_capsules_draw_the_robot(cli, tmp_path):
@@ -66,6 +67,26 @@ def test_without_the_package_dirs_the_meshes_are_notes_and_capsules_draw_the_rob
     assert result.stderr.count("note:") == 2  # base.stl and gone.stl: the box alone is drawn as a mesh
     data = _viewer_data(tmp_path / "out" / "two" / "viewer.html")
     assert sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3 == 12
+
+
+def test_a_link_whose_mesh_is_missing_is_drawn_as_its_capsule(tmp_path):
+    """In the pictures, the robot is its meshes and, for l2 (whose mesh is missing), its capsule."""
+    import numpy as np
+
+    from armanim.arm.kinematics import forward
+    from armanim.render.camera.view import View
+    from armanim.render.solids.robot import MeshesAndCapsules, arm_solids
+    from armanim.runs.pipeline import settings_of, solve_scene, with_meshes
+    from armanim.scene import load_scene
+
+    scene = load_scene(_scene(tmp_path))
+    run, notes = with_meshes(solve_scene(scene, 10.0), scene, settings_of(scene, None))
+    assert len(notes) == 1
+    view = View(np.hstack([np.eye(3) * 100, np.array([[80.0], [60.0], [0.0]])]), 160, 120)
+    solids = arm_solids(run.problem, run.meshes, view, 100.0, (160, 120))
+    assert isinstance(solids, MeshesAndCapsules) and solids.shown.tolist() == [False, True]
+    parts = solids.parts(forward(run.problem.arm, run.problem.home))
+    assert sum(p.raster is not None for p in parts) == len(run.meshes.links) and sum(p.raster is None for p in parts) == 1
 
 
 def test_render_robot_capsules_reads_no_mesh(cli, tmp_path):

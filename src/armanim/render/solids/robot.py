@@ -91,15 +91,17 @@ CAPSULE_ALPHA = 0.35
 
 
 class MeshesAndCapsules:
-    """The robot as it looks with its capsules translucent over it (``render.robot: both``)."""
+    """The robot's meshes and some of its capsules: those of links without a mesh (opaque: a
+    link whose mesh could not be read is drawn as its capsules), or all of them translucent over
+    the meshes (``render.robot: both``)."""
 
-    def __init__(self, meshes: RobotMeshes, capsules: ArmSolids):
-        self.meshes, self.capsules = meshes, capsules
+    def __init__(self, meshes: RobotMeshes, capsules: ArmSolids, shown: np.ndarray, alpha: float = 1.0):
+        self.meshes, self.capsules, self.shown, self.alpha = meshes, capsules, shown, alpha
 
     def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
-        """The links' meshes and the capsules, each capsule's colours at :data:`CAPSULE_ALPHA`."""
-        capsules = [replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), CAPSULE_ALPHA)]))
-                    for p in self.capsules.links(pose, ghost, near)]
+        """The links' meshes and the ``shown`` capsules, their colours at ``alpha``."""
+        capsules = [replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), self.alpha)]))
+                    for p, shown in zip(self.capsules.links(pose, ghost, near), self.shown) if shown]
         return self.meshes.parts(pose, ghost, near) + capsules
 
 
@@ -138,7 +140,10 @@ def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, siz
     index = {name: k for k, name in enumerate(meshes.links)}
     capsule_links = np.array([index.get(name, -1) for name in problem.capsules.names], dtype=int)
     robot = RobotMeshes(meshes, capsule_links, view, ppu, size)
-    return MeshesAndCapsules(robot, capsules) if look == "both" else robot
+    if look == "both":
+        return MeshesAndCapsules(robot, capsules, np.ones(len(capsule_links), dtype=bool), CAPSULE_ALPHA)
+    uncovered = capsule_links < 0  # a link without a mesh (none given, or not read) is drawn as its capsules
+    return MeshesAndCapsules(robot, capsules, uncovered) if uncovered.any() else robot
 
 
 def vertex_normals(meshes: ArmMeshes) -> np.ndarray:

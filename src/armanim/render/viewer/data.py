@@ -239,7 +239,9 @@ def viewer_data(
     if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
         data["orientation"] = oriented
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
-        data["meshes"] = mesh_entries(meshes, pose, decimals) | {"look": settings.robot}
+        covered = set(meshes.links)
+        uncovered = [i for i, name in enumerate(problem.capsules.names) if name not in covered]
+        data["meshes"] = mesh_entries(meshes, pose, decimals) | {"look": settings.robot, "uncovered": uncovered}
     return data
 
 

@@ -461,7 +461,8 @@
   $("shells").addEventListener("change", (ev) => { shells.forEach((s) => { s.visible = ev.target.checked; }); st.dirty = true; });
   $("trail").addEventListener("change", (ev) => { trail.visible = ev.target.checked; st.dirty = true; });
   // with meshes, the capsules alone are toggled (the mesh shows the joints and the base)
-  const showCapsules = (on) => { links.forEach((c) => { c.visible = on; }); joints.forEach((j) => { j.visible = !D.meshes; }); base.visible = !D.meshes; };
+  const uncovered = new Set(D.meshes ? D.meshes.uncovered : []);  // capsules of links without a mesh: always shown
+  const showCapsules = (on) => { links.forEach((c, i) => { c.visible = on || uncovered.has(i); }); joints.forEach((j) => { j.visible = !D.meshes; }); base.visible = !D.meshes; };
   if (D.meshes) {
     const both = D.meshes.look === "both";  // render.robot: the capsules translucent over the meshes
     if (both) for (const m of [armMat, nearMat]) { m.transparent = true; m.opacity = 0.35; m.depthWrite = false; }
