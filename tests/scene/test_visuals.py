@@ -164,3 +164,22 @@ def test_the_viewer_data_places_every_vertex_where_the_kinematics_does():
                 world = local @ quaternion_rotation(at[3:]).T + at[:3]
             assert np.allclose(world, expected[f][mine], atol=5e-5)
     assert sum(len(g["indices"]) for g in data["groups"]) == 3 * meshes.triangles
+
+
+def test_a_pen_is_drawn_from_the_tool_point_back_along_the_tool_frame(tmp_path):
+    """Nib apex at the tool point, the body back along the tool frame's -z, its length and radius;
+    a tool mesh that cannot be read is a note."""
+    from types import SimpleNamespace
+
+    from armanim.scene.visuals import tool_meshes
+
+    pen = SimpleNamespace(length=0.12, radius=0.008)
+    tool = SimpleNamespace(xyz=[0.0, 0.0, 0.1], rpy=[0.0, 90.0, 0.0], pen=pen, mesh="missing.stl")
+    notes: list[str] = []
+    nib, body = tool_meshes(tool, "flange", tmp_path, notes.append)
+    points = np.vstack([nib.vertices, body.vertices])
+    # the tool frame turned 90 degrees about y: its -z is the tip link's -x; the tool point at z = 0.1
+    assert np.isclose(points[:, 0].max(), 0.0, atol=1e-12) and np.isclose(points[:, 0].min(), -0.12)
+    assert np.allclose(nib.vertices[np.argmax(nib.vertices[:, 0])], [0.0, 0.0, 0.1], atol=1e-12)
+    assert np.isclose(np.abs(points[:, 1]).max(), 0.008, rtol=1e-3) and np.isclose(np.ptp(points[:, 2]), 0.016, rtol=1e-2)
+    assert len(notes) == 1 and "arm.tool.mesh" in notes[0] and "missing.stl" in notes[0]

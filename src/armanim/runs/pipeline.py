@@ -166,7 +166,7 @@ def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) ->
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
     arm = scene.model.arm
     dirs = [scene.path.parent / d for d in arm.package_dirs] if arm.package_dirs else None
-    meshes, notes = scene_meshes(arm, dirs, triangles=budget)
+    meshes, notes = scene_meshes(arm, dirs, triangles=budget, scene_dir=scene.path.parent)
     return replace(run, meshes=meshes), tuple(notes)
 
 

@@ -38,11 +38,22 @@ class CapsuleModel(Strict):
     radius: NonNegative = Field(description="Every point within this distance of the segment is the arm's.")
 
 
+class PenModel(Strict):
+    """A pen drawn at the tool frame: its nib at the tip, its body back along the frame's -z."""
+
+    length: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = Field(description="Nib to cap, metres.")
+    radius: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = Field(default=0.008, description="Metres.")
+
+
 class ToolModel(Strict):
-    """The tool frame: the tip, placed in the tip link's frame."""
+    """The tool frame: the tip, placed in the tip link's frame; and what is drawn there."""
 
     xyz: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tip's position in the tip link's frame (metres).")
     rpy: Angles3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
+    pen: PenModel | None = Field(default=None, description="Draw a pen held at the tool frame (drawing only: it is not a capsule).")
+    mesh: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
+        default=None, description="A mesh file (STL, OBJ, COLLADA) drawn in the tool frame, relative to the scene file "
+                                  "(drawing only).")
 
 
 

@@ -58,10 +58,16 @@ def urdf_mount(arm: ArmModel) -> np.ndarray:
     return transform(arm.base or zero, np.radians(arm.base_rpy or zero))
 
 
+def tool_frame(tool) -> np.ndarray:
+    """(4, 4) the tool frame in the tip link's (``arm.tool``: ``xyz`` metres, ``rpy`` degrees; None:
+    the tip link's own frame)."""
+    return transform(tool.xyz, np.radians(tool.rpy)) if tool is not None else np.eye(4)
+
+
 def urdf_chain(arm: ArmModel) -> SerialChain:
     """The URDF arm's chain, placed by ``base`` and ``base_rpy`` and ended by ``tool``."""
     mount = urdf_mount(arm)
-    tool = transform(arm.tool.xyz, np.radians(arm.tool.rpy)) if arm.tool is not None else np.eye(4)
+    tool = tool_frame(arm.tool)
     return serial_chain(mount, list(arm.urdf_arm.joints), tool)
 
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
-from armanim.scene.convert import urdf_chain, urdf_mount
+from armanim.scene.convert import tool_frame, urdf_chain, urdf_mount
 from armanim.scene.urdf import Element, Robot, _parse_xml
 
 DEFAULT_RGB = (0.72, 0.74, 0.78)
@@ -277,11 +277,13 @@ def bundled_link_meshes(folder: Path) -> list[LinkMesh]:
                          arrays[f"{link}/colors"].astype(float) / 255.0) for link in links]
 
 
-def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None) -> tuple[ArmMeshes | None, list[str]]:
+def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None,
+                 scene_dir: Path | None = None) -> tuple[ArmMeshes | None, list[str]]:
     """The look of a scene's URDF arm (``arm``: a validated :class:`~armanim.scene.armmodel.ArmModel`
     with its files read): a bundled robot's shipped meshes, or the visuals of a user's URDF
     found under ``package_dirs`` (default: the URDF's folder and its parents), simplified to
-    about ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), placed on the arm's
+    about ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), with the tool
+    ``arm.tool`` draws (a pen, or a mesh file relative to ``scene_dir``), placed on the arm's
     chain as the scene mounts it; and a note per visual that could not be read. None (no meshes)
     for an arm of links or a URDF without visuals."""
     urdf = arm.urdf_arm if arm.is_urdf else None
@@ -294,13 +296,51 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
         folder = urdf.folder or Path(".")
         specs = visual_specs(urdf.robot.raw, urdf.file)
         meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append)
-    if not meshes:
-        return None, notes
+    notes = [f"{urdf.file}: {note}" for note in notes]
     total = sum(m.triangles for m in meshes)
     if triangles is not None and total > triangles:
         meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
+    meshes += tool_meshes(arm.tool, urdf.tip_link, scene_dir or Path("."), notes.append)
+    if not meshes:
+        return None, notes
     placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, urdf_chain(arm), urdf_mount(arm))
-    return (placed if placed.triangles else None), [f"{urdf.file}: {note}" for note in notes]
+    return (placed if placed.triangles else None), notes
+
+
+PEN_BODY_RGB = (0.16, 0.33, 0.72)
+"""The pen's body; its nib is :data:`PEN_NIB_RGB`."""
+PEN_NIB_RGB = (0.15, 0.15, 0.17)
+NIB_SHARE = 0.18
+"""The share of the pen's length that is its tapering nib."""
+
+
+def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None]) -> list[LinkMesh]:
+    """What ``tool`` (``arm.tool``, or None) draws, in the tip link's frame: a pen (its nib at the
+    tool point, its body back along the tool frame's -z) and a mesh file in the tool frame."""
+    if tool is None or (tool.pen is None and tool.mesh is None):
+        return []
+    import trimesh
+
+    frame = tool_frame(tool)
+    parts = []
+    if tool.pen is not None:
+        length, radius = tool.pen.length, tool.pen.radius
+        nib = trimesh.creation.cone(radius=radius, height=NIB_SHARE * length, sections=20)
+        nib.apply_transform(transform([0, 0, -NIB_SHARE * length]))  # its apex at the tool point
+        body = trimesh.creation.cylinder(radius=radius, height=(1 - NIB_SHARE) * length, sections=20)
+        body.apply_transform(transform([0, 0, -NIB_SHARE * length - (1 - NIB_SHARE) * length / 2]))
+        for shape, rgb in ((nib, PEN_NIB_RGB), (body, PEN_BODY_RGB)):
+            parts.append(LinkMesh(tip_link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
+                                  np.tile(rgb, (len(shape.faces), 1))))
+    if tool.mesh is not None:
+        path = scene_dir / tool.mesh
+        try:
+            if not path.is_file():
+                raise FileNotFoundError("no such file")
+            parts.append(_file_mesh(VisualSpec(tip_link, np.eye(4), "mesh", tool.mesh, (1.0, 1.0, 1.0), (), None, 0), path))
+        except Exception as error:  # a user's file: any reader error is a note, never a failed run
+            warn(f"arm.tool.mesh: {str(path)!r} could not be read ({type(error).__name__}: {error}): the tool is not drawn")
+    return [LinkMesh(tip_link, m.vertices @ frame[:3, :3].T + frame[:3, 3], m.faces, m.colors) for m in parts]
 
 
 def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
