@@ -58,18 +58,43 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
         top.plot(t, trajectory.clearance, color="C3", label="clearance to obstacles")
         top.axhline(0.0, color="C3", linewidth=0.8, linestyle=":")
     top.set_ylabel("scene units")
-    top.legend(loc="upper right", fontsize=9)
+    handles = _orientation_curve(top, trajectory)
+    named = [line for line in top.get_lines() if not line.get_label().startswith("_")]  # not the goals' span edges
+    top.legend(handles=named + handles, loc="upper right", fontsize=9)
     top.grid(alpha=0.3)
     degrees = np.degrees(trajectory.phi)
+    names = joint_labels(problem.arm.joint_names, degrees.shape[1])
     for j in range(degrees.shape[1]):
-        bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=f"phi{j + 1}")
-    _limit_lines(bottom, problem.limits)
+        bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=names[j])
+    _limit_lines(bottom, problem.limits, names)
     bottom.set_ylabel("joint angle (deg)")
     bottom.legend(loc="upper left", fontsize=9, ncols=min(degrees.shape[1], 6))
     bottom.grid(alpha=0.3)
     _speed_panel(speeds, problem, trajectory)
     speeds.set_xlabel("time (s)")
     return canvas
+
+
+def joint_labels(joint_names, n: int) -> list[str]:
+    """The joints' names in the plot: a URDF's own (``panda_joint1``), else ``phi1`` ...
+
+    >>> joint_labels(("a", "b"), 2), joint_labels((), 2)
+    (['a', 'b'], ['phi1', 'phi2'])
+    """
+    return list(joint_names) if len(joint_names) == n else [f"phi{j + 1}" for j in range(n)]
+
+
+def _orientation_curve(ax, trajectory: Trajectory) -> list:
+    """The tool's angle to its goal's orientation (degrees, right axis) where goals have one;
+    its legend handles (none in a run without oriented goals)."""
+    if trajectory.orientation_error is None or not np.isfinite(trajectory.orientation_error).any():
+        return []
+    right = ax.twinx()
+    right.plot(trajectory.time, np.degrees(trajectory.orientation_error), color="C4", linewidth=1.0,
+               label="orientation error (deg)")
+    right.set_ylabel("degrees")
+    right.set_ylim(bottom=0.0)
+    return right.get_lines()
 
 
 def _speed_panel(ax, problem: Problem, trajectory: Trajectory) -> None:
@@ -104,18 +129,18 @@ def limit_groups(lower: np.ndarray, upper: np.ndarray) -> list[tuple[float, str,
     return [(value, side, joints) for (value, side), joints in sorted(groups.items())]
 
 
-def _limit_lines(ax, limits) -> None:
+def _limit_lines(ax, limits, names: list[str]) -> None:
     """Each limit dashed in its joint's colour (joints sharing a value take turns along
-    the dashes) and labelled at the right end, e.g. "phi3, phi4 max 150"."""
+    the dashes) and labelled at the right end, rounded to 0.1 degree, e.g. "phi3, phi4 max 150"."""
     dash = 5.0
     for value, side, joints in limit_groups(limits.lower, limits.upper):
         k = len(joints)
         for i, j in enumerate(joints):
             ax.axhline(value, color=f"C{j % 10}", linewidth=1.0, alpha=0.8,
                        linestyle=(i * dash, (dash, dash * (2 * k - 1))))
-        names = ", ".join(f"phi{j + 1}" for j in joints)
+        label = ", ".join(names[j] for j in joints)
         color = f"C{joints[0] % 10}" if k == 1 else "0.25"
-        ax.text(0.995, value, f"{names} {side} {value:g}", transform=ax.get_yaxis_transform(), ha="right",
+        ax.text(0.995, value, f"{label} {side} {round(value, 1):g}", transform=ax.get_yaxis_transform(), ha="right",
                 va="bottom" if side == "max" else "top", fontsize=8, color=color)
 
 
