@@ -207,6 +207,14 @@
     ghost.renderOrder = 10; m.userData.ghost = ghost;
     m.position.fromArray(g.position); ghost.position.fromArray(g.position); scene.add(m, ghost); return m;
   });
+  const GOAL_PX = 6;  // a goal's marker keeps this radius on screen at any zoom: it never hides the wrist
+  // and a faint line drops from each goal to the floor, to show where it stands
+  const drops = D.goals.map((g) => {
+    const geo = new T.BufferGeometry();
+    geo.setAttribute("position", new T.BufferAttribute(new Float32Array([...g.position, g.position[0], g.position[1], fl.z]), 3));
+    const line = new T.Line(geo, new T.LineBasicMaterial({ color: S.goals.pending, transparent: true, opacity: 0.45 }));
+    scene.add(line); return line;
+  });
 
   // orientations (only in a run with an oriented goal): the tool frame's x, y, z axes at the tip
   // in red, green, blue, and each such goal's triad faintly (a tool-axis goal: its z alone)
@@ -447,6 +455,7 @@
     const states = goalStates(f);
     states.forEach((s, i) => {
       goalMeshes[i].material.color.set(S.goals[s]); goalMeshes[i].userData.ghost.material.color.set(S.goals[s]);
+      drops[i].material.color.set(S.goals[s]);
       labels[i].dataset.state = s; labels[i].style.color = S.goals[s];
     });
     pose(f);
@@ -491,6 +500,10 @@
 
   // ---- drawing ----------------------------------------------------------------------
   const tmp = new T.Vector3();
+  function scaleGoals() {  // GOAL_PX pixels of radius: world units per pixel times GOAL_PX, over the sphere's radius
+    const scale = GOAL_PX * (camera.top - camera.bottom) / camera.zoom / Math.max(view.clientHeight, 1) / goalR;
+    goalMeshes.forEach((m) => { m.scale.setScalar(scale); m.userData.ghost.scale.setScalar(scale); });
+  }
   function placeLabels() {
     const w = view.clientWidth, h = view.clientHeight;
     goalMeshes.forEach((m, i) => {
@@ -507,7 +520,7 @@
     sync(now);
     show();
     if (st.dirty && renderer) {
-      renderer.render(scene, camera); placeLabels(); st.drawn++;
+      scaleGoals(); renderer.render(scene, camera); placeLabels(); st.drawn++;
     }
     st.dirty = false;
     if (renderer) waiters.splice(0).forEach((resolve) => resolve(st.drawn));
