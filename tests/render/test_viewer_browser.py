@@ -331,3 +331,33 @@ def test_boxes_capsules_and_the_floor_are_drawn(browser, tmp_path_factory, tmp_p
     rgb = np.asarray(Image.open(shot).convert("RGB")).astype(int)
     red = (rgb[..., 0] > rgb[..., 1] + 80) & (rgb[..., 0] > rgb[..., 2] + 80)
     assert red.sum() > 3000, red.sum()
+
+
+def test_a_700_frame_panda_run_draws_its_meshes_under_3_mb_and_fits_a_phone(browser, tmp_path_factory, tmp_path):
+    """panda-shelf at 125 fps (over 700 frames): the page holds the Panda's meshes once and stays
+    under 3 MB; drawn, the robot's light grey shows; at 390 px wide nothing is wider than the screen."""
+    import numpy as np
+    from PIL import Image
+
+    from armanim.render.settings import RenderOverrides
+    from armanim.runs.pipeline import run_scene
+
+    folder = run_scene(SCENES / "panda-shelf.yaml", tmp_path_factory.mktemp("meshes"), video=False, viewer=True,
+                       render_overrides=RenderOverrides(fps=125.0)).folder
+    path = folder / "viewer.html"
+    assert path.stat().st_size <= 3_000_000
+    page = Page(browser, path)
+    try:
+        assert page.errors == [] and page.js("armanim.frames") >= 700
+        assert page.js("armanim.data.meshes.groups.length") == 8
+        shot = tmp_path / "view.png"
+        page.js("armanim.nextDraw()")
+        page.page.locator("#view canvas").screenshot(path=shot)
+        rgb = np.asarray(Image.open(shot).convert("RGB")).astype(int)
+        grey = (np.ptp(rgb, axis=-1) < 12) & (rgb.mean(axis=-1) > 150) & (rgb.mean(axis=-1) < 235)
+        assert grey.sum() > 2000, grey.sum()  # the Panda's shaded white-grey links
+        page.page.set_viewport_size({"width": 390, "height": 844})
+        page.js("armanim.nextDraw()")
+        assert page.js("document.documentElement.scrollWidth") <= 390
+    finally:
+        page.page.close()

@@ -411,7 +411,8 @@
     for (let f = 0; f < F; f += step) { const x = plotX(f, w), y = Yd(D.distance[f]); f ? c.lineTo(x, y) : c.moveTo(x, y); }
     c.stroke(); c.setLineDash([]);
     c.textAlign = "center"; c.fillStyle = "#111";
-    c.fillText("joint angles (left, colours as in the table)   - - goal distance (right)" + (planning >= 0 ? "   shaded: planning" : ""), (PL + w - PR) / 2, h - 6);
+    const legend = w < 560 ? "angles (left)  - - distance (right)" : "joint angles (left, colours as in the table)   - - goal distance (right)";
+    c.fillText(legend + (planning >= 0 && w >= 560 ? "   shaded: planning" : ""), (PL + w - PR) / 2, h - 6);
   }
   function drawPlot(f) {
     const r = window.devicePixelRatio || 1, w = plot.clientWidth, h = plot.clientHeight;
