@@ -104,3 +104,41 @@ def test_a_bundled_robot_brings_its_own_meshes_and_the_poster_draws_them(cli, tm
     data = _viewer_data(tmp_path / "out" / "panda" / "viewer.html")
     assert len(data["meshes"]["groups"]) == 8  # the base and seven joints' links (the hand rides on the seventh)
     assert (tmp_path / "out" / "panda" / "poster.png").stat().st_size > 0
+
+
+def test_furniture_is_drawn_never_checked_and_an_arm_of_links_keeps_its_capsules(cli, tmp_path):
+    """A whiteboard a goal touches: no clearance check refuses it; the viewer holds its 12
+    triangles in the world, the arm of links is still drawn whole as capsules, joints and base."""
+    import numpy as np
+
+    from armanim.arm.kinematics import forward
+    from armanim.render.camera.view import View
+    from armanim.render.solids.robot import MeshesAndCapsules, arm_solids, robot_meshed
+    from armanim.runs.pipeline import settings_of, solve_scene, with_meshes
+    from armanim.scene import load_scene
+
+    scene_file = tmp_path / "board.yaml"
+    scene_file.write_text("version: 1\narm: {links: [1, 1]}\ngoals:\n  - [1.2, 0.5, 0]\n"
+                          "render:\n  size: [160, 120]\n  fps: 10\n  furniture:\n"
+                          "    - {box: {center: [1.21, 0.5, 0], size: [0.02, 1, 1]}, color: [1, 1, 1]}\n")
+    result = cli("run", str(scene_file), "--out", str(tmp_path / "out"), "--no-video", "--viewer")
+    assert result.exit_code == 0, result.output
+    data = _viewer_data(tmp_path / "out" / "board" / "viewer.html")
+    assert data["meshes"]["robot"] is False and [g["carrier"] for g in data["meshes"]["groups"]] == [-1]
+    assert len(data["meshes"]["groups"][0]["indices"]) == 36
+    scene = load_scene(scene_file)
+    run, _ = with_meshes(solve_scene(scene, 10.0), scene, settings_of(scene, None))
+    assert not robot_meshed(run.problem, run.meshes)
+    solids = arm_solids(run.problem, run.meshes, View(np.hstack([np.eye(3) * 40, np.array([[80.0], [60.0], [0.0]])]), 160, 120),
+                        40.0, (160, 120))
+    parts = solids.parts(forward(run.problem.arm, run.problem.home))
+    assert isinstance(solids, MeshesAndCapsules) and sum(p.raster is not None for p in parts) == 1
+    assert sum(p.raster is None for p in parts) == 1 + 2 + 2  # the base, two capsules, two joint discs
+
+
+def test_furniture_colours_are_checked(cli, tmp_path):
+    scene_file = tmp_path / "bad.yaml"
+    scene_file.write_text("version: 1\narm: {links: [1, 1]}\ngoals:\n  - [1, 1, 0]\n"
+                          "render:\n  furniture:\n    - {box: {center: [2, 0, 0], size: [1, 1, 1]}, color: [1, 2, 1]}\n")
+    result = cli("validate", str(scene_file))
+    assert result.exit_code == 2 and "render.furniture[0].color" in result.stderr, result.stderr

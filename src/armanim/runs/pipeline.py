@@ -157,16 +157,15 @@ MESH_TRIANGLES = 5_000
 
 
 def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) -> tuple[SolvedRun, tuple[str, ...]]:
-    """``run`` with its robot's look for pictures drawn with ``settings``
-    (:func:`armanim.scene.visuals.scene_meshes`; none for ``render.robot: capsules``), and a note
-    per visual mesh that could not be read (its link is drawn as its capsules)."""
-    if settings.robot == "capsules":
-        return run, ()
+    """``run`` with what its pictures draw as meshes with ``settings``: its robot's look (none for
+    ``render.robot: capsules``) and the scene's furniture (:func:`armanim.scene.visuals.scene_meshes`),
+    and a note per visual mesh that could not be read (its link is drawn as its capsules)."""
     width, height = settings.size
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
     arm = scene.model.arm
     dirs = [scene.path.parent / d for d in arm.package_dirs] if arm.package_dirs else None
-    meshes, notes = scene_meshes(arm, dirs, triangles=budget, scene_dir=scene.path.parent)
+    meshes, notes = scene_meshes(arm, dirs, triangles=budget, scene_dir=scene.path.parent,
+                                 furniture=scene.model.render.furniture, robot=settings.robot != "capsules")
     return replace(run, meshes=meshes), tuple(notes)
 
 

@@ -261,6 +261,15 @@ class ViewModel(Strict):
 
 
 
+class FurnitureModel(Strict):
+    """A box drawn in the pictures and never checked: a table, a shelf's back, a whiteboard."""
+
+    box: BoxModel
+    color: Annotated[list[Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]], Field(min_length=3, max_length=3)] = Field(
+        default=[0.80, 0.75, 0.66], description="RGB, 0 to 1; default a light wood."
+    )
+
+
 class RenderModel(Strict):
     """The ``render`` section."""
 
@@ -274,6 +283,10 @@ class RenderModel(Strict):
     )
     trail: bool = True
     format: VideoFormat = "mp4"
+    furniture: Annotated[list[FurnitureModel], Field(max_length=LIMITS["obstacles"])] = Field(
+        default_factory=list,
+        description="Boxes drawn but never checked (no clearance, no cost): furniture the tool may touch, e.g. a whiteboard.",
+    )
     robot: RobotLook = Field(
         default="mesh",
         description="A robot with visual meshes drawn as it looks (mesh), as the capsules every clearance is measured on "

@@ -278,17 +278,21 @@ def bundled_link_meshes(folder: Path) -> list[LinkMesh]:
 
 
 def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None,
-                 scene_dir: Path | None = None) -> tuple[ArmMeshes | None, list[str]]:
-    """The look of a scene's URDF arm (``arm``: a validated :class:`~armanim.scene.armmodel.ArmModel`
-    with its files read): a bundled robot's shipped meshes, or the visuals of a user's URDF
-    found under ``package_dirs`` (default: the URDF's folder and its parents), simplified to
-    about ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), with the tool
-    ``arm.tool`` draws (a pen, or a mesh file relative to ``scene_dir``), placed on the arm's
-    chain as the scene mounts it; and a note per visual that could not be read. None (no meshes)
-    for an arm of links or a URDF without visuals."""
-    urdf = arm.urdf_arm if arm.is_urdf else None
+                 scene_dir: Path | None = None, furniture=(), robot: bool = True) -> tuple[ArmMeshes | None, list[str]]:
+    """What the pictures draw as meshes: the look of a scene's URDF arm (``arm``: a validated
+    :class:`~armanim.scene.armmodel.ArmModel` with its files read; left out when ``robot`` is
+    False) and the scene's ``furniture`` (``render.furniture``: boxes in the world).
+
+    The arm's look is a bundled robot's shipped meshes, or the visuals of a user's URDF found
+    under ``package_dirs`` (default: the URDF's folder and its parents), simplified to about
+    ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), with the tool ``arm.tool``
+    draws (a pen, or a mesh file relative to ``scene_dir``), placed on the arm's chain as the
+    scene mounts it. Returns them (None: nothing to draw as meshes) and a note per visual that
+    could not be read."""
+    fixed = furniture_meshes(furniture)
+    urdf = arm.urdf_arm if robot and arm.is_urdf else None
     if urdf is None or urdf.robot is None:
-        return None, []
+        return (placed_meshes(fixed, [-1] * len(fixed), [np.eye(4)] * len(fixed)) if fixed else None), []
     notes: list[str] = []
     if urdf.bundled is not None:
         meshes = bundled_link_meshes(urdf.bundled.urdf.parent)
@@ -301,10 +305,21 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
     if triangles is not None and total > triangles:
         meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
     meshes += tool_meshes(arm.tool, urdf.tip_link, scene_dir or Path("."), notes.append)
-    if not meshes:
-        return None, notes
-    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, urdf_chain(arm), urdf_mount(arm))
+    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, urdf_chain(arm), urdf_mount(arm), fixed)
     return (placed if placed.triangles else None), notes
+
+
+def furniture_meshes(furniture) -> list[LinkMesh]:
+    """Each ``render.furniture`` box as a mesh in the world (its 12 triangles, its colour)."""
+    out = []
+    for item in furniture:
+        box = item.box
+        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * np.asarray(box.size) / 2
+        turn = transform(box.center, np.radians(box.rpy))
+        faces = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                          [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+        out.append(LinkMesh("furniture", corners @ turn[:3, :3].T + turn[:3, 3], faces, np.tile(item.color, (12, 1))))
+    return out
 
 
 PEN_BODY_RGB = (0.16, 0.33, 0.72)
@@ -365,12 +380,12 @@ def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chain: SerialChain,
-                 mount: np.ndarray) -> ArmMeshes:
+                 mount: np.ndarray, fixed: list[LinkMesh] = ()) -> ArmMeshes:
     """The links' meshes placed on the chain's frames: a link on the path from ``base`` to
     ``tip`` on its carrier, the base link where the chain is mounted, and a link hanging off
     the path (a gripper below the tip) where its joints' zero puts it below the nearest link on
     the path. ``mount`` (4, 4) is the base link's frame in the world. Links not below the base
-    (a ``world`` link above it) are not drawn."""
+    (a ``world`` link above it) are not drawn. ``fixed`` meshes are already in the world."""
     path = robot.path(base, tip)
     place = {base: (-1, np.asarray(mount, dtype=float))}
     for i, joint in enumerate(path):
@@ -388,7 +403,7 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
         kept.append(mesh)
         carriers.append(carrier)
         offsets.append(offset @ hang)
-    return placed_meshes(kept, carriers, offsets)
+    return placed_meshes(kept + list(fixed), carriers + [-1] * len(fixed), offsets + [np.eye(4)] * len(fixed))
 
 
 __all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "scene_meshes", "chain_meshes", "default_package_dirs", "link_meshes",

@@ -68,10 +68,10 @@ from armanim.render.paint.style import (
 )
 from armanim.render.pictures import backdrop
 from armanim.render.settings import RenderSettings
-from armanim.render.solids.arm import ArmSolids, Part, near_capsules, point_samples
+from armanim.render.solids.arm import Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order
-from armanim.render.solids.robot import RasterQueue, arm_solids
+from armanim.render.solids.robot import RasterQueue, arm_solids, robot_meshed
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
@@ -156,7 +156,7 @@ class SceneCanvas:
         legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids),
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
                                          hidden_by="a sphere" if self.shapes is None else "an obstacle",
-                                         goals=bool(len(problem.goals)), robot=not isinstance(self.arm, ArmSolids))
+                                         goals=bool(len(problem.goals)), robot=robot_meshed(problem, meshes))
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
         self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)

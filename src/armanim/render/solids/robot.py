@@ -99,7 +99,10 @@ class MeshesAndCapsules:
         self.meshes, self.capsules, self.shown, self.alpha = meshes, capsules, shown, alpha
 
     def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
-        """The links' meshes and the ``shown`` capsules, their colours at ``alpha``."""
+        """The links' meshes and the ``shown`` capsules, their colours at ``alpha``; with no link
+        meshed (the meshes are the scene's furniture), the arm whole: base, capsules and joints."""
+        if self.shown.all() and self.alpha == 1.0:
+            return self.meshes.parts(pose, ghost, near) + self.capsules.parts(pose, ghost, near)
         capsules = [replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), self.alpha)]))
                     for p, shown in zip(self.capsules.links(pose, ghost, near), self.shown) if shown]
         return self.meshes.parts(pose, ghost, near) + capsules
@@ -133,17 +136,26 @@ class RasterQueue:
 def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int],
                look: str = "mesh") -> ArmSolids | RobotMeshes | MeshesAndCapsules:
     """The arm as the pictures draw it (``render.robot``): its visual meshes when it has some,
-    its capsules, or both; an arm without meshes is its capsules."""
+    its capsules, or both; an arm without meshes is its capsules (``meshes`` may hold only the
+    scene's furniture, drawn with them)."""
     capsules = ArmSolids(problem.arm, problem.capsules, problem.half_width, view, ppu)
-    if meshes is None or not meshes.triangles or look == "capsules":
+    if meshes is None or not meshes.triangles:
         return capsules
     index = {name: k for k, name in enumerate(meshes.links)}
     capsule_links = np.array([index.get(name, -1) for name in problem.capsules.names], dtype=int)
     robot = RobotMeshes(meshes, capsule_links, view, ppu, size)
+    every = np.ones(len(problem.capsules.radius), dtype=bool)
+    if not robot_meshed(problem, meshes):  # the meshes are the furniture alone: the arm is drawn whole
+        return MeshesAndCapsules(robot, capsules, every)
     if look == "both":
-        return MeshesAndCapsules(robot, capsules, np.ones(len(capsule_links), dtype=bool), CAPSULE_ALPHA)
+        return MeshesAndCapsules(robot, capsules, every, CAPSULE_ALPHA)
     uncovered = capsule_links < 0  # a link without a mesh (none given, or not read) is drawn as its capsules
     return MeshesAndCapsules(robot, capsules, uncovered) if uncovered.any() else robot
+
+
+def robot_meshed(problem: Problem, meshes: ArmMeshes | None) -> bool:
+    """Whether ``meshes`` draw some link of the arm (and not only the scene's furniture)."""
+    return meshes is not None and bool(set(meshes.links) & set(problem.capsules.names))
 
 
 def vertex_normals(meshes: ArmMeshes) -> np.ndarray:
@@ -185,4 +197,4 @@ def _signed_areas(screen: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
 
-__all__ = ["CAPSULE_ALPHA", "MeshesAndCapsules", "RasterQueue", "RobotMeshes", "arm_solids", "bounding_segment", "vertex_normals"]
+__all__ = ["CAPSULE_ALPHA", "MeshesAndCapsules", "RasterQueue", "RobotMeshes", "arm_solids", "robot_meshed", "bounding_segment", "vertex_normals"]

@@ -239,9 +239,10 @@ def viewer_data(
     if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
         data["orientation"] = oriented
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
-        covered = set(meshes.links)
-        uncovered = [i for i, name in enumerate(problem.capsules.names) if name not in covered]
-        data["meshes"] = mesh_entries(meshes, pose, decimals) | {"look": settings.robot, "uncovered": uncovered}
+        names = problem.capsules.names or ("",) * len(problem.capsules.radius)  # an arm of links: no link has a mesh
+        uncovered = [i for i, name in enumerate(names) if name not in set(meshes.links)]
+        data["meshes"] = mesh_entries(meshes, pose, decimals) | {"look": settings.robot, "uncovered": uncovered,
+                                                                 "robot": len(uncovered) < len(names)}
     return data
 
 

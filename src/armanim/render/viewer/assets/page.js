@@ -472,8 +472,9 @@
   $("trail").addEventListener("change", (ev) => { trail.visible = ev.target.checked; st.dirty = true; });
   // with meshes, the capsules alone are toggled (the mesh shows the joints and the base)
   const uncovered = new Set(D.meshes ? D.meshes.uncovered : []);  // capsules of links without a mesh: always shown
-  const showCapsules = (on) => { links.forEach((c, i) => { c.visible = on || uncovered.has(i); }); joints.forEach((j) => { j.visible = !D.meshes; }); base.visible = !D.meshes; };
-  if (D.meshes) {
+  const robotMeshes = !!(D.meshes && D.meshes.robot);  // the meshes draw the robot (not only the furniture)
+  const showCapsules = (on) => { links.forEach((c, i) => { c.visible = on || uncovered.has(i); }); joints.forEach((j) => { j.visible = !robotMeshes; }); base.visible = !robotMeshes; };
+  if (robotMeshes) {
     const both = D.meshes.look === "both";  // render.robot: the capsules translucent over the meshes
     if (both) for (const m of [armMat, nearMat]) { m.transparent = true; m.opacity = 0.35; m.depthWrite = false; }
     showCapsules(both);  // else the robot as it looks; the capsules (what clearance is measured on) on demand
