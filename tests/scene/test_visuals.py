@@ -183,3 +183,27 @@ def test_a_pen_is_drawn_from_the_tool_point_back_along_the_tool_frame(tmp_path):
     assert np.allclose(nib.vertices[np.argmax(nib.vertices[:, 0])], [0.0, 0.0, 0.1], atol=1e-12)
     assert np.isclose(np.abs(points[:, 1]).max(), 0.008, rtol=1e-3) and np.isclose(np.ptp(points[:, 2]), 0.016, rtol=1e-2)
     assert len(notes) == 1 and "arm.tool.mesh" in notes[0] and "missing.stl" in notes[0]
+
+
+def test_a_panda_gripper_is_drawn_on_the_flange_as_the_panda_mounts_it(tmp_path):
+    """``gripper: panda`` on any arm: Franka's hand and fingers on the tip link, where the Panda's
+    own URDF puts them relative to its flange (checked against pinocchio's placement on the Panda)."""
+    from types import SimpleNamespace
+
+    pin = pytest.importorskip("pinocchio")
+    from armanim.scene.visuals import tool_meshes
+
+    tool = SimpleNamespace(xyz=[0.0, 0.0, 0.1], rpy=[0.0, 0.0, 0.0], pen=None, mesh=None, gripper="panda")
+    parts = tool_meshes(tool, "flange", tmp_path, print)
+    assert len(parts) == 3 and all(p.link == "flange" for p in parts) and sum(p.triangles for p in parts) > 500
+    # the left finger's mesh: where the bundled Panda draws panda_leftfinger relative to panda_link8
+    model = pin.buildModelFromUrdf(str(ROBOTS / "panda" / "panda.urdf"))
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    flange, finger = data.oMf[model.getFrameId("panda_link8")], data.oMf[model.getFrameId("panda_leftfinger")]
+    relative = flange.inverse() * finger
+    from armanim.scene.visuals import bundled_link_meshes
+
+    own = next(m for m in bundled_link_meshes(ROBOTS / "panda") if m.link == "panda_leftfinger")
+    expected = own.vertices @ relative.rotation.T + relative.translation
+    assert np.allclose(parts[1].vertices, expected, atol=1e-6)

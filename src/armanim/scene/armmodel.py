@@ -54,6 +54,8 @@ class ToolModel(Strict):
     mesh: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
         default=None, description="A mesh file (STL, OBJ, COLLADA) drawn in the tool frame, relative to the scene file "
                                   "(drawing only).")
+    gripper: Literal["panda"] | None = Field(
+        default=None, description="A gripper drawn on the tip link's flange, fingers closed: panda (Franka's hand; drawing only).")
 
 
 

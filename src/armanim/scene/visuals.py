@@ -24,7 +24,8 @@ import numpy as np
 from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
 from armanim.scene.convert import tool_frame, urdf_chain, urdf_mount
-from armanim.scene.urdf import Element, Robot, _parse_xml
+from armanim.scene.robots import bundled_robot
+from armanim.scene.urdf import Element, Robot, _parse_xml, read_urdf
 
 DEFAULT_RGB = (0.72, 0.74, 0.78)
 """The colour of a visual that names none (a light grey, as RViz draws one)."""
@@ -332,7 +333,7 @@ NIB_SHARE = 0.18
 def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None]) -> list[LinkMesh]:
     """What ``tool`` (``arm.tool``, or None) draws, in the tip link's frame: a pen (its nib at the
     tool point, its body back along the tool frame's -z) and a mesh file in the tool frame."""
-    if tool is None or (tool.pen is None and tool.mesh is None):
+    if tool is None or (tool.pen is None and tool.mesh is None and tool.gripper is None):
         return []
     import trimesh
 
@@ -355,7 +356,20 @@ def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None
             parts.append(_file_mesh(VisualSpec(tip_link, np.eye(4), "mesh", tool.mesh, (1.0, 1.0, 1.0), (), None, 0), path))
         except Exception as error:  # a user's file: any reader error is a note, never a failed run
             warn(f"arm.tool.mesh: {str(path)!r} could not be read ({type(error).__name__}: {error}): the tool is not drawn")
-    return [LinkMesh(tip_link, m.vertices @ frame[:3, :3].T + frame[:3, 3], m.faces, m.colors) for m in parts]
+    placed = [LinkMesh(tip_link, m.vertices @ frame[:3, :3].T + frame[:3, 3], m.faces, m.colors) for m in parts]
+    return placed + (panda_gripper(tip_link) if tool.gripper == "panda" else [])
+
+
+def panda_gripper(tip_link: str) -> list[LinkMesh]:
+    """Franka's hand and closed fingers (the bundled Panda's meshes) on ``tip_link``'s frame, as the
+    Panda's URDF mounts them on its flange (its hand and finger joints' origins, at zero)."""
+    panda = bundled_robot("panda")
+    joints = read_urdf(panda.urdf).joints
+    hand = joints["panda_hand_joint"].origin
+    at = {"panda_hand": hand, "panda_leftfinger": hand @ joints["panda_finger_joint1"].origin,
+          "panda_rightfinger": hand @ joints["panda_finger_joint2"].origin}
+    return [LinkMesh(tip_link, m.vertices @ at[m.link][:3, :3].T + at[m.link][:3, 3], m.faces, m.colors)
+            for m in bundled_link_meshes(panda.urdf.parent) if m.link in at]
 
 
 def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
