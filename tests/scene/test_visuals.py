@@ -207,3 +207,32 @@ def test_a_panda_gripper_is_drawn_on_the_flange_as_the_panda_mounts_it(tmp_path)
     own = next(m for m in bundled_link_meshes(ROBOTS / "panda") if m.link == "panda_leftfinger")
     expected = own.vertices @ relative.rotation.T + relative.translation
     assert np.allclose(parts[1].vertices, expected, atol=1e-6)
+
+
+def test_a_tool_capsule_rides_on_the_tool_frame_and_is_checked_as_the_tips_link(tmp_path):
+    """``arm.tool.collision``: a capsule from the flange to the tip in the tool frame; at any pose its
+    end is where the kinematics puts the tip, it carries the name of the link that carries the tip
+    (so the allowed-collision rules of that link apply), and the run's clearance counts it."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.scene import load_scene, scene_to_problem
+
+    scene = tmp_path / "pen.yaml"
+    scene.write_text("version: 1\narm:\n  robot: ur5\n  tool: {xyz: [0, 0, 0.12], rpy: [0, 30, 0],"
+                     " collision: {from: [0, 0, -0.12], to: [0, 0, 0], radius: 0.01}}\ngoals:\n  - [0.4, 0.2, 0.3]\n")
+    problem = scene_to_problem(load_scene(scene).model)
+    assert problem.capsules.names[-1] == "wrist_3_link" and problem.capsules.radius[-1] == 0.01
+    rng = np.random.default_rng(4)
+    pose = forward(problem.arm, rng.uniform(-2, 2, (6, problem.arm.n)))
+    a, b = capsule_ends(problem.capsules, pose)
+    assert np.allclose(b[:, -1], pose.tip, atol=1e-12)
+    assert np.allclose(np.linalg.norm(a[:, -1] - b[:, -1], axis=-1), 0.12)
+    from armanim.world.distances import min_link_clearance
+    from armanim.world.obstacles import Obstacles
+
+    home = forward(problem.arm, problem.home)
+    ball = home.tip + np.array([0.0, 0.0, -0.05])  # 5 cm below the tip: nearer the tool than any link
+    near = Obstacles(ball[None], np.array([0.02]), np.array([0.02]))
+    clear = float(min_link_clearance(home, near, problem.capsules))
+    start, end = (e[-1] for e in capsule_ends(problem.capsules, home))
+    along = start + np.linspace(0, 1, 20001)[:, None] * (end - start)
+    assert np.isclose(clear, np.linalg.norm(along - ball, axis=1).min() - 0.02 - 0.01, atol=1e-6)  # the tool's

@@ -38,6 +38,14 @@ class CapsuleModel(Strict):
     radius: NonNegative = Field(description="Every point within this distance of the segment is the arm's.")
 
 
+class ToolCapsuleModel(Strict):
+    """The tool's collision capsule, in the tool frame (metres)."""
+
+    from_: Vector3 = Field(alias="from", description="One end of the capsule's segment, in the tool frame.")
+    to: Vector3 = Field(description="The other end, in the tool frame.")
+    radius: NonNegative = Field(description="Every point within this distance of the segment is the tool's.")
+
+
 class PenModel(Strict):
     """A pen drawn at the tool frame: its nib at the tip, its body back along the frame's -z."""
 
@@ -54,6 +62,8 @@ class ToolModel(Strict):
     mesh: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
         default=None, description="A mesh file (STL, OBJ, COLLADA) drawn in the tool frame, relative to the scene file "
                                   "(drawing only).")
+    collision: ToolCapsuleModel | None = Field(
+        default=None, description="A capsule in the tool frame checked like a link's (clearance, self-collision, the cost).")
     gripper: Literal["panda"] | None = Field(
         default=None, description="A gripper drawn on the tip link's flange, fingers closed: panda (Franka's hand; drawing only).")
 

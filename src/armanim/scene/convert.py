@@ -72,8 +72,9 @@ def urdf_chain(arm: ArmModel) -> SerialChain:
 
 
 def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
-    """The URDF arm's capsules moved into the frames of the joints that carry them, and a
-    joint-to-joint capsule of radius width / 2 for each moving link without one. Links
+    """The URDF arm's capsules moved into the frames of the joints that carry them, a
+    joint-to-joint capsule of radius width / 2 for each moving link without one, and the tool's
+    capsule (``arm.tool.collision``), named after the link whose joint carries the tip. Links
     before the first moving joint never move and carry none."""
     robot = arm.urdf_arm
     links, starts, ends, radii, names = [], [], [], [], []
@@ -95,6 +96,13 @@ def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
         ends.append(chain.arm.offsets[carrier])
         radii.append(arm.resolved_width / 2.0)
         names.append(link)
+    if arm.tool is not None and arm.tool.collision is not None:  # checked as a part of the link that carries the tip
+        tool, place = arm.tool.collision, chain.link_offsets[-1] @ tool_frame(arm.tool)
+        links.append(chain.carriers[-1])
+        starts.append(place[:3, :3] @ np.asarray(tool.from_) + place[:3, 3])
+        ends.append(place[:3, :3] @ np.asarray(tool.to) + place[:3, 3])
+        radii.append(float(tool.radius))
+        names.append(robot.path_links[chain.carriers.index(chain.carriers[-1])])
     return frame_capsules(chain.arm, links, np.reshape(starts, (-1, 3)), np.reshape(ends, (-1, 3)), radii, names)
 
 
