@@ -32,3 +32,14 @@ def one_line_error(result) -> str:
     assert "Traceback" not in result.output
     assert text and len(text.splitlines()) == 1, text
     return text
+
+
+SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
+"""A four-link scene that solves in a blink."""
+
+
+def small_scene(folder: Path, name: str) -> Path:
+    """:data:`SMALL` named ``name`` in ``folder``, drawn tiny (10 fps, 64 x 48)."""
+    path = folder / f"{name}.yaml"
+    path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
+    return path

@@ -10,27 +10,19 @@ from __future__ import annotations
 import re
 import socket
 import threading
-from pathlib import Path
 
 import pytest
 from conftest import SCENES
+from runfolders import small_scene
 
 from armanim.errors import UsageError
 
 NOTES = SCENES / "notes-arm.yaml"
 
 
-SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
-
-
-def _small(folder: Path, name: str) -> Path:
-    path = folder / f"{name}.yaml"
-    path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
-    return path
-
 
 def test_a_user_index_csv_stops_a_batch_before_any_work(cli, tmp_path):
-    a, b = _small(tmp_path, "a"), _small(tmp_path, "b")
+    a, b = small_scene(tmp_path, "a"), small_scene(tmp_path, "b")
     out = tmp_path / "proj"
     out.mkdir()
     (out / "index.csv").write_text("my precious index\n")
@@ -125,8 +117,8 @@ def test_a_sweep_beyond_the_limit_is_exit_2_before_anything_is_built(cli, tmp_pa
 
 
 def test_a_sweep_and_a_batch_say_their_size_first(cli, tmp_path):
-    result = cli("sweep", _small(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1")
+    result = cli("sweep", small_scene(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1")
     assert result.exit_code == 0, result.output
     assert result.stderr.splitlines()[0] == f"sweep of {tmp_path / 's.yaml'}: 2 variants (solver.step)"
-    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "o", "--no-video", "--jobs", "1")
+    result = cli("run", small_scene(tmp_path, "a"), small_scene(tmp_path, "b"), "--out", tmp_path / "o", "--no-video", "--jobs", "1")
     assert result.exit_code == 0 and result.stderr.splitlines()[0] == "batch: 2 scenes", result.output

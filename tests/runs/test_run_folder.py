@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 from conftest import SCENES
+from runfolders import SMALL, small_scene
 from signals import snapshot
 
 from armanim.output.rundir import MARKER
@@ -19,18 +20,10 @@ from armanim.output.rundir import MARKER
 NOTES = SCENES / "notes-arm.yaml"
 
 
-SMALL = "version: 1\narm:\n  links: [1, 1, 1, 1]\ngoals:\n  - [1, 1, 2]\n"
-
-
-def _small(folder: Path, name: str) -> Path:
-    path = folder / f"{name}.yaml"
-    path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
-    return path
-
 
 @pytest.fixture()
 def finished_run(cli, tmp_path) -> Path:
-    assert cli("run", _small(tmp_path, "r"), "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
+    assert cli("run", small_scene(tmp_path, "r"), "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
     return tmp_path / "out" / "r"
 
 
@@ -118,7 +111,7 @@ def test_a_disk_full_message_names_the_run_folder_not_its_staging(cli, tmp_path,
         real_fsync(fd)
 
     monkeypatch.setattr("armanim.output.atomic.os.fsync", full)
-    result = cli("run", _small(tmp_path, "a"), _small(tmp_path, "b"), "--out", tmp_path / "out", "--no-video", "-q", "--jobs", "1")
+    result = cli("run", small_scene(tmp_path, "a"), small_scene(tmp_path, "b"), "--out", tmp_path / "out", "--no-video", "-q", "--jobs", "1")
     assert result.exit_code == 3, result.output
     assert f"{tmp_path / 'out' / 'a'}/scene.yaml: the disk is full" in result.stderr and ".partial" not in result.stderr
 
@@ -127,6 +120,6 @@ def test_a_dangling_link_at_the_lock_is_refused_not_followed(cli, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / ".a.lock").symlink_to(tmp_path / "elsewhere")
-    result = cli("run", _small(tmp_path, "a"), "--out", out, "--no-video", "-q")
+    result = cli("run", small_scene(tmp_path, "a"), "--out", out, "--no-video", "-q")
     assert result.exit_code == 3 and ".a.lock: is a link" in result.stderr, result.output
     assert not (tmp_path / "elsewhere").exists()
