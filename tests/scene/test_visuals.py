@@ -174,7 +174,7 @@ def test_a_pen_is_drawn_from_the_tool_point_back_along_the_tool_frame(tmp_path):
     from armanim.scene.visuals import tool_meshes
 
     pen = SimpleNamespace(length=0.12, radius=0.008)
-    tool = SimpleNamespace(xyz=[0.0, 0.0, 0.1], rpy=[0.0, 90.0, 0.0], pen=pen, mesh="missing.stl")
+    tool = SimpleNamespace(xyz=[0.0, 0.0, 0.1], rpy=[0.0, 90.0, 0.0], pen=pen, mesh="missing.stl", gripper=None)
     notes: list[str] = []
     nib, body = tool_meshes(tool, "flange", tmp_path, notes.append)
     points = np.vstack([nib.vertices, body.vertices])
