@@ -106,3 +106,18 @@ def test_drawing_into_the_frame_is_compositing_the_sprite():
     composite(laid, triangle_sprite(pts, faces, rgb, (40, 32)))
     assert np.abs(direct.astype(int) - laid.astype(int)).max() <= 1  # float32 samples against float64
     assert (direct != frame).any()
+
+
+def test_an_outline_is_the_union_s_border_only():
+    """Two triangles making a 20 x 20 square: its border pixels turn the outline's colour, the
+    inside and the outside stay as they were."""
+    from armanim.render.solids.raster import draw_outline
+
+    square = np.array([[10.0, 10.0, 0.0], [30.0, 10.0, 0.0], [30.0, 30.0, 0.0], [10.0, 30.0, 0.0]])
+    frame = np.full((40, 40, 4), 255, dtype=np.uint8)
+    draw_outline(frame, square, np.array([[0, 1, 2], [0, 2, 3]]), (0.0, 0.0, 0.0), width=1, alpha=1.0)
+    dark = frame[..., 0] == 0
+    rows, cols = np.nonzero(dark)
+    assert (rows.min(), rows.max(), cols.min(), cols.max()) == (10, 29, 10, 29)  # y up: rows 40 - 30 .. 40 - 10 - 1
+    assert dark.sum() == 4 * 20 - 4  # the square's ring of pixels, nothing inside
+    assert not dark[12:28, 12:28].any()

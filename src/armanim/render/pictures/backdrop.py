@@ -25,7 +25,6 @@ from armanim.render.paint.style import (
     FLOOR_COLOR,
     FONT,
     GHOST_COLOR,
-    GHOST_FADE,
     GOAL_COLORS,
     GRID_COLOR,
     HIDDEN_ALPHA,
@@ -34,6 +33,7 @@ from armanim.render.paint.style import (
     TEXT_COLOR,
     TRAIL_COLOR,
 )
+from armanim.render.solids.robot import GHOST_OUTLINE
 
 SHADOW_LAYERS = ((1.12, 0.05), (1.0, 0.06), (0.85, 0.07))  # (scale, opacity): nested discs of a soft shadow
 
@@ -172,8 +172,8 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     name = "robot" if robot else "arm"
     entries = [(name, Line2D([], [], color=ROBOT_LEGEND_COLOR if robot else ARM_COLOR, linewidth=5))]
     if picture == "poster":
-        ghost = tuple(c * (1 - GHOST_FADE) + GHOST_FADE for c in ROBOT_LEGEND_COLOR) if robot else GHOST_COLOR
-        entries.append((f"{name} on each goal", Line2D([], [], color=ghost, linewidth=5)))
+        ghost = Line2D([], [], color=GHOST_OUTLINE, linewidth=2) if robot else Line2D([], [], color=GHOST_COLOR, linewidth=5)
+        entries.append((f"{name} on each goal", ghost))  # a robot's faint poses are outlines
     if trail and picture != "pose":
         entries.append(("tip path", Line2D([], [], color=TRAIL_COLOR, linewidth=2)))
     if obstacles:

@@ -67,6 +67,32 @@ def draw_triangles(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rg
     blend_samples(depth, color, ss, buffer, height - y1, x0)
 
 
+def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb: tuple[float, float, float],
+                 width: int = 1, alpha: float = 0.9) -> None:
+    """Draw only the outline of the triangles' union into a frame ``buffer`` (H, W, 4 uint8): the
+    covered pixels with an uncovered neighbour (4-neighbourhood), grown by ``width`` - 1 pixels,
+    in ``rgb`` at ``alpha`` (a poster's faint pose, which must not hide the one it is drawn under)."""
+    height, width_px = buffer.shape[:2]
+    box = _box(points, faces, width_px, height)
+    if box is None:
+        return
+    x0, y0, x1, y1 = box
+    from armanim.render.solids.rasterloops import fill_samples  # compiled: numba is imported here
+
+    ss = SUPERSAMPLE
+    depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf, dtype=np.float32)
+    color = np.empty(depth.shape + (3,), dtype=np.float32)
+    fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
+                 np.zeros((len(points), 3)), float(x0), float(y0), ss, depth, color)
+    inside = np.pad(np.isfinite(depth).reshape(y1 - y0, ss, x1 - x0, ss).mean(axis=(1, 3))[::-1] >= 0.5, 1)
+    edge = inside[1:-1, 1:-1] & ~(inside[:-2, 1:-1] & inside[2:, 1:-1] & inside[1:-1, :-2] & inside[1:-1, 2:])
+    for _ in range(width - 1):
+        grown = np.pad(edge, 1)
+        edge = edge | grown[:-2, 1:-1] | grown[2:, 1:-1] | grown[1:-1, :-2] | grown[1:-1, 2:]
+    region = buffer[height - y1:height - y0, x0:x1, :3]
+    region[edge] = (region[edge] * (1 - alpha) + np.asarray(rgb) * 255 * alpha + 0.5).astype(np.uint8)
+
+
 def _box(points: np.ndarray, faces: np.ndarray, width: int, height: int) -> tuple[int, int, int, int] | None:
     """The pixels (x0, y0, x1, y1; y up) the triangles' corners span inside the frame, or None."""
     if not len(faces):
@@ -77,4 +103,4 @@ def _box(points: np.ndarray, faces: np.ndarray, width: int, height: int) -> tupl
     return (x0, y0, x1, y1) if x1 > x0 and y1 > y0 else None
 
 
-__all__ = ["SUPERSAMPLE", "draw_triangles", "triangle_sprite"]
+__all__ = ["SUPERSAMPLE", "draw_outline", "draw_triangles", "triangle_sprite"]

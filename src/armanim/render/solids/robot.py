@@ -20,9 +20,11 @@ from armanim.motion.problem import Problem
 from armanim.render.camera.view import View, lambert
 from armanim.render.paint.style import GHOST_FADE, SELF_NEAR_COLOR
 from armanim.render.solids.arm import ArmSolids, Part, segment_samples
-from armanim.render.solids.raster import draw_triangles
+from armanim.render.solids.raster import draw_outline, draw_triangles
 
 NEAR_TINT = 0.4
+GHOST_OUTLINE = (0.52, 0.58, 0.70)
+"""The outline a poster draws of the robot on each goal."""
 """How far a link in a close pair of the arm's own links is tinted toward the warning colour."""
 
 
@@ -65,8 +67,10 @@ class RobotMeshes:
             start, end, radius = self.bounds[k]
             carrier = int(self.meshes.carrier[tri[0, 0]]) if len(tri) else -1
             ends = self.view.project(_placed(np.array([start, end]), pose, carrier))
+            front = tri[_signed_areas(screen, tri) > 0.0]
+            raster = (screen, front, rgb, "outline" if ghost else "fill")  # a ghost: the whole pose's outline only
             parts.append(Part(samples=segment_samples(ends[0], ends[1]), radius=radius * self.ppu, polygons=[],
-                              colors=np.zeros((0, 4)), raster=(screen, tri[_signed_areas(screen, tri) > 0.0], rgb)))
+                              colors=np.zeros((0, 4)), raster=raster))
         return parts
 
     def _shades(self, pose: Pose, ghost: bool) -> np.ndarray:
@@ -109,27 +113,33 @@ class MeshesAndCapsules:
 
 
 class RasterQueue:
-    """Mesh parts that follow each other in the painter's order, drawn as one sprite (one
-    z-buffer: the links among themselves are then drawn as they occlude each other)."""
+    """Mesh parts that follow each other in the painter's order, drawn as one (one z-buffer: the
+    links among themselves are then drawn as they occlude each other; a ghost's parts as one
+    outline)."""
 
     def __init__(self, size: tuple[int, int]):
         self.size = size
         self.points: np.ndarray | None = None
         self.rgb: np.ndarray | None = None
+        self.mode = "fill"
         self.faces: list[np.ndarray] = []
 
-    def add(self, raster: tuple[np.ndarray, np.ndarray, np.ndarray], buffer: np.ndarray) -> None:
+    def add(self, raster: tuple, buffer: np.ndarray) -> None:
         """Queue one part's triangles (drawing the queue first if they are another pose's)."""
-        points, faces, rgb = raster
-        if self.points is not None and points is not self.points:
+        points, faces, rgb, mode = raster
+        if self.points is not None and (points is not self.points or mode != self.mode):
             self.flush(buffer)
-        self.points, self.rgb = points, rgb
+        self.points, self.rgb, self.mode = points, rgb, mode
         self.faces.append(faces)
 
     def flush(self, buffer: np.ndarray) -> None:
-        """Draw the queued triangles into ``buffer``."""
+        """Draw the queued triangles into ``buffer``: filled, or a ghost's outline."""
         if self.faces and self.points is not None and self.rgb is not None:
-            draw_triangles(buffer, self.points, np.concatenate(self.faces), self.rgb)
+            faces = np.concatenate(self.faces)
+            if self.mode == "outline":
+                draw_outline(buffer, self.points, faces, GHOST_OUTLINE, width=2)
+            else:
+                draw_triangles(buffer, self.points, faces, self.rgb)
         self.points, self.rgb, self.faces = None, None, []
 
 
