@@ -58,6 +58,7 @@ def test_a_users_urdf_is_drawn_with_its_meshes_and_a_missing_one_is_a_note(cli, 
     assert triangles == 12 + 24 * 4  # the box and the STL cylinder (24 sections: 4 triangles each)
     assert data["meshes"]["look"] == "mesh"
     assert data["meshes"]["uncovered"] == [1]  # l2's capsule: its mesh is missing, so the capsule is drawn
+    assert data["meshes"]["capsule_group"] == [1, -1]  # l1's capsule tints the group of joint 1 (after the base's)
 
 
 def test_without_the_package_dirs_the_meshes_are_notes_and_capsules_draw_the_robot(cli, tmp_path):

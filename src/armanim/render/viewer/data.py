@@ -241,8 +241,11 @@ def viewer_data(
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
         names = problem.capsules.names or ("",) * len(problem.capsules.radius)  # an arm of links: no link has a mesh
         uncovered = [i for i, name in enumerate(names) if name not in set(meshes.links)]
-        data["meshes"] = mesh_entries(meshes, pose, decimals) | {"look": settings.robot, "uncovered": uncovered,
-                                                                 "robot": len(uncovered) < len(names)}
+        entries = mesh_entries(meshes, pose, decimals)
+        group_of = {g["carrier"]: i for i, g in enumerate(entries["groups"])}
+        covered = [group_of.get(int(k), -1) if i not in uncovered else -1 for i, k in enumerate(problem.capsules.link)]
+        data["meshes"] = entries | {"look": settings.robot, "uncovered": uncovered, "robot": len(uncovered) < len(names),
+                                    "capsule_group": covered}
     return data
 
 

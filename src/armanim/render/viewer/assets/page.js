@@ -265,18 +265,18 @@
   const meshGroups = [];
   if (D.meshes) {
     const linear = (c) => (c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4));  // the data's sRGB, as three.js lights
-    const meshMat = new T.MeshPhongMaterial({ vertexColors: true, shininess: 40 });
+    const meshMat = () => new T.MeshPhongMaterial({ vertexColors: true, shininess: 40 });  // one a group: a near pair tints it
     for (const g of D.meshes.groups) {
       const geo = new T.BufferGeometry();
       geo.setAttribute("position", new T.BufferAttribute(new Float32Array(g.positions), 3));
       geo.setAttribute("color", new T.BufferAttribute(new Float32Array(g.colors.map(linear)), 3));
       geo.setIndex(g.indices);
       geo.computeVertexNormals();
-      const m = new T.Mesh(geo, meshMat);
+      const m = new T.Mesh(geo, meshMat());
       m.castShadow = true;
       const holder = new T.Group();
       holder.add(m); scene.add(holder);
-      meshGroups.push({ holder, slot: D.meshes.carriers.indexOf(g.carrier) });
+      meshGroups.push({ holder, mesh: m, slot: D.meshes.carriers.indexOf(g.carrier) });
     }
   }
   const base = new T.Mesh(new T.CylinderGeometry(hw * S.base_scale, hw * S.base_scale, 2 * hw, 32), new T.MeshPhongMaterial({ color: S.base }));
@@ -305,6 +305,13 @@
       links[i].material = armMat;
     }
     if (D.capsules.near) for (const i of D.capsules.near[f]) links[i].material = nearMat;
+    if (D.meshes && D.capsules.near) {  // a meshed link in a close pair is tinted as its capsule is
+      meshGroups.forEach((g) => g.mesh.material.color.setRGB(1, 1, 1));
+      for (const i of D.capsules.near[f]) {
+        const k = D.meshes.capsule_group[i];
+        if (k >= 0) meshGroups[k].mesh.material.color.set(S.self_near);
+      }
+    }
     if (D.meshes) {
       const K = D.meshes.carriers.length, M = D.meshes.frames;
       for (const g of meshGroups) {
