@@ -171,7 +171,7 @@ def test_a_pen_is_drawn_from_the_tool_point_back_along_the_tool_frame(tmp_path):
     a tool mesh that cannot be read is a note."""
     from types import SimpleNamespace
 
-    from armanim.scene.visuals import tool_meshes
+    from armanim.scene.looks import tool_meshes
 
     pen = SimpleNamespace(length=0.12, radius=0.008)
     tool = SimpleNamespace(xyz=[0.0, 0.0, 0.1], rpy=[0.0, 90.0, 0.0], pen=pen, mesh="missing.stl", gripper=None)
@@ -191,7 +191,7 @@ def test_a_panda_gripper_is_drawn_on_the_flange_as_the_panda_mounts_it(tmp_path)
     from types import SimpleNamespace
 
     pin = pytest.importorskip("pinocchio")
-    from armanim.scene.visuals import tool_meshes
+    from armanim.scene.looks import tool_meshes
 
     tool = SimpleNamespace(xyz=[0.0, 0.0, 0.1], rpy=[0.0, 0.0, 0.0], pen=None, mesh=None, gripper="panda")
     parts = tool_meshes(tool, "flange", tmp_path, print)

@@ -26,8 +26,8 @@ from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY, FinishedRun
 from armanim.runs.resample import resample_run, resampled_frames
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.limits import rate_note_lines
+from armanim.scene.looks import scene_meshes
 from armanim.scene.models import LIMITS
-from armanim.scene.visuals import scene_meshes
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve", "plan" (a plan's path search, in iterations,
@@ -158,7 +158,7 @@ MESH_TRIANGLES = 5_000
 
 def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) -> tuple[SolvedRun, tuple[str, ...]]:
     """``run`` with what its pictures draw as meshes with ``settings``: its robot's look (none for
-    ``render.robot: capsules``) and the scene's furniture (:func:`armanim.scene.visuals.scene_meshes`),
+    ``render.robot: capsules``) and the scene's furniture (:func:`armanim.scene.looks.scene_meshes`),
     and a note per visual mesh that could not be read (its link is drawn as its capsules)."""
     width, height = settings.size
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))

@@ -23,9 +23,7 @@ import numpy as np
 
 from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
-from armanim.scene.convert import tool_frame, urdf_chain, urdf_mount
-from armanim.scene.robots import bundled_robot
-from armanim.scene.urdf import Element, Robot, _parse_xml, read_urdf
+from armanim.scene.urdf import Element, Robot, _parse_xml
 
 DEFAULT_RGB = (0.72, 0.74, 0.78)
 """The colour of a visual that names none (a light grey, as RViz draws one)."""
@@ -191,7 +189,7 @@ def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn:
         try:
             if path.stat().st_size > MAX_MESH_BYTES:
                 raise ValueError(f"larger than {MAX_MESH_BYTES // 2**20} MB")
-            mesh = _file_mesh(spec, path)
+            mesh = mesh_file_triangles(spec, path)
         except Exception as error:  # a user's file: any reader error is a warning, never a failed run
             warn(f"link {spec.link!r}: mesh {str(path)!r} could not be read ({type(error).__name__}: {error}): "
                  "drawn as its capsules")
@@ -206,7 +204,7 @@ def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn:
     return LinkMesh(spec.link, vertices, mesh.faces, mesh.colors)
 
 
-def _file_mesh(spec: VisualSpec, path: Path) -> LinkMesh:
+def mesh_file_triangles(spec: VisualSpec, path: Path) -> LinkMesh:
     """A mesh file's triangles, scaled, in the visual's frame, coloured as the module says."""
     import trimesh
 
@@ -278,100 +276,6 @@ def bundled_link_meshes(folder: Path) -> list[LinkMesh]:
                          arrays[f"{link}/colors"].astype(float) / 255.0) for link in links]
 
 
-def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None,
-                 scene_dir: Path | None = None, furniture=(), robot: bool = True) -> tuple[ArmMeshes | None, list[str]]:
-    """What the pictures draw as meshes: the look of a scene's URDF arm (``arm``: a validated
-    :class:`~armanim.scene.armmodel.ArmModel` with its files read; left out when ``robot`` is
-    False) and the scene's ``furniture`` (``render.furniture``: boxes in the world).
-
-    The arm's look is a bundled robot's shipped meshes, or the visuals of a user's URDF found
-    under ``package_dirs`` (default: the URDF's folder and its parents), simplified to about
-    ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), with the tool ``arm.tool``
-    draws (a pen, or a mesh file relative to ``scene_dir``), placed on the arm's chain as the
-    scene mounts it. Returns them (None: nothing to draw as meshes) and a note per visual that
-    could not be read."""
-    fixed = furniture_meshes(furniture)
-    urdf = arm.urdf_arm if robot and arm.is_urdf else None
-    if urdf is None or urdf.robot is None:
-        return (placed_meshes(fixed, [-1] * len(fixed), [np.eye(4)] * len(fixed)) if fixed else None), []
-    notes: list[str] = []
-    if urdf.bundled is not None:
-        meshes = bundled_link_meshes(urdf.bundled.urdf.parent)
-    else:
-        folder = urdf.folder or Path(".")
-        specs = visual_specs(urdf.robot.raw, urdf.file)
-        meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append)
-    notes = [f"{urdf.file}: {note}" for note in notes]
-    total = sum(m.triangles for m in meshes)
-    if triangles is not None and total > triangles:
-        meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
-    meshes += tool_meshes(arm.tool, urdf.tip_link, scene_dir or Path("."), notes.append)
-    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, urdf_chain(arm), urdf_mount(arm), fixed)
-    return (placed if placed.triangles else None), notes
-
-
-def furniture_meshes(furniture) -> list[LinkMesh]:
-    """Each ``render.furniture`` box as a mesh in the world (its 12 triangles, its colour)."""
-    out = []
-    for item in furniture:
-        box = item.box
-        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * np.asarray(box.size) / 2
-        turn = transform(box.center, np.radians(box.rpy))
-        faces = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                          [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
-        out.append(LinkMesh("furniture", corners @ turn[:3, :3].T + turn[:3, 3], faces, np.tile(item.color, (12, 1))))
-    return out
-
-
-PEN_BODY_RGB = (0.16, 0.33, 0.72)
-"""The pen's body; its nib is :data:`PEN_NIB_RGB`."""
-PEN_NIB_RGB = (0.15, 0.15, 0.17)
-NIB_SHARE = 0.18
-"""The share of the pen's length that is its tapering nib."""
-
-
-def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None]) -> list[LinkMesh]:
-    """What ``tool`` (``arm.tool``, or None) draws, in the tip link's frame: a pen (its nib at the
-    tool point, its body back along the tool frame's -z) and a mesh file in the tool frame."""
-    if tool is None or (tool.pen is None and tool.mesh is None and tool.gripper is None):
-        return []
-    import trimesh
-
-    frame = tool_frame(tool)
-    parts = []
-    if tool.pen is not None:
-        length, radius = tool.pen.length, tool.pen.radius
-        nib = trimesh.creation.cone(radius=radius, height=NIB_SHARE * length, sections=20)
-        nib.apply_transform(transform([0, 0, -NIB_SHARE * length]))  # its apex at the tool point
-        body = trimesh.creation.cylinder(radius=radius, height=(1 - NIB_SHARE) * length, sections=20)
-        body.apply_transform(transform([0, 0, -NIB_SHARE * length - (1 - NIB_SHARE) * length / 2]))
-        for shape, rgb in ((nib, PEN_NIB_RGB), (body, PEN_BODY_RGB)):
-            parts.append(LinkMesh(tip_link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
-                                  np.tile(rgb, (len(shape.faces), 1))))
-    if tool.mesh is not None:
-        path = scene_dir / tool.mesh
-        try:
-            if not path.is_file():
-                raise FileNotFoundError("no such file")
-            parts.append(_file_mesh(VisualSpec(tip_link, np.eye(4), "mesh", tool.mesh, (1.0, 1.0, 1.0), (), None, 0), path))
-        except Exception as error:  # a user's file: any reader error is a note, never a failed run
-            warn(f"arm.tool.mesh: {str(path)!r} could not be read ({type(error).__name__}: {error}): the tool is not drawn")
-    placed = [LinkMesh(tip_link, m.vertices @ frame[:3, :3].T + frame[:3, 3], m.faces, m.colors) for m in parts]
-    return placed + (panda_gripper(tip_link) if tool.gripper == "panda" else [])
-
-
-def panda_gripper(tip_link: str) -> list[LinkMesh]:
-    """Franka's hand and closed fingers (the bundled Panda's meshes) on ``tip_link``'s frame, as the
-    Panda's URDF mounts them on its flange (its hand and finger joints' origins, at zero)."""
-    panda = bundled_robot("panda")
-    joints = read_urdf(panda.urdf).joints
-    hand = joints["panda_hand_joint"].origin
-    at = {"panda_hand": hand, "panda_leftfinger": hand @ joints["panda_finger_joint1"].origin,
-          "panda_rightfinger": hand @ joints["panda_finger_joint2"].origin}
-    return [LinkMesh(tip_link, m.vertices @ at[m.link][:3, :3].T + at[m.link][:3, 3], m.faces, m.colors)
-            for m in bundled_link_meshes(panda.urdf.parent) if m.link in at]
-
-
 def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The vertices ``faces`` use, each position once (files often repeat a vertex per face for
     its normals, or nearly: which leaves decimation no edge to collapse), vertices within
@@ -420,5 +324,5 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
     return placed_meshes(kept + list(fixed), carriers + [-1] * len(fixed), offsets + [np.eye(4)] * len(fixed))
 
 
-__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "scene_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
+__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
            "mesh_path", "simplified", "visual_specs"]
