@@ -36,15 +36,11 @@ def triangle_sprite(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size
     box = _box(points, faces, width, height)
     if box is None:
         return None
-    x0, y0, x1, y1 = box
-    h, w = y1 - y0, x1 - x0
-    from armanim.render.solids.rasterloops import fill_samples, resolve_samples  # compiled: numba is imported here
+    from armanim.render.solids.rasterloops import resolve_samples  # compiled: numba is imported here
 
-    depth = np.full((h * ss, w * ss), -np.inf)
-    color = np.zeros(depth.shape + (3,))
-    fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
-                 np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
-    premultiplied, clear = np.empty((h, w, 3), dtype=np.float32), np.empty((h, w, 1), dtype=np.float32)
+    x0, y0, x1, y1 = box
+    depth, color = _samples(points, faces, rgb, box, ss, float)
+    premultiplied, clear = np.empty((y1 - y0, x1 - x0, 3), dtype=np.float32), np.empty((y1 - y0, x1 - x0, 1), dtype=np.float32)
     resolve_samples(depth, color, ss, premultiplied, clear)
     return slice(height - y1, height - y0), slice(x0, x1), premultiplied, clear
 
@@ -57,14 +53,10 @@ def draw_triangles(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rg
     box = _box(points, faces, width, height)
     if box is None:
         return
-    x0, y0, x1, y1 = box
-    from armanim.render.solids.rasterloops import blend_samples, fill_samples  # compiled: numba is imported here
+    from armanim.render.solids.rasterloops import blend_samples  # compiled: numba is imported here
 
-    depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf, dtype=np.float32)
-    color = np.empty(depth.shape + (3,), dtype=np.float32)
-    fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
-                 np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
-    blend_samples(depth, color, ss, buffer, height - y1, x0)
+    depth, color = _samples(points, faces, rgb, box, ss, np.float32)
+    blend_samples(depth, color, ss, buffer, height - box[3], box[0])
 
 
 def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb: tuple[float, float, float],
@@ -77,13 +69,8 @@ def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb:
     if box is None:
         return
     x0, y0, x1, y1 = box
-    from armanim.render.solids.rasterloops import fill_samples  # compiled: numba is imported here
-
     ss = SUPERSAMPLE
-    depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf, dtype=np.float32)
-    color = np.empty(depth.shape + (3,), dtype=np.float32)
-    fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
-                 np.zeros((len(points), 3)), float(x0), float(y0), ss, depth, color)
+    depth, _ = _samples(points, faces, np.zeros((len(points), 3)), box, ss, np.float32)
     inside = np.pad(np.isfinite(depth).reshape(y1 - y0, ss, x1 - x0, ss).mean(axis=(1, 3))[::-1] >= 0.5, 1)
     edge = inside[1:-1, 1:-1] & ~(inside[:-2, 1:-1] & inside[2:, 1:-1] & inside[1:-1, :-2] & inside[1:-1, 2:])
     for _ in range(width - 1):
@@ -91,6 +78,20 @@ def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb:
         edge = edge | grown[:-2, 1:-1] | grown[2:, 1:-1] | grown[1:-1, :-2] | grown[1:-1, 2:]
     region = buffer[height - y1:height - y0, x0:x1, :3]
     region[edge] = (region[edge] * (1 - alpha) + np.asarray(rgb) * 255 * alpha + 0.5).astype(np.uint8)
+
+
+def _samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, box: tuple[int, int, int, int], ss: int,
+             dtype) -> tuple[np.ndarray, np.ndarray]:
+    """The triangles filled on the sample grid of pixel ``box`` (x0, y0, x1, y1; y up), ``ss`` x ``ss``
+    samples a pixel: each sample's nearness (-inf where empty) and colour, in ``dtype``."""
+    from armanim.render.solids.rasterloops import fill_samples  # compiled: numba is imported here
+
+    x0, y0, x1, y1 = box
+    depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf, dtype=dtype)
+    color = np.zeros(depth.shape + (3,), dtype=dtype)
+    fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
+                 np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
+    return depth, color
 
 
 def _box(points: np.ndarray, faces: np.ndarray, width: int, height: int) -> tuple[int, int, int, int] | None:
