@@ -156,12 +156,6 @@ def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray
     return rows, -problem.tunables.filter.gamma * (gaps.d[which] - target)
 
 
-def pair_levers(problem: Problem) -> np.ndarray:
-    """(P,) for each enabled pair, the 2-norm of its :attr:`~armanim.motion.problem.Problem.pair_lever_rows`:
-    a step dPhi changes the pair's gap by at most |dPhi| times this."""
-    return problem.pair_levers
-
-
 def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
     """The constraints of the frame: only obstacle pairs that the QP's answer could reach.
 
@@ -173,7 +167,7 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -
     travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(problem.lever_arms)) + 1e-9
     rows, lower = obstacle_rows(problem, state, travel)
     if state.self_gaps is not None:
-        own, own_lower = self_pair_rows(problem, state, 2.0 * float(np.linalg.norm(nominal)) * pair_levers(problem) + 1e-9)
+        own, own_lower = self_pair_rows(problem, state, 2.0 * float(np.linalg.norm(nominal)) * problem.pair_levers + 1e-9)
         if len(own):
             rows, lower = np.concatenate([rows, own]), np.concatenate([lower, own_lower])
     return Constraints(rows, lower, lo, hi)
