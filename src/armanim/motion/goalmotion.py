@@ -175,10 +175,10 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     while pending:  # a step whose frames come too close is taken along its chord, and its motion timed again
         for i in pending:
             goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk)
-        checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].check)]
+        checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].timed_check)]
         if not checked or safeties is None:
             break
-        found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].check] for i in checked])
+        found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].timed_check] for i in checked])
         pending = [i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= safeties[0].floor))]
     return [g.finished() for g in goals]
 
@@ -196,6 +196,8 @@ class _Goal:
     proven: np.ndarray
     motion: Motion | None = None
     bad: np.ndarray | None = None
+    check: np.ndarray | None = None
+    """The motion's frames to measure (set by :meth:`time`)."""
 
     @classmethod
     def start(cls, poses: np.ndarray, limited: np.ndarray, safety: PathSafety | None) -> _Goal:
@@ -210,6 +212,12 @@ class _Goal:
         """The motion (after :meth:`time`)."""
         assert self.motion is not None, "the path is timed first"
         return self.motion
+
+    @property
+    def timed_check(self) -> np.ndarray:
+        """:attr:`check` (after :meth:`time`)."""
+        assert self.check is not None, "the path is timed first"
+        return self.check
 
     @property
     def frames(self) -> int:
@@ -231,26 +239,23 @@ class _Goal:
         """The solved step each frame of the motion lies in."""
         return cast(np.ndarray, np.maximum(self.timed.heads_for, 1) - 1)
 
-    @property
-    def check(self) -> np.ndarray:
-        """The motion's frames to measure: in a doubtful step its probes have not proved (or whose
-        shape a chord has changed since)."""
-        proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
-        return cast(np.ndarray, (self.doubtful & ~proven)[self.frame_step])
-
     def time(self, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
              jerk: np.ndarray | None) -> None:
-        """Put the path, with its chords, on the clock."""
+        """Put the path, with its chords, on the clock, and note the motion's frames to measure
+        (:attr:`check`: in a doubtful step its probes have not proved, or whose shape a chord has
+        changed since)."""
         if self.chords.any():
             self.path = joint_path(self.poses, self.limited, self.chords)
         self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk)
         self.bad = np.zeros(len(self.motion.phi), dtype=bool)
+        proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
+        self.check = (self.doubtful & ~proven)[self.frame_step]
 
     def chord_bad_frames(self, under: np.ndarray) -> bool:
         """Note which checked frames came ``under`` the floor; take the steps they lie in along
         their chords. True if that adds a chord (the motion must be timed again)."""
         bad = np.zeros(self.frames, dtype=bool)
-        bad[self.check] = under
+        bad[self.timed_check] = under
         self.bad = bad
         step = self.frame_step
         again = bool(np.any(bad & ~self.chords[step]))
