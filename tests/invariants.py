@@ -50,7 +50,7 @@ def assert_within_rates(problem: Problem, traj) -> None:
     if problem.rates.jerk is not None:
         jerk = np.abs(np.diff(steps, 2, axis=0)) * traj.fps**3
         assert np.all(jerk <= problem.rates.jerk * (1 + RATE_TOLERANCE)), float((jerk / problem.rates.jerk).max())
-    assert np.all(np.isfinite(traj.velocity)) and np.all(np.abs(traj.velocity) <= problem.rates.speed * (1 + 1e-6))
+    assert np.all(np.isfinite(traj.velocity)) and np.all(np.abs(traj.velocity) <= problem.rates.speed * (1 + 1e-6)), float((np.abs(traj.velocity) / problem.rates.speed).max())
     rest = np.concatenate([[True], np.all(steps == 0, axis=1)]) & np.concatenate([np.all(steps == 0, axis=1), [True]])
     assert np.all(traj.velocity[rest] == 0)
 
