@@ -28,7 +28,7 @@ RobotLook = Literal["mesh", "capsules", "both"]
 
 MissReason = Literal[
     "out_of_reach", "no_free_pose", "no_path", "blocked_by_obstacle", "blocked_by_limit", "stalled", "too_slow",
-    "numerical", "orientation_unreachable",
+    "numerical", "orientation_unreachable", "path_blocked",
 ]
 """Why a goal of a run was missed (explained by :data:`armanim.motion.solution.MISS_REASONS`)."""
 
@@ -39,6 +39,10 @@ PoseFinder = Literal["method", "free_pose_search"]
 """How one pose solved to convergence (``armanim ik``) ended: within the tolerance; not
 within it when the iterations or restarts ran out; or a linear-algebra failure (NaN, a
 singular matrix, an SVD that did not converge) kept it from getting there."""
+
+PathCause = Literal["out_of_reach", "joint_limit", "obstacle", "self_collision", "singular", "jump", "orientation"]
+"""Why a path goal's tool stopped short of the path's end (``path_blocked``; explained by
+:data:`armanim.motion.solution.PATH_CAUSES`)."""
 
 Blocker = Literal["obstacle", "limit", "nan"]
 """What made the safety filter change a method's proposal (``nan``: it was not finite)."""

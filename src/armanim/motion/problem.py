@@ -17,6 +17,7 @@ from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.capsules import lever_arms as capsule_lever_arms
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
+from armanim.motion.toolpath import ToolPath
 from armanim.motion.tunables import DEFAULTS, Tunables
 from armanim.names import JacobianMode, MethodName, PlannerMode
 from armanim.world.obstacles import Obstacles
@@ -75,11 +76,19 @@ class Goal:
         for it: the frame loop's holds and the scene's frame budget both use it).
     orientation : Orientation or None
         A full rotation or a tool axis (:mod:`armanim.motion.orientation`); None: position only.
+        A path goal holds it along the whole path.
+    path : ToolPath or None
+        A path goal's path (:mod:`armanim.motion.toolpath`): the arm goes to its start
+        (``position``) as to any goal, then the tool follows it; None: a point goal.
+    speed : float
+        A path goal's tool speed along its path, scene units per second (0 for a point goal).
     """
 
     position: np.ndarray
     hold: float
     orientation: Orientation | None = None
+    path: ToolPath | None = None
+    speed: float = 0.0
 
 
 def frames_in(seconds: float, fps: float) -> int:
@@ -152,6 +161,9 @@ class SolverSettings:
         when the scene leaves it out).
     orientation_tolerance : float
         Radians: a goal with an orientation is reached when its angle is below this too.
+    path_tolerance : float
+        The most a path goal's tool may stray from its path, at every frame and between frames
+        (scene units).
     """
 
     method: MethodName
@@ -171,6 +183,7 @@ class SolverSettings:
     w_regularizer: float
     orientation_weight: float
     orientation_tolerance: float
+    path_tolerance: float
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.names import MissReason, PathSource
+from armanim.names import MissReason, PathCause, PathSource
 
 MISS_REASONS: dict[MissReason, str] = {
     "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
@@ -22,7 +22,58 @@ MISS_REASONS: dict[MissReason, str] = {
     "too_slow": "still moving when max_frames_per_goal ran out",
     "numerical": "the solver produced NaN or infinity; the arm held its last safe pose",
     "orientation_unreachable": "the tip reached the position, but no pose of this arm turns the tool to the goal's orientation there; the angle left is reported",
+    "path_blocked": "the tool stopped short of the path's end, at the last point it could follow the path within solver.path_tolerance; the cause, the fraction done and that point are reported",
 }
+
+PATH_CAUSES: dict[PathCause, str] = {
+    "out_of_reach": "the path leaves the arm's reach",
+    "joint_limit": "a joint would have to pass its limit to go on",
+    "obstacle": "an obstacle is in the way (the filter keeps solver.clearance)",
+    "self_collision": "the arm's own links would come closer than solver.self_clearance",
+    "singular": "the arm is at a singular pose and cannot move the tool along the path",
+    "jump": "the next point of the path needs a joint to turn more than solver.max_joint_step at once (another branch of the arm's poses)",
+    "orientation": "the arm cannot hold the tool's orientation there",
+}
+
+
+@dataclass(frozen=True)
+class PathReport:
+    """How far a path goal's tool followed its path.
+
+    Attributes
+    ----------
+    length : float
+        The path's whole arc length, scene units.
+    done : float
+        Arc length followed, scene units (``length`` when the whole path was followed).
+    max_path_error : float
+        The tool's greatest distance from the path at any frame and between frames (at every
+        step's midpoint), scene units; NaN before the path was started.
+    mean_speed : float
+        Arc length followed over the seconds it took on the clock (scene units per second; 0
+        before the solution is retimed or when nothing was followed).
+    stop_point : (3,) array or None
+        Where the tool stopped short of the end; None when it followed the whole path.
+    cause : PathCause or None
+        Why it stopped there (explained by :data:`PATH_CAUSES`); None when it did not.
+    """
+
+    length: float
+    done: float
+    max_path_error: float
+    mean_speed: float = 0.0
+    stop_point: np.ndarray | None = None
+    cause: PathCause | None = None
+
+    @property
+    def fraction(self) -> float:
+        """The share of the path followed, 0..1."""
+        return self.done / self.length if self.length > 0 else 1.0
+
+    @property
+    def cause_text(self) -> str | None:
+        """What :data:`PATH_CAUSES` says of ``cause`` (None without one)."""
+        return PATH_CAUSES[self.cause] if self.cause else None
 
 
 @dataclass(frozen=True)
@@ -54,6 +105,8 @@ class GoalReport:
         its tool axis) when the goal was left; None for a position-only goal.
     timing : GoalTiming or None
         The clock's account of the goal's motion; None before the solution is retimed.
+    path : PathReport or None
+        A path goal's account of its path; None for a point goal.
     """
 
     index: int
@@ -69,6 +122,7 @@ class GoalReport:
     planning: PlanningReport | None = None
     final_orientation_error: float | None = None
     timing: GoalTiming | None = None
+    path: PathReport | None = None
 
     @property
     def reason_text(self) -> str | None:
@@ -153,7 +207,7 @@ class Trajectory:
     fps : float
     mode : (F,) array of str
         ``"ik"`` where the method stepped (and on frame 0 and holds), ``"plan"`` where the
-        arm followed a planned path.
+        arm followed a planned path, ``"path"`` where a path goal's tool followed its path.
     orientation_error : (F,) array or None
         Radians from the tool frame to the frame's goal orientation, NaN where that goal has
         none; None: no goal of the run has one.
@@ -167,6 +221,11 @@ class Trajectory:
         The least gap of any enabled pair of the arm's own capsules; None without enabled pairs.
     self_pair : (F,) array of str or None
         That pair's links, ``a|b``; None without enabled pairs.
+    path_s : (F,) array or None
+        On a path goal's frames of mode ``path``, the arc length of the path done (scene
+        units), NaN elsewhere; None: no goal of the run is a path.
+    path_error : (F,) array or None
+        On those frames, the tool's distance from the path (scene units), NaN elsewhere.
     """
 
     phi: np.ndarray
@@ -184,6 +243,8 @@ class Trajectory:
     velocity: np.ndarray | None = None
     self_clearance: np.ndarray | None = None
     self_pair: np.ndarray | None = None
+    path_s: np.ndarray | None = None
+    path_error: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.mode is None:

@@ -191,6 +191,7 @@ def solver_settings(s: SolverModel, width: float, reach: float = DEFAULT_REACH) 
         w_regularizer=s.weights.regularizer,
         orientation_weight=orientation_weight(s, reach),
         orientation_tolerance=float(np.radians(s.orientation_tolerance)),
+        path_tolerance=s.tolerance,  # solver.path_tolerance: the scene's, once the path goals' model has it
     )
 
 
