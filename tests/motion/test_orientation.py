@@ -343,7 +343,7 @@ def test_pose_goal_runs_are_byte_identical_and_log_the_tool_frame():
     assert trajectory_csv_text(solve_trajectory(problem).trajectory) == first
     lines = first.splitlines()
     header = lines[0].split(",")
-    assert header[-14:-9] == ["qw", "qx", "qy", "qz", "orientation_error_deg"]  # then self_clearance, self_pair, 7 velocities
+    assert header[-16:-11] == ["qw", "qx", "qy", "qz", "orientation_error_deg"]  # then self_clearance, self_pair, path_s, path_error, 7 velocities
     rows = [dict(zip(header, line.split(","))) for line in lines[1:]]
     for row in rows:
         phi = np.radians([float(row[f"phi{i}_deg"]) for i in range(1, 8)])

@@ -32,7 +32,7 @@ def test_run_folder_says_what_was_checked_and_reloads_with_its_srdf(cli, tmp_pat
                                          "allowed_pairs": 5}
     rows = list(csv.DictReader((folder / "trajectory.csv").open()))
     n = sum(c.startswith("dphi") for c in rows[0])  # the joints' velocities come last
-    assert list(rows[0])[-2 - n:-n] == ["self_clearance", "self_pair"] and n == sum(c.startswith("phi") for c in rows[0])
+    assert list(rows[0])[-4 - n:-2 - n] == ["self_clearance", "self_pair"] and n == sum(c.startswith("phi") for c in rows[0])
     least = min(float(r["self_clearance"]) for r in rows)
     assert least == summary["min_self_clearance"] >= 0.005
     assert summary["min_self_pair"] in {r["self_pair"] for r in rows}

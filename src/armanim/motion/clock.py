@@ -99,7 +99,8 @@ class TimeLaw:
         return np.maximum(s, self.s[i]), np.maximum(self.speed[i] + u * tau, 0.0), u
 
 
-def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -> TimeLaw:
+def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, path_speed: np.ndarray | None = None
+                 ) -> TimeLaw:
     """The fastest time law along ``path`` from rest to rest within box limits (TOPP-RA).
 
     Parameters
@@ -108,6 +109,9 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
         A path that moves (``path.length > 0``).
     speed, acceleration : (n,) arrays
         Each joint's limits, rad/s and rad/s^2.
+    path_speed : (m - 1,) array, optional
+        The most ds/dt (radians of joint space per second) on each solved step of the path
+        (indexed by the step's first frame; inf: no cap): a path goal's tool speed.
 
     Returns
     -------
@@ -142,6 +146,8 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray) -
     hi_b, hi_k = np.empty((len(h), len(fractions) * (n + 1))), np.empty((len(h), len(fractions) * (n + 1)))
     x_cap, w, base = np.empty(len(h)), np.empty_like(lo_b), np.empty_like(lo_b)
     interval_bounds(d1, d2, h, fractions, speed, acceleration, lo_b, lo_k, hi_b, hi_k, x_cap)
+    if path_speed is not None:  # a lower squared speed at a grid point is always allowed
+        x_cap = np.minimum(x_cap, path_speed[path.step_of(s[:-1] + h / 2) - 1] ** 2)
     pass_bounds(h, lo_b, lo_k, hi_b, hi_k, x_cap, w, base)
     hi = np.zeros_like(s)
     backward_pass(x_cap, w, base, hi)
@@ -271,13 +277,14 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
 
 
 def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,
-                        most_frames: float = np.inf) -> Motion:
+                        most_frames: float = np.inf, path_speed: np.ndarray | None = None) -> Motion:
     """A jerk-limited motion along ``path`` from rest to rest, sampled at ``fps``: the
     time-optimal law (:func:`time_optimal`) with its path speed averaged over a sliding window of
     tau = max_j 2 a_j / j_j seconds, which makes the path acceleration continuous and its jerk at
     most 2 A / tau (the window adds tau to the motion and keeps its length), then stretched to
     whole frames and checked on the frames (differences over 1/fps up to the third, at rest before
-    and after) as :func:`sampled_motion` does.
+    and after) as :func:`sampled_motion` does. ``path_speed``: as for :func:`time_optimal` (the
+    window's mean of a capped speed keeps the cap).
 
     >>> from armanim.motion.jointpath import joint_path
     >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
@@ -285,7 +292,7 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
     >>> float(m.phi[-1, 0]), 2.0 < m.duration < 2.5  # a little longer than bang-bang's 2 s
     (1.0, True)
     """
-    law = time_optimal(path, speed, acceleration)
+    law = time_optimal(path, speed, acceleration, path_speed)
     tau = float(np.max(2 * acceleration / jerk))
 
     def smoothed(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -151,7 +151,7 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
 
 def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
                  safeties: list[PathSafety] | None = None, most_frames: float = np.inf, jerk: np.ndarray | None = None,
-                 holds: list[int] | None = None) -> list[Motion]:
+                 holds: list[int] | None = None, path_speeds: list[np.ndarray | None] | None = None) -> list[Motion]:
     """The motions through each goal's solved ``poses`` (m_i, n), one after the other, each from
     rest to rest at ``fps``.
 
@@ -162,10 +162,13 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     still does not shows the solved pose it heads for. The goals' probes and frames are measured
     together, a few calls in all. Raises :class:`~armanim.motion.clock.ClockTooLong` where a
     goal's motion would pass ``most_frames`` less the frames (and ``holds``, one a goal) of the
-    goals before it.
+    goals before it. ``path_speeds`` (one a goal, each (m_i - 1,) or None): the most ds/dt on each
+    solved step (:func:`~armanim.motion.clock.time_optimal`).
     """
     holds = [0] * len(poses) if holds is None else holds
     goals = [_Goal.start(p, limited, None if safeties is None else safeties[i]) for i, p in enumerate(poses)]
+    for g, cap in zip(goals, path_speeds or []):
+        g.path_speed = cap
     probing = [(g, g.safety) for g in goals if g.safety is not None and len(g.path.s) > 2 and np.any(g.asked)]
     for (g, _), (unsafe, proven) in zip(probing, probed_paths([g.path for g, _ in probing], [safety for _, safety in probing],
                                                               [g.asked for g, _ in probing])):
@@ -198,6 +201,8 @@ class _Goal:
     bad: np.ndarray | None = None
     check: np.ndarray | None = None
     """The motion's frames to measure (set by :meth:`time`)."""
+    path_speed: np.ndarray | None = None
+    """The most ds/dt on each solved step (a path goal's tool speed), or None."""
 
     @classmethod
     def start(cls, poses: np.ndarray, limited: np.ndarray, safety: PathSafety | None) -> _Goal:
@@ -246,7 +251,7 @@ class _Goal:
         changed since)."""
         if self.chords.any():
             self.path = joint_path(self.poses, self.limited, self.chords)
-        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk)
+        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, self.path_speed)
         self.bad = np.zeros(len(self.motion.phi), dtype=bool)
         proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
         self.check = (self.doubtful & ~proven)[self.frame_step]
@@ -279,11 +284,12 @@ class _Goal:
 
 
 def _timed(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
-           jerk: np.ndarray | None) -> Motion:
+           jerk: np.ndarray | None, path_speed: np.ndarray | None = None) -> Motion:
     """The path on the clock: time-optimal, or jerk-limited with ``jerk``."""
     if jerk is None:
-        return sampled_motion(path, time_optimal(path, speed, acceleration), speed, acceleration, fps, most_frames)
-    return jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames)
+        law = time_optimal(path, speed, acceleration, path_speed)
+        return sampled_motion(path, law, speed, acceleration, fps, most_frames)
+    return jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames, path_speed)
 
 
 def _still_proven(proven: np.ndarray, chorded: np.ndarray, solved_step: np.ndarray, steps: int) -> np.ndarray:

@@ -16,7 +16,7 @@ poses (:func:`path_safety`). Pure core: numpy only.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -25,6 +25,7 @@ from armanim.arm.kinematics import forward
 from armanim.motion.clock import ClockTooLong, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.orientation import frame_orientations
+from armanim.motion.pathtiming import joined_timing, part_path_speed, path_reported, traced_paths
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance, self_shift
@@ -79,21 +80,24 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     """
     src, out = solution.trajectory, at_fps(problem, fps)
     rates = problem.rates
-    starts = np.cumsum([0] + [g.frames + (hold_frames(problem, problem.goals[g.index]) if g.reached else 0)
-                              for g in solution.goals])
-    holds = [hold_frames(out, problem.goals[g.index]) if g.reached else 0 for g in solution.goals]
+    parts = _parts(problem, solution, out)
     safety = path_safety(problem, src)
-    pieces = [slice(int(start), int(start) + g.frames + 1) for start, g in zip(starts, solution.goals)]
-    motions = goal_motions([src.phi[p] for p in pieces], problem.limits.limited, rates.speed, rates.acceleration, fps,
-                           [replace(safety, at_poses=safety.at_poses[p], certified=safety.certified[p.start:p.stop - 1])
-                            for p in pieces], most_frames, rates.jerk, holds)
-    made = sum(len(m.phi) for m in motions) + sum(holds)
+    motions = goal_motions([src.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
+                           fps, [replace(safety, at_poses=safety.at_poses[p.frames],
+                                         certified=safety.certified[p.frames.start:p.frames.stop - 1]) for p in parts],
+                           most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts])
+    made = sum(len(m.phi) for m in motions) + sum(p.hold for p in parts)
     if made > most_frames:
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
-    phi, velocity, source, held, goal = _joined(src.phi, [g.index for g in solution.goals], pieces, motions, holds)
-    timings = [m.timing(src.phi[p.start], rates.speed, rates.acceleration, fps) for m, p in zip(motions, pieces)]
+    phi, velocity, source, held, goal = _joined(src.phi, [p.goal for p in parts], [p.frames for p in parts], motions,
+                                                [p.hold for p in parts])
+    part_timings = [m.timing(src.phi[p.frames.start], rates.speed, rates.acceleration, fps) for m, p in zip(motions, parts)]
+    timings = [joined_timing([t for t, p in zip(part_timings, parts) if p.goal == g.index]) for g in solution.goals]
     pose = forward(problem.arm, phi)
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
+    traced = traced_paths(problem, src, phi, pose.tip, source, goal, held)
+    if traced is not None:
+        distance = np.where(np.isnan(traced[1]), distance, traced[1])
     spent = np.concatenate([[0], np.cumsum(src.iterations)])[source + 1]
     angle, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal, pose)
     turned = True if angle is None else ~(angle >= problem.solver.orientation_tolerance)
@@ -111,11 +115,45 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         orientation_error=angle,
         tool_quaternion=quaternions,
         velocity=velocity,
+        path_s=None if traced is None else traced[0],
+        path_error=None if traced is None else traced[1],
     )
     moving = np.zeros(len(phi), dtype=bool)
     moving[1:] = ~held[1:]
     trajectory = with_self_clearance(problem, trajectory, pose)
-    return Solution(trajectory, tuple(_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings)))
+    reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
+    return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports))
+
+
+@dataclass(frozen=True)
+class _Part:
+    """A piece of a goal's solved frames timed from rest to rest: a point goal's frames; a path
+    goal's frames up to its path's start, then its frames along the path."""
+
+    goal: int
+    frames: slice
+    hold: int
+    path_speed: np.ndarray | None = None
+
+
+def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
+    """The solved frames' parts, in order, each with the pose before it first, and the hold (at
+    ``out``'s rate) after a reached goal's last part."""
+    parts, start = [], 0
+    src = solution.trajectory
+    for g in solution.goals:
+        goal = problem.goals[g.index]
+        hold = hold_frames(out, goal) if g.reached else 0
+        piece = slice(start, start + g.frames + 1)
+        along = int(np.sum(src.mode[piece][1:] == "path")) if goal.path is not None else 0  # type: ignore[index]
+        if along:
+            split = piece.stop - 1 - along
+            parts.append(_Part(g.index, slice(piece.start, split + 1), 0))
+            parts.append(_Part(g.index, slice(split, piece.stop), hold, part_path_speed(problem, src, goal, split, piece.stop)))
+        else:
+            parts.append(_Part(g.index, piece, hold))
+        start += g.frames + (hold_frames(problem, goal) if g.reached else 0)
+    return parts
 
 
 def _joined(solved: np.ndarray, goals: list[int], pieces: list[slice], motions: list[Motion], holds: list[int]

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -93,10 +94,10 @@ class Piece:
         t = np.clip(np.asarray(t, dtype=float), 0.0, self.length)
         if self.center is None:
             f = t / self.length if self.length > 0 else np.zeros_like(t)
-            return self.start + f[:, None] * (self.end - self.start)
+            return cast(np.ndarray, self.start + f[:, None] * (self.end - self.start))
         assert self.u is not None and self.v is not None
         theta = t / self.radius
-        return self.center + self.radius * (np.cos(theta)[:, None] * self.u + np.sin(theta)[:, None] * self.v)
+        return cast(np.ndarray, self.center + self.radius * (np.cos(theta)[:, None] * self.u + np.sin(theta)[:, None] * self.v))
 
     def nearest(self, points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The nearest point of the piece's part between arc lengths ``lo`` and ``hi`` (k,) to
@@ -187,7 +188,7 @@ class ToolPath:
 
     def inked(self, s: np.ndarray) -> np.ndarray:
         """(k,) bool: whether the piece at each arc length ``s`` (k,) leaves ink."""
-        return np.array([p.ink for p in self.pieces])[self.piece_of(np.asarray(s, dtype=float))]
+        return cast(np.ndarray, np.array([p.ink for p in self.pieces])[self.piece_of(np.asarray(s, dtype=float))])
 
     def samples(self, spacing: float) -> np.ndarray:
         """Arc lengths that split every piece evenly into steps of at most ``spacing``: every

@@ -27,11 +27,12 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
+from armanim.motion.following import follow_path, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in
-from armanim.motion.solution import GoalReport, PlanningReport, Solution, Trajectory
+from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
@@ -52,9 +53,10 @@ class _Recorder:
     step_scale: list[float] = field(default_factory=list)
     mode: list[str] = field(default_factory=list)
     angle: list[float] = field(default_factory=list)
+    path_s: list[float] = field(default_factory=list)
 
     def add(self, state: ArmState, goal: int, distance: float, iterations: int = 0, step_scale: float = 0.0,
-            mode: str = "ik", angle: float | None = None) -> None:
+            mode: str = "ik", angle: float | None = None, path_s: float = np.nan) -> None:
         self.phi.append(state.phi)
         self.tip.append(state.tip)
         self.clearance.append(state.min_clearance)  # the filter computed it for this very pose
@@ -64,6 +66,7 @@ class _Recorder:
         self.step_scale.append(step_scale)
         self.mode.append(mode)
         self.angle.append(np.nan if angle is None else angle)
+        self.path_s.append(path_s)
 
     def __len__(self) -> int:
         return len(self.phi)
@@ -104,9 +107,14 @@ def hold_frames(problem: Problem, goal: Goal) -> int:
     return frames_in(goal.hold, problem.fps)
 
 
+def goal_budget(problem: Problem, goal: Goal) -> int:
+    """Most frames one goal can have: its frame cap, its path's (:func:`most_path_frames`) and its hold."""
+    return problem.solver.max_frames_per_goal + most_path_frames(problem, goal) + hold_frames(problem, goal)
+
+
 def frame_budget(problem: Problem) -> int:
-    """Most frames a run can have: frame 0, every goal's frame cap and its hold."""
-    return 1 + sum(problem.solver.max_frames_per_goal + hold_frames(problem, g) for g in problem.goals)
+    """Most frames a run can have: frame 0 and every goal's :func:`goal_budget`."""
+    return 1 + sum(goal_budget(problem, g) for g in problem.goals)
 
 
 def goal_errors(problem: Problem, state: ArmState, goal: Goal) -> tuple[float, float | None, float]:
@@ -148,12 +156,11 @@ def solve_trajectory(
     reports = []
     later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
-        later -= problem.solver.max_frames_per_goal + hold_frames(problem, goal)
+        later -= goal_budget(problem, goal)
 
         def report_progress(visit: _Visit, goal: Goal = goal, later: int = later) -> None:
             if progress:
-                cap = problem.solver.max_frames_per_goal
-                progress(len(rec), len(rec) + cap - visit.frames + hold_frames(problem, goal) + later)
+                progress(len(rec), len(rec) + goal_budget(problem, goal) - visit.frames + later)
 
         state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning)
         reports.append(report)
@@ -182,6 +189,10 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
             if visit.reason is not None:
                 break
     reached = visit.progress[-1] < s.tolerance
+    path_report = None
+    if goal.path is not None:
+        state, reached, path_report = _follow(problem, method, rec, state, visit, reached)
+        on_frame(visit)
     if reached:
         for _ in range(hold_frames(problem, goal)):
             rec.add(state, k, visit.distances[-1], angle=visit.angles[-1])
@@ -202,7 +213,37 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
         newton_iterations=visit.newton_iterations,
         planning=visit.planning,
         final_orientation_error=visit.angles[-1],
+        path=path_report,
     )
+
+
+def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit, reached: bool
+            ) -> tuple[ArmState, bool, PathReport]:
+    """A path goal's frames along its path once the arm has reached its start (mode ``path``, one
+    a sample); returns the last state, whether the whole path was followed, and the path's report.
+    A goal whose start was missed keeps its reason and follows nothing."""
+    path = visit.goal.path
+    assert path is not None
+    if not reached:
+        return state, False, PathReport(path.length, 0.0, np.nan)
+    followed = follow_path(problem, method, state, visit.goal)
+    for i, moved in enumerate(followed.states):  # the first: the start itself, to the path's tolerance
+        _, angle, _ = goal_errors(problem, moved, visit.goal)
+        rec.add(moved, visit.index, followed.errors[i], followed.iterations[i], followed.step_scale[i],
+                "path" if i else "ik", angle, followed.s[i] if i else np.nan)
+        visit.distances.append(followed.errors[i])
+        visit.angles.append(angle)
+        visit.iterations += followed.iterations[i]
+    visit.frames += len(followed.states)
+    visit.newton_iterations += followed.newton_iterations
+    state = followed.states[-1] if followed.states else state
+    done = followed.s[-1] if followed.s else 0.0
+    errors = followed.errors + [followed.midpoint_error]
+    if followed.cause is None:
+        return state, True, PathReport(path.length, path.length, max(errors))
+    visit.reason = "path_blocked"
+    return state, False, PathReport(path.length, done, max(errors) if followed.s else np.nan,
+                                    stop_point=state.tip.copy(), cause=followed.cause)
 
 
 def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
@@ -325,7 +366,9 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         mode=np.array(rec.mode),
         orientation_error=angle if any(g.orientation is not None for g in problem.goals) else None,
         tool_quaternion=quaternions,
+        path_s=np.array(rec.path_s) if any(g.path is not None for g in problem.goals) else None,
+        path_error=np.where(np.isnan(rec.path_s), np.nan, distance) if any(g.path is not None for g in problem.goals) else None,
     ))
 
 
-__all__ = ["frame_budget", "hold_frames", "solve_trajectory", "with_self_clearance"]
+__all__ = ["frame_budget", "goal_budget", "hold_frames", "solve_trajectory", "with_self_clearance"]

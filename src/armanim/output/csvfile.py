@@ -3,11 +3,14 @@
 Columns (the contract's first, then extras):
 ``frame, time_s, goal, phi1_deg .. phiN_deg, x, y, z, goal_distance, clearance,
 reached, step_scale, iterations, mode, qw, qx, qy, qz, orientation_error_deg, self_clearance,
-self_pair, dphi1_deg_s .. dphiN_deg_s`` (mode: ``ik`` where the method stepped, ``plan`` where
-the arm followed a planned path; ``qw .. qz`` the tool frame's unit quaternion, w >= 0;
+self_pair, path_s, path_error, dphi1_deg_s .. dphiN_deg_s`` (mode: ``ik`` where the method stepped,
+``plan`` where the arm followed a planned path, ``path`` where a path goal's tool followed its path;
+``qw .. qz`` the tool frame's unit quaternion, w >= 0;
 ``orientation_error_deg`` the tool's angle to the frame's goal orientation, empty for a
 position-only goal; ``self_clearance`` the least gap of an enabled pair of the arm's own capsules
-and ``self_pair`` that pair's links ``a|b``, both empty without enabled pairs; ``dphiK_deg_s``
+and ``self_pair`` that pair's links ``a|b``, both empty without enabled pairs; ``path_s`` the arc
+length of the path done and ``path_error`` the tool's distance from the path, on frames of mode
+``path`` only; ``dphiK_deg_s``
 joint K's velocity on the clock). Floats are written with ``repr`` (shortest
 round-trip form), so reading the file back gives the same numbers bit for bit.
 """
@@ -33,10 +36,11 @@ from armanim.output.solved import SolvedRun
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
 TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode",
-                "qw", "qx", "qy", "qz", "orientation_error_deg", "self_clearance", "self_pair")
-EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance")
-"""Numeric columns that may be empty: no obstacles; a position-only goal; no enabled pair of the arm's own links."""
-MODES = ("ik", "plan")
+                "qw", "qx", "qy", "qz", "orientation_error_deg", "self_clearance", "self_pair", "path_s", "path_error")
+EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance", "path_s", "path_error")
+"""Numeric columns that may be empty: no obstacles; a position-only goal; no enabled pair of the arm's own links;
+a frame not along a path."""
+MODES = ("ik", "plan", "path")
 """Values of the ``mode`` column (the reader refuses others)."""
 
 
@@ -62,6 +66,11 @@ def _num(value: float) -> str:
     return repr(value)
 
 
+def _optional(column: np.ndarray | None, i: int) -> str:
+    """Row ``i`` of a column that may be absent (None) or NaN on some rows: empty there."""
+    return _num(column[i]) if column is not None and np.isfinite(column[i]) else ""
+
+
 def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
     """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees; empty clearance without
     obstacles, empty orientation error for a position-only goal)."""
@@ -85,6 +94,7 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
         _num(np.degrees(angle)) if np.isfinite(angle) else "",
         _num(traj.self_clearance[i]) if traj.self_clearance is not None else "",
         str(traj.self_pair[i]) if traj.self_pair is not None else "",
+        *(_optional(column, i) for column in (traj.path_s, traj.path_error)),
         *(_num(v) for v in np.degrees(velocity)),
     ]
 

@@ -10,7 +10,15 @@ import numpy as np
 
 from armanim import __version__
 from armanim.motion.problem import Problem
-from armanim.motion.solution import MISS_REASONS, GoalReport, GoalTiming, PlanningReport, Solution, max_joint_step
+from armanim.motion.solution import (
+    MISS_REASONS,
+    GoalReport,
+    GoalTiming,
+    PathReport,
+    PlanningReport,
+    Solution,
+    max_joint_step,
+)
 from armanim.output.atomic import write_text_atomic
 from armanim.output.jsontext import json_text
 from armanim.output.solved import SolvedRun
@@ -47,7 +55,35 @@ def goal_report_dict(g: GoalReport, joint_names: Sequence[str] = ()) -> dict:
         "planned": g.planned,
         "planning": asdict(g.planning) if g.planning else None,
         **timing_dict(g.timing, joint_names),
+        **path_dict(g.path),
     }
+
+
+def path_dict(path: PathReport | None) -> dict:
+    """A path goal's ``path`` field of summary.json (read back by :func:`path_from_dict`); nothing
+    for a point goal."""
+    if path is None:
+        return {}
+    return {"path": {
+        "length": path.length,
+        "done": path.done,
+        "fraction": path.fraction,
+        "max_path_error": _round(path.max_path_error),
+        "mean_speed": path.mean_speed,
+        "stop_point": None if path.stop_point is None else [float(v) for v in path.stop_point],
+        "cause": path.cause,
+        "cause_text": path.cause_text,
+    }}
+
+
+def path_from_dict(g: dict) -> PathReport | None:
+    """The PathReport of one goal of summary.json (None for a point goal)."""
+    p = g.get("path")
+    if p is None:
+        return None
+    error = p["max_path_error"]
+    return PathReport(float(p["length"]), float(p["done"]), np.nan if error is None else float(error), float(p["mean_speed"]),
+                      None if p["stop_point"] is None else np.array(p["stop_point"], dtype=float), p["cause"])
 
 
 def timing_dict(timing: GoalTiming | None, joint_names: Sequence[str] = ()) -> dict:
@@ -98,6 +134,7 @@ def goal_report_from_dict(g: dict, joint_names: Sequence[str] = ()) -> GoalRepor
         planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
         final_orientation_error=None if g.get("final_orientation_error_deg") is None else float(np.radians(g["final_orientation_error_deg"])),
         timing=timing_from_dict(g, joint_names),
+        path=path_from_dict(g),
     )
 
 

@@ -117,6 +117,9 @@ def _read_trajectory(csv_path: Path, problem: Problem) -> Trajectory:
         angle = np.radians(table.column("orientation_error_deg"))
     if all(c in table.columns for c in ("qw", "qx", "qy", "qz")):
         quaternions = np.stack([table.column(c) for c in ("qw", "qx", "qy", "qz")], axis=1)
+    along = [table.column(c) if c in table.columns else None for c in ("path_s", "path_error")]
+    if not any(g.path is not None for g in problem.goals):
+        along = [None, None]
     speeds = velocity_columns(problem.arm.n)
     velocity = np.radians(np.stack([table.column(c) for c in speeds], axis=1)) if all(
         c in table.columns for c in speeds) else None  # a run from before the clock has none
@@ -134,6 +137,8 @@ def _read_trajectory(csv_path: Path, problem: Problem) -> Trajectory:
         orientation_error=angle,
         tool_quaternion=quaternions,
         velocity=velocity,
+        path_s=along[0],
+        path_error=along[1],
     )
 
 

@@ -1,0 +1,239 @@
+"""A path goal's tool along its path: one warm-started pose solve per sample of the path.
+
+Once the arm is at a path's start (reached as any goal is), the path is sampled every
+``speed / fps`` of arc length (at most :data:`SPACING_PER_TOLERANCE` path tolerances apart;
+every corner a sample), and each sample is solved from the pose of the one before: the
+scene's method with full steps, aiming at the sample's point (and the goal's orientation),
+every step through the safety filter, so obstacles, limits and the arm's own body are kept
+in the null space of the path task. A sample is accepted when
+
+- the tool is within a tenth of ``solver.path_tolerance`` of its point (and within half the
+  orientation tolerance of the goal's orientation),
+- no joint turned more than ``solver.max_joint_step`` from the sample before (no jump to
+  another branch of the arm's poses), and
+- the pose halfway between the two samples (each joint halfway) puts the tool within half the
+  path tolerance of the path between them (MoveIt's midpoint test, PR #2916), and within the
+  orientation tolerance.
+
+A sample that fails is split in two, down to :data:`MAX_SPLITS` halvings; a piece that still
+fails stops the path at the last accepted sample, with the cause (:data:`armanim.motion.solution.PATH_CAUSES`).
+Never a silent jump. Pure core: no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from armanim.arm.geometry import wrap_angle
+from armanim.arm.kinematics import forward, tool_rotation
+from armanim.motion.ik import pose_errors, solving_problem
+from armanim.motion.orientation import orientation_angle
+from armanim.motion.problem import Goal, Problem
+from armanim.motion.solvers import ArmState, Method, proposed_step
+from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.stalls import beyond_reach
+from armanim.motion.toolpath import ToolPath
+from armanim.names import Blocker, PathCause
+
+SPACING_PER_TOLERANCE = 10.0
+"""Most path tolerances between two samples, whatever the speed."""
+MAX_SPLITS = 4
+"""Times a failing sample's step is halved before the path is reported blocked."""
+SAMPLE_STEPS = 30
+"""Most filtered steps of one sample's solve."""
+SAMPLE_TOLERANCE = 0.1
+"""A sample's tool within this fraction of the path tolerance of its point."""
+MIDPOINT_TOLERANCE = 0.5
+"""The midpoint between two samples within this fraction of the path tolerance of the path."""
+
+
+@dataclass
+class Followed:
+    """The samples a path goal's tool followed, one frame each.
+
+    Attributes
+    ----------
+    states : list of ArmState
+        The accepted samples' poses, in order (the first is the path's start).
+    s : list of float
+        Their arc lengths along the path, scene units.
+    errors : list of float
+        The tool's distance from the path at each, scene units.
+    iterations, step_scale : lists
+        The solver's inner iterations spent on each, and the last step's scale through the filter.
+    newton_iterations : int
+        Newton iterations over all samples (``newton`` only).
+    midpoint_error : float
+        The largest distance from the path at the accepted steps' midpoints.
+    cause : PathCause or None
+        Why the path stopped short of its end (None: it did not).
+    """
+
+    states: list[ArmState] = field(default_factory=list)
+    s: list[float] = field(default_factory=list)
+    errors: list[float] = field(default_factory=list)
+    iterations: list[int] = field(default_factory=list)
+    step_scale: list[float] = field(default_factory=list)
+    newton_iterations: int = 0
+    midpoint_error: float = 0.0
+    cause: PathCause | None = None
+
+
+def sample_spacing(problem: Problem, goal: Goal) -> float:
+    """Arc length between two samples of ``goal``'s path: a frame's travel at its speed, at most
+    :data:`SPACING_PER_TOLERANCE` path tolerances.
+
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(fps=25.0, solver=SimpleNamespace(path_tolerance=0.001))
+    >>> sample_spacing(p, SimpleNamespace(speed=0.05)), sample_spacing(p, SimpleNamespace(speed=1.0))
+    (0.002, 0.01)
+    """
+    return min(goal.speed / problem.fps, SPACING_PER_TOLERANCE * problem.solver.path_tolerance)
+
+
+def most_path_frames(problem: Problem, goal: Goal) -> int:
+    """Most frames following ``goal``'s path can take: every sample's step halved :data:`MAX_SPLITS`
+    times (0 for a point goal)."""
+    if goal.path is None:
+        return 0
+    return int((len(goal.path.samples(sample_spacing(problem, goal))) - 1) * 2**MAX_SPLITS + 1)
+
+
+def sampling_problem(problem: Problem) -> Problem:
+    """The problem as one sample is solved: full steps (:func:`armanim.motion.ik.solving_problem`)
+    to a tenth of the path tolerance and half the orientation tolerance."""
+    solving = solving_problem(problem)
+    s = problem.solver
+    return replace(solving, solver=replace(solving.solver, tolerance=SAMPLE_TOLERANCE * s.path_tolerance,
+                                           orientation_tolerance=0.5 * s.orientation_tolerance))
+
+
+def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal) -> Followed:
+    """The tool along ``goal.path`` from ``state`` (the arm at, or near, the path's start).
+
+    Returns
+    -------
+    Followed
+        Every accepted sample (the path's start first); ``cause`` set when the path stopped short.
+    """
+    assert goal.path is not None, "a path goal"
+    path, sampling = goal.path, sampling_problem(problem)
+    out = Followed()
+    first = _solved_sample(sampling, method, state, path, goal, 0.0)
+    if first.cause is not None:
+        out.cause = first.cause
+        return out
+    _accept(out, first, 0.0, path)
+    pending = list(path.samples(sample_spacing(problem, goal))[:0:-1])  # a stack: the next sample last
+    smallest = sample_spacing(problem, goal) / 2**MAX_SPLITS
+    while pending:
+        s_to = pending.pop()
+        s_from = out.s[-1]
+        tried = _solved_sample(sampling, method, out.states[-1], path, goal, s_to)
+        cause = tried.cause or _step_fault(problem, goal, out.states[-1], tried.state, s_from, s_to, out)
+        if cause is None:
+            _accept(out, tried, s_to, path)
+        elif s_to - s_from > smallest * (1 + 1e-9):
+            pending += [s_to, (s_from + s_to) / 2]
+        else:
+            out.cause = cause
+            break
+    return out
+
+
+@dataclass(frozen=True)
+class _Sample:
+    """One sample's solve: where it ended, what it spent, and why it failed (None: it did not)."""
+
+    state: ArmState
+    iterations: int
+    newton_iterations: int
+    scale: float
+    cause: PathCause | None
+
+
+def _accept(out: Followed, sample: _Sample, s: float, path: ToolPath) -> None:
+    out.states.append(sample.state)
+    out.s.append(s)
+    out.errors.append(float(path.nearest(sample.state.tip[None], np.array([s]), np.array([s]))[1][0]))
+    out.iterations.append(sample.iterations)
+    out.step_scale.append(sample.scale)
+    out.newton_iterations += sample.newton_iterations
+
+
+def _solved_sample(sampling: Problem, method: Method, state: ArmState, path: ToolPath, goal: Goal, s: float) -> _Sample:
+    """Filtered full steps from ``state`` toward the path's point at ``s`` until the tool is there
+    (:func:`sampling_problem`'s tolerances), at most :data:`SAMPLE_STEPS`."""
+    point = path.points(np.array([s]))[0]
+    tolerance = sampling.solver.tolerance
+    blocked: list[Blocker | None] = []
+    iterations = newton_iterations = 0
+    scale = 1.0
+    for _ in range(SAMPLE_STEPS):
+        distance, angle, progress = pose_errors(sampling, state, point, goal.orientation)
+        if progress < tolerance:
+            return _Sample(state, iterations, newton_iterations, scale, None)
+        proposal = proposed_step(sampling, method, state, point, goal.orientation)
+        moved = safe_step(sampling, state, proposal.dphi, proposal.ahead)
+        iterations += proposal.iterations
+        newton_iterations += proposal.newton_iterations
+        blocked.append(moved.blocked_by)
+        scale = moved.scale
+        if moved.scale == 0.0:
+            break
+        state = moved.state
+    distance, angle, progress = pose_errors(sampling, state, point, goal.orientation)
+    if progress < tolerance:
+        return _Sample(state, iterations, newton_iterations, scale, None)
+    return _Sample(state, iterations, newton_iterations, scale, _cause(sampling, state, point, distance, blocked))
+
+
+def _cause(problem: Problem, state: ArmState, point: np.ndarray, distance: float, blocked: list[Blocker | None]) -> PathCause:
+    """Why a sample's solve did not get the tool to ``point``: out of reach, the filter holding it
+    back (an obstacle, the arm's own links, a limit), only the orientation left, else a singular pose."""
+    if beyond_reach(problem, point):
+        return "out_of_reach"
+    if "obstacle" in blocked:
+        own = state.self_gaps is not None and state.min_self_gap <= 2 * problem.self_pairs.clearance
+        return "self_collision" if own and state.min_self_gap <= state.min_clearance else "obstacle"
+    limits = problem.limits
+    if "limit" in blocked or bool(np.any(np.minimum(state.phi - limits.lower, limits.upper - state.phi) < limits.margin)):
+        return "joint_limit"
+    if distance < problem.solver.tolerance:
+        return "orientation"
+    return "singular"
+
+
+def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState, s_from: float, s_to: float,
+                out: Followed) -> PathCause | None:
+    """Whether the step between two solved samples jumps (a joint turns more than
+    ``max_joint_step``) or strays from the path at its midpoint; notes the midpoint's error."""
+    assert goal.path is not None
+    turn = after.phi - before.phi
+    turn = np.where(problem.limits.limited, turn, wrap_angle(turn))
+    if float(np.abs(turn).max(initial=0.0)) > problem.solver.max_joint_step:
+        return "jump"
+    middle = forward(problem.arm, before.phi + turn / 2)
+    error = float(goal.path.nearest(middle.tip[None], np.array([s_from]), np.array([s_to]))[1][0])
+    if error > MIDPOINT_TOLERANCE * problem.solver.path_tolerance:
+        return "jump"
+    if goal.orientation is not None:
+        angle = float(orientation_angle(goal.orientation, tool_rotation(problem.arm, middle)))
+        if angle > problem.solver.orientation_tolerance:
+            return "jump"
+    out.midpoint_error = max(out.midpoint_error, error)
+    return None
+
+
+def tool_errors(problem: Problem, goal: Goal, phi: np.ndarray, s_lo: np.ndarray, s_hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(k,) arc length of the nearest point of ``goal``'s path between ``s_lo`` and ``s_hi`` (k,)
+    to the tool at each pose ``phi`` (k, n), and the tool's distance from it."""
+    assert goal.path is not None
+    tips = forward(problem.arm, phi).tip
+    return goal.path.nearest(tips, s_lo, s_hi)
+
+
+__all__ = ["Followed", "follow_path", "most_path_frames", "sample_spacing", "sampling_problem", "tool_errors"]
+
