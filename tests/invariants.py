@@ -9,6 +9,7 @@ import pytest
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
+from armanim.motion.following import most_path_frames
 from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step
 from armanim.motion.solvers.barrier import limit_buffer
@@ -71,7 +72,21 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     np.testing.assert_allclose(traj.tip, pose.tip, atol=1e-9, rtol=0)
     # distance to the frame's goal
     goals = np.array([g.position for g in problem.goals])
-    np.testing.assert_allclose(traj.distance, np.linalg.norm(traj.tip - goals[traj.goal], axis=1), atol=1e-9)
+    expected = np.linalg.norm(traj.tip - goals[traj.goal], axis=1)
+    paths = any(g.path is not None for g in problem.goals)
+    assert (traj.path_s is not None) == paths and (traj.path_error is not None) == paths
+    if paths:  # along a path: the tool's distance from it, measured again; within the path tolerance
+        along = ~np.isnan(traj.path_s)
+        np.testing.assert_array_equal(along, ~np.isnan(traj.path_error))
+        assert np.all(along[traj.mode == "path"])  # and the hold at a path's end
+        for k in np.unique(traj.goal[along]):
+            mine = along & (traj.goal == k)
+            path = problem.goals[k].path
+            np.testing.assert_allclose(path.points(traj.path_s[mine]), traj.tip[mine], atol=traj.path_error[mine].max() + 1e-9)
+            assert np.all(path.distance(traj.tip[mine]) <= traj.path_error[mine] + 1e-12)
+        assert np.all(traj.path_error[along] <= problem.solver.path_tolerance), float(np.nanmax(traj.path_error))
+        expected = np.where(along, traj.path_error, expected)
+    np.testing.assert_allclose(traj.distance, expected, atol=1e-9)
     # goal index never goes back
     assert np.all(np.diff(traj.goal) >= 0) and traj.goal[0] == 0
     # every link capsule (and the tip) stays clear of every obstacle, recomputed
@@ -104,7 +119,7 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     gaps = np.minimum(traj.phi - lim.lower, lim.upper - traj.phi)[:, limited]
     assert np.all(gaps >= np.minimum(limit_buffer(problem), gaps[0]) - TINY)
     # modes: the method's steps, or a planned path when the planner is on
-    assert set(traj.mode) <= ({"ik", "plan"} if problem.solver.planner == "auto" else {"ik"})
+    assert set(traj.mode) <= ({"ik", "plan"} if problem.solver.planner == "auto" else {"ik"}) | ({"path"} if paths else set())
     # unlimited joints wrapped (frame 0 may be any home)
     assert np.all(np.abs(traj.phi[1:, ~limited]) <= np.pi + TINY)
     if timed:
@@ -131,9 +146,16 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
             at_cap = report.frames == problem.solver.max_frames_per_goal
             assert timed or at_cap or report.reason != "too_slow"
             angle = report.final_orientation_error
-            assert report.final_distance >= problem.solver.tolerance or (
+            assert report.final_distance >= problem.solver.tolerance or report.reason == "path_blocked" or (
                 angle is not None and angle >= problem.solver.orientation_tolerance)
-        assert 0 <= report.frames and (timed or report.frames <= problem.solver.max_frames_per_goal)
+        goal = problem.goals[k]
+        assert (report.path is None) == (goal.path is None)
+        if report.path is not None:  # the whole path exactly when reached; a stop point and cause when blocked
+            assert (report.path.fraction == 1.0) == report.reached or report.reason != "path_blocked"
+            assert (report.reason == "path_blocked") == (report.path.cause is not None) == (report.path.stop_point is not None)
+            assert 0.0 <= report.path.fraction <= 1.0
+        cap = problem.solver.max_frames_per_goal + most_path_frames(problem, goal)
+        assert 0 <= report.frames and (timed or report.frames <= cap)
         if report.first_frame >= 0:
             rows = np.nonzero(traj.goal == k)[0]
             assert report.last_frame == rows[-1]

@@ -155,9 +155,12 @@ class _Sample:
 
 
 def _accept(out: Followed, sample: _Sample, s: float, path: ToolPath) -> None:
+    """Note ``sample`` as the path's next frame, at arc length ``s``; its error is the tool's distance
+    from the path between the sample before and it (as the clock measures its frames)."""
+    before = np.array([out.s[-1] if out.s else s])
     out.states.append(sample.state)
     out.s.append(s)
-    out.errors.append(float(path.nearest(sample.state.tip[None], np.array([s]), np.array([s]))[1][0]))
+    out.errors.append(float(path.nearest(sample.state.tip[None], before, np.array([s]))[1][0]))
     out.iterations.append(sample.iterations)
     out.step_scale.append(sample.scale)
     out.newton_iterations += sample.newton_iterations

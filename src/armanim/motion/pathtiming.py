@@ -54,7 +54,7 @@ def part_path_speed(problem: Problem, solved: Trajectory, goal: Goal, first: int
 def traced_paths(problem: Problem, solved: Trajectory, phi: np.ndarray, tip: np.ndarray, source: np.ndarray,
                  goal: np.ndarray, held: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     """Per timed frame (F,): the arc length done along its goal's path and the tool's distance from
-    it, on the frames along a path (NaN elsewhere); None when no goal is a path.
+    it, on the frames along a path and the hold at its end (NaN elsewhere); None when no goal is a path.
 
     Parameters
     ----------
@@ -67,7 +67,7 @@ def traced_paths(problem: Problem, solved: Trajectory, phi: np.ndarray, tip: np.
     """
     if solved.path_s is None:
         return None
-    along = (solved.mode[source] == ALONG) & ~held  # type: ignore[index]  # a solved trajectory has its modes
+    along = ~np.isnan(solved.path_s[source]) & ((solved.mode[source] == ALONG) | held)  # type: ignore[index]  # a solved trajectory has its modes
     done, error = np.full(len(phi), np.nan), np.full(len(phi), np.nan)
     for k in np.unique(goal[along]):
         mine = along & (goal == k)
@@ -90,7 +90,7 @@ def path_reported(problem: Problem, report: GoalReport, trajectory: Trajectory) 
     halfway), and the mean tool speed over the time spent along the path."""
     if report.path is None or trajectory.path_s is None or trajectory.path_error is None:
         return report
-    frames = np.nonzero((trajectory.goal == report.index) & ~np.isnan(trajectory.path_s))[0]
+    frames = np.nonzero((trajectory.goal == report.index) & (trajectory.mode == ALONG))[0]
     if not len(frames):
         return report
     path = problem.goals[report.index].path

@@ -222,10 +222,11 @@ class Trajectory:
     self_pair : (F,) array of str or None
         That pair's links, ``a|b``; None without enabled pairs.
     path_s : (F,) array or None
-        On a path goal's frames of mode ``path``, the arc length of the path done (scene
-        units), NaN elsewhere; None: no goal of the run is a path.
+        On a path goal's frames of mode ``path`` and the hold at the path's end, the arc length of
+        the path done (scene units), NaN elsewhere; None: no goal of the run is a path.
     path_error : (F,) array or None
-        On those frames, the tool's distance from the path (scene units), NaN elsewhere.
+        On those frames, the tool's distance from the path (scene units; ``distance`` there too),
+        NaN elsewhere.
     """
 
     phi: np.ndarray

@@ -194,8 +194,9 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
         state, reached, path_report = _follow(problem, method, rec, state, visit, reached)
         on_frame(visit)
     if reached:
+        rests_on = rec.path_s[-1] if goal.path is not None else np.nan  # a path's end, where its hold stays
         for _ in range(hold_frames(problem, goal)):
-            rec.add(state, k, visit.distances[-1], angle=visit.angles[-1])
+            rec.add(state, k, visit.distances[-1], angle=visit.angles[-1], path_s=rests_on)
     elif visit.reason is None:
         visit.reason = miss_reason(problem, state, goal.position, visit.progress, visit.blocked)
         if orientation_unreachable(problem, goal.orientation, visit.distances[-1], visit.angles[-1]):
