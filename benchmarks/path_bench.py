@@ -94,7 +94,8 @@ def main() -> None:
         problem = case_problem(case)
         geo = robot_geometry(case.robot, case.centers, case.radii, clearance=problem.solver.clearance)
         dense = case.path.points(np.linspace(0, case.path.length, int(case.path.length / STEP) + 2))
-        oracle = followed_fraction(geo, dense, DOWN, problem.solver.max_joint_step, problem.solver.clearance, seed=i)
+        oracle = followed_fraction(geo, dense, DOWN, problem.solver.max_joint_step, problem.solver.clearance, seed=i,
+                                   problem=problem)
         t0 = time.perf_counter()
         solution = retime(problem, solve_trajectory(problem), problem.fps)
         seconds = time.perf_counter() - t0

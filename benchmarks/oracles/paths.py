@@ -7,7 +7,9 @@ squares on pinocchio's 6 x n frame Jacobian (the position and the tool's z axis)
 from the point before. A point counts as followed when the tool is within 0.2 mm of it and the
 tool's z axis within 0.5 degree of the goal's, every joint inside its limits, every capsule of
 the robot ``clearance`` from every sphere (pinocchio placing armanim's capsule data), and no joint
-turned more than ``max_joint_step`` since the point before. The oracle's fraction is the farthest
+turned more than ``max_joint_step`` since the point before, and every enabled pair of the robot's
+own capsules (placed by armanim's forward kinematics, equal to pinocchio's to 1e-14; measured by
+coal) ``self_clearance`` apart. The oracle's fraction is the farthest
 any start got. It shares nothing with armanim's solver but the robot's files.
 """
 
@@ -15,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from oracles.robots import RobotGeometry
+from oracles.robots import RobotGeometry, coal_pair_gaps
 
 STEP = 0.001
 """Metres between the oracle's points along the path."""
@@ -55,16 +57,17 @@ def solve_point(geo: RobotGeometry, data, q: np.ndarray, point: np.ndarray, axis
 
 
 def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, max_joint_step: float,
-                      clearance: float, starts: int = 6, seed: int = 0) -> float:
+                      clearance: float, starts: int = 6, seed: int = 0, problem=None) -> float:
     """The farthest share (0..1) of the path through ``points`` (m, 3), spaced :data:`STEP` apart,
-    that the oracle follows from any of its starts."""
+    that the oracle follows from any of its starts; with ``problem``, its enabled pairs of the
+    robot's own capsules also keep ``self_pairs.clearance`` apart (coal's distances)."""
     data = geo.model.createData()
     rng = np.random.default_rng(seed)
     seeds = [geo.home] + [rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi)) for _ in range(5 * starts)]
     best, tried = 0, 0
     for q0 in seeds:
         q, ok = solve_point(geo, data, q0.copy(), points[0], axis)
-        if not ok or not _allowed(geo, q, clearance):
+        if not ok or not _allowed(geo, q, clearance, problem):
             continue
         tried += 1
         if tried > starts:
@@ -72,7 +75,7 @@ def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, 
         done = 0
         for i in range(1, len(points)):
             nxt, ok = solve_point(geo, data, q.copy(), points[i], axis)
-            if not ok or np.abs(nxt - q).max() > max_joint_step or not _allowed(geo, nxt, clearance):
+            if not ok or np.abs(nxt - q).max() > max_joint_step or not _allowed(geo, nxt, clearance, problem):
                 break
             q, done = nxt, i
         best = max(best, done)
@@ -81,7 +84,10 @@ def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, 
     return best / (len(points) - 1)
 
 
-def _allowed(geo: RobotGeometry, q: np.ndarray, clearance: float) -> bool:
-    """Inside the limits and every capsule ``clearance`` from every sphere."""
+def _allowed(geo: RobotGeometry, q: np.ndarray, clearance: float, problem=None) -> bool:
+    """Inside the limits, every capsule ``clearance`` from every sphere, and (with ``problem``) every
+    enabled pair of the robot's own capsules its self clearance apart."""
     inside = bool(np.all(q >= geo.lower) and np.all(q <= geo.upper))
-    return inside and (not len(geo.radii) or float(geo.clearances(q).min()) >= clearance)
+    if not inside or (len(geo.radii) and float(geo.clearances(q).min()) < clearance):
+        return False
+    return problem is None or not len(problem.self_pairs) or float(coal_pair_gaps(problem, q)[0]) >= problem.self_pairs.clearance

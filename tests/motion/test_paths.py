@@ -142,10 +142,12 @@ def test_a_sphere_on_the_line_stops_the_tool_before_it():
     assert problem.solver.clearance - 1e-9 <= gap < problem.solver.clearance + obstacles.influence[0]
 
 
-def test_a_joint_limit_stops_the_tool_where_the_closed_form_says():
-    """A planar two-link arm whose shoulder may turn from -60 to 30 degrees: along a line on which
-    the shoulder of either elbow branch turns up, the tool stops where that branch's shoulder
-    angle (closed form) reaches the filter's buffer below 30 degrees."""
+def test_a_joint_limit_stops_the_tool_where_the_better_elbow_branch_of_the_closed_form_does():
+    """A planar two-link arm whose shoulder may turn from -60 to 30 degrees: along this line the
+    shoulder of either elbow branch turns up until it meets the filter's buffer below 30 degrees,
+    the elbow-down branch at 17 % of the way, the elbow-up one at 95 %. The arm reaches the start
+    elbow-down; the path then stops short, so the other free pose at the start is tried, and the arm
+    is planned over to it and follows the path to where that branch's closed form says."""
     a, b = np.array([1.8, -0.5, 0.0]), np.array([0.9, 1.6, 0.0])
     arm = {"links": [1, 1], "axes": ["z", "z"], "direction": "x", "limits": [[-60, 30], [-170, 170]]}
     scene = scene_model({"version": 1, "arm": arm, "goals": [a.tolist()]})
@@ -153,14 +155,19 @@ def test_a_joint_limit_stops_the_tool_where_the_closed_form_says():
     solution = timed(problem)
     report = solution.goals[0]
     assert report.reason == "path_blocked" and report.path.cause == "joint_limit"
-    elbow = np.sign(solution.trajectory.phi[np.nonzero(solution.trajectory.mode == "path")[0][0], 1])
     f = np.linspace(0.0, 1.0, 100001)
     x, y = a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])
-    phi2 = elbow * np.arccos(np.clip((x**2 + y**2 - 2) / 2, -1, 1))
-    phi1 = np.arctan2(y, x) - np.arctan2(np.sin(phi2), 1 + np.cos(phi2))
     top = problem.limits.upper[0] - limit_buffer(problem)
-    assert np.any(phi1 > top)
-    assert report.path.fraction == pytest.approx(f[np.argmax(phi1 > top)], abs=0.02)
+    stops = {}
+    for elbow in (1.0, -1.0):
+        phi2 = elbow * np.arccos(np.clip((x**2 + y**2 - 2) / 2, -1, 1))
+        phi1 = np.arctan2(y, x) - np.arctan2(np.sin(phi2), 1 + np.cos(phi2))
+        stops[elbow] = f[np.argmax(phi1 > top)]
+    assert stops[-1.0] < 0.2 < 0.9 < stops[1.0]
+    along = np.nonzero(solution.trajectory.mode == "path")[0]
+    assert np.all(solution.trajectory.phi[along, 1] > 0)  # elbow up all along
+    assert report.path.fraction == pytest.approx(stops[1.0], abs=0.02)
+    assert report.planned and "plan" in set(solution.trajectory.mode)
 
 
 def test_a_path_run_is_the_same_twice():

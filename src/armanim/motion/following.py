@@ -17,7 +17,13 @@ in the null space of the path task. A sample is accepted when
 
 A sample that fails is split in two, down to :data:`MAX_SPLITS` halvings; a piece that still
 fails stops the path at the last accepted sample, with the cause (:data:`armanim.motion.solution.PATH_CAUSES`).
-Never a silent jump. Pure core: no I/O.
+Never a silent jump.
+
+How far the tool gets can depend on the pose the arm starts the path in (the elbow, the wrist's
+branch). When the path stops short from the pose the arm reached its start in, the planner's free
+poses at the start (:func:`armanim.motion.planning.poses.goal_poses`) are tried too, up to
+:data:`OTHER_STARTS`, and the arm is carried by a planned path to the one that follows farthest
+(:func:`followed_route`). Pure core: no I/O.
 """
 
 from __future__ import annotations
@@ -31,11 +37,11 @@ from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion.ik import pose_errors, solving_problem
 from armanim.motion.orientation import orientation_angle
 from armanim.motion.problem import Goal, Problem
-from armanim.motion.solvers import ArmState, Method, proposed_step
+from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step
 from armanim.motion.solvers.barrier import safe_step
 from armanim.motion.stalls import beyond_reach
 from armanim.motion.toolpath import ToolPath
-from armanim.names import Blocker, PathCause
+from armanim.names import Blocker, PathCause, PathSource
 
 SPACING_PER_TOLERANCE = 10.0
 """Most path tolerances between two samples, whatever the speed."""
@@ -47,6 +53,12 @@ SAMPLE_TOLERANCE = 0.1
 """A sample's tool within this fraction of the path tolerance of its point."""
 MIDPOINT_TOLERANCE = 0.5
 """The midpoint between two samples within this fraction of the path tolerance of the path."""
+OTHER_STARTS = 4
+"""Other free poses at a path's start tried when the path stops short from the first."""
+ROUTE_PLANS = 1
+"""Planned ways to a better start pose tried (the farthest-following one)."""
+ROUTE_ITERATIONS = 500
+"""RRT-Connect iterations of one such plan."""
 
 
 @dataclass
@@ -81,6 +93,81 @@ class Followed:
     cause: PathCause | None = None
 
 
+@dataclass(frozen=True)
+class Route:
+    """How a path goal's path is followed: the planned poses that carry the arm from where it reached
+    the path's start to the start pose chosen (none when it stays), then the samples along the path.
+
+    Attributes
+    ----------
+    to_start : (k, n) array
+        Planned poses, one a frame, radians (k = 0: the arm starts where it is).
+    followed : Followed
+    poses : int
+        Free poses at the start the planner offered (0 when none was asked for).
+    checks : int
+        Poses the planner checked for collisions on the way to the chosen start.
+    source : PathSource
+        How the planner connected the arm to that start (``"none"``: it stays).
+    """
+
+    to_start: np.ndarray
+    followed: Followed
+    poses: int = 0
+    checks: int = 0
+    source: PathSource = "none"
+
+
+def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0) -> Route:
+    """The route along ``goal``'s path from ``state`` (the arm at its start) that gets farthest:
+    from ``state`` itself, or, when that stops short, from the best of :data:`OTHER_STARTS` free
+    poses at the start reachable by a short planned search (:func:`_quick_planner`; the first that
+    follows the whole path ends the trials)."""
+    from armanim.motion.planning.follow import damper_paced, path_schedule, poses_along
+    from armanim.motion.planning.path import plan_path
+    from armanim.motion.planning.poses import goal_poses
+
+    assert goal.path is not None
+    best = follow_path(problem, method, state, goal)
+    stay = np.zeros((0, len(state.phi)))
+    if best.cause is None or not best.states:
+        return Route(stay, best)
+    found = goal_poses(problem, state.phi, goal.path.start, seed, goal.orientation)
+    trials: list[tuple[np.ndarray, Followed]] = []
+    for pose in found.poses[:OTHER_STARTS]:
+        turn = pose - state.phi
+        if np.abs(np.where(problem.limits.limited, turn, wrap_angle(turn))).max() <= problem.solver.max_joint_step:
+            continue  # the same branch as the first
+        trial = follow_path(problem, method, arm_state(problem, pose), goal)
+        if _done(trial) > _done(best) + sample_spacing(problem, goal):
+            trials.append((pose, trial))
+            if trial.cause is None:
+                break
+    route = Route(stay, best, len(found.poses))
+    quick = _quick_planner(problem)
+    for pose, trial in sorted(trials, key=lambda t: -_done(t[1]))[:ROUTE_PLANS]:
+        planned = plan_path(quick, state.phi, pose[None])
+        route = replace(route, checks=route.checks + planned.checks)
+        if planned.waypoints is not None:
+            step, most = problem.solver.max_joint_step, problem.solver.max_frames_per_goal
+            schedule = path_schedule(planned.waypoints, step, most)
+            frames = poses_along(planned.waypoints, damper_paced(problem, planned.waypoints, schedule, most))
+            return Route(frames, trial, len(found.poses), route.checks, planned.source)
+    return route
+
+
+def _quick_planner(problem: Problem) -> Problem:
+    """The problem with the planner's search cut to :data:`ROUTE_ITERATIONS` (one search): a way to a
+    better start is worth a short search, not the budget of a stalled goal."""
+    planner = replace(problem.tunables.planner, ompl_searches=1, ompl_iterations=ROUTE_ITERATIONS)
+    return replace(problem, tunables=replace(problem.tunables, planner=planner))
+
+
+def _done(followed: Followed) -> float:
+    """Arc length a follow got to (0 when it did not start)."""
+    return followed.s[-1] if followed.states else 0.0
+
+
 def sample_spacing(problem: Problem, goal: Goal) -> float:
     """Arc length between two samples of ``goal``'s path: a frame's travel at its speed, at most
     :data:`SPACING_PER_TOLERANCE` path tolerances.
@@ -94,11 +181,13 @@ def sample_spacing(problem: Problem, goal: Goal) -> float:
 
 
 def most_path_frames(problem: Problem, goal: Goal) -> int:
-    """Most frames following ``goal``'s path can take: every sample's step halved :data:`MAX_SPLITS`
-    times (0 for a point goal)."""
+    """Most frames following ``goal``'s path can take: a planned way to another start pose
+    (``max_frames_per_goal``), then every sample's step halved :data:`MAX_SPLITS` times (0 for a
+    point goal)."""
     if goal.path is None:
         return 0
-    return int((len(goal.path.samples(sample_spacing(problem, goal))) - 1) * 2**MAX_SPLITS + 1)
+    samples = len(goal.path.samples(sample_spacing(problem, goal)))
+    return int(problem.solver.max_frames_per_goal + (samples - 1) * 2**MAX_SPLITS + 1)
 
 
 def sampling_problem(problem: Problem) -> Problem:
@@ -198,9 +287,9 @@ def _cause(problem: Problem, state: ArmState, point: np.ndarray, distance: float
     back (an obstacle, the arm's own links, a limit), only the orientation left, else a singular pose."""
     if beyond_reach(problem, point):
         return "out_of_reach"
-    if "obstacle" in blocked:
-        own = state.self_gaps is not None and state.min_self_gap <= 2 * problem.self_pairs.clearance
-        return "self_collision" if own and state.min_self_gap <= state.min_clearance else "obstacle"
+    if "obstacle" in blocked:  # the filter's surfaces: whichever kind is nearer its floor holds the arm
+        own = state.min_self_gap - problem.self_pairs.clearance
+        return "self_collision" if own < state.min_clearance - problem.solver.clearance else "obstacle"
     limits = problem.limits
     if "limit" in blocked or bool(np.any(np.minimum(state.phi - limits.lower, limits.upper - state.phi) < limits.margin)):
         return "joint_limit"
@@ -238,5 +327,5 @@ def tool_errors(problem: Problem, goal: Goal, phi: np.ndarray, s_lo: np.ndarray,
     return goal.path.nearest(tips, s_lo, s_hi)
 
 
-__all__ = ["Followed", "follow_path", "most_path_frames", "sample_spacing", "sampling_problem", "tool_errors"]
+__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_path_frames", "sample_spacing", "sampling_problem", "tool_errors"]
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
-from armanim.motion.following import follow_path, most_path_frames
+from armanim.motion.following import followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
@@ -227,7 +227,18 @@ def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, v
     assert path is not None
     if not reached:
         return state, False, PathReport(path.length, 0.0, np.nan)
-    followed = follow_path(problem, method, state, visit.goal)
+    route = followed_route(problem, method, state, visit.goal, visit.index)
+    if len(route.to_start):  # another pose at the start follows farther: planned there first
+        done = visit.planning or PlanningReport()
+        visit.planning = replace(done, plans=done.plans + 1, poses=route.poses, path=route.source, checks=done.checks + route.checks)
+        for phi in route.to_start:
+            moved = arm_state(problem, phi)
+            distance, angle, _ = goal_errors(problem, moved, visit.goal)
+            rec.add(moved, visit.index, distance, mode="plan", angle=angle)
+            visit.distances.append(distance)
+            visit.angles.append(angle)
+        visit.frames += len(route.to_start)
+    followed = route.followed
     for i, moved in enumerate(followed.states):  # the first: the start itself, to the path's tolerance
         _, angle, _ = goal_errors(problem, moved, visit.goal)
         rec.add(moved, visit.index, followed.errors[i], followed.iterations[i], followed.step_scale[i],
