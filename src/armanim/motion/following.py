@@ -15,7 +15,9 @@ in the null space of the path task. A sample is accepted when
   path tolerance of the path between them (MoveIt's midpoint test, PR #2916), and within the
   orientation tolerance.
 
-A sample that fails is split in two, down to :data:`MAX_SPLITS` halvings; a piece that still
+A sample the scene's method cannot solve though nothing holds the arm back is solved again with ``newton`` (the assignment's
+gradient descent and Newton's method, which gets through poses where a linear method's step
+turns against its own task); a sample that still fails is split in two, down to :data:`MAX_SPLITS` halvings; a piece that still
 fails stops the path at the last accepted sample, with the cause (:data:`armanim.motion.solution.PATH_CAUSES`).
 Never a silent jump.
 
@@ -37,7 +39,7 @@ from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion.ik import pose_errors, solving_problem
 from armanim.motion.orientation import orientation_angle
 from armanim.motion.problem import Goal, Problem
-from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step
+from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
 from armanim.motion.stalls import beyond_reach
 from armanim.motion.toolpath import ToolPath
@@ -55,6 +57,8 @@ MIDPOINT_TOLERANCE = 0.5
 """The midpoint between two samples within this fraction of the path tolerance of the path."""
 OTHER_STARTS = 4
 """Other free poses at a path's start tried when the path stops short from the first."""
+BRANCHES_APART = 0.5
+"""Radians: two start poses whose joints all lie closer than this count as one branch."""
 ROUTE_PLANS = 1
 """Planned ways to a better start pose tried (the farthest-following one)."""
 ROUTE_ITERATIONS = 500
@@ -134,10 +138,7 @@ def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal
         return Route(stay, best)
     found = goal_poses(problem, state.phi, goal.path.start, seed, goal.orientation)
     trials: list[tuple[np.ndarray, Followed]] = []
-    for pose in found.poses[:OTHER_STARTS]:
-        turn = pose - state.phi
-        if np.abs(np.where(problem.limits.limited, turn, wrap_angle(turn))).max() <= problem.solver.max_joint_step:
-            continue  # the same branch as the first
+    for pose in _other_branches(problem, state.phi, found.poses):
         trial = follow_path(problem, method, arm_state(problem, pose), goal)
         if _done(trial) > _done(best) + sample_spacing(problem, goal):
             trials.append((pose, trial))
@@ -154,6 +155,20 @@ def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal
             frames = poses_along(planned.waypoints, damper_paced(problem, planned.waypoints, schedule, most))
             return Route(frames, trial, len(found.poses), route.checks, planned.source)
     return route
+
+
+def _other_branches(problem: Problem, phi: np.ndarray, poses: np.ndarray) -> list[np.ndarray]:
+    """Up to :data:`OTHER_STARTS` of ``poses`` (k, n), nearest first, each at least
+    :data:`BRANCHES_APART` (the largest joint's turn) from ``phi`` and from those taken before it."""
+    taken = [phi]
+    for pose in poses:
+        turns = [pose - other for other in taken]
+        apart = [np.abs(np.where(problem.limits.limited, t, wrap_angle(t))).max() for t in turns]
+        if min(apart) >= BRANCHES_APART:
+            taken.append(pose)
+            if len(taken) > OTHER_STARTS:
+                break
+    return taken[1:]
 
 
 def _quick_planner(problem: Problem) -> Problem:
@@ -209,6 +224,7 @@ def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal) -
     """
     assert goal.path is not None, "a path goal"
     path, sampling = goal.path, sampling_problem(problem)
+    fallback = solver_method("newton")
     out = Followed()
     first = _solved_sample(sampling, method, state, path, goal, 0.0)
     if first.cause is not None:
@@ -221,6 +237,8 @@ def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal) -
         s_to = pending.pop()
         s_from = out.s[-1]
         tried = _solved_sample(sampling, method, out.states[-1], path, goal, s_to)
+        if tried.cause == "singular" and method is not fallback:  # a pose the method cannot leave: Newton's solve may
+            tried = _solved_sample(sampling, fallback, out.states[-1], path, goal, s_to)
         cause = tried.cause or _step_fault(problem, goal, out.states[-1], tried.state, s_from, s_to, out)
         if cause is None:
             _accept(out, tried, s_to, path)
