@@ -406,10 +406,11 @@ class GoalModel(Strict):
         if isinstance(value, list):
             return {"position": value}
         if isinstance(value, dict):
-            if "position" in value and "path" in value:
+            given = [key for key in ("position", "path") if value.get(key) is not None]
+            if len(given) == 2:
                 raise ValueError("sets both position and path (expected one: position for a point goal, or path with speed "
                                  "for a path goal, whose arm goes to the path's start first)")
-            if "position" not in value and "path" not in value:
+            if not given:
                 raise ValueError("has neither position nor path (expected position: [x, y, z] for a point goal, "
                                  "or path: {...} with speed for a path goal)")
         return value
