@@ -162,10 +162,6 @@ class OrientationModel(Strict):
 UNIT_TOLERANCE = 1e-6
 """How far a text's ``right`` and ``up`` may be from unit length, and their dot product from 0."""
 
-TEXT_MAX = 1000
-"""Most characters a text path goal writes."""
-
-
 def _length(vector) -> float:
     """Euclidean length of a short list of finite floats (no overflow or underflow)."""
     return math.hypot(*vector)
@@ -243,7 +239,7 @@ class ArcModel(Strict):
 class TextModel(Strict):
     """Text written on a board with the bundled single-stroke font (docs/scene-format.md, Path goals)."""
 
-    string: str = Field(json_schema_extra={"minLength": 1, "maxLength": TEXT_MAX},
+    string: str = Field(json_schema_extra={"minLength": 1, "maxLength": LIMITS["text_characters"]},
                         description="The text to write: printable ASCII (letters, digits, punctuation, spaces).")
     origin: Vector3 = Field(description="The left end of the baseline, on the board.")
     height: Positive = Field(description="Height of a capital letter, scene units.")
@@ -261,8 +257,8 @@ class TextModel(Strict):
         if not value.strip():
             raise ValueError("is empty (expected the text to write, e.g. string: armanim)" if not value else
                              "holds only spaces (expected some text to write)")
-        if len(value) > TEXT_MAX:
-            raise ValueError(f"has {len(value):,} characters (expected at most {TEXT_MAX:,})")
+        if len(value) > LIMITS["text_characters"]:
+            raise ValueError(f"has {len(value):,} characters (expected at most {LIMITS['text_characters']:,})")
         missing = missing_characters(value)
         if missing:
             names = ", ".join(repr(c) for c in missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
