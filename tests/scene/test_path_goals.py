@@ -142,3 +142,30 @@ def test_path_scenes_validate_from_the_command(tmp_path, cli):
     result = cli("validate", path)
     assert result.exit_code == 0, result.output
     assert "5 goals" in result.stdout
+
+
+def test_a_text_of_more_than_a_thousand_characters_is_too_long(tmp_path, cli):
+    rejected(tmp_path, cli, edit(L["string"], f'        string: "{"a" * 1001}"'), "goals[3].path.text.string", L["string"],
+             "has 1,001 characters (expected at most 1,000)")
+
+
+def test_a_polyline_of_more_than_a_thousand_points_is_too_long(tmp_path, cli):
+    points = ", ".join(f"[3, {k * 1e-3:g}, 2]" for k in range(1001))
+    rejected(tmp_path, cli, edit(L["polyline"], f"  - path: {{polyline: [{points}]}}"), "goals[2].path.polyline", L["polyline"],
+             "has 1001 items (expected at most 1000)")
+
+
+def test_a_tiny_text_height_is_too_small(tmp_path, cli):
+    text = rejected(tmp_path, cli, edit(L["height"], "        height: 1e-12"), "goals[3].path.text.height", L["height"],
+                    "too small", "choose a larger unit")
+    assert "lift" not in text  # the default lift, 0.3 x height, is not the user's to fix
+
+
+def test_a_tiny_lift_is_too_small(tmp_path, cli):
+    content = edit(L["origin"], "        origin: [5, 1, 4]\n        lift: 1e-12")
+    rejected(tmp_path, cli, content, "goals[3].path.text.lift", L["origin"] + 1, "too small", "choose a larger unit")
+
+
+def test_a_line_shorter_than_the_smallest_length_has_length_zero(tmp_path, cli):
+    rejected(tmp_path, cli, edit(L["line"], "  - path: {line: [[4, -2, 3], [4, -2, 3.0000000000001]]}"), "goals[0].path.line", L["line"],
+             "length 0")

@@ -171,7 +171,8 @@ def _path_magnitudes(path: str, model):
         yield from ((f"{path}.{form}.{name}[{i}]", v) for i, v in enumerate(getattr(value, name)))
     if form == "text":
         yield f"{path}.text.height", value.height
-        yield f"{path}.text.lift", value.resolved_lift
+        if value.lift is not None:
+            yield f"{path}.text.lift", value.lift
 
 
 def _obstacle_magnitudes(path: str, obstacle):
