@@ -169,3 +169,14 @@ def test_a_tiny_lift_is_too_small(tmp_path, cli):
 def test_a_line_shorter_than_the_smallest_length_has_length_zero(tmp_path, cli):
     rejected(tmp_path, cli, edit(L["line"], "  - path: {line: [[4, -2, 3], [4, -2, 3.0000000000001]]}"), "goals[0].path.line", L["line"],
              "length 0")
+
+
+def test_the_documented_path_goals_validate_on_a_ur5_with_a_pen(tmp_path):
+    from conftest import DOCS
+
+    text = (DOCS / "scene-format.md").read_text(encoding="utf-8")
+    block = text.split("## Path goals", 1)[1].split("```yaml\n", 1)[1].split("```", 1)[0]
+    scene = ("version: 1\narm:\n  robot: ur5\n  tool: {xyz: [0, 0, 0.12], pen: {length: 0.12, radius: 0.008}}\n" + block)
+    problem = scene_to_problem(load_scene(write(tmp_path, scene)).model)
+    assert [g.path is not None for g in problem.goals] == [True] * 4
+    assert problem.goals[3].path.length > problem.goals[3].path.inked_length > 0

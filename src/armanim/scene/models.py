@@ -162,6 +162,7 @@ class OrientationModel(Strict):
 UNIT_TOLERANCE = 1e-6
 """How far a text's ``right`` and ``up`` may be from unit length, and their dot product from 0."""
 
+
 def _length(vector) -> float:
     """Euclidean length of a short list of finite floats (no overflow or underflow)."""
     return math.hypot(*vector)
@@ -179,7 +180,8 @@ def _shown_vector(vector) -> str:
     return "[" + ", ".join(f"{v:g}" for v in vector) + "]"
 
 
-def _unit(vector: list[float], what: str) -> list[float]:
+def _unit(vector: list[float]) -> list[float]:
+    """``vector``, if it has unit length within :data:`UNIT_TOLERANCE`."""
     length = _length(vector)
     if abs(length - 1.0) > UNIT_TOLERANCE:
         raise ValueError(
@@ -269,12 +271,12 @@ class TextModel(Strict):
     @field_validator("right")
     @classmethod
     def _right_unit(cls, value):
-        return _unit(value, "right")
+        return _unit(value)
 
     @field_validator("up")
     @classmethod
     def _up_square(cls, value, info):
-        _unit(value, "up")
+        _unit(value)
         right = info.data.get("right")
         if right is not None:
             dot = sum(a * b for a, b in zip(right, value))
