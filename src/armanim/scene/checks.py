@@ -15,7 +15,7 @@ from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
 from armanim.motion.problem import frames_in
-from armanim.scene.convert import goal_orientation, scene_to_problem, tool_path
+from armanim.scene.convert import orientation_rotation, scene_to_problem, tool_path
 from armanim.scene.limits import limit_problems, rate_problems
 from armanim.scene.models import LIMITS, SceneModel
 from armanim.world.distances import clearances, point_clearances
@@ -46,7 +46,7 @@ def _pen_problems(scene: SceneModel):
         if text is None or (goal.tool_axis is None and goal.orientation is None):
             continue
         front = [float(v) + 0.0 for v in np.cross(text.right, text.up)]
-        axis = goal.tool_axis if goal.tool_axis is not None else goal_orientation(goal).rotation[:, 2].tolist()
+        axis = goal.tool_axis if goal.tool_axis is not None else orientation_rotation(goal.orientation)[:, 2].tolist()
         if sum(a * f for a, f in zip(axis, front)) > 0:
             field = "tool_axis" if goal.tool_axis is not None else "orientation"
             yield f"goals[{k}].{field}", (
