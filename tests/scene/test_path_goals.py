@@ -180,3 +180,11 @@ def test_the_documented_path_goals_validate_on_a_ur5_with_a_pen(tmp_path):
     problem = scene_to_problem(load_scene(write(tmp_path, scene)).model)
     assert [g.path is not None for g in problem.goals] == [True] * 4
     assert problem.goals[3].path.length > problem.goals[3].path.inked_length > 0
+
+
+def test_a_text_goals_orientation_must_point_the_tool_into_the_board(tmp_path, cli):
+    # R = Ry(pitch): the tool's z is [sin pitch, 0, cos pitch]; the board's front is -x
+    into = edit(L["tool_axis3"], "    orientation: {rpy: [0, 90, 0]}")
+    assert scene_to_problem(load_scene(write(tmp_path, into, "into.yaml")).model).goals[3].orientation is not None
+    rejected(tmp_path, cli, edit(L["tool_axis3"], "    orientation: {rpy: [0, -90, 0]}"), "goals[3].orientation", L["tool_axis3"],
+             "out of the board's front")
