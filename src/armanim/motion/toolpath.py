@@ -113,17 +113,17 @@ class Piece:
         if self.center is None:
             direction = self.end - self.start
             t = (points - self.start) @ direction / max(self.length, 1e-300)
+            t = np.clip(t, lo, hi)
         else:
             assert self.u is not None and self.v is not None
             w = points - self.center
             theta = np.arctan2(w @ self.v, w @ self.u)
-            # an angle outside the arc is nearest the arc's nearer end (by angle round the circle)
-            theta = np.where(theta < 0, theta + 2 * np.pi, theta)
-            past = theta - self.angle
-            before = 2 * np.pi - theta
-            theta = np.where(theta <= self.angle, theta, np.where(past < before, self.angle, 0.0))
-            t = theta * self.radius
-        t = np.clip(t, lo, hi)
+            along = np.where(theta < 0, theta + 2 * np.pi, theta) * self.radius  # the point's angle as arc length
+            # the distance falls toward theta round the circle and rises away from it: a point whose
+            # angle lies outside the part is nearest one of the part's ends (the nearer, which by
+            # arc length need not be the one round the circle)
+            nearer = np.linalg.norm(points - self.points(lo), axis=-1) <= np.linalg.norm(points - self.points(hi), axis=-1)
+            t = np.where((along >= lo) & (along <= hi), along, np.where(nearer, lo, hi))
         return t, np.linalg.norm(points - self.points(t), axis=-1)
 
 

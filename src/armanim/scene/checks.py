@@ -15,7 +15,7 @@ from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
 from armanim.motion.problem import frames_in
-from armanim.scene.convert import scene_to_problem
+from armanim.scene.convert import orientation_rotation, scene_to_problem, tool_path
 from armanim.scene.limits import limit_problems, rate_problems
 from armanim.scene.models import LIMITS, SceneModel
 from armanim.world.distances import clearances, point_clearances
@@ -30,12 +30,34 @@ def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str
     """
     counts = list(_count_problems(scene)) + list(rate_problems(scene.arm))
     sizes = list(_size_problems(scene))
-    problems = counts + list(_arm_problems(scene)) + sizes
+    problems = counts + list(_arm_problems(scene)) + sizes + list(_pen_problems(scene))
     if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
         problem = scene_to_problem(scene)
         problems += list(_collision_problems(problem, "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
         problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
     return problems
+
+
+def _pen_problems(scene: SceneModel):
+    """A text goal whose tool axis points out of the board's front (the pen would come at the
+    board from behind, and lift into it)."""
+    for k, goal in enumerate(scene.goals):
+        text = goal.path.text if goal.path is not None else None
+        if text is None or (goal.tool_axis is None and goal.orientation is None):
+            continue
+        front = [float(v) + 0.0 for v in np.cross(text.right, text.up)]
+        axis = goal.tool_axis if goal.tool_axis is not None else orientation_rotation(goal.orientation)[:, 2].tolist()
+        if sum(a * f for a, f in zip(axis, front)) > 0:
+            field = "tool_axis" if goal.tool_axis is not None else "orientation"
+            yield f"goals[{k}].{field}", (
+                f"points the tool out of the board's front (right x up = {_vector(front)}, the side the text reads from and the "
+                f"pen lifts to; expected the tool pointing into the board, e.g. tool_axis: {_vector([-f + 0.0 for f in front])}, "
+                "or negate right to write on the other face)"
+            )
+
+
+def _vector(values) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in values) + "]"
 
 
 def _self_collision_problems(problem, path: str):
@@ -76,10 +98,30 @@ def _arm_problems(scene: SceneModel):
 
 
 def frame_budget(scene: SceneModel) -> int:
-    """Most frames the scene can produce: frame 0, then every goal's frame cap and hold frames."""
+    """Most frames the scene can produce: frame 0, then every goal's frame cap and hold frames,
+    and a path goal's frames along its path (:func:`path_frames`)."""
     fps = scene.render.fps
     per_goal = scene.solver.max_frames_per_goal
-    return 1 + sum(per_goal + frames_in(g.hold, fps) for g in scene.goals)
+    return 1 + sum(per_goal + frames_in(g.hold, fps) + path_frames(g, fps) for g in scene.goals)
+
+
+MOST_PATH_FRAMES = 10**15
+"""Cap of :func:`path_frames` (a path far too long for its speed counts as this many)."""
+
+
+def path_frames(goal, fps: float) -> int:
+    """Frames the tool takes along a path goal's path at its ``speed`` and ``fps``, rounded up
+    (0 for a point goal; at most :data:`MOST_PATH_FRAMES`).
+
+    >>> from armanim.scene.models import GoalModel
+    >>> path_frames(GoalModel(path={"line": [[0, 0, 0], [0.3, 0, 0]]}, speed=0.1), 30.0)
+    90
+    """
+    if goal.path is None:
+        return 0
+    with np.errstate(all="ignore"):  # a scene's extreme numbers are reported by _size_problems
+        frames = tool_path(goal.path).length / goal.speed * fps
+    return math.ceil(frames - 1e-9) if frames < MOST_PATH_FRAMES else MOST_PATH_FRAMES
 
 
 def _magnitudes(scene: SceneModel):
@@ -98,9 +140,14 @@ def _magnitudes(scene: SceneModel):
     if scene.floor is not None:
         yield "floor", scene.floor
     for k, goal in enumerate(scene.goals):
-        yield from ((f"goals[{k}].position[{i}]", v) for i, v in enumerate(goal.position))
+        if goal.path is None:
+            yield from ((f"goals[{k}].position[{i}]", v) for i, v in enumerate(goal.position))
+        else:
+            yield from _path_magnitudes(f"goals[{k}].path", goal.path)
     solver = scene.solver
     yield "solver.tolerance", solver.tolerance
+    if solver.path_tolerance is not None:
+        yield "solver.path_tolerance", solver.path_tolerance
     yield "solver.damping", solver.damping
     if solver.max_step is not None:
         yield "solver.max_step", solver.max_step
@@ -109,6 +156,23 @@ def _magnitudes(scene: SceneModel):
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             yield from ((f"render.bounds.{axis}", v) for v in pair)
+
+
+def _path_magnitudes(path: str, model):
+    """(field path, value) of every coordinate and length of a path goal's path."""
+    form = model.form
+    value = getattr(model, form)
+    if form in ("line", "polyline"):
+        for j, point in enumerate(value):
+            yield from ((f"{path}.{form}[{j}][{i}]", v) for i, v in enumerate(point))
+        return
+    names = ("center", "start") if form == "arc" else ("origin",)
+    for name in names:
+        yield from ((f"{path}.{form}.{name}[{i}]", v) for i, v in enumerate(getattr(value, name)))
+    if form == "text":
+        yield f"{path}.text.height", value.height
+        if value.lift is not None:
+            yield f"{path}.text.lift", value.lift
 
 
 def _obstacle_magnitudes(path: str, obstacle):
@@ -129,7 +193,8 @@ def _obstacle_magnitudes(path: str, obstacle):
         yield f"{path}.influence", obstacle.influence
 
 
-POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|max_step|clearance)|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|influence)")
+POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance)"
+                              r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|influence)|goals\[\d+\]\.path\.text\.(height|lift)")
 """The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
 largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
 
@@ -150,7 +215,14 @@ def _size_problems(scene: SceneModel):
             yield f"solver.weights.{name}", f"{value:g} is too large (expected at most {LIMITS['weight']:g})"
     budget = frame_budget(scene)
     limit = LIMITS["total_frames"]
-    if budget > limit:
+    along = [path_frames(g, scene.render.fps) for g in scene.goals]
+    if budget > limit and max(along) > budget // 2:
+        k = along.index(max(along))
+        yield f"goals[{k}].speed", (
+            f"the scene may run {budget:,} frames, {along[k]:,} of them along this goal's path at {scene.render.fps:g} fps "
+            f"(expected at most {limit:,} in all: raise the speed or shorten the path)"
+        )
+    elif budget > limit:
         holds = budget - 1 - len(scene.goals) * scene.solver.max_frames_per_goal
         yield ("goals" if holds > budget // 2 else "solver.max_frames_per_goal"), (
             f"the scene may run {budget:,} frames (max_frames_per_goal {scene.solver.max_frames_per_goal:,} and the holds "

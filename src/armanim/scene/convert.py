@@ -23,17 +23,20 @@ from armanim.motion.problem import (
     Problem,
     SolverSettings,
 )
+from armanim.motion.toolpath import Piece, ToolPath
 from armanim.render.settings import RenderSettings
 from armanim.scene.armmodel import LINKS_WIDTH, ArmModel
 from armanim.scene.limits import joint_limits, rate_limits
 from armanim.scene.models import (
     GoalModel,
     OrientationModel,
+    PathModel,
     RenderModel,
     SceneModel,
     SolverModel,
 )
 from armanim.scene.robots import bundled_matrix
+from armanim.scene.text import text_path
 from armanim.world import selfcollision
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
 from armanim.world.selfdistances import SelfPairs
@@ -191,7 +194,7 @@ def solver_settings(s: SolverModel, width: float, reach: float = DEFAULT_REACH) 
         w_regularizer=s.weights.regularizer,
         orientation_weight=orientation_weight(s, reach),
         orientation_tolerance=float(np.radians(s.orientation_tolerance)),
-        path_tolerance=s.tolerance,  # solver.path_tolerance: the scene's, once the path goals' model has it
+        path_tolerance=float(s.path_tolerance) if s.path_tolerance is not None else s.tolerance,
     )
 
 
@@ -285,7 +288,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None) -> Problem:
         home=home,
         limits=limits,
         obstacles=_obstacles(scene),
-        goals=tuple(Goal(np.array(g.position, dtype=float), g.hold, goal_orientation(g)) for g in scene.goals),
+        goals=tuple(scene_goal(g) for g in scene.goals),
         solver=solver,
         fps=fps,
         capsules=capsules,
@@ -335,6 +338,42 @@ def radians(degrees):
     (3.141592653589793, [1.5707963267948966, -0.7853981633974483])
     """
     return np.radians(degrees)
+
+
+def scene_goal(goal: GoalModel) -> Goal:
+    """A goal of the scene as the solver's: a point goal, or a path goal whose position is its
+    path's start (the arm goes there as to a point, then follows the path).
+
+    >>> g = scene_goal(GoalModel(path={"line": [[0, 0, 0], [0.3, 0.4, 0]]}, speed=0.1))
+    >>> g.position.tolist(), g.path.length, g.speed
+    ([0.0, 0.0, 0.0], 0.5, 0.1)
+    """
+    if goal.path is None:
+        return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal))
+    path = tool_path(goal.path)
+    return Goal(path.start.copy(), goal.hold, goal_orientation(goal), path=path, speed=float(goal.speed))
+
+
+def tool_path(path: PathModel) -> ToolPath:
+    """A path goal's path as a :class:`ToolPath` (an arc's angle becomes radians here).
+
+    >>> arc = tool_path(PathModel(arc={"center": [0, 0, 0], "start": [1, 0, 0], "angle": -90, "normal": [0, 0, 2]}))
+    >>> np.round(arc.end, 12).tolist(), round(arc.length, 12)
+    ([0.0, -1.0, 0.0], 1.570796326795)
+    """
+    if path.line is not None:
+        return ToolPath.polyline(np.array(path.line, dtype=float))
+    if path.polyline is not None:
+        return ToolPath.polyline(np.array(path.polyline, dtype=float))
+    if path.arc is not None:
+        a = path.arc
+        normal = np.array(a.normal, dtype=float)
+        normal = normal / np.max(np.abs(normal))  # a tiny normal's square would underflow
+        return ToolPath((Piece.arc(np.array(a.center, dtype=float), np.array(a.start, dtype=float), float(np.radians(a.angle)), normal),))
+    t = path.text
+    assert t is not None
+    return text_path(t.string, np.array(t.origin, dtype=float), t.height, np.array(t.right, dtype=float),
+                     np.array(t.up, dtype=float), t.resolved_lift)
 
 
 def goal_orientation(goal: GoalModel) -> Orientation | None:

@@ -17,6 +17,8 @@ LIMITS = {
     "links": 64,
     "goals": 1000,
     "obstacles": 1000,
+    "path_points": 1000,  # points of one polyline path goal
+    "text_characters": 1000,  # characters of one text path goal
     "max_frames_per_goal": 100_000,
     "total_frames": 1_000_000,  # frame 0 + every goal's max_frames_per_goal and hold frames (checks.py)
     "magnitude": 1e9,  # largest |coordinate| or length, scene units (checks.py): squares stay far from overflow

@@ -9,6 +9,7 @@ models are in :mod:`armanim.scene.armmodel`.
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 from pydantic import (
@@ -158,19 +159,233 @@ class OrientationModel(Strict):
         return self
 
 
-class GoalModel(Strict):
-    """One goal; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``."""
+UNIT_TOLERANCE = 1e-6
+"""How far a text's ``right`` and ``up`` may be from unit length, and their dot product from 0."""
 
-    position: Vector3
+
+def _length(vector) -> float:
+    """Euclidean length of a short list of finite floats (no overflow or underflow)."""
+    return math.hypot(*vector)
+
+
+def _difference(a, b) -> list[float]:
+    return [x - y for x, y in zip(a, b)]
+
+
+def _cross(a, b) -> list[float]:
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _shown_vector(vector) -> str:
+    return "[" + ", ".join(f"{v:g}" for v in vector) + "]"
+
+
+def _unit(vector: list[float]) -> list[float]:
+    """``vector``, if it has unit length within :data:`UNIT_TOLERANCE`."""
+    length = _length(vector)
+    if abs(length - 1.0) > UNIT_TOLERANCE:
+        raise ValueError(
+            f"{_shown_vector(vector)} has length {length:.6g} (expected a unit vector, within {UNIT_TOLERANCE:g}: "
+            f"right and up are the board's unit directions, square to each other, e.g. right: [0, -1, 0], up: [0, 0, 1])"
+        )
+    return vector
+
+
+class ArcModel(Strict):
+    """A circular arc: from ``start`` about ``center`` through ``angle`` degrees about ``normal``."""
+
+    center: Vector3 = Field(description="The circle's centre.")
+    start: Vector3 = Field(description="Where the arc starts (its distance from center, square to normal, is the radius).")
+    angle: Angle = Field(description="Degrees swept, nonzero, within [-360, 360]: positive turns counterclockwise about normal "
+                                     "(the right-hand rule), negative clockwise.")
+    normal: Vector3 = Field(description="The axis the arc turns about, square to its plane (any length > 0).")
+
+    @field_validator("start")
+    @classmethod
+    def _off_center(cls, value, info):
+        center = info.data.get("center")
+        if center is not None and _length(_difference(value, center)) < LIMITS["smallest"]:
+            raise ValueError(
+                f"{_shown_vector(value)} is the center: the arc has radius 0 (expected a start at the arc's radius from center)"
+            )
+        return value
+
+    @field_validator("angle")
+    @classmethod
+    def _turns(cls, value):
+        if abs(value) < MIN_DEGREES:
+            raise ValueError(f"{value:g} sweeps no arc (expected a nonzero angle in degrees, at most 360 in size; "
+                             "negative turns clockwise about normal)")
+        return value
+
+    @field_validator("normal")
+    @classmethod
+    def _off_axis(cls, value, info):
+        _nonzero(value, "normal")
+        center, start = info.data.get("center"), info.data.get("start")
+        if center is None or start is None:
+            return value
+        offset = _difference(start, center)
+        scale = max(abs(v) for v in value)
+        unit = [v / scale for v in value]
+        unit = [v / _length(unit) for v in unit]
+        radius = _length(_cross(unit, offset))  # the offset's part square to the normal
+        if radius < LIMITS["smallest"] or radius < 1e-9 * _length(offset):
+            raise ValueError(
+                f"{_shown_vector(value)} is parallel to start - center = {_shown_vector(offset)}: the start lies on the arc's "
+                "axis, radius 0 (expected a normal square to the arc's plane, e.g. [0, 0, 1] for an arc in a horizontal plane)"
+            )
+        return value
+
+
+class TextModel(Strict):
+    """Text written on a board with the bundled single-stroke font (docs/scene-format.md, Path goals)."""
+
+    string: str = Field(json_schema_extra={"minLength": 1, "maxLength": LIMITS["text_characters"]},
+                        description="The text to write: printable ASCII (letters, digits, punctuation, spaces).")
+    origin: Vector3 = Field(description="The left end of the baseline, on the board.")
+    height: Positive = Field(description="Height of a capital letter, scene units.")
+    right: Vector3 = Field(description="Unit direction the text runs along, on the board.")
+    up: Vector3 = Field(description="Unit direction of the letters' up, on the board, square to right. "
+                                    "The board's front, where the text reads and the pen lifts to, is right x up.")
+    lift: Positive | None = Field(default=None, description="How far the pen lifts off the board between strokes, "
+                                                            "scene units; default 0.3 x height.")
+
+    @field_validator("string")
+    @classmethod
+    def _writable(cls, value):
+        from armanim.scene.text import missing_characters
+
+        if not value.strip():
+            raise ValueError("is empty (expected the text to write, e.g. string: armanim)" if not value else
+                             "holds only spaces (expected some text to write)")
+        if len(value) > LIMITS["text_characters"]:
+            raise ValueError(f"has {len(value):,} characters (expected at most {LIMITS['text_characters']:,})")
+        missing = missing_characters(value)
+        if missing:
+            names = ", ".join(repr(c) for c in missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
+            raise ValueError(f"has characters the font lacks: {names} (expected printable ASCII: letters, digits, "
+                             "punctuation and spaces, one line)")
+        return value
+
+    @field_validator("right")
+    @classmethod
+    def _right_unit(cls, value):
+        return _unit(value)
+
+    @field_validator("up")
+    @classmethod
+    def _up_square(cls, value, info):
+        _unit(value)
+        right = info.data.get("right")
+        if right is not None:
+            dot = sum(a * b for a, b in zip(right, value))
+            if abs(dot) > UNIT_TOLERANCE:
+                raise ValueError(
+                    f"{_shown_vector(value)} is not square to right {_shown_vector(right)} (their dot product is {dot:.6g}; "
+                    f"expected unit vectors square to each other, within {UNIT_TOLERANCE:g}, e.g. right: [0, -1, 0], up: [0, 0, 1])"
+                )
+        return value
+
+    @property
+    def resolved_lift(self) -> float:
+        """``lift``, or its default: 0.3 x ``height``."""
+        return float(self.lift) if self.lift is not None else LIFT_PER_HEIGHT * self.height
+
+
+LIFT_PER_HEIGHT = 0.3
+"""A text's default ``lift`` as a fraction of its ``height``."""
+
+PATH_FORMS = ("line", "arc", "polyline", "text")
+"""The keys that say a path's form."""
+
+
+class PathModel(Strict):
+    """A path goal's path, exactly one form: ``line``, ``arc``, ``polyline`` or ``text``."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        frozen=True,
+        strict=True,
+        json_schema_extra={"oneOf": [{"required": [form]} for form in PATH_FORMS]},
+    )
+
+    line: Annotated[list[Vector3], Field(min_length=2, max_length=2)] | None = Field(
+        default=None, description="[p0, p1]: a straight line from p0 to p1."
+    )
+    arc: ArcModel | None = Field(default=None, description="A circular arc: {center, start, angle (degrees), normal}.")
+    polyline: Annotated[list[Vector3], Field(min_length=2, max_length=LIMITS["path_points"])] | None = Field(
+        default=None, description="[[x, y, z], ...]: straight lines through the points in turn (at least 2 points, not all the same)."
+    )
+    text: TextModel | None = Field(default=None, description="Written text: {string, origin, height, right, up, lift}.")
+
+    @field_validator("line")
+    @classmethod
+    def _line_has_length(cls, value):
+        if value is not None and _length(_difference(value[1], value[0])) < LIMITS["smallest"]:
+            raise ValueError(f"starts and ends at {_shown_vector(value[0])}: the line has length 0 (expected two different points)")
+        return value
+
+    @field_validator("polyline")
+    @classmethod
+    def _polyline_has_length(cls, value):
+        if value is not None and all(_length(_difference(p, value[0])) < LIMITS["smallest"] for p in value):
+            raise ValueError(f"has all its points at {_shown_vector(value[0])}: the polyline has length 0 "
+                             "(expected at least two different points; repeated points are dropped)")
+        return value
+
+    @model_validator(mode="after")
+    def _one_form(self):
+        given = [form for form in PATH_FORMS if getattr(self, form) is not None]
+        if len(given) != 1:
+            what = "none" if not given else " and ".join(given)
+            raise ValueError(f"a path is one form (got {what}): expected {{line: [p0, p1]}}, {{arc: {{center, start, angle, normal}}}}, "
+                             "{polyline: [[x, y, z], ...]} or {text: {string, origin, height, right, up}}")
+        return self
+
+    @property
+    def form(self) -> str:
+        """``"line"``, ``"arc"``, ``"polyline"`` or ``"text"``."""
+        return next(form for form in PATH_FORMS if getattr(self, form) is not None)
+
+
+class GoalModel(Strict):
+    """One goal: a point (``position``; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``)
+    or a path (``path`` and ``speed``: the arm goes to the path's start as to a point, then the tool follows it)."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        frozen=True,
+        strict=True,
+        json_schema_extra={"oneOf": [{"required": ["position"]}, {"required": ["path", "speed"]}]},
+    )
+
+    position: Vector3 | None = Field(default=None, description="A point goal's position.")
+    path: PathModel | None = Field(
+        default=None, description="A path goal's path for the tool to follow: line, arc, polyline or text (docs/scene-format.md, Path goals)."
+    )
+    speed: Positive | None = Field(
+        default=None, validate_default=True, description="A path goal's tool speed along its path, scene units per second (> 0)."
+    )
     hold: Annotated[float, Field(ge=0, le=3600, allow_inf_nan=False)] = Field(
-        default=0.0, description="Seconds to stay after reaching it."
+        default=0.0, description="Seconds to stay after reaching it (a path goal: after the path's end)."
     )
     orientation: OrientationModel | None = Field(
-        default=None, description="The tool frame's orientation at the goal (6-D goal); default none (position only)."
+        default=None, description="The tool frame's orientation at the goal (6-D goal; a path goal holds it along the path); default none (position only)."
     )
     tool_axis: Vector3 | None = Field(
-        default=None, description="World direction of the tool's z axis at the goal, roll free (5-D goal); default none."
+        default=None, description="World direction of the tool's z axis at the goal (a path goal holds it along the path), roll free (5-D goal); default none."
     )
+
+    @field_validator("speed")
+    @classmethod
+    def _speed_of_a_path(cls, value, info):
+        if value is None and info.data.get("path") is not None:
+            raise ValueError("is required on a path goal (the tool's speed along the path, scene units per second, e.g. speed: 0.05)")
+        if value is not None and info.data.get("position") is not None:
+            raise ValueError("belongs to a path goal (a point goal's motion is timed by the arm's joint speeds: "
+                             "leave speed out, or give path instead of position)")
+        return value
 
     @field_validator("tool_axis")
     @classmethod
@@ -186,7 +401,22 @@ class GoalModel(Strict):
     @model_validator(mode="before")
     @classmethod
     def _from_list(cls, value):
-        return {"position": value} if isinstance(value, list) else value
+        if isinstance(value, list):
+            return {"position": value}
+        if isinstance(value, dict):
+            given = [key for key in ("position", "path") if value.get(key) is not None]
+            if len(given) == 2:
+                raise ValueError("sets both position and path (expected one: position for a point goal, or path with speed "
+                                 "for a path goal, whose arm goes to the path's start first)")
+            if not given:
+                raise ValueError("has neither position nor path (expected position: [x, y, z] for a point goal, "
+                                 "or path: {...} with speed for a path goal)")
+        return value
+
+    @property
+    def is_path(self) -> bool:
+        """Whether this is a path goal."""
+        return self.path is not None
 
     @classmethod
     def __get_pydantic_json_schema__(cls, core_schema, handler):
@@ -242,6 +472,10 @@ class SolverModel(Strict):
     )
     orientation_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
         default=1.0, description="Degrees: a goal with an orientation is reached when the tool is within this angle of it (and within tolerance)."
+    )
+    path_tolerance: Positive | None = Field(
+        default=None,
+        description="The most a path goal's tool may stray from its path, at every frame and between frames, scene units; default tolerance.",
     )
     weights: WeightsModel = WeightsModel()
 
