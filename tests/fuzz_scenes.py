@@ -282,12 +282,11 @@ def check_csv_finite(text: str) -> None:
 def check_scene_text(text: str, file: str) -> str:
     """The invariants for one scene text; returns ``"error"`` (a SceneError, exit 2) or ``"ran"``."""
     from armanim.errors import EXIT_BAD_INPUT, SceneError, message_lines
-    from armanim.motion.trajectory import solve_trajectory
+    from armanim.motion.trajectory import frame_budget, solve_trajectory
     from armanim.output.csvfile import parse_trajectory_csv, trajectory_csv_text
     from armanim.output.jsontext import json_text
     from armanim.output.summary import summary_dict
     from armanim.scene import render_settings, scene_to_problem, validate_scene_text
-    from armanim.scene.checks import frame_budget
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
@@ -302,7 +301,7 @@ def check_scene_text(text: str, file: str) -> str:
         problem = scene_to_problem(model)
         solution = solve_trajectory(short_planner(problem))
         traj = solution.trajectory
-        assert 1 <= traj.frames <= frame_budget(model)
+        assert 1 <= traj.frames <= frame_budget(problem)
         csv_text = trajectory_csv_text(traj)
         check_csv_finite(csv_text)
         parse_trajectory_csv(csv_text, "trajectory.csv")  # armanim reads back what it wrote
