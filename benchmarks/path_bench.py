@@ -3,7 +3,8 @@
     python benchmarks/path_bench.py [--paths 100] [--seed 0] [--quick]
 
 Seeded random lines and arcs of 10-40 cm (:mod:`generators.paths`) on a bundled Panda and UR5
-(alternately), the tool pointing down all along, among 0-4 spheres. Each path is labelled by the
+(alternately), the tool pointing down all along, among 0-4 spheres (drawn again until armanim's
+checks accept the scene: the robot's home clear of every sphere). Each path is labelled by the
 oracle (:mod:`oracles.paths`: a dense continuous inverse kinematics by pinocchio from six
 starts): feasible when it follows the whole path, else the share it follows. armanim solves each
 as a scene with that one path goal (``solver.path_tolerance`` 1 mm, speed 10 cm/s) and is judged
@@ -31,6 +32,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
+from generators.families import armanim_rejects  # noqa: E402
 from generators.paths import DrawnPath, draw_path  # noqa: E402
 from oracles.paths import STEP, followed_fraction  # noqa: E402
 from oracles.robots import robot_geometry  # noqa: E402
@@ -49,12 +51,24 @@ PATH_TOLERANCE = 0.001
 SOLVER = {"tolerance": 0.005, "clearance": 0.02}
 
 
+def case_scene(case: DrawnPath) -> dict:
+    """The scene of a case (its one goal the path's start, for armanim's checks of the scene)."""
+    obstacles = [{"center": c.tolist(), "radius": float(r), "influence": 0.05} for c, r in zip(case.centers, case.radii)]
+    return {"version": 1, "arm": {"robot": case.robot}, "obstacles": obstacles, "goals": [case.path.start.tolist()],
+            "solver": SOLVER}
+
+
+def drawn_case(rng: np.random.Generator, robot: str) -> DrawnPath:
+    """A case whose scene armanim accepts (the robot's home pose clear of every sphere), drawn again until it does."""
+    while True:
+        case = draw_path(rng, robot)
+        if not armanim_rejects(case_scene(case)):
+            return case
+
+
 def case_problem(case: DrawnPath) -> Problem:
     """armanim's problem of a case: the robot, the spheres, one path goal."""
-    obstacles = [{"center": c.tolist(), "radius": float(r), "influence": 0.05} for c, r in zip(case.centers, case.radii)]
-    scene = scene_model({"version": 1, "arm": {"robot": case.robot}, "obstacles": obstacles,
-                         "goals": [case.path.start.tolist()], "solver": SOLVER})
-    problem = scene_to_problem(scene)
+    problem = scene_to_problem(scene_model(case_scene(case)))
     goal = Goal(case.path.start, 0.0, Orientation(axis=DOWN), case.path, SPEED)
     return replace(problem, goals=(goal,), solver=replace(problem.solver, path_tolerance=PATH_TOLERANCE))
 
@@ -90,7 +104,7 @@ def main() -> None:
     rng = np.random.default_rng(args.seed)
     rows = []
     for i in range(count):
-        case = draw_path(rng, ("panda", "ur5")[i % 2])
+        case = drawn_case(rng, ("panda", "ur5")[i % 2])
         problem = case_problem(case)
         geo = robot_geometry(case.robot, case.centers, case.radii, clearance=problem.solver.clearance)
         dense = case.path.points(np.linspace(0, case.path.length, int(case.path.length / STEP) + 2))

@@ -151,7 +151,8 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
 
 def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
                  safeties: list[PathSafety] | None = None, most_frames: float = np.inf, jerk: np.ndarray | None = None,
-                 holds: list[int] | None = None, path_speeds: list[np.ndarray | None] | None = None) -> list[Motion]:
+                 holds: list[int] | None = None, path_speeds: list[np.ndarray | None] | None = None,
+                 strays: list[Callable[[Motion], np.ndarray] | None] | None = None) -> list[Motion]:
     """The motions through each goal's solved ``poses`` (m_i, n), one after the other, each from
     rest to rest at ``fps``.
 
@@ -163,7 +164,9 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     together, a few calls in all. Raises :class:`~armanim.motion.clock.ClockTooLong` where a
     goal's motion would pass ``most_frames`` less the frames (and ``holds``, one a goal) of the
     goals before it. ``path_speeds`` (one a goal, each (m_i - 1,) or None): the most ds/dt on each
-    solved step (:func:`~armanim.motion.clock.time_optimal`).
+    solved step (:func:`~armanim.motion.clock.time_optimal`). ``strays`` (one a goal, or None):
+    ``strays(motion)`` -> (K,) bool, the frames of a timed motion that leave a path goal's path;
+    the steps they lie in are taken along their chords too.
     """
     holds = [0] * len(poses) if holds is None else holds
     goals = [_Goal.start(p, limited, None if safeties is None else safeties[i]) for i, p in enumerate(poses)]
@@ -175,14 +178,15 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
         g.proven = proven
         g.chords[g.solved_step[unsafe]] = True
     pending = [i for i, g in enumerate(goals) if g.path.length > 0]
-    while pending:  # a step whose frames come too close is taken along its chord, and its motion timed again
+    while pending:  # a step whose frames come too close (or stray) is taken along its chord, and its motion timed again
         for i in pending:
             goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk)
+        again = {i for i in pending if strays and strays[i] is not None and goals[i].chord_frames(strays[i](goals[i].timed))}
         checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].timed_check)]
-        if not checked or safeties is None:
-            break
-        found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].timed_check] for i in checked])
-        pending = [i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= safeties[0].floor))]
+        if checked and safeties is not None:
+            found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].timed_check] for i in checked])
+            again |= {i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= safeties[0].floor))}
+        pending = sorted(again)
     return [g.finished() for g in goals]
 
 
@@ -266,6 +270,14 @@ class _Goal:
         again = bool(np.any(bad & ~self.chords[step]))
         if again:
             self.chords[step[bad]] = True
+        return again
+
+    def chord_frames(self, off: np.ndarray) -> bool:
+        """Take the steps the frames ``off`` (K,) bool lie in along their chords. True if that adds
+        a chord (the motion must be timed again)."""
+        step = self.frame_step
+        again = bool(np.any(off & ~self.chords[step]))
+        self.chords[step[off]] = True
         return again
 
     def finished(self) -> Motion:

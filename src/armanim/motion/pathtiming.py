@@ -11,12 +11,15 @@ Pure core: numpy only.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
+from typing import cast
 
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
+from armanim.motion.clock import Motion
 from armanim.motion.problem import Goal, Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Trajectory
 
@@ -49,6 +52,30 @@ def part_path_speed(problem: Problem, solved: Trajectory, goal: Goal, first: int
     travel = np.diff(np.nan_to_num(solved.path_s[first:stop], nan=0.0))  # the part's first pose is the path's start
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(travel > 0, goal.speed * length / np.where(travel > 0, travel, 1.0), np.inf)
+
+
+def stray_frames(problem: Problem, solved: Trajectory, goal: Goal, first: int, stop: int) -> Callable[[Motion], np.ndarray]:
+    """For the part ``first:stop`` of ``solved`` along ``goal``'s path: a function of its timed motion
+    giving (K,) bool, the frames whose tool, or the tool halfway (each joint) from the frame before,
+    lies farther than ``solver.path_tolerance`` from the path between the frame's two samples (the
+    clock's smooth path through the samples can bulge where a sample turns the joints much and
+    moves the tool little)."""
+    assert goal.path is not None and solved.path_s is not None
+    path, along, start = goal.path, np.nan_to_num(solved.path_s[first:stop], nan=0.0), solved.phi[first]
+    tolerance = problem.solver.path_tolerance
+
+    def strays(motion: Motion) -> np.ndarray:
+        heads = np.maximum(motion.heads_for, 1)
+        lo, hi = along[heads - 1], along[heads]
+        before = np.concatenate([start[None], motion.phi[:-1]])
+        turn = motion.phi - before
+        middle = before + np.where(problem.limits.limited, turn, wrap_angle(turn)) / 2
+        tips = forward(problem.arm, np.concatenate([motion.phi, middle])).tip
+        k = len(heads)
+        _, error = path.nearest(tips, np.concatenate([lo, np.concatenate([lo[:1], lo[:-1]])]), np.concatenate([hi, hi]))
+        return cast(np.ndarray, (error[:k] > tolerance) | (error[k:] > tolerance))
+
+    return strays
 
 
 def traced_paths(problem: Problem, solved: Trajectory, phi: np.ndarray, tip: np.ndarray, source: np.ndarray,
@@ -105,4 +132,4 @@ def path_reported(problem: Problem, report: GoalReport, trajectory: Trajectory) 
     return replace(report, path=replace(report.path, max_path_error=worst, mean_speed=report.path.done / seconds))
 
 
-__all__ = ["ALONG", "joined_timing", "part_path_speed", "path_reported", "traced_paths"]
+__all__ = ["ALONG", "joined_timing", "part_path_speed", "path_reported", "stray_frames", "traced_paths"]

@@ -16,6 +16,7 @@ poses (:func:`path_safety`). Pure core: numpy only.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -25,7 +26,7 @@ from armanim.arm.kinematics import forward
 from armanim.motion.clock import ClockTooLong, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.orientation import frame_orientations
-from armanim.motion.pathtiming import joined_timing, part_path_speed, path_reported, traced_paths
+from armanim.motion.pathtiming import joined_timing, part_path_speed, path_reported, stray_frames, traced_paths
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance, self_shift
@@ -85,7 +86,8 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     motions = goal_motions([src.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
                            fps, [replace(safety, at_poses=safety.at_poses[p.frames],
                                          certified=safety.certified[p.frames.start:p.frames.stop - 1]) for p in parts],
-                           most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts])
+                           most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts],
+                           [p.strays for p in parts])
     made = sum(len(m.phi) for m in motions) + sum(p.hold for p in parts)
     if made > most_frames:
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
@@ -134,6 +136,7 @@ class _Part:
     frames: slice
     hold: int
     path_speed: np.ndarray | None = None
+    strays: Callable[[Motion], np.ndarray] | None = None
 
 
 def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
@@ -149,7 +152,8 @@ def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
         if along:
             split = piece.stop - 1 - along
             parts.append(_Part(g.index, slice(piece.start, split + 1), 0))
-            parts.append(_Part(g.index, slice(split, piece.stop), hold, part_path_speed(problem, src, goal, split, piece.stop)))
+            parts.append(_Part(g.index, slice(split, piece.stop), hold, part_path_speed(problem, src, goal, split, piece.stop),
+                               stray_frames(problem, src, goal, split, piece.stop)))
         else:
             parts.append(_Part(g.index, piece, hold))
         start += g.frames + (hold_frames(problem, goal) if g.reached else 0)
