@@ -223,6 +223,31 @@ def ribbon(polyline: np.ndarray, width: float, lift: float = 0.0) -> tuple[np.nd
     return points, faces.astype(int)
 
 
+def path_normal(points: np.ndarray, toward: np.ndarray) -> np.ndarray:
+    """(3,) the unit normal of the plane a ribbon of ink along ``points`` (m, 3) lies in: the
+    normal of the points' best-fit plane (a board's, a table's), or, for points on a line, that of
+    the plane through the line that faces ``toward`` (3,; the camera) the most. Its sign is
+    the one toward ``toward``.
+
+    >>> (path_normal(np.array([[0.0, 0, 1], [1, 0, 1], [1, 1, 1]]), np.array([0.2, 0, -1.0])) + 0.0).tolist()
+    [0.0, 0.0, -1.0]
+    >>> np.round(path_normal(np.array([[0.0, 0, 0], [1, 0, 0]]), np.array([1.0, 1, 0])), 12).tolist()
+    [0.0, 1.0, 0.0]
+    """
+    toward = np.asarray(toward, dtype=float)
+    centered = np.asarray(points, dtype=float) - np.mean(points, axis=0)
+    _, spread, axes = np.linalg.svd(centered, full_matrices=True)
+    if len(spread) > 1 and spread[1] > 1e-9 * max(spread[0], 1e-300):
+        normal = axes[2]
+    else:  # a line (or a point): the plane through it most square to the camera
+        along = axes[0]
+        normal = toward - (toward @ along) * along
+        if np.linalg.norm(normal) < 1e-9:
+            normal = axes[1]
+    normal = normal / np.linalg.norm(normal)
+    return -normal if normal @ toward < 0 else normal
+
+
 def joined(polylines) -> np.ndarray:
     """Polylines (each (k, d)) as one, a NaN row between them; (0, 3) for none."""
     parts = [p for p in polylines if len(p)]
@@ -233,4 +258,4 @@ def joined(polylines) -> np.ndarray:
     for p in parts:
         out += [np.full((1, d), np.nan), p] if out else [p]
     return np.concatenate(out)
-__all__ = ["PathView", "SampledPath", "arc_spacing", "frame_paths", "joined", "path_progress", "piece_samples", "ribbon", "sampled_paths"]
+__all__ = ["PathView", "SampledPath", "arc_spacing", "frame_paths", "joined", "path_normal", "path_progress", "piece_samples", "ribbon", "sampled_paths"]
