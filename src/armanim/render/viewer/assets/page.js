@@ -414,6 +414,7 @@
   (D.boxes || []).forEach((b) => fitPoints.push([...b.center, 0.5 * Math.hypot(...b.size) + b.influence]));
   (D.obstacle_capsules || []).forEach((c) => { fitPoints.push([...c.from, c.radius + c.influence]); fitPoints.push([...c.to, c.radius + c.influence]); });
   D.goals.forEach((g) => fitPoints.push([...g.position, goalR * 3]));
+  if (D.paths) for (const g of D.paths.goals) for (let i = 0; i < g.points.length; i += 3) fitPoints.push([g.points[i], g.points[i + 1], g.points[i + 2], 0]);
   if (D.view.bounds) for (const x of D.view.bounds[0]) for (const y of D.view.bounds[1]) for (const z of D.view.bounds[2]) fitPoints.push([x, y, z, 0]);
   const VIEWS = {
     video: [D.view.elevation, D.view.azimuth],
