@@ -256,3 +256,25 @@ def test_a_run_without_path_goals_has_no_path_data():
     problem = dataclasses.replace(path_problem(), goals=(path_problem().goals[0],))
     trajectory = dataclasses.replace(path_trajectory(problem, None), goal=np.zeros(FRAMES, dtype=int))
     assert "paths" not in viewer_data(problem, trajectory, (), settings(), title="plain")
+
+
+def test_the_arm_in_front_of_the_ink_covers_it():
+    problem = path_problem()
+    _, view = frame_pixels(solved(problem, path_trajectory(problem, None)), 0)
+    toward = np.linalg.solve(view.linear, [0.0, 0.0, 1.0])  # world direction of growing nearness
+    across = np.linalg.solve(view.linear, [1.0, 0.0, 0.0])
+    toward, across = toward / np.linalg.norm(toward), across / np.linalg.norm(across)
+    behind = np.array([5.0, 5, 9.5]) - 3 * toward  # behind the arm's column (all its angles 0: straight up), between joints
+    line = ToolPath((Piece.line(behind - 5 * across, behind + 5 * across),))
+    problem = path_problem(line)
+    still = np.zeros((FRAMES, 4))
+
+    def run(path_s):
+        t = path_trajectory(problem, path_s)
+        return solved(problem, dataclasses.replace(t, phi=still, tip=forward(problem.arm, still).tip))
+
+    image, view = frame_pixels(run(linear_path_s(line.length)), FRAMES - 1)
+    reference, _ = frame_pixels(run(None), 2)  # the arm still, goal 0's: neither ink nor the path ahead (drawn over all)
+    a, b = line.start, line.end
+    assert inked(image, reference, view, np.vstack([along(a, b, 0.75, 0.95, 4)])).all()
+    assert not inked(image, reference, view, along(behind, behind + 0.1 * across, 0, 1, 3)).any()  # the column is in front
