@@ -254,7 +254,7 @@ def joined(polylines) -> np.ndarray:
     if not parts:
         return np.zeros((0, 3))
     d = parts[0].shape[1]
-    out = []
+    out: list[np.ndarray] = []
     for p in parts:
         out += [np.full((1, d), np.nan), p] if out else [p]
     return np.concatenate(out)

@@ -83,7 +83,7 @@ from armanim.render.settings import RenderSettings
 from armanim.render.solids.arm import Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order
-from armanim.render.solids.robot import RasterQueue, arm_solids, robot_meshed
+from armanim.render.solids.robot import MeshesAndCapsules, RasterQueue, RobotMeshes, arm_solids, robot_meshed
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
@@ -367,7 +367,11 @@ class SceneCanvas:
         for ghost in state.ghosts:
             touched |= self._draw_parts(self.arm.parts(ghost, ghost=True), None)
         near = near_capsules(self.problem, state.pose)
-        parts = self.arm.parts(state.pose, near=near) if decal is None else self.arm.parts(state.pose, near=near, decal=decal)
+        arm = self.arm
+        if decal is not None and isinstance(arm, (RobotMeshes, MeshesAndCapsules)):  # (only these draw furniture)
+            parts = arm.parts(state.pose, near=near, decal=decal)
+        else:
+            parts = arm.parts(state.pose, near=near)
         return self._draw_parts(parts, shadow) or touched
 
     def _draw_parts(self, parts: list[Part], shadow) -> bool:
