@@ -20,8 +20,6 @@ from armanim.render.camera.framing import Floor
 from armanim.render.camera.view import View
 from armanim.render.paint import scenery
 from armanim.render.paint.style import (
-    AHEAD_ALPHA,
-    AHEAD_DASHES,
     ARM_COLOR,
     AXIS_COLORS,
     FLOOR_COLOR,
@@ -171,7 +169,8 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     robot : bool
         The arm is drawn with its meshes: "robot", in the meshes' grey, names it.
     paths : bool
-        Some goal is a path: its ink is drawn (and, in a video, the path still ahead, faintly).
+        Some goal is a path: its ink is drawn, named "ink" (a video's path ahead, dashed and
+        faint in the ink's colour, is not named: a row of ten entries overflows a 640 px frame).
     """
     marker = dict(linestyle="none", markersize=8)
     name = "robot" if robot else "arm"
@@ -183,9 +182,6 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
         entries.append(("tip path", Line2D([], [], color=TRAIL_COLOR, linewidth=2)))
     if paths and picture != "pose":
         entries.append(("ink", Line2D([], [], color=INK_COLOR, linewidth=2)))
-        if picture == "video":
-            entries.append(("path ahead", Line2D([], [], color=INK_COLOR, linewidth=1, alpha=AHEAD_ALPHA,
-                                                 linestyle=(0, AHEAD_DASHES))))
     if obstacles:
         entries.append(("obstacle", Line2D([], [], marker="o", markerfacecolor=OBSTACLE_COLOR,
                                            markeredgecolor="none", **marker)))
