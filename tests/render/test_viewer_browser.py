@@ -361,3 +361,48 @@ def test_a_700_frame_panda_run_draws_its_meshes_under_3_mb_and_fits_a_phone(brow
         assert page.js("document.documentElement.scrollWidth") <= 390
     finally:
         page.page.close()
+
+
+def test_path_ink_grows_with_the_frames_and_matches_the_video_s_rule(browser, tmp_path):
+    """A path goal's ink on the page: the farthest path_s of the goal's frames so far (as the
+    video's :func:`path_progress`), drawn in the ink's colour where the arm stands still."""
+    import dataclasses
+
+    import numpy as np
+    from PIL import Image
+    from test_path_pictures import FRAMES, linear_path_s, path_problem, path_trajectory, settings, solved
+
+    from armanim.arm.kinematics import forward
+    from armanim.render.overlay.paths import path_progress
+    from armanim.render.viewer.data import viewer_data
+    from armanim.render.viewer.page import viewer_html
+
+    problem = path_problem()
+    path_s = linear_path_s(30.0)
+    path_s[15:] = path_s[15]  # then it stays: the ink stops growing
+    still = np.zeros((FRAMES, 4))
+    trajectory = dataclasses.replace(path_trajectory(problem, path_s), phi=still, tip=forward(problem.arm, still).tip)
+    data = viewer_data(problem, trajectory, solved(problem, trajectory).reports, settings(), title="ink")
+    page_file = tmp_path / "viewer.html"
+    page_file.write_text(viewer_html(data), encoding="utf-8")
+    page = Page(browser, page_file)
+    try:
+        assert page.errors == []
+        done = path_progress(trajectory.goal, np.round(path_s, data["decimals"]), len(problem.goals))[:, 1]
+        assert page.js("[...Array(armanim.frames).keys()].map(f => armanim.pathDone(f)[0])") == pytest.approx(done.tolist())
+
+        def ink_pixels(frame: int) -> int:
+            page.js(f"armanim.setFrame({frame})")
+            page.js("armanim.nextDraw()")
+            shot = tmp_path / f"ink{frame}.png"
+            page.page.locator("#view canvas").screenshot(path=shot)
+            rgb = np.asarray(Image.open(shot).convert("RGB")).astype(int)
+            r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+            return int(((r < 90) & (g < 90) & (b < 150) & (b > r + 25)).sum())  # ink, not the faint dashes
+
+        none, some, most = ink_pixels(7), ink_pixels(11), ink_pixels(17)
+        assert none < some < most, (none, some, most)
+        assert most - none > 100  # the first piece (16 units, some 200 px long) inked (161 px measured)
+        assert ink_pixels(18) == most  # path_s stopped growing: so did the ink
+    finally:
+        page.page.close()

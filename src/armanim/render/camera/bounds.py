@@ -63,7 +63,7 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
         points, radii = shape_extent(obstacles.boxes, obstacles.rods)
         lo.append((points - radii[:, None]).min(axis=0))
         hi.append((points + radii[:, None]).max(axis=0))
-    goals = goal_points(problem)
+    goals = np.vstack([goal_points(problem), path_points(problem)])
     if len(goals):
         lo.append(goals.min(axis=0))
         hi.append(goals.max(axis=0))
@@ -78,6 +78,17 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
 def goal_points(problem: Problem) -> np.ndarray:
     """(N, 3) positions of the problem's goals, world units ((0, 3) without goals)."""
     return np.array([g.position for g in problem.goals], dtype=float).reshape(-1, 3)
+
+
+PATH_EXTENT_SAMPLES = 64  # points of a path goal's path that the pictures frame (every corner among them)
+
+
+def path_points(problem: Problem) -> np.ndarray:
+    """(P, 3) points along every path goal's path (its corners, its arcs every 1/64 of the
+    path's length): what a picture must frame of them ((0, 3) without path goals)."""
+    paths = [g.path for g in problem.goals if getattr(g, "path", None) is not None]
+    points = [p.points(p.samples(p.length / PATH_EXTENT_SAMPLES)) for p in paths if p.length > 0]
+    return np.vstack(points) if points else np.zeros((0, 3))
 
 
 def resolve_bounds(problem: Problem, settings: RenderSettings, points: np.ndarray | None = None) -> np.ndarray:

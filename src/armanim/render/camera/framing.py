@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.motion.problem import Problem
-from armanim.render.camera.bounds import goal_points, resolve_bounds, shape_extent
+from armanim.render.camera.bounds import goal_points, path_points, resolve_bounds, shape_extent
 from armanim.render.camera.projection import fit_view
 from armanim.render.camera.view import View
 from armanim.render.paint import scenery
@@ -99,7 +99,7 @@ def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray
     """World points (P, 3) that must be in the picture and a radius (P,) around each.
 
     The settings' bounds box if given, else every joint in ``extent`` (or, without it,
-    the box the arm can reach); then the base, the spheres and the goals.
+    the box the arm can reach); then the base, the spheres, the goals and their paths.
     """
     hw = max(problem.half_width, float(problem.capsules.radius.max(initial=0.0)))
     if settings.bounds is not None or extent is None:
@@ -108,7 +108,7 @@ def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray
     else:
         joints = np.asarray(extent, dtype=float).reshape(-1, 3)
     base = problem.arm.stand
-    goals = goal_points(problem)
+    goals = np.vstack([goal_points(problem), path_points(problem)])
     obs = problem.obstacles
     r = BASE_SCALE * problem.half_width
     foot = base - [0.0, 0.0, 2 * problem.half_width] + r * np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]])

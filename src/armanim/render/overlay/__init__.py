@@ -5,6 +5,7 @@ glyphs and orientation triads.
 - :mod:`.markers`: the numbered goal markers, one sprite per goal and state.
 - :mod:`.glyphs`: the caption's monospaced characters drawn once and stamped.
 - :mod:`.triads`: the tool's and the oriented goals' RGB axes.
+- :mod:`.paths`: path goals' ink behind the tool and the path ahead of it, per frame (pure).
 
 Draws on :mod:`armanim.render.paint`; knows nothing of the camera or the solids.
 """

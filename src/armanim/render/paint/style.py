@@ -22,6 +22,12 @@ BASE_COLOR = (0.50, 0.52, 0.56)
 OBSTACLE_COLOR = (0.85, 0.30, 0.25)
 TRAIL_COLOR = (0.95, 0.55, 0.05)
 TEXT_COLOR = (0.12, 0.12, 0.15)
+INK_COLOR = (0.06, 0.08, 0.24)
+"""A path goal's ink: the path behind the tool, pen down (blue-black, as a marker's)."""
+INK_POINTS = 1.4  # the ink's width: about 2 px in a 960 x 540 frame, scaling with the frame
+AHEAD_ALPHA = 0.6  # the path still ahead of the tool: the ink's colour, this opaque ...
+AHEAD_POINTS = 1.0  # ... this thin ...
+AHEAD_DASHES = (3.0, 2.0)  # ... and dashed (lengths in line widths)
 AXIS_COLORS = ((0.80, 0.20, 0.20), (0.15, 0.60, 0.20), (0.20, 0.35, 0.85))
 GOAL_COLORS = {
     "pending": (0.45, 0.47, 0.52),

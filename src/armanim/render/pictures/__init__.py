@@ -6,7 +6,7 @@
 - :mod:`.backdrop`: what is drawn once into that background: floor, shells, world axes,
   title, legend, the caption's box.
 - :mod:`.pose`: one pose to a PNG (``armanim fk --png``).
-- :mod:`.poster`: ``poster.png``, the arm faintly on each goal and the tip's path.
+- :mod:`.poster`: ``poster.png``, the arm faintly on each goal, the tip's path and the path goals' ink.
 - :mod:`.plot`: ``plot.png``, distance, clearance, speeds and joint angles over time.
 
 Stands on the overlays, the solids, the camera and the paint; :mod:`armanim.render.video`

@@ -28,6 +28,7 @@ from armanim.render.paint.style import (
     GOAL_COLORS,
     GRID_COLOR,
     HIDDEN_ALPHA,
+    INK_COLOR,
     OBSTACLE_COLOR,
     SHADOW_COLOR,
     TEXT_COLOR,
@@ -145,7 +146,7 @@ ROBOT_LEGEND_COLOR = (0.62, 0.64, 0.68)
 
 def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: frozenset,
                    hidden_goal: bool, hidden_by: str = "a sphere", goals: bool = True,
-                   robot: bool = False) -> list[tuple[str, Line2D]]:
+                   robot: bool = False, paths: bool = False) -> list[tuple[str, Line2D]]:
     """(label, handle) of what a picture shows.
 
     Parameters
@@ -167,6 +168,9 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
         The picture has goals (``fk --png`` draws none, and names none).
     robot : bool
         The arm is drawn with its meshes: "robot", in the meshes' grey, names it.
+    paths : bool
+        Some goal is a path: its ink is drawn, named "ink" (a video's path ahead, dashed and
+        faint in the ink's colour, is not named: a row of ten entries overflows a 640 px frame).
     """
     marker = dict(linestyle="none", markersize=8)
     name = "robot" if robot else "arm"
@@ -176,6 +180,8 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
         entries.append((f"{name} on each goal", ghost))  # a robot's faint poses are outlines
     if trail and picture != "pose":
         entries.append(("tip path", Line2D([], [], color=TRAIL_COLOR, linewidth=2)))
+    if paths and picture != "pose":
+        entries.append(("ink", Line2D([], [], color=INK_COLOR, linewidth=2)))
     if obstacles:
         entries.append(("obstacle", Line2D([], [], marker="o", markerfacecolor=OBSTACLE_COLOR,
                                            markeredgecolor="none", **marker)))

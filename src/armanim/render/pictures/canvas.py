@@ -18,8 +18,14 @@ restores that background and draws what moves, straight into the Agg buffer:
    place in the order; the other spheres stay in the background, so a scene with a
    thousand obstacles costs little more per frame;
 3. the trail again where it passes in front of a sphere;
-4. the numbered goal markers (:mod:`armanim.render.overlay.markers`; a goal behind a sphere is
+4. the path still ahead of the tool, faintly, over everything but the markers;
+5. the numbered goal markers (:mod:`armanim.render.overlay.markers`; a goal behind a sphere is
    drawn through it, dimmed and open) and the caption (:mod:`armanim.render.overlay.glyphs`).
+
+A path goal's ink (:mod:`armanim.render.overlay.paths`: the pen-down path behind the tool)
+is drawn with the trail, under the solids (again where it passes in front of a sphere); in a
+scene with furniture (a whiteboard) it is drawn with the furniture instead, in the meshes'
+z-buffer, so the board does not cover it and the links in front of it do.
 
 When a goal has an orientation, the tool's RGB triad is drawn at the tip every frame and each
 oriented goal's faint triad (a blue arrow for a tool-axis goal) with the background
@@ -46,6 +52,7 @@ from armanim.render.camera.framing import frame_scene
 from armanim.render.camera.projection import camera_rotation, view_angles
 from armanim.render.overlay.glyphs import GlyphAtlas
 from armanim.render.overlay.markers import GoalMarkers
+from armanim.render.overlay.paths import SampledPath, arc_spacing, frame_paths, joined, ribbon, sampled_paths
 from armanim.render.overlay.triads import (
     GOAL_ALPHA,
     TRIAD_PER_REACH,
@@ -58,9 +65,14 @@ from armanim.render.overlay.triads import (
 from armanim.render.paint import scenery
 from armanim.render.paint.pixels import in_pixels, make_figure
 from armanim.render.paint.style import (
+    AHEAD_ALPHA,
+    AHEAD_DASHES,
+    AHEAD_POINTS,
     BASE_SCALE,
     FACE_EDGE_PX,
     FONT,
+    INK_COLOR,
+    INK_POINTS,
     RING_POINTS,
     SHADOW_COLOR,
     TEXT_COLOR,
@@ -71,10 +83,11 @@ from armanim.render.settings import RenderSettings
 from armanim.render.solids.arm import Part, near_capsules, point_samples
 from armanim.render.solids.obstacle_order import ObstacleOrder
 from armanim.render.solids.order import paint_order
-from armanim.render.solids.robot import RasterQueue, arm_solids, robot_meshed
+from armanim.render.solids.robot import MeshesAndCapsules, RasterQueue, RobotMeshes, arm_solids, robot_meshed
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
 
+CHORD_PX = 0.25  # the most a drawn arc's chords stray from the arc, pixels
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
 
 
@@ -94,6 +107,11 @@ class FrameState:
         The dynamic caption line (time, goal, distance, state).
     ghosts : tuple of Pose
         Poses drawn faintly (a poster's strobe), in the same painter's order.
+    path_done : (N,) array or None
+        Arc length inked along each goal's path (a row of
+        :func:`~armanim.render.overlay.paths.path_progress`); None: no ink.
+    path_ahead : int
+        The goal whose path still to do is drawn faintly (the frame's goal); -1: none.
     """
 
     pose: Pose
@@ -101,6 +119,8 @@ class FrameState:
     goal_status: np.ndarray
     caption: str
     ghosts: tuple = field(default=())
+    path_done: np.ndarray | None = None
+    path_ahead: int = -1
 
 
 class SceneCanvas:
@@ -151,9 +171,11 @@ class SceneCanvas:
         self.triads = has_orientations(problem.goals)
         self.triad_length = TRIAD_PER_REACH * problem.arm.reach
         self._prepare_trail(tips if settings.trail else None)
+        self.paths = self._prepare_paths()
+        self.on_furniture = bool(self.paths) and getattr(self.arm, "furniture", None) is not None
         self._make_artists()
         solids = len(obstacles.radii) + len(obstacles.boxes) + len(obstacles.rods)  # the floor is no red solid
-        legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids),
+        legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids), paths=bool(self.paths),
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
                                          hidden_by="a sphere" if self.shapes is None else "an obstacle",
                                          goals=bool(len(problem.goals)), robot=robot_meshed(problem, meshes))
@@ -176,6 +198,29 @@ class SceneCanvas:
             front = front | self.shapes.in_front(screen)
         self.trail_front_xy = np.where(front[:, None], screen[:, :2], np.nan)
 
+    def _prepare_paths(self) -> list[SampledPath]:
+        """Every path goal's path on screen, its arcs split finely enough to look round."""
+        paths = sampled_paths(self.problem.goals, lambda path: arc_spacing(path, CHORD_PX / self.ppu))
+        return [p.mapped(self.view.project(p.points)) for p in paths]
+
+    def _unhidden(self, screen: np.ndarray) -> np.ndarray:
+        """(k, 2) the pixels of screen points (k, 3; NaN rows allowed), NaN where an obstacle hides them."""
+        xy = screen[:, :2].copy()
+        ok = np.isfinite(screen[:, 0])
+        hidden = np.zeros(len(screen), dtype=bool)
+        hidden[ok] = self._behind(screen[ok])
+        xy[hidden] = np.nan
+        return xy
+
+    def _in_front(self, screen: np.ndarray) -> np.ndarray:
+        """(k, 2) the pixels of screen points (k, 3; NaN rows allowed) in front of an obstacle, NaN elsewhere."""
+        ok = np.isfinite(screen[:, 0])
+        front = np.zeros(len(screen), dtype=bool)
+        front[ok] = self.spheres.in_front(screen[ok])
+        if self.shapes is not None:
+            front[ok] |= self.shapes.in_front(screen[ok])
+        return np.where(front[:, None], screen[:, :2], np.nan)
+
     def _behind(self, screen: np.ndarray) -> np.ndarray:
         """(P,) bool: screen points (P, 3) hidden by an obstacle (a sphere, a box, a capsule)."""
         hidden = self.spheres.behind(screen)
@@ -189,6 +234,10 @@ class SceneCanvas:
         self.trail = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, solid_capstyle="round", alpha=0.95),
                                self.fig)
         self.trail_front = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, alpha=0.95), self.fig)
+        self.ink = in_pixels(Line2D([], [], color=INK_COLOR, linewidth=INK_POINTS, solid_capstyle="round",
+                                    solid_joinstyle="round"), self.fig)
+        self.ahead = in_pixels(Line2D([], [], color=INK_COLOR, linewidth=AHEAD_POINTS, alpha=AHEAD_ALPHA,
+                                      linestyle=(0, AHEAD_DASHES)), self.fig)
 
     def _draw_background(self, title: str, legend: list, caption_template: str) -> None:
         """Draw what never changes and keep it as the pixel background of every frame."""
@@ -264,10 +313,22 @@ class SceneCanvas:
         if state.trail_end > 1:
             self.trail.set_data(self.trail_xy[: state.trail_end].T)
             self.trail.draw(renderer)
-        touched = self._draw_solids(state, shadow)
+        views = frame_paths(self.paths, state.path_done, state.path_ahead) if state.path_done is not None else ()
+        ink = joined([v.ink() for v in views])
+        if len(ink) and not self.on_furniture:
+            self.ink.set_data(self._unhidden(ink).T)
+            self.ink.draw(renderer)
+        touched = self._draw_solids(state, shadow, self._ink_decal(ink) if len(ink) and self.on_furniture else None)
         if state.trail_end > 1 and touched:
             self.trail_front.set_data(self.trail_front_xy[: state.trail_end].T)
             self.trail_front.draw(renderer)
+        if len(ink) and touched and not self.on_furniture:
+            self.ink.set_data(self._in_front(ink).T)
+            self.ink.draw(renderer)
+        ahead = joined([v.rest() for v in views])
+        if len(ahead):
+            self.ahead.set_data(self._unhidden(ahead).T)
+            self.ahead.draw(renderer)
         if self.triads:
             self._draw_tool_triad(state.pose)
         self.goals.draw(np.asarray(self.canvas.buffer_rgba()), state.goal_status, self.scratch)
@@ -291,14 +352,27 @@ class SceneCanvas:
         drop = np.vstack([a, b])
         return np.concatenate([drop.min(axis=0) - pad, drop.max(axis=0) + pad])
 
-    def _draw_solids(self, state: FrameState, shadow) -> bool:
-        """The poster's faint poses, then the arm, each with the spheres it overlaps, in
-        painter's order (so faint poses never cover the arm). Returns whether any sphere
-        was redrawn."""
+    def _ink_decal(self, ink: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The ink (a screen polyline, NaN rows between runs) as triangles drawn with the furniture,
+        lifted a little toward the viewer so that a board it lies on does not hide it."""
+        width = INK_POINTS / self.pt
+        points, faces = ribbon(ink, width, lift=2.0 * width)
+        return points, faces, np.tile(INK_COLOR, (len(points), 1))
+
+    def _draw_solids(self, state: FrameState, shadow, decal=None) -> bool:
+        """The poster's faint poses, then the arm (``decal``: the ink, drawn with the furniture),
+        each with the spheres it overlaps, in painter's order (so faint poses never cover the arm).
+        Returns whether any sphere was redrawn."""
         touched = False
         for ghost in state.ghosts:
             touched |= self._draw_parts(self.arm.parts(ghost, ghost=True), None)
-        return self._draw_parts(self.arm.parts(state.pose, near=near_capsules(self.problem, state.pose)), shadow) or touched
+        near = near_capsules(self.problem, state.pose)
+        arm = self.arm
+        if decal is not None and isinstance(arm, (RobotMeshes, MeshesAndCapsules)):  # (only these draw furniture)
+            parts = arm.parts(state.pose, near=near, decal=decal)
+        else:
+            parts = arm.parts(state.pose, near=near)
+        return self._draw_parts(parts, shadow) or touched
 
     def _draw_parts(self, parts: list[Part], shadow) -> bool:
         """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""

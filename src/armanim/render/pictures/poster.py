@@ -53,6 +53,7 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     """
     from armanim.arm.kinematics import Pose, forward
     from armanim.render.overlay.caption import MISSED, PENDING, REACHED, goal_outcomes
+    from armanim.render.overlay.paths import path_progress
     from armanim.render.paint.pixels import write_png
     from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
@@ -65,6 +66,7 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     status = np.full(len(problem.goals), PENDING)
     status[: len(reports)] = [REACHED if r.reached else MISSED for r in reports]
     ghosts = tuple(Pose(poses.points[f], poses.frames[f]) for f in strobe_frames(reports, trajectory.frames))
+    done = path_progress(trajectory.goal, trajectory.path_s, len(problem.goals))[last] if scene.paths else None
     state = FrameState(Pose(poses.points[last], poses.frames[last]), trajectory.frames if settings.trail else 0,
-                       status, caption, ghosts=ghosts)
+                       status, caption, ghosts=ghosts, path_done=done)  # all the run's ink, nothing ahead
     write_png(scene.draw(state), path)

@@ -23,6 +23,9 @@ from armanim.render.solids.arm import ArmSolids, Part, segment_samples
 from armanim.render.solids.raster import draw_outline, draw_triangles
 
 NEAR_TINT = 0.4
+FURNITURE = "furniture"
+"""The link name of the scene's furniture (:func:`armanim.scene.looks.furniture_meshes`): what a
+path's ink is drawn on (:meth:`RobotMeshes.parts`' ``decal``)."""
 GHOST_OUTLINE = (0.52, 0.58, 0.70)
 """The outline a poster draws of the robot on each goal."""
 """How far a link in a close pair of the arm's own links is tinted toward the warning colour."""
@@ -53,14 +56,25 @@ class RobotMeshes:
         vertex_color[meshes.faces.ravel()] = np.repeat(meshes.colors, 3, axis=0)
         self.vertex_color = vertex_color
         self.bounds = [bounding_segment(meshes.vertices[np.unique(meshes.faces[f])]) for f in self.link_faces]
+        self.furniture = meshes.links.index(FURNITURE) if FURNITURE in meshes.links else None
+        """The furniture's link (None: the scene has none): a ``decal`` is drawn with it."""
 
-    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
-        """One part per link: its sprite, and the segment and radius that order it."""
+    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None,
+              decal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> list[Part]:
+        """One part per link: its sprite, and the segment and radius that order it.
+
+        ``decal``: triangles drawn with the furniture, in its z-buffer (a path's ink on a
+        whiteboard: hidden by the links in front of it, over the board behind it): screen points
+        (K, 3), faces (k, 3) into them and colours (K, 3); left out without furniture."""
         screen = self.view.project(mesh_vertices(self.meshes, pose))
         rgb = self._shades(pose, ghost)
         for k in self._tinted_links(near):
             used = self.meshes.faces[self.link_faces[k]].ravel()
             rgb[used] = rgb[used] * (1 - NEAR_TINT) + np.asarray(SELF_NEAR_COLOR) * NEAR_TINT
+        extra = np.zeros((0, 3), dtype=int)
+        if decal is not None and self.furniture is not None and len(decal[1]):
+            extra = np.asarray(decal[1], dtype=int) + len(screen)
+            screen, rgb = np.vstack([screen, decal[0]]), np.vstack([rgb, decal[2]])
         parts = []
         for k, faces in enumerate(self.link_faces):
             tri = self.meshes.faces[faces]
@@ -68,6 +82,8 @@ class RobotMeshes:
             carrier = int(self.meshes.carrier[tri[0, 0]]) if len(tri) else -1
             ends = self.view.project(_placed(np.array([start, end]), pose, carrier))
             front = tri[_signed_areas(screen, tri) > 0.0]
+            if k == self.furniture:
+                front = np.vstack([front, extra])
             raster = (screen, front, rgb, "outline" if ghost else "fill")  # a ghost: the whole pose's outline only
             parts.append(Part(samples=segment_samples(ends[0], ends[1]), radius=radius * self.ppu, polygons=[],
                               colors=np.zeros((0, 4)), raster=raster))
@@ -102,14 +118,22 @@ class MeshesAndCapsules:
     def __init__(self, meshes: RobotMeshes, capsules: ArmSolids, shown: np.ndarray, alpha: float = 1.0):
         self.meshes, self.capsules, self.shown, self.alpha = meshes, capsules, shown, alpha
 
-    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
-        """The links' meshes and the ``shown`` capsules, their colours at ``alpha``; with no link
-        meshed (the meshes are the scene's furniture), the arm whole: base, capsules and joints."""
+    @property
+    def furniture(self) -> int | None:
+        """The furniture's link among the meshes (:attr:`RobotMeshes.furniture`)."""
+        return self.meshes.furniture
+
+    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None,
+              decal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> list[Part]:
+        """The links' meshes (``decal`` drawn with the furniture, :meth:`RobotMeshes.parts`) and
+        the ``shown`` capsules, their colours at ``alpha``; with no link meshed (the meshes are the
+        scene's furniture), the arm whole: base, capsules and joints."""
+        meshes = self.meshes.parts(pose, ghost, near, decal)
         if self.shown.all() and self.alpha == 1.0:
-            return self.meshes.parts(pose, ghost, near) + self.capsules.parts(pose, ghost, near)
+            return meshes + self.capsules.parts(pose, ghost, near)
         capsules = [replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), self.alpha)]))
                     for p, shown in zip(self.capsules.links(pose, ghost, near), self.shown) if shown]
-        return self.meshes.parts(pose, ghost, near) + capsules
+        return meshes + capsules
 
 
 class RasterQueue:

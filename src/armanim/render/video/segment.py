@@ -50,6 +50,7 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
 
     The frame returned is the canvas's live buffer: consume it before the next call.
     """
+    from armanim.render.overlay.paths import path_progress
     from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     problem, trajectory, reports = run.problem, run.trajectory, run.reports
@@ -59,10 +60,12 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
     scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=extent,
                         caption_template=max(captions, key=len), outcomes=goal_outcomes(reports))
+    done = path_progress(trajectory.goal, trajectory.path_s, goals) if scene.paths else None
 
     def frame(f: int, pose: Pose) -> np.ndarray:
         state = FrameState(pose=pose, trail_end=f + 1, goal_status=goal_status(trajectory, reports, f, goals),
-                           caption=captions[f])
+                           caption=captions[f], path_done=None if done is None else done[f],
+                           path_ahead=int(trajectory.goal[f]))
         return scene.draw(state)
 
     return frame

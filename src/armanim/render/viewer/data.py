@@ -23,6 +23,7 @@ from armanim.motion.solution import GoalReport, Trajectory
 from armanim.render.camera.framing import scene_content
 from armanim.render.camera.projection import planar_normal, view_angles
 from armanim.render.overlay.caption import frame_activity
+from armanim.render.overlay.paths import arc_spacing, path_normal, sampled_paths
 from armanim.render.overlay.triads import TRIAD_PER_REACH, has_orientations
 from armanim.render.paint import scenery, style
 from armanim.render.settings import RenderSettings
@@ -33,6 +34,8 @@ FORMAT = "armanim-viewer/1"
 
 ANGLE_DECIMALS = 2  # joint angles in degrees: 0.01 degree, as the page shows them
 RESOLUTION = 10_000  # positions and distances keep at least 1/RESOLUTION of the scene's size
+CHORD_SHARE = 1 / 4000  # a path's arcs are sent as chords straying at most this share of the scene's size
+INK_SHARE = 1 / 200  # the page's ink is a ribbon this share of the scene's size wide (about 2 px, as in the video)
 
 
 def position_decimals(size: float) -> int:
@@ -114,6 +117,39 @@ def orientation_entry(problem: Problem, trajectory: Trajectory, decimals: int) -
         "angle_deg": [None if not np.isfinite(a) else round(float(np.degrees(a)), 3) for a in angles],
         "triad": round(float(TRIAD_PER_REACH * problem.arm.reach), decimals + 2),
         "colors": [hex_color(c) for c in style.AXIS_COLORS],
+    }
+
+
+def camera_toward(elevation: float, azimuth: float) -> np.ndarray:
+    """(3,) the unit direction from the scene toward the video's camera (angles in degrees).
+
+    >>> camera_toward(90.0, 0.0).round(12).tolist()
+    [0.0, 0.0, 1.0]
+    """
+    e, a = np.radians(elevation), np.radians(azimuth)
+    return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+
+
+def path_entry(problem: Problem, trajectory: Trajectory, decimals: int, size: float, toward: np.ndarray) -> dict | None:
+    """For a run with a path goal (else None): each path goal's path as a polyline (``goal``, the
+    arc length ``s`` and the point of every sample, flat x y z, and ``ink``, 1 where the pen is
+    down from a sample to the next; corners kept, arcs as chords within ``size`` x
+    :data:`CHORD_SHARE`) with the ``normal`` of the plane its ink lies in (the path's own, or
+    the one facing the camera, ``toward``), the arc length done per frame (``path_s``: the
+    CSV's, null off the paths' frames), the ink's ``width`` and the colours: the page draws ink
+    and the path ahead as the video does (:mod:`armanim.render.overlay.paths`)."""
+    paths = sampled_paths(problem.goals, lambda path: arc_spacing(path, size * CHORD_SHARE))
+    if not paths:
+        return None
+    done = trajectory.path_s if trajectory.path_s is not None else np.full(trajectory.frames, np.nan)
+    finite = np.isfinite(done)
+    return {
+        "goals": [{"goal": p.goal, "s": rounded(p.s, decimals), "points": rounded(p.points, decimals),
+                   "ink": [int(b) for b in p.ink], "normal": rounded(path_normal(p.points, toward), 4)} for p in paths],
+        "path_s": [v if ok else None for v, ok in zip(rounded(np.where(finite, done, 0.0), decimals), finite)],
+        "width": round(size * INK_SHARE, decimals),
+        "ink": hex_color(style.INK_COLOR),
+        "ahead_opacity": style.AHEAD_ALPHA,
     }
 
 
@@ -238,6 +274,10 @@ def viewer_data(
     oriented = orientation_entry(problem, trajectory, decimals)
     if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
         data["orientation"] = oriented
+    paths = path_entry(problem, trajectory, decimals, float(np.max(np.subtract(view["box"][1], view["box"][0]))),
+                       camera_toward(view["elevation"], view["azimuth"]))
+    if paths is not None:  # only runs with a path goal carry it
+        data["paths"] = paths
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
         names = problem.capsules.names or ("",) * len(problem.capsules.radius)  # an arm of links: no link has a mesh
         uncovered = [i for i, name in enumerate(names) if name not in set(meshes.links)]

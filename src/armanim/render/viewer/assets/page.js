@@ -291,6 +291,83 @@
   trail.frustumCulled = false; scene.add(trail);
   $("trail").checked = D.view.trail; trail.visible = D.view.trail;
 
+  // path goals, as in the video: the ink (the pen-down path from 0 to the farthest path_s reached on
+  // the goal's frames so far) and, while the goal is the frame's, the pen-down path still ahead,
+  // faint and dashed; pen-up travel is never drawn
+  const PA = D.paths, pathViews = [];
+  // a strip: pieces [s0, s1] of a polyline from a to b, drawn as line segments or (ribbon: the ink) as
+  // flat quads half-width w wide across each piece, square to the path's normal n; a range of arc
+  // lengths of it is shown
+  function strip(pieces, material, ribbon) {
+    const V = ribbon ? 6 : 2, pos = new Float32Array(pieces.length * V * 3), geo = new T.BufferGeometry();
+    geo.setAttribute("position", new T.BufferAttribute(pos, 3));
+    const line = ribbon ? new T.Mesh(geo, material) : new T.LineSegments(geo, material);
+    line.frustumCulled = false; scene.add(line);
+    const st = { line, pieces, ribbon, V, touched: [] };
+    pieces.forEach((c, i) => placePiece(st, i, c.a, c.b));
+    return st;
+  }
+  const sub3 = (x, y) => [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
+  function placePiece(st, i, a, b) {  // piece i of the strip drawn from a to b
+    const p = st.line.geometry.attributes.position;
+    if (!st.ribbon) { p.setXYZ(2 * i, ...a); p.setXYZ(2 * i + 1, ...b); return; }
+    const c = st.pieces[i], d = sub3(b, a), L = Math.hypot(...d) || 1, h = c.h;
+    const n = c.n, w = [(d[1] * n[2] - d[2] * n[1]) / L * h, (d[2] * n[0] - d[0] * n[2]) / L * h, (d[0] * n[1] - d[1] * n[0]) / L * h];
+    const a0 = a.map((v, k) => v - d[k] / L * h), b0 = b.map((v, k) => v + d[k] / L * h);  // square ends: corners close
+    const q = [a0.map((v, k) => v + w[k]), a0.map((v, k) => v - w[k]), b0.map((v, k) => v - w[k]), b0.map((v, k) => v + w[k])];
+    [q[0], q[1], q[2], q[0], q[2], q[3]].forEach((v, k) => p.setXYZ(6 * i + k, ...v));
+  }
+  function showStrip(st, lo, hi) {  // the part of the strip between arc lengths lo and hi
+    const P = st.pieces;
+    for (const i of st.touched) placePiece(st, i, P[i].a, P[i].b);
+    st.touched = [];
+    let first = 0, last = P.length;  // pieces first .. last-1 meet (lo, hi)
+    while (first < P.length && P[first].s1 <= lo) first++;
+    while (last > first && P[last - 1].s0 >= hi) last--;
+    const cut = (c, s) => { const t = clamp((s - c.s0) / Math.max(c.s1 - c.s0, 1e-300), 0, 1); return [0, 1, 2].map((k) => c.a[k] + t * (c.b[k] - c.a[k])); };
+    for (const i of new Set([first, last - 1])) {
+      if (i < first || i >= last || (P[i].s0 >= lo && P[i].s1 <= hi)) continue;
+      placePiece(st, i, P[i].s0 < lo ? cut(P[i], lo) : P[i].a, P[i].s1 > hi ? cut(P[i], hi) : P[i].b);
+      st.touched.push(i);
+    }
+    st.line.geometry.attributes.position.needsUpdate = true;
+    st.line.geometry.setDrawRange(st.V * first, st.V * Math.max(last - first, 0));
+  }
+  if (PA) {
+    const inkMat = new T.MeshBasicMaterial({ color: PA.ink, side: T.DoubleSide, polygonOffset: true, polygonOffsetFactor: -1, polygonOffsetUnits: -4 });
+    const aheadMat = new T.LineBasicMaterial({ color: PA.ink, transparent: true, opacity: PA.ahead_opacity, depthWrite: false });
+    for (const g of PA.goals) {
+      const at = (i) => [g.points[i * 3], g.points[i * 3 + 1], g.points[i * 3 + 2]], h = PA.width / 2;
+      const ink = [];  // the pen-down pieces between samples
+      for (let i = 0; i + 1 < g.s.length; i++) if (g.ink[i]) ink.push({ s0: g.s[i], s1: g.s[i + 1], a: at(i), b: at(i + 1), n: g.normal, h });
+      const length = g.s[g.s.length - 1], dash = size / 160, period = dash * 5 / 3, dashes = [];  // as the video's 3:2
+      for (const c of ink) {
+        for (let k = Math.floor(c.s0 / period); k * period < c.s1; k++) {
+          const s0 = Math.max(c.s0, k * period), s1 = Math.min(c.s1, k * period + dash);
+          if (s1 <= s0) continue;
+          const t0 = (s0 - c.s0) / Math.max(c.s1 - c.s0, 1e-300), t1 = (s1 - c.s0) / Math.max(c.s1 - c.s0, 1e-300);
+          dashes.push({ s0, s1, a: [0, 1, 2].map((j) => c.a[j] + t0 * (c.b[j] - c.a[j])), b: [0, 1, 2].map((j) => c.a[j] + t1 * (c.b[j] - c.a[j])) });
+        }
+      }
+      const done = new Float64Array(F);  // the farthest arc length reached on the goal's frames up to each frame
+      let most = 0;
+      for (let f = 0; f < F; f++) {
+        const s = PA.path_s[f];
+        if (D.goal[f] === g.goal && s !== null) most = Math.max(most, s);
+        done[f] = most;
+      }
+      pathViews.push({ goal: g.goal, length, done, ink: strip(ink, inkMat, true), ahead: strip(dashes, aheadMat, false) });
+    }
+  }
+  function drawPaths(f) {
+    for (const v of pathViews) {
+      showStrip(v.ink, 0, v.done[f]);
+      v.ahead.line.visible = D.goal[f] === v.goal;
+      if (v.ahead.line.visible) showStrip(v.ahead, v.done[f], Infinity);
+    }
+  }
+  api.pathDone = (k) => pathViews.map((v) => v.done[k === undefined ? api.frame : k]);
+
   const Y = new T.Vector3(0, 1, 0), a = new T.Vector3(), b = new T.Vector3(), d = new T.Vector3();
   function pose(f) {
     const p = D.points, o = f * P * 3;
@@ -322,6 +399,7 @@
       }
     }
     trailGeo.setDrawRange(0, f + 1);
+    drawPaths(f);
     if (O) toolFrame(f);
   }
 
@@ -336,6 +414,7 @@
   (D.boxes || []).forEach((b) => fitPoints.push([...b.center, 0.5 * Math.hypot(...b.size) + b.influence]));
   (D.obstacle_capsules || []).forEach((c) => { fitPoints.push([...c.from, c.radius + c.influence]); fitPoints.push([...c.to, c.radius + c.influence]); });
   D.goals.forEach((g) => fitPoints.push([...g.position, goalR * 3]));
+  if (D.paths) for (const g of D.paths.goals) for (let i = 0; i < g.points.length; i += 3) fitPoints.push([g.points[i], g.points[i + 1], g.points[i + 2], 0]);
   if (D.view.bounds) for (const x of D.view.bounds[0]) for (const y of D.view.bounds[1]) for (const z of D.view.bounds[2]) fitPoints.push([x, y, z, 0]);
   const VIEWS = {
     video: [D.view.elevation, D.view.azimuth],
