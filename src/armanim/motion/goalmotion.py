@@ -181,7 +181,8 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     while pending:  # a step whose frames come too close (or stray) is taken along its chord, and its motion timed again
         for i in pending:
             goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk)
-        again = {i for i in pending if strays and strays[i] is not None and goals[i].chord_frames(strays[i](goals[i].timed))}
+        again = {i for i in pending if (stray := (strays or [None] * len(goals))[i]) is not None
+                 and goals[i].chord_frames(stray(goals[i].timed))}
         checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].timed_check)]
         if checked and safeties is not None:
             found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].timed_check] for i in checked])

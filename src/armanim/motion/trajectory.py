@@ -27,7 +27,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
-from armanim.motion.following import followed_route, most_path_frames
+from armanim.motion.following import Route, followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
@@ -228,26 +228,8 @@ def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, v
     if not reached:
         return state, False, PathReport(path.length, 0.0, np.nan)
     route = followed_route(problem, method, state, visit.goal, visit.index)
-    if len(route.to_start):  # another pose at the start follows farther: planned there first
-        done = visit.planning or PlanningReport()
-        visit.planning = replace(done, plans=done.plans + 1, poses=route.poses, path=route.source, checks=done.checks + route.checks)
-        for phi in route.to_start:
-            moved = arm_state(problem, phi)
-            distance, angle, _ = goal_errors(problem, moved, visit.goal)
-            rec.add(moved, visit.index, distance, mode="plan", angle=angle)
-            visit.distances.append(distance)
-            visit.angles.append(angle)
-        visit.frames += len(route.to_start)
+    _record_route(problem, rec, visit, route)
     followed = route.followed
-    for i, moved in enumerate(followed.states):  # the first: the start itself, to the path's tolerance
-        _, angle, _ = goal_errors(problem, moved, visit.goal)
-        rec.add(moved, visit.index, followed.errors[i], followed.iterations[i], followed.step_scale[i],
-                "path" if i else "ik", angle, followed.s[i] if i else np.nan)
-        visit.distances.append(followed.errors[i])
-        visit.angles.append(angle)
-        visit.iterations += followed.iterations[i]
-    visit.frames += len(followed.states)
-    visit.newton_iterations += followed.newton_iterations
     state = followed.states[-1] if followed.states else state
     done = followed.s[-1] if followed.s else 0.0
     errors = followed.errors + [followed.midpoint_error]
@@ -256,6 +238,32 @@ def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, v
     visit.reason = "path_blocked"
     return state, False, PathReport(path.length, done, max(errors) if followed.s else np.nan,
                                     stop_point=state.tip.copy(), cause=followed.cause)
+
+
+def _record_route(problem: Problem, rec: _Recorder, visit: _Visit, route: Route) -> None:
+    """A path goal's frames from where it reached its start: the planned way to another start pose
+    (mode ``plan``; noted as a plan of the goal), then the start (mode ``ik``) and the samples along
+    the path (mode ``path``)."""
+    if len(route.to_start):
+        before = visit.planning or PlanningReport()
+        visit.planning = replace(before, plans=before.plans + 1, poses=route.poses, path=route.source,
+                                 checks=before.checks + route.checks)
+        for phi in route.to_start:
+            moved = arm_state(problem, phi)
+            distance, angle, _ = goal_errors(problem, moved, visit.goal)
+            rec.add(moved, visit.index, distance, mode="plan", angle=angle)
+            visit.distances.append(distance)
+            visit.angles.append(angle)
+    followed = route.followed
+    for i, moved in enumerate(followed.states):  # the first: the start itself, to the path's tolerance
+        _, angle, _ = goal_errors(problem, moved, visit.goal)
+        rec.add(moved, visit.index, followed.errors[i], followed.iterations[i], followed.step_scale[i],
+                "path" if i else "ik", angle, followed.s[i] if i else np.nan)
+        visit.distances.append(followed.errors[i])
+        visit.angles.append(angle)
+        visit.iterations += followed.iterations[i]
+    visit.frames += len(route.to_start) + len(followed.states)
+    visit.newton_iterations += followed.newton_iterations
 
 
 def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
