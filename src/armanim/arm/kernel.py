@@ -269,7 +269,7 @@ def geometric_jacobian(pose: Pose) -> np.ndarray:
     """
     assert pose.axes is not None  # set by forward
     if pose.points.ndim == 2:
-        return cast(np.ndarray, _jacobian_one(pose.points, pose.axes))
+        return _jacobian_one(pose.points, pose.axes)
     batch = pose.points.shape[:-2]
     n = pose.axes.shape[-2]
     jac = _jacobian_many(pose.points.reshape(-1, n + 1, 3), pose.axes.reshape(-1, n, 3))
@@ -286,11 +286,11 @@ def rotation_log(rot: np.ndarray) -> np.ndarray:
     """
     rot = np.ascontiguousarray(rot, dtype=float)
     if rot.ndim == 2:
-        return cast(np.ndarray, _log_one(rot))
-    return cast(np.ndarray, _log_many(rot.reshape(-1, 3, 3)).reshape(rot.shape[:-1]))
+        return _log_one(rot)
+    return _log_many(rot.reshape(-1, 3, 3)).reshape(rot.shape[:-1])
 
 
 def rotation_error(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
     """log(R_g R^T) (3,) for one goal rotation and one tool frame (3, 3): the residual of
     :func:`armanim.motion.orientation.orientation_residual`, in one compiled call."""
-    return cast(np.ndarray, _error_to(np.ascontiguousarray(goal, dtype=float), np.ascontiguousarray(tool, dtype=float)))
+    return _error_to(np.ascontiguousarray(goal, dtype=float), np.ascontiguousarray(tool, dtype=float))

@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.arm.kernel import compiled  # numba.njit, cached where it can write
+from armanim.arm.kernel import (
+    compiled as compiled,  # numba.njit, cached where it can write (re-exported: the passes and the rasteriser use it)
+)
 
 TOUCHING = 1e-9
 """Scene units: a segment whose least outside distance to a box is this or less may enter it

@@ -303,8 +303,8 @@ def clearly_allowed(problem: Problem, state: ArmState, nominal: np.ndarray,
         if not room >= travel * slack + 1e-12:
             return False
     if state.self_gaps is not None:  # the joints that move both capsules alike add rounding alone
-        room = gamma * (state.self_gaps.d - kept_self_clearance(problem))
-        if not np.all(room >= (problem.pair_lever_rows @ np.abs(nominal)) * slack + BOUND_SLACK * travel + 1e-12):
+        rooms = gamma * (state.self_gaps.d - kept_self_clearance(problem))
+        if not np.all(rooms >= (problem.pair_lever_rows @ np.abs(nominal)) * slack + BOUND_SLACK * travel + 1e-12):
             return False
     return True
 
