@@ -11,7 +11,8 @@ alike; only ratios within one run are verdicts, times are printed for scale.
 2. **6-D pose IK, Panda**: random reachable targets (the tool frame of random poses 0.05 rad
    inside the URDF limits), every solver seeded with the home pose, success judged by pinocchio's
    FK (inside the limits, 1 mm and 1 degree). armanim ``solve_pose`` (what ``armanim ik
-   --orientation`` does) with ``pinv`` and ``dls``; rtb ``ik_LM`` (C++); a pinocchio CLIK loop
+   --orientation`` does) with ``pinv`` and ``dls``, with the bundled self-collision (its default)
+   and without it (as the peers, which know none); rtb ``ik_LM`` (C++); a pinocchio CLIK loop
    (log6 error, damped pseudo-inverse, as pinocchio's example); ikpy on fewer targets.
 3. **Position IK, the notes' arm** (z, y, y, y; from the singular straight pose): armanim
    ``pinv`` and ``dls``, rtb ``ik_LM`` with a position mask, ikpy; success by a numpy FK written
@@ -78,10 +79,11 @@ def optional(make):
 # ----------------------------------------------------------------------------- the Panda in every library
 
 
-def panda_problem(method: str):
+def panda_problem(method: str, self_collision: str = "auto"):
     from armanim.scene import scene_model, scene_to_problem
 
-    return scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.3, 0.0, 0.4]],
+    return scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda", "self_collision": self_collision},
+                                         "goals": [[0.3, 0.0, 0.4]],
                                          "solver": {"method": method, "tolerance": POS_TOL, "orientation_tolerance": 1.0}}))
 
 
@@ -268,7 +270,7 @@ def report(title: str, results: dict, peer: str | None) -> None:
         if not times:
             continue
         ratio = f"{statistics.median(times) / base:7.1f}x {peer}" if base else ""
-        print(f"   {name:28s} {len(times):4d} targets  success {100 * np.mean(oks):5.1f} %  median {ms(statistics.median(times)):>10}"
+        print(f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(oks):5.1f} %  median {ms(statistics.median(times)):>10}"
               f"  p90 {ms(pct(times, 90)):>10}  {ratio}")
 
 
@@ -278,6 +280,7 @@ def part_pose(count: int) -> None:
     from armanim.motion.orientation import Orientation
 
     problems = {m: panda_problem(m) for m in ("pinv", "dls")}
+    problems |= {f"{m}, self-collision off": panda_problem(m, "off") for m in ("pinv", "dls")}  # as the peers: no self-collision
     base = problems["pinv"]
     pin_parts, why = optional(panda_pinocchio)
     if pin_parts is None:
@@ -305,7 +308,7 @@ def part_pose(count: int) -> None:
     for name, make in (("rtb ik_LM (C++)", lambda: rtb_panda()[1]), ("ikpy", ikpy_panda)):
         solve, why = optional(make)
         if solve is None:
-            skipped.append(f"   {name:28s} skipped: {why}")
+            skipped.append(f"   {name:34s} skipped: {why}")
         else:
             solvers[name] = solve
     for name in solvers:  # warm every solver up (numba's cache, rtb's first call)
@@ -313,6 +316,11 @@ def part_pose(count: int) -> None:
     results = interleaved(solvers, cases, judge, {"ikpy": max(10, count // 5)})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
     report(f"2. 6-D pose IK, Panda, {count} random reachable targets from home, 1 mm / 1 deg by pinocchio's FK:", results, peer)
+    from armanim.world.selfdistances import self_gaps
+
+    touching = int((self_gaps(pose, base.capsules, base.self_pairs).least < base.self_pairs.clearance).sum())
+    print(f"   ({touching} of the {count} targets' source poses bring two of armanim's Panda capsules within self_clearance:"
+          " armanim's self-collision keeps them apart, the peers have none)")
     for line in skipped:
         print(line)
 
@@ -387,7 +395,7 @@ def part_position(count: int) -> None:
     for name, make in (("rtb ik_LM (C++)", rtb_notes), ("ikpy", ikpy_notes)):
         solve, why = optional(make)
         if solve is None:
-            skipped.append(f"   {name:28s} skipped: {why}")
+            skipped.append(f"   {name:34s} skipped: {why}")
         else:
             solvers[name] = solve
     for name in solvers:
