@@ -3,6 +3,7 @@
 
     python benchmarks/ik_bench.py [--targets 500] [--robots panda,ur5] [--methods pinv,dls,newton,gradient]
                                   [--quick] [--seed 0] [--no-references] [--position-only]
+    python benchmarks/ik_bench.py --compare [--quick]     # issue 40's comparison (benchmarks/ik_compare.py)
 
 N random reachable 6-D targets per robot (the tool frame of random poses drawn uniformly inside
 the joint limits, so every target has a solution), solved cold from the robot's home pose, with
@@ -226,7 +227,14 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="20 targets per robot")
     parser.add_argument("--no-references", action="store_true", help="armanim's methods only")
     parser.add_argument("--position-only", action="store_true", help="the same targets' positions alone (3-D goals)")
+    parser.add_argument("--compare", action="store_true", help="issue 40's comparison: FK, 6-D Panda and notes' arm IK "
+                        "against rtb, pinocchio and ikpy, start-up (benchmarks/ik_compare.py; --quick: fewer targets)")
     args = parser.parse_args()
+    if args.compare:
+        import ik_compare
+
+        ik_compare.main(args.quick)
+        return
     count = 20 if args.quick else args.targets
     kind = "3-D position" if args.position_only else "6-D"
     judge = f"{POSITION_TOLERANCE:g} m" + ("" if args.position_only else f" and {ANGLE_TOLERANCE_DEG:g} deg")

@@ -9,6 +9,7 @@ with -15). :mod:`armanim.cli.interrupts` takes over while a command runs.
 
 import os
 import signal
+import sys
 
 
 def _quit_before_the_command(signum, frame):
@@ -16,10 +17,24 @@ def _quit_before_the_command(signum, frame):
     os._exit(130)
 
 
+def _print_version() -> None:
+    """``armanim --version``: the line :func:`armanim.cli.app._version` prints; a closed reader
+    (``armanim --version | head -0``) is not an error, as :class:`armanim.cli.app.QuietWhenClosed` says."""
+    from armanim import __version__
+
+    try:
+        os.write(1, f"armanim {__version__}\n".encode())
+    except OSError:
+        pass
+
+
 def main() -> None:
     """Entry point of the ``armanim`` console script."""
     signal.signal(signal.SIGINT, _quit_before_the_command)
     signal.signal(signal.SIGTERM, _quit_before_the_command)
+    if sys.argv[1:] == ["--version"]:  # the app's own --version line, without importing typer and rich (0.1 s)
+        _print_version()
+        return
     import warnings
 
     # numpy's floating-point RuntimeWarnings are not the user's business: a value they would

@@ -33,8 +33,8 @@ def _modules(room: str) -> list[str]:
     )
 
 
-COMPILED = ("armanim.world.compiled", "armanim.motion.passes", "armanim.render.solids.rasterloops")
-"""The one module that imports numba, which loads pyyaml for its own settings and scipy when
+COMPILED = ("armanim.arm.kernel", "armanim.world.compiled", "armanim.motion.passes", "armanim.render.solids.rasterloops")
+"""The modules that import numba, which loads pyyaml for its own settings and scipy when
 installed: left out of the walks below (:func:`test_numba_loads_only_for_boxes_and_capsules`
 holds it to the runs that need it)."""
 
@@ -204,3 +204,39 @@ def test_numba_loads_only_for_boxes_and_capsules():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["False", "False", "True"]
+
+
+def test_version_imports_neither_numpy_nor_the_command_line_libraries():
+    """``armanim --version`` answers before numpy, typer and rich are imported (0.1 s of
+    start-up, benchmarks/README.md), with the very line the app's own ``--version`` prints."""
+    code = (
+        "import sys\n"
+        "sys.argv = ['armanim', '--version']\n"
+        "from armanim.__main__ import main\n"
+        "main()\n"
+        "print(sorted(m for m in ('numpy', 'typer', 'rich', 'pydantic', 'yaml') if m in sys.modules))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    line, loaded = proc.stdout.splitlines()
+    assert loaded == "[]"
+    from typer.testing import CliRunner
+
+    from armanim.cli import app
+
+    assert CliRunner().invoke(app, ["--version"]).stdout == line + "\n"
+
+
+@pytest.mark.parametrize("args", [["--version"], ["validate", "scenes/notes-arm.yaml"]], ids=lambda a: a[0])
+def test_commands_that_draw_nothing_never_import_rich_tables_or_progress_bars(args):
+    """The command line imports numpy, rich's tables and progress bars where a command uses them."""
+    code = (
+        "import sys\n"
+        "from typer.testing import CliRunner\n"
+        "from armanim.cli import app\n"
+        f"result = CliRunner().invoke(app, {args!r})\n"
+        "print(result.exit_code, sorted(m for m in ('rich.table', 'rich.progress') if m in sys.modules))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "0 []"

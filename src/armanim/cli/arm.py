@@ -6,7 +6,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from armanim.cli.options import parse_lengths
@@ -48,6 +47,8 @@ def arm_scene(scene: Path | None, links: str | None, base: str | None, axes: str
 
 
 def _links(links: str | None) -> list[float]:
+    import numpy as np
+
     from armanim.scene.models import LIMITS
 
     lengths = parse_lengths(links, "--links") if links else np.ones(4)
@@ -89,7 +90,7 @@ def flag_scene(arm: dict):
     from armanim.scene.models import SceneModel
     from armanim.scene.robots import read_scene_files
 
-    goal = [float(v) for v in np.asarray(arm.get("base", [0.0, 0.0, 0.0])) + 1.0]
+    goal = [float(v) + 1.0 for v in arm.get("base", [0.0, 0.0, 0.0])]
     try:
         model = SceneModel.model_validate({"version": 1, "arm": arm, "goals": [goal]})
     except ValidationError as exc:

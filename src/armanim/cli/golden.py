@@ -6,7 +6,6 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.table import Table
 
 from armanim.cli.app import app, handle_errors, out, say
 from armanim.errors import EXIT_CHECK_FAILED, UsageError
@@ -55,6 +54,8 @@ def check(
 
     After a deliberate change: [bold]armanim check scenes/*.yaml --golden tests/golden --update[/bold]
     """
+    from rich.table import Table
+
     from armanim.runs.golden import check_scene, update_golden
 
     if golden.exists() and not golden.is_dir():

@@ -8,14 +8,17 @@ stands for, so a flag accepts exactly what a scene accepts; a bad one is a Usage
 from __future__ import annotations
 
 import os
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-import numpy as np
 import typer
 
 from armanim.cli.app import err, say
 from armanim.errors import UsageError
-from armanim.render.settings import RenderOverrides
+
+if TYPE_CHECKING:  # numpy and the render room are imported where used: --version, validate and fk start fast
+    import numpy as np
+
+    from armanim.render.settings import RenderOverrides
 
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")]
 JobsOpt = Annotated[int | None, typer.Option("--jobs", "-j", help="Worker processes (default: all cores).")]
@@ -36,6 +39,8 @@ def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
     >>> parse_numbers("0, 30,45", "--angles").tolist()
     [0.0, 30.0, 45.0]
     """
+    import numpy as np
+
     parts = [p.strip() for p in text.replace(" ", ",").split(",") if p.strip()]
     values = np.array([_number(p, flag) for p in parts])
     if not len(values) or not np.all(np.isfinite(values)):
@@ -66,6 +71,8 @@ def _number(text: str, flag: str) -> float:
 def parse_lengths(text: str, flag: str, count: int | None = None) -> np.ndarray:
     """:func:`parse_numbers` for positions and lengths, held to the scene's size limit
     (beyond it, squares of distances overflow)."""
+    import numpy as np
+
     from armanim.scene.models import LIMITS
 
     values = parse_numbers(text, flag, count)
@@ -115,6 +122,8 @@ def render_overrides(
     view = {k: v for k, v in (("elevation", elevation), ("azimuth", azimuth)) if v is not None}
     data = {k: v for k, v in given.items() if v is not None} | ({"view": view} if view else {})
     model = _checked_render_model(data)
+    from armanim.render.settings import RenderOverrides
+
     return RenderOverrides(
         size=tuple(model.size) if "size" in data else None,
         fps=model.fps if "fps" in data else None,

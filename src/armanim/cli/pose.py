@@ -8,11 +8,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-import numpy as np
 import typer
-from rich.table import Table
 
 from armanim.cli.app import app, err, fmt, handle_errors, out, say
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
@@ -20,6 +18,10 @@ from armanim.cli.options import parse_lengths, parse_numbers
 from armanim.errors import UsageError
 from armanim.output.jsontext import json_text
 from armanim.output.numbers import number
+
+if TYPE_CHECKING:
+    import numpy as np
+    from rich.table import Table
 
 
 @app.command()
@@ -69,6 +71,8 @@ def fk(
 def pose_table(points: np.ndarray, degrees: np.ndarray, reach: float = 1.0) -> Table:
     """Joint positions (base to tip) with each joint's angle ``degrees`` (lengths to the
     precision of an arm of ``reach``)."""
+    from rich.table import Table
+
     table = Table(title="Forward kinematics", title_justify="left")
     for col in ("point", "angle (deg)", "x", "y", "z"):
         table.add_column(col, justify="right" if col != "point" else "left")

@@ -4,9 +4,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-from rich.table import Table
-
 from armanim.cli.app import err, out, say
 from armanim.errors import EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_OUTPUT_FAILED
 from armanim.output.numbers import number
@@ -14,6 +11,9 @@ from armanim.output.numbers import number
 
 def print_goal_table(result) -> None:
     """The per-goal table printed at the end of a run, then its output files."""
+    import numpy as np
+    from rich.table import Table
+
     sol = result.solution
     title = f"{result.scene.name}: {sol.reached} of {len(sol.goals)} goals reached, {sol.trajectory.frames} frames"
     table = Table(title=title, title_justify="left")
@@ -53,6 +53,8 @@ def batch_exit_code(entries, strict: bool) -> int:
 
 def print_batch_table(entries, index_path: Path) -> None:
     """One line per scene of a batch, then where the index is."""
+    from rich.table import Table
+
     table = Table(title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok", title_justify="left")
     numbers = ("reached", "missed", "frames", "min clear.")
     for col in ("scene", "status", *numbers, "folder"):

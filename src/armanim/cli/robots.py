@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from armanim.cli.app import app, handle_errors, out
 
 
@@ -27,6 +25,8 @@ def robot_summaries() -> list[RobotSummary]:
     >>> [s.name for s in robot_summaries()]
     ['panda', 'ur5', 'iiwa']
     """
+    import numpy as np
+
     from armanim.scene import scene_model, scene_to_problem  # the scene room: pydantic, the URDF reader
     from armanim.scene.robots import ROBOTS, bundled_robot
 

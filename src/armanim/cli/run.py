@@ -12,7 +12,6 @@ import typer
 from armanim.cli.app import app, err, handle_errors, message_lines, print_notes, say
 from armanim.cli.interrupts import ignore_until_exit
 from armanim.cli.options import JobsOpt, QualityOpt, QuietOpt, SchedulerOpt, render_overrides, usable_jobs
-from armanim.cli.progress import bars
 from armanim.cli.reports import (
     batch_exit_code,
     print_batch_problems,
@@ -54,6 +53,7 @@ def run(
     if len(scenes) == 1 and not scheduler:
         run_one(scenes[0], out_root, video=not no_video, viewer=viewer, jobs=jobs, overrides=overrides, quiet=quiet, strict=strict)
         return
+    from armanim.cli.progress import bars
     from armanim.runs.batch import run_batch
 
     if not quiet:
@@ -72,6 +72,7 @@ def run(
 
 def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, jobs, overrides, quiet: bool, strict: bool) -> None:
     """One scene in this process, its video rendered by ``jobs`` workers."""
+    from armanim.cli.progress import bars
     from armanim.runs.pipeline import run_scene
 
     with committed_is_done(), bars(quiet) as shown:
@@ -119,6 +120,7 @@ def render(
 
     Example: [bold]armanim render outputs/notes-arm --size 640x360 --format gif[/bold]
     """
+    from armanim.cli.progress import bars
     from armanim.runs.pipeline import rerender_run
 
     overrides = render_overrides(size, fps, fmt, elevation, azimuth, quality)

@@ -4,16 +4,17 @@ from __future__ import annotations
 
 import functools
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.table import Table
 
 from armanim.cli.app import app, err, handle_errors, out, say
 from armanim.cli.interrupts import ignore_until_exit
 from armanim.cli.options import JobsOpt, SchedulerOpt, usable_jobs
-from armanim.cli.progress import bars
 from armanim.cli.reports import batch_exit_code, print_batch_problems
+
+if TYPE_CHECKING:
+    from rich.table import Table
 
 
 @app.command()
@@ -38,6 +39,8 @@ def sweep(
     count = variant_count(parsed)  # at most MAX_VARIANTS, said before anything is built or run
     if not quiet:
         say(f"sweep of {scene}: {count} variants ({' x '.join(s.path for s in parsed)})", err)
+    from armanim.cli.progress import bars
+
     with bars(quiet) as shown:
         result = run_sweep(scene, parsed, out_root, jobs=jobs, scheduler=scheduler, video=video,
                            progress=functools.partial(shown, "variants"))
@@ -66,6 +69,8 @@ def sweep_screen_table(title: str, header: list[str], rows: list, settings: int)
     labels = [s if short.count(s) == 1 else c for s, c in zip(short, varied)]  # full path where two would look alike
     shown = [(header.index(c), label) for c, label in zip(varied, labels)]
     shown += [(header.index(c), label) for c, label in SWEEP_SCREEN_COLUMNS.items() if c in header]
+    from rich.table import Table
+
     table = Table(title=title, title_justify="left")
     for _, label in shown:
         table.add_column(label, overflow="fold")

@@ -25,8 +25,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from armanim.arm.kinematics import tool_rotation
-from armanim.motion.orientation import Orientation, orientation_angle, pose_distance
+from armanim.motion.orientation import Orientation, pose_distance, tool_residual
 from armanim.motion.planning.poses import goal_poses, seed_poses
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
@@ -99,7 +98,8 @@ def solving_problem(problem: Problem) -> Problem:
     method = solver_method(s.method)
     beta = 1.0 if method.full_step_solves else s.beta
     turn = 2 * np.pi if method.bounds_own_steps else max(s.max_joint_step, problem.tunables.ik.full_turn_per_iteration)
-    return replace(problem, solver=replace(s, beta=beta, max_step=np.inf, max_joint_step=turn))
+    tunables = replace(problem.tunables, ik=replace(problem.tunables.ik, solving=True))
+    return replace(problem, solver=replace(s, beta=beta, max_step=np.inf, max_joint_step=turn), tunables=tunables)
 
 
 def pose_errors(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None) -> tuple[float, float | None, float]:
@@ -108,7 +108,7 @@ def pose_errors(problem: Problem, state: ArmState, goal: np.ndarray, orientation
     distance = float(np.linalg.norm(state.tip - goal))
     if orientation is None:
         return distance, None, distance
-    angle = float(orientation_angle(orientation, tool_rotation(problem.arm, state.pose)))
+    angle = float(np.linalg.norm(tool_residual(orientation, problem.arm, state.pose), axis=-1))  # orientation_angle, kept for the next step's task
     s = problem.solver
     return distance, angle, float(pose_distance(distance, angle, s.tolerance, s.orientation_tolerance))
 

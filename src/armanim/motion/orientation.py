@@ -74,6 +74,18 @@ def orientation_residual(orientation: Orientation, rot: np.ndarray) -> np.ndarra
     return alignment_vector(rot[..., :, 2], orientation.axis)
 
 
+def tool_residual(orientation: Orientation, arm: Arm, pose: Pose) -> np.ndarray:
+    """:func:`orientation_residual` of the pose's tool frame, computed once per pose and
+    orientation (kept in ``pose.memo``: a step's task and the progress measure of the same pose
+    ask for it, the rotation log once)."""
+    kept = pose.memo.get("tool_residual")
+    if kept is not None and kept[0] is orientation:
+        return cast(np.ndarray, kept[1])
+    r = orientation_residual(orientation, tool_rotation(arm, pose))
+    pose.memo["tool_residual"] = (orientation, r)
+    return r
+
+
 def orientation_angle(orientation: Orientation, rot: np.ndarray) -> np.ndarray:
     """|r| (...,): the angle (radians) still to turn, in [0, pi]."""
     return cast(np.ndarray, np.linalg.norm(orientation_residual(orientation, rot), axis=-1))
@@ -92,7 +104,8 @@ def orientation_task(orientation: Orientation, arm: Arm, pose: Pose) -> tuple[np
     unweighted (multiply both by ``solver.orientation_weight``)."""
     rot = tool_rotation(arm, pose)
     rows = orientation_rows(orientation, rot)
-    error = np.einsum("...kc,...c->...k", rows, orientation_residual(orientation, rot))
+    residual = tool_residual(orientation, arm, pose) if pose.points.ndim == 2 else orientation_residual(orientation, rot)
+    error = np.einsum("...kc,...c->...k", rows, residual)
     return error, rows @ angular_jacobian(arm, pose)
 
 

@@ -195,12 +195,19 @@ class IkOptions:
         Random restarts after the first attempt.
     seed : int
         Of the random restarts: the same solve always restarts from the same poses.
+    solving : bool
+        True in the problem :func:`armanim.motion.ik.solving_problem` makes: there ``pinv`` and
+        ``dls`` solve a pose goal the arm can hold (:func:`armanim.motion.orientation.holds_orientation`)
+        as one stacked task, one inverse of the (3 + k) x n Jacobian per step, instead of the
+        rotation in the position's null space (four inverses). The frame loop keeps the task
+        priority (False), so trajectories are what they were.
     """
 
     full_turn_per_iteration: float = float(np.radians(30.0))
     stall_iterations: int = 15
     restarts: int = 4
     seed: int = 0
+    solving: bool = False
 
 
 @dataclass(frozen=True)

@@ -17,37 +17,18 @@ inlined into the two loops: a view or a call per pair would cost more than the p
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any, TypeVar, cast
-
-import numba
 import numpy as np
+
+from armanim.arm.kernel import (
+    compiled as compiled,  # numba.njit, cached where it can write (re-exported: the passes and the rasteriser use it)
+)
 
 TOUCHING = 1e-9
 """Scene units: a segment whose least outside distance to a box is this or less may enter it
 (rounding puts a point on the surface a little either side), so its depth is searched for."""
 
-F = TypeVar("F", bound=Callable[..., Any])
-
 _JIT = dict(error_model="numpy", nogil=True)  # numpy's error model: x / 0 is inf or NaN, as the closed form expects
 _INLINE = dict(inline="always", **_JIT)
-
-
-def compiled(**options: Any) -> Callable[[F], F]:
-    """``numba.njit(**options)`` with its machine code cached on disk where numba finds a
-    writable folder (beside this file, ``NUMBA_CACHE_DIR`` or the user's cache folder), and
-    compiled afresh in each process where it finds none (a read-only install run by a user
-    without a writable home: numba refuses ``cache=True`` there instead of going without)."""
-
-    def compile_(function: F) -> F:  # numba's dispatcher is called as the function is (numba ships no types)
-        try:
-            return cast(F, numba.njit(cache=True, **options)(function))
-        except RuntimeError as error:
-            if "no locator available" not in str(error):
-                raise
-            return cast(F, numba.njit(cache=False, **options)(function))
-
-    return compile_
 
 
 X0, U, KNOTS, GAP, CANDIDATES, SCRATCH = 0, 3, 6, 14, 6, 24

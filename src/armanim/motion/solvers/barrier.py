@@ -40,6 +40,8 @@ from armanim.world.distances import min_link_clearance
 from armanim.world.selfdistances import self_gaps, self_rows
 
 NO_BOUND = 1e30  # DAQP's "no upper bound"
+VIOLATION = 1e-12
+"""A constraint counts as broken by more than this (rounding)."""
 
 
 @dataclass(frozen=True)
@@ -82,7 +84,7 @@ class Constraints:
 
     def violated_by(self, dphi: np.ndarray) -> Blocker | None:
         """Which constraint ``dphi`` breaks (to rounding): ``"obstacle"``, ``"limit"``, or None."""
-        eps = 1e-12
+        eps = VIOLATION
         if len(self.rows) and np.any(self.rows @ dphi < self.lower - eps):
             return "obstacle"
         if np.any(dphi < self.lo - eps) or np.any(dphi > self.hi + eps):
@@ -156,14 +158,16 @@ def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray
     return rows, -problem.tunables.filter.gamma * (gaps.d[which] - target)
 
 
-def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray) -> Constraints:
+def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray,
+                       bounds: tuple[np.ndarray, np.ndarray] | None = None) -> Constraints:
     """The constraints of the frame: only obstacle pairs that the QP's answer could reach.
 
     0 is feasible, so the answer is within |nominal| of the nominal step (2-norm), hence at
     most 2 |nominal| long, and no arm point moves more than that times |problem.lever_arms|.
-    Pairs beyond are left out (the exact check still guards every pair).
+    Pairs beyond are left out (the exact check still guards every pair). ``bounds``:
+    :func:`joint_bounds` at ``state``, when the caller has them.
     """
-    lo, hi = joint_bounds(problem, state.phi)
+    lo, hi = joint_bounds(problem, state.phi) if bounds is None else bounds
     travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(problem.lever_arms)) + 1e-9
     rows, lower = obstacle_rows(problem, state, travel)
     if state.self_gaps is not None:
@@ -258,8 +262,9 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray, ahead: ArmSta
     if biggest == 0.0:
         return SafeStep(state, 0.0, None)
     nominal = dphi * min(1.0, problem.solver.max_joint_step / biggest)
-    cons = filter_constraints(problem, state, nominal)
-    step = filtered_step(nominal, cons)
+    bounds = joint_bounds(problem, state.phi)
+    cons = None if clearly_allowed(problem, state, nominal, bounds) else filter_constraints(problem, state, nominal, bounds)
+    step = nominal if cons is None else filtered_step(nominal, cons)
     for scale in 0.5 ** np.arange(problem.tunables.filter.halvings + 1):
         phi = state.phi + scale * step
         known = ahead if ahead is not None and ahead.phi.tobytes() == phi.tobytes() else None
@@ -268,6 +273,40 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray, ahead: ArmSta
             blocked = None if step is nominal and scale == 1.0 else blocker(nominal, cons)
             return SafeStep(_wrapped(problem, moved), step_fraction(scale * step, dphi), blocked)
     return SafeStep(state, 0.0, blocker(nominal, cons))
+
+
+BOUND_SLACK = 1e-9
+"""Relative room :func:`clearly_allowed` leaves for rounding: the rows it bounds are computed
+numbers, within some 1e-15 of the bound's."""
+
+
+def clearly_allowed(problem: Problem, state: ArmState, nominal: np.ndarray,
+                    bounds: tuple[np.ndarray, np.ndarray] | None = None) -> bool:
+    """Whether ``nominal`` meets every constraint of :func:`filter_constraints` by bounds alone,
+    without computing the rows (the filter's fast path: then :func:`filtered_step` would return
+    ``nominal`` itself, so the step is the same, bit for bit).
+
+    Within the joint bounds, and every gap far enough from its target for the step: an obstacle
+    row n . J_q dPhi is at least -sum_j |dPhi_j| l_j (l: ``problem.lever_arms``, each column of
+    J_q is w_j x (q - p_j), no longer than l_j), a pair's row at least -|dPhi| . its
+    ``pair_lever_rows``; the row holds when gamma (d - d_target) is at least that much.
+    ``bounds``: :func:`joint_bounds` at ``state``, when the caller has them.
+    """
+    lo, hi = joint_bounds(problem, state.phi) if bounds is None else bounds
+    if np.any(nominal < lo - VIOLATION) or np.any(nominal > hi + VIOLATION):  # as Constraints.violated_by judges it
+        return False
+    gamma = problem.tunables.filter.gamma
+    slack = 1.0 + BOUND_SLACK
+    travel = point_travel_bound(problem, nominal)
+    if state.clearance is not None:
+        room = gamma * (float(state.clearance.links.min()) - kept_clearance(problem))
+        if not room >= travel * slack + 1e-12:
+            return False
+    if state.self_gaps is not None:  # the joints that move both capsules alike add rounding alone
+        rooms = gamma * (state.self_gaps.d - kept_self_clearance(problem))
+        if not np.all(rooms >= (problem.pair_lever_rows @ np.abs(nominal)) * slack + BOUND_SLACK * travel + 1e-12):
+            return False
+    return True
 
 
 def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
@@ -287,9 +326,11 @@ def step_fraction(taken: np.ndarray, proposed: np.ndarray) -> float:
     return float(np.linalg.norm(taken)) / length if 0.0 < length < np.inf else 0.0
 
 
-def blocker(nominal: np.ndarray, cons: Constraints) -> Blocker:
-    """What kept the proposal from being taken as it was: ``"obstacle"`` or ``"limit"``."""
-    return cons.violated_by(nominal) or "obstacle"  # else the linear model allowed it, the exact clearance did not
+def blocker(nominal: np.ndarray, cons: Constraints | None) -> Blocker:
+    """What kept the proposal from being taken as it was: ``"obstacle"`` or ``"limit"`` (``cons``
+    None: the proposal met every constraint, :func:`clearly_allowed`)."""
+    violated = None if cons is None else cons.violated_by(nominal)
+    return violated or "obstacle"  # else the linear model allowed it, the exact clearance did not
 
 
 def _wrapped(problem: Problem, state: ArmState) -> ArmState:

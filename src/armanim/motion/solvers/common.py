@@ -53,9 +53,11 @@ class ArmState:
 
 
 def arm_state(problem: Problem, phi: np.ndarray) -> ArmState:
-    """Forward kinematics, clearances and self gaps of one pose."""
+    """Forward kinematics (compiled: :mod:`armanim.arm.kernel`), clearances and self gaps of one pose."""
+    from armanim.arm import kernel  # numba: imported where a solve starts, never by fk or validate
+
     phi = np.asarray(phi, dtype=float)
-    pose = forward(problem.arm, phi)
+    pose = kernel.forward(problem.arm, phi)
     cl = clearances(pose, problem.obstacles, problem.capsules) if len(problem.obstacles) else None
     gaps = self_gaps(pose, problem.capsules, problem.self_pairs) if len(problem.self_pairs) else None
     return ArmState(phi, pose, cl, gaps)

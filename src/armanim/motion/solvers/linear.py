@@ -37,7 +37,7 @@ import numpy as np
 
 from armanim.arm.linalg import pseudo_inverse
 from armanim.motion.cost import self_influence
-from armanim.motion.orientation import Orientation, orientation_task
+from armanim.motion.orientation import Orientation, holds_orientation, orientation_task
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import (
     ArmState,
@@ -107,16 +107,22 @@ def orientation_in_null_space(
 
 def linear_step(
     problem: Problem, state: ArmState, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray],
-    orientation: Orientation | None = None,
+    orientation: Orientation | None = None, stackable: bool = False,
 ) -> Step:
     """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse (of a
     (3, n) Jacobian or a stack of them), and the rotation task second when the goal has an
-    ``orientation``."""
+    ``orientation`` (or, ``stackable`` and :func:`stacks_the_pose_task`, both as one task)."""
     s = problem.solver
     phi, pose = state.phi, state.pose
     jac = jacobian_of_tip(problem, phi, pose)
+    target = task_displacement(problem, pose.tip, goal)
+    if orientation is not None and stackable and stacks_the_pose_task(problem, orientation):
+        error, jac_w = orientation_task(orientation, problem.arm, pose)
+        jac = np.concatenate([jac, s.orientation_weight * jac_w])
+        target = np.concatenate([target, rotation_displacement(problem, error)])
+        orientation = None  # the rotation is in the task: the pushes go into the null space of both
     jac_inv = invert(jac)
-    dphi = jac_inv @ task_displacement(problem, pose.tip, goal)
+    dphi = jac_inv @ target
 
     secondary = limit_push(problem, phi)
     cl = state.clearance
@@ -129,7 +135,7 @@ def linear_step(
         for part, obs in zip(*pushing):
             v = push[part, obs] * cl.normal[part, obs]
             if part == cl.tip:  # the tip itself: the notes' term, in task space
-                dphi = dphi + jac_inv @ v
+                dphi = dphi + jac_inv[:, :3] @ v
             else:
                 pushed = next(inverses) @ v
                 secondary = pushed if secondary is None else secondary + pushed
@@ -151,9 +157,26 @@ def linear_step(
     return Step(dphi=dphi)
 
 
+def stacks_the_pose_task(problem: Problem, orientation: Orientation) -> bool:
+    """Whether a ``pinv`` step solves the position and the orientation as one stacked task
+    [J_v; w B J_w]: in a solve to convergence (``tunables.ik.solving``, :func:`armanim.motion.ik.solving_problem`)
+    of a goal the arm can hold (:func:`armanim.motion.orientation.holds_orientation`, judged once per
+    arm and kind of goal). Elsewhere the rotation comes second (:func:`orientation_in_null_space`).
+
+    Where the stacked Jacobian has full row rank, its pseudo-inverse step is the task-priority
+    step (both are the least-norm solution of the two tasks at once), in one SVD instead of
+    four. ``dls`` keeps the priority: its damping on the stacked task measured twice the steps."""
+    if not problem.tunables.ik.solving:
+        return False
+    memo = problem.arm.__dict__.setdefault("_holds_orientation", {})  # a cache of a fact of the arm: it stays what it was
+    if orientation.rows not in memo:
+        memo[orientation.rows] = holds_orientation(problem.arm, orientation)
+    return cast(bool, memo[orientation.rows])
+
+
 def pinv_step(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:
     """``pinv``: the course notes' Algorithm 2 with the pseudo-inverse (Eqs. 19-20)."""
-    return linear_step(problem, state, goal, pseudo_inverse, orientation)
+    return linear_step(problem, state, goal, pseudo_inverse, orientation, stackable=True)
 
 
 def dls_step(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:

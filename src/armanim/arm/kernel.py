@@ -1,0 +1,293 @@
+"""The kinematics of one pose, compiled (numba): joint points and frames, the tool frame, the
+6 x n geometric Jacobian and the rotation log, for one pose or a batch.
+
+The same chain as :func:`armanim.arm.kinematics.forward` (which stays the reference: the tests
+hold these to it within 1e-12), written as scalar loops: one Panda pose costs some 2 us here
+against 50 us as numpy array operations, most of which was the fixed cost of each small numpy
+call. The arm's constants are packed once into two arrays (:func:`packed_chain`), so a call
+passes three arrays to numba. Rodrigues' formula and the cross products are the same
+operations in the same order as the numpy code; a 3 x 3 product may differ from numpy's (BLAS)
+in the last bit.
+
+numba compiles on first use and caches the machine code beside this file, in
+``NUMBA_CACHE_DIR`` or the user's cache folder (or nowhere when none is writable: then each
+process compiles again). This module is imported where a solve starts, never by ``fk``,
+``validate`` or ``--version``. Pure core: numpy and numba only, radians.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any, TypeVar, cast
+
+import numba
+import numpy as np
+
+from armanim.arm.kinematics import Arm, Pose
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def compiled(**options: Any) -> Callable[[F], F]:
+    """``numba.njit(**options)`` with its machine code cached on disk where numba finds a
+    writable folder (beside the module, ``NUMBA_CACHE_DIR`` or the user's cache folder), and
+    compiled afresh in each process where it finds none (a read-only install run by a user
+    without a writable home: numba refuses ``cache=True`` there instead of going without)."""
+
+    def compile_(function: F) -> F:  # numba's dispatcher is called as the function is (numba ships no types)
+        try:
+            return cast(F, numba.njit(cache=True, **options)(function))
+        except RuntimeError as error:
+            if "no locator available" not in str(error):
+                raise
+            return cast(F, numba.njit(cache=False, **options)(function))
+
+    return compile_
+
+
+_JIT = dict(error_model="numpy", nogil=True)
+_INLINE = dict(inline="always", **_JIT)
+
+AXIS, K, K2, OFFSET, TURN, WIDTH = 0, 3, 12, 21, 24, 33
+"""Columns of a joint's row in :func:`packed_chain`: its axis a_i (3), K = [a_i]x (9, row
+major), K^2 (9), its offset o_i (3) and its turn T_i (9, row major)."""
+
+
+def packed_chain(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
+    """The arm's constants as the kernels read them: (n, 33) joint rows (see :data:`WIDTH`)
+    and the root (12,): the base p_1, then R_0 row major. Computed once per arm (kept on it).
+
+    >>> arm = Arm.from_names([2, 5], base=(5, 5, 0))
+    >>> rows, root = packed_chain(arm)
+    >>> rows.shape, root[:3].tolist()
+    ((2, 33), [5.0, 5.0, 0.0])
+    """
+    memo = arm.__dict__.get("_packed")
+    if memo is not None:
+        return cast(tuple[np.ndarray, np.ndarray], memo)
+    n = arm.n
+    turns = np.broadcast_to(np.eye(3), (n, 3, 3)) if arm.turns is None else arm.turns
+    rows = np.concatenate([arm.axes, arm._k.reshape(n, 9), arm._k2.reshape(n, 9), arm.offsets, turns.reshape(n, 9)], axis=1)
+    start = np.eye(3) if arm.base_rotation is None else arm.base_rotation
+    root = np.concatenate([arm.base, start.reshape(9)])
+    packed = (np.ascontiguousarray(rows, dtype=float), np.ascontiguousarray(root, dtype=float))
+    object.__setattr__(arm, "_packed", packed)  # a cache of constants: the arm stays what it was
+    return packed
+
+
+@compiled(**_INLINE)
+def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarray, frames: np.ndarray,
+           axes: np.ndarray, tool: np.ndarray) -> None:
+    """One pose into ``points`` (n+1, 3), ``frames`` (n, 3, 3), world ``axes`` (n, 3) and the
+    tool frame ``tool`` (3, 3)."""
+    n = rows.shape[0]
+    rot = np.empty((3, 3))
+    local = np.empty((3, 3))
+    for a in range(3):
+        points[0, a] = root[a]
+        for b in range(3):
+            rot[a, b] = root[3 + 3 * a + b]
+    for i in range(n):
+        s = math.sin(phi[i])
+        c = 1.0 - math.cos(phi[i])
+        for a in range(3):
+            for b in range(3):
+                local[a, b] = (1.0 if a == b else 0.0) + s * rows[i, K + 3 * a + b] + c * rows[i, K2 + 3 * a + b]
+        for a in range(3):
+            for b in range(3):
+                frames[i, a, b] = rot[a, 0] * local[0, b] + rot[a, 1] * local[1, b] + rot[a, 2] * local[2, b]
+        for a in range(3):
+            f0, f1, f2 = frames[i, a, 0], frames[i, a, 1], frames[i, a, 2]
+            points[i + 1, a] = points[i, a] + (f0 * rows[i, OFFSET] + f1 * rows[i, OFFSET + 1] + f2 * rows[i, OFFSET + 2])
+            axes[i, a] = f0 * rows[i, AXIS] + f1 * rows[i, AXIS + 1] + f2 * rows[i, AXIS + 2]
+            for b in range(3):
+                rot[a, b] = f0 * rows[i, TURN + b] + f1 * rows[i, TURN + 3 + b] + f2 * rows[i, TURN + 6 + b]
+    for a in range(3):
+        for b in range(3):
+            tool[a, b] = rot[a, b]
+
+
+@compiled(**_JIT)
+def _forward_one(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarray, frames: np.ndarray,
+                 axes: np.ndarray, tool: np.ndarray) -> None:
+    """One pose into arrays the caller made (four arrays handed back by numba cost a microsecond more)."""
+    _chain(rows, root, phi, points, frames, axes, tool)
+
+
+@compiled(**_JIT)
+def _forward_many(rows: np.ndarray, root: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    n = rows.shape[0]
+    m = phi.shape[0]
+    points = np.empty((m, n + 1, 3))
+    frames = np.empty((m, n, 3, 3))
+    axes = np.empty((m, n, 3))
+    tool = np.empty((m, 3, 3))
+    for k in range(m):
+        _chain(rows, root, phi[k], points[k], frames[k], axes[k], tool[k])
+    return points, frames, axes, tool
+
+
+@compiled(**_INLINE)
+def _jacobian(points: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
+    """The 6 x n geometric Jacobian of the tool into ``jac``: rows 0-2 w_j x (e - p_j) (the
+    tip's), rows 3-5 w_j (the tool's angular velocity), as :func:`tip_jacobian` and
+    :func:`angular_jacobian` compute them."""
+    n = axes.shape[0]
+    for j in range(n):
+        l0 = points[n, 0] - points[j, 0]
+        l1 = points[n, 1] - points[j, 1]
+        l2 = points[n, 2] - points[j, 2]
+        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+        jac[0, j] = w1 * l2 - w2 * l1
+        jac[1, j] = w2 * l0 - w0 * l2
+        jac[2, j] = w0 * l1 - w1 * l0
+        jac[3, j] = w0
+        jac[4, j] = w1
+        jac[5, j] = w2
+
+
+@compiled(**_JIT)
+def _jacobian_one(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    jac = np.empty((6, axes.shape[0]))
+    _jacobian(points, axes, jac)
+    return jac
+
+
+@compiled(**_JIT)
+def _jacobian_many(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    jac = np.empty((axes.shape[0], 6, axes.shape[1]))
+    for k in range(axes.shape[0]):
+        _jacobian(points[k], axes[k], jac[k])
+    return jac
+
+
+@compiled(**_INLINE)
+def _log(rot: np.ndarray, out: np.ndarray) -> None:
+    """The rotation vector of ``rot`` (3, 3) into ``out`` (3,): :func:`armanim.arm.rotations.rotation_log`'s
+    formulas (the series near 0, the symmetric part near pi)."""
+    sx = 0.5 * (rot[2, 1] - rot[1, 2])
+    sy = 0.5 * (rot[0, 2] - rot[2, 0])
+    sz = 0.5 * (rot[1, 0] - rot[0, 1])
+    cos = min(1.0, max(-1.0, 0.5 * (rot[0, 0] + rot[1, 1] + rot[2, 2] - 1.0)))
+    sin = math.sqrt(sx * sx + sy * sy + sz * sz)
+    angle = math.atan2(sin, cos)
+    if angle < 1e-4:
+        scale = 1.0 + angle * angle / 6.0
+    elif cos < -0.9:  # the axis from (R + R^T)/2 = cos I + (1 - cos) a a^T, its sign from the skew part
+        best = 0
+        top = -np.inf
+        for c in range(3):
+            d = (0.5 * (rot[c, c] + rot[c, c]) - cos) / (1.0 - cos)
+            if d > top:
+                top = d
+                best = c
+        length = 0.0
+        for a in range(3):
+            v = (0.5 * (rot[a, best] + rot[best, a]) - (cos if a == best else 0.0)) / (1.0 - cos)
+            out[a] = v
+            length += v * v
+        length = math.sqrt(length)
+        if length <= 0.0:
+            length = 1.0
+        for a in range(3):
+            out[a] = out[a] / length
+        sign = -1.0 if out[0] * sx + out[1] * sy + out[2] * sz < 0.0 else 1.0
+        for a in range(3):
+            out[a] = sign * angle * out[a]
+        return
+    else:
+        scale = angle / sin
+    out[0] = scale * sx
+    out[1] = scale * sy
+    out[2] = scale * sz
+
+
+@compiled(**_JIT)
+def _log_one(rot: np.ndarray) -> np.ndarray:
+    out = np.empty(3)
+    _log(rot, out)
+    return out
+
+
+@compiled(**_JIT)
+def _log_many(rot: np.ndarray) -> np.ndarray:
+    out = np.empty((rot.shape[0], 3))
+    for k in range(rot.shape[0]):
+        _log(rot[k], out[k])
+    return out
+
+
+@compiled(**_JIT)
+def _error_to(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
+    """log(R_g R^T) (3,): the world rotation vector from the tool frame to the goal's."""
+    rel = np.empty((3, 3))
+    for a in range(3):
+        for b in range(3):
+            rel[a, b] = goal[a, 0] * tool[b, 0] + goal[a, 1] * tool[b, 1] + goal[a, 2] * tool[b, 2]
+    out = np.empty(3)
+    _log(rel, out)
+    return out
+
+
+def forward(arm: Arm, phi: np.ndarray) -> Pose:
+    """:func:`armanim.arm.kinematics.forward`, compiled: ``points`` (..., n+1, 3), ``frames``
+    (..., n, 3, 3) and the world ``axes`` (..., n, 3) of one pose (n,) or a batch (..., n).
+
+    >>> arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    >>> forward(arm, np.zeros(4)).tip.tolist()
+    [5.0, 5.0, 17.0]
+    """
+    return forward_with_tool(arm, phi)[0]
+
+
+def forward_with_tool(arm: Arm, phi: np.ndarray) -> tuple[Pose, np.ndarray]:
+    """:func:`forward` and the tool frame's world rotation (..., 3, 3) (:func:`armanim.arm.kinematics.tool_rotation`)."""
+    rows, root = packed_chain(arm)
+    phi = np.ascontiguousarray(phi, dtype=float)
+    n = arm.n
+    if phi.ndim == 1:
+        points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
+        _forward_one(rows, root, phi, points, frames, axes, tool)
+        return Pose(points=points, frames=frames, axes=axes), tool
+    batch = phi.shape[:-1]
+    points, frames, axes, tool = _forward_many(rows, root, phi.reshape(-1, n))
+    return Pose(points=points.reshape(batch + (n + 1, 3)), frames=frames.reshape(batch + (n, 3, 3)),
+                axes=axes.reshape(batch + (n, 3))), tool.reshape(batch + (3, 3))
+
+
+def geometric_jacobian(pose: Pose) -> np.ndarray:
+    """The tool's 6 x n geometric Jacobian (..., 6, n) of a pose from :func:`forward` (its
+    ``axes`` set): [:func:`tip_jacobian`; :func:`angular_jacobian`].
+
+    >>> arm = Arm.from_names([1, 1], axes=["z", "y"])
+    >>> geometric_jacobian(forward(arm, np.zeros(2))).tolist()
+    [[0.0, 1.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]
+    """
+    assert pose.axes is not None  # set by forward
+    if pose.points.ndim == 2:
+        return _jacobian_one(pose.points, pose.axes)
+    batch = pose.points.shape[:-2]
+    n = pose.axes.shape[-2]
+    jac = _jacobian_many(pose.points.reshape(-1, n + 1, 3), pose.axes.reshape(-1, n, 3))
+    return cast(np.ndarray, jac.reshape(batch + (6, n)))
+
+
+def rotation_log(rot: np.ndarray) -> np.ndarray:
+    """:func:`armanim.arm.rotations.rotation_log`, compiled: the rotation vectors (..., 3) of
+    rotations (..., 3, 3).
+
+    >>> from armanim.arm.rotations import rotation_exp
+    >>> np.round(rotation_log(rotation_exp(np.array([0.3, -0.2, 0.1]))), 12).tolist()
+    [0.3, -0.2, 0.1]
+    """
+    rot = np.ascontiguousarray(rot, dtype=float)
+    if rot.ndim == 2:
+        return _log_one(rot)
+    return _log_many(rot.reshape(-1, 3, 3)).reshape(rot.shape[:-1])
+
+
+def rotation_error(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
+    """log(R_g R^T) (3,) for one goal rotation and one tool frame (3, 3): the residual of
+    :func:`armanim.motion.orientation.orientation_residual`, in one compiled call."""
+    return _error_to(np.ascontiguousarray(goal, dtype=float), np.ascontiguousarray(tool, dtype=float))
