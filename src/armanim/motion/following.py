@@ -207,11 +207,17 @@ def most_path_frames(problem: Problem, goal: Goal) -> int:
 
 def sampling_problem(problem: Problem) -> Problem:
     """The problem as one sample is solved: full steps (:func:`armanim.motion.ik.solving_problem`)
-    to a tenth of the path tolerance and half the orientation tolerance."""
+    to a tenth of the path tolerance and half the orientation tolerance, the null space's pushes
+    (away from obstacles, the arm's own links and limits) as strong as in one frame of the scene's
+    animation. A full step's beta = 1 would make them ten times that (beta 0.1): a push that large
+    beside a sample's tiny task turns the arm so far that its curvature throws the tool off the
+    path, and the next step back, without end."""
     solving = solving_problem(problem)
     s = problem.solver
+    gain = s.beta / solving.solver.beta
     return replace(solving, solver=replace(solving.solver, tolerance=SAMPLE_TOLERANCE * s.path_tolerance,
-                                           orientation_tolerance=0.5 * s.orientation_tolerance))
+                                           orientation_tolerance=0.5 * s.orientation_tolerance,
+                                           w_obstacles=gain * s.w_obstacles, w_limits=gain * s.w_limits))
 
 
 def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal) -> Followed:
