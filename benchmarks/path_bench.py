@@ -5,7 +5,7 @@
 Seeded random lines and arcs of 10-40 cm (:mod:`generators.paths`) on a bundled Panda and UR5
 (alternately), the tool pointing down all along, among 0-4 spheres (drawn again until armanim's
 checks accept the scene: the robot's home clear of every sphere). Each path is labelled by the
-oracle (:mod:`oracles.paths`: a dense continuous inverse kinematics by pinocchio from six
+oracle (:mod:`oracles.paths`: a dense continuous inverse kinematics by pinocchio from twelve
 starts): feasible when it follows the whole path, else the share it follows. armanim solves each
 as a scene with that one path goal (``solver.path_tolerance`` 1 mm, speed 10 cm/s) and is judged
 on its own timed frames, by pinocchio's forward kinematics:

@@ -57,7 +57,7 @@ def solve_point(geo: RobotGeometry, data, q: np.ndarray, point: np.ndarray, axis
 
 
 def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, max_joint_step: float,
-                      clearance: float, starts: int = 6, seed: int = 0, problem=None) -> float:
+                      clearance: float, starts: int = 12, seed: int = 0, problem=None) -> float:
     """The farthest share (0..1) of the path through ``points`` (m, 3), spaced :data:`STEP` apart,
     that the oracle follows from any of its starts; with ``problem``, its enabled pairs of the
     robot's own capsules also keep ``self_pairs.clearance`` apart (coal's distances)."""
