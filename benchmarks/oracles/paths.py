@@ -57,17 +57,18 @@ def solve_point(geo: RobotGeometry, data, q: np.ndarray, point: np.ndarray, axis
 
 
 def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, max_joint_step: float,
-                      clearance: float, starts: int = 12, seed: int = 0, problem=None) -> float:
+                      clearance: float, starts: int = 12, seed: int = 0, problem=None, self_floor: float | None = None) -> float:
     """The farthest share (0..1) of the path through ``points`` (m, 3), spaced :data:`STEP` apart,
     that the oracle follows from any of its starts; with ``problem``, its enabled pairs of the
-    robot's own capsules also keep ``self_pairs.clearance`` apart (coal's distances)."""
+    robot's own capsules also keep ``self_floor`` (default ``self_pairs.clearance``) apart (coal's distances)."""
+    floors = (clearance, problem.self_pairs.clearance if self_floor is None and problem is not None else self_floor)
     data = geo.model.createData()
     rng = np.random.default_rng(seed)
     seeds = [geo.home] + [rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi)) for _ in range(5 * starts)]
     best, tried = 0, 0
     for q0 in seeds:
         q, ok = solve_point(geo, data, q0.copy(), points[0], axis)
-        if not ok or not _allowed(geo, q, clearance, problem):
+        if not ok or not _allowed(geo, q, floors, problem):
             continue
         tried += 1
         if tried > starts:
@@ -75,7 +76,7 @@ def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, 
         done = 0
         for i in range(1, len(points)):
             nxt, ok = solve_point(geo, data, q.copy(), points[i], axis)
-            if not ok or np.abs(nxt - q).max() > max_joint_step or not _allowed(geo, nxt, clearance, problem):
+            if not ok or np.abs(nxt - q).max() > max_joint_step or not _allowed(geo, nxt, floors, problem):
                 break
             q, done = nxt, i
         best = max(best, done)
@@ -84,10 +85,10 @@ def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, 
     return best / (len(points) - 1)
 
 
-def _allowed(geo: RobotGeometry, q: np.ndarray, clearance: float, problem=None) -> bool:
-    """Inside the limits, every capsule ``clearance`` from every sphere, and (with ``problem``) every
-    enabled pair of the robot's own capsules its self clearance apart."""
+def _allowed(geo: RobotGeometry, q: np.ndarray, floors: tuple, problem=None) -> bool:
+    """Inside the limits, every capsule ``floors[0]`` from every sphere, and (with ``problem``) every
+    enabled pair of the robot's own capsules ``floors[1]`` apart."""
     inside = bool(np.all(q >= geo.lower) and np.all(q <= geo.upper))
-    if not inside or (len(geo.radii) and float(geo.clearances(q).min()) < clearance):
+    if not inside or (len(geo.radii) and float(geo.clearances(q).min()) < floors[0]):
         return False
-    return problem is None or not len(problem.self_pairs) or float(coal_pair_gaps(problem, q)[0]) >= problem.self_pairs.clearance
+    return problem is None or not len(problem.self_pairs) or float(coal_pair_gaps(problem, q)[0]) >= floors[1]
