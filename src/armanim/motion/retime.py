@@ -82,12 +82,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     src, out = solution.trajectory, at_fps(problem, fps)
     rates = problem.rates
     parts = _parts(problem, solution, out)
-    safety = path_safety(problem, src)
-    motions = goal_motions([src.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
-                           fps, [replace(safety, at_poses=safety.at_poses[p.frames],
-                                         certified=safety.certified[p.frames.start:p.frames.stop - 1]) for p in parts],
-                           most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts],
-                           [p.strays for p in parts])
+    motions = _timed_parts(problem, src, parts, fps, most_frames)
     made = sum(len(m.phi) for m in motions) + sum(p.hold for p in parts)
     if made > most_frames:
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
@@ -137,6 +132,18 @@ class _Part:
     hold: int
     path_speed: np.ndarray | None = None
     strays: Callable[[Motion], np.ndarray] | None = None
+
+
+def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: float, most_frames: float) -> list[Motion]:
+    """Each part's motion on the clock (:func:`~armanim.motion.goalmotion.goal_motions`), kept clear
+    by :func:`path_safety` and, along a path, on it at the goal's speed."""
+    rates = problem.rates
+    safety = path_safety(problem, solved)
+    safeties = [replace(safety, at_poses=safety.at_poses[p.frames], certified=safety.certified[p.frames.start:p.frames.stop - 1])
+                for p in parts]
+    return goal_motions([solved.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
+                        fps, safeties, most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts],
+                        [p.strays for p in parts])
 
 
 def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
