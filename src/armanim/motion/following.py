@@ -55,7 +55,7 @@ SAMPLE_TOLERANCE = 0.1
 """A sample's tool within this fraction of the path tolerance of its point."""
 MIDPOINT_TOLERANCE = 0.5
 """The midpoint between two samples within this fraction of the path tolerance of the path."""
-OTHER_STARTS = 8
+OTHER_STARTS = 16
 """Other free poses at a path's start tried when the path stops short from the first."""
 BRANCHES_APART = 0.5
 """Radians: two start poses whose joints all lie closer than this count as one branch."""
