@@ -343,13 +343,5 @@ def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState,
     return None
 
 
-def tool_errors(problem: Problem, goal: Goal, phi: np.ndarray, s_lo: np.ndarray, s_hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(k,) arc length of the nearest point of ``goal``'s path between ``s_lo`` and ``s_hi`` (k,)
-    to the tool at each pose ``phi`` (k, n), and the tool's distance from it."""
-    assert goal.path is not None
-    tips = forward(problem.arm, phi).tip
-    return goal.path.nearest(tips, s_lo, s_hi)
-
-
-__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_path_frames", "sample_spacing", "sampling_problem", "tool_errors"]
+__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_path_frames", "sample_spacing", "sampling_problem"]
 
