@@ -153,7 +153,8 @@ def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal
             step, most = problem.solver.max_joint_step, problem.solver.max_frames_per_goal
             schedule = path_schedule(planned.waypoints, step, most)
             frames = poses_along(planned.waypoints, damper_paced(problem, planned.waypoints, schedule, most))
-            return Route(frames, trial, len(found.poses), route.checks, planned.source)
+            if np.abs(frames[-1] - pose).max() <= 1e-9:  # a plan cut short by the frame cap would leave a jump
+                return Route(frames, trial, len(found.poses), route.checks, planned.source)
     return route
 
 
