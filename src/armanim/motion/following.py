@@ -34,11 +34,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion.ik import pose_errors, solving_problem
 from armanim.motion.orientation import orientation_angle
-from armanim.motion.problem import Goal, Problem
+from armanim.motion.problem import Goal, Problem, joint_offset
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
 from armanim.motion.stalls import beyond_reach
@@ -163,8 +162,7 @@ def _other_branches(problem: Problem, phi: np.ndarray, poses: np.ndarray) -> lis
     :data:`BRANCHES_APART` (the largest joint's turn) from ``phi`` and from those taken before it."""
     taken = [phi]
     for pose in poses:
-        turns = [pose - other for other in taken]
-        apart = [np.abs(np.where(problem.limits.limited, t, wrap_angle(t))).max() for t in turns]
+        apart = [np.abs(joint_offset(problem, other, pose)).max() for other in taken]
         if min(apart) >= BRANCHES_APART:
             taken.append(pose)
             if len(taken) > OTHER_STARTS:
@@ -328,8 +326,7 @@ def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState,
     """Whether the step between two solved samples jumps (a joint turns more than
     ``max_joint_step``) or strays from the path at its midpoint; notes the midpoint's error."""
     assert goal.path is not None
-    turn = after.phi - before.phi
-    turn = np.where(problem.limits.limited, turn, wrap_angle(turn))
+    turn = joint_offset(problem, before.phi, after.phi)
     if float(np.abs(turn).max(initial=0.0)) > problem.solver.max_joint_step:
         return "jump"
     middle = forward(problem.arm, before.phi + turn / 2)

@@ -17,10 +17,9 @@ from typing import cast
 
 import numpy as np
 
-from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
 from armanim.motion.clock import Motion
-from armanim.motion.problem import Goal, Problem
+from armanim.motion.problem import Goal, Problem, joint_offset
 from armanim.motion.solution import GoalReport, GoalTiming, Trajectory
 
 ALONG = "path"
@@ -47,8 +46,8 @@ def part_path_speed(problem: Problem, solved: Trajectory, goal: Goal, first: int
     of the part ``first:stop`` of ``solved`` along ``goal``'s path: the goal's speed times the
     step's joint-space length over the tool's travel along the path (inf where it does not travel)."""
     assert solved.path_s is not None
-    steps = np.diff(solved.phi[first:stop], axis=0)
-    length = np.linalg.norm(np.where(problem.limits.limited, steps, wrap_angle(steps)), axis=1)
+    poses = solved.phi[first:stop]
+    length = np.linalg.norm(joint_offset(problem, poses[:-1], poses[1:]), axis=1)
     travel = np.diff(np.nan_to_num(solved.path_s[first:stop], nan=0.0))  # the part's first pose is the path's start
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(travel > 0, goal.speed * length / np.where(travel > 0, travel, 1.0), np.inf)
@@ -68,8 +67,7 @@ def stray_frames(problem: Problem, solved: Trajectory, goal: Goal, first: int, s
         heads = np.maximum(motion.heads_for, 1)
         lo, hi = along[heads - 1], along[heads]
         before = np.concatenate([start[None], motion.phi[:-1]])
-        turn = motion.phi - before
-        middle = before + np.where(problem.limits.limited, turn, wrap_angle(turn)) / 2
+        middle = before + joint_offset(problem, before, motion.phi) / 2
         tips = forward(problem.arm, np.concatenate([motion.phi, middle])).tip
         k = len(heads)
         _, error = path.nearest(tips, np.concatenate([lo, np.concatenate([lo[:1], lo[:-1]])]), np.concatenate([hi, hi]))
@@ -123,8 +121,7 @@ def path_reported(problem: Problem, report: GoalReport, trajectory: Trajectory) 
     path = problem.goals[report.index].path
     assert path is not None
     before = trajectory.phi[frames - 1]
-    turn = trajectory.phi[frames] - before
-    middle = before + np.where(problem.limits.limited, turn, wrap_angle(turn)) / 2
+    middle = before + joint_offset(problem, before, trajectory.phi[frames]) / 2
     lo = np.nan_to_num(trajectory.path_s[frames - 1], nan=0.0)
     _, between = path.nearest(forward(problem.arm, middle).tip, lo, trajectory.path_s[frames])
     worst = float(max(np.max(trajectory.path_error[frames]), np.max(between)))

@@ -15,6 +15,7 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.capsules import lever_arms as capsule_lever_arms
+from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
 from armanim.motion.toolpath import ToolPath
@@ -89,6 +90,18 @@ class Goal:
     orientation: Orientation | None = None
     path: ToolPath | None = None
     speed: float = 0.0
+
+
+def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """target - phi (radians, (..., n)), unlimited joints the short way round.
+
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(limits=SimpleNamespace(limited=np.array([True, False])))
+    >>> np.round(joint_offset(p, np.array([3.0, 3.0]), np.array([-3.0, -3.0])), 4).tolist()
+    [-6.0, 0.2832]
+    """
+    offset = target - phi
+    return np.where(problem.limits.limited, offset, wrap_angle(offset))
 
 
 def frames_in(seconds: float, fps: float) -> int:

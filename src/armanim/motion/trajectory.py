@@ -25,13 +25,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.following import Route, followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
-from armanim.motion.problem import Goal, Problem, frames_in
+from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
@@ -315,12 +314,6 @@ def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarra
     return head
 
 
-def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """target - phi, unlimited joints the short way round."""
-    offset = target - phi
-    return np.where(problem.limits.limited, offset, wrap_angle(offset))
-
-
 def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched | None = None) -> MissReason | None:
     """A stalled goal: plan a way out (None) or give it up (the reason).
 
@@ -372,6 +365,7 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
     angle = np.array(rec.angle, dtype=float)
     turned = ~(angle >= problem.solver.orientation_tolerance)  # NaN (no orientation) counts as met
     phi, goal = np.array(rec.phi), np.array(rec.goal, dtype=int)
+    path_s = np.array(rec.path_s) if any(g.path is not None for g in problem.goals) else None
     _, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal)
     return with_self_clearance(problem, Trajectory(
         phi=np.array(rec.phi),
@@ -386,8 +380,8 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         mode=np.array(rec.mode),
         orientation_error=angle if any(g.orientation is not None for g in problem.goals) else None,
         tool_quaternion=quaternions,
-        path_s=np.array(rec.path_s) if any(g.path is not None for g in problem.goals) else None,
-        path_error=np.where(np.isnan(rec.path_s), np.nan, distance) if any(g.path is not None for g in problem.goals) else None,
+        path_s=path_s,
+        path_error=None if path_s is None else np.where(np.isnan(path_s), np.nan, distance),
     ))
 
 
