@@ -85,6 +85,10 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
             np.testing.assert_allclose(path.points(traj.path_s[mine]), traj.tip[mine], atol=traj.path_error[mine].max() + 1e-9)
             assert np.all(path.distance(traj.tip[mine]) <= traj.path_error[mine] + 1e-12)
         assert np.all(traj.path_error[along] <= problem.solver.path_tolerance), float(np.nanmax(traj.path_error))
+        for k in np.unique(traj.goal[traj.mode == "path"]) if traj.velocity is not None else ():  # on the clock: never faster than its speed
+            f = np.nonzero((traj.mode == "path") & (traj.goal == k))[0]
+            tool_speed = np.linalg.norm(traj.tip[f] - traj.tip[f - 1], axis=1) * traj.fps
+            assert tool_speed.max() <= problem.goals[k].speed * (1 + 1e-9), float(tool_speed.max() / problem.goals[k].speed)
         expected = np.where(along, traj.path_error, expected)
     np.testing.assert_allclose(traj.distance, expected, atol=1e-9)
     # goal index never goes back

@@ -29,6 +29,7 @@ as before the clock. Pure core: numpy only.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import cast
 
@@ -201,15 +202,21 @@ class Motion:
         return GoalTiming(self.duration, float(v.max()), float(a.max()), int(np.argmax(v)), int(np.argmax(a)))
 
 
+Excess = Callable[[np.ndarray], float]
+"""excess(frames) -> the factor by which time must stretch for the frames (k + 1, n), the start pose
+first, to keep a limit the clock does not know (a path goal's tool speed): 1 when they do; a
+stretch by k divides that speed by k."""
+
+
 def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                   most_frames: float = np.inf) -> Motion:
+                   most_frames: float = np.inf, excess: Excess | None = None) -> Motion:
     """The time law slowed by the least factor that keeps every limit, sampled at ``fps``.
 
     The factor covers the limits checked densely on the continuous motion (the grid's
     constraints hold only at its points) and a whole number of frames; then the frames
     themselves are checked as the contract states the limits (first and second differences
     over 1/fps, with the arm at rest before the first frame and after the last) and the
-    time is stretched again if one is over.
+    time is stretched again if one is over (or ``excess`` of the frames is).
 
     Raises
     ------
@@ -234,8 +241,9 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
         phi = path.evaluate(s)
         phi[-1] = end
         velocity = path.evaluate(s, 1) * (sd / scale)[:, None]
-        over = max(_frame_excess(np.concatenate([start[None], phi]), speed, acceleration, fps=fps),
-                   _velocity_excess(velocity, speed))
+        shown = np.concatenate([start[None], phi])
+        over = max(_frame_excess(shown, speed, acceleration, fps=fps), _velocity_excess(velocity, speed),
+                   excess(shown) if excess else 1.0)
         if over <= 1.0 + 1e-9:  # rounding: a bang-bang step is exactly at its limit
             break
         scale *= over * (1 + 1e-9)
@@ -277,14 +285,15 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
 
 
 def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,
-                        most_frames: float = np.inf, path_speed: np.ndarray | None = None) -> Motion:
+                        most_frames: float = np.inf, path_speed: np.ndarray | None = None,
+                        excess: Excess | None = None) -> Motion:
     """A jerk-limited motion along ``path`` from rest to rest, sampled at ``fps``: the
     time-optimal law (:func:`time_optimal`) with its path speed averaged over a sliding window of
     tau = max_j 2 a_j / j_j seconds, which makes the path acceleration continuous and its jerk at
     most 2 A / tau (the window adds tau to the motion and keeps its length), then stretched to
     whole frames and checked on the frames (differences over 1/fps up to the third, at rest before
     and after) as :func:`sampled_motion` does. ``path_speed``: as for :func:`time_optimal` (the
-    window's mean of a capped speed keeps the cap).
+    window's mean of a capped speed keeps the cap); ``excess`` as for :func:`sampled_motion`.
 
     >>> from armanim.motion.jointpath import joint_path
     >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
@@ -317,8 +326,9 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
         phi = path.evaluate(at)
         phi[-1] = end
         velocity = path.evaluate(at, 1) * (sd / scale)[:, None]
-        over = max(_frame_excess(np.concatenate([start[None], phi]), speed, acceleration, jerk, fps),
-                   _velocity_excess(velocity, speed))
+        shown = np.concatenate([start[None], phi])
+        over = max(_frame_excess(shown, speed, acceleration, jerk, fps), _velocity_excess(velocity, speed),
+                   excess(shown) if excess else 1.0)
         if over <= 1.0 + 1e-9:
             break
         scale *= over * (1 + 1e-9)

@@ -23,7 +23,7 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.motion.clock import Motion, jerk_limited_motion, sampled_motion, time_optimal
+from armanim.motion.clock import Excess, Motion, jerk_limited_motion, sampled_motion, time_optimal
 from armanim.motion.jointpath import JointPath, joint_path, unwrapped
 
 
@@ -152,7 +152,8 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
 def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
                  safeties: list[PathSafety] | None = None, most_frames: float = np.inf, jerk: np.ndarray | None = None,
                  holds: list[int] | None = None, path_speeds: list[np.ndarray | None] | None = None,
-                 strays: list[Callable[[Motion], np.ndarray] | None] | None = None) -> list[Motion]:
+                 strays: list[Callable[[Motion], np.ndarray] | None] | None = None,
+                 excesses: list[Excess | None] | None = None) -> list[Motion]:
     """The motions through each goal's solved ``poses`` (m_i, n), one after the other, each from
     rest to rest at ``fps``.
 
@@ -166,12 +167,15 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     goals before it. ``path_speeds`` (one a goal, each (m_i - 1,) or None): the most ds/dt on each
     solved step (:func:`~armanim.motion.clock.time_optimal`). ``strays`` (one a goal, or None):
     ``strays(motion)`` -> (K,) bool, the frames of a timed motion that leave a path goal's path;
-    the steps they lie in are taken along their chords too.
+    the steps they lie in are taken along their chords too. ``excesses`` (one a goal, or None):
+    a limit of the frames the clock does not know (:data:`~armanim.motion.clock.Excess`).
     """
     holds = [0] * len(poses) if holds is None else holds
     goals = [_Goal.start(p, limited, None if safeties is None else safeties[i]) for i, p in enumerate(poses)]
     for g, cap in zip(goals, path_speeds or []):
         g.path_speed = cap
+    for g, excess in zip(goals, excesses or []):
+        g.excess = excess
     probing = [(g, g.safety) for g in goals if g.safety is not None and len(g.path.s) > 2 and np.any(g.asked)]
     for (g, _), (unsafe, proven) in zip(probing, probed_paths([g.path for g, _ in probing], [safety for _, safety in probing],
                                                               [g.asked for g, _ in probing])):
@@ -208,6 +212,8 @@ class _Goal:
     """The motion's frames to measure (set by :meth:`time`)."""
     path_speed: np.ndarray | None = None
     """The most ds/dt on each solved step (a path goal's tool speed), or None."""
+    excess: Excess | None = None
+    """A limit of the frames the clock does not know (a path goal's tool speed), or None."""
 
     @classmethod
     def start(cls, poses: np.ndarray, limited: np.ndarray, safety: PathSafety | None) -> _Goal:
@@ -256,7 +262,7 @@ class _Goal:
         changed since)."""
         if self.chords.any():
             self.path = joint_path(self.poses, self.limited, self.chords)
-        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, self.path_speed)
+        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, self.path_speed, self.excess)
         self.bad = np.zeros(len(self.motion.phi), dtype=bool)
         proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
         self.check = (self.doubtful & ~proven)[self.frame_step]
@@ -297,12 +303,12 @@ class _Goal:
 
 
 def _timed(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
-           jerk: np.ndarray | None, path_speed: np.ndarray | None = None) -> Motion:
+           jerk: np.ndarray | None, path_speed: np.ndarray | None = None, excess: Excess | None = None) -> Motion:
     """The path on the clock: time-optimal, or jerk-limited with ``jerk``."""
     if jerk is None:
         law = time_optimal(path, speed, acceleration, path_speed)
-        return sampled_motion(path, law, speed, acceleration, fps, most_frames)
-    return jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames, path_speed)
+        return sampled_motion(path, law, speed, acceleration, fps, most_frames, excess)
+    return jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames, path_speed, excess)
 
 
 def _still_proven(proven: np.ndarray, chorded: np.ndarray, solved_step: np.ndarray, steps: int) -> np.ndarray:

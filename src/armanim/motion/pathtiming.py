@@ -18,7 +18,7 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.kinematics import forward
-from armanim.motion.clock import Motion
+from armanim.motion.clock import Excess, Motion
 from armanim.motion.problem import Goal, Problem, joint_offset
 from armanim.motion.solution import GoalReport, GoalTiming, Trajectory
 
@@ -51,6 +51,19 @@ def part_path_speed(problem: Problem, solved: Trajectory, goal: Goal, first: int
     travel = np.diff(np.nan_to_num(solved.path_s[first:stop], nan=0.0))  # the part's first pose is the path's start
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(travel > 0, goal.speed * length / np.where(travel > 0, travel, 1.0), np.inf)
+
+
+def tool_speed_excess(problem: Problem, goal: Goal, fps: float) -> Excess:
+    """For a part along ``goal``'s path timed at ``fps``: the factor by which its frames (the start
+    pose first) must slow for the tool to keep the goal's speed from frame to frame (1 when it does).
+    The clock's cap on each solved step takes the tool's travel as even along the step; the smooth
+    motion through the samples is not quite, and passes the speed by a few per cent on a curve."""
+
+    def excess(frames: np.ndarray) -> float:
+        travel = np.linalg.norm(np.diff(forward(problem.arm, frames).tip, axis=0), axis=1)
+        return max(1.0, float(np.max(travel, initial=0.0)) * fps / goal.speed)
+
+    return excess
 
 
 def stray_frames(problem: Problem, solved: Trajectory, goal: Goal, first: int, stop: int) -> Callable[[Motion], np.ndarray]:
@@ -129,4 +142,4 @@ def path_reported(problem: Problem, report: GoalReport, trajectory: Trajectory) 
     return replace(report, path=replace(report.path, max_path_error=worst, mean_speed=report.path.done / seconds))
 
 
-__all__ = ["ALONG", "joined_timing", "part_path_speed", "path_reported", "stray_frames", "traced_paths"]
+__all__ = ["ALONG", "joined_timing", "part_path_speed", "path_reported", "stray_frames", "tool_speed_excess", "traced_paths"]

@@ -23,10 +23,17 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.clock import ClockTooLong, Motion
+from armanim.motion.clock import ClockTooLong, Excess, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.orientation import frame_orientations
-from armanim.motion.pathtiming import joined_timing, part_path_speed, path_reported, stray_frames, traced_paths
+from armanim.motion.pathtiming import (
+    joined_timing,
+    part_path_speed,
+    path_reported,
+    stray_frames,
+    tool_speed_excess,
+    traced_paths,
+)
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance, self_shift
@@ -132,6 +139,7 @@ class _Part:
     hold: int
     path_speed: np.ndarray | None = None
     strays: Callable[[Motion], np.ndarray] | None = None
+    excess: Excess | None = None
 
 
 def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: float, most_frames: float) -> list[Motion]:
@@ -143,7 +151,7 @@ def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: 
                 for p in parts]
     return goal_motions([solved.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
                         fps, safeties, most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts],
-                        [p.strays for p in parts])
+                        [p.strays for p in parts], [p.excess for p in parts])
 
 
 def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
@@ -160,7 +168,7 @@ def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
             split = piece.stop - 1 - along
             parts.append(_Part(g.index, slice(piece.start, split + 1), 0))
             parts.append(_Part(g.index, slice(split, piece.stop), hold, part_path_speed(problem, src, goal, split, piece.stop),
-                               stray_frames(problem, src, goal, split, piece.stop)))
+                               stray_frames(problem, src, goal, split, piece.stop), tool_speed_excess(problem, goal, out.fps)))
         else:
             parts.append(_Part(g.index, piece, hold))
         start += g.frames + (hold_frames(problem, goal) if g.reached else 0)
