@@ -198,13 +198,17 @@ def test_a_stack_of_jacobians_is_inverted_each_bit_for_bit_as_alone():
 
 def test_the_pseudo_inverse_is_eq20_of_gesdds_factors_bit_for_bit():
     # scipy.linalg.svd (the design card's solver) and numpy.linalg.svd both call LAPACK's
-    # gesdd: the factors, and so J+ = V D+ U^T and every trajectory, are the same bits
+    # gesdd: the factors, and so J+ = V D+ U^T and every trajectory, are the same bits; so does
+    # singular_factors, which calls scipy's gesdd wrapper directly
+    from scipy.linalg import svd as scipy_svd
+
     rng = np.random.default_rng(37)
     for _ in range(500):
         shape = (*rng.integers(1, 4, size=rng.integers(0, 2)), 3, int(rng.integers(1, 8)))
         jac = rng.normal(size=shape)
         jac[..., -1] *= rng.random() < 0.3  # some of them singular
         u, d, vt = np.linalg.svd(jac, full_matrices=False)
+        assert all(np.array_equal(a, b) for a, b in zip(scipy_svd(jac, full_matrices=False, lapack_driver="gesdd"), (u, d, vt)))
         keep = (d > PINV_RTOL * d[..., :1]) & (d[..., :1] > 0)
         inverse = np.where(keep, 1.0 / np.where(keep, d, 1.0), 0.0)
         expected = np.matmul(np.swapaxes(vt, -1, -2) * inverse[..., None, :], np.swapaxes(u, -1, -2))
