@@ -171,3 +171,91 @@ def test_bundled_matrices_are_what_the_rules_give():
     tool = Path(__file__).resolve().parents[2] / "tools" / "self_collision_matrix.py"
     done = subprocess.run([sys.executable, str(tool), "--check"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
+
+
+def random_segments(rng, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """``count`` random segments (rows of a-b), with parallel, collinear, crossing, touching and
+    zero-length ones among them (the cases the closed form leaves to the box form)."""
+    a = rng.normal(size=(count, 3))
+    b = a + rng.normal(size=(count, 3)) * rng.uniform(0.0, 1.5, (count, 1))
+    a[1], b[1] = a[0] + 0.3, b[0] + 0.3  # parallel to segment 0
+    a[2], b[2] = a[0] + 0.5 * (b[0] - a[0]), b[0] + 2.0 * (b[0] - a[0])  # collinear, overlapping 0
+    a[3], b[3] = a[0] + 0.5 * (b[0] - a[0]) - 0.5 * (b[4] - a[4]), a[0] + 0.5 * (b[0] - a[0]) + 0.5 * (b[4] - a[4])  # crosses 0
+    a[5], b[5] = b[0], b[0] + rng.normal(size=3)  # touches 0 at its end
+    b[6] = a[6]  # a point
+    return a, b
+
+
+def test_segment_segment_closed_form_equals_the_box_form():
+    # the fast form (Ericson's clamped closed form) and the box form (the capsule obstacles' own,
+    # kept for parallel and touching pairs) give the same closest points where those are unique
+    from armanim.world import compiled
+
+    rng = np.random.default_rng(53)
+    for _ in range(40):
+        a, b = random_segments(rng, 24)
+        first, second = (np.ascontiguousarray(v) for v in np.triu_indices(24, 1))
+        count = len(first)
+        fast = [np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))]
+        box = [np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))]
+        compiled.segment_segment_pairs(a, b, first, second, *fast)
+        compiled.segment_segment_boxes(a, b, first, second, *box)
+        assert np.allclose(fast[2], box[2], rtol=0, atol=1e-12)  # the distance, every pair
+        for k, (i, j) in enumerate(zip(first, second)):  # every closest pair of points realises it
+            p, q = a[i] + fast[0][k] * (b[i] - a[i]), a[j] + fast[1][k] * (b[j] - a[j])
+            assert np.linalg.norm(p - q) == pytest.approx(fast[2][k], abs=1e-12)
+        u, v = (b - a)[first], (b - a)[second]
+        cross2, lengths2 = (np.cross(u, v) ** 2).sum(axis=1), (u * u).sum(axis=1) * (v * v).sum(axis=1)
+        apart = (cross2 > 1e-3 * lengths2) & (box[2] > 1e-6)  # well apart from parallel and from touching
+        for out, ref in zip(fast[:2] + fast[3:], box[:2] + box[3:]):
+            assert np.allclose(out[apart], ref[apart], rtol=0, atol=1e-9)
+        parallel = ~(cross2 > compiled.PARALLEL * lengths2)
+        assert parallel.sum() >= 3
+        for out, ref in zip(fast, box):  # parallel pairs and points: the box form itself
+            assert np.array_equal(out[parallel], ref[parallel])
+
+
+def test_pair_jacobians_and_the_rows_test_agree_with_the_numpy_point_jacobians():
+    # the compiled J_A - J_B, its rows and the filter's test of a step against them, held to
+    # the numpy Jacobians of the two closest points (capsule_point_jacobian) on a Panda
+    from armanim.arm import kernel
+    from armanim.arm.capsules import capsule_point_jacobian
+    from armanim.scene.convert import scene_to_problem
+    from armanim.scene import scene_model
+    from armanim.world.selfdistances import self_jacobians, self_rows_met
+
+    problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.4, 0.0, 0.4]]}))
+    caps, pairs, arm = problem.capsules, problem.self_pairs, problem.arm
+    rng = np.random.default_rng(8)
+    decided = set()
+    for _ in range(60):
+        pose = kernel.forward(arm, rng.uniform(problem.limits.lower, problem.limits.upper))
+        gaps = self_gaps(pose, caps, pairs)
+        which = np.arange(len(pairs))
+        expected = (capsule_point_jacobian(arm, caps, pose, pairs.first, gaps.t) - capsule_point_jacobian(arm, caps, pose, pairs.second, gaps.s))
+        jac = self_jacobians(arm, caps, pose, pairs, gaps, which)
+        assert np.array_equal(jac, expected)
+        rows = self_rows(arm, caps, pose, pairs, gaps, which)
+        assert np.allclose(rows, np.einsum("ka,kan->kn", gaps.normal, expected), rtol=0, atol=1e-15)
+        step = rng.normal(0, 0.05, arm.n)
+        rooms = rng.uniform(-0.002, 0.3, len(pairs))
+        met = self_rows_met(arm, caps, pose, pairs, gaps, rooms, problem.pair_lever_rows, step, 1.0 + 1e-9, 1e-12, 1e-12)
+        assert met == bool(np.all(rows @ step >= -rooms - 1e-12))  # the bound only ever spares rows that hold
+        decided.add(met)
+    assert decided == {True, False}
+
+
+def test_one_pose_capsule_ends_equal_a_batchs_bit_for_bit():
+    # one pose's ends come from the compiled kernel, a batch's from numpy: the same sums in the same order
+    from armanim.scene.convert import scene_to_problem
+    from armanim.scene import scene_model
+
+    rng = np.random.default_rng(2)
+    for robot in ("panda", "ur5", "iiwa"):
+        problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0.0, 0.4]]}))
+        phis = rng.uniform(-3.0, 3.0, (50, problem.arm.n))
+        batch = forward(problem.arm, phis)
+        a, b = capsule_ends(problem.capsules, batch)
+        for k, phi in enumerate(phis):
+            one = forward(problem.arm, phi)
+            assert all(np.array_equal(x, y[k]) for x, y in zip(capsule_ends(problem.capsules, one), (a, b)))

@@ -116,16 +116,27 @@ def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray
 
 
 def _world_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`capsule_ends`, computed."""
+    """:func:`capsule_ends`, computed (one pose: by the compiled kernel, a batch: numpy)."""
     link = capsules.link
+    if pose.points.ndim == 2 and len(link):
+        from armanim.arm import kernel  # numba: one pose's ends were some 30 numpy calls (a frame asks for them)
+
+        return kernel.capsule_ends_one(link, capsules.start, capsules.end, capsules.joint_segment, pose.points, pose.frames)
     if capsules.joint_segment.all():
         return pose.points[..., link, :], pose.points[..., link + 1, :]
     origin = pose.points[..., link, :]
     frames = pose.frames[..., link, :, :]
-    a = origin + np.einsum("...cab,cb->...ca", frames, capsules.start)
-    b = origin + np.einsum("...cab,cb->...ca", frames, capsules.end)
+    a = origin + _rotated(frames, capsules.start)
+    b = origin + _rotated(frames, capsules.end)
     segment = capsules.joint_segment[:, None]
     return np.where(segment, origin, a), np.where(segment, pose.points[..., link + 1, :], b)
+
+
+def _rotated(frames: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """(..., c, 3) R_c x_c for frames (..., c, 3, 3) and points (c, 3), each row's sum in the
+    order the compiled kernel adds it (einsum's order is its own), so one pose's ends equal a
+    batch's bit for bit."""
+    return cast(np.ndarray, frames[..., 0] * x[:, None, 0] + frames[..., 1] * x[:, None, 1] + frames[..., 2] * x[:, None, 2])
 
 
 def capsule_point(capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray) -> np.ndarray:

@@ -291,3 +291,38 @@ def rotation_error(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
     """log(R_g R^T) (3,) for one goal rotation and one tool frame (3, 3): the residual of
     :func:`armanim.motion.orientation.orientation_residual`, in one compiled call."""
     return _error_to(np.ascontiguousarray(goal, dtype=float), np.ascontiguousarray(tool, dtype=float))
+
+
+@compiled(**_JIT)
+def _capsule_ends_one(points: np.ndarray, frames: np.ndarray, link: np.ndarray, start: np.ndarray, end: np.ndarray,
+                      joint_segment: np.ndarray, a: np.ndarray, b: np.ndarray) -> None:
+    """Every capsule's world ends of one pose into a, b (c, 3): p_k + R_k x, or the joint points
+    themselves for a joint-to-joint capsule (the sums in numpy's einsum order)."""
+    for c in range(link.shape[0]):
+        k = link[c]
+        if joint_segment[c]:
+            for i in range(3):
+                a[c, i] = points[k, i]
+                b[c, i] = points[k + 1, i]
+        else:
+            for i in range(3):
+                a[c, i] = points[k, i] + (frames[k, i, 0] * start[c, 0] + frames[k, i, 1] * start[c, 1] + frames[k, i, 2] * start[c, 2])
+                b[c, i] = points[k, i] + (frames[k, i, 0] * end[c, 0] + frames[k, i, 1] * end[c, 1] + frames[k, i, 2] * end[c, 2])
+
+
+def capsule_ends_one(link: np.ndarray, start: np.ndarray, end: np.ndarray, joint_segment: np.ndarray,
+                     points: np.ndarray, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """World ends a, b (c, 3) of capsules (``link`` (c,) int, ``start``/``end`` (c, 3) in their
+    joint's frame, ``joint_segment`` (c,) bool) at one pose (``points`` (n+1, 3), ``frames``
+    (n, 3, 3)): :func:`armanim.arm.capsules.capsule_ends` of one pose, compiled.
+
+    >>> arm = Arm.from_names([2, 5], base=(1, 0, 0))
+    >>> pose = forward(arm, np.zeros(2))
+    >>> a, b = capsule_ends_one(np.array([1]), np.zeros((1, 3)), np.array([[0.0, 0, 1]]), np.array([False]), pose.points, pose.frames)
+    >>> a.tolist(), b.tolist()
+    ([[1.0, 0.0, 2.0]], [[1.0, 0.0, 3.0]])
+    """
+    count = len(link)
+    a, b = np.empty((count, 3)), np.empty((count, 3))
+    _capsule_ends_one(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(frames, dtype=float), link, start, end, joint_segment, a, b)
+    return a, b

@@ -120,7 +120,7 @@ def total_cost(
         field = obstacle_field(cl.d, obstacles.influence)
         cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
     gaps = pair_gaps(problem, pose)
-    if gaps is not None:  # the arm's own pairs: the same field between two of its parts
+    if gaps is not None and np.any(gaps.least <= self_influence(problem)):  # the arm's own pairs: the same field between two of its parts (0 beyond R)
         cost = cost + s.w_obstacles * obstacle_field(gaps.d, self_influence(problem)).sum(axis=-1)
     return cost + s.w_limits * limit_barrier(phi, problem.limits)
 
@@ -151,6 +151,8 @@ def pair_gaps(problem: Problem, pose: Pose) -> SelfGaps | None:
 
 def self_cost_gradient(problem: Problem, pose: Pose, gaps: SelfGaps) -> np.ndarray:
     """Gradient (n,) of sum F_R(d) over the enabled pairs, one pose: F_R'(d) n . (J_A - J_B)."""
+    if not gaps.least <= self_influence(problem):  # every pair beyond the field's reach
+        return np.zeros(problem.arm.n)
     slope = obstacle_field_slope(gaps.d, self_influence(problem))
     which = np.nonzero(slope)[0]
     if not len(which):

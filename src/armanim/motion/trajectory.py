@@ -53,6 +53,8 @@ class _Recorder:
     mode: list[str] = field(default_factory=list)
     angle: list[float] = field(default_factory=list)
     path_s: list[float] = field(default_factory=list)
+    self_gap: list[float] = field(default_factory=list)
+    self_pair: list[int] = field(default_factory=list)
 
     def add(self, state: ArmState, goal: int, distance: float, iterations: int = 0, step_scale: float = 0.0,
             mode: str = "ik", angle: float | None = None, path_s: float = np.nan) -> None:
@@ -66,6 +68,9 @@ class _Recorder:
         self.mode.append(mode)
         self.angle.append(np.nan if angle is None else angle)
         self.path_s.append(path_s)
+        if state.self_gaps is not None:  # the filter measured this very pose's pairs
+            self.self_gap.append(state.min_self_gap)
+            self.self_pair.append(int(state.self_gaps.d.argmin()))
 
     def __len__(self) -> int:
         return len(self.phi)
@@ -367,7 +372,7 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
     phi, goal = np.array(rec.phi), np.array(rec.goal, dtype=int)
     path_s = np.array(rec.path_s) if any(g.path is not None for g in problem.goals) else None
     _, quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], phi, goal)
-    return with_self_clearance(problem, Trajectory(
+    traj = Trajectory(
         phi=np.array(rec.phi),
         tip=np.array(rec.tip),
         goal=np.array(rec.goal, dtype=int),
@@ -382,7 +387,10 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         tool_quaternion=quaternions,
         path_s=path_s,
         path_error=None if path_s is None else np.where(np.isnan(path_s), np.nan, distance),
-    ))
+    )
+    if len(problem.self_pairs) and len(rec.self_gap) == len(rec):  # every frame's pairs were measured in the loop
+        return replace(traj, self_clearance=np.array(rec.self_gap), self_pair=np.array(problem.self_pairs.labels)[rec.self_pair])
+    return with_self_clearance(problem, traj)
 
 
 __all__ = ["frame_budget", "goal_budget", "hold_frames", "solve_trajectory", "with_self_clearance"]

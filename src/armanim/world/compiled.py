@@ -197,13 +197,74 @@ def segment_box_pairs(a: np.ndarray, b: np.ndarray, centers: np.ndarray, half: n
         t[p], dist[p] = _pair(a[m], b[m], centers[k], half[k], rotations[k], s, normal[p])
 
 
+PARALLEL = 1e-10
+"""Two segments whose directions' cross product, squared, is this fraction of |d1|^2 |d2|^2 or
+less count as parallel: their closest points are not unique, and :func:`segment_segment_pairs`
+leaves them to the box form's tie rules."""
+
+
+@compiled(**_INLINE)
+def _segments_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray) -> tuple[float, float, float]:
+    """Closest points of segments i and j (rows of a-b) where they are unique and apart: (t on i,
+    s on j, distance), the unit normal from j's point to i's into ``normal``; distance -1 where
+    they are not (parallel, a segment of no length, or touching): the caller measures those by
+    the box form. The clamped closed form of Ericson, *Real-Time Collision Detection* 5.1.9."""
+    d10, d11, d12 = b[i, 0] - a[i, 0], b[i, 1] - a[i, 1], b[i, 2] - a[i, 2]
+    d20, d21, d22 = b[j, 0] - a[j, 0], b[j, 1] - a[j, 1], b[j, 2] - a[j, 2]
+    r0, r1, r2 = a[i, 0] - a[j, 0], a[i, 1] - a[j, 1], a[i, 2] - a[j, 2]
+    aa = d10 * d10 + d11 * d11 + d12 * d12
+    ee = d20 * d20 + d21 * d21 + d22 * d22
+    bb = d10 * d20 + d11 * d21 + d12 * d22
+    denom = aa * ee - bb * bb
+    if not (aa > 0.0 and ee > 0.0 and denom > PARALLEL * aa * ee):
+        return 0.0, 0.0, -1.0
+    c = d10 * r0 + d11 * r1 + d12 * r2
+    f = d20 * r0 + d21 * r1 + d22 * r2
+    t = _clamp((bb * f - c * ee) / denom, 0.0, 1.0)
+    s = (bb * t + f) / ee
+    if s < 0.0:
+        s = 0.0
+        t = _clamp(-c / aa, 0.0, 1.0)
+    elif s > 1.0:
+        s = 1.0
+        t = _clamp((bb - c) / aa, 0.0, 1.0)
+    g0 = r0 + t * d10 - s * d20
+    g1 = r1 + t * d11 - s * d21
+    g2 = r2 + t * d12 - s * d22
+    dist = np.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+    if not dist > TOUCHING:
+        return 0.0, 0.0, -1.0
+    normal[0], normal[1], normal[2] = g0 / dist, g1 / dist, g2 / dist
+    return t, s, dist
+
+
 @compiled(**_JIT)
 def segment_segment_pairs(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
     """Segment ``first[p]`` against segment ``second[p]`` (rows of a-b, (M, 3) each) for each pair
-    p, by the same segment-box closed form (:func:`_pair`): the second segment is a box of one
-    edge (half edges (length / 2, 0, 0) along it, as :meth:`armanim.world.obstacles.Rods.axes`
-    builds a capsule obstacle's axis). Fills t (the first's fraction), s_out (the second's
-    fraction of its point nearest the first's), dist (P,) and normal (P, 3) (out of the second)."""
+    p. Fills t (the first's fraction), s_out (the second's fraction of its point nearest the
+    first's), dist (P,) and normal (P, 3) (out of the second). Where the closest points are unique
+    and apart, by the segment-segment closed form (:func:`_segments_apart`, some 20 ns a pair);
+    else (parallel, touching) by the segment-box closed form (:func:`_pair`) with the second
+    segment as a box of one edge (half edges (length / 2, 0, 0) along it, as
+    :meth:`armanim.world.obstacles.Rods.axes` builds a capsule obstacle's axis), whose tie
+    rules and deepest point the capsule obstacles share."""
+    for p in range(first.shape[0]):
+        t[p], s_out[p], dist[p] = _segments_apart(a, b, first[p], second[p], normal[p])  # dist -1: left to the box form
+    segment_box_pairs_of_segments(a, b, first, second, t, s_out, dist, normal)
+
+
+@compiled(**_JIT)
+def segment_segment_boxes(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+    """:func:`segment_segment_pairs` by the segment-box closed form alone, every pair (the
+    reference the tests hold the segment-segment form to)."""
+    dist[:] = -1.0
+    segment_box_pairs_of_segments(a, b, first, second, t, s_out, dist, normal)
+
+
+@compiled(**_JIT)
+def segment_box_pairs_of_segments(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+    """The pairs whose ``dist`` is still negative (not measured yet), by the segment-box closed
+    form (:func:`segment_segment_pairs`)."""
     s = np.empty(SCRATCH)
     center = np.empty(3)
     half = np.zeros(3)
@@ -211,6 +272,8 @@ def segment_segment_pairs(a: np.ndarray, b: np.ndarray, first: np.ndarray, secon
     x = np.empty(3)
     y = np.empty(3)
     for p in range(first.shape[0]):
+        if dist[p] >= 0.0:
+            continue
         i, j = first[p], second[p]
         length2 = 0.0
         for c in range(3):
@@ -244,3 +307,85 @@ def segment_segment_pairs(a: np.ndarray, b: np.ndarray, first: np.ndarray, secon
             other = a[i, c] + tp * (b[i, c] - a[i, c]) - back * normal[p, c]
             along += (other - a[j, c]) * (b[j, c] - a[j, c])
         s_out[p] = _clamp(along / length2, 0.0, 1.0) if length2 > 0.0 else 0.0
+
+
+
+@compiled(**_INLINE)
+def _closest_points(a: np.ndarray, b: np.ndarray, i: int, j: int, t: float, s: float, qa: np.ndarray, qb: np.ndarray) -> None:
+    """The points at fraction t along segment i and s along segment j (rows of a-b) into qa, qb."""
+    for c in range(3):
+        qa[c] = a[i, c] + t * (b[i, c] - a[i, c])
+        qb[c] = a[j, c] + s * (b[j, c] - a[j, c])
+
+
+@compiled(**_INLINE)
+def _relative_column(points: np.ndarray, axes: np.ndarray, qa: np.ndarray, qb: np.ndarray, la: int, lb: int, m: int, col: np.ndarray) -> None:
+    """Column m of J_A - J_B into col (3,): w_m x (q_A - p_m) if joint m moves A (m <= la), less
+    w_m x (q_B - p_m) if it moves B (m <= lb)."""
+    w0, w1, w2 = axes[m, 0], axes[m, 1], axes[m, 2]
+    for c in range(3):
+        col[c] = 0.0
+    if m <= la:
+        l0, l1, l2 = qa[0] - points[m, 0], qa[1] - points[m, 1], qa[2] - points[m, 2]
+        col[0], col[1], col[2] = w1 * l2 - w2 * l1, w2 * l0 - w0 * l2, w0 * l1 - w1 * l0
+    if m <= lb:
+        l0, l1, l2 = qb[0] - points[m, 0], qb[1] - points[m, 1], qb[2] - points[m, 2]
+        col[0] -= w1 * l2 - w2 * l1
+        col[1] -= w2 * l0 - w0 * l2
+        col[2] -= w0 * l1 - w1 * l0
+
+
+@compiled(**_JIT)
+def pair_rows(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
+              t: np.ndarray, s: np.ndarray, normal: np.ndarray, which: np.ndarray, rows: np.ndarray) -> None:
+    """Rows n . (J_A - J_B) (k, n) of the capsule pairs ``which`` (k,) at one pose: A the point at
+    fraction t along capsule ``first[p]`` (segment a-b, (C, 3) each), B at s along ``second[p]``,
+    n the pair's normal (P, 3); column m of a point's Jacobian is w_m x (q - p_m) for the joints
+    m <= the capsule's ``link`` (``points`` (n+1, 3), world ``axes`` (n, 3)), 0 after."""
+    qa, qb, col = np.empty(3), np.empty(3), np.empty(3)
+    for r in range(which.shape[0]):
+        p = which[r]
+        _closest_points(a, b, first[p], second[p], t[p], s[p], qa, qb)
+        for m in range(axes.shape[0]):
+            _relative_column(points, axes, qa, qb, link[first[p]], link[second[p]], m, col)
+            rows[r, m] = normal[p, 0] * col[0] + normal[p, 1] * col[1] + normal[p, 2] * col[2]
+
+
+@compiled(**_JIT)
+def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
+                   t: np.ndarray, s: np.ndarray, which: np.ndarray, jac: np.ndarray) -> None:
+    """J_A - J_B (k, 3, n) of the capsule pairs ``which`` (k,) at one pose (the points and columns
+    of :func:`pair_rows`, before the normal)."""
+    qa, qb, col = np.empty(3), np.empty(3), np.empty(3)
+    for r in range(which.shape[0]):
+        p = which[r]
+        _closest_points(a, b, first[p], second[p], t[p], s[p], qa, qb)
+        for m in range(axes.shape[0]):
+            _relative_column(points, axes, qa, qb, link[first[p]], link[second[p]], m, col)
+            for c in range(3):
+                jac[r, c, m] = col[c]
+
+
+@compiled(**_JIT)
+def pair_rows_met(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
+                  t: np.ndarray, s: np.ndarray, normal: np.ndarray, rooms: np.ndarray, lever_rows: np.ndarray, step: np.ndarray,
+                  slack: float, extra: float, violation: float) -> bool:
+    """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room
+    (``rooms`` (P,)): a pair whose room is at least ``slack`` x its bound |dPhi| . ``lever_rows[p]``
+    plus ``extra`` meets it by that bound alone; any other has its row (:func:`pair_rows`)
+    computed and tested to ``violation``."""
+    qa, qb, col = np.empty(3), np.empty(3), np.empty(3)
+    for p in range(rooms.shape[0]):
+        bound = 0.0
+        for m in range(step.shape[0]):
+            bound += lever_rows[p, m] * abs(step[m])
+        if rooms[p] >= bound * slack + extra:
+            continue
+        _closest_points(a, b, first[p], second[p], t[p], s[p], qa, qb)
+        change = 0.0
+        for m in range(axes.shape[0]):
+            _relative_column(points, axes, qa, qb, link[first[p]], link[second[p]], m, col)
+            change += (normal[p, 0] * col[0] + normal[p, 1] * col[1] + normal[p, 2] * col[2]) * step[m]
+        if change < -rooms[p] - violation:
+            return False
+    return True

@@ -17,8 +17,8 @@ from typing import cast
 
 import numpy as np
 
-from armanim.arm.capsules import Capsules, capsule_ends, capsule_point
-from armanim.arm.kinematics import Arm, Pose, point_jacobian
+from armanim.arm.capsules import Capsules, capsule_ends
+from armanim.arm.kinematics import Arm, Pose, joint_axes_world
 
 
 @dataclass(frozen=True)
@@ -62,6 +62,14 @@ class SelfPairs:
     def __len__(self) -> int:
         return len(self.first)
 
+    def radii(self, capsules: Capsules) -> np.ndarray:
+        """(P,) the sum of each pair's two radii (a pair's gap is its segments' distance less this)."""
+        kept = self.__dict__.get("_radii")
+        if kept is None or kept[0] is not capsules:
+            kept = (capsules, capsules.radius[self.first] + capsules.radius[self.second])
+            object.__setattr__(self, "_radii", kept)  # a cache of a fact of the pairs and capsules
+        return cast(np.ndarray, kept[1])
+
 
 @dataclass(frozen=True)
 class SelfGaps:
@@ -84,8 +92,12 @@ class SelfGaps:
 
     @property
     def least(self) -> np.ndarray:
-        """(...) the smallest gap over the pairs (+inf when there is none)."""
-        return cast(np.ndarray, self.d.min(axis=-1, initial=np.inf))
+        """(...) the smallest gap over the pairs (+inf when there is none; computed once)."""
+        kept = self.__dict__.get("_least")
+        if kept is None:
+            kept = self.d.min(axis=-1, initial=np.inf)
+            object.__setattr__(self, "_least", kept)  # a cache of a fact of the gaps: the frame asks twice
+        return cast(np.ndarray, kept)
 
 
 def self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
@@ -112,6 +124,11 @@ def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
     from armanim.world import compiled
 
     a, b = capsule_ends(capsules, pose)
+    if a.ndim == 2 and len(pairs):  # one pose (every frame): the pairs as they are, no batch to lay out
+        count = len(pairs)
+        t, s, dist, normal = np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))
+        compiled.segment_segment_pairs(_rows(a), _rows(b), pairs.first, pairs.second, t, s, dist, normal)
+        return SelfGaps(dist - pairs.radii(capsules), t, s, normal)
     batch = a.shape[:-2]
     shape = batch + (len(pairs),)
     poses = int(np.prod(batch, dtype=int))
@@ -124,7 +141,7 @@ def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
     count = len(first)
     t, s, dist, normal = np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))
     compiled.segment_segment_pairs(_rows(a), _rows(b), first, second, t, s, dist, normal)
-    d = dist.reshape(shape) - (capsules.radius[pairs.first] + capsules.radius[pairs.second])
+    d = dist.reshape(shape) - pairs.radii(capsules)
     return SelfGaps(d, t.reshape(shape), s.reshape(shape), normal.reshape(shape + (3,)))
 
 
@@ -144,10 +161,42 @@ def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: 
     """(k, n) rows n . (J_A - J_B) of the pairs ``which`` (k,), one pose: how each pair's gap
     changes with the joint angles (the difference of the two closest points' Jacobians, along
     the normal)."""
+    from armanim.world import compiled
+
     which = np.asarray(which, dtype=int)
-    if not len(which):
-        return np.zeros((0, arm.n))
-    capsule = np.concatenate([pairs.first[which], pairs.second[which]])  # both ends of every pair in one call
-    jac = point_jacobian(arm, pose, capsules.link[capsule], capsule_point(capsules, pose, capsule, np.concatenate([gaps.t[which], gaps.s[which]])))
-    k = len(which)
-    return cast(np.ndarray, np.einsum("ka,kan->kn", gaps.normal[which], jac[:k] - jac[k:]))
+    rows = np.empty((len(which), arm.n))
+    if len(which):
+        compiled.pair_rows(*_pair_inputs(arm, capsules, pose, pairs, gaps), np.ascontiguousarray(gaps.normal), which, rows)
+    return rows
+
+
+def self_rows_met(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, rooms: np.ndarray, lever_rows: np.ndarray,
+                  step: np.ndarray, slack: float, extra: float, violation: float) -> bool:
+    """Whether the step ``step`` (n,) meets every pair's row of :func:`self_rows`, rows . step >=
+    -``rooms`` (P,) to ``violation``, one pose: the pairs whose room is at least ``slack`` x
+    |step| . ``lever_rows`` (P, n) + ``extra`` by that bound alone, the others by their rows
+    (computed only for them, in one compiled call)."""
+    from armanim.world import compiled
+
+    return bool(compiled.pair_rows_met(*_pair_inputs(arm, capsules, pose, pairs, gaps), np.ascontiguousarray(gaps.normal), rooms, lever_rows,
+                                       np.ascontiguousarray(step, dtype=float), slack, extra, violation))
+
+
+def self_jacobians(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which: np.ndarray) -> np.ndarray:
+    """(k, 3, n) J_A - J_B of the pairs ``which`` (k,), one pose: how fast the first capsule's
+    closest point moves away from the second's (the rows of :func:`self_rows` before the normal)."""
+    from armanim.world import compiled
+
+    which = np.asarray(which, dtype=int)
+    jac = np.empty((len(which), 3, arm.n))
+    if len(which):
+        compiled.pair_jacobians(*_pair_inputs(arm, capsules, pose, pairs, gaps), which, jac)
+    return jac
+
+
+def _pair_inputs(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps) -> tuple[np.ndarray, ...]:
+    """The arrays the compiled pair Jacobians read: joint points, world axes, capsule ends, the
+    capsules' links, the pairs and their closest points' fractions."""
+    a, b = capsule_ends(capsules, pose)
+    return (_rows(pose.points), _rows(joint_axes_world(arm, pose)), _rows(a), _rows(b), capsules.link,
+            pairs.first, pairs.second, gaps.t, gaps.s)

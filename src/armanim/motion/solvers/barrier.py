@@ -37,7 +37,7 @@ from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState, arm_state
 from armanim.names import Blocker
 from armanim.world.distances import min_link_clearance
-from armanim.world.selfdistances import self_gaps, self_rows
+from armanim.world.selfdistances import self_gaps, self_rows, self_rows_met
 
 NO_BOUND = 1e30  # DAQP's "no upper bound"
 VIOLATION = 1e-12
@@ -289,7 +289,9 @@ def clearly_allowed(problem: Problem, state: ArmState, nominal: np.ndarray,
     Within the joint bounds, and every gap far enough from its target for the step: an obstacle
     row n . J_q dPhi is at least -sum_j |dPhi_j| l_j (l: ``problem.lever_arms``, each column of
     J_q is w_j x (q - p_j), no longer than l_j), a pair's row at least -|dPhi| . its
-    ``pair_lever_rows``; the row holds when gamma (d - d_target) is at least that much.
+    ``pair_lever_rows``; the row holds when gamma (d - d_target) is at least that much. A pair
+    the bound leaves in doubt has its row computed (compiled, a few microseconds) and tested as
+    :meth:`Constraints.violated_by` tests it.
     ``bounds``: :func:`joint_bounds` at ``state``, when the caller has them.
     """
     lo, hi = joint_bounds(problem, state.phi) if bounds is None else bounds
@@ -304,8 +306,8 @@ def clearly_allowed(problem: Problem, state: ArmState, nominal: np.ndarray,
             return False
     if state.self_gaps is not None:  # the joints that move both capsules alike add rounding alone
         rooms = gamma * (state.self_gaps.d - kept_self_clearance(problem))
-        if not np.all(rooms >= (problem.pair_lever_rows @ np.abs(nominal)) * slack + BOUND_SLACK * travel + 1e-12):
-            return False
+        return self_rows_met(problem.arm, problem.capsules, state.pose, problem.self_pairs, state.self_gaps, rooms,
+                             problem.pair_lever_rows, nominal, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
     return True
 
 

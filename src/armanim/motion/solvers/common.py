@@ -12,7 +12,7 @@ from armanim.arm.capsules import capsule_point, capsule_point_jacobian
 from armanim.arm.kinematics import Pose, forward, link_point, numeric_jacobian, tip_jacobian
 from armanim.motion.problem import Problem
 from armanim.world.distances import Clearances, clearances
-from armanim.world.selfdistances import SelfGaps, self_gaps
+from armanim.world.selfdistances import SelfGaps, self_gaps, self_jacobians
 
 
 @dataclass(frozen=True)
@@ -131,6 +131,8 @@ def self_pair_jacobians(problem: Problem, phi: np.ndarray, pose: Pose, gaps: Sel
     """(k, 3, n) J_A - J_B of the enabled pairs ``which`` (k,): how fast the first capsule's
     closest point moves away from the second's (analytic, or as ``solver.jacobian`` says)."""
     pairs = problem.self_pairs
+    if problem.solver.jacobian != "numeric":
+        return self_jacobians(problem.arm, problem.capsules, pose, pairs, gaps, which)
     first = jacobian_of_capsule_point(problem, phi, pose, pairs.first[which], gaps.t[which])
     second = jacobian_of_capsule_point(problem, phi, pose, pairs.second[which], gaps.s[which])
     return cast(np.ndarray, first - second)
