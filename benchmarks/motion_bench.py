@@ -118,7 +118,8 @@ def parse_args(argv=None) -> argparse.Namespace:
                              "shapes or robot-shapes (issue 22: tables, shelves, walls with a gap, posts, a floor; coal oracle)")
     parser.add_argument("--timing-rounds", type=int, default=1, metavar="R",
                         help="shape families: time each solve and its spheres-only twin's R times in turn and keep the "
-                             "best of each (default 1; 3 steadies the ratio on a shared machine)")
+                             "best of each; self family: the same with self_collision auto and off "
+                             "(default 1; 3 steadies the ratio on a shared machine)")
     parser.add_argument("--quick", action="store_true", help="8 scenes, for development")
     parser.add_argument("--list-misses", action="store_true", help="print every feasible goal that was missed")
     parser.add_argument("--dump-scene", nargs=2, metavar=("K", "DIR"), help="write scene K as YAML into DIR and exit")

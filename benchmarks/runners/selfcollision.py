@@ -39,7 +39,7 @@ def self_breaks(problem, trajectory, gaps: np.ndarray) -> list[str]:
 def self_family(args) -> int:
     """``--family self``: per robot and method, goals reached (of the oracle-feasible ones), frames with
     an enabled pair under self_clearance and invariants broken, with self_collision auto and off, and
-    the CPU time per frame of each."""
+    the CPU time per frame of each (the best of ``--timing-rounds``, the two modes solved in turn)."""
     import tempfile
 
     from armanim.world.selfdistances import SelfPairs
@@ -61,8 +61,14 @@ def self_family(args) -> int:
             problem = self_scene_problem(robot, folder, [[float(v) for v in t] for t in tips])
             for method in args.methods:
                 on = replace(problem, solver=replace(problem.solver, method=method))
-                for mode, prob in (("auto", on), ("off", replace(on, self_pairs=SelfPairs.none()))):
+                modes = (("auto", on), ("off", replace(on, self_pairs=SelfPairs.none())))
+                best = {"auto": np.inf, "off": np.inf}
+                for _ in range(args.timing_rounds - 1):  # --timing-rounds: the two modes in turn, the best CPU time of each
+                    for mode, prob in modes:
+                        best[mode] = min(best[mode], timed_solve(prob)[3])
+                for mode, prob in modes:
                     solution, _, _, cpu = timed_solve(prob)
+                    cpu = min(cpu, best[mode])
                     gaps = coal_pair_gaps(problem, solution.trajectory.phi)
                     row = rows[(robot, method, mode)]
                     row["goals"] += len(poses)

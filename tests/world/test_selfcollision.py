@@ -220,8 +220,8 @@ def test_pair_jacobians_and_the_rows_test_agree_with_the_numpy_point_jacobians()
     # the numpy Jacobians of the two closest points (capsule_point_jacobian) on a Panda
     from armanim.arm import kernel
     from armanim.arm.capsules import capsule_point_jacobian
-    from armanim.scene.convert import scene_to_problem
     from armanim.scene import scene_model
+    from armanim.scene.convert import scene_to_problem
     from armanim.world.selfdistances import self_jacobians, self_rows_met
 
     problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.4, 0.0, 0.4]]}))
@@ -238,8 +238,9 @@ def test_pair_jacobians_and_the_rows_test_agree_with_the_numpy_point_jacobians()
         rows = self_rows(arm, caps, pose, pairs, gaps, which)
         assert np.allclose(rows, np.einsum("ka,kan->kn", gaps.normal, expected), rtol=0, atol=1e-15)
         step = rng.normal(0, 0.05, arm.n)
-        rooms = rng.uniform(-0.002, 0.3, len(pairs))
-        met = self_rows_met(arm, caps, pose, pairs, gaps, rooms, problem.pair_lever_rows, step, 1.0 + 1e-9, 1e-12, 1e-12)
+        target, gamma = rng.uniform(-0.2, 0.1), rng.uniform(0.1, 1.0)
+        rooms = gamma * (gaps.d - target)
+        met = self_rows_met(arm, caps, pose, pairs, gaps, target, gamma, problem.pair_lever_rows, step, 1.0 + 1e-9, 1e-12, 1e-12)
         assert met == bool(np.all(rows @ step >= -rooms - 1e-12))  # the bound only ever spares rows that hold
         decided.add(met)
     assert decided == {True, False}
@@ -247,8 +248,8 @@ def test_pair_jacobians_and_the_rows_test_agree_with_the_numpy_point_jacobians()
 
 def test_one_pose_capsule_ends_equal_a_batchs_bit_for_bit():
     # one pose's ends come from the compiled kernel, a batch's from numpy: the same sums in the same order
-    from armanim.scene.convert import scene_to_problem
     from armanim.scene import scene_model
+    from armanim.scene.convert import scene_to_problem
 
     rng = np.random.default_rng(2)
     for robot in ("panda", "ur5", "iiwa"):

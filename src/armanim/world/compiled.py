@@ -254,6 +254,23 @@ def segment_segment_pairs(a: np.ndarray, b: np.ndarray, first: np.ndarray, secon
 
 
 @compiled(**_JIT)
+def capsule_pair_gaps(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, radii: np.ndarray,
+                      t: np.ndarray, s_out: np.ndarray, gap: np.ndarray, normal: np.ndarray) -> float:
+    """:func:`segment_segment_pairs`, less each pair's two ``radii`` (P,): the capsules' gaps into
+    ``gap``; returns the least (NaN if any is)."""
+    segment_segment_pairs(a, b, first, second, t, s_out, gap, normal)
+    least = np.inf
+    for p in range(gap.shape[0]):
+        gap[p] -= radii[p]
+        if gap[p] < least or gap[p] != gap[p]:
+            least = gap[p]
+    for p in range(gap.shape[0]):  # numpy's min: a NaN anywhere is the least
+        if gap[p] != gap[p]:
+            least = gap[p]
+    return least
+
+
+@compiled(**_JIT)
 def segment_segment_boxes(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
     """:func:`segment_segment_pairs` by the segment-box closed form alone, every pair (the
     reference the tests hold the segment-segment form to)."""
@@ -368,24 +385,25 @@ def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nd
 
 @compiled(**_JIT)
 def pair_rows_met(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
-                  t: np.ndarray, s: np.ndarray, normal: np.ndarray, rooms: np.ndarray, lever_rows: np.ndarray, step: np.ndarray,
-                  slack: float, extra: float, violation: float) -> bool:
-    """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room
-    (``rooms`` (P,)): a pair whose room is at least ``slack`` x its bound |dPhi| . ``lever_rows[p]``
-    plus ``extra`` meets it by that bound alone; any other has its row (:func:`pair_rows`)
-    computed and tested to ``violation``."""
+                  t: np.ndarray, s: np.ndarray, normal: np.ndarray, gap: np.ndarray, target: float, gamma: float, lever_rows: np.ndarray,
+                  step: np.ndarray, slack: float, extra: float, violation: float) -> bool:
+    """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room,
+    room = gamma (gap - target) (``gap`` (P,)): a pair whose room is at least ``slack`` x its
+    bound |dPhi| . ``lever_rows[p]`` plus ``extra`` meets it by that bound alone; any other has
+    its row (:func:`pair_rows`) computed and tested to ``violation``."""
     qa, qb, col = np.empty(3), np.empty(3), np.empty(3)
-    for p in range(rooms.shape[0]):
+    for p in range(gap.shape[0]):
+        room = gamma * (gap[p] - target)
         bound = 0.0
         for m in range(step.shape[0]):
             bound += lever_rows[p, m] * abs(step[m])
-        if rooms[p] >= bound * slack + extra:
+        if room >= bound * slack + extra:
             continue
         _closest_points(a, b, first[p], second[p], t[p], s[p], qa, qb)
         change = 0.0
         for m in range(axes.shape[0]):
             _relative_column(points, axes, qa, qb, link[first[p]], link[second[p]], m, col)
             change += (normal[p, 0] * col[0] + normal[p, 1] * col[1] + normal[p, 2] * col[2]) * step[m]
-        if change < -rooms[p] - violation:
+        if change < -room - violation:
             return False
     return True

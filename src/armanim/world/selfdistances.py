@@ -126,9 +126,11 @@ def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
     a, b = capsule_ends(capsules, pose)
     if a.ndim == 2 and len(pairs):  # one pose (every frame): the pairs as they are, no batch to lay out
         count = len(pairs)
-        t, s, dist, normal = np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))
-        compiled.segment_segment_pairs(_rows(a), _rows(b), pairs.first, pairs.second, t, s, dist, normal)
-        return SelfGaps(dist - pairs.radii(capsules), t, s, normal)
+        t, s, gap, normal = np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))
+        least = compiled.capsule_pair_gaps(_rows(a), _rows(b), pairs.first, pairs.second, pairs.radii(capsules), t, s, gap, normal)
+        gaps = SelfGaps(gap, t, s, normal)
+        object.__setattr__(gaps, "_least", np.float64(least))  # the kernel found it: SelfGaps.least need not look again
+        return gaps
     batch = a.shape[:-2]
     shape = batch + (len(pairs),)
     poses = int(np.prod(batch, dtype=int))
@@ -146,7 +148,9 @@ def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
 
 
 def _rows(v: np.ndarray) -> np.ndarray:
-    """(..., 3) points as C-contiguous (N, 3) float rows."""
+    """(..., 3) points as C-contiguous (N, 3) float rows (``v`` itself when it is already)."""
+    if v.ndim == 2 and v.dtype == np.float64 and v.flags.c_contiguous:  # one pose's arrays, every frame
+        return v
     return np.ascontiguousarray(v, dtype=float).reshape(-1, 3)
 
 
@@ -166,20 +170,20 @@ def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: 
     which = np.asarray(which, dtype=int)
     rows = np.empty((len(which), arm.n))
     if len(which):
-        compiled.pair_rows(*_pair_inputs(arm, capsules, pose, pairs, gaps), np.ascontiguousarray(gaps.normal), which, rows)
+        compiled.pair_rows(*_pair_inputs(arm, capsules, pose, pairs, gaps), gaps.normal, which, rows)
     return rows
 
 
-def self_rows_met(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, rooms: np.ndarray, lever_rows: np.ndarray,
-                  step: np.ndarray, slack: float, extra: float, violation: float) -> bool:
+def self_rows_met(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, target: float, gamma: float,
+                  lever_rows: np.ndarray, step: np.ndarray, slack: float, extra: float, violation: float) -> bool:
     """Whether the step ``step`` (n,) meets every pair's row of :func:`self_rows`, rows . step >=
-    -``rooms`` (P,) to ``violation``, one pose: the pairs whose room is at least ``slack`` x
-    |step| . ``lever_rows`` (P, n) + ``extra`` by that bound alone, the others by their rows
-    (computed only for them, in one compiled call)."""
+    -room with room = ``gamma`` (gap - ``target``), to ``violation``, one pose: the pairs whose room
+    is at least ``slack`` x |step| . ``lever_rows`` (P, n) + ``extra`` by that bound alone, the
+    others by their rows (computed only for them; all in one compiled call)."""
     from armanim.world import compiled
 
-    return bool(compiled.pair_rows_met(*_pair_inputs(arm, capsules, pose, pairs, gaps), np.ascontiguousarray(gaps.normal), rooms, lever_rows,
-                                       np.ascontiguousarray(step, dtype=float), slack, extra, violation))
+    return bool(compiled.pair_rows_met(*_pair_inputs(arm, capsules, pose, pairs, gaps), gaps.normal, gaps.d, float(target), float(gamma),
+                                       lever_rows, np.ascontiguousarray(step, dtype=float), slack, extra, violation))
 
 
 def self_jacobians(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which: np.ndarray) -> np.ndarray:

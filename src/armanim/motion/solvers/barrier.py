@@ -305,9 +305,8 @@ def clearly_allowed(problem: Problem, state: ArmState, nominal: np.ndarray,
         if not room >= travel * slack + 1e-12:
             return False
     if state.self_gaps is not None:  # the joints that move both capsules alike add rounding alone
-        rooms = gamma * (state.self_gaps.d - kept_self_clearance(problem))
-        return self_rows_met(problem.arm, problem.capsules, state.pose, problem.self_pairs, state.self_gaps, rooms,
-                             problem.pair_lever_rows, nominal, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
+        return self_rows_met(problem.arm, problem.capsules, state.pose, problem.self_pairs, state.self_gaps, kept_self_clearance(problem),
+                             gamma, problem.pair_lever_rows, nominal, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
     return True
 
 

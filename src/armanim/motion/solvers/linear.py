@@ -140,7 +140,7 @@ def linear_step(
                 pushed = next(inverses) @ v
                 secondary = pushed if secondary is None else secondary + pushed
     gaps = state.self_gaps
-    if gaps is not None and np.any(gaps.d < self_influence(problem)):  # the arm's own pairs: pushed apart along their normal
+    if gaps is not None and gaps.least < self_influence(problem):  # the arm's own pairs: pushed apart along their normal
         push = s.beta * s.w_obstacles * repulsion(gaps.d, self_influence(problem))
         which = np.nonzero(push)[0]
         if len(which):
