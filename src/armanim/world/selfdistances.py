@@ -198,7 +198,10 @@ def self_jacobians(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, g
     return jac
 
 
-def _pair_inputs(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps) -> tuple[np.ndarray, ...]:
+_PairInputs = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def _pair_inputs(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps) -> _PairInputs:
     """The arrays the compiled pair Jacobians read: joint points, world axes, capsule ends, the
     capsules' links, the pairs and their closest points' fractions."""
     a, b = capsule_ends(capsules, pose)
