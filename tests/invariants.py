@@ -24,7 +24,7 @@ def small_planning_budget(problem: Problem, share: int = 30, seed_share: int = 4
     """``problem`` with the planner's RRT budget divided by ``share``, and its goal poses' random
     starts by ``seed_share`` (``problem.tunables``).
 
-    A random goal with no path spends the whole budget (4 x 15,000 RRT iterations, up to a
+    A random goal with no path spends the whole budget (3 x 15,000 RRT iterations, up to a
     minute) before it is reported, and planning (the goal poses from 128 starts, then RRT)
     took most of a random scene's solve; a thirtieth of the one and a quarter of the other
     test the same invariants, and benchmarks/motion_bench.py measures what the whole budget finds.

@@ -155,7 +155,7 @@ def plan_iterations(planner: PlannerOptions = DEFAULTS.planner) -> int:
     """The most RRT-Connect iterations one :func:`plan_path` may take with ``planner``
     (``problem.tunables.planner``): it searches at two floors.
 
-    >>> plan_iterations() == 2 * DEFAULTS.planner.ompl_searches * DEFAULTS.planner.ompl_iterations
+    >>> plan_iterations() == (DEFAULTS.planner.settle_searches + DEFAULTS.planner.ompl_searches) * DEFAULTS.planner.ompl_iterations
     True
     """
     return planner.plan_iterations
@@ -196,8 +196,9 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
 
 
 def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, tick: Callable[[int], None] | None) -> JointPath:
-    """:func:`plan_path`'s search: with room to settle first, then at the planning floor;
-    ``tick(done)`` counts the iterations of both searches, the second from half :func:`plan_iterations`."""
+    """:func:`plan_path`'s search: with room to settle first (``settle_searches`` searches), then
+    at the planning floor (``ompl_searches``); ``tick(done)`` counts the iterations of both, the
+    second's after the first's whole budget."""
     room = settle_clearance(problem)
     roomy = goals[pose_clearance(problem, goals) >= room]
     begin: np.ndarray | None = start
@@ -205,30 +206,31 @@ def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, 
     if len(roomy) and pose_clearance(problem, start)[0] < room:
         begin, checks = escape_pose(problem, start, room)
     if len(roomy) and begin is not None:
-        waypoints, source, used = search_path(problem, begin, roomy, room, tick)
+        waypoints, source, used = search_path(problem, begin, roomy, room, tick, searches=problem.tunables.planner.settle_searches)
         checks += used
         if waypoints is not None:
             head = [start] if begin is not start else []
             return JointPath(np.concatenate([np.array(head).reshape(-1, len(start)), waypoints]), source, checks)
     waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start), tick,
-                                          first=problem.tunables.planner.ompl_searches)
+                                          first=problem.tunables.planner.settle_searches)
     return JointPath(waypoints, source, checks + used)
 
 
 def search_path(
     problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
-    tick: Callable[[int], None] | None = None, first: int = 0,
+    tick: Callable[[int], None] | None = None, first: int = 0, searches: int | None = None,
 ) -> tuple[np.ndarray | None, PathSource, int]:
     """(waypoints or None, source, checks): the straight segment to one of the first goals,
-    else RRT-Connect to any of them, every pose at least ``floor`` from every obstacle.
-    ``tick(done)`` is told the iterations, counted as though ``first`` searches had run before."""
+    else RRT-Connect to any of them (``searches`` searches, default ``ompl_searches``), every
+    pose at least ``floor`` from every obstacle. ``tick(done)`` is told the iterations, counted
+    as though ``first`` searches had run before."""
     checks, opts = 0, problem.tunables.planner
     for goal in goals[:opts.straight_tries]:
         free, used = motion_is_free(problem, start, goal, floor)
         checks += used
         if free:
             return np.stack([start, goal]), "straight", checks
-    for search in range(opts.ompl_searches):
+    for search in range(opts.ompl_searches if searches is None else searches):
         before = (first + search) * opts.ompl_iterations
         counted = (lambda done, before=before: tick(before + done)) if tick else None
         waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted)
