@@ -1,6 +1,6 @@
 """Path goals against an independent oracle (issue 39).
 
-    python benchmarks/path_bench.py [--paths 100] [--seed 0] [--quick]
+    python benchmarks/path_bench.py [--paths 100] [--seed 0] [--quick] [--cases 3,84] [--rows FILE]
 
 Seeded random lines and arcs of 10-40 cm (:mod:`generators.paths`) on a bundled Panda and UR5
 (alternately), the tool pointing down all along, among 0-4 spheres (drawn again until armanim's
@@ -24,6 +24,7 @@ Needs pinocchio (``pip install -e .[test]``).
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from dataclasses import replace
@@ -102,12 +103,19 @@ def main() -> None:
     parser.add_argument("--paths", type=int, default=100)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--quick", action="store_true", help="10 paths")
+    parser.add_argument("--cases", help="only these case indices (comma-separated), drawn as in the full run")
+    parser.add_argument("--rows", type=Path, help="write every case's row here (JSON lines)")
     args = parser.parse_args()
     count = 10 if args.quick else args.paths
+    only = None if args.cases is None else {int(c) for c in args.cases.split(",")}
+    if only is not None:
+        count = max(count, max(only) + 1)
     rng = np.random.default_rng(args.seed)
     rows = []
     for i in range(count):
         case = drawn_case(rng, ("panda", "ur5")[i % 2])
+        if only is not None and i not in only:
+            continue
         problem = case_problem(case)
         geo = robot_geometry(case.robot, case.centers, case.radii, clearance=problem.solver.clearance)
         dense = case.path.points(np.linspace(0, case.path.length, int(case.path.length / STEP) + 2))
@@ -126,6 +134,9 @@ def main() -> None:
               f"(kept floors {kept:.3f})  "
               f"armanim {row['fraction']:.3f} ({row['reason'] or 'whole'}{'/' + row['cause'] if row['cause'] else ''})  "
               f"worst {row['worst'] * 1e3:.3f} mm  over {row['over']}  {seconds:.2f} s", flush=True)
+        if args.rows is not None:
+            with args.rows.open("a") as out:
+                out.write(json.dumps(row) + "\n")
     report(rows)
 
 
