@@ -196,20 +196,24 @@ def tip_of(geo, phi: np.ndarray) -> np.ndarray:
     return geo.tip(phi) if isinstance(geo, RobotGeometry) else joint_points(geo, phi)[..., -1, :]
 
 
-def coal_pair_gaps(problem, phi: np.ndarray) -> np.ndarray:
-    """(F,) the least gap of any enabled pair at each pose, by coal (capsules placed by the arm's
-    forward kinematics; coal measures the distance)."""
+def coal_pair_gaps(problem, phi: np.ndarray, which: np.ndarray | None = None) -> np.ndarray:
+    """(F,) the least gap of any enabled pair (or of the enabled pairs ``which`` indexes) at each
+    pose, by coal (capsules placed by the arm's forward kinematics; coal measures the distance)."""
     import coal
 
     from armanim.arm.capsules import capsule_ends
 
     pairs, caps = problem.self_pairs, problem.capsules
+    first, second = np.asarray(pairs.first), np.asarray(pairs.second)
+    if which is not None:
+        first, second = first[which], second[which]
     a, b = capsule_ends(caps, forward(problem.arm, np.atleast_2d(phi)))
     out = np.full(len(a), np.inf)
     request = coal.DistanceRequest()
+    used = sorted(set(first.tolist()) | set(second.tolist()))
     for f in range(len(a)):
-        shapes = [coal_capsule(a[f, k], b[f, k], float(caps.radius[k])) for k in range(len(caps))]
-        for i, j in zip(pairs.first, pairs.second):
+        shapes = {k: coal_capsule(a[f, k], b[f, k], float(caps.radius[k])) for k in used}
+        for i, j in zip(first, second):
             result = coal.DistanceResult()
             out[f] = min(out[f], coal.distance(*shapes[i], *shapes[j], request, result))
     return out

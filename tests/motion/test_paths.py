@@ -210,3 +210,28 @@ def test_ur5_lines_are_followed_or_reported_never_left(start, direction, length)
         np.testing.assert_allclose(report.path.stop_point, solution.trajectory.tip[report.last_frame], atol=1e-9)
     else:  # the path's start was missed: nothing followed
         assert report.path.done == 0.0 and not len(at_frames)
+
+
+def test_a_path_held_by_the_arms_own_links_near_a_limit_goes_on_without_the_limits_push():
+    """The path benchmark's Panda line #84: the limits' push turns joint 2 off its limit through the
+    null space and folds links 2 and 4 onto each other (the pair at the filter's floor at 12 %); the
+    follow without that push gets farther (the benchmark's oracle, with the filter's floors, 15 %),
+    every sample inside the limits' buffer and its pairs at the filter's floor."""
+    from armanim.motion.following import follow_path, followed_route
+    from armanim.motion.solvers import arm_state, solver_method
+    from armanim.motion.solvers.barrier import kept_self_clearance
+
+    start, end = [0.30158668, -0.01074863, 0.32955472], [0.15908835, 0.16129915, 0.26926259]
+    scene = scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [start],
+                         "solver": {"tolerance": 0.005, "clearance": 0.02}})
+    problem = line_problem(scene_to_problem(scene), start, end, speed=0.1, orientation=DOWN)
+    goal, method = problem.goals[0], solver_method(problem.solver.method)
+    state = arm_state(problem, np.array([1.44345069, -1.73183633, -0.89259486, -2.6416177, -1.0252013, 1.1178677, 1.20406574]))
+    pushed = follow_path(problem, method, state, goal)
+    assert pushed.cause == "self_collision" and pushed.s[-1] / goal.path.length < 0.125
+    followed = followed_route(problem, method, state, goal).followed
+    assert followed.s[-1] / goal.path.length > 0.13
+    phi = np.array([s.phi for s in followed.states])
+    buffer = limit_buffer(problem) * (1 - 1e-9)
+    assert np.all(phi >= problem.limits.lower + buffer) and np.all(phi <= problem.limits.upper - buffer)
+    assert min(s.min_self_gap for s in followed.states) >= kept_self_clearance(problem) - 1e-9
