@@ -359,13 +359,20 @@ def pair_rows(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray
     fraction t along capsule ``first[p]`` (segment a-b, (C, 3) each), B at s along ``second[p]``,
     n the pair's normal (P, 3); column m of a point's Jacobian is w_m x (q - p_m) for the joints
     m <= the capsule's ``link`` (``points`` (n+1, 3), world ``axes`` (n, 3)), 0 after."""
-    qa, qb, col = np.empty(3), np.empty(3), np.empty(3)
+    scratch = np.empty(9)
     for r in range(which.shape[0]):
-        p = which[r]
-        _closest_points(a, b, first[p], second[p], t[p], s[p], qa, qb)
-        for m in range(axes.shape[0]):
-            _relative_column(points, axes, qa, qb, link[first[p]], link[second[p]], m, col)
-            rows[r, m] = normal[p, 0] * col[0] + normal[p, 1] * col[1] + normal[p, 2] * col[2]
+        _pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], scratch, rows[r])
+
+
+@compiled(**_INLINE)
+def _pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
+              t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int, scratch: np.ndarray, row: np.ndarray) -> None:
+    """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`); ``scratch``: (9,) work space."""
+    qa, qb, col = scratch[0:3], scratch[3:6], scratch[6:9]
+    _closest_points(a, b, first[p], second[p], t[p], s[p], qa, qb)
+    for m in range(axes.shape[0]):
+        _relative_column(points, axes, qa, qb, link[first[p]], link[second[p]], m, col)
+        row[m] = normal[p, 0] * col[0] + normal[p, 1] * col[1] + normal[p, 2] * col[2]
 
 
 @compiled(**_JIT)
@@ -391,7 +398,7 @@ def pair_rows_met(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nda
     room = gamma (gap - target) (``gap`` (P,)): a pair whose room is at least ``slack`` x its
     bound |dPhi| . ``lever_rows[p]`` plus ``extra`` meets it by that bound alone; any other has
     its row (:func:`pair_rows`) computed and tested to ``violation``."""
-    qa, qb, col = np.empty(3), np.empty(3), np.empty(3)
+    scratch, row = np.empty(9), np.empty(step.shape[0])
     for p in range(gap.shape[0]):
         room = gamma * (gap[p] - target)
         bound = 0.0
@@ -399,11 +406,10 @@ def pair_rows_met(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nda
             bound += lever_rows[p, m] * abs(step[m])
         if room >= bound * slack + extra:
             continue
-        _closest_points(a, b, first[p], second[p], t[p], s[p], qa, qb)
+        _pair_row(points, axes, a, b, link, first, second, t, s, normal, p, scratch, row)
         change = 0.0
-        for m in range(axes.shape[0]):
-            _relative_column(points, axes, qa, qb, link[first[p]], link[second[p]], m, col)
-            change += (normal[p, 0] * col[0] + normal[p, 1] * col[1] + normal[p, 2] * col[2]) * step[m]
+        for m in range(step.shape[0]):
+            change += row[m] * step[m]
         if change < -room - violation:
             return False
     return True
