@@ -247,7 +247,9 @@ def test_pair_jacobians_and_the_rows_test_agree_with_the_numpy_point_jacobians()
 
 
 def test_one_pose_capsule_ends_equal_a_batchs_bit_for_bit():
-    # one pose's ends come from the compiled kernel, a batch's from numpy: the same sums in the same order
+    # one pose's ends come from the compiled kernel (once a solve loaded it), a batch's from numpy:
+    # the same sums in the same order
+    from armanim.arm import kernel
     from armanim.scene import scene_model
     from armanim.scene.convert import scene_to_problem
 
@@ -257,6 +259,9 @@ def test_one_pose_capsule_ends_equal_a_batchs_bit_for_bit():
         phis = rng.uniform(-3.0, 3.0, (50, problem.arm.n))
         batch = forward(problem.arm, phis)
         a, b = capsule_ends(problem.capsules, batch)
+        caps = problem.capsules
         for k, phi in enumerate(phis):
             one = forward(problem.arm, phi)
-            assert all(np.array_equal(x, y[k]) for x, y in zip(capsule_ends(problem.capsules, one), (a, b)))
+            compiled = kernel.capsule_ends_one(caps.link, caps.start, caps.end, caps.joint_segment, one.points, one.frames)
+            assert all(np.array_equal(x, y[k]) for x, y in zip(compiled, (a, b)))
+            assert all(np.array_equal(x, y[k]) for x, y in zip(capsule_ends(caps, one), (a, b)))

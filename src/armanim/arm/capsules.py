@@ -10,6 +10,7 @@ capsules' world ends from :func:`capsule_ends`. Pure core: numpy only, no I/O.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -116,12 +117,13 @@ def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray
 
 
 def _world_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`capsule_ends`, computed (one pose: by the compiled kernel, a batch: numpy)."""
+    """:func:`capsule_ends`, computed: one pose by the compiled kernel once a solve has loaded it
+    (some 30 numpy calls less a frame), else numpy; the two give the same bits, and numba is never
+    loaded for this alone (``fk``, ``validate`` and spheres-only clearances go without it)."""
     link = capsules.link
-    if pose.points.ndim == 2 and len(link):
-        from armanim.arm import kernel  # numba: one pose's ends were some 30 numpy calls (a frame asks for them)
-
-        return kernel.capsule_ends_one(link, capsules.start, capsules.end, capsules.joint_segment, pose.points, pose.frames)
+    kernel = sys.modules.get("armanim.arm.kernel")
+    if kernel is not None and pose.points.ndim == 2 and len(link):
+        return cast("tuple[np.ndarray, np.ndarray]", kernel.capsule_ends_one(link, capsules.start, capsules.end, capsules.joint_segment, pose.points, pose.frames))
     if capsules.joint_segment.all():
         return pose.points[..., link, :], pose.points[..., link + 1, :]
     origin = pose.points[..., link, :]
