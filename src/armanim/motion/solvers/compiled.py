@@ -37,8 +37,7 @@ numpy and numba only, radians.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import cast
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -72,6 +71,12 @@ steps since its best progress (``BEST`` in the float array, NaN at the attempt's
 
 JACOBI_SWEEPS = 60
 """Most sweeps of the one-sided Jacobi SVD (a 6 x 7 Jacobian takes 5 to 8)."""
+
+WELL_CONDITIONED = 1e5
+"""A Jacobian is inverted by its normal equations when trace(G) |G^-1|_F, a bound on its
+condition number squared (G = J J^T or J^T J), is at most this: then every singular value is far
+above the pseudo-inverse's cut-off, and the normal equations' rounding (kappa^2 eps) is below
+1e-10."""
 
 
 # ----------------------------------------------------------------------------- small linear algebra
@@ -117,6 +122,64 @@ def _orthogonalise(a: np.ndarray, w: np.ndarray) -> None:
 
 
 @compiled(**_JIT)
+def _pinv_by_normal_equations(jac: np.ndarray, out: np.ndarray) -> bool:
+    """J^+ = J^T (J J^T)^-1 (m <= n) or (J^T J)^-1 J^T into ``out`` (n, m), where it can be shown
+    cheaply that no singular value is cut (:data:`WELL_CONDITIONED`): the condition number
+    squared of G is at most trace(G) |G^-1|_F, since lambda_max <= trace and 1 / lambda_min =
+    |G^-1|_2 <= |G^-1|_F. False (``out`` untouched) where it cannot be shown."""
+    m, n = jac.shape
+    wide = m <= n
+    c = m if wide else n
+    r = n if wide else m
+    g = np.empty((c, c))
+    trace = 0.0
+    for i in range(c):
+        for j in range(i + 1):
+            s = 0.0
+            for k in range(r):
+                s += (jac[i, k] * jac[j, k]) if wide else (jac[k, i] * jac[k, j])
+            g[i, j] = s
+        trace += g[i, i]
+    for j in range(c):  # Cholesky, G = L L^T, in the lower triangle
+        s = g[j, j]
+        for k in range(j):
+            s -= g[j, k] * g[j, k]
+        if not s > 0.0:
+            return False
+        g[j, j] = math.sqrt(s)
+        for i in range(j + 1, c):
+            s = g[i, j]
+            for k in range(j):
+                s -= g[i, k] * g[j, k]
+            g[i, j] = s / g[j, j]
+    inverse = np.empty((c, c))  # G^-1, column by column: L y = e_col, L^T x = y
+    for col in range(c):
+        for i in range(c):
+            s = 1.0 if i == col else 0.0
+            for k in range(i):
+                s -= g[i, k] * inverse[k, col]
+            inverse[i, col] = s / g[i, i]
+        for i in range(c - 1, -1, -1):
+            s = inverse[i, col]
+            for k in range(i + 1, c):
+                s -= g[k, i] * inverse[k, col]
+            inverse[i, col] = s / g[i, i]
+    frobenius = 0.0
+    for i in range(c):
+        for j in range(c):
+            frobenius += inverse[i, j] * inverse[i, j]
+    if not trace * math.sqrt(frobenius) <= WELL_CONDITIONED:
+        return False
+    for i in range(n):
+        for j in range(m):
+            s = 0.0
+            for k in range(c):
+                s += (jac[k, i] * inverse[k, j]) if wide else (inverse[i, k] * jac[j, k])
+            out[i, j] = s
+    return True
+
+
+@compiled(**_JIT)
 def _pinv(jac: np.ndarray, out: np.ndarray, w: np.ndarray) -> None:
     """The Moore-Penrose pseudo-inverse of ``jac`` (m, n) into ``out`` (n, m): singular values
     below ``PINV_RTOL`` times the largest count as zero (:func:`armanim.arm.linalg.pseudo_inverse`).
@@ -124,7 +187,10 @@ def _pinv(jac: np.ndarray, out: np.ndarray, w: np.ndarray) -> None:
     The columns orthogonalised are those of J^T (m <= n) or of J (c = min(m, n) of them),
     starting from the orthogonal ``w`` (c, c), which is left holding the rotation found: a
     guess for the next step's Jacobian, which differs little (the identity at the start).
-    J^T W = Q gives J^+ = Q diag(1/sigma^2) W^T, J W = Q gives J^+ = W diag(1/sigma^2) Q^T."""
+    J^T W = Q gives J^+ = Q diag(1/sigma^2) W^T, J W = Q gives J^+ = W diag(1/sigma^2) Q^T.
+    A well-conditioned Jacobian takes its normal equations instead (:func:`_pinv_by_normal_equations`)."""
+    if _pinv_by_normal_equations(jac, out):
+        return
     m, n = jac.shape
     wide = m <= n
     r = n if wide else m
@@ -586,13 +652,11 @@ def _rows_met(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np
 @compiled(**_JIT)
 def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
              lower: np.ndarray, upper: np.ndarray, floats: np.ndarray, ints: np.ndarray, caps: np.ndarray, caps_link: np.ndarray,
-             first: np.ndarray, second: np.ndarray, levers: np.ndarray, pair_levers: np.ndarray, phi_out: np.ndarray,
-             tip_out: np.ndarray, counts: np.ndarray, errors: np.ndarray) -> int:
-    """The attempt from ``start``: the pose it ends at into ``phi_out`` (n,) and its tip into
-    ``tip_out``; ``counts`` (2,) the steps taken and the steps since the best progress, ``errors``
-    (4,) the distance, the angle, the progress measure and the best progress; returns
-    :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK` (the numpy path takes over from
-    ``phi_out`` with those counters)."""
+             first: np.ndarray, second: np.ndarray, levers: np.ndarray, pair_levers: np.ndarray, out: np.ndarray) -> int:
+    """The attempt from ``start``; into ``out`` (n + 9,): the pose it ends at (n), its tip (3), the
+    distance, the angle, the progress measure, the best progress, the steps taken and the steps
+    since the best progress. Returns :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`
+    (the numpy path takes over from that pose with those counters)."""
     n = start.shape[0]
     kind = ints[KIND]
     tol = floats[TOL]
@@ -617,6 +681,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
     cand = np.empty(n)
     _forward_one(rows, root, phi, points[now], frames[now], axes[now], tool[now])
     residual = np.empty(3)
+    errors = np.empty(2)
     progress = _progress(floats, kind, goal, goal_rot, goal_axis, points[now], tool[now], residual, errors)
     best = progress if floats[BEST] != floats[BEST] else floats[BEST]
     since_best = ints[SINCE_BEST]
@@ -755,22 +820,23 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
             if since_best >= ints[STALL]:
                 break
     for j in range(n):
-        phi_out[j] = phi[j]
+        out[j] = phi[j]
     for a in range(3):
-        tip_out[a] = points[now, n, a]
-    counts[0] = steps
-    counts[1] = since_best
-    errors[2] = progress
-    errors[3] = best
+        out[n + a] = points[now, n, a]
+    out[n + 3] = errors[0]
+    out[n + 4] = errors[1]
+    out[n + 5] = progress
+    out[n + 6] = best
+    out[n + 7] = steps
+    out[n + 8] = since_best
     return status
 
 
 # ----------------------------------------------------------------------------- from Python
 
 
-@dataclass(frozen=True)
-class CompiledAttempt:
-    """Where a compiled attempt ended.
+class CompiledAttempt(NamedTuple):
+    """Where a compiled attempt ended (a named tuple: made in a tenth of a frozen dataclass's time).
 
     Attributes
     ----------
@@ -818,6 +884,17 @@ def _settings(problem: Problem) -> np.ndarray:
     return floats
 
 
+def _int_settings(problem: Problem) -> np.ndarray:
+    """The kernel's int settings of ``problem`` (the stall window and the filter's halvings; the
+    rest is set per call), made once per problem (kept on it)."""
+    kept = problem.__dict__.get("_compiled_ints")
+    if kept is None:
+        kept = np.zeros(INTS, dtype=np.int64)
+        kept[STALL], kept[HALVINGS] = problem.tunables.ik.stall_iterations, problem.tunables.filter.halvings
+        object.__setattr__(problem, "_compiled_ints", kept)  # a cache of constants: the problem stays what it was
+    return cast(np.ndarray, kept)
+
+
 def _pair_constants(problem: Problem) -> tuple[np.ndarray, ...]:
     """The kernel's arrays of the arm's capsules and enabled pairs, made once per problem (kept on
     it): (c, 8) each capsule's start, end, radius and whether it runs joint to joint, (c,) its
@@ -852,17 +929,16 @@ def run_attempt(problem: Problem, step: int, stacked: bool, goal: np.ndarray, st
     if best is not None:
         floats = floats.copy()
         floats[BEST] = best
-    ints = np.array([step, int(stacked), steps_cap, problem.tunables.ik.stall_iterations, problem.tunables.filter.halvings, kind,
-                     steps, since_best], dtype=np.int64)
+    ints = _int_settings(problem).copy()
+    ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = step, stacked, steps_cap, kind, steps, since_best
     caps, link, first, second, levers, pair_levers = _pair_constants(problem)
     n = problem.arm.n
-    phi, tip, counts, errors = np.empty(n), np.empty(3), np.empty(2, dtype=np.int64), np.empty(4)
+    out = np.empty(n + 9)
     goal_rot = orientation.rotation if orientation is not None and orientation.rotation is not None else _NO_ROTATION
     goal_axis = orientation.axis if orientation is not None and orientation.axis is not None else _NO_AXIS
     status = _attempt(rows, root, np.ascontiguousarray(start, dtype=float), np.ascontiguousarray(goal, dtype=float),
                       np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float),
-                      problem.limits.lower, problem.limits.upper, floats, ints, caps, link, first, second, levers, pair_levers,
-                      phi, tip, counts, errors)
-    return CompiledAttempt(phi=phi, tip=tip, distance=float(errors[0]), angle=None if kind == 0 else float(errors[1]),
-                           progress=float(errors[2]), steps=int(counts[0]), numerical=status == NUMERICAL,
-                           handed_back=status == HANDED_BACK, best=float(errors[3]), since_best=int(counts[1]))
+                      problem.limits.lower, problem.limits.upper, floats, ints, caps, link, first, second, levers, pair_levers, out)
+    numbers = out[n:].tolist()
+    return CompiledAttempt(out[:n], out[n:n + 3], numbers[3], None if kind == 0 else numbers[4], numbers[5], int(numbers[7]),
+                           status == NUMERICAL, status == HANDED_BACK, numbers[6], int(numbers[8]))
