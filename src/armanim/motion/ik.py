@@ -16,7 +16,10 @@ least-squares solves at once, :func:`armanim.motion.planning.poses.goal_poses`) 
 free pose at the goal, nearest to the start, as a run does when its method stalls; the
 result says which one found the pose. A goal with an orientation is solved as a pose
 (every method's pose task, :mod:`armanim.motion.orientation`) and converges when both the
-distance and the angle are within their tolerances. Pure core: no I/O.
+distance and the angle are within their tolerances. A ``pinv`` or ``dls`` attempt on a problem
+without obstacles runs compiled (:mod:`armanim.motion.solvers.compiled`: the same steps to
+rounding, handed back to the numpy steps where a pair of the arm's own capsules matters to a
+step); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure core: no I/O.
 """
 
 from __future__ import annotations
@@ -161,9 +164,11 @@ def solve_pose(
     method = solver_method(problem.solver.method)
     tolerance = problem.solver.tolerance
     attempts: list[_Attempt] = []
+    steps = 0  # over the attempts so far
     for first in _starts(problem, np.asarray(start, dtype=float)):
-        attempts.append(_attempt(solving, method, goal, first, max_iterations - sum(a.steps for a in attempts), orientation))
-        if attempts[-1].distance < tolerance or sum(a.steps for a in attempts) >= max_iterations:
+        attempts.append(_attempt(solving, method, goal, first, max_iterations - steps, orientation))
+        steps += attempts[-1].steps
+        if attempts[-1].distance < tolerance or steps >= max_iterations:
             break
     best = min(attempts, key=lambda a: a.distance)  # the first of equals
     status: PoseStatus
@@ -182,7 +187,7 @@ def solve_pose(
         tip=best.tip,
         distance=distance,
         status=status,
-        steps=sum(a.steps for a in attempts),
+        steps=steps,
         iterations=sum(a.iterations for a in attempts) - newton_iterations,
         newton_iterations=newton_iterations,
         restarts=len(attempts) - 1,
