@@ -232,7 +232,8 @@ def _attempt(
 
     stacked = method.compiled_inverse == "pinv" and orientation is not None and stacks_the_pose_task(problem, orientation)
     step = compiled.PINV if method.compiled_inverse == "pinv" else compiled.DLS
-    phi, counters = start, (0, None, 0)
+    phi = start
+    counters: tuple[int, float | None, int] = (0, None, 0)  # steps, best progress (None: not yet), steps since
     while True:
         ran = compiled.run_attempt(problem, step, stacked, goal, phi, steps_cap, orientation, counters)
         if not ran.handed_back:

@@ -379,7 +379,8 @@ def _progress(floats: np.ndarray, kind: int, goal: np.ndarray, goal_rot: np.ndar
     _residual(kind, goal_rot, goal_axis, tool, residual)
     angle = math.sqrt(residual[0] * residual[0] + residual[1] * residual[1] + residual[2] * residual[2])
     errors[1] = angle
-    return max(distance, angle * (floats[TOL] / floats[ANGLE_TOL]))
+    scaled: float = angle * (floats[TOL] / floats[ANGLE_TOL])
+    return max(distance, scaled)
 
 
 @compiled(**_INLINE)
@@ -922,23 +923,26 @@ def run_attempt(problem: Problem, step: int, stacked: bool, goal: np.ndarray, st
     ``counters``: where an attempt goes on, its steps so far, its best progress and the steps since.
 
     Only for a problem without obstacles and with the analytic Jacobian (the caller's test)."""
-    rows, root = packed_chain(problem.arm)
+    kept = problem.__dict__.get("_compiled_constants")
+    if kept is None:  # the problem's constants, in the kernel's order: made once per problem (kept on it)
+        kept = (*packed_chain(problem.arm), problem.limits.lower, problem.limits.upper, _settings(problem), _int_settings(problem),
+                *_pair_constants(problem))
+        object.__setattr__(problem, "_compiled_constants", kept)  # a cache of constants: the problem stays what it was
+    rows, root, lower, upper, floats, ints, caps, link, first, second, levers, pair_levers = kept
     kind = 0 if orientation is None else (1 if orientation.rotation is not None else 2)
-    floats = _settings(problem)
     steps, best, since_best = counters
     if best is not None:
         floats = floats.copy()
         floats[BEST] = best
-    ints = _int_settings(problem).copy()
+    ints = ints.copy()
     ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = step, stacked, steps_cap, kind, steps, since_best
-    caps, link, first, second, levers, pair_levers = _pair_constants(problem)
-    n = problem.arm.n
+    n = len(lower)
     out = np.empty(n + 9)
-    goal_rot = orientation.rotation if orientation is not None and orientation.rotation is not None else _NO_ROTATION
-    goal_axis = orientation.axis if orientation is not None and orientation.axis is not None else _NO_AXIS
+    goal_rot = orientation.rotation if kind == 1 else _NO_ROTATION  # type: ignore[union-attr]  # kind 1: a rotation
+    goal_axis = orientation.axis if kind == 2 else _NO_AXIS  # type: ignore[union-attr]  # kind 2: a tool axis
     status = _attempt(rows, root, np.ascontiguousarray(start, dtype=float), np.ascontiguousarray(goal, dtype=float),
                       np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float),
-                      problem.limits.lower, problem.limits.upper, floats, ints, caps, link, first, second, levers, pair_levers, out)
+                      lower, upper, floats, ints, caps, link, first, second, levers, pair_levers, out)
     numbers = out[n:].tolist()
     return CompiledAttempt(out[:n], out[n:n + 3], numbers[3], None if kind == 0 else numbers[4], numbers[5], int(numbers[7]),
                            status == NUMERICAL, status == HANDED_BACK, numbers[6], int(numbers[8]))
