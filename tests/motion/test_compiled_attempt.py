@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from strategies import poses, problems
 
 from armanim.arm.kinematics import forward, tip_jacobian, tool_rotation
 from armanim.arm.linalg import PINV_RTOL, pseudo_inverse
@@ -121,6 +122,24 @@ def tip_condition(problem: Problem, phi: np.ndarray) -> float:
     d = np.linalg.svd(tip_jacobian(problem.arm, forward(problem.arm, phi)), compute_uv=False)
     kept = d[d > PINV_RTOL * d[0]]
     return max(1.0, float(d[0] / kept[-1])) if d[0] > 0 else 1.0
+
+
+@settings(max_examples=60, deadline=None)
+@given(problem=problems(methods=["pinv", "dls"], max_links=7), data=st.data(), kind=st.sampled_from(["pose", "axis", "position"]))
+def test_the_compiled_attempt_takes_the_numpy_steps_on_any_arm(problem, data, kind):
+    # general arms, limits and settings (obstacles left out: those attempts are the numpy steps'); an arm that
+    # cannot hold the goal's orientation stays with the numpy steps, which amplify rounding there
+    problem = replace(problem, obstacles=Obstacles.none(), solver=replace(problem.solver, jacobian="analytic"))
+    solving, oracle = ik.solving_problem(problem), ik.solving_problem(numpy_only(problem))
+    pose = forward(problem.arm, data.draw(poses(problem.arm.n)))
+    rot = tool_rotation(problem.arm, pose)
+    orientation = {"pose": Orientation(rotation=rot), "axis": Orientation(axis=rot[:, 2]), "position": None}[kind]
+    chosen = solver_method(problem.solver.method)
+    for budget in (1, 3, 6):
+        got = ik._attempt(solving, chosen, pose.tip, problem.home, budget, orientation)
+        expected = ik._attempt(oracle, chosen, pose.tip, problem.home, budget, orientation)
+        assert (got.steps, got.numerical) == (expected.steps, expected.numerical)
+        np.testing.assert_allclose(got.phi, expected.phi, atol=ITERATE_TOL * tip_condition(problem, expected.phi), rtol=0)
 
 
 @settings(max_examples=30, deadline=None)

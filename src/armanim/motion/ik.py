@@ -35,7 +35,7 @@ from armanim.motion.planning.poses import goal_poses, seed_poses
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
-from armanim.motion.solvers.linear import stacks_the_pose_task
+from armanim.motion.solvers.linear import arm_holds_orientation, stacks_the_pose_task
 from armanim.names import PoseFinder, PoseStatus
 
 
@@ -221,12 +221,15 @@ def _attempt(
     ``attempt_steps``) run out, or a step is refused outright.
 
     A ``pinv`` or ``dls`` attempt on a problem without obstacles runs compiled
-    (:mod:`armanim.motion.solvers.compiled`), the same steps to rounding. Where a pair of the
+    (:mod:`armanim.motion.solvers.compiled`), the same steps to rounding, unless the goal has an
+    orientation that the arm cannot hold. Where a pair of the
     arm's own capsules may matter to a step (its push, its row of the filter), the compiled
     loop hands the attempt back: the numpy step takes that step, and the compiled loop goes on
     from there with the attempt's counters."""
     steps_cap = min(budget, method.attempt_steps or budget)
-    if not _runs_compiled(problem, method):
+    if not _runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
+        # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
+        # rank drops the numpy steps amplify rounding, and no other arithmetic could follow them there
         return _steps(problem, method, goal, arm_state(problem, start), steps_cap, orientation)[0]
     from armanim.motion.solvers import compiled
 
@@ -234,12 +237,16 @@ def _attempt(
     step = compiled.PINV if method.compiled_inverse == "pinv" else compiled.DLS
     phi = start
     counters: tuple[int, float | None, int] = (0, None, 0)  # steps, best progress (None: not yet), steps since
+    state: ArmState | None = None  # the numpy steps' last state, when they took the last step
     while True:
         ran = compiled.run_attempt(problem, step, stacked, goal, phi, steps_cap, orientation, counters)
         if not ran.handed_back:
             return _Attempt(ran.phi, ran.tip, (ran.distance, ran.angle, ran.progress), ran.steps, ran.steps, 0, ran.numerical)
-        attempt, best, since_best, stopped = _steps(problem, method, goal, arm_state(problem, ran.phi), ran.steps + 1, orientation,
-                                                    ran.steps, ran.steps, ran.best, ran.since_best)
+        if state is None or ran.steps != counters[0]:  # the compiled loop took steps: its very pose (angles wrapped after)
+            computed = arm_state(problem, ran.pose_phi)
+            state = ArmState(ran.phi, computed.pose, computed.clearance, computed.self_gaps)
+        attempt, best, since_best, stopped, state = _steps(problem, method, goal, state, ran.steps + 1, orientation,
+                                                           ran.steps, ran.steps, ran.best, ran.since_best)
         if stopped or attempt.steps >= steps_cap:
             return attempt
         phi, counters = attempt.phi, (attempt.steps, best, since_best)
@@ -255,12 +262,12 @@ def _runs_compiled(problem: Problem, method: Method) -> bool:
 def _steps(
     problem: Problem, method: Method, goal: np.ndarray, state: ArmState, steps_cap: int, orientation: Orientation | None = None,
     steps: int = 0, iterations: int = 0, best: float | None = None, since_best: int = 0,
-) -> tuple[_Attempt, float, int, bool]:
+) -> tuple[_Attempt, float, int, bool, ArmState]:
     """The numpy steps of an attempt from ``state`` up to ``steps_cap`` steps in all: a whole
     attempt, or a step of one that the compiled loop handed back with its counters (``steps``,
     ``iterations``, the ``best`` progress and the steps ``since_best``). Returns where it ended,
-    the best progress and the steps since, and whether the attempt stopped (within tolerance,
-    stalled, or nothing moved) rather than ran out of steps."""
+    the best progress and the steps since, whether the attempt stopped (within tolerance,
+    stalled, or nothing moved) rather than ran out of steps, and its last state."""
     errors = pose_errors(problem, state, goal, orientation)
     distance = errors[2]
     best = distance if best is None else best
@@ -272,13 +279,13 @@ def _steps(
         newton_iterations += proposal.newton_iterations
         if moved.scale == 0.0:  # nothing moved: the same pose would propose the same again
             numerical = moved.blocked_by == "nan"
-            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, numerical), best, since_best, True
+            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, numerical), best, since_best, True, state
         state = moved.state
         errors = pose_errors(problem, state, goal, orientation)
         distance = errors[2]
         if distance < best - 0.1 * problem.solver.tolerance:
             best, since_best = distance, 0
         elif (since_best := since_best + 1) >= problem.tunables.ik.stall_iterations:
-            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, True
+            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, True, state
     stopped = not distance >= problem.solver.tolerance
-    return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, stopped
+    return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, stopped, state

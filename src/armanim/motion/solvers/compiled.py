@@ -72,6 +72,14 @@ steps since its best progress (``BEST`` in the float array, NaN at the attempt's
 JACOBI_SWEEPS = 60
 """Most sweeps of the one-sided Jacobi SVD (a 6 x 7 Jacobian takes 5 to 8)."""
 
+ROUNDING_TASK = 1e-6
+"""Where the rotation comes second and |w B J_w N|_F, what the position's null space N leaves
+of its task, is below this fraction of |w B J_w|_F, what is left is rounding (an arm whose
+position takes every joint, or whose free joints do not turn the goal's directions): the numpy
+steps' pseudo-inverse, whose cut-off is relative to that matrix's own largest singular value,
+inverts the rounding (a defect of :func:`armanim.motion.solvers.linear.orientation_in_null_space`),
+and other rounding would turn the step elsewhere. The attempt is handed back there."""
+
 WELL_CONDITIONED = 1e5
 """A Jacobian is inverted by its normal equations when trace(G) |G^-1|_F, a bound on its
 condition number squared (G = J J^T or J^T J), is at most this: then every singular value is far
@@ -432,10 +440,12 @@ def _matvec(a: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
 
 @compiled(**_JIT)
 def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
-              goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, guesses: np.ndarray, dphi: np.ndarray) -> bool:
+              goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, guesses: np.ndarray, dphi: np.ndarray) -> int:
     """The method's step (:func:`armanim.motion.solvers.linear.linear_step` without obstacles or
-    pairs) into ``dphi``; False when its inverse failed. ``guesses`` (3, 6, 6): the SVDs' rotations
-    of the last step, of the task, of the tip's task and of the rotation in its null space."""
+    pairs) into ``dphi``: :data:`DONE`, :data:`NUMERICAL` when its inverse failed, or
+    :data:`HANDED_BACK` where the rotation second in priority has only rounding left to act on
+    (:data:`ROUNDING_TASK`). ``guesses`` (3, 6, 6): the SVDs' rotations of the last step, of the
+    task, of the tip's task and of the rotation in its null space."""
     n = phi.shape[0]
     method = ints[METHOD]
     kind = ints[KIND]
@@ -474,7 +484,7 @@ def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.
                 jac[3 + i, j] = jac_r[i, j]
     jac_inv = np.empty((n, m))
     if not _invert(jac, method, damping, jac_inv, guesses[0, :min(m, n), :min(m, n)]):
-        return False
+        return NUMERICAL
     _matvec(jac_inv, target, dphi)
     push = np.empty(n)
     pushed = _limit_push(floats, phi, lower, upper, push)
@@ -497,9 +507,17 @@ def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.
                 for q in range(n):
                     s += jac_r[i, q] * null_tip[q, j]
                 restricted[i, j] = s
+        rows_size = 0.0
+        left = 0.0
+        for i in range(k):
+            for j in range(n):
+                rows_size += jac_r[i, j] * jac_r[i, j]
+                left += restricted[i, j] * restricted[i, j]
+        if left < ROUNDING_TASK * ROUNDING_TASK * rows_size:
+            return HANDED_BACK
         inv_r = np.empty((n, k))
         if not _invert(restricted, method, damping, inv_r, guesses[2, :min(k, n), :min(k, n)]):
-            return False
+            return NUMERICAL
         rest = np.empty(k)
         _matvec(jac_r, dphi, rest)
         for i in range(k):
@@ -531,7 +549,7 @@ def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.
         _matvec(jac_inv, task, back)
         for j in range(n):
             dphi[j] = dphi[j] + push[j] - back[j]
-    return True
+    return DONE
 
 
 # ----------------------------------------------------------------------------- the arm's own pairs
@@ -654,9 +672,9 @@ def _rows_met(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np
 def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
              lower: np.ndarray, upper: np.ndarray, floats: np.ndarray, ints: np.ndarray, caps: np.ndarray, caps_link: np.ndarray,
              first: np.ndarray, second: np.ndarray, levers: np.ndarray, pair_levers: np.ndarray, out: np.ndarray) -> int:
-    """The attempt from ``start``; into ``out`` (n + 9,): the pose it ends at (n), its tip (3), the
+    """The attempt from ``start``; into ``out`` (2 n + 9,): the pose it ends at (n), its tip (3), the
     distance, the angle, the progress measure, the best progress, the steps taken and the steps
-    since the best progress. Returns :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`
+    since the best progress, and the angles its kinematics were computed at (n: before wrapping). Returns :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`
     (the numpy path takes over from that pose with those counters)."""
     n = start.shape[0]
     kind = ints[KIND]
@@ -679,6 +697,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
     cand_bound = np.empty(pairs)
     now = 0
     phi = start.copy()
+    pose_phi = start.copy()  # the angles the pose now was computed at (phi before the unlimited joints are wrapped)
     cand = np.empty(n)
     _forward_one(rows, root, phi, points[now], frames[now], axes[now], tool[now])
     residual = np.empty(3)
@@ -697,7 +716,11 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
     low = np.empty(n)
     high = np.empty(n)
     while progress >= tol and steps < ints[STEPS_CAP]:
-        finite = _proposal(floats, ints, phi, points[now], axes[now], tool[now], goal, residual, lower, upper, guesses, dphi)
+        proposed = _proposal(floats, ints, phi, points[now], axes[now], tool[now], goal, residual, lower, upper, guesses, dphi)
+        if proposed == HANDED_BACK:
+            status = HANDED_BACK
+            break
+        finite = proposed == DONE
         biggest = 0.0
         for j in range(n):
             v = abs(dphi[j])
@@ -808,6 +831,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
             wrap = wrap or abs(cand[j]) > np.pi
         for j in range(n):
             phi[j] = cand[j]
+            pose_phi[j] = cand[j]
             if wrap and not lower[j] > -np.inf:
                 wrapped = (cand[j] + np.pi) % (2.0 * np.pi) - np.pi
                 phi[j] = np.pi if wrapped == -np.pi else wrapped
@@ -822,6 +846,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
                 break
     for j in range(n):
         out[j] = phi[j]
+        out[n + 9 + j] = pose_phi[j]
     for a in range(3):
         out[n + a] = points[now, n, a]
     out[n + 3] = errors[0]
@@ -866,6 +891,9 @@ class CompiledAttempt(NamedTuple):
     handed_back: bool
     best: float
     since_best: int
+    pose_phi: np.ndarray
+    """The angles the pose at ``phi`` was computed at (``phi`` before its unlimited joints were
+    wrapped): the numpy steps go on from the very pose."""
 
 
 def _settings(problem: Problem) -> np.ndarray:
@@ -937,12 +965,12 @@ def run_attempt(problem: Problem, step: int, stacked: bool, goal: np.ndarray, st
     ints = ints.copy()
     ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = step, stacked, steps_cap, kind, steps, since_best
     n = len(lower)
-    out = np.empty(n + 9)
+    out = np.empty(2 * n + 9)
     goal_rot = orientation.rotation if kind == 1 else _NO_ROTATION  # type: ignore[union-attr]  # kind 1: a rotation
     goal_axis = orientation.axis if kind == 2 else _NO_AXIS  # type: ignore[union-attr]  # kind 2: a tool axis
     status = _attempt(rows, root, np.ascontiguousarray(start, dtype=float), np.ascontiguousarray(goal, dtype=float),
                       np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float),
                       lower, upper, floats, ints, caps, link, first, second, levers, pair_levers, out)
-    numbers = out[n:].tolist()
+    numbers = out[n:n + 9].tolist()
     return CompiledAttempt(out[:n], out[n:n + 3], numbers[3], None if kind == 0 else numbers[4], numbers[5], int(numbers[7]),
-                           status == NUMERICAL, status == HANDED_BACK, numbers[6], int(numbers[8]))
+                           status == NUMERICAL, status == HANDED_BACK, numbers[6], int(numbers[8]), out[n + 9:])
