@@ -1,11 +1,14 @@
 """Issue 40's changes to ``armanim ik``, before against after in one process:
 
-    python benchmarks/ik_changes_ab.py [--targets 60]
+    python benchmarks/ik_changes_ab.py [--targets 60] [--compiled] [--self-collision off]
 
-Per target, interleaved (the order alternating), the same ``solve_pose`` with this branch's three
-changes on, and switched off from outside: the compiled FK in ``arm_state`` (the numpy chain
-instead), ``pinv``'s stacked pose task (the task priority instead) and the filter's fast path.
-The rotation-log memo cannot be switched off from outside and is on in both. Panda 6-D targets
+Per target, interleaved (the order alternating), the same ``solve_pose`` with the changes on, and
+switched off from outside: the compiled FK in ``arm_state`` (the numpy chain instead), ``pinv``'s
+stacked pose task (the task priority instead), the filter's fast path and the compiled attempt
+(:mod:`armanim.motion.solvers.compiled`, the numpy steps instead). ``--compiled``: only the
+compiled attempt is switched (the numpy steps with the other changes on, against the compiled
+attempt). The rotation-log memo and the solving problem's memo cannot be switched off from
+outside and are on in both. Panda 6-D targets
 from home (the tool frames of random poses 0.05 rad inside the limits) and the notes' arm's
 position targets from the straight pose (self-collision as the scene's default). Printed: median
 per solve, converged solves, time per step (over all solves), after / before.
@@ -20,6 +23,7 @@ import time
 
 import numpy as np
 
+import armanim.motion.ik as ik
 import armanim.motion.solvers.barrier as barrier
 import armanim.motion.solvers.linear as linear
 from armanim.arm import kernel, kinematics
@@ -28,10 +32,14 @@ from armanim.motion.ik import solve_pose
 from armanim.motion.orientation import Orientation
 from armanim.scene import scene_model, scene_to_problem
 
-ON = (kernel.forward, linear.stacks_the_pose_task, barrier.clearly_allowed)
+ON = (kernel.forward, linear.stacks_the_pose_task, barrier.clearly_allowed, ik._runs_compiled)
+ONLY_COMPILED = False
 
 
 def switch(on: bool) -> None:
+    ik._runs_compiled = ON[3] if on else (lambda problem, method: False)
+    if ONLY_COMPILED:
+        return
     kernel.forward = ON[0] if on else kinematics.forward
     linear.stacks_the_pose_task = ON[1] if on else (lambda problem, orientation: False)
     barrier.clearly_allowed = ON[2] if on else (lambda *args: False)
@@ -61,10 +69,15 @@ def compare(name: str, problem, cases: list) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--targets", type=int, default=60)
-    count = parser.parse_args().targets
+    parser.add_argument("--compiled", action="store_true", help="switch only the compiled attempt")
+    parser.add_argument("--self-collision", default="auto", help="the Panda's arm.self_collision (auto, off)")
+    args = parser.parse_args()
+    global ONLY_COMPILED
+    ONLY_COMPILED = args.compiled
+    count = args.targets
     rng = np.random.default_rng(0)
     for method in ("pinv", "dls"):
-        panda = scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.3, 0, 0.4]],
+        panda = scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda", "self_collision": args.self_collision}, "goals": [[0.3, 0, 0.4]],
                                               "solver": {"method": method, "tolerance": 0.001, "orientation_tolerance": 1}}))
         source = rng.uniform(panda.limits.lower + 0.05, panda.limits.upper - 0.05, (count, panda.arm.n))
         pose = forward(panda.arm, source)

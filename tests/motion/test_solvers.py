@@ -238,6 +238,11 @@ def planar_ik_problem(method: str, tol: float = 1e-3) -> Problem:
     )
 
 
+def numpy_steps_only(problem: Problem) -> Problem:
+    """``problem`` solved with the numpy steps everywhere (``tunables.ik.compiled`` off)."""
+    return replace(problem, tunables=replace(problem.tunables, ik=replace(problem.tunables.ik, compiled=False)))
+
+
 @pytest.mark.parametrize("method", sorted(METHODS))
 def test_ik_round_trip_fk_of_ik_is_the_goal(method):
     tol = 1e-3
@@ -259,7 +264,7 @@ def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
         raise np.linalg.LinAlgError("SVD did not converge")
 
     monkeypatch.setattr(armanim.motion.solvers.linear, "pseudo_inverse", fails)
-    problem = planar_ik_problem("pinv")
+    problem = numpy_steps_only(planar_ik_problem("pinv"))  # the compiled attempt has its own inverse (test_compiled_attempt.py)
     start = np.radians([10.0, 10.0, 10.0, 10.0])
     result = solve_pose(problem, problem.goals[0].position, start, max_iterations=100)
     assert result.status == "numerical" and not result.converged
@@ -267,21 +272,29 @@ def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
     assert result.distance == pytest.approx(np.linalg.norm(forward(problem.arm, result.phi).tip - problem.goals[0].position))
 
 
-def test_ik_restarts_from_the_planner_seed_poses(monkeypatch):
+@pytest.mark.parametrize("compiled", [True, False])
+def test_ik_restarts_from_the_planner_seed_poses(monkeypatch, compiled):
     # one set of starts for every solve from a pose: the pose, its mirrored elbow, then the
-    # planner's seeded random poses
+    # planner's seeded random poses (the compiled attempts' starts, or the numpy steps' poses)
+    import armanim.motion.solvers.compiled
     import armanim.motion.solvers.linear
     from armanim.motion.planning.poses import seed_poses
 
     seen = []
     jacobian_of_tip = armanim.motion.solvers.linear.jacobian_of_tip
+    run_attempt = armanim.motion.solvers.compiled.run_attempt
 
     def recording(problem, phi, pose):
         seen.append(np.array(phi))
         return jacobian_of_tip(problem, phi, pose)
 
+    def starting(problem, step, stacked, goal, start, *rest):
+        seen.append(np.array(start))
+        return run_attempt(problem, step, stacked, goal, start, *rest)
+
     monkeypatch.setattr(armanim.motion.solvers.linear, "jacobian_of_tip", recording)
-    problem = planar_ik_problem("pinv")
+    monkeypatch.setattr(armanim.motion.solvers.compiled, "run_attempt", starting)
+    problem = planar_ik_problem("pinv") if compiled else numpy_steps_only(planar_ik_problem("pinv"))
     start = np.radians([10.0, 20.0, 30.0, 40.0])
     result = solve_pose(problem, np.array([10.0, 0.0, 0.0]), start, max_iterations=1000)  # out of reach
     assert result.restarts == 4 and not result.converged

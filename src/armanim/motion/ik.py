@@ -16,12 +16,17 @@ least-squares solves at once, :func:`armanim.motion.planning.poses.goal_poses`) 
 free pose at the goal, nearest to the start, as a run does when its method stalls; the
 result says which one found the pose. A goal with an orientation is solved as a pose
 (every method's pose task, :mod:`armanim.motion.orientation`) and converges when both the
-distance and the angle are within their tolerances. Pure core: no I/O.
+distance and the angle are within their tolerances. A ``pinv`` or ``dls`` attempt on a problem
+without obstacles runs compiled (:mod:`armanim.motion.solvers.compiled`: the same steps to
+rounding, handed back to the numpy steps where a pair of the arm's own capsules matters to a
+step); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure core: no I/O.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -30,6 +35,7 @@ from armanim.motion.planning.poses import goal_poses, seed_poses
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.linear import arm_holds_orientation, stacks_the_pose_task
 from armanim.names import PoseFinder, PoseStatus
 
 
@@ -80,20 +86,36 @@ class PoseSolution:
         return self.status == "converged"
 
 
-@dataclass(frozen=True)
-class _Attempt:
-    """Where one attempt ended and what it spent."""
+class _Attempt(NamedTuple):
+    """Where one attempt ended and what it spent (a named tuple: a pose solve makes one per
+    attempt, in a tenth of a frozen dataclass's time)."""
 
-    state: ArmState
-    distance: float  # the progress measure: pose_distance for a goal with an orientation
+    phi: np.ndarray
+    tip: np.ndarray
+    errors: tuple[float, float | None, float]  # pose_errors at phi: |e - g|, the angle, the progress measure
     steps: int
     iterations: int
     newton_iterations: int
     numerical: bool
 
+    @property
+    def distance(self) -> float:
+        """The progress measure: :func:`~armanim.motion.orientation.pose_distance` for a goal with an orientation."""
+        return self.errors[2]
+
 
 def solving_problem(problem: Problem) -> Problem:
-    """The problem with the settings of solving rather than animating (see the module docstring)."""
+    """The problem with the settings of solving rather than animating (see the module docstring),
+    made once per problem (kept on it: a problem is frozen, and making one costs some 50 us)."""
+    kept = problem.__dict__.get("_solving")
+    if kept is None:
+        kept = _solving_problem(problem)
+        object.__setattr__(problem, "_solving", kept)  # a cache of a value of the problem: it stays what it was
+    return cast(Problem, kept)
+
+
+def _solving_problem(problem: Problem) -> Problem:
+    """:func:`solving_problem`, made."""
     s = problem.solver
     method = solver_method(s.method)
     beta = 1.0 if method.full_step_solves else s.beta
@@ -142,10 +164,11 @@ def solve_pose(
     method = solver_method(problem.solver.method)
     tolerance = problem.solver.tolerance
     attempts: list[_Attempt] = []
-    opts = problem.tunables.ik
-    for first in seed_poses(problem, np.asarray(start, dtype=float), 1 + opts.restarts, opts.seed):
-        attempts.append(_attempt(solving, method, goal, first, max_iterations - sum(a.steps for a in attempts), orientation))
-        if attempts[-1].distance < tolerance or sum(a.steps for a in attempts) >= max_iterations:
+    steps = 0  # over the attempts so far
+    for first in _starts(problem, np.asarray(start, dtype=float)):
+        attempts.append(_attempt(solving, method, goal, first, max_iterations - steps, orientation))
+        steps += attempts[-1].steps
+        if attempts[-1].distance < tolerance or steps >= max_iterations:
             break
     best = min(attempts, key=lambda a: a.distance)  # the first of equals
     status: PoseStatus
@@ -154,16 +177,17 @@ def solve_pose(
     else:
         status = "numerical" if any(a.numerical for a in attempts) else "not_converged"
     newton_iterations = sum(a.newton_iterations for a in attempts)
-    searched = free_pose(problem, goal, best.state.phi, orientation) if status == "not_converged" else None
+    searched = free_pose(problem, goal, best.phi, orientation) if status == "not_converged" else None
     if searched is not None:
-        best, status = _Attempt(searched, pose_errors(problem, searched, goal, orientation)[2], 0, 0, 0, False), "converged"
-    distance, angle, _ = pose_errors(problem, best.state, goal, orientation)
+        best = _Attempt(searched.phi, searched.tip, pose_errors(problem, searched, goal, orientation), 0, 0, 0, False)
+        status = "converged"
+    distance, angle, _ = best.errors
     return PoseSolution(
-        phi=best.state.phi,
-        tip=best.state.tip,
+        phi=best.phi,
+        tip=best.tip,
         distance=distance,
         status=status,
-        steps=sum(a.steps for a in attempts),
+        steps=steps,
         iterations=sum(a.iterations for a in attempts) - newton_iterations,
         newton_iterations=newton_iterations,
         restarts=len(attempts) - 1,
@@ -180,27 +204,88 @@ def free_pose(problem: Problem, goal: np.ndarray, near: np.ndarray, orientation:
     return arm_state(problem, found.poses[0]) if len(found.poses) else None
 
 
+def _starts(problem: Problem, start: np.ndarray) -> Iterator[np.ndarray]:
+    """The attempts' starts: ``start``, then the rest of the planner's
+    (:func:`armanim.motion.planning.poses.seed_poses`, whose first is ``start``), drawn only
+    when the first attempt did not converge."""
+    yield start
+    opts = problem.tunables.ik
+    yield from seed_poses(problem, start, 1 + opts.restarts, opts.seed)[1:]
+
+
 def _attempt(
     problem: Problem, method: Method, goal: np.ndarray, start: np.ndarray, budget: int, orientation: Orientation | None = None
 ) -> _Attempt:
     """Filtered steps from ``start`` until the tip is within tolerance (and the tool within the
     orientation tolerance), the attempt stalls, its steps (``budget`` or the method's
-    ``attempt_steps``) run out, or a step is refused outright."""
-    state = arm_state(problem, start)
-    distance = pose_errors(problem, state, goal, orientation)[2]
-    best, since_best, steps, iterations, newton_iterations = distance, 0, 0, 0, 0
+    ``attempt_steps``) run out, or a step is refused outright.
+
+    A ``pinv`` or ``dls`` attempt on a problem without obstacles runs compiled
+    (:mod:`armanim.motion.solvers.compiled`), the same steps to rounding, unless the goal has an
+    orientation that the arm cannot hold. Where a pair of the
+    arm's own capsules may matter to a step (its push, its row of the filter), the compiled
+    loop hands the attempt back: the numpy step takes that step, and the compiled loop goes on
+    from there with the attempt's counters."""
     steps_cap = min(budget, method.attempt_steps or budget)
+    if not _runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
+        # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
+        # rank drops the numpy steps amplify rounding, and no other arithmetic could follow them there
+        return _steps(problem, method, goal, arm_state(problem, start), steps_cap, orientation)[0]
+    from armanim.motion.solvers import compiled
+
+    stacked = method.compiled_inverse == "pinv" and orientation is not None and stacks_the_pose_task(problem, orientation)
+    step = compiled.PINV if method.compiled_inverse == "pinv" else compiled.DLS
+    phi = start
+    counters: tuple[int, float | None, int] = (0, None, 0)  # steps, best progress (None: not yet), steps since
+    state: ArmState | None = None  # the numpy steps' last state, when they took the last step
+    while True:
+        ran = compiled.run_attempt(problem, step, stacked, goal, phi, steps_cap, orientation, counters)
+        if not ran.handed_back:
+            return _Attempt(ran.phi, ran.tip, (ran.distance, ran.angle, ran.progress), ran.steps, ran.steps, 0, ran.numerical)
+        if state is None or ran.steps != counters[0]:  # the compiled loop took steps: its very pose (angles wrapped after)
+            computed = arm_state(problem, ran.pose_phi)
+            state = ArmState(ran.phi, computed.pose, computed.clearance, computed.self_gaps)
+        attempt, best, since_best, stopped, state = _steps(problem, method, goal, state, ran.steps + 1, orientation,
+                                                           ran.steps, ran.steps, ran.best, ran.since_best)
+        if stopped or attempt.steps >= steps_cap:
+            return attempt
+        phi, counters = attempt.phi, (attempt.steps, best, since_best)
+
+
+def _runs_compiled(problem: Problem, method: Method) -> bool:
+    """Whether the attempt runs compiled: a method with a compiled step, no obstacles, the
+    analytic Jacobian, and ``tunables.ik.compiled``."""
+    return (method.compiled_inverse is not None and problem.tunables.ik.compiled and not len(problem.obstacles)
+            and problem.solver.jacobian != "numeric")
+
+
+def _steps(
+    problem: Problem, method: Method, goal: np.ndarray, state: ArmState, steps_cap: int, orientation: Orientation | None = None,
+    steps: int = 0, iterations: int = 0, best: float | None = None, since_best: int = 0,
+) -> tuple[_Attempt, float, int, bool, ArmState]:
+    """The numpy steps of an attempt from ``state`` up to ``steps_cap`` steps in all: a whole
+    attempt, or a step of one that the compiled loop handed back with its counters (``steps``,
+    ``iterations``, the ``best`` progress and the steps ``since_best``). Returns where it ended,
+    the best progress and the steps since, whether the attempt stopped (within tolerance,
+    stalled, or nothing moved) rather than ran out of steps, and its last state."""
+    errors = pose_errors(problem, state, goal, orientation)
+    distance = errors[2]
+    best = distance if best is None else best
+    newton_iterations = 0
     while distance >= problem.solver.tolerance and steps < steps_cap:
         proposal = proposed_step(problem, method, state, goal, orientation)
         moved = safe_step(problem, state, proposal.dphi, proposal.ahead)
         steps, iterations = steps + 1, iterations + proposal.iterations
         newton_iterations += proposal.newton_iterations
         if moved.scale == 0.0:  # nothing moved: the same pose would propose the same again
-            return _Attempt(state, distance, steps, iterations, newton_iterations, moved.blocked_by == "nan")
+            numerical = moved.blocked_by == "nan"
+            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, numerical), best, since_best, True, state
         state = moved.state
-        distance = pose_errors(problem, state, goal, orientation)[2]
+        errors = pose_errors(problem, state, goal, orientation)
+        distance = errors[2]
         if distance < best - 0.1 * problem.solver.tolerance:
             best, since_best = distance, 0
         elif (since_best := since_best + 1) >= problem.tunables.ik.stall_iterations:
-            break
-    return _Attempt(state, distance, steps, iterations, newton_iterations, False)
+            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, True, state
+    stopped = not distance >= problem.solver.tolerance
+    return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, stopped, state

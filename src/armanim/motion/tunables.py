@@ -207,6 +207,10 @@ class IkOptions:
         as one stacked task, one inverse of the (3 + k) x n Jacobian per step, instead of the
         rotation in the position's null space (four inverses). The frame loop keeps the task
         priority (False), so trajectories are what they were.
+    compiled : bool
+        A pose solve's ``pinv`` and ``dls`` attempts run compiled where they mean the same
+        (:mod:`armanim.motion.solvers.compiled`: no obstacles, the analytic Jacobian); False:
+        the numpy steps everywhere (the tests' oracle).
     """
 
     full_turn_per_iteration: float = float(np.radians(30.0))
@@ -214,6 +218,7 @@ class IkOptions:
     restarts: int = 4
     seed: int = 0
     solving: bool = False
+    compiled: bool = True
 
 
 @dataclass(frozen=True)

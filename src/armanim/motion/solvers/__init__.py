@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
@@ -48,17 +49,21 @@ class Method:
         Steps of one attempt before a solve restarts elsewhere; None: the whole budget.
         Full linear steps converge in a handful, so a slow crawl is better restarted;
         a ``newton`` step is a whole solve (one re-anchoring of its regulariser).
+    compiled_inverse : {"pinv", "dls"} or None
+        The inverse with which the compiled attempt (:mod:`armanim.motion.solvers.compiled`)
+        takes this method's steps, where a pose solve may use it; None: the numpy steps only.
     """
 
     step_function: StepFunction
     full_step_solves: bool
     bounds_own_steps: bool
     attempt_steps: int | None
+    compiled_inverse: Literal["pinv", "dls"] | None = None
 
 
 METHODS: dict[MethodName, Method] = {
-    "pinv": Method(pinv_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25),
-    "dls": Method(dls_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25),
+    "pinv": Method(pinv_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25, compiled_inverse="pinv"),
+    "dls": Method(dls_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25, compiled_inverse="dls"),
     "newton": Method(newton_step, full_step_solves=True, bounds_own_steps=True, attempt_steps=12),
     "gradient": Method(gradient_step, full_step_solves=False, bounds_own_steps=False, attempt_steps=None),
 }

@@ -168,6 +168,12 @@ def stacks_the_pose_task(problem: Problem, orientation: Orientation) -> bool:
     four. ``dls`` keeps the priority: its damping on the stacked task measured twice the steps."""
     if not problem.tunables.ik.solving:
         return False
+    return arm_holds_orientation(problem, orientation)
+
+
+def arm_holds_orientation(problem: Problem, orientation: Orientation) -> bool:
+    """:func:`armanim.motion.orientation.holds_orientation` of the problem's arm and this kind of
+    goal, judged once per arm and kind (kept on the arm)."""
     memo = problem.arm.__dict__.setdefault("_holds_orientation", {})  # a cache of a fact of the arm: it stays what it was
     if orientation.rows not in memo:
         memo[orientation.rows] = holds_orientation(problem.arm, orientation)
