@@ -401,3 +401,28 @@ def test_pose_goal_trajectories_keep_every_invariant():
     })
     problem = scene_to_problem(scene)
     assert_trajectory_invariants(problem, solve_trajectory(problem))
+
+
+@pytest.mark.parametrize("method", ["pinv", "dls"])
+def test_an_arm_whose_position_takes_every_joint_turns_nothing_for_the_rotation(method):
+    # a 2-joint planar arm with a 6-D goal: the position's null space leaves the rotation task only
+    # rounding; inverting that proposed 1e17 rad in directions rounding set (the joint-step cap
+    # hid it). The step is the position's alone, and so is the projector the pushes go through.
+    from armanim.arm.linalg import pseudo_inverse
+    from armanim.motion.problem import Problem
+    from armanim.motion.solvers import linear
+    from armanim.motion.solvers.common import arm_state
+    from armanim.scene import default_solver_settings, unlimited_limits
+    from armanim.world.obstacles import Obstacles
+
+    goal = Goal(np.array([1.2, 0.9, 0.0]), 0.0, Orientation(rotation=Rotation.from_euler("xyz", [10.0, 20.0, 30.0], degrees=True).as_matrix()))
+    problem = Problem(arm=Arm.from_names([1.0, 1.0], axes=["z", "z"], direction="x"), half_width=0.05, home=np.radians([20.0, 30.0]),
+                      limits=unlimited_limits(2), obstacles=Obstacles.none(), goals=(goal,), solver=default_solver_settings(method=method), fps=30.0)
+    state = arm_state(problem, problem.home)
+    jac = linear.jacobian_of_tip(problem, state.phi, state.pose)
+    step, projector = linear.orientation_in_null_space(problem, state, goal.orientation, jac, np.zeros(2), pseudo_inverse)
+    assert np.array_equal(step, np.zeros(2))
+    assert np.abs(projector).max() < 1e-12  # the tip's null space: nothing
+    with_rotation = linear.linear_step(problem, state, goal.position, pseudo_inverse, goal.orientation).dphi
+    without = linear.linear_step(problem, state, goal.position, pseudo_inverse).dphi
+    assert np.allclose(with_rotation, without, rtol=0, atol=1e-12)

@@ -47,6 +47,7 @@ from armanim.motion.cost import self_influence
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import VIOLATION, kept_self_clearance, limit_buffer
+from armanim.motion.solvers.linear import ROUNDING_TASK
 from armanim.world.compiled import segment_segment_pairs
 
 _JIT = dict(error_model="numpy", nogil=True)
@@ -71,14 +72,6 @@ steps since its best progress (``BEST`` in the float array, NaN at the attempt's
 
 JACOBI_SWEEPS = 60
 """Most sweeps of the one-sided Jacobi SVD (a 6 x 7 Jacobian takes 5 to 8)."""
-
-ROUNDING_TASK = 1e-6
-"""Where the rotation comes second and |w B J_w N|_F, what the position's null space N leaves
-of its task, is below this fraction of |w B J_w|_F, what is left is rounding (an arm whose
-position takes every joint, or whose free joints do not turn the goal's directions): the numpy
-steps' pseudo-inverse, whose cut-off is relative to that matrix's own largest singular value,
-inverts the rounding (a defect of :func:`armanim.motion.solvers.linear.orientation_in_null_space`),
-and other rounding would turn the step elsewhere. The attempt is handed back there."""
 
 WELL_CONDITIONED = 1e5
 """A Jacobian is inverted by its normal equations when trace(G) |G^-1|_F, a bound on its

@@ -85,6 +85,14 @@ def limit_push(problem: Problem, phi: np.ndarray) -> np.ndarray | None:
     return cast("np.ndarray | None", scale * (repulsion(lo_gap, limits.margin) - repulsion(hi_gap, limits.margin)))
 
 
+ROUNDING_TASK = 1e-6
+"""Where the rotation comes second and |w B J_w N|_F, what the position's null space N leaves of
+the rotation task, is below this fraction of |w B J_w|_F, what is left is rounding (an arm whose
+position takes every joint, or whose free joints do not turn the goal's directions): there is
+nothing to turn, and inverting it (a pseudo-inverse's cut-off is relative to the matrix's own
+largest singular value) would propose steps of 1e17 rad in directions rounding sets."""
+
+
 def orientation_in_null_space(
     problem: Problem, state: ArmState, orientation: Orientation, jac: np.ndarray,
     dphi: np.ndarray, invert: Callable[[np.ndarray], np.ndarray],
@@ -95,12 +103,16 @@ def orientation_in_null_space(
     The projectors are exact (from the pseudo-inverse) for both methods: the damped inverse's
     I - J^T (J J^T + lambda^2 I)^-1 J lets a secondary task move the tip along a singular
     direction (the straight arm at home), where the tip's task is weakest; ``invert`` (damped
-    for ``dls``) only solves the rotation task inside that null space."""
+    for ``dls``) only solves the rotation task inside that null space. Where that null space
+    leaves the rotation only rounding (:data:`ROUNDING_TASK`), the step and the projector are
+    the tip's alone."""
     w = problem.solver.orientation_weight
     error, jac_w = orientation_task(orientation, problem.arm, state.pose)
     jac_r = w * jac_w
     null_tip = np.eye(len(dphi)) - pseudo_inverse(jac) @ jac
     restricted = jac_r @ null_tip
+    if np.sum(restricted * restricted) < ROUNDING_TASK * ROUNDING_TASK * np.sum(jac_r * jac_r):  # only rounding is left to turn
+        return dphi, null_tip
     dphi = dphi + invert(restricted) @ (rotation_displacement(problem, error) - jac_r @ dphi)
     return dphi, null_tip - pseudo_inverse(restricted) @ restricted
 
