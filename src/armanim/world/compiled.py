@@ -1,4 +1,5 @@
-"""The segment-box closed form of :mod:`armanim.world.closest`, compiled (numba).
+"""The segment-box closed form of :mod:`armanim.world.closest`, compiled (numba); and the arm's
+own capsule pairs: segment-segment closest points, their rows and Jacobians.
 
 One pose's clearances to a table, a shelf and a floor are a few dozen segment-box pairs;
 written with numpy they were some 45 array operations, each a fixed 0.3-0.8 us whatever the
@@ -12,7 +13,10 @@ again); it is imported only when a scene has a box or a capsule obstacle. Pure c
 and numba only, scene units.
 
 The work space of a pair is one scratch array, read at fixed offsets, and every function is
-inlined into the two loops: a view or a call per pair would cost more than the pair.
+inlined into the two loops: a view or a call per pair would cost more than the pair. The arm's
+own pairs (:mod:`armanim.world.selfdistances`) are measured by the segment-segment closed form
+where their closest points are unique and apart, by the box form (a segment as a box of one
+edge) where they are not.
 """
 
 from __future__ import annotations

@@ -1,13 +1,14 @@
 """Exact distances between the arm's own capsules: the pairs the allowed-collision matrix leaves enabled.
 
 A pair (A, B) of collision capsules is apart by the distance between their segments less both
-radii (negative when they overlap). The segment-segment closed form is the segment-box one of
-:mod:`armanim.world.closest` (compiled), with B's segment as a box of one edge
-(:meth:`~armanim.world.obstacles.Rods.axes`), as the capsule obstacles are measured: one kernel
-for every capsule distance. The normal points from B's closest point to A's, so a pair's gap
-grows along ``n . (J_A - J_B)`` (:func:`self_rows`: the difference of the two closest points'
-Jacobians, the envelope theorem dropping the fractions' derivatives). One pose or a batch.
-Pure core: numpy only, no I/O.
+radii (negative when they overlap), computed by :func:`armanim.world.compiled.segment_segment_pairs`:
+the clamped segment-segment closed form where the closest points are unique and apart, else
+(parallel, touching) the segment-box one of :mod:`armanim.world.closest` with B's segment as a box
+of one edge (:meth:`~armanim.world.obstacles.Rods.axes`), as the capsule obstacles are measured.
+The normal points from B's closest point to A's, so a pair's gap grows along
+``n . (J_A - J_B)`` (:func:`self_rows`: the difference of the two closest points' Jacobians, the
+envelope theorem dropping the fractions' derivatives), compiled too. One pose or a batch. Pure
+core: numpy, and numba (imported at the first measurement), no I/O.
 """
 
 from __future__ import annotations
