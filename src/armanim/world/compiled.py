@@ -365,11 +365,11 @@ def pair_rows(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray
     m <= the capsule's ``link`` (``points`` (n+1, 3), world ``axes`` (n, 3)), 0 after."""
     scratch = np.empty(9)
     for r in range(which.shape[0]):
-        _pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], scratch, rows[r])
+        pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], scratch, rows[r])
 
 
 @compiled(**_INLINE)
-def _pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
+def pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
               t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int, scratch: np.ndarray, row: np.ndarray) -> None:
     """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`); ``scratch``: (9,) work space."""
     qa, qb, col = scratch[0:3], scratch[3:6], scratch[6:9]
@@ -410,7 +410,7 @@ def pair_rows_met(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nda
             bound += lever_rows[p, m] * abs(step[m])
         if room >= bound * slack + extra:
             continue
-        _pair_row(points, axes, a, b, link, first, second, t, s, normal, p, scratch, row)
+        pair_row(points, axes, a, b, link, first, second, t, s, normal, p, scratch, row)
         change = 0.0
         for m in range(step.shape[0]):
             change += row[m] * step[m]

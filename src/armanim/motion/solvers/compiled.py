@@ -41,14 +41,14 @@ from typing import NamedTuple, cast
 
 import numpy as np
 
-from armanim.arm.kernel import _forward_one, _jacobian, _log, compiled, packed_chain
+from armanim.arm.kernel import _capsule_ends_one, _forward_one, _jacobian, _log, compiled, packed_chain
 from armanim.arm.linalg import PINV_RTOL
 from armanim.motion.cost import self_influence
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import VIOLATION, kept_self_clearance, limit_buffer
 from armanim.motion.solvers.linear import ROUNDING_TASK
-from armanim.world.compiled import segment_segment_pairs
+from armanim.world.compiled import pair_row, segment_segment_pairs
 
 _JIT = dict(error_model="numpy", nogil=True)
 _INLINE = dict(inline="always", **_JIT)
@@ -554,16 +554,7 @@ def _pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_li
     """Every enabled pair's gap (distance less both radii) into ``gaps`` (P,), the capsules' world
     ends into ``ends`` (2, c, 3), each pair's closest points' fractions and normal into ``near``
     (P, 5): t, s, n (:func:`armanim.world.selfdistances.self_gaps`); returns the least gap."""
-    count = caps.shape[0]
-    for c in range(count):
-        k = caps_link[c]
-        for x in range(3):
-            if caps[c, 7] != 0.0:  # a joint-to-joint capsule: the chain's own points
-                ends[0, c, x] = points[k, x]
-                ends[1, c, x] = points[k + 1, x]
-            else:
-                ends[0, c, x] = points[k, x] + (frames[k, x, 0] * caps[c, 0] + frames[k, x, 1] * caps[c, 1] + frames[k, x, 2] * caps[c, 2])
-                ends[1, c, x] = points[k, x] + (frames[k, x, 0] * caps[c, 3] + frames[k, x, 1] * caps[c, 4] + frames[k, x, 2] * caps[c, 5])
+    _capsule_ends_one(points, frames, caps_link, caps[:, 0:3], caps[:, 3:6], caps[:, 7], ends[0], ends[1])  # column 7: joint-to-joint
     p = first.shape[0]
     t = np.empty(p)
     s = np.empty(p)
@@ -583,31 +574,17 @@ def _pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_li
 
 @compiled(**_JIT)
 def _pair_row_times(points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray, near: np.ndarray,
-                    first: int, second: int, q: int, step: np.ndarray) -> tuple[float, float]:
-    """The pair's row n . (J_A - J_B) of the filter (:func:`armanim.world.selfdistances.self_rows`)
-    times ``step``, and |row| . |step| (the size of its rounding)."""
-    n = step.shape[0]
-    link_a = caps_link[first]
-    link_b = caps_link[second]
-    qa = np.empty(3)
-    qb = np.empty(3)
-    for x in range(3):
-        qa[x] = ends[0, first, x] + near[q, 0] * (ends[1, first, x] - ends[0, first, x])
-        qb[x] = ends[0, second, x] + near[q, 1] * (ends[1, second, x] - ends[0, second, x])
+                    first: np.ndarray, second: np.ndarray, q: int, step: np.ndarray) -> tuple[float, float]:
+    """Pair q's row n . (J_A - J_B) of the filter (:func:`armanim.world.compiled.pair_rows`, as
+    :func:`armanim.world.selfdistances.self_rows` computes it) times ``step``, and |row| . |step|
+    (the size of its rounding)."""
+    row = np.empty(step.shape[0])
+    pair_row(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], near[:, 2:5], q, np.empty(9), row)
     total = 0.0
     size = 0.0
-    for j in range(n):
-        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
-        a0 = a1 = a2 = b0 = b1 = b2 = 0.0
-        if j <= link_a:
-            l0, l1, l2 = qa[0] - points[j, 0], qa[1] - points[j, 1], qa[2] - points[j, 2]
-            a0, a1, a2 = w1 * l2 - w2 * l1, w2 * l0 - w0 * l2, w0 * l1 - w1 * l0
-        if j <= link_b:
-            l0, l1, l2 = qb[0] - points[j, 0], qb[1] - points[j, 1], qb[2] - points[j, 2]
-            b0, b1, b2 = w1 * l2 - w2 * l1, w2 * l0 - w0 * l2, w0 * l1 - w1 * l0
-        row = near[q, 2] * (a0 - b0) + near[q, 3] * (a1 - b1) + near[q, 4] * (a2 - b2)
-        total += row * step[j]
-        size += abs(row) * abs(step[j])
+    for j in range(step.shape[0]):
+        total += row[j] * step[j]
+        size += abs(row[j]) * abs(step[j])
     return total, size
 
 
@@ -652,7 +629,7 @@ def _rows_met(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np
             continue
         if d - kept >= (2.0 * nominal_length * pair_levers[q] + 1e-9) * (1.0 + 1e-9) + slack:
             continue  # beyond the travel: the filter builds no row for it
-        along, size = _pair_row_times(points, axes, caps_link, ends, near, first[q], second[q], q, step)
+        along, size = _pair_row_times(points, axes, caps_link, ends, near, first, second, q, step)
         if not along >= -gamma * (d - kept) + 1e-9 * size + slack:
             return False
     return True
