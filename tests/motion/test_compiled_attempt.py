@@ -101,7 +101,7 @@ def test_the_compiled_attempt_takes_the_numpy_steps(name, method, seed, kind, fr
     goal, orientation, _ = target_of(problem, seed, kind)
     start = start_of(problem, seed, from_home)
     chosen = solver_method(method)
-    assert ik._runs_compiled(problem, chosen) and not ik._runs_compiled(oracle, chosen)
+    assert ik.runs_compiled(problem, chosen) and not ik.runs_compiled(oracle, chosen)
     kappa = tip_condition(problem, start)
     for budget in range(1, 7):
         got = ik._attempt(problem, chosen, goal, start, budget, orientation)

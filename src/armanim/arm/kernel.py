@@ -326,3 +326,23 @@ def capsule_ends_one(link: np.ndarray, start: np.ndarray, end: np.ndarray, joint
     a, b = np.empty((count, 3)), np.empty((count, 3))
     _capsule_ends_one(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(frames, dtype=float), link, start, end, joint_segment, a, b)
     return a, b
+
+
+def machine_code_cached(*functions: Any) -> bool:
+    """Whether numba's on-disk cache holds machine code of each compiled function (a dispatcher of
+    :func:`compiled`) for this Python: False means its first call compiles it, some seconds. Where
+    numba keeps no cache (a read-only install) or does not say, True: no notice beats a wrong one.
+
+    >>> machine_code_cached()
+    True
+    """
+    from pathlib import Path
+
+    for function in functions:
+        try:
+            index = Path(function._cache._cache_file._index_path)  # numba's own index file of the function's machine code
+        except (AttributeError, TypeError):
+            continue
+        if not index.exists():
+            return False
+    return True

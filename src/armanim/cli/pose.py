@@ -15,6 +15,7 @@ import typer
 from armanim.cli.app import app, err, fmt, handle_errors, out, say
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
 from armanim.cli.options import parse_lengths, parse_numbers
+from armanim.cli.run import tell_first_compile
 from armanim.errors import UsageError
 from armanim.output.jsontext import json_text
 from armanim.output.numbers import number
@@ -118,6 +119,7 @@ def ik(
     if orientation_tolerance is not None:
         problem = with_orientation_tolerance(problem, orientation_tolerance)
     start_deg = parse_numbers(start, "--from", problem.arm.n) if start else None
+    tell_first_compile("ik", problem)
     answer = solve_ik(problem, target, start_deg, max_iterations, orientation=wanted)
     data = ik_report(answer)
     if as_json:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import functools
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Literal
 
 import typer
 
@@ -50,6 +50,8 @@ def run(
     """
     overrides = render_overrides(size, fps, fmt, quality=quality)
     jobs = usable_jobs(jobs)
+    if not quiet:
+        tell_first_compile("run")
     if len(scenes) == 1 and not scheduler:
         run_one(scenes[0], out_root, video=not no_video, viewer=viewer, jobs=jobs, overrides=overrides, quiet=quiet, strict=strict)
         return
@@ -68,6 +70,17 @@ def run(
         print_batch_table(entries, out_root / "index.csv")
     print_batch_problems(entries)
     raise typer.Exit(batch_exit_code(entries, strict))
+
+
+def tell_first_compile(command: Literal["run", "ik"], problem: object = None) -> None:
+    """At a terminal, say so before a solve whose kernels numba compiles first (:mod:`armanim.runs.warmth`;
+    ``problem``: ik's, which says whether its compiled attempt runs)."""
+    if not err.is_terminal:
+        return
+    from armanim.runs.warmth import FIRST_COMPILE, compiles_first
+
+    if compiles_first(command, problem):
+        say(FIRST_COMPILE, err)
 
 
 def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, jobs, overrides, quiet: bool, strict: bool) -> None:

@@ -227,7 +227,7 @@ def _attempt(
     loop hands the attempt back: the numpy step takes that step, and the compiled loop goes on
     from there with the attempt's counters."""
     steps_cap = min(budget, method.attempt_steps or budget)
-    if not _runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
+    if not runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
         # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
         # rank drops the numpy steps amplify rounding, and no other arithmetic could follow them there
         return _steps(problem, method, goal, arm_state(problem, start), steps_cap, orientation)[0]
@@ -252,7 +252,7 @@ def _attempt(
         phi, counters = attempt.phi, (attempt.steps, best, since_best)
 
 
-def _runs_compiled(problem: Problem, method: Method) -> bool:
+def runs_compiled(problem: Problem, method: Method) -> bool:
     """Whether the attempt runs compiled: a method with a compiled step, no obstacles, the
     analytic Jacobian, and ``tunables.ik.compiled``."""
     return (method.compiled_inverse is not None and problem.tunables.ik.compiled and not len(problem.obstacles)

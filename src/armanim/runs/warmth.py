@@ -1,0 +1,33 @@
+"""Whether a command's first solve on this machine compiles armanim's numerical code first.
+
+numba compiles the compiled kernels at their first call after installing or upgrading and keeps
+the machine code in its cache; that first time takes some 10-40 s, during which a progress bar
+would stand still. The commands tell a user at a terminal so (:func:`compiles_first`).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+
+def compiles_first(command: Literal["run", "ik"], problem: object = None) -> bool:
+    """Whether ``command``'s solve would compile kernels first: the kinematics kernel every solve
+    calls, and for ``ik`` of ``problem`` (a :class:`~armanim.motion.problem.Problem`) the compiled attempt where it runs, are not in numba's
+    cache yet. (A kernel only some scenes call, a box's distances, compiles at its first use in a
+    few seconds, unannounced.)"""
+    from armanim.arm import kernel
+    from armanim.motion.problem import Problem
+
+    functions: list[Any] = [kernel._forward_one]
+    if command == "ik" and isinstance(problem, Problem):
+        from armanim.motion.ik import runs_compiled
+        from armanim.motion.solvers import METHODS
+        from armanim.motion.solvers import compiled as attempt
+
+        if runs_compiled(problem, METHODS[problem.solver.method]):
+            functions.append(attempt._attempt)
+    return not kernel.machine_code_cached(*functions)
+
+
+FIRST_COMPILE = "armanim: compiling its numerical code for this machine, once after installing (some 10-40 s)"
+"""What a command says at a terminal before a solve that compiles first."""

@@ -1,0 +1,57 @@
+"""The notice before a solve whose kernels numba compiles first (runs/warmth.py, cli/run.py)."""
+
+from __future__ import annotations
+
+import io
+import os
+import subprocess
+import sys
+import textwrap
+
+from rich.console import Console
+
+CHECK = textwrap.dedent("""
+    import numpy as np
+    from armanim.arm.kernel import compiled, machine_code_cached
+
+    @compiled()
+    def twice(x):
+        return 2.0 * x
+
+    print(machine_code_cached(twice))
+    twice(np.ones(2))
+    print(machine_code_cached(twice))
+""")
+
+
+def test_machine_code_is_cached_after_the_first_call_and_in_the_next_process(tmp_path):
+    # numba's own cache folder, empty: the first process compiles and saves, the next one finds it
+    script = tmp_path / "probe.py"
+    script.write_text(CHECK)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    first = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=300)
+    assert first.returncode == 0, first.stderr
+    assert first.stdout.split() == ["False", "True"]
+    again = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=300)
+    assert again.stdout.split() == ["True", "True"]
+
+
+def test_the_notice_is_said_at_a_terminal_only_and_only_before_a_first_compile(monkeypatch):
+    from armanim.cli import run as cli_run
+    from armanim.runs import warmth
+
+    for terminal, cold, said in ((True, True, True), (True, False, False), (False, True, False)):
+        stream = io.StringIO()
+        monkeypatch.setattr(cli_run, "err", Console(file=stream, force_terminal=terminal, width=200))
+        monkeypatch.setattr(warmth, "compiles_first", lambda command, problem=None, cold=cold: cold)
+        cli_run.tell_first_compile("run")
+        assert (warmth.FIRST_COMPILE in stream.getvalue()) is said
+
+
+def test_compiles_first_answers_for_both_commands():
+    from armanim.runs.pose import ik_problem
+    from armanim.runs.warmth import compiles_first
+    from armanim.scene import scene_model
+
+    problem = ik_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.4, 0.0, 0.4]]}), None, None, from_flags=False)
+    assert {type(compiles_first("run")), type(compiles_first("ik", problem))} == {bool}
