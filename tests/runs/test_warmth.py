@@ -1,4 +1,4 @@
-"""The notice before a solve whose kernels numba compiles first (runs/warmth.py, cli/run.py)."""
+"""The notice before a solve whose kernels numba compiles first (runs/warmth.py, cli/app.py)."""
 
 from __future__ import annotations
 
@@ -37,14 +37,17 @@ def test_machine_code_is_cached_after_the_first_call_and_in_the_next_process(tmp
 
 
 def test_the_notice_is_said_at_a_terminal_only_and_only_before_a_first_compile(monkeypatch):
-    from armanim.cli import run as cli_run
+    import importlib
+
     from armanim.runs import warmth
+
+    cli_app = importlib.import_module("armanim.cli.app")  # the module (the package's ``app`` is the Typer app)
 
     for terminal, cold, said in ((True, True, True), (True, False, False), (False, True, False)):
         stream = io.StringIO()
-        monkeypatch.setattr(cli_run, "err", Console(file=stream, force_terminal=terminal, width=200))
+        monkeypatch.setattr(cli_app, "err", Console(file=stream, force_terminal=terminal, width=200))
         monkeypatch.setattr(warmth, "compiles_first", lambda command, problem=None, cold=cold: cold)
-        cli_run.tell_first_compile("run")
+        cli_app.tell_first_compile("run")
         assert (warmth.FIRST_COMPILE in stream.getvalue()) is said
 
 

@@ -10,7 +10,7 @@ import contextlib
 import functools
 import os
 import sys
-from typing import Annotated
+from typing import Annotated, Literal
 
 import typer
 from rich.console import Console
@@ -80,6 +80,17 @@ def quiet_when_closed() -> None:
 def say(text: str, console: Console = out) -> None:
     """Print a plain line (no rich markup or highlighting, never wrapped) to ``console``."""
     console.print(text, markup=False, highlight=False, soft_wrap=True)
+
+
+def tell_first_compile(command: Literal["run", "ik"], problem: object = None) -> None:
+    """At a terminal, say so before a solve whose kernels numba compiles first (:mod:`armanim.runs.warmth`;
+    ``problem``: ik's, which says whether its compiled attempt runs)."""
+    if not err.is_terminal:
+        return
+    from armanim.runs.warmth import FIRST_COMPILE, compiles_first
+
+    if compiles_first(command, problem):
+        say(FIRST_COMPILE, err)
 
 
 def report(exc: ArmanimError) -> None:

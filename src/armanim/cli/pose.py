@@ -12,10 +12,9 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from armanim.cli.app import app, err, fmt, handle_errors, out, say
+from armanim.cli.app import app, err, fmt, handle_errors, out, say, tell_first_compile
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
 from armanim.cli.options import parse_lengths, parse_numbers
-from armanim.cli.run import tell_first_compile
 from armanim.errors import UsageError
 from armanim.output.jsontext import json_text
 from armanim.output.numbers import number

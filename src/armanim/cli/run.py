@@ -5,11 +5,11 @@ from __future__ import annotations
 import contextlib
 import functools
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated
 
 import typer
 
-from armanim.cli.app import app, err, handle_errors, message_lines, print_notes, say
+from armanim.cli.app import app, err, handle_errors, message_lines, print_notes, say, tell_first_compile
 from armanim.cli.interrupts import ignore_until_exit
 from armanim.cli.options import JobsOpt, QualityOpt, QuietOpt, SchedulerOpt, render_overrides, usable_jobs
 from armanim.cli.reports import (
@@ -70,17 +70,6 @@ def run(
         print_batch_table(entries, out_root / "index.csv")
     print_batch_problems(entries)
     raise typer.Exit(batch_exit_code(entries, strict))
-
-
-def tell_first_compile(command: Literal["run", "ik"], problem: object = None) -> None:
-    """At a terminal, say so before a solve whose kernels numba compiles first (:mod:`armanim.runs.warmth`;
-    ``problem``: ik's, which says whether its compiled attempt runs)."""
-    if not err.is_terminal:
-        return
-    from armanim.runs.warmth import FIRST_COMPILE, compiles_first
-
-    if compiles_first(command, problem):
-        say(FIRST_COMPILE, err)
 
 
 def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, jobs, overrides, quiet: bool, strict: bool) -> None:

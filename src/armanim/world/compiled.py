@@ -266,10 +266,7 @@ def capsule_pair_gaps(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: n
     least = np.inf
     for p in range(gap.shape[0]):
         gap[p] -= radii[p]
-        if gap[p] < least or gap[p] != gap[p]:
-            least = gap[p]
-    for p in range(gap.shape[0]):  # numpy's min: a NaN anywhere is the least
-        if gap[p] != gap[p]:
+        if gap[p] < least or gap[p] != gap[p]:  # numpy's min: a NaN anywhere is the least (nothing compares below it)
             least = gap[p]
     return least
 
