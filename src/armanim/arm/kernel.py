@@ -245,11 +245,11 @@ def forward_with_tool(arm: Arm, phi: np.ndarray) -> tuple[Pose, np.ndarray]:
     """:func:`forward` and the tool frame's world rotation (..., 3, 3) (:func:`armanim.arm.kinematics.tool_rotation`)."""
     rows, root = packed_chain(arm)
     phi = np.ascontiguousarray(phi, dtype=float)
-    n = arm.n
+    n = rows.shape[0]
     if phi.ndim == 1:
         points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
         _forward_one(rows, root, phi, points, frames, axes, tool)
-        return Pose(points=points, frames=frames, axes=axes), tool
+        return Pose(points, frames, axes), tool
     batch = phi.shape[:-1]
     points, frames, axes, tool = _forward_many(rows, root, phi.reshape(-1, n))
     return Pose(points=points.reshape(batch + (n + 1, 3)), frames=frames.reshape(batch + (n, 3, 3)),

@@ -125,7 +125,7 @@ def default_axes(n: int) -> list[str]:
     return ["z"] + ["y"] * (n - 1)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Pose:
     """Joint points and frames of one or many poses.
 
@@ -149,6 +149,12 @@ class Pose:
     frames: np.ndarray
     axes: np.ndarray | None = None  # (..., n, 3) world joint axes, when forward computed them
     memo: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __init__(self, points: np.ndarray, frames: np.ndarray, axes: np.ndarray | None = None) -> None:
+        # Every solver step builds a pose: filling the instance's dict at once costs a third of
+        # the dataclass's frozen __init__ (one object.__setattr__ per field; single-pose FK's
+        # budget is a few microseconds). The instance stays frozen to assignment.
+        self.__dict__.update(points=points, frames=frames, axes=axes, memo={})
 
     @property
     def tip(self) -> np.ndarray:
