@@ -12,15 +12,16 @@ alike; only ratios within one run are verdicts, times are printed for scale.
    inside the URDF limits), every solver seeded with the home pose, success judged by pinocchio's
    FK (inside the limits, 1 mm and 1 degree). armanim ``solve_pose`` (what ``armanim ik
    --orientation`` does) with ``pinv`` and ``dls``, with the bundled self-collision (its default)
-   and without it (as the peers, which know none); rtb ``ik_LM`` (C++); a pinocchio CLIK loop
-   (log6 error, damped pseudo-inverse, as pinocchio's example); ikpy on fewer targets.
+   and without it (as the peers, which know none); rtb ``ik_LM`` (C++); TRAC-IK (pytracik,
+   ``Speed``, 5 ms timeout); a pinocchio CLIK loop (log6 error, damped pseudo-inverse, as
+   pinocchio's example); pink (a QP a step, DAQP) and ikpy on fewer targets.
 3. **Position IK, the notes' arm** (z, y, y, y; from the singular straight pose): armanim
    ``pinv`` and ``dls``, rtb ``ik_LM`` with a position mask, ikpy; success by a numpy FK written
    here (1 mm, inside the limits).
 4. **Start-up**: whole processes, rotated rounds: ``python -c pass``, ``python -c 'import numpy'``,
    ``armanim --version``, ``armanim run scenes/notes-arm.yaml --no-video``.
 
-The peers (robotics-toolbox, ikpy; pinocchio comes with the test extra) are optional: a missing
+The peers (robotics-toolbox, TRAC-IK, pink, ikpy; pinocchio comes with the test extra) are optional: a missing
 one is a row that says so. Set ``OPENBLAS_NUM_THREADS=1`` (done here before numpy loads).
 """
 
@@ -154,6 +155,66 @@ def rtb_panda():
         return np.asarray(ets.ik_LM(t, q0=q0, joint_limits=True, tol=tol, ilimit=30, slimit=100).q)
 
     return ets, solve
+
+
+def tracik_panda(timeout: float = 0.005, eps: float = 1e-5):
+    """TRAC-IK (pytracik, ``Speed``: KDL's Newton and an SQP raced, random restarts within the
+    timeout), given the URDF's own limits: pytracik 0.0.3 reads this URDF's as [0, 0]."""
+    import pytracik
+
+    from armanim.scene.robots import bundled_robot
+
+    info = bundled_robot("panda")
+    text = kinematic_urdf(info.urdf).read_text()
+    solver = pytracik.TRAC_IK(info.base_link, info.tip_link, text, timeout, eps, pytracik.SolveType.Speed)
+    limits = panda_problem("pinv").limits
+    pytracik.set_joint_limits(solver, [float(v) for v in limits.lower], [float(v) for v in limits.upper])
+
+    def solve(p, rot, q0):
+        x, y, z, w = quaternion_xyzw(rot)
+        found = pytracik.ik(solver, np.asarray(q0, dtype=float), p[0], p[1], p[2], x, y, z, w)
+        return np.asarray(found[1:]) if found[0] >= 0 else None
+
+    return solve
+
+
+def quaternion_xyzw(rot: np.ndarray) -> tuple[float, float, float, float]:
+    """A rotation matrix's unit quaternion (x, y, z, w), by scipy (not armanim)."""
+    from scipy.spatial.transform import Rotation
+
+    x, y, z, w = Rotation.from_matrix(rot).as_quat()
+    return float(x), float(y), float(z), float(w)
+
+
+def pink_panda(its: int = 100, restarts: int = 20, seed: int = 0):
+    """pink's differential IK iterated to the pose: a FrameTask (position and orientation cost 1),
+    its configuration limits, one QP a step (DAQP through qpsolvers), random restarts as rtb's."""
+    import pink
+    from pink.tasks import FrameTask
+
+    from armanim.scene.robots import bundled_robot
+
+    pin, model, data, _ = panda_pinocchio()
+    tip = bundled_robot("panda").tip_link
+    lo, hi = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+    rng = np.random.default_rng(seed)
+    task = FrameTask(tip, position_cost=1.0, orientation_cost=1.0, lm_damping=1e-6)
+
+    def solve(p, rot, q0):
+        task.set_target(pin.SE3(rot, p))
+        q = np.array(q0, dtype=float)
+        for _ in range(restarts + 1):
+            conf = pink.Configuration(model, data, q)
+            for _ in range(its):
+                placed = conf.get_transform_frame_to_world(tip)
+                if (np.linalg.norm(p - placed.translation) < POS_TOL
+                        and np.linalg.norm(pin.log3(placed.rotation.T @ rot)) < ANG_TOL):
+                    return conf.q
+                conf.integrate_inplace(pink.solve_ik(conf, [task], 1.0, solver="daqp", damping=1e-12, safety_break=False), 1.0)
+            q = rng.uniform(lo, hi)
+        return conf.q
+
+    return solve
 
 
 def ikpy_panda():
@@ -305,7 +366,8 @@ def part_pose(count: int) -> None:
                for m, pr in problems.items()}
     solvers["pinocchio CLIK loop"] = pinocchio_clik()
     skipped = []
-    for name, make in (("rtb ik_LM (C++)", lambda: rtb_panda()[1]), ("ikpy", ikpy_panda)):
+    for name, make in (("rtb ik_LM (C++)", lambda: rtb_panda()[1]), ("TRAC-IK (pytracik, 5 ms)", tracik_panda),
+                       ("pink (QP, DAQP)", pink_panda), ("ikpy", ikpy_panda)):
         solve, why = optional(make)
         if solve is None:
             skipped.append(f"   {name:34s} skipped: {why}")
@@ -313,7 +375,7 @@ def part_pose(count: int) -> None:
             solvers[name] = solve
     for name in solvers:  # warm every solver up (numba's cache, rtb's first call)
         solvers[name](*cases[0])
-    results = interleaved(solvers, cases, judge, {"ikpy": max(10, count // 5)})
+    results = interleaved(solvers, cases, judge, {"ikpy": max(10, count // 5), "pink (QP, DAQP)": max(10, count // 5)})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
     report(f"2. 6-D pose IK, Panda, {count} random reachable targets from home, 1 mm / 1 deg by pinocchio's FK:", results, peer)
     from armanim.world.selfdistances import self_gaps
@@ -400,7 +462,7 @@ def part_position(count: int) -> None:
             solvers[name] = solve
     for name in solvers:
         solvers[name](*cases[0])
-    results = interleaved(solvers, cases, judge, {"ikpy": max(10, count // 5)})
+    results = interleaved(solvers, cases, judge, {"ikpy": max(10, count // 5), "pink (QP, DAQP)": max(10, count // 5)})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else None
     report(f"3. position IK, the notes' arm, {count} targets from the straight pose, 1 mm by a numpy FK of its own:", results, peer)
     for line in skipped:
