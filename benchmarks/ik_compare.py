@@ -19,7 +19,9 @@ alike; only ratios within one run are verdicts, times are printed for scale.
    ``pinv`` and ``dls``, rtb ``ik_LM`` with a position mask, ikpy; success by a numpy FK written
    here (1 mm, inside the limits).
 4. **Start-up**: whole processes, rotated rounds: ``python -c pass``, ``python -c 'import numpy'``,
-   ``armanim --version``, ``armanim run scenes/notes-arm.yaml --no-video``.
+   the imports of the stack a run is built on (numpy, scipy.linalg, pydantic, yaml, typer, rich,
+   numba), ``armanim --version``, ``armanim run scenes/notes-arm.yaml --no-video``; and the
+   small run's time as a ratio to the stack's imports.
 
 The peers (robotics-toolbox, TRAC-IK, pink, ikpy; pinocchio comes with the test extra) are optional: a missing
 one is a row that says so. Set ``OPENBLAS_NUM_THREADS=1`` (done here before numpy loads).
@@ -476,6 +478,7 @@ def part_startup(rounds: int) -> None:
     armanim = [sys.executable, "-m", "armanim"]
     out = Path(os.environ.get("TMPDIR", "/tmp")) / "ik_compare_runs"
     cases = {"python -c pass": [sys.executable, "-c", "pass"], "python -c 'import numpy'": [sys.executable, "-c", "import numpy"],
+             STACK: [sys.executable, "-c", f"import {STACK_MODULES}"],
              "armanim --version": [*armanim, "--version"],
              "armanim run notes-arm --no-video": [*armanim, "run", "scenes/notes-arm.yaml", "--no-video", "-q", "--out", str(out)]}
     times = {name: [] for name in cases}
@@ -489,6 +492,13 @@ def part_startup(rounds: int) -> None:
     print(f"4. start-up, whole processes, {rounds} rotated rounds (after a warm-up round):")
     for name in names:
         print(f"   {name:34s} min {min(times[name]):.3f} s  median {statistics.median(times[name]):.3f} s")
+    ratio = statistics.median(a / b for a, b in zip(times[names[-1]], times[STACK]))
+    print(f"   a small run is {ratio:.1f}x importing the stack it runs on (median of rounds)")
+
+
+# What every `armanim run` imports by design (the chosen dependencies): the floor of a small run's time.
+STACK_MODULES = "numpy, scipy.linalg, pydantic, yaml, typer, rich, numba"
+STACK = "python -c 'import the stack'"
 
 
 def main(quick: bool) -> None:

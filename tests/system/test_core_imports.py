@@ -94,6 +94,25 @@ def test_commands_that_never_solve_never_import_scipy(args):
     assert proc.stdout.strip() == "0 None"
 
 
+@pytest.mark.parametrize("args", [
+    ["fk", "--angles", "0,30,45,10", "--links", "2,5,5,5"], ["fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45"],
+], ids=lambda a: "-".join(a[:3]))
+def test_fk_never_loads_numba(args):
+    """One pose's FK needs neither the compiled kernels nor the arm's own pairs: an arm of links
+    would sample its self-collision matrix with the compiled closed form (numba's import and its
+    first cache load, some 0.4 s of a 0.3 s command, benchmarks/README.md)."""
+    code = (
+        "import sys\n"
+        "from typer.testing import CliRunner\n"
+        "from armanim.cli import app\n"
+        f"result = CliRunner().invoke(app, {args!r})\n"
+        "print(result.exit_code, 'numba' in sys.modules, 'armanim.world.selfcollision' in sys.modules)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["0", "False", "True"]  # the module is imported, its sampling never runs
+
+
 def test_a_solve_loads_scipy_linalg():
     code = (
         "import sys\n"

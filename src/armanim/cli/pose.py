@@ -60,10 +60,11 @@ def fk(
         say(f"note: {note}", err)
     if png is not None:
         from armanim.render.pictures.pose import render_pose_png
-        from armanim.scene import render_settings
+        from armanim.scene import render_settings, scene_to_problem
 
-        # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend
-        render_pose_png(replace(answer.problem, goals=()), answer.phi, render_settings(model), png, title="armanim fk")
+        # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend;
+        # the picture tints the arm's own pairs near each other, so it takes the problem with them
+        render_pose_png(replace(scene_to_problem(model), goals=()), answer.phi, render_settings(model), png, title="armanim fk")
         if not as_json:
             say(f"wrote {png}")
 

@@ -36,7 +36,8 @@ class FkAnswer:
     Attributes
     ----------
     problem : Problem
-        The arm (its limits, reach), as the scene or the flags give it.
+        The arm (its limits, reach), as the scene or the flags give it, without the arm's own
+        pairs (``self_pairs`` empty: one pose's forward kinematics never asks for them).
     phi : (n,) array
         The joint angles, radians.
     angles_deg : (n,) array
@@ -73,7 +74,7 @@ def forward_pose(model: SceneModel, angles: np.ndarray, in_radians: bool = False
     >>> answer.tip.round(12).tolist(), answer.angles_deg.tolist()
     ([1.0, 0.0, 1.0], [0.0, 90.0])
     """
-    problem = scene_to_problem(model)
+    problem = scene_to_problem(model, own_pairs=False)  # one pose's FK asks nothing of them
     phi = angles if in_radians else radians(angles)
     pose = forward(problem.arm, phi)
     rot = tool_rotation(problem.arm, pose)
