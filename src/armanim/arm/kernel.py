@@ -33,17 +33,58 @@ def compiled(**options: Any) -> Callable[[F], F]:
     """``numba.njit(**options)`` with its machine code cached on disk where numba finds a
     writable folder (beside the module, ``NUMBA_CACHE_DIR`` or the user's cache folder), and
     compiled afresh in each process where it finds none (a read-only install run by a user
-    without a writable home: numba refuses ``cache=True`` there instead of going without)."""
+    without a writable home: numba refuses ``cache=True`` there instead of going without).
+    The cached code is kept only while every module of :data:`COMPILED_MODULES` is unchanged
+    (:func:`stamp_cache`)."""
 
     def compile_(function: F) -> F:  # numba's dispatcher is called as the function is (numba ships no types)
         try:
-            return cast(F, numba.njit(cache=True, **options)(function))
+            dispatcher = numba.njit(cache=True, **options)(function)
         except RuntimeError as error:
             if "no locator available" not in str(error):
                 raise
             return cast(F, numba.njit(cache=False, **options)(function))
+        stamp_cache(dispatcher, sources_stamp(COMPILED_MODULES))
+        return cast(F, dispatcher)
 
     return compile_
+
+
+COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "motion/solvers/compiled.py",
+                    "render/solids/rasterloops.py")
+"""Every module of armanim that defines compiled functions (paths inside the package): one's
+machine code holds the compiled functions it calls from the others."""
+
+
+def sources_stamp(paths: tuple[str, ...], root: str | None = None) -> tuple:
+    """(path, mtime, size) of each source file (``root`` the folder they are in, armanim's by
+    default; a file that cannot be read stamps as None): what numba stamps one file with."""
+    import os
+
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) if root is None else root
+    stamp = []
+    for path in paths:
+        try:
+            status = os.stat(os.path.join(root, path))
+        except OSError:
+            stamp.append((path, None))
+        else:
+            stamp.append((path, status.st_mtime, status.st_size))
+    return tuple(stamp)
+
+
+def stamp_cache(dispatcher: Any, stamp: tuple) -> None:
+    """Keep a compiled function's cached machine code only while ``stamp`` holds too.
+
+    numba keeps a function's cache while its own file's (mtime, size) is unchanged, but the
+    machine code also holds every compiled function it calls, inlined or linked from other
+    modules: after an edit there (a ``git pull`` of an editable install) it would run the old
+    callee. The index numba checks is stamped with the sources of all of them as well. Where
+    numba keeps no cache, or its cache is laid out otherwise, nothing changes.
+    """
+    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
+    if cache_file is not None and hasattr(cache_file, "_source_stamp"):
+        cache_file._source_stamp = (cache_file._source_stamp, stamp)
 
 
 _JIT = dict(error_model="numpy", nogil=True)
@@ -340,9 +381,15 @@ def machine_code_cached(*functions: Any) -> bool:
 
     for function in functions:
         try:
-            index = Path(function._cache._cache_file._index_path)  # numba's own index file of the function's machine code
+            cache_file = function._cache._cache_file  # numba's own index of the function's machine code
+            index = Path(cache_file._index_path)
         except (AttributeError, TypeError):
             continue
         if not index.exists():
+            return False
+        try:
+            if not cache_file._load_index():  # stale (a source stamp changed) or empty: it compiles
+                return False
+        except Exception:  # noqa: BLE001 (an index numba cannot read now is one it compiles again)
             return False
     return True
