@@ -56,24 +56,27 @@ COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "m
 machine code holds the compiled functions it calls from the others."""
 
 
-def sources_stamp(paths: tuple[str, ...], root: str | None = None) -> tuple:
+SourcesStamp = tuple[tuple[str, float | None, int | None], ...]
+
+
+def sources_stamp(paths: tuple[str, ...], root: str | None = None) -> SourcesStamp:
     """(path, mtime, size) of each source file (``root`` the folder they are in, armanim's by
-    default; a file that cannot be read stamps as None): what numba stamps one file with."""
+    default; a file that cannot be read stamps as (path, None, None)): what numba stamps one file with."""
     import os
 
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) if root is None else root
-    stamp = []
+    stamp: list[tuple[str, float | None, int | None]] = []
     for path in paths:
         try:
             status = os.stat(os.path.join(root, path))
         except OSError:
-            stamp.append((path, None))
+            stamp.append((path, None, None))
         else:
             stamp.append((path, status.st_mtime, status.st_size))
     return tuple(stamp)
 
 
-def stamp_cache(dispatcher: Any, stamp: tuple) -> None:
+def stamp_cache(dispatcher: Any, stamp: SourcesStamp) -> None:
     """Keep a compiled function's cached machine code only while ``stamp`` holds too.
 
     numba keeps a function's cache while its own file's (mtime, size) is unchanged, but the
