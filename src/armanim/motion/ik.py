@@ -18,8 +18,9 @@ result says which one found the pose. A goal with an orientation is solved as a 
 (every method's pose task, :mod:`armanim.motion.orientation`) and converges when both the
 distance and the angle are within their tolerances. A ``pinv`` or ``dls`` attempt on a problem
 without obstacles runs compiled (:mod:`armanim.motion.solvers.compiled`: the same steps to
-rounding, handed back to the numpy steps where a pair of the arm's own capsules matters to a
-step); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure core: no I/O.
+rounding, the arm's own pairs' push and filter rows included, the filter's QP solved exactly
+where DAQP solves it to its tolerance; handed back to the numpy steps where rounding could tell
+a step apart); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure core: no I/O.
 """
 
 from __future__ import annotations
@@ -222,10 +223,10 @@ def _attempt(
 
     A ``pinv`` or ``dls`` attempt on a problem without obstacles runs compiled
     (:mod:`armanim.motion.solvers.compiled`), the same steps to rounding, unless the goal has an
-    orientation that the arm cannot hold. Where a pair of the
-    arm's own capsules may matter to a step (its push, its row of the filter), the compiled
-    loop hands the attempt back: the numpy step takes that step, and the compiled loop goes on
-    from there with the attempt's counters."""
+    orientation that the arm cannot hold (the arm's own pairs' push and filter rows inside it;
+    the filter's QP solved exactly). Where rounding could tell a step apart (a pair's gap at 0, a
+    step's exact check at its floor), the compiled loop hands the attempt back: the numpy step
+    takes that step, and the compiled loop goes on from there with the attempt's counters."""
     steps_cap = min(budget, method.attempt_steps or budget)
     if not runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
         # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
