@@ -356,3 +356,32 @@ def test_a_numpy_step_hands_the_attempt_back_to_the_compiled_loop(monkeypatch):
     assert len(calls) > 1 and np.array_equal(calls[0], problem.home)
     state = arm_state(problem, calls[1])
     assert np.all(np.isfinite(state.phi))
+
+
+@pytest.mark.parametrize("name", ["panda-self", "ur5", "iiwa"])
+def test_the_compiled_pairs_gaps_are_the_shared_closed_forms(name):
+    # the attempt measures its spheres' pairs (a capsule of no length) in closed form, the shared
+    # segment-segment function by its box form: the same gaps, closest points and normals to rounding
+    from armanim.arm.kernel import _forward_one, packed_chain
+
+    problem = problem_of(name, "pinv")
+    caps, link, first, second, _, _ = compiled._pair_constants(problem)
+    rows, root = packed_chain(problem.arm)
+    n, count = problem.arm.n, len(first)
+    lengths = np.linalg.norm(problem.capsules.end - problem.capsules.start, axis=1)
+    rng = np.random.default_rng(11)
+    for phi in rng.uniform(np.maximum(problem.limits.lower, -np.pi), np.minimum(problem.limits.upper, np.pi), (200, n)):
+        points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
+        _forward_one(rows, root, phi, points, frames, axes, tool)
+        ends, gaps, near = np.empty((2, len(caps), 3)), np.empty(count), np.empty((count, 5))
+        least = compiled._pair_gaps(points, frames, caps, link, first, second, ends, gaps, near)
+        expected = self_gaps(forward(problem.arm, phi), problem.capsules, problem.self_pairs)
+        np.testing.assert_allclose(gaps, expected.d, atol=1e-12, rtol=0)
+        assert least == gaps.min()
+        apart = expected.d > 1e-6
+        np.testing.assert_allclose(near[apart, 2:], expected.normal[apart], atol=1e-9, rtol=0)
+        spheres = apart & ((lengths[first] == 0) | (lengths[second] == 0))  # the pairs measured here (the others' closest
+        # points may be a tie, parallel links, that the capsule ends' rounding decides either way)
+        along_first, along_second = spheres & (lengths[first] > 0), spheres & (lengths[second] > 0)
+        np.testing.assert_allclose(near[along_first, 0], expected.t[along_first], atol=1e-9, rtol=0)
+        np.testing.assert_allclose(near[along_second, 1], expected.s[along_second], atol=1e-9, rtol=0)
