@@ -678,11 +678,11 @@ by no more than this (rounding; the filter's own test allows ``VIOLATION``)."""
 
 
 @compiled(**_JIT)
-def _gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray) -> bool:
+def _gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray, gram: np.ndarray) -> bool:
     """out (w,) solving (C_W C_W^T) out = rhs (w,), C_W the rows ``active[:w]`` of ``cmat``, by
-    Cholesky; False where C_W C_W^T is not positive definite (rows dependent to rounding)."""
+    Cholesky (in ``gram``, (n, n) work space); False where C_W C_W^T is not positive definite
+    (rows dependent to rounding)."""
     n = cmat.shape[1]
-    gram = np.empty((w, w))
     for i in range(w):
         for j in range(i + 1):
             s = 0.0
@@ -734,6 +734,7 @@ def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: 
     r = np.empty(n)
     z = np.empty(n)
     rhs = np.empty(n)
+    gram = np.empty((n, n))
     w = 0
     solved = False
     for _ in range(QP_ITERATIONS):
@@ -759,7 +760,7 @@ def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: 
                 for j in range(n):
                     s += cmat[active[i], j] * cmat[p, j]
                 rhs[i] = s
-            if w > 0 and not _gram_solve(cmat, active, w, rhs, r):
+            if w > 0 and not _gram_solve(cmat, active, w, rhs, r, gram):
                 return -1
             zz = 0.0
             cc = 0.0
@@ -810,7 +811,7 @@ def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: 
         for j in range(n):
             s += cmat[active[i], j] * nominal[j]
         rhs[i] = -s
-    if w > 0 and not _gram_solve(cmat, active, w, rhs, u):
+    if w > 0 and not _gram_solve(cmat, active, w, rhs, u, gram):
         return -1
     for j in range(n):
         s = nominal[j]
@@ -830,9 +831,20 @@ def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: 
 
 
 @compiled(**_JIT)
+def _bound_rows(n: int, pairs: int) -> np.ndarray:
+    """The filter QP's rows (2 n + P, n), its first 2 n the joints' bounds (I, then -I: x >= low,
+    -x >= -high); the pairs' rows are written per step."""
+    cmat = np.zeros((2 * n + pairs, n))
+    for j in range(n):
+        cmat[j, j] = 1.0
+        cmat[n + j, j] = -1.0
+    return cmat
+
+
+@compiled(**_JIT)
 def _filtered(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray,
               near: np.ndarray, first: np.ndarray, second: np.ndarray, pair_levers: np.ndarray, nominal: np.ndarray,
-              nominal_length: float, low: np.ndarray, high: np.ndarray, step: np.ndarray) -> bool:
+              nominal_length: float, low: np.ndarray, high: np.ndarray, cmat: np.ndarray, cb: np.ndarray, step: np.ndarray) -> bool:
     """With the pairs' exact ``gaps`` at the pose: the filter's step into ``step`` (n,) as
     :func:`armanim.motion.solvers.barrier.filtered_step` takes it, the closest to ``nominal``
     meeting the joints' bounds ``low``, ``high`` and the rows of the pairs near enough for the step
@@ -840,18 +852,15 @@ def _filtered(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np
     d_kept)). ``nominal`` itself where it meets them all (to ``VIOLATION``), else the QP solved
     exactly (:func:`_closest_step`), clipped to the bounds as the numpy filter clips DAQP's answer;
     where no step meets the rows, the QP again with each row's bound no more than 0 (closing no
-    gap further), as the numpy filter relaxes it. False (hand back) where the QP fails."""
+    gap further), as the numpy filter relaxes it. ``cmat`` (2 n + P, n), ``cb`` (2 n + P,): work
+    space for the QP's rows and bounds, its first 2 n rows the joints' (:func:`_bound_rows`).
+    False (hand back) where the QP fails."""
     n = nominal.shape[0]
     gamma = floats[GAMMA]
     kept = floats[KEPT_SELF]
     pairs = gaps.shape[0]
-    cmat = np.empty((2 * n + pairs, n))
-    cb = np.empty(2 * n + pairs)
     met = True
     for j in range(n):
-        for i in range(n):
-            cmat[j, i] = 1.0 if i == j else 0.0
-            cmat[n + j, i] = -1.0 if i == j else 0.0
         cb[j] = low[j]
         cb[n + j] = -high[j]
         if nominal[j] < low[j] - VIOLATION or nominal[j] > high[j] + VIOLATION:
@@ -962,6 +971,8 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
     low = np.empty(n)
     high = np.empty(n)
     pair_push = np.empty(n)
+    cmat = _bound_rows(n, pairs)
+    cb = np.empty(2 * n + pairs)
     while progress >= tol and steps < ints[STEPS_CAP]:
         pairs_push = False
         if pairs:  # a pair within its push's influence (R): its push joins the limits' (exact gaps, where a bound cannot show none)
@@ -1023,7 +1034,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
                 for q in range(pairs):
                     bound[q] = gaps[now, q] - slack
             if not _filtered(floats, gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first, second, pair_levers,
-                             nominal, nominal_length, low, high, step):
+                             nominal, nominal_length, low, high, cmat, cb, step):
                 status = HANDED_BACK
                 break
         other = 1 - now
