@@ -385,3 +385,15 @@ def test_the_compiled_pairs_gaps_are_the_shared_closed_forms(name):
         along_first, along_second = spheres & (lengths[first] > 0), spheres & (lengths[second] > 0)
         np.testing.assert_allclose(near[along_first, 0], expected.t[along_first], atol=1e-9, rtol=0)
         np.testing.assert_allclose(near[along_second, 1], expected.s[along_second], atol=1e-9, rtol=0)
+
+
+def test_a_pose_solution_made_at_once_is_the_dataclasss():
+    import dataclasses
+
+    fields = dict(phi=np.zeros(2), tip=np.ones(3), distance=0.5, status="converged", steps=3, iterations=3, newton_iterations=0,
+                  restarts=1, found_by="method", orientation_error=None)
+    made, expected = ik._pose_solution(**fields), ik.PoseSolution(**fields)
+    assert repr(made) == repr(expected) and made.converged and dataclasses.fields(made) == dataclasses.fields(expected)
+    assert {f.name for f in dataclasses.fields(expected)} == set(fields)  # every field given
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        made.steps = 4  # type: ignore[misc]
