@@ -26,6 +26,7 @@ machine, printed for scale: compare rows of one run, not runs.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -229,11 +230,13 @@ def main() -> None:
     parser.add_argument("--position-only", action="store_true", help="the same targets' positions alone (3-D goals)")
     parser.add_argument("--compare", action="store_true", help="issue 40's comparison: FK, 6-D Panda and notes' arm IK "
                         "against rtb, pinocchio and ikpy, start-up (benchmarks/ik_compare.py; --quick: fewer targets)")
+    parser.add_argument("--parts", default=None, help="with --compare: which parts, of fk,pose,self-free,position,startup (all)")
     args = parser.parse_args()
     if args.compare:
         import ik_compare
 
-        ik_compare.main(args.quick)
+        parts = tuple(args.parts.split(",")) if args.parts else ik_compare.PARTS
+        ik_compare.main(args.quick, parts, args.targets if "--targets" in sys.argv else None)
         return
     count = 20 if args.quick else args.targets
     kind = "3-D position" if args.position_only else "6-D"

@@ -1,6 +1,6 @@
 """Issue 40's comparison in one command: ``python benchmarks/ik_bench.py --compare [--quick]``.
 
-Four parts, each timed in this one process with the contenders interleaved (the order rotated on
+Five parts, each timed in this one process with the contenders interleaved (the order rotated on
 every target or round, the garbage collector off during each call), so machine load hits them
 alike; only ratios within one run are verdicts, times are printed for scale.
 
@@ -15,6 +15,14 @@ alike; only ratios within one run are verdicts, times are printed for scale.
    and without it (as the peers, which know none); rtb ``ik_LM`` (C++); TRAC-IK (pytracik,
    ``Speed``, 5 ms timeout); a pinocchio CLIK loop (log6 error, damped pseudo-inverse, as
    pinocchio's example); pink (a QP a step, DAQP) and ikpy on fewer targets.
+2b. **6-D pose IK, Panda, self-free targets**: targets from random poses inside the limits whose
+   enabled pairs of the Panda's own capsules are all at least ``self_clearance`` apart, measured
+   by coal on capsules placed by pinocchio's frames (:func:`panda_pair_gaps`, not armanim's
+   distance code); the same targets for every solver. armanim with its default self-collision
+   succeeds when the answer is reached (as in 2) and keeps every pair apart by that judge; the
+   peers know no self-collision and are judged by the FK alone (how many of their answers keep
+   the pairs apart is printed beside). Part 2's targets stay as they were: 162 of its 300
+   source poses hold two capsules within ``self_clearance``, which armanim refuses by design.
 3. **Position IK, the notes' arm** (z, y, y, y; from the singular straight pose): armanim
    ``pinv`` and ``dls``, rtb ``ik_LM`` with a position mask, ikpy; success by a numpy FK written
    here (1 mm, inside the limits).
@@ -219,6 +227,16 @@ def pink_panda(its: int = 100, restarts: int = 20, seed: int = 0):
     return solve
 
 
+def pose_peers():
+    """(name, make) of each optional peer of the 6-D Panda parts: ``make()`` gives its solve(p, rot, q0)."""
+    return (("rtb ik_LM (C++)", lambda: rtb_panda()[1]), ("TRAC-IK (pytracik, 5 ms)", tracik_panda),
+            ("pink (QP, DAQP)", pink_panda), ("ikpy", ikpy_panda))
+
+
+FEWER_TARGETS = ("pink (QP, DAQP)", "ikpy")
+"""The slow peers, timed on a fifth of the targets."""
+
+
 def ikpy_panda():
     from ik_bench import urdf_path_elements
     from ikpy.chain import Chain
@@ -310,8 +328,9 @@ def part_fk(quick: bool) -> None:
 
 
 def interleaved(solvers: dict, cases: list, judge, limit: dict) -> dict:
-    """Each solver on each case in turn (the order rotated per case); (times, successes) per solver."""
-    out = {name: ([], []) for name in solvers}
+    """Each solver on each case in turn (the order rotated per case); (times, successes, answers) per
+    solver (an answer: the angles returned, None where the solve raised)."""
+    out = {name: ([], [], []) for name in solvers}
     names = list(solvers)
     for k, case in enumerate(cases):
         for name in names[k % len(names):] + names[: k % len(names)]:
@@ -323,13 +342,14 @@ def interleaved(solvers: dict, cases: list, judge, limit: dict) -> dict:
                 spent, phi = 0.0, None
             out[name][0].append(spent)
             out[name][1].append(phi is not None and judge(np.asarray(phi, dtype=float), case))
+            out[name][2].append(None if phi is None else np.asarray(phi, dtype=float))
     return out
 
 
 def report(title: str, results: dict, peer: str | None) -> None:
     print(title)
     base = statistics.median(results[peer][0]) if peer in results and results[peer][0] else None
-    for name, (times, oks) in results.items():
+    for name, (times, oks, *_) in results.items():
         if not times:
             continue
         ratio = f"{statistics.median(times) / base:7.1f}x {peer}" if base else ""
@@ -368,8 +388,7 @@ def part_pose(count: int) -> None:
                for m, pr in problems.items()}
     solvers["pinocchio CLIK loop"] = pinocchio_clik()
     skipped = []
-    for name, make in (("rtb ik_LM (C++)", lambda: rtb_panda()[1]), ("TRAC-IK (pytracik, 5 ms)", tracik_panda),
-                       ("pink (QP, DAQP)", pink_panda), ("ikpy", ikpy_panda)):
+    for name, make in pose_peers():
         solve, why = optional(make)
         if solve is None:
             skipped.append(f"   {name:34s} skipped: {why}")
@@ -377,7 +396,7 @@ def part_pose(count: int) -> None:
             solvers[name] = solve
     for name in solvers:  # warm every solver up (numba's cache, rtb's first call)
         solvers[name](*cases[0])
-    results = interleaved(solvers, cases, judge, {"ikpy": max(10, count // 5), "pink (QP, DAQP)": max(10, count // 5)})
+    results = interleaved(solvers, cases, judge, {name: max(10, count // 5) for name in FEWER_TARGETS})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
     report(f"2. 6-D pose IK, Panda, {count} random reachable targets from home, 1 mm / 1 deg by pinocchio's FK:", results, peer)
     from armanim.world.selfdistances import self_gaps
@@ -385,6 +404,125 @@ def part_pose(count: int) -> None:
     touching = int((self_gaps(pose, base.capsules, base.self_pairs).least < base.self_pairs.clearance).sum())
     print(f"   ({touching} of the {count} targets' source poses bring two of armanim's Panda capsules within self_clearance:"
           " armanim's self-collision keeps them apart, the peers have none)")
+    for line in skipped:
+        print(line)
+
+
+def panda_pair_gaps():
+    """A judge of the Panda's own pairs written here, apart from armanim's distance code: each
+    enabled pair's gap (distance less both radii, metres) at a pose, the capsules placed by
+    pinocchio's joint frames and measured by coal (capsule against capsule). Taken from armanim
+    are only the robot's data: which joint carries each capsule, its segment in that joint's
+    frame, its radius (the bundled URDF's collision capsules) and the enabled pairs with their
+    ``self_clearance`` (the robot's default matrix). Returns (gaps(q) -> (P,), clearance)."""
+    import coal
+
+    from armanim.arm.capsules import capsule_ends
+    from armanim.arm.kinematics import forward
+
+    pin, model, data, _ = panda_pinocchio()
+    problem = panda_problem("pinv")
+    caps, pairs = problem.capsules, problem.self_pairs
+    if caps.joint_segment.any():
+        raise RuntimeError("a joint-to-joint capsule: not placed by this judge")
+    joints = [model.getJointId(f"panda_joint{k + 1}") for k in caps.link]
+    shapes, axes, centres = [], [], []
+    for start, end, radius in zip(caps.start, caps.end, caps.radius):
+        axis = end - start
+        length = float(np.linalg.norm(axis))
+        z = axis / length if length > 0 else np.array([0.0, 0.0, 1.0])
+        x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+        x /= np.linalg.norm(x)
+        shapes.append(coal.Capsule(float(radius), length))  # coal's capsule: its axis along its local z, centred
+        axes.append(np.stack([x, np.cross(z, x), z], axis=1))
+        centres.append((start + end) / 2)
+    request = coal.DistanceRequest()
+
+    def gaps(q: np.ndarray) -> np.ndarray:
+        pin.forwardKinematics(model, data, q)
+        placed = [data.oMi[j] for j in joints]
+        tfs = [coal.Transform3s(m.rotation @ r, m.rotation @ c + m.translation) for m, r, c in zip(placed, axes, centres)]
+        out = np.empty(len(pairs.first))
+        for k, (a, b) in enumerate(zip(pairs.first, pairs.second)):
+            out[k] = coal.distance(shapes[a], tfs[a], shapes[b], tfs[b], request, coal.DistanceResult())
+        return out
+
+    # a check of the placement (not of the distances): the capsules' world ends as armanim places them
+    rng = np.random.default_rng(7)
+    for q in rng.uniform(problem.limits.lower, problem.limits.upper, (20, problem.arm.n)):
+        pin.forwardKinematics(model, data, q)
+        a, b = capsule_ends(caps, forward(problem.arm, q))
+        for k, j in enumerate(joints):
+            m = data.oMi[j]
+            assert np.abs(m.rotation @ caps.start[k] + m.translation - a[k]).max() < 1e-9
+            assert np.abs(m.rotation @ caps.end[k] + m.translation - b[k]).max() < 1e-9
+    return gaps, float(pairs.clearance)
+
+
+def part_pose_self_free(count: int) -> None:
+    """6-D Panda IK on targets whose source poses keep every enabled pair of the Panda's own
+    capsules at least ``self_clearance`` apart (by :func:`panda_pair_gaps`), so that armanim with
+    its self-collision on (the robot's default) is not refused by design; the same targets for
+    every solver. armanim's success also asks its answer to keep every pair apart (the same judge);
+    the peers, which know no self-collision, are judged by the FK alone, and how many of their
+    answers keep the pairs apart is printed beside."""
+    from armanim.motion.ik import solve_pose
+    from armanim.motion.orientation import Orientation
+
+    parts, why = optional(panda_pinocchio)
+    judge_parts, judge_why = optional(panda_pair_gaps)
+    if parts is None or judge_parts is None:
+        print(f"2b. 6-D Panda IK, self-free targets: skipped, {why or judge_why}")
+        return
+    pin, model, data, tip = parts
+    gaps, clearance = judge_parts
+    lo, hi = model.lowerPositionLimit, model.upperPositionLimit
+    rng = np.random.default_rng(1)
+    cases, drawn = [], 0
+    while len(cases) < count:
+        q = rng.uniform(lo + 0.05, hi - 0.05)
+        drawn += 1
+        if gaps(q).min() < clearance:
+            continue
+        pin.forwardKinematics(model, data, q)
+        placed = pin.updateFramePlacement(model, data, tip)
+        cases.append((placed.translation.copy(), placed.rotation.copy(), panda_problem("pinv").home))
+    home_gap = gaps(cases[0][2]).min()
+    assert home_gap >= clearance, "the start (home) keeps the pairs apart"
+
+    def reaches(q, case):
+        if q.shape != (7,) or not np.all(np.isfinite(q)) or np.any(q < lo - 1e-9) or np.any(q > hi + 1e-9):
+            return False
+        pin.forwardKinematics(model, data, q)
+        placed = pin.updateFramePlacement(model, data, tip)
+        angle = np.arccos(np.clip((np.trace(placed.rotation.T @ case[1]) - 1) / 2, -1, 1))
+        return bool(np.linalg.norm(placed.translation - case[0]) < POS_TOL and angle < ANG_TOL)
+
+    solvers = {f"armanim {m}": (lambda p, r, q0, pr=panda_problem(m): solve_pose(pr, p, q0, 2000, orientation=Orientation(rotation=r)).phi)
+               for m in ("pinv", "dls")}
+    solvers["pinocchio CLIK loop"] = pinocchio_clik()
+    skipped = []
+    for name, make in pose_peers():
+        solve, why = optional(make)
+        if solve is None:
+            skipped.append(f"   {name:34s} skipped: {why}")
+        else:
+            solvers[name] = solve
+    for name in solvers:
+        solvers[name](*cases[0])
+    results = interleaved(solvers, cases, reaches, {name: max(10, count // 5) for name in FEWER_TARGETS})
+    peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
+    base = statistics.median(results[peer][0])
+    print(f"2b. 6-D pose IK, Panda, {count} random reachable targets whose source poses keep every enabled pair of its"
+          f" capsules >= self_clearance ({clearance * 1e3:g} mm) apart ({count} of {drawn} drawn), from home, armanim"
+          " with the robot's default self-collision; reached: 1 mm / 1 deg by pinocchio's FK, inside the limits;"
+          " pairs apart: every enabled pair >= self_clearance by coal (pinocchio's frames):")
+    for name, (times, oks, answers) in results.items():
+        apart = [ok and gaps(q).min() >= clearance for ok, q in zip(oks, answers)]
+        success = apart if name.startswith("armanim") else oks
+        print(f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(success):5.1f} %  median {ms(statistics.median(times)):>10}"
+              f"  p90 {ms(pct(times, 90)):>10}  {statistics.median(times) / base:7.1f}x {peer}"
+              f"   (reached {100 * np.mean(oks):5.1f} %, reached with the pairs apart {100 * np.mean(apart):5.1f} %)")
     for line in skipped:
         print(line)
 
@@ -464,7 +602,7 @@ def part_position(count: int) -> None:
             solvers[name] = solve
     for name in solvers:
         solvers[name](*cases[0])
-    results = interleaved(solvers, cases, judge, {"ikpy": max(10, count // 5), "pink (QP, DAQP)": max(10, count // 5)})
+    results = interleaved(solvers, cases, judge, {name: max(10, count // 5) for name in FEWER_TARGETS})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else None
     report(f"3. position IK, the notes' arm, {count} targets from the straight pose, 1 mm by a numpy FK of its own:", results, peer)
     for line in skipped:
@@ -501,9 +639,21 @@ STACK_MODULES = "numpy, scipy.linalg, pydantic, yaml, typer, rich, numba"
 STACK = "python -c 'import the stack'"
 
 
-def main(quick: bool) -> None:
+PARTS = ("fk", "pose", "self-free", "position", "startup")
+
+
+def main(quick: bool, parts: tuple[str, ...] = PARTS, count: int | None = None) -> None:
+    """The parts named in ``parts`` (all by default); ``count``: the IK parts' targets (else 300
+    and 200, 40 with ``quick``)."""
     print(f"python {sys.version.split()[0]}, numpy {np.__version__}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}")
-    part_fk(quick)
-    part_pose(40 if quick else 300)
-    part_position(40 if quick else 200)
-    part_startup(3 if quick else 7)
+    if "fk" in parts:
+        part_fk(quick)
+    if "pose" in parts:
+        part_pose(count or (40 if quick else 300))
+    if "self-free" in parts:
+        part_pose_self_free(count or (40 if quick else 300))
+    if "position" in parts:
+        part_position(count or (40 if quick else 200))
+    if "startup" in parts:
+        part_startup(3 if quick else 7)
+    print(f"load at the end {os.getloadavg()[0]:.2f}")

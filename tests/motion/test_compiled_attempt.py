@@ -1,10 +1,14 @@
 """The compiled pose-solve attempt (:mod:`armanim.motion.solvers.compiled`) against the numpy
 steps it compiles (:func:`armanim.motion.solvers.linear.linear_step` through the filter
-:func:`armanim.motion.solvers.barrier.safe_step`, the oracle): the same iterates to 1e-9 over
-an attempt's first steps on the Panda (with and without its self-collision), UR5, iiwa and the
-notes' arm, for 6-D, tool-axis and position goals; whole solves that meet the tolerances by
-the numpy chain's FK, inside the limits and with the arm's own pairs apart; its small linear
-algebra against numpy's and LAPACK's."""
+:func:`armanim.motion.solvers.barrier.safe_step`, the oracle), step by step over an attempt's
+first steps on the Panda (with and without its self-collision), UR5, iiwa and the notes' arm,
+for 6-D, tool-axis and position goals: from each compiled iterate, the next equals the numpy
+step's to 1e-9 where no row of the arm's own pairs is active in the filter's QP; where one is,
+the compiled step solves that QP (the numpy filter's own rows and bounds at that pose) exactly,
+by its KKT conditions checked directly (DAQP, the numpy filter's solver, meets them only to its
+tolerance, some 1e-7: the two steps differ by up to 1e-5 rad there). Whole solves meet the
+tolerances by the numpy chain's FK, inside the limits and with the arm's own pairs apart; its
+small linear algebra against numpy's and LAPACK's."""
 
 from __future__ import annotations
 
@@ -21,8 +25,16 @@ from armanim.arm.linalg import PINV_RTOL, pseudo_inverse
 from armanim.motion import ik
 from armanim.motion.orientation import Orientation, orientation_angle
 from armanim.motion.problem import Goal, Limits, Problem
-from armanim.motion.solvers import compiled, solver_method
-from armanim.motion.solvers.barrier import within_limits
+from armanim.motion.solvers import compiled, proposed_step, solver_method
+from armanim.motion.solvers.barrier import (
+    Constraints,
+    clearly_allowed,
+    closest_safe_step,
+    filter_constraints,
+    filtered_step,
+    joint_bounds,
+    within_limits,
+)
 from armanim.motion.solvers.common import arm_state
 from armanim.motion.solvers.linear import damped_inverse
 from armanim.scene import default_solver_settings, scene_model, scene_to_problem
@@ -102,18 +114,89 @@ def test_the_compiled_attempt_takes_the_numpy_steps(name, method, seed, kind, fr
     start = start_of(problem, seed, from_home)
     chosen = solver_method(method)
     assert ik.runs_compiled(problem, chosen) and not ik.runs_compiled(oracle, chosen)
-    kappa = tip_condition(problem, start)
+    before = start
     for budget in range(1, 7):
         got = ik._attempt(problem, chosen, goal, start, budget, orientation)
-        expected = ik._attempt(oracle, chosen, goal, start, budget, orientation)
-        assert (got.steps, got.numerical) == (expected.steps, expected.numerical)
-        tol = ITERATE_TOL * kappa  # rounding grows with the conditioning of the steps so far
-        np.testing.assert_allclose(got.phi, expected.phi, atol=tol, rtol=0)
-        np.testing.assert_allclose(got.tip, expected.tip, atol=tol * problem.arm.reach, rtol=0)
-        np.testing.assert_allclose(got.errors[2], expected.errors[2], atol=tol * problem.arm.reach, rtol=0)
-        if expected.steps < budget:  # the attempt ended before its budget: so did the compiled one, at the same step
+        ended = assert_the_numpy_step(problem, oracle, chosen, goal, orientation, before, budget - 1, got)
+        if ended:  # the attempt ended before its budget: so did the compiled one, at the same step
             break
-        kappa = max(kappa, tip_condition(problem, expected.phi))
+        before = got.phi
+
+
+QP_KKT = 1e-12
+"""Of the filter's QP (radians): each constraint met to this, and the active ones' multipliers'
+stationarity to ``QP_KKT`` times the step's scale."""
+
+
+def assert_the_numpy_step(problem: Problem, oracle: Problem, chosen, goal, orientation, before: np.ndarray, steps: int, got) -> bool:
+    """The compiled attempt ``got`` (of ``steps + 1`` steps) took, from its iterate ``before`` (of
+    ``steps`` steps), the numpy step from there (the oracle's proposal through its filter): to
+    :data:`ITERATE_TOL` where no pair's row is active in the filter's QP, else the exact answer of
+    that QP (the oracle's rows and bounds at ``before``: KKT conditions, :func:`assert_solves_the_qp`).
+    Returns whether the attempt ended there (both did)."""
+    state = arm_state(oracle, before)
+    one, _, _, stopped, _ = ik._steps(oracle, chosen, goal, state, 1, orientation)
+    assert (got.steps - steps, got.numerical) == (one.steps, one.numerical)
+    tol = ITERATE_TOL * max(tip_condition(problem, before), tip_condition(problem, one.phi))
+    qp = pair_qp(oracle, chosen, goal, orientation, state)
+    if qp is None:  # no pair's row acts: the same step to rounding
+        np.testing.assert_allclose(got.phi, one.phi, atol=tol, rtol=0)
+        np.testing.assert_allclose(got.tip, one.tip, atol=tol * problem.arm.reach, rtol=0)
+        np.testing.assert_allclose(got.errors[2], one.errors[2], atol=tol * problem.arm.reach, rtol=0)
+    else:
+        nominal, cons, daqp = qp
+        taken, taken_numpy = wrapped(oracle, got.phi - before), wrapped(oracle, one.phi - before)
+        halvings = 0 if not np.any(taken_numpy) else round(np.log2(np.linalg.norm(daqp) / np.linalg.norm(taken_numpy)))
+        # the step is read back from two iterates (rounding eps |phi|), then doubled back over the halvings
+        readback = 2.0**halvings * 4 * np.finfo(float).eps * max(1.0, float(np.abs(before).max()))
+        assert_solves_the_qp(taken * 2.0**halvings, nominal, cons, QP_KKT + readback)
+        np.testing.assert_allclose(taken, taken_numpy, atol=1e-4, rtol=0)  # DAQP's answer, to its tolerance
+    return stopped
+
+
+def wrapped(problem: Problem, dphi: np.ndarray) -> np.ndarray:
+    """A step between two iterates, its unlimited joints' part wrapped into (-pi, pi]."""
+    return np.where(problem.limits.limited, dphi, (dphi + np.pi) % (2 * np.pi) - np.pi)
+
+
+def pair_qp(oracle: Problem, chosen, goal, orientation, state) -> tuple[np.ndarray, Constraints, np.ndarray] | None:
+    """Where the numpy filter solves a QP with a pair's row active at its answer: the nominal step,
+    the constraints (relaxed where the numpy filter relaxes them) and DAQP's answer; else None."""
+    dphi = proposed_step(oracle, chosen, state, goal, orientation).dphi
+    biggest = float(np.abs(dphi).max(initial=0.0))
+    if not 0.0 < biggest < np.inf:
+        return None
+    nominal = dphi * min(1.0, oracle.solver.max_joint_step / biggest)
+    bounds = joint_bounds(oracle, state.phi)
+    if clearly_allowed(oracle, state, nominal, bounds):
+        return None
+    cons = filter_constraints(oracle, state, nominal, bounds)
+    if not len(cons.rows) or cons.violated_by(nominal) is None:
+        return None
+    if closest_safe_step(nominal, cons) is None:
+        cons = Constraints(cons.rows, np.minimum(cons.lower, 0.0), cons.lo, cons.hi)
+    answer = filtered_step(nominal, cons)
+    if not np.any(cons.rows @ answer - cons.lower < 1e-6):
+        return None  # DAQP's answer meets every pair's row with room: it is the box's clip, exactly
+    return nominal, cons, answer
+
+
+def assert_solves_the_qp(x: np.ndarray, nominal: np.ndarray, cons: Constraints, tol: float = QP_KKT) -> None:
+    """x minimises |x - nominal|^2 subject to ``cons`` (rows x >= lower, lo <= x <= hi): every
+    constraint met to ``tol`` (primal feasibility), and x - nominal = A_act^T lambda with
+    lambda >= 0 on the constraints x meets with equality (stationarity, dual feasibility; the
+    others' multipliers are 0: complementary slackness)."""
+    n = len(x)
+    a = np.concatenate([cons.rows, np.eye(n), -np.eye(n)])
+    b = np.concatenate([cons.lower, cons.lo, -cons.hi])
+    slack = a @ x - b
+    assert slack.min() >= -tol, f"a constraint broken by {-slack.min():.3g}"
+    active = slack <= max(1e-9, 10 * tol)  # met with equality, to the reading of x
+    lam, *_ = np.linalg.lstsq(a[active].T, x - nominal, rcond=None)
+    scale = max(1.0, float(np.abs(nominal).max()))
+    assert np.abs(a[active].T @ lam - (x - nominal)).max() <= 1e3 * tol * scale  # stationarity
+    assert lam.min(initial=0.0) >= -1e3 * tol * scale  # dual feasibility
+    assert any(active[: len(cons.rows)])  # a pair's row is active: the case this check is for
 
 
 def tip_condition(problem: Problem, phi: np.ndarray) -> float:
@@ -135,11 +218,12 @@ def test_the_compiled_attempt_takes_the_numpy_steps_on_any_arm(problem, data, ki
     rot = tool_rotation(problem.arm, pose)
     orientation = {"pose": Orientation(rotation=rot), "axis": Orientation(axis=rot[:, 2]), "position": None}[kind]
     chosen = solver_method(problem.solver.method)
-    for budget in (1, 3, 6):
+    before = problem.home
+    for budget in range(1, 7):
         got = ik._attempt(solving, chosen, pose.tip, problem.home, budget, orientation)
-        expected = ik._attempt(oracle, chosen, pose.tip, problem.home, budget, orientation)
-        assert (got.steps, got.numerical) == (expected.steps, expected.numerical)
-        np.testing.assert_allclose(got.phi, expected.phi, atol=ITERATE_TOL * tip_condition(problem, expected.phi), rtol=0)
+        if assert_the_numpy_step(solving, oracle, chosen, pose.tip, orientation, before, budget - 1, got):
+            break
+        before = got.phi
 
 
 @settings(max_examples=30, deadline=None)
@@ -191,15 +275,35 @@ def test_a_singular_damped_inverse_is_numerical_in_both():
         assert result.status == "numerical" and result.restarts == 4
 
 
-def test_the_compiled_attempt_hands_a_near_pair_back():
+def test_the_compiled_attempt_keeps_a_near_pair_inside_the_call():
     # from the Panda's home, link3 and link5 are 2.8 cm apart: the filter's row of that pair acts on
-    # the first large step, so the compiled loop hands the attempt back there
+    # the first large step; the compiled loop solves that QP itself (it handed the attempt back before)
     problem = ik.solving_problem(robot("panda", "pinv"))
     goal, orientation, _ = target_of(problem, 0, "pose")
-    ran = compiled.run_attempt(problem, compiled.PINV, True, goal, problem.home, 25, orientation)
-    assert ran.handed_back and ran.steps == 0
-    off = ik.solving_problem(robot("panda", "pinv", "off"))
-    assert not compiled.run_attempt(off, compiled.PINV, True, goal, off.home, 25, orientation).handed_back
+    state = arm_state(problem, problem.home)
+    assert pair_qp(numpy_only(problem), solver_method("pinv"), goal, orientation, state) is not None
+    ran = compiled.run_attempt(problem, compiled.PINV, True, goal, problem.home, 1, orientation)
+    assert not ran.handed_back and ran.steps == 1
+
+
+def test_the_exact_qp_meets_its_kkt_conditions_where_daqp_meets_its_tolerance():
+    # random filter QPs (rows and bounds as the filter's: 0 feasible) and infeasible ones
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        n, k = 7, int(rng.integers(1, 6))
+        rows = rng.normal(size=(k, n))
+        cons = Constraints(rows, -rng.uniform(0, 0.3, k), -rng.uniform(0, 0.5, n), rng.uniform(0, 0.5, n))
+        nominal = rng.normal(size=n)
+        cmat = np.concatenate([np.eye(n), -np.eye(n), rows])
+        cb = np.concatenate([cons.lo, -cons.hi, cons.lower])
+        x = np.empty(n)
+        assert compiled._closest_step(nominal, cmat, cb, len(cb), x) == 1
+        if np.any(rows @ x - cons.lower <= 1e-9):
+            assert_solves_the_qp(x, nominal, cons)
+        np.testing.assert_allclose(x, closest_safe_step(nominal, cons), atol=1e-5)
+    # no x meets x_0 >= 1 and x_0 <= 0.5
+    cmat = np.array([[1.0, 0.0], [-1.0, 0.0]])
+    assert compiled._closest_step(np.zeros(2), cmat, np.array([1.0, -0.5]), 2, np.empty(2)) == 0
 
 
 matrices = st.tuples(st.integers(1, 7), st.integers(1, 7), st.integers(0, 2**31), st.integers(0, 3)).map(
@@ -252,3 +356,44 @@ def test_a_numpy_step_hands_the_attempt_back_to_the_compiled_loop(monkeypatch):
     assert len(calls) > 1 and np.array_equal(calls[0], problem.home)
     state = arm_state(problem, calls[1])
     assert np.all(np.isfinite(state.phi))
+
+
+@pytest.mark.parametrize("name", ["panda-self", "ur5", "iiwa"])
+def test_the_compiled_pairs_gaps_are_the_shared_closed_forms(name):
+    # the attempt measures its spheres' pairs (a capsule of no length) in closed form, the shared
+    # segment-segment function by its box form: the same gaps, closest points and normals to rounding
+    from armanim.arm.kernel import _forward_one, packed_chain
+
+    problem = problem_of(name, "pinv")
+    caps, link, first, second, _, _ = compiled._pair_constants(problem)
+    rows, root = packed_chain(problem.arm)
+    n, count = problem.arm.n, len(first)
+    lengths = np.linalg.norm(problem.capsules.end - problem.capsules.start, axis=1)
+    rng = np.random.default_rng(11)
+    for phi in rng.uniform(np.maximum(problem.limits.lower, -np.pi), np.minimum(problem.limits.upper, np.pi), (200, n)):
+        points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
+        _forward_one(rows, root, phi, points, frames, axes, tool)
+        ends, gaps, near = np.empty((2, len(caps), 3)), np.empty(count), np.empty((count, 5))
+        least = compiled._pair_gaps(points, frames, caps, link, first, second, ends, gaps, near)
+        expected = self_gaps(forward(problem.arm, phi), problem.capsules, problem.self_pairs)
+        np.testing.assert_allclose(gaps, expected.d, atol=1e-12, rtol=0)
+        assert least == gaps.min()
+        apart = expected.d > 1e-6
+        np.testing.assert_allclose(near[apart, 2:], expected.normal[apart], atol=1e-9, rtol=0)
+        spheres = apart & ((lengths[first] == 0) | (lengths[second] == 0))  # the pairs measured here (the others' closest
+        # points may be a tie, parallel links, that the capsule ends' rounding decides either way)
+        along_first, along_second = spheres & (lengths[first] > 0), spheres & (lengths[second] > 0)
+        np.testing.assert_allclose(near[along_first, 0], expected.t[along_first], atol=1e-9, rtol=0)
+        np.testing.assert_allclose(near[along_second, 1], expected.s[along_second], atol=1e-9, rtol=0)
+
+
+def test_a_pose_solution_made_at_once_is_the_dataclasss():
+    import dataclasses
+
+    fields = dict(phi=np.zeros(2), tip=np.ones(3), distance=0.5, status="converged", steps=3, iterations=3, newton_iterations=0,
+                  restarts=1, found_by="method", orientation_error=None)
+    made, expected = ik._pose_solution(**fields), ik.PoseSolution(**fields)
+    assert repr(made) == repr(expected) and made.converged and dataclasses.fields(made) == dataclasses.fields(expected)
+    assert {f.name for f in dataclasses.fields(expected)} == set(fields)  # every field given
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        made.steps = 4  # type: ignore[misc]

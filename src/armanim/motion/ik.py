@@ -18,14 +18,16 @@ result says which one found the pose. A goal with an orientation is solved as a 
 (every method's pose task, :mod:`armanim.motion.orientation`) and converges when both the
 distance and the angle are within their tolerances. A ``pinv`` or ``dls`` attempt on a problem
 without obstacles runs compiled (:mod:`armanim.motion.solvers.compiled`: the same steps to
-rounding, handed back to the numpy steps where a pair of the arm's own capsules matters to a
-step); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure core: no I/O.
+rounding, the arm's own pairs' push and filter rows included, the filter's QP solved exactly
+where DAQP solves it to its tolerance; handed back to the numpy steps where rounding could tell
+a step apart); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure core: no I/O.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
+from types import ModuleType
 from typing import NamedTuple, cast
 
 import numpy as np
@@ -182,7 +184,7 @@ def solve_pose(
         best = _Attempt(searched.phi, searched.tip, pose_errors(problem, searched, goal, orientation), 0, 0, 0, False)
         status = "converged"
     distance, angle, _ = best.errors
-    return PoseSolution(
+    return _pose_solution(
         phi=best.phi,
         tip=best.tip,
         distance=distance,
@@ -194,6 +196,15 @@ def solve_pose(
         found_by="method" if searched is None else "free_pose_search",
         orientation_error=angle,
     )
+
+
+def _pose_solution(**fields: object) -> PoseSolution:
+    """A :class:`PoseSolution` of every field, its instance dict filled at once (the frozen
+    dataclass's ``__init__`` sets each field by ``object.__setattr__``: some 4 us of a 90 us solve);
+    the same object, still frozen to assignment."""
+    made = object.__new__(PoseSolution)
+    made.__dict__.update(fields)
+    return made
 
 
 def free_pose(problem: Problem, goal: np.ndarray, near: np.ndarray, orientation: Orientation | None = None) -> ArmState | None:
@@ -222,17 +233,16 @@ def _attempt(
 
     A ``pinv`` or ``dls`` attempt on a problem without obstacles runs compiled
     (:mod:`armanim.motion.solvers.compiled`), the same steps to rounding, unless the goal has an
-    orientation that the arm cannot hold. Where a pair of the
-    arm's own capsules may matter to a step (its push, its row of the filter), the compiled
-    loop hands the attempt back: the numpy step takes that step, and the compiled loop goes on
-    from there with the attempt's counters."""
+    orientation that the arm cannot hold (the arm's own pairs' push and filter rows inside it;
+    the filter's QP solved exactly). Where rounding could tell a step apart (a pair's gap at 0, a
+    step's exact check at its floor), the compiled loop hands the attempt back: the numpy step
+    takes that step, and the compiled loop goes on from there with the attempt's counters."""
     steps_cap = min(budget, method.attempt_steps or budget)
     if not runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
         # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
         # rank drops the numpy steps amplify rounding, and no other arithmetic could follow them there
         return _steps(problem, method, goal, arm_state(problem, start), steps_cap, orientation)[0]
-    from armanim.motion.solvers import compiled
-
+    compiled = _compiled_module()
     stacked = method.compiled_inverse == "pinv" and orientation is not None and stacks_the_pose_task(problem, orientation)
     step = compiled.PINV if method.compiled_inverse == "pinv" else compiled.DLS
     phi = start
@@ -250,6 +260,19 @@ def _attempt(
         if stopped or attempt.steps >= steps_cap:
             return attempt
         phi, counters = attempt.phi, (attempt.steps, best, since_best)
+
+
+_COMPILED: list[ModuleType] = []  # the compiled attempt's module once imported (numba loads with it: not at this module's import)
+
+
+def _compiled_module() -> ModuleType:
+    """:mod:`armanim.motion.solvers.compiled`, imported on the first compiled attempt and kept
+    (an import statement per attempt costs some 1 us of a 40 us solve)."""
+    if not _COMPILED:
+        from armanim.motion.solvers import compiled
+
+        _COMPILED.append(compiled)
+    return _COMPILED[0]
 
 
 def runs_compiled(problem: Problem, method: Method) -> bool:

@@ -18,19 +18,28 @@ arrays, with the kinematics of :mod:`armanim.arm.kernel`:
 - the filter: the proposal scaled to the joint-step cap, clipped to the joints' velocity
   damper (the filter's QP when its only rows are bounds: its answer is the clip), the limits
   checked exactly, halved when they fail;
-- the progress measure and the stall test of the attempt.
+- the progress measure and the stall test of the attempt;
+- the arm's own pairs: each pair's push inside its influence (``self_influence``: the method's
+  inverse of J_A - J_B, in the null space with the limits'), and the filter's rows of the pairs
+  near enough for the step, n . (J_A - J_B) dPhi >= -gamma (d - d_kept); where the proposal
+  breaks one, the filter's QP (joint bounds and those rows) is solved exactly in the call by a
+  dual active-set method (:func:`_closest_step`), relaxed as the numpy filter relaxes it where
+  no step meets the rows. The numpy filter solves it with DAQP, whose answer meets the KKT
+  conditions to its tolerance (some 1e-7): there the two steps differ by up to some 1e-5 rad.
+  Each pair's gap is bounded from below as the arm moves (a step dPhi changes it by at most
+  ``pair_lever_rows @ |dPhi|``); only when a bound is too low to show a pair far are the
+  pairs' gaps computed (:func:`armanim.world.compiled.segment_segment_pairs`).
 
-Where the numpy path would do more, this one hands the attempt back, at the pose it has
-reached and with its counters, so that the numpy path takes the next step and every
-guarantee is the filter's own: the callers use it only without obstacles and with the
-analytic Jacobian, and an arm with enabled pairs of its own capsules is handed back whenever
-a pair could be near enough for its push (``self_influence``), its row of the filter, or the
-exact check of a step. Each pair's gap is bounded from below as the arm moves (a step dPhi
-changes it by at most ``pair_lever_rows @ |dPhi|``); only when a bound is too low to show a
-pair far are the pairs' gaps computed (:func:`armanim.world.compiled.segment_segment_pairs`).
+Where the numpy path would do what the call cannot tell the same way, the call hands the
+attempt back, at the pose it has reached and with its counters, so that the numpy path takes
+the next step: a pair's gap within rounding of 0 (its push turns on the gap's last bits), a QP
+whose active rows turn dependent, a step's exact check too near its floor to tell, a rotation
+second in priority with only rounding left. The callers use it only without obstacles and with
+the analytic Jacobian.
 
-The numbers are the numpy path's to rounding (the tests hold the iterates to 1e-9 on the
-bundled robots and the notes' arm): the same formulas, other summation orders. Pure core:
+The numbers are the numpy path's to rounding where no pair's row is active in the filter (the
+tests hold the iterates to 1e-9 there, and the steps where one is active to the QP's KKT
+conditions): the same formulas, other summation orders. Pure core:
 numpy and numba only, radians.
 """
 
@@ -48,7 +57,7 @@ from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import VIOLATION, kept_self_clearance, limit_buffer
 from armanim.motion.solvers.linear import ROUNDING_TASK
-from armanim.world.compiled import pair_row, segment_segment_pairs
+from armanim.world.compiled import TOUCHING, _segments_apart, pair_jacobians, pair_row, segment_box_pairs_of_segments
 
 _JIT = dict(error_model="numpy", nogil=True)
 _INLINE = dict(inline="always", **_JIT)
@@ -61,7 +70,7 @@ PINV, DLS = 0, 1
 """The compiled steps: the pseudo-inverse and the damped least-squares inverse."""
 
 (TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS,
- SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, SLACK, BEST, FLOATS) = range(17)
+ SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, SLACK, BEST, W_OBSTACLES, FLOATS) = range(18)
 """Places of the settings in the kernel's float array (:func:`_settings`)."""
 
 METHOD, STACKED, STEPS_CAP, STALL, HALVINGS, KIND, STEPS, SINCE_BEST, INTS = range(9)
@@ -433,9 +442,10 @@ def _matvec(a: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
 
 @compiled(**_JIT)
 def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
-              goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, guesses: np.ndarray, dphi: np.ndarray) -> int:
-    """The method's step (:func:`armanim.motion.solvers.linear.linear_step` without obstacles or
-    pairs) into ``dphi``: :data:`DONE`, :data:`NUMERICAL` when its inverse failed, or
+              goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, guesses: np.ndarray, pair_push: np.ndarray,
+              pairs_push: bool, dphi: np.ndarray) -> int:
+    """The method's step (:func:`armanim.motion.solvers.linear.linear_step` without obstacles; the
+    pairs' push ``pair_push`` (n,), where ``pairs_push``, beside the limits' in the null space) into ``dphi``: :data:`DONE`, :data:`NUMERICAL` when its inverse failed, or
     :data:`HANDED_BACK` where the rotation second in priority has only rounding left to act on
     (:data:`ROUNDING_TASK`). ``guesses`` (3, 6, 6): the SVDs' rotations of the last step, of the
     task, of the tip's task and of the rotation in its null space."""
@@ -481,6 +491,10 @@ def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.
     _matvec(jac_inv, target, dphi)
     push = np.empty(n)
     pushed = _limit_push(floats, phi, lower, upper, push)
+    if pairs_push:
+        for j in range(n):
+            push[j] = (push[j] if pushed else 0.0) + pair_push[j]
+        pushed = True
     if kind != 0 and not stacked:  # the rotation second, in the null space of the tip's task
         pinv_tip = np.empty((n, 3))
         if method == PINV:
@@ -548,6 +562,36 @@ def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.
 # ----------------------------------------------------------------------------- the arm's own pairs
 
 
+@compiled(**_INLINE)
+def _sphere_pair(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int) -> tuple[float, float, float]:
+    """Segments i and j (rows of a-b) of which one or both have no length (a sphere's capsule):
+    (t on i, s on j, distance), the unit normal from j's point to i's into row p of ``normal``;
+    a point's fraction is 0. Distance -1 where neither is a point or they touch (left to the box
+    form). The box form of :func:`armanim.world.compiled.segment_segment_pairs` gives these pairs
+    (their closest points unique) to rounding, in some 160 ns a pair against 20 here."""
+    d10, d11, d12 = b[i, 0] - a[i, 0], b[i, 1] - a[i, 1], b[i, 2] - a[i, 2]
+    d20, d21, d22 = b[j, 0] - a[j, 0], b[j, 1] - a[j, 1], b[j, 2] - a[j, 2]
+    aa = d10 * d10 + d11 * d11 + d12 * d12
+    ee = d20 * d20 + d21 * d21 + d22 * d22
+    r0, r1, r2 = a[i, 0] - a[j, 0], a[i, 1] - a[j, 1], a[i, 2] - a[j, 2]
+    t = 0.0
+    s = 0.0
+    if aa == 0.0 and ee > 0.0:  # i a point: the nearest point of j
+        s = min(max((r0 * d20 + r1 * d21 + r2 * d22) / ee, 0.0), 1.0)
+    elif ee == 0.0 and aa > 0.0:  # j a point: the nearest point of i
+        t = min(max(-(r0 * d10 + r1 * d11 + r2 * d12) / aa, 0.0), 1.0)
+    elif not (aa == 0.0 and ee == 0.0):
+        return 0.0, 0.0, -1.0
+    g0 = r0 + t * d10 - s * d20
+    g1 = r1 + t * d11 - s * d21
+    g2 = r2 + t * d12 - s * d22
+    dist = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+    if not dist > TOUCHING:
+        return 0.0, 0.0, -1.0
+    normal[p, 0], normal[p, 1], normal[p, 2] = g0 / dist, g1 / dist, g2 / dist
+    return t, s, dist
+
+
 @compiled(**_JIT)
 def _pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_link: np.ndarray, first: np.ndarray,
                second: np.ndarray, ends: np.ndarray, gaps: np.ndarray, near: np.ndarray) -> float:
@@ -560,7 +604,15 @@ def _pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_li
     s = np.empty(p)
     dist = np.empty(p)
     normal = np.empty((p, 3))
-    segment_segment_pairs(ends[0], ends[1], first, second, t, s, dist, normal)
+    a, b = ends[0], ends[1]
+    rest = False
+    for q in range(p):  # :func:`armanim.world.compiled.segment_segment_pairs`, its spheres' pairs in closed form here
+        t[q], s[q], dist[q] = _segments_apart(a, b, first[q], second[q], normal, q)
+        if dist[q] < 0.0:
+            t[q], s[q], dist[q] = _sphere_pair(a, b, first[q], second[q], normal, q)
+            rest = rest or dist[q] < 0.0
+    if rest:  # parallel or touching: the shared box form
+        segment_box_pairs_of_segments(a, b, first, second, t, s, dist, normal)
     least = np.inf
     for q in range(p):
         gaps[q] = dist[q] - (caps[first[q], 6] + caps[second[q], 6])
@@ -573,19 +625,278 @@ def _pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_li
 
 
 @compiled(**_JIT)
-def _pair_row_times(points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray, near: np.ndarray,
-                    first: np.ndarray, second: np.ndarray, q: int, step: np.ndarray) -> tuple[float, float]:
-    """Pair q's row n . (J_A - J_B) of the filter (:func:`armanim.world.compiled.pair_rows`, as
-    :func:`armanim.world.selfdistances.self_rows` computes it) times ``step``, and |row| . |step|
-    (the size of its rounding)."""
-    row = np.empty(step.shape[0])
-    pair_row(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], near[:, 2:5], q, np.empty(9), row)
-    total = 0.0
-    size = 0.0
-    for j in range(step.shape[0]):
-        total += row[j] * step[j]
-        size += abs(row[j]) * abs(step[j])
-    return total, size
+def _pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray,
+               ends: np.ndarray, near: np.ndarray, first: np.ndarray, second: np.ndarray, push: np.ndarray) -> int:
+    """The pairs' push of the numpy step (:func:`armanim.motion.solvers.linear.linear_step`) into
+    ``push`` (n,): for each pair whose gap d is inside the influence R (``self_influence``), the
+    method's inverse of J_A - J_B times beta w_obstacles R (R / d - 1) along the pair's normal,
+    summed. Returns 1 when some pair pushes, 0 when none, -1 when a gap is within rounding of 0
+    (where the push's size turns on the gap's last bits: the numpy step takes that one) or an
+    inverse fails."""
+    n = push.shape[0]
+    influence = floats[SELF_INFLUENCE]
+    slack = floats[SLACK]
+    scale = floats[BETA] * floats[W_OBSTACLES]
+    for j in range(n):
+        push[j] = 0.0
+    which = np.empty(1, dtype=np.int64)
+    jac = np.empty((1, 3, n))
+    inverse = np.empty((n, 3))
+    guess = np.eye(3)
+    any_push = 0
+    for q in range(gaps.shape[0]):
+        d = gaps[q]
+        if not d < influence:
+            continue
+        if abs(d) <= slack:
+            return -1
+        size = scale * _repulsion(d, influence)
+        if size == 0.0:
+            continue
+        which[0] = q
+        pair_jacobians(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], which, jac)
+        if method == PINV:
+            for a in range(3):
+                for b in range(3):
+                    guess[a, b] = 1.0 if a == b else 0.0
+            _pinv(jac[0], inverse, guess[:min(3, n), :min(3, n)])
+        elif not _damped(jac[0], floats[DAMPING], inverse):
+            return -1
+        for j in range(n):
+            push[j] += size * (inverse[j, 0] * near[q, 2] + inverse[j, 1] * near[q, 3] + inverse[j, 2] * near[q, 4])
+        any_push = 1
+    return any_push
+
+
+QP_ITERATIONS = 100
+"""Most iterations of :func:`_closest_step` (each adds or drops one constraint; a 7-joint step
+takes a few)."""
+
+QP_FEASIBLE = 1e-13
+"""A constraint of the filter's QP counts as met by :func:`_closest_step`'s answer when it is broken
+by no more than this (rounding; the filter's own test allows ``VIOLATION``)."""
+
+
+@compiled(**_JIT)
+def _gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray, gram: np.ndarray) -> bool:
+    """out (w,) solving (C_W C_W^T) out = rhs (w,), C_W the rows ``active[:w]`` of ``cmat``, by
+    Cholesky (in ``gram``, (n, n) work space); False where C_W C_W^T is not positive definite
+    (rows dependent to rounding)."""
+    n = cmat.shape[1]
+    for i in range(w):
+        for j in range(i + 1):
+            s = 0.0
+            for k in range(n):
+                s += cmat[active[i], k] * cmat[active[j], k]
+            gram[i, j] = s
+    for j in range(w):
+        s = gram[j, j]
+        for k in range(j):
+            s -= gram[j, k] * gram[j, k]
+        if not s > 1e-24:
+            return False
+        gram[j, j] = math.sqrt(s)
+        for i in range(j + 1, w):
+            s = gram[i, j]
+            for k in range(j):
+                s -= gram[i, k] * gram[j, k]
+            gram[i, j] = s / gram[j, j]
+    for i in range(w):
+        s = rhs[i]
+        for k in range(i):
+            s -= gram[i, k] * out[k]
+        out[i] = s / gram[i, i]
+    for i in range(w - 1, -1, -1):
+        s = out[i]
+        for k in range(i + 1, w):
+            s -= gram[k, i] * out[k]
+        out[i] = s / gram[i, i]
+    return True
+
+
+@compiled(**_JIT)
+def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, x: np.ndarray) -> int:
+    """The filter's QP, exactly: x (n,) minimising |x - nominal|^2 subject to ``cmat[:count] x >=
+    cb[:count]``, by the dual active-set method of Goldfarb and Idnani (Hessian I): from x =
+    ``nominal``, the most broken constraint is met by steps that keep the active ones met and
+    their multipliers >= 0 (a constraint whose multiplier would turn negative leaves), until none
+    is broken by more than :data:`QP_FEASIBLE`; then x is projected again onto the active
+    constraints from ``nominal`` in one solve (the least-squares point, so the KKT conditions
+    hold to rounding: DAQP meets them to its tolerances, some 1e-7). Returns 1 (solved), 0 (no x
+    meets the constraints) or -1 (the active rows turned dependent to rounding, the iterations ran
+    out, or the answer's checks failed: the numpy step takes that one)."""
+    n = nominal.shape[0]
+    for j in range(n):
+        x[j] = nominal[j]
+    active = np.empty(n, dtype=np.int64)
+    u = np.empty(n)
+    in_set = np.zeros(count, dtype=np.bool_)
+    r = np.empty(n)
+    z = np.empty(n)
+    rhs = np.empty(n)
+    gram = np.empty((n, n))
+    w = 0
+    solved = False
+    for _ in range(QP_ITERATIONS):
+        p = -1
+        worst = -QP_FEASIBLE
+        for c in range(count):
+            if in_set[c]:
+                continue
+            sc = -cb[c]
+            for j in range(n):
+                sc += cmat[c, j] * x[j]
+            if sc < worst:
+                worst = sc
+                p = c
+        if p < 0:
+            solved = True
+            break
+        up = 0.0
+        added = False
+        for _ in range(QP_ITERATIONS):
+            for i in range(w):
+                s = 0.0
+                for j in range(n):
+                    s += cmat[active[i], j] * cmat[p, j]
+                rhs[i] = s
+            if w > 0 and not _gram_solve(cmat, active, w, rhs, r, gram):
+                return -1
+            zz = 0.0
+            cc = 0.0
+            sp = -cb[p]
+            for j in range(n):
+                s = cmat[p, j]
+                for i in range(w):
+                    s -= cmat[active[i], j] * r[i]
+                z[j] = s
+                zz += s * s
+                cc += cmat[p, j] * cmat[p, j]
+                sp += cmat[p, j] * x[j]
+            full = -sp / zz if zz > 1e-24 * cc else np.inf  # the primal step that meets constraint p
+            partial = np.inf  # the dual step at which an active multiplier reaches 0
+            k = -1
+            for i in range(w):
+                if r[i] > 0.0 and u[i] / r[i] < partial:
+                    partial = u[i] / r[i]
+                    k = i
+            if partial == np.inf and full == np.inf:
+                return 0
+            t = min(full, partial)
+            if full < np.inf:
+                for j in range(n):
+                    x[j] += t * z[j]
+            for i in range(w):
+                u[i] -= t * r[i]
+            up += t
+            if t == full:
+                if w == n:
+                    return -1
+                active[w] = p
+                u[w] = up
+                w += 1
+                in_set[p] = True
+                added = True
+                break
+            in_set[active[k]] = False  # the partial step: constraint k leaves
+            active[k] = active[w - 1]
+            u[k] = u[w - 1]
+            w -= 1
+        if not added:
+            return -1
+    if not solved:
+        return -1
+    for i in range(w):  # the least-squares point of the active constraints, from the nominal: x = nominal + C_W^T u
+        s = -cb[active[i]]
+        for j in range(n):
+            s += cmat[active[i], j] * nominal[j]
+        rhs[i] = -s
+    if w > 0 and not _gram_solve(cmat, active, w, rhs, u, gram):
+        return -1
+    for j in range(n):
+        s = nominal[j]
+        for i in range(w):
+            s += cmat[active[i], j] * u[i]
+        x[j] = s
+    for i in range(w):
+        if not u[i] >= -QP_FEASIBLE:
+            return -1
+    for c in range(count):
+        sc = -cb[c]
+        for j in range(n):
+            sc += cmat[c, j] * x[j]
+        if not sc >= -QP_FEASIBLE:
+            return -1
+    return 1
+
+
+@compiled(**_JIT)
+def _bound_rows(n: int, pairs: int) -> np.ndarray:
+    """The filter QP's rows (2 n + P, n), its first 2 n the joints' bounds (I, then -I: x >= low,
+    -x >= -high); the pairs' rows are written per step."""
+    cmat = np.zeros((2 * n + pairs, n))
+    for j in range(n):
+        cmat[j, j] = 1.0
+        cmat[n + j, j] = -1.0
+    return cmat
+
+
+@compiled(**_JIT)
+def _filtered(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray,
+              near: np.ndarray, first: np.ndarray, second: np.ndarray, pair_levers: np.ndarray, nominal: np.ndarray,
+              nominal_length: float, low: np.ndarray, high: np.ndarray, cmat: np.ndarray, cb: np.ndarray, step: np.ndarray) -> bool:
+    """With the pairs' exact ``gaps`` at the pose: the filter's step into ``step`` (n,) as
+    :func:`armanim.motion.solvers.barrier.filtered_step` takes it, the closest to ``nominal``
+    meeting the joints' bounds ``low``, ``high`` and the rows of the pairs near enough for the step
+    (:func:`armanim.motion.solvers.barrier.self_pair_rows`: n . (J_A - J_B) dPhi >= -gamma (d -
+    d_kept)). ``nominal`` itself where it meets them all (to ``VIOLATION``), else the QP solved
+    exactly (:func:`_closest_step`), clipped to the bounds as the numpy filter clips DAQP's answer;
+    where no step meets the rows, the QP again with each row's bound no more than 0 (closing no
+    gap further), as the numpy filter relaxes it. ``cmat`` (2 n + P, n), ``cb`` (2 n + P,): work
+    space for the QP's rows and bounds, its first 2 n rows the joints' (:func:`_bound_rows`).
+    False (hand back) where the QP fails."""
+    n = nominal.shape[0]
+    gamma = floats[GAMMA]
+    kept = floats[KEPT_SELF]
+    pairs = gaps.shape[0]
+    met = True
+    for j in range(n):
+        cb[j] = low[j]
+        cb[n + j] = -high[j]
+        if nominal[j] < low[j] - VIOLATION or nominal[j] > high[j] + VIOLATION:
+            met = False
+    count = 2 * n
+    scratch = np.empty(9)
+    for q in range(pairs):
+        d = gaps[q]
+        if not d - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9:
+            continue  # beyond the travel: the filter builds no row for it (its test, :func:`filter_constraints`)
+        pair_row(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], near[:, 2:5], q, scratch, cmat[count])
+        cb[count] = -gamma * (d - kept)
+        along = 0.0
+        for j in range(n):
+            along += cmat[count, j] * nominal[j]
+        if along < cb[count] - VIOLATION:
+            met = False
+        count += 1
+    if met:
+        for j in range(n):
+            step[j] = nominal[j]
+        return True
+    solved = _closest_step(nominal, cmat, cb, count, step)
+    if solved == 0:  # no step meets the rows: as the numpy filter, the closest that closes no gap further
+        for c in range(2 * n, count):
+            cb[c] = min(cb[c], 0.0)
+        solved = _closest_step(nominal, cmat, cb, count, step)
+        if solved == 0:
+            for j in range(n):
+                step[j] = 0.0
+            return True
+    if solved < 0:
+        return False
+    for j in range(n):
+        step[j] = min(max(step[j], low[j]), high[j])
+    return True
 
 
 @compiled(**_INLINE)
@@ -599,38 +910,11 @@ def _lever_travel(levers: np.ndarray, q: int, step: np.ndarray, scale: float) ->
 
 @compiled(**_JIT)
 def _pairs_far(floats: np.ndarray, bound: np.ndarray, levers: np.ndarray, step: np.ndarray) -> bool:
-    """Whether every pair's gap bound shows it beyond its push (``self_influence``) and its row of
-    the filter met by ``step`` whatever the row (gamma (d - d_target) >= the pair's lever arms . |step|)."""
+    """Whether every pair's gap bound shows its row of the filter met by ``step`` whatever the row
+    (gamma (d - d_target) >= the pair's lever arms . |step|)."""
     slack = floats[SLACK]
     for q in range(bound.shape[0]):
-        if not bound[q] >= floats[SELF_INFLUENCE] + slack:
-            return False
         if not floats[GAMMA] * (bound[q] - floats[KEPT_SELF]) >= _lever_travel(levers, q, step, 1.0) * (1.0 + 1e-9) + slack:
-            return False
-    return True
-
-
-@compiled(**_JIT)
-def _rows_met(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray,
-              near: np.ndarray, first: np.ndarray, second: np.ndarray, levers: np.ndarray, pair_levers: np.ndarray,
-              nominal_length: float, step: np.ndarray) -> bool:
-    """With the pairs' exact ``gaps`` at the pose: whether the filter takes ``step`` as the numpy
-    path would, its pairs aside: no pair within its push, and every pair's row that the filter
-    could build (:func:`armanim.motion.solvers.barrier.self_pair_rows`) met by ``step`` with room
-    for rounding. Then the filter's QP, whose box-only answer ``step`` is, has that answer too."""
-    slack = floats[SLACK]
-    gamma = floats[GAMMA]
-    kept = floats[KEPT_SELF]
-    for q in range(gaps.shape[0]):
-        d = gaps[q]
-        if not d >= floats[SELF_INFLUENCE] + slack:
-            return False
-        if gamma * (d - kept - slack) >= _lever_travel(levers, q, step, 1.0) * (1.0 + 1e-9) + slack:
-            continue
-        if d - kept >= (2.0 * nominal_length * pair_levers[q] + 1e-9) * (1.0 + 1e-9) + slack:
-            continue  # beyond the travel: the filter builds no row for it
-        along, size = _pair_row_times(points, axes, caps_link, ends, near, first, second, q, step)
-        if not along >= -gamma * (d - kept) + 1e-9 * size + slack:
             return False
     return True
 
@@ -683,10 +967,32 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
         for i in range(6):
             guesses[g, i, i] = 1.0
     step = np.empty(n)
+    nominal = np.empty(n)
     low = np.empty(n)
     high = np.empty(n)
+    pair_push = np.empty(n)
+    cmat = _bound_rows(n, pairs)
+    cb = np.empty(2 * n + pairs)
     while progress >= tol and steps < ints[STEPS_CAP]:
-        proposed = _proposal(floats, ints, phi, points[now], axes[now], tool[now], goal, residual, lower, upper, guesses, dphi)
+        pairs_push = False
+        if pairs:  # a pair within its push's influence (R): its push joins the limits' (exact gaps, where a bound cannot show none)
+            within = False
+            for q in range(pairs):
+                within = within or not bound[q] >= floats[SELF_INFLUENCE] + slack
+            if within:
+                if not exact[now]:
+                    least[now] = _pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
+                    exact[now] = True
+                    for q in range(pairs):
+                        bound[q] = gaps[now, q] - slack
+                pushing = _pair_push(floats, ints[METHOD], gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first,
+                                     second, pair_push)
+                if pushing < 0:
+                    status = HANDED_BACK
+                    break
+                pairs_push = pushing == 1
+        proposed = _proposal(floats, ints, phi, points[now], axes[now], tool[now], goal, residual, lower, upper, guesses, pair_push,
+                             pairs_push, dphi)
         if proposed == HANDED_BACK:
             status = HANDED_BACK
             break
@@ -697,29 +1003,18 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
             if not v <= biggest:  # a NaN sticks
                 biggest = v
         if not finite or not biggest < np.inf:
-            if pairs and not exact[now]:  # the proposal assumed no pair within its push: shown before it counts
-                least[now] = _pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
-                exact[now] = True
-            if pairs and not least[now] >= floats[SELF_INFLUENCE] + slack:
-                status = HANDED_BACK
-                break
             steps += 1
             status = NUMERICAL
             break
         if biggest == 0.0:
-            if pairs and not exact[now]:
-                least[now] = _pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
-                exact[now] = True
-            if pairs and not least[now] >= floats[SELF_INFLUENCE] + slack:
-                status = HANDED_BACK
-                break
             steps += 1
             break
         shrink = min(1.0, cap / biggest)
         nominal_length = 0.0
         inside = True  # the nominal step within the joints' bounds, as the filter judges it (to VIOLATION)
         for j in range(n):
-            step[j] = dphi[j] * shrink
+            nominal[j] = dphi[j] * shrink
+            step[j] = nominal[j]
             nominal_length += step[j] * step[j]
             lo, hi = -cap, cap
             if lower[j] > -np.inf:
@@ -732,14 +1027,14 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
         if not inside:  # the filter's QP on bounds alone: its answer is the clip
             for j in range(n):
                 step[j] = min(max(step[j], low[j]), high[j])
-        if pairs and not _pairs_far(floats, bound, levers, step):
+        if pairs and not _pairs_far(floats, bound, levers, step):  # a pair's row could act: the filter's QP with the pairs' rows
             if not exact[now]:
                 least[now] = _pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
                 exact[now] = True
                 for q in range(pairs):
                     bound[q] = gaps[now, q] - slack
-            if not _rows_met(floats, gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first, second, levers,
-                             pair_levers, nominal_length, step):
+            if not _filtered(floats, gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first, second, pair_levers,
+                             nominal, nominal_length, low, high, cmat, cb, step):
                 status = HANDED_BACK
                 break
         other = 1 - now
@@ -878,6 +1173,7 @@ def _settings(problem: Problem) -> np.ndarray:
     floats[[MARGIN, BUFFER, GAMMA, W_LIMITS]] = problem.limits.margin, limit_buffer(problem), problem.tunables.filter.gamma, s.w_limits
     floats[[SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE]] = problem.self_pairs.clearance, kept_self_clearance(problem), self_influence(problem)
     floats[SLACK] = 1e-9 * max(problem.arm.reach, 1e-300)
+    floats[W_OBSTACLES] = s.w_obstacles
     floats[BEST] = np.nan
     object.__setattr__(problem, "_compiled_settings", floats)  # a cache of constants: the problem stays what it was
     return floats
