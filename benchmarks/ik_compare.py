@@ -237,6 +237,44 @@ FEWER_TARGETS = ("pink (QP, DAQP)", "ikpy")
 """The slow peers, timed on a fifth of the targets."""
 
 
+def pose_solvers(problems: dict, warm_up: tuple) -> tuple[dict, list[str]]:
+    """The 6-D Panda parts' contenders, each solve(p, rot, q0) -> q or None, run once on
+    ``warm_up`` (numba's cache, rtb's first call): armanim ``solve_pose`` on each of ``problems``
+    (name -> Problem), pinocchio's CLIK loop and the installed peers; and a line for each skipped one."""
+    from armanim.motion.ik import solve_pose
+    from armanim.motion.orientation import Orientation
+
+    solvers = {f"armanim {m}": (lambda p, r, q0, pr=pr: solve_pose(pr, p, q0, 2000, orientation=Orientation(rotation=r)).phi)
+               for m, pr in problems.items()}
+    solvers["pinocchio CLIK loop"] = pinocchio_clik()
+    skipped = []
+    for name, make in pose_peers():
+        solve, why = optional(make)
+        if solve is None:
+            skipped.append(f"   {name:34s} skipped: {why}")
+        else:
+            solvers[name] = solve
+    for solve in solvers.values():
+        solve(*warm_up)
+    return solvers, skipped
+
+
+def pinocchio_judge(parts):
+    """judge(q, case): q reaches the case's (p, rot) by pinocchio's FK (1 mm, 1 degree), inside the limits."""
+    pin, model, data, tip = parts
+    lo, hi = model.lowerPositionLimit, model.upperPositionLimit
+
+    def judge(q, case):
+        if q.shape != (7,) or not np.all(np.isfinite(q)) or np.any(q < lo - 1e-9) or np.any(q > hi + 1e-9):
+            return False
+        pin.forwardKinematics(model, data, q)
+        placed = pin.updateFramePlacement(model, data, tip)
+        angle = np.arccos(np.clip((np.trace(placed.rotation.T @ case[1]) - 1) / 2, -1, 1))
+        return bool(np.linalg.norm(placed.translation - case[0]) < POS_TOL and angle < ANG_TOL)
+
+    return judge
+
+
 def ikpy_panda():
     from ik_bench import urdf_path_elements
     from ikpy.chain import Chain
@@ -359,8 +397,6 @@ def report(title: str, results: dict, peer: str | None) -> None:
 
 def part_pose(count: int) -> None:
     from armanim.arm.kinematics import forward, tool_rotation
-    from armanim.motion.ik import solve_pose
-    from armanim.motion.orientation import Orientation
 
     problems = {m: panda_problem(m) for m in ("pinv", "dls")}
     problems |= {f"{m}, self-collision off": panda_problem(m, "off") for m in ("pinv", "dls")}  # as the peers: no self-collision
@@ -369,33 +405,13 @@ def part_pose(count: int) -> None:
     if pin_parts is None:
         print(f"2. 6-D Panda IK: skipped, pinocchio (the judge) {why}")
         return
-    pin, model, data, tip = pin_parts
-    lo, hi = model.lowerPositionLimit, model.upperPositionLimit
     rng = np.random.default_rng(0)
     source = rng.uniform(base.limits.lower + 0.05, base.limits.upper - 0.05, (count, base.arm.n))
     pose = forward(base.arm, source)
     cases = [(pose.tip[k], tool_rotation(base.arm, pose)[k], base.home) for k in range(count)]
 
-    def judge(q, case):
-        if q.shape != (7,) or not np.all(np.isfinite(q)) or np.any(q < lo - 1e-9) or np.any(q > hi + 1e-9):
-            return False
-        pin.forwardKinematics(model, data, q)
-        placed = pin.updateFramePlacement(model, data, tip)
-        angle = np.arccos(np.clip((np.trace(placed.rotation.T @ case[1]) - 1) / 2, -1, 1))
-        return bool(np.linalg.norm(placed.translation - case[0]) < POS_TOL and angle < ANG_TOL)
-
-    solvers = {f"armanim {m}": (lambda p, r, q0, pr=pr: solve_pose(pr, p, q0, 2000, orientation=Orientation(rotation=r)).phi)
-               for m, pr in problems.items()}
-    solvers["pinocchio CLIK loop"] = pinocchio_clik()
-    skipped = []
-    for name, make in pose_peers():
-        solve, why = optional(make)
-        if solve is None:
-            skipped.append(f"   {name:34s} skipped: {why}")
-        else:
-            solvers[name] = solve
-    for name in solvers:  # warm every solver up (numba's cache, rtb's first call)
-        solvers[name](*cases[0])
+    judge = pinocchio_judge(pin_parts)
+    solvers, skipped = pose_solvers(problems, cases[0])
     results = interleaved(solvers, cases, judge, {name: max(10, count // 5) for name in FEWER_TARGETS})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
     report(f"2. 6-D pose IK, Panda, {count} random reachable targets from home, 1 mm / 1 deg by pinocchio's FK:", results, peer)
@@ -466,8 +482,6 @@ def part_pose_self_free(count: int) -> None:
     every solver. armanim's success also asks its answer to keep every pair apart (the same judge);
     the peers, which know no self-collision, are judged by the FK alone, and how many of their
     answers keep the pairs apart is printed beside."""
-    from armanim.motion.ik import solve_pose
-    from armanim.motion.orientation import Orientation
 
     parts, why = optional(panda_pinocchio)
     judge_parts, judge_why = optional(panda_pair_gaps)
@@ -490,26 +504,8 @@ def part_pose_self_free(count: int) -> None:
     home_gap = gaps(cases[0][2]).min()
     assert home_gap >= clearance, "the start (home) keeps the pairs apart"
 
-    def reaches(q, case):
-        if q.shape != (7,) or not np.all(np.isfinite(q)) or np.any(q < lo - 1e-9) or np.any(q > hi + 1e-9):
-            return False
-        pin.forwardKinematics(model, data, q)
-        placed = pin.updateFramePlacement(model, data, tip)
-        angle = np.arccos(np.clip((np.trace(placed.rotation.T @ case[1]) - 1) / 2, -1, 1))
-        return bool(np.linalg.norm(placed.translation - case[0]) < POS_TOL and angle < ANG_TOL)
-
-    solvers = {f"armanim {m}": (lambda p, r, q0, pr=panda_problem(m): solve_pose(pr, p, q0, 2000, orientation=Orientation(rotation=r)).phi)
-               for m in ("pinv", "dls")}
-    solvers["pinocchio CLIK loop"] = pinocchio_clik()
-    skipped = []
-    for name, make in pose_peers():
-        solve, why = optional(make)
-        if solve is None:
-            skipped.append(f"   {name:34s} skipped: {why}")
-        else:
-            solvers[name] = solve
-    for name in solvers:
-        solvers[name](*cases[0])
+    reaches = pinocchio_judge(parts)
+    solvers, skipped = pose_solvers({m: panda_problem(m) for m in ("pinv", "dls")}, cases[0])
     results = interleaved(solvers, cases, reaches, {name: max(10, count // 5) for name in FEWER_TARGETS})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
     base = statistics.median(results[peer][0])
