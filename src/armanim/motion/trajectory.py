@@ -33,7 +33,7 @@ from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
-from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.barrier import SafeStep, safe_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
 from armanim.world.selfdistances import self_gaps
@@ -272,17 +272,13 @@ def _record_route(problem: Problem, rec: _Recorder, visit: _Visit, route: Route)
 
 def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
     """One filtered step: along the planned path if there is one, else the method's."""
-    target = visit.goal.position
     if visit.path:  # (following it may end it: the last pose reached, or the arm held back too long)
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         assert visit.planning is not None  # a path comes with its planning report
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
-        ahead = None
+        moved = safe_step(problem, state, nominal)
     else:
-        proposal = proposed_step(problem, method, state, target, visit.goal.orientation)
-        nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
-        ahead = proposal.ahead
-    moved = safe_step(problem, state, nominal, ahead)
+        moved, iterations, newton_its, mode = *_method_frame(problem, method, state, visit), "ik"
     distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
     visit.distances.append(distance)
     visit.angles.append(angle)
@@ -293,6 +289,29 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode, angle)
     return moved.state
+
+
+def _method_frame(problem: Problem, method: Method, state: ArmState, visit: _Visit) -> tuple[SafeStep, int, int]:
+    """The method's proposal through the filter, and its iterations and Newton iterations: compiled
+    where it can be (:mod:`armanim.motion.solvers.compiled_frame`, the same step to rounding)."""
+    goal = visit.goal
+    if goal.orientation is None and frames_compiled(problem, method):
+        from armanim.motion.solvers.compiled_frame import frame_step  # numba: imported where a solve starts
+
+        assert method.compiled_inverse is not None  # frames_compiled
+        moved, dphi = frame_step(problem, method.compiled_inverse, state, goal.position)
+        if moved is not None:
+            return moved, 1, 0
+        if dphi is not None:
+            return safe_step(problem, state, dphi), 1, 0
+    proposal = proposed_step(problem, method, state, goal.position, goal.orientation)
+    return safe_step(problem, state, proposal.dphi, proposal.ahead), proposal.iterations, proposal.newton_iterations
+
+
+def frames_compiled(problem: Problem, method: Method) -> bool:
+    """Whether the method's frames toward a goal without an orientation run compiled: a method
+    with a compiled step (``pinv``, ``dls``), the analytic Jacobian and ``tunables.ik.compiled_frames``."""
+    return method.compiled_inverse is not None and problem.solver.jacobian != "numeric" and problem.tunables.ik.compiled_frames
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:

@@ -1,0 +1,481 @@
+"""One frame of the frame loop with ``pinv`` or ``dls``, compiled (numba): the method's proposal
+and, where it is the common case, the safety filter's answer, in one call.
+
+A frame of :func:`armanim.motion.trajectory.solve_trajectory` is the method's proposal
+(:func:`armanim.motion.solvers.linear.linear_step`) through the filter
+(:func:`armanim.motion.solvers.barrier.safe_step`): in numpy and Python some 500 calls and a few
+hundred microseconds. Here the same frame is written as loops over small arrays, with the
+kinematics of :mod:`armanim.arm.kernel` and the pieces of :mod:`armanim.motion.solvers.compiled`
+(the pseudo-inverse with :func:`armanim.arm.linalg.pseudo_inverse`'s cut-off, the damped inverse):
+
+- the proposal, for a goal without an orientation: the tip's task, the joint-limit push, the
+  obstacles' pushes (the tip's in task space, the links' in the null space), the pushes of the
+  arm's own pairs (in the null space), from the clearances and gaps of the state the frame
+  starts from;
+- the filter where it takes the proposal as it is (capped to ``max_joint_step``): the joint
+  bounds, the bounds of :func:`~armanim.motion.solvers.barrier.clearly_allowed`, else the rows
+  of :func:`~armanim.motion.solvers.barrier.filter_constraints` computed and met; then the exact
+  check of the new pose (its kinematics, its clearances to the spheres, its pairs' gaps), which
+  it returns with the step.
+
+Where the filter would do more (a row or a bound broken: its QP; the exact check failed: its
+halvings; a proposal that is not finite or zero), the call hands the proposal back and the
+numpy filter takes it (:func:`frame_step` returns None with the proposal). Scenes with obstacles
+other than spheres get the proposal only (their clearances are the numpy path's). Goals with an
+orientation, the numeric Jacobian and the other methods are not compiled here (the numpy path).
+
+The numbers are the numpy path's to rounding (the same formulas, other summation orders; the
+tests hold them to 1e-12 relative). ``tunables.ik.compiled_frames`` off gives the numpy frame
+everywhere (the tests' oracle). Pure core: numpy and numba only, radians.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal, cast
+
+import numpy as np
+
+from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
+from armanim.arm.kinematics import Pose
+from armanim.motion.cost import self_influence
+from armanim.motion.problem import Problem
+from armanim.motion.solvers.barrier import (
+    BOUND_SLACK,
+    VIOLATION,
+    SafeStep,
+    kept_clearance,
+    kept_self_clearance,
+    limit_buffer,
+)
+from armanim.motion.solvers.common import ArmState
+from armanim.motion.solvers.compiled import _capped, _damped, _pinv, _repulsion
+from armanim.motion.solvers.linear import CLOSEST_GAP
+from armanim.world.compiled import capsule_pair_gaps, pair_row, pair_rows_met
+from armanim.world.distances import Clearances
+from armanim.world.selfdistances import SelfGaps
+
+_JIT = dict(error_model="numpy", nogil=True)
+
+TAKEN, FILTER, NUMPY = 0, 1, 2
+"""How a compiled frame ended: the step taken (the new state is in the outputs), the proposal
+made but the numpy filter needed, or nothing done (the numpy proposal and filter)."""
+
+PINV, DLS = 0, 1
+"""The compiled steps: the pseudo-inverse and the damped least-squares inverse."""
+
+(BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES, KEPT, CLEARANCE,
+ SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, FLOATS) = range(16)
+"""Places of the settings in the kernel's float array (:func:`_constants`)."""
+
+
+# ----------------------------------------------------------------------------- pieces
+
+
+@compiled(**_JIT)
+def _invert(jac: np.ndarray, method: int, damping: float, out: np.ndarray) -> bool:
+    """The method's inverse of ``jac`` (3, n) into ``out`` (n, 3); False where it fails."""
+    if method == PINV:
+        c = min(jac.shape[0], jac.shape[1])
+        guess = np.zeros((c, c))
+        for i in range(c):
+            guess[i, i] = 1.0
+        _pinv(jac, out, guess)
+        return True
+    return _damped(jac, damping, out)
+
+
+@compiled(**_JIT)
+def _point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarray, jac: np.ndarray) -> None:
+    """(3, n) Jacobian of the world point ``q`` carried by joint ``link``'s frame into ``jac``:
+    column j is w_j x (q - p_j) for j <= link, 0 after (:func:`armanim.arm.kinematics.point_jacobian`)."""
+    n = axes.shape[0]
+    for j in range(n):
+        if j <= link:
+            l0, l1, l2 = q[0] - points[j, 0], q[1] - points[j, 1], q[2] - points[j, 2]
+            w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+            jac[0, j] = w1 * l2 - w2 * l1
+            jac[1, j] = w2 * l0 - w0 * l2
+            jac[2, j] = w0 * l1 - w1 * l0
+        else:
+            jac[0, j] = 0.0
+            jac[1, j] = 0.0
+            jac[2, j] = 0.0
+
+
+@compiled(**_JIT)
+def _sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, centers: np.ndarray,
+                       radii: np.ndarray, d: np.ndarray, t: np.ndarray, normal: np.ndarray) -> None:
+    """Clearances of the capsules (segments a-b) and the tip to the spheres into d, t (c+1, s)
+    and normal (c+1, s, 3) (:func:`armanim.world.distances.sphere_clearances`)."""
+    c = a.shape[0]
+    n = points.shape[0] - 1
+    pa = np.empty(3)
+    pb = np.empty(3)
+    for part in range(c + 1):
+        for i in range(3):
+            if part < c:
+                pa[i] = a[part, i]
+                pb[i] = b[part, i]
+            else:
+                pa[i] = points[n, i]
+                pb[i] = points[n, i]
+        ab0, ab1, ab2 = pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]
+        denom = ab0 * ab0 + ab1 * ab1 + ab2 * ab2
+        for k in range(centers.shape[0]):
+            if part == c:
+                f = 1.0
+            elif denom > 0.0:
+                f = ((centers[k, 0] - pa[0]) * ab0 + (centers[k, 1] - pa[1]) * ab1 + (centers[k, 2] - pa[2]) * ab2) / denom
+                f = min(max(f, 0.0), 1.0)
+            else:
+                f = 0.0
+            o0 = pa[0] + f * ab0 - centers[k, 0]
+            o1 = pa[1] + f * ab1 - centers[k, 1]
+            o2 = pa[2] + f * ab2 - centers[k, 2]
+            dist = math.sqrt(o0 * o0 + o1 * o1 + o2 * o2)
+            scale = dist if dist > 0.0 else 1.0
+            normal[part, k, 0] = o0 / scale
+            normal[part, k, 1] = o1 / scale
+            normal[part, k, 2] = o2 / scale
+            t[part, k] = f
+            d[part, k] = dist - radii[k] - part_radius[part]
+
+
+@compiled(**_JIT)
+def _proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, goal: np.ndarray,
+              lower: np.ndarray, upper: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,
+              cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, influence: np.ndarray,
+              first: np.ndarray, second: np.ndarray, gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray,
+              gap_normal: np.ndarray, least: float, dphi: np.ndarray) -> bool:
+    """:func:`armanim.motion.solvers.linear.linear_step` of a goal without an orientation into
+    ``dphi``; False where an inverse failed (numpy raises there: the numpy path takes the frame)."""
+    n = phi.shape[0]
+    tip = points.shape[0] - 1
+    jac = np.empty((3, n))
+    for j in range(n):
+        l0, l1, l2 = points[tip, 0] - points[j, 0], points[tip, 1] - points[j, 1], points[tip, 2] - points[j, 2]
+        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+        jac[0, j] = w1 * l2 - w2 * l1
+        jac[1, j] = w2 * l0 - w0 * l2
+        jac[2, j] = w0 * l1 - w1 * l0
+    target = np.empty(3)
+    for i in range(3):
+        target[i] = goal[i] - points[tip, i]
+    _capped(target, floats[BETA], floats[MAX_STEP])
+    damping = floats[DAMPING]
+    jac_inv = np.empty((n, 3))
+    if not _invert(jac, method, damping, jac_inv):
+        return False
+    for j in range(n):
+        dphi[j] = jac_inv[j, 0] * target[0] + jac_inv[j, 1] * target[1] + jac_inv[j, 2] * target[2]
+    secondary = np.zeros(n)
+    pushed = False
+    margin = floats[MARGIN]
+    near = False
+    for j in range(n):
+        if phi[j] - lower[j] < margin or upper[j] - phi[j] < margin:
+            near = True
+    if near:
+        scale = floats[BETA] * floats[W_LIMITS]
+        for j in range(n):
+            secondary[j] = scale * (_repulsion(phi[j] - lower[j], margin) - _repulsion(upper[j] - phi[j], margin))
+        pushed = True
+    gain = floats[BETA] * floats[W_OBSTACLES]
+    parts = cl_d.shape[0]
+    q = np.empty(3)
+    pj = np.empty((3, n))
+    pinv = np.empty((n, 3))
+    v = np.empty(3)
+    for part in range(parts):
+        for k in range(cl_d.shape[1]):
+            r = influence[k]
+            g = cl_d[part, k]
+            if not (g > 0.0 and g < r):
+                continue
+            push = gain * (r * (r / max(g, r * CLOSEST_GAP) - 1.0))
+            if push == 0.0:
+                continue
+            for i in range(3):
+                v[i] = push * cl_normal[part, k, i]
+            if part == parts - 1:  # the tip itself: in task space
+                for j in range(n):
+                    dphi[j] = dphi[j] + (jac_inv[j, 0] * v[0] + jac_inv[j, 1] * v[1] + jac_inv[j, 2] * v[2])
+                continue
+            f = cl_t[part, k]
+            for i in range(3):
+                q[i] = a[part, i] + f * (b[part, i] - a[part, i])
+            _point_jacobian(points, axes, link[part], q, pj)
+            if not _invert(pj, method, damping, pinv):
+                return False
+            for j in range(n):
+                secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
+            pushed = True
+    reach = floats[SELF_INFLUENCE]
+    if first.shape[0] and least < reach:
+        qa = np.empty(3)
+        qb = np.empty(3)
+        ja = np.empty((3, n))
+        jb = np.empty((3, n))
+        for p in range(first.shape[0]):
+            g = gap[p]
+            if not (g > 0.0 and g < reach):
+                continue
+            push = gain * (reach * (reach / max(g, reach * CLOSEST_GAP) - 1.0))
+            if push == 0.0:
+                continue
+            fa, fb = first[p], second[p]
+            for i in range(3):
+                qa[i] = a[fa, i] + gap_t[p] * (b[fa, i] - a[fa, i])
+                qb[i] = a[fb, i] + gap_s[p] * (b[fb, i] - a[fb, i])
+            _point_jacobian(points, axes, link[fa], qa, ja)
+            _point_jacobian(points, axes, link[fb], qb, jb)
+            for i in range(3):
+                for j in range(n):
+                    ja[i, j] -= jb[i, j]
+                v[i] = push * gap_normal[p, i]
+            if not _invert(ja, method, damping, pinv):
+                return False
+            for j in range(n):
+                secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
+            pushed = True
+    if pushed:  # dphi + (I - J^+ J) secondary
+        moved = np.empty(3)
+        for i in range(3):
+            s = 0.0
+            for j in range(n):
+                s += jac[i, j] * secondary[j]
+            moved[i] = s
+        for j in range(n):
+            dphi[j] = dphi[j] + secondary[j] - (jac_inv[j, 0] * moved[0] + jac_inv[j, 1] * moved[1] + jac_inv[j, 2] * moved[2])
+    return True
+
+
+@compiled(**_JIT)
+def _obstacle_rows_met(floats: np.ndarray, points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,
+                       cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, travel: float, step: np.ndarray) -> bool:
+    """Whether ``step`` meets the row n . J_q dPhi >= -gamma (d - d_target) of every capsule-obstacle
+    pair within ``travel`` of the target (:func:`~armanim.motion.solvers.barrier.obstacle_rows`,
+    :meth:`~armanim.motion.solvers.barrier.Constraints.violated_by`)."""
+    n = step.shape[0]
+    target = floats[KEPT]
+    gamma = floats[GAMMA]
+    q = np.empty(3)
+    jac = np.empty((3, n))
+    for part in range(cl_d.shape[0] - 1):
+        for k in range(cl_d.shape[1]):
+            if not cl_d[part, k] - target < travel:
+                continue
+            f = cl_t[part, k]
+            for i in range(3):
+                q[i] = a[part, i] + f * (b[part, i] - a[part, i])
+            _point_jacobian(points, axes, link[part], q, jac)
+            change = 0.0
+            for j in range(n):
+                row = cl_normal[part, k, 0] * jac[0, j] + cl_normal[part, k, 1] * jac[1, j] + cl_normal[part, k, 2] * jac[2, j]
+                change += row * step[j]
+            if change < -gamma * (cl_d[part, k] - target) - VIOLATION:
+                return False
+    return True
+
+
+@compiled(**_JIT)
+def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, filtering: bool, phi: np.ndarray,
+           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+           caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
+           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, centers: np.ndarray, radii: np.ndarray, influence: np.ndarray,
+           first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
+           gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
+           dphi: np.ndarray, cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
+           new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
+           new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> int:
+    """One frame from the state (``phi``, its pose, clearances and gaps): the proposal into
+    ``dphi``; where the filter takes it as it is (and ``filtering``), the new pose ``cand``
+    (before wrapping) and its kinematics, clearances and gaps into the ``new_`` arrays, and into
+    ``out`` (2,) the step's fraction of the proposal and the new least gap. Returns
+    :data:`TAKEN`, :data:`FILTER` or :data:`NUMPY`."""
+    n = phi.shape[0]
+    c = caps.shape[0]
+    a = np.empty((c, 3))
+    b = np.empty((c, 3))
+    _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, a, b)
+    if not _proposal(floats, method, phi, points, axes, goal, lower, upper, a, b, link, cl_d, cl_t, cl_normal, influence,
+                     first, second, gap, gap_t, gap_s, gap_normal, least, dphi):
+        return NUMPY
+    if not filtering:
+        return FILTER
+    biggest = 0.0
+    for j in range(n):
+        v = abs(dphi[j])
+        if not v <= biggest:  # a NaN sticks
+            biggest = v
+    if not biggest < np.inf or biggest == 0.0:
+        return FILTER
+    cap = floats[MAX_JOINT_STEP]
+    gamma = floats[GAMMA]
+    buffer = floats[BUFFER]
+    shrink = min(1.0, cap / biggest)
+    step = np.empty(n)
+    travel = 0.0
+    length = 0.0
+    for j in range(n):
+        step[j] = dphi[j] * shrink
+        length += step[j] * step[j]
+        lo, hi = -cap, cap
+        if lower[j] > -np.inf:
+            lo = max(-cap, -gamma * (phi[j] - (lower[j] + buffer)))
+            hi = min(cap, gamma * ((upper[j] - buffer) - phi[j]))
+        lo, hi = min(lo, 0.0), max(hi, 0.0)
+        if step[j] < lo - VIOLATION or step[j] > hi + VIOLATION:
+            return FILTER  # a bound broken: the filter's QP
+        travel += abs(step[j]) * levers[j]
+    length = math.sqrt(length)
+    slack = 1.0 + BOUND_SLACK
+    parts = cl_d.shape[0]
+    obstacles = cl_d.shape[1] > 0
+    clear = True  # clearly_allowed
+    if obstacles:
+        lowest = np.inf
+        for part in range(parts - 1):
+            for k in range(cl_d.shape[1]):
+                lowest = min(lowest, cl_d[part, k])
+        room = gamma * (lowest - floats[KEPT])
+        clear = room >= travel * slack + 1e-12
+    pairs = first.shape[0]
+    if clear and pairs:
+        clear = pair_rows_met(points, axes, a, b, link, first, second, gap_t, gap_s, gap_normal, gap, floats[KEPT_SELF], gamma,
+                              pair_lever_rows, step, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
+    if not clear:  # the rows of filter_constraints, each met or the filter's QP
+        reach = 2.0 * (length * floats[LEVER_NORM]) + 1e-9
+        if obstacles and not _obstacle_rows_met(floats, points, axes, a, b, link, cl_d, cl_t, cl_normal, reach, step):
+            return FILTER
+        if pairs:
+            scratch = np.empty(9)
+            row = np.empty(n)
+            for p in range(pairs):
+                if not gap[p] - floats[KEPT_SELF] < 2.0 * length * pair_levers[p] + 1e-9:
+                    continue
+                pair_row(points, axes, a, b, link, first, second, gap_t, gap_s, gap_normal, p, scratch, row)
+                change = 0.0
+                for j in range(n):
+                    change += row[j] * step[j]
+                if change < -gamma * (gap[p] - floats[KEPT_SELF]) - VIOLATION:
+                    return FILTER
+    for j in range(n):  # the exact check of the pose (exactly_safe)
+        cand[j] = phi[j] + step[j]
+        if not (cand[j] - cand[j] == 0.0):
+            return FILTER
+        gap_new = min(cand[j] - lower[j], upper[j] - cand[j])
+        gap_now = min(phi[j] - lower[j], upper[j] - phi[j])
+        if gap_new <= 0.0 or gap_new < min(buffer, gap_now):
+            return FILTER
+    _forward_one(rows, root, cand, new_points, new_frames, new_axes, tool)
+    na = np.empty((c, 3))
+    nb = np.empty((c, 3))
+    _capsule_ends_one(new_points, new_frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, na, nb)
+    if obstacles:
+        _sphere_clearances(new_points, na, nb, part_radius, centers, radii, new_d, new_t, new_normal)
+        now_links, now_tip, new_links, new_tip = np.inf, np.inf, np.inf, np.inf
+        for part in range(parts):
+            for k in range(cl_d.shape[1]):
+                if part < parts - 1:
+                    now_links = min(now_links, cl_d[part, k])
+                    new_links = min(new_links, new_d[part, k])
+                else:
+                    now_tip = min(now_tip, cl_d[part, k])
+                    new_tip = min(new_tip, new_d[part, k])
+        if not new_links >= min(floats[CLEARANCE], now_links):
+            return FILTER
+        if not new_tip >= min(floats[CLEARANCE], now_tip):
+            return FILTER
+    out[1] = np.inf
+    if pairs:
+        out[1] = capsule_pair_gaps(na, nb, first, second, pair_radii, new_gap_t, new_gap_s, new_gap, new_gap_normal)
+        if not out[1] >= min(floats[SELF_CLEARANCE], least):
+            return FILTER
+    proposed = 0.0
+    for j in range(n):
+        proposed += dphi[j] * dphi[j]
+    proposed = math.sqrt(proposed)
+    out[0] = length / proposed if 0.0 < proposed < np.inf else 0.0
+    return TAKEN
+
+
+# ----------------------------------------------------------------------------- from Python
+
+
+def _constants(problem: Problem) -> tuple[np.ndarray, ...]:
+    """The kernel's constants of ``problem`` in its order, made once per problem (kept on it)."""
+    kept = problem.__dict__.get("_compiled_frame_constants")
+    if kept is not None:
+        return cast("tuple[np.ndarray, ...]", kept)
+    s = problem.solver
+    floats = np.empty(FLOATS)
+    floats[[BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES]] = (
+        s.beta, s.max_step, s.max_joint_step, s.damping, problem.limits.margin, limit_buffer(problem), problem.tunables.filter.gamma,
+        s.w_limits, s.w_obstacles)
+    floats[[KEPT, CLEARANCE, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM]] = (
+        kept_clearance(problem), s.clearance, problem.self_pairs.clearance, kept_self_clearance(problem), self_influence(problem),
+        float(np.linalg.norm(problem.lever_arms)))
+    caps, pairs, obstacles = problem.capsules, problem.self_pairs, problem.obstacles
+    packed = np.concatenate([caps.start, caps.end, caps.radius[:, None], caps.joint_segment[:, None].astype(float)], axis=1)
+    rows, root = packed_chain(problem.arm)
+    kept = (rows, root, floats) + tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
+        (problem.limits.lower, float), (problem.limits.upper, float), (packed, float), (caps.link, np.int64),
+        (caps.part_radius, float), (problem.lever_arms, float), (obstacles.centers.reshape(-1, 3), float), (obstacles.radii, float),
+        (obstacles.influence, float), (pairs.first, np.int64), (pairs.second, np.int64), (pairs.radii(caps), float),
+        (problem.pair_lever_rows.reshape(len(pairs), problem.arm.n), float), (problem.pair_levers, float)))
+    object.__setattr__(problem, "_compiled_frame_constants", kept)  # a cache of constants: the problem stays what it was
+    return kept
+
+
+_EMPTY_CL = (np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0, 3)))
+_EMPTY_GAPS = (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3)))
+
+
+def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState, goal: np.ndarray) -> tuple[SafeStep | None, np.ndarray | None]:
+    """One frame of ``method`` toward ``goal`` (a position, no orientation) from ``state``, compiled: (the
+    filter's answer, None) where it took the proposal as it is; (None, the proposal) where the
+    numpy filter must take it (:func:`~armanim.motion.solvers.barrier.safe_step`); (None, None)
+    where the numpy path must make the proposal too (an inverse failed)."""
+    (rows, root, floats, lower, upper, caps, link, part_radius, levers, centers, radii, influence,
+     first, second, pair_radii, pair_lever_rows, pair_levers) = _constants(problem)
+    obstacles = problem.obstacles
+    filtering = obstacles.spheres_only
+    cl = state.clearance
+    cl_d, cl_t, cl_normal = _EMPTY_CL if cl is None else (cl.d, cl.t, cl.normal)
+    gaps = state.self_gaps
+    gap, gap_t, gap_s, gap_normal = _EMPTY_GAPS if gaps is None else (gaps.d, gaps.t, gaps.s, gaps.normal)
+    least = np.inf if gaps is None else float(gaps.least)
+    pose = state.pose
+    n = problem.arm.n
+    dphi = np.empty(n)
+    cand = np.empty(n)
+    points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
+    parts, m = len(part_radius), len(influence)
+    new_d, new_t, new_normal = (np.empty((parts, m)), np.empty((parts, m)), np.empty((parts, m, 3))) if cl is not None else _EMPTY_CL
+    pairs = len(first)
+    new_gap, new_gap_t, new_gap_s, new_gap_normal = np.empty(pairs), np.empty(pairs), np.empty(pairs), np.empty((pairs, 3))
+    out = np.empty(2)
+    assert pose.axes is not None  # the frame loop's poses come from the compiled kinematics
+    status = _frame(rows, root, floats, DLS if method == "dls" else PINV, filtering, state.phi,
+                    pose.points, pose.frames, pose.axes, np.ascontiguousarray(goal, dtype=float), lower, upper,
+                    caps, link, part_radius, levers, cl_d, cl_t, cl_normal, centers, radii, influence,
+                    first, second, pair_radii, pair_lever_rows, pair_levers, gap, gap_t, gap_s, gap_normal, least,
+                    dphi, cand, points, frames, axes, tool, new_d, new_t, new_normal, new_gap, new_gap_t, new_gap_s, new_gap_normal, out)
+    if status == NUMPY:
+        return None, None
+    if status == FILTER:
+        return None, dphi
+    new_gaps = None
+    if pairs:
+        new_gaps = SelfGaps(new_gap, new_gap_t, new_gap_s, new_gap_normal)
+        object.__setattr__(new_gaps, "_least", np.float64(out[1]))  # the kernel found it
+    phi = cand
+    if np.abs(cand).max() > np.pi:  # barrier.wrap_unlimited
+        from armanim.motion.solvers.barrier import wrap_unlimited
+
+        phi = wrap_unlimited(problem, cand)
+    moved = ArmState(phi, Pose(points=points, frames=frames, axes=axes),
+                     Clearances(d=new_d, t=new_t, normal=new_normal) if cl is not None else None, new_gaps)
+    return SafeStep(moved, float(out[0]), None), None
