@@ -1,0 +1,137 @@
+"""The compiled frame (:mod:`armanim.motion.solvers.compiled_frame`) against the numpy frame it
+compiles (:func:`armanim.motion.solvers.proposed_step` through the filter
+:func:`armanim.motion.solvers.barrier.safe_step`, the oracle, ``tunables.ik.compiled_frames``
+off): at the states of real runs (general arms among spheres and other shapes, the bundled
+robots among spheres with their own pairs), the same proposal and, where the compiled frame
+takes it, the same step, the same new pose, clearances and gaps, to 1e-12; whole runs keep
+every invariant and end as the numpy runs."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from invariants import assert_trajectory_invariants
+from strategies import cluttered_problems, problems, robot_problems, shaped_problems
+
+from armanim.motion.problem import Problem
+from armanim.motion.solvers import proposed_step, solver_method
+from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.common import arm_state
+from armanim.motion.solvers.compiled_frame import frame_step
+from armanim.motion.trajectory import solve_trajectory
+from armanim.scene import scene_model, scene_to_problem
+
+TOL = 1e-12
+"""Radians (and scene units for clearances and gaps), relative to the size of what is compared
+(at least 1)."""
+
+LINEAR = st.sampled_from(["pinv", "dls"])
+
+
+def numpy_frames(problem: Problem) -> Problem:
+    return replace(problem, tunables=replace(problem.tunables, ik=replace(problem.tunables.ik, compiled_frames=False)))
+
+
+def linear(problem: Problem, method: str) -> Problem:
+    """The problem with a compiled method and the analytic Jacobian, goals without an orientation."""
+    return replace(problem, solver=replace(problem.solver, method=method, jacobian="analytic"))
+
+
+def close(a: np.ndarray, b: np.ndarray) -> bool:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    both = np.isfinite(a) | np.isfinite(b)
+    if not np.array_equal(np.isfinite(a), np.isfinite(b)):
+        return False
+    scale = max(1.0, float(np.abs(np.where(both, b, 0.0)).max(initial=0.0)))
+    return bool(np.all(np.abs(np.where(both, a - b, 0.0)) <= TOL * scale))
+
+
+def frames_agree(problem: Problem, stride: int = 3) -> tuple[int, int]:
+    """Every ``stride``-th state of the numpy run of ``problem``: the compiled frame against the
+    numpy one. Returns how many frames were compared and how many the compiled one took whole."""
+    oracle = numpy_frames(problem)
+    solution = solve_trajectory(oracle)
+    traj = solution.trajectory
+    method = problem.solver.method
+    compared = taken = 0
+    for i in range(0, traj.frames, stride):
+        goal = problem.goals[int(traj.goal[i])].position
+        state = arm_state(problem, traj.phi[i])
+        moved, dphi = frame_step(problem, method, state, goal)
+        proposal = proposed_step(oracle, solver_method(method), state, goal).dphi
+        expected = safe_step(oracle, state, proposal)
+        compared += 1
+        if moved is None and dphi is None:  # an inverse failed: the numpy frame was taken
+            continue
+        if dphi is not None:
+            assert close(dphi, proposal), (i, dphi, proposal)
+            continue
+        taken += 1
+        assert expected.blocked_by is None, i
+        assert close(moved.phi, expected.phi), (i, moved.phi, expected.phi)
+        assert abs(moved.scale - expected.scale) <= TOL
+        assert close(moved.state.pose.points, expected.state.pose.points)
+        assert close(moved.state.pose.axes, expected.state.pose.axes)
+        if expected.state.clearance is not None:
+            for got, want in zip((moved.state.clearance.d, moved.state.clearance.t, moved.state.clearance.normal),
+                                 (expected.state.clearance.d, expected.state.clearance.t, expected.state.clearance.normal)):
+                assert close(got, want), i
+        else:
+            assert moved.state.clearance is None
+        if expected.state.self_gaps is not None:
+            got, want = moved.state.self_gaps, expected.state.self_gaps
+            assert close(got.d, want.d) and close(got.normal, want.normal) and close(got.least, want.least), i
+            assert close(got.t, want.t) and close(got.s, want.s), i
+        else:
+            assert moved.state.self_gaps is None
+    return compared, taken
+
+
+SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+
+
+@settings(max_examples=40, **SETTINGS)
+@given(st.one_of(problems(methods=("pinv", "dls")), cluttered_problems(max_goals=2)), LINEAR)
+def test_general_arms_among_spheres_take_the_numpy_frames(problem, method):
+    frames_agree(linear(problem, method))
+
+
+@settings(max_examples=20, **SETTINGS)
+@given(robot_problems(robots=("panda", "ur5", "iiwa")), LINEAR)
+def test_robots_among_spheres_with_their_own_pairs_take_the_numpy_frames(problem, method):
+    frames_agree(linear(problem, method))
+
+
+@settings(max_examples=15, **SETTINGS)
+@given(shaped_problems(max_goals=2, max_frames=40), LINEAR)
+def test_other_shapes_take_the_numpy_proposals(problem, method):
+    frames_agree(linear(problem, method))
+
+
+@pytest.mark.parametrize("method", ["pinv", "dls"])
+def test_a_robot_run_among_spheres_is_the_numpy_run(method):
+    problem = scene_to_problem(scene_model({
+        "version": 1, "arm": {"robot": "panda"},
+        "obstacles": [{"center": [0.45, 0.1, 0.45], "radius": 0.05, "influence": 0.1},
+                      {"center": [0.2, -0.35, 0.5], "radius": 0.06, "influence": 0.1}],
+        "goals": [[0.5, 0.2, 0.3], [0.3, -0.45, 0.4], [-0.2, 0.4, 0.6]],
+        "solver": {"method": method, "planner": "off", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02}}))
+    compared, taken = frames_agree(problem, stride=1)
+    assert taken >= 10  # the compiled frames are taken here, not a path never taken
+    fast, slow = solve_trajectory(problem), solve_trajectory(numpy_frames(problem))
+    assert fast.trajectory.frames == slow.trajectory.frames
+    assert [g.reached for g in fast.goals] == [g.reached for g in slow.goals]
+    assert [g.reason for g in fast.goals] == [g.reason for g in slow.goals]
+    assert np.abs(fast.trajectory.phi - slow.trajectory.phi).max() < 1e-9
+    assert_trajectory_invariants(problem, fast)
+
+
+@settings(max_examples=15, **SETTINGS)
+@given(robot_problems(robots=("panda", "ur5", "iiwa")), LINEAR)
+def test_compiled_runs_keep_every_invariant(problem, method):
+    problem = linear(problem, method)
+    assert_trajectory_invariants(problem, solve_trajectory(problem))
