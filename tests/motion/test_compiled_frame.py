@@ -17,17 +17,20 @@ from hypothesis import strategies as st
 from invariants import assert_trajectory_invariants
 from strategies import cluttered_problems, problems, robot_problems, shaped_problems
 
+from armanim.arm.kinematics import tip_jacobian
+from armanim.arm.linalg import PINV_RTOL
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
-from armanim.motion.solvers.common import arm_state
+from armanim.motion.solvers.common import ArmState, arm_state
 from armanim.motion.solvers.compiled_frame import frame_step
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import scene_model, scene_to_problem
 
 TOL = 1e-12
 """Radians (and scene units for clearances and gaps), relative to the size of what is compared
-(at least 1)."""
+(at least 1) and, for what follows from a proposal, to the conditioning of the tip's task: an
+inverse computed two ways (LAPACK's SVD, the compiled one) agrees to about eps times it."""
 
 LINEAR = st.sampled_from(["pinv", "dls"])
 
@@ -41,13 +44,21 @@ def linear(problem: Problem, method: str) -> Problem:
     return replace(problem, solver=replace(problem.solver, method=method, jacobian="analytic"))
 
 
-def close(a: np.ndarray, b: np.ndarray) -> bool:
+def close(a: np.ndarray, b: np.ndarray, tol: float = TOL) -> bool:
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    both = np.isfinite(a) | np.isfinite(b)
     if not np.array_equal(np.isfinite(a), np.isfinite(b)):
         return False
+    both = np.isfinite(a)
     scale = max(1.0, float(np.abs(np.where(both, b, 0.0)).max(initial=0.0)))
-    return bool(np.all(np.abs(np.where(both, a - b, 0.0)) <= TOL * scale))
+    with np.errstate(invalid="ignore"):  # inf - inf where neither is finite: not compared
+        return bool(np.all(np.abs(np.where(both, a - b, 0.0)) <= tol * scale))
+
+
+def conditioning(problem: Problem, state: ArmState) -> float:
+    """The tip Jacobian's largest singular value over its least one the pseudo-inverse keeps (1 at least)."""
+    d = np.linalg.svd(tip_jacobian(problem.arm, state.pose), compute_uv=False)
+    kept = d[d > PINV_RTOL * d[0]]
+    return max(1.0, float(kept[0] / kept[-1])) if len(kept) else 1.0
 
 
 def frames_agree(problem: Problem, stride: int = 3) -> tuple[int, int]:
@@ -65,27 +76,33 @@ def frames_agree(problem: Problem, stride: int = 3) -> tuple[int, int]:
         proposal = proposed_step(oracle, solver_method(method), state, goal).dphi
         expected = safe_step(oracle, state, proposal)
         compared += 1
-        if moved is None and dphi is None:  # an inverse failed: the numpy frame was taken
+        if dphi is None:  # an inverse failed: the numpy frame was taken
+            assert moved is None
             continue
-        if dphi is not None:
-            assert close(dphi, proposal), (i, dphi, proposal)
+        tol = TOL * conditioning(problem, state)
+        assert close(dphi, proposal, tol), (i, dphi, proposal)
+        if moved is None:  # the numpy filter takes the proposal
             continue
         taken += 1
-        assert expected.blocked_by is None, i
-        assert close(moved.phi, expected.phi), (i, moved.phi, expected.phi)
-        assert abs(moved.scale - expected.scale) <= TOL
-        assert close(moved.state.pose.points, expected.state.pose.points)
-        assert close(moved.state.pose.axes, expected.state.pose.axes)
+        length = float(np.linalg.norm(proposal))
+        assert moved.blocked_by == expected.blocked_by, i
+        assert close(moved.phi, expected.phi, tol), (i, moved.phi, expected.phi)
+        assert abs(moved.scale - expected.scale) <= TOL + expected.scale * tol * max(1.0, length) / length, (i, moved.scale, expected.scale)
+        if expected.state is state:  # no halving kept the guarantees: the arm stays
+            assert moved.state is state
+            continue
+        assert close(moved.state.pose.points, expected.state.pose.points, tol)
+        assert close(moved.state.pose.axes, expected.state.pose.axes, tol)
         if expected.state.clearance is not None:
             for got, want in zip((moved.state.clearance.d, moved.state.clearance.t, moved.state.clearance.normal),
                                  (expected.state.clearance.d, expected.state.clearance.t, expected.state.clearance.normal)):
-                assert close(got, want), i
+                assert close(got, want, tol), i
         else:
             assert moved.state.clearance is None
         if expected.state.self_gaps is not None:
             got, want = moved.state.self_gaps, expected.state.self_gaps
-            assert close(got.d, want.d) and close(got.normal, want.normal) and close(got.least, want.least), i
-            assert close(got.t, want.t) and close(got.s, want.s), i
+            assert close(got.d, want.d, tol) and close(got.normal, want.normal, tol) and close(got.least, want.least, tol), i
+            assert close(got.t, want.t, tol) and close(got.s, want.s, tol), i
         else:
             assert moved.state.self_gaps is None
     return compared, taken
@@ -94,7 +111,7 @@ def frames_agree(problem: Problem, stride: int = 3) -> tuple[int, int]:
 SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 
 
-@settings(max_examples=40, **SETTINGS)
+@settings(max_examples=25, **SETTINGS)
 @given(st.one_of(problems(methods=("pinv", "dls")), cluttered_problems(max_goals=2)), LINEAR)
 def test_general_arms_among_spheres_take_the_numpy_frames(problem, method):
     frames_agree(linear(problem, method))
@@ -106,10 +123,10 @@ def test_robots_among_spheres_with_their_own_pairs_take_the_numpy_frames(problem
     frames_agree(linear(problem, method))
 
 
-@settings(max_examples=15, **SETTINGS)
-@given(shaped_problems(max_goals=2, max_frames=40), LINEAR)
-def test_other_shapes_take_the_numpy_proposals(problem, method):
-    frames_agree(linear(problem, method))
+@settings(max_examples=8, **SETTINGS)
+@given(shaped_problems(max_goals=2, max_frames=30), LINEAR)
+def test_other_shapes_and_a_floor_take_the_numpy_frames(problem, method):
+    frames_agree(linear(problem, method), stride=4)
 
 
 @pytest.mark.parametrize("method", ["pinv", "dls"])

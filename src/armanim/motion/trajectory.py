@@ -302,7 +302,7 @@ def _method_frame(problem: Problem, method: Method, state: ArmState, visit: _Vis
         moved, dphi = frame_step(problem, method.compiled_inverse, state, goal.position)
         if moved is not None:
             return moved, 1, 0
-        if dphi is not None:
+        if dphi is not None:  # the numpy filter takes the compiled proposal
             return safe_step(problem, state, dphi), 1, 0
     proposal = proposed_step(problem, method, state, goal.position, goal.orientation)
     return safe_step(problem, state, proposal.dphi, proposal.ahead), proposal.iterations, proposal.newton_iterations

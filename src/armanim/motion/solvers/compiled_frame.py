@@ -43,10 +43,17 @@ from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
     BOUND_SLACK,
     VIOLATION,
+    Constraints,
     SafeStep,
+    _wrapped,
+    blocker,
+    exactly_safe,
+    filtered_step,
     kept_clearance,
     kept_self_clearance,
     limit_buffer,
+    step_fraction,
+    wrap_unlimited,
 )
 from armanim.motion.solvers.common import ArmState
 from armanim.motion.solvers.compiled import _capped, _damped, _pinv, _repulsion
@@ -57,9 +64,10 @@ from armanim.world.selfdistances import SelfGaps
 
 _JIT = dict(error_model="numpy", nogil=True)
 
-TAKEN, FILTER, NUMPY = 0, 1, 2
-"""How a compiled frame ended: the step taken (the new state is in the outputs), the proposal
-made but the numpy filter needed, or nothing done (the numpy proposal and filter)."""
+TAKEN, NOMINAL, QP, FILTER, NUMPY = 0, 1, 2, 3, 4
+"""How a compiled frame ended (:func:`_frame`): the step taken (the new state is in the outputs);
+the filter takes the proposal as it is, its exact check still to do; the filter's QP to solve;
+the proposal made but the numpy filter needed; nothing done (the numpy proposal and filter)."""
 
 PINV, DLS = 0, 1
 """The compiled steps: the pseudo-inverse and the damped least-squares inverse."""
@@ -252,128 +260,32 @@ def _proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarr
 
 
 @compiled(**_JIT)
-def _obstacle_rows_met(floats: np.ndarray, points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,
-                       cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, travel: float, step: np.ndarray) -> bool:
-    """Whether ``step`` meets the row n . J_q dPhi >= -gamma (d - d_target) of every capsule-obstacle
-    pair within ``travel`` of the target (:func:`~armanim.motion.solvers.barrier.obstacle_rows`,
-    :meth:`~armanim.motion.solvers.barrier.Constraints.violated_by`)."""
-    n = step.shape[0]
-    target = floats[KEPT]
-    gamma = floats[GAMMA]
-    q = np.empty(3)
-    jac = np.empty((3, n))
-    for part in range(cl_d.shape[0] - 1):
-        for k in range(cl_d.shape[1]):
-            if not cl_d[part, k] - target < travel:
-                continue
-            f = cl_t[part, k]
-            for i in range(3):
-                q[i] = a[part, i] + f * (b[part, i] - a[part, i])
-            _point_jacobian(points, axes, link[part], q, jac)
-            change = 0.0
-            for j in range(n):
-                row = cl_normal[part, k, 0] * jac[0, j] + cl_normal[part, k, 1] * jac[1, j] + cl_normal[part, k, 2] * jac[2, j]
-                change += row * step[j]
-            if change < -gamma * (cl_d[part, k] - target) - VIOLATION:
-                return False
-    return True
-
-
-@compiled(**_JIT)
-def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, filtering: bool, phi: np.ndarray,
-           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-           caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
-           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, centers: np.ndarray, radii: np.ndarray, influence: np.ndarray,
-           first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
-           gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
-           dphi: np.ndarray, cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
-           new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
-           new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> int:
-    """One frame from the state (``phi``, its pose, clearances and gaps): the proposal into
-    ``dphi``; where the filter takes it as it is (and ``filtering``), the new pose ``cand``
-    (before wrapping) and its kinematics, clearances and gaps into the ``new_`` arrays, and into
-    ``out`` (2,) the step's fraction of the proposal and the new least gap. Returns
-    :data:`TAKEN`, :data:`FILTER` or :data:`NUMPY`."""
+def _exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: np.ndarray, cand: np.ndarray, lower: np.ndarray,
+                  upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
+                  centers: np.ndarray, radii: np.ndarray, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+                  new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
+                  new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
+                  new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> bool:
+    """Whether the pose ``cand`` keeps every guarantee from the pose ``phi`` (whose clearances are
+    ``cl_d``, least gap ``least``), with the obstacles spheres
+    (:func:`~armanim.motion.solvers.barrier.exactly_safe`); its kinematics, clearances and gaps
+    into the ``new_`` arrays (as far as the check went), its least gap into ``out[1]``."""
     n = phi.shape[0]
-    c = caps.shape[0]
-    a = np.empty((c, 3))
-    b = np.empty((c, 3))
-    _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, a, b)
-    if not _proposal(floats, method, phi, points, axes, goal, lower, upper, a, b, link, cl_d, cl_t, cl_normal, influence,
-                     first, second, gap, gap_t, gap_s, gap_normal, least, dphi):
-        return NUMPY
-    if not filtering:
-        return FILTER
-    biggest = 0.0
-    for j in range(n):
-        v = abs(dphi[j])
-        if not v <= biggest:  # a NaN sticks
-            biggest = v
-    if not biggest < np.inf or biggest == 0.0:
-        return FILTER
-    cap = floats[MAX_JOINT_STEP]
-    gamma = floats[GAMMA]
     buffer = floats[BUFFER]
-    shrink = min(1.0, cap / biggest)
-    step = np.empty(n)
-    travel = 0.0
-    length = 0.0
     for j in range(n):
-        step[j] = dphi[j] * shrink
-        length += step[j] * step[j]
-        lo, hi = -cap, cap
-        if lower[j] > -np.inf:
-            lo = max(-cap, -gamma * (phi[j] - (lower[j] + buffer)))
-            hi = min(cap, gamma * ((upper[j] - buffer) - phi[j]))
-        lo, hi = min(lo, 0.0), max(hi, 0.0)
-        if step[j] < lo - VIOLATION or step[j] > hi + VIOLATION:
-            return FILTER  # a bound broken: the filter's QP
-        travel += abs(step[j]) * levers[j]
-    length = math.sqrt(length)
-    slack = 1.0 + BOUND_SLACK
-    parts = cl_d.shape[0]
-    obstacles = cl_d.shape[1] > 0
-    clear = True  # clearly_allowed
-    if obstacles:
-        lowest = np.inf
-        for part in range(parts - 1):
-            for k in range(cl_d.shape[1]):
-                lowest = min(lowest, cl_d[part, k])
-        room = gamma * (lowest - floats[KEPT])
-        clear = room >= travel * slack + 1e-12
-    pairs = first.shape[0]
-    if clear and pairs:
-        clear = pair_rows_met(points, axes, a, b, link, first, second, gap_t, gap_s, gap_normal, gap, floats[KEPT_SELF], gamma,
-                              pair_lever_rows, step, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
-    if not clear:  # the rows of filter_constraints, each met or the filter's QP
-        reach = 2.0 * (length * floats[LEVER_NORM]) + 1e-9
-        if obstacles and not _obstacle_rows_met(floats, points, axes, a, b, link, cl_d, cl_t, cl_normal, reach, step):
-            return FILTER
-        if pairs:
-            scratch = np.empty(9)
-            row = np.empty(n)
-            for p in range(pairs):
-                if not gap[p] - floats[KEPT_SELF] < 2.0 * length * pair_levers[p] + 1e-9:
-                    continue
-                pair_row(points, axes, a, b, link, first, second, gap_t, gap_s, gap_normal, p, scratch, row)
-                change = 0.0
-                for j in range(n):
-                    change += row[j] * step[j]
-                if change < -gamma * (gap[p] - floats[KEPT_SELF]) - VIOLATION:
-                    return FILTER
-    for j in range(n):  # the exact check of the pose (exactly_safe)
-        cand[j] = phi[j] + step[j]
-        if not (cand[j] - cand[j] == 0.0):
-            return FILTER
+        if not (cand[j] - cand[j] == 0.0):  # NaN or infinity
+            return False
         gap_new = min(cand[j] - lower[j], upper[j] - cand[j])
         gap_now = min(phi[j] - lower[j], upper[j] - phi[j])
         if gap_new <= 0.0 or gap_new < min(buffer, gap_now):
-            return FILTER
+            return False
     _forward_one(rows, root, cand, new_points, new_frames, new_axes, tool)
+    c = caps.shape[0]
     na = np.empty((c, 3))
     nb = np.empty((c, 3))
     _capsule_ends_one(new_points, new_frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, na, nb)
-    if obstacles:
+    parts = cl_d.shape[0]
+    if cl_d.shape[1] > 0:
         _sphere_clearances(new_points, na, nb, part_radius, centers, radii, new_d, new_t, new_normal)
         now_links, now_tip, new_links, new_tip = np.inf, np.inf, np.inf, np.inf
         for part in range(parts):
@@ -385,20 +297,166 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
                     now_tip = min(now_tip, cl_d[part, k])
                     new_tip = min(new_tip, new_d[part, k])
         if not new_links >= min(floats[CLEARANCE], now_links):
-            return FILTER
+            return False
         if not new_tip >= min(floats[CLEARANCE], now_tip):
-            return FILTER
+            return False
     out[1] = np.inf
-    if pairs:
+    if first.shape[0]:
         out[1] = capsule_pair_gaps(na, nb, first, second, pair_radii, new_gap_t, new_gap_s, new_gap, new_gap_normal)
         if not out[1] >= min(floats[SELF_CLEARANCE], least):
-            return FILTER
-    proposed = 0.0
+            return False
+    return True
+
+
+@compiled(**_JIT)
+def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, spheres: bool, phi: np.ndarray,
+           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+           caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
+           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, centers: np.ndarray, radii: np.ndarray, influence: np.ndarray,
+           first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
+           gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
+           dphi: np.ndarray, step: np.ndarray, lo: np.ndarray, hi: np.ndarray, cons: np.ndarray, cons_lower: np.ndarray,
+           cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
+           new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
+           new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> int:
+    """One frame from the state (``phi``, its pose, clearances and gaps): the proposal into
+    ``dphi``, the step capped to ``max_joint_step`` (the filter's nominal step) into ``step`` and
+    the joint bounds into ``lo``, ``hi``. Returns
+
+    - :data:`NUMPY`: an inverse failed; :data:`FILTER`: the proposal is not finite, or zero;
+    - :data:`QP`: a row or a bound is broken: the filter's rows (as
+      :func:`~armanim.motion.solvers.barrier.filter_constraints` builds them, in its order) into
+      ``cons`` and ``cons_lower``, their count into ``out[2]``;
+    - :data:`NOMINAL`: the filter takes the step as it is, its exact check left to the caller
+      (other obstacles than spheres, or the check failed: halvings);
+    - :data:`TAKEN`: the step is taken (spheres): the new pose ``cand`` (before wrapping), its
+      kinematics, clearances and gaps in the ``new_`` arrays, into ``out`` the step's length and
+      the new least gap."""
+    n = phi.shape[0]
+    c = caps.shape[0]
+    a = np.empty((c, 3))
+    b = np.empty((c, 3))
+    _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, a, b)
+    if not _proposal(floats, method, phi, points, axes, goal, lower, upper, a, b, link, cl_d, cl_t, cl_normal, influence,
+                     first, second, gap, gap_t, gap_s, gap_normal, least, dphi):
+        return NUMPY
+    biggest = 0.0
     for j in range(n):
-        proposed += dphi[j] * dphi[j]
-    proposed = math.sqrt(proposed)
-    out[0] = length / proposed if 0.0 < proposed < np.inf else 0.0
+        v = abs(dphi[j])
+        if not v <= biggest:  # a NaN sticks
+            biggest = v
+    if not biggest < np.inf or biggest == 0.0:
+        return FILTER
+    cap = floats[MAX_JOINT_STEP]
+    gamma = floats[GAMMA]
+    buffer = floats[BUFFER]
+    shrink = min(1.0, cap / biggest)
+    travel = 0.0
+    length = 0.0
+    inside = True
+    for j in range(n):
+        step[j] = dphi[j] * shrink
+        length += step[j] * step[j]
+        low, high = -cap, cap
+        if lower[j] > -np.inf:
+            low = max(-cap, -gamma * (phi[j] - (lower[j] + buffer)))
+            high = min(cap, gamma * ((upper[j] - buffer) - phi[j]))
+        lo[j], hi[j] = min(low, 0.0), max(high, 0.0)
+        if step[j] < lo[j] - VIOLATION or step[j] > hi[j] + VIOLATION:
+            inside = False
+        travel += abs(step[j]) * levers[j]
+    length = math.sqrt(length)
+    out[0] = length
+    slack = 1.0 + BOUND_SLACK
+    parts = cl_d.shape[0]
+    obstacles = cl_d.shape[1] > 0
+    pairs = first.shape[0]
+    clear = inside  # clearly_allowed
+    if clear and obstacles:
+        lowest = np.inf
+        for part in range(parts - 1):
+            for k in range(cl_d.shape[1]):
+                lowest = min(lowest, cl_d[part, k])
+        clear = gamma * (lowest - floats[KEPT]) >= travel * slack + 1e-12
+    if clear and pairs:
+        clear = pair_rows_met(points, axes, a, b, link, first, second, gap_t, gap_s, gap_normal, gap, floats[KEPT_SELF], gamma,
+                              pair_lever_rows, step, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
+    if not clear:  # the rows of filter_constraints: each met, or the filter's QP
+        broken = not inside
+        count = 0
+        target = floats[KEPT]
+        reach = 2.0 * (length * floats[LEVER_NORM]) + 1e-9
+        q = np.empty(3)
+        jac = np.empty((3, n))
+        for part in range(parts - 1):
+            for k in range(cl_d.shape[1]):
+                if not cl_d[part, k] - target < reach:
+                    continue
+                f = cl_t[part, k]
+                for i in range(3):
+                    q[i] = a[part, i] + f * (b[part, i] - a[part, i])
+                _point_jacobian(points, axes, link[part], q, jac)
+                change = 0.0
+                for j in range(n):
+                    cons[count, j] = cl_normal[part, k, 0] * jac[0, j] + cl_normal[part, k, 1] * jac[1, j] + cl_normal[part, k, 2] * jac[2, j]
+                    change += cons[count, j] * step[j]
+                cons_lower[count] = -gamma * (cl_d[part, k] - target)
+                if change < cons_lower[count] - VIOLATION:
+                    broken = True
+                count += 1
+        if pairs:
+            scratch = np.empty(9)
+            kept = floats[KEPT_SELF]
+            for p in range(pairs):
+                if not gap[p] - kept < 2.0 * length * pair_levers[p] + 1e-9:
+                    continue
+                pair_row(points, axes, a, b, link, first, second, gap_t, gap_s, gap_normal, p, scratch, cons[count])
+                change = 0.0
+                for j in range(n):
+                    change += cons[count, j] * step[j]
+                cons_lower[count] = -gamma * (gap[p] - kept)
+                if change < cons_lower[count] - VIOLATION:
+                    broken = True
+                count += 1
+        if broken:
+            out[2] = count
+            return QP
+    if not spheres:
+        return NOMINAL
+    for j in range(n):
+        cand[j] = phi[j] + step[j]
+    if not _exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, centers, radii, first, second,
+                         pair_radii, least, new_points, new_frames, new_axes, tool, new_d, new_t, new_normal,
+                         new_gap, new_gap_t, new_gap_s, new_gap_normal, out):
+        return NOMINAL
     return TAKEN
+
+
+@compiled(**_JIT)
+def _settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int, phi: np.ndarray, step: np.ndarray,
+            lower: np.ndarray, upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
+            centers: np.ndarray, radii: np.ndarray, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+            cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
+            new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
+            new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> float:
+    """The filter's exact check and halvings of ``step`` from ``phi`` (spheres): the first of
+    ``phi + 0.5^i step``, i = 0 .. ``halvings``, that keeps every guarantee, its state in the
+    ``new_`` arrays as :func:`_frame`'s, the length of its step into ``out[0]``; returns its
+    scale 0.5^i, or -1 where none does."""
+    n = phi.shape[0]
+    scale = 1.0
+    for _ in range(halvings + 1):
+        length = 0.0
+        for j in range(n):
+            cand[j] = phi[j] + scale * step[j]
+            length += (scale * step[j]) ** 2
+        if _exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, centers, radii, first, second,
+                         pair_radii, least, new_points, new_frames, new_axes, tool, new_d, new_t, new_normal,
+                         new_gap, new_gap_t, new_gap_s, new_gap_normal, out):
+            out[0] = math.sqrt(length)
+            return scale
+        scale *= 0.5
+    return -1.0
 
 
 # ----------------------------------------------------------------------------- from Python
@@ -434,14 +492,17 @@ _EMPTY_GAPS = (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3)))
 
 
 def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState, goal: np.ndarray) -> tuple[SafeStep | None, np.ndarray | None]:
-    """One frame of ``method`` toward ``goal`` (a position, no orientation) from ``state``, compiled: (the
-    filter's answer, None) where it took the proposal as it is; (None, the proposal) where the
-    numpy filter must take it (:func:`~armanim.motion.solvers.barrier.safe_step`); (None, None)
-    where the numpy path must make the proposal too (an inverse failed)."""
+    """One frame of ``method`` toward ``goal`` (a position, no orientation) from ``state``: (the
+    filter's answer, the proposal), or (None, the proposal) where the numpy filter must take it (a
+    proposal that is not finite or zero: :func:`~armanim.motion.solvers.barrier.safe_step`), or
+    (None, None) where the numpy path must make the proposal too (an inverse failed).
+
+    The filter's QP, where a row is broken, is DAQP's (:func:`~armanim.motion.solvers.barrier.filtered_step`)
+    on the rows the kernel built; the exact check and the halvings are compiled where the
+    obstacles are spheres, else :func:`~armanim.motion.solvers.barrier.exactly_safe`'s."""
     (rows, root, floats, lower, upper, caps, link, part_radius, levers, centers, radii, influence,
      first, second, pair_radii, pair_lever_rows, pair_levers) = _constants(problem)
-    obstacles = problem.obstacles
-    filtering = obstacles.spheres_only
+    spheres = problem.obstacles.spheres_only
     cl = state.clearance
     cl_d, cl_t, cl_normal = _EMPTY_CL if cl is None else (cl.d, cl.t, cl.normal)
     gaps = state.self_gaps
@@ -449,33 +510,60 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     least = np.inf if gaps is None else float(gaps.least)
     pose = state.pose
     n = problem.arm.n
-    dphi = np.empty(n)
-    cand = np.empty(n)
-    points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
-    parts, m = len(part_radius), len(influence)
-    new_d, new_t, new_normal = (np.empty((parts, m)), np.empty((parts, m)), np.empty((parts, m, 3))) if cl is not None else _EMPTY_CL
+    dphi, step, lo, hi, cand = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     pairs = len(first)
-    new_gap, new_gap_t, new_gap_s, new_gap_normal = np.empty(pairs), np.empty(pairs), np.empty(pairs), np.empty((pairs, 3))
-    out = np.empty(2)
+    cons, cons_lower = np.empty((cl_d.shape[0] * cl_d.shape[1] + pairs, n)), np.empty(cl_d.shape[0] * cl_d.shape[1] + pairs)
+    new = _new_state_arrays(n, cl_d.shape, pairs)
+    out = np.empty(3)
     assert pose.axes is not None  # the frame loop's poses come from the compiled kinematics
-    status = _frame(rows, root, floats, DLS if method == "dls" else PINV, filtering, state.phi,
+    status = _frame(rows, root, floats, DLS if method == "dls" else PINV, spheres, state.phi,
                     pose.points, pose.frames, pose.axes, np.ascontiguousarray(goal, dtype=float), lower, upper,
                     caps, link, part_radius, levers, cl_d, cl_t, cl_normal, centers, radii, influence,
                     first, second, pair_radii, pair_lever_rows, pair_levers, gap, gap_t, gap_s, gap_normal, least,
-                    dphi, cand, points, frames, axes, tool, new_d, new_t, new_normal, new_gap, new_gap_t, new_gap_s, new_gap_normal, out)
+                    dphi, step, lo, hi, cons, cons_lower, cand, *new, out)
     if status == NUMPY:
         return None, None
     if status == FILTER:
         return None, dphi
-    new_gaps = None
-    if pairs:
-        new_gaps = SelfGaps(new_gap, new_gap_t, new_gap_s, new_gap_normal)
-        object.__setattr__(new_gaps, "_least", np.float64(out[1]))  # the kernel found it
-    phi = cand
-    if np.abs(cand).max() > np.pi:  # barrier.wrap_unlimited
-        from armanim.motion.solvers.barrier import wrap_unlimited
+    proposed = float(np.sqrt(dphi @ dphi))
+    if status == TAKEN:
+        return SafeStep(_state(problem, cand, new, out, cl is not None), float(out[0]) / proposed, None), dphi
+    nominal = step
+    constraints = None
+    if status == QP:
+        count = int(out[2])
+        constraints = Constraints(cons[:count], cons_lower[:count], lo, hi)
+        step = filtered_step(nominal, constraints)
+    if spheres:
+        scale = _settle(rows, root, floats, problem.tunables.filter.halvings, state.phi, step, lower, upper, caps, link, part_radius,
+                        cl_d, centers, radii, first, second, pair_radii, least, cand, *new, out)
+        if scale < 0.0:
+            return SafeStep(state, 0.0, blocker(nominal, constraints)), dphi
+        blocked = None if step is nominal and scale == 1.0 else blocker(nominal, constraints)
+        return SafeStep(_state(problem, cand, new, out, cl is not None), float(out[0]) / proposed, blocked), dphi
+    for scale in 0.5 ** np.arange(problem.tunables.filter.halvings + 1):  # safe_step's exact check, other obstacles than spheres
+        moved = exactly_safe(problem, state, state.phi + scale * step)
+        if moved is not None:
+            blocked = None if step is nominal and scale == 1.0 else blocker(nominal, constraints)
+            return SafeStep(_wrapped(problem, moved), step_fraction(scale * step, dphi), blocked), dphi
+    return SafeStep(state, 0.0, blocker(nominal, constraints)), dphi
 
-        phi = wrap_unlimited(problem, cand)
-    moved = ArmState(phi, Pose(points=points, frames=frames, axes=axes),
-                     Clearances(d=new_d, t=new_t, normal=new_normal) if cl is not None else None, new_gaps)
-    return SafeStep(moved, float(out[0]), None), None
+
+def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> tuple[np.ndarray, ...]:
+    """The kernel's arrays of a new state: points, frames, axes, tool; clearances d, t, normal;
+    the pairs' gaps, t, s, normal."""
+    parts, m = clearances
+    return (np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3)),
+            np.empty((parts, m)), np.empty((parts, m)), np.empty((parts, m, 3)),
+            np.empty(pairs), np.empty(pairs), np.empty(pairs), np.empty((pairs, 3)))
+
+
+def _state(problem: Problem, cand: np.ndarray, new: tuple[np.ndarray, ...], out: np.ndarray, obstacles: bool) -> ArmState:
+    """The new state the kernel measured at ``cand`` (unlimited joints wrapped, as the filter's states)."""
+    points, frames, axes, _, d, t, normal, gap, gap_t, gap_s, gap_normal = new
+    gaps = None
+    if len(gap):
+        gaps = SelfGaps(gap, gap_t, gap_s, gap_normal)
+        object.__setattr__(gaps, "_least", np.float64(out[1]))  # the kernel found it: SelfGaps.least need not look again
+    return ArmState(wrap_unlimited(problem, cand), Pose(points=points, frames=frames, axes=axes),
+                    Clearances(d=d, t=t, normal=normal) if obstacles else None, gaps)
