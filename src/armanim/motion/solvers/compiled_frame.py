@@ -1,32 +1,34 @@
 """One frame of the frame loop with ``pinv`` or ``dls``, compiled (numba): the method's proposal
-and, where it is the common case, the safety filter's answer, in one call.
+and the safety filter's answer, in one or two calls.
 
 A frame of :func:`armanim.motion.trajectory.solve_trajectory` is the method's proposal
 (:func:`armanim.motion.solvers.linear.linear_step`) through the filter
 (:func:`armanim.motion.solvers.barrier.safe_step`): in numpy and Python some 500 calls and a few
 hundred microseconds. Here the same frame is written as loops over small arrays, with the
-kinematics of :mod:`armanim.arm.kernel` and the pieces of :mod:`armanim.motion.solvers.compiled`
-(the pseudo-inverse with :func:`armanim.arm.linalg.pseudo_inverse`'s cut-off, the damped inverse):
+kinematics of :mod:`armanim.arm.kernel`, the distances of :mod:`armanim.world.compiled` and the
+inverses of :mod:`armanim.motion.solvers.compiled` (the pseudo-inverse with
+:func:`armanim.arm.linalg.pseudo_inverse`'s cut-off, the damped inverse):
 
 - the proposal, for a goal without an orientation: the tip's task, the joint-limit push, the
   obstacles' pushes (the tip's in task space, the links' in the null space), the pushes of the
   arm's own pairs (in the null space), from the clearances and gaps of the state the frame
   starts from;
-- the filter where it takes the proposal as it is (capped to ``max_joint_step``): the joint
-  bounds, the bounds of :func:`~armanim.motion.solvers.barrier.clearly_allowed`, else the rows
-  of :func:`~armanim.motion.solvers.barrier.filter_constraints` computed and met; then the exact
-  check of the new pose (its kinematics, its clearances to the spheres, its pairs' gaps), which
-  it returns with the step.
+- the filter: the step capped to ``max_joint_step``, the joint bounds, the bounds of
+  :func:`~armanim.motion.solvers.barrier.clearly_allowed`, else the rows of
+  :func:`~armanim.motion.solvers.barrier.filter_constraints`, built in its order; where one is
+  broken, the QP is DAQP's as before (:func:`~armanim.motion.solvers.barrier.filtered_step`,
+  from Python, on those rows);
+- the exact check of the new pose and its halvings: its kinematics, its clearances to every
+  obstacle (spheres, boxes, capsules, the floor, in the scene's order), its pairs' gaps, which
+  become the next frame's state.
 
-Where the filter would do more (a row or a bound broken: its QP; the exact check failed: its
-halvings; a proposal that is not finite or zero), the call hands the proposal back and the
-numpy filter takes it (:func:`frame_step` returns None with the proposal). Scenes with obstacles
-other than spheres get the proposal only (their clearances are the numpy path's). Goals with an
-orientation, the numeric Jacobian and the other methods are not compiled here (the numpy path).
+A proposal that is not finite or zero goes to the numpy filter; an inverse that fails (a zero
+pivot) leaves the whole frame to the numpy path. Goals with an orientation, the numeric
+Jacobian and the other methods are not compiled here (the numpy path).
 
 The numbers are the numpy path's to rounding (the same formulas, other summation orders; the
-tests hold them to 1e-12 relative). ``tunables.ik.compiled_frames`` off gives the numpy frame
-everywhere (the tests' oracle). Pure core: numpy and numba only, radians.
+tests hold them to 1e-12 times the tip task's conditioning). ``tunables.ik.compiled_frames`` off
+gives the numpy frame everywhere (the tests' oracle). Pure core: numpy and numba only, radians.
 """
 
 from __future__ import annotations
@@ -45,20 +47,17 @@ from armanim.motion.solvers.barrier import (
     VIOLATION,
     Constraints,
     SafeStep,
-    _wrapped,
     blocker,
-    exactly_safe,
     filtered_step,
     kept_clearance,
     kept_self_clearance,
     limit_buffer,
-    step_fraction,
     wrap_unlimited,
 )
 from armanim.motion.solvers.common import ArmState
 from armanim.motion.solvers.compiled import _capped, _damped, _pinv, _repulsion
 from armanim.motion.solvers.linear import CLOSEST_GAP
-from armanim.world.compiled import capsule_pair_gaps, pair_row, pair_rows_met
+from armanim.world.compiled import capsule_pair_gaps, pair_row, pair_rows_met, segment_box_grid
 from armanim.world.distances import Clearances
 from armanim.world.selfdistances import SelfGaps
 
@@ -148,6 +147,58 @@ def _sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_ra
             normal[part, k, 2] = o2 / scale
             t[part, k] = f
             d[part, k] = dist - radii[k] - part_radius[part]
+
+
+@compiled(**_JIT)
+def _clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: tuple, d: np.ndarray, t: np.ndarray,
+                normal: np.ndarray) -> None:
+    """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
+    and normal (c+1, m, 3): the spheres', the solids' (:func:`armanim.world.compiled.segment_box_grid`,
+    the tip a segment of no length) and the floor's, in the scene's order
+    (:func:`armanim.world.distances.clearances`). ``world``: :func:`_world`'s arrays."""
+    centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base, order, floor = world
+    c = a.shape[0]
+    n = points.shape[0] - 1
+    count, solids = centers.shape[0], solid_centers.shape[0]
+    m = d.shape[1]
+    pts = np.empty((c + 1, 3))
+    ends = np.empty((c + 1, 3))
+    for part in range(c + 1):
+        for i in range(3):
+            pts[part, i] = a[part, i] if part < c else points[n, i]
+            ends[part, i] = b[part, i] if part < c else points[n, i]
+    kd = np.empty((c + 1, m))
+    kt = np.empty((c + 1, m))
+    kn = np.empty((c + 1, m, 3))
+    if count:
+        _sphere_clearances(points, a, b, part_radius, centers, radii, kd[:, :count], kt[:, :count], kn[:, :count])
+    if solids:
+        sd = np.empty((c + 1, solids))
+        st = np.empty((c + 1, solids))
+        sn = np.empty((c + 1, solids, 3))
+        segment_box_grid(pts, ends, solid_centers, solid_half, solid_rotations, st, sd, sn)
+        for part in range(c + 1):
+            for k in range(solids):
+                kd[part, count + k] = sd[part, k] - solid_radius[k] - part_radius[part]
+                kt[part, count + k] = 1.0 if part == c else st[part, k]
+                for i in range(3):
+                    kn[part, count + k, i] = sn[part, k, i]
+    if floor.shape[0]:
+        f = count + solids
+        for part in range(c + 1):
+            height = min(pts[part, 2], ends[part, 2]) - floor[0] - part_radius[part]
+            kd[part, f] = np.inf if on_base[part] else height
+            kt[part, f] = 1.0 if (part == c or ends[part, 2] <= pts[part, 2]) else 0.0
+            kn[part, f, 0] = 0.0
+            kn[part, f, 1] = 0.0
+            kn[part, f, 2] = 1.0
+    for part in range(c + 1):
+        for k in range(m):
+            j = order[k]
+            d[part, k] = kd[part, j]
+            t[part, k] = kt[part, j]
+            for i in range(3):
+                normal[part, k, i] = kn[part, j, i]
 
 
 @compiled(**_JIT)
@@ -262,13 +313,12 @@ def _proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarr
 @compiled(**_JIT)
 def _exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: np.ndarray, cand: np.ndarray, lower: np.ndarray,
                   upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-                  centers: np.ndarray, radii: np.ndarray, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+                  world: tuple, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
                   new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
                   new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
                   new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> bool:
     """Whether the pose ``cand`` keeps every guarantee from the pose ``phi`` (whose clearances are
-    ``cl_d``, least gap ``least``), with the obstacles spheres
-    (:func:`~armanim.motion.solvers.barrier.exactly_safe`); its kinematics, clearances and gaps
+    ``cl_d``, least gap ``least``) (:func:`~armanim.motion.solvers.barrier.exactly_safe`); its kinematics, clearances and gaps
     into the ``new_`` arrays (as far as the check went), its least gap into ``out[1]``."""
     n = phi.shape[0]
     buffer = floats[BUFFER]
@@ -286,7 +336,7 @@ def _exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: n
     _capsule_ends_one(new_points, new_frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, na, nb)
     parts = cl_d.shape[0]
     if cl_d.shape[1] > 0:
-        _sphere_clearances(new_points, na, nb, part_radius, centers, radii, new_d, new_t, new_normal)
+        _clearances(new_points, na, nb, part_radius, world, new_d, new_t, new_normal)
         now_links, now_tip, new_links, new_tip = np.inf, np.inf, np.inf, np.inf
         for part in range(parts):
             for k in range(cl_d.shape[1]):
@@ -309,10 +359,10 @@ def _exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: n
 
 
 @compiled(**_JIT)
-def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, spheres: bool, phi: np.ndarray,
+def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, phi: np.ndarray,
            points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, lower: np.ndarray, upper: np.ndarray,
            caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
-           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, centers: np.ndarray, radii: np.ndarray, influence: np.ndarray,
+           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: tuple, influence: np.ndarray,
            first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
            gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
            dphi: np.ndarray, step: np.ndarray, lo: np.ndarray, hi: np.ndarray, cons: np.ndarray, cons_lower: np.ndarray,
@@ -327,9 +377,9 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
     - :data:`QP`: a row or a bound is broken: the filter's rows (as
       :func:`~armanim.motion.solvers.barrier.filter_constraints` builds them, in its order) into
       ``cons`` and ``cons_lower``, their count into ``out[2]``;
-    - :data:`NOMINAL`: the filter takes the step as it is, its exact check left to the caller
-      (other obstacles than spheres, or the check failed: halvings);
-    - :data:`TAKEN`: the step is taken (spheres): the new pose ``cand`` (before wrapping), its
+    - :data:`NOMINAL`: the filter takes the step as it is, but its exact check failed: the
+      halvings are left to :func:`_settle`;
+    - :data:`TAKEN`: the step is taken: the new pose ``cand`` (before wrapping), its
       kinematics, clearances and gaps in the ``new_`` arrays, into ``out`` the step's length and
       the new least gap."""
     n = phi.shape[0]
@@ -421,11 +471,9 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
         if broken:
             out[2] = count
             return QP
-    if not spheres:
-        return NOMINAL
     for j in range(n):
         cand[j] = phi[j] + step[j]
-    if not _exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, centers, radii, first, second,
+    if not _exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, world, first, second,
                          pair_radii, least, new_points, new_frames, new_axes, tool, new_d, new_t, new_normal,
                          new_gap, new_gap_t, new_gap_s, new_gap_normal, out):
         return NOMINAL
@@ -435,11 +483,11 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
 @compiled(**_JIT)
 def _settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int, phi: np.ndarray, step: np.ndarray,
             lower: np.ndarray, upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-            centers: np.ndarray, radii: np.ndarray, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+            world: tuple, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
             cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
             new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
             new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> float:
-    """The filter's exact check and halvings of ``step`` from ``phi`` (spheres): the first of
+    """The filter's exact check and halvings of ``step`` from ``phi``: the first of
     ``phi + 0.5^i step``, i = 0 .. ``halvings``, that keeps every guarantee, its state in the
     ``new_`` arrays as :func:`_frame`'s, the length of its step into ``out[0]``; returns its
     scale 0.5^i, or -1 where none does."""
@@ -450,7 +498,7 @@ def _settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: in
         for j in range(n):
             cand[j] = phi[j] + scale * step[j]
             length += (scale * step[j]) ** 2
-        if _exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, centers, radii, first, second,
+        if _exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, world, first, second,
                          pair_radii, least, new_points, new_frames, new_axes, tool, new_d, new_t, new_normal,
                          new_gap, new_gap_t, new_gap_s, new_gap_normal, out):
             out[0] = math.sqrt(length)
@@ -480,11 +528,26 @@ def _constants(problem: Problem) -> tuple[np.ndarray, ...]:
     rows, root = packed_chain(problem.arm)
     kept = (rows, root, floats) + tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
         (problem.limits.lower, float), (problem.limits.upper, float), (packed, float), (caps.link, np.int64),
-        (caps.part_radius, float), (problem.lever_arms, float), (obstacles.centers.reshape(-1, 3), float), (obstacles.radii, float),
+        (caps.part_radius, float), (problem.lever_arms, float)))
+    kept += (_world(problem),) + tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
         (obstacles.influence, float), (pairs.first, np.int64), (pairs.second, np.int64), (pairs.radii(caps), float),
         (problem.pair_lever_rows.reshape(len(pairs), problem.arm.n), float), (problem.pair_levers, float)))
     object.__setattr__(problem, "_compiled_frame_constants", kept)  # a cache of constants: the problem stays what it was
     return kept
+
+
+def _world(problem: Problem) -> tuple[np.ndarray, ...]:
+    """The obstacles as :func:`_clearances` reads them: the spheres' centres and radii, the solids'
+    (boxes and capsule obstacles' axes) centres, half edges, rotations and radii, the parts the
+    floor leaves out, the columns' scene order, and the floor's height ((1,), or (0,) without one)."""
+    obstacles, caps = problem.obstacles, problem.capsules
+    solids = obstacles.solids
+    order = obstacles.scene_order if obstacles.scene_order is not None else np.arange(len(obstacles))
+    floor = np.zeros(0) if obstacles.floor is None else np.array([float(obstacles.floor)])
+    return tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
+        (obstacles.centers.reshape(-1, 3), float), (obstacles.radii, float), (solids.centers.reshape(-1, 3), float),
+        (solids.half.reshape(-1, 3), float), (solids.rotations.reshape(-1, 3, 3), float), (obstacles.solid_radius, float),
+        (caps.on_base, np.bool_), (order, np.int64), (floor, float)))
 
 
 _EMPTY_CL = (np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0, 3)))
@@ -498,11 +561,9 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     (None, None) where the numpy path must make the proposal too (an inverse failed).
 
     The filter's QP, where a row is broken, is DAQP's (:func:`~armanim.motion.solvers.barrier.filtered_step`)
-    on the rows the kernel built; the exact check and the halvings are compiled where the
-    obstacles are spheres, else :func:`~armanim.motion.solvers.barrier.exactly_safe`'s."""
-    (rows, root, floats, lower, upper, caps, link, part_radius, levers, centers, radii, influence,
+    on the rows the kernel built; the exact check and the halvings are compiled (:func:`_settle`)."""
+    (rows, root, floats, lower, upper, caps, link, part_radius, levers, world, influence,
      first, second, pair_radii, pair_lever_rows, pair_levers) = _constants(problem)
-    spheres = problem.obstacles.spheres_only
     cl = state.clearance
     cl_d, cl_t, cl_normal = _EMPTY_CL if cl is None else (cl.d, cl.t, cl.normal)
     gaps = state.self_gaps
@@ -516,9 +577,9 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     new = _new_state_arrays(n, cl_d.shape, pairs)
     out = np.empty(3)
     assert pose.axes is not None  # the frame loop's poses come from the compiled kinematics
-    status = _frame(rows, root, floats, DLS if method == "dls" else PINV, spheres, state.phi,
+    status = _frame(rows, root, floats, DLS if method == "dls" else PINV, state.phi,
                     pose.points, pose.frames, pose.axes, np.ascontiguousarray(goal, dtype=float), lower, upper,
-                    caps, link, part_radius, levers, cl_d, cl_t, cl_normal, centers, radii, influence,
+                    caps, link, part_radius, levers, cl_d, cl_t, cl_normal, world, influence,
                     first, second, pair_radii, pair_lever_rows, pair_levers, gap, gap_t, gap_s, gap_normal, least,
                     dphi, step, lo, hi, cons, cons_lower, cand, *new, out)
     if status == NUMPY:
@@ -534,19 +595,12 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
         count = int(out[2])
         constraints = Constraints(cons[:count], cons_lower[:count], lo, hi)
         step = filtered_step(nominal, constraints)
-    if spheres:
-        scale = _settle(rows, root, floats, problem.tunables.filter.halvings, state.phi, step, lower, upper, caps, link, part_radius,
-                        cl_d, centers, radii, first, second, pair_radii, least, cand, *new, out)
-        if scale < 0.0:
-            return SafeStep(state, 0.0, blocker(nominal, constraints)), dphi
-        blocked = None if step is nominal and scale == 1.0 else blocker(nominal, constraints)
-        return SafeStep(_state(problem, cand, new, out, cl is not None), float(out[0]) / proposed, blocked), dphi
-    for scale in 0.5 ** np.arange(problem.tunables.filter.halvings + 1):  # safe_step's exact check, other obstacles than spheres
-        moved = exactly_safe(problem, state, state.phi + scale * step)
-        if moved is not None:
-            blocked = None if step is nominal and scale == 1.0 else blocker(nominal, constraints)
-            return SafeStep(_wrapped(problem, moved), step_fraction(scale * step, dphi), blocked), dphi
-    return SafeStep(state, 0.0, blocker(nominal, constraints)), dphi
+    scale = _settle(rows, root, floats, problem.tunables.filter.halvings, state.phi, step, lower, upper, caps, link, part_radius,
+                    cl_d, world, first, second, pair_radii, least, cand, *new, out)
+    if scale < 0.0:  # no halving kept the guarantees: the arm stays
+        return SafeStep(state, 0.0, blocker(nominal, constraints)), dphi
+    blocked = None if step is nominal and scale == 1.0 else blocker(nominal, constraints)
+    return SafeStep(_state(problem, cand, new, out, cl is not None), float(out[0]) / proposed, blocked), dphi
 
 
 def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> tuple[np.ndarray, ...]:
