@@ -1,10 +1,10 @@
 """The compiled frame (:mod:`armanim.motion.solvers.compiled_frame`) against the numpy frame it
 compiles (:func:`armanim.motion.solvers.proposed_step` through the filter
 :func:`armanim.motion.solvers.barrier.safe_step`, the oracle, ``tunables.ik.compiled_frames``
-off): at the states of real runs (general arms among spheres and other shapes, the bundled
-robots among spheres with their own pairs), the same proposal and, where the compiled frame
-takes it, the same step, the same new pose, clearances and gaps, to 1e-12; whole runs keep
-every invariant and end as the numpy runs."""
+off): at the states of real runs (general arms among spheres, boxes, capsules and a floor, the
+bundled robots among spheres with their own pairs; goals with and without an orientation), the
+same proposal and the same step, the same new pose, clearances and gaps, to 1e-12 times the tip
+task's conditioning; whole runs keep every invariant and end as the numpy runs."""
 
 from __future__ import annotations
 
@@ -19,6 +19,8 @@ from strategies import cluttered_problems, problems, robot_problems, shaped_prob
 
 from armanim.arm.kinematics import tip_jacobian
 from armanim.arm.linalg import PINV_RTOL
+from armanim.arm.rotations import rotation_exp
+from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
@@ -70,10 +72,10 @@ def frames_agree(problem: Problem, stride: int = 3) -> tuple[int, int]:
     method = problem.solver.method
     compared = taken = 0
     for i in range(0, traj.frames, stride):
-        goal = problem.goals[int(traj.goal[i])].position
+        goal = problem.goals[int(traj.goal[i])]
         state = arm_state(problem, traj.phi[i])
-        moved, dphi = frame_step(problem, method, state, goal)
-        proposal = proposed_step(oracle, solver_method(method), state, goal).dphi
+        moved, dphi = frame_step(problem, method, state, goal.position, goal.orientation)
+        proposal = proposed_step(oracle, solver_method(method), state, goal.position, goal.orientation).dphi
         expected = safe_step(oracle, state, proposal)
         compared += 1
         if dphi is None:  # an inverse failed: the numpy frame was taken
@@ -115,6 +117,27 @@ SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow, Heal
 @given(st.one_of(problems(methods=("pinv", "dls")), cluttered_problems(max_goals=2)), LINEAR)
 def test_general_arms_among_spheres_take_the_numpy_frames(problem, method):
     frames_agree(linear(problem, method))
+
+
+def with_orientations(problem: Problem, seed: int, kind: str) -> Problem:
+    """The problem with each goal given an orientation: a random rotation (``kind`` "rotation")
+    or tool axis ("axis"), which the arm may or may not be able to hold there."""
+    rng = np.random.default_rng(seed)
+    goals = []
+    for goal in problem.goals:
+        if kind == "rotation":
+            orientation = Orientation(rotation=rotation_exp(rng.normal(0.0, 1.5, 3)))
+        else:
+            orientation = Orientation(axis=rng.normal(0.0, 1.0, 3))
+        goals.append(replace(goal, orientation=orientation))
+    return replace(problem, goals=tuple(goals))
+
+
+@settings(max_examples=25, **SETTINGS)
+@given(st.one_of(problems(methods=("pinv", "dls")), robot_problems(robots=("panda", "ur5", "iiwa"))), LINEAR,
+       st.integers(0, 2**32 - 1), st.sampled_from(["rotation", "axis"]))
+def test_goals_with_an_orientation_take_the_numpy_frames(problem, method, seed, kind):
+    frames_agree(with_orientations(linear(problem, method), seed, kind))
 
 
 @settings(max_examples=20, **SETTINGS)

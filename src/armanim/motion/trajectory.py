@@ -295,11 +295,11 @@ def _method_frame(problem: Problem, method: Method, state: ArmState, visit: _Vis
     """The method's proposal through the filter, and its iterations and Newton iterations: compiled
     where it can be (:mod:`armanim.motion.solvers.compiled_frame`, the same step to rounding)."""
     goal = visit.goal
-    if goal.orientation is None and frames_compiled(problem, method):
+    if frames_compiled(problem, method):
         from armanim.motion.solvers.compiled_frame import frame_step  # numba: imported where a solve starts
 
         assert method.compiled_inverse is not None  # frames_compiled
-        moved, dphi = frame_step(problem, method.compiled_inverse, state, goal.position)
+        moved, dphi = frame_step(problem, method.compiled_inverse, state, goal.position, goal.orientation)
         if moved is not None:
             return moved, 1, 0
         if dphi is not None:  # the numpy filter takes the compiled proposal
@@ -309,7 +309,7 @@ def _method_frame(problem: Problem, method: Method, state: ArmState, visit: _Vis
 
 
 def frames_compiled(problem: Problem, method: Method) -> bool:
-    """Whether the method's frames toward a goal without an orientation run compiled: a method
+    """Whether the method's frames run compiled: a method
     with a compiled step (``pinv``, ``dls``), the analytic Jacobian and ``tunables.ik.compiled_frames``."""
     return method.compiled_inverse is not None and problem.solver.jacobian != "numeric" and problem.tunables.ik.compiled_frames
 

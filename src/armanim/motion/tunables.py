@@ -212,10 +212,10 @@ class IkOptions:
         (:mod:`armanim.motion.solvers.compiled`: no obstacles, the analytic Jacobian); False:
         the numpy steps everywhere (the tests' oracle).
     compiled_frames : bool
-        The frame loop's ``pinv`` and ``dls`` frames toward a goal without an orientation run
-        compiled (:mod:`armanim.motion.solvers.compiled_frame`: the proposal, and the filter where
-        it takes the proposal as it is; the same steps to rounding); False: the numpy frames
-        everywhere (the tests' oracle).
+        The frame loop's ``pinv`` and ``dls`` frames run compiled
+        (:mod:`armanim.motion.solvers.compiled_frame`: the proposal, the filter's rows, its exact
+        check and halvings; its QP stays DAQP's; the same steps to rounding); False: the numpy
+        frames everywhere (the tests' oracle).
     """
 
     full_turn_per_iteration: float = float(np.radians(30.0))

@@ -9,10 +9,11 @@ kinematics of :mod:`armanim.arm.kernel`, the distances of :mod:`armanim.world.co
 inverses of :mod:`armanim.motion.solvers.compiled` (the pseudo-inverse with
 :func:`armanim.arm.linalg.pseudo_inverse`'s cut-off, the damped inverse):
 
-- the proposal, for a goal without an orientation: the tip's task, the joint-limit push, the
-  obstacles' pushes (the tip's in task space, the links' in the null space), the pushes of the
-  arm's own pairs (in the null space), from the clearances and gaps of the state the frame
-  starts from;
+- the proposal: the tip's task, the goal's orientation second in priority (in the tip task's
+  null space, as :func:`~armanim.motion.solvers.linear.orientation_in_null_space`), the
+  joint-limit push, the obstacles' pushes (the tip's in task space, the links' in the null
+  space), the pushes of the arm's own pairs (in the null space), from the clearances and gaps of
+  the state the frame starts from;
 - the filter: the step capped to ``max_joint_step``, the joint bounds, the bounds of
   :func:`~armanim.motion.solvers.barrier.clearly_allowed`, else the rows of
   :func:`~armanim.motion.solvers.barrier.filter_constraints`, built in its order; where one is
@@ -23,8 +24,8 @@ inverses of :mod:`armanim.motion.solvers.compiled` (the pseudo-inverse with
   become the next frame's state.
 
 A proposal that is not finite or zero goes to the numpy filter; an inverse that fails (a zero
-pivot) leaves the whole frame to the numpy path. Goals with an orientation, the numeric
-Jacobian and the other methods are not compiled here (the numpy path).
+pivot) leaves the whole frame to the numpy path. The numeric Jacobian and the other methods
+are not compiled here (the numpy path).
 
 The numbers are the numpy path's to rounding (the same formulas, other summation orders; the
 tests hold them to 1e-12 times the tip task's conditioning). ``tunables.ik.compiled_frames`` off
@@ -38,9 +39,10 @@ from typing import Literal, cast
 
 import numpy as np
 
-from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
+from armanim.arm.kernel import TURN, _capsule_ends_one, _forward_one, compiled, packed_chain
 from armanim.arm.kinematics import Pose
 from armanim.motion.cost import self_influence
+from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
     BOUND_SLACK,
@@ -55,8 +57,8 @@ from armanim.motion.solvers.barrier import (
     wrap_unlimited,
 )
 from armanim.motion.solvers.common import ArmState
-from armanim.motion.solvers.compiled import _capped, _damped, _pinv, _repulsion
-from armanim.motion.solvers.linear import CLOSEST_GAP
+from armanim.motion.solvers.compiled import _capped, _damped, _orientation_rows, _pinv, _repulsion, _residual
+from armanim.motion.solvers.linear import CLOSEST_GAP, ROUNDING_TASK
 from armanim.world.compiled import capsule_pair_gaps, pair_row, pair_rows_met, segment_box_grid
 from armanim.world.distances import Clearances
 from armanim.world.selfdistances import SelfGaps
@@ -72,7 +74,7 @@ PINV, DLS = 0, 1
 """The compiled steps: the pseudo-inverse and the damped least-squares inverse."""
 
 (BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES, KEPT, CLEARANCE,
- SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, FLOATS) = range(16)
+ SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, WEIGHT, FLOATS) = range(17)
 """Places of the settings in the kernel's float array (:func:`_constants`)."""
 
 
@@ -81,7 +83,7 @@ PINV, DLS = 0, 1
 
 @compiled(**_JIT)
 def _invert(jac: np.ndarray, method: int, damping: float, out: np.ndarray) -> bool:
-    """The method's inverse of ``jac`` (3, n) into ``out`` (n, 3); False where it fails."""
+    """The method's inverse of ``jac`` (m, n) into ``out`` (n, m); False where it fails."""
     if method == PINV:
         c = min(jac.shape[0], jac.shape[1])
         guess = np.zeros((c, c))
@@ -202,13 +204,95 @@ def _clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: n
 
 
 @compiled(**_JIT)
+def _orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
+                        axes: np.ndarray, jac: np.ndarray, jac_inv: np.ndarray, pushed: bool, secondary: np.ndarray,
+                        dphi: np.ndarray) -> bool:
+    """The rotation task added to ``dphi`` in the null space N of the tip's task, then the pushes
+    ``secondary`` (where ``pushed``) in the null space of both
+    (:func:`armanim.motion.solvers.linear.orientation_in_null_space`): with the exact projectors
+    (pseudo-inverses) for both methods, the method's inverse for the rotation; where N leaves the
+    rotation only rounding (:data:`~armanim.motion.solvers.linear.ROUNDING_TASK`), the step and
+    the projector are the tip's alone. False where an inverse failed."""
+    n = dphi.shape[0]
+    brows = np.empty((3, 3))
+    k = _orientation_rows(kind, tool, brows)
+    residual = np.empty(3)
+    _residual(kind, goal_rot, goal_axis, tool, residual)
+    weight = floats[WEIGHT]
+    jac_r = np.empty((k, n))  # w B J_w
+    rot_step = np.empty(k)
+    for i in range(k):
+        rot_step[i] = weight * (brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2])
+        for j in range(n):
+            jac_r[i, j] = weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
+    _capped(rot_step, floats[BETA], floats[MAX_STEP])
+    pinv_tip = np.empty((n, 3))
+    if method == PINV:
+        for i in range(n):
+            for c in range(3):
+                pinv_tip[i, c] = jac_inv[i, c]
+    elif not _invert(jac, PINV, 0.0, pinv_tip):
+        return False
+    null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
+    for i in range(n):
+        for j in range(n):
+            null[i, j] = (1.0 if i == j else 0.0) - (pinv_tip[i, 0] * jac[0, j] + pinv_tip[i, 1] * jac[1, j] + pinv_tip[i, 2] * jac[2, j])
+    restricted = np.empty((k, n))
+    size = 0.0
+    left = 0.0
+    for i in range(k):
+        for j in range(n):
+            v = 0.0
+            for q in range(n):
+                v += jac_r[i, q] * null[q, j]
+            restricted[i, j] = v
+            left += v * v
+            size += jac_r[i, j] * jac_r[i, j]
+    if not left < ROUNDING_TASK * ROUNDING_TASK * size:
+        inverse = np.empty((n, k))
+        if not _invert(restricted, method, floats[DAMPING], inverse):
+            return False
+        wanted = np.empty(k)
+        for i in range(k):
+            v = 0.0
+            for j in range(n):
+                v += jac_r[i, j] * dphi[j]
+            wanted[i] = rot_step[i] - v
+        for j in range(n):
+            v = 0.0
+            for i in range(k):
+                v += inverse[j, i] * wanted[i]
+            dphi[j] = dphi[j] + v
+        if pushed:
+            if method != PINV and not _invert(restricted, PINV, 0.0, inverse):
+                return False
+            for i in range(n):
+                for j in range(n):
+                    v = 0.0
+                    for q in range(k):
+                        v += inverse[i, q] * restricted[q, j]
+                    null[i, j] -= v
+    if pushed:
+        for i in range(n):
+            v = 0.0
+            for j in range(n):
+                v += null[i, j] * secondary[j]
+            dphi[i] = dphi[i] + v
+    return True
+
+
+@compiled(**_JIT)
 def _proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, goal: np.ndarray,
+              kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
               lower: np.ndarray, upper: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,
               cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, influence: np.ndarray,
               first: np.ndarray, second: np.ndarray, gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray,
               gap_normal: np.ndarray, least: float, dphi: np.ndarray) -> bool:
-    """:func:`armanim.motion.solvers.linear.linear_step` of a goal without an orientation into
-    ``dphi``; False where an inverse failed (numpy raises there: the numpy path takes the frame)."""
+    """:func:`armanim.motion.solvers.linear.linear_step` into ``dphi``; the goal's orientation
+    (``kind`` 0: none, 1: the rotation ``goal_rot``, 2: the tool axis ``goal_axis``; ``tool``: the
+    tool frame now) second in priority, in the null space of the tip's task
+    (:func:`~armanim.motion.solvers.linear.orientation_in_null_space`). False where an inverse
+    failed (numpy raises there: the numpy path takes the frame)."""
     n = phi.shape[0]
     tip = points.shape[0] - 1
     jac = np.empty((3, n))
@@ -298,6 +382,8 @@ def _proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarr
             for j in range(n):
                 secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
             pushed = True
+    if kind != 0:  # the rotation second; the pushes into the null space of both tasks
+        return _orientation_second(floats, method, kind, goal_rot, goal_axis, tool, axes, jac, jac_inv, pushed, secondary, dphi)
     if pushed:  # dphi + (I - J^+ J) secondary
         moved = np.empty(3)
         for i in range(3):
@@ -360,7 +446,8 @@ def _exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: n
 
 @compiled(**_JIT)
 def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, phi: np.ndarray,
-           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray,
+           goal_axis: np.ndarray, lower: np.ndarray, upper: np.ndarray,
            caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
            cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: tuple, influence: np.ndarray,
            first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
@@ -387,7 +474,13 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
     a = np.empty((c, 3))
     b = np.empty((c, 3))
     _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, a, b)
-    if not _proposal(floats, method, phi, points, axes, goal, lower, upper, a, b, link, cl_d, cl_t, cl_normal, influence,
+    tool = np.empty((3, 3))  # the tool frame now, as the kinematics kernel makes it
+    last = n - 1
+    for r in range(3):
+        f0, f1, f2 = frames[last, r, 0], frames[last, r, 1], frames[last, r, 2]
+        for q in range(3):
+            tool[r, q] = f0 * rows[last, TURN + q] + f1 * rows[last, TURN + 3 + q] + f2 * rows[last, TURN + 6 + q]
+    if not _proposal(floats, method, phi, points, axes, goal, kind, goal_rot, goal_axis, tool, lower, upper, a, b, link, cl_d, cl_t, cl_normal, influence,
                      first, second, gap, gap_t, gap_s, gap_normal, least, dphi):
         return NUMPY
     biggest = 0.0
@@ -520,9 +613,9 @@ def _constants(problem: Problem) -> tuple[np.ndarray, ...]:
     floats[[BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES]] = (
         s.beta, s.max_step, s.max_joint_step, s.damping, problem.limits.margin, limit_buffer(problem), problem.tunables.filter.gamma,
         s.w_limits, s.w_obstacles)
-    floats[[KEPT, CLEARANCE, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM]] = (
+    floats[[KEPT, CLEARANCE, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, WEIGHT]] = (
         kept_clearance(problem), s.clearance, problem.self_pairs.clearance, kept_self_clearance(problem), self_influence(problem),
-        float(np.linalg.norm(problem.lever_arms)))
+        float(np.linalg.norm(problem.lever_arms)), s.orientation_weight)
     caps, pairs, obstacles = problem.capsules, problem.self_pairs, problem.obstacles
     packed = np.concatenate([caps.start, caps.end, caps.radius[:, None], caps.joint_segment[:, None].astype(float)], axis=1)
     rows, root = packed_chain(problem.arm)
@@ -551,11 +644,14 @@ def _world(problem: Problem) -> tuple[np.ndarray, ...]:
 
 
 _EMPTY_CL = (np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0, 3)))
+_NO_ROTATION = np.eye(3)
+_NO_AXIS = np.array([0.0, 0.0, 1.0])
 _EMPTY_GAPS = (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3)))
 
 
-def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState, goal: np.ndarray) -> tuple[SafeStep | None, np.ndarray | None]:
-    """One frame of ``method`` toward ``goal`` (a position, no orientation) from ``state``: (the
+def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState, goal: np.ndarray,
+               orientation: Orientation | None = None) -> tuple[SafeStep | None, np.ndarray | None]:
+    """One frame of ``method`` toward ``goal`` (a position, and its ``orientation``) from ``state``: (the
     filter's answer, the proposal), or (None, the proposal) where the numpy filter must take it (a
     proposal that is not finite or zero: :func:`~armanim.motion.solvers.barrier.safe_step`), or
     (None, None) where the numpy path must make the proposal too (an inverse failed).
@@ -577,8 +673,12 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     new = _new_state_arrays(n, cl_d.shape, pairs)
     out = np.empty(3)
     assert pose.axes is not None  # the frame loop's poses come from the compiled kinematics
+    kind = 0 if orientation is None else (1 if orientation.rotation is not None else 2)
+    goal_rot = orientation.rotation if kind == 1 else _NO_ROTATION  # type: ignore[union-attr]  # kind 1: a rotation
+    goal_axis = orientation.axis if kind == 2 else _NO_AXIS  # type: ignore[union-attr]  # kind 2: a tool axis
     status = _frame(rows, root, floats, DLS if method == "dls" else PINV, state.phi,
-                    pose.points, pose.frames, pose.axes, np.ascontiguousarray(goal, dtype=float), lower, upper,
+                    pose.points, pose.frames, pose.axes, np.ascontiguousarray(goal, dtype=float), kind,
+                    np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float), lower, upper,
                     caps, link, part_radius, levers, cl_d, cl_t, cl_normal, world, influence,
                     first, second, pair_radii, pair_lever_rows, pair_levers, gap, gap_t, gap_s, gap_normal, least,
                     dphi, step, lo, hi, cons, cons_lower, cand, *new, out)
