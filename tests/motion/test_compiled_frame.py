@@ -18,9 +18,9 @@ from invariants import assert_trajectory_invariants
 from strategies import cluttered_problems, problems, robot_problems, shaped_problems
 
 from armanim.arm.kinematics import tip_jacobian
-from armanim.arm.linalg import PINV_RTOL
+from armanim.arm.linalg import PINV_RTOL, pseudo_inverse
 from armanim.arm.rotations import rotation_exp
-from armanim.motion.orientation import Orientation
+from armanim.motion.orientation import Orientation, orientation_task
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
@@ -31,8 +31,9 @@ from armanim.scene import scene_model, scene_to_problem
 
 TOL = 1e-12
 """Radians (and scene units for clearances and gaps), relative to the size of what is compared
-(at least 1) and, for what follows from a proposal, to the conditioning of the tip's task: an
-inverse computed two ways (LAPACK's SVD, the compiled one) agrees to about eps times it."""
+(at least 1) and, for what follows from a proposal, to the conditioning of the tasks it inverts
+(:func:`conditioning`): an inverse computed two ways (LAPACK's SVD, the compiled one) agrees to
+about eps times it."""
 
 LINEAR = st.sampled_from(["pinv", "dls"])
 
@@ -56,11 +57,23 @@ def close(a: np.ndarray, b: np.ndarray, tol: float = TOL) -> bool:
         return bool(np.all(np.abs(np.where(both, a - b, 0.0)) <= tol * scale))
 
 
-def conditioning(problem: Problem, state: ArmState) -> float:
-    """The tip Jacobian's largest singular value over its least one the pseudo-inverse keeps (1 at least)."""
-    d = np.linalg.svd(tip_jacobian(problem.arm, state.pose), compute_uv=False)
-    kept = d[d > PINV_RTOL * d[0]]
+def condition(matrix: np.ndarray) -> float:
+    """Largest singular value over the least one the pseudo-inverse keeps (1 at least)."""
+    d = np.linalg.svd(matrix, compute_uv=False)
+    kept = d[d > PINV_RTOL * d[0]] if len(d) and d[0] > 0 else d[:0]
     return max(1.0, float(kept[0] / kept[-1])) if len(kept) else 1.0
+
+
+def conditioning(problem: Problem, state: ArmState, orientation: Orientation | None) -> float:
+    """Of the tasks a step inverts: the tip's Jacobian and, for a goal with an orientation, the
+    rotation task in the tip task's null space (w B J_w (I - J^+ J))."""
+    jac = tip_jacobian(problem.arm, state.pose)
+    kappa = condition(jac)
+    if orientation is not None:
+        _, jac_w = orientation_task(orientation, problem.arm, state.pose)
+        restricted = problem.solver.orientation_weight * jac_w @ (np.eye(problem.arm.n) - pseudo_inverse(jac) @ jac)
+        kappa = max(kappa, condition(restricted))
+    return kappa
 
 
 def frames_agree(problem: Problem, stride: int = 3) -> tuple[int, int]:
@@ -81,7 +94,7 @@ def frames_agree(problem: Problem, stride: int = 3) -> tuple[int, int]:
         if dphi is None:  # an inverse failed: the numpy frame was taken
             assert moved is None
             continue
-        tol = TOL * conditioning(problem, state)
+        tol = TOL * conditioning(problem, state, goal.orientation)
         assert close(dphi, proposal, tol), (i, dphi, proposal)
         if moved is None:  # the numpy filter takes the proposal
             continue

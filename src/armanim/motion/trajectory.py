@@ -32,8 +32,9 @@ from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
-from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
-from armanim.motion.solvers.barrier import SafeStep, safe_step
+from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
+from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
 from armanim.world.selfdistances import self_gaps
@@ -278,7 +279,8 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
         moved = safe_step(problem, state, nominal)
     else:
-        moved, iterations, newton_its, mode = *_method_frame(problem, method, state, visit), "ik"
+        moved, iterations, newton_its = method_step(problem, method, state, visit.goal.position, visit.goal.orientation)
+        mode = "ik"
     distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
     visit.distances.append(distance)
     visit.angles.append(angle)
@@ -289,29 +291,6 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode, angle)
     return moved.state
-
-
-def _method_frame(problem: Problem, method: Method, state: ArmState, visit: _Visit) -> tuple[SafeStep, int, int]:
-    """The method's proposal through the filter, and its iterations and Newton iterations: compiled
-    where it can be (:mod:`armanim.motion.solvers.compiled_frame`, the same step to rounding)."""
-    goal = visit.goal
-    if frames_compiled(problem, method):
-        from armanim.motion.solvers.compiled_frame import frame_step  # numba: imported where a solve starts
-
-        assert method.compiled_inverse is not None  # frames_compiled
-        moved, dphi = frame_step(problem, method.compiled_inverse, state, goal.position, goal.orientation)
-        if moved is not None:
-            return moved, 1, 0
-        if dphi is not None:  # the numpy filter takes the compiled proposal
-            return safe_step(problem, state, dphi), 1, 0
-    proposal = proposed_step(problem, method, state, goal.position, goal.orientation)
-    return safe_step(problem, state, proposal.dphi, proposal.ahead), proposal.iterations, proposal.newton_iterations
-
-
-def frames_compiled(problem: Problem, method: Method) -> bool:
-    """Whether the method's frames run compiled: a method
-    with a compiled step (``pinv``, ``dls``), the analytic Jacobian and ``tunables.ik.compiled_frames``."""
-    return method.compiled_inverse is not None and problem.solver.jacobian != "numeric" and problem.tunables.ik.compiled_frames
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
