@@ -150,7 +150,10 @@ def test_planner_off_without_active_constraint_takes_the_methods_own_step(method
     state = arm_state(problem, problem.home)
     proposal = step_function(method)(problem, state, problem.goals[0].position)
     solution = solve_trajectory(problem)
-    np.testing.assert_array_equal(solution.trajectory.phi[1], problem.home + proposal.dphi)
+    if METHODS[method].compiled_inverse is None:
+        np.testing.assert_array_equal(solution.trajectory.phi[1], problem.home + proposal.dphi)
+    else:  # pinv and dls frames run compiled (motion/solvers/compiled_frame.py): the same step to rounding
+        np.testing.assert_allclose(solution.trajectory.phi[1], problem.home + proposal.dphi, rtol=0, atol=1e-12)
 
 
 def test_filter_slides_along_a_sphere_instead_of_stopping():
