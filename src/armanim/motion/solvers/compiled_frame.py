@@ -28,14 +28,14 @@ pivot) leaves the whole frame to the numpy path. The numeric Jacobian and the ot
 are not compiled here (the numpy path).
 
 The numbers are the numpy path's to rounding (the same formulas, other summation orders; the
-tests hold them to 1e-12 times the tip task's conditioning). ``tunables.ik.compiled_frames`` off
+tests hold them to 1e-12 times the conditioning of the tasks inverted in turn). ``tunables.ik.compiled_frames`` off
 gives the numpy frame everywhere (the tests' oracle). Pure core: numpy and numba only, radians.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Literal, cast
+from typing import Any, Literal, cast
 
 import numpy as np
 
@@ -54,6 +54,7 @@ from armanim.motion.solvers.barrier import (
     kept_clearance,
     kept_self_clearance,
     limit_buffer,
+    step_fraction,
     wrap_unlimited,
 )
 from armanim.motion.solvers.common import ArmState
@@ -152,7 +153,7 @@ def _sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_ra
 
 
 @compiled(**_JIT)
-def _clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: tuple, d: np.ndarray, t: np.ndarray,
+def _clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: tuple[np.ndarray, ...], d: np.ndarray, t: np.ndarray,
                 normal: np.ndarray) -> None:
     """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
     and normal (c+1, m, 3): the spheres', the solids' (:func:`armanim.world.compiled.segment_box_grid`,
@@ -399,7 +400,7 @@ def _proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarr
 @compiled(**_JIT)
 def _exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: np.ndarray, cand: np.ndarray, lower: np.ndarray,
                   upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-                  world: tuple, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+                  world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
                   new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
                   new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
                   new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> bool:
@@ -449,7 +450,7 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
            points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray,
            goal_axis: np.ndarray, lower: np.ndarray, upper: np.ndarray,
            caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
-           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: tuple, influence: np.ndarray,
+           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: tuple[np.ndarray, ...], influence: np.ndarray,
            first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
            gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
            dphi: np.ndarray, step: np.ndarray, lo: np.ndarray, hi: np.ndarray, cons: np.ndarray, cons_lower: np.ndarray,
@@ -478,8 +479,8 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
     last = n - 1
     for r in range(3):
         f0, f1, f2 = frames[last, r, 0], frames[last, r, 1], frames[last, r, 2]
-        for q in range(3):
-            tool[r, q] = f0 * rows[last, TURN + q] + f1 * rows[last, TURN + 3 + q] + f2 * rows[last, TURN + 6 + q]
+        for col in range(3):
+            tool[r, col] = f0 * rows[last, TURN + col] + f1 * rows[last, TURN + 3 + col] + f2 * rows[last, TURN + 6 + col]
     if not _proposal(floats, method, phi, points, axes, goal, kind, goal_rot, goal_axis, tool, lower, upper, a, b, link, cl_d, cl_t, cl_normal, influence,
                      first, second, gap, gap_t, gap_s, gap_normal, least, dphi):
         return NUMPY
@@ -576,7 +577,7 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
 @compiled(**_JIT)
 def _settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int, phi: np.ndarray, step: np.ndarray,
             lower: np.ndarray, upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-            world: tuple, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+            world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
             cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
             new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
             new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> float:
@@ -603,11 +604,11 @@ def _settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: in
 # ----------------------------------------------------------------------------- from Python
 
 
-def _constants(problem: Problem) -> tuple[np.ndarray, ...]:
+def _constants(problem: Problem) -> tuple[Any, ...]:
     """The kernel's constants of ``problem`` in its order, made once per problem (kept on it)."""
     kept = problem.__dict__.get("_compiled_frame_constants")
     if kept is not None:
-        return cast("tuple[np.ndarray, ...]", kept)
+        return cast("tuple[Any, ...]", kept)
     s = problem.solver
     floats = np.empty(FLOATS)
     floats[[BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES]] = (
@@ -688,7 +689,7 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
         return None, dphi
     proposed = float(np.sqrt(dphi @ dphi))
     if status == TAKEN:
-        return SafeStep(_state(problem, cand, new, out, cl is not None), float(out[0]) / proposed, None), dphi
+        return SafeStep(_state(problem, cand, new, out, cl is not None), _fraction(float(out[0]), proposed, step, dphi), None), dphi
     nominal = step
     constraints = None
     if status == QP:
@@ -700,10 +701,21 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     if scale < 0.0:  # no halving kept the guarantees: the arm stays
         return SafeStep(state, 0.0, blocker(nominal, constraints)), dphi
     blocked = None if step is nominal and scale == 1.0 else blocker(nominal, constraints)
-    return SafeStep(_state(problem, cand, new, out, cl is not None), float(out[0]) / proposed, blocked), dphi
+    return SafeStep(_state(problem, cand, new, out, cl is not None), _fraction(float(out[0]), proposed, scale * step, dphi), blocked), dphi
 
 
-def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> tuple[np.ndarray, ...]:
+def _fraction(length: float, proposed: float, taken: np.ndarray, dphi: np.ndarray) -> float:
+    """|taken| / |dphi| from the lengths the kernel found, or :func:`~armanim.motion.solvers.barrier.step_fraction`'s
+    where the proposal's squares underflow or overflow."""
+    return length / proposed if 0.0 < proposed < np.inf else step_fraction(taken, dphi)
+
+
+_NewState = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                  np.ndarray, np.ndarray]
+"""A new state's arrays as the kernels fill them (:func:`_new_state_arrays`)."""
+
+
+def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> _NewState:
     """The kernel's arrays of a new state: points, frames, axes, tool; clearances d, t, normal;
     the pairs' gaps, t, s, normal."""
     parts, m = clearances
@@ -712,7 +724,7 @@ def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> tuple[
             np.empty(pairs), np.empty(pairs), np.empty(pairs), np.empty((pairs, 3)))
 
 
-def _state(problem: Problem, cand: np.ndarray, new: tuple[np.ndarray, ...], out: np.ndarray, obstacles: bool) -> ArmState:
+def _state(problem: Problem, cand: np.ndarray, new: _NewState, out: np.ndarray, obstacles: bool) -> ArmState:
     """The new state the kernel measured at ``cand`` (unlimited joints wrapped, as the filter's states)."""
     points, frames, axes, _, d, t, normal, gap, gap_t, gap_s, gap_normal = new
     gaps = None
