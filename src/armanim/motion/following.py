@@ -38,8 +38,8 @@ from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion.ik import pose_errors, solving_problem
 from armanim.motion.orientation import orientation_angle
 from armanim.motion.problem import Goal, Problem, joint_offset
-from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
-from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
+from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach
 from armanim.motion.toolpath import ToolPath
 from armanim.names import Blocker, PathCause, PathSource
@@ -320,10 +320,9 @@ def _solved_sample(sampling: Problem, method: Method, state: ArmState, path: Too
         distance, angle, progress = pose_errors(sampling, state, point, goal.orientation)
         if progress < tolerance:
             return _Sample(state, iterations, newton_iterations, scale, None)
-        proposal = proposed_step(sampling, method, state, point, goal.orientation)
-        moved = safe_step(sampling, state, proposal.dphi, proposal.ahead)
-        iterations += proposal.iterations
-        newton_iterations += proposal.newton_iterations
+        moved, its, newton_its = method_step(sampling, method, state, point, goal.orientation)
+        iterations += its
+        newton_iterations += newton_its
         blocked.append(moved.blocked_by)
         scale = moved.scale
         if moved.scale == 0.0:

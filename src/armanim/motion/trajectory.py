@@ -32,8 +32,9 @@ from armanim.motion.planning import plan_motion
 from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
-from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
+from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
 from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
 from armanim.world.selfdistances import self_gaps
@@ -272,17 +273,14 @@ def _record_route(problem: Problem, rec: _Recorder, visit: _Visit, route: Route)
 
 def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
     """One filtered step: along the planned path if there is one, else the method's."""
-    target = visit.goal.position
     if visit.path:  # (following it may end it: the last pose reached, or the arm held back too long)
         nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
         assert visit.planning is not None  # a path comes with its planning report
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
-        ahead = None
+        moved = safe_step(problem, state, nominal)
     else:
-        proposal = proposed_step(problem, method, state, target, visit.goal.orientation)
-        nominal, iterations, newton_its, mode = proposal.dphi, proposal.iterations, proposal.newton_iterations, "ik"
-        ahead = proposal.ahead
-    moved = safe_step(problem, state, nominal, ahead)
+        moved, iterations, newton_its = method_step(problem, method, state, visit.goal.position, visit.goal.orientation)
+        mode = "ik"
     distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
     visit.distances.append(distance)
     visit.angles.append(angle)

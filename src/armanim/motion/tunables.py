@@ -211,6 +211,11 @@ class IkOptions:
         A pose solve's ``pinv`` and ``dls`` attempts run compiled where they mean the same
         (:mod:`armanim.motion.solvers.compiled`: no obstacles, the analytic Jacobian); False:
         the numpy steps everywhere (the tests' oracle).
+    compiled_frames : bool
+        The frame loop's ``pinv`` and ``dls`` frames run compiled
+        (:mod:`armanim.motion.solvers.compiled_frame`: the proposal, the filter's rows, its exact
+        check and halvings; its QP stays DAQP's; the same steps to rounding); False: the numpy
+        frames everywhere (the tests' oracle).
     """
 
     full_turn_per_iteration: float = float(np.radians(30.0))
@@ -219,6 +224,7 @@ class IkOptions:
     seed: int = 0
     solving: bool = False
     compiled: bool = True
+    compiled_frames: bool = True
 
 
 @dataclass(frozen=True)

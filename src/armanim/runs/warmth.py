@@ -12,13 +12,17 @@ from typing import Any, Literal
 
 def compiles_first(command: Literal["run", "ik"], problem: object = None) -> bool:
     """Whether ``command``'s solve would compile kernels first: the kinematics kernel every solve
-    calls, and for ``ik`` of ``problem`` (a :class:`~armanim.motion.problem.Problem`) the compiled attempt where it runs, are not in numba's
+    calls, for ``run`` the compiled frame (:mod:`armanim.motion.solvers.compiled_frame`), and for ``ik`` of ``problem`` (a :class:`~armanim.motion.problem.Problem`) the compiled attempt where it runs, are not in numba's
     cache yet. (A kernel only some scenes call, a box's distances, compiles at its first use in a
     few seconds, unannounced.)"""
     from armanim.arm import kernel
     from armanim.motion.problem import Problem
 
     functions: list[Any] = [kernel._forward_one]
+    if command == "run":  # the frames of pinv and dls (the default methods' frames are compiled)
+        from armanim.motion.solvers import compiled_frame
+
+        functions.append(compiled_frame._frame)
     if command == "ik" and isinstance(problem, Problem):
         from armanim.motion.ik import runs_compiled
         from armanim.motion.solvers import METHODS
