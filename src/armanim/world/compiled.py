@@ -233,6 +233,39 @@ def _segments_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.nda
     elif s > 1.0:
         s = 1.0
         t = _clamp((bb - c) / aa, 0.0, 1.0)
+    return _apart(r0, r1, r2, d10, d11, d12, d20, d21, d22, t, s, normal, p)
+
+
+@compiled(**_INLINE)
+def _points_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int) -> tuple[float, float, float]:
+    """Segments i and j (rows of a-b) of which one or both have no length (a sphere's capsule):
+    (t on i, s on j, distance), the unit normal from j's point to i's into row p of ``normal``;
+    a point's fraction is 0. Distance -1 where neither is a point or they touch (left to the box
+    form). The box form of :func:`segment_segment_pairs` gives these pairs (their closest points
+    unique) to rounding, in some 160 ns a pair against 20 here; the compiled IK attempt measures
+    them so (the frame loop keeps the box form, which its goldens were written with)."""
+    d10, d11, d12 = b[i, 0] - a[i, 0], b[i, 1] - a[i, 1], b[i, 2] - a[i, 2]
+    d20, d21, d22 = b[j, 0] - a[j, 0], b[j, 1] - a[j, 1], b[j, 2] - a[j, 2]
+    aa = d10 * d10 + d11 * d11 + d12 * d12
+    ee = d20 * d20 + d21 * d21 + d22 * d22
+    r0, r1, r2 = a[i, 0] - a[j, 0], a[i, 1] - a[j, 1], a[i, 2] - a[j, 2]
+    t = 0.0
+    s = 0.0
+    if aa == 0.0 and ee > 0.0:  # i a point: the nearest point of j
+        s = min(max((r0 * d20 + r1 * d21 + r2 * d22) / ee, 0.0), 1.0)
+    elif ee == 0.0 and aa > 0.0:  # j a point: the nearest point of i
+        t = min(max(-(r0 * d10 + r1 * d11 + r2 * d12) / aa, 0.0), 1.0)
+    elif not (aa == 0.0 and ee == 0.0):
+        return 0.0, 0.0, -1.0
+    return _apart(r0, r1, r2, d10, d11, d12, d20, d21, d22, t, s, normal, p)
+
+
+@compiled(**_INLINE)
+def _apart(r0: float, r1: float, r2: float, d10: float, d11: float, d12: float, d20: float, d21: float, d22: float,
+           t: float, s: float, normal: np.ndarray, p: int) -> tuple[float, float, float]:
+    """The closest points at fractions t of segment i (direction d1) and s of segment j (d2),
+    r = a_i - a_j: (t, s, distance), their unit normal from j's point to i's into row p of
+    ``normal``; distance -1 where they touch (:data:`TOUCHING`)."""
     g0 = r0 + t * d10 - s * d20
     g1 = r1 + t * d11 - s * d21
     g2 = r2 + t * d12 - s * d22

@@ -57,7 +57,13 @@ from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import VIOLATION, kept_self_clearance, limit_buffer
 from armanim.motion.solvers.linear import ROUNDING_TASK
-from armanim.world.compiled import TOUCHING, _segments_apart, pair_jacobians, pair_row, segment_box_pairs_of_segments
+from armanim.world.compiled import (
+    _points_apart,
+    _segments_apart,
+    pair_jacobians,
+    pair_row,
+    segment_box_pairs_of_segments,
+)
 
 _JIT = dict(error_model="numpy", nogil=True)
 _INLINE = dict(inline="always", **_JIT)
@@ -562,36 +568,6 @@ def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.
 # ----------------------------------------------------------------------------- the arm's own pairs
 
 
-@compiled(**_INLINE)
-def _sphere_pair(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int) -> tuple[float, float, float]:
-    """Segments i and j (rows of a-b) of which one or both have no length (a sphere's capsule):
-    (t on i, s on j, distance), the unit normal from j's point to i's into row p of ``normal``;
-    a point's fraction is 0. Distance -1 where neither is a point or they touch (left to the box
-    form). The box form of :func:`armanim.world.compiled.segment_segment_pairs` gives these pairs
-    (their closest points unique) to rounding, in some 160 ns a pair against 20 here."""
-    d10, d11, d12 = b[i, 0] - a[i, 0], b[i, 1] - a[i, 1], b[i, 2] - a[i, 2]
-    d20, d21, d22 = b[j, 0] - a[j, 0], b[j, 1] - a[j, 1], b[j, 2] - a[j, 2]
-    aa = d10 * d10 + d11 * d11 + d12 * d12
-    ee = d20 * d20 + d21 * d21 + d22 * d22
-    r0, r1, r2 = a[i, 0] - a[j, 0], a[i, 1] - a[j, 1], a[i, 2] - a[j, 2]
-    t = 0.0
-    s = 0.0
-    if aa == 0.0 and ee > 0.0:  # i a point: the nearest point of j
-        s = min(max((r0 * d20 + r1 * d21 + r2 * d22) / ee, 0.0), 1.0)
-    elif ee == 0.0 and aa > 0.0:  # j a point: the nearest point of i
-        t = min(max(-(r0 * d10 + r1 * d11 + r2 * d12) / aa, 0.0), 1.0)
-    elif not (aa == 0.0 and ee == 0.0):
-        return 0.0, 0.0, -1.0
-    g0 = r0 + t * d10 - s * d20
-    g1 = r1 + t * d11 - s * d21
-    g2 = r2 + t * d12 - s * d22
-    dist = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
-    if not dist > TOUCHING:
-        return 0.0, 0.0, -1.0
-    normal[p, 0], normal[p, 1], normal[p, 2] = g0 / dist, g1 / dist, g2 / dist
-    return t, s, dist
-
-
 @compiled(**_JIT)
 def _pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_link: np.ndarray, first: np.ndarray,
                second: np.ndarray, ends: np.ndarray, gaps: np.ndarray, near: np.ndarray) -> float:
@@ -609,7 +585,7 @@ def _pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_li
     for q in range(p):  # :func:`armanim.world.compiled.segment_segment_pairs`, its spheres' pairs in closed form here
         t[q], s[q], dist[q] = _segments_apart(a, b, first[q], second[q], normal, q)
         if dist[q] < 0.0:
-            t[q], s[q], dist[q] = _sphere_pair(a, b, first[q], second[q], normal, q)
+            t[q], s[q], dist[q] = _points_apart(a, b, first[q], second[q], normal, q)
             rest = rest or dist[q] < 0.0
     if rest:  # parallel or touching: the shared box form
         segment_box_pairs_of_segments(a, b, first, second, t, s, dist, normal)
