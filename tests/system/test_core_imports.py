@@ -81,17 +81,19 @@ def test_commands_that_never_solve_never_import_scipy(args):
     """scipy.linalg costs about 0.3 s to import (benchmarks/README.md): only a solve pays it.
     The command runs with scipy unimportable (numba, which some of them load for the arm's own
     distances, imports scipy only when it can: with scipy installed it pays for it anyway)."""
-    code = (
-        "import sys\n"
-        "sys.modules['scipy'] = None  # any import of scipy fails\n"
-        "from typer.testing import CliRunner\n"
-        "from armanim.cli import app\n"
-        f"result = CliRunner().invoke(app, {args!r})\n"
-        "print(result.exit_code, repr(result.exception))\n"
-    )
+    out = _command_in_a_fresh_python(args, "print(result.exit_code, repr(result.exception))",
+                                     before="sys.modules['scipy'] = None  # any import of scipy fails")
+    assert out.strip() == "0 None"
+
+
+def _command_in_a_fresh_python(args: list[str], report: str, before: str = "") -> str:
+    """What ``report`` prints (Python, after ``result`` holds the command's CliRunner result, with
+    ``sys`` imported) after ``armanim args`` ran in a fresh interpreter, ``before`` run first."""
+    code = "\n".join(["import sys", before, "from typer.testing import CliRunner", "from armanim.cli import app",
+                      f"result = CliRunner().invoke(app, {args!r})", report, ""])
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent)
     assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.strip() == "0 None"
+    return proc.stdout
 
 
 @pytest.mark.parametrize("args", [
@@ -101,16 +103,9 @@ def test_fk_never_loads_numba(args):
     """One pose's FK needs neither the compiled kernels nor the arm's own pairs: an arm of links
     would sample its self-collision matrix with the compiled closed form (numba's import and its
     first cache load, some 0.4 s of a 0.3 s command, benchmarks/README.md)."""
-    code = (
-        "import sys\n"
-        "from typer.testing import CliRunner\n"
-        "from armanim.cli import app\n"
-        f"result = CliRunner().invoke(app, {args!r})\n"
-        "print(result.exit_code, 'numba' in sys.modules, 'armanim.world.selfcollision' in sys.modules)\n"
-    )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.split() == ["0", "False", "True"]  # the module is imported, its sampling never runs
+    out = _command_in_a_fresh_python(
+        args, "print(result.exit_code, 'numba' in sys.modules, 'armanim.world.selfcollision' in sys.modules)")
+    assert out.split() == ["0", "False", "True"]  # the module is imported, its sampling never runs
 
 
 def test_a_solve_loads_scipy_linalg():
