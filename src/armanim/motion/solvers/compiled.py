@@ -156,18 +156,8 @@ def _pinv_by_normal_equations(jac: np.ndarray, out: np.ndarray) -> bool:
                 s += (jac[i, k] * jac[j, k]) if wide else (jac[k, i] * jac[k, j])
             g[i, j] = s
         trace += g[i, i]
-    for j in range(c):  # Cholesky, G = L L^T, in the lower triangle
-        s = g[j, j]
-        for k in range(j):
-            s -= g[j, k] * g[j, k]
-        if not s > 0.0:
-            return False
-        g[j, j] = math.sqrt(s)
-        for i in range(j + 1, c):
-            s = g[i, j]
-            for k in range(j):
-                s -= g[i, k] * g[j, k]
-            g[i, j] = s / g[j, j]
+    if not _cholesky(g, c, 0.0):  # G = L L^T, in the lower triangle
+        return False
     inverse = np.empty((c, c))  # G^-1, column by column: L y = e_col, L^T x = y
     for col in range(c):
         for i in range(c):
@@ -653,6 +643,25 @@ QP_FEASIBLE = 1e-13
 by no more than this (rounding; the filter's own test allows ``VIOLATION``)."""
 
 
+@compiled(**_INLINE)
+def _cholesky(g: np.ndarray, size: int, floor: float) -> bool:
+    """G = L L^T in place for the leading (size, size) block of ``g`` (its lower triangle read,
+    L written there); False where a pivot is not above ``floor`` (G not positive definite)."""
+    for j in range(size):
+        s = g[j, j]
+        for k in range(j):
+            s -= g[j, k] * g[j, k]
+        if not s > floor:
+            return False
+        g[j, j] = math.sqrt(s)
+        for i in range(j + 1, size):
+            s = g[i, j]
+            for k in range(j):
+                s -= g[i, k] * g[j, k]
+            g[i, j] = s / g[j, j]
+    return True
+
+
 @compiled(**_JIT)
 def _gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray, gram: np.ndarray) -> bool:
     """out (w,) solving (C_W C_W^T) out = rhs (w,), C_W the rows ``active[:w]`` of ``cmat``, by
@@ -665,18 +674,8 @@ def _gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, o
             for k in range(n):
                 s += cmat[active[i], k] * cmat[active[j], k]
             gram[i, j] = s
-    for j in range(w):
-        s = gram[j, j]
-        for k in range(j):
-            s -= gram[j, k] * gram[j, k]
-        if not s > 1e-24:
-            return False
-        gram[j, j] = math.sqrt(s)
-        for i in range(j + 1, w):
-            s = gram[i, j]
-            for k in range(j):
-                s -= gram[i, k] * gram[j, k]
-            gram[i, j] = s / gram[j, j]
+    if not _cholesky(gram, w, 1e-24):
+        return False
     for i in range(w):
         s = rhs[i]
         for k in range(i):
