@@ -265,3 +265,45 @@ def test_one_pose_capsule_ends_equal_a_batchs_bit_for_bit():
             compiled = kernel.capsule_ends_one(caps.link, caps.start, caps.end, caps.joint_segment, one.points, one.frames)
             assert all(np.array_equal(x, y[k]) for x, y in zip(compiled, (a, b)))
             assert all(np.array_equal(x, y[k]) for x, y in zip(capsule_ends(caps, one), (a, b)))
+
+
+def test_pair_rates_by_the_links_twists_are_the_rows_times_the_step():
+    # the compiled IK filter tests a step against a pair's row by the links' twists under the
+    # step (link_twists, pair_rate), without the row: held to the row times the step (the rows
+    # themselves are held to the numpy point Jacobians above) and to the gaps' central differences
+    import numba
+
+    from armanim.scene import scene_model
+    from armanim.scene.convert import scene_to_problem
+    from armanim.world import compiled
+    from armanim.world.selfdistances import _pair_inputs
+
+    @numba.njit
+    def rates(points, axes, a, b, link, first, second, t, s, normal, x):
+        twists = np.empty((axes.shape[0], 6))
+        compiled.link_twists(points, axes, x, twists)
+        out = np.empty(first.shape[0])
+        for p in range(first.shape[0]):
+            out[p] = compiled.pair_rate(twists, a, b, link, first, second, t, s, normal, p)
+        return out
+
+    rng = np.random.default_rng(40)
+    for robot in ("panda", "ur5", "iiwa"):
+        problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0.0, 0.4]]}))
+        caps, pairs, arm = problem.capsules, problem.self_pairs, problem.arm
+        checked = 0
+        for _ in range(20):
+            phi = rng.uniform(problem.limits.lower, problem.limits.upper)
+            pose = forward(arm, phi)
+            gaps = self_gaps(pose, caps, pairs)
+            x = rng.normal(0.0, 0.3, arm.n)
+            got = rates(*_pair_inputs(arm, caps, pose, pairs, gaps), gaps.normal, x)
+            rows = self_rows(arm, caps, pose, pairs, gaps, np.arange(len(pairs)))
+            scale = np.abs(rows) @ np.abs(x)
+            assert np.all(np.abs(got - rows @ x) <= 1e-14 * (1.0 + scale) * (1.0 + np.abs(pose.points).max()))
+            h = 1e-6
+            numeric = (self_gaps(forward(arm, phi + h * x), caps, pairs).d - self_gaps(forward(arm, phi - h * x), caps, pairs).d) / (2 * h)
+            apart = gaps.d > 1e-3  # touching segments have no derivative
+            assert np.allclose(got[apart], numeric[apart], rtol=0, atol=1e-6)
+            checked += int(apart.sum())
+        assert checked >= 20  # every pose's pairs apart, most of them (the UR5 has one pair)

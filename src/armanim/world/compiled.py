@@ -425,6 +425,47 @@ def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nd
                                                                     points[m, 2], m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2)
 
 
+@compiled(**_INLINE)
+def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.ndarray) -> None:
+    """Each link's twist under the joint rates ``x`` (n,) into ``twists`` (n, 6): link l's angular
+    rate Omega_l = sum_{m <= l} x_m w_m and its linear term V_l = sum_{m <= l} x_m p_m x w_m, so
+    that a point q that link l carries moves at Omega_l x q + V_l (its Jacobian's columns
+    w_m x (q - p_m) of :func:`pair_row`, summed against ``x``). O(n) once; a pair's rate then
+    costs a few products (:func:`pair_rate`) where its row costs n cross products."""
+    o0 = o1 = o2 = v0 = v1 = v2 = 0.0
+    for m in range(axes.shape[0]):
+        w0, w1, w2 = axes[m, 0], axes[m, 1], axes[m, 2]
+        p0, p1, p2 = points[m, 0], points[m, 1], points[m, 2]
+        xm = x[m]
+        o0 += xm * w0
+        o1 += xm * w1
+        o2 += xm * w2
+        v0 += xm * (p1 * w2 - p2 * w1)
+        v1 += xm * (p2 * w0 - p0 * w2)
+        v2 += xm * (p0 * w1 - p1 * w0)
+        twists[m, 0], twists[m, 1], twists[m, 2], twists[m, 3], twists[m, 4], twists[m, 5] = o0, o1, o2, v0, v1, v2
+
+
+@compiled(**_INLINE)
+def pair_rate(twists: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
+              t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int) -> float:
+    """Pair p's row times the joint rates whose links' twists are ``twists`` (:func:`link_twists`):
+    n . (J_A - J_B) x = n . ((Omega_A x q_A + V_A) - (Omega_B x q_B + V_B)), the points and normal
+    of :func:`pair_row`; equal to its row . x to rounding, without the row."""
+    i, j = first[p], second[p]
+    la, lb = link[i], link[j]
+    tp, sp = t[p], s[p]
+    qa0, qa1, qa2 = a[i, 0] + tp * (b[i, 0] - a[i, 0]), a[i, 1] + tp * (b[i, 1] - a[i, 1]), a[i, 2] + tp * (b[i, 2] - a[i, 2])
+    qb0, qb1, qb2 = a[j, 0] + sp * (b[j, 0] - a[j, 0]), a[j, 1] + sp * (b[j, 1] - a[j, 1]), a[j, 2] + sp * (b[j, 2] - a[j, 2])
+    va0 = twists[la, 1] * qa2 - twists[la, 2] * qa1 + twists[la, 3]
+    va1 = twists[la, 2] * qa0 - twists[la, 0] * qa2 + twists[la, 4]
+    va2 = twists[la, 0] * qa1 - twists[la, 1] * qa0 + twists[la, 5]
+    vb0 = twists[lb, 1] * qb2 - twists[lb, 2] * qb1 + twists[lb, 3]
+    vb1 = twists[lb, 2] * qb0 - twists[lb, 0] * qb2 + twists[lb, 4]
+    vb2 = twists[lb, 0] * qb1 - twists[lb, 1] * qb0 + twists[lb, 5]
+    return normal[p, 0] * (va0 - vb0) + normal[p, 1] * (va1 - vb1) + normal[p, 2] * (va2 - vb2)
+
+
 @compiled(**_JIT)
 def pair_rows_met(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
                   t: np.ndarray, s: np.ndarray, normal: np.ndarray, gap: np.ndarray, target: float, gamma: float, lever_rows: np.ndarray,

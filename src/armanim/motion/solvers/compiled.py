@@ -60,7 +60,9 @@ from armanim.motion.solvers.linear import ROUNDING_TASK
 from armanim.world.compiled import (
     _points_apart,
     _segments_apart,
+    link_twists,
     pair_jacobians,
+    pair_rate,
     pair_row,
     segment_box_pairs_of_segments,
 )
@@ -76,14 +78,15 @@ PINV, DLS = 0, 1
 """The compiled steps: the pseudo-inverse and the damped least-squares inverse."""
 
 (TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS,
- SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, SLACK, BEST, W_OBSTACLES, FLOATS) = range(18)
+ SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, SLACK, W_OBSTACLES, FLOATS) = range(17)
 """Places of the settings in the kernel's float array (:func:`_settings`)."""
 
 METHOD, STACKED, STEPS_CAP, STALL, HALVINGS, KIND, STEPS, SINCE_BEST, INTS = range(9)
 """Places in the kernel's int array: the step (:data:`PINV`, :data:`DLS`), whether the pose task
 is stacked, the attempt's steps, the stall window, the filter's halvings, the orientation's kind
 (0 none, 1 a rotation, 2 a tool axis), and the attempt's counters so far: its steps and the
-steps since its best progress (``BEST`` in the float array, NaN at the attempt's start)."""
+steps since its best progress (the best progress itself is the call's ``best_so_far``, NaN at
+the attempt's start)."""
 
 JACOBI_SWEEPS = 60
 """Most sweeps of the one-sided Jacobi SVD (a 6 x 7 Jacobian takes 5 to 8)."""
@@ -605,10 +608,10 @@ def _pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.nda
     scale = floats[BETA] * floats[W_OBSTACLES]
     for j in range(n):
         push[j] = 0.0
-    which = np.empty(1, dtype=np.int64)
-    jac = np.empty((1, 3, n))
-    inverse = np.empty((n, 3))
-    guess = np.eye(3)
+    which = np.empty(0, dtype=np.int64)  # work space, made at the first pair that pushes (most steps have none)
+    jac = np.empty((0, 3, n))
+    inverse = np.empty((0, 3))
+    guess = np.empty((0, 0))
     any_push = 0
     for q in range(gaps.shape[0]):
         d = gaps[q]
@@ -619,6 +622,8 @@ def _pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.nda
         size = scale * _repulsion(d, influence)
         if size == 0.0:
             continue
+        if not any_push:
+            which, jac, inverse, guess = np.empty(1, dtype=np.int64), np.empty((1, 3, n)), np.empty((n, 3)), np.eye(3)
         which[0] = q
         pair_jacobians(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], which, jac)
         if method == PINV:
@@ -819,56 +824,80 @@ def _bound_rows(n: int, pairs: int) -> np.ndarray:
 @compiled(**_JIT)
 def _filtered(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray,
               near: np.ndarray, first: np.ndarray, second: np.ndarray, pair_levers: np.ndarray, nominal: np.ndarray,
-              nominal_length: float, low: np.ndarray, high: np.ndarray, cmat: np.ndarray, cb: np.ndarray, step: np.ndarray) -> bool:
-    """With the pairs' exact ``gaps`` at the pose: the filter's step into ``step`` (n,) as
+              nominal_length: float, low: np.ndarray, high: np.ndarray, cmat: np.ndarray, cb: np.ndarray, twists: np.ndarray,
+              in_rows: np.ndarray, step: np.ndarray) -> bool:
+    """With the pairs' exact ``gaps`` at the pose and ``step`` (n,) holding the nominal clipped to
+    the joints' bounds ``low``, ``high``: the filter's step into ``step``, as
     :func:`armanim.motion.solvers.barrier.filtered_step` takes it, the closest to ``nominal``
-    meeting the joints' bounds ``low``, ``high`` and the rows of the pairs near enough for the step
+    meeting those bounds and the rows of the pairs near enough for the step
     (:func:`armanim.motion.solvers.barrier.self_pair_rows`: n . (J_A - J_B) dPhi >= -gamma (d -
     d_kept)). ``nominal`` itself where it meets them all (to ``VIOLATION``), else the QP solved
     exactly (:func:`_closest_step`), clipped to the bounds as the numpy filter clips DAQP's answer;
     where no step meets the rows, the QP again with each row's bound no more than 0 (closing no
-    gap further), as the numpy filter relaxes it. ``cmat`` (2 n + P, n), ``cb`` (2 n + P,): work
-    space for the QP's rows and bounds, its first 2 n rows the joints' (:func:`_bound_rows`).
-    False (hand back) where the QP fails."""
+    gap further), as the numpy filter relaxes it.
+
+    A row that the QP's answer meets does not change the answer: so the QP is solved with the
+    rows its answer breaks, from the clip (the answer with no row) on, each added as the answer
+    breaks it, until the answer meets every row (the pairs' rates by the links' twists,
+    :func:`armanim.world.compiled.pair_rate`, a few products a pair where a row costs n cross
+    products: a pair's row is built only where it acts). ``cmat`` (2 n + P, n), ``cb`` (2 n + P,):
+    work space for the QP's rows and bounds, its first 2 n rows the joints' (:func:`_bound_rows`);
+    ``twists`` (n, 6), ``in_rows`` (P,): work space. False (hand back) where the QP fails."""
     n = nominal.shape[0]
     gamma = floats[GAMMA]
     kept = floats[KEPT_SELF]
     pairs = gaps.shape[0]
+    a, b, t, s, normal = ends[0], ends[1], near[:, 0], near[:, 1], near[:, 2:5]
     met = True
     for j in range(n):
         cb[j] = low[j]
         cb[n + j] = -high[j]
         if nominal[j] < low[j] - VIOLATION or nominal[j] > high[j] + VIOLATION:
             met = False
-    count = 2 * n
-    scratch = np.empty(9)
-    for q in range(pairs):
-        d = gaps[q]
-        if not d - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9:
-            continue  # beyond the travel: the filter builds no row for it (its test, :func:`filter_constraints`)
-        pair_row(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], near[:, 2:5], q, scratch, cmat[count])
-        cb[count] = -gamma * (d - kept)
-        along = 0.0
-        for j in range(n):
-            along += cmat[count, j] * nominal[j]
-        if along < cb[count] - VIOLATION:
-            met = False
-        count += 1
+    for q in range(pairs):  # the rows the numpy filter builds: those of the pairs near enough for the step (its test)
+        in_rows[q] = not gaps[q] - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9  # True: no row, or a row in the QP
     if met:
-        for j in range(n):
-            step[j] = nominal[j]
-        return True
-    solved = _closest_step(nominal, cmat, cb, count, step)
-    if solved == 0:  # no step meets the rows: as the numpy filter, the closest that closes no gap further
-        for c in range(2 * n, count):
-            cb[c] = min(cb[c], 0.0)
+        link_twists(points, axes, nominal, twists)
+        for q in range(pairs):
+            if not in_rows[q] and pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q) < -gamma * (gaps[q] - kept) - VIOLATION:
+                met = False
+                break
+        if met:
+            for j in range(n):
+                step[j] = nominal[j]
+            return True
+    count = 2 * n
+    relaxed = False
+    scratch = np.empty(9)
+    for _ in range(pairs + 1):
+        link_twists(points, axes, step, twists)
+        added = False
+        for q in range(pairs):
+            if in_rows[q]:
+                continue
+            room = -gamma * (gaps[q] - kept)
+            if relaxed:
+                room = min(room, 0.0)
+            if pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q) < room:
+                pair_row(points, axes, a, b, caps_link, first, second, t, s, normal, q, scratch, cmat[count])
+                cb[count] = room
+                in_rows[q] = True
+                count += 1
+                added = True
+        if not added:
+            break
         solved = _closest_step(nominal, cmat, cb, count, step)
+        if solved == 0 and not relaxed:  # no step meets these rows, nor so all of them: as the numpy filter, closing no gap further
+            relaxed = True
+            for c in range(2 * n, count):
+                cb[c] = min(cb[c], 0.0)
+            solved = _closest_step(nominal, cmat, cb, count, step)
         if solved == 0:
             for j in range(n):
                 step[j] = 0.0
             return True
-    if solved < 0:
-        return False
+        if solved < 0:
+            return False
     for j in range(n):
         step[j] = min(max(step[j], low[j]), high[j])
     return True
@@ -899,13 +928,19 @@ def _pairs_far(floats: np.ndarray, bound: np.ndarray, levers: np.ndarray, step: 
 
 @compiled(**_JIT)
 def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
-             lower: np.ndarray, upper: np.ndarray, floats: np.ndarray, ints: np.ndarray, caps: np.ndarray, caps_link: np.ndarray,
+             lower: np.ndarray, upper: np.ndarray, floats: np.ndarray, settings: np.ndarray, method: int, stacked: bool, steps_cap: int,
+             kind: int, steps_so_far: int, since_so_far: int, best_so_far: float, caps: np.ndarray, caps_link: np.ndarray,
              first: np.ndarray, second: np.ndarray, levers: np.ndarray, pair_levers: np.ndarray, out: np.ndarray) -> int:
     """The attempt from ``start``; into ``out`` (2 n + 9,): the pose it ends at (n), its tip (3), the
     distance, the angle, the progress measure, the best progress, the steps taken and the steps
     since the best progress, and the angles its kinematics were computed at (n: before wrapping). Returns :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`
-    (the numpy path takes over from that pose with those counters)."""
+    (the numpy path takes over from that pose with those counters). ``settings``: the problem's
+    int settings (:func:`_int_settings`), the call's own (the method, whether the pose task is
+    stacked, the attempt's steps, the orientation's kind, the counters so far) given as numbers:
+    a number crosses into the call for less than an array's copy and writes."""
     n = start.shape[0]
+    ints = settings.copy()
+    ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = method, stacked, steps_cap, kind, steps_so_far, since_so_far
     kind = ints[KIND]
     tol = floats[TOL]
     cap = floats[MAX_JOINT_STEP]
@@ -932,7 +967,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
     residual = np.empty(3)
     errors = np.empty(2)
     progress = _progress(floats, kind, goal, goal_rot, goal_axis, points[now], tool[now], residual, errors)
-    best = progress if floats[BEST] != floats[BEST] else floats[BEST]
+    best = progress if best_so_far != best_so_far else best_so_far
     since_best = ints[SINCE_BEST]
     steps = ints[STEPS]
     status = DONE
@@ -948,6 +983,8 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
     pair_push = np.empty(n)
     cmat = _bound_rows(n, pairs)
     cb = np.empty(2 * n + pairs)
+    twists = np.empty((n, 6))
+    in_rows = np.empty(pairs, dtype=np.bool_)
     while progress >= tol and steps < ints[STEPS_CAP]:
         pairs_push = False
         if pairs:  # a pair within its push's influence (R): its push joins the limits' (exact gaps, where a bound cannot show none)
@@ -1009,7 +1046,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
                 for q in range(pairs):
                     bound[q] = gaps[now, q] - slack
             if not _filtered(floats, gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first, second, pair_levers,
-                             nominal, nominal_length, low, high, cmat, cb, step):
+                             nominal, nominal_length, low, high, cmat, cb, twists, in_rows, step):
                 status = HANDED_BACK
                 break
         other = 1 - now
@@ -1137,7 +1174,7 @@ class CompiledAttempt(NamedTuple):
 
 
 def _settings(problem: Problem) -> np.ndarray:
-    """The kernel's float settings of ``problem`` (``BEST`` left NaN), made once per problem (kept on it)."""
+    """The kernel's float settings of ``problem``, made once per problem (kept on it)."""
     kept = problem.__dict__.get("_compiled_settings")
     if kept is not None:
         return cast(np.ndarray, kept)
@@ -1149,7 +1186,6 @@ def _settings(problem: Problem) -> np.ndarray:
     floats[[SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE]] = problem.self_pairs.clearance, kept_self_clearance(problem), self_influence(problem)
     floats[SLACK] = 1e-9 * max(problem.arm.reach, 1e-300)
     floats[W_OBSTACLES] = s.w_obstacles
-    floats[BEST] = np.nan
     object.__setattr__(problem, "_compiled_settings", floats)  # a cache of constants: the problem stays what it was
     return floats
 
@@ -1200,18 +1236,14 @@ def run_attempt(problem: Problem, step: int, stacked: bool, goal: np.ndarray, st
     rows, root, lower, upper, floats, ints, caps, link, first, second, levers, pair_levers = kept
     kind = 0 if orientation is None else (1 if orientation.rotation is not None else 2)
     steps, best, since_best = counters
-    if best is not None:
-        floats = floats.copy()
-        floats[BEST] = best
-    ints = ints.copy()
-    ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = step, stacked, steps_cap, kind, steps, since_best
     n = len(lower)
     out = np.empty(2 * n + 9)
     goal_rot = orientation.rotation if kind == 1 else _NO_ROTATION  # type: ignore[union-attr]  # kind 1: a rotation
     goal_axis = orientation.axis if kind == 2 else _NO_AXIS  # type: ignore[union-attr]  # kind 2: a tool axis
     status = _attempt(rows, root, np.ascontiguousarray(start, dtype=float), np.ascontiguousarray(goal, dtype=float),
                       np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float),
-                      lower, upper, floats, ints, caps, link, first, second, levers, pair_levers, out)
+                      lower, upper, floats, ints, step, stacked, steps_cap, kind, steps, since_best, np.nan if best is None else best,
+                      caps, link, first, second, levers, pair_levers, out)
     numbers = out[n:n + 9].tolist()
     return CompiledAttempt(out[:n], out[n:n + 3], numbers[3], None if kind == 0 else numbers[4], numbers[5], int(numbers[7]),
                            status == NUMERICAL, status == HANDED_BACK, numbers[6], int(numbers[8]), out[n + 9:])
