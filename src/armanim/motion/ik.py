@@ -25,7 +25,6 @@ a step apart); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure co
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import NamedTuple, cast
@@ -162,17 +161,20 @@ def solve_pose(
         The pose of the attempt that came closest, and how the solve ended.
     """
     goal = np.asarray(goal, dtype=float)
+    start = np.asarray(start, dtype=float)
     solving = solving_problem(problem)
     method = solver_method(problem.solver.method)
     tolerance = problem.solver.tolerance
-    attempts: list[_Attempt] = []
-    steps = 0  # over the attempts so far
-    for first in _starts(problem, np.asarray(start, dtype=float)):
-        attempts.append(_attempt(solving, method, goal, first, max_iterations - steps, orientation))
-        steps += attempts[-1].steps
-        if attempts[-1].distance < tolerance or steps >= max_iterations:
-            break
-    best = min(attempts, key=lambda a: a.distance)  # the first of equals
+    best = _attempt(solving, method, goal, start, max_iterations, orientation)
+    attempts = [best]
+    steps = best.steps  # over the attempts so far
+    if not (best.distance < tolerance or steps >= max_iterations):
+        for first in _restarts(problem, start):
+            attempts.append(_attempt(solving, method, goal, first, max_iterations - steps, orientation))
+            steps += attempts[-1].steps
+            if attempts[-1].distance < tolerance or steps >= max_iterations:
+                break
+        best = min(attempts, key=lambda a: a.distance)  # the first of equals
     status: PoseStatus
     if best.distance < tolerance:
         status = "converged"
@@ -215,13 +217,12 @@ def free_pose(problem: Problem, goal: np.ndarray, near: np.ndarray, orientation:
     return arm_state(problem, found.poses[0]) if len(found.poses) else None
 
 
-def _starts(problem: Problem, start: np.ndarray) -> Iterator[np.ndarray]:
-    """The attempts' starts: ``start``, then the rest of the planner's
+def _restarts(problem: Problem, start: np.ndarray) -> np.ndarray:
+    """The restarts' starts, after ``start`` itself: the rest of the planner's
     (:func:`armanim.motion.planning.poses.seed_poses`, whose first is ``start``), drawn only
     when the first attempt did not converge."""
-    yield start
     opts = problem.tunables.ik
-    yield from seed_poses(problem, start, 1 + opts.restarts, opts.seed)[1:]
+    return seed_poses(problem, start, 1 + opts.restarts, opts.seed)[1:]
 
 
 def _attempt(
@@ -238,13 +239,11 @@ def _attempt(
     step's exact check at its floor), the compiled loop hands the attempt back: the numpy step
     takes that step, and the compiled loop goes on from there with the attempt's counters."""
     steps_cap = min(budget, method.attempt_steps or budget)
-    if not runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
-        # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
-        # rank drops the numpy steps amplify rounding, and no other arithmetic could follow them there
+    plan = _compiled_plan(problem, method, orientation)
+    if plan is None:
         return _steps(problem, method, goal, arm_state(problem, start), steps_cap, orientation)[0]
     compiled = _compiled_module()
-    stacked = method.compiled_inverse == "pinv" and orientation is not None and stacks_the_pose_task(problem, orientation)
-    step = compiled.PINV if method.compiled_inverse == "pinv" else compiled.DLS
+    step, stacked = plan
     phi = start
     counters: tuple[int, float | None, int] = (0, None, 0)  # steps, best progress (None: not yet), steps since
     state: ArmState | None = None  # the numpy steps' last state, when they took the last step
@@ -260,6 +259,25 @@ def _attempt(
         if stopped or attempt.steps >= steps_cap:
             return attempt
         phi, counters = attempt.phi, (attempt.steps, best, since_best)
+
+
+def _compiled_plan(problem: Problem, method: Method, orientation: Orientation | None) -> tuple[int, bool] | None:
+    """How an attempt of ``method`` at a goal of this kind runs compiled: the compiled step and
+    whether the pose task is stacked (:func:`armanim.motion.solvers.linear.stacks_the_pose_task`);
+    None where it runs the numpy steps (:func:`runs_compiled` says no, or the arm cannot hold
+    the goal's orientation). Judged once per problem, method and kind of goal (kept on the problem)."""
+    memo = problem.__dict__.setdefault("_compiled_plans", {})  # a cache of facts of the problem: it stays what it was
+    key = (method.compiled_inverse, 0 if orientation is None else orientation.rows)
+    if key not in memo:
+        if not runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
+            # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
+            # rank drops the numpy steps amplify rounding, and no other arithmetic could follow them there
+            memo[key] = None
+        else:
+            compiled = _compiled_module()
+            stacked = method.compiled_inverse == "pinv" and orientation is not None and stacks_the_pose_task(problem, orientation)
+            memo[key] = (compiled.PINV if method.compiled_inverse == "pinv" else compiled.DLS, stacked)
+    return cast("tuple[int, bool] | None", memo[key])
 
 
 _COMPILED: list[ModuleType] = []  # the compiled attempt's module once imported (numba loads with it: not at this module's import)
