@@ -366,12 +366,16 @@ def part_fk(quick: bool) -> None:
 
 
 def interleaved(solvers: dict, cases: list, judge, limit: dict) -> dict:
-    """Each solver on each case in turn (the order rotated per case); (times, successes, answers) per
-    solver (an answer: the angles returned, None where the solve raised)."""
+    """Each solver on each case in turn, in an order drawn afresh per case (seeded), so that each
+    solver follows each other one as often: a solve runs slower after one that filled the caches
+    with its own code and data (TRAC-IK's threads most: a fixed rotation, once pink and ikpy stop
+    at their fewer targets, put the same solver after it every time). Returns (times, successes,
+    answers) per solver (an answer: the angles returned, None where the solve raised)."""
     out = {name: ([], [], []) for name in solvers}
     names = list(solvers)
+    order = np.random.default_rng(0)
     for k, case in enumerate(cases):
-        for name in names[k % len(names):] + names[: k % len(names)]:
+        for name in order.permutation(names):
             if k >= limit.get(name, len(cases)):
                 continue
             try:
