@@ -180,7 +180,10 @@ def solve_pose(
         status = "converged"
     else:
         status = "numerical" if any(a.numerical for a in attempts) else "not_converged"
-    newton_iterations = sum(a.newton_iterations for a in attempts)
+    if len(attempts) == 1:  # most solves: one attempt (a generator's sum costs a microsecond)
+        newton_iterations, iterations = best.newton_iterations, best.iterations
+    else:
+        newton_iterations, iterations = sum(a.newton_iterations for a in attempts), sum(a.iterations for a in attempts)
     searched = free_pose(problem, goal, best.phi, orientation) if status == "not_converged" else None
     if searched is not None:
         best = _Attempt(searched.phi, searched.tip, pose_errors(problem, searched, goal, orientation), 0, 0, 0, False)
@@ -192,7 +195,7 @@ def solve_pose(
         distance=distance,
         status=status,
         steps=steps,
-        iterations=sum(a.iterations for a in attempts) - newton_iterations,
+        iterations=iterations - newton_iterations,
         newton_iterations=newton_iterations,
         restarts=len(attempts) - 1,
         found_by="method" if searched is None else "free_pose_search",
