@@ -463,7 +463,8 @@ def pair_rate(twists: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray
     vb0 = twists[lb, 1] * qb2 - twists[lb, 2] * qb1 + twists[lb, 3]
     vb1 = twists[lb, 2] * qb0 - twists[lb, 0] * qb2 + twists[lb, 4]
     vb2 = twists[lb, 0] * qb1 - twists[lb, 1] * qb0 + twists[lb, 5]
-    return normal[p, 0] * (va0 - vb0) + normal[p, 1] * (va1 - vb1) + normal[p, 2] * (va2 - vb2)
+    rate: float = normal[p, 0] * (va0 - vb0) + normal[p, 1] * (va1 - vb1) + normal[p, 2] * (va2 - vb2)
+    return rate
 
 
 @compiled(**_JIT)
