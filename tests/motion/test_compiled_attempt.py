@@ -304,6 +304,7 @@ def test_the_compiled_attempt_keeps_a_near_pair_inside_the_call():
 def test_the_exact_qp_meets_its_kkt_conditions_where_daqp_meets_its_tolerance():
     # random filter QPs (rows and bounds as the filter's: 0 feasible) and infeasible ones
     rng = np.random.default_rng(3)
+    started = 0
     for _ in range(300):
         n, k = 7, int(rng.integers(1, 6))
         rows = rng.normal(size=(k, n))
@@ -311,11 +312,16 @@ def test_the_exact_qp_meets_its_kkt_conditions_where_daqp_meets_its_tolerance():
         nominal = rng.normal(size=n)
         cmat = np.concatenate([np.eye(n), -np.eye(n), rows])
         cb = np.concatenate([cons.lo, -cons.hi, cons.lower])
-        x = np.empty(n)
+        x, warm = np.empty(n), np.empty(n)
         assert compiled._closest_step(nominal, cmat, cb, len(cb), x) == 1
         if np.any(rows @ x - cons.lower <= 1e-9):
             assert_solves_the_qp(x, nominal, cons)
         np.testing.assert_allclose(x, closest_safe_step(nominal, cons), atol=1e-5)
+        # started from the clip, with the bounds it breaks active: the same answer
+        assert compiled._closest_step(nominal, cmat, cb, len(cb), warm, 2 * n) == 1
+        np.testing.assert_allclose(warm, x, atol=1e-12, rtol=0)
+        started += bool(np.any(nominal < cons.lo) or np.any(nominal > cons.hi))
+    assert started > 100
     # no x meets x_0 >= 1 and x_0 <= 0.5
     cmat = np.array([[1.0, 0.0], [-1.0, 0.0]])
     assert compiled._closest_step(np.zeros(2), cmat, np.array([1.0, -0.5]), 2, np.empty(2)) == 0

@@ -695,7 +695,7 @@ def _gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, o
 
 
 @compiled(**_JIT)
-def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, x: np.ndarray) -> int:
+def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, x: np.ndarray, bounds: int = 0) -> int:
     """The filter's QP, exactly: x (n,) minimising |x - nominal|^2 subject to ``cmat[:count] x >=
     cb[:count]``, by the dual active-set method of Goldfarb and Idnani (Hessian I): from x =
     ``nominal``, the most broken constraint is met by steps that keep the active ones met and
@@ -704,7 +704,13 @@ def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: 
     constraints from ``nominal`` in one solve (the least-squares point, so the KKT conditions
     hold to rounding: DAQP meets them to its tolerances, some 1e-7). Returns 1 (solved), 0 (no x
     meets the constraints) or -1 (the active rows turned dependent to rounding, the iterations ran
-    out, or the answer's checks failed: the numpy step takes that one)."""
+    out, or the answer's checks failed: the numpy step takes that one).
+
+    ``bounds``: how many of the first rows are the joints' bounds, rows of the identity or its
+    negative, one of each sign a joint (:func:`_bound_rows`). The method then starts from the clip
+    of ``nominal`` with the bounds it breaks active (their multipliers the clip's distances, >= 0:
+    the least point of those equalities, so a start the method allows), where it would have added
+    them one by one: the same answer (the QP's only one) in fewer iterations."""
     n = nominal.shape[0]
     for j in range(n):
         x[j] = nominal[j]
@@ -716,6 +722,17 @@ def _closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: 
     rhs = np.empty(n)
     gram = np.empty((n, n))
     w = 0
+    for c in range(bounds):  # the bounds the nominal breaks, active at the clip
+        sc = -cb[c]
+        for j in range(n):
+            sc += cmat[c, j] * nominal[j]
+        if sc < -QP_FEASIBLE:
+            active[w] = c
+            u[w] = -sc  # a unit row: the multiplier is the distance
+            in_set[c] = True
+            w += 1
+            for j in range(n):
+                x[j] -= sc * cmat[c, j]
     solved = False
     for _ in range(QP_ITERATIONS):
         p = -1
@@ -886,12 +903,12 @@ def _filtered(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np
                 added = True
         if not added:
             break
-        solved = _closest_step(nominal, cmat, cb, count, step)
+        solved = _closest_step(nominal, cmat, cb, count, step, 2 * n)
         if solved == 0 and not relaxed:  # no step meets these rows, nor so all of them: as the numpy filter, closing no gap further
             relaxed = True
             for c in range(2 * n, count):
                 cb[c] = min(cb[c], 0.0)
-            solved = _closest_step(nominal, cmat, cb, count, step)
+            solved = _closest_step(nominal, cmat, cb, count, step, 2 * n)
         if solved == 0:
             for j in range(n):
                 step[j] = 0.0
@@ -990,13 +1007,17 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
         if pairs:  # a pair within its push's influence (R): its push joins the limits' (exact gaps, where a bound cannot show none)
             within = False
             for q in range(pairs):
-                within = within or not bound[q] >= floats[SELF_INFLUENCE] + slack
+                if not bound[q] >= floats[SELF_INFLUENCE] + slack:
+                    within = True
+                    break
             if within:
                 if not exact[now]:
                     least[now] = _pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
                     exact[now] = True
                     for q in range(pairs):
                         bound[q] = gaps[now, q] - slack
+                within = least[now] < floats[SELF_INFLUENCE]  # the exact gaps: a pair inside R (else no push, and none near 0)
+            if within:
                 pushing = _pair_push(floats, ints[METHOD], gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first,
                                      second, pair_push)
                 if pushing < 0:
