@@ -394,7 +394,7 @@ def report(title: str, results: dict, peer: str | None) -> None:
     for name, (times, oks, *_) in results.items():
         if not times:
             continue
-        ratio = f"{statistics.median(times) / base:7.1f}x {peer}" if base else ""
+        ratio = f"{statistics.median(times) / base:7.2f}x {peer}" if base else ""
         print(f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(oks):5.1f} %  median {ms(statistics.median(times)):>10}"
               f"  p90 {ms(pct(times, 90)):>10}  {ratio}")
 
@@ -521,7 +521,7 @@ def part_pose_self_free(count: int) -> None:
         apart = [ok and gaps(q).min() >= clearance for ok, q in zip(oks, answers)]
         success = apart if name.startswith("armanim") else oks
         print(f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(success):5.1f} %  median {ms(statistics.median(times)):>10}"
-              f"  p90 {ms(pct(times, 90)):>10}  {statistics.median(times) / base:7.1f}x {peer}"
+              f"  p90 {ms(pct(times, 90)):>10}  {statistics.median(times) / base:7.2f}x {peer}"
               f"   (reached {100 * np.mean(oks):5.1f} %, reached with the pairs apart {100 * np.mean(apart):5.1f} %)")
     for line in skipped:
         print(line)
