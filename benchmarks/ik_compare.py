@@ -1,8 +1,9 @@
 """Issue 40's comparison in one command: ``python benchmarks/ik_bench.py --compare [--quick]``.
 
-Five parts, each timed in this one process with the contenders interleaved (the order rotated on
-every target or round, the garbage collector off during each call), so machine load hits them
-alike; only ratios within one run are verdicts, times are printed for scale.
+Five parts, each timed in this one process with the contenders interleaved (the order drawn
+afresh for every IK target, rotated on every FK or start-up round; the garbage collector off
+during each call), so machine load and a predecessor's caches hit them alike; only ratios within
+one run are verdicts, times are printed for scale.
 
 1. **FK**, the Panda's tool frame: armanim's numpy ``forward`` + ``tool_rotation``, the compiled
    kernel (``armanim.arm.kernel.forward_with_tool``), pinocchio (``forwardKinematics`` +
