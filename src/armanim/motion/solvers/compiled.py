@@ -405,6 +405,18 @@ def _capped(v: np.ndarray, scale: float, cap: float) -> None:
             v[a] = v[a] * (cap / length)
 
 
+@compiled(**_INLINE)
+def _step_bounds(phi: float, lower: float, upper: float, cap: float, gamma: float, buffer: float) -> tuple[float, float]:
+    """One joint's bounds on its step in the filter (:func:`armanim.motion.solvers.barrier.joint_bounds`):
+    the joint-step cap and, for a limited joint, the velocity damper toward each limit less its
+    buffer; each bound no nearer than 0 (a joint inside its buffer may stand still)."""
+    low, high = -cap, cap
+    if lower > -np.inf:
+        low = max(-cap, -gamma * (phi - (lower + buffer)))
+        high = min(cap, gamma * ((upper - buffer) - phi))
+    return min(low, 0.0), max(high, 0.0)
+
+
 @compiled(**_JIT)
 def _limit_push(floats: np.ndarray, phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, push: np.ndarray) -> bool:
     """The joint-limit push z into ``push``; False when no joint is within the margin of a limit
@@ -1049,11 +1061,7 @@ def _attempt(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.nda
             nominal[j] = dphi[j] * shrink
             step[j] = nominal[j]
             nominal_length += step[j] * step[j]
-            lo, hi = -cap, cap
-            if lower[j] > -np.inf:
-                lo = max(-cap, -gamma * (phi[j] - (lower[j] + buffer)))
-                hi = min(cap, gamma * ((upper[j] - buffer) - phi[j]))
-            low[j], high[j] = min(lo, 0.0), max(hi, 0.0)
+            low[j], high[j] = _step_bounds(phi[j], lower[j], upper[j], cap, gamma, buffer)
             if step[j] < low[j] - VIOLATION or step[j] > high[j] + VIOLATION:
                 inside = False
         nominal_length = math.sqrt(nominal_length)

@@ -58,7 +58,15 @@ from armanim.motion.solvers.barrier import (
     wrap_unlimited,
 )
 from armanim.motion.solvers.common import ArmState
-from armanim.motion.solvers.compiled import _capped, _damped, _orientation_rows, _pinv, _repulsion, _residual
+from armanim.motion.solvers.compiled import (
+    _capped,
+    _damped,
+    _orientation_rows,
+    _pinv,
+    _repulsion,
+    _residual,
+    _step_bounds,
+)
 from armanim.motion.solvers.linear import CLOSEST_GAP, ROUNDING_TASK
 from armanim.world.compiled import capsule_pair_gaps, pair_row, pair_rows_met, segment_box_grid
 from armanim.world.distances import Clearances
@@ -501,11 +509,7 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
     for j in range(n):
         step[j] = dphi[j] * shrink
         length += step[j] * step[j]
-        low, high = -cap, cap
-        if lower[j] > -np.inf:
-            low = max(-cap, -gamma * (phi[j] - (lower[j] + buffer)))
-            high = min(cap, gamma * ((upper[j] - buffer) - phi[j]))
-        lo[j], hi[j] = min(low, 0.0), max(high, 0.0)
+        lo[j], hi[j] = _step_bounds(phi[j], lower[j], upper[j], cap, gamma, buffer)
         if step[j] < lo[j] - VIOLATION or step[j] > hi[j] + VIOLATION:
             inside = False
         travel += abs(step[j]) * levers[j]
