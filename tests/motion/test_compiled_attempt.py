@@ -37,7 +37,7 @@ from armanim.motion.solvers.barrier import (
     within_limits,
 )
 from armanim.motion.solvers.common import arm_state
-from armanim.motion.solvers.linear import damped_inverse, stacks_the_pose_task
+from armanim.motion.solvers.linear import damped_inverse
 from armanim.scene import default_solver_settings, scene_model, scene_to_problem
 from armanim.world.obstacles import Obstacles
 from armanim.world.selfdistances import self_gaps
@@ -159,9 +159,8 @@ def hands_back(problem: Problem, chosen, goal, orientation, before: np.ndarray) 
     """Whether the compiled loop hands the step from ``before`` back to the numpy path (its QP's
     active rows dependent to rounding, a gap at its floor: the module's hand-back), so that the
     attempt takes the numpy step there, to rounding."""
-    kind = "pinv" if chosen.compiled_inverse == "pinv" else "dls"
-    stacked = kind == "pinv" and orientation is not None and stacks_the_pose_task(problem, orientation)
-    ran = compiled.run_attempt(problem, compiled.PINV if kind == "pinv" else compiled.DLS, stacked, goal, before, 1, orientation)
+    step, stacked = ik._compiled_plan(problem, chosen, orientation)  # as the attempt runs it
+    ran = compiled.run_attempt(problem, step, stacked, goal, before, 1, orientation)
     return ran.handed_back and ran.steps == 0
 
 

@@ -620,10 +620,10 @@ def _pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.nda
     scale = floats[BETA] * floats[W_OBSTACLES]
     for j in range(n):
         push[j] = 0.0
-    which = np.empty(0, dtype=np.int64)  # work space, made at the first pair that pushes (most steps have none)
-    jac = np.empty((0, 3, n))
-    inverse = np.empty((0, 3))
-    guess = np.empty((0, 0))
+    which = np.empty(1, dtype=np.int64)
+    jac = np.empty((1, 3, n))
+    inverse = np.empty((n, 3))
+    guess = np.eye(3)
     any_push = 0
     for q in range(gaps.shape[0]):
         d = gaps[q]
@@ -634,8 +634,6 @@ def _pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.nda
         size = scale * _repulsion(d, influence)
         if size == 0.0:
             continue
-        if not any_push:
-            which, jac, inverse, guess = np.empty(1, dtype=np.int64), np.empty((1, 3, n)), np.empty((n, 3)), np.eye(3)
         which[0] = q
         pair_jacobians(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], which, jac)
         if method == PINV:
