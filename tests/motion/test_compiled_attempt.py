@@ -7,9 +7,9 @@ step's to 1e-9 where no row of the arm's own pairs is active in the filter's QP;
 the compiled step solves that QP (the numpy filter's own rows and bounds at that pose) exactly,
 by its KKT conditions checked directly (DAQP, the numpy filter's solver, meets them only to its
 tolerance, some 1e-7: the two steps differ by up to 1e-5 rad there), unless the compiled loop
-hands that step back (the QP's active rows dependent to rounding): then it is the numpy step. Whole solves meet the
-tolerances by the numpy chain's FK, inside the limits and with the arm's own pairs apart; its
-small linear algebra against numpy's and LAPACK's."""
+hands that step back (the QP's active rows dependent to rounding): then it is the numpy step.
+Whole solves meet the tolerances by the numpy chain's FK, inside the limits and with the arm's
+own pairs apart; its small linear algebra against numpy's and LAPACK's."""
 
 from __future__ import annotations
 

@@ -451,6 +451,30 @@ def _matvec(a: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
         out[i] = s
 
 
+@compiled(**_INLINE)
+def _null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, null: np.ndarray, restricted: np.ndarray) -> tuple[float, float]:
+    """The rotation task second in priority: the tip task's null-space projector I - J^+ J into
+    ``null`` (n, n) (``jac`` its first 3 rows the tip's, ``pinv_tip`` (n, 3) their
+    pseudo-inverse), and the rotation rows ``jac_r`` (k, n) restricted to it, jac_r (I - J^+ J),
+    into ``restricted`` (k, n). Returns |restricted|_F^2 and |jac_r|_F^2, whose ratio tells a
+    task with only rounding left (:data:`ROUNDING_TASK`)."""
+    n = null.shape[0]
+    for i in range(n):
+        for j in range(n):
+            null[i, j] = (1.0 if i == j else 0.0) - (pinv_tip[i, 0] * jac[0, j] + pinv_tip[i, 1] * jac[1, j] + pinv_tip[i, 2] * jac[2, j])
+    left = 0.0
+    size = 0.0
+    for i in range(restricted.shape[0]):
+        for j in range(n):
+            v = 0.0
+            for q in range(n):
+                v += jac_r[i, q] * null[q, j]
+            restricted[i, j] = v
+            left += v * v
+            size += jac_r[i, j] * jac_r[i, j]
+    return left, size
+
+
 @compiled(**_JIT)
 def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
               goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, guesses: np.ndarray, pair_push: np.ndarray,
@@ -515,22 +539,8 @@ def _proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.
         else:
             _pinv(jac, pinv_tip, guesses[1, :min(3, n), :min(3, n)])
         null_tip = np.empty((n, n))
-        for i in range(n):
-            for j in range(n):
-                null_tip[i, j] = (1.0 if i == j else 0.0) - (pinv_tip[i, 0] * jac[0, j] + pinv_tip[i, 1] * jac[1, j] + pinv_tip[i, 2] * jac[2, j])
         restricted = np.empty((k, n))
-        for i in range(k):
-            for j in range(n):
-                s = 0.0
-                for q in range(n):
-                    s += jac_r[i, q] * null_tip[q, j]
-                restricted[i, j] = s
-        rows_size = 0.0
-        left = 0.0
-        for i in range(k):
-            for j in range(n):
-                rows_size += jac_r[i, j] * jac_r[i, j]
-                left += restricted[i, j] * restricted[i, j]
+        left, rows_size = _null_space_task(jac, pinv_tip, jac_r, null_tip, restricted)
         if left < ROUNDING_TASK * ROUNDING_TASK * rows_size:
             return HANDED_BACK
         inv_r = np.empty((n, k))

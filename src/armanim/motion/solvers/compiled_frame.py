@@ -61,6 +61,7 @@ from armanim.motion.solvers.common import ArmState
 from armanim.motion.solvers.compiled import (
     _capped,
     _damped,
+    _null_space_task,
     _orientation_rows,
     _pinv,
     _repulsion,
@@ -243,20 +244,8 @@ def _orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np
     elif not _invert(jac, PINV, 0.0, pinv_tip):
         return False
     null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
-    for i in range(n):
-        for j in range(n):
-            null[i, j] = (1.0 if i == j else 0.0) - (pinv_tip[i, 0] * jac[0, j] + pinv_tip[i, 1] * jac[1, j] + pinv_tip[i, 2] * jac[2, j])
     restricted = np.empty((k, n))
-    size = 0.0
-    left = 0.0
-    for i in range(k):
-        for j in range(n):
-            v = 0.0
-            for q in range(n):
-                v += jac_r[i, q] * null[q, j]
-            restricted[i, j] = v
-            left += v * v
-            size += jac_r[i, j] * jac_r[i, j]
+    left, size = _null_space_task(jac, pinv_tip, jac_r, null, restricted)
     if not left < ROUNDING_TASK * ROUNDING_TASK * size:
         inverse = np.empty((n, k))
         if not _invert(restricted, method, floats[DAMPING], inverse):
