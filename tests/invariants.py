@@ -114,16 +114,21 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         assert all(label in pairs.labels for label in traj.self_pair)
     else:
         assert traj.self_clearance is None and traj.self_pair is None
-    # limited joints strictly inside their limits
+    # limited joints within their limits, the ends included (a home or a joint goal may rest on one)
     lim = problem.limits
     limited = lim.limited
-    assert np.all(traj.phi[:, limited] > lim.lower[limited])
-    assert np.all(traj.phi[:, limited] < lim.upper[limited])
-    # ... and keep the filter's buffer from them (or get no closer than home was)
+    assert np.all(traj.phi[:, limited] >= lim.lower[limited])
+    assert np.all(traj.phi[:, limited] <= lim.upper[limited])
+    # ... and the method's frames keep the filter's buffer from them (or get no closer than home
+    # was); a joint goal's planned path keeps the limits themselves
+    joint_goals = np.array([g.joints is not None for g in problem.goals])
+    stepped = ~joint_goals[traj.goal]
     gaps = np.minimum(traj.phi - lim.lower, lim.upper - traj.phi)[:, limited]
-    assert np.all(gaps >= np.minimum(limit_buffer(problem), gaps[0]) - TINY)
-    # modes: the method's steps, or a planned path when the planner is on
-    assert set(traj.mode) <= ({"ik", "plan"} if problem.solver.planner == "auto" else {"ik"}) | ({"path"} if paths else set())
+    first = gaps[0] if stepped[0] or not joint_goals.any() else np.minimum(gaps[0], gaps.min(axis=0))
+    assert np.all(gaps[stepped] >= np.minimum(limit_buffer(problem), first) - TINY)
+    # modes: the method's steps, or a planned path when the planner is on (a joint goal's always)
+    planned = problem.solver.planner == "auto" or joint_goals.any()
+    assert set(traj.mode) <= ({"ik", "plan"} if planned else {"ik"}) | ({"path"} if paths else set())
     # unlimited joints wrapped (frame 0 may be any home)
     assert np.all(np.abs(traj.phi[1:, ~limited]) <= np.pi + TINY)
     if timed:

@@ -83,6 +83,10 @@ class Goal:
         (``position``) as to any goal, then the tool follows it; None: a point goal.
     speed : float
         A path goal's tool speed along its path, scene units per second (0 for a point goal).
+    joints : (n,) array or None
+        A joint goal's pose (radians; metres for a prismatic joint): the arm plans its way there
+        and ends on it exactly; ``position`` is then its tool point, for reports and pictures.
+        None: a point or path goal.
     """
 
     position: np.ndarray
@@ -90,6 +94,7 @@ class Goal:
     orientation: Orientation | None = None
     path: ToolPath | None = None
     speed: float = 0.0
+    joints: np.ndarray | None = None
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -174,6 +179,8 @@ class SolverSettings:
         when the scene leaves it out).
     orientation_tolerance : float
         Radians: a goal with an orientation is reached when its angle is below this too.
+    joint_tolerance : float
+        Radians: a joint goal is reached when every joint is within this of it.
     path_tolerance : float
         The most a path goal's tool may stray from its path, at every frame and between frames
         (scene units).
@@ -196,6 +203,7 @@ class SolverSettings:
     w_regularizer: float
     orientation_weight: float
     orientation_tolerance: float
+    joint_tolerance: float
     path_tolerance: float
 
 

@@ -22,13 +22,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import cast
 
 import numpy as np
 
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.following import Route, followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
-from armanim.motion.planning import plan_motion
+from armanim.motion.planning import plan_joint_motion, plan_motion
 from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
@@ -177,6 +178,8 @@ def solve_trajectory(
 def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal,
                 on_frame: Callable[[_Visit], None], planning: Searched | None = None) -> tuple[ArmState, GoalReport]:
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
+    if goal.joints is not None:
+        return _visit_joint_goal(problem, rec, state, k, goal, on_frame, planning)
     s = problem.solver
     first = len(rec) if k else 0
     distance, angle, progress = goal_errors(problem, state, goal)
@@ -220,6 +223,44 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
         planning=visit.planning,
         final_orientation_error=visit.angles[-1],
         path=path_report,
+    )
+
+
+def joint_error(phi: np.ndarray, goal: Goal) -> np.ndarray:
+    """(...,) the largest |phi_j - goal_j| of each pose ``phi`` (..., n) from a joint goal (radians)."""
+    assert goal.joints is not None
+    return cast(np.ndarray, np.abs(phi - goal.joints).max(axis=-1))
+
+
+def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int, goal: Goal,
+                      on_frame: Callable[[_Visit], None], planning: Searched | None = None) -> tuple[ArmState, GoalReport]:
+    """Frames along a planned path to joint goal ``k`` (mode ``plan``: no method steps; the path
+    is certified free, :func:`~armanim.motion.planning.plan_joint_motion`) and its hold."""
+    assert goal.joints is not None
+    first = len(rec) if k else 0
+    distance, _, _ = goal_errors(problem, state, goal)
+    visit = _Visit(k, goal, [distance])
+    plan = None
+    if joint_error(state.phi, goal) > problem.solver.joint_tolerance:
+        plan = plan_joint_motion(problem, state.phi, goal.joints, planning)
+        visit.planning = PlanningReport(plans=1, poses=plan.poses, path=plan.source, checks=plan.checks,
+                                        frames=0 if plan.frames is None else len(plan.frames))
+    for phi in plan.frames if plan is not None and plan.frames is not None else ():
+        state = arm_state(problem, phi)
+        visit.distances.append(float(np.linalg.norm(state.tip - goal.position)))
+        visit.frames += 1
+        rec.add(state, k, visit.distances[-1], mode="plan")
+        on_frame(visit)
+    reached = bool(joint_error(state.phi, goal) <= problem.solver.joint_tolerance)
+    if reached:
+        for _ in range(hold_frames(problem, goal)):
+            rec.add(state, k, visit.distances[-1])
+    elif plan is not None:
+        visit.reason = plan.reason or "too_slow"  # a path longer than the goal's frames is followed as far as they go
+    return state, GoalReport(
+        index=k, position=goal.position, reached=reached, reason=visit.reason, frames=visit.frames,
+        first_frame=first if len(rec) > first else -1, last_frame=len(rec) - 1 if len(rec) > first else -1,
+        final_distance=visit.distances[-1], iterations=0, planning=visit.planning,
     )
 
 
@@ -386,6 +427,13 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         path_s=path_s,
         path_error=None if path_s is None else np.where(np.isnan(path_s), np.nan, distance),
     )
+    if any(g.joints is not None for g in problem.goals):  # a joint goal is reached by its joints, not its tool point
+        reached = traj.reached.copy()
+        for k, g in enumerate(problem.goals):
+            if g.joints is not None:
+                mine = goal == k
+                reached[mine] = joint_error(phi[mine], g) <= problem.solver.joint_tolerance
+        traj = replace(traj, reached=reached)
     if len(problem.self_pairs) and len(rec.self_gap) == len(rec):  # every frame's pairs were measured in the loop
         return replace(traj, self_clearance=np.array(rec.self_gap), self_pair=np.array(problem.self_pairs.labels)[rec.self_pair])
     return with_self_clearance(problem, traj)

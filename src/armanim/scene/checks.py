@@ -16,7 +16,7 @@ from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
 from armanim.motion.problem import frames_in
 from armanim.scene.convert import orientation_rotation, scene_to_problem, tool_path
-from armanim.scene.limits import limit_problems, rate_problems
+from armanim.scene.limits import joint_goal_limit_problems, limit_problems, rate_problems
 from armanim.scene.models import LIMITS, SceneModel
 from armanim.world.distances import clearances, point_clearances
 from armanim.world.obstacles import FLOOR
@@ -35,6 +35,10 @@ def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str
         problem = scene_to_problem(scene)
         problems += list(_collision_problems(problem, "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
         problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
+        for k, goal in enumerate(problem.goals):
+            if goal.joints is not None:
+                problems += list(_pose_collision_problems(problem, goal.joints, f"goals[{k}]", "the joint goal's pose", "the goal"))
+                problems += list(_self_collision_problems(problem, f"goals[{k}]", goal.joints, "the joint goal's pose", "the goal"))
     return problems
 
 
@@ -60,12 +64,13 @@ def _vector(values) -> str:
     return "[" + ", ".join(f"{v:.6g}" for v in values) + "]"
 
 
-def _self_collision_problems(problem, path: str):
-    """Enabled pairs of the arm's own capsules closer than ``solver.self_clearance`` at home, each named."""
+def _self_collision_problems(problem, path: str, phi=None, pose: str = "the home pose", change: str = "arm.home"):
+    """Enabled pairs of the arm's own capsules closer than ``solver.self_clearance`` at home (or at
+    the pose ``phi``), each named."""
     pairs = problem.self_pairs
     if not len(pairs):
         return
-    gaps = self_gaps(forward(problem.arm, problem.home), problem.capsules, pairs).d
+    gaps = self_gaps(forward(problem.arm, problem.home if phi is None else phi), problem.capsules, pairs).d
     seen = set()
     for k in np.argsort(gaps, kind="stable"):
         if not gaps[k] < pairs.clearance or pairs.names[k] in seen:
@@ -73,8 +78,8 @@ def _self_collision_problems(problem, path: str):
         seen.add(pairs.names[k])
         a, b = pairs.names[k]
         yield path, (
-            f"the home pose has {a} and {b} {'overlapping' if gaps[k] <= 0 else 'closer than solver.self_clearance'} "
-            f"(gap {gaps[k]:.3g}, expected at least solver.self_clearance = {pairs.clearance:g}: change arm.home, "
+            f"{pose} has {a} and {b} {'overlapping' if gaps[k] <= 0 else 'closer than solver.self_clearance'} "
+            f"(gap {gaps[k]:.3g}, expected at least solver.self_clearance = {pairs.clearance:g}: change {change}, "
             f"allow the pair (arm.self_collision: {{auto: true, allow: [[{a}, {b}]]}}) or lower solver.self_clearance)"
         )
 
@@ -87,10 +92,15 @@ def _count_problems(scene: SceneModel):
         values = getattr(arm, field)
         if values is not None and len(values) != n:
             yield f"arm.{field}", f"has {len(values)} entries, the arm has {n} {'joints' if arm.is_urdf else 'links'} (expected one per joint)"
+    for k, goal in enumerate(scene.goals):
+        if goal.joints is not None and len(goal.joints) != n:
+            yield f"goals[{k}].joints", (f"has {len(goal.joints)} values, the arm has {n} moving joints "
+                                         "(expected one per joint, in order, as arm.home)")
 
 
 def _arm_problems(scene: SceneModel):
     yield from limit_problems(scene.arm)
+    yield from joint_goal_limit_problems(scene)
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
@@ -140,6 +150,8 @@ def _magnitudes(scene: SceneModel):
     if scene.floor is not None:
         yield "floor", scene.floor
     for k, goal in enumerate(scene.goals):
+        if goal.joints is not None:
+            continue  # angles: the limits bound them
         if goal.path is None:
             yield from ((f"goals[{k}].position[{i}]", v) for i, v in enumerate(goal.position))
         else:
@@ -247,6 +259,8 @@ def _collision_problems(problem, tip_size: str):
         )
     keep = tip_radius(problem.arm, problem.capsules) + d_safe
     for k, goal in enumerate(problem.goals):
+        if goal.joints is not None:
+            continue  # its tool point is no part of the arm: the pose's links are checked (scene_problems)
         gap = point_clearances(goal.position[None], obstacles)[0]
         for obs in np.nonzero(gap < keep)[0]:
             where = _obstacle_path(obstacles, obs)
@@ -258,6 +272,23 @@ def _collision_problems(problem, tip_size: str):
                     f"solver.clearance = {keep:g}, so that the last link can keep its clearance "
                     f"there: move the goal or {_floor_or(obstacles, obs, 'the obstacle')}, or lower solver.clearance)"
                 )
+
+
+def _pose_collision_problems(problem, phi, path: str, pose: str, change: str):
+    """Links of the pose ``phi`` (radians) closer than ``solver.clearance`` to an obstacle or the floor."""
+    obstacles = problem.obstacles
+    if not len(obstacles):
+        return
+    d_safe = problem.solver.clearance
+    cl = clearances(forward(problem.arm, phi), obstacles, problem.capsules)
+    for link, obs in zip(*np.nonzero(cl.links < d_safe)):
+        where = _floor_or(obstacles, obs, _obstacle_path(obstacles, obs))
+        inside = cl.links[link, obs] <= 0
+        yield path, (
+            f"link {link + 1} of {pose} is {'inside ' + where if inside else 'closer to ' + where + ' than solver.clearance'} "
+            f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
+            f"change {change}, move {where} or lower solver.clearance)"
+        )
 
 
 def _floor_problems(problem):

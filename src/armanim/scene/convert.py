@@ -14,7 +14,7 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
-from armanim.arm.kinematics import Arm, default_axes
+from armanim.arm.kinematics import Arm, default_axes, forward
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import (
@@ -194,6 +194,7 @@ def solver_settings(s: SolverModel, width: float, reach: float = DEFAULT_REACH) 
         w_regularizer=s.weights.regularizer,
         orientation_weight=orientation_weight(s, reach),
         orientation_tolerance=float(np.radians(s.orientation_tolerance)),
+        joint_tolerance=float(np.radians(s.joint_tolerance)),
         path_tolerance=float(s.path_tolerance) if s.path_tolerance is not None else s.tolerance,
     )
 
@@ -292,7 +293,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         home=home,
         limits=limits,
         obstacles=_obstacles(scene),
-        goals=tuple(scene_goal(g) for g in scene.goals),
+        goals=tuple(scene_goal(g, chain) for g in scene.goals),
         solver=solver,
         fps=fps,
         capsules=capsules,
@@ -345,14 +346,19 @@ def radians(degrees):
     return np.radians(degrees)
 
 
-def scene_goal(goal: GoalModel) -> Goal:
-    """A goal of the scene as the solver's: a point goal, or a path goal whose position is its
-    path's start (the arm goes there as to a point, then follows the path).
+def scene_goal(goal: GoalModel, chain: Arm | None = None) -> Goal:
+    """A goal of the scene as the solver's: a point goal, a path goal whose position is its
+    path's start (the arm goes there as to a point, then follows the path), or a joint goal
+    (radians) whose position is its tool point on ``chain`` (which a joint goal needs).
 
     >>> g = scene_goal(GoalModel(path={"line": [[0, 0, 0], [0.3, 0.4, 0]]}, speed=0.1))
     >>> g.position.tolist(), g.path.length, g.speed
     ([0.0, 0.0, 0.0], 0.5, 0.1)
     """
+    if goal.joints is not None:
+        assert chain is not None, "a joint goal's tool point needs the arm"
+        joints = np.radians(np.array(goal.joints, dtype=float))
+        return Goal(forward(chain, joints).tip.copy(), goal.hold, joints=joints)
     if goal.path is None:
         return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal))
     path = tool_path(goal.path)

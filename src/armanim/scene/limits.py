@@ -164,23 +164,43 @@ def _urdf_limits_degrees(arm) -> list:
 
 
 def _home_outside_limits(home, limits):
-    """arm.home (given, or the default zeros) strictly inside every limited joint's range."""
+    """arm.home (given, or the default zeros) within every limited joint's range, its ends included
+    (MoveIt's bounds are closed: a start may rest on a limit)."""
     given = home is not None
     angles = home if given else [0.0] * len(limits)
     for i, (angle, pair) in enumerate(zip(angles, limits)):
-        if pair is None or not pair[0] < pair[1] or pair[0] < angle < pair[1]:
+        if pair is None or not pair[0] < pair[1] or pair[0] <= angle <= pair[1]:
             continue
         inside = min(max(angle, pair[0] + 1), pair[1] - 1) if pair[1] - pair[0] > 2 else (pair[0] + pair[1]) / 2
         if given:
             yield f"arm.home[{i}]", (
                 f"{angle:g} deg is outside joint {i + 1}'s limits arm.limits[{i}] = [{pair[0]:g}, {pair[1]:g}] "
-                f"(expected strictly inside: e.g. home[{i}]: {inside:g})"
+                f"(expected within them, the ends included: e.g. home[{i}]: {inside:g})"
             )
         else:
             yield "arm.home", (
                 f"is not given, so joint {i + 1} starts at 0 deg, outside its limits arm.limits[{i}] = "
-                f"[{pair[0]:g}, {pair[1]:g}] (expected strictly inside: give arm.home with e.g. {inside:g} for joint {i + 1})"
+                f"[{pair[0]:g}, {pair[1]:g}] (expected within them, the ends included: give arm.home with e.g. {inside:g} for joint {i + 1})"
             )
+
+
+def joint_goal_limit_problems(scene: SceneModel):
+    """(field path, message) of each joint goal value outside its joint's limits (the ends are
+    allowed, as for ``arm.home``); goals of the wrong length are reported by the count check."""
+    arm = scene.arm
+    n = arm.joint_count
+    limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
+    if limits is None or len(limits) != n:
+        return
+    for k, goal in enumerate(scene.goals):
+        if goal.joints is None or len(goal.joints) != n:
+            continue
+        for i, (angle, pair) in enumerate(zip(goal.joints, limits)):
+            if pair is not None and pair[0] < pair[1] and not pair[0] <= angle <= pair[1]:
+                yield f"goals[{k}].joints[{i}]", (
+                    f"{angle:g} deg is outside joint {i + 1}'s limits [{pair[0]:g}, {pair[1]:g}] "
+                    "(expected within them, the ends included)"
+                )
 
 
 def rate_problems(arm: ArmModel):

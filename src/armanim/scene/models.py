@@ -349,18 +349,28 @@ class PathModel(Strict):
         return next(form for form in PATH_FORMS if getattr(self, form) is not None)
 
 
+GOAL_FORMS = ("position", "path", "joints")
+"""The keys that say what a goal is: a point, a path, or a pose of the joints."""
+
+
 class GoalModel(Strict):
-    """One goal: a point (``position``; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``)
-    or a path (``path`` and ``speed``: the arm goes to the path's start as to a point, then the tool follows it)."""
+    """One goal: a point (``position``; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``),
+    a path (``path`` and ``speed``: the arm goes to the path's start as to a point, then the tool follows it),
+    or a pose of the joints (``joints``: degrees, or metres for a prismatic joint, one per moving joint, like ``arm.home``)."""
 
     model_config = ConfigDict(
         extra="forbid",
         frozen=True,
         strict=True,
-        json_schema_extra={"oneOf": [{"required": ["position"]}, {"required": ["path", "speed"]}]},
+        json_schema_extra={"oneOf": [{"required": ["position"]}, {"required": ["path", "speed"]}, {"required": ["joints"]}]},
     )
 
     position: Vector3 | None = Field(default=None, description="A point goal's position.")
+    joints: Annotated[list[Finite], Field(min_length=1)] | None = Field(
+        default=None,
+        description="A joint goal: the arm's pose, one value per moving joint in order (degrees, as arm.home), reached when "
+                    "every joint is within solver.joint_tolerance of it.",
+    )
     path: PathModel | None = Field(
         default=None, description="A path goal's path for the tool to follow: line, arc, polyline or text (docs/scene-format.md, Path goals)."
     )
@@ -382,6 +392,8 @@ class GoalModel(Strict):
     def _speed_of_a_path(cls, value, info):
         if value is None and info.data.get("path") is not None:
             raise ValueError("is required on a path goal (the tool's speed along the path, scene units per second, e.g. speed: 0.05)")
+        if value is not None and info.data.get("joints") is not None:
+            raise ValueError("belongs to a path goal (a joint goal's motion is timed by the arm's joint speeds: leave speed out)")
         if value is not None and info.data.get("position") is not None:
             raise ValueError("belongs to a path goal (a point goal's motion is timed by the arm's joint speeds: "
                              "leave speed out, or give path instead of position)")
@@ -394,6 +406,9 @@ class GoalModel(Strict):
 
     @model_validator(mode="after")
     def _one_orientation(self):
+        if self.joints is not None and (self.orientation is not None or self.tool_axis is not None):
+            raise ValueError("sets joints with an orientation (a joint goal fixes the whole pose, the tool's orientation "
+                             "with it: leave orientation and tool_axis out, or give position instead of joints)")
         if self.orientation is not None and self.tool_axis is not None:
             raise ValueError("sets both orientation and tool_axis (expected at most one: tool_axis leaves the roll free, orientation fixes it)")
         return self
@@ -404,19 +419,24 @@ class GoalModel(Strict):
         if isinstance(value, list):
             return {"position": value}
         if isinstance(value, dict):
-            given = [key for key in ("position", "path") if value.get(key) is not None]
-            if len(given) == 2:
-                raise ValueError("sets both position and path (expected one: position for a point goal, or path with speed "
-                                 "for a path goal, whose arm goes to the path's start first)")
+            given = [key for key in GOAL_FORMS if value.get(key) is not None]
+            if len(given) >= 2:
+                raise ValueError(f"sets both {' and '.join(given)} (expected one: position for a point goal, path with speed "
+                                 "for a path goal, whose arm goes to the path's start first, or joints for a pose of the joints)")
             if not given:
-                raise ValueError("has neither position nor path (expected position: [x, y, z] for a point goal, "
-                                 "or path: {...} with speed for a path goal)")
+                raise ValueError("has neither position, path nor joints (expected position: [x, y, z] for a point goal, "
+                                 "path: {...} with speed for a path goal, or joints: [...] for a pose of the joints, degrees)")
         return value
 
     @property
     def is_path(self) -> bool:
         """Whether this is a path goal."""
         return self.path is not None
+
+    @property
+    def is_joint(self) -> bool:
+        """Whether this is a joint goal."""
+        return self.joints is not None
 
     @classmethod
     def __get_pydantic_json_schema__(cls, core_schema, handler):
@@ -469,6 +489,11 @@ class SolverModel(Strict):
     orientation_weight: Positive | None = Field(
         default=None,
         description="Length per radian: how much a radian of tool rotation weighs against a unit of distance; default the arm's reach / 4.",
+    )
+    joint_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
+        default=0.01,
+        description="Degrees (metres for a prismatic joint): a joint goal is reached when every joint is within this of it. "
+                    "The planned path ends on the goal itself, so this only absorbs rounding; MoveIt's default is 1e-4 rad (0.0057 deg).",
     )
     orientation_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
         default=1.0, description="Degrees: a goal with an orientation is reached when the tool is within this angle of it (and within tolerance)."

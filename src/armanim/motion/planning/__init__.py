@@ -18,10 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.motion.orientation import Orientation
-from armanim.motion.planning.follow import damper_paced, path_schedule, poses_along
-from armanim.motion.planning.path import Searched, plan_path
+from armanim.motion.planning.follow import damper_paced, path_lengths, path_schedule, poses_along
+from armanim.motion.planning.path import Searched, motion_is_free, plan_path, search_path
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Problem
+from armanim.motion.solvers.barrier import pose_clearance
 from armanim.names import MissReason, PathSource
 
 
@@ -97,4 +98,73 @@ def plan_motion(
     return Plan(frames, None, len(found.poses), path.source, path.checks)
 
 
-__all__ = ["Plan", "plan_motion"]
+def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, searched: Searched | None = None) -> Plan:
+    """Plan from the pose ``phi_now`` to the joint goal ``goal`` (both (n,), radians), ending on it exactly.
+
+    The straight joint-space segment if :func:`~.path.motion_is_free` certifies it, else OMPL's
+    RRT-Connect and its simplification (shortcuts and smoothing, every piece certified by the
+    same proof); every pose keeps ``solver.clearance`` from the obstacles and the enabled pairs
+    ``solver.self_clearance`` apart, and every joint within its limits, their ends included (a
+    start or goal may rest on a limit), certified at :func:`joint_path_floor`. With ``solver.planner: off`` only the straight segment
+    is tried. The frames follow :func:`~.follow.path_schedule` (no joint above ``max_joint_step``
+    a frame, at most ``max_frames_per_goal``); the last one is ``goal`` itself when they reach it.
+
+    Returns
+    -------
+    Plan
+        ``source`` ``"straight"`` or ``"rrt_connect"``; ``reason`` ``"no_path"`` without one.
+    """
+    floor = joint_path_floor(problem, phi_now, goal)
+    goals = goal[None]
+    if problem.solver.planner == "off":
+        free, checks = motion_is_free(problem, phi_now, goal, floor, closed=True)
+        waypoints, source = (np.stack([phi_now, goal]), "straight") if free else (None, "none")
+    else:
+        waypoints, source, checks = joint_goal_search(problem, phi_now, goals, floor, searched)
+    if waypoints is None:
+        return Plan(None, "no_path", 1, source, checks)
+    frames = joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal)
+    if len(frames) and np.array_equal(frames[-1], waypoints[-1]):
+        frames[-1] = goal  # the waypoint is the goal (OMPL's copy of it may round)
+    return Plan(frames, None, 1, source, checks)
+
+
+def joint_path_frames(waypoints: np.ndarray, max_joint_step: float, most: int) -> np.ndarray:
+    """(F, n) frames along ``waypoints`` (k, n): :func:`~.follow.path_schedule`'s, and every
+    waypoint itself, so that the chord between two frames lies on one straight piece of the
+    certified path (never across a corner); at most ``most`` frames.
+
+    >>> joint_path_frames(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]), 0.5, 100)[[2, 3, -1]].tolist()
+    [[1.0, 0.0], [1.0, 0.4814814814814814], [1.0, 1.0]]
+    """
+    at = path_lengths(waypoints)
+    s = np.union1d(path_schedule(waypoints, max_joint_step, most), at[1:])[:most]
+    frames = poses_along(waypoints, s)
+    corners = np.searchsorted(s, at[1:])  # each waypoint exactly, not a + (b - a) rounded
+    kept = corners < len(s)
+    frames[corners[kept]] = waypoints[1:][kept]
+    return frames
+
+
+def joint_path_floor(problem: Problem, start: np.ndarray, goal: np.ndarray) -> float:
+    """The floor a joint goal's path is certified at: ``solver.clearance`` raised by what the
+    certification may miss (half its ``certify_to`` clearances, :func:`~.path.motion_is_free`),
+    so that every pose between the solved frames keeps ``solver.clearance`` and the clock never
+    has to leave the path; no more than the start's and the goal's own clearance allow."""
+    d_safe = problem.solver.clearance
+    ends = pose_clearance(problem, np.stack([start, goal]))
+    return float(max(d_safe, min(d_safe * (1 + problem.tunables.planner.certify_to / 2), ends.min())))
+
+
+def joint_goal_search(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
+                      searched: Searched | None) -> tuple[np.ndarray | None, PathSource, int]:
+    """:func:`~.path.search_path` with the limits closed, telling ``searched`` its iterations."""
+    most = problem.tunables.planner.plan_iterations
+    tick = (lambda done: searched(done, most)) if searched is not None else None
+    found = search_path(problem, start, goals, floor, tick, closed=True)
+    if searched is not None and found[1] != "straight":
+        searched(most, most)
+    return found
+
+
+__all__ = ["Plan", "plan_joint_motion", "plan_motion"]

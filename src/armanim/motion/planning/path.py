@@ -77,7 +77,7 @@ def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: floa
     return cast("np.ndarray | None", a + t * (b - a))
 
 
-def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
+def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float, closed: bool = False) -> tuple[bool, int]:
     """Whether no pose on the segment a-b comes closer than ``floor`` to an obstacle (to within
     ``certify_to * solver.clearance / 2``, the planner's options), and how many poses were checked.
 
@@ -86,7 +86,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
     c1 + c2 >= S + 2 floor. Poses ``coarse`` clearances apart are checked first; a pair
     they do not certify is halved, level by level, until every piece is certified or shorter
     than ``certify_to`` clearances, or a pose below ``floor`` is found. The limits are a
-    box: free ends keep them.
+    box: free ends keep them (by the filter's buffer, or ``closed``: the ends of the limits included).
 
     The enabled pairs of the arm's own capsules are judged alike, each by its own travel: a
     pair's gap (shifted by ``clearance - self_clearance``) depends only on the joints between its
@@ -101,7 +101,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float)
         return False, 0
     clear, own = split_clearances(problem, coarse)
     checks = len(coarse)
-    if not np.all(_least(clear, own) >= floor) or not within_limits(problem, coarse[[0, -1]]).all():
+    if not np.all(_least(clear, own) >= floor) or not within_limits(problem, coarse[[0, -1]], closed).all():
         return False, checks
     return _certified(problem, coarse, clear, own, floor, checks)
 
@@ -218,22 +218,23 @@ def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, 
 
 def search_path(
     problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
-    tick: Callable[[int], None] | None = None, first: int = 0, searches: int | None = None,
+    tick: Callable[[int], None] | None = None, first: int = 0, searches: int | None = None, closed: bool = False,
 ) -> tuple[np.ndarray | None, PathSource, int]:
     """(waypoints or None, source, checks): the straight segment to one of the first goals,
     else RRT-Connect to any of them (``searches`` searches, default ``ompl_searches``), every
     pose at least ``floor`` from every obstacle. ``tick(done)`` is told the iterations, counted
-    as though ``first`` searches had run before."""
+    as though ``first`` searches had run before. ``closed``: the limits' ends are allowed (a
+    joint goal's path, which may start or end on a limit), else the filter's buffer is kept."""
     checks, opts = 0, problem.tunables.planner
     for goal in goals[:opts.straight_tries]:
-        free, used = motion_is_free(problem, start, goal, floor)
+        free, used = motion_is_free(problem, start, goal, floor, closed)
         checks += used
         if free:
             return np.stack([start, goal]), "straight", checks
     for search in range(opts.ompl_searches if searches is None else searches):
         before = (first + search) * opts.ompl_iterations
         counted = (lambda done, before=before: tick(before + done)) if tick else None
-        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted)
+        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted, closed)
         gc.collect()  # OMPL's Python callbacks form cycles with its objects: free them now, not at exit
         checks += used
         if waypoints is not None:
@@ -268,7 +269,7 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
 
 def rrt_connect(
     problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, search: int = 0,
-    tick: Callable[[int], None] | None = None,
+    tick: Callable[[int], None] | None = None, closed: bool = False,
 ) -> tuple[np.ndarray | None, int]:
     """OMPL's RRT-Connect from ``start`` to any of ``goals``, simplified; (path or None, checks).
     Every pose of the path keeps ``floor`` from every obstacle.
@@ -284,7 +285,7 @@ def rrt_connect(
     _seed_ompl(search, opts.ompl_seed)
     n = len(start)
     checks = [0]
-    space, si, _validator = _space_information(ob, problem, start, floor, checks)  # OMPL borrows the validator: keep it
+    space, si, _validator = _space_information(ob, problem, start, floor, checks, closed)  # OMPL borrows the validator: keep it
     pdef = ob.ProblemDefinition(si)
     pdef.addStartState(_state(space, start))
     targets = ob.GoalStates(si)
@@ -330,9 +331,11 @@ def _seed_ompl(search: int, seed: int) -> None:
         ou.RNG()  # each RNG made takes the next seed: the planner's RNGs get later ones
 
 
-def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: float, checks: list[int]) -> tuple[Any, Any, Any]:
+def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: float, checks: list[int],
+                       closed: bool = False) -> tuple[Any, Any, Any]:
     """OMPL's joint space for the arm, with the free-pose test and the certified motion check
-    at ``floor`` (both counting poses checked into ``checks[0]``); returns (space, si, validator)."""
+    at ``floor`` (both counting poses checked into ``checks[0]``; ``closed``: the limits' ends
+    allowed); returns (space, si, validator)."""
     n = len(start)
     space = ob.RealVectorStateSpace(n)
     space.setBounds(_bounds(ob, problem, start))
@@ -341,11 +344,11 @@ def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: floa
     def state_is_free(state: Any) -> bool:
         checks[0] += 1
         phi = _array(state, n)[None]
-        return bool(within_limits(problem, phi)[0] and pose_clearance(problem, phi)[0] >= floor)
+        return bool(within_limits(problem, phi, closed)[0] and pose_clearance(problem, phi)[0] >= floor)
 
     class SampledMotions(ob.MotionValidator):  # type: ignore[misc]  # OMPL's Python bindings ship no types: the base is Any
         def checkMotion(self, s1: Any, s2: Any, *_: Any) -> bool:
-            free, used = motion_is_free(problem, _array(s1, n), _array(s2, n), floor)
+            free, used = motion_is_free(problem, _array(s1, n), _array(s2, n), floor, closed)
             checks[0] += used
             return free
 

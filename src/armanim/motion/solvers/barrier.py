@@ -369,10 +369,11 @@ def kept_self_clearance(problem: Problem) -> float:
     return kept_clearance(problem) - self_shift(problem)
 
 
-def within_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
-    """For (k, n) poses: (k,) bool, every limited joint at least the limit buffer inside its limits."""
+def within_limits(problem: Problem, phi: np.ndarray, closed: bool = False) -> np.ndarray:
+    """For (k, n) poses: (k,) bool, every limited joint at least the limit buffer inside its limits
+    (``closed``: within its limits, the ends included, as a joint goal's path keeps them)."""
     lim = problem.limits
-    buffer = limit_buffer(problem)
+    buffer = 0.0 if closed else limit_buffer(problem)
     return cast(np.ndarray, np.all((phi >= lim.lower + buffer) & (phi <= lim.upper - buffer), axis=-1))
 
 

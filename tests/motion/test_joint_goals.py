@@ -1,0 +1,150 @@
+"""Joint goals (``goals: - joints: [...]``): the arm plans its way to a pose of its joints and
+ends on it, every frame keeping the invariants, also from a start resting on a joint limit;
+bad joint goals are refused at their line."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from invariants import assert_trajectory_invariants
+
+from armanim.arm.kinematics import forward
+from armanim.motion.retime import retime
+from armanim.motion.trajectory import solve_trajectory
+from armanim.scene import scene_model
+from armanim.scene.convert import scene_to_problem
+from armanim.scene.loader import load_scene
+
+PANDA_HOME = [0, -45, 0, -135, 0, 90, 45]
+PANDA_JOINT2_LOWER = math.degrees(-1.7628)  # the Panda URDF's panda_joint2 lower limit (rad), in degrees
+
+
+def solved(scene: dict, timed: bool = True):
+    """(problem, solution) of a scene dict, put on the clock at its own fps when ``timed``."""
+    problem = scene_to_problem(scene_model(scene))
+    solution = solve_trajectory(problem)
+    return problem, retime(problem, solution, problem.fps) if timed else solution
+
+
+def last_frames(solution) -> list[np.ndarray]:
+    """Each goal's last frame (radians)."""
+    traj = solution.trajectory
+    return [traj.phi[np.nonzero(traj.goal == g.index)[0][-1]] for g in solution.goals]
+
+
+def test_notes_arm_ends_on_each_joint_goal_exactly():
+    scene = {"version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0], "limits": [[-170, 170]] * 4},
+             "obstacles": [{"center": [12, 2, 8], "radius": 1.5}],
+             "goals": [{"joints": [30, 40, 20, -10]}, {"joints": [-60, 10, 80, 30], "hold": 0.5}, {"joints": [0, 0, 0, 0]}]}
+    problem, solution = solved(scene)
+    assert all(g.reached for g in solution.goals)
+    for goal, phi in zip(problem.goals, last_frames(solution)):
+        np.testing.assert_allclose(phi, goal.joints, atol=1e-12)
+        # the report's position is the goal's tool point, by forward kinematics
+        np.testing.assert_allclose(goal.position, forward(problem.arm, goal.joints).tip, atol=1e-12)
+    assert_trajectory_invariants(problem, solution)
+    # reached only where the joints are there (not where the tool point passes by)
+    traj = solution.trajectory
+    for k, goal in enumerate(problem.goals):
+        mine = traj.goal == k
+        there = np.abs(traj.phi[mine] - goal.joints).max(axis=1) <= problem.solver.joint_tolerance
+        np.testing.assert_array_equal(traj.reached[mine], there)
+
+
+def test_panda_goes_round_a_board_to_joint_goals():
+    """The straight joint path from one side to the other sweeps the arm through a board: the
+    planner goes round it; every frame keeps clearance and the self pairs, within the rates."""
+    scene = {"version": 1, "arm": {"robot": "panda"}, "floor": 0.0,
+             "obstacles": [{"box": {"center": [0.55, 0.0, 0.45], "size": [0.2, 0.05, 0.9]}}],
+             "goals": [{"joints": [60, 20, 0, -100, 0, 120, 45]}, {"joints": [-60, 20, 0, -100, 0, 120, 45]}],
+             "solver": {"clearance": 0.01}}
+    problem, solution = solved(scene)
+    assert all(g.reached for g in solution.goals), [g.reason for g in solution.goals]
+    assert solution.goals[1].planning.path == "rrt_connect"
+    for goal, phi in zip(problem.goals, last_frames(solution)):
+        np.testing.assert_allclose(phi, goal.joints, atol=1e-12)
+    assert_trajectory_invariants(problem, solution)
+
+
+def test_a_start_on_a_joint_limit_is_taken_and_left():
+    """MoveIt's bounds are closed: MotionBenchMaker's table_under_pick starts rest on joint 2's limit."""
+    home = [0, PANDA_JOINT2_LOWER, 0, -135, 0, 90, 45]
+    scene = {"version": 1, "arm": {"robot": "panda", "home": home}, "goals": [{"joints": PANDA_HOME}, [0.4, 0.1, 0.5]]}
+    problem, solution = solved(scene)
+    assert problem.home[1] == problem.limits.lower[1]
+    assert all(g.reached for g in solution.goals), [g.reason for g in solution.goals]
+    assert_trajectory_invariants(problem, solution)
+    # and a joint goal on the limit is reached on it
+    scene = {"version": 1, "arm": {"robot": "panda"}, "goals": [{"joints": home}]}
+    problem, solution = solved(scene)
+    assert solution.goals[0].reached
+    assert last_frames(solution)[0][1] == problem.limits.lower[1]
+    assert_trajectory_invariants(problem, solution)
+
+
+def test_a_pose_goal_from_a_start_on_a_limit():
+    """The filter moves a joint resting on its limit no further out, the barrier is silent there."""
+    home = [0, PANDA_JOINT2_LOWER, 0, -135, 0, 90, 45]
+    problem, solution = solved({"version": 1, "arm": {"robot": "panda", "home": home}, "goals": [[0.4, 0.1, 0.5]]})
+    assert solution.goals[0].reached
+    assert_trajectory_invariants(problem, solution)
+
+
+@pytest.mark.parametrize(("goal", "field", "words"), [
+    ({"joints": [0, -45, 0]}, "goals[0].joints", "has 3 values, the arm has 7 moving joints"),
+    ({"joints": [0, -120, 0, -135, 0, 90, 45]}, "goals[0].joints[1]", "outside joint 2's limits"),
+    ({"joints": PANDA_HOME, "tool_axis": [0, 0, 1]}, "goals[0]", "sets joints with an orientation"),
+    ({"joints": PANDA_HOME, "position": [0.4, 0, 0.4]}, "goals[0]", "sets both position and joints"),
+    ({"joints": PANDA_HOME, "speed": 0.1}, "goals[0].speed", "belongs to a path goal"),
+    ({"joints": [0, -45, 0, -135, 0, 90, float("nan")]}, "goals[0].joints[6]", "finite"),
+])
+def test_bad_joint_goals_are_refused_at_their_line(tmp_path, cli, goal, field, words):
+    import yaml
+
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump({"version": 1, "arm": {"robot": "panda"}, "goals": [goal]}, sort_keys=False))
+    result = cli("validate", path)
+    assert result.exit_code == 2, result.output
+    assert f"{field}" in result.output and words in result.output, result.output
+    assert f"{path.name}:" in result.output
+
+
+def test_a_joint_goal_in_collision_is_refused(tmp_path, cli):
+    path = tmp_path / "inside.yaml"
+    path.write_text("version: 1\narm: {robot: panda}\nobstacles:\n  - {center: [0.3, 0.0, 0.49], radius: 0.05}\n"
+                    "goals:\n  - [0.5, 0.3, 0.5]\n  - {joints: [0, -45, 0, -135, 0, 90, 45]}\n")
+    result = cli("validate", path)
+    assert result.exit_code == 2, result.output
+    assert "goals[1]" in result.output and "of the joint goal's pose is inside obstacles[0]" in result.output, result.output
+
+
+def test_a_home_beyond_a_limit_is_still_refused(tmp_path, cli):
+    path = tmp_path / "beyond.yaml"
+    path.write_text(f"version: 1\narm: {{robot: panda, home: [0, {PANDA_JOINT2_LOWER - 0.01!r}, 0, -135, 0, 90, 45]}}\n"
+                    "goals:\n  - {joints: [0, -45, 0, -135, 0, 90, 45]}\n")
+    result = cli("validate", path)
+    assert result.exit_code == 2 and "the ends included" in result.output, result.output
+
+
+def test_joint_goal_runs_are_byte_identical(tmp_path, cli):
+    scene = tmp_path / "twice.yaml"
+    scene.write_text("version: 1\nname: twice\narm: {robot: panda}\nfloor: 0.0\nobstacles:\n"
+                     "  - {box: {center: [0.55, 0.0, 0.45], size: [0.2, 0.05, 0.9]}}\n"
+                     "goals:\n  - {joints: [60, 20, 0, -100, 0, 120, 45]}\n  - {joints: [-60, 20, 0, -100, 0, 120, 45]}\n"
+                     "solver: {clearance: 0.01}\n")
+    outs = []
+    for k in range(2):
+        result = cli("run", scene, "--out", tmp_path / f"out{k}", "--no-video", "--quiet")
+        assert result.exit_code == 0, result.output
+        outs.append(tmp_path / f"out{k}" / "twice")
+    for name in ("trajectory.csv", "summary.json"):
+        assert (outs[0] / name).read_bytes() == (outs[1] / name).read_bytes(), name
+
+
+def test_the_documented_joint_goal_form_loads(tmp_path):
+    """The loader takes the joint goal form as docs/scene-format.md writes it."""
+    path = tmp_path / "form.yaml"
+    path.write_text("version: 1\narm: {robot: ur5}\ngoals:\n  - joints: [0, -90, 90, -90, -90, 0]\n    hold: 0.2\n")
+    assert load_scene(path).model.goals[0].joints == [0, -90, 90, -90, -90, 0]
