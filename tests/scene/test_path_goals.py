@@ -112,7 +112,7 @@ def test_a_path_goal_counts_its_frames_along_the_path(tmp_path):
     ("tool_axis3", "    tool_axis: [-1, 0, 0]", "goals[3].tool_axis", ("out of the board's front", "right x up = [-1, 0, 0]", "tool_axis: [1, 0, 0]")),
     ("goal4", "  - {position: [3, 2, 4], speed: 1}", "goals[4].speed", ("belongs to a path goal",)),
     ("goal4", "  - {position: [3, 2, 4], path: {line: [[0, 0, 1], [0, 1, 1]]}, speed: 1}", "goals[4]", ("both position and path",)),
-    ("goal4", "  - {speed: 1, hold: 2}", "goals[4]", ("neither position nor path",)),
+    ("goal4", "  - {speed: 1, hold: 2}", "goals[4]", ("neither position, path nor joints",)),
     ("goal4", "  - {path: {line: [[0, 0, 1], [0, 1, 1]], arc: {center: [0, 0, 0], start: [1, 0, 0], angle: 9, normal: [0, 0, 1]}}, speed: 1}",
      "goals[4].path", ("one form (got line and arc)",)),
     ("goal4", "  - {path: {circle: [0, 0, 0]}, speed: 1}", "goals[4].path.circle", ("unknown key 'circle'",)),

@@ -198,8 +198,16 @@ def test_home_outside_limits(tmp_path, cli):
     rejected(tmp_path, cli, content, "arm.home[1]", L["home"], "95 deg is outside joint 2's limits", "[-90, 90]")
 
 
-def test_home_on_a_limit_is_outside(tmp_path, cli):
-    rejected(tmp_path, cli, edit(L["home"], "  home: [0, 90, 20]"), "arm.home[1]", L["home"], "strictly inside")
+def test_home_beyond_a_limit_is_outside(tmp_path, cli):
+    rejected(tmp_path, cli, edit(L["home"], "  home: [0, 90.5, 20]"), "arm.home[1]", L["home"], "the ends included")
+
+
+def test_home_on_a_limit_is_taken(tmp_path, cli):
+    # limits are closed for what the user gives (MoveIt's bounds are): a start may rest on one
+    path = tmp_path / "on-limit.yaml"
+    path.write_text(edit(L["home"], "  home: [0, 90, 20]"))
+    result = cli("validate", path)
+    assert result.exit_code == 0, result.output
 
 
 def test_default_home_outside_the_limits_is_rejected(tmp_path, cli):
