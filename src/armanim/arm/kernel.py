@@ -51,7 +51,7 @@ def compiled(**options: Any) -> Callable[[F], F]:
 
 
 COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "motion/solvers/compiled.py",
-                    "motion/solvers/compiled_frame.py", "render/solids/rasterloops.py")
+                    "motion/solvers/compiled_frame.py", "motion/planning/check.py", "render/solids/rasterloops.py")
 """Every module of armanim that defines compiled functions (paths inside the package): one's
 machine code holds the compiled functions it calls from the others."""
 

@@ -19,10 +19,10 @@ import numpy as np
 
 from armanim.motion.orientation import Orientation
 from armanim.motion.planning.follow import damper_paced, path_lengths, path_schedule, poses_along
-from armanim.motion.planning.path import Searched, motion_is_free, plan_path, search_path
+from armanim.motion.planning.check import CompiledCheck
+from armanim.motion.planning.path import Searched, plan_path, search_path
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import pose_clearance
 from armanim.names import MissReason, PathSource
 
 
@@ -114,13 +114,13 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
     Plan
         ``source`` ``"straight"`` or ``"rrt_connect"``; ``reason`` ``"no_path"`` without one.
     """
-    floor = joint_path_floor(problem, phi_now, goal)
-    goals = goal[None]
+    check = CompiledCheck.of(problem, closed=True)
+    floor = joint_path_floor(check, problem, phi_now, goal)
     if problem.solver.planner == "off":
-        free, checks = motion_is_free(problem, phi_now, goal, floor, closed=True)
+        free, checks = check.motion_free(phi_now, goal, floor)
         waypoints, source = (np.stack([phi_now, goal]), "straight") if free else (None, "none")
     else:
-        waypoints, source, checks = joint_goal_search(problem, phi_now, goals, floor, searched)
+        waypoints, source, checks = joint_goal_search(problem, phi_now, goal[None], floor, searched, check)
     if waypoints is None:
         return Plan(None, "no_path", 1, source, checks)
     frames = joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal)
@@ -146,22 +146,23 @@ def joint_path_frames(waypoints: np.ndarray, max_joint_step: float, most: int) -
     return frames
 
 
-def joint_path_floor(problem: Problem, start: np.ndarray, goal: np.ndarray) -> float:
+def joint_path_floor(check: CompiledCheck, problem: Problem, start: np.ndarray, goal: np.ndarray) -> float:
     """The floor a joint goal's path is certified at: ``solver.clearance`` raised by what the
     certification may miss (half its ``certify_to`` clearances, :func:`~.path.motion_is_free`),
     so that every pose between the solved frames keeps ``solver.clearance`` and the clock never
     has to leave the path; no more than the start's and the goal's own clearance allow."""
     d_safe = problem.solver.clearance
-    ends = pose_clearance(problem, np.stack([start, goal]))
-    return float(max(d_safe, min(d_safe * (1 + problem.tunables.planner.certify_to / 2), ends.min())))
+    least = min(check.pose_clearance(start), check.pose_clearance(goal))
+    return float(max(d_safe, min(d_safe * (1 + problem.tunables.planner.certify_to / 2), least)))
 
 
-def joint_goal_search(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
-                      searched: Searched | None) -> tuple[np.ndarray | None, PathSource, int]:
-    """:func:`~.path.search_path` with the limits closed, telling ``searched`` its iterations."""
+def joint_goal_search(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, searched: Searched | None,
+                      check: CompiledCheck) -> tuple[np.ndarray | None, PathSource, int]:
+    """:func:`~.path.search_path` by the compiled ``check`` (its limits closed), telling ``searched``
+    its iterations."""
     most = problem.tunables.planner.plan_iterations
     tick = (lambda done: searched(done, most)) if searched is not None else None
-    found = search_path(problem, start, goals, floor, tick, closed=True)
+    found = search_path(problem, start, goals, floor, tick, check=check)
     if searched is not None and found[1] != "straight":
         searched(most, most)
     return found

@@ -14,6 +14,7 @@ the process planned before (a batch worker gives the same trajectory as a fresh 
 
 from __future__ import annotations
 
+import atexit
 import gc
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -21,6 +22,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from armanim.motion.planning.check import CompiledCheck
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
     kept_clearance,
@@ -218,28 +220,43 @@ def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, 
 
 def search_path(
     problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
-    tick: Callable[[int], None] | None = None, first: int = 0, searches: int | None = None, closed: bool = False,
+    tick: Callable[[int], None] | None = None, first: int = 0, searches: int | None = None, check: CompiledCheck | None = None,
 ) -> tuple[np.ndarray | None, PathSource, int]:
     """(waypoints or None, source, checks): the straight segment to one of the first goals,
     else RRT-Connect to any of them (``searches`` searches, default ``ompl_searches``), every
     pose at least ``floor`` from every obstacle. ``tick(done)`` is told the iterations, counted
-    as though ``first`` searches had run before. ``closed``: the limits' ends are allowed (a
-    joint goal's path, which may start or end on a limit), else the filter's buffer is kept."""
+    as though ``first`` searches had run before. ``check``: the compiled checks to judge poses
+    and motions by (:class:`~armanim.motion.planning.check.CompiledCheck`, whose ``closed``
+    limits a joint goal's path keeps), else the numpy ones with the filter's buffer."""
     checks, opts = 0, problem.tunables.planner
     for goal in goals[:opts.straight_tries]:
-        free, used = motion_is_free(problem, start, goal, floor, closed)
+        free, used = check.motion_free(start, goal, floor) if check is not None else motion_is_free(problem, start, goal, floor)
         checks += used
         if free:
             return np.stack([start, goal]), "straight", checks
     for search in range(opts.ompl_searches if searches is None else searches):
         before = (first + search) * opts.ompl_iterations
         counted = (lambda done, before=before: tick(before + done)) if tick else None
-        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted, closed)
-        gc.collect()  # OMPL's Python callbacks form cycles with its objects: free them now, not at exit
+        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted, check)
+        _collect_before_exit()
         checks += used
         if waypoints is not None:
             return waypoints, "rrt_connect", checks
     return None, "none", checks
+
+
+def _collect_before_exit() -> None:
+    """Free OMPL's objects before the interpreter ends (once a process). Its Python callbacks form
+    cycles with its objects, a dozen a search, which nanobind reports as leaks if they are still
+    there at exit; a full collection takes 0.1 s in a process that has loaded numba, so it runs
+    once, at exit, not after every search."""
+    global _COLLECTING
+    if not _COLLECTING:
+        atexit.register(gc.collect)
+        _COLLECTING = True
+
+
+_COLLECTING = False
 
 
 def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.ndarray | None, int]:
@@ -269,7 +286,7 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
 
 def rrt_connect(
     problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, search: int = 0,
-    tick: Callable[[int], None] | None = None, closed: bool = False,
+    tick: Callable[[int], None] | None = None, check: CompiledCheck | None = None,
 ) -> tuple[np.ndarray | None, int]:
     """OMPL's RRT-Connect from ``start`` to any of ``goals``, simplified; (path or None, checks).
     Every pose of the path keeps ``floor`` from every obstacle.
@@ -285,7 +302,7 @@ def rrt_connect(
     _seed_ompl(search, opts.ompl_seed)
     n = len(start)
     checks = [0]
-    space, si, _validator = _space_information(ob, problem, start, floor, checks, closed)  # OMPL borrows the validator: keep it
+    space, si, _validator = _space_information(ob, problem, start, floor, checks, check)  # OMPL borrows the validator: keep it
     pdef = ob.ProblemDefinition(si)
     pdef.addStartState(_state(space, start))
     targets = ob.GoalStates(si)
@@ -332,10 +349,10 @@ def _seed_ompl(search: int, seed: int) -> None:
 
 
 def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: float, checks: list[int],
-                       closed: bool = False) -> tuple[Any, Any, Any]:
+                       check: CompiledCheck | None = None) -> tuple[Any, Any, Any]:
     """OMPL's joint space for the arm, with the free-pose test and the certified motion check
-    at ``floor`` (both counting poses checked into ``checks[0]``; ``closed``: the limits' ends
-    allowed); returns (space, si, validator)."""
+    at ``floor`` (both counting poses checked into ``checks[0]``; by ``check`` where given, else
+    numpy's); returns (space, si, validator)."""
     n = len(start)
     space = ob.RealVectorStateSpace(n)
     space.setBounds(_bounds(ob, problem, start))
@@ -344,11 +361,14 @@ def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: floa
     def state_is_free(state: Any) -> bool:
         checks[0] += 1
         phi = _array(state, n)[None]
-        return bool(within_limits(problem, phi, closed)[0] and pose_clearance(problem, phi)[0] >= floor)
+        if check is not None:
+            return check.pose_free(phi[0], floor)
+        return bool(within_limits(problem, phi)[0] and pose_clearance(problem, phi)[0] >= floor)
 
     class SampledMotions(ob.MotionValidator):  # type: ignore[misc]  # OMPL's Python bindings ship no types: the base is Any
         def checkMotion(self, s1: Any, s2: Any, *_: Any) -> bool:
-            free, used = motion_is_free(problem, _array(s1, n), _array(s2, n), floor, closed)
+            a, b = _array(s1, n), _array(s2, n)
+            free, used = check.motion_free(a, b, floor) if check is not None else motion_is_free(problem, a, b, floor)
             checks[0] += used
             return free
 

@@ -1,0 +1,87 @@
+"""The planner's compiled checks (motion/planning/check.py) against their numpy references:
+poses' margins against split_clearances to rounding, and a motion's certificate against
+motion_is_free (the same answer and the same poses checked), on the bundled robots and an arm
+of links among random spheres, boxes, capsules and a floor, from a fixed grid of seeds."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from armanim.motion.planning.check import CompiledCheck
+from armanim.motion.planning.path import motion_is_free
+from armanim.motion.solvers.barrier import split_clearances, within_limits
+from armanim.scene import scene_model
+from armanim.scene.convert import scene_to_problem
+
+ARMS = {
+    "panda": ({"robot": "panda"}, 0.5),
+    "ur5": ({"robot": "ur5"}, 0.5),
+    "links": ({"links": [2, 5, 5, 5], "base": [5, 5, 0], "limits": [None, [-100, 100], [-150, 150], [-150, 150]]}, 8.0),
+}
+
+
+def random_problem(arm: str, seed: int):
+    """A scene of the arm among a random sphere, box and capsule near its reach, and a floor."""
+    spec, reach = ARMS[arm]
+    rng = np.random.default_rng(seed)
+    base = np.array(spec.get("base", [0, 0, 0]), dtype=float)
+
+    def near() -> list[float]:
+        return [float(v) for v in base + rng.uniform([-reach, -reach, 0.1 * reach], [reach, reach, reach])]
+
+    scene = {"version": 1, "arm": spec, "floor": float(base[2]) - 0.01 * reach,
+             "obstacles": [{"center": near(), "radius": float(rng.uniform(0.05, 0.2) * reach)},
+                           {"box": {"center": near(), "size": [float(v) for v in rng.uniform(0.05, 0.4, 3) * reach],
+                                    "rpy": [float(v) for v in rng.uniform(-180, 180, 3)]}},
+                           {"capsule": {"from": near(), "to": near(), "radius": float(rng.uniform(0.02, 0.1) * reach)}}],
+             "goals": [[float(v) for v in base + [0.5 * reach, 0, 0.5 * reach]]], "solver": {"clearance": 0.02 * reach}}
+    return scene_to_problem(scene_model(scene)), rng
+
+
+def random_poses(problem, rng, count: int) -> np.ndarray:
+    lower = np.where(problem.limits.limited, problem.limits.lower, -np.pi)
+    upper = np.where(problem.limits.limited, problem.limits.upper, np.pi)
+    return lower + rng.random((count, problem.arm.n)) * (upper - lower)
+
+
+@pytest.mark.parametrize("arm", sorted(ARMS))
+@pytest.mark.parametrize("seed", range(4))
+def test_margins_equal_the_numpy_clearances(arm, seed):
+    problem, rng = random_problem(arm, seed)
+    poses = random_poses(problem, rng, 64)
+    clear, own = CompiledCheck.of(problem).margins(poses)
+    ref_clear, ref_own = split_clearances(problem, poses)
+    scale = ARMS[arm][1]
+    np.testing.assert_allclose(clear, ref_clear, rtol=0, atol=1e-12 * scale)
+    if ref_own is None:
+        assert own.shape == (64, 0)
+    else:
+        np.testing.assert_allclose(own, ref_own, rtol=0, atol=1e-12 * scale)
+
+
+@pytest.mark.parametrize("arm", sorted(ARMS))
+@pytest.mark.parametrize("closed", [False, True])
+def test_motion_certificate_equals_motion_is_free(arm, closed):
+    answers = set()
+    for seed in range(100, 104):
+        problem, rng = random_problem(arm, seed)
+        check = CompiledCheck.of(problem, closed=closed)
+        poses = random_poses(problem, rng, 31)
+        floor = problem.solver.clearance
+        for a, b in zip(poses[:-1], poses[1:]):
+            b = a + rng.choice([0.05, 0.3, 1.0]) * (b - a)  # short, middling and long motions
+            compiled = check.motion_free(a, b, floor)
+            assert compiled == motion_is_free(problem, a, b, floor, closed), (seed, a.tolist(), b.tolist())
+            answers.add(compiled[0])
+    assert answers == {True, False}  # both answers were asked for
+
+
+def test_a_pose_on_a_limit_is_free_only_with_closed_limits():
+    problem, _ = random_problem("panda", 7)
+    pose = problem.home.copy()
+    pose[1] = problem.limits.lower[1]
+    floor = 0.0
+    assert within_limits(problem, pose[None], closed=True)[0] and not within_limits(problem, pose[None])[0]
+    assert CompiledCheck.of(problem, closed=True).pose_free(pose, floor) == bool(split_clearances(problem, pose[None])[0][0] >= floor)
+    assert not CompiledCheck.of(problem).pose_free(pose, floor)
