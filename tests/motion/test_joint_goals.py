@@ -148,3 +148,23 @@ def test_the_documented_joint_goal_form_loads(tmp_path):
     path = tmp_path / "form.yaml"
     path.write_text("version: 1\narm: {robot: ur5}\ngoals:\n  - joints: [0, -90, 90, -90, -90, 0]\n    hold: 0.2\n")
     assert load_scene(path).model.goals[0].joints == [0, -90, 90, -90, -90, 0]
+
+
+def test_summary_path_length_is_the_joint_path_of_the_csv(tmp_path, cli):
+    import csv
+    import json
+
+    scene = tmp_path / "length.yaml"
+    scene.write_text("version: 1\nname: length\narm: {robot: ur5}\n"
+                     "goals:\n  - {joints: [30, -60, 60, -90, -90, 0], hold: 0.3}\n  - [0.4, 0.2, 0.3]\n")
+    assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet").exit_code == 0
+    run = tmp_path / "out" / "length"
+    rows = list(csv.DictReader((run / "trajectory.csv").open()))
+    phi = np.radians([[float(r[f"phi{j}_deg"]) for j in range(1, 7)] for r in rows])
+    goal = np.array([int(r["goal"]) for r in rows])
+    summary = json.loads((run / "summary.json").read_text())
+    for k, g in enumerate(summary["goals"]):
+        mine = np.nonzero(goal == k)[0]
+        expected = sum(np.linalg.norm(phi[i] - phi[i - 1]) for i in mine if i > 0)
+        assert g["path_length_rad"] == pytest.approx(expected, rel=1e-6, abs=1e-9)
+    assert summary["goals"][0]["path_length_rad"] > 1.0

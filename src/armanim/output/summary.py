@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim import __version__
+from armanim.arm.geometry import wrap_angle
 from armanim.motion.problem import Problem
 from armanim.motion.solution import (
     MISS_REASONS,
@@ -35,6 +36,25 @@ def min_limit_margin_deg(problem: Problem, phi: np.ndarray) -> float | None:
         return None
     gaps = np.minimum(phi[:, limited] - problem.limits.lower[limited], problem.limits.upper[limited] - phi[:, limited])
     return float(np.degrees(gaps.min()))
+
+
+def goal_path_lengths(solution: Solution, limited: np.ndarray | None = None) -> list[float]:
+    """Each goal's joint-space path length, radians: the sum of |phi_{i+1} - phi_i| (the Euclidean
+    norm over the joints, as MotionBenchMaker's and VAMP's path costs) over the steps that end in
+    the goal's frames (from the frame before its first one; holds add nothing). Joints not
+    ``limited`` (n,) bool are measured the short way round (their frames wrap at 180 degrees).
+
+    >>> from types import SimpleNamespace
+    >>> traj = SimpleNamespace(phi=np.array([[0.0, 0.0], [3.0, 4.0], [3.0, 4.0], [3.0, 5.0]]), goal=np.array([0, 0, 1, 1]))
+    >>> goal_path_lengths(SimpleNamespace(trajectory=traj, goals=[None, None]))
+    [5.0, 1.0]
+    """
+    traj = solution.trajectory
+    diff = np.diff(traj.phi, axis=0)
+    if limited is not None:
+        diff = np.where(limited, diff, wrap_angle(diff))
+    steps = np.concatenate([[0.0], np.linalg.norm(diff, axis=1)])
+    return [float(steps[traj.goal == k].sum()) for k in range(len(solution.goals))]
 
 
 def goal_report_dict(g: GoalReport, joint_names: Sequence[str] = ()) -> dict:
@@ -177,7 +197,8 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
     """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
     joint rate limits above the robot's own (:func:`armanim.scene.limits.rate_note_lines`)."""
     traj = solution.trajectory
-    goals = [goal_report_dict(g, joint_labels(problem)) for g in solution.goals]
+    lengths = goal_path_lengths(solution, problem.limits.limited)
+    goals = [{**goal_report_dict(g, joint_labels(problem)), "path_length_rad": lengths[k]} for k, g in enumerate(solution.goals)]
     rates = problem.rates
     return {
         "armanim_version": __version__,
