@@ -638,10 +638,23 @@ def _pose_goal(reader: YamlReader, goal: dict, path: str, frames: Frames) -> Pos
                                                              f"{shown(link)} (expected one link whose pose is the goal)")
         o_frame = _frame(reader, o, o_at, frames)
         where = join_path(o_at, "orientation")
-        q = reader.unit_quaternion(reader.vector(o.get("orientation", [0, 0, 0, 1]), where, "xyzw"), where)
-        rotation = o_frame[:3, :3] @ rigid_pose([0, 0, 0], q)[:3, :3]
-        quaternion = rotation_quaternion(rotation)
-    return PoseTarget(link, centre[:3, 3].copy(), quaternion, offset, reader.line(at))
+        x, y, z, w = reader.unit_quaternion(reader.vector(o.get("orientation", [0, 0, 0, 1]), where, "xyzw"), where)
+        quaternion = quaternion_product(rotation_quaternion(o_frame[:3, :3]), np.array([w, x, y, z]))
+        norm = float(np.linalg.norm(quaternion))
+        quaternion = quaternion / norm if abs(norm - 1.0) > 1e-12 else quaternion  # a unit one is kept as written
+    return PoseTarget(link, centre[:3, 3].copy(), quaternion, offset, reader.line(join_path(at, "link_name")))
+
+
+def quaternion_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The Hamilton product a b of quaternions (w, x, y, z): the rotation b, then a.
+
+    >>> quaternion_product(np.array([1.0, 0, 0, 0]), np.array([0.5, 0.5, 0.5, 0.5])).tolist()
+    [0.5, 0.5, 0.5, 0.5]
+    """
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
 
 
 def _frame(reader: YamlReader, constraint: dict, path: str, frames: Frames) -> np.ndarray:
