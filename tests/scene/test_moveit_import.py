@@ -445,6 +445,11 @@ def test_a_file_it_did_not_write_is_not_replaced(tmp_path):
     again = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
     assert first.returncode == again.returncode == 0, first.stderr + again.stderr
     assert again.stdout.strip() == "o.yaml" and (tmp_path / "o.yaml").read_text().startswith(MARKER)
+    edited = (tmp_path / "o.yaml").read_text().replace("version: 1", "version: 1\nname: mine")
+    (tmp_path / "o.yaml").write_text(edited)  # the user's edit, the first line kept
+    result = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
+    assert result.returncode == 2 and "changed since" in result.stderr, result.stderr
+    assert (tmp_path / "o.yaml").read_text() == edited
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []  # no temporary left
 
 

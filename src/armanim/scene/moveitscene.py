@@ -21,6 +21,7 @@ What becomes what (docs/moveit-import.md):
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
@@ -54,7 +55,8 @@ SELF_CLEARANCE = 0.0005
 """``solver.self_clearance`` an imported scene gets, metres (``panda_link5``/``panda_link7`` come within
 10.8 mm in MotionBenchMaker's problems; 0.5 mm is a gap, not MoveIt's contact, and admits them)."""
 MARKER = "# armanim import moveit:"
-"""How an imported scene's first line begins: the importer replaces only a file that begins so."""
+"""How an imported scene's first line begins; it ends with the sha256 of the lines below it. The importer
+replaces only such a file, unchanged since (:func:`unedited_import`)."""
 PLAIN_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 PLAIN_TEXT = re.compile(r"[A-Za-z_.][A-Za-z0-9_./-]*")
 """Names and paths written without quotes (when YAML reads them back as the same string)."""
@@ -394,6 +396,31 @@ def obstacle(solid: Solid) -> dict:
     return {"cylinder": {"center": center, "length": length, "radius": radius, "rpy": _rpy_degrees(solid.pose)}, "name": solid.name}
 
 
+NAME_MAX = 100
+"""The longest obstacle ``name`` a scene takes."""
+
+
+def obstacle_names(solids) -> list[str]:
+    """One name per primitive, unique within the scene, at most :data:`NAME_MAX` characters, control
+    characters written ``_``: the object's id (``-2``, ``-3``... for its further primitives), suffixed
+    ``-N`` again where that would repeat another's.
+
+    >>> obstacle_names([Solid("sphere", (1.0,), np.eye(4), n, 1) for n in ("a", "a-2", "a-2", "b\\nc")])
+    ['a', 'a-2', 'a-2-2', 'b_c']
+    """
+    taken: set[str] = set()
+    names = []
+    for solid in solids:
+        base = "".join(c if c.isprintable() else "_" for c in solid.name) or "object"
+        name, k = base[:NAME_MAX], 1
+        while name in taken:
+            k += 1
+            name = base[:NAME_MAX - len(f"-{k}")] + f"-{k}"
+        taken.add(name)
+        names.append(name)
+    return names
+
+
 def _relative(path: Path, folder: Path) -> str:
     """``path`` relative to ``folder`` (forward slashes), as a scene's file fields are."""
     return Path(os.path.relpath(Path(path).resolve(), folder.resolve())).as_posix()
@@ -447,7 +474,7 @@ def moveit_scene(scene: str | Path, request: str | Path | None, source: RobotSou
     data = {
         "version": 1,
         "arm": _arm_section(arm, source, files, out.parent, placement, home, others, tool),
-        "obstacles": [obstacle(s) for s in world.solids],
+        "obstacles": [{**obstacle(s), "name": name} for s, name in zip(world.solids, obstacle_names(world.solids))],
         "goals": [goal],
         "solver": {"clearance": CLEARANCE, "self_clearance": SELF_CLEARANCE},
     }
@@ -522,9 +549,10 @@ def _key(key: str) -> str:
 
 
 def scene_text(data: dict, sources: list[str]) -> str:
-    """The scene file's text: the importer's first line, then one line per field, obstacle and goal."""
-    lines = [f"{MARKER} written from {' and '.join(json.dumps(s) for s in sources)}",
-             "# (MoveIt planning scene and motion plan request; armanim replaces this file only while this first line stays)",
+    """The scene file's text: the importer's first line (with the sha256 of the rest: :func:`unedited_import`),
+    then one line per field, obstacle and goal."""
+    lines = ["# (from a MoveIt planning scene and motion plan request: armanim import moveit replaces this file "
+             "only while it is as written)",
              "version: 1"]
     for key, value in data.items():
         if key == "version":
@@ -537,14 +565,39 @@ def scene_text(data: dict, sources: list[str]) -> str:
             lines += [f"  - {flow(v)}" for v in value]
         else:
             lines.append(f"{key}: {flow(value)}")
-    return "\n".join(lines) + "\n"
+    body = "\n".join(lines) + "\n"
+    head = f"{MARKER} written from {' and '.join(json.dumps(s) for s in sources)}; sha256 {_digest(body)}"
+    return head + "\n" + body  # json.dumps escapes every control and non-ASCII character: one line
+
+
+def _digest(body: str) -> str:
+    return hashlib.sha256(body.encode("utf-8")).hexdigest()
+
+
+def unedited_import(raw: bytes) -> bool:
+    """Whether ``raw`` is a scene this importer wrote, unchanged since: its first line is the importer's
+    and ends with the sha256 of the lines below it.
+
+    >>> text = scene_text({"version": 1, "goals": [[0.5, 0, 0.5]]}, ["s.yaml"])
+    >>> unedited_import(text.encode()), unedited_import(text.replace("0.5", "0.6").encode())
+    (True, False)
+    """
+    head, newline, body = raw.partition(b"\n")
+    if not newline or not head.startswith(MARKER.encode()):
+        return False
+    return head.rsplit(b" ", 1)[-1] == hashlib.sha256(body).hexdigest().encode()
 
 
 # ---------------------------------------------------------------- writing
 
 
+MAX_REPLACED_BYTES = 4 * 1024 * 1024
+"""A file larger than this at ``--out`` is not read to see whether the importer wrote it (it did not)."""
+
+
 def replace_problem(target: Path) -> str | None:
-    """Why the import must not be written at ``target``, or None (nothing there, or a scene it wrote)."""
+    """Why the import must not be written at ``target``, or None (nothing there, or a scene it wrote,
+    unchanged since)."""
     if os.path.islink(target) and not target.exists():
         return "is a link to nothing, which armanim did not make"
     if not target.exists():
@@ -555,11 +608,13 @@ def replace_problem(target: Path) -> str | None:
         return "is not a regular file, so armanim does not write there"
     try:
         with open(target, "rb") as handle:
-            first = handle.read(len(MARKER.encode()))
+            raw = handle.read(MAX_REPLACED_BYTES + 1)
     except OSError as exc:
         return f"cannot be read ({exc.strerror or exc}), so it is not replaced"
-    if first != MARKER.encode():
+    if not raw.startswith(MARKER.encode()):
         return "is a file armanim import did not write (its first line is not the importer's), so it is not replaced"
+    if not unedited_import(raw):
+        return "was written by armanim import but changed since, so it is not replaced"
     return None
 
 
