@@ -468,7 +468,7 @@ def test_a_start_beyond_a_limit_of_the_chain_is_an_error_with_its_line(tmp_path)
     request = _write(tmp_path, "r.yaml", POSE_REQUEST.replace("[0.1, 0.2, 0.3]", "[0.1, 2.5, 0.3]"))
     with pytest.raises(SceneError) as info:
         moveit_scene(_write(tmp_path, "s.yaml", BOXES_SCENE), request, RobotSource(urdf=_toy(tmp_path)), tmp_path / "o.yaml")
-    assert info.value.report().startswith(f"{request}:3: joint_state: joint 'elbow' at 2.5 is outside its limits [-2.0, 2.0]")
+    assert info.value.report().startswith(f"{request}:3: start_state.joint_state.name[1]: joint 'elbow' at 2.5 is outside its limits [-2.0, 2.0]")
 
 
 def test_a_start_on_a_limit_is_kept_exactly(tmp_path):

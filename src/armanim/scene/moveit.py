@@ -83,6 +83,7 @@ class JointValue:
     name: str
     value: float
     line: int | None
+    path: str = ""  # its field, e.g. ``start_state.joint_state.name[2]``
 
 
 @dataclass(frozen=True)
@@ -335,7 +336,7 @@ def collision_object_solids(reader: YamlReader, obj: dict, path: str, name: str,
     """The primitives of one moveit_msgs/CollisionObject in the planning frame: its header's frame,
     then its ``pose``, then each primitive's pose."""
     operation = obj.get("operation", 0)
-    if operation not in (0, "add", "ADD", None):
+    if operation not in (0, "add", "ADD", "b'\\x00'", None):  # ros2 topic echo writes a byte so
         raise reader.error(join_path(path, "operation"), f"operation {_kind(operation)} is not read (expected ADD, 0: "
                                                          "the importer reads a whole scene, not changes to one)")
     for key, what in (("meshes", "a mesh"), ("planes", "a plane")):
@@ -420,7 +421,7 @@ def joint_state(reader: YamlReader, value, path: str) -> dict[str, JointValue]:
         name = reader.text(name, at)
         if name in out:
             raise reader.error(at, f"joint {shown(name)} is named twice (first on line {out[name].line}; keep one)")
-        out[name] = JointValue(name, reader.number(position, join_path(path, f"position[{k}]")), reader.line(at))
+        out[name] = JointValue(name, reader.number(position, join_path(path, f"position[{k}]")), reader.line(at), at)
     return out
 
 
@@ -603,7 +604,7 @@ def _joint_goal(reader: YamlReader, items: list, path: str) -> tuple[JointValue,
             raise reader.error(at, f"joint {shown(name)} is constrained twice (first on line {out[name].line}; keep one)")
         if "position" not in item:
             raise reader.error(at, f"joint {shown(name)} has no position (expected radians, or metres for a prismatic joint)")
-        out[name] = JointValue(name, reader.number(item["position"], join_path(at, "position")), reader.line(at))
+        out[name] = JointValue(name, reader.number(item["position"], join_path(at, "position")), reader.line(at), at)
     return tuple(out.values())
 
 

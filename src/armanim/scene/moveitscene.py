@@ -178,7 +178,7 @@ def _request_tip(robot: Robot, request: MotionRequest | None) -> str:
         return request.pose_goal.link
     if request is not None and request.joint_goal:
         for value in request.joint_goal:
-            _known_joint(robot, value, request.file, "goal_constraints[0].joint_constraints")
+            _known_joint(robot, value, request.file)
         return _deepest_child(robot, [v.name for v in request.joint_goal])
     if len(robot.leaves) == 1:
         return robot.leaves[0]
@@ -287,17 +287,17 @@ def joint_limits(robot: Robot) -> dict[str, tuple[float, float]]:
 # ---------------------------------------------------------------- joints
 
 
-def _known_joint(robot: Robot, value: JointValue, file: str, path: str = ""):
+def _known_joint(robot: Robot, value: JointValue, file: str):
     joint = robot.joints.get(value.name)
     if joint is None:
-        raise SceneError(file, [Diagnostic(path, f"joint {shown(value.name)} is not a joint of {robot.file} "
+        raise SceneError(file, [Diagnostic(value.path, f"joint {shown(value.name)} is not a joint of {robot.file} "
                                                  f"(expected one of: {shown_list(robot.joints)})", value.line)])
     return joint
 
 
-def _within(value: JointValue, limits: tuple[float, float] | None, file: str, path: str) -> None:
+def _within(value: JointValue, limits: tuple[float, float] | None, file: str) -> None:
     if limits is not None and not limits[0] <= value.value <= limits[1]:
-        raise SceneError(file, [Diagnostic(path, f"joint {shown(value.name)} at {value.value!r} is outside its limits "
+        raise SceneError(file, [Diagnostic(value.path, f"joint {shown(value.name)} at {value.value!r} is outside its limits "
                                                  f"[{limits[0]!r}, {limits[1]!r}] (MoveIt's bounds are inclusive: "
                                                  "expected a value within them)", value.line)])
 
@@ -314,15 +314,15 @@ def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits) -> t
     """(home in degrees, joint_values, notes) of the start state."""
     robot, notes, others = arm.robot, [], {}
     for name, (file, value) in start.items():
-        joint = _known_joint(robot, value, file, "joint_state")
+        joint = _known_joint(robot, value, file)
         if name in arm.chain:
-            _within(value, limits.get(name), file, "joint_state")
+            _within(value, limits.get(name), file)
         elif joint.kind == "fixed":
             notes.append(f"note: {file}:{value.line}: joint {shown(name)} is fixed in {robot.file}: its value {value.value!r} is not used")
         elif joint.mimic:
             notes.append(f"note: {file}:{value.line}: joint {shown(name)} mimics another joint: its value is not written")
         elif joint.kind in ("floating", "planar"):
-            raise SceneError(file, [Diagnostic("joint_state", f"joint {shown(name)} is {joint.kind}: a joint_state cannot "
+            raise SceneError(file, [Diagnostic(value.path, f"joint {shown(name)} is {joint.kind}: a joint_state cannot "
                                                               "set it (expected a revolute, continuous or prismatic joint)", value.line)])
         else:
             others[name] = _off_chain_value(joint, value, limits.get(name), file, notes)
@@ -355,12 +355,12 @@ def _joint_goal(arm: _Arm, request: MotionRequest, limits) -> list[float]:
     path = "goal_constraints[0].joint_constraints"
     given = {}
     for value in request.joint_goal:
-        _known_joint(arm.robot, value, request.file, path)
+        _known_joint(arm.robot, value, request.file)
         if value.name not in arm.chain:
-            raise SceneError(request.file, [Diagnostic(path, f"joint {shown(value.name)} is not one of the chain's joints from "
+            raise SceneError(request.file, [Diagnostic(value.path, f"joint {shown(value.name)} is not one of the chain's joints from "
                                                              f"{arm.base_link} to {arm.tip_link} ({shown_list(arm.chain)}; "
                                                              "expected those, or another --tip-link)", value.line)])
-        _within(value, limits.get(value.name), request.file, path)
+        _within(value, limits.get(value.name), request.file)
         given[value.name] = value.value
     missing = [name for name in arm.chain if name not in given]
     if missing:
