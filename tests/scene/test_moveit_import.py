@@ -477,6 +477,27 @@ def test_a_start_on_a_limit_is_kept_exactly(tmp_path):
     assert np.radians(imported.data["arm"]["home"][1]) == -2.0  # MoveIt's bounds are inclusive
 
 
+def test_a_group_the_srdf_lacks_and_a_frame_that_moves_are_errors_with_their_lines(tmp_path):
+    srdf = _write(tmp_path, "toy.srdf", '<robot name="toy"><group name="arm"><chain base_link="base" tip_link="l3"/></group></robot>')
+    request = _write(tmp_path, "r.yaml", "start_state: {}\ngroup_name: manipulator\n")
+    scene = _write(tmp_path, "s.yaml", BOXES_SCENE)
+    with pytest.raises(SceneError) as info:
+        moveit_scene(scene, request, RobotSource(urdf=_toy(tmp_path), srdf=srdf), tmp_path / "o.yaml")
+    assert info.value.report().startswith(f"{request}:2: group_name: group 'manipulator' is not a group of")
+    moving = _write(tmp_path, "m.yaml", BOXES_SCENE.replace("    - id: lamp\n", "    - id: lamp\n      header: {frame_id: l2}\n"))
+    with pytest.raises(SceneError) as info:
+        moveit_scene(moving, None, RobotSource(urdf=_toy(tmp_path), tip_link="l3"), tmp_path / "o.yaml")
+    assert info.value.report().startswith(f"{moving}:9: world.collision_objects[1].header.frame_id: frame 'l2' is not the planning frame")
+    fixed = _write(tmp_path, "f.yaml", BOXES_SCENE.replace("    - id: lamp\n", "    - id: lamp\n      header: {frame_id: base}\n"))
+    assert moveit_scene(fixed, None, RobotSource(urdf=_toy(tmp_path), tip_link="l3"), tmp_path / "o.yaml").data["obstacles"][1]["center"] == [-1.0, 0.3, 0.6]
+
+
+def test_a_scene_file_without_its_end_is_an_error(tmp_path):
+    scene = _write(tmp_path, "s.scene", SCENE_TEXT_NEWER[: SCENE_TEXT_NEWER.index("* ball")])
+    with pytest.raises(SceneError, match="a .scene file ends with a line '.'"):
+        moveit_scene(scene, None, RobotSource(urdf=_toy(tmp_path), tip_link="l3"), tmp_path / "o.yaml")
+
+
 def test_the_robot_flags_must_fit(tmp_path):
     scene = _write(tmp_path, "s.yaml", BOXES_SCENE)
     with pytest.raises(UsageError, match="exactly one of --robot"):

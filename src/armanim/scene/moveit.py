@@ -125,6 +125,7 @@ class MotionRequest:
     pose_goal: PoseTarget | None
     goal_line: int | None
     notes: tuple[Diagnostic, ...] = ()
+    group_line: int | None = None
 
 
 @dataclass(frozen=True)
@@ -571,8 +572,9 @@ def read_motion_request(path: str | Path, frames: Frames) -> MotionRequest:
     group = reader.text(data.get("group_name"), "group_name") or None
     goals = reader.sequence(data.get("goal_constraints"), "goal_constraints")
     notes = []
+    group_line = reader.line("group_name") if group is not None else None
     if not goals:
-        return MotionRequest(reader.file, start, group, None, None, None)
+        return MotionRequest(reader.file, start, group, None, None, None, group_line=group_line)
     if len(goals) > 1:
         notes.append(Diagnostic("goal_constraints", f"has {len(goals)} goals, which MoveIt reads as alternatives: "
                                                     "the first is imported", reader.line("goal_constraints[1]")))
@@ -584,10 +586,10 @@ def read_motion_request(path: str | Path, frames: Frames) -> MotionRequest:
         raise reader.error(path0, "has joint_constraints and position_constraints (expected one kind: a joint goal or a pose goal)")
     if joints:
         return MotionRequest(reader.file, start, group, _joint_goal(reader, joints, join_path(path0, "joint_constraints")), None,
-                             reader.line(path0), tuple(notes))
+                             reader.line(path0), tuple(notes), group_line)
     if positions:
         return MotionRequest(reader.file, start, group, None, _pose_goal(reader, goal, path0, frames), reader.line(path0),
-                             tuple(notes))
+                             tuple(notes), group_line)
     raise reader.error(path0, "has no joint_constraints and no position_constraints (expected a joint goal, or a position "
                               "constraint on a link with an optional orientation constraint)")
 

@@ -146,7 +146,7 @@ def _group_tip(robot: Robot, srdf: bytes, srdf_file: str, request: MotionRequest
     name = request.group if request is not None else None
     if name is not None and name not in groups:
         raise SceneError(request.file, [Diagnostic("group_name", f"group {shown(name)} is not a group of {srdf_file} "
-                                                                 f"(expected one of: {shown_list(groups) or 'none'}; or give --tip-link)")])
+                                                                 f"(expected one of: {shown_list(groups) or 'none'}; or give --tip-link)", request.group_line)])
     if name is None:
         name = next((g.name for g in groups.values() if g.chain or g.joints), None)
         if name is None:
