@@ -21,6 +21,7 @@ What becomes what (docs/moveit-import.md):
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -537,11 +538,22 @@ def flow(value) -> str:
     return yaml_number(value)
 
 
+@functools.lru_cache(maxsize=4096)
 def _plain(text: str) -> bool:
-    """Whether YAML reads ``text`` written bare as this very string (a name or a relative path)."""
+    """Whether YAML reads ``text`` written bare as this very string (a name or a relative path), as
+    PyYAML's and the scene's resolvers both take it: a string, not a number, boolean or null.
+
+    >>> _plain("panda_link0"), _plain("../robot.urdf"), _plain("on"), _plain("1e3"), _plain("a b")
+    (True, True, False, False, False)
+    """
     import yaml
 
-    return bool(PLAIN_TEXT.fullmatch(text)) and yaml.safe_load(text) == text
+    from armanim.scene.yamlscalars import SceneLoader
+
+    if not PLAIN_TEXT.fullmatch(text):
+        return False
+    return all(loader("").resolve(yaml.ScalarNode, text, (True, False)) == "tag:yaml.org,2002:str"
+               for loader in (yaml.SafeLoader, SceneLoader))
 
 
 def _key(key: str) -> str:
