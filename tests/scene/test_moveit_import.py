@@ -121,6 +121,14 @@ def test_every_primitive_with_an_object_pose_and_primitive_poses(tmp_path):
     assert ball == {"center": [-1.0, 0.0, 0.5], "radius": 0.1, "name": "ball"}
 
 
+def test_a_planning_scene_world_reads_as_a_planning_scenes_world(tmp_path):
+    world = "\n".join(line[2:] for line in BOXES_SCENE.splitlines()[1:]) + "\n"  # collision_objects at the top
+    source = RobotSource(urdf=_toy(tmp_path), tip_link="l3")
+    alone = moveit_scene(_write(tmp_path, "w.yaml", world), None, source, tmp_path / "a.yaml").data["obstacles"]
+    assert alone == moveit_scene(_write(tmp_path, "s.yaml", BOXES_SCENE), None, source, tmp_path / "b.yaml").data["obstacles"]
+    assert [o["name"] for o in alone] == ["table", "lamp"]
+
+
 def test_the_rotated_cylinder_axis_is_its_local_z(tmp_path):
     """A cylinder turned 90 degrees about x lies along -y: its axis is the rotation's third column."""
     text = SHAPES_SCENE.replace("[0.2588190451025208, 0.0, 0.0, 0.9659258262890683]", "[0.7071067811865476, 0.0, 0.0, 0.7071067811865476]")

@@ -281,7 +281,7 @@ def read_yaml_file(path: str | Path, what: str) -> YamlReader:
 
 def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
     """A planning scene file: MoveIt's ``.scene`` text if its name ends in ``.scene``, else a
-    ``moveit_msgs/PlanningScene`` in YAML.
+    ``moveit_msgs/PlanningScene`` in YAML (or a ``PlanningSceneWorld``: ``collision_objects`` at the top).
 
     Raises
     ------
@@ -294,11 +294,13 @@ def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
     reader = read_yaml_file(path, "a MoveIt planning scene (moveit_msgs/PlanningScene as YAML)")
     data = reader.doc.data
     frames = frames.with_fixed(_fixed_frames(reader, data.get("fixed_frame_transforms")))
-    world = reader.mapping(data.get("world"), "world")
+    top = "world" if "world" in data or "collision_objects" not in data else ""  # a PlanningSceneWorld has no world:
+    world = reader.mapping(data.get("world"), "world") if top else data
+    objects_path = join_path(top, "collision_objects")
     solids: list[Solid] = []
     seen: dict[str, int | None] = {}
-    for k, item in enumerate(reader.sequence(world.get("collision_objects"), "world.collision_objects")):
-        obj_path = join_path("world.collision_objects", k)
+    for k, item in enumerate(reader.sequence(world.get("collision_objects"), objects_path)):
+        obj_path = join_path(objects_path, k)
         obj = reader.mapping(item, obj_path)
         name = reader.text(obj.get("id"), join_path(obj_path, "id"))
         if name in seen:
@@ -306,9 +308,10 @@ def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
                                                           "MoveIt would replace that object: keep one)")
         seen[name] = reader.line(join_path(obj_path, "id"))
         solids += collision_object_solids(reader, obj, obj_path, name or f"object{k + 1}", frames)
-    octomap = reader.mapping(reader.mapping(world.get("octomap"), "world.octomap").get("octomap"), "world.octomap.octomap")
+    octomap_path = join_path(top, "octomap")
+    octomap = reader.mapping(reader.mapping(world.get("octomap"), octomap_path).get("octomap"), join_path(octomap_path, "octomap"))
     if octomap.get("data"):
-        raise reader.error("world.octomap", "an octomap is not read (expected collision objects: boxes, spheres, cylinders)")
+        raise reader.error(octomap_path, "an octomap is not read (expected collision objects: boxes, spheres, cylinders)")
     state = reader.mapping(data.get("robot_state"), "robot_state")
     _no_attached_objects(reader, state, "robot_state")
     _base_not_moved(reader, state, "robot_state")
