@@ -512,6 +512,9 @@ def test_the_robot_flags_must_fit(tmp_path):
         moveit_scene(scene, None, RobotSource(), tmp_path / "o.yaml")
     with pytest.raises(UsageError, match="not bundled"):
         moveit_scene(scene, None, RobotSource(robot="r2d2"), tmp_path / "o.yaml")
+    with pytest.raises(UsageError, match="tip_link 'nowhere' is not a link of"):
+        moveit_scene(scene, _write(tmp_path, "r.yaml", POSE_REQUEST), RobotSource(urdf=_toy(tmp_path), tip_link="nowhere"),
+                     tmp_path / "o.yaml")
 
 
 def test_import_moveit_help_shows_an_example(cli):

@@ -197,11 +197,14 @@ def _choose_arm(source: RobotSource, files: _Robot, request: MotionRequest | Non
         base, tip = _group_tip(robot, files.srdf, str(source.srdf), request)
     elif tip is None:
         tip = _request_tip(robot, request)
-    if request is not None and request.pose_goal is not None:
-        tip = _pose_link(robot, base or robot.root, tip, request.pose_goal, request.file)
+    pose = request.pose_goal if request is not None else None
+    if pose is not None:
+        _known_link(robot, pose, request.file)
     for label, link in (("tip_link", tip), ("base_link", base)):
         if link is not None and link not in robot.links:
             raise UsageError(f"{label} {shown(link)} is not a link of {robot.file} (expected one of: {shown_list(robot.links)})")
+    if pose is not None:
+        tip = _pose_link(robot, base or robot.root, tip, pose, request.file)
     base = base if files.base_link is not None else _arm_base(robot, base)
     joints = chain_joints(robot, base, tip)
     return _Arm(robot, base, tip, tuple(j.name for j in joints if j.axis is not None))
@@ -214,12 +217,15 @@ def _arm_base(robot: Robot, base: str | None) -> str:
     return base
 
 
-def _pose_link(robot: Robot, base: str, tip: str, goal: PoseTarget, file: str) -> str:
-    """The tip for a pose goal on ``goal.link``: that link, if the same joints move it as move ``tip``."""
+def _known_link(robot: Robot, goal: PoseTarget, file: str) -> None:
     if goal.link not in robot.links:
         raise SceneError(file, [Diagnostic("goal_constraints[0].position_constraints[0].link_name",
                                            f"link {shown(goal.link)} is not a link of {robot.file} "
                                            f"(expected one of: {shown_list(robot.links)})", goal.line)])
+
+
+def _pose_link(robot: Robot, base: str, tip: str, goal: PoseTarget, file: str) -> str:
+    """The tip for a pose goal on ``goal.link``: that link, if the same joints move it as move ``tip``."""
     moving = [j.name for j in robot.path(base, tip) if j.kind != "fixed"]
     try:
         carried = [j.name for j in robot.path(base, goal.link) if j.kind != "fixed"]
