@@ -17,8 +17,11 @@ import numpy as np
 import pytest
 import yaml
 from conftest import ROOT
+from hypothesis import given
+from hypothesis import strategies as st
 from runfolders import armanim_exe
 from scipy.spatial.transform import Rotation
+from strategies import ros_poses
 
 from armanim.errors import SceneError, UsageError
 from armanim.scene import load_scene
@@ -136,6 +139,23 @@ def test_the_rotated_cylinder_axis_is_its_local_z(tmp_path):
     cylinder = imported.data["obstacles"][2]["cylinder"]
     axis = Rotation.from_euler("xyz", cylinder["rpy"], degrees=True).apply([0, 0, 1])
     np.testing.assert_allclose(axis, Rotation.from_euler("z", 45, degrees=True).apply([0, -1, 0]), atol=1e-12)
+
+
+@given(ros_poses(), ros_poses(), st.sampled_from(["box", "cylinder"]))
+def test_any_object_pose_composes_with_any_primitive_pose_as_scipy_says(tmp_path_factory, whole, part, kind):
+    """The YAML's pose times the primitive's, and the newer .scene format's, against scipy's composition."""
+    folder = tmp_path_factory.mktemp("poses")
+    dims, words = ("[0.3, 0.2, 0.1]", "box\n0.3 0.2 0.1") if kind == "box" else ("[0.3, 0.02]", "cylinder\n0.02 0.3")
+    yaml_text = (f"world:\n  collision_objects:\n    - id: thing\n      pose: {{position: {whole[0]}, orientation: {whole[1]}}}\n"
+                 f"      primitives: [{{type: {kind}, dimensions: {dims}}}]\n"
+                 f"      primitive_poses: [{{position: {part[0]}, orientation: {part[1]}}}]\n")
+    number_lines = lambda pose: " ".join(map(repr, pose[0])) + "\n" + " ".join(map(repr, pose[1]))  # noqa: E731
+    scene_text_ = f"s\n* thing\n{number_lines(whole)}\n1\n{words}\n{number_lines(part)}\n0 0 0 0\n0\n.\n"
+    source = RobotSource(urdf=_toy(folder), tip_link="l3")
+    expected = _expected(_pose(*whole), _pose(*part))
+    for name, text in (("s.yaml", yaml_text), ("s.scene", scene_text_)):
+        shape = moveit_scene(_write(folder, name, text), None, source, folder / "o.yaml").data["obstacles"][0][kind]
+        _assert_placed(shape, *expected)
 
 
 SCENE_TEXT_NEWER = """shapes

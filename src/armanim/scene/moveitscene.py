@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from armanim.arm.rotations import axis_angle_rotation, rotation_rpy
+from armanim.arm.rotations import axis_angle_rotation, rpy_rotation
 from armanim.errors import Diagnostic, SceneError, UsageError, shown, shown_list
 from armanim.output.files import read_bounded
 from armanim.scene.moveit import (
@@ -384,8 +384,24 @@ def _clean(values) -> list[float]:
     return [0.0 if abs(float(v)) < TINY else float(v) for v in values]
 
 
+def rpy_of(rotation: np.ndarray) -> np.ndarray:
+    """URDF's roll, pitch, yaw (radians) of a rotation, well conditioned at every pitch: pitch and yaw
+    from the first column, then roll from what is left (``rpy_rotation([0, pitch, yaw]).T @ rotation``,
+    an x rotation), so R = Rz(yaw) Ry(pitch) Rx(roll) holds to rounding even next to pitch = +-90 degrees.
+
+    >>> from armanim.arm.rotations import rpy_rotation
+    >>> r = rpy_rotation([0.3, np.pi / 2 - 1e-9, -0.2])
+    >>> bool(np.abs(rpy_rotation(rpy_of(r)) - r).max() < 1e-15)
+    True
+    """
+    pitch = math.atan2(-rotation[2, 0], math.hypot(rotation[0, 0], rotation[1, 0]))
+    yaw = math.atan2(rotation[1, 0], rotation[0, 0]) if math.hypot(rotation[0, 0], rotation[1, 0]) > 0 else 0.0
+    rest = rpy_rotation([0.0, pitch, yaw]).T @ rotation
+    return np.array([math.atan2(rest[2, 1], rest[2, 2]), pitch, yaw])
+
+
 def _rpy_degrees(pose: np.ndarray) -> list[float]:
-    return _clean(np.degrees(rotation_rpy(pose[:3, :3])))
+    return _clean(np.degrees(rpy_of(pose[:3, :3])))
 
 
 def obstacle(solid: Solid) -> dict:
