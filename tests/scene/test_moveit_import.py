@@ -342,6 +342,14 @@ def test_a_pose_goal_on_a_bundled_robot_validates(tmp_path):
     assert _loaded_without_names(imported, out).model.arm.joint_count == 7
 
 
+def test_an_output_file_whose_stem_is_no_run_name_gets_a_name(tmp_path):
+    out = tmp_path / "my shelf.yaml"
+    imported = import_moveit(_write(tmp_path, "s.yaml", BOXES_SCENE), _write(tmp_path, "r.yaml", POSE_REQUEST),
+                             RobotSource(urdf=_toy(tmp_path)), out)
+    assert imported.data["name"] == "my-shelf"
+    assert _loaded_without_names(imported, out).name == "my-shelf"
+
+
 def test_the_text_reads_back_as_the_scene(tmp_path):
     imported = moveit_scene(_write(tmp_path, "s.yaml", SHAPES_SCENE), _write(tmp_path, "r.yaml", POSE_REQUEST),
                             RobotSource(urdf=_toy(tmp_path)), tmp_path / "o.yaml")

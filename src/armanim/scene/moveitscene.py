@@ -496,6 +496,7 @@ def moveit_scene(scene: str | Path, request: str | Path | None, source: RobotSou
     placement = link_pose(arm.robot, arm.base_link, {name: v.value for name, (_, v) in start.items()})
     data = {
         "version": 1,
+        **({"name": name} if (name := run_name(out)) is not None else {}),
         "arm": _arm_section(arm, source, files, out.parent, placement, home, others, tool),
         "obstacles": [{**obstacle(s), "name": name} for s, name in zip(world.solids, obstacle_names(world.solids))],
         "goals": [goal],
@@ -504,6 +505,21 @@ def moveit_scene(scene: str | Path, request: str | Path | None, source: RobotSou
     notes = ["note: " + n.format(f.file) for f, n in _file_notes(world, motion)] + notes
     sources = [Path(scene).name] + ([Path(request).name] if request is not None else [])
     return ImportedScene(data, scene_text(data, sources), tuple(notes))
+
+
+def run_name(out: Path) -> str | None:
+    """The ``name:`` an imported scene needs: None when the output file's stem is a valid run name (the
+    scene takes it), else the stem with every other character ``-``.
+
+    >>> run_name(Path("shelf.yaml")), run_name(Path("my shelf (2).yaml")), run_name(Path("-.yaml"))
+    (None, 'my-shelf--2-', 'moveit-scene')
+    """
+    from armanim.scene.models import name_problem
+
+    if name_problem(out.stem) is None:
+        return None
+    name = re.sub(r"[^A-Za-z0-9._-]", "-", out.stem).lstrip("._-")[:NAME_MAX]
+    return name if name and name_problem(name) is None else "moveit-scene"
 
 
 def _file_notes(world: PlanningWorld, motion: MotionRequest | None):
