@@ -489,6 +489,17 @@ def test_a_file_it_did_not_write_is_not_replaced(tmp_path):
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []  # no temporary left
 
 
+def test_the_command_prints_the_path_and_its_notes_on_stderr(tmp_path):
+    result = _run(DATA / "bookshelf_small_panda-scene0001.yaml", "--request", DATA / "bookshelf_small_panda-request0001.yaml",
+                  "--urdf", DATA / "panda_spherized.urdf", "--srdf", DATA / "panda.srdf", "--out", "shelf.yaml", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == "shelf.yaml\n"
+    notes = result.stderr.splitlines()
+    assert len(notes) == 2 and all(n.startswith("note: ") and "is fixed in" in n for n in notes), notes
+    written = yaml.safe_load((tmp_path / "shelf.yaml").read_text())
+    assert written["arm"]["urdf"] == os.path.relpath(DATA / "panda_spherized.urdf", tmp_path)
+
+
 def test_a_goal_joint_off_the_chain_and_a_missing_one_are_errors(tmp_path):
     scene = _write(tmp_path, "s.yaml", BOXES_SCENE)
     request = _write(tmp_path, "r.yaml", "goal_constraints:\n  - joint_constraints:\n      - {joint_name: shoulder, position: 0}\n"
