@@ -251,6 +251,14 @@ goal_constraints:
     assert arm["urdf"] == "robot/toy.urdf"  # relative to the output's folder
 
 
+def test_a_continuous_joint_beyond_a_turn_is_taken_within_one(tmp_path):
+    request = _write(tmp_path, "r.yaml", POSE_REQUEST.replace("[0.1, 0.2, 0.3]", "[0.1, 0.2, 7.0]"))
+    imported = moveit_scene(_write(tmp_path, "s.yaml", BOXES_SCENE), request, RobotSource(urdf=_toy(tmp_path)), tmp_path / "o.yaml")
+    wrist = imported.data["arm"]["home"][2]
+    assert -180 <= wrist <= 180 and np.isclose(np.radians(wrist) % (2 * np.pi), 7.0 % (2 * np.pi), rtol=0, atol=1e-12)
+    assert any("continuous joint 'wrist'" in n for n in imported.notes)
+
+
 def test_a_joint_off_the_chain_outside_its_limits_is_moved_within_them_and_noted(tmp_path):
     text = SHAPES_SCENE.replace("position: [-0.5, 0.02, 0.25]", "position: [-0.5, 0.065, 0.25]")
     imported = moveit_scene(_write(tmp_path, "s.yaml", text), None, RobotSource(urdf=_toy(tmp_path), tip_link="l3"), tmp_path / "o.yaml")

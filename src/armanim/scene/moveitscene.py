@@ -336,13 +336,32 @@ def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits) -> t
     home = []
     for name in arm.chain:
         if name in start:
-            home.append(math.degrees(start[name][1].value))
+            home.append(joint_degrees(robot.joints[name], start[name][1].value, notes))
         else:
             lo, hi = limits.get(name, (-math.inf, math.inf))
             guess = 0.0 if lo <= 0.0 <= hi else (lo + hi) / 2
             notes.append(f"note: joint {shown(name)} has no start value: {math.degrees(guess):g} degrees (MoveIt's default)")
             home.append(math.degrees(guess))
     return home, others, notes
+
+
+def joint_degrees(joint, radians: float, notes: list[str]) -> float:
+    """A revolute or continuous joint's value in degrees; a continuous joint's beyond one turn either
+    way (a scene's angles are within [-360, 360]) taken within [-180, 180], as MoveIt normalises it,
+    with a note.
+
+    >>> from types import SimpleNamespace
+    >>> notes = []
+    >>> joint_degrees(SimpleNamespace(name="j", kind="continuous"), 7 * math.pi / 2, notes), len(notes)
+    (-90.0, 1)
+    """
+    degrees = math.degrees(radians)
+    if joint.kind == "continuous" and abs(degrees) > 360:
+        turned = math.remainder(degrees, 360.0)
+        notes.append(f"note: continuous joint {shown(joint.name)} at {radians!r} rad is {turned:g} degrees within one turn "
+                     "(a scene's angles are within [-360, 360])")
+        return turned
+    return degrees
 
 
 def _off_chain_value(joint, value: JointValue, limits, file: str, notes: list[str]) -> float:
@@ -354,10 +373,10 @@ def _off_chain_value(joint, value: JointValue, limits, file: str, notes: list[st
         notes.append(f"note: {file}:{value.line}: joint {shown(joint.name)} at {v!r} is outside its limits "
                      f"[{limits[0]!r}, {limits[1]!r}]: {clamped!r} is written")
         v = clamped
-    return v if joint.kind == "prismatic" else math.degrees(v)
+    return v if joint.kind == "prismatic" else joint_degrees(joint, v, notes)
 
 
-def _joint_goal(arm: _Arm, request: MotionRequest, limits) -> list[float]:
+def _joint_goal(arm: _Arm, request: MotionRequest, limits, notes: list[str]) -> list[float]:
     """The joint goal in degrees, in the chain's order."""
     path = "goal_constraints[0].joint_constraints"
     given = {}
@@ -373,7 +392,7 @@ def _joint_goal(arm: _Arm, request: MotionRequest, limits) -> list[float]:
     if missing:
         raise SceneError(request.file, [Diagnostic(path, f"sets no position for {shown_list(missing)} (expected one joint "
                                                          f"constraint per joint of the chain: {shown_list(arm.chain)})", request.goal_line)])
-    return [math.degrees(given[name]) for name in arm.chain]
+    return [joint_degrees(arm.robot.joints[name], given[name], notes) for name in arm.chain]
 
 
 # ---------------------------------------------------------------- the scene
@@ -532,7 +551,7 @@ def _goal(arm: _Arm, motion: MotionRequest | None, home: list[float], limits, no
         notes.append("note: no goal in the request: the goal is the start pose (edit goals: to give one)")
         return {"joints": list(home)}, None
     if motion.joint_goal is not None:
-        return {"joints": _joint_goal(arm, motion, limits)}, None
+        return {"joints": _joint_goal(arm, motion, limits, notes)}, None
     pose = motion.pose_goal
     goal: dict = {"position": _clean(pose.position)}
     if pose.quaternion_wxyz is not None:
