@@ -358,6 +358,15 @@ def test_an_output_file_whose_stem_is_no_run_name_gets_a_name(tmp_path):
     assert _loaded_without_names(imported, out).name == "my-shelf"
 
 
+def test_a_scene_file_on_a_bundled_robot_starts_at_the_robots_own_home(tmp_path):
+    imported = moveit_scene(_write(tmp_path, "s.scene", SCENE_TEXT_NEWER), None, RobotSource(robot="panda"), tmp_path / "o.yaml")
+    assert imported.data["arm"]["home"] == [0.0, -45.0, 0.0, -135.0, 0.0, 90.0, 45.0]  # robot.yaml's, not MoveIt's zeros
+    assert imported.data["goals"] == [{"joints": imported.data["arm"]["home"]}]
+    assert [n for n in imported.notes if "no start value" in n] == [
+        "note: no start value for 'panda_joint1', 'panda_joint2', 'panda_joint3', 'panda_joint4', 'panda_joint5', "
+        "'panda_joint6', 'panda_joint7': 0, -45, 0, -135, 0, 90, 45 degrees (the robot's own home)"]
+
+
 def test_the_text_reads_back_as_the_scene(tmp_path):
     imported = moveit_scene(_write(tmp_path, "s.yaml", SHAPES_SCENE), _write(tmp_path, "r.yaml", POSE_REQUEST),
                             RobotSource(urdf=_toy(tmp_path)), tmp_path / "o.yaml")

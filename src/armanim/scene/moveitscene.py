@@ -94,6 +94,7 @@ class _Robot:
     srdf: bytes | None
     base_link: str | None
     tip_link: str | None
+    home: dict[str, float] | None = None  # a bundled robot's own home, degrees, by joint name
 
 
 @dataclass(frozen=True)
@@ -122,7 +123,9 @@ def _read_robot(source: RobotSource) -> _Robot:
         if source.srdf is not None:
             raise UsageError("--srdf goes with --urdf (a bundled robot brings its own allowed-collision matrix)")
         bundled = bundled_robot(source.robot)
-        return _Robot(read_urdf(bundled.urdf, f"robot {bundled.name}'s URDF"), None, bundled.base_link, bundled.tip_link)
+        urdf = read_urdf(bundled.urdf, f"robot {bundled.name}'s URDF")
+        chain = [j.name for j in urdf.path(bundled.base_link, bundled.tip_link) if j.kind in MOVING]
+        return _Robot(urdf, None, bundled.base_link, bundled.tip_link, dict(zip(chain, bundled.home)))
     srdf = read_bounded(source.srdf, MAX_URDF_BYTES, "an SRDF file") if source.srdf is not None else None
     return _Robot(read_urdf(source.urdf), srdf, None, None)
 
@@ -317,8 +320,10 @@ def _start_values(world: PlanningWorld, request: MotionRequest | None) -> dict[s
     return values
 
 
-def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits) -> tuple[list[float], dict, list[str]]:
-    """(home in degrees, joint_values, notes) of the start state."""
+def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits,
+               own_home: dict[str, float] | None = None) -> tuple[list[float], dict, list[str]]:
+    """(home in degrees, joint_values, notes) of the start state; a chain joint it leaves out takes the
+    bundled robot's own home (``own_home``), else MoveIt's default value."""
     robot, notes, others = arm.robot, [], {}
     for name, (file, value) in start.items():
         joint = _known_joint(robot, value, file)
@@ -333,15 +338,21 @@ def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits) -> t
                                                               "set it (expected a revolute, continuous or prismatic joint)", value.line)])
         else:
             others[name] = _off_chain_value(joint, value, limits.get(name), file, notes)
-    home = []
+    home, missing = [], []
     for name in arm.chain:
         if name in start:
             home.append(joint_degrees(robot.joints[name], start[name][1].value, notes))
+            continue
+        missing.append(name)
+        if own_home and name in own_home:
+            home.append(float(own_home[name]))
         else:
             lo, hi = limits.get(name, (-math.inf, math.inf))
-            guess = 0.0 if lo <= 0.0 <= hi else (lo + hi) / 2
-            notes.append(f"note: joint {shown(name)} has no start value: {math.degrees(guess):g} degrees (MoveIt's default)")
-            home.append(math.degrees(guess))
+            home.append(math.degrees(0.0 if lo <= 0.0 <= hi else (lo + hi) / 2))
+    if missing:
+        given = [f"{home[arm.chain.index(n)]:g}" for n in missing]
+        whose = "the robot's own home" if own_home and all(n in own_home for n in missing) else "MoveIt's default values"
+        notes.append(f"note: no start value for {shown_list(missing)}: {', '.join(given)} degrees ({whose})")
     return home, others, notes
 
 
@@ -509,7 +520,7 @@ def moveit_scene(scene: str | Path, request: str | Path | None, source: RobotSou
     arm = _choose_arm(source, files, motion)
     limits = joint_limits(arm.robot)
     start = _start_values(world, motion)
-    home, others, notes = _arm_state(arm, start, limits)
+    home, others, notes = _arm_state(arm, start, limits, files.home)
     goal, tool = _goal(arm, motion, home, limits, notes)
     out = Path(out)
     placement = link_pose(arm.robot, arm.base_link, {name: v.value for name, (_, v) in start.items()})
