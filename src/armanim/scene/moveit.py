@@ -303,7 +303,7 @@ def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
         obj_path = join_path(objects_path, k)
         obj = reader.mapping(item, obj_path)
         name = reader.text(obj.get("id"), join_path(obj_path, "id"))
-        if name in seen:
+        if name and name in seen:
             raise reader.error(join_path(obj_path, "id"), f"id {shown(name)} is used again (first on line {seen[name]}; "
                                                           "MoveIt would replace that object: keep one)")
         seen[name] = reader.line(join_path(obj_path, "id"))
