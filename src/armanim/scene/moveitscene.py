@@ -284,6 +284,8 @@ def joint_limits(robot: Robot) -> dict[str, tuple[float, float]]:
     """``<limit lower upper>`` of every revolute and prismatic joint (the URDF reader keeps only the
     revolute ones)."""
     out = {name: j.limits for name, j in robot.joints.items() if j.limits is not None}
+    if not any(j.kind == "prismatic" for j in robot.joints.values()):
+        return out  # the URDF is not parsed again
     for el in _parse_xml(robot.raw, robot.file).findall("joint"):
         limit = el.find("limit")
         if el.attrib.get("type") == "prismatic" and limit is not None:
