@@ -292,3 +292,12 @@ def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: in
     assume(np.all(point_clearances(tips[1:], obstacles) > half_width + solver.clearance))
     return Problem(arm=arm, half_width=half_width, home=home, limits=limits, obstacles=obstacles,
                    goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0)
+
+
+@st.composite
+def ros_poses(draw) -> tuple[list[float], list[float]]:
+    """A ROS pose as a MoveIt file writes it: a position and a unit x-y-z-w quaternion (any rotation)."""
+    position = [draw(st.floats(-2.0, 2.0, allow_nan=False, allow_infinity=False)) for _ in range(3)]
+    q = np.array([draw(st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)) for _ in range(4)])
+    assume(np.linalg.norm(q) > 0.1)
+    return position, (q / np.linalg.norm(q)).tolist()

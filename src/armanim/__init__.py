@@ -24,6 +24,8 @@ _LAZY = {
     "forward": ("armanim.arm.kinematics", "forward"),
     "Arm": ("armanim.arm.kinematics", "Arm"),
     "solve_trajectory": ("armanim.motion.trajectory", "solve_trajectory"),
+    "import_moveit": ("armanim.scene.moveitscene", "import_moveit"),
+    "RobotSource": ("armanim.scene.moveitscene", "RobotSource"),
 }
 
 __all__ = ["__version__", *_LAZY]
