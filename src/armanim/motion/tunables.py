@@ -75,6 +75,10 @@ class PlannerOptions:
     ----------
     coarse : int
         Clearances between the first samples of a motion (see ``motion_is_free``).
+    coarse_reach : float
+        Of the arm's reach: the least travel between the first samples of a motion, where
+        ``coarse`` clearances are less (a clearance of half a millimetre would sample a metre's
+        travel 250 times before the halving, which only measures where the bounds ask it to).
     max_samples : int
         Poses one motion check may take (a clearance tiny beside the arm: the motion is not taken).
     max_halvings : int
@@ -114,6 +118,7 @@ class PlannerOptions:
     """
 
     coarse: int = 8
+    coarse_reach: float = 0.02
     max_samples: int = 100_000
     max_halvings: int = 40
     certify_to: float = 0.05

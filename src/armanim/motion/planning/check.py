@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
+from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import limit_buffer, self_shift
 from armanim.motion.solvers.compiled_frame import _clearances, _world
@@ -97,17 +98,17 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
                  a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
     """:func:`armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled.
 
-    ``limits``: (lower, upper, levers (n,), pair levers (n, P)); ``settings``: (d_safe, coarse,
-    certify_to, max_halvings, max_samples, buffer). Returns (free, poses checked)."""
+    ``limits``: (lower, upper, levers (n,), pair levers (n, P)); ``settings``: (d_safe, the coarse
+    samples' spacing, certify_to, max_halvings, max_samples, buffer). Returns (free, poses checked)."""
     lower, upper, levers, pair_levers = limits
-    d_safe, coarse, certify_to = settings[0], settings[1], settings[2]
+    d_safe, spacing, certify_to = settings[0], settings[1], settings[2]
     max_halvings, max_samples, buffer = int(settings[3]), settings[4], settings[5]
     n = a.shape[0]
     count_pairs = pairs[0].shape[0]
     travel = 0.0
     for j in range(n):
         travel += abs(b[j] - a[j]) * levers[j]
-    count = travel / (coarse * d_safe)
+    count = travel / spacing
     if not count <= max_samples:
         return False, 0
     samples = max(int(math.ceil(count)) + 1, 2)
@@ -215,7 +216,7 @@ class CompiledCheck:
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
                     np.ascontiguousarray(problem.pair_lever_rows.reshape(len(pairs), n).T, dtype=float)),
-            settings=np.array([problem.solver.clearance, opts.coarse, opts.certify_to, opts.max_halvings, opts.max_samples,
+            settings=np.array([problem.solver.clearance, coarse_spacing(problem), opts.certify_to, opts.max_halvings, opts.max_samples,
                                0.0 if closed else limit_buffer(problem)]),
         )
 

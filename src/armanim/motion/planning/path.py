@@ -18,11 +18,10 @@ import atexit
 import gc
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from armanim.motion.planning.check import CompiledCheck
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
     kept_clearance,
@@ -38,6 +37,9 @@ from armanim.motion.solvers.barrier import (
 from armanim.motion.solvers.common import arm_state
 from armanim.motion.tunables import DEFAULTS, PlannerOptions
 from armanim.names import PathSource
+
+if TYPE_CHECKING:
+    from armanim.motion.planning.check import CompiledCheck
 
 UNLIMITED_SPAN = 2 * np.pi  # an unlimited joint plans within +-2 pi
 
@@ -79,13 +81,20 @@ def motion_samples(problem: Problem, a: np.ndarray, b: np.ndarray, spacing: floa
     return cast("np.ndarray | None", a + t * (b - a))
 
 
+def coarse_spacing(problem: Problem) -> float:
+    """The most any arm point travels between the first samples of a motion check: ``coarse``
+    clearances, or ``coarse_reach`` of the arm's reach where that is more (the planner's options)."""
+    opts = problem.tunables.planner
+    return max(opts.coarse * problem.solver.clearance, opts.coarse_reach * problem.arm.reach)
+
+
 def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float, closed: bool = False) -> tuple[bool, int]:
     """Whether no pose on the segment a-b comes closer than ``floor`` to an obstacle (to within
     ``certify_to * solver.clearance / 2``, the planner's options), and how many poses were checked.
 
     Clearance changes no faster than the arm's points move, so two poses with clearances
     c1, c2 whose points move at most S between them certify every pose between them when
-    c1 + c2 >= S + 2 floor. Poses ``coarse`` clearances apart are checked first; a pair
+    c1 + c2 >= S + 2 floor. Poses :func:`coarse_spacing` apart are checked first; a pair
     they do not certify is halved, level by level, until every piece is certified or shorter
     than ``certify_to`` clearances, or a pose below ``floor`` is found. The limits are a
     box: free ends keep them (by the filter's buffer, or ``closed``: the ends of the limits included).
@@ -96,9 +105,7 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float,
     of |dphi_j| times joint j's lever arm over those joints (:attr:`Problem.pair_lever_rows`), so a
     wrist pair is not held to the whole arm's travel.
     """
-    d_safe = problem.solver.clearance
-    opts = problem.tunables.planner
-    coarse = motion_samples(problem, a, b, opts.coarse * d_safe)
+    coarse = motion_samples(problem, a, b, coarse_spacing(problem))
     if coarse is None:
         return False, 0
     clear, own = split_clearances(problem, coarse)
