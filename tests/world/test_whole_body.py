@@ -304,3 +304,38 @@ def test_the_base_carrier_in_numpy_and_compiled_alike():
     for k, p in enumerate(which):
         rate = compiled.pair_rate(twists, inputs[2], inputs[3], caps.link, pairs.first, pairs.second, gaps.t, gaps.s, gaps.normal, p)
         assert rate == pytest.approx(rows[k] @ rates, abs=1e-12)
+
+
+def test_always_colliding_pairs_are_allowed_as_always_where_the_default_rule_is_off():
+    """Three short links with fat capsules: links 1 and 3 overlap in every pose. MoveIt's order
+    names the pair ``Default`` (it overlaps at the default pose too); with the rules an SRDF's
+    scene applies (``Adjacent``, ``Always``) it is ``Always``; links 1 and 2 are ``Adjacent``."""
+    from armanim.arm.capsules import joint_capsules
+    from armanim.arm.kinematics import Arm
+    from armanim.world import selfcollision
+
+    arm = Arm.from_names([0.1, 0.1, 0.1])
+    caps = joint_capsules(arm, 0.5)
+    lim = np.radians([-170.0] * 3), np.radians([170.0] * 3)
+    auto = selfcollision.automatic_matrix(arm, caps, *lim, [np.zeros(3)], 0.01, samples=200)
+    srdf = selfcollision.automatic_matrix(arm, caps, *lim, [], 0.01, samples=200, rules=(selfcollision.ADJACENT, selfcollision.ALWAYS))
+    assert auto[("link1", "link3")] == "Default" and srdf[("link1", "link3")] == "Always"
+    assert srdf[("link1", "link2")] == "Adjacent"
+    thin = selfcollision.automatic_matrix(arm, joint_capsules(arm, 0.001), *lim, [], 0.001, samples=200,
+                                          rules=(selfcollision.ADJACENT, selfcollision.ALWAYS))
+    assert ("link1", "link3") not in thin  # a pair apart in some pose stays checked
+
+
+def test_an_srdf_scene_adds_moveits_adjacent_and_always_where_the_srdf_is_silent():
+    """VAMP's UR5 with its SRDF: the SRDF's own pairs keep its reasons, wrist_2_link/fts_robotside
+    (which its SRDF leaves enabled, their spheres overlapping in every pose) is allowed as
+    ``Adjacent``, and base_link/upper_arm_link (within 2.5 mm at some poses) is checked."""
+    scene = _model({"urdf": "ur5_spherized.urdf", "base_link": "base_link", "tip_link": "ee_link",
+                    "home": [0, -90, 90, -90, -90, 0], "self_collision": {"srdf": "ur5.srdf"}},
+                   solver={"self_clearance": 0.001})
+    pairs = scene_to_problem(scene).self_pairs
+    allowed = {frozenset((a, b)): reason for a, b, reason in pairs.allowed}
+    assert allowed[frozenset(("wrist_2_link", "fts_robotside"))] == "Adjacent"
+    assert allowed[frozenset(("base_link", "shoulder_link"))] == "Adjacent"  # the SRDF's own reason
+    assert allowed[frozenset(("ee_link", "wrist_1_link"))] == "Never"  # the SRDF's own reason
+    assert {frozenset(p) for p in pairs.names} >= {frozenset(("base_link", "upper_arm_link"))}
