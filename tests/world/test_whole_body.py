@@ -339,3 +339,24 @@ def test_an_srdf_scene_adds_moveits_adjacent_and_always_where_the_srdf_is_silent
     assert allowed[frozenset(("base_link", "shoulder_link"))] == "Adjacent"  # the SRDF's own reason
     assert allowed[frozenset(("ee_link", "wrist_1_link"))] == "Never"  # the SRDF's own reason
     assert {frozenset(p) for p in pairs.names} >= {frozenset(("base_link", "upper_arm_link"))}
+
+
+def test_the_capsule_pictures_stand_the_base_where_it_is():
+    """The drawn prisms (render.robot: capsules) of every capsule, the base's among them, lie on
+    their capsules' world segments (each vertex within the radius of its segment), not on a joint's
+    frame read at index -1."""
+    from armanim.arm.capsules import carrier_frames
+    from armanim.render.solids.mesh import prism_local, prism_world
+
+    problem = scene_to_problem(_model({"robot": "panda", "base": [0.2, 0.1, 0.0]}))
+    caps = problem.capsules
+    pose = forward(problem.arm, problem.home)
+    rotations, origins = carrier_frames(caps, pose)
+    verts = prism_world(rotations, origins, prism_local(caps, 8))
+    a, b = capsule_ends(caps, pose)
+    ab = b - a
+    length2 = np.maximum((ab * ab).sum(-1), 1e-300)[:, None]
+    t = np.clip(((verts - a[:, None]) * ab[:, None]).sum(-1) / length2, 0, 1)
+    dist = np.linalg.norm(verts - (a[:, None] + t[..., None] * ab[:, None]), axis=-1)
+    assert np.all(dist <= caps.radius[:, None] * 1.0001 + 1e-12)
+    assert np.any(caps.link == BASE)

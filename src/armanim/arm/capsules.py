@@ -150,6 +150,26 @@ def _world_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]
     return a, b
 
 
+def carrier_frames(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+    """The world rotation (..., c, 3, 3) and origin (..., c, 3) of the frame each capsule is given
+    in: its joint's, or the world's (identity, 0) for a capsule on the base (:data:`BASE`).
+
+    >>> from armanim.arm.kinematics import forward
+    >>> arm = Arm.from_names([2, 5], base=(1, 0, 0))
+    >>> caps = frame_capsules(arm, [BASE, 1], np.zeros((2, 3)), np.zeros((2, 3)), [0.1, 0.1])
+    >>> rot, origin = carrier_frames(caps, forward(arm, np.zeros(2)))
+    >>> origin.tolist()
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 2.0]]
+    """
+    base = capsules.link < 0
+    link = np.maximum(capsules.link, 0)
+    rot, origin = pose.frames[..., link, :, :], pose.points[..., link, :]
+    if base.any():
+        rot = np.where(base[:, None, None], np.eye(3), rot)
+        origin = np.where(base[:, None], 0.0, origin)
+    return rot, origin
+
+
 def _rotated(frames: np.ndarray, x: np.ndarray) -> np.ndarray:
     """(..., c, 3) R_c x_c for frames (..., c, 3, 3) and points (c, 3), each row's sum in the
     order the compiled kernel adds it (einsum's order is its own), so one pose's ends equal a

@@ -61,8 +61,7 @@ def _held_row(joint, default: float) -> tuple[str, str, float]:
 @app.command()
 @handle_errors
 def robots() -> None:
-    """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]),
-    and the joints off each chain a scene holds with [bold]arm.joint_values[/bold] (the Panda's fingers).
+    """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]), and the joints off each chain a scene holds with [bold]arm.joint_values[/bold] (the Panda's fingers).
 
     Example: [bold]armanim robots[/bold]
     """
