@@ -360,3 +360,40 @@ def test_the_capsule_pictures_stand_the_base_where_it_is():
     dist = np.linalg.norm(verts - (a[:, None] + t[..., None] * ab[:, None]), axis=-1)
     assert np.all(dist <= caps.radius[:, None] * 1.0001 + 1e-12)
     assert np.any(caps.link == BASE)
+
+
+HELD = """<robot name="held">
+  <link name="base"/><link name="upper"/><link name="hand"/>
+  <link name="camera"><collision><origin xyz="0.1 0 0"/><geometry><sphere radius="0.02"/></geometry></collision></link>
+  <link name="twin"><collision><origin xyz="0.1 0 0"/><geometry><sphere radius="0.01"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="upper"/><child link="hand"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="pan" type="revolute"><parent link="hand"/><child link="camera"/><origin xyz="0 0 0.2"/><axis xyz="0 0 1"/>
+    <limit lower="0.2" upper="1.5" effort="1" velocity="1"/></joint>
+  <joint name="follow" type="revolute"><parent link="hand"/><child link="twin"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/><mimic joint="pan" multiplier="-2" offset="0.1"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("given, pan", [(None, 0.2), (60.0, np.radians(60.0))])
+def test_a_held_revolute_joint_in_degrees_and_its_mimic(tmp_path, given, pan):
+    """A camera on a revolute joint off the path (limits [0.2, 1.5] rad: held at its lower limit by
+    default, or at ``joint_values`` degrees) and a mimic of it (-2 x pan + 0.1): their spheres where
+    the closed form puts them, on the hand's joint (carrier 1)."""
+    (tmp_path / "held.urdf").write_text(HELD)
+    arm = {"urdf": "held.urdf", "base_link": "base", "tip_link": "hand", "home": [0, 0]}
+    if given is not None:
+        arm["joint_values"] = {"pan": given}
+    scene = scene_model({"version": 1, "arm": arm, "goals": [[0.3, 0, 0.3]]}, tmp_path)
+    chain, caps = scene_arm(scene.arm, [])
+    names = list(caps.names)
+    for link, angle, height in (("camera", pan, 0.2), ("twin", -2 * pan + 0.1, 0.3)):
+        k = names.index(link)
+        assert caps.link[k] == 1
+        expected = np.array([0.1 * np.cos(angle), 0.1 * np.sin(angle), height])
+        np.testing.assert_allclose(caps.start[k], expected, atol=1e-15)
+    with pytest.raises(Exception, match="outside the limits of joint 'pan', \\[11.4592, 85.9437\\] degrees"):
+        scene_model({"version": 1, "arm": {**arm, "joint_values": {"pan": 5.0}}, "goals": [[0.3, 0, 0.3]]}, tmp_path)
