@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from armanim.arm.capsules import BASE, capsule_ends
 from armanim.arm.kinematics import forward
@@ -397,3 +399,43 @@ def test_a_held_revolute_joint_in_degrees_and_its_mimic(tmp_path, given, pan):
         np.testing.assert_allclose(caps.start[k], expected, atol=1e-15)
     with pytest.raises(Exception, match="outside the limits of joint 'pan', \\[11.4592, 85.9437\\] degrees"):
         scene_model({"version": 1, "arm": {**arm, "joint_values": {"pan": 5.0}}, "goals": [[0.3, 0, 0.3]]}, tmp_path)
+
+
+def test_the_base_stands_on_the_floor():
+    """The Panda's panda_link0 capsule reaches 3 cm below its mount: with the floor at the mount the
+    scene is valid and the base's floor clearance is +inf (it stands there, as the first joint's links do)."""
+    from armanim.world.distances import clearances
+
+    problem = scene_to_problem(_model({"robot": "panda"}, floor=0.0))
+    caps = problem.capsules
+    a, b = capsule_ends(caps, forward(problem.arm, problem.home))
+    base = caps.link == BASE
+    assert np.min(np.minimum(a[base, 2], b[base, 2]) - caps.radius[base]) < -0.02
+    floor = clearances(forward(problem.arm, problem.home), problem.obstacles, caps).d[:-1, -1]
+    assert np.all(np.isinf(floor[base]))
+
+
+@settings(max_examples=20, deadline=None)
+@given(opening=st.floats(0.0, 0.04), base=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+       rpy=st.lists(st.floats(-170, 170), min_size=3, max_size=3), seed=st.integers(0, 2**31))
+def test_any_finger_opening_and_mount_place_the_fingers_as_pinocchio_does(opening, base, rpy, seed):
+    """Any opening of the Panda's fingers, any mount, the tip at panda_link7 (the hand off the path):
+    the hand's, the fingers' and the base's frames are pinocchio's (the mimic finger at the same
+    opening) to 1e-12."""
+    pin = pytest.importorskip("pinocchio")
+    from armanim.scene.convert import urdf_chain, urdf_mount
+
+    arm = {"robot": "panda", "tip_link": "panda_link7", "base": base, "base_rpy": rpy,
+           "joint_values": {"panda_finger_joint1": opening}}
+    scene = _model(arm)
+    chain = urdf_chain(scene.arm)
+    places = link_places(scene.arm, chain)
+    model = pin.buildModelFromXML(PANDA_URDF.read_text())
+    data = model.createData()
+    phi = np.random.default_rng(seed).uniform(-1.5, 1.5, chain.arm.n)
+    q = _pin_q(pin, model, chain.arm.joint_names, phi, {"panda_finger_joint1": opening, "panda_finger_joint2": opening})
+    pin.framesForwardKinematics(model, data, q)
+    pose = forward(chain.arm, phi)
+    for link in ("panda_hand", "panda_leftfinger", "panda_rightfinger", "panda_link0"):
+        expected = urdf_mount(scene.arm) @ data.oMf[model.getFrameId(link)].homogeneous
+        np.testing.assert_allclose(_world(places, pose, link), expected, atol=1e-12, rtol=0, err_msg=link)
