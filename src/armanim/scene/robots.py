@@ -229,20 +229,20 @@ def _check_joint_values(values: dict, robot: Robot, path_joints: list[Joint], he
     for name, value in values.items():
         loc = ("joint_values", name)
         if name in chain:
-            raise ArmFieldError(loc, f"joint_values.{name}: {name!r} is a joint of the arm's chain (its angle is arm.home's: "
+            raise ArmFieldError(loc, f"{name!r} is a joint of the arm's chain (its angle is arm.home's: "
                                      "joint_values holds the joints off the chain, such as a gripper's)")
         joint = robot.joints.get(name)
         if joint is None:
             close = [n for n in mine if name.lower() in n.lower() or n.lower() in name.lower()][:1]
             hint = f"did you mean {close[0]!r}? " if close else ""
-            raise ArmFieldError(loc, f"joint_values.{name}: {name!r} is not a joint of {robot.file} ({hint}the joints held off "
+            raise ArmFieldError(loc, f"{name!r} is not a joint of {robot.file} ({hint}the joints held off "
                                      f"the chain: {', '.join(mine) or 'none'})")
         if joint.follows is not None:
-            raise ArmFieldError(loc, f"joint_values.{name}: joint {name!r} mimics {joint.follows[0]!r} (it follows that joint's "
+            raise ArmFieldError(loc, f"joint {name!r} mimics {joint.follows[0]!r} (it follows that joint's "
                                      f"value by its <mimic>, line {joint.line}: set {joint.follows[0]!r} instead)")
         if name not in mine:
             why = "is fixed" if joint.kind == "fixed" else "is not below base_link"
-            raise ArmFieldError(loc, f"joint_values.{name}: joint {name!r} {why} (expected one of the joints held off the chain: "
+            raise ArmFieldError(loc, f"joint {name!r} {why} (expected one of the joints held off the chain: "
                                      f"{', '.join(mine) or 'none'})")
         if joint.limits is not None:
             lower, upper = joint.limits
@@ -250,7 +250,7 @@ def _check_joint_values(values: dict, robot: Robot, path_joints: list[Joint], he
             if joint.kind != "prismatic":
                 lower, upper, unit = float(np.degrees(lower)), float(np.degrees(upper)), " degrees"
             if not lower <= value <= upper:
-                raise ArmFieldError(loc, f"joint_values.{name}: {value:g} is outside the limits of joint {name!r}, "
+                raise ArmFieldError(loc, f"{value:g} is outside the limits of joint {name!r}, "
                                          f"[{lower:g}, {upper:g}]{unit} (line {joint.limit_line} of {robot.file})")
 
 
