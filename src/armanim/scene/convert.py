@@ -266,8 +266,10 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
     allow = [] if isinstance(spec, str) else [(a, b) for a, b in spec.allow]
     check = [] if isinstance(spec, str) else [(a, b) for a, b in spec.check]
     if not isinstance(spec, str) and spec.srdf is not None:  # MoveIt's rules where the SRDF says nothing
-        allowed = dict(_sampled_matrix(chain, capsules, limits.lower, limits.upper, (), clearance, (selfcollision.ADJACENT, selfcollision.ALWAYS)))
-        allowed.update({(a, b): reason for a, b, reason in arm.srdf_pairs})
+        listed = {(a, b): reason for a, b, reason in arm.srdf_pairs}
+        allowed = dict(_sampled_matrix(chain, capsules, limits.lower, limits.upper, (), clearance,
+                                       (selfcollision.ADJACENT, selfcollision.ALWAYS), tuple(listed)))
+        allowed.update(listed)
         mode = "srdf"
     else:
         allowed = _automatic_matrix(arm, chain, capsules, limits, home, clearance)
@@ -293,13 +295,14 @@ _MATRICES: dict = {}
 
 
 def _sampled_matrix(chain: Arm, capsules: Capsules, lower, upper, defaults: tuple[bytes, ...], clearance: float,
-                    rules: tuple[str, ...] = selfcollision.RULES):
+                    rules: tuple[str, ...] = selfcollision.RULES, decided: tuple[tuple[str, str], ...] = ()):
     """:func:`armanim.world.selfcollision.automatic_matrix`, kept per arm (a run converts its scene more than once)."""
     key = (chain.offsets.tobytes(), repr(chain.joint_names), capsules.link.tobytes(), capsules.start.tobytes(), capsules.end.tobytes(),
-           capsules.radius.tobytes(), capsules.names, lower.tobytes(), upper.tobytes(), defaults, clearance, _axes_key(chain), rules)
+           capsules.radius.tobytes(), capsules.names, lower.tobytes(), upper.tobytes(), defaults, clearance, _axes_key(chain), rules, decided)
     if key not in _MATRICES:
         poses = [np.frombuffer(d) for d in defaults]
-        _MATRICES[key] = tuple(selfcollision.automatic_matrix(chain, capsules, lower, upper, poses, clearance, rules=rules).items())
+        _MATRICES[key] = tuple(selfcollision.automatic_matrix(chain, capsules, lower, upper, poses, clearance, rules=rules,
+                                                              decided=decided).items())
     return _MATRICES[key]
 
 
