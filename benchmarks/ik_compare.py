@@ -446,7 +446,7 @@ def panda_pair_gaps():
     caps, pairs = problem.capsules, problem.self_pairs
     if caps.joint_segment.any():
         raise RuntimeError("a joint-to-joint capsule: not placed by this judge")
-    joints = [model.getJointId(f"panda_joint{k + 1}") for k in caps.link]
+    joints = [model.getJointId(f"panda_joint{k + 1}") if k >= 0 else 0 for k in caps.link]  # the base's (carrier -1): the universe
     shapes, axes, centres = [], [], []
     for start, end, radius in zip(caps.start, caps.end, caps.radius):
         axis = end - start

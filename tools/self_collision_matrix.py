@@ -4,7 +4,7 @@
     python tools/self_collision_matrix.py --check    # exit 1 if a committed file differs
 
 Each file lists every link pair never checked and MoveIt's reason for it (Adjacent, Default,
-Never: :mod:`armanim.world.selfcollision`), computed at :data:`CLEARANCE` metres, so that it serves
+Always, Never: :mod:`armanim.world.selfcollision`), computed at :data:`CLEARANCE` metres, so that it serves
 every scene whose ``solver.self_clearance`` is at most that; runs then never sample.
 """
 
@@ -35,7 +35,7 @@ def matrix_text(robot: str) -> str:
     order = {pair: k for k, pair in enumerate(selfcollision.link_pairs(problem.capsules))}
     lines = [
         f"# {robot}'s allowed-collision matrix: written by tools/self_collision_matrix.py, do not edit.",
-        "# Every link pair listed is never checked (MoveIt's reasons: Adjacent, Default, Never);",
+        "# Every link pair listed is never checked (MoveIt's reasons: Adjacent, Default, Always, Never);",
         "# every other pair of links keeps solver.self_clearance. Computed at clearance (metres) from",
         "# the robot's home and `samples` random in-limit poses drawn from `seed`.",
         f"robot: {robot}",

@@ -224,6 +224,33 @@ def test_a_robot_run_among_spheres_is_the_numpy_run(method):
     assert_trajectory_invariants(problem, fast)
 
 
+@pytest.mark.parametrize("method", ["pinv", "dls"])
+def test_a_run_beside_the_base_is_the_numpy_run(method):
+    """The Panda's base (carrier -1: its capsules in the world, Jacobian columns all zero) in play in
+    both frames: a sphere within the base's influence (no push, no row: the base never moves) and a
+    goal behind the base (pairs of the base and the hand in the filter's rows)."""
+    from armanim.arm.capsules import BASE
+    from armanim.arm.kinematics import forward
+    from armanim.world.selfdistances import self_gaps
+
+    problem = scene_to_problem(scene_model({
+        "version": 1, "arm": {"robot": "panda"},
+        "obstacles": [{"center": [0.0, -0.25, 0.05], "radius": 0.05, "influence": 0.2}],
+        "goals": [[-0.12, 0.1, 0.12]],
+        "solver": {"method": method, "planner": "off", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02,
+                   "self_clearance": 0.01}}))
+    compared, taken = frames_agree(problem, stride=1)
+    assert taken >= 10
+    fast, slow = solve_trajectory(problem), solve_trajectory(numpy_frames(problem))
+    assert fast.trajectory.frames == slow.trajectory.frames
+    assert np.abs(fast.trajectory.phi - slow.trajectory.phi).max() < 1e-9
+    caps, pairs = problem.capsules, problem.self_pairs
+    base = caps.link[pairs.first] == BASE
+    gaps = self_gaps(forward(problem.arm, fast.trajectory.phi), caps, pairs).d[:, base]
+    assert gaps.min() < 0.02  # the base's pairs came within the filter's reach (self_clearance 0.01)
+    assert_trajectory_invariants(problem, fast)
+
+
 @settings(max_examples=15, **SETTINGS)
 @given(robot_problems(robots=("panda", "ur5", "iiwa")), LINEAR)
 def test_compiled_runs_keep_every_invariant(problem, method):

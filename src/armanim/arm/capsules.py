@@ -1,7 +1,9 @@
 """The arm's collision capsules: segments with a radius, each carried by one joint's frame.
 
 A capsule is every point within ``radius`` of the segment from ``start`` to ``end``, both
-given in the frame of the joint that carries it (the URDF link that joint moves). Today's
+given in the frame of the joint that carries it (the URDF link that joint moves), or, for the
+carrier :data:`BASE` (-1: the robot's base and what is fixed to it before the first moving
+joint), in the world: the base never moves, so its points' Jacobian columns are all zero. Today's
 arms have one capsule per link, from the joint to the next joint, of radius ``width / 2``
 (:func:`joint_capsules`); a URDF arm has the capsules of its collision model. Every
 consumer (clearances, the cost, the safety filter, the planner, the renderer) takes the
@@ -19,6 +21,9 @@ from numpy.typing import ArrayLike
 
 from armanim.arm.kinematics import Arm, Pose, point_jacobian
 
+BASE = -1
+"""The carrier (:attr:`Capsules.link`) of a capsule on the base: its ends are in the world."""
+
 
 @dataclass(frozen=True)
 class Capsules:
@@ -27,9 +32,10 @@ class Capsules:
     Parameters
     ----------
     link : (c,) int array
-        0-based index of the joint whose frame carries each capsule.
+        0-based index of the joint whose frame carries each capsule; :data:`BASE` (-1) for a
+        capsule on the robot's base (before the first moving joint).
     start, end : (c, 3) arrays
-        The ends of each capsule's segment in that frame (scene units).
+        The ends of each capsule's segment in that frame (in the world for the base's; scene units).
     radius : (c,) array
         Each capsule's radius (scene units, >= 0).
     names : tuple of str
@@ -46,7 +52,10 @@ class Capsules:
     """(c+1,) the radius of every part that clearances are measured from: the capsules', then
     the tip's, 0 (a point)."""
     on_base: np.ndarray = field(init=False, repr=False, compare=False)
-    """(c+1,) bool: the parts the first joint carries (they stand on the base); the tip never."""
+    """(c+1,) bool: the parts on the base or carried by the first joint (they stand on the base); the tip never."""
+    moving: np.ndarray = field(init=False, repr=False, compare=False)
+    """(c+1,) bool: the parts a joint moves (every part but the base's capsules; the tip always): only
+    these are pushed away from an obstacle or give the filter a row (a part on the base has none to give)."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "link", np.asarray(self.link, dtype=int))
@@ -55,8 +64,9 @@ class Capsules:
         if self.joint_segment is None:
             object.__setattr__(self, "joint_segment", np.zeros(len(self.link), dtype=bool))
         object.__setattr__(self, "part_radius", np.append(self.radius, 0.0))  # asked every frame: made once
-        object.__setattr__(self, "on_base", np.append(self.link == 0, False))
-        self.part_radius.flags.writeable = self.on_base.flags.writeable = False  # shared by every clearance computation
+        object.__setattr__(self, "on_base", np.append(self.link <= 0, False))
+        object.__setattr__(self, "moving", np.append(self.link >= 0, True))
+        self.part_radius.flags.writeable = self.on_base.flags.writeable = self.moving.flags.writeable = False  # shared by every clearance computation
 
     def __len__(self) -> int:
         return len(self.link)
@@ -89,7 +99,7 @@ def frame_capsules(arm: Arm, link: ArrayLike, start: ArrayLike, end: ArrayLike, 
     """
     link = np.asarray(link, dtype=int)
     start, end = np.asarray(start, dtype=float).reshape(-1, 3), np.asarray(end, dtype=float).reshape(-1, 3)
-    segment = np.all(start == 0.0, axis=1) & np.all(end == arm.offsets[link], axis=1)
+    segment = (link >= 0) & np.all(start == 0.0, axis=1) & np.all(end == arm.offsets[np.maximum(link, 0)], axis=1)
     return Capsules(link, start, end, np.asarray(radius, dtype=float), tuple(names), segment)
 
 
@@ -97,7 +107,8 @@ def capsule_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray
     """World ends a, b of every capsule's segment, each of shape (..., c, 3), read-only.
 
     x_world = p_k + R_k x for a capsule carried by joint k; a joint-to-joint capsule takes
-    the pose's joint points p_k, p_{k+1} themselves. Computed once per pose and capsules
+    the pose's joint points p_k, p_{k+1} themselves; a capsule on the base (:data:`BASE`) its
+    own ends, already in the world. Computed once per pose and capsules
     (kept in :attr:`Pose.memo`).
 
     >>> from armanim.arm.kinematics import forward
@@ -126,12 +137,37 @@ def _world_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]
         return cast("tuple[np.ndarray, np.ndarray]", kernel.capsule_ends_one(link, capsules.start, capsules.end, capsules.joint_segment, pose.points, pose.frames))
     if capsules.joint_segment.all():
         return pose.points[..., link, :], pose.points[..., link + 1, :]
+    base = (link < 0)[:, None]
+    link = np.maximum(link, 0)  # the base's rows are replaced by their own ends below
     origin = pose.points[..., link, :]
     frames = pose.frames[..., link, :, :]
     a = origin + _rotated(frames, capsules.start)
     b = origin + _rotated(frames, capsules.end)
     segment = capsules.joint_segment[:, None]
-    return np.where(segment, origin, a), np.where(segment, pose.points[..., link + 1, :], b)
+    a, b = np.where(segment, origin, a), np.where(segment, pose.points[..., link + 1, :], b)
+    if base.any():
+        a, b = np.where(base, capsules.start, a), np.where(base, capsules.end, b)
+    return a, b
+
+
+def carrier_frames(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+    """The world rotation (..., c, 3, 3) and origin (..., c, 3) of the frame each capsule is given
+    in: its joint's, or the world's (identity, 0) for a capsule on the base (:data:`BASE`).
+
+    >>> from armanim.arm.kinematics import forward
+    >>> arm = Arm.from_names([2, 5], base=(1, 0, 0))
+    >>> caps = frame_capsules(arm, [BASE, 1], np.zeros((2, 3)), np.zeros((2, 3)), [0.1, 0.1])
+    >>> rot, origin = carrier_frames(caps, forward(arm, np.zeros(2)))
+    >>> origin.tolist()
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 2.0]]
+    """
+    base = capsules.link < 0
+    link = np.maximum(capsules.link, 0)
+    rot, origin = pose.frames[..., link, :, :], pose.points[..., link, :]
+    if base.any():
+        rot = np.where(base[:, None, None], np.eye(3), rot)
+        origin = np.where(base[:, None], 0.0, origin)
+    return rot, origin
 
 
 def _rotated(frames: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -202,18 +238,20 @@ def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
     A capsule carried by joint k >= j lies within |o_j| + ... + |o_k| + pad of p_j, where
     pad is the radius plus how far its ends stick out (its start from p_k, or its end
     from p_{k+1}, whichever is nearer for each end); joint-to-joint capsules stick out by
-    their radius alone.
+    their radius alone. Capsules on the base (:data:`BASE`) never move: none counts.
 
     >>> lever_arms(Arm.from_names([2, 5]), joint_capsules(Arm.from_names([2, 5]), 0.25)).tolist()
     [7.25, 5.25]
     """
     tail = np.cumsum(arm.links[::-1])[::-1]
-    off = arm.offsets[capsules.link]
-    start = np.minimum(_norm(capsules.start), _norm(capsules.start - off))
-    end = np.minimum(_norm(capsules.end), _norm(capsules.end - off))
-    pad = np.where(capsules.joint_segment, 0.0, np.maximum(start, end)) + capsules.radius
+    moving = capsules.link >= 0
+    link = capsules.link[moving]
+    off = arm.offsets[link]
+    start = np.minimum(_norm(capsules.start[moving]), _norm(capsules.start[moving] - off))
+    end = np.minimum(_norm(capsules.end[moving]), _norm(capsules.end[moving] - off))
+    pad = np.where(capsules.joint_segment[moving], 0.0, np.maximum(start, end)) + capsules.radius[moving]
     by_link = np.zeros(arm.n)
-    np.maximum.at(by_link, capsules.link, pad)
+    np.maximum.at(by_link, link, pad)
     return tail + np.maximum.accumulate(by_link[::-1])[::-1]
 
 

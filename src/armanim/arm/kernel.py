@@ -341,10 +341,15 @@ def rotation_error(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
 def _capsule_ends_one(points: np.ndarray, frames: np.ndarray, link: np.ndarray, start: np.ndarray, end: np.ndarray,
                       joint_segment: np.ndarray, a: np.ndarray, b: np.ndarray) -> None:
     """Every capsule's world ends of one pose into a, b (c, 3): p_k + R_k x, or the joint points
-    themselves for a joint-to-joint capsule (the sums in numpy's einsum order)."""
+    themselves for a joint-to-joint capsule, its own ends for one on the base (carrier -1); the sums
+    in numpy's einsum order."""
     for c in range(link.shape[0]):
         k = link[c]
-        if joint_segment[c]:
+        if k < 0:  # on the base: already in the world
+            for i in range(3):
+                a[c, i] = start[c, i]
+                b[c, i] = end[c, i]
+        elif joint_segment[c]:
             for i in range(3):
                 a[c, i] = points[k, i]
                 b[c, i] = points[k + 1, i]

@@ -17,10 +17,13 @@ class RobotSummary:
     limits_deg: tuple[tuple[float, float] | None, ...]
     reach: float
     capsules: int
+    held: tuple[tuple[str, str, float], ...] = ()
+    """The joints off the chain, held (``arm.joint_values``): (name, how, default in degrees or metres)."""
 
 
 def robot_summaries() -> list[RobotSummary]:
-    """Every bundled robot: its joints, their limits, its reach from joint 1 and its capsules.
+    """Every bundled robot: its joints, their limits, its reach from joint 1, its capsules and the
+    joints held off its chain (the Panda's fingers) with their defaults.
 
     >>> [s.name for s in robot_summaries()]
     ['panda', 'ur5', 'iiwa']
@@ -28,7 +31,7 @@ def robot_summaries() -> list[RobotSummary]:
     import numpy as np
 
     from armanim.scene import scene_model, scene_to_problem  # the scene room: pydantic, the URDF reader
-    from armanim.scene.robots import ROBOTS, bundled_robot
+    from armanim.scene.robots import ROBOTS, bundled_robot, default_held_value
 
     summaries = []
     for name in ROBOTS:
@@ -36,15 +39,29 @@ def robot_summaries() -> list[RobotSummary]:
         lim = problem.limits
         limits = tuple((float(np.degrees(lo)), float(np.degrees(hi))) if np.isfinite(lo) else None
                        for lo, hi in zip(lim.lower, lim.upper))
+        urdf = scene_model({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}).arm.urdf_arm
+        held = tuple(_held_row(j, default_held_value(j)) for j in urdf.held)
         summaries.append(RobotSummary(name, bundled_robot(name).title, problem.arm.joint_names, limits,
-                                      problem.arm.reach, len(problem.capsules)))
+                                      problem.arm.reach, len(problem.capsules), held))
     return summaries
+
+
+def _held_row(joint, default: float) -> tuple[str, str, float]:
+    """(name, how it is held, default in the scene's unit: degrees, or metres for a prismatic joint)."""
+    import math
+
+    if joint.follows is not None:
+        other, multiplier, offset = joint.follows
+        return joint.name, f"mimics {other} (x {multiplier:g} + {offset:g})", math.nan
+    unit = "m" if joint.kind == "prismatic" else "deg"
+    value = default if joint.kind == "prismatic" else math.degrees(default)
+    return joint.name, f"{joint.kind}, arm.joint_values ({unit})", value
 
 
 @app.command()
 @handle_errors
 def robots() -> None:
-    """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]).
+    """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]), and the joints off each chain a scene holds with [bold]arm.joint_values[/bold] (the Panda's fingers).
 
     Example: [bold]armanim robots[/bold]
     """
@@ -58,4 +75,6 @@ def robots() -> None:
         table.add_column("limits (deg)")
         for k, (joint, limits) in enumerate(zip(robot.joints, robot.limits_deg)):
             table.add_row(f"phi{k + 1}", joint, f"[{limits[0]:.1f}, {limits[1]:.1f}]" if limits else "unlimited")
+        for joint, how, default in robot.held:
+            table.add_row("held", joint, how if default != default else f"{how}, default {default:g}")
         out.print(table)

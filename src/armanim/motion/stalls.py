@@ -107,7 +107,7 @@ def _near_obstacle(problem: Problem, state: ArmState) -> bool:
     """Whether a part is within an obstacle's influence, or an enabled pair of the arm's own
     parts within theirs (the arm blocked by itself counts as blocked by an obstacle)."""
     cl = state.clearance
-    if cl is not None and bool(np.any(cl.d <= problem.obstacles.influence)):
+    if cl is not None and bool(np.any((cl.d <= problem.obstacles.influence) & problem.capsules.moving[:, None])):
         return True
     return state.self_gaps is not None and bool(np.any(state.self_gaps.d <= self_influence(problem)))
 

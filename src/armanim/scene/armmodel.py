@@ -121,6 +121,12 @@ class ArmModel(Strict):
         default=None, description="auto (the URDF's primitives, or the robot's capsules), or a list of capsules."
     )
     home: list[Angle] | None = Field(default=None, description="Starting joint angles, degrees; default all 0 (or the robot's).")
+    joint_values: Annotated[dict[UrdfName, Annotated[float, Field(allow_inf_nan=False, ge=-1e9, le=1e9)]], Field(max_length=1000)] | None = Field(
+        default=None,
+        description="The joints off the arm's chain (a gripper's fingers) held at these values: joint name to degrees, "
+                    "or metres for a prismatic joint; default 0 if within the joint's limits, else its lower limit. "
+                    "Mimic joints follow their <mimic>.",
+    )
     limits: list[Annotated[list[Angle], Field(min_length=2, max_length=2)] | None] | None = Field(
         default=None, description="Per joint [min, max] in degrees, or null for an unlimited joint; default the URDF's."
     )
@@ -170,7 +176,7 @@ class ArmModel(Strict):
         if len(given) != 1:
             raise ValueError(f"gives {' and '.join(given) if given else 'none of links, urdf, robot'} "
                              "(expected exactly one: links for an arm of straight links, urdf for a URDF file, robot for a bundled robot)")
-        wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision", "package_dirs") if given[0] == "links" else ("axes", "direction")
+        wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision", "package_dirs", "joint_values") if given[0] == "links" else ("axes", "direction")
         for name in wrong:
             if getattr(self, name) is not None:
                 kind = "an arm of links" if given[0] == "links" else "a URDF arm"

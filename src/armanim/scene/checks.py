@@ -252,6 +252,14 @@ def _collision_problems(problem, tip_size: str):
     cl = clearances(forward(problem.arm, problem.home), obstacles, problem.capsules)
     for link, obs in zip(*np.nonzero(cl.links < d_safe)):
         inside = cl.links[link, obs] <= 0
+        if problem.capsules.link[link] < 0:  # the base: no pose can move it
+            name = problem.capsules.names[link] if problem.capsules.names else "the base"
+            yield _obstacle_path(obstacles, obs), (
+                f"the robot's base (link {name!r}, which never moves) is "
+                f"{'inside this obstacle' if inside else 'closer to it than solver.clearance'} "
+                f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
+                "move the obstacle or arm.base, or lower solver.clearance)")
+            continue
         yield _obstacle_path(obstacles, obs), (
             f"link {link + 1} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, 'this obstacle') if inside else 'closer to ' + _floor_or(obstacles, obs, 'it') + ' than solver.clearance'} "
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "

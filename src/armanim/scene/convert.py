@@ -9,11 +9,13 @@ command line's arm flags) builds them here, through the model (:func:`default_so
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import cast
 
 import numpy as np
 
-from armanim.arm.capsules import Capsules, frame_capsules, joint_capsules
+from armanim.arm.capsules import BASE, Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
+from armanim.arm.geometry import unit_vector
 from armanim.arm.kinematics import Arm, default_axes, forward
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
 from armanim.motion.orientation import Orientation
@@ -35,7 +37,7 @@ from armanim.scene.models import (
     SceneModel,
     SolverModel,
 )
-from armanim.scene.robots import bundled_matrix
+from armanim.scene.robots import bundled_matrix, default_held_value
 from armanim.scene.text import text_path
 from armanim.world import selfcollision
 from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
@@ -74,19 +76,64 @@ def urdf_chain(arm: ArmModel) -> SerialChain:
     return serial_chain(mount, list(arm.urdf_arm.joints), tool)
 
 
-def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
-    """The URDF arm's capsules moved into the frames of the joints that carry them, a
-    joint-to-joint capsule of radius width / 2 for each moving link without one, and the tool's
-    capsule (``arm.tool.collision``), named after the link whose joint carries the tip. Links
-    before the first moving joint never move and carry none."""
+def held_values(arm: ArmModel) -> dict[str, float]:
+    """The value of every joint held off the URDF arm's chain (radians, or metres for a prismatic
+    joint): ``arm.joint_values`` (degrees become radians here), else 0 if its limits allow it,
+    else its lower limit; a mimic joint follows the joint it mimics (multiplier x value + offset)."""
     robot = arm.urdf_arm
+    given = arm.joint_values or {}
+    values = {}
+    for joint in robot.held:
+        if joint.follows is None:
+            value = given.get(joint.name)
+            values[joint.name] = (default_held_value(joint) if value is None
+                                  else float(value) if joint.kind == "prismatic" else float(np.radians(value)))
+    for joint in robot.held:
+        if joint.follows is not None:
+            other, multiplier, offset = joint.follows
+            values[joint.name] = multiplier * values[other] + offset
+    return values
+
+
+def joint_motion(joint, value: float) -> np.ndarray:
+    """(4, 4) a URDF joint's transform from its parent link to its child at ``value`` (radians, or
+    metres for a prismatic joint; a fixed, floating or planar joint: its origin alone)."""
+    motion = np.eye(4)
+    if joint.kind == "prismatic":
+        motion[:3, 3] = unit_vector(joint.axis) * value
+    elif joint.kind in ("revolute", "continuous"):
+        motion[:3, :3] = axis_angle_rotation(joint.axis, value)
+    return cast(np.ndarray, joint.origin @ motion)
+
+
+def link_places(arm: ArmModel, chain: SerialChain) -> dict[str, tuple[int, np.ndarray]]:
+    """Where every link of the URDF arm's body sits: (carrier, (4, 4) its frame in the carrier's
+    frame). The carrier is the moving joint whose frame carries it, or :data:`~armanim.arm.capsules.BASE`
+    for the base link and what is fixed to it (their frames then in the world); links off the
+    path hang from theirs at the held joint values (:func:`held_values`)."""
+    robot = arm.urdf_arm
+    places = {robot.base_link: (BASE, urdf_mount(arm))}
+    places.update({link: (carrier, place) for link, carrier, place in zip(robot.path_links, chain.carriers, chain.link_offsets)})
+    values = held_values(arm)
+    for hanging in robot.hanging:
+        carrier, place = places[hanging.anchor]
+        for joint in hanging.joints:
+            place = place @ joint_motion(joint, values.get(joint.name, 0.0))
+        places[hanging.link] = (carrier, place)
+    return places
+
+
+def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
+    """The URDF arm's capsules moved into the frames of the joints that carry them (the base
+    link's and what is fixed before the first moving joint: into the world, carrier
+    :data:`~armanim.arm.capsules.BASE`; links off the path at their held joint values), a
+    joint-to-joint capsule of radius width / 2 for each moving link without one, and the tool's
+    capsule (``arm.tool.collision``), named after the link whose joint carries the tip."""
+    robot = arm.urdf_arm
+    places = link_places(arm, chain)
     links, starts, ends, radii, names = [], [], [], [], []
     for spec in robot.capsules:
-        index = robot.path_links.index(spec.link) if spec.link in robot.path_links else -1
-        carrier = chain.carriers[index] if index >= 0 else -1
-        if carrier < 0:
-            continue
-        place = chain.link_offsets[index]
+        carrier, place = places[spec.link]
         links.append(carrier)
         starts.append(place[:3, :3] @ spec.start + place[:3, 3])
         ends.append(place[:3, :3] @ spec.end + place[:3, 3])
@@ -210,8 +257,8 @@ def self_clearance(solver: SolverModel, d_safe: float) -> float:
 
 def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> SelfPairs:
     """The enabled pairs of the arm's own capsules (:mod:`armanim.world.selfcollision`): ``off``,
-    an SRDF's pairs allowed (every other pair of links on different joints checked, as pinocchio's
-    ``addAllCollisionPairs`` and ``removeCollisionPairs`` do), or MoveIt's rules (a bundled robot's
+    an SRDF's pairs allowed and, where it says nothing, MoveIt's ``Adjacent`` and ``Always`` rules
+    (every other pair of links on different joints checked), or MoveIt's rules (a bundled robot's
     committed matrix when its capsules and limits are its own and the clearance is within the
     matrix's), then the scene's ``allow`` and ``check`` lists."""
     spec = arm.self_collision
@@ -219,8 +266,11 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
         return SelfPairs.none(clearance)
     allow = [] if isinstance(spec, str) else [(a, b) for a, b in spec.allow]
     check = [] if isinstance(spec, str) else [(a, b) for a, b in spec.check]
-    if not isinstance(spec, str) and spec.srdf is not None:
-        allowed = {(a, b): reason for a, b, reason in arm.srdf_pairs}
+    if not isinstance(spec, str) and spec.srdf is not None:  # MoveIt's rules where the SRDF says nothing
+        listed = {(a, b): reason for a, b, reason in arm.srdf_pairs}
+        allowed = dict(_sampled_matrix(chain, capsules, limits.lower, limits.upper, (), clearance,
+                                       (selfcollision.ADJACENT, selfcollision.ALWAYS), tuple(listed)))
+        allowed.update(listed)
         mode = "srdf"
     else:
         allowed = _automatic_matrix(arm, chain, capsules, limits, home, clearance)
@@ -245,13 +295,15 @@ def _automatic_matrix(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Lim
 _MATRICES: dict = {}
 
 
-def _sampled_matrix(chain: Arm, capsules: Capsules, lower, upper, defaults: tuple[bytes, ...], clearance: float):
+def _sampled_matrix(chain: Arm, capsules: Capsules, lower, upper, defaults: tuple[bytes, ...], clearance: float,
+                    rules: tuple[str, ...] = selfcollision.RULES, decided: tuple[tuple[str, str], ...] = ()):
     """:func:`armanim.world.selfcollision.automatic_matrix`, kept per arm (a run converts its scene more than once)."""
     key = (chain.offsets.tobytes(), repr(chain.joint_names), capsules.link.tobytes(), capsules.start.tobytes(), capsules.end.tobytes(),
-           capsules.radius.tobytes(), capsules.names, lower.tobytes(), upper.tobytes(), defaults, clearance, _axes_key(chain))
+           capsules.radius.tobytes(), capsules.names, lower.tobytes(), upper.tobytes(), defaults, clearance, _axes_key(chain), rules, decided)
     if key not in _MATRICES:
         poses = [np.frombuffer(d) for d in defaults]
-        _MATRICES[key] = tuple(selfcollision.automatic_matrix(chain, capsules, lower, upper, poses, clearance).items())
+        _MATRICES[key] = tuple(selfcollision.automatic_matrix(chain, capsules, lower, upper, poses, clearance, rules=rules,
+                                                              decided=decided).items())
     return _MATRICES[key]
 
 

@@ -176,7 +176,8 @@ def _validated_model(data: dict, files: tuple) -> tuple[SceneModel | None, list[
         arm = read_arm_files(model.arm if model is not None else ArmModel.model_validate(data["arm"]), *files)
     except ValueError as exc:
         at = sum(1 for e in errors if e["loc"] and e["loc"][0] in ("version", "name"))  # pydantic's order of fields
-        error = {"type": "value_error", "loc": ("arm",), "msg": f"Value error, {exc}", "input": data.get("arm"), "ctx": {"error": exc}}
+        error = {"type": "value_error", "loc": ("arm", *getattr(exc, "loc", ())), "msg": f"Value error, {exc}", "input": data.get("arm"),
+                 "ctx": {"error": exc}}
         return None, errors[:at] + [error] + errors[at:]
     return (model.model_copy(update={"arm": arm}) if model is not None else None), errors
 

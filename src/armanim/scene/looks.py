@@ -13,7 +13,7 @@ import numpy as np
 
 from armanim.arm.chain import transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
-from armanim.scene.convert import tool_frame, urdf_chain, urdf_mount
+from armanim.scene.convert import link_places, tool_frame, urdf_chain, urdf_mount
 from armanim.scene.robots import bundled_robot
 from armanim.scene.urdf import read_urdf
 from armanim.scene.visuals import (
@@ -56,7 +56,8 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
     if triangles is not None and total > triangles:
         meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
     meshes += tool_meshes(arm.tool, urdf.tip_link, scene_dir or Path("."), notes.append)
-    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, urdf_chain(arm), urdf_mount(arm), fixed)
+    chain = urdf_chain(arm)
+    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, chain, urdf_mount(arm), fixed, link_places(arm, chain))
     return (placed if placed.triangles else None), notes
 
 

@@ -21,7 +21,7 @@ from armanim.scene.armmodel import ArmModel
 from armanim.scene.fields import ROBOTS
 from armanim.scene.models import SceneModel
 from armanim.scene.srdf import resolve_self_collision
-from armanim.scene.urdf import MOVING, Robot, chain_joints, joint_speeds, read_urdf
+from armanim.scene.urdf import MOVING, Hanging, Joint, Robot, chain_joints, hanging_links, joint_speeds, read_urdf
 
 RATE_UNITS = {"max_joint_speed": ("rad/s", "deg/s"), "max_joint_acceleration": ("rad/s^2", "deg/s^2"),
               "max_joint_jerk": ("rad/s^3", "deg/s^3")}
@@ -177,6 +177,81 @@ class UrdfArm:
     """The parsed URDF (its links' visuals are drawn from it: :mod:`armanim.scene.visuals`)."""
     folder: Path | None = None
     """The folder of the URDF file read (mesh files are relative to it); None for a bundled robot."""
+    hanging: tuple[Hanging, ...] = ()
+    """The links below ``base_link`` off the path (a gripper's fingers, a camera): each hangs from
+    the base link or a link of the path, with its collision geometry."""
+    held: tuple[Joint, ...] = ()
+    """The joints among those that are not fixed, in the file's order: each held at a value
+    (``arm.joint_values``, its default, or its ``<mimic>``)."""
+
+
+class ArmFieldError(ValueError):
+    """A problem of a field inside the scene's ``arm`` section that only the URDF tells: ``loc``
+    is the field's path below ``arm`` (e.g. ``("joint_values", "panda_finger_joint1")``)."""
+
+    def __init__(self, loc: tuple, message: str) -> None:
+        super().__init__(message)
+        self.loc = loc
+
+
+def default_held_value(joint: Joint) -> float:
+    """A held joint's value when the scene gives none (URDF units: radians or metres): 0 if its
+    limits allow it, else its lower limit.
+
+    >>> from armanim.scene.urdf import parse_urdf
+    >>> robot = parse_urdf(b'<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="prismatic">'
+    ...     b'<parent link="a"/><child link="b"/><limit lower="0.01" upper="0.04"/></joint></robot>', "r.urdf")
+    >>> default_held_value(robot.joints["j"])
+    0.01
+    """
+    if joint.limits is None or joint.limits[0] <= 0.0 <= joint.limits[1]:
+        return 0.0
+    return float(joint.limits[0])
+
+
+def _check_mimics(robot: Robot, held: tuple[Joint, ...]) -> None:
+    """Each held mimic joint follows a held joint that is no mimic itself (its value is then known);
+    a SceneError at its line otherwise (a mimic of the chain's joints would move with the arm)."""
+    free = {j.name for j in held if j.follows is None}
+    for joint in held:
+        if joint.follows is not None and joint.follows[0] not in free:
+            raise robot.error(f"joint {joint.name!r} mimics {joint.follows[0]!r}, which is not a joint held off the arm's chain "
+                              "(armanim holds a mimic joint off the chain at its <mimic> of such a joint; choose another "
+                              "base_link or tip_link)", joint.line)
+
+
+def _check_joint_values(values: dict, robot: Robot, path_joints: list[Joint], held: tuple[Joint, ...]) -> None:
+    """``arm.joint_values`` names held joints (not the chain's, not fixed, not a mimic) with values
+    inside their limits (degrees, or metres for a prismatic joint); an :class:`ArmFieldError` at the
+    joint's entry otherwise."""
+    chain = {j.name for j in path_joints if j.kind in MOVING}
+    mine = {j.name: j for j in held}
+    for name, value in values.items():
+        loc = ("joint_values", name)
+        if name in chain:
+            raise ArmFieldError(loc, f"{name!r} is a joint of the arm's chain (its angle is arm.home's: "
+                                     "joint_values holds the joints off the chain, such as a gripper's)")
+        joint = robot.joints.get(name)
+        if joint is None:
+            close = [n for n in mine if name.lower() in n.lower() or n.lower() in name.lower()][:1]
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise ArmFieldError(loc, f"{name!r} is not a joint of {robot.file} ({hint}the joints held off "
+                                     f"the chain: {', '.join(mine) or 'none'})")
+        if joint.follows is not None:
+            raise ArmFieldError(loc, f"joint {name!r} mimics {joint.follows[0]!r} (it follows that joint's "
+                                     f"value by its <mimic>, line {joint.line}: set {joint.follows[0]!r} instead)")
+        if name not in mine:
+            why = "is fixed" if joint.kind == "fixed" else "is not below base_link"
+            raise ArmFieldError(loc, f"joint {name!r} {why} (expected one of the joints held off the chain: "
+                                     f"{', '.join(mine) or 'none'})")
+        if joint.limits is not None:
+            lower, upper = joint.limits
+            unit = " m"
+            if joint.kind != "prismatic":
+                lower, upper, unit = float(np.degrees(lower)), float(np.degrees(upper)), " degrees"
+            if not lower <= value <= upper:
+                raise ArmFieldError(loc, f"{value:g} is outside the limits of joint {name!r}, "
+                                         f"[{lower:g}, {upper:g}]{unit} (line {joint.limit_line} of {robot.file})")
 
 
 def read_scene_files(scene: SceneModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
@@ -229,11 +304,16 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
     path_joints = robot.path(base, tip)
     moving = [j for j in path_joints if j.kind in ("revolute", "continuous")]
     links = tuple(j.child for j in path_joints)
+    hanging = tuple(hanging_links(robot, base, links))
+    held = tuple({j.name: j for h in hanging for j in h.joints if j.kind != "fixed"}.values())
+    _check_mimics(robot, held)
+    _check_joint_values(arm.joint_values or {}, robot, path_joints, held)
+    body = (base, *links, *(h.link for h in hanging))
     collision = arm.collision if arm.collision is not None else (bundled.collision if bundled else "auto")
     if collision == "auto":
-        capsules = tuple(c for link in links for c in primitive_capsules(link, robot))
+        capsules = tuple(c for link in body for c in primitive_capsules(link, robot))
     else:
-        capsules = tuple(_listed_capsules(collision, (base, *links)))
+        capsules = tuple(_listed_capsules(collision, body))
     return UrdfArm(
         file=shown,
         joints=tuple(joints),
@@ -250,6 +330,8 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
         tip_link=tip,
         robot=robot,
         folder=None if bundled is not None else path.parent,
+        hanging=hanging,
+        held=held,
     )
 
 
@@ -314,8 +396,8 @@ def _listed_capsules(collision, links: tuple[str, ...]):
     for i, capsule in enumerate(collision):
         link = capsule.link if hasattr(capsule, "link") else capsule["link"]
         if link not in links:
-            raise ValueError(f"collision[{i}].link {link!r} is not a link from base_link to tip_link "
-                             f"(expected one of: {', '.join(links)})")
+            raise ValueError(f"collision[{i}].link {link!r} is not a link of the arm (base_link, the links to tip_link "
+                             f"and those hanging from them; expected one of: {', '.join(links)})")
         get = (lambda k, c=capsule: getattr(c, "from_" if k == "from" else k)) if hasattr(capsule, "link") else capsule.__getitem__
         yield CapsuleSpec(link, np.asarray(get("from"), dtype=float), np.asarray(get("to"), dtype=float), float(get("radius")))
 

@@ -7,8 +7,9 @@ never read. Every problem is a :class:`SceneError` of ``FILE:LINE: message`` (ex
 
 The arm is the path from ``base_link`` to ``tip_link``, found by walking from the tip up
 through each link's one parent joint (unique in a tree). Revolute and continuous joints
-on it move, fixed ones fold into the next origin; any other type on it is an error,
-anything off it is ignored.
+on it move, fixed ones fold into the next origin; any other type on it is an error. Links
+off it below ``base_link`` (a gripper's fingers, a camera) hang from it at their joints' held
+values (:func:`hanging_links`).
 """
 
 from __future__ import annotations
@@ -79,6 +80,8 @@ class Joint:
     line: int
     velocity: float | None = None  # <limit velocity>, rad/s, as written (checked > 0 on the arm's path: :func:`joint_speeds`)
     limit_line: int | None = None
+    follows: tuple[str, float, float] | None = None
+    """A mimic joint's ``<mimic joint multiplier offset>``: value = multiplier x the other's + offset."""
 
 
 @dataclass(frozen=True)
@@ -272,6 +275,11 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
         raise SceneError(file, [Diagnostic("", f"{what} has the axis 0 0 0 (expected a direction, e.g. xyz=\"0 0 1\")", el.find("axis").line)])
     limit = el.find("limit")
     limits = None
+    if kind == "prismatic" and limit is not None:  # URDF's defaults: lower = upper = 0
+        lower, upper = (_numbers(limit, k, 1, (0.0,), file, f"{what} <limit>")[0] for k in ("lower", "upper"))
+        if not lower <= upper:
+            raise SceneError(file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is above upper {upper:g}", limit.line)])
+        limits = (lower, upper)
     if kind == "revolute":
         if limit is None or "lower" not in limit.attrib or "upper" not in limit.attrib:
             raise SceneError(file, [Diagnostic("", f"{what} is revolute but has no <limit lower=... upper=...> "
@@ -284,7 +292,20 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
     if kind in MOVING and limit is not None and "velocity" in limit.attrib:
         velocity = _numbers(limit, "velocity", 1, (), file, f"{what} <limit>")[0]
     return Joint(name, kind, ends["parent"], ends["child"], _origin(el, file, what), axis, limits,
-                 el.find("mimic") is not None, el.line, velocity, limit.line if limit is not None else None)
+                 el.find("mimic") is not None, el.line, velocity, limit.line if limit is not None else None,
+                 _mimic(el.find("mimic"), file, what))
+
+
+def _mimic(el: Element | None, file: str, what: str) -> tuple[str, float, float] | None:
+    """``<mimic joint= multiplier= offset=>`` as (joint, multiplier, offset), URDF's defaults 1 and 0."""
+    if el is None:
+        return None
+    other = el.attrib.get("joint")
+    if not other:
+        raise SceneError(file, [Diagnostic("", f"{what}: <mimic> has no joint attribute (the joint it follows)", el.line)])
+    multiplier = _numbers(el, "multiplier", 1, (1.0,), file, f"{what} <mimic>")[0]
+    offset = _numbers(el, "offset", 1, (0.0,), file, f"{what} <mimic>")[0]
+    return other, multiplier, offset
 
 
 def _check_tree(robot: Robot) -> None:
@@ -358,3 +379,39 @@ def joint_speeds(robot: Robot, joints: list[Joint]) -> tuple[float | None, ...]:
             raise robot.error(f"joint {joint.name!r}: <limit> velocity {joint.velocity:g} is not a speed (expected rad/s > 0, "
                               "or leave velocity out for armanim's default max_joint_speed)", joint.limit_line)
     return tuple(j.velocity for j in joints)
+
+
+@dataclass(frozen=True)
+class Hanging:
+    """A link below ``base_link`` off the arm's path: it hangs from ``anchor``, the nearest link
+    above it that is ``base_link`` or on the path, through ``joints`` (from the anchor down)."""
+
+    link: str
+    anchor: str
+    joints: tuple[Joint, ...]
+
+
+def hanging_links(robot: Robot, base: str, path_links: tuple[str, ...]) -> list[Hanging]:
+    """Every link below ``base`` that is neither it nor on the path (``path_links``: the
+    children of the path's joints), in the file's order of links: a gripper's hand and fingers
+    below the tip, a camera on a flange, a part fixed to the base.
+
+    >>> robot = parse_urdf(b'<robot name="r"><link name="a"/><link name="b"/><link name="f"/>'
+    ...     b'<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>'
+    ...     b'<joint name="g" type="prismatic"><parent link="b"/><child link="f"/><limit lower="0" upper="0.1"/></joint></robot>', "r.urdf")
+    >>> [(h.link, h.anchor, [j.name for j in h.joints]) for h in hanging_links(robot, "a", ("b",))]
+    [('f', 'b', ['g'])]
+    """
+    up = robot.parent_joint
+    arm = {base, *path_links}
+    out = []
+    for link in robot.links:
+        if link in arm:
+            continue
+        joints, at = [], link
+        while at not in arm and at in up:
+            joints.append(up[at])
+            at = up[at].parent
+        if at in arm:
+            out.append(Hanging(link, at, tuple(joints[::-1])))
+    return out

@@ -298,16 +298,20 @@ def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chain: SerialChain,
-                 mount: np.ndarray, fixed: list[LinkMesh] = ()) -> ArmMeshes:
+                 mount: np.ndarray, fixed: list[LinkMesh] = (), places: dict | None = None) -> ArmMeshes:
     """The links' meshes placed on the chain's frames: a link on the path from ``base`` to
     ``tip`` on its carrier, the base link where the chain is mounted, and a link hanging off
-    the path (a gripper below the tip) where its joints' zero puts it below the nearest link on
-    the path. ``mount`` (4, 4) is the base link's frame in the world. Links not below the base
-    (a ``world`` link above it) are not drawn. ``fixed`` meshes are already in the world."""
+    the path (a gripper below the tip) where ``places`` puts it (the collision model's places,
+    :func:`armanim.scene.convert.link_places`: at the held joint values), else where its joints'
+    zero puts it below the nearest link on the path. ``mount`` (4, 4) is the base link's frame in
+    the world. Links not below the base (a ``world`` link above it) are not drawn. ``fixed``
+    meshes are already in the world."""
     path = robot.path(base, tip)
     place = {base: (-1, np.asarray(mount, dtype=float))}
     for i, joint in enumerate(path):
         place[joint.child] = (chain.carriers[i], np.asarray(chain.link_offsets[i]))
+    if places is not None:
+        place.update(places)
     up = robot.parent_joint
     kept, carriers, offsets = [], [], []
     for mesh in meshes:

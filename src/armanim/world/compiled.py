@@ -451,18 +451,23 @@ def pair_rate(twists: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray
               t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int) -> float:
     """Pair p's row times the joint rates whose links' twists are ``twists`` (:func:`link_twists`):
     n . (J_A - J_B) x = n . ((Omega_A x q_A + V_A) - (Omega_B x q_B + V_B)), the points and normal
-    of :func:`pair_row`; equal to its row . x to rounding, without the row."""
+    of :func:`pair_row`; equal to its row . x to rounding, without the row. A capsule on the
+    base (carrier -1) moves at 0."""
     i, j = first[p], second[p]
     la, lb = link[i], link[j]
     tp, sp = t[p], s[p]
     qa0, qa1, qa2 = a[i, 0] + tp * (b[i, 0] - a[i, 0]), a[i, 1] + tp * (b[i, 1] - a[i, 1]), a[i, 2] + tp * (b[i, 2] - a[i, 2])
     qb0, qb1, qb2 = a[j, 0] + sp * (b[j, 0] - a[j, 0]), a[j, 1] + sp * (b[j, 1] - a[j, 1]), a[j, 2] + sp * (b[j, 2] - a[j, 2])
-    va0 = twists[la, 1] * qa2 - twists[la, 2] * qa1 + twists[la, 3]
-    va1 = twists[la, 2] * qa0 - twists[la, 0] * qa2 + twists[la, 4]
-    va2 = twists[la, 0] * qa1 - twists[la, 1] * qa0 + twists[la, 5]
-    vb0 = twists[lb, 1] * qb2 - twists[lb, 2] * qb1 + twists[lb, 3]
-    vb1 = twists[lb, 2] * qb0 - twists[lb, 0] * qb2 + twists[lb, 4]
-    vb2 = twists[lb, 0] * qb1 - twists[lb, 1] * qb0 + twists[lb, 5]
+    va0 = va1 = va2 = 0.0  # a capsule on the base (carrier -1) never moves
+    if la >= 0:
+        va0 = twists[la, 1] * qa2 - twists[la, 2] * qa1 + twists[la, 3]
+        va1 = twists[la, 2] * qa0 - twists[la, 0] * qa2 + twists[la, 4]
+        va2 = twists[la, 0] * qa1 - twists[la, 1] * qa0 + twists[la, 5]
+    vb0 = vb1 = vb2 = 0.0
+    if lb >= 0:
+        vb0 = twists[lb, 1] * qb2 - twists[lb, 2] * qb1 + twists[lb, 3]
+        vb1 = twists[lb, 2] * qb0 - twists[lb, 0] * qb2 + twists[lb, 4]
+        vb2 = twists[lb, 0] * qb1 - twists[lb, 1] * qb0 + twists[lb, 5]
     rate: float = normal[p, 0] * (va0 - vb0) + normal[p, 1] * (va1 - vb1) + normal[p, 2] * (va2 - vb2)
     return rate
 

@@ -10,9 +10,15 @@ The rules are the MoveIt Setup Assistant's (``computeDefaultCollisions``), on ar
     other than a bundled robot, MoveIt's default values: every joint at 0, or at the middle of
     limits that exclude 0; a bundled robot's default is its home, as MoveIt's ``ready`` state):
     they start that near, the matrix cannot ask them apart;
+``Always``
+    links closer than the clearance in every one of :data:`NEVER_SAMPLES` random poses inside
+    the limits (unlimited joints in [-pi, pi)), drawn from :data:`NEVER_SEED`: deterministic
+    (with the default poses' rule, such a pair is ``Default`` first, as in MoveIt);
 ``Never``
-    links never closer than the clearance in :data:`NEVER_SAMPLES` random poses inside the
-    limits (unlimited joints in [-pi, pi)), drawn from :data:`NEVER_SEED`: deterministic.
+    links never closer than the clearance in those poses.
+
+The base link (capsules carried by :data:`~armanim.arm.capsules.BASE`) is a link like the
+others: adjacent to the links the first joint carries.
 
 Every other pair of links is checked: each of its capsule pairs keeps ``solver.self_clearance``.
 A user's ``allow`` pairs are added (``User``), ``check`` pairs removed from the matrix. Pure core:
@@ -36,7 +42,9 @@ NEVER_SEED = 20261204
 CHUNK = 1_000
 """Poses measured at once (bounds the memory of an arm of many links)."""
 
-ADJACENT, DEFAULT, NEVER, USER, SRDF = "Adjacent", "Default", "Never", "User", "SRDF"
+ADJACENT, DEFAULT, ALWAYS, NEVER, USER, SRDF = "Adjacent", "Default", "Always", "Never", "User", "SRDF"
+RULES = (ADJACENT, DEFAULT, ALWAYS, NEVER)
+"""MoveIt's rules, in the order they are applied."""
 
 
 def link_names(capsules: Capsules) -> tuple[str, ...]:
@@ -132,11 +140,14 @@ def random_poses(lower: np.ndarray, upper: np.ndarray, count: int = NEVER_SAMPLE
 
 def automatic_matrix(
     arm: Arm, capsules: Capsules, lower: np.ndarray, upper: np.ndarray, defaults: list[np.ndarray], clearance: float,
-    samples: int = NEVER_SAMPLES, seed: int = NEVER_SEED,
+    samples: int = NEVER_SAMPLES, seed: int = NEVER_SEED, rules: tuple[str, ...] = RULES,
+    decided: Sequence[tuple[str, str]] = (),
 ) -> dict[tuple[str, str], str]:
     """The allowed link pairs and their reasons by MoveIt's rules (see the module docstring).
 
-    ``defaults``: the default poses (radians); ``clearance``: how near counts as touching.
+    ``defaults``: the default poses (radians); ``clearance``: how near counts as touching;
+    ``rules``: the rules applied (an SRDF's scene applies ``Adjacent`` and ``Always`` alone);
+    ``decided``: link pairs left out of the sampling (an SRDF's, whose reasons it gives).
 
     >>> from armanim.arm.capsules import joint_capsules
     >>> arm = Arm.from_names([1, 1, 1, 1], axes=["z", "z", "z", "z"], direction="x")
@@ -145,19 +156,45 @@ def automatic_matrix(
     {('link1', 'link2'): 'Adjacent', ('link2', 'link3'): 'Adjacent', ('link3', 'link4'): 'Adjacent'}
     """
     links = link_pairs(capsules)
-    adjacent = adjacent_pairs(capsules)
+    adjacent = adjacent_pairs(capsules) if ADJACENT in rules else set()
     allowed = {pair: ADJACENT for pair in links if pair in adjacent}
-    rest = [pair for pair in links if pair not in adjacent]
-    if not rest:
+    skip = {_key(*pair) for pair in decided}
+    rest = [pair for pair in links if pair not in adjacent and _key(*pair) not in skip]
+    if not rest or not {DEFAULT, ALWAYS, NEVER} & set(rules):
         return allowed
-    at_default = least_link_gaps(arm, capsules, rest, np.array(defaults)).min(axis=0)
-    sampled = least_link_gaps(arm, capsules, rest, random_poses(lower, upper, samples, seed)).min(axis=0)
+    if set(rules) & {DEFAULT, NEVER} == set():  # Always alone: a pair apart in one pose is out
+        allowed.update({pair: ALWAYS for pair in always_near(arm, capsules, rest, random_poses(lower, upper, samples, seed), clearance)})
+        return allowed
+    at_default = least_link_gaps(arm, capsules, rest, np.array(defaults)).min(axis=0) if DEFAULT in rules else np.full(len(rest), np.inf)
+    gaps = least_link_gaps(arm, capsules, rest, random_poses(lower, upper, samples, seed))
+    nearest, farthest = gaps.min(axis=0), gaps.max(axis=0)
     for k, pair in enumerate(rest):
         if at_default[k] < clearance:
             allowed[pair] = DEFAULT
-        elif sampled[k] >= clearance:
+        elif ALWAYS in rules and farthest[k] < clearance:
+            allowed[pair] = ALWAYS
+        elif NEVER in rules and nearest[k] >= clearance:
             allowed[pair] = NEVER
     return allowed
+
+
+def always_near(arm: Arm, capsules: Capsules, links: list[tuple[str, str]], poses: np.ndarray, clearance: float) -> list[tuple[str, str]]:
+    """The link pairs of ``links`` closer than ``clearance`` at every one of the (k, n) ``poses``
+    (MoveIt's ``Always``), measured a few poses at a time (16, then 4 times as many, up to
+    :data:`CHUNK`), each pair dropped at the first batch that has it apart: the same pairs as ``least_link_gaps(...).max(axis=0) < clearance``,
+    most of the work left out (few pairs are near in every pose).
+
+    >>> from armanim.arm.capsules import joint_capsules
+    >>> arm = Arm.from_names([0.1, 0.1, 0.1])
+    >>> always_near(arm, joint_capsules(arm, 0.5), [("link1", "link3")], np.zeros((3, 3)), 0.01)
+    [('link1', 'link3')]
+    """
+    left, start, size = list(links), 0, 16
+    while left and start < len(poses):
+        near = least_link_gaps(arm, capsules, left, poses[start:start + size]).max(axis=0) < clearance
+        left = [pair for pair, kept in zip(left, near) if kept]
+        start, size = start + size, min(4 * size, CHUNK)
+    return left
 
 
 def enabled_pairs(

@@ -125,13 +125,14 @@ def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.ndarray, np.ndarray]:
     """Constraint rows n . J_q and lower bounds -gamma (d - d_target) of the capsule-obstacle
-    pairs whose clearance is within ``travel`` (the most an arm point can move) of the target distance."""
+    pairs whose clearance is within ``travel`` (the most an arm point can move) of the target distance;
+    none of the base's capsules (they never move: their clearance is checked when the scene is read)."""
     n = problem.arm.n
     if state.clearance is None:
         return np.zeros((0, n)), np.zeros(0)
     target = kept_clearance(problem)
     d = state.clearance.links
-    parts, obstacles = np.nonzero(d - target < travel)
+    parts, obstacles = np.nonzero((d - target < travel) & problem.capsules.moving[:-1, None])  # the base's capsules: no row
     if not len(parts):
         return np.zeros((0, n)), np.zeros(0)
     jacs = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles])

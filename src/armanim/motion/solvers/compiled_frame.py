@@ -329,6 +329,8 @@ def _proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarr
     pinv = np.empty((n, 3))
     v = np.empty(3)
     for part in range(parts):
+        if part < parts - 1 and link[part] < 0:  # on the base: never pushed
+            continue
         for k in range(cl_d.shape[1]):
             r = influence[k]
             g = cl_d[part, k]
@@ -526,6 +528,8 @@ def _frame(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, 
         q = np.empty(3)
         jac = np.empty((3, n))
         for part in range(parts - 1):
+            if link[part] < 0:  # on the base: no row (it never moves)
+                continue
             for k in range(cl_d.shape[1]):
                 if not cl_d[part, k] - target < reach:
                     continue

@@ -140,7 +140,7 @@ def linear_step(
     cl = state.clearance
     if cl is not None and np.any(cl.d < problem.obstacles.influence):
         obstacles = problem.obstacles
-        push = s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence)
+        push = s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence) * problem.capsules.moving[:, None]  # the base: never pushed
         pushing = np.nonzero(push)
         on_links = pushing[0] != cl.tip
         inverses = iter(invert(jacobian_of_capsule_point(problem, phi, pose, pushing[0][on_links], cl.t[pushing][on_links])))

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.arm.capsules import Capsules, capsule_ends
+from armanim.arm.capsules import Capsules, capsule_ends, carrier_frames
 from armanim.arm.kinematics import Arm, Pose
 from armanim.render.camera.view import LIGHT, View, lambert
 from armanim.render.paint.style import (
@@ -159,9 +159,9 @@ class ArmSolids:
 
     def links(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None) -> list[Part]:
         """One prism per capsule, its back faces culled."""
-        link = self.capsules.link
-        verts = self.view.project(prism_world(pose, self.prism_local, link))  # (c, V, 3)
-        normals = self.view.screen_normals(np.einsum("cab,cfb->cfa", pose.frames[link], self.face_normals_local))
+        rotations, origins = carrier_frames(self.capsules, pose)  # the base's capsules: in the world
+        verts = self.view.project(prism_world(rotations, origins, self.prism_local))  # (c, V, 3)
+        normals = self.view.screen_normals(np.einsum("cab,cfb->cfa", rotations, self.face_normals_local))
         a, b = (self.view.project(end) for end in capsule_ends(self.capsules, pose))
         parts = []
         for i in range(len(verts)):

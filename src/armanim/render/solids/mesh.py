@@ -11,7 +11,6 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.arm.capsules import Capsules
-from armanim.arm.kinematics import Pose
 
 
 def perpendicular_basis(direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -54,10 +53,11 @@ def prism_local(capsules: Capsules, sides: int) -> np.ndarray:
     return prism_vertices(capsules.start, capsules.end, capsules.radius, sides)
 
 
-def prism_world(pose: Pose, local: np.ndarray, link: np.ndarray) -> np.ndarray:
-    """Move local prism vertices to the world: p_k + R_k x, shape (..., c, V, 3)."""
-    rotated = np.einsum("...cab,cvb->...cva", pose.frames[..., link, :, :], local)
-    return rotated + pose.points[..., link, None, :]
+def prism_world(rotations: np.ndarray, origins: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """Move local prism vertices to the world: p_k + R_k x, shape (..., c, V, 3), for each capsule's
+    frame (rotations (..., c, 3, 3), origins (..., c, 3): :func:`armanim.arm.capsules.carrier_frames`)."""
+    rotated = np.einsum("...cab,cvb->...cva", rotations, local)
+    return rotated + origins[..., None, :]
 
 
 def prism_faces(sides: int) -> list[np.ndarray]:
