@@ -42,6 +42,9 @@ TRIANGLE_BUDGET = 60_000
 WELD = 1e-3
 """Vertices closer than this share of their mesh's size are one (0.4 mm on a UR5 link): COLLADA
 exports repeat a vertex with rounding apart, and decimation cannot collapse an edge between copies."""
+SMALLEST_SIZE, LARGEST_SIZE = 1e-9, 1e9
+"""A visual's ``box``, ``cylinder`` and ``sphere`` sizes are drawn within these (the bounds of the
+URDF's other lengths), and a mesh's ``scale`` at most the largest in size."""
 MAX_MESH_BYTES = 64 * 1024 * 1024
 """Largest mesh file read (the Panda's largest COLLADA is 1.7 MB, a detailed arm's 23 MB in all)."""
 MAX_LOOK_BYTES = 256 * 1024 * 1024
@@ -116,6 +119,9 @@ def _visual(link: str, el: Element, named: dict) -> VisualSpec | None:
         scale = _floats(shape.attrib.get("scale", "1 1 1"), 3) if shape.tag == "mesh" else (1.0, 1.0, 1.0)
         keys = {"mesh": (), "box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",)}[shape.tag]
         size = tuple(v for k in keys for v in _floats(shape.attrib[k], 3 if k == "size" else 1))
+        # drawn only: sizes within the URDF's bounds (a sphere of 1e-300 made NaN vertices), a scale at most 1e9
+        size = tuple(float(np.clip(v, SMALLEST_SIZE, LARGEST_SIZE)) for v in size)
+        scale = tuple(float(np.clip(v, -LARGEST_SIZE, LARGEST_SIZE)) for v in scale)
     except (KeyError, ValueError):
         return None
     material = el.find("material")
@@ -227,7 +233,8 @@ def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn:
         mesh = LinkMesh(spec.link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
                         np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)))
     vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
-    return LinkMesh(spec.link, vertices, mesh.faces, mesh.colors)
+    finite = np.isfinite(vertices).all(axis=1)[mesh.faces].all(axis=1)  # a huge scale or origin may overflow
+    return LinkMesh(spec.link, vertices, mesh.faces[finite], mesh.colors[finite])
 
 
 def unreadable_reason(error: Exception) -> str:
