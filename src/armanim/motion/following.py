@@ -218,17 +218,34 @@ def sample_spacing(problem: Problem, goal: Goal) -> float:
     >>> sample_spacing(p, SimpleNamespace(speed=0.05)), sample_spacing(p, SimpleNamespace(speed=1.0))
     (0.002, 0.01)
     """
-    return min(goal.speed / problem.fps, SPACING_PER_TOLERANCE * problem.solver.path_tolerance)
+    return path_spacing(goal.speed, problem.fps, problem.solver.path_tolerance)
+
+
+def path_spacing(speed: float, fps: float, path_tolerance: float) -> float:
+    """:func:`sample_spacing` of a path followed at ``speed`` and ``fps`` to ``path_tolerance``.
+
+    >>> path_spacing(0.05, 25.0, 0.001), path_spacing(1.0, 25.0, 0.001)
+    (0.002, 0.01)
+    """
+    return min(speed / fps, SPACING_PER_TOLERANCE * path_tolerance)
 
 
 def most_path_frames(problem: Problem, goal: Goal) -> int:
-    """Most frames following ``goal``'s path can take: a planned way to another start pose
-    (``max_frames_per_goal``), then every sample's step halved :data:`MAX_SPLITS` times (0 for a
-    point goal)."""
+    """Most frames following ``goal``'s path can take (:func:`most_following_frames`; 0 for a point goal)."""
     if goal.path is None:
         return 0
-    samples = len(goal.path.samples(sample_spacing(problem, goal)))
-    return int(problem.solver.max_frames_per_goal + (samples - 1) * 2**MAX_SPLITS + 1)
+    return most_following_frames(goal.path, sample_spacing(problem, goal), problem.solver.max_frames_per_goal)
+
+
+def most_following_frames(path: ToolPath, spacing: float, max_frames_per_goal: int) -> int:
+    """Most frames following ``path`` sampled every ``spacing`` can take: a planned way to another
+    start pose (``max_frames_per_goal``), then every sample's step halved :data:`MAX_SPLITS`
+    times; the samples counted, never made (:meth:`ToolPath.sample_count`).
+
+    >>> most_following_frames(ToolPath.polyline(np.array([[0.0, 0, 0], [1, 0, 0]])), 0.25, 100)
+    165
+    """
+    return int(max_frames_per_goal + (path.sample_count(spacing) - 1) * 2**MAX_SPLITS + 1)
 
 
 def sampling_problem(problem: Problem, limit_push: bool = True) -> Problem:
@@ -370,5 +387,6 @@ def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState,
     return None
 
 
-__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_path_frames", "sample_spacing", "sampling_problem"]
+__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_following_frames", "most_path_frames", "path_spacing", "sample_spacing",
+           "sampling_problem"]
 

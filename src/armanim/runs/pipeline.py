@@ -180,6 +180,9 @@ def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None
     solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
     frames = frame_budget(solved) * fps / solved.fps
     if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
+        if fps == solved.fps:  # validate refuses such a scene (scene/checks.py): a safety net
+            raise UsageError(f"{scene.path}: the scene may run up to {int(frames):,} frames "
+                             f"(at most {LIMITS['total_frames']:,}; run armanim validate on it for the field to change)")
         raise UsageError(
             f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
             f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
