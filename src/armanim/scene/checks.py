@@ -30,7 +30,7 @@ def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str
     The collision checks run once the arm itself is consistent (and only if ``collisions``).
     """
     counts = list(_count_problems(scene)) + list(rate_problems(scene.arm))
-    sizes = list(_size_problems(scene))
+    sizes = list(_size_problems(scene)) + (list(_slow_rate_problems(scene)) if not counts else [])
     problems = counts + list(_arm_problems(scene)) + sizes + list(_pen_problems(scene))
     if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
         problem = scene_to_problem(scene)
@@ -232,6 +232,44 @@ def _size_problems(scene: SceneModel):
         )
     else:
         yield from _following_problems(scene, limit)
+
+
+SMALLEST_MOVE_DEG = 1.0
+"""A joint rate so low that moving a joint this far (degrees) would take more frames than the
+limit is refused at validate: the run would be refused by its clock for any motion at all."""
+
+
+def _slow_rate_problems(scene: SceneModel):
+    """Joint speed, acceleration or jerk limits under which moving one joint
+    :data:`SMALLEST_MOVE_DEG` from rest to rest takes more than the frame limit at the scene's fps
+    (at the speed alone, then the acceleration alone from rest to rest, the jerk alone): the
+    field, the frames that move would take, and the least value that fits."""
+    from armanim.scene.limits import SCENE_RATE_UNITS, rate_limits
+
+    fps, limit = scene.render.fps, LIMITS["total_frames"]
+    seconds = limit / fps
+    theta = math.radians(SMALLEST_MOVE_DEG)
+    rates = rate_limits(scene)
+    # time of the smallest move under each limit alone, and the least limit that makes it in ``seconds``
+    kinds = (("max_joint_speed", rates.speed, lambda v: theta / v, theta / seconds),
+             ("max_joint_acceleration", rates.acceleration, lambda a: 2.0 * math.sqrt(theta / a), 4.0 * theta / seconds**2),
+             ("max_joint_jerk", rates.jerk, lambda j: (32.0 * theta / j) ** (1.0 / 3.0), 32.0 * theta / seconds**3))
+    said = False
+    for field, values, duration, floor in kinds:
+        if values is None or not len(values) or float(np.min(values)) >= floor:
+            continue
+        if said and getattr(scene.arm, field) is None:  # a default made from the speed already named
+            continue
+        said = True
+        least = float(np.min(values))
+        unit = SCENE_RATE_UNITS[field]
+        with np.errstate(all="ignore"):
+            frames = duration(least) * fps if least > 0 else math.inf
+        took = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"
+        source = "" if getattr(scene.arm, field) is not None else " (not set: the arm's default; set it to override)"
+        yield f"arm.{field}", (f"{math.degrees(least):g} {unit}{source} is too slow for the frame limit: moving a joint "
+                               f"{SMALLEST_MOVE_DEG:g} degree from rest to rest would take {took} frames at {fps:g} fps "
+                               f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(math.degrees(floor)):.2g} {unit})")
 
 
 def _rounded_up(value: float) -> float:
