@@ -364,7 +364,44 @@ def _cause(problem: Problem, state: ArmState, point: np.ndarray, distance: float
         return "joint_limit"
     if distance < problem.solver.tolerance:
         return "orientation"
+    center, radius = reach_sphere(state)
+    if np.linalg.norm(point - center) >= radius - REACH_SHARE * problem.solver.tolerance:
+        return "out_of_reach"  # stretched out to the point on the edge of its reach, or past it
     return "singular"
+
+
+REACH_SHARE = 10.0
+"""A sample that fails within this many sample tolerances (one path tolerance) of the arm's
+reach (:func:`reach_sphere`), or beyond it, is out of reach: the path leaves the reach there."""
+
+
+def reach_sphere(state: ArmState) -> tuple[np.ndarray, float]:
+    """The tightest sphere the tool point cannot leave whatever the joints do, read off the pose:
+    about the last joint point that no joint before it moves (it lies on every earlier joint's
+    axis, as a shoulder on the base joint's axis), of radius the rigid lengths from there to the
+    tool point.
+
+    >>> from types import SimpleNamespace
+    >>> from armanim.arm.kinematics import Arm, forward
+    >>> pose = forward(Arm.from_names([1.0, 1.0, 1.0, 1.0]), np.radians([30.0, 40.0, -20.0, 10.0]))
+    >>> center, radius = reach_sphere(SimpleNamespace(pose=pose, tip=pose.points[-1]))
+    >>> (center.round(12) + 0.0).tolist(), round(radius, 12)
+    ([0.0, 0.0, 1.0], 3.0)
+    """
+    pose = state.pose
+    points, axes = pose.points, pose.axes
+    lengths = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    tool = float(np.linalg.norm(state.tip - points[-1]))
+    size = max(1.0, float(lengths.sum()) + tool)
+    fixed = 0
+    if axes is None:  # a pose without its axes: the reach from the base
+        return points[0].copy(), float(lengths.sum()) + tool
+    for j in range(1, len(axes)):
+        offsets = points[j] - points[:j]  # from each earlier joint to p_j, off its axis:
+        off_axis = offsets - np.sum(offsets * axes[:j], axis=1)[:, None] * axes[:j]
+        if np.all(np.linalg.norm(off_axis, axis=1) <= 1e-9 * size):
+            fixed = j
+    return points[fixed].copy(), float(lengths[fixed:].sum()) + tool
 
 
 def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState, s_from: float, s_to: float,
