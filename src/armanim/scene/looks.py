@@ -101,6 +101,7 @@ def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None
         nib.apply_transform(transform([0, 0, -NIB_SHARE * length]))  # its apex at the tool point
         body = trimesh.creation.cylinder(radius=radius, height=(1 - NIB_SHARE) * length, sections=20)
         body.apply_transform(transform([0, 0, -NIB_SHARE * length - (1 - NIB_SHARE) * length / 2]))
+        raise_if_interrupted()  # trimesh catches BaseException in places
         for shape, rgb in ((nib, PEN_NIB_RGB), (body, PEN_BODY_RGB)):
             parts.append(LinkMesh(tip_link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
                                   np.tile(rgb, (len(shape.faces), 1))))

@@ -230,6 +230,7 @@ def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn:
         shape = {"box": lambda: trimesh.creation.box(extents=spec.size),
                  "cylinder": lambda: trimesh.creation.cylinder(radius=spec.size[0], height=spec.size[1], sections=24),
                  "sphere": lambda: trimesh.creation.icosphere(subdivisions=2, radius=spec.size[0])}[spec.kind]()
+        raise_if_interrupted()  # trimesh catches BaseException in places
         mesh = LinkMesh(spec.link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
                         np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)))
     vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
