@@ -5,6 +5,7 @@ Tests find their data through ``Path(__file__).parent``, never the working direc
 
 from __future__ import annotations
 
+import os
 import sys
 from functools import cache
 from pathlib import Path
@@ -28,6 +29,12 @@ for folder in [TESTS, *(TESTS / room for room in ROOMS)]:
     if str(folder) not in sys.path:
         sys.path.insert(0, str(folder))
 
+# Hypothesis profiles (issue 50, item 13). "armanim", by hand: a fresh random search each run.
+# "ci": the same examples on every run of one commit (derandomize: each test's draws follow from its
+# own source), so a commit passes or fails CI by itself, never by chance; loaded when CI=true, and
+# by .ci/run. "explore": ten times the examples of every test (each test's own max_examples too),
+# random, for a search by hand: ARMANIM_HYPOTHESIS_PROFILE=explore python -m pytest tests/motion.
+# A failure any of them finds is pinned in its test as an @example.
 settings.register_profile(
     "armanim",
     max_examples=30,
@@ -36,7 +43,38 @@ settings.register_profile(
     print_blob=True,
     database=None,  # no .hypothesis folder in the repository; runs are reproducible from the seed
 )
-settings.load_profile("armanim")
+settings.register_profile("ci", parent=settings.get_profile("armanim"), derandomize=True)
+EXPLORE_FACTOR = 10
+settings.register_profile("explore", parent=settings.get_profile("armanim"), max_examples=30 * EXPLORE_FACTOR)
+
+
+def hypothesis_profile(environ) -> str:
+    """The profile a run loads: ``ARMANIM_HYPOTHESIS_PROFILE`` if set, else ``ci`` where CI=true,
+    else ``armanim`` (pytest's own ``--hypothesis-profile`` overrides either).
+
+    >>> hypothesis_profile({"CI": "true"}), hypothesis_profile({}), hypothesis_profile({"CI": "true", "ARMANIM_HYPOTHESIS_PROFILE": "explore"})
+    ('ci', 'armanim', 'explore')
+    """
+    return environ.get("ARMANIM_HYPOTHESIS_PROFILE") or ("ci" if environ.get("CI") == "true" else "armanim")
+
+
+settings.load_profile(hypothesis_profile(os.environ))
+
+
+def pytest_collection_modifyitems(config, items):
+    """Under the ``explore`` profile, every Hypothesis test runs EXPLORE_FACTOR times its own
+    ``@settings(max_examples=...)`` (a test's count overrides the profile's, so the profile alone
+    would leave it as it is)."""
+    if settings.default.max_examples != settings.get_profile("explore").max_examples:
+        return
+    scaled = set()
+    for item in items:
+        test = getattr(item, "obj", None)
+        own = getattr(test, "_hypothesis_internal_use_settings", None)
+        if own is None or id(test) in scaled:
+            continue
+        scaled.add(id(test))
+        test._hypothesis_internal_use_settings = settings(own, max_examples=own.max_examples * EXPLORE_FACTOR)
 
 BUNDLED = sorted(SCENES.glob("*.yaml"))
 

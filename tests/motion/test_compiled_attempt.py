@@ -17,7 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from strategies import poses, problems
 
@@ -108,6 +108,12 @@ def start_of(problem: Problem, seed: int, from_home: bool) -> np.ndarray:
 @settings(max_examples=40, deadline=None)
 @given(name=st.sampled_from(sorted(ARMS)), method=st.sampled_from(["pinv", "dls"]), seed=st.integers(0, 2**31),
        kind=st.sampled_from(["pose", "axis", "position"]), from_home=st.booleans())
+# The cases the search found in CI (eee6f58: the UR5's twin capsules give 7 active rows of rank 3,
+# whose least-norm multipliers had a negative entry); both fail with that commit's parent's test.
+# Its Panda seed 1124805897 and 4283247's Panda seed 448 are not pinned: their method, kind and
+# start are not recorded, and none of the 12 combinations fails with the test before either fix.
+@example(name="ur5", method="pinv", seed=249955419, kind="position", from_home=False)
+@example(name="ur5", method="dls", seed=249955419, kind="position", from_home=False)
 def test_the_compiled_attempt_takes_the_numpy_steps(name, method, seed, kind, from_home):
     problem = ik.solving_problem(problem_of(name, method))
     oracle = ik.solving_problem(numpy_only(problem_of(name, method)))

@@ -135,6 +135,20 @@ def test_a_line_out_of_reach_stops_where_the_reach_ends():
     assert np.nanmax(traj.path_s) == pytest.approx(report.path.done, abs=problem.solver.path_tolerance)
 
 
+def test_a_line_leaving_the_reach_round_the_shoulder_is_out_of_reach():
+    """The campaign's case (issue 50, item 11): a 4-link arm (shoulder 1 above the base, 3 of arm
+    beyond it), a line from (1, 1, 2) to (3, 3, 3) leaves that reach at t = 0.432 (by hand: the
+    root of |(1, 1, 1) + t (2, 2, 1)| = 3), well inside the 4 of reach from the base. The cause is
+    out_of_reach, not singular; the tool stops where the reach ends."""
+    problem = scene_to_problem(scene_model({"version": 1, "arm": {"links": [1, 1, 1, 1]},
+                                            "goals": [{"path": {"line": [[1, 1, 2], [3, 3, 3]]}, "speed": 0.5}]}))
+    report = timed(problem).goals[0]
+    assert not report.reached and report.reason == "path_blocked" and report.path.cause == "out_of_reach"
+    t = (-10 + np.sqrt(100 + 4 * 9 * 6)) / (2 * 9)  # |(1, 1, 1) + t (2, 2, 1)|^2 = 9: 9 t^2 + 10 t - 6 = 0
+    assert report.path.fraction == pytest.approx(t, abs=0.002)
+    assert np.linalg.norm(np.asarray(report.path.stop_point) - [0.0, 0.0, 1.0]) == pytest.approx(3.0, abs=0.002)
+
+
 def test_a_sphere_on_the_line_stops_the_tool_before_it():
     problem = scene_problem("panda-place.yaml")
     center, radius = np.array([0.4, 0.05, 0.3]), 0.04

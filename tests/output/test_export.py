@@ -156,7 +156,7 @@ def test_refusals(tmp_path, cli, case):
         "not-a-run": ((tmp_path,), 2, "is not a complete armanim run"),
         "format": ((folder, "--format", "csv"), 2, "--format 'csv' is not a format armanim exports (expected one of: joint-trajectory)"),
         "inside": ((folder, "--out", folder / "mine.json"), 2, "is inside the run folder"),
-        "foreign": ((folder, "--out", foreign), 3, "is a file armanim did not write (not a joint trajectory)"),
+        "foreign": ((folder, "--out", foreign), 3, "is a file armanim did not write (no export mark"),
         "folder": ((folder, "--out", tmp_path / "out"), 3, "is a folder"),
     }[case]
     result = cli("export", *args)
@@ -165,3 +165,65 @@ def test_refusals(tmp_path, cli, case):
     assert {p.name: p.read_bytes() for p in folder.iterdir() if p.is_file()} == before  # the run is as it was
     assert foreign.read_text() == '{"mine": true}\n'
     assert not (folder / "mine.json").exists() and MARKER in before
+
+
+USERS_OWN = ('{"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": "base"}, "joint_names": ["my_joint"], '
+             '"points": [{"positions": [0.5], "velocities": [], "accelerations": [], "effort": [], '
+             '"time_from_start": {"sec": 1, "nanosec": 0}}]}\n')
+
+
+def test_export_replaces_only_the_file_it_marked_and_never_a_users_trajectory(tmp_path, cli):
+    """A user's own JointTrajectory (the message's keys, in order), a link to it, a file deeply
+    nested JSON: exit 3, each left as it was (issue 50, items 5 and 6). An export armanim wrote
+    there (its mark beside it) is replaced; edited since, it is the user's again."""
+    import os
+
+    folder = solved_run(tmp_path, cli, LINKS)
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    recorded = mine / "recorded.json"
+    recorded.write_text(USERS_OWN, encoding="utf-8")
+    (mine / "link.json").symlink_to(recorded)
+    deep = mine / "deep.json"
+    deep.write_text('{"header": ' + "[" * 200_000 + "]" * 200_000 + "}", encoding="utf-8")
+    for target, fragment in ((recorded, "is a file armanim did not write (no export mark .recorded.json.armanim-export.json"),
+                             (mine / "link.json", "is a link, which armanim does not write through"),
+                             (deep, "is a file armanim did not write")):
+        before = target.read_bytes()
+        result = cli("export", folder, "--out", target)
+        assert result.exit_code == 3, result.output
+        assert fragment in result.stderr and "Traceback" not in result.output
+        assert target.read_bytes() == before and recorded.read_text(encoding="utf-8") == USERS_OWN
+    assert sorted(p.name for p in mine.iterdir()) == ["deep.json", "link.json", "recorded.json"]
+    # armanim's own export at --out: marked, and replaced by the next export
+    exported = mine / "exported.json"
+    assert cli("export", folder, "--out", exported).exit_code == 0
+    mark = json.loads((mine / ".exported.json.armanim-export.json").read_text())
+    assert mark["generator"] == "armanim" and mark["bytes"] == exported.stat().st_size
+    assert tuple(json.loads(exported.read_text())) == MESSAGE_KEYS  # the message itself holds no key of armanim's
+    assert cli("export", folder, "--out", exported).exit_code == 0
+    exported.write_text(exported.read_text().replace('"frame_id": ""', '"frame_id": "base"'))  # the user edits it
+    edited = exported.read_bytes()
+    result = cli("export", folder, "--out", exported)
+    assert result.exit_code == 3 and "has changed since armanim exported it" in result.stderr
+    assert exported.read_bytes() == edited
+    # a deeply nested file where the mark goes: not armanim's mark, no traceback
+    (mine / ".fresh.json.armanim-export.json").write_text("[" * 200_000 + "]" * 200_000)
+    result = cli("export", folder, "--out", mine / "fresh.json")
+    assert result.exit_code == 3 and "is not armanim's export mark" in result.stderr and "Traceback" not in result.output
+    assert not (mine / "fresh.json").exists()
+    assert os.path.islink(mine / "link.json")
+
+
+def test_export_into_another_run_folder_is_refused(tmp_path, cli):
+    """``export RUN_A --out RUN_B/joint_trajectory.json``: exit 2, naming RUN_B (a file there
+    would stop RUN_B's next run: issue 50, item 7); RUN_B's next run goes on."""
+    first = solved_run(tmp_path, cli, LINKS, "a")
+    second = solved_run(tmp_path, cli, LINKS, "b")
+    for target in (second / "joint_trajectory.json", second / "sub" / "x.json"):
+        result = cli("export", first, "--out", target)
+        assert result.exit_code == 2, result.output
+        assert "is inside the run folder" in result.stderr and str(second) in result.stderr
+    assert sorted(p.name for p in second.iterdir()) == sorted([*marked_files(second), MARKER])
+    rerun = cli("run", tmp_path / "b.yaml", "--no-video", "--quiet", "--out", tmp_path / "out")
+    assert rerun.exit_code == 0, rerun.output

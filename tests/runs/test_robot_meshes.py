@@ -143,3 +143,29 @@ def test_furniture_colours_are_checked(cli, tmp_path):
                           "render:\n  furniture:\n    - {box: {center: [2, 0, 0], size: [1, 1, 1]}, color: [1, 2, 1]}\n")
     result = cli("validate", str(scene_file))
     assert result.exit_code == 2 and "render.furniture[0].color" in result.stderr, result.stderr
+
+
+TINY_AND_HUGE = URDF.replace(
+    '<visual><origin xyz="0 0 0.15"/><geometry><box size="0.05 0.05 0.3"/></geometry>',
+    '<visual><geometry><sphere radius="1e-300"/></geometry></visual><visual><geometry><box size="1e-300 0 -1"/></geometry></visual>'
+    '<visual><geometry><cylinder radius="1e-300" length="1e-300"/></geometry></visual>'
+    '<visual><geometry><mesh filename="package://two_description/meshes/base.stl" scale="1e300 1e300 1e300"/></geometry></visual>'
+    '<visual><origin xyz="0 0 0.15"/><geometry><box size="0.05 0.05 0.3"/></geometry>')
+
+
+def test_tiny_and_huge_visuals_are_drawn_without_a_traceback(cli, tmp_path):
+    """A visual sphere of radius 1e-300 (trimesh's icosphere made its vertices NaN), a box and a
+    cylinder of 1e-300, a mesh scaled by 1e300: run, view and render end 0 (issue 50, item 8),
+    every number of the viewer's data finite, the tiny shapes drawn at the smallest size."""
+    scene = _scene(tmp_path)
+    (tmp_path / "robots" / "two.urdf").write_text(TINY_AND_HUGE)
+    out = tmp_path / "out"
+    result = cli("run", scene, "--out", out, "--no-video", "--viewer", "--quiet")
+    assert result.exit_code == 0, result.output
+    data = _viewer_data(out / "two" / "viewer.html")  # strict JSON: a NaN would not have been written
+    positions = [v for g in data["meshes"]["groups"] for v in g["positions"]]
+    assert positions and all(abs(v) < 1e10 for v in positions)
+    assert cli("view", out / "two").exit_code == 0
+    rendered = cli("render", out / "two", "--out", tmp_path / "r", "--quiet")
+    assert rendered.exit_code == 0, rendered.output
+    assert (tmp_path / "r" / "poster.png").is_file()

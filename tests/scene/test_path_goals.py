@@ -188,3 +188,45 @@ def test_a_text_goals_orientation_must_point_the_tool_into_the_board(tmp_path, c
     assert scene_to_problem(load_scene(write(tmp_path, into, "into.yaml")).model).goals[3].orientation is not None
     rejected(tmp_path, cli, edit(L["tool_axis3"], "    orientation: {rpy: [0, -90, 0]}"), "goals[3].orientation", L["tool_axis3"],
              "out of the board's front")
+
+
+BACK_AND_FORTH = ("version: 1\nname: pl\narm: {links: [1, 1, 1, 1]}\ngoals:\n  - {path: {polyline: [%s]}, speed: %s}\n"
+                  "render: {size: [160, 90]}\nsolver: {path_tolerance: %s}\n")
+
+
+@pytest.mark.parametrize("points, tolerance", [("[1, 1, 2], [1, 1.3, 2]", "1e-9"),
+                                               (",".join(["[1, 1, 2], [1, 1.3, 2]"] * 500), "1e-6"),
+                                               (",".join(["[1, 1, 2], [1, 1.3, 2]"] * 500), "1e-9")])
+def test_a_path_tolerance_near_its_floor_is_refused_at_validate_with_its_remedy(tmp_path, cli, points, tolerance):
+    """The campaign's scenes (issue 50, item 4): a 0.3 line at 1e-9, a 300-unit polyline at 1e-6
+    and 1e-9. validate said ok; run gave a MemoryError traceback after 5.6 GB, or blamed --fps and
+    the holds. The path's samples are counted in closed form, the run's frame bound checked at
+    validate, naming solver.path_tolerance and the value that fits; that value validates."""
+    text = BACK_AND_FORTH % (points, 5, tolerance)
+    message = rejected(tmp_path, cli, text, "solver.path_tolerance", 7, "too fine for the frame limit",
+                       "raise solver.path_tolerance to at least about")
+    need = message.split("at least about ")[1].split(",")[0]
+    assert float(need) > float(tolerance)
+    assert cli("validate", write(tmp_path, BACK_AND_FORTH % (points, 5, need))).exit_code == 0
+    assert "MemoryError" not in message and "--fps" not in message
+    run = cli("run", write(tmp_path, text), "--no-video", "--quiet", "--out", tmp_path / "o")
+    assert run.exit_code == 2 and "solver.path_tolerance" in run.stderr and "--fps" not in run.stderr
+
+
+def test_a_path_whose_samples_at_its_speed_overflow_the_limit_names_its_speed(tmp_path, cli):
+    """300 units at 0.1 a second and 30 fps: 90,000 frames along it (within the limit), but the
+    run may halve each sample's step 4 times: 1.44 million. Refused at validate, at the speed."""
+    points = ",".join(["[1, 1, 2], [1, 1.3, 2]"] * 500)
+    rejected(tmp_path, cli, BACK_AND_FORTH % (points, 0.1, 0.01), "goals[0].speed", 5, "too slow for the frame limit",
+             "raise the speed or shorten the path")
+
+
+def test_the_sample_count_is_the_samples_length():
+    """ToolPath.sample_count, in closed form, against the samples themselves (random polylines and spacings)."""
+    from armanim.motion.toolpath import ToolPath
+
+    rng = np.random.default_rng(50)
+    for _ in range(200):
+        path = ToolPath.polyline(rng.normal(size=(int(rng.integers(2, 12)), 3)))
+        spacing = float(10 ** rng.uniform(-3, 1))
+        assert path.sample_count(spacing) == len(path.samples(spacing))

@@ -309,3 +309,29 @@ def test_summary_lists_the_rate_notes(tmp_path):
     assert json.loads(json.dumps(summary))["rate_notes"] == summary["rate_notes"]
     plain = summary_dict(problem, solution, name="s", scene_file="scene.yaml", sha256="0")
     assert plain["rate_notes"] == []
+
+
+@pytest.mark.parametrize(("rates", "field", "least"), [
+    ("max_joint_speed: 1e-300", "arm.max_joint_speed", "raise it to at least 2.4e-05 deg/s"),
+    ("max_joint_speed: [1e-9, 300, 300]", "arm.max_joint_speed", "24,000,000,000 frames at 24 fps"),
+    ("max_joint_acceleration: 1e-12", "arm.max_joint_acceleration", "raise it to at least 2.4e-09 deg/s^2"),
+    ("max_joint_jerk: 1e-300", "arm.max_joint_jerk", "raise it to at least 4.5e-13 deg/s^3"),
+])
+def test_rates_too_slow_for_the_frame_limit_are_refused_at_validate(tmp_path, cli, rates, field, least):
+    """Issue 50, item 11: a rate under which moving a joint one degree takes more frames than
+    the limit was refused only by run, without a line, and a tiny jerk was blamed on the speed.
+    Now validate names the field that is too slow, with its line and the least value that fits."""
+    message = rejected(tmp_path, cli, scene_text(rates), field, RATE_LINE, "is too slow for the frame limit", least)
+    assert message.count("too slow") == 1  # a default made from the speed is not named again
+
+
+def test_a_clock_too_long_at_run_names_the_field_and_its_line(tmp_path, cli):
+    """Rates that pass validate, but not for this motion: run says the field with its line, and
+    names --fps only when one was given."""
+    scene = write(tmp_path, scene_text("max_joint_speed: 1e-4"))
+    result = cli("run", scene, "--no-video", "--quiet", "--out", tmp_path / "o")
+    assert result.exit_code == 2, result.output
+    assert f"{scene}:{RATE_LINE}: arm.max_joint_speed: the clock would make" in result.stderr, result.stderr
+    assert "--fps" not in result.stderr
+    faster = cli("run", scene, "--no-video", "--quiet", "--out", tmp_path / "o", "--fps", 48)
+    assert faster.exit_code == 2 and "or lower --fps" in faster.stderr, faster.stderr

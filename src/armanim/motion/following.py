@@ -218,17 +218,34 @@ def sample_spacing(problem: Problem, goal: Goal) -> float:
     >>> sample_spacing(p, SimpleNamespace(speed=0.05)), sample_spacing(p, SimpleNamespace(speed=1.0))
     (0.002, 0.01)
     """
-    return min(goal.speed / problem.fps, SPACING_PER_TOLERANCE * problem.solver.path_tolerance)
+    return path_spacing(goal.speed, problem.fps, problem.solver.path_tolerance)
+
+
+def path_spacing(speed: float, fps: float, path_tolerance: float) -> float:
+    """:func:`sample_spacing` of a path followed at ``speed`` and ``fps`` to ``path_tolerance``.
+
+    >>> path_spacing(0.05, 25.0, 0.001), path_spacing(1.0, 25.0, 0.001)
+    (0.002, 0.01)
+    """
+    return min(speed / fps, SPACING_PER_TOLERANCE * path_tolerance)
 
 
 def most_path_frames(problem: Problem, goal: Goal) -> int:
-    """Most frames following ``goal``'s path can take: a planned way to another start pose
-    (``max_frames_per_goal``), then every sample's step halved :data:`MAX_SPLITS` times (0 for a
-    point goal)."""
+    """Most frames following ``goal``'s path can take (:func:`most_following_frames`; 0 for a point goal)."""
     if goal.path is None:
         return 0
-    samples = len(goal.path.samples(sample_spacing(problem, goal)))
-    return int(problem.solver.max_frames_per_goal + (samples - 1) * 2**MAX_SPLITS + 1)
+    return most_following_frames(goal.path, sample_spacing(problem, goal), problem.solver.max_frames_per_goal)
+
+
+def most_following_frames(path: ToolPath, spacing: float, max_frames_per_goal: int) -> int:
+    """Most frames following ``path`` sampled every ``spacing`` can take: a planned way to another
+    start pose (``max_frames_per_goal``), then every sample's step halved :data:`MAX_SPLITS`
+    times; the samples counted, never made (:meth:`ToolPath.sample_count`).
+
+    >>> most_following_frames(ToolPath.polyline(np.array([[0.0, 0, 0], [1, 0, 0]])), 0.25, 100)
+    165
+    """
+    return int(max_frames_per_goal + (path.sample_count(spacing) - 1) * 2**MAX_SPLITS + 1)
 
 
 def sampling_problem(problem: Problem, limit_push: bool = True) -> Problem:
@@ -347,7 +364,44 @@ def _cause(problem: Problem, state: ArmState, point: np.ndarray, distance: float
         return "joint_limit"
     if distance < problem.solver.tolerance:
         return "orientation"
+    center, radius = reach_sphere(state)
+    if np.linalg.norm(point - center) >= radius - REACH_SHARE * problem.solver.tolerance:
+        return "out_of_reach"  # stretched out to the point on the edge of its reach, or past it
     return "singular"
+
+
+REACH_SHARE = 10.0
+"""A sample that fails within this many sample tolerances (one path tolerance) of the arm's
+reach (:func:`reach_sphere`), or beyond it, is out of reach: the path leaves the reach there."""
+
+
+def reach_sphere(state: ArmState) -> tuple[np.ndarray, float]:
+    """The tightest sphere the tool point cannot leave whatever the joints do, read off the pose:
+    about the last joint point that no joint before it moves (it lies on every earlier joint's
+    axis, as a shoulder on the base joint's axis), of radius the rigid lengths from there to the
+    tool point.
+
+    >>> from types import SimpleNamespace
+    >>> from armanim.arm.kinematics import Arm, forward
+    >>> pose = forward(Arm.from_names([1.0, 1.0, 1.0, 1.0]), np.radians([30.0, 40.0, -20.0, 10.0]))
+    >>> center, radius = reach_sphere(SimpleNamespace(pose=pose, tip=pose.points[-1]))
+    >>> (center.round(12) + 0.0).tolist(), round(radius, 12)
+    ([0.0, 0.0, 1.0], 3.0)
+    """
+    pose = state.pose
+    points, axes = pose.points, pose.axes
+    lengths = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    tool = float(np.linalg.norm(state.tip - points[-1]))
+    size = max(1.0, float(lengths.sum()) + tool)
+    fixed = 0
+    if axes is None:  # a pose without its axes: the reach from the base
+        return points[0].copy(), float(lengths.sum()) + tool
+    for j in range(1, len(axes)):
+        offsets = points[j] - points[:j]  # from each earlier joint to p_j, off its axis:
+        off_axis = offsets - np.sum(offsets * axes[:j], axis=1)[:, None] * axes[:j]
+        if np.all(np.linalg.norm(off_axis, axis=1) <= 1e-9 * size):
+            fixed = j
+    return points[fixed].copy(), float(lengths[fixed:].sum()) + tool
 
 
 def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState, s_from: float, s_to: float,
@@ -370,5 +424,6 @@ def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState,
     return None
 
 
-__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_path_frames", "sample_spacing", "sampling_problem"]
+__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_following_frames", "most_path_frames", "path_spacing", "sample_spacing",
+           "sampling_problem"]
 

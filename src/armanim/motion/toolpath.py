@@ -200,9 +200,20 @@ class ToolPath:
         corners = self.corners
         out = [np.zeros(1)]
         for a, b in zip(corners[:-1], corners[1:]):
-            steps = max(1, math.ceil((b - a) / spacing - 1e-9))
+            steps = _steps(b - a, spacing)
             out.append(a + (b - a) * np.arange(1, steps + 1) / steps)
         return np.concatenate(out)
+
+    def sample_count(self, spacing: float) -> int:
+        """How many arc lengths :meth:`samples` gives for ``spacing``, counted without making them
+        (a path of 300 units at a spacing of 1e-8 has 3e10 samples: an array of them is 240 GB).
+
+        >>> ToolPath.polyline(np.array([[0.0, 0, 0], [1, 0, 0], [1, 0.5, 0]])).sample_count(0.4)
+        6
+        >>> ToolPath.polyline(np.array([[0.0, 0, 0], [300, 0, 0]])).sample_count(1e-8)
+        30000000001
+        """
+        return 1 + sum(_steps(p.length, spacing) for p in self.pieces)
 
     def nearest(self, points: np.ndarray, lo: np.ndarray | None = None, hi: np.ndarray | None = None
                 ) -> tuple[np.ndarray, np.ndarray]:
@@ -232,6 +243,15 @@ class ToolPath:
     def distance(self, points: np.ndarray) -> np.ndarray:
         """(k,) each point's (k, 3) distance from the whole path."""
         return self.nearest(points)[1]
+
+
+def _steps(length: float, spacing: float) -> int:
+    """Equal steps of at most ``spacing`` that cover ``length`` (at least one).
+
+    >>> _steps(1.0, 0.4), _steps(1.2, 0.4), _steps(0.0, 0.4)
+    (3, 3, 1)
+    """
+    return max(1, math.ceil(length / spacing - 1e-9))
 
 
 __all__ = ["Piece", "ToolPath"]

@@ -14,7 +14,6 @@ Positions in radians, velocities in rad/s, ``time_from_start`` a ``builtin_inter
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 
@@ -70,20 +69,6 @@ def finite_difference_velocities(time_s: np.ndarray, positions: np.ndarray) -> n
     if len(time_s) < 2:
         return np.zeros_like(positions)
     return np.gradient(positions, time_s, axis=0)
-
-
-def is_joint_trajectory_file(path: Path) -> bool:
-    """Whether ``path`` holds a JointTrajectory message in JSON (one this module writes), so
-    that an export may replace it; any other file is the user's."""
-    try:
-        with open(path, "rb") as handle:
-            head = handle.read(200)
-        if not head.lstrip().startswith(b'{"header"'):
-            return False
-        data = json.loads(Path(path).read_bytes())
-    except (OSError, ValueError):
-        return False
-    return isinstance(data, dict) and tuple(data) == MESSAGE_KEYS and isinstance(data["points"], list)
 
 
 def joint_trajectory_text(message: dict) -> str:

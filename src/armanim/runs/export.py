@@ -4,10 +4,17 @@
 (:mod:`armanim.output.jointtrajectory`): the joints' names (a URDF arm's, else ``phi1`` ..
 ``phiN``), and at every frame of ``trajectory.csv`` the positions (radians), velocities
 (rad/s) and ``time_from_start`` (its ``time_s``).
+
+An export outside the run folder (``--out FILE``) is marked as a run folder is: the message may
+hold no key of armanim's own (ROS refuses unknown keys), so the mark is a small file beside it,
+``.FILE.armanim-export.json`` (:func:`export_mark`), holding the export's size and sha256. An
+existing ``FILE`` is replaced only when its mark is there and it is, byte for byte, what armanim
+wrote: a user's own trajectory, one edited since, or a link is never replaced.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 from pathlib import Path
 
@@ -16,18 +23,21 @@ import numpy as np
 from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
 from armanim.output.csvfile import TrajectoryTable, read_trajectory_csv
+from armanim.output.files import read_bounded
 from armanim.output.jointtrajectory import (
     finite_difference_velocities,
-    is_joint_trajectory_file,
     joint_trajectory,
     joint_trajectory_text,
 )
+from armanim.output.jsontext import json_text, parse_json
 from armanim.scene.models import LIMITS
 
 EXPORT_FORMATS = ("joint-trajectory",)
 """What ``armanim export --format`` writes."""
 JOINT_TRAJECTORY_FILE = "joint_trajectory.json"
 """The file ``export --format joint-trajectory`` writes into the run folder (without ``--out``)."""
+MAX_MARK_BYTES = 10_000
+"""Largest export mark read (armanim's is about 200 bytes)."""
 
 
 def velocity_columns(n: int) -> list[str]:
@@ -84,20 +94,89 @@ def run_joint_trajectory(folder: Path) -> str:
     return joint_trajectory_text(joint_trajectory(names, time_s, positions, velocities))
 
 
+def export_mark(target: Path) -> Path:
+    """The file that marks ``target`` as an export armanim wrote: ``.NAME.armanim-export.json`` beside it.
+
+    >>> export_mark(Path("/home/me/panda.json")).as_posix()
+    '/home/me/.panda.json.armanim-export.json'
+    """
+    return target.with_name(f".{target.name}.armanim-export.json")
+
+
+def _mark_data(text: str, target: Path) -> dict:
+    """The mark of ``text`` written at ``target``."""
+    data = text.encode()
+    return {"generator": "armanim", "file": target.name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+
+
+def _read_mark(mark: Path) -> dict | None:
+    """The export mark at ``mark`` (a regular file, bounded, depth-guarded JSON), or None when
+    it is not armanim's."""
+    try:
+        data = parse_json(read_bounded(mark, MAX_MARK_BYTES, "an armanim export mark"))
+    except (SceneError, ValueError):
+        return None
+    keys = ("generator", "file", "bytes", "sha256")
+    if not isinstance(data, dict) or tuple(data) != keys or data["generator"] != "armanim":
+        return None
+    if not isinstance(data["bytes"], int) or not isinstance(data["sha256"], str):
+        return None
+    return data
+
+
+def _sha256_of(path: Path, size: int) -> str | None:
+    """sha256 of the regular file ``path`` if it holds exactly ``size`` bytes, else None (read in blocks)."""
+    digest = hashlib.sha256()
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as handle:
+        if os.fstat(handle.fileno()).st_size != size:
+            return None
+        read = 0
+        while block := handle.read(min(1 << 20, size + 1 - read)):
+            read += len(block)
+            if read > size:
+                return None
+            digest.update(block)
+    return digest.hexdigest() if read == size else None
+
+
 def _replace_problem(target: Path) -> str | None:
-    """Why the export must not be written at ``target``, or None (nothing there, or an exported trajectory)."""
+    """Why the export must not be written at ``target``, or None: nothing there (and nothing
+    but armanim's mark at the mark's place), or the export armanim wrote there, unchanged."""
+    mark = export_mark(target)
+    if os.path.lexists(mark) and (os.path.islink(mark) or _read_mark(mark) is None):
+        return f"{mark.name} beside it is not armanim's export mark, so armanim does not write there"
+    if os.path.islink(target):
+        return ("is a link, which armanim does not write through for an export (the file it names may be yours)"
+                if os.path.exists(target) else "is a link to nothing, which armanim did not make")
     try:
         info = os.stat(target)
     except FileNotFoundError:
-        return None if not os.path.islink(target) else "is a link to nothing, which armanim did not make"
+        return None
     except OSError as exc:
         return f"cannot be inspected ({exc.strerror or exc})"
     if os.path.isdir(target):
         return f"is a folder (expected a file name, e.g. {JOINT_TRAJECTORY_FILE})"
-    if not os.path.isfile(target) or info.st_size > 2**31:
+    if not os.path.isfile(target):
         return "is not a regular file, so armanim does not write there"
-    if not is_joint_trajectory_file(target):
-        return "is a file armanim did not write (not a joint trajectory), so it is not replaced"
+    data = _read_mark(mark) if os.path.lexists(mark) else None
+    if data is None:
+        return f"is a file armanim did not write (no export mark {mark.name} beside it), so it is not replaced"
+    if data["file"] != target.name or info.st_size != data["bytes"] or _sha256_of(target, info.st_size) != data["sha256"]:
+        return "has changed since armanim exported it (it is not what its export mark records), so it is not replaced"
+    return None
+
+
+def _inside_a_run_folder(target: Path) -> Path | None:
+    """The run folder (a folder holding armanim's marker) that ``target`` would be written into, if any."""
+    from armanim.output.rundir import MARKER
+
+    for folder in Path(os.path.abspath(target)).parents:
+        if os.path.lexists(folder / MARKER):
+            return folder
     return None
 
 
@@ -126,8 +205,21 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
         raise UsageError(f"--format {fmt!r} is not a format armanim exports (expected one of: {', '.join(EXPORT_FORMATS)})")
     from armanim.runs.pipeline import write_run_file
 
+    other = _inside_a_run_folder(Path(out)) if out is not None else None
+    if other is not None and other.resolve() != Path(folder).resolve():
+        raise UsageError(f"--out {out}: is inside the run folder {other}, which holds only the files armanim lists in it "
+                         f"(its next run would stop at it; export that run itself, or choose a file outside any run folder)")
+
+    own = out is None or Path(out).resolve() == (Path(folder) / JOINT_TRAJECTORY_FILE).resolve()
+
     def trajectory(folder: Path):
         text = run_joint_trajectory(folder)
-        return lambda path: write_text_atomic(path, text)
+
+        def write(path: Path) -> None:
+            write_text_atomic(path, text)
+            if not own:  # the run folder's own file is listed by its marker; a file elsewhere gets its mark
+                write_text_atomic(export_mark(path), json_text(_mark_data(text, path), indent=2) + "\n")
+
+        return write
 
     return write_run_file(folder, JOINT_TRAJECTORY_FILE, out, trajectory, _replace_problem)

@@ -180,6 +180,9 @@ def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None
     solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
     frames = frame_budget(solved) * fps / solved.fps
     if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
+        if fps == solved.fps:  # validate refuses such a scene (scene/checks.py): a safety net
+            raise UsageError(f"{scene.path}: the scene may run up to {int(frames):,} frames "
+                             f"(at most {LIMITS['total_frames']:,}; run armanim validate on it for the field to change)")
         raise UsageError(
             f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
             f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
@@ -225,8 +228,17 @@ def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: P
     try:
         return retime(problem, solution, fps, most_frames=LIMITS["total_frames"])
     except ClockTooLong as exc:
-        raise UsageError(f"{scene.path}: arm.max_joint_speed / max_joint_acceleration: the clock would make {exc} at "
-                         f"{fps:g} fps (raise the limits, or lower --fps)") from None
+        from armanim.errors import Diagnostic, SceneError
+        from armanim.scene.loader import field_line
+
+        arm = scene.model.arm
+        fields = ["max_joint_speed", "max_joint_acceleration"] + (["max_joint_jerk"] if arm.max_joint_jerk is not None else [])
+        named = [f for f in fields if getattr(arm, f) is not None] or fields[:1]  # the ones the scene sets, else speed's default
+        field = f"arm.{named[0]}"
+        also = f" (with {', '.join(f'arm.{f}' for f in named[1:])})" if len(named) > 1 else ""
+        remedy = "raise the limits" + (", or lower --fps" if fps != problem.fps else "")
+        raise SceneError(str(scene.path), [Diagnostic(field, f"the clock would make {exc} at {fps:g} fps{also} ({remedy})",
+                                                      field_line(scene, field))]) from None
 
 
 def rerender_run(

@@ -14,6 +14,7 @@ import numpy as np
 from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
+from armanim.motion.following import MAX_SPLITS, SPACING_PER_TOLERANCE, most_following_frames, path_spacing
 from armanim.motion.problem import frames_in
 from armanim.scene.convert import orientation_rotation, scene_to_problem, tool_path
 from armanim.scene.limits import joint_goal_limit_problems, limit_problems, rate_problems
@@ -29,7 +30,7 @@ def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str
     The collision checks run once the arm itself is consistent (and only if ``collisions``).
     """
     counts = list(_count_problems(scene)) + list(rate_problems(scene.arm))
-    sizes = list(_size_problems(scene))
+    sizes = list(_size_problems(scene)) + (list(_slow_rate_problems(scene)) if not counts else [])
     problems = counts + list(_arm_problems(scene)) + sizes + list(_pen_problems(scene))
     if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
         problem = scene_to_problem(scene)
@@ -241,6 +242,97 @@ def _size_problems(scene: SceneModel):
             f"at {scene.render.fps:g} fps over {len(scene.goals)} goals; expected at most {limit:,}: "
             "lower max_frames_per_goal, the holds or the number of goals)"
         )
+    else:
+        yield from _following_problems(scene, limit)
+
+
+SMALLEST_MOVE_DEG = 1.0
+"""A joint rate so low that moving a joint this far (degrees) would take more frames than the
+limit is refused at validate: the run would be refused by its clock for any motion at all."""
+
+
+def _slow_rate_problems(scene: SceneModel):
+    """Joint speed, acceleration or jerk limits under which moving one joint
+    :data:`SMALLEST_MOVE_DEG` from rest to rest takes more than the frame limit at the scene's fps
+    (at the speed alone, then the acceleration alone from rest to rest, the jerk alone): the
+    field, the frames that move would take, and the least value that fits."""
+    from armanim.scene.limits import SCENE_RATE_UNITS, rate_limits
+
+    fps, limit = scene.render.fps, LIMITS["total_frames"]
+    seconds = limit / fps
+    theta = math.radians(SMALLEST_MOVE_DEG)
+    rates = rate_limits(scene)
+    # time of the smallest move under each limit alone, and the least limit that makes it in ``seconds``
+    kinds = (("max_joint_speed", rates.speed, lambda v: theta / v, theta / seconds),
+             ("max_joint_acceleration", rates.acceleration, lambda a: 2.0 * math.sqrt(theta / a), 4.0 * theta / seconds**2),
+             ("max_joint_jerk", rates.jerk, lambda j: (32.0 * theta / j) ** (1.0 / 3.0), 32.0 * theta / seconds**3))
+    said = False
+    for field, values, duration, floor in kinds:
+        if values is None or not len(values) or float(np.min(values)) >= floor:
+            continue
+        if said and getattr(scene.arm, field) is None:  # a default made from the speed already named
+            continue
+        said = True
+        least = float(np.min(values))
+        unit = SCENE_RATE_UNITS[field]
+        with np.errstate(all="ignore"):
+            frames = duration(least) * fps if least > 0 else math.inf
+        took = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"
+        source = "" if getattr(scene.arm, field) is not None else " (not set: the arm's default; set it to override)"
+        yield f"arm.{field}", (f"{math.degrees(least):g} {unit}{source} is too slow for the frame limit: moving a joint "
+                               f"{SMALLEST_MOVE_DEG:g} degree from rest to rest would take {took} frames at {fps:g} fps "
+                               f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(math.degrees(floor)):.2g} {unit})")
+
+
+def _rounded_up(value: float) -> float:
+    """``value`` rounded up to two significant digits (a bound to advise that is never short of it).
+
+    >>> _rounded_up(4.7912e-07), _rounded_up(0.00049)
+    (4.8e-07, 0.00049)
+    """
+    if not 0 < value < math.inf:
+        return value
+    unit = 10.0 ** (math.floor(math.log10(value)) - 1)
+    return float(f"{math.ceil(value / unit * (1 - 1e-12)) * unit:.2g}")
+
+
+def _following_problems(scene: SceneModel, limit: int):
+    """The frames following the path goals may take, as the run counts them before it solves
+    (:func:`armanim.motion.following.most_following_frames`: the path's samples, every
+    ``SPACING_PER_TOLERANCE`` path tolerances or a frame's travel, each step halved up to
+    ``MAX_SPLITS`` times), counted without making the samples, against the frame limit: the
+    field that sets the spacing, and what to change it to."""
+    fps, per_goal = scene.render.fps, scene.solver.max_frames_per_goal
+    tolerance = scene.solver.path_tolerance if scene.solver.path_tolerance is not None else scene.solver.tolerance
+    following = []
+    for goal in scene.goals:
+        if goal.path is None:
+            following.append(0)
+            continue
+        with np.errstate(all="ignore"):  # extreme numbers are reported by _size_problems
+            spacing = path_spacing(goal.speed, fps, tolerance)
+            following.append(most_following_frames(tool_path(goal.path), spacing, per_goal) if spacing > 0 else 10**18)
+    budget = 1 + sum(per_goal + frames_in(g.hold, fps) + f for g, f in zip(scene.goals, following))
+    if budget <= limit:
+        return
+    k = following.index(max(following))
+    goal = scene.goals[k]
+    path = tool_path(goal.path)
+    room = (limit - (budget - following[k]) - per_goal - 1) // 2**MAX_SPLITS - len(path.pieces)
+    spacing = path.length / room if room > 0 else math.inf
+    said = (f"following goals[{k}]'s path ({path.length:g} long) may take up to {following[k]:,} frames, "
+            f"{budget:,} in all (expected at most {limit:,}): its samples are")
+    if SPACING_PER_TOLERANCE * tolerance < goal.speed / fps:
+        field = "solver.path_tolerance" if scene.solver.path_tolerance is not None else "solver.tolerance"
+        need = _rounded_up(spacing / SPACING_PER_TOLERANCE)
+        yield field, (f"{tolerance:g} is too fine for the frame limit: {said} {SPACING_PER_TOLERANCE:g} path tolerances "
+                      f"apart, each step halved up to {MAX_SPLITS} times"
+                      + (f" (raise {field} to at least about {need:.2g}, or shorten the path)" if room > 0
+                         else " (lower max_frames_per_goal, the holds or the number of goals)"))
+    else:
+        yield f"goals[{k}].speed", (f"{goal.speed:g} is too slow for the frame limit: {said} a frame's travel apart "
+                                    f"at {fps:g} fps, each step halved up to {MAX_SPLITS} times "
+                                    "(raise the speed or shorten the path)")
 
 
 def _collision_problems(problem, tip_size: str):

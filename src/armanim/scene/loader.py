@@ -115,6 +115,12 @@ def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None, *,
     return LoadedScene(model=model, path=path, name=name, sha256=hashlib.sha256(raw).hexdigest(), raw=raw, notes=notes)
 
 
+def field_line(scene: LoadedScene, field: str) -> int | None:
+    """The line of ``field`` (a path such as ``arm.max_joint_speed``, or its nearest parent) in
+    the scene's file, for a problem found after validation (the bytes are read again, bounded)."""
+    return read_yaml(decode_scene(scene.raw, str(scene.path)), str(scene.path)).line_of(field)
+
+
 def stem_name(path: Path) -> str:
     """The run name a scene without ``name:`` takes from its file name, if it is a safe folder name.
 

@@ -14,9 +14,11 @@ import numpy as np
 from armanim.arm.chain import transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
 from armanim.scene.convert import link_places, tool_frame, urdf_chain, urdf_mount
+from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
 from armanim.scene.robots import bundled_robot
 from armanim.scene.urdf import read_urdf
 from armanim.scene.visuals import (
+    MeshReader,
     VisualSpec,
     bundled_link_meshes,
     chain_meshes,
@@ -24,6 +26,7 @@ from armanim.scene.visuals import (
     link_meshes,
     mesh_file_triangles,
     simplified,
+    unreadable_reason,
     visual_specs,
 )
 
@@ -45,17 +48,18 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
     if urdf is None or urdf.robot is None:
         return (placed_meshes(fixed, [-1] * len(fixed), [np.eye(4)] * len(fixed)) if fixed else None), []
     notes: list[str] = []
+    reader = MeshReader()  # one for the robot and its tool: each file read once, the bytes bounded in all
     if urdf.bundled is not None:
         meshes = bundled_link_meshes(urdf.bundled.urdf.parent)
     else:
         folder = urdf.folder or Path(".")
         specs = visual_specs(urdf.robot.raw, urdf.file)
-        meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append)
+        meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append, reader=reader)
     notes = [f"{urdf.file}: {note}" for note in notes]
     total = sum(m.triangles for m in meshes)
     if triangles is not None and total > triangles:
         meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
-    meshes += tool_meshes(arm.tool, urdf.tip_link, scene_dir or Path("."), notes.append)
+    meshes += tool_meshes(arm.tool, urdf.tip_link, scene_dir or Path("."), notes.append, reader)
     chain = urdf_chain(arm)
     placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, chain, urdf_mount(arm), fixed, link_places(arm, chain))
     return (placed if placed.triangles else None), notes
@@ -81,9 +85,11 @@ NIB_SHARE = 0.18
 """The share of the pen's length that is its tapering nib."""
 
 
-def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None]) -> list[LinkMesh]:
+def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None],
+                reader: MeshReader | None = None) -> list[LinkMesh]:
     """What ``tool`` (``arm.tool``, or None) draws, in the tip link's frame: a pen (its nib at the
-    tool point, its body back along the tool frame's -z) and a mesh file in the tool frame."""
+    tool point, its body back along the tool frame's -z) and a mesh file in the tool frame, read
+    by ``reader`` (the robot's, so the bounds are the look's in all)."""
     if tool is None or (tool.pen is None and tool.mesh is None and tool.gripper is None):
         return []
     import trimesh
@@ -96,17 +102,22 @@ def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None
         nib.apply_transform(transform([0, 0, -NIB_SHARE * length]))  # its apex at the tool point
         body = trimesh.creation.cylinder(radius=radius, height=(1 - NIB_SHARE) * length, sections=20)
         body.apply_transform(transform([0, 0, -NIB_SHARE * length - (1 - NIB_SHARE) * length / 2]))
+        raise_if_interrupted()  # trimesh catches BaseException in places
         for shape, rgb in ((nib, PEN_NIB_RGB), (body, PEN_BODY_RGB)):
             parts.append(LinkMesh(tip_link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
                                   np.tile(rgb, (len(shape.faces), 1))))
     if tool.mesh is not None:
         path = scene_dir / tool.mesh
         try:
+            if mesh_format(path.name) is None:
+                raise ValueError("not a format armanim reads (STL, OBJ or COLLADA .dae; archives are never opened)")
             if not path.is_file():
                 raise FileNotFoundError("no such file")
-            parts.append(mesh_file_triangles(VisualSpec(tip_link, np.eye(4), "mesh", tool.mesh, (1.0, 1.0, 1.0), (), None, 0), path))
+            parts.append(mesh_file_triangles(VisualSpec(tip_link, np.eye(4), "mesh", tool.mesh, (1.0, 1.0, 1.0), (), None, 0),
+                                             path, reader or MeshReader()))
         except Exception as error:  # a user's file: any reader error is a note, never a failed run
-            warn(f"arm.tool.mesh: {str(path)!r} could not be read ({type(error).__name__}: {error}): the tool is not drawn")
+            raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
+            warn(f"arm.tool.mesh: {str(path)!r} could not be read ({unreadable_reason(error)}): the tool is not drawn")
     placed = [LinkMesh(tip_link, m.vertices @ frame[:3, :3].T + frame[:3, 3], m.faces, m.colors) for m in parts]
     return placed + (panda_gripper(tip_link) if tool.gripper == "panda" else [])
 

@@ -1,11 +1,18 @@
 """A URDF's ``<visual>`` elements, read for drawing the robot (never for clearance).
 
-Each link's visuals (meshes in STL, OBJ or COLLADA with their ``scale``; ``box``, ``cylinder`` and
-``sphere`` shapes) are read with trimesh (pycollada for COLLADA), placed by their ``<origin>``
-in the link's frame, and coloured: a COLLADA file keeps the materials it was authored with,
-any other visual takes its URDF ``<material>`` colour (named inline or at the top of the file),
-else :data:`DEFAULT_RGB`. A robot of more than :data:`TRIANGLE_BUDGET` triangles is simplified
+Each link's visuals (meshes in STL, OBJ or COLLADA with their ``scale``, read by
+:mod:`armanim.scene.meshfiles`; ``box``, ``cylinder`` and ``sphere`` shapes made by trimesh) are
+placed by their ``<origin>`` in the link's frame, and coloured: a COLLADA file keeps the colours
+of the materials it was authored with, any other visual (and a textured COLLADA material) takes
+its URDF ``<material>`` colour (named inline or at the top of the file), else
+:data:`DEFAULT_RGB`. A robot of more than :data:`TRIANGLE_BUDGET` triangles is simplified
 (quadric decimation, fast-simplification), each link in proportion to its share.
+
+Every read is bounded (:class:`MeshReader`): only the three formats, by suffix; each file a
+regular file opened without blocking, read once however many visuals name it, at most
+:data:`MAX_MESH_BYTES` and :data:`MAX_LOOK_BYTES` in all; no file a mesh names (an OBJ's
+material library, textures) is opened, no archive inflated; a file's triangles (COLLADA's
+instances included) are counted before they are built.
 
 Mesh files are found as ROS users expect: ``package://NAME/rest`` in ``NAME/rest`` under any
 of ``package_dirs`` (or ``rest`` under a folder of those named ``NAME``), ``file://`` as a path,
@@ -23,6 +30,9 @@ import numpy as np
 
 from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
+from armanim.errors import SceneError
+from armanim.output.files import read_bounded
+from armanim.scene.meshfiles import VISUAL_COLOR, mesh_format, raise_if_interrupted, read_mesh
 from armanim.scene.urdf import Element, Robot, _parse_xml
 
 DEFAULT_RGB = (0.72, 0.74, 0.78)
@@ -32,8 +42,16 @@ TRIANGLE_BUDGET = 60_000
 WELD = 1e-3
 """Vertices closer than this share of their mesh's size are one (0.4 mm on a UR5 link): COLLADA
 exports repeat a vertex with rounding apart, and decimation cannot collapse an edge between copies."""
+SMALLEST_SIZE, LARGEST_SIZE = 1e-9, 1e9
+"""A visual's ``box``, ``cylinder`` and ``sphere`` sizes are drawn within these (the bounds of the
+URDF's other lengths), and a mesh's ``scale`` at most the largest in size."""
 MAX_MESH_BYTES = 64 * 1024 * 1024
 """Largest mesh file read (the Panda's largest COLLADA is 1.7 MB, a detailed arm's 23 MB in all)."""
+MAX_LOOK_BYTES = 256 * 1024 * 1024
+"""Most bytes of mesh files read for one robot's look, its tool included (each file counted once)."""
+MAX_LOOK_TRIANGLES = 2_000_000
+"""Most triangles kept for one robot's look before it is simplified to its budget (each visual's
+copy counted: a file's triangles are simplified as it is read when there are more than the look draws)."""
 
 
 @dataclass(frozen=True)
@@ -101,6 +119,9 @@ def _visual(link: str, el: Element, named: dict) -> VisualSpec | None:
         scale = _floats(shape.attrib.get("scale", "1 1 1"), 3) if shape.tag == "mesh" else (1.0, 1.0, 1.0)
         keys = {"mesh": (), "box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",)}[shape.tag]
         size = tuple(v for k in keys for v in _floats(shape.attrib[k], 3 if k == "size" else 1))
+        # drawn only: sizes within the URDF's bounds (a sphere of 1e-300 made NaN vertices), a scale at most 1e9
+        size = tuple(float(np.clip(v, SMALLEST_SIZE, LARGEST_SIZE)) for v in size)
+        scale = tuple(float(np.clip(v, -LARGEST_SIZE, LARGEST_SIZE)) for v in scale)
     except (KeyError, ValueError):
         return None
     material = el.find("material")
@@ -160,14 +181,21 @@ def default_package_dirs(urdf_dir: Path) -> list[Path]:
 
 
 def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path],
-                warn: Callable[[str], None], budget: int | None = TRIANGLE_BUDGET) -> list[LinkMesh]:
+                warn: Callable[[str], None], budget: int | None = TRIANGLE_BUDGET,
+                reader: MeshReader | None = None) -> list[LinkMesh]:
     """Each link's visuals as one :class:`LinkMesh` in its frame (links in the order they come),
     simplified to ``budget`` triangles in all (None: as read); a visual that cannot be read is
-    left out and ``warn`` told why."""
+    left out and ``warn`` told why. ``reader`` reads the mesh files (a new one by default: each
+    file once, every read bounded)."""
+    reader = reader or MeshReader(budget)
     parts: dict[str, list[LinkMesh]] = {}
     for spec in specs:
-        mesh = _spec_mesh(spec, urdf_dir, package_dirs, warn)
+        mesh = _spec_mesh(spec, urdf_dir, package_dirs, warn, reader)
         if mesh is not None and mesh.triangles:
+            if not reader.keep(mesh.triangles):
+                warn(f"link {spec.link!r}: the visual of line {spec.line} is left out: the robot's visuals hold more than "
+                     f"{MAX_LOOK_TRIANGLES:,} triangles in all (drawn as its capsules if it has no other)")
+                continue
             parts.setdefault(spec.link, []).append(mesh)
     meshes = [_joined(link, pieces) for link, pieces in parts.items()]
     total = sum(m.triangles for m in meshes)
@@ -176,64 +204,114 @@ def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path
     return meshes
 
 
-def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn: Callable[[str], None]) -> LinkMesh | None:
+def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn: Callable[[str], None],
+               reader: MeshReader) -> LinkMesh | None:
     """One visual's triangles in its link's frame, or None (and a warning) when unreadable."""
     import trimesh
 
     if spec.kind == "mesh":
+        if mesh_format(spec.filename or "") is None:
+            warn(f"link {spec.link!r}: mesh {spec.filename!r} (line {spec.line}) is not a format armanim reads "
+                 "(STL, OBJ or COLLADA .dae; archives are never opened): drawn as its capsules")
+            return None
         path = mesh_path(spec.filename or "", urdf_dir, package_dirs)
         if path is None:
             warn(f"link {spec.link!r}: mesh {spec.filename!r} not found (line {spec.line}; set arm.package_dirs "
                  "to the folders its package:// names live in): drawn as its capsules")
             return None
         try:
-            if path.stat().st_size > MAX_MESH_BYTES:
-                raise ValueError(f"larger than {MAX_MESH_BYTES // 2**20} MB")
-            mesh = mesh_file_triangles(spec, path)
+            mesh = mesh_file_triangles(spec, path, reader)
         except Exception as error:  # a user's file: any reader error is a warning, never a failed run
-            warn(f"link {spec.link!r}: mesh {str(path)!r} could not be read ({type(error).__name__}: {error}): "
+            raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
+            warn(f"link {spec.link!r}: mesh {str(path)!r} could not be read ({unreadable_reason(error)}): "
                  "drawn as its capsules")
             return None
     else:
         shape = {"box": lambda: trimesh.creation.box(extents=spec.size),
                  "cylinder": lambda: trimesh.creation.cylinder(radius=spec.size[0], height=spec.size[1], sections=24),
                  "sphere": lambda: trimesh.creation.icosphere(subdivisions=2, radius=spec.size[0])}[spec.kind]()
+        raise_if_interrupted()  # trimesh catches BaseException in places
         mesh = LinkMesh(spec.link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
                         np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)))
     vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
-    return LinkMesh(spec.link, vertices, mesh.faces, mesh.colors)
+    finite = np.isfinite(vertices).all(axis=1)[mesh.faces].all(axis=1)  # a huge scale or origin may overflow
+    return LinkMesh(spec.link, vertices, mesh.faces[finite], mesh.colors[finite])
 
 
-def mesh_file_triangles(spec: VisualSpec, path: Path) -> LinkMesh:
+def unreadable_reason(error: Exception) -> str:
+    """Why a mesh file could not be read, in one phrase (a SceneError's message without its file)."""
+    if isinstance(error, SceneError):
+        return "; ".join(d.message for d in error.diagnostics)
+    return f"{type(error).__name__}: {error}"
+
+
+class MeshReader:
+    """Reads mesh files for one robot's look: each file once (by its resolved path and its
+    size, modification time and inode: three links naming one STL read it once), every read a
+    regular file opened without blocking, at most :data:`MAX_MESH_BYTES` a file and
+    :data:`MAX_LOOK_BYTES` in all; a file of more than ``simplify_above`` triangles is
+    simplified as it is read (None: kept as read), and at most :data:`MAX_LOOK_TRIANGLES` are
+    kept in all (:meth:`keep`).
+
+    Parameters
+    ----------
+    simplify_above : int or None
+    """
+
+    def __init__(self, simplify_above: int | None = TRIANGLE_BUDGET) -> None:
+        self.simplify_above = simplify_above
+        self.bytes_read = 0
+        self.triangles_kept = 0
+        self._files: dict[tuple, LinkMesh] = {}
+
+    def triangles(self, path: Path) -> LinkMesh:
+        """The file's triangles as read (colours :data:`~armanim.scene.meshfiles.VISUAL_COLOR`
+        where the visual's colour applies), from the cache when read before.
+
+        Raises
+        ------
+        SceneError
+            Not a regular file, too large, or the look's bytes are spent.
+        ValueError
+            Not a mesh of its format, or too many triangles.
+        """
+        kind = mesh_format(path.name)
+        if kind is None:
+            raise ValueError(f"{path.suffix or 'a file without a suffix'} is not a format armanim reads (STL, OBJ or COLLADA .dae)")
+        stat = path.stat()
+        key = (str(path.resolve()), stat.st_dev, stat.st_ino, stat.st_size, stat.st_mtime_ns)
+        if key in self._files:
+            return self._files[key]
+        limit = min(MAX_MESH_BYTES, MAX_LOOK_BYTES - self.bytes_read)
+        if stat.st_size > limit:
+            raise ValueError(f"{stat.st_size:,} bytes, more than the {limit:,} left to read "
+                             f"(at most {MAX_MESH_BYTES // 2**20} MB a file, {MAX_LOOK_BYTES // 2**20} MB in all)")
+        data = read_bounded(path, limit, "a mesh file")
+        self.bytes_read += len(data)
+        vertices, faces, colors = read_mesh(data, kind)
+        raise_if_interrupted()
+        mesh = LinkMesh("", vertices, faces, colors)
+        if self.simplify_above is not None and mesh.triangles > self.simplify_above:
+            mesh = simplified(mesh, self.simplify_above)
+        self._files[key] = mesh
+        return mesh
+
+    def keep(self, triangles: int) -> bool:
+        """Whether ``triangles`` more fit in the look's :data:`MAX_LOOK_TRIANGLES` (counted if so)."""
+        if self.triangles_kept + triangles > MAX_LOOK_TRIANGLES:
+            return False
+        self.triangles_kept += triangles
+        return True
+
+
+def mesh_file_triangles(spec: VisualSpec, path: Path, reader: MeshReader | None = None) -> LinkMesh:
     """A mesh file's triangles, scaled, in the visual's frame, coloured as the module says."""
-    import trimesh
-
-    scene = trimesh.load(str(path), force="scene")
-    own = path.suffix.lower() == ".dae"  # COLLADA carries authored materials; STL and OBJ take the URDF's colour
-    vertices, faces, colors, start = [], [], [], 0
-    for geometry in scene.dump():  # every geometry node placed by the file's own transforms (cameras left out)
-        if not hasattr(geometry, "faces") or not len(geometry.faces):
-            continue
-        rgb = _mesh_rgb(geometry) if own else None
-        vertices.append(np.asarray(geometry.vertices, dtype=float) * np.asarray(spec.scale))
-        faces.append(np.asarray(geometry.faces, dtype=int) + start)
-        colors.append(np.tile(rgb or spec.rgb or DEFAULT_RGB, (len(geometry.faces), 1)))
-        start += len(geometry.vertices)
-    if not faces:
-        raise ValueError("no triangles")
+    mesh = (reader or MeshReader(None)).triangles(path)
+    colors = mesh.colors
+    own = colors[:, 0] != VISUAL_COLOR  # COLLADA carries authored materials; STL and OBJ take the URDF's colour
+    colors = np.where(own[:, None], colors, np.asarray(spec.rgb or DEFAULT_RGB, dtype=float))
     flip = np.prod(spec.scale) < 0  # a mirroring scale turns every triangle inside out
-    faces_all = np.concatenate(faces)
-    return LinkMesh(spec.link, np.concatenate(vertices), faces_all[:, ::-1] if flip else faces_all, np.concatenate(colors))
-
-
-def _mesh_rgb(geometry) -> tuple[float, float, float] | None:
-    """A trimesh geometry's own main colour (RGB 0..1), or None."""
-    visual = geometry.visual
-    material = getattr(visual, "material", None)
-    color = getattr(material, "main_color", None) if material is not None else None
-    if color is None and getattr(visual, "kind", None) in ("face", "vertex"):
-        color = np.asarray(visual.face_colors).mean(axis=0)
-    return None if color is None else tuple(float(v) / 255.0 for v in np.asarray(color)[:3])  # type: ignore[return-value]
+    return LinkMesh(spec.link, mesh.vertices * np.asarray(spec.scale), mesh.faces[:, ::-1] if flip else mesh.faces, colors)
 
 
 def _joined(link: str, pieces: list[LinkMesh]) -> LinkMesh:
@@ -328,5 +406,5 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
     return placed_meshes(kept + list(fixed), carriers + [-1] * len(fixed), offsets + [np.eye(4)] * len(fixed))
 
 
-__all__ = ["DEFAULT_RGB", "TRIANGLE_BUDGET", "VisualSpec", "bundled_link_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
+__all__ = ["DEFAULT_RGB", "MAX_LOOK_BYTES", "MAX_LOOK_TRIANGLES", "MAX_MESH_BYTES", "TRIANGLE_BUDGET", "MeshReader", "VisualSpec", "bundled_link_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
            "mesh_path", "simplified", "visual_specs"]

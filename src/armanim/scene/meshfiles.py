@@ -1,0 +1,290 @@
+"""Mesh files' bytes to triangles: STL, OBJ and COLLADA, the formats the docs name, and no other.
+
+Each reader takes the bytes armanim has already read (bounded, a regular file: see
+:mod:`armanim.scene.visuals`) and never opens another file: an OBJ's material library and
+textures and a COLLADA file's images are not read (an OBJ takes its URDF colour, a COLLADA
+geometry its material's colour, a textured one its URDF colour). An archive is never inflated
+(a ``.dae`` that is a zip, as pycollada would open it, is refused), and a file's triangles are
+counted before any array of them is built: an OBJ face's fan, a COLLADA scene's instances
+(nodes that instance nodes, weighted by their triangles) are refused past
+:data:`MAX_FILE_TRIANGLES` before they are expanded.
+
+STL and OBJ are read here with numpy; COLLADA with pycollada, which is given the bytes (so it
+reads no file) and whose scene graph is walked here. pycollada, as trimesh, catches
+BaseException in places, which would swallow a KeyboardInterrupt: after it returns, an
+interrupt that came meanwhile is raised again (:func:`raise_if_interrupted`).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+import zipfile
+
+import numpy as np
+
+from armanim.procs.interrupted import signal_came
+
+MESH_FORMATS = (".stl", ".obj", ".dae")
+"""The mesh files armanim reads (the suffix, any case): STL, OBJ and COLLADA."""
+MAX_FILE_TRIANGLES = 2_000_000
+"""Most triangles one mesh file may place, counted before they are built (a 64 MB binary STL
+holds 1.34 million): an OBJ face of a million corners, or COLLADA nodes that instance each other
+ten times seven levels deep, are refused instead of filling memory."""
+VISUAL_COLOR = -1.0
+"""The colour value of a triangle that takes its visual's colour (its URDF ``<material>``)."""
+
+
+def raise_if_interrupted() -> None:
+    """Raise KeyboardInterrupt if Ctrl-C or SIGTERM came while the command ran: a library that
+    catches BaseException (trimesh, pycollada) may have swallowed the one its handler raised."""
+    if signal_came():
+        raise KeyboardInterrupt
+
+
+def mesh_format(name: str) -> str | None:
+    """The format of a mesh file by its suffix (``stl``, ``obj``, ``dae``), or None when armanim
+    does not read it.
+
+    >>> mesh_format("a.STL"), mesh_format("arm.dae"), mesh_format("a.zip"), mesh_format("a.gltf")
+    ('stl', 'dae', None, None)
+    """
+    suffix = "." + name.rsplit(".", 1)[-1].lower() if "." in name else ""
+    return suffix[1:] if suffix in MESH_FORMATS else None
+
+
+def read_mesh(data: bytes, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A mesh file's triangles from its bytes.
+
+    Parameters
+    ----------
+    data : bytes
+    kind : str
+        ``stl``, ``obj`` or ``dae`` (:func:`mesh_format`).
+
+    Returns
+    -------
+    vertices : (n, 3) float array
+        In the file's units, placed by its own transforms (COLLADA's nodes).
+    faces : (m, 3) int array
+        Every triangle with finite corners (one with a NaN or infinite corner is left out).
+    colors : (m, 3) float array
+        RGB in 0..1, or :data:`VISUAL_COLOR` where the triangle takes its visual's colour.
+
+    Raises
+    ------
+    ValueError
+        The bytes are not such a file, or place more than :data:`MAX_FILE_TRIANGLES`.
+    """
+    vertices, faces, colors = {"stl": _stl, "obj": _obj, "dae": _dae}[kind](data)
+    finite = np.isfinite(vertices).all(axis=1)
+    if len(faces) and not finite.all():
+        kept = finite[faces].all(axis=1)
+        faces, colors = faces[kept], colors[kept]
+    if not len(faces):
+        raise ValueError("no triangles")
+    return vertices, faces, colors
+
+
+def _too_many(count: int) -> ValueError:
+    return ValueError(f"places {count:,} triangles or more (at most {MAX_FILE_TRIANGLES:,} from one mesh file)")
+
+
+def _plain(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Triangles given as (m, 3, 3) corners, in the visual's colour."""
+    faces = np.arange(3 * len(vertices)).reshape(-1, 3)
+    return vertices.reshape(-1, 3), faces, np.full((len(faces), 3), VISUAL_COLOR)
+
+
+_STL_RECORD = np.dtype([("normal", "<f4", 3), ("corners", "<f4", 9), ("attribute", "<u2")])
+_NUMBER = rb"([-+0-9.eEinfINFaA]+)"
+_STL_VERTEX = re.compile(rb"vertex\s+" + _NUMBER + rb"\s+" + _NUMBER + rb"\s+" + _NUMBER)
+
+
+def _stl(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A binary STL (80-byte header, a count, 50 bytes a triangle) or an ASCII one.
+
+    >>> import struct
+    >>> v, f, c = _stl(bytes(80) + struct.pack("<I", 1) + np.array([0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0], "<f4").tobytes() + bytes(2))
+    >>> v.tolist(), f.tolist()
+    ([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[0, 1, 2]])
+    >>> _stl(b"solid t\\nfacet normal 0 0 1\\nouter loop\\nvertex 0 0 0\\nvertex 1 0 0\\nvertex 0 1 0\\nendloop\\nendfacet\\nendsolid")[1].tolist()
+    [[0, 1, 2]]
+    """
+    if len(data) >= 84:
+        count = int(np.frombuffer(data, "<u4", 1, 80)[0])
+        if 84 + 50 * count == len(data):
+            if count > MAX_FILE_TRIANGLES:
+                raise _too_many(count)
+            corners = np.frombuffer(data, _STL_RECORD, count, 84)["corners"].astype(float)
+            return _plain(corners.reshape(-1, 3, 3))
+    if not data.lstrip()[:5].lower() == b"solid":
+        raise ValueError("not an STL file (neither a binary STL, whose size must be 84 + 50 bytes a triangle, "
+                         "nor an ASCII one, which starts with 'solid')")
+    if data.count(b"vertex") > 3 * MAX_FILE_TRIANGLES:
+        raise _too_many(MAX_FILE_TRIANGLES)
+    try:
+        corners = np.array(_STL_VERTEX.findall(data), dtype=float)
+    except ValueError:
+        raise ValueError("an ASCII STL 'vertex' line holds something other than three numbers") from None
+    if len(corners) % 3:
+        raise ValueError(f"an ASCII STL with {len(corners)} vertices, not three a facet")
+    return _plain(corners.reshape(-1, 3, 3))
+
+
+def _obj(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A Wavefront OBJ's vertices (``v``) and faces (``f``, fans of any size, ``i/j/k`` and
+    negative indices); its material library and textures are not read.
+
+    >>> v, f, c = _obj(b"mtllib m.mtl\\nv 0 0 0\\nv 1 0 0\\nv 1 1 0\\nv 0 1 0\\nusemtl x\\nf 1/1 2/2 3/3 -1\\n")
+    >>> len(v), f.tolist()
+    (4, [[0, 1, 2], [0, 2, 3]])
+    """
+    points, fans, corners = [], [], 0
+    for line in data.split(b"\n"):
+        head = line[:2]
+        if head in (b"v ", b"v\t"):
+            points.append(line.split()[1:4])
+        elif head in (b"f ", b"f\t"):
+            fan = line.split(b"#", 1)[0].split()[1:]
+            corners += max(0, len(fan) - 2)
+            if corners > MAX_FILE_TRIANGLES:
+                raise _too_many(corners)
+            fans.append(fan)
+    try:
+        vertices = np.array(points, dtype=float).reshape(-1, 3)
+    except ValueError:
+        raise ValueError("a 'v' line of the OBJ file does not hold three numbers") from None
+    faces = []
+    for fan in fans:
+        try:
+            ids = [int(token.split(b"/", 1)[0]) for token in fan]
+        except ValueError:
+            raise ValueError("an 'f' line of the OBJ file holds something other than vertex numbers") from None
+        ids = [i - 1 if i > 0 else len(vertices) + i for i in ids]  # 1-based, or counted back from the last
+        faces.extend([ids[0], ids[k], ids[k + 1]] for k in range(1, len(ids) - 1))
+    faces_array = np.array(faces, dtype=np.int64).reshape(-1, 3)
+    if len(faces_array) and (faces_array.min() < 0 or faces_array.max() >= len(vertices)):
+        raise ValueError(f"a face names a vertex the OBJ file does not have (it has {len(vertices):,})")
+    return vertices, faces_array, np.full((len(faces_array), 3), VISUAL_COLOR)
+
+
+def _dae(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A COLLADA file's triangles, each geometry placed by its nodes' transforms, counted
+    (instances weighted by their triangles) before any is placed."""
+    import collada
+
+    if zipfile.is_zipfile(io.BytesIO(data)):  # pycollada inflates the .dae inside a zip: a zip bomb's door
+        raise ValueError("is a zip archive (a .zae); armanim does not inflate archives: give the .dae itself")
+    if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
+        raise ValueError("has a DTD (<!DOCTYPE> or <!ENTITY>): entity expansion is refused")
+    broken = [collada.common.DaeError, collada.common.DaeIncompleteError, collada.common.DaeMalformedError,
+              collada.common.DaeBrokenRefError, collada.common.DaeUnsupportedError]
+    try:
+        document = collada.Collada(io.BytesIO(data), ignore=broken)
+    finally:
+        raise_if_interrupted()
+    roots = list(document.scene.nodes) if document.scene is not None else []
+    count = _placed_count(roots)
+    if count > MAX_FILE_TRIANGLES:
+        raise ValueError(f"its nodes place {count:,} triangles and instances once expanded (at most "
+                         f"{MAX_FILE_TRIANGLES:,} from one mesh file; nodes instancing nodes are counted, not expanded)")
+    parts: list[tuple[np.ndarray, np.ndarray]] = []
+    for node in roots:
+        _place(node, np.eye(4), parts, {})
+    raise_if_interrupted()
+    if not parts:
+        return np.zeros((0, 3)), np.zeros((0, 3), dtype=int), np.zeros((0, 3))
+    corners = np.concatenate([p for p, _ in parts])
+    colors = np.concatenate([np.tile(rgb, (len(p), 1)) for p, rgb in parts])
+    return corners.reshape(-1, 3), np.arange(3 * len(corners)).reshape(-1, 3), colors
+
+
+def _placed_count(roots: list) -> int:
+    """The instances and triangles the scene below ``roots`` places once expanded, counted over
+    the graph (each node once, remembered), never by expanding it.
+
+    Raises
+    ------
+    ValueError
+        Nodes instance each other in a cycle.
+    """
+    import collada
+
+    memo: dict[int, int] = {}
+    visiting: set[int] = set()
+
+    def weight(node) -> int:
+        if isinstance(node, collada.scene.GeometryNode):
+            key = id(node.geometry)
+            if key not in memo:
+                memo[key] = sum(_triangle_count(p) for p in node.geometry.primitives)
+            return 1 + memo[key]
+        if not isinstance(node, collada.scene.Node):
+            return 1
+        target = node.node if isinstance(node, collada.scene.NodeNode) else node
+        key = id(target)
+        if key in visiting:
+            raise ValueError(f"its node {target.id!r} instances itself (a cycle of instance_node)")
+        if key not in memo:
+            visiting.add(key)
+            memo[key] = 1 + sum(weight(child) for child in (target.children or ()))
+            visiting.discard(key)
+        return memo[key]
+
+    return sum(weight(node) for node in roots)
+
+
+def _triangle_count(primitive) -> int:
+    """How many triangles a COLLADA primitive makes (polygons as fans; lines none)."""
+    import collada
+
+    if isinstance(primitive, collada.triangleset.TriangleSet):
+        return len(primitive)
+    if isinstance(primitive, collada.polylist.Polylist):
+        return int(np.maximum(np.asarray(primitive.vcounts) - 2, 0).sum())
+    return 0
+
+
+def _place(node, matrix: np.ndarray, parts: list, cache: dict) -> None:
+    """Append each triangle set below ``node``, placed by ``matrix`` and the nodes' own, with its
+    material's colour (a count already bounds how many are placed)."""
+    import collada
+
+    if isinstance(node, collada.scene.GeometryNode):
+        symbols = {m.symbol: m.target for m in node.materials}
+        for primitive in node.geometry.primitives:
+            corners = cache.get(id(primitive))
+            if corners is None:
+                corners = cache[id(primitive)] = _corners(primitive)
+            if len(corners):
+                placed = corners @ matrix[:3, :3].T + matrix[:3, 3]
+                parts.append((placed, _material_rgb(symbols.get(primitive.material))))
+    elif isinstance(node, collada.scene.Node):
+        inner = matrix @ np.asarray(node.matrix, dtype=float)
+        for child in node.children or ():
+            _place(child, inner, parts, cache)
+
+
+def _corners(primitive) -> np.ndarray:
+    """A primitive's triangles as (m, 3, 3) corners."""
+    import collada
+
+    if isinstance(primitive, collada.polylist.Polylist):
+        primitive = primitive.triangleset()
+    if not isinstance(primitive, collada.triangleset.TriangleSet) or primitive.vertex is None or not len(primitive):
+        return np.zeros((0, 3, 3))
+    return np.asarray(primitive.vertex, dtype=float)[np.asarray(primitive.vertex_index)].reshape(-1, 3, 3)
+
+
+def _material_rgb(material) -> tuple[float, float, float]:
+    """A COLLADA material's diffuse colour (RGB 0..1), or :data:`VISUAL_COLOR` (a texture, none)."""
+    diffuse = getattr(getattr(material, "effect", None), "diffuse", None)
+    if isinstance(diffuse, (tuple, list)) and len(diffuse) >= 3:
+        rgb = np.clip(np.asarray(diffuse[:3], dtype=float), 0.0, 1.0)
+        if np.isfinite(rgb).all():
+            return tuple(float(v) for v in rgb)  # type: ignore[return-value]
+    return (VISUAL_COLOR,) * 3
+
+
+__all__ = ["MAX_FILE_TRIANGLES", "MESH_FORMATS", "VISUAL_COLOR", "mesh_format", "raise_if_interrupted", "read_mesh"]
