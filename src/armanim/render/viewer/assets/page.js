@@ -204,10 +204,27 @@
     }
   }
 
+  // the unit quaternion of a rotation matrix m (rows), Shepperd's way (the bundle keeps no Matrix4)
+  const quaternionOf = (m) => {
+    const trace = m[0][0] + m[1][1] + m[2][2];
+    if (trace > 0) {
+      const s = 0.5 / Math.sqrt(trace + 1);
+      return new T.Quaternion((m[2][1] - m[1][2]) * s, (m[0][2] - m[2][0]) * s, (m[1][0] - m[0][1]) * s, 0.25 / s);
+    }
+    if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
+      const s = 2 * Math.sqrt(1 + m[0][0] - m[1][1] - m[2][2]);
+      return new T.Quaternion(0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s);
+    }
+    if (m[1][1] > m[2][2]) {
+      const s = 2 * Math.sqrt(1 + m[1][1] - m[0][0] - m[2][2]);
+      return new T.Quaternion((m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s);
+    }
+    const s = 2 * Math.sqrt(1 + m[2][2] - m[0][0] - m[1][1]);
+    return new T.Quaternion((m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s, (m[1][0] - m[0][1]) / s);
+  };
   for (const c of D.cylinders || []) {
     // three's cylinder stands along its y: turn y to the cylinder's axis (the rotation's third column)
-    const R = c.rotation, m = new T.Matrix4().set(R[0][0], R[0][2], -R[0][1], 0, R[1][0], R[1][2], -R[1][1], 0, R[2][0], R[2][2], -R[2][1], 0, 0, 0, 0, 1);
-    const q = new T.Quaternion().setFromRotationMatrix(m);
+    const R = c.rotation, q = quaternionOf(R.map((row) => [row[0], row[2], -row[1]]));
     const solid = place(new T.Mesh(new T.CylinderGeometry(c.radius, c.radius, c.length, 48), obstacleMat), c.center, q);
     solid.castShadow = true; solid.receiveShadow = true; scene.add(solid); named(solid, c);
     if (c.influence > 0) {
