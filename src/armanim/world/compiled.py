@@ -216,11 +216,11 @@ def _cylinder_depth(x: float, y: float, z: float, h: float, r: float) -> float:
     surface inside."""
     dr = np.sqrt(x * x + y * y) - r
     dz = abs(z) - h
-    if dr > 0.0 or dz > 0.0:
-        a = max(dr, 0.0)
-        b = max(dz, 0.0)
-        return np.sqrt(a * a + b * b)  # type: ignore[no-any-return]  # numba compiles this
-    return max(dr, dz)
+    if dr > 0.0 and dz > 0.0:  # beyond the rim
+        return np.sqrt(dr * dr + dz * dz)  # type: ignore[no-any-return]  # numba compiles this
+    if dr > 0.0:  # beside the side (sqrt(dr^2) is dr exactly)
+        return dr
+    return dz if dz > 0.0 else max(dr, dz)  # beside a cap, or inside
 
 
 @compiled(**_INLINE)
@@ -256,28 +256,50 @@ def _rim_slope(t: float, x0: float, y0: float, z0: float, ux: float, uy: float, 
 
 
 @compiled(**_INLINE)
+def _rim_curvature(t: float, x0: float, y0: float, ux: float, uy: float, uz: float, r: float) -> float:
+    """The derivative in t of :func:`_rim_slope`: rho'^2 + (rho - r) rho'' + u_z^2, with
+    rho' = (p . u) / rho and rho'' = (|u|^2 - rho'^2) / rho in the plane across the axis (> 0
+    beyond the side: the slope rises)."""
+    px = x0 + t * ux
+    py = y0 + t * uy
+    rho = np.sqrt(px * px + py * py)
+    rate = (px * ux + py * uy) / rho
+    return rate * rate + (rho - r) * (ux * ux + uy * uy - rate * rate) / rho + uz * uz  # type: ignore[no-any-return]
+
+
+@compiled(**_INLINE)
 def _rim_minimum(lo: float, hi: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float,
                  side: float) -> float:
     """The t in [lo, hi] nearest the rim on a piece where the segment lies beyond the side and
     the cap ``side``: the root of :func:`_rim_slope` (nondecreasing: the distance to the circle
-    is convex there), bracketed and bisected to the spacing of floats; an end where the slope
-    does not change sign."""
+    is convex there), by Newton's steps kept inside a bracket that each step shrinks, a
+    bisection wherever a step would leave it or gain less than half, to the spacing of floats;
+    an end where the slope does not change sign."""
     if _rim_slope(lo, x0, y0, z0, ux, uy, uz, h, r, side) >= 0.0:
         return lo
     if _rim_slope(hi, x0, y0, z0, ux, uy, uz, h, r, side) <= 0.0:
         return hi
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        slope = _rim_slope(mid, x0, y0, z0, ux, uy, uz, h, r, side)
+    t = 0.5 * (lo + hi)
+    last = hi - lo
+    for _ in range(100):
+        slope = _rim_slope(t, x0, y0, z0, ux, uy, uz, h, r, side)
+        if slope == 0.0:
+            return t
         if slope > 0.0:
-            hi = mid
-        elif slope < 0.0:
-            lo = mid
+            hi = t
         else:
-            return mid
-    return 0.5 * (lo + hi)
+            lo = t
+        step = slope / _rim_curvature(t, x0, y0, ux, uy, uz, r)
+        if abs(step) <= 4e-16:  # t to a few spacings of floats: the distance is flat there
+            return _clamp(t - step, lo, hi)
+        nxt = t - step
+        if not (nxt > lo and nxt < hi) or abs(step) > 0.5 * last:  # off the bracket, or slow: bisect
+            nxt = 0.5 * (lo + hi)
+        last = abs(nxt - t)
+        if nxt == t or not (hi > lo):
+            return nxt
+        t = nxt
+    return t
 
 
 @compiled(**_INLINE)
@@ -293,7 +315,9 @@ def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: n
     beside the side f is rho - r, least at the segment's closest approach to the axis; beside a
     cap it is linear; inside it is max(rho - r, |z| - h), least where those are equal (a
     quadratic in t once squared), at the closest approach to the axis, at z = 0 or at an end.
-    Those fractions are the candidates; the least f among them is the minimum, exact, unless
+    Those fractions are the candidates (the inside ones only where the others come within
+    :data:`TOUCHING`: a segment that enters crosses the surface at one of the others, where f is
+    0 to rounding); the least f among them is the minimum, exact, unless
     the least point lies beyond the rim (beside both the side and a cap), where the distance to
     the circle has no closed form along a line: there the slope's root is bisected on the pieces
     beside the best candidate (:func:`_rim_minimum`). Ties: the fraction nearest b."""
@@ -312,15 +336,11 @@ def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: n
     if uu > 0.0:  # the closest approach to the axis
         s[n] = _clamp(-pu / uu, 0.0, 1.0)
         n += 1
-    if uz != 0.0:  # the caps' planes and the middle plane
+    if uz != 0.0:  # the caps' planes
         s[n] = _clamp((h - z0) / uz, 0.0, 1.0)
         s[n + 1] = _clamp((-h - z0) / uz, 0.0, 1.0)
-        s[n + 2] = _clamp(-z0 / uz, 0.0, 1.0)
-        n += 3
+        n += 2
     n = _add_roots(uu, 2.0 * pu, pp - r * r, s, n)  # through the side
-    for side in (1.0, -1.0):  # inside: as deep below the side as below a cap, rho = r - h + side z
-        w = r - h + side * z0
-        n = _add_roots(uu - uz * uz, 2.0 * (pu - side * uz * w), pp - w * w, s, n)
     best_t = s[0]
     best = _cylinder_depth(x0 + best_t * ux, y0 + best_t * uy, z0 + best_t * uz, h, r)
     for k in range(1, n):
@@ -328,6 +348,19 @@ def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: n
         d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
         if d < best or (d == best and tk > best_t):
             best, best_t = d, tk
+    if not best > TOUCHING:  # it may enter: where it crosses the middle plane, and as deep below the side as below a cap
+        first = n
+        if uz != 0.0:
+            s[n] = _clamp(-z0 / uz, 0.0, 1.0)
+            n += 1
+        for side in (1.0, -1.0):  # rho = r - h + side z, squared
+            w = r - h + side * z0
+            n = _add_roots(uu - uz * uz, 2.0 * (pu - side * uz * w), pp - w * w, s, n)
+        for k in range(first, n):
+            tk = s[k]
+            d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
+            if d < best or (d == best and tk > best_t):
+                best, best_t = d, tk
     if best > 0.0:  # apart: the least point may lie beyond the rim, on a piece beside the best candidate
         left, right = 0.0, 1.0
         for k in range(n):
