@@ -239,7 +239,7 @@ def test_cylinder_columns_follow_the_scene_and_the_least_clearance_is_theirs():
                                                 np.repeat(cyl.half_length[j:j + 1], 50), np.repeat(cyl.radius[j:j + 1], 50))[1]
                                for i in range(3)], axis=1)
         np.testing.assert_allclose(cl.links[..., column], one_column - 0.1, atol=1e-12)
-    np.testing.assert_array_equal(min_link_clearance(pose, obstacles, caps), cl.links.min(axis=(-1, -2)))
+    np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), cl.links.min(axis=(-1, -2)), rtol=0, atol=1e-14)
     tips = pose.tip
     np.testing.assert_allclose(point_clearances(tips, obstacles), cl.d[:, -1, :], atol=1e-12)
 
@@ -298,3 +298,29 @@ def test_the_compiled_frame_measures_cylinders_as_the_numpy_path(robot):
         np.testing.assert_array_equal(n[:, cyl], expected.normal[:, cyl])
         np.testing.assert_allclose(d, expected.d, rtol=0, atol=1e-12)  # the spheres' closed form is written twice
         np.testing.assert_allclose(t, expected.t, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_cylinder_bounds_hold_the_exact_clearance_between_them(seed):
+    """The planner trusts these bounds to leave pairs out: every exact capsule clearance to a
+    cylinder lies between them (random arms, cylinders and poses, links through cylinders
+    included), and the least clearance found with them is the least of all."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.world.distances import cylinder_bounds, cylinder_clearances
+
+    rng = np.random.default_rng([4905, seed])
+    arm = Arm.from_names(list(rng.uniform(1, 4, rng.integers(3, 7))), base=(0, 0, 0))
+    caps = joint_capsules(arm, rng.uniform(0.05, 0.5))
+    k = 6
+    cylinders = Cylinders(rng.uniform(-6, 6, (k, 3)), np.array([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(k)]),
+                          rng.uniform(0.2, 2.0, k), rng.uniform(0.2, 2.0, k))
+    obstacles = Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(k), cylinders=cylinders)
+    pose = forward(arm, rng.uniform(-np.pi, np.pi, (300, arm.n)))
+    a, b = capsule_ends(caps, pose)
+    low, high = cylinder_bounds(a, b, caps.radius, cylinders)
+    exact = cylinder_clearances(a, b, caps.radius, cylinders, tip=False)[0]
+    assert np.sum(exact < 0) > 10  # links through cylinders
+    assert np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
+    assert np.mean(high - low) > 0
+    # the same least clearance (an upper bound tight over a cap may be the exact one rounded otherwise: to 1e-15)
+    np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), exact.min(axis=(-1, -2)), rtol=0, atol=1e-14)

@@ -20,7 +20,7 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.geometry import closest_on_segment
 from armanim.arm.kinematics import Pose
-from armanim.world.closest import excess_beyond, segment_box_grid, segment_box_pairs, segment_cylinder_grid
+from armanim.world.closest import excess_beyond, segment_box_grid, segment_box_pairs, segment_cylinder_grid, segment_cylinder_pairs
 from armanim.world.obstacles import CYLINDER, FLOOR, SPHERE, Cylinders, Obstacles
 
 
@@ -323,10 +323,10 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     """Smallest clearance of any capsule to any obstacle, shape (...); +inf if none.
 
     The same number as the least of :func:`clearances`' links, found with less work among
-    boxes and capsules (cylinders are measured exactly, every pair) (the planner asks it of thousands of poses): each box's and capsule
-    obstacle's exact clearance is computed only where a cheap lower bound
-    (:func:`solid_bounds`) is below a pose's best upper bound (the same function's, or an
-    exact sphere's or the floor's clearance).
+    boxes, capsules and cylinders (the planner asks it of thousands of poses): each box's,
+    capsule obstacle's and cylinder's exact clearance is computed only where a cheap lower bound
+    (:func:`solid_bounds`, :func:`cylinder_bounds`) is below a pose's best upper bound (the same
+    functions', or an exact sphere's or the floor's clearance).
     """
     if len(obstacles) == 0:
         return np.full(pose.points.shape[:-2], np.inf)
@@ -341,7 +341,7 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
         height = floor_clearances(a, b, radius, obstacles.floor, capsules.on_base[:-1], tip=False)[0]
         best = np.minimum(best, height.min(axis=(-1, -2)))
     if len(obstacles.cylinders):
-        best = np.minimum(best, cylinder_clearances(a, b, radius, obstacles.cylinders, tip=False)[0].min(axis=(-1, -2)))
+        best = _least_cylinder_clearance(a, b, radius, obstacles.cylinders, best)
     if len(obstacles.solid_radius):
         low, high = solid_bounds(a, b, radius, obstacles)
         best = np.minimum(best, high.min(axis=(-1, -2)))
@@ -352,6 +352,46 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
             found[where] = solid_pairs(a, b, radius, obstacles, where)[0]
             best = np.minimum(best, found.min(axis=(-1, -2)))
     return best
+
+
+def _least_cylinder_clearance(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders: Cylinders, best: np.ndarray) -> np.ndarray:
+    """``best`` (...) lowered to the least clearance of the capsules (segments a-b, (..., c, 3),
+    radii (c,)) to the cylinders, each pair's exact clearance computed only where
+    :func:`cylinder_bounds`' lower bound is not above a pose's best upper bound."""
+    low, high = cylinder_bounds(a, b, radius, cylinders)
+    best = np.minimum(best, high.min(axis=(-1, -2)))
+    doubt = low <= best[..., None, None]
+    if np.any(doubt):
+        *pose, part, cylinder = np.nonzero(doubt)
+        segment = np.ravel_multi_index(tuple(pose) + (part,), a.shape[:-1])
+        dist = segment_cylinder_pairs(a.reshape(-1, 3), b.reshape(-1, 3), cylinders.centers, cylinders.rotations, cylinders.half_length,
+                                      cylinders.radius, segment, cylinder)[1]
+        found = np.full(doubt.shape, np.inf)
+        found[np.nonzero(doubt)] = dist - radius[part]
+        best = np.minimum(best, found.min(axis=(-1, -2)))
+    return best
+
+
+def cylinder_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders: Cylinders) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds (..., c, k) of the capsules' clearances to the cylinders: the
+    cylinder lies inside the box of half edges (r, r, h) in its frame (its
+    :func:`solid_bounds`-like gap to the segment's bounding box is a lower bound; overlapping,
+    minus the deepest a point can be, min(r, h)) and holds the box of half edges
+    (r / sqrt 2, r / sqrt 2, h) (the distance of the segment's ends and middle to it is an upper
+    bound); both less the part's radius."""
+    k = len(cylinders)
+    axes = np.ascontiguousarray(cylinders.rotations.transpose(0, 2, 1).reshape(-1, 3))
+    origins = np.einsum("kba,kb->ka", cylinders.rotations, cylinders.centers)[:, :, None]
+    x0 = (axes @ a.reshape(-1, 3).T).reshape(k, 3, -1) - origins
+    x1 = (axes @ b.reshape(-1, 3).T).reshape(k, 3, -1) - origins
+    outer = np.column_stack([cylinders.radius, cylinders.radius, cylinders.half_length])[:, :, None]
+    inner = np.column_stack([cylinders.radius / np.sqrt(2.0), cylinders.radius / np.sqrt(2.0), cylinders.half_length])[:, :, None]
+    gap = np.maximum(np.maximum(np.minimum(x0, x1) - outer, -outer - np.maximum(x0, x1)), 0.0)
+    apart = _length(gap)
+    grown = np.broadcast_to(radius, a.shape[:-1]).reshape(1, -1)
+    low = np.where(apart > 0, apart, -np.minimum(cylinders.radius, cylinders.half_length)[:, None]) - grown
+    high = np.minimum(np.minimum(_outside(x0, inner), _outside(x1, inner)), _outside(0.5 * (x0 + x1), inner)) - grown
+    return tuple(np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (low, high))  # type: ignore[return-value]
 
 
 def solid_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray]:
