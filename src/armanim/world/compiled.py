@@ -219,7 +219,7 @@ def _cylinder_depth(x: float, y: float, z: float, h: float, r: float) -> float:
     if dr > 0.0 and dz > 0.0:  # beyond the rim
         return np.sqrt(dr * dr + dz * dz)  # type: ignore[no-any-return]  # numba compiles this
     if dr > 0.0:  # beside the side (sqrt(dr^2) is dr exactly)
-        return dr
+        return dr  # type: ignore[no-any-return]  # numba compiles this
     return dz if dz > 0.0 else max(dr, dz)  # beside a cap, or inside
 
 

@@ -20,7 +20,13 @@ import numpy as np
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.geometry import closest_on_segment
 from armanim.arm.kinematics import Pose
-from armanim.world.closest import excess_beyond, segment_box_grid, segment_box_pairs, segment_cylinder_grid, segment_cylinder_pairs
+from armanim.world.closest import (
+    excess_beyond,
+    segment_box_grid,
+    segment_box_pairs,
+    segment_cylinder_grid,
+    segment_cylinder_pairs,
+)
 from armanim.world.obstacles import CYLINDER, FLOOR, SPHERE, Cylinders, Obstacles
 
 
@@ -197,7 +203,7 @@ def segment_cylinder(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation:
     >>> t, d, n = segment_cylinder(np.array([[-3.0, 0, 2]]), np.array([[3.0, 0, 2]]), np.zeros((1, 3)), np.eye(3)[None],
     ...                            np.ones(1), np.ones(1))
     >>> float(t[0]), float(d[0]), n[0].tolist()
-    (1.0, 1.0, [0.0, 0.0, 1.0])
+    (0.6666666666666666, 1.0, [0.0, 0.0, 1.0])
     """
     a, b, center = (np.asarray(v, dtype=float).reshape(-1, 3) for v in (a, b, center))
     rotation = np.asarray(rotation, dtype=float).reshape(-1, 3, 3)
@@ -245,10 +251,11 @@ def _bisected_rim(lo: np.ndarray, hi: np.ndarray, x: np.ndarray, u: np.ndarray, 
                   side: np.ndarray) -> np.ndarray:
     """The t in [lo, hi] (K,) nearest the rim at z = side h, for segments x + t u (cylinder frame)
     beyond the side and that cap there: the slope of the squared distance bisected."""
-    def slope(t):
+    def slope(t: np.ndarray) -> np.ndarray:
         p = x + t[:, None] * u
         rho = np.sqrt(p[:, 0] ** 2 + p[:, 1] ** 2)
-        return (rho - r) * (p[:, 0] * u[:, 0] + p[:, 1] * u[:, 1]) / rho + (side * p[:, 2] - h) * side * u[:, 2]
+        rate: np.ndarray = (rho - r) * (p[:, 0] * u[:, 0] + p[:, 1] * u[:, 1]) / rho + (side * p[:, 2] - h) * side * u[:, 2]
+        return rate
 
     start, end = lo, hi
     at_start, at_end = slope(start) >= 0, slope(end) <= 0
@@ -256,7 +263,7 @@ def _bisected_rim(lo: np.ndarray, hi: np.ndarray, x: np.ndarray, u: np.ndarray, 
         mid = 0.5 * (lo + hi)
         rising = slope(mid) > 0
         hi, lo = np.where(rising, mid, hi), np.where(rising, lo, mid)
-    return cast(np.ndarray, np.where(at_start, start, np.where(at_end, end, 0.5 * (lo + hi))))
+    return np.where(at_start, start, np.where(at_end, end, 0.5 * (lo + hi)))
 
 
 def _cylinder_normal(p: np.ndarray, h: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -274,7 +281,7 @@ def _cylinder_normal(p: np.ndarray, h: np.ndarray, r: np.ndarray) -> np.ndarray:
     out = np.column_stack([ra[:, None] * radial / scale[:, None], za * up / scale])
     side = np.column_stack([radial, np.zeros(len(p))])
     cap = np.column_stack([np.zeros((len(p), 2)), up])
-    return cast(np.ndarray, np.where(outside[:, None], out, np.where((dr > dz)[:, None], side, cap)))
+    return np.where(outside[:, None], out, np.where((dr > dz)[:, None], side, cap))
 
 
 def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray,
@@ -391,7 +398,7 @@ def cylinder_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders:
     grown = np.broadcast_to(radius, a.shape[:-1]).reshape(1, -1)
     low = np.where(apart > 0, apart, -np.minimum(cylinders.radius, cylinders.half_length)[:, None]) - grown
     high = np.minimum(np.minimum(_outside(x0, inner), _outside(x1, inner)), _outside(0.5 * (x0 + x1), inner)) - grown
-    return tuple(np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (low, high))  # type: ignore[return-value]
+    return tuple(np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (low, high))
 
 
 def solid_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray]:

@@ -5,7 +5,7 @@ The scene is projected by armanim's own camera (:mod:`armanim.render.camera.proj
 coordinates. What never changes is drawn once and kept as a pixel background
 (:mod:`armanim.render.pictures.backdrop`): the floor (a light grid under the scene, at the scene's
 ``floor`` when it has one) with the soft shadows of the obstacles and the base, the obstacles
-themselves (far first: sphere sprites, boxes and capsules as shaded solids,
+themselves (far first: sphere sprites, boxes, capsules and cylinders as shaded solids,
 :mod:`armanim.render.solids.shapes`), their influence shells, the world axes in a corner, the title and the legend. Each frame
 restores that background and draws what moves, straight into the Agg buffer:
 
