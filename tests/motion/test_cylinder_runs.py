@@ -1,6 +1,7 @@
 """A scene with cylinders runs: ``armanim run`` on a UR5 reaching past a standing can and a lying
 bar writes its trajectory, and every frame keeps solver.clearance from every cylinder by coal's
-distances (an independent check of the arm's capsules against coal's cylinders)."""
+distances (an independent check of the arm's capsules against coal's cylinders); summary.json names
+the nearest obstacle by its scene name."""
 
 from __future__ import annotations
 
@@ -63,16 +64,24 @@ def test_a_cylinder_scene_runs_and_every_frame_keeps_its_clearance_by_coal(tmp_p
                  for k in range(len(cyl))]
     request = coal.DistanceRequest()
     request.gjk_tolerance = 1e-12
-    least = np.inf
+    each = np.full(len(cylinders), np.inf)  # the least over the frames, per cylinder
     for frame in range(len(rows)):
         a, b = capsule_ends(caps, forward(problem.arm, phi[frame]))
         for i in range(len(a)):
             shape, tf = coal_capsule(a[i], b[i], float(caps.radius[i]))
-            for cylinder, place in cylinders:
-                least = min(least, coal.distance(cylinder, place, shape, tf, request, coal.DistanceResult()))
+            for k, (cylinder, place) in enumerate(cylinders):
+                each[k] = min(each[k], coal.distance(cylinder, place, shape, tf, request, coal.DistanceResult()))
+    least = each.min()
     # coal's distance is the arm's clearance (its own column in the file agrees) and it never falls below solver.clearance
     assert least >= problem.solver.clearance - 1e-9, least
     assert least < 0.1  # the arm does pass near them: the check is not vacuous
     recorded = np.array([float(r["clearance"]) for r in rows])
     assert recorded.min() >= problem.solver.clearance - 1e-12
     assert recorded.min() <= least + 1e-9  # the file's clearance also counts the floor
+    # summary.json names the obstacle of the least clearance by its scene name
+    import json
+
+    summary = json.loads((tmp_path / "out" / "ur5-cans" / "summary.json").read_text(encoding="utf-8"))
+    assert summary["min_clearance"] == pytest.approx(recorded.min(), abs=1e-9)
+    expected = ["can1", "bar"][int(np.argmin(each))] if least <= recorded.min() + 1e-9 else "floor"
+    assert summary["min_clearance_obstacle"] == expected
