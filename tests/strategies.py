@@ -224,8 +224,8 @@ def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem
 def shapes_across(draw, tips: np.ndarray, scale: float, spread: float, cylinders: bool = False) -> Obstacles:
     """Obstacles across the straight paths between consecutive ``tips``: for each, a sphere, a
     box (any orientation) or a capsule (any direction) of about ``scale`` times the path's
-    length (or, with ``cylinders``, a cylinder in any orientation), moved off the path by up to
-    ``spread``; the kinds in a drawn order."""
+    length (or, with ``cylinders``, a cylinder in any orientation: the first always), moved off
+    the path by up to ``spread``; the kinds in a drawn order."""
     from armanim.arm.chain import rpy_rotation
     from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE, Boxes, Cylinders, Rods
 
@@ -234,7 +234,7 @@ def shapes_across(draw, tips: np.ndarray, scale: float, spread: float, cylinders
         t = draw(st.floats(0.3, 0.7))
         center = a + t * (b - a) + np.array(draw(st.tuples(*(st.floats(-spread, spread) for _ in range(3)))))
         size = draw(st.floats(0.1, 0.4)) * max(np.linalg.norm(b - a), 0.5) * scale
-        kind = draw(st.sampled_from([SPHERE, BOX, ROD, CYLINDER] if cylinders else [SPHERE, BOX, ROD]))
+        kind = CYLINDER if cylinders and not kinds else draw(st.sampled_from([SPHERE, BOX, ROD, CYLINDER] if cylinders else [SPHERE, BOX, ROD]))
         kinds.append(kind)
         influence.append(size + 0.5 * scale)
         if kind == SPHERE:

@@ -1,7 +1,7 @@
 """A scene with cylinders runs: ``armanim run`` on a UR5 reaching past a standing can and a lying
 bar writes its trajectory, and every frame keeps solver.clearance from every cylinder by coal's
 distances (an independent check of the arm's capsules against coal's cylinders); summary.json names
-the nearest obstacle by its scene name."""
+the nearest obstacle by its scene name; random scenes with cylinders keep every invariant."""
 
 from __future__ import annotations
 
@@ -9,6 +9,11 @@ import csv
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from invariants import assert_trajectory_invariants, small_planning_budget
+from strategies import shaped_problems
+
+from armanim.motion.trajectory import solve_trajectory
 
 coal = pytest.importorskip("coal")  # the oracle (the test extra)
 
@@ -85,3 +90,10 @@ def test_a_cylinder_scene_runs_and_every_frame_keeps_its_clearance_by_coal(tmp_p
     assert summary["min_clearance"] == pytest.approx(recorded.min(), abs=1e-9)
     expected = ["can1", "bar"][int(np.argmin(each))] if least <= recorded.min() + 1e-9 else "floor"
     assert summary["min_clearance_obstacle"] == expected
+
+
+@given(shaped_problems(max_links=5, max_goals=2, max_frames=60, cylinders=True))
+@settings(max_examples=6)
+def test_scenes_with_cylinders_keep_every_invariant(problem):
+    # spheres, boxes, capsules and cylinders across the paths (the planner on): every frame keeps its clearance
+    assert_trajectory_invariants(problem, solve_trajectory(small_planning_budget(problem)))
