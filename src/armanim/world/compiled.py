@@ -11,7 +11,7 @@ the one function :func:`_pair`, whether it comes from a grid of segments and box
 of pairs, so a pair's numbers do not depend on the batch it is in (bit for bit). numba
 compiles on first use and caches the machine code beside this file (or in the user's cache
 folder when that is not writable, or nowhere when neither is: then each process compiles
-again); it is imported only when a scene has a box or a capsule obstacle. Pure core: numpy
+again); it is imported only when a scene has a box, a capsule obstacle or a cylinder. Pure core: numpy
 and numba only, scene units.
 
 The work space of a pair is one scratch array, read at fixed offsets, and every function is
@@ -319,8 +319,10 @@ def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: n
     :data:`TOUCHING`: a segment that enters crosses the surface at one of the others, where f is
     0 to rounding); the least f among them is the minimum, exact, unless
     the least point lies beyond the rim (beside both the side and a cap), where the distance to
-    the circle has no closed form along a line: there the slope's root is bisected on the pieces
-    beside the best candidate (:func:`_rim_minimum`). Ties: the fraction nearest b."""
+    the circle has no closed form along a line: there the slope's root is found on the piece
+    beside the best candidate that holds it (:func:`_rim_minimum`: Newton's steps in a bracket,
+    to a few spacings of floats in t, where the distance is flat to rounding: exact to rounding,
+    not in closed form). Ties: the fraction nearest b."""
     x0 = (a[0] - center[0]) * rotation[0, 0] + (a[1] - center[1]) * rotation[1, 0] + (a[2] - center[2]) * rotation[2, 0]
     y0 = (a[0] - center[0]) * rotation[0, 1] + (a[1] - center[1]) * rotation[1, 1] + (a[2] - center[2]) * rotation[2, 1]
     z0 = (a[0] - center[0]) * rotation[0, 2] + (a[1] - center[1]) * rotation[1, 2] + (a[2] - center[2]) * rotation[2, 2]
