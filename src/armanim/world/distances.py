@@ -361,10 +361,19 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     return best
 
 
+EXACT_CYLINDER_PAIRS = 4096
+"""Capsule-cylinder pairs a batch may have for :func:`min_link_clearance` to measure every one
+exactly (compiled, some 0.4 us a pair) rather than bound them first: the bounds' numpy calls cost
+some 100 us whatever the batch (a planner's single pose)."""
+
+
 def _least_cylinder_clearance(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders: Cylinders, best: np.ndarray) -> np.ndarray:
     """``best`` (...) lowered to the least clearance of the capsules (segments a-b, (..., c, 3),
-    radii (c,)) to the cylinders, each pair's exact clearance computed only where
-    :func:`cylinder_bounds`' lower bound is not above a pose's best upper bound."""
+    radii (c,)) to the cylinders: every pair's exact clearance in a small batch
+    (:data:`EXACT_CYLINDER_PAIRS`), else only where :func:`cylinder_bounds`' lower bound is not
+    above a pose's best upper bound."""
+    if a[..., 0].size * len(cylinders) <= EXACT_CYLINDER_PAIRS:
+        return np.minimum(best, cylinder_clearances(a, b, radius, cylinders, tip=False)[0].min(axis=(-1, -2)))
     low, high = cylinder_bounds(a, b, radius, cylinders)
     best = np.minimum(best, high.min(axis=(-1, -2)))
     doubt = low <= best[..., None, None]
