@@ -97,3 +97,18 @@ def test_a_cylinder_scene_runs_and_every_frame_keeps_its_clearance_by_coal(tmp_p
 def test_scenes_with_cylinders_keep_every_invariant(problem):
     # spheres, boxes, capsules and cylinders across the paths (the planner on): every frame keeps its clearance
     assert_trajectory_invariants(problem, solve_trajectory(small_planning_budget(problem)))
+
+
+def test_the_summary_names_an_unnamed_obstacle_by_its_place_and_none_without_obstacles():
+    from armanim.output.summary import nearest_obstacle
+    from armanim.scene import scene_model, scene_to_problem
+
+    def solved(obstacles):
+        problem = scene_to_problem(scene_model({"version": 1, "arm": {"links": [2, 3, 3], "axes": ["z", "y", "y"]},
+                                                "obstacles": obstacles, "goals": [[3, 2, 4]]}))
+        return problem, solve_trajectory(problem).trajectory
+
+    problem, traj = solved([{"center": [-5, -5, 9], "radius": 0.5}, {"cylinder": {"center": [4, -1, 3], "length": 2, "radius": 0.5}}])
+    assert nearest_obstacle(problem, traj) == "obstacles[1]"
+    problem, traj = solved([])
+    assert nearest_obstacle(problem, traj) is None
