@@ -79,6 +79,10 @@ class PlannerOptions:
         Of the arm's reach: the least travel between the first samples of a motion, where
         ``coarse`` clearances are less (a clearance of half a millimetre would sample a metre's
         travel 250 times before the halving, which only measures where the bounds ask it to).
+    exact_within : float
+        Coarse spacings: the planner's compiled checks measure capsule by capsule only where a
+        group's bounding sphere comes this close to an obstacle or another group, and take the
+        spheres' lower bound beyond it (:mod:`armanim.motion.planning.check`).
     max_samples : int
         Poses one motion check may take (a clearance tiny beside the arm: the motion is not taken).
     max_halvings : int
@@ -119,6 +123,7 @@ class PlannerOptions:
 
     coarse: int = 8
     coarse_reach: float = 0.02
+    exact_within: float = 2.0
     max_samples: int = 100_000
     max_halvings: int = 40
     certify_to: float = 0.05
