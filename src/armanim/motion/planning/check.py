@@ -377,8 +377,8 @@ class CompiledCheck:
 
     ``closed``: a motion's ends may rest on the limits (a joint goal's path), else they keep the
     filter's buffer inside them, as :func:`~armanim.motion.solvers.barrier.within_limits`.
-    Clearances and gaps are exact below ``far`` (the planner's ``exact_within`` coarse spacings,
-    :func:`~armanim.motion.planning.path.coarse_spacing`) and lower bounds of at least ``far``
+    Clearances and gaps are exact below ``far`` (the planner's ``exact_within`` of the arm's
+    reach) and lower bounds of at least ``far``
     beyond it: a motion certified by them is certified.
     """
 
@@ -408,7 +408,7 @@ class CompiledCheck:
             groups=carrier_groups(_link_of(caps), first, second),
             pairs=(first, second, np.ascontiguousarray(pairs.radii(caps), dtype=float)),
             shift=self_shift(problem) if len(pairs) else 0.0,
-            far=opts.exact_within * spacing,
+            far=opts.exact_within * problem.arm.reach,
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
                     np.ascontiguousarray(problem.pair_lever_rows.reshape(len(pairs), n).T, dtype=float)),
