@@ -168,3 +168,18 @@ def test_summary_path_length_is_the_joint_path_of_the_csv(tmp_path, cli):
         expected = sum(np.linalg.norm(phi[i] - phi[i - 1]) for i in mine if i > 0)
         assert g["path_length_rad"] == pytest.approx(expected, rel=1e-6, abs=1e-9)
     assert summary["goals"][0]["path_length_rad"] > 1.0
+
+
+def test_timed_frames_are_reached_only_on_the_goal():
+    """On the clock too (retime), a joint goal's frames are reached where the joints are there,
+    even where its tool point passes within solver.tolerance of the goal's on the way."""
+    scene = {"version": 1, "arm": {"links": [1, 1], "axes": ["z", "z"], "direction": "x", "limits": [[-170, 170]] * 2},
+             "goals": [{"joints": [90, -90]}, {"joints": [0, 90]}]}
+    problem, solution = solved(scene)
+    traj = solution.trajectory
+    # the two poses put the tool on the same point: [1, 1] and ... (90, -90) -> (1, 1); (0, 90) -> (1, 1)
+    np.testing.assert_allclose(problem.goals[0].position, problem.goals[1].position, atol=1e-12)
+    second = traj.goal == 1
+    there = np.abs(traj.phi[second] - problem.goals[1].joints).max(axis=1) <= problem.solver.joint_tolerance
+    np.testing.assert_array_equal(traj.reached[second], there)
+    assert not there[0] and there[-1]

@@ -34,10 +34,11 @@ from armanim.motion.pathtiming import (
     tool_speed_excess,
     traced_paths,
 )
+from armanim.motion.planning.check import CompiledCheck
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
-from armanim.motion.solvers.barrier import pose_clearance, self_shift
-from armanim.motion.trajectory import hold_frames, with_self_clearance
+from armanim.motion.solvers.barrier import self_shift
+from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance
 from armanim.world.distances import min_link_clearance
 
 
@@ -111,7 +112,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         goal=goal,
         distance=distance,
         clearance=min_link_clearance(pose, problem.obstacles, problem.capsules),
-        reached=(distance < problem.solver.tolerance) & turned,
+        reached=joint_goals_reached(problem, phi, goal, (distance < problem.solver.tolerance) & turned),
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
         fps=fps,
@@ -219,7 +220,8 @@ def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
         own = trajectory.self_clearance + self_shift(problem)
         certified &= two_sided_bound(own[:-1], own[1:], reach) >= floor
         clear = np.minimum(clear, own)
-    return PathSafety(lambda phi: pose_clearance(problem, phi), floor, problem.lever_arms, clear, certified)
+    measure = CompiledCheck.of(problem, exact=True).pose_clearances  # pose_clearance's numbers, compiled: the probes ask thousands
+    return PathSafety(measure, floor, problem.lever_arms, clear, certified)
 
 
 def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: GoalTiming) -> GoalReport:

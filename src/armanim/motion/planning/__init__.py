@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.motion.orientation import Orientation
-from armanim.motion.planning.follow import damper_paced, path_lengths, path_schedule, poses_along
 from armanim.motion.planning.check import CompiledCheck
+from armanim.motion.planning.follow import damper_paced, path_lengths, path_schedule, poses_along
 from armanim.motion.planning.path import Searched, plan_path, search_path
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Problem
