@@ -8,7 +8,9 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
 from invariants import assert_trajectory_invariants
+from strategies import joint_goal_problems
 
 from armanim.arm.kinematics import forward
 from armanim.motion.retime import retime
@@ -183,3 +185,17 @@ def test_timed_frames_are_reached_only_on_the_goal():
     there = np.abs(traj.phi[second] - problem.goals[1].joints).max(axis=1) <= problem.solver.joint_tolerance
     np.testing.assert_array_equal(traj.reached[second], there)
     assert not there[0] and there[-1]
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(joint_goal_problems())
+def test_random_joint_goals_keep_every_invariant(problem):
+    """Random arms among every shape: each joint goal reached exactly or missed with a planner's
+    reason, and every invariant of the timed trajectory (clearance, the limits' ends, the rates)."""
+    solution = retime(problem, solve_trajectory(problem), problem.fps)
+    assert_trajectory_invariants(problem, solution)
+    for report, phi in zip(solution.goals, last_frames(solution)):
+        if report.reached:
+            np.testing.assert_allclose(phi, problem.goals[report.index].joints, atol=1e-12)
+        else:
+            assert report.reason in {"no_path", "too_slow"}
