@@ -117,7 +117,7 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     # limited joints within their limits, the ends included (a home or a joint goal may rest on one)
     lim = problem.limits
     limited = lim.limited
-    assert np.all(traj.phi[:, limited] >= lim.lower[limited])
+    assert np.all(traj.phi[:, limited] >= lim.lower[limited]), (traj.phi[:, limited] - lim.lower[limited]).min()
     assert np.all(traj.phi[:, limited] <= lim.upper[limited])
     # ... and the method's frames keep the filter's buffer from them (or get no closer than home
     # was); a joint goal's planned path keeps the limits themselves

@@ -96,6 +96,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
     phi, velocity, source, held, goal = _joined(src.phi, [p.goal for p in parts], [p.frames for p in parts], motions,
                                                 [p.hold for p in parts])
+    phi = within_closed_limits(problem, phi)
     part_timings = [m.timing(src.phi[p.frames.start], rates.speed, rates.acceleration, fps) for m, p in zip(motions, parts)]
     timings = [joined_timing([t for t, p in zip(part_timings, parts) if p.goal == g.index]) for g in solution.goals]
     pose = forward(problem.arm, phi)
@@ -128,6 +129,19 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     trajectory = with_self_clearance(problem, trajectory, pose)
     reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
     return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports))
+
+
+def within_closed_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """(F, n) ``phi`` with every limited joint clipped into its limits, ends included: a path that
+    rests on a limit (a joint goal's) is evaluated on the clock to rounding, which may fall an ulp
+    beyond it; inside the limits the values are unchanged, bit for bit.
+
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(limits=SimpleNamespace(lower=np.array([-1.0, -np.inf]), upper=np.array([1.0, np.inf])))
+    >>> within_closed_limits(p, np.array([[-1.0000000000000002, -5.0], [0.5, 5.0]])).tolist()
+    [[-1.0, -5.0], [0.5, 5.0]]
+    """
+    return np.clip(phi, problem.limits.lower, problem.limits.upper)
 
 
 @dataclass(frozen=True)

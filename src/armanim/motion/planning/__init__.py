@@ -123,7 +123,8 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
         waypoints, source, checks = joint_goal_search(problem, phi_now, goal[None], floor, searched, check)
     if waypoints is None:
         return Plan(None, "no_path", 1, source, checks)
-    frames = joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal)
+    frames = np.clip(joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal),
+                     problem.limits.lower, problem.limits.upper)  # a + u (b - a) toward a limit may round an ulp past it
     if len(frames) and np.array_equal(frames[-1], waypoints[-1]):
         frames[-1] = goal  # the waypoint is the goal (OMPL's copy of it may round)
     return Plan(frames, None, 1, source, checks)
