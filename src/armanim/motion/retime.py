@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import cast
 
 import numpy as np
 
@@ -141,7 +142,7 @@ def within_closed_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
     >>> within_closed_limits(p, np.array([[-1.0000000000000002, -5.0], [0.5, 5.0]])).tolist()
     [[-1.0, -5.0], [0.5, 5.0]]
     """
-    return np.clip(phi, problem.limits.lower, problem.limits.upper)
+    return cast(np.ndarray, np.clip(phi, problem.limits.lower, problem.limits.upper))
 
 
 @dataclass(frozen=True)

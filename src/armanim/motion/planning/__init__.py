@@ -116,6 +116,7 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
     """
     check = CompiledCheck.of(problem, closed=True)
     floor = joint_path_floor(check, problem, phi_now, goal)
+    source: PathSource
     if problem.solver.planner == "off":
         free, checks = check.motion_free(phi_now, goal, floor)
         waypoints, source = (np.stack([phi_now, goal]), "straight") if free else (None, "none")

@@ -72,7 +72,7 @@ def _point_cylinder(px: float, py: float, pz: float, center: np.ndarray, rotatio
     x = x0 * rotation[0, 0] + y0 * rotation[1, 0] + z0 * rotation[2, 0]
     y = x0 * rotation[0, 1] + y0 * rotation[1, 1] + z0 * rotation[2, 1]
     z = x0 * rotation[0, 2] + y0 * rotation[1, 2] + z0 * rotation[2, 2]
-    return _cylinder_depth(x, y, z, h, r)  # type: ignore[no-any-return]  # numba compiles this
+    return float(_cylinder_depth(x, y, z, h, r))
 
 
 @compiled(**_JIT)
