@@ -35,7 +35,6 @@ from armanim.motion.pathtiming import (
     tool_speed_excess,
     traced_paths,
 )
-from armanim.motion.planning.check import CompiledCheck
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import self_shift
@@ -235,6 +234,8 @@ def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
         own = trajectory.self_clearance + self_shift(problem)
         certified &= two_sided_bound(own[:-1], own[1:], reach) >= floor
         clear = np.minimum(clear, own)
+    from armanim.motion.planning.check import CompiledCheck  # numba, as the clock's passes
+
     measure = CompiledCheck.of(problem, exact=True).pose_clearances  # pose_clearance's numbers, compiled: the probes ask thousands
     return PathSafety(measure, floor, problem.lever_arms, clear, certified)
 

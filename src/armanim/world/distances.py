@@ -373,7 +373,7 @@ def _least_cylinder_clearance(a: np.ndarray, b: np.ndarray, radius: np.ndarray, 
     (:data:`EXACT_CYLINDER_PAIRS`), else only where :func:`cylinder_bounds`' lower bound is not
     above a pose's best upper bound."""
     if a[..., 0].size * len(cylinders) <= EXACT_CYLINDER_PAIRS:
-        return np.minimum(best, cylinder_clearances(a, b, radius, cylinders, tip=False)[0].min(axis=(-1, -2)))
+        return cast(np.ndarray, np.minimum(best, cylinder_clearances(a, b, radius, cylinders, tip=False)[0].min(axis=(-1, -2))))
     low, high = cylinder_bounds(a, b, radius, cylinders)
     best = np.minimum(best, high.min(axis=(-1, -2)))
     doubt = low <= best[..., None, None]

@@ -14,16 +14,19 @@ Pure core: numpy and OMPL, no files, no printing.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from armanim.motion.orientation import Orientation
-from armanim.motion.planning.check import CompiledCheck
 from armanim.motion.planning.follow import damper_paced, path_lengths, path_schedule, poses_along
 from armanim.motion.planning.path import Searched, plan_path, search_path
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Problem
 from armanim.names import MissReason, PathSource
+
+if TYPE_CHECKING:
+    from armanim.motion.planning.check import CompiledCheck
 
 
 @dataclass(frozen=True)
@@ -114,6 +117,8 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
     Plan
         ``source`` ``"straight"`` or ``"rrt_connect"``; ``reason`` ``"no_path"`` without one.
     """
+    from armanim.motion.planning.check import CompiledCheck  # numba: imported where a joint goal plans
+
     check = CompiledCheck.of(problem, closed=True)
     floor = joint_path_floor(check, problem, phi_now, goal)
     source: PathSource
