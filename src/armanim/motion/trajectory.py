@@ -26,6 +26,7 @@ from typing import cast
 
 import numpy as np
 
+from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.following import Route, followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
@@ -34,7 +35,7 @@ from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
-from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.barrier import SafeStep, safe_step
 from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
@@ -95,6 +96,9 @@ class _Visit:
     overrun: int = 0  # frames spent waiting for the arm to reach a pose of the path
     planning: PlanningReport | None = None
     reason: MissReason | None = None
+    last_step: np.ndarray | None = None  # the method's last joint step taken
+    damping: float = 1.0  # the factor on the method's steps toward a goal beyond reach, halved at each turn back (:func:`_damped`)
+    beyond: bool = False  # the goal lies beyond the arm's reach (its steps are damped while they turn back)
 
     def __post_init__(self) -> None:
         if self.angles is None:
@@ -183,7 +187,7 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
     s = problem.solver
     first = len(rec) if k else 0
     distance, angle, progress = goal_errors(problem, state, goal)
-    visit = _Visit(k, goal, [distance], [angle], [progress])
+    visit = _Visit(k, goal, [distance], [angle], [progress], beyond=beyond_reach(problem, goal.position))
     window = stall_frames(problem)
     floor = max(0.0, float(np.linalg.norm(goal.position - problem.arm.base)) - problem.arm.reach)
     if s.planner == "off":
@@ -321,6 +325,7 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
         moved = safe_step(problem, state, nominal)
     else:
         moved, iterations, newton_its = method_step(problem, method, state, visit.goal.position, visit.goal.orientation)
+        moved = _damped(problem, state, moved, visit)
         mode = "ik"
     distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
     visit.distances.append(distance)
@@ -332,6 +337,45 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode, angle)
     return moved.state
+
+
+def _damped(problem: Problem, state: ArmState, moved: SafeStep, visit: _Visit) -> SafeStep:
+    """The method's filtered step ``moved`` from ``state`` toward a goal beyond the arm's reach,
+    kept from chattering.
+
+    Such a goal is missed whatever the arm does, and the arm stretches toward it: across that
+    singular pose pinv and dls alternate between two poses, each a full step, while the arm
+    creeps toward the goal (scenes/out-of-reach shook for 19.6 s, about 100 turns back of each
+    joint, before its miss). A step whose joint direction turns back on the step before (cosine
+    below the stall options' ``reversal``) halves the goal's damping factor and is replaced by
+    its part across the step before (the creep, without the turn back), a full ``max_joint_step``
+    through the filter; every other step is the filtered one times the factor. The arm stretches
+    toward the goal and settles, and the goal stalls and is reported ``out_of_reach``. A goal
+    within reach is never damped. A shortened step lies between two safe poses inside the limits;
+    it is kept only where its clearances are no less than the two poses' (else the filtered step
+    is taken whole).
+    """
+    if not visit.beyond:
+        return moved
+    step = joint_offset(problem, state.phi, moved.state.phi)
+    size, before = float(np.linalg.norm(step)), visit.last_step
+    turns_back = before is not None and float(step @ before) < problem.tunables.stalls.reversal * size * float(np.linalg.norm(before))
+    drift = step
+    if turns_back:
+        assert before is not None
+        visit.damping *= 0.5
+        u = before / np.linalg.norm(before)
+        drift = step - (step @ u) * u
+    if turns_back and np.abs(drift).max() > 1e-9 * size:
+        moved = safe_step(problem, state, drift * (problem.solver.max_joint_step / np.abs(drift).max()))
+    elif visit.damping < 1.0 and size > 0:
+        phi = state.phi + visit.damping * step
+        shorter = arm_state(problem, np.where(problem.limits.limited, phi, wrap_angle(phi)))
+        if (shorter.min_clearance >= min(state.min_clearance, moved.state.min_clearance)
+                and shorter.min_self_gap >= min(state.min_self_gap, moved.state.min_self_gap)):
+            moved = replace(moved, state=shorter, scale=moved.scale * visit.damping)
+    visit.last_step = joint_offset(problem, state.phi, moved.state.phi)
+    return moved
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
