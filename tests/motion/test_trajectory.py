@@ -99,3 +99,19 @@ def test_a_goal_beyond_reach_is_given_up_without_shaking_the_arm(method):
     for j in range(problem.arm.n):  # each joint turns back a few times, not at every frame
         moving = steps[:, j][np.abs(steps[:, j]) > 1e-9]
         assert np.sum(np.diff(np.sign(moving)) != 0) <= 12, j
+
+
+def test_a_path_goal_tells_its_progress_along_the_path_and_changes_nothing():
+    # issue 50 item 10: a cluttered newton path goal spent two minutes following its path with the
+    # progress bar still; now each sample tells the thousandths of the path done
+    from armanim.motion.following import PER_PATH
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(SCENES / "ur5-pen.yaml").model)
+    seen = []
+    told = solve_trajectory(problem, along=lambda done, most: seen.append((done, most)))
+    assert seen and all(most == PER_PATH and 0 <= done <= PER_PATH for done, most in seen)
+    followed = [g for g in told.goals if g.path is not None and g.reached]
+    assert followed and seen[-1][0] == PER_PATH  # a path followed to its end ends at the whole
+    silent = solve_trajectory(problem)
+    np.testing.assert_array_equal(told.trajectory.phi, silent.trajectory.phi)

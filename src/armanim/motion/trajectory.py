@@ -28,7 +28,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
-from armanim.motion.following import Route, followed_route, most_path_frames
+from armanim.motion.following import Along, Route, followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_joint_motion, plan_motion
 from armanim.motion.planning.path import Searched
@@ -139,7 +139,8 @@ def goal_errors(problem: Problem, state: ArmState, goal: Goal) -> tuple[float, f
 
 
 def solve_trajectory(
-    problem: Problem, progress: Callable[[int, int], None] | None = None, planning: Searched | None = None
+    problem: Problem, progress: Callable[[int, int], None] | None = None, planning: Searched | None = None,
+    along: Along | None = None,
 ) -> Solution:
     """Run the frame loop over every goal.
 
@@ -153,6 +154,10 @@ def solve_trajectory(
     planning : callable, optional
         ``planning(done, most)``: the iterations of a plan's path search as it goes, between two
         frames (:data:`armanim.motion.planning.path.Searched`); each plan counts from 0 again.
+    along : callable, optional
+        ``along(done, most)``: a path goal's progress in thousandths of its path while it is
+        followed (:data:`armanim.motion.following.Along`), between two frames; each trial counts
+        from 0 again.
 
     Returns
     -------
@@ -172,7 +177,7 @@ def solve_trajectory(
             if progress:
                 progress(len(rec), len(rec) + goal_budget(problem, goal) - visit.frames + later)
 
-        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning)
+        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning, along)
         reports.append(report)
         if progress:
             progress(len(rec), len(rec) + later)
@@ -180,7 +185,8 @@ def solve_trajectory(
 
 
 def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal,
-                on_frame: Callable[[_Visit], None], planning: Searched | None = None) -> tuple[ArmState, GoalReport]:
+                on_frame: Callable[[_Visit], None], planning: Searched | None = None, along: Along | None = None
+                ) -> tuple[ArmState, GoalReport]:
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
     if goal.joints is not None:
         return _visit_joint_goal(problem, rec, state, k, goal, on_frame, planning)
@@ -203,7 +209,7 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
     reached = visit.progress[-1] < s.tolerance
     path_report = None
     if goal.path is not None:
-        state, reached, path_report = _follow(problem, method, rec, state, visit, reached)
+        state, reached, path_report = _follow(problem, method, rec, state, visit, reached, along)
         on_frame(visit)
     if reached:
         rests_on = rec.path_s[-1] if goal.path is not None else np.nan  # a path's end, where its hold stays
@@ -268,8 +274,8 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
     )
 
 
-def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit, reached: bool
-            ) -> tuple[ArmState, bool, PathReport]:
+def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit, reached: bool,
+            along: Along | None = None) -> tuple[ArmState, bool, PathReport]:
     """A path goal's frames along its path once the arm has reached its start (mode ``path``, one
     a sample); returns the last state, whether the whole path was followed, and the path's report.
     A goal whose start was missed keeps its reason and follows nothing."""
@@ -277,7 +283,7 @@ def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, v
     assert path is not None
     if not reached:
         return state, False, PathReport(path.length, 0.0, np.nan)
-    route = followed_route(problem, method, state, visit.goal, visit.index)
+    route = followed_route(problem, method, state, visit.goal, visit.index, along)
     _record_route(problem, rec, visit, route)
     followed = route.followed
     state = followed.states[-1] if followed.states else state
