@@ -115,3 +115,30 @@ def test_a_path_goal_tells_its_progress_along_the_path_and_changes_nothing():
     assert followed and seen[-1][0] == PER_PATH  # a path followed to its end ends at the whole
     silent = solve_trajectory(problem)
     np.testing.assert_array_equal(told.trajectory.phi, silent.trajectory.phi)
+
+
+def test_a_tie_between_two_pairs_names_the_first_whatever_the_rounding():
+    # planar-nlink: two pairs of its links sit 0.8 apart at once; the kinematics' last bit chose
+    # between them (its golden's self_pair flipped in 25 frames when newton's kinematics changed)
+    from dataclasses import replace
+
+    from armanim.motion.trajectory import with_self_clearance
+    from armanim.scene import load_scene, scene_to_problem
+    from armanim.world.selfdistances import self_gaps
+
+    problem = scene_to_problem(load_scene(SCENES / "planar-nlink.yaml").model)
+    traj = solve_trajectory(problem).trajectory
+    labels = list(problem.self_pairs.labels)
+    for noise in (0.0, 1e-13, -1e-13):
+        moved = with_self_clearance(problem, replace(traj, phi=traj.phi + noise))
+        gaps = self_gaps(forward_pose(problem, moved.phi), problem.capsules, problem.self_pairs).d
+        tied = gaps <= gaps.min(axis=1, keepdims=True) + 1e-9
+        assert tied.sum(axis=1).max() >= 2  # the scene has ties
+        np.testing.assert_array_equal(moved.self_pair, np.array(labels)[tied.argmax(axis=1)])
+        np.testing.assert_array_equal(moved.self_clearance, gaps.min(axis=1))
+
+
+def forward_pose(problem, phi):
+    from armanim.arm.kinematics import forward
+
+    return forward(problem.arm, phi)

@@ -449,9 +449,16 @@ def with_self_clearance(problem: Problem, traj: Trajectory, pose: Pose | None = 
     if not len(problem.self_pairs) or not traj.frames:
         return replace(traj, self_clearance=None, self_pair=None)
     gaps = self_gaps(forward(problem.arm, traj.phi) if pose is None else pose, problem.capsules, problem.self_pairs).d
-    nearest = gaps.argmin(axis=1)
+    least = gaps.min(axis=1)
+    nearest = np.argmax(gaps <= (least + TIED * np.maximum(1.0, np.abs(least)))[:, None], axis=1)  # a tie: the first pair
     labels = np.array(problem.self_pairs.labels)
-    return replace(traj, self_clearance=gaps[np.arange(len(gaps)), nearest], self_pair=labels[nearest])
+    return replace(traj, self_clearance=least, self_pair=labels[nearest])
+
+
+TIED = 1e-9
+"""Gaps this close (relative, at least 1) to a frame's least name the first such pair, so that
+rounding never flips trajectory.csv's ``self_pair`` between two pairs at the same gap (a planar
+arm's two link pairs at 0.8, each a kinematics rounding apart)."""
 
 
 def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
