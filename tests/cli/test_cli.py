@@ -373,3 +373,12 @@ def test_ik_falls_back_on_the_planners_free_pose_search_and_says_so(cli, monkeyp
     monkeypatch.setattr(ik, "free_pose", lambda *args: None)  # the method alone does not get there
     alone = ik.solve_pose(problem, goal, problem.home)
     assert alone.status == "not_converged" and alone.found_by == "method"
+
+
+@pytest.mark.parametrize("name", command_names())
+def test_help_shows_no_type_for_a_flag_and_arguments_in_capitals(cli, name):
+    # issue 50's papercuts: typer 0.29 printed "--quiet -q <bool>" and "Usage: ... {folder}"
+    text = cli(name, "--help").stdout
+    assert "<bool>" not in text, text
+    usage = next(line for line in text.splitlines() if "Usage:" in line)
+    assert "{" not in usage and "}" not in usage, usage
