@@ -382,3 +382,15 @@ def test_help_shows_no_type_for_a_flag_and_arguments_in_capitals(cli, name):
     assert "<bool>" not in text, text
     usage = next(line for line in text.splitlines() if "Usage:" in line)
     assert "{" not in usage and "}" not in usage, usage
+
+
+def test_run_quiet_keeps_the_notes(cli, tmp_path):
+    # issue 50: --quiet hid every note, a missing mesh and the collision fallback included; its
+    # help promised only "no progress bars and no tables"
+    scene = tmp_path / "radians.yaml"
+    scene.write_text("version: 1\nname: radians\narm:\n  links: [1, 1]\n  home: [0.5, 1.2]\n"
+                     "goals:\n  - [1.2, 0.8, 0]\n")
+    quiet = cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet")
+    assert quiet.exit_code == 0, quiet.output
+    assert "arm.home: these angles look like radians" in quiet.stderr
+    assert "goal" not in quiet.stdout  # the table stays out
