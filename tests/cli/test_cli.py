@@ -229,6 +229,11 @@ def test_run_no_video_writes_csv_and_summary_and_prints_table(cli, tmp_path):
     assert "1 of 2 goals reached" in out
     assert "missed" in out and "out of reach" in out and "reached" in out
     assert not list(folder.glob("animation.*"))
+    # issue 50's papercuts: the table's frames add up to the run's, and its numbers carry no noise
+    table = [line.split("│") for line in out.splitlines() if line.startswith("│") and line.split("│")[1].strip().isdigit()]
+    assert sum(int(cells[4]) for cells in table) == len(rows) - 1  # the CSV's rows but its header
+    distances = [cells[5].strip() for cells in table]
+    assert all("e-" not in d and len(d.split(".")[-1]) <= 4 for d in distances), distances
 
 
 def test_run_quiet_prints_no_table(cli, tmp_path):
