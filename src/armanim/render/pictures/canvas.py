@@ -130,17 +130,22 @@ def caption_points(template: str, width: float, fig, renderer) -> float:
     """The caption's font size in points: ``FONT["caption"]``, or less where the longest caption
     ``template``, at the whole-pixel advance the glyphs are stamped at (:class:`GlyphAtlas`), and its
     box's padding (0.3 em each side) would not fit ``width`` pixels (a goal with an orientation at
-    960 x 540 cut the caption's last word to ``reac``)."""
+    960 x 540 cut the caption's last word to ``reac``), down to :data:`SMALLEST_CAPTION` of it."""
     points = float(FONT["caption"])
     for _ in range(20):
         probe = Text(0, 0, "M" * 40, fontsize=points, family="DejaVu Sans Mono", transform=IdentityTransform())
         probe.set_figure(fig)
         advance = max(round(probe.get_window_extent(renderer).width / 40.0), 1)
         need = len(template) * advance + 0.6 * points / (72.0 / fig.dpi)
-        if need <= width:
+        if need <= width or points <= SMALLEST_CAPTION * FONT["caption"]:
             return points
-        points *= 0.97 * width / need
+        points = max(points * 0.97 * width / need, SMALLEST_CAPTION * FONT["caption"])
     return points
+
+
+SMALLEST_CAPTION = 0.6
+"""The caption never shrinks below this share of its size (a thumbnail of 80 x 60 keeps a cut
+caption rather than an unreadable one, or a font size FreeType refuses)."""
 
 
 class SceneCanvas:
