@@ -288,7 +288,7 @@ def test_progress_bars_render_on_a_terminal():
             bars("render", done, 10)
         bars.progress.refresh()
     text = screen.getvalue()
-    assert "solve" in text and "render" in text and "10/10" in text
+    assert "solver steps" in text and "render" in text and "10/10" in text  # steps, not the run's frames (issue 50)
 
 
 def test_the_plan_bar_starts_over_for_each_plan(monkeypatch):
