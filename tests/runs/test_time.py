@@ -205,3 +205,31 @@ def test_an_in_between_pose_that_would_cut_an_obstacle_is_moved_back():
     # the clock's velocity agreeing with them, and the way round is the long one (through 180 degrees)
     assert_within_rates(at_fps(problem, 100.0), timed.trajectory)
     assert np.abs(timed.trajectory.phi[:, 0]).max() > np.radians(170.0)
+
+
+def test_a_chord_that_passes_an_obstacle_between_two_frames_goes_round_it():
+    # two limited links sweep -60 -> 60 degrees straight past a sphere at their tips' radius in one
+    # solved step: at 30 fps every frame keeps the floor, but the arm passes through the sphere
+    # between two of them. The chord is certified by halving (motion_is_free), it is not, and the
+    # planner's way round it (the elbow folded) is taken instead.
+    from armanim.motion.problem import Limits
+    from armanim.world.distances import min_link_clearance
+
+    arm = Arm.from_names([1.0, 1.0], axes=["z", "z"], direction="x")
+    phi = np.radians([[-60.0, 0.0], [60.0, 0.0]])
+    pose = forward(arm, phi)
+    goal = Goal(pose.tip[-1], 0.0)
+    problem = Problem(arm=arm, half_width=0.05, home=phi[0], limits=Limits(np.radians([-90.0, -150.0]), np.radians([90.0, 150.0]), 0.1),
+                      obstacles=Obstacles(np.array([[1.8, 0.0, 0.0]]), np.array([0.15]), np.array([0.15])),
+                      goals=(goal,), solver=default_solver_settings(max_joint_step=np.radians(180.0)), fps=30.0)
+    trajectory = Trajectory(phi=phi, tip=pose.tip, goal=np.zeros(2, dtype=int), distance=np.array([1.0, 0.0]),
+                            clearance=pose_clearance(problem, phi), reached=np.array([False, True]),
+                            iterations=np.array([0, 1]), step_scale=np.array([0.0, 1.0]), fps=30.0)
+    report = GoalReport(index=0, position=goal.position, reached=True, reason=None, frames=1, first_frame=0, last_frame=1,
+                        final_distance=0.0, iterations=1, newton_iterations=0, planning=None)
+    timed = retime(problem, Solution(trajectory, (report,)), 30.0).trajectory
+    assert_within_rates(at_fps(problem, 30.0), timed)
+    np.testing.assert_array_equal(timed.phi[-1], phi[-1])
+    # between every two frames too, each joint halfway and in 64ths: never through the sphere
+    fine = (timed.phi[:-1, None, :] + np.linspace(0.0, 1.0, 65)[None, :, None] * np.diff(timed.phi, axis=0)[:, None, :]).reshape(-1, 2)
+    assert min_link_clearance(forward(arm, fine), problem.obstacles, problem.capsules).min() > 0.0

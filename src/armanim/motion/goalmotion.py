@@ -52,6 +52,10 @@ class PathSafety:
         ``detour(a, b)`` for two poses (n,) whose chord comes under the floor: (k, n) poses, k >= 1,
         the straight pieces a -> p_1 -> ... -> p_k -> b each certified clear, or None if no such
         way is found (the chord's frames then keep the rate limits and the clearance they have).
+    chord_free : callable, optional
+        ``chord_free(a, b)``: whether the straight chord between two poses (n,) keeps the floor
+        throughout (halved until each piece is certified by :func:`two_sided_bound`), so that a
+        chord that passes an obstacle between two frames is caught too.
     """
 
     clearance: Callable[[np.ndarray], np.ndarray]
@@ -60,6 +64,7 @@ class PathSafety:
     at_poses: np.ndarray
     certified: np.ndarray
     detour: Callable[[np.ndarray, np.ndarray], np.ndarray | None] | None = None
+    chord_free: Callable[[np.ndarray, np.ndarray], bool] | None = None
 
 
 def two_sided_bound(c0: np.ndarray, c1: np.ndarray, reach: np.ndarray) -> np.ndarray:
@@ -200,7 +205,7 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
         if checked and safeties is not None:
             found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].timed_check] for i in checked])
             again |= {i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= safeties[0].floor))}
-        again |= {i for i in checked if i not in again and goals[i].detoured()}
+        again |= {i for i in pending if i not in again and goals[i].safety is not None and goals[i].detoured()}
         pending = sorted(again)
     return [g.finished() for g in goals]
 
@@ -229,6 +234,8 @@ class _Goal:
     while there is none."""
     no_way: set[int] = field(default_factory=set)
     """The steps (by their solved poses) whose detour was asked for in vain."""
+    free_chords: set[int] = field(default_factory=set)
+    """The steps whose chord :attr:`PathSafety.chord_free` certified."""
 
     @classmethod
     def start(cls, poses: np.ndarray, limited: np.ndarray, safety: PathSafety | None) -> _Goal:
@@ -306,8 +313,10 @@ class _Goal:
     def detoured(self) -> bool:
         """Replace each step on its chord whose frames still came under the floor by its safety's
         detour (each piece a chord, certified). True if one was (the motion must be timed again)."""
-        assert self.safety is not None and self.bad is not None
-        steps = sorted({int(k) for k in self.frame_step[self.bad]} - self.no_way)
+        assert self.safety is not None
+        cut = set() if self.bad is None else {int(k) for k in self.frame_step[self.bad]}
+        cut |= self._uncertified_chords()
+        steps = sorted(cut - self.no_way)
         if not steps or self.safety.detour is None:
             return False
         origin = np.arange(len(self.poses)) if self.origin is None else self.origin
@@ -330,11 +339,31 @@ class _Goal:
             doubtful.append(np.full(pieces, False) if k in ways else self.doubtful[k:k + 1])
         shift = np.cumsum([0] + [len(ways.get(k, ())) for k in range(len(self.poses) - 1)])
         self.no_way = {int(k + shift[k]) for k in self.no_way}
+        self.free_chords = {int(k + shift[k]) for k in self.free_chords}
         self.poses, self.origin = np.concatenate(poses), np.concatenate(origins)
         self.chords, self.doubtful = np.concatenate(chords), np.concatenate(doubtful)
         self.path = joint_path(self.poses, self.limited, self.chords)
         self.proven = np.zeros(len(self.path.s) - 1, dtype=bool)
         return True
+
+    def _uncertified_chords(self) -> set[int]:
+        """The doubtful steps on their chords (a path of one step is one) that
+        :attr:`PathSafety.chord_free` does not certify (each asked once): a chord can pass an
+        obstacle between two frames that both keep the floor."""
+        assert self.safety is not None
+        if self.safety.chord_free is None:
+            return set()
+        out = set()
+        straight = self.chords | (len(self.path.s) == 2)  # a path of one step is its chord
+        for k in np.nonzero(straight & self.doubtful)[0]:
+            k = int(k)
+            if k in self.free_chords or k in self.no_way or np.array_equal(self.poses[k], self.poses[k + 1]):
+                continue
+            if self.safety.chord_free(self.poses[k], self.poses[k + 1]):
+                self.free_chords.add(k)
+            else:
+                out.add(k)
+        return out
 
     def chord_frames(self, off: np.ndarray) -> bool:
         """Take the steps the frames ``off`` (K,) bool lie in along their chords. True if that adds

@@ -222,7 +222,16 @@ def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
         certified &= two_sided_bound(own[:-1], own[1:], reach) >= floor
         clear = np.minimum(clear, own)
     return PathSafety(lambda phi: pose_clearance(problem, phi), floor, problem.lever_arms, clear, certified,
-                      lambda a, b: detour(problem, a, b))
+                      lambda a, b: detour(problem, a, b), lambda a, b: chord_free(problem, a, b))
+
+
+def chord_free(problem: Problem, a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the straight chord between the poses ``a`` and ``b`` (n,) keeps ``solver.clearance``
+    (or, between poses closer than that, the nearer one's clearance) throughout:
+    :func:`~armanim.motion.planning.path.motion_is_free`, the segment halved until each piece is
+    certified by the lever-arm bound (to within its ``certify_to``)."""
+    ends = float(pose_clearance(problem, np.stack([a, a + joint_offset(problem, a, b)])).min())
+    return motion_is_free(problem, a, a + joint_offset(problem, a, b), min(problem.solver.clearance, ends), closed=True)[0]
 
 
 def detour(problem: Problem, a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
