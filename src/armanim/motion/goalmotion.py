@@ -353,10 +353,9 @@ class _Goal:
         assert self.safety is not None
         if self.safety.chord_free is None:
             return set()
-        out = set()
+        out: set[int] = set()
         straight = self.chords | (len(self.path.s) == 2)  # a path of one step is its chord
-        for k in np.nonzero(straight & self.doubtful)[0]:
-            k = int(k)
+        for k in (int(j) for j in np.nonzero(straight & self.doubtful)[0]):
             if k in self.free_chords or k in self.no_way or np.array_equal(self.poses[k], self.poses[k + 1]):
                 continue
             if self.safety.chord_free(self.poses[k], self.poses[k + 1]):
