@@ -54,6 +54,11 @@ def assert_within_rates(problem: Problem, traj) -> None:
     assert np.all(np.isfinite(traj.velocity)) and np.all(np.abs(traj.velocity) <= problem.rates.speed * (1 + 1e-6)), float((np.abs(traj.velocity) / problem.rates.speed).max())
     rest = np.concatenate([[True], np.all(steps == 0, axis=1)]) & np.concatenate([np.all(steps == 0, axis=1), [True]])
     assert np.all(traj.velocity[rest] == 0)
+    # the clock's velocity (trajectory.csv's dphi columns) agrees with the positions: a frame's
+    # difference over 1/fps is the velocity somewhere in the frame before, within a/fps of its end's
+    gap = np.abs(traj.velocity[1:] - steps * traj.fps)
+    assert np.all(gap <= problem.rates.acceleration / traj.fps * (1 + RATE_TOLERANCE) + 1e-9), float(
+        (gap / (problem.rates.acceleration / traj.fps)).max())
 
 
 def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:

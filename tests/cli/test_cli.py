@@ -229,6 +229,11 @@ def test_run_no_video_writes_csv_and_summary_and_prints_table(cli, tmp_path):
     assert "1 of 2 goals reached" in out
     assert "missed" in out and "out of reach" in out and "reached" in out
     assert not list(folder.glob("animation.*"))
+    # issue 50's papercuts: the table's frames add up to the run's, and its numbers carry no noise
+    table = [line.split("│") for line in out.splitlines() if line.startswith("│") and line.split("│")[1].strip().isdigit()]
+    assert sum(int(cells[4]) for cells in table) == len(rows) - 1  # the CSV's rows but its header
+    distances = [cells[5].strip() for cells in table]
+    assert all("e-" not in d and len(d.split(".")[-1]) <= 4 for d in distances), distances
 
 
 def test_run_quiet_prints_no_table(cli, tmp_path):
@@ -283,7 +288,7 @@ def test_progress_bars_render_on_a_terminal():
             bars("render", done, 10)
         bars.progress.refresh()
     text = screen.getvalue()
-    assert "solve" in text and "render" in text and "10/10" in text
+    assert "solver steps" in text and "render" in text and "10/10" in text  # steps, not the run's frames (issue 50)
 
 
 def test_the_plan_bar_starts_over_for_each_plan(monkeypatch):
@@ -373,3 +378,24 @@ def test_ik_falls_back_on_the_planners_free_pose_search_and_says_so(cli, monkeyp
     monkeypatch.setattr(ik, "free_pose", lambda *args: None)  # the method alone does not get there
     alone = ik.solve_pose(problem, goal, problem.home)
     assert alone.status == "not_converged" and alone.found_by == "method"
+
+
+@pytest.mark.parametrize("name", command_names())
+def test_help_shows_no_type_for_a_flag_and_arguments_in_capitals(cli, name):
+    # issue 50's papercuts: typer 0.29 printed "--quiet -q <bool>" and "Usage: ... {folder}"
+    text = cli(name, "--help").stdout
+    assert "<bool>" not in text, text
+    usage = next(line for line in text.splitlines() if "Usage:" in line)
+    assert "{" not in usage and "}" not in usage, usage
+
+
+def test_run_quiet_keeps_the_notes(cli, tmp_path):
+    # issue 50: --quiet hid every note, a missing mesh and the collision fallback included; its
+    # help promised only "no progress bars and no tables"
+    scene = tmp_path / "radians.yaml"
+    scene.write_text("version: 1\nname: radians\narm:\n  links: [1, 1]\n  home: [0.5, 1.2]\n"
+                     "goals:\n  - [1.2, 0.8, 0]\n")
+    quiet = cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet")
+    assert quiet.exit_code == 0, quiet.output
+    assert "arm.home: these angles look like radians" in quiet.stderr
+    assert "goal" not in quiet.stdout  # the table stays out

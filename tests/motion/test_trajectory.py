@@ -66,3 +66,79 @@ def test_every_miss_reason_is_explained():
     from armanim.names import MissReason
 
     assert tuple(MISS_REASONS) == get_args(MissReason)
+
+
+@pytest.mark.parametrize("method", ["pinv", "dls"])
+def test_a_goal_beyond_reach_is_given_up_without_shaking_the_arm(method):
+    # issue 50: scenes/out-of-reach.yaml shook the arm (phi4 +-5 degrees, about 100 reversals) for
+    # 19.6 s before its miss: across the stretched, singular pose pinv and dls alternated between
+    # two poses. Now a step that turns back is replaced by its creep across the one before, the
+    # arm stretches toward the goal, settles, and the goal stalls.
+    from dataclasses import replace
+
+    from armanim.motion.retime import retime
+    from armanim.motion.stalls import stall_frames
+    from armanim.scene import load_scene, scene_to_problem
+
+    base = scene_to_problem(load_scene(SCENES / "out-of-reach.yaml").model)
+    problem = replace(base, solver=replace(base.solver, method=method))
+    solved = solve_trajectory(problem)
+    first = solved.goals[0]
+    assert not first.reached and first.reason == "out_of_reach" and solved.goals[1].reached
+    distance = solved.trajectory.distance[: first.last_frame + 1]
+    settled = int(np.nonzero(distance - distance[-1] < 5 * problem.solver.tolerance)[0][0])
+    assert first.last_frame - settled <= 2 * stall_frames(problem)  # given up within about a second of settling
+    # the arm's first link (2 long) stands on the axis of joint 1, so the tip keeps within 15 of the
+    # shoulder above the base: no pose comes closer than |goal - shoulder| - 15 (10.18)
+    least = np.linalg.norm(problem.goals[0].position - (problem.arm.base + [0.0, 0.0, 2.0])) - 15.0
+    assert least <= first.final_distance <= 1.15 * least  # stretched toward it (newton: 10.19)
+    timed = retime(problem, solved, problem.fps)
+    mine = timed.trajectory.goal == 0
+    assert timed.goals[0].timing.duration < 5.0  # was 19.6 s
+    steps = np.diff(timed.trajectory.phi[mine], axis=0)
+    for j in range(problem.arm.n):  # each joint turns back a few times, not at every frame
+        moving = steps[:, j][np.abs(steps[:, j]) > 1e-9]
+        assert np.sum(np.diff(np.sign(moving)) != 0) <= 12, j
+
+
+def test_a_path_goal_tells_its_progress_along_the_path_and_changes_nothing():
+    # issue 50 item 10: a cluttered newton path goal spent two minutes following its path with the
+    # progress bar still; now each sample tells the thousandths of the path done
+    from armanim.motion.following import PER_PATH
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(SCENES / "ur5-pen.yaml").model)
+    seen = []
+    told = solve_trajectory(problem, along=lambda done, most: seen.append((done, most)))
+    assert seen and all(most == PER_PATH and 0 <= done <= PER_PATH for done, most in seen)
+    followed = [g for g in told.goals if g.path is not None and g.reached]
+    assert followed and seen[-1][0] == PER_PATH  # a path followed to its end ends at the whole
+    silent = solve_trajectory(problem)
+    np.testing.assert_array_equal(told.trajectory.phi, silent.trajectory.phi)
+
+
+def test_a_tie_between_two_pairs_names_the_first_whatever_the_rounding():
+    # planar-nlink: two pairs of its links sit 0.8 apart at once; the kinematics' last bit chose
+    # between them (its golden's self_pair flipped in 25 frames when newton's kinematics changed)
+    from dataclasses import replace
+
+    from armanim.motion.trajectory import with_self_clearance
+    from armanim.scene import load_scene, scene_to_problem
+    from armanim.world.selfdistances import self_gaps
+
+    problem = scene_to_problem(load_scene(SCENES / "planar-nlink.yaml").model)
+    traj = solve_trajectory(problem).trajectory
+    labels = list(problem.self_pairs.labels)
+    for noise in (0.0, 1e-13, -1e-13):
+        moved = with_self_clearance(problem, replace(traj, phi=traj.phi + noise))
+        gaps = self_gaps(forward_pose(problem, moved.phi), problem.capsules, problem.self_pairs).d
+        tied = gaps <= gaps.min(axis=1, keepdims=True) + 1e-9
+        assert tied.sum(axis=1).max() >= 2  # the scene has ties
+        np.testing.assert_array_equal(moved.self_pair, np.array(labels)[tied.argmax(axis=1)])
+        np.testing.assert_array_equal(moved.self_clearance, gaps.min(axis=1))
+
+
+def forward_pose(problem, phi):
+    from armanim.arm.kinematics import forward
+
+    return forward(problem.arm, phi)

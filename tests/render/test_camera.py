@@ -285,3 +285,22 @@ def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     labels = [text.get_text() for text in scene.fig.legends[0].get_texts()]  # the legend as drawn
     assert {"reached", "missed"} & set(labels) == shown
     assert "obstacle" not in labels  # no obstacles in this scene
+
+
+def test_the_longest_caption_fits_the_frame_at_960x540():
+    # issue 50: a goal with an orientation at 960 x 540 cut the caption's last word to "reac"
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas
+
+    arm = Arm.from_names([1.0, 1.0], axes=["z", "z"], direction="x")
+    problem = Problem(arm=arm, half_width=0.05, home=np.zeros(2), limits=unlimited_limits(2),
+                      obstacles=Obstacles(np.zeros((0, 3)), np.zeros(0), np.zeros(0)), goals=(Goal(np.array([1.0, 1.0, 0.0]), 0.0),),
+                      solver=default_solver_settings(), fps=30.0)
+    caption = "t =  38.50 s   goal 1 (of 0-1)   distance    0.003   angle    0.0 deg   speed   0% (phi1)   following"
+    pose = forward(arm, np.zeros(2))
+    scene = SceneCanvas(problem, default_render_settings(size=(960, 540)), title="t", caption_template=caption)
+    image = scene.draw(FrameState(pose, 0, np.zeros(1, dtype=int), caption)).copy()
+    x, y = scene.layout.caption_xy
+    band = image[int(y): int(y) + 3 * scene.glyphs.height, :, :3].astype(float).sum(axis=-1)
+    ink = np.nonzero((band < 200).any(axis=0))[0]  # dark text pixels (the box's edge is light)
+    assert len(ink) and ink.max() < 960 - 8  # the whole caption inside the frame, its box's padding too
+    assert len(caption) * scene.glyphs.advance <= 960 - 2 * x

@@ -251,3 +251,17 @@ def test_a_solved_run_renders_at_full_size(tmp_path):
     render_video(SolvedRun("solved", problem, solution), options(size=(640, 360), jobs=2), out)
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == solution.trajectory.frames
     assert tuple(video_meta(out)["size"]) == (640, 360)
+
+
+def test_a_path_goal_s_frames_say_following_not_reached():
+    # issue 50: the caption said "reached" the whole time the pen wrote (the CSV's reached is 1 on
+    # path frames: the tool within tolerance of the path)
+    import types
+
+    from armanim.render.overlay.caption import frame_activity
+
+    phi = np.array([[0.0], [0.1], [0.2], [0.3], [0.3], [0.3]])
+    t = types.SimpleNamespace(phi=phi, reached=np.array([False, True, True, True, True, True]), frames=6, fps=30.0,
+                              mode=np.array(["ik", "ik", "path", "path", "path", "ik"]))
+    report = types.SimpleNamespace(reached=True, first_frame=0, last_frame=5)
+    assert frame_activity(t, [report]).tolist() == ["moving", "reached", "following", "following", "holding", "holding"]

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-from invariants import assert_trajectory_invariants, small_planning_budget
+from invariants import assert_trajectory_invariants, assert_within_rates, small_planning_budget
 from strategies import cluttered_problems, robot_problems
 
 from armanim.arm.geometry import wrap_angle
@@ -143,6 +143,39 @@ def test_the_clock_is_the_same_at_every_fps():
         np.testing.assert_allclose(durations[fps], durations[30.0], atol=1 / 15)
 
 
+def _one_step(start_deg: float, end_deg: float, sphere: np.ndarray, radius: float, fps: float) -> tuple[Problem, Solution]:
+    """A one-link arm (unlimited) solved in a single frame from ``start_deg`` to ``end_deg``, past a sphere."""
+    arm = Arm.from_names([2.0], axes=["z"], direction="x")
+    phi = np.radians([[start_deg], [end_deg]])
+    pose = forward(arm, phi)
+    goal = Goal(pose.tip[-1], 0.0)
+    problem = Problem(arm=arm, half_width=0.05, home=phi[0], limits=unlimited_limits(1),
+                      obstacles=Obstacles(sphere[None], np.array([radius]), np.array([radius])),
+                      goals=(goal,), solver=default_solver_settings(max_joint_step=np.radians(180.0)), fps=fps)
+    trajectory = Trajectory(phi=phi, tip=pose.tip, goal=np.zeros(2, dtype=int), distance=np.array([1.0, 0.0]),
+                            clearance=pose_clearance(problem, phi), reached=np.array([False, True]),
+                            iterations=np.array([0, 1]), step_scale=np.array([0.0, 1.0]), fps=fps)
+    report = GoalReport(index=0, position=goal.position, reached=True, reason=None, frames=1, first_frame=0, last_frame=1,
+                        final_distance=0.0, iterations=1, newton_iterations=0, planning=None)
+    return problem, Solution(trajectory, (report,))
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(start=st.floats(-180.0, 180.0), turn=st.floats(30.0, 170.0), sign=st.sampled_from([-1.0, 1.0]),
+       at=st.floats(0.2, 0.8), reach=st.floats(0.6, 1.9), radius=st.floats(0.05, 0.4), fps=st.sampled_from([30.0, 90.0]))
+def test_a_step_whose_chord_cuts_an_obstacle_never_jumps(start, turn, sign, at, reach, radius, fps):
+    # issue 50 item 12: a frame on a chord under the floor showed the solved pose (157 degrees in
+    # one frame); now the step goes another certified way, every frame within the rates, clear
+    end = start + sign * turn
+    middle = np.radians(start + at * (end - start))
+    problem, solved = _one_step(start, end, reach * np.array([np.cos(middle), np.sin(middle), 0.0]), radius, fps)
+    assume(solved.trajectory.clearance.min() > 1.5 * problem.solver.clearance)  # both solved poses clear
+    timed = retime(problem, solved, fps).trajectory
+    assert_within_rates(at_fps(problem, fps), timed)  # finite differences, and the CSV's velocity agrees
+    assert timed.clearance.min() >= problem.solver.clearance
+    np.testing.assert_allclose(timed.phi[-1], solved.trajectory.phi[-1])
+
+
 def test_an_in_between_pose_that_would_cut_an_obstacle_is_moved_back():
     # one link sweeping +-60 degrees past a sphere in a single solved frame: the joint-space
     # chord passes through the sphere at 0 degrees, both solved poses are clear of it
@@ -167,3 +200,36 @@ def test_an_in_between_pose_that_would_cut_an_obstacle_is_moved_back():
     timed = retime(problem, solved, 100.0)
     assert timed.trajectory.clearance.min() >= problem.solver.clearance  # safe in-between poses only
     np.testing.assert_array_equal(timed.trajectory.phi[-1], phi[-1])  # the solved pose itself ends the motion
+    # ... and no frame jumps to get there (issue 50 item 12: the chord's frames once showed the
+    # solved pose, 120 degrees in one frame): every frame within the rates, by finite differences,
+    # the clock's velocity agreeing with them, and the way round is the long one (through 180 degrees)
+    assert_within_rates(at_fps(problem, 100.0), timed.trajectory)
+    assert np.abs(timed.trajectory.phi[:, 0]).max() > np.radians(170.0)
+
+
+def test_a_chord_that_passes_an_obstacle_between_two_frames_goes_round_it():
+    # two limited links sweep -60 -> 60 degrees straight past a sphere at their tips' radius in one
+    # solved step: at 30 fps every frame keeps the floor, but the arm passes through the sphere
+    # between two of them. The chord is certified by halving (motion_is_free), it is not, and the
+    # planner's way round it (the elbow folded) is taken instead.
+    from armanim.motion.problem import Limits
+    from armanim.world.distances import min_link_clearance
+
+    arm = Arm.from_names([1.0, 1.0], axes=["z", "z"], direction="x")
+    phi = np.radians([[-60.0, 0.0], [60.0, 0.0]])
+    pose = forward(arm, phi)
+    goal = Goal(pose.tip[-1], 0.0)
+    problem = Problem(arm=arm, half_width=0.05, home=phi[0], limits=Limits(np.radians([-90.0, -150.0]), np.radians([90.0, 150.0]), 0.1),
+                      obstacles=Obstacles(np.array([[1.8, 0.0, 0.0]]), np.array([0.15]), np.array([0.15])),
+                      goals=(goal,), solver=default_solver_settings(max_joint_step=np.radians(180.0)), fps=30.0)
+    trajectory = Trajectory(phi=phi, tip=pose.tip, goal=np.zeros(2, dtype=int), distance=np.array([1.0, 0.0]),
+                            clearance=pose_clearance(problem, phi), reached=np.array([False, True]),
+                            iterations=np.array([0, 1]), step_scale=np.array([0.0, 1.0]), fps=30.0)
+    report = GoalReport(index=0, position=goal.position, reached=True, reason=None, frames=1, first_frame=0, last_frame=1,
+                        final_distance=0.0, iterations=1, newton_iterations=0, planning=None)
+    timed = retime(problem, Solution(trajectory, (report,)), 30.0).trajectory
+    assert_within_rates(at_fps(problem, 30.0), timed)
+    np.testing.assert_array_equal(timed.phi[-1], phi[-1])
+    # between every two frames too, each joint halfway and in 64ths: never through the sphere
+    fine = (timed.phi[:-1, None, :] + np.linspace(0.0, 1.0, 65)[None, :, None] * np.diff(timed.phi, axis=0)[:, None, :]).reshape(-1, 2)
+    assert min_link_clearance(forward(arm, fine), problem.obstacles, problem.capsules).min() > 0.0

@@ -34,6 +34,30 @@ out = Console()
 err = Console(stderr=True)
 
 
+def _plain_help() -> None:
+    """Typer 0.29's help as click's was: a flag shows no ``<bool>`` type (it takes no value), and
+    the usage line names an argument in capitals, ``FOLDER`` (``[FOLDER]`` when optional), not
+    ``{folder}`` (issue 50's papercuts). Typer builds its parameters itself, so its two methods
+    are replaced here, once, for every command."""
+    from typer import core
+
+    shown = core.TyperOption.display_type_rich
+
+    def option_type(self, ctx):  # a flag takes no value: no type to show
+        return None if self.is_flag and self.metavar is None else shown(self, ctx)
+
+    def usage_name(self) -> str:
+        name = (self.metavar or (self.name or "").upper())
+        name = name if self.required else f"[{name}]"
+        return name + ("..." if self.nargs != 1 else "")
+
+    core.TyperOption.display_type_rich = option_type
+    core.TyperArgument._usage_display_name = usage_name
+
+
+_plain_help()
+
+
 class QuietWhenClosed:
     """A text stream that a closed reader (``armanim validate s.yaml | head -0``) cannot break.
 

@@ -20,7 +20,7 @@ if TYPE_CHECKING:  # numpy and the render room are imported where used: --versio
 
     from armanim.render.settings import RenderOverrides
 
-QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables.")]
+QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables (notes, the warnings that a picture or a model is not what was asked, are still printed).")]
 JobsOpt = Annotated[int | None, typer.Option("--jobs", "-j", help="Worker processes (default: all cores).")]
 SchedulerOpt = Annotated[
     str | None,

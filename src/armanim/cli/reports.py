@@ -21,15 +21,34 @@ def print_goal_table(result) -> None:
     columns = ("goal", "position", "result", "frames", "distance") + (("angle (deg)",) if oriented else ())
     for col in columns:
         table.add_column(col, justify="left" if col in ("position", "result") else "right")
+    reach, tolerance = result.problem.arm.reach, result.problem.solver.tolerance
     for g in sol.goals:
         outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {g.reason_text}"
-        reach = result.problem.arm.reach
-        row = [str(g.index), ", ".join(f"{v:g}" for v in g.position), outcome, str(g.frames), number(g.final_distance, reach, 3)]
+        rows = g.last_frame - g.first_frame + 1 if g.first_frame >= 0 else 0  # its hold (and frame 0) too: the rows add up
+        row = [str(g.index), ", ".join(table_number(v, reach / 100) for v in g.position), outcome, str(rows),
+               table_number(g.final_distance, tolerance / 100)]
         if oriented:
             row.append("" if g.final_orientation_error is None else number(np.degrees(g.final_orientation_error), 360, 3))
         table.add_row(*row)
     out.print(table)
     say("outputs: " + ", ".join(str(p) for p in result.files.values()))
+
+
+def table_number(value: float, resolution: float) -> str:
+    """``value`` in a table, to the decimal of ``resolution`` (a hundredth of the arm's reach for a
+    position, a hundredth of ``solver.tolerance`` for a distance): no ``0.172857`` or ``1.21e-05`` noise.
+
+    >>> table_number(0.17285714, 0.0085), table_number(1.21e-05, 0.0001), table_number(10.41384, 0.0001), table_number(-0.0, 1)
+    ('0.173', '0', '10.4138', '0')
+    """
+    import math
+
+    decimals = max(0, -math.floor(math.log10(abs(resolution)))) if resolution else 6
+    if not math.isfinite(value):
+        return str(value)
+    text = f"{value:.{decimals}f}"
+    text = text.rstrip("0").rstrip(".") if "." in text else text
+    return "0" if text in ("-0", "") else text
 
 
 def print_missed_goals(result, path: Path) -> None:

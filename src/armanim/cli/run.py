@@ -80,10 +80,10 @@ def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, job
     with committed_is_done(), bars(quiet) as shown:
         result = run_scene(path, out_root, video=video, viewer=viewer, jobs=jobs, render_overrides=overrides, progress=shown)
     ignore_until_exit()  # the outputs are in place: the run has succeeded, whatever comes now
+    print_notes(result.scene)  # warnings (the picture or the collision model is not what was asked): also with --quiet
+    for note in result.notes:
+        say(message_lines("note: " + note), err)
     if not quiet:
-        print_notes(result.scene)
-        for note in result.notes:
-            say(message_lines("note: " + note), err)
         print_goal_table(result)
     if strict and result.solution.reached < len(result.solution.goals):
         print_missed_goals(result, path)

@@ -30,6 +30,7 @@ poses at the start (:func:`armanim.motion.planning.poses.goal_poses`) are tried 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -121,24 +122,32 @@ class Route:
     source: PathSource = "none"
 
 
-def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0) -> Route:
+Along = Callable[[int, int], None]
+"""``along(done, most)``: a path's progress while it is followed, in thousandths (``most`` is
+:data:`PER_PATH`); each trial from another start counts from 0 again."""
+
+PER_PATH = 1000
+
+def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0,
+                   along: Along | None = None) -> Route:
     """The route along ``goal``'s path from ``state`` (the arm at its start) that gets farthest:
     from ``state`` itself, or, when that stops short, from the best of :data:`OTHER_STARTS` free
     poses at the start reachable by a short planned search (:func:`_quick_planner`; the first that
-    follows the whole path ends the trials)."""
+    follows the whole path ends the trials). ``along(done, most)``: each trial's progress, in
+    thousandths of the path, after every sample (:data:`Along`)."""
     from armanim.motion.planning.follow import damper_paced, path_schedule, poses_along
     from armanim.motion.planning.path import plan_path
     from armanim.motion.planning.poses import goal_poses
 
     assert goal.path is not None
-    best = _farther_follow(problem, method, state, goal)
+    best = _farther_follow(problem, method, state, goal, along)
     stay = np.zeros((0, len(state.phi)))
     if best.cause is None or not best.states:
         return Route(stay, best)
     found = goal_poses(problem, state.phi, goal.path.start, seed, goal.orientation)
     trials: list[tuple[np.ndarray, Followed]] = []
     for pose in _other_branches(problem, state.phi, found.poses):
-        trial = _farther_follow(problem, method, arm_state(problem, pose), goal)
+        trial = _farther_follow(problem, method, arm_state(problem, pose), goal, along)
         if _done(trial) > _done(best) + sample_spacing(problem, goal):
             trials.append((pose, trial))
             if trial.cause is None:
@@ -157,7 +166,7 @@ def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal
     return route
 
 
-def _farther_follow(problem: Problem, method: Method, state: ArmState, goal: Goal) -> Followed:
+def _farther_follow(problem: Problem, method: Method, state: ArmState, goal: Goal, along: Along | None = None) -> Followed:
     """The path followed from ``state`` with every push of the null space; when the filter stops it
     short (held by an obstacle or the arm's own links) where a joint came inside its limit's margin,
     followed again with the limits' push left to the filter alone (:func:`sampling_problem`), and
@@ -167,10 +176,10 @@ def _farther_follow(problem: Problem, method: Method, state: ArmState, goal: Goa
     can fold the arm onto its own links: a Panda line held by a pair of its links at 12 % (the pair
     at its floor, joint 2 pushed off its limit) goes to 15 % without it, as far as the benchmark's
     oracle; the filter keeps every joint its buffer inside its limits either way."""
-    pushed = follow_path(problem, method, state, goal)
+    pushed = follow_path(problem, method, state, goal, along=along)
     if pushed.cause not in ("obstacle", "self_collision") or not _near_limits(problem, pushed):
         return pushed
-    unpushed = follow_path(problem, method, state, goal, limit_push=False)
+    unpushed = follow_path(problem, method, state, goal, limit_push=False, along=along)
     return unpushed if _done(unpushed) > _done(pushed) else pushed
 
 
@@ -265,9 +274,11 @@ def sampling_problem(problem: Problem, limit_push: bool = True) -> Problem:
                                            w_limits=gain * s.w_limits if limit_push else 0.0))
 
 
-def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal, limit_push: bool = True) -> Followed:
+def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal, limit_push: bool = True,
+                along: Along | None = None) -> Followed:
     """The tool along ``goal.path`` from ``state`` (the arm at, or near, the path's start);
-    ``limit_push`` as :func:`sampling_problem`'s.
+    ``limit_push`` as :func:`sampling_problem`'s; ``along(done, most)`` told the thousandths of
+    the path done after each sample tried (:data:`Along`).
 
     Returns
     -------
@@ -292,6 +303,8 @@ def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal, l
         if tried.cause == "singular" and method is not fallback:  # a pose the method cannot leave: Newton's solve may
             tried = _solved_sample(sampling, fallback, out.states[-1], path, goal, s_to)
         cause = tried.cause or _step_fault(problem, goal, out.states[-1], tried.state, s_from, s_to, out)
+        if along is not None:
+            along(int(PER_PATH * (s_to if cause is None else s_from) / max(path.length, 1e-300)), PER_PATH)
         if cause is None:
             _accept(out, tried, s_to, path)
         elif s_to - s_from > smallest * (1 + 1e-9):

@@ -4,8 +4,11 @@
 that path as safe as the poses are. The smooth path between two solved poses bulges a little
 beyond their straight chord, so a step that might come closer to an obstacle (or bring two
 of the arm's own capsules closer) than the floor is probed, and a step whose probes do not
-keep the floor is taken along its chord; a frame on a chord that still does not (the chord
-cuts a curved surface) shows the solved pose it heads for.
+keep the floor is taken along its chord. Where a frame on a chord still does not (the chord
+cuts a curved surface between two safe poses), the step is replaced by a certified way between
+its two poses (:attr:`PathSafety.detour`: straight pieces each proved clear, around the
+obstacle) and the motion timed again, so that every frame stays within the rate limits: no
+frame ever jumps.
 
 Probing is bounded by lever arms (:func:`two_sided_bound`): on a step each joint moves
 monotonically between its two values, so a pose's clearance is within lever . |dPhi| of the
@@ -17,7 +20,7 @@ certify has its frames measured. Pure core: numpy only.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import cast
 
 import numpy as np
@@ -45,6 +48,14 @@ class PathSafety:
         The solved poses' clearances.
     certified : (m - 1,) bool array
         The solved steps known to keep the floor throughout (never measured).
+    detour : callable, optional
+        ``detour(a, b)`` for two poses (n,) whose chord comes under the floor: (k, n) poses, k >= 1,
+        the straight pieces a -> p_1 -> ... -> p_k -> b each certified clear, or None if no such
+        way is found (the chord's frames then keep the rate limits and the clearance they have).
+    chord_free : callable, optional
+        ``chord_free(a, b)``: whether the straight chord between two poses (n,) keeps the floor
+        throughout (halved until each piece is certified by :func:`two_sided_bound`), so that a
+        chord that passes an obstacle between two frames is caught too.
     """
 
     clearance: Callable[[np.ndarray], np.ndarray]
@@ -52,6 +63,8 @@ class PathSafety:
     lever: np.ndarray
     at_poses: np.ndarray
     certified: np.ndarray
+    detour: Callable[[np.ndarray, np.ndarray], np.ndarray | None] | None = None
+    chord_free: Callable[[np.ndarray, np.ndarray], bool] | None = None
 
 
 def two_sided_bound(c0: np.ndarray, c1: np.ndarray, reach: np.ndarray) -> np.ndarray:
@@ -160,8 +173,9 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     The first pose of each is where the arm already is (it is not a frame of the result); a
     path that does not move takes no frames. With ``safeties`` (one a goal), a solved step not
     certified clear whose smooth path comes under the floor at a probe (:func:`probed_steps`) or
-    at a frame is taken along its chord (and that motion timed again); a frame on a chord that
-    still does not shows the solved pose it heads for. The goals' probes and frames are measured
+    at a frame is taken along its chord (and that motion timed again); a step whose chord still
+    does not at a frame is replaced by its safety's ``detour`` (chords, certified) and timed
+    again. Every frame keeps the rate limits. The goals' probes and frames are measured
     together, a few calls in all. Raises :class:`~armanim.motion.clock.ClockTooLong` where a
     goal's motion would pass ``most_frames`` less the frames (and ``holds``, one a goal) of the
     goals before it. ``path_speeds`` (one a goal, each (m_i - 1,) or None): the most ds/dt on each
@@ -186,11 +200,12 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
         for i in pending:
             goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk)
         again = {i for i in pending if (stray := (strays or [None] * len(goals))[i]) is not None
-                 and goals[i].chord_frames(stray(goals[i].timed))}
+                 and goals[i].chord_frames(stray(goals[i].solved_motion))}
         checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].timed_check)]
         if checked and safeties is not None:
             found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].timed_check] for i in checked])
             again |= {i for i, c in zip(checked, found) if goals[i].chord_bad_frames(~(c >= safeties[0].floor))}
+        again |= {i for i in pending if i not in again and goals[i].safety is not None and goals[i].detoured()}
         pending = sorted(again)
     return [g.finished() for g in goals]
 
@@ -214,6 +229,13 @@ class _Goal:
     """The most ds/dt on each solved step (a path goal's tool speed), or None."""
     excess: Excess | None = None
     """A limit of the frames the clock does not know (a path goal's tool speed), or None."""
+    origin: np.ndarray | None = None
+    """The solved pose each of :attr:`poses` is or heads for (a detour's poses inserted), or None
+    while there is none."""
+    no_way: set[int] = field(default_factory=set)
+    """The steps (by their solved poses) whose detour was asked for in vain."""
+    free_chords: set[int] = field(default_factory=set)
+    """The steps whose chord :attr:`PathSafety.chord_free` certified."""
 
     @classmethod
     def start(cls, poses: np.ndarray, limited: np.ndarray, safety: PathSafety | None) -> _Goal:
@@ -262,7 +284,8 @@ class _Goal:
         changed since)."""
         if self.chords.any():
             self.path = joint_path(self.poses, self.limited, self.chords)
-        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, self.path_speed, self.excess)
+        path_speed = self.path_speed if self.origin is None or self.path_speed is None else self.path_speed[self.origin[1:] - 1]
+        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, path_speed, self.excess)
         self.bad = np.zeros(len(self.motion.phi), dtype=bool)
         proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
         self.check = (self.doubtful & ~proven)[self.frame_step]
@@ -279,6 +302,68 @@ class _Goal:
             self.chords[step[bad]] = True
         return again
 
+    @property
+    def solved_motion(self) -> Motion:
+        """:attr:`timed` with each frame heading for a solved pose (a detour's heads for the
+        step's last)."""
+        if self.origin is None:
+            return self.timed
+        return replace(self.timed, heads_for=self.origin[self.timed.heads_for])
+
+    def detoured(self) -> bool:
+        """Replace each step on its chord whose frames still came under the floor by its safety's
+        detour (each piece a chord, certified). True if one was (the motion must be timed again)."""
+        assert self.safety is not None
+        cut = set() if self.bad is None else {int(k) for k in self.frame_step[self.bad]}
+        cut |= self._uncertified_chords()
+        steps = sorted(cut - self.no_way)
+        if not steps or self.safety.detour is None:
+            return False
+        origin = np.arange(len(self.poses)) if self.origin is None else self.origin
+        ways = {}
+        for k in steps:
+            way = self.safety.detour(self.poses[k], self.poses[k + 1])
+            if way is None or not len(way):
+                self.no_way.add(k)
+            else:
+                ways[k] = way
+        if not ways:
+            return False
+        poses, chords, doubtful, origins = [self.poses[:1]], [], [], [origin[:1]]
+        for k in range(len(self.poses) - 1):
+            way = ways.get(k, self.poses[:0])
+            poses += [way, self.poses[k + 1:k + 2]]
+            origins += [np.full(len(way), origin[k + 1]), origin[k + 1:k + 2]]
+            pieces = len(way) + 1
+            chords.append(np.full(pieces, True) if k in ways else self.chords[k:k + 1])
+            doubtful.append(np.full(pieces, False) if k in ways else self.doubtful[k:k + 1])
+        shift = np.cumsum([0] + [len(ways.get(k, ())) for k in range(len(self.poses) - 1)])
+        self.no_way = {int(k + shift[k]) for k in self.no_way}
+        self.free_chords = {int(k + shift[k]) for k in self.free_chords}
+        self.poses, self.origin = np.concatenate(poses), np.concatenate(origins)
+        self.chords, self.doubtful = np.concatenate(chords), np.concatenate(doubtful)
+        self.path = joint_path(self.poses, self.limited, self.chords)
+        self.proven = np.zeros(len(self.path.s) - 1, dtype=bool)
+        return True
+
+    def _uncertified_chords(self) -> set[int]:
+        """The doubtful steps on their chords (a path of one step is one) that
+        :attr:`PathSafety.chord_free` does not certify (each asked once): a chord can pass an
+        obstacle between two frames that both keep the floor."""
+        assert self.safety is not None
+        if self.safety.chord_free is None:
+            return set()
+        out: set[int] = set()
+        straight = self.chords | (len(self.path.s) == 2)  # a path of one step is its chord
+        for k in (int(j) for j in np.nonzero(straight & self.doubtful)[0]):
+            if k in self.free_chords or k in self.no_way or np.array_equal(self.poses[k], self.poses[k + 1]):
+                continue
+            if self.safety.chord_free(self.poses[k], self.poses[k + 1]):
+                self.free_chords.add(k)
+            else:
+                out.add(k)
+        return out
+
     def chord_frames(self, off: np.ndarray) -> bool:
         """Take the steps the frames ``off`` (K,) bool lie in along their chords. True if that adds
         a chord (the motion must be timed again)."""
@@ -288,16 +373,13 @@ class _Goal:
         return again
 
     def finished(self) -> Motion:
-        """The motion's frames, unlimited joints wrapped, a frame on a chord that still cuts the
-        clearance showing the solved pose it heads for, the last frame the last solved pose."""
+        """The motion's frames, each heading for a solved pose, unlimited joints wrapped, the last
+        frame the last solved pose."""
         n = self.poses.shape[1]
         if self.motion is None:
             return Motion(np.zeros((0, n)), np.zeros((0, n)), np.zeros(0, dtype=int), 0.0)
-        motion, phi = self.motion, self.motion.phi
-        if np.any(self.bad):
-            phi = phi.copy()
-            phi[self.bad] = unwrapped(self.poses, self.limited)[motion.heads_for[self.bad]]
-        phi = np.where(self.limited, phi, wrap_angle(phi))
+        motion = self.solved_motion
+        phi = np.where(self.limited, motion.phi, wrap_angle(motion.phi))
         phi[-1] = self.poses[-1]  # the goal's last solved pose itself, not its unwrapped copy
         return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
 

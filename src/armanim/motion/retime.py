@@ -35,9 +35,11 @@ from armanim.motion.pathtiming import (
     tool_speed_excess,
     traced_paths,
 )
-from armanim.motion.problem import Problem
+from armanim.motion.planning import plan_joint_motion
+from armanim.motion.planning.path import motion_is_free
+from armanim.motion.problem import Problem, joint_offset
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
-from armanim.motion.solvers.barrier import self_shift
+from armanim.motion.solvers.barrier import pose_clearance, self_shift
 from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance
 from armanim.world.distances import min_link_clearance
 
@@ -237,7 +239,65 @@ def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
     from armanim.motion.planning.check import CompiledCheck  # numba, as the clock's passes
 
     measure = CompiledCheck.of(problem, exact=True).pose_clearances  # pose_clearance's numbers, compiled: the probes ask thousands
-    return PathSafety(measure, floor, problem.lever_arms, clear, certified)
+    return PathSafety(measure, floor, problem.lever_arms, clear, certified,
+                      lambda a, b: detour(problem, a, b), lambda a, b: chord_free(problem, a, b))
+
+
+def chord_free(problem: Problem, a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the straight chord between the poses ``a`` and ``b`` (n,) keeps ``solver.clearance``
+    (or, between poses closer than that, the nearer one's clearance) throughout:
+    :func:`~armanim.motion.planning.path.motion_is_free`, the segment halved until each piece is
+    certified by the lever-arm bound (to within its ``certify_to``)."""
+    ends = float(pose_clearance(problem, np.stack([a, a + joint_offset(problem, a, b)])).min())
+    return motion_is_free(problem, a, a + joint_offset(problem, a, b), min(problem.solver.clearance, ends), closed=True)[0]
+
+
+def detour(problem: Problem, a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """(k, n) poses between ``a`` and ``b`` (n,) whose straight pieces a -> ... -> b are each
+    certified clear, or None: the long way round of one or more unlimited joints, where
+    :func:`~armanim.motion.planning.path.motion_is_free` certifies it, else the planner's path
+    (:func:`~armanim.motion.planning.plan_joint_motion`, on even where the scene turns it off:
+    the arm must not pass through what the chord cuts).
+
+    Only a path's corners are kept, and enough poses between them that no piece turns a joint by
+    more than a radian (an unlimited joint's piece is then the short way round, as the clock takes
+    it).
+    """
+    offset = joint_offset(problem, a, b)
+    turning = np.nonzero(~problem.limits.limited & (np.abs(offset) > 0))[0][:3]
+    floor = float(max(problem.solver.clearance, min(problem.solver.clearance * (1 + problem.tunables.planner.certify_to / 2),
+                                                   float(pose_clearance(problem, np.stack([a, b])).min()))))
+    ways = []
+    for mask in range(1, 2 ** len(turning)):
+        long = offset.copy()
+        flip = turning[[bool(mask >> i & 1) for i in range(len(turning))]]
+        long[flip] -= np.sign(long[flip]) * 2 * np.pi
+        ways.append(long)
+    for long in sorted(ways, key=lambda w: float(np.abs(w).sum())):
+        if motion_is_free(problem, a, a + long, floor)[0]:
+            way = np.stack([a, a + long])
+            break
+    else:
+        planning = replace(problem, solver=replace(problem.solver, planner="auto"))
+        plan = plan_joint_motion(planning, a, b)
+        if plan.frames is None or not len(plan.frames) or not np.array_equal(plan.frames[-1], b):
+            return None
+        way = np.concatenate([a[None], plan.frames])
+    return _corners(problem, way)
+
+
+def _corners(problem: Problem, way: np.ndarray) -> np.ndarray | None:
+    """The poses strictly inside ``way`` (k, n) (its ends excluded) at its corners, and between
+    them enough poses that no piece turns a joint by more than a radian."""
+    steps = np.diff(way, axis=0)
+    unit = steps / np.maximum(np.linalg.norm(steps, axis=1, keepdims=True), 1e-300)
+    corners = [0] + [i for i in range(1, len(way) - 1) if np.linalg.norm(unit[i] - unit[i - 1]) > 1e-9] + [len(way) - 1]
+    out = []
+    for p, q in zip(way[corners[:-1]], way[corners[1:]]):
+        count = max(1, int(np.ceil(np.abs(q - p).max() / 1.0)))
+        out += [p + t * (q - p) for t in np.arange(count) / count]
+    inner = np.array(out[1:]).reshape(-1, way.shape[1])
+    return np.where(problem.limits.limited, inner, wrap_angle(inner)) if len(inner) else None
 
 
 def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: GoalTiming) -> GoalReport:

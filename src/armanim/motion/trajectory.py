@@ -26,15 +26,16 @@ from typing import cast
 
 import numpy as np
 
+from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
-from armanim.motion.following import Route, followed_route, most_path_frames
+from armanim.motion.following import Along, Route, followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_joint_motion, plan_motion
 from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
-from armanim.motion.solvers.barrier import safe_step
+from armanim.motion.solvers.barrier import SafeStep, safe_step
 from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
@@ -95,6 +96,9 @@ class _Visit:
     overrun: int = 0  # frames spent waiting for the arm to reach a pose of the path
     planning: PlanningReport | None = None
     reason: MissReason | None = None
+    last_step: np.ndarray | None = None  # the method's last joint step taken
+    damping: float = 1.0  # the factor on the method's steps toward a goal beyond reach, halved at each turn back (:func:`_damped`)
+    beyond: bool = False  # the goal lies beyond the arm's reach (its steps are damped while they turn back)
 
     def __post_init__(self) -> None:
         if self.angles is None:
@@ -135,7 +139,8 @@ def goal_errors(problem: Problem, state: ArmState, goal: Goal) -> tuple[float, f
 
 
 def solve_trajectory(
-    problem: Problem, progress: Callable[[int, int], None] | None = None, planning: Searched | None = None
+    problem: Problem, progress: Callable[[int, int], None] | None = None, planning: Searched | None = None,
+    along: Along | None = None,
 ) -> Solution:
     """Run the frame loop over every goal.
 
@@ -149,6 +154,10 @@ def solve_trajectory(
     planning : callable, optional
         ``planning(done, most)``: the iterations of a plan's path search as it goes, between two
         frames (:data:`armanim.motion.planning.path.Searched`); each plan counts from 0 again.
+    along : callable, optional
+        ``along(done, most)``: a path goal's progress in thousandths of its path while it is
+        followed (:data:`armanim.motion.following.Along`), between two frames; each trial counts
+        from 0 again.
 
     Returns
     -------
@@ -168,7 +177,7 @@ def solve_trajectory(
             if progress:
                 progress(len(rec), len(rec) + goal_budget(problem, goal) - visit.frames + later)
 
-        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning)
+        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning, along)
         reports.append(report)
         if progress:
             progress(len(rec), len(rec) + later)
@@ -176,14 +185,15 @@ def solve_trajectory(
 
 
 def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal,
-                on_frame: Callable[[_Visit], None], planning: Searched | None = None) -> tuple[ArmState, GoalReport]:
+                on_frame: Callable[[_Visit], None], planning: Searched | None = None, along: Along | None = None
+                ) -> tuple[ArmState, GoalReport]:
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
     if goal.joints is not None:
         return _visit_joint_goal(problem, rec, state, k, goal, on_frame, planning)
     s = problem.solver
     first = len(rec) if k else 0
     distance, angle, progress = goal_errors(problem, state, goal)
-    visit = _Visit(k, goal, [distance], [angle], [progress])
+    visit = _Visit(k, goal, [distance], [angle], [progress], beyond=beyond_reach(problem, goal.position))
     window = stall_frames(problem)
     floor = max(0.0, float(np.linalg.norm(goal.position - problem.arm.base)) - problem.arm.reach)
     if s.planner == "off":
@@ -199,7 +209,7 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
     reached = visit.progress[-1] < s.tolerance
     path_report = None
     if goal.path is not None:
-        state, reached, path_report = _follow(problem, method, rec, state, visit, reached)
+        state, reached, path_report = _follow(problem, method, rec, state, visit, reached, along)
         on_frame(visit)
     if reached:
         rests_on = rec.path_s[-1] if goal.path is not None else np.nan  # a path's end, where its hold stays
@@ -278,8 +288,8 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
     )
 
 
-def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit, reached: bool
-            ) -> tuple[ArmState, bool, PathReport]:
+def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit, reached: bool,
+            along: Along | None = None) -> tuple[ArmState, bool, PathReport]:
     """A path goal's frames along its path once the arm has reached its start (mode ``path``, one
     a sample); returns the last state, whether the whole path was followed, and the path's report.
     A goal whose start was missed keeps its reason and follows nothing."""
@@ -287,7 +297,7 @@ def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, v
     assert path is not None
     if not reached:
         return state, False, PathReport(path.length, 0.0, np.nan)
-    route = followed_route(problem, method, state, visit.goal, visit.index)
+    route = followed_route(problem, method, state, visit.goal, visit.index, along)
     _record_route(problem, rec, visit, route)
     followed = route.followed
     state = followed.states[-1] if followed.states else state
@@ -335,6 +345,7 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
         moved = safe_step(problem, state, nominal)
     else:
         moved, iterations, newton_its = method_step(problem, method, state, visit.goal.position, visit.goal.orientation)
+        moved = _damped(problem, state, moved, visit)
         mode = "ik"
     distance, angle, progress = goal_errors(problem, moved.state, visit.goal)
     visit.distances.append(distance)
@@ -346,6 +357,45 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
     visit.newton_iterations += newton_its
     rec.add(moved.state, visit.index, visit.distances[-1], iterations, moved.scale, mode, angle)
     return moved.state
+
+
+def _damped(problem: Problem, state: ArmState, moved: SafeStep, visit: _Visit) -> SafeStep:
+    """The method's filtered step ``moved`` from ``state`` toward a goal beyond the arm's reach,
+    kept from chattering.
+
+    Such a goal is missed whatever the arm does, and the arm stretches toward it: across that
+    singular pose pinv and dls alternate between two poses, each a full step, while the arm
+    creeps toward the goal (scenes/out-of-reach shook for 19.6 s, about 100 turns back of each
+    joint, before its miss). A step whose joint direction turns back on the step before (cosine
+    below the stall options' ``reversal``) halves the goal's damping factor and is replaced by
+    its part across the step before (the creep, without the turn back), a full ``max_joint_step``
+    through the filter; every other step is the filtered one times the factor. The arm stretches
+    toward the goal and settles, and the goal stalls and is reported ``out_of_reach``. A goal
+    within reach is never damped. A shortened step lies between two safe poses inside the limits;
+    it is kept only where its clearances are no less than the two poses' (else the filtered step
+    is taken whole).
+    """
+    if not visit.beyond:
+        return moved
+    step = joint_offset(problem, state.phi, moved.state.phi)
+    size, before = float(np.linalg.norm(step)), visit.last_step
+    turns_back = before is not None and float(step @ before) < problem.tunables.stalls.reversal * size * float(np.linalg.norm(before))
+    drift = step
+    if turns_back:
+        assert before is not None
+        visit.damping *= 0.5
+        u = before / np.linalg.norm(before)
+        drift = step - (step @ u) * u
+    if turns_back and np.abs(drift).max() > 1e-9 * size:
+        moved = safe_step(problem, state, drift * (problem.solver.max_joint_step / np.abs(drift).max()))
+    elif visit.damping < 1.0 and size > 0:
+        phi = state.phi + visit.damping * step
+        shorter = arm_state(problem, np.where(problem.limits.limited, phi, wrap_angle(phi)))
+        if (shorter.min_clearance >= min(state.min_clearance, moved.state.min_clearance)
+                and shorter.min_self_gap >= min(state.min_self_gap, moved.state.min_self_gap)):
+            moved = replace(moved, state=shorter, scale=moved.scale * visit.damping)
+    visit.last_step = joint_offset(problem, state.phi, moved.state.phi)
+    return moved
 
 
 def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarray:
@@ -413,9 +463,16 @@ def with_self_clearance(problem: Problem, traj: Trajectory, pose: Pose | None = 
     if not len(problem.self_pairs) or not traj.frames:
         return replace(traj, self_clearance=None, self_pair=None)
     gaps = self_gaps(forward(problem.arm, traj.phi) if pose is None else pose, problem.capsules, problem.self_pairs).d
-    nearest = gaps.argmin(axis=1)
+    least = gaps.min(axis=1)
+    nearest = np.argmax(gaps <= (least + TIED * np.maximum(1.0, np.abs(least)))[:, None], axis=1)  # a tie: the first pair
     labels = np.array(problem.self_pairs.labels)
-    return replace(traj, self_clearance=gaps[np.arange(len(gaps)), nearest], self_pair=labels[nearest])
+    return replace(traj, self_clearance=least, self_pair=labels[nearest])
+
+
+TIED = 1e-9
+"""Gaps this close (relative, at least 1) to a frame's least name the first such pair, so that
+rounding never flips trajectory.csv's ``self_pair`` between two pairs at the same gap (a planar
+arm's two link pairs at 0.8, each a kinematics rounding apart)."""
 
 
 def _finish(problem: Problem, rec: _Recorder) -> Trajectory:

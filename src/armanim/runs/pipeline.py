@@ -31,7 +31,8 @@ from armanim.scene.models import LIMITS
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve", "plan" (a plan's path search, in iterations,
-counting from 0 again for each plan, between two solve frames) or "render"."""
+counting from 0 again for each plan, between two solve frames), "path" (a path goal followed, in
+thousandths of its path, counting from 0 again for each trial) or "render"."""
 
 
 @dataclass(frozen=True)
@@ -224,7 +225,8 @@ def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: P
         The clock would make more than the total frame limit (joint limits far too low).
     """
     solution = solve_trajectory(problem, (lambda done, total: progress("solve", done, total)) if progress else None,
-                                (lambda done, most: progress("plan", done, most)) if progress else None)
+                                (lambda done, most: progress("plan", done, most)) if progress else None,
+                                (lambda done, most: progress("path", done, most)) if progress else None)
     try:
         return retime(problem, solution, fps, most_frames=LIMITS["total_frames"])
     except ClockTooLong as exc:

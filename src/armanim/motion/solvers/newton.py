@@ -27,7 +27,7 @@ from typing import cast
 
 import numpy as np
 
-from armanim.arm.kinematics import Arm, forward, link_point, point_hessian, tip_jacobian, tool_rotation
+from armanim.arm.kinematics import Arm, Pose, link_point, point_hessian, tip_jacobian, tool_rotation
 from armanim.motion.orientation import (
     Orientation,
     holds_orientation,
@@ -85,12 +85,22 @@ class NewtonResult:
     newton_kept: bool
 
 
+def _pose(arm: Arm, phi: np.ndarray) -> Pose:
+    """One pose's kinematics, compiled (:func:`armanim.arm.kernel.forward`, within 1e-12 of
+    :func:`~armanim.arm.kinematics.forward`): a Newton step evaluates f some 40 times in its line
+    searches, and numpy's fixed cost per small call made those evaluations most of a cluttered
+    ``newton`` run's time (issue 50 item 10)."""
+    from armanim.arm import kernel  # numba: imported where a solve starts, never by fk or validate
+
+    return kernel.forward(arm, phi)
+
+
 def objective(
     arm: Arm, phi: np.ndarray, target: np.ndarray, rest: np.ndarray, w_tar: float, w_reg: float,
     orientation: Orientation | None = None, w_rot: float = 0.0,
 ) -> float:
     """f(Phi), the assignment's objective (plus 1/2 w_rot |r|^2 with an ``orientation``)."""
-    pose = forward(arm, phi)
+    pose = _pose(arm, phi)
     dp = pose.tip - target
     dtheta = phi - rest
     f = 0.5 * w_tar * dp @ dp + 0.5 * w_reg * dtheta @ dtheta
@@ -121,7 +131,7 @@ def objective_derivatives(
     >>> float(f), g.tolist(), H.tolist()
     (1000.0, [-2000.0, -1000.0], [[2001.0, 1000.0], [1000.0, 1.0]])
     """
-    pose = forward(arm, phi)
+    pose = _pose(arm, phi)
     dp = pose.tip - target
     dtheta = phi - rest
     jac = tip_jacobian(arm, pose)

@@ -55,8 +55,9 @@ def arm_still(phi: np.ndarray) -> np.ndarray:
 
 
 def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
-    """What the arm does at every frame: planning, holding, reached, moving, stalled or
-    "missed: <reason>" (during the last second of a goal its report says was missed).
+    """What the arm does at every frame: planning, following (a path goal's tool along its path),
+    holding, reached, moving, stalled or "missed: <reason>" (during the last second of a goal its
+    report says was missed).
 
     Returns
     -------
@@ -67,6 +68,7 @@ def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
     activity = np.where(trajectory.reached, np.where(still, "holding", "reached"),
                         np.where(still, "stalled", "moving")).astype(object)
     activity[mode == "plan"] = "planning"
+    activity[(mode == "path") & ~still] = "following"  # on the path, not at a goal: the pen writes (a path's hold still says holding)
     for r in reports:
         if r.reached or r.last_frame < 0:
             continue

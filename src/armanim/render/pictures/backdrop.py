@@ -120,9 +120,9 @@ def draw_title(sheet: Sheet, layout: scenery.Layout, title: str) -> None:
                              fontweight="bold", color=TEXT_COLOR))
 
 
-def draw_caption_box(sheet: Sheet, layout: scenery.Layout, template: str) -> None:
-    """The caption's box, sized for ``template``; the caption itself is stamped every frame."""
-    sheet.text("caption", Text(*layout.caption_xy, template, ha="left", va="top", fontsize=FONT["caption"],
+def draw_caption_box(sheet: Sheet, layout: scenery.Layout, template: str, points: float = FONT["caption"]) -> None:
+    """The caption's box, sized for ``template`` at ``points``; the caption itself is stamped every frame."""
+    sheet.text("caption", Text(*layout.caption_xy, template, ha="left", va="top", fontsize=points,
                                family="DejaVu Sans Mono", color=(0.0, 0.0, 0.0, 0.0),
                                bbox=dict(boxstyle="round,pad=0.3", facecolor="white",
                                          edgecolor=(0.8, 0.8, 0.84), alpha=0.92)))

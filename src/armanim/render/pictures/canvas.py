@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.lines import Line2D
+from matplotlib.text import Text
 from matplotlib.transforms import IdentityTransform
 
 from armanim.arm.capsules import capsule_ends
@@ -123,6 +124,30 @@ class FrameState:
     path_ahead: int = -1
 
 
+
+
+def caption_points(template: str, width: float, fig, renderer) -> float:
+    """The caption's font size in points: ``FONT["caption"]``, or less where the longest caption
+    ``template``, at the whole-pixel advance the glyphs are stamped at (:class:`GlyphAtlas`), and its
+    box's padding (0.3 em each side) would not fit ``width`` pixels (a goal with an orientation at
+    960 x 540 cut the caption's last word to ``reac``), down to :data:`SMALLEST_CAPTION` of it."""
+    points = float(FONT["caption"])
+    for _ in range(20):
+        probe = Text(0, 0, "M" * 40, fontsize=points, family="DejaVu Sans Mono", transform=IdentityTransform())
+        probe.set_figure(fig)
+        advance = max(round(probe.get_window_extent(renderer).width / 40.0), 1)
+        need = len(template) * advance + 0.6 * points / (72.0 / fig.dpi)
+        if need <= width or points <= SMALLEST_CAPTION * FONT["caption"]:
+            return points
+        points = max(points * 0.97 * width / need, SMALLEST_CAPTION * FONT["caption"])
+    return points
+
+
+SMALLEST_CAPTION = 0.6
+"""The caption never shrinks below this share of its size (a thumbnail of 80 x 60 keeps a cut
+caption rather than an unreadable one, or a font size FreeType refuses)."""
+
+
 class SceneCanvas:
     """A scene drawn once, ready to draw frames fast.
 
@@ -180,9 +205,10 @@ class SceneCanvas:
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
                                          hidden_by="a sphere" if self.shapes is None else "an obstacle",
                                          goals=bool(len(problem.goals)), robot=robot_meshed(problem, meshes))
+        self.caption_points = caption_points(caption_template, self.width - 2 * self.layout.caption_xy[0], self.fig, self.renderer)
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
-        self.glyphs = GlyphAtlas(self.scratch, FONT["caption"], TEXT_COLOR)
+        self.glyphs = GlyphAtlas(self.scratch, self.caption_points, TEXT_COLOR)
 
     # ----- drawn once -----------------------------------------------------------------
 
@@ -257,7 +283,7 @@ class SceneCanvas:
         backdrop.draw_gizmo(sheet, self.layout, self.rotation)
         backdrop.draw_title(sheet, self.layout, title)
         backdrop.draw_legend(sheet, self.layout, legend)
-        backdrop.draw_caption_box(sheet, self.layout, caption_template)
+        backdrop.draw_caption_box(sheet, self.layout, caption_template, self.caption_points)
         gap = 0.45 * RING_POINTS / self.pt  # clear of the current goal's ring
         sheet.text_boxes.update(self.goals.place_labels(self.renderer, gap, list(sheet.text_boxes.values()),
                                                         self.layout.scene))
@@ -290,7 +316,7 @@ class SceneCanvas:
         """A small canvas of the same dpi to draw sprites on (clearing the whole frame
         for each of hundreds of sprites was slow at large sizes)."""
         extent = RING_POINTS / self.pt + self.goals.largest_label(self.renderer)
-        side = int(np.ceil(2 * extent + 3 * FONT["caption"] / self.pt)) + 8
+        side = int(np.ceil(2 * extent + 3 * max(FONT["caption"], self.caption_points) / self.pt)) + 8
         return make_figure(side, side, self.fig.dpi)[1]
 
     # ----- per frame ------------------------------------------------------------------
