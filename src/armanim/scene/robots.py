@@ -170,6 +170,39 @@ def capsules_text(robot: UrdfArm) -> str:
     return collision_yaml([(c.link, c.start, c.end, c.radius) for c in robot.capsules], "\n".join(header))
 
 
+def fitted_collision_text(urdf: str | Path, package_dirs: list[Path] | None = None) -> str:
+    """``armanim robots --fit``: every link's capsules of a URDF as ``collision: auto`` makes them
+    (its primitives, and capsules fitted to its meshes), as the scene's ``arm.collision`` list.
+
+    Parameters
+    ----------
+    urdf : str or Path
+    package_dirs : list of Path, optional
+        Where ``package://`` meshes are found; default the URDF's folder and its parents.
+
+    Raises
+    ------
+    SceneError
+        The URDF, or a collision mesh, cannot be used (exit 2).
+    """
+    path = Path(urdf)
+    robot = read_urdf(path)
+    fits = mesh_capsules(robot, tuple(robot.links), path.parent, package_dirs or default_package_dirs(path.parent))
+    fitted: dict[str, list] = {}
+    for link, capsule in fits.capsules:
+        fitted.setdefault(link, []).append((link, capsule.start, capsule.end, capsule.radius))
+    rows = [row for link in robot.links
+            for row in ([(c.link, c.start, c.end, c.radius) for c in primitive_capsules(link, robot)] + fitted.get(link, []))]
+    header = [f"Collision capsules of {path.name} (armanim robots --fit), each in its URDF link's frame, in metres:",
+              "paste under the scene's arm section (arm.collision), after removing the links outside the arm's body."]
+    if fits.capsules:
+        header.append(f"Fitted to meshes: {', '.join(dict.fromkeys(link for link, _ in fits.capsules))} (each capsule holds every vertex).")
+    if fits.from_visuals:
+        header.append(f"(from their visual meshes, having no <collision>: {', '.join(fits.from_visuals)})")
+    header += [f"Not fitted: {problem}" for problem in fits.unread]
+    return collision_yaml(rows, "\n".join(header))
+
+
 @dataclass(frozen=True)
 class CapsuleSpec:
     """A capsule in its link's frame (metres)."""
