@@ -107,7 +107,7 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
     best = [(_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])]
     volume = best[0][0][0]
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
-    splits = _best_splits(points, axes, tuple(counts)) if len(counts) else {}
+    splits = _best_splits(points, edges, axes, tuple(counts)) if len(counts) else {}
     for count in counts:
         split = splits.get(count)
         if split is None:
@@ -293,7 +293,7 @@ Split = tuple[float, list[tuple[float, float]], np.ndarray]
 """(total volume, the slabs (lo, hi) along the axis, the axis) of a cut into pieces."""
 
 
-def _best_splits(points: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) -> dict[int, Split]:
+def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) -> dict[int, Split]:
     """For each count of pieces, the least total volume of the pieces cut across one principal
     axis at evenly spaced places (each piece fitted along its principal axes only), with its
     slabs and axis; a count is missing when no cut leaves every piece some points."""
@@ -306,7 +306,7 @@ def _best_splits(points: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) 
         for count in counts:
             for cuts in _cut_sets(n, count - 1):
                 bounds = (-1, *cuts, n)
-                total = sum(_piece_volume(points, t, places, bounds[k], bounds[k + 1], known) for k in range(count))
+                total = sum(_piece_volume(points, edges, axis, places, bounds[k], bounds[k + 1], known) for k in range(count))
                 if np.isfinite(total) and (count not in best or total < best[count][0]):
                     slabs = [(float(places[bounds[k]]) if bounds[k] >= 0 else -np.inf,
                               float(places[bounds[k + 1]]) if bounds[k + 1] < n else np.inf) for k in range(count)]
@@ -314,13 +314,14 @@ def _best_splits(points: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) 
     return best
 
 
-def _piece_volume(points: np.ndarray, t: np.ndarray, places: np.ndarray, i: int, j: int,
+def _piece_volume(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, places: np.ndarray, i: int, j: int,
                   known: dict[tuple[int, int], float]) -> float:
-    """The volume of the coarse capsule of the points between cuts i and j (-1 and len(places):
-    the ends), inf for no points; kept in ``known``."""
+    """The volume of the coarse capsule of the piece between cuts i and j (-1 and len(places):
+    the ends; its points and where the edges cross its planes), inf for no points; kept in ``known``."""
     if (i, j) not in known:
-        lo = places[i] if i >= 0 else -np.inf
-        inside = points[(t >= lo) & (t < places[j])] if j < len(places) else points[t >= lo]
+        lo = float(places[i]) if i >= 0 else -np.inf
+        hi = float(places[j]) if j < len(places) else np.inf
+        inside = _slab(points, edges, axis, lo, hi)
         known[(i, j)] = _piece_fit(inside, fine=False)[0] if len(inside) else np.inf
     return known[(i, j)]
 
@@ -364,4 +365,4 @@ def _rounded(fit: Fit, points: np.ndarray) -> FittedCapsule:
     start, end = np.round(start, DECIMALS) + 0.0, np.round(end, DECIMALS) + 0.0  # + 0.0: no -0.0
     reach = float(segment_distances(points, start, end).max()) if len(points) else 0.0
     scale = 10.0 ** DECIMALS
-    return FittedCapsule(start, end, math.ceil(reach * scale * (1.0 + 1e-12) + 1e-9) / scale)
+    return FittedCapsule(start, end, math.ceil(reach * scale * (1.0 + 1e-12)) / scale)

@@ -27,10 +27,10 @@ import numpy as np
 
 from armanim.arm.fitting import FittedCapsule, fit_capsules
 from armanim.errors import SceneError
+from armanim.scene import visuals
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
 from armanim.scene.urdf import Robot, _parse_xml
 from armanim.scene.visuals import (
-    MAX_LOOK_TRIANGLES,
     MeshReader,
     VisualSpec,
     _visual,
@@ -175,7 +175,7 @@ def _link_mesh(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path]
             problem(f"{where} could not be read ({unreadable_reason(error)})", spec.line)
             continue
         if not reader.keep(mesh.triangles):
-            problem(f"{where}: the robot's meshes hold more than {MAX_LOOK_TRIANGLES:,} triangles in all "
+            problem(f"{where}: the robot's meshes hold more than {visuals.MAX_LOOK_TRIANGLES:,} triangles in all "
                     "(give arm.collision, or simpler collision meshes)", spec.line)
             continue
         vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
