@@ -221,23 +221,27 @@ def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem
 
 
 @st.composite
-def shapes_across(draw, tips: np.ndarray, scale: float, spread: float) -> Obstacles:
+def shapes_across(draw, tips: np.ndarray, scale: float, spread: float, cylinders: bool = False) -> Obstacles:
     """Obstacles across the straight paths between consecutive ``tips``: for each, a sphere, a
     box (any orientation) or a capsule (any direction) of about ``scale`` times the path's
-    length, moved off the path by up to ``spread``; the kinds in a drawn order."""
+    length (or, with ``cylinders``, a cylinder in any orientation: the first always), moved off
+    the path by up to ``spread``; the kinds in a drawn order."""
     from armanim.arm.chain import rpy_rotation
-    from armanim.world.obstacles import BOX, ROD, SPHERE, Boxes, Rods
+    from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE, Boxes, Cylinders, Rods
 
-    spheres, boxes, rods, kinds, influence = [], [], [], [], []
+    spheres, boxes, rods, cans, kinds, influence = [], [], [], [], [], []
     for a, b in zip(tips[:-1], tips[1:]):
         t = draw(st.floats(0.3, 0.7))
         center = a + t * (b - a) + np.array(draw(st.tuples(*(st.floats(-spread, spread) for _ in range(3)))))
         size = draw(st.floats(0.1, 0.4)) * max(np.linalg.norm(b - a), 0.5) * scale
-        kind = draw(st.sampled_from([SPHERE, BOX, ROD]))
+        kind = CYLINDER if cylinders and not kinds else draw(st.sampled_from([SPHERE, BOX, ROD, CYLINDER] if cylinders else [SPHERE, BOX, ROD]))
         kinds.append(kind)
         influence.append(size + 0.5 * scale)
         if kind == SPHERE:
             spheres.append((center, size))
+        elif kind == CYLINDER:
+            cans.append((center, rpy_rotation(draw(st.tuples(angles, angles, angles))), size * draw(st.floats(0.2, 1.5)),
+                         size * draw(st.floats(0.2, 1.0))))
         elif kind == BOX:
             half = size * np.array(draw(st.tuples(*(st.floats(0.2, 1.0) for _ in range(3)))))
             boxes.append((center, half, rpy_rotation(draw(st.tuples(angles, angles, angles)))))
@@ -253,6 +257,8 @@ def shapes_across(draw, tips: np.ndarray, scale: float, spread: float) -> Obstac
         Rods(np.array([a for a, _, _ in rods]).reshape(-1, 3), np.array([b for _, b, _ in rods]).reshape(-1, 3),
              np.array([r for _, _, r in rods])),
         kinds=np.array(kinds, dtype=int),
+        cylinders=Cylinders(np.array([c for c, _, _, _ in cans]).reshape(-1, 3), np.array([m for _, m, _, _ in cans]).reshape(-1, 3, 3),
+                            np.array([h for _, _, h, _ in cans]), np.array([r for _, _, _, r in cans])),
     )
 
 
@@ -269,9 +275,10 @@ def with_floor(obstacles: Obstacles, floor: float | None) -> Obstacles:
 
 
 @st.composite
-def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: int = 80) -> Problem:
-    """:func:`cluttered_problems` with spheres, boxes and capsules mixed, and a floor below the
-    base or none; the home capsules and the goals kept clear of every shape."""
+def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: int = 80, cylinders: bool = False) -> Problem:
+    """:func:`cluttered_problems` with spheres, boxes and capsules mixed (and cylinders, with
+    ``cylinders``), and a floor below the base or none; the home capsules and the goals kept
+    clear of every shape."""
     from armanim.world.distances import clearances, point_clearances
 
     arm = draw(arms(min_links=3, max_links=max_links))
@@ -283,7 +290,7 @@ def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: in
     )
     goal_poses = [np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02) for _ in range(draw(st.integers(1, max_goals)))]
     tips = forward(arm, np.array([home, *goal_poses])).tip
-    obstacles = draw(shapes_across(tips, scale=1.0, spread=0.3))
+    obstacles = draw(shapes_across(tips, scale=1.0, spread=0.3, cylinders=cylinders))
     floor = draw(st.one_of(st.none(), st.floats(0.0, 1.0).map(lambda drop: float(arm.base[2]) - drop)))
     obstacles = with_floor(obstacles, floor)
     capsules = joint_capsules(arm, half_width)

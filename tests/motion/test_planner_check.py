@@ -45,24 +45,66 @@ def random_poses(problem, rng, count: int) -> np.ndarray:
     return lower + rng.random((count, problem.arm.n)) * (upper - lower)
 
 
+def assert_exact_below_far(compiled: np.ndarray, reference: np.ndarray, far: float, scale: float) -> None:
+    """The compiled margins equal the reference where they are below ``far``, and are lower bounds
+    of at least ``far`` elsewhere (the bounding spheres' bound where those are ``far`` apart)."""
+    tolerance = 1e-12 * scale
+    near = compiled < far
+    np.testing.assert_allclose(compiled[near], reference[near], rtol=0, atol=tolerance)
+    assert np.all(compiled[~near] <= reference[~near] + tolerance)
+    assert np.all(reference[~near] >= far - tolerance)
+
+
 @pytest.mark.parametrize("arm", sorted(ARMS))
 @pytest.mark.parametrize("seed", range(4))
-def test_margins_equal_the_numpy_clearances(arm, seed):
+def test_margins_equal_the_numpy_clearances_below_far(arm, seed):
     problem, rng = random_problem(arm, seed)
     poses = random_poses(problem, rng, 64)
-    clear, own = CompiledCheck.of(problem).margins(poses)
+    check = CompiledCheck.of(problem)
+    clear, own = check.margins(poses)
     ref_clear, ref_own = split_clearances(problem, poses)
     scale = ARMS[arm][1]
-    np.testing.assert_allclose(clear, ref_clear, rtol=0, atol=1e-12 * scale)
+    assert_exact_below_far(clear, ref_clear, check.far, scale)
     if ref_own is None:
         assert own.shape == (64, 0)
     else:
-        np.testing.assert_allclose(own, ref_own, rtol=0, atol=1e-12 * scale)
+        assert_exact_below_far(own, ref_own, check.far, scale)
+
+
+def test_margins_of_a_spherized_robot_with_cylinders():
+    """VAMP's spherized Panda (every capsule a sphere: the point forms) on MotionBenchMaker's first
+    box problem (boxes and a cylinder), against the numpy clearances, poses near the shelf's can."""
+    from pathlib import Path
+
+    from armanim.scene.loader import scene_from_bytes
+    from armanim.scene.moveitscene import RobotSource, moveit_scene
+
+    data = Path(__file__).parent.parent / "data" / "mbm"
+    files = sorted(data.glob("*scene*.yaml"))
+    requests = sorted(data.glob("*request*.yaml"))
+    assert files and requests, data
+    out = Path(__file__).parent / "_unused.yaml"  # the import is not written: only its folder is read
+    imported = moveit_scene(files[0], requests[0], RobotSource(urdf=data / "panda_spherized.urdf", srdf=data / "panda.srdf"), out)
+    problem = scene_to_problem(scene_from_bytes(imported.text.encode(), out).model)
+    assert len(problem.obstacles.cylinders) and np.all(problem.capsules.start == problem.capsules.end)
+    check = CompiledCheck.of(problem, closed=True)
+    rng = np.random.default_rng(5)
+    goal = problem.goals[0].joints
+    poses = np.concatenate([problem.home + (goal - problem.home) * rng.random((40, 1)),
+                            goal + rng.normal(0, 0.05, (40, problem.arm.n))])
+    clear, own = check.margins(poses)
+    ref_clear, ref_own = split_clearances(problem, poses)
+    assert_exact_below_far(clear, ref_clear, check.far, 1.0)
+    assert_exact_below_far(own, ref_own, check.far, 1.0)
+    assert np.sum(clear < check.far) > 40 and np.any(own < check.far) and np.any(own >= check.far)  # both sides asked for
 
 
 @pytest.mark.parametrize("arm", sorted(ARMS))
 @pytest.mark.parametrize("closed", [False, True])
-def test_motion_certificate_equals_motion_is_free(arm, closed):
+def test_motion_certificate_answers_as_motion_is_free(arm, closed):
+    """The same answer as the numpy check (the poses checked may differ: far apart, the bounds
+    stand in for the exact values), and a motion certified free keeps the floor at 400 poses
+    along it by the numpy clearances."""
     answers = set()
     for seed in range(100, 104):
         problem, rng = random_problem(arm, seed)
@@ -71,9 +113,14 @@ def test_motion_certificate_equals_motion_is_free(arm, closed):
         floor = problem.solver.clearance
         for a, b in zip(poses[:-1], poses[1:]):
             b = a + rng.choice([0.05, 0.3, 1.0]) * (b - a)  # short, middling and long motions
-            compiled = check.motion_free(a, b, floor)
-            assert compiled == motion_is_free(problem, a, b, floor, closed), (seed, a.tolist(), b.tolist())
-            answers.add(compiled[0])
+            free, _ = check.motion_free(a, b, floor)
+            assert free == motion_is_free(problem, a, b, floor, closed)[0], (seed, a.tolist(), b.tolist())
+            if free:
+                along = a + np.linspace(0, 1, 400)[:, None] * (b - a)
+                clear, own = split_clearances(problem, along)
+                least = clear if own is None else np.minimum(clear, own.min(axis=1))
+                assert least.min() >= floor * (1 - problem.tunables.planner.certify_to), (seed, least.min())
+            answers.add(free)
     assert answers == {True, False}  # both answers were asked for
 
 

@@ -72,3 +72,65 @@ def test_viewer_data_carries_boxes_capsules_and_the_floor():
     from test_cost import notes_problem
 
     assert shape_entries(notes_problem().obstacles) == {}  # spheres: the page's data as it always was
+
+
+def cans_problem():
+    """The notes' arm beside a standing can (named) and a lying one, with a floor."""
+    from dataclasses import replace
+
+    from strategies import with_floor
+    from test_motion import notes_problem
+
+    from armanim.world.obstacles import CYLINDER, Cylinders, Obstacles
+
+    problem = notes_problem(goals=((9.0, 0.0, 1.0),), method="pinv", planner="off")
+    cylinders = Cylinders(np.array([[6.0, 0.0, 2.0], [-4.0, 0.0, 3.0]]), np.array([np.eye(3), rpy_rotation([np.pi / 2, 0.0, 0.0])]),
+                          np.array([2.0, 1.5]), np.array([1.5, 0.5]))
+    obstacles = Obstacles(np.zeros((0, 3)), np.zeros(0), np.array([0.5, 0.25]), kinds=np.array([CYLINDER, CYLINDER]),
+                          cylinders=cylinders, names=("can1", None))
+    return replace(problem, obstacles=with_floor(obstacles, -0.5))
+
+
+def test_a_cylinder_hides_what_is_behind_it_and_not_what_is_in_front():
+    from armanim.render.pictures.canvas import SceneCanvas
+    from armanim.scene import default_render_settings
+
+    problem = cans_problem()
+    canvas = SceneCanvas(problem, default_render_settings(size=(96, 64)), title="t", extent=forward(problem.arm, problem.home).points)
+    assert canvas.shapes is not None and len(canvas.shapes.parts) == 2  # one solid per cylinder
+    toward = np.linalg.solve(canvas.view.linear, [0.0, 0.0, 1.0])  # the world direction to the camera (screen z grows)
+    toward /= np.linalg.norm(toward)
+    center = np.array([6.0, 0.0, 2.0])
+    behind, in_front = canvas.view.project(np.array([center - 3.0 * toward, center + 3.0 * toward]))
+    assert canvas.shapes.behind(behind[None]).tolist() == [True]
+    assert canvas.shapes.behind(in_front[None]).tolist() == [False] and canvas.shapes.in_front(in_front[None]).tolist() == [True]
+    aside = canvas.view.project(center + [0.0, 9.0, 0.0])  # beside the can on screen, nowhere over it
+    assert canvas.shapes.behind(aside[None]).tolist() == [False]
+
+
+def test_poster_and_pose_with_cylinders(tmp_path):
+    from armanim.output.solved import SolvedRun
+    from armanim.render.pictures.pose import render_pose_png
+    from armanim.render.pictures.poster import render_poster
+    from armanim.render.settings import OutputOptions
+    from armanim.scene import default_render_settings
+
+    problem = cans_problem()
+    solution = solve_trajectory(problem)
+    settings = default_render_settings(size=(64, 48))
+    render_poster(SolvedRun("cans", problem, solution), OutputOptions(settings), tmp_path / "poster.png")
+    render_pose_png(problem, problem.home, settings, tmp_path / "pose.png", title="cans")
+    assert (tmp_path / "poster.png").stat().st_size > 0 and (tmp_path / "pose.png").stat().st_size > 0
+
+
+def test_viewer_data_carries_cylinders_and_names():
+    from armanim.render.viewer.data import viewer_data
+    from armanim.scene import default_render_settings
+
+    problem = cans_problem()
+    solution = solve_trajectory(problem)
+    data = viewer_data(problem, solution.trajectory, solution.goals, default_render_settings(size=(64, 48)), title="t")
+    can, bar = data["cylinders"]
+    assert can == {"center": [6.0, 0.0, 2.0], "length": 4.0, "radius": 1.5, "rotation": np.eye(3).tolist(), "influence": 0.5, "name": "can1"}
+    assert "name" not in bar and bar["length"] == 3.0
+    np.testing.assert_allclose(bar["rotation"], rpy_rotation([np.pi / 2, 0.0, 0.0]))

@@ -77,8 +77,15 @@ class PlannerOptions:
         Clearances between the first samples of a motion (see ``motion_is_free``).
     coarse_reach : float
         Of the arm's reach: the least travel between the first samples of a motion, where
-        ``coarse`` clearances are less (a clearance of half a millimetre would sample a metre's
-        travel 250 times before the halving, which only measures where the bounds ask it to).
+        ``coarse`` clearances are less. At 1, a motion's first samples are its ends (and a
+        sample every reach of travel), and the halving measures only where the lever-arm bounds
+        ask it to: on MotionBenchMaker's Panda problems (a 0.5 mm clearance) 3 to 10 times fewer
+        poses than samples every 2 % of the reach, with the same answers; the bundled scenes'
+        motions come out the same (their goldens are unchanged).
+    exact_within : float
+        Of the arm's reach: the planner's compiled checks measure capsule by capsule only where a
+        group's bounding sphere comes this close to an obstacle or another group, and take the
+        spheres' lower bound beyond it (:mod:`armanim.motion.planning.check`).
     max_samples : int
         Poses one motion check may take (a clearance tiny beside the arm: the motion is not taken).
     max_halvings : int
@@ -118,7 +125,8 @@ class PlannerOptions:
     """
 
     coarse: int = 8
-    coarse_reach: float = 0.02
+    coarse_reach: float = 1.0
+    exact_within: float = 0.04
     max_samples: int = 100_000
     max_halvings: int = 40
     certify_to: float = 0.05

@@ -192,6 +192,23 @@ def self_collision_summary(problem: Problem, traj) -> dict:
     }
 
 
+def nearest_obstacle(problem: Problem, traj) -> str | None:
+    """The obstacle of ``min_clearance``: at the frame of the least clearance, the one a link is
+    nearest (its scene ``name``, else ``obstacles[k]``, or ``floor``); None without obstacles or frames."""
+    if not traj.frames or not len(problem.obstacles) or not np.isfinite(traj.clearance).any():
+        return None
+    from armanim.arm.kinematics import forward
+    from armanim.world.distances import clearances
+    from armanim.world.obstacles import FLOOR
+
+    frame = int(np.argmin(traj.clearance))
+    links = clearances(forward(problem.arm, traj.phi[frame]), problem.obstacles, problem.capsules).links
+    column = int(np.argmin(links.min(axis=0)))
+    if problem.obstacles.kinds[column] == FLOOR:
+        return "floor"
+    return problem.obstacles.name(column) or f"obstacles[{column}]"
+
+
 def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
                  rate_notes: Sequence[str] = ()) -> dict:
     """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
@@ -219,6 +236,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
             "plan_frames": int(np.count_nonzero(traj.mode == "plan")),
         },
         "min_clearance": _round(traj.clearance.min()) if traj.frames else None,
+        "min_clearance_obstacle": nearest_obstacle(problem, traj),
         **self_collision_summary(problem, traj),
         "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),
         "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi))),

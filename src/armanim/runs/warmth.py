@@ -13,7 +13,7 @@ from typing import Any, Literal
 def compiles_first(command: Literal["run", "ik"], problem: object = None) -> bool:
     """Whether ``command``'s solve would compile kernels first: the kinematics kernel every solve
     calls, for ``run`` the compiled frame (:mod:`armanim.motion.solvers.compiled_frame`), and for ``ik`` of ``problem`` (a :class:`~armanim.motion.problem.Problem`) the compiled attempt where it runs, are not in numba's
-    cache yet. (A kernel only some scenes call, a box's distances, compiles at its first use in a
+    cache yet. (A kernel only some scenes call, a box's or a cylinder's distances, compiles at its first use in a
     few seconds, unannounced.)"""
     from armanim.arm import kernel
     from armanim.motion.problem import Problem

@@ -31,7 +31,7 @@ def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str
     """
     counts = list(_count_problems(scene)) + list(rate_problems(scene.arm))
     sizes = list(_size_problems(scene)) + (list(_slow_rate_problems(scene)) if not counts else [])
-    problems = counts + list(_arm_problems(scene)) + sizes + list(_pen_problems(scene))
+    problems = counts + list(_arm_problems(scene)) + sizes + list(_pen_problems(scene)) + list(_name_problems(scene))
     if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
         problem = scene_to_problem(scene)
         problems += list(_collision_problems(problem, "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
@@ -41,6 +41,19 @@ def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str
                 problems += list(_pose_collision_problems(problem, goal.joints, f"goals[{k}]", "the joint goal's pose", "the goal"))
                 problems += list(_self_collision_problems(problem, f"goals[{k}]", goal.joints, "the joint goal's pose", "the goal"))
     return problems
+
+
+def _name_problems(scene: SceneModel):
+    """Obstacles that share a ``name`` (each after the first)."""
+    first: dict[str, int] = {}
+    for k, obstacle in enumerate(scene.obstacles):
+        if obstacle.name is None:
+            continue
+        if obstacle.name in first:
+            yield f"obstacles[{k}].name", (f"{obstacle.name!r} already names obstacles[{first[obstacle.name]}] "
+                                           "(expected each obstacle's name once: rename one)")
+        else:
+            first[obstacle.name] = k
 
 
 def _pen_problems(scene: SceneModel):
@@ -190,9 +203,9 @@ def _path_magnitudes(path: str, model):
 
 def _obstacle_magnitudes(path: str, obstacle):
     """(field path, value) of every coordinate and length of one obstacle."""
-    shape = obstacle.box or obstacle.capsule
+    shape = obstacle.box or obstacle.capsule or obstacle.cylinder
     own = f"{path}.{obstacle.kind}" if shape is not None else path
-    fields = {"center": 3, "size": 3, "from_": 3, "to": 3, "radius": 1}
+    fields = {"center": 3, "size": 3, "from_": 3, "to": 3, "length": 1, "radius": 1}
     for name in fields:
         value = getattr(shape if shape is not None else obstacle, name, None)
         if value is None:
@@ -207,7 +220,7 @@ def _obstacle_magnitudes(path: str, obstacle):
 
 
 POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance)"
-                              r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|influence)|goals\[\d+\]\.path\.text\.(height|lift)")
+                              r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|cylinder\.(length|radius)|influence)|goals\[\d+\]\.path\.text\.(height|lift)")
 """The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
 largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
 
@@ -353,7 +366,7 @@ def _collision_problems(problem, tip_size: str):
                 "move the obstacle or arm.base, or lower solver.clearance)")
             continue
         yield _obstacle_path(obstacles, obs), (
-            f"link {link + 1} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, 'this obstacle') if inside else 'closer to ' + _floor_or(obstacles, obs, 'it') + ' than solver.clearance'} "
+            f"link {link + 1} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'this obstacle')) if inside else 'closer to ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'it')) + ' than solver.clearance'} "
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
             f"move {_floor_or(obstacles, obs, 'the obstacle')}, change arm.home or lower solver.clearance)"
         )
@@ -363,7 +376,7 @@ def _collision_problems(problem, tip_size: str):
             continue  # its tool point is no part of the arm: the pose's links are checked (scene_problems)
         gap = point_clearances(goal.position[None], obstacles)[0]
         for obs in np.nonzero(gap < keep)[0]:
-            where = _obstacle_path(obstacles, obs)
+            where = _obstacle_path(obstacles, obs) if obstacles.kinds[obs] == FLOOR else _obstacle_words(obstacles, obs)
             if gap[obs] <= 0:
                 yield f"goals[{k}]", f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_floor_or(obstacles, obs, 'the obstacle')})"
             else:
@@ -382,10 +395,13 @@ def _pose_collision_problems(problem, phi, path: str, pose: str, change: str):
     d_safe = problem.solver.clearance
     cl = clearances(forward(problem.arm, phi), obstacles, problem.capsules)
     for link, obs in zip(*np.nonzero(cl.links < d_safe)):
-        where = _floor_or(obstacles, obs, _obstacle_path(obstacles, obs))
+        if problem.capsules.link[link] < 0:
+            continue  # the base, which no pose moves: checked with the home pose
+        where = _floor_or(obstacles, obs, _obstacle_words(obstacles, obs))
         inside = cl.links[link, obs] <= 0
+        part = f"link {problem.capsules.names[link]!r}" if problem.capsules.names else f"link {link + 1}"
         yield path, (
-            f"link {link + 1} of {pose} is {'inside ' + where if inside else 'closer to ' + where + ' than solver.clearance'} "
+            f"{part} of {pose} is {'inside ' + where if inside else 'closer to ' + where + ' than solver.clearance'} "
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
             f"change {change}, move {where} or lower solver.clearance)"
         )
@@ -402,6 +418,18 @@ def _floor_problems(problem):
 def _obstacle_path(obstacles, column: int) -> str:
     """The field path of a clearance column: ``obstacles[k]``, or ``floor`` (the last column)."""
     return "floor" if obstacles.kinds[column] == FLOOR else f"obstacles[{column}]"
+
+
+def _obstacle_words(obstacles, column: int) -> str:
+    """How a message names an obstacle: ``obstacles[k]``, with its name where it has one (``obstacles[0] ('can1')``)."""
+    name = obstacles.name(column)
+    return _obstacle_path(obstacles, column) + (f" ({name!r})" if name is not None else "")
+
+
+def _named(obstacles, column: int, words: str) -> str:
+    """``words``, or the obstacle's name where it has one (``'can1'``)."""
+    name = obstacles.name(column)
+    return words if name is None else repr(name)
 
 
 def _floor_or(obstacles, column: int, words: str) -> str:

@@ -40,7 +40,7 @@ from armanim.scene.models import (
 from armanim.scene.robots import bundled_matrix, default_held_value
 from armanim.scene.text import text_path
 from armanim.world import selfcollision
-from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
+from armanim.world.obstacles import BOX, CYLINDER, FLOOR, ROD, SPHERE, Boxes, Cylinders, Obstacles, Rods
 from armanim.world.selfdistances import SelfPairs
 
 
@@ -165,13 +165,14 @@ def scene_arm(arm: ArmModel, axes: list[str]) -> tuple[Arm, Capsules | None]:
 
 
 def _obstacles(scene: SceneModel) -> Obstacles:
-    """The scene's obstacles in the scene's order (box angles become a rotation here), the floor last."""
+    """The scene's obstacles in the scene's order (box and cylinder angles become a rotation here), the floor last."""
     if not scene.obstacles and scene.floor is None:
         return Obstacles.none()
     spheres = [o for o in scene.obstacles if o.kind == "sphere"]
     boxes = [o.box for o in scene.obstacles if o.kind == "box"]
     rods = [o.capsule for o in scene.obstacles if o.kind == "capsule"]
-    kinds = [{"sphere": SPHERE, "box": BOX, "capsule": ROD}[o.kind] for o in scene.obstacles]
+    cylinders = [o.cylinder for o in scene.obstacles if o.kind == "cylinder"]
+    kinds = [{"sphere": SPHERE, "box": BOX, "capsule": ROD, "cylinder": CYLINDER}[o.kind] for o in scene.obstacles]
     influence = [o.resolved_influence for o in scene.obstacles]
     if scene.floor is not None:
         kinds.append(FLOOR)
@@ -192,6 +193,13 @@ def _obstacles(scene: SceneModel) -> Obstacles:
         ),
         floor=float(scene.floor) if scene.floor is not None else None,
         kinds=np.array(kinds, dtype=int),
+        cylinders=Cylinders(
+            centers=np.array([c.center for c in cylinders], dtype=float).reshape(-1, 3),
+            rotations=np.array([rpy_rotation(np.radians(c.rpy)) for c in cylinders]).reshape(-1, 3, 3),
+            half_length=np.array([c.length for c in cylinders], dtype=float) / 2.0,
+            radius=np.array([c.radius for c in cylinders], dtype=float),
+        ),
+        names=tuple(o.name for o in scene.obstacles) if any(o.name is not None for o in scene.obstacles) else (),
     )
 
 

@@ -62,27 +62,48 @@ class RodModel(Strict):
     radius: Positive = Field(description="Radius of the solid capsule (> 0).")
 
 
-SHAPE_FORMS = ("center", "box", "capsule")
-"""The keys that say an obstacle's shape: a sphere (``center`` and ``radius``), ``box`` or ``capsule``."""
+class CylinderModel(Strict):
+    """A solid cylinder (a can, a post, a pipe): its axis is its own z, as in MoveIt and URDF."""
+
+    center: Vector3 = Field(description="The middle of the cylinder's axis.")
+    length: Positive = Field(description="Full height along the cylinder's own z axis (> 0).")
+    radius: Positive = Field(description="Radius of the solid cylinder (> 0).")
+    rpy: Annotated[list[Angle], Field(min_length=3, max_length=3)] = Field(
+        default=[0.0, 0.0, 0.0],
+        description="Roll, pitch, yaw of the cylinder in the world, degrees (URDF: R = Rz(yaw) Ry(pitch) Rx(roll)); 0: the axis along world z.",
+    )
+
+
+SHAPE_FORMS = ("center", "box", "capsule", "cylinder")
+"""The keys that say an obstacle's shape: a sphere (``center`` and ``radius``), ``box``, ``capsule`` or ``cylinder``."""
+
+OBSTACLE_NAME_PATTERN = r"^[^\x00-\x1f\x7f]+$"
+"""An obstacle's ``name``: any text without control characters (MoveIt's object ids, for one)."""
 
 
 class ObstacleModel(Strict):
-    """One obstacle: a sphere ``{center, radius}`` (the default form), ``{box: ...}`` or ``{capsule: ...}``."""
+    """One obstacle: a sphere ``{center, radius}`` (the default form), ``{box: ...}``, ``{capsule: ...}`` or ``{cylinder: ...}``."""
 
     model_config = ConfigDict(
         extra="forbid",
         frozen=True,
         strict=True,
-        json_schema_extra={"oneOf": [{"required": ["center", "radius"]}, {"required": ["box"]}, {"required": ["capsule"]}]},
+        json_schema_extra={"oneOf": [{"required": ["center", "radius"]}, {"required": ["box"]}, {"required": ["capsule"]},
+                                     {"required": ["cylinder"]}]},
     )
 
     center: Vector3 | None = Field(default=None, description="A sphere's centre.")
     radius: NonNegative | None = Field(default=None, description="Radius of the solid sphere no arm part may enter.")
     box: BoxModel | None = Field(default=None, description="A solid box instead of a sphere.")
     capsule: RodModel | None = Field(default=None, description="A solid capsule instead of a sphere.")
+    cylinder: CylinderModel | None = Field(default=None, description="A solid cylinder instead of a sphere.")
+    name: Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=OBSTACLE_NAME_PATTERN)] | None = Field(
+        default=None, description="A name for messages and pictures (unique within the scene); default none: obstacles[k]."
+    )
     influence: Positive | None = Field(
         default=None,
-        description="R: how far beyond the surface the avoidance field reaches; default the sphere's or capsule's radius, half a box's shortest edge.",
+        description="R: how far beyond the surface the avoidance field reaches; default the sphere's or capsule's radius, half a box's "
+                    "shortest edge, a cylinder's radius or half its length, whichever is less.",
     )
 
     @model_validator(mode="after")
@@ -91,27 +112,33 @@ class ObstacleModel(Strict):
         if len(given) != 1:
             what = "none" if not given else " and ".join(given)
             raise ValueError(
-                f"an obstacle is one shape (got {what}): expected {{center, radius}} (a sphere), {{box: {{center, size, rpy}}}} "
-                "or {capsule: {from, to, radius}}"
+                f"an obstacle is one shape (got {what}): expected {{center, radius}} (a sphere), {{box: {{center, size, rpy}}}}, "
+                "{capsule: {from, to, radius}} or {cylinder: {center, length, radius, rpy}}"
             )
         if self.center is not None and self.radius is None:
             raise ValueError("a sphere needs a radius (expected {center: [x, y, z], radius: r})")
         if self.radius is not None and self.center is None:
-            raise ValueError("radius belongs to a sphere, which needs a center (a box or capsule gives its own inside box: or capsule:)")
+            raise ValueError("radius belongs to a sphere, which needs a center (a box, capsule or cylinder gives its own inside box:, "
+                             "capsule: or cylinder:)")
         return self
 
     @property
     def kind(self) -> str:
-        """``"sphere"``, ``"box"`` or ``"capsule"``."""
+        """``"sphere"``, ``"box"``, ``"capsule"`` or ``"cylinder"``."""
+        if self.cylinder is not None:
+            return "cylinder"
         return "box" if self.box is not None else "capsule" if self.capsule is not None else "sphere"
 
     @property
     def resolved_influence(self) -> float:
-        """``influence``, or its default: the sphere's or capsule's radius, half the box's shortest edge."""
+        """``influence``, or its default: the sphere's or capsule's radius, half the box's shortest
+        edge, the cylinder's radius or half its length (the lesser)."""
         if self.influence is not None:
             return float(self.influence)
         if self.box is not None:
             return min(self.box.size) / 2.0
+        if self.cylinder is not None:
+            return min(float(self.cylinder.radius), self.cylinder.length / 2.0)
         return float(self.capsule.radius if self.capsule is not None else self.radius)
 
 

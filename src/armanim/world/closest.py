@@ -5,7 +5,8 @@ distance of its segment's points to the solid, less the radius. :func:`segment_b
 for segments a-b, the fraction t along the segment of that least point and the box's signed
 distance there (negative inside), with the unit normal (the signed distance's gradient
 there, pointing out of the box). A box may be flat or a segment (edges of length 0): a
-capsule obstacle is its axis, a box with one edge, grown by its radius. Pure core.
+capsule obstacle is its axis, a box with one edge, grown by its radius. A solid cylinder is
+measured apart (:func:`segment_cylinder_grid`). Pure core.
 
 Exact: the least distance of a segment to a box is a convex problem in one variable whose
 pieces are quadratics (outside) or linear (inside); the minimiser is found on its piece in
@@ -109,6 +110,44 @@ def segment_box_pairs(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np
     t, dist, normal = np.empty(n), np.empty(n), np.empty((n, 3))
     compiled.segment_box_pairs(_rows(a), _rows(b), _rows(center), _rows(half), _rows(rotation, 2),
                                segment, box, t, dist, normal)
+    return t, dist, normal
+
+
+def segment_cylinder_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, half_length: np.ndarray,
+                          radius: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Least signed distance of every segment a-b ((..., p, 3) each) to every solid cylinder
+    (center (k, 3), rotation (k, 3, 3) with the axis its third column, half_length and radius
+    (k,)): t and distance (..., p, k), normal (..., p, k, 3), compiled
+    (:func:`armanim.world.compiled.segment_cylinder_grid`; its numpy reference:
+    :func:`armanim.world.distances.segment_cylinder`).
+
+    >>> t, d, n = segment_cylinder_grid(np.array([[3.0, 0, 0]]), np.array([[3.0, 0, 1]]), np.zeros((1, 3)), np.eye(3)[None],
+    ...                                 np.ones(1), np.ones(1))
+    >>> float(t[0, 0]), float(d[0, 0]), n[0, 0].tolist()
+    (1.0, 2.0, [1.0, 0.0, 0.0])
+    """
+    from armanim.world import compiled
+
+    segments = a.shape[:-1]
+    a, b = _rows(a), _rows(b)
+    k = len(center)
+    t, dist, normal = np.empty((len(a), k)), np.empty((len(a), k)), np.empty((len(a), k, 3))
+    compiled.segment_cylinder_grid(a, b, _rows(center), _rows(rotation, 2), np.ascontiguousarray(half_length, dtype=float),
+                                   np.ascontiguousarray(radius, dtype=float), t, dist, normal)
+    return t.reshape(segments + (k,)), dist.reshape(segments + (k,)), normal.reshape(segments + (k, 3))
+
+
+def segment_cylinder_pairs(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, half_length: np.ndarray,
+                           radius: np.ndarray, segment: ArrayLike, cylinder: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`segment_cylinder_grid` of the pairs (``segment[p]``, ``cylinder[p]``) of the segments
+    a-b ((M, 3) each) and the cylinders: t and distance (P,), normal (P, 3), bit for bit the grid's."""
+    from armanim.world import compiled
+
+    segment, cylinder = np.asarray(segment, dtype=np.intp), np.asarray(cylinder, dtype=np.intp)
+    n = len(segment)
+    t, dist, normal = np.empty(n), np.empty(n), np.empty((n, 3))
+    compiled.segment_cylinder_pairs(_rows(a), _rows(b), _rows(center), _rows(rotation, 2), np.ascontiguousarray(half_length, dtype=float),
+                                    np.ascontiguousarray(radius, dtype=float), segment, cylinder, t, dist, normal)
     return t, dist, normal
 
 

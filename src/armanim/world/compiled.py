@@ -1,5 +1,7 @@
-"""The segment-box closed form of :mod:`armanim.world.closest`, compiled (numba); and the arm's
-own capsule pairs: segment-segment closest points, their rows and Jacobians.
+"""The segment-box closed form of :mod:`armanim.world.closest`, compiled (numba); the
+segment-cylinder distance (:func:`segment_cylinder_grid`, its numpy reference
+:func:`armanim.world.distances.segment_cylinder`); and the arm's own capsule pairs:
+segment-segment closest points, their rows and Jacobians.
 
 One pose's clearances to a table, a shelf and a floor are a few dozen segment-box pairs;
 written with numpy they were some 45 array operations, each a fixed 0.3-0.8 us whatever the
@@ -9,7 +11,7 @@ the one function :func:`_pair`, whether it comes from a grid of segments and box
 of pairs, so a pair's numbers do not depend on the batch it is in (bit for bit). numba
 compiles on first use and caches the machine code beside this file (or in the user's cache
 folder when that is not writable, or nowhere when neither is: then each process compiles
-again); it is imported only when a scene has a box or a capsule obstacle. Pure core: numpy
+again); it is imported only when a scene has a box, a capsule obstacle or a cylinder. Pure core: numpy
 and numba only, scene units.
 
 The work space of a pair is one scratch array, read at fixed offsets, and every function is
@@ -199,6 +201,225 @@ def segment_box_pairs(a: np.ndarray, b: np.ndarray, centers: np.ndarray, half: n
     for p in range(segment.shape[0]):
         m, k = segment[p], box[p]
         t[p], dist[p] = _pair(a[m], b[m], centers[k], half[k], rotations[k], s, normal[p])
+
+
+# ----------------------------------------------------------------------------- segment-cylinder
+
+CYLINDER_SCRATCH = 16
+"""Room for a segment-cylinder pair's candidate fractions (:func:`_cylinder_pair`: 15 at most)."""
+
+
+@compiled(**_INLINE)
+def _cylinder_depth(x: float, y: float, z: float, h: float, r: float) -> float:
+    """Signed distance of the point (x, y, z) (cylinder frame) to the solid cylinder
+    x^2 + y^2 <= r^2, |z| <= h: the distance to it outside, minus the depth to its nearest
+    surface inside."""
+    dr = np.sqrt(x * x + y * y) - r
+    dz = abs(z) - h
+    if dr > 0.0 and dz > 0.0:  # beyond the rim
+        return np.sqrt(dr * dr + dz * dz)  # type: ignore[no-any-return]  # numba compiles this
+    if dr > 0.0:  # beside the side (sqrt(dr^2) is dr exactly)
+        return dr  # type: ignore[no-any-return]  # numba compiles this
+    return dz if dz > 0.0 else max(dr, dz)  # beside a cap, or inside
+
+
+@compiled(**_INLINE)
+def _add_roots(qa: float, qb: float, qc: float, s: np.ndarray, n: int) -> int:
+    """Appends to ``s`` from place ``n`` the real roots of qa t^2 + qb t + qc (and the vertex
+    -qb / (2 qa), where a double root rounds away), clamped to [0, 1]; returns the new count."""
+    if qa == 0.0:
+        if qb != 0.0:
+            s[n] = _clamp(-qc / qb, 0.0, 1.0)
+            n += 1
+        return n
+    s[n] = _clamp(-qb / (2.0 * qa), 0.0, 1.0)
+    n += 1
+    disc = qb * qb - 4.0 * qa * qc
+    if disc >= 0.0:
+        q = -0.5 * (qb + np.sqrt(disc)) if qb >= 0.0 else -0.5 * (qb - np.sqrt(disc))
+        s[n] = _clamp(q / qa, 0.0, 1.0)
+        n += 1
+        if q != 0.0:
+            s[n] = _clamp(qc / q, 0.0, 1.0)
+            n += 1
+    return n
+
+
+@compiled(**_INLINE)
+def _rim_slope(t: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float, side: float) -> float:
+    """Half the derivative in t of the squared distance of x0 + t u to the rim at z = side h
+    (where the point is beyond the side and that cap): (rho - r) rho' + (side z - h) side u_z."""
+    px = x0 + t * ux
+    py = y0 + t * uy
+    rho = np.sqrt(px * px + py * py)
+    return (rho - r) * (px * ux + py * uy) / rho + (side * (z0 + t * uz) - h) * side * uz  # type: ignore[no-any-return]
+
+
+@compiled(**_INLINE)
+def _rim_curvature(t: float, x0: float, y0: float, ux: float, uy: float, uz: float, r: float) -> float:
+    """The derivative in t of :func:`_rim_slope`: rho'^2 + (rho - r) rho'' + u_z^2, with
+    rho' = (p . u) / rho and rho'' = (|u|^2 - rho'^2) / rho in the plane across the axis (> 0
+    beyond the side: the slope rises)."""
+    px = x0 + t * ux
+    py = y0 + t * uy
+    rho = np.sqrt(px * px + py * py)
+    rate = (px * ux + py * uy) / rho
+    return rate * rate + (rho - r) * (ux * ux + uy * uy - rate * rate) / rho + uz * uz  # type: ignore[no-any-return]
+
+
+@compiled(**_INLINE)
+def _rim_minimum(lo: float, hi: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float,
+                 side: float) -> float:
+    """The t in [lo, hi] nearest the rim on a piece where the segment lies beyond the side and
+    the cap ``side``: the root of :func:`_rim_slope` (nondecreasing: the distance to the circle
+    is convex there), by Newton's steps kept inside a bracket that each step shrinks, a
+    bisection wherever a step would leave it or gain less than half, to the spacing of floats;
+    an end where the slope does not change sign."""
+    if _rim_slope(lo, x0, y0, z0, ux, uy, uz, h, r, side) >= 0.0:
+        return lo
+    if _rim_slope(hi, x0, y0, z0, ux, uy, uz, h, r, side) <= 0.0:
+        return hi
+    t = 0.5 * (lo + hi)
+    last = hi - lo
+    for _ in range(100):
+        slope = _rim_slope(t, x0, y0, z0, ux, uy, uz, h, r, side)
+        if slope == 0.0:
+            return t
+        if slope > 0.0:
+            hi = t
+        else:
+            lo = t
+        step = slope / _rim_curvature(t, x0, y0, ux, uy, uz, r)
+        if abs(step) <= 4e-16:  # t to a few spacings of floats: the distance is flat there
+            return _clamp(t - step, lo, hi)
+        nxt = t - step
+        if not (nxt > lo and nxt < hi) or abs(step) > 0.5 * last:  # off the bracket, or slow: bisect
+            nxt = 0.5 * (lo + hi)
+        last = abs(nxt - t)
+        if nxt == t or not (hi > lo):
+            return nxt
+        t = nxt
+    return t
+
+
+@compiled(**_INLINE)
+def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, h: float, r: float, s: np.ndarray,
+                   normal: np.ndarray) -> tuple[float, float]:
+    """Segment a-b ((3,) each) against one solid cylinder (centre, world-from-cylinder
+    ``rotation``, half length ``h``, radius ``r``; axis local z): writes the world unit normal
+    (the cylinder's signed distance's gradient at the segment's least point, out of it) into
+    ``normal`` (3,) and returns (t, signed distance); ``s``: (CYLINDER_SCRATCH,) work space.
+
+    The signed distance f(t) of a + t (b - a) is convex (the solid is). Its pieces change where
+    the segment crosses the side (rho = r, a quadratic) or a cap's plane (z = +-h); on a piece
+    beside the side f is rho - r, least at the segment's closest approach to the axis; beside a
+    cap it is linear; inside it is max(rho - r, |z| - h), least where those are equal (a
+    quadratic in t once squared), at the closest approach to the axis, at z = 0 or at an end.
+    Those fractions are the candidates (the inside ones only where the others come within
+    :data:`TOUCHING`: a segment that enters crosses the surface at one of the others, where f is
+    0 to rounding); the least f among them is the minimum, exact, unless
+    the least point lies beyond the rim (beside both the side and a cap), where the distance to
+    the circle has no closed form along a line: there the slope's root is found on the piece
+    beside the best candidate that holds it (:func:`_rim_minimum`: Newton's steps in a bracket,
+    to a few spacings of floats in t, where the distance is flat to rounding: exact to rounding,
+    not in closed form). Ties: the fraction nearest b."""
+    x0 = (a[0] - center[0]) * rotation[0, 0] + (a[1] - center[1]) * rotation[1, 0] + (a[2] - center[2]) * rotation[2, 0]
+    y0 = (a[0] - center[0]) * rotation[0, 1] + (a[1] - center[1]) * rotation[1, 1] + (a[2] - center[2]) * rotation[2, 1]
+    z0 = (a[0] - center[0]) * rotation[0, 2] + (a[1] - center[1]) * rotation[1, 2] + (a[2] - center[2]) * rotation[2, 2]
+    ux = (b[0] - a[0]) * rotation[0, 0] + (b[1] - a[1]) * rotation[1, 0] + (b[2] - a[2]) * rotation[2, 0]
+    uy = (b[0] - a[0]) * rotation[0, 1] + (b[1] - a[1]) * rotation[1, 1] + (b[2] - a[2]) * rotation[2, 1]
+    uz = (b[0] - a[0]) * rotation[0, 2] + (b[1] - a[1]) * rotation[1, 2] + (b[2] - a[2]) * rotation[2, 2]
+    uu = ux * ux + uy * uy
+    pu = x0 * ux + y0 * uy
+    pp = x0 * x0 + y0 * y0
+    s[0] = 1.0  # the far end first: ties go to it
+    s[1] = 0.0
+    n = 2
+    if uu > 0.0:  # the closest approach to the axis
+        s[n] = _clamp(-pu / uu, 0.0, 1.0)
+        n += 1
+    if uz != 0.0:  # the caps' planes
+        s[n] = _clamp((h - z0) / uz, 0.0, 1.0)
+        s[n + 1] = _clamp((-h - z0) / uz, 0.0, 1.0)
+        n += 2
+    n = _add_roots(uu, 2.0 * pu, pp - r * r, s, n)  # through the side
+    best_t = s[0]
+    best = _cylinder_depth(x0 + best_t * ux, y0 + best_t * uy, z0 + best_t * uz, h, r)
+    for k in range(1, n):
+        tk = s[k]
+        d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
+        if d < best or (d == best and tk > best_t):
+            best, best_t = d, tk
+    if not best > TOUCHING:  # it may enter: where it crosses the middle plane, and as deep below the side as below a cap
+        first = n
+        if uz != 0.0:
+            s[n] = _clamp(-z0 / uz, 0.0, 1.0)
+            n += 1
+        for side in (1.0, -1.0):  # rho = r - h + side z, squared
+            w = r - h + side * z0
+            n = _add_roots(uu - uz * uz, 2.0 * (pu - side * uz * w), pp - w * w, s, n)
+        for k in range(first, n):
+            tk = s[k]
+            d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
+            if d < best or (d == best and tk > best_t):
+                best, best_t = d, tk
+    if best > 0.0:  # apart: the least point may lie beyond the rim, on a piece beside the best candidate
+        left, right = 0.0, 1.0
+        for k in range(n):
+            if s[k] < best_t and s[k] > left:
+                left = s[k]
+            if s[k] > best_t and s[k] < right:
+                right = s[k]
+        for piece in range(2):
+            lo, hi = (left, best_t) if piece == 0 else (best_t, right)
+            if not hi > lo:
+                continue
+            mid = 0.5 * (lo + hi)
+            px, py, pz = x0 + mid * ux, y0 + mid * uy, z0 + mid * uz
+            if px * px + py * py > r * r and abs(pz) > h:
+                tk = _rim_minimum(lo, hi, x0, y0, z0, ux, uy, uz, h, r, 1.0 if pz > 0.0 else -1.0)
+                d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
+                if d < best:
+                    best, best_t = d, tk
+    px, py, pz = x0 + best_t * ux, y0 + best_t * uy, z0 + best_t * uz
+    rho = np.sqrt(px * px + py * py)
+    cx, cy = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)  # the radial direction (any on the axis)
+    cz = 1.0 if pz >= 0.0 else -1.0
+    dr, dz = rho - r, abs(pz) - h
+    if dr > 0.0 or dz > 0.0:  # outside: from the nearest point of the surface
+        ra, za = max(dr, 0.0), max(dz, 0.0)
+        length = np.sqrt(ra * ra + za * za)
+        ex, ey, ez = ra * cx / length, ra * cy / length, za * cz / length
+    elif dr > dz:  # inside, nearer the side
+        ex, ey, ez = cx, cy, 0.0
+    else:  # inside, nearer a cap
+        ex, ey, ez = 0.0, 0.0, cz
+    for c in range(3):  # back to the world: R e
+        normal[c] = rotation[c, 0] * ex + rotation[c, 1] * ey + rotation[c, 2] * ez
+    return best_t, best
+
+
+@compiled(**_JIT)
+def segment_cylinder_grid(a: np.ndarray, b: np.ndarray, centers: np.ndarray, rotations: np.ndarray, half_length: np.ndarray,
+                          radius: np.ndarray, t: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+    """Every segment a_m-b_m ((M, 3) each) against every cylinder ((K, 3), (K, 3, 3), (K,), (K,)):
+    fills t and dist (M, K) and normal (M, K, 3) (:func:`_cylinder_pair`)."""
+    s = np.empty(CYLINDER_SCRATCH)
+    for m in range(a.shape[0]):
+        for k in range(centers.shape[0]):
+            t[m, k], dist[m, k] = _cylinder_pair(a[m], b[m], centers[k], rotations[k], half_length[k], radius[k], s, normal[m, k])
+
+
+@compiled(**_JIT)
+def segment_cylinder_pairs(a: np.ndarray, b: np.ndarray, centers: np.ndarray, rotations: np.ndarray, half_length: np.ndarray,
+                           radius: np.ndarray, segment: np.ndarray, cylinder: np.ndarray, t: np.ndarray, dist: np.ndarray,
+                           normal: np.ndarray) -> None:
+    """Segment ``segment[p]`` against cylinder ``cylinder[p]`` for each pair p: fills t and dist
+    (P,) and normal (P, 3), each pair's numbers those of :func:`segment_cylinder_grid`."""
+    s = np.empty(CYLINDER_SCRATCH)
+    for p in range(segment.shape[0]):
+        m, k = segment[p], cylinder[p]
+        t[p], dist[p] = _cylinder_pair(a[m], b[m], centers[k], rotations[k], half_length[k], radius[k], s, normal[p])
 
 
 PARALLEL = 1e-10

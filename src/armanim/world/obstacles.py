@@ -1,4 +1,4 @@
-"""The obstacles of the world: solid spheres, boxes, capsules and a floor, each (but the
+"""The obstacles of the world: solid spheres, boxes, capsules, cylinders and a floor, each (but the
 floor) with an influence shell.
 
 Clearances (:mod:`armanim.world.distances`) have one column per obstacle, in the order of
@@ -13,7 +13,7 @@ from typing import Any, cast
 
 import numpy as np
 
-SPHERE, BOX, ROD, FLOOR = 0, 1, 2, 3
+SPHERE, BOX, ROD, FLOOR, CYLINDER = 0, 1, 2, 3, 4
 """Kinds of obstacle (:attr:`Obstacles.kinds`)."""
 
 
@@ -96,6 +96,46 @@ class Rods:
 
 
 @dataclass(frozen=True)
+class Cylinders:
+    """Solid cylinders (cans, posts, pipes): the axis is each cylinder's local z, as in MoveIt and URDF.
+
+    Attributes
+    ----------
+    centers : (k, 3) array
+        The middle of each axis, world.
+    rotations : (k, 3, 3) array
+        World-from-cylinder rotation (its third column is the axis in the world).
+    half_length : (k,) array
+        Half the height along the axis (> 0).
+    radius : (k,) array
+        > 0.
+    """
+
+    centers: np.ndarray
+    rotations: np.ndarray
+    half_length: np.ndarray
+    radius: np.ndarray
+
+    @classmethod
+    def none(cls) -> Cylinders:
+        """No cylinders."""
+        return cls(np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros(0), np.zeros(0))
+
+    def __len__(self) -> int:
+        return len(self.radius)
+
+    def ends(self) -> tuple[np.ndarray, np.ndarray]:
+        """The centres of the two caps, (k, 3) each: the bottom (local z = -length / 2), the top.
+
+        >>> bottom, top = Cylinders(np.zeros((1, 3)), np.eye(3)[None], np.ones(1), np.ones(1)).ends()
+        >>> bottom.tolist(), top.tolist()
+        ([[0.0, 0.0, -1.0]], [[0.0, 0.0, 1.0]])
+        """
+        along = self.rotations[:, :, 2] * self.half_length[:, None]
+        return self.centers - along, self.centers + along
+
+
+@dataclass(frozen=True)
 class Obstacles:
     """The world's solids.
 
@@ -115,8 +155,14 @@ class Obstacles:
         Height of the plane z = floor that every link but those the first joint carries
         keeps its clearance above; None: no floor.
     kinds : (m,) int array or None
-        Kind of each column (:data:`SPHERE`, :data:`BOX`, :data:`ROD`, :data:`FLOOR`), the
-        floor last; None: the spheres, then the boxes, then the rods, then the floor.
+        Kind of each column (:data:`SPHERE`, :data:`BOX`, :data:`ROD`, :data:`CYLINDER`,
+        :data:`FLOOR`), the floor last; None: the spheres, then the boxes, then the rods, then
+        the cylinders, then the floor.
+    cylinders : Cylinders
+        Solid cylinders (measured apart from the solids: a cylinder is no grown box).
+    names : tuple of (str or None)
+        Each obstacle's name in the scene's order (None: unnamed; empty: none named), for
+        messages and pictures.
 
     Derived (set on construction, read on every clearance computation)
     ------------------------------------------------------------------
@@ -136,8 +182,8 @@ class Obstacles:
     solid_half : (k, 3, 1) array
         The solids' half edges laid out as :attr:`solid_axes`' products.
     scene_order : (m,) int array or None
-        The columns in the scene's order taken from those of the spheres, the solids, then
-        the floor (None: the same order).
+        The columns in the scene's order taken from those of the spheres, the solids, the
+        cylinders, then the floor (None: the same order).
     """
 
     centers: np.ndarray
@@ -147,6 +193,8 @@ class Obstacles:
     rods: Rods = field(default_factory=Rods.none)
     floor: float | None = None
     kinds: np.ndarray = None  # type: ignore[assignment]  # None: __post_init__ fills it from the counts
+    cylinders: Cylinders = field(default_factory=Cylinders.none)
+    names: tuple[str | None, ...] = ()
     # derived: set by __post_init__ (see the docstring), never passed
     solids: Boxes = field(init=False, repr=False, compare=False)
     solid_radius: np.ndarray = field(init=False, repr=False, compare=False)
@@ -159,9 +207,9 @@ class Obstacles:
 
     def __post_init__(self) -> None:
         if self.kinds is None:
-            counts = (len(self.radii), len(self.boxes), len(self.rods), int(self.floor is not None))
-            object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, FLOOR], counts))
-        columns = {kind: np.nonzero(self.kinds == kind)[0] for kind in (SPHERE, BOX, ROD, FLOOR)}
+            counts = (len(self.radii), len(self.boxes), len(self.rods), len(self.cylinders), int(self.floor is not None))
+            object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, CYLINDER, FLOOR], counts))
+        columns = {kind: np.nonzero(self.kinds == kind)[0] for kind in (SPHERE, BOX, ROD, CYLINDER, FLOOR)}
         object.__setattr__(self, "_columns", columns)  # asked for on every clearance computation
         for name, value in _derived_solids(self.boxes, self.rods, columns).items():
             object.__setattr__(self, name, value)
@@ -178,7 +226,15 @@ class Obstacles:
     @property
     def spheres_only(self) -> bool:
         """Whether every obstacle is a sphere and there is no floor (the clearances of old)."""
-        return len(self.boxes) == 0 and len(self.rods) == 0 and self.floor is None
+        return len(self.boxes) == 0 and len(self.rods) == 0 and len(self.cylinders) == 0 and self.floor is None
+
+    def name(self, column: int) -> str | None:
+        """The scene's name of the obstacle of clearance column ``column`` (None: unnamed, or the floor).
+
+        >>> Obstacles(np.zeros((2, 3)), np.ones(2), np.ones(2), names=("can1", None)).name(0)
+        'can1'
+        """
+        return self.names[column] if column < len(self.names) else None
 
     def columns(self, kind: int) -> np.ndarray:
         """Indices of the clearances' columns of one kind, in the order of that kind's arrays.
@@ -196,7 +252,7 @@ def _derived_solids(boxes: Boxes, rods: Rods, columns: dict[int, np.ndarray]) ->
     solid_columns = np.concatenate([columns[BOX], columns[ROD]])
     order = np.argsort(solid_columns, kind="stable")  # the solids in the scene's order
     solids = Boxes(*(np.concatenate([getattr(boxes, f), getattr(axes, f)])[order] for f in ("centers", "half", "rotations")))
-    canonical = np.concatenate([columns[SPHERE], solid_columns[order], columns[FLOOR]])
+    canonical = np.concatenate([columns[SPHERE], solid_columns[order], columns[CYLINDER], columns[FLOOR]])
     in_order = bool(np.all(canonical == np.arange(len(canonical))))
     return {
         "solids": solids,

@@ -20,55 +20,214 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
+from armanim.arm.capsules import Capsules
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import limit_buffer, self_shift
 from armanim.motion.solvers.compiled_frame import _clearances, _world
-from armanim.world.compiled import capsule_pair_gaps
+from armanim.world.compiled import CYLINDER_SCRATCH, SCRATCH, _cylinder_depth, _cylinder_pair, _pair, segment_segment_pairs
 
-_JIT = {"nogil": True}
+_JIT = dict(error_model="numpy", nogil=True)  # as world.compiled's: the closed forms expect x / 0 to be inf or NaN
+_INLINE = dict(inline="always", **_JIT)
+
+
+@compiled(**_INLINE)
+def _point_segment(px: float, py: float, pz: float, a: np.ndarray, b: np.ndarray, c: int) -> float:
+    """Distance from the point (px, py, pz) to the segment a[c]-b[c]."""
+    ab0, ab1, ab2 = b[c, 0] - a[c, 0], b[c, 1] - a[c, 1], b[c, 2] - a[c, 2]
+    denom = ab0 * ab0 + ab1 * ab1 + ab2 * ab2
+    f = 0.0
+    if denom > 0.0:
+        f = min(max(((px - a[c, 0]) * ab0 + (py - a[c, 1]) * ab1 + (pz - a[c, 2]) * ab2) / denom, 0.0), 1.0)
+    o0, o1, o2 = a[c, 0] + f * ab0 - px, a[c, 1] + f * ab1 - py, a[c, 2] + f * ab2 - pz
+    return math.sqrt(o0 * o0 + o1 * o1 + o2 * o2)
+
+
+@compiled(**_INLINE)
+def _point_box(px: float, py: float, pz: float, center: np.ndarray, half: np.ndarray, rotation: np.ndarray) -> float:
+    """Signed distance of a point to a solid box (its centre, half edges, world-from-box rotation):
+    the distance outside, minus the depth to its nearest face inside."""
+    outside = 0.0
+    deepest = -np.inf
+    for i in range(3):
+        x = (px - center[0]) * rotation[0, i] + (py - center[1]) * rotation[1, i] + (pz - center[2]) * rotation[2, i]
+        excess = abs(x) - half[i]
+        deepest = max(deepest, excess)
+        if excess > 0.0:
+            outside += excess * excess
+    return math.sqrt(outside) if outside > 0.0 else deepest
+
+
+@compiled(**_INLINE)
+def _point_cylinder(px: float, py: float, pz: float, center: np.ndarray, rotation: np.ndarray, h: float, r: float) -> float:
+    """Signed distance of a point to a solid cylinder (axis local z, half length ``h``, radius ``r``)."""
+    x0, y0, z0 = px - center[0], py - center[1], pz - center[2]
+    x = x0 * rotation[0, 0] + y0 * rotation[1, 0] + z0 * rotation[2, 0]
+    y = x0 * rotation[0, 1] + y0 * rotation[1, 1] + z0 * rotation[2, 1]
+    z = x0 * rotation[0, 2] + y0 * rotation[1, 2] + z0 * rotation[2, 2]
+    return _cylinder_depth(x, y, z, h, r)  # type: ignore[no-any-return]  # numba compiles this
+
+
+@compiled(**_JIT)
+def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members: tuple[np.ndarray, np.ndarray],
+                      center: np.ndarray, reach: np.ndarray) -> None:
+    """Each group's bounding sphere (``members``: CSR start (G+1,) and capsule indices): the middle
+    of its capsules' ends' box into ``center`` (G, 3), and the farthest capsule surface from it
+    into ``reach`` (G,)."""
+    start, caps = members
+    for g in range(start.shape[0] - 1):
+        lo = np.full(3, np.inf)
+        hi = np.full(3, -np.inf)
+        for m in range(start[g], start[g + 1]):
+            c = caps[m]
+            for i in range(3):
+                lo[i] = min(lo[i], a[c, i], b[c, i])
+                hi[i] = max(hi[i], a[c, i], b[c, i])
+        for i in range(3):
+            center[g, i] = 0.5 * (lo[i] + hi[i])
+        far = 0.0
+        for m in range(start[g], start[g + 1]):
+            c = caps[m]
+            da = math.sqrt((a[c, 0] - center[g, 0]) ** 2 + (a[c, 1] - center[g, 1]) ** 2 + (a[c, 2] - center[g, 2]) ** 2)
+            db = math.sqrt((b[c, 0] - center[g, 0]) ** 2 + (b[c, 1] - center[g, 1]) ** 2 + (b[c, 2] - center[g, 2]) ** 2)
+            far = max(far, max(da, db) + radius[c])
+        reach[g] = far
+
+
+@compiled(**_JIT)
+def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, world: tuple[np.ndarray, ...],
+                    members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float) -> float:
+    """The least clearance of any capsule to any obstacle or the floor, measured exactly where a
+    group's bounding sphere comes within ``far`` of the obstacle, else that sphere's lower bound
+    (so the result is exact when below ``far``, and at most the exact least otherwise)."""
+    centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base = world[:7]
+    floor = world[8]
+    cyl_centers, cyl_rotations, cyl_half, cyl_radius = world[9], world[10], world[11], world[12]
+    start, caps = members
+    least = np.inf
+    s = np.empty(max(SCRATCH, CYLINDER_SCRATCH))
+    normal = np.empty(3)
+    sphere = np.empty(a.shape[0], dtype=np.bool_)
+    for c in range(a.shape[0]):
+        sphere[c] = a[c, 0] == b[c, 0] and a[c, 1] == b[c, 1] and a[c, 2] == b[c, 2]
+    for g in range(start.shape[0] - 1):
+        for k in range(radii.shape[0]):
+            bound = math.sqrt((center[g, 0] - centers[k, 0]) ** 2 + (center[g, 1] - centers[k, 1]) ** 2
+                              + (center[g, 2] - centers[k, 2]) ** 2) - radii[k] - reach[g]
+            if bound >= far:
+                least = min(least, bound)
+                continue
+            for m in range(start[g], start[g + 1]):
+                c = caps[m]
+                d = _point_segment(centers[k, 0], centers[k, 1], centers[k, 2], a, b, c) - radii[k] - radius[c]
+                if d < least or d != d:
+                    least = d
+        for k in range(solid_radius.shape[0]):
+            bound = _point_box(center[g, 0], center[g, 1], center[g, 2], solid_centers[k], solid_half[k], solid_rotations[k]) \
+                - solid_radius[k] - reach[g]
+            if bound >= far:
+                least = min(least, bound)
+                continue
+            for m in range(start[g], start[g + 1]):
+                c = caps[m]
+                if sphere[c] and solid_radius[k] == 0.0:
+                    d = _point_box(a[c, 0], a[c, 1], a[c, 2], solid_centers[k], solid_half[k], solid_rotations[k])
+                else:
+                    _, d = _pair(a[c], b[c], solid_centers[k], solid_half[k], solid_rotations[k], s, normal)
+                d = d - solid_radius[k] - radius[c]
+                if d < least or d != d:
+                    least = d
+        for k in range(cyl_radius.shape[0]):
+            bound = _point_cylinder(center[g, 0], center[g, 1], center[g, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k],
+                                    cyl_radius[k]) - reach[g]
+            if bound >= far:
+                least = min(least, bound)
+                continue
+            for m in range(start[g], start[g + 1]):
+                c = caps[m]
+                if sphere[c]:
+                    d = _point_cylinder(a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k])
+                else:
+                    _, d = _cylinder_pair(a[c], b[c], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k], s, normal)
+                d = d - radius[c]
+                if d < least or d != d:
+                    least = d
+    if floor.shape[0]:
+        for c in range(a.shape[0]):
+            if not on_base[c]:
+                d = min(a[c, 2], b[c, 2]) - floor[0] - radius[c]
+                if d < least or d != d:
+                    least = d
+    return least
 
 
 @compiled(**_JIT)
 def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-             world: tuple[np.ndarray, ...], m: int, pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float,
+             world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+             pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
              phi: np.ndarray, clear: np.ndarray, own: np.ndarray) -> None:
-    """For poses ``phi`` (k, n): the least clearance of any capsule to any of the ``m`` obstacle
-    columns (the floor's among them) into ``clear`` (k,) (+inf without any), and every enabled
-    pair's gap plus ``shift`` into ``own`` (k, P)."""
+    """For poses ``phi`` (k, n): the least clearance of any capsule to any obstacle or the floor
+    into ``clear`` (k,) (+inf without any), and every enabled pair's gap plus ``shift`` into
+    ``own`` (k, P); each exact where it is below ``far``, else a lower bound of at least ``far``
+    (a pair of groups, or a group and an obstacle, whose bounding spheres are ``far`` apart is not
+    measured capsule by capsule). ``groups``: the capsules by the joint that carries them (CSR
+    start and indices), and the enabled pairs by their two groups (the groups' indices, and CSR
+    start and indices of the pairs)."""
     k, n = phi.shape
     c = link.shape[0]
     first, second, pair_radii = pairs
+    start, members, group_a, group_b, pair_start, pair_members = groups
     count = first.shape[0]
+    g_count = start.shape[0] - 1
     points = np.empty((n + 1, 3))
     frames = np.empty((n, 3, 3))
     axes = np.empty((n, 3))
     tool = np.empty((3, 3))
     a = np.empty((c, 3))
     b = np.empty((c, 3))
-    d = np.empty((c + 1, m))
-    t = np.empty((c + 1, m))
-    normal = np.empty((c + 1, m, 3))
+    radius = part_radius[:c]
+    center = np.empty((g_count, 3))
+    reach = np.empty(g_count)
+    near_first = np.empty(count, dtype=np.int64)
+    near_second = np.empty(count, dtype=np.int64)
+    near_index = np.empty(count, dtype=np.int64)
     gap_t = np.empty(count)
     gap_s = np.empty(count)
     gap = np.empty(count)
     gap_normal = np.empty((count, 3))
     joint_segment = caps[:, 7] > 0.5
+    sphere = np.empty(c, dtype=np.bool_)
     for i in range(k):
         _forward_one(rows, root, phi[i], points, frames, axes, tool)
         _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], joint_segment, a, b)
-        least = np.inf
-        if m:
-            _clearances(points, a, b, part_radius, world, d, t, normal)
-            for part in range(c):
-                for j in range(m):
-                    if d[part, j] < least or d[part, j] != d[part, j]:
-                        least = d[part, j]
-        clear[i] = least
-        if count:
-            capsule_pair_gaps(a, b, first, second, pair_radii, gap_t, gap_s, gap, gap_normal)
-            for p in range(count):
-                own[i, p] = gap[p] + shift
+        _bounding_spheres(a, b, radius, (start, members), center, reach)
+        for u in range(c):
+            sphere[u] = a[u, 0] == b[u, 0] and a[u, 1] == b[u, 1] and a[u, 2] == b[u, 2]
+        clear[i] = _obstacle_least(a, b, radius, world, (start, members), center, reach, far)
+        near = 0
+        for lp in range(group_a.shape[0]):
+            ga, gb = group_a[lp], group_b[lp]
+            bound = math.sqrt((center[ga, 0] - center[gb, 0]) ** 2 + (center[ga, 1] - center[gb, 1]) ** 2
+                              + (center[ga, 2] - center[gb, 2]) ** 2) - reach[ga] - reach[gb]
+            for m in range(pair_start[lp], pair_start[lp + 1]):
+                p = pair_members[m]
+                if bound >= far:
+                    own[i, p] = bound + shift
+                    continue
+                u, v = first[p], second[p]
+                if sphere[u]:  # a sphere and a sphere or a segment: the closed form of a point
+                    own[i, p] = _point_segment(a[u, 0], a[u, 1], a[u, 2], a, b, v) - pair_radii[p] + shift
+                elif sphere[v]:
+                    own[i, p] = _point_segment(a[v, 0], a[v, 1], a[v, 2], a, b, u) - pair_radii[p] + shift
+                else:
+                    near_first[near], near_second[near], near_index[near] = u, v, p
+                    near += 1
+        if near:
+            segment_segment_pairs(a, b, near_first[:near], near_second[:near], gap_t[:near], gap_s[:near], gap[:near],
+                                  gap_normal[:near])
+            for r in range(near):
+                p = near_index[r]
+                own[i, p] = gap[r] - pair_radii[p] + shift
 
 
 @compiled(**_JIT)
@@ -93,7 +252,8 @@ def _inside(phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, buffer: float
 
 @compiled(**_JIT)
 def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-                 world: tuple[np.ndarray, ...], m: int, pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float,
+                 world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                 pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
                  limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], settings: np.ndarray,
                  a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
     """:func:`armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled.
@@ -119,7 +279,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
             poses[i, j] = a[j] + u[i] * (b[j] - a[j])
     clear = np.empty(samples)
     own = np.empty((samples, count_pairs))
-    _margins(rows, root, caps, link, part_radius, world, m, pairs, shift, poses, clear, own)
+    _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses, clear, own)
     checks = samples
     least = _least(clear, own)
     for i in range(samples):
@@ -159,7 +319,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
                 mid[r, j] = 0.5 * (lo[kept[r], j] + hi[kept[r], j])
         c_mid = np.empty(left)
         o_mid = np.empty((left, count_pairs))
-        _margins(rows, root, caps, link, part_radius, world, m, pairs, shift, mid, c_mid, o_mid)
+        _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, mid, c_mid, o_mid)
         checks += left
         least = _least(c_mid, o_mid)
         for r in range(left):
@@ -182,20 +342,53 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     return lo.shape[0] == 0, checks
 
 
+def _link_of(caps: Capsules) -> np.ndarray:
+    """(c,) int: which link each capsule belongs to, the finest grouping the capsules tell: their
+    URDF link's name where they have names, else the joint that carries them."""
+    if not caps.names:
+        return np.asarray(caps.link, dtype=np.int64)
+    return np.unique(np.array(caps.names), return_inverse=True)[1].astype(np.int64)
+
+
+def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The capsules grouped by the joint that carries them (``link`` (c,), the base's -1 a group
+    too), and the pairs (``first``, ``second`` (P,)) by their two groups: (CSR start (G+1,),
+    capsule indices (c,), each group pair's two groups (L,) and (L,), CSR start (L+1,), pair
+    indices (P,)).
+
+    >>> [v.tolist() for v in carrier_groups(np.array([0, 0, 1, -1]), np.array([0, 1, 3]), np.array([2, 2, 0]))]
+    [[0, 1, 3, 4], [3, 0, 1, 2], [0, 1], [1, 2], [0, 1, 3], [2, 0, 1]]
+    """
+    carriers, group = np.unique(link, return_inverse=True)
+    members = np.argsort(group, kind="stable")
+    start = np.searchsorted(group[members], np.arange(len(carriers) + 1))
+    ga, gb = np.minimum(group[first], group[second]), np.maximum(group[first], group[second])
+    keys, pair_group = np.unique(ga * len(carriers) + gb, return_inverse=True)
+    pair_members = np.argsort(pair_group, kind="stable")
+    pair_start = np.searchsorted(pair_group[pair_members], np.arange(len(keys) + 1))
+    return tuple(np.ascontiguousarray(v, dtype=np.int64) for v in (  # type: ignore[return-value]  # six arrays
+        start, members, keys // max(len(carriers), 1), keys % max(len(carriers), 1), pair_start, pair_members))
+
+
 @dataclass(frozen=True)
 class CompiledCheck:
     """One problem's arrays as the compiled checks read them, packed once per plan.
 
     ``closed``: a motion's ends may rest on the limits (a joint goal's path), else they keep the
     filter's buffer inside them, as :func:`~armanim.motion.solvers.barrier.within_limits`.
+    Clearances and gaps are exact below ``far`` (the planner's ``exact_within`` of the arm's
+    reach) and lower bounds of at least ``far``
+    beyond it: a motion certified by them is certified.
     """
 
     chain: tuple[np.ndarray, np.ndarray]
     body: tuple[np.ndarray, np.ndarray, np.ndarray]
     world: tuple[np.ndarray, ...]
-    columns: int
+    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     pairs: tuple[np.ndarray, np.ndarray, np.ndarray]
     shift: float
+    far: float
     limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     settings: np.ndarray
 
@@ -204,19 +397,22 @@ class CompiledCheck:
         caps, pairs, opts = problem.capsules, problem.self_pairs, problem.tunables.planner
         packed = np.concatenate([caps.start, caps.end, caps.radius[:, None], caps.joint_segment[:, None].astype(float)], axis=1)
         n = problem.arm.n
+        spacing = coarse_spacing(problem)
+        first = np.ascontiguousarray(pairs.first, dtype=np.int64)
+        second = np.ascontiguousarray(pairs.second, dtype=np.int64)
         return cls(
             chain=packed_chain(problem.arm),
             body=(np.ascontiguousarray(packed), np.ascontiguousarray(caps.link, dtype=np.int64),
                   np.ascontiguousarray(caps.part_radius, dtype=float)),
             world=_world(problem),
-            columns=len(problem.obstacles.kinds),
-            pairs=(np.ascontiguousarray(pairs.first, dtype=np.int64), np.ascontiguousarray(pairs.second, dtype=np.int64),
-                   np.ascontiguousarray(pairs.radii(caps), dtype=float)),
+            groups=carrier_groups(_link_of(caps), first, second),
+            pairs=(first, second, np.ascontiguousarray(pairs.radii(caps), dtype=float)),
             shift=self_shift(problem) if len(pairs) else 0.0,
+            far=opts.exact_within * problem.arm.reach,
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
                     np.ascontiguousarray(problem.pair_lever_rows.reshape(len(pairs), n).T, dtype=float)),
-            settings=np.array([problem.solver.clearance, coarse_spacing(problem), opts.certify_to, opts.max_halvings, opts.max_samples,
+            settings=np.array([problem.solver.clearance, spacing, opts.certify_to, opts.max_halvings, opts.max_samples,
                                0.0 if closed else limit_buffer(problem)]),
         )
 
@@ -226,7 +422,7 @@ class CompiledCheck:
         phi = np.ascontiguousarray(np.atleast_2d(phi), dtype=float)
         clear = np.empty(len(phi))
         own = np.empty((len(phi), len(self.pairs[0])))
-        _margins(*self.chain, *self.body, self.world, self.columns, self.pairs, self.shift, phi, clear, own)
+        _margins(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, phi, clear, own)
         return clear, own
 
     def pose_clearance(self, phi: np.ndarray) -> float:
@@ -241,7 +437,8 @@ class CompiledCheck:
 
     def motion_free(self, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
         """:func:`~armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled."""
-        free, checks = _motion_free(*self.chain, *self.body, self.world, self.columns, self.pairs, self.shift, self.limits, self.settings,
+        free, checks = _motion_free(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, self.limits,
+                                    self.settings,
                                     np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(b, dtype=float), float(floor))
         return bool(free), int(checks)
 

@@ -11,7 +11,7 @@ A method proposes dPhi_nom. After scaling it so that no joint turns by more than
 (a velocity damper, the discrete control-barrier condition: each frame closes at most
 the fraction gamma of what is left of a gap). The gains are ``problem.tunables.filter``
 (:class:`~armanim.motion.tunables.FilterGains`). d is the capsule's clearance to the
-obstacle (sphere, box, capsule, or the floor), q the point of its segment nearest the
+obstacle (sphere, box, capsule, cylinder, or the floor), q the point of its segment nearest the
 solid, n the solid's outward unit normal there, J_q that point's Jacobian;
 d_safe is ``solver.clearance``; lo_j and hi_j are the limits moved inward by
 :attr:`~armanim.motion.tunables.FilterGains.limit_buffer` of the limit margin. An arm touching a solid therefore slides

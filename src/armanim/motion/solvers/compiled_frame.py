@@ -20,7 +20,7 @@ inverses of :mod:`armanim.motion.solvers.compiled` (the pseudo-inverse with
   broken, the QP is DAQP's as before (:func:`~armanim.motion.solvers.barrier.filtered_step`,
   from Python, on those rows);
 - the exact check of the new pose and its halvings: its kinematics, its clearances to every
-  obstacle (spheres, boxes, capsules, the floor, in the scene's order), its pairs' gaps, which
+  obstacle (spheres, boxes, capsules, cylinders, the floor, in the scene's order), its pairs' gaps, which
   become the next frame's state.
 
 A proposal that is not finite or zero goes to the numpy filter; an inverse that fails (a zero
@@ -69,7 +69,7 @@ from armanim.motion.solvers.compiled import (
     _step_bounds,
 )
 from armanim.motion.solvers.linear import CLOSEST_GAP, ROUNDING_TASK
-from armanim.world.compiled import capsule_pair_gaps, pair_row, pair_rows_met, segment_box_grid
+from armanim.world.compiled import capsule_pair_gaps, pair_row, pair_rows_met, segment_box_grid, segment_cylinder_grid
 from armanim.world.distances import Clearances
 from armanim.world.selfdistances import SelfGaps
 
@@ -166,12 +166,14 @@ def _clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: n
                 normal: np.ndarray) -> None:
     """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
     and normal (c+1, m, 3): the spheres', the solids' (:func:`armanim.world.compiled.segment_box_grid`,
-    the tip a segment of no length) and the floor's, in the scene's order
-    (:func:`armanim.world.distances.clearances`). ``world``: :func:`_world`'s arrays."""
-    centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base, order, floor = world
+    the tip a segment of no length), the cylinders' (:func:`armanim.world.compiled.segment_cylinder_grid`)
+    and the floor's, in the scene's order (:func:`armanim.world.distances.clearances`).
+    ``world``: :func:`_world`'s arrays."""
+    (centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base, order, floor,
+     cyl_centers, cyl_rotations, cyl_half, cyl_radius) = world
     c = a.shape[0]
     n = points.shape[0] - 1
-    count, solids = centers.shape[0], solid_centers.shape[0]
+    count, solids, cylinders = centers.shape[0], solid_centers.shape[0], cyl_centers.shape[0]
     m = d.shape[1]
     pts = np.empty((c + 1, 3))
     ends = np.empty((c + 1, 3))
@@ -195,8 +197,20 @@ def _clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: n
                 kt[part, count + k] = 1.0 if part == c else st[part, k]
                 for i in range(3):
                     kn[part, count + k, i] = sn[part, k, i]
+    if cylinders:
+        first = count + solids
+        cd = np.empty((c + 1, cylinders))
+        ct = np.empty((c + 1, cylinders))
+        cn = np.empty((c + 1, cylinders, 3))
+        segment_cylinder_grid(pts, ends, cyl_centers, cyl_rotations, cyl_half, cyl_radius, ct, cd, cn)
+        for part in range(c + 1):
+            for k in range(cylinders):
+                kd[part, first + k] = cd[part, k] - part_radius[part]
+                kt[part, first + k] = 1.0 if part == c else ct[part, k]
+                for i in range(3):
+                    kn[part, first + k, i] = cn[part, k, i]
     if floor.shape[0]:
-        f = count + solids
+        f = count + solids + cylinders
         for part in range(c + 1):
             height = min(pts[part, 2], ends[part, 2]) - floor[0] - part_radius[part]
             kd[part, f] = np.inf if on_base[part] else height
@@ -630,15 +644,17 @@ def _constants(problem: Problem) -> tuple[Any, ...]:
 def _world(problem: Problem) -> tuple[np.ndarray, ...]:
     """The obstacles as :func:`_clearances` reads them: the spheres' centres and radii, the solids'
     (boxes and capsule obstacles' axes) centres, half edges, rotations and radii, the parts the
-    floor leaves out, the columns' scene order, and the floor's height ((1,), or (0,) without one)."""
+    floor leaves out, the columns' scene order, the floor's height ((1,), or (0,) without one),
+    and the cylinders' centres, rotations, half lengths and radii."""
     obstacles, caps = problem.obstacles, problem.capsules
-    solids = obstacles.solids
+    solids, cylinders = obstacles.solids, obstacles.cylinders
     order = obstacles.scene_order if obstacles.scene_order is not None else np.arange(len(obstacles))
     floor = np.zeros(0) if obstacles.floor is None else np.array([float(obstacles.floor)])
     return tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
         (obstacles.centers.reshape(-1, 3), float), (obstacles.radii, float), (solids.centers.reshape(-1, 3), float),
         (solids.half.reshape(-1, 3), float), (solids.rotations.reshape(-1, 3, 3), float), (obstacles.solid_radius, float),
-        (caps.on_base, np.bool_), (order, np.int64), (floor, float)))
+        (caps.on_base, np.bool_), (order, np.int64), (floor, float), (cylinders.centers.reshape(-1, 3), float),
+        (cylinders.rotations.reshape(-1, 3, 3), float), (cylinders.half_length, float), (cylinders.radius, float)))
 
 
 _EMPTY_CL = (np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 0, 3)))

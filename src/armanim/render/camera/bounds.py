@@ -1,5 +1,5 @@
 """The fixed world box of a video (computed once, so the camera never moves) and the world
-extent of the boxes and capsules in it."""
+extent of the boxes, capsules and cylinders in it."""
 
 from __future__ import annotations
 
@@ -59,8 +59,8 @@ def auto_bounds(problem: Problem, points: np.ndarray | None = None, margin: floa
     if len(obstacles.radii):
         lo.append((obstacles.centers - obstacles.radii[:, None]).min(axis=0))
         hi.append((obstacles.centers + obstacles.radii[:, None]).max(axis=0))
-    if len(obstacles.boxes) + len(obstacles.rods):
-        points, radii = shape_extent(obstacles.boxes, obstacles.rods)
+    if len(obstacles.boxes) + len(obstacles.rods) + len(obstacles.cylinders):
+        points, radii = shape_extent(obstacles.boxes, obstacles.rods, obstacles.cylinders)
         lo.append((points - radii[:, None]).min(axis=0))
         hi.append((points + radii[:, None]).max(axis=0))
     goals = np.vstack([goal_points(problem), path_points(problem)])
@@ -103,9 +103,11 @@ def box_corners(center: np.ndarray, half: np.ndarray, rotation: np.ndarray) -> n
     return Boxes(np.asarray(center)[None], np.asarray(half)[None], np.asarray(rotation)[None]).corners()[0]
 
 
-def shape_extent(boxes, rods) -> tuple[np.ndarray, np.ndarray]:
-    """World points (P, 3) and radii (P,) that hold every box (its corners) and capsule (its ends)."""
+def shape_extent(boxes, rods, cylinders=None) -> tuple[np.ndarray, np.ndarray]:
+    """World points (P, 3) and radii (P,) that hold every box (its corners), capsule (its ends)
+    and cylinder (its caps' centres, with its radius)."""
     corners = [box_corners(c, h, r) for c, h, r in zip(boxes.centers, boxes.half, boxes.rotations)]
-    points = np.vstack(corners + [rods.start, rods.end]).reshape(-1, 3)
-    radii = np.concatenate([np.zeros(8 * len(boxes)), rods.radius, rods.radius])
+    caps = list(cylinders.ends()) if cylinders is not None and len(cylinders) else []
+    points = np.vstack(corners + [rods.start, rods.end] + caps).reshape(-1, 3)
+    radii = np.concatenate([np.zeros(8 * len(boxes)), rods.radius, rods.radius] + ([cylinders.radius] * 2 if caps else []))
     return points, radii

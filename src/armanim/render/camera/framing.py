@@ -112,7 +112,7 @@ def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray
     obs = problem.obstacles
     r = BASE_SCALE * problem.half_width
     foot = base - [0.0, 0.0, 2 * problem.half_width] + r * np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]])
-    shapes, shape_radii = shape_extent(obs.boxes, obs.rods)
+    shapes, shape_radii = shape_extent(obs.boxes, obs.rods, obs.cylinders)
     points = np.vstack([joints, base, foot, obs.centers.reshape(-1, 3), shapes, goals])
     radii = np.concatenate([np.full(len(joints), hw), [r], np.zeros(len(foot)), obs.radii, shape_radii, np.zeros(len(goals))])
     return points, radii

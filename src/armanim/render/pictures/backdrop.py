@@ -163,7 +163,7 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     hidden_goal : bool
         Some goal is behind a sphere (or a box or capsule).
     hidden_by : str
-        What hides it, in the legend: ``"a sphere"``, or ``"an obstacle"`` among boxes and capsules.
+        What hides it, in the legend: ``"a sphere"``, or ``"an obstacle"`` among boxes, capsules and cylinders.
     goals : bool
         The picture has goals (``fk --png`` draws none, and names none).
     robot : bool

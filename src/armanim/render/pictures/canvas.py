@@ -5,7 +5,7 @@ The scene is projected by armanim's own camera (:mod:`armanim.render.camera.proj
 coordinates. What never changes is drawn once and kept as a pixel background
 (:mod:`armanim.render.pictures.backdrop`): the floor (a light grid under the scene, at the scene's
 ``floor`` when it has one) with the soft shadows of the obstacles and the base, the obstacles
-themselves (far first: sphere sprites, boxes and capsules as shaded solids,
+themselves (far first: sphere sprites, boxes, capsules and cylinders as shaded solids,
 :mod:`armanim.render.solids.shapes`), their influence shells, the world axes in a corner, the title and the legend. Each frame
 restores that background and draws what moves, straight into the Agg buffer:
 
@@ -164,7 +164,8 @@ class SceneCanvas:
         self.arm = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height), settings.robot)
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         obstacles = problem.obstacles
-        self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if len(obstacles.boxes) + len(obstacles.rods) else None
+        shaped = len(obstacles.boxes) + len(obstacles.rods) + len(obstacles.cylinders)
+        self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if shaped else None
         self.obstacle_order = ObstacleOrder(self.spheres, self.shapes, self.view) if self.shapes is not None else None
         goals = self.view.project(goal_points(problem))
         self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height))
@@ -174,7 +175,7 @@ class SceneCanvas:
         self.paths = self._prepare_paths()
         self.on_furniture = bool(self.paths) and getattr(self.arm, "furniture", None) is not None
         self._make_artists()
-        solids = len(obstacles.radii) + len(obstacles.boxes) + len(obstacles.rods)  # the floor is no red solid
+        solids = len(obstacles.radii) + shaped  # the floor is no red solid
         legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids), paths=bool(self.paths),
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
                                          hidden_by="a sphere" if self.shapes is None else "an obstacle",
@@ -222,7 +223,7 @@ class SceneCanvas:
         return np.where(front[:, None], screen[:, :2], np.nan)
 
     def _behind(self, screen: np.ndarray) -> np.ndarray:
-        """(P,) bool: screen points (P, 3) hidden by an obstacle (a sphere, a box, a capsule)."""
+        """(P,) bool: screen points (P, 3) hidden by an obstacle (a sphere, a box, a capsule, a cylinder)."""
         hidden = self.spheres.behind(screen)
         return hidden | self.shapes.behind(screen) if self.shapes is not None else hidden
 

@@ -5,7 +5,7 @@ sprites, and the painter's order that draws them far first.
   samples every part is ordered by.
 - :mod:`.mesh`: link prisms built in each joint's frame (pure numpy).
 - :mod:`.spheres`: obstacle spheres as exact discs shaded once into sprites.
-- :mod:`.shapes`: obstacle boxes and capsules: shaded faces, ray depth, outlines, shadows.
+- :mod:`.shapes`: obstacle boxes, capsules and cylinders: shaded faces, ray depth, outlines, shadows.
 - :mod:`.order`: the painter's order of overlapping parts.
 - :mod:`.obstacle_order`: with boxes or capsules, the obstacles' order among themselves and
   among the arm's parts.

@@ -27,7 +27,7 @@ from armanim.render.overlay.paths import arc_spacing, path_normal, sampled_paths
 from armanim.render.overlay.triads import TRIAD_PER_REACH, has_orientations
 from armanim.render.paint import scenery, style
 from armanim.render.settings import RenderSettings
-from armanim.world.obstacles import BOX, ROD, SPHERE
+from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"
 """The data format's name and version (docs/viewer.md)."""
@@ -335,29 +335,44 @@ def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int)
 
 
 def sphere_entries(obstacles) -> list[dict]:
-    """The sphere obstacles: centre, radius and influence."""
+    """The sphere obstacles: centre, radius and influence (and name, where the scene gives one)."""
     return [
-        {"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}
-        for c, r, i in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)])
+        _named({"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}, obstacles, k)
+        for c, r, i, k in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)], obstacles.columns(SPHERE))
     ]
 
 
+def _named(entry: dict, obstacles, column: int) -> dict:
+    """``entry`` with the obstacle's ``name`` where it has one (an unnamed obstacle's entry is as it always was)."""
+    name = obstacles.name(int(column))
+    return entry if name is None else {**entry, "name": name}
+
+
 def shape_entries(obstacles) -> dict:
-    """The boxes (centre, full edges, world-from-box rotation as rows) and capsule obstacles
-    (ends, radius), each with its influence; the keys only when there are any (a scene of
-    spheres writes the page it always wrote)."""
+    """The boxes (centre, full edges, world-from-box rotation as rows), capsule obstacles
+    (ends, radius) and cylinders (centre, length, radius, world-from-cylinder rotation as rows,
+    the axis its local z), each with its influence (and name, where the scene gives one); the
+    keys only when there are any (a scene of spheres writes the page it always wrote)."""
     out = {}
-    boxes, rods = obstacles.boxes, obstacles.rods
+    boxes, rods, cylinders = obstacles.boxes, obstacles.rods, obstacles.cylinders
     if len(boxes):
         out["boxes"] = [
-            {"center": [float(v) for v in c], "size": [float(2 * v) for v in h], "rotation": np.asarray(r, dtype=float).tolist(),
-             "influence": float(i)}
-            for c, h, r, i in zip(boxes.centers, boxes.half, boxes.rotations, obstacles.influence[obstacles.columns(BOX)])
+            _named({"center": [float(v) for v in c], "size": [float(2 * v) for v in h], "rotation": np.asarray(r, dtype=float).tolist(),
+                    "influence": float(i)}, obstacles, k)
+            for c, h, r, i, k in zip(boxes.centers, boxes.half, boxes.rotations, obstacles.influence[obstacles.columns(BOX)],
+                                     obstacles.columns(BOX))
         ]
     if len(rods):
         out["obstacle_capsules"] = [
-            {"from": [float(v) for v in a], "to": [float(v) for v in b], "radius": float(r), "influence": float(i)}
-            for a, b, r, i in zip(rods.start, rods.end, rods.radius, obstacles.influence[obstacles.columns(ROD)])
+            _named({"from": [float(v) for v in a], "to": [float(v) for v in b], "radius": float(r), "influence": float(i)}, obstacles, k)
+            for a, b, r, i, k in zip(rods.start, rods.end, rods.radius, obstacles.influence[obstacles.columns(ROD)], obstacles.columns(ROD))
+        ]
+    if len(cylinders):
+        out["cylinders"] = [
+            _named({"center": [float(v) for v in c], "length": float(2 * h), "radius": float(r), "rotation": np.asarray(m, dtype=float).tolist(),
+                    "influence": float(i)}, obstacles, k)
+            for c, m, h, r, i, k in zip(cylinders.centers, cylinders.rotations, cylinders.half_length, cylinders.radius,
+                                        obstacles.influence[obstacles.columns(CYLINDER)], obstacles.columns(CYLINDER))
         ]
     return out
 

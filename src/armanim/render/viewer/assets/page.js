@@ -69,7 +69,7 @@
 
   // ---- the page's fixed parts ------------------------------------------------------
   $("title").textContent = D.title;
-  if (!D.obstacles.length && !D.boxes && !D.obstacle_capsules && D.clearance.every((v) => v === null)) $("clearance").parentElement.hidden = true;  // no obstacles (nor floor): no clearance to show
+  if (!D.obstacles.length && !D.boxes && !D.obstacle_capsules && !D.cylinders && D.clearance.every((v) => v === null)) $("clearance").parentElement.hidden = true;  // no obstacles (nor floor): no clearance to show
   document.title = D.title + " - armanim";
   const slider = $("slider");
   slider.max = String(F - 1);
@@ -133,12 +133,18 @@
   const gridLines = new T.LineSegments(gridGeo, new T.LineBasicMaterial({ color: S.grid }));
   gridLines.position.z = size * 2e-4; scene.add(gridLines);
 
-  // obstacles: shaded spheres and their influence shells
-  const shells = [];
+  // obstacles: shaded spheres and their influence shells; a named obstacle's name labels its centre
+  const shells = [], obstacleLabels = [];
+  const named = (mesh, o) => {
+    if (o.name === undefined) return;
+    const el = document.createElement("div");
+    el.className = "obstacle-label"; el.textContent = o.name; $("labels").append(el);
+    obstacleLabels.push({ el, position: mesh.position.clone() });
+  };
   for (const o of D.obstacles) {
     const r = o.radius > 0 ? o.radius : hw * 0.6;
     const s = new T.Mesh(new T.SphereGeometry(r, 48, 32), new T.MeshPhongMaterial({ color: S.obstacle, shininess: 40, specular: 0x555555 }));
-    s.position.fromArray(o.center); s.castShadow = true; scene.add(s);
+    s.position.fromArray(o.center); s.castShadow = true; scene.add(s); named(s, o);
     if (o.influence > 0) {
       const sh = new T.Mesh(new T.SphereGeometry(o.radius + o.influence, 48, 24),
         new T.MeshBasicMaterial({ color: S.obstacle, transparent: true, opacity: 0.05, depthWrite: false }));
@@ -147,8 +153,9 @@
       sh.position.fromArray(o.center); wire.position.fromArray(o.center); scene.add(sh, wire); shells.push(sh, wire);
     }
   }
-  // boxes (rotation: world-from-box, rows) and capsule obstacles, shaded alike; their shells: the box grown
-  // by its influence, the capsule's radius grown by it
+  // boxes (rotation: world-from-box, rows), capsule obstacles and cylinders (rotation: world-from-cylinder, rows,
+  // the axis its z), shaded alike; their shells: the box grown by its influence, the capsule's radius grown by it,
+  // the cylinder's radius and half length grown by it
   const obstacleMat = new T.MeshPhongMaterial({ color: S.obstacle, shininess: 40, specular: 0x555555 });
   const shellMats = [new T.MeshBasicMaterial({ color: S.obstacle, transparent: true, opacity: 0.05, depthWrite: false }),
     new T.MeshBasicMaterial({ color: S.obstacle, wireframe: true, transparent: true, opacity: 0.13, depthWrite: false })];
@@ -176,7 +183,7 @@
   for (const b of D.boxes || []) {
     const half = b.size.map((v) => v / 2);
     const solid = new T.Mesh(boxGeometry(b.center, half, b.rotation), obstacleMat);
-    solid.castShadow = true; solid.receiveShadow = true; scene.add(solid);
+    solid.castShadow = true; solid.receiveShadow = true; scene.add(solid); named(solid, b);
     if (b.influence > 0) {
       const grown = boxGeometry(b.center, half.map((v) => v + b.influence), b.rotation);
       for (const mat of shellMats) { const sh = new T.Mesh(grown, mat); scene.add(sh); shells.push(sh); }
@@ -188,11 +195,42 @@
     const q = new T.Quaternion().setFromUnitVectors(new T.Vector3(0, 1, 0), len > 0 ? axis.clone().normalize() : new T.Vector3(0, 1, 0));
     const mid = a.clone().add(e).multiplyScalar(0.5).toArray();
     const solid = place(new T.Mesh(new T.CapsuleGeometry(c.radius, Math.max(len, 1e-9), 8, 24), obstacleMat), mid, q);
-    solid.castShadow = true; scene.add(solid);
+    solid.castShadow = true; scene.add(solid); named(solid, c);
     if (c.influence > 0) {
       for (const mat of shellMats) {
         const sh = place(new T.Mesh(new T.CapsuleGeometry(c.radius + c.influence, Math.max(len, 1e-9), 8, 16), mat), mid, q);
         scene.add(sh); shells.push(sh);
+      }
+    }
+  }
+
+  // the unit quaternion of a rotation matrix m (rows), Shepperd's way (the bundle keeps no Matrix4)
+  const quaternionOf = (m) => {
+    const trace = m[0][0] + m[1][1] + m[2][2];
+    if (trace > 0) {
+      const s = 0.5 / Math.sqrt(trace + 1);
+      return new T.Quaternion((m[2][1] - m[1][2]) * s, (m[0][2] - m[2][0]) * s, (m[1][0] - m[0][1]) * s, 0.25 / s);
+    }
+    if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
+      const s = 2 * Math.sqrt(1 + m[0][0] - m[1][1] - m[2][2]);
+      return new T.Quaternion(0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s);
+    }
+    if (m[1][1] > m[2][2]) {
+      const s = 2 * Math.sqrt(1 + m[1][1] - m[0][0] - m[2][2]);
+      return new T.Quaternion((m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s);
+    }
+    const s = 2 * Math.sqrt(1 + m[2][2] - m[0][0] - m[1][1]);
+    return new T.Quaternion((m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s, (m[1][0] - m[0][1]) / s);
+  };
+  for (const c of D.cylinders || []) {
+    // three's cylinder stands along its y: turn y to the cylinder's axis (the rotation's third column)
+    const R = c.rotation, q = quaternionOf(R.map((row) => [row[0], row[2], -row[1]]));
+    const solid = place(new T.Mesh(new T.CylinderGeometry(c.radius, c.radius, c.length, 48), obstacleMat), c.center, q);
+    solid.castShadow = true; solid.receiveShadow = true; scene.add(solid); named(solid, c);
+    if (c.influence > 0) {
+      for (const mat of shellMats) {
+        const grown = new T.CylinderGeometry(c.radius + c.influence, c.radius + c.influence, c.length + 2 * c.influence, 32);
+        const sh = place(new T.Mesh(grown, mat), c.center, q); scene.add(sh); shells.push(sh);
       }
     }
   }
@@ -413,6 +451,7 @@
   D.obstacles.forEach((o) => fitPoints.push([...o.center, o.radius + o.influence]));
   (D.boxes || []).forEach((b) => fitPoints.push([...b.center, 0.5 * Math.hypot(...b.size) + b.influence]));
   (D.obstacle_capsules || []).forEach((c) => { fitPoints.push([...c.from, c.radius + c.influence]); fitPoints.push([...c.to, c.radius + c.influence]); });
+  (D.cylinders || []).forEach((c) => fitPoints.push([...c.center, Math.hypot(c.radius, c.length / 2) + c.influence]));
   D.goals.forEach((g) => fitPoints.push([...g.position, goalR * 3]));
   if (D.paths) for (const g of D.paths.goals) for (let i = 0; i < g.points.length; i += 3) fitPoints.push([g.points[i], g.points[i + 1], g.points[i + 2], 0]);
   if (D.view.bounds) for (const x of D.view.bounds[0]) for (const y of D.view.bounds[1]) for (const z of D.view.bounds[2]) fitPoints.push([x, y, z, 0]);
@@ -598,6 +637,11 @@
       tmp.copy(m.position).project(camera);
       labels[i].style.left = ((tmp.x + 1) / 2 * w).toFixed(1) + "px";
       labels[i].style.top = ((1 - tmp.y) / 2 * h).toFixed(1) + "px";
+    });
+    obstacleLabels.forEach(({ el, position }) => {
+      tmp.copy(position).project(camera);
+      el.style.left = ((tmp.x + 1) / 2 * w).toFixed(1) + "px";
+      el.style.top = ((1 - tmp.y) / 2 * h).toFixed(1) + "px";
     });
   }
   function resize() {
