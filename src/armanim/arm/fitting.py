@@ -99,10 +99,10 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
     >>> len(fit_capsules(box))
     2
     """
-    points = np.unique(np.asarray(vertices, dtype=float).reshape(-1, 3), axis=0)
+    points, inverse = np.unique(np.asarray(vertices, dtype=float).reshape(-1, 3), axis=0, return_inverse=True)
     if not len(points):
         return []
-    edges = _edges(np.asarray(vertices, dtype=float).reshape(-1, 3), faces)
+    edges = _edges(points, None if faces is None else inverse.reshape(-1)[np.asarray(faces, dtype=np.int64)])  # each edge once
     axes = principal_axes(points)
     best = [(_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])]
     volume = best[0][0][0]
@@ -141,10 +141,11 @@ Fit = tuple[float, np.ndarray, np.ndarray, float]
 """(volume, start, end, radius) of one capsule."""
 
 
-def _piece_fit(points: np.ndarray, fine: bool) -> Fit:
+def _piece_fit(points: np.ndarray, fine: bool, hulled: bool = False) -> Fit:
     """The capsule of least volume found for ``points``: the best of the principal axes, then
-    (``fine``) a pattern search of the direction from it."""
-    hull = hull_points(points)
+    (``fine``) a pattern search of the direction from it. ``hulled``: the points are already few
+    (slabs' hulls): no hull of them is taken."""
+    hull = points if hulled else hull_points(points)
     if len(hull) == 1:
         return 0.0, hull[0].copy(), hull[0].copy(), 0.0
     axes = principal_axes(hull)
@@ -296,33 +297,35 @@ Split = tuple[float, list[tuple[float, float]], np.ndarray]
 def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) -> dict[int, Split]:
     """For each count of pieces, the least total volume of the pieces cut across one principal
     axis at evenly spaced places (each piece fitted along its principal axes only), with its
-    slabs and axis; a count is missing when no cut leaves every piece some points."""
+    slabs and axis; a count is missing when no cut leaves every piece some points.
+
+    The hull of a piece is the hull of its thin slabs' hulls (each slab between two neighbouring
+    places, with where the edges cross its planes): each slab's hull is computed once."""
     best: dict[int, Split] = {}
     for axis in axes:
         t = points @ axis
         places = np.linspace(t.min(), t.max(), CUTS + 1)[1:-1]
         n = len(places)
+        ends = [-np.inf, *places.tolist(), np.inf]
+        along = (t, edges[:, 0] @ axis, edges[:, 1] @ axis)
+        thin = [hull_points(_slab(points, edges, axis, ends[k], ends[k + 1], along)) for k in range(n + 1)]
         known: dict[tuple[int, int], float] = {}
         for count in counts:
             for cuts in _cut_sets(n, count - 1):
                 bounds = (-1, *cuts, n)
-                total = sum(_piece_volume(points, edges, axis, places, bounds[k], bounds[k + 1], known) for k in range(count))
+                total = sum(_piece_volume(thin, bounds[k], bounds[k + 1], known) for k in range(count))
                 if np.isfinite(total) and (count not in best or total < best[count][0]):
-                    slabs = [(float(places[bounds[k]]) if bounds[k] >= 0 else -np.inf,
-                              float(places[bounds[k + 1]]) if bounds[k + 1] < n else np.inf) for k in range(count)]
+                    slabs = [(float(ends[bounds[k] + 1]), float(ends[bounds[k + 1] + 1])) for k in range(count)]
                     best[count] = (float(total), slabs, axis)
     return best
 
 
-def _piece_volume(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, places: np.ndarray, i: int, j: int,
-                  known: dict[tuple[int, int], float]) -> float:
-    """The volume of the coarse capsule of the piece between cuts i and j (-1 and len(places):
-    the ends; its points and where the edges cross its planes), inf for no points; kept in ``known``."""
+def _piece_volume(thin: list[np.ndarray], i: int, j: int, known: dict[tuple[int, int], float]) -> float:
+    """The volume of the coarse capsule of the piece between cuts i and j (-1 and len(thin) - 1:
+    the ends), made of the thin slabs i + 1 to j; inf for no points; kept in ``known``."""
     if (i, j) not in known:
-        lo = float(places[i]) if i >= 0 else -np.inf
-        hi = float(places[j]) if j < len(places) else np.inf
-        inside = _slab(points, edges, axis, lo, hi)
-        known[(i, j)] = _piece_fit(inside, fine=False)[0] if len(inside) else np.inf
+        inside = np.concatenate(thin[i + 1:j + 1])
+        known[(i, j)] = _piece_fit(inside, fine=False, hulled=True)[0] if len(inside) else np.inf
     return known[(i, j)]
 
 
@@ -343,15 +346,15 @@ def _edges(vertices: np.ndarray, faces: np.ndarray | None) -> np.ndarray:
     return np.asarray(vertices[pairs])
 
 
-def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi: float) -> np.ndarray:
+def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi: float,
+          along: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """The points with ``lo <= t < hi`` along ``axis`` (every point for the whole range), and where
-    the edges cross the planes t = lo and t = hi."""
-    t = points @ axis
+    the edges cross the planes t = lo and t = hi; ``along``: the points' and the edges' ends' t, if known."""
+    t, ta, tb = along if along is not None else (points @ axis, edges[:, 0] @ axis, edges[:, 1] @ axis)
     inside = points[(t >= lo) & ((t < hi) | (hi == np.inf))]
     crossings = [inside]
     for plane in (lo, hi):
         if np.isfinite(plane) and len(edges):
-            ta, tb = edges[:, 0] @ axis, edges[:, 1] @ axis
             cross = (np.minimum(ta, tb) < plane) & (np.maximum(ta, tb) > plane)
             s = (plane - ta[cross]) / (tb[cross] - ta[cross])
             crossings.append(edges[cross, 0] + s[:, None] * (edges[cross, 1] - edges[cross, 0]))
