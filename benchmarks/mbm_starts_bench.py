@@ -63,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
                 data = moveit_scene(scene, request, RobotSource(robot="panda"), Path(tmp) / "out.yaml").data
             except SceneError as error:  # a start or goal outside the bundled Panda's limits (Franka's own)
                 unimported[family] += 1
-                reasons[error.diagnostics[0].message.split(" at ")[0] + " outside its limits"] += 1
+                reasons[error.problems[0].message.split(" at ")[0] + " outside its limits"] += 1
                 continue
             for mode in MODES:
                 start, whole, first = check(data, mode)
