@@ -27,7 +27,7 @@ DECIMALS = 6
 """Places kept of each end and radius (in the mesh's unit: 1 um for metres)."""
 CUTS = 12
 """A piece is cut at CUTS - 1 evenly spaced places along each principal axis."""
-SPLIT_GAIN = 0.9
+SPLIT_GAIN = 0.95
 """A second (third) capsule is taken only when the total volume falls below this share of the
 fewer capsules' volume: each capsule costs the solver a pair per obstacle and per link."""
 DIRECTION_TOL = 0.004
