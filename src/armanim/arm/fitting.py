@@ -6,8 +6,9 @@ then searches the axis direction (a pattern search on the sphere of directions, 
 to :data:`DIRECTION_TOL`); for each direction the axis line passes through the centre of the
 smallest circle holding the points seen along it, and the radius is chosen by a 1-D search that
 minimises the capsule's volume (a larger radius buys shorter ends). For 2 and 3 capsules the points
-are cut by planes across one of the principal axes, at :data:`CUTS` evenly spaced places, each
-piece fitted alone; a cut is kept only when it saves a share of the volume (:data:`SPLIT_GAIN`).
+are cut by planes across one of the principal axes or of the mesh frame's axes (a CAD part is often
+square to its link's frame), at :data:`CUTS` evenly spaced places, each piece fitted alone; a cut is
+kept only when it saves a share of the volume (:data:`SPLIT_GAIN`).
 
 Each capsule holds its piece's vertices and the points where the mesh's edges cross the piece's
 cutting planes, so the pieces' capsules together hold every triangle, not only the vertices. The
@@ -107,7 +108,7 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
     best = [(_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])]
     volume = best[0][0][0]
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
-    splits = _best_splits(points, edges, axes, tuple(counts)) if len(counts) else {}
+    splits = _best_splits(points, edges, np.vstack([axes, np.eye(3)]), tuple(counts)) if len(counts) else {}  # and the frame's axes
     for count in counts:
         split = splits.get(count)
         if split is None:
