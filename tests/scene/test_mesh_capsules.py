@@ -233,3 +233,11 @@ def test_robots_fit_through_the_installed_command(robot_dir):
     assert missing.returncode == 2 and "nope.urdf: no such file" in missing.stderr
     helped = subprocess.run([*command, "robots", "--help"], capture_output=True, text=True, timeout=120)
     assert "--fit" in helped.stdout and "armanim robots --fit" in helped.stdout
+
+
+def test_a_urdf_link_in_an_obstacle_is_named_by_its_link(robot_dir):
+    path = robot_dir / "hit.yaml"
+    path.write_text("version: 1\narm:\n  urdf: meshy.urdf\n  tip_link: tip\ngoals:\n  - [0.3, 0.1, 0.5]\n"
+                    "obstacles:\n  - {center: [0, 0, 0.4], radius: 0.01}\n")
+    with pytest.raises(SceneError, match=r"hit.yaml:8: obstacles\[0\]: link 'upper' of the arm's home pose is inside this obstacle"):
+        load_scene(path)

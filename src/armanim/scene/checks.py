@@ -365,8 +365,9 @@ def _collision_problems(problem, tip_size: str):
                 f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
                 "move the obstacle or arm.base, or lower solver.clearance)")
             continue
+        shown = f"link {problem.capsules.names[link]!r}" if problem.capsules.names else f"link {link + 1}"  # a URDF's: by name
         yield _obstacle_path(obstacles, obs), (
-            f"link {link + 1} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'this obstacle')) if inside else 'closer to ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'it')) + ' than solver.clearance'} "
+            f"{shown} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'this obstacle')) if inside else 'closer to ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'it')) + ' than solver.clearance'} "
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
             f"move {_floor_or(obstacles, obs, 'the obstacle')}, change arm.home or lower solver.clearance)"
         )
