@@ -107,6 +107,7 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
     axes = principal_axes(points)
     best = [(_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])]
     volume = best[0][0][0]
+    coarse = _piece_fit(points, fine=False)[0]  # the cuts' coarse volumes are weighed against the same coarse fit
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
     splits = _best_splits(points, edges, np.vstack([axes, np.eye(3)]), tuple(counts)) if len(counts) else {}  # and the frame's axes
     for count in counts:
@@ -114,7 +115,7 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
         if split is None:
             continue
         total, cuts, axis = split
-        if total < SPLIT_GAIN * volume:
+        if total < SPLIT_GAIN * coarse:
             pieces = [(_piece_fit(_slab(points, edges, axis, lo, hi), fine=True), (lo, hi), axis) for lo, hi in cuts]
             refined = sum(p[0][0] for p in pieces)
             if refined < SPLIT_GAIN * volume:
