@@ -117,7 +117,7 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     # limited joints within their limits, the ends included (a home or a joint goal may rest on one)
     lim = problem.limits
     limited = lim.limited
-    assert np.all(traj.phi[:, limited] >= lim.lower[limited])
+    assert np.all(traj.phi[:, limited] >= lim.lower[limited]), (traj.phi[:, limited] - lim.lower[limited]).min()
     assert np.all(traj.phi[:, limited] <= lim.upper[limited])
     # ... and the method's frames keep the filter's buffer from them (or get no closer than home
     # was); a joint goal's planned path keeps the limits themselves
@@ -139,8 +139,14 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         assert steps.max() <= problem.solver.max_joint_step + TINY
         assert max_joint_step(traj.phi) == pytest.approx(steps.max())
     # reached rows are within tolerance (and the orientation tolerance, where the goal has one), and only those
+    # (a joint goal's rows: where every joint is within joint_tolerance of it)
     turned = True if traj.orientation_error is None else ~(traj.orientation_error >= problem.solver.orientation_tolerance)
-    np.testing.assert_array_equal(traj.reached, (traj.distance < problem.solver.tolerance) & turned)
+    expected = (traj.distance < problem.solver.tolerance) & turned
+    for k, g in enumerate(problem.goals):
+        if g.joints is not None:
+            mine = traj.goal == k
+            expected = np.where(mine, np.all(np.abs(traj.phi - g.joints) <= problem.solver.joint_tolerance, axis=1), expected)
+    np.testing.assert_array_equal(traj.reached, expected)
     # per-goal reports
     assert len(solution.goals) == len(problem.goals)
     for k, report in enumerate(solution.goals):

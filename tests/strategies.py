@@ -302,6 +302,37 @@ def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: in
 
 
 @st.composite
+def joint_goal_problems(draw, max_links: int = 5, max_goals: int = 3) -> Problem:
+    """An arm of links among spheres, boxes, capsules and cylinders (and a floor or none), with
+    joint goals: random poses inside the limits (some on a limit) whose capsules keep the clearance,
+    as a scene's checks ask of them; the home clear too."""
+    from armanim.world.distances import clearances
+
+    arm = draw(arms(min_links=3, max_links=max_links))
+    home = draw(poses(arm.n)) * 0.3
+    half_width = draw(st.floats(0.1, 0.3))
+    limits = draw(limits_for(home, margin_deg=10.0))
+    solver = default_solver_settings(method=draw(st.sampled_from(METHODS)), max_frames_per_goal=200, clearance=0.05)
+    goal_poses = []
+    for _ in range(draw(st.integers(1, max_goals))):
+        pose = np.clip(draw(poses(arm.n)), limits.lower, limits.upper)
+        if draw(st.booleans()):  # a goal resting on one of its joint's limits
+            j = draw(st.integers(0, arm.n - 1))
+            bound = limits.lower[j] if draw(st.booleans()) else limits.upper[j]
+            if np.isfinite(bound):
+                pose[j] = bound
+        goal_poses.append(pose)
+    tips = forward(arm, np.array([home, *goal_poses])).tip
+    obstacles = with_floor(draw(shapes_across(tips, scale=1.0, spread=0.3, cylinders=True)),
+                           draw(st.one_of(st.none(), st.floats(0.0, 1.0).map(lambda drop: float(arm.base[2]) - drop))))
+    capsules = joint_capsules(arm, half_width)
+    assume(np.all(clearances(forward(arm, np.array([home, *goal_poses])), obstacles, capsules).links > solver.clearance))
+    return Problem(arm=arm, half_width=half_width, home=home, limits=limits, obstacles=obstacles,
+                   goals=tuple(Goal(tip, hold=0.0, joints=pose) for tip, pose in zip(tips[1:], goal_poses)), solver=solver,
+                   fps=30.0)
+
+
+@st.composite
 def ros_poses(draw) -> tuple[list[float], list[float]]:
     """A ROS pose as a MoveIt file writes it: a position and a unit x-y-z-w quaternion (any rotation)."""
     position = [draw(st.floats(-2.0, 2.0, allow_nan=False, allow_infinity=False)) for _ in range(3)]

@@ -492,7 +492,7 @@ def test_a_file_it_did_not_write_is_not_replaced(tmp_path):
     _toy(tmp_path)
     mine = _write(tmp_path, "mine.yaml", "version: 1\n# my own scene\n")
     result = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "mine.yaml", cwd=tmp_path)
-    assert result.returncode == 2 and "did not write" in result.stderr, result.stderr
+    assert result.returncode == 3 and "did not write" in result.stderr, result.stderr
     assert mine.read_text() == "version: 1\n# my own scene\n"
     first = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
     again = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
@@ -501,7 +501,7 @@ def test_a_file_it_did_not_write_is_not_replaced(tmp_path):
     edited = (tmp_path / "o.yaml").read_text().replace("version: 1", "version: 1\nname: mine")
     (tmp_path / "o.yaml").write_text(edited)  # the user's edit, the first line kept
     result = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
-    assert result.returncode == 2 and "changed since" in result.stderr, result.stderr
+    assert result.returncode == 3 and "changed since" in result.stderr, result.stderr
     assert (tmp_path / "o.yaml").read_text() == edited
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []  # no temporary left
 

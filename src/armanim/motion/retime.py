@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import cast
 
 import numpy as np
 
@@ -34,10 +35,11 @@ from armanim.motion.pathtiming import (
     tool_speed_excess,
     traced_paths,
 )
+from armanim.motion.planning.check import CompiledCheck
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
-from armanim.motion.solvers.barrier import pose_clearance, self_shift
-from armanim.motion.trajectory import hold_frames, with_self_clearance
+from armanim.motion.solvers.barrier import self_shift
+from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance
 from armanim.world.distances import min_link_clearance
 
 
@@ -95,6 +97,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
     phi, velocity, source, held, goal = _joined(src.phi, [p.goal for p in parts], [p.frames for p in parts], motions,
                                                 [p.hold for p in parts])
+    phi = within_closed_limits(problem, phi)
     part_timings = [m.timing(src.phi[p.frames.start], rates.speed, rates.acceleration, fps) for m, p in zip(motions, parts)]
     timings = [joined_timing([t for t, p in zip(part_timings, parts) if p.goal == g.index]) for g in solution.goals]
     pose = forward(problem.arm, phi)
@@ -111,7 +114,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         goal=goal,
         distance=distance,
         clearance=min_link_clearance(pose, problem.obstacles, problem.capsules),
-        reached=(distance < problem.solver.tolerance) & turned,
+        reached=joint_goals_reached(problem, phi, goal, (distance < problem.solver.tolerance) & turned),
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
         fps=fps,
@@ -127,6 +130,19 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     trajectory = with_self_clearance(problem, trajectory, pose)
     reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
     return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports))
+
+
+def within_closed_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """(F, n) ``phi`` with every limited joint clipped into its limits, ends included: a path that
+    rests on a limit (a joint goal's) is evaluated on the clock to rounding, which may fall an ulp
+    beyond it; inside the limits the values are unchanged, bit for bit.
+
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(limits=SimpleNamespace(lower=np.array([-1.0, -np.inf]), upper=np.array([1.0, np.inf])))
+    >>> within_closed_limits(p, np.array([[-1.0000000000000002, -5.0], [0.5, 5.0]])).tolist()
+    [[-1.0, -5.0], [0.5, 5.0]]
+    """
+    return cast(np.ndarray, np.clip(phi, problem.limits.lower, problem.limits.upper))
 
 
 @dataclass(frozen=True)
@@ -219,7 +235,8 @@ def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
         own = trajectory.self_clearance + self_shift(problem)
         certified &= two_sided_bound(own[:-1], own[1:], reach) >= floor
         clear = np.minimum(clear, own)
-    return PathSafety(lambda phi: pose_clearance(problem, phi), floor, problem.lever_arms, clear, certified)
+    measure = CompiledCheck.of(problem, exact=True).pose_clearances  # pose_clearance's numbers, compiled: the probes ask thousands
+    return PathSafety(measure, floor, problem.lever_arms, clear, certified)
 
 
 def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: GoalTiming) -> GoalReport:

@@ -232,6 +232,20 @@ def joint_error(phi: np.ndarray, goal: Goal) -> np.ndarray:
     return cast(np.ndarray, np.abs(phi - goal.joints).max(axis=-1))
 
 
+def joint_goals_reached(problem: Problem, phi: np.ndarray, goal: np.ndarray, reached: np.ndarray) -> np.ndarray:
+    """(F,) ``reached`` with the frames of joint goals judged by their joints instead: every joint
+    within ``solver.joint_tolerance`` of the goal (a joint goal's tool point says nothing of it).
+    ``phi`` (F, n) radians, ``goal`` (F,) each frame's goal index."""
+    if all(g.joints is None for g in problem.goals):
+        return reached
+    reached = reached.copy()
+    for k, g in enumerate(problem.goals):
+        if g.joints is not None:
+            mine = goal == k
+            reached[mine] = joint_error(phi[mine], g) <= problem.solver.joint_tolerance
+    return reached
+
+
 def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int, goal: Goal,
                       on_frame: Callable[[_Visit], None], planning: Searched | None = None) -> tuple[ArmState, GoalReport]:
     """Frames along a planned path to joint goal ``k`` (mode ``plan``: no method steps; the path
@@ -427,16 +441,10 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         path_s=path_s,
         path_error=None if path_s is None else np.where(np.isnan(path_s), np.nan, distance),
     )
-    if any(g.joints is not None for g in problem.goals):  # a joint goal is reached by its joints, not its tool point
-        reached = traj.reached.copy()
-        for k, g in enumerate(problem.goals):
-            if g.joints is not None:
-                mine = goal == k
-                reached[mine] = joint_error(phi[mine], g) <= problem.solver.joint_tolerance
-        traj = replace(traj, reached=reached)
+    traj = replace(traj, reached=joint_goals_reached(problem, phi, goal, traj.reached))
     if len(problem.self_pairs) and len(rec.self_gap) == len(rec):  # every frame's pairs were measured in the loop
         return replace(traj, self_clearance=np.array(rec.self_gap), self_pair=np.array(problem.self_pairs.labels)[rec.self_pair])
     return with_self_clearance(problem, traj)
 
 
-__all__ = ["frame_budget", "goal_budget", "hold_frames", "solve_trajectory", "with_self_clearance"]
+__all__ = ["frame_budget", "goal_budget", "hold_frames", "joint_goals_reached", "solve_trajectory", "with_self_clearance"]

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.rotations import axis_angle_rotation, rpy_rotation
-from armanim.errors import Diagnostic, SceneError, UsageError, shown, shown_list
+from armanim.errors import Diagnostic, OutputError, SceneError, UsageError, shown, shown_list
 from armanim.output.files import read_bounded
 from armanim.scene.moveit import (
     Frames,
@@ -706,16 +706,17 @@ def import_moveit(scene: str | Path, request: str | Path | None, source: RobotSo
     Raises
     ------
     SceneError, UsageError
-        As :func:`moveit_scene`; also when ``out`` is a file the importer did not write (exit 2).
+        As :func:`moveit_scene`.
     OutputError
-        ``out`` could not be written (exit 3).
+        ``out`` is a file the importer did not write, or one edited since, or could not be written
+        (exit 3, as ``export`` and a run folder refuse what armanim did not make).
     """
     from armanim.output.atomic import write_text_atomic
 
     out = Path(out)
     problem = replace_problem(out)
     if problem is not None:
-        raise UsageError(f"--out {out}: {problem} (move it away, or choose another file with --out)")
+        raise OutputError(f"--out {out}: {problem} (move it away, or choose another file with --out)")
     imported = moveit_scene(scene, request, source, out)
     write_text_atomic(out, imported.text)
     return imported

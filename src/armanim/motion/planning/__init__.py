@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.motion.orientation import Orientation
-from armanim.motion.planning.follow import damper_paced, path_lengths, path_schedule, poses_along
 from armanim.motion.planning.check import CompiledCheck
+from armanim.motion.planning.follow import damper_paced, path_lengths, path_schedule, poses_along
 from armanim.motion.planning.path import Searched, plan_path, search_path
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Problem
@@ -116,6 +116,7 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
     """
     check = CompiledCheck.of(problem, closed=True)
     floor = joint_path_floor(check, problem, phi_now, goal)
+    source: PathSource
     if problem.solver.planner == "off":
         free, checks = check.motion_free(phi_now, goal, floor)
         waypoints, source = (np.stack([phi_now, goal]), "straight") if free else (None, "none")
@@ -123,7 +124,8 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
         waypoints, source, checks = joint_goal_search(problem, phi_now, goal[None], floor, searched, check)
     if waypoints is None:
         return Plan(None, "no_path", 1, source, checks)
-    frames = joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal)
+    frames = np.clip(joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal),
+                     problem.limits.lower, problem.limits.upper)  # a + u (b - a) toward a limit may round an ulp past it
     if len(frames) and np.array_equal(frames[-1], waypoints[-1]):
         frames[-1] = goal  # the waypoint is the goal (OMPL's copy of it may round)
     return Plan(frames, None, 1, source, checks)

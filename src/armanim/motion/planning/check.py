@@ -19,13 +19,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
 from armanim.arm.capsules import Capsules
+from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import limit_buffer, self_shift
-from armanim.motion.solvers.compiled_frame import _clearances, _world
-from armanim.world.compiled import CYLINDER_SCRATCH, SCRATCH, _cylinder_depth, _cylinder_pair, _pair, segment_segment_pairs
+from armanim.motion.solvers.compiled_frame import _world
+from armanim.world.compiled import (
+    CYLINDER_SCRATCH,
+    SCRATCH,
+    _cylinder_depth,
+    _cylinder_pair,
+    _pair,
+    segment_segment_pairs,
+)
 
 _JIT = dict(error_model="numpy", nogil=True)  # as world.compiled's: the closed forms expect x / 0 to be inf or NaN
 _INLINE = dict(inline="always", **_JIT)
@@ -65,7 +72,7 @@ def _point_cylinder(px: float, py: float, pz: float, center: np.ndarray, rotatio
     x = x0 * rotation[0, 0] + y0 * rotation[1, 0] + z0 * rotation[2, 0]
     y = x0 * rotation[0, 1] + y0 * rotation[1, 1] + z0 * rotation[2, 1]
     z = x0 * rotation[0, 2] + y0 * rotation[1, 2] + z0 * rotation[2, 2]
-    return _cylinder_depth(x, y, z, h, r)  # type: ignore[no-any-return]  # numba compiles this
+    return float(_cylinder_depth(x, y, z, h, r))
 
 
 @compiled(**_JIT)
@@ -393,7 +400,8 @@ class CompiledCheck:
     settings: np.ndarray
 
     @classmethod
-    def of(cls, problem: Problem, closed: bool = False) -> CompiledCheck:
+    def of(cls, problem: Problem, closed: bool = False, exact: bool = False) -> CompiledCheck:
+        """The checks of ``problem``; ``exact``: every clearance and gap measured (no ``far``)."""
         caps, pairs, opts = problem.capsules, problem.self_pairs, problem.tunables.planner
         packed = np.concatenate([caps.start, caps.end, caps.radius[:, None], caps.joint_segment[:, None].astype(float)], axis=1)
         n = problem.arm.n
@@ -408,7 +416,7 @@ class CompiledCheck:
             groups=carrier_groups(_link_of(caps), first, second),
             pairs=(first, second, np.ascontiguousarray(pairs.radii(caps), dtype=float)),
             shift=self_shift(problem) if len(pairs) else 0.0,
-            far=opts.exact_within * problem.arm.reach,
+            far=np.inf if exact else max(opts.exact_within * problem.arm.reach, 4 * problem.solver.clearance),
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
                     np.ascontiguousarray(problem.pair_lever_rows.reshape(len(pairs), n).T, dtype=float)),
@@ -424,6 +432,11 @@ class CompiledCheck:
         own = np.empty((len(phi), len(self.pairs[0])))
         _margins(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, phi, clear, own)
         return clear, own
+
+    def pose_clearances(self, phi: np.ndarray) -> np.ndarray:
+        """(k,) :func:`~armanim.motion.solvers.barrier.pose_clearance` of poses ``phi`` (k, n), compiled."""
+        clear, own = self.margins(phi)
+        return clear if not own.shape[1] else np.minimum(clear, own.min(axis=1))
 
     def pose_clearance(self, phi: np.ndarray) -> float:
         """One pose's :func:`~armanim.motion.solvers.barrier.pose_clearance` (n,), compiled."""
