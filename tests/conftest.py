@@ -89,6 +89,19 @@ def solved_scene(path: Path):
     return problem, solve_trajectory(problem)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def capsule_cache(tmp_path_factory):
+    """Fitted capsules are cached in a folder of the session's, never the user's cache folder
+    (ARMANIM_CACHE_DIR; commands run in subprocesses inherit it)."""
+    before = os.environ.get("ARMANIM_CACHE_DIR")
+    os.environ["ARMANIM_CACHE_DIR"] = str(tmp_path_factory.mktemp("capsule-cache"))
+    yield
+    if before is None:
+        os.environ.pop("ARMANIM_CACHE_DIR", None)
+    else:
+        os.environ["ARMANIM_CACHE_DIR"] = before
+
+
 @pytest.fixture(scope="session")
 def scenes_dir() -> Path:
     assert SCENES.is_dir(), SCENES

@@ -241,11 +241,11 @@ def test_own_urdf_relative_to_the_scene_with_auto_capsules_and_a_note(tmp_path):
     problem = scene_to_problem(scene.model)
     assert problem.arm.joint_names == ("spin", "skew", "noaxis", "wrist")
     caps = problem.capsules
-    # l1's cylinder, l2's box, l2b's sphere (carried by skew); l3's mesh and l4 (none) fall back to joint-to-joint
+    # l1's cylinder, l2's box, l2b's sphere (carried by skew); l3 (an empty <collision>) and l4 (none) fall back to joint-to-joint
     assert caps.names == ("l1", "l2", "l2b", "l3", "l4")
     np.testing.assert_allclose(caps.radius, [0.04, np.hypot(0.025, 0.03), 0.05, 0.02, 0.02])
     assert caps.joint_segment.tolist() == [False, False, False, True, True]
-    assert any("links l3, l4 have no collision primitive" in n.message for n in scene.notes)
+    assert any("links l3, l4 have no collision geometry" in n.message for n in scene.notes)
     with pytest.raises(SceneError, match=r"has 2 leaf links \(sidearm, tool\)"):
         load_scene(_write(tmp_path, "  urdf: robots/t.urdf"))
 

@@ -57,15 +57,17 @@ def test_a_users_urdf_is_drawn_with_its_meshes_and_a_missing_one_is_a_note(cli, 
     triangles = sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3
     assert triangles == 12 + 24 * 4  # the box and the STL cylinder (24 sections: 4 triangles each)
     assert data["meshes"]["look"] == "mesh"
-    assert data["meshes"]["uncovered"] == [1]  # l2's capsule: its mesh is missing, so the capsule is drawn
-    assert data["meshes"]["capsule_group"] == [1, -1]  # l1's capsule tints the group of joint 1 (after the base's)
+    # the base has no <collision>: its capsule is fitted to its visual mesh (issue 52) and comes first
+    assert data["meshes"]["uncovered"] == [2]  # l2's capsule: its mesh is missing, so the capsule is drawn
+    assert data["meshes"]["capsule_group"][1:] == [1, -1]  # l1's capsule tints the group of joint 1 (after the base's)
 
 
 def test_without_the_package_dirs_the_meshes_are_notes_and_capsules_draw_the_robot(cli, tmp_path):
     result = cli("run", str(_scene(tmp_path, package_dirs="[elsewhere]")), "--out", str(tmp_path / "out"), "--no-video",
                  "--viewer")
     assert result.exit_code == 0, result.output
-    assert result.stderr.count("note:") == 2  # base.stl and gone.stl: the box alone is drawn as a mesh
+    # base.stl and gone.stl: the box alone is drawn as a mesh; base.stl is not fitted either (the base has no <collision>)
+    assert result.stderr.count("note:") == 3 and result.stderr.count("drawn as its capsules") == 2
     data = _viewer_data(tmp_path / "out" / "two" / "viewer.html")
     assert sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3 == 12
 
@@ -85,7 +87,7 @@ def test_a_link_whose_mesh_is_missing_is_drawn_as_its_capsule(tmp_path):
     assert len(notes) == 1
     view = View(np.hstack([np.eye(3) * 100, np.array([[80.0], [60.0], [0.0]])]), 160, 120)
     solids = arm_solids(run.problem, run.meshes, view, 100.0, (160, 120))
-    assert isinstance(solids, MeshesAndCapsules) and solids.shown.tolist() == [False, True]
+    assert isinstance(solids, MeshesAndCapsules) and solids.shown.tolist() == [False, False, True]  # the base's fitted capsule first
     parts = solids.parts(forward(run.problem.arm, run.problem.home))
     assert sum(p.raster is not None for p in parts) == len(run.meshes.links) and sum(p.raster is None for p in parts) == 1
 
@@ -93,7 +95,7 @@ def test_a_link_whose_mesh_is_missing_is_drawn_as_its_capsule(tmp_path):
 def test_render_robot_capsules_reads_no_mesh(cli, tmp_path):
     result = cli("run", str(_scene(tmp_path, look="capsules")), "--out", str(tmp_path / "out"), "--no-video", "--viewer")
     assert result.exit_code == 0, result.output
-    assert "note:" not in result.stderr
+    assert "drawn as its capsules" not in result.stderr  # only the fit of the base's capsule read its visual mesh
     assert "meshes" not in _viewer_data(tmp_path / "out" / "two" / "viewer.html")
 
 

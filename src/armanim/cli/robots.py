@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated
+
+import typer
 
 from armanim.cli.app import app, handle_errors, out
 
@@ -60,11 +65,21 @@ def _held_row(joint, default: float) -> tuple[str, str, float]:
 
 @app.command()
 @handle_errors
-def robots() -> None:
+def robots(
+    fit: Annotated[Path | None, typer.Option("--fit", metavar="URDF", help="Print the collision capsules of this URDF instead "
+                                             "(its primitives, and capsules fitted to its meshes), as a scene's arm.collision list.")] = None,
+    package_dir: Annotated[list[Path] | None, typer.Option("--package-dir", help="A folder package:// mesh names are found in "
+                                                           "(repeat for several); default the URDF's folder and its parents.")] = None,
+) -> None:
     """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]), and the joints off each chain a scene holds with [bold]arm.joint_values[/bold] (the Panda's fingers).
 
-    Example: [bold]armanim robots[/bold]
+    Example: [bold]armanim robots[/bold]; [bold]armanim robots --fit my_arm.urdf > capsules.yaml[/bold] prints the capsules [bold]collision: auto[/bold] fits to its meshes
     """
+    if fit is not None:
+        from armanim.scene.robots import fitted_collision_text
+
+        sys.stdout.write(fitted_collision_text(fit, package_dir))
+        return
     from rich.table import Table
 
     for robot in robot_summaries():

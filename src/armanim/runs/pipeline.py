@@ -15,7 +15,7 @@ from armanim.motion.problem import Problem
 from armanim.motion.retime import at_fps, retime
 from armanim.motion.solution import Solution
 from armanim.motion.trajectory import frame_budget, solve_trajectory
-from armanim.output.atomic import write_bytes_atomic
+from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
@@ -28,6 +28,7 @@ from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_pro
 from armanim.scene.limits import rate_note_lines
 from armanim.scene.looks import scene_meshes
 from armanim.scene.models import LIMITS
+from armanim.scene.robots import CAPSULES_FILE, capsules_text
 
 Progress = Callable[[str, int, int], None]
 """progress(stage, done, total): stage is "solve", "plan" (a plan's path search, in iterations,
@@ -139,6 +140,9 @@ def produce_outputs(
     names.update(write_sources(scene, folder))
     write_self_collision(run.problem.self_pairs, folder / SELF_COLLISION_FILE)
     names["self_collision"] = SELF_COLLISION_FILE
+    if scene.model.arm.is_urdf:  # the capsules solved with, in arm.collision's format (a user copies them into the scene)
+        write_text_atomic(folder / CAPSULES_FILE, capsules_text(scene.model.arm.urdf_arm))
+        names["capsules"] = CAPSULES_FILE
     write_trajectory_csv(run, folder / names["trajectory"])
     write_summary(run, folder / names["summary"])
     if options.viewer:

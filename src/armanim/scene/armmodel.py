@@ -117,8 +117,9 @@ class ArmModel(Strict):
     tip_link: UrdfName | None = Field(default=None, description="The URDF link the arm ends at; default the only leaf (or the robot's).")
     base_rpy: Angles3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
     tool: ToolModel | None = Field(default=None, description="The tip in tip_link's frame; default its origin.")
-    collision: Literal["auto"] | Annotated[list[CapsuleModel], Field(max_length=1000)] | None = Field(
-        default=None, description="auto (the URDF's primitives, or the robot's capsules), or a list of capsules."
+    collision: Literal["auto", "fitted"] | Annotated[list[CapsuleModel], Field(max_length=1000)] | None = Field(
+        default=None, description="auto (the URDF's primitives and capsules fitted to its meshes, or a bundled robot's own "
+                                  "capsules), fitted (a bundled robot's capsules fitted to its meshes), or a list of capsules."
     )
     home: list[Angle] | None = Field(default=None, description="Starting joint angles, degrees; default all 0 (or the robot's).")
     joint_values: Annotated[dict[UrdfName, Annotated[float, Field(allow_inf_nan=False, ge=-1e9, le=1e9)]], Field(max_length=1000)] | None = Field(

@@ -365,8 +365,9 @@ def _collision_problems(problem, tip_size: str):
                 f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
                 "move the obstacle or arm.base, or lower solver.clearance)")
             continue
+        shown = f"link {problem.capsules.names[link]!r}" if problem.capsules.names else f"link {link + 1}"  # a URDF's: by name
         yield _obstacle_path(obstacles, obs), (
-            f"link {link + 1} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'this obstacle')) if inside else 'closer to ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'it')) + ' than solver.clearance'} "
+            f"{shown} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'this obstacle')) if inside else 'closer to ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'it')) + ' than solver.clearance'} "
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
             f"move {_floor_or(obstacles, obs, 'the obstacle')}, change arm.home or lower solver.clearance)"
         )
@@ -466,11 +467,20 @@ def as_diagnostics(pairs, line_of) -> list[Diagnostic]:
 
 
 def fallback_notes(scene: SceneModel) -> list[tuple[str, str]]:
-    """A note naming the URDF arm's moving links that have no collision primitive (a mesh, or
-    none) and so get a joint-to-joint capsule of radius ``arm.width / 2``."""
+    """Notes on the URDF arm's capsules that are not its collision geometry: links fitted to their
+    visual meshes (no ``<collision>``), visual meshes that could not be read for it, and moving
+    links with no geometry at all, which get a joint-to-joint capsule of radius ``arm.width / 2``."""
     arm = scene.arm
-    if not arm.is_urdf or not arm.urdf_arm.fallback_links:
+    if not arm.is_urdf:
         return []
-    links = ", ".join(arm.urdf_arm.fallback_links)
-    return [("arm.collision", f"links {links} have no collision primitive (a mesh, or none): each gets a capsule from its "
-                              f"joint to the next of radius arm.width / 2 = {arm.resolved_width / 2:g} (give arm.collision to set them)")]
+    robot, notes = arm.urdf_arm, []
+    if robot.from_visuals:
+        notes.append(("arm.collision", f"links {', '.join(robot.from_visuals)} have no <collision>: their capsules are fitted "
+                                       "to their visual meshes (the run folder's capsules.yaml lists them)"))
+    notes += [("arm.collision", f"{problem}: not fitted") for problem in robot.unread_meshes]
+    if robot.fallback_links:
+        links = ", ".join(robot.fallback_links)
+        notes.append(("arm.collision", f"links {links} have no collision geometry armanim can use (no primitive, no mesh): "
+                                       f"each gets a capsule from its joint to the next of radius arm.width / 2 = "
+                                       f"{arm.resolved_width / 2:g} (give arm.collision to set them)"))
+    return notes

@@ -17,11 +17,13 @@ import numpy as np
 import yaml
 
 from armanim.arm.chain import ChainJoint
-from armanim.scene.armmodel import ArmModel
+from armanim.scene.armmodel import ArmModel, CapsuleModel
 from armanim.scene.fields import ROBOTS
+from armanim.scene.meshcapsules import MeshCapsules, collision_yaml, mesh_capsules
 from armanim.scene.models import SceneModel
 from armanim.scene.srdf import resolve_self_collision
 from armanim.scene.urdf import MOVING, Hanging, Joint, Robot, chain_joints, hanging_links, joint_speeds, read_urdf
+from armanim.scene.visuals import default_package_dirs
 
 RATE_UNITS = {"max_joint_speed": ("rad/s", "deg/s"), "max_joint_acceleration": ("rad/s^2", "deg/s^2"),
               "max_joint_jerk": ("rad/s^3", "deg/s^3")}
@@ -121,6 +123,86 @@ def bundled_matrix(name: str) -> BundledMatrix | None:
                          tuple((str(a), str(b), str(reason)) for a, b, reason in info["allowed"]))
 
 
+FITTED_FILE = "fitted-capsules.yaml"
+"""A bundled robot's capsules fitted to its own meshes (package data, written by tools/fit_bundled.py)."""
+CAPSULES_FILE = "capsules.yaml"
+"""A run folder's capsules (``arm.collision``'s list format), beside its copy of the URDF."""
+MAX_CAPSULES_BYTES = 1024 * 1024
+
+
+def bundled_fitted(name: str) -> list[dict]:
+    """A bundled robot's fitted capsules, as ``arm.collision`` lists them."""
+    file = resources.files("armanim.arm").joinpath("robots", name, FITTED_FILE)
+    return list(yaml.safe_load(file.read_text(encoding="utf-8"))["collision"])  # package data, not user input
+
+
+def run_capsules(path: Path) -> list:
+    """The capsules of a run folder's ``capsules.yaml``, checked as ``arm.collision`` is.
+
+    Raises
+    ------
+    SceneError
+        The file is not such a list (exit 2).
+    """
+    from pydantic import TypeAdapter, ValidationError
+
+    from armanim.errors import Diagnostic, SceneError
+    from armanim.output.files import read_bounded
+
+    try:
+        data = yaml.safe_load(read_bounded(path, MAX_CAPSULES_BYTES, "a run's capsules.yaml"))
+        return TypeAdapter(list[CapsuleModel]).validate_python(data["collision"])
+    except (yaml.YAMLError, ValidationError, KeyError, TypeError) as exc:
+        raise SceneError(str(path), [Diagnostic("", f"is not a list of collision capsules ({str(exc).splitlines()[0]})")]) from None
+
+
+def capsules_text(robot: UrdfArm) -> str:
+    """A run's ``capsules.yaml``: the URDF arm's capsules as the scene's ``arm.collision`` list,
+    with a header saying where they came from."""
+    header = ["The arm's collision capsules in this run (armanim), each in its URDF link's frame, in metres.",
+              "Copy the list under the scene's arm section (arm.collision) to keep or edit them."]
+    if robot.fitted_links:
+        header.append(f"Fitted to their meshes: {', '.join(robot.fitted_links)} (each capsule holds every vertex).")
+    if robot.from_visuals:
+        header.append(f"(from their visual meshes, having no <collision>: {', '.join(robot.from_visuals)})")
+    if robot.fallback_links:
+        header.append(f"Not listed: the joint-to-joint capsules of {', '.join(robot.fallback_links)} (radius arm.width / 2).")
+    return collision_yaml([(c.link, c.start, c.end, c.radius) for c in robot.capsules], "\n".join(header))
+
+
+def fitted_collision_text(urdf: str | Path, package_dirs: list[Path] | None = None) -> str:
+    """``armanim robots --fit``: every link's capsules of a URDF as ``collision: auto`` makes them
+    (its primitives, and capsules fitted to its meshes), as the scene's ``arm.collision`` list.
+
+    Parameters
+    ----------
+    urdf : str or Path
+    package_dirs : list of Path, optional
+        Where ``package://`` meshes are found; default the URDF's folder and its parents.
+
+    Raises
+    ------
+    SceneError
+        The URDF, or a collision mesh, cannot be used (exit 2).
+    """
+    path = Path(urdf)
+    robot = read_urdf(path)
+    fits = mesh_capsules(robot, tuple(robot.links), path.parent, package_dirs or default_package_dirs(path.parent))
+    fitted: dict[str, list] = {}
+    for link, capsule in fits.capsules:
+        fitted.setdefault(link, []).append((link, capsule.start, capsule.end, capsule.radius))
+    rows = [row for link in robot.links
+            for row in ([(c.link, c.start, c.end, c.radius) for c in primitive_capsules(link, robot)] + fitted.get(link, []))]
+    header = [f"Collision capsules of {path.name} (armanim robots --fit), each in its URDF link's frame, in metres:",
+              "paste under the scene's arm section (arm.collision), after removing the links outside the arm's body."]
+    if fits.capsules:
+        header.append(f"Fitted to meshes: {', '.join(dict.fromkeys(link for link, _ in fits.capsules))} (each capsule holds every vertex).")
+    if fits.from_visuals:
+        header.append(f"(from their visual meshes, having no <collision>: {', '.join(fits.from_visuals)})")
+    header += [f"Not fitted: {problem}" for problem in fits.unread]
+    return collision_yaml(rows, "\n".join(header))
+
+
 @dataclass(frozen=True)
 class CapsuleSpec:
     """A capsule in its link's frame (metres)."""
@@ -183,6 +265,12 @@ class UrdfArm:
     held: tuple[Joint, ...] = ()
     """The joints among those that are not fixed, in the file's order: each held at a value
     (``arm.joint_values``, its default, or its ``<mimic>``)."""
+    fitted_links: tuple[str, ...] = ()
+    """The links whose capsules were fitted to their meshes (``collision: auto`` of your own URDF)."""
+    from_visuals: tuple[str, ...] = ()
+    """Those of them without ``<collision>``, fitted to their visual meshes."""
+    unread_meshes: tuple[str, ...] = ()
+    """Why visual meshes a fit would have used could not be read."""
 
 
 class ArmFieldError(ValueError):
@@ -310,8 +398,23 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
     _check_joint_values(arm.joint_values or {}, robot, path_joints, held)
     body = (base, *links, *(h.link for h in hanging))
     collision = arm.collision if arm.collision is not None else (bundled.collision if bundled else "auto")
+    fits = MeshCapsules()
+    if collision == "fitted":
+        if bundled is None:
+            raise ValueError("collision: fitted is a bundled robot's set of capsules fitted to its meshes (robot: panda, "
+                             "ur5, iiwa); for your own URDF, collision: auto fits capsules to its meshes")
+        collision = bundled_fitted(bundled.name)
+    kept = Path(urdf_file).parent / CAPSULES_FILE if urdf_file and bundled is None else None
+    if collision == "auto" and kept is not None and kept.is_file():
+        collision = run_capsules(kept)  # a run folder's copy: the capsules it was solved with (its meshes stay behind)
     if collision == "auto":
-        capsules = tuple(c for link in body for c in primitive_capsules(link, robot))
+        if bundled is None:
+            dirs = [Path(scene_dir or ".") / d for d in arm.package_dirs] if arm.package_dirs else default_package_dirs(path.parent)
+            fits = mesh_capsules(robot, body, path.parent, dirs)
+        fitted = {}
+        for link, capsule in fits.capsules:
+            fitted.setdefault(link, []).append(CapsuleSpec(link, capsule.start, capsule.end, capsule.radius))
+        capsules = tuple(c for link in body for c in (*primitive_capsules(link, robot), *fitted.get(link, ())))
     else:
         capsules = tuple(_listed_capsules(collision, body))
     return UrdfArm(
@@ -332,6 +435,9 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
         folder=None if bundled is not None else path.parent,
         hanging=hanging,
         held=held,
+        fitted_links=tuple(dict.fromkeys(link for link, _ in fits.capsules)),
+        from_visuals=fits.from_visuals,
+        unread_meshes=fits.unread,
     )
 
 

@@ -241,7 +241,7 @@ def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn:
 def unreadable_reason(error: Exception) -> str:
     """Why a mesh file could not be read, in one phrase (a SceneError's message without its file)."""
     if isinstance(error, SceneError):
-        return "; ".join(d.message for d in error.diagnostics)
+        return "; ".join(d.message for d in error.problems)
     return f"{type(error).__name__}: {error}"
 
 

@@ -1,0 +1,373 @@
+"""Capsules fitted to a link's mesh: 1 to 3 capsules that enclose every vertex, of least volume found.
+
+The fit (:func:`fit_capsules`) is deterministic: the same vertices and triangles give the same
+capsules, bit for bit. For one capsule it starts from the principal axes of the points' convex hull,
+then searches the axis direction (a pattern search on the sphere of directions, the step halved down
+to :data:`DIRECTION_TOL`); for each direction the axis line passes through the centre of the
+smallest circle holding the points seen along it, and the radius is chosen by a 1-D search that
+minimises the capsule's volume (a larger radius buys shorter ends). For 2 and 3 capsules the points
+are cut by planes across one of the principal axes or of the mesh frame's axes (a CAD part is often
+square to its link's frame), at :data:`CUTS` evenly spaced places, each piece fitted alone; a cut is
+kept only when it saves a share of the volume (:data:`SPLIT_GAIN`).
+
+Each capsule holds its piece's vertices and the points where the mesh's edges cross the piece's
+cutting planes, so the pieces' capsules together hold every triangle, not only the vertices. The
+ends are rounded to :data:`DECIMALS` places and the radius then measured from the rounded segment and
+rounded up: the numbers written hold every vertex as written. Pure core: numpy, scipy's convex hull
+(imported at the first fit).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+DECIMALS = 6
+"""Places kept of each end and radius (in the mesh's unit: 1 um for metres)."""
+CUTS = 12
+"""A piece is cut at CUTS - 1 evenly spaced places along each principal axis."""
+SPLIT_GAIN = 0.95
+"""A second (third) capsule is taken only when the total volume falls below this share of the
+fewer capsules' volume: each capsule costs the solver a pair per obstacle and per link."""
+DIRECTION_TOL = 0.004
+"""The direction search stops when its step falls below this angle (radians)."""
+RADII = 24
+"""Radii tried per direction (then refined once around the best)."""
+
+
+@dataclass(frozen=True)
+class FittedCapsule:
+    """A capsule: every point within ``radius`` of the segment from ``start`` to ``end`` (the mesh's frame and unit)."""
+
+    start: np.ndarray
+    end: np.ndarray
+    radius: float
+
+    @property
+    def volume(self) -> float:
+        """pi r^2 L + 4/3 pi r^3.
+
+        >>> round(FittedCapsule(np.zeros(3), np.array([0.0, 0, 2]), 1.0).volume, 4)
+        10.472
+        """
+        return capsule_volume(float(np.linalg.norm(self.end - self.start)), self.radius)
+
+
+def capsule_volume(length: float, radius: float) -> float:
+    """The volume of a capsule of segment ``length`` and ``radius``."""
+    return math.pi * radius * radius * length + 4.0 / 3.0 * math.pi * radius ** 3
+
+
+def segment_distances(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """(N,) distance of each point (N, 3) to the segment from ``start`` to ``end``.
+
+    >>> segment_distances(np.array([[0.0, 1, 0], [0, 0, 3]]), np.zeros(3), np.array([0.0, 0, 1])).tolist()
+    [1.0, 2.0]
+    """
+    ab = end - start
+    length2 = float(ab @ ab)
+    t = np.zeros(len(points)) if length2 == 0.0 else np.clip((points - start) @ ab / length2, 0.0, 1.0)
+    return np.asarray(np.linalg.norm(points - (start + t[:, None] * ab), axis=1))
+
+
+def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_capsules: int = 3) -> list[FittedCapsule]:
+    """1 to ``max_capsules`` capsules that together hold every vertex (and every triangle of
+    ``faces``), of the least volume the search finds; none for no vertices.
+
+    Parameters
+    ----------
+    vertices : (N, 3) array
+        The mesh's points (any unit; the capsules are in it).
+    faces : (F, 3) int array, optional
+        Its triangles: the points where their edges cross a cut are held too.
+    max_capsules : int
+        1, 2 or 3.
+
+    Returns
+    -------
+    list of FittedCapsule
+        Ends rounded to :data:`DECIMALS` places, radii rounded up: every vertex lies within a
+        radius of its capsule's segment.
+
+    >>> box = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 4)], dtype=float)
+    >>> [(c.start.tolist(), c.end.tolist(), c.radius) for c in fit_capsules(box, max_capsules=1)]
+    [([0.5, 0.5, 0.106801], [0.5, 0.5, 3.893199], 0.715127)]
+
+    Without triangles only the vertices count: the box's two ends are two capsules.
+
+    >>> len(fit_capsules(box))
+    2
+    """
+    points, inverse = np.unique(np.asarray(vertices, dtype=float).reshape(-1, 3), axis=0, return_inverse=True)
+    if not len(points):
+        return []
+    edges = _edges(points, None if faces is None else inverse.reshape(-1)[np.asarray(faces, dtype=np.int64)])  # each edge once
+    axes = principal_axes(points)
+    best = [(_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])]
+    volume = best[0][0][0]
+    coarse = _piece_fit(points, fine=False)[0]  # the cuts' coarse volumes are weighed against the same coarse fit
+    counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
+    splits = _best_splits(points, edges, np.vstack([axes, np.eye(3)]), tuple(counts)) if len(counts) else {}  # and the frame's axes
+    for count in counts:
+        split = splits.get(count)
+        if split is None:
+            continue
+        total, cuts, axis = split
+        if total < SPLIT_GAIN * coarse:
+            pieces = [(_piece_fit(_slab(points, edges, axis, lo, hi), fine=True), (lo, hi), axis) for lo, hi in cuts]
+            refined = sum(p[0][0] for p in pieces)
+            if refined < SPLIT_GAIN * volume:
+                best, volume = pieces, refined
+    return [_rounded(fit, _slab(points, edges, axis, lo, hi)) for fit, (lo, hi), axis in best]
+
+
+def principal_axes(points: np.ndarray) -> np.ndarray:
+    """(3, 3) the points' principal axes as rows, the longest spread first, each signed so that
+    its largest component is positive (a deterministic choice among +-v).
+
+    >>> principal_axes(np.array([[0.0, 0, 0], [0, 0, 5], [0, 1, 0], [0, 1, 5]]))[0].tolist()
+    [0.0, 0.0, 1.0]
+    """
+    centred = points - points.mean(axis=0)
+    _, vectors = np.linalg.eigh(centred.T @ centred)
+    rows = vectors.T[::-1].copy()
+    for row in rows:
+        if row[np.argmax(np.abs(row))] < 0:
+            row *= -1.0
+    return rows
+
+
+Fit = tuple[float, np.ndarray, np.ndarray, float]
+"""(volume, start, end, radius) of one capsule."""
+
+
+def _piece_fit(points: np.ndarray, fine: bool, hulled: bool = False) -> Fit:
+    """The capsule of least volume found for ``points``: the best of the principal axes, then
+    (``fine``) a pattern search of the direction from it. ``hulled``: the points are already few
+    (slabs' hulls): no hull of them is taken."""
+    hull = points if hulled else hull_points(points)
+    if len(hull) == 1:
+        return 0.0, hull[0].copy(), hull[0].copy(), 0.0
+    axes = principal_axes(hull)
+    fits = [(_along(hull, d), d) for d in axes]
+    fit, d = min(fits, key=lambda f: f[0][0])
+    if not fine:
+        return fit
+    step = 0.25
+    u, v = _perpendiculars(d)
+    while step >= DIRECTION_TOL:
+        moved = False
+        for a, b in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (1, -1), (-1, 1)):
+            trial = d + step * (a * u + b * v)
+            trial /= np.linalg.norm(trial)
+            candidate = _along(hull, trial)
+            if candidate[0] < fit[0] * (1.0 - 1e-9):
+                fit, d, moved = candidate, trial, True
+                u, v = _perpendiculars(d)
+                break
+        if not moved:
+            step /= 2.0
+    return fit
+
+
+def hull_points(points: np.ndarray) -> np.ndarray:
+    """The vertices of the points' convex hull (a capsule holds a point set when it holds those),
+    in the order given; all the points when they span no volume (flat or on a line).
+
+    >>> len(hull_points(np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)] + [[0.5, 0.5, 0.5]], dtype=float)))
+    8
+    """
+    if len(points) < 5:
+        return points
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return np.asarray(points[np.sort(ConvexHull(points).vertices)])
+    except (QhullError, ValueError):
+        return points
+
+
+def _along(points: np.ndarray, d: np.ndarray) -> Fit:
+    """The least-volume capsule whose axis has direction ``d``: its line through the centre of the
+    smallest circle holding the points seen along ``d``, its radius from a 1-D search."""
+    u, v = _perpendiculars(d)
+    q = np.stack([points @ u, points @ v], axis=1)
+    t = points @ d
+    centre = smallest_circle(q)
+    rho = np.hypot(q[:, 0] - centre[0], q[:, 1] - centre[1])
+    r_min = float(rho.max())
+    span = float(t.max() - t.min())
+    r_max = math.hypot(r_min, span / 2.0)
+    radii = np.linspace(r_min, r_max, RADII)
+    volumes, lo, hi = _volumes(radii, rho, t)
+    k = int(np.argmin(volumes))
+    fine = np.linspace(radii[max(k - 1, 0)], radii[min(k + 1, RADII - 1)], RADII)
+    volumes2, lo2, hi2 = _volumes(fine, rho, t)
+    j = int(np.argmin(volumes2))
+    if volumes2[j] <= volumes[k]:
+        radius, a, b, volume = float(fine[j]), float(lo2[j]), float(hi2[j]), float(volumes2[j])
+    else:
+        radius, a, b, volume = float(radii[k]), float(lo[k]), float(hi[k]), float(volumes[k])
+    axis_point = centre[0] * u + centre[1] * v
+    return volume, axis_point + a * d, axis_point + b * d, radius
+
+
+def _volumes(radii: np.ndarray, rho: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each radius r: the capsule's volume and its segment's ends along the axis.
+
+    A point at axial t and distance rho from the axis is held by a segment [a, b] iff
+    a <= t + h and b >= t - h, h = sqrt(r^2 - rho^2): so a = min(t + h), b = max(t - h), or
+    their middle when a > b (a sphere)."""
+    h = np.sqrt(np.maximum(radii[:, None] ** 2 - rho[None, :] ** 2, 0.0))
+    a, b = (t[None, :] + h).min(axis=1), (t[None, :] - h).max(axis=1)
+    middle = (a + b) / 2.0
+    a, b = np.where(a > b, middle, a), np.where(a > b, middle, b)
+    return np.pi * radii ** 2 * (b - a) + 4.0 / 3.0 * np.pi * radii ** 3, a, b
+
+
+def _perpendiculars(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors that make a right-handed frame with the unit vector ``d``."""
+    x, y, z = (float(c) for c in d)
+    u = np.array([0.0, z, -y]) if abs(x) < 0.9 else np.array([-z, 0.0, x])  # d x e_x, or d x e_y
+    u /= math.sqrt(float(u @ u))
+    return u, np.array([y * u[2] - z * u[1], z * u[0] - x * u[2], x * u[1] - y * u[0]])
+
+
+def smallest_circle(q: np.ndarray) -> np.ndarray:
+    """The centre of the smallest circle holding the 2-D points ``q`` (N, 2): Welzl's incremental
+    algorithm over the points of their convex hull in a seeded shuffle (deterministic).
+
+    >>> smallest_circle(np.array([[0.0, 0], [2, 0], [1, 0.5], [1, -1]])).round(9).tolist()
+    [1.0, 0.0]
+    """
+    points = _hull_2d(q)
+    order = np.random.default_rng(0).permutation(len(points))
+    p = [(float(x), float(y)) for x, y in points[order]]
+    cx, cy, r2 = p[0][0], p[0][1], 0.0
+    for i in range(1, len(p)):
+        if _outside(p[i], cx, cy, r2):
+            cx, cy, r2 = p[i][0], p[i][1], 0.0
+            for j in range(i):
+                if _outside(p[j], cx, cy, r2):
+                    cx, cy = (p[i][0] + p[j][0]) / 2.0, (p[i][1] + p[j][1]) / 2.0
+                    r2 = (p[i][0] - cx) ** 2 + (p[i][1] - cy) ** 2
+                    for k in range(j):
+                        if _outside(p[k], cx, cy, r2):
+                            cx, cy, r2 = _circumcircle(p[i], p[j], p[k], (cx, cy, r2))
+    return np.array([cx, cy])
+
+
+def _outside(p: tuple[float, float], cx: float, cy: float, r2: float) -> bool:
+    return (p[0] - cx) ** 2 + (p[1] - cy) ** 2 > r2 * (1.0 + 1e-12) + 1e-30
+
+
+def _circumcircle(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float],
+                  fallback: tuple[float, float, float]) -> tuple[float, float, float]:
+    """The circle through three points (centre x, y, radius squared); for three points on a line,
+    the circle on the farthest two as diameter."""
+    d = 2.0 * (a[0] * (b[1] - c[1]) + b[0] * (c[1] - a[1]) + c[0] * (a[1] - b[1]))
+    if abs(d) < 1e-300:
+        pairs = [(a, b), (a, c), (b, c)]
+        p, q = max(pairs, key=lambda s: (s[0][0] - s[1][0]) ** 2 + (s[0][1] - s[1][1]) ** 2)
+        cx, cy = (p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0
+        return cx, cy, max(fallback[2], (p[0] - cx) ** 2 + (p[1] - cy) ** 2)
+    sa, sb, sc = a[0] ** 2 + a[1] ** 2, b[0] ** 2 + b[1] ** 2, c[0] ** 2 + c[1] ** 2
+    cx = (sa * (b[1] - c[1]) + sb * (c[1] - a[1]) + sc * (a[1] - b[1])) / d
+    cy = (sa * (c[0] - b[0]) + sb * (a[0] - c[0]) + sc * (b[0] - a[0])) / d
+    return cx, cy, max((a[0] - cx) ** 2 + (a[1] - cy) ** 2, (b[0] - cx) ** 2 + (b[1] - cy) ** 2,
+                       (c[0] - cx) ** 2 + (c[1] - cy) ** 2)
+
+
+def _hull_2d(q: np.ndarray) -> np.ndarray:
+    """The vertices of the 2-D points' convex hull (all of them when they span no area)."""
+    if len(q) < 4:
+        return q
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return np.asarray(q[np.sort(ConvexHull(q).vertices)])
+    except (QhullError, ValueError):
+        return q
+
+
+Split = tuple[float, list[tuple[float, float]], np.ndarray]
+"""(total volume, the slabs (lo, hi) along the axis, the axis) of a cut into pieces."""
+
+
+def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) -> dict[int, Split]:
+    """For each count of pieces, the least total volume of the pieces cut across one principal
+    axis at evenly spaced places (each piece fitted along its principal axes only), with its
+    slabs and axis; a count is missing when no cut leaves every piece some points.
+
+    The hull of a piece is the hull of its thin slabs' hulls (each slab between two neighbouring
+    places, with where the edges cross its planes): each slab's hull is computed once."""
+    best: dict[int, Split] = {}
+    for axis in axes:
+        t = points @ axis
+        places = np.linspace(t.min(), t.max(), CUTS + 1)[1:-1]
+        n = len(places)
+        ends = [-np.inf, *places.tolist(), np.inf]
+        along = (t, edges[:, 0] @ axis, edges[:, 1] @ axis)
+        thin = [hull_points(_slab(points, edges, axis, ends[k], ends[k + 1], along)) for k in range(n + 1)]
+        known: dict[tuple[int, int], float] = {}
+        for count in counts:
+            for cuts in _cut_sets(n, count - 1):
+                bounds = (-1, *cuts, n)
+                total = sum(_piece_volume(thin, bounds[k], bounds[k + 1], known) for k in range(count))
+                if np.isfinite(total) and (count not in best or total < best[count][0]):
+                    slabs = [(float(ends[bounds[k] + 1]), float(ends[bounds[k + 1] + 1])) for k in range(count)]
+                    best[count] = (float(total), slabs, axis)
+    return best
+
+
+def _piece_volume(thin: list[np.ndarray], i: int, j: int, known: dict[tuple[int, int], float]) -> float:
+    """The volume of the coarse capsule of the piece between cuts i and j (-1 and len(thin) - 1:
+    the ends), made of the thin slabs i + 1 to j; inf for no points; kept in ``known``."""
+    if (i, j) not in known:
+        inside = np.concatenate(thin[i + 1:j + 1])
+        known[(i, j)] = _piece_fit(inside, fine=False, hulled=True)[0] if len(inside) else np.inf
+    return known[(i, j)]
+
+
+def _cut_sets(n: int, k: int) -> list[tuple[int, ...]]:
+    """Every increasing choice of ``k`` of the ``n`` cut places (k = 1 or 2)."""
+    if k == 1:
+        return [(i,) for i in range(n)]
+    return [(i, j) for i in range(n) for j in range(i + 1, n)]
+
+
+def _edges(vertices: np.ndarray, faces: np.ndarray | None) -> np.ndarray:
+    """(E, 2, 3) the mesh's edges, each once (none without faces)."""
+    if faces is None or not len(faces):
+        return np.zeros((0, 2, 3))
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    pairs = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    pairs = np.unique(np.sort(pairs, axis=1), axis=0)
+    return np.asarray(vertices[pairs])
+
+
+def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi: float,
+          along: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """The points with ``lo <= t < hi`` along ``axis`` (every point for the whole range), and where
+    the edges cross the planes t = lo and t = hi; ``along``: the points' and the edges' ends' t, if known."""
+    t, ta, tb = along if along is not None else (points @ axis, edges[:, 0] @ axis, edges[:, 1] @ axis)
+    inside = points[(t >= lo) & ((t < hi) | (hi == np.inf))]
+    crossings = [inside]
+    for plane in (lo, hi):
+        if np.isfinite(plane) and len(edges):
+            cross = (np.minimum(ta, tb) < plane) & (np.maximum(ta, tb) > plane)
+            s = (plane - ta[cross]) / (tb[cross] - ta[cross])
+            crossings.append(edges[cross, 0] + s[:, None] * (edges[cross, 1] - edges[cross, 0]))
+    return np.concatenate(crossings)
+
+
+def _rounded(fit: Fit, points: np.ndarray) -> FittedCapsule:
+    """The capsule with its ends rounded to :data:`DECIMALS` places and its radius measured from the
+    rounded segment to the farthest of ``points``, rounded up (the written capsule holds them)."""
+    _, start, end, _ = fit
+    start, end = np.round(start, DECIMALS) + 0.0, np.round(end, DECIMALS) + 0.0  # + 0.0: no -0.0
+    reach = float(segment_distances(points, start, end).max()) if len(points) else 0.0
+    scale = 10.0 ** DECIMALS
+    return FittedCapsule(start, end, math.ceil(reach * scale * (1.0 + 1e-12)) / scale)

@@ -1,0 +1,243 @@
+"""collision: auto of your own URDF fits capsules to its meshes (scene.meshcapsules): every vertex of
+the meshes as the URDF places them is held (trimesh reads them here, an independent transform and
+point-to-segment distance check them), the fit is the same twice and from the cache, meshes over
+the reader's limits and missing meshes are errors at their line, a run writes capsules.yaml, which
+a scene takes back as its arm.collision, and `armanim robots --fit` prints it."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+import yaml
+from scipy.spatial.transform import Rotation
+
+from armanim.errors import SceneError
+from armanim.scene import load_scene, scene_to_problem
+
+BASE_RPY, BASE_XYZ, BASE_SCALE = (0.3, -0.2, 0.5), (0.01, -0.02, 0.03), (1.5, 1.0, 0.5)
+ARM_RPY, ARM_XYZ = (0.0, 0.4, 0.0), (0.0, 0.0, 0.2)
+
+URDF = f"""<robot name="meshy">
+  <link name="base"><collision><origin xyz="{' '.join(map(str, BASE_XYZ))}" rpy="{' '.join(map(str, BASE_RPY))}"/>
+    <geometry><mesh filename="meshes/base.stl" scale="{' '.join(map(str, BASE_SCALE))}"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <link name="upper"><collision><origin xyz="{' '.join(map(str, ARM_XYZ))}" rpy="{' '.join(map(str, ARM_RPY))}"/>
+    <geometry><mesh filename="package://meshy/meshes/upper.obj"/></geometry></collision>
+    <collision><origin xyz="0 0 0.45"/><geometry><sphere radius="0.04"/></geometry></collision></link>
+  <joint name="j2" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0 0 0.45"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <link name="fore"><visual><geometry><mesh filename="meshes/fore.stl"/></geometry></visual></link>
+  <joint name="j3" type="revolute"><parent link="fore"/><child link="tip"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <link name="tip"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+</robot>
+"""
+
+
+def _meshes() -> dict[str, trimesh.Trimesh]:
+    return {"base.stl": trimesh.creation.cylinder(radius=0.08, height=0.06, sections=24),
+            "upper.obj": trimesh.creation.capsule(height=0.3, radius=0.05, count=[12, 12]),
+            "fore.stl": trimesh.creation.box(extents=(0.06, 0.07, 0.3), transform=trimesh.transformations.translation_matrix((0, 0, 0.15)))}
+
+
+@pytest.fixture()
+def robot_dir(tmp_path, monkeypatch):
+    """A package folder `meshy` with the URDF and its meshes; the fit cache in its own folder."""
+    folder = tmp_path / "meshy"
+    (folder / "meshes").mkdir(parents=True)
+    for name, mesh in _meshes().items():
+        mesh.export(folder / "meshes" / name)
+    (folder / "meshy.urdf").write_text(URDF)
+    monkeypatch.setenv("ARMANIM_CACHE_DIR", str(tmp_path / "cache"))
+    return folder
+
+
+def _scene(folder: Path, extra: str = "", name: str = "s.yaml") -> Path:
+    path = folder / name
+    path.write_text(f"version: 1\narm:\n  urdf: meshy.urdf\n  tip_link: tip\n{extra}goals:\n  - [0.3, 0.1, 0.5]\n")
+    return path
+
+
+def _placed(name: str, xyz, rpy, scale=(1.0, 1.0, 1.0)) -> np.ndarray:
+    """The mesh file's vertices as the URDF places them in the link's frame: scaled, then
+    turned by R = Rz(yaw) Ry(pitch) Rx(roll) and moved (scipy's rotation, not armanim's)."""
+    mesh = trimesh.load(str(name), force="mesh")
+    return (np.asarray(mesh.vertices) * scale) @ Rotation.from_euler("xyz", rpy).as_matrix().T + np.asarray(xyz)
+
+
+def _distance(points: np.ndarray, a, b) -> np.ndarray:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    ab = b - a
+    t = np.clip(((points - a) @ ab) / max(ab @ ab, 1e-300), 0.0, 1.0)
+    return np.sqrt(((points - (a + t[:, None] * ab)) ** 2).sum(axis=1))
+
+
+def _held(points: np.ndarray, capsules) -> float:
+    """The largest excess of a point over the nearest of ``capsules`` (<= 0: every point held)."""
+    return float(np.min([_distance(points, c.start, c.end) - c.radius for c in capsules], axis=0).max())
+
+
+def test_auto_fits_every_links_meshes_and_holds_every_vertex(robot_dir):
+    scene = load_scene(_scene(robot_dir))
+    robot = scene.model.arm.urdf_arm
+    by_link = {}
+    for c in robot.capsules:
+        by_link.setdefault(c.link, []).append(c)
+    assert set(by_link) == {"base", "upper", "fore", "tip"}
+    assert robot.fitted_links == ("base", "upper", "fore") and robot.from_visuals == ("fore",)
+    assert 1 <= len(by_link["base"]) <= 3 and 2 <= len(by_link["upper"]) <= 4  # the sphere primitive kept beside the fit
+    meshes = robot_dir / "meshes"
+    assert _held(_placed(meshes / "base.stl", BASE_XYZ, BASE_RPY, BASE_SCALE), by_link["base"]) <= 1e-9
+    assert _held(_placed(meshes / "upper.obj", ARM_XYZ, ARM_RPY), by_link["upper"][1:]) <= 1e-9
+    assert by_link["upper"][0].radius == 0.04  # primitives keep today's rule (a sphere: a zero-length capsule)
+    assert _held(_placed(meshes / "fore.stl", (0, 0, 0), (0, 0, 0)), by_link["fore"]) <= 1e-9
+    notes = [n.message for n in scene.notes]
+    assert any("links fore have no <collision>: their capsules are fitted to their visual meshes" in n for n in notes)
+    assert not robot.fallback_links
+    problem = scene_to_problem(scene.model)
+    assert len(problem.capsules) == len(robot.capsules)
+
+
+def test_the_fit_is_the_same_twice_and_from_the_cache(robot_dir, tmp_path, monkeypatch):
+    from armanim.scene.meshcapsules import mesh_capsules
+    from armanim.scene.urdf import read_urdf
+
+    robot = read_urdf(robot_dir / "meshy.urdf")
+    links = ("base", "upper", "fore")
+    fresh = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=None)
+    first = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
+    again = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
+    assert (fresh.cached, first.cached, again.cached) == (0, 0, 3)
+    assert len(list((tmp_path / "c").glob("*.json"))) == 3
+
+    def rows(fits):
+        return [(link, c.start.tobytes(), c.end.tobytes(), c.radius) for link, c in fits.capsules]
+
+    assert rows(fresh) == rows(first) == rows(again)
+    for path in (tmp_path / "c").glob("*.json"):  # a damaged cache entry is fitted again, never trusted
+        path.write_text('{"key": "x", "capsules": [{"from": [0, 0, 0], "to": [0, 0, 0], "radius": 0}]}')
+    assert rows(mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")) == rows(fresh)
+
+
+def test_an_unwritable_cache_folder_means_no_cache(tmp_path, monkeypatch):
+    from armanim.scene.meshcapsules import cache_folder
+
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    monkeypatch.setenv("ARMANIM_CACHE_DIR", str(blocker / "cache"))
+    assert cache_folder() is None
+    monkeypatch.setenv("ARMANIM_CACHE_DIR", str(tmp_path / "ok"))
+    assert cache_folder() == tmp_path / "ok"
+    monkeypatch.delenv("ARMANIM_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert cache_folder() == tmp_path / "xdg" / "armanim" / "capsules"
+
+
+def test_a_missing_collision_mesh_is_an_error_at_its_line(robot_dir):
+    (robot_dir / "meshes" / "base.stl").unlink()
+    with pytest.raises(SceneError) as info:
+        load_scene(_scene(robot_dir))
+    report = info.value.report()
+    assert "meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl' not found" in report
+
+
+def test_a_collision_mesh_of_another_format_is_an_error(robot_dir):
+    (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.ply"))
+    with pytest.raises(SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.ply' is not a format armanim reads"):
+        load_scene(_scene(robot_dir))
+
+
+def test_meshes_over_the_readers_limits_are_errors(robot_dir, monkeypatch):
+    import armanim.scene.visuals as visuals
+
+    monkeypatch.setattr(visuals, "MAX_MESH_BYTES", 1000)
+    with pytest.raises(SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl' could not be read \(.*more than"):
+        load_scene(_scene(robot_dir))
+    monkeypatch.undo()
+    monkeypatch.setattr(visuals, "MAX_LOOK_TRIANGLES", 60)  # the base's 92 triangles are over
+    with pytest.raises(SceneError, match=r"the robot's meshes hold more than 60 triangles in all"):
+        load_scene(_scene(robot_dir))
+
+
+def test_a_missing_visual_mesh_falls_back_to_the_joint_capsule_with_notes(robot_dir):
+    (robot_dir / "meshes" / "fore.stl").unlink()
+    scene = load_scene(_scene(robot_dir))
+    assert scene.model.arm.urdf_arm.fallback_links == ("fore",)
+    notes = " ".join(n.message for n in scene.notes)
+    assert "link 'fore': visual mesh 'meshes/fore.stl' not found" in notes and "links fore have no collision geometry" in notes
+
+
+def test_a_run_writes_capsules_yaml_that_a_scene_takes_as_its_collision(robot_dir, tmp_path):
+    from armanim.runs.pipeline import run_scene
+
+    result = run_scene(_scene(robot_dir), tmp_path / "out", video=False)
+    text = (result.folder / "capsules.yaml").read_text()
+    listed = yaml.safe_load(text)["collision"]
+    solved = result.problem.capsules
+    assert len(listed) == len(solved) == len(load_scene(_scene(robot_dir)).model.arm.urdf_arm.capsules)
+    block = "  collision:\n" + "".join(f"    - {line[4:]}\n" for line in text.splitlines() if line.startswith("  - "))
+    copied = load_scene(_scene(robot_dir, block, "copied.yaml"))
+    again = scene_to_problem(copied.model).capsules
+    for name in ("link", "start", "end", "radius"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(solved, name))
+    moved = tmp_path / "moved"  # the run folder alone, away from the meshes: render and view read capsules.yaml back
+    result.folder.rename(moved)
+    from armanim.runs.reload import load_run
+
+    back = load_run(moved)
+    np.testing.assert_array_equal(back.problem.capsules.radius, solved.radius)
+
+
+def test_collision_fitted_is_a_bundled_robots_own_and_an_error_for_your_urdf(robot_dir):
+    from armanim.scene import scene_model
+
+    panda = scene_model({"version": 1, "arm": {"robot": "panda", "collision": "fitted"}, "goals": [[0.5, 0, 0.5]]})
+    names = {c.link for c in panda.arm.urdf_arm.capsules}
+    assert {"panda_link0", "panda_link7", "panda_hand", "panda_leftfinger"} <= names
+    with pytest.raises(SceneError, match="collision: fitted is a bundled robot's set"):
+        load_scene(_scene(robot_dir, "  collision: fitted\n"))
+
+
+def test_the_bundled_fitted_sets_hold_their_shipped_meshes():
+    """Each bundled robot's fitted-capsules.yaml holds every vertex of the meshes it ships."""
+    from importlib import resources
+
+    from armanim.scene.robots import bundled_fitted
+    from armanim.scene.visuals import bundled_link_meshes
+
+    for name in ("panda", "ur5", "iiwa"):
+        capsules = bundled_fitted(name)
+        folder = Path(str(resources.files("armanim.arm").joinpath("robots", name)))
+        for mesh in bundled_link_meshes(folder):
+            mine = [type("C", (), {"start": c["from"], "end": c["to"], "radius": c["radius"]}) for c in capsules if c["link"] == mesh.link]
+            assert 1 <= len(mine) <= 3, (name, mesh.link)
+            assert _held(mesh.vertices, mine) <= 1e-9, (name, mesh.link)
+
+
+@pytest.mark.slow
+def test_robots_fit_through_the_installed_command(robot_dir):
+    exe = Path(sys.executable).parent / "armanim"
+    command = [str(exe)] if exe.exists() else [sys.executable, "-m", "armanim"]
+    proc = subprocess.run([*command, "robots", "--fit", str(robot_dir / "meshy.urdf")], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    listed = yaml.safe_load(proc.stdout)["collision"]
+    assert {c["link"] for c in listed} == {"base", "upper", "fore", "tip"}
+    assert proc.stdout.startswith("# Collision capsules of meshy.urdf")
+    missing = subprocess.run([*command, "robots", "--fit", str(robot_dir / "nope.urdf")], capture_output=True, text=True, timeout=120)
+    assert missing.returncode == 2 and "nope.urdf: no such file" in missing.stderr
+    helped = subprocess.run([*command, "robots", "--help"], capture_output=True, text=True, timeout=120)
+    assert "--fit" in helped.stdout and "armanim robots --fit" in helped.stdout
+
+
+def test_a_urdf_link_in_an_obstacle_is_named_by_its_link(robot_dir):
+    path = robot_dir / "hit.yaml"
+    path.write_text("version: 1\narm:\n  urdf: meshy.urdf\n  tip_link: tip\ngoals:\n  - [0.3, 0.1, 0.5]\n"
+                    "obstacles:\n  - {center: [0, 0, 0.4], radius: 0.01}\n")
+    with pytest.raises(SceneError, match=r"hit.yaml:8: obstacles\[0\]: link 'upper' of the arm's home pose is inside this obstacle"):
+        load_scene(path)
