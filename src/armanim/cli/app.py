@@ -51,8 +51,8 @@ def _plain_help() -> None:
         name = name if self.required else f"[{name}]"
         return name + ("..." if self.nargs != 1 else "")
 
-    core.TyperOption.display_type_rich = option_type
-    core.TyperArgument._usage_display_name = usage_name
+    core.TyperOption.display_type_rich = option_type  # type: ignore[method-assign]  # typer's help, patched once at import
+    core.TyperArgument._usage_display_name = usage_name  # type: ignore[method-assign]
 
 
 _plain_help()

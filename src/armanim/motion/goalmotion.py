@@ -27,7 +27,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.motion.clock import Excess, Motion, jerk_limited_motion, sampled_motion, time_optimal
-from armanim.motion.jointpath import JointPath, joint_path, unwrapped
+from armanim.motion.jointpath import JointPath, joint_path
 
 
 @dataclass(frozen=True)
