@@ -202,3 +202,12 @@ def test_random_joint_goals_keep_every_invariant(problem):
             np.testing.assert_allclose(left, problem.goals[report.index].joints, atol=1e-12)
         else:
             assert report.reason in {"no_path", "too_slow"}
+
+
+def test_an_unlimited_joint_goal_is_taken_the_wrapped_way():
+    """A continuous joint's 270 degrees is its -90: the frames stay in (-180, 180] and end there."""
+    scene = {"version": 1, "arm": {"links": [2, 2], "limits": [None, [-120, 120]]}, "goals": [{"joints": [270, 30]}]}
+    problem, solution = solved(scene)
+    assert solution.goals[0].reached
+    np.testing.assert_allclose(np.degrees(last_frames(solution)[0]), [-90.0, 30.0], atol=1e-9)
+    assert_trajectory_invariants(problem, solution)

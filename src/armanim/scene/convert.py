@@ -15,7 +15,7 @@ import numpy as np
 
 from armanim.arm.capsules import BASE, Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
-from armanim.arm.geometry import unit_vector
+from armanim.arm.geometry import unit_vector, wrap_angle
 from armanim.arm.kinematics import Arm, default_axes, forward
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
 from armanim.motion.orientation import Orientation
@@ -353,7 +353,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         home=home,
         limits=limits,
         obstacles=_obstacles(scene),
-        goals=tuple(scene_goal(g, chain) for g in scene.goals),
+        goals=tuple(unlimited_joints_wrapped(scene_goal(g, chain), limits) for g in scene.goals),
         solver=solver,
         fps=fps,
         capsules=capsules,
@@ -423,6 +423,20 @@ def scene_goal(goal: GoalModel, chain: Arm | None = None) -> Goal:
         return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal))
     path = tool_path(goal.path)
     return Goal(path.start.copy(), goal.hold, goal_orientation(goal), path=path, speed=float(goal.speed))
+
+
+def unlimited_joints_wrapped(goal: Goal, limits: Limits) -> Goal:
+    """``goal`` with a joint goal's unlimited joints in (-pi, pi], as the frames keep them (a
+    continuous joint at 270 degrees is the same pose as at -90).
+
+    >>> from armanim.motion.problem import Limits
+    >>> g = unlimited_joints_wrapped(Goal(np.zeros(3), 0.0, joints=np.radians([270.0, 270.0])), Limits(np.array([-5.0, -np.inf]), np.array([5.0, np.inf]), 0.1))
+    >>> np.degrees(g.joints).round(9).tolist()
+    [270.0, -90.0]
+    """
+    if goal.joints is None:
+        return goal
+    return replace(goal, joints=np.where(limits.limited, goal.joints, wrap_angle(goal.joints)))
 
 
 def tool_path(path: PathModel) -> ToolPath:
