@@ -104,13 +104,15 @@ def plan_motion(
 def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, searched: Searched | None = None) -> Plan:
     """Plan from the pose ``phi_now`` to the joint goal ``goal`` (both (n,), radians), ending on it exactly.
 
-    The straight joint-space segment if :func:`~.path.motion_is_free` certifies it, else OMPL's
-    RRT-Connect and its simplification (shortcuts and smoothing, every piece certified by the
-    same proof); every pose keeps ``solver.clearance`` from the obstacles and the enabled pairs
-    ``solver.self_clearance`` apart, and every joint within its limits, their ends included (a
-    start or goal may rest on a limit), certified at :func:`joint_path_floor`. With ``solver.planner: off`` only the straight segment
-    is tried. The frames follow :func:`~.follow.path_schedule` (no joint above ``max_joint_step``
-    a frame, at most ``max_frames_per_goal``); the last one is ``goal`` itself when they reach it.
+    The straight joint-space segment if the compiled certificate
+    (:class:`~armanim.motion.planning.check.CompiledCheck`, :func:`~.path.motion_is_free`'s proof)
+    takes it, else OMPL's RRT-Connect, shortened by vertex reduction and rope shortcuts, every
+    piece certified by the same proof: every pose keeps ``solver.clearance`` from the obstacles and
+    the enabled pairs ``solver.self_clearance`` apart, and every joint within its limits, their
+    ends included (a start or goal may rest on a limit), certified at :func:`joint_path_floor`.
+    With ``solver.planner: off`` only the straight segment is tried. The frames follow
+    :func:`joint_path_frames` (no joint above ``max_joint_step`` a frame, every waypoint a frame,
+    at most ``max_frames_per_goal``); the last one is ``goal`` itself when they reach it.
 
     Returns
     -------
