@@ -68,6 +68,15 @@ class Capsules:
         object.__setattr__(self, "moving", np.append(self.link >= 0, True))
         self.part_radius.flags.writeable = self.on_base.flags.writeable = self.moving.flags.writeable = False  # shared by every clearance computation
 
+    def packed(self) -> np.ndarray:
+        """(c, 8) each capsule as the compiled kernels read it: its start, its end (in its joint's
+        frame), its radius, and 1.0 where it runs joint to joint (``joint_segment``), else 0.0.
+
+        >>> Capsules(np.array([1]), np.zeros((1, 3)), np.ones((1, 3)), np.array([0.5])).packed().tolist()
+        [[0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.5, 0.0]]
+        """
+        return np.concatenate([self.start, self.end, self.radius[:, None], self.joint_segment[:, None].astype(float)], axis=1)
+
     def __len__(self) -> int:
         return len(self.link)
 

@@ -35,7 +35,7 @@ from armanim.motion.pathtiming import (
     tool_speed_excess,
     traced_paths,
 )
-from armanim.motion.planning import plan_joint_motion
+from armanim.motion.planning import joint_path_floor, plan_joint_motion
 from armanim.motion.planning.path import motion_is_free
 from armanim.motion.problem import Problem, joint_offset
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
@@ -265,8 +265,7 @@ def detour(problem: Problem, a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     """
     offset = joint_offset(problem, a, b)
     turning = np.nonzero(~problem.limits.limited & (np.abs(offset) > 0))[0][:3]
-    floor = float(max(problem.solver.clearance, min(problem.solver.clearance * (1 + problem.tunables.planner.certify_to / 2),
-                                                   float(pose_clearance(problem, np.stack([a, b])).min()))))
+    floor = joint_path_floor(problem, float(pose_clearance(problem, np.stack([a, b])).min()))
     ways = []
     for mask in range(1, 2 ** len(turning)):
         long = offset.copy()

@@ -122,7 +122,7 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
     from armanim.motion.planning.check import CompiledCheck  # numba: imported where a joint goal plans
 
     check = CompiledCheck.of(problem, closed=True)
-    floor = joint_path_floor(check, problem, phi_now, goal)
+    floor = joint_path_floor(problem, min(check.pose_clearance(phi_now), check.pose_clearance(goal)))
     source: PathSource
     if problem.solver.planner == "off":
         free, checks = check.motion_free(phi_now, goal, floor)
@@ -155,14 +155,14 @@ def joint_path_frames(waypoints: np.ndarray, max_joint_step: float, most: int) -
     return frames
 
 
-def joint_path_floor(check: CompiledCheck, problem: Problem, start: np.ndarray, goal: np.ndarray) -> float:
-    """The floor a joint goal's path is certified at: ``solver.clearance`` raised by what the
+def joint_path_floor(problem: Problem, ends: float) -> float:
+    """The floor a path between two poses is certified at: ``solver.clearance`` raised by what the
     certification may miss (half its ``certify_to`` clearances, :func:`~.path.motion_is_free`),
     so that every pose between the solved frames keeps ``solver.clearance`` and the clock never
-    has to leave the path; no more than the start's and the goal's own clearance allow."""
+    has to leave the path; no more than ``ends``, the two poses' own least clearance
+    (:func:`~armanim.motion.solvers.barrier.pose_clearance`), allows."""
     d_safe = problem.solver.clearance
-    least = min(check.pose_clearance(start), check.pose_clearance(goal))
-    return float(max(d_safe, min(d_safe * (1 + problem.tunables.planner.certify_to / 2), least)))
+    return float(max(d_safe, min(d_safe * (1 + problem.tunables.planner.certify_to / 2), ends)))
 
 
 def joint_goal_search(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, searched: Searched | None,

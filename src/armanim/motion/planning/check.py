@@ -403,7 +403,7 @@ class CompiledCheck:
     def of(cls, problem: Problem, closed: bool = False, exact: bool = False) -> CompiledCheck:
         """The checks of ``problem``; ``exact``: every clearance and gap measured (no ``far``)."""
         caps, pairs, opts = problem.capsules, problem.self_pairs, problem.tunables.planner
-        packed = np.concatenate([caps.start, caps.end, caps.radius[:, None], caps.joint_segment[:, None].astype(float)], axis=1)
+        packed = caps.packed()
         n = problem.arm.n
         spacing = coarse_spacing(problem)
         first = np.ascontiguousarray(pairs.first, dtype=np.int64)

@@ -1246,7 +1246,7 @@ def _pair_constants(problem: Problem) -> tuple[np.ndarray, ...]:
     if kept is not None:
         return cast("tuple[np.ndarray, ...]", kept)
     caps, pairs = problem.capsules, problem.self_pairs
-    packed = np.concatenate([caps.start, caps.end, caps.radius[:, None], caps.joint_segment[:, None].astype(float)], axis=1)
+    packed = caps.packed()
     kept = tuple(np.ascontiguousarray(a, dtype=t) for a, t in (
         (packed, float), (caps.link, np.int64), (pairs.first, np.int64), (pairs.second, np.int64),
         (problem.pair_lever_rows, float), (problem.pair_levers, float)))

@@ -629,7 +629,7 @@ def _constants(problem: Problem) -> tuple[Any, ...]:
         kept_clearance(problem), s.clearance, problem.self_pairs.clearance, kept_self_clearance(problem), self_influence(problem),
         float(np.linalg.norm(problem.lever_arms)), s.orientation_weight)
     caps, pairs, obstacles = problem.capsules, problem.self_pairs, problem.obstacles
-    packed = np.concatenate([caps.start, caps.end, caps.radius[:, None], caps.joint_segment[:, None].astype(float)], axis=1)
+    packed = caps.packed()
     rows, root = packed_chain(problem.arm)
     kept = (rows, root, floats) + tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
         (problem.limits.lower, float), (problem.limits.upper, float), (packed, float), (caps.link, np.int64),
