@@ -83,15 +83,14 @@ def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members:
     into ``reach`` (G,)."""
     start, caps = members
     for g in range(start.shape[0] - 1):
-        lo = np.full(3, np.inf)
-        hi = np.full(3, -np.inf)
+        lo0 = lo1 = lo2 = np.inf  # scalars, not arrays: this runs for every group of every pose
+        hi0 = hi1 = hi2 = -np.inf
         for m in range(start[g], start[g + 1]):
             c = caps[m]
-            for i in range(3):
-                lo[i] = min(lo[i], a[c, i], b[c, i])
-                hi[i] = max(hi[i], a[c, i], b[c, i])
-        for i in range(3):
-            center[g, i] = 0.5 * (lo[i] + hi[i])
+            lo0, hi0 = min(lo0, a[c, 0], b[c, 0]), max(hi0, a[c, 0], b[c, 0])
+            lo1, hi1 = min(lo1, a[c, 1], b[c, 1]), max(hi1, a[c, 1], b[c, 1])
+            lo2, hi2 = min(lo2, a[c, 2], b[c, 2]), max(hi2, a[c, 2], b[c, 2])
+        center[g, 0], center[g, 1], center[g, 2] = 0.5 * (lo0 + hi0), 0.5 * (lo1 + hi1), 0.5 * (lo2 + hi2)
         far = 0.0
         for m in range(start[g], start[g + 1]):
             c = caps[m]
@@ -102,21 +101,18 @@ def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members:
 
 
 @compiled(**_JIT)
-def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, world: tuple[np.ndarray, ...],
-                    members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float) -> float:
+def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, world: tuple[np.ndarray, ...],
+                    members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float,
+                    s: np.ndarray, normal: np.ndarray) -> float:
     """The least clearance of any capsule to any obstacle or the floor, measured exactly where a
     group's bounding sphere comes within ``far`` of the obstacle, else that sphere's lower bound
-    (so the result is exact when below ``far``, and at most the exact least otherwise)."""
+    (so the result is exact when below ``far``, and at most the exact least otherwise).
+    ``sphere`` (c,): which capsules are points; ``s`` and ``normal``: the closed forms' scratch."""
     centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base = world[:7]
     floor = world[8]
     cyl_centers, cyl_rotations, cyl_half, cyl_radius = world[9], world[10], world[11], world[12]
     start, caps = members
     least = np.inf
-    s = np.empty(max(SCRATCH, CYLINDER_SCRATCH))
-    normal = np.empty(3)
-    sphere = np.empty(a.shape[0], dtype=np.bool_)
-    for c in range(a.shape[0]):
-        sphere[c] = a[c, 0] == b[c, 0] and a[c, 1] == b[c, 1] and a[c, 2] == b[c, 2]
     for g in range(start.shape[0] - 1):
         for k in range(radii.shape[0]):
             bound = math.sqrt((center[g, 0] - centers[k, 0]) ** 2 + (center[g, 1] - centers[k, 1]) ** 2
@@ -204,13 +200,15 @@ def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndar
     gap_normal = np.empty((count, 3))
     joint_segment = caps[:, 7] > 0.5
     sphere = np.empty(c, dtype=np.bool_)
+    s = np.empty(max(SCRATCH, CYLINDER_SCRATCH))
+    normal = np.empty(3)
     for i in range(k):
         _forward_one(rows, root, phi[i], points, frames, axes, tool)
         _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], joint_segment, a, b)
         _bounding_spheres(a, b, radius, (start, members), center, reach)
         for u in range(c):
             sphere[u] = a[u, 0] == b[u, 0] and a[u, 1] == b[u, 1] and a[u, 2] == b[u, 2]
-        clear[i] = _obstacle_least(a, b, radius, world, (start, members), center, reach, far)
+        clear[i] = _obstacle_least(a, b, radius, sphere, world, (start, members), center, reach, far, s, normal)
         near = 0
         for lp in range(group_a.shape[0]):
             ga, gb = group_a[lp], group_b[lp]
@@ -238,8 +236,22 @@ def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndar
 
 
 @compiled(**_JIT)
+def _group_least(own: np.ndarray, pair_start: np.ndarray, pair_members: np.ndarray) -> np.ndarray:
+    """(k, L) the least shifted gap of each pose's pairs in each pair of groups (``own`` (k, P);
+    the groups' pairs as CSR start (L+1,) and pair indices (P,)); NaN wins, as in ``_least``."""
+    out = np.full((own.shape[0], pair_start.shape[0] - 1), np.inf)
+    for i in range(own.shape[0]):
+        for lp in range(pair_start.shape[0] - 1):
+            for m in range(pair_start[lp], pair_start[lp + 1]):
+                g = own[i, pair_members[m]]
+                if g < out[i, lp] or g != g:
+                    out[i, lp] = g
+    return out
+
+
+@compiled(**_JIT)
 def _least(clear: np.ndarray, own: np.ndarray) -> np.ndarray:
-    """(k,) the least of each pose's obstacle clearance and shifted pair gaps."""
+    """(k,) the least of each pose's obstacle clearance and shifted gaps (``own`` (k, any))."""
     out = clear.copy()
     for i in range(own.shape[0]):
         for p in range(own.shape[1]):
@@ -265,13 +277,20 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
                  a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
     """:func:`armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled.
 
-    ``limits``: (lower, upper, levers (n,), pair levers (n, P)); ``settings``: (d_safe, the coarse
-    samples' spacing, certify_to, max_halvings, max_samples, buffer). Returns (free, poses checked)."""
-    lower, upper, levers, pair_levers = limits
+    ``limits``: (lower, upper, levers (n,), the pairs of groups' levers (n, L)); ``settings``:
+    (d_safe, the coarse samples' spacing, certify_to, max_halvings, max_samples, buffer). Returns
+    (free, poses checked).
+
+    The pairs are certified a pair of groups at a time: the least gap of its pairs at both ends of a
+    piece against the most their gaps can change (every pair of two groups has the same lever
+    arms, the joints between them): a bound of each pair's, with L sums a piece rather than P."""
+    lower, upper, levers, group_levers = limits
     d_safe, spacing, certify_to = settings[0], settings[1], settings[2]
     max_halvings, max_samples, buffer = int(settings[3]), settings[4], settings[5]
     n = a.shape[0]
     count_pairs = pairs[0].shape[0]
+    pair_start, pair_members = groups[4], groups[5]
+    count_groups = pair_start.shape[0] - 1
     travel = 0.0
     for j in range(n):
         travel += abs(b[j] - a[j]) * levers[j]
@@ -288,7 +307,8 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     own = np.empty((samples, count_pairs))
     _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses, clear, own)
     checks = samples
-    least = _least(clear, own)
+    grouped = _group_least(own, pair_start, pair_members)
+    least = _least(clear, grouped)
     for i in range(samples):
         if not least[i] >= floor:
             return False, checks
@@ -296,7 +316,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
         return False, checks
     lo, hi = poses[:-1].copy(), poses[1:].copy()
     c_lo, c_hi = clear[:-1].copy(), clear[1:].copy()
-    o_lo, o_hi = own[:-1].copy(), own[1:].copy()
+    o_lo, o_hi = grouped[:-1].copy(), grouped[1:].copy()
     for _ in range(max_halvings):
         pieces = lo.shape[0]
         if pieces == 0:
@@ -309,10 +329,12 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
             if not travel > certify_to * d_safe:
                 continue
             doubt = c_lo[i] + c_hi[i] < travel + 2 * floor
-            for p in range(count_pairs):
+            for p in range(count_groups):
+                if doubt:
+                    break
                 reach = 0.0
                 for j in range(n):
-                    reach += abs(hi[i, j] - lo[i, j]) * pair_levers[j, p]
+                    reach += abs(hi[i, j] - lo[i, j]) * group_levers[j, p]
                 if o_lo[i, p] + o_hi[i, p] < reach + 2 * floor:
                     doubt = True
             doubtful[i] = doubt
@@ -325,9 +347,10 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
             for j in range(n):
                 mid[r, j] = 0.5 * (lo[kept[r], j] + hi[kept[r], j])
         c_mid = np.empty(left)
-        o_mid = np.empty((left, count_pairs))
-        _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, mid, c_mid, o_mid)
+        own_mid = np.empty((left, count_pairs))
+        _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, mid, c_mid, own_mid)
         checks += left
+        o_mid = _group_least(own_mid, pair_start, pair_members)
         least = _least(c_mid, o_mid)
         for r in range(left):
             if not least[r] >= floor:
@@ -336,8 +359,8 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
         new_hi = np.empty((2 * left, n))
         new_c_lo = np.empty(2 * left)
         new_c_hi = np.empty(2 * left)
-        new_o_lo = np.empty((2 * left, count_pairs))
-        new_o_hi = np.empty((2 * left, count_pairs))
+        new_o_lo = np.empty((2 * left, count_groups))
+        new_o_hi = np.empty((2 * left, count_groups))
         for r in range(left):
             i = kept[r]
             new_lo[r], new_hi[r], new_lo[left + r], new_hi[left + r] = lo[i], mid[r], mid[r], hi[i]
@@ -378,6 +401,20 @@ def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
         start, members, keys // max(len(carriers), 1), keys % max(len(carriers), 1), pair_start, pair_members))
 
 
+def group_levers(rows: np.ndarray, groups: tuple[np.ndarray, ...]) -> np.ndarray:
+    """(n, L) the lever arms of each pair of groups (:func:`carrier_groups`): the most of its
+    pairs' ``rows`` (P, n), joint by joint (they are the same: the joints between the two groups).
+
+    >>> rows = np.array([[0.0, 1.0], [0.0, 2.0], [3.0, 0.0]])
+    >>> group_levers(rows, (None, None, None, None, np.array([0, 2, 3]), np.array([0, 1, 2]))).tolist()
+    [[0.0, 3.0], [2.0, 0.0]]
+    """
+    pair_start, pair_members = groups[4], groups[5]
+    if not len(pair_members):
+        return np.zeros((rows.shape[1], 0))
+    return np.ascontiguousarray(np.maximum.reduceat(rows[pair_members], pair_start[:-1], axis=0).T, dtype=float)
+
+
 @dataclass(frozen=True)
 class CompiledCheck:
     """One problem's arrays as the compiled checks read them, packed once per plan.
@@ -408,18 +445,19 @@ class CompiledCheck:
         spacing = coarse_spacing(problem)
         first = np.ascontiguousarray(pairs.first, dtype=np.int64)
         second = np.ascontiguousarray(pairs.second, dtype=np.int64)
+        groups = carrier_groups(_link_of(caps), first, second)
         return cls(
             chain=packed_chain(problem.arm),
             body=(np.ascontiguousarray(packed), np.ascontiguousarray(caps.link, dtype=np.int64),
                   np.ascontiguousarray(caps.part_radius, dtype=float)),
             world=_world(problem),
-            groups=carrier_groups(_link_of(caps), first, second),
+            groups=groups,
             pairs=(first, second, np.ascontiguousarray(pairs.radii(caps), dtype=float)),
             shift=self_shift(problem) if len(pairs) else 0.0,
             far=np.inf if exact else max(opts.exact_within * problem.arm.reach, 4 * problem.solver.clearance),
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
-                    np.ascontiguousarray(problem.pair_lever_rows.reshape(len(pairs), n).T, dtype=float)),
+                    group_levers(problem.pair_lever_rows.reshape(len(pairs), n), groups)),
             settings=np.array([problem.solver.clearance, spacing, opts.certify_to, opts.max_halvings, opts.max_samples,
                                0.0 if closed else limit_buffer(problem)]),
         )
