@@ -5,8 +5,8 @@ A silent, importable API: progress is a callback, nothing is printed here.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
