@@ -207,7 +207,7 @@ def batch_run(data: Path, robot: str, problems: dict, count: int, work: Path) ->
 
     from armanim.scene.moveitscene import RobotSource, import_moveit
 
-    folder = work / "batch"
+    folder = work / f"batch-{robot}"
     folder.mkdir()
     scenes = []
     for (family, index), files in list(problems.items())[:count]:
@@ -218,7 +218,7 @@ def batch_run(data: Path, robot: str, problems: dict, count: int, work: Path) ->
                       RobotSource(urdf=data / robot / f"{robot}_spherized.urdf", srdf=data / robot / f"{robot}.srdf"), out)
         scenes.append(str(out))
     command = [sys.executable, "-m", "armanim", "run", *scenes, "--no-video", "--no-viewer", "--jobs", "1", "--quiet",
-               "--out", str(work / "runs")]
+               "--out", str(work / f"runs-{robot}")]
     started = time.perf_counter()
     done = subprocess.run(command, capture_output=True, text=True, check=False)
     seconds = time.perf_counter() - started
