@@ -339,8 +339,6 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
     )
 
 
-__all__ = ["at_fps", "path_safety", "retime"]
-
 
 @dataclass(frozen=True)
 class _Pass:
@@ -378,7 +376,9 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
     A via whose frames do not come within its judged radius is retimed slower near it (the
     caps of :func:`~armanim.motion.blend.pass_speed_caps` divided by 4, then 16, 64), then made to
     rest (``radius``). A merged part that takes more frames than its goals' parts from rest to rest
-    makes its slowest via rest (``slower``), and is timed again: blending never lengthens a run."""
+    makes its slowest via pass its solved pose instead of a curve (a curve round a corner that turns
+    back is slower than the corner), or rest if it does already (``slower``), and is timed again:
+    blending never lengthens a run."""
     src = solution.trajectory
     outcome: dict[int, _Pass | str] = {}
     vias = set()
@@ -393,6 +393,7 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
     plain = _timed_parts(problem, src, parts, fps, most_frames, safety)
     rest_to_rest = (1 + sum(len(m.phi) for m in plain) + sum(p.hold for p in parts)) / fps
     slow = dict.fromkeys(vias, 1.0)
+    through: set[int] = set()  # vias whose curve made their part slower: they pass their solved pose
     while True:
         merged = _merged(parts, vias, src)
         motions, passes, slower = [], {}, set()
@@ -400,7 +401,7 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
             if not part.vias:
                 motions.append(plain[parts.index(part)])
                 continue
-            motion, found = _timed_via_part(problem, src, safety, part, fps, most_frames, slow)
+            motion, found = _timed_via_part(problem, src, safety, part, fps, most_frames, slow, through)
             motions.append(motion)
             passes.update(found)
             covered = [m for q, m in zip(parts, plain) if part.frames.start <= q.frames.start and q.frames.stop <= part.frames.stop]
@@ -415,31 +416,22 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
                 vias.discard(k)
                 outcome[k] = "radius"
         for k in slower - missed:
-            vias.discard(k)
-            outcome[k] = "slower"
+            if k in through or passes[k].corner == "through":
+                vias.discard(k)
+                outcome[k] = "slower"
+            else:
+                through.add(k)
     outcome.update(passes)
     return merged, motions, outcome, rest_to_rest
 
 
 def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, fps: float, most_frames: float,
-                    slow: dict[int, float]) -> tuple[Motion, dict[int, _Pass]]:
+                    slow: dict[int, float], through: set[int]) -> tuple[Motion, dict[int, _Pass]]:
     """A part through via goals on the clock: each via's corner cut where a certified curve fits
     (:func:`~armanim.motion.blend.cut_corner`), the path's speed capped near each
     (:func:`~armanim.motion.blend.pass_speed_caps`, divided by ``slow`` by goal), and how each was
     passed. The motion's frames head for the part's solved frames (offsets from its first)."""
-    frames = part.frames
-    corner = Corner(src.phi[frames], np.arange(frames.stop - frames.start), np.zeros(frames.stop - frames.start, dtype=bool),
-                    safety.at_poses[frames].copy(), safety.certified[frames.start:frames.stop - 1].copy(), (0, 0), False)
-    local = [f - frames.start for f in part.via_frames]
-    bounds = [0] + [(a + b) // 2 for a, b in zip(local[:-1], local[1:])] + [len(corner.poses) - 1]
-    zones: dict[int, tuple[tuple[int, int], bool]] = {}
-    for j in reversed(range(len(part.vias))):
-        before = len(corner.poses)
-        corner = cut_corner(problem, problem.goals[part.vias[j]], corner, local[j], bounds[j], bounds[j + 1],
-                            safety.clearance, safety.floor)
-        shift = len(corner.poses) - before
-        zones = {i: ((z[0] + shift, z[1] + shift), c) for i, (z, c) in zones.items()}
-        zones[j] = (corner.zone, corner.curve)
+    corner, zones = _shaped_part(problem, src, safety, part, through)
     poses, origin = corner.poses, corner.origin
     shaped = replace(safety, at_poses=corner.clearance, certified=corner.certified)
     caps = np.full(len(poses) - 1, np.inf)
@@ -475,6 +467,42 @@ def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part:
         found[k] = _Pass(f, float(distance.min()), speed, bool(distance.min() <= judged_radius(problem, goal) * (1 + 1e-9)),
                          "curve" if curve else "through")
     return replace(motion, heads_for=origin[motion.heads_for]), found
+
+
+def via_paths(problem: Problem, solution: Solution) -> list[np.ndarray]:
+    """The poses (m_i, n) of each part of ``solution`` (solved, not yet retimed) through via goals,
+    as the clock is first given them: every via goal's solved path and the next goal's one, each
+    corner cut where a certified curve fits (before a via rests for its radius or its time)."""
+    src = solution.trajectory
+    vias = {k for k, g in enumerate(problem.goals) if g.blend is not None and blend_reason(problem, solution.goals, k) is None}
+    safety = path_safety(problem, src)
+    merged = _merged(_parts(problem, solution, problem), vias, src)
+    return [_shaped_part(problem, src, safety, part)[0].poses for part in merged if part.vias]
+
+
+def _shaped_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, through: set[int] | None = None
+                 ) -> tuple[Corner, dict[int, tuple[tuple[int, int], bool]]]:
+    """A part through via goals with each via's corner cut where a certified curve fits
+    (:func:`~armanim.motion.blend.cut_corner`, the last via first; not the goals in ``through``,
+    which pass their solved pose), and each via's (by its place in ``part.vias``) stretch of poses
+    and whether its corner was cut."""
+    frames = part.frames
+    corner = Corner(src.phi[frames], np.arange(frames.stop - frames.start), np.zeros(frames.stop - frames.start, dtype=bool),
+                    safety.at_poses[frames].copy(), safety.certified[frames.start:frames.stop - 1].copy(), (0, 0), False)
+    local = [f - frames.start for f in part.via_frames]
+    bounds = [0] + [(a + b) // 2 for a, b in zip(local[:-1], local[1:])] + [len(corner.poses) - 1]
+    zones: dict[int, tuple[tuple[int, int], bool]] = {}
+    for j in reversed(range(len(part.vias))):
+        before = len(corner.poses)
+        if through is not None and part.vias[j] in through:
+            zones[j] = ((local[j], local[j]), False)
+            continue
+        corner = cut_corner(problem, problem.goals[part.vias[j]], corner, local[j], bounds[j], bounds[j + 1],
+                            safety.clearance, safety.floor)
+        shift = len(corner.poses) - before
+        zones = {i: ((z[0] + shift, z[1] + shift), c) for i, (z, c) in zones.items()}
+        zones[j] = (corner.zone, corner.curve)
+    return corner, zones
 
 
 def _frame_goals(part: _Part, motion: Motion, passes: dict[int, _Pass | str]) -> np.ndarray:
@@ -526,3 +554,6 @@ def _blend_reported(problem: Problem, solution: Solution, report: GoalReport, tr
                        blend=BlendReport(goal.blend, True, None, done.corner, done.distance, done.speed))
     near = float(via_distances(problem, goal, trajectory.phi[last])[0]) if last >= 0 else float("nan")
     return replace(report, blend=BlendReport(goal.blend, False, done, None, near, 0.0))
+
+
+__all__ = ["at_fps", "path_safety", "retime", "split_timing", "via_paths"]
