@@ -6,6 +6,7 @@ blended path against toppra's, and a run with ``blend`` never longer than the sa
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,8 +23,7 @@ from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
 
-from conftest import SCENES
-
+SCENES = Path(__file__).parents[2] / "scenes"
 UR5_JOINT_GOALS = [[40, -60, 80, -110, -90, 0], [0, -80, 60, -70, -90, 30], [-40, -60, 90, -120, -90, 0],
                    [30, -90, 100, -100, -90, 0]]
 
@@ -69,7 +69,7 @@ def test_the_notes_arm_passes_its_goals_within_the_radius_at_every_fps(notes_sol
     assert any(b.blended for b in blends[:-1])
     assert timed.rest_to_rest_duration is not None
     assert timed.trajectory.frames / fps <= timed.rest_to_rest_duration + 1e-9
-    for k, b in enumerate(blends):
+    for b in blends:
         if b.blended:
             assert b.pass_speed > 0 and b.corner in ("curve", "through")
         else:
