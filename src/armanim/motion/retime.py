@@ -551,9 +551,9 @@ def _blend_reported(problem: Problem, solution: Solution, report: GoalReport, tr
     if isinstance(done, _Pass):
         angle = None if trajectory.orientation_error is None or goal.orientation is None else float(trajectory.orientation_error[last])
         return replace(report, final_distance=float(trajectory.distance[last]), final_orientation_error=angle,
-                       blend=BlendReport(goal.blend, True, None, done.corner, done.distance, done.speed))
+                       blend=BlendReport(goal.blend, True, None, done.corner, done.distance, done.speed, goal.joints is not None))
     near = float(via_distances(problem, goal, trajectory.phi[last])[0]) if last >= 0 else float("nan")
-    return replace(report, blend=BlendReport(goal.blend, False, done, None, near, 0.0))
+    return replace(report, blend=BlendReport(goal.blend, False, done, None, near, 0.0, goal.joints is not None))
 
 
 __all__ = ["at_fps", "path_safety", "retime", "split_timing", "via_paths"]

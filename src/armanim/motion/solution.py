@@ -110,6 +110,8 @@ class BlendReport:
     pass_speed : float
         The tool's speed at that frame (scene units per second; a joint goal's: the fastest joint's,
         radians per second); 0 at rest.
+    joint : bool
+        Whether the goal is a joint goal (its radius, distance and speed in radians).
     """
 
     radius: float
@@ -118,6 +120,7 @@ class BlendReport:
     corner: str | None
     pass_distance: float
     pass_speed: float
+    joint: bool = False
 
 
 @dataclass(frozen=True)

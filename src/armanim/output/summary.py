@@ -85,17 +85,20 @@ def goal_report_dict(g: GoalReport, joint_names: Sequence[str] = ()) -> dict:
 def blend_dict(blend: BlendReport | None) -> dict:
     """A goal with ``blend``'s fields of summary.json (read back by :func:`blend_from_dict`): its
     radius, whether it was passed without stopping and why not, the corner (``curve`` or
-    ``through``), and how near and how fast the tool passed; nothing for a goal without."""
+    ``through``), and how near and how fast it was passed (the tool's scene units and per second; a
+    joint goal's in degrees: its largest joint offset and its fastest joint); nothing for a goal without."""
     if blend is None:
         return {}
+    unit = float(np.degrees(1.0)) if blend.joint else 1.0
     return {
-        "blend": blend.radius,
+        "blend": blend.radius * unit,
+        "blend_units": "deg" if blend.joint else "scene",
         "blended": blend.blended,
         "blend_reason": blend.reason,
         "blend_reason_text": BLEND_REASONS.get(blend.reason) if blend.reason else None,
         "corner": blend.corner,
-        "pass_distance": _round(blend.pass_distance),
-        "pass_speed": blend.pass_speed,
+        "pass_distance": _round(blend.pass_distance * unit),
+        "pass_speed": blend.pass_speed * unit,
     }
 
 
@@ -103,9 +106,11 @@ def blend_from_dict(g: dict) -> BlendReport | None:
     """The BlendReport of one goal of summary.json (None for a goal without ``blend``)."""
     if "blended" not in g:
         return None
+    joint = g["blend_units"] == "deg"
+    unit = float(np.radians(1.0)) if joint else 1.0
     near = g["pass_distance"]
-    return BlendReport(float(g["blend"]), bool(g["blended"]), g["blend_reason"], g["corner"],
-                       np.nan if near is None else float(near), float(g["pass_speed"]))
+    return BlendReport(float(g["blend"]) * unit, bool(g["blended"]), g["blend_reason"], g["corner"],
+                       np.nan if near is None else float(near) * unit, float(g["pass_speed"]) * unit, joint)
 
 
 def path_dict(path: PathReport | None) -> dict:
