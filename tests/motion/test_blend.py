@@ -99,6 +99,19 @@ def test_a_ur5_flows_through_joint_goals_on_certified_curves(ur5_solved):
             assert np.abs(traj.velocity[last]).max() > 0.05
 
 
+def test_with_a_jerk_limit_the_flow_keeps_it_on_every_frame():
+    """arm.max_joint_jerk: the blended sequence's frames keep the jerk too (third differences, in
+    the invariants), and still pass the goals faster than at rest."""
+    scene = _ur5_joints(10.0)
+    scene["arm"]["max_joint_jerk"] = 20000
+    problem = scene_to_problem(scene_model(scene))
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert problem.rates.jerk is not None
+    assert_trajectory_invariants(problem, timed)
+    assert sum(g.blend.blended for g in timed.goals) >= 2
+    assert timed.trajectory.frames / problem.fps < timed.rest_to_rest_duration
+
+
 def test_with_hold_on_every_goal_blend_changes_nothing():
     """A goal with hold ends at rest: the trajectory is the one without blend, bit for bit."""
     scene = _notes_arm(None)
