@@ -44,7 +44,7 @@ ENTRY = 0.8
 (the rest of the radius is the frames' margin)."""
 PASS_TOLERANCES = 2.0
 """A frame passes a via goal of a smaller radius (0 included) within this many tolerances."""
-MOST_SAMPLES = 128
+MOST_SAMPLES = 512
 """Most poses on a corner's curve: a curve these cannot certify keeps the corner."""
 def blend_reason(problem: Problem, goals: tuple[GoalReport, ...] | list[GoalReport], k: int) -> str | None:
     """Why goal ``k`` (which has a ``blend``) ends at rest, or None when it may be a via goal.
