@@ -206,3 +206,19 @@ def test_random_blended_joint_goals_keep_every_invariant(problem, radius):
     solution = retime(problem, solve_trajectory(problem), problem.fps)
     assert_trajectory_invariants(problem, solution)
     assert solution.trajectory.frames / problem.fps <= solution.rest_to_rest_duration + 1e-9
+
+
+def test_a_passed_goal_is_drawn_passed_and_captioned_passing(ur5_solved):
+    """The video's markers and captions: a via goal's pass frame says "passing" (not "reached"),
+    its marker is drawn as passed there; the last goal, reached at rest, is "holding"/"reached"."""
+    from armanim.render.overlay.caption import CURRENT, REACHED, frame_activity, goal_status
+
+    problem, solution = ur5_solved
+    timed = retime(problem, solution, problem.fps)
+    traj, reports = timed.trajectory, timed.goals
+    activity = frame_activity(traj, reports)
+    via = next(r for r in reports if r.blend.blended)
+    assert activity[via.last_frame] == "passing"
+    assert goal_status(traj, reports, via.last_frame, len(reports))[via.index] == REACHED
+    assert goal_status(traj, reports, via.first_frame, len(reports))[via.index] == CURRENT
+    assert "passing" not in set(activity[traj.goal == reports[-1].index])

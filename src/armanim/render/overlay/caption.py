@@ -50,7 +50,7 @@ def _passes(trajectory, reports: Sequence, frame: int) -> bool:
 def passing_frames(trajectory, reports: Sequence) -> np.ndarray:
     """(F,) bool: the frames that pass a via goal within its radius (:func:`goal_status` draws the
     goal as passed there, the caption says "passing")."""
-    out = np.zeros(len(trajectory.goal), dtype=bool)
+    out = np.zeros(len(trajectory.phi), dtype=bool)
     for r in reports:
         blend = getattr(r, "blend", None)
         if blend is not None and blend.blended and r.last_frame >= 0:
@@ -91,9 +91,9 @@ def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
     mode = frame_modes(trajectory)
     activity = np.where(trajectory.reached, np.where(still, "holding", "reached"),
                         np.where(still, "stalled", "moving")).astype(object)
-    activity[passing_frames(trajectory, reports)] = "passing"  # a via goal: within its radius, not stopping
     activity[mode == "plan"] = "planning"
     activity[(mode == "path") & ~still] = "following"  # on the path, not at a goal: the pen writes (a path's hold still says holding)
+    activity[passing_frames(trajectory, reports)] = "passing"  # a via goal: within its radius, not stopping
     for r in reports:
         if r.reached or r.last_frame < 0:
             continue
