@@ -130,6 +130,7 @@ def measure(name: str, scene: dict, radius: float) -> dict:
         "under_clearance": under_clearance(blended_problem, flow.trajectory),
         "reached_differ": sum(a.reached != b.reached for a, b in zip(rest.goals, flow.goals)),
         "solve_s": solve_s, "clock_s": clock_s,
+        "reasons": [g.blend.reason for g in flow.goals if g.blend is not None and not g.blend.blended],
     }
 
 
@@ -148,6 +149,10 @@ def report(rows: list[dict]) -> None:
     print(f"frames over a rate limit {sum(r['over_rate'] for r in rows)}, vias outside their radius "
           f"{sum(r['missed_radius'] for r in rows)}, frames under the clearance {sum(r['under_clearance'] for r in rows)}, "
           f"goals reached differently {sum(r['reached_differ'] for r in rows)} (targets 0)")
+    from collections import Counter
+
+    reasons = Counter(reason for r in rows for reason in r["reasons"])
+    print("goals at rest, by reason: " + ", ".join(f"{k} {v}" for k, v in sorted(reasons.items())))
     print(f"rest_to_rest_duration_s equals the run at rest in {sum(abs(r['rest_to_rest'] - r['rest']) < 1e-9 for r in rows)}"
           f" of {len(rows)}; the blended clock took {sum(r['clock_s'] for r in rows):.1f} s, the solves "
           f"{sum(r['solve_s'] for r in rows):.1f} s")

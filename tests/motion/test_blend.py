@@ -222,3 +222,15 @@ def test_a_passed_goal_is_drawn_passed_and_captioned_passing(ur5_solved):
     assert goal_status(traj, reports, via.last_frame, len(reports))[via.index] == REACHED
     assert goal_status(traj, reports, via.first_frame, len(reports))[via.index] == CURRENT
     assert "passing" not in set(activity[traj.goal == reports[-1].index])
+
+
+def test_a_path_goal_starts_and_ends_at_rest_among_blended_goals():
+    """solver.blend leaves a path goal out (it starts and ends at rest) and the goal before it rests
+    (next_path); the goals after it still flow."""
+    scene = _notes_arm(2.0)
+    scene["goals"].insert(1, {"path": {"line": [[14, 5, 6], [14, 8, 6]]}, "speed": 2.0})
+    problem = scene_to_problem(scene_model(scene))
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert_trajectory_invariants(problem, timed)
+    assert timed.goals[1].blend is None and timed.goals[0].blend.reason == "next_path"
+    assert timed.trajectory.frames / problem.fps <= timed.rest_to_rest_duration + 1e-9

@@ -399,7 +399,7 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
         motions, passes, slower = [], {}, set()
         for part in merged:
             if not part.vias:
-                motions.append(plain[parts.index(part)])
+                motions.append(next(m for q, m in zip(parts, plain) if q is part))  # by identity: a part's arrays do not compare
                 continue
             motion, found = _timed_via_part(problem, src, safety, part, fps, most_frames, slow, through)
             motions.append(motion)
