@@ -195,6 +195,13 @@ def test_blended_runs_are_byte_identical(tmp_path, cli):
     assert summary["totals"]["duration_s"] <= summary["totals"]["rest_to_rest_duration_s"]
     assert [g["blended"] for g in summary["goals"]][-1] is False and summary["goals"][-1]["blend_reason"] == "last"
     assert {"pass_distance", "pass_speed", "corner"} <= set(summary["goals"][0])
+    from armanim.output.summary import goal_report_dict
+    from armanim.runs.reload import load_run
+
+    back = load_run(outs[0]).solution  # read back: the same blend reports and the run at rest
+    assert back.rest_to_rest_duration == summary["totals"]["rest_to_rest_duration_s"]
+    assert [goal_report_dict(g)["pass_distance"] for g in back.goals] == [g.get("pass_distance") for g in summary["goals"]]
+    assert [g.blend.blended for g in back.goals] == [g["blended"] for g in summary["goals"]]
 
 
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
