@@ -61,6 +61,23 @@ def assert_within_rates(problem: Problem, traj) -> None:
         (gap / (problem.rates.acceleration / traj.fps)).max())
 
 
+def assert_passed_within_radius(problem: Problem, traj, k: int, report) -> None:
+    """Via goal ``k``'s last frame (its pass) is within its blend radius (at least twice the
+    tolerance), measured again by forward kinematics, and the arm does not rest there."""
+    rows = np.nonzero(traj.goal == k)[0]
+    goal = problem.goals[k]
+    if goal.joints is not None:
+        near = np.abs(wrap_angle(traj.phi[rows] - goal.joints)).max(axis=1)
+        floor = problem.solver.joint_tolerance
+    else:
+        near = np.linalg.norm(forward(problem.arm, traj.phi[rows]).tip - goal.position, axis=1)
+        floor = problem.solver.tolerance
+    assert near[-1] == pytest.approx(report.blend.pass_distance, abs=1e-9)
+    assert near[-1] <= max(goal.blend, 2 * floor) * (1 + 1e-9), (k, near[-1], goal.blend)
+    last = rows[-1]
+    assert last + 1 < len(traj.phi) and np.any(traj.phi[last + 1] != traj.phi[last]) and np.any(traj.phi[last] != traj.phi[last - 1])
+
+
 def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     traj = solution.trajectory
     F, n = traj.phi.shape
@@ -159,7 +176,11 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     assert len(solution.goals) == len(problem.goals)
     for k, report in enumerate(solution.goals):
         assert report.index == k
-        if report.reached:
+        passed = report.blend is not None and report.blend.blended
+        if passed:  # a via goal: reached as solved, and passed (not stopped at) within its radius, by FK of its frames
+            assert report.reached and report.reason is None and report.blend.reason is None
+            assert_passed_within_radius(problem, traj, k, report)
+        elif report.reached:
             assert report.reason is None
             assert report.final_distance < problem.solver.tolerance
             assert report.final_orientation_error is None or report.final_orientation_error < problem.solver.orientation_tolerance

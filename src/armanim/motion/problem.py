@@ -87,6 +87,9 @@ class Goal:
         A joint goal's pose (radians; metres for a prismatic joint): the arm plans its way there
         and ends on it exactly; ``position`` is then its tool point, for reports and pictures.
         None: a point or path goal.
+    blend : float or None
+        Pass within this of the goal without stopping (:mod:`armanim.motion.blend`): scene units,
+        or radians in every joint for a joint goal; 0 passes through it. None: stop at it.
     """
 
     position: np.ndarray
@@ -95,6 +98,7 @@ class Goal:
     path: ToolPath | None = None
     speed: float = 0.0
     joints: np.ndarray | None = None
+    blend: float | None = None
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:

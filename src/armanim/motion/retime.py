@@ -24,6 +24,15 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
+from armanim.motion.blend import (
+    BlendReport,
+    Corner,
+    blend_reason,
+    cut_corner,
+    judged_radius,
+    pass_speed_caps,
+    via_distances,
+)
 from armanim.motion.clock import ClockTooLong, Excess, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.orientation import frame_orientations
@@ -92,15 +101,23 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     src, out = solution.trajectory, at_fps(problem, fps)
     rates = problem.rates
     parts = _parts(problem, solution, out)
-    motions = _timed_parts(problem, src, parts, fps, most_frames)
+    blending = any(g.blend is not None for g in problem.goals)
+    passes: dict[int, _Pass | str] = {}
+    rest_to_rest = None
+    if blending:
+        parts, motions, passes, rest_to_rest = _blended_parts(problem, solution, parts, fps, most_frames)
+    else:
+        motions = _timed_parts(problem, src, parts, fps, most_frames)
     made = sum(len(m.phi) for m in motions) + sum(p.hold for p in parts)
     if made > most_frames:
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
-    phi, velocity, source, held, goal = _joined(src.phi, [p.goal for p in parts], [p.frames for p in parts], motions,
+    frame_goals = [_frame_goals(p, m, passes) for p, m in zip(parts, motions)]
+    phi, velocity, source, held, goal = _joined(src.phi, frame_goals, [p.frames for p in parts], motions,
                                                 [p.hold for p in parts])
     phi = within_closed_limits(problem, phi)
-    part_timings = [m.timing(src.phi[p.frames.start], rates.speed, rates.acceleration, fps) for m, p in zip(motions, parts)]
-    timings = [joined_timing([t for t, p in zip(part_timings, parts) if p.goal == g.index]) for g in solution.goals]
+    part_timings = [(g, t) for m, p, mine in zip(motions, parts, frame_goals)
+                    for g, t in split_timing(m, mine, p.goal, src.phi[p.frames.start], rates.speed, rates.acceleration, fps)]
+    timings = [joined_timing([t for k, t in part_timings if k == g.index]) for g in solution.goals]
     pose = forward(problem.arm, phi)
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     traced = traced_paths(problem, src, phi, pose.tip, source, goal, held)
@@ -130,7 +147,8 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     moving[1:] = ~held[1:]
     trajectory = with_self_clearance(problem, trajectory, pose)
     reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
-    return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports))
+    reports = (_blend_reported(problem, solution, r, trajectory, passes) for r in reports)
+    return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports), rest_to_rest)
 
 
 def within_closed_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
@@ -157,13 +175,18 @@ class _Part:
     path_speed: np.ndarray | None = None
     strays: Callable[[Motion], np.ndarray] | None = None
     excess: Excess | None = None
+    vias: tuple[int, ...] = ()
+    """The goals passed without stopping inside the part, in order (:mod:`armanim.motion.blend`)."""
+    via_frames: tuple[int, ...] = ()
+    """Each via goal's last solved frame (an index of the solved trajectory)."""
 
 
-def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: float, most_frames: float) -> list[Motion]:
+def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: float, most_frames: float,
+                 safety: PathSafety | None = None) -> list[Motion]:
     """Each part's motion on the clock (:func:`~armanim.motion.goalmotion.goal_motions`), kept clear
-    by :func:`path_safety` and, along a path, on it at the goal's speed."""
+    by :func:`path_safety` (or ``safety``, its result) and, along a path, on it at the goal's speed."""
     rates = problem.rates
-    safety = path_safety(problem, solved)
+    safety = path_safety(problem, solved) if safety is None else safety
     safeties = [replace(safety, at_poses=safety.at_poses[p.frames], certified=safety.certified[p.frames.start:p.frames.stop - 1])
                 for p in parts]
     return goal_motions([solved.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
@@ -192,11 +215,12 @@ def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
     return parts
 
 
-def _joined(solved: np.ndarray, goals: list[int], pieces: list[slice], motions: list[Motion], holds: list[int]
+def _joined(solved: np.ndarray, goals: list[np.ndarray], pieces: list[slice], motions: list[Motion], holds: list[int]
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The run's frames: the start pose, then each goal's motion and its hold. Per frame (F,):
+    """The run's frames: the start pose, then each part's motion and its hold. Per frame (F,):
     the angles (F, n), the clock's velocities (F, n), the solved frame each heads for, whether it
-    is held, and its goal (index into the problem's goals)."""
+    is held, and its goal (index into the problem's goals). ``goals``: each part's frames' goals
+    (its motion's frames, then its hold's: the part's own goal)."""
     n = solved.shape[1]
     phi: list[np.ndarray] = [solved[:1]]
     velocity: list[np.ndarray] = [np.zeros((1, n))]
@@ -211,7 +235,7 @@ def _joined(solved: np.ndarray, goals: list[int], pieces: list[slice], motions: 
         velocity += [motion.velocity, np.zeros((hold, n))]
         source += [heads_for, np.full(hold, piece.stop - 1)]
         held += [np.zeros(len(motion.phi), dtype=bool), np.ones(hold, dtype=bool)]
-        goal += [np.full(len(motion.phi) + hold, index)]
+        goal += [index]
     return (np.concatenate(phi), np.concatenate(velocity), np.concatenate(source), np.concatenate(held),
             np.concatenate(goal))
 
@@ -315,4 +339,221 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
     )
 
 
-__all__ = ["at_fps", "path_safety", "retime"]
+
+@dataclass(frozen=True)
+class _Pass:
+    """How a via goal was passed in its part's motion: the frame nearest it (an index of the
+    motion), how near (:func:`~armanim.motion.blend.via_distances`), how fast, and whether within
+    its judged radius; ``corner`` as :attr:`~armanim.motion.blend.BlendReport.corner`."""
+
+    frame: int
+    distance: float
+    speed: float
+    passed: bool
+    corner: str
+
+
+def _merged(parts: list[_Part], vias: set[int], src: Trajectory) -> list[_Part]:
+    """``parts`` with each via goal's last part and the next part made one (a path of several
+    goals, timed from rest to rest with free speed at the vias)."""
+    out: list[_Part] = []
+    for part in parts:
+        if out and out[-1].goal in vias and out[-1].path_speed is None and part.goal == out[-1].goal + 1:
+            before = out.pop()
+            part = _Part(part.goal, slice(before.frames.start, part.frames.stop), part.hold, part.path_speed, part.strays,
+                         part.excess, before.vias + (before.goal,) + part.vias,
+                         before.via_frames + (before.frames.stop - 1,) + part.via_frames)
+        out.append(part)
+    return out
+
+
+def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps: float, most_frames: float
+                   ) -> tuple[list[_Part], list[Motion], dict[int, _Pass | str], float]:
+    """The parts with every via goal's merged into the next (:func:`_merged`), their motions, how
+    each goal with ``blend`` was passed (or why it rests: a key of
+    :data:`~armanim.motion.blend.BLEND_REASONS`), and the run's seconds had every goal rested.
+
+    A via whose frames do not come within its judged radius is retimed slower near it (the
+    caps of :func:`~armanim.motion.blend.pass_speed_caps` divided by 4, then 16, 64), then made to
+    rest (``radius``). A merged part that takes more frames than its goals' parts from rest to rest
+    makes its slowest via pass its solved pose instead of a curve (a curve round a corner that turns
+    back is slower than the corner), or rest if it does already (``slower``), and is timed again:
+    blending never lengthens a run."""
+    src = solution.trajectory
+    outcome: dict[int, _Pass | str] = {}
+    vias = set()
+    for k, goal in enumerate(problem.goals):
+        if goal.blend is not None:
+            why = blend_reason(problem, solution.goals, k)
+            if why is None:
+                vias.add(k)
+            else:
+                outcome[k] = why
+    safety = path_safety(problem, src)
+    plain = _timed_parts(problem, src, parts, fps, most_frames, safety)
+    rest_to_rest = (1 + sum(len(m.phi) for m in plain) + sum(p.hold for p in parts)) / fps
+    slow = dict.fromkeys(vias, 1.0)
+    through: set[int] = set()  # vias whose curve made their part slower: they pass their solved pose
+    while True:
+        merged = _merged(parts, vias, src)
+        motions, passes, slower = [], {}, set()
+        for part in merged:
+            if not part.vias:
+                motions.append(next(m for q, m in zip(parts, plain) if q is part))  # by identity: a part's arrays do not compare
+                continue
+            motion, found = _timed_via_part(problem, src, safety, part, fps, most_frames, slow, through)
+            motions.append(motion)
+            passes.update(found)
+            covered = [m for q, m in zip(parts, plain) if part.frames.start <= q.frames.start and q.frames.stop <= part.frames.stop]
+            if len(motion.phi) > sum(len(m.phi) for m in covered):  # never slower than stopping: the slowest pass rests
+                slower.add(min(part.vias, key=lambda k: found[k].speed))
+        missed = {k for k, p in passes.items() if not p.passed}
+        if not missed and not slower:
+            break
+        for k in missed:
+            slow[k] *= 4
+            if slow[k] > 64:
+                vias.discard(k)
+                outcome[k] = "radius"
+        for k in slower - missed:
+            if k in through or passes[k].corner == "through":
+                vias.discard(k)
+                outcome[k] = "slower"
+            else:
+                through.add(k)
+    outcome.update(passes)
+    return merged, motions, outcome, rest_to_rest
+
+
+def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, fps: float, most_frames: float,
+                    slow: dict[int, float], through: set[int]) -> tuple[Motion, dict[int, _Pass]]:
+    """A part through via goals on the clock: each via's corner cut where a certified curve fits
+    (:func:`~armanim.motion.blend.cut_corner`), the path's speed capped near each
+    (:func:`~armanim.motion.blend.pass_speed_caps`, divided by ``slow`` by goal), and how each was
+    passed. The motion's frames head for the part's solved frames (offsets from its first)."""
+    corner, zones = _shaped_part(problem, src, safety, part, through)
+    poses, origin = corner.poses, corner.origin
+    shaped = replace(safety, at_poses=corner.clearance, certified=corner.certified)
+    caps = np.full(len(poses) - 1, np.inf)
+    for j, k in enumerate(part.vias):
+        caps = np.minimum(caps, pass_speed_caps(problem, problem.goals[k], poses, zones[j][0], fps, slow[k])[0])
+    rates = problem.rates
+    motion = goal_motions([poses], problem.limits.limited, rates.speed, rates.acceleration, fps, [shaped], most_frames,
+                          rates.jerk, [part.hold], [caps])[0]
+    start_tip = forward(problem.arm, poses[0]).tip
+    tips = forward(problem.arm, motion.phi).tip
+    found = {}
+    last = -1
+    for j, k in enumerate(part.vias):
+        goal = problem.goals[k]
+        (z0, z1), curve = zones[j]
+        window = np.nonzero((motion.heads_for >= z0) & (motion.heads_for <= z1 + 1))[0]
+        if not len(window):
+            after = np.nonzero(motion.heads_for > z1 + 1)[0]
+            window = np.array([after[0] - 1 if len(after) and after[0] > 0 else len(motion.phi) - 1,
+                               after[0] if len(after) else len(motion.phi) - 1])
+        window = window[window > last]
+        if not len(window):
+            found[k] = _Pass(last, np.inf, 0.0, False, "curve" if curve else "through")
+            continue
+        distance = via_distances(problem, goal, motion.phi[window])
+        f = int(window[np.argmin(distance)])
+        last = f
+        if goal.joints is not None:
+            speed = float(np.abs(motion.velocity[f]).max())
+        else:
+            ahead, behind = tips[min(f + 1, len(tips) - 1)], tips[f - 1] if f else start_tip
+            speed = float(np.linalg.norm(ahead - behind)) * fps / (min(f + 1, len(tips) - 1) - (f - 1))
+        found[k] = _Pass(f, float(distance.min()), speed, bool(distance.min() <= judged_radius(problem, goal) * (1 + 1e-9)),
+                         "curve" if curve else "through")
+    return replace(motion, heads_for=origin[motion.heads_for]), found
+
+
+def via_paths(problem: Problem, solution: Solution) -> list[np.ndarray]:
+    """The poses (m_i, n) of each part of ``solution`` (solved, not yet retimed) through via goals,
+    as the clock is first given them: every via goal's solved path and the next goal's one, each
+    corner cut where a certified curve fits (before a via rests for its radius or its time)."""
+    src = solution.trajectory
+    vias = {k for k, g in enumerate(problem.goals) if g.blend is not None and blend_reason(problem, solution.goals, k) is None}
+    safety = path_safety(problem, src)
+    merged = _merged(_parts(problem, solution, problem), vias, src)
+    return [_shaped_part(problem, src, safety, part)[0].poses for part in merged if part.vias]
+
+
+def _shaped_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, through: set[int] | None = None
+                 ) -> tuple[Corner, dict[int, tuple[tuple[int, int], bool]]]:
+    """A part through via goals with each via's corner cut where a certified curve fits
+    (:func:`~armanim.motion.blend.cut_corner`, the last via first; not the goals in ``through``,
+    which pass their solved pose), and each via's (by its place in ``part.vias``) stretch of poses
+    and whether its corner was cut."""
+    frames = part.frames
+    corner = Corner(src.phi[frames], np.arange(frames.stop - frames.start), np.zeros(frames.stop - frames.start, dtype=bool),
+                    safety.at_poses[frames].copy(), safety.certified[frames.start:frames.stop - 1].copy(), (0, 0), False)
+    local = [f - frames.start for f in part.via_frames]
+    bounds = [0] + [(a + b) // 2 for a, b in zip(local[:-1], local[1:])] + [len(corner.poses) - 1]
+    zones: dict[int, tuple[tuple[int, int], bool]] = {}
+    for j in reversed(range(len(part.vias))):
+        before = len(corner.poses)
+        if through is not None and part.vias[j] in through:
+            zones[j] = ((local[j], local[j]), False)
+            continue
+        corner = cut_corner(problem, problem.goals[part.vias[j]], corner, local[j], bounds[j], bounds[j + 1],
+                            safety.clearance, safety.floor)
+        shift = len(corner.poses) - before
+        zones = {i: ((z[0] + shift, z[1] + shift), c) for i, (z, c) in zones.items()}
+        zones[j] = (corner.zone, corner.curve)
+    return corner, zones
+
+
+def _frame_goals(part: _Part, motion: Motion, passes: dict[int, _Pass | str]) -> np.ndarray:
+    """(len(motion.phi) + part.hold,) each frame's goal: a via goal's up to its nearest frame, then
+    the next goal's; the part's own goal after the last via, and in the hold."""
+    goals = np.full(len(motion.phi) + part.hold, part.goal)
+    for k in reversed(part.vias):
+        passed = passes[k]
+        assert isinstance(passed, _Pass), "a part's vias were passed"
+        goals[:passed.frame + 1] = k
+    return goals
+
+
+def split_timing(motion: Motion, goals: np.ndarray, last: int, start: np.ndarray, speed: np.ndarray,
+                 acceleration: np.ndarray, fps: float) -> list[tuple[int, GoalTiming]]:
+    """Each goal's :class:`GoalTiming` in a motion (from rest at ``start`` (n,) to rest) whose frames'
+    goals are ``goals`` (at least len(motion.phi),), the motion's own goal ``last``: a motion of one goal's is its
+    :meth:`Motion.timing`; one through via goals gives each its frames' seconds and the peaks of its
+    frames' speeds and accelerations (differences over 1/fps, at rest before and after the motion)."""
+    mine = goals[:len(motion.phi)]
+    if not len(mine) or np.all(mine == last):
+        return [(last, motion.timing(start, speed, acceleration, fps))]
+    steps = wrap_angle(np.diff(np.concatenate([start[None], start[None], motion.phi, motion.phi[-1:]]), axis=0))
+    v = np.abs(steps[1:-1]) * fps / speed  # (K, n): the step into each frame
+    a = np.abs(np.diff(steps, axis=0))[1:] * fps**2 / acceleration  # (K, n): about each frame
+    a[-1] = np.maximum(a[-1], np.abs(np.diff(steps, axis=0))[-1] * fps**2 / acceleration)
+    out = []
+    for k in dict.fromkeys(int(g) for g in mine):
+        rows = np.nonzero(mine == k)[0]
+        vk, ak = v[rows].max(axis=0), a[rows].max(axis=0)
+        out.append((k, GoalTiming(len(rows) / fps, float(vk.max()), float(ak.max()), int(np.argmax(vk)), int(np.argmax(ak)))))
+    if last not in mine:
+        out.append((last, GoalTiming(0.0, 0.0, 0.0, None, None)))
+    return out
+
+
+def _blend_reported(problem: Problem, solution: Solution, report: GoalReport, trajectory: Trajectory,
+                    outcome: dict[int, _Pass | str]) -> GoalReport:
+    """A goal's report with its :class:`~armanim.motion.blend.BlendReport` (a goal with ``blend``):
+    a via goal's final distance and orientation error are its nearest frame's."""
+    goal = problem.goals[report.index]
+    if goal.blend is None:
+        return report
+    last = report.last_frame
+    done = outcome.get(report.index, "missed")
+    if isinstance(done, _Pass):
+        angle = None if trajectory.orientation_error is None or goal.orientation is None else float(trajectory.orientation_error[last])
+        return replace(report, final_distance=float(trajectory.distance[last]), final_orientation_error=angle,
+                       blend=BlendReport(goal.blend, True, None, done.corner, done.distance, done.speed, goal.joints is not None))
+    near = float(via_distances(problem, goal, trajectory.phi[last])[0]) if last >= 0 else float("nan")
+    return replace(report, blend=BlendReport(goal.blend, False, done, None, near, 0.0, goal.joints is not None))
+
+
+__all__ = ["at_fps", "path_safety", "retime", "split_timing", "via_paths"]

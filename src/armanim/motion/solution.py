@@ -76,6 +76,53 @@ class PathReport:
         return PATH_CAUSES[self.cause] if self.cause else None
 
 
+BLEND_REASONS = {
+    "last": "the last goal ends at rest",
+    "hold": "a goal with hold ends at rest",
+    "missed": "a missed goal ends at rest",
+    "next_path": "the next goal is a path goal, which starts at rest",
+    "next_still": "the next goal needs no motion: the arm rests here",
+    "radius": "the frames could not pass within the radius without stopping",
+    "slower": "passing it without stopping took longer than stopping at it",
+}
+"""Why a goal with ``blend`` ends at rest after all (summary.json's ``blend_reason``)."""
+
+
+@dataclass(frozen=True)
+class BlendReport:
+    """How a goal with ``blend`` was passed.
+
+    Attributes
+    ----------
+    radius : float
+        The goal's blend radius (scene units; radians for a joint goal).
+    blended : bool
+        Whether the arm passed it without stopping.
+    reason : str or None
+        Why not (a key of :data:`BLEND_REASONS`), None when it did.
+    corner : str or None
+        ``"curve"``: the corner was replaced by a certified curve inside the radius; ``"through"``: the
+        path passes the goal's solved pose itself (radius 0, no certified curve, or no room); None
+        when not blended.
+    pass_distance : float
+        The least distance of a frame from the goal (the tool's, scene units; a joint goal's: the
+        largest joint offset, radians).
+    pass_speed : float
+        The tool's speed at that frame (scene units per second; a joint goal's: the fastest joint's,
+        radians per second); 0 at rest.
+    joint : bool
+        Whether the goal is a joint goal (its radius, distance and speed in radians).
+    """
+
+    radius: float
+    blended: bool
+    reason: str | None
+    corner: str | None
+    pass_distance: float
+    pass_speed: float
+    joint: bool = False
+
+
 @dataclass(frozen=True)
 class GoalReport:
     """How one goal went.
@@ -107,6 +154,8 @@ class GoalReport:
         The clock's account of the goal's motion; None before the solution is retimed.
     path : PathReport or None
         A path goal's account of its path; None for a point goal.
+    blend : BlendReport or None
+        How a goal with ``blend`` was passed (:mod:`armanim.motion.blend`); None for one without.
     """
 
     index: int
@@ -123,6 +172,7 @@ class GoalReport:
     final_orientation_error: float | None = None
     timing: GoalTiming | None = None
     path: PathReport | None = None
+    blend: BlendReport | None = None
 
     @property
     def reason_text(self) -> str | None:
@@ -268,6 +318,9 @@ class Solution:
 
     trajectory: Trajectory
     goals: tuple[GoalReport, ...]
+    rest_to_rest_duration: float | None = None
+    """With ``blend``: the run's seconds had every goal been reached at rest (the same solved path
+    timed goal by goal); None without."""
 
     @property
     def reached(self) -> int:

@@ -12,7 +12,9 @@ from armanim import __version__
 from armanim.arm.geometry import wrap_angle
 from armanim.motion.problem import Problem
 from armanim.motion.solution import (
+    BLEND_REASONS,
     MISS_REASONS,
+    BlendReport,
     GoalReport,
     GoalTiming,
     PathReport,
@@ -76,7 +78,39 @@ def goal_report_dict(g: GoalReport, joint_names: Sequence[str] = ()) -> dict:
         "planning": asdict(g.planning) if g.planning else None,
         **timing_dict(g.timing, joint_names),
         **path_dict(g.path),
+        **blend_dict(g.blend),
     }
+
+
+def blend_dict(blend: BlendReport | None) -> dict:
+    """A goal with ``blend``'s fields of summary.json (read back by :func:`blend_from_dict`): its
+    radius, whether it was passed without stopping and why not, the corner (``curve`` or
+    ``through``), and how near and how fast it was passed (the tool's scene units and per second; a
+    joint goal's in degrees: its largest joint offset and its fastest joint); nothing for a goal without."""
+    if blend is None:
+        return {}
+    unit = float(np.degrees(1.0)) if blend.joint else 1.0
+    return {
+        "blend": blend.radius * unit,
+        "blend_units": "deg" if blend.joint else "scene",
+        "blended": blend.blended,
+        "blend_reason": blend.reason,
+        "blend_reason_text": BLEND_REASONS.get(blend.reason) if blend.reason else None,
+        "corner": blend.corner,
+        "pass_distance": _round(blend.pass_distance * unit),
+        "pass_speed": blend.pass_speed * unit,
+    }
+
+
+def blend_from_dict(g: dict) -> BlendReport | None:
+    """The BlendReport of one goal of summary.json (None for a goal without ``blend``)."""
+    if "blended" not in g:
+        return None
+    joint = g["blend_units"] == "deg"
+    unit = float(np.radians(1.0)) if joint else 1.0
+    near = g["pass_distance"]
+    return BlendReport(float(g["blend"]) * unit, bool(g["blended"]), g["blend_reason"], g["corner"],
+                       np.nan if near is None else float(near) * unit, float(g["pass_speed"]) * unit, joint)
 
 
 def path_dict(path: PathReport | None) -> dict:
@@ -155,6 +189,7 @@ def goal_report_from_dict(g: dict, joint_names: Sequence[str] = ()) -> GoalRepor
         final_orientation_error=None if g.get("final_orientation_error_deg") is None else float(np.radians(g["final_orientation_error_deg"])),
         timing=timing_from_dict(g, joint_names),
         path=path_from_dict(g),
+        blend=blend_from_dict(g),
     )
 
 
@@ -231,6 +266,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
             "missed": len(goals) - solution.reached,
             "frames": traj.frames,
             "duration_s": traj.frames / traj.fps,
+            **({} if solution.rest_to_rest_duration is None else {"rest_to_rest_duration_s": solution.rest_to_rest_duration}),
             "iterations": int(traj.iterations.sum()),
             "planned_goals": sum(g.planned for g in solution.goals),
             "plan_frames": int(np.count_nonzero(traj.mode == "plan")),

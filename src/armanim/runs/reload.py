@@ -167,4 +167,7 @@ def load_run(folder: str | Path) -> FinishedRun:
                                                                   f"summary.json records {str(recorded)[:12]}...): run armanim run again")])
     problem = scene_to_problem(scene.model, fps=_run_fps(summary, scene))
     traj = with_self_clearance(problem, _read_trajectory(folder / "trajectory.csv", problem))  # the pictures tint near pairs
-    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json")))
+    totals = summary.get("totals")
+    rest = totals.get("rest_to_rest_duration_s") if isinstance(totals, dict) else None  # a run with blend's
+    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json"),
+                                                                       float(rest) if isinstance(rest, (int, float)) else None))

@@ -125,7 +125,7 @@ def resample_run(problem: Problem, solution: Solution, fps: float) -> Solution:
     for g in solution.goals:
         mine = np.nonzero(goal == g.index)[0]
         reports.append(replace(g, first_frame=int(mine[0]) if len(mine) else -1, last_frame=int(mine[-1]) if len(mine) else -1))
-    return Solution(trajectory, tuple(reports))
+    return Solution(trajectory, tuple(reports), solution.rest_to_rest_duration)
 
 
 __all__ = ["frame_times", "interpolate_poses", "resample_run", "resampled_frames"]

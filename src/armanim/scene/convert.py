@@ -353,7 +353,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         home=home,
         limits=limits,
         obstacles=_obstacles(scene),
-        goals=tuple(unlimited_joints_wrapped(scene_goal(g, chain), limits) for g in scene.goals),
+        goals=tuple(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits) for g in scene.goals),
         solver=solver,
         fps=fps,
         capsules=capsules,
@@ -406,21 +406,24 @@ def radians(degrees):
     return np.radians(degrees)
 
 
-def scene_goal(goal: GoalModel, chain: Arm | None = None) -> Goal:
+def scene_goal(goal: GoalModel, chain: Arm | None = None, blend: float | None = None) -> Goal:
     """A goal of the scene as the solver's: a point goal, a path goal whose position is its
     path's start (the arm goes there as to a point, then follows the path), or a joint goal
-    (radians) whose position is its tool point on ``chain`` (which a joint goal needs).
+    (radians) whose position is its tool point on ``chain`` (which a joint goal needs). ``blend``:
+    ``solver.blend``, the radius of a point or joint goal that sets none (a path goal never blends).
 
     >>> g = scene_goal(GoalModel(path={"line": [[0, 0, 0], [0.3, 0.4, 0]]}, speed=0.1))
     >>> g.position.tolist(), g.path.length, g.speed
     ([0.0, 0.0, 0.0], 0.5, 0.1)
     """
+    radius = goal.blend if goal.blend is not None else blend
     if goal.joints is not None:
         assert chain is not None, "a joint goal's tool point needs the arm"
         joints = np.radians(np.array(goal.joints, dtype=float))
-        return Goal(forward(chain, joints).tip.copy(), goal.hold, joints=joints)
+        return Goal(forward(chain, joints).tip.copy(), goal.hold, joints=joints,
+                    blend=None if radius is None else float(np.radians(min(radius, 180.0))))
     if goal.path is None:
-        return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal))
+        return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal), blend=radius)
     path = tool_path(goal.path)
     return Goal(path.start.copy(), goal.hold, goal_orientation(goal), path=path, speed=float(goal.speed))
 

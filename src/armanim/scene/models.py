@@ -413,6 +413,11 @@ class GoalModel(Strict):
     tool_axis: Vector3 | None = Field(
         default=None, description="World direction of the tool's z axis at the goal (a path goal holds it along the path), roll free (5-D goal); default none."
     )
+    blend: NonNegative | None = Field(
+        default=None,
+        description="Pass within this of the goal without stopping (scene units; degrees in every joint for a joint goal; "
+                    "0: exactly through it); default solver.blend. The last goal, a goal with hold and a missed goal end at rest.",
+    )
 
     @field_validator("speed")
     @classmethod
@@ -430,6 +435,15 @@ class GoalModel(Strict):
     @classmethod
     def _axis_not_zero(cls, value):
         return _nonzero(value, "tool_axis") if value is not None else value
+
+    @field_validator("blend")
+    @classmethod
+    def _blend_of_a_point(cls, value, info):
+        if value is not None and info.data.get("path") is not None:
+            raise ValueError("belongs to a point, pose or joint goal (a path goal starts and ends at rest: leave blend out)")
+        if value is not None and info.data.get("joints") is not None and value > 180:
+            raise ValueError(f"is {value:g} degrees on a joint goal (expected at most 180: the most any joint may pass from it)")
+        return value
 
     @model_validator(mode="after")
     def _one_orientation(self):
@@ -528,6 +542,11 @@ class SolverModel(Strict):
     path_tolerance: Positive | None = Field(
         default=None,
         description="The most a path goal's tool may stray from its path, at every frame and between frames, scene units; default tolerance.",
+    )
+    blend: NonNegative | None = Field(
+        default=None,
+        description="Every point, pose and joint goal's blend where it sets none: pass within this of it without stopping "
+                    "(scene units; degrees for a joint goal; 0: exactly through it); default none (every goal at rest).",
     )
     weights: WeightsModel = WeightsModel()
 

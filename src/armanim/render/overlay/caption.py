@@ -31,8 +31,32 @@ def goal_status(trajectory, reports: Sequence, frame: int, goals: int) -> np.nda
     for j in range(min(k, goals)):
         status[j] = REACHED if j >= len(reports) or reports[j].reached else MISSED
     if k < goals:
-        status[k] = REACHED if trajectory.reached[frame] else CURRENT
+        status[k] = REACHED if trajectory.reached[frame] or _passes(trajectory, reports, frame) else CURRENT
     return status
+
+
+def _passes(trajectory, reports: Sequence, frame: int) -> bool:
+    """Whether ``frame`` passes its goal without stopping: the goal's report says it was blended
+    (``blend``) and the tool is within the goal's radius (a joint goal's: its pass frame)."""
+    k = int(trajectory.goal[frame])
+    blend = getattr(reports[k], "blend", None) if k < len(reports) else None
+    if blend is None or not blend.blended:
+        return False
+    if blend.joint:  # its radius is in the joints, the distance column the tool's
+        return frame == reports[k].last_frame
+    return bool(trajectory.distance[frame] <= max(blend.radius, blend.pass_distance))
+
+
+def passing_frames(trajectory, reports: Sequence) -> np.ndarray:
+    """(F,) bool: the frames that pass a via goal within its radius (:func:`goal_status` draws the
+    goal as passed there, the caption says "passing")."""
+    out = np.zeros(len(trajectory.phi), dtype=bool)
+    for r in reports:
+        blend = getattr(r, "blend", None)
+        if blend is not None and blend.blended and r.last_frame >= 0:
+            mine = np.arange(r.first_frame, r.last_frame + 1)
+            out[mine] = [_passes(trajectory, reports, int(f)) for f in mine]
+    return out
 
 
 def frame_modes(trajectory) -> np.ndarray:
@@ -56,8 +80,8 @@ def arm_still(phi: np.ndarray) -> np.ndarray:
 
 def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
     """What the arm does at every frame: planning, following (a path goal's tool along its path),
-    holding, reached, moving, stalled or "missed: <reason>" (during the last second of a goal its
-    report says was missed).
+    holding, reached, passing (a goal with ``blend`` passed within its radius without stopping),
+    moving, stalled or "missed: <reason>" (during the last second of a goal its report says was missed).
 
     Returns
     -------
@@ -69,6 +93,7 @@ def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
                         np.where(still, "stalled", "moving")).astype(object)
     activity[mode == "plan"] = "planning"
     activity[(mode == "path") & ~still] = "following"  # on the path, not at a goal: the pen writes (a path's hold still says holding)
+    activity[passing_frames(trajectory, reports)] = "passing"  # a via goal: within its radius, not stopping
     for r in reports:
         if r.reached or r.last_frame < 0:
             continue
