@@ -171,3 +171,32 @@ def test_tiny_and_huge_visuals_are_drawn_without_a_traceback(cli, tmp_path):
     rendered = cli("render", out / "two", "--out", tmp_path / "r", "--quiet")
     assert rendered.exit_code == 0, rendered.output
     assert (tmp_path / "r" / "poster.png").is_file()
+
+
+def test_render_and_view_of_a_run_elsewhere_draw_the_users_meshes_or_say_why_not(tmp_path):
+    """A run written away from the user's URDF re-renders and re-views with its meshes (the run folder
+    records where the scene and the URDF were); moved away, each mesh is a note, never silence (issue 50)."""
+    import shutil
+    import subprocess
+
+    from runfolders import armanim_exe
+
+    scene = _scene(tmp_path / "ws", package_dirs="[pkgs]")
+    exe, out = armanim_exe(), tmp_path / "elsewhere"
+
+    def armanim(*args):
+        return subprocess.run([exe, *map(str, args)], capture_output=True, text=True, cwd=tmp_path, timeout=600)
+
+    assert armanim("run", scene, "--out", out, "--no-video", "--viewer", "--quiet").returncode == 0
+    run = out / "two"
+    viewed = armanim("view", run, "--out", tmp_path / "again.html")
+    assert viewed.returncode == 0 and "base.stl" not in viewed.stderr, viewed.stderr  # found: no note about it
+    assert "gone.stl" in viewed.stderr  # the one missing in the user's folder too is still a note
+    data = _viewer_data(tmp_path / "again.html")
+    assert sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3 == 12 + 24 * 4  # the box and the base's STL
+    shutil.move(tmp_path / "ws", tmp_path / "moved")
+    rendered = armanim("render", run, "--out", tmp_path / "r", "--quiet", "--jobs", "1")
+    assert rendered.returncode == 0, rendered.stderr
+    assert "base.stl" in rendered.stderr and "drawn as its capsules" in rendered.stderr  # said even with --quiet
+    viewed = armanim("view", run, "--out", tmp_path / "moved.html")
+    assert viewed.returncode == 0 and "base.stl" in viewed.stderr, viewed.stderr

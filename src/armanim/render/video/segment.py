@@ -23,15 +23,19 @@ PALETTE_FRAMES = 12  # frames a GIF's palette is made from
 
 
 def draw_segment(run: SolvedRun, settings: RenderSettings, path: Path, *, start: int, stop: int,
-                 progress: Callable[[int], None] | None = None) -> None:
+                 progress: Callable[[int], None] | None = None,
+                 frame: Callable[[int, Pose], np.ndarray] | None = None) -> None:
     """Draw frames ``start`` to ``stop - 1`` of ``run`` and encode them into ``path``.
 
-    ``progress`` is called with the number of frames of this segment done so far.
+    ``progress`` is called with the number of frames of this segment done so far. ``frame``: the
+    run's :func:`frame_drawer` for ``settings`` when one is built already (a worker forked from
+    the process that built it); else it is built here.
     """
     from armanim.render.video.encode import FrameWriter, gif_palette
 
     problem, trajectory = run.problem, run.trajectory
-    frame = frame_drawer(run, settings)
+    if frame is None:
+        frame = frame_drawer(run, settings)
     with contextlib.ExitStack() as stack:
         palette = None
         if settings.format == "gif":  # one palette for the whole GIF, from frames spread over it
