@@ -7,6 +7,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 trimesh = pytest.importorskip("trimesh")
@@ -200,3 +201,29 @@ def test_render_and_view_of_a_run_elsewhere_draw_the_users_meshes_or_say_why_not
     assert "base.stl" in rendered.stderr and "drawn as its capsules" in rendered.stderr  # said even with --quiet
     viewed = armanim("view", run, "--out", tmp_path / "moved.html")
     assert viewed.returncode == 0 and "base.stl" in viewed.stderr, viewed.stderr
+
+
+def _blue_share(png: Path) -> float:
+    """Share of a picture's pixels in the capsules' blue (blue well above red and green)."""
+    import imageio.v3 as iio
+
+    rgb = iio.imread(png)[..., :3].astype(int)
+    return float(np.mean((rgb[..., 2] - rgb[..., 0] > 80) & (rgb[..., 2] - rgb[..., 1] > 40)))
+
+
+def test_fk_png_draws_the_robot_as_its_run_does(tmp_path):
+    """``fk --png`` of a bundled robot draws its meshes (the Panda's white shells), not the blue capsules
+    (issue 50); a user's URDF with a missing mesh says so."""
+    import subprocess
+
+    from runfolders import armanim_exe
+
+    pose = tmp_path / "pose.png"
+    done = subprocess.run([armanim_exe(), "fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45", "--png", pose],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert _blue_share(pose) < 0.001  # the capsules' blue covered 2 % of this picture
+    scene = _scene(tmp_path, look="mesh")
+    done = subprocess.run([armanim_exe(), "fk", "--scene", scene, "--angles=10,20", "--png", pose],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0 and "gone.stl" in done.stderr, done.stderr

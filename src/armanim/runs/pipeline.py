@@ -172,14 +172,20 @@ def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) ->
     """``run`` with what its pictures draw as meshes with ``settings``: its robot's look (none for
     ``render.robot: capsules``) and the scene's furniture (:func:`armanim.scene.looks.scene_meshes`),
     and a note per visual mesh that could not be read (its link is drawn as its capsules)."""
+    meshes, notes = look_meshes(scene.model, settings, *look_folders(scene))
+    return replace(run, meshes=meshes), tuple(notes)
+
+
+def look_meshes(model, settings: RenderSettings, scene_dir: Path, urdf_dir: Path | None = None):
+    """(meshes or None, notes): what a scene ``model``'s pictures draw as meshes at ``settings``'
+    size (:func:`armanim.scene.looks.scene_meshes`), its file names starting from ``scene_dir``
+    (and ``urdf_dir``, default the URDF's own folder)."""
     width, height = settings.size
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
-    arm = scene.model.arm
-    scene_dir, urdf_dir = look_folders(scene)
+    arm = model.arm
     dirs = [scene_dir / d for d in arm.package_dirs] if arm.package_dirs else None
-    meshes, notes = scene_meshes(arm, dirs, triangles=budget, scene_dir=scene_dir, urdf_dir=urdf_dir,
-                                 furniture=scene.model.render.furniture, robot=settings.robot != "capsules")
-    return replace(run, meshes=meshes), tuple(notes)
+    return scene_meshes(arm, dirs, triangles=budget, scene_dir=scene_dir, urdf_dir=urdf_dir,
+                        furniture=model.render.furniture, robot=settings.robot != "capsules")
 
 
 LOOK_FOLDERS_FILE = "look-folders.json"
