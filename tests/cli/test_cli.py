@@ -343,7 +343,17 @@ def test_validate_counts_in_the_singular(cli, tmp_path):
 def test_ik_says_why_an_out_of_reach_goal_is_not_reached(cli):
     result = cli("ik", "--goal", "30,0,0", "--links", "1,1,1,1", "--json")
     data = json.loads(result.stdout)
-    assert not data["converged"] and data["reason"].startswith("out of reach: the goal is 30 from the base, the arm is 4 long")
+    assert not data["converged"] and data["reason"].startswith("out of reach: the goal is 30 units from the base, the arm is 4 units long")
+
+
+def test_ik_names_the_unit_of_a_robot_s_reach():
+    """A URDF arm's lengths are metres, and the message says so (issue 50: "2.015 from the base")."""
+    import subprocess
+
+    from runfolders import armanim_exe
+
+    done = subprocess.run([armanim_exe(), "ik", "--robot", "iiwa", "--goal", "2,0,0.4"], capture_output=True, text=True, timeout=600)
+    assert "the goal is 2.015 m from the base, the arm is 1.103 m long" in done.stdout + done.stderr, done.stdout + done.stderr
 
 
 def test_strict_quiet_says_which_goal_was_missed_on_stderr(cli, tmp_path):

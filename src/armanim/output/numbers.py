@@ -32,3 +32,14 @@ def number(value: float, scale: float = 1.0, digits: int = DIGITS) -> str:
         return "0"
     text = f"{value:.{digits}g}"
     return "0" if text in ("-0", "0") else text
+
+
+def length_unit(arm) -> str:
+    """The unit a length of ``arm``'s scene is in, as words around a number name it: ``m`` for a
+    URDF arm (its joints have names), ``units`` for an arm of links (scene units).
+
+    >>> import types
+    >>> length_unit(types.SimpleNamespace(joint_names=("j1",))), length_unit(types.SimpleNamespace(joint_names=()))
+    ('m', 'units')
+    """
+    return "m" if getattr(arm, "joint_names", ()) else "units"

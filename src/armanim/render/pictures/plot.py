@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
+from armanim.output.numbers import length_unit
 from armanim.output.solved import SolvedRun
 from armanim.render.paint.pixels import write_png
 from armanim.render.paint.style import GOAL_COLORS
@@ -57,7 +58,7 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
     if len(problem.obstacles) and np.isfinite(trajectory.clearance).any():
         top.plot(t, trajectory.clearance, color="C3", label="clearance to obstacles")
         top.axhline(0.0, color="C3", linewidth=0.8, linestyle=":")
-    top.set_ylabel("scene units")
+    top.set_ylabel("metres" if length_unit(problem.arm) == "m" else "scene units")
     handles = _orientation_curve(top, trajectory)
     named = [line for line in top.get_lines() if not line.get_label().startswith("_")]  # not the goals' span edges
     top.legend(handles=named + handles, loc="upper right", fontsize=9)
