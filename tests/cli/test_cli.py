@@ -409,3 +409,29 @@ def test_run_quiet_keeps_the_notes(cli, tmp_path):
     assert quiet.exit_code == 0, quiet.output
     assert "arm.home: these angles look like radians" in quiet.stderr
     assert "goal" not in quiet.stdout  # the table stays out
+
+
+def _at_80_columns(*args, cwd=None) -> str:
+    """What the installed command prints (stdout and stderr) in an 80-column terminal."""
+    import os
+    import subprocess
+
+    from runfolders import armanim_exe
+
+    env = dict(os.environ, COLUMNS="80", TERM="xterm")
+    done = subprocess.run([armanim_exe(), *map(str, args)], capture_output=True, text=True, env=env, cwd=cwd, timeout=600)
+    return done.stdout + done.stderr
+
+
+def test_at_80_columns_help_names_robots_headers_and_batch_scenes_are_whole(tmp_path):
+    """Issue 50's papercuts: ``ik --help`` cut ``--orientation-tolera…``, ``robots`` wrapped its
+    header to the table's width, the batch table split ``panda-clutt / er``."""
+    helped = _at_80_columns("ik", "--help")
+    assert "--orientation-tolerance " in helped and "…" not in helped, helped
+    listed = _at_80_columns("robots")
+    header = next(line for line in listed.splitlines() if line.startswith("panda:"))
+    assert header.rstrip().endswith("collision capsules") and len(header) <= 80, listed
+    for name in ("planning-wall-long", "panda-clutter-long"):
+        (tmp_path / f"{name}.yaml").write_text(f"version: 1\nname: {name}\narm: {{links: [1, 1]}}\ngoals: [[1.2, 0.8, 0]]\n")
+    batch = _at_80_columns("run", "planning-wall-long.yaml", "panda-clutter-long.yaml", "--no-video", "--out", "o", cwd=tmp_path)
+    assert "│ planning-wall-long │" in batch and "│ panda-clutter-long │" in batch, batch
