@@ -435,3 +435,14 @@ def test_at_80_columns_help_names_robots_headers_and_batch_scenes_are_whole(tmp_
         (tmp_path / f"{name}.yaml").write_text(f"version: 1\nname: {name}\narm: {{links: [1, 1]}}\ngoals: [[1.2, 0.8, 0]]\n")
     batch = _at_80_columns("run", "planning-wall-long.yaml", "panda-clutter-long.yaml", "--no-video", "--out", "o", cwd=tmp_path)
     assert "│ planning-wall-long │" in batch and "│ panda-clutter-long │" in batch, batch
+
+
+def test_validate_never_rounds_two_different_values_into_one(tmp_path):
+    """Issue 50: six digits made ``min must be below max (got [10, 10])`` and ``90 deg is outside
+    [-90, 90]`` of values that differ; a message keeps the digits that tell them apart."""
+    scene = tmp_path / "close.yaml"
+    scene.write_text("version: 1\narm:\n  links: [2, 5, 5, 5]\n  limits: [[-150, 150], [-90, 89.99999], [10.0000001, 10.00000001], null]\n"
+                     "  home: [0, 89.999995, 0, 0]\ngoals:\n  - [6, 0, 10]\n")
+    said = _at_80_columns("validate", scene)
+    assert "arm.limits[2]: min must be below max (got [10.0000001, 10])" in said, said  # 10.00000001 < 10.0000001
+    assert "89.999995 deg is outside joint 2's limits" in said and "[-90, 89.99999]" in said, said
