@@ -12,6 +12,7 @@ from armanim.render.overlay.caption import PENDING
 from armanim.render.paint.pixels import write_png
 from armanim.render.pictures.canvas import FrameState, SceneCanvas
 from armanim.render.settings import RenderSettings
+from armanim.render.solids.arm import near_capsules
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
@@ -44,7 +45,8 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     phi = np.asarray(phi, dtype=float)
     pose = forward(problem.arm, phi)
     caption = pose_caption(problem, phi)
+    near = near_capsules(problem, pose)
     scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption,
-                        meshes=meshes)
+                        meshes=meshes, near_self=near is not None and bool(near.any()))
     state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
     write_png(scene.draw(state), path)

@@ -55,7 +55,7 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     The frame returned is the canvas's live buffer: consume it before the next call.
     """
     from armanim.render.overlay.paths import path_progress
-    from armanim.render.pictures.canvas import FrameState, SceneCanvas
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas, near_in_frames
 
     problem, trajectory, reports = run.problem, run.trajectory, run.reports
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
@@ -63,7 +63,8 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     activity = frame_activity(trajectory, reports)
     captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
     scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=extent,
-                        caption_template=max(captions, key=len), outcomes=goal_outcomes(reports))
+                        caption_template=max(captions, key=len), outcomes=goal_outcomes(reports),
+                        near_self=near_in_frames(problem, trajectory.self_clearance))
     done = path_progress(trajectory.goal, trajectory.path_s, goals) if scene.paths else None
 
     def frame(f: int, pose: Pose) -> np.ndarray:
