@@ -33,3 +33,16 @@ def test_the_amber_tint_is_named_in_the_legend_when_a_frame_shows_it(tmp_path):
     assert np.allclose(entries["near itself"].get_color(), tint)
     assert "near itself" not in dict(legend_entries("video", trail=True, obstacles=True, outcomes=frozenset(),
                                                     hidden_goal=False, robot=True))
+
+
+def test_the_pen_is_no_colour_drawn_along_it():
+    """Issue 50: ur5-pen's blue pen lay on the tool triad's blue z axis and read as one line. The pen's
+    body is far from every colour drawn at the tool (the triad's axes) or near it (ink, tip path, near tint)."""
+    import numpy as np
+    from matplotlib.colors import to_rgb
+
+    from armanim.render.paint.style import AXIS_COLORS, INK_COLOR, SELF_NEAR_COLOR, TRAIL_COLOR
+    from armanim.scene.looks import PEN_BODY_RGB
+
+    for color in (*AXIS_COLORS, INK_COLOR, TRAIL_COLOR, SELF_NEAR_COLOR):
+        assert np.linalg.norm(np.subtract(PEN_BODY_RGB, to_rgb(color))) > 0.35, color

@@ -80,8 +80,10 @@ def furniture_meshes(furniture) -> list[LinkMesh]:
     return out
 
 
-PEN_BODY_RGB = (0.16, 0.33, 0.72)
-"""The pen's body; its nib is :data:`PEN_NIB_RGB`."""
+PEN_BODY_RGB = (0.55, 0.27, 0.68)
+"""The pen's body, purple: no colour of the tool triad it lies along (a blue pen on the triad's
+blue z axis read as one line, issue 50), nor of the ink, the tip path, the near tint or the
+obstacles; its nib is :data:`PEN_NIB_RGB`."""
 PEN_NIB_RGB = (0.15, 0.15, 0.17)
 NIB_SHARE = 0.18
 """The share of the pen's length that is its tapering nib."""
