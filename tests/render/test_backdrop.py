@@ -46,3 +46,26 @@ def test_the_pen_is_no_colour_drawn_along_it():
 
     for color in (*AXIS_COLORS, INK_COLOR, TRAIL_COLOR, SELF_NEAR_COLOR):
         assert np.linalg.norm(np.subtract(PEN_BODY_RGB, to_rgb(color))) > 0.35, color
+
+
+def test_a_path_goal_s_marker_is_open_so_its_ink_shows_through():
+    """Issue 50: goal markers covered the first letter of the ink ("rmanim"). A path goal's marker
+    (at its path's start) is a ring: the pixel under its centre is left as it was; a point goal's is filled."""
+    import numpy as np
+
+    from armanim.render.overlay.caption import CURRENT, REACHED
+    from armanim.render.overlay.markers import GoalMarkers
+    from armanim.render.paint.pixels import composite, make_figure
+
+    fig, _ = make_figure(200, 100, 100)
+    scratch = make_figure(60, 60, 100)[1]
+    markers = GoalMarkers(fig, np.array([[50.0, 50.0, 0.0], [150.0, 50.0, 0.0]]), np.zeros(2, dtype=bool), (200, 100),
+                          open_goals=np.array([True, False]))
+    for code in (REACHED, CURRENT):
+        frame = np.zeros((100, 200, 4), dtype=np.uint8)
+        frame[..., :3] = (20, 30, 90)  # ink everywhere
+        frame[..., 3] = 255
+        for goal in (0, 1):
+            composite(frame, markers._stamp(scratch, goal, code))
+        assert tuple(frame[50, 50, :3]) == (20, 30, 90), code  # the path goal's centre: the ink
+        assert tuple(frame[50, 150, :3]) != (20, 30, 90), code  # the point goal's: its marker

@@ -209,7 +209,8 @@ class SceneCanvas:
         self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if shaped else None
         self.obstacle_order = ObstacleOrder(self.spheres, self.shapes, self.view) if self.shapes is not None else None
         goals = self.view.project(goal_points(problem))
-        self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height))
+        paths = np.array([getattr(g, "path", None) is not None for g in problem.goals], dtype=bool)
+        self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height), open_goals=paths)
         self.triads = has_orientations(problem.goals)
         self.triad_length = TRIAD_PER_REACH * problem.arm.reach
         self._prepare_trail(tips if settings.trail else None)
