@@ -227,3 +227,23 @@ def test_fk_png_draws_the_robot_as_its_run_does(tmp_path):
     done = subprocess.run([armanim_exe(), "fk", "--scene", scene, "--angles=10,20", "--png", pose],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0 and "gone.stl" in done.stderr, done.stderr
+
+
+def test_the_ur5_is_not_drawn_as_a_black_silhouette(tmp_path):
+    """Issue 50: the UR5's vendored greys (13-107/255) read almost black. Mesh colours are lifted
+    toward white before they are lit, as a viewer's ambient light does: few pixels of its picture are
+    near black (1.5 % of them were, darker than 40/255; the title and caption text remain)."""
+    import subprocess
+
+    import imageio.v3 as iio
+    from runfolders import armanim_exe
+
+    from armanim.render.solids.robot import MESH_LIFT, lifted
+
+    assert lifted(np.zeros(3)).min() == MESH_LIFT and lifted(np.ones(3)).max() == 1.0
+    pose = tmp_path / "ur5.png"
+    done = subprocess.run([armanim_exe(), "fk", "--robot", "ur5", "--angles=0,-90,90,0,90,0", "--png", pose],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    rgb = iio.imread(pose)[..., :3]
+    assert np.mean(rgb.max(axis=-1) < 40) < 0.007
