@@ -39,9 +39,9 @@ def plot_run(run: SolvedRun, options: OutputOptions, path) -> None:
         The PNG, written atomically.
     """
     canvas = plot_figure(run.problem, run.trajectory, run.reports, title=run.name)
+    canvas.figure.draw_without_rendering()  # the layout and the texts' boxes, without a third of a draw's time
+    separate_labels(canvas.figure.axes[1], canvas.get_renderer())
     canvas.draw()
-    if separate_labels(canvas.figure.axes[1], canvas.get_renderer()):
-        canvas.draw()
     write_png(np.asarray(canvas.buffer_rgba()), path)
 
 
