@@ -317,11 +317,14 @@ class SceneCanvas:
             sheet.draw(arrow_heads(self.view, segments[arrows], [colors[k] for k in arrows], GOAL_ALPHA, 7.0))
 
     def _draw_tool_triad(self, pose: Pose) -> None:
-        """The tool frame's RGB axes at the tip."""
+        """The tool frame's RGB axes at the tip (one collection made once, its segments moved each frame)."""
         segments, colors = frame_segments(pose.tip, tool_rotation(self.problem.arm, pose), self.triad_length)
-        lines = in_pixels(screen_lines(self.view, segments, colors, 1.0, 2.2), self.fig)
-        lines.set_offset_transform(IdentityTransform())
-        lines.draw(self.renderer)
+        if getattr(self, "_triad", None) is None:
+            self._triad = in_pixels(screen_lines(self.view, segments, colors, 1.0, 2.2), self.fig)
+            self._triad.set_offset_transform(IdentityTransform())
+        else:
+            self._triad.set_segments(self.view.project(segments)[..., :2])
+        self._triad.draw(self.renderer)
 
     def _floor_shadows(self) -> list[np.ndarray]:
         """Rings on the floor under the base and under every sphere (light straight overhead)."""
