@@ -35,8 +35,9 @@ MARKER_STYLES = {
 
 
 def open_style(code: int) -> dict:
-    """The marker of a path goal, at its path's start: open, in the state's colour, so that the
-    ink it stands on shows through it (a filled dot hid the first letter of ur5-pen's word)."""
+    """The marker of a path goal, at its path's start, once it is current, reached or missed: open,
+    in the state's colour, so that the ink it stands on shows through it (a filled dot hid the
+    first letter of ur5-pen's word)."""
     style = MARKER_STYLES[code]
     edge = style["markerfacecolor"] if code != PENDING else style["markeredgecolor"]
     return {**style, "markerfacecolor": "none", "markeredgecolor": edge, "markeredgewidth": 2.0}
@@ -141,7 +142,8 @@ class GoalMarkers:
         label = self.labels[i]
         label.set_color(GOAL_COLORS[STATUS_NAMES[code]] if code != PENDING else TEXT_COLOR)
         label.set_alpha(1.0)  # the number stays readable; only the marker of a hidden goal is dimmed
-        marks = self.hidden_marks if hidden else self.open_marks if self.open[i] else self.marks
+        # a path goal still pending has drawn no ink: its ring is every pending goal's
+        marks = self.hidden_marks if hidden else self.open_marks if self.open[i] and code != PENDING else self.marks
         artists = [marks[code], label]
         if code == CURRENT and not hidden:
             artists.insert(0, self.ring)
