@@ -343,7 +343,17 @@ def test_validate_counts_in_the_singular(cli, tmp_path):
 def test_ik_says_why_an_out_of_reach_goal_is_not_reached(cli):
     result = cli("ik", "--goal", "30,0,0", "--links", "1,1,1,1", "--json")
     data = json.loads(result.stdout)
-    assert not data["converged"] and data["reason"].startswith("out of reach: the goal is 30 from the base, the arm is 4 long")
+    assert not data["converged"] and data["reason"].startswith("out of reach: the goal is 30 units from the base, the arm is 4 units long")
+
+
+def test_ik_names_the_unit_of_a_robot_s_reach():
+    """A URDF arm's lengths are metres, and the message says so (issue 50: "2.015 from the base")."""
+    import subprocess
+
+    from runfolders import armanim_exe
+
+    done = subprocess.run([armanim_exe(), "ik", "--robot", "iiwa", "--goal", "2,0,0.4"], capture_output=True, text=True, timeout=600)
+    assert "the goal is 2.015 m from the base, the arm is 1.103 m long" in done.stdout + done.stderr, done.stdout + done.stderr
 
 
 def test_strict_quiet_says_which_goal_was_missed_on_stderr(cli, tmp_path):
@@ -399,3 +409,40 @@ def test_run_quiet_keeps_the_notes(cli, tmp_path):
     assert quiet.exit_code == 0, quiet.output
     assert "arm.home: these angles look like radians" in quiet.stderr
     assert "goal" not in quiet.stdout  # the table stays out
+
+
+def _at_80_columns(*args, cwd=None) -> str:
+    """What the installed command prints (stdout and stderr) in an 80-column terminal."""
+    import os
+    import subprocess
+
+    from runfolders import armanim_exe
+
+    env = dict(os.environ, COLUMNS="80", TERM="xterm")
+    done = subprocess.run([armanim_exe(), *map(str, args)], capture_output=True, text=True, env=env, cwd=cwd, timeout=600)
+    return done.stdout + done.stderr
+
+
+def test_at_80_columns_help_names_robots_headers_and_batch_scenes_are_whole(tmp_path):
+    """Issue 50's papercuts: ``ik --help`` cut ``--orientation-tolera…``, ``robots`` wrapped its
+    header to the table's width, the batch table split ``panda-clutt / er``."""
+    helped = _at_80_columns("ik", "--help")
+    assert "--orientation-tolerance " in helped and "…" not in helped, helped
+    listed = _at_80_columns("robots")
+    header = next(line for line in listed.splitlines() if line.startswith("panda:"))
+    assert header.rstrip().endswith("collision capsules") and len(header) <= 80, listed
+    for name in ("planning-wall-long", "panda-clutter-long"):
+        (tmp_path / f"{name}.yaml").write_text(f"version: 1\nname: {name}\narm: {{links: [1, 1]}}\ngoals: [[1.2, 0.8, 0]]\n")
+    batch = _at_80_columns("run", "planning-wall-long.yaml", "panda-clutter-long.yaml", "--no-video", "--out", "o", cwd=tmp_path)
+    assert "│ planning-wall-long │" in batch and "│ panda-clutter-long │" in batch, batch
+
+
+def test_validate_never_rounds_two_different_values_into_one(tmp_path):
+    """Issue 50: six digits made ``min must be below max (got [10, 10])`` and ``90 deg is outside
+    [-90, 90]`` of values that differ; a message keeps the digits that tell them apart."""
+    scene = tmp_path / "close.yaml"
+    scene.write_text("version: 1\narm:\n  links: [2, 5, 5, 5]\n  limits: [[-150, 150], [-90, 89.99999], [10.0000001, 10.00000001], null]\n"
+                     "  home: [0, 89.999995, 0, 0]\ngoals:\n  - [6, 0, 10]\n")
+    said = _at_80_columns("validate", scene)
+    assert "arm.limits[2]: min must be below max (got [10.0000001, 10])" in said, said  # 10.00000001 < 10.0000001
+    assert "89.999995 deg is outside joint 2's limits" in said and "[-90, 89.99999]" in said, said

@@ -110,10 +110,17 @@ def start_of(problem: Problem, seed: int, from_home: bool) -> np.ndarray:
        kind=st.sampled_from(["pose", "axis", "position"]), from_home=st.booleans())
 # The cases the search found in CI (eee6f58: the UR5's twin capsules give 7 active rows of rank 3,
 # whose least-norm multipliers had a negative entry); both fail with that commit's parent's test.
-# Its Panda seed 1124805897 and 4283247's Panda seed 448 are not pinned: their method, kind and
-# start are not recorded, and none of the 12 combinations fails with the test before either fix.
+# Its Panda seed 1124805897 and 4283247's Panda seed 448: their method, kind and start were not
+# recorded; pinned here are the combinations whose steps meet the pair QP (1124805897, from a random
+# start) or are handed back to the numpy path (448, a tool-axis goal from a random start), as those
+# commits describe. 448 with a position goal from a random start fails today: see
+# test_panda_seed_448_position_step_is_the_numpy_step below.
 @example(name="ur5", method="pinv", seed=249955419, kind="position", from_home=False)
 @example(name="ur5", method="dls", seed=249955419, kind="position", from_home=False)
+@example(name="panda-self", method="pinv", seed=1124805897, kind="position", from_home=False)
+@example(name="panda-self", method="dls", seed=1124805897, kind="position", from_home=False)
+@example(name="panda-self", method="pinv", seed=448, kind="axis", from_home=False)
+@example(name="panda-self", method="dls", seed=448, kind="axis", from_home=False)
 def test_the_compiled_attempt_takes_the_numpy_steps(name, method, seed, kind, from_home):
     problem = ik.solving_problem(problem_of(name, method))
     oracle = ik.solving_problem(numpy_only(problem_of(name, method)))
@@ -128,6 +135,17 @@ def test_the_compiled_attempt_takes_the_numpy_steps(name, method, seed, kind, fr
         if ended:  # the attempt ended before its budget: so did the compiled one, at the same step
             break
         before = got.phi
+
+
+@pytest.mark.xfail(strict=True, reason="known: the compiled attempt's step where the pair QP acts is 0.9x the numpy "
+                   "path's (Panda seed 448, a position goal from a random start; found 2026-12-06, left to the motion work)")
+@pytest.mark.parametrize("method", ["pinv", "dls"])
+def test_panda_seed_448_position_step_is_the_numpy_step(method):
+    """The Panda seed 448 of 4283247 with a position goal from its random start: the compiled step
+    differs from the numpy one by 10 % (6 of 7 joints past DAQP's 1e-4). Strict: it reports when fixed,
+    and then belongs among the @example cases above."""
+    test_the_compiled_attempt_takes_the_numpy_steps.hypothesis.inner_test(
+        name="panda-self", method=method, seed=448, kind="position", from_home=False)
 
 
 QP_KKT = 1e-12

@@ -34,3 +34,26 @@ def test_an_arm_of_links_keeps_phi_names_and_no_orientation_axis():
     fig = _figure("notes-arm")
     labels = [line.get_label() for line in fig.axes[1].get_lines() if not line.get_label().startswith("_")]
     assert labels[0] == "phi1" and not any(ax.get_ylabel() == "degrees" for ax in fig.axes)
+
+
+def test_limit_labels_and_the_joint_legend_never_overlap():
+    """Issue 50: panda-place's legend covered ``panda_joint6 max 215`` and the 166 line, and
+    ``... min -166`` printed on ``panda_joint4 min -176``, ``max -4`` on ``min -1``."""
+    from armanim.render.pictures.plot import separate_labels
+
+    fig = _figure("panda-place")
+    canvas = fig.canvas
+    canvas.draw()
+    angles = fig.axes[1]
+    separate_labels(angles, canvas.get_renderer())
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    labels = [t for t in angles.texts if getattr(t, "limit_label", False)]
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    assert len(boxes) == 8  # the Panda's 14 limits: 166 and -166 shared by four joints
+    for i in range(len(boxes)):
+        for j in range(i):
+            assert not boxes[i].overlaps(boxes[j]), (labels[i].get_text(), labels[j].get_text())
+    legend = angles.get_legend().get_window_extent(renderer)
+    assert not any(legend.overlaps(box) for box in boxes)
+    assert legend.x0 >= angles.get_window_extent(renderer).x1  # beside the panel, not over its lines

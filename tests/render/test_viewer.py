@@ -160,8 +160,10 @@ def test_run_no_video_writes_no_viewer_unless_asked(cli, scene, tmp_path):
 def test_run_writes_the_viewer_beside_the_video_unless_told_not_to(cli, scene, tmp_path, monkeypatch):
     import armanim.runs.pipeline as pipeline
 
-    def video(run, options, folder, **kwargs):  # a stand-in: the flags, not the drawing
+    def video(run, options, folder, also=None, **kwargs):  # a stand-in: the flags, not the drawing
         (folder / "animation.mp4").write_bytes(b"video")
+        if also is not None:  # the page, written while the video's workers draw
+            also()
         return {"video": folder / "animation.mp4"}
 
     monkeypatch.setattr(pipeline, "render_outputs", video)  # the real video beside it: tests/runs/test_render_command.py

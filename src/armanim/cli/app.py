@@ -53,6 +53,41 @@ def _plain_help() -> None:
 
     core.TyperOption.display_type_rich = option_type  # type: ignore[method-assign]  # typer's help, patched once at import
     core.TyperArgument._usage_display_name = usage_name  # type: ignore[method-assign]
+    for kind in (core.TyperCommand, core.TyperGroup):
+        kind.format_help = _with_help_table(kind.format_help)  # type: ignore[method-assign]
+
+
+def _with_help_table(format_help):
+    """``format_help`` with typer's help tables made by :func:`_help_table` (rich is imported
+    only when help is shown, so ``--version`` stays fast)."""
+
+    def formatted(self, ctx, formatter):
+        from typer import rich_utils
+
+        if not getattr(rich_utils.Table, "keeps_names_whole", False):
+            rich_utils.Table = _help_table()  # typer's option and command panels are its only tables
+        return format_help(self, ctx, formatter)
+
+    return formatted
+
+
+def _help_table():
+    """A rich Table whose columns before the last (option names, short flags, types) are never
+    narrower than their widest cell: at 80 columns typer's table cut ``--orientation-tolerance``
+    to ``--orientation-tolera…`` (issue 50); the help text, the last column, wraps instead."""
+    from rich.table import Table
+    from rich.text import Text
+
+    class HelpTable(Table):
+        keeps_names_whole = True
+
+        def add_row(self, *renderables, **options):
+            super().add_row(*renderables, **options)
+            for column, cell in list(zip(self.columns, renderables))[:-1]:
+                if isinstance(cell, Text):
+                    column.min_width = max(column.min_width or 0, cell.cell_len)
+
+    return HelpTable
 
 
 _plain_help()

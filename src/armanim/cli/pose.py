@@ -60,11 +60,18 @@ def fk(
         say(f"note: {note}", err)
     if png is not None:
         from armanim.render.pictures.pose import render_pose_png
-        from armanim.scene import render_settings, scene_to_problem
 
         # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend;
         # the picture tints the arm's own pairs near each other, so it takes the problem with them
-        render_pose_png(replace(scene_to_problem(model), goals=()), answer.phi, render_settings(model), png, title="armanim fk")
+        from armanim.runs.pipeline import look_meshes
+        from armanim.scene import render_settings, scene_to_problem
+
+        settings = render_settings(model)
+        meshes, notes = look_meshes(model, settings, loaded.path.parent if loaded is not None else Path("."))
+        for note in notes:  # a mesh not found: its link is drawn as its capsules, as in a run
+            say(f"note: {note}", err)
+        render_pose_png(replace(scene_to_problem(model), goals=()), answer.phi, settings, png, title="armanim fk",
+                        meshes=meshes)
         if not as_json:
             say(f"wrote {png}")
 

@@ -74,14 +74,20 @@ def print_batch_table(entries, index_path: Path) -> None:
     """One line per scene of a batch, then where the index is."""
     from rich.table import Table
 
-    table = Table(title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok", title_justify="left")
+    parents = {str(Path(e.folder).parent) for e in entries if e.folder}
+    shared = len(parents) == 1 and all(not e.folder or Path(e.folder).name == e.name for e in entries)
+    where = f", in {next(iter(parents))}" if shared else ""  # each in OUT/<scene>: the folder column would repeat the name
+    table = Table(title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok{where}", title_justify="left")
     numbers = ("reached", "missed", "frames", "min clear.")
-    for col in ("scene", "status", *numbers, "folder"):
-        table.add_column(col, justify="right" if col in numbers else "left", overflow="fold")
+    widest = max([len("scene"), *(len(e.name) for e in entries)])
+    for col in ("scene", "status", *numbers, *(() if shared else ("folder",))):  # a folder folds, never a scene's name
+        table.add_column(col, justify="right" if col in numbers else "left", overflow="fold", no_wrap=col != "folder",
+                         min_width=widest if col == "scene" else None)
     for e in entries:
         style = {"ok": "green", "invalid": "red", "failed": "red"}[e.status]
         clearance = "" if e.min_clearance is None else number(e.min_clearance, digits=3)
-        table.add_row(e.name, f"[{style}]{e.status}[/{style}]", str(e.reached), str(e.missed), str(e.frames), clearance, e.folder)
+        table.add_row(e.name, f"[{style}]{e.status}[/{style}]", str(e.reached), str(e.missed), str(e.frames), clearance,
+                      *(() if shared else (e.folder,)))
     out.print(table)
     say(f"index: {index_path}")
 

@@ -71,7 +71,7 @@ def robots(
     package_dir: Annotated[list[Path] | None, typer.Option("--package-dir", help="A folder package:// mesh names are found in "
                                                            "(repeat for several); default the URDF's folder and its parents.")] = None,
 ) -> None:
-    """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]), and the joints off each chain a scene holds with [bold]arm.joint_values[/bold] (the Panda's fingers).
+    """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]) with their reach (from joint 1), and the joints off each chain a scene holds with [bold]arm.joint_values[/bold] (the Panda's fingers).
 
     Example: [bold]armanim robots[/bold]; [bold]armanim robots --fit my_arm.urdf > capsules.yaml[/bold] prints the capsules [bold]collision: auto[/bold] fits to its meshes
     """
@@ -81,10 +81,12 @@ def robots(
         sys.stdout.write(fitted_collision_text(fit, package_dir))
         return
     from rich.table import Table
+    from rich.text import Text
 
     for robot in robot_summaries():
-        table = Table(title=f"{robot.name}: {robot.title}, reach {robot.reach:.3f} m from joint 1, {robot.capsules} collision capsules",
-                      title_justify="left")
+        # the header on a line of its own: as a table's title it wrapped to the table's width
+        out.print(Text(f"{robot.name}: {robot.title}, reach {robot.reach:.3f} m, {robot.capsules} collision capsules"))
+        table = Table()
         table.add_column("phi")
         table.add_column("joint")
         table.add_column("limits (deg)")

@@ -127,8 +127,11 @@ def render(
 
     overrides = render_overrides(size, fps, fmt, elevation, azimuth, quality)
     jobs = usable_jobs(jobs)
+    notes: list[str] = []
     with committed_is_done(), bars(quiet) as shown:
-        files = rerender_run(folder, out=out_dir, jobs=jobs, render_overrides=overrides, progress=shown)
+        files = rerender_run(folder, out=out_dir, jobs=jobs, render_overrides=overrides, progress=shown, notes=notes.append)
     ignore_until_exit()
+    for note in notes:  # a picture that is not what the run drew (its meshes not found): also with --quiet
+        say(message_lines("note: " + note), err)
     if not quiet:
         say("wrote " + ", ".join(str(p) for p in files.values()))

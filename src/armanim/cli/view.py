@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from armanim.cli.app import app, err, handle_errors, say
+from armanim.cli.app import app, err, handle_errors, message_lines, say
 
 
 @app.command()
@@ -29,7 +29,10 @@ def view(
     """
     from armanim.runs.pipeline import write_run_viewer
 
-    path = write_run_viewer(folder, out=out)
+    notes: list[str] = []
+    path = write_run_viewer(folder, out=out, notes=notes.append)
+    for note in notes:  # a page that does not show the run's meshes (not found)
+        say(message_lines("note: " + note), err)
     say(str(path))
     if open_page:
         import webbrowser

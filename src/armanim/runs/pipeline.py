@@ -18,6 +18,7 @@ from armanim.motion.solution import Solution
 from armanim.motion.trajectory import frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv
+from armanim.output.jsontext import json_text, parse_json
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
 from armanim.output.solved import RunTiming, SolvedRun
@@ -148,14 +149,20 @@ def produce_outputs(
         names["capsules"] = CAPSULES_FILE
     write_trajectory_csv(run, folder / names["trajectory"])
     write_summary(run, folder / names["summary"])
+    viewer_page: Callable[[], None] | None = None
     if options.viewer:
         from armanim.render.viewer import VIEWER_FILE, write_viewer
 
-        write_viewer(run, options, folder / VIEWER_FILE)
+        def write_page() -> None:
+            write_viewer(run, options, folder / VIEWER_FILE)
+
+        viewer_page = write_page
         names["viewer"] = VIEWER_FILE
-    if options.video:
-        rendered = render_outputs(run, options, folder, progress=progress)
+    if options.video:  # the page is written while the video's workers draw
+        rendered = render_outputs(run, options, folder, progress=progress, also=viewer_page)
         names.update({kind: path.name for kind, path in rendered.items()})
+    elif viewer_page is not None:
+        viewer_page()
     if run.timing is not None:
         write_timing(run.timing, time.perf_counter() - solved, folder / TIMING_FILE)
         names["timing"] = TIMING_FILE
@@ -171,13 +178,64 @@ def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) ->
     """``run`` with what its pictures draw as meshes with ``settings``: its robot's look (none for
     ``render.robot: capsules``) and the scene's furniture (:func:`armanim.scene.looks.scene_meshes`),
     and a note per visual mesh that could not be read (its link is drawn as its capsules)."""
+    meshes, notes = look_meshes(scene.model, settings, *look_folders(scene))
+    return replace(run, meshes=meshes), tuple(notes)
+
+
+def look_meshes(model, settings: RenderSettings, scene_dir: Path, urdf_dir: Path | None = None):
+    """(meshes or None, notes): what a scene ``model``'s pictures draw as meshes at ``settings``'
+    size (:func:`armanim.scene.looks.scene_meshes`), its file names starting from ``scene_dir``
+    (and ``urdf_dir``, default the URDF's own folder)."""
     width, height = settings.size
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
+    arm = model.arm
+    dirs = [scene_dir / d for d in arm.package_dirs] if arm.package_dirs else None
+    return scene_meshes(arm, dirs, triangles=budget, scene_dir=scene_dir, urdf_dir=urdf_dir,
+                        furniture=model.render.furniture, robot=settings.robot != "capsules")
+
+
+LOOK_FOLDERS_FILE = "look-folders.json"
+"""A run folder's record of where its scene and its user's URDF were (absolute), written when the
+look names files beside them (a URDF's meshes, a tool's mesh): ``render`` and ``view`` find the
+meshes there again, not beside the run folder's copies."""
+MAX_LOOK_FOLDERS_BYTES = 100_000
+
+
+def needs_look_folders(scene: LoadedScene) -> bool:
+    """Whether the scene's look names files relative to its own folders (a user's URDF, a tool mesh)."""
     arm = scene.model.arm
-    dirs = [scene.path.parent / d for d in arm.package_dirs] if arm.package_dirs else None
-    meshes, notes = scene_meshes(arm, dirs, triangles=budget, scene_dir=scene.path.parent,
-                                 furniture=scene.model.render.furniture, robot=settings.robot != "capsules")
-    return replace(run, meshes=meshes), tuple(notes)
+    return arm.urdf_source is not None or (arm.tool is not None and arm.tool.mesh is not None)
+
+
+def look_folders_text(scene: LoadedScene) -> str:
+    """The :data:`LOOK_FOLDERS_FILE` of a scene read from its own folder."""
+    urdf = scene.model.arm.urdf_arm if scene.model.arm.is_urdf else None
+    folder = urdf.folder if urdf is not None and urdf.bundled is None else None
+    data = {"scene_folder": str(scene.path.parent.resolve()),
+            "urdf_folder": str(Path(folder).resolve()) if folder is not None else None}
+    return json_text(data, indent=2) + "\n"
+
+
+def look_folders(scene: LoadedScene) -> tuple[Path, Path | None]:
+    """(scene folder, URDF folder or None: the URDF's own) the look's file names start from: the
+    scene's own, or for a run folder's copies the originals' its :data:`LOOK_FOLDERS_FILE` records
+    (when they are still folders)."""
+    own = scene.path.parent
+    record = own / LOOK_FOLDERS_FILE
+    try:
+        if not record.is_file():  # (a FIFO or a folder there is no record)
+            return own, None
+        with open(record, "rb") as f:
+            raw = f.read(MAX_LOOK_FOLDERS_BYTES + 1)
+        if len(raw) > MAX_LOOK_FOLDERS_BYTES:
+            return own, None
+        data = parse_json(raw.decode("utf-8"))
+    except (OSError, ValueError, UnicodeDecodeError, RecursionError):
+        return own, None
+    if not isinstance(data, dict):
+        return own, None
+    folders = [Path(v) if isinstance(v, str) and Path(v).is_dir() else None for v in (data.get("scene_folder"), data.get("urdf_folder"))]
+    return folders[0] or own, folders[1]
 
 
 def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None) -> SolvedRun:
@@ -213,6 +271,9 @@ def write_sources(scene: LoadedScene, folder: Path) -> dict[str, str]:
     reloads without the user's folder (render, view, a moved run); their names by kind."""
     write_bytes_atomic(folder / SCENE_COPY, scene.raw)
     names = {}
+    if needs_look_folders(scene):
+        write_text_atomic(folder / LOOK_FOLDERS_FILE, look_folders_text(scene))
+        names["look_folders"] = LOOK_FOLDERS_FILE
     for kind, name, source in (("robot", ROBOT_COPY, scene.model.arm.urdf_source),
                                ("srdf", SRDF_COPY, scene.model.arm.srdf_source)):
         if source is not None:
@@ -269,6 +330,7 @@ def rerender_run(
     jobs: int | None = None,
     render_overrides: RenderOverrides | None = None,
     progress: Progress | None = None,
+    notes: Callable[[str], None] | None = None,
 ) -> dict[str, Path]:
     """Re-render a finished run from its folder (scene.yaml, trajectory.csv, summary.json)
     without solving: another size, view, fps or format.
@@ -277,7 +339,8 @@ def rerender_run(
     the run's own. It must be new, empty or one armanim marked (an earlier ``render --out``,
     whose other files are kept), and not inside the run folder.
 
-    Returns the written files by kind (``video``, ``plot``, ``poster``).
+    Returns the written files by kind (``video``, ``plot``, ``poster``). ``notes`` is called with
+    each note of the look (a mesh that could not be read: its link is drawn as its capsules).
 
     The run folder is locked, staged and swapped as a run does, so a render never mixes
     with a run of the same folder, and a failed render leaves the folder as it was; with
@@ -306,22 +369,28 @@ def rerender_run(
             run = load_run(folder)
         # staged and swapped like a run folder: into a new, empty or armanim-marked folder only, its
         # other files kept; another fps samples the run's motion at its own times (the same seconds)
-        solved, options = redrawn(run, render_overrides, jobs)
+        solved, options = redrawn(run, render_overrides, jobs, notes)
         with staged_folder(target, keep_files=True) as staged:
             rendered = render_outputs(solved, options, staged, progress=progress)
         return {kind: target / path.name for kind, path in rendered.items()}
     with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
         run = load_run(folder)  # under the lock: no run is changing it
-        solved, options = redrawn(run, render_overrides, jobs)
+        solved, options = redrawn(run, render_overrides, jobs, notes)
         rendered = render_outputs(solved, options, staged, progress=progress)
     return {kind: folder / path.name for kind, path in rendered.items()}
 
 
-def redrawn(run: FinishedRun, overrides: RenderOverrides | None, jobs: int | None) -> tuple[SolvedRun, OutputOptions]:
-    """A finished run as a solved run at the command's fps, and the options to draw it again."""
+def redrawn(run: FinishedRun, overrides: RenderOverrides | None, jobs: int | None,
+            notes: Callable[[str], None] | None = None) -> tuple[SolvedRun, OutputOptions]:
+    """A finished run as a solved run at the command's fps, and the options to draw it again;
+    the look's notes go to ``notes``."""
     solved = solved_run(run.scene, run.problem, run.solution, output_fps(run.scene, overrides))
     settings = settings_of(run.scene, overrides)
-    return with_meshes(solved, run.scene, settings)[0], OutputOptions(settings, jobs=jobs)
+    meshed, said = with_meshes(solved, run.scene, settings)
+    if notes is not None:
+        for note in said:
+            notes(note)
+    return meshed, OutputOptions(settings, jobs=jobs)
 
 
 def _check_resampled_frames(trajectory, fps: float) -> None:
@@ -332,7 +401,8 @@ def _check_resampled_frames(trajectory, fps: float) -> None:
                          f"{fps:g} fps (expected at most {LIMITS['total_frames']:,}: choose a lower --fps or --quality)")
 
 
-def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Path:
+def write_run_viewer(folder: str | Path, *, out: str | Path | None = None,
+                     notes: Callable[[str], None] | None = None) -> Path:
     """(Re)write the viewer page of a finished run from its folder, without solving.
 
     Parameters
@@ -340,6 +410,7 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
     folder : an output folder of ``armanim run`` (scene.yaml, trajectory.csv, summary.json)
     out : write the page to this file instead of the run's own ``viewer.html``; an existing
         file is replaced only if it is a viewer page armanim wrote
+    notes : called with each note of the look (a mesh that could not be read)
 
     Returns
     -------
@@ -353,7 +424,10 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None) -> Pa
     def page(folder: Path):
         run = load_run(folder)
         settings = settings_of(run.scene, None)
-        solved = with_meshes(solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps), run.scene, settings)[0]
+        solved, said = with_meshes(solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps), run.scene, settings)
+        if notes is not None:
+            for note in said:
+                notes(note)
         return lambda path: write_viewer(solved, OutputOptions(settings), path)  # at its own rate
 
     return write_run_file(folder, VIEWER_FILE, out, page, replace_problem)
@@ -420,17 +494,25 @@ def output_fps(scene: LoadedScene, overrides: RenderOverrides | None) -> float:
     return overrides.fps if overrides is not None and overrides.fps is not None else scene.model.render.fps
 
 
-def render_outputs(run: SolvedRun, options: OutputOptions, folder: Path, *, progress: Progress | None = None) -> dict[str, Path]:
-    """Render the video, plot.png and poster.png of a solved run into ``folder``."""
+def render_outputs(run: SolvedRun, options: OutputOptions, folder: Path, *, progress: Progress | None = None,
+                   also: Callable[[], None] | None = None) -> dict[str, Path]:
+    """Render the video, plot.png and poster.png of a solved run into ``folder``; the plot, the
+    poster and ``also`` (the viewer page) are drawn while the video's workers draw its frames."""
     from armanim.render.pictures.plot import plot_run
     from armanim.render.pictures.poster import render_poster
     from armanim.render.video.movie import render_video
 
     video_path = folder / f"animation.{options.render.format}"
-    total = run.trajectory.frames
-    render_video(run, options, video_path, progress=(lambda done: progress("render", done, total)) if progress else None)
     plot_path = folder / "plot.png"
-    plot_run(run, options, plot_path)
     poster_path = folder / "poster.png"
-    render_poster(run, options, poster_path)
+    total = run.trajectory.frames
+
+    def pictures() -> None:
+        if also is not None:
+            also()
+        plot_run(run, options, plot_path)
+        render_poster(run, options, poster_path)
+
+    render_video(run, options, video_path, progress=(lambda done: progress("render", done, total)) if progress else None,
+                 meanwhile=pictures)
     return {"video": video_path, "plot": plot_path, "poster": poster_path}

@@ -23,6 +23,7 @@ from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import METHODS
 from armanim.motion.stalls import beyond_reach
+from armanim.output.numbers import length_unit
 from armanim.scene.convert import radians, scene_to_problem
 from armanim.scene.fields import MIN_DEGREES
 from armanim.scene.models import SceneModel, SolverModel
@@ -186,8 +187,9 @@ def pose_miss(problem: Problem, target: np.ndarray, solution: PoseSolution) -> P
             f"orientation_unreachable: the tip is at the goal, the tool {np.degrees(solution.orientation_error):.3g} deg from its "
             "orientation, the closest these attempts found (an arm with fewer than 6 joints cannot hold every orientation)"))
     if beyond_reach(problem, target):
-        return PoseMiss("out_of_reach", f"out of reach: the goal is {away:.4g} from the base, the arm is {problem.arm.reach:.4g} "
-                                        "long (the tip is as close as it gets)")
+        unit = length_unit(problem.arm)
+        return PoseMiss("out_of_reach", f"out of reach: the goal is {away:.4g} {unit} from the base, the arm is "
+                                        f"{problem.arm.reach:.4g} {unit} long (the tip is as close as it gets)")
     if solution.status == "numerical":
         return PoseMiss("numerical", "numerical: a step failed in linear algebra (a singular matrix or a NaN); "
                                      "try another --method or --from other angles")

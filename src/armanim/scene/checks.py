@@ -16,6 +16,7 @@ from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
 from armanim.motion.following import MAX_SPLITS, SPACING_PER_TOLERANCE, most_following_frames, path_spacing
 from armanim.motion.problem import frames_in
+from armanim.output.numbers import apart
 from armanim.scene.convert import orientation_rotation, scene_to_problem, tool_path
 from armanim.scene.limits import joint_goal_limit_problems, limit_problems, rate_problems
 from armanim.scene.models import LIMITS, SceneModel
@@ -118,7 +119,8 @@ def _arm_problems(scene: SceneModel):
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
-                yield "render.bounds", f"{axis} range must have min < max (got [{pair[0]:g}, {pair[1]:g}])"
+                low, high = apart(pair[0], pair[1])
+                yield "render.bounds", f"{axis} range must have min < max (got [{low}, {high}])"
 
 
 def frame_budget(scene: SceneModel) -> int:

@@ -19,6 +19,7 @@ import numpy as np
 from armanim.errors import shown
 from armanim.motion.problem import LINK_ACCELERATION_PER_SPEED, Limits, RateLimits, link_arm_rates
 from armanim.motion.tunables import DEFAULTS
+from armanim.output.numbers import apart
 from armanim.scene.armmodel import ArmModel
 from armanim.scene.models import SceneModel
 from armanim.scene.robots import published_joint_names
@@ -132,7 +133,8 @@ def limit_problems(arm: ArmModel):
     if arm.limits is not None:
         for i, pair in enumerate(arm.limits):
             if pair is not None and not pair[0] < pair[1]:
-                yield f"arm.limits[{i}]", f"min must be below max (got [{pair[0]:g}, {pair[1]:g}])"
+                low, high = apart(pair[0], pair[1])
+                yield f"arm.limits[{i}]", f"min must be below max (got [{low}, {high}])"
     yield from _narrow_limits(arm)
     limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
     if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
@@ -172,15 +174,16 @@ def _home_outside_limits(home, limits):
         if pair is None or not pair[0] < pair[1] or pair[0] <= angle <= pair[1]:
             continue
         inside = min(max(angle, pair[0] + 1), pair[1] - 1) if pair[1] - pair[0] > 2 else (pair[0] + pair[1]) / 2
+        shown_angle, low, high, example = apart(angle, pair[0], pair[1], inside)
         if given:
             yield f"arm.home[{i}]", (
-                f"{angle:g} deg is outside joint {i + 1}'s limits arm.limits[{i}] = [{pair[0]:g}, {pair[1]:g}] "
-                f"(expected within them, the ends included: e.g. home[{i}]: {inside:g})"
+                f"{shown_angle} deg is outside joint {i + 1}'s limits arm.limits[{i}] = [{low}, {high}] "
+                f"(expected within them, the ends included: e.g. home[{i}]: {example})"
             )
         else:
             yield "arm.home", (
                 f"is not given, so joint {i + 1} starts at 0 deg, outside its limits arm.limits[{i}] = "
-                f"[{pair[0]:g}, {pair[1]:g}] (expected within them, the ends included: give arm.home with e.g. {inside:g} for joint {i + 1})"
+                f"[{low}, {high}] (expected within them, the ends included: give arm.home with e.g. {example} for joint {i + 1})"
             )
 
 
@@ -197,8 +200,9 @@ def joint_goal_limit_problems(scene: SceneModel):
             continue
         for i, (angle, pair) in enumerate(zip(goal.joints, limits)):
             if pair is not None and pair[0] < pair[1] and not pair[0] <= angle <= pair[1]:
+                shown_angle, low, high = apart(angle, pair[0], pair[1])
                 yield f"goals[{k}].joints[{i}]", (
-                    f"{angle:g} deg is outside joint {i + 1}'s limits [{pair[0]:g}, {pair[1]:g}] "
+                    f"{shown_angle} deg is outside joint {i + 1}'s limits [{low}, {high}] "
                     "(expected within them, the ends included)"
                 )
 

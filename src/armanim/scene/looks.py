@@ -32,7 +32,8 @@ from armanim.scene.visuals import (
 
 
 def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None,
-                 scene_dir: Path | None = None, furniture=(), robot: bool = True) -> tuple[ArmMeshes | None, list[str]]:
+                 scene_dir: Path | None = None, furniture=(), robot: bool = True,
+                 urdf_dir: Path | None = None) -> tuple[ArmMeshes | None, list[str]]:
     """What the pictures draw as meshes: the look of a scene's URDF arm (``arm``: a validated
     :class:`~armanim.scene.armmodel.ArmModel` with its files read; left out when ``robot`` is
     False) and the scene's ``furniture`` (``render.furniture``: boxes in the world).
@@ -42,7 +43,8 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
     ``triangles`` (None: as read, at most :data:`TRIANGLE_BUDGET`), with the tool ``arm.tool``
     draws (a pen, or a mesh file relative to ``scene_dir``), placed on the arm's chain as the
     scene mounts it. Returns them (None: nothing to draw as meshes) and a note per visual that
-    could not be read."""
+    could not be read. ``urdf_dir``: the folder the URDF's mesh names start from (default: the
+    URDF's own; a run folder's copy of a URDF gives its original's)."""
     fixed = furniture_meshes(furniture)
     urdf = arm.urdf_arm if robot and arm.is_urdf else None
     if urdf is None or urdf.robot is None:
@@ -52,7 +54,7 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
     if urdf.bundled is not None:
         meshes = bundled_link_meshes(urdf.bundled.urdf.parent)
     else:
-        folder = urdf.folder or Path(".")
+        folder = urdf_dir or urdf.folder or Path(".")
         specs = visual_specs(urdf.robot.raw, urdf.file)
         meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append, reader=reader)
     notes = [f"{urdf.file}: {note}" for note in notes]
@@ -78,8 +80,10 @@ def furniture_meshes(furniture) -> list[LinkMesh]:
     return out
 
 
-PEN_BODY_RGB = (0.16, 0.33, 0.72)
-"""The pen's body; its nib is :data:`PEN_NIB_RGB`."""
+PEN_BODY_RGB = (0.55, 0.27, 0.68)
+"""The pen's body, purple: no colour of the tool triad it lies along (a blue pen on the triad's
+blue z axis read as one line, issue 50), nor of the ink, the tip path, the near tint or the
+obstacles; its nib is :data:`PEN_NIB_RGB`."""
 PEN_NIB_RGB = (0.15, 0.15, 0.17)
 NIB_SHARE = 0.18
 """The share of the pen's length that is its tapering nib."""

@@ -34,6 +34,15 @@ MARKER_STYLES = {
 }
 
 
+def open_style(code: int) -> dict:
+    """The marker of a path goal, at its path's start, once it is current, reached or missed: open,
+    in the state's colour, so that the ink it stands on shows through it (a filled dot hid the
+    first letter of ur5-pen's word)."""
+    style = MARKER_STYLES[code]
+    edge = style["markerfacecolor"] if code != PENDING else style["markeredgecolor"]
+    return {**style, "markerfacecolor": "none", "markeredgecolor": edge, "markeredgewidth": 2.0}
+
+
 def hidden_style(code: int) -> dict:
     """The marker of a goal behind a sphere: open, dimmed, edged in the state's colour."""
     style = MARKER_STYLES[code]
@@ -54,6 +63,8 @@ class GoalMarkers:
         Goals behind a sphere.
     size : (int, int)
         The frame's width and height in pixels.
+    open_goals : (N,) bool array, optional
+        Goals drawn open (:func:`open_style`): path goals, whose marker stands on their ink.
 
     Attributes
     ----------
@@ -63,9 +74,12 @@ class GoalMarkers:
         (goal, state code) -> sprite, filled as states are first shown.
     """
 
-    def __init__(self, fig: Figure, screen: np.ndarray, hidden: np.ndarray, size: tuple[int, int]):
+    def __init__(self, fig: Figure, screen: np.ndarray, hidden: np.ndarray, size: tuple[int, int],
+                 open_goals: np.ndarray | None = None):
         self.xy = screen[:, :2]
         self.hidden = hidden
+        self.open = np.zeros(len(self.xy), dtype=bool) if open_goals is None else np.asarray(open_goals, dtype=bool)
+        self.open_marks = {k: in_pixels(Line2D([], [], linestyle="none", **open_style(k)), fig) for k in MARKER_STYLES}
         self.size = size
         self.marks = {k: in_pixels(Line2D([], [], linestyle="none", **s), fig) for k, s in MARKER_STYLES.items()}
         self.hidden_marks = {k: in_pixels(Line2D([], [], linestyle="none", alpha=HIDDEN_ALPHA, **hidden_style(k)), fig)
@@ -128,7 +142,9 @@ class GoalMarkers:
         label = self.labels[i]
         label.set_color(GOAL_COLORS[STATUS_NAMES[code]] if code != PENDING else TEXT_COLOR)
         label.set_alpha(1.0)  # the number stays readable; only the marker of a hidden goal is dimmed
-        artists = [(self.hidden_marks if hidden else self.marks)[code], label]
+        # a path goal still pending has drawn no ink: its ring is every pending goal's
+        marks = self.hidden_marks if hidden else self.open_marks if self.open[i] and code != PENDING else self.marks
+        artists = [marks[code], label]
         if code == CURRENT and not hidden:
             artists.insert(0, self.ring)
         return artists

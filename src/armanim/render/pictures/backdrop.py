@@ -30,11 +30,12 @@ from armanim.render.paint.style import (
     HIDDEN_ALPHA,
     INK_COLOR,
     OBSTACLE_COLOR,
+    SELF_NEAR_COLOR,
     SHADOW_COLOR,
     TEXT_COLOR,
     TRAIL_COLOR,
 )
-from armanim.render.solids.robot import GHOST_OUTLINE
+from armanim.render.solids.robot import GHOST_OUTLINE, NEAR_TINT
 
 SHADOW_LAYERS = ((1.12, 0.05), (1.0, 0.06), (0.85, 0.07))  # (scale, opacity): nested discs of a soft shadow
 
@@ -146,7 +147,7 @@ ROBOT_LEGEND_COLOR = (0.62, 0.64, 0.68)
 
 def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: frozenset,
                    hidden_goal: bool, hidden_by: str = "a sphere", goals: bool = True,
-                   robot: bool = False, paths: bool = False) -> list[tuple[str, Line2D]]:
+                   robot: bool = False, paths: bool = False, near_self: bool = False) -> list[tuple[str, Line2D]]:
     """(label, handle) of what a picture shows.
 
     Parameters
@@ -171,6 +172,9 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     paths : bool
         Some goal is a path: its ink is drawn, named "ink" (a video's path ahead, dashed and
         faint in the ink's colour, is not named: a row of ten entries overflows a 640 px frame).
+    near_self : bool
+        Some link the picture shows is tinted amber, close to another link of the arm: named
+        "near itself" (a tinted Panda read as a colour glitch without it).
     """
     marker = dict(linestyle="none", markersize=8)
     name = "robot" if robot else "arm"
@@ -178,6 +182,9 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     if picture == "poster":
         ghost = Line2D([], [], color=GHOST_OUTLINE, linewidth=2) if robot else Line2D([], [], color=GHOST_COLOR, linewidth=5)
         entries.append((f"{name} on each goal", ghost))  # a robot's faint poses are outlines
+    if near_self:
+        tint = (np.asarray(ROBOT_LEGEND_COLOR) * (1 - NEAR_TINT) + np.asarray(SELF_NEAR_COLOR) * NEAR_TINT) if robot else SELF_NEAR_COLOR
+        entries.append(("near itself", Line2D([], [], color=tuple(tint), linewidth=5)))  # as a mesh link is tinted
     if trail and picture != "pose":
         entries.append(("tip path", Line2D([], [], color=TRAIL_COLOR, linewidth=2)))
     if paths and picture != "pose":

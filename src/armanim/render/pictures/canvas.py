@@ -143,6 +143,17 @@ def caption_points(template: str, width: float, fig, renderer) -> float:
     return points
 
 
+def near_in_frames(problem: Problem, self_clearance: np.ndarray | None) -> bool:
+    """Whether some frame tints links as close to the arm's own others (the least gap of each frame,
+    (F,); None: not checked): within NEAR_FACTOR x ``self_clearance``, as each frame decides."""
+    from armanim.render.solids.arm import NEAR_FACTOR
+
+    if self_clearance is None or not len(problem.self_pairs):
+        return False
+    gaps = np.asarray(self_clearance, dtype=float)
+    return bool(np.any(gaps[np.isfinite(gaps)] < NEAR_FACTOR * problem.self_pairs.clearance))
+
+
 SMALLEST_CAPTION = 0.6
 """The caption never shrinks below this share of its size (a thumbnail of 80 x 60 keeps a cut
 caption rather than an unreadable one, or a font size FreeType refuses)."""
@@ -170,12 +181,17 @@ class SceneCanvas:
     outcomes : set of str
         The goal outcomes the pictures show (``"reached"``, ``"missed"``): only those are in
         the legend.
+    meshes : ArmMeshes, optional
+        The robot's look and the scene's furniture (None: the arm's capsules).
+    near_self : bool
+        Some frame tints links close to the arm's own others (:func:`near_in_frames`): the
+        legend names the tint.
     """
 
     def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
                  tips: np.ndarray | None = None, extent: np.ndarray | None = None, picture: str = "video",
                  caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"}),
-                 meshes: ArmMeshes | None = None):
+                 meshes: ArmMeshes | None = None, near_self: bool = False):
         self.problem = problem
         self.width, self.height = (int(v) for v in settings.size)
         self.layout = scenery.frame_layout(self.width, self.height)
@@ -193,7 +209,8 @@ class SceneCanvas:
         self.shapes = ShapeSolids(obstacles, self.view, self.ppu) if shaped else None
         self.obstacle_order = ObstacleOrder(self.spheres, self.shapes, self.view) if self.shapes is not None else None
         goals = self.view.project(goal_points(problem))
-        self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height))
+        paths = np.array([getattr(g, "path", None) is not None for g in problem.goals], dtype=bool)
+        self.goals = GoalMarkers(self.fig, goals, self._behind(goals), (self.width, self.height), open_goals=paths)
         self.triads = has_orientations(problem.goals)
         self.triad_length = TRIAD_PER_REACH * problem.arm.reach
         self._prepare_trail(tips if settings.trail else None)
@@ -204,7 +221,8 @@ class SceneCanvas:
         legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids), paths=bool(self.paths),
                                          outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
                                          hidden_by="a sphere" if self.shapes is None else "an obstacle",
-                                         goals=bool(len(problem.goals)), robot=robot_meshed(problem, meshes))
+                                         goals=bool(len(problem.goals)), robot=robot_meshed(problem, meshes),
+                                         near_self=near_self)
         self.caption_points = caption_points(caption_template, self.width - 2 * self.layout.caption_xy[0], self.fig, self.renderer)
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
@@ -299,11 +317,14 @@ class SceneCanvas:
             sheet.draw(arrow_heads(self.view, segments[arrows], [colors[k] for k in arrows], GOAL_ALPHA, 7.0))
 
     def _draw_tool_triad(self, pose: Pose) -> None:
-        """The tool frame's RGB axes at the tip."""
+        """The tool frame's RGB axes at the tip (one collection made once, its segments moved each frame)."""
         segments, colors = frame_segments(pose.tip, tool_rotation(self.problem.arm, pose), self.triad_length)
-        lines = in_pixels(screen_lines(self.view, segments, colors, 1.0, 2.2), self.fig)
-        lines.set_offset_transform(IdentityTransform())
-        lines.draw(self.renderer)
+        if getattr(self, "_triad", None) is None:
+            self._triad = in_pixels(screen_lines(self.view, segments, colors, 1.0, 2.2), self.fig)
+            self._triad.set_offset_transform(IdentityTransform())
+        else:
+            self._triad.set_segments(self.view.project(segments)[..., :2])
+        self._triad.draw(self.renderer)
 
     def _floor_shadows(self) -> list[np.ndarray]:
         """Rings on the floor under the base and under every sphere (light straight overhead)."""

@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
+from armanim.output.numbers import length_unit
 from armanim.output.solved import SolvedRun
 from armanim.render.paint.pixels import write_png
 from armanim.render.paint.style import GOAL_COLORS
@@ -38,8 +39,48 @@ def plot_run(run: SolvedRun, options: OutputOptions, path) -> None:
         The PNG, written atomically.
     """
     canvas = plot_figure(run.problem, run.trajectory, run.reports, title=run.name)
+    canvas.figure.draw_without_rendering()  # the layout and the texts' boxes, without a third of a draw's time
+    separate_labels(canvas.figure.axes[1], canvas.get_renderer())
     canvas.draw()
     write_png(np.asarray(canvas.buffer_rgba()), path)
+
+
+LABEL_GAP_PX = 1.0
+
+
+def separate_labels(ax, renderer) -> bool:
+    """Move the limit labels of ``ax`` (drawn once: their boxes are known) up or down, fewest pixels,
+    until no two overlap: labels of close limits were printed on top of each other
+    (``panda_joint4 max -4`` over ``panda_joint6 min -1``, issue 50). Returns whether any moved.
+
+    Each label keeps its side of its line where it can; the overlaps are removed in order from the
+    bottom, each box pushed just above the one below it, then the stack shifted down as a whole where
+    it ran past the axes' top."""
+    texts = [t for t in ax.texts if getattr(t, "limit_label", False)]
+    if len(texts) < 2:
+        return False
+    boxes = [t.get_window_extent(renderer) for t in texts]
+    order = sorted(range(len(texts)), key=lambda k: boxes[k].y0)
+    y0 = np.array([boxes[k].y0 for k in order])
+    height = np.array([boxes[k].height for k in order])
+    placed = y0.copy()
+    for i in range(1, len(order)):
+        placed[i] = max(placed[i], placed[i - 1] + height[i - 1] + LABEL_GAP_PX)
+    top = ax.get_window_extent(renderer).y1
+    overshoot = placed[-1] + height[-1] - top
+    if overshoot > 0:  # the stack ran off the top: push it down, never below the axes' bottom
+        placed = np.maximum(placed - overshoot, np.minimum(y0, placed))
+        for i in range(len(order) - 2, -1, -1):
+            placed[i] = min(placed[i], placed[i + 1] - height[i] - LABEL_GAP_PX)
+    moved = placed - y0
+    if not np.any(np.abs(moved) > 0.01):
+        return False
+    from matplotlib.transforms import ScaledTranslation
+
+    fig = ax.figure
+    for k, dy in zip(order, moved):
+        texts[k].set_transform(ax.get_yaxis_transform() + ScaledTranslation(0.0, dy / fig.dpi, fig.dpi_scale_trans))
+    return True
 
 
 def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], *,
@@ -57,7 +98,7 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
     if len(problem.obstacles) and np.isfinite(trajectory.clearance).any():
         top.plot(t, trajectory.clearance, color="C3", label="clearance to obstacles")
         top.axhline(0.0, color="C3", linewidth=0.8, linestyle=":")
-    top.set_ylabel("scene units")
+    top.set_ylabel("metres" if length_unit(problem.arm) == "m" else "scene units")
     handles = _orientation_curve(top, trajectory)
     named = [line for line in top.get_lines() if not line.get_label().startswith("_")]  # not the goals' span edges
     top.legend(handles=named + handles, loc="upper right", fontsize=9)
@@ -68,7 +109,9 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
         bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=names[j])
     _limit_lines(bottom, problem.limits, names)
     bottom.set_ylabel("joint angle (deg)")
-    bottom.legend(loc="upper left", fontsize=9, ncols=min(degrees.shape[1], 6))
+    # beside the panel, not in it: inside, its rows covered the limit labels at the right (issue 50)
+    bottom.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8, ncols=max(1, -(-degrees.shape[1] // 12)),
+                  borderaxespad=0.0)
     bottom.grid(alpha=0.3)
     _speed_panel(speeds, problem, trajectory)
     speeds.set_xlabel("time (s)")
@@ -140,8 +183,10 @@ def _limit_lines(ax, limits, names: list[str]) -> None:
                        linestyle=(i * dash, (dash, dash * (2 * k - 1))))
         label = ", ".join(names[j] for j in joints)
         color = f"C{joints[0] % 10}" if k == 1 else "0.25"
-        ax.text(0.995, value, f"{label} {side} {round(value, 1):g}", transform=ax.get_yaxis_transform(), ha="right",
-                va="bottom" if side == "max" else "top", fontsize=8, color=color)
+        text = ax.text(0.995, value, f"{label} {side} {round(value, 1):g}", transform=ax.get_yaxis_transform(), ha="right",
+                       va="bottom" if side == "max" else "top", fontsize=8, color=color,
+                       bbox=dict(facecolor="white", alpha=0.75, edgecolor="none", pad=0.4))  # readable over a line
+        text.limit_label = True  # (moved apart from its neighbours once drawn: separate_labels)
 
 
 def _goal_spans(ax, trajectory: Trajectory, reports: Sequence[GoalReport]) -> None:

@@ -5,12 +5,14 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.arm.kinematics import forward
+from armanim.arm.visuals import ArmMeshes
 from armanim.motion.problem import Problem
 from armanim.output.numbers import number
 from armanim.render.overlay.caption import PENDING
 from armanim.render.paint.pixels import write_png
 from armanim.render.pictures.canvas import FrameState, SceneCanvas
 from armanim.render.settings import RenderSettings
+from armanim.render.solids.arm import near_capsules
 
 
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
@@ -20,7 +22,8 @@ def pose_caption(problem: Problem, phi: np.ndarray) -> str:
     return f"phi = [{angles}] deg   tip = ({', '.join(number(v, problem.arm.reach, 4) for v in tip)})"
 
 
-def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings, path, *, title: str) -> None:
+def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings, path, *, title: str,
+                    meshes: ArmMeshes | None = None) -> None:
     """Draw one pose of the arm to a PNG of ``settings.size`` pixels.
 
     Parameters
@@ -35,10 +38,15 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
         The PNG to write; written to a temporary file beside it, then moved in place.
     title : str
         Shown top left.
+    meshes : ArmMeshes, optional
+        The robot's look and the scene's furniture, as a run's pictures draw them (None: the
+        arm's capsules).
     """
     phi = np.asarray(phi, dtype=float)
     pose = forward(problem.arm, phi)
     caption = pose_caption(problem, phi)
-    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption)
+    near = near_capsules(problem, pose)
+    scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption,
+                        meshes=meshes, near_self=near is not None and bool(near.any()))
     state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
     write_png(scene.draw(state), path)

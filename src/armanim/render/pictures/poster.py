@@ -56,13 +56,16 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     from armanim.render.overlay.paths import path_progress
     from armanim.render.paint.pixels import write_png
     from armanim.render.pictures.canvas import FrameState, SceneCanvas
+    from armanim.render.solids.arm import near_capsules
 
     problem, trajectory, reports, settings = run.problem, run.trajectory, run.reports, options.render
     poses = forward(problem.arm, trajectory.phi)
     last = trajectory.frames - 1
     caption = poster_caption(reports, trajectory.frames, trajectory.fps)
+    near = near_capsules(problem, Pose(poses.points[last], poses.frames[last]))  # only the last pose is tinted
     scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=poses.points,
-                        caption_template=caption, picture="poster", outcomes=goal_outcomes(reports))
+                        caption_template=caption, picture="poster", outcomes=goal_outcomes(reports),
+                        near_self=near is not None and bool(near.any()))
     status = np.full(len(problem.goals), PENDING)
     status[: len(reports)] = [REACHED if r.reached else MISSED for r in reports]
     ghosts = tuple(Pose(poses.points[f], poses.frames[f]) for f in strobe_frames(reports, trajectory.frames))

@@ -88,7 +88,7 @@ def _samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, box: tuple[
 
     x0, y0, x1, y1 = box
     depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf, dtype=dtype)
-    color = np.zeros(depth.shape + (3,), dtype=dtype)
+    color = np.empty(depth.shape + (3,), dtype=dtype)  # read only where a triangle set the depth: never cleared
     fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
                  np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
     return depth, color

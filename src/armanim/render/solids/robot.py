@@ -54,7 +54,7 @@ class RobotMeshes:
         self.normals = vertex_normals(meshes)
         vertex_color = np.zeros((len(meshes.vertices), 3))
         vertex_color[meshes.faces.ravel()] = np.repeat(meshes.colors, 3, axis=0)
-        self.vertex_color = vertex_color
+        self.vertex_color = lifted(vertex_color)
         self.bounds = [bounding_segment(meshes.vertices[np.unique(meshes.faces[f])]) for f in self.link_faces]
         self.furniture = meshes.links.index(FURNITURE) if FURNITURE in meshes.links else None
         """The furniture's link (None: the scene has none): a ``decal`` is drawn with it."""
@@ -104,6 +104,21 @@ class RobotMeshes:
         if near is None:
             return set()
         return {int(k) for k in self.capsule_links[near] if k >= 0}
+
+
+MESH_LIFT = 0.3
+"""The share of white every mesh colour is lifted by before it is lit (:func:`lifted`)."""
+
+
+def lifted(rgb: np.ndarray, lift: float = MESH_LIFT) -> np.ndarray:
+    """Mesh colours (..., 3) in 0-1 lifted toward white by ``lift``: the light a viewer's ambient
+    adds (RViz's), so that dark materials keep their shape. The UR5's vendored greys of 13-107/255
+    read as a black silhouette at 960 x 540 (issue 50); a white shell barely changes.
+
+    >>> lifted(np.array([0.0, 0.5, 1.0])).round(3).tolist()
+    [0.3, 0.65, 1.0]
+    """
+    return lift + (1.0 - lift) * np.asarray(rgb, dtype=float)
 
 
 CAPSULE_ALPHA = 0.35

@@ -26,7 +26,8 @@ from armanim.render.video.segment import draw_segment
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
 
 
-def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Callable[[int], None] | None = None) -> None:
+def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Callable[[int], None] | None = None,
+                 meanwhile: Callable[[], None] | None = None) -> None:
     """Render a run to an MP4 or a GIF, one video frame per trajectory row.
 
     Parameters
@@ -46,6 +47,10 @@ def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Call
         The video file. Written to a temporary file beside it, then moved in place.
     progress : callable, optional
         Called with the number of frames done so far.
+    meanwhile : callable, optional
+        Other work of this process (another picture), done while worker processes draw the
+        video; with one job, after the video. An exception from it ends the render as a
+        failure of the video does.
 
     Raises
     ------
@@ -65,12 +70,17 @@ def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Call
     # not output/atomic.py's temporary file: ffmpeg writes this one by name, and the PID in
     # the name lets remove_dead_leftovers tell a killed render's file from a running one's
     tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
+    other = _Other(meanwhile) if meanwhile is not None else None
     try:
         if jobs == 1:
             draw_segment(run, settings, tmp, start=0, stop=frames, progress=progress)
+            if other is not None:
+                other()
         else:
-            render_parallel(run, settings, tmp, jobs, progress)
+            render_parallel(run, settings, tmp, jobs, progress, other)
         os.replace(tmp, path)
+    except _OtherFailed as failed:  # the other picture's own error, not the video's
+        raise failed.error from None
     except RenderError as exc:  # name the video the user asked for, not its temporary file
         raise RenderError(str(exc).replace(tmp.name, path.name)) from None
     except OSError as exc:  # the folder, the log file or the segment folder could not be written
@@ -79,6 +89,27 @@ def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Call
         raise output_error(path, exc) from None
     finally:
         tmp.unlink(missing_ok=True)
+
+
+class _OtherFailed(Exception):
+    """An Exception of the work done meanwhile, carried past the video's own error handling."""
+
+    def __init__(self, error: Exception):
+        super().__init__(str(error))
+        self.error = error
+
+
+class _Other:
+    """``meanwhile`` with its exceptions wrapped in :class:`_OtherFailed`."""
+
+    def __init__(self, work: Callable[[], None]):
+        self.work = work
+
+    def __call__(self) -> None:
+        try:
+            self.work()
+        except Exception as err:  # noqa: BLE001  (re-raised as itself by render_video)
+            raise _OtherFailed(err) from err
 
 
 def remove_dead_leftovers(path: Path) -> None:

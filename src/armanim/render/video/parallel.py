@@ -1,6 +1,11 @@
 """Render a video in worker processes: contiguous segments, each drawn and encoded by its
 own worker, joined without re-encoding.
 
+Where workers are forked (Linux), the parent draws the scene's static part once (imports,
+framing, background, meshes: :func:`~armanim.render.video.segment.frame_drawer`) and every
+worker inherits it, instead of each building its own. While the workers draw, the parent does
+the caller's other work (the plot, the poster, the viewer page), so no core waits on another.
+
 Workers start with SIGINT and SIGTERM blocked, ignore Ctrl-C (the parent decides),
 stop quietly on the parent's ``terminate()`` and when the parent dies, so no worker or
 ffmpeg outlives armanim. Progress and failures come back on a queue.
@@ -24,7 +29,7 @@ from armanim.errors import OutputError, RenderError
 from armanim.output.solved import SolvedRun
 from armanim.procs.workers import init_worker, signals_blocked
 from armanim.render.settings import RenderSettings
-from armanim.render.video.segment import draw_segment
+from armanim.render.video.segment import draw_segment, frame_drawer
 
 PROGRESS_EVERY = 8  # a worker reports its progress every this many frames
 
@@ -49,7 +54,7 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
     these handlers are in place. A worker whose parent ends (even by ``kill -9``) stops
     the same way, so no worker or ffmpeg outlives armanim or holds its folder lock.
     """
-    run, settings, path, start, stop, index = args
+    run, settings, path, start, stop, index, frame = args
     init_worker(parent)
 
     def report(done: int) -> None:
@@ -57,7 +62,7 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
             messages.put(("progress", index, done))
 
     try:
-        draw_segment(run, settings, path, start=start, stop=stop, progress=report)
+        draw_segment(run, settings, path, start=start, stop=stop, progress=report, frame=frame)
         messages.put(("done", index, None))
     except BaseException as err:  # noqa: BLE001  (reported to the parent, which raises)
         if isinstance(err, (RenderError, OutputError)):
@@ -70,13 +75,18 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
 
 
 def render_parallel(run: SolvedRun, settings: RenderSettings, tmp: Path, jobs: int,
-                    progress: Callable[[int], None] | None) -> None:
+                    progress: Callable[[int], None] | None, meanwhile: Callable[[], None] | None = None) -> None:
     """Render the video ``tmp`` of ``run`` in ``jobs`` worker processes, one contiguous segment
-    each, and join the segments (see :func:`armanim.render.video.movie.render_video`)."""
+    each, and join the segments (see :func:`armanim.render.video.movie.render_video`).
+
+    ``meanwhile`` is called in this process once the workers have started (its progress
+    reports wait until it returns); an exception from it stops the workers and is raised.
+    """
     from armanim.procs.deferred import interrupts_deferred
     from armanim.render.video.encode import concat_segments
 
     ctx = multiprocessing.get_context()
+    frame = inherited_drawer(run, settings) if ctx.get_start_method() == "fork" else None
     workdir = Path(tempfile.mkdtemp(prefix=f".{tmp.name}.", dir=tmp.parent))
     segments = segment_bounds(run.trajectory.frames, jobs)
     paths = [workdir / f"segment{i:03d}.mp4" for i in range(len(segments))]
@@ -84,7 +94,7 @@ def render_parallel(run: SolvedRun, settings: RenderSettings, tmp: Path, jobs: i
     workers = [
         ctx.Process(
             target=_segment_worker,
-            args=((run, settings, p, a, b, i), messages, os.getpid()),
+            args=((run, settings, p, a, b, i, frame), messages, os.getpid()),
             daemon=True,
         )
         for i, ((a, b), p) in enumerate(zip(segments, paths))
@@ -95,6 +105,8 @@ def render_parallel(run: SolvedRun, settings: RenderSettings, tmp: Path, jobs: i
             for w in workers:
                 w.start()
                 started.append(w)
+        if meanwhile is not None:
+            meanwhile()
         _collect(workers, messages, progress)
         concat_segments(paths, tmp, settings.format)
     finally:
@@ -102,6 +114,17 @@ def render_parallel(run: SolvedRun, settings: RenderSettings, tmp: Path, jobs: i
             _stop_workers(started)
             messages.close()
             shutil.rmtree(workdir, ignore_errors=True)
+
+
+def inherited_drawer(run: SolvedRun, settings: RenderSettings):
+    """The run's frame drawer, built here for forked workers to inherit, and warmed by drawing
+    the first frame once (the compiled rasteriser is loaded before the fork, not in each worker)."""
+    from armanim.arm.kinematics import Pose, forward
+
+    frame = frame_drawer(run, settings)
+    pose = forward(run.problem.arm, run.trajectory.phi[:1])
+    frame(0, Pose(pose.points[0], pose.frames[0]))
+    return frame
 
 
 def _stop_workers(workers, grace: float = 10.0) -> None:

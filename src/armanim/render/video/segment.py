@@ -23,15 +23,19 @@ PALETTE_FRAMES = 12  # frames a GIF's palette is made from
 
 
 def draw_segment(run: SolvedRun, settings: RenderSettings, path: Path, *, start: int, stop: int,
-                 progress: Callable[[int], None] | None = None) -> None:
+                 progress: Callable[[int], None] | None = None,
+                 frame: Callable[[int, Pose], np.ndarray] | None = None) -> None:
     """Draw frames ``start`` to ``stop - 1`` of ``run`` and encode them into ``path``.
 
-    ``progress`` is called with the number of frames of this segment done so far.
+    ``progress`` is called with the number of frames of this segment done so far. ``frame``: the
+    run's :func:`frame_drawer` for ``settings`` when one is built already (a worker forked from
+    the process that built it); else it is built here.
     """
     from armanim.render.video.encode import FrameWriter, gif_palette
 
     problem, trajectory = run.problem, run.trajectory
-    frame = frame_drawer(run, settings)
+    if frame is None:
+        frame = frame_drawer(run, settings)
     with contextlib.ExitStack() as stack:
         palette = None
         if settings.format == "gif":  # one palette for the whole GIF, from frames spread over it
@@ -51,7 +55,7 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     The frame returned is the canvas's live buffer: consume it before the next call.
     """
     from armanim.render.overlay.paths import path_progress
-    from armanim.render.pictures.canvas import FrameState, SceneCanvas
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas, near_in_frames
 
     problem, trajectory, reports = run.problem, run.trajectory, run.reports
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
@@ -59,7 +63,8 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     activity = frame_activity(trajectory, reports)
     captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
     scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=extent,
-                        caption_template=max(captions, key=len), outcomes=goal_outcomes(reports))
+                        caption_template=max(captions, key=len), outcomes=goal_outcomes(reports),
+                        near_self=near_in_frames(problem, trajectory.self_clearance))
     done = path_progress(trajectory.goal, trajectory.path_s, goals) if scene.paths else None
 
     def frame(f: int, pose: Pose) -> np.ndarray:
