@@ -40,6 +40,7 @@ import argparse
 import csv
 import math
 import os
+import resource
 import sys
 import tarfile
 import tempfile
@@ -200,9 +201,10 @@ def print_table(rows: list[list[str]]) -> None:
         print("  ".join(cell.rjust(w) if i > 1 else cell.ljust(w) for i, (cell, w) in enumerate(zip(row, widths))))
 
 
-def batch_run(data: Path, robot: str, problems: dict, count: int, work: Path) -> float:
-    """Seconds per problem of ``count`` imported problems in one ``armanim run --no-video --jobs 1``
-    (its own process, writing included; the first compile is warm from this process's cache)."""
+def batch_run(data: Path, robot: str, problems: dict, count: int, work: Path) -> tuple[float, float]:
+    """Wall and CPU seconds per problem of ``count`` imported problems in one ``armanim run
+    --no-video --jobs 1`` (its own process, start-up and writing included; the first compile is
+    warm from this process's cache)."""
     import subprocess
 
     from armanim.scene.moveitscene import RobotSource, import_moveit
@@ -219,12 +221,14 @@ def batch_run(data: Path, robot: str, problems: dict, count: int, work: Path) ->
         scenes.append(str(out))
     command = [sys.executable, "-m", "armanim", "run", *scenes, "--no-video", "--no-viewer", "--jobs", "1", "--quiet",
                "--out", str(work / f"runs-{robot}")]
-    started = time.perf_counter()
+    started, children = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run(command, capture_output=True, text=True, check=False)
     seconds = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = after.ru_utime + after.ru_stime - children.ru_utime - children.ru_stime
     if done.returncode not in (0, 1):
         print(done.stderr[-2000:], file=sys.stderr)
-    return seconds / len(scenes)
+    return seconds / len(scenes), cpu / len(scenes)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -267,8 +271,9 @@ def main(argv: list[str] | None = None) -> int:
     print_table(summary_rows(outcomes))
     print(f"load average at the end: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores (solve: wall time; CPU: this process's, "
           "which other processes on a busy machine inflate less)")
-    for robot, seconds in batches.items():
-        print(f"{robot}: {args.batch} problems in one `armanim run --no-video --jobs 1`: {seconds:.3f} s a problem, writing included")
+    for robot, (seconds, cpu) in batches.items():
+        print(f"{robot}: {args.batch} problems in one `armanim run --no-video --jobs 1`: {seconds:.3f} s a problem "
+              f"({cpu:.3f} s of CPU), start-up and writing included")
     failures = [o for o in outcomes if o.valid and not o.solved]
     if failures:
         print("missed: " + ", ".join(f"{o.robot} {o.family} {o.index} ({o.reason})" for o in failures[:40]))
