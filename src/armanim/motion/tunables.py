@@ -228,11 +228,11 @@ class IkOptions:
         priority (False), so trajectories are what they were.
     compiled : bool
         A pose solve's ``pinv`` and ``dls`` attempts run compiled where they mean the same
-        (:mod:`armanim.motion.solvers.compiled`: no obstacles, the analytic Jacobian); False:
+        (:mod:`armanim.motion.kernels.attempt`: no obstacles, the analytic Jacobian); False:
         the numpy steps everywhere (the tests' oracle).
     compiled_frames : bool
         The frame loop's ``pinv`` and ``dls`` frames run compiled
-        (:mod:`armanim.motion.solvers.compiled_frame`: the proposal, the filter's rows, its exact
+        (:mod:`armanim.motion.kernels.frame`: the proposal, the filter's rows, its exact
         check and halvings; its QP stays DAQP's; the same steps to rounding); False: the numpy
         frames everywhere (the tests' oracle).
     """
