@@ -172,7 +172,7 @@ def inverse_of(line: str, mat: np.ndarray, damping: float | None) -> np.ndarray:
     m, n = mat.shape
     out = np.empty((n, m))
     if damping is None:
-        linalg.pseudo_inverse(mat, out, np.eye(min(m, n)))
+        linalg.pseudo_inverse(mat, out)
     else:
         assert linalg.damped(mat, damping, out)
     return out

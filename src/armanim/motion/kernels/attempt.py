@@ -125,10 +125,6 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
     steps = ints[STEPS]
     status = DONE
     dphi = np.empty(n)
-    guesses = np.zeros((3, 6, 6))
-    for g in range(3):
-        for i in range(6):
-            guesses[g, i, i] = 1.0
     step = np.empty(n)
     nominal = np.empty(n)
     low = np.empty(n)
@@ -160,7 +156,7 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
                     status = HANDED_BACK
                     break
                 pairs_push = pushing == 1
-        proposed = attempt_proposal(floats, ints, phi, points[now], axes[now], tool[now], goal, residual, lower, upper, guesses, pair_push,
+        proposed = attempt_proposal(floats, ints, phi, points[now], axes[now], tool[now], goal, residual, lower, upper, pair_push,
                              pairs_push, dphi)
         if proposed == HANDED_BACK:
             status = HANDED_BACK

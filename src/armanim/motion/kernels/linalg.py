@@ -2,9 +2,10 @@
 of a small matrix (a Jacobian: m, n <= 7), written as loops.
 
 - :func:`pseudo_inverse`: where it can be shown cheaply that no singular value is cut, the normal
-  equations (:func:`pinv_by_normal_equations`); else a one-sided Jacobi SVD with the cut-off of
-  :func:`armanim.arm.linalg.pseudo_inverse` (singular values below ``PINV_RTOL`` times the
-  largest count as zero), warm-started from the last step's rotation;
+  equations (:func:`pinv_by_normal_equations`); else the SVD of scipy.linalg, LAPACK's ``gesdd``
+  (through ``scipy.linalg.cython_lapack``, which numba's ``np.linalg.svd`` calls), with the cut-off
+  of :func:`armanim.arm.linalg.pseudo_inverse` (singular values below ``PINV_RTOL`` times the
+  largest count as zero);
 - :func:`damped`: J^T (J J^T + lambda^2 I)^-1 by Gaussian elimination with partial pivoting, as
   LAPACK's ``gesv`` (:func:`armanim.motion.solvers.linear.damped_inverse`, the numpy reference).
 
@@ -25,53 +26,11 @@ _JIT = dict(error_model="numpy", nogil=True)
 _INLINE = dict(inline="always", **_JIT)
 
 
-JACOBI_SWEEPS = 60
-"""Most sweeps of the one-sided Jacobi SVD (a 6 x 7 Jacobian takes 5 to 8)."""
-
 WELL_CONDITIONED = 1e5
 """A Jacobian is inverted by its normal equations when trace(G) |G^-1|_F, a bound on its
 condition number squared (G = J J^T or J^T J), is at most this: then every singular value is far
 above the pseudo-inverse's cut-off, and the normal equations' rounding (kappa^2 eps) is below
 1e-10."""
-
-
-@compiled(**_JIT)
-def orthogonalise(a: np.ndarray, w: np.ndarray) -> None:
-    """One-sided Jacobi (Hestenes): rotates the columns of ``a`` (r, c) until they are
-    orthogonal, the same rotations applied to the columns of ``w`` (c, c, orthogonal), so that
-    a_in w_in^T = a_out w_out^T. The columns' lengths are then the singular values, each to
-    high relative accuracy."""
-    r, c = a.shape
-    for _ in range(JACOBI_SWEEPS):
-        rotated = False
-        for i in range(c - 1):
-            for j in range(i + 1, c):
-                alpha = 0.0
-                beta = 0.0
-                gamma = 0.0
-                for k in range(r):
-                    alpha += a[k, i] * a[k, i]
-                    beta += a[k, j] * a[k, j]
-                    gamma += a[k, i] * a[k, j]
-                if gamma == 0.0 or abs(gamma) <= 1e-15 * math.sqrt(alpha) * math.sqrt(beta):
-                    continue
-                rotated = True
-                zeta = (beta - alpha) / (2.0 * gamma)
-                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + math.hypot(1.0, zeta))
-                cs = 1.0 / math.sqrt(1.0 + t * t)
-                sn = cs * t
-                for k in range(r):
-                    ai = a[k, i]
-                    aj = a[k, j]
-                    a[k, i] = cs * ai - sn * aj
-                    a[k, j] = sn * ai + cs * aj
-                for k in range(c):
-                    wi = w[k, i]
-                    wj = w[k, j]
-                    w[k, i] = cs * wi - sn * wj
-                    w[k, j] = sn * wi + cs * wj
-        if not rotated:
-            return
 
 
 @compiled(**_INLINE)
@@ -142,48 +101,31 @@ def pinv_by_normal_equations(jac: np.ndarray, out: np.ndarray) -> bool:
 
 
 @compiled(**_JIT)
-def pseudo_inverse(jac: np.ndarray, out: np.ndarray, w: np.ndarray) -> None:
+def pseudo_inverse(jac: np.ndarray, out: np.ndarray) -> None:
     """The Moore-Penrose pseudo-inverse of ``jac`` (m, n) into ``out`` (n, m): singular values
-    below ``PINV_RTOL`` times the largest count as zero (:func:`armanim.arm.linalg.pseudo_inverse`).
-
-    The columns orthogonalised are those of J^T (m <= n) or of J (c = min(m, n) of them),
-    starting from the orthogonal ``w`` (c, c), which is left holding the rotation found: a
-    guess for the next step's Jacobian, which differs little (the identity at the start).
-    J^T W = Q gives J^+ = Q diag(1/sigma^2) W^T, J W = Q gives J^+ = W diag(1/sigma^2) Q^T.
-    A well-conditioned Jacobian takes its normal equations instead (:func:`pinv_by_normal_equations`)."""
+    below ``PINV_RTOL`` times the largest count as zero (:func:`armanim.arm.linalg.pseudo_inverse`,
+    the numpy reference). A well-conditioned Jacobian takes its normal equations
+    (:func:`pinv_by_normal_equations`); any other, LAPACK's ``gesdd`` as scipy.linalg's SVD calls
+    it (numba's ``np.linalg.svd`` calls ``scipy.linalg.cython_lapack``): J^+ = V diag(1/d) U^T.
+    A matrix with a NaN or an infinity gives NaN (the caller's proposal is then not finite)."""
     if pinv_by_normal_equations(jac, out):
         return
     m, n = jac.shape
-    wide = m <= n
-    r = n if wide else m
-    c = m if wide else n
-    a = np.empty((r, c))
-    for i in range(r):
-        for j in range(c):
-            s = 0.0
-            for k in range(c):
-                s += (jac[k, i] if wide else jac[i, k]) * w[k, j]
-            a[i, j] = s
-    orthogonalise(a, w)
-    inverse = np.empty(c)
-    top = 0.0
-    for j in range(c):
-        s = 0.0
-        for k in range(r):
-            s += a[k, j] * a[k, j]
-        inverse[j] = math.sqrt(s)
-        top = max(top, inverse[j])
-    for j in range(c):
-        sigma = inverse[j]
-        inverse[j] = 1.0 / (sigma * sigma) if (sigma > PINV_RTOL * top and top > 0.0) else 0.0
+    for i in range(m):
+        for j in range(n):
+            if not (jac[i, j] - jac[i, j] == 0.0):  # NaN or infinity: gesdd would not converge
+                out[:, :] = np.nan
+                return
+    u, d, vt = np.linalg.svd(jac, full_matrices=False)
+    top = d[0] if d.shape[0] else 0.0
+    inverse = np.empty(d.shape[0])
+    for k in range(d.shape[0]):
+        inverse[k] = 1.0 / d[k] if (d[k] > PINV_RTOL * top and top > 0.0) else 0.0
     for i in range(n):
         for j in range(m):
             s = 0.0
-            for k in range(c):
-                if wide:
-                    s += a[i, k] * inverse[k] * w[j, k]
-                else:
-                    s += w[i, k] * inverse[k] * a[j, k]
+            for k in range(d.shape[0]):
+                s += vt[k, i] * inverse[k] * u[j, k]
             out[i, j] = s
 
 
@@ -233,25 +175,12 @@ def damped(jac: np.ndarray, damping: float, out: np.ndarray) -> bool:
     return True
 
 
-@compiled(**_INLINE)
-def invert(jac: np.ndarray, method: int, damping: float, out: np.ndarray, w: np.ndarray) -> bool:
-    """The method's inverse of ``jac`` into ``out`` (``w``: :func:`pseudo_inverse`'s guess); False where it
-    fails (a NaN proposal)."""
-    if method == PINV:
-        pseudo_inverse(jac, out, w)
-        return True
-    return damped(jac, damping, out)
-
-
 @compiled(**_JIT)
-def invert_cold(jac: np.ndarray, method: int, damping: float, out: np.ndarray) -> bool:
-    """The method's inverse of ``jac`` (m, n) into ``out`` (n, m); False where it fails."""
+def invert(jac: np.ndarray, method: int, damping: float, out: np.ndarray) -> bool:
+    """The method's inverse of ``jac`` (m, n) into ``out`` (n, m): :func:`pseudo_inverse` or
+    :func:`damped`; False where it fails (a zero pivot: a NaN proposal)."""
     if method == PINV:
-        c = min(jac.shape[0], jac.shape[1])
-        guess = np.zeros((c, c))
-        for i in range(c):
-            guess[i, i] = 1.0
-        pseudo_inverse(jac, out, guess)
+        pseudo_inverse(jac, out)
         return True
     return damped(jac, damping, out)
 

@@ -35,7 +35,7 @@ from armanim.motion.kernels.layout import (
     W_OBSTACLES,
     WEIGHT,
 )
-from armanim.motion.kernels.linalg import damped, invert, invert_cold, matvec, pseudo_inverse
+from armanim.motion.kernels.linalg import damped, invert, matvec, pseudo_inverse
 from armanim.motion.solvers.linear import CLOSEST_GAP, ROUNDING_TASK
 from armanim.world.compiled import pair_jacobians
 
@@ -218,13 +218,12 @@ def null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, nu
 
 @compiled(**_JIT)
 def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
-              goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, guesses: np.ndarray, pair_push: np.ndarray,
-              pairs_push: bool, dphi: np.ndarray) -> int:
+                     goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, pair_push: np.ndarray,
+                     pairs_push: bool, dphi: np.ndarray) -> int:
     """The method's step (:func:`armanim.motion.solvers.linear.linear_step` without obstacles; the
     pairs' push ``pair_push`` (n,), where ``pairs_push``, beside the limits' in the null space) into ``dphi``: :data:`DONE`, :data:`NUMERICAL` when its inverse failed, or
     :data:`HANDED_BACK` where the rotation second in priority has only rounding left to act on
-    (:data:`ROUNDING_TASK`). ``guesses`` (3, 6, 6): the SVDs' rotations of the last step, of the
-    task, of the tip's task and of the rotation in its null space."""
+    (:data:`ROUNDING_TASK`)."""
     n = phi.shape[0]
     method = ints[METHOD]
     kind = ints[KIND]
@@ -262,7 +261,7 @@ def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, poin
             for j in range(n):
                 jac[3 + i, j] = jac_r[i, j]
     jac_inv = np.empty((n, m))
-    if not invert(jac, method, damping, jac_inv, guesses[0, :min(m, n), :min(m, n)]):
+    if not invert(jac, method, damping, jac_inv):
         return NUMERICAL
     matvec(jac_inv, target, dphi)
     push = np.empty(n)
@@ -278,14 +277,14 @@ def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, poin
                 for a in range(3):
                     pinv_tip[i, a] = jac_inv[i, a]
         else:
-            pseudo_inverse(jac, pinv_tip, guesses[1, :min(3, n), :min(3, n)])
+            pseudo_inverse(jac, pinv_tip)
         null_tip = np.empty((n, n))
         restricted = np.empty((k, n))
         left, rows_size = null_space_task(jac, pinv_tip, jac_r, null_tip, restricted)
         if left < ROUNDING_TASK * ROUNDING_TASK * rows_size:
             return HANDED_BACK
         inv_r = np.empty((n, k))
-        if not invert(restricted, method, damping, inv_r, guesses[2, :min(k, n), :min(k, n)]):
+        if not invert(restricted, method, damping, inv_r):
             return NUMERICAL
         rest = np.empty(k)
         matvec(jac_r, dphi, rest)
@@ -299,7 +298,7 @@ def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, poin
             pinv_r = inv_r
             if method != PINV:
                 pinv_r = np.empty((n, k))
-                pseudo_inverse(restricted, pinv_r, guesses[2, :min(k, n), :min(k, n)])
+                pseudo_inverse(restricted, pinv_r)
             null_both = np.empty((n, n))
             for i in range(n):
                 for j in range(n):
@@ -339,7 +338,6 @@ def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np
     which = np.empty(1, dtype=np.int64)
     jac = np.empty((1, 3, n))
     inverse = np.empty((n, 3))
-    guess = np.eye(3)
     any_push = 0
     for q in range(gaps.shape[0]):
         d = gaps[q]
@@ -353,10 +351,7 @@ def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np
         which[0] = q
         pair_jacobians(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], which, jac)
         if method == PINV:
-            for a in range(3):
-                for b in range(3):
-                    guess[a, b] = 1.0 if a == b else 0.0
-            pseudo_inverse(jac[0], inverse, guess[:min(3, n), :min(3, n)])
+            pseudo_inverse(jac[0], inverse)
         elif not damped(jac[0], floats[DAMPING], inverse):
             return -1
         for j in range(n):
@@ -411,14 +406,14 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
         for i in range(n):
             for c in range(3):
                 pinv_tip[i, c] = jac_inv[i, c]
-    elif not invert_cold(jac, PINV, 0.0, pinv_tip):
+    elif not invert(jac, PINV, 0.0, pinv_tip):
         return False
     null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
     restricted = np.empty((k, n))
     left, size = null_space_task(jac, pinv_tip, jac_r, null, restricted)
     if not left < ROUNDING_TASK * ROUNDING_TASK * size:
         inverse = np.empty((n, k))
-        if not invert_cold(restricted, method, floats[DAMPING], inverse):
+        if not invert(restricted, method, floats[DAMPING], inverse):
             return False
         wanted = np.empty(k)
         for i in range(k):
@@ -432,7 +427,7 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
                 v += inverse[j, i] * wanted[i]
             dphi[j] = dphi[j] + v
         if pushed:
-            if method != PINV and not invert_cold(restricted, PINV, 0.0, inverse):
+            if method != PINV and not invert(restricted, PINV, 0.0, inverse):
                 return False
             for i in range(n):
                 for j in range(n):
@@ -476,7 +471,7 @@ def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.
     capped(target, floats[BETA], floats[MAX_STEP])
     damping = floats[DAMPING]
     jac_inv = np.empty((n, 3))
-    if not invert_cold(jac, method, damping, jac_inv):
+    if not invert(jac, method, damping, jac_inv):
         return False
     for j in range(n):
         dphi[j] = jac_inv[j, 0] * target[0] + jac_inv[j, 1] * target[1] + jac_inv[j, 2] * target[2]
@@ -509,7 +504,7 @@ def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.
             for i in range(3):
                 q[i] = a[part, i] + f * (b[part, i] - a[part, i])
             point_jacobian(points, axes, link[part], q, pj)
-            if not invert_cold(pj, method, damping, pinv):
+            if not invert(pj, method, damping, pinv):
                 return False
             for j in range(n):
                 secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
@@ -537,7 +532,7 @@ def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.
                 for j in range(n):
                     ja[i, j] -= jb[i, j]
                 v[i] = push * gap_normal[p, i]
-            if not invert_cold(ja, method, damping, pinv):
+            if not invert(ja, method, damping, pinv):
                 return False
             for j in range(n):
                 secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
