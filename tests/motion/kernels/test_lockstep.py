@@ -582,7 +582,10 @@ def test_the_frames(line, family, data, method, oriented, seed):
 @settings(max_examples=8, **SETTINGS)
 @given(data=st.data(), method=LINEAR, oriented=ORIENTED, seed=st.integers(0, 2**32 - 1))
 def test_the_frames_among_shapes(line, family, data, method, oriented, seed):
+    # the planner off: its searches among the shapes were most of this test's time, and a planned
+    # route's frames are not the method's (the frames pressed against the shapes are still here)
     problem = with_orientations(linear(data.draw(SHAPES[family], label="problem"), method), seed, oriented)
+    problem = replace(problem, solver=replace(problem.solver, planner="off"))
     assert_frames_lockstep(line, problem, stride=4, most=16)
 
 
