@@ -149,3 +149,15 @@ def test_the_kernel_compiles_where_numba_finds_no_folder_to_cache_in():
     proc = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[5.0, 5.0, 17.0] (6, 4) [0.0, 0.0, 0.0]"
+
+
+def test_the_public_forward_is_the_compiled_kernel():
+    """docs/python-api.md: ``armanim.forward`` is the kinematics the solver runs on (issue 55,
+    item 4), one pose or a batch, the numpy chain's numbers to rounding."""
+    import armanim
+
+    assert armanim.forward is kernel.forward
+    arm = ROBOT_ARMS["panda"]
+    phi = np.random.default_rng(5).uniform(-2, 2, (6, arm.n))
+    for q in (phi[0], phi):
+        np.testing.assert_allclose(armanim.forward(arm, q).points, forward(arm, q).points, rtol=0, atol=1e-12)

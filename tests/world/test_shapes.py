@@ -4,6 +4,8 @@ tests/motion/test_motion_among_shapes.py; their pictures: tests/render/test_shap
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -12,7 +14,7 @@ from armanim.arm.chain import rpy_rotation
 from armanim.arm.kinematics import Arm, forward
 from armanim.world.closest import segment_box
 from armanim.world.distances import clearances, point_clearances, sphere_clearances
-from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Obstacles, Rods
+from armanim.world.obstacles import BOX, FLOOR, ROD, SPHERE, Boxes, Cylinders, Obstacles, Rods
 
 coal = pytest.importorskip("coal")  # the oracle (the test extra)
 
@@ -274,6 +276,24 @@ def test_smallest_clearance_is_the_least_of_all_clearances():
     full = clearances(pose, obstacles, caps).links.min(axis=(-1, -2))
     np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), full, rtol=0, atol=1e-12)
     assert min_link_clearance(forward(arm, phi[0]), obstacles, caps).shape == ()
+
+
+def test_the_least_clearance_of_a_batch_is_the_same_bytes_taken_in_chunks(monkeypatch):
+    """A clocked run's frames are measured CLEARANCE_CHUNK at a time (the caches): each frame's
+    number is the very one of the whole batch at once (trajectory.csv writes every digit)."""
+    from armanim.world import distances
+
+    arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
+    caps = joint_capsules(arm, 0.25)
+    rng = np.random.default_rng(12)
+    cylinders = Cylinders(rng.uniform(0, 12, (3, 3)), np.array([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(3)]),
+                          rng.uniform(0.5, 2.0, 3), rng.uniform(0.2, 1.0, 3))
+    obstacles = replace(mixed_obstacles(floor=-1.0), cylinders=cylinders)
+    pose = forward(arm, rng.uniform(-np.pi, np.pi, (3 * distances.CLEARANCE_CHUNK + 7, 4)))
+    chunked = distances.min_link_clearance(pose, obstacles, caps)
+    monkeypatch.setattr(distances, "CLEARANCE_CHUNK", 10**9)
+    whole = distances.min_link_clearance(pose, obstacles, caps)
+    assert chunked.tobytes() == whole.tobytes() and np.sum(whole < 0) > 10
 
 
 def test_boxes_are_measured_where_numba_finds_no_folder_to_cache_in():
