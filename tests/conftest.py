@@ -25,7 +25,9 @@ ROOMS = ("arm", "world", "motion", "procs", "scene", "output", "render", "runs",
 # another file's helpers by its name (``from test_scene import write``): --import-mode=importlib
 # puts none of these folders on sys.path. Test file names are unique across the rooms
 # (tests/system/test_layout.py) so that a name means one file.
-for folder in [TESTS, *(TESTS / room for room in ROOMS)]:
+# A room's tests may have folders of their own (tests/motion/kernels): on sys.path too.
+for folder in [TESTS, *(TESTS / room for room in ROOMS),
+               *sorted(p for room in ROOMS for p in (TESTS / room).glob("*/") if p.is_dir() and p.name != "__pycache__")]:
     if str(folder) not in sys.path:
         sys.path.insert(0, str(folder))
 

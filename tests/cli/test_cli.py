@@ -170,7 +170,7 @@ def test_ik_says_when_linear_algebra_failed(cli, monkeypatch):
         raise np.linalg.LinAlgError("SVD did not converge")
 
     monkeypatch.setattr(armanim.motion.solvers.linear, "pseudo_inverse", fails)
-    monkeypatch.setattr(armanim.motion.ik, "runs_compiled", lambda problem, method: False)  # the numpy steps (the compiled have their own inverse)
+    monkeypatch.setattr(armanim.motion.ik, "compiled_plan", lambda *args: None)  # the numpy steps (the compiled have their own inverse)
     result = cli("ik", "--goal", "3,1,0", *PLANAR, "--from", "10,10,10,10", "--json")
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)

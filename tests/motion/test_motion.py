@@ -152,7 +152,7 @@ def test_planner_off_without_active_constraint_takes_the_methods_own_step(method
     solution = solve_trajectory(problem)
     if METHODS[method].compiled_inverse is None:
         np.testing.assert_array_equal(solution.trajectory.phi[1], problem.home + proposal.dphi)
-    else:  # pinv and dls frames run compiled (motion/solvers/compiled_frame.py): the same step to rounding
+    else:  # pinv and dls frames run compiled (motion/kernels/frame.py): the same step to rounding
         np.testing.assert_allclose(solution.trajectory.phi[1], problem.home + proposal.dphi, rtol=0, atol=1e-12)
 
 

@@ -276,13 +276,13 @@ def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
 def test_ik_restarts_from_the_planner_seed_poses(monkeypatch, compiled):
     # one set of starts for every solve from a pose: the pose, its mirrored elbow, then the
     # planner's seeded random poses (the compiled attempts' starts, or the numpy steps' poses)
-    import armanim.motion.solvers.compiled
+    import armanim.motion.kernels.attempt
     import armanim.motion.solvers.linear
     from armanim.motion.planning.poses import seed_poses
 
     seen = []
     jacobian_of_tip = armanim.motion.solvers.linear.jacobian_of_tip
-    run_attempt = armanim.motion.solvers.compiled.run_attempt
+    run_attempt = armanim.motion.kernels.attempt.run_attempt
 
     def recording(problem, phi, pose):
         seen.append(np.array(phi))
@@ -293,7 +293,7 @@ def test_ik_restarts_from_the_planner_seed_poses(monkeypatch, compiled):
         return run_attempt(problem, step, stacked, goal, start, *rest)
 
     monkeypatch.setattr(armanim.motion.solvers.linear, "jacobian_of_tip", recording)
-    monkeypatch.setattr(armanim.motion.solvers.compiled, "run_attempt", starting)
+    monkeypatch.setattr(armanim.motion.ik, "_RUN_ATTEMPT", [starting])
     problem = planar_ik_problem("pinv") if compiled else numpy_steps_only(planar_ik_problem("pinv"))
     start = np.radians([10.0, 20.0, 30.0, 40.0])
     result = solve_pose(problem, np.array([10.0, 0.0, 0.0]), start, max_iterations=1000)  # out of reach

@@ -33,8 +33,9 @@ def _modules(room: str) -> list[str]:
     )
 
 
-COMPILED = ("armanim.arm.kernel", "armanim.world.compiled", "armanim.motion.passes", "armanim.motion.solvers.compiled",
-            "armanim.motion.solvers.compiled_frame", "armanim.motion.planning.check", "armanim.render.solids.rasterloops")
+COMPILED = ("armanim.arm.kernel", "armanim.world.compiled", "armanim.motion.passes", "armanim.motion.kernels.linalg",
+            "armanim.motion.kernels.tasks", "armanim.motion.kernels.check", "armanim.motion.kernels.qp", "armanim.motion.kernels.attempt",
+            "armanim.motion.kernels.frame", "armanim.motion.planning.check", "armanim.render.solids.rasterloops")
 """The modules that import numba, which loads pyyaml for its own settings and scipy when
 installed: left out of the walks below (:func:`test_numba_loads_only_for_boxes_and_capsules`
 holds it to the runs that need it)."""

@@ -272,7 +272,8 @@ def test_the_compiled_frame_measures_cylinders_as_the_numpy_path(robot):
     """The compiled frame's clearances (its world with the cylinders, among a sphere, a box and a
     floor, in the scene's order) are the numpy path's: the cylinders' bit for bit."""
     from armanim.arm.capsules import capsule_ends
-    from armanim.motion.solvers.compiled_frame import _clearances, _world
+    from armanim.motion.kernels.check import obstacle_clearances
+    from armanim.motion.kernels.layout import world_arrays
     from armanim.scene import scene_model, scene_to_problem
 
     problem = scene_to_problem(scene_model({
@@ -291,7 +292,7 @@ def test_the_compiled_frame_measures_cylinders_as_the_numpy_path(robot):
         a, b = capsule_ends(caps, pose)
         m = len(problem.obstacles)
         d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
-        _clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), caps.part_radius, _world(problem), d, t, n)
+        obstacle_clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), caps.part_radius, world_arrays(problem), d, t, n)
         cyl = problem.obstacles.columns(CYLINDER)  # one kernel, the same numbers in: bit for bit
         np.testing.assert_array_equal(d[:, cyl], expected.d[:, cyl])
         np.testing.assert_array_equal(t[:, cyl], expected.t[:, cyl])

@@ -50,8 +50,9 @@ def compiled(**options: Any) -> Callable[[F], F]:
     return compile_
 
 
-COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "motion/solvers/compiled.py",
-                    "motion/solvers/compiled_frame.py", "motion/planning/check.py", "render/solids/rasterloops.py")
+COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "motion/kernels/linalg.py", "motion/kernels/tasks.py",
+                    "motion/kernels/check.py", "motion/kernels/qp.py", "motion/kernels/attempt.py", "motion/kernels/frame.py",
+                    "motion/planning/check.py", "render/solids/rasterloops.py")
 """Every module of armanim that defines compiled functions (paths inside the package): one's
 machine code holds the compiled functions it calls from the others."""
 

@@ -38,16 +38,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.motion.jointpath import JointPath
 from armanim.motion.solution import GoalTiming
-
-GRID_PER_STEP = 16
-"""TOPP grid points per solved step of the path (its knot and evenly spaced points inside it)."""
-COLLOCATION = (0.0, 0.5, 1.0)
-"""Fractions of each grid interval where the time law keeps the limits (1.0: the end of the
-interval, approached from inside it)."""
-GRID_MIN = 512
-"""Fewest grid intervals of a path (a short path's steps are split further)."""
-CHECK_PER_STEP = 4
-"""Points per grid interval where the scaled time law is checked against the limits."""
+from armanim.motion.tunables import DEFAULTS, ClockOptions
 
 
 class ClockTooLong(ValueError):
@@ -100,8 +91,8 @@ class TimeLaw:
         return np.maximum(s, self.s[i]), np.maximum(self.speed[i] + u * tau, 0.0), u
 
 
-def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, path_speed: np.ndarray | None = None
-                 ) -> TimeLaw:
+def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, path_speed: np.ndarray | None = None,
+                 clock: ClockOptions = DEFAULTS.clock) -> TimeLaw:
     """The fastest time law along ``path`` from rest to rest within box limits (TOPP-RA).
 
     Parameters
@@ -113,11 +104,13 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, p
     path_speed : (m - 1,) array, optional
         The most ds/dt (radians of joint space per second) on each solved step of the path
         (indexed by the step's first frame; inf: no cap): a path goal's tool speed.
+    clock : ClockOptions, optional
+        The grid (``problem.tunables.clock``).
 
     Returns
     -------
     TimeLaw
-        The limits hold at :data:`COLLOCATION` points of every grid interval; between them
+        The limits hold at ``clock.collocation`` points of every grid interval; between them
         :func:`sampled_motion` checks and scales.
 
     Notes
@@ -137,9 +130,9 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, p
     """
     from armanim.motion.passes import backward_pass, forward_pass, interval_bounds, pass_bounds  # compiled: numba here
 
-    s = _grid(path.s)
+    s = _grid(path.s, clock)
     h = np.diff(s)
-    fractions = np.array(COLLOCATION)
+    fractions = np.array(clock.collocation)
     at = (s[:-1] + fractions[:, None] * h * (1 - 1e-9)).ravel()
     d1, d2 = (path.evaluate(at, k).reshape(len(fractions), len(h), -1) for k in (1, 2))
     n = d1.shape[2]
@@ -162,10 +155,10 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, p
 
 
 
-def _grid(knots: np.ndarray) -> np.ndarray:
-    """(N,) the knots and evenly spaced points inside each step: :data:`GRID_PER_STEP` per
-    step, or more, so that there are at least :data:`GRID_MIN` intervals."""
-    per = max(GRID_PER_STEP, math.ceil(GRID_MIN / (len(knots) - 1)))
+def _grid(knots: np.ndarray, clock: ClockOptions) -> np.ndarray:
+    """(N,) the knots and evenly spaced points inside each step: ``clock.grid_per_step`` per
+    step, or more, so that there are at least ``clock.grid_min`` intervals."""
+    per = max(clock.grid_per_step, math.ceil(clock.grid_min / (len(knots) - 1)))
     f = np.arange(per) / per
     inner = knots[:-1, None] + f * np.diff(knots)[:, None]
     return np.concatenate([inner.ravel(), knots[-1:]])
@@ -209,14 +202,15 @@ stretch by k divides that speed by k."""
 
 
 def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                   most_frames: float = np.inf, excess: Excess | None = None) -> Motion:
+                   most_frames: float = np.inf, excess: Excess | None = None, clock: ClockOptions = DEFAULTS.clock) -> Motion:
     """The time law slowed by the least factor that keeps every limit, sampled at ``fps``.
 
     The factor covers the limits checked densely on the continuous motion (the grid's
     constraints hold only at its points) and a whole number of frames; then the frames
     themselves are checked as the contract states the limits (first and second differences
     over 1/fps, with the arm at rest before the first frame and after the last) and the
-    time is stretched again if one is over (or ``excess`` of the frames is).
+    time is stretched again if one is over (or ``excess`` of the frames is). ``clock``: where the
+    continuous motion is checked (``problem.tunables.clock``).
 
     Raises
     ------
@@ -225,7 +219,7 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     """
     from armanim.motion.passes import law_excess
 
-    q_vel, q_acc = law_excess(law.t, law.s, law.speed, law.accel, path.s, path.poses, path.slopes, _check_fractions(),
+    q_vel, q_acc = law_excess(law.t, law.s, law.speed, law.accel, path.s, path.poses, path.slopes, _check_fractions(clock),
                               speed, acceleration)
     scale = max(1.0, q_vel, math.sqrt(q_acc))
     start, end = path.poses[0], path.poses[-1]
@@ -251,10 +245,10 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     return Motion(phi, velocity, path.step_of(s), count / fps)
 
 
-def _check_fractions() -> np.ndarray:
+def _check_fractions(clock: ClockOptions) -> np.ndarray:
     """Fractions of every grid interval (its start, inside it, and just before its end) where the
-    limits are checked."""
-    f = np.arange(CHECK_PER_STEP + 1) / CHECK_PER_STEP
+    limits are checked: ``clock.check_per_step`` intervals."""
+    f = np.arange(clock.check_per_step + 1) / clock.check_per_step
     f[-1] = 1 - 1e-9
     return f
 
@@ -286,14 +280,14 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
 
 def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,
                         most_frames: float = np.inf, path_speed: np.ndarray | None = None,
-                        excess: Excess | None = None) -> Motion:
+                        excess: Excess | None = None, clock: ClockOptions = DEFAULTS.clock) -> Motion:
     """A jerk-limited motion along ``path`` from rest to rest, sampled at ``fps``: the
     time-optimal law (:func:`time_optimal`) with its path speed averaged over a sliding window of
     tau = max_j 2 a_j / j_j seconds, which makes the path acceleration continuous and its jerk at
     most 2 A / tau (the window adds tau to the motion and keeps its length), then stretched to
     whole frames and checked on the frames (differences over 1/fps up to the third, at rest before
     and after) as :func:`sampled_motion` does. ``path_speed``: as for :func:`time_optimal` (the
-    window's mean of a capped speed keeps the cap); ``excess`` as for :func:`sampled_motion`.
+    window's mean of a capped speed keeps the cap); ``excess`` and ``clock`` as for :func:`sampled_motion`.
 
     >>> from armanim.motion.jointpath import joint_path
     >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
@@ -301,7 +295,7 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
     >>> float(m.phi[-1, 0]), 2.0 < m.duration < 2.5  # a little longer than bang-bang's 2 s
     (1.0, True)
     """
-    law = time_optimal(path, speed, acceleration, path_speed)
+    law = time_optimal(path, speed, acceleration, path_speed, clock)
     tau = float(np.max(2 * acceleration / jerk))
 
     def smoothed(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

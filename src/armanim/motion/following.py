@@ -1,7 +1,7 @@
 """A path goal's tool along its path: one warm-started pose solve per sample of the path.
 
 Once the arm is at a path's start (reached as any goal is), the path is sampled every
-``speed / fps`` of arc length (at most :data:`SPACING_PER_TOLERANCE` path tolerances apart;
+``speed / fps`` of arc length (at most ``tunables.path.spacing_per_tolerance`` path tolerances apart;
 every corner a sample), and each sample is solved from the pose of the one before: the
 scene's method with full steps, aiming at the sample's point (and the goal's orientation),
 every step through the safety filter, so obstacles, limits and the arm's own body are kept
@@ -17,14 +17,14 @@ in the null space of the path task. A sample is accepted when
 
 A sample the scene's method cannot solve though nothing holds the arm back is solved again with ``newton`` (the assignment's
 gradient descent and Newton's method, which gets through poses where a linear method's step
-turns against its own task); a sample that still fails is split in two, down to :data:`MAX_SPLITS` halvings; a piece that still
+turns against its own task); a sample that still fails is split in two, down to ``tunables.path.max_splits`` halvings; a piece that still
 fails stops the path at the last accepted sample, with the cause (:data:`armanim.motion.solution.PATH_CAUSES`).
 Never a silent jump.
 
 How far the tool gets can depend on the pose the arm starts the path in (the elbow, the wrist's
 branch). When the path stops short from the pose the arm reached its start in, the planner's free
 poses at the start (:func:`armanim.motion.planning.poses.goal_poses`) are tried too, up to
-:data:`OTHER_STARTS`, and the arm is carried by a planned path to the one that follows farthest
+``tunables.path.other_starts``, and the arm is carried by a planned path to the one that follows farthest
 (:func:`followed_route`). Pure core: no I/O.
 """
 
@@ -44,25 +44,6 @@ from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach
 from armanim.motion.toolpath import ToolPath
 from armanim.names import Blocker, PathCause, PathSource
-
-SPACING_PER_TOLERANCE = 10.0
-"""Most path tolerances between two samples, whatever the speed."""
-MAX_SPLITS = 4
-"""Times a failing sample's step is halved before the path is reported blocked."""
-SAMPLE_STEPS = 30
-"""Most filtered steps of one sample's solve."""
-SAMPLE_TOLERANCE = 0.1
-"""A sample's tool within this fraction of the path tolerance of its point."""
-MIDPOINT_TOLERANCE = 0.5
-"""The midpoint between two samples within this fraction of the path tolerance of the path."""
-OTHER_STARTS = 16
-"""Other free poses at a path's start tried when the path stops short from the first."""
-BRANCHES_APART = 0.5
-"""Radians: two start poses whose joints all lie closer than this count as one branch."""
-ROUTE_PLANS = 1
-"""Planned ways to a better start pose tried (the farthest-following one)."""
-ROUTE_ITERATIONS = 500
-"""RRT-Connect iterations of one such plan."""
 
 
 @dataclass
@@ -131,7 +112,7 @@ PER_PATH = 1000
 def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0,
                    along: Along | None = None) -> Route:
     """The route along ``goal``'s path from ``state`` (the arm at its start) that gets farthest:
-    from ``state`` itself, or, when that stops short, from the best of :data:`OTHER_STARTS` free
+    from ``state`` itself, or, when that stops short, from the best of ``tunables.path.other_starts`` free
     poses at the start reachable by a short planned search (:func:`_quick_planner`; the first that
     follows the whole path ends the trials). ``along(done, most)``: each trial's progress, in
     thousandths of the path, after every sample (:data:`Along`)."""
@@ -154,7 +135,7 @@ def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal
                 break
     route = Route(stay, best, len(found.poses))
     quick = _quick_planner(problem)
-    for pose, trial in sorted(trials, key=lambda t: -_done(t[1]))[:ROUTE_PLANS]:
+    for pose, trial in sorted(trials, key=lambda t: -_done(t[1]))[:problem.tunables.path.route_plans]:
         planned = plan_path(quick, state.phi, pose[None])
         route = replace(route, checks=route.checks + planned.checks)
         if planned.waypoints is not None:
@@ -194,22 +175,23 @@ def _near_limits(problem: Problem, followed: Followed) -> bool:
 
 
 def _other_branches(problem: Problem, phi: np.ndarray, poses: np.ndarray) -> list[np.ndarray]:
-    """Up to :data:`OTHER_STARTS` of ``poses`` (k, n), nearest first, each at least
-    :data:`BRANCHES_APART` (the largest joint's turn) from ``phi`` and from those taken before it."""
+    """Up to ``tunables.path.other_starts`` of ``poses`` (k, n), nearest first, each at least
+    ``tunables.path.branches_apart`` (the largest joint's turn) from ``phi`` and from those taken before it."""
+    opts = problem.tunables.path
     taken = [phi]
     for pose in poses:
         apart = [np.abs(joint_offset(problem, other, pose)).max() for other in taken]
-        if min(apart) >= BRANCHES_APART:
+        if min(apart) >= opts.branches_apart:
             taken.append(pose)
-            if len(taken) > OTHER_STARTS:
+            if len(taken) > opts.other_starts:
                 break
     return taken[1:]
 
 
 def _quick_planner(problem: Problem) -> Problem:
-    """The problem with the planner's search cut to :data:`ROUTE_ITERATIONS` (one search): a way to a
+    """The problem with the planner's search cut to ``tunables.path.route_iterations`` (one search): a way to a
     better start is worth a short search, not the budget of a stalled goal."""
-    planner = replace(problem.tunables.planner, ompl_searches=1, ompl_iterations=ROUTE_ITERATIONS)
+    planner = replace(problem.tunables.planner, ompl_searches=1, ompl_iterations=problem.tunables.path.route_iterations)
     return replace(problem, tunables=replace(problem.tunables, planner=planner))
 
 
@@ -220,41 +202,44 @@ def _done(followed: Followed) -> float:
 
 def sample_spacing(problem: Problem, goal: Goal) -> float:
     """Arc length between two samples of ``goal``'s path: a frame's travel at its speed, at most
-    :data:`SPACING_PER_TOLERANCE` path tolerances.
+    ``tunables.path.spacing_per_tolerance`` path tolerances.
 
     >>> from types import SimpleNamespace
-    >>> p = SimpleNamespace(fps=25.0, solver=SimpleNamespace(path_tolerance=0.001))
+    >>> from armanim.motion.tunables import DEFAULTS
+    >>> p = SimpleNamespace(fps=25.0, solver=SimpleNamespace(path_tolerance=0.001), tunables=DEFAULTS)
     >>> sample_spacing(p, SimpleNamespace(speed=0.05)), sample_spacing(p, SimpleNamespace(speed=1.0))
     (0.002, 0.01)
     """
-    return path_spacing(goal.speed, problem.fps, problem.solver.path_tolerance)
+    return path_spacing(goal.speed, problem.fps, problem.solver.path_tolerance, problem.tunables.path.spacing_per_tolerance)
 
 
-def path_spacing(speed: float, fps: float, path_tolerance: float) -> float:
-    """:func:`sample_spacing` of a path followed at ``speed`` and ``fps`` to ``path_tolerance``.
+def path_spacing(speed: float, fps: float, path_tolerance: float, per_tolerance: float) -> float:
+    """:func:`sample_spacing` of a path followed at ``speed`` and ``fps`` to ``path_tolerance``,
+    at most ``per_tolerance`` path tolerances (``tunables.path.spacing_per_tolerance``).
 
-    >>> path_spacing(0.05, 25.0, 0.001), path_spacing(1.0, 25.0, 0.001)
+    >>> path_spacing(0.05, 25.0, 0.001, 10.0), path_spacing(1.0, 25.0, 0.001, 10.0)
     (0.002, 0.01)
     """
-    return min(speed / fps, SPACING_PER_TOLERANCE * path_tolerance)
+    return min(speed / fps, per_tolerance * path_tolerance)
 
 
 def most_path_frames(problem: Problem, goal: Goal) -> int:
     """Most frames following ``goal``'s path can take (:func:`most_following_frames`; 0 for a point goal)."""
     if goal.path is None:
         return 0
-    return most_following_frames(goal.path, sample_spacing(problem, goal), problem.solver.max_frames_per_goal)
+    return most_following_frames(goal.path, sample_spacing(problem, goal), problem.solver.max_frames_per_goal,
+                                 problem.tunables.path.max_splits)
 
 
-def most_following_frames(path: ToolPath, spacing: float, max_frames_per_goal: int) -> int:
+def most_following_frames(path: ToolPath, spacing: float, max_frames_per_goal: int, max_splits: int) -> int:
     """Most frames following ``path`` sampled every ``spacing`` can take: a planned way to another
-    start pose (``max_frames_per_goal``), then every sample's step halved :data:`MAX_SPLITS`
-    times; the samples counted, never made (:meth:`ToolPath.sample_count`).
+    start pose (``max_frames_per_goal``), then every sample's step halved ``max_splits`` times
+    (``tunables.path.max_splits``); the samples counted, never made (:meth:`ToolPath.sample_count`).
 
-    >>> most_following_frames(ToolPath.polyline(np.array([[0.0, 0, 0], [1, 0, 0]])), 0.25, 100)
+    >>> most_following_frames(ToolPath.polyline(np.array([[0.0, 0, 0], [1, 0, 0]])), 0.25, 100, 4)
     165
     """
-    return int(max_frames_per_goal + (path.sample_count(spacing) - 1) * 2**MAX_SPLITS + 1)
+    return int(max_frames_per_goal + (path.sample_count(spacing) - 1) * 2**max_splits + 1)
 
 
 def sampling_problem(problem: Problem, limit_push: bool = True) -> Problem:
@@ -268,7 +253,7 @@ def sampling_problem(problem: Problem, limit_push: bool = True) -> Problem:
     solving = solving_problem(problem)
     s = problem.solver
     gain = s.beta / solving.solver.beta
-    return replace(solving, solver=replace(solving.solver, tolerance=SAMPLE_TOLERANCE * s.path_tolerance,
+    return replace(solving, solver=replace(solving.solver, tolerance=problem.tunables.path.sample_tolerance * s.path_tolerance,
                                            orientation_tolerance=0.5 * s.orientation_tolerance,
                                            w_obstacles=gain * s.w_obstacles,
                                            w_limits=gain * s.w_limits if limit_push else 0.0))
@@ -295,7 +280,7 @@ def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal, l
         return out
     _accept(out, first, 0.0, path)
     pending = list(path.samples(sample_spacing(problem, goal))[:0:-1])  # a stack: the next sample last
-    smallest = sample_spacing(problem, goal) / 2**MAX_SPLITS
+    smallest = sample_spacing(problem, goal) / 2**problem.tunables.path.max_splits
     while pending:
         s_to = pending.pop()
         s_from = out.s[-1]
@@ -340,13 +325,13 @@ def _accept(out: Followed, sample: _Sample, s: float, path: ToolPath) -> None:
 
 def _solved_sample(sampling: Problem, method: Method, state: ArmState, path: ToolPath, goal: Goal, s: float) -> _Sample:
     """Filtered full steps from ``state`` toward the path's point at ``s`` until the tool is there
-    (:func:`sampling_problem`'s tolerances), at most :data:`SAMPLE_STEPS`."""
+    (:func:`sampling_problem`'s tolerances), at most ``tunables.path.sample_steps``."""
     point = path.points(np.array([s]))[0]
     tolerance = sampling.solver.tolerance
     blocked: list[Blocker | None] = []
     iterations = newton_iterations = 0
     scale = 1.0
-    for _ in range(SAMPLE_STEPS):
+    for _ in range(sampling.tunables.path.sample_steps):
         distance, angle, progress = pose_errors(sampling, state, point, goal.orientation)
         if progress < tolerance:
             return _Sample(state, iterations, newton_iterations, scale, None)
@@ -427,7 +412,7 @@ def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState,
         return "jump"
     middle = forward(problem.arm, before.phi + turn / 2)
     error = float(goal.path.nearest(middle.tip[None], np.array([s_from]), np.array([s_to]))[1][0])
-    if error > MIDPOINT_TOLERANCE * problem.solver.path_tolerance:
+    if error > problem.tunables.path.midpoint_tolerance * problem.solver.path_tolerance:
         return "jump"
     if goal.orientation is not None:
         angle = float(orientation_angle(goal.orientation, tool_rotation(problem.arm, middle)))

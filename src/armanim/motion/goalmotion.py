@@ -28,6 +28,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.motion.clock import Excess, Motion, jerk_limited_motion, sampled_motion, time_optimal
 from armanim.motion.jointpath import JointPath, joint_path
+from armanim.motion.tunables import DEFAULTS, ClockOptions
 
 
 @dataclass(frozen=True)
@@ -166,7 +167,7 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
                  safeties: list[PathSafety] | None = None, most_frames: float = np.inf, jerk: np.ndarray | None = None,
                  holds: list[int] | None = None, path_speeds: list[np.ndarray | None] | None = None,
                  strays: list[Callable[[Motion], np.ndarray] | None] | None = None,
-                 excesses: list[Excess | None] | None = None) -> list[Motion]:
+                 excesses: list[Excess | None] | None = None, clock: ClockOptions = DEFAULTS.clock) -> list[Motion]:
     """The motions through each goal's solved ``poses`` (m_i, n), one after the other, each from
     rest to rest at ``fps``.
 
@@ -183,6 +184,7 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     ``strays(motion)`` -> (K,) bool, the frames of a timed motion that leave a path goal's path;
     the steps they lie in are taken along their chords too. ``excesses`` (one a goal, or None):
     a limit of the frames the clock does not know (:data:`~armanim.motion.clock.Excess`).
+    ``clock``: the clock's grid (``problem.tunables.clock``).
     """
     holds = [0] * len(poses) if holds is None else holds
     goals = [_Goal.start(p, limited, None if safeties is None else safeties[i]) for i, p in enumerate(poses)]
@@ -198,7 +200,7 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     pending = [i for i, g in enumerate(goals) if g.path.length > 0]
     while pending:  # a step whose frames come too close (or stray) is taken along its chord, and its motion timed again
         for i in pending:
-            goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk)
+            goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk, clock)
         again = {i for i in pending if (stray := (strays or [None] * len(goals))[i]) is not None
                  and goals[i].chord_frames(stray(goals[i].solved_motion))}
         checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].timed_check)]
@@ -278,14 +280,14 @@ class _Goal:
         return cast(np.ndarray, np.maximum(self.timed.heads_for, 1) - 1)
 
     def time(self, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
-             jerk: np.ndarray | None) -> None:
+             jerk: np.ndarray | None, clock: ClockOptions) -> None:
         """Put the path, with its chords, on the clock, and note the motion's frames to measure
         (:attr:`check`: in a doubtful step its probes have not proved, or whose shape a chord has
         changed since)."""
         if self.chords.any():
             self.path = joint_path(self.poses, self.limited, self.chords)
         path_speed = self.path_speed if self.origin is None or self.path_speed is None else self.path_speed[self.origin[1:] - 1]
-        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, path_speed, self.excess)
+        self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, path_speed, self.excess, clock)
         self.bad = np.zeros(len(self.motion.phi), dtype=bool)
         proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
         self.check = (self.doubtful & ~proven)[self.frame_step]
@@ -385,12 +387,13 @@ class _Goal:
 
 
 def _timed(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
-           jerk: np.ndarray | None, path_speed: np.ndarray | None = None, excess: Excess | None = None) -> Motion:
+           jerk: np.ndarray | None, path_speed: np.ndarray | None = None, excess: Excess | None = None,
+           clock: ClockOptions = DEFAULTS.clock) -> Motion:
     """The path on the clock: time-optimal, or jerk-limited with ``jerk``."""
     if jerk is None:
-        law = time_optimal(path, speed, acceleration, path_speed)
-        return sampled_motion(path, law, speed, acceleration, fps, most_frames, excess)
-    return jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames, path_speed, excess)
+        law = time_optimal(path, speed, acceleration, path_speed, clock)
+        return sampled_motion(path, law, speed, acceleration, fps, most_frames, excess, clock)
+    return jerk_limited_motion(path, speed, acceleration, jerk, fps, most_frames, path_speed, excess, clock)
 
 
 def _still_proven(proven: np.ndarray, chorded: np.ndarray, solved_step: np.ndarray, steps: int) -> np.ndarray:

@@ -17,7 +17,7 @@ free pose at the goal, nearest to the start, as a run does when its method stall
 result says which one found the pose. A goal with an orientation is solved as a pose
 (every method's pose task, :mod:`armanim.motion.orientation`) and converges when both the
 distance and the angle are within their tolerances. A ``pinv`` or ``dls`` attempt on a problem
-without obstacles runs compiled (:mod:`armanim.motion.solvers.compiled`: the same steps to
+without obstacles runs compiled (:mod:`armanim.motion.kernels.attempt`: the same steps to
 rounding, the arm's own pairs' push and filter rows included, the filter's QP solved exactly
 where DAQP solves it to its tolerance; handed back to the numpy steps where rounding could tell
 a step apart); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure core: no I/O.
@@ -25,18 +25,18 @@ a step apart); ``tunables.ik.compiled`` off, the numpy steps everywhere. Pure co
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
-from types import ModuleType
-from typing import NamedTuple, cast
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
+from armanim.motion.kernels.plan import compiled_plan
 from armanim.motion.orientation import Orientation, pose_distance, tool_residual
 from armanim.motion.planning.poses import goal_poses, seed_poses
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
 from armanim.motion.solvers.barrier import safe_step
-from armanim.motion.solvers.linear import arm_holds_orientation, stacks_the_pose_task
 from armanim.names import PoseFinder, PoseStatus
 
 
@@ -236,22 +236,22 @@ def _attempt(
     ``attempt_steps``) run out, or a step is refused outright.
 
     A ``pinv`` or ``dls`` attempt on a problem without obstacles runs compiled
-    (:mod:`armanim.motion.solvers.compiled`), the same steps to rounding, unless the goal has an
+    (:mod:`armanim.motion.kernels.attempt`), the same steps to rounding, unless the goal has an
     orientation that the arm cannot hold (the arm's own pairs' push and filter rows inside it;
     the filter's QP solved exactly). Where rounding could tell a step apart (a pair's gap at 0, a
     step's exact check at its floor), the compiled loop hands the attempt back: the numpy step
     takes that step, and the compiled loop goes on from there with the attempt's counters."""
     steps_cap = min(budget, method.attempt_steps or budget)
-    plan = _compiled_plan(problem, method, orientation)
+    plan = compiled_plan(problem, method, orientation, "attempt")
     if plan is None:
         return _steps(problem, method, goal, arm_state(problem, start), steps_cap, orientation)[0]
-    compiled = _compiled_module()
+    run_attempt = _compiled_attempt()
     step, stacked = plan
     phi = start
     counters: tuple[int, float | None, int] = (0, None, 0)  # steps, best progress (None: not yet), steps since
     state: ArmState | None = None  # the numpy steps' last state, when they took the last step
     while True:
-        ran = compiled.run_attempt(problem, step, stacked, goal, phi, steps_cap, orientation, counters)
+        ran = run_attempt(problem, step, stacked, goal, phi, steps_cap, orientation, counters)
         if not ran.handed_back:
             return _Attempt(ran.phi, ran.tip, (ran.distance, ran.angle, ran.progress), ran.steps, ran.steps, 0, ran.numerical)
         if state is None or ran.steps != counters[0]:  # the compiled loop took steps: its very pose (angles wrapped after)
@@ -264,43 +264,17 @@ def _attempt(
         phi, counters = attempt.phi, (attempt.steps, best, since_best)
 
 
-def _compiled_plan(problem: Problem, method: Method, orientation: Orientation | None) -> tuple[int, bool] | None:
-    """How an attempt of ``method`` at a goal of this kind runs compiled: the compiled step and
-    whether the pose task is stacked (:func:`armanim.motion.solvers.linear.stacks_the_pose_task`);
-    None where it runs the numpy steps (:func:`runs_compiled` says no, or the arm cannot hold
-    the goal's orientation). Judged once per problem, method and kind of goal (kept on the problem)."""
-    memo = problem.__dict__.setdefault("_compiled_plans", {})  # a cache of facts of the problem: it stays what it was
-    key = (method.compiled_inverse, 0 if orientation is None else orientation.rows)
-    if key not in memo:
-        if not runs_compiled(problem, method) or (orientation is not None and not arm_holds_orientation(problem, orientation)):
-            # an arm that cannot hold the goal's orientation turns the tool second, in what the position leaves: near its
-            # rank drops the numpy steps amplify rounding, and no other arithmetic could follow them there
-            memo[key] = None
-        else:
-            compiled = _compiled_module()
-            stacked = method.compiled_inverse == "pinv" and orientation is not None and stacks_the_pose_task(problem, orientation)
-            memo[key] = (compiled.PINV if method.compiled_inverse == "pinv" else compiled.DLS, stacked)
-    return cast("tuple[int, bool] | None", memo[key])
+_RUN_ATTEMPT: list[Callable[..., Any]] = []  # the compiled attempt once imported (numba loads with it: not at this module's import)
 
 
-_COMPILED: list[ModuleType] = []  # the compiled attempt's module once imported (numba loads with it: not at this module's import)
+def _compiled_attempt() -> Callable[..., Any]:
+    """:func:`armanim.motion.kernels.attempt.run_attempt`, imported on the first compiled attempt
+    and kept (an import statement per attempt costs some 1 us of a 40 us solve)."""
+    if not _RUN_ATTEMPT:
+        from armanim.motion.kernels.attempt import run_attempt
 
-
-def _compiled_module() -> ModuleType:
-    """:mod:`armanim.motion.solvers.compiled`, imported on the first compiled attempt and kept
-    (an import statement per attempt costs some 1 us of a 40 us solve)."""
-    if not _COMPILED:
-        from armanim.motion.solvers import compiled
-
-        _COMPILED.append(compiled)
-    return _COMPILED[0]
-
-
-def runs_compiled(problem: Problem, method: Method) -> bool:
-    """Whether the attempt runs compiled: a method with a compiled step, no obstacles, the
-    analytic Jacobian, and ``tunables.ik.compiled``."""
-    return (method.compiled_inverse is not None and problem.tunables.ik.compiled and not len(problem.obstacles)
-            and problem.solver.jacobian != "numeric")
+        _RUN_ATTEMPT.append(run_attempt)
+    return _RUN_ATTEMPT[0]
 
 
 def _steps(

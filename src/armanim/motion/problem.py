@@ -9,7 +9,8 @@ core: no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import cast
+from functools import cached_property
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -23,6 +24,10 @@ from armanim.motion.tunables import DEFAULTS, Tunables
 from armanim.names import JacobianMode, MethodName, PlannerMode
 from armanim.world.obstacles import Obstacles
 from armanim.world.selfdistances import SelfPairs
+
+if TYPE_CHECKING:
+    from armanim.motion.kernels.layout import KernelProblem
+    from armanim.motion.kernels.plan import CompiledPlan
 
 
 @dataclass(frozen=True)
@@ -290,6 +295,21 @@ class Problem:
         """(P,) the 2-norm of each enabled pair's lever arms: a step dPhi changes the pair's gap by
         at most |dPhi| times this (computed once)."""
         return self._pair_levers
+
+    @cached_property
+    def kernel(self) -> KernelProblem:
+        """The problem as the compiled kernels read it (:func:`armanim.motion.kernels.layout.kernel_problem`),
+        made at its first use, once per problem (a problem never changes: ``dataclasses.replace``
+        makes another, with its own)."""
+        from armanim.motion.kernels.layout import kernel_problem
+
+        return kernel_problem(self)
+
+    @cached_property
+    def compiled_plans(self) -> dict[tuple[str, str | None, int], CompiledPlan | None]:
+        """Whether and how each loop's steps run compiled, per method and kind of goal, as they are
+        judged (:func:`armanim.motion.kernels.plan.compiled_plan`)."""
+        return {}
 
 
 def pair_lever_rows(pairs: SelfPairs, capsules: Capsules, lever_arms: np.ndarray) -> np.ndarray:

@@ -191,7 +191,7 @@ def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: 
                 for p in parts]
     return goal_motions([solved.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
                         fps, safeties, most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts],
-                        [p.strays for p in parts], [p.excess for p in parts])
+                        [p.strays for p in parts], [p.excess for p in parts], problem.tunables.clock)
 
 
 def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:

@@ -1,4 +1,5 @@
-"""The safety filter's and cost's gains, the stall test's, planner's and single-pose IK's tunables, as small frozen objects.
+"""The safety filter's and cost's gains, the stall test's, planner's, single-pose IK's, path following's and the clock's
+tunables, as small frozen objects.
 
 Each carries its own documented defaults, the way mink's limits and pink's barriers carry
 their gains: a :class:`~armanim.motion.problem.Problem` holds one :class:`Tunables`
@@ -228,11 +229,11 @@ class IkOptions:
         priority (False), so trajectories are what they were.
     compiled : bool
         A pose solve's ``pinv`` and ``dls`` attempts run compiled where they mean the same
-        (:mod:`armanim.motion.solvers.compiled`: no obstacles, the analytic Jacobian); False:
+        (:mod:`armanim.motion.kernels.attempt`: no obstacles, the analytic Jacobian); False:
         the numpy steps everywhere (the tests' oracle).
     compiled_frames : bool
         The frame loop's ``pinv`` and ``dls`` frames run compiled
-        (:mod:`armanim.motion.solvers.compiled_frame`: the proposal, the filter's rows, its exact
+        (:mod:`armanim.motion.kernels.frame`: the proposal, the filter's rows, its exact
         check and halvings; its QP stays DAQP's; the same steps to rounding); False: the numpy
         frames everywhere (the tests' oracle).
     """
@@ -247,8 +248,69 @@ class IkOptions:
 
 
 @dataclass(frozen=True)
+class PathOptions:
+    """Following a path goal's tool path (:mod:`armanim.motion.following`).
+
+    Attributes
+    ----------
+    spacing_per_tolerance : float
+        Most path tolerances between two samples, whatever the speed.
+    max_splits : int
+        Times a failing sample's step is halved before the path is reported blocked.
+    sample_steps : int
+        Most filtered steps of one sample's solve.
+    sample_tolerance : float
+        A sample's tool within this fraction of the path tolerance of its point.
+    midpoint_tolerance : float
+        The midpoint between two samples within this fraction of the path tolerance of the path.
+    other_starts : int
+        Other free poses at a path's start tried when the path stops short from the first.
+    branches_apart : float
+        Radians: two start poses whose joints all lie closer than this count as one branch.
+    route_plans : int
+        Planned ways to a better start pose tried (the farthest-following one).
+    route_iterations : int
+        RRT-Connect iterations of one such plan.
+    """
+
+    spacing_per_tolerance: float = 10.0
+    max_splits: int = 4
+    sample_steps: int = 30
+    sample_tolerance: float = 0.1
+    midpoint_tolerance: float = 0.5
+    other_starts: int = 16
+    branches_apart: float = 0.5
+    route_plans: int = 1
+    route_iterations: int = 500
+
+
+@dataclass(frozen=True)
+class ClockOptions:
+    """The clock's grid (:mod:`armanim.motion.clock`).
+
+    Attributes
+    ----------
+    grid_per_step : int
+        TOPP grid points per solved step of the path (its knot and evenly spaced points inside it).
+    collocation : tuple of float
+        Fractions of each grid interval where the time law keeps the limits (1.0: the end of the
+        interval, approached from inside it).
+    grid_min : int
+        Fewest grid intervals of a path (a short path's steps are split further).
+    check_per_step : int
+        Points per grid interval where the scaled time law is checked against the limits.
+    """
+
+    grid_per_step: int = 16
+    collocation: tuple[float, ...] = (0.0, 0.5, 1.0)
+    grid_min: int = 512
+    check_per_step: int = 4
+
+
+@dataclass(frozen=True)
 class Tunables:
-    """Every tunable of the filter, the cost, the stall test, the planner and single-pose IK (``problem.tunables``)."""
+    """Every tunable of the filter, the cost, the stall test, the planner, single-pose IK, path
+    following and the clock (``problem.tunables``)."""
 
     filter: FilterGains = field(default_factory=FilterGains)
     stalls: StallOptions = field(default_factory=StallOptions)
@@ -256,6 +318,8 @@ class Tunables:
     poses: PoseSearchOptions = field(default_factory=PoseSearchOptions)
     cost: CostGains = field(default_factory=CostGains)
     ik: IkOptions = field(default_factory=IkOptions)
+    path: PathOptions = field(default_factory=PathOptions)
+    clock: ClockOptions = field(default_factory=ClockOptions)
 
 
 DEFAULTS = Tunables()

@@ -12,7 +12,7 @@ from typing import Any, Literal
 
 def compiles_first(command: Literal["run", "ik"], problem: object = None) -> bool:
     """Whether ``command``'s solve would compile kernels first: the kinematics kernel every solve
-    calls, for ``run`` the compiled frame (:mod:`armanim.motion.solvers.compiled_frame`), and for ``ik`` of ``problem`` (a :class:`~armanim.motion.problem.Problem`) the compiled attempt where it runs, are not in numba's
+    calls, for ``run`` the compiled frame (:mod:`armanim.motion.kernels.frame`), and for ``ik`` of ``problem`` (a :class:`~armanim.motion.problem.Problem`) the compiled attempt where it runs, are not in numba's
     cache yet. (A kernel only some scenes call, a box's or a cylinder's distances, compiles at its first use in a
     few seconds, unannounced.)"""
     from armanim.arm import kernel
@@ -20,16 +20,17 @@ def compiles_first(command: Literal["run", "ik"], problem: object = None) -> boo
 
     functions: list[Any] = [kernel._forward_one]
     if command == "run":  # the frames of pinv and dls (the default methods' frames are compiled)
-        from armanim.motion.solvers import compiled_frame
+        from armanim.motion.kernels.frame import frame_loop
 
-        functions.append(compiled_frame._frame)
+        functions.append(frame_loop)
     if command == "ik" and isinstance(problem, Problem):
-        from armanim.motion.ik import runs_compiled
+        from armanim.motion.kernels.plan import compiled_plan
         from armanim.motion.solvers import METHODS
-        from armanim.motion.solvers import compiled as attempt
 
-        if runs_compiled(problem, METHODS[problem.solver.method]):
-            functions.append(attempt._attempt)
+        if compiled_plan(problem, METHODS[problem.solver.method], None, "attempt") is not None:
+            from armanim.motion.kernels.attempt import attempt_loop
+
+            functions.append(attempt_loop)
     return not kernel.machine_code_cached(*functions)
 
 

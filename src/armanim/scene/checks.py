@@ -14,8 +14,9 @@ import numpy as np
 from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
-from armanim.motion.following import MAX_SPLITS, SPACING_PER_TOLERANCE, most_following_frames, path_spacing
+from armanim.motion.following import most_following_frames, path_spacing
 from armanim.motion.problem import frames_in
+from armanim.motion.tunables import DEFAULTS
 from armanim.output.numbers import apart
 from armanim.scene.convert import orientation_rotation, scene_to_problem, tool_path
 from armanim.scene.limits import joint_goal_limit_problems, limit_problems, rate_problems
@@ -314,9 +315,10 @@ def _rounded_up(value: float) -> float:
 def _following_problems(scene: SceneModel, limit: int):
     """The frames following the path goals may take, as the run counts them before it solves
     (:func:`armanim.motion.following.most_following_frames`: the path's samples, every
-    ``SPACING_PER_TOLERANCE`` path tolerances or a frame's travel, each step halved up to
-    ``MAX_SPLITS`` times), counted without making the samples, against the frame limit: the
-    field that sets the spacing, and what to change it to."""
+    ``tunables.path.spacing_per_tolerance`` path tolerances or a frame's travel, each step halved up to
+    ``tunables.path.max_splits`` times: the defaults, which no scene field sets), counted without making
+    the samples, against the frame limit: the field that sets the spacing, and what to change it to."""
+    per_tolerance, max_splits = DEFAULTS.path.spacing_per_tolerance, DEFAULTS.path.max_splits
     fps, per_goal = scene.render.fps, scene.solver.max_frames_per_goal
     tolerance = scene.solver.path_tolerance if scene.solver.path_tolerance is not None else scene.solver.tolerance
     following = []
@@ -325,28 +327,28 @@ def _following_problems(scene: SceneModel, limit: int):
             following.append(0)
             continue
         with np.errstate(all="ignore"):  # extreme numbers are reported by _size_problems
-            spacing = path_spacing(goal.speed, fps, tolerance)
-            following.append(most_following_frames(tool_path(goal.path), spacing, per_goal) if spacing > 0 else 10**18)
+            spacing = path_spacing(goal.speed, fps, tolerance, per_tolerance)
+            following.append(most_following_frames(tool_path(goal.path), spacing, per_goal, max_splits) if spacing > 0 else 10**18)
     budget = 1 + sum(per_goal + frames_in(g.hold, fps) + f for g, f in zip(scene.goals, following))
     if budget <= limit:
         return
     k = following.index(max(following))
     goal = scene.goals[k]
     path = tool_path(goal.path)
-    room = (limit - (budget - following[k]) - per_goal - 1) // 2**MAX_SPLITS - len(path.pieces)
+    room = (limit - (budget - following[k]) - per_goal - 1) // 2**max_splits - len(path.pieces)
     spacing = path.length / room if room > 0 else math.inf
     said = (f"following goals[{k}]'s path ({path.length:g} long) may take up to {following[k]:,} frames, "
             f"{budget:,} in all (expected at most {limit:,}): its samples are")
-    if SPACING_PER_TOLERANCE * tolerance < goal.speed / fps:
+    if per_tolerance * tolerance < goal.speed / fps:
         field = "solver.path_tolerance" if scene.solver.path_tolerance is not None else "solver.tolerance"
-        need = _rounded_up(spacing / SPACING_PER_TOLERANCE)
-        yield field, (f"{tolerance:g} is too fine for the frame limit: {said} {SPACING_PER_TOLERANCE:g} path tolerances "
-                      f"apart, each step halved up to {MAX_SPLITS} times"
+        need = _rounded_up(spacing / per_tolerance)
+        yield field, (f"{tolerance:g} is too fine for the frame limit: {said} {per_tolerance:g} path tolerances "
+                      f"apart, each step halved up to {max_splits} times"
                       + (f" (raise {field} to at least about {need:.2g}, or shorten the path)" if room > 0
                          else " (lower max_frames_per_goal, the holds or the number of goals)"))
     else:
         yield f"goals[{k}].speed", (f"{goal.speed:g} is too slow for the frame limit: {said} a frame's travel apart "
-                                    f"at {fps:g} fps, each step halved up to {MAX_SPLITS} times "
+                                    f"at {fps:g} fps, each step halved up to {max_splits} times "
                                     "(raise the speed or shorten the path)")
 
 

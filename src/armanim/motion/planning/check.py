@@ -3,7 +3,7 @@
 RRT-Connect asks thousands of poses and motions whether they are free. In numpy each pose costs
 some 400 microseconds of calls (:func:`~armanim.motion.solvers.barrier.split_clearances`); here
 one pose is its kinematics (:mod:`armanim.arm.kernel`), its capsules' clearances to every obstacle
-and the floor (:func:`armanim.motion.solvers.compiled_frame._clearances`, in the scene's order)
+and the floor (:func:`armanim.motion.kernels.check.obstacle_clearances`, in the scene's order)
 and its enabled pairs' gaps (:func:`armanim.world.compiled.capsule_pair_gaps`) in one call, and a
 whole motion check (:func:`armanim.motion.planning.path.motion_is_free`: the coarse samples, then
 the halving, level by level, by the same lever-arm bounds) is one call too.
@@ -21,10 +21,10 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_lever_rows
 from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
+from armanim.motion.kernels.layout import world_arrays
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import limit_buffer, self_shift
-from armanim.motion.solvers.compiled_frame import _world
 from armanim.world.compiled import (
     CYLINDER_SCRATCH,
     SCRATCH,
@@ -490,7 +490,7 @@ class CompiledCheck:
             chain=packed_chain(problem.arm),
             body=(np.ascontiguousarray(packed), np.ascontiguousarray(caps.link, dtype=np.int64),
                   np.ascontiguousarray(caps.part_radius, dtype=float)),
-            world=_world(problem),
+            world=world_arrays(problem),
             groups=groups,
             pairs=(first, second, np.ascontiguousarray(pairs.radii(caps), dtype=float)),
             shift=self_shift(problem) if len(pairs) else 0.0,

@@ -50,7 +50,7 @@ class Method:
         Full linear steps converge in a handful, so a slow crawl is better restarted;
         a ``newton`` step is a whole solve (one re-anchoring of its regulariser).
     compiled_inverse : {"pinv", "dls"} or None
-        The inverse with which the compiled attempt (:mod:`armanim.motion.solvers.compiled`)
+        The inverse with which the compiled attempt (:mod:`armanim.motion.kernels.attempt`)
         takes this method's steps, where a pose solve may use it; None: the numpy steps only.
     """
 

@@ -4,8 +4,8 @@ The frame loop (:mod:`armanim.motion.trajectory`) and a path's samples
 (:mod:`armanim.motion.following`) take each step as the method's proposal
 (:func:`armanim.motion.solvers.proposed_step`) through the filter
 (:func:`armanim.motion.solvers.barrier.safe_step`); for ``pinv`` and ``dls`` with the analytic
-Jacobian, the compiled frame (:mod:`armanim.motion.solvers.compiled_frame`) takes the same step
-to rounding, unless ``tunables.ik.compiled_frames`` is off. Pure core: no I/O; numba is imported
+Jacobian, the compiled frame (:mod:`armanim.motion.kernels.frame`) takes the same step
+to rounding, unless ``tunables.ik.compiled_frames`` is off (:func:`armanim.motion.kernels.plan.compiled_plan`). Pure core: no I/O; numba is imported
 at the first compiled step, not with this module.
 """
 
@@ -13,31 +13,21 @@ from __future__ import annotations
 
 import numpy as np
 
+from armanim.motion.kernels.plan import compiled_plan
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, proposed_step
 from armanim.motion.solvers.barrier import SafeStep, safe_step
-from armanim.motion.solvers.linear import stacks_the_pose_task
-
-
-def steps_compiled(problem: Problem, method: Method, orientation: Orientation | None = None) -> bool:
-    """Whether the method's steps toward a goal (with ``orientation``) run compiled: a method with
-    a compiled step (``pinv``, ``dls``), the analytic Jacobian, ``tunables.ik.compiled_frames``, and
-    the rotation second in priority (not a ``pinv`` solve's stacked pose task,
-    :func:`~armanim.motion.solvers.linear.stacks_the_pose_task`)."""
-    if method.compiled_inverse is None or problem.solver.jacobian == "numeric" or not problem.tunables.ik.compiled_frames:
-        return False
-    return orientation is None or method.compiled_inverse != "pinv" or not stacks_the_pose_task(problem, orientation)
 
 
 def method_step(problem: Problem, method: Method, state: ArmState, goal: np.ndarray,
                 orientation: Orientation | None = None) -> tuple[SafeStep, int, int]:
     """The method's proposal toward ``goal`` (and ``orientation``) through the filter, and its
     iterations and Newton iterations."""
-    if steps_compiled(problem, method, orientation):
-        from armanim.motion.solvers.compiled_frame import frame_step  # numba: imported where a solve starts
+    if compiled_plan(problem, method, orientation, "frame") is not None:
+        from armanim.motion.kernels.frame import frame_step  # numba: imported where a solve starts
 
-        assert method.compiled_inverse is not None  # steps_compiled
+        assert method.compiled_inverse is not None  # a compiled plan
         moved, dphi = frame_step(problem, method.compiled_inverse, state, goal, orientation)
         if moved is not None:
             return moved, 1, 0

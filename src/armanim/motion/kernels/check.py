@@ -1,0 +1,213 @@
+"""The exact checks of a compiled step: the arm's own pairs' gaps (:func:`pair_gaps`), the
+capsules' and the tip's clearances to every obstacle (:func:`obstacle_clearances`), and whether a
+new pose keeps every guarantee (:func:`pose_exactly_safe`).
+
+The numpy references: :func:`armanim.world.selfdistances.self_gaps`,
+:func:`armanim.world.distances.clearances`, :func:`armanim.motion.solvers.barrier.exactly_safe`.
+Pure core: numpy and numba only.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled
+from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE
+from armanim.world.compiled import (
+    _points_apart,
+    _segments_apart,
+    capsule_pair_gaps,
+    segment_box_grid,
+    segment_box_pairs_of_segments,
+    segment_cylinder_grid,
+)
+
+_JIT = dict(error_model="numpy", nogil=True)
+_INLINE = dict(inline="always", **_JIT)
+
+
+@compiled(**_JIT)
+def pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_link: np.ndarray, first: np.ndarray,
+               second: np.ndarray, ends: np.ndarray, gaps: np.ndarray, near: np.ndarray) -> float:
+    """Every enabled pair's gap (distance less both radii) into ``gaps`` (P,), the capsules' world
+    ends into ``ends`` (2, c, 3), each pair's closest points' fractions and normal into ``near``
+    (P, 5): t, s, n (:func:`armanim.world.selfdistances.self_gaps`); returns the least gap."""
+    _capsule_ends_one(points, frames, caps_link, caps[:, 0:3], caps[:, 3:6], caps[:, 7], ends[0], ends[1])  # column 7: joint-to-joint
+    p = first.shape[0]
+    t = np.empty(p)
+    s = np.empty(p)
+    dist = np.empty(p)
+    normal = np.empty((p, 3))
+    a, b = ends[0], ends[1]
+    rest = False
+    for q in range(p):  # :func:`armanim.world.compiled.segment_segment_pairs`, its spheres' pairs in closed form here
+        t[q], s[q], dist[q] = _segments_apart(a, b, first[q], second[q], normal, q)
+        if dist[q] < 0.0:
+            t[q], s[q], dist[q] = _points_apart(a, b, first[q], second[q], normal, q)
+            rest = rest or dist[q] < 0.0
+    if rest:  # parallel or touching: the shared box form
+        segment_box_pairs_of_segments(a, b, first, second, t, s, dist, normal)
+    least = np.inf
+    for q in range(p):
+        gaps[q] = dist[q] - (caps[first[q], 6] + caps[second[q], 6])
+        least = min(least, gaps[q])
+        near[q, 0] = t[q]
+        near[q, 1] = s[q]
+        for x in range(3):
+            near[q, 2 + x] = normal[q, x]
+    return least
+
+
+@compiled(**_JIT)
+def sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, centers: np.ndarray,
+                       radii: np.ndarray, d: np.ndarray, t: np.ndarray, normal: np.ndarray) -> None:
+    """Clearances of the capsules (segments a-b) and the tip to the spheres into d, t (c+1, s)
+    and normal (c+1, s, 3) (:func:`armanim.world.distances.sphere_clearances`)."""
+    c = a.shape[0]
+    n = points.shape[0] - 1
+    pa = np.empty(3)
+    pb = np.empty(3)
+    for part in range(c + 1):
+        for i in range(3):
+            if part < c:
+                pa[i] = a[part, i]
+                pb[i] = b[part, i]
+            else:
+                pa[i] = points[n, i]
+                pb[i] = points[n, i]
+        ab0, ab1, ab2 = pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]
+        denom = ab0 * ab0 + ab1 * ab1 + ab2 * ab2
+        for k in range(centers.shape[0]):
+            if part == c:
+                f = 1.0
+            elif denom > 0.0:
+                f = ((centers[k, 0] - pa[0]) * ab0 + (centers[k, 1] - pa[1]) * ab1 + (centers[k, 2] - pa[2]) * ab2) / denom
+                f = min(max(f, 0.0), 1.0)
+            else:
+                f = 0.0
+            o0 = pa[0] + f * ab0 - centers[k, 0]
+            o1 = pa[1] + f * ab1 - centers[k, 1]
+            o2 = pa[2] + f * ab2 - centers[k, 2]
+            dist = math.sqrt(o0 * o0 + o1 * o1 + o2 * o2)
+            scale = dist if dist > 0.0 else 1.0
+            normal[part, k, 0] = o0 / scale
+            normal[part, k, 1] = o1 / scale
+            normal[part, k, 2] = o2 / scale
+            t[part, k] = f
+            d[part, k] = dist - radii[k] - part_radius[part]
+
+
+@compiled(**_JIT)
+def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: tuple[np.ndarray, ...], d: np.ndarray, t: np.ndarray,
+                normal: np.ndarray) -> None:
+    """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
+    and normal (c+1, m, 3): the spheres', the solids' (:func:`armanim.world.compiled.segment_box_grid`,
+    the tip a segment of no length), the cylinders' (:func:`armanim.world.compiled.segment_cylinder_grid`)
+    and the floor's, in the scene's order (:func:`armanim.world.distances.clearances`).
+    ``world``: :func:`world_arrays`'s arrays."""
+    (centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base, order, floor,
+     cyl_centers, cyl_rotations, cyl_half, cyl_radius) = world
+    c = a.shape[0]
+    n = points.shape[0] - 1
+    count, solids, cylinders = centers.shape[0], solid_centers.shape[0], cyl_centers.shape[0]
+    m = d.shape[1]
+    pts = np.empty((c + 1, 3))
+    ends = np.empty((c + 1, 3))
+    for part in range(c + 1):
+        for i in range(3):
+            pts[part, i] = a[part, i] if part < c else points[n, i]
+            ends[part, i] = b[part, i] if part < c else points[n, i]
+    kd = np.empty((c + 1, m))
+    kt = np.empty((c + 1, m))
+    kn = np.empty((c + 1, m, 3))
+    if count:
+        sphere_clearances(points, a, b, part_radius, centers, radii, kd[:, :count], kt[:, :count], kn[:, :count])
+    if solids:
+        sd = np.empty((c + 1, solids))
+        st = np.empty((c + 1, solids))
+        sn = np.empty((c + 1, solids, 3))
+        segment_box_grid(pts, ends, solid_centers, solid_half, solid_rotations, st, sd, sn)
+        for part in range(c + 1):
+            for k in range(solids):
+                kd[part, count + k] = sd[part, k] - solid_radius[k] - part_radius[part]
+                kt[part, count + k] = 1.0 if part == c else st[part, k]
+                for i in range(3):
+                    kn[part, count + k, i] = sn[part, k, i]
+    if cylinders:
+        first = count + solids
+        cd = np.empty((c + 1, cylinders))
+        ct = np.empty((c + 1, cylinders))
+        cn = np.empty((c + 1, cylinders, 3))
+        segment_cylinder_grid(pts, ends, cyl_centers, cyl_rotations, cyl_half, cyl_radius, ct, cd, cn)
+        for part in range(c + 1):
+            for k in range(cylinders):
+                kd[part, first + k] = cd[part, k] - part_radius[part]
+                kt[part, first + k] = 1.0 if part == c else ct[part, k]
+                for i in range(3):
+                    kn[part, first + k, i] = cn[part, k, i]
+    if floor.shape[0]:
+        f = count + solids + cylinders
+        for part in range(c + 1):
+            height = min(pts[part, 2], ends[part, 2]) - floor[0] - part_radius[part]
+            kd[part, f] = np.inf if on_base[part] else height
+            kt[part, f] = 1.0 if (part == c or ends[part, 2] <= pts[part, 2]) else 0.0
+            kn[part, f, 0] = 0.0
+            kn[part, f, 1] = 0.0
+            kn[part, f, 2] = 1.0
+    for part in range(c + 1):
+        for k in range(m):
+            j = order[k]
+            d[part, k] = kd[part, j]
+            t[part, k] = kt[part, j]
+            for i in range(3):
+                normal[part, k, i] = kn[part, j, i]
+
+
+@compiled(**_JIT)
+def pose_exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: np.ndarray, cand: np.ndarray, lower: np.ndarray,
+                  upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
+                  world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+                  new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
+                  new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
+                  new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> bool:
+    """Whether the pose ``cand`` keeps every guarantee from the pose ``phi`` (whose clearances are
+    ``cl_d``, least gap ``least``) (:func:`~armanim.motion.solvers.barrier.exactly_safe`); its kinematics, clearances and gaps
+    into the ``new_`` arrays (as far as the check went), its least gap into ``out[1]``."""
+    n = phi.shape[0]
+    buffer = floats[BUFFER]
+    for j in range(n):
+        if not (cand[j] - cand[j] == 0.0):  # NaN or infinity
+            return False
+        gap_new = min(cand[j] - lower[j], upper[j] - cand[j])
+        gap_now = min(phi[j] - lower[j], upper[j] - phi[j])
+        if gap_new <= 0.0 or gap_new < min(buffer, gap_now):
+            return False
+    _forward_one(rows, root, cand, new_points, new_frames, new_axes, tool)
+    c = caps.shape[0]
+    na = np.empty((c, 3))
+    nb = np.empty((c, 3))
+    _capsule_ends_one(new_points, new_frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, na, nb)
+    parts = cl_d.shape[0]
+    if cl_d.shape[1] > 0:
+        obstacle_clearances(new_points, na, nb, part_radius, world, new_d, new_t, new_normal)
+        now_links, now_tip, new_links, new_tip = np.inf, np.inf, np.inf, np.inf
+        for part in range(parts):
+            for k in range(cl_d.shape[1]):
+                if part < parts - 1:
+                    now_links = min(now_links, cl_d[part, k])
+                    new_links = min(new_links, new_d[part, k])
+                else:
+                    now_tip = min(now_tip, cl_d[part, k])
+                    new_tip = min(new_tip, new_d[part, k])
+        if not new_links >= min(floats[CLEARANCE], now_links):
+            return False
+        if not new_tip >= min(floats[CLEARANCE], now_tip):
+            return False
+    out[1] = np.inf
+    if first.shape[0]:
+        out[1] = capsule_pair_gaps(na, nb, first, second, pair_radii, new_gap_t, new_gap_s, new_gap, new_gap_normal)
+        if not out[1] >= min(floats[SELF_CLEARANCE], least):
+            return False
+    return True

@@ -1,0 +1,153 @@
+"""The problem as the compiled kernels read it: one :class:`KernelProblem`, made once per problem
+(:attr:`armanim.motion.problem.Problem.kernel`), and the one enumeration of its settings' slots.
+
+numba passes arrays and numbers into a compiled call; a problem's settings are packed into one
+float array (:data:`FLOATS` slots) and one int array (:data:`INTS` slots), the same places in
+every kernel (the IK attempt's and the frame's), so that the kernels' pieces are shared.
+Pure core: numpy only (the kinematics kernel's packing and numba are imported where a kernel
+problem is made).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from armanim.motion.problem import Problem
+
+(TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES,
+ CLEARANCE, KEPT, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, SLACK, FLOATS) = range(20)
+"""Places of the settings in :attr:`KernelProblem.floats`: the tolerances (position, angle), the
+orientation's weight, beta, the task step's cap, the joint-step cap, the damping, the limits'
+margin and buffer, the filter's gain gamma, the weights of the limits and the obstacles, the
+clearance and the clearance the filter keeps, the arm's own pairs' clearance, the one the
+filter keeps and their push's influence, the 2-norm of the lever arms, and the slack of a gap's
+bound (1e-9 of the reach)."""
+
+METHOD, STACKED, STEPS_CAP, STALL, HALVINGS, KIND, STEPS, SINCE_BEST, INTS = range(9)
+"""Places in the kernels' int array: the step (:data:`PINV`, :data:`DLS`), whether the pose task
+is stacked, the attempt's steps, the stall window, the filter's halvings, the orientation's kind
+(0 none, 1 a rotation, 2 a tool axis), and the attempt's counters so far: its steps and the
+steps since its best progress. :attr:`KernelProblem.ints` holds the problem's own (the stall
+window, the halvings); an attempt sets the rest per call."""
+
+PINV, DLS = 0, 1
+"""The compiled steps: the pseudo-inverse and the damped least-squares inverse."""
+
+DONE, NUMERICAL, HANDED_BACK = 0, 1, 2
+"""How a compiled attempt (or its proposal) ended: by the attempt's own tests, on a proposal that
+was not finite, or handed back to the numpy path (:mod:`armanim.motion.kernels.attempt`)."""
+
+
+class KernelProblem(NamedTuple):
+    """A problem's constants in the kernels' order (contiguous, float64 or int64).
+
+    Attributes
+    ----------
+    rows, root : (n, 33), (12,) arrays
+        The chain (:func:`armanim.arm.kernel.packed_chain`).
+    lower, upper : (n,) arrays
+        The joint limits, radians (infinite where unlimited).
+    floats : (FLOATS,) array
+        The settings, at :data:`TOL` ... :data:`SLACK`.
+    ints : (INTS,) int array
+        The stall window and the filter's halvings (:data:`STALL`, :data:`HALVINGS`).
+    caps : (c, 8) array
+        Each capsule's start, end, radius and whether it runs joint to joint (:meth:`~armanim.arm.capsules.Capsules.packed`).
+    link, part_radius : (c,), (c + 1,) arrays
+        Each capsule's joint (-1: the base), each part's radius (the tip's last).
+    levers : (n,) array
+        Each joint's lever arm (:attr:`~armanim.motion.problem.Problem.lever_arms`).
+    world : tuple of arrays
+        The obstacles as :func:`armanim.motion.kernels.check.obstacle_clearances` reads them (:func:`world_arrays`).
+    influence : (m,) array
+        Each obstacle's influence.
+    first, second, pair_radii : (P,) arrays
+        The enabled pairs' capsules and the sums of their radii.
+    pair_lever_rows, pair_levers : (P, n), (P,) arrays
+        Each pair's lever arms and their 2-norm (:attr:`~armanim.motion.problem.Problem.pair_lever_rows`).
+    """
+
+    rows: np.ndarray
+    root: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    floats: np.ndarray
+    ints: np.ndarray
+    caps: np.ndarray
+    link: np.ndarray
+    part_radius: np.ndarray
+    levers: np.ndarray
+    world: tuple[np.ndarray, ...]
+    influence: np.ndarray
+    first: np.ndarray
+    second: np.ndarray
+    pair_radii: np.ndarray
+    pair_lever_rows: np.ndarray
+    pair_levers: np.ndarray
+
+
+def kernel_problem(problem: Problem) -> KernelProblem:
+    """``problem``'s :class:`KernelProblem` (read it as ``problem.kernel``: made once per problem)."""
+    from armanim.arm.kernel import packed_chain  # numba: loaded where a kernel runs
+
+    caps, pairs = problem.capsules, problem.self_pairs
+    rows, root = packed_chain(problem.arm)
+    return KernelProblem(
+        rows, root, _floats(problem.limits.lower), _floats(problem.limits.upper),
+        settings_floats(problem), settings_ints(problem), _floats(caps.packed()), _ints(caps.link), _floats(caps.part_radius),
+        _floats(problem.lever_arms), world_arrays(problem), _floats(problem.obstacles.influence), _ints(pairs.first),
+        _ints(pairs.second), _floats(pairs.radii(caps)), _floats(problem.pair_lever_rows.reshape(len(pairs), problem.arm.n)),
+        _floats(problem.pair_levers))
+
+
+def settings_floats(problem: Problem) -> np.ndarray:
+    """The float settings of ``problem`` at their slots (:data:`FLOATS`)."""
+    from armanim.motion.cost import self_influence
+    from armanim.motion.solvers.barrier import kept_clearance, kept_self_clearance, limit_buffer
+
+    s = problem.solver
+    floats = np.empty(FLOATS)
+    floats[[TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING]] = (
+        s.tolerance, s.orientation_tolerance, s.orientation_weight, s.beta, s.max_step, s.max_joint_step, s.damping)
+    floats[[MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES]] = (
+        problem.limits.margin, limit_buffer(problem), problem.tunables.filter.gamma, s.w_limits, s.w_obstacles)
+    floats[[CLEARANCE, KEPT, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE]] = (
+        s.clearance, kept_clearance(problem), problem.self_pairs.clearance, kept_self_clearance(problem), self_influence(problem))
+    floats[LEVER_NORM] = float(np.linalg.norm(problem.lever_arms))
+    floats[SLACK] = 1e-9 * max(problem.arm.reach, 1e-300)
+    return floats
+
+
+def settings_ints(problem: Problem) -> np.ndarray:
+    """The int settings of ``problem`` at their slots (:data:`INTS`): the stall window and the
+    filter's halvings (the rest is set per call)."""
+    ints = np.zeros(INTS, dtype=np.int64)
+    ints[STALL], ints[HALVINGS] = problem.tunables.ik.stall_iterations, problem.tunables.filter.halvings
+    return ints
+
+
+def world_arrays(problem: Problem) -> tuple[np.ndarray, ...]:
+    """The obstacles as :func:`armanim.motion.kernels.check.obstacle_clearances` reads them: the
+    spheres' centres and radii, the solids' (boxes and capsule obstacles' axes) centres, half
+    edges, rotations and radii, the parts the floor leaves out, the columns' scene order, the
+    floor's height ((1,), or (0,) without one), and the cylinders' centres, rotations, half
+    lengths and radii."""
+    obstacles, caps = problem.obstacles, problem.capsules
+    solids, cylinders = obstacles.solids, obstacles.cylinders
+    order = obstacles.scene_order if obstacles.scene_order is not None else np.arange(len(obstacles))
+    floor = np.zeros(0) if obstacles.floor is None else np.array([float(obstacles.floor)])
+    return tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
+        (obstacles.centers.reshape(-1, 3), float), (obstacles.radii, float), (solids.centers.reshape(-1, 3), float),
+        (solids.half.reshape(-1, 3), float), (solids.rotations.reshape(-1, 3, 3), float), (obstacles.solid_radius, float),
+        (caps.on_base, np.bool_), (order, np.int64), (floor, float), (cylinders.centers.reshape(-1, 3), float),
+        (cylinders.rotations.reshape(-1, 3, 3), float), (cylinders.half_length, float), (cylinders.radius, float)))
+
+
+def _floats(values: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(values, dtype=float)
+
+
+def _ints(values: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(values, dtype=np.int64)

@@ -1,0 +1,304 @@
+"""The safety filter's QP, compiled: the step closest to the nominal that meets the joints' bounds
+and the rows of the arm's own pairs near enough for it, solved exactly by a dual active-set
+method (:func:`closest_step`), with the rows built only where the answer breaks them
+(:func:`filtered_with_pairs`); and the lever-arm bounds that show a pair's row met without
+building it (:func:`pairs_far`).
+
+The numpy reference: :func:`armanim.motion.solvers.barrier.filtered_step` (DAQP). Pure core:
+numpy and numba only, radians.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armanim.arm.kernel import compiled
+from armanim.motion.kernels.layout import GAMMA, KEPT_SELF, SLACK
+from armanim.motion.kernels.linalg import cholesky
+from armanim.motion.solvers.barrier import VIOLATION
+from armanim.world.compiled import link_twists, pair_rate, pair_row
+
+_JIT = dict(error_model="numpy", nogil=True)
+_INLINE = dict(inline="always", **_JIT)
+
+
+QP_ITERATIONS = 100
+"""Most iterations of :func:`_closest_step` (each adds or drops one constraint; a 7-joint step
+takes a few)."""
+
+QP_FEASIBLE = 1e-13
+"""A constraint of the filter's QP counts as met by :func:`_closest_step`'s answer when it is broken
+by no more than this (rounding; the filter's own test allows ``VIOLATION``)."""
+
+
+@compiled(**_JIT)
+def gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray, gram: np.ndarray) -> bool:
+    """out (w,) solving (C_W C_W^T) out = rhs (w,), C_W the rows ``active[:w]`` of ``cmat``, by
+    Cholesky (in ``gram``, (n, n) work space); False where C_W C_W^T is not positive definite
+    (rows dependent to rounding)."""
+    n = cmat.shape[1]
+    for i in range(w):
+        for j in range(i + 1):
+            s = 0.0
+            for k in range(n):
+                s += cmat[active[i], k] * cmat[active[j], k]
+            gram[i, j] = s
+    if not cholesky(gram, w, 1e-24):
+        return False
+    for i in range(w):
+        s = rhs[i]
+        for k in range(i):
+            s -= gram[i, k] * out[k]
+        out[i] = s / gram[i, i]
+    for i in range(w - 1, -1, -1):
+        s = out[i]
+        for k in range(i + 1, w):
+            s -= gram[k, i] * out[k]
+        out[i] = s / gram[i, i]
+    return True
+
+
+@compiled(**_JIT)
+def closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, x: np.ndarray, bounds: int = 0) -> int:
+    """The filter's QP, exactly: x (n,) minimising |x - nominal|^2 subject to ``cmat[:count] x >=
+    cb[:count]``, by the dual active-set method of Goldfarb and Idnani (Hessian I): from x =
+    ``nominal``, the most broken constraint is met by steps that keep the active ones met and
+    their multipliers >= 0 (a constraint whose multiplier would turn negative leaves), until none
+    is broken by more than :data:`QP_FEASIBLE`; then x is projected again onto the active
+    constraints from ``nominal`` in one solve (the least-squares point, so the KKT conditions
+    hold to rounding: DAQP meets them to its tolerances, some 1e-7). Returns 1 (solved), 0 (no x
+    meets the constraints) or -1 (the active rows turned dependent to rounding, the iterations ran
+    out, or the answer's checks failed: the numpy step takes that one).
+
+    ``bounds``: how many of the first rows are the joints' bounds, rows of the identity or its
+    negative, one of each sign a joint (:func:`bound_rows`). The method then starts from the clip
+    of ``nominal`` with the bounds it breaks active (their multipliers the clip's distances, >= 0:
+    the least point of those equalities, so a start the method allows), where it would have added
+    them one by one: the same answer (the QP's only one) in fewer iterations."""
+    n = nominal.shape[0]
+    for j in range(n):
+        x[j] = nominal[j]
+    active = np.empty(n, dtype=np.int64)
+    u = np.empty(n)
+    in_set = np.zeros(count, dtype=np.bool_)
+    r = np.empty(n)
+    z = np.empty(n)
+    rhs = np.empty(n)
+    gram = np.empty((n, n))
+    w = 0
+    for c in range(bounds):  # the bounds the nominal breaks, active at the clip
+        sc = -cb[c]
+        for j in range(n):
+            sc += cmat[c, j] * nominal[j]
+        if sc < -QP_FEASIBLE:
+            active[w] = c
+            u[w] = -sc  # a unit row: the multiplier is the distance
+            in_set[c] = True
+            w += 1
+            for j in range(n):
+                x[j] -= sc * cmat[c, j]
+    solved = False
+    for _ in range(QP_ITERATIONS):
+        p = -1
+        worst = -QP_FEASIBLE
+        for c in range(count):
+            if in_set[c]:
+                continue
+            sc = -cb[c]
+            for j in range(n):
+                sc += cmat[c, j] * x[j]
+            if sc < worst:
+                worst = sc
+                p = c
+        if p < 0:
+            solved = True
+            break
+        up = 0.0
+        added = False
+        for _ in range(QP_ITERATIONS):
+            for i in range(w):
+                s = 0.0
+                for j in range(n):
+                    s += cmat[active[i], j] * cmat[p, j]
+                rhs[i] = s
+            if w > 0 and not gram_solve(cmat, active, w, rhs, r, gram):
+                return -1
+            zz = 0.0
+            cc = 0.0
+            sp = -cb[p]
+            for j in range(n):
+                s = cmat[p, j]
+                for i in range(w):
+                    s -= cmat[active[i], j] * r[i]
+                z[j] = s
+                zz += s * s
+                cc += cmat[p, j] * cmat[p, j]
+                sp += cmat[p, j] * x[j]
+            full = -sp / zz if zz > 1e-24 * cc else np.inf  # the primal step that meets constraint p
+            partial = np.inf  # the dual step at which an active multiplier reaches 0
+            k = -1
+            for i in range(w):
+                if r[i] > 0.0 and u[i] / r[i] < partial:
+                    partial = u[i] / r[i]
+                    k = i
+            if partial == np.inf and full == np.inf:
+                return 0
+            t = min(full, partial)
+            if full < np.inf:
+                for j in range(n):
+                    x[j] += t * z[j]
+            for i in range(w):
+                u[i] -= t * r[i]
+            up += t
+            if t == full:
+                if w == n:
+                    return -1
+                active[w] = p
+                u[w] = up
+                w += 1
+                in_set[p] = True
+                added = True
+                break
+            in_set[active[k]] = False  # the partial step: constraint k leaves
+            active[k] = active[w - 1]
+            u[k] = u[w - 1]
+            w -= 1
+        if not added:
+            return -1
+    if not solved:
+        return -1
+    for i in range(w):  # the least-squares point of the active constraints, from the nominal: x = nominal + C_W^T u
+        s = -cb[active[i]]
+        for j in range(n):
+            s += cmat[active[i], j] * nominal[j]
+        rhs[i] = -s
+    if w > 0 and not gram_solve(cmat, active, w, rhs, u, gram):
+        return -1
+    for j in range(n):
+        s = nominal[j]
+        for i in range(w):
+            s += cmat[active[i], j] * u[i]
+        x[j] = s
+    for i in range(w):
+        if not u[i] >= -QP_FEASIBLE:
+            return -1
+    for c in range(count):
+        sc = -cb[c]
+        for j in range(n):
+            sc += cmat[c, j] * x[j]
+        if not sc >= -QP_FEASIBLE:
+            return -1
+    return 1
+
+
+@compiled(**_JIT)
+def bound_rows(n: int, pairs: int) -> np.ndarray:
+    """The filter QP's rows (2 n + P, n), its first 2 n the joints' bounds (I, then -I: x >= low,
+    -x >= -high); the pairs' rows are written per step."""
+    cmat = np.zeros((2 * n + pairs, n))
+    for j in range(n):
+        cmat[j, j] = 1.0
+        cmat[n + j, j] = -1.0
+    return cmat
+
+
+@compiled(**_JIT)
+def filtered_with_pairs(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray,
+              near: np.ndarray, first: np.ndarray, second: np.ndarray, pair_levers: np.ndarray, nominal: np.ndarray,
+              nominal_length: float, low: np.ndarray, high: np.ndarray, cmat: np.ndarray, cb: np.ndarray, twists: np.ndarray,
+              in_rows: np.ndarray, step: np.ndarray) -> bool:
+    """With the pairs' exact ``gaps`` at the pose and ``step`` (n,) holding the nominal clipped to
+    the joints' bounds ``low``, ``high``: the filter's step into ``step``, as
+    :func:`armanim.motion.solvers.barrier.filtered_step` takes it, the closest to ``nominal``
+    meeting those bounds and the rows of the pairs near enough for the step
+    (:func:`armanim.motion.solvers.barrier.self_pair_rows`: n . (J_A - J_B) dPhi >= -gamma (d -
+    d_kept)). ``nominal`` itself where it meets them all (to ``VIOLATION``), else the QP solved
+    exactly (:func:`closest_step`), clipped to the bounds as the numpy filter clips DAQP's answer;
+    where no step meets the rows, the QP again with each row's bound no more than 0 (closing no
+    gap further), as the numpy filter relaxes it.
+
+    A row that the QP's answer meets does not change the answer: so the QP is solved with the
+    rows its answer breaks, from the clip (the answer with no row) on, each added as the answer
+    breaks it, until the answer meets every row (the pairs' rates by the links' twists,
+    :func:`armanim.world.compiled.pair_rate`, a few products a pair where a row costs n cross
+    products: a pair's row is built only where it acts). ``cmat`` (2 n + P, n), ``cb`` (2 n + P,):
+    work space for the QP's rows and bounds, its first 2 n rows the joints' (:func:`bound_rows`);
+    ``twists`` (n, 6), ``in_rows`` (P,): work space. False (hand back) where the QP fails."""
+    n = nominal.shape[0]
+    gamma = floats[GAMMA]
+    kept = floats[KEPT_SELF]
+    pairs = gaps.shape[0]
+    a, b, t, s, normal = ends[0], ends[1], near[:, 0], near[:, 1], near[:, 2:5]
+    met = True
+    for j in range(n):
+        cb[j] = low[j]
+        cb[n + j] = -high[j]
+        if nominal[j] < low[j] - VIOLATION or nominal[j] > high[j] + VIOLATION:
+            met = False
+    for q in range(pairs):  # the rows the numpy filter builds: those of the pairs near enough for the step (its test)
+        in_rows[q] = not gaps[q] - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9  # True: no row, or a row in the QP
+    if met:
+        link_twists(points, axes, nominal, twists)
+        for q in range(pairs):
+            if not in_rows[q] and pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q) < -gamma * (gaps[q] - kept) - VIOLATION:
+                met = False
+                break
+        if met:
+            for j in range(n):
+                step[j] = nominal[j]
+            return True
+    count = 2 * n
+    relaxed = False
+    scratch = np.empty(9)
+    for _ in range(pairs + 1):
+        link_twists(points, axes, step, twists)
+        added = False
+        for q in range(pairs):
+            if in_rows[q]:
+                continue
+            room = -gamma * (gaps[q] - kept)
+            if relaxed:
+                room = min(room, 0.0)
+            if pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q) < room:
+                pair_row(points, axes, a, b, caps_link, first, second, t, s, normal, q, scratch, cmat[count])
+                cb[count] = room
+                in_rows[q] = True
+                count += 1
+                added = True
+        if not added:
+            break
+        solved = closest_step(nominal, cmat, cb, count, step, 2 * n)
+        if solved == 0 and not relaxed:  # no step meets these rows, nor so all of them: as the numpy filter, closing no gap further
+            relaxed = True
+            for c in range(2 * n, count):
+                cb[c] = min(cb[c], 0.0)
+            solved = closest_step(nominal, cmat, cb, count, step, 2 * n)
+        if solved == 0:
+            for j in range(n):
+                step[j] = 0.0
+            return True
+        if solved < 0:
+            return False
+    for j in range(n):
+        step[j] = min(max(step[j], low[j]), high[j])
+    return True
+
+
+@compiled(**_INLINE)
+def lever_travel(levers: np.ndarray, q: int, step: np.ndarray, scale: float) -> float:
+    """The most pair q's gap changes under the joint change ``scale * step``: its lever arms . |scale step|."""
+    travel = 0.0
+    for j in range(step.shape[0]):
+        travel += levers[q, j] * abs(scale * step[j])
+    return travel
+
+
+@compiled(**_JIT)
+def pairs_far(floats: np.ndarray, bound: np.ndarray, levers: np.ndarray, step: np.ndarray) -> bool:
+    """Whether every pair's gap bound shows its row of the filter met by ``step`` whatever the row
+    (gamma (d - d_target) >= the pair's lever arms . |step|)."""
+    slack = floats[SLACK]
+    for q in range(bound.shape[0]):
+        if not floats[GAMMA] * (bound[q] - floats[KEPT_SELF]) >= lever_travel(levers, q, step, 1.0) * (1.0 + 1e-9) + slack:
+            return False
+    return True

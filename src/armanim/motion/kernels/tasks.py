@@ -1,0 +1,551 @@
+"""The tasks and pushes of a compiled step: the pose task (position, rotation or tool axis), the
+joint limits' push, the obstacles' and the arm's own pairs' pushes, and the proposals of the IK
+attempt (:func:`attempt_proposal`) and of the frame (:func:`frame_proposal`) made of them.
+
+The numpy references: :func:`armanim.motion.solvers.linear.linear_step`,
+:func:`~armanim.motion.solvers.linear.orientation_in_null_space`,
+:func:`~armanim.motion.solvers.linear.limit_push`, :func:`armanim.motion.orientation.orientation_residual`.
+Pure core: numpy and numba only, radians.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from armanim.arm.kernel import _jacobian, _log, compiled
+from armanim.motion.kernels.layout import (
+    ANGLE_TOL,
+    BETA,
+    DAMPING,
+    DONE,
+    HANDED_BACK,
+    KIND,
+    MARGIN,
+    MAX_STEP,
+    METHOD,
+    NUMERICAL,
+    PINV,
+    SELF_INFLUENCE,
+    SLACK,
+    STACKED,
+    TOL,
+    W_LIMITS,
+    W_OBSTACLES,
+    WEIGHT,
+)
+from armanim.motion.kernels.linalg import damped, invert, matvec, pseudo_inverse
+from armanim.motion.solvers.linear import CLOSEST_GAP, ROUNDING_TASK
+from armanim.world.compiled import pair_jacobians
+
+_JIT = dict(error_model="numpy", nogil=True)
+_INLINE = dict(inline="always", **_JIT)
+
+
+@compiled(**_INLINE)
+def least_axis(v0: float, v1: float, v2: float) -> int:
+    """The coordinate axis least along (v0, v1, v2) (numpy's argmin of |v|: the first of equals)."""
+    best = 0
+    least = abs(v0)
+    if abs(v1) < least:
+        best, least = 1, abs(v1)
+    if abs(v2) < least:
+        best = 2
+    return best
+
+
+@compiled(**_INLINE)
+def cross_axis(v: np.ndarray, axis: int, out: np.ndarray) -> None:
+    """v x e_axis into ``out``."""
+    e0 = 1.0 if axis == 0 else 0.0
+    e1 = 1.0 if axis == 1 else 0.0
+    e2 = 1.0 if axis == 2 else 0.0
+    out[0] = v[1] * e2 - v[2] * e1
+    out[1] = v[2] * e0 - v[0] * e2
+    out[2] = v[0] * e1 - v[1] * e0
+
+
+@compiled(**_JIT)
+def orientation_residual(kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray, out: np.ndarray) -> None:
+    """r (3,): log(R_g R^T) for a rotation, the alignment vector of the tool's z onto the goal's
+    axis for a tool axis (:func:`armanim.motion.orientation.orientation_residual`)."""
+    if kind == 1:
+        rel = np.empty((3, 3))
+        for a in range(3):
+            for b in range(3):
+                rel[a, b] = goal_rot[a, 0] * tool[b, 0] + goal_rot[a, 1] * tool[b, 1] + goal_rot[a, 2] * tool[b, 2]
+        _log(rel, out)
+        return
+    z = np.empty(3)
+    for a in range(3):
+        z[a] = tool[a, 2]
+    n0 = z[1] * goal_axis[2] - z[2] * goal_axis[1]
+    n1 = z[2] * goal_axis[0] - z[0] * goal_axis[2]
+    n2 = z[0] * goal_axis[1] - z[1] * goal_axis[0]
+    sin = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    cos = z[0] * goal_axis[0] + z[1] * goal_axis[1] + z[2] * goal_axis[2]
+    angle = math.atan2(sin, cos)
+    if sin < 1e-12:
+        cross_axis(z, least_axis(z[0], z[1], z[2]), out)
+    else:
+        out[0], out[1], out[2] = n0, n1, n2
+    length = math.sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2])
+    for a in range(3):
+        out[a] = angle * (out[a] / length)
+
+
+@compiled(**_JIT)
+def orientation_rows(kind: int, tool: np.ndarray, rows: np.ndarray) -> int:
+    """The goal's rotation directions B into ``rows`` (3, 3): the identity for a rotation (3
+    rows), the two directions perpendicular to the tool's z for a tool axis
+    (:func:`armanim.motion.orientation.orientation_rows`); returns their count."""
+    if kind == 1:
+        for a in range(3):
+            for b in range(3):
+                rows[a, b] = 1.0 if a == b else 0.0
+        return 3
+    z = np.empty(3)
+    for a in range(3):
+        z[a] = tool[a, 2]
+    first = np.empty(3)
+    cross_axis(z, least_axis(z[0], z[1], z[2]), first)
+    length = math.sqrt(first[0] * first[0] + first[1] * first[1] + first[2] * first[2])
+    for a in range(3):
+        first[a] /= length
+        rows[0, a] = first[a]
+    rows[1, 0] = z[1] * first[2] - z[2] * first[1]
+    rows[1, 1] = z[2] * first[0] - z[0] * first[2]
+    rows[1, 2] = z[0] * first[1] - z[1] * first[0]
+    return 2
+
+
+@compiled(**_JIT)
+def progress_measure(floats: np.ndarray, kind: int, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
+              points: np.ndarray, tool: np.ndarray, residual: np.ndarray, errors: np.ndarray) -> float:
+    """|e - g|, the angle |r| (into ``errors`` (2,)) and the progress measure max(|e - g|, |r| tol /
+    angle_tol) (:func:`armanim.motion.ik.pose_errors`); the residual r into ``residual``."""
+    n = points.shape[0] - 1
+    s = 0.0
+    for a in range(3):
+        d = points[n, a] - goal[a]
+        s += d * d
+    distance = math.sqrt(s)
+    errors[0] = distance
+    if kind == 0:
+        errors[1] = 0.0
+        return distance
+    orientation_residual(kind, goal_rot, goal_axis, tool, residual)
+    angle = math.sqrt(residual[0] * residual[0] + residual[1] * residual[1] + residual[2] * residual[2])
+    errors[1] = angle
+    scaled: float = angle * (floats[TOL] / floats[ANGLE_TOL])
+    return max(distance, scaled)
+
+
+@compiled(**_INLINE)
+def capped(v: np.ndarray, scale: float, cap: float) -> None:
+    """v <- scale v, its length capped at ``cap`` (:func:`~armanim.motion.solvers.common.task_displacement`)."""
+    s = 0.0
+    for a in range(v.shape[0]):
+        v[a] = scale * v[a]
+        s += v[a] * v[a]
+    length = math.sqrt(s)
+    if length > cap:
+        for a in range(v.shape[0]):
+            v[a] = v[a] * (cap / length)
+
+
+@compiled(**_INLINE)
+def step_bounds(phi: float, lower: float, upper: float, cap: float, gamma: float, buffer: float) -> tuple[float, float]:
+    """One joint's bounds on its step in the filter (:func:`armanim.motion.solvers.barrier.joint_bounds`):
+    the joint-step cap and, for a limited joint, the velocity damper toward each limit less its
+    buffer; each bound no nearer than 0 (a joint inside its buffer may stand still)."""
+    low, high = -cap, cap
+    if lower > -np.inf:
+        low = max(-cap, -gamma * (phi - (lower + buffer)))
+        high = min(cap, gamma * ((upper - buffer) - phi))
+    return min(low, 0.0), max(high, 0.0)
+
+
+@compiled(**_JIT)
+def limit_push(floats: np.ndarray, phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, push: np.ndarray) -> bool:
+    """The joint-limit push z into ``push``; False when no joint is within the margin of a limit
+    (:func:`armanim.motion.solvers.linear.limit_push`)."""
+    margin = floats[MARGIN]
+    near = False
+    for j in range(phi.shape[0]):
+        if phi[j] - lower[j] < margin or upper[j] - phi[j] < margin:
+            near = True
+    if not near:
+        return False
+    scale = floats[BETA] * floats[W_LIMITS]
+    for j in range(phi.shape[0]):
+        push[j] = scale * (repulsion(phi[j] - lower[j], margin) - repulsion(upper[j] - phi[j], margin))
+    return True
+
+
+@compiled(**_INLINE)
+def repulsion(gap: float, influence: float) -> float:
+    """R (R / gap - 1) inside the influence, else 0 (:func:`armanim.motion.solvers.linear.repulsion`)."""
+    if not (gap > 0.0 and gap < influence):
+        return 0.0
+    return influence * (influence / max(gap, influence * 1e-12) - 1.0)
+
+
+@compiled(**_INLINE)
+def null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, null: np.ndarray, restricted: np.ndarray) -> tuple[float, float]:
+    """The rotation task second in priority: the tip task's null-space projector I - J^+ J into
+    ``null`` (n, n) (``jac`` its first 3 rows the tip's, ``pinv_tip`` (n, 3) their
+    pseudo-inverse), and the rotation rows ``jac_r`` (k, n) restricted to it, jac_r (I - J^+ J),
+    into ``restricted`` (k, n). Returns |restricted|_F^2 and |jac_r|_F^2, whose ratio tells a
+    task with only rounding left (:data:`ROUNDING_TASK`)."""
+    n = null.shape[0]
+    for i in range(n):
+        for j in range(n):
+            null[i, j] = (1.0 if i == j else 0.0) - (pinv_tip[i, 0] * jac[0, j] + pinv_tip[i, 1] * jac[1, j] + pinv_tip[i, 2] * jac[2, j])
+    left = 0.0
+    size = 0.0
+    for i in range(restricted.shape[0]):
+        for j in range(n):
+            v = 0.0
+            for q in range(n):
+                v += jac_r[i, q] * null[q, j]
+            restricted[i, j] = v
+            left += v * v
+            size += jac_r[i, j] * jac_r[i, j]
+    return left, size
+
+
+@compiled(**_JIT)
+def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
+                     goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, pair_push: np.ndarray,
+                     pairs_push: bool, dphi: np.ndarray) -> int:
+    """The method's step (:func:`armanim.motion.solvers.linear.linear_step` without obstacles; the
+    pairs' push ``pair_push`` (n,), where ``pairs_push``, beside the limits' in the null space) into ``dphi``: :data:`DONE`, :data:`NUMERICAL` when its inverse failed, or
+    :data:`HANDED_BACK` where the rotation second in priority has only rounding left to act on
+    (:data:`ROUNDING_TASK`)."""
+    n = phi.shape[0]
+    method = ints[METHOD]
+    kind = ints[KIND]
+    damping = floats[DAMPING]
+    jac6 = np.empty((6, n))
+    _jacobian(points, axes, jac6)
+    brows = np.empty((3, 3))
+    k = orientation_rows(kind, tool, brows) if kind != 0 else 0
+    error = np.empty(3)
+    for i in range(k):
+        error[i] = brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2]
+    jac_r = np.empty((k, n))  # w B J_w
+    for i in range(k):
+        for j in range(n):
+            jac_r[i, j] = floats[WEIGHT] * (brows[i, 0] * jac6[3, j] + brows[i, 1] * jac6[4, j] + brows[i, 2] * jac6[5, j])
+    rot_step = np.empty(k)
+    for i in range(k):
+        rot_step[i] = floats[WEIGHT] * error[i]
+    capped(rot_step, floats[BETA], floats[MAX_STEP])
+    target3 = np.empty(3)
+    for a in range(3):
+        target3[a] = goal[a] - points[n, a]
+    capped(target3, floats[BETA], floats[MAX_STEP])
+    stacked = ints[STACKED] == 1 and kind != 0
+    m = 3 + k if stacked else 3
+    jac = np.empty((m, n))
+    target = np.empty(m)
+    for a in range(3):
+        target[a] = target3[a]
+        for j in range(n):
+            jac[a, j] = jac6[a, j]
+    if stacked:
+        for i in range(k):
+            target[3 + i] = rot_step[i]
+            for j in range(n):
+                jac[3 + i, j] = jac_r[i, j]
+    jac_inv = np.empty((n, m))
+    if not invert(jac, method, damping, jac_inv):
+        return NUMERICAL
+    matvec(jac_inv, target, dphi)
+    push = np.empty(n)
+    pushed = limit_push(floats, phi, lower, upper, push)
+    if pairs_push:
+        for j in range(n):
+            push[j] = (push[j] if pushed else 0.0) + pair_push[j]
+        pushed = True
+    if kind != 0 and not stacked:  # the rotation second, in the null space of the tip's task
+        pinv_tip = np.empty((n, 3))
+        if method == PINV:
+            for i in range(n):
+                for a in range(3):
+                    pinv_tip[i, a] = jac_inv[i, a]
+        else:
+            pseudo_inverse(jac, pinv_tip)
+        null_tip = np.empty((n, n))
+        restricted = np.empty((k, n))
+        left, rows_size = null_space_task(jac, pinv_tip, jac_r, null_tip, restricted)
+        if left < ROUNDING_TASK * ROUNDING_TASK * rows_size:
+            return HANDED_BACK
+        inv_r = np.empty((n, k))
+        if not invert(restricted, method, damping, inv_r):
+            return NUMERICAL
+        rest = np.empty(k)
+        matvec(jac_r, dphi, rest)
+        for i in range(k):
+            rest[i] = rot_step[i] - rest[i]
+        turn = np.empty(n)
+        matvec(inv_r, rest, turn)
+        for j in range(n):
+            dphi[j] = dphi[j] + turn[j]
+        if pushed:
+            pinv_r = inv_r
+            if method != PINV:
+                pinv_r = np.empty((n, k))
+                pseudo_inverse(restricted, pinv_r)
+            null_both = np.empty((n, n))
+            for i in range(n):
+                for j in range(n):
+                    s = 0.0
+                    for q in range(k):
+                        s += pinv_r[i, q] * restricted[q, j]
+                    null_both[i, j] = null_tip[i, j] - s
+            moved = np.empty(n)
+            matvec(null_both, push, moved)
+            for j in range(n):
+                dphi[j] = dphi[j] + moved[j]
+    elif pushed:
+        task = np.empty(m)
+        matvec(jac, push, task)
+        back = np.empty(n)
+        matvec(jac_inv, task, back)
+        for j in range(n):
+            dphi[j] = dphi[j] + push[j] - back[j]
+    return DONE
+
+
+@compiled(**_JIT)
+def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray,
+               ends: np.ndarray, near: np.ndarray, first: np.ndarray, second: np.ndarray, push: np.ndarray) -> int:
+    """The pairs' push of the numpy step (:func:`armanim.motion.solvers.linear.linear_step`) into
+    ``push`` (n,): for each pair whose gap d is inside the influence R (``self_influence``), the
+    method's inverse of J_A - J_B times beta w_obstacles R (R / d - 1) along the pair's normal,
+    summed. Returns 1 when some pair pushes, 0 when none, -1 when a gap is within rounding of 0
+    (where the push's size turns on the gap's last bits: the numpy step takes that one) or an
+    inverse fails."""
+    n = push.shape[0]
+    influence = floats[SELF_INFLUENCE]
+    slack = floats[SLACK]
+    scale = floats[BETA] * floats[W_OBSTACLES]
+    for j in range(n):
+        push[j] = 0.0
+    which = np.empty(1, dtype=np.int64)
+    jac = np.empty((1, 3, n))
+    inverse = np.empty((n, 3))
+    any_push = 0
+    for q in range(gaps.shape[0]):
+        d = gaps[q]
+        if not d < influence:
+            continue
+        if abs(d) <= slack:
+            return -1
+        size = scale * repulsion(d, influence)
+        if size == 0.0:
+            continue
+        which[0] = q
+        pair_jacobians(points, axes, ends[0], ends[1], caps_link, first, second, near[:, 0], near[:, 1], which, jac)
+        if method == PINV:
+            pseudo_inverse(jac[0], inverse)
+        elif not damped(jac[0], floats[DAMPING], inverse):
+            return -1
+        for j in range(n):
+            push[j] += size * (inverse[j, 0] * near[q, 2] + inverse[j, 1] * near[q, 3] + inverse[j, 2] * near[q, 4])
+        any_push = 1
+    return any_push
+
+
+@compiled(**_JIT)
+def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarray, jac: np.ndarray) -> None:
+    """(3, n) Jacobian of the world point ``q`` carried by joint ``link``'s frame into ``jac``:
+    column j is w_j x (q - p_j) for j <= link, 0 after (:func:`armanim.arm.kinematics.point_jacobian`)."""
+    n = axes.shape[0]
+    for j in range(n):
+        if j <= link:
+            l0, l1, l2 = q[0] - points[j, 0], q[1] - points[j, 1], q[2] - points[j, 2]
+            w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+            jac[0, j] = w1 * l2 - w2 * l1
+            jac[1, j] = w2 * l0 - w0 * l2
+            jac[2, j] = w0 * l1 - w1 * l0
+        else:
+            jac[0, j] = 0.0
+            jac[1, j] = 0.0
+            jac[2, j] = 0.0
+
+
+@compiled(**_JIT)
+def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
+                        axes: np.ndarray, jac: np.ndarray, jac_inv: np.ndarray, pushed: bool, secondary: np.ndarray,
+                        dphi: np.ndarray) -> bool:
+    """The rotation task added to ``dphi`` in the null space N of the tip's task, then the pushes
+    ``secondary`` (where ``pushed``) in the null space of both
+    (:func:`armanim.motion.solvers.linear.orientation_in_null_space`): with the exact projectors
+    (pseudo-inverses) for both methods, the method's inverse for the rotation; where N leaves the
+    rotation only rounding (:data:`~armanim.motion.solvers.linear.ROUNDING_TASK`), the step and
+    the projector are the tip's alone. False where an inverse failed."""
+    n = dphi.shape[0]
+    brows = np.empty((3, 3))
+    k = orientation_rows(kind, tool, brows)
+    residual = np.empty(3)
+    orientation_residual(kind, goal_rot, goal_axis, tool, residual)
+    weight = floats[WEIGHT]
+    jac_r = np.empty((k, n))  # w B J_w
+    rot_step = np.empty(k)
+    for i in range(k):
+        rot_step[i] = weight * (brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2])
+        for j in range(n):
+            jac_r[i, j] = weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
+    capped(rot_step, floats[BETA], floats[MAX_STEP])
+    pinv_tip = np.empty((n, 3))
+    if method == PINV:
+        for i in range(n):
+            for c in range(3):
+                pinv_tip[i, c] = jac_inv[i, c]
+    elif not invert(jac, PINV, 0.0, pinv_tip):
+        return False
+    null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
+    restricted = np.empty((k, n))
+    left, size = null_space_task(jac, pinv_tip, jac_r, null, restricted)
+    if not left < ROUNDING_TASK * ROUNDING_TASK * size:
+        inverse = np.empty((n, k))
+        if not invert(restricted, method, floats[DAMPING], inverse):
+            return False
+        wanted = np.empty(k)
+        for i in range(k):
+            v = 0.0
+            for j in range(n):
+                v += jac_r[i, j] * dphi[j]
+            wanted[i] = rot_step[i] - v
+        for j in range(n):
+            v = 0.0
+            for i in range(k):
+                v += inverse[j, i] * wanted[i]
+            dphi[j] = dphi[j] + v
+        if pushed:
+            if method != PINV and not invert(restricted, PINV, 0.0, inverse):
+                return False
+            for i in range(n):
+                for j in range(n):
+                    v = 0.0
+                    for q in range(k):
+                        v += inverse[i, q] * restricted[q, j]
+                    null[i, j] -= v
+    if pushed:
+        for i in range(n):
+            v = 0.0
+            for j in range(n):
+                v += null[i, j] * secondary[j]
+            dphi[i] = dphi[i] + v
+    return True
+
+
+@compiled(**_JIT)
+def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, goal: np.ndarray,
+              kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
+              lower: np.ndarray, upper: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,
+              cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, influence: np.ndarray,
+              first: np.ndarray, second: np.ndarray, gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray,
+              gap_normal: np.ndarray, least: float, dphi: np.ndarray) -> bool:
+    """:func:`armanim.motion.solvers.linear.linear_step` into ``dphi``; the goal's orientation
+    (``kind`` 0: none, 1: the rotation ``goal_rot``, 2: the tool axis ``goal_axis``; ``tool``: the
+    tool frame now) second in priority, in the null space of the tip's task
+    (:func:`~armanim.motion.solvers.linear.orientation_in_null_space`). False where an inverse
+    failed (numpy raises there: the numpy path takes the frame)."""
+    n = phi.shape[0]
+    tip = points.shape[0] - 1
+    jac = np.empty((3, n))
+    for j in range(n):
+        l0, l1, l2 = points[tip, 0] - points[j, 0], points[tip, 1] - points[j, 1], points[tip, 2] - points[j, 2]
+        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+        jac[0, j] = w1 * l2 - w2 * l1
+        jac[1, j] = w2 * l0 - w0 * l2
+        jac[2, j] = w0 * l1 - w1 * l0
+    target = np.empty(3)
+    for i in range(3):
+        target[i] = goal[i] - points[tip, i]
+    capped(target, floats[BETA], floats[MAX_STEP])
+    damping = floats[DAMPING]
+    jac_inv = np.empty((n, 3))
+    if not invert(jac, method, damping, jac_inv):
+        return False
+    for j in range(n):
+        dphi[j] = jac_inv[j, 0] * target[0] + jac_inv[j, 1] * target[1] + jac_inv[j, 2] * target[2]
+    secondary = np.zeros(n)
+    pushed = limit_push(floats, phi, lower, upper, secondary)
+    gain = floats[BETA] * floats[W_OBSTACLES]
+    parts = cl_d.shape[0]
+    q = np.empty(3)
+    pj = np.empty((3, n))
+    pinv = np.empty((n, 3))
+    v = np.empty(3)
+    for part in range(parts):
+        if part < parts - 1 and link[part] < 0:  # on the base: never pushed
+            continue
+        for k in range(cl_d.shape[1]):
+            r = influence[k]
+            g = cl_d[part, k]
+            if not (g > 0.0 and g < r):
+                continue
+            push = gain * (r * (r / max(g, r * CLOSEST_GAP) - 1.0))
+            if push == 0.0:
+                continue
+            for i in range(3):
+                v[i] = push * cl_normal[part, k, i]
+            if part == parts - 1:  # the tip itself: in task space
+                for j in range(n):
+                    dphi[j] = dphi[j] + (jac_inv[j, 0] * v[0] + jac_inv[j, 1] * v[1] + jac_inv[j, 2] * v[2])
+                continue
+            f = cl_t[part, k]
+            for i in range(3):
+                q[i] = a[part, i] + f * (b[part, i] - a[part, i])
+            point_jacobian(points, axes, link[part], q, pj)
+            if not invert(pj, method, damping, pinv):
+                return False
+            for j in range(n):
+                secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
+            pushed = True
+    reach = floats[SELF_INFLUENCE]
+    if first.shape[0] and least < reach:
+        qa = np.empty(3)
+        qb = np.empty(3)
+        ja = np.empty((3, n))
+        jb = np.empty((3, n))
+        for p in range(first.shape[0]):
+            g = gap[p]
+            if not (g > 0.0 and g < reach):
+                continue
+            push = gain * (reach * (reach / max(g, reach * CLOSEST_GAP) - 1.0))
+            if push == 0.0:
+                continue
+            fa, fb = first[p], second[p]
+            for i in range(3):
+                qa[i] = a[fa, i] + gap_t[p] * (b[fa, i] - a[fa, i])
+                qb[i] = a[fb, i] + gap_s[p] * (b[fb, i] - a[fb, i])
+            point_jacobian(points, axes, link[fa], qa, ja)
+            point_jacobian(points, axes, link[fb], qb, jb)
+            for i in range(3):
+                for j in range(n):
+                    ja[i, j] -= jb[i, j]
+                v[i] = push * gap_normal[p, i]
+            if not invert(ja, method, damping, pinv):
+                return False
+            for j in range(n):
+                secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
+            pushed = True
+    if kind != 0:  # the rotation second; the pushes into the null space of both tasks
+        return orientation_second(floats, method, kind, goal_rot, goal_axis, tool, axes, jac, jac_inv, pushed, secondary, dphi)
+    if pushed:  # dphi + (I - J^+ J) secondary
+        moved = np.empty(3)
+        for i in range(3):
+            s = 0.0
+            for j in range(n):
+                s += jac[i, j] * secondary[j]
+            moved[i] = s
+        for j in range(n):
+            dphi[j] = dphi[j] + secondary[j] - (jac_inv[j, 0] * moved[0] + jac_inv[j, 1] * moved[1] + jac_inv[j, 2] * moved[2])
+    return True
