@@ -247,7 +247,9 @@ def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
     A capsule carried by joint k >= j lies within |o_j| + ... + |o_k| + pad of p_j, where
     pad is the radius plus how far its ends stick out (its start from p_k, or its end
     from p_{k+1}, whichever is nearer for each end); joint-to-joint capsules stick out by
-    their radius alone. Capsules on the base (:data:`BASE`) never move: none counts.
+    their radius alone. Capsules on the base (:data:`BASE`) never move: none counts. A
+    prismatic joint k > j may hold the capsules up to its stroke farther off (add them all); a
+    prismatic joint j moves every point it carries by exactly its own travel: its lever is 1.
 
     >>> lever_arms(Arm.from_names([2, 5]), joint_capsules(Arm.from_names([2, 5]), 0.25)).tolist()
     [7.25, 5.25]
@@ -261,7 +263,12 @@ def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
     pad = np.where(capsules.joint_segment[moving], 0.0, np.maximum(start, end)) + capsules.radius[moving]
     by_link = np.zeros(arm.n)
     np.maximum.at(by_link, link, pad)
-    return tail + np.maximum.accumulate(by_link[::-1])[::-1]
+    levers = tail + np.maximum.accumulate(by_link[::-1])[::-1]
+    if arm.prismatic is None:
+        return levers
+    stroke = np.zeros(arm.n) if arm.stroke is None else arm.stroke
+    after = np.concatenate([np.cumsum(stroke[::-1])[::-1][1:], [0.0]])  # the strokes of the joints after j
+    return np.where(arm.prismatic, 1.0, levers + after)
 
 
 def _norm(v: np.ndarray) -> np.ndarray:

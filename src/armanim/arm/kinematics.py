@@ -57,6 +57,9 @@ class Arm:
         i's frame keeps R_i = R_{i-1} T_{i-1} and its origin moves to p_i + q_i R_i a_i, q_i in
         metres. None (or all False, which becomes None): every joint is revolute, and the
         arithmetic is exactly that of an arm without the field.
+    stroke : (n,) array or None
+        How far each prismatic joint may slide from 0, metres (its larger limit in size; 0 for a
+        revolute joint): what :attr:`reach` and the lever arms add for it. None: all 0.
     """
 
     base: np.ndarray
@@ -67,12 +70,13 @@ class Arm:
     joint_names: tuple[str, ...] = ()
     mount: np.ndarray | None = None
     prismatic: np.ndarray | None = None
+    stroke: np.ndarray | None = None
     _k: np.ndarray = field(init=False, repr=False, compare=False)
     _k2: np.ndarray = field(init=False, repr=False, compare=False)
     _links: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        for name in ("base", "axes", "offsets", "base_rotation", "turns", "mount"):
+        for name in ("base", "axes", "offsets", "base_rotation", "turns", "mount", "stroke"):
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, np.asarray(value, dtype=float))
@@ -110,8 +114,11 @@ class Arm:
 
     @property
     def reach(self) -> float:
-        """Sum of the link lengths: no tip is farther than this from joint 1."""
-        return float(self.links.sum())
+        """Sum of the link lengths and the prismatic joints' strokes: no tip is farther than this
+        from joint 1 at its 0 (``base``)."""
+        if self.stroke is None:
+            return float(self.links.sum())
+        return float(self.links.sum() + self.stroke.sum())
 
     @classmethod
     def from_names(
@@ -281,7 +288,7 @@ def _columns(arm: Arm, w: np.ndarray, lever: np.ndarray) -> np.ndarray:
     if arm.prismatic is None:
         return columns
     slides = arm.prismatic[: w.shape[-2], None]
-    return cast(np.ndarray, np.where(slides, np.broadcast_to(w, columns.shape), columns))
+    return np.where(slides, np.broadcast_to(w, columns.shape), columns)
 
 
 def link_point(pose: Pose, link: int, t: float) -> np.ndarray:
@@ -399,3 +406,29 @@ def numeric_jacobian(
     displaced = phi + h * np.eye(len(phi))
     f0 = fun(phi)
     return cast(np.ndarray, (fun(displaced) - f0).T / h)
+
+
+def joints_in_si(values: ArrayLike, slides: np.ndarray | None) -> np.ndarray:
+    """Joint values as a user writes them (degrees; metres for a prismatic joint), (..., n), in
+    the chain's units (radians; metres): exactly ``np.radians`` where no joint slides.
+
+    >>> joints_in_si([90.0, 0.25], np.array([False, True])).round(6).tolist()
+    [1.570796, 0.25]
+    """
+    si = np.radians(values)
+    if slides is None or not np.any(slides):
+        return si
+    return np.where(slides, np.asarray(values, dtype=float), si)
+
+
+def joints_shown(values: ArrayLike, slides: np.ndarray | None) -> np.ndarray:
+    """:func:`joints_in_si`'s inverse: radians (metres for a prismatic joint), (..., n), as a user
+    reads them, degrees (metres); exactly ``np.degrees`` where no joint slides.
+
+    >>> joints_shown([np.pi / 2, 0.25], np.array([False, True])).round(6).tolist()
+    [90.0, 0.25]
+    """
+    shown = np.degrees(values)
+    if slides is None or not np.any(slides):
+        return shown
+    return np.where(slides, np.asarray(values, dtype=float), shown)

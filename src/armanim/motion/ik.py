@@ -298,9 +298,9 @@ def _compiled_module() -> ModuleType:
 
 def runs_compiled(problem: Problem, method: Method) -> bool:
     """Whether the attempt runs compiled: a method with a compiled step, no obstacles, the
-    analytic Jacobian, and ``tunables.ik.compiled``."""
+    analytic Jacobian, an arm of revolute joints, and ``tunables.ik.compiled``."""
     return (method.compiled_inverse is not None and problem.tunables.ik.compiled and not len(problem.obstacles)
-            and problem.solver.jacobian != "numeric")
+            and problem.solver.jacobian != "numeric" and problem.arm.prismatic is None)
 
 
 def _steps(

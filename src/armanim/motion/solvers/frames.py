@@ -24,8 +24,10 @@ def steps_compiled(problem: Problem, method: Method, orientation: Orientation | 
     """Whether the method's steps toward a goal (with ``orientation``) run compiled: a method with
     a compiled step (``pinv``, ``dls``), the analytic Jacobian, ``tunables.ik.compiled_frames``, and
     the rotation second in priority (not a ``pinv`` solve's stacked pose task,
-    :func:`~armanim.motion.solvers.linear.stacks_the_pose_task`)."""
-    if method.compiled_inverse is None or problem.solver.jacobian == "numeric" or not problem.tunables.ik.compiled_frames:
+    :func:`~armanim.motion.solvers.linear.stacks_the_pose_task`), on an arm of revolute joints
+    (a prismatic joint's steps are the numpy ones)."""
+    if (method.compiled_inverse is None or problem.solver.jacobian == "numeric" or not problem.tunables.ik.compiled_frames
+            or problem.arm.prismatic is not None):
         return False
     return orientation is None or method.compiled_inverse != "pinv" or not stacks_the_pose_task(problem, orientation)
 
