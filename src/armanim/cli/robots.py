@@ -33,7 +33,7 @@ def robot_summaries() -> list[RobotSummary]:
     joints held off its chain (the Panda's fingers) with their defaults.
 
     >>> [s.name for s in robot_summaries()]
-    ['panda', 'ur5', 'iiwa']
+    ['panda', 'ur5', 'iiwa', 'ur5_rail']
     """
     import numpy as np
 
