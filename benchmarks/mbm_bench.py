@@ -21,7 +21,9 @@ Per problem, in one process after the first compile:
    ``solver.clearance`` from every object, every enabled pair ``self_clearance`` apart, as the
    importer writes them); any other problem with the scene is a failure of armanim and is counted so;
 3. the **solve**: the scene to a timed trajectory (:func:`~armanim.motion.trajectory.solve_trajectory`
-   and the clock, :func:`~armanim.motion.retime.retime`), wall time measured around it;
+   and the clock, :func:`~armanim.motion.retime.retime`), wall time and this process's CPU time
+   measured around it (on a busy machine the CPU time is the fairer figure: other processes inflate
+   it less);
 4. an **independent check** of every frame: the clearances of the numpy reference
    (:func:`armanim.motion.solvers.barrier.split_clearances`, not the compiled checks the planner used)
    against ``solver.clearance`` and ``self_clearance``, and the last frame against the goal.
@@ -72,6 +74,7 @@ class Outcome:
     solved: bool = False
     reason: str = ""
     solve_s: float = math.nan
+    solve_cpu_s: float = math.nan
     path_rad: float = math.nan
     duration_s: float = math.nan
     under_clearance: int = 0
@@ -130,11 +133,11 @@ def solve_problem(robot: str, family: str, index: int, files: dict[str, bytes], 
         if free:
             raise  # not a start or goal in collision: armanim's own failure
         return Outcome(robot, family, index, valid=False, reason="start or goal in collision")
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), time.process_time()
     problem = scene_to_problem(scene.model)
     solution = solve_trajectory(problem)
     timed = retime(problem, solution, problem.fps)
-    solve_s = time.perf_counter() - started
+    solve_s, solve_cpu_s = time.perf_counter() - started, time.process_time() - cpu
     goal = timed.goals[0]
     traj = timed.trajectory
     clear, own = split_clearances(problem, traj.phi)
@@ -146,6 +149,7 @@ def solve_problem(robot: str, family: str, index: int, files: dict[str, bytes], 
     steps = np.linalg.norm(np.diff(traj.phi, axis=0), axis=1)
     planning = goal.planning
     return Outcome(robot, family, index, valid=True, solved=goal.reached, reason=goal.reason or "", solve_s=solve_s,
+                   solve_cpu_s=solve_cpu_s,
                    path_rad=float(steps.sum()), duration_s=traj.frames / traj.fps, under_clearance=under,
                    under_self_clearance=under_self, goal_error_deg=error,
                    source=planning.path if planning else "", checks=planning.checks if planning else 0)
@@ -168,11 +172,13 @@ def summary_rows(outcomes: list[Outcome]) -> list[list[str]]:
         valid = [o for o in group if o.valid]
         solved = [o for o in valid if o.solved]
         times = np.array([o.solve_s for o in valid])
+        cpu = np.array([o.solve_cpu_s for o in valid])
         paths = np.array([o.path_rad for o in solved])
         durations = np.array([o.duration_s for o in solved])
         rows.append([robot, family, f"{len(valid)}/{len(group)}", f"{len(solved)}/{len(valid)}",
                      f"{100 * len(solved) / max(len(valid), 1):.1f} %",
                      _ms(np.median(times)) if len(times) else "-", _ms(np.percentile(times, 95)) if len(times) else "-",
+                     _ms(np.median(cpu)) if len(cpu) else "-", _ms(np.percentile(cpu, 95)) if len(cpu) else "-",
                      f"{np.median(paths):.2f}" if len(paths) else "-",
                      f"{np.median(paths) / VAMP_PATH[robot]:.2f}x" if len(paths) and robot in VAMP_PATH else "-",
                      f"{np.median(durations):.2f}" if len(durations) else "-",
@@ -184,7 +190,7 @@ def _ms(seconds: float) -> str:
     return f"{1e3 * seconds:.0f} ms"
 
 
-HEADER = ["robot", "family", "valid", "solved", "solved %", "median solve", "p95 solve", "median path rad",
+HEADER = ["robot", "family", "valid", "solved", "solved %", "median solve", "p95 solve", "median CPU", "p95 CPU", "median path rad",
           "vs VAMP", "median motion s", "frames < clearance", "frames < self_clearance"]
 
 
@@ -259,6 +265,8 @@ def main(argv: list[str] | None = None) -> int:
             writer.writeheader()
             writer.writerows(asdict(o) for o in outcomes)
     print_table(summary_rows(outcomes))
+    print(f"load average at the end: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores (solve: wall time; CPU: this process's, "
+          "which other processes on a busy machine inflate less)")
     for robot, seconds in batches.items():
         print(f"{robot}: {args.batch} problems in one `armanim run --no-video --jobs 1`: {seconds:.3f} s a problem, writing included")
     failures = [o for o in outcomes if o.valid and not o.solved]

@@ -1,6 +1,7 @@
 """The planner's compiled checks (motion/planning/check.py) against their numpy references:
 poses' margins against split_clearances to rounding, and a motion's certificate against
-motion_is_free (the same answer and the same poses checked), on the bundled robots and an arm
+motion_is_free (the same answer; fewer poses, by tighter bounds, whose soundness is checked by forward
+kinematics), on the bundled robots and an arm
 of links among random spheres, boxes, capsules and a floor, from a fixed grid of seeds."""
 
 from __future__ import annotations
@@ -8,11 +9,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armanim.motion.planning.check import CompiledCheck
+from armanim.arm.capsules import capsule_ends, capsule_lever_rows
+from armanim.arm.kinematics import forward
+from armanim.motion.planning.check import CompiledCheck, pair_lever_rows
 from armanim.motion.planning.path import motion_is_free
 from armanim.motion.solvers.barrier import split_clearances, within_limits
 from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
+from armanim.world.selfdistances import self_gaps
 
 ARMS = {
     "panda": ({"robot": "panda"}, 0.5),
@@ -132,3 +136,29 @@ def test_a_pose_on_a_limit_is_free_only_with_closed_limits():
     assert within_limits(problem, pose[None], closed=True)[0] and not within_limits(problem, pose[None])[0]
     assert CompiledCheck.of(problem, closed=True).pose_free(pose, floor) == bool(split_clearances(problem, pose[None])[0][0] >= floor)
     assert not CompiledCheck.of(problem).pose_free(pose, floor)
+
+
+@pytest.mark.parametrize("arm", sorted(ARMS))
+def test_lever_rows_bound_how_far_points_and_gaps_move(arm):
+    """Along a straight joint-space step dPhi, no point of capsule i moves more than
+    rows[i] . |dPhi| (the chord of its path, by forward kinematics), and no enabled pair's
+    gap changes more than its pair row . |dPhi| (by the numpy pair gaps): the bounds the
+    certificate's groups use; and each row is at most the arm's lever arms."""
+    problem, rng = random_problem(arm, 11)
+    caps = problem.capsules
+    rows = capsule_lever_rows(problem.arm, caps)
+    assert np.all(rows <= problem.lever_arms + 1e-12)
+    pair_rows = pair_lever_rows(caps.link, problem.self_pairs.first, problem.self_pairs.second, rows)
+    assert np.all(pair_rows <= problem.pair_lever_rows + 1e-12)
+    tight = 0
+    for a in random_poses(problem, rng, 40):
+        step = rng.normal(size=problem.arm.n) * rng.choice([1e-3, 0.05, 0.5])
+        a_ends, b_ends = (capsule_ends(caps, forward(problem.arm, phi)) for phi in (a, a + step))
+        moved = np.maximum(np.linalg.norm(b_ends[0] - a_ends[0], axis=-1), np.linalg.norm(b_ends[1] - a_ends[1], axis=-1))
+        bound = rows @ np.abs(step)
+        assert np.all(moved <= bound + 1e-12)
+        tight += np.any(moved > 0.5 * bound)
+        if len(problem.self_pairs):
+            gaps = [self_gaps(forward(problem.arm, phi), caps, problem.self_pairs).d for phi in (a, a + step)]
+            assert np.all(np.abs(gaps[1] - gaps[0]) <= pair_rows @ np.abs(step) + 1e-12)
+    assert tight  # the bound is not vacuous: some capsule moves at least half of it

@@ -291,7 +291,7 @@ def test_a_tiny_video_batch_returns_video_and_plot(src, tmp_path):
     result = invoke("run", src / "b.yaml", src / "bad.yaml", "--jobs", 2, "--size", "64x48", "--fps", 10, "-q", "--out", tmp_path)
     assert result.exit_code == 2
     folder = tmp_path / "planar-nlink"
-    assert sorted(p.name for p in folder.iterdir()) == [".armanim-run.json", "animation.mp4", "plot.png", "poster.png", "scene.yaml", "self-collision.yaml", "summary.json", "trajectory.csv", "viewer.html"]
+    assert sorted(p.name for p in folder.iterdir()) == [".armanim-run.json", "animation.mp4", "plot.png", "poster.png", "scene.yaml", "self-collision.yaml", "summary.json", "timing.json", "trajectory.csv", "viewer.html"]
     reader = imageio_ffmpeg.read_frames(str(folder / "animation.mp4"))
     meta = next(reader)
     frames = sum(1 for _ in reader)

@@ -32,7 +32,7 @@ def _rows(folder: Path) -> int:
 @pytest.mark.slow
 def test_run_writes_video_plot_and_scene_copy(finished_run):
     names = {p.name for p in finished_run.iterdir()}
-    assert names == {".armanim-run.json", "scene.yaml", "self-collision.yaml", "trajectory.csv", "summary.json", "animation.mp4", "plot.png", "poster.png", "viewer.html"}
+    assert names == {".armanim-run.json", "scene.yaml", "self-collision.yaml", "trajectory.csv", "summary.json", "timing.json", "animation.mp4", "plot.png", "poster.png", "viewer.html"}
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(finished_run / "animation.mp4"))
     assert frames == _rows(finished_run)
     assert (finished_run / "scene.yaml").read_bytes() == (ROOT / "scenes" / "planar-nlink.yaml").read_bytes()

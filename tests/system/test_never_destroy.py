@@ -109,7 +109,7 @@ def test_a_user_file_added_to_a_run_folder_stops_the_next_run(cli, tmp_path):
     scene.write_text(SMALL)
     assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
     folder = tmp_path / "out" / "notes"
-    assert sorted(json.loads((folder / MARKER).read_text())["files"]) == ["scene.yaml", "self-collision.yaml", "summary.json", "trajectory.csv"]
+    assert sorted(json.loads((folder / MARKER).read_text())["files"]) == ["scene.yaml", "self-collision.yaml", "summary.json", "timing.json", "trajectory.csv"]
     (folder / "thesis.txt").write_text("mine")
     result = cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q")
     assert result.exit_code == 3 and "thesis.txt" in result.stderr, result.output

@@ -271,5 +271,42 @@ def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
     return np.where(arm.prismatic, 1.0, levers + after)
 
 
+def capsule_lever_rows(arm: Arm, capsules: Capsules) -> np.ndarray:
+    """(c, n) the most any point of each capsule moves per radian of joint j, for the joints that
+    move it (0 for the others, and for every joint on the base's capsules): a change dPhi moves
+    capsule i's points by at most |dPhi| . row i.
+
+    For the joints before its carrier, :func:`lever_arms`' bound for this one capsule (its chain
+    cut at its carrier): how far it can lie from the joint's origin. For its carrier, how far it
+    lies from that joint's axis, which its frame holds fixed (a sphere on a wrist's axis hardly
+    moves as the wrist turns).
+
+    >>> arm = Arm.from_names([2, 5])
+    >>> capsule_lever_rows(arm, joint_capsules(arm, 0.25)).tolist()
+    [[0.25, 0.0], [7.25, 5.25]]
+    """
+    head = np.concatenate([[0.0], np.cumsum(arm.links)])
+    link = capsules.link
+    carried = np.maximum(link, 0)
+    off = arm.offsets[carried]
+    start = np.minimum(_norm(capsules.start), _norm(capsules.start - off))
+    end = np.minimum(_norm(capsules.end), _norm(capsules.end - off))
+    pad = np.where(capsules.joint_segment, 0.0, np.maximum(start, end)) + capsules.radius
+    axis = arm.axes[carried]
+    around = np.maximum(_off_axis(capsules.start, axis), _off_axis(capsules.end, axis)) + capsules.radius
+    joint = np.arange(arm.n)
+    moved = (link[:, None] >= 0) & (joint[None, :] <= link[:, None])
+    rows = np.where(moved, head[carried + 1][:, None] - head[None, :-1] + pad[:, None], 0.0)
+    own = link >= 0
+    rows[own, link[own]] = around[own]
+    return rows
+
+
+def _off_axis(v: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """(c,) the distance of points ``v`` (c, 3) from the lines through the origin along the unit ``axis`` (c, 3)."""
+    along = (v * axis).sum(axis=-1, keepdims=True)
+    return _norm(v - along * axis)
+
+
 def _norm(v: np.ndarray) -> np.ndarray:
     return cast(np.ndarray, np.sqrt((v * v).sum(axis=-1)))

@@ -20,6 +20,7 @@ an exception. Progress toward a goal with an orientation is judged on one number
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import cast
@@ -140,7 +141,7 @@ def goal_errors(problem: Problem, state: ArmState, goal: Goal) -> tuple[float, f
 
 def solve_trajectory(
     problem: Problem, progress: Callable[[int, int], None] | None = None, planning: Searched | None = None,
-    along: Along | None = None,
+    along: Along | None = None, timer: Callable[[int, float], None] | None = None,
 ) -> Solution:
     """Run the frame loop over every goal.
 
@@ -158,6 +159,10 @@ def solve_trajectory(
         ``along(done, most)``: a path goal's progress in thousandths of its path while it is
         followed (:data:`armanim.motion.following.Along`), between two frames; each trial counts
         from 0 again.
+    timer : callable, optional
+        ``timer(k, seconds)``: the wall time goal ``k`` took (its IK, planning and frames), as
+        each goal is done (``run``'s timing.json; never in the solution, which reruns
+        reproduce byte for byte).
 
     Returns
     -------
@@ -177,7 +182,10 @@ def solve_trajectory(
             if progress:
                 progress(len(rec), len(rec) + goal_budget(problem, goal) - visit.frames + later)
 
+        started = time.perf_counter()
         state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning, along)
+        if timer:
+            timer(k, time.perf_counter() - started)
         reports.append(report)
         if progress:
             progress(len(rec), len(rec) + later)

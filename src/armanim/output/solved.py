@@ -11,11 +11,39 @@ it carries the scene's name and the identity of its file, which the pure core ne
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from armanim.arm.visuals import ArmMeshes
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
+
+
+@dataclass(frozen=True)
+class RunTiming:
+    """Wall times of one solve, seconds: never in summary.json or trajectory.csv, which reruns
+    reproduce byte for byte.
+
+    Attributes
+    ----------
+    convert_s : float
+        The validated scene to the motion problem (the robot's kinematics, capsules, pairs).
+    solve_s : float
+        The frame loop over every goal: IK, planning and frames.
+    clock_s : float
+        The solved path put on the clock (TOPP-RA, its probes and detours) at the output rate.
+    goals : tuple of float
+        Each goal's share of ``solve_s``, in the order of the scene's goals.
+    """
+
+    convert_s: float
+    solve_s: float
+    clock_s: float
+    goals: tuple[float, ...]
+
+    @property
+    def scene_to_trajectory_s(self) -> float:
+        """From the validated scene to the timed trajectory: ``convert_s + solve_s + clock_s``."""
+        return self.convert_s + self.solve_s + self.clock_s
 
 
 @dataclass(frozen=True)
@@ -40,6 +68,8 @@ class SolvedRun:
     meshes : ArmMeshes or None
         How the robot looks (its URDF's visual meshes, placed on the arm's frames), for the
         pictures; None: it is drawn as its capsules.
+    timing : RunTiming or None
+        How long the solve took (a fresh solve; None for a run read back), for timing.json.
     """
 
     name: str
@@ -49,6 +79,7 @@ class SolvedRun:
     sha256: str = ""
     rate_notes: tuple[str, ...] = ()
     meshes: ArmMeshes | None = None
+    timing: RunTiming | None = field(default=None, compare=False)
 
     @property
     def trajectory(self) -> Trajectory:

@@ -5,6 +5,7 @@ A silent, importable API: progress is a callback, nothing is printed here.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -19,8 +20,9 @@ from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.rundir import folder_lock, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
-from armanim.output.solved import SolvedRun
+from armanim.output.solved import RunTiming, SolvedRun
 from armanim.output.summary import run_summary, write_summary
+from armanim.output.timing import TIMING_FILE, write_timing
 from armanim.render.settings import OutputOptions, RenderOverrides, RenderSettings
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY, FinishedRun
 from armanim.runs.resample import resample_run, resampled_frames
@@ -49,7 +51,7 @@ class RunResult:
     folder : Path
         The run's output folder.
     files : dict[str, Path]
-        Written outputs by kind: ``scene``, ``robot`` (a copy of a user's URDF), ``trajectory``, ``summary``, ``viewer``, ``video``, ``plot``, ``poster``.
+        Written outputs by kind: ``scene``, ``robot`` (a copy of a user's URDF), ``trajectory``, ``summary``, ``timing``, ``viewer``, ``video``, ``plot``, ``poster``.
     summary : dict
     notes : tuple of str
         What the pictures could not show as asked (a robot mesh that could not be read).
@@ -135,6 +137,7 @@ def produce_outputs(
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
     run = solve_scene(scene, output_fps(scene, render_overrides), progress)
+    solved = time.perf_counter()
     options = OutputOptions(settings_of(scene, render_overrides), video=video, viewer=video if viewer is None else viewer,
                             jobs=jobs)
     notes: tuple[str, ...] = ()
@@ -157,6 +160,9 @@ def produce_outputs(
     if options.video:
         rendered = render_outputs(run, options, folder, progress=progress)
         names.update({kind: path.name for kind, path in rendered.items()})
+    if run.timing is not None:
+        write_timing(run.timing, time.perf_counter() - solved, folder / TIMING_FILE)
+        names["timing"] = TIMING_FILE
     return Produced(run, run_summary(run), names, notes)
 
 
@@ -186,7 +192,9 @@ def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None
     UsageError
         The run would make more than the total frame limit at ``fps`` (exit 2).
     """
+    started = time.perf_counter()
     solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
+    convert_s = time.perf_counter() - started
     frames = frame_budget(solved) * fps / solved.fps
     if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
         if fps == solved.fps:  # validate refuses such a scene (scene/checks.py): a safety net
@@ -196,7 +204,12 @@ def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None
             f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
             f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
         )
-    return solved_run(scene, solved, timed_solution(scene, solved, fps, progress), fps)
+    goals: list[float] = []
+    started = time.perf_counter()
+    solution = timed_solution(scene, solved, fps, progress, timer=lambda _, seconds: goals.append(seconds))
+    solve_s = sum(goals)
+    timing = RunTiming(convert_s, solve_s, time.perf_counter() - started - solve_s, tuple(goals))
+    return replace(solved_run(scene, solved, solution, fps), timing=timing)
 
 
 def write_sources(scene: LoadedScene, folder: Path) -> dict[str, str]:
@@ -224,8 +237,10 @@ def solved_run(scene: LoadedScene, problem: Problem, solution: Solution, fps: fl
                      rate_notes=tuple(rate_note_lines(scene.model)))
 
 
-def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: Progress | None = None) -> Solution:
-    """The scene's path solved at ``problem.fps`` and put on the clock at ``fps``.
+def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: Progress | None = None,
+                   timer: Callable[[int, float], None] | None = None) -> Solution:
+    """The scene's path solved at ``problem.fps`` and put on the clock at ``fps`` (``timer``:
+    :func:`~armanim.motion.trajectory.solve_trajectory`'s, told each goal's wall time).
 
     Raises
     ------
@@ -234,7 +249,7 @@ def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: P
     """
     solution = solve_trajectory(problem, (lambda done, total: progress("solve", done, total)) if progress else None,
                                 (lambda done, most: progress("plan", done, most)) if progress else None,
-                                (lambda done, most: progress("path", done, most)) if progress else None)
+                                (lambda done, most: progress("path", done, most)) if progress else None, timer)
     try:
         return retime(problem, solution, fps, most_frames=LIMITS["total_frames"])
     except ClockTooLong as exc:

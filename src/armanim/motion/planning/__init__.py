@@ -171,7 +171,7 @@ def joint_goal_search(problem: Problem, start: np.ndarray, goals: np.ndarray, fl
     its iterations."""
     most = problem.tunables.planner.plan_iterations
     tick = (lambda done: searched(done, most)) if searched is not None else None
-    found = search_path(problem, start, goals, floor, tick, check=check)
+    found = search_path(problem, start, goals, floor, tick, check=check, thorough=False)
     if searched is not None and found[1] != "straight":
         searched(most, most)
     return found

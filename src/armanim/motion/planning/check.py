@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.arm.capsules import Capsules
+from armanim.arm.capsules import Capsules, capsule_lever_rows
 from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
@@ -83,15 +83,14 @@ def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members:
     into ``reach`` (G,)."""
     start, caps = members
     for g in range(start.shape[0] - 1):
-        lo = np.full(3, np.inf)
-        hi = np.full(3, -np.inf)
+        lo0 = lo1 = lo2 = np.inf  # scalars, not arrays: this runs for every group of every pose
+        hi0 = hi1 = hi2 = -np.inf
         for m in range(start[g], start[g + 1]):
             c = caps[m]
-            for i in range(3):
-                lo[i] = min(lo[i], a[c, i], b[c, i])
-                hi[i] = max(hi[i], a[c, i], b[c, i])
-        for i in range(3):
-            center[g, i] = 0.5 * (lo[i] + hi[i])
+            lo0, hi0 = min(lo0, a[c, 0], b[c, 0]), max(hi0, a[c, 0], b[c, 0])
+            lo1, hi1 = min(lo1, a[c, 1], b[c, 1]), max(hi1, a[c, 1], b[c, 1])
+            lo2, hi2 = min(lo2, a[c, 2], b[c, 2]), max(hi2, a[c, 2], b[c, 2])
+        center[g, 0], center[g, 1], center[g, 2] = 0.5 * (lo0 + hi0), 0.5 * (lo1 + hi1), 0.5 * (lo2 + hi2)
         far = 0.0
         for m in range(start[g], start[g + 1]):
             c = caps[m]
@@ -102,22 +101,20 @@ def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members:
 
 
 @compiled(**_JIT)
-def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, world: tuple[np.ndarray, ...],
-                    members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float) -> float:
+def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, world: tuple[np.ndarray, ...],
+                    members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float,
+                    s: np.ndarray, normal: np.ndarray, groups_least: np.ndarray) -> float:
     """The least clearance of any capsule to any obstacle or the floor, measured exactly where a
     group's bounding sphere comes within ``far`` of the obstacle, else that sphere's lower bound
-    (so the result is exact when below ``far``, and at most the exact least otherwise)."""
+    (so the result is exact when below ``far``, and at most the exact least otherwise); each
+    group's own least into ``groups_least`` (G,). ``sphere`` (c,): which capsules are points;
+    ``s`` and ``normal``: the closed forms' scratch."""
     centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base = world[:7]
     floor = world[8]
     cyl_centers, cyl_rotations, cyl_half, cyl_radius = world[9], world[10], world[11], world[12]
     start, caps = members
-    least = np.inf
-    s = np.empty(max(SCRATCH, CYLINDER_SCRATCH))
-    normal = np.empty(3)
-    sphere = np.empty(a.shape[0], dtype=np.bool_)
-    for c in range(a.shape[0]):
-        sphere[c] = a[c, 0] == b[c, 0] and a[c, 1] == b[c, 1] and a[c, 2] == b[c, 2]
     for g in range(start.shape[0] - 1):
+        least = np.inf
         for k in range(radii.shape[0]):
             bound = math.sqrt((center[g, 0] - centers[k, 0]) ** 2 + (center[g, 1] - centers[k, 1]) ** 2
                               + (center[g, 2] - centers[k, 2]) ** 2) - radii[k] - reach[g]
@@ -159,12 +156,18 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, world: tup
                 d = d - radius[c]
                 if d < least or d != d:
                     least = d
-    if floor.shape[0]:
-        for c in range(a.shape[0]):
-            if not on_base[c]:
-                d = min(a[c, 2], b[c, 2]) - floor[0] - radius[c]
-                if d < least or d != d:
-                    least = d
+        if floor.shape[0]:
+            for m in range(start[g], start[g + 1]):
+                c = caps[m]
+                if not on_base[c]:
+                    d = min(a[c, 2], b[c, 2]) - floor[0] - radius[c]
+                    if d < least or d != d:
+                        least = d
+        groups_least[g] = least
+    least = np.inf
+    for g in range(start.shape[0] - 1):
+        if groups_least[g] < least or groups_least[g] != groups_least[g]:
+            least = groups_least[g]
     return least
 
 
@@ -172,10 +175,10 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, world: tup
 def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
              world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
              pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-             phi: np.ndarray, clear: np.ndarray, own: np.ndarray) -> None:
+             phi: np.ndarray, clear: np.ndarray, own: np.ndarray, clear_groups: np.ndarray) -> None:
     """For poses ``phi`` (k, n): the least clearance of any capsule to any obstacle or the floor
-    into ``clear`` (k,) (+inf without any), and every enabled pair's gap plus ``shift`` into
-    ``own`` (k, P); each exact where it is below ``far``, else a lower bound of at least ``far``
+    into ``clear`` (k,) (+inf without any), each group's into ``clear_groups`` (k, G), and every
+    enabled pair's gap plus ``shift`` into ``own`` (k, P); each exact where it is below ``far``, else a lower bound of at least ``far``
     (a pair of groups, or a group and an obstacle, whose bounding spheres are ``far`` apart is not
     measured capsule by capsule). ``groups``: the capsules by the joint that carries them (CSR
     start and indices), and the enabled pairs by their two groups (the groups' indices, and CSR
@@ -204,13 +207,15 @@ def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndar
     gap_normal = np.empty((count, 3))
     joint_segment = caps[:, 7] > 0.5
     sphere = np.empty(c, dtype=np.bool_)
+    s = np.empty(max(SCRATCH, CYLINDER_SCRATCH))
+    normal = np.empty(3)
     for i in range(k):
         _forward_one(rows, root, phi[i], points, frames, axes, tool)
         _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], joint_segment, a, b)
         _bounding_spheres(a, b, radius, (start, members), center, reach)
         for u in range(c):
             sphere[u] = a[u, 0] == b[u, 0] and a[u, 1] == b[u, 1] and a[u, 2] == b[u, 2]
-        clear[i] = _obstacle_least(a, b, radius, world, (start, members), center, reach, far)
+        clear[i] = _obstacle_least(a, b, radius, sphere, world, (start, members), center, reach, far, s, normal, clear_groups[i])
         near = 0
         for lp in range(group_a.shape[0]):
             ga, gb = group_a[lp], group_b[lp]
@@ -238,8 +243,22 @@ def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndar
 
 
 @compiled(**_JIT)
+def _group_least(own: np.ndarray, pair_start: np.ndarray, pair_members: np.ndarray) -> np.ndarray:
+    """(k, L) the least shifted gap of each pose's pairs in each pair of groups (``own`` (k, P);
+    the groups' pairs as CSR start (L+1,) and pair indices (P,)); NaN wins, as in ``_least``."""
+    out = np.full((own.shape[0], pair_start.shape[0] - 1), np.inf)
+    for i in range(own.shape[0]):
+        for lp in range(pair_start.shape[0] - 1):
+            for m in range(pair_start[lp], pair_start[lp + 1]):
+                g = own[i, pair_members[m]]
+                if g < out[i, lp] or g != g:
+                    out[i, lp] = g
+    return out
+
+
+@compiled(**_JIT)
 def _least(clear: np.ndarray, own: np.ndarray) -> np.ndarray:
-    """(k,) the least of each pose's obstacle clearance and shifted pair gaps."""
+    """(k,) the least of each pose's obstacle clearance and shifted gaps (``own`` (k, any))."""
     out = clear.copy()
     for i in range(own.shape[0]):
         for p in range(own.shape[1]):
@@ -258,20 +277,57 @@ def _inside(phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, buffer: float
 
 
 @compiled(**_JIT)
+def _certified(lo: np.ndarray, hi: np.ndarray, c_lo: np.ndarray, c_hi: np.ndarray, levers: np.ndarray, floor: float) -> bool:
+    """Whether every group's clearance (or every pair of groups' gap) at the ends of the piece
+    lo-hi (n,), ``c_lo`` and ``c_hi`` (G,), is more than the most it can change on the way
+    (``levers`` (n, G): its points' lever arms): c_lo + c_hi >= travel + 2 floor."""
+    for g in range(c_lo.shape[0]):
+        reach = 0.0
+        for j in range(lo.shape[0]):
+            reach += abs(hi[j] - lo[j]) * levers[j, g]
+        if not c_lo[g] + c_hi[g] >= reach + 2 * floor:
+            return False
+    return True
+
+
+@compiled(**_JIT)
+def _measured(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
+              world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+              pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
+              poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(k,) the least margin of poses (k, n), and (k, G) each group's clearance and (k, L) each
+    pair of groups' least shifted gap (:func:`_margins`)."""
+    k = poses.shape[0]
+    clear = np.empty(k)
+    own = np.empty((k, pairs[0].shape[0]))
+    clear_groups = np.empty((k, groups[0].shape[0] - 1))
+    _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses, clear, own, clear_groups)
+    gaps = _group_least(own, groups[4], groups[5])
+    return _least(clear, gaps), clear_groups, gaps
+
+
+@compiled(**_JIT)
 def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
                  world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
                  pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-                 limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], settings: np.ndarray,
+                 limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray], settings: np.ndarray,
                  a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
     """:func:`armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled.
 
-    ``limits``: (lower, upper, levers (n,), pair levers (n, P)); ``settings``: (d_safe, the coarse
-    samples' spacing, certify_to, max_halvings, max_samples, buffer). Returns (free, poses checked)."""
-    lower, upper, levers, pair_levers = limits
+    ``limits``: (lower, upper, levers (n,), each group's lever arms (n, G), each pair of groups'
+    (n, L)); ``settings``: (d_safe, the coarse samples' spacing, certify_to, max_halvings,
+    max_samples, buffer). Returns (free, poses checked).
+
+    A piece is certified group by group: each group's clearance at both ends against the most its
+    own points move (the numpy check takes the least clearance of all against the farthest any
+    point moves), and each pair of groups' least gap against the most the joints between them
+    change it (every pair of two groups has those lever arms). Each bound is one the numpy
+    check's implies, or tighter: the same answers, with fewer poses measured where the part
+    near an obstacle moves less than the arm's farthest point."""
+    lower, upper, levers, obstacle_levers, pair_levers = limits
     d_safe, spacing, certify_to = settings[0], settings[1], settings[2]
     max_halvings, max_samples, buffer = int(settings[3]), settings[4], settings[5]
     n = a.shape[0]
-    count_pairs = pairs[0].shape[0]
     travel = 0.0
     for j in range(n):
         travel += abs(b[j] - a[j]) * levers[j]
@@ -284,11 +340,8 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     for i in range(samples):
         for j in range(n):
             poses[i, j] = a[j] + u[i] * (b[j] - a[j])
-    clear = np.empty(samples)
-    own = np.empty((samples, count_pairs))
-    _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses, clear, own)
+    least, clear, gaps = _measured(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses)
     checks = samples
-    least = _least(clear, own)
     for i in range(samples):
         if not least[i] >= floor:
             return False, checks
@@ -296,7 +349,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
         return False, checks
     lo, hi = poses[:-1].copy(), poses[1:].copy()
     c_lo, c_hi = clear[:-1].copy(), clear[1:].copy()
-    o_lo, o_hi = own[:-1].copy(), own[1:].copy()
+    o_lo, o_hi = gaps[:-1].copy(), gaps[1:].copy()
     for _ in range(max_halvings):
         pieces = lo.shape[0]
         if pieces == 0:
@@ -308,14 +361,8 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
                 travel += abs(hi[i, j] - lo[i, j]) * levers[j]
             if not travel > certify_to * d_safe:
                 continue
-            doubt = c_lo[i] + c_hi[i] < travel + 2 * floor
-            for p in range(count_pairs):
-                reach = 0.0
-                for j in range(n):
-                    reach += abs(hi[i, j] - lo[i, j]) * pair_levers[j, p]
-                if o_lo[i, p] + o_hi[i, p] < reach + 2 * floor:
-                    doubt = True
-            doubtful[i] = doubt
+            doubtful[i] = not (_certified(lo[i], hi[i], c_lo[i], c_hi[i], obstacle_levers, floor)
+                               and _certified(lo[i], hi[i], o_lo[i], o_hi[i], pair_levers, floor))
         kept = np.nonzero(doubtful)[0]
         left = kept.shape[0]
         if left == 0:
@@ -324,29 +371,30 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
         for r in range(left):
             for j in range(n):
                 mid[r, j] = 0.5 * (lo[kept[r], j] + hi[kept[r], j])
-        c_mid = np.empty(left)
-        o_mid = np.empty((left, count_pairs))
-        _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, mid, c_mid, o_mid)
+        least, c_mid, o_mid = _measured(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, mid)
         checks += left
-        least = _least(c_mid, o_mid)
         for r in range(left):
             if not least[r] >= floor:
                 return False, checks
-        new_lo = np.empty((2 * left, n))
-        new_hi = np.empty((2 * left, n))
-        new_c_lo = np.empty(2 * left)
-        new_c_hi = np.empty(2 * left)
-        new_o_lo = np.empty((2 * left, count_pairs))
-        new_o_hi = np.empty((2 * left, count_pairs))
-        for r in range(left):
-            i = kept[r]
-            new_lo[r], new_hi[r], new_lo[left + r], new_hi[left + r] = lo[i], mid[r], mid[r], hi[i]
-            new_c_lo[r], new_c_hi[r], new_c_lo[left + r], new_c_hi[left + r] = c_lo[i], c_mid[r], c_mid[r], c_hi[i]
-            new_o_lo[r], new_o_hi[r], new_o_lo[left + r], new_o_hi[left + r] = o_lo[i], o_mid[r], o_mid[r], o_hi[i]
-        lo, hi, c_lo, c_hi, o_lo, o_hi = new_lo, new_hi, new_c_lo, new_c_hi, new_o_lo, new_o_hi
+        lo, hi = _halves(lo, hi, mid, kept)
+        c_lo, c_hi = _halves(c_lo, c_hi, c_mid, kept)
+        o_lo, o_hi = _halves(o_lo, o_hi, o_mid, kept)
         if 2 * left > max_samples:
             return False, checks
     return lo.shape[0] == 0, checks
+
+
+@compiled(**_JIT)
+def _halves(lo: np.ndarray, hi: np.ndarray, mid: np.ndarray, kept: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rows of two halves of the ``kept`` pieces lo-hi (pieces, m) split at ``mid`` (left, m):
+    first every kept piece's lower half, then every upper half."""
+    left = kept.shape[0]
+    new_lo = np.empty((2 * left, lo.shape[1]))
+    new_hi = np.empty((2 * left, lo.shape[1]))
+    for r in range(left):
+        i = kept[r]
+        new_lo[r], new_hi[r], new_lo[left + r], new_hi[left + r] = lo[i], mid[r], mid[r], hi[i]
+    return new_lo, new_hi
 
 
 def _link_of(caps: Capsules) -> np.ndarray:
@@ -378,6 +426,35 @@ def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
         start, members, keys // max(len(carriers), 1), keys % max(len(carriers), 1), pair_start, pair_members))
 
 
+def pair_lever_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """(P, n) the most each pair's gap changes per radian of joint j: the joints between the two
+    capsules' carriers (``link`` (c,)) move the later one's points against the earlier one's
+    frame, at most its ``rows`` (c, n) (:func:`~armanim.arm.capsules.capsule_lever_rows`); the
+    others move both alike.
+
+    >>> pair_lever_rows(np.array([-1, 0, 1]), np.array([0, 1]), np.array([2, 2]), np.array([[0.0, 0], [1, 0], [3, 2]])).tolist()
+    [[3.0, 2.0], [0.0, 2.0]]
+    """
+    lo, hi = np.minimum(link[first], link[second]), np.maximum(link[first], link[second])
+    later = np.where(link[first] >= link[second], first, second)
+    joint = np.arange(rows.shape[1])
+    return np.where((joint > lo[:, None]) & (joint <= hi[:, None]), rows[later], 0.0)
+
+
+def group_levers(rows: np.ndarray, start: np.ndarray, members: np.ndarray) -> np.ndarray:
+    """(n, G) the lever arms of each group of ``rows`` (m, n) (CSR ``start`` (G+1,) and row
+    indices ``members``): the most of its members', joint by joint. For the pairs of groups
+    (:func:`carrier_groups`) the members' rows are the same (the joints between the two groups).
+
+    >>> rows = np.array([[0.0, 1.0], [0.0, 2.0], [3.0, 0.0]])
+    >>> group_levers(rows, np.array([0, 2, 3]), np.array([0, 1, 2])).tolist()
+    [[0.0, 3.0], [2.0, 0.0]]
+    """
+    if not len(members):
+        return np.zeros((rows.shape[1], len(start) - 1))
+    return np.ascontiguousarray(np.maximum.reduceat(rows[members], start[:-1], axis=0).T, dtype=float)
+
+
 @dataclass(frozen=True)
 class CompiledCheck:
     """One problem's arrays as the compiled checks read them, packed once per plan.
@@ -396,7 +473,7 @@ class CompiledCheck:
     pairs: tuple[np.ndarray, np.ndarray, np.ndarray]
     shift: float
     far: float
-    limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     settings: np.ndarray
 
     @classmethod
@@ -404,22 +481,24 @@ class CompiledCheck:
         """The checks of ``problem``; ``exact``: every clearance and gap measured (no ``far``)."""
         caps, pairs, opts = problem.capsules, problem.self_pairs, problem.tunables.planner
         packed = caps.packed()
-        n = problem.arm.n
         spacing = coarse_spacing(problem)
         first = np.ascontiguousarray(pairs.first, dtype=np.int64)
         second = np.ascontiguousarray(pairs.second, dtype=np.int64)
+        groups = carrier_groups(_link_of(caps), first, second)
+        rows = capsule_lever_rows(problem.arm, caps)
         return cls(
             chain=packed_chain(problem.arm),
             body=(np.ascontiguousarray(packed), np.ascontiguousarray(caps.link, dtype=np.int64),
                   np.ascontiguousarray(caps.part_radius, dtype=float)),
             world=_world(problem),
-            groups=carrier_groups(_link_of(caps), first, second),
+            groups=groups,
             pairs=(first, second, np.ascontiguousarray(pairs.radii(caps), dtype=float)),
             shift=self_shift(problem) if len(pairs) else 0.0,
             far=np.inf if exact else max(opts.exact_within * problem.arm.reach, 4 * problem.solver.clearance),
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
-                    np.ascontiguousarray(problem.pair_lever_rows.reshape(len(pairs), n).T, dtype=float)),
+                    group_levers(rows, groups[0], groups[1]),
+                    group_levers(pair_lever_rows(caps.link, first, second, rows), groups[4], groups[5])),
             settings=np.array([problem.solver.clearance, spacing, opts.certify_to, opts.max_halvings, opts.max_samples,
                                0.0 if closed else limit_buffer(problem)]),
         )
@@ -430,7 +509,8 @@ class CompiledCheck:
         phi = np.ascontiguousarray(np.atleast_2d(phi), dtype=float)
         clear = np.empty(len(phi))
         own = np.empty((len(phi), len(self.pairs[0])))
-        _margins(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, phi, clear, own)
+        groups = np.empty((len(phi), len(self.groups[0]) - 1))
+        _margins(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, phi, clear, own, groups)
         return clear, own
 
     def pose_clearances(self, phi: np.ndarray) -> np.ndarray:

@@ -198,16 +198,20 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
         assert searched is not None  # tick is handed on only with searched
         searched(done, most)
 
-    path = _path_at_two_floors(problem, start, goals, tick if searched else None)
+    from armanim.motion.planning.check import CompiledCheck  # numba: imported where a plan starts
+
+    path = _path_at_two_floors(problem, start, goals, tick if searched else None, CompiledCheck.of(problem))
     if ticked and searched is not None:  # ticked: searched was given
         searched(most, most)
     return path
 
 
-def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, tick: Callable[[int], None] | None) -> JointPath:
+def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, tick: Callable[[int], None] | None,
+                        check: CompiledCheck) -> JointPath:
     """:func:`plan_path`'s search: with room to settle first (``settle_searches`` searches), then
     at the planning floor (``ompl_searches``); ``tick(done)`` counts the iterations of both, the
-    second's after the first's whole budget."""
+    second's after the first's whole budget; every pose and motion judged by ``check`` (the
+    compiled checks, the filter's buffer inside the limits)."""
     room = settle_clearance(problem)
     roomy = goals[pose_clearance(problem, goals) >= room]
     begin: np.ndarray | None = start
@@ -215,26 +219,29 @@ def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, 
     if len(roomy) and pose_clearance(problem, start)[0] < room:
         begin, checks = escape_pose(problem, start, room)
     if len(roomy) and begin is not None:
-        waypoints, source, used = search_path(problem, begin, roomy, room, tick, searches=problem.tunables.planner.settle_searches)
+        waypoints, source, used = search_path(problem, begin, roomy, room, tick, searches=problem.tunables.planner.settle_searches,
+                                              check=check)
         checks += used
         if waypoints is not None:
             head = [start] if begin is not start else []
             return JointPath(np.concatenate([np.array(head).reshape(-1, len(start)), waypoints]), source, checks)
     waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start), tick,
-                                          first=problem.tunables.planner.settle_searches)
+                                          first=problem.tunables.planner.settle_searches, check=check)
     return JointPath(waypoints, source, checks + used)
 
 
 def search_path(
     problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
     tick: Callable[[int], None] | None = None, first: int = 0, searches: int | None = None, check: CompiledCheck | None = None,
+    thorough: bool = True,
 ) -> tuple[np.ndarray | None, PathSource, int]:
     """(waypoints or None, source, checks): the straight segment to one of the first goals,
     else RRT-Connect to any of them (``searches`` searches, default ``ompl_searches``), every
     pose at least ``floor`` from every obstacle. ``tick(done)`` is told the iterations, counted
     as though ``first`` searches had run before. ``check``: the compiled checks to judge poses
     and motions by (:class:`~armanim.motion.planning.check.CompiledCheck`, whose ``closed``
-    limits a joint goal's path keeps), else the numpy ones with the filter's buffer."""
+    limits a joint goal's path keeps), else the numpy ones with the filter's buffer; ``thorough``:
+    how the path is simplified (:func:`simplify`)."""
     checks, opts = 0, problem.tunables.planner
     for goal in goals[:opts.straight_tries]:
         free, used = check.motion_free(start, goal, floor) if check is not None else motion_is_free(problem, start, goal, floor)
@@ -244,7 +251,7 @@ def search_path(
     for search in range(opts.ompl_searches if searches is None else searches):
         before = (first + search) * opts.ompl_iterations
         counted = (lambda done, before=before: tick(before + done)) if tick else None
-        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted, check)
+        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted, check, thorough)
         _collect_before_exit()
         checks += used
         if waypoints is not None:
@@ -293,10 +300,12 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
 
 def rrt_connect(
     problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, search: int = 0,
-    tick: Callable[[int], None] | None = None, check: CompiledCheck | None = None,
+    tick: Callable[[int], None] | None = None, check: CompiledCheck | None = None, thorough: bool = True,
 ) -> tuple[np.ndarray | None, int]:
-    """OMPL's RRT-Connect from ``start`` to any of ``goals``, simplified; (path or None, checks).
-    Every pose of the path keeps ``floor`` from every obstacle.
+    """OMPL's RRT-Connect from ``start`` to any of ``goals``, simplified (``thorough``: see
+    :func:`simplify`); (path or None, checks). Every pose of the path keeps ``floor`` from every
+    obstacle, by ``check`` where given (:class:`~armanim.motion.planning.check.CompiledCheck`),
+    else the numpy checks.
 
     ``search`` picks the random numbers: each value gives another, always the same, search.
     ``tick(iterations)`` is called as the search starts and every ``tick_iterations`` (the
@@ -326,7 +335,7 @@ def rrt_connect(
     if not pdef.hasExactSolution():
         return None, checks[0]
     path = pdef.getSolutionPath()
-    simplify(og.PathSimplifier(si), path, thorough=check is None)
+    simplify(og.PathSimplifier(si), path, thorough)
     waypoints = np.array([_array(path.getState(k), n) for k in range(path.getStateCount())])
     return waypoints, checks[0]
 
