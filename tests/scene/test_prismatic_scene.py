@@ -166,3 +166,37 @@ def test_the_lever_arms_bound_how_far_a_rail_moves_any_capsule(rail_problem):
             moved = max(np.linalg.norm(a1 - a0, axis=1).max(), np.linalg.norm(b1 - b0, axis=1).max())
             assert moved <= np.abs(s * step) @ problem.lever_arms + 1e-12
     assert problem.lever_arms[0] == 1.0  # a metre of rail moves every point a metre
+
+
+def test_the_planners_lever_rows_bound_how_far_a_rail_moves_each_capsule(rail_problem):
+    """capsule_lever_rows (the planner's certificate): each capsule moves at most |dPhi| . its row."""
+    from armanim.arm.capsules import capsule_ends, capsule_lever_rows
+    from armanim.arm.kinematics import forward
+
+    problem = rail_problem
+    rows = capsule_lever_rows(problem.arm, problem.capsules)
+    moving = problem.capsules.link >= 0
+    assert np.all(rows[moving, 0] == 1.0) and np.all(rows[~moving] == 0.0)  # the rail moves every capsule it carries a metre a metre
+    rng = np.random.default_rng(54)
+    for _ in range(20):
+        phi = rng.uniform(np.maximum(problem.limits.lower, -3), np.minimum(problem.limits.upper, 3))
+        step = rng.normal(0, 0.05, problem.arm.n)
+        a0, b0 = capsule_ends(problem.capsules, forward(problem.arm, phi))
+        for s in np.linspace(0, 1, 5)[1:]:
+            a1, b1 = capsule_ends(problem.capsules, forward(problem.arm, phi + s * step))
+            moved = np.maximum(np.linalg.norm(a1 - a0, axis=1), np.linalg.norm(b1 - b0, axis=1))
+            assert np.all(moved <= np.abs(s * step) @ rows.T + 1e-12)
+
+
+def test_a_link_before_a_slide_ends_where_the_slide_starts(tmp_path):
+    """A joint-to-joint capsule whose next joint is prismatic is the fixed link, in its own frame: its
+    end stays put as the next joint slides (and the slide's Jacobian column leaves it)."""
+    from armanim.arm.capsules import capsule_ends, frame_capsules
+    from armanim.arm.kinematics import Arm, forward
+
+    arm = Arm(base=np.zeros(3), axes=np.array([[0, 0, 1.0], [1.0, 0, 0]]), offsets=np.array([[0, 0, 0.5], [0.2, 0, 0]]),
+              prismatic=np.array([False, True]))
+    caps = frame_capsules(arm, [0, 1], np.zeros((2, 3)), arm.offsets, [0.05, 0.05])
+    assert caps.joint_segment.tolist() == [False, True]
+    a, b = capsule_ends(caps, forward(arm, np.array([0.0, 0.3])))
+    np.testing.assert_allclose(b[0], [0, 0, 0.5]) and np.testing.assert_allclose(a[1], [0.3, 0, 0.5])
