@@ -15,9 +15,13 @@ The sources, each with its licence beside the URDF already bundled from it (LICE
 - iiwa: bulletphysics/bullet3 6c888f4abd7b46f572587360cc214985f02e5c6b, ``data/kuka_iiwa/meshes/*.obj``
   (the BSD-style licence of Robert Krug and Todor Stoyanov).
 
+- UR5 on a rail (``ur5_rail``): the UR5's ``visual.npz`` and the rail's and carriage's boxes of
+  its own URDF (no mesh of its own: ``--rail`` writes it alone, from the committed UR5 file).
+
 Usage::
 
     python tools/bundle_meshes.py --erd PATH/TO/example-robot-data --bullet PATH/TO/bullet3/data [--triangles 12000]
+    python tools/bundle_meshes.py --rail
 
 where ``--erd`` holds ``robots/...`` and ``--bullet`` holds ``kuka_iiwa/...``.
 """
@@ -60,16 +64,44 @@ def bundle(name: str, package_dirs: list[Path], urdf_dir: Path, triangles: int) 
     return out.getvalue()
 
 
+def bundle_rail() -> bytes:
+    """``ur5_rail``'s ``visual.npz`` bytes: the UR5's committed meshes, then its URDF's boxes (rail, carriage)."""
+    urdf = ROBOTS / "ur5_rail" / "ur5_rail.urdf"
+    boxes = [spec for spec in visual_specs(urdf.read_bytes(), str(urdf)) if spec.kind == "box"]
+    warnings: list[str] = []
+    meshes = link_meshes(boxes, urdf.parent, [], warnings.append, None)
+    if warnings:
+        raise SystemExit("ur5_rail: " + "; ".join(warnings))
+    with np.load(ROBOTS / "ur5" / "visual.npz") as ur5:
+        arrays = {}
+        for m in meshes:
+            arrays[f"{m.link}/vertices"] = m.vertices.astype(np.float32)
+            arrays[f"{m.link}/faces"] = m.faces.astype(np.uint16)
+            arrays[f"{m.link}/colors"] = np.round(m.colors * 255).astype(np.uint8)
+        arrays.update({key: ur5[key] for key in ur5.files})
+    out = io.BytesIO()
+    np.savez_compressed(out, **arrays)
+    print(f"ur5_rail: the UR5's meshes and {len(meshes)} boxes, {len(out.getvalue()) / 1024:.0f} KB")
+    return out.getvalue()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--erd", type=Path, required=True, help="a checkout of Gepetto/example-robot-data")
-    parser.add_argument("--bullet", type=Path, required=True, help="bullet3's data folder (holds kuka_iiwa/)")
+    parser.add_argument("--rail", action="store_true", help="write ur5_rail's file alone, from the committed UR5 file")
+    parser.add_argument("--erd", type=Path, help="a checkout of Gepetto/example-robot-data")
+    parser.add_argument("--bullet", type=Path, help="bullet3's data folder (holds kuka_iiwa/)")
     parser.add_argument("--triangles", type=int, default=12_000, help="triangles per robot after simplifying")
     args = parser.parse_args()
+    if args.rail or args.erd is None or args.bullet is None:
+        if not args.rail:
+            parser.error("--erd and --bullet are needed (or --rail)")
+        (ROBOTS / "ur5_rail" / "visual.npz").write_bytes(bundle_rail())
+        return
     packages = [args.erd.parent] if args.erd.name == "example-robot-data" else [args.erd.parent, args.erd]
     sources = {"panda": (packages, args.erd), "ur5": (packages, args.erd), "iiwa": ([], args.bullet / "kuka_iiwa")}
     for name, (dirs, urdf_dir) in sources.items():
         (ROBOTS / name / "visual.npz").write_bytes(bundle(name, dirs, urdf_dir, args.triangles))
+    (ROBOTS / "ur5_rail" / "visual.npz").write_bytes(bundle_rail())
 
 
 if __name__ == "__main__":

@@ -14,8 +14,7 @@ import argparse
 import sys
 from pathlib import Path
 
-import numpy as np
-
+from armanim.arm.kinematics import joints_shown
 from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
 from armanim.scene.robots import ROBOTS, SELF_COLLISION_FILE
@@ -42,7 +41,7 @@ def matrix_text(robot: str) -> str:
         f"clearance: {CLEARANCE}",
         f"samples: {selfcollision.NEVER_SAMPLES}",
         f"seed: {selfcollision.NEVER_SEED}",
-        f"home_deg: [{', '.join(f'{v:g}' for v in np.degrees(problem.home).round(6))}]",
+        f"home_deg: [{', '.join(f'{v:g}' for v in joints_shown(problem.home, problem.arm.prismatic).round(6))}]",
         "allowed:",
     ]
     lines += [f"  - [{a}, {b}, {reason}]" for (a, b), reason in sorted(allowed.items(), key=lambda item: order[item[0]])]

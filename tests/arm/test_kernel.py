@@ -54,7 +54,7 @@ def assert_same_pose(arm, phi):
     np.testing.assert_allclose(got.frames, expected.frames, atol=TOL, rtol=0)
     np.testing.assert_allclose(got.axes, np.einsum("...jab,jb->...ja", expected.frames, arm.axes), atol=TOL, rtol=0)
     np.testing.assert_allclose(tool, tool_rotation(arm, expected), atol=TOL, rtol=0)
-    jac = kernel.geometric_jacobian(got)
+    jac = kernel.geometric_jacobian(got, arm)
     np.testing.assert_allclose(jac[..., :3, :], tip_jacobian(arm, expected), atol=TOL * max(1.0, arm.reach), rtol=0)
     np.testing.assert_allclose(jac[..., 3:, :], angular_jacobian(arm, expected), atol=TOL, rtol=0)
 
@@ -113,7 +113,7 @@ def test_compiled_tool_frame_and_jacobian_match_pinocchio(name):
     rng = np.random.default_rng(20261205)
     phi = rng.uniform(-np.pi, np.pi, (8, arm.n))
     batch, tools = kernel.forward_with_tool(arm, phi)
-    jacobians = kernel.geometric_jacobian(batch)
+    jacobians = kernel.geometric_jacobian(batch, arm)
     for k, angles in enumerate(phi):
         q = pin.neutral(model)
         for j, angle in zip(joints, angles):

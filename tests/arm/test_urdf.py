@@ -159,14 +159,16 @@ def test_broken_urdf_is_one_clear_message(raw, expected):
 
 def test_no_path_and_unsupported_joints_name_the_joint_and_line():
     raw = (b'<robot name="r">\n<link name="a"/><link name="b"/><link name="c"/>\n'
-           b'<joint name="p" type="prismatic"><parent link="a"/><child link="b"/><limit lower="0" upper="1"/></joint>\n'
+           b'<joint name="p" type="planar"><parent link="a"/><child link="b"/><limit lower="0" upper="1"/></joint>\n'
            b'<joint name="q" type="continuous"><parent link="a"/><child link="c"/></joint>\n</robot>')
     robot = parse_urdf(raw, "r.urdf")
-    with pytest.raises(SceneError, match=r"r.urdf:3: joint 'p' between 'a' and 'b' is of type 'prismatic'"):
+    with pytest.raises(SceneError, match=r"r.urdf:3: joint 'p' between 'a' and 'b' is of type 'planar'"):
         chain_joints(robot, "a", "b")
     with pytest.raises(SceneError, match="no path from base_link 'b' down to tip_link 'c'"):
         chain_joints(robot, "b", "c")
-    assert [j.name for j in chain_joints(robot, "a", "c")] == ["q"]  # the prismatic joint is off this path
+    assert [j.name for j in chain_joints(robot, "a", "c")] == ["q"]  # the planar joint is off this path
+    sliding = parse_urdf(raw.replace(b'type="planar"', b'type="prismatic"'), "r.urdf")  # prismatic: on a path, in metres
+    assert [(j.name, j.prismatic) for j in chain_joints(sliding, "a", "b")] == [("p", True)]
 
 
 def test_ten_thousand_joints_are_refused_quickly(tmp_path):

@@ -82,7 +82,8 @@ class Capsules:
 
 
 def joint_capsules(arm: Arm, radius: float) -> Capsules:
-    """Today's capsules: link i from joint i to joint i+1 (the last to the tip), all of one radius.
+    """Today's capsules: link i from joint i to joint i+1 (the last to the tip), all of one radius
+    (an arm of links: no joint slides).
 
     >>> caps = joint_capsules(Arm.from_names([2, 5]), 0.25)
     >>> caps.link.tolist(), caps.end.tolist(), caps.radius.tolist()
@@ -109,6 +110,8 @@ def frame_capsules(arm: Arm, link: ArrayLike, start: ArrayLike, end: ArrayLike, 
     link = np.asarray(link, dtype=int)
     start, end = np.asarray(start, dtype=float).reshape(-1, 3), np.asarray(end, dtype=float).reshape(-1, 3)
     segment = (link >= 0) & np.all(start == 0.0, axis=1) & np.all(end == arm.offsets[np.maximum(link, 0)], axis=1)
+    if arm.prismatic is not None:  # the next joint slides its point off: the capsule ends where its slide starts, in its own frame
+        segment &= ~np.append(arm.prismatic[1:], False)[np.maximum(link, 0)]
     return Capsules(link, start, end, np.asarray(radius, dtype=float), tuple(names), segment)
 
 
@@ -247,7 +250,9 @@ def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
     A capsule carried by joint k >= j lies within |o_j| + ... + |o_k| + pad of p_j, where
     pad is the radius plus how far its ends stick out (its start from p_k, or its end
     from p_{k+1}, whichever is nearer for each end); joint-to-joint capsules stick out by
-    their radius alone. Capsules on the base (:data:`BASE`) never move: none counts.
+    their radius alone. Capsules on the base (:data:`BASE`) never move: none counts. A
+    prismatic joint k > j may hold the capsules up to its stroke farther off (add them all); a
+    prismatic joint j moves every point it carries by exactly its own travel: its lever is 1.
 
     >>> lever_arms(Arm.from_names([2, 5]), joint_capsules(Arm.from_names([2, 5]), 0.25)).tolist()
     [7.25, 5.25]
@@ -261,7 +266,12 @@ def lever_arms(arm: Arm, capsules: Capsules) -> np.ndarray:
     pad = np.where(capsules.joint_segment[moving], 0.0, np.maximum(start, end)) + capsules.radius[moving]
     by_link = np.zeros(arm.n)
     np.maximum.at(by_link, link, pad)
-    return tail + np.maximum.accumulate(by_link[::-1])[::-1]
+    levers = tail + np.maximum.accumulate(by_link[::-1])[::-1]
+    if arm.prismatic is None:
+        return levers
+    stroke = np.zeros(arm.n) if arm.stroke is None else arm.stroke
+    after = np.concatenate([np.cumsum(stroke[::-1])[::-1][1:], [0.0]])  # the strokes of the joints after j
+    return np.where(arm.prismatic, 1.0, levers + after)
 
 
 def capsule_lever_rows(arm: Arm, capsules: Capsules) -> np.ndarray:
@@ -272,7 +282,8 @@ def capsule_lever_rows(arm: Arm, capsules: Capsules) -> np.ndarray:
     For the joints before its carrier, :func:`lever_arms`' bound for this one capsule (its chain
     cut at its carrier): how far it can lie from the joint's origin. For its carrier, how far it
     lies from that joint's axis, which its frame holds fixed (a sphere on a wrist's axis hardly
-    moves as the wrist turns).
+    moves as the wrist turns). A prismatic joint moves the points it carries by its travel (1 per
+    metre), and the strokes of the prismatic joints after joint j up to the carrier add to j's.
 
     >>> arm = Arm.from_names([2, 5])
     >>> capsule_lever_rows(arm, joint_capsules(arm, 0.25)).tolist()
@@ -292,7 +303,12 @@ def capsule_lever_rows(arm: Arm, capsules: Capsules) -> np.ndarray:
     rows = np.where(moved, head[carried + 1][:, None] - head[None, :-1] + pad[:, None], 0.0)
     own = link >= 0
     rows[own, link[own]] = around[own]
-    return rows
+    if arm.prismatic is None:
+        return rows
+    stroke = np.zeros(arm.n) if arm.stroke is None else arm.stroke  # a slide between joint j and the carrier moves it farther off
+    slid = np.concatenate([[0.0], np.cumsum(stroke)])
+    rows = np.where(moved, rows + slid[carried + 1][:, None] - slid[None, 1:], 0.0)
+    return np.where(moved & arm.prismatic[None, :], 1.0, rows)  # a slide moves every point it carries by its own travel
 
 
 def _off_axis(v: np.ndarray, axis: np.ndarray) -> np.ndarray:

@@ -43,11 +43,14 @@ class ChainJoint:
         From the parent link's frame to the joint's frame (and its child link's).
     axis : (3,) array or None
         Rotation axis in the joint's frame (any length > 0; normalised here); None for a fixed joint.
+    prismatic : bool
+        Whether the joint slides along its axis (metres) instead of turning about it.
     """
 
     name: str
     origin: np.ndarray
     axis: np.ndarray | None
+    prismatic: bool = False
 
 
 @dataclass(frozen=True)
@@ -125,5 +128,6 @@ def serial_chain(mount: np.ndarray, joints: list[ChainJoint], tool: np.ndarray) 
         turns=np.array(turns),
         joint_names=tuple(j.name for j in moving),
         mount=np.array(mount, dtype=float)[:3, 3].copy(),
+        prismatic=np.array([j.prismatic for j in moving]) if any(j.prismatic for j in moving) else None,
     )
     return SerialChain(arm, tuple(carriers), tuple(placed))

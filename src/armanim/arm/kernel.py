@@ -94,26 +94,28 @@ def stamp_cache(dispatcher: Any, stamp: SourcesStamp) -> None:
 _JIT = dict(error_model="numpy", nogil=True)
 _INLINE = dict(inline="always", **_JIT)
 
-AXIS, K, K2, OFFSET, TURN, WIDTH = 0, 3, 12, 21, 24, 33
+AXIS, K, K2, OFFSET, TURN, KIND, WIDTH = 0, 3, 12, 21, 24, 33, 34
 """Columns of a joint's row in :func:`packed_chain`: its axis a_i (3), K = [a_i]x (9, row
-major), K^2 (9), its offset o_i (3) and its turn T_i (9, row major)."""
+major), K^2 (9), its offset o_i (3), its turn T_i (9, row major) and its kind (1: prismatic,
+0: revolute)."""
 
 
 def packed_chain(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
-    """The arm's constants as the kernels read them: (n, 33) joint rows (see :data:`WIDTH`)
+    """The arm's constants as the kernels read them: (n, 34) joint rows (see :data:`WIDTH`)
     and the root (12,): the base p_1, then R_0 row major. Computed once per arm (kept on it).
 
     >>> arm = Arm.from_names([2, 5], base=(5, 5, 0))
     >>> rows, root = packed_chain(arm)
     >>> rows.shape, root[:3].tolist()
-    ((2, 33), [5.0, 5.0, 0.0])
+    ((2, 34), [5.0, 5.0, 0.0])
     """
     memo = arm.__dict__.get("_packed")
     if memo is not None:
         return cast(tuple[np.ndarray, np.ndarray], memo)
     n = arm.n
     turns = np.broadcast_to(np.eye(3), (n, 3, 3)) if arm.turns is None else arm.turns
-    rows = np.concatenate([arm.axes, arm._k.reshape(n, 9), arm._k2.reshape(n, 9), arm.offsets, turns.reshape(n, 9)], axis=1)
+    rows = np.concatenate([arm.axes, arm._k.reshape(n, 9), arm._k2.reshape(n, 9), arm.offsets, turns.reshape(n, 9),
+                           arm.slides[:, None].astype(float)], axis=1)
     start = np.eye(3) if arm.base_rotation is None else arm.base_rotation
     root = np.concatenate([arm.base, start.reshape(9)])
     packed = (np.ascontiguousarray(rows, dtype=float), np.ascontiguousarray(root, dtype=float))
@@ -125,7 +127,8 @@ def packed_chain(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
 def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarray, frames: np.ndarray,
            axes: np.ndarray, tool: np.ndarray) -> None:
     """One pose into ``points`` (n+1, 3), ``frames`` (n, 3, 3), world ``axes`` (n, 3) and the
-    tool frame ``tool`` (3, 3)."""
+    tool frame ``tool`` (3, 3). A prismatic joint (its row's :data:`KIND`) turns by nothing
+    (Rot(a, 0) = I exactly) and slides its frame's origin by phi_i w_i."""
     n = rows.shape[0]
     rot = np.empty((3, 3))
     local = np.empty((3, 3))
@@ -134,14 +137,19 @@ def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarr
         for b in range(3):
             rot[a, b] = root[3 + 3 * a + b]
     for i in range(n):
-        s = math.sin(phi[i])
-        c = 1.0 - math.cos(phi[i])
+        slides = rows[i, KIND] != 0.0
+        angle = 0.0 if slides else phi[i]
+        s = math.sin(angle)
+        c = 1.0 - math.cos(angle)
         for a in range(3):
             for b in range(3):
                 local[a, b] = (1.0 if a == b else 0.0) + s * rows[i, K + 3 * a + b] + c * rows[i, K2 + 3 * a + b]
         for a in range(3):
             for b in range(3):
                 frames[i, a, b] = rot[a, 0] * local[0, b] + rot[a, 1] * local[1, b] + rot[a, 2] * local[2, b]
+        if slides:
+            for a in range(3):
+                points[i, a] += phi[i] * (frames[i, a, 0] * rows[i, AXIS] + frames[i, a, 1] * rows[i, AXIS + 1] + frames[i, a, 2] * rows[i, AXIS + 2])
         for a in range(3):
             f0, f1, f2 = frames[i, a, 0], frames[i, a, 1], frames[i, a, 2]
             points[i + 1, a] = points[i, a] + (f0 * rows[i, OFFSET] + f1 * rows[i, OFFSET + 1] + f2 * rows[i, OFFSET + 2])
@@ -192,18 +200,31 @@ def _jacobian(points: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
         jac[5, j] = w2
 
 
+@compiled(**_INLINE)
+def _slide_columns(rows: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
+    """A prismatic joint's columns of the 6 x n Jacobian ``jac`` from :func:`_jacobian`: w_j
+    (the tip slides along its axis) over 0 (the tool does not turn). Other columns stay."""
+    for j in range(axes.shape[0]):
+        if rows[j, KIND] != 0.0:
+            for a in range(3):
+                jac[a, j] = axes[j, a]
+                jac[3 + a, j] = 0.0
+
+
 @compiled(**_JIT)
-def _jacobian_one(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+def _jacobian_one(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np.ndarray:
     jac = np.empty((6, axes.shape[0]))
     _jacobian(points, axes, jac)
+    _slide_columns(rows, axes, jac)
     return jac
 
 
 @compiled(**_JIT)
-def _jacobian_many(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+def _jacobian_many(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np.ndarray:
     jac = np.empty((axes.shape[0], 6, axes.shape[1]))
     for k in range(axes.shape[0]):
         _jacobian(points[k], axes[k], jac[k])
+        _slide_columns(rows, axes[k], jac[k])
     return jac
 
 
@@ -301,20 +322,22 @@ def forward_with_tool(arm: Arm, phi: np.ndarray) -> tuple[Pose, np.ndarray]:
                 axes=axes.reshape(batch + (n, 3))), tool.reshape(batch + (3, 3))
 
 
-def geometric_jacobian(pose: Pose) -> np.ndarray:
+def geometric_jacobian(pose: Pose, arm: Arm | None = None) -> np.ndarray:
     """The tool's 6 x n geometric Jacobian (..., 6, n) of a pose from :func:`forward` (its
-    ``axes`` set): [:func:`tip_jacobian`; :func:`angular_jacobian`].
+    ``axes`` set): [:func:`tip_jacobian`; :func:`angular_jacobian`]. ``arm``: the pose's arm,
+    needed where it has prismatic joints (None: every joint revolute).
 
     >>> arm = Arm.from_names([1, 1], axes=["z", "y"])
     >>> geometric_jacobian(forward(arm, np.zeros(2))).tolist()
     [[0.0, 1.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]
     """
     assert pose.axes is not None  # set by forward
+    rows = packed_chain(arm)[0] if arm is not None else np.zeros((pose.axes.shape[-2], WIDTH))
     if pose.points.ndim == 2:
-        return _jacobian_one(pose.points, pose.axes)
+        return _jacobian_one(rows, pose.points, pose.axes)
     batch = pose.points.shape[:-2]
     n = pose.axes.shape[-2]
-    jac = _jacobian_many(pose.points.reshape(-1, n + 1, 3), pose.axes.reshape(-1, n, 3))
+    jac = _jacobian_many(rows, pose.points.reshape(-1, n + 1, 3), pose.axes.reshape(-1, n, 3))
     return cast(np.ndarray, jac.reshape(batch + (6, n)))
 
 

@@ -5,7 +5,8 @@ R_i = R_{i-1} T_{i-1} Rot(a_i, phi_i), p_1 = base and p_{i+1} = p_i + R_i o_i. T
 is e = p_{n+1}. For the default arm (o_i = l_i d, no T) this is the course notes' chain
 T01 = [Rz(phi1), p1], T12 = [Ry(phi2), t_z(l1)], ...
 
-Pure core: numpy only, radians only, no I/O. Everything that needs joint
+A prismatic joint (:attr:`Arm.prismatic`) slides its frame along its axis: its value is in
+metres, a revolute joint's in radians. Pure core: numpy only, radians and metres, no I/O. Everything that needs joint
 positions (solvers, cost, renderer, CLI) calls :func:`forward`.
 """
 
@@ -51,6 +52,14 @@ class Arm:
     mount : (3,) array or None
         World position of the robot's base link, where it stands (a URDF arm's first joint
         may sit above it); None: ``base``.
+    prismatic : (n,) bool array or None
+        Which joints slide along their axis instead of turning about it (a rail, a lift): joint
+        i's frame keeps R_i = R_{i-1} T_{i-1} and its origin moves to p_i + q_i R_i a_i, q_i in
+        metres. None (or all False, which becomes None): every joint is revolute, and the
+        arithmetic is exactly that of an arm without the field.
+    stroke : (n,) array or None
+        How far each prismatic joint may slide from 0, metres (its larger limit in size; 0 for a
+        revolute joint): what :attr:`reach` and the lever arms add for it. None: all 0.
     """
 
     base: np.ndarray
@@ -60,15 +69,20 @@ class Arm:
     turns: np.ndarray | None = None
     joint_names: tuple[str, ...] = ()
     mount: np.ndarray | None = None
+    prismatic: np.ndarray | None = None
+    stroke: np.ndarray | None = None
     _k: np.ndarray = field(init=False, repr=False, compare=False)
     _k2: np.ndarray = field(init=False, repr=False, compare=False)
     _links: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        for name in ("base", "axes", "offsets", "base_rotation", "turns", "mount"):
+        for name in ("base", "axes", "offsets", "base_rotation", "turns", "mount", "stroke"):
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, np.asarray(value, dtype=float))
+        if self.prismatic is not None:
+            slides = np.asarray(self.prismatic, dtype=bool).reshape(len(self.axes))
+            object.__setattr__(self, "prismatic", slides if slides.any() else None)
         k = np.stack([skew(a) for a in self.axes])
         object.__setattr__(self, "_k", k)
         object.__setattr__(self, "_k2", k @ k)
@@ -78,6 +92,15 @@ class Arm:
     def n(self) -> int:
         """Number of joints."""
         return len(self.axes)
+
+    @property
+    def slides(self) -> np.ndarray:
+        """(n,) bool: which joints are prismatic (all False for an arm of revolute joints).
+
+        >>> Arm.from_names([1, 1]).slides.tolist()
+        [False, False]
+        """
+        return np.zeros(self.n, dtype=bool) if self.prismatic is None else self.prismatic
 
     @property
     def stand(self) -> np.ndarray:
@@ -91,8 +114,11 @@ class Arm:
 
     @property
     def reach(self) -> float:
-        """Sum of the link lengths: no tip is farther than this from joint 1."""
-        return float(self.links.sum())
+        """Sum of the link lengths and the prismatic joints' strokes: no tip is farther than this
+        from joint 1 at its 0 (``base``)."""
+        if self.stroke is None:
+            return float(self.links.sum())
+        return float(self.links.sum() + self.stroke.sum())
 
     @classmethod
     def from_names(
@@ -198,6 +224,8 @@ def forward(arm: Arm, phi: np.ndarray) -> Pose:
     for i in range(arm.n):
         rot = rot @ local[..., i, :, :]
         frames[..., i, :, :] = rot
+        if arm.prismatic is not None and arm.prismatic[i]:  # the joint's frame slides along its axis
+            points[..., i, :] += phi[..., i, None] * (rot @ arm.axes[i])
         points[..., i + 1, :] = points[..., i, :] + rot @ arm.offsets[i]
         if arm.turns is not None:
             rot = rot @ arm.turns[i]
@@ -212,7 +240,7 @@ def _start_rotation(arm: Arm) -> np.ndarray:
 def joint_rotations(arm: Arm, phi: np.ndarray) -> np.ndarray:
     """Rot(a_i, phi_i) of every joint, shape (..., n, 3, 3), by Rodrigues' formula
     I + sin(phi) K + (1 - cos(phi)) K^2; for the coordinate axes these are the notes'
-    Eqs. 23-25.
+    Eqs. 23-25. A prismatic joint's is the identity.
 
     >>> arm = Arm.from_names([1.0], axes=["z"])
     >>> np.round(joint_rotations(arm, np.array([np.pi / 2]))[0], 12) + 0.0
@@ -220,6 +248,8 @@ def joint_rotations(arm: Arm, phi: np.ndarray) -> np.ndarray:
            [ 1.,  0.,  0.],
            [ 0.,  0.,  1.]])
     """
+    if arm.prismatic is not None:  # a prismatic joint does not turn: Rot(a, 0) = I exactly
+        phi = np.where(arm.prismatic, 0.0, phi)
     s = np.sin(phi)[..., None, None]
     c = np.cos(phi)[..., None, None]
     return cast(np.ndarray, _IDENTITY + s * arm._k + (1.0 - c) * arm._k2)
@@ -235,6 +265,8 @@ def _forward_one(arm: Arm, phi: np.ndarray) -> Pose:
     for i in range(arm.n):
         rot = rot @ local[i]
         frames[i] = rot
+        if arm.prismatic is not None and arm.prismatic[i]:  # the joint's frame slides along its axis
+            points[i] += phi[i] * (rot @ arm.axes[i])
         points[i + 1] = points[i] + rot @ arm.offsets[i]
         if arm.turns is not None:
             rot = rot @ arm.turns[i]
@@ -248,6 +280,17 @@ def joint_axes_world(arm: Arm, pose: Pose) -> np.ndarray:
     return cast(np.ndarray, np.einsum("...jab,jb->...ja", pose.frames, arm.axes))
 
 
+def _columns(arm: Arm, w: np.ndarray, lever: np.ndarray) -> np.ndarray:
+    """Linear Jacobian columns (..., j, 3) of a point at ``lever`` = q - p_j from joints of world
+    axes ``w`` (..., j, 3) (the first j of the arm's): w_j x (q - p_j) for a revolute joint, w_j
+    for a prismatic one (the point slides with it)."""
+    columns = cross(w, lever)
+    if arm.prismatic is None:
+        return columns
+    slides = arm.prismatic[: w.shape[-2], None]
+    return np.where(slides, np.broadcast_to(w, columns.shape), columns)
+
+
 def link_point(pose: Pose, link: int, t: float) -> np.ndarray:
     """The point at fraction ``t`` along link ``link`` (0-based), shape (..., 3)."""
     a = pose.points[..., link, :]
@@ -257,8 +300,8 @@ def link_point(pose: Pose, link: int, t: float) -> np.ndarray:
 def point_jacobian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.ndarray:
     """Analytic Jacobian d q / d phi of a point q carried by joint ``link``'s frame.
 
-    Column j is w_j x (q - p_j) for the joints j <= link that move the point, and 0
-    for the joints after it.
+    Column j is w_j x (q - p_j) for the joints j <= link that move the point (w_j for a
+    prismatic joint: the point slides along its axis), and 0 for the joints after it.
 
     Parameters
     ----------
@@ -284,10 +327,10 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.nda
     if np.ndim(link):
         lever = point[:, None, :] - pose.points[:-1, :]  # (k, n, 3)
         moves = np.arange(arm.n) <= np.asarray(link)[:, None]  # (k, n): the joints that move point i
-        return np.ascontiguousarray(np.swapaxes(np.where(moves[..., None], cross(w, lever), 0.0), -1, -2))  # laid out as one alone
+        return np.ascontiguousarray(np.swapaxes(np.where(moves[..., None], _columns(arm, w, lever), 0.0), -1, -2))  # laid out as one alone
     jac = np.zeros(pose.points.shape[:-2] + (3, arm.n))
     lever = point[..., None, :] - pose.points[..., : link + 1, :]
-    jac[..., :, : link + 1] = np.swapaxes(cross(w[..., : link + 1, :], lever), -1, -2)
+    jac[..., :, : link + 1] = np.swapaxes(_columns(arm, w[..., : link + 1, :], lever), -1, -2)
     return jac
 
 
@@ -298,7 +341,7 @@ def tip_jacobian(arm: Arm, pose: Pose) -> np.ndarray:
     without the masking (it runs every frame).
     """
     lever = pose.tip[..., None, :] - pose.points[..., :-1, :]
-    return np.swapaxes(cross(joint_axes_world(arm, pose), lever), -1, -2)
+    return np.swapaxes(_columns(arm, joint_axes_world(arm, pose), lever), -1, -2)
 
 
 def tool_rotation(arm: Arm, pose: Pose) -> np.ndarray:
@@ -315,26 +358,32 @@ def tool_rotation(arm: Arm, pose: Pose) -> np.ndarray:
 
 def angular_jacobian(arm: Arm, pose: Pose) -> np.ndarray:
     """Geometric angular Jacobian of the tool frame, (..., 3, n): column j is w_j, the world
-    axis of joint j (the tool's angular velocity per joint rate).
+    axis of joint j (the tool's angular velocity per joint rate); 0 for a prismatic joint.
 
     >>> arm = Arm.from_names([1, 1], axes=["z", "y"])
     >>> angular_jacobian(arm, forward(arm, np.zeros(2))).tolist()
     [[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]
     """
-    return np.swapaxes(joint_axes_world(arm, pose), -1, -2)
+    w = joint_axes_world(arm, pose)
+    if arm.prismatic is not None:
+        w = np.where(arm.prismatic[:, None], 0.0, w)
+    return np.swapaxes(w, -1, -2)
 
 
 def point_hessian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.ndarray:
     """Second derivatives d^2 q / d phi_i d phi_j of a point carried by joint ``link``'s frame,
     shape (3, n, n); ``point`` (3,) is where it is in the world.
 
-    For i <= j <= link: w_i x (w_j x (q - p_j)), symmetric in i, j; zero for joints
-    after ``link``. These are the n-link assignment's P'' blocks. Single pose only.
+    For i <= j <= link: w_i x D_j with D_j the Jacobian's column j (w_j x (q - p_j), or w_j
+    for a prismatic joint), symmetric in i, j; zero where joint i is prismatic (sliding moves
+    q, p_j and w_j alike) and for joints after ``link``. These are the n-link assignment's P''
+    blocks. Single pose only.
     """
     w = joint_axes_world(arm, pose)
     k = link + 1
-    d = cross(w[:k], point - pose.points[:k])  # (k, 3): column j of the Jacobian
-    second = cross(w[:k, None, :], d[None, :, :])  # [i, j] = w_i x (w_j x (q - p_j))
+    d = _columns(arm, w[:k], point - pose.points[:k])  # (k, 3): column j of the Jacobian
+    turning = w[:k] if arm.prismatic is None else np.where(arm.prismatic[:k, None], 0.0, w[:k])
+    second = cross(turning[:, None, :], d[None, :, :])  # [i, j] = w_i x D_j
     upper = np.triu(np.ones((k, k), dtype=bool))  # i <= j
     block = np.where(upper[..., None], second, np.swapaxes(second, 0, 1))
     hess = np.zeros((3, arm.n, arm.n))
@@ -357,3 +406,29 @@ def numeric_jacobian(
     displaced = phi + h * np.eye(len(phi))
     f0 = fun(phi)
     return cast(np.ndarray, (fun(displaced) - f0).T / h)
+
+
+def joints_in_si(values: ArrayLike, slides: np.ndarray | None) -> np.ndarray:
+    """Joint values as a user writes them (degrees; metres for a prismatic joint), (..., n), in
+    the chain's units (radians; metres): exactly ``np.radians`` where no joint slides.
+
+    >>> joints_in_si([90.0, 0.25], np.array([False, True])).round(6).tolist()
+    [1.570796, 0.25]
+    """
+    si = np.radians(values)
+    if slides is None or not np.any(slides):
+        return si
+    return np.where(slides, np.asarray(values, dtype=float), si)
+
+
+def joints_shown(values: ArrayLike, slides: np.ndarray | None) -> np.ndarray:
+    """:func:`joints_in_si`'s inverse: radians (metres for a prismatic joint), (..., n), as a user
+    reads them, degrees (metres); exactly ``np.degrees`` where no joint slides.
+
+    >>> joints_shown([np.pi / 2, 0.25], np.array([False, True])).round(6).tolist()
+    [90.0, 0.25]
+    """
+    shown = np.degrees(values)
+    if slides is None or not np.any(slides):
+        return shown
+    return np.where(slides, np.asarray(values, dtype=float), shown)

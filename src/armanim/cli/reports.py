@@ -32,6 +32,22 @@ def print_goal_table(result) -> None:
         table.add_row(*row)
     out.print(table)
     say("outputs: " + ", ".join(str(p) for p in result.files.values()))
+    if getattr(result, "timing", None) is not None:
+        say(run_time_line(result.timing, result.scene.model.arm.is_urdf, "video" in result.files))
+
+
+def run_time_line(timing, urdf: bool, video: bool) -> str:
+    """How long the run took from its scene file (and its URDF) to its outputs, numba's compiling
+    apart (:mod:`armanim.runs.stopwatch`).
+
+    >>> from armanim.runs.stopwatch import Stopwatch
+    >>> run_time_line(Stopwatch(41.5, 30.25), True, True)
+    'time: 11.2 s from the scene and its URDF to the video (numba compiled its code for 30.2 s more, once after installing)'
+    """
+    line = f"time: {timing.without_compiling:.1f} s from the scene{' and its URDF' if urdf else ''} to the {'video' if video else 'outputs'}"
+    if timing.compiling >= 0.05:
+        line += f" (numba compiled its code for {timing.compiling:.1f} s more, once after installing)"
+    return line
 
 
 def table_number(value: float, resolution: float) -> str:

@@ -24,6 +24,8 @@ class RobotSummary:
     capsules: int
     held: tuple[tuple[str, str, float], ...] = ()
     """The joints off the chain, held (``arm.joint_values``): (name, how, default in degrees or metres)."""
+    prismatic: tuple[bool, ...] = ()
+    """Per joint of the chain: prismatic (its ``limits_deg`` in metres)."""
 
 
 def robot_summaries() -> list[RobotSummary]:
@@ -31,7 +33,7 @@ def robot_summaries() -> list[RobotSummary]:
     joints held off its chain (the Panda's fingers) with their defaults.
 
     >>> [s.name for s in robot_summaries()]
-    ['panda', 'ur5', 'iiwa']
+    ['panda', 'ur5', 'iiwa', 'ur5_rail']
     """
     import numpy as np
 
@@ -42,12 +44,13 @@ def robot_summaries() -> list[RobotSummary]:
     for name in ROBOTS:
         problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}))
         lim = problem.limits
-        limits = tuple((float(np.degrees(lo)), float(np.degrees(hi))) if np.isfinite(lo) else None
-                       for lo, hi in zip(lim.lower, lim.upper))
+        slides = problem.arm.slides
+        limits = tuple(((float(lo), float(hi)) if slide else (float(np.degrees(lo)), float(np.degrees(hi)))) if np.isfinite(lo) else None
+                       for lo, hi, slide in zip(lim.lower, lim.upper, slides))
         urdf = scene_model({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}).arm.urdf_arm
         held = tuple(_held_row(j, default_held_value(j)) for j in urdf.held)
         summaries.append(RobotSummary(name, bundled_robot(name).title, problem.arm.joint_names, limits,
-                                      problem.arm.reach, len(problem.capsules), held))
+                                      problem.arm.reach, len(problem.capsules), held, tuple(bool(v) for v in slides)))
     return summaries
 
 
@@ -89,9 +92,11 @@ def robots(
         table = Table()
         table.add_column("phi")
         table.add_column("joint")
-        table.add_column("limits (deg)")
+        table.add_column("limits (deg; m)" if any(robot.prismatic) else "limits (deg)")
         for k, (joint, limits) in enumerate(zip(robot.joints, robot.limits_deg)):
-            table.add_row(f"phi{k + 1}", joint, f"[{limits[0]:.1f}, {limits[1]:.1f}]" if limits else "unlimited")
+            slides = bool(robot.prismatic and robot.prismatic[k])
+            shown = (f"[{limits[0]:.3f}, {limits[1]:.3f}] m, prismatic" if slides else f"[{limits[0]:.1f}, {limits[1]:.1f}]") if limits else "unlimited"
+            table.add_row(f"q{k + 1}" if slides else f"phi{k + 1}", joint, shown)
         for joint, how, default in robot.held:
             table.add_row("held", joint, how if default != default else f"{how}, default {default:g}")
         out.print(table)

@@ -38,7 +38,7 @@ import numpy as np
 from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion.ik import pose_errors, solving_problem
 from armanim.motion.orientation import orientation_angle
-from armanim.motion.problem import Goal, Problem, joint_offset
+from armanim.motion.problem import Goal, Problem, joint_offset, step_caps
 from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
 from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach
@@ -362,7 +362,7 @@ def _cause(problem: Problem, state: ArmState, point: np.ndarray, distance: float
         return "joint_limit"
     if distance < problem.solver.tolerance:
         return "orientation"
-    center, radius = reach_sphere(state)
+    center, radius = reach_sphere(state) if problem.arm.prismatic is None else (problem.arm.base, np.inf)  # a slide moves every point
     if np.linalg.norm(point - center) >= radius - REACH_SHARE * problem.solver.tolerance:
         return "out_of_reach"  # stretched out to the point on the edge of its reach, or past it
     return "singular"
@@ -408,7 +408,9 @@ def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState,
     ``max_joint_step``) or strays from the path at its midpoint; notes the midpoint's error."""
     assert goal.path is not None
     turn = joint_offset(problem, before.phi, after.phi)
-    if float(np.abs(turn).max(initial=0.0)) > problem.solver.max_joint_step:
+    if problem.arm.prismatic is not None and np.any(np.abs(turn) > step_caps(problem)):
+        return "jump"
+    if float(np.abs(turn).max(initial=0.0)) > problem.solver.max_joint_step and problem.arm.prismatic is None:
         return "jump"
     middle = forward(problem.arm, before.phi + turn / 2)
     error = float(goal.path.nearest(middle.tip[None], np.array([s_from]), np.array([s_to]))[1][0])

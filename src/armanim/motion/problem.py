@@ -181,6 +181,8 @@ class SolverSettings:
         Cap on the tip's travel per frame, |beta (g - e)|; inf for none.
     max_joint_step : float
         Radians any joint may turn in one frame.
+    max_slide_step : float
+        Metres any prismatic joint may slide in one frame (:func:`step_caps`).
     clearance : float
         d_safe, resolved (``arm.width / 10`` when the scene leaves it out).
     orientation_weight : float
@@ -214,6 +216,15 @@ class SolverSettings:
     orientation_tolerance: float
     joint_tolerance: float
     path_tolerance: float
+    max_slide_step: float = 0.05
+
+
+def step_caps(problem: Problem) -> float | np.ndarray:
+    """The most each joint may move in one frame: ``solver.max_joint_step`` (radians), a prismatic
+    joint's ``solver.max_slide_step`` (metres), (n,); the one number for an arm of revolute joints."""
+    if problem.arm.prismatic is None:
+        return problem.solver.max_joint_step
+    return np.where(problem.arm.prismatic, problem.solver.max_slide_step, problem.solver.max_joint_step)
 
 
 @dataclass(frozen=True)

@@ -66,7 +66,7 @@ def at_fps(problem: Problem, fps: float) -> Problem:
     if fps == problem.fps:
         return problem
     ratio = fps / problem.fps
-    solver = replace(problem.solver, max_joint_step=problem.solver.max_joint_step / ratio,
+    solver = replace(problem.solver, max_joint_step=problem.solver.max_joint_step / ratio, max_slide_step=problem.solver.max_slide_step / ratio,
                      max_frames_per_goal=math.ceil(problem.solver.max_frames_per_goal * ratio - 1e-9))
     return replace(problem, solver=solver, fps=fps)
 

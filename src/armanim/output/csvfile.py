@@ -11,7 +11,8 @@ position-only goal; ``self_clearance`` the least gap of an enabled pair of the a
 and ``self_pair`` that pair's links ``a|b``, both empty without enabled pairs; ``path_s`` the arc
 length of the path done and ``path_error`` the tool's distance from the path, on frames of mode
 ``path`` only; ``dphiK_deg_s``
-joint K's velocity on the clock). Floats are written with ``repr`` (shortest
+joint K's velocity on the clock). A prismatic joint's columns are in metres: ``qK_m`` in place of
+``phiK_deg`` and ``dqK_m_s`` in place of ``dphiK_deg_s``. Floats are written with ``repr`` (shortest
 round-trip form), so reading the file back gives the same numbers bit for bit.
 """
 
@@ -28,6 +29,7 @@ from typing import BinaryIO
 
 import numpy as np
 
+from armanim.arm.kinematics import joints_in_si, joints_shown
 from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
 from armanim.output.atomic import write_target, write_text_atomic
@@ -44,19 +46,30 @@ MODES = ("ik", "plan", "path")
 """Values of the ``mode`` column (the reader refuses others)."""
 
 
-def header(n_joints: int) -> list[str]:
-    """Column names for an arm of ``n_joints`` joints."""
-    return [*BASE_COLUMNS, *(f"phi{i}_deg" for i in range(1, n_joints + 1)), *TAIL_COLUMNS,
-            *velocity_columns(n_joints)]
+def header(n_joints: int, slides: np.ndarray | None = None) -> list[str]:
+    """Column names for an arm of ``n_joints`` joints (``slides``: which are prismatic)."""
+    return [*BASE_COLUMNS, *joint_columns(n_joints, slides), *TAIL_COLUMNS, *velocity_columns(n_joints, slides)]
 
 
-def velocity_columns(n_joints: int) -> list[str]:
-    """The joint-velocity columns (the clock's, degrees per second), after the contract's.
+def joint_columns(n_joints: int, slides: np.ndarray | None = None) -> list[str]:
+    """The joint columns: ``phiK_deg``, or ``qK_m`` for a prismatic joint (metres).
+
+    >>> joint_columns(2, np.array([True, False]))
+    ['q1_m', 'phi2_deg']
+    """
+    return [f"q{i}_m" if slides is not None and slides[i - 1] else f"phi{i}_deg" for i in range(1, n_joints + 1)]
+
+
+def velocity_columns(n_joints: int, slides: np.ndarray | None = None) -> list[str]:
+    """The joint-velocity columns (the clock's, degrees per second; metres per second for a
+    prismatic joint), after the contract's.
 
     >>> velocity_columns(2)
     ['dphi1_deg_s', 'dphi2_deg_s']
+    >>> velocity_columns(2, np.array([True, False]))
+    ['dq1_m_s', 'dphi2_deg_s']
     """
-    return [f"dphi{i}_deg_s" for i in range(1, n_joints + 1)]
+    return [f"dq{i}_m_s" if slides is not None and slides[i - 1] else f"dphi{i}_deg_s" for i in range(1, n_joints + 1)]
 
 
 def _num(value: float) -> str:
@@ -71,9 +84,9 @@ def _optional(column: np.ndarray | None, i: int) -> str:
     return _num(column[i]) if column is not None and np.isfinite(column[i]) else ""
 
 
-def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
-    """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees; empty clearance without
-    obstacles, empty orientation error for a position-only goal)."""
+def format_row(traj: Trajectory, i: int, time_s: float, slides: np.ndarray | None = None) -> list[str]:
+    """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees, a prismatic joint's values
+    in metres; empty clearance without obstacles, empty orientation error for a position-only goal)."""
     clearance = traj.clearance[i]
     angle = np.nan if traj.orientation_error is None else traj.orientation_error[i]
     quaternion = traj.tool_quaternion[i] if traj.tool_quaternion is not None else np.full(4, np.nan)
@@ -82,7 +95,7 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
         str(i),
         _num(time_s),
         str(int(traj.goal[i])),
-        *(_num(v) for v in np.degrees(traj.phi[i])),
+        *(_num(v) for v in joints_shown(traj.phi[i], slides)),
         *(_num(v) for v in traj.tip[i]),
         _num(traj.distance[i]),
         _num(clearance) if np.isfinite(clearance) else "",
@@ -95,7 +108,7 @@ def format_row(traj: Trajectory, i: int, time_s: float) -> list[str]:
         _num(traj.self_clearance[i]) if traj.self_clearance is not None else "",
         str(traj.self_pair[i]) if traj.self_pair is not None else "",
         *(_optional(column, i) for column in (traj.path_s, traj.path_error)),
-        *(_num(v) for v in np.degrees(velocity)),
+        *(_num(v) for v in joints_shown(velocity, slides)),
     ]
 
 
@@ -151,15 +164,16 @@ def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
                           "so it is not replaced (move it away, or choose another folder with --out)")
 
 
-def trajectory_csv_text(traj: Trajectory) -> str:
-    """The whole trajectory.csv as text."""
+def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None) -> str:
+    """The whole trajectory.csv as text (``slides``: which joints are prismatic, the arm's
+    ``prismatic``; None: all revolute)."""
     time = traj.time
-    return table_csv_text(header(traj.phi.shape[1]), (format_row(traj, i, time[i]) for i in range(traj.frames)))
+    return table_csv_text(header(traj.phi.shape[1], slides), (format_row(traj, i, time[i], slides) for i in range(traj.frames)))
 
 
 def write_trajectory_csv(run: SolvedRun, path: Path) -> None:
     """Write the run's trajectory.csv atomically (it has no options: every run writes it whole)."""
-    write_text_atomic(path, trajectory_csv_text(run.trajectory))
+    write_text_atomic(path, trajectory_csv_text(run.trajectory, run.problem.arm.prismatic))
 
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")
@@ -182,8 +196,13 @@ class TrajectoryTable:
 
     @property
     def n_joints(self) -> int:
-        """Number of ``phiK_deg`` columns."""
-        return sum(1 for c in self.columns if c.startswith("phi") and c.endswith("_deg"))
+        """Number of joint columns (``phiK_deg``, or ``qK_m`` for a prismatic joint)."""
+        return sum(1 for c in self.columns if _JOINT_COLUMN.fullmatch(c))
+
+    @property
+    def slides(self) -> np.ndarray:
+        """(n,) bool: which joints are prismatic (their columns ``qK_m``)."""
+        return np.array([f"q{i}_m" in self.columns for i in range(1, self.n_joints + 1)], dtype=bool)
 
     def column(self, name: str) -> np.ndarray:
         """(F,) values of a column."""
@@ -191,8 +210,16 @@ class TrajectoryTable:
 
     @property
     def angles_deg(self) -> np.ndarray:
-        """(F, n) joint angles in degrees."""
-        return np.stack([self.column(f"phi{i}_deg") for i in range(1, self.n_joints + 1)], axis=1)
+        """(F, n) joint values as written: degrees, metres for a prismatic joint."""
+        return np.stack([self.column(c) for c in joint_columns(self.n_joints, self.slides)], axis=1)
+
+    @property
+    def joints_si(self) -> np.ndarray:
+        """(F, n) joint values in the chain's units: radians, metres for a prismatic joint."""
+        return joints_in_si(self.angles_deg, self.slides)
+
+
+_JOINT_COLUMN = re.compile(r"phi[0-9]+_deg|q[0-9]+_m")
 
 
 def _problem(file: str, message: str, line: int | None = None) -> SceneError:
@@ -212,12 +239,13 @@ def check_header(row: list[str], file: str) -> tuple[str, ...]:
     if row[:3] != list(BASE_COLUMNS):
         raise _problem(file, f"is not an armanim trajectory ({expected})", 1)
     n = 0
-    while 3 + n < len(row) and row[3 + n] == f"phi{n + 1}_deg":
+    while 3 + n < len(row) and row[3 + n] in (f"phi{n + 1}_deg", f"q{n + 1}_m"):
         n += 1
-    stray = [c for c in row[3 + n:] if c.startswith("phi")]
+    stray = [c for c in row[3 + n:] if c.startswith("phi") or _JOINT_COLUMN.fullmatch(c)]
     if n == 0 or stray:
         found = f"the column {stray[0]!r} is out of place; " if stray else ""
-        raise _problem(file, f"{found}joint columns must be phi1_deg, phi2_deg, ... right after goal ({expected})", 1)
+        raise _problem(file, f"{found}joint columns must be phi1_deg (or q1_m for a prismatic joint), phi2_deg, ... "
+                             f"right after goal ({expected})", 1)
     missing = [c for c in REQUIRED_TAIL if c not in row]
     if missing:
         raise _problem(file, f"lacks the column(s) {', '.join(missing)} ({expected})", 1)

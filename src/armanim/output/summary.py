@@ -10,6 +10,7 @@ import numpy as np
 
 from armanim import __version__
 from armanim.arm.geometry import wrap_angle
+from armanim.arm.kinematics import joints_shown
 from armanim.motion.problem import Problem
 from armanim.motion.solution import (
     BLEND_REASONS,
@@ -31,13 +32,26 @@ def _round(value: float) -> float | None:
     return float(value) if np.isfinite(value) else None
 
 
-def min_limit_margin_deg(problem: Problem, phi: np.ndarray) -> float | None:
-    """Smallest distance (degrees) of any limited joint to its limits over all frames."""
-    limited = problem.limits.limited
+def min_limit_margin_deg(problem: Problem, phi: np.ndarray, slides: bool = False) -> float | None:
+    """Smallest distance (degrees) of any limited revolute joint to its limits over all frames
+    (``slides``: of any prismatic joint, metres)."""
+    limited = problem.limits.limited & (problem.arm.slides == slides)
     if not limited.any():
         return None
     gaps = np.minimum(phi[:, limited] - problem.limits.lower[limited], problem.limits.upper[limited] - phi[:, limited])
-    return float(np.degrees(gaps.min()))
+    return float(gaps.min()) if slides else float(np.degrees(gaps.min()))
+
+
+def prismatic_summary(problem: Problem, phi: np.ndarray) -> dict:
+    """An arm with prismatic joints: which they are (1-based; their entries of the rate lists are in
+    m/s and m/s^2), their least margin to a limit and largest step a frame, metres. {} otherwise."""
+    slides = problem.arm.slides
+    if not slides.any():
+        return {}
+    steps = np.abs(np.diff(phi[:, slides], axis=0))
+    return {"prismatic_joints": [int(i) + 1 for i in np.nonzero(slides)[0]],
+            "min_limit_margin_m": min_limit_margin_deg(problem, phi, slides=True),
+            "max_slide_step_m": float(steps.max()) if len(steps) else 0.0}
 
 
 def goal_path_lengths(solution: Solution, limited: np.ndarray | None = None) -> list[float]:
@@ -275,9 +289,10 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
         "min_clearance_obstacle": nearest_obstacle(problem, traj),
         **self_collision_summary(problem, traj),
         "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),
-        "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi))),
-        "max_joint_speed_deg_s": [float(v) for v in np.degrees(rates.speed)],
-        "max_joint_acceleration_deg_s2": [float(v) for v in np.degrees(rates.acceleration)],
+        "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi[:, ~problem.arm.slides]))),
+        "max_joint_speed_deg_s": [float(v) for v in joints_shown(rates.speed, problem.arm.prismatic)],
+        "max_joint_acceleration_deg_s2": [float(v) for v in joints_shown(rates.acceleration, problem.arm.prismatic)],
+        **prismatic_summary(problem, traj.phi),
         "goals": goals,
         "rate_notes": list(rate_notes),
     }

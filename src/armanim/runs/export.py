@@ -20,9 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
+from armanim.arm.kinematics import joints_in_si
 from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
 from armanim.output.csvfile import TrajectoryTable, read_trajectory_csv
+from armanim.output.csvfile import velocity_columns as csv_velocity_columns
 from armanim.output.files import read_bounded
 from armanim.output.jointtrajectory import (
     finite_difference_velocities,
@@ -40,25 +42,27 @@ MAX_MARK_BYTES = 10_000
 """Largest export mark read (armanim's is about 200 bytes)."""
 
 
-def velocity_columns(n: int) -> list[str]:
-    """The trajectory.csv columns of the joints' velocities (deg/s), ``dphi1_deg_s`` first.
+def velocity_columns(n: int, slides: np.ndarray | None = None) -> list[str]:
+    """The trajectory.csv columns of the joints' velocities (deg/s; m/s for a prismatic joint),
+    ``dphi1_deg_s`` (``dq1_m_s``) first.
 
     >>> velocity_columns(2)
     ['dphi1_deg_s', 'dphi2_deg_s']
     """
-    return [f"dphi{i}_deg_s" for i in range(1, n + 1)]
+    return csv_velocity_columns(n, slides)
 
 
 def run_velocities(table: TrajectoryTable, time_s: np.ndarray, positions: np.ndarray, file: str) -> np.ndarray:
-    """(F, n) rad/s: the clock's velocities from ``dphiK_deg_s``; a run written before those
-    columns existed gets central finite differences of its positions over ``time_s``.
+    """(F, n) rad/s (m/s for a prismatic joint): the clock's velocities from ``dphiK_deg_s``
+    (``dqK_m_s``); a run written before those columns existed gets central finite differences of
+    its positions over ``time_s``.
 
     Raises
     ------
     SceneError
         Some velocity columns but not all of them (exit 2).
     """
-    columns = velocity_columns(positions.shape[1])
+    columns = velocity_columns(positions.shape[1], table.slides)
     present = [c for c in columns if c in table.columns]
     if not present:
         return finite_difference_velocities(time_s, positions)
@@ -66,7 +70,7 @@ def run_velocities(table: TrajectoryTable, time_s: np.ndarray, positions: np.nda
         missing = [c for c in columns if c not in table.columns]
         raise SceneError(file, [Diagnostic("", f"has {', '.join(present[:3])} but not {', '.join(missing[:3])} "
                                                "(expected a velocity column for every joint: dphi1_deg_s ..)", 1)])
-    return np.radians(np.stack([table.column(c) for c in columns], axis=1))
+    return joints_in_si(np.stack([table.column(c) for c in columns], axis=1), table.slides)
 
 
 def _increasing_times(table: TrajectoryTable, file: str) -> np.ndarray:
@@ -87,7 +91,7 @@ def run_joint_trajectory(folder: Path) -> str:
     run = load_run(folder)
     csv_path = folder / "trajectory.csv"
     table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
-    positions = np.radians(table.angles_deg)
+    positions = table.joints_si
     time_s = _increasing_times(table, str(csv_path))
     velocities = run_velocities(table, time_s, positions, str(csv_path))
     names = list(run.problem.arm.joint_names) or [f"phi{i}" for i in range(1, positions.shape[1] + 1)]

@@ -51,7 +51,7 @@ class GoldenResult:
 def solve_csv_text(scene: LoadedScene) -> str:
     """The trajectory.csv text a run of ``scene`` writes (no files, no video)."""
     problem = scene_to_problem(scene.model)
-    return trajectory_csv_text(timed_solution(scene, problem, problem.fps).trajectory)
+    return trajectory_csv_text(timed_solution(scene, problem, problem.fps).trajectory, problem.arm.prismatic)
 
 
 def golden_paths(golden_dir: Path, name: str) -> tuple[Path, Path]:

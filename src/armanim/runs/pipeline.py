@@ -27,6 +27,7 @@ from armanim.output.timing import TIMING_FILE, write_timing
 from armanim.render.settings import OutputOptions, RenderOverrides, RenderSettings
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY, FinishedRun
 from armanim.runs.resample import resample_run, resampled_frames
+from armanim.runs.stopwatch import Stopwatch, stopwatch
 from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
 from armanim.scene.limits import rate_note_lines
 from armanim.scene.looks import scene_meshes
@@ -64,6 +65,8 @@ class RunResult:
     files: dict[str, Path]
     summary: dict
     notes: tuple[str, ...] = ()
+    timing: Stopwatch | None = None
+    """How long the run took from reading the scene to its outputs in place, and numba's compiling in that."""
 
 
 def run_scene(
@@ -99,13 +102,14 @@ def run_scene(
     OutputError
         An output could not be written (the previous outputs stay as they were).
     """
-    scene = load_scene(path)
-    folder = Path(out_root) / scene.name
-    with staged_folder(folder) as staged:
-        produced = produce_outputs(scene, staged, video=video, viewer=viewer, jobs=jobs, render_overrides=render_overrides,
-                                   progress=progress)
+    with stopwatch() as watch:  # from the scene file (and its URDF) to the outputs in place
+        scene = load_scene(path)
+        folder = Path(out_root) / scene.name
+        with staged_folder(folder) as staged:
+            produced = produce_outputs(scene, staged, video=video, viewer=viewer, jobs=jobs, render_overrides=render_overrides,
+                                       progress=progress)
     files = {kind: folder / name for kind, name in produced.names.items()}
-    return RunResult(scene, produced.run.problem, produced.run.solution, folder, files, produced.summary, produced.notes)
+    return RunResult(scene, produced.run.problem, produced.run.solution, folder, files, produced.summary, produced.notes, watch)
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ from typing import Literal
 import numpy as np
 from pydantic import ValidationError
 
-from armanim.arm.kinematics import forward, tool_rotation
+from armanim.arm.kinematics import forward, joints_in_si, joints_shown, tool_rotation
 from armanim.arm.rotations import rotation_quaternion, rotation_rpy
 from armanim.errors import UsageError
 from armanim.motion.ik import PoseSolution, solve_pose
@@ -76,11 +76,12 @@ def forward_pose(model: SceneModel, angles: np.ndarray, in_radians: bool = False
     ([1.0, 0.0, 1.0], [0.0, 90.0])
     """
     problem = scene_to_problem(model, own_pairs=False)  # one pose's FK asks nothing of them
-    phi = angles if in_radians else radians(angles)
+    slides = problem.arm.prismatic  # a prismatic joint's value is metres either way
+    phi = angles if in_radians else (radians(angles) if slides is None else joints_in_si(angles, slides))
     pose = forward(problem.arm, phi)
     rot = tool_rotation(problem.arm, pose)
     return FkAnswer(
-        problem=problem, phi=phi, angles_deg=np.degrees(angles) if in_radians else angles, joint_degrees=np.degrees(phi),
+        problem=problem, phi=phi, angles_deg=joints_shown(angles, slides) if in_radians else angles, joint_degrees=joints_shown(phi, slides),
         joints=pose.points, tip=pose.tip, tip_quaternion_wxyz=rotation_quaternion(rot),
         tip_rpy_deg=np.degrees(rotation_rpy(rot)), notes=tuple(problem.limits.notes(phi)) if with_notes else (),
     )
@@ -161,7 +162,7 @@ def solve_ik(problem: Problem, target: np.ndarray, start_deg: np.ndarray | None,
     solution = solve_pose(problem, target, phi0, max_iterations, orientation=orientation)
     gap, pair = least_self_gap(problem, solution.phi)
     return IkAnswer(
-        problem=problem, target=target, solution=solution, angles_deg=np.degrees(solution.phi),
+        problem=problem, target=target, solution=solution, angles_deg=joints_shown(solution.phi, problem.arm.prismatic),
         orientation_error_deg=None if solution.orientation_error is None else float(np.degrees(solution.orientation_error)),
         orientation_tolerance_deg=float(np.degrees(problem.solver.orientation_tolerance)),
         self_clearance=gap, self_pair=pair, miss=pose_miss(problem, target, solution),

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError
 
+from armanim.arm.kinematics import joints_in_si
 from armanim.errors import Diagnostic, SceneError
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
@@ -111,7 +112,7 @@ def _read_trajectory(csv_path: Path, problem: Problem) -> Trajectory:
     clearance = table.column("clearance")
     frames = len(table.data)
     angle, quaternions = frame_orientations(
-        problem.arm, [g.orientation for g in problem.goals], np.radians(table.angles_deg), table.column("goal").astype(int)
+        problem.arm, [g.orientation for g in problem.goals], table.joints_si, table.column("goal").astype(int)
     )
     if "orientation_error_deg" in table.columns and angle is not None:
         angle = np.radians(table.column("orientation_error_deg"))
@@ -120,11 +121,11 @@ def _read_trajectory(csv_path: Path, problem: Problem) -> Trajectory:
     along = [table.column(c) if c in table.columns else None for c in ("path_s", "path_error")]
     if not any(g.path is not None for g in problem.goals):
         along = [None, None]
-    speeds = velocity_columns(problem.arm.n)
-    velocity = np.radians(np.stack([table.column(c) for c in speeds], axis=1)) if all(
+    speeds = velocity_columns(problem.arm.n, problem.arm.prismatic)
+    velocity = joints_in_si(np.stack([table.column(c) for c in speeds], axis=1), problem.arm.prismatic) if all(
         c in table.columns for c in speeds) else None  # a run from before the clock has none
     return Trajectory(
-        phi=np.radians(table.angles_deg),
+        phi=table.joints_si,
         tip=np.stack([table.column(c) for c in ("x", "y", "z")], axis=1),
         goal=table.column("goal").astype(int),
         distance=table.column("goal_distance"),

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
+import numpy as np
 from pydantic import Field, PrivateAttr, WithJsonSchema, field_validator, model_validator
 
 from armanim.scene.fields import (
@@ -237,6 +238,14 @@ class ArmModel(Strict):
     def joint_count(self) -> int:
         """Number of joints."""
         return len(self.urdf_arm.joint_names) if self.is_urdf else len(self.links or ())
+
+    @property
+    def sliding(self) -> np.ndarray:
+        """(n,) bool: which joints are prismatic (their values, limits and rates in metres, m/s, ...;
+        a revolute joint's in degrees, deg/s, ...). All False for an arm of links."""
+        if self.is_urdf and any(self.urdf_arm.prismatic):
+            return np.array(self.urdf_arm.prismatic, dtype=bool)
+        return np.zeros(self.joint_count, dtype=bool)
 
     @property
     def resolved_width(self) -> float:

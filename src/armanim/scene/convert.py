@@ -16,7 +16,7 @@ import numpy as np
 from armanim.arm.capsules import BASE, Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
 from armanim.arm.geometry import unit_vector, wrap_angle
-from armanim.arm.kinematics import Arm, default_axes, forward
+from armanim.arm.kinematics import Arm, default_axes, forward, joints_in_si
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import (
@@ -73,7 +73,12 @@ def urdf_chain(arm: ArmModel) -> SerialChain:
     """The URDF arm's chain, placed by ``base`` and ``base_rpy`` and ended by ``tool``."""
     mount = urdf_mount(arm)
     tool = tool_frame(arm.tool)
-    return serial_chain(mount, list(arm.urdf_arm.joints), tool)
+    chain = serial_chain(mount, list(arm.urdf_arm.joints), tool)
+    if chain.arm.prismatic is None:
+        return chain
+    limits = joint_limits(arm)  # a prismatic joint's reach: its larger limit in size
+    stroke = np.where(chain.arm.prismatic, np.maximum(np.abs(limits.lower), np.abs(limits.upper)), 0.0)
+    return replace(chain, arm=replace(chain.arm, stroke=stroke))
 
 
 def held_values(arm: ArmModel) -> dict[str, float]:
@@ -240,6 +245,7 @@ def solver_settings(s: SolverModel, width: float, reach: float = DEFAULT_REACH) 
         jacobian=s.jacobian,
         damping=s.damping,
         max_joint_step=float(np.radians(s.max_joint_step)),
+        max_slide_step=float(s.max_slide_step),
         clearance=clearance(s, width),
         planner=s.planner,
         w_goal=s.weights.goal,
@@ -294,7 +300,7 @@ def _automatic_matrix(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Lim
         matrix = bundled_matrix(bundled.name)
         if matrix is not None and clearance <= matrix.clearance:
             return {(a, b): reason for a, b, reason in matrix.allowed}
-    defaults = [np.radians(np.array(bundled.home, dtype=float)) if bundled is not None else home]
+    defaults = [joints_in_si(np.array(bundled.home, dtype=float), chain.prismatic) if bundled is not None else home]
     if arm.is_urdf and bundled is None:  # a bundled robot's default is its home (its robot.yaml, as MoveIt's "ready")
         defaults.append(selfcollision.default_pose(limits.lower, limits.upper))
     return dict(_sampled_matrix(chain, capsules, limits.lower, limits.upper, tuple(d.tobytes() for d in defaults), clearance))
@@ -344,7 +350,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
     fps = scene.render.fps if fps is None else fps
     chain, capsules = scene_arm(arm, axis_names(scene) if not arm.is_urdf else [])
     solver = solver_settings(scene.solver, arm.resolved_width, chain.reach)
-    home = np.radians(np.array(home_degrees(arm), dtype=float))
+    home = joints_in_si(np.array(home_degrees(arm), dtype=float), chain.prismatic)
     limits = joint_limits(arm)
     every = capsules if capsules is not None else joint_capsules(chain, arm.resolved_width / 2.0)
     return Problem(
@@ -419,7 +425,7 @@ def scene_goal(goal: GoalModel, chain: Arm | None = None, blend: float | None = 
     radius = goal.blend if goal.blend is not None else blend
     if goal.joints is not None:
         assert chain is not None, "a joint goal's tool point needs the arm"
-        joints = np.radians(np.array(goal.joints, dtype=float))
+        joints = joints_in_si(np.array(goal.joints, dtype=float), chain.prismatic)
         return Goal(forward(chain, joints).tip.copy(), goal.hold, joints=joints,
                     blend=None if radius is None else float(np.radians(min(radius, 180.0))))
     if goal.path is None:

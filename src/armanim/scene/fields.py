@@ -28,7 +28,7 @@ LIMITS = {
 """Largest sizes a scene may ask for (documented in docs/reliability.md); file-level limits
 (bytes, values, nesting) are in :mod:`armanim.scene.yamlread`."""
 
-ROBOTS = ("panda", "ur5", "iiwa")
+ROBOTS = ("panda", "ur5", "iiwa", "ur5_rail")
 """The bundled robots a scene may name (``arm.robot``), each a folder of ``armanim/arm/robots/``
 (URDF, licence, robot.yaml: :mod:`armanim.scene.robots` reads them)."""
 

@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from armanim.arm.kinematics import joints_in_si
 from armanim.errors import shown
 from armanim.motion.problem import LINK_ACCELERATION_PER_SPEED, Limits, RateLimits, link_arm_rates
 from armanim.motion.tunables import DEFAULTS
@@ -29,20 +30,30 @@ URDF_SPEED = 180.0
 robot publishes none): half a turn a second, a typical cobot's joint speed (a UR5's 180, a
 Panda's 125 to 150)."""
 
+URDF_SLIDE_SPEED = 0.5
+"""m/s: the speed of a prismatic joint whose ``<limit>`` gives no velocity (a linear axis's
+typical half a metre a second)."""
+
+SLIDE_JERK_PER_ACCELERATION = 10.0
+"""1/s: a prismatic joint's jerk limit per its acceleration limit where ``max_joint_jerk`` is one
+number (which sets the revolute joints')."""
+
 RATE_FIELDS = ("max_joint_speed", "max_joint_acceleration", "max_joint_jerk")
 """The arm's joint rate fields (deg/s, deg/s^2, deg/s^3), in this order."""
 
 
 def joint_limits(arm: ArmModel) -> Limits:
-    """The arm's joint limits, radians: ``arm.limits`` (degrees), else the URDF's own, else none;
-    the barrier's margin ``arm.limit_margin``."""
+    """The arm's joint limits, radians (metres for a prismatic joint): ``arm.limits`` (degrees;
+    metres), else the URDF's own, else none; the barrier's margin ``arm.limit_margin`` (its
+    radians, taken as metres by a prismatic joint: 10 degrees keep 0.175 m)."""
     n = arm.joint_count
-    if arm.limits is None and arm.is_urdf:  # the URDF's own, in radians already
-        pairs = [np.degrees(p) if p is not None else None for p in arm.urdf_arm.limits]
+    slides = arm.sliding
+    if arm.limits is None and arm.is_urdf:  # the URDF's own, in radians (metres) already
+        pairs = [(p if slide else np.degrees(p)) if p is not None else None for p, slide in zip(arm.urdf_arm.limits, slides)]
     else:
         pairs = arm.limits if arm.limits is not None else [None] * n
-    lower = np.array([np.radians(p[0]) if p is not None else -np.inf for p in pairs])
-    upper = np.array([np.radians(p[1]) if p is not None else np.inf for p in pairs])
+    lower = np.array([(float(p[0]) if slide else np.radians(p[0])) if p is not None else -np.inf for p, slide in zip(pairs, slides)])
+    upper = np.array([(float(p[1]) if slide else np.radians(p[1])) if p is not None else np.inf for p, slide in zip(pairs, slides)])
     return Limits(lower=lower, upper=upper, margin=float(np.radians(arm.limit_margin)))
 
 
@@ -82,11 +93,18 @@ def robot_rates(arm: ArmModel) -> dict[str, tuple[np.ndarray, str]]:
     return own
 
 
-def _given_rates(value, n: int) -> np.ndarray | None:
-    """A rate field as the scene gives it (one number for all, or one per joint), radians; None if left out."""
+def _given_rates(value, n: int, slides: np.ndarray | None = None, own: np.ndarray | None = None) -> np.ndarray | None:
+    """A rate field as the scene gives it (one number for all, or one per joint), radians (metres
+    for a prismatic joint); None if left out. One number sets the revolute joints: a prismatic
+    joint keeps ``own`` (its rate in m/s..., NaN: none) unless a list gives it."""
     if value is None:
         return None
-    return np.radians(np.broadcast_to(np.asarray(value, dtype=float), (n,))).copy()
+    if slides is None or not slides.any():
+        return np.radians(np.broadcast_to(np.asarray(value, dtype=float), (n,))).copy()
+    values = joints_in_si(np.broadcast_to(np.asarray(value, dtype=float), (n,)), slides)
+    if not isinstance(value, list) and own is not None:
+        values = np.where(slides, own, values)
+    return values
 
 
 def rate_limits(scene: SceneModel) -> RateLimits:
@@ -107,22 +125,23 @@ def rate_limits(scene: SceneModel) -> RateLimits:
     """
     arm = scene.arm
     n = arm.joint_count
+    slides = arm.sliding
     own = robot_rates(arm)
     if arm.is_urdf:
-        speed = np.where(np.isnan(own["max_joint_speed"][0]), np.radians(URDF_SPEED), own["max_joint_speed"][0])
+        default = np.radians(URDF_SPEED) if not slides.any() else np.where(slides, URDF_SLIDE_SPEED, np.radians(URDF_SPEED))
+        speed = np.where(np.isnan(own["max_joint_speed"][0]), default, own["max_joint_speed"][0])
     else:
         speed = link_arm_rates(n, float(np.radians(scene.solver.max_joint_step)), scene.render.fps).speed
-    given = _given_rates(arm.max_joint_speed, n)
+    given = _given_rates(arm.max_joint_speed, n, slides, speed)
     speed = given if given is not None else speed
-    given = _given_rates(arm.max_joint_acceleration, n)
-    if given is None:
-        published = own.get("max_joint_acceleration", (np.full(n, np.nan),))[0]
-        given = np.where(np.isnan(published), LINK_ACCELERATION_PER_SPEED * speed, published)
-    acceleration = given
+    published = own.get("max_joint_acceleration", (np.full(n, np.nan),))[0]
+    own_acceleration = np.where(np.isnan(published), LINK_ACCELERATION_PER_SPEED * speed, published)
+    given = _given_rates(arm.max_joint_acceleration, n, slides, own_acceleration)
+    acceleration = own_acceleration if given is None else given
     if arm.max_joint_jerk == "robot":
         jerk = own["max_joint_jerk"][0]
     else:
-        jerk = _given_rates(arm.max_joint_jerk, n)
+        jerk = _given_rates(arm.max_joint_jerk, n, slides, SLIDE_JERK_PER_ACCELERATION * acceleration)
     return RateLimits(speed=speed, acceleration=acceleration, jerk=jerk)
 
 
@@ -139,7 +158,8 @@ def limit_problems(arm: ArmModel):
     limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
     if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
         bundled = arm.urdf_arm.bundled if arm.is_urdf else None
-        yield from _home_outside_limits(arm.home if arm.home is not None or bundled is None else list(bundled.home), limits)
+        yield from _home_outside_limits(arm.home if arm.home is not None or bundled is None else list(bundled.home), limits,
+                                        _units(arm))
 
 
 def _narrow_limits(arm):
@@ -150,39 +170,56 @@ def _narrow_limits(arm):
     least = 2 * buffer * arm.limit_margin
     advice = f"expected wider than 2 x {buffer:g} x arm.limit_margin = {least:g} deg"
     if arm.limits is not None:
+        slides = arm.sliding if arm.is_urdf and len(arm.limits) == arm.joint_count else np.zeros(len(arm.limits), dtype=bool)
         for i, pair in enumerate(arm.limits):
-            if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
+            if slides[i]:
+                if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= 2 * buffer * math.radians(arm.limit_margin):
+                    yield f"arm.limits[{i}]", (f"a range of {pair[1] - pair[0]:g} m is too narrow for a prismatic joint (expected wider than "
+                                               f"2 x {buffer:g} x arm.limit_margin in radians, as metres: widen it or lower arm.limit_margin)")
+            elif pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
                 yield f"arm.limits[{i}]", f"a range of {pair[1] - pair[0]:g} deg is too narrow ({advice}: widen it or lower arm.limit_margin)"
     elif arm.is_urdf:
-        for name, pair in zip(arm.urdf_arm.joint_names, _urdf_limits_degrees(arm)):
-            if pair is not None and pair[1] - pair[0] <= least:
+        for name, pair, slide in zip(arm.urdf_arm.joint_names, _urdf_limits_degrees(arm), arm.sliding):
+            if slide and pair[1] - pair[0] <= 2 * buffer * math.radians(arm.limit_margin):
+                yield "arm.limit_margin", (f"the URDF's prismatic joint {shown(name)} has a range of {pair[1] - pair[0]:g} m, too narrow "
+                                           f"(expected wider than 2 x {buffer:g} x arm.limit_margin in radians, as metres: "
+                                           "lower arm.limit_margin, or give arm.limits)")
+            elif not slide and pair is not None and pair[1] - pair[0] <= least:
                 yield "arm.limit_margin", (f"the URDF's joint {shown(name)} has a range of {pair[1] - pair[0]:g} deg, too narrow "
                                            f"({advice}: lower arm.limit_margin, or give arm.limits)")
 
 
 def _urdf_limits_degrees(arm) -> list:
-    """The URDF's joint limits in degrees (None for a continuous joint)."""
-    return [[math.degrees(p[0]), math.degrees(p[1])] if p is not None else None for p in arm.urdf_arm.limits]
+    """The URDF's joint limits in degrees (None for a continuous joint; metres for a prismatic one)."""
+    return [([p[0], p[1]] if slide else [math.degrees(p[0]), math.degrees(p[1])]) if p is not None else None
+            for p, slide in zip(arm.urdf_arm.limits, arm.sliding)]
 
 
-def _home_outside_limits(home, limits):
+def _units(arm) -> list[str]:
+    """Each joint's unit as the scene writes its values: ``deg``, or ``m`` for a prismatic joint."""
+    return ["m" if slide else "deg" for slide in arm.sliding]
+
+
+def _home_outside_limits(home, limits, units=None):
     """arm.home (given, or the default zeros) within every limited joint's range, its ends included
     (MoveIt's bounds are closed: a start may rest on a limit)."""
     given = home is not None
     angles = home if given else [0.0] * len(limits)
+    units = units or ["deg"] * len(limits)
     for i, (angle, pair) in enumerate(zip(angles, limits)):
         if pair is None or not pair[0] < pair[1] or pair[0] <= angle <= pair[1]:
             continue
-        inside = min(max(angle, pair[0] + 1), pair[1] - 1) if pair[1] - pair[0] > 2 else (pair[0] + pair[1]) / 2
+        step = 1 if units[i] == "deg" else 0.01  # an example a degree (a centimetre) inside
+        inside = min(max(angle, pair[0] + step), pair[1] - step) if pair[1] - pair[0] > 2 * step else (pair[0] + pair[1]) / 2
         shown_angle, low, high, example = apart(angle, pair[0], pair[1], inside)
         if given:
             yield f"arm.home[{i}]", (
-                f"{shown_angle} deg is outside joint {i + 1}'s limits arm.limits[{i}] = [{low}, {high}] "
+                f"{shown_angle} {units[i]} is outside joint {i + 1}'s limits arm.limits[{i}] = [{low}, {high}] "
                 f"(expected within them, the ends included: e.g. home[{i}]: {example})"
             )
         else:
             yield "arm.home", (
-                f"is not given, so joint {i + 1} starts at 0 deg, outside its limits arm.limits[{i}] = "
+                f"is not given, so joint {i + 1} starts at 0 {units[i]}, outside its limits arm.limits[{i}] = "
                 f"[{low}, {high}] (expected within them, the ends included: give arm.home with e.g. {example} for joint {i + 1})"
             )
 
@@ -195,6 +232,7 @@ def joint_goal_limit_problems(scene: SceneModel):
     limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
     if limits is None or len(limits) != n:
         return
+    units = _units(arm)
     for k, goal in enumerate(scene.goals):
         if goal.joints is None or len(goal.joints) != n:
             continue
@@ -202,7 +240,7 @@ def joint_goal_limit_problems(scene: SceneModel):
             if pair is not None and pair[0] < pair[1] and not pair[0] <= angle <= pair[1]:
                 shown_angle, low, high = apart(angle, pair[0], pair[1])
                 yield f"goals[{k}].joints[{i}]", (
-                    f"{shown_angle} deg is outside joint {i + 1}'s limits [{low}, {high}] "
+                    f"{shown_angle} {units[i]} is outside joint {i + 1}'s limits [{low}, {high}] "
                     "(expected within them, the ends included)"
                 )
 

@@ -512,6 +512,9 @@ class SolverModel(Strict):
     max_joint_step: Annotated[float, Field(ge=MIN_JOINT_STEP, le=180, allow_inf_nan=False)] = Field(
         default=10.0, description="No joint turns by more than this many degrees in one solver step (a solved frame of render.fps); arm.max_joint_speed is the speed."
     )
+    max_slide_step: Annotated[float, Field(ge=1e-6, le=10, allow_inf_nan=False)] = Field(
+        default=0.05, description="No prismatic joint slides by more than this many metres in one solver step (max_joint_step's counterpart)."
+    )
     clearance: Positive | None = Field(
         default=None,
         description="d_safe: the distance every arm part keeps from every obstacle surface, scene units; default arm.width / 10.",
@@ -533,7 +536,7 @@ class SolverModel(Strict):
     )
     joint_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
         default=0.01,
-        description="Degrees (metres for a prismatic joint): a joint goal is reached when every joint is within this of it. "
+        description="Degrees (a prismatic joint: this many radians, as metres): a joint goal is reached when every joint is within this of it. "
                     "The planned path ends on the goal itself, so this only absorbs rounding; MoveIt's default is 1e-4 rad (0.0057 deg).",
     )
     orientation_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(

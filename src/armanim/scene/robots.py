@@ -22,7 +22,17 @@ from armanim.scene.fields import ROBOTS
 from armanim.scene.meshcapsules import MeshCapsules, collision_yaml, mesh_capsules
 from armanim.scene.models import SceneModel
 from armanim.scene.srdf import resolve_self_collision
-from armanim.scene.urdf import MOVING, Hanging, Joint, Robot, chain_joints, hanging_links, joint_speeds, read_urdf
+from armanim.scene.urdf import (
+    ON_PATH,
+    SLIDING,
+    Hanging,
+    Joint,
+    Robot,
+    chain_joints,
+    hanging_links,
+    joint_speeds,
+    read_urdf,
+)
 from armanim.scene.visuals import default_package_dirs
 
 RATE_UNITS = {"max_joint_speed": ("rad/s", "deg/s"), "max_joint_acceleration": ("rad/s^2", "deg/s^2"),
@@ -92,7 +102,7 @@ def published_joint_names(name: str) -> tuple[str, ...]:
     ``base_link`` to its ``tip_link`` (a scene may choose others; rates go by joint name)."""
     robot = bundled_robot(name)
     urdf = read_urdf(robot.urdf, f"robot {name}'s URDF")
-    return tuple(j.name for j in urdf.path(robot.base_link, robot.tip_link) if j.kind in MOVING)
+    return tuple(j.name for j in urdf.path(robot.base_link, robot.tip_link) if j.kind in ON_PATH)
 
 
 SELF_COLLISION_FILE = "self-collision.yaml"
@@ -226,9 +236,9 @@ class UrdfArm:
     joint_names : tuple of str
         The moving joints, in order (``phi1`` is the first).
     limits : tuple of (lower, upper) radians or None
-        Per moving joint, from the URDF (None: continuous).
+        Per moving joint, from the URDF (None: continuous); metres for a prismatic joint.
     velocities : tuple of float or None
-        Per moving joint, the URDF's ``<limit velocity>`` in rad/s (None: not given).
+        Per moving joint, the URDF's ``<limit velocity>`` in rad/s, m/s for a prismatic joint (None: not given).
     path_links : tuple of str
         The child link of each joint of ``joints``.
     capsules : tuple of CapsuleSpec
@@ -251,6 +261,8 @@ class UrdfArm:
     bundled: BundledRobot | None
     source: bytes | None = None
     velocities: tuple[float | None, ...] = ()
+    prismatic: tuple[bool, ...] = ()
+    """Per moving joint: whether it slides (metres) instead of turning (radians)."""
     links: tuple[str, ...] = ()
     """Every link of the URDF (names an SRDF or ``self_collision`` lists may use)."""
     base_link: str = ""
@@ -312,7 +324,7 @@ def _check_joint_values(values: dict, robot: Robot, path_joints: list[Joint], he
     """``arm.joint_values`` names held joints (not the chain's, not fixed, not a mimic) with values
     inside their limits (degrees, or metres for a prismatic joint); an :class:`ArmFieldError` at the
     joint's entry otherwise."""
-    chain = {j.name for j in path_joints if j.kind in MOVING}
+    chain = {j.name for j in path_joints if j.kind in ON_PATH}
     mine = {j.name: j for j in held}
     for name, value in values.items():
         loc = ("joint_values", name)
@@ -390,7 +402,7 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
     tip = _link(robot, arm.tip_link or (bundled.tip_link if bundled else _only_leaf(robot)), "tip_link")
     joints = chain_joints(robot, base, tip)
     path_joints = robot.path(base, tip)
-    moving = [j for j in path_joints if j.kind in ("revolute", "continuous")]
+    moving = [j for j in path_joints if j.kind in ON_PATH]
     links = tuple(j.child for j in path_joints)
     hanging = tuple(hanging_links(robot, base, links))
     held = tuple({j.name: j for h in hanging for j in h.joints if j.kind != "fixed"}.values())
@@ -422,6 +434,7 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
         joints=tuple(joints),
         joint_names=tuple(j.name for j in moving),
         limits=tuple(j.limits for j in moving),
+        prismatic=tuple(j.kind == SLIDING for j in moving),
         path_links=links,
         capsules=capsules,
         fallback_links=_uncovered(joints, links, capsules),

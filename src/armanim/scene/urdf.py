@@ -33,7 +33,10 @@ MAX_DEPTH = 32
 MAX_ELEMENTS = 200_000
 MAX_JOINTS = LIMITS["links"]  # moving joints on the arm's path: as many as an arm of links may have
 MOVING = ("revolute", "continuous")
-UNSUPPORTED = ("prismatic", "planar", "floating")
+SLIDING = "prismatic"
+ON_PATH = (*MOVING, SLIDING)
+"""The joints an arm's path moves: they turn (radians) or slide (metres)."""
+UNSUPPORTED = ("planar", "floating")
 NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 """A URDF number as XML Schema's double writes it: no ``_`` (Python's ``float`` reads
 ``-1_0`` as -10), no hex, no ``inf`` or ``nan``."""
@@ -271,7 +274,7 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
             raise SceneError(file, [Diagnostic("", f"{what}: {end} link {link!r} is not defined (no <link name={link!r}>)", sub.line)])
         ends[end] = link
     axis = np.array(_numbers(el.find("axis"), "xyz", 3, (1.0, 0.0, 0.0), file, f"{what} <axis>"))
-    if kind in MOVING and not np.abs(axis).max() > 0:
+    if kind in ON_PATH and not np.abs(axis).max() > 0:
         raise SceneError(file, [Diagnostic("", f"{what} has the axis 0 0 0 (expected a direction, e.g. xyz=\"0 0 1\")", el.find("axis").line)])
     limit = el.find("limit")
     limits = None
@@ -289,7 +292,7 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
             raise SceneError(file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is not below upper {upper:g}", limit.line)])
         limits = (lower, upper)
     velocity = None
-    if kind in MOVING and limit is not None and "velocity" in limit.attrib:
+    if kind in ON_PATH and limit is not None and "velocity" in limit.attrib:
         velocity = _numbers(limit, "velocity", 1, (), file, f"{what} <limit>")[0]
     return Joint(name, kind, ends["parent"], ends["child"], _origin(el, file, what), axis, limits,
                  el.find("mimic") is not None, el.line, velocity, limit.line if limit is not None else None,
@@ -340,27 +343,31 @@ def chain_joints(robot: Robot, base: str, tip: str) -> list[ChainJoint]:
     the path is an error naming it and its line."""
     out = []
     for joint in robot.path(base, tip):
-        if joint.kind in UNSUPPORTED or joint.kind not in (*MOVING, "fixed"):
+        if joint.kind in UNSUPPORTED or joint.kind not in (*ON_PATH, "fixed"):
             kind = joint.kind or "(none)"
             raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} is of type {kind!r} "
-                              "(armanim moves revolute and continuous joints and folds fixed ones; "
+                              "(armanim moves revolute, continuous and prismatic joints and folds fixed ones; "
                               "choose another base_link or tip_link)", joint.line)
-        if joint.mimic and joint.kind in MOVING:
+        if joint.mimic and joint.kind in ON_PATH:
             raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} mimics another joint "
-                              "(not supported yet: choose another tip_link)", joint.line)
-        out.append(ChainJoint(joint.name, joint.origin, joint.axis if joint.kind in MOVING else None))
+                              "(a mimic joint on the arm's path is not supported: choose another tip_link)", joint.line)
+        if joint.kind == SLIDING and (joint.limits is None or not joint.limits[0] < joint.limits[1]):
+            raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} is prismatic without room to slide "
+                              "(expected <limit lower=... upper=...> in metres, lower below upper)",
+                              joint.limit_line or joint.line)
+        out.append(ChainJoint(joint.name, joint.origin, joint.axis if joint.kind in ON_PATH else None, joint.kind == SLIDING))
     moving = sum(j.axis is not None for j in out)
     if moving > MAX_JOINTS:
         raise robot.error(f"{moving:,} moving joints between {base!r} and {tip!r} (expected at most {MAX_JOINTS}, "
                           "as for an arm of links)", robot.link_lines[tip])
     if not moving:
-        raise robot.error(f"no revolute or continuous joint between {base!r} and {tip!r} (nothing would move)",
+        raise robot.error(f"no revolute, continuous or prismatic joint between {base!r} and {tip!r} (nothing would move)",
                           robot.link_lines[tip])
     return out
 
 
 def joint_speeds(robot: Robot, joints: list[Joint]) -> tuple[float | None, ...]:
-    """Each joint's ``<limit velocity>`` (rad/s), None where the URDF gives none (``effort`` is
+    """Each joint's ``<limit velocity>`` (rad/s, m/s for a prismatic joint), None where the URDF gives none (``effort`` is
     not read). Only the arm's own joints are checked, so a gripper's ``velocity="0"`` elsewhere
     in the file does no harm.
 

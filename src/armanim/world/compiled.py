@@ -607,16 +607,29 @@ def pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray,
     n0, n1, n2 = normal[p, 0], normal[p, 1], normal[p, 2]
     for m in range(axes.shape[0]):
         c0, c1, c2 = _pair_column(axes[m, 0], axes[m, 1], axes[m, 2], points[m, 0], points[m, 1], points[m, 2],
-                                  m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2)
+                                  m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2, _slides(axes, m))
         row[m] = n0 * c0 + n1 * c1 + n2 * c2
 
 
 @compiled(**_INLINE)
+def _slides(axes: np.ndarray, m: int) -> bool:
+    """Whether joint m is prismatic: world ``axes`` (n, 4) carry each joint's kind in a fourth
+    column (1: prismatic; :func:`armanim.world.selfdistances.kind_axes`); (n, 3) axes are all revolute."""
+    return bool(axes.shape[1] > 3 and axes[m, 3] != 0.0)
+
+
+@compiled(**_INLINE)
 def _pair_column(w0: float, w1: float, w2: float, p0: float, p1: float, p2: float, on_a: bool, on_b: bool,
-                 qa0: float, qa1: float, qa2: float, qb0: float, qb1: float, qb2: float) -> tuple[float, float, float]:
+                 qa0: float, qa1: float, qa2: float, qb0: float, qb1: float, qb2: float, slides: bool) -> tuple[float, float, float]:
     """Joint m's column of J_A - J_B: w_m x (q_A - p_m) where joint m moves link A's point, less
-    w_m x (q_B - p_m) where it moves B's. Numbers in and out (no small arrays, no array taken:
-    their reference counts cost some 0.6 us a row); :func:`pair_row` and :func:`pair_jacobians`."""
+    w_m x (q_B - p_m) where it moves B's (w_m for each where the joint ``slides``: prismatic).
+    Numbers in and out (no small arrays, no array taken: their reference counts cost some 0.6 us
+    a row); :func:`pair_row` and :func:`pair_jacobians`."""
+    if slides:
+        s0 = (w0 if on_a else 0.0) - (w0 if on_b else 0.0)
+        s1 = (w1 if on_a else 0.0) - (w1 if on_b else 0.0)
+        s2 = (w2 if on_a else 0.0) - (w2 if on_b else 0.0)
+        return s0, s1, s2
     c0 = c1 = c2 = 0.0
     if on_a:
         l0, l1, l2 = qa0 - p0, qa1 - p1, qa2 - p2
@@ -643,13 +656,15 @@ def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nd
         qb0, qb1, qb2 = a[j, 0] + sp * (b[j, 0] - a[j, 0]), a[j, 1] + sp * (b[j, 1] - a[j, 1]), a[j, 2] + sp * (b[j, 2] - a[j, 2])
         for m in range(axes.shape[0]):
             jac[r, 0, m], jac[r, 1, m], jac[r, 2, m] = _pair_column(axes[m, 0], axes[m, 1], axes[m, 2], points[m, 0], points[m, 1],
-                                                                    points[m, 2], m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2)
+                                                                    points[m, 2], m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2,
+                                                                    _slides(axes, m))
 
 
 @compiled(**_INLINE)
 def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.ndarray) -> None:
     """Each link's twist under the joint rates ``x`` (n,) into ``twists`` (n, 6): link l's angular
-    rate Omega_l = sum_{m <= l} x_m w_m and its linear term V_l = sum_{m <= l} x_m p_m x w_m, so
+    rate Omega_l = sum_{m <= l} x_m w_m and its linear term V_l = sum_{m <= l} x_m p_m x w_m
+    (x_m w_m and no angular rate for a prismatic joint m, :func:`_slides`), so
     that a point q that link l carries moves at Omega_l x q + V_l (its Jacobian's columns
     w_m x (q - p_m) of :func:`pair_row`, summed against ``x``). O(n) once; a pair's rate then
     costs a few products (:func:`pair_rate`) where its row costs n cross products."""
@@ -658,6 +673,12 @@ def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.
         w0, w1, w2 = axes[m, 0], axes[m, 1], axes[m, 2]
         p0, p1, p2 = points[m, 0], points[m, 1], points[m, 2]
         xm = x[m]
+        if _slides(axes, m):  # a prismatic joint: every point it carries moves at x_m w_m
+            v0 += xm * w0
+            v1 += xm * w1
+            v2 += xm * w2
+            twists[m, 0], twists[m, 1], twists[m, 2], twists[m, 3], twists[m, 4], twists[m, 5] = o0, o1, o2, v0, v1, v2
+            continue
         o0 += xm * w0
         o1 += xm * w1
         o2 += xm * w2

@@ -206,5 +206,20 @@ def _pair_inputs(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gap
     """The arrays the compiled pair Jacobians read: joint points, world axes, capsule ends, the
     capsules' links, the pairs and their closest points' fractions."""
     a, b = capsule_ends(capsules, pose)
-    return (_rows(pose.points), _rows(joint_axes_world(arm, pose)), _rows(a), _rows(b), capsules.link,
+    return (_rows(pose.points), kind_axes(arm, pose), _rows(a), _rows(b), capsules.link,
             pairs.first, pairs.second, gaps.t, gaps.s)
+
+
+def kind_axes(arm: Arm, pose: Pose) -> np.ndarray:
+    """The world joint axes (n, 3) of one pose as the compiled pair Jacobians read them; for an arm
+    with prismatic joints (n, 4), each joint's kind (1: prismatic) in the fourth column.
+
+    >>> from armanim.arm.kinematics import forward
+    >>> arm = Arm(np.zeros(3), np.eye(3)[:2], np.eye(3)[:2], prismatic=np.array([True, False]))
+    >>> kind_axes(arm, forward(arm, np.zeros(2))).tolist()
+    [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 0.0]]
+    """
+    axes = _rows(joint_axes_world(arm, pose))
+    if arm.prismatic is None:
+        return axes
+    return np.ascontiguousarray(np.concatenate([axes, arm.prismatic[:, None].astype(float)], axis=1))

@@ -33,7 +33,7 @@ import numpy as np
 from armanim.arm import capsules as arm_capsules
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.problem import Problem
+from armanim.motion.problem import Problem, step_caps
 from armanim.motion.solvers.common import ArmState, arm_state
 from armanim.names import Blocker
 from armanim.world.distances import min_link_clearance
@@ -111,7 +111,7 @@ def point_travel_bound(problem: Problem, dphi: np.ndarray) -> float:
 
 def joint_bounds(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per-joint bounds of dPhi: the joint-step cap and the limits' velocity damper."""
-    cap = problem.solver.max_joint_step
+    cap = step_caps(problem)
     lim = problem.limits
     buffer = limit_buffer(problem)
     gamma = problem.tunables.filter.gamma
@@ -181,7 +181,10 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray,
 def takes_unchanged(problem: Problem, state: ArmState, dphi: np.ndarray) -> bool:
     """Whether the filter takes the step ``dphi`` from ``state`` as it is: within the joint-step
     cap, every linear constraint met (the planner paces its paths with this)."""
-    if not np.abs(dphi).max(initial=0.0) <= problem.solver.max_joint_step * (1 + 1e-9):
+    if problem.arm.prismatic is not None:
+        if not np.all(np.abs(dphi) <= step_caps(problem) * (1 + 1e-9)):
+            return False
+    elif not np.abs(dphi).max(initial=0.0) <= problem.solver.max_joint_step * (1 + 1e-9):
         return False
     return filter_constraints(problem, state, dphi).violated_by(dphi) is None
 
@@ -262,7 +265,10 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray, ahead: ArmSta
         return SafeStep(state, 0.0, "nan")
     if biggest == 0.0:
         return SafeStep(state, 0.0, None)
-    nominal = dphi * min(1.0, problem.solver.max_joint_step / biggest)
+    if problem.arm.prismatic is None:
+        nominal = dphi * min(1.0, problem.solver.max_joint_step / biggest)
+    else:  # each joint within its own cap: radians, or metres for a prismatic joint
+        nominal = dphi * min(1.0, float(np.min(step_caps(problem) / np.maximum(np.abs(dphi), 1e-300))))
     bounds = joint_bounds(problem, state.phi)
     cons = None if clearly_allowed(problem, state, nominal, bounds) else filter_constraints(problem, state, nominal, bounds)
     step = nominal if cons is None else filtered_step(nominal, cons)

@@ -8,7 +8,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from armanim.motion.problem import Problem
+from armanim.motion.problem import Limits, Problem
 from armanim.motion.solution import GoalReport, Trajectory
 from armanim.output.numbers import length_unit
 from armanim.output.solved import SolvedRun
@@ -105,17 +105,39 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
     top.grid(alpha=0.3)
     degrees = np.degrees(trajectory.phi)
     names = joint_labels(problem.arm.joint_names, degrees.shape[1])
-    for j in range(degrees.shape[1]):
+    slides = problem.arm.slides
+    for j in np.nonzero(~slides)[0]:
         bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=names[j])
-    _limit_lines(bottom, problem.limits, names)
+    limits, handles = problem.limits, None
+    if slides.any():  # the prismatic joints in metres, on the right axis
+        limits = Limits(np.where(slides, -np.inf, limits.lower), np.where(slides, np.inf, limits.upper), limits.margin)
+        handles = bottom.get_lines() + _slide_curves(bottom, t, trajectory.phi, problem, names)
+    _limit_lines(bottom, limits, names)
     bottom.set_ylabel("joint angle (deg)")
-    # beside the panel, not in it: inside, its rows covered the limit labels at the right (issue 50)
-    bottom.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8, ncols=max(1, -(-degrees.shape[1] // 12)),
-                  borderaxespad=0.0)
+    # beside the panel, not in it: inside, its rows covered the limit labels at the right (issue 50);
+    # past the right axis's metres where prismatic joints have one
+    bottom.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.07 if slides.any() else 1.005, 1.0), fontsize=8,
+                  ncols=max(1, -(-degrees.shape[1] // 12)), borderaxespad=0.0)
     bottom.grid(alpha=0.3)
     _speed_panel(speeds, problem, trajectory)
     speeds.set_xlabel("time (s)")
     return canvas
+
+
+def _slide_curves(ax, t: np.ndarray, phi: np.ndarray, problem: Problem, names: list[str]) -> list:
+    """The prismatic joints' values (metres) on a right axis of the joint panel, dashed, their limits
+    dotted and labelled at the left end; their curves (the legend's handles)."""
+    right = ax.twinx()
+    curves = []
+    for j in np.nonzero(problem.arm.slides)[0]:
+        curves += right.plot(t, phi[:, j], color=f"C{j % 10}", linestyle="--", label=f"{names[j]} (m, right)")
+        for value, side in ((problem.limits.lower[j], "min"), (problem.limits.upper[j], "max")):
+            if np.isfinite(value):
+                right.axhline(value, color=f"C{j % 10}", linewidth=1.0, alpha=0.8, linestyle=":")
+                right.text(0.005, value, f"{names[j]} {side} {value:.3g} m", transform=right.get_yaxis_transform(),
+                           ha="left", va="bottom", fontsize=8, color=f"C{j % 10}")
+    right.set_ylabel("prismatic joint (m)")
+    return curves
 
 
 def joint_labels(joint_names, n: int) -> list[str]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.arm.kinematics import forward
+from armanim.arm.kinematics import forward, joints_shown
 from armanim.arm.visuals import ArmMeshes
 from armanim.motion.problem import Problem
 from armanim.output.numbers import number
@@ -18,7 +18,7 @@ from armanim.render.solids.arm import near_capsules
 def pose_caption(problem: Problem, phi: np.ndarray) -> str:
     """Caption of a single pose: its joint angles in degrees and its tip."""
     tip = forward(problem.arm, phi).tip
-    angles = ", ".join(number(a, 360, 4) for a in np.degrees(phi))
+    angles = ", ".join(number(a, 360, 4) for a in joints_shown(phi, problem.arm.prismatic))  # metres for a prismatic joint
     return f"phi = [{angles}] deg   tip = ({', '.join(number(v, problem.arm.reach, 4) for v in tip)})"
 
 

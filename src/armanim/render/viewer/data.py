@@ -14,7 +14,7 @@ import numpy as np
 
 from armanim import __version__
 from armanim.arm.capsules import capsule_ends
-from armanim.arm.kinematics import forward
+from armanim.arm.kinematics import forward, joints_shown
 from armanim.arm.rotations import rotation_quaternion
 from armanim.arm.visuals import ArmMeshes
 from armanim.motion.orientation import frame_orientations
@@ -255,7 +255,8 @@ def viewer_data(
         "title": str(title),
         "fps": float(trajectory.fps),
         "frames": int(trajectory.frames),
-        "joints": [str(j) for j in joint_names] if joint_names is not None else [f"phi{i + 1}" for i in range(n)],
+        "joints": [f"{name} (m)" if slide else name for name, slide in zip(
+            [str(j) for j in joint_names] if joint_names is not None else [f"phi{i + 1}" for i in range(n)], problem.arm.slides)],
         "decimals": decimals,
         "arm": {
             "links": [float(v) for v in problem.arm.links],
@@ -326,7 +327,7 @@ def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int)
             "ends": rounded(np.stack([starts, ends], axis=2), decimals),
             **near_entries(problem, pose),
         },
-        "angles_deg": rounded(np.degrees(trajectory.phi), ANGLE_DECIMALS),
+        "angles_deg": rounded(joints_shown(trajectory.phi, problem.arm.prismatic), ANGLE_DECIMALS),  # metres for a prismatic joint
         "goal": [int(g) for g in trajectory.goal],
         "distance": rounded(trajectory.distance, decimals),
         "clearance": [v if ok else None for v, ok in zip(rounded(np.where(finite, clearance, 0.0), decimals), finite)],
