@@ -38,6 +38,7 @@ from pathlib import Path
 import psutil
 
 MARKER = ".armanim-run.json"
+TIMING_FILE = "timing.json"  # a run's wall times: the one file whose bytes differ from run to run
 LITTER = (".partial", ".old-", ".tmp", ".part", ".concat")
 HANG_GUARD = 300.0  # seconds: far beyond any unloaded attempt (a few seconds)
 
@@ -60,6 +61,9 @@ def snapshot(folder: Path, *roots: Path) -> dict[str, str]:
     def digest(path: Path) -> str:
         if path.name == MARKER:  # its list of files (their times differ from run to run)
             return hashlib.sha256(" ".join(sorted(json.loads(path.read_text())["files"])).encode()).hexdigest()
+        if path.name == TIMING_FILE:  # its fields and goals (the wall times differ from run to run)
+            timing = json.loads(path.read_text())
+            return hashlib.sha256(f"{sorted(timing)} {len(timing['goals'])}".encode()).hexdigest()
         data = path.read_bytes()
         for root in roots:
             data = data.replace(str(root).encode(), b"<ROOT>")
