@@ -15,6 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import joint_goal_problems
+from toppra_oracle import toppra_trajectory
 
 from armanim.motion.clock import time_optimal
 from armanim.motion.jointpath import joint_path
@@ -124,42 +125,16 @@ def test_with_hold_on_every_goal_blend_changes_nothing():
     assert [g.blend.reason for g in b.goals] == ["hold"] * 3 + ["last"]
 
 
-toppra = pytest.importorskip("toppra")
-
-
-class _Path(toppra.interpolator.AbstractGeometricPath):
-    """The clock's own path for toppra: both time exactly the same geometry."""
-
-    def __init__(self, path):
-        self.path = path
-
-    def __call__(self, s, order=0):
-        return self.path.evaluate(np.atleast_1d(np.asarray(s, dtype=float)), order)
-
-    @property
-    def dof(self):
-        return self.path.poses.shape[1]
-
-    @property
-    def path_interval(self):
-        return np.array([0.0, self.path.length])
 
 
 def test_the_blended_paths_duration_is_toppras(ur5_solved):
     """The clock's time law on the whole blended path (every goal's solved poses, corners cut) is
     within 2 % of toppra's on the same path, velocity free at the vias."""
-    import toppra.algorithm
-    import toppra.constraint
-
-    toppra.setup_logging("WARNING")
     problem, solution = ur5_solved
     (poses,) = via_paths(problem, solution)
     path = joint_path(poses, problem.limits.limited)
     speed, acceleration = problem.rates.speed, problem.rates.acceleration
-    constraints = [toppra.constraint.JointVelocityConstraint(np.stack([-speed, speed], axis=1)),
-                   toppra.constraint.JointAccelerationConstraint(np.stack([-acceleration, acceleration], axis=1))]
-    oracle = toppra.algorithm.TOPPRA(constraints, _Path(path), gridpoints=np.linspace(0, path.length, 8000),
-                                     parametrizer="ParametrizeConstAccel").compute_trajectory(0, 0)
+    oracle = toppra_trajectory(path, speed, acceleration)
     law = time_optimal(path, speed, acceleration)
     assert law.duration == pytest.approx(oracle.duration, rel=0.02)
     knots = path.s[1:-1]  # the speed at the vias' poses is free: nowhere inside does the law stop

@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import PchipInterpolator
+from toppra_oracle import toppra_trajectory
 
 from armanim.motion.clock import sampled_motion, time_optimal
 from armanim.motion.goalmotion import PathSafety, goal_motion, probed_steps, two_sided_bound
@@ -99,25 +100,6 @@ def test_one_radian_at_rest_both_ends_is_the_textbook_profile():
     assert law.duration == pytest.approx(2 * np.sqrt(0.5), rel=1e-9)
 
 
-toppra = pytest.importorskip("toppra")
-
-
-class _Path(toppra.interpolator.AbstractGeometricPath):
-    """The clock's own path for toppra: both time exactly the same geometry."""
-
-    def __init__(self, path):
-        self.path = path
-
-    def __call__(self, s, order=0):
-        return self.path.evaluate(np.atleast_1d(np.asarray(s, dtype=float)), order)
-
-    @property
-    def dof(self):
-        return self.path.poses.shape[1]
-
-    @property
-    def path_interval(self):
-        return np.array([0.0, self.path.length])
 
 
 @pytest.mark.parametrize("seed", range(8))
@@ -125,18 +107,11 @@ def test_the_duration_is_toppras_time_optimal_one(seed):
     """Within 2 % of toppra on the same path (8000 grid points), and never more than its own
     discretisation below it: toppra keeps the limits at its grid points only (its time law
     breaks the accelerations between them, measured here), the clock everywhere."""
-    import toppra.algorithm
-    import toppra.constraint
-
-    toppra.setup_logging("WARNING")
     n = 1 + seed % 7
     poses = _random_path(seed, n, 10 + 7 * seed, 0.02)
     speed, acceleration = _limits(seed, n)
     path = joint_path(poses, np.ones(n, dtype=bool))
-    constraints = [toppra.constraint.JointVelocityConstraint(np.stack([-speed, speed], axis=1)),
-                   toppra.constraint.JointAccelerationConstraint(np.stack([-acceleration, acceleration], axis=1))]
-    oracle = toppra.algorithm.TOPPRA(constraints, _Path(path), gridpoints=np.linspace(0, path.length, 8000),
-                                     parametrizer="ParametrizeConstAccel").compute_trajectory(0, 0)
+    oracle = toppra_trajectory(path, speed, acceleration)
     t = np.linspace(0, oracle.duration, 100_000)
     oracle_excess = max(1.0, float(np.max(np.abs(oracle(t, 2)) / acceleration)))
     law = time_optimal(path, speed, acceleration)
