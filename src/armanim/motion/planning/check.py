@@ -6,9 +6,11 @@ one pose is its kinematics (:mod:`armanim.arm.kernel`), its capsules' clearances
 and the floor (:func:`armanim.motion.kernels.check.obstacle_clearances`, in the scene's order)
 and its enabled pairs' gaps (:func:`armanim.world.compiled.capsule_pair_gaps`) in one call, and a
 whole motion check (:func:`armanim.motion.planning.path.motion_is_free`: the coarse samples, then
-the halving, level by level, by the same lever-arm bounds) is one call too.
+the halving, level by level) is one call too. The motion check bounds each group of capsules by its
+own lever arms (:func:`~armanim.arm.capsules.capsule_lever_rows`) where numpy's takes the arm's
+farthest point for all: the same answers, fewer poses measured.
 
-The numbers are the numpy path's to rounding (other summation orders); the numpy functions stay
+The margins are the numpy path's to rounding (other summation orders); the numpy functions stay
 the reference, and the tests hold the two to each other. Pure core: numpy and numba only.
 """
 
