@@ -11,7 +11,7 @@ import pytest
 
 from armanim.arm.capsules import capsule_ends, capsule_lever_rows
 from armanim.arm.kinematics import forward
-from armanim.motion.planning.check import CompiledCheck, pair_lever_rows
+from armanim.motion.planning.check import CompiledCheck, pair_capsule_rows
 from armanim.motion.planning.path import motion_is_free
 from armanim.motion.solvers.barrier import split_clearances, within_limits
 from armanim.scene import scene_model
@@ -148,7 +148,7 @@ def test_lever_rows_bound_how_far_points_and_gaps_move(arm):
     caps = problem.capsules
     rows = capsule_lever_rows(problem.arm, caps)
     assert np.all(rows <= problem.lever_arms + 1e-12)
-    pair_rows = pair_lever_rows(caps.link, problem.self_pairs.first, problem.self_pairs.second, rows)
+    pair_rows = pair_capsule_rows(caps.link, problem.self_pairs.first, problem.self_pairs.second, rows)
     assert np.all(pair_rows <= problem.pair_lever_rows + 1e-12)
     tight = 0
     for a in random_poses(problem, rng, 40):

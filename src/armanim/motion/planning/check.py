@@ -428,13 +428,13 @@ def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
         start, members, keys // max(len(carriers), 1), keys % max(len(carriers), 1), pair_start, pair_members))
 
 
-def pair_lever_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray) -> np.ndarray:
+def pair_capsule_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """(P, n) the most each pair's gap changes per radian of joint j: the joints between the two
     capsules' carriers (``link`` (c,)) move the later one's points against the earlier one's
     frame, at most its ``rows`` (c, n) (:func:`~armanim.arm.capsules.capsule_lever_rows`); the
     others move both alike.
 
-    >>> pair_lever_rows(np.array([-1, 0, 1]), np.array([0, 1]), np.array([2, 2]), np.array([[0.0, 0], [1, 0], [3, 2]])).tolist()
+    >>> pair_capsule_rows(np.array([-1, 0, 1]), np.array([0, 1]), np.array([2, 2]), np.array([[0.0, 0], [1, 0], [3, 2]])).tolist()
     [[3.0, 2.0], [0.0, 2.0]]
     """
     lo, hi = np.minimum(link[first], link[second]), np.maximum(link[first], link[second])
@@ -500,7 +500,7 @@ class CompiledCheck:
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
                     group_levers(rows, groups[0], groups[1]),
-                    group_levers(pair_lever_rows(caps.link, first, second, rows), groups[4], groups[5])),
+                    group_levers(pair_capsule_rows(caps.link, first, second, rows), groups[4], groups[5])),
             settings=np.array([problem.solver.clearance, spacing, opts.certify_to, opts.max_halvings, opts.max_samples,
                                0.0 if closed else limit_buffer(problem)]),
         )
