@@ -58,3 +58,16 @@ def test_compiles_first_answers_for_both_commands():
 
     problem = ik_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.4, 0.0, 0.4]]}), None, None, from_flags=False)
     assert {type(compiles_first("run")), type(compiles_first("ik", problem))} == {bool}
+
+
+def test_armanim_warm_solves_every_warm_scene_and_leaves_the_run_s_kernels_cached(tmp_path):
+    """``armanim warm`` (the installed command): every scene it warms solves, nothing is written in
+    the folder it runs in, and afterwards a run's kernels are in numba's cache (no notice before a run)."""
+    from armanim.runs.warm import warm_scenes
+    from armanim.runs.warmth import compiles_first
+
+    done = subprocess.run([sys.executable, "-m", "armanim", "warm"], cwd=tmp_path, capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr
+    assert f"armanim warm: {len(warm_scenes()) + 2} solves" in done.stdout.replace("\n", " ")
+    assert list(tmp_path.iterdir()) == []
+    assert not compiles_first("run")

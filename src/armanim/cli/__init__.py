@@ -10,7 +10,7 @@ import importlib
 
 from armanim.cli.app import app
 
-COMMAND_MODULES = ("pose", "scenes", "robots", "run", "view", "export", "sweep", "golden", "moveit")
+COMMAND_MODULES = ("pose", "scenes", "robots", "run", "view", "export", "sweep", "golden", "moveit", "warm")
 """Importing each registers its commands, in this order in ``armanim --help``."""
 for _module in COMMAND_MODULES:
     importlib.import_module(f"armanim.cli.{_module}")

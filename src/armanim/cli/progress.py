@@ -63,7 +63,7 @@ class Bars:
         self.progress.update(task, completed=done, total=max(total, done), description=label)
 
 
-LABELS = {"solve": "solver steps", "plan": "plan search", "path": "path (per mille)"}
+LABELS = {"solve": "solver steps", "plan": "plan search", "path": "path (per mille)", "warm": "solves"}
 """What each stage counts, as its bar says: the solver's steps at the scene's own rate are not the
 run's frames (notes-arm: 338 steps, then 135 frames on the clock), a plan counts its search's
 iterations, a path goal its thousandths."""

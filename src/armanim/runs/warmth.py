@@ -1,7 +1,7 @@
 """Whether a command's first solve on this machine compiles armanim's numerical code first.
 
 numba compiles the compiled kernels at their first call after installing or upgrading and keeps
-the machine code in its cache; that first time takes some 10-40 s, during which a progress bar
+the machine code in its cache; that first time takes about a minute on two cores, during which a progress bar
 would stand still. The commands tell a user at a terminal so (:func:`compiles_first`).
 """
 
@@ -34,5 +34,6 @@ def compiles_first(command: Literal["run", "ik"], problem: object = None) -> boo
     return not kernel.machine_code_cached(*functions)
 
 
-FIRST_COMPILE = "armanim: compiling its numerical code for this machine, once after installing (some 10-40 s)"
+FIRST_COMPILE = ("armanim: compiling its numerical code for this machine, once after installing (about a minute; "
+                 "armanim warm does it ahead)")
 """What a command says at a terminal before a solve that compiles first."""
