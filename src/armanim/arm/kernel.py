@@ -91,8 +91,11 @@ def stamp_cache(dispatcher: Any, stamp: SourcesStamp) -> None:
         cache_file._source_stamp = (cache_file._source_stamp, stamp)
 
 
-_JIT = dict(error_model="numpy", nogil=True)
-_INLINE = dict(inline="always", **_JIT)
+JIT = dict(error_model="numpy", nogil=True)
+"""The options of every compiled kernel: numpy's error model (x / 0 is inf or NaN, as the closed
+forms and the bounds expect), the GIL released (render and batch workers run kernels in threads)."""
+INLINE = dict(inline="always", **JIT)
+""":data:`JIT` for the small helpers inlined into their callers."""
 
 AXIS, K, K2, OFFSET, TURN, KIND, WIDTH = 0, 3, 12, 21, 24, 33, 34
 """Columns of a joint's row in :func:`packed_chain`: its axis a_i (3), K = [a_i]x (9, row
@@ -123,7 +126,7 @@ def packed_chain(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
     return packed
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarray, frames: np.ndarray,
            axes: np.ndarray, tool: np.ndarray) -> None:
     """One pose into ``points`` (n+1, 3), ``frames`` (n, 3, 3), world ``axes`` (n, 3) and the
@@ -161,14 +164,14 @@ def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarr
             tool[a, b] = rot[a, b]
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _forward_one(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarray, frames: np.ndarray,
                  axes: np.ndarray, tool: np.ndarray) -> None:
     """One pose into arrays the caller made (four arrays handed back by numba cost a microsecond more)."""
     _chain(rows, root, phi, points, frames, axes, tool)
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _forward_many(rows: np.ndarray, root: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     n = rows.shape[0]
     m = phi.shape[0]
@@ -181,7 +184,7 @@ def _forward_many(rows: np.ndarray, root: np.ndarray, phi: np.ndarray) -> tuple[
     return points, frames, axes, tool
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def _jacobian(points: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
     """The 6 x n geometric Jacobian of the tool into ``jac``: rows 0-2 w_j x (e - p_j) (the
     tip's), rows 3-5 w_j (the tool's angular velocity), as :func:`tip_jacobian` and
@@ -200,7 +203,7 @@ def _jacobian(points: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
         jac[5, j] = w2
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def _slide_columns(rows: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
     """A prismatic joint's columns of the 6 x n Jacobian ``jac`` from :func:`_jacobian`: w_j
     (the tip slides along its axis) over 0 (the tool does not turn). Other columns stay."""
@@ -211,7 +214,7 @@ def _slide_columns(rows: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
                 jac[3 + a, j] = 0.0
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _jacobian_one(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np.ndarray:
     jac = np.empty((6, axes.shape[0]))
     _jacobian(points, axes, jac)
@@ -219,7 +222,7 @@ def _jacobian_one(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np.
     return jac
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _jacobian_many(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np.ndarray:
     jac = np.empty((axes.shape[0], 6, axes.shape[1]))
     for k in range(axes.shape[0]):
@@ -228,7 +231,7 @@ def _jacobian_many(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np
     return jac
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def _log(rot: np.ndarray, out: np.ndarray) -> None:
     """The rotation vector of ``rot`` (3, 3) into ``out`` (3,): :func:`armanim.arm.rotations.rotation_log`'s
     formulas (the series near 0, the symmetric part near pi)."""
@@ -269,14 +272,14 @@ def _log(rot: np.ndarray, out: np.ndarray) -> None:
     out[2] = scale * sz
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _log_one(rot: np.ndarray) -> np.ndarray:
     out = np.empty(3)
     _log(rot, out)
     return out
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _log_many(rot: np.ndarray) -> np.ndarray:
     out = np.empty((rot.shape[0], 3))
     for k in range(rot.shape[0]):
@@ -284,7 +287,7 @@ def _log_many(rot: np.ndarray) -> np.ndarray:
     return out
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _error_to(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
     """log(R_g R^T) (3,): the world rotation vector from the tool frame to the goal's."""
     rel = np.empty((3, 3))
@@ -361,7 +364,7 @@ def rotation_error(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
     return _error_to(np.ascontiguousarray(goal, dtype=float), np.ascontiguousarray(tool, dtype=float))
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _capsule_ends_one(points: np.ndarray, frames: np.ndarray, link: np.ndarray, start: np.ndarray, end: np.ndarray,
                       joint_segment: np.ndarray, a: np.ndarray, b: np.ndarray) -> None:
     """Every capsule's world ends of one pose into a, b (c, 3): p_k + R_k x, or the joint points

@@ -48,7 +48,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from armanim.arm.kernel import _forward_one, compiled
+from armanim.arm.kernel import JIT, _forward_one, compiled
 from armanim.motion.kernels.check import pair_gaps
 from armanim.motion.kernels.layout import (
     BUFFER,
@@ -76,10 +76,8 @@ from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import VIOLATION
 
-_JIT = dict(error_model="numpy", nogil=True)
 
-
-@compiled(**_JIT)
+@compiled(**JIT)
 def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
              lower: np.ndarray, upper: np.ndarray, floats: np.ndarray, settings: np.ndarray, method: int, stacked: bool, steps_cap: int,
              kind: int, steps_so_far: int, since_so_far: int, best_so_far: float, caps: np.ndarray, caps_link: np.ndarray,

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled
+from armanim.arm.kernel import JIT, _capsule_ends_one, _forward_one, compiled
 from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE
 from armanim.world.compiled import (
     _points_apart,
@@ -24,11 +24,8 @@ from armanim.world.compiled import (
     segment_cylinder_grid,
 )
 
-_JIT = dict(error_model="numpy", nogil=True)
-_INLINE = dict(inline="always", **_JIT)
 
-
-@compiled(**_JIT)
+@compiled(**JIT)
 def pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_link: np.ndarray, first: np.ndarray,
                second: np.ndarray, ends: np.ndarray, gaps: np.ndarray, near: np.ndarray) -> float:
     """Every enabled pair's gap (distance less both radii) into ``gaps`` (P,), the capsules' world
@@ -60,7 +57,7 @@ def pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_lin
     return least
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, centers: np.ndarray,
                        radii: np.ndarray, d: np.ndarray, t: np.ndarray, normal: np.ndarray) -> None:
     """Clearances of the capsules (segments a-b) and the tip to the spheres into d, t (c+1, s)
@@ -99,7 +96,7 @@ def sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_rad
             d[part, k] = dist - radii[k] - part_radius[part]
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: tuple[np.ndarray, ...], d: np.ndarray, t: np.ndarray,
                 normal: np.ndarray) -> None:
     """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
@@ -165,7 +162,7 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
                 normal[part, k, i] = kn[part, j, i]
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def pose_exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: np.ndarray, cand: np.ndarray, lower: np.ndarray,
                   upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
                   world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,

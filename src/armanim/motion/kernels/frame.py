@@ -39,7 +39,7 @@ from typing import Literal
 
 import numpy as np
 
-from armanim.arm.kernel import TURN, _capsule_ends_one, compiled
+from armanim.arm.kernel import JIT, TURN, _capsule_ends_one, compiled
 from armanim.arm.kinematics import Pose
 from armanim.motion.kernels.check import pose_exactly_safe
 from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, MAX_JOINT_STEP, PINV
@@ -61,15 +61,13 @@ from armanim.world.compiled import pair_row, pair_rows_met
 from armanim.world.distances import Clearances
 from armanim.world.selfdistances import SelfGaps
 
-_JIT = dict(error_model="numpy", nogil=True)
-
 TAKEN, NOMINAL, QP, FILTER, NUMPY = 0, 1, 2, 3, 4
 """How a compiled frame ended (:func:`frame_loop`): the step taken (the new state is in the outputs);
 the filter takes the proposal as it is, its exact check still to do; the filter's QP to solve;
 the proposal made but the numpy filter needed; nothing done (the numpy proposal and filter)."""
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, phi: np.ndarray,
            points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray,
            goal_axis: np.ndarray, lower: np.ndarray, upper: np.ndarray,
@@ -196,7 +194,7 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
     return TAKEN
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int, phi: np.ndarray, step: np.ndarray,
             lower: np.ndarray, upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
             world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,

@@ -18,13 +18,9 @@ import math
 
 import numpy as np
 
-from armanim.arm.kernel import compiled
+from armanim.arm.kernel import INLINE, JIT, compiled
 from armanim.arm.linalg import PINV_RTOL
 from armanim.motion.kernels.layout import PINV
-
-_JIT = dict(error_model="numpy", nogil=True)
-_INLINE = dict(inline="always", **_JIT)
-
 
 WELL_CONDITIONED = 1e5
 """A Jacobian is inverted by its normal equations when trace(G) |G^-1|_F, a bound on its
@@ -33,7 +29,7 @@ above the pseudo-inverse's cut-off, and the normal equations' rounding (kappa^2 
 1e-10."""
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def cholesky(g: np.ndarray, size: int, floor: float) -> bool:
     """G = L L^T in place for the leading (size, size) block of ``g`` (its lower triangle read,
     L written there); False where a pivot is not above ``floor`` (G not positive definite)."""
@@ -52,7 +48,7 @@ def cholesky(g: np.ndarray, size: int, floor: float) -> bool:
     return True
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def pinv_by_normal_equations(jac: np.ndarray, out: np.ndarray) -> bool:
     """J^+ = J^T (J J^T)^-1 (m <= n) or (J^T J)^-1 J^T into ``out`` (n, m), where it can be shown
     cheaply that no singular value is cut (:data:`WELL_CONDITIONED`): the condition number
@@ -100,7 +96,7 @@ def pinv_by_normal_equations(jac: np.ndarray, out: np.ndarray) -> bool:
     return True
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def pseudo_inverse(jac: np.ndarray, out: np.ndarray) -> None:
     """The Moore-Penrose pseudo-inverse of ``jac`` (m, n) into ``out`` (n, m): singular values
     below ``PINV_RTOL`` times the largest count as zero (:func:`armanim.arm.linalg.pseudo_inverse`,
@@ -129,7 +125,7 @@ def pseudo_inverse(jac: np.ndarray, out: np.ndarray) -> None:
             out[i, j] = s
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def damped(jac: np.ndarray, damping: float, out: np.ndarray) -> bool:
     """J^T (J J^T + lambda^2 I)^-1 of ``jac`` (m, n) into ``out`` (n, m), by Gaussian elimination
     with partial pivoting (the solve of :func:`armanim.motion.solvers.linear.damped_inverse`);
@@ -175,7 +171,7 @@ def damped(jac: np.ndarray, damping: float, out: np.ndarray) -> bool:
     return True
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def invert(jac: np.ndarray, method: int, damping: float, out: np.ndarray) -> bool:
     """The method's inverse of ``jac`` (m, n) into ``out`` (n, m): :func:`pseudo_inverse` or
     :func:`damped`; False where it fails (a zero pivot: a NaN proposal)."""
@@ -185,7 +181,7 @@ def invert(jac: np.ndarray, method: int, damping: float, out: np.ndarray) -> boo
     return damped(jac, damping, out)
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def matvec(a: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
     for i in range(a.shape[0]):
         s = 0.0

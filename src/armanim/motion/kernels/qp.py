@@ -12,15 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from armanim.arm.kernel import compiled
+from armanim.arm.kernel import INLINE, JIT, compiled
 from armanim.motion.kernels.layout import GAMMA, KEPT_SELF, SLACK
 from armanim.motion.kernels.linalg import cholesky
 from armanim.motion.solvers.barrier import VIOLATION
 from armanim.world.compiled import link_twists, pair_rate, pair_row
-
-_JIT = dict(error_model="numpy", nogil=True)
-_INLINE = dict(inline="always", **_JIT)
-
 
 QP_ITERATIONS = 100
 """Most iterations of :func:`_closest_step` (each adds or drops one constraint; a 7-joint step
@@ -31,7 +27,7 @@ QP_FEASIBLE = 1e-13
 by no more than this (rounding; the filter's own test allows ``VIOLATION``)."""
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray, gram: np.ndarray) -> bool:
     """out (w,) solving (C_W C_W^T) out = rhs (w,), C_W the rows ``active[:w]`` of ``cmat``, by
     Cholesky (in ``gram``, (n, n) work space); False where C_W C_W^T is not positive definite
@@ -58,7 +54,7 @@ def gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, ou
     return True
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, x: np.ndarray, bounds: int = 0) -> int:
     """The filter's QP, exactly: x (n,) minimising |x - nominal|^2 subject to ``cmat[:count] x >=
     cb[:count]``, by the dual active-set method of Goldfarb and Idnani (Hessian I): from x =
@@ -191,7 +187,7 @@ def closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: i
     return 1
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def bound_rows(n: int, pairs: int) -> np.ndarray:
     """The filter QP's rows (2 n + P, n), its first 2 n the joints' bounds (I, then -I: x >= low,
     -x >= -high); the pairs' rows are written per step."""
@@ -202,7 +198,7 @@ def bound_rows(n: int, pairs: int) -> np.ndarray:
     return cmat
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def filtered_with_pairs(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray,
               near: np.ndarray, first: np.ndarray, second: np.ndarray, pair_levers: np.ndarray, nominal: np.ndarray,
               nominal_length: float, low: np.ndarray, high: np.ndarray, cmat: np.ndarray, cb: np.ndarray, twists: np.ndarray,
@@ -284,7 +280,7 @@ def filtered_with_pairs(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray
     return True
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def lever_travel(levers: np.ndarray, q: int, step: np.ndarray, scale: float) -> float:
     """The most pair q's gap changes under the joint change ``scale * step``: its lever arms . |scale step|."""
     travel = 0.0
@@ -293,7 +289,7 @@ def lever_travel(levers: np.ndarray, q: int, step: np.ndarray, scale: float) -> 
     return travel
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def pairs_far(floats: np.ndarray, bound: np.ndarray, levers: np.ndarray, step: np.ndarray) -> bool:
     """Whether every pair's gap bound shows its row of the filter met by ``step`` whatever the row
     (gamma (d - d_target) >= the pair's lever arms . |step|)."""

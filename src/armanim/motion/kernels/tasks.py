@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from armanim.arm.kernel import _jacobian, _log, compiled
+from armanim.arm.kernel import INLINE, JIT, _jacobian, _log, compiled
 from armanim.motion.kernels.layout import (
     ANGLE_TOL,
     BETA,
@@ -39,11 +39,8 @@ from armanim.motion.kernels.linalg import damped, invert, matvec, pseudo_inverse
 from armanim.motion.solvers.linear import CLOSEST_GAP, ROUNDING_TASK
 from armanim.world.compiled import pair_jacobians
 
-_JIT = dict(error_model="numpy", nogil=True)
-_INLINE = dict(inline="always", **_JIT)
 
-
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def least_axis(v0: float, v1: float, v2: float) -> int:
     """The coordinate axis least along (v0, v1, v2) (numpy's argmin of |v|: the first of equals)."""
     best = 0
@@ -55,7 +52,7 @@ def least_axis(v0: float, v1: float, v2: float) -> int:
     return best
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def cross_axis(v: np.ndarray, axis: int, out: np.ndarray) -> None:
     """v x e_axis into ``out``."""
     e0 = 1.0 if axis == 0 else 0.0
@@ -66,7 +63,7 @@ def cross_axis(v: np.ndarray, axis: int, out: np.ndarray) -> None:
     out[2] = v[0] * e1 - v[1] * e0
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def orientation_residual(kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray, out: np.ndarray) -> None:
     """r (3,): log(R_g R^T) for a rotation, the alignment vector of the tool's z onto the goal's
     axis for a tool axis (:func:`armanim.motion.orientation.orientation_residual`)."""
@@ -95,7 +92,7 @@ def orientation_residual(kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray,
         out[a] = angle * (out[a] / length)
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def orientation_rows(kind: int, tool: np.ndarray, rows: np.ndarray) -> int:
     """The goal's rotation directions B into ``rows`` (3, 3): the identity for a rotation (3
     rows), the two directions perpendicular to the tool's z for a tool axis
@@ -120,7 +117,7 @@ def orientation_rows(kind: int, tool: np.ndarray, rows: np.ndarray) -> int:
     return 2
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def progress_measure(floats: np.ndarray, kind: int, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
               points: np.ndarray, tool: np.ndarray, residual: np.ndarray, errors: np.ndarray) -> float:
     """|e - g|, the angle |r| (into ``errors`` (2,)) and the progress measure max(|e - g|, |r| tol /
@@ -142,7 +139,7 @@ def progress_measure(floats: np.ndarray, kind: int, goal: np.ndarray, goal_rot: 
     return max(distance, scaled)
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def capped(v: np.ndarray, scale: float, cap: float) -> None:
     """v <- scale v, its length capped at ``cap`` (:func:`~armanim.motion.solvers.common.task_displacement`)."""
     s = 0.0
@@ -155,7 +152,7 @@ def capped(v: np.ndarray, scale: float, cap: float) -> None:
             v[a] = v[a] * (cap / length)
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def step_bounds(phi: float, lower: float, upper: float, cap: float, gamma: float, buffer: float) -> tuple[float, float]:
     """One joint's bounds on its step in the filter (:func:`armanim.motion.solvers.barrier.joint_bounds`):
     the joint-step cap and, for a limited joint, the velocity damper toward each limit less its
@@ -167,7 +164,7 @@ def step_bounds(phi: float, lower: float, upper: float, cap: float, gamma: float
     return min(low, 0.0), max(high, 0.0)
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def limit_push(floats: np.ndarray, phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, push: np.ndarray) -> bool:
     """The joint-limit push z into ``push``; False when no joint is within the margin of a limit
     (:func:`armanim.motion.solvers.linear.limit_push`)."""
@@ -184,7 +181,7 @@ def limit_push(floats: np.ndarray, phi: np.ndarray, lower: np.ndarray, upper: np
     return True
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def repulsion(gap: float, influence: float) -> float:
     """R (R / gap - 1) inside the influence, else 0 (:func:`armanim.motion.solvers.linear.repulsion`)."""
     if not (gap > 0.0 and gap < influence):
@@ -192,7 +189,7 @@ def repulsion(gap: float, influence: float) -> float:
     return influence * (influence / max(gap, influence * 1e-12) - 1.0)
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, null: np.ndarray, restricted: np.ndarray) -> tuple[float, float]:
     """The rotation task second in priority: the tip task's null-space projector I - J^+ J into
     ``null`` (n, n) (``jac`` its first 3 rows the tip's, ``pinv_tip`` (n, 3) their
@@ -216,7 +213,7 @@ def null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, nu
     return left, size
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
                      goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, pair_push: np.ndarray,
                      pairs_push: bool, dphi: np.ndarray) -> int:
@@ -320,7 +317,7 @@ def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, poin
     return DONE
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray,
                ends: np.ndarray, near: np.ndarray, first: np.ndarray, second: np.ndarray, push: np.ndarray) -> int:
     """The pairs' push of the numpy step (:func:`armanim.motion.solvers.linear.linear_step`) into
@@ -360,7 +357,7 @@ def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np
     return any_push
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarray, jac: np.ndarray) -> None:
     """(3, n) Jacobian of the world point ``q`` carried by joint ``link``'s frame into ``jac``:
     column j is w_j x (q - p_j) for j <= link, 0 after (:func:`armanim.arm.kinematics.point_jacobian`)."""
@@ -378,7 +375,7 @@ def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarra
             jac[2, j] = 0.0
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
                         axes: np.ndarray, jac: np.ndarray, jac_inv: np.ndarray, pushed: bool, secondary: np.ndarray,
                         dphi: np.ndarray) -> bool:
@@ -444,7 +441,7 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
     return True
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, goal: np.ndarray,
               kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
               lower: np.ndarray, upper: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_lever_rows
-from armanim.arm.kernel import _capsule_ends_one, _forward_one, compiled, packed_chain
+from armanim.arm.kernel import INLINE, JIT, _capsule_ends_one, _forward_one, compiled, packed_chain
 from armanim.motion.kernels.layout import world_arrays
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
@@ -36,11 +36,8 @@ from armanim.world.compiled import (
     segment_segment_pairs,
 )
 
-_JIT = dict(error_model="numpy", nogil=True)  # as world.compiled's: the closed forms expect x / 0 to be inf or NaN
-_INLINE = dict(inline="always", **_JIT)
 
-
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def _point_segment(px: float, py: float, pz: float, a: np.ndarray, b: np.ndarray, c: int) -> float:
     """Distance from the point (px, py, pz) to the segment a[c]-b[c]."""
     ab0, ab1, ab2 = b[c, 0] - a[c, 0], b[c, 1] - a[c, 1], b[c, 2] - a[c, 2]
@@ -52,7 +49,7 @@ def _point_segment(px: float, py: float, pz: float, a: np.ndarray, b: np.ndarray
     return math.sqrt(o0 * o0 + o1 * o1 + o2 * o2)
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def _point_box(px: float, py: float, pz: float, center: np.ndarray, half: np.ndarray, rotation: np.ndarray) -> float:
     """Signed distance of a point to a solid box (its centre, half edges, world-from-box rotation):
     the distance outside, minus the depth to its nearest face inside."""
@@ -67,7 +64,7 @@ def _point_box(px: float, py: float, pz: float, center: np.ndarray, half: np.nda
     return math.sqrt(outside) if outside > 0.0 else deepest
 
 
-@compiled(**_INLINE)
+@compiled(**INLINE)
 def _point_cylinder(px: float, py: float, pz: float, center: np.ndarray, rotation: np.ndarray, h: float, r: float) -> float:
     """Signed distance of a point to a solid cylinder (axis local z, half length ``h``, radius ``r``)."""
     x0, y0, z0 = px - center[0], py - center[1], pz - center[2]
@@ -77,7 +74,7 @@ def _point_cylinder(px: float, py: float, pz: float, center: np.ndarray, rotatio
     return float(_cylinder_depth(x, y, z, h, r))
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members: tuple[np.ndarray, np.ndarray],
                       center: np.ndarray, reach: np.ndarray) -> None:
     """Each group's bounding sphere (``members``: CSR start (G+1,) and capsule indices): the middle
@@ -102,7 +99,7 @@ def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members:
         reach[g] = far
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, world: tuple[np.ndarray, ...],
                     members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float,
                     s: np.ndarray, normal: np.ndarray, groups_least: np.ndarray) -> float:
@@ -173,7 +170,7 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
     return least
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
              world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
              pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
@@ -244,7 +241,7 @@ def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndar
                 own[i, p] = gap[r] - pair_radii[p] + shift
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _group_least(own: np.ndarray, pair_start: np.ndarray, pair_members: np.ndarray) -> np.ndarray:
     """(k, L) the least shifted gap of each pose's pairs in each pair of groups (``own`` (k, P);
     the groups' pairs as CSR start (L+1,) and pair indices (P,)); NaN wins, as in ``_least``."""
@@ -258,7 +255,7 @@ def _group_least(own: np.ndarray, pair_start: np.ndarray, pair_members: np.ndarr
     return out
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _least(clear: np.ndarray, own: np.ndarray) -> np.ndarray:
     """(k,) the least of each pose's obstacle clearance and shifted gaps (``own`` (k, any))."""
     out = clear.copy()
@@ -269,7 +266,7 @@ def _least(clear: np.ndarray, own: np.ndarray) -> np.ndarray:
     return out
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _inside(phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, buffer: float) -> bool:
     """Whether every joint of the pose is within [lower + buffer, upper - buffer] (unlimited: +-inf)."""
     for j in range(phi.shape[0]):
@@ -278,7 +275,7 @@ def _inside(phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, buffer: float
     return True
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _certified(lo: np.ndarray, hi: np.ndarray, c_lo: np.ndarray, c_hi: np.ndarray, levers: np.ndarray, floor: float) -> bool:
     """Whether every group's clearance (or every pair of groups' gap) at the ends of the piece
     lo-hi (n,), ``c_lo`` and ``c_hi`` (G,), is more than the most it can change on the way
@@ -292,7 +289,7 @@ def _certified(lo: np.ndarray, hi: np.ndarray, c_lo: np.ndarray, c_hi: np.ndarra
     return True
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _measured(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
               world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
               pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
@@ -308,7 +305,7 @@ def _measured(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.nda
     return _least(clear, gaps), clear_groups, gaps
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
                  world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
                  pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
@@ -386,7 +383,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     return lo.shape[0] == 0, checks
 
 
-@compiled(**_JIT)
+@compiled(**JIT)
 def _halves(lo: np.ndarray, hi: np.ndarray, mid: np.ndarray, kept: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The rows of two halves of the ``kept`` pieces lo-hi (pieces, m) split at ``mid`` (left, m):
     first every kept piece's lower half, then every upper half."""
