@@ -16,6 +16,7 @@ package.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -75,7 +76,13 @@ def geometry_specs(robot: Robot, tag: str) -> dict[str, list[VisualSpec]]:
     >>> [(s.kind, s.filename, s.scale) for s in geometry_specs(robot, "collision")["a"]]
     [('mesh', 'a.stl', (2.0, 2.0, 2.0))]
     """
-    root = _parse_xml(robot.raw, robot.file)
+    return {name: list(specs) for name, specs in _specs(robot.raw, robot.file, tag)}
+
+
+@functools.lru_cache(maxsize=16)
+def _specs(raw: bytes, file: str, tag: str) -> tuple[tuple[str, tuple[VisualSpec, ...]], ...]:
+    """:func:`geometry_specs` of a URDF's bytes, kept for the last few (a batch on one robot)."""
+    root = _parse_xml(raw, file)
     out: dict[str, list[VisualSpec]] = {}
     for link in root.findall("link"):
         name = link.attrib.get("name", "")
@@ -83,7 +90,7 @@ def geometry_specs(robot: Robot, tag: str) -> dict[str, list[VisualSpec]]:
             spec = _visual(name, element, {})
             if spec is not None:
                 out.setdefault(name, []).append(spec)
-    return out
+    return tuple((name, tuple(specs)) for name, specs in out.items())
 
 
 def has_collision_elements(robot: Robot, link: str) -> bool:
