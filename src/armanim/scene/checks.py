@@ -402,7 +402,9 @@ def _following_problems(scene: SceneModel, limit: int):
             continue
         with np.errstate(all="ignore"):  # extreme numbers are reported by _magnitude_problems
             spacing = path_spacing(goal.speed, fps, tolerance, per_tolerance)
-            following.append(most_following_frames(tool_path(goal.path), spacing, per_goal, max_splits) if spacing > 0 else 10**18)
+            path = tool_path(goal.path)
+            samples = path.length / spacing if spacing > 0 else math.inf  # a subnormal tolerance: too many to count in an int
+            following.append(most_following_frames(path, spacing, per_goal, max_splits) if samples < 1e15 else 10**18)
     budget = 1 + sum(per_goal + frames_in(g.hold, fps) + f for g, f in zip(scene.goals, following))
     if budget <= limit:
         return
@@ -411,8 +413,8 @@ def _following_problems(scene: SceneModel, limit: int):
     path = tool_path(goal.path)
     room = (limit - (budget - following[k]) - per_goal - 1) // 2**max_splits - len(path.pieces)
     spacing = path.length / room if room > 0 else math.inf
-    said = (f"following goals[{k}]'s path ({path.length:g} long) may take up to {following[k]:,} frames, "
-            f"{budget:,} in all (expected at most {limit:,}): its samples are")
+    counted = f"up to {following[k]:,} frames, {budget:,} in all" if following[k] < 10**18 else "more than 10^15 frames"
+    said = f"following goals[{k}]'s path ({path.length:g} long) may take {counted} (expected at most {limit:,}): its samples are"
     if per_tolerance * tolerance < goal.speed / fps:
         field = "solver.path_tolerance" if scene.solver.path_tolerance is not None else "solver.tolerance"
         need = _rounded_up(spacing / per_tolerance)
