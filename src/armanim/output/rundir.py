@@ -83,6 +83,39 @@ def _exclusively(fd: int) -> Iterator[None]:
         fcntl.flock(fd, fcntl.LOCK_UN)
 
 
+RUN_FILE = "trajectory.csv"
+"""What tells a run folder (which holds only what its marker lists) from a ``render --out`` folder (which keeps other files)."""
+
+
+def run_folder_holding(target: Path, *, itself: bool = False) -> Path | None:
+    """The run folder ``target`` would be written into, if any: a folder above it (or, with
+    ``itself``, ``target`` itself) that holds armanim's marker and a run's ``trajectory.csv``, by
+    the path as given and as resolved (a link into a run folder counts).
+
+    A run folder holds only the files armanim lists in it: a file added there stops its next run.
+    """
+    given = Path(os.path.abspath(target))
+    paths = [given]
+    with contextlib.suppress(OSError, RuntimeError):
+        paths.append(given.resolve())
+    for path in paths:
+        for folder in ([path] if itself else []) + list(path.parents):
+            if os.path.lexists(folder / MARKER) and os.path.lexists(folder / RUN_FILE):
+                return folder
+    return None
+
+
+def refuse_in_run_folder(target: Path, flag: str, *, itself: bool = False) -> None:
+    """Raise UsageError (exit 2) when ``target`` lies in a run folder (:func:`run_folder_holding`)."""
+    from armanim.errors import UsageError
+
+    folder = run_folder_holding(target, itself=itself)
+    if folder is not None:
+        where = "is the run folder" if itself and Path(os.path.abspath(target)) in (folder, folder.resolve()) else "is inside the run folder"
+        raise UsageError(f"{flag} {target}: {where} {folder}, which holds only the files armanim lists in it "
+                         "(what is written there would stop its next run: choose a path outside any run folder)")
+
+
 def file_stamp(path: Path) -> dict | None:
     """What the marker records of a file armanim wrote: its size and mtime (ns); None if
     ``path`` is not a regular file (a folder, a link, ...)."""
