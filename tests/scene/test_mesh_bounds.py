@@ -239,3 +239,14 @@ def test_the_readers_agree_with_trimesh_on_its_own_exports(tmp_path):
         assert len(faces) == len(theirs.faces), kind
         assert np.isclose(mine.area, theirs.area, rtol=1e-6), kind
         assert np.allclose(mine.bounds, theirs.bounds, atol=1e-6), kind
+
+
+def test_a_mesh_whose_every_corner_is_not_finite_says_so(tmp_path):
+    """Campaign 5: an ASCII STL whose one triangle has NaN and infinite corners (``1e400``) was
+    noted as ``no triangles``; it holds one, each corner left out for a reason the note now gives."""
+    (tmp_path / "a.stl").write_text("solid a\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 1e400 0\nvertex 0 1 0\n"
+                                    "endloop\nendfacet\nendsolid a\n")
+    (tmp_path / "e.stl").write_text("solid e\nendsolid e\n")
+    _, notes = _read(_urdf(tmp_path, _mesh("a.stl") + _mesh("e.stl")))
+    assert len(notes) == 2 and "no triangle with finite corners (1 left out: each has a NaN or infinite corner)" in notes[0], notes
+    assert notes[1].endswith("no triangles)") or "no triangles" in notes[1], notes
