@@ -363,15 +363,21 @@ def _slow_rate_problems(scene: SceneModel):
         if said and getattr(scene.arm, field) is None:  # a default made from the speed already named
             continue
         said = True
-        least = float(np.min(values))
-        unit = SCENE_RATE_UNITS[field]
+        k = int(np.argmin(values))
+        least = float(values[k])
+        slides = scene.arm.sliding
+        slide = len(slides) == len(values) and bool(slides[k])  # a prismatic joint's rates are m/s..., its move theta metres
+        unit = SCENE_RATE_UNITS[field].replace("deg", "m") if slide else SCENE_RATE_UNITS[field]
+        shown = (lambda v: v) if slide else math.degrees
+        move = f"{theta:.3g} m" if slide else f"{SMALLEST_MOVE_DEG:g} degree"
         with np.errstate(all="ignore"):
             frames = duration(least) * fps if least > 0 else math.inf
         took = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"
         source = "" if getattr(scene.arm, field) is not None else " (not set: the arm's default; set it to override)"
-        yield f"arm.{field}", (f"{math.degrees(least):g} {unit}{source} is too slow for the frame limit: moving a joint "
-                               f"{SMALLEST_MOVE_DEG:g} degree from rest to rest would take {took} frames at {fps:g} fps "
-                               f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(math.degrees(floor)):.2g} {unit})")
+        which = f"joint {k + 1}'s " if isinstance(getattr(scene.arm, field), list) else ""
+        yield f"arm.{field}", (f"{which}{shown(least):g} {unit}{source} is too slow for the frame limit: moving "
+                               f"{'it' if which else 'a joint'} {move} from rest to rest would take {took} frames at {fps:g} fps "
+                               f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(shown(floor)):.2g} {unit})")
 
 
 def _rounded_up(value: float) -> float:

@@ -291,14 +291,19 @@ def rate_notes(scene: SceneModel) -> list[tuple[str, str]]:
         unit = SCENE_RATE_UNITS[field]
         given = getattr(arm, field)
         names = arm.urdf_arm.joint_names
+        slides = arm.sliding  # a prismatic joint's rates in m/s..., as the scene gives them
+
+        def own_rate(i: int) -> str:
+            return f"{limit[i]:.4g} {unit.replace('deg', 'm')}" if slides[i] else f"{np.degrees(limit[i]):.4g} {unit}"
+
         if isinstance(given, list):
-            listed = [f"{names[i]} {given[i]:g} > {np.degrees(limit[i]):.4g}" for i in over[:3]]
+            listed = [f"{names[i]} {given[i]:g} > {own_rate(i)}" for i in over[:3]]
             start = "is above"
         else:
-            listed = [f"{names[i]} {np.degrees(limit[i]):.4g}" for i in over[:3]]
+            listed = [f"{names[i]} {own_rate(i)}" for i in over[:3]]
             start = f"{given:g} {unit} is above"
         notes.append((f"arm.{field}", f"{start} the robot's own limit for {_joint_span(over)} ({', '.join(listed)}"
-                                      f"{', ...' if len(over) > 3 else ''} {unit}: {source}); allowed, but a real robot "
+                                      f"{', ...' if len(over) > 3 else ''}: {source}); allowed, but a real robot "
                                       "could not follow this motion"))
     return notes
 
