@@ -92,3 +92,11 @@ def test_angles_that_would_be_zero_radians_are_refused(field):
 def test_lengths_below_the_smallest_are_refused(field):
     assert "is too small (expected at least 1e-09: choose a larger unit)" in scene_error(
         "version: 1\narm: {" + field + "}\ngoals: [[1, 1, 1]]\n")
+
+
+@pytest.mark.parametrize("value", ["1e300", "-1.7976931348623157e308", "360.5"])
+def test_a_joint_goal_is_bounded_as_arm_home_is(value):
+    """Campaign 5: a joint goal of 1e300 degrees on an unlimited joint was accepted (and wrapped to
+    whatever radians(1e300) mod 2 pi rounds to); arm.home is within [-360, 360], and so is a joint goal."""
+    report = scene_error(ARM + f"goals:\n  - joints: [{value}, 0, 0, 0]\n")
+    assert report.startswith("s.yaml:4: goals[0].joints[0]: must be ") and "360" in report, report
