@@ -100,3 +100,13 @@ def test_a_joint_goal_is_bounded_as_arm_home_is(value):
     whatever radians(1e300) mod 2 pi rounds to); arm.home is within [-360, 360], and so is a joint goal."""
     report = scene_error(ARM + f"goals:\n  - joints: [{value}, 0, 0, 0]\n")
     assert report.startswith("s.yaml:4: goals[0].joints[0]: must be ") and "360" in report, report
+
+
+@pytest.mark.parametrize("field, value, word", [("self_clearance", "1e300", "too large"), ("self_clearance", "1e-300", "too small"),
+                                                ("orientation_weight", "1e300", "too large"), ("orientation_weight", "1e-300", "too small")])
+def test_self_clearance_and_orientation_weight_are_bounded_as_lengths(field, value, word):
+    """Campaign 5: ``solver.orientation_weight: 1e300`` validated, and a Panda's reachable pose goal
+    then ended ``orientation_unreachable`` (the weight squared is infinite); ``self_clearance: 1e300``
+    validated too, while ``clearance: 1e300`` was refused. Both are lengths: within [1e-9, 1e9]."""
+    report = scene_error(ARM + f"goals: [[1, 1, 2]]\nsolver: {{{field}: {value}}}\n")
+    assert report.startswith(f"s.yaml:4: solver.{field}: ") and word in report, report

@@ -251,6 +251,10 @@ def _magnitudes(scene: SceneModel):
         yield "solver.max_step", solver.max_step
     if solver.clearance is not None:
         yield "solver.clearance", solver.clearance
+    if solver.self_clearance is not None:
+        yield "solver.self_clearance", solver.self_clearance
+    if solver.orientation_weight is not None:  # a length per radian
+        yield "solver.orientation_weight", solver.orientation_weight
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             yield from ((f"render.bounds.{axis}", v) for v in pair)
@@ -291,7 +295,7 @@ def _obstacle_magnitudes(path: str, obstacle):
         yield f"{path}.influence", obstacle.influence
 
 
-POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance)"
+POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance|self_clearance|orientation_weight)"
                               r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|cylinder\.(length|radius)|influence)|goals\[\d+\]\.path\.text\.(height|lift)")
 """The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
 largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
