@@ -100,9 +100,18 @@ def run_folder_holding(target: Path, *, itself: bool = False) -> Path | None:
         paths.append(given.resolve())
     for path in paths:
         for folder in ([path] if itself else []) + list(path.parents):
-            if os.path.lexists(folder / MARKER) and os.path.lexists(folder / RUN_FILE):
+            if os.path.lexists(folder / MARKER) and os.path.lexists(folder / RUN_FILE) or STAGING.fullmatch(folder.name):
                 return folder
     return None
+
+
+STAGING = re.compile(r"\..+\.(?:[a-z0-9_]{8}\.partial|old-[0-9]+)")
+"""The names of a run's staging and moved-aside folders (:func:`leftovers`), which the next run of
+that folder removes: nothing armanim is asked to write may go into one.
+
+>>> bool(STAGING.fullmatch(".rb.abcdefgh.partial")), bool(STAGING.fullmatch(".rb.old-123")), bool(STAGING.fullmatch("rb"))
+(True, True, False)
+"""
 
 
 def refuse_in_run_folder(target: Path, flag: str, *, itself: bool = False) -> None:
@@ -110,6 +119,9 @@ def refuse_in_run_folder(target: Path, flag: str, *, itself: bool = False) -> No
     from armanim.errors import UsageError
 
     folder = run_folder_holding(target, itself=itself)
+    if folder is not None and STAGING.fullmatch(folder.name):
+        raise UsageError(f"{flag} {target}: is inside {folder}, which is named as a run's staging or moved-aside folder: "
+                         "the next run of that folder removes it with all it holds (choose a path outside it)")
     if folder is not None:
         where = "is the run folder" if itself and Path(os.path.abspath(target)) in (folder, folder.resolve()) else "is inside the run folder"
         raise UsageError(f"{flag} {target}: {where} {folder}, which holds only the files armanim lists in it "
