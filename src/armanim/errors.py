@@ -114,17 +114,18 @@ class Diagnostic:
 class SceneError(ArmanimError):
     """A scene (or another input file) that cannot be used; lists every problem found."""
 
-    def __init__(self, file: str, problems: list[Diagnostic]):
+    def __init__(self, file: str, problems: list[Diagnostic], also: tuple | list = ()):
         self.file = file
         self.problems = list(problems)
+        self.also = tuple(also)  # the problems of files the scene names (its URDF, its SRDF), found in the same pass
         super().__init__(self.report())
 
     def report(self) -> str:
-        return "\n".join(p.format(self.file) for p in self.problems)
+        return "\n".join([p.format(self.file) for p in self.problems] + [other.report() for other in self.also])
 
     def __reduce__(self):
         # pickled to and from worker processes: rebuilt from its parts, not from its message
-        return (type(self), (self.file, self.problems))
+        return (type(self), (self.file, self.problems, self.also))
 
 
 class UsageError(ArmanimError):

@@ -116,3 +116,30 @@ def test_a_ctrl_c_that_matplotlib_turns_into_an_error_still_ends_with_130(capsys
     from armanim.procs.interrupted import signal_came
 
     assert not signal_came()  # answered: a batch run through the API later is not taken for interrupted
+
+
+_SIGNAL_AT_EXIT = """
+import atexit, os, signal, sys, time
+
+def late_signal():  # a SIGTERM as the process ends: CPython then puts SIG_DFL back for a Python handler
+    os.kill(os.getpid(), signal.SIGTERM)
+    time.sleep(0.2)
+
+atexit.register(late_signal)
+sys.argv = ["armanim", "fk", "no-such-argument.yaml", "--angles", "0,0"]
+from armanim.__main__ import main
+main()
+"""
+
+
+def test_a_signal_as_a_usage_error_ends_keeps_its_exit_code():
+    """Campaign 5: ``armanim fk s.yaml ...`` (a usage error) killed by SIGTERM 1.3 s in died by the
+    signal (-15, 143 in a shell) after printing the usage error: the error path ran no command,
+    so nothing made the signals ignored before Python restored their default handlers at shutdown.
+    Every way out of the command line now ignores them, so the exit code stays the command's own."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", _SIGNAL_AT_EXIT], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2 and "Usage" in done.stderr, (done.returncode, done.stderr)
+    assert "interrupted" not in done.stderr and "Exception ignored" not in done.stderr

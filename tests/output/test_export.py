@@ -227,3 +227,14 @@ def test_export_into_another_run_folder_is_refused(tmp_path, cli):
     assert sorted(p.name for p in second.iterdir()) == sorted([*marked_files(second), MARKER])
     rerun = cli("run", tmp_path / "b.yaml", "--no-video", "--quiet", "--out", tmp_path / "out")
     assert rerun.exit_code == 0, rerun.output
+
+
+def test_nothing_is_exported_into_a_folder_a_run_would_remove(tmp_path, cli):
+    """Campaign 5: ``export A --out OUT/.b.abcdefgh.partial/x.json`` (a folder named as run b's staging
+    folder) wrote there, exit 0, and the next run of b removed the folder with the export in it.
+    Such a folder, or a moved-aside ``.b.old-PID``, is now refused as a run folder is (exit 2)."""
+    first = solved_run(tmp_path, cli, LINKS, "a")
+    for name in (".b.abcdefgh.partial", ".b.old-42"):
+        result = cli("export", first, "--out", tmp_path / "out" / name / "x.json")
+        assert result.exit_code == 2 and "named as a run's staging or moved-aside folder" in result.stderr, result.output
+        assert not (tmp_path / "out" / name).exists()

@@ -213,6 +213,28 @@ def test_view_out_writes_elsewhere_and_replaces_only_its_own_pages(cli, run_fold
     assert result.exit_code == 3 and "is a folder" in result.stderr
 
 
+def test_view_out_never_replaces_a_page_edited_since(cli, run_folder, tmp_path):
+    """Campaign 5: ``view --out`` took any file with armanim's generator tag for its own, so a page
+    a user had annotated since (a comment, a paragraph) was replaced, their notes lost, exit 0. The
+    page's last line records the sha256 of the rest: an edited page (at its head or its end) is exit
+    3 and left as it was; the page as armanim wrote it is still replaced."""
+    import hashlib
+
+    target = tmp_path / "page.html"
+    assert cli("view", run_folder, "--out", target).exit_code == 0
+    body, last = target.read_bytes().rsplit(b"\n", 2)[0] + b"\n", target.read_bytes().splitlines()[-1]
+    assert last == f"<!-- armanim viewer sha256 {hashlib.sha256(body).hexdigest()} -->".encode()
+    assert cli("view", run_folder, "--out", target).exit_code == 0
+    for edit in (lambda page: page + b"<p>my notes</p>\n", lambda page: page.replace(b"<title>", b"<title>mine: ", 1)):
+        edited = edit(target.read_bytes())
+        target.write_bytes(edited)
+        result = cli("view", run_folder, "--out", target)
+        assert result.exit_code == 3 and "changed since armanim wrote it" in result.stderr, result.output
+        assert target.read_bytes() == edited
+        target.unlink()
+        assert cli("view", run_folder, "--out", target).exit_code == 0
+
+
 def test_view_refuses_what_is_not_an_armanim_run(cli, run_folder, tmp_path):
     result = cli("view", tmp_path / "nowhere")
     assert result.exit_code == 2 and "no such folder" in result.stderr

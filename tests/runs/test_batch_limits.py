@@ -37,6 +37,26 @@ def test_a_user_index_csv_stops_a_batch_before_any_work(cli, tmp_path):
     assert (out / "index.csv").read_text().startswith("name,status,")
 
 
+def test_an_index_csv_edited_since_is_never_replaced(cli, tmp_path):
+    """Campaign 5: index.csv was replaced whenever its first line was armanim's header, so a row a
+    user had added to it (a note) was lost at the next batch, exit 0. Its size and sha256 are now
+    recorded beside it (``.index.csv.armanim.json``): an edited table, or one whose mark is missing
+    or is not armanim's, stops the batch before any scene runs (exit 3) and is left as it was."""
+    a, b = small_scene(tmp_path, "a"), small_scene(tmp_path, "b")
+    out = tmp_path / "proj"
+    assert cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1").exit_code == 0
+    index, mark = out / "index.csv", out / ".index.csv.armanim.json"
+    assert mark.is_file() and '"sha256"' in mark.read_text()
+    with index.open("a") as handle:
+        handle.write("my note,,,\n")
+    edited = index.read_bytes()
+    for spoil in (lambda: None, lambda: mark.unlink(), lambda: mark.write_text("[" * 100_000)):
+        spoil()
+        result = cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1")
+        assert result.exit_code == 3 and "has changed since armanim wrote it" in result.stderr, result.output
+        assert index.read_bytes() == edited
+
+
 @pytest.mark.parametrize("name", ["notes-arm-sweep.csv", "index.csv"])
 def test_a_user_file_at_a_sweep_table_stops_the_sweep(cli, tmp_path, name):
     (tmp_path / name).write_text("mine\n")

@@ -123,3 +123,33 @@ def test_a_dangling_link_at_the_lock_is_refused_not_followed(cli, tmp_path):
     result = cli("run", small_scene(tmp_path, "a"), "--out", out, "--no-video", "-q")
     assert result.exit_code == 3 and ".a.lock: is a link" in result.stderr, result.output
     assert not (tmp_path / "elsewhere").exists()
+
+
+def test_nothing_is_written_into_another_run_s_folder(cli, tmp_path, finished_run):
+    """Campaign 5: ``view A --out B/viewer.html`` replaced B's page (armanim's), ``view --out B/page.html``,
+    ``render A --out B/sub``, ``schema --out B/s.json``, ``run --out B`` (a run folder inside B) and
+    ``check --update --golden B`` each wrote into run B's folder, exit 0, and B's next run then stopped
+    with exit 3 ("holds files armanim did not write"). Each is now exit 2 naming B, B untouched; through
+    the installed command, and by a link to B as well."""
+    import subprocess
+
+    from runfolders import armanim_exe
+
+    other = tmp_path / "other"
+    assert cli("run", small_scene(tmp_path, "b"), "--out", other, "--no-video", "-q").exit_code == 0
+    b = other / "b"
+    (tmp_path / "to-b").symlink_to(b)
+    before = snapshot(b)
+    attempts = [["view", finished_run, "--out", b / "viewer.html"], ["view", finished_run, "--out", tmp_path / "to-b" / "page.html"],
+                ["render", finished_run, "--out", b / "sub", "-q"], ["render", finished_run, "--out", b, "-q"],
+                ["schema", "--out", b / "s.json"], ["run", tmp_path / "r.yaml", "--out", b, "--no-video", "-q"],
+                ["check", tmp_path / "r.yaml", "--golden", b, "--update", "-q"],
+                ["fk", "--links", "1,1", "--angles", "0,0", "--png", b / "pose.png"]]
+    installed = subprocess.run([armanim_exe(), *map(str, attempts[0])], capture_output=True, text=True, timeout=120)
+    assert installed.returncode == 2 and "Traceback" not in installed.stderr, installed.stderr
+    assert f"is inside the run folder {b}" in installed.stderr
+    for args in attempts[1:]:
+        result = cli(*args)
+        assert result.exit_code == 2 and ("is inside the run folder" in result.stderr or "is the run folder" in result.stderr), (args, result.output)
+    assert snapshot(b) == before and sorted(p.name for p in other.iterdir()) == sorted(["b", ".b.lock"])
+    assert cli("run", tmp_path / "b.yaml", "--out", other, "--no-video", "-q").exit_code == 0  # B's next run goes on

@@ -92,3 +92,21 @@ def test_angles_that_would_be_zero_radians_are_refused(field):
 def test_lengths_below_the_smallest_are_refused(field):
     assert "is too small (expected at least 1e-09: choose a larger unit)" in scene_error(
         "version: 1\narm: {" + field + "}\ngoals: [[1, 1, 1]]\n")
+
+
+@pytest.mark.parametrize("value", ["1e300", "-1.7976931348623157e308", "360.5"])
+def test_a_joint_goal_is_bounded_as_arm_home_is(value):
+    """Campaign 5: a joint goal of 1e300 degrees on an unlimited joint was accepted (and wrapped to
+    whatever radians(1e300) mod 2 pi rounds to); arm.home is within [-360, 360], and so is a joint goal."""
+    report = scene_error(ARM + f"goals:\n  - joints: [{value}, 0, 0, 0]\n")
+    assert report.startswith("s.yaml:4: goals[0].joints[0]: must be ") and "360" in report, report
+
+
+@pytest.mark.parametrize("field, value, word", [("self_clearance", "1e300", "too large"), ("self_clearance", "1e-300", "too small"),
+                                                ("orientation_weight", "1e300", "too large"), ("orientation_weight", "1e-300", "too small")])
+def test_self_clearance_and_orientation_weight_are_bounded_as_lengths(field, value, word):
+    """Campaign 5: ``solver.orientation_weight: 1e300`` validated, and a Panda's reachable pose goal
+    then ended ``orientation_unreachable`` (the weight squared is infinite); ``self_clearance: 1e300``
+    validated too, while ``clearance: 1e300`` was refused. Both are lengths: within [1e-9, 1e9]."""
+    report = scene_error(ARM + f"goals: [[1, 1, 2]]\nsolver: {{{field}: {value}}}\n")
+    assert report.startswith(f"s.yaml:4: solver.{field}: ") and word in report, report

@@ -147,6 +147,18 @@ def test_a_missing_collision_mesh_is_an_error_at_its_line(robot_dir):
     assert "meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl' not found" in report
 
 
+@pytest.mark.parametrize("scale", ["nan 1 1", "1 1", "inf 1 1", "1 one 1"])
+def test_a_collision_mesh_whose_scale_cannot_be_read_is_an_error_at_its_line(robot_dir, scale):
+    """Campaign 5: a collision mesh with ``scale="nan 1 1"`` or ``"1 1"`` was left out without a
+    word, and its link got a joint-to-joint capsule of arm.width / 2 (the note blamed "no primitive,
+    no mesh"): a collision model that is not the robot. Now an error at its URDF line."""
+    (robot_dir / "meshy.urdf").write_text(URDF.replace('scale="1.5 1.0 0.5"', f'scale="{scale}"'))
+    with pytest.raises(SceneError) as info:
+        load_scene(_scene(robot_dir))
+    assert (f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl': its scale={scale!r}, origin xyz='0.01 -0.02 0.03', "
+            "origin rpy='0.3 -0.2 0.5' must be three finite numbers each") in info.value.report()
+
+
 def test_a_collision_mesh_of_another_format_is_an_error(robot_dir):
     (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.ply"))
     with pytest.raises(SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.ply' is not a format armanim reads"):

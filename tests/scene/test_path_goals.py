@@ -230,3 +230,14 @@ def test_the_sample_count_is_the_samples_length():
         path = ToolPath.polyline(rng.normal(size=(int(rng.integers(2, 12)), 3)))
         spacing = float(10 ** rng.uniform(-3, 1))
         assert path.sample_count(spacing) == len(path.samples(spacing))
+
+
+@pytest.mark.parametrize("field", ["path_tolerance", "tolerance"])
+def test_a_subnormal_tolerance_is_refused_without_a_traceback(tmp_path, cli, field):
+    """Campaign 5: ``solver.tolerance`` (which a path goal follows without a path_tolerance) or
+    ``path_tolerance`` of 5e-324 made the path's sample count infinite, and validate ended in
+    ``OverflowError: cannot convert float infinity to integer``. Now: too small, with its line."""
+    text = BACK_AND_FORTH.replace("path_tolerance", field) % ("[1, 1, 2], [1, 1.3, 2]", 5, "5e-324")
+    result = cli("validate", write(tmp_path, text))
+    assert result.exit_code == 2 and f"scene.yaml:7: solver.{field}: 4.94066e-324 is too small" in result.stderr, result.stderr
+    assert "more than 10^15 frames" in result.stderr

@@ -335,3 +335,20 @@ def test_a_clock_too_long_at_run_names_the_field_and_its_line(tmp_path, cli):
     assert "--fps" not in result.stderr
     faster = cli("run", scene, "--no-video", "--quiet", "--out", tmp_path / "o", "--fps", 48)
     assert faster.exit_code == 2 and "or lower --fps" in faster.stderr, faster.stderr
+
+
+def test_a_prismatic_joint_s_rates_are_told_in_metres(tmp_path, cli):
+    """Campaign 5: the rail of ur5_rail (m/s) was told in degrees: ``max_joint_speed: [1e-9, ...]``
+    refused as ``5.72958e-08 deg/s ... moving a joint 1 degree``, and a speed above the rail's own
+    noted as ``rail_joint 9 > 57.3`` (1 m/s read as radians). Both now in metres, the joint named."""
+    slow = write(tmp_path, "version: 1\nname: rr\narm:\n  robot: ur5_rail\n  max_joint_speed: [1e-9, 10, 10, 10, 10, 10, 10]\n"
+                           "goals: [[0.2, 0.45, 0.6]]\n")
+    result = cli("validate", slow)
+    assert result.exit_code == 2, result.output
+    assert (f"{slow}:5: arm.max_joint_speed: joint 1's 1e-09 m/s is too slow for the frame limit: moving it 0.0175 m "
+            "from rest to rest would take 523,598,776 frames at 30 fps") in result.stderr, result.stderr
+    assert "raise it to at least 5.3e-07 m/s" in result.stderr and "deg" not in result.stderr
+    fast = write(tmp_path, "version: 1\nname: rr\narm:\n  robot: ur5_rail\n  max_joint_speed: [9, 10, 10, 10, 10, 10, 10]\n"
+                           "goals: [[0.2, 0.45, 0.6]]\n")
+    result = cli("validate", fast)
+    assert result.exit_code == 0 and "(rail_joint 9 > 1 m/s: the URDF's <limit velocity>)" in result.stderr, result.stderr

@@ -60,6 +60,10 @@ def check(
 
     if golden.exists() and not golden.is_dir():
         raise UsageError(f"--golden: {golden} is a file (expected a folder of golden files <name>.csv and <name>.json)")
+    if update:
+        from armanim.output.rundir import refuse_in_run_folder
+
+        refuse_in_run_folder(golden, "--golden", itself=True)
     table = Table(title=f"golden trajectories in {golden}", title_justify="left")
     for col in ("scene", "golden file", "result"):
         table.add_column(col)

@@ -45,8 +45,10 @@ def moveit(
 
     With a bundled robot: [bold]armanim import moveit shelf.scene --robot panda --out shelf.yaml[/bold]
     """
+    from armanim.output.rundir import refuse_in_run_folder
     from armanim.scene.moveitscene import RobotSource, import_moveit
 
+    refuse_in_run_folder(out, "--out")
     imported = import_moveit(scene, request, RobotSource(robot=robot, urdf=urdf, srdf=srdf, tip_link=tip_link), out)
     for note in imported.notes:
         say(message_lines(note), err)

@@ -44,6 +44,10 @@ def fk(
     """
     from armanim.runs.pose import forward_pose
 
+    if png is not None:
+        from armanim.output.rundir import refuse_in_run_folder
+
+        refuse_in_run_folder(png, "--png")
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     values = parse_numbers(angles, "--angles", model.arm.joint_count)
     answer = forward_pose(model, values, in_radians=radians, with_notes=loaded is not None)

@@ -48,6 +48,9 @@ def run(
 
     [bold]armanim run scenes/*.yaml --jobs 2 --no-video[/bold]
     """
+    from armanim.output.rundir import refuse_in_run_folder
+
+    refuse_in_run_folder(out_root, "--out", itself=True)  # a run folder inside another would stop that one's next run
     overrides = render_overrides(size, fps, fmt, quality=quality)
     jobs = usable_jobs(jobs)
     if not quiet:

@@ -68,4 +68,7 @@ def schema(
     if output is None:
         sys.stdout.write(text)
     else:
+        from armanim.output.rundir import refuse_in_run_folder
+
+        refuse_in_run_folder(output, "--out")
         write_text_atomic(output, text)

@@ -32,8 +32,10 @@ def sweep(
 
     Example: [bold]armanim sweep scenes/notes-arm.yaml --set solver.step=0.05,0.1,0.2 --set solver.method=pinv,dls[/bold]
     """
+    from armanim.output.rundir import refuse_in_run_folder
     from armanim.runs.sweep import parse_setting, run_sweep, variant_count
 
+    refuse_in_run_folder(out_root, "--out", itself=True)
     jobs = usable_jobs(jobs)
     parsed = [parse_setting(text) for text in settings]
     count = variant_count(parsed)  # at most MAX_VARIANTS, said before anything is built or run

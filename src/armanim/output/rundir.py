@@ -83,6 +83,51 @@ def _exclusively(fd: int) -> Iterator[None]:
         fcntl.flock(fd, fcntl.LOCK_UN)
 
 
+RUN_FILE = "trajectory.csv"
+"""What tells a run folder (which holds only what its marker lists) from a ``render --out`` folder (which keeps other files)."""
+
+
+def run_folder_holding(target: Path, *, itself: bool = False) -> Path | None:
+    """The run folder ``target`` would be written into, if any: a folder above it (or, with
+    ``itself``, ``target`` itself) that holds armanim's marker and a run's ``trajectory.csv``, by
+    the path as given and as resolved (a link into a run folder counts).
+
+    A run folder holds only the files armanim lists in it: a file added there stops its next run.
+    """
+    given = Path(os.path.abspath(target))
+    paths = [given]
+    with contextlib.suppress(OSError, RuntimeError):
+        paths.append(given.resolve())
+    for path in paths:
+        for folder in ([path] if itself else []) + list(path.parents):
+            if os.path.lexists(folder / MARKER) and os.path.lexists(folder / RUN_FILE) or STAGING.fullmatch(folder.name):
+                return folder
+    return None
+
+
+STAGING = re.compile(r"\..+\.(?:[a-z0-9_]{8}\.partial|old-[0-9]+)")
+"""The names of a run's staging and moved-aside folders (:func:`leftovers`), which the next run of
+that folder removes: nothing armanim is asked to write may go into one.
+
+>>> bool(STAGING.fullmatch(".rb.abcdefgh.partial")), bool(STAGING.fullmatch(".rb.old-123")), bool(STAGING.fullmatch("rb"))
+(True, True, False)
+"""
+
+
+def refuse_in_run_folder(target: Path, flag: str, *, itself: bool = False) -> None:
+    """Raise UsageError (exit 2) when ``target`` lies in a run folder (:func:`run_folder_holding`)."""
+    from armanim.errors import UsageError
+
+    folder = run_folder_holding(target, itself=itself)
+    if folder is not None and STAGING.fullmatch(folder.name):
+        raise UsageError(f"{flag} {target}: is inside {folder}, which is named as a run's staging or moved-aside folder: "
+                         "the next run of that folder removes it with all it holds (choose a path outside it)")
+    if folder is not None:
+        where = "is the run folder" if itself and Path(os.path.abspath(target)) in (folder, folder.resolve()) else "is inside the run folder"
+        raise UsageError(f"{flag} {target}: {where} {folder}, which holds only the files armanim lists in it "
+                         "(what is written there would stop its next run: choose a path outside any run folder)")
+
+
 def file_stamp(path: Path) -> dict | None:
     """What the marker records of a file armanim wrote: its size and mtime (ns); None if
     ``path`` is not a regular file (a folder, a link, ...)."""

@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from armanim.errors import ArmanimError, SceneError
-from armanim.output.atomic import write_bytes_atomic, write_text_atomic
-from armanim.output.csvfile import check_table_replaceable, table_csv_text
+from armanim.output.atomic import write_bytes_atomic
+from armanim.output.csvfile import check_table_replaceable, table_csv_text, write_table
 from armanim.output.rundir import staged_folder
 from armanim.procs.executors import executor_for
 from armanim.procs.workers import temp_prefix, undone_on_stop
@@ -253,4 +253,4 @@ def run_batch(
 def write_index(path: Path, entries: list[BatchEntry]) -> None:
     """Write ``index.csv``, replacing only an index.csv armanim wrote."""
     check_table_replaceable(path, is_index_header)
-    write_text_atomic(path, index_csv_text(entries))
+    write_table(path, index_csv_text(entries))

@@ -19,7 +19,7 @@ from armanim.motion.trajectory import frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.jsontext import json_text, parse_json
-from armanim.output.rundir import folder_lock, staged_folder
+from armanim.output.rundir import folder_lock, refuse_in_run_folder, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
 from armanim.output.solved import RunTiming, SolvedRun
 from armanim.output.summary import run_summary, write_summary
@@ -369,6 +369,7 @@ def rerender_run(
         if target.resolve().is_relative_to(folder.resolve()):
             raise UsageError(f"--out: {target} is inside the run folder {folder}, which the next run replaces "
                              "whole (choose a folder outside it)")
+        refuse_in_run_folder(target, "--out", itself=True)  # another run's folder, or a folder inside one
         with folder_lock(folder):  # read the run whole, never half replaced by a run of it
             run = load_run(folder)
         # staged and swapped like a run folder: into a new, empty or armanim-marked folder only, its
@@ -471,6 +472,7 @@ def write_run_file(folder: str | Path, name: str, out: str | Path | None, read: 
     if target.resolve().is_relative_to(folder.resolve()):
         raise UsageError(f"--out {target}: is inside the run folder {folder}, which holds only the files armanim lists "
                          f"in it (leave --out out to write {own}, or choose a file outside the folder)")
+    refuse_in_run_folder(target, "--out")  # another run's folder
     problem = replace_problem(target)
     if problem is not None:
         raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")

@@ -18,8 +18,7 @@ from pathlib import Path
 import yaml
 
 from armanim.errors import Diagnostic, SceneError, UsageError
-from armanim.output.atomic import write_text_atomic
-from armanim.output.csvfile import check_table_replaceable, table_csv_text
+from armanim.output.csvfile import check_table_replaceable, table_csv_text, write_table
 from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks, write_index
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
@@ -287,6 +286,6 @@ def run_sweep(
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)
     check_table_replaceable(table, is_sweep_header)
-    write_text_atomic(table, table_csv_text(header, rows, text_cells=True))
+    write_table(table, table_csv_text(header, rows, text_cells=True))
     write_index(out_root / "index.csv", entries)
     return SweepResult(items, entries, header, rows, table)

@@ -18,31 +18,101 @@ from armanim.motion.following import most_following_frames, path_spacing
 from armanim.motion.problem import frames_in
 from armanim.motion.tunables import DEFAULTS
 from armanim.output.numbers import apart
-from armanim.scene.convert import orientation_rotation, scene_to_problem, tool_path
-from armanim.scene.limits import joint_goal_limit_problems, limit_problems, rate_problems
+from armanim.scene.convert import orientation_rotation, scene_goal, scene_obstacles, scene_to_problem, tool_path
+from armanim.scene.limits import RATE_FIELDS, joint_goal_limit_problems, limit_problems, rate_problems
 from armanim.scene.models import LIMITS, SceneModel
 from armanim.world.distances import clearances, point_clearances
 from armanim.world.obstacles import FLOOR
 from armanim.world.selfdistances import self_gaps
 
 
-def scene_problems(scene: SceneModel, collisions: bool = True) -> list[tuple[str, str]]:
-    """Every cross-field problem of a validated scene, as (field path, message) pairs.
+def scene_problems(scene: SceneModel, unknown: frozenset[str] | set[str] = frozenset()) -> list[tuple[str, str]]:
+    """Every cross-field problem of a validated scene, as (field path, message) pairs, in one pass.
 
-    The collision checks run once the arm itself is consistent (and only if ``collisions``).
+    Parameters
+    ----------
+    scene : SceneModel
+    unknown : set of str
+        Field paths whose values are not the file's: left out after a field error (``solver.clearance``,
+        ``arm.home``, ``goals[2].speed``), or stand-ins (``arm``: an arm that could not be read). A
+        check that reads one is skipped, so that a default never makes a problem up; the others run.
+
+    A problem that makes a value unusable (a joint count, a coordinate beyond the limits) keeps
+    that value out of the collision checks: a goal or obstacle is then left out of them, an arm
+    field leaves only the goals' own points to check, and the rest is still checked.
     """
-    counts = list(_count_problems(scene)) + list(rate_problems(scene.arm))
-    sizes = list(_size_problems(scene)) + (list(_slow_rate_problems(scene)) if not counts else [])
-    problems = counts + list(_arm_problems(scene)) + sizes + list(_pen_problems(scene)) + list(_name_problems(scene))
-    if collisions and not counts and not sizes:  # the home pose and the goals are known: check them too
-        problem = scene_to_problem(scene)
-        problems += list(_collision_problems(problem, "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"))
-        problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
+    def known(*fields: str) -> bool:
+        return not any(_overlaps(u, f) for u in unknown for f in fields)
+
+    arm_known = "arm" not in unknown  # (a stand-in arm; a field of it left out is a default)
+    counts = list(_count_problems(scene)) if arm_known else []
+    rates = list(rate_problems(scene.arm)) if arm_known else []
+    magnitudes = list(_magnitude_problems(scene))
+    budget = list(_budget_problems(scene)) if known("goals", "render.fps", "solver.max_frames_per_goal", "solver.tolerance",
+                                                   "solver.path_tolerance") else []
+    slow = (list(_slow_rate_problems(scene)) if arm_known and not rates and all(path != "arm.axes" for path, _ in counts)
+            and known("render.fps", "solver.max_joint_step", *(f"arm.{f}" for f in RATE_FIELDS)) else [])
+    arm = list(limit_problems(scene.arm)) if known("arm.home", "arm.limits", "arm.limit_margin") else []
+    arm += list(joint_goal_limit_problems(scene)) if known("arm.limits") else []
+    arm += list(_bounds_problems(scene)) if known("render.bounds") else []
+    problems = counts + rates + arm + magnitudes + budget + slow + list(_pen_problems(scene)) + list(_name_problems(scene))
+    problems += _collision_checks(scene, set(unknown) | {path for path, _ in counts + rates + magnitudes})
+    return [(path, message) for path, message in problems if known(path)]
+
+
+def _overlaps(a: str, b: str) -> bool:
+    """One field path holds the other (or they are one).
+
+    >>> _overlaps("arm", "arm.home[2]"), _overlaps("goals[1].speed", "goals"), _overlaps("goals[1]", "goals[10]")
+    (True, True, False)
+    """
+    short, long = sorted((a, b), key=len)
+    return long == short or long.startswith((short + ".", short + "["))
+
+
+INDEXED = re.compile(r"\b(goals|obstacles)\[(\d+)\]")
+
+
+def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, str]]:
+    """The clearance problems of the home pose, the goals and the joint goals' poses, with every
+    value in ``unusable`` left out: goals and obstacles dropped (the rest keep their indices in
+    the messages), the floor dropped, the default home taken and its checks skipped; an unusable
+    arm or clearance leaves only the goal points inside an obstacle or below the floor."""
+    n = scene.arm.joint_count if "arm" not in unusable else -1
+    goals = [k for k, goal in enumerate(scene.goals) if not any(_overlaps(u, f"goals[{k}]") for u in unusable)
+             and (goal.joints is None or len(goal.joints) == n)]
+    obstacles = [k for k in range(len(scene.obstacles)) if not any(_overlaps(u, f"obstacles[{k}]") for u in unusable)]
+    arm_usable = not any(_overlaps(u, "arm") and not _overlaps(u, "arm.home") for u in unusable)
+    home_usable = not any(_overlaps(u, "arm.home") for u in unusable) and (scene.arm.home is None or len(scene.arm.home) == n)
+    clearance_known = not any(_overlaps(u, f) for u in unusable for f in ("solver.clearance", "solver.self_clearance"))
+    floor = scene.floor if not any(_overlaps(u, "floor") for u in unusable) else None
+    arm = scene.arm if home_usable else scene.arm.model_copy(update={"home": None})
+    reduced = scene.model_copy(update={"goals": [scene.goals[k] for k in goals], "obstacles": [scene.obstacles[k] for k in obstacles],
+                                       "floor": floor, "arm": arm})
+    problems: list[tuple[str, str]] = []
+    if arm_usable and clearance_known:
+        problem = scene_to_problem(reduced)
+        tip_size = "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"
+        if home_usable:
+            problems += list(_home_collision_problems(problem))
+            problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
+        problems += list(_goal_point_problems(problem.obstacles, problem.goals, tip_radius(problem.arm, problem.capsules)
+                                              + problem.solver.clearance, tip_size))
         for k, goal in enumerate(problem.goals):
             if goal.joints is not None:
                 problems += list(_pose_collision_problems(problem, goal.joints, f"goals[{k}]", "the joint goal's pose", "the goal"))
                 problems += list(_self_collision_problems(problem, f"goals[{k}]", goal.joints, "the joint goal's pose", "the goal"))
-    return problems
+    else:  # the goals' own points need no arm
+        points = [scene_goal(g) for g in reduced.goals if g.joints is None]
+        problems += list(_goal_point_problems(scene_obstacles(reduced), tuple(points), None, ""))
+    indices = {"goals": goals, "obstacles": obstacles}
+
+    def original(match: re.Match) -> str:
+        kept = indices[match.group(1)]
+        k = int(match.group(2))
+        return f"{match.group(1)}[{kept[k]}]" if k < len(kept) else match.group(0)
+
+    return [(INDEXED.sub(original, path), INDEXED.sub(original, message)) for path, message in problems]
 
 
 def _name_problems(scene: SceneModel):
@@ -114,9 +184,8 @@ def _count_problems(scene: SceneModel):
                                          "(expected one per joint, in order, as arm.home)")
 
 
-def _arm_problems(scene: SceneModel):
-    yield from limit_problems(scene.arm)
-    yield from joint_goal_limit_problems(scene)
+def _bounds_problems(scene: SceneModel):
+    """``render.bounds`` ranges that are not from min to max."""
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             if not pair[0] < pair[1]:
@@ -146,7 +215,7 @@ def path_frames(goal, fps: float) -> int:
     """
     if goal.path is None:
         return 0
-    with np.errstate(all="ignore"):  # a scene's extreme numbers are reported by _size_problems
+    with np.errstate(all="ignore"):  # a scene's extreme numbers are reported by _magnitude_problems
         frames = tool_path(goal.path).length / goal.speed * fps
     return math.ceil(frames - 1e-9) if frames < MOST_PATH_FRAMES else MOST_PATH_FRAMES
 
@@ -182,6 +251,10 @@ def _magnitudes(scene: SceneModel):
         yield "solver.max_step", solver.max_step
     if solver.clearance is not None:
         yield "solver.clearance", solver.clearance
+    if solver.self_clearance is not None:
+        yield "solver.self_clearance", solver.self_clearance
+    if solver.orientation_weight is not None:  # a length per radian
+        yield "solver.orientation_weight", solver.orientation_weight
     if scene.render.bounds != "auto":
         for axis, pair in zip("xyz", scene.render.bounds):
             yield from ((f"render.bounds.{axis}", v) for v in pair)
@@ -222,13 +295,14 @@ def _obstacle_magnitudes(path: str, obstacle):
         yield f"{path}.influence", obstacle.influence
 
 
-POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance)"
+POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance|self_clearance|orientation_weight)"
                               r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|cylinder\.(length|radius)|influence)|goals\[\d+\]\.path\.text\.(height|lift)")
 """The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
 largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
 
 
-def _size_problems(scene: SceneModel):
+def _magnitude_problems(scene: SceneModel):
+    """Coordinates and lengths beyond :data:`LIMITS`' magnitude, lengths below its smallest, cost weights too large."""
     big, small = LIMITS["magnitude"], LIMITS["smallest"]
     for path, value in _magnitudes(scene):
         if abs(value) > big:
@@ -242,6 +316,10 @@ def _size_problems(scene: SceneModel):
         value = getattr(weights, name)
         if value > LIMITS["weight"]:
             yield f"solver.weights.{name}", f"{value:g} is too large (expected at most {LIMITS['weight']:g})"
+
+
+def _budget_problems(scene: SceneModel):
+    """The frames the scene may run, and those following its path goals, against the frame limit."""
     budget = frame_budget(scene)
     limit = LIMITS["total_frames"]
     along = [path_frames(g, scene.render.fps) for g in scene.goals]
@@ -289,15 +367,21 @@ def _slow_rate_problems(scene: SceneModel):
         if said and getattr(scene.arm, field) is None:  # a default made from the speed already named
             continue
         said = True
-        least = float(np.min(values))
-        unit = SCENE_RATE_UNITS[field]
+        k = int(np.argmin(values))
+        least = float(values[k])
+        slides = scene.arm.sliding
+        slide = len(slides) == len(values) and bool(slides[k])  # a prismatic joint's rates are m/s..., its move theta metres
+        unit = SCENE_RATE_UNITS[field].replace("deg", "m") if slide else SCENE_RATE_UNITS[field]
+        shown = (lambda v: v) if slide else math.degrees
+        move = f"{theta:.3g} m" if slide else f"{SMALLEST_MOVE_DEG:g} degree"
         with np.errstate(all="ignore"):
             frames = duration(least) * fps if least > 0 else math.inf
         took = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"
         source = "" if getattr(scene.arm, field) is not None else " (not set: the arm's default; set it to override)"
-        yield f"arm.{field}", (f"{math.degrees(least):g} {unit}{source} is too slow for the frame limit: moving a joint "
-                               f"{SMALLEST_MOVE_DEG:g} degree from rest to rest would take {took} frames at {fps:g} fps "
-                               f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(math.degrees(floor)):.2g} {unit})")
+        which = f"joint {k + 1}'s " if isinstance(getattr(scene.arm, field), list) else ""
+        yield f"arm.{field}", (f"{which}{shown(least):g} {unit}{source} is too slow for the frame limit: moving "
+                               f"{'it' if which else 'a joint'} {move} from rest to rest would take {took} frames at {fps:g} fps "
+                               f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(shown(floor)):.2g} {unit})")
 
 
 def _rounded_up(value: float) -> float:
@@ -326,9 +410,11 @@ def _following_problems(scene: SceneModel, limit: int):
         if goal.path is None:
             following.append(0)
             continue
-        with np.errstate(all="ignore"):  # extreme numbers are reported by _size_problems
+        with np.errstate(all="ignore"):  # extreme numbers are reported by _magnitude_problems
             spacing = path_spacing(goal.speed, fps, tolerance, per_tolerance)
-            following.append(most_following_frames(tool_path(goal.path), spacing, per_goal, max_splits) if spacing > 0 else 10**18)
+            path = tool_path(goal.path)
+            samples = path.length / spacing if spacing > 0 else math.inf  # a subnormal tolerance: too many to count in an int
+            following.append(most_following_frames(path, spacing, per_goal, max_splits) if samples < 1e15 else 10**18)
     budget = 1 + sum(per_goal + frames_in(g.hold, fps) + f for g, f in zip(scene.goals, following))
     if budget <= limit:
         return
@@ -337,8 +423,8 @@ def _following_problems(scene: SceneModel, limit: int):
     path = tool_path(goal.path)
     room = (limit - (budget - following[k]) - per_goal - 1) // 2**max_splits - len(path.pieces)
     spacing = path.length / room if room > 0 else math.inf
-    said = (f"following goals[{k}]'s path ({path.length:g} long) may take up to {following[k]:,} frames, "
-            f"{budget:,} in all (expected at most {limit:,}): its samples are")
+    counted = f"up to {following[k]:,} frames, {budget:,} in all" if following[k] < 10**18 else "more than 10^15 frames"
+    said = f"following goals[{k}]'s path ({path.length:g} long) may take {counted} (expected at most {limit:,}): its samples are"
     if per_tolerance * tolerance < goal.speed / fps:
         field = "solver.path_tolerance" if scene.solver.path_tolerance is not None else "solver.tolerance"
         need = _rounded_up(spacing / per_tolerance)
@@ -352,7 +438,8 @@ def _following_problems(scene: SceneModel, limit: int):
                                     "(raise the speed or shorten the path)")
 
 
-def _collision_problems(problem, tip_size: str):
+def _home_collision_problems(problem):
+    """Links of the home pose closer than ``solver.clearance`` to an obstacle or the floor, and a floor above the base."""
     obstacles = problem.obstacles
     if not len(obstacles):
         return
@@ -375,12 +462,19 @@ def _collision_problems(problem, tip_size: str):
             f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
             f"move {_floor_or(obstacles, obs, 'the obstacle')}, change arm.home or lower solver.clearance)"
         )
-    keep = tip_radius(problem.arm, problem.capsules) + d_safe
-    for k, goal in enumerate(problem.goals):
+
+
+def _goal_point_problems(obstacles, goals, keep: float | None, tip_size: str):
+    """Point and path goals (their start) inside an obstacle or below the floor, or (``keep``: the
+    last link's radius + ``solver.clearance``, None when the arm is not known) closer than ``keep``."""
+    if not len(obstacles):
+        return
+    for k, goal in enumerate(goals):
         if goal.joints is not None:
             continue  # its tool point is no part of the arm: the pose's links are checked (scene_problems)
         gap = point_clearances(goal.position[None], obstacles)[0]
-        for obs in np.nonzero(gap < keep)[0]:
+        near = gap < keep if keep is not None else gap <= 0
+        for obs in np.nonzero(near)[0]:
             where = _obstacle_path(obstacles, obs) if obstacles.kinds[obs] == FLOOR else _obstacle_words(obstacles, obs)
             if gap[obs] <= 0:
                 yield f"goals[{k}]", f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_floor_or(obstacles, obs, 'the obstacle')})"

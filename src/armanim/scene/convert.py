@@ -169,7 +169,7 @@ def scene_arm(arm: ArmModel, axes: list[str]) -> tuple[Arm, Capsules | None]:
     return chain.arm, urdf_capsules(arm, chain)
 
 
-def _obstacles(scene: SceneModel) -> Obstacles:
+def scene_obstacles(scene: SceneModel) -> Obstacles:
     """The scene's obstacles in the scene's order (box and cylinder angles become a rotation here), the floor last."""
     if not scene.obstacles and scene.floor is None:
         return Obstacles.none()
@@ -358,7 +358,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         half_width=arm.resolved_width / 2.0,
         home=home,
         limits=limits,
-        obstacles=_obstacles(scene),
+        obstacles=scene_obstacles(scene),
         goals=tuple(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits) for g in scene.goals),
         solver=solver,
         fps=fps,

@@ -291,16 +291,26 @@ def rate_notes(scene: SceneModel) -> list[tuple[str, str]]:
         unit = SCENE_RATE_UNITS[field]
         given = getattr(arm, field)
         names = arm.urdf_arm.joint_names
+        slides = arm.sliding  # a prismatic joint's rates in m/s..., as the scene gives them
         if isinstance(given, list):
-            listed = [f"{names[i]} {given[i]:g} > {np.degrees(limit[i]):.4g}" for i in over[:3]]
+            listed = [f"{names[i]} {given[i]:g} > {_rate_shown(limit[i], unit, slides[i])}" for i in over[:3]]
             start = "is above"
         else:
-            listed = [f"{names[i]} {np.degrees(limit[i]):.4g}" for i in over[:3]]
+            listed = [f"{names[i]} {_rate_shown(limit[i], unit, slides[i])}" for i in over[:3]]
             start = f"{given:g} {unit} is above"
         notes.append((f"arm.{field}", f"{start} the robot's own limit for {_joint_span(over)} ({', '.join(listed)}"
-                                      f"{', ...' if len(over) > 3 else ''} {unit}: {source}); allowed, but a real robot "
+                                      f"{', ...' if len(over) > 3 else ''}: {source}); allowed, but a real robot "
                                       "could not follow this motion"))
     return notes
+
+
+def _rate_shown(value: float, unit: str, slide: bool) -> str:
+    """A joint's rate (SI) as the scene writes it: deg/s... for a revolute joint, m/s... for a prismatic one.
+
+    >>> _rate_shown(np.pi, "deg/s", False), _rate_shown(0.2, "deg/s^2", True)
+    ('180 deg/s', '0.2 m/s^2')
+    """
+    return f"{value:.4g} {unit.replace('deg', 'm')}" if slide else f"{np.degrees(value):.4g} {unit}"
 
 
 def rate_note_lines(scene: SceneModel) -> list[str]:

@@ -10,6 +10,7 @@ import copy
 import difflib
 import functools
 import hashlib
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -142,7 +143,12 @@ def validate_scene_text(text: str, file: str) -> SceneModel:
 
 
 def _validated(text: str, file: str, urdf_file: str | Path | None = None, srdf_file: str | Path | None = None):
-    """(model, parsed document) of a valid scene text; SceneError with every problem otherwise."""
+    """(model, parsed document) of a valid scene text; SceneError with every problem otherwise.
+
+    One pass reports every problem it can: the YAML's, every field's type or bound, the arm's files
+    (URDF, SRDF), and the cross-field checks (counts, sizes, rates, frame budgets, clearances) of
+    every part that did validate, the bad parts left out (:func:`_salvaged`).
+    """
     doc = read_yaml(text, file)
     problems = list(doc.problems)
     if doc.data is None and problems:
@@ -151,41 +157,56 @@ def _validated(text: str, file: str, urdf_file: str | Path | None = None, srdf_f
         kind = type(doc.data).__name__ if doc.data is not None else "null"
         raise SceneError(file, problems + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)])
     files = (Path(file).parent, urdf_file, srdf_file)
-    model, errors = _validated_model(doc.data, files)
+    model, errors, file_errors = _validated_model(doc.data, files)
+    found = problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]]
     if model is None:
-        found = problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]]
-        found += _problems_beside(doc, [tuple(e["loc"]) for e in errors], file, urdf_file, {p.path for p in found})
-        raise SceneError(file, _by_line(found, len(errors)))
-    problems += as_diagnostics(scene_problems(model), doc.line_of)
-    if problems:
-        raise SceneError(file, _by_line(problems))
+        found += _problems_beside(doc, [tuple(e["loc"]) for e in errors], files, {p.path for p in found}, bool(file_errors))
+    else:
+        found += as_diagnostics(scene_problems(model), doc.line_of)
+        if model.name is None:
+            found += _stem_problems(file)
+    if found:
+        raise SceneError(file, _by_line(found, len(errors)), also=file_errors)
+    if file_errors:
+        raise file_errors[0] if len(file_errors) == 1 else SceneError(file_errors[0].file, file_errors[0].problems, also=file_errors[1:])
     return model, doc
 
 
-def _validated_model(data: dict, files: tuple) -> tuple[SceneModel | None, list[Any]]:
-    """(the scene with its arm's files read, []) or (None, pydantic's errors): the YAML is
-    validated first, then the URDF and SRDF are read (``files``: the scene's folder and the
-    files read in their place, :func:`armanim.scene.robots.read_arm_files`) once the arm
-    section is valid, whatever else is wrong, so that one pass reports every problem.
+def _stem_problems(file: str) -> list[Diagnostic]:
+    """The problem of a file name that cannot name the run (a scene without ``name:``)."""
+    try:
+        stem_name(Path(file))
+    except SceneError as exc:
+        return exc.problems
+    return []
+
+
+def _validated_model(data: dict, files: tuple) -> tuple[SceneModel | None, list[Any], list[SceneError]]:
+    """(the scene with its arm's files read, [], []) or (None, pydantic's errors, the arm's files'
+    errors): the YAML is validated first, then the URDF and SRDF are read (``files``: the scene's
+    folder and the files read in their place, :func:`armanim.scene.robots.read_arm_files`) once
+    the arm section is valid, whatever else is wrong, so that one pass reports every problem.
 
     A problem of the arm section that only its files tell (a link the URDF does not have) is
     one more error at ``arm``, after those of ``version`` and ``name``; a problem of a file
-    itself is its SceneError (``FILE:LINE: message``), raised at once.
+    itself is its SceneError (``FILE:LINE: message``), returned beside the scene's.
     """
     try:
         model, errors = SceneModel.model_validate(data), []
     except ValidationError as exc:
         model, errors = None, [e for e in exc.errors(include_url=False) if not isinstance(e.get("input"), TooLarge)]
     if any(e["loc"] and e["loc"][0] == "arm" for e in errors):
-        return None, errors  # the arm is not known: its files are not read
+        return None, errors, []  # the arm is not known: its files are not read
     try:
         arm = read_arm_files(model.arm if model is not None else ArmModel.model_validate(data["arm"]), *files)
+    except SceneError as exc:
+        return None, errors, [exc]
     except ValueError as exc:
         at = sum(1 for e in errors if e["loc"] and e["loc"][0] in ("version", "name"))  # pydantic's order of fields
         error = {"type": "value_error", "loc": ("arm", *getattr(exc, "loc", ())), "msg": f"Value error, {exc}", "input": data.get("arm"),
                  "ctx": {"error": exc}}
-        return None, errors[:at] + [error] + errors[at:]
-    return (model.model_copy(update={"arm": arm}) if model is not None else None), errors
+        return None, errors[:at] + [error] + errors[at:], []
+    return (model.model_copy(update={"arm": arm}) if model is not None else None), errors, []
 
 
 def scene_model(data: dict, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
@@ -211,28 +232,122 @@ def scene_model(data: dict, scene_dir: str | Path = ".", urdf_file: str | Path |
 SETTINGS = ("name", "floor", "render", "solver")
 """Top-level keys whose bad values can be left out (their defaults taken) to check the rest."""
 
+LISTS = ("goals", "obstacles")
+"""Top-level lists whose bad items can be left out to check the rest."""
 
-def _problems_beside(doc: YamlDocument, bad: list[tuple], file: str, urdf_file, known: set[str]) -> list[Diagnostic]:
-    """The cross-field problems of a scene whose only field errors are in settings (render,
-    solver, name, floor): checked with those values left out, so that one pass reports every
-    problem. An error in the arm, the goals or the obstacles makes these checks impossible:
-    none then. Checks that involve a left-out solver value (the clearance ones) are skipped."""
-    if not bad or not all(loc and loc[0] in SETTINGS for loc in bad):
+STAND_IN_ARM = {"links": [1.0]}
+"""The arm checked in place of one that cannot be read: no check that reads the arm is made with it."""
+
+MAX_SALVAGE = 3
+"""Rounds of leaving bad parts out (a field, then its item, then its section) before giving up."""
+
+
+def _problems_beside(doc: YamlDocument, bad: list[tuple], files: tuple, known: set[str], arm_unread: bool) -> list[Diagnostic]:
+    """The cross-field problems of a scene with field errors, checked with the bad parts left out
+    (:func:`_salvaged`), so that one pass reports every problem; a check that reads a part left
+    out (or a default taken for it) is skipped. ``arm_unread``: the arm's files could not be read."""
+    salvaged = _salvaged(doc.data, bad, files, arm_unread)
+    if salvaged is None:
         return []
-    data = copy.deepcopy(doc.data)
-    for loc in bad:
-        section = data.get(loc[0])
-        if len(loc) > 1 and isinstance(section, dict):
-            section.pop(loc[1], None)
-        else:
-            data.pop(loc[0], None)
-    try:
-        model = read_scene_files(SceneModel.model_validate(data), Path(file).parent, urdf_file)
-    except (ValidationError, ValueError, SceneError):
-        return []
-    collisions = not any(loc[0] == "solver" for loc in bad)
-    found = as_diagnostics(scene_problems(model, collisions=collisions), doc.line_of)
-    return [p for p in found if p.path not in known]
+    model, unknown, kept = salvaged
+    found = as_diagnostics([(_original_indices(path, kept), _original_indices(message, kept))
+                            for path, message in scene_problems(model, frozenset(unknown))], doc.line_of)
+    return [p for p in found if p.path not in known and not any(p.path.startswith(k + ".") or p.path.startswith(k + "[") for k in known)]
+
+
+def _salvaged(data: dict, bad: list[tuple], files: tuple, arm_unread: bool):
+    """(model, unknown field paths, kept indices of goals and obstacles) of the scene ``data`` with
+    the parts at the error locations ``bad`` left out, or None when no scene is left.
+
+    A bad field of a section (``solver.clearance``, ``arm.home``, ``goals[2].speed``) is left out
+    and its default taken; if the section or item is still bad, a goal or obstacle is left out
+    (the others keep their own indices in messages), a setting section takes its defaults, and an
+    arm that cannot be read (or whose files cannot) is a stand-in that no check reads. Unknown top-level keys are dropped.
+    """
+    data = copy.deepcopy(data)
+    unknown: set[str] = set()
+    drop: dict[str, set[int]] = {"goals": set(), "obstacles": set()}
+    stand_in = arm_unread or not isinstance(data.get("arm"), dict)
+    data.setdefault("version", 1)
+    for level in range(MAX_SALVAGE):
+        for loc in bad:
+            _leave_out(data, loc, level, unknown, drop)
+        if level == 2 and any(loc and loc[0] == "arm" for loc in bad):
+            stand_in = True
+        kept = {key: [k for k in range(len(data[key])) if k not in drop[key]] if isinstance(data.get(key), list) else []
+                for key in LISTS}
+        trial = {**data, **{key: [data[key][k] for k in kept[key]] for key in LISTS if isinstance(data.get(key), list)}}
+        if stand_in:
+            trial["arm"], unknown = STAND_IN_ARM, unknown | {"arm"}
+        if not isinstance(trial.get("goals"), list) or not trial["goals"]:
+            trial["goals"], unknown = [[0.0, 0.0, 0.0]], unknown | {"goals"}
+        try:
+            model = SceneModel.model_validate(trial)
+        except ValidationError as exc:
+            bad = [_in_file(tuple(e["loc"]), kept) for e in exc.errors(include_url=False)]
+            if any(not loc for loc in bad):
+                return None
+            continue
+        if not stand_in:
+            try:
+                model = model.model_copy(update={"arm": read_arm_files(model.arm, *files)})
+            except (ValueError, SceneError):
+                stand_in, bad = True, []
+                continue
+        gone = {f"{key}[{k}]" for key in LISTS for k in drop[key]}  # a field of an item left out is no unknown of the rest
+        return model, {u for u in unknown if u.split(".")[0] not in gone}, kept
+    return None
+
+
+def _in_file(loc: tuple, kept: dict[str, list[int]]) -> tuple:
+    """An error location in a scene with items left out, as the file's location."""
+    if len(loc) > 1 and loc[0] in LISTS and isinstance(loc[1], int) and loc[1] < len(kept[loc[0]]):
+        return (loc[0], kept[loc[0]][loc[1]], *loc[2:])
+    return loc
+
+
+def _leave_out(data: dict, loc: tuple, level: int, unknown: set[str], drop: dict[str, set[int]]) -> None:
+    """Leave out the part of ``data`` at the error location ``loc``: at ``level`` 0 the field of
+    a section or of a goal or obstacle, at 1 the goal or obstacle, at 2 the section."""
+    if not loc:
+        return
+    head = loc[0]
+    if head in LISTS and len(loc) > 1 and isinstance(loc[1], int) and isinstance(data.get(head), list):
+        item = data[head][loc[1]] if loc[1] < len(data[head]) else None
+        if level == 0 and len(loc) > 2 and isinstance(loc[2], str) and isinstance(item, dict) and loc[2] in item:
+            del item[loc[2]]
+            unknown.add(f"{head}[{loc[1]}].{loc[2]}")
+        elif level >= 1:
+            drop[head].add(loc[1])
+        return
+    section = data.get(head)
+    if head not in SceneModel.model_fields:
+        data.pop(head, None)  # an unknown key
+    elif level == 0 and loc[:2] == ("arm", "links") and isinstance(section, dict) and isinstance(section.get("links"), list):
+        section["links"] = [1.0] * len(section["links"])  # a stand-in of the same joint count: the arm's other fields are checked
+        unknown.add("arm.links")
+    elif level < 2 and len(loc) > 1 and isinstance(loc[1], str) and isinstance(section, dict) and loc[1] in section:
+        del section[loc[1]]
+        unknown.add(f"{head}.{loc[1]}")
+    elif level >= 1 and head in data and (head in SETTINGS or head in LISTS):
+        del data[head]
+        unknown.add(head)
+    elif head == "version":
+        data["version"] = 1
+
+
+def _original_indices(text: str, kept: dict[str, list[int]]) -> str:
+    """``text`` with each ``goals[k]`` and ``obstacles[k]`` of the checked scene (its bad items left
+    out) written as the file's index."""
+    def original(match: re.Match) -> str:
+        indices = kept[match.group(1)]
+        k = int(match.group(2))
+        return f"{match.group(1)}[{indices[k]}]" if k < len(indices) else match.group(0)
+
+    return INDEXED.sub(original, text)
+
+
+INDEXED = re.compile(r"\b(goals|obstacles)\[(\d+)\]")
 
 
 def _by_line(problems: list[Diagnostic], model_errors: int = 0) -> list[Diagnostic]:

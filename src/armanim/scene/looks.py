@@ -55,7 +55,7 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
         meshes = bundled_link_meshes(urdf.bundled.urdf.parent)
     else:
         folder = urdf_dir or urdf.folder or Path(".")
-        specs = visual_specs(urdf.robot.raw, urdf.file)
+        specs = visual_specs(urdf.robot.raw, urdf.file, notes.append)
         meshes = link_meshes(specs, folder, package_dirs or default_package_dirs(folder), notes.append, reader=reader)
     notes = [f"{urdf.file}: {note}" for note in notes]
     total = sum(m.triangles for m in meshes)

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.fitting import FittedCapsule, fit_capsules
-from armanim.errors import SceneError
+from armanim.errors import Diagnostic, SceneError
 from armanim.scene import visuals
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
 from armanim.scene.urdf import Robot, _parse_xml
@@ -90,7 +90,22 @@ def _specs(raw: bytes, file: str, tag: str) -> tuple[tuple[str, tuple[VisualSpec
             spec = _visual(name, element, {})
             if spec is not None:
                 out.setdefault(name, []).append(spec)
+            elif tag == "collision" and _mesh_of(element) is not None:
+                # left out, the link would get a joint-to-joint capsule, not the robot's shape
+                mesh, origin = _mesh_of(element), element.find("origin")
+                given = {f"scale={mesh.attrib.get('scale')!r}": "scale" in mesh.attrib,
+                         **{f"origin {k}={origin.attrib[k]!r}": True for k in ("xyz", "rpy") if origin is not None and k in origin.attrib}}
+                raise SceneError(file, [Diagnostic("", f"link {name!r}: collision mesh {mesh.attrib.get('filename')!r}: its "
+                                                   f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
+                                                   "finite numbers each", element.line)])
     return tuple((name, tuple(specs)) for name, specs in out.items())
+
+
+def _mesh_of(element):
+    """The ``<mesh>`` of a ``<collision>`` or ``<visual>`` element, or None."""
+    geometry = element.find("geometry")
+    shape = geometry.children[0] if geometry is not None and geometry.children else None
+    return shape if shape is not None and shape.tag == "mesh" else None
 
 
 def has_collision_elements(robot: Robot, link: str) -> bool:

@@ -78,11 +78,13 @@ def read_mesh(data: bytes, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarra
     """
     vertices, faces, colors = {"stl": _stl, "obj": _obj, "dae": _dae}[kind](data)
     finite = np.isfinite(vertices).all(axis=1)
-    if len(faces) and not finite.all():
+    given = len(faces)
+    if given and not finite.all():
         kept = finite[faces].all(axis=1)
         faces, colors = faces[kept], colors[kept]
     if not len(faces):
-        raise ValueError("no triangles")
+        raise ValueError(f"no triangle with finite corners ({given:,} left out: each has a NaN or infinite corner)" if given
+                         else "no triangles")
     return vertices, faces, colors
 
 

@@ -393,10 +393,10 @@ class GoalModel(Strict):
     )
 
     position: Vector3 | None = Field(default=None, description="A point goal's position.")
-    joints: Annotated[list[Finite], Field(min_length=1)] | None = Field(
+    joints: Annotated[list[Angle], Field(min_length=1)] | None = Field(
         default=None,
-        description="A joint goal: the arm's pose, one value per moving joint in order (degrees, as arm.home), reached when "
-                    "every joint is within solver.joint_tolerance of it.",
+        description="A joint goal: the arm's pose, one value per moving joint in order (degrees, as arm.home, each within "
+                    "[-360, 360]), reached when every joint is within solver.joint_tolerance of it.",
     )
     path: PathModel | None = Field(
         default=None, description="A path goal's path for the tool to follow: line, arc, polyline or text (docs/scene-format.md, Path goals)."

@@ -86,7 +86,7 @@ class VisualSpec:
     line: int
 
 
-def visual_specs(raw: bytes, file: str) -> list[VisualSpec]:
+def visual_specs(raw: bytes, file: str, warn: Callable[[str], None] | None = None) -> list[VisualSpec]:
     """Every ``<visual>`` of every link, in file order (the bytes were parsed as a URDF before,
     so only what drawing needs is read here; a visual it cannot use is skipped).
 
@@ -104,7 +104,18 @@ def visual_specs(raw: bytes, file: str) -> list[VisualSpec]:
             spec = _visual(link.attrib.get("name", ""), visual, named)
             if spec is not None:
                 specs.append(spec)
+            elif warn is not None and _shape_of(visual) is not None:  # a geometry it names, whose numbers cannot be read
+                part = "scale" if _shape_of(visual).tag == "mesh" else "size"
+                warn(f"link {link.attrib.get('name', '')!r}: the visual of line {visual.line} cannot be read (its origin or "
+                     f"{part} is not the finite numbers it needs): drawn as its capsules if it has no other")
     return specs
+
+
+def _shape_of(el: Element) -> Element | None:
+    """The geometry of a ``<visual>`` when it is one armanim draws (mesh, box, cylinder, sphere), else None."""
+    geometry = el.find("geometry")
+    shape = geometry.children[0] if geometry is not None and geometry.children else None
+    return shape if shape is not None and shape.tag in ("mesh", "box", "cylinder", "sphere") else None
 
 
 def _visual(link: str, el: Element, named: dict) -> VisualSpec | None:

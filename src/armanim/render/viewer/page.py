@@ -12,6 +12,7 @@ escaped so that no ``</script>``, comment or quote in it can end it (:func:`scri
 
 from __future__ import annotations
 
+import hashlib
 import html
 import json
 import os
@@ -22,7 +23,12 @@ from pathlib import Path
 
 ASSETS = "assets"
 GENERATOR = "armanim viewer"
-"""The page's ``<meta name="generator">``: how ``armanim view`` knows a page it may replace."""
+"""The page's ``<meta name="generator">``: how ``armanim view`` knows a page of armanim's."""
+DIGEST = "<!-- armanim viewer sha256 {} -->\n"
+"""The page's last line: the sha256 of every byte before it (UTF-8), so ``armanim view --out``
+replaces a page only as armanim wrote it, never one a user edited since (their notes in it)."""
+DIGEST_TAIL = 128
+"""Bytes at the end of a page read to find its digest line (the line is 95)."""
 
 
 def asset_text(name: str) -> str:
@@ -89,7 +95,8 @@ def viewer_html(data: dict) -> str:
         if not found:
             raise ValueError(f"page.html lacks the placeholder {marker} (or has it out of order)")
         pieces += [head, part]
-    return "".join(pieces) + rest
+    page = "".join(pieces) + rest
+    return page + DIGEST.format(hashlib.sha256(page.encode("utf-8")).hexdigest())
 
 
 def is_viewer_page(path: str | Path, limit: int = 4096) -> bool:
@@ -105,6 +112,33 @@ def is_viewer_page(path: str | Path, limit: int = 4096) -> bool:
     except OSError:
         return False
     return f'<meta name="generator" content="{GENERATOR}">'.encode() in head
+
+
+def is_unchanged_page(path: str | Path) -> bool:
+    """Whether the page at ``path`` is, byte for byte, as armanim wrote it: its last line is
+    :data:`DIGEST` with the sha256 of every byte before it (hashed in blocks: any size, flat memory)."""
+    try:
+        with open(path, "rb") as handle:
+            size = os.fstat(handle.fileno()).st_size
+            handle.seek(max(0, size - DIGEST_TAIL))
+            tail = handle.read(DIGEST_TAIL)
+            start, _, end = DIGEST.encode().partition(b"{}")
+            at = tail.rfind(start)
+            if at < 0 or not tail.endswith(end) or len(tail) - at != len(start) + 64 + len(end):
+                return False
+            recorded = tail[at + len(start):at + len(start) + 64].decode("ascii", "replace")
+            body = size - (len(tail) - at)
+            handle.seek(0)
+            digest = hashlib.sha256()
+            while body > 0:
+                block = handle.read(min(body, 1 << 20))
+                if not block:
+                    return False
+                digest.update(block)
+                body -= len(block)
+    except OSError:
+        return False
+    return digest.hexdigest() == recorded
 
 
 def replace_problem(path: str | Path) -> str | None:
@@ -125,4 +159,7 @@ def replace_problem(path: str | Path) -> str | None:
         return "is not a regular file, so armanim does not write there"
     if not is_viewer_page(path):
         return "is a file armanim did not write (not a viewer page), so it is not replaced"
+    if not is_unchanged_page(path):
+        return ("is a viewer page changed since armanim wrote it (or written by an armanim that did not record its "
+                "sha256), so it is not replaced")
     return None
