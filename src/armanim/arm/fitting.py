@@ -201,10 +201,11 @@ def _along(points: np.ndarray, d: np.ndarray) -> Fit:
     span = float(t.max() - t.min())
     r_max = math.hypot(r_min, span / 2.0)
     radii = np.linspace(r_min, r_max, RADII)
-    volumes, lo, hi = _volumes(radii, rho, t)
+    low, high = _frontier(t, rho), _frontier(-t, rho)  # the points that can set the lower / upper end
+    volumes, lo, hi = _volumes(radii, (rho[low], t[low]), (rho[high], t[high]))
     k = int(np.argmin(volumes))
     fine = np.linspace(radii[max(k - 1, 0)], radii[min(k + 1, RADII - 1)], RADII)
-    volumes2, lo2, hi2 = _volumes(fine, rho, t)
+    volumes2, lo2, hi2 = _volumes(fine, (rho[low], t[low]), (rho[high], t[high]))
     j = int(np.argmin(volumes2))
     if volumes2[j] <= volumes[k]:
         radius, a, b, volume = float(fine[j]), float(lo2[j]), float(hi2[j]), float(volumes2[j])
@@ -214,17 +215,38 @@ def _along(points: np.ndarray, d: np.ndarray) -> Fit:
     return volume, axis_point + a * d, axis_point + b * d, radius
 
 
-def _volumes(radii: np.ndarray, rho: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _volumes(radii: np.ndarray, low: tuple[np.ndarray, np.ndarray],
+             high: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For each radius r: the capsule's volume and its segment's ends along the axis.
 
     A point at axial t and distance rho from the axis is held by a segment [a, b] iff
     a <= t + h and b >= t - h, h = sqrt(r^2 - rho^2): so a = min(t + h), b = max(t - h), or
-    their middle when a > b (a sphere)."""
-    h = np.sqrt(np.maximum(radii[:, None] ** 2 - rho[None, :] ** 2, 0.0))
-    a, b = (t[None, :] + h).min(axis=1), (t[None, :] - h).max(axis=1)
+    their middle when a > b (a sphere). ``low`` and ``high`` are (rho, t) of the points that can
+    set a and b (:func:`_frontier`: the others never reach the min or max)."""
+    (rho_a, t_a), (rho_b, t_b) = low, high
+    r2 = radii[:, None] ** 2
+    a = (t_a[None, :] + np.sqrt(np.maximum(r2 - rho_a[None, :] ** 2, 0.0))).min(axis=1)
+    b = (t_b[None, :] - np.sqrt(np.maximum(r2 - rho_b[None, :] ** 2, 0.0))).max(axis=1)
     middle = (a + b) / 2.0
     a, b = np.where(a > b, middle, a), np.where(a > b, middle, b)
     return np.pi * radii ** 2 * (b - a) + 4.0 / 3.0 * np.pi * radii ** 3, a, b
+
+
+def _frontier(t: np.ndarray, rho: np.ndarray) -> np.ndarray:
+    """The indices of the points that can hold the least t + sqrt(r^2 - rho^2) for some r: a point
+    with another at no larger t and no smaller rho never does (its h is no smaller, its t no
+    smaller, in floating point too: each step is monotone), so only the points whose rho exceeds
+    that of every point before them in the order of t are kept (the same minimum, exactly).
+
+    >>> _frontier(np.array([0.0, 1, 2, 3]), np.array([1.0, 2, 0.5, 3])).tolist()
+    [0, 1, 3]
+    """
+    order = np.argsort(t, kind="stable")
+    r = rho[order]
+    keep = np.empty(len(r), dtype=bool)
+    keep[:1] = True
+    keep[1:] = r[1:] > np.maximum.accumulate(r)[:-1]
+    return np.sort(order[keep])
 
 
 def _perpendiculars(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -236,31 +258,58 @@ def _perpendiculars(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def smallest_circle(q: np.ndarray) -> np.ndarray:
-    """The centre of the smallest circle holding the 2-D points ``q`` (N, 2): Welzl's incremental
-    algorithm over the points of their convex hull in a seeded shuffle (deterministic).
+    """The centre of the smallest circle holding the 2-D points ``q`` (N, 2), by Elzinga and
+    Hearn's method (1972): a circle on a support set of at most three points is grown, each time
+    by the point farthest from its centre, into the smallest circle holding the support and that
+    point (which passes through it), until no point lies outside. Each step's radius is larger
+    than the last and there are finitely many supports, so it ends, at the smallest circle (to
+    rounding: the fit measures its radius from the centre to every point, so the rounding is
+    never a point left out). One array pass a step, a handful of steps: no hull, no shuffle;
+    deterministic.
 
     >>> smallest_circle(np.array([[0.0, 0], [2, 0], [1, 0.5], [1, -1]])).round(9).tolist()
     [1.0, 0.0]
+    >>> smallest_circle(np.array([[0.0, 0], [4, 0], [2, 3]])).round(9).tolist()  # three on the circle
+    [2.0, 0.833333333]
     """
-    points = _hull_2d(q)
-    order = np.random.default_rng(0).permutation(len(points))
-    p = [(float(x), float(y)) for x, y in points[order]]
-    cx, cy, r2 = p[0][0], p[0][1], 0.0
-    for i in range(1, len(p)):
-        if _outside(p[i], cx, cy, r2):
-            cx, cy, r2 = p[i][0], p[i][1], 0.0
-            for j in range(i):
-                if _outside(p[j], cx, cy, r2):
-                    cx, cy = (p[i][0] + p[j][0]) / 2.0, (p[i][1] + p[j][1]) / 2.0
-                    r2 = (p[i][0] - cx) ** 2 + (p[i][1] - cy) ** 2
-                    for k in range(j):
-                        if _outside(p[k], cx, cy, r2):
-                            cx, cy, r2 = _circumcircle(p[i], p[j], p[k], (cx, cy, r2))
+    x, y = q[:, 0], q[:, 1]
+    i = int(np.argmax((x - x[0]) ** 2 + (y - y[0]) ** 2))
+    j = int(np.argmax((x - x[i]) ** 2 + (y - y[i]) ** 2))
+    support = [(float(x[i]), float(y[i])), (float(x[j]), float(y[j]))]
+    cx, cy, r2 = _diametral(support[0], support[1])
+    for _ in range(10 * len(q) + 10):  # a bound never met: each step grows the circle
+        d2 = (x - cx) ** 2 + (y - cy) ** 2
+        k = int(np.argmax(d2))
+        if d2[k] <= r2 * (1.0 + 1e-12) + 1e-30:
+            break
+        s = (float(x[k]), float(y[k]))
+        grown = _smallest_through(support, s)
+        if grown is None or grown[2] <= r2:  # rounding: no circle of the support and s holds them
+            break
+        cx, cy, r2 = grown
+        support = [p for p in (*support, s) if (p[0] - cx) ** 2 + (p[1] - cy) ** 2 >= r2 * (1.0 - 1e-9)]
     return np.array([cx, cy])
 
 
-def _outside(p: tuple[float, float], cx: float, cy: float, r2: float) -> bool:
-    return (p[0] - cx) ** 2 + (p[1] - cy) ** 2 > r2 * (1.0 + 1e-12) + 1e-30
+def _diametral(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float, float]:
+    """The circle on a and b as diameter (centre x, y, radius squared)."""
+    cx, cy = (a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0
+    return cx, cy, max((a[0] - cx) ** 2 + (a[1] - cy) ** 2, (b[0] - cx) ** 2 + (b[1] - cy) ** 2)
+
+
+def _smallest_through(support: list[tuple[float, float]], s: tuple[float, float]) -> tuple[float, float, float] | None:
+    """The smallest circle through ``s`` that holds ``support`` and ``s``: on s and one support point
+    as diameter, or through s and two of them (None when rounding leaves none holding all)."""
+    points = (*support, s)
+    candidates = [_diametral(a, s) for a in support]
+    candidates += [_circumcircle(support[i], support[j], s, (0.0, 0.0, 0.0))
+                   for i in range(len(support)) for j in range(i + 1, len(support))]
+    best = None
+    for cx, cy, r2 in candidates:
+        limit = r2 * (1.0 + 1e-12) + 1e-30
+        if (best is None or r2 < best[2]) and all((p[0] - cx) ** 2 + (p[1] - cy) ** 2 <= limit for p in points):
+            best = (cx, cy, r2)
+    return best
 
 
 def _circumcircle(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float],
@@ -278,18 +327,6 @@ def _circumcircle(a: tuple[float, float], b: tuple[float, float], c: tuple[float
     cy = (sa * (c[0] - b[0]) + sb * (a[0] - c[0]) + sc * (b[0] - a[0])) / d
     return cx, cy, max((a[0] - cx) ** 2 + (a[1] - cy) ** 2, (b[0] - cx) ** 2 + (b[1] - cy) ** 2,
                        (c[0] - cx) ** 2 + (c[1] - cy) ** 2)
-
-
-def _hull_2d(q: np.ndarray) -> np.ndarray:
-    """The vertices of the 2-D points' convex hull (all of them when they span no area)."""
-    if len(q) < 4:
-        return q
-    from scipy.spatial import ConvexHull, QhullError
-
-    try:
-        return np.asarray(q[np.sort(ConvexHull(q).vertices)])
-    except (QhullError, ValueError):
-        return q
 
 
 Split = tuple[float, list[tuple[float, float]], np.ndarray]
