@@ -10,6 +10,15 @@ are cut by planes across one of the principal axes or of the mesh frame's axes (
 square to its link's frame), at :data:`CUTS` evenly spaced places, each piece fitted alone; a cut is
 kept only when it saves a share of the volume (:data:`SPLIT_GAIN`).
 
+Only convex hulls' vertices are fitted: a capsule, the points within r of a segment, is convex (the
+sum of a segment and a ball, both convex), so a capsule that holds a hull's vertices holds every
+convex combination of them, which is the hull and every point and triangle inside it. A piece's
+capsule is searched on its hull's vertices; where the plane cuts the mesh's edges, only the
+vertices of those crossings' polygon in the plane are kept (the same reason). On a mesh of more
+than :data:`SEARCH_POINTS` points the cuts are weighed on fewer points (the hull's vertices and one
+point a grid cell, :func:`_search_points`): that only chooses the cuts; each kept piece is then
+fitted to all its points, and its radius measured to every one of them.
+
 Each capsule holds its piece's vertices and the points where the mesh's edges cross the piece's
 cutting planes, so the pieces' capsules together hold every triangle, not only the vertices. The
 ends are rounded to :data:`DECIMALS` places and the radius then measured from the rounded segment and
@@ -33,6 +42,13 @@ SPLIT_GAIN = 0.95
 fewer capsules' volume: each capsule costs the solver a pair per obstacle and per link."""
 DIRECTION_TOL = 0.004
 """The direction search stops when its step falls below this angle (radians)."""
+COARSE_AXES = 1
+"""Principal axes tried per piece when cuts are weighed (the kept pieces then try all three and search)."""
+SEARCH_POINTS = 2000
+"""A mesh of more points is weighed for its cuts on fewer (:func:`_search_points`); the kept pieces
+are fitted to every point."""
+SEARCH_GRID = 48
+"""Cells along the mesh's longest side in :func:`_search_points`."""
 RADII = 24
 """Radii tried per direction (then refined once around the best)."""
 
@@ -107,9 +123,10 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
     axes = principal_axes(points)
     best = [(_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])]
     volume = best[0][0][0]
-    coarse = _piece_fit(points, fine=False)[0]  # the cuts' coarse volumes are weighed against the same coarse fit
+    search, search_edges = (points, edges) if len(points) <= SEARCH_POINTS else (_search_points(points), np.zeros((0, 2, 3)))
+    coarse = _piece_fit(search, fine=False)[0]  # the cuts' coarse volumes are weighed against the same coarse fit
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
-    splits = _best_splits(points, edges, np.vstack([axes, np.eye(3)]), tuple(counts)) if len(counts) else {}  # and the frame's axes
+    splits = _best_splits(search, search_edges, np.vstack([axes, np.eye(3)]), tuple(counts)) if len(counts) else {}  # and the frame's axes
     for count in counts:
         split = splits.get(count)
         if split is None:
@@ -151,7 +168,7 @@ def _piece_fit(points: np.ndarray, fine: bool, hulled: bool = False) -> Fit:
     if len(hull) == 1:
         return 0.0, hull[0].copy(), hull[0].copy(), 0.0
     axes = principal_axes(hull)
-    fits = [(_along(hull, d), d) for d in axes]
+    fits = [(_along(hull, d), d) for d in (axes if fine else axes[:COARSE_AXES])]
     fit, d = min(fits, key=lambda f: f[0][0])
     if not fine:
         return fit
@@ -170,6 +187,37 @@ def _piece_fit(points: np.ndarray, fine: bool, hulled: bool = False) -> Fit:
         if not moved:
             step /= 2.0
     return fit
+
+
+def _search_points(points: np.ndarray) -> np.ndarray:
+    """Fewer points that stand for ``points`` while cuts are weighed: the vertices of their convex
+    hull, and of the rest one point in each cell of a grid of :data:`SEARCH_GRID` cells along the
+    longest side (the first in the points' order: deterministic). Only the choice of the cuts sees
+    them: each kept piece is fitted to all its points, so no point is ever left out for them.
+
+    >>> grid = np.array([[x, y, z] for x in range(100) for y in range(100) for z in (0, 1)], dtype=float)
+    >>> len(_search_points(grid)) < len(grid) / 4
+    True
+    """
+    low = points.min(axis=0)
+    cell = float((points.max(axis=0) - low).max()) / SEARCH_GRID or 1.0
+    cells = np.floor((points - low) / cell).astype(np.int64)
+    keys = (cells[:, 0] * (SEARCH_GRID + 2) + cells[:, 1]) * (SEARCH_GRID + 2) + cells[:, 2]
+    first = np.unique(keys, return_index=True)[1]
+    hull = _hull_indices(points)
+    return np.asarray(points[np.union1d(first, hull)])
+
+
+def _hull_indices(points: np.ndarray) -> np.ndarray:
+    """The indices of the points' convex hull's vertices, ascending (all when they span no volume)."""
+    if len(points) < 5:
+        return np.arange(len(points))
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return np.sort(ConvexHull(points).vertices)
+    except (QhullError, ValueError):
+        return np.arange(len(points))
 
 
 def hull_points(points: np.ndarray) -> np.ndarray:
@@ -241,7 +289,10 @@ def _frontier(t: np.ndarray, rho: np.ndarray) -> np.ndarray:
     >>> _frontier(np.array([0.0, 1, 2, 3]), np.array([1.0, 2, 0.5, 3])).tolist()
     [0, 1, 3]
     """
-    order = np.argsort(t, kind="stable")
+    first, widest = int(np.argmin(t)), int(np.argmax(rho))
+    # the point of least t dominates every point of no larger rho; the widest, every point of no smaller t
+    maybe = np.flatnonzero(((rho > rho[first]) & (t < t[widest])) | (np.arange(len(t)) == first) | (np.arange(len(t)) == widest))
+    order = maybe[np.argsort(t[maybe], kind="stable")]
     r = rho[order]
     keep = np.empty(len(r), dtype=bool)
     keep[:1] = True
@@ -381,8 +432,9 @@ def _edges(vertices: np.ndarray, faces: np.ndarray | None) -> np.ndarray:
         return np.zeros((0, 2, 3))
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     pairs = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    pairs = np.unique(np.sort(pairs, axis=1), axis=0)
-    return np.asarray(vertices[pairs])
+    pairs = np.sort(pairs, axis=1)
+    keys = np.unique(pairs[:, 0] * np.int64(len(vertices)) + pairs[:, 1])  # (lo, hi) in lexicographic order, each once
+    return np.asarray(vertices[np.stack([keys // len(vertices), keys % len(vertices)], axis=1)])
 
 
 def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi: float,
@@ -396,8 +448,23 @@ def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi
         if np.isfinite(plane) and len(edges):
             cross = (np.minimum(ta, tb) < plane) & (np.maximum(ta, tb) > plane)
             s = (plane - ta[cross]) / (tb[cross] - ta[cross])
-            crossings.append(edges[cross, 0] + s[:, None] * (edges[cross, 1] - edges[cross, 0]))
+            crossings.append(_plane_hull(edges[cross, 0] + s[:, None] * (edges[cross, 1] - edges[cross, 0]), axis))
     return np.concatenate(crossings)
+
+
+def _plane_hull(points: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Of points on one plane across ``axis``, the vertices of their convex hull in that plane (in
+    the order given): a capsule, convex, that holds those holds the polygon and every point in it.
+    All of them when they are few or on a line."""
+    if len(points) < 8:
+        return points
+    from scipy.spatial import ConvexHull, QhullError
+
+    u, v = _perpendiculars(axis)
+    try:
+        return np.asarray(points[np.sort(ConvexHull(np.stack([points @ u, points @ v], axis=1)).vertices)])
+    except (QhullError, ValueError):
+        return points
 
 
 def _rounded(fit: Fit, points: np.ndarray) -> FittedCapsule:
