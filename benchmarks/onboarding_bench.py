@@ -18,6 +18,9 @@ The vendor URDFs come from the example-robot-data wheel (PyPI, BSD-3-Clause), un
 
     pip download --no-deps example-robot-data==6.0.0 -d /tmp/erd && unzip -q /tmp/erd/*.whl -d /tmp/erd/wheel
     python benchmarks/onboarding_bench.py --erd /tmp/erd/wheel/cmeel.prefix/share/example-robot-data
+
+``--against OTHER_FITTING.py`` times another fit (main's, say) against this one robot by robot in one
+process; ``--set NAME=VALUE`` runs with one of the fit's constants changed (a variant measured).
 """
 
 from __future__ import annotations
@@ -114,10 +117,51 @@ def bundled(name: str) -> dict:
     return report(f"bundled {name} (visual.npz)", rows, time.process_time() - started)
 
 
+def against(erd: Path, other: Path) -> None:
+    """Another ``fitting.py`` (e.g. main's: ``git show main:src/armanim/arm/fitting.py > /tmp/f.py``)
+    against this one, in one process robot by robot: the load is the same for both."""
+    import importlib.util
+
+    from armanim.arm import fitting
+    from armanim.scene import meshcapsules
+
+    spec = importlib.util.spec_from_file_location("fitting_other", other)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["fitting_other"] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    print(f"| robot | fit CPU, {other.name} | fit CPU, this tree | ratio | capsule volume, this tree / {other.name} |")
+    print("|---|---|---|---|---|")
+    for name, relative in VENDOR.items():
+        urdf = erd / relative
+        robot = read_urdf(urdf)
+        dirs = [erd.parent, *urdf.parents]
+        measured = []
+        for fit in (module.fit_capsules, fitting.fit_capsules):
+            meshcapsules.fit_capsules = fit  # type: ignore[attr-defined]
+            started = time.process_time()
+            fits = mesh_capsules(robot, tuple(robot.links), urdf.parent, dirs, cache=None)
+            measured.append((time.process_time() - started, sum(c.volume for _, c in fits.capsules)))
+        meshcapsules.fit_capsules = fitting.fit_capsules  # type: ignore[attr-defined]
+        (t0, v0), (t1, v1) = measured
+        print(f"| {name} | {t0:.1f} s | {t1:.1f} s | {t0 / t1:.1f}x | {v1 / v0:.4f} |", flush=True)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--erd", type=Path, help="example-robot-data's share folder (holds robots/)")
+    parser.add_argument("--against", type=Path, help="another fitting.py to time and weigh this one against (needs --erd)")
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                        help="set one of armanim.arm.fitting's constants for this run (e.g. DIAGONALS=True, COARSE_AXES=3)")
     args = parser.parse_args(argv)
+    from armanim.arm import fitting
+
+    for setting in args.set:
+        name, _, value = setting.partition("=")
+        setattr(fitting, name, type(getattr(fitting, name))(value == "True" if value in ("True", "False") else float(value)))
+    if args.against is not None:
+        against(args.erd, args.against)
+        return 0
     print("| robot | links fitted | capsules | vertices held (1e-6 m) | capsules / hulls | worst link | fit time |")
     print("|---|---|---|---|---|---|---|")
     results = {}

@@ -102,3 +102,20 @@ def test_random_clouds_are_held(seed, count, scale, most):
     assert 1 <= len(capsules) <= most
     assert excess(points, capsules).max() <= 1e-12
     assert excess(surface_samples(hull, 300), capsules).max() <= 1e-9
+
+
+def test_a_fine_mesh_weighed_on_fewer_points_still_holds_every_vertex():
+    """Over SEARCH_POINTS points the cuts are chosen on a grid's points (fewer), but every kept
+    piece is fitted to all of its own: every vertex and triangle of a finely meshed bent tube is
+    held, by the independent clamp, and the bend still takes two capsules or more."""
+    from armanim.arm.fitting import SEARCH_POINTS
+
+    tube = trimesh.creation.cylinder(radius=0.03, height=0.4, sections=96)
+    arm = trimesh.creation.cylinder(radius=0.03, height=0.3, sections=96,
+                                    transform=trimesh.transformations.rotation_matrix(np.pi / 2, (0, 1, 0)) @ trimesh.transformations.translation_matrix((-0.2, 0, 0.15)))
+    mesh = trimesh.util.concatenate([tube, arm]).subdivide().subdivide()
+    assert len(mesh.vertices) > SEARCH_POINTS
+    capsules = fit_capsules(mesh.vertices, mesh.faces)
+    assert len(capsules) >= 2
+    assert excess(mesh.vertices, capsules).max() <= 1e-12
+    assert excess(surface_samples(mesh), capsules).max() <= 1e-9

@@ -577,3 +577,33 @@ def test_import_moveit_help_shows_an_example(cli):
     result = cli("import", "moveit", "--help")
     assert result.exit_code == 0
     assert "Example: armanim import moveit" in " ".join(result.stdout.split())
+
+
+def test_a_prismatic_joint_on_the_chain_keeps_metres(tmp_path):
+    """A lift on the arm's path: its start value, its MoveIt default and its joint goal are written in
+    metres (home and the goal's joints: degrees for the others), as the request gives them; the
+    scene loads and its home is the request's pose."""
+    urdf = tmp_path / "robot" / "lift.urdf"
+    urdf.parent.mkdir()
+    urdf.write_text(TOY_URDF.replace('<joint name="elbow" type="revolute"', '<joint name="elbow" type="prismatic"')
+                    .replace('<axis xyz="0 1 0"/><limit lower="-2" upper="2"', '<axis xyz="0 0 1"/><limit lower="-0.2" upper="0.3"'))
+    request = _write(tmp_path, "r.yaml", """start_state:
+  joint_state:
+    name: [shoulder, elbow]
+    position: [0.5, 0.125]
+goal_constraints:
+  - joint_constraints:
+      - {joint_name: elbow, position: -0.15}
+      - {joint_name: wrist, position: 1.0}
+      - {joint_name: shoulder, position: -1.0}
+""")
+    out = tmp_path / "scenes" / "lift.yaml"
+    imported = import_moveit(_write(tmp_path, "s.yaml", BOXES_SCENE), request, RobotSource(urdf=urdf), out)
+    arm = imported.data["arm"]
+    assert arm["home"][1] == 0.125 and arm["home"][2] == 0.0  # metres; the wrist's default 0 (no start value)
+    np.testing.assert_allclose(np.radians(arm["home"][0]), 0.5, rtol=0, atol=1e-15)
+    joints = imported.data["goals"][0]["joints"]
+    assert joints[1] == -0.15
+    np.testing.assert_allclose(np.radians([joints[0], joints[2]]), [-1.0, 1.0], rtol=0, atol=1e-15)
+    scene = _loaded_without_names(imported, out)
+    assert scene.model.arm.home[1] == 0.125 and scene.model.goals[0].joints[1] == -0.15

@@ -10,6 +10,15 @@ are cut by planes across one of the principal axes or of the mesh frame's axes (
 square to its link's frame), at :data:`CUTS` evenly spaced places, each piece fitted alone; a cut is
 kept only when it saves a share of the volume (:data:`SPLIT_GAIN`).
 
+Only convex hulls' vertices are fitted: a capsule, the points within r of a segment, is convex (the
+sum of a segment and a ball, both convex), so a capsule that holds a hull's vertices holds every
+convex combination of them, which is the hull and every point and triangle inside it. A piece's
+capsule is searched on its hull's vertices; where the plane cuts the mesh's edges, only the
+vertices of those crossings' polygon in the plane are kept (the same reason). On a mesh of more
+than :data:`SEARCH_POINTS` points the cuts are weighed on fewer points (the hull's vertices and one
+point a grid cell, :func:`_search_points`): that only chooses the cuts; each kept piece is then
+fitted to all its points, and its radius measured to every one of them.
+
 Each capsule holds its piece's vertices and the points where the mesh's edges cross the piece's
 cutting planes, so the pieces' capsules together hold every triangle, not only the vertices. The
 ends are rounded to :data:`DECIMALS` places and the radius then measured from the rounded segment and
@@ -33,6 +42,18 @@ SPLIT_GAIN = 0.95
 fewer capsules' volume: each capsule costs the solver a pair per obstacle and per link."""
 DIRECTION_TOL = 0.004
 """The direction search stops when its step falls below this angle (radians)."""
+COARSE_AXES = 1
+"""Principal axes tried per piece when cuts are weighed (the kept pieces then try all three and search)."""
+TRIED = 3
+"""The best cuts (each across another direction) fitted in full for each count of capsules."""
+DIAGONALS = False
+"""Also cut across the bisectors of each two principal axes (measured: at most 2.5 % less volume on
+the onboarding robots, for about twice the fit time; off)."""
+SEARCH_POINTS = 2000
+"""A mesh of more points is weighed for its cuts on fewer (:func:`_search_points`); the kept pieces
+are fitted to every point."""
+SEARCH_GRID = 48
+"""Cells along the mesh's longest side in :func:`_search_points`."""
 RADII = 24
 """Radii tried per direction (then refined once around the best)."""
 
@@ -107,17 +128,19 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
     axes = principal_axes(points)
     best = [(_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])]
     volume = best[0][0][0]
-    coarse = _piece_fit(points, fine=False)[0]  # the cuts' coarse volumes are weighed against the same coarse fit
+    search, search_edges = (points, edges) if len(points) <= SEARCH_POINTS else (_search_points(points), np.zeros((0, 2, 3)))
+    coarse = _piece_fit(search, fine=False)[0]  # the cuts' coarse volumes are weighed against the same coarse fit
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
-    splits = _best_splits(points, edges, np.vstack([axes, np.eye(3)]), tuple(counts)) if len(counts) else {}  # and the frame's axes
+    splits = _best_splits(search, search_edges, cut_axes(axes), tuple(counts)) if len(counts) else {}
     for count in counts:
-        split = splits.get(count)
-        if split is None:
-            continue
-        total, cuts, axis = split
-        if total < SPLIT_GAIN * coarse:
+        tried = []
+        for total, cuts, axis in splits.get(count, [])[:TRIED]:  # the best few, least coarse volume first
+            if total >= SPLIT_GAIN * coarse:
+                break
             pieces = [(_piece_fit(_slab(points, edges, axis, lo, hi), fine=True), (lo, hi), axis) for lo, hi in cuts]
-            refined = sum(p[0][0] for p in pieces)
+            tried.append((sum(p[0][0] for p in pieces), len(tried), pieces))
+        if tried:
+            refined, _, pieces = min(tried)
             if refined < SPLIT_GAIN * volume:
                 best, volume = pieces, refined
     return [_rounded(fit, _slab(points, edges, axis, lo, hi)) for fit, (lo, hi), axis in best]
@@ -151,11 +174,21 @@ def _piece_fit(points: np.ndarray, fine: bool, hulled: bool = False) -> Fit:
     if len(hull) == 1:
         return 0.0, hull[0].copy(), hull[0].copy(), 0.0
     axes = principal_axes(hull)
-    fits = [(_along(hull, d), d) for d in axes]
+    fits = [(_along(hull, d), d) for d in (axes if fine else axes[:COARSE_AXES])]
     fit, d = min(fits, key=lambda f: f[0][0])
     if not fine:
         return fit
-    step = 0.25
+    if len(hull) > SEARCH_POINTS:  # searched on a grid's points first, then from there on all of them
+        few = _grid_points(hull)
+        d = _pattern_search(few, _along(few, d), d, 0.25)[1]
+        return min(fit, _pattern_search(hull, _along(hull, d), d, 4.0 * DIRECTION_TOL)[0], key=lambda f: f[0])
+    return _pattern_search(hull, fit, d, 0.25)[0]
+
+
+def _pattern_search(hull: np.ndarray, fit: Fit, d: np.ndarray, step: float) -> tuple[Fit, np.ndarray]:
+    """From the capsule ``fit`` along ``d``, a pattern search of the axis direction on the sphere
+    (eight neighbours at ``step``, the step halved when none is better, down to
+    :data:`DIRECTION_TOL`): the best capsule found and its direction."""
     u, v = _perpendiculars(d)
     while step >= DIRECTION_TOL:
         moved = False
@@ -169,7 +202,46 @@ def _piece_fit(points: np.ndarray, fine: bool, hulled: bool = False) -> Fit:
                 break
         if not moved:
             step /= 2.0
-    return fit
+    return fit, d
+
+
+def _search_points(points: np.ndarray) -> np.ndarray:
+    """Fewer points that stand for ``points`` while cuts are weighed: the vertices of their convex
+    hull, and of the rest one point in each cell of a grid of :data:`SEARCH_GRID` cells along the
+    longest side (the first in the points' order: deterministic). Only the choice of the cuts sees
+    them: each kept piece is fitted to all its points, so no point is ever left out for them.
+
+    >>> grid = np.array([[x, y, z] for x in range(100) for y in range(100) for z in (0, 1)], dtype=float)
+    >>> len(_search_points(grid)) < len(grid) / 4
+    True
+    """
+    return np.asarray(points[np.union1d(_grid_indices(points), _hull_indices(points))])
+
+
+def _grid_points(points: np.ndarray) -> np.ndarray:
+    """One point in each cell of a grid of :data:`SEARCH_GRID` cells along the longest side (the
+    first in the points' order), in the points' order."""
+    return np.asarray(points[_grid_indices(points)])
+
+
+def _grid_indices(points: np.ndarray) -> np.ndarray:
+    low = points.min(axis=0)
+    cell = float((points.max(axis=0) - low).max()) / SEARCH_GRID or 1.0
+    cells = np.floor((points - low) / cell).astype(np.int64)
+    keys = (cells[:, 0] * (SEARCH_GRID + 2) + cells[:, 1]) * (SEARCH_GRID + 2) + cells[:, 2]
+    return np.sort(np.unique(keys, return_index=True)[1])
+
+
+def _hull_indices(points: np.ndarray) -> np.ndarray:
+    """The indices of the points' convex hull's vertices, ascending (all when they span no volume)."""
+    if len(points) < 5:
+        return np.arange(len(points))
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return np.sort(ConvexHull(points).vertices)
+    except (QhullError, ValueError):
+        return np.arange(len(points))
 
 
 def hull_points(points: np.ndarray) -> np.ndarray:
@@ -201,10 +273,11 @@ def _along(points: np.ndarray, d: np.ndarray) -> Fit:
     span = float(t.max() - t.min())
     r_max = math.hypot(r_min, span / 2.0)
     radii = np.linspace(r_min, r_max, RADII)
-    volumes, lo, hi = _volumes(radii, rho, t)
+    low, high = _frontier(t, rho), _frontier(-t, rho)  # the points that can set the lower / upper end
+    volumes, lo, hi = _volumes(radii, (rho[low], t[low]), (rho[high], t[high]))
     k = int(np.argmin(volumes))
     fine = np.linspace(radii[max(k - 1, 0)], radii[min(k + 1, RADII - 1)], RADII)
-    volumes2, lo2, hi2 = _volumes(fine, rho, t)
+    volumes2, lo2, hi2 = _volumes(fine, (rho[low], t[low]), (rho[high], t[high]))
     j = int(np.argmin(volumes2))
     if volumes2[j] <= volumes[k]:
         radius, a, b, volume = float(fine[j]), float(lo2[j]), float(hi2[j]), float(volumes2[j])
@@ -214,17 +287,41 @@ def _along(points: np.ndarray, d: np.ndarray) -> Fit:
     return volume, axis_point + a * d, axis_point + b * d, radius
 
 
-def _volumes(radii: np.ndarray, rho: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _volumes(radii: np.ndarray, low: tuple[np.ndarray, np.ndarray],
+             high: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For each radius r: the capsule's volume and its segment's ends along the axis.
 
     A point at axial t and distance rho from the axis is held by a segment [a, b] iff
     a <= t + h and b >= t - h, h = sqrt(r^2 - rho^2): so a = min(t + h), b = max(t - h), or
-    their middle when a > b (a sphere)."""
-    h = np.sqrt(np.maximum(radii[:, None] ** 2 - rho[None, :] ** 2, 0.0))
-    a, b = (t[None, :] + h).min(axis=1), (t[None, :] - h).max(axis=1)
+    their middle when a > b (a sphere). ``low`` and ``high`` are (rho, t) of the points that can
+    set a and b (:func:`_frontier`: the others never reach the min or max)."""
+    (rho_a, t_a), (rho_b, t_b) = low, high
+    r2 = radii[:, None] ** 2
+    a = (t_a[None, :] + np.sqrt(np.maximum(r2 - rho_a[None, :] ** 2, 0.0))).min(axis=1)
+    b = (t_b[None, :] - np.sqrt(np.maximum(r2 - rho_b[None, :] ** 2, 0.0))).max(axis=1)
     middle = (a + b) / 2.0
     a, b = np.where(a > b, middle, a), np.where(a > b, middle, b)
     return np.pi * radii ** 2 * (b - a) + 4.0 / 3.0 * np.pi * radii ** 3, a, b
+
+
+def _frontier(t: np.ndarray, rho: np.ndarray) -> np.ndarray:
+    """The indices of the points that can hold the least t + sqrt(r^2 - rho^2) for some r: a point
+    with another at no larger t and no smaller rho never does (its h is no smaller, its t no
+    smaller, in floating point too: each step is monotone), so only the points whose rho exceeds
+    that of every point before them in the order of t are kept (the same minimum, exactly).
+
+    >>> _frontier(np.array([0.0, 1, 2, 3]), np.array([1.0, 2, 0.5, 3])).tolist()
+    [0, 1, 3]
+    """
+    first, widest = int(np.argmin(t)), int(np.argmax(rho))
+    # the point of least t dominates every point of no larger rho; the widest, every point of no smaller t
+    maybe = np.flatnonzero(((rho > rho[first]) & (t < t[widest])) | (np.arange(len(t)) == first) | (np.arange(len(t)) == widest))
+    order = maybe[np.argsort(t[maybe], kind="stable")]
+    r = rho[order]
+    keep = np.empty(len(r), dtype=bool)
+    keep[:1] = True
+    keep[1:] = r[1:] > np.maximum.accumulate(r)[:-1]
+    return np.sort(order[keep])
 
 
 def _perpendiculars(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -236,31 +333,58 @@ def _perpendiculars(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def smallest_circle(q: np.ndarray) -> np.ndarray:
-    """The centre of the smallest circle holding the 2-D points ``q`` (N, 2): Welzl's incremental
-    algorithm over the points of their convex hull in a seeded shuffle (deterministic).
+    """The centre of the smallest circle holding the 2-D points ``q`` (N, 2), by Elzinga and
+    Hearn's method (1972): a circle on a support set of at most three points is grown, each time
+    by the point farthest from its centre, into the smallest circle holding the support and that
+    point (which passes through it), until no point lies outside. Each step's radius is larger
+    than the last and there are finitely many supports, so it ends, at the smallest circle (to
+    rounding: the fit measures its radius from the centre to every point, so the rounding is
+    never a point left out). One array pass a step, a handful of steps: no hull, no shuffle;
+    deterministic.
 
     >>> smallest_circle(np.array([[0.0, 0], [2, 0], [1, 0.5], [1, -1]])).round(9).tolist()
     [1.0, 0.0]
+    >>> smallest_circle(np.array([[0.0, 0], [4, 0], [2, 3]])).round(9).tolist()  # three on the circle
+    [2.0, 0.833333333]
     """
-    points = _hull_2d(q)
-    order = np.random.default_rng(0).permutation(len(points))
-    p = [(float(x), float(y)) for x, y in points[order]]
-    cx, cy, r2 = p[0][0], p[0][1], 0.0
-    for i in range(1, len(p)):
-        if _outside(p[i], cx, cy, r2):
-            cx, cy, r2 = p[i][0], p[i][1], 0.0
-            for j in range(i):
-                if _outside(p[j], cx, cy, r2):
-                    cx, cy = (p[i][0] + p[j][0]) / 2.0, (p[i][1] + p[j][1]) / 2.0
-                    r2 = (p[i][0] - cx) ** 2 + (p[i][1] - cy) ** 2
-                    for k in range(j):
-                        if _outside(p[k], cx, cy, r2):
-                            cx, cy, r2 = _circumcircle(p[i], p[j], p[k], (cx, cy, r2))
+    x, y = q[:, 0], q[:, 1]
+    i = int(np.argmax((x - x[0]) ** 2 + (y - y[0]) ** 2))
+    j = int(np.argmax((x - x[i]) ** 2 + (y - y[i]) ** 2))
+    support = [(float(x[i]), float(y[i])), (float(x[j]), float(y[j]))]
+    cx, cy, r2 = _diametral(support[0], support[1])
+    for _ in range(10 * len(q) + 10):  # a bound never met: each step grows the circle
+        d2 = (x - cx) ** 2 + (y - cy) ** 2
+        k = int(np.argmax(d2))
+        if d2[k] <= r2 * (1.0 + 1e-12) + 1e-30:
+            break
+        s = (float(x[k]), float(y[k]))
+        grown = _smallest_through(support, s)
+        if grown is None or grown[2] <= r2:  # rounding: no circle of the support and s holds them
+            break
+        cx, cy, r2 = grown
+        support = [p for p in (*support, s) if (p[0] - cx) ** 2 + (p[1] - cy) ** 2 >= r2 * (1.0 - 1e-9)]
     return np.array([cx, cy])
 
 
-def _outside(p: tuple[float, float], cx: float, cy: float, r2: float) -> bool:
-    return (p[0] - cx) ** 2 + (p[1] - cy) ** 2 > r2 * (1.0 + 1e-12) + 1e-30
+def _diametral(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float, float]:
+    """The circle on a and b as diameter (centre x, y, radius squared)."""
+    cx, cy = (a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0
+    return cx, cy, max((a[0] - cx) ** 2 + (a[1] - cy) ** 2, (b[0] - cx) ** 2 + (b[1] - cy) ** 2)
+
+
+def _smallest_through(support: list[tuple[float, float]], s: tuple[float, float]) -> tuple[float, float, float] | None:
+    """The smallest circle through ``s`` that holds ``support`` and ``s``: on s and one support point
+    as diameter, or through s and two of them (None when rounding leaves none holding all)."""
+    points = (*support, s)
+    candidates = [_diametral(a, s) for a in support]
+    candidates += [_circumcircle(support[i], support[j], s, (0.0, 0.0, 0.0))
+                   for i in range(len(support)) for j in range(i + 1, len(support))]
+    best = None
+    for cx, cy, r2 in candidates:
+        limit = r2 * (1.0 + 1e-12) + 1e-30
+        if (best is None or r2 < best[2]) and all((p[0] - cx) ** 2 + (p[1] - cy) ** 2 <= limit for p in points):
+            best = (cx, cy, r2)
+    return best
 
 
 def _circumcircle(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float],
@@ -280,18 +404,6 @@ def _circumcircle(a: tuple[float, float], b: tuple[float, float], c: tuple[float
                        (c[0] - cx) ** 2 + (c[1] - cy) ** 2)
 
 
-def _hull_2d(q: np.ndarray) -> np.ndarray:
-    """The vertices of the 2-D points' convex hull (all of them when they span no area)."""
-    if len(q) < 4:
-        return q
-    from scipy.spatial import ConvexHull, QhullError
-
-    try:
-        return np.asarray(q[np.sort(ConvexHull(q).vertices)])
-    except (QhullError, ValueError):
-        return q
-
-
 Split = tuple[float, list[tuple[float, float]], np.ndarray]
 """(total volume, the slabs (lo, hi) along the axis, the axis) of a cut into pieces."""
 
@@ -303,8 +415,9 @@ def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts
 
     The hull of a piece is the hull of its thin slabs' hulls (each slab between two neighbouring
     places, with where the edges cross its planes): each slab's hull is computed once."""
-    best: dict[int, Split] = {}
+    best: dict[int, list[Split]] = {}
     for axis in axes:
+        mine: dict[int, Split] = {}
         t = points @ axis
         places = np.linspace(t.min(), t.max(), CUTS + 1)[1:-1]
         n = len(places)
@@ -316,10 +429,30 @@ def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts
             for cuts in _cut_sets(n, count - 1):
                 bounds = (-1, *cuts, n)
                 total = sum(_piece_volume(thin, bounds[k], bounds[k + 1], known) for k in range(count))
-                if np.isfinite(total) and (count not in best or total < best[count][0]):
+                if np.isfinite(total) and (count not in mine or total < mine[count][0]):
                     slabs = [(float(ends[bounds[k] + 1]), float(ends[bounds[k + 1] + 1])) for k in range(count)]
-                    best[count] = (float(total), slabs, axis)
-    return best
+                    mine[count] = (float(total), slabs, axis)
+        for count, split in mine.items():
+            best.setdefault(count, []).append(split)
+    return {count: sorted(splits, key=lambda split: split[0]) for count, splits in best.items()}
+
+
+def cut_axes(axes: np.ndarray) -> np.ndarray:
+    """The directions cuts are tried across: the principal axes, the mesh frame's axes (a CAD part
+    is often square to its link's frame) and (:data:`DIAGONALS`) the bisectors of each two principal
+    axes, each once (a direction within about 2.6 degrees of one before it is left out).
+
+    >>> cut_axes(np.eye(3)).tolist() == np.eye(3).tolist()  # the frame's axes are the principal ones here
+    True
+    """
+    rows = [*axes, *np.eye(3)]
+    if DIAGONALS:
+        rows += [(axes[i] + sign * axes[j]) / math.sqrt(2.0) for i in range(3) for j in range(i + 1, 3) for sign in (1.0, -1.0)]
+    kept: list[np.ndarray] = []
+    for row in rows:
+        if all(abs(float(row @ k)) < 0.999 for k in kept):
+            kept.append(row)
+    return np.array(kept)
 
 
 def _piece_volume(thin: list[np.ndarray], i: int, j: int, known: dict[tuple[int, int], float]) -> float:
@@ -344,8 +477,9 @@ def _edges(vertices: np.ndarray, faces: np.ndarray | None) -> np.ndarray:
         return np.zeros((0, 2, 3))
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     pairs = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    pairs = np.unique(np.sort(pairs, axis=1), axis=0)
-    return np.asarray(vertices[pairs])
+    pairs = np.sort(pairs, axis=1)
+    keys = np.unique(pairs[:, 0] * np.int64(len(vertices)) + pairs[:, 1])  # (lo, hi) in lexicographic order, each once
+    return np.asarray(vertices[np.stack([keys // len(vertices), keys % len(vertices)], axis=1)])
 
 
 def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi: float,
@@ -359,8 +493,23 @@ def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi
         if np.isfinite(plane) and len(edges):
             cross = (np.minimum(ta, tb) < plane) & (np.maximum(ta, tb) > plane)
             s = (plane - ta[cross]) / (tb[cross] - ta[cross])
-            crossings.append(edges[cross, 0] + s[:, None] * (edges[cross, 1] - edges[cross, 0]))
+            crossings.append(_plane_hull(edges[cross, 0] + s[:, None] * (edges[cross, 1] - edges[cross, 0]), axis))
     return np.concatenate(crossings)
+
+
+def _plane_hull(points: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Of points on one plane across ``axis``, the vertices of their convex hull in that plane (in
+    the order given): a capsule, convex, that holds those holds the polygon and every point in it.
+    All of them when they are few or on a line."""
+    if len(points) < 8:
+        return points
+    from scipy.spatial import ConvexHull, QhullError
+
+    u, v = _perpendiculars(axis)
+    try:
+        return np.asarray(points[np.sort(ConvexHull(np.stack([points @ u, points @ v], axis=1)).vertices)])
+    except (QhullError, ValueError):
+        return points
 
 
 def _rounded(fit: Fit, points: np.ndarray) -> FittedCapsule:

@@ -40,7 +40,7 @@ from armanim.scene.visuals import (
     unreadable_reason,
 )
 
-FIT_VERSION = 1
+FIT_VERSION = 2
 """Changes whenever the fit would give other capsules: older cached fits are then not read."""
 CACHE_ENV = "ARMANIM_CACHE_DIR"
 MAX_CACHE_BYTES = 100_000

@@ -10,9 +10,9 @@ What becomes what (docs/moveit-import.md):
   first group with a chain or joints), else the request's joints (or its pose goal's link). The
   arm starts at the URDF's root when no joint moves between the root and the group's base link;
 - the start state (the scene's ``robot_state``, the request's ``start_state`` over it): the chain's
-  joints become ``arm.home`` (degrees), the robot's other moving joints ``arm.joint_values``
+  joints become ``arm.home`` (degrees, or metres for a prismatic joint), the robot's other moving joints ``arm.joint_values``
   (degrees, or metres for a prismatic joint); fixed and mimic joints are noted and left out;
-- joint constraints become ``- {joints: [...]}`` (degrees, in the chain's order); a position and
+- joint constraints become ``- {joints: [...]}`` (degrees or metres, in the chain's order); a position and
   orientation constraint becomes ``- {position: ..., orientation: {quaternion_wxyz: ...}}`` with the
   constraint's ``target_point_offset`` as ``arm.tool.xyz``;
 - boxes, spheres and cylinders become obstacles named after their object's ``id``;
@@ -343,19 +343,32 @@ def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits,
     home, missing = [], []
     for name in arm.chain:
         if name in start:
-            home.append(joint_degrees(robot.joints[name], start[name][1].value, notes))
+            home.append(scene_value(robot.joints[name], start[name][1].value, notes))
             continue
         missing.append(name)
         if own_home and name in own_home:
             home.append(float(own_home[name]))
         else:
             lo, hi = limits.get(name, (-math.inf, math.inf))
-            home.append(math.degrees(0.0 if lo <= 0.0 <= hi else (lo + hi) / 2))
+            home.append(scene_value(robot.joints[name], 0.0 if lo <= 0.0 <= hi else (lo + hi) / 2, notes))
     if missing:
-        given = [f"{home[arm.chain.index(n)]:g}" for n in missing]
+        slides = any(robot.joints[n].kind == "prismatic" for n in missing)  # then each value its unit
+        given = [f"{home[arm.chain.index(n)]:g}" + ((" m" if robot.joints[n].kind == "prismatic" else " degrees") if slides else "")
+                 for n in missing]
         whose = "the robot's own home" if own_home and all(n in own_home for n in missing) else "MoveIt's default values"
-        notes.append(f"note: no start value for {shown_list(missing)}: {', '.join(given)} degrees ({whose})")
+        notes.append(f"note: no start value for {shown_list(missing)}: {', '.join(given)}{'' if slides else ' degrees'} ({whose})")
     return home, others, notes
+
+
+def scene_value(joint, value: float, notes: list[str]) -> float:
+    """A joint's ROS value (radians, or metres for a prismatic joint) as a scene writes it: degrees
+    (:func:`joint_degrees`), metres as they are.
+
+    >>> from types import SimpleNamespace
+    >>> scene_value(SimpleNamespace(name="rail", kind="prismatic"), 0.25, []), scene_value(SimpleNamespace(name="j", kind="revolute"), 0.0, [])
+    (0.25, 0.0)
+    """
+    return float(value) if joint.kind == "prismatic" else joint_degrees(joint, value, notes)
 
 
 def joint_degrees(joint, radians: float, notes: list[str]) -> float:
@@ -386,11 +399,11 @@ def _off_chain_value(joint, value: JointValue, limits, file: str, notes: list[st
         notes.append(f"note: {file}:{value.line}: joint {shown(joint.name)} at {v!r} is outside its limits "
                      f"[{limits[0]!r}, {limits[1]!r}]: {clamped!r} is written")
         v = clamped
-    return v if joint.kind == "prismatic" else joint_degrees(joint, v, notes)
+    return scene_value(joint, v, notes)
 
 
 def _joint_goal(arm: _Arm, request: MotionRequest, limits, notes: list[str]) -> list[float]:
-    """The joint goal in degrees, in the chain's order."""
+    """The joint goal in degrees (metres for a prismatic joint), in the chain's order."""
     path = "goal_constraints[0].joint_constraints"
     given = {}
     for value in request.joint_goal:
@@ -405,7 +418,7 @@ def _joint_goal(arm: _Arm, request: MotionRequest, limits, notes: list[str]) -> 
     if missing:
         raise SceneError(request.file, [Diagnostic(path, f"sets no position for {shown_list(missing)} (expected one joint "
                                                          f"constraint per joint of the chain: {shown_list(arm.chain)})", request.goal_line)])
-    return [joint_degrees(arm.robot.joints[name], given[name], notes) for name in arm.chain]
+    return [scene_value(arm.robot.joints[name], given[name], notes) for name in arm.chain]
 
 
 # ---------------------------------------------------------------- the scene
