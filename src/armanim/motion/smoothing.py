@@ -21,8 +21,10 @@ Certified: every pose added is measured (obstacles and the arm's own pairs, one 
 piece between two consecutive poses keeps the floor by the lever-arm bound
 (:func:`~armanim.motion.goalmotion.two_sided_bound`), pieces halved until it does; the clock's path
 keeps each joint monotone between two consecutive poses, so it stays in their box, which the bound
-covers. Straight segments and the curves' poses are convex combinations of poses inside the joint
-limits, so inside too. Pure core: numpy only.
+covers. A straight segment is given to the clock by its two first and two last samples only: through
+collinear poses the clock's path is the segment itself, all of whose pieces were certified
+(:func:`_thinned`). Straight segments and the curves' poses are convex combinations of poses inside
+the joint limits, so inside too. Pure core: numpy only.
 """
 
 from __future__ import annotations
@@ -43,6 +45,9 @@ HALVINGS = 12
 """Most times a piece the bound does not certify is halved."""
 CURVE_SAMPLES = 24
 """Least poses on a corner's curve (the clock's path through them follows the curve)."""
+MOST_TURN = 1.0
+"""Most radians any joint turns between two consecutive poses given to the clock (which takes an
+unlimited joint's turn between two poses the short way round: below pi, it is the segment's)."""
 
 
 @dataclass(frozen=True)
@@ -86,8 +91,8 @@ def certified_samples(curve: Callable[[np.ndarray], np.ndarray], c0: float, c1: 
 
     >>> one = line(np.array([0.0]), np.array([1.0]))  # a radian of a joint with a lever arm of 1
     >>> t, poses, clear = certified_samples(one, 1.0, 1.0, Certifier(lambda p: np.full(len(p), 1.0), np.array([1.0]), 0.5))
-    >>> t.tolist()  # pieces of half the margin: each certified by the bound
-    [0.0, 0.25, 0.5, 0.75, 1.0]
+    >>> t.tolist()  # pieces of the margin: each certified by the bound
+    [0.0, 0.5, 1.0]
     >>> certified_samples(one, 1.0, 1.0, Certifier(lambda p: np.full(len(p), 0.4), np.array([1.0]), 0.5)) is None
     True
     """
@@ -96,8 +101,9 @@ def certified_samples(curve: Callable[[np.ndarray], np.ndarray], c0: float, c1: 
     ends = curve(np.array([0.0, 1.0]))
     fine = curve(np.linspace(0.0, 1.0, 33))
     travel = float(np.sum(np.abs(np.diff(fine, axis=0)) @ cert.lever))
-    piece = max(0.5 * (min(c0, c1) - cert.floor), 1e-9)
-    count = max(least, math.ceil(travel / piece))
+    piece = max(min(c0, c1) - cert.floor, 1e-9)
+    turn = float(np.abs(np.diff(fine, axis=0)).sum(axis=0).max())
+    count = max(least, math.ceil(travel / piece), math.ceil(turn / MOST_TURN))
     if count > MOST_PIECES:
         return None
     t = np.linspace(0.0, 1.0, count + 1)
@@ -288,10 +294,11 @@ def _joined(flat: np.ndarray, clear: np.ndarray, certified: np.ndarray, hops: li
                 assert hop.clearance is not None
                 t, seg, c = np.linspace(0.0, 1.0, len(hop.poses)), hop.poses, hop.clearance
             u = f0 + t * (1 - f0 - f1)  # the fraction of the hop from i to j
-            poses.append(seg[1:])
-            position.append(i + u[1:] * (j - i))
-            clearance.append(c[1:])
-            ok.append(np.ones(len(seg) - 1, dtype=bool))
+            shown = _thinned(seg)
+            poses.append(seg[shown][1:])
+            position.append(i + u[shown][1:] * (j - i))
+            clearance.append(c[shown][1:])
+            ok.append(np.ones(len(shown) - 1, dtype=bool))
             if j in curves:  # the curve round the corner at j, into the next hop
                 _, (tc, arc, carc) = curves[j]
                 k = hops[h + 1].last
@@ -310,6 +317,28 @@ def _joined(flat: np.ndarray, clear: np.ndarray, certified: np.ndarray, hops: li
             curves.pop(end, None)
     pos = np.maximum.accumulate(np.concatenate(position))
     return Smoothed(np.concatenate(poses), pos, np.concatenate(clearance), np.concatenate(ok), corners)
+
+
+def _thinned(seg: np.ndarray) -> np.ndarray:
+    """The samples of a straight segment ``seg`` (k, n) the clock is given: its two first and two
+    last, and between them only as many as keep every joint's turn from one to the next within
+    :data:`MOST_TURN`. The clock's path through collinear poses is the segment itself (each joint's
+    slope at an inner pose is the segment's, so the cubic between two is the chord), and every
+    piece of the segment was certified; near its ends, where the path bends into a curve, it keeps
+    the certified pieces' small boxes.
+
+    >>> seg = np.linspace(0.0, 3.0, 31)[:, None]
+    >>> _thinned(seg[:3]).tolist(), _thinned(seg).tolist()
+    ([0, 1, 2], [0, 1, 11, 21, 29, 30])
+    """
+    count = len(seg)
+    if count <= 4:
+        return np.arange(count)
+    kept = [0, 1]
+    while kept[-1] < count - 2:
+        turns = np.abs(seg[kept[-1] + 1:count - 1] - seg[kept[-1]]).max(axis=1)
+        kept.append(kept[-1] + 1 + max(int(np.searchsorted(turns > MOST_TURN, True)) - 1, 0))
+    return np.array(kept + [count - 1])
 
 
 __all__ = ["Certifier", "Hop", "Smoothed", "bezier", "certified_samples", "line", "shortcut_hops", "smoothed_poses"]
