@@ -225,3 +225,20 @@ def test_a_path_goal_starts_and_ends_at_rest_among_blended_goals():
     assert_trajectory_invariants(problem, timed)
     assert timed.goals[1].blend is None and timed.goals[0].blend.reason == "next_path"
     assert timed.trajectory.frames / problem.fps <= timed.rest_to_rest_duration + 1e-9
+
+
+def test_the_plot_marks_each_pass_where_the_joints_still_move(ur5_solved):
+    """The plot's speed panel: a "passing k" mark at each via goal's pass frame, where the clock's
+    fastest joint is not at rest (the arm does not stop there)."""
+    from armanim.render.pictures.plot import plot_figure
+
+    problem, solution = ur5_solved
+    timed = retime(problem, solution, problem.fps)
+    speeds = plot_figure(problem, timed.trajectory, timed.goals, title="flow").figure.axes[2]
+    marks = {t.get_text().strip(): t.get_position()[0] for t in speeds.texts if "passing" in t.get_text()}
+    vias = [g for g in timed.goals if g.blend.blended]
+    assert sorted(marks) == sorted(f"passing {g.index}" for g in vias)
+    for g in vias:
+        assert marks[f"passing {g.index}"] == pytest.approx(timed.trajectory.time[g.last_frame])
+        share = np.abs(timed.trajectory.velocity[g.last_frame]) / problem.rates.speed
+        assert share.max() > 0.05
