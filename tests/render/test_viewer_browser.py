@@ -407,3 +407,37 @@ def test_path_ink_grows_with_the_frames_and_matches_the_video_s_rule(browser, tm
         assert ink_pixels(18) == most  # path_s stopped growing: so did the ink
     finally:
         page.page.close()
+
+
+def test_a_via_goal_is_drawn_passed_and_captioned_passing_as_in_the_video(browser, tmp_path_factory):
+    """ur5-flow (solver.blend): at the frames that pass a via goal within its radius the caption
+    says "passing" and the goal's marker is drawn passed ("reached"), before them "current"; every
+    frame's marker states are the video's (:func:`goal_status`)."""
+    import numpy as np
+
+    from armanim.render.overlay.caption import goal_status, passing_frames
+    from armanim.runs.pipeline import run_scene
+    from armanim.runs.reload import load_run
+
+    folder = run_scene(SCENES / "ur5-flow.yaml", tmp_path_factory.mktemp("flow"), video=False, viewer=True).folder
+    run = load_run(folder)
+    traj, reports = run.solution.trajectory, run.solution.goals
+    page = Page(browser, folder / "viewer.html")
+    try:
+        assert page.errors == []
+        names = ["pending", "current", "reached", "missed"]
+        video = [[names[s] for s in goal_status(traj, reports, f, len(reports))] for f in range(traj.frames)]
+        assert page.js("[...Array(armanim.frames).keys()].map(f => armanim.goalStates(f))") == video
+        passing = np.nonzero(passing_frames(traj, reports))[0]
+        vias = [r for r in reports if r.blend.blended]
+        assert len(vias) >= 3 and len(passing) >= len(vias)
+        for r in vias:
+            page.js(f"armanim.setFrame({r.last_frame})")
+            shown = page.shown()
+            assert shown["state"] == "passing" and shown["goals"][r.index] == "reached", (r.index, shown)
+            page.js(f"armanim.setFrame({r.first_frame})")
+            assert page.shown()["goals"][r.index] == "current"
+        page.js("armanim.setFrame(armanim.frames - 1)")
+        assert page.shown()["state"] in ("holding", "reached")
+    finally:
+        page.page.close()

@@ -25,16 +25,17 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
 from armanim.motion.blend import (
+    ENTRY,
     BlendReport,
-    Corner,
+    ShapedPart,
     blend_reason,
-    cut_corner,
     judged_radius,
     pass_speed_caps,
     via_distances,
 )
 from armanim.motion.clock import ClockTooLong, Excess, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
+from armanim.motion.jointpath import unwrapped
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.pathtiming import (
     joined_timing,
@@ -46,7 +47,8 @@ from armanim.motion.pathtiming import (
 )
 from armanim.motion.planning import joint_path_floor, plan_joint_motion
 from armanim.motion.planning.path import motion_is_free
-from armanim.motion.problem import Problem, joint_offset
+from armanim.motion.problem import Goal, Problem, joint_offset
+from armanim.motion.smoothing import Certifier, smoothed_poses
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance, self_shift
 from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance
@@ -377,10 +379,13 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
 
     A via whose frames do not come within its judged radius is retimed slower near it (the
     caps of :func:`~armanim.motion.blend.pass_speed_caps` divided by 4, then 16, 64), then made to
-    rest (``radius``). A merged part that takes more frames than its goals' parts from rest to rest
-    makes its slowest via pass its solved pose instead of a curve (a curve round a corner that turns
-    back is slower than the corner), or rest if it does already (``slower``), and is timed again:
-    blending never lengthens a run."""
+    rest (``radius``). A goal with ``blend`` that rests has its own path shortened and smoothed
+    (:func:`_shaped_part`, its ends kept) where that is faster than as solved. A merged part that
+    takes more frames than its goals' parts from rest to rest (each as fast as it can: shortened or
+    as solved) makes its slowest via pass its solved pose instead of a curve (a curve round a corner
+    that turns back is slower than the corner), or rest if it does already (``slower``), and is timed
+    again: passing a goal is never slower than stopping at it on the same path, and blending never
+    lengthens a run."""
     src = solution.trajectory
     outcome: dict[int, _Pass | str] = {}
     vias = set()
@@ -394,6 +399,12 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
     safety = path_safety(problem, src)
     plain = _timed_parts(problem, src, parts, fps, most_frames, safety)
     rest_to_rest = (1 + sum(len(m.phi) for m in plain) + sum(p.hold for p in parts)) / fps
+    at_rest = list(plain)  # a goal with blend that rests: its own path shortened and smoothed, where that is faster
+    for i, part in enumerate(parts):
+        if problem.goals[part.goal].blend is not None and part.path_speed is None and part.frames.stop - part.frames.start > 2:
+            alone = _timed_via_part(problem, src, safety, part, fps, most_frames, {}, set())[0]
+            if len(alone.phi) < len(plain[i].phi):
+                at_rest[i] = alone
     slow = dict.fromkeys(vias, 1.0)
     through: set[int] = set()  # vias whose curve made their part slower: they pass their solved pose
     while True:
@@ -401,12 +412,12 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
         motions, passes, slower = [], {}, set()
         for part in merged:
             if not part.vias:
-                motions.append(next(m for q, m in zip(parts, plain) if q is part))  # by identity: a part's arrays do not compare
+                motions.append(next(m for q, m in zip(parts, at_rest) if q is part))  # by identity: a part's arrays do not compare
                 continue
             motion, found = _timed_via_part(problem, src, safety, part, fps, most_frames, slow, through)
             motions.append(motion)
             passes.update(found)
-            covered = [m for q, m in zip(parts, plain) if part.frames.start <= q.frames.start and q.frames.stop <= part.frames.stop]
+            covered = [m for q, m in zip(parts, at_rest) if part.frames.start <= q.frames.start and q.frames.stop <= part.frames.stop]
             if len(motion.phi) > sum(len(m.phi) for m in covered):  # never slower than stopping: the slowest pass rests
                 slower.add(min(part.vias, key=lambda k: found[k].speed))
         missed = {k for k, p in passes.items() if not p.passed}
@@ -483,28 +494,47 @@ def via_paths(problem: Problem, solution: Solution) -> list[np.ndarray]:
 
 
 def _shaped_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, through: set[int] | None = None
-                 ) -> tuple[Corner, dict[int, tuple[tuple[int, int], bool]]]:
-    """A part through via goals with each via's corner cut where a certified curve fits
-    (:func:`~armanim.motion.blend.cut_corner`, the last via first; not the goals in ``through``,
-    which pass their solved pose), and each via's (by its place in ``part.vias``) stretch of poses
-    and whether its corner was cut."""
+                 ) -> tuple[ShapedPart, dict[int, tuple[tuple[int, int], bool]]]:
+    """A part through via goals made short and smooth (:func:`~armanim.motion.smoothing.smoothed_poses`):
+    its solved path shortcut between its first pose, each via's solved pose and its last, the
+    corners rounded, a via's within its radius (not the goals in ``through``, which pass their
+    solved pose); and each via's (by its place in ``part.vias``) stretch of poses and whether its
+    corner was rounded."""
     frames = part.frames
-    corner = Corner(src.phi[frames], np.arange(frames.stop - frames.start), np.zeros(frames.stop - frames.start, dtype=bool),
-                    safety.at_poses[frames].copy(), safety.certified[frames.start:frames.stop - 1].copy(), (0, 0), False)
+    limited = problem.limits.limited
+    flat = unwrapped(src.phi[frames], limited)
     local = [f - frames.start for f in part.via_frames]
-    bounds = [0] + [(a + b) // 2 for a, b in zip(local[:-1], local[1:])] + [len(corner.poses) - 1]
-    zones: dict[int, tuple[tuple[int, int], bool]] = {}
-    for j in reversed(range(len(part.vias))):
-        before = len(corner.poses)
-        if through is not None and part.vias[j] in through:
-            zones[j] = ((local[j], local[j]), False)
-            continue
-        corner = cut_corner(problem, problem.goals[part.vias[j]], corner, local[j], bounds[j], bounds[j + 1],
-                            safety.clearance, safety.floor)
-        shift = len(corner.poses) - before
-        zones = {i: ((z[0] + shift, z[1] + shift), c) for i, (z, c) in zones.items()}
-        zones[j] = (corner.zone, corner.curve)
+    keep = sorted({0, len(flat) - 1, *local})
+    near: dict[int, Callable[[np.ndarray], np.ndarray] | None] = {}
+    for k, at in zip(part.vias, local):
+        goal = problem.goals[k]
+        assert goal.blend is not None
+        if goal.blend <= 0 or (through is not None and k in through) or at in near:
+            near[at] = None
+        else:
+            near[at] = _close_to(problem, goal)
+    cert = Certifier(safety.clearance, safety.lever, safety.floor)
+    smooth = smoothed_poses(flat, safety.at_poses[frames], safety.certified[frames.start:frames.stop - 1], keep, cert, near)
+    origin = np.minimum(np.maximum.accumulate(np.ceil(smooth.position - 1e-9).astype(int)), len(flat) - 1)
+    corner = ShapedPart(_wrapped(problem, smooth.poses), origin, smooth.clearance, smooth.certified)
+    zones = {j: smooth.corners[at] for j, at in enumerate(local)}
     return corner, zones
+
+
+def _close_to(problem: Problem, goal: Goal) -> Callable[[np.ndarray], np.ndarray]:
+    """poses (k, n), unwrapped -> (k,) bool: whether each is within ``ENTRY`` of ``goal``'s blend radius."""
+    assert goal.blend is not None
+    radius = ENTRY * goal.blend
+
+    def close(poses: np.ndarray) -> np.ndarray:
+        return via_distances(problem, goal, _wrapped(problem, poses)) <= radius
+
+    return close
+
+
+def _wrapped(problem: Problem, phi: np.ndarray) -> np.ndarray:
+    """``phi`` (..., n) with its unlimited joints wrapped into (-pi, pi]."""
+    return np.where(problem.limits.limited, phi, wrap_angle(phi))
 
 
 def _frame_goals(part: _Part, motion: Motion, passes: dict[int, _Pass | str]) -> np.ndarray:

@@ -101,8 +101,9 @@ class BlendReport:
     reason : str or None
         Why not (a key of :data:`BLEND_REASONS`), None when it did.
     corner : str or None
-        ``"curve"``: the corner was replaced by a certified curve inside the radius; ``"through"``: the
-        path passes the goal's solved pose itself (radius 0, no certified curve, or no room); None
+        ``"curve"``: the corner at the goal's solved pose was replaced by a certified curve that passes
+        within the radius (:mod:`armanim.motion.smoothing`); ``"through"``: the path passes the goal's
+        solved pose itself (radius 0, no certified curve, or a curve slower than the corner); None
         when not blended.
     pass_distance : float
         The least distance of a frame from the goal (the tool's, scene units; a joint goal's: the

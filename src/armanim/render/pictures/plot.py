@@ -120,6 +120,7 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
                   ncols=max(1, -(-degrees.shape[1] // 12)), borderaxespad=0.0)
     bottom.grid(alpha=0.3)
     _speed_panel(speeds, problem, trajectory)
+    _passes(speeds, trajectory, reports)
     speeds.set_xlabel("time (s)")
     return canvas
 
@@ -178,6 +179,19 @@ def _speed_panel(ax, problem: Problem, trajectory: Trajectory) -> None:
     ax.set_ylim(0, max(110.0, float(share.max()) * 1.05))
     ax.set_ylabel("joint speed (% of limit)")
     ax.grid(alpha=0.3)
+
+
+def _passes(ax, trajectory: Trajectory, reports: Sequence[GoalReport]) -> None:
+    """Each goal passed without stopping (``blend``): a dotted line at its pass frame, labelled
+    ``passing k``, where the speed panel shows the joints still moving."""
+    for r in reports:
+        blend = getattr(r, "blend", None)
+        if blend is None or not blend.blended or r.last_frame < 0:
+            continue
+        at = float(trajectory.time[r.last_frame])
+        ax.axvline(at, color="C2", linewidth=0.9, linestyle=":")
+        ax.text(at, 0.97, f" passing {r.index}", transform=ax.get_xaxis_transform(), ha="left", va="top", fontsize=8,
+                color="C2")
 
 
 def limit_groups(lower: np.ndarray, upper: np.ndarray) -> list[tuple[float, str, list[int]]]:

@@ -57,11 +57,12 @@
   window.armanim = api;
 
   // ---- what a frame says ---------------------------------------------------------
+  const passingCode = D.activities.indexOf("passing");  // a via goal passed within its radius without stopping
   function goalStates(f) {
     const k = D.goal[f];
     return D.goals.map((g, j) => {
       if (f === F - 1 || j < k || (g.last >= 0 && f >= g.last)) return g.reached ? "reached" : "missed";
-      if (j === k) return D.reached[f] ? "reached" : "current";
+      if (j === k) return D.reached[f] || D.activity[f] === passingCode ? "reached" : "current";
       return "pending";
     });
   }
