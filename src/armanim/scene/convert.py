@@ -359,7 +359,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         home=home,
         limits=limits,
         obstacles=_obstacles(scene),
-        goals=tuple(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits) for g in scene.goals),
+        goals=tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals),
         solver=solver,
         fps=fps,
         capsules=capsules,
@@ -432,6 +432,17 @@ def scene_goal(goal: GoalModel, chain: Arm | None = None, blend: float | None = 
         return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal), blend=radius)
     path = tool_path(goal.path)
     return Goal(path.start.copy(), goal.hold, goal_orientation(goal), path=path, speed=float(goal.speed))
+
+
+def handling(goal: Goal, model: GoalModel, scene: SceneModel) -> Goal:
+    """``goal`` with what it grasps (the named obstacle's clearance column: the scene's order) or
+    releases (:mod:`armanim.motion.carry`); a goal that does neither, unchanged."""
+    if model.grasp is None and not model.release:
+        return goal
+    names = [o.name for o in scene.obstacles]
+    column = names.index(model.grasp) if model.grasp in names else None
+    touch = tuple(model.touch_links) if model.touch_links is not None else None
+    return replace(goal, grasp=column, release=model.release, touch_links=touch)
 
 
 def unlimited_joints_wrapped(goal: Goal, limits: Limits) -> Goal:

@@ -418,6 +418,17 @@ class GoalModel(Strict):
         description="Pass within this of the goal without stopping (scene units; degrees in every joint for a joint goal; "
                     "0: exactly through it); default solver.blend. The last goal, a goal with hold and a missed goal end at rest.",
     )
+    grasp: Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=OBSTACLE_NAME_PATTERN)] | None = Field(
+        default=None,
+        description="The name of an obstacle the tool takes once this goal is reached: from then on it moves with the tool, part of "
+                    "the arm, until a goal with release: true (docs/scene-format.md, Pick and place); default none.",
+    )
+    release: bool = Field(default=False, description="Put down what the tool holds once this goal is reached: it stays where it is, an obstacle again.")
+    touch_links: Annotated[list[Annotated[str, Field(min_length=1)]], Field(max_length=LIMITS["links"])] | None = Field(
+        default=None,
+        description="With grasp: the links allowed to touch the object while it is carried; default every link the last joint carries "
+                    "(the hand and the fingers).",
+    )
 
     @field_validator("speed")
     @classmethod
