@@ -284,3 +284,46 @@ def goal_problems(problem: Problem, carry: CarryReport) -> list[Problem]:
         if w.key() not in made:
             made[w.key()] = world_problem(problem, w)
     return [made[w.key()] for w in carry.worlds]
+
+
+def carried_clearance(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """(F,) the least clearance of the carried object's cover to every obstacle and the floor in
+    each frame (``phi`` (F, n), its goal ``goal`` (F,)); NaN where the tool holds nothing."""
+    from armanim.arm.kinematics import forward
+    from armanim.world.distances import min_link_clearance
+
+    out = np.full(len(goal), np.nan)
+    problems = goal_problems(problem, carry)
+    for k, world in enumerate(carry.worlds):
+        mine = goal == k
+        if world.held is None or not mine.any() or not len(problems[k].obstacles):
+            continue
+        caps = problems[k].capsules
+        own = np.arange(len(problem.capsules), len(caps))
+        part = Capsules(caps.link[own], caps.start[own], caps.end[own], caps.radius[own], joint_segment=caps.joint_segment[own])
+        out[mine] = min_link_clearance(forward(problem.arm, phi[mine]), problems[k].obstacles, part)
+    return out
+
+
+def touch_allowed(pairs: SelfPairs, carry: CarryReport) -> SelfPairs:
+    """``pairs`` with every grasp's touch links listed as allowed (reason :data:`TOUCH`), once
+    each: the run's self-collision.yaml."""
+    extra = []
+    for world in carry.worlds:
+        held = world.held
+        if held is not None:
+            extra += [(link, held.name, TOUCH) for link in held.touch]
+    listed = tuple(dict.fromkeys(pairs.allowed + tuple(extra)))
+    return replace(pairs, allowed=listed)
+
+
+def final_poses(problem: Problem, carry: CarryReport) -> dict[str, Body]:
+    """Every object a goal grasped, where it is after the last goal (in the tool for one still
+    carried: where it was grasped, None)."""
+    out = {}
+    for world in (*carry.worlds, carry.final):
+        if world.held is not None:
+            out[world.held.name] = None
+    for column, body in carry.final.moved.items():
+        out[object_name(problem, column)] = body
+    return out

@@ -164,21 +164,33 @@ def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
                           "so it is not replaced (move it away, or choose another folder with --out)")
 
 
-def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None) -> str:
+def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None, carried: tuple[np.ndarray, np.ndarray] | None = None) -> str:
     """The whole trajectory.csv as text (``slides``: which joints are prismatic, the arm's
-    ``prismatic``; None: all revolute)."""
+    ``prismatic``; None: all revolute; ``carried``: a run that grasps, each frame's held object's
+    name and its clearance, the last two columns ``held`` and ``carried_clearance``)."""
     time = traj.time
-    return table_csv_text(header(traj.phi.shape[1], slides), (format_row(traj, i, time[i], slides) for i in range(traj.frames)))
+    if carried is None:
+        return table_csv_text(header(traj.phi.shape[1], slides), (format_row(traj, i, time[i], slides) for i in range(traj.frames)))
+    held, clear = carried
+    rows = (format_row(traj, i, time[i], slides) + [str(held[i]), _num(clear[i]) if np.isfinite(clear[i]) else ""]
+            for i in range(traj.frames))
+    return table_csv_text([*header(traj.phi.shape[1], slides), "held", "carried_clearance"], rows)
 
 
 def write_trajectory_csv(run: SolvedRun, path: Path) -> None:
     """Write the run's trajectory.csv atomically (it has no options: every run writes it whole)."""
-    write_text_atomic(path, trajectory_csv_text(run.trajectory, run.problem.arm.prismatic))
+    carry, traj = run.solution.carry, run.trajectory
+    carried = None
+    if carry is not None:
+        from armanim.motion.carry import carried_clearance
+
+        carried = (carry.held_names(traj.goal), carried_clearance(run.problem, carry, traj.phi, traj.goal))
+    write_text_atomic(path, trajectory_csv_text(traj, run.problem.arm.prismatic, carried))
 
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")
 """The contract's columns after the angles; every reader needs them."""
-TEXT_COLUMNS = {"mode": MODES, "self_pair": None}
+TEXT_COLUMNS = {"mode": MODES, "self_pair": None, "held": None}
 """Columns whose values are words, not numbers, and the words each allows (None: any)."""
 MAX_LINE_BYTES = 100_000  # a row of 64 joints is under 2,000 bytes
 BLOCK_ROWS = 16_384  # rows parsed at once when a file is streamed
