@@ -258,7 +258,8 @@ def cover_margin(body: Body) -> float:
     cell = min(u, v) / CELLS_PER_SIDE
     cu, cv = u / max(1, math.ceil(u / cell - 1e-9)), v / max(1, math.ceil(v / cell - 1e-9))
     e = min(float(half[axis]), max(cu, cv))
-    return float(math.sqrt(cu * cu + cv * cv + e * e) - min(cu, cv, e))
+    beyond = (math.sqrt(2.0) - 1.0) * body.radius if body.kind == CYLINDER else 0.0  # the box round a flat cylinder: its corners
+    return float(math.sqrt(cu * cu + cv * cv + e * e) - min(cu, cv, e) + beyond)
 
 
 def world_cover(body: Body) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

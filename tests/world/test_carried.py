@@ -1,0 +1,195 @@
+"""Pick and place (issue 54): the carried object's cover, its clearances by coal, the placed pose,
+touch links, and the scene's checks."""
+
+from __future__ import annotations
+
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from armanim.arm.kinematics import forward
+from armanim.motion.carry import TOUCH, carried_clearance, goal_problems, tool_transform
+from armanim.world.carried import Body, cover_capsules, cover_margin, grasp_offset, obstacle_body
+from armanim.world.obstacles import BOX, CYLINDER, FLOOR, ROD, SPHERE
+
+coal = pytest.importorskip("coal")
+
+DATA = Path(__file__).parent.parent / "data"
+
+
+def _segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(p, k) distance of each point to each segment a-b."""
+    ab = b - a
+    t = np.clip(np.einsum("pkj,kj->pk", points[:, None] - a, ab) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
+    return np.linalg.norm(points[:, None] - (a + t[..., None] * ab), axis=-1)
+
+
+def _surface_points(body: Body, rng: np.random.Generator) -> np.ndarray:
+    """Points on the solid's surface in its own frame: a box's corners and random face points, a
+    cylinder's rims and random side points."""
+    if body.kind == BOX:
+        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * body.half
+        faces = rng.uniform(-1, 1, (300, 3))
+        axis = rng.integers(0, 3, 300)
+        faces[np.arange(300), axis] = np.sign(faces[np.arange(300), axis])
+        return np.concatenate([corners, faces * body.half])
+    angle = rng.uniform(0, 2 * np.pi, 300)
+    z = np.concatenate([np.full(100, -1.0), np.full(100, 1.0), rng.uniform(-1, 1, 100)]) * body.half[2]
+    return np.stack([body.radius * np.cos(angle), body.radius * np.sin(angle), z], axis=1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from([BOX, CYLINDER]), st.lists(st.floats(0.005, 0.2), min_size=3, max_size=3), st.integers(0, 2**16))
+@example(BOX, [0.02, 0.02, 0.06], 0)
+@example(CYLINDER, [0.1, 0.1, 0.01], 1)
+def test_cover_holds_the_whole_solid_within_its_margin(kind, sizes, seed):
+    """Every point of the solid's surface lies in a capsule of its cover (so the cover's clearance is
+    at most the solid's), and no capsule reaches farther than cover_margin beyond the solid."""
+    half = np.array(sizes) if kind == BOX else np.array([0.0, 0.0, sizes[2]])
+    body = Body(kind, np.eye(3), np.zeros(3), half, 0.0 if kind == BOX else sizes[0])
+    start, end, radius = cover_capsules(body)
+    points = _surface_points(body, np.random.default_rng(seed))
+    inside = (_segment_distance(points, start, end) - radius).min(axis=1)
+    assert inside.max() <= 1e-12
+    probe = coal.Box(*(2 * half)) if kind == BOX else coal.Cylinder(body.radius, 2 * half[2])
+    for a, b, r in zip(start, end, radius):  # the capsules' farthest points: along the six axes from both ends
+        for p in (a, b):
+            for d in np.concatenate([np.eye(3), -np.eye(3)]):
+                far = p + r * d
+                result = coal.DistanceResult()
+                gap = coal.distance(probe, coal.Transform3s(), coal.Sphere(1e-9), coal.Transform3s(np.eye(3), far), coal.DistanceRequest(), result)
+                assert gap <= cover_margin(body) + 1e-9
+
+
+@cache
+def _pick_run():
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "pick-box.yaml").model)
+    solution = solve_trajectory(problem)
+    return problem, solution, retime(problem, solution, problem.fps)
+
+
+def _coal_body(body: Body):
+    shape = {BOX: lambda: coal.Box(*(2 * body.half)), SPHERE: lambda: coal.Sphere(body.radius),
+             ROD: lambda: coal.Capsule(body.radius, 2 * body.half[0]), CYLINDER: lambda: coal.Cylinder(body.radius, 2 * body.half[2])}[body.kind]()
+    rotation = body.rotation if body.kind != ROD else body.rotation @ np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]])  # coal's capsule along z
+    return shape, coal.Transform3s(rotation, body.center)
+
+
+def _distance(one, two) -> float:
+    return float(coal.distance(*one, *two, coal.DistanceRequest(), coal.DistanceResult()))
+
+
+def test_the_box_is_carried_and_placed_where_the_tool_put_it_to_1e_9():
+    problem, solution, timed = _pick_run()
+    assert all(g.reached for g in solution.goals)
+    carry = timed.carry
+    traj = timed.trajectory
+    grasp_end, release_end = timed.goals[1].last_frame, timed.goals[4].last_frame
+    part = obstacle_body(problem.obstacles, 1)
+    tool = lambda frame: tool_transform(problem, forward(problem.arm, traj.phi[frame]))  # noqa: E731
+    offset = grasp_offset(tool(grasp_end), part)
+    placed = tool(release_end) @ offset
+    final = carry.final.moved[1]
+    assert np.abs(final.matrix() - placed).max() < 1e-9
+    assert final.center[1] == pytest.approx(-0.2, abs=0.005)  # it really moved
+
+
+def test_the_carried_box_keeps_its_clearances_by_coal():
+    """Every frame that holds the box: the true box (by coal) keeps solver.clearance from the table
+    and the floor's plane, and self_clearance from every capsule of a link that is not a touch link."""
+    problem, _, timed = _pick_run()
+    traj, carry = timed.trajectory, timed.carry
+    held = carry.held_names(traj.goal) == "part"
+    assert held.sum() > 10
+    problems = goal_problems(problem, carry)
+    table = _coal_body(obstacle_body(problem.obstacles, 0))
+    d_safe, self_safe = problem.solver.clearance, problem.self_pairs.clearance
+    touch = set(carry.worlds[2].held.touch)
+    carried = carried_clearance(problem, carry, traj.phi, traj.goal)
+    for frame in np.nonzero(held)[0]:
+        world = problems[traj.goal[frame]]
+        pose = forward(problem.arm, traj.phi[frame])
+        box = world_box = carry.worlds[traj.goal[frame]].held.body.moved(tool_transform(problem, pose) @ carry.worlds[traj.goal[frame]].held.offset)
+        shape = _coal_body(box)
+        assert _distance(shape, table) >= d_safe * (1 - 1e-9)
+        assert _distance(shape, table) >= carried[frame] - 1e-9  # the cover's clearance is at most the box's
+        lowest = np.min([(box.matrix() @ np.append(c, 1))[2] for c in np.array(
+            [[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * box.half])
+        assert lowest - problem.obstacles.floor >= d_safe
+        caps = problem.capsules
+        from armanim.arm.capsules import capsule_ends
+
+        a, b = capsule_ends(caps, pose)
+        for i, name in enumerate(caps.names):
+            if name in touch:
+                continue
+            axis = b[i] - a[i]
+            length = float(np.linalg.norm(axis))
+            z = axis / length if length > 0 else np.array([0.0, 0, 1])
+            x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+            x /= np.linalg.norm(x)
+            link = (coal.Capsule(caps.radius[i], length), coal.Transform3s(np.stack([x, np.cross(z, x), z], axis=1), (a[i] + b[i]) / 2))
+            assert _distance(shape, link) >= self_safe * (1 - 1e-9), (frame, name)
+        del world_box, world
+
+
+def test_touch_links_are_allowed_and_every_other_link_checked():
+    problem, _, timed = _pick_run()
+    world = timed.carry.worlds[2]
+    carrying = goal_problems(problem, timed.carry)[2]
+    touch = set(world.held.touch)
+    assert touch == {"panda_link7", "panda_hand", "panda_leftfinger", "panda_rightfinger"}
+    checked = {a for a, b in carrying.self_pairs.names if b == "part"}
+    moving_links = {n for n, k in zip(problem.capsules.names, problem.capsules.link) if k != problem.arm.n - 1}
+    assert checked == moving_links  # every link but those the last joint carries
+    assert {(a, TOUCH) for a, b, r in carrying.self_pairs.allowed if b == "part"} == {(t, TOUCH) for t in touch}
+
+
+BAD = {
+    "grasp: nothing": ("goals[1].grasp", "'nothing' names no obstacle"),
+    "release: true, grasp: part": ("goals[1].release", "is on a goal that grasps"),
+}
+
+
+def _scene(goals: list, **extra):
+    from armanim.scene import scene_model
+
+    return scene_model({"version": 1, "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
+                        "obstacles": [{"box": {"center": [0.5, 0.0, 0.1], "size": [0.4, 0.8, 0.2]}, "name": "table"},
+                                      {"box": {"center": [0.5, 0.2, 0.28], "size": [0.04, 0.04, 0.12]}, "name": "part"}],
+                        "floor": 0.0, "goals": goals, "solver": {"clearance": 0.01, "tolerance": 0.002, **extra}})
+
+
+GRASP = {"position": [0.5, 0.2, 0.332], "orientation": {"rpy": [180, 0, 0]}, "grasp": "part"}
+RELEASE = {"position": [0.5, -0.2, 0.34], "orientation": {"rpy": [180, 0, 0]}, "release": True}
+
+
+@pytest.mark.parametrize(("goals", "field", "words"), [
+    ([{**GRASP, "grasp": "can"}], "goals[0].grasp", "'can' names no obstacle (expected the name of one: 'table', 'part')"),
+    ([RELEASE], "goals[0].release", "puts down nothing: the tool holds nothing here"),
+    ([GRASP, {**GRASP, "grasp": "table"}], "goals[1].grasp", "takes 'table' while the tool still holds 'part' (grasped at goals[0]"),
+    ([{**GRASP, "release": True}], "goals[0].release", "is on a goal that grasps"),
+    ([{**GRASP, "touch_links": ["panda_hand", "gripper"]}], "goals[0].touch_links[1]", "'gripper' names no link of the arm"),
+    ([{**GRASP, "grasp": "table", "position": [0.5, 0.0, 0.45]}], "goals[0].grasp", "wider than the gripper opens (0.08"),
+    ([{**GRASP, "position": [0.5, 0.2, 0.45]}], "goals[0].grasp", "'part' is 0.11 from the goal's tool point"),
+])
+def test_each_bad_grasp_is_reported_at_its_field(goals, field, words):
+    from armanim.scene.checks import scene_problems
+
+    problems = scene_problems(_scene(goals))
+    assert any(f == field and words in m for f, m in problems), problems
+
+
+def test_an_object_resting_within_clearance_of_its_table_is_reported():
+    from armanim.scene.checks import scene_problems
+
+    problems = scene_problems(_scene([GRASP], clearance=0.02))
+    assert any(f == "obstacles[1]" and "'part' rests 0.0127 from obstacles[0] ('table')" in m for f, m in problems), problems
