@@ -327,3 +327,65 @@ def final_poses(problem: Problem, carry: CarryReport) -> dict[str, Body]:
     for column, body in carry.final.moved.items():
         out[object_name(problem, column)] = body
     return out
+
+
+def replayed_carry(problem: Problem, phi: np.ndarray, goal: np.ndarray, reached: list[bool]) -> CarryReport | None:
+    """The :class:`CarryReport` of a finished run (its frames' angles ``phi`` (F, n) and goals
+    ``goal`` (F,), and whether each goal was reached), each grasp and release taken again at its
+    goal's last frame, where the solve took it; None for a run that grasps nothing."""
+    if not needs_carrying(problem):
+        return None
+    from armanim.arm.kinematics import forward
+
+    world, worlds = World(), []
+    for k in range(len(problem.goals)):
+        world = goal_world(problem, world, k)
+        worlds.append(world)
+        mine = np.nonzero(goal == k)[0]
+        if len(mine):
+            world = after_goal(problem, world, k, reached[k], forward(problem.arm, phi[mine[-1]]))
+        else:
+            world = replace(world, near=None)
+    return CarryReport(tuple(worlds), world)
+
+
+def moving_columns(carry: CarryReport) -> list[int]:
+    """The clearance columns of the objects some goal takes, in order."""
+    columns = {w.held.column for w in (*carry.worlds, carry.final) if w.held is not None}
+    return sorted(columns)
+
+
+def frame_bodies(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np.ndarray) -> list[list[Body]]:
+    """Every frame's (F) moving objects (:func:`moving_columns`, in order) where they are: in the
+    tool while held, where they were put, else where the scene puts them."""
+    from armanim.arm.kinematics import forward
+
+    columns = moving_columns(carry)
+    tools = tool_transform(problem, forward(problem.arm, phi)) if len(phi) else np.zeros((0, 4, 4))
+    out = []
+    for f in range(len(phi)):
+        world = carry.worlds[int(goal[f])]
+        bodies = []
+        for column in columns:
+            held = world.held
+            if held is not None and held.column == column:
+                bodies.append(held.body.moved(tools[f] @ held.offset))
+            else:
+                bodies.append(world.moved.get(column) or obstacle_body(problem.obstacles, column))
+        out.append(bodies)
+    return out
+
+
+def world_clearance(problem: Problem, problems: list[Problem] | None, pose: Pose, goal: np.ndarray) -> np.ndarray:
+    """(F,) each frame's least capsule clearance, measured in its goal's world (``problems``, one
+    per goal; None: ``problem`` for every frame)."""
+    from armanim.world.distances import min_link_clearance
+
+    if problems is None:
+        return min_link_clearance(pose, problem.obstacles, problem.capsules)
+    out = np.full(len(goal), np.inf)
+    for solved in {id(p): p for p in problems}.values():
+        mine = np.isin(goal, [k for k, p in enumerate(problems) if p is solved])
+        if mine.any():
+            out[mine] = min_link_clearance(Pose(pose.points[mine], pose.frames[mine]), solved.obstacles, solved.capsules)
+    return out

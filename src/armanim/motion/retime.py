@@ -23,7 +23,7 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.arm.kinematics import Pose, forward
+from armanim.arm.kinematics import forward
 from armanim.motion.blend import (
     BlendReport,
     Corner,
@@ -33,7 +33,7 @@ from armanim.motion.blend import (
     pass_speed_caps,
     via_distances,
 )
-from armanim.motion.carry import goal_problems
+from armanim.motion.carry import goal_problems, world_clearance
 from armanim.motion.clock import ClockTooLong, Excess, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.orientation import frame_orientations
@@ -51,7 +51,6 @@ from armanim.motion.problem import Problem, joint_offset
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance, self_shift
 from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance, with_world_self_clearance
-from armanim.world.distances import min_link_clearance
 
 
 def at_fps(problem: Problem, fps: float) -> Problem:
@@ -156,19 +155,6 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
     reports = (_blend_reported(problem, solution, r, trajectory, passes) for r in reports)
     return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports), rest_to_rest, solution.carry)
-
-
-def world_clearance(problem: Problem, problems: list[Problem] | None, pose: Pose, goal: np.ndarray) -> np.ndarray:
-    """(F,) each frame's least capsule clearance, measured in its goal's world (``problems``, one
-    per goal; None: ``problem`` for every frame)."""
-    if problems is None:
-        return min_link_clearance(pose, problem.obstacles, problem.capsules)
-    out = np.full(len(goal), np.inf)
-    for solved in {id(p): p for p in problems}.values():
-        mine = np.isin(goal, [k for k, p in enumerate(problems) if p is solved])
-        if mine.any():
-            out[mine] = min_link_clearance(Pose(pose.points[mine], pose.frames[mine]), solved.obstacles, solved.capsules)
-    return out
 
 
 def _world_safeties(problems: list[Problem], solved: Trajectory, parts: list[_Part]) -> list[PathSafety]:

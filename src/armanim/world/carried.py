@@ -115,37 +115,35 @@ def with_bodies(obstacles: Obstacles, bodies: dict[int, Body | None]) -> Obstacl
     >>> len(out), out.names
     (1, ('b',))
     """
-    spheres: list[tuple[np.ndarray, float]] = []
-    boxes: list[Body] = []
-    rods: list[Body] = []
-    cylinders: list[Body] = []
-    kinds, influence, names = [], [], []
+    solids: list[tuple[Body, float, str | None]] = []
     for column, kind in enumerate(obstacles.kinds.tolist()):
         if kind == FLOOR:
             continue
         body = bodies[column] if column in bodies else obstacle_body(obstacles, column)
-        if body is None:
-            continue
-        kinds.append(body.kind)
-        influence.append(float(obstacles.influence[column]))
-        names.append(obstacles.name(column))
-        if body.kind == SPHERE:
-            spheres.append((body.center, body.radius))
-        else:
-            {BOX: boxes, ROD: rods, CYLINDER: cylinders}[body.kind].append(body)
-    if obstacles.floor is not None:
-        kinds.append(FLOOR)
-        influence.append(0.0)
+        if body is not None:
+            solids.append((body, float(obstacles.influence[column]), obstacles.name(column)))
+    return solids_obstacles(solids, obstacles.floor)
+
+
+def solids_obstacles(solids: list[tuple[Body, float, str | None]], floor: float | None = None) -> Obstacles:
+    """Obstacles of solids (each a :class:`Body`, its influence and its name) in order, and the floor last."""
+    spheres = [b for b, _, _ in solids if b.kind == SPHERE]
+    boxes = [b for b, _, _ in solids if b.kind == BOX]
+    rods = [b for b, _, _ in solids if b.kind == ROD]
+    cylinders = [b for b, _, _ in solids if b.kind == CYLINDER]
+    kinds = [b.kind for b, _, _ in solids] + ([FLOOR] if floor is not None else [])
+    influence = [i for _, i, _ in solids] + ([0.0] if floor is not None else [])
+    names = [n for _, _, n in solids]
     ends = [(b.center - b.rotation[:, 0] * b.half[0], b.center + b.rotation[:, 0] * b.half[0]) for b in rods]
     return Obstacles(
-        centers=np.array([c for c, _ in spheres], dtype=float).reshape(-1, 3),
-        radii=np.array([r for _, r in spheres], dtype=float),
+        centers=np.array([b.center for b in spheres], dtype=float).reshape(-1, 3),
+        radii=np.array([b.radius for b in spheres], dtype=float),
         influence=np.array(influence, dtype=float),
         boxes=Boxes(np.array([b.center for b in boxes]).reshape(-1, 3), np.array([b.half for b in boxes]).reshape(-1, 3),
                     np.array([b.rotation for b in boxes]).reshape(-1, 3, 3)),
         rods=Rods(np.array([a for a, _ in ends]).reshape(-1, 3), np.array([b for _, b in ends]).reshape(-1, 3),
                   np.array([b.radius for b in rods], dtype=float)),
-        floor=obstacles.floor,
+        floor=floor,
         kinds=np.array(kinds, dtype=int),
         cylinders=Cylinders(np.array([b.center for b in cylinders]).reshape(-1, 3), np.array([b.rotation for b in cylinders]).reshape(-1, 3, 3),
                             np.array([b.half[2] for b in cylinders], dtype=float), np.array([b.radius for b in cylinders], dtype=float)),
@@ -292,3 +290,9 @@ def resting_clearances(obstacles: Obstacles, column: int) -> np.ndarray:
     d = np.full(len(obstacles), np.inf)
     d[np.arange(len(obstacles)) != column] = cover_clearances(body, others)
     return d
+
+
+def bodies_obstacles(bodies: list[Body]) -> Obstacles:
+    """The solids ``bodies`` as :class:`~armanim.world.obstacles.Obstacles` (no floor, no
+    influence), in order: what a picture draws of the objects that move."""
+    return solids_obstacles([(b, 0.0, None) for b in bodies])
