@@ -193,3 +193,26 @@ def test_an_object_resting_within_clearance_of_its_table_is_reported():
 
     problems = scene_problems(_scene([GRASP], clearance=0.02))
     assert any(f == "obstacles[1]" and "'part' rests 0.0127 from obstacles[0] ('table')" in m for f, m in problems), problems
+
+
+def test_the_viewer_and_the_video_draw_the_box_where_it_is():
+    """The viewer's data place the box at rest before the grasp, in the tool while carried, and
+    where it was put at the end; the table stays with the still obstacles."""
+    from armanim.render.pictures.canvas import moving_objects
+    from armanim.render.viewer.data import viewer_data
+    from armanim.scene import load_scene, render_settings
+
+    problem, _, timed = _pick_run()
+    traj = timed.trajectory
+    data = viewer_data(problem, traj, timed.goals, render_settings(load_scene(DATA / "pick-box.yaml").model), title="t", carry=timed.carry)
+    poses = np.array(data["carried"]["poses"]).reshape(traj.frames, 1, 7)
+    assert data["carried"]["objects"] == [{"kind": "box", "name": "part", "size": [0.04, 0.04, 0.12]}]
+    assert [b["center"] for b in data["boxes"]] == [[0.5, 0.0, 0.1]]
+    assert poses[0, 0, :3] == pytest.approx([0.5, 0.2, 0.28])
+    assert poses[-1, 0, :3] == pytest.approx(timed.carry.final.moved[1].center, abs=10.0 ** -data["decimals"])  # the page's rounding
+    carried = traj.goal == 3
+    tips = traj.tip[carried]
+    assert np.linalg.norm(poses[carried, 0, :3] - tips, axis=1) == pytest.approx(0.052, abs=0.002)  # in the tool, 5 cm below it
+    still, frames = moving_objects(problem, timed)
+    assert len(still.obstacles.boxes) == 1 and len(frames) == traj.frames
+    assert frames[-1].boxes.centers[0] == pytest.approx(timed.carry.final.moved[1].center)
