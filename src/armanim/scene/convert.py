@@ -440,7 +440,7 @@ def handling(goal: Goal, model: GoalModel, scene: SceneModel) -> Goal:
     if model.grasp is None and not model.release:
         return goal
     names = [o.name for o in scene.obstacles]
-    column = names.index(model.grasp) if model.grasp in names else None
+    column = names.index(model.grasp) if model.grasp is not None and model.grasp in names else None
     touch = tuple(model.touch_links) if model.touch_links is not None else None
     return replace(goal, grasp=column, release=model.release, touch_links=touch)
 
