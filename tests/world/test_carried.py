@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from armanim.arm.kinematics import forward
 from armanim.motion.carry import TOUCH, carried_clearance, goal_problems, tool_transform
 from armanim.world.carried import Body, cover_capsules, cover_margin, grasp_offset, obstacle_body
-from armanim.world.obstacles import BOX, CYLINDER, FLOOR, ROD, SPHERE
+from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE
 
 coal = pytest.importorskip("coal")
 
@@ -216,3 +216,32 @@ def test_the_viewer_and_the_video_draw_the_box_where_it_is():
     still, frames = moving_objects(problem, timed)
     assert len(still.obstacles.boxes) == 1 and len(frames) == traj.frames
     assert frames[-1].boxes.centers[0] == pytest.approx(timed.carry.final.moved[1].center)
+
+
+def test_a_carried_bar_that_would_hit_the_wall_goes_over_it_never_through():
+    """moveit #1217's trap: the tool alone crosses the wall on its straight way; carrying a bar
+    that would hit it, the arm goes over it, and by coal the bar keeps clearance from the wall in
+    every frame it is held."""
+    from dataclasses import replace
+
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "carry-over-wall.yaml").model)
+    empty = replace(problem, goals=(replace(problem.goals[0], grasp=None),) + problem.goals[1:])
+    alone = retime(empty, solve_trajectory(empty), problem.fps)
+    solved = solve_trajectory(problem)
+    carrying = retime(problem, solved, problem.fps)
+    for run in (alone, carrying):
+        assert all(g.reached or g.reason is not None for g in run.goals)
+    crossing = lambda run: run.trajectory.tip[run.trajectory.goal == 2, 2].max()  # noqa: E731
+    assert crossing(alone) < 0.535 < 0.55 < crossing(carrying)  # straight alone, over the wall with the bar
+    traj, carry = carrying.trajectory, carrying.carry
+    wall = _coal_body(obstacle_body(problem.obstacles, 2))
+    held = np.nonzero(carry.held_names(traj.goal) == "bar")[0]
+    assert len(held) > 20
+    for frame in held:
+        world = carry.worlds[traj.goal[frame]].held
+        bar = world.body.moved(tool_transform(problem, forward(problem.arm, traj.phi[frame])) @ world.offset)
+        assert _distance(_coal_body(bar), wall) >= problem.solver.clearance * (1 - 1e-9), frame

@@ -17,6 +17,7 @@ Each goal is solved in the :class:`~armanim.motion.problem.Problem` of its world
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import cast
 
 import numpy as np
 
@@ -86,7 +87,7 @@ class World:
     robot's base (its cover's capsules on :data:`~armanim.arm.capsules.BASE`) that every link but
     the touch links keeps ``self_clearance`` from, so that the fingers may close round it."""
 
-    def key(self) -> tuple:
+    def key(self) -> tuple[object, ...]:
         """What tells two worlds apart (for reusing one problem per world)."""
         return (tuple(sorted((k, None if b is None else b.matrix().tobytes()) for k, b in self.moved.items())),
                 None if self.held is None else (self.held.column, self.held.offset.tobytes(), self.held.touch), self.near)
@@ -256,7 +257,7 @@ class CarryReport:
     def held_names(self, goal: np.ndarray) -> np.ndarray:
         """(F,) the name of the object the tool holds in each frame (its goal's world), '' for none."""
         names = np.array(["" if w.held is None else w.held.name for w in self.worlds] or [""], dtype=object)
-        return names[goal]
+        return cast(np.ndarray, names[goal])
 
     def grasped(self, k: int) -> str | None:
         """The name of the object goal ``k`` grasped (None: none)."""
@@ -279,7 +280,7 @@ def needs_carrying(problem: Problem) -> bool:
 def goal_problems(problem: Problem, carry: CarryReport) -> list[Problem]:
     """The problem each goal was solved in (:func:`world_problem` of its world), one object per
     distinct world (so each world's compiled layout is made once)."""
-    made: dict[tuple, Problem] = {World().key(): problem}
+    made: dict[tuple[object, ...], Problem] = {World().key(): problem}
     for w in carry.worlds:
         if w.key() not in made:
             made[w.key()] = world_problem(problem, w)
@@ -317,10 +318,10 @@ def touch_allowed(pairs: SelfPairs, carry: CarryReport) -> SelfPairs:
     return replace(pairs, allowed=listed)
 
 
-def final_poses(problem: Problem, carry: CarryReport) -> dict[str, Body]:
+def final_poses(problem: Problem, carry: CarryReport) -> dict[str, Body | None]:
     """Every object a goal grasped, where it is after the last goal (in the tool for one still
-    carried: where it was grasped, None)."""
-    out = {}
+    carried: None)."""
+    out: dict[str, Body | None] = {}
     for world in (*carry.worlds, carry.final):
         if world.held is not None:
             out[world.held.name] = None

@@ -186,7 +186,7 @@ def solve_trajectory(
     reports = []
     carrying = needs_carrying(problem)
     world, worlds, solved = World(), [], problem  # the world each goal is solved in (pick and place)
-    made: dict[tuple, Problem] = {World().key(): problem}
+    made: dict[tuple[object, ...], Problem] = {World().key(): problem}
     later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
         later -= goal_budget(problem, goal)
