@@ -245,3 +245,45 @@ def test_a_carried_bar_that_would_hit_the_wall_goes_over_it_never_through():
         world = carry.worlds[traj.goal[frame]].held
         bar = world.body.moved(tool_transform(problem, forward(problem.arm, traj.phi[frame])) @ world.offset)
         assert _distance(_coal_body(bar), wall) >= problem.solver.clearance * (1 - 1e-9), frame
+
+
+@settings(max_examples=4, deadline=None)
+@given(st.floats(0.03, 0.05), st.floats(0.06, 0.1), st.floats(-0.45, -0.3), st.floats(0.45, 0.62), st.floats(-0.15, 0.15))
+@example(0.04, 0.08, -0.45, 0.58, 0.0)
+def test_pick_and_place_keeps_every_invariant(width, height, y, x_place, y_place):
+    """A Panda takes a box of random size from a table and puts it on a shelf board at a random
+    place: every trajectory invariant holds in each goal's world (tests/invariants.py), the box
+    ends exactly where the tool put it, and no frame has its cover under clearance."""
+    from hypothesis import assume
+    from invariants import assert_trajectory_invariants
+
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import scene_model, scene_to_problem
+    from armanim.scene.checks import scene_problems
+
+    rest = 0.2 + height / 2 + 0.034  # the box's centre: its cover 2.2 cm and more above the table
+    grasp = rest + height / 2 - 0.02
+    place = 0.4 + 0.034 + height / 2 - rest + grasp  # the tool where the box stands as high above the board
+    down = {"orientation": {"rpy": [180, 0, 0]}}
+    model = scene_model({
+        "version": 1, "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
+        "obstacles": [{"box": {"center": [0.62, 0.0, 0.39], "size": [0.3, 0.7, 0.02]}},
+                      {"box": {"center": [0.25, y, 0.1], "size": [0.3, 0.3, 0.2]}, "name": "table"},
+                      {"box": {"center": [0.25, y, rest], "size": [width, width, height]}, "name": "box"}],
+        "floor": 0.0,
+        "goals": [{"position": [0.25, y, grasp + 0.1], **down}, {"position": [0.25, y, grasp], **down, "grasp": "box"},
+                  {"position": [0.25, y, 0.6], **down}, {"position": [x_place, y_place, place + 0.08], **down},
+                  {"position": [x_place, y_place, place], **down, "release": True}, {"position": [x_place, y_place, place + 0.1], **down}],
+        "solver": {"method": "dls", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02}})
+    assume(not scene_problems(model))
+    problem = scene_to_problem(model)
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert_trajectory_invariants(problem, timed)
+    traj, carry = timed.trajectory, timed.carry
+    carried = carried_clearance(problem, carry, traj.phi, traj.goal)
+    assert np.nanmin(carried) >= problem.solver.clearance - 1e-9
+    if timed.goals[4].reached and timed.goals[1].reached:
+        tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
+        expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 2))
+        assert np.abs(carry.final.moved[2].matrix() - expected).max() < 1e-9
