@@ -287,3 +287,25 @@ def test_pick_and_place_keeps_every_invariant(width, height, y, x_place, y_place
         tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
         expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 2))
         assert np.abs(carry.final.moved[2].matrix() - expected).max() < 1e-9
+
+
+def test_a_finished_run_read_back_carries_the_box_again(tmp_path):
+    """run writes held and carried_clearance; load_run (render, view) reads them back and replays
+    each grasp and release at its goal's last frame: the box ends where summary.json put it."""
+    import csv
+    import json
+
+    from armanim.runs.pipeline import run_scene
+    from armanim.runs.reload import load_run
+
+    folder = run_scene(DATA / "pick-box.yaml", tmp_path, video=False, viewer=False).folder
+    rows = list(csv.DictReader(open(folder / "trajectory.csv", newline="")))
+    assert {r["held"] for r in rows} == {"", "part"}
+    assert all((r["carried_clearance"] == "") == (r["held"] == "") for r in rows)
+    summary = json.loads((folder / "summary.json").read_text())
+    assert [g["grasped"] for g in summary["goals"]] == [None, "part", None, None, None, None]
+    assert [g["released"] for g in summary["goals"]] == [None, None, None, None, "part", None]
+    assert summary["min_carried_clearance"] >= summary["clearance"]
+    run = load_run(folder)
+    assert run.solution.carry.final.moved[1].center == pytest.approx(summary["objects"]["part"]["center"], abs=1e-9)
+    assert "part" in (folder / "self-collision.yaml").read_text()

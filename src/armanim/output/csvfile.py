@@ -39,7 +39,7 @@ from armanim.output.solved import SolvedRun
 BASE_COLUMNS = ("frame", "time_s", "goal")
 TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode",
                 "qw", "qx", "qy", "qz", "orientation_error_deg", "self_clearance", "self_pair", "path_s", "path_error")
-EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance", "path_s", "path_error")
+EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance", "path_s", "path_error", "carried_clearance")
 """Numeric columns that may be empty: no obstacles; a position-only goal; no enabled pair of the arm's own links;
 a frame not along a path."""
 MODES = ("ik", "plan", "path")
