@@ -309,3 +309,34 @@ def test_a_finished_run_read_back_carries_the_box_again(tmp_path):
     run = load_run(folder)
     assert run.solution.carry.final.moved[1].center == pytest.approx(summary["objects"]["part"]["center"], abs=1e-9)
     assert "part" in (folder / "self-collision.yaml").read_text()
+
+
+def test_an_approach_comes_in_along_a_straight_line_and_the_grasp_and_release_still_hold():
+    """approach: the tool comes to the grasp (along its own z: down) and to the release (along the
+    world's -z) on straight lines, within the path tolerance, ending at the goal; the box still
+    ends where the tool put it."""
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "pick-approach.yaml").model)
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert all(g.reached for g in timed.goals)
+    traj = timed.trajectory
+    for k, (target, distance) in {1: ([0.5, 0.2, 0.332], 0.08), 4: ([0.5, -0.2, 0.335], 0.06)}.items():
+        along = (traj.goal == k) & (traj.mode == "path")
+        tips = traj.tip[along]
+        assert len(tips) > 5
+        assert np.abs(tips[:, :2] - target[:2]).max() <= problem.solver.path_tolerance
+        assert tips[0, 2] == pytest.approx(target[2] + distance, abs=0.005) and tips[-1, 2] == pytest.approx(target[2], abs=0.005)
+        assert np.all(np.diff(tips[:, 2]) <= 1e-9)  # down all the way
+    tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
+    expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
+    assert np.abs(timed.carry.final.moved[1].matrix() - expected).max() < 1e-9
+
+
+def test_an_approach_along_the_tool_needs_the_tool_s_orientation():
+    from armanim.scene.checks import scene_problems
+
+    goal = {"position": [0.5, 0.2, 0.332], "grasp": "part", "approach": {"distance": 0.08}}
+    assert ("goals[0].approach.axis", ) == tuple(f for f, m in scene_problems(_scene([goal])) if "approach" in f)

@@ -66,6 +66,14 @@ def _carry_problems(scene: SceneModel):
             yield f"goals[{k}].{field}", "is on a path goal (expected a point, pose or joint goal: give the path its own goal after this one)"
         if (goal.grasp is not None or goal.release) and goal.blend is not None:
             yield f"goals[{k}].blend", "is on a goal that grasps or releases (the tool stops there: leave blend out)"
+        if goal.approach is not None:
+            if goal.path is not None:
+                yield f"goals[{k}].approach", "is on a path goal (expected a point or pose goal: the line ends at its position)"
+            elif goal.approach.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
+                yield f"goals[{k}].approach.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
+                                                    "give the goal an orientation, or a world direction such as axis: [0, 0, -1])")
+            elif goal.joints is not None:
+                yield f"goals[{k}].approach", "is on a joint goal (expected a point or pose goal: the line ends at its position)"
         if goal.touch_links is not None:
             if goal.grasp is None:
                 yield f"goals[{k}].touch_links", "is on a goal that grasps nothing (expected it beside grasp: NAME)"
@@ -131,7 +139,8 @@ def _grasp_problems(scene: SceneModel, problem):
         if opening is not None and body.width() > opening:
             yield f"goals[{k}].grasp", (f"{name!r} is {body.width():.3g} across at its narrowest, wider than the gripper opens "
                                         f"({opening:.3g}: its finger joints' limits; expected a smaller object)")
-        gap = point_clearances(goal.position[None], with_bodies(problem.obstacles, {c: None for c in range(len(problem.obstacles.kinds))
+        at = goal.path.end if goal.path is not None else goal.position  # an approach's line ends at the goal
+        gap = point_clearances(at[None], with_bodies(problem.obstacles, {c: None for c in range(len(problem.obstacles.kinds))
                                                                                      if c != goal.grasp and problem.obstacles.kinds[c] != FLOOR}))
         reach = float(gap[0, 0])
         if reach > problem.solver.tolerance:
