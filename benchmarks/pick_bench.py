@@ -41,7 +41,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from armanim.arm.capsules import capsule_ends  # noqa: E402
 from armanim.arm.kinematics import forward  # noqa: E402
-from armanim.motion.carry import World, goal_problems, world_problem  # noqa: E402
+from armanim.motion.carry import World, goal_problems, touch_links, world_problem  # noqa: E402
 from armanim.motion.retime import retime  # noqa: E402
 from armanim.motion.trajectory import solve_trajectory  # noqa: E402
 from armanim.scene import scene_model, scene_to_problem  # noqa: E402
@@ -196,8 +196,9 @@ def world_solids(obstacles) -> list:
 
 def place_feasible(oracle: Oracle, problem, rng: np.random.Generator) -> bool:
     """Whether some pose inside the limits puts the tool at the release goal, carrying the object
-    at the offset the grasp goal implies, with every link capsule and the solid itself clear
-    (gap >= 0) of every obstacle and the floor, by coal."""
+    at the offset the grasp goal implies, with every link capsule and the solid itself
+    ``solver.clearance`` from every obstacle and the floor, and the solid ``self_clearance`` from
+    every link capsule that is not a touch link, by coal (what armanim promises of every frame)."""
     from armanim.arm.rotations import rpy_rotation
 
     goals = problem.goals
@@ -208,13 +209,21 @@ def place_feasible(oracle: Oracle, problem, rng: np.random.Generator) -> bool:
     others = with_bodies(problem.obstacles, {goals[1].grasp: None})
     solids = world_solids(others)
     carried = coal_solid(placed)
-    if min((gap(carried, s) for s in solids), default=np.inf) < 0 or floor_gap(placed, problem.obstacles.floor) < 0:
+    d_safe, self_safe = problem.solver.clearance, problem.self_pairs.clearance
+    if min((gap(carried, s) for s in solids), default=np.inf) < d_safe or floor_gap(placed, problem.obstacles.floor) < d_safe:
         return False
+    touch = set(touch_links(problem, problem.goals[1].touch_links))
     for q in oracle.ik(tool_at(4), rng):
-        caps = oracle.link_capsules(q)
-        if all(gap(coal_capsule(a, b, r), s) >= 0 for _, a, b, r in caps for s in solids):
+        caps = [(link, coal_capsule(a, b, r), min(a[2], b[2]) - r) for link, a, b, r in oracle.link_capsules(q)]
+        if all(gap(c, s) >= d_safe for _, c, _ in caps for s in solids) and all(
+                low - problem.obstacles.floor >= d_safe for link, _, low in caps if link not in STANDING) and all(
+                gap(c, carried) >= self_safe for link, c, _ in caps if link not in touch):
             return True
     return False
+
+
+STANDING = {"panda_link0", "panda_link1", "base_link", "shoulder_link"}
+"""The links on the base and those the first joint carries: they stand on the floor (the contract exempts them)."""
 
 
 # ---- the measures -------------------------------------------------------------------------
