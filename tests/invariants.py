@@ -78,6 +78,35 @@ def assert_passed_within_radius(problem: Problem, traj, k: int, report) -> None:
     assert last + 1 < len(traj.phi) and np.any(traj.phi[last + 1] != traj.phi[last]) and np.any(traj.phi[last] != traj.phi[last - 1])
 
 
+def _assert_clear(problem: Problem, traj, pose, mine: np.ndarray, first: int) -> None:
+    """The obstacle and self-pair invariants of the frames ``mine`` (F,) of ``traj`` in ``problem``'s
+    world (the first of them, frame ``first``, stands for home: from nearer than the clearance, no nearer)."""
+    from armanim.arm.kinematics import Pose
+
+    here = Pose(pose.points[mine], pose.frames[mine])
+    if len(problem.obstacles):
+        cl = clearances(here, problem.obstacles, problem.capsules)
+        assert np.all(cl.links > 0), float(cl.links.min())
+        # the tip too, but for a joint goal's frames: its tool point is no part of the arm (a grasp's lies in the object)
+        toward_point = np.array([g.joints is None for g in problem.goals])[traj.goal[mine]]
+        assert np.all(cl.d[toward_point] > 0), float(cl.d[toward_point].min()) if toward_point.any() else None
+        np.testing.assert_allclose(traj.clearance[mine], cl.links.min(axis=(-1, -2)), atol=1e-12)
+        # every link keeps solver.clearance (or, from a home closer than that, gets no closer)
+        floor = min(problem.solver.clearance, traj.clearance[first])
+        assert traj.clearance[mine].min() >= floor - TINY, (traj.clearance[mine].min(), floor)
+    else:
+        assert np.all(np.isinf(traj.clearance[mine]))
+    # every enabled pair of the arm's own capsules keeps self_clearance (or, from a home nearer than
+    # that, gets no nearer), recomputed; the trajectory's self columns say the least gap and its pair
+    pairs = problem.self_pairs
+    if len(pairs):
+        gaps = self_gaps(here, problem.capsules, pairs).d
+        least = gaps.min(axis=1)
+        assert least.min() >= min(pairs.clearance, least[0]) - TINY, (least.min(), pairs.labels[int(gaps.min(axis=0).argmin())])
+        np.testing.assert_allclose(traj.self_clearance[mine], least, atol=1e-12)
+        assert all(label in pairs.labels for label in traj.self_pair[mine])
+
+
 def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     traj = solution.trajectory
     F, n = traj.phi.shape
@@ -115,30 +144,21 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
     np.testing.assert_allclose(traj.distance, expected, atol=1e-9)
     # goal index never goes back
     assert np.all(np.diff(traj.goal) >= 0) and traj.goal[0] == 0
-    # every link capsule (and the tip) stays clear of every obstacle, recomputed
-    if len(problem.obstacles):
-        cl = clearances(pose, problem.obstacles, problem.capsules)
-        assert np.all(cl.links > 0), float(cl.links.min())
-        # the tip too, but for a joint goal's frames: its tool point is no part of the arm (a grasp's lies in the object)
-        toward_point = np.array([g.joints is None for g in problem.goals])[traj.goal]
-        assert np.all(cl.d[toward_point] > 0), float(cl.d[toward_point].min()) if toward_point.any() else None
-        np.testing.assert_allclose(traj.clearance, cl.links.min(axis=(-1, -2)), atol=1e-12)
-        # every link keeps solver.clearance (or, from a home closer than that, gets no closer)
-        floor = min(problem.solver.clearance, traj.clearance[0])
-        assert traj.clearance.min() >= floor - TINY, (traj.clearance.min(), floor)
+    # every link capsule (and the tip) stays clear of every obstacle, and every enabled pair of the
+    # arm's own capsules keeps self_clearance, recomputed: in each goal's world for a run that carries
+    # objects (a carried object's cover is then among the capsules, a resting one among the base's)
+    if solution.carry is None:
+        _assert_clear(problem, traj, pose, np.ones(F, dtype=bool), 0)
+        if not len(problem.self_pairs):
+            assert traj.self_clearance is None and traj.self_pair is None
     else:
-        assert np.all(np.isinf(traj.clearance))
-    # every enabled pair of the arm's own capsules keeps self_clearance (or, from a home nearer than
-    # that, gets no nearer), recomputed; the trajectory's self columns say the least gap and its pair
-    pairs = problem.self_pairs
-    if len(pairs):
-        gaps = self_gaps(pose, problem.capsules, pairs).d
-        least = gaps.min(axis=1)
-        assert least.min() >= min(pairs.clearance, least[0]) - TINY, (least.min(), pairs.labels[int(gaps.min(axis=0).argmin())])
-        np.testing.assert_allclose(traj.self_clearance, least, atol=1e-12)
-        assert all(label in pairs.labels for label in traj.self_pair)
-    else:
-        assert traj.self_clearance is None and traj.self_pair is None
+        from armanim.motion.carry import goal_problems
+
+        worlds = goal_problems(problem, solution.carry)
+        for world in {id(w): w for w in worlds}.values():
+            mine = np.isin(traj.goal, [k for k, w in enumerate(worlds) if w is world])
+            if mine.any():
+                _assert_clear(world, traj, pose, mine, int(np.argmax(mine)))
     # limited joints within their limits, the ends included (a home or a joint goal may rest on one)
     lim = problem.limits
     limited = lim.limited

@@ -95,6 +95,13 @@ class Goal:
     blend : float or None
         Pass within this of the goal without stopping (:mod:`armanim.motion.blend`): scene units,
         or radians in every joint for a joint goal; 0 passes through it. None: stop at it.
+    grasp : int or None
+        The clearance column of the named obstacle the tool takes once this goal is reached
+        (:mod:`armanim.motion.carry`); None: none.
+    release : bool
+        Put down what the tool holds once this goal is reached.
+    touch_links : tuple of str or None
+        The links allowed to touch the object this goal grasps; None: those the last joint carries.
     """
 
     position: np.ndarray
@@ -104,6 +111,9 @@ class Goal:
     speed: float = 0.0
     joints: np.ndarray | None = None
     blend: float | None = None
+    grasp: int | None = None
+    release: bool = False
+    touch_links: tuple[str, ...] | None = None
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -33,6 +33,7 @@ from armanim.motion.blend import (
     pass_speed_caps,
     via_distances,
 )
+from armanim.motion.carry import goal_problems, world_clearance
 from armanim.motion.clock import ClockTooLong, Excess, Motion
 from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
 from armanim.motion.jointpath import unwrapped
@@ -51,7 +52,7 @@ from armanim.motion.problem import Goal, Problem, joint_offset
 from armanim.motion.smoothing import Certifier, smoothed_poses
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance, self_shift
-from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance
+from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance, with_world_self_clearance
 
 
 def at_fps(problem: Problem, fps: float) -> Problem:
@@ -105,8 +106,11 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     blending = any(g.blend is not None for g in problem.goals)
     passes: dict[int, _Pass | str] = {}
     rest_to_rest = None
+    problems = goal_problems(problem, solution.carry) if solution.carry is not None else None
     if blending:
         parts, motions, passes, rest_to_rest = _blended_parts(problem, solution, parts, fps, most_frames)
+    elif problems is not None:
+        motions = _timed_parts(problem, src, parts, fps, most_frames, safeties=_world_safeties(problems, src, parts))
     else:
         motions = _timed_parts(problem, src, parts, fps, most_frames)
     made = sum(len(m.phi) for m in motions) + sum(p.hold for p in parts)
@@ -122,7 +126,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     from armanim.motion.planning.check import frame_margins  # numba, as the clock's passes
 
     pose = forward(problem.arm, phi)
-    clear, gaps = frame_margins(problem, phi)
+    clear, gaps = frame_margins(problem, phi) if problems is None else (None, None)  # a carrying run: each goal's world below
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     traced = traced_paths(problem, src, phi, pose.tip, source, goal, held)
     if traced is not None:
@@ -135,7 +139,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         tip=pose.tip,
         goal=goal,
         distance=distance,
-        clearance=clear,
+        clearance=clear if problems is None else world_clearance(problem, problems, pose, goal),
         reached=joint_goals_reached(problem, phi, goal, (distance < problem.solver.tolerance) & turned),
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
@@ -149,10 +153,29 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     )
     moving = np.zeros(len(phi), dtype=bool)
     moving[1:] = ~held[1:]
-    trajectory = with_self_clearance(problem, trajectory, gaps=gaps)
+    if solution.carry is not None:
+        trajectory = with_world_self_clearance(problem, solution.carry, trajectory, pose)
+    else:
+        trajectory = with_self_clearance(problem, trajectory, gaps=gaps)
     reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
     reports = (_blend_reported(problem, solution, r, trajectory, passes) for r in reports)
-    return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports), rest_to_rest)
+    return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports), rest_to_rest, solution.carry)
+
+
+def _world_safeties(problems: list[Problem], solved: Trajectory, parts: list[_Part]) -> list[PathSafety]:
+    """Each part's :class:`PathSafety` in its goal's world (:func:`path_safety` of that world's
+    problem, once per world): its lever arms, clearances, probes and checks are the carried object's too."""
+    if solved.self_clearance is not None:  # a world without pairs has NaN there: nothing to keep
+        solved = replace(solved, self_clearance=np.where(np.isnan(solved.self_clearance), np.inf, solved.self_clearance))
+    made: dict[int, PathSafety] = {}
+    out = []
+    for p in parts:
+        world = problems[p.goal]
+        if id(world) not in made:
+            made[id(world)] = path_safety(world, solved)
+        safety = made[id(world)]
+        out.append(replace(safety, at_poses=safety.at_poses[p.frames], certified=safety.certified[p.frames.start:p.frames.stop - 1]))
+    return out
 
 
 def within_closed_limits(problem: Problem, phi: np.ndarray) -> np.ndarray:
@@ -186,13 +209,15 @@ class _Part:
 
 
 def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: float, most_frames: float,
-                 safety: PathSafety | None = None) -> list[Motion]:
+                 safety: PathSafety | None = None, safeties: list[PathSafety] | None = None) -> list[Motion]:
     """Each part's motion on the clock (:func:`~armanim.motion.goalmotion.goal_motions`), kept clear
-    by :func:`path_safety` (or ``safety``, its result) and, along a path, on it at the goal's speed."""
+    by :func:`path_safety` (or ``safety``, its result; or ``safeties``, each part's own) and, along a
+    path, on it at the goal's speed."""
     rates = problem.rates
-    safety = path_safety(problem, solved) if safety is None else safety
-    safeties = [replace(safety, at_poses=safety.at_poses[p.frames], certified=safety.certified[p.frames.start:p.frames.stop - 1])
-                for p in parts]
+    if safeties is None:
+        safety = path_safety(problem, solved) if safety is None else safety
+        safeties = [replace(safety, at_poses=safety.at_poses[p.frames], certified=safety.certified[p.frames.start:p.frames.stop - 1])
+                    for p in parts]
     return goal_motions([solved.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
                         fps, safeties, most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts],
                         [p.strays for p in parts], [p.excess for p in parts], problem.tunables.clock)

@@ -6,11 +6,15 @@ Made by the frame loop (:mod:`armanim.motion.trajectory`), read by the outputs a
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.names import MissReason, PathCause, PathSource
+
+if TYPE_CHECKING:
+    from armanim.motion.carry import CarryReport
 
 MISS_REASONS: dict[MissReason, str] = {
     "out_of_reach": "out of reach: no pose of this arm puts the tip there, whatever the limits and obstacles",
@@ -322,6 +326,9 @@ class Solution:
     rest_to_rest_duration: float | None = None
     """With ``blend``: the run's seconds had every goal been reached at rest (the same solved path
     timed goal by goal); None without."""
+    carry: CarryReport | None = None
+    """With goals that grasp or release (:mod:`armanim.motion.carry`): the world each goal was
+    solved in and the world after the last; None without."""
 
     @property
     def reached(self) -> int:

@@ -29,6 +29,15 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
+from armanim.motion.carry import (
+    CarryReport,
+    World,
+    after_goal,
+    goal_problems,
+    goal_world,
+    needs_carrying,
+    world_problem,
+)
 from armanim.motion.following import Along, Route, followed_route, most_path_frames
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
 from armanim.motion.planning import plan_joint_motion, plan_motion
@@ -58,7 +67,8 @@ class _Recorder:
     angle: list[float] = field(default_factory=list)
     path_s: list[float] = field(default_factory=list)
     self_gap: list[float] = field(default_factory=list)
-    self_pair: list[int] = field(default_factory=list)
+    self_pair: list[str] = field(default_factory=list)
+    labels: tuple[str, ...] = ()  # the enabled pairs' labels of the problem being solved (its world's)
 
     def add(self, state: ArmState, goal: int, distance: float, iterations: int = 0, step_scale: float = 0.0,
             mode: str = "ik", angle: float | None = None, path_s: float = np.nan) -> None:
@@ -74,7 +84,7 @@ class _Recorder:
         self.path_s.append(path_s)
         if state.self_gaps is not None:  # the filter measured this very pose's pairs
             self.self_gap.append(state.min_self_gap)
-            self.self_pair.append(int(state.self_gaps.d.argmin()))
+            self.self_pair.append(self.labels[int(state.self_gaps.d.argmin())])
 
     def add_measured(self, phi: np.ndarray, tip: np.ndarray, clearance: float, goal: int, distance: float,
                      gaps: np.ndarray | None, mode: str) -> None:
@@ -92,7 +102,7 @@ class _Recorder:
         self.path_s.append(np.nan)
         if gaps is not None:
             self.self_gap.append(float(gaps.min()))
-            self.self_pair.append(int(gaps.argmin()))
+            self.self_pair.append(self.labels[int(gaps.argmin())])
 
     def __len__(self) -> int:
         return len(self.phi)
@@ -187,11 +197,14 @@ def solve_trajectory(
     Solution
     """
     method = solver_method(problem.solver.method)
-    rec = _Recorder()
+    rec = _Recorder(labels=problem.self_pairs.labels)
     state = arm_state(problem, problem.home)
     distance, angle, _ = goal_errors(problem, state, problem.goals[0])
     rec.add(state, 0, distance, angle=angle)
     reports = []
+    carrying = needs_carrying(problem)
+    world, worlds, solved = World(), [], problem  # the world each goal is solved in (pick and place)
+    made: dict[tuple[object, ...], Problem] = {World().key(): problem}
     later = frame_budget(problem) - 1  # frames the goals not yet started may still add
     for k, goal in enumerate(problem.goals):
         later -= goal_budget(problem, goal)
@@ -201,13 +214,25 @@ def solve_trajectory(
                 progress(len(rec), len(rec) + goal_budget(problem, goal) - visit.frames + later)
 
         started = time.perf_counter()
-        state, report = _visit_goal(problem, method, rec, state, k, goal, report_progress, planning, along)
+        if carrying:
+            world = goal_world(problem, world, k)
+            worlds.append(world)
+            if world.key() not in made:
+                made[world.key()] = world_problem(problem, world)
+            before, solved = solved, made[world.key()]
+            if solved is not before:
+                state = arm_state(solved, state.phi)  # the same pose measured in this goal's world
+            rec.labels = solved.self_pairs.labels
+        state, report = _visit_goal(solved, method, rec, state, k, goal, report_progress, planning, along)
+        if carrying:
+            world = after_goal(problem, world, k, report.reached, state.pose)
         if timer:
             timer(k, time.perf_counter() - started)
         reports.append(report)
         if progress:
             progress(len(rec), len(rec) + later)
-    return Solution(trajectory=_finish(problem, rec), goals=tuple(reports))
+    carry = CarryReport(tuple(worlds), world) if carrying else None
+    return Solution(trajectory=_finish(problem, rec, carry), goals=tuple(reports), carry=carry)
 
 
 def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal,
@@ -517,7 +542,25 @@ rounding never flips trajectory.csv's ``self_pair`` between two pairs at the sam
 arm's two link pairs at 0.8, each a kinematics rounding apart)."""
 
 
-def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
+def with_world_self_clearance(problem: Problem, carry: CarryReport, traj: Trajectory, pose: Pose | None = None) -> Trajectory:
+    """:func:`with_self_clearance` of a run that carries objects: each frame's pairs measured in
+    its goal's world (NaN and no pair where that world has none)."""
+    problems = goal_problems(problem, carry)
+    if not any(len(p.self_pairs) for p in problems) or not traj.frames:
+        return replace(traj, self_clearance=None, self_pair=None)
+    pose = forward(problem.arm, traj.phi) if pose is None else pose
+    least, pair = np.full(traj.frames, np.nan), np.full(traj.frames, "", dtype=object)
+    for solved in {id(p): p for p in problems}.values():
+        mine = np.isin(traj.goal, [k for k, p in enumerate(problems) if p is solved])
+        if not len(solved.self_pairs) or not mine.any():
+            continue
+        part = with_self_clearance(solved, replace(traj, phi=traj.phi[mine], goal=traj.goal[mine]),
+                                   type(pose)(pose.points[mine], pose.frames[mine]))
+        least[mine], pair[mine] = part.self_clearance, part.self_pair
+    return replace(traj, self_clearance=least, self_pair=pair.astype(str))
+
+
+def _finish(problem: Problem, rec: _Recorder, carry: CarryReport | None = None) -> Trajectory:
     distance = np.array(rec.distance)
     angle = np.array(rec.angle, dtype=float)
     turned = ~(angle >= problem.solver.orientation_tolerance)  # NaN (no orientation) counts as met
@@ -541,8 +584,10 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
         path_error=None if path_s is None else np.where(np.isnan(path_s), np.nan, distance),
     )
     traj = replace(traj, reached=joint_goals_reached(problem, phi, goal, traj.reached))
+    if carry is not None:
+        return with_world_self_clearance(problem, carry, traj)
     if len(problem.self_pairs) and len(rec.self_gap) == len(rec):  # every frame's pairs were measured in the loop
-        return replace(traj, self_clearance=np.array(rec.self_gap), self_pair=np.array(problem.self_pairs.labels)[rec.self_pair])
+        return replace(traj, self_clearance=np.array(rec.self_gap), self_pair=np.array(rec.self_pair))
     if not len(problem.self_pairs):
         return with_self_clearance(problem, traj)
     from armanim.motion.planning.check import frame_margins  # numba, as the planner's checks

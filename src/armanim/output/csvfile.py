@@ -43,7 +43,7 @@ from armanim.output.solved import SolvedRun
 BASE_COLUMNS = ("frame", "time_s", "goal")
 TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode",
                 "qw", "qx", "qy", "qz", "orientation_error_deg", "self_clearance", "self_pair", "path_s", "path_error")
-EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance", "path_s", "path_error")
+EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance", "path_s", "path_error", "carried_clearance")
 """Numeric columns that may be empty: no obstacles; a position-only goal; no enabled pair of the arm's own links;
 a frame not along a path."""
 MODES = ("ik", "plan", "path")
@@ -228,21 +228,34 @@ def _as_marked(path: Path) -> bool:
     return digest.hexdigest() == recorded.get("sha256")
 
 
-def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None) -> str:
+def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None, carried: tuple[np.ndarray, np.ndarray] | None = None) -> str:
     """The whole trajectory.csv as text (``slides``: which joints are prismatic, the arm's
-    ``prismatic``; None: all revolute)."""
+    ``prismatic``; None: all revolute; ``carried``: a run that grasps, each frame's held object's
+    name and its clearance, the last two columns ``held`` and ``carried_clearance``)."""
     time = traj.time
-    return table_csv_text(header(traj.phi.shape[1], slides), trajectory_rows(traj, time, slides))
+    rows = trajectory_rows(traj, time, slides)
+    if carried is None:
+        return table_csv_text(header(traj.phi.shape[1], slides), rows)
+    held, clear = carried
+    more = zip([str(h) for h in held], _finite_texts(clear, traj.frames))
+    return table_csv_text([*header(traj.phi.shape[1], slides), "held", "carried_clearance"],
+                          [row + extra for row, extra in zip(rows, more)])
 
 
 def write_trajectory_csv(run: SolvedRun, path: Path) -> None:
     """Write the run's trajectory.csv atomically (it has no options: every run writes it whole)."""
-    write_text_atomic(path, trajectory_csv_text(run.trajectory, run.problem.arm.prismatic))
+    carry, traj = run.solution.carry, run.trajectory
+    carried = None
+    if carry is not None:
+        from armanim.motion.carry import carried_clearance
+
+        carried = (carry.held_names(traj.goal), carried_clearance(run.problem, carry, traj.phi, traj.goal))
+    write_text_atomic(path, trajectory_csv_text(traj, run.problem.arm.prismatic, carried))
 
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")
 """The contract's columns after the angles; every reader needs them."""
-TEXT_COLUMNS = {"mode": MODES, "self_pair": None}
+TEXT_COLUMNS = {"mode": MODES, "self_pair": None, "held": None}
 """Columns whose values are words, not numbers, and the words each allows (None: any)."""
 MAX_LINE_BYTES = 100_000  # a row of 64 joints is under 2,000 bytes
 BLOCK_ROWS = 16_384  # rows parsed at once when a file is streamed

@@ -295,7 +295,27 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
         **prismatic_summary(problem, traj.phi),
         "goals": goals,
         "rate_notes": list(rate_notes),
+        **carry_summary(problem, solution, goals),
     }
+
+
+def carry_summary(problem: Problem, solution: Solution, goals: list[dict]) -> dict:
+    """With goals that grasp or release: each goal's ``grasped`` and ``released`` (in ``goals``),
+    the run's ``min_carried_clearance`` and each moved object's final pose; nothing without."""
+    carry = solution.carry
+    if carry is None:
+        return {}
+    from armanim.arm.rotations import rotation_quaternion
+    from armanim.motion.carry import carried_clearance, final_poses
+
+    for k, g in enumerate(goals):
+        g["grasped"], g["released"] = carry.grasped(k), carry.released(k)
+    traj = solution.trajectory
+    carried = carried_clearance(problem, carry, traj.phi, traj.goal)
+    objects = {name: None if body is None else {"center": [float(v) for v in body.center],
+                                                "quaternion_wxyz": [float(v) for v in rotation_quaternion(body.rotation)]}
+               for name, body in final_poses(problem, carry).items()}
+    return {"min_carried_clearance": _round(np.nanmin(carried)) if np.isfinite(carried).any() else None, "objects": objects}
 
 
 def run_summary(run: SolvedRun) -> dict:

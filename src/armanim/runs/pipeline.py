@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from armanim.errors import OutputError, UsageError
+from armanim.motion.carry import touch_allowed
 from armanim.motion.clock import ClockTooLong
 from armanim.motion.problem import Problem
 from armanim.motion.retime import at_fps, retime
@@ -146,7 +147,8 @@ def produce_outputs(
         run, notes = with_meshes(run, scene, options.render)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
     names.update(write_sources(scene, folder))
-    write_self_collision(run.problem.self_pairs, folder / SELF_COLLISION_FILE)
+    write_self_collision(run.problem.self_pairs if run.solution.carry is None else touch_allowed(run.problem.self_pairs, run.solution.carry),
+                         folder / SELF_COLLISION_FILE)
     names["self_collision"] = SELF_COLLISION_FILE
     if scene.model.arm.is_urdf:  # the capsules solved with, in arm.collision's format (a user copies them into the scene)
         write_text_atomic(folder / CAPSULES_FILE, capsules_text(scene.model.arm.urdf_arm))

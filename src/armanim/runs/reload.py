@@ -10,10 +10,11 @@ from pydantic import ValidationError
 
 from armanim.arm.kinematics import joints_in_si
 from armanim.errors import Diagnostic, SceneError
+from armanim.motion.carry import replayed_carry
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
-from armanim.motion.trajectory import with_self_clearance
+from armanim.motion.trajectory import with_self_clearance, with_world_self_clearance
 from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, TrajectoryTable, read_trajectory_csv, velocity_columns
 from armanim.output.files import read_bounded
 from armanim.output.jsontext import parse_json
@@ -167,8 +168,11 @@ def load_run(folder: str | Path) -> FinishedRun:
         raise SceneError(str(folder / SCENE_COPY), [Diagnostic("", f"is not the scene this run solved (sha256 {scene.sha256[:12]}..., "
                                                                   f"summary.json records {str(recorded)[:12]}...): run armanim run again")])
     problem = scene_to_problem(scene.model, fps=_run_fps(summary, scene))
-    traj = with_self_clearance(problem, _read_trajectory(folder / "trajectory.csv", problem))  # the pictures tint near pairs
+    traj = _read_trajectory(folder / "trajectory.csv", problem)
+    reports = _reports(summary, folder / "summary.json")
+    carry = replayed_carry(problem, traj.phi, traj.goal, [g.reached for g in reports])  # a run that grasps: its worlds again
+    traj = with_self_clearance(problem, traj) if carry is None else with_world_self_clearance(problem, carry, traj)  # the pictures tint near pairs
     totals = summary.get("totals")
     rest = totals.get("rest_to_rest_duration_s") if isinstance(totals, dict) else None  # a run with blend's
-    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, _reports(summary, folder / "summary.json"),
-                                                                       float(rest) if isinstance(rest, (int, float)) else None))
+    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, reports, float(rest) if isinstance(rest, (int, float)) else None,
+                                                                       carry))

@@ -22,11 +22,11 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
+from armanim.motion.carry import goal_problems, world_clearance
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import Solution, Trajectory
-from armanim.motion.trajectory import with_self_clearance
-from armanim.world.distances import min_link_clearance
+from armanim.motion.trajectory import with_self_clearance, with_world_self_clearance
 
 
 def frame_times(duration: float, fps: float) -> np.ndarray:
@@ -110,7 +110,7 @@ def resample_run(problem: Problem, solution: Solution, fps: float) -> Solution:
         tip=pose.tip,
         goal=goal,
         distance=np.linalg.norm(pose.tip - targets[goal], axis=-1),
-        clearance=min_link_clearance(pose, problem.obstacles, problem.capsules),
+        clearance=world_clearance(problem, None if solution.carry is None else goal_problems(problem, solution.carry), pose, goal),
         reached=src.reached[head],
         iterations=np.where(np.diff(head, prepend=-1) > 0, src.iterations[head], 0),  # each run frame's counted once
         step_scale=src.step_scale[head],
@@ -120,12 +120,15 @@ def resample_run(problem: Problem, solution: Solution, fps: float) -> Solution:
         tool_quaternion=quaternions,
         velocity=None if src.velocity is None else np.stack([np.interp(at, times, v) for v in src.velocity.T], axis=1),
     )
-    trajectory = with_self_clearance(problem, trajectory)  # the pictures tint pairs near each other
+    if solution.carry is not None:
+        trajectory = with_world_self_clearance(problem, solution.carry, trajectory, pose)
+    else:
+        trajectory = with_self_clearance(problem, trajectory)  # the pictures tint pairs near each other
     reports = []
     for g in solution.goals:
         mine = np.nonzero(goal == g.index)[0]
         reports.append(replace(g, first_frame=int(mine[0]) if len(mine) else -1, last_frame=int(mine[-1]) if len(mine) else -1))
-    return Solution(trajectory, tuple(reports), solution.rest_to_rest_duration)
+    return Solution(trajectory, tuple(reports), solution.rest_to_rest_duration, solution.carry)
 
 
 __all__ = ["frame_times", "interpolate_poses", "resample_run", "resampled_frames"]

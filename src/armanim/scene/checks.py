@@ -21,6 +21,7 @@ from armanim.output.numbers import apart
 from armanim.scene.convert import orientation_rotation, scene_goal, scene_obstacles, scene_to_problem, tool_path
 from armanim.scene.limits import RATE_FIELDS, joint_goal_limit_problems, limit_problems, rate_problems
 from armanim.scene.models import LIMITS, SceneModel
+from armanim.world.carried import cover_margin, obstacle_body, resting_clearances, with_bodies
 from armanim.world.distances import clearances, point_clearances
 from armanim.world.obstacles import FLOOR
 from armanim.world.selfdistances import self_gaps
@@ -55,8 +56,10 @@ def scene_problems(scene: SceneModel, unknown: frozenset[str] | set[str] = froze
     arm = list(limit_problems(scene.arm)) if known("arm.home", "arm.limits", "arm.limit_margin") else []
     arm += list(joint_goal_limit_problems(scene)) if known("arm.limits") else []
     arm += list(_bounds_problems(scene)) if known("render.bounds") else []
-    problems = counts + rates + arm + magnitudes + budget + slow + list(_pen_problems(scene)) + list(_name_problems(scene))
-    problems += _collision_checks(scene, set(unknown) | {path for path, _ in counts + rates + magnitudes})
+    carrying = list(_carry_problems(scene)) if arm_known and known("goals", "obstacles") else []
+    problems = (counts + rates + arm + magnitudes + budget + slow + list(_pen_problems(scene)) + list(_name_problems(scene))
+                + carrying)
+    problems += _collision_checks(scene, set(unknown) | {path for path, _ in counts + rates + magnitudes + carrying})
     return [(path, message) for path, message in problems if known(path)]
 
 
@@ -93,6 +96,7 @@ def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, 
     if arm_usable and clearance_known:
         problem = scene_to_problem(reduced)
         tip_size = "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"
+        problems += list(_grasp_problems(reduced, problem))
         if home_usable:
             problems += list(_home_collision_problems(problem))
             problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
@@ -113,6 +117,112 @@ def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, 
         return f"{match.group(1)}[{kept[k]}]" if k < len(kept) else match.group(0)
 
     return [(INDEXED.sub(original, path), INDEXED.sub(original, message)) for path, message in problems]
+
+
+def _carry_problems(scene: SceneModel):
+    """Grasps and releases that cannot be carried out, in the goals' order: a grasp of a name no
+    obstacle has, of an object while the tool holds one, a release with nothing held, both on one
+    goal, on a path goal, touch links without a grasp or naming no link, and blending in a scene
+    that carries (each goal's world is its own: it starts and ends at rest)."""
+    names = [o.name for o in scene.obstacles]
+    links = _link_names(scene)
+    held: tuple[str, int] | None = None
+    for k, goal in enumerate(scene.goals):
+        if goal.grasp is not None and goal.release:
+            yield f"goals[{k}].release", "is on a goal that grasps (expected grasp or release: true on a goal, not both)"
+            continue
+        if (goal.grasp is not None or goal.release) and goal.path is not None:
+            field = "grasp" if goal.grasp is not None else "release"
+            yield f"goals[{k}].{field}", "is on a path goal (expected a point, pose or joint goal: give the path its own goal after this one)"
+        if (goal.grasp is not None or goal.release) and goal.blend is not None:
+            yield f"goals[{k}].blend", "is on a goal that grasps or releases (the tool stops there: leave blend out)"
+        if goal.approach is not None:
+            if goal.path is not None:
+                yield f"goals[{k}].approach", "is on a path goal (expected a point or pose goal: the line ends at its position)"
+            elif goal.approach.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
+                yield f"goals[{k}].approach.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
+                                                    "give the goal an orientation, or a world direction such as axis: [0, 0, -1])")
+            elif goal.joints is not None:
+                yield f"goals[{k}].approach", "is on a joint goal (expected a point or pose goal: the line ends at its position)"
+        if goal.touch_links is not None:
+            if goal.grasp is None:
+                yield f"goals[{k}].touch_links", "is on a goal that grasps nothing (expected it beside grasp: NAME)"
+            for j, link in enumerate(goal.touch_links):
+                if links is not None and link not in links:
+                    yield f"goals[{k}].touch_links[{j}]", (f"{link!r} names no link of the arm (expected one of: "
+                                                           f"{', '.join(repr(n) for n in links)})")
+        if goal.grasp is not None:
+            if goal.grasp not in names:
+                known = [repr(n) for n in names if n is not None]
+                yield f"goals[{k}].grasp", (f"{goal.grasp!r} names no obstacle (expected the name of one: "
+                                            f"{', '.join(known) if known else 'no obstacle has a name; add name: to the one to take'})")
+            elif held is not None:
+                yield f"goals[{k}].grasp", (f"takes {goal.grasp!r} while the tool still holds {held[0]!r} (grasped at goals[{held[1]}]: "
+                                            "put it down first with release: true on a goal between)")
+            else:
+                held = (goal.grasp, k)
+        elif goal.release:
+            if held is None:
+                yield f"goals[{k}].release", ("puts down nothing: the tool holds nothing here (expected grasp: NAME on an earlier "
+                                              "goal, or leave release out)")
+            held = None
+    carries = any(g.grasp is not None or g.release for g in scene.goals)
+    if carries and scene.solver.blend is not None:
+        yield "solver.blend", "is set in a scene that grasps or releases (each goal of such a scene starts and ends at rest: leave it out)"
+
+
+def _link_names(scene: SceneModel) -> list[str] | None:
+    """The names a scene's ``touch_links`` may use: the URDF arm's links with capsules, or
+    ``link1`` ... for an arm of links."""
+    if not scene.arm.is_urdf:
+        return [f"link{k + 1}" for k in range(len(scene.arm.links or []))]
+    try:
+        from armanim.scene.convert import scene_arm
+
+        _, capsules = scene_arm(scene.arm, [])
+    except Exception:  # noqa: BLE001 (an arm the other checks report)
+        return None
+    return list(dict.fromkeys(capsules.names)) if capsules is not None else None
+
+
+def gripper_opening(scene: SceneModel) -> float | None:
+    """The widest a URDF arm's gripper opens: the sum of the upper limits of its prismatic joints
+    held off the chain (the Panda's two fingers: 0.08 m); None without such joints."""
+    if not scene.arm.is_urdf:
+        return None
+    fingers = [j for j in scene.arm.urdf_arm.held if j.kind == "prismatic" and j.limits is not None]
+    return float(sum(j.limits[1] for j in fingers)) if fingers else None
+
+
+def _grasp_problems(scene: SceneModel, problem):
+    """Each grasp's object as the tool will take it: wider than the gripper opens, out of the
+    tool's reach at the grasp goal (its tool point must lie in the object or within
+    ``solver.tolerance`` of it), or resting closer than ``solver.clearance`` to another obstacle or
+    the floor as the arm will carry it (its cover: :func:`~armanim.world.carried.cover_capsules`)."""
+    opening = gripper_opening(scene)
+    d_safe = problem.solver.clearance
+    for k, goal in enumerate(problem.goals):
+        if goal.grasp is None:
+            continue
+        body = obstacle_body(problem.obstacles, goal.grasp)
+        name = problem.obstacles.name(goal.grasp)
+        if opening is not None and body.width() > opening:
+            yield f"goals[{k}].grasp", (f"{name!r} is {body.width():.3g} across at its narrowest, wider than the gripper opens "
+                                        f"({opening:.3g}: its finger joints' limits; expected a smaller object)")
+        at = goal.path.end if goal.path is not None else goal.position  # an approach's line ends at the goal
+        gap = point_clearances(at[None], with_bodies(problem.obstacles, {c: None for c in range(len(problem.obstacles.kinds))
+                                                                                     if c != goal.grasp and problem.obstacles.kinds[c] != FLOOR}))
+        reach = float(gap[0, 0])
+        if reach > problem.solver.tolerance:
+            yield f"goals[{k}].grasp", (f"{name!r} is {reach:.3g} from the goal's tool point (expected the tool point in the object or "
+                                        f"within solver.tolerance = {problem.solver.tolerance:g} of it: move the goal onto the object)")
+        rest = resting_clearances(problem.obstacles, goal.grasp)
+        for column in np.nonzero(rest < d_safe)[0]:
+            where = "the floor" if problem.obstacles.kinds[column] == FLOOR else _obstacle_words(problem.obstacles, column)
+            yield f"obstacles[{goal.grasp}]", (
+                f"{name!r} rests {rest[column]:.3g} from {where} as the arm will carry it (its cover of capsules, which lies up to "
+                f"{cover_margin(body):.3g} beyond it; expected at least solver.clearance = {d_safe:g}, so that it keeps its clearance "
+                f"from the grasp on: move it {d_safe - rest[column]:.3g} farther, or lower solver.clearance)")
 
 
 def _name_problems(scene: SceneModel):
@@ -469,12 +579,15 @@ def _goal_point_problems(obstacles, goals, keep: float | None, tip_size: str):
     last link's radius + ``solver.clearance``, None when the arm is not known) closer than ``keep``."""
     if not len(obstacles):
         return
+    moving = {g.grasp for g in goals if getattr(g, "grasp", None) is not None}  # the objects a tool takes: _grasp_problems
     for k, goal in enumerate(goals):
         if goal.joints is not None:
             continue  # its tool point is no part of the arm: the pose's links are checked (scene_problems)
         gap = point_clearances(goal.position[None], obstacles)[0]
         near = gap < keep if keep is not None else gap <= 0
         for obs in np.nonzero(near)[0]:
+            if obs in moving:
+                continue
             where = _obstacle_path(obstacles, obs) if obstacles.kinds[obs] == FLOOR else _obstacle_words(obstacles, obs)
             if gap[obs] <= 0:
                 yield f"goals[{k}]", f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_floor_or(obstacles, obs, 'the obstacle')})"

@@ -359,7 +359,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         home=home,
         limits=limits,
         obstacles=scene_obstacles(scene),
-        goals=tuple(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits) for g in scene.goals),
+        goals=tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals),
         solver=solver,
         fps=fps,
         capsules=capsules,
@@ -432,6 +432,43 @@ def scene_goal(goal: GoalModel, chain: Arm | None = None, blend: float | None = 
         return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal), blend=radius)
     path = tool_path(goal.path)
     return Goal(path.start.copy(), goal.hold, goal_orientation(goal), path=path, speed=float(goal.speed))
+
+
+def handling(goal: Goal, model: GoalModel, scene: SceneModel) -> Goal:
+    """``goal`` with what it grasps (the named obstacle's clearance column: the scene's order) or
+    releases (:mod:`armanim.motion.carry`); a goal that does neither, unchanged."""
+    if model.grasp is None and not model.release:
+        return goal
+    names = [o.name for o in scene.obstacles]
+    column = names.index(model.grasp) if model.grasp is not None and model.grasp in names else None
+    touch = tuple(model.touch_links) if model.touch_links is not None else None
+    goal = replace(goal, grasp=column, release=model.release, touch_links=touch)
+    if model.approach is None or goal.path is not None or goal.joints is not None:
+        return goal
+    direction = approach_direction(model)
+    if direction is None:
+        return goal  # validation reports it (an approach along the tool needs the tool's orientation)
+    start = goal.position - model.approach.distance * direction
+    speed = model.approach.speed if model.approach.speed is not None else model.approach.distance
+    return replace(goal, position=start, path=ToolPath.polyline(np.array([start, goal.position])), speed=float(speed))
+
+
+def approach_direction(model: GoalModel) -> np.ndarray | None:
+    """The unit direction a goal's ``approach`` moves the tool along (world): the tool's z at the
+    goal, or the given vector; None for an approach along the tool of a goal without orientation.
+
+    >>> approach_direction(GoalModel(position=[0, 0, 0], release=True, approach={"distance": 0.1, "axis": [0, 0, -2]})).tolist()
+    [0.0, 0.0, -1.0]
+    """
+    assert model.approach is not None
+    axis = model.approach.axis
+    if not isinstance(axis, str):
+        return unit_vector(np.array(axis, dtype=float))
+    if model.orientation is not None:
+        return orientation_rotation(model.orientation)[:, 2]
+    if model.tool_axis is not None:
+        return unit_vector(np.array(model.tool_axis, dtype=float))
+    return None
 
 
 def unlimited_joints_wrapped(goal: Goal, limits: Limits) -> Goal:

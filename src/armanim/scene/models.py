@@ -380,6 +380,23 @@ GOAL_FORMS = ("position", "path", "joints")
 """The keys that say what a goal is: a point, a path, or a pose of the joints."""
 
 
+class ApproachModel(Strict):
+    """A grasp's or release's approach: the tool comes in along a straight line over its last
+    ``distance`` (the path machinery: a path goal whose line ends at the goal)."""
+
+    distance: Positive = Field(description="Length of the straight line in, scene units (> 0).")
+    axis: Literal["tool"] | Vector3 = Field(
+        default="tool",
+        description="The direction the tool moves along it: tool (the tool's z axis at the goal, which needs orientation or "
+                    "tool_axis) or a world direction [x, y, z]; default tool.")
+    speed: Positive | None = Field(default=None, description="The tool's speed along it, scene units per second; default distance per second.")
+
+    @field_validator("axis")
+    @classmethod
+    def _axis_not_zero(cls, value):
+        return _nonzero(value, "axis") if not isinstance(value, str) else value
+
+
 class GoalModel(Strict):
     """One goal: a point (``position``; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``),
     a path (``path`` and ``speed``: the arm goes to the path's start as to a point, then the tool follows it),
@@ -417,6 +434,22 @@ class GoalModel(Strict):
         default=None,
         description="Pass within this of the goal without stopping (scene units; degrees in every joint for a joint goal; "
                     "0: exactly through it); default solver.blend. The last goal, a goal with hold and a missed goal end at rest.",
+    )
+    grasp: Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=OBSTACLE_NAME_PATTERN)] | None = Field(
+        default=None,
+        description="The name of an obstacle the tool takes once this goal is reached: from then on it moves with the tool, part of "
+                    "the arm, until a goal with release: true (docs/scene-format.md, Pick and place); default none.",
+    )
+    release: bool = Field(default=False, description="Put down what the tool holds once this goal is reached: it stays where it is, an obstacle again.")
+    approach: ApproachModel | None = Field(
+        default=None,
+        description="Come in along a straight line over the last distance, {distance: 0.1, axis: tool}, as pick pipelines do "
+                    "(a point or pose goal; docs/scene-format.md, Pick and place).",
+    )
+    touch_links: Annotated[list[Annotated[str, Field(min_length=1)]], Field(max_length=LIMITS["links"])] | None = Field(
+        default=None,
+        description="With grasp: the links allowed to touch the object while it is carried; default every link the last joint carries "
+                    "(the hand and the fingers).",
     )
 
     @field_validator("speed")

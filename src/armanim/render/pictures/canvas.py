@@ -47,6 +47,7 @@ from matplotlib.transforms import IdentityTransform
 from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import Pose, tool_rotation
 from armanim.arm.visuals import ArmMeshes
+from armanim.motion.carry import frame_bodies, moving_columns
 from armanim.motion.problem import Problem
 from armanim.render.camera.bounds import goal_points
 from armanim.render.camera.framing import frame_scene
@@ -87,6 +88,8 @@ from armanim.render.solids.order import paint_order
 from armanim.render.solids.robot import MeshesAndCapsules, RasterQueue, RobotMeshes, arm_solids, robot_meshed
 from armanim.render.solids.shapes import ShapeSolids
 from armanim.render.solids.spheres import SphereDiscs
+from armanim.world.carried import Body, bodies_obstacles, with_bodies
+from armanim.world.obstacles import ROD, SPHERE, Obstacles
 
 CHORD_PX = 0.25  # the most a drawn arc's chords stray from the arc, pixels
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
@@ -113,6 +116,9 @@ class FrameState:
         :func:`~armanim.render.overlay.paths.path_progress`); None: no ink.
     path_ahead : int
         The goal whose path still to do is drawn faintly (the frame's goal); -1: none.
+    carried : Obstacles or None
+        The objects a run moves (pick and place), where they are in this frame: drawn with the
+        arm, in its painter's order; None: none.
     """
 
     pose: Pose
@@ -122,6 +128,7 @@ class FrameState:
     ghosts: tuple = field(default=())
     path_done: np.ndarray | None = None
     path_ahead: int = -1
+    carried: Obstacles | None = None
 
 
 
@@ -420,6 +427,8 @@ class SceneCanvas:
             parts = arm.parts(state.pose, near=near, decal=decal)
         else:
             parts = arm.parts(state.pose, near=near)
+        if state.carried is not None and len(state.carried):
+            parts = parts + ShapeSolids(state.carried, self.view, self.ppu).parts
         return self._draw_parts(parts, shadow) or touched
 
     def _draw_parts(self, parts: list[Part], shadow) -> bool:
@@ -514,3 +523,20 @@ def _segment_goals(goals) -> list:
         if g.orientation is not None:
             owners += [g] * (3 if g.orientation.rotation is not None else 1)
     return owners
+
+
+def moving_objects(problem: Problem, solution) -> tuple[Problem, list[Obstacles] | None]:
+    """The scene without the objects a run moves (drawn once, in the background), and each frame's
+    moving objects where they are (:func:`~armanim.motion.carry.frame_bodies`; a sphere as a capsule
+    of no length, which the shapes draw); ``problem`` and None for a run that grasps nothing."""
+    carry = solution.carry
+    if carry is None or not moving_columns(carry):
+        return problem, None
+    from dataclasses import replace
+
+    columns = moving_columns(carry)
+    traj = solution.trajectory
+    static = replace(problem, obstacles=with_bodies(problem.obstacles, {c: None for c in columns}))
+    frames = frame_bodies(problem, carry, traj.phi, traj.goal)
+    drawn = [[b if b.kind != SPHERE else Body(ROD, np.eye(3), b.center, np.zeros(3), b.radius) for b in bodies] for bodies in frames]
+    return static, [bodies_obstacles(bodies) for bodies in drawn]

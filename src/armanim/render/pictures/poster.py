@@ -55,7 +55,7 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     from armanim.render.overlay.caption import MISSED, PENDING, REACHED, goal_outcomes
     from armanim.render.overlay.paths import path_progress
     from armanim.render.paint.pixels import write_png
-    from armanim.render.pictures.canvas import FrameState, SceneCanvas
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas, moving_objects
     from armanim.render.solids.arm import near_capsules
 
     problem, trajectory, reports, settings = run.problem, run.trajectory, run.reports, options.render
@@ -63,7 +63,8 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     last = trajectory.frames - 1
     caption = poster_caption(reports, trajectory.frames, trajectory.fps)
     near = near_capsules(problem, Pose(poses.points[last], poses.frames[last]))  # only the last pose is tinted
-    scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=poses.points,
+    still, carried = moving_objects(problem, run.solution)
+    scene = SceneCanvas(still, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=poses.points,
                         caption_template=caption, picture="poster", outcomes=goal_outcomes(reports),
                         near_self=near is not None and bool(near.any()))
     status = np.full(len(problem.goals), PENDING)
@@ -71,5 +72,6 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     ghosts = tuple(Pose(poses.points[f], poses.frames[f]) for f in strobe_frames(reports, trajectory.frames))
     done = path_progress(trajectory.goal, trajectory.path_s, len(problem.goals))[last] if scene.paths else None
     state = FrameState(Pose(poses.points[last], poses.frames[last]), trajectory.frames if settings.trail else 0,
-                       status, caption, ghosts=ghosts, path_done=done)  # all the run's ink, nothing ahead
+                       status, caption, ghosts=ghosts, path_done=done,  # all the run's ink, nothing ahead
+                       carried=None if carried is None else carried[last])
     write_png(scene.draw(state), path)

@@ -55,14 +55,15 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     The frame returned is the canvas's live buffer: consume it before the next call.
     """
     from armanim.render.overlay.paths import path_progress
-    from armanim.render.pictures.canvas import FrameState, SceneCanvas, near_in_frames
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas, moving_objects, near_in_frames
 
     problem, trajectory, reports = run.problem, run.trajectory, run.reports
+    still, carried = moving_objects(problem, run.solution)
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
     goals = len(problem.goals)
     activity = frame_activity(trajectory, reports)
     captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
-    scene = SceneCanvas(problem, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=extent,
+    scene = SceneCanvas(still, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=extent,
                         caption_template=max(captions, key=len), outcomes=goal_outcomes(reports),
                         near_self=near_in_frames(problem, trajectory.self_clearance))
     done = path_progress(trajectory.goal, trajectory.path_s, goals) if scene.paths else None
@@ -70,7 +71,7 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     def frame(f: int, pose: Pose) -> np.ndarray:
         state = FrameState(pose=pose, trail_end=f + 1, goal_status=goal_status(trajectory, reports, f, goals),
                            caption=captions[f], path_done=None if done is None else done[f],
-                           path_ahead=int(trajectory.goal[f]))
+                           path_ahead=int(trajectory.goal[f]), carried=None if carried is None else carried[f])
         return scene.draw(state)
 
     return frame

@@ -17,6 +17,7 @@ from armanim.arm.capsules import capsule_ends
 from armanim.arm.kinematics import forward, joints_shown
 from armanim.arm.rotations import rotation_quaternion
 from armanim.arm.visuals import ArmMeshes
+from armanim.motion.carry import CarryReport, frame_bodies, moving_columns
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Trajectory
@@ -27,6 +28,7 @@ from armanim.render.overlay.paths import arc_spacing, path_normal, sampled_paths
 from armanim.render.overlay.triads import TRIAD_PER_REACH, has_orientations
 from armanim.render.paint import scenery, style
 from armanim.render.settings import RenderSettings
+from armanim.world.carried import obstacle_body, with_bodies
 from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE
 
 FORMAT = "armanim-viewer/1"
@@ -205,6 +207,7 @@ def viewer_data(
     title: str,
     joint_names: Sequence[str] | None = None,
     meshes: ArmMeshes | None = None,
+    carry: CarryReport | None = None,
 ) -> dict:
     """Everything the viewer page needs about a run, as JSON-ready values.
 
@@ -224,6 +227,9 @@ def viewer_data(
         One per joint (default ``phi1`` .. ``phiN``, the CSV's columns without ``_deg``).
     meshes : ArmMeshes, optional
         The robot's visual meshes: drawn instead of its capsules (a toggle shows those).
+    carry : CarryReport, optional
+        A run that grasps (:mod:`armanim.motion.carry`): the objects it moves are drawn where
+        they are in each frame (``carried``), not with the obstacles.
 
     Returns
     -------
@@ -267,11 +273,13 @@ def viewer_data(
         "activities": names,
         "activity": codes,
         "goals": goal_entries(problem, reports),
-        "obstacles": sphere_entries(problem.obstacles),
-        **shape_entries(problem.obstacles),
+        "obstacles": sphere_entries(still_obstacles(problem, carry)),
+        **shape_entries(still_obstacles(problem, carry)),
         "view": view,
         "style": page_style(),
     }
+    if carry is not None and moving_columns(carry):  # only runs that move an object carry it
+        data["carried"] = carried_entries(problem, carry, trajectory, decimals)
     oriented = orientation_entry(problem, trajectory, decimals)
     if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
         data["orientation"] = oriented
@@ -392,3 +400,35 @@ def near_entries(problem: Problem, pose) -> dict:
     for row in close:
         frames.append(sorted({int(c) for c in np.concatenate([pairs.first[row], pairs.second[row]])}))
     return {"near": frames}
+
+
+def still_obstacles(problem: Problem, carry: CarryReport | None):
+    """The obstacles that never move: the run's, less the objects it moves."""
+    if carry is None or not moving_columns(carry):
+        return problem.obstacles
+    return with_bodies(problem.obstacles, {c: None for c in moving_columns(carry)})
+
+
+def carried_entries(problem: Problem, carry: CarryReport, trajectory: Trajectory, decimals: int) -> dict:
+    """The objects a run moves: each one's shape in its own frame (``kind``: box with ``size``,
+    sphere, capsule along its x or cylinder along its z with ``radius`` and ``length``; its
+    ``name``) and, per frame, where each is: its centre and quaternion (w, x, y, z), (F, k, 7)
+    frame after frame."""
+    from armanim.arm.rotations import rotation_quaternion
+
+    columns = moving_columns(carry)
+    frames = frame_bodies(problem, carry, trajectory.phi, trajectory.goal)
+    shapes = []
+    for k, column in enumerate(columns):
+        body = frames[0][k] if frames else obstacle_body(problem.obstacles, column)
+        kind = {BOX: "box", SPHERE: "sphere", ROD: "capsule", CYLINDER: "cylinder"}[body.kind]
+        entry: dict = {"kind": kind, "name": problem.obstacles.name(column) or f"obstacles[{column}]"}
+        if body.kind == BOX:
+            entry["size"] = [float(2 * v) for v in body.half]
+        else:
+            entry["radius"] = float(body.radius)
+            entry["length"] = float(2 * body.half[0] if body.kind == ROD else 2 * body.half[2])
+        shapes.append(entry)
+    poses = np.array([[np.concatenate([b.center, rotation_quaternion(b.rotation)]) for b in bodies] for bodies in frames]).reshape(-1, 7)
+    places = np.concatenate([np.round(poses[:, :3], decimals), np.round(poses[:, 3:], 6)], axis=1)
+    return {"objects": shapes, "poses": [float(v) + 0.0 for v in places.ravel()]}

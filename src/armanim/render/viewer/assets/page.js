@@ -236,6 +236,31 @@
     }
   }
 
+  // the objects a run moves (pick and place): each in its own frame, placed every frame
+  const carried = ((D.carried || {}).objects || []).map((o) => {
+    const holder = new T.Group();
+    let solid;
+    if (o.kind === "box") solid = new T.Mesh(boxGeometry([0, 0, 0], o.size.map((v) => v / 2), [[1, 0, 0], [0, 1, 0], [0, 0, 1]]), obstacleMat);
+    else if (o.kind === "sphere") solid = new T.Mesh(new T.SphereGeometry(o.radius, 24, 16), obstacleMat);
+    else if (o.kind === "capsule") {  // three's capsule stands along its y: turn y to x
+      solid = new T.Mesh(new T.CapsuleGeometry(o.radius, Math.max(o.length, 1e-9), 8, 24), obstacleMat);
+      solid.rotation.z = -Math.PI / 2;
+    } else {  // a cylinder: y to z
+      solid = new T.Mesh(new T.CylinderGeometry(o.radius, o.radius, o.length, 48), obstacleMat);
+      solid.rotation.x = Math.PI / 2;
+    }
+    solid.castShadow = true; solid.receiveShadow = true; holder.add(solid); scene.add(holder);
+    return holder;
+  });
+  function placeCarried(f) {
+    const Q = D.carried.poses, K = carried.length;
+    carried.forEach((h, k) => {
+      const o = (f * K + k) * 7;
+      h.position.set(Q[o], Q[o + 1], Q[o + 2]);
+      h.quaternion.set(Q[o + 4], Q[o + 5], Q[o + 6], Q[o + 3]);  // three.js: x, y, z, w
+    });
+  }
+
   // goals: small spheres coloured by their state at the frame
   const goalR = Math.max(hw * 1.2, size * 0.008);
   // (and faintly through whatever hides them, as the video shows a goal behind a sphere)
@@ -440,6 +465,7 @@
     trailGeo.setDrawRange(0, f + 1);
     drawPaths(f);
     if (O) toolFrame(f);
+    if (carried.length) placeCarried(f);
   }
 
   // ---- the camera: the video's view, front, side, top; orbit, pan and zoom ----------

@@ -1,0 +1,392 @@
+"""Pick and place: the world of each goal as the arm grasps, carries and releases named objects.
+
+A goal may grasp a named obstacle (:attr:`~armanim.motion.problem.Goal.grasp`) or release what
+the tool holds (:attr:`~armanim.motion.problem.Goal.release`). The arm heads for a grasp goal with
+the object still an obstacle; once that goal is reached the object is fixed to the tool frame
+(:func:`~armanim.world.carried.grasp_offset`) and, until a release goal is reached, is part of the
+arm: its cover (:func:`~armanim.world.carried.cover_capsules`) becomes capsules carried by the last
+joint, which keep ``solver.clearance`` from every obstacle and the floor (the same capsules every
+clearance, the cost, the filter, the planner and the clock measure) and ``self_clearance`` from
+every capsule of a link that is not a touch link. Once the release goal is reached, the object is
+an obstacle again where the tool put it (:func:`~armanim.world.carried.placed_body`).
+
+Each goal is solved in the :class:`~armanim.motion.problem.Problem` of its world
+(:func:`world_problem`); a grasp or release goal that is missed changes nothing. Pure core: no I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import cast
+
+import numpy as np
+
+from armanim.arm.capsules import BASE, Capsules
+from armanim.arm.kinematics import Pose, tool_rotation
+from armanim.motion.problem import Problem
+from armanim.world.carried import (
+    Body,
+    cover_capsules,
+    grasp_offset,
+    obstacle_body,
+    placed_body,
+    tool_matrix,
+    with_bodies,
+    world_cover,
+)
+from armanim.world.selfcollision import link_names
+from armanim.world.selfdistances import SelfPairs
+
+TOUCH = "Touch"
+"""The allowed-collision reason of a carried object and a link allowed to touch it (MoveIt's
+``touch_links``)."""
+
+
+@dataclass(frozen=True)
+class Held:
+    """What the tool carries.
+
+    Attributes
+    ----------
+    column : int
+        The object's clearance column in the scene's own obstacles.
+    name : str
+        Its name.
+    body : Body
+        The object where it was grasped.
+    offset : (4, 4) array
+        Its pose in the tool frame (:func:`~armanim.world.carried.grasp_offset`).
+    touch : tuple of str
+        The links allowed to touch it.
+    """
+
+    column: int
+    name: str
+    body: Body
+    offset: np.ndarray
+    touch: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class World:
+    """Where the named objects are, and what the tool holds, while the arm heads for one goal.
+
+    Attributes
+    ----------
+    moved : dict
+        Clearance column (of the scene's obstacles) -> the object's :class:`Body` where it was
+        put, or None while it is carried.
+    held : Held or None
+    """
+
+    moved: dict[int, Body | None] = field(default_factory=dict)
+    held: Held | None = None
+    near: tuple[int, tuple[str, ...]] | None = None
+    """The object the hand is at (its column and touch links) while the arm heads for the goal that
+    grasps it, or leaves it after a release: off the obstacles and, where it rests, a part of the
+    robot's base (its cover's capsules on :data:`~armanim.arm.capsules.BASE`) that every link but
+    the touch links keeps ``self_clearance`` from, so that the fingers may close round it."""
+
+    def key(self) -> tuple[object, ...]:
+        """What tells two worlds apart (for reusing one problem per world)."""
+        return (tuple(sorted((k, None if b is None else b.matrix().tobytes()) for k, b in self.moved.items())),
+                None if self.held is None else (self.held.column, self.held.offset.tobytes(), self.held.touch), self.near)
+
+
+def default_touch_links(problem: Problem) -> tuple[str, ...]:
+    """The links allowed to touch a carried object by default: every link the last joint carries
+    (the wrist's last link, the hand and the fingers), in the capsules' order.
+
+    >>> from armanim.arm.kinematics import Arm
+    >>> from armanim.motion.problem import Goal, Limits
+    >>> from armanim.scene.convert import default_solver_settings
+    >>> from armanim.world.obstacles import Obstacles
+    >>> arm = Arm.from_names([1, 1, 1])
+    >>> p = Problem(arm, 0.05, np.zeros(3), Limits.unlimited(3, 0.1), Obstacles.none(), (), default_solver_settings(), 30.0)
+    >>> default_touch_links(p)
+    ('link3',)
+    """
+    names = link_names(problem.capsules)
+    return tuple(dict.fromkeys(n for n, k in zip(names, problem.capsules.link.tolist()) if k == problem.arm.n - 1))
+
+
+def tool_transform(problem: Problem, pose: Pose) -> np.ndarray:
+    """(..., 4, 4) the world-from-tool transform of ``pose``: the tool frame's rotation and point."""
+    return tool_matrix(tool_rotation(problem.arm, pose), pose.tip)
+
+
+def carried_capsules(problem: Problem, held: Held) -> Capsules:
+    """The arm's capsules and, after them, the carried object's cover carried by the last joint
+    (named after the object).
+
+    The tool frame is the last joint's frame R_n moved by the chain's last offset o_n and turned
+    by its last fixed turn T_n: a point y of the tool frame is o_n + T_n y in the last joint's frame.
+    """
+    arm, caps = problem.arm, problem.capsules
+    start, end, radius = cover_capsules(held.body)
+    turn = np.eye(3) if arm.turns is None else arm.turns[-1]
+    rotation, origin = turn @ held.offset[:3, :3], arm.offsets[-1] + turn @ held.offset[:3, 3]
+    link = np.full(len(radius), arm.n - 1)
+    return Capsules(
+        link=np.concatenate([caps.link, link]),
+        start=np.concatenate([caps.start, start @ rotation.T + origin]),
+        end=np.concatenate([caps.end, end @ rotation.T + origin]),
+        radius=np.concatenate([caps.radius, radius]),
+        names=link_names(caps) + (held.name,) * len(radius),
+        joint_segment=np.concatenate([caps.joint_segment, np.zeros(len(radius), dtype=bool)]),
+    )
+
+
+def resting_capsules(problem: Problem, body: Body, name: str) -> Capsules:
+    """The arm's capsules and, after them, the cover of an object at rest (``body``) as a part of
+    the base (:data:`~armanim.arm.capsules.BASE`: its ends in the world), named ``name``."""
+    caps = problem.capsules
+    start, end, radius = world_cover(body)
+    return Capsules(
+        link=np.concatenate([caps.link, np.full(len(radius), BASE)]),
+        start=np.concatenate([caps.start, start]),
+        end=np.concatenate([caps.end, end]),
+        radius=np.concatenate([caps.radius, radius]),
+        names=link_names(caps) + (name,) * len(radius),
+        joint_segment=np.concatenate([caps.joint_segment, np.zeros(len(radius), dtype=bool)]),
+    )
+
+
+def carried_pairs(pairs: SelfPairs, capsules: Capsules, name: str, touch: tuple[str, ...]) -> SelfPairs:
+    """``pairs`` and, after them, every pair of a capsule of the object ``name`` (the last ones of
+    ``capsules``) and a capsule of a link that is not a touch link nor rigid with it (carried by
+    the same joint); the touch links listed as allowed, reason :data:`TOUCH`."""
+    names = link_names(capsules)
+    own = [i for i, n in enumerate(names) if n == name]
+    first, second, labels = list(pairs.first), list(pairs.second), list(pairs.names)
+    for j in range(own[0]):
+        if names[j] in touch or capsules.link[j] == capsules.link[own[0]]:
+            continue
+        for i in own:
+            first.append(j)
+            second.append(i)
+            labels.append((names[j], name))
+    touching = tuple((link, name, TOUCH) for link in touch)
+    return SelfPairs(np.array(first, dtype=int), np.array(second, dtype=int), pairs.clearance, tuple(labels),
+                     pairs.allowed + touching, pairs.mode)
+
+
+def world_problem(problem: Problem, world: World) -> Problem:
+    """``problem`` in ``world``: the objects where they were put, the carried one off the obstacles
+    and on the arm (its capsules and pairs)."""
+    if not world.moved and world.held is None and world.near is None:
+        return problem
+    moved = dict(world.moved)
+    if world.near is not None:
+        moved[world.near[0]] = None
+    out = replace(problem, obstacles=with_bodies(problem.obstacles, moved))
+    held = world.held
+    if held is not None:
+        capsules = carried_capsules(problem, held)
+        return replace(out, capsules=capsules, self_pairs=carried_pairs(problem.self_pairs, capsules, held.name, held.touch))
+    if world.near is not None:
+        column, touch = world.near
+        name = object_name(problem, column)
+        capsules = resting_capsules(problem, world.moved.get(column) or obstacle_body(problem.obstacles, column), name)
+        return replace(out, capsules=capsules, self_pairs=carried_pairs(problem.self_pairs, capsules, name, touch))
+    return out
+
+
+def goal_world(problem: Problem, world: World, k: int) -> World:
+    """The world goal ``k`` is solved in, from the world the goal before left: a grasp's object
+    is at the hand (:attr:`World.near`) while the arm heads for it."""
+    goal = problem.goals[k]
+    if goal.grasp is None or world.held is not None:
+        return world
+    return replace(world, near=(goal.grasp, touch_links(problem, goal.touch_links)))
+
+
+def touch_links(problem: Problem, given: tuple[str, ...] | None) -> tuple[str, ...]:
+    """A grasp's touch links: ``given``, or :func:`default_touch_links`."""
+    return given if given is not None else default_touch_links(problem)
+
+
+def object_name(problem: Problem, column: int) -> str:
+    """The scene's name of the object in clearance column ``column``."""
+    name = problem.obstacles.name(column)
+    return name if name is not None else f"obstacles[{column}]"
+
+
+def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose) -> World:
+    """The world once goal ``k`` of ``problem`` ends at ``pose`` (reached or not): a reached grasp
+    takes its object into the tool, a reached release puts the held object down where the tool
+    is; a missed goal changes nothing.
+
+    A grasp while the tool still holds something (its release was missed) or a release with
+    nothing held (its grasp was missed) changes nothing either: validation refuses the scenes
+    that would ask either of a run whose goals are all reached.
+    """
+    goal = problem.goals[k]
+    world = replace(world, near=None)  # a grasp's object at the hand, or one just put down: this goal's alone
+    if not reached or (goal.grasp is None and not goal.release):
+        return world
+    tool = tool_transform(problem, pose)
+    if goal.grasp is not None:
+        if world.held is not None:
+            return world
+        column = goal.grasp
+        body = world.moved.get(column) or obstacle_body(problem.obstacles, column)
+        held = Held(column, object_name(problem, column), body, grasp_offset(tool, body), touch_links(problem, goal.touch_links))
+        return World({**world.moved, column: None}, held)
+    if world.held is None:
+        return world
+    placed = placed_body(tool, world.held.offset, world.held.body)
+    return World({**world.moved, world.held.column: placed}, None, (world.held.column, world.held.touch))
+
+
+@dataclass(frozen=True)
+class CarryReport:
+    """What each goal grasped and released, and where every moved object ended.
+
+    Attributes
+    ----------
+    worlds : tuple of World
+        The world each goal was solved in, (goals,).
+    final : World
+        The world after the last goal.
+    """
+
+    worlds: tuple[World, ...]
+    final: World
+
+    def held_names(self, goal: np.ndarray) -> np.ndarray:
+        """(F,) the name of the object the tool holds in each frame (its goal's world), '' for none."""
+        names = np.array(["" if w.held is None else w.held.name for w in self.worlds] or [""], dtype=object)
+        return cast(np.ndarray, names[goal])
+
+    def grasped(self, k: int) -> str | None:
+        """The name of the object goal ``k`` grasped (None: none)."""
+        after = self.worlds[k + 1] if k + 1 < len(self.worlds) else self.final
+        before = self.worlds[k].held
+        return after.held.name if after.held is not None and before is None else None
+
+    def released(self, k: int) -> str | None:
+        """The name of the object goal ``k`` put down (None: none)."""
+        after = self.worlds[k + 1] if k + 1 < len(self.worlds) else self.final
+        before = self.worlds[k].held
+        return before.name if before is not None and after.held is None else None
+
+
+def needs_carrying(problem: Problem) -> bool:
+    """Whether any goal grasps or releases (the run then solves each goal in its world)."""
+    return any(g.grasp is not None or g.release for g in problem.goals)
+
+
+def goal_problems(problem: Problem, carry: CarryReport) -> list[Problem]:
+    """The problem each goal was solved in (:func:`world_problem` of its world), one object per
+    distinct world (so each world's compiled layout is made once)."""
+    made: dict[tuple[object, ...], Problem] = {World().key(): problem}
+    for w in carry.worlds:
+        if w.key() not in made:
+            made[w.key()] = world_problem(problem, w)
+    return [made[w.key()] for w in carry.worlds]
+
+
+def carried_clearance(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """(F,) the least clearance of the carried object's cover to every obstacle and the floor in
+    each frame (``phi`` (F, n), its goal ``goal`` (F,)); NaN where the tool holds nothing."""
+    from armanim.arm.kinematics import forward
+    from armanim.world.distances import min_link_clearance
+
+    out = np.full(len(goal), np.nan)
+    problems = goal_problems(problem, carry)
+    for k, world in enumerate(carry.worlds):
+        mine = goal == k
+        if world.held is None or not mine.any() or not len(problems[k].obstacles):
+            continue
+        caps = problems[k].capsules
+        own = np.arange(len(problem.capsules), len(caps))
+        part = Capsules(caps.link[own], caps.start[own], caps.end[own], caps.radius[own], joint_segment=caps.joint_segment[own])
+        out[mine] = min_link_clearance(forward(problem.arm, phi[mine]), problems[k].obstacles, part)
+    return out
+
+
+def touch_allowed(pairs: SelfPairs, carry: CarryReport) -> SelfPairs:
+    """``pairs`` with every grasp's touch links listed as allowed (reason :data:`TOUCH`), once
+    each: the run's self-collision.yaml."""
+    extra = []
+    for world in carry.worlds:
+        held = world.held
+        if held is not None:
+            extra += [(link, held.name, TOUCH) for link in held.touch]
+    listed = tuple(dict.fromkeys(pairs.allowed + tuple(extra)))
+    return replace(pairs, allowed=listed)
+
+
+def final_poses(problem: Problem, carry: CarryReport) -> dict[str, Body | None]:
+    """Every object a goal grasped, where it is after the last goal (in the tool for one still
+    carried: None)."""
+    out: dict[str, Body | None] = {}
+    for world in (*carry.worlds, carry.final):
+        if world.held is not None:
+            out[world.held.name] = None
+    for column, body in carry.final.moved.items():
+        out[object_name(problem, column)] = body
+    return out
+
+
+def replayed_carry(problem: Problem, phi: np.ndarray, goal: np.ndarray, reached: list[bool]) -> CarryReport | None:
+    """The :class:`CarryReport` of a finished run (its frames' angles ``phi`` (F, n) and goals
+    ``goal`` (F,), and whether each goal was reached), each grasp and release taken again at its
+    goal's last frame, where the solve took it; None for a run that grasps nothing."""
+    if not needs_carrying(problem):
+        return None
+    from armanim.arm.kinematics import forward
+
+    world, worlds = World(), []
+    for k in range(len(problem.goals)):
+        world = goal_world(problem, world, k)
+        worlds.append(world)
+        mine = np.nonzero(goal == k)[0]
+        if len(mine):
+            world = after_goal(problem, world, k, reached[k], forward(problem.arm, phi[mine[-1]]))
+        else:
+            world = replace(world, near=None)
+    return CarryReport(tuple(worlds), world)
+
+
+def moving_columns(carry: CarryReport) -> list[int]:
+    """The clearance columns of the objects some goal takes, in order."""
+    columns = {w.held.column for w in (*carry.worlds, carry.final) if w.held is not None}
+    return sorted(columns)
+
+
+def frame_bodies(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np.ndarray) -> list[list[Body]]:
+    """Every frame's (F) moving objects (:func:`moving_columns`, in order) where they are: in the
+    tool while held, where they were put, else where the scene puts them."""
+    from armanim.arm.kinematics import forward
+
+    columns = moving_columns(carry)
+    tools = tool_transform(problem, forward(problem.arm, phi)) if len(phi) else np.zeros((0, 4, 4))
+    out = []
+    for f in range(len(phi)):
+        world = carry.worlds[int(goal[f])]
+        bodies = []
+        for column in columns:
+            held = world.held
+            if held is not None and held.column == column:
+                bodies.append(held.body.moved(tools[f] @ held.offset))
+            else:
+                bodies.append(world.moved.get(column) or obstacle_body(problem.obstacles, column))
+        out.append(bodies)
+    return out
+
+
+def world_clearance(problem: Problem, problems: list[Problem] | None, pose: Pose, goal: np.ndarray) -> np.ndarray:
+    """(F,) each frame's least capsule clearance, measured in its goal's world (``problems``, one
+    per goal; None: ``problem`` for every frame)."""
+    from armanim.world.distances import min_link_clearance
+
+    if problems is None:
+        return min_link_clearance(pose, problem.obstacles, problem.capsules)
+    out = np.full(len(goal), np.inf)
+    for solved in {id(p): p for p in problems}.values():
+        mine = np.isin(goal, [k for k, p in enumerate(problems) if p is solved])
+        if mine.any():
+            out[mine] = min_link_clearance(Pose(pose.points[mine], pose.frames[mine]), solved.obstacles, solved.capsules)
+    return out

@@ -1,0 +1,342 @@
+"""Pick and place (issue 54): the carried object's cover, its clearances by coal, the placed pose,
+touch links, and the scene's checks."""
+
+from __future__ import annotations
+
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from armanim.arm.kinematics import forward
+from armanim.motion.carry import TOUCH, carried_clearance, goal_problems, tool_transform
+from armanim.world.carried import Body, cover_capsules, cover_margin, grasp_offset, obstacle_body
+from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE
+
+coal = pytest.importorskip("coal")
+
+DATA = Path(__file__).parent.parent / "data"
+
+
+def _segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(p, k) distance of each point to each segment a-b."""
+    ab = b - a
+    t = np.clip(np.einsum("pkj,kj->pk", points[:, None] - a, ab) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
+    return np.linalg.norm(points[:, None] - (a + t[..., None] * ab), axis=-1)
+
+
+def _surface_points(body: Body, rng: np.random.Generator) -> np.ndarray:
+    """Points on the solid's surface in its own frame: a box's corners and random face points, a
+    cylinder's rims and random side points."""
+    if body.kind == BOX:
+        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * body.half
+        faces = rng.uniform(-1, 1, (300, 3))
+        axis = rng.integers(0, 3, 300)
+        faces[np.arange(300), axis] = np.sign(faces[np.arange(300), axis])
+        return np.concatenate([corners, faces * body.half])
+    angle = rng.uniform(0, 2 * np.pi, 300)
+    z = np.concatenate([np.full(100, -1.0), np.full(100, 1.0), rng.uniform(-1, 1, 100)]) * body.half[2]
+    return np.stack([body.radius * np.cos(angle), body.radius * np.sin(angle), z], axis=1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from([BOX, CYLINDER]), st.lists(st.floats(0.005, 0.2), min_size=3, max_size=3), st.integers(0, 2**16))
+@example(BOX, [0.02, 0.02, 0.06], 0)
+@example(CYLINDER, [0.1, 0.1, 0.01], 1)
+def test_cover_holds_the_whole_solid_within_its_margin(kind, sizes, seed):
+    """Every point of the solid's surface lies in a capsule of its cover (so the cover's clearance is
+    at most the solid's), and no capsule reaches farther than cover_margin beyond the solid."""
+    half = np.array(sizes) if kind == BOX else np.array([0.0, 0.0, sizes[2]])
+    body = Body(kind, np.eye(3), np.zeros(3), half, 0.0 if kind == BOX else sizes[0])
+    start, end, radius = cover_capsules(body)
+    points = _surface_points(body, np.random.default_rng(seed))
+    inside = (_segment_distance(points, start, end) - radius).min(axis=1)
+    assert inside.max() <= 1e-12
+    probe = coal.Box(*(2 * half)) if kind == BOX else coal.Cylinder(body.radius, 2 * half[2])
+    for a, b, r in zip(start, end, radius):  # the capsules' farthest points: along the six axes from both ends
+        for p in (a, b):
+            for d in np.concatenate([np.eye(3), -np.eye(3)]):
+                far = p + r * d
+                result = coal.DistanceResult()
+                gap = coal.distance(probe, coal.Transform3s(), coal.Sphere(1e-9), coal.Transform3s(np.eye(3), far), coal.DistanceRequest(), result)
+                assert gap <= cover_margin(body) + 1e-9
+
+
+@cache
+def _pick_run():
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "pick-box.yaml").model)
+    solution = solve_trajectory(problem)
+    return problem, solution, retime(problem, solution, problem.fps)
+
+
+def _coal_body(body: Body):
+    shape = {BOX: lambda: coal.Box(*(2 * body.half)), SPHERE: lambda: coal.Sphere(body.radius),
+             ROD: lambda: coal.Capsule(body.radius, 2 * body.half[0]), CYLINDER: lambda: coal.Cylinder(body.radius, 2 * body.half[2])}[body.kind]()
+    rotation = body.rotation if body.kind != ROD else body.rotation @ np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]])  # coal's capsule along z
+    return shape, coal.Transform3s(rotation, body.center)
+
+
+def _distance(one, two) -> float:
+    return float(coal.distance(*one, *two, coal.DistanceRequest(), coal.DistanceResult()))
+
+
+def test_the_box_is_carried_and_placed_where_the_tool_put_it_to_1e_9():
+    problem, solution, timed = _pick_run()
+    assert all(g.reached for g in solution.goals)
+    carry = timed.carry
+    traj = timed.trajectory
+    grasp_end, release_end = timed.goals[1].last_frame, timed.goals[4].last_frame
+    part = obstacle_body(problem.obstacles, 1)
+    tool = lambda frame: tool_transform(problem, forward(problem.arm, traj.phi[frame]))  # noqa: E731
+    offset = grasp_offset(tool(grasp_end), part)
+    placed = tool(release_end) @ offset
+    final = carry.final.moved[1]
+    assert np.abs(final.matrix() - placed).max() < 1e-9
+    assert final.center[1] == pytest.approx(-0.2, abs=0.005)  # it really moved
+
+
+def test_the_carried_box_keeps_its_clearances_by_coal():
+    """Every frame that holds the box: the true box (by coal) keeps solver.clearance from the table
+    and the floor's plane, and self_clearance from every capsule of a link that is not a touch link."""
+    problem, _, timed = _pick_run()
+    traj, carry = timed.trajectory, timed.carry
+    held = carry.held_names(traj.goal) == "part"
+    assert held.sum() > 10
+    problems = goal_problems(problem, carry)
+    table = _coal_body(obstacle_body(problem.obstacles, 0))
+    d_safe, self_safe = problem.solver.clearance, problem.self_pairs.clearance
+    touch = set(carry.worlds[2].held.touch)
+    carried = carried_clearance(problem, carry, traj.phi, traj.goal)
+    for frame in np.nonzero(held)[0]:
+        world = problems[traj.goal[frame]]
+        pose = forward(problem.arm, traj.phi[frame])
+        box = world_box = carry.worlds[traj.goal[frame]].held.body.moved(tool_transform(problem, pose) @ carry.worlds[traj.goal[frame]].held.offset)
+        shape = _coal_body(box)
+        assert _distance(shape, table) >= d_safe * (1 - 1e-9)
+        assert _distance(shape, table) >= carried[frame] - 1e-9  # the cover's clearance is at most the box's
+        lowest = np.min([(box.matrix() @ np.append(c, 1))[2] for c in np.array(
+            [[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * box.half])
+        assert lowest - problem.obstacles.floor >= d_safe
+        caps = problem.capsules
+        from armanim.arm.capsules import capsule_ends
+
+        a, b = capsule_ends(caps, pose)
+        for i, name in enumerate(caps.names):
+            if name in touch:
+                continue
+            axis = b[i] - a[i]
+            length = float(np.linalg.norm(axis))
+            z = axis / length if length > 0 else np.array([0.0, 0, 1])
+            x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+            x /= np.linalg.norm(x)
+            link = (coal.Capsule(caps.radius[i], length), coal.Transform3s(np.stack([x, np.cross(z, x), z], axis=1), (a[i] + b[i]) / 2))
+            assert _distance(shape, link) >= self_safe * (1 - 1e-9), (frame, name)
+        del world_box, world
+
+
+def test_touch_links_are_allowed_and_every_other_link_checked():
+    problem, _, timed = _pick_run()
+    world = timed.carry.worlds[2]
+    carrying = goal_problems(problem, timed.carry)[2]
+    touch = set(world.held.touch)
+    assert touch == {"panda_link7", "panda_hand", "panda_leftfinger", "panda_rightfinger"}
+    checked = {a for a, b in carrying.self_pairs.names if b == "part"}
+    moving_links = {n for n, k in zip(problem.capsules.names, problem.capsules.link) if k != problem.arm.n - 1}
+    assert checked == moving_links  # every link but those the last joint carries
+    assert {(a, TOUCH) for a, b, r in carrying.self_pairs.allowed if b == "part"} == {(t, TOUCH) for t in touch}
+
+
+BAD = {
+    "grasp: nothing": ("goals[1].grasp", "'nothing' names no obstacle"),
+    "release: true, grasp: part": ("goals[1].release", "is on a goal that grasps"),
+}
+
+
+def _scene(goals: list, **extra):
+    from armanim.scene import scene_model
+
+    return scene_model({"version": 1, "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
+                        "obstacles": [{"box": {"center": [0.5, 0.0, 0.1], "size": [0.4, 0.8, 0.2]}, "name": "table"},
+                                      {"box": {"center": [0.5, 0.2, 0.28], "size": [0.04, 0.04, 0.12]}, "name": "part"}],
+                        "floor": 0.0, "goals": goals, "solver": {"clearance": 0.01, "tolerance": 0.002, **extra}})
+
+
+GRASP = {"position": [0.5, 0.2, 0.332], "orientation": {"rpy": [180, 0, 0]}, "grasp": "part"}
+RELEASE = {"position": [0.5, -0.2, 0.34], "orientation": {"rpy": [180, 0, 0]}, "release": True}
+
+
+@pytest.mark.parametrize(("goals", "field", "words"), [
+    ([{**GRASP, "grasp": "can"}], "goals[0].grasp", "'can' names no obstacle (expected the name of one: 'table', 'part')"),
+    ([RELEASE], "goals[0].release", "puts down nothing: the tool holds nothing here"),
+    ([GRASP, {**GRASP, "grasp": "table"}], "goals[1].grasp", "takes 'table' while the tool still holds 'part' (grasped at goals[0]"),
+    ([{**GRASP, "release": True}], "goals[0].release", "is on a goal that grasps"),
+    ([{**GRASP, "touch_links": ["panda_hand", "gripper"]}], "goals[0].touch_links[1]", "'gripper' names no link of the arm"),
+    ([{**GRASP, "grasp": "table", "position": [0.5, 0.0, 0.45]}], "goals[0].grasp", "wider than the gripper opens (0.08"),
+    ([{**GRASP, "position": [0.5, 0.2, 0.45]}], "goals[0].grasp", "'part' is 0.11 from the goal's tool point"),
+])
+def test_each_bad_grasp_is_reported_at_its_field(goals, field, words):
+    from armanim.scene.checks import scene_problems
+
+    problems = scene_problems(_scene(goals))
+    assert any(f == field and words in m for f, m in problems), problems
+
+
+def test_an_object_resting_within_clearance_of_its_table_is_reported():
+    from armanim.scene.checks import scene_problems
+
+    problems = scene_problems(_scene([GRASP], clearance=0.02))
+    assert any(f == "obstacles[1]" and "'part' rests 0.0127 from obstacles[0] ('table')" in m for f, m in problems), problems
+
+
+def test_the_viewer_and_the_video_draw_the_box_where_it_is():
+    """The viewer's data place the box at rest before the grasp, in the tool while carried, and
+    where it was put at the end; the table stays with the still obstacles."""
+    from armanim.render.pictures.canvas import moving_objects
+    from armanim.render.viewer.data import viewer_data
+    from armanim.scene import load_scene, render_settings
+
+    problem, _, timed = _pick_run()
+    traj = timed.trajectory
+    data = viewer_data(problem, traj, timed.goals, render_settings(load_scene(DATA / "pick-box.yaml").model), title="t", carry=timed.carry)
+    poses = np.array(data["carried"]["poses"]).reshape(traj.frames, 1, 7)
+    assert data["carried"]["objects"] == [{"kind": "box", "name": "part", "size": [0.04, 0.04, 0.12]}]
+    assert [b["center"] for b in data["boxes"]] == [[0.5, 0.0, 0.1]]
+    assert poses[0, 0, :3] == pytest.approx([0.5, 0.2, 0.28])
+    assert poses[-1, 0, :3] == pytest.approx(timed.carry.final.moved[1].center, abs=10.0 ** -data["decimals"])  # the page's rounding
+    carried = traj.goal == 3
+    tips = traj.tip[carried]
+    assert np.linalg.norm(poses[carried, 0, :3] - tips, axis=1) == pytest.approx(0.052, abs=0.002)  # in the tool, 5 cm below it
+    still, frames = moving_objects(problem, timed)
+    assert len(still.obstacles.boxes) == 1 and len(frames) == traj.frames
+    assert frames[-1].boxes.centers[0] == pytest.approx(timed.carry.final.moved[1].center)
+
+
+def test_a_carried_bar_that_would_hit_the_wall_goes_over_it_never_through():
+    """moveit #1217's trap: the tool alone crosses the wall on its straight way; carrying a bar
+    that would hit it, the arm goes over it, and by coal the bar keeps clearance from the wall in
+    every frame it is held."""
+    from dataclasses import replace
+
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "carry-over-wall.yaml").model)
+    empty = replace(problem, goals=(replace(problem.goals[0], grasp=None),) + problem.goals[1:])
+    alone = retime(empty, solve_trajectory(empty), problem.fps)
+    solved = solve_trajectory(problem)
+    carrying = retime(problem, solved, problem.fps)
+    for run in (alone, carrying):
+        assert all(g.reached or g.reason is not None for g in run.goals)
+    crossing = lambda run: run.trajectory.tip[run.trajectory.goal == 2, 2].max()  # noqa: E731
+    assert crossing(alone) < 0.535 < 0.55 < crossing(carrying)  # straight alone, over the wall with the bar
+    traj, carry = carrying.trajectory, carrying.carry
+    wall = _coal_body(obstacle_body(problem.obstacles, 2))
+    held = np.nonzero(carry.held_names(traj.goal) == "bar")[0]
+    assert len(held) > 20
+    for frame in held:
+        world = carry.worlds[traj.goal[frame]].held
+        bar = world.body.moved(tool_transform(problem, forward(problem.arm, traj.phi[frame])) @ world.offset)
+        assert _distance(_coal_body(bar), wall) >= problem.solver.clearance * (1 - 1e-9), frame
+
+
+@settings(max_examples=4, deadline=None)
+@given(st.floats(0.03, 0.05), st.floats(0.06, 0.1), st.floats(-0.45, -0.3), st.floats(0.45, 0.62), st.floats(-0.15, 0.15))
+@example(0.04, 0.08, -0.45, 0.58, 0.0)
+def test_pick_and_place_keeps_every_invariant(width, height, y, x_place, y_place):
+    """A Panda takes a box of random size from a table and puts it on a shelf board at a random
+    place: every trajectory invariant holds in each goal's world (tests/invariants.py), the box
+    ends exactly where the tool put it, and no frame has its cover under clearance."""
+    from hypothesis import assume
+    from invariants import assert_trajectory_invariants
+
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import scene_model, scene_to_problem
+    from armanim.scene.checks import scene_problems
+
+    rest = 0.2 + height / 2 + 0.034  # the box's centre: its cover 2.2 cm and more above the table
+    grasp = rest + height / 2 - 0.02
+    place = 0.4 + 0.034 + height / 2 - rest + grasp  # the tool where the box stands as high above the board
+    down = {"orientation": {"rpy": [180, 0, 0]}}
+    model = scene_model({
+        "version": 1, "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
+        "obstacles": [{"box": {"center": [0.62, 0.0, 0.39], "size": [0.3, 0.7, 0.02]}},
+                      {"box": {"center": [0.25, y, 0.1], "size": [0.3, 0.3, 0.2]}, "name": "table"},
+                      {"box": {"center": [0.25, y, rest], "size": [width, width, height]}, "name": "box"}],
+        "floor": 0.0,
+        "goals": [{"position": [0.25, y, grasp + 0.1], **down}, {"position": [0.25, y, grasp], **down, "grasp": "box"},
+                  {"position": [0.25, y, 0.6], **down}, {"position": [x_place, y_place, place + 0.08], **down},
+                  {"position": [x_place, y_place, place], **down, "release": True}, {"position": [x_place, y_place, place + 0.1], **down}],
+        "solver": {"method": "dls", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02}})
+    assume(not scene_problems(model))
+    problem = scene_to_problem(model)
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert_trajectory_invariants(problem, timed)
+    traj, carry = timed.trajectory, timed.carry
+    carried = carried_clearance(problem, carry, traj.phi, traj.goal)
+    assert np.nanmin(carried) >= problem.solver.clearance - 1e-9
+    if timed.goals[4].reached and timed.goals[1].reached:
+        tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
+        expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 2))
+        assert np.abs(carry.final.moved[2].matrix() - expected).max() < 1e-9
+
+
+def test_a_finished_run_read_back_carries_the_box_again(tmp_path):
+    """run writes held and carried_clearance; load_run (render, view) reads them back and replays
+    each grasp and release at its goal's last frame: the box ends where summary.json put it."""
+    import csv
+    import json
+
+    from armanim.runs.pipeline import run_scene
+    from armanim.runs.reload import load_run
+
+    folder = run_scene(DATA / "pick-box.yaml", tmp_path, video=False, viewer=False).folder
+    rows = list(csv.DictReader(open(folder / "trajectory.csv", newline="")))
+    assert {r["held"] for r in rows} == {"", "part"}
+    assert all((r["carried_clearance"] == "") == (r["held"] == "") for r in rows)
+    summary = json.loads((folder / "summary.json").read_text())
+    assert [g["grasped"] for g in summary["goals"]] == [None, "part", None, None, None, None]
+    assert [g["released"] for g in summary["goals"]] == [None, None, None, None, "part", None]
+    assert summary["min_carried_clearance"] >= summary["clearance"]
+    run = load_run(folder)
+    assert run.solution.carry.final.moved[1].center == pytest.approx(summary["objects"]["part"]["center"], abs=1e-9)
+    assert "part" in (folder / "self-collision.yaml").read_text()
+
+
+def test_an_approach_comes_in_along_a_straight_line_and_the_grasp_and_release_still_hold():
+    """approach: the tool comes to the grasp (along its own z: down) and to the release (along the
+    world's -z) on straight lines, within the path tolerance, ending at the goal; the box still
+    ends where the tool put it."""
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "pick-approach.yaml").model)
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert all(g.reached for g in timed.goals)
+    traj = timed.trajectory
+    for k, (target, distance) in {1: ([0.5, 0.2, 0.332], 0.08), 4: ([0.5, -0.2, 0.335], 0.06)}.items():
+        along = (traj.goal == k) & (traj.mode == "path")
+        tips = traj.tip[along]
+        assert len(tips) > 5
+        assert np.abs(tips[:, :2] - target[:2]).max() <= problem.solver.path_tolerance
+        assert tips[0, 2] == pytest.approx(target[2] + distance, abs=0.005) and tips[-1, 2] == pytest.approx(target[2], abs=0.005)
+        assert np.all(np.diff(tips[:, 2]) <= 1e-9)  # down all the way
+    tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
+    expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
+    assert np.abs(timed.carry.final.moved[1].matrix() - expected).max() < 1e-9
+
+
+def test_an_approach_along_the_tool_needs_the_tool_s_orientation():
+    from armanim.scene.checks import scene_problems
+
+    goal = {"position": [0.5, 0.2, 0.332], "grasp": "part", "approach": {"distance": 0.08}}
+    assert ("goals[0].approach.axis", ) == tuple(f for f, m in scene_problems(_scene([goal])) if "approach" in f)
