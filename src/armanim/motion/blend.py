@@ -1,7 +1,8 @@
 """Goals the arm passes without stopping: which may, and how near a frame passes each.
 
 A goal with a ``blend`` radius (:attr:`armanim.motion.problem.Goal.blend`) that is reached, has no
-``hold``, is not the last and is followed by a point, pose or joint goal is a *via* goal: its
+``hold``, is not the last and is followed by a goal that moves the arm (a path goal: to its
+path's start, which the arm reaches at rest) is a *via* goal: its
 solved path and the next goal's become one path, which the clock times as one
 (:func:`armanim.motion.retime.retime`), its speed at the via free. Every other goal ends at
 rest, as without ``blend``; :func:`blend_reason` says why.
@@ -34,8 +35,12 @@ ENTRY = 0.8
 the frames' margin)."""
 PASS_TOLERANCES = 2.0
 """A frame passes a via goal of a smaller radius (0 included) within this many tolerances."""
+
+
 def blend_reason(problem: Problem, goals: tuple[GoalReport, ...] | list[GoalReport], k: int) -> str | None:
     """Why goal ``k`` (which has a ``blend``) ends at rest, or None when it may be a via goal.
+    ``next_path`` before a path goal: the clock lets the goal flow into that goal's approach to its
+    path's start where the arm moves there (:func:`armanim.motion.retime.retime`).
 
     >>> from types import SimpleNamespace
     >>> p = SimpleNamespace(goals=[Goal(np.zeros(3), 0.0, blend=0.1), Goal(np.zeros(3), 1.0, blend=0.1)])

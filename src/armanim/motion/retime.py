@@ -382,6 +382,18 @@ class _Pass:
     corner: str
 
 
+def _why_rest(problem: Problem, solution: Solution, parts: list[_Part], k: int) -> str | None:
+    """Why goal ``k`` (with ``blend``) rests (:func:`~armanim.motion.blend.blend_reason`), or None: a
+    goal before a path goal flows into that goal's approach to its path's start where the arm moves
+    there (the path itself starts at rest), else it rests (``next_path``)."""
+    why = blend_reason(problem, solution.goals, k)
+    if why == "next_path":
+        phi = solution.trajectory.phi
+        if any(p.goal == k + 1 and p.path_speed is None and np.any(phi[p.frames] != phi[p.frames.start]) for p in parts):
+            return None
+    return why
+
+
 def _merged(parts: list[_Part], vias: set[int], src: Trajectory) -> list[_Part]:
     """``parts`` with each via goal's last part and the next part made one (a path of several
     goals, timed from rest to rest with free speed at the vias)."""
@@ -416,7 +428,7 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
     vias = set()
     for k, goal in enumerate(problem.goals):
         if goal.blend is not None:
-            why = blend_reason(problem, solution.goals, k)
+            why = _why_rest(problem, solution, parts, k)
             if why is None:
                 vias.add(k)
             else:
@@ -512,9 +524,10 @@ def via_paths(problem: Problem, solution: Solution) -> list[np.ndarray]:
     as the clock is first given them: every via goal's solved path and the next goal's one, each
     corner cut where a certified curve fits (before a via rests for its radius or its time)."""
     src = solution.trajectory
-    vias = {k for k, g in enumerate(problem.goals) if g.blend is not None and blend_reason(problem, solution.goals, k) is None}
+    parts = _parts(problem, solution, problem)
+    vias = {k for k, g in enumerate(problem.goals) if g.blend is not None and _why_rest(problem, solution, parts, k) is None}
     safety = path_safety(problem, src)
-    merged = _merged(_parts(problem, solution, problem), vias, src)
+    merged = _merged(parts, vias, src)
     return [_shaped_part(problem, src, safety, part)[0].poses for part in merged if part.vias]
 
 

@@ -84,7 +84,7 @@ BLEND_REASONS = {
     "last": "the last goal ends at rest",
     "hold": "a goal with hold ends at rest",
     "missed": "a missed goal ends at rest",
-    "next_path": "the next goal is a path goal, which starts at rest",
+    "next_path": "the next goal is a path goal whose path starts here, at rest",
     "next_still": "the next goal needs no motion: the arm rests here",
     "radius": "the frames could not pass within the radius without stopping",
     "slower": "passing it without stopping took longer than stopping at it",

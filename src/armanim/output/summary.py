@@ -121,10 +121,10 @@ def blend_from_dict(g: dict) -> BlendReport | None:
     if "blended" not in g:
         return None
     joint = g["blend_units"] == "deg"
-    unit = float(np.radians(1.0)) if joint else 1.0
+    per = float(np.degrees(1.0)) if joint else 1.0  # divided by the factor blend_dict multiplied by: written again, the same digits
     near = g["pass_distance"]
-    return BlendReport(float(g["blend"]) * unit, bool(g["blended"]), g["blend_reason"], g["corner"],
-                       np.nan if near is None else float(near) * unit, float(g["pass_speed"]) * unit, joint)
+    return BlendReport(float(g["blend"]) / per, bool(g["blended"]), g["blend_reason"], g["corner"],
+                       np.nan if near is None else float(near) / per, float(g["pass_speed"]) / per, joint)
 
 
 def path_dict(path: PathReport | None) -> dict:
