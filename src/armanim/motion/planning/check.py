@@ -36,6 +36,12 @@ from armanim.world.compiled import (
     segment_segment_pairs,
 )
 
+Measured = tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, ...],
+                 tuple[np.ndarray, ...], tuple[np.ndarray, np.ndarray, np.ndarray], tuple[float, float]]
+"""What the compiled measures read of a problem (:attr:`CompiledCheck.measured`): ((rows, root) of
+the chain, (packed capsules, their carriers, their radii), the world's arrays, the groups, the
+enabled pairs, (shift, far)); one argument, so that each function says what it adds."""
+
 
 @compiled(**INLINE)
 def _point_segment(px: float, py: float, pz: float, a: np.ndarray, b: np.ndarray, c: int) -> float:
@@ -171,17 +177,15 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
 
 
 @compiled(**JIT)
-def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-             world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-             pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-             phi: np.ndarray, clear: np.ndarray, own: np.ndarray, clear_groups: np.ndarray) -> None:
+def _margins(measured: Measured, phi: np.ndarray, clear: np.ndarray, own: np.ndarray, clear_groups: np.ndarray) -> None:
     """For poses ``phi`` (k, n): the least clearance of any capsule to any obstacle or the floor
     into ``clear`` (k,) (+inf without any), each group's into ``clear_groups`` (k, G), and every
     enabled pair's gap plus ``shift`` into ``own`` (k, P); each exact where it is below ``far``, else a lower bound of at least ``far``
     (a pair of groups, or a group and an obstacle, whose bounding spheres are ``far`` apart is not
-    measured capsule by capsule). ``groups``: the capsules by the joint that carries them (CSR
-    start and indices), and the enabled pairs by their two groups (the groups' indices, and CSR
-    start and indices of the pairs)."""
+    measured capsule by capsule). ``measured``: :data:`Measured`, whose groups are the capsules by
+    the joint that carries them (CSR start and indices), and the enabled pairs by their two groups
+    (the groups' indices, and CSR start and indices of the pairs)."""
+    (rows, root), (caps, link, part_radius), world, groups, pairs, (shift, far) = measured
     k, n = phi.shape
     c = link.shape[0]
     first, second, pair_radii = pairs
@@ -315,40 +319,32 @@ def _pairs_certified(lo: np.ndarray, hi: np.ndarray, g_lo: np.ndarray, g_hi: np.
 
 
 @compiled(**JIT)
-def _measured(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-              world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-              pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-              poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _measured(measured: Measured, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(k,) the least margin of poses (k, n), (k, G) each group's clearance, (k, L) each pair of
     groups' least shifted gap and (k, P) each pair's (:func:`_margins`)."""
+    groups, pairs = measured[3], measured[4]
     k = poses.shape[0]
     clear = np.empty(k)
     own = np.empty((k, pairs[0].shape[0]))
     clear_groups = np.empty((k, groups[0].shape[0] - 1))
-    _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses, clear, own, clear_groups)
+    _margins(measured, poses, clear, own, clear_groups)
     gaps = _group_least(own, groups[4], groups[5])
     return _least(clear, gaps), clear_groups, gaps, own
 
 
 @compiled(**JIT)
-def _pose_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-               world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-               pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-               lower: np.ndarray, upper: np.ndarray, buffer: float, phi: np.ndarray, floor: float) -> bool:
+def _pose_free(measured: Measured, lower: np.ndarray, upper: np.ndarray, buffer: float, phi: np.ndarray, floor: float) -> bool:
     """Whether the pose ``phi`` (n,) is within [lower + buffer, upper - buffer] and its least margin
     (:func:`_measured`) is at least ``floor``: the planner's state check in one call."""
     if not _inside(phi, lower, upper, buffer):
         return False
-    least = _measured(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, phi.reshape((1, phi.shape[0])))[0]
+    least = _measured(measured, phi.reshape((1, phi.shape[0])))[0]
     return bool(least[0] >= floor)
 
 
 @compiled(**JIT)
-def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-                 world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-                 pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-                 limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray], settings: np.ndarray,
-                 a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
+def _motion_free(measured: Measured, limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                 settings: np.ndarray, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
     """:func:`armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled.
 
     ``limits``: (lower, upper, levers (n,), each group's lever arms (n, G), each pair of groups'
@@ -364,6 +360,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     check's implies, or tighter: the same answers, with fewer poses measured where the part
     near an obstacle moves less than the arm's farthest point."""
     lower, upper, levers, obstacle_levers, pair_levers, pair_rows = limits
+    pair_start, pair_members = measured[3][4], measured[3][5]
     d_safe, spacing, certify_to = settings[0], settings[1], settings[2]
     max_halvings, max_samples, buffer = int(settings[3]), settings[4], settings[5]
     n = a.shape[0]
@@ -379,7 +376,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     for i in range(samples):
         for j in range(n):
             poses[i, j] = a[j] + u[i] * (b[j] - a[j])
-    least, clear, gaps, own = _measured(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses)
+    least, clear, gaps, own = _measured(measured, poses)
     checks = samples
     for i in range(samples):
         if not least[i] >= floor:
@@ -403,7 +400,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
                 continue
             doubtful[i] = not (_certified(lo[i], hi[i], c_lo[i], c_hi[i], obstacle_levers, floor)
                                and _pairs_certified(lo[i], hi[i], o_lo[i], o_hi[i], pair_levers, p_lo[i], p_hi[i], pair_rows,
-                                                    groups[4], groups[5], floor))
+                                                    pair_start, pair_members, floor))
         kept = np.nonzero(doubtful)[0]
         left = kept.shape[0]
         if left == 0:
@@ -412,7 +409,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
         for r in range(left):
             for j in range(n):
                 mid[r, j] = 0.5 * (lo[kept[r], j] + hi[kept[r], j])
-        least, c_mid, o_mid, p_mid = _measured(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, mid)
+        least, c_mid, o_mid, p_mid = _measured(measured, mid)
         checks += left
         for r in range(left):
             if not least[r] >= floor:
@@ -556,6 +553,11 @@ class CompiledCheck:
                                0.0 if closed else limit_buffer(problem)]),
         )
 
+    @property
+    def measured(self) -> Measured:
+        """The arrays the compiled measures read (:data:`Measured`)."""
+        return self.chain, self.body, self.world, self.groups, self.pairs, (float(self.shift), float(self.far))
+
     def margins(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(k,) the least obstacle clearance and (k, P) the shifted pair gaps of poses ``phi`` (k, n):
         :func:`~armanim.motion.solvers.barrier.split_clearances`, compiled."""
@@ -563,7 +565,7 @@ class CompiledCheck:
         clear = np.empty(len(phi))
         own = np.empty((len(phi), len(self.pairs[0])))
         groups = np.empty((len(phi), len(self.groups[0]) - 1))
-        _margins(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, phi, clear, own, groups)
+        _margins(self.measured, phi, clear, own, groups)
         return clear, own
 
     def pose_clearances(self, phi: np.ndarray) -> np.ndarray:
@@ -578,13 +580,12 @@ class CompiledCheck:
 
     def pose_free(self, phi: np.ndarray, floor: float) -> bool:
         """Whether the pose (n,) is within the limits (by the buffer, unless closed) and keeps ``floor``."""
-        return bool(_pose_free(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, self.limits[0],
-                               self.limits[1], float(self.settings[5]), np.ascontiguousarray(phi, dtype=float), float(floor)))
+        return bool(_pose_free(self.measured, self.limits[0], self.limits[1], float(self.settings[5]),
+                               np.ascontiguousarray(phi, dtype=float), float(floor)))
 
     def motion_free(self, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
         """:func:`~armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled."""
-        free, checks = _motion_free(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, self.limits,
-                                    self.settings,
+        free, checks = _motion_free(self.measured, self.limits, self.settings,
                                     np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(b, dtype=float), float(floor))
         return bool(free), int(checks)
 
