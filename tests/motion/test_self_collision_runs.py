@@ -57,7 +57,7 @@ def test_runs_near_the_body_keep_every_enabled_pair_apart(problem):
 def test_panda_shelf_has_no_frame_under_self_clearance():
     from pathlib import Path
 
-    scene = Path(__file__).resolve().parents[2] / "scenes" / "panda-shelf.yaml"
+    scene = Path(__file__).resolve().parents[1] / "data" / "panda-two-boards.yaml"  # panda-shelf before it carried a box
     problem = scene_to_problem(load_scene(scene).model)
     assert ("panda_link5", "panda_link7") in problem.self_pairs.names  # the pair the run used to pass through
     solution = solve_trajectory(problem)

@@ -16,7 +16,7 @@ def shelf_problem():
 
     from armanim.scene import load_scene, scene_to_problem
 
-    return scene_to_problem(load_scene(ROOT / "scenes" / "panda-shelf.yaml").model)
+    return scene_to_problem(load_scene(ROOT / "tests" / "data" / "panda-two-boards.yaml").model)  # panda-shelf before issue 54
 
 
 def test_goal_behind_a_box_is_drawn_through_it():

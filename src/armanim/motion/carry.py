@@ -390,3 +390,17 @@ def world_clearance(problem: Problem, problems: list[Problem] | None, pose: Pose
         if mine.any():
             out[mine] = min_link_clearance(Pose(pose.points[mine], pose.frames[mine]), solved.obstacles, solved.capsules)
     return out
+
+
+def world_columns(problem: Problem, world: World) -> list[int]:
+    """The scene's clearance column of each of ``world``'s obstacle columns (:func:`world_problem`
+    leaves out the objects carried or at the hand, and keeps the others in order, the floor last).
+
+    >>> from armanim.world.obstacles import Obstacles
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(obstacles=Obstacles(np.zeros((3, 3)), np.ones(3), np.ones(3)))
+    >>> world_columns(p, World(moved={1: None}))
+    [0, 2]
+    """
+    gone = {c for c, body in world.moved.items() if body is None} | ({world.near[0]} if world.near is not None else set())
+    return [c for c in range(len(problem.obstacles.kinds)) if c not in gone]

@@ -241,20 +241,33 @@ def self_collision_summary(problem: Problem, traj) -> dict:
     }
 
 
-def nearest_obstacle(problem: Problem, traj) -> str | None:
+def nearest_obstacle(problem: Problem, traj, carry=None) -> str | None:
     """The obstacle of ``min_clearance``: at the frame of the least clearance, the one a link is
-    nearest (its scene ``name``, else ``obstacles[k]``, or ``floor``); None without obstacles or frames."""
-    if not traj.frames or not len(problem.obstacles) or not np.isfinite(traj.clearance).any():
+    nearest (its scene ``name``, else ``obstacles[k]``, or ``floor``), in that frame's world for a
+    run that carries objects (``carry``); None without obstacles or frames."""
+    if not traj.frames or not np.isfinite(traj.clearance).any():
         return None
     from armanim.arm.kinematics import forward
     from armanim.world.distances import clearances
     from armanim.world.obstacles import FLOOR
 
     frame = int(np.argmin(traj.clearance))
+    scene_column = None
+    if carry is not None:
+        from armanim.motion.carry import goal_problems, world_columns
+
+        scene_column = world_columns(problem, carry.worlds[int(traj.goal[frame])])
+        names = problem.obstacles
+        problem = goal_problems(problem, carry)[int(traj.goal[frame])]
+    if not len(problem.obstacles):
+        return None
     links = clearances(forward(problem.arm, traj.phi[frame]), problem.obstacles, problem.capsules).links
     column = int(np.argmin(links.min(axis=0)))
     if problem.obstacles.kinds[column] == FLOOR:
         return "floor"
+    if scene_column is not None:  # the world's columns leave out what it moved: the scene's own
+        column = scene_column[column]
+        return names.name(column) or f"obstacles[{column}]"
     return problem.obstacles.name(column) or f"obstacles[{column}]"
 
 
@@ -286,7 +299,7 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
             "plan_frames": int(np.count_nonzero(traj.mode == "plan")),
         },
         "min_clearance": _round(traj.clearance.min()) if traj.frames else None,
-        "min_clearance_obstacle": nearest_obstacle(problem, traj),
+        "min_clearance_obstacle": nearest_obstacle(problem, traj, solution.carry),
         **self_collision_summary(problem, traj),
         "min_limit_margin_deg": min_limit_margin_deg(problem, traj.phi),
         "max_joint_step_deg": float(np.degrees(max_joint_step(traj.phi[:, ~problem.arm.slides]))),

@@ -28,7 +28,8 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
     arm among spheres alone (a world of spheres takes its own path) and among every shape and a
     floor, with a point, a tool-axis and a joint goal (the planner's checks); a Panda with its self
     pairs among spheres alone, among every shape and a floor (a point, a pose and a joint goal), and
-    between two boards (boxes alone) with a path goal; and the notes' arm by ``gradient``.
+    between two boards (boxes alone) with a path goal, taking a box from a table and putting it down
+    (pick and place: a carried object's capsules); and the notes' arm by ``gradient``.
 
     >>> [label for label, _ in warm_scenes()][:3]
     ['arm of links among spheres, pinv', 'arm of links among every shape, pinv', 'Panda among spheres, pinv']
@@ -42,6 +43,8 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
                     {"capsule": {"from": [-0.4, 0.4, 0.0], "to": [-0.4, 0.4, 0.4], "radius": 0.03}},
                     {"cylinder": {"center": [0.6, 0.4, 0.2], "length": 0.2, "radius": 0.03}}]
     boards = [{"box": {"center": [0.62, 0.0, z], "size": [0.3, 0.7, 0.02]}} for z in (0.19, 0.53)]
+    pick = [{"box": {"center": [0.25, -0.45, 0.1], "size": [0.3, 0.3, 0.2]}, "name": "table"},  # panda-shelf's: a carried box
+            {"box": {"center": [0.25, -0.45, 0.272], "size": [0.04, 0.04, 0.08]}, "name": "box"}]
     links = {"links": [2, 5, 5, 5], "base": [5, 5, 0]}
     link_goals = [[8, 5, 12], {"position": [5, 9, 12], "tool_axis": [0, 0, 1]}, {"joints": [10, 10, 10, 10]}]
     panda_goals = [[0.45, -0.1, 0.5], {"position": [0.45, 0.1, 0.5], "orientation": {"rpy": [180, 0, 0]}},
@@ -59,11 +62,13 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
             (f"Panda among every shape, {method}",
              {"version": 1, "arm": {"robot": "panda"}, "floor": -0.01, "obstacles": panda_shapes, "goals": panda_goals,
               "solver": solver}),
-            (f"Panda between boards, along an arc, {method}",
-             {"version": 1, "arm": {"robot": "panda"}, "floor": 0.0, "obstacles": boards, "goals": [
+            (f"Panda between boards, along an arc, picking and placing, {method}",
+             {"version": 1, "arm": {"robot": "panda"}, "floor": 0.0, "obstacles": boards + pick, "goals": [
                  {"position": [0.52, 0.15, 0.36]},
                  {"path": {"arc": {"center": [0.5, 0.0, 0.36], "start": [0.56, 0.0, 0.36], "angle": 90, "normal": [0, 0, 1]}},
-                  "speed": 0.1}], "solver": solver}),
+                  "speed": 0.1},
+                 {"position": [0.25, -0.45, 0.292], "orientation": {"rpy": [180, 0, 0]}, "grasp": "box"},
+                 {"position": [0.25, -0.45, 0.36], "orientation": {"rpy": [180, 0, 0]}, "release": True}], "solver": solver}),
         ]
     scenes.append(("arm of links, gradient", {"version": 1, "arm": links, "obstacles": spheres, "goals": link_goals[:1],
                                               "solver": {"method": "gradient"}}))
