@@ -133,7 +133,7 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
     splits = _best_splits(search, search_edges, cut_axes(axes), tuple(counts)) if len(counts) else {}
     for count in counts:
-        tried = []
+        tried: list[tuple[float, int, list[tuple[Fit, tuple[float, float], np.ndarray]]]] = []
         for total, cuts, axis in splits.get(count, [])[:TRIED]:  # the best few, least coarse volume first
             if total >= SPLIT_GAIN * coarse:
                 break
@@ -408,10 +408,11 @@ Split = tuple[float, list[tuple[float, float]], np.ndarray]
 """(total volume, the slabs (lo, hi) along the axis, the axis) of a cut into pieces."""
 
 
-def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) -> dict[int, Split]:
-    """For each count of pieces, the least total volume of the pieces cut across one principal
-    axis at evenly spaced places (each piece fitted along its principal axes only), with its
-    slabs and axis; a count is missing when no cut leaves every piece some points.
+def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts: tuple[int, ...]) -> dict[int, list[Split]]:
+    """For each count of pieces and each direction of ``axes``, the least total volume of the
+    pieces cut across it at evenly spaced places (each piece fitted along its first principal axis
+    only, :data:`COARSE_AXES`), with its slabs and axis: a list per count, least volume first; a
+    count is missing when no cut leaves every piece some points.
 
     The hull of a piece is the hull of its thin slabs' hulls (each slab between two neighbouring
     places, with where the edges cross its planes): each slab's hull is computed once."""

@@ -229,7 +229,7 @@ def content_key(vertices: np.ndarray, faces: np.ndarray, max_capsules: int) -> s
     """The cache's name for a fit: the SHA-256 of the fit's version, its settings and the mesh as placed.
 
     >>> content_key(np.zeros((1, 3)), np.zeros((0, 3), int), 3)[:12]
-    '0f9952679e1f'
+    '08eea130df9f'
     """
     digest = hashlib.sha256(f"armanim capsules v{FIT_VERSION} max {max_capsules}\n".encode())
     digest.update(np.ascontiguousarray(vertices, dtype="<f8").tobytes())
