@@ -9,13 +9,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from armanim.arm.capsules import capsule_ends, capsule_lever_rows
+from armanim.arm.capsules import capsule_ends, capsule_lever_rows, next_axis_reach
 from armanim.arm.kinematics import forward
-from armanim.motion.planning.check import CompiledCheck, pair_capsule_rows
+from armanim.motion.planning.check import CompiledCheck, frame_margins, pair_capsule_rows
 from armanim.motion.planning.path import motion_is_free
 from armanim.motion.solvers.barrier import split_clearances, within_limits
 from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
+from armanim.world.distances import min_link_clearance
 from armanim.world.selfdistances import self_gaps
 
 ARMS = {
@@ -73,6 +74,23 @@ def test_margins_equal_the_numpy_clearances_below_far(arm, seed):
         assert own.shape == (64, 0)
     else:
         assert_exact_below_far(own, ref_own, check.far, scale)
+
+
+@pytest.mark.parametrize("arm", sorted(ARMS))
+def test_frame_margins_are_the_numpy_clearances_and_gaps(arm):
+    """What trajectory.csv writes of every frame, compiled: min_link_clearance's clearances and
+    self_gaps' gaps (unshifted), exact at every distance (no bound beyond ``far``)."""
+    problem, rng = random_problem(arm, 21)
+    poses = random_poses(problem, rng, 64)
+    clear, gaps = frame_margins(problem, poses)
+    pose = forward(problem.arm, poses)
+    scale = ARMS[arm][1]
+    np.testing.assert_allclose(clear, min_link_clearance(pose, problem.obstacles, problem.capsules), rtol=0, atol=1e-12 * scale)
+    if len(problem.self_pairs):
+        np.testing.assert_allclose(gaps, self_gaps(pose, problem.capsules, problem.self_pairs).d, rtol=0, atol=1e-12 * scale)
+        assert gaps.max() > CompiledCheck.of(problem).far  # far pairs too, measured exactly
+    else:
+        assert gaps.shape == (64, 0)
 
 
 def test_margins_of_a_spherized_robot_with_cylinders():
@@ -148,7 +166,8 @@ def test_lever_rows_bound_how_far_points_and_gaps_move(arm):
     caps = problem.capsules
     rows = capsule_lever_rows(problem.arm, caps)
     assert np.all(rows <= problem.lever_arms + 1e-12)
-    pair_rows = pair_capsule_rows(caps.link, problem.self_pairs.first, problem.self_pairs.second, rows)
+    pair_rows = pair_capsule_rows(caps.link, problem.self_pairs.first, problem.self_pairs.second, rows,
+                                  next_axis_reach(problem.arm, caps))
     assert np.all(pair_rows <= problem.pair_lever_rows + 1e-12)
     tight = 0
     for a in random_poses(problem, rng, 40):

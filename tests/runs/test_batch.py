@@ -284,6 +284,21 @@ def test_scene_error_survives_pickling():
     assert back.report() == BAD_MESSAGE
 
 
+def test_a_task_keeps_its_validated_scene_in_process_and_sends_only_its_bytes(src):
+    """--jobs 1 runs the scene the batch validated; a worker process gets the bytes alone and
+    validates them itself (a LoadedScene is not sent across processes)."""
+    import pickle
+
+    from armanim.runs.batch import SceneTask
+    from armanim.scene import load_scene
+
+    loaded = load_scene(src / "a.yaml")
+    task = SceneTask.from_scene(loaded)
+    assert task.loaded is loaded
+    sent = pickle.loads(pickle.dumps(task))
+    assert sent.loaded is None and (sent.raw, sent.path, sent.name) == (task.raw, task.path, task.name)
+
+
 @pytest.mark.slow
 def test_a_tiny_video_batch_returns_video_and_plot(src, tmp_path):
     import imageio_ffmpeg

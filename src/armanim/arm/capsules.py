@@ -19,7 +19,7 @@ from typing import cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from armanim.arm.kinematics import Arm, Pose, point_jacobian
+from armanim.arm.kinematics import Arm, Pose, forward, joint_axes_world, point_jacobian
 
 BASE = -1
 """The carrier (:attr:`Capsules.link`) of a capsule on the base: its ends are in the world."""
@@ -309,6 +309,33 @@ def capsule_lever_rows(arm: Arm, capsules: Capsules) -> np.ndarray:
     slid = np.concatenate([[0.0], np.cumsum(stroke)])
     rows = np.where(moved, rows + slid[carried + 1][:, None] - slid[None, 1:], 0.0)
     return np.where(moved & arm.prismatic[None, :], 1.0, rows)  # a slide moves every point it carries by its own travel
+
+
+def next_axis_reach(arm: Arm, capsules: Capsules) -> np.ndarray:
+    """(c,) the farthest each capsule's segment lies from the axis of the joint after its carrier
+    (joint 0 for the base's capsules): a line its carrier's frame holds fixed, so the same at every
+    pose; inf where that joint slides or there is none.
+
+    It bounds how fast a gap changes: turning joint j moves a point B carried beyond it by
+    w x (B - o), and the gap |B - A| to a point A of a capsule before it changes at the rate
+    n . (w x (B - o)) with n the unit (B - A) / |B - A|, which equals n . (w x (A - o)): at most A's
+    distance from the axis. A sphere on the axis of the joint after it (the UR5's base on its pan
+    axis) keeps its gap to everything that joint turns.
+
+    >>> arm = Arm.from_names([2, 5])
+    >>> next_axis_reach(arm, joint_capsules(arm, 0.25)).tolist()  # joint 1 turns about y at the first link's top
+    [2.0, inf]
+    """
+    pose = forward(arm, np.zeros(arm.n))
+    a, b = capsule_ends(capsules, pose)
+    after = capsules.link + 1
+    slides = np.zeros(arm.n, dtype=bool) if arm.prismatic is None else arm.prismatic
+    turns = after < arm.n
+    turns[turns] = ~slides[after[turns]]
+    origin, axis = pose.points[after[turns]], joint_axes_world(arm, pose)[after[turns]]
+    reach = np.full(len(after), np.inf)
+    reach[turns] = np.maximum(_off_axis(a[turns] - origin, axis), _off_axis(b[turns] - origin, axis))
+    return reach
 
 
 def _off_axis(v: np.ndarray, axis: np.ndarray) -> np.ndarray:

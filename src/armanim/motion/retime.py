@@ -50,7 +50,6 @@ from armanim.motion.problem import Problem, joint_offset
 from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
 from armanim.motion.solvers.barrier import pose_clearance, self_shift
 from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance
-from armanim.world.distances import min_link_clearance
 
 
 def at_fps(problem: Problem, fps: float) -> Problem:
@@ -118,7 +117,10 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     part_timings = [(g, t) for m, p, mine in zip(motions, parts, frame_goals)
                     for g, t in split_timing(m, mine, p.goal, src.phi[p.frames.start], rates.speed, rates.acceleration, fps)]
     timings = [joined_timing([t for k, t in part_timings if k == g.index]) for g in solution.goals]
+    from armanim.motion.planning.check import frame_margins  # numba, as the clock's passes
+
     pose = forward(problem.arm, phi)
+    clear, gaps = frame_margins(problem, phi)
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     traced = traced_paths(problem, src, phi, pose.tip, source, goal, held)
     if traced is not None:
@@ -131,7 +133,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         tip=pose.tip,
         goal=goal,
         distance=distance,
-        clearance=min_link_clearance(pose, problem.obstacles, problem.capsules),
+        clearance=clear,
         reached=joint_goals_reached(problem, phi, goal, (distance < problem.solver.tolerance) & turned),
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
@@ -145,7 +147,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     )
     moving = np.zeros(len(phi), dtype=bool)
     moving[1:] = ~held[1:]
-    trajectory = with_self_clearance(problem, trajectory, pose)
+    trajectory = with_self_clearance(problem, trajectory, gaps=gaps)
     reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
     reports = (_blend_reported(problem, solution, r, trajectory, passes) for r in reports)
     return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports), rest_to_rest)

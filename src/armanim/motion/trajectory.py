@@ -76,6 +76,24 @@ class _Recorder:
             self.self_gap.append(state.min_self_gap)
             self.self_pair.append(int(state.self_gaps.d.argmin()))
 
+    def add_measured(self, phi: np.ndarray, tip: np.ndarray, clearance: float, goal: int, distance: float,
+                     gaps: np.ndarray | None, mode: str) -> None:
+        """:meth:`add` for a pose measured apart from a state: its tip, least clearance and every
+        enabled pair's gap (P,) (None without pairs)."""
+        self.phi.append(phi)
+        self.tip.append(tip)
+        self.clearance.append(clearance)
+        self.goal.append(goal)
+        self.distance.append(distance)
+        self.iterations.append(0)
+        self.step_scale.append(0.0)
+        self.mode.append(mode)
+        self.angle.append(np.nan)
+        self.path_s.append(np.nan)
+        if gaps is not None:
+            self.self_gap.append(float(gaps.min()))
+            self.self_pair.append(int(gaps.argmin()))
+
     def __len__(self) -> int:
         return len(self.phi)
 
@@ -277,12 +295,9 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
         plan = plan_joint_motion(problem, state.phi, goal.joints, planning)
         visit.planning = PlanningReport(plans=1, poses=plan.poses, path=plan.source, checks=plan.checks,
                                         frames=0 if plan.frames is None else len(plan.frames))
-    for phi in plan.frames if plan is not None and plan.frames is not None else ():
-        state = arm_state(problem, phi)
-        visit.distances.append(float(np.linalg.norm(state.tip - goal.position)))
-        visit.frames += 1
-        rec.add(state, k, visit.distances[-1], mode="plan")
-        on_frame(visit)
+    if plan is not None and plan.frames is not None and len(plan.frames):
+        _record_plan(problem, rec, visit, plan.frames, on_frame)
+        state = arm_state(problem, plan.frames[-1])
     reached = bool(joint_error(state.phi, goal) <= problem.solver.joint_tolerance)
     if reached:
         for _ in range(hold_frames(problem, goal)):
@@ -294,6 +309,23 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
         first_frame=first if len(rec) > first else -1, last_frame=len(rec) - 1 if len(rec) > first else -1,
         final_distance=visit.distances[-1], iterations=0, planning=visit.planning,
     )
+
+
+def _record_plan(problem: Problem, rec: _Recorder, visit: _Visit, frames: np.ndarray, on_frame: Callable[[_Visit], None]) -> None:
+    """A joint goal's planned frames (F, n) (mode ``plan``), their clearances and pairs' gaps
+    measured together (:func:`~armanim.motion.planning.check.frame_margins`: compiled, the
+    numbers :func:`~armanim.motion.solvers.common.arm_state` gives to rounding)."""
+    from armanim.arm import kernel  # numba, as the planner's checks
+    from armanim.motion.planning.check import frame_margins
+
+    clear, gaps = frame_margins(problem, frames)
+    tips = kernel.forward(problem.arm, frames).tip
+    assert visit.goal.position is not None
+    for phi, tip, least, own in zip(frames, tips, clear, gaps):
+        visit.distances.append(float(np.linalg.norm(tip - visit.goal.position)))
+        visit.frames += 1
+        rec.add_measured(phi, tip, float(least), visit.index, visit.distances[-1], own if len(problem.self_pairs) else None, "plan")
+        on_frame(visit)
 
 
 def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit, reached: bool,
@@ -464,13 +496,15 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched
     return None
 
 
-def with_self_clearance(problem: Problem, traj: Trajectory, pose: Pose | None = None) -> Trajectory:
-    """``traj`` with its frames' least self gap and pair (:attr:`Trajectory.self_clearance`)
-    measured from its angles (or their ``pose``, when the caller has it); unchanged without
-    enabled pairs."""
+def with_self_clearance(problem: Problem, traj: Trajectory, pose: Pose | None = None, gaps: np.ndarray | None = None) -> Trajectory:
+    """``traj`` with its frames' least self gap and pair (:attr:`Trajectory.self_clearance`):
+    from ``gaps`` (F, P), every enabled pair's gap where the caller measured them
+    (:func:`~armanim.motion.planning.check.frame_margins`), else measured from its angles (or
+    their ``pose``); unchanged without enabled pairs."""
     if not len(problem.self_pairs) or not traj.frames:
         return replace(traj, self_clearance=None, self_pair=None)
-    gaps = self_gaps(forward(problem.arm, traj.phi) if pose is None else pose, problem.capsules, problem.self_pairs).d
+    if gaps is None:
+        gaps = self_gaps(forward(problem.arm, traj.phi) if pose is None else pose, problem.capsules, problem.self_pairs).d
     least = gaps.min(axis=1)
     nearest = np.argmax(gaps <= (least + TIED * np.maximum(1.0, np.abs(least)))[:, None], axis=1)  # a tie: the first pair
     labels = np.array(problem.self_pairs.labels)
@@ -509,7 +543,11 @@ def _finish(problem: Problem, rec: _Recorder) -> Trajectory:
     traj = replace(traj, reached=joint_goals_reached(problem, phi, goal, traj.reached))
     if len(problem.self_pairs) and len(rec.self_gap) == len(rec):  # every frame's pairs were measured in the loop
         return replace(traj, self_clearance=np.array(rec.self_gap), self_pair=np.array(problem.self_pairs.labels)[rec.self_pair])
-    return with_self_clearance(problem, traj)
+    if not len(problem.self_pairs):
+        return with_self_clearance(problem, traj)
+    from armanim.motion.planning.check import frame_margins  # numba, as the planner's checks
+
+    return with_self_clearance(problem, traj, gaps=frame_margins(problem, traj.phi)[1])
 
 
 __all__ = ["frame_budget", "goal_budget", "hold_frames", "joint_goals_reached", "solve_trajectory", "with_self_clearance"]

@@ -23,6 +23,7 @@ import csv
 import hashlib
 import io
 import json
+import math
 import os
 import re
 from collections.abc import Callable, Iterable, Iterator
@@ -75,44 +76,56 @@ def velocity_columns(n_joints: int, slides: np.ndarray | None = None) -> list[st
     return [f"dq{i}_m_s" if slides is not None and slides[i - 1] else f"dphi{i}_deg_s" for i in range(1, n_joints + 1)]
 
 
-def _num(value: float) -> str:
-    value = float(value)
-    if value == 0.0:
-        return "0.0"  # no "-0.0": identical poses give identical text
-    return repr(value)
+def _texts(values: np.ndarray) -> list[str]:
+    """Each number as trajectory.csv writes it: the shortest text that reads back as the same float
+    (``repr``), and ``0.0`` for both zeros (no ``-0.0``: identical poses give identical text).
+
+    >>> _texts(np.array([0.1, -0.0, 2.5e-07, np.nan]))
+    ['0.1', '0.0', '2.5e-07', 'nan']
+    """
+    return ["0.0" if v == 0.0 else repr(v) for v in np.asarray(values, dtype=float).tolist()]
 
 
-def _optional(column: np.ndarray | None, i: int) -> str:
-    """Row ``i`` of a column that may be absent (None) or NaN on some rows: empty there."""
-    return _num(column[i]) if column is not None and np.isfinite(column[i]) else ""
+def _finite_texts(values: np.ndarray | None, frames: int) -> list[str]:
+    """:func:`_texts`, empty where a value is not finite or the column is absent (None).
+
+    >>> _finite_texts(np.array([1.0, np.inf, np.nan]), 3), _finite_texts(None, 2)
+    (['1.0', '', ''], ['', ''])
+    """
+    if values is None:
+        return [""] * frames
+    return [text if math.isfinite(v) else "" for v, text in zip(np.asarray(values, dtype=float).tolist(), _texts(values))]
 
 
-def format_row(traj: Trajectory, i: int, time_s: float, slides: np.ndarray | None = None) -> list[str]:
-    """The CSV fields of frame ``i`` at ``time_s`` (angles in degrees, a prismatic joint's values
-    in metres; empty clearance without obstacles, empty orientation error for a position-only goal)."""
-    clearance = traj.clearance[i]
-    angle = np.nan if traj.orientation_error is None else traj.orientation_error[i]
-    quaternion = traj.tool_quaternion[i] if traj.tool_quaternion is not None else np.full(4, np.nan)
-    velocity = traj.velocity[i] if traj.velocity is not None else np.zeros(traj.phi.shape[1])
-    return [
-        str(i),
-        _num(time_s),
-        str(int(traj.goal[i])),
-        *(_num(v) for v in joints_shown(traj.phi[i], slides)),
-        *(_num(v) for v in traj.tip[i]),
-        _num(traj.distance[i]),
-        _num(clearance) if np.isfinite(clearance) else "",
-        "1" if traj.reached[i] else "0",
-        _num(traj.step_scale[i]),
-        str(int(traj.iterations[i])),
-        str(traj.mode[i]),  # type: ignore[index]  # a solved trajectory has its modes
-        *(_num(v) if np.isfinite(v) else "" for v in quaternion),
-        _num(np.degrees(angle)) if np.isfinite(angle) else "",
-        _num(traj.self_clearance[i]) if traj.self_clearance is not None else "",
-        str(traj.self_pair[i]) if traj.self_pair is not None else "",
-        *(_optional(column, i) for column in (traj.path_s, traj.path_error)),
-        *(_num(v) for v in joints_shown(velocity, slides)),
+def trajectory_rows(traj: Trajectory, time_s: np.ndarray, slides: np.ndarray | None = None) -> list[tuple[str, ...]]:
+    """The CSV fields of every frame, at ``time_s`` (F,) (angles in degrees, a prismatic joint's
+    values in metres; empty clearance without obstacles, empty orientation error for a
+    position-only goal), built a column at a time."""
+    frames = traj.frames
+    quaternion = traj.tool_quaternion if traj.tool_quaternion is not None else np.full((frames, 4), np.nan)
+    velocity = traj.velocity if traj.velocity is not None else np.zeros(traj.phi.shape)
+    angle = None if traj.orientation_error is None else np.degrees(traj.orientation_error)
+    columns = [
+        [str(i) for i in range(frames)],
+        _texts(time_s[:frames]),
+        [str(g) for g in traj.goal.tolist()],
+        *(_texts(c) for c in joints_shown(traj.phi, slides).T),
+        *(_texts(c) for c in traj.tip.T),
+        _texts(traj.distance),
+        _finite_texts(traj.clearance, frames),
+        ["1" if r else "0" for r in traj.reached.tolist()],
+        _texts(traj.step_scale),
+        [str(k) for k in traj.iterations.tolist()],
+        [str(m) for m in traj.mode],  # type: ignore[union-attr]  # a solved trajectory has its modes
+        *(_finite_texts(c, frames) for c in quaternion.T),
+        _finite_texts(angle, frames),
+        _texts(traj.self_clearance) if traj.self_clearance is not None else [""] * frames,
+        [str(p) for p in traj.self_pair] if traj.self_pair is not None else [""] * frames,
+        _finite_texts(traj.path_s, frames),
+        _finite_texts(traj.path_error, frames),
+        *(_texts(c) for c in joints_shown(velocity, slides).T),
     ]
+    return list(zip(*columns))
 
 
 def table_csv_text(columns, rows, text_cells: bool = False) -> str:
@@ -219,7 +232,7 @@ def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None) -> s
     """The whole trajectory.csv as text (``slides``: which joints are prismatic, the arm's
     ``prismatic``; None: all revolute)."""
     time = traj.time
-    return table_csv_text(header(traj.phi.shape[1], slides), (format_row(traj, i, time[i], slides) for i in range(traj.frames)))
+    return table_csv_text(header(traj.phi.shape[1], slides), trajectory_rows(traj, time, slides))
 
 
 def write_trajectory_csv(run: SolvedRun, path: Path) -> None:

@@ -14,7 +14,7 @@ import shutil
 import tempfile
 from collections.abc import Callable, Iterable
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from armanim.errors import ArmanimError, SceneError
@@ -34,16 +34,26 @@ INDEX_COLUMNS = ("name", "status", "scene_file", "goals", "reached", "missed", "
 
 @dataclass(frozen=True)
 class SceneTask:
-    """A validated scene as it travels to a worker: its bytes, its path (for messages) and name."""
+    """A validated scene as it travels to a worker: its bytes, its path (for messages) and name,
+    and for a run in this process the scene as validated (``loaded``: not sent to a worker
+    process, which validates ``raw`` again)."""
 
     raw: bytes
     path: str
     name: str
+    loaded: LoadedScene | None = field(default=None, compare=False, repr=False)
 
     @classmethod
     def from_scene(cls, scene: LoadedScene) -> SceneTask:
         """The task for a loaded scene."""
-        return cls(scene.raw, str(scene.path), scene.name)
+        return cls(scene.raw, str(scene.path), scene.name, scene)
+
+    def __getstate__(self) -> dict:
+        return {"raw": self.raw, "path": self.path, "name": self.name, "loaded": None}
+
+    def __setstate__(self, state: dict) -> None:
+        for key, value in state.items():
+            object.__setattr__(self, key, value)
 
 
 @dataclass(frozen=True)
@@ -85,7 +95,7 @@ def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | N
     from armanim.runs.pipeline import produce_outputs
 
     try:
-        scene = scene_from_bytes(task.raw, task.path, task.name)
+        scene = task.loaded if task.loaded is not None else scene_from_bytes(task.raw, task.path, task.name)
         with tempfile.TemporaryDirectory(prefix=temp_prefix()) as tmp:
             with undone_on_stop(lambda: shutil.rmtree(tmp, ignore_errors=True)):  # a SIGTERM'd worker removes it
                 produced = produce_outputs(scene, Path(tmp), video=video, viewer=viewer, jobs=1, render_overrides=render_overrides)

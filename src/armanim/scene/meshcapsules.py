@@ -16,6 +16,7 @@ package.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -26,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.fitting import FittedCapsule, fit_capsules
-from armanim.errors import SceneError
+from armanim.errors import Diagnostic, SceneError
 from armanim.scene import visuals
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
 from armanim.scene.urdf import Robot, _parse_xml
@@ -75,7 +76,13 @@ def geometry_specs(robot: Robot, tag: str) -> dict[str, list[VisualSpec]]:
     >>> [(s.kind, s.filename, s.scale) for s in geometry_specs(robot, "collision")["a"]]
     [('mesh', 'a.stl', (2.0, 2.0, 2.0))]
     """
-    root = _parse_xml(robot.raw, robot.file)
+    return {name: list(specs) for name, specs in _specs(robot.raw, robot.file, tag)}
+
+
+@functools.lru_cache(maxsize=16)
+def _specs(raw: bytes, file: str, tag: str) -> tuple[tuple[str, tuple[VisualSpec, ...]], ...]:
+    """:func:`geometry_specs` of a URDF's bytes, kept for the last few (a batch on one robot)."""
+    root = _parse_xml(raw, file)
     out: dict[str, list[VisualSpec]] = {}
     for link in root.findall("link"):
         name = link.attrib.get("name", "")
@@ -88,10 +95,10 @@ def geometry_specs(robot: Robot, tag: str) -> dict[str, list[VisualSpec]]:
                 mesh, origin = _mesh_of(element), element.find("origin")
                 given = {f"scale={mesh.attrib.get('scale')!r}": "scale" in mesh.attrib,
                          **{f"origin {k}={origin.attrib[k]!r}": True for k in ("xyz", "rpy") if origin is not None and k in origin.attrib}}
-                raise robot.error(f"link {name!r}: collision mesh {mesh.attrib.get('filename')!r}: its "
-                                  f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three finite numbers each",
-                                  element.line)
-    return out
+                raise SceneError(file, [Diagnostic("", f"link {name!r}: collision mesh {mesh.attrib.get('filename')!r}: its "
+                                                 f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
+                                                 "finite numbers each", element.line)])
+    return tuple((name, tuple(specs)) for name, specs in out.items())
 
 
 def _mesh_of(element):

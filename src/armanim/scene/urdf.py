@@ -14,6 +14,7 @@ values (:func:`hanging_links`).
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import xml.parsers.expat
@@ -137,6 +138,13 @@ def read_urdf(path: Path, shown: str | None = None) -> Robot:
     """Read and check a URDF file (``shown`` names it in messages; default: the path)."""
     file = shown or str(path)
     raw = read_bounded(path, MAX_URDF_BYTES, "a URDF robot description")
+    return _parsed(raw, file)
+
+
+@functools.lru_cache(maxsize=8)
+def _parsed(raw: bytes, file: str) -> Robot:
+    """:func:`parse_urdf`, kept for the last few files read: a batch of scenes on one robot reads
+    its URDF for each scene (the bytes may change between them) but parses the same bytes once."""
     return parse_urdf(raw, file)
 
 

@@ -106,7 +106,8 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
 
     The straight joint-space segment if the compiled certificate
     (:class:`~armanim.motion.planning.check.CompiledCheck`, :func:`~.path.motion_is_free`'s proof)
-    takes it, else OMPL's RRT-Connect, shortened by vertex reduction and rope shortcuts, every
+    takes it, else OMPL's RRT-Connect, shortened by vertex reduction and rope shortcuts and smoothed by a
+    pass of B-spline corner cutting, every
     piece certified by the same proof: every pose keeps ``solver.clearance`` from the obstacles and
     the enabled pairs ``solver.self_clearance`` apart, and every joint within its limits, their
     ends included (a start or goal may rest on a limit), certified at :func:`joint_path_floor`.

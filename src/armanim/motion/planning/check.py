@@ -17,11 +17,11 @@ the reference, and the tests hold the two to each other. Pure core: numpy and nu
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from armanim.arm.capsules import Capsules, capsule_lever_rows
+from armanim.arm.capsules import Capsules, capsule_lever_rows, next_axis_reach
 from armanim.arm.kernel import INLINE, JIT, _capsule_ends_one, _forward_one, compiled, packed_chain
 from armanim.motion.kernels.layout import world_arrays
 from armanim.motion.planning.path import coarse_spacing
@@ -35,6 +35,12 @@ from armanim.world.compiled import (
     _pair,
     segment_segment_pairs,
 )
+
+Measured = tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, ...],
+                 tuple[np.ndarray, ...], tuple[np.ndarray, np.ndarray, np.ndarray], tuple[float, float]]
+"""What the compiled measures read of a problem (:attr:`CompiledCheck.measured`): ((rows, root) of
+the chain, (packed capsules, their carriers, their radii), the world's arrays, the groups, the
+enabled pairs, (shift, far)); one argument, so that each function says what it adds."""
 
 
 @compiled(**INLINE)
@@ -171,17 +177,15 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
 
 
 @compiled(**JIT)
-def _margins(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-             world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-             pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-             phi: np.ndarray, clear: np.ndarray, own: np.ndarray, clear_groups: np.ndarray) -> None:
+def _margins(measured: Measured, phi: np.ndarray, clear: np.ndarray, own: np.ndarray, clear_groups: np.ndarray) -> None:
     """For poses ``phi`` (k, n): the least clearance of any capsule to any obstacle or the floor
     into ``clear`` (k,) (+inf without any), each group's into ``clear_groups`` (k, G), and every
     enabled pair's gap plus ``shift`` into ``own`` (k, P); each exact where it is below ``far``, else a lower bound of at least ``far``
     (a pair of groups, or a group and an obstacle, whose bounding spheres are ``far`` apart is not
-    measured capsule by capsule). ``groups``: the capsules by the joint that carries them (CSR
-    start and indices), and the enabled pairs by their two groups (the groups' indices, and CSR
-    start and indices of the pairs)."""
+    measured capsule by capsule). ``measured``: :data:`Measured`, whose groups are the capsules by
+    the joint that carries them (CSR start and indices), and the enabled pairs by their two groups
+    (the groups' indices, and CSR start and indices of the pairs)."""
+    (rows, root), (caps, link, part_radius), world, groups, pairs, (shift, far) = measured
     k, n = phi.shape
     c = link.shape[0]
     first, second, pair_radii = pairs
@@ -290,40 +294,73 @@ def _certified(lo: np.ndarray, hi: np.ndarray, c_lo: np.ndarray, c_hi: np.ndarra
 
 
 @compiled(**JIT)
-def _measured(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-              world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-              pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-              poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(k,) the least margin of poses (k, n), and (k, G) each group's clearance and (k, L) each
-    pair of groups' least shifted gap (:func:`_margins`)."""
+def _pairs_certified(lo: np.ndarray, hi: np.ndarray, g_lo: np.ndarray, g_hi: np.ndarray, levers: np.ndarray,
+                     p_lo: np.ndarray, p_hi: np.ndarray, rows: np.ndarray, pair_start: np.ndarray, pair_members: np.ndarray,
+                     floor: float) -> bool:
+    """:func:`_certified` for the pairs of groups (``g_lo``, ``g_hi`` (L,), ``levers`` (n, L)); where
+    a pair of groups' least gap does not certify the piece, each of its pairs by its own gaps
+    (``p_lo``, ``p_hi`` (P,)) and lever arms (``rows`` (P, n); CSR ``pair_start``, ``pair_members``):
+    a group's least gap may belong to a pair near the joint whose far neighbours set its levers."""
+    n = lo.shape[0]
+    for g in range(g_lo.shape[0]):
+        reach = 0.0
+        for j in range(n):
+            reach += abs(hi[j] - lo[j]) * levers[j, g]
+        if g_lo[g] + g_hi[g] >= reach + 2 * floor:
+            continue
+        for m in range(pair_start[g], pair_start[g + 1]):
+            p = pair_members[m]
+            reach = 0.0
+            for j in range(n):
+                reach += abs(hi[j] - lo[j]) * rows[p, j]
+            if not p_lo[p] + p_hi[p] >= reach + 2 * floor:
+                return False
+    return True
+
+
+@compiled(**JIT)
+def _measured(measured: Measured, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(k,) the least margin of poses (k, n), (k, G) each group's clearance, (k, L) each pair of
+    groups' least shifted gap and (k, P) each pair's (:func:`_margins`)."""
+    groups, pairs = measured[3], measured[4]
     k = poses.shape[0]
     clear = np.empty(k)
     own = np.empty((k, pairs[0].shape[0]))
     clear_groups = np.empty((k, groups[0].shape[0] - 1))
-    _margins(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses, clear, own, clear_groups)
+    _margins(measured, poses, clear, own, clear_groups)
     gaps = _group_least(own, groups[4], groups[5])
-    return _least(clear, gaps), clear_groups, gaps
+    return _least(clear, gaps), clear_groups, gaps, own
 
 
 @compiled(**JIT)
-def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray,
-                 world: tuple[np.ndarray, ...], groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-                 pairs: tuple[np.ndarray, np.ndarray, np.ndarray], shift: float, far: float,
-                 limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray], settings: np.ndarray,
-                 a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
+def _pose_free(measured: Measured, lower: np.ndarray, upper: np.ndarray, buffer: float, phi: np.ndarray, floor: float) -> bool:
+    """Whether the pose ``phi`` (n,) is within [lower + buffer, upper - buffer] and its least margin
+    (:func:`_measured`) is at least ``floor``: the planner's state check in one call."""
+    if not _inside(phi, lower, upper, buffer):
+        return False
+    least = _measured(measured, phi.reshape((1, phi.shape[0])))[0]
+    return bool(least[0] >= floor)
+
+
+@compiled(**JIT)
+def _motion_free(measured: Measured, limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                 settings: np.ndarray, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
     """:func:`armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled.
 
     ``limits``: (lower, upper, levers (n,), each group's lever arms (n, G), each pair of groups'
-    (n, L)); ``settings``: (d_safe, the coarse samples' spacing, certify_to, max_halvings,
+    (n, L), each pair's (P, n)); ``settings``: (d_safe, the coarse samples' spacing, certify_to, max_halvings,
     max_samples, buffer). Returns (free, poses checked).
 
     A piece is certified group by group: each group's clearance at both ends against the most its
     own points move (the numpy check takes the least clearance of all against the farthest any
     point moves), and each pair of groups' least gap against the most the joints between them
-    change it (every pair of two groups has those lever arms). Each bound is one the numpy
+    change it (every pair of two groups has those lever arms), and where that fails, each of its
+    pairs against its own (a pair beside the joint between them moves less than the group's
+    farthest: the UR5's base and its upper arm near the shoulder). Each bound is one the numpy
     check's implies, or tighter: the same answers, with fewer poses measured where the part
     near an obstacle moves less than the arm's farthest point."""
-    lower, upper, levers, obstacle_levers, pair_levers = limits
+    lower, upper, levers, obstacle_levers, pair_levers, pair_rows = limits
+    pair_start, pair_members = measured[3][4], measured[3][5]
     d_safe, spacing, certify_to = settings[0], settings[1], settings[2]
     max_halvings, max_samples, buffer = int(settings[3]), settings[4], settings[5]
     n = a.shape[0]
@@ -339,7 +376,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     for i in range(samples):
         for j in range(n):
             poses[i, j] = a[j] + u[i] * (b[j] - a[j])
-    least, clear, gaps = _measured(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, poses)
+    least, clear, gaps, own = _measured(measured, poses)
     checks = samples
     for i in range(samples):
         if not least[i] >= floor:
@@ -349,6 +386,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
     lo, hi = poses[:-1].copy(), poses[1:].copy()
     c_lo, c_hi = clear[:-1].copy(), clear[1:].copy()
     o_lo, o_hi = gaps[:-1].copy(), gaps[1:].copy()
+    p_lo, p_hi = own[:-1].copy(), own[1:].copy()
     for _ in range(max_halvings):
         pieces = lo.shape[0]
         if pieces == 0:
@@ -361,7 +399,8 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
             if not travel > certify_to * d_safe:
                 continue
             doubtful[i] = not (_certified(lo[i], hi[i], c_lo[i], c_hi[i], obstacle_levers, floor)
-                               and _certified(lo[i], hi[i], o_lo[i], o_hi[i], pair_levers, floor))
+                               and _pairs_certified(lo[i], hi[i], o_lo[i], o_hi[i], pair_levers, p_lo[i], p_hi[i], pair_rows,
+                                                    pair_start, pair_members, floor))
         kept = np.nonzero(doubtful)[0]
         left = kept.shape[0]
         if left == 0:
@@ -370,7 +409,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
         for r in range(left):
             for j in range(n):
                 mid[r, j] = 0.5 * (lo[kept[r], j] + hi[kept[r], j])
-        least, c_mid, o_mid = _measured(rows, root, caps, link, part_radius, world, groups, pairs, shift, far, mid)
+        least, c_mid, o_mid, p_mid = _measured(measured, mid)
         checks += left
         for r in range(left):
             if not least[r] >= floor:
@@ -378,6 +417,7 @@ def _motion_free(rows: np.ndarray, root: np.ndarray, caps: np.ndarray, link: np.
         lo, hi = _halves(lo, hi, mid, kept)
         c_lo, c_hi = _halves(c_lo, c_hi, c_mid, kept)
         o_lo, o_hi = _halves(o_lo, o_hi, o_mid, kept)
+        p_lo, p_hi = _halves(p_lo, p_hi, p_mid, kept)
         if 2 * left > max_samples:
             return False, checks
     return lo.shape[0] == 0, checks
@@ -425,19 +465,29 @@ def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
         start, members, keys // max(len(carriers), 1), keys % max(len(carriers), 1), pair_start, pair_members))
 
 
-def pair_capsule_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray) -> np.ndarray:
+def pair_capsule_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray,
+                      reach: np.ndarray | None = None) -> np.ndarray:
     """(P, n) the most each pair's gap changes per radian of joint j: the joints between the two
     capsules' carriers (``link`` (c,)) move the later one's points against the earlier one's
     frame, at most its ``rows`` (c, n) (:func:`~armanim.arm.capsules.capsule_lever_rows`); the
-    others move both alike.
+    others move both alike. For the first joint between them, at most the earlier capsule's
+    ``reach`` (c,) too (:func:`~armanim.arm.capsules.next_axis_reach`, where given).
 
     >>> pair_capsule_rows(np.array([-1, 0, 1]), np.array([0, 1]), np.array([2, 2]), np.array([[0.0, 0], [1, 0], [3, 2]])).tolist()
     [[3.0, 2.0], [0.0, 2.0]]
+    >>> pair_capsule_rows(np.array([-1, 0, 1]), np.array([0, 1]), np.array([2, 2]), np.array([[0.0, 0], [1, 0], [3, 2]]),
+    ...                   np.array([0.5, 4.0, np.inf])).tolist()
+    [[0.5, 2.0], [0.0, 2.0]]
     """
     lo, hi = np.minimum(link[first], link[second]), np.maximum(link[first], link[second])
     later = np.where(link[first] >= link[second], first, second)
+    earlier = np.where(link[first] >= link[second], second, first)
     joint = np.arange(rows.shape[1])
-    return np.where((joint > lo[:, None]) & (joint <= hi[:, None]), rows[later], 0.0)
+    out = np.where((joint > lo[:, None]) & (joint <= hi[:, None]), rows[later], 0.0)
+    if reach is not None:
+        apart = np.nonzero(hi > lo)[0]
+        out[apart, lo[apart] + 1] = np.minimum(out[apart, lo[apart] + 1], reach[earlier[apart]])
+    return out
 
 
 def group_levers(rows: np.ndarray, start: np.ndarray, members: np.ndarray) -> np.ndarray:
@@ -472,7 +522,7 @@ class CompiledCheck:
     pairs: tuple[np.ndarray, np.ndarray, np.ndarray]
     shift: float
     far: float
-    limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     settings: np.ndarray
 
     @classmethod
@@ -485,6 +535,7 @@ class CompiledCheck:
         second = np.ascontiguousarray(pairs.second, dtype=np.int64)
         groups = carrier_groups(_link_of(caps), first, second)
         rows = capsule_lever_rows(problem.arm, caps)
+        pair_rows = np.ascontiguousarray(pair_capsule_rows(caps.link, first, second, rows, next_axis_reach(problem.arm, caps)))
         return cls(
             chain=packed_chain(problem.arm),
             body=(np.ascontiguousarray(packed), np.ascontiguousarray(caps.link, dtype=np.int64),
@@ -497,10 +548,15 @@ class CompiledCheck:
             limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
                     np.ascontiguousarray(problem.lever_arms, dtype=float),
                     group_levers(rows, groups[0], groups[1]),
-                    group_levers(pair_capsule_rows(caps.link, first, second, rows), groups[4], groups[5])),
+                    group_levers(pair_rows, groups[4], groups[5]), pair_rows),
             settings=np.array([problem.solver.clearance, spacing, opts.certify_to, opts.max_halvings, opts.max_samples,
                                0.0 if closed else limit_buffer(problem)]),
         )
+
+    @property
+    def measured(self) -> Measured:
+        """The arrays the compiled measures read (:data:`Measured`)."""
+        return self.chain, self.body, self.world, self.groups, self.pairs, (float(self.shift), float(self.far))
 
     def margins(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(k,) the least obstacle clearance and (k, P) the shifted pair gaps of poses ``phi`` (k, n):
@@ -509,7 +565,7 @@ class CompiledCheck:
         clear = np.empty(len(phi))
         own = np.empty((len(phi), len(self.pairs[0])))
         groups = np.empty((len(phi), len(self.groups[0]) - 1))
-        _margins(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, phi, clear, own, groups)
+        _margins(self.measured, phi, clear, own, groups)
         return clear, own
 
     def pose_clearances(self, phi: np.ndarray) -> np.ndarray:
@@ -524,15 +580,23 @@ class CompiledCheck:
 
     def pose_free(self, phi: np.ndarray, floor: float) -> bool:
         """Whether the pose (n,) is within the limits (by the buffer, unless closed) and keeps ``floor``."""
-        lower, upper = self.limits[0], self.limits[1]
-        return bool(_inside(phi, lower, upper, float(self.settings[5])) and self.pose_clearance(phi) >= floor)
+        return bool(_pose_free(self.measured, self.limits[0], self.limits[1], float(self.settings[5]),
+                               np.ascontiguousarray(phi, dtype=float), float(floor)))
 
     def motion_free(self, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
         """:func:`~armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled."""
-        free, checks = _motion_free(*self.chain, *self.body, self.world, self.groups, self.pairs, self.shift, self.far, self.limits,
-                                    self.settings,
+        free, checks = _motion_free(self.measured, self.limits, self.settings,
                                     np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(b, dtype=float), float(floor))
         return bool(free), int(checks)
 
 
-__all__ = ["CompiledCheck"]
+def frame_margins(problem: Problem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(F,) each pose's least clearance to any obstacle or the floor (+inf without any) and (F, P)
+    every enabled pair's gap, of poses ``phi`` (F, n), exact: the numbers of
+    :func:`~armanim.world.distances.min_link_clearance` and
+    :func:`~armanim.world.selfdistances.self_gaps` to rounding (the tests hold them to each other),
+    compiled, for a tenth of their time: what trajectory.csv writes of every frame."""
+    return replace(CompiledCheck.of(problem, exact=True), shift=0.0).margins(phi)
+
+
+__all__ = ["CompiledCheck", "frame_margins"]

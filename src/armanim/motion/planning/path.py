@@ -341,20 +341,23 @@ def rrt_connect(
 
 
 def simplify(simplifier: Any, path: Any, thorough: bool) -> None:
-    """Shorten an OMPL ``path`` in place, every new piece certified by the search's motion check.
+    """Shorten and smooth an OMPL ``path`` in place, every new piece certified by the search's
+    motion check.
 
     ``thorough``: OMPL's ``simplifyMax`` (vertex reduction, shortcuts, B-spline smoothing and
     collapsing, repeated until nothing improves: the pose-goal planner's, whose paths the filter
-    follows). Else vertex reduction then rope shortcuts (each waypoint joined to the farthest one
-    a free straight piece reaches, and again): on MotionBenchMaker's Panda problems as short as
-    ``simplifyMax`` (4.4 against 4.6 rad, 4.9 against 4.8, 4.5 against 4.4 on three problems)
-    with a fifth to a third of its motion checks.
+    follows). Else vertex reduction, rope shortcuts (each waypoint joined to the farthest one a
+    free straight piece reaches, and again), then one pass of B-spline smoothing (each corner
+    cut at its neighbours' midpoints where that stays free): on MotionBenchMaker's Panda problems
+    as short as ``simplifyMax`` with a fifth to a third of its motion checks; the smoothing pass
+    shortens a UR5 path by some 3 % (7.94 to 7.68 rad, median of 30) for 4 ms.
     """
     if thorough:
         simplifier.simplifyMax(path)
         return
     simplifier.reduceVertices(path)
     simplifier.ropeShortcutPath(path)
+    simplifier.smoothBSpline(path, 1)
 
 
 def _budget(opts: PlannerOptions, tick: Callable[[int], None] | None) -> Callable[[], bool]:
