@@ -223,7 +223,7 @@ def test_view_out_never_replaces_a_page_edited_since(cli, run_folder, tmp_path):
     target = tmp_path / "page.html"
     assert cli("view", run_folder, "--out", target).exit_code == 0
     body, last = target.read_bytes().rsplit(b"\n", 2)[0] + b"\n", target.read_bytes().splitlines()[-1]
-    assert last == f"<!-- armanim viewer sha256 {hashlib.sha256(body).hexdigest()} -->".encode()
+    assert last == f'<meta name="armanim-sha256" content="{hashlib.sha256(body).hexdigest()}">'.encode()
     assert cli("view", run_folder, "--out", target).exit_code == 0
     for edit in (lambda page: page + b"<p>my notes</p>\n", lambda page: page.replace(b"<title>", b"<title>mine: ", 1)):
         edited = edit(target.read_bytes())

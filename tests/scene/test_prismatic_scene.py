@@ -75,10 +75,10 @@ def test_home_and_joint_goals_give_a_prismatic_joint_in_metres():
     assert problem.home[0] == 0.4 and problem.home[1] == 0.0
     np.testing.assert_allclose(problem.goals[0].joints[:2], [-0.3, np.radians(10.0)])
     far = scene_model({"version": 1, "arm": {"robot": "ur5_rail", "home": [2, 0, -100, 100, -90, -90, 0]},
-                       "goals": [{"joints": [0.1, 500, -100, 100, -90, -90, 0]}]})
+                       "goals": [{"joints": [0.1, 10, -100, 200, -90, -90, 0]}]})  # a joint goal lies in [-360, 360]
     problems = dict(scene_problems(far))
     assert problems["arm.home[0]"].startswith("2 m is outside joint 1's limits arm.limits[0] = [-1.25, 1.25]")
-    assert problems["goals[0].joints[1]"].startswith("500 deg is outside joint 2's limits")
+    assert problems["goals[0].joints[3]"].startswith("200 deg is outside joint 4's limits")
 
 
 RAIL_URDF = """<robot name="r">

@@ -24,11 +24,11 @@ from pathlib import Path
 ASSETS = "assets"
 GENERATOR = "armanim viewer"
 """The page's ``<meta name="generator">``: how ``armanim view`` knows a page of armanim's."""
-DIGEST = "<!-- armanim viewer sha256 {} -->\n"
+DIGEST = '<meta name="armanim-sha256" content="{}">\n'
 """The page's last line: the sha256 of every byte before it (UTF-8), so ``armanim view --out``
 replaces a page only as armanim wrote it, never one a user edited since (their notes in it)."""
 DIGEST_TAIL = 128
-"""Bytes at the end of a page read to find its digest line (the line is 95)."""
+"""Bytes at the end of a page read to find its digest line (the line is 104)."""
 
 
 def asset_text(name: str) -> str:
