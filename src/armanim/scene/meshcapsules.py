@@ -40,7 +40,7 @@ from armanim.scene.visuals import (
     unreadable_reason,
 )
 
-FIT_VERSION = 1
+FIT_VERSION = 2
 """Changes whenever the fit would give other capsules: older cached fits are then not read."""
 CACHE_ENV = "ARMANIM_CACHE_DIR"
 MAX_CACHE_BYTES = 100_000
@@ -96,8 +96,8 @@ def _specs(raw: bytes, file: str, tag: str) -> tuple[tuple[str, tuple[VisualSpec
                 given = {f"scale={mesh.attrib.get('scale')!r}": "scale" in mesh.attrib,
                          **{f"origin {k}={origin.attrib[k]!r}": True for k in ("xyz", "rpy") if origin is not None and k in origin.attrib}}
                 raise SceneError(file, [Diagnostic("", f"link {name!r}: collision mesh {mesh.attrib.get('filename')!r}: its "
-                                                 f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
-                                                 "finite numbers each", element.line)])
+                                                   f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
+                                                   "finite numbers each", element.line)])
     return tuple((name, tuple(specs)) for name, specs in out.items())
 
 
@@ -229,7 +229,7 @@ def content_key(vertices: np.ndarray, faces: np.ndarray, max_capsules: int) -> s
     """The cache's name for a fit: the SHA-256 of the fit's version, its settings and the mesh as placed.
 
     >>> content_key(np.zeros((1, 3)), np.zeros((0, 3), int), 3)[:12]
-    '0f9952679e1f'
+    '08eea130df9f'
     """
     digest = hashlib.sha256(f"armanim capsules v{FIT_VERSION} max {max_capsules}\n".encode())
     digest.update(np.ascontiguousarray(vertices, dtype="<f8").tobytes())
