@@ -126,7 +126,10 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     from armanim.motion.planning.check import frame_margins  # numba, as the clock's passes
 
     pose = forward(problem.arm, phi)
-    clear, gaps = frame_margins(problem, phi) if problems is None else (None, None)  # a carrying run: each goal's world below
+    if problems is None:
+        clear, gaps = frame_margins(problem, phi)
+    else:  # a run that carries: each frame in its goal's world
+        clear, gaps = world_clearance(problem, problems, pose, goal), None
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     traced = traced_paths(problem, src, phi, pose.tip, source, goal, held)
     if traced is not None:
@@ -139,7 +142,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         tip=pose.tip,
         goal=goal,
         distance=distance,
-        clearance=clear if problems is None else world_clearance(problem, problems, pose, goal),
+        clearance=clear,
         reached=joint_goals_reached(problem, phi, goal, (distance < problem.solver.tolerance) & turned),
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
