@@ -93,3 +93,13 @@ def test_an_arm_that_cannot_be_read_still_lets_the_rest_be_checked(tmp_path, arm
     for expected in ("goals[0]: lies inside obstacles[0]", "obstacles[1].center[0]: 2e+09 is too large",
                      "goals[1].hold: must be >= 0"):
         assert any(expected in line for line in lines), (expected, lines)
+
+
+def test_without_an_arm_a_goal_inside_an_obstacle_keeps_its_own_index():
+    """The arm unusable, the goal points are checked alone: a joint goal before them and a grasp
+    (whose point lies in the object it takes) are skipped, and the messages name each goal by its
+    index in the file."""
+    found = problems("version: 1\narm: {links: [2, 5, -5, 5], base: [5, 5, 0]}\n"
+                     "obstacles:\n  - {center: [12, 9, 8], radius: 2, name: ball}\n"
+                     "goals:\n  - {joints: [0, 10, 10, 10]}\n  - {position: [12, 9, 8], grasp: ball}\n  - [12, 9, 8]\n")
+    assert found == {"s.yaml:2: arm.links[2]", "s.yaml:8: goals[2]"}, found

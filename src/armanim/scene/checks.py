@@ -107,7 +107,7 @@ def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, 
                 problems += list(_pose_collision_problems(problem, goal.joints, f"goals[{k}]", "the joint goal's pose", "the goal"))
                 problems += list(_self_collision_problems(problem, f"goals[{k}]", goal.joints, "the joint goal's pose", "the goal"))
     else:  # the goals' own points need no arm
-        points = [scene_goal(g) for g in reduced.goals if g.joints is None]
+        points = [scene_goal(g) if g.joints is None and g.grasp is None else None for g in reduced.goals]  # each at its index
         problems += list(_goal_point_problems(scene_obstacles(reduced), tuple(points), None, ""))
     indices = {"goals": goals, "obstacles": obstacles}
 
@@ -576,12 +576,14 @@ def _home_collision_problems(problem):
 
 def _goal_point_problems(obstacles, goals, keep: float | None, tip_size: str):
     """Point and path goals (their start) inside an obstacle or below the floor, or (``keep``: the
-    last link's radius + ``solver.clearance``, None when the arm is not known) closer than ``keep``."""
+    last link's radius + ``solver.clearance``, None when the arm is not known) closer than ``keep``;
+    ``goals`` in the scene's order, None for one not checked here (a joint goal, or a grasp when
+    the arm is not known: its point lies in the object it takes)."""
     if not len(obstacles):
         return
     moving = {g.grasp for g in goals if getattr(g, "grasp", None) is not None}  # the objects a tool takes: _grasp_problems
     for k, goal in enumerate(goals):
-        if goal.joints is not None:
+        if goal is None or goal.joints is not None:
             continue  # its tool point is no part of the arm: the pose's links are checked (scene_problems)
         gap = point_clearances(goal.position[None], obstacles)[0]
         near = gap < keep if keep is not None else gap <= 0
