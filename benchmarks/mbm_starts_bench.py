@@ -11,7 +11,8 @@ every capsule at home at least ``solver.clearance`` from every obstacle, every e
 the home pose; a problem when nothing at all is wrong.
 
 Run: ``python benchmarks/mbm_starts_bench.py /work/shared/data/mbm`` (the folder of ``panda/``); some
-minutes on one core. ``--limit N`` runs the first N problems.
+minutes on one core. ``--limit N`` runs the first N problems; ``--solve`` also solves each admitted
+problem (planning and the clock, as ``mbm_bench.py`` does) and counts those that reach their joint goal.
 """
 
 from __future__ import annotations
@@ -33,20 +34,33 @@ from armanim.scene.moveitscene import RobotSource, moveit_scene
 MODES = ("auto", "fitted")
 
 
-def check(data: dict, mode: str) -> tuple[bool, bool, str]:
-    """(start admitted, problem admitted, the first problem's field path and message) of one imported scene."""
+def check(data: dict, mode: str) -> tuple[bool, bool, str, object]:
+    """(start admitted, problem admitted, the first problem's field path and message, the validated
+    scene) of one imported scene."""
     data = copy.deepcopy(data)
     data["arm"]["collision"] = mode
-    problems = scene_problems(scene_model(data))
+    scene = scene_model(data)
+    problems = scene_problems(scene)
     start = [p for p in problems if not p[0].startswith("goals")]
     first = f"{problems[0][0]}: {problems[0][1]}" if problems else ""
-    return not start, not problems, first
+    return not start, not problems, first, scene
+
+
+def solved(scene) -> bool:
+    """Whether the admitted problem's solve (planning, then the clock) reaches its joint goal."""
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene.convert import scene_to_problem
+
+    problem = scene_to_problem(scene)
+    return bool(retime(problem, solve_trajectory(problem), problem.fps).goals[0].reached)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path, help="the folder of panda/problems.tar.bz2")
     parser.add_argument("--limit", type=int, default=None)
+    parser.add_argument("--solve", action="store_true", help="also solve each admitted problem and count those solved")
     args = parser.parse_args(argv)
     counts = {mode: Counter() for mode in MODES}
     refused: dict[str, Counter] = {mode: Counter() for mode in MODES}
@@ -66,22 +80,25 @@ def main(argv: list[str] | None = None) -> int:
                 reasons[error.problems[0].message.split(" at ")[0] + " outside its limits"] += 1
                 continue
             for mode in MODES:
-                start, whole, first = check(data, mode)
+                start, whole, first, checked = check(data, mode)
                 counts[mode][("start", family)] += start
                 counts[mode][("problem", family)] += whole
+                if whole and args.solve:
+                    counts[mode][("solved", family)] += solved(checked)
                 if not start:
                     refused[mode][first.split(":")[0] + ": " + first.split("(")[0].split(": ", 1)[-1][:70]] += 1
     families = sorted({f for _, f in counts["auto"]})
     total = len(scenes)
     print(f"{total} Panda problems, {time.perf_counter() - started:.0f} s")
-    print("| family | " + " | ".join(f"starts admitted, {m}" for m in MODES) + " | " + " | ".join(f"problems admitted, {m}" for m in MODES) + " |")
-    print("|---|" + "---|" * (2 * len(MODES)))
+    kinds = ("start", "problem", "solved") if args.solve else ("start", "problem")
+    words = {"start": "starts admitted", "problem": "problems admitted", "solved": "admitted and solved"}
+    print("| family | " + " | ".join(f"{words[k]}, {m}" for k in kinds for m in MODES) + " |")
+    print("|---|" + "---|" * (len(kinds) * len(MODES)))
     for family in families:
         per = sum(1 for s in scenes if s.parent.name == family)
-        row = [f"{counts[m][('start', family)]}/{per}" for m in MODES] + [f"{counts[m][('problem', family)]}/{per}" for m in MODES]
+        row = [f"{counts[m][(k, family)]}/{per}" for k in kinds for m in MODES]
         print(f"| {family} | " + " | ".join(row) + " |")
-    row = [f"**{sum(v for (k, _), v in counts[m].items() if k == 'start')}/{total}**" for m in MODES]
-    row += [f"**{sum(v for (k, _), v in counts[m].items() if k == 'problem')}/{total}**" for m in MODES]
+    row = [f"**{sum(v for (c, _), v in counts[m].items() if c == k)}/{total}**" for k in kinds for m in MODES]
     print("| all | " + " | ".join(row) + " |")
     print(f"not imported: {sum(unimported.values())} ({', '.join(f'{f} {n}' for f, n in sorted(unimported.items()))}): "
           + "; ".join(f"{n} x {why}" for why, n in reasons.most_common(3)))
