@@ -25,7 +25,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "benchmarks"))
+sys.path[:0] = [str(ROOT / "benchmarks"), str(ROOT / "tests")]  # the toppra oracle is the tests' own (one owner)
+
+from toppra_oracle import toppra_trajectory  # noqa: E402
 
 from armanim.arm.geometry import wrap_angle  # noqa: E402
 from armanim.motion.jointpath import joint_path  # noqa: E402
@@ -35,28 +37,9 @@ from armanim.scene import load_scene, scene_model, scene_to_problem  # noqa: E40
 
 
 def toppra_duration(path, speed: np.ndarray, acceleration: np.ndarray) -> float:
-    """toppra's time-optimal duration along ``path`` (the clock's own geometry)."""
-    import toppra
-    import toppra.algorithm
-    import toppra.constraint
-
-    class Geometric(toppra.interpolator.AbstractGeometricPath):
-        def __call__(self, s, order=0):
-            return path.evaluate(np.atleast_1d(np.asarray(s, dtype=float)), order)
-
-        @property
-        def dof(self):
-            return path.poses.shape[1]
-
-        @property
-        def path_interval(self):
-            return np.array([0.0, path.length])
-
-    constraints = [toppra.constraint.JointVelocityConstraint(np.stack([-speed, speed], axis=1)),
-                   toppra.constraint.JointAccelerationConstraint(np.stack([-acceleration, acceleration], axis=1))]
-    algorithm = toppra.algorithm.TOPPRA(constraints, Geometric(), gridpoints=np.linspace(0, path.length, 4000),
-                                        parametrizer="ParametrizeConstAccel")
-    return float(algorithm.compute_trajectory(0, 0).duration)
+    """toppra's time-optimal duration along ``path`` (the clock's own geometry): the tests' oracle
+    (:func:`toppra_oracle.toppra_trajectory`), on 4000 grid points."""
+    return float(toppra_trajectory(path, speed, acceleration, gridpoints=4000).duration)
 
 
 def measure(name: str, problem, fps: float) -> dict:
