@@ -43,3 +43,17 @@ def small_scene(folder: Path, name: str) -> Path:
     path = folder / f"{name}.yaml"
     path.write_text(SMALL + f"name: {name}\nrender: {{fps: 10, size: [64, 48]}}\n")
     return path
+
+
+def assert_reruns_byte_identical(cli, scene: Path, name: str) -> list[Path]:
+    """``scene`` run twice through ``cli`` (no video, each into its own folder beside it): the two
+    runs' trajectory.csv and summary.json are the same bytes (``name``: the scene's name). Returns
+    the two run folders."""
+    outs = []
+    for k in range(2):
+        result = cli("run", scene, "--out", scene.parent / f"out{k}", "--no-video", "--quiet")
+        assert result.exit_code == 0, result.output
+        outs.append(scene.parent / f"out{k}" / name)
+    for file in ("trajectory.csv", "summary.json"):
+        assert (outs[0] / file).read_bytes() == (outs[1] / file).read_bytes(), file
+    return outs

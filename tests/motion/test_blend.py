@@ -14,6 +14,7 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from invariants import assert_trajectory_invariants, small_planning_budget
+from runfolders import assert_reruns_byte_identical
 from strategies import joint_goal_problems
 from toppra_oracle import toppra_trajectory
 
@@ -166,13 +167,7 @@ def test_bad_blends_are_refused_at_their_line(tmp_path, cli, goal, field, words)
 def test_blended_runs_are_byte_identical(tmp_path, cli):
     scene = tmp_path / "flow.yaml"
     scene.write_text(yaml.safe_dump({**_ur5_joints(10.0), "name": "flow"}, sort_keys=False))
-    outs = []
-    for k in range(2):
-        result = cli("run", scene, "--out", tmp_path / f"out{k}", "--no-video", "--quiet")
-        assert result.exit_code == 0, result.output
-        outs.append(tmp_path / f"out{k}" / "flow")
-    for name in ("trajectory.csv", "summary.json"):
-        assert (outs[0] / name).read_bytes() == (outs[1] / name).read_bytes(), name
+    outs = assert_reruns_byte_identical(cli, scene, "flow")
     import json
 
     summary = json.loads((outs[0] / "summary.json").read_text())

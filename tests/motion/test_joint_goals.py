@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from invariants import assert_trajectory_invariants, small_planning_budget
+from runfolders import assert_reruns_byte_identical
 from strategies import joint_goal_problems
 
 from armanim.arm.kinematics import forward
@@ -136,13 +137,7 @@ def test_joint_goal_runs_are_byte_identical(tmp_path, cli):
                      "  - {box: {center: [0.55, 0.0, 0.45], size: [0.2, 0.05, 0.9]}}\n"
                      "goals:\n  - {joints: [60, 20, 0, -100, 0, 120, 45]}\n  - {joints: [-60, 20, 0, -100, 0, 120, 45]}\n"
                      "solver: {clearance: 0.01}\n")
-    outs = []
-    for k in range(2):
-        result = cli("run", scene, "--out", tmp_path / f"out{k}", "--no-video", "--quiet")
-        assert result.exit_code == 0, result.output
-        outs.append(tmp_path / f"out{k}" / "twice")
-    for name in ("trajectory.csv", "summary.json"):
-        assert (outs[0] / name).read_bytes() == (outs[1] / name).read_bytes(), name
+    assert_reruns_byte_identical(cli, scene, "twice")
 
 
 def test_the_documented_joint_goal_form_loads(tmp_path):
