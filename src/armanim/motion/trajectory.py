@@ -72,9 +72,18 @@ class _Recorder:
 
     def add(self, state: ArmState, goal: int, distance: float, iterations: int = 0, step_scale: float = 0.0,
             mode: str = "ik", angle: float | None = None, path_s: float = np.nan) -> None:
-        self.phi.append(state.phi)
-        self.tip.append(state.tip)
-        self.clearance.append(state.min_clearance)  # the filter computed it for this very pose
+        """A row of ``state``: the clearance and pairs' gaps the filter measured for this very pose."""
+        gaps = state.self_gaps.d if state.self_gaps is not None else None
+        self.add_measured(state.phi, state.tip, state.min_clearance, goal, distance, gaps, mode, iterations, step_scale, angle, path_s)
+
+    def add_measured(self, phi: np.ndarray, tip: np.ndarray, clearance: float, goal: int, distance: float,
+                     gaps: np.ndarray | None, mode: str, iterations: int = 0, step_scale: float = 0.0,
+                     angle: float | None = None, path_s: float = np.nan) -> None:
+        """A row of a pose measured apart from a state: its tip, least clearance and every enabled
+        pair's gap (P,) (None without pairs)."""
+        self.phi.append(phi)
+        self.tip.append(tip)
+        self.clearance.append(clearance)
         self.goal.append(goal)
         self.distance.append(distance)
         self.iterations.append(iterations)
@@ -82,24 +91,6 @@ class _Recorder:
         self.mode.append(mode)
         self.angle.append(np.nan if angle is None else angle)
         self.path_s.append(path_s)
-        if state.self_gaps is not None:  # the filter measured this very pose's pairs
-            self.self_gap.append(state.min_self_gap)
-            self.self_pair.append(self.labels[int(state.self_gaps.d.argmin())])
-
-    def add_measured(self, phi: np.ndarray, tip: np.ndarray, clearance: float, goal: int, distance: float,
-                     gaps: np.ndarray | None, mode: str) -> None:
-        """:meth:`add` for a pose measured apart from a state: its tip, least clearance and every
-        enabled pair's gap (P,) (None without pairs)."""
-        self.phi.append(phi)
-        self.tip.append(tip)
-        self.clearance.append(clearance)
-        self.goal.append(goal)
-        self.distance.append(distance)
-        self.iterations.append(0)
-        self.step_scale.append(0.0)
-        self.mode.append(mode)
-        self.angle.append(np.nan)
-        self.path_s.append(np.nan)
         if gaps is not None:
             self.self_gap.append(float(gaps.min()))
             self.self_pair.append(self.labels[int(gaps.argmin())])
