@@ -61,9 +61,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("folder", type=Path, help="the folder of panda/problems.tar.bz2")
     parser.add_argument("--limit", type=int, default=None)
     parser.add_argument("--solve", action="store_true", help="also solve each admitted problem and count those solved")
+    parser.add_argument("--urdf", type=Path, default=None,
+                        help="a Panda URDF instead of the bundled one (VAMP's mesh panda.urdf: its meshes fitted by collision: auto)")
+    parser.add_argument("--srdf", type=Path, default=None, help="that URDF's SRDF (its allowed pairs)")
     args = parser.parse_args(argv)
-    counts = {mode: Counter() for mode in MODES}
-    refused: dict[str, Counter] = {mode: Counter() for mode in MODES}
+    robot = RobotSource(robot="panda") if args.urdf is None else RobotSource(urdf=args.urdf, srdf=args.srdf)
+    modes = MODES if args.urdf is None else ("auto",)
+    counts = {mode: Counter() for mode in modes}
+    refused: dict[str, Counter] = {mode: Counter() for mode in modes}
     unimported: Counter = Counter()
     reasons: Counter = Counter()
     started = time.perf_counter()
@@ -74,36 +79,40 @@ def main(argv: list[str] | None = None) -> int:
             request = scene.with_name(scene.name.replace("scene", "request"))
             family = scene.parent.name
             try:
-                data = moveit_scene(scene, request, RobotSource(robot="panda"), Path(tmp) / "out.yaml").data
+                data = moveit_scene(scene, request, robot, Path(tmp) / "out.yaml").data
+                if args.urdf is not None:  # the scene's files relative to where it would be written; checked here from the cwd
+                    data["arm"]["urdf"] = str(args.urdf.resolve())
+                    if args.srdf is not None:
+                        data["arm"]["self_collision"]["srdf"] = str(args.srdf.resolve())
             except SceneError as error:  # a start or goal outside the bundled Panda's limits (Franka's own)
                 unimported[family] += 1
                 reasons[error.problems[0].message.split(" at ")[0] + " outside its limits"] += 1
                 continue
-            for mode in MODES:
+            for mode in modes:
                 start, whole, first, checked = check(data, mode)
                 counts[mode][("start", family)] += start
                 counts[mode][("problem", family)] += whole
                 if whole and args.solve:
                     counts[mode][("solved", family)] += solved(checked)
-                if not start:
+                if not whole:
                     refused[mode][first.split(":")[0] + ": " + first.split("(")[0].split(": ", 1)[-1][:70]] += 1
     families = sorted({f for _, f in counts["auto"]})
     total = len(scenes)
     print(f"{total} Panda problems, {time.perf_counter() - started:.0f} s")
     kinds = ("start", "problem", "solved") if args.solve else ("start", "problem")
     words = {"start": "starts admitted", "problem": "problems admitted", "solved": "admitted and solved"}
-    print("| family | " + " | ".join(f"{words[k]}, {m}" for k in kinds for m in MODES) + " |")
-    print("|---|" + "---|" * (len(kinds) * len(MODES)))
+    print("| family | " + " | ".join(f"{words[k]}, {m}" for k in kinds for m in modes) + " |")
+    print("|---|" + "---|" * (len(kinds) * len(modes)))
     for family in families:
         per = sum(1 for s in scenes if s.parent.name == family)
-        row = [f"{counts[m][(k, family)]}/{per}" for k in kinds for m in MODES]
+        row = [f"{counts[m][(k, family)]}/{per}" for k in kinds for m in modes]
         print(f"| {family} | " + " | ".join(row) + " |")
-    row = [f"**{sum(v for (c, _), v in counts[m].items() if c == k)}/{total}**" for k in kinds for m in MODES]
+    row = [f"**{sum(v for (c, _), v in counts[m].items() if c == k)}/{total}**" for k in kinds for m in modes]
     print("| all | " + " | ".join(row) + " |")
     print(f"not imported: {sum(unimported.values())} ({', '.join(f'{f} {n}' for f, n in sorted(unimported.items()))}): "
           + "; ".join(f"{n} x {why}" for why, n in reasons.most_common(3)))
-    for mode in MODES:
-        print(f"{mode}: starts refused by " + "; ".join(f"{n} x {why}" for why, n in refused[mode].most_common(5)))
+    for mode in modes:
+        print(f"{mode}: problems refused by " + "; ".join(f"{n} x {why}" for why, n in refused[mode].most_common(5)))
     return 0
 
 
