@@ -8,7 +8,7 @@ afterwards (:func:`armanim.scene.robots.read_arm_files`), which gives the arm wh
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal, TypeAlias
 
 import numpy as np
 from pydantic import Field, PrivateAttr, WithJsonSchema, field_validator, model_validator
@@ -28,6 +28,17 @@ from armanim.scene.fields import (
     Vector3,
     joint_rate,
 )
+
+if TYPE_CHECKING:  # read after validation (armanim.scene.robots.read_arm_files), which imports this module
+    from armanim.scene.robots import UrdfArm
+    from armanim.scene.srdf import Srdf
+
+    JointSpeed: TypeAlias = float | list[float]  # mypy's view of the constrained forms pydantic reads
+    JointAcceleration: TypeAlias = float | list[float]
+    JointJerk: TypeAlias = float | list[float] | Literal["robot"]
+else:
+    JointSpeed, JointAcceleration = joint_rate("max_joint_speed"), joint_rate("max_joint_acceleration")
+    JointJerk = joint_rate("max_joint_jerk", robot=True)
 
 
 class CapsuleModel(Strict):
@@ -139,16 +150,16 @@ class ArmModel(Strict):
         default=None,
         description="Drawn thickness of the links, collision radius width/2 of joint-to-joint capsules; default 0.5 (links) or 0.1 (URDF, metres).",
     )
-    max_joint_speed: joint_rate("max_joint_speed") | None = Field(
+    max_joint_speed: JointSpeed | None = Field(
         default=None,
         description="deg/s, one number or one per joint: the clock keeps every joint's speed within it; default the robot's "
                     "(robot.yaml, else the URDF's <limit velocity>, else 180), or solver.max_joint_step x render.fps (links).",
     )
-    max_joint_acceleration: joint_rate("max_joint_acceleration") | None = Field(
+    max_joint_acceleration: JointAcceleration | None = Field(
         default=None,
         description="deg/s^2, one number or one per joint; default the robot's published one (robot.yaml), else 4 x max_joint_speed per second.",
     )
-    max_joint_jerk: joint_rate("max_joint_jerk", robot=True) | None = Field(
+    max_joint_jerk: JointJerk | None = Field(
         default=None,
         description="deg/s^3, one number or one per joint, or robot (the bundled robot's published one): the clock is also "
                     "jerk-bounded; default none (speed and acceleration only).",
@@ -162,8 +173,8 @@ class ArmModel(Strict):
         "off: none is checked; or {auto: true, allow: [[a, b]], check: [[a, b]]}, or {srdf: FILE}.",
     )
 
-    _robot: object = PrivateAttr(default=None)  # the URDF arm read after validation (armanim.scene.robots.UrdfArm)
-    _srdf: object = PrivateAttr(default=None)  # the SRDF's allowed pairs, read after validation (armanim.scene.srdf.Srdf)
+    _robot: UrdfArm | None = PrivateAttr(default=None)  # the URDF arm read after validation
+    _srdf: Srdf | None = PrivateAttr(default=None)  # the SRDF's allowed pairs, read after validation
 
     @field_validator("self_collision", mode="before")
     @classmethod
@@ -188,7 +199,7 @@ class ArmModel(Strict):
                              "or give your own file with arm.urdf)")
         return self
 
-    def with_files(self, robot, srdf) -> ArmModel:
+    def with_files(self, robot: UrdfArm | None, srdf: Srdf | None) -> ArmModel:
         """This arm with what its files say: ``robot``, the URDF arm (``armanim.scene.robots.UrdfArm``,
         None for links), and ``srdf``, the SRDF's pairs (``armanim.scene.srdf.Srdf``, or None).
         :func:`armanim.scene.robots.read_arm_files` reads them, after validation."""
@@ -197,16 +208,19 @@ class ArmModel(Strict):
         return arm
 
     @property
-    def urdf_arm(self):
-        """The URDF arm (``armanim.scene.robots.UrdfArm``) its file gave; None for an arm of links.
+    def urdf_arm(self) -> UrdfArm:
+        """The URDF arm (``armanim.scene.robots.UrdfArm``) its file gave.
 
         Raises
         ------
         RuntimeError
-            The arm is a URDF's and its file was not read: validate a scene with
-            :func:`armanim.scene.load_scene` or :func:`armanim.scene.scene_model`, which read it.
+            The arm is an arm of links (ask :attr:`is_urdf` first), or a URDF's whose file was not
+            read: validate a scene with :func:`armanim.scene.load_scene` or
+            :func:`armanim.scene.scene_model`, which read it.
         """
-        if self._robot is None and self.is_urdf:
+        if self._robot is None:
+            if not self.is_urdf:
+                raise RuntimeError("an arm of links has no URDF arm (ask is_urdf first)")
             raise RuntimeError("this URDF arm's file was not read: validate the scene with armanim.scene.load_scene, "
                                "scene_from_bytes or scene_model (SceneModel.model_validate reads no file)")
         return self._robot

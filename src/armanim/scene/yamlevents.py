@@ -22,6 +22,13 @@ def event_line(event_or_mark) -> int | None:
     return mark.line + 1 if mark is not None else None
 
 
+def _parsed_line(event) -> int:
+    """:func:`event_line` of an event the parser made (it always has its mark)."""
+    line = event_line(event)
+    assert line is not None, "a parsed event has its mark"
+    return line
+
+
 class _Container:
     """An open list or mapping on the builder's stack."""
 
@@ -31,15 +38,15 @@ class _Container:
     def __init__(self, kind: str, path: str, line: int | None, anchor: str | None, discard: bool):
         self.kind = kind  # "seq" or "map"
         self.path = path
-        self.value: list | dict = [] if kind == "seq" else {}
+        self.value: list[object] | dict[str, object] = [] if kind == "seq" else {}
         self.line = line
         self.anchor = anchor
         self.size = 1  # values inside, itself included (for aliases to it)
         self.depth = 1  # levels of nesting inside, itself included
-        self.key = None  # mapping: the key whose value comes next
-        self.key_line = None
+        self.key: str | None = None  # mapping: the key whose value comes next
+        self.key_line: int | None = None
         self.skip_key = False  # mapping: the pending key was rejected, drop its value
-        self.first_line: dict[str, int] = {}
+        self.first_line: dict[str, int | None] = {}
         self.discard = discard  # a collection with an unsupported tag: content read, then dropped
         self.is_key = False  # a list or mapping used as a mapping key (rejected)
 
@@ -93,7 +100,7 @@ class EventBuilder:
             return None
         if top.kind == "seq":
             return join_path(top.path, len(top.value))
-        if top.skip_key:
+        if top.skip_key or top.key is None:  # a mapping's value comes after its key
             return None
         return join_path(top.path, top.key)
 
@@ -108,11 +115,11 @@ class EventBuilder:
         top = self.stack[-1]
         top.size += size
         top.depth = max(top.depth, depth + 1)
-        if top.kind == "seq":
+        if isinstance(top.value, list):
             if not top.discard:
                 top.value.append(value)
             return
-        if not top.discard and not top.skip_key:
+        if not top.discard and not top.skip_key and top.key is not None:
             top.value[top.key] = value
         top.key, top.skip_key = None, False
 
@@ -120,7 +127,7 @@ class EventBuilder:
         """A mapping key has been read: check it, remember where it is."""
         top = self.stack[-1]
         top.size += size
-        line = event_line(event)
+        line = _parsed_line(event)
         if top.discard:
             top.skip_key = True
             return
@@ -151,23 +158,23 @@ class EventBuilder:
             self._alias(event)
 
     def _scalar(self, event) -> None:
-        line = event_line(event)
+        line = _parsed_line(event)
         key_position = self._is_key_position()
         path = self.stack[-1].path if key_position else self._child_path(line)
         self._count(1, 0, path or "", line)
         if key_position:
+            where = self.stack[-1].path
             tag = self._scalars.tag(event)
+            key: object = _REJECTED_KEY
             if tag == MERGE_TAG:
-                self.problems.append(Diagnostic(path, "merge keys (<<) are not supported (write the keys out in full)", line))
-                value = _REJECTED_KEY
+                self.problems.append(Diagnostic(where, "merge keys (<<) are not supported (write the keys out in full)", line))
             elif tag not in STANDARD_TAGS:
-                self.problems.append(Diagnostic(path, f"a mapping key must be a plain name (got a {short_tag(tag)!r} value)", line))
-                value = _REJECTED_KEY
+                self.problems.append(Diagnostic(where, f"a mapping key must be a plain name (got a {short_tag(tag)!r} value)", line))
             else:
-                value = self._construct(event, tag, path, line)
-            self._key(event, value)
+                key = self._construct(event, tag, where, line)
+            self._key(event, key)
             if event.anchor:
-                self.anchors[event.anchor] = (value if value is not _REJECTED_KEY else None, 1, 0)
+                self.anchors[event.anchor] = (key if key is not _REJECTED_KEY else None, 1, 0)
             return
         value = None
         if path is not None:
@@ -188,14 +195,14 @@ class EventBuilder:
         return value
 
     def _start(self, event) -> None:
-        line = event_line(event)
+        line = _parsed_line(event)
         key_position = self._is_key_position()
         path = self.stack[-1].path if key_position else self._child_path(line)
         self._count(1, 1, path or "", line)
         kind = "seq" if isinstance(event, yaml.SequenceStartEvent) else "map"
         discard = path is None or key_position
         if key_position:
-            self.problems.append(Diagnostic(path, f"a mapping key must be a plain name (got a {'list' if kind == 'seq' else 'mapping'})", line))
+            self.problems.append(Diagnostic(self.stack[-1].path, f"a mapping key must be a plain name (got a {'list' if kind == 'seq' else 'mapping'})", line))
         elif path is not None:
             self.lines.setdefault(path, line)
             standard = "tag:yaml.org,2002:" + kind
@@ -227,7 +234,7 @@ class EventBuilder:
         top.skip_key = True
 
     def _alias(self, event) -> None:
-        line = event_line(event)
+        line = _parsed_line(event)
         key_position = self._is_key_position()
         path = self.stack[-1].path if key_position else self._child_path(line)
         if event.anchor in self.open_anchors:
@@ -238,7 +245,7 @@ class EventBuilder:
         self._count(size, depth, path or "", line)
         if key_position:
             if isinstance(value, (list, dict)) or value is None:
-                self.problems.append(Diagnostic(path, "a mapping key must be a plain name", line))
+                self.problems.append(Diagnostic(self.stack[-1].path, "a mapping key must be a plain name", line))
                 self._key(event, _REJECTED_KEY, size)
             else:
                 self._key(event, value, size)
