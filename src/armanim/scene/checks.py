@@ -190,8 +190,8 @@ def gripper_opening(scene: SceneModel) -> float | None:
     held off the chain (the Panda's two fingers: 0.08 m); None without such joints."""
     if not scene.arm.is_urdf:
         return None
-    fingers = [j for j in scene.arm.urdf_arm.held if j.kind == "prismatic" and j.limits is not None]
-    return float(sum(j.limits[1] for j in fingers)) if fingers else None
+    uppers = [j.limits[1] for j in scene.arm.urdf_arm.held if j.kind == "prismatic" and j.limits is not None]
+    return float(sum(uppers)) if uppers else None
 
 
 def _grasp_problems(scene: SceneModel, problem):
@@ -217,7 +217,7 @@ def _grasp_problems(scene: SceneModel, problem):
             yield f"goals[{k}].grasp", (f"{name!r} is {reach:.3g} from the goal's tool point (expected the tool point in the object or "
                                         f"within solver.tolerance = {problem.solver.tolerance:g} of it: move the goal onto the object)")
         rest = resting_clearances(problem.obstacles, goal.grasp)
-        for column in np.nonzero(rest < d_safe)[0]:
+        for column in (int(c) for c in np.nonzero(rest < d_safe)[0]):
             where = "the floor" if problem.obstacles.kinds[column] == FLOOR else _obstacle_words(problem.obstacles, column)
             yield f"obstacles[{goal.grasp}]", (
                 f"{name!r} rests {rest[column]:.3g} from {where} as the arm will carry it (its cover of capsules, which lies up to "
@@ -246,7 +246,11 @@ def _pen_problems(scene: SceneModel):
         if text is None or (goal.tool_axis is None and goal.orientation is None):
             continue
         front = [float(v) + 0.0 for v in np.cross(text.right, text.up)]
-        axis = goal.tool_axis if goal.tool_axis is not None else orientation_rotation(goal.orientation)[:, 2].tolist()
+        if goal.tool_axis is not None:
+            axis = goal.tool_axis
+        else:
+            assert goal.orientation is not None  # one of the two, as tested above
+            axis = orientation_rotation(goal.orientation)[:, 2].tolist()
         if sum(a * f for a, f in zip(axis, front)) > 0:
             field = "tool_axis" if goal.tool_axis is not None else "orientation"
             yield f"goals[{k}].{field}", (
@@ -349,7 +353,7 @@ def _magnitudes(scene: SceneModel):
         if goal.joints is not None:
             continue  # angles: the limits bound them
         if goal.path is None:
-            yield from ((f"goals[{k}].position[{i}]", v) for i, v in enumerate(goal.position))
+            yield from ((f"goals[{k}].position[{i}]", v) for i, v in enumerate(goal.position or ()))
         else:
             yield from _path_magnitudes(f"goals[{k}].path", goal.path)
     solver = scene.solver
@@ -420,7 +424,7 @@ def _magnitude_problems(scene: SceneModel):
         elif 0 < value < small and POSITIVE_LENGTHS.fullmatch(path):
             yield path, f"{value:g} is too small (expected at least {small:g}: choose a larger unit)"
     if sum(scene.arm.links or ()) > big:
-        yield "arm.links", f"the arm is {sum(scene.arm.links):g} long (expected at most {big:g}: choose a smaller unit)"
+        yield "arm.links", f"the arm is {sum(scene.arm.links or ()):g} long (expected at most {big:g}: choose a smaller unit)"
     weights = scene.solver.weights
     for name in type(weights).model_fields:
         value = getattr(weights, name)
@@ -587,7 +591,7 @@ def _goal_point_problems(obstacles, goals, keep: float | None, tip_size: str):
             continue  # its tool point is no part of the arm: the pose's links are checked (scene_problems)
         gap = point_clearances(goal.position[None], obstacles)[0]
         near = gap < keep if keep is not None else gap <= 0
-        for obs in np.nonzero(near)[0]:
+        for obs in (int(o) for o in np.nonzero(near)[0]):
             if obs in moving:
                 continue
             where = _obstacle_path(obstacles, obs) if obstacles.kinds[obs] == FLOOR else _obstacle_words(obstacles, obs)

@@ -46,7 +46,7 @@ from armanim.world.selfdistances import SelfPairs
 
 def axis_names(scene: SceneModel) -> list[str]:
     """The scene's joint axes, or the contract's default (z, then y)."""
-    return list(scene.arm.axes) if scene.arm.axes is not None else default_axes(len(scene.arm.links))
+    return list(scene.arm.axes) if scene.arm.axes is not None else default_axes(len(scene.arm.links or ()))
 
 
 def home_degrees(arm: ArmModel) -> list[float]:
@@ -158,12 +158,13 @@ def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
         ends.append(place[:3, :3] @ np.asarray(tool.to) + place[:3, 3])
         radii.append(float(tool.radius))
         names.append(robot.path_links[chain.carriers.index(chain.carriers[-1])])
-    return frame_capsules(chain.arm, links, np.reshape(starts, (-1, 3)), np.reshape(ends, (-1, 3)), radii, names)
+    return frame_capsules(chain.arm, links, np.reshape(starts, (-1, 3)), np.reshape(ends, (-1, 3)), radii, tuple(names))
 
 
 def scene_arm(arm: ArmModel, axes: list[str]) -> tuple[Arm, Capsules | None]:
     """The scene's arm and its capsules (None: today's joint-to-joint capsules)."""
     if not arm.is_urdf:
+        assert arm.links is not None, "an arm of links has its links (ArmModel)"
         return Arm.from_names(arm.links, base=arm.base or (0.0, 0.0, 0.0), axes=axes, direction=arm.direction or "z"), None
     chain = urdf_chain(arm)
     return chain.arm, urdf_capsules(arm, chain)
@@ -174,9 +175,9 @@ def scene_obstacles(scene: SceneModel) -> Obstacles:
     if not scene.obstacles and scene.floor is None:
         return Obstacles.none()
     spheres = [o for o in scene.obstacles if o.kind == "sphere"]
-    boxes = [o.box for o in scene.obstacles if o.kind == "box"]
-    rods = [o.capsule for o in scene.obstacles if o.kind == "capsule"]
-    cylinders = [o.cylinder for o in scene.obstacles if o.kind == "cylinder"]
+    boxes = [o.box for o in scene.obstacles if o.kind == "box" and o.box is not None]
+    rods = [o.capsule for o in scene.obstacles if o.kind == "capsule" and o.capsule is not None]
+    cylinders = [o.cylinder for o in scene.obstacles if o.kind == "cylinder" and o.cylinder is not None]
     kinds = [{"sphere": SPHERE, "box": BOX, "capsule": ROD, "cylinder": CYLINDER}[o.kind] for o in scene.obstacles]
     influence = [o.resolved_influence for o in scene.obstacles]
     if scene.floor is not None:
@@ -362,7 +363,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         goals=tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals),
         solver=solver,
         fps=fps,
-        capsules=capsules,
+        capsules=cast(Capsules, capsules),  # None: the Problem's own default, today's joint-to-joint capsules
         rates=rate_limits(scene),
         self_pairs=(self_pairs(arm, chain, every, limits, home, self_clearance(scene.solver, solver.clearance)) if own_pairs
                     else SelfPairs.none(self_clearance(scene.solver, solver.clearance))),
@@ -379,6 +380,7 @@ def orientation_rotation(o: OrientationModel) -> np.ndarray:
         return rpy_rotation(np.radians(o.rpy))
     if o.quaternion_wxyz is not None:
         return quaternion_rotation(o.quaternion_wxyz)
+    assert o.axis is not None and o.angle is not None, "an orientation has one form (OrientationModel)"
     return axis_angle_rotation(o.axis, np.radians(o.angle))
 
 
@@ -431,6 +433,7 @@ def scene_goal(goal: GoalModel, chain: Arm | None = None, blend: float | None = 
     if goal.path is None:
         return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal), blend=radius)
     path = tool_path(goal.path)
+    assert goal.speed is not None, "a path goal's speed is required (GoalModel)"
     return Goal(path.start.copy(), goal.hold, goal_orientation(goal), path=path, speed=float(goal.speed))
 
 

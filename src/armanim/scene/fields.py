@@ -107,7 +107,7 @@ def joint_rate(name: str, robot: bool = False):
     robot's published value). The tags name the forms as pydantic names union branches, so
     that messages name the field itself (``arm.max_joint_speed[2]``)."""
     rate = Annotated[float, Field(gt=0, le=RATE_BOUNDS[name], allow_inf_nan=False)]
-    forms = [Annotated[rate, Tag("float")], Annotated[Annotated[list[rate], Field(max_length=LIMITS["links"])], Tag("list[float]")]]
+    forms = [Annotated[rate, Tag("float")], Annotated[Annotated[list[rate], Field(max_length=int(LIMITS["links"]))], Tag("list[float]")]]
     if robot:
         forms.append(Annotated[Literal["robot"], Tag("literal[robot]")])
     return Annotated[Union[tuple(forms)], Discriminator(_rate_or_robot_form if robot else _rate_form)]  # noqa: UP007

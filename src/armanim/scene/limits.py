@@ -48,6 +48,7 @@ def joint_limits(arm: ArmModel) -> Limits:
     radians, taken as metres by a prismatic joint: 10 degrees keep 0.175 m)."""
     n = arm.joint_count
     slides = arm.sliding
+    pairs: list
     if arm.limits is None and arm.is_urdf:  # the URDF's own, in radians (metres) already
         pairs = [(p if slide else np.degrees(p)) if p is not None else None for p, slide in zip(arm.urdf_arm.limits, slides)]
     else:
@@ -81,6 +82,7 @@ def robot_rates(arm: ArmModel) -> dict[str, tuple[np.ndarray, str]]:
                                "the URDF's <limit velocity>")}
     bundled = robot.bundled
     for name in RATE_FIELDS if bundled is not None else ():
+        assert bundled is not None
         published = bundled.rate(name)
         if published is None:
             continue
@@ -138,6 +140,7 @@ def rate_limits(scene: SceneModel) -> RateLimits:
     own_acceleration = np.where(np.isnan(published), LINK_ACCELERATION_PER_SPEED * speed, published)
     given = _given_rates(arm.max_joint_acceleration, n, slides, own_acceleration)
     acceleration = own_acceleration if given is None else given
+    jerk: np.ndarray | None
     if arm.max_joint_jerk == "robot":
         jerk = own["max_joint_jerk"][0]
     else:

@@ -14,9 +14,9 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from armanim import __version__
 from armanim.errors import Diagnostic, SceneError
@@ -246,7 +246,7 @@ def _problems_beside(doc: YamlDocument, bad: list[tuple], files: tuple, known: s
     """The cross-field problems of a scene with field errors, checked with the bad parts left out
     (:func:`_salvaged`), so that one pass reports every problem; a check that reads a part left
     out (or a default taken for it) is skipped. ``arm_unread``: the arm's files could not be read."""
-    salvaged = _salvaged(doc.data, bad, files, arm_unread)
+    salvaged = _salvaged(cast(dict, doc.data), bad, files, arm_unread)  # _validated checked it is a mapping
     if salvaged is None:
         return []
     model, unknown, kept = salvaged
@@ -375,7 +375,7 @@ def _diagnostic(err: dict, doc: YamlDocument) -> Diagnostic:
 
 
 def _allowed_keys(loc: tuple) -> list[str]:
-    model = SceneModel
+    model: type[BaseModel] = SceneModel
     for part in loc[:-1]:
         if isinstance(part, int):
             continue
@@ -386,7 +386,7 @@ def _allowed_keys(loc: tuple) -> list[str]:
         candidates = [annotation, *getattr(annotation, "__args__", ())]
         for c in candidates:
             for inner in (c, *getattr(c, "__args__", ())):
-                if isinstance(inner, type) and hasattr(inner, "model_fields"):
+                if isinstance(inner, type) and issubclass(inner, BaseModel):
                     model = inner
                     break
             else:
@@ -435,7 +435,7 @@ def problem_message(err: Mapping[str, Any], loc: tuple[int | str, ...]) -> str:
     if kind == "value_error":  # a model's own check (e.g. arm.robot): its message says it all
         return str(ctx.get("error", err["msg"]))
     if kind == "string_pattern_mismatch":
-        return name_problem(got) or f"{got!r} is not a valid name"
+        return name_problem(str(got)) or f"{got!r} is not a valid name"
     return f"{err['msg'][0].lower()}{err['msg'][1:]} (got {_describe(got)})"
 
 

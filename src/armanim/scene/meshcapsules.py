@@ -138,7 +138,9 @@ def mesh_capsules(robot: Robot, links: tuple[str, ...], urdf_dir: Path, package_
     collisions, visuals = geometry_specs(robot, "collision"), None
     reader = MeshReader(None)
     out: list[tuple[str, FittedCapsule]] = []
-    from_visuals, unread, cached = [], [], 0
+    from_visuals: list[str] = []
+    unread: list[str] = []
+    cached = 0
     for link in links:
         specs = [s for s in collisions.get(link, []) if s.kind == "mesh"]
         if specs:

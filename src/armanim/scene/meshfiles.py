@@ -157,7 +157,7 @@ def _obj(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         vertices = np.array(points, dtype=float).reshape(-1, 3)
     except ValueError:
         raise ValueError("a 'v' line of the OBJ file does not hold three numbers") from None
-    faces = []
+    faces: list[list[int]] = []
     for fan in fans:
         try:
             ids = [int(token.split(b"/", 1)[0]) for token in fan]

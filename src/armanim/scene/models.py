@@ -139,7 +139,10 @@ class ObstacleModel(Strict):
             return min(self.box.size) / 2.0
         if self.cylinder is not None:
             return min(float(self.cylinder.radius), self.cylinder.length / 2.0)
-        return float(self.capsule.radius if self.capsule is not None else self.radius)
+        if self.capsule is not None:
+            return float(self.capsule.radius)
+        assert self.radius is not None, "a sphere has its radius (ObstacleModel)"
+        return float(self.radius)
 
 
 QUATERNION_BAND = (0.99, 1.01)

@@ -29,6 +29,7 @@ import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -244,7 +245,7 @@ class YamlReader:
         value = self.mapping(value, path)
         position = self.vector(value.get("position", [0, 0, 0]), join_path(path, "position"), "xyz")
         where = join_path(path, "orientation")
-        quaternion = self.vector(value["orientation"], where, "xyzw") if value.get("orientation") is not None else [0, 0, 0, 1]
+        quaternion = self.vector(value["orientation"], where, "xyzw") if value.get("orientation") is not None else [0.0, 0.0, 0.0, 1.0]
         return rigid_pose(position, self.unit_quaternion(quaternion, where))
 
     def unit_quaternion(self, q: list[float], path: str) -> list[float]:
@@ -292,7 +293,7 @@ def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
     if Path(path).suffix == ".scene":
         return read_scene_text(path, frames)
     reader = read_yaml_file(path, "a MoveIt planning scene (moveit_msgs/PlanningScene as YAML)")
-    data = reader.doc.data
+    data = cast(dict, reader.doc.data)  # read_yaml_file checked it is a mapping
     frames = frames.with_fixed(_fixed_frames(reader, data.get("fixed_frame_transforms")))
     top = "world" if "world" in data or "collision_objects" not in data else ""  # a PlanningSceneWorld has no world:
     world = reader.mapping(data.get("world"), "world") if top else data
@@ -567,7 +568,7 @@ def read_motion_request(path: str | Path, frames: Frames) -> MotionRequest:
         A malformed file, a goal with neither joint nor position constraints, or with both.
     """
     reader = read_yaml_file(path, "a MoveIt motion plan request (moveit_msgs/MotionPlanRequest as YAML)")
-    data = reader.doc.data
+    data = cast(dict, reader.doc.data)  # read_yaml_file checked it is a mapping
     start_value = reader.mapping(data.get("start_state"), "start_state")
     _no_attached_objects(reader, start_value, "start_state")
     _base_not_moved(reader, start_value, "start_state")
@@ -687,10 +688,10 @@ def srdf_groups(raw: bytes, file: str) -> dict[str, PlanningGroup]:
         chains = el.findall("chain")
         chain = None
         if chains:
-            ends = chains[0].attrib.get("base_link"), chains[0].attrib.get("tip_link")
-            if None in ends:
+            base, tip = chains[0].attrib.get("base_link"), chains[0].attrib.get("tip_link")
+            if base is None or tip is None:
                 raise SceneError(file, [Diagnostic("", "a <chain> needs base_link and tip_link attributes", chains[0].line)])
-            chain = ends
+            chain = base, tip
         groups[name] = PlanningGroup(name, chain, tuple(j.attrib.get("name", "") for j in el.findall("joint")),
                                      tuple(k.attrib.get("name", "") for k in el.findall("link")), el.line)
     return groups

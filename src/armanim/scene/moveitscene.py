@@ -127,6 +127,7 @@ def _read_robot(source: RobotSource) -> _Robot:
         chain = [j.name for j in urdf.path(bundled.base_link, bundled.tip_link) if j.kind in MOVING]
         return _Robot(urdf, None, bundled.base_link, bundled.tip_link, dict(zip(chain, bundled.home)))
     srdf = read_bounded(source.srdf, MAX_URDF_BYTES, "an SRDF file") if source.srdf is not None else None
+    assert source.urdf is not None, "a robot that is not bundled comes from --urdf (RobotSource)"
     return _Robot(read_urdf(source.urdf), srdf, None, None)
 
 
@@ -148,7 +149,7 @@ def _group_tip(robot: Robot, srdf: bytes, srdf_file: str, request: MotionRequest
     SRDF's first group with a chain or joints."""
     groups = srdf_groups(srdf, srdf_file)
     name = request.group if request is not None else None
-    if name is not None and name not in groups:
+    if request is not None and name is not None and name not in groups:
         raise SceneError(request.file, [Diagnostic("group_name", f"group {shown(name)} is not a group of {srdf_file} "
                                                                  f"(expected one of: {shown_list(groups) or 'none'}; or give --tip-link)", request.group_line)])
     if name is None:
@@ -201,14 +202,15 @@ def _choose_arm(source: RobotSource, files: _Robot, request: MotionRequest | Non
     elif tip is None:
         tip = _request_tip(robot, request)
     pose = request.pose_goal if request is not None else None
-    if pose is not None:
+    if request is not None and pose is not None:
         _known_link(robot, pose, request.file)
     for label, link in (("tip_link", tip), ("base_link", base)):
         if link is not None and link not in robot.links:
             raise UsageError(f"{label} {shown(link)} is not a link of {robot.file} (expected one of: {shown_list(robot.links)})")
-    if pose is not None:
+    if request is not None and pose is not None:
         tip = _pose_link(robot, base or robot.root, tip, pose, request.file)
-    base = base if files.base_link is not None else _arm_base(robot, base)
+    base = files.base_link if files.base_link is not None else _arm_base(robot, base)  # a bundled robot's own base
+    assert tip is not None  # --tip-link, the bundled robot's, the group's or the request's
     joints = chain_joints(robot, base, tip)
     return _Arm(robot, base, tip, tuple(j.name for j in joints if j.axis is not None))
 
@@ -247,7 +249,9 @@ def _pose_link(robot: Robot, base: str, tip: str, goal: PoseTarget, file: str) -
 def _joint_motion(joint, value: float) -> np.ndarray:
     """The (4, 4) motion of a joint at ``value`` (radians or metres) after its origin."""
     motion = np.eye(4)
-    axis = joint.axis / np.linalg.norm(joint.axis) if joint.kind != "fixed" else None
+    if joint.kind == "fixed":
+        return motion
+    axis = joint.axis / np.linalg.norm(joint.axis)
     if joint.kind in MOVING:
         motion[:3, :3] = axis_angle_rotation(axis, value)
     elif joint.kind == "prismatic":
@@ -406,7 +410,7 @@ def _joint_goal(arm: _Arm, request: MotionRequest, limits, notes: list[str]) -> 
     """The joint goal in degrees (metres for a prismatic joint), in the chain's order."""
     path = "goal_constraints[0].joint_constraints"
     given = {}
-    for value in request.joint_goal:
+    for value in request.joint_goal or ():
         _known_joint(arm.robot, value, request.file)
         if value.name not in arm.chain:
             raise SceneError(request.file, [Diagnostic(value.path, f"joint {shown(value.name)} is not one of the chain's joints from "
@@ -499,7 +503,12 @@ def _arm_section(arm: _Arm, source: RobotSource, defaults: _Robot, out_dir: Path
     """The ``arm`` section; ``placement`` is base_link's pose in the planning frame (written as
     ``base`` and ``base_rpy`` unless it is the identity); a bundled robot's own chain ends (``defaults``)
     are left out."""
-    section: dict = {"robot": source.robot} if source.robot is not None else {"urdf": _relative(source.urdf, out_dir)}
+    section: dict
+    if source.robot is not None:
+        section = {"robot": source.robot}
+    else:
+        assert source.urdf is not None, "a bundled robot or --urdf (RobotSource)"
+        section = {"urdf": _relative(source.urdf, out_dir)}
     if source.robot is None or arm.base_link != defaults.base_link:
         section["base_link"] = arm.base_link
     if source.robot is None or arm.tip_link != defaults.tip_link:
@@ -579,6 +588,7 @@ def _goal(arm: _Arm, motion: MotionRequest | None, home: list[float], limits, no
     if motion.joint_goal is not None:
         return {"joints": _joint_goal(arm, motion, limits, notes)}, None
     pose = motion.pose_goal
+    assert pose is not None  # not a joint goal, and a goal
     goal: dict = {"position": _clean(pose.position)}
     if pose.quaternion_wxyz is not None:
         goal["orientation"] = {"quaternion_wxyz": _clean(pose.quaternion_wxyz)}

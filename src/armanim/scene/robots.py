@@ -395,6 +395,7 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
     if bundled is not None:
         path, shown = bundled.urdf, f"robot {bundled.name}'s URDF"
     else:
+        assert arm.urdf is not None, "a URDF arm that is not bundled names its file (ArmModel)"
         path = Path(urdf_file) if urdf_file else Path(scene_dir or ".") / arm.urdf
         shown = str(path)
     robot = read_urdf(path, shown)
@@ -423,7 +424,7 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
         if bundled is None:
             dirs = [Path(scene_dir or ".") / d for d in arm.package_dirs] if arm.package_dirs else default_package_dirs(path.parent)
             fits = mesh_capsules(robot, body, path.parent, dirs)
-        fitted = {}
+        fitted: dict[str, list[CapsuleSpec]] = {}
         for link, capsule in fits.capsules:
             fitted.setdefault(link, []).append(CapsuleSpec(link, capsule.start, capsule.end, capsule.radius))
         capsules = tuple(c for link in body for c in (*primitive_capsules(link, robot), *fitted.get(link, ())))
@@ -525,7 +526,9 @@ def _uncovered(joints: list[ChainJoint], links: tuple[str, ...], capsules) -> tu
     """The moving joints' links (each named by the first link a joint moves) none of whose
     carried links has a capsule."""
     covered = {c.link for c in capsules}
-    out, group, moving = [], [], False
+    out: list[str] = []
+    group: list[str] = []
+    moving = False
     for joint, link in zip(joints, links):
         if joint.axis is not None:
             if moving and not covered.intersection(group):

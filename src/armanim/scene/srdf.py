@@ -44,16 +44,16 @@ def parse_srdf(raw: bytes, file: str, links: tuple[str, ...]) -> tuple[tuple[str
         raise SceneError(file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: an SRDF file)", root.line)])
     problems, pairs = [], []
     for el in root.findall("disable_collisions"):
-        names = [el.attrib.get("link1"), el.attrib.get("link2")]
-        if None in names:
+        first, second = el.attrib.get("link1"), el.attrib.get("link2")
+        if first is None or second is None:
             problems.append(Diagnostic("", "a <disable_collisions> needs link1 and link2 attributes", el.line))
             continue
-        unknown = [n for n in names if n not in links]
+        unknown = [n for n in (first, second) if n not in links]
         if unknown:
             shown = ", ".join(links[:12]) + (", ..." if len(links) > 12 else "")
             problems.append(Diagnostic("", f"link {unknown[0]!r} is not a link of the arm's robot (expected one of: {shown})", el.line))
             continue
-        pairs.append((names[0], names[1], el.attrib.get("reason") or "SRDF"))
+        pairs.append((first, second, el.attrib.get("reason") or "SRDF"))
     if problems:
         raise SceneError(file, problems)
     return tuple(pairs)

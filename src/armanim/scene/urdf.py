@@ -159,7 +159,8 @@ def parse_urdf(raw: bytes, file: str) -> Robot:
     root = _parse_xml(raw, file)
     if root.tag != "robot":
         raise SceneError(file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: a URDF file)", root.line)])
-    links, lines = {}, {}
+    links: dict[str, list[Primitive]] = {}
+    lines: dict[str, int] = {}
     for el in root.findall("link"):
         name = _name(el, file, "link")
         if name in links:
@@ -279,11 +280,13 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
         if not link:
             raise SceneError(file, [Diagnostic("", f"{what} has no <{end} link=...>", el.line)])
         if link not in links:
+            assert sub is not None  # it named the link
             raise SceneError(file, [Diagnostic("", f"{what}: {end} link {link!r} is not defined (no <link name={link!r}>)", sub.line)])
         ends[end] = link
-    axis = np.array(_numbers(el.find("axis"), "xyz", 3, (1.0, 0.0, 0.0), file, f"{what} <axis>"))
-    if kind in ON_PATH and not np.abs(axis).max() > 0:
-        raise SceneError(file, [Diagnostic("", f"{what} has the axis 0 0 0 (expected a direction, e.g. xyz=\"0 0 1\")", el.find("axis").line)])
+    given = el.find("axis")
+    axis = np.array(_numbers(given, "xyz", 3, (1.0, 0.0, 0.0), file, f"{what} <axis>"))
+    if kind in ON_PATH and not np.abs(axis).max() > 0:  # the default is (1, 0, 0): an axis of zeros was given
+        raise SceneError(file, [Diagnostic("", f"{what} has the axis 0 0 0 (expected a direction, e.g. xyz=\"0 0 1\")", given.line if given is not None else el.line)])
     limit = el.find("limit")
     limits = None
     if kind == "prismatic" and limit is not None:  # URDF's defaults: lower = upper = 0

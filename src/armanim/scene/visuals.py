@@ -22,7 +22,7 @@ warning naming the link and the file (its link is then drawn as its capsules); n
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -104,8 +104,8 @@ def visual_specs(raw: bytes, file: str, warn: Callable[[str], None] | None = Non
             spec = _visual(link.attrib.get("name", ""), visual, named)
             if spec is not None:
                 specs.append(spec)
-            elif warn is not None and _shape_of(visual) is not None:  # a geometry it names, whose numbers cannot be read
-                part = "scale" if _shape_of(visual).tag == "mesh" else "size"
+            elif warn is not None and (shape := _shape_of(visual)) is not None:  # a geometry it names, whose numbers cannot be read
+                part = "scale" if shape.tag == "mesh" else "size"
                 warn(f"link {link.attrib.get('name', '')!r}: the visual of line {visual.line} cannot be read (its origin or "
                      f"{part} is not the finite numbers it needs): drawn as its capsules if it has no other")
     return specs
@@ -387,7 +387,7 @@ def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chain: SerialChain,
-                 mount: np.ndarray, fixed: list[LinkMesh] = (), places: dict | None = None) -> ArmMeshes:
+                 mount: np.ndarray, fixed: Sequence[LinkMesh] = (), places: dict | None = None) -> ArmMeshes:
     """The links' meshes placed on the chain's frames: a link on the path from ``base`` to
     ``tip`` on its carrier, the base link where the chain is mounted, and a link hanging off
     the path (a gripper below the tip) where ``places`` puts it (the collision model's places,
