@@ -105,7 +105,7 @@ def traced_paths(problem: Problem, solved: Trajectory, phi: np.ndarray, tip: np.
     """
     if solved.path_s is None:
         return None
-    along = ~np.isnan(solved.path_s[source]) & ((solved.mode[source] == ALONG) | held)  # type: ignore[index]  # a solved trajectory has its modes
+    along = ~np.isnan(solved.path_s[source]) & ((solved.modes[source] == ALONG) | held)
     done, error = np.full(len(phi), np.nan), np.full(len(phi), np.nan)
     for k in np.unique(goal[along]):
         mine = along & (goal == k)

@@ -147,7 +147,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         iterations=np.where(held, 0, np.diff(spent, prepend=0)),  # each solved frame's counted once
         step_scale=np.where(held, 0.0, src.step_scale[source]),
         fps=fps,
-        mode=np.where(held, "ik", src.mode[source]),  # type: ignore[index]  # a solved trajectory has its modes
+        mode=np.where(held, "ik", src.modes[source]),
         orientation_error=angle,
         tool_quaternion=quaternions,
         velocity=velocity,
@@ -235,7 +235,7 @@ def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
         goal = problem.goals[g.index]
         hold = hold_frames(out, goal) if g.reached else 0
         piece = slice(start, start + g.frames + 1)
-        along = int(np.sum(src.mode[piece][1:] == "path")) if goal.path is not None else 0  # type: ignore[index]
+        along = int(np.sum(src.modes[piece][1:] == "path")) if goal.path is not None else 0
         if along:
             split = piece.stop - 1 - along
             parts.append(_Part(g.index, slice(piece.start, split + 1), 0))
@@ -360,7 +360,7 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
     mine = np.nonzero(trajectory.goal == g.index)[0]
     planning = g.planning
     if planning is not None:
-        planning = replace(planning, frames=int(np.sum(trajectory.mode[mine] == "plan")))  # type: ignore[index]  # the retimed trajectory has its modes
+        planning = replace(planning, frames=int(np.sum(trajectory.modes[mine] == "plan")))
     return replace(
         g,
         frames=int(moving[mine].sum()),

@@ -307,6 +307,12 @@ class Trajectory:
             object.__setattr__(self, "mode", np.full(len(self.phi), "ik"))
 
     @property
+    def modes(self) -> np.ndarray:
+        """(F,) :attr:`mode`, which construction fills (all ``"ik"`` where none was given)."""
+        assert self.mode is not None, "filled by __post_init__"
+        return self.mode
+
+    @property
     def frames(self) -> int:
         """Number of frames F."""
         return len(self.phi)

@@ -116,7 +116,7 @@ def trajectory_rows(traj: Trajectory, time_s: np.ndarray, slides: np.ndarray | N
         ["1" if r else "0" for r in traj.reached.tolist()],
         _texts(traj.step_scale),
         [str(k) for k in traj.iterations.tolist()],
-        [str(m) for m in traj.mode],  # type: ignore[union-attr]  # a solved trajectory has its modes
+        [str(m) for m in traj.modes],
         *(_finite_texts(c, frames) for c in quaternion.T),
         _finite_texts(angle, frames),
         _texts(traj.self_clearance) if traj.self_clearance is not None else [""] * frames,

@@ -115,7 +115,7 @@ def resample_run(problem: Problem, solution: Solution, fps: float) -> Solution:
         iterations=np.where(np.diff(head, prepend=-1) > 0, src.iterations[head], 0),  # each run frame's counted once
         step_scale=src.step_scale[head],
         fps=fps,
-        mode=src.mode[head],  # type: ignore[index]  # a solved trajectory has its modes
+        mode=src.modes[head],
         orientation_error=angle,
         tool_quaternion=quaternions,
         velocity=None if src.velocity is None else np.stack([np.interp(at, times, v) for v in src.velocity.T], axis=1),

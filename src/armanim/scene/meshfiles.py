@@ -285,7 +285,8 @@ def _material_rgb(material) -> tuple[float, float, float]:
     if isinstance(diffuse, (tuple, list)) and len(diffuse) >= 3:
         rgb = np.clip(np.asarray(diffuse[:3], dtype=float), 0.0, 1.0)
         if np.isfinite(rgb).all():
-            return tuple(float(v) for v in rgb)  # type: ignore[return-value]
+            red, green, blue = (float(v) for v in rgb)
+            return red, green, blue
     return (VISUAL_COLOR,) * 3
 
 

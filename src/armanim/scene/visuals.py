@@ -157,7 +157,10 @@ def _rgb(material: Element) -> tuple[float, float, float] | None:
         rgba = _floats(color.attrib["rgba"], 4) if color is not None else None
     except (KeyError, ValueError):
         return None
-    return None if rgba is None else tuple(float(np.clip(v, 0.0, 1.0)) for v in rgba[:3])  # type: ignore[return-value]
+    if rgba is None:
+        return None
+    red, green, blue = (float(np.clip(v, 0.0, 1.0)) for v in rgba[:3])
+    return red, green, blue
 
 
 def mesh_path(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Path | None:
