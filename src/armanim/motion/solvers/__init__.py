@@ -10,9 +10,8 @@ know of a method is data on its registry entry (:class:`Method`), never a test o
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, Protocol
 
 import numpy as np
 
@@ -24,10 +23,14 @@ from armanim.motion.solvers.linear import dls_step, pinv_step
 from armanim.motion.solvers.newton import newton_step
 from armanim.names import MethodName
 
-StepFunction = Callable[..., Step]
-"""step_function(problem, state, goal, orientation=None) -> Step: a method's proposal for one
-frame toward the goal position (and the goal's :class:`~armanim.motion.orientation.Orientation`,
-when it has one)."""
+
+class StepFunction(Protocol):
+    """A method's proposal for one frame toward the goal position (and the goal's
+    :class:`~armanim.motion.orientation.Orientation`, when it has one)."""
+
+    def __call__(self, problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:
+        """The proposal from ``state`` toward ``goal`` (3,), scene units."""
+        ...
 
 
 @dataclass(frozen=True)
