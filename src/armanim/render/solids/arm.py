@@ -55,18 +55,20 @@ class Part:
         Pixel polygons that draw it, in drawing order.
     colors : (len(polygons), 4) array
         RGBA of each polygon.
-    raster : (points, faces, rgb, mode) or None
+    raster : (points, faces, rgb, mode, still) or None
         Triangles drawn by the rasteriser instead of polygons (a robot link's mesh): screen
-        points (V, 3), the part's faces (k, 3) into them, per-vertex colours (V, 3), and
-        ``"fill"``, or ``"outline"`` (a ghost: the outline of the pose alone); parts that follow
-        each other in the painter's order and share ``points`` are drawn as one.
+        points (V, 3), the part's faces (k, 3) into them, per-vertex colours (V, 3),
+        ``"fill"``, or ``"outline"`` (a ghost: the outline of the pose alone), and triangles
+        filled once that are drawn with them (a :class:`~armanim.render.solids.raster.StillLayer`:
+        the furniture) or None; parts that follow each other in the painter's order and share
+        ``points`` are drawn as one.
     """
 
     samples: np.ndarray
     radius: float
     polygons: list
     colors: np.ndarray
-    raster: tuple[np.ndarray, np.ndarray, np.ndarray, str] | None = None
+    raster: tuple | None = None
 
 
 def segment_samples(start: np.ndarray, end: np.ndarray) -> np.ndarray:
