@@ -71,9 +71,12 @@ class Part:
     raster: tuple | None = None
 
 
+_ALONG = np.linspace(0.0, 1.0, SAMPLES)[:, None]  # (SAMPLES, 1): made once, a part a frame used to make it
+
+
 def segment_samples(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     """(SAMPLES, 3) points evenly from ``start`` to ``end``, both included."""
-    return start + np.linspace(0.0, 1.0, SAMPLES)[:, None] * (end - start)
+    return start + _ALONG * (end - start)
 
 
 def point_samples(point: np.ndarray) -> np.ndarray:

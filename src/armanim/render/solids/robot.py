@@ -89,6 +89,7 @@ class RobotMeshes:
         if decal is not None and self.furniture is not None and len(decal[1]):
             extra = np.asarray(decal[1], dtype=int) + len(screen)
             screen, rgb = np.vstack([screen, decal[0]]), np.vstack([rgb, decal[2]])
+        facing = _signed_areas(screen, self.meshes.faces) > 0.0  # every link's at once
         parts = []
         for k, faces in enumerate(self.link_faces):
             tri = self.meshes.faces[faces]
@@ -99,7 +100,7 @@ class RobotMeshes:
             if k == self.furniture and not ghost and self.still is not None:  # filled once: only the decal is new
                 front, still = extra, self.still
             else:
-                front = tri[_signed_areas(screen, tri) > 0.0]
+                front = tri[facing[faces]]
                 if k == self.furniture:
                     front = np.vstack([front, extra])
             raster = (screen, front, rgb, "outline" if ghost else "fill", still)  # a ghost: the whole pose's outline only
