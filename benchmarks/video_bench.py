@@ -2,7 +2,9 @@
 
 Run: ``python benchmarks/video_bench.py`` (a few minutes on two cores; ``--scenes`` to choose,
 ``--repeat N`` for more pairs, ``--against SRC`` to measure another source tree, e.g. main's
-``git archive main src | tar -x -C /tmp/main``, in the same run: ``--against /tmp/main/src``). Issue 55's target: a robot scene with video, at its own size and
+``git archive main src | tar -x -C /tmp/main``, in the same run: ``--against /tmp/main/src``;
+``--render``: ``armanim render`` of one solved run, the trees alternated, for the video's own CPU
+without the solve). Issue 55's target: a robot scene with video, at its own size and
 with its default jobs, at most **2x** its ``--no-video`` time.
 
 Each scene is run as the whole command a user types, in a fresh process, alternately without
@@ -55,6 +57,22 @@ def measure(scene: str, out: Path, repeat: int, src: str | None) -> tuple[list, 
     return plain, video
 
 
+def rerender(scene: str, out: Path, repeat: int, srcs: dict[str, str | None]) -> dict[str, list]:
+    """(wall, CPU) of ``armanim render RUN --out DIR`` of one solved run of ``scene``, each tree in
+    ``srcs`` in turn, ``repeat`` rounds: the video, plot, poster and their start-up, without the solve."""
+    base = [sys.executable, "-m", "armanim", "run", scene, "--out", str(out), "--quiet", "--no-video"]
+    whole_process(base, next(iter(srcs.values())))
+    run = out / Path(scene).stem
+    times: dict[str, list] = {name: [] for name in srcs}
+    for name, src in srcs.items():  # an untimed render each: numba's cache loaded (or compiled) once
+        whole_process([sys.executable, "-m", "armanim", "render", str(run), "--out", str(out / f"warm-{name}")], src)
+    for k in range(repeat):
+        for name, src in srcs.items():
+            target = out / f"render-{name}-{k}"
+            times[name].append(whole_process([sys.executable, "-m", "armanim", "render", str(run), "--out", str(target)], src))
+    return times
+
+
 def report(name: str, plain: list, video: list) -> float:
     mean = lambda xs, i: sum(x[i] for x in xs) / len(xs)  # noqa: E731
     ratio = mean(video, 0) / mean(plain, 0)
@@ -69,9 +87,20 @@ def main() -> None:
     parser.add_argument("--scenes", nargs="+", default=list(SCENES))
     parser.add_argument("--repeat", type=int, default=2, help="pairs of runs per scene (default 2)")
     parser.add_argument("--against", help="another armanim source folder (its src/) measured the same way")
+    parser.add_argument("--render", action="store_true",
+                        help="time `armanim render` of one solved run instead (the video's own cost), alternating the trees")
     args = parser.parse_args()
     print(f"load average before: {load()} ({os.cpu_count()} cores)")
     with tempfile.TemporaryDirectory() as tmp:
+        if args.render:
+            srcs = ({"against": args.against} if args.against else {}) | {"this": None}
+            for scene in args.scenes:
+                print(f"{scene}: armanim render of one run")
+                for name, xs in rerender(scene, Path(tmp) / Path(scene).stem, args.repeat, srcs).items():
+                    print(f"  {name:8s} CPU {', '.join(f'{c:.2f}' for _, c in xs)} s (mean {sum(c for _, c in xs) / len(xs):.2f}),"
+                          f" wall {', '.join(f'{w:.1f}' for w, _ in xs)} s")
+            print(f"load average after: {load()}")
+            return
         for scene in args.scenes:
             print(f"{scene}:")
             if args.against:

@@ -121,3 +121,29 @@ def test_an_outline_is_the_union_s_border_only():
     assert (rows.min(), rows.max(), cols.min(), cols.max()) == (10, 29, 10, 29)  # y up: rows 40 - 30 .. 40 - 10 - 1
     assert dark.sum() == 4 * 20 - 4  # the square's ring of pixels, nothing inside
     assert not dark[12:28, 12:28].any()
+
+
+def test_a_still_layer_draws_what_filling_its_triangles_with_the_others_draws():
+    """The furniture filled once and laid into each frame's z-buffer (StillLayer) gives the frame's
+    bytes exactly: a sample's nearness and colour do not depend on the box it is filled in."""
+    from armanim.render.solids.raster import StillLayer, draw_triangles
+
+    rng = np.random.default_rng(11)
+    pts = np.column_stack([rng.uniform(-5, 70, (40, 2)), rng.uniform(-1, 1, 40)])
+    faces = rng.integers(0, 40, (30, 3))
+    rgb = rng.uniform(0, 1, (40, 3))
+    board = np.array([[10.3, 7.7, -0.2], [52.9, 9.1, 0.3], [47.2, 41.6, 0.1], [8.4, 38.8, -0.4]])
+    pts = np.vstack([pts, board])
+    still_faces = np.array([[40, 41, 42], [40, 42, 43]])
+    frame = rng.integers(0, 256, (48, 64, 4)).astype(np.uint8)
+    together, laid = frame.copy(), frame.copy()
+    draw_triangles(together, pts, np.vstack([still_faces, faces]), rgb=np.vstack([rgb, np.full((4, 3), 0.8)]))
+    draw_triangles(laid, pts, faces, np.vstack([rgb, np.full((4, 3), 0.8)]),
+                   still=StillLayer(pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]), (64, 48)))
+    assert (together != frame).any() and together.tobytes() == laid.tobytes()
+    alone = frame.copy()  # the layer with no other triangle: the board by itself
+    draw_triangles(alone, pts, np.zeros((0, 3), dtype=int), np.vstack([rgb, np.full((4, 3), 0.8)]),
+                   still=StillLayer(pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]), (64, 48)))
+    by_itself = frame.copy()
+    draw_triangles(by_itself, pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]))
+    assert alone.tobytes() == by_itself.tobytes()

@@ -55,23 +55,28 @@ class Part:
         Pixel polygons that draw it, in drawing order.
     colors : (len(polygons), 4) array
         RGBA of each polygon.
-    raster : (points, faces, rgb, mode) or None
+    raster : (points, faces, rgb, mode, still) or None
         Triangles drawn by the rasteriser instead of polygons (a robot link's mesh): screen
-        points (V, 3), the part's faces (k, 3) into them, per-vertex colours (V, 3), and
-        ``"fill"``, or ``"outline"`` (a ghost: the outline of the pose alone); parts that follow
-        each other in the painter's order and share ``points`` are drawn as one.
+        points (V, 3), the part's faces (k, 3) into them, per-vertex colours (V, 3),
+        ``"fill"``, or ``"outline"`` (a ghost: the outline of the pose alone), and triangles
+        filled once that are drawn with them (a :class:`~armanim.render.solids.raster.StillLayer`:
+        the furniture) or None; parts that follow each other in the painter's order and share
+        ``points`` are drawn as one.
     """
 
     samples: np.ndarray
     radius: float
     polygons: list
     colors: np.ndarray
-    raster: tuple[np.ndarray, np.ndarray, np.ndarray, str] | None = None
+    raster: tuple | None = None
+
+
+_ALONG = np.linspace(0.0, 1.0, SAMPLES)[:, None]  # (SAMPLES, 1): made once, a part a frame used to make it
 
 
 def segment_samples(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     """(SAMPLES, 3) points evenly from ``start`` to ``end``, both included."""
-    return start + np.linspace(0.0, 1.0, SAMPLES)[:, None] * (end - start)
+    return start + _ALONG * (end - start)
 
 
 def point_samples(point: np.ndarray) -> np.ndarray:

@@ -45,18 +45,68 @@ def triangle_sprite(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size
     return slice(height - y1, height - y0), slice(x0, x1), premultiplied, clear
 
 
+class StillLayer:
+    """Triangles that never move on screen (the scene's furniture: a whiteboard), filled once on
+    the frame's grid of samples and laid into every frame's z-buffer they are drawn in, instead of
+    filled again each frame (ur5-pen's board was two thirds of its frames' samples).
+
+    A sample's nearness and colour do not depend on the box it is filled in
+    (:func:`armanim.render.solids.rasterloops.fill_samples`), so the frame is the one filling
+    these triangles first would draw.
+
+    Parameters
+    ----------
+    points : (V, 3) array
+        Screen points (x px, y px up, near).
+    faces : (k, 3) int array
+        The triangles into them (those facing the camera).
+    rgb : (V, 3) array
+        Colours 0 to 1.
+    size : (int, int)
+        The frame's width and height.
+    """
+
+    def __init__(self, points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size: tuple[int, int],
+                 ss: int = SUPERSAMPLE):
+        self.ss = ss
+        self.box = _box(points, faces, *size)
+        self.depth = self.color = None
+        if self.box is not None:
+            self.depth, self.color = _samples(points, faces, rgb, self.box, ss, np.float32)
+
+    def lay(self, depth: np.ndarray, color: np.ndarray, box: tuple[int, int, int, int]) -> None:
+        """Copy the layer into the sample grids ``depth`` and ``color`` of pixel ``box`` (x0, y0, x1,
+        y1; y up), which holds its own box."""
+        if self.box is None:
+            return
+        x0, y0, x1, y1 = self.box
+        ss = self.ss
+        rows = slice((y0 - box[1]) * ss, (y1 - box[1]) * ss)
+        cols = slice((x0 - box[0]) * ss, (x1 - box[0]) * ss)
+        depth[rows, cols] = self.depth
+        color[rows, cols] = self.color
+
+
 def draw_triangles(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb: np.ndarray,
-                   ss: int = SUPERSAMPLE) -> None:
+                   ss: int = SUPERSAMPLE, still: StillLayer | None = None) -> None:
     """Draw triangles straight into a frame ``buffer`` (H, W, 4 uint8): what
-    :func:`triangle_sprite` draws, composited, without the sprite in between."""
+    :func:`triangle_sprite` draws, composited, without the sprite in between; with ``still``, its
+    triangles too, in the same z-buffer, the layer's samples laid first."""
     height, width = buffer.shape[:2]
     box = _box(points, faces, width, height)
+    if still is not None and still.box is not None:
+        box = still.box if box is None else _union(box, still.box)
     if box is None:
         return
     from armanim.render.solids.rasterloops import blend_samples  # compiled: numba is imported here
 
-    depth, color = _samples(points, faces, rgb, box, ss, np.float32)
+    depth, color = _samples(points, faces, rgb, box, ss, np.float32, still)
     blend_samples(depth, color, ss, buffer, height - box[3], box[0])
+
+
+def _union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
+    """The pixel box (x0, y0, x1, y1) that holds boxes ``a`` and ``b``."""
+    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
 
 
 def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb: tuple[float, float, float],
@@ -81,14 +131,19 @@ def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb:
 
 
 def _samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, box: tuple[int, int, int, int], ss: int,
-             dtype) -> tuple[np.ndarray, np.ndarray]:
+             dtype, still: StillLayer | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The triangles filled on the sample grid of pixel ``box`` (x0, y0, x1, y1; y up), ``ss`` x ``ss``
-    samples a pixel: each sample's nearness (-inf where empty) and colour, in ``dtype``."""
+    samples a pixel: each sample's nearness (-inf where empty) and colour, in ``dtype``; ``still``'s
+    samples laid first."""
     from armanim.render.solids.rasterloops import fill_samples  # compiled: numba is imported here
 
     x0, y0, x1, y1 = box
     depth = np.full(((y1 - y0) * ss, (x1 - x0) * ss), -np.inf, dtype=dtype)
     color = np.empty(depth.shape + (3,), dtype=dtype)  # read only where a triangle set the depth: never cleared
+    if still is not None:
+        still.lay(depth, color, box)
+    if not len(faces):
+        return depth, color
     fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
                  np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
     return depth, color
@@ -104,4 +159,4 @@ def _box(points: np.ndarray, faces: np.ndarray, width: int, height: int) -> tupl
     return (x0, y0, x1, y1) if x1 > x0 and y1 > y0 else None
 
 
-__all__ = ["SUPERSAMPLE", "draw_outline", "draw_triangles", "triangle_sprite"]
+__all__ = ["SUPERSAMPLE", "StillLayer", "draw_outline", "draw_triangles", "triangle_sprite"]

@@ -1,10 +1,12 @@
 """The rasteriser's compiled loops (numba): filling a triangle's samples and laying a sample
-grid over a frame. Imported by :mod:`armanim.render.solids.raster` when it first draws, so that
+grid over a frame; and a frame's yuv420p planes for the video's encoder
+(:mod:`armanim.render.video.planes`). Imported by :mod:`armanim.render.solids.raster` when it first draws, so that
 a picture of an arm of links never loads numba."""
 
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
@@ -20,13 +22,17 @@ def fill_samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, x0: flo
     triangles ``faces`` (k, 3) of ``points`` (V, 3: x px, y px up, near) coloured ``rgb`` (V, 3).
     Sample (i, j) sits at x = x0 + (j + 0.5) / ss, y = y0 + (i + 0.5) / ss; a sample on an edge
     shared by two triangles belongs to one of them (the top-left rule), so no sample is left
-    out between them and none is drawn twice."""
+    out between them and none is drawn twice. ``x0`` and ``y0`` are whole pixels, and a sample's
+    weights, nearness and colour do not depend on them (each corner is placed on the frame's
+    grid of samples, then moved by a whole number of samples, which is exact): a grid filled in
+    one box is, sample for sample, part of a larger box's (:class:`armanim.render.solids.raster.StillLayer`)."""
     rows, cols = depth.shape
+    left, bottom = x0 * ss, y0 * ss
     for f in range(faces.shape[0]):
         a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-        ax, ay = (points[a, 0] - x0) * ss - 0.5, (points[a, 1] - y0) * ss - 0.5
-        bx, by = (points[b, 0] - x0) * ss - 0.5, (points[b, 1] - y0) * ss - 0.5
-        cx, cy = (points[c, 0] - x0) * ss - 0.5, (points[c, 1] - y0) * ss - 0.5
+        ax, ay = (points[a, 0] * ss - 0.5) - left, (points[a, 1] * ss - 0.5) - bottom
+        bx, by = (points[b, 0] * ss - 0.5) - left, (points[b, 1] * ss - 0.5) - bottom
+        cx, cy = (points[c, 0] * ss - 0.5) - left, (points[c, 1] * ss - 0.5) - bottom
         area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
         if area == 0.0 or area != area:
             continue
@@ -92,6 +98,9 @@ def blend_samples(depth: np.ndarray, color: np.ndarray, ss: int, buffer: np.ndar
     covered by a share c of its samples becomes its old colour times 1 - c plus theirs, as
     :func:`armanim.render.paint.pixels.composite` lays a sprite."""
     h, w = depth.shape[0] // ss, depth.shape[1] // ss
+    if ss == 2:  # the pictures' grid: its four samples read straight from two rows
+        _blend_2x2(depth, color, buffer, top, left)
+        return
     share = 1.0 / (ss * ss)
     for i in range(h):
         row = top + h - 1 - i
@@ -102,6 +111,35 @@ def blend_samples(depth: np.ndarray, color: np.ndarray, ss: int, buffer: np.ndar
             keep = 1.0 - hits * share
             for k, v in ((0, r), (1, g), (2, b)):
                 buffer[row, left + j, k] = np.uint8(buffer[row, left + j, k] * keep + min(v * share, 1.0) * 255.0 + 0.5)
+
+
+@compiled(**_JIT)
+def _blend_2x2(depth: np.ndarray, color: np.ndarray, buffer: np.ndarray, top: int, left: int) -> None:
+    """:func:`blend_samples` of a grid of 2 x 2 samples a pixel (the same sums, in the same order,
+    the same bytes), two sample rows at a time: it was a third of a robot frame's z-buffer."""
+    h, w = depth.shape[0] // 2, depth.shape[1] // 2
+    for i in range(h):
+        out = buffer[top + h - 1 - i]
+        d0, d1 = depth[2 * i], depth[2 * i + 1]
+        c0, c1 = color[2 * i], color[2 * i + 1]
+        for j in range(w):
+            x = 2 * j
+            hits, r, g, b = 0, 0.0, 0.0, 0.0
+            if d0[x] > -np.inf:
+                hits, r, g, b = hits + 1, r + c0[x, 0], g + c0[x, 1], b + c0[x, 2]
+            if d0[x + 1] > -np.inf:
+                hits, r, g, b = hits + 1, r + c0[x + 1, 0], g + c0[x + 1, 1], b + c0[x + 1, 2]
+            if d1[x] > -np.inf:
+                hits, r, g, b = hits + 1, r + c1[x, 0], g + c1[x, 1], b + c1[x, 2]
+            if d1[x + 1] > -np.inf:
+                hits, r, g, b = hits + 1, r + c1[x + 1, 0], g + c1[x + 1, 1], b + c1[x + 1, 2]
+            if hits == 0:
+                continue
+            keep = 1.0 - hits * 0.25
+            p = left + j
+            out[p, 0] = np.uint8(out[p, 0] * keep + min(r * 0.25, 1.0) * 255.0 + 0.5)
+            out[p, 1] = np.uint8(out[p, 1] * keep + min(g * 0.25, 1.0) * 255.0 + 0.5)
+            out[p, 2] = np.uint8(out[p, 2] * keep + min(b * 0.25, 1.0) * 255.0 + 0.5)
 
 
 @compiled(inline="always", **_JIT)
@@ -126,3 +164,42 @@ def _inside(w: float, dx: float, dy: float) -> bool:
     if w < 0.0:
         return False
     return dy < 0.0 or (dy == 0.0 and dx > 0.0)
+
+
+_ONE = 1 << 16  # fixed point: coefficients times 2^16
+_LUMA = 219.0 / 255.0  # limited range: 0-255 -> 16-235
+_CHROMA = 224.0 / 255.0  # 0-255 -> 16-240 about 128
+YR, YG, YB = (round(c * _LUMA * _ONE) for c in (0.299, 0.587, 0.114))
+UR, UG, UB = (round(c * _CHROMA * _ONE) for c in (-0.168736, -0.331264, 0.5))
+VR, VG, VB = (round(c * _CHROMA * _ONE) for c in (0.5, -0.418688, -0.081312))
+Y_OFFSET = (16 << 16) + (1 << 15)  # + 16, and a half for rounding
+C_OFFSET = (128 << 18) + (1 << 17)  # a chroma sum is of 4 pixels: 2^18
+RED, GREEN, BLUE = (0, 8, 16) if sys.byteorder == "little" else (24, 16, 8)
+"""Where a pixel's red, green and blue bytes sit in it read as one 32-bit word."""
+
+
+@compiled(**_JIT)
+def yuv420_planes(pixels: np.ndarray, width: int, out: np.ndarray) -> None:
+    """:func:`armanim.render.video.planes.yuv420` of the frame's ``pixels`` (H W,) read as 32-bit words, ``width`` a row."""
+    count = pixels.size
+    for p in range(count):
+        v = np.int32(pixels[p])
+        r, g, b = (v >> RED) & 255, (v >> GREEN) & 255, (v >> BLUE) & 255
+        out[p] = np.uint8((YR * r + YG * g + YB * b + Y_OFFSET) >> 16)  # (16-235: never past a byte)
+    half = width // 2
+    rows = count // width // 2
+    reds, greens, blues = np.empty(half, np.int32), np.empty(half, np.int32), np.empty(half, np.int32)
+    for i in range(rows):
+        top = pixels[2 * i * width:(2 * i + 1) * width]
+        bottom = pixels[(2 * i + 1) * width:(2 * i + 2) * width]
+        for j in range(half):  # each block's sums first, then each plane: loops the compiler vectorises
+            a, b, c, d = np.int32(top[2 * j]), np.int32(top[2 * j + 1]), np.int32(bottom[2 * j]), np.int32(bottom[2 * j + 1])
+            reds[j] = ((a >> RED) & 255) + ((b >> RED) & 255) + ((c >> RED) & 255) + ((d >> RED) & 255)
+            greens[j] = ((a >> GREEN) & 255) + ((b >> GREEN) & 255) + ((c >> GREEN) & 255) + ((d >> GREEN) & 255)
+            blues[j] = ((a >> BLUE) & 255) + ((b >> BLUE) & 255) + ((c >> BLUE) & 255) + ((d >> BLUE) & 255)
+        cb = out[count + i * half:count + (i + 1) * half]
+        for j in range(half):
+            cb[j] = np.uint8((UR * reds[j] + UG * greens[j] + UB * blues[j] + C_OFFSET) >> 18)
+        cr = out[count + (rows + i) * half:count + (rows + i + 1) * half]
+        for j in range(half):
+            cr[j] = np.uint8((VR * reds[j] + VG * greens[j] + VB * blues[j] + C_OFFSET) >> 18)

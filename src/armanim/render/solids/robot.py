@@ -20,7 +20,7 @@ from armanim.motion.problem import Problem
 from armanim.render.camera.view import View, lambert
 from armanim.render.paint.style import GHOST_FADE, SELF_NEAR_COLOR
 from armanim.render.solids.arm import ArmSolids, Part, segment_samples
-from armanim.render.solids.raster import draw_outline, draw_triangles
+from armanim.render.solids.raster import StillLayer, draw_outline, draw_triangles
 
 NEAR_TINT = 0.4
 FURNITURE = "furniture"
@@ -58,6 +58,20 @@ class RobotMeshes:
         self.bounds = [bounding_segment(meshes.vertices[np.unique(meshes.faces[f])]) for f in self.link_faces]
         self.furniture = meshes.links.index(FURNITURE) if FURNITURE in meshes.links else None
         """The furniture's link (None: the scene has none): a ``decal`` is drawn with it."""
+        self.still = self._still_furniture()
+        """The furniture's triangles filled once (:class:`~armanim.render.solids.raster.StillLayer`):
+        it never moves, so every frame lays the same samples (None: no furniture)."""
+
+    def _still_furniture(self) -> StillLayer | None:
+        """The furniture as the camera sees it, lit and filled once (it is carried by no joint)."""
+        if self.furniture is None:
+            return None
+        tri = self.meshes.faces[self.link_faces[self.furniture]]
+        if len(tri) and np.any(self.meshes.carrier[tri] >= 0):  # (never: furniture stands in the world)
+            return None
+        screen = self.view.project(self.meshes.vertices)  # the furniture's vertices are where they stand
+        rgb = lambert(self.view.screen_normals(self.normals), np.ones(3)) * self.vertex_color
+        return StillLayer(screen, tri[_signed_areas(screen, tri) > 0.0], rgb, self.size)
 
     def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None,
               decal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> list[Part]:
@@ -75,16 +89,21 @@ class RobotMeshes:
         if decal is not None and self.furniture is not None and len(decal[1]):
             extra = np.asarray(decal[1], dtype=int) + len(screen)
             screen, rgb = np.vstack([screen, decal[0]]), np.vstack([rgb, decal[2]])
+        facing = _signed_areas(screen, self.meshes.faces) > 0.0  # every link's at once
         parts = []
         for k, faces in enumerate(self.link_faces):
             tri = self.meshes.faces[faces]
             start, end, radius = self.bounds[k]
             carrier = int(self.meshes.carrier[tri[0, 0]]) if len(tri) else -1
             ends = self.view.project(_placed(np.array([start, end]), pose, carrier))
-            front = tri[_signed_areas(screen, tri) > 0.0]
-            if k == self.furniture:
-                front = np.vstack([front, extra])
-            raster = (screen, front, rgb, "outline" if ghost else "fill")  # a ghost: the whole pose's outline only
+            still = None
+            if k == self.furniture and not ghost and self.still is not None:  # filled once: only the decal is new
+                front, still = extra, self.still
+            else:
+                front = tri[facing[faces]]
+                if k == self.furniture:
+                    front = np.vstack([front, extra])
+            raster = (screen, front, rgb, "outline" if ghost else "fill", still)  # a ghost: the whole pose's outline only
             parts.append(Part(samples=segment_samples(ends[0], ends[1]), radius=radius * self.ppu, polygons=[],
                               colors=np.zeros((0, 4)), raster=raster))
         return parts
@@ -162,24 +181,27 @@ class RasterQueue:
         self.rgb: np.ndarray | None = None
         self.mode = "fill"
         self.faces: list[np.ndarray] = []
+        self.still: StillLayer | None = None
 
     def add(self, raster: tuple, buffer: np.ndarray) -> None:
         """Queue one part's triangles (drawing the queue first if they are another pose's)."""
-        points, faces, rgb, mode = raster
+        points, faces, rgb, mode, still = raster
         if self.points is not None and (points is not self.points or mode != self.mode):
             self.flush(buffer)
         self.points, self.rgb, self.mode = points, rgb, mode
         self.faces.append(faces)
+        self.still = still if still is not None else self.still
 
     def flush(self, buffer: np.ndarray) -> None:
-        """Draw the queued triangles into ``buffer``: filled, or a ghost's outline."""
+        """Draw the queued triangles into ``buffer``: filled (with the still layer of one of them),
+        or a ghost's outline."""
         if self.faces and self.points is not None and self.rgb is not None:
             faces = np.concatenate(self.faces)
             if self.mode == "outline":
                 draw_outline(buffer, self.points, faces, GHOST_OUTLINE, width=2)
             else:
-                draw_triangles(buffer, self.points, faces, self.rgb)
-        self.points, self.rgb, self.faces = None, None, []
+                draw_triangles(buffer, self.points, faces, self.rgb, still=self.still)
+        self.points, self.rgb, self.faces, self.still = None, None, [], None
 
 
 def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int],
