@@ -16,8 +16,10 @@ import numpy as np
 from armanim.arm.capsules import BASE, Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
 from armanim.arm.geometry import unit_vector, wrap_angle
+from armanim.arm.gripper import Gripper
 from armanim.arm.kinematics import Arm, default_axes, forward, joints_in_si
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
+from armanim.motion.carry import finger_holds
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import (
     Goal,
@@ -126,6 +128,42 @@ def link_places(arm: ArmModel, chain: SerialChain) -> dict[str, tuple[int, np.nd
             place = place @ joint_motion(joint, values.get(joint.name, 0.0))
         places[hanging.link] = (carrier, place)
     return places
+
+
+def urdf_gripper(arm: ArmModel, chain: SerialChain, capsules: Capsules) -> Gripper | None:
+    """The URDF arm's gripper (:class:`~armanim.arm.gripper.Gripper`): its one prismatic joint held
+    off the chain that is no mimic, with limits and a velocity limit, and the prismatic joints that
+    mimic it; each capsule's displacement per metre of it in its carrier's frame (``capsules``, as
+    :func:`urdf_capsules` made them). None without exactly one such joint (the fingers then stay
+    where ``arm.joint_values`` holds them)."""
+    robot = arm.urdf_arm
+    drivers = [j for j in robot.held if j.kind == "prismatic" and j.follows is None and j.limits is not None]
+    if len(drivers) != 1 or not drivers[0].velocity:
+        return None
+    driver = drivers[0]
+    values = held_values(arm)
+    places = link_places(arm, chain)
+    moves: dict[str, np.ndarray] = {}
+    for hanging in robot.hanging:
+        place, rate = places[hanging.anchor][1], np.zeros(3)
+        for joint in hanging.joints:
+            before = place @ joint.origin
+            if joint.name == driver.name:
+                rate = rate + before[:3, :3] @ unit_vector(joint.axis)
+            elif joint.kind == "prismatic" and joint.follows is not None and joint.follows[0] == driver.name:
+                rate = rate + before[:3, :3] @ unit_vector(joint.axis) * joint.follows[1]
+            place = place @ joint_motion(joint, values.get(joint.name, 0.0))
+        if np.any(rate):
+            moves[hanging.link] = rate
+    if not moves:
+        return None
+    rate = np.zeros((len(capsules.radius), 3))
+    for i, spec in enumerate(robot.capsules):
+        rate[i] = moves.get(spec.link, 0.0)
+    span = 1.0 + sum(j.follows[1] for j in robot.held if j.kind == "prismatic" and j.follows is not None and j.follows[0] == driver.name)
+    lower, upper = driver.limits
+    return Gripper(driver.name, float(lower), float(upper), float(driver.velocity), float(values[driver.name]), rate, float(span),
+                   tuple(moves), np.array(list(moves.values())).reshape(-1, 3))
 
 
 def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
@@ -353,19 +391,24 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
     home = joints_in_si(np.array(home_degrees(arm), dtype=float), chain.prismatic)
     limits = joint_limits(arm)
     every = capsules if capsules is not None else joint_capsules(chain, arm.resolved_width / 2.0)
+    goals = tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals)
+    gripper = None
+    if capsules is not None and any(g.grasp is not None for g in goals):  # the fingers move only in a run that grasps
+        gripper = urdf_gripper(arm, urdf_chain(arm), capsules)
     return Problem(
         arm=chain,
         half_width=arm.resolved_width / 2.0,
         home=home,
         limits=limits,
         obstacles=scene_obstacles(scene),
-        goals=tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals),
+        goals=finger_holds(goals, gripper),
         solver=solver,
         fps=fps,
         capsules=capsules,
         rates=rate_limits(scene),
         self_pairs=(self_pairs(arm, chain, every, limits, home, self_clearance(scene.solver, solver.clearance)) if own_pairs
                     else SelfPairs.none(self_clearance(scene.solver, solver.clearance))),
+        gripper=gripper,
     )
 
 
