@@ -12,7 +12,16 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from armanim.arm.kinematics import forward
-from armanim.motion.carry import TOUCH, CarryReport, World, after_goal, carried_clearance, frame_fingers, goal_problems, tool_transform
+from armanim.motion.carry import (
+    TOUCH,
+    CarryReport,
+    World,
+    after_goal,
+    carried_clearance,
+    frame_fingers,
+    goal_problems,
+    tool_transform,
+)
 from armanim.world.carried import Body, cover_capsules, cover_margin, grasp_offset, obstacle_body
 from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE
 
@@ -353,8 +362,9 @@ def test_the_fingers_close_on_the_part_and_open_after_the_release_while_the_arm_
     where the arm stands still, at most the finger joint's 0.2 m/s, and the invariants (every
     frame's clearance with the fingers where they are) hold."""
     pin = pytest.importorskip("pinocchio")
-    from armanim.scene.robots import bundled_robot
     from invariants import assert_trajectory_invariants
+
+    from armanim.scene.robots import bundled_robot
 
     problem, _, timed = _pick_run()
     traj = timed.trajectory

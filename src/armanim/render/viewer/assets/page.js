@@ -343,6 +343,12 @@
       meshGroups.push({ holder, mesh: m, slot: D.meshes.carriers.indexOf(g.carrier), slide: g.slide || null });
     }
   }
+  api.fingers = () => meshGroups.filter((g) => g.slide).map((g) => {  // each finger's vertex centroid in the world (the tests')
+    const p = g.mesh.geometry.getAttribute("position"), c = new T.Vector3();
+    for (let i = 0; i < p.count; i++) c.add(new T.Vector3(p.getX(i), p.getY(i), p.getZ(i)));
+    g.mesh.updateWorldMatrix(true, false);
+    return g.mesh.localToWorld(c.multiplyScalar(1 / p.count)).toArray();
+  });
   const base = new T.Mesh(new T.CylinderGeometry(hw * S.base_scale, hw * S.base_scale, 2 * hw, 32), new T.MeshPhongMaterial({ color: S.base }));
   base.rotation.x = Math.PI / 2; base.position.set(D.arm.base[0], D.arm.base[1], D.arm.base[2] - hw); base.castShadow = true;
   scene.add(base);
