@@ -457,3 +457,58 @@ def test_an_object_wider_than_the_gripper_opens_is_refused_at_its_line(tmp_path)
     assert result.returncode == 2
     assert (f"wide.yaml:{line}: goals[1].grasp: 'part' is 0.09 across at its narrowest, wider than the gripper opens (0.08"
             in result.stdout + result.stderr), result.stdout + result.stderr
+
+
+def test_a_retreat_leaves_along_a_straight_line_in_the_world_after_its_goal():
+    """retreat (issue 54, item 2): after the grasp the tool goes back up along its own z, carrying
+    the part, and after the release up along the world's z, the part left where it was put; each
+    is a path goal of its own right after its goal, straight within the path tolerance, upward all
+    the way over its distance; every invariant holds and the part ends where the tool put it."""
+    from invariants import assert_trajectory_invariants
+
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "pick-retreat.yaml").model)
+    assert [g.retreat for g in problem.goals] == [False, False, True, False, False, True]
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert all(g.reached for g in timed.goals)
+    traj = timed.trajectory
+    held = timed.carry.held_names(traj.goal)
+    for k, (start, distance, holding) in {2: ([0.5, 0.2, 0.332], 0.07, "part"), 5: ([0.5, -0.2, 0.335], 0.06, "")}.items():
+        along = (traj.goal == k) & (traj.mode == "path")
+        tips = traj.tip[along]
+        assert len(tips) > 5 and set(held[traj.goal == k]) == {holding}
+        assert np.abs(tips[:, :2] - start[:2]).max() <= problem.solver.path_tolerance
+        assert tips[0, 2] == pytest.approx(start[2], abs=0.005) and tips[-1, 2] == pytest.approx(start[2] + distance, abs=0.005)
+        assert np.all(np.diff(tips[:, 2]) >= -1e-9)  # up all the way
+    tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
+    expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
+    assert np.abs(timed.carry.final.moved[1].matrix() - expected).max() < 1e-9
+    assert_trajectory_invariants(problem, timed)
+    from armanim.output.summary import summary_dict
+
+    summary = summary_dict(problem, timed, name="pick-retreat", scene_file="pick-retreat.yaml", sha256="")
+    assert [g["retreat_of"] for g in summary["goals"]] == [None, None, 1, None, None, 3]  # the scene's goals 1 and 3
+
+
+@pytest.mark.parametrize(("goal", "field", "words"), [
+    ({**GRASP, "retreat": {"distance": 0.05}, "orientation": None}, "goals[0].retreat.axis", "is tool on a goal without orientation"),
+    ({"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05, "axis": [0, 0, 1]}}, "goals[0].retreat", "is on a joint goal"),
+    ({"path": {"line": [[0.5, 0.2, 0.4], [0.5, 0.0, 0.4]]}, "speed": 0.1, "retreat": {"distance": 0.05, "axis": [0, 0, 1]}},
+     "goals[0].retreat", "is on a path goal"),
+])
+def test_a_retreat_it_cannot_make_is_reported_at_its_field(goal, field, words):
+    from armanim.scene.checks import scene_problems
+
+    goal = {k: v for k, v in goal.items() if v is not None}
+    problems = scene_problems(_scene([goal]))
+    assert any(f == field and words in m for f, m in problems), problems
+
+
+def test_the_retreat_scene_validates():
+    from armanim.scene import load_scene
+    from armanim.scene.checks import scene_problems
+
+    assert scene_problems(load_scene(DATA / "pick-retreat.yaml").model) == []

@@ -103,6 +103,9 @@ class Goal:
         Put down what the tool holds once this goal is reached.
     touch_links : tuple of str or None
         The links allowed to touch the object this goal grasps; None: those the last joint carries.
+    retreat : bool
+        This goal is the scene goal before it's ``retreat``: the straight line out of it, a path
+        goal the scene does not list (:func:`armanim.scene.convert.with_retreats`).
     """
 
     position: np.ndarray
@@ -115,6 +118,7 @@ class Goal:
     grasp: int | None = None
     release: bool = False
     touch_links: tuple[str, ...] | None = None
+    retreat: bool = False
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -94,7 +94,7 @@ def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, 
                                        "floor": floor, "arm": arm})
     problems: list[tuple[str, str]] = []
     if arm_usable and clearance_known:
-        problem = scene_to_problem(reduced)
+        problem = scene_to_problem(reduced, retreats=False)  # one goal per scene goal: the messages name the scene's
         tip_size = "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"
         problems += list(_grasp_problems(reduced, problem))
         if home_usable:
@@ -144,6 +144,15 @@ def _carry_problems(scene: SceneModel):
                                                     "give the goal an orientation, or a world direction such as axis: [0, 0, -1])")
             elif goal.joints is not None:
                 yield f"goals[{k}].approach", "is on a joint goal (expected a point or pose goal: the line ends at its position)"
+        if goal.retreat is not None:
+            if goal.path is not None:
+                yield f"goals[{k}].retreat", ("is on a path goal (expected a point or pose goal: the line starts at its position; "
+                                              "give the path a straight piece of its own at its end instead)")
+            elif goal.joints is not None:
+                yield f"goals[{k}].retreat", "is on a joint goal (expected a point or pose goal: the line starts at its position)"
+            elif goal.retreat.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
+                yield f"goals[{k}].retreat.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
+                                                   "give the goal an orientation, or a world direction such as axis: [0, 0, 1])")
         if goal.touch_links is not None:
             if goal.grasp is None:
                 yield f"goals[{k}].touch_links", "is on a goal that grasps nothing (expected it beside grasp: NAME)"
