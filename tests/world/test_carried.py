@@ -512,3 +512,27 @@ def test_the_retreat_scene_validates():
     from armanim.scene.checks import scene_problems
 
     assert scene_problems(load_scene(DATA / "pick-retreat.yaml").model) == []
+
+
+def test_the_fingers_stay_where_opening_them_would_bring_one_under_its_clearance():
+    """The fingers open before a grasp (arm.joint_values holds them closed) unless a ball stands
+    at the middle of the opened left finger's capsule: then they stay closed (fingers_free measures
+    every capsule at 17 values along the way)."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.arm.gripper import moved_fingers
+    from armanim.scene import scene_model, scene_to_problem
+
+    def problem_with(extra: list) -> object:
+        scene = _scene([{"position": [0.5, 0.2, 0.4], "orientation": {"rpy": [180, 0, 0]}}, GRASP]).model_dump(by_alias=True, exclude_none=True)
+        scene["arm"] = {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.0}}
+        scene["obstacles"] += extra
+        return scene_to_problem(scene_model(scene))
+
+    free = problem_with([])
+    pose = forward(free.arm, free.home)
+    assert after_goal(free, World(), 0, True, pose).fingers == 0.04
+    left = free.capsules.names.index("panda_leftfinger")
+    starts, ends = capsule_ends(moved_fingers(free.capsules, free.gripper, 0.04), pose)
+    middle = (starts[left] + ends[left]) / 2
+    blocked = problem_with([{"center": middle.tolist(), "radius": 0.005}])
+    assert after_goal(blocked, World(), 0, True, pose).fingers is None  # they stay at joint_values

@@ -230,11 +230,11 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
     that would ask either of a run whose goals are all reached.
     """
     goal = problem.goals[k]
-    world = replace(world, near=None)  # a grasp's object at the hand, or one just put down: this goal's alone
+    before, world = world, replace(world, near=None)  # a grasp's object at the hand, or one just put down: this goal's alone
     if not reached:
         return world
     if goal.grasp is None and not goal.release:
-        return replace(world, fingers=opened_before_grasp(problem, world, k))
+        return replace(world, fingers=fingers_if_free(problem, before, pose, opened_before_grasp(problem, world, k)))
     tool = tool_transform(problem, pose)
     if goal.grasp is not None:
         if world.held is not None:
@@ -243,12 +243,51 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
         body = world.moved.get(column) or obstacle_body(problem.obstacles, column)
         held = Held(column, object_name(problem, column), body, grasp_offset(tool, body), touch_links(problem, goal.touch_links))
         fingers = None if problem.gripper is None else problem.gripper.grip(body.extent(finger_direction(problem, pose)))
-        return World({**world.moved, column: None}, held, fingers=fingers)
+        return World({**world.moved, column: None}, held, fingers=fingers_if_free(problem, before, pose, fingers))
     if world.held is None:
         return world
     placed = placed_body(tool, world.held.offset, world.held.body)
     fingers = None if problem.gripper is None else problem.gripper.upper
-    return World({**world.moved, world.held.column: placed}, None, (world.held.column, world.held.touch), fingers)
+    return World({**world.moved, world.held.column: placed}, None, (world.held.column, world.held.touch),
+                 fingers_if_free(problem, before, pose, fingers))
+
+
+FINGER_STEPS = 16
+"""Values along the fingers' move at which :func:`fingers_free` measures them (more than the
+frames the Panda's longest move takes at 60 fps, 12)."""
+
+
+def fingers_if_free(problem: Problem, world: World, pose: Pose, target: float | None) -> float | None:
+    """``target``, the gripper's value after a goal that ends at ``pose`` in ``world``, or where the
+    fingers are in ``world`` if moving them there would bring a capsule under its clearance
+    (:func:`fingers_free`): the fingers then stay (a grasp's object still attaches)."""
+    gripper = problem.gripper
+    if gripper is None or target is None:
+        return target
+    start = gripper.rest if world.fingers is None else world.fingers
+    if target == start:
+        return world.fingers
+    return target if fingers_free(world_problem(problem, world), pose, start, target) else world.fingers
+
+
+def fingers_free(solved: Problem, pose: Pose, start: float, end: float) -> bool:
+    """Whether the gripper of ``solved`` (its capsules with the fingers at ``start``) can move to
+    ``end`` at ``pose`` (one pose): at :data:`FINGER_STEPS` + 1 values along the way every capsule
+    keeps ``solver.clearance`` from every obstacle and every enabled pair its ``self_clearance``
+    (or no less than at ``start``, where it already was under)."""
+    from armanim.world.distances import min_link_clearance
+    from armanim.world.selfdistances import self_gaps
+
+    assert solved.gripper is not None
+    clear, gaps = [], []
+    for value in np.linspace(start, end, FINGER_STEPS + 1):
+        capsules = moved_fingers(solved.capsules, solved.gripper, float(value), start)
+        at = Pose(pose.points, pose.frames)  # a fresh pose: its memo keeps one set of capsules' ends
+        clear.append(float(min_link_clearance(at, solved.obstacles, capsules)) if len(solved.obstacles) else np.inf)
+        gaps.append(float(self_gaps(at, capsules, solved.self_pairs).d.min()) if len(solved.self_pairs) else np.inf)
+    tiny = 1e-12
+    return (min(clear) >= min(solved.solver.clearance, clear[0]) - tiny
+            and min(gaps) >= min(solved.self_pairs.clearance, gaps[0]) - tiny)
 
 
 def opened_before_grasp(problem: Problem, world: World, k: int) -> float | None:
