@@ -254,11 +254,11 @@ def nearest_obstacle(problem: Problem, traj, carry=None) -> str | None:
     frame = int(np.argmin(traj.clearance))
     scene_column = None
     if carry is not None:
-        from armanim.motion.carry import goal_problems, world_columns
+        from armanim.motion.carry import frame_worlds, world_columns
 
         scene_column = world_columns(problem, carry.worlds[int(traj.goal[frame])])
         names = problem.obstacles
-        problem = goal_problems(problem, carry)[int(traj.goal[frame])]
+        problem = next(p for p, mine in frame_worlds(problem, carry, traj.goal, traj.fps) if mine[frame])  # the fingers there
     if not len(problem.obstacles):
         return None
     links = clearances(forward(problem.arm, traj.phi[frame]), problem.obstacles, problem.capsules).links
