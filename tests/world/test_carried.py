@@ -536,3 +536,19 @@ def test_the_fingers_stay_where_opening_them_would_bring_one_under_its_clearance
     middle = (starts[left] + ends[left]) / 2
     blocked = problem_with([{"center": middle.tolist(), "radius": 0.005}])
     assert after_goal(blocked, World(), 0, True, pose).fingers is None  # they stay at joint_values
+
+
+@pytest.mark.parametrize(("yaw", "refused"), [(0, True), (90, False)])
+def test_a_part_wider_across_the_fingers_than_they_open_is_refused_at_that_orientation(yaw, refused):
+    """A 3 x 10 cm part fits the Panda's 8 cm gripper across its narrow side only: the grasp with
+    the fingers closing along the world's y (yaw 0) is refused, turned 90 degrees it is not."""
+    from armanim.scene import scene_model
+    from armanim.scene.checks import scene_problems
+
+    scene = _scene([{**GRASP, "orientation": {"rpy": [180, 0, yaw]}}]).model_dump(by_alias=True, exclude_none=True)
+    scene["obstacles"][1]["box"]["size"] = [0.03, 0.10, 0.12]
+    problems = scene_problems(scene_model(scene))
+    found = [m for f, m in problems if f == "goals[0].grasp"]
+    assert bool(found) == refused, problems
+    if refused:
+        assert "'part' is 0.1 across the fingers at this goal's orientation, wider than the gripper opens (0.08" in found[0]

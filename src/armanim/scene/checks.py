@@ -203,6 +203,20 @@ def gripper_opening(scene: SceneModel) -> float | None:
     return float(sum(j.limits[1] for j in fingers)) if fingers else None
 
 
+def finger_axis(problem, tool: np.ndarray) -> np.ndarray | None:
+    """(3,) the unit world direction the gripper's fingers close along when the tool frame's world
+    rotation is ``tool`` (3, 3); None without a gripper, or with fingers not on the last joint."""
+    gripper = problem.gripper
+    if gripper is None:
+        return None
+    i = int(np.nonzero(np.any(gripper.rate != 0.0, axis=1))[0][0])
+    if int(problem.capsules.link[i]) != problem.arm.n - 1:
+        return None
+    turn = np.eye(3) if problem.arm.turns is None else problem.arm.turns[-1]
+    along = tool @ turn.T @ gripper.rate[i]  # the last joint's frame is the tool's turned by T_n
+    return along / np.linalg.norm(along)
+
+
 def _grasp_problems(scene: SceneModel, problem):
     """Each grasp's object as the tool will take it: wider than the gripper opens, out of the
     tool's reach at the grasp goal (its tool point must lie in the object or within
@@ -218,6 +232,12 @@ def _grasp_problems(scene: SceneModel, problem):
         if opening is not None and body.width() > opening:
             yield f"goals[{k}].grasp", (f"{name!r} is {body.width():.3g} across at its narrowest, wider than the gripper opens "
                                         f"({opening:.3g}: its finger joints' limits; expected a smaller object)")
+        elif opening is not None and goal.orientation is not None and goal.orientation.rotation is not None:
+            across = finger_axis(problem, goal.orientation.rotation)
+            if across is not None and body.extent(across) > opening + 1e-9:
+                yield f"goals[{k}].grasp", (f"{name!r} is {body.extent(across):.3g} across the fingers at this goal's orientation, wider "
+                                            f"than the gripper opens ({opening:.3g}: its finger joints' limits; expected the goal turned "
+                                            f"about the tool's z so that the fingers close on its {body.width():.3g} side)")
         at = goal.path.end if goal.path is not None else goal.position  # an approach's line ends at the goal
         gap = point_clearances(at[None], with_bodies(problem.obstacles, {c: None for c in range(len(problem.obstacles.kinds))
                                                                                      if c != goal.grasp and problem.obstacles.kinds[c] != FLOOR}))
