@@ -552,3 +552,17 @@ def test_a_part_wider_across_the_fingers_than_they_open_is_refused_at_that_orien
     assert bool(found) == refused, problems
     if refused:
         assert "'part' is 0.1 across the fingers at this goal's orientation, wider than the gripper opens (0.08" in found[0]
+
+
+def test_validation_s_finger_axis_is_the_run_s_finger_direction():
+    """checks.finger_axis (from a tool rotation, at validate time) and carry.finger_direction (from
+    the pose, at the grasp) agree at random poses."""
+    from armanim.arm.kinematics import tool_rotation
+    from armanim.motion.carry import finger_direction
+    from armanim.scene import scene_to_problem
+    from armanim.scene.checks import finger_axis
+
+    problem = scene_to_problem(_scene([GRASP]))
+    for phi in np.random.default_rng(7).uniform(-1.5, 1.5, (5, 7)):
+        pose = forward(problem.arm, phi)
+        np.testing.assert_allclose(finger_axis(problem, tool_rotation(problem.arm, pose)), finger_direction(problem, pose), atol=1e-12)
