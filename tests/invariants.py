@@ -152,11 +152,9 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         if not len(problem.self_pairs):
             assert traj.self_clearance is None and traj.self_pair is None
     else:
-        from armanim.motion.carry import goal_problems
+        from armanim.motion.carry import frame_worlds
 
-        worlds = goal_problems(problem, solution.carry)
-        for world in {id(w): w for w in worlds}.values():
-            mine = np.isin(traj.goal, [k for k, w in enumerate(worlds) if w is world])
+        for world, mine in frame_worlds(problem, solution.carry, traj.goal, traj.fps):  # the fingers where they are
             if mine.any():
                 _assert_clear(world, traj, pose, mine, int(np.argmax(mine)))
     # limited joints within their limits, the ends included (a home or a joint goal may rest on one)

@@ -442,3 +442,30 @@ def test_a_via_goal_is_drawn_passed_and_captioned_passing_as_in_the_video(browse
         assert page.shown()["state"] in ("holding", "reached")
     finally:
         page.page.close()
+
+
+def test_the_panda_s_fingers_close_on_the_part_and_open_again_on_the_page(browser, tmp_path_factory):
+    """A pick-and-place run's page (issue 54): each finger is a mesh group of its own that slides
+    with the gripper: the centres of the two fingers' meshes (the tool pointing down) come
+    2 x 0.02 m closer while the 4 cm part is held than while the gripper is open (0.04 m per
+    finger), and are as far apart again at the end."""
+    import numpy as np
+
+    from armanim.runs.pipeline import run_scene
+
+    folder = run_scene(SCENES.parent / "tests" / "data" / "pick-box.yaml", tmp_path_factory.mktemp("pick"), video=False, viewer=True).folder
+    page = Page(browser, folder / "viewer.html")
+    try:
+        assert page.errors == []
+        goal = page.js("armanim.data.goal")
+        apart = {}
+        for name, frame in (("open", 0), ("held", goal.index(3)), ("end", len(goal) - 1)):
+            page.js(f"armanim.setFrame({frame})")
+            page.js("armanim.nextDraw()")
+            left, right = np.array(page.js("armanim.fingers()"))
+            apart[name] = float(np.linalg.norm(left - right))
+        assert apart["open"] - apart["held"] == pytest.approx(0.04, abs=5e-4)
+        assert apart["end"] == pytest.approx(apart["open"], abs=5e-4)
+        assert page.errors == []
+    finally:
+        page.page.close()

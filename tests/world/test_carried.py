@@ -12,7 +12,16 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from armanim.arm.kinematics import forward
-from armanim.motion.carry import TOUCH, carried_clearance, goal_problems, tool_transform
+from armanim.motion.carry import (
+    TOUCH,
+    CarryReport,
+    World,
+    after_goal,
+    carried_clearance,
+    frame_fingers,
+    goal_problems,
+    tool_transform,
+)
 from armanim.world.carried import Body, cover_capsules, cover_margin, grasp_offset, obstacle_body
 from armanim.world.obstacles import BOX, CYLINDER, ROD, SPHERE
 
@@ -309,6 +318,10 @@ def test_a_finished_run_read_back_carries_the_box_again(tmp_path):
     run = load_run(folder)
     assert run.solution.carry.final.moved[1].center == pytest.approx(summary["objects"]["part"]["center"], abs=1e-9)
     assert "part" in (folder / "self-collision.yaml").read_text()
+    gripper = [float(r["gripper_m"]) for r in rows]  # the Panda's fingers: open, closed on the 4 cm part, open again
+    assert gripper[0] == 0.04 and gripper[-1] == 0.04 and min(gripper) == pytest.approx(0.02, abs=1e-4)
+    replayed = frame_fingers(run.problem, run.solution.carry, run.solution.trajectory.goal, run.solution.trajectory.fps)
+    assert gripper == replayed.tolist()
 
 
 def test_an_approach_comes_in_along_a_straight_line_and_the_grasp_and_release_still_hold():
@@ -340,3 +353,216 @@ def test_an_approach_along_the_tool_needs_the_tool_s_orientation():
 
     goal = {"position": [0.5, 0.2, 0.332], "grasp": "part", "approach": {"distance": 0.08}}
     assert ("goals[0].approach.axis", ) == tuple(f for f, m in scene_problems(_scene([goal])) if "approach" in f)
+
+
+def test_the_fingers_close_on_the_part_and_open_after_the_release_while_the_arm_stands_still():
+    """The Panda's gripper (issue 54, item 3): open while the arm heads for the grasp, closed on the
+    part's width across the fingers (pinocchio's panda_hand y axis at the grasp: 2 q = the box's
+    extent along it) while it is carried, open again after the release; it moves only in frames
+    where the arm stands still, at most the finger joint's 0.2 m/s, and the invariants (every
+    frame's clearance with the fingers where they are) hold."""
+    pin = pytest.importorskip("pinocchio")
+    from invariants import assert_trajectory_invariants
+
+    from armanim.scene.robots import bundled_robot
+
+    problem, _, timed = _pick_run()
+    traj = timed.trajectory
+    fingers = frame_fingers(problem, timed.carry, traj.goal, traj.fps)
+    moves = np.nonzero(np.diff(fingers))[0] + 1
+    assert set(traj.goal[moves]) == {1, 4}  # the grasp closes them, the release opens them
+    assert np.all(traj.phi[moves] == traj.phi[moves - 1])  # the arm stands still meanwhile
+    assert np.abs(np.diff(fingers)).max() * traj.fps <= problem.gripper.speed + 1e-12
+    model = pin.buildModelFromUrdf(str(bundled_robot("panda").urdf))
+    data = model.createData()
+    q = pin.neutral(model)
+    for name, angle in zip(problem.arm.joint_names if hasattr(problem.arm, "joint_names") else [f"panda_joint{i}" for i in range(1, 8)],
+                           traj.phi[timed.goals[1].last_frame]):
+        joint = model.joints[model.getJointId(name)]
+        q[joint.idx_q] = angle
+    pin.framesForwardKinematics(model, data, q)
+    across = data.oMf[model.getFrameId("panda_hand")].rotation[:, 1]
+    extent = float(np.abs(across) @ np.array([0.04, 0.04, 0.12]))  # the part's box stands axis-aligned
+    held = (traj.goal >= 2) & (traj.goal <= 3)
+    assert 2 * fingers[held] == pytest.approx(extent, abs=1e-9)
+    assert np.all(fingers[traj.goal <= 1][:-3] == 0.04) and fingers[-1] == 0.04
+    assert_trajectory_invariants(problem, timed)
+
+
+def test_the_fingers_capsules_follow_the_finger_joint_as_pinocchio_places_the_fingers():
+    """Each finger capsule at a gripper value q lies where pinocchio puts the URDF's capsule of that
+    finger with both finger joints at q (the mimic's too), at random arm poses."""
+    pin = pytest.importorskip("pinocchio")
+    from armanim.arm.capsules import capsule_ends
+    from armanim.arm.gripper import moved_fingers
+    from armanim.scene import scene_to_problem
+    from armanim.scene.robots import bundled_robot
+
+    model_scene = _scene([GRASP])
+    problem = scene_to_problem(model_scene)
+    gripper = problem.gripper
+    assert gripper.joint == "panda_finger_joint1" and gripper.span == 2.0 and gripper.speed == 0.2
+    specs = model_scene.arm.urdf_arm.capsules
+    fingers = [i for i, spec in enumerate(specs) if "finger" in spec.link]
+    assert fingers and set(np.nonzero(gripper.rate.any(axis=1))[0]) == set(fingers)
+    model = pin.buildModelFromUrdf(str(bundled_robot("panda").urdf))
+    data = model.createData()
+    rng = np.random.default_rng(54)
+    for value in (0.0, 0.013, 0.04):
+        phi = rng.uniform(-1.5, 1.5, 7)
+        q = pin.neutral(model)
+        for k, angle in enumerate(phi):
+            q[model.joints[model.getJointId(f"panda_joint{k + 1}")].idx_q] = angle
+        for name in ("panda_finger_joint1", "panda_finger_joint2"):
+            if model.existJointName(name):
+                q[model.joints[model.getJointId(name)].idx_q] = value
+        pin.framesForwardKinematics(model, data, q)
+        starts, ends = capsule_ends(moved_fingers(problem.capsules, gripper, value), forward(problem.arm, phi))
+        for i in fingers:
+            place = data.oMf[model.getFrameId(specs[i].link)]
+            np.testing.assert_allclose(starts[i], place.rotation @ specs[i].start + place.translation, atol=1e-9, rtol=0)
+            np.testing.assert_allclose(ends[i], place.rotation @ specs[i].end + place.translation, atol=1e-9, rtol=0)
+
+
+def test_the_fingers_open_before_a_grasp_when_the_scene_holds_them_nearly_closed():
+    """arm.joint_values leaves the fingers at 0.01: the goal before the grasp holds 0.2 s longer and
+    opens them at its end (0.01 to 0.04 at 0.2 m/s: 5 frames at 30 fps), the grasp closes them
+    (0.04 to 0.02: 3 frames); a robot-less arm has no gripper."""
+    from armanim.scene import scene_model, scene_to_problem
+
+    scene = _scene([{"position": [0.5, 0.2, 0.4], "orientation": {"rpy": [180, 0, 0]}}, GRASP])
+    scene = scene.model_copy(update={"arm": scene.arm.model_copy(update={"joint_values": {"panda_finger_joint1": 0.01}})})
+    problem = scene_to_problem(scene)
+    assert problem.gripper.rest == 0.01 and [g.hold for g in problem.goals] == pytest.approx([0.2, 0.2])
+    opened = after_goal(problem, World(), 0, True, forward(problem.arm, problem.home))
+    assert opened.fingers == 0.04
+    carry = CarryReport((World(), opened), World(fingers=0.02))
+    fingers = frame_fingers(problem, carry, np.repeat([0, 1], 10), 30.0)
+    assert fingers[:5].tolist() == [0.01] * 5 and fingers[9] == 0.04 and fingers[10:16].tolist() == [0.04] * 6
+    assert fingers[-1] == 0.02 and np.abs(np.diff(fingers)).max() * 30.0 <= 0.2 + 1e-12
+    links = scene_model({"version": 1, "arm": {"links": [1, 1]}, "obstacles": [{"center": [1, 1, 0], "radius": 0.1, "name": "ball"}],
+                         "goals": [{"position": [1.0, 0.9, 0.0], "grasp": "ball"}]})
+    assert scene_to_problem(links).gripper is None
+
+
+def test_an_object_wider_than_the_gripper_opens_is_refused_at_its_line(tmp_path):
+    import subprocess
+
+    from tests.runfolders import armanim_exe
+
+    text = (DATA / "pick-box.yaml").read_text().replace("size: [0.04, 0.04, 0.12]}, name: part", "size: [0.09, 0.09, 0.12]}, name: part")
+    (tmp_path / "wide.yaml").write_text(text)
+    result = subprocess.run([armanim_exe(), "validate", "wide.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    line = 1 + text.splitlines().index(next(t for t in text.splitlines() if "grasp: part" in t))
+    assert result.returncode == 2
+    assert (f"wide.yaml:{line}: goals[1].grasp: 'part' is 0.09 across at its narrowest, wider than the gripper opens (0.08"
+            in result.stdout + result.stderr), result.stdout + result.stderr
+
+
+def test_a_retreat_leaves_along_a_straight_line_in_the_world_after_its_goal():
+    """retreat (issue 54, item 2): after the grasp the tool goes back up along its own z, carrying
+    the part, and after the release up along the world's z, the part left where it was put; each
+    is a path goal of its own right after its goal, straight within the path tolerance, upward all
+    the way over its distance; every invariant holds and the part ends where the tool put it."""
+    from invariants import assert_trajectory_invariants
+
+    from armanim.motion.retime import retime
+    from armanim.motion.trajectory import solve_trajectory
+    from armanim.scene import load_scene, scene_to_problem
+
+    problem = scene_to_problem(load_scene(DATA / "pick-retreat.yaml").model)
+    assert [g.retreat for g in problem.goals] == [False, False, True, False, False, True]
+    timed = retime(problem, solve_trajectory(problem), problem.fps)
+    assert all(g.reached for g in timed.goals)
+    traj = timed.trajectory
+    held = timed.carry.held_names(traj.goal)
+    for k, (start, distance, holding) in {2: ([0.5, 0.2, 0.332], 0.07, "part"), 5: ([0.5, -0.2, 0.335], 0.06, "")}.items():
+        along = (traj.goal == k) & (traj.mode == "path")
+        tips = traj.tip[along]
+        assert len(tips) > 5 and set(held[traj.goal == k]) == {holding}
+        assert np.abs(tips[:, :2] - start[:2]).max() <= problem.solver.path_tolerance
+        assert tips[0, 2] == pytest.approx(start[2], abs=0.005) and tips[-1, 2] == pytest.approx(start[2] + distance, abs=0.005)
+        assert np.all(np.diff(tips[:, 2]) >= -1e-9)  # up all the way
+    tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
+    expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
+    assert np.abs(timed.carry.final.moved[1].matrix() - expected).max() < 1e-9
+    assert_trajectory_invariants(problem, timed)
+    from armanim.output.summary import summary_dict
+
+    summary = summary_dict(problem, timed, name="pick-retreat", scene_file="pick-retreat.yaml", sha256="")
+    assert [g["retreat_of"] for g in summary["goals"]] == [None, None, 1, None, None, 3]  # the scene's goals 1 and 3
+
+
+@pytest.mark.parametrize(("goal", "field", "words"), [
+    ({**GRASP, "retreat": {"distance": 0.05}, "orientation": None}, "goals[0].retreat.axis", "is tool on a goal without orientation"),
+    ({"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05, "axis": [0, 0, 1]}}, "goals[0].retreat", "is on a joint goal"),
+    ({"path": {"line": [[0.5, 0.2, 0.4], [0.5, 0.0, 0.4]]}, "speed": 0.1, "retreat": {"distance": 0.05, "axis": [0, 0, 1]}},
+     "goals[0].retreat", "is on a path goal"),
+])
+def test_a_retreat_it_cannot_make_is_reported_at_its_field(goal, field, words):
+    from armanim.scene.checks import scene_problems
+
+    goal = {k: v for k, v in goal.items() if v is not None}
+    problems = scene_problems(_scene([goal]))
+    assert any(f == field and words in m for f, m in problems), problems
+
+
+def test_the_retreat_scene_validates():
+    from armanim.scene import load_scene
+    from armanim.scene.checks import scene_problems
+
+    assert scene_problems(load_scene(DATA / "pick-retreat.yaml").model) == []
+
+
+def test_the_fingers_stay_where_opening_them_would_bring_one_under_its_clearance():
+    """The fingers open before a grasp (arm.joint_values holds them closed) unless a ball stands
+    at the middle of the opened left finger's capsule: then they stay closed (fingers_free measures
+    every capsule at 17 values along the way)."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.arm.gripper import moved_fingers
+    from armanim.scene import scene_model, scene_to_problem
+
+    def problem_with(extra: list) -> object:
+        scene = _scene([{"position": [0.5, 0.2, 0.4], "orientation": {"rpy": [180, 0, 0]}}, GRASP]).model_dump(by_alias=True, exclude_none=True)
+        scene["arm"] = {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.0}}
+        scene["obstacles"] += extra
+        return scene_to_problem(scene_model(scene))
+
+    free = problem_with([])
+    pose = forward(free.arm, free.home)
+    assert after_goal(free, World(), 0, True, pose).fingers == 0.04
+    left = free.capsules.names.index("panda_leftfinger")
+    starts, ends = capsule_ends(moved_fingers(free.capsules, free.gripper, 0.04), pose)
+    middle = (starts[left] + ends[left]) / 2
+    blocked = problem_with([{"center": middle.tolist(), "radius": 0.005}])
+    assert after_goal(blocked, World(), 0, True, pose).fingers is None  # they stay at joint_values
+
+
+@pytest.mark.parametrize(("yaw", "refused"), [(0, True), (90, False)])
+def test_a_part_wider_across_the_fingers_than_they_open_is_refused_at_that_orientation(yaw, refused):
+    """A 3 x 10 cm part fits the Panda's 8 cm gripper across its narrow side only: the grasp with
+    the fingers closing along the world's y (yaw 0) is refused, turned 90 degrees it is not."""
+    from armanim.scene import scene_model
+    from armanim.scene.checks import scene_problems
+
+    scene = _scene([{**GRASP, "orientation": {"rpy": [180, 0, yaw]}}]).model_dump(by_alias=True, exclude_none=True)
+    scene["obstacles"][1]["box"]["size"] = [0.03, 0.10, 0.12]
+    problems = scene_problems(scene_model(scene))
+    found = [m for f, m in problems if f == "goals[0].grasp"]
+    assert bool(found) == refused, problems
+    if refused:
+        assert "'part' is 0.1 across the fingers at this goal's orientation, wider than the gripper opens (0.08" in found[0]
+
+
+def test_validation_s_finger_axis_is_the_run_s_finger_direction():
+    """checks.finger_axis (from a tool rotation, at validate time) and carry.finger_direction (from
+    the pose, at the grasp) agree at random poses."""
+    from armanim.arm.kinematics import tool_rotation
+    from armanim.motion.carry import finger_direction
+    from armanim.scene import scene_to_problem
+    from armanim.scene.checks import finger_axis
+
+    problem = scene_to_problem(_scene([GRASP]))
+    for phi in np.random.default_rng(7).uniform(-1.5, 1.5, (5, 7)):
+        pose = forward(problem.arm, phi)
+        np.testing.assert_allclose(finger_axis(problem, tool_rotation(problem.arm, pose)), finger_direction(problem, pose), atol=1e-12)

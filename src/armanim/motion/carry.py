@@ -22,8 +22,10 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.capsules import BASE, Capsules
+from armanim.arm.geometry import unit_vector
+from armanim.arm.gripper import Gripper, moved_fingers, ramp
 from armanim.arm.kinematics import Pose, tool_rotation
-from armanim.motion.problem import Problem
+from armanim.motion.problem import Goal, Problem
 from armanim.world.carried import (
     Body,
     cover_capsules,
@@ -86,11 +88,15 @@ class World:
     grasps it, or leaves it after a release: off the obstacles and, where it rests, a part of the
     robot's base (its cover's capsules on :data:`~armanim.arm.capsules.BASE`) that every link but
     the touch links keeps ``self_clearance`` from, so that the fingers may close round it."""
+    fingers: float | None = None
+    """The gripper's value while the arm moves toward this goal (metres per finger,
+    :mod:`armanim.arm.gripper`); None: where ``arm.joint_values`` holds it (or no gripper)."""
 
     def key(self) -> tuple[object, ...]:
         """What tells two worlds apart (for reusing one problem per world)."""
         return (tuple(sorted((k, None if b is None else b.matrix().tobytes()) for k, b in self.moved.items())),
-                None if self.held is None else (self.held.column, self.held.offset.tobytes(), self.held.touch), self.near)
+                None if self.held is None else (self.held.column, self.held.offset.tobytes(), self.held.touch), self.near,
+                self.fingers)
 
 
 def default_touch_links(problem: Problem) -> tuple[str, ...]:
@@ -174,8 +180,10 @@ def carried_pairs(pairs: SelfPairs, capsules: Capsules, name: str, touch: tuple[
 def world_problem(problem: Problem, world: World) -> Problem:
     """``problem`` in ``world``: the objects where they were put, the carried one off the obstacles
     and on the arm (its capsules and pairs)."""
-    if not world.moved and world.held is None and world.near is None:
+    if not world.moved and world.held is None and world.near is None and world.fingers is None:
         return problem
+    if world.fingers is not None and problem.gripper is not None:
+        problem = replace(problem, capsules=moved_fingers(problem.capsules, problem.gripper, world.fingers))
     moved = dict(world.moved)
     if world.near is not None:
         moved[world.near[0]] = None
@@ -222,9 +230,11 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
     that would ask either of a run whose goals are all reached.
     """
     goal = problem.goals[k]
-    world = replace(world, near=None)  # a grasp's object at the hand, or one just put down: this goal's alone
-    if not reached or (goal.grasp is None and not goal.release):
+    before, world = world, replace(world, near=None)  # a grasp's object at the hand, or one just put down: this goal's alone
+    if not reached:
         return world
+    if goal.grasp is None and not goal.release:
+        return replace(world, fingers=fingers_if_free(problem, before, pose, opened_before_grasp(problem, world, k)))
     tool = tool_transform(problem, pose)
     if goal.grasp is not None:
         if world.held is not None:
@@ -232,11 +242,101 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
         column = goal.grasp
         body = world.moved.get(column) or obstacle_body(problem.obstacles, column)
         held = Held(column, object_name(problem, column), body, grasp_offset(tool, body), touch_links(problem, goal.touch_links))
-        return World({**world.moved, column: None}, held)
+        fingers = None if problem.gripper is None else problem.gripper.grip(body.extent(finger_direction(problem, pose)))
+        return World({**world.moved, column: None}, held, fingers=fingers_if_free(problem, before, pose, fingers))
     if world.held is None:
         return world
     placed = placed_body(tool, world.held.offset, world.held.body)
-    return World({**world.moved, world.held.column: placed}, None, (world.held.column, world.held.touch))
+    fingers = None if problem.gripper is None else problem.gripper.upper
+    return World({**world.moved, world.held.column: placed}, None, (world.held.column, world.held.touch),
+                 fingers_if_free(problem, before, pose, fingers))
+
+
+FINGER_STEPS = 16
+"""Values along the fingers' move at which :func:`fingers_free` measures them (more than the
+frames the Panda's longest move takes at 60 fps, 12)."""
+
+
+def fingers_if_free(problem: Problem, world: World, pose: Pose, target: float | None) -> float | None:
+    """``target``, the gripper's value after a goal that ends at ``pose`` in ``world``, or where the
+    fingers are in ``world`` if moving them there would bring a capsule under its clearance
+    (:func:`fingers_free`): the fingers then stay (a grasp's object still attaches)."""
+    gripper = problem.gripper
+    if gripper is None or target is None:
+        return target
+    start = gripper.rest if world.fingers is None else world.fingers
+    if target == start:
+        return world.fingers
+    return target if fingers_free(world_problem(problem, world), pose, start, target) else world.fingers
+
+
+def fingers_free(solved: Problem, pose: Pose, start: float, end: float) -> bool:
+    """Whether the gripper of ``solved`` (its capsules with the fingers at ``start``) can move to
+    ``end`` at ``pose`` (one pose): at :data:`FINGER_STEPS` + 1 values along the way every capsule
+    keeps ``solver.clearance`` from every obstacle and every enabled pair its ``self_clearance``
+    (or no less than at ``start``, where it already was under)."""
+    from armanim.world.distances import min_link_clearance
+    from armanim.world.selfdistances import self_gaps
+
+    assert solved.gripper is not None
+    clear, gaps = [], []
+    for value in np.linspace(start, end, FINGER_STEPS + 1):
+        capsules = moved_fingers(solved.capsules, solved.gripper, float(value), start)
+        at = Pose(pose.points, pose.frames)  # a fresh pose: its memo keeps one set of capsules' ends
+        clear.append(float(min_link_clearance(at, solved.obstacles, capsules)) if len(solved.obstacles) else np.inf)
+        gaps.append(float(self_gaps(at, capsules, solved.self_pairs).d.min()) if len(solved.self_pairs) else np.inf)
+    tiny = 1e-12
+    return (min(clear) >= min(solved.solver.clearance, clear[0]) - tiny
+            and min(gaps) >= min(solved.self_pairs.clearance, gaps[0]) - tiny)
+
+
+def opened_before_grasp(problem: Problem, world: World, k: int) -> float | None:
+    """The gripper's value after goal ``k`` (reached, neither a grasp nor a release): open (its
+    upper limit) where the next goal grasps and the tool holds nothing, else as it was."""
+    gripper = problem.gripper
+    if gripper is None or world.held is not None or k + 1 >= len(problem.goals) or problem.goals[k + 1].grasp is None:
+        return world.fingers
+    return gripper.upper
+
+
+def finger_direction(problem: Problem, pose: Pose) -> np.ndarray:
+    """(3,) the unit world direction the gripper's first finger slides along at ``pose`` (one pose)."""
+    assert problem.gripper is not None
+    rate = problem.gripper.rate
+    i = int(np.nonzero(np.any(rate != 0.0, axis=1))[0][0])
+    carrier = int(problem.capsules.link[i])
+    turn = np.eye(3) if carrier < 0 else pose.frames[carrier]
+    return unit_vector(turn @ rate[i])
+
+
+def finger_holds(goals: tuple[Goal, ...], gripper: Gripper | None) -> tuple[Goal, ...]:
+    """``goals`` with the time the fingers take (closed to open at their velocity limit) added to
+    the hold of every goal at whose end they may move: a grasp (they close on the object), a
+    release (they open), and the goal before the first grasp where ``arm.joint_values`` leaves
+    them less than open (they open)."""
+    if gripper is None:
+        return goals
+    first = next((k for k, g in enumerate(goals) if g.grasp is not None), None)
+    extra = (gripper.upper - gripper.lower) / gripper.speed
+    return tuple(replace(g, hold=g.hold + extra) if g.grasp is not None or g.release
+                 or (first is not None and k == first - 1 and gripper.rest < gripper.upper) else g
+                 for k, g in enumerate(goals))
+
+
+def frame_fingers(problem: Problem, carry: CarryReport, goal: np.ndarray, fps: float) -> np.ndarray | None:
+    """(F,) the gripper's value in each frame (metres per finger; frames' goals ``goal`` (F,) at
+    ``fps``): each goal's world's, moving to the next world's over the goal's last frames (its
+    hold, where the arm stands still) at the finger joint's velocity limit; None without a gripper."""
+    gripper = problem.gripper
+    if gripper is None:
+        return None
+    out = np.full(len(goal), gripper.rest)
+    worlds = (*carry.worlds, carry.final)
+    for k in range(len(carry.worlds)):
+        mine = np.nonzero(goal == k)[0]
+        start, end = (gripper.rest if w.fingers is None else w.fingers for w in worlds[k:k + 2])
+        out[mine] = ramp(start, end, gripper.ramp_frames(start, end, fps), len(mine))
+    return out
 
 
 @dataclass(frozen=True)
@@ -377,18 +477,39 @@ def frame_bodies(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np
     return out
 
 
-def world_clearance(problem: Problem, problems: list[Problem] | None, pose: Pose, goal: np.ndarray) -> np.ndarray:
-    """(F,) each frame's least capsule clearance, measured in its goal's world (``problems``, one
-    per goal; None: ``problem`` for every frame)."""
+def frame_worlds(problem: Problem, carry: CarryReport, goal: np.ndarray, fps: float) -> list[tuple[Problem, np.ndarray]]:
+    """The frames (goals ``goal`` (F,) at ``fps``) grouped by the problem each is measured in:
+    its goal's world (:func:`goal_problems`) with the fingers where they are in that frame
+    (:func:`frame_fingers`); (problem, (F,) bool) per group, every frame in one."""
+    problems = goal_problems(problem, carry)
+    fingers = frame_fingers(problem, carry, goal, fps)
+    out = []
+    for solved in {id(p): p for p in problems}.values():
+        ks = [k for k, p in enumerate(problems) if p is solved]
+        mine = np.isin(goal, ks)
+        if not mine.any():
+            continue
+        if fingers is None or problem.gripper is None:
+            out.append((solved, mine))
+            continue
+        at = carry.worlds[ks[0]].fingers  # one world, one finger value while the arm moves
+        at = problem.gripper.rest if at is None else at
+        for value in np.unique(fingers[mine]):
+            capsules = moved_fingers(solved.capsules, problem.gripper, float(value), at)
+            out.append((solved if capsules is solved.capsules else replace(solved, capsules=capsules), mine & (fingers == value)))
+    return out
+
+
+def world_clearance(problem: Problem, carry: CarryReport | None, pose: Pose, goal: np.ndarray, fps: float) -> np.ndarray:
+    """(F,) each frame's least capsule clearance, measured in its goal's world with the fingers
+    where they are (:func:`frame_worlds`; ``carry`` None: ``problem`` for every frame)."""
     from armanim.world.distances import min_link_clearance
 
-    if problems is None:
+    if carry is None:
         return min_link_clearance(pose, problem.obstacles, problem.capsules)
     out = np.full(len(goal), np.inf)
-    for solved in {id(p): p for p in problems}.values():
-        mine = np.isin(goal, [k for k, p in enumerate(problems) if p is solved])
-        if mine.any():
-            out[mine] = min_link_clearance(Pose(pose.points[mine], pose.frames[mine]), solved.obstacles, solved.capsules)
+    for solved, mine in frame_worlds(problem, carry, goal, fps):
+        out[mine] = min_link_clearance(Pose(pose.points[mine], pose.frames[mine]), solved.obstacles, solved.capsules)
     return out
 
 

@@ -17,6 +17,7 @@ import numpy as np
 from armanim.arm.capsules import Capsules, joint_capsules
 from armanim.arm.capsules import lever_arms as capsule_lever_arms
 from armanim.arm.geometry import wrap_angle
+from armanim.arm.gripper import Gripper
 from armanim.arm.kinematics import Arm
 from armanim.motion.orientation import Orientation
 from armanim.motion.toolpath import ToolPath
@@ -102,6 +103,9 @@ class Goal:
         Put down what the tool holds once this goal is reached.
     touch_links : tuple of str or None
         The links allowed to touch the object this goal grasps; None: those the last joint carries.
+    retreat : bool
+        This goal is the scene goal before it's ``retreat``: the straight line out of it, a path
+        goal the scene does not list (:func:`armanim.scene.convert.with_retreats`).
     """
 
     position: np.ndarray
@@ -114,6 +118,7 @@ class Goal:
     grasp: int | None = None
     release: bool = False
     touch_links: tuple[str, ...] | None = None
+    retreat: bool = False
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -270,6 +275,9 @@ class Problem:
     tunables : Tunables
         The safety filter's gains and the stall test's and planner's tunables
         (:mod:`armanim.motion.tunables`); left out, their documented defaults.
+    gripper : Gripper or None
+        The robot's fingers (:mod:`armanim.arm.gripper`), which open before a grasp and close on
+        the object; None: none (a grasped object simply attaches).
     """
 
     arm: Arm
@@ -284,6 +292,7 @@ class Problem:
     rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
     self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
     tunables: Tunables = DEFAULTS
+    gripper: Gripper | None = None
     _lever_arms: np.ndarray = field(init=False, repr=False, compare=False)  # set by __post_init__
     _pair_lever_rows: np.ndarray = field(init=False, repr=False, compare=False)
     _pair_levers: np.ndarray = field(init=False, repr=False, compare=False)

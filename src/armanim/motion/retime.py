@@ -129,7 +129,7 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     if problems is None:
         clear, gaps = frame_margins(problem, phi)
     else:  # a run that carries: each frame in its goal's world
-        clear, gaps = world_clearance(problem, problems, pose, goal), None
+        clear, gaps = world_clearance(problem, solution.carry, pose, goal, fps), None
     distance = np.linalg.norm(pose.tip - np.array([g.position for g in problem.goals])[goal], axis=-1)
     traced = traced_paths(problem, src, phi, pose.tip, source, goal, held)
     if traced is not None:

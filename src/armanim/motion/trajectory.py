@@ -33,6 +33,7 @@ from armanim.motion.carry import (
     CarryReport,
     World,
     after_goal,
+    frame_worlds,
     goal_problems,
     goal_world,
     needs_carrying,
@@ -541,8 +542,7 @@ def with_world_self_clearance(problem: Problem, carry: CarryReport, traj: Trajec
         return replace(traj, self_clearance=None, self_pair=None)
     pose = forward(problem.arm, traj.phi) if pose is None else pose
     least, pair = np.full(traj.frames, np.nan), np.full(traj.frames, "", dtype=object)
-    for solved in {id(p): p for p in problems}.values():
-        mine = np.isin(traj.goal, [k for k, p in enumerate(problems) if p is solved])
+    for solved, mine in frame_worlds(problem, carry, traj.goal, traj.fps):  # the fingers where they are
         if not len(solved.self_pairs) or not mine.any():
             continue
         part = with_self_clearance(solved, replace(traj, phi=traj.phi[mine], goal=traj.goal[mine]),

@@ -228,29 +228,35 @@ def _as_marked(path: Path) -> bool:
     return digest.hexdigest() == recorded.get("sha256")
 
 
-def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None, carried: tuple[np.ndarray, np.ndarray] | None = None) -> str:
+def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None, carried: tuple[np.ndarray, np.ndarray] | None = None,
+                        fingers: np.ndarray | None = None) -> str:
     """The whole trajectory.csv as text (``slides``: which joints are prismatic, the arm's
     ``prismatic``; None: all revolute; ``carried``: a run that grasps, each frame's held object's
-    name and its clearance, the last two columns ``held`` and ``carried_clearance``)."""
+    name and its clearance, the columns ``held`` and ``carried_clearance``; ``fingers``: such a
+    run's gripper value in each frame, metres per finger, the last column ``gripper_m``)."""
     time = traj.time
     rows = trajectory_rows(traj, time, slides)
     if carried is None:
         return table_csv_text(header(traj.phi.shape[1], slides), rows)
     held, clear = carried
-    more = zip([str(h) for h in held], _finite_texts(clear, traj.frames))
-    return table_csv_text([*header(traj.phi.shape[1], slides), "held", "carried_clearance"],
-                          [row + extra for row, extra in zip(rows, more)])
+    more: list[tuple[str, ...]] = [(str(h), c) for h, c in zip(held, _finite_texts(clear, traj.frames))]
+    names = ["held", "carried_clearance"]
+    if fingers is not None:
+        more = [m + (f,) for m, f in zip(more, _texts(fingers))]
+        names.append("gripper_m")
+    return table_csv_text([*header(traj.phi.shape[1], slides), *names], [row + extra for row, extra in zip(rows, more)])
 
 
 def write_trajectory_csv(run: SolvedRun, path: Path) -> None:
     """Write the run's trajectory.csv atomically (it has no options: every run writes it whole)."""
     carry, traj = run.solution.carry, run.trajectory
-    carried = None
+    carried, fingers = None, None
     if carry is not None:
-        from armanim.motion.carry import carried_clearance
+        from armanim.motion.carry import carried_clearance, frame_fingers
 
         carried = (carry.held_names(traj.goal), carried_clearance(run.problem, carry, traj.phi, traj.goal))
-    write_text_atomic(path, trajectory_csv_text(traj, run.problem.arm.prismatic, carried))
+        fingers = frame_fingers(run.problem, carry, traj.goal, traj.fps)
+    write_text_atomic(path, trajectory_csv_text(traj, run.problem.arm.prismatic, carried, fingers))
 
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")

@@ -254,11 +254,11 @@ def nearest_obstacle(problem: Problem, traj, carry=None) -> str | None:
     frame = int(np.argmin(traj.clearance))
     scene_column = None
     if carry is not None:
-        from armanim.motion.carry import goal_problems, world_columns
+        from armanim.motion.carry import frame_worlds, world_columns
 
         scene_column = world_columns(problem, carry.worlds[int(traj.goal[frame])])
         names = problem.obstacles
-        problem = goal_problems(problem, carry)[int(traj.goal[frame])]
+        problem = next(p for p, mine in frame_worlds(problem, carry, traj.goal, traj.fps) if mine[frame])  # the fingers there
     if not len(problem.obstacles):
         return None
     links = clearances(forward(problem.arm, traj.phi[frame]), problem.obstacles, problem.capsules).links
@@ -271,6 +271,19 @@ def nearest_obstacle(problem: Problem, traj, carry=None) -> str | None:
     return problem.obstacles.name(column) or f"obstacles[{column}]"
 
 
+def retreat_of(problem: Problem, k: int) -> int | None:
+    """The scene goal whose retreat problem goal ``k`` is (None: a scene goal itself).
+
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(goals=[SimpleNamespace(retreat=r) for r in (False, True, False, True)])
+    >>> [retreat_of(p, k) for k in range(4)]
+    [None, 0, None, 1]
+    """
+    if not problem.goals[k].retreat:
+        return None
+    return sum(1 for g in problem.goals[:k] if not g.retreat) - 1
+
+
 def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
                  rate_notes: Sequence[str] = ()) -> dict:
     """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
@@ -278,6 +291,9 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
     traj = solution.trajectory
     lengths = goal_path_lengths(solution, problem.limits.limited)
     goals = [{**goal_report_dict(g, joint_labels(problem)), "path_length_rad": lengths[k]} for k, g in enumerate(solution.goals)]
+    if any(g.retreat for g in problem.goals):  # a scene's retreats are goals of their own: each says whose it is
+        for k, g in enumerate(goals):
+            g["retreat_of"] = retreat_of(problem, k)
     rates = problem.rates
     return {
         "armanim_version": __version__,

@@ -22,7 +22,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.carry import goal_problems, world_clearance
+from armanim.motion.carry import world_clearance
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.problem import Problem
 from armanim.motion.solution import Solution, Trajectory
@@ -110,7 +110,7 @@ def resample_run(problem: Problem, solution: Solution, fps: float) -> Solution:
         tip=pose.tip,
         goal=goal,
         distance=np.linalg.norm(pose.tip - targets[goal], axis=-1),
-        clearance=world_clearance(problem, None if solution.carry is None else goal_problems(problem, solution.carry), pose, goal),
+        clearance=world_clearance(problem, solution.carry, pose, goal, fps),
         reached=src.reached[head],
         iterations=np.where(np.diff(head, prepend=-1) > 0, src.iterations[head], 0),  # each run frame's counted once
         step_scale=src.step_scale[head],

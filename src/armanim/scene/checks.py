@@ -94,7 +94,7 @@ def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, 
                                        "floor": floor, "arm": arm})
     problems: list[tuple[str, str]] = []
     if arm_usable and clearance_known:
-        problem = scene_to_problem(reduced)
+        problem = scene_to_problem(reduced, retreats=False)  # one goal per scene goal: the messages name the scene's
         tip_size = "the last link's radius" if scene.arm.is_urdf else "arm.width / 2"
         problems += list(_grasp_problems(reduced, problem))
         if home_usable:
@@ -144,6 +144,15 @@ def _carry_problems(scene: SceneModel):
                                                     "give the goal an orientation, or a world direction such as axis: [0, 0, -1])")
             elif goal.joints is not None:
                 yield f"goals[{k}].approach", "is on a joint goal (expected a point or pose goal: the line ends at its position)"
+        if goal.retreat is not None:
+            if goal.path is not None:
+                yield f"goals[{k}].retreat", ("is on a path goal (expected a point or pose goal: the line starts at its position; "
+                                              "give the path a straight piece of its own at its end instead)")
+            elif goal.joints is not None:
+                yield f"goals[{k}].retreat", "is on a joint goal (expected a point or pose goal: the line starts at its position)"
+            elif goal.retreat.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
+                yield f"goals[{k}].retreat.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
+                                                   "give the goal an orientation, or a world direction such as axis: [0, 0, 1])")
         if goal.touch_links is not None:
             if goal.grasp is None:
                 yield f"goals[{k}].touch_links", "is on a goal that grasps nothing (expected it beside grasp: NAME)"
@@ -194,6 +203,20 @@ def gripper_opening(scene: SceneModel) -> float | None:
     return float(sum(uppers)) if uppers else None
 
 
+def finger_axis(problem, tool: np.ndarray) -> np.ndarray | None:
+    """(3,) the unit world direction the gripper's fingers close along when the tool frame's world
+    rotation is ``tool`` (3, 3); None without a gripper, or with fingers not on the last joint."""
+    gripper = problem.gripper
+    if gripper is None:
+        return None
+    i = int(np.nonzero(np.any(gripper.rate != 0.0, axis=1))[0][0])
+    if int(problem.capsules.link[i]) != problem.arm.n - 1:
+        return None
+    turn = np.eye(3) if problem.arm.turns is None else problem.arm.turns[-1]
+    along = tool @ turn.T @ gripper.rate[i]  # the last joint's frame is the tool's turned by T_n
+    return along / np.linalg.norm(along)
+
+
 def _grasp_problems(scene: SceneModel, problem):
     """Each grasp's object as the tool will take it: wider than the gripper opens, out of the
     tool's reach at the grasp goal (its tool point must lie in the object or within
@@ -209,6 +232,12 @@ def _grasp_problems(scene: SceneModel, problem):
         if opening is not None and body.width() > opening:
             yield f"goals[{k}].grasp", (f"{name!r} is {body.width():.3g} across at its narrowest, wider than the gripper opens "
                                         f"({opening:.3g}: its finger joints' limits; expected a smaller object)")
+        elif opening is not None and goal.orientation is not None and goal.orientation.rotation is not None:
+            across = finger_axis(problem, goal.orientation.rotation)
+            if across is not None and body.extent(across) > opening + 1e-9:
+                yield f"goals[{k}].grasp", (f"{name!r} is {body.extent(across):.3g} across the fingers at this goal's orientation, wider "
+                                            f"than the gripper opens ({opening:.3g}: its finger joints' limits; expected the goal turned "
+                                            f"about the tool's z so that the fingers close on its {body.width():.3g} side)")
         at = goal.path.end if goal.path is not None else goal.position  # an approach's line ends at the goal
         gap = point_clearances(at[None], with_bodies(problem.obstacles, {c: None for c in range(len(problem.obstacles.kinds))
                                                                                      if c != goal.grasp and problem.obstacles.kinds[c] != FLOOR}))

@@ -16,8 +16,10 @@ import numpy as np
 from armanim.arm.capsules import BASE, Capsules, frame_capsules, joint_capsules
 from armanim.arm.chain import SerialChain, serial_chain, transform
 from armanim.arm.geometry import unit_vector, wrap_angle
+from armanim.arm.gripper import Gripper
 from armanim.arm.kinematics import Arm, default_axes, forward, joints_in_si
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
+from armanim.motion.carry import finger_holds
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import (
     Goal,
@@ -126,6 +128,43 @@ def link_places(arm: ArmModel, chain: SerialChain) -> dict[str, tuple[int, np.nd
             place = place @ joint_motion(joint, values.get(joint.name, 0.0))
         places[hanging.link] = (carrier, place)
     return places
+
+
+def urdf_gripper(arm: ArmModel, chain: SerialChain, capsules: Capsules) -> Gripper | None:
+    """The URDF arm's gripper (:class:`~armanim.arm.gripper.Gripper`): its one prismatic joint held
+    off the chain that is no mimic, with limits and a velocity limit, and the prismatic joints that
+    mimic it; each capsule's displacement per metre of it in its carrier's frame (``capsules``, as
+    :func:`urdf_capsules` made them). None without exactly one such joint (the fingers then stay
+    where ``arm.joint_values`` holds them)."""
+    robot = arm.urdf_arm
+    drivers = [j for j in robot.held if j.kind == "prismatic" and j.follows is None and j.limits is not None]
+    if len(drivers) != 1 or not drivers[0].velocity:
+        return None
+    driver = drivers[0]
+    values = held_values(arm)
+    places = link_places(arm, chain)
+    moves: dict[str, np.ndarray] = {}
+    for hanging in robot.hanging:
+        place, rate = places[hanging.anchor][1], np.zeros(3)
+        for joint in hanging.joints:
+            before = place @ joint.origin
+            if joint.name == driver.name:
+                rate = rate + before[:3, :3] @ unit_vector(joint.axis)
+            elif joint.kind == "prismatic" and joint.follows is not None and joint.follows[0] == driver.name:
+                rate = rate + before[:3, :3] @ unit_vector(joint.axis) * joint.follows[1]
+            place = place @ joint_motion(joint, values.get(joint.name, 0.0))
+        if np.any(rate):
+            moves[hanging.link] = rate
+    if not moves:
+        return None
+    rate = np.zeros((len(capsules.radius), 3))
+    for i, spec in enumerate(robot.capsules):
+        rate[i] = moves.get(spec.link, 0.0)
+    span = 1.0 + sum(j.follows[1] for j in robot.held if j.kind == "prismatic" and j.follows is not None and j.follows[0] == driver.name)
+    assert driver.limits is not None  # a driver has limits (drivers above)
+    lower, upper = driver.limits
+    return Gripper(driver.name, float(lower), float(upper), float(driver.velocity), float(values[driver.name]), rate, float(span),
+                   tuple(moves), np.array(list(moves.values())).reshape(-1, 3))
 
 
 def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
@@ -327,7 +366,7 @@ def _axes_key(chain: Arm) -> bytes:
     return b"".join(np.asarray(v).tobytes() for v in vars(chain).values() if isinstance(v, np.ndarray))
 
 
-def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True) -> Problem:
+def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True, retreats: bool = True) -> Problem:
     """Convert a validated scene to the solver's problem (radians, numpy arrays).
 
     Parameters
@@ -342,6 +381,9 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         Find the arm's own pairs to keep apart (``arm.self_collision``); False leaves them empty,
         for work that never asks (one pose's forward kinematics): an arm of links samples its
         matrix, some 0.4 s of compiled distances on a command that takes 0.3 s without.
+    retreats : bool
+        Each goal's ``retreat`` becomes a goal of its own after it (:func:`with_retreats`); False
+        keeps one problem goal per scene goal (validation's messages name the scene's goals).
 
     Returns
     -------
@@ -354,19 +396,26 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
     home = joints_in_si(np.array(home_degrees(arm), dtype=float), chain.prismatic)
     limits = joint_limits(arm)
     every = capsules if capsules is not None else joint_capsules(chain, arm.resolved_width / 2.0)
+    goals = tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals)
+    if retreats:
+        goals = with_retreats(goals, scene.goals)
+    gripper = None
+    if capsules is not None and any(g.grasp is not None for g in goals):  # the fingers move only in a run that grasps
+        gripper = urdf_gripper(arm, urdf_chain(arm), capsules)
     return Problem(
         arm=chain,
         half_width=arm.resolved_width / 2.0,
         home=home,
         limits=limits,
         obstacles=scene_obstacles(scene),
-        goals=tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals),
+        goals=finger_holds(goals, gripper),
         solver=solver,
         fps=fps,
         capsules=cast(Capsules, capsules),  # None: the Problem's own default, today's joint-to-joint capsules
         rates=rate_limits(scene),
         self_pairs=(self_pairs(arm, chain, every, limits, home, self_clearance(scene.solver, solver.clearance)) if own_pairs
                     else SelfPairs.none(self_clearance(scene.solver, solver.clearance))),
+        gripper=gripper,
     )
 
 
@@ -440,12 +489,11 @@ def scene_goal(goal: GoalModel, chain: Arm | None = None, blend: float | None = 
 def handling(goal: Goal, model: GoalModel, scene: SceneModel) -> Goal:
     """``goal`` with what it grasps (the named obstacle's clearance column: the scene's order) or
     releases (:mod:`armanim.motion.carry`); a goal that does neither, unchanged."""
-    if model.grasp is None and not model.release:
-        return goal
-    names = [o.name for o in scene.obstacles]
-    column = names.index(model.grasp) if model.grasp is not None and model.grasp in names else None
-    touch = tuple(model.touch_links) if model.touch_links is not None else None
-    goal = replace(goal, grasp=column, release=model.release, touch_links=touch)
+    if model.grasp is not None or model.release:
+        names = [o.name for o in scene.obstacles]
+        column = names.index(model.grasp) if model.grasp is not None and model.grasp in names else None
+        touch = tuple(model.touch_links) if model.touch_links is not None else None
+        goal = replace(goal, grasp=column, release=model.release, touch_links=touch)
     if model.approach is None or goal.path is not None or goal.joints is not None:
         return goal
     direction = approach_direction(model)
@@ -454,6 +502,47 @@ def handling(goal: Goal, model: GoalModel, scene: SceneModel) -> Goal:
     start = goal.position - model.approach.distance * direction
     speed = model.approach.speed if model.approach.speed is not None else model.approach.distance
     return replace(goal, position=start, path=ToolPath.polyline(np.array([start, goal.position])), speed=float(speed))
+
+
+def with_retreats(goals: tuple[Goal, ...], models: list[GoalModel]) -> tuple[Goal, ...]:
+    """``goals`` (one per scene goal ``models``) with, after each goal that gives a ``retreat``,
+    its straight line out as a path goal of its own (:attr:`Goal.retreat`): from where the goal
+    ends (its position, or its approach's end) ``distance`` along the retreat's direction
+    (:func:`retreat_direction`), the goal's orientation held, at ``speed`` (default ``distance``
+    per second); a retreat validation refuses (on a path or joint goal, along the tool without an
+    orientation) adds nothing."""
+    out = []
+    for goal, model in zip(goals, models):
+        out.append(goal)
+        if model.retreat is None or model.path is not None or goal.joints is not None:
+            continue
+        direction = retreat_direction(model)
+        if direction is None:
+            continue
+        start = goal.path.end if goal.path is not None else goal.position
+        speed = model.retreat.speed if model.retreat.speed is not None else model.retreat.distance
+        end = start + model.retreat.distance * direction
+        out.append(Goal(position=start, hold=0.0, orientation=goal.orientation, path=ToolPath.polyline(np.array([start, end])),
+                        speed=float(speed), retreat=True))
+    return tuple(out)
+
+
+def retreat_direction(model: GoalModel) -> np.ndarray | None:
+    """The unit direction a goal's ``retreat`` moves the tool along (world): back along the tool's
+    z at the goal, or the given vector; None for a retreat along the tool of a goal without orientation.
+
+    >>> (retreat_direction(GoalModel(position=[0, 0, 0], orientation={"rpy": [180, 0, 0]}, retreat={"distance": 0.1})).round(12) + 0.0).tolist()
+    [0.0, 0.0, 1.0]
+    """
+    assert model.retreat is not None
+    axis = model.retreat.axis
+    if not isinstance(axis, str):
+        return unit_vector(np.array(axis, dtype=float))
+    if model.orientation is not None:
+        return -orientation_rotation(model.orientation)[:, 2]
+    if model.tool_axis is not None:
+        return -unit_vector(np.array(model.tool_axis, dtype=float))
+    return None
 
 
 def approach_direction(model: GoalModel) -> np.ndarray | None:

@@ -400,6 +400,16 @@ class ApproachModel(Strict):
         return _nonzero(value, "axis") if not isinstance(value, str) else value
 
 
+class RetreatModel(ApproachModel):
+    """A goal's retreat: once it is reached (a grasp taken, a release put down), the tool leaves
+    along a straight line of ``distance`` (the path machinery: a path goal of its own after it)."""
+
+    axis: Literal["tool"] | Vector3 = Field(
+        default="tool",
+        description="The direction the tool moves along it: tool (back along the tool's z axis at the goal, the way an approach "
+                    "along tool came in; needs orientation or tool_axis) or a world direction [x, y, z]; default tool.")
+
+
 class GoalModel(Strict):
     """One goal: a point (``position``; a bare ``[x, y, z]`` list is read as ``{position: [x, y, z]}``),
     a path (``path`` and ``speed``: the arm goes to the path's start as to a point, then the tool follows it),
@@ -448,6 +458,12 @@ class GoalModel(Strict):
         default=None,
         description="Come in along a straight line over the last distance, {distance: 0.1, axis: tool}, as pick pipelines do "
                     "(a point or pose goal; docs/scene-format.md, Pick and place).",
+    )
+    retreat: RetreatModel | None = Field(
+        default=None,
+        description="Leave along a straight line once the goal is reached, {distance: 0.1, axis: tool} (back along the tool), as "
+                    "pick pipelines do: solved as a path goal of its own right after this one (a point or pose goal; "
+                    "docs/scene-format.md, Pick and place).",
     )
     touch_links: Annotated[list[Annotated[str, Field(min_length=1)]], Field(max_length=LIMITS["links"])] | None = Field(
         default=None,

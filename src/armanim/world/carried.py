@@ -79,6 +79,22 @@ class Body:
             return float(2.0 * self.half.min())
         return 2.0 * self.radius
 
+    def extent(self, direction: np.ndarray) -> float:
+        """The solid's width along the unit world ``direction`` (3,): the distance between its two
+        supporting planes across it (what fingers closing along it meet).
+
+        >>> box = Body(BOX, np.eye(3), np.zeros(3), np.array([0.02, 0.05, 0.1]))
+        >>> round(box.extent(np.array([0.0, 1.0, 0.0])), 12), round(box.extent(np.array([0.6, 0.8, 0.0])), 12)
+        (0.1, 0.104)
+        """
+        local = np.abs(self.rotation.T @ direction)
+        if self.kind == BOX:
+            return float(2.0 * local @ self.half)
+        axis = 0 if self.kind == ROD else 2  # a capsule's segment along x, a cylinder's height along z
+        if self.kind == CYLINDER:
+            return float(2.0 * (self.radius * np.sqrt(max(0.0, 1.0 - local[axis] ** 2)) + self.half[axis] * local[axis]))
+        return float(2.0 * (self.radius + self.half[axis] * local[axis]))
+
 
 def obstacle_body(obstacles: Obstacles, column: int) -> Body:
     """The solid of clearance column ``column`` (not the floor) as a :class:`Body`.

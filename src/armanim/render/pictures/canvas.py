@@ -36,7 +36,7 @@ oriented goal's faint triad (a blue arrow for a tool-axis goal) with the backgro
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from matplotlib.collections import LineCollection, PolyCollection
@@ -119,6 +119,9 @@ class FrameState:
     carried : Obstacles or None
         The objects a run moves (pick and place), where they are in this frame: drawn with the
         arm, in its painter's order; None: none.
+    fingers : float or None
+        The gripper's value in this frame (metres per finger, :mod:`armanim.arm.gripper`): its
+        fingers are drawn there; None: where ``arm.joint_values`` holds them.
     """
 
     pose: Pose
@@ -129,6 +132,7 @@ class FrameState:
     path_done: np.ndarray | None = None
     path_ahead: int = -1
     carried: Obstacles | None = None
+    fingers: float | None = None
 
 
 
@@ -210,6 +214,8 @@ class SceneCanvas:
         framing = frame_scene(problem, settings, extent, self.rotation, elevation, self.layout)
         self.view, self.ppu, self.floor = framing.view, framing.ppu, framing.floor
         self.arm = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height), settings.robot)
+        self._arms: dict[float, object] = {}  # the arm drawn with its fingers elsewhere, per gripper value
+        self._meshes, self._look = meshes, settings.robot
         self.spheres = SphereDiscs(problem.obstacles, self.view, self.ppu)
         obstacles = problem.obstacles
         shaped = len(obstacles.boxes) + len(obstacles.rods) + len(obstacles.cylinders)
@@ -422,7 +428,7 @@ class SceneCanvas:
         for ghost in state.ghosts:
             touched |= self._draw_parts(self.arm.parts(ghost, ghost=True), None)
         near = near_capsules(self.problem, state.pose)
-        arm = self.arm
+        arm = self._arm_at(state.fingers)
         if decal is not None and isinstance(arm, (RobotMeshes, MeshesAndCapsules)):  # (only these draw furniture)
             parts = arm.parts(state.pose, near=near, decal=decal)
         else:
@@ -430,6 +436,19 @@ class SceneCanvas:
         if state.carried is not None and len(state.carried):
             parts = parts + ShapeSolids(state.carried, self.view, self.ppu).parts
         return self._draw_parts(parts, shadow) or touched
+
+    def _arm_at(self, fingers: float | None):
+        """The arm's drawing with the gripper at ``fingers`` (made once per value; None or its rest: :attr:`arm`)."""
+        from armanim.arm.gripper import moved_fingers, moved_meshes
+
+        gripper = self.problem.gripper
+        if fingers is None or gripper is None or fingers == gripper.rest:
+            return self.arm
+        if fingers not in self._arms:
+            problem = replace(self.problem, capsules=moved_fingers(self.problem.capsules, gripper, fingers))
+            meshes = None if self._meshes is None else moved_meshes(self._meshes, gripper, fingers)
+            self._arms[fingers] = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height), self._look)
+        return self._arms[fingers]
 
     def _draw_parts(self, parts: list[Part], shadow) -> bool:
         """Parts and the spheres they (or ``shadow``'s box) overlap on screen, far first."""
@@ -525,6 +544,17 @@ def _segment_goals(goals) -> list:
     return owners
 
 
+def run_fingers(problem: Problem, solution) -> np.ndarray | None:
+    """(F,) the gripper's value in each frame of a run that grasps with a gripper
+    (:func:`~armanim.motion.carry.frame_fingers`); None otherwise."""
+    from armanim.motion.carry import frame_fingers
+
+    if solution.carry is None or problem.gripper is None:
+        return None
+    traj = solution.trajectory
+    return frame_fingers(problem, solution.carry, traj.goal, traj.fps)
+
+
 def moving_objects(problem: Problem, solution) -> tuple[Problem, list[Obstacles] | None]:
     """The scene without the objects a run moves (drawn once, in the background), and each frame's
     moving objects where they are (:func:`~armanim.motion.carry.frame_bodies`; a sphere as a capsule
@@ -532,8 +562,6 @@ def moving_objects(problem: Problem, solution) -> tuple[Problem, list[Obstacles]
     carry = solution.carry
     if carry is None or not moving_columns(carry):
         return problem, None
-    from dataclasses import replace
-
     columns = moving_columns(carry)
     traj = solution.trajectory
     static = replace(problem, obstacles=with_bodies(problem.obstacles, {c: None for c in columns}))

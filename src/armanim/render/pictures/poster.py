@@ -55,7 +55,7 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     from armanim.render.overlay.caption import MISSED, PENDING, REACHED, goal_outcomes
     from armanim.render.overlay.paths import path_progress
     from armanim.render.paint.pixels import write_png
-    from armanim.render.pictures.canvas import FrameState, SceneCanvas, moving_objects
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas, moving_objects, run_fingers
     from armanim.render.solids.arm import near_capsules
 
     problem, trajectory, reports, settings = run.problem, run.trajectory, run.reports, options.render
@@ -64,6 +64,7 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     caption = poster_caption(reports, trajectory.frames, trajectory.fps)
     near = near_capsules(problem, Pose(poses.points[last], poses.frames[last]))  # only the last pose is tinted
     still, carried = moving_objects(problem, run.solution)
+    fingers = run_fingers(problem, run.solution)
     scene = SceneCanvas(still, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=poses.points,
                         caption_template=caption, picture="poster", outcomes=goal_outcomes(reports),
                         near_self=near is not None and bool(near.any()))
@@ -73,5 +74,5 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     done = path_progress(trajectory.goal, trajectory.path_s, len(problem.goals))[last] if scene.paths else None
     state = FrameState(Pose(poses.points[last], poses.frames[last]), trajectory.frames if settings.trail else 0,
                        status, caption, ghosts=ghosts, path_done=done,  # all the run's ink, nothing ahead
-                       carried=None if carried is None else carried[last])
+                       carried=None if carried is None else carried[last], fingers=fingers if fingers is None else float(fingers[last]))
     write_png(scene.draw(state), path)

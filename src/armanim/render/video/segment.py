@@ -55,10 +55,11 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     The frame returned is the canvas's live buffer: consume it before the next call.
     """
     from armanim.render.overlay.paths import path_progress
-    from armanim.render.pictures.canvas import FrameState, SceneCanvas, moving_objects, near_in_frames
+    from armanim.render.pictures.canvas import FrameState, SceneCanvas, moving_objects, near_in_frames, run_fingers
 
     problem, trajectory, reports = run.problem, run.trajectory, run.reports
     still, carried = moving_objects(problem, run.solution)
+    fingers = run_fingers(problem, run.solution)
     extent = forward(problem.arm, trajectory.phi).points  # the whole run's, so every segment frames alike
     goals = len(problem.goals)
     activity = frame_activity(trajectory, reports)
@@ -71,7 +72,8 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     def frame(f: int, pose: Pose) -> np.ndarray:
         state = FrameState(pose=pose, trail_end=f + 1, goal_status=goal_status(trajectory, reports, f, goals),
                            caption=captions[f], path_done=None if done is None else done[f],
-                           path_ahead=int(trajectory.goal[f]), carried=None if carried is None else carried[f])
+                           path_ahead=int(trajectory.goal[f]), carried=None if carried is None else carried[f],
+                           fingers=None if fingers is None else float(fingers[f]))
         return scene.draw(state)
 
     return frame

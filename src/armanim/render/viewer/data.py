@@ -252,6 +252,11 @@ def viewer_data(
     """
     n = problem.arm.n
     pose = forward(problem.arm, trajectory.phi)  # the one kinematics
+    fingers = None
+    if carry is not None and problem.gripper is not None:
+        from armanim.motion.carry import frame_fingers
+
+        fingers = frame_fingers(problem, carry, trajectory.goal, trajectory.fps)
     view = view_settings(problem, settings, pose.points)
     decimals = position_decimals(float(np.max(np.subtract(view["box"][1], view["box"][0]))))
     names, codes = activity_codes(trajectory, reports)
@@ -269,7 +274,7 @@ def viewer_data(
             "half_width": float(problem.half_width),
             "base": [float(v) for v in problem.arm.base],
         },
-        **frame_entries(problem, trajectory, pose, decimals),
+        **frame_entries(problem, trajectory, pose, decimals, fingers),
         "activities": names,
         "activity": codes,
         "goals": goal_entries(problem, reports),
@@ -290,23 +295,33 @@ def viewer_data(
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
         names = problem.capsules.names or ("",) * len(problem.capsules.radius)  # an arm of links: no link has a mesh
         uncovered = [i for i, name in enumerate(names) if name not in set(meshes.links)]
-        entries = mesh_entries(meshes, pose, decimals)
-        group_of = {g["carrier"]: i for i, g in enumerate(entries["groups"])}
-        covered = [group_of.get(int(k), -1) if i not in uncovered else -1 for i, k in enumerate(problem.capsules.link)]
+        entries = mesh_entries(meshes, pose, decimals, problem.gripper if fingers is not None else None, fingers)
+        group_of = {(g["carrier"], g.get("link")): i for i, g in enumerate(entries["groups"])}
+        covered = [group_of.get((int(k), name), group_of.get((int(k), None), -1)) if i not in uncovered else -1
+                   for i, (k, name) in enumerate(zip(problem.capsules.link, names))]
         data["meshes"] = entries | {"look": settings.robot, "uncovered": uncovered, "robot": len(uncovered) < len(names),
                                     "capsule_group": covered}
     return data
 
 
-def mesh_entries(meshes: ArmMeshes, pose, decimals: int) -> dict:
+def mesh_entries(meshes: ArmMeshes, pose, decimals: int, gripper=None, fingers: np.ndarray | None = None) -> dict:
     """The robot's meshes, each carrier's triangles once (vertices in its frame, RGB per vertex,
     two decimals), and per frame where each moving carrier is: its joint's position and its
     frame's quaternion (w, x, y, z), (F, K, 7) frame after frame. Carrier -1 (links that never
-    move) is in the world."""
+    move) is in the world. With a gripper (:class:`~armanim.arm.gripper.Gripper`) and its value
+    in each frame (``fingers`` (F,)), each finger is a group of its own (``link``) that slides in
+    its carrier's frame by ``slide`` (per metre) times the frame's ``fingers`` entry (the value
+    less the one its vertices were placed at)."""
+    vertex_part = np.zeros(len(meshes.vertices), dtype=int)
+    vertex_part[meshes.faces] = meshes.part[:, None]
+    finger = np.full(len(meshes.vertices), -1)
+    sliding = gripper.links if gripper is not None else ()
+    for j, link in enumerate(sliding):
+        finger[np.isin(vertex_part, [k for k, name in enumerate(meshes.links) if name == link])] = j
     groups = []
-    for carrier in np.unique(meshes.carrier):
-        used = np.nonzero(meshes.carrier == carrier)[0]
-        mine = np.all(meshes.carrier[meshes.faces] == carrier, axis=1)
+    for carrier, j in sorted({(int(c), int(f)) for c, f in zip(meshes.carrier, finger)}):
+        used = np.nonzero((meshes.carrier == carrier) & (finger == j))[0]
+        mine = np.all((meshes.carrier[meshes.faces] == carrier) & (finger[meshes.faces] == j), axis=1)
         local = np.full(len(meshes.vertices), -1)
         local[used] = np.arange(len(used))
         color = np.zeros((len(meshes.vertices), 3))
@@ -316,16 +331,27 @@ def mesh_entries(meshes: ArmMeshes, pose, decimals: int) -> dict:
             "positions": rounded(meshes.vertices[used], decimals),
             "colors": rounded(color[used], 2),
             "indices": [int(v) for v in local[meshes.faces[mine]].ravel()],
-        })
+        } | ({} if j < 0 else {"link": sliding[j], "slide": [float(v) for v in gripper.link_rate[j]]}))
     moving = [int(k) for k in np.unique(meshes.carrier) if k >= 0]
     placement = np.concatenate([pose.points[:, moving, :], rotation_quaternion(pose.frames[:, moving])], axis=-1)
-    return {"groups": groups, "carriers": moving, "frames": rounded(placement, max(decimals, 6))}
+    out = {"groups": groups, "carriers": moving, "frames": rounded(placement, max(decimals, 6))}
+    if sliding and fingers is not None:
+        out["fingers"] = rounded(np.asarray(fingers) - gripper.rest, 6)
+    return out
 
 
-def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int) -> dict:
+def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int, fingers: np.ndarray | None = None) -> dict:
     """What changes frame by frame: the joints' positions (``pose.points``, (F, n+1, 3)), the
     capsules' ends, the angles, the goal, its distance, the clearance and ``reached``."""
     starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
+    if fingers is not None and problem.gripper is not None:  # the fingers' capsules where the gripper is in each frame
+        from armanim.arm.gripper import moved_fingers
+
+        starts, ends = np.array(starts), np.array(ends)
+        for value in np.unique(fingers[fingers != problem.gripper.rest]):
+            mine = fingers == value
+            at = type(pose)(pose.points[mine], pose.frames[mine])
+            starts[mine], ends[mine] = capsule_ends(moved_fingers(problem.capsules, problem.gripper, float(value)), at)
     clearance = np.asarray(trajectory.clearance, dtype=float)
     finite = np.isfinite(clearance)
     return {

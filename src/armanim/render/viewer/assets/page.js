@@ -340,9 +340,15 @@
       m.castShadow = true;
       const holder = new T.Group();
       holder.add(m); scene.add(holder);
-      meshGroups.push({ holder, mesh: m, slot: D.meshes.carriers.indexOf(g.carrier) });
+      meshGroups.push({ holder, mesh: m, slot: D.meshes.carriers.indexOf(g.carrier), slide: g.slide || null });
     }
   }
+  api.fingers = () => meshGroups.filter((g) => g.slide).map((g) => {  // each finger's vertex centroid in the world (the tests')
+    const p = g.mesh.geometry.getAttribute("position"), c = new T.Vector3();
+    for (let i = 0; i < p.count; i++) c.add(new T.Vector3(p.getX(i), p.getY(i), p.getZ(i)));
+    g.mesh.updateWorldMatrix(true, false);
+    return g.mesh.localToWorld(c.multiplyScalar(1 / p.count)).toArray();
+  });
   const base = new T.Mesh(new T.CylinderGeometry(hw * S.base_scale, hw * S.base_scale, 2 * hw, 32), new T.MeshPhongMaterial({ color: S.base }));
   base.rotation.x = Math.PI / 2; base.position.set(D.arm.base[0], D.arm.base[1], D.arm.base[2] - hw); base.castShadow = true;
   scene.add(base);
@@ -460,6 +466,10 @@
         const o = (f * K + g.slot) * 7;
         g.holder.position.set(M[o], M[o + 1], M[o + 2]);
         g.holder.quaternion.set(M[o + 4], M[o + 5], M[o + 6], M[o + 3]);  // three.js: x, y, z, w
+        if (g.slide && D.meshes.fingers) {  // a finger: slid in its carrier's frame by the gripper's value
+          const v = D.meshes.fingers[f];
+          g.mesh.position.set(g.slide[0] * v, g.slide[1] * v, g.slide[2] * v);
+        }
       }
     }
     trailGeo.setDrawRange(0, f + 1);
