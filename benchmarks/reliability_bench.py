@@ -203,8 +203,64 @@ def silent_scheduler(repeats: int, base: float) -> None:
     server.close()
 
 
+FIT_URDF = """<robot name="big">
+  <link name="base"/>
+  <joint name="j0" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <link name="upper"><collision><geometry><mesh filename="big.stl"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="upper"/><child link="tip"/><origin xyz="0 0 0.4"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <link name="tip"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+</robot>
+"""
+
+
+def _random_stl(path: Path, triangles: int = 1_300_000) -> None:
+    """A binary STL of random small triangles in a 0.1 x 0.1 x 0.4 m bar (65 MB, 3.9 million
+    unshared corners: the campaign's worst case within the 64 MB and 2,000,000-triangle bounds)."""
+    import numpy as np
+
+    rng = np.random.default_rng(5)
+    corners = rng.uniform(-1, 1, (triangles, 1, 3)) * [0.05, 0.05, 0.2] + [0, 0, 0.2] + rng.normal(0, 0.01, (triangles, 3, 3))
+    records = np.zeros(triangles, dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    records["v"] = corners
+    path.write_bytes(b"\0" * 80 + np.uint32(triangles).tobytes() + records.tobytes())
+
+
+def large_fit(repeats: int, base: float) -> None:
+    """Campaign 5: ``validate`` of a URDF whose link's collision mesh is a 65 MB STL of random
+    triangles (capsules fitted, no cache): its CPU time, and how late a Ctrl-C 1-4 s into it
+    ends the command (promise: a second; exit 130 every time)."""
+    print(f"a 65 MB collision STL of random triangles (baseline: armanim --version, {base * 1000:.0f} ms)")
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        _random_stl(folder / "big.stl")
+        (folder / "robot.urdf").write_text(FIT_URDF)
+        (folder / "s.yaml").write_text("version: 1\narm:\n  urdf: robot.urdf\n  tip_link: tip\ngoals:\n  - [0.2, 0.1, 0.4]\n")
+
+        def validate(delay: float | None) -> float:
+            env = dict(os.environ, ARMANIM_CACHE_DIR=tempfile.mkdtemp(dir=tmp))
+            proc = subprocess.Popen([sys.executable, "-m", "armanim", "validate", "s.yaml"], cwd=folder, env=env,
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            if delay is None:
+                _, status, usage = os.wait4(proc.pid, 0)
+                assert os.waitstatus_to_exitcode(status) == 0, "validate failed"
+                return usage.ru_utime + usage.ru_stime
+            time.sleep(delay)
+            started = time.perf_counter()
+            proc.send_signal(signal.SIGINT)
+            code = proc.wait()
+            late = time.perf_counter() - started
+            return late if code == 130 else float("inf")
+
+        cpu = best_of(repeats, lambda: validate(None))
+        print(f"  {'validate, CPU (fit and reading)':<52} {cpu * 1000:9.1f} ms   {cpu / base:7.2f}x baseline")
+        for delay in (1.0, 2.0, 3.0, 4.0):
+            row(f"Ctrl-C {delay:g} s into validate: exit 130, late by", best_of(repeats, lambda d=delay: validate(d)), 1.0, base)
+
+
 PARTS = {"yaml": hostile_yaml, "largest": largest_scene}
-PROCESS_PARTS = {"refused": refused_inputs, "stops": stops, "scheduler": silent_scheduler}
+PROCESS_PARTS = {"refused": refused_inputs, "stops": stops, "scheduler": silent_scheduler, "fit": large_fit}
 
 
 def main() -> None:

@@ -119,3 +119,67 @@ def test_a_fine_mesh_weighed_on_fewer_points_still_holds_every_vertex():
     assert len(capsules) >= 2
     assert excess(mesh.vertices, capsules).max() <= 1e-12
     assert excess(surface_samples(mesh), capsules).max() <= 1e-9
+
+
+def _bent_soup(triangles: int) -> tuple[np.ndarray, np.ndarray]:
+    """Random small triangles along an L (two bars 0.6 m long, 0.06 m thick), none sharing a
+    corner: the mesh a 65 MB STL of random triangles is, in small."""
+    rng = np.random.default_rng(11)
+    centres = rng.uniform(-1.0, 1.0, (triangles, 1, 3)) * [0.3, 0.03, 0.03]
+    half = np.arange(triangles) % 2 == 0
+    centres[half] = centres[half][:, :, [1, 0, 2]] + [0.3, 0.3, 0.0]
+    vertices = (centres + rng.normal(0.0, 0.01, (triangles, 3, 3))).reshape(-1, 3)
+    return vertices, np.arange(len(vertices)).reshape(-1, 3)
+
+
+def test_a_mesh_over_the_large_bound_is_searched_on_few_points_and_every_vertex_held(monkeypatch):
+    """Issue 50 (fifth campaign): a 65 MB STL of random triangles took 110 s of CPU and a Ctrl-C
+    4-12 s. Over LARGE_POINTS points the search sees at most one point a grid cell, never the
+    mesh's rows (nor their sort); each capsule's radius is then measured to every vertex and edge
+    crossing of its piece: every vertex and triangle held (the independent clamp), the bend still
+    in two capsules or more, the same capsules twice."""
+    from armanim.arm import fitting
+
+    vertices, faces = _bent_soup(36_000)
+    assert len(vertices) > fitting.LARGE_POINTS
+    seen: list[int] = []
+    search = fitting._search
+    monkeypatch.setattr(fitting, "_search", lambda points, edges, most: (seen.append(len(points)), search(points, edges, most))[1])
+    capsules = fit_capsules(vertices, faces)
+    assert seen and max(seen) <= fitting.LARGE_GRID ** 3
+    assert 2 <= len(capsules) <= 3
+    assert excess(vertices, capsules).max() <= 1e-12
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    assert excess(surface_samples(mesh), capsules).max() <= 1e-9
+    again = fit_capsules(vertices.copy(), faces.copy())
+    assert [(c.start.tolist(), c.end.tolist(), c.radius) for c in again] == [(c.start.tolist(), c.end.tolist(), c.radius) for c in capsules]
+
+
+def test_an_edge_ending_on_a_cut_plane_is_held_on_both_sides():
+    """A point exactly on a cut plane belongs to both pieces: the edges that end there are held by
+    one capsule or the other along their whole length (the triangles' samples, by the clamp)."""
+    from armanim.arm.fitting import _slab
+
+    points = np.array([[0.0, 0, 0], [0, 0, 1], [0, 0, 2]])
+    edges = np.array([[[0.0, 0, 0], [0, 0, 1]], [[0.0, 0, 1], [0, 0, 2]]])
+    axis = np.array([0.0, 0, 1])
+    assert [0.0, 0.0, 1.0] in _slab(points, edges, axis, -np.inf, 1.0).tolist()
+    assert [0.0, 0.0, 1.0] in _slab(points, edges, axis, 1.0, np.inf).tolist()
+
+
+def test_the_kept_capsule_moves_and_tilts_its_axis_when_that_saves_volume():
+    """Issue 52's volume: each kept capsule's axis line is moved off the smallest circle's centre
+    and tilted with it (a simplex over 4 numbers) when a wider, shorter capsule holds the piece in
+    less volume. A stick with a lug at one end: less volume than the best capsule whose line
+    passes through the smallest circle's centre, every vertex and triangle still held."""
+    from armanim.arm import fitting
+
+    stick = trimesh.creation.cylinder(radius=0.02, height=0.3, sections=32)
+    lug = trimesh.creation.box(extents=(0.08, 0.05, 0.06), transform=trimesh.transformations.translation_matrix((0.03, 0, 0.12)))
+    mesh = trimesh.util.concatenate([stick, lug])
+    hull = fitting.hull_points(np.unique(mesh.vertices, axis=0))
+    centred = fitting._piece_fit(hull, fine=True, hulled=True)[0]
+    (capsule,) = fit_capsules(mesh.vertices, mesh.faces, max_capsules=1)
+    assert capsule.volume < 0.995 * centred
+    assert excess(mesh.vertices, [capsule]).max() <= 1e-12
+    assert excess(surface_samples(mesh), [capsule]).max() <= 1e-9

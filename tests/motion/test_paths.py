@@ -249,3 +249,34 @@ def test_a_path_held_by_the_arms_own_links_near_a_limit_goes_on_without_the_limi
     buffer = limit_buffer(problem) * (1 - 1e-9)
     assert np.all(phi >= problem.limits.lower + buffer) and np.all(phi <= problem.limits.upper - buffer)
     assert min(s.min_self_gap for s in followed.states) >= kept_self_clearance(problem) - 1e-9
+
+
+def test_the_nearest_point_between_two_arc_lengths_looks_only_at_the_pieces_between_them(monkeypatch):
+    """Issue 50 (fifth campaign): a path of 1,000 points 1e-9 apart, or 1,000 characters 1e-9 high,
+    ran past 120 s: every sample looked at every piece (and summed their lengths again) to find the
+    tool's error between its neighbours. Now a window [lo, hi] asks only the pieces it overlaps, and
+    gives what a look at every piece gives (the oracle: each segment's own clamp, in the test)."""
+    from armanim.motion import toolpath
+
+    rng = np.random.default_rng(4)
+    corners = np.cumsum(rng.normal(size=(1000, 3)), axis=0)
+    path = ToolPath.polyline(corners)
+    asked: list[int] = []
+    nearest = toolpath.Piece.nearest
+    monkeypatch.setattr(toolpath.Piece, "nearest", lambda self, *a: (asked.append(1), nearest(self, *a))[1])
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(corners, axis=0), axis=1))])
+    for _ in range(20):
+        i = int(rng.integers(0, 990))
+        lo, hi = arc[i] + 0.3 * (arc[i + 1] - arc[i]), arc[i + 2] + 0.5 * (arc[i + 3] - arc[i + 2])
+        point = corners[i + 1] + rng.normal(size=3)
+        asked.clear()
+        s, d = path.nearest(point[None], np.array([lo]), np.array([hi]))
+        assert len(asked) <= 4  # pieces i, i + 1, i + 2 (and one touching at an end)
+        best = np.inf  # the oracle: the clamp onto each segment's part inside [lo, hi]
+        for j in range(i, i + 3):
+            a, b = corners[j], corners[j + 1]
+            t0 = max(0.0, (lo - arc[j]) / (arc[j + 1] - arc[j]))
+            t1 = min(1.0, (hi - arc[j]) / (arc[j + 1] - arc[j]))
+            t = np.clip((point - a) @ (b - a) / ((b - a) @ (b - a)), t0, t1)
+            best = min(best, float(np.linalg.norm(point - (a + t * (b - a)))))
+        assert d[0] == pytest.approx(best, rel=1e-12, abs=1e-12)

@@ -13,6 +13,7 @@ Pure core: numpy only.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import cast
@@ -156,12 +157,15 @@ class ToolPath:
         """(3,) where the path ends."""
         return self.pieces[-1].end
 
-    @property
+    @functools.cached_property
     def corners(self) -> np.ndarray:
-        """(P + 1,) arc lengths where the pieces start, and the path's end."""
-        return np.concatenate([[0.0], np.cumsum([p.length for p in self.pieces])])
+        """(P + 1,) arc lengths where the pieces start, and the path's end (made once: every
+        sample looks pieces up in it, and a path has up to some 10,000 pieces)."""
+        corners = np.concatenate([[0.0], np.cumsum([p.length for p in self.pieces])])
+        corners.flags.writeable = False
+        return corners
 
-    @property
+    @functools.cached_property
     def length(self) -> float:
         """Arc length of the whole path, scene units."""
         return float(self.corners[-1])
@@ -230,7 +234,15 @@ class ToolPath:
         lo = np.zeros(k) if lo is None else np.broadcast_to(np.asarray(lo, dtype=float), (k,))
         hi = np.full(k, self.length) if hi is None else np.broadcast_to(np.asarray(hi, dtype=float), (k,))
         best_s, best_d = np.zeros(k), np.full(k, np.inf)
-        for corner, piece, following in zip(self.corners[:-1], self.pieces, self.corners[1:]):
+        corners = self.corners
+        if not k:
+            return best_s, best_d
+        # only the pieces between the least lo and the largest hi can be touched: a sample's
+        # look between its neighbours costs a few pieces, not all of a 10,000-piece text's
+        first = int(np.searchsorted(corners[1:], lo.min(), side="left"))
+        last = int(np.searchsorted(corners[:-1], hi.max(), side="right"))
+        for i in range(first, last):
+            corner, piece, following = corners[i], self.pieces[i], corners[i + 1]
             touched = (lo <= following) & (hi >= corner)
             if not touched.any():
                 continue
