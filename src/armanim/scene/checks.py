@@ -464,7 +464,7 @@ def _magnitude_problems(scene: SceneModel):
 def _budget_problems(scene: SceneModel):
     """The frames the scene may run, and those following its path goals, against the frame limit."""
     budget = frame_budget(scene)
-    limit = LIMITS["total_frames"]
+    limit = int(LIMITS["total_frames"])
     along = [path_frames(g, scene.render.fps) for g in scene.goals]
     if budget > limit and max(along) > budget // 2:
         k = along.index(max(along))
@@ -550,7 +550,7 @@ def _following_problems(scene: SceneModel, limit: int):
     tolerance = scene.solver.path_tolerance if scene.solver.path_tolerance is not None else scene.solver.tolerance
     following = []
     for goal in scene.goals:
-        if goal.path is None:
+        if goal.path is None or goal.speed is None:  # a path goal has its speed (GoalModel)
             following.append(0)
             continue
         with np.errstate(all="ignore"):  # extreme numbers are reported by _magnitude_problems
@@ -563,6 +563,7 @@ def _following_problems(scene: SceneModel, limit: int):
         return
     k = following.index(max(following))
     goal = scene.goals[k]
+    assert goal.path is not None and goal.speed is not None  # the path goal that follows longest
     path = tool_path(goal.path)
     room = (limit - (budget - following[k]) - per_goal - 1) // 2**max_splits - len(path.pieces)
     spacing = path.length / room if room > 0 else math.inf

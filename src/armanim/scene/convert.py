@@ -161,7 +161,7 @@ def urdf_gripper(arm: ArmModel, chain: SerialChain, capsules: Capsules) -> Gripp
     for i, spec in enumerate(robot.capsules):
         rate[i] = moves.get(spec.link, 0.0)
     span = 1.0 + sum(j.follows[1] for j in robot.held if j.kind == "prismatic" and j.follows is not None and j.follows[0] == driver.name)
-    assert driver.limits is not None  # a driver has limits (drivers above)
+    assert driver.limits is not None and driver.velocity is not None  # a driver has both (drivers above)
     lower, upper = driver.limits
     return Gripper(driver.name, float(lower), float(upper), float(driver.velocity), float(values[driver.name]), rate, float(span),
                    tuple(moves), np.array(list(moves.values())).reshape(-1, 3))
