@@ -86,7 +86,7 @@ PATH_EXTENT_SAMPLES = 64  # points of a path goal's path that the pictures frame
 def path_points(problem: Problem) -> np.ndarray:
     """(P, 3) points along every path goal's path (its corners, its arcs every 1/64 of the
     path's length): what a picture must frame of them ((0, 3) without path goals)."""
-    paths = [g.path for g in problem.goals if getattr(g, "path", None) is not None]
+    paths = [g.path for g in problem.goals if g.path is not None]
     points = [p.points(p.samples(p.length / PATH_EXTENT_SAMPLES)) for p in paths if p.length > 0]
     return np.vstack(points) if points else np.zeros((0, 3))
 

@@ -9,6 +9,8 @@ a small scratch canvas, and kept as a sprite.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -22,7 +24,7 @@ from armanim.render.paint import scenery
 from armanim.render.paint.pixels import Sprite, composite, crop_sprite, in_pixels
 from armanim.render.paint.style import FONT, GOAL_COLORS, HIDDEN_ALPHA, RING_POINTS, STATUS_NAMES, TEXT_COLOR
 
-MARKER_STYLES = {
+MARKER_STYLES: dict[int, dict[str, Any]] = {
     PENDING: dict(marker="o", markersize=9, markerfacecolor="white",
                   markeredgecolor=GOAL_COLORS["pending"], markeredgewidth=1.8),
     CURRENT: dict(marker="*", markersize=19, markerfacecolor=GOAL_COLORS["current"],
@@ -34,7 +36,7 @@ MARKER_STYLES = {
 }
 
 
-def open_style(code: int) -> dict:
+def open_style(code: int) -> dict[str, Any]:
     """The marker of a path goal, at its path's start, once it is current, reached or missed: open,
     in the state's colour, so that the ink it stands on shows through it (a filled dot hid the
     first letter of ur5-pen's word)."""
@@ -43,7 +45,7 @@ def open_style(code: int) -> dict:
     return {**style, "markerfacecolor": "none", "markeredgecolor": edge, "markeredgewidth": 2.0}
 
 
-def hidden_style(code: int) -> dict:
+def hidden_style(code: int) -> dict[str, Any]:
     """The marker of a goal behind a sphere: open, dimmed, edged in the state's colour."""
     style = MARKER_STYLES[code]
     edge = style["markerfacecolor"] if code != PENDING else style["markeredgecolor"]

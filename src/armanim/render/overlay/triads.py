@@ -58,7 +58,7 @@ def screen_lines(view, segments: np.ndarray, colors: list, alpha: float, width_p
     """A collection of ``segments`` projected to pixels (its transform still to be set)."""
     xy = view.project(segments)[..., :2] if len(segments) else np.zeros((0, 2, 2))
     rgba = [(*c, alpha) for c in colors]
-    return LineCollection(xy, colors=rgba, linewidths=width_pt, capstyle="round")
+    return LineCollection(list(xy), colors=rgba, linewidths=width_pt, capstyle="round")
 
 
 def arrow_heads(view, segments: np.ndarray, colors: list, alpha: float, size_px: float) -> LineCollection:

@@ -9,6 +9,8 @@ of them.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.figure import Figure
@@ -68,15 +70,16 @@ class Sheet:
         text.set_transform(IdentityTransform())
         text.draw(self.renderer)
         box = text.get_window_extent(self.renderer)
-        if text.get_bbox_patch() is not None:
-            box = text.get_bbox_patch().get_window_extent(self.renderer)
+        patch = text.get_bbox_patch()
+        if patch is not None:
+            box = patch.get_window_extent(self.renderer)
         self.text_boxes[name] = tuple(box.extents)
 
 
 def draw_floor(sheet: Sheet, view: View, floor: Floor, shadows: list[np.ndarray]) -> None:
     """The floor, its grid and soft shadows (nested translucent copies of each (k, 3) ring in ``shadows``)."""
     quad = PolyCollection([view.project(floor.quad())[:, :2]], facecolors=[FLOOR_COLOR], edgecolors="none")
-    grid = LineCollection(view.project(scenery.floor_grid(floor.lo, floor.hi, floor.z))[..., :2],
+    grid = LineCollection(list(view.project(scenery.floor_grid(floor.lo, floor.hi, floor.z))[..., :2]),
                           colors=[GRID_COLOR], linewidths=0.6)
     soft = []
     for scale, alpha in SHADOW_LAYERS:
@@ -110,7 +113,7 @@ def draw_gizmo(sheet: Sheet, layout: scenery.Layout, rotation: np.ndarray) -> No
             sheet.draw(Line2D([origin[0]], [origin[1]], marker="o", markersize=5, markerfacecolor="none",
                               markeredgecolor=color, markeredgewidth=1.4))
             place = origin - 0.5 * layout.gizmo_len
-        label = Text(*place, "xyz"[axis], ha="center", va="center", fontsize=FONT["axis"], color=color,
+        label = Text(float(place[0]), float(place[1]), "xyz"[axis], ha="center", va="center", fontsize=FONT["axis"], color=color,
                      fontweight="bold")
         sheet.text(f"axis {'xyz'[axis]}", label)
 
@@ -176,7 +179,7 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
         Some link the picture shows is tinted amber, close to another link of the arm: named
         "near itself" (a tinted Panda read as a colour glitch without it).
     """
-    marker = dict(linestyle="none", markersize=8)
+    marker: dict[str, Any] = dict(linestyle="none", markersize=8)
     name = "robot" if robot else "arm"
     entries = [(name, Line2D([], [], color=ROBOT_LEGEND_COLOR if robot else ARM_COLOR, linewidth=5))]
     if picture == "poster":
@@ -204,7 +207,7 @@ def legend_entries(picture: str, *, trail: bool, obstacles: bool, outcomes: froz
     return entries
 
 
-def goal_entries(picture: str, outcomes: frozenset, pending: Line2D, marker: dict) -> list[tuple[str, Line2D]]:
+def goal_entries(picture: str, outcomes: frozenset, pending: Line2D, marker: dict[str, Any]) -> list[tuple[str, Line2D]]:
     """The goal states a video or a poster shows: current and next (a video's), reached, missed."""
     entries = []
     if picture == "video":

@@ -308,7 +308,7 @@ class SceneCanvas:
         if self.shapes is None:
             self.spheres.composite(np.asarray(self.canvas.buffer_rgba()), self.spheres.order)
         else:
-            self._draw_obstacles(self.obstacle_order.order)
+            self._draw_obstacles(self._shape_order.order)
         if self.triads:
             self._draw_goal_triads(sheet)
         backdrop.draw_gizmo(sheet, self.layout, self.rotation)
@@ -339,8 +339,15 @@ class SceneCanvas:
             self._triad.set_segments(self.view.project(segments)[..., :2])
         self._triad.draw(self.renderer)
 
+    @property
+    def _shape_order(self) -> ObstacleOrder:
+        """:attr:`obstacle_order`, which a scene with boxes, capsules or cylinders has."""
+        assert self.obstacle_order is not None, "a canvas with shapes has their order"
+        return self.obstacle_order
+
     def _floor_shadows(self) -> list[np.ndarray]:
         """Rings on the floor under the base and under every sphere (light straight overhead)."""
+        assert self.floor is not None  # drawn only with a floor
         z, obstacles = self.floor.z, self.problem.obstacles
         base = scenery.floor_circle(self.problem.arm.stand, BASE_SCALE * self.problem.half_width * 1.1, z)
         rings = [base] + [scenery.floor_circle(c, r, z) for c, r in zip(obstacles.centers, obstacles.radii)]
@@ -465,10 +472,11 @@ class SceneCanvas:
         buffer = np.asarray(self.canvas.buffer_rgba())
         meshes = RasterQueue((self.width, self.height))
         for k in paint_order(np.array(samples), np.array(radii)):
-            if k < len(parts) and parts[k].raster is not None:  # a mesh link's pixels cover what was painted before
+            raster = parts[k].raster if k < len(parts) else None
+            if raster is not None:  # a mesh link's pixels cover what was painted before
                 self._flush(polys, colors)
                 polys, colors = [], []
-                meshes.add(parts[k].raster, buffer)
+                meshes.add(raster, buffer)
                 continue
             meshes.flush(buffer)
             if k < len(parts):
@@ -484,20 +492,21 @@ class SceneCanvas:
 
     def _draw_parts_among_shapes(self, parts: list[Part], boxes: list) -> bool:
         """Parts and the obstacles they overlap, in one painter's order (boxes by ray depth)."""
-        touched = self.obstacle_order.touched(boxes)
+        touched = self._shape_order.touched(boxes)
         spheres = len(self.spheres)
-        obstacle_parts = [self.obstacle_order.item(i) for i in touched]
+        obstacle_parts = [self._shape_order.item(i) for i in touched]
         samples = np.array([p.samples for p in parts] + [p.samples for p in obstacle_parts])
         radii = np.array([p.radius for p in parts] + [p.radius for p in obstacle_parts])
+        assert self.shapes is not None  # obstacle parts are the shapes'
         box_of = np.concatenate([np.full(len(parts), -1),
                                  [self.shapes.box_of[i - spheres] if i >= spheres else -1 for i in touched]]).astype(int)
-        order = self.obstacle_order.paint_order(samples, radii, box_of)
+        order = self._shape_order.paint_order(samples, radii, box_of)
         self._paint([*parts, *obstacle_parts], order, len(parts), touched)
         return bool(len(touched))
 
     def _draw_obstacles(self, indices) -> None:
         """Obstacles ``indices`` (spheres, then the shapes' parts), in that order."""
-        items = [self.obstacle_order.item(i) for i in indices]
+        items = [self._shape_order.item(i) for i in indices]
         self._paint(items, list(range(len(items))), 0, np.asarray(indices, dtype=int))
 
     def _paint(self, items: list[Part], order: list[int], moving: int, obstacles: np.ndarray) -> None:
@@ -508,10 +517,11 @@ class SceneCanvas:
         buffer = np.asarray(self.canvas.buffer_rgba())
         meshes = RasterQueue((self.width, self.height))
         for k in order:
-            if items[k].raster is not None:
+            raster = items[k].raster
+            if raster is not None:
                 self._flush(polys, colors)
                 polys, colors = [], []
-                meshes.add(items[k].raster, buffer)
+                meshes.add(raster, buffer)
                 continue
             meshes.flush(buffer)
             if k >= moving and obstacles[k - moving] < len(self.spheres):

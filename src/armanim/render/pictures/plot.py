@@ -108,15 +108,15 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
     slides = problem.arm.slides
     for j in np.nonzero(~slides)[0]:
         bottom.plot(t, degrees[:, j], color=f"C{j % 10}", label=names[j])
-    limits, handles = problem.limits, None
+    limits, joint_handles = problem.limits, None
     if slides.any():  # the prismatic joints in metres, on the right axis
         limits = Limits(np.where(slides, -np.inf, limits.lower), np.where(slides, np.inf, limits.upper), limits.margin)
-        handles = bottom.get_lines() + _slide_curves(bottom, t, trajectory.phi, problem, names)
+        joint_handles = bottom.get_lines() + _slide_curves(bottom, t, trajectory.phi, problem, names)
     _limit_lines(bottom, limits, names)
     bottom.set_ylabel("joint angle (deg)")
     # beside the panel, not in it: inside, its rows covered the limit labels at the right (issue 50);
     # past the right axis's metres where prismatic joints have one
-    bottom.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.07 if slides.any() else 1.005, 1.0), fontsize=8,
+    bottom.legend(handles=joint_handles, loc="upper left", bbox_to_anchor=(1.07 if slides.any() else 1.005, 1.0), fontsize=8,
                   ncols=max(1, -(-degrees.shape[1] // 12)), borderaxespad=0.0)
     bottom.grid(alpha=0.3)
     _speed_panel(speeds, problem, trajectory)

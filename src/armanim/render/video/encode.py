@@ -17,6 +17,7 @@ import subprocess
 import tempfile
 from fractions import Fraction
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 
@@ -85,6 +86,12 @@ def find_ffmpeg() -> str:
         raise RenderError(f"ffmpeg could not be found: {err} (reinstall imageio-ffmpeg, or set IMAGEIO_FFMPEG_EXE)") from None
 
 
+def _stdin(proc: subprocess.Popen | None) -> IO[bytes]:
+    """The pipe into an ffmpeg started with ``stdin=PIPE``."""
+    assert proc is not None and proc.stdin is not None, "ffmpeg was started with its input piped"
+    return proc.stdin
+
+
 class FrameWriter:
     """Stream RGBA frames into an MP4 (libx264, yuv420p) or a GIF through ffmpeg.
 
@@ -118,7 +125,7 @@ class FrameWriter:
         self.fps = Fraction(fps).limit_denominator(1001)
         self.fmt = fmt
         self._proc: subprocess.Popen | None = None
-        self._log = None
+        self._log: IO[bytes] | None = None
         self._undo: int | None = None
         self._planes: np.ndarray | None = None  # an MP4 frame's yuv420p bytes, reused
         self.frames = 0
@@ -161,7 +168,7 @@ class FrameWriter:
         else:
             data = np.ascontiguousarray(pad_to(rgba[..., :3], *self.out_size))
         try:
-            self._proc.stdin.write(memoryview(data).cast("B"))
+            _stdin(self._proc).write(data.data.cast("B"))
         except (BrokenPipeError, OSError, ValueError) as err:  # ffmpeg has stopped
             self._fail(err)
         self.frames += 1
@@ -172,7 +179,7 @@ class FrameWriter:
         if proc is None:
             return
         try:
-            proc.stdin.close()  # ffmpeg finishes the file and exits
+            _stdin(proc).close()  # ffmpeg finishes the file and exits
         except (BrokenPipeError, OSError) as err:
             self._fail(err)
         code = proc.wait()
@@ -189,14 +196,14 @@ class FrameWriter:
                 with contextlib.suppress(OSError):
                     proc.kill()
             with contextlib.suppress(Exception):
-                proc.stdin.close()
+                _stdin(proc).close()
             proc.wait()
         self._close_log()
 
     def _fail(self, err: Exception | None):
         if self._proc is not None:
             with contextlib.suppress(Exception):
-                self._proc.stdin.close()
+                _stdin(self._proc).close()
             with contextlib.suppress(Exception):
                 self._proc.wait(timeout=10)
         log = self._read_log()
@@ -251,12 +258,12 @@ def gif_palette(beside: Path, size: tuple[int, int], frames):
             with undone_on_stop(proc.kill):  # a worker stopped meanwhile kills this ffmpeg too
                 try:
                     for rgba in frames:
-                        proc.stdin.write(np.ascontiguousarray(rgba[..., :3]).tobytes())
-                    proc.stdin.close()
+                        _stdin(proc).write(np.ascontiguousarray(rgba[..., :3]).tobytes())
+                    _stdin(proc).close()
                 except BrokenPipeError:
                     pass
                 finally:
-                    if proc.poll() is None and not proc.stdin.closed:
+                    if proc.poll() is None and not _stdin(proc).closed:
                         proc.kill()
                     code = proc.wait()
             log.seek(0)

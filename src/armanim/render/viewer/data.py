@@ -293,7 +293,7 @@ def viewer_data(
     if paths is not None:  # only runs with a path goal carry it
         data["paths"] = paths
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
-        names = problem.capsules.names or ("",) * len(problem.capsules.radius)  # an arm of links: no link has a mesh
+        names = list(problem.capsules.names or ("",) * len(problem.capsules.radius))  # an arm of links: no link has a mesh
         uncovered = [i for i, name in enumerate(names) if name not in set(meshes.links)]
         entries = mesh_entries(meshes, pose, decimals, problem.gripper if fingers is not None else None, fingers)
         group_of = {(g["carrier"], g.get("link")): i for i, g in enumerate(entries["groups"])}
