@@ -400,7 +400,10 @@ def capsule_ends_one(link: np.ndarray, start: np.ndarray, end: np.ndarray, joint
     """
     count = len(link)
     a, b = np.empty((count, 3)), np.empty((count, 3))
-    _capsule_ends_one(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(frames, dtype=float), link, start, end, joint_segment, a, b)
+    ends = np.empty((count, 6))  # start and end as column views of one array, as the compiled callers pass them (one compile)
+    ends[:, :3], ends[:, 3:] = start, end
+    _capsule_ends_one(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(frames, dtype=float), link, ends[:, :3], ends[:, 3:],
+                      np.ascontiguousarray(joint_segment, dtype=np.bool_), a, b)
     return a, b
 
 

@@ -37,6 +37,16 @@ _JIT = dict(error_model="numpy", nogil=True)  # numpy's error model: x / 0 is in
 _INLINE = dict(inline="always", **_JIT)
 
 
+@compiled(**_JIT)
+def kind_count(rows: np.ndarray | None) -> int:
+    """How many obstacles of one kind an array of theirs holds (its rows), 0 for None: a kind the
+    scene has none of is passed as None (:func:`armanim.motion.kernels.layout.world_arrays`), so
+    that the closed forms of that shape are not compiled."""
+    if rows is None:
+        return 0
+    return int(rows.shape[0])
+
+
 X0, U, KNOTS, GAP, CANDIDATES, SCRATCH = 0, 3, 6, 14, 6, 24
 """Offsets into a pair's scratch array: its start x0 and direction u in the box frame (3 each),
 the knots (8), the gap to the box (3); the deepest point's 18 candidates reuse the knots' place."""

@@ -42,7 +42,7 @@ import numpy as np
 from armanim.arm.kernel import JIT, TURN, _capsule_ends_one, compiled
 from armanim.arm.kinematics import Pose
 from armanim.motion.kernels.check import pose_exactly_safe
-from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, MAX_JOINT_STEP, PINV
+from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, MAX_JOINT_STEP, PINV, World
 from armanim.motion.kernels.tasks import frame_proposal, point_jacobian, step_bounds
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
@@ -72,7 +72,7 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
            points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray,
            goal_axis: np.ndarray, lower: np.ndarray, upper: np.ndarray,
            caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
-           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: tuple[np.ndarray, ...], influence: np.ndarray,
+           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: World, influence: np.ndarray,
            first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
            gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
            dphi: np.ndarray, step: np.ndarray, lo: np.ndarray, hi: np.ndarray, cons: np.ndarray, cons_lower: np.ndarray,
@@ -197,7 +197,7 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
 @compiled(**JIT)
 def settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int, phi: np.ndarray, step: np.ndarray,
             lower: np.ndarray, upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-            world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+            world: World, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
             cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
             new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
             new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> float:

@@ -403,8 +403,8 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
         for i in range(n):
             for c in range(3):
                 pinv_tip[i, c] = jac_inv[i, c]
-    elif not invert(jac, PINV, 0.0, pinv_tip):
-        return False
+    else:
+        pseudo_inverse(jac, pinv_tip)  # invert's PINV, called so: a constant method would compile invert once more
     null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
     restricted = np.empty((k, n))
     left, size = null_space_task(jac, pinv_tip, jac_r, null, restricted)
@@ -424,8 +424,8 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
                 v += inverse[j, i] * wanted[i]
             dphi[j] = dphi[j] + v
         if pushed:
-            if method != PINV and not invert(restricted, PINV, 0.0, inverse):
-                return False
+            if method != PINV:
+                pseudo_inverse(restricted, inverse)
             for i in range(n):
                 for j in range(n):
                     v = 0.0
