@@ -62,7 +62,7 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
     refreshes the target itself, as before."""
 
     def load_overload(self, sig: Any, target_context: Any) -> Any:
-        from numba.core.runtime import rtsys
+        from numba.core.runtime.nrt import rtsys
 
         rtsys.initialize(target_context)
         with self._guard_against_spurious_io_errors():
