@@ -8,6 +8,7 @@ import subprocess
 import sys
 import textwrap
 
+import numpy as np
 from rich.console import Console
 
 CHECK = textwrap.dedent("""
@@ -49,6 +50,41 @@ def test_the_notice_is_said_at_a_terminal_only_and_only_before_a_first_compile(m
         monkeypatch.setattr(warmth, "compiles_first", lambda command, problem=None, cold=cold: cold)
         cli_app.tell_first_compile("run")
         assert (warmth.FIRST_COMPILE in stream.getvalue()) is said
+
+
+def test_a_first_compile_counts_each_kernel_it_compiles_at_a_terminal(monkeypatch):
+    """After the notice, a line for each kernel numba starts to compile from Python (its count and name);
+    the kernels it calls compile inside it and are not counted apart; a kernel already compiled says nothing."""
+    import importlib
+
+    import numba
+    from numba.core import event
+
+    from armanim.runs import warmth
+
+    cli_app = importlib.import_module("armanim.cli.app")
+    stream = io.StringIO()
+    monkeypatch.setattr(cli_app, "err", Console(file=stream, force_terminal=True, width=200))
+    monkeypatch.setattr(warmth, "compiles_first", lambda command, problem=None: True)
+    listeners = list(event._registered["numba:compile"])
+    cli_app.tell_first_compile("run")
+    counter = next(x for x in event._registered["numba:compile"] if x not in listeners)
+    try:
+        @numba.njit(cache=False)
+        def inner(x):
+            return x + 1.0
+
+        @numba.njit(cache=False)
+        def outer(x):
+            return 2.0 * inner(x)
+
+        outer(1.0), outer(np.ones(2)), outer(3.0)
+    finally:
+        event.unregister("numba:compile", counter)
+    lines = stream.getvalue().splitlines()
+    assert lines[0] == warmth.FIRST_COMPILE
+    assert [line.split(" (")[0] for line in lines[1:]] == ["armanim: compiling 1: " + outer.__qualname__,
+                                                          "armanim: compiling 2: " + outer.__qualname__]
 
 
 def test_compiles_first_answers_for_both_commands():

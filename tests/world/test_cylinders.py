@@ -325,3 +325,33 @@ def test_cylinder_bounds_hold_the_exact_clearance_between_them(seed):
     assert np.mean(high - low) > 0
     # the same least clearance (an upper bound tight over a cap may be the exact one rounded otherwise: to 1e-15)
     np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), exact.min(axis=(-1, -2)), rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("obstacles, absent", [
+    ([{"center": [0.2, -0.45, 0.5], "radius": 0.06}], {"solids", "cylinders"}),
+    ([{"cylinder": {"center": [0.5, 0.2, 0.3], "length": 0.2, "radius": 0.04}}], {"solids"}),
+])
+def test_a_world_without_a_kind_passes_none_for_it_and_measures_as_the_numpy_path(obstacles, absent):
+    """A kind of obstacle the scene has none of is None in the kernels' world (its closed form is not
+    compiled for that scene), and the clearances are the numpy path's all the same."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.motion.kernels.check import obstacle_clearances
+    from armanim.motion.kernels.layout import world_arrays
+    from armanim.scene import scene_model, scene_to_problem
+
+    problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "obstacles": obstacles, "floor": -0.01,
+                                            "goals": [[0.4, 0.0, 0.5]]}))
+    world = world_arrays(problem)
+    assert {"solids": all(v is None for v in world[2:6]), "cylinders": all(v is None for v in world[9:13])} == {
+        "solids": "solids" in absent, "cylinders": "cylinders" in absent}
+    rng = np.random.default_rng(5)
+    caps = problem.capsules
+    for _ in range(5):
+        pose = forward(problem.arm, problem.home + rng.normal(size=problem.arm.n) * 0.6)
+        expected = clearances(pose, problem.obstacles, caps)
+        a, b = capsule_ends(caps, pose)
+        m = len(problem.obstacles)
+        d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
+        obstacle_clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), caps.part_radius, world, d, t, n)
+        np.testing.assert_allclose(d, expected.d, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(t, expected.t, rtol=0, atol=1e-12)

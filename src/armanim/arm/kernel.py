@@ -22,6 +22,7 @@ from collections.abc import Callable
 from typing import Any, TypeVar, cast
 
 import numba
+import numba.core.caching
 import numpy as np
 
 from armanim.arm.kinematics import Arm, Pose
@@ -45,9 +46,35 @@ def compiled(**options: Any) -> Callable[[F], F]:
                 raise
             return cast(F, numba.njit(cache=False, **options)(function))
         stamp_cache(dispatcher, sources_stamp(COMPILED_MODULES))
+        load_lightly(dispatcher)
         return cast(F, dispatcher)
 
     return compile_
+
+
+class _LoadsLightly(numba.core.caching.FunctionCache):
+    """numba's cache of one function, loading its machine code without importing numba's compilers.
+
+    Before loading a cached function numba refreshes its whole target (imports and registers the
+    implementations of numpy's linear algebra, random generators, polynomials, typed containers,
+    ...: some 0.2 s of CPU, the most of a small run's time in numba), which only a compile needs.
+    Loading needs numba's runtime (its reference counts), initialised here. A compile (a miss)
+    refreshes the target itself, as before."""
+
+    def load_overload(self, sig: Any, target_context: Any) -> Any:
+        from numba.core.runtime.nrt import rtsys
+
+        rtsys.initialize(target_context)
+        with self._guard_against_spurious_io_errors():
+            return self._load_overload(sig, target_context)  # type: ignore[no-untyped-call]  # numba's own, untyped
+
+
+def load_lightly(dispatcher: Any) -> None:
+    """Load ``dispatcher``'s cached machine code as :class:`_LoadsLightly` does, where numba keeps
+    the cache as this version of numba does (else nothing changes)."""
+    cache = getattr(dispatcher, "_cache", None)
+    if type(cache) is numba.core.caching.FunctionCache and hasattr(cache, "_guard_against_spurious_io_errors"):
+        cache.__class__ = _LoadsLightly
 
 
 COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "motion/kernels/linalg.py", "motion/kernels/tasks.py",
@@ -400,7 +427,10 @@ def capsule_ends_one(link: np.ndarray, start: np.ndarray, end: np.ndarray, joint
     """
     count = len(link)
     a, b = np.empty((count, 3)), np.empty((count, 3))
-    _capsule_ends_one(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(frames, dtype=float), link, start, end, joint_segment, a, b)
+    ends = np.empty((count, 6))  # start and end as column views of one array, as the compiled callers pass them (one compile)
+    ends[:, :3], ends[:, 3:] = start, end
+    _capsule_ends_one(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(frames, dtype=float), link, ends[:, :3], ends[:, 3:],
+                      np.ascontiguousarray(joint_segment, dtype=np.bool_), a, b)
     return a, b
 
 

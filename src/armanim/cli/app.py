@@ -150,6 +150,41 @@ def tell_first_compile(command: Literal["run", "ik"], problem: object = None) ->
 
     if compiles_first(command, problem):
         say(FIRST_COMPILE, err)
+        count_compiles(err)
+
+
+def count_compiles(console: Console = err) -> object:
+    """From now on in this process, a line on ``console`` as numba starts to compile each kernel
+    called from Python (the kernels it calls are compiled inside it): its count, its name and the
+    seconds of compiling so far, so that a first run shows its progress, not one still line.
+    Returns the listener (``numba.core.event.unregister("numba:compile", it)`` stops it)."""
+    import time
+
+    from numba.core import event  # numba's event API (public since 0.53)
+
+    class Counter(event.Listener):
+        def __init__(self) -> None:
+            self.depth = 0
+            self.count = 0
+            self.spent = 0.0
+            self.started = 0.0
+
+        def on_start(self, ev: event.Event) -> None:
+            self.depth += 1
+            if self.depth == 1:
+                self.count += 1
+                self.started = time.perf_counter()
+                name = getattr(getattr(ev.data.get("dispatcher"), "py_func", None), "__qualname__", "a kernel")
+                say(f"armanim: compiling {self.count}: {name} ({self.spent:.0f} s so far)", console)
+
+        def on_end(self, ev: event.Event) -> None:
+            self.depth -= 1
+            if self.depth == 0:
+                self.spent += time.perf_counter() - self.started
+
+    counter = Counter()
+    event.register("numba:compile", counter)
+    return counter
 
 
 def report(exc: ArmanimError) -> None:

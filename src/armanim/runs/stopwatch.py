@@ -1,5 +1,5 @@
 """How long a run took from its scene file (and its URDF) to its outputs, with numba's compiling
-apart: the first run after installing compiles armanim's numerical code once (about a minute on two cores),
+apart: the first run after installing compiles armanim's numerical code once (some 20-30 s of CPU for a small scene),
 which says nothing of how long a robot takes to bring up (issue 52, item 5).
 
 The time is printed, never written: ``summary.json`` stays byte-identical between reruns.

@@ -29,12 +29,13 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
     floor, with a point, a tool-axis and a joint goal (the planner's checks); a Panda with its self
     pairs among spheres alone, among every shape and a floor (a point, a pose and a joint goal), and
     between two boards (boxes alone) with a path goal, taking a box from a table and putting it down
-    (pick and place: a carried object's capsules); and the notes' arm by ``gradient``.
+    (pick and place: a carried object's capsules); each world again with position goals only (a scene
+    without any orientation compiles its frames without the rotation task); and the notes' arm by ``gradient``.
 
     >>> [label for label, _ in warm_scenes()][:3]
     ['arm of links among spheres, pinv', 'arm of links among every shape, pinv', 'Panda among spheres, pinv']
     >>> len(warm_scenes())
-    11
+    16
     """
     spheres = [{"center": [6.0, 4.0, 9.0], "radius": 0.8}, {"center": [2.0, 8.0, 7.0], "radius": 0.5}]
     panda_spheres = [{"center": [0.6, -0.4, 0.2], "radius": 0.05}, {"center": [0.2, 0.5, 0.6], "radius": 0.05}]
@@ -70,6 +71,16 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
                  {"position": [0.25, -0.45, 0.292], "orientation": {"rpy": [180, 0, 0]}, "grasp": "box"},
                  {"position": [0.25, -0.45, 0.36], "orientation": {"rpy": [180, 0, 0]}, "release": True}], "solver": solver}),
         ]
+    for label, arm, obstacles, floor, goal in (  # a scene without any orientation compiles its frames without the rotation task
+            ("arm of links among spheres", links, spheres, None, link_goals[0]),
+            ("arm of links among every shape", links, SHAPES, -0.5, link_goals[0]),
+            ("Panda among spheres", {"robot": "panda"}, panda_spheres, None, panda_goals[0]),
+            ("Panda among every shape", {"robot": "panda"}, panda_shapes, -0.01, panda_goals[0]),
+            ("Panda between boards", {"robot": "panda"}, boards, 0.0, [0.52, 0.15, 0.36])):
+        scene: dict[str, Any] = {"version": 1, "arm": arm, "obstacles": obstacles, "goals": [goal]}
+        if floor is not None:
+            scene["floor"] = floor
+        scenes.append((f"{label}, positions only", scene))
     scenes.append(("arm of links, gradient", {"version": 1, "arm": links, "obstacles": spheres, "goals": link_goals[:1],
                                               "solver": {"method": "gradient"}}))
     return scenes

@@ -1,8 +1,9 @@
 """Whether a command's first solve on this machine compiles armanim's numerical code first.
 
 numba compiles the compiled kernels at their first call after installing or upgrading and keeps
-the machine code in its cache; that first time takes about a minute on two cores, during which a progress bar
-would stand still. The commands tell a user at a terminal so (:func:`compiles_first`).
+the machine code in its cache; that first time takes some 20-30 s of CPU for a small scene (a robot's or
+other obstacles' kernels more), during which a progress bar would stand still. The commands tell a user at a
+terminal so (:func:`compiles_first`), and count the kernels as numba starts each (:func:`armanim.cli.app.count_compiles`).
 """
 
 from __future__ import annotations
@@ -34,6 +35,6 @@ def compiles_first(command: Literal["run", "ik"], problem: object = None) -> boo
     return not kernel.machine_code_cached(*functions)
 
 
-FIRST_COMPILE = ("armanim: compiling its numerical code for this machine, once after installing (about a minute; "
-                 "armanim warm does it ahead)")
+FIRST_COMPILE = ("armanim: compiling its numerical code for this machine, once after installing (a kernel at a time, "
+                 "counted below; armanim warm does it ahead)")
 """What a command says at a terminal before a solve that compiles first."""

@@ -14,8 +14,12 @@ folder when that is not writable, or nowhere when neither is: then each process 
 again); it is imported only when a scene has a box, a capsule obstacle or a cylinder. Pure core: numpy
 and numba only, scene units.
 
-The work space of a pair is one scratch array, read at fixed offsets, and every function is
-inlined into the two loops: a view or a call per pair would cost more than the pair. The arm's
+The work space of a pair is one scratch array, read at fixed offsets, and the helpers are plain
+compiled functions called by the loops: LLVM inlines the small ones into them where it pays, and a
+call to the others costs a few nanoseconds of a pair's hundreds (a box pair: some 240 ns either
+way). numba's own inlining (``inline="always"``) gave the same machine code's speed and the same
+bits, but copied and typed each helper's code again at every call site: it was a fifth of the first
+run's compile (issue 55). The arm's
 own pairs (:mod:`armanim.world.selfdistances`) are measured by the segment-segment closed form
 where their closest points are unique and apart, by the box form (a segment as a box of one
 edge) where they are not.
@@ -34,7 +38,16 @@ TOUCHING = 1e-9
 (rounding puts a point on the surface a little either side), so its depth is searched for."""
 
 _JIT = dict(error_model="numpy", nogil=True)  # numpy's error model: x / 0 is inf or NaN, as the closed form expects
-_INLINE = dict(inline="always", **_JIT)
+
+
+@compiled(**_JIT)
+def kind_count(rows: np.ndarray | None) -> int:
+    """How many obstacles of one kind an array of theirs holds (its rows), 0 for None: a kind the
+    scene has none of is passed as None (:func:`armanim.motion.kernels.layout.world_arrays`), so
+    that the closed forms of that shape are not compiled."""
+    if rows is None:
+        return 0
+    return int(rows.shape[0])
 
 
 X0, U, KNOTS, GAP, CANDIDATES, SCRATCH = 0, 3, 6, 14, 6, 24
@@ -42,13 +55,13 @@ X0, U, KNOTS, GAP, CANDIDATES, SCRATCH = 0, 3, 6, 14, 6, 24
 the knots (8), the gap to the box (3); the deepest point's 18 candidates reuse the knots' place."""
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _clamp(x: float, low: float, high: float) -> float:
     """min(max(x, low), high), as numpy's maximum and minimum compute it (x is never NaN here)."""
     return min(max(x, low), high)
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _least_outside(s: np.ndarray, h: np.ndarray) -> float:
     """The largest t in [0, 1] that minimises the squared distance of x0 + t u (box frame,
     in the scratch ``s``) to the box [-h, h]: where its derivative, sum_i u_i e_i(t) with e
@@ -96,7 +109,7 @@ def _least_outside(s: np.ndarray, h: np.ndarray) -> float:
     return max(t, left)
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _signed_distance(s: np.ndarray, t: float, h: np.ndarray) -> float:
     """Signed distance of x0 + t u (box frame, in the scratch ``s``) to the box [-h, h]."""
     beyond = 0.0
@@ -108,7 +121,7 @@ def _signed_distance(s: np.ndarray, t: float, h: np.ndarray) -> float:
     return np.sqrt(beyond) + min(deepest, 0.0)  # type: ignore[no-any-return]  # numba compiles this: no typing.cast in nopython mode
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _deepest(s: np.ndarray, h: np.ndarray, t_outside: float) -> tuple[float, float]:
     """(t, signed distance) of the segment's deepest point in the box: its depth (the least
     of the six face functions h_i -+ x_i(t)) is concave and piecewise linear, so its greatest
@@ -137,7 +150,7 @@ def _deepest(s: np.ndarray, h: np.ndarray, t_outside: float) -> tuple[float, flo
     return best_t, best
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _gap(s: np.ndarray, t: float, h: np.ndarray) -> float:
     """Writes x0 + t u less its nearest point of the box into the scratch; returns its squared length."""
     squares = 0.0
@@ -148,7 +161,7 @@ def _gap(s: np.ndarray, t: float, h: np.ndarray) -> float:
     return squares
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, h: np.ndarray, rotation: np.ndarray, s: np.ndarray, normal: np.ndarray) -> tuple[float, float]:
     """Segment a-b ((3,) each) against one box: writes the world unit normal into ``normal``
     (3,) and returns (t, signed distance); ``s``: the (SCRATCH,) work space."""
@@ -209,7 +222,7 @@ CYLINDER_SCRATCH = 16
 """Room for a segment-cylinder pair's candidate fractions (:func:`_cylinder_pair`: 15 at most)."""
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _cylinder_depth(x: float, y: float, z: float, h: float, r: float) -> float:
     """Signed distance of the point (x, y, z) (cylinder frame) to the solid cylinder
     x^2 + y^2 <= r^2, |z| <= h: the distance to it outside, minus the depth to its nearest
@@ -223,7 +236,7 @@ def _cylinder_depth(x: float, y: float, z: float, h: float, r: float) -> float:
     return dz if dz > 0.0 else max(dr, dz)  # beside a cap, or inside
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _add_roots(qa: float, qb: float, qc: float, s: np.ndarray, n: int) -> int:
     """Appends to ``s`` from place ``n`` the real roots of qa t^2 + qb t + qc (and the vertex
     -qb / (2 qa), where a double root rounds away), clamped to [0, 1]; returns the new count."""
@@ -245,7 +258,7 @@ def _add_roots(qa: float, qb: float, qc: float, s: np.ndarray, n: int) -> int:
     return n
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _rim_slope(t: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float, side: float) -> float:
     """Half the derivative in t of the squared distance of x0 + t u to the rim at z = side h
     (where the point is beyond the side and that cap): (rho - r) rho' + (side z - h) side u_z."""
@@ -255,7 +268,7 @@ def _rim_slope(t: float, x0: float, y0: float, z0: float, ux: float, uy: float, 
     return (rho - r) * (px * ux + py * uy) / rho + (side * (z0 + t * uz) - h) * side * uz  # type: ignore[no-any-return]
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _rim_curvature(t: float, x0: float, y0: float, ux: float, uy: float, uz: float, r: float) -> float:
     """The derivative in t of :func:`_rim_slope`: rho'^2 + (rho - r) rho'' + u_z^2, with
     rho' = (p . u) / rho and rho'' = (|u|^2 - rho'^2) / rho in the plane across the axis (> 0
@@ -267,7 +280,7 @@ def _rim_curvature(t: float, x0: float, y0: float, ux: float, uy: float, uz: flo
     return rate * rate + (rho - r) * (ux * ux + uy * uy - rate * rate) / rho + uz * uz  # type: ignore[no-any-return]
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _rim_minimum(lo: float, hi: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float,
                  side: float) -> float:
     """The t in [lo, hi] nearest the rim on a piece where the segment lies beyond the side and
@@ -302,7 +315,7 @@ def _rim_minimum(lo: float, hi: float, x0: float, y0: float, z0: float, ux: floa
     return t
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, h: float, r: float, s: np.ndarray,
                    normal: np.ndarray) -> tuple[float, float]:
     """Segment a-b ((3,) each) against one solid cylinder (centre, world-from-cylinder
@@ -428,7 +441,7 @@ less count as parallel: their closest points are not unique, and :func:`segment_
 leaves them to the box form's tie rules."""
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _segments_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int) -> tuple[float, float, float]:
     """Closest points of segments i and j (rows of a-b) where they are unique and apart: (t on i,
     s on j, distance), the unit normal from j's point to i's into row p of ``normal`` (an index, not a
@@ -457,7 +470,7 @@ def _segments_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.nda
     return _apart(r0, r1, r2, d10, d11, d12, d20, d21, d22, t, s, normal, p)
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _points_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int) -> tuple[float, float, float]:
     """Segments i and j (rows of a-b) of which one or both have no length (a sphere's capsule):
     (t on i, s on j, distance), the unit normal from j's point to i's into row p of ``normal``;
@@ -481,7 +494,7 @@ def _points_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarr
     return _apart(r0, r1, r2, d10, d11, d12, d20, d21, d22, t, s, normal, p)
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _apart(r0: float, r1: float, r2: float, d10: float, d11: float, d12: float, d20: float, d21: float, d22: float,
            t: float, s: float, normal: np.ndarray, p: int) -> tuple[float, float, float]:
     """The closest points at fractions t of segment i (direction d1) and s of segment j (d2),
@@ -595,7 +608,7 @@ def pair_rows(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray
         pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], scratch, rows[r])
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
               t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int, scratch: np.ndarray, row: np.ndarray) -> None:
     """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`); ``scratch``: (9,) work space (unused: kept for the callers)."""
@@ -611,14 +624,14 @@ def pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray,
         row[m] = n0 * c0 + n1 * c1 + n2 * c2
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _slides(axes: np.ndarray, m: int) -> bool:
     """Whether joint m is prismatic: world ``axes`` (n, 4) carry each joint's kind in a fourth
     column (1: prismatic; :func:`armanim.world.selfdistances.kind_axes`); (n, 3) axes are all revolute."""
     return bool(axes.shape[1] > 3 and axes[m, 3] != 0.0)
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def _pair_column(w0: float, w1: float, w2: float, p0: float, p1: float, p2: float, on_a: bool, on_b: bool,
                  qa0: float, qa1: float, qa2: float, qb0: float, qb1: float, qb2: float, slides: bool) -> tuple[float, float, float]:
     """Joint m's column of J_A - J_B: w_m x (q_A - p_m) where joint m moves link A's point, less
@@ -660,7 +673,7 @@ def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nd
                                                                     _slides(axes, m))
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.ndarray) -> None:
     """Each link's twist under the joint rates ``x`` (n,) into ``twists`` (n, 6): link l's angular
     rate Omega_l = sum_{m <= l} x_m w_m and its linear term V_l = sum_{m <= l} x_m p_m x w_m
@@ -688,7 +701,7 @@ def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.
         twists[m, 0], twists[m, 1], twists[m, 2], twists[m, 3], twists[m, 4], twists[m, 5] = o0, o1, o2, v0, v1, v2
 
 
-@compiled(**_INLINE)
+@compiled(**_JIT)
 def pair_rate(twists: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
               t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int) -> float:
     """Pair p's row times the joint rates whose links' twists are ``twists`` (:func:`link_twists`):

@@ -149,10 +149,11 @@ def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
 
 
 def _rows(v: np.ndarray) -> np.ndarray:
-    """(..., 3) points as C-contiguous (N, 3) float rows (``v`` itself when it is already)."""
-    if v.ndim == 2 and v.dtype == np.float64 and v.flags.c_contiguous:  # one pose's arrays, every frame
+    """(..., 3) points as C-contiguous, writable (N, 3) float rows (``v`` itself when it is already):
+    the kernels are compiled once for the arrays the compiled loops pass, not again for read-only ones."""
+    if v.ndim == 2 and v.dtype == np.float64 and v.flags.c_contiguous and v.flags.writeable:
         return v
-    return np.ascontiguousarray(v, dtype=float).reshape(-1, 3)
+    return np.array(v, dtype=float, order="C").reshape(-1, 3)
 
 
 def least_self_gap(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> np.ndarray:

@@ -14,11 +14,12 @@ import math
 import numpy as np
 
 from armanim.arm.kernel import JIT, _capsule_ends_one, _forward_one, compiled
-from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE
+from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE, World
 from armanim.world.compiled import (
     _points_apart,
     _segments_apart,
     capsule_pair_gaps,
+    kind_count,
     segment_box_grid,
     segment_box_pairs_of_segments,
     segment_cylinder_grid,
@@ -31,7 +32,7 @@ def pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_lin
     """Every enabled pair's gap (distance less both radii) into ``gaps`` (P,), the capsules' world
     ends into ``ends`` (2, c, 3), each pair's closest points' fractions and normal into ``near``
     (P, 5): t, s, n (:func:`armanim.world.selfdistances.self_gaps`); returns the least gap."""
-    _capsule_ends_one(points, frames, caps_link, caps[:, 0:3], caps[:, 3:6], caps[:, 7], ends[0], ends[1])  # column 7: joint-to-joint
+    _capsule_ends_one(points, frames, caps_link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, ends[0], ends[1])  # column 7: joint-to-joint
     p = first.shape[0]
     t = np.empty(p)
     s = np.empty(p)
@@ -97,18 +98,19 @@ def sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_rad
 
 
 @compiled(**JIT)
-def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: tuple[np.ndarray, ...], d: np.ndarray, t: np.ndarray,
-                normal: np.ndarray) -> None:
+def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: World,
+                        d: np.ndarray, t: np.ndarray, normal: np.ndarray) -> None:
     """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
     and normal (c+1, m, 3): the spheres', the solids' (:func:`armanim.world.compiled.segment_box_grid`,
     the tip a segment of no length), the cylinders' (:func:`armanim.world.compiled.segment_cylinder_grid`)
     and the floor's, in the scene's order (:func:`armanim.world.distances.clearances`).
-    ``world``: :func:`world_arrays`'s arrays."""
+    ``world``: :func:`~armanim.motion.kernels.layout.world_arrays`'s arrays (None for a kind the
+    scene has none of: its closed form is not compiled)."""
     (centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base, order, floor,
      cyl_centers, cyl_rotations, cyl_half, cyl_radius) = world
     c = a.shape[0]
     n = points.shape[0] - 1
-    count, solids, cylinders = centers.shape[0], solid_centers.shape[0], cyl_centers.shape[0]
+    count, solids, cylinders = centers.shape[0], kind_count(solid_radius), kind_count(cyl_radius)
     m = d.shape[1]
     pts = np.empty((c + 1, 3))
     ends = np.empty((c + 1, 3))
@@ -121,29 +123,8 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
     kn = np.empty((c + 1, m, 3))
     if count:
         sphere_clearances(points, a, b, part_radius, centers, radii, kd[:, :count], kt[:, :count], kn[:, :count])
-    if solids:
-        sd = np.empty((c + 1, solids))
-        st = np.empty((c + 1, solids))
-        sn = np.empty((c + 1, solids, 3))
-        segment_box_grid(pts, ends, solid_centers, solid_half, solid_rotations, st, sd, sn)
-        for part in range(c + 1):
-            for k in range(solids):
-                kd[part, count + k] = sd[part, k] - solid_radius[k] - part_radius[part]
-                kt[part, count + k] = 1.0 if part == c else st[part, k]
-                for i in range(3):
-                    kn[part, count + k, i] = sn[part, k, i]
-    if cylinders:
-        first = count + solids
-        cd = np.empty((c + 1, cylinders))
-        ct = np.empty((c + 1, cylinders))
-        cn = np.empty((c + 1, cylinders, 3))
-        segment_cylinder_grid(pts, ends, cyl_centers, cyl_rotations, cyl_half, cyl_radius, ct, cd, cn)
-        for part in range(c + 1):
-            for k in range(cylinders):
-                kd[part, first + k] = cd[part, k] - part_radius[part]
-                kt[part, first + k] = 1.0 if part == c else ct[part, k]
-                for i in range(3):
-                    kn[part, first + k, i] = cn[part, k, i]
+    _solid_columns(pts, ends, part_radius, solid_centers, solid_half, solid_rotations, solid_radius, count, kd, kt, kn)
+    _cylinder_columns(pts, ends, part_radius, cyl_centers, cyl_rotations, cyl_half, cyl_radius, count + solids, kd, kt, kn)
     if floor.shape[0]:
         f = count + solids + cylinders
         for part in range(c + 1):
@@ -163,9 +144,54 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
 
 
 @compiled(**JIT)
+def _solid_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray, centers: np.ndarray | None, half: np.ndarray | None,
+                   rotations: np.ndarray | None, radius: np.ndarray | None, first: int, kd: np.ndarray, kt: np.ndarray, kn: np.ndarray) -> None:
+    """The solids' columns ``first`` on of :func:`obstacle_clearances`' kd, kt (c+1, m) and kn
+    (c+1, m, 3), the tip (the last part) a segment of no length; nothing where there are none
+    (None: the box's closed form is left out of the machine code)."""
+    if centers is None or half is None or rotations is None or radius is None:
+        return
+    parts, solids = pts.shape[0], radius.shape[0]
+    if not solids:
+        return
+    sd = np.empty((parts, solids))
+    st = np.empty((parts, solids))
+    sn = np.empty((parts, solids, 3))
+    segment_box_grid(pts, ends, centers, half, rotations, st, sd, sn)
+    for part in range(parts):
+        for k in range(solids):
+            kd[part, first + k] = sd[part, k] - radius[k] - part_radius[part]
+            kt[part, first + k] = 1.0 if part == parts - 1 else st[part, k]
+            for i in range(3):
+                kn[part, first + k, i] = sn[part, k, i]
+
+
+@compiled(**JIT)
+def _cylinder_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray, centers: np.ndarray | None, rotations: np.ndarray | None,
+                      half: np.ndarray | None, radius: np.ndarray | None, first: int, kd: np.ndarray, kt: np.ndarray, kn: np.ndarray) -> None:
+    """The cylinders' columns ``first`` on of :func:`obstacle_clearances`' kd, kt and kn, as
+    :func:`_solid_columns` the solids'."""
+    if centers is None or rotations is None or half is None or radius is None:
+        return
+    parts, cylinders = pts.shape[0], radius.shape[0]
+    if not cylinders:
+        return
+    cd = np.empty((parts, cylinders))
+    ct = np.empty((parts, cylinders))
+    cn = np.empty((parts, cylinders, 3))
+    segment_cylinder_grid(pts, ends, centers, rotations, half, radius, ct, cd, cn)
+    for part in range(parts):
+        for k in range(cylinders):
+            kd[part, first + k] = cd[part, k] - part_radius[part]
+            kt[part, first + k] = 1.0 if part == parts - 1 else ct[part, k]
+            for i in range(3):
+                kn[part, first + k, i] = cn[part, k, i]
+
+
+@compiled(**JIT)
 def pose_exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: np.ndarray, cand: np.ndarray, lower: np.ndarray,
                   upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-                  world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+                  world: World, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
                   new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
                   new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
                   new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> bool:

@@ -42,7 +42,7 @@ import numpy as np
 from armanim.arm.kernel import JIT, TURN, _capsule_ends_one, compiled
 from armanim.arm.kinematics import Pose
 from armanim.motion.kernels.check import pose_exactly_safe
-from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, MAX_JOINT_STEP, PINV
+from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, MAX_JOINT_STEP, PINV, World
 from armanim.motion.kernels.tasks import frame_proposal, point_jacobian, step_bounds
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
@@ -69,10 +69,10 @@ the proposal made but the numpy filter needed; nothing done (the numpy proposal 
 
 @compiled(**JIT)
 def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, phi: np.ndarray,
-           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray,
-           goal_axis: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray | None,
+           goal_axis: np.ndarray | None, lower: np.ndarray, upper: np.ndarray,
            caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
-           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: tuple[np.ndarray, ...], influence: np.ndarray,
+           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: World, influence: np.ndarray,
            first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
            gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
            dphi: np.ndarray, step: np.ndarray, lo: np.ndarray, hi: np.ndarray, cons: np.ndarray, cons_lower: np.ndarray,
@@ -197,7 +197,7 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
 @compiled(**JIT)
 def settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int, phi: np.ndarray, step: np.ndarray,
             lower: np.ndarray, upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-            world: tuple[np.ndarray, ...], first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
+            world: World, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
             cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
             new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
             new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> float:
@@ -254,11 +254,14 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     out = np.empty(3)
     assert pose.axes is not None  # the frame loop's poses come from the compiled kinematics
     kind = 0 if orientation is None else (1 if orientation.rotation is not None else 2)
-    goal_rot = orientation.rotation if kind == 1 else _NO_ROTATION  # type: ignore[union-attr]  # kind 1: a rotation
-    goal_axis = orientation.axis if kind == 2 else _NO_AXIS  # type: ignore[union-attr]  # kind 2: a tool axis
+    goal_rot: np.ndarray | None = None  # a scene without orientations: the kernels compiled without the rotation task
+    goal_axis: np.ndarray | None = None
+    if orientation is not None or any(g.orientation is not None for g in problem.goals):  # one machine code a scene
+        goal_rot = np.ascontiguousarray(orientation.rotation if kind == 1 else _NO_ROTATION, dtype=float)  # type: ignore[union-attr]  # kind 1: a rotation
+        goal_axis = np.ascontiguousarray(orientation.axis if kind == 2 else _NO_AXIS, dtype=float)  # type: ignore[union-attr]  # kind 2: a tool axis
     status = frame_loop(k.rows, k.root, k.floats, DLS if method == "dls" else PINV, state.phi,
                         pose.points, pose.frames, pose.axes, np.ascontiguousarray(goal, dtype=float), kind,
-                        np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float), k.lower, k.upper,
+                        goal_rot, goal_axis, k.lower, k.upper,
                         k.caps, k.link, k.part_radius, k.levers, cl_d, cl_t, cl_normal, k.world, k.influence,
                         k.first, k.second, k.pair_radii, k.pair_lever_rows, k.pair_levers, gap, gap_t, gap_s, gap_normal, least,
                         dphi, step, lo, hi, cons, cons_lower, cand, *new, out)

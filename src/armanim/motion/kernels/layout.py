@@ -10,7 +10,7 @@ problem is made).
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -38,6 +38,12 @@ PINV, DLS = 0, 1
 DONE, NUMERICAL, HANDED_BACK = 0, 1, 2
 """How a compiled attempt (or its proposal) ended: by the attempt's own tests, on a proposal that
 was not finite, or handed back to the numpy path (:mod:`armanim.motion.kernels.attempt`)."""
+
+
+World = tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray,
+              np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None]
+"""The obstacles as the kernels read them (:func:`world_arrays`): the solids' four arrays and the
+cylinders' four are None where the scene has none of them."""
 
 
 class KernelProblem(NamedTuple):
@@ -79,7 +85,7 @@ class KernelProblem(NamedTuple):
     link: np.ndarray
     part_radius: np.ndarray
     levers: np.ndarray
-    world: tuple[np.ndarray, ...]
+    world: World
     influence: np.ndarray
     first: np.ndarray
     second: np.ndarray
@@ -128,21 +134,30 @@ def settings_ints(problem: Problem) -> np.ndarray:
     return ints
 
 
-def world_arrays(problem: Problem) -> tuple[np.ndarray, ...]:
+def world_arrays(problem: Problem) -> World:
     """The obstacles as :func:`armanim.motion.kernels.check.obstacle_clearances` reads them: the
     spheres' centres and radii, the solids' (boxes and capsule obstacles' axes) centres, half
     edges, rotations and radii, the parts the floor leaves out, the columns' scene order, the
     floor's height ((1,), or (0,) without one), and the cylinders' centres, rotations, half
-    lengths and radii."""
+    lengths and radii.
+
+    A scene without solids has None in their four places, one without cylinders in theirs: the
+    kernels are compiled for the types they are called with, and a None leaves the closed forms of
+    that shape out of the machine code (a sphere-only scene compiles neither the box's nor the
+    cylinder's, most of the kernels' compile time).
+    """
     obstacles, caps = problem.obstacles, problem.capsules
     solids, cylinders = obstacles.solids, obstacles.cylinders
     order = obstacles.scene_order if obstacles.scene_order is not None else np.arange(len(obstacles))
     floor = np.zeros(0) if obstacles.floor is None else np.array([float(obstacles.floor)])
-    return tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
+    arrays = tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
         (obstacles.centers.reshape(-1, 3), float), (obstacles.radii, float), (solids.centers.reshape(-1, 3), float),
         (solids.half.reshape(-1, 3), float), (solids.rotations.reshape(-1, 3, 3), float), (obstacles.solid_radius, float),
         (caps.on_base, np.bool_), (order, np.int64), (floor, float), (cylinders.centers.reshape(-1, 3), float),
         (cylinders.rotations.reshape(-1, 3, 3), float), (cylinders.half_length, float), (cylinders.radius, float)))
+    solid: tuple[np.ndarray | None, ...] = arrays[2:6] if len(arrays[5]) else (None,) * 4
+    cylinder: tuple[np.ndarray | None, ...] = arrays[9:13] if len(arrays[12]) else (None,) * 4
+    return cast(World, arrays[:2] + solid + arrays[6:9] + cylinder)
 
 
 def _floats(values: np.ndarray) -> np.ndarray:

@@ -376,7 +376,7 @@ def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarra
 
 
 @compiled(**JIT)
-def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
+def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.ndarray | None, goal_axis: np.ndarray | None, tool: np.ndarray,
                         axes: np.ndarray, jac: np.ndarray, jac_inv: np.ndarray, pushed: bool, secondary: np.ndarray,
                         dphi: np.ndarray) -> bool:
     """The rotation task added to ``dphi`` in the null space N of the tip's task, then the pushes
@@ -384,7 +384,11 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
     (:func:`armanim.motion.solvers.linear.orientation_in_null_space`): with the exact projectors
     (pseudo-inverses) for both methods, the method's inverse for the rotation; where N leaves the
     rotation only rounding (:data:`~armanim.motion.solvers.linear.ROUNDING_TASK`), the step and
-    the projector are the tip's alone. False where an inverse failed."""
+    the projector are the tip's alone. False where an inverse failed. ``goal_rot`` and ``goal_axis``
+    None: a scene without an orientation anywhere (``kind`` 0, never called), whose machine code
+    leaves this out."""
+    if goal_rot is None or goal_axis is None:
+        return False
     n = dphi.shape[0]
     brows = np.empty((3, 3))
     k = orientation_rows(kind, tool, brows)
@@ -403,8 +407,8 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
         for i in range(n):
             for c in range(3):
                 pinv_tip[i, c] = jac_inv[i, c]
-    elif not invert(jac, PINV, 0.0, pinv_tip):
-        return False
+    else:
+        pseudo_inverse(jac, pinv_tip)  # invert's PINV, called so: a constant method would compile invert once more
     null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
     restricted = np.empty((k, n))
     left, size = null_space_task(jac, pinv_tip, jac_r, null, restricted)
@@ -424,8 +428,8 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
                 v += inverse[j, i] * wanted[i]
             dphi[j] = dphi[j] + v
         if pushed:
-            if method != PINV and not invert(restricted, PINV, 0.0, inverse):
-                return False
+            if method != PINV:
+                pseudo_inverse(restricted, inverse)
             for i in range(n):
                 for j in range(n):
                     v = 0.0
@@ -443,14 +447,14 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
 
 @compiled(**JIT)
 def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, goal: np.ndarray,
-              kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray,
+              kind: int, goal_rot: np.ndarray | None, goal_axis: np.ndarray | None, tool: np.ndarray,
               lower: np.ndarray, upper: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,
               cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, influence: np.ndarray,
               first: np.ndarray, second: np.ndarray, gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray,
               gap_normal: np.ndarray, least: float, dphi: np.ndarray) -> bool:
     """:func:`armanim.motion.solvers.linear.linear_step` into ``dphi``; the goal's orientation
-    (``kind`` 0: none, 1: the rotation ``goal_rot``, 2: the tool axis ``goal_axis``; ``tool``: the
-    tool frame now) second in priority, in the null space of the tip's task
+    (``kind`` 0: none, 1: the rotation ``goal_rot``, 2: the tool axis ``goal_axis``, both None in a
+    scene without orientations; ``tool``: the tool frame now) second in priority, in the null space of the tip's task
     (:func:`~armanim.motion.solvers.linear.orientation_in_null_space`). False where an inverse
     failed (numpy raises there: the numpy path takes the frame)."""
     n = phi.shape[0]

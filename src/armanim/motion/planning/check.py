@@ -23,7 +23,7 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_lever_rows, next_axis_reach
 from armanim.arm.kernel import INLINE, JIT, _capsule_ends_one, _forward_one, compiled, packed_chain
-from armanim.motion.kernels.layout import world_arrays
+from armanim.motion.kernels.layout import World, world_arrays
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import limit_buffer, self_shift
@@ -36,7 +36,7 @@ from armanim.world.compiled import (
     segment_segment_pairs,
 )
 
-Measured = tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, ...],
+Measured = tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], World,
                  tuple[np.ndarray, ...], tuple[np.ndarray, np.ndarray, np.ndarray], tuple[float, float]]
 """What the compiled measures read of a problem (:attr:`CompiledCheck.measured`): ((rows, root) of
 the chain, (packed capsules, their carriers, their radii), the world's arrays, the groups, the
@@ -106,7 +106,7 @@ def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members:
 
 
 @compiled(**JIT)
-def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, world: tuple[np.ndarray, ...],
+def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, world: World,
                     members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float,
                     s: np.ndarray, normal: np.ndarray, groups_least: np.ndarray) -> float:
     """The least clearance of any capsule to any obstacle or the floor, measured exactly where a
@@ -131,36 +131,10 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
                 d = _point_segment(centers[k, 0], centers[k, 1], centers[k, 2], a, b, c) - radii[k] - radius[c]
                 if d < least or d != d:
                     least = d
-        for k in range(solid_radius.shape[0]):
-            bound = _point_box(center[g, 0], center[g, 1], center[g, 2], solid_centers[k], solid_half[k], solid_rotations[k]) \
-                - solid_radius[k] - reach[g]
-            if bound >= far:
-                least = min(least, bound)
-                continue
-            for m in range(start[g], start[g + 1]):
-                c = caps[m]
-                if sphere[c] and solid_radius[k] == 0.0:
-                    d = _point_box(a[c, 0], a[c, 1], a[c, 2], solid_centers[k], solid_half[k], solid_rotations[k])
-                else:
-                    _, d = _pair(a[c], b[c], solid_centers[k], solid_half[k], solid_rotations[k], s, normal)
-                d = d - solid_radius[k] - radius[c]
-                if d < least or d != d:
-                    least = d
-        for k in range(cyl_radius.shape[0]):
-            bound = _point_cylinder(center[g, 0], center[g, 1], center[g, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k],
-                                    cyl_radius[k]) - reach[g]
-            if bound >= far:
-                least = min(least, bound)
-                continue
-            for m in range(start[g], start[g + 1]):
-                c = caps[m]
-                if sphere[c]:
-                    d = _point_cylinder(a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k])
-                else:
-                    _, d = _cylinder_pair(a[c], b[c], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k], s, normal)
-                d = d - radius[c]
-                if d < least or d != d:
-                    least = d
+        least = _solids_least(least, a, b, radius, sphere, solid_centers, solid_half, solid_rotations, solid_radius, start[g],
+                              start[g + 1], caps, center[g], reach[g], far, s, normal)
+        least = _cylinders_least(least, a, b, radius, sphere, cyl_centers, cyl_rotations, cyl_half, cyl_radius, start[g],
+                                 start[g + 1], caps, center[g], reach[g], far, s, normal)
         if floor.shape[0]:
             for m in range(start[g], start[g + 1]):
                 c = caps[m]
@@ -173,6 +147,58 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
     for g in range(start.shape[0] - 1):
         if groups_least[g] < least or groups_least[g] != groups_least[g]:
             least = groups_least[g]
+    return least
+
+
+@compiled(**JIT)
+def _solids_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, solid_centers: np.ndarray | None,
+                  solid_half: np.ndarray | None, solid_rotations: np.ndarray | None, solid_radius: np.ndarray | None, begin: int, stop: int,
+                  caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray) -> float:
+    """:func:`_obstacle_least`'s ``least`` after the solids, for one group (its capsules
+    ``caps[begin:stop]``, its bounding sphere ``center``, ``reach``); ``least`` itself without
+    solids (None: the box's closed form is not compiled)."""
+    if solid_centers is None or solid_half is None or solid_rotations is None or solid_radius is None:
+        return least
+    for k in range(solid_radius.shape[0]):
+        bound = _point_box(center[0], center[1], center[2], solid_centers[k], solid_half[k], solid_rotations[k]) \
+            - solid_radius[k] - reach
+        if bound >= far:
+            least = min(least, bound)
+            continue
+        for m in range(begin, stop):
+            c = caps[m]
+            if sphere[c] and solid_radius[k] == 0.0:
+                d = _point_box(a[c, 0], a[c, 1], a[c, 2], solid_centers[k], solid_half[k], solid_rotations[k])
+            else:
+                _, d = _pair(a[c], b[c], solid_centers[k], solid_half[k], solid_rotations[k], s, normal)
+            d = d - solid_radius[k] - radius[c]
+            if d < least or d != d:
+                least = d
+    return least
+
+
+@compiled(**JIT)
+def _cylinders_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, cyl_centers: np.ndarray | None,
+                     cyl_rotations: np.ndarray | None, cyl_half: np.ndarray | None, cyl_radius: np.ndarray | None, begin: int, stop: int,
+                     caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray) -> float:
+    """:func:`_solids_least` for the cylinders."""
+    if cyl_centers is None or cyl_rotations is None or cyl_half is None or cyl_radius is None:
+        return least
+    for k in range(cyl_radius.shape[0]):
+        bound = _point_cylinder(center[0], center[1], center[2], cyl_centers[k], cyl_rotations[k], cyl_half[k],
+                                cyl_radius[k]) - reach
+        if bound >= far:
+            least = min(least, bound)
+            continue
+        for m in range(begin, stop):
+            c = caps[m]
+            if sphere[c]:
+                d = _point_cylinder(a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k])
+            else:
+                _, d = _cylinder_pair(a[c], b[c], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k], s, normal)
+            d = d - radius[c]
+            if d < least or d != d:
+                least = d
     return least
 
 
@@ -517,7 +543,7 @@ class CompiledCheck:
 
     chain: tuple[np.ndarray, np.ndarray]
     body: tuple[np.ndarray, np.ndarray, np.ndarray]
-    world: tuple[np.ndarray, ...]
+    world: World
     groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     pairs: tuple[np.ndarray, np.ndarray, np.ndarray]
     shift: float
