@@ -507,6 +507,23 @@ def test_a_retreat_it_cannot_make_is_reported_at_its_field(goal, field, words):
     assert any(f == field and words in m for f, m in problems), problems
 
 
+@pytest.mark.parametrize(("line", "field", "words"), [
+    ({"distance": 5e-324}, "goals[0].{}.distance", "is too small"),  # the campaign's IndexError at run: a line of no pieces
+    ({"distance": 1e300}, "goals[0].{}.distance", "is too large"),  # an OverflowError counting its steps
+    ({"distance": 0.05, "speed": 5e-324}, "goals[0].{}.speed", "is too small"),  # a ZeroDivisionError
+    ({"distance": 0.5, "speed": 1e-9}, "goals[0].{}.speed", "frames, 15,000,000,000 of them along this"),  # validate said ok, run refused
+])
+@pytest.mark.parametrize("name", ["approach", "retreat"])
+def test_an_approach_or_retreat_beyond_its_bounds_is_reported_at_its_field(name, line, field, words):
+    """The sixth campaign's tracebacks and its run-only refusal: an approach's or a retreat's distance
+    and speed are lengths and a frame count that validate bounds, as a path goal's are."""
+    from armanim.scene.checks import scene_problems
+
+    goal = {"position": [0.5, 0.0, 0.4], name: {**line, "axis": [0, 0, 1]}}
+    problems = scene_problems(_scene([goal]))
+    assert any(f == field.format(name) and words in m for f, m in problems), problems
+
+
 def test_the_retreat_scene_validates():
     from armanim.scene import load_scene
     from armanim.scene.checks import scene_problems

@@ -341,7 +341,8 @@ def frame_budget(scene: SceneModel) -> int:
     and a path goal's frames along its path (:func:`path_frames`)."""
     fps = scene.render.fps
     per_goal = scene.solver.max_frames_per_goal
-    return 1 + sum(per_goal + frames_in(g.hold, fps) + path_frames(g, fps) for g in scene.goals)
+    lines = sum(per_goal + line_frames(line, fps) for _, line in _lines(scene))  # an approach's or retreat's goal of its own
+    return 1 + lines + sum(per_goal + frames_in(g.hold, fps) + path_frames(g, fps) for g in scene.goals)
 
 
 MOST_PATH_FRAMES = 10**15
@@ -363,6 +364,28 @@ def path_frames(goal, fps: float) -> int:
     return math.ceil(frames - 1e-9) if frames < MOST_PATH_FRAMES else MOST_PATH_FRAMES
 
 
+def _lines(scene: SceneModel):
+    """(field path, ApproachModel) of every goal's ``approach`` and ``retreat``."""
+    for k, goal in enumerate(scene.goals):
+        for name in ("approach", "retreat"):
+            line = getattr(goal, name)
+            if line is not None:
+                yield f"goals[{k}].{name}", line
+
+
+def line_frames(line, fps: float) -> int:
+    """Frames the tool takes along an ``approach`` or ``retreat`` line at its speed (default: its
+    distance a second) and ``fps``, rounded up (at most :data:`MOST_PATH_FRAMES`).
+
+    >>> from armanim.scene.models import ApproachModel
+    >>> line_frames(ApproachModel(distance=0.1), 30.0), line_frames(ApproachModel(distance=0.1, speed=0.01), 30.0)
+    (30, 300)
+    """
+    with np.errstate(all="ignore"):  # a scene's extreme numbers are reported by _magnitude_problems
+        frames = line.distance / (line.speed if line.speed is not None else line.distance) * fps
+    return math.ceil(frames - 1e-9) if frames < MOST_PATH_FRAMES else MOST_PATH_FRAMES
+
+
 def _magnitudes(scene: SceneModel):
     """(field path, value) of every coordinate and length of the scene."""
     arm = scene.arm
@@ -378,6 +401,10 @@ def _magnitudes(scene: SceneModel):
         yield from _obstacle_magnitudes(f"obstacles[{k}]", obstacle)
     if scene.floor is not None:
         yield "floor", scene.floor
+    for where, line in _lines(scene):
+        yield f"{where}.distance", line.distance
+        if line.speed is not None:
+            yield f"{where}.speed", line.speed
     for k, goal in enumerate(scene.goals):
         if goal.joints is not None:
             continue  # angles: the limits bound them
@@ -439,7 +466,8 @@ def _obstacle_magnitudes(path: str, obstacle):
 
 
 POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance|self_clearance|orientation_weight)"
-                              r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|cylinder\.(length|radius)|influence)|goals\[\d+\]\.path\.text\.(height|lift)")
+                              r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|cylinder\.(length|radius)|influence)|goals\[\d+\]\.path\.text\.(height|lift)"
+                              r"|goals\[\d+\]\.(approach|retreat)\.(distance|speed)")
 """The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
 largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
 
@@ -465,12 +493,14 @@ def _budget_problems(scene: SceneModel):
     """The frames the scene may run, and those following its path goals, against the frame limit."""
     budget = frame_budget(scene)
     limit = int(LIMITS["total_frames"])
-    along = [path_frames(g, scene.render.fps) for g in scene.goals]
-    if budget > limit and max(along) > budget // 2:
-        k = along.index(max(along))
-        yield f"goals[{k}].speed", (
-            f"the scene may run {budget:,} frames, {along[k]:,} of them along this goal's path at {scene.render.fps:g} fps "
-            f"(expected at most {limit:,} in all: raise the speed or shorten the path)"
+    along = [(f"goals[{k}].speed", path_frames(g, scene.render.fps), "this goal's path", "the path") for k, g in enumerate(scene.goals)]
+    along += [(f"{where}.speed", line_frames(line, scene.render.fps), f"this {where.rsplit('.', 1)[1]}", "its distance")
+              for where, line in _lines(scene)]
+    field, most, what, shorter = max(along, key=lambda a: a[1])
+    if budget > limit and most > budget // 2:
+        yield field, (
+            f"the scene may run {budget:,} frames, {most:,} of them along {what} at {scene.render.fps:g} fps "
+            f"(expected at most {limit:,} in all: raise the speed or shorten {shorter})"
         )
     elif budget > limit:
         holds = budget - 1 - len(scene.goals) * scene.solver.max_frames_per_goal
