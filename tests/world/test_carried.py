@@ -496,6 +496,8 @@ def test_a_retreat_leaves_along_a_straight_line_in_the_world_after_its_goal():
 @pytest.mark.parametrize(("goal", "field", "words"), [
     ({**GRASP, "retreat": {"distance": 0.05}, "orientation": None}, "goals[0].retreat.axis", "is tool on a goal without orientation"),
     ({"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05, "axis": [0, 0, 1]}}, "goals[0].retreat", "is on a joint goal"),
+    ({"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05}}, "goals[0].retreat", "is on a joint goal"),
+    ({"joints": [0, 0, 0, -90, 0, 90, 45], "approach": {"distance": 0.05}}, "goals[0].approach", "is on a joint goal"),  # not its axis
     ({"path": {"line": [[0.5, 0.2, 0.4], [0.5, 0.0, 0.4]]}, "speed": 0.1, "retreat": {"distance": 0.05, "axis": [0, 0, 1]}},
      "goals[0].retreat", "is on a path goal"),
 ])

@@ -139,11 +139,11 @@ def _carry_problems(scene: SceneModel):
         if goal.approach is not None:
             if goal.path is not None:
                 yield f"goals[{k}].approach", "is on a path goal (expected a point or pose goal: the line ends at its position)"
+            elif goal.joints is not None:
+                yield f"goals[{k}].approach", "is on a joint goal (expected a point or pose goal: the line ends at its position)"
             elif goal.approach.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
                 yield f"goals[{k}].approach.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
                                                     "give the goal an orientation, or a world direction such as axis: [0, 0, -1])")
-            elif goal.joints is not None:
-                yield f"goals[{k}].approach", "is on a joint goal (expected a point or pose goal: the line ends at its position)"
         if goal.retreat is not None:
             if goal.path is not None:
                 yield f"goals[{k}].retreat", ("is on a path goal (expected a point or pose goal: the line starts at its position; "
