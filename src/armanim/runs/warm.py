@@ -30,13 +30,12 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
     pairs among spheres alone, among every shape and a floor (a point, a pose and a joint goal), and
     between two boards (boxes alone) with a path goal, taking a box from a table and putting it down
     (pick and place: a carried object's capsules); each world again with position goals only (a scene
-    without any orientation compiles its frames without the rotation task); the notes' arm by ``gradient``; and
-    worlds the others leave out (no obstacle at all: a goal out of reach, a joint goal; boards alone: a joint goal).
+    without any orientation compiles its frames without the rotation task); and the notes' arm by ``gradient``.
 
     >>> [label for label, _ in warm_scenes()][:3]
     ['arm of links among spheres, pinv', 'arm of links among every shape, pinv', 'Panda among spheres, pinv']
     >>> len(warm_scenes())
-    18
+    16
     """
     spheres = [{"center": [6.0, 4.0, 9.0], "radius": 0.8}, {"center": [2.0, 8.0, 7.0], "radius": 0.5}]
     panda_spheres = [{"center": [0.6, -0.4, 0.2], "radius": 0.05}, {"center": [0.2, 0.5, 0.6], "radius": 0.05}]
@@ -84,12 +83,6 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
         scenes.append((f"{label}, positions only", scene))
     scenes.append(("arm of links, gradient", {"version": 1, "arm": links, "obstacles": spheres, "goals": link_goals[:1],
                                               "solver": {"method": "gradient"}}))
-    # a world with no obstacle at all: the exact check's halvings (a goal out of reach) and the planner's pose check
-    limited = {**links, "limits": [None, [-100, 100], [-150, 150], [-150, 150]]}
-    scenes.append(("arm of links alone, out of reach, then a joint goal",
-                   {"version": 1, "arm": limited, "goals": [[30, 5, 5], link_goals[2]], "solver": {"max_frames_per_goal": 150}}))
-    scenes.append(("Panda between boards, a joint goal", {"version": 1, "arm": {"robot": "panda"}, "floor": 0.0, "obstacles": boards,
-                                                          "goals": [panda_goals[2]]}))  # boxes alone: the planner's pose check
     return scenes
 
 
