@@ -158,12 +158,7 @@ def _solid_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray, c
     st = np.empty((parts, solids))
     sn = np.empty((parts, solids, 3))
     segment_box_grid(pts, ends, centers, half, rotations, st, sd, sn)
-    for part in range(parts):
-        for k in range(solids):
-            kd[part, first + k] = sd[part, k] - radius[k] - part_radius[part]
-            kt[part, first + k] = 1.0 if part == parts - 1 else st[part, k]
-            for i in range(3):
-                kn[part, first + k, i] = sn[part, k, i]
+    _put_columns(sd, st, sn, radius, part_radius, first, kd, kt, kn)
 
 
 @compiled(**JIT)
@@ -180,12 +175,21 @@ def _cylinder_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray
     ct = np.empty((parts, cylinders))
     cn = np.empty((parts, cylinders, 3))
     segment_cylinder_grid(pts, ends, centers, rotations, half, radius, ct, cd, cn)
+    _put_columns(cd, ct, cn, np.zeros(cylinders), part_radius, first, kd, kt, kn)  # a cylinder's distance is to its surface
+
+
+@compiled(**JIT)
+def _put_columns(d: np.ndarray, t: np.ndarray, n: np.ndarray, radius: np.ndarray, part_radius: np.ndarray, first: int,
+                 kd: np.ndarray, kt: np.ndarray, kn: np.ndarray) -> None:
+    """One kind's distances ``d`` (c+1, k), less its ``radius`` (k,) and each part's, with their
+    ``t`` and normals ``n``, into the columns ``first`` on of kd, kt and kn (the tip's t is 1)."""
+    parts = d.shape[0]
     for part in range(parts):
-        for k in range(cylinders):
-            kd[part, first + k] = cd[part, k] - part_radius[part]
-            kt[part, first + k] = 1.0 if part == parts - 1 else ct[part, k]
+        for k in range(d.shape[1]):
+            kd[part, first + k] = d[part, k] - radius[k] - part_radius[part]
+            kt[part, first + k] = 1.0 if part == parts - 1 else t[part, k]
             for i in range(3):
-                kn[part, first + k, i] = cn[part, k, i]
+                kn[part, first + k, i] = n[part, k, i]
 
 
 @compiled(**JIT)
