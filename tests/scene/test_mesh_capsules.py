@@ -159,6 +159,30 @@ def test_a_collision_mesh_whose_scale_cannot_be_read_is_an_error_at_its_line(rob
             "origin rpy='0.3 -0.2 0.5' must be three finite numbers each") in info.value.report()
 
 
+@pytest.mark.parametrize(("corners", "words"), [
+    ("nan", "the file holds corners that are not finite numbers"),  # the sixth campaign: blamed on a scale it did not have
+    ("far", "its vertices lie up to 1.34e+30 from the link's frame (expected at most 1e+09"),  # a capsule of 8e28 m (scaled, turned)
+])
+def test_a_collision_mesh_whose_corners_cannot_be_a_link_is_an_error_at_its_line(robot_dir, corners, words):
+    box = trimesh.creation.box(extents=(0.06, 0.06, 0.3))
+    vertices = box.vertices.copy()
+    vertices[0] = np.nan if corners == "nan" else 1e30
+    trimesh.Trimesh(vertices, box.faces, process=False).export(robot_dir / "meshes" / "base.stl")
+    with pytest.raises(SceneError) as info:
+        load_scene(_scene(robot_dir))
+    assert f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl': {words}" in info.value.report()
+
+
+def test_an_obj_face_of_a_twenty_digit_vertex_number_is_an_error_at_its_line(robot_dir):
+    """The sixth campaign: numpy's OverflowError was the message."""
+    text = (robot_dir / "meshes" / "upper.obj").read_text()
+    (robot_dir / "meshes" / "upper.obj").write_text(text + "f 1 2 99999999999999999999\n")
+    with pytest.raises(SceneError) as info:
+        load_scene(_scene(robot_dir))
+    assert "a face names a vertex the OBJ file does not have" in info.value.report()
+    assert "OverflowError" not in info.value.report()
+
+
 def test_a_collision_mesh_of_another_format_is_an_error(robot_dir):
     (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.ply"))
     with pytest.raises(SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.ply' is not a format armanim reads"):

@@ -29,6 +29,7 @@ import numpy as np
 from armanim.arm.fitting import CHUNK, FittedCapsule, fit_capsules
 from armanim.errors import Diagnostic, SceneError
 from armanim.scene import visuals
+from armanim.scene.fields import LIMITS
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
 from armanim.scene.urdf import Robot, _parse_xml
 from armanim.scene.visuals import (
@@ -202,10 +203,19 @@ def _link_mesh(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path]
             problem(f"{where}: the robot's meshes hold more than {visuals.MAX_LOOK_TRIANGLES:,} triangles in all "
                     "(give arm.collision, or simpler collision meshes)", spec.line)
             continue
+        if not np.isfinite(mesh.vertices).all():
+            problem(f"{where}: the file holds corners that are not finite numbers (NaN or infinity; fix or re-export the mesh)",
+                    spec.line)
+            continue
         vertices = placed(mesh.vertices, spec.origin)
         finite = np.isfinite(vertices).all(axis=1)
         if not finite.all():
             problem(f"{where}: its scale or origin puts vertices beyond the finite numbers", spec.line)
+            continue
+        farthest = float(np.abs(vertices).max(initial=0.0))
+        if farthest > LIMITS["magnitude"]:
+            problem(f"{where}: its vertices lie up to {farthest:.3g} from the link's frame (expected at most "
+                    f"{LIMITS['magnitude']:g}, as every length of a scene: check its scale and the file's units)", spec.line)
             continue
         parts.append((vertices, mesh.faces + offset))
         offset += len(vertices)

@@ -163,6 +163,8 @@ def _obj(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             ids = [int(token.split(b"/", 1)[0]) for token in fan]
         except ValueError:
             raise ValueError("an 'f' line of the OBJ file holds something other than vertex numbers") from None
+        if any(abs(i) > len(vertices) for i in ids):  # before numpy, which cannot hold a number of 20 digits
+            raise ValueError(f"a face names a vertex the OBJ file does not have (it has {len(vertices):,})")
         ids = [i - 1 if i > 0 else len(vertices) + i for i in ids]  # 1-based, or counted back from the last
         faces.extend([ids[0], ids[k], ids[k + 1]] for k in range(1, len(ids) - 1))
     faces_array = np.array(faces, dtype=np.int64).reshape(-1, 3)
