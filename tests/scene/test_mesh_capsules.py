@@ -173,6 +173,19 @@ def test_a_collision_mesh_whose_corners_cannot_be_a_link_is_an_error_at_its_line
     assert f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl': {words}" in info.value.report()
 
 
+@pytest.mark.parametrize("kind", ["fifo", "folder"])
+def test_a_collision_mesh_that_is_no_regular_file_is_said_so_at_its_line(robot_dir, kind):
+    """The sixth campaign: a FIFO or a folder was "not found", with advice about package_dirs."""
+    import os
+
+    target = robot_dir / "meshes" / "base.stl"
+    target.unlink()
+    os.mkfifo(target) if kind == "fifo" else target.mkdir()
+    with pytest.raises(SceneError) as info:
+        load_scene(_scene(robot_dir))
+    assert "meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl' is not a regular file (" in info.value.report()
+
+
 def test_an_obj_face_of_a_twenty_digit_vertex_number_is_an_error_at_its_line(robot_dir):
     """The sixth campaign: numpy's OverflowError was the message."""
     text = (robot_dir / "meshes" / "upper.obj").read_text()

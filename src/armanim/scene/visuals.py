@@ -176,15 +176,25 @@ def mesh_path(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Path |
     ...     str(found.relative_to(d))
     'pkg/meshes/a.stl'
     """
+    return next((c for c in _mesh_candidates(filename, urdf_dir, package_dirs) if c.is_file()), None)
+
+
+def not_a_file(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Path | None:
+    """Where a mesh ``filename`` names something that exists but is no regular file (a FIFO, a
+    folder, a device), when :func:`mesh_path` finds no file; None when nothing is there."""
+    return next((c for c in _mesh_candidates(filename, urdf_dir, package_dirs) if c.exists() and not c.is_file()), None)
+
+
+def _mesh_candidates(filename: str, urdf_dir: Path, package_dirs: list[Path]):
+    """The paths a mesh ``filename`` may name, in :func:`mesh_path`'s order."""
     if filename.startswith("package://"):
         name, _, rest = filename[len("package://"):].partition("/")
         for folder in package_dirs:
-            for candidate in (folder / name / rest, folder / rest if folder.name == name else None):
-                if candidate is not None and candidate.is_file():
-                    return candidate
-        return None
-    path = Path(filename[len("file://"):]) if filename.startswith("file://") else urdf_dir / filename
-    return path if path.is_file() else None
+            yield folder / name / rest
+            if folder.name == name:
+                yield folder / rest
+        return
+    yield Path(filename[len("file://"):]) if filename.startswith("file://") else urdf_dir / filename
 
 
 def default_package_dirs(urdf_dir: Path) -> list[Path]:
