@@ -136,23 +136,18 @@ def _carry_problems(scene: SceneModel):
             yield f"goals[{k}].{field}", "is on a path goal (expected a point, pose or joint goal: give the path its own goal after this one)"
         if (goal.grasp is not None or goal.release) and goal.blend is not None:
             yield f"goals[{k}].blend", "is on a goal that grasps or releases (the tool stops there: leave blend out)"
-        if goal.approach is not None:
+        for name, line, end, axis, instead in (("approach", goal.approach, "ends at", "[0, 0, -1]", ""),
+                                               ("retreat", goal.retreat, "starts at", "[0, 0, 1]",
+                                                "; give the path a straight piece of its own at its end instead")):
+            if line is None:
+                continue
             if goal.path is not None:
-                yield f"goals[{k}].approach", "is on a path goal (expected a point or pose goal: the line ends at its position)"
+                yield f"goals[{k}].{name}", f"is on a path goal (expected a point or pose goal: the line {end} its position{instead})"
             elif goal.joints is not None:
-                yield f"goals[{k}].approach", "is on a joint goal (expected a point or pose goal: the line ends at its position)"
-            elif goal.approach.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
-                yield f"goals[{k}].approach.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
-                                                    "give the goal an orientation, or a world direction such as axis: [0, 0, -1])")
-        if goal.retreat is not None:
-            if goal.path is not None:
-                yield f"goals[{k}].retreat", ("is on a path goal (expected a point or pose goal: the line starts at its position; "
-                                              "give the path a straight piece of its own at its end instead)")
-            elif goal.joints is not None:
-                yield f"goals[{k}].retreat", "is on a joint goal (expected a point or pose goal: the line starts at its position)"
-            elif goal.retreat.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
-                yield f"goals[{k}].retreat.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
-                                                   "give the goal an orientation, or a world direction such as axis: [0, 0, 1])")
+                yield f"goals[{k}].{name}", f"is on a joint goal (expected a point or pose goal: the line {end} its position)"
+            elif line.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
+                yield f"goals[{k}].{name}.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
+                                                  f"give the goal an orientation, or a world direction such as axis: {axis})")
         if goal.touch_links is not None:
             if goal.grasp is None:
                 yield f"goals[{k}].touch_links", "is on a goal that grasps nothing (expected it beside grasp: NAME)"
@@ -359,8 +354,13 @@ def path_frames(goal, fps: float) -> int:
     """
     if goal.path is None:
         return 0
+    return _frames_along(tool_path(goal.path).length, goal.speed, fps)
+
+
+def _frames_along(length: float, speed: float, fps: float) -> int:
+    """Frames a tool takes over ``length`` at ``speed`` and ``fps``, rounded up, at most :data:`MOST_PATH_FRAMES`."""
     with np.errstate(all="ignore"):  # a scene's extreme numbers are reported by _magnitude_problems
-        frames = tool_path(goal.path).length / goal.speed * fps
+        frames = length / speed * fps
     return math.ceil(frames - 1e-9) if frames < MOST_PATH_FRAMES else MOST_PATH_FRAMES
 
 
@@ -381,9 +381,7 @@ def line_frames(line, fps: float) -> int:
     >>> line_frames(ApproachModel(distance=0.1), 30.0), line_frames(ApproachModel(distance=0.1, speed=0.01), 30.0)
     (30, 300)
     """
-    with np.errstate(all="ignore"):  # a scene's extreme numbers are reported by _magnitude_problems
-        frames = line.distance / (line.speed if line.speed is not None else line.distance) * fps
-    return math.ceil(frames - 1e-9) if frames < MOST_PATH_FRAMES else MOST_PATH_FRAMES
+    return _frames_along(line.distance, line.speed if line.speed is not None else line.distance, fps)
 
 
 def _magnitudes(scene: SceneModel):
