@@ -271,8 +271,6 @@ def test_cylinder_jacobian_rows_match_finite_differences():
 def test_the_compiled_frame_measures_cylinders_as_the_numpy_path(robot):
     """The compiled frame's clearances (its world with the cylinders, among a sphere, a box and a
     floor, in the scene's order) are the numpy path's: the cylinders' bit for bit."""
-    from armanim.arm.capsules import capsule_ends
-    from armanim.motion.kernels.check import obstacle_clearances
     from armanim.motion.kernels.layout import world_arrays
     from armanim.scene import scene_model, scene_to_problem
 
@@ -289,10 +287,7 @@ def test_the_compiled_frame_measures_cylinders_as_the_numpy_path(robot):
     for _ in range(20):
         pose = forward(problem.arm, problem.home + rng.normal(size=problem.arm.n) * 0.6)
         expected = clearances(pose, problem.obstacles, caps)
-        a, b = capsule_ends(caps, pose)
-        m = len(problem.obstacles)
-        d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
-        obstacle_clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), caps.part_radius, world_arrays(problem), d, t, n)
+        d, t, n = _kernel_clearances(problem, pose, world_arrays(problem))
         cyl = problem.obstacles.columns(CYLINDER)  # one kernel, the same numbers in: bit for bit
         np.testing.assert_array_equal(d[:, cyl], expected.d[:, cyl])
         np.testing.assert_array_equal(t[:, cyl], expected.t[:, cyl])
@@ -327,6 +322,18 @@ def test_cylinder_bounds_hold_the_exact_clearance_between_them(seed):
     np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), exact.min(axis=(-1, -2)), rtol=0, atol=1e-14)
 
 
+def _kernel_clearances(problem, pose, world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The compiled kernel's clearances d, t (c+1, m) and normals (c+1, m, 3) of one pose in ``world``."""
+    from armanim.arm.capsules import capsule_ends
+    from armanim.motion.kernels.check import obstacle_clearances
+
+    a, b = capsule_ends(problem.capsules, pose)
+    m = len(problem.obstacles)
+    d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
+    obstacle_clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), problem.capsules.part_radius, world, d, t, n)
+    return d, t, n
+
+
 @pytest.mark.parametrize("obstacles, absent", [
     ([{"center": [0.2, -0.45, 0.5], "radius": 0.06}], {"solids", "cylinders"}),
     ([{"cylinder": {"center": [0.5, 0.2, 0.3], "length": 0.2, "radius": 0.04}}], {"solids"}),
@@ -334,8 +341,6 @@ def test_cylinder_bounds_hold_the_exact_clearance_between_them(seed):
 def test_a_world_without_a_kind_passes_none_for_it_and_measures_as_the_numpy_path(obstacles, absent):
     """A kind of obstacle the scene has none of is None in the kernels' world (its closed form is not
     compiled for that scene), and the clearances are the numpy path's all the same."""
-    from armanim.arm.capsules import capsule_ends
-    from armanim.motion.kernels.check import obstacle_clearances
     from armanim.motion.kernels.layout import world_arrays
     from armanim.scene import scene_model, scene_to_problem
 
@@ -349,9 +354,6 @@ def test_a_world_without_a_kind_passes_none_for_it_and_measures_as_the_numpy_pat
     for _ in range(5):
         pose = forward(problem.arm, problem.home + rng.normal(size=problem.arm.n) * 0.6)
         expected = clearances(pose, problem.obstacles, caps)
-        a, b = capsule_ends(caps, pose)
-        m = len(problem.obstacles)
-        d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
-        obstacle_clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), caps.part_radius, world, d, t, n)
+        d, t, n = _kernel_clearances(problem, pose, world)
         np.testing.assert_allclose(d, expected.d, rtol=0, atol=1e-12)
         np.testing.assert_allclose(t, expected.t, rtol=0, atol=1e-12)
