@@ -183,3 +183,34 @@ def test_the_kept_capsule_moves_and_tilts_its_axis_when_that_saves_volume():
     assert capsule.volume < 0.995 * centred
     assert excess(mesh.vertices, [capsule]).max() <= 1e-12
     assert excess(surface_samples(mesh), [capsule]).max() <= 1e-9
+
+
+def outside_volume(capsules, hull: trimesh.Trimesh, count: int = 100_000) -> float:
+    """The capsules' union's volume outside ``hull``, by seeded uniform samples in their box: a
+    sample is in the union by the independent clamp, in the hull when behind every face's plane."""
+    rng = np.random.default_rng(11)
+    low = np.min([np.minimum(c.start, c.end) - c.radius for c in capsules], axis=0)
+    high = np.max([np.maximum(c.start, c.end) + c.radius for c in capsules], axis=0)
+    samples = rng.uniform(low, high, (count, 3))
+    held = excess(samples, capsules) <= 0.0
+    normals = hull.face_normals
+    inside = (samples @ normals.T - np.einsum("fk,fk->f", hull.triangles[:, 0], normals) <= 1e-12).all(axis=1)
+    return float(np.mean(held & ~inside) * np.prod(high - low))
+
+
+@pytest.mark.parametrize("name", ["L", "flange", "tilted box"])
+def test_the_fit_kept_claims_no_more_space_outside_the_hull_than_one_capsule(name):
+    """Issue 52's MotionBenchMaker: the fit is chosen by its volume outside the mesh's convex hull
+    (within VOLUME_ALLOWANCE of the least volume found), so it never claims more space outside the
+    link than the one-capsule fit does (to the samples' precision), and costs at most the
+    allowance in volume. A flange (a disk with a lug, like a Panda's panda_link7) among them."""
+    from armanim.arm.fitting import VOLUME_ALLOWANCE
+
+    disk = trimesh.creation.cylinder(radius=0.044, height=0.055, sections=48)
+    lug = trimesh.creation.box(extents=(0.06, 0.03, 0.022), transform=trimesh.transformations.translation_matrix((0.06, 0, 0.016)))
+    mesh = trimesh.util.concatenate([disk, lug]) if name == "flange" else shapes()[name]
+    hull = mesh.convex_hull
+    kept, one = fit_capsules(mesh.vertices, mesh.faces), fit_capsules(mesh.vertices, mesh.faces, max_capsules=1)
+    assert excess(mesh.vertices, kept).max() <= 1e-12
+    assert outside_volume(kept, hull) <= 1.02 * outside_volume(one, hull)
+    assert sum(c.volume for c in kept) <= VOLUME_ALLOWANCE * sum(c.volume for c in one) * 1.0001
