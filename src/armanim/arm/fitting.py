@@ -61,7 +61,8 @@ DIRECTION_TOL = 0.004
 COARSE_AXES = 1
 """Principal axes tried per piece when cuts are weighed (the kept pieces then try all three and search)."""
 TRIED = 3
-"""The best cuts (each across another direction) fitted in full for each count of capsules."""
+"""For each count of capsules, the cuts of least coarse volume fitted in full, and as many of least
+coarse volume outside the hull (:func:`_best_splits`)."""
 DIAGONALS = False
 """Also cut across the bisectors of each two principal axes (measured: at most 2.5 % less volume on
 the onboarding robots, for about twice the fit time; off)."""
