@@ -171,9 +171,10 @@ def _search(points: np.ndarray, edges: np.ndarray, max_capsules: int) -> list[tu
 
     Candidates are one capsule and, for 2 and 3, the :data:`TRIED` cuts of least coarse volume
     and the :data:`TRIED` of least coarse volume outside the hull (among those within
-    :data:`VOLUME_ALLOWANCE` of the least coarse volume), each fitted in full. Of them the one of least volume outside the points' convex hull
-    (:class:`_Outside`) is kept, among those of at most :data:`VOLUME_ALLOWANCE` times the least
-    volume found (fewer capsules on a tie)."""
+    :data:`VOLUME_ALLOWANCE` of the least coarse volume), each fitted in full. Of them the one of
+    least volume outside the points' convex hull (:class:`_Outside`) is kept, among those of at
+    most :data:`VOLUME_ALLOWANCE` times the least volume found (on a tie, the lesser volume, then
+    the first: one capsule before two, two before three)."""
     axes = principal_axes(points)
     one = (_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])
     search, search_edges = (points, edges) if len(points) <= SEARCH_POINTS else (_search_points(points), np.zeros((0, 2, 3)))
