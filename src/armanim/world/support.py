@@ -20,6 +20,7 @@ to an edge of either), so the distance is the least of every edge of each to the
 from __future__ import annotations
 
 import itertools
+from typing import cast
 
 import numpy as np
 
@@ -58,7 +59,7 @@ def solid_box_distance(body: Body, box: Body) -> float:
 
     >>> board = Body(BOX, np.eye(3), np.zeros(3), np.array([0.2, 0.2, 0.01]))
     >>> cube = Body(BOX, np.eye(3), np.array([0.0, 0, 0.03]), np.full(3, 0.02))
-    >>> round(solid_box_distance(cube, board), 12)
+    >>> round(solid_box_distance(cube, board), 12) + 0.0
     0.0
     """
     if box.kind != BOX:
@@ -101,7 +102,7 @@ def axis_overlaps(a: Body, b: Body) -> np.ndarray:
     axis = np.array(axes)
     reach_a = np.abs(axis @ a.rotation) @ a.half
     reach_b = np.abs(axis @ b.rotation) @ b.half
-    return reach_a + reach_b - np.abs(axis @ (b.center - a.center))
+    return cast(np.ndarray, reach_a + reach_b - np.abs(axis @ (b.center - a.center)))
 
 
 def box_edges(box: Body) -> tuple[np.ndarray, np.ndarray]:
