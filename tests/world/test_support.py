@@ -129,6 +129,8 @@ def test_a_box_standing_on_a_table_is_put_down_on_a_board_touching_only_along_th
                                           for k in range(1, len(goals)))
              if (goals[k].retreat and goals[k - 1].grasp is not None) or (goals[k].release and goals[k - 1].to_approach)}
     assert len(lines) == 2
+    assert [k for k, w in enumerate(carry.worlds) if w.support is not None and w.held is not None] == sorted(lines)  # armanim's too
+    assert all(w.stop == 1.0 for k, w in enumerate(carry.worlds) if not goals[k].release)  # only the approach's line stops short
     tools = tool_transform(problem, forward(problem.arm, traj.phi))
     others = [board, table]
     touched, apart = {id(table): np.inf, id(board): np.inf}, np.inf

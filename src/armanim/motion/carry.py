@@ -352,7 +352,7 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
     that would ask either of a run whose goals are all reached.
     """
     goal = problem.goals[k]
-    before, world = world, replace(world, near=None, support=None)  # a grasp's object at the hand, or one just put down: this goal's alone
+    before, world = world, replace(world, near=None, support=None, stop=1.0)  # the object at the hand, its support, its line's stop: this goal's alone
     if not reached:
         return world
     if goal.grasp is None and not goal.release:
