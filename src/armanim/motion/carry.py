@@ -10,6 +10,13 @@ clearance, the cost, the filter, the planner and the clock measure) and ``self_c
 every capsule of a link that is not a touch link. Once the release goal is reached, the object is
 an obstacle again where the tool put it (:func:`~armanim.world.carried.placed_body`).
 
+An object may stand on a box (:func:`touching_support`): its cover then touches that box, which
+it may do only while the arm heads for the grasp, along the grasp's ``retreat``, along a release's
+``approach`` (:func:`approach_support`, which stops the line where the solid comes to touch its
+board) and while the arm leaves the release: in those goals' worlds the cover's pairs with that
+box are left out (:attr:`World.support`, :attr:`~armanim.arm.capsules.Capsules.allowed`), every
+other pair kept; :func:`support_distance` measures the solid itself against it.
+
 Each goal is solved in the :class:`~armanim.motion.problem.Problem` of its world
 (:func:`world_problem`); a grasp or release goal that is missed changes nothing. Pure core: no I/O.
 """
