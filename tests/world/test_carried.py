@@ -336,7 +336,8 @@ def test_an_approach_comes_in_along_a_straight_line_and_the_grasp_and_release_st
     timed = retime(problem, solve_trajectory(problem), problem.fps)
     assert all(g.reached for g in timed.goals)
     traj = timed.trajectory
-    for k, (target, distance) in {1: ([0.5, 0.2, 0.332], 0.08), 4: ([0.5, -0.2, 0.335], 0.06)}.items():
+    assert problem.goals[4].to_approach and problem.goals[5].release  # a release's approach starts with a goal of its own to the line
+    for k, (target, distance) in {1: ([0.5, 0.2, 0.332], 0.08), 5: ([0.5, -0.2, 0.335], 0.06)}.items():
         along = (traj.goal == k) & (traj.mode == "path")
         tips = traj.tip[along]
         assert len(tips) > 5
@@ -344,7 +345,7 @@ def test_an_approach_comes_in_along_a_straight_line_and_the_grasp_and_release_st
         assert tips[0, 2] == pytest.approx(target[2] + distance, abs=0.005) and tips[-1, 2] == pytest.approx(target[2], abs=0.005)
         assert np.all(np.diff(tips[:, 2]) <= 1e-9)  # down all the way
     tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
-    expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
+    expected = tool(timed.goals[5].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
     assert np.abs(timed.carry.final.moved[1].matrix() - expected).max() < 1e-9
 
 

@@ -40,6 +40,11 @@ class Capsules:
         Each capsule's radius (scene units, >= 0).
     names : tuple of str
         A name per capsule (its URDF link), or empty.
+    allowed : (c,) int array, optional
+        The obstacle column (of the obstacles the capsules are measured against) each capsule may
+        touch, -1 for none (the default): a carried object's cover and the board it is set down
+        on (:mod:`armanim.motion.carry`). Every clearance of that pair is +inf, as the floor's of
+        the parts on the base.
     """
 
     link: np.ndarray
@@ -48,11 +53,14 @@ class Capsules:
     radius: np.ndarray
     names: tuple[str, ...] = ()
     joint_segment: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[arg-type]  # None: __post_init__ fills it
+    allowed: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[arg-type]  # None: __post_init__ fills it (-1)
     part_radius: np.ndarray = field(init=False, repr=False, compare=False)
     """(c+1,) the radius of every part that clearances are measured from: the capsules', then
     the tip's, 0 (a point)."""
     on_base: np.ndarray = field(init=False, repr=False, compare=False)
     """(c+1,) bool: the parts on the base or carried by the first joint (they stand on the base); the tip never."""
+    part_allowed: np.ndarray = field(init=False, repr=False, compare=False)
+    """(c+1,) int: ``allowed`` of every part (the tip's -1)."""
     moving: np.ndarray = field(init=False, repr=False, compare=False)
     """(c+1,) bool: the parts a joint moves (every part but the base's capsules; the tip always): only
     these are pushed away from an obstacle or give the filter a row (a part on the base has none to give)."""
@@ -63,10 +71,14 @@ class Capsules:
             object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
         if self.joint_segment is None:
             object.__setattr__(self, "joint_segment", np.zeros(len(self.link), dtype=bool))
+        allowed = np.full(len(self.link), -1) if self.allowed is None else np.asarray(self.allowed, dtype=int)
+        object.__setattr__(self, "allowed", allowed)
+        object.__setattr__(self, "part_allowed", np.append(allowed, -1))
         object.__setattr__(self, "part_radius", np.append(self.radius, 0.0))  # asked every frame: made once
         object.__setattr__(self, "on_base", np.append(self.link <= 0, False))
         object.__setattr__(self, "moving", np.append(self.link >= 0, True))
-        self.part_radius.flags.writeable = self.on_base.flags.writeable = self.moving.flags.writeable = False  # shared by every clearance computation
+        self.part_radius.flags.writeable = self.on_base.flags.writeable = self.moving.flags.writeable = False
+        self.part_allowed.flags.writeable = False  # shared by every clearance computation
 
     def packed(self) -> np.ndarray:
         """(c, 8) each capsule as the compiled kernels read it: its start, its end (in its joint's
@@ -79,6 +91,11 @@ class Capsules:
 
     def __len__(self) -> int:
         return len(self.link)
+
+    @property
+    def allows(self) -> bool:
+        """Whether any capsule may touch an obstacle (:attr:`allowed`)."""
+        return bool(np.any(self.allowed >= 0))
 
 
 def joint_capsules(arm: Arm, radius: float) -> Capsules:

@@ -10,6 +10,13 @@ clearance, the cost, the filter, the planner and the clock measure) and ``self_c
 every capsule of a link that is not a touch link. Once the release goal is reached, the object is
 an obstacle again where the tool put it (:func:`~armanim.world.carried.placed_body`).
 
+An object may stand on a box (:func:`touching_support`): its cover then touches that box, which
+it may do only while the arm heads for the grasp, along the grasp's ``retreat``, along a release's
+``approach`` (:func:`approach_support`, which stops the line where the solid comes to touch its
+board) and while the arm leaves the release: in those goals' worlds the cover's pairs with that
+box are left out (:attr:`World.support`, :attr:`~armanim.arm.capsules.Capsules.allowed`), every
+other pair kept; :func:`support_distance` measures the solid itself against it.
+
 Each goal is solved in the :class:`~armanim.motion.problem.Problem` of its world
 (:func:`world_problem`); a grasp or release goal that is missed changes nothing. Pure core: no I/O.
 """
@@ -60,6 +67,9 @@ class Held:
         Its pose in the tool frame (:func:`~armanim.world.carried.grasp_offset`).
     touch : tuple of str
         The links allowed to touch it.
+    support : int or None
+        The obstacle it stood on where it was grasped (:func:`touching_support`), which it may
+        touch along the grasp's retreat; None: it stood clear of every obstacle.
     """
 
     column: int
@@ -67,6 +77,7 @@ class Held:
     body: Body
     offset: np.ndarray
     touch: tuple[str, ...]
+    support: int | None = None
 
 
 @dataclass(frozen=True)
@@ -91,12 +102,21 @@ class World:
     fingers: float | None = None
     """The gripper's value while the arm moves toward this goal (metres per finger,
     :mod:`armanim.arm.gripper`); None: where ``arm.joint_values`` holds it (or no gripper)."""
+    support: int | None = None
+    """The obstacle (clearance column of the scene's) the object held, or at the hand, may touch
+    in this goal: the one it stands on at a grasp (while the arm heads for it and along its
+    retreat), the one it is put on along a release's approach (and while the arm leaves it);
+    None: none. Its cover's pairs with that obstacle are left out (:attr:`~armanim.arm.capsules.Capsules.allowed`),
+    every other pair kept."""
+    stop: float = 1.0
+    """Along a release's approach onto a support: the fraction of the line where the solid comes to
+    touch it (:func:`approach_support`), where the tool stops (1: the line's end)."""
 
     def key(self) -> tuple[object, ...]:
         """What tells two worlds apart (for reusing one problem per world)."""
         return (tuple(sorted((k, None if b is None else b.matrix().tobytes()) for k, b in self.moved.items())),
                 None if self.held is None else (self.held.column, self.held.offset.tobytes(), self.held.touch), self.near,
-                self.fingers)
+                self.fingers, self.support, self.stop)
 
 
 def default_touch_links(problem: Problem) -> tuple[str, ...]:
@@ -190,23 +210,132 @@ def world_problem(problem: Problem, world: World) -> Problem:
     out = replace(problem, obstacles=with_bodies(problem.obstacles, moved))
     held = world.held
     if held is not None:
-        capsules = carried_capsules(problem, held)
+        capsules = supported(carried_capsules(problem, held), problem, world)
         return replace(out, capsules=capsules, self_pairs=carried_pairs(problem.self_pairs, capsules, held.name, held.touch))
     if world.near is not None:
         column, touch = world.near
         name = object_name(problem, column)
-        capsules = resting_capsules(problem, world.moved.get(column) or obstacle_body(problem.obstacles, column), name)
+        capsules = supported(resting_capsules(problem, world.moved.get(column) or obstacle_body(problem.obstacles, column), name),
+                             problem, world)
         return replace(out, capsules=capsules, self_pairs=carried_pairs(problem.self_pairs, capsules, name, touch))
     return out
 
 
-def goal_world(problem: Problem, world: World, k: int) -> World:
-    """The world goal ``k`` is solved in, from the world the goal before left: a grasp's object
-    is at the hand (:attr:`World.near`) while the arm heads for it."""
+def supported(capsules: Capsules, problem: Problem, world: World) -> Capsules:
+    """``capsules`` (the arm's, then an object's cover) with the cover allowed to touch ``world``'s
+    support (its column among ``world``'s obstacles, :func:`world_columns`); as they are without one."""
+    if world.support is None:
+        return capsules
+    allowed = np.array(capsules.allowed)
+    allowed[len(problem.capsules):] = world_columns(problem, world).index(world.support)
+    return replace(capsules, allowed=allowed)
+
+
+SUPPORT_DEPTH = 1e-9
+"""Scene units: how far a solid may lie inside an obstacle and still stand on it (rounding of a
+box set exactly on a board, 0.24 - 0.04 = 0.19999999999999998)."""
+
+
+def touching_support(problem: Problem, world: World, body: Body, column: int | None, deeper: bool = False) -> int | None:
+    """The box obstacle the solid ``body`` stands on, in ``world`` (the objects where they were put;
+    ``column``, the object itself, left out): of the boxes its cover comes within
+    ``solver.clearance`` of, the one its solid is nearest to (:func:`~armanim.world.support.solid_box_distance`),
+    if that solid touches it or is apart (at most :data:`SUPPORT_DEPTH` inside, or any depth where
+    ``deeper``); None: its cover keeps its clearance from every obstacle, or it stands in one."""
+    from armanim.world.carried import cover_clearances
+    from armanim.world.obstacles import BOX
+    from armanim.world.support import solid_box_distance
+
+    gone = {c: None for c, b in world.moved.items() if b is None} | ({} if column is None else {column: None})
+    present = World({**world.moved, **gone})
+    obstacles = with_bodies(problem.obstacles, {**world.moved, **gone})
+    columns = world_columns(problem, present)
+    if not len(obstacles):
+        return None
+    near = cover_clearances(body, obstacles) < problem.solver.clearance
+    best, best_d = None, np.inf
+    for j in np.nonzero(near)[0]:
+        if obstacles.kinds[j] != BOX:
+            continue
+        d = solid_box_distance(body, obstacle_body(obstacles, int(j)))
+        if d < best_d:
+            best, best_d = columns[j], d
+    return best if best is not None and (deeper or best_d >= -SUPPORT_DEPTH) else None
+
+
+def goal_world(problem: Problem, world: World, k: int, pose: Pose | None = None) -> World:
+    """The world goal ``k`` is solved in, from the world the goal before left (``pose``: the arm's
+    pose as the goal starts): a grasp's object is at the hand (:attr:`World.near`) while the arm
+    heads for it, touching what it stands on; along the retreat of a grasp the object held may
+    touch what it stood on, and along a release's approach what it is put on
+    (:attr:`World.support`, :func:`approach_support`)."""
     goal = problem.goals[k]
-    if goal.grasp is None or world.held is not None:
+    held = world.held
+    if goal.grasp is not None and held is None:
+        body = world.moved.get(goal.grasp) or obstacle_body(problem.obstacles, goal.grasp)
+        return replace(world, near=(goal.grasp, touch_links(problem, goal.touch_links)),
+                       support=touching_support(problem, world, body, goal.grasp))
+    if held is None or k == 0:
         return world
-    return replace(world, near=(goal.grasp, touch_links(problem, goal.touch_links)))
+    if goal.retreat and problem.goals[k - 1].grasp == held.column:
+        return replace(world, support=held.support)
+    if goal.release and goal.path is not None and problem.goals[k - 1].to_approach and pose is not None:
+        support, stop = approach_support(problem, world, goal, pose)
+        return replace(world, support=support, stop=stop)
+    return world
+
+
+STOP_STEPS = 60
+"""Halvings that find where along a release's approach the solid comes to touch its support
+(the line's length / 2^60: far below rounding)."""
+
+
+def approach_support(problem: Problem, world: World, goal: Goal, pose: Pose) -> tuple[int | None, float]:
+    """The obstacle the object ``world`` holds is put on along the approach line of the release
+    ``goal`` (the arm at ``pose`` as it starts, the tool's orientation held as there), and the
+    fraction of the line where the tool stops: the box the solid touches (:func:`touching_support`)
+    where the line ends, or where the solid first comes to touch it along the line, when that lies
+    at most ``solver.tolerance`` short of the end (the grasp took the object a little off the
+    goal's pose: the goal is still reached); (None, 1.0) for none (the line puts the solid no
+    nearer than its cover's clearance, or deeper into the box than that: the cover then keeps its
+    clearance and the goal is missed)."""
+    from armanim.world.support import solid_box_distance
+
+    assert world.held is not None and goal.path is not None
+    held = world.held
+    tool = tool_transform(problem, pose)
+    start, end = goal.path.start, goal.path.end
+
+    def body_at(t: float) -> Body:
+        at = tool.copy()
+        at[:3, 3] = start + t * (end - start)
+        return placed_body(at, held.offset, held.body)
+
+    support = touching_support(problem, world, body_at(1.0), None, deeper=True)
+    if support is None:
+        return None, 1.0
+    box = world.moved.get(support) or obstacle_body(problem.obstacles, support)
+    if solid_box_distance(body_at(1.0), box) >= -SUPPORT_DEPTH:
+        return support, 1.0
+    low, high = 0.0, 1.0  # the distance along a translation is convex: apart at the line's start, inside at its end
+    if solid_box_distance(body_at(low), box) < 0.0:
+        return None, 1.0
+    for _ in range(STOP_STEPS):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if solid_box_distance(body_at(middle), box) >= 0.0 else (low, middle)
+    if (1.0 - low) * float(np.linalg.norm(end - start)) > problem.solver.tolerance:
+        return None, 1.0
+    return support, low
+
+
+def stopped_goal(goal: Goal, world: World) -> Goal:
+    """``goal`` (a release's approach) with its line ending where ``world`` stops it (:attr:`World.stop`)."""
+    if world.stop >= 1.0 or goal.path is None:
+        return goal
+    from armanim.motion.toolpath import ToolPath
+
+    start, end = goal.path.start, goal.path.end
+    return replace(goal, path=ToolPath.polyline(np.array([start, start + world.stop * (end - start)])))
 
 
 def touch_links(problem: Problem, given: tuple[str, ...] | None) -> tuple[str, ...]:
@@ -230,7 +359,7 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
     that would ask either of a run whose goals are all reached.
     """
     goal = problem.goals[k]
-    before, world = world, replace(world, near=None)  # a grasp's object at the hand, or one just put down: this goal's alone
+    before, world = world, replace(world, near=None, support=None, stop=1.0)  # the object at the hand, its support, its line's stop: this goal's alone
     if not reached:
         return world
     if goal.grasp is None and not goal.release:
@@ -241,7 +370,8 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
             return world
         column = goal.grasp
         body = world.moved.get(column) or obstacle_body(problem.obstacles, column)
-        held = Held(column, object_name(problem, column), body, grasp_offset(tool, body), touch_links(problem, goal.touch_links))
+        held = Held(column, object_name(problem, column), body, grasp_offset(tool, body), touch_links(problem, goal.touch_links),
+                    before.support)
         fingers = None if problem.gripper is None else problem.gripper.grip(body.extent(finger_direction(problem, pose)))
         return World({**world.moved, column: None}, held, fingers=fingers_if_free(problem, before, pose, fingers))
     if world.held is None:
@@ -249,7 +379,7 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
     placed = placed_body(tool, world.held.offset, world.held.body)
     fingers = None if problem.gripper is None else problem.gripper.upper
     return World({**world.moved, world.held.column: placed}, None, (world.held.column, world.held.touch),
-                 fingers_if_free(problem, before, pose, fingers))
+                 fingers_if_free(problem, before, pose, fingers), before.support)
 
 
 FINGER_STEPS = 16
@@ -401,9 +531,40 @@ def carried_clearance(problem: Problem, carry: CarryReport, phi: np.ndarray, goa
             continue
         caps = problems[k].capsules
         own = np.arange(len(problem.capsules), len(caps))
-        part = Capsules(caps.link[own], caps.start[own], caps.end[own], caps.radius[own], joint_segment=caps.joint_segment[own])
+        part = Capsules(caps.link[own], caps.start[own], caps.end[own], caps.radius[own], joint_segment=caps.joint_segment[own],
+                        allowed=caps.allowed[own])
         out[mine] = min_link_clearance(forward(problem.arm, phi[mine]), problems[k].obstacles, part)
     return out
+
+
+def support_distance(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """(F,) the signed distance of the object's solid (not its cover) to the obstacle it may touch
+    in each frame (:attr:`World.support`; :func:`~armanim.world.support.solid_box_distance`):
+    along a grasp's retreat and a release's approach, and while it stands on it at the hand; NaN
+    in the frames of a world without one (``phi`` (F, n), goals ``goal`` (F,))."""
+    from armanim.arm.kinematics import forward
+    from armanim.world.support import solid_box_distance
+
+    out = np.full(len(goal), np.nan)
+    for k, world in enumerate(carry.worlds):
+        mine = np.nonzero(goal == k)[0]
+        if world.support is None or not len(mine):
+            continue
+        box = world.moved.get(world.support) or obstacle_body(problem.obstacles, world.support)
+        held = world.held
+        if held is None:
+            assert world.near is not None
+            body = world.moved.get(world.near[0]) or obstacle_body(problem.obstacles, world.near[0])
+            out[mine] = solid_box_distance(body, box)
+            continue
+        tools = tool_transform(problem, forward(problem.arm, phi[mine]))
+        out[mine] = [solid_box_distance(held.body.moved(t @ held.offset), box) for t in tools]
+    return out
+
+
+def has_support(carry: CarryReport) -> bool:
+    """Whether an object touches what it stands on in some goal's world (:attr:`World.support`)."""
+    return any(w.support is not None for w in carry.worlds)
 
 
 def touch_allowed(pairs: SelfPairs, carry: CarryReport) -> SelfPairs:
@@ -440,7 +601,8 @@ def replayed_carry(problem: Problem, phi: np.ndarray, goal: np.ndarray, reached:
 
     world, worlds = World(), []
     for k in range(len(problem.goals)):
-        world = goal_world(problem, world, k)
+        before = np.nonzero(goal < k)[0]
+        world = goal_world(problem, world, k, forward(problem.arm, phi[before[-1]]) if len(before) else None)
         worlds.append(world)
         mine = np.nonzero(goal == k)[0]
         if len(mine):

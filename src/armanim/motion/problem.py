@@ -106,6 +106,10 @@ class Goal:
     retreat : bool
         This goal is the scene goal before it's ``retreat``: the straight line out of it, a path
         goal the scene does not list (:func:`armanim.scene.convert.with_retreats`).
+    to_approach : bool
+        This goal is the way to the start of the next goal's ``approach`` (a release's: the
+        object may touch what it is put on only along the line, :mod:`armanim.motion.carry`), a
+        point or pose goal the scene does not list (:func:`armanim.scene.convert.with_retreats`).
     """
 
     position: np.ndarray
@@ -119,6 +123,7 @@ class Goal:
     release: bool = False
     touch_links: tuple[str, ...] | None = None
     retreat: bool = False
+    to_approach: bool = False
 
 
 def joint_offset(problem: Problem, phi: np.ndarray, target: np.ndarray) -> np.ndarray:

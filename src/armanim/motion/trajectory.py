@@ -37,6 +37,7 @@ from armanim.motion.carry import (
     goal_problems,
     goal_world,
     needs_carrying,
+    stopped_goal,
     world_problem,
 )
 from armanim.motion.following import Along, Route, followed_route, most_path_frames
@@ -207,7 +208,7 @@ def solve_trajectory(
 
         started = time.perf_counter()
         if carrying:
-            world = goal_world(problem, world, k)
+            world = goal_world(problem, world, k, state.pose)
             worlds.append(world)
             if world.key() not in made:
                 made[world.key()] = world_problem(problem, world)
@@ -215,7 +216,8 @@ def solve_trajectory(
             if solved is not before:
                 state = arm_state(solved, state.phi)  # the same pose measured in this goal's world
             rec.labels = solved.self_pairs.labels
-        state, report = _visit_goal(solved, method, rec, state, k, goal, report_progress, planning, along)
+        state, report = _visit_goal(solved, method, rec, state, k, stopped_goal(goal, world) if carrying else goal, report_progress,
+                                    planning, along)
         if carrying:
             world = after_goal(problem, world, k, report.reached, state.pose)
         if timer:

@@ -275,13 +275,27 @@ def retreat_of(problem: Problem, k: int) -> int | None:
     """The scene goal whose retreat problem goal ``k`` is (None: a scene goal itself).
 
     >>> from types import SimpleNamespace
-    >>> p = SimpleNamespace(goals=[SimpleNamespace(retreat=r) for r in (False, True, False, True)])
+    >>> p = SimpleNamespace(goals=[SimpleNamespace(retreat=r, to_approach=False) for r in (False, True, False, True)])
     >>> [retreat_of(p, k) for k in range(4)]
     [None, 0, None, 1]
     """
     if not problem.goals[k].retreat:
         return None
-    return sum(1 for g in problem.goals[:k] if not g.retreat) - 1
+    return sum(1 for g in problem.goals[:k] if not g.retreat and not g.to_approach) - 1
+
+
+def to_approach_of(problem: Problem, k: int) -> int | None:
+    """The scene goal (a release with an ``approach``) to whose line's start problem goal ``k``
+    goes (None: a scene goal itself, or a retreat).
+
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(goals=[SimpleNamespace(retreat=r, to_approach=a) for r, a in ((0, 0), (0, 1), (0, 0), (1, 0))])
+    >>> [to_approach_of(p, k) for k in range(4)]
+    [None, 1, None, None]
+    """
+    if not problem.goals[k].to_approach:
+        return None
+    return sum(1 for g in problem.goals[:k] if not g.retreat and not g.to_approach)
 
 
 def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
@@ -294,6 +308,9 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
     if any(g.retreat for g in problem.goals):  # a scene's retreats are goals of their own: each says whose it is
         for k, g in enumerate(goals):
             g["retreat_of"] = retreat_of(problem, k)
+    if any(g.to_approach for g in problem.goals):  # and so are the ways to a release's approach
+        for k, g in enumerate(goals):
+            g["to_approach_of"] = to_approach_of(problem, k)
     rates = problem.rates
     return {
         "armanim_version": __version__,
@@ -330,12 +347,14 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
 
 def carry_summary(problem: Problem, solution: Solution, goals: list[dict]) -> dict:
     """With goals that grasp or release: each goal's ``grasped`` and ``released`` (in ``goals``),
-    the run's ``min_carried_clearance`` and each moved object's final pose; nothing without."""
+    the run's ``min_carried_clearance``, each moved object's final pose and, where an object
+    touched what it stands on, ``min_support_distance`` (its solid's least signed distance to it
+    in those frames); nothing without."""
     carry = solution.carry
     if carry is None:
         return {}
     from armanim.arm.rotations import rotation_quaternion
-    from armanim.motion.carry import carried_clearance, final_poses
+    from armanim.motion.carry import carried_clearance, final_poses, has_support, support_distance
 
     for k, g in enumerate(goals):
         g["grasped"], g["released"] = carry.grasped(k), carry.released(k)
@@ -344,7 +363,10 @@ def carry_summary(problem: Problem, solution: Solution, goals: list[dict]) -> di
     objects = {name: None if body is None else {"center": [float(v) for v in body.center],
                                                 "quaternion_wxyz": [float(v) for v in rotation_quaternion(body.rotation)]}
                for name, body in final_poses(problem, carry).items()}
-    return {"min_carried_clearance": _round(np.nanmin(carried)) if np.isfinite(carried).any() else None, "objects": objects}
+    out = {"min_carried_clearance": _round(np.nanmin(carried)) if np.isfinite(carried).any() else None, "objects": objects}
+    if has_support(carry):  # an object touched what it stands on: its solid's least distance to it there
+        out["min_support_distance"] = _round(np.nanmin(support_distance(problem, carry, traj.phi, traj.goal)))
+    return out
 
 
 def run_summary(run: SolvedRun) -> dict:

@@ -8,17 +8,26 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
 import numpy as np
 
 from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
+from armanim.motion.carry import World, touching_support
 from armanim.motion.following import most_following_frames, path_spacing
 from armanim.motion.problem import frames_in
 from armanim.motion.tunables import DEFAULTS
 from armanim.output.numbers import apart
-from armanim.scene.convert import orientation_rotation, scene_goal, scene_obstacles, scene_to_problem, tool_path
+from armanim.scene.convert import (
+    orientation_rotation,
+    retreat_direction,
+    scene_goal,
+    scene_obstacles,
+    scene_to_problem,
+    tool_path,
+)
 from armanim.scene.limits import RATE_FIELDS, joint_goal_limit_problems, limit_problems, rate_problems
 from armanim.scene.models import LIMITS, SceneModel
 from armanim.world.carried import cover_margin, obstacle_body, resting_clearances, with_bodies
@@ -241,12 +250,47 @@ def _grasp_problems(scene: SceneModel, problem):
             yield f"goals[{k}].grasp", (f"{name!r} is {reach:.3g} from the goal's tool point (expected the tool point in the object or "
                                         f"within solver.tolerance = {problem.solver.tolerance:g} of it: move the goal onto the object)")
         rest = resting_clearances(problem.obstacles, goal.grasp)
+        support = touching_support(problem, World(), body, goal.grasp)
+        if support is not None and scene.goals[k].retreat is not None:
+            yield from _support_problems(scene, problem, k, body, support)
+            rest[support] = np.inf  # it may touch what it stands on along its retreat
         for column in (int(c) for c in np.nonzero(rest < d_safe)[0]):
             where = "the floor" if problem.obstacles.kinds[column] == FLOOR else _obstacle_words(problem.obstacles, column)
+            standing = (f"; or, as it stands on it, give goals[{k}] a retreat: the straight line along which it may leave it "
+                        "touching") if column == support else ""
             yield f"obstacles[{goal.grasp}]", (
                 f"{name!r} rests {rest[column]:.3g} from {where} as the arm will carry it (its cover of capsules, which lies up to "
                 f"{cover_margin(body):.3g} beyond it; expected at least solver.clearance = {d_safe:g}, so that it keeps its clearance "
-                f"from the grasp on: move it {d_safe - rest[column]:.3g} farther, or lower solver.clearance)")
+                f"from the grasp on: move it {d_safe - rest[column]:.3g} farther, or lower solver.clearance{standing})")
+
+
+def _support_problems(scene: SceneModel, problem, k: int, body, support: int):
+    """A grasp with a ``retreat`` of an object that stands on the box ``support`` (its cover within
+    ``solver.clearance`` of it: :func:`~armanim.motion.carry.touching_support`), which it may
+    touch along that line only: the line must take its cover ``solver.clearance`` (and
+    ``solver.tolerance``, how far the grasp may take it off the goal) away from it."""
+    from armanim.world.carried import cover_clearances
+
+    model = scene.goals[k]
+    assert model.retreat is not None
+    name = problem.obstacles.name(goal_column := problem.goals[k].grasp)
+    where = _obstacle_words(problem.obstacles, support)
+    d_safe = problem.solver.clearance
+    direction = retreat_direction(model)
+    if direction is None or goal_column is None:
+        return  # the retreat's own check says why
+    lifted = replace(body, center=body.center + model.retreat.distance * direction)  # the line holds the orientation
+    apart = float(cover_clearances(lifted, with_bodies(problem.obstacles, {goal_column: None}))[_kept_column(problem, goal_column, support)])
+    if apart < d_safe + problem.solver.tolerance:
+        yield f"goals[{k}].retreat.distance", (f"the retreat leaves {name!r} {apart:.3g} from {where}, which it stands on (its cover of "
+                                               f"capsules); expected at least solver.clearance + solver.tolerance = "
+                                               f"{d_safe + problem.solver.tolerance:g}, so that it keeps its clearance after the line: "
+                                               f"a longer retreat, about {model.retreat.distance + d_safe + problem.solver.tolerance - apart:.3g}")
+
+
+def _kept_column(problem, gone: int, column: int) -> int:
+    """The column ``column`` of the scene's obstacles among them without the column ``gone``."""
+    return column - (1 if gone < column else 0)
 
 
 def _name_problems(scene: SceneModel):

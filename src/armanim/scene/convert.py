@@ -382,8 +382,9 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
         for work that never asks (one pose's forward kinematics): an arm of links samples its
         matrix, some 0.4 s of compiled distances on a command that takes 0.3 s without.
     retreats : bool
-        Each goal's ``retreat`` becomes a goal of its own after it (:func:`with_retreats`); False
-        keeps one problem goal per scene goal (validation's messages name the scene's goals).
+        Each goal's ``retreat`` becomes a goal of its own after it, and a release's ``approach``
+        starts with a goal of its own to the line's start (:func:`with_retreats`); False keeps one
+        problem goal per scene goal (validation's messages name the scene's goals).
 
     Returns
     -------
@@ -510,9 +511,13 @@ def with_retreats(goals: tuple[Goal, ...], models: list[GoalModel]) -> tuple[Goa
     ends (its position, or its approach's end) ``distance`` along the retreat's direction
     (:func:`retreat_direction`), the goal's orientation held, at ``speed`` (default ``distance``
     per second); a retreat validation refuses (on a path or joint goal, along the tool without an
-    orientation) adds nothing."""
+    orientation) adds nothing. Before each release whose ``approach`` is a line, a goal to the
+    line's start, the release's orientation (:attr:`Goal.to_approach`): the object may touch what
+    it is put on only along the line (:mod:`armanim.motion.carry`)."""
     out = []
     for goal, model in zip(goals, models):
+        if goal.release and model.approach is not None and goal.path is not None and model.path is None:
+            out.append(Goal(position=goal.path.start, hold=0.0, orientation=goal.orientation, to_approach=True))
         out.append(goal)
         if model.retreat is None or model.path is not None or goal.joints is not None:
             continue

@@ -76,7 +76,8 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearanc
     -------
     Clearances
         One column per obstacle in the order of ``obstacles.kinds``. The floor's column is
-        +inf for the capsules the first joint carries (they stand on the base).
+        +inf for the capsules the first joint carries (they stand on the base), and a capsule's
+        column of the obstacle it may touch (:attr:`~armanim.arm.capsules.Capsules.allowed`) +inf.
     """
     a, b = capsule_ends(capsules, pose)
     tip = pose.points[..., -1:, :]
@@ -84,7 +85,7 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearanc
     ends = np.concatenate([b, tip], axis=-2)  # the tip: a zero-length segment
     radius = capsules.part_radius  # the tip is a point: 0
     if obstacles.spheres_only:
-        return sphere_clearances(pts, ends, radius, obstacles)
+        return allowed_apart(sphere_clearances(pts, ends, radius, obstacles), capsules)
     kinds = []  # (d, t, normal) of the spheres, the solids, the cylinders, the floor: the columns in that order
     if len(obstacles.radii):
         kinds.append(astuple(sphere_clearances(pts, ends, radius, obstacles)))
@@ -98,7 +99,18 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearanc
     order = obstacles.scene_order
     if order is not None:
         d, t, normal = d[..., order], t[..., order], normal[..., order, :]
-    return Clearances(d=d, t=t, normal=normal)
+    return allowed_apart(Clearances(d=d, t=t, normal=normal), capsules)
+
+
+def allowed_apart(cl: Clearances, capsules: Capsules) -> Clearances:
+    """``cl`` with +inf in each part's column of the obstacle it may touch
+    (:attr:`~armanim.arm.capsules.Capsules.part_allowed`); ``cl`` itself where none may."""
+    if not capsules.allows:
+        return cl
+    parts = np.nonzero(capsules.part_allowed >= 0)[0]
+    d = np.array(cl.d)
+    d[..., parts, capsules.part_allowed[parts]] = np.inf
+    return Clearances(d=d, t=cl.t, normal=cl.normal)
 
 
 def astuple(cl: Clearances) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -340,7 +352,7 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     if pose.points.ndim == 3 and len(pose.points) > CLEARANCE_CHUNK:
         return np.concatenate([min_link_clearance(Pose(points=pose.points[i:i + CLEARANCE_CHUNK], frames=pose.frames[i:i + CLEARANCE_CHUNK]),
                                                   obstacles, capsules) for i in range(0, len(pose.points), CLEARANCE_CHUNK)])
-    if obstacles.spheres_only:
+    if obstacles.spheres_only or capsules.allows:  # a pair allowed to touch: every pair measured, that one left out
         return cast(np.ndarray, clearances(pose, obstacles, capsules).links.min(axis=(-1, -2)))
     a, b = capsule_ends(capsules, pose)
     radius = capsules.radius

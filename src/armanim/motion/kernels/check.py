@@ -103,11 +103,12 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
     """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
     and normal (c+1, m, 3): the spheres', the solids' (:func:`armanim.world.compiled.segment_box_grid`,
     the tip a segment of no length), the cylinders' (:func:`armanim.world.compiled.segment_cylinder_grid`)
-    and the floor's, in the scene's order (:func:`armanim.world.distances.clearances`).
+    and the floor's, in the scene's order, +inf where a part may touch the obstacle
+    (:func:`armanim.world.distances.clearances`).
     ``world``: :func:`~armanim.motion.kernels.layout.world_arrays`'s arrays (None for a kind the
     scene has none of: its closed form is not compiled)."""
     (centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base, order, floor,
-     cyl_centers, cyl_rotations, cyl_half, cyl_radius) = world
+     cyl_centers, cyl_rotations, cyl_half, cyl_radius, allowed) = world
     c = a.shape[0]
     n = points.shape[0] - 1
     count, solids, cylinders = centers.shape[0], kind_count(solid_radius), kind_count(cyl_radius)
@@ -134,6 +135,9 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
             kn[part, f, 0] = 0.0
             kn[part, f, 1] = 0.0
             kn[part, f, 2] = 1.0
+    for part in range(c + 1):
+        if allowed[part] >= 0:  # the obstacle this part may touch (a carried object's support)
+            kd[part, allowed[part]] = np.inf
     for part in range(c + 1):
         for k in range(m):
             j = order[k]

@@ -41,7 +41,7 @@ was not finite, or handed back to the numpy path (:mod:`armanim.motion.kernels.a
 
 
 World = tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray,
-              np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None]
+              np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray]
 """The obstacles as the kernels read them (:func:`world_arrays`): the solids' four arrays and the
 cylinders' four are None where the scene has none of them."""
 
@@ -138,8 +138,10 @@ def world_arrays(problem: Problem) -> World:
     """The obstacles as :func:`armanim.motion.kernels.check.obstacle_clearances` reads them: the
     spheres' centres and radii, the solids' (boxes and capsule obstacles' axes) centres, half
     edges, rotations and radii, the parts the floor leaves out, the columns' scene order, the
-    floor's height ((1,), or (0,) without one), and the cylinders' centres, rotations, half
-    lengths and radii.
+    floor's height ((1,), or (0,) without one), the cylinders' centres, rotations, half
+    lengths and radii, and each part's obstacle it may touch ((c+1,): its column among the
+    kinds' columns, spheres, solids, cylinders, the floor, before the scene's order is taken; -1
+    for none; :attr:`~armanim.arm.capsules.Capsules.part_allowed`).
 
     A scene without solids has None in their four places, one without cylinders in theirs: the
     kernels are compiled for the types they are called with, and a None leaves the closed forms of
@@ -157,7 +159,9 @@ def world_arrays(problem: Problem) -> World:
         (cylinders.rotations.reshape(-1, 3, 3), float), (cylinders.half_length, float), (cylinders.radius, float)))
     solid: tuple[np.ndarray | None, ...] = arrays[2:6] if len(arrays[5]) else (None,) * 4
     cylinder: tuple[np.ndarray | None, ...] = arrays[9:13] if len(arrays[12]) else (None,) * 4
-    return cast(World, arrays[:2] + solid + arrays[6:9] + cylinder)
+    allowed = caps.part_allowed
+    kind_column = np.where(allowed >= 0, np.asarray(order)[np.maximum(allowed, 0)], -1) if len(order) else allowed
+    return cast(World, arrays[:2] + solid + arrays[6:9] + cylinder + (_ints(kind_column),))
 
 
 def _floats(values: np.ndarray) -> np.ndarray:

@@ -33,6 +33,7 @@ from armanim.world.compiled import (
     _cylinder_depth,
     _cylinder_pair,
     _pair,
+    kind_count,
     segment_segment_pairs,
 )
 
@@ -117,6 +118,8 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
     centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base = world[:7]
     floor = world[8]
     cyl_centers, cyl_rotations, cyl_half, cyl_radius = world[9], world[10], world[11], world[12]
+    allowed = world[13]  # each capsule's obstacle it may touch (its kind column), -1: none
+    spheres, solids = radii.shape[0], kind_count(solid_radius)
     start, caps = members
     for g in range(start.shape[0] - 1):
         least = np.inf
@@ -128,17 +131,20 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
                 continue
             for m in range(start[g], start[g + 1]):
                 c = caps[m]
+                if allowed[c] == k:
+                    continue
                 d = _point_segment(centers[k, 0], centers[k, 1], centers[k, 2], a, b, c) - radii[k] - radius[c]
                 if d < least or d != d:
                     least = d
         least = _solids_least(least, a, b, radius, sphere, solid_centers, solid_half, solid_rotations, solid_radius, start[g],
-                              start[g + 1], caps, center[g], reach[g], far, s, normal)
+                              start[g + 1], caps, center[g], reach[g], far, s, normal, allowed, spheres)
         least = _cylinders_least(least, a, b, radius, sphere, cyl_centers, cyl_rotations, cyl_half, cyl_radius, start[g],
-                                 start[g + 1], caps, center[g], reach[g], far, s, normal)
+                                 start[g + 1], caps, center[g], reach[g], far, s, normal, allowed, spheres + solids)
         if floor.shape[0]:
+            f = spheres + solids + kind_count(cyl_radius)
             for m in range(start[g], start[g + 1]):
                 c = caps[m]
-                if not on_base[c]:
+                if not on_base[c] and allowed[c] != f:
                     d = min(a[c, 2], b[c, 2]) - floor[0] - radius[c]
                     if d < least or d != d:
                         least = d
@@ -153,10 +159,12 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
 @compiled(**JIT)
 def _solids_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, solid_centers: np.ndarray | None,
                   solid_half: np.ndarray | None, solid_rotations: np.ndarray | None, solid_radius: np.ndarray | None, begin: int, stop: int,
-                  caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray) -> float:
+                  caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray,
+                  allowed: np.ndarray, first: int) -> float:
     """:func:`_obstacle_least`'s ``least`` after the solids, for one group (its capsules
     ``caps[begin:stop]``, its bounding sphere ``center``, ``reach``); ``least`` itself without
-    solids (None: the box's closed form is not compiled)."""
+    solids (None: the box's closed form is not compiled). A capsule's pair with the obstacle it
+    may touch (``allowed``, a kind column; the solids' from ``first`` on) is left out."""
     if solid_centers is None or solid_half is None or solid_rotations is None or solid_radius is None:
         return least
     for k in range(solid_radius.shape[0]):
@@ -167,6 +175,8 @@ def _solids_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray
             continue
         for m in range(begin, stop):
             c = caps[m]
+            if allowed[c] == first + k:
+                continue
             if sphere[c] and solid_radius[k] == 0.0:
                 d = _point_box(a[c, 0], a[c, 1], a[c, 2], solid_centers[k], solid_half[k], solid_rotations[k])
             else:
@@ -180,7 +190,8 @@ def _solids_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray
 @compiled(**JIT)
 def _cylinders_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, cyl_centers: np.ndarray | None,
                      cyl_rotations: np.ndarray | None, cyl_half: np.ndarray | None, cyl_radius: np.ndarray | None, begin: int, stop: int,
-                     caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray) -> float:
+                     caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray,
+                     allowed: np.ndarray, first: int) -> float:
     """:func:`_solids_least` for the cylinders."""
     if cyl_centers is None or cyl_rotations is None or cyl_half is None or cyl_radius is None:
         return least
@@ -192,6 +203,8 @@ def _cylinders_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndar
             continue
         for m in range(begin, stop):
             c = caps[m]
+            if allowed[c] == first + k:
+                continue
             if sphere[c]:
                 d = _point_cylinder(a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k])
             else:
