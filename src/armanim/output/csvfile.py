@@ -267,7 +267,7 @@ def trajectory_csv_chunks(traj: Trajectory, slides: np.ndarray | None = None,
         rows = trajectory_rows(traj, time, slides, part)
         if carried is not None:
             held, clear = carried[0][part], carried[1][part]
-            more = [(str(h), c) for h, c in zip(held, _finite_texts(clear, len(rows)))]
+            more: list[tuple[str, ...]] = [(str(h), c) for h, c in zip(held, _finite_texts(clear, len(rows)))]
             if fingers is not None:
                 more = [m + (f,) for m, f in zip(more, _texts(fingers[part]))]
             rows = [row + extra for row, extra in zip(rows, more)]
