@@ -227,7 +227,7 @@ def test_a_collada_mesh_in_millimetres_is_fitted_in_metres(robot_dir):
                                    np.array([[*a, *b, r] for a, b, r in metres]), rtol=0, atol=1e-9, err_msg=unit)
 
 
-@pytest.mark.parametrize("unit", ["0", "-0.001", "nan", "1e300", "1e-300", "abc", ""])
+@pytest.mark.parametrize("unit", ["0", "-0.001", "nan", "1e300", "1e-300", "abc", "", "1_000"])
 def test_a_collada_unit_that_is_no_unit_is_an_error_at_its_line(robot_dir, unit):
     (robot_dir / "meshes" / "base.dae").write_text(_collada(_meshes()["base.stl"], unit, 1.0))
     (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.dae"))

@@ -224,7 +224,7 @@ def _unit_metres(document) -> float:
     text = node.get("meter") if node is not None else None
     if text is None:
         return 1.0
-    unit = asset.unitmeter  # pycollada's float(meter), None when that failed
+    unit = float(text) if _DECIMAL.fullmatch(text.strip()) else None  # not Python's float(): no "1_000", "inf", "nan"
     low, high = UNIT_METRES
     if unit is None or not low <= unit <= high:
         raise ValueError(f"its <unit meter={text[:40]!r}> is not a number of metres per unit from {low:g} (micrometres) "
@@ -232,6 +232,8 @@ def _unit_metres(document) -> float:
     return float(unit)
 
 
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+"""A decimal number as XML Schema writes one (xs:double without INF and NaN)."""
 UNIT_METRES = (1e-6, 1e3)
 """The COLLADA units armanim applies, metres per unit: micrometres to kilometres (a robot's mesh in
 another unit is a mistake; 1e-300 or 1e300 would make its corners vanish or overflow)."""
