@@ -215,7 +215,7 @@ def _unit_metres(document) -> float:
     Raises
     ------
     ValueError
-        The unit is not a positive finite number.
+        The unit is not a decimal number (as XML writes one) within :data:`UNIT_METRES`.
     """
     import collada
 
@@ -229,7 +229,7 @@ def _unit_metres(document) -> float:
     if unit is None or not low <= unit <= high:
         raise ValueError(f"its <unit meter={text[:40]!r}> is not a number of metres per unit from {low:g} (micrometres) "
                          f"to {high:g} (kilometres) (millimetres are meter=\"0.001\"; fix the file's <asset>)")
-    return float(unit)
+    return unit
 
 
 _DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
