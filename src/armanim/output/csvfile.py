@@ -154,7 +154,7 @@ def rows_csv_text(rows, text_cells: bool = False) -> str:
     """CSV text (LF line ends) of ``rows`` alone: :func:`table_csv_text`'s lines after its header.
 
     >>> rows_csv_text([["a", 1.5], ["b,c", ""]])
-    'a,1.5\n"b,c",\n'
+    'a,1.5\\n"b,c",\\n'
     """
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
