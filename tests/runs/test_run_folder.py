@@ -31,9 +31,11 @@ def test_render_out_writes_only_into_a_new_empty_or_armanim_folder(cli, tmp_path
     figures = tmp_path / "figures"
     figures.mkdir()
     (figures / "plot.png").write_text("my figure")
+    beside = sorted(p.name for p in tmp_path.iterdir())
     result = cli("render", finished_run, "--out", figures, "-q", "--jobs", "1")
     assert result.exit_code == 3 and "not made by armanim" in result.stderr and "plot.png" in result.stderr
     assert sorted(p.name for p in figures.iterdir()) == ["plot.png"] and (figures / "plot.png").read_text() == "my figure"
+    assert sorted(p.name for p in tmp_path.iterdir()) == beside  # the sixth campaign: a .figures.lock was made first
     fresh = tmp_path / "fresh"
     for _ in range(2):  # a new folder, then the folder armanim marked: replaced
         assert cli("render", finished_run, "--out", fresh, "-q", "--jobs", "1").exit_code == 0

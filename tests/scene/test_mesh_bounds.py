@@ -97,6 +97,44 @@ def test_a_fifo_a_mesh_names_is_never_opened(tmp_path):
     assert len(notes) == 1 and "a.gltf" in notes[0] and "not a format armanim reads" in notes[0]
 
 
+def test_a_visual_or_tool_mesh_that_is_no_regular_file_is_said_so_and_never_opened(tmp_path):
+    """The sixth campaign: a FIFO, a folder or a device named as a visual mesh or as
+    ``arm.tool.mesh`` was "not found" (and its note advised package_dirs); it is "not a regular
+    file", as a collision mesh's is, and the FIFO is never opened (the subprocess would wait for a
+    writer). A name with nothing there is still "not found"."""
+    os.mkfifo(tmp_path / "pipe.stl")
+    (tmp_path / "folder.stl").mkdir()
+    os.symlink("/dev/null", tmp_path / "device.stl")
+    names = ["pipe.stl", "folder.stl", "device.stl", "absent.stl"]
+    _urdf(tmp_path, "".join(_mesh(n) for n in names))
+    done = _in_a_subprocess(f"""
+        from pathlib import Path
+        from types import SimpleNamespace
+        from armanim.scene.looks import tool_meshes
+        from armanim.scene.visuals import link_meshes, visual_specs
+        path = Path("r.urdf")
+        notes = []
+        link_meshes(visual_specs(path.read_bytes(), str(path)), Path("."), [Path(".")], notes.append)
+        for name in {names!r}:
+            tool = SimpleNamespace(xyz=[0, 0, 0], rpy=[0, 0, 0], pen=None, mesh=name, gripper=None)
+            assert tool_meshes(tool, "l0", Path("."), notes.append) == []
+        print(*notes, sep="\\n")
+        """, tmp_path)
+    assert done.returncode == 0, done.stderr
+    notes = done.stdout.splitlines()
+    assert len(notes) == 8, notes
+    kinds = {"pipe.stl": "a FIFO (named pipe)", "folder.stl": "a folder", "device.stl": "a character device"}
+    for visual, tool, name in zip(notes[:4], notes[4:], names):
+        assert visual.startswith(f"link 'l0': mesh {name!r} ") and visual.endswith(": drawn as its capsules"), visual
+        assert tool.startswith(f"arm.tool.mesh: {name!r} ") and tool.endswith(": the tool is not drawn"), tool
+        for note in (visual, tool):
+            if name in kinds:
+                assert f"is not a regular file ({name} is {kinds[name]}: never read" in note and "not found" not in note, note
+            else:
+                assert "not found" in note and "regular" not in note, note
+    assert "package_dirs" in notes[3] and "package_dirs" not in notes[0]
+
+
 def _dae(nodes: str, top: str, triangles: int = 1) -> str:
     """A COLLADA file with one geometry of ``triangles`` triangles (``g``), the library nodes
     ``nodes`` and a scene of one node instancing ``top``."""
@@ -182,7 +220,7 @@ def test_special_and_broken_mesh_files_are_notes(tmp_path):
     (tmp_path / "n.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nf 1 2 3\nf 1 2 4\n")
     (mesh,), notes = _read(_urdf(tmp_path, "".join(_mesh(n) for n in ("f.stl", "d.obj", "g.stl", "o.obj", "n.obj"))))
     assert mesh.triangles == 1
-    assert len(notes) == 4 and "not found" in notes[0] and "not found" in notes[1], notes
+    assert len(notes) == 4 and "is not a regular file" in notes[0] and "is not a regular file" in notes[1], notes
     assert "not an STL file" in notes[2] and "charset" not in notes[2]
     assert "names a vertex" in notes[3]
 

@@ -186,6 +186,57 @@ def test_a_collision_mesh_that_is_no_regular_file_is_said_so_at_its_line(robot_d
     assert "meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl' is not a regular file (" in info.value.report()
 
 
+def _collada(mesh: trimesh.Trimesh, unit: str, per_metre: float) -> str:
+    """``mesh`` as a COLLADA file whose numbers are ``per_metre`` units a metre, declared as ``<unit meter="unit">``."""
+    points = " ".join(repr(float(v)) for v in (np.asarray(mesh.vertices) * per_metre).ravel())
+    faces = " ".join(str(int(i)) for i in np.asarray(mesh.faces).ravel())
+    return f"""<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><unit name="u" meter="{unit}"/><up_axis>Y_UP</up_axis></asset>
+<library_geometries><geometry id="g"><mesh>
+<source id="p"><float_array id="pa" count="{3 * len(mesh.vertices)}">{points}</float_array>
+<technique_common><accessor source="#pa" count="{len(mesh.vertices)}" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+<triangles count="{len(mesh.faces)}"><input semantic="VERTEX" source="#v" offset="0"/><p>{faces}</p></triangles>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"""
+
+
+def _capsule_rows(scene, link: str) -> list[tuple]:
+    return [(tuple(c.start), tuple(c.end), c.radius) for c in scene.model.arm.urdf_arm.capsules if c.link == link]
+
+
+def test_a_collada_mesh_in_millimetres_is_fitted_in_metres(robot_dir):
+    """The sixth campaign: ``<unit meter="0.001">`` was ignored and a millimetre mesh read as metres
+    (a base 1,000 times its size). The base as a COLLADA file in millimetres, and in inches, gets
+    the capsules of the same base in metres (as an STL, the fixture's); its ``<up_axis>`` (Y_UP) is
+    not applied, as RViz does not; pinocchio's loader (assimp, as coal builds it) reads such a
+    file's numbers as they are written (measured: 100 of a mm file is 100), so the oracle is the
+    STL."""
+    metres = _capsule_rows(load_scene(_scene(robot_dir)), "base")
+    base = _meshes()["base.stl"]
+    for unit, per_metre in (("0.001", 1000.0), ("0.0254", 1 / 0.0254), ("1", 1.0)):
+        (robot_dir / "meshes" / "base.dae").write_text(_collada(base, unit, per_metre))
+        (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.dae"))
+        rows = _capsule_rows(load_scene(_scene(robot_dir, name=f"s{unit}.yaml")), "base")
+        assert len(rows) == len(metres), unit
+        np.testing.assert_allclose(np.array([[*a, *b, r] for a, b, r in rows]),
+                                   np.array([[*a, *b, r] for a, b, r in metres]), rtol=0, atol=1e-9, err_msg=unit)
+
+
+@pytest.mark.parametrize("unit", ["0", "-0.001", "nan", "1e300", "1e-300", "abc", "", "1_000"])
+def test_a_collada_unit_that_is_no_unit_is_an_error_at_its_line(robot_dir, unit):
+    (robot_dir / "meshes" / "base.dae").write_text(_collada(_meshes()["base.stl"], unit, 1.0))
+    (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.dae"))
+    with pytest.raises(SceneError) as info:
+        load_scene(_scene(robot_dir))
+    assert (f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.dae' could not be read (ValueError: its <unit meter={unit!r}> is not "
+            "a number of metres per unit from 1e-06 (micrometres) to 1000 (kilometres)") in info.value.report()
+
+
 def test_an_obj_face_of_a_twenty_digit_vertex_number_is_an_error_at_its_line(robot_dir):
     """The sixth campaign: numpy's OverflowError was the message."""
     text = (robot_dir / "meshes" / "upper.obj").read_text()

@@ -101,7 +101,7 @@ def test_a_user_folder_at_the_run_folder_is_never_replaced(cli, tmp_path):
     assert result.exit_code == 3, result.output
     assert "not made by armanim" in result.stderr and "main.py" in result.stderr and "--out" in result.stderr
     assert (tmp_path / "src" / "main.py").read_text() == "print('mine')\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == [".src.lock", "scene.yaml", "src"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.yaml", "src"]  # refused before a .src.lock is made
 
 
 def test_a_user_file_added_to_a_run_folder_stops_the_next_run(cli, tmp_path):

@@ -526,15 +526,24 @@ def carried_clearance(problem: Problem, carry: CarryReport, phi: np.ndarray, goa
     out = np.full(len(goal), np.nan)
     problems = goal_problems(problem, carry)
     for k, world in enumerate(carry.worlds):
-        mine = goal == k
-        if world.held is None or not mine.any() or not len(problems[k].obstacles):
+        rows = np.nonzero(goal == k)[0]
+        if world.held is None or not len(rows) or not len(problems[k].obstacles):
             continue
         caps = problems[k].capsules
         own = np.arange(len(problem.capsules), len(caps))
         part = Capsules(caps.link[own], caps.start[own], caps.end[own], caps.radius[own], joint_segment=caps.joint_segment[own],
                         allowed=caps.allowed[own])
-        out[mine] = min_link_clearance(forward(problem.arm, phi[mine]), problems[k].obstacles, part)
+        for start in range(0, len(rows), FRAME_CHUNK):  # each link's frame per frame: bounded memory
+            some = rows[start:start + FRAME_CHUNK]
+            out[some] = min_link_clearance(forward(problem.arm, phi[some]), problems[k].obstacles, part)
     return out
+
+
+FRAME_CHUNK = 5_000
+"""Frames a carrying run's clearances are measured for at once (:func:`carried_clearance`, and
+its self pairs: :func:`armanim.motion.trajectory.with_world_self_clearance`): a grasp held an
+hour at 240 fps is 864,000 frames, and every link's placement in each of them at once was
+gigabytes."""
 
 
 def support_distance(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np.ndarray) -> np.ndarray:

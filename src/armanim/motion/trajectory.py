@@ -30,6 +30,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tool_rotation
 from armanim.motion.carry import (
+    FRAME_CHUNK,
     CarryReport,
     World,
     after_goal,
@@ -536,11 +537,6 @@ rounding never flips trajectory.csv's ``self_pair`` between two pairs at the sam
 arm's two link pairs at 0.8, each a kinematics rounding apart)."""
 
 
-SELF_CHUNK = 20_000
-"""Frames whose self pairs :func:`with_world_self_clearance` measures at once (a run at the frame
-limit, a million frames, would need gigabytes for every capsule's placement in one call)."""
-
-
 def with_world_self_clearance(problem: Problem, carry: CarryReport, traj: Trajectory, pose: Pose | None = None) -> Trajectory:
     """:func:`with_self_clearance` of a run that carries objects: each frame's pairs measured in
     its goal's world (NaN and no pair where that world has none)."""
@@ -553,8 +549,8 @@ def with_world_self_clearance(problem: Problem, carry: CarryReport, traj: Trajec
         if not len(solved.self_pairs) or not mine.any():
             continue
         rows = np.nonzero(mine)[0]
-        for start in range(0, len(rows), SELF_CHUNK):  # each capsule's world frame per frame: bounded memory
-            some = rows[start:start + SELF_CHUNK]
+        for start in range(0, len(rows), FRAME_CHUNK):  # each capsule's world frame per frame: bounded memory
+            some = rows[start:start + FRAME_CHUNK]
             part = with_self_clearance(solved, replace(traj, phi=traj.phi[some], goal=traj.goal[some]),
                                        type(pose)(pose.points[some], pose.frames[some]))
             least[some], pair[some] = part.self_clearance, part.self_pair

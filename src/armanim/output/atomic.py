@@ -12,7 +12,7 @@ import errno
 import os
 import secrets
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from armanim.errors import OutputError
@@ -72,9 +72,11 @@ def _fresh_temporary(path: Path, suffix: str = "") -> Path:
     return Path(tmp_name)
 
 
-def _write_synced(path: Path, data: bytes) -> None:
+def _write_synced(path: Path, data: bytes | Iterable[bytes]) -> None:
+    """Write ``data`` (bytes, or its pieces one after the other) to ``path``, flushed to disk."""
     with open(path, "wb") as handle:
-        handle.write(data)
+        for piece in (data,) if isinstance(data, bytes) else data:
+            handle.write(piece)
         handle.flush()
         os.fsync(handle.fileno())
 
@@ -160,6 +162,14 @@ def write_bytes_atomic(path: Path, data: bytes) -> None:
     """Write bytes to ``path`` atomically (flushed to disk before the rename)."""
     with temporary_beside(path) as tmp:
         _write_synced(tmp, data)
+
+
+def write_chunks_atomic(path: Path, chunks: Iterable[bytes]) -> None:
+    """Write ``chunks`` one after the other to ``path`` atomically, never holding them all: a
+    long file (trajectory.csv) is made a chunk at a time in its temporary file, which is
+    renamed onto ``path`` when complete (on an error or Ctrl-C it is removed, ``path`` as it was)."""
+    with temporary_beside(path) as tmp:
+        _write_synced(tmp, chunks)
 
 
 def write_text_atomic(path: Path, text: str) -> None:

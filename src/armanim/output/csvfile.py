@@ -36,7 +36,7 @@ import numpy as np
 from armanim.arm.kinematics import joints_in_si, joints_shown
 from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
-from armanim.output.atomic import write_target, write_text_atomic
+from armanim.output.atomic import write_chunks_atomic, write_target, write_text_atomic
 from armanim.output.files import open_regular
 from armanim.output.solved import SolvedRun
 
@@ -97,32 +97,39 @@ def _finite_texts(values: np.ndarray | None, frames: int) -> list[str]:
     return [text if math.isfinite(v) else "" for v, text in zip(np.asarray(values, dtype=float).tolist(), _texts(values))]
 
 
-def trajectory_rows(traj: Trajectory, time_s: np.ndarray, slides: np.ndarray | None = None) -> list[tuple[str, ...]]:
-    """The CSV fields of every frame, at ``time_s`` (F,) (angles in degrees, a prismatic joint's
-    values in metres; empty clearance without obstacles, empty orientation error for a
-    position-only goal), built a column at a time."""
-    frames = traj.frames
-    quaternion = traj.tool_quaternion if traj.tool_quaternion is not None else np.full((frames, 4), np.nan)
-    velocity = traj.velocity if traj.velocity is not None else np.zeros(traj.phi.shape)
-    angle = None if traj.orientation_error is None else np.degrees(traj.orientation_error)
+def trajectory_rows(traj: Trajectory, time_s: np.ndarray, slides: np.ndarray | None = None,
+                    frames: slice = slice(None)) -> list[tuple[str, ...]]:
+    """The CSV fields of the frames ``frames`` (default all; a step of 1), at ``time_s`` (F,)
+    (angles in degrees, a prismatic joint's values in metres; empty clearance without obstacles,
+    empty orientation error for a position-only goal), built a column at a time."""
+    first, stop, _ = frames.indices(traj.frames)
+    count = max(stop - first, 0)
+
+    def cut(values):
+        return None if values is None else values[first:stop]
+
+    quaternion = cut(traj.tool_quaternion) if traj.tool_quaternion is not None else np.full((count, 4), np.nan)
+    velocity = cut(traj.velocity) if traj.velocity is not None else np.zeros((count, traj.phi.shape[1]))
+    angle = None if traj.orientation_error is None else np.degrees(cut(traj.orientation_error))
+    self_pair = cut(traj.self_pair)
     columns = [
-        [str(i) for i in range(frames)],
-        _texts(time_s[:frames]),
-        [str(g) for g in traj.goal.tolist()],
-        *(_texts(c) for c in joints_shown(traj.phi, slides).T),
-        *(_texts(c) for c in traj.tip.T),
-        _texts(traj.distance),
-        _finite_texts(traj.clearance, frames),
-        ["1" if r else "0" for r in traj.reached.tolist()],
-        _texts(traj.step_scale),
-        [str(k) for k in traj.iterations.tolist()],
-        [str(m) for m in traj.modes],
-        *(_finite_texts(c, frames) for c in quaternion.T),
-        _finite_texts(angle, frames),
-        _texts(traj.self_clearance) if traj.self_clearance is not None else [""] * frames,
-        [str(p) for p in traj.self_pair] if traj.self_pair is not None else [""] * frames,
-        _finite_texts(traj.path_s, frames),
-        _finite_texts(traj.path_error, frames),
+        [str(i) for i in range(first, first + count)],
+        _texts(time_s[first:stop]),
+        [str(g) for g in cut(traj.goal).tolist()],
+        *(_texts(c) for c in joints_shown(cut(traj.phi), slides).T),
+        *(_texts(c) for c in cut(traj.tip).T),
+        _texts(cut(traj.distance)),
+        _finite_texts(cut(traj.clearance), count),
+        ["1" if r else "0" for r in cut(traj.reached).tolist()],
+        _texts(cut(traj.step_scale)),
+        [str(k) for k in cut(traj.iterations).tolist()],
+        [str(m) for m in cut(traj.modes)],
+        *(_finite_texts(c, count) for c in quaternion.T),
+        _finite_texts(angle, count),
+        _texts(cut(traj.self_clearance)) if traj.self_clearance is not None else [""] * count,
+        [str(p) for p in self_pair] if self_pair is not None else [""] * count,
+        _finite_texts(cut(traj.path_s), count),
+        _finite_texts(cut(traj.path_error), count),
         *(_texts(c) for c in joints_shown(velocity, slides).T),
     ]
     return list(zip(*columns))
@@ -140,9 +147,17 @@ def table_csv_text(columns, rows, text_cells: bool = False) -> str:
     '=1+1.yaml,-0.5
     '@a,-2
     """
+    return rows_csv_text([columns]) + rows_csv_text(rows, text_cells)
+
+
+def rows_csv_text(rows, text_cells: bool = False) -> str:
+    """CSV text (LF line ends) of ``rows`` alone: :func:`table_csv_text`'s lines after its header.
+
+    >>> rows_csv_text([["a", 1.5], ["b,c", ""]])
+    'a,1.5\\n"b,c",\\n'
+    """
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(columns)
     writer.writerows(([spreadsheet_text(cell) for cell in row] for row in rows) if text_cells else rows)
     return buffer.getvalue()
 
@@ -228,27 +243,47 @@ def _as_marked(path: Path) -> bool:
     return digest.hexdigest() == recorded.get("sha256")
 
 
+CSV_CHUNK_ROWS = 2_000
+"""Rows of trajectory.csv formatted at once (about 3 MB of text for a 7-joint arm, some 25 MB as Python strings while formatted): the file is
+written a chunk at a time, so an hour at 240 fps (864,000 rows) never holds its text whole."""
+
+
+def trajectory_csv_chunks(traj: Trajectory, slides: np.ndarray | None = None,
+                          carried: tuple[np.ndarray, np.ndarray] | None = None, fingers: np.ndarray | None = None,
+                          chunk_rows: int = CSV_CHUNK_ROWS) -> Iterator[str]:
+    """trajectory.csv's text: its header line, then ``chunk_rows`` rows at a time (``slides``:
+    which joints are prismatic, the arm's ``prismatic``; None: all revolute; ``carried``: a run
+    that grasps, each frame's held object's name and its clearance, the columns ``held`` and
+    ``carried_clearance``; ``fingers``: such a run's gripper value in each frame, metres per
+    finger, the last column ``gripper_m``). Joined, the chunks are the file byte for byte
+    whatever ``chunk_rows`` is."""
+    names = header(traj.phi.shape[1], slides)
+    if carried is not None:
+        names += ["held", "carried_clearance"] + (["gripper_m"] if fingers is not None else [])
+    yield rows_csv_text([names])
+    time = traj.time
+    for first in range(0, traj.frames, chunk_rows):
+        part = slice(first, min(first + chunk_rows, traj.frames))
+        rows = trajectory_rows(traj, time, slides, part)
+        if carried is not None:
+            held, clear = carried[0][part], carried[1][part]
+            more: list[tuple[str, ...]] = [(str(h), c) for h, c in zip(held, _finite_texts(clear, len(rows)))]
+            if fingers is not None:
+                more = [m + (f,) for m, f in zip(more, _texts(fingers[part]))]
+            rows = [row + extra for row, extra in zip(rows, more)]
+        yield rows_csv_text(rows)
+
+
 def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None, carried: tuple[np.ndarray, np.ndarray] | None = None,
                         fingers: np.ndarray | None = None) -> str:
-    """The whole trajectory.csv as text (``slides``: which joints are prismatic, the arm's
-    ``prismatic``; None: all revolute; ``carried``: a run that grasps, each frame's held object's
-    name and its clearance, the columns ``held`` and ``carried_clearance``; ``fingers``: such a
-    run's gripper value in each frame, metres per finger, the last column ``gripper_m``)."""
-    time = traj.time
-    rows = trajectory_rows(traj, time, slides)
-    if carried is None:
-        return table_csv_text(header(traj.phi.shape[1], slides), rows)
-    held, clear = carried
-    more: list[tuple[str, ...]] = [(str(h), c) for h, c in zip(held, _finite_texts(clear, traj.frames))]
-    names = ["held", "carried_clearance"]
-    if fingers is not None:
-        more = [m + (f,) for m, f in zip(more, _texts(fingers))]
-        names.append("gripper_m")
-    return table_csv_text([*header(traj.phi.shape[1], slides), *names], [row + extra for row, extra in zip(rows, more)])
+    """The whole trajectory.csv as text (:func:`trajectory_csv_chunks` joined; for tests and
+    goldens: a run writes the chunks, :func:`write_trajectory_csv`)."""
+    return "".join(trajectory_csv_chunks(traj, slides, carried, fingers))
 
 
-def write_trajectory_csv(run: SolvedRun, path: Path) -> None:
-    """Write the run's trajectory.csv atomically (it has no options: every run writes it whole)."""
+def write_trajectory_csv(run: SolvedRun, path: Path, chunk_rows: int = CSV_CHUNK_ROWS) -> None:
+    """Write the run's trajectory.csv atomically (it has no options: every run writes it whole),
+    ``chunk_rows`` rows at a time into its temporary file (:func:`trajectory_csv_chunks`)."""
     carry, traj = run.solution.carry, run.trajectory
     carried, fingers = None, None
     if carry is not None:
@@ -256,7 +291,8 @@ def write_trajectory_csv(run: SolvedRun, path: Path) -> None:
 
         carried = (carry.held_names(traj.goal), carried_clearance(run.problem, carry, traj.phi, traj.goal))
         fingers = frame_fingers(run.problem, carry, traj.goal, traj.fps)
-    write_text_atomic(path, trajectory_csv_text(traj, run.problem.arm.prismatic, carried, fingers))
+    chunks = trajectory_csv_chunks(traj, run.problem.arm.prismatic, carried, fingers, chunk_rows)
+    write_chunks_atomic(path, (chunk.encode("utf-8") for chunk in chunks))
 
 
 REQUIRED_TAIL = ("x", "y", "z", "goal_distance", "clearance", "reached")

@@ -186,6 +186,8 @@ def replace_problem(final: Path) -> str | None:
         mode = os.lstat(final).st_mode
     except FileNotFoundError:
         return None
+    except NotADirectoryError:  # a file above it (checked before anything is made: nothing there to name)
+        return "a file stands where a folder is needed in its path"
     except OSError as exc:
         return f"cannot be inspected ({exc.strerror or exc})"
     if stat.S_ISLNK(mode):
@@ -303,9 +305,10 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
         the new folder is in place.
     """
     final = Path(final)
+    check_replaceable(final)  # refused before anything is made: no lock file beside a folder it refuses
     with folder_lock(final):
         recover(final)
-        check_replaceable(final)  # fail before the work, not after it
+        check_replaceable(final)  # again under the lock (fail before the work, not after it)
         try:
             staged = Path(tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".partial", dir=final.parent))
             staged.chmod(0o777 & ~current_umask())

@@ -20,7 +20,7 @@ from armanim.motion.trajectory import frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv
 from armanim.output.jsontext import json_text, parse_json
-from armanim.output.rundir import folder_lock, refuse_in_run_folder, staged_folder
+from armanim.output.rundir import check_replaceable, folder_lock, refuse_in_run_folder, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
 from armanim.output.solved import RunTiming, SolvedRun
 from armanim.output.summary import run_summary, write_summary
@@ -372,6 +372,7 @@ def rerender_run(
             raise UsageError(f"--out: {target} is inside the run folder {folder}, which the next run replaces "
                              "whole (choose a folder outside it)")
         refuse_in_run_folder(target, "--out", itself=True)  # another run's folder, or a folder inside one
+        check_replaceable(target)  # a folder it may not replace: refused before any work (and again when staged)
         with folder_lock(folder):  # read the run whole, never half replaced by a run of it
             run = load_run(folder)
         # staged and swapped like a run folder: into a new, empty or armanim-marked folder only, its

@@ -25,6 +25,7 @@ from armanim.scene.visuals import (
     default_package_dirs,
     link_meshes,
     mesh_file_triangles,
+    not_a_file,
     simplified,
     unreadable_reason,
     visual_specs,
@@ -110,20 +111,28 @@ def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None
         for shape, rgb in ((nib, PEN_NIB_RGB), (body, PEN_BODY_RGB)):
             parts.append(LinkMesh(tip_link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
                                   np.tile(rgb, (len(shape.faces), 1))))
-    if tool.mesh is not None:
-        path = scene_dir / tool.mesh
-        try:
-            if mesh_format(path.name) is None:
-                raise ValueError("not a format armanim reads (STL, OBJ or COLLADA .dae; archives are never opened)")
-            if not path.is_file():
-                raise FileNotFoundError("no such file")
-            parts.append(mesh_file_triangles(VisualSpec(tip_link, np.eye(4), "mesh", tool.mesh, (1.0, 1.0, 1.0), (), None, 0),
-                                             path, reader or MeshReader()))
-        except Exception as error:  # a user's file: any reader error is a note, never a failed run
-            raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
-            warn(f"arm.tool.mesh: {str(path)!r} could not be read ({unreadable_reason(error)}): the tool is not drawn")
+    if tool.mesh is not None and (mesh := _tool_file(tool.mesh, tip_link, scene_dir / tool.mesh, warn, reader)) is not None:
+        parts.append(mesh)
     placed = [LinkMesh(tip_link, m.vertices @ frame[:3, :3].T + frame[:3, 3], m.faces, m.colors) for m in parts]
     return placed + (panda_gripper(tip_link) if tool.gripper == "panda" else [])
+
+
+def _tool_file(name: str, tip_link: str, path: Path, warn: Callable[[str], None], reader: MeshReader | None) -> LinkMesh | None:
+    """``arm.tool.mesh`` (``name``, at ``path``) read, in the tool frame; None and a note when it
+    cannot be (a FIFO, a folder or a device there is never opened: it is not a regular file)."""
+    if mesh_format(path.name) is None:
+        reason = "could not be read (not a format armanim reads (STL, OBJ or COLLADA .dae; archives are never opened))"
+    elif not path.is_file():
+        reason = not_a_file([path]) or "not found (it is relative to the scene file's folder)"
+    else:
+        try:
+            return mesh_file_triangles(VisualSpec(tip_link, np.eye(4), "mesh", name, (1.0, 1.0, 1.0), (), None, 0),
+                                       path, reader or MeshReader())
+        except Exception as error:  # a user's file: any reader error is a note, never a failed run
+            raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
+            reason = f"could not be read ({unreadable_reason(error)})"
+    warn(f"arm.tool.mesh: {str(path)!r} {reason}: the tool is not drawn")
+    return None
 
 
 def panda_gripper(tip_link: str) -> list[LinkMesh]:

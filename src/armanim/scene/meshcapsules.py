@@ -190,13 +190,9 @@ def _link_mesh(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path]
             continue
         path = mesh_path(spec.filename or "", urdf_dir, package_dirs)
         if path is None:
-            other = visuals.not_a_file(spec.filename or "", urdf_dir, package_dirs)
-            if other is not None:
-                problem(f"{where} is not a regular file ({other}: a FIFO, a folder or a device is never read; name a mesh file)",
-                        spec.line)
-            else:
-                problem(f"{where} not found (set arm.package_dirs to the folders its package:// names live in, "
-                        "or give arm.collision)", spec.line)
+            other = visuals.not_a_file(visuals.mesh_candidates(spec.filename or "", urdf_dir, package_dirs))
+            problem(f"{where} {other}" if other else f"{where} not found (set arm.package_dirs to the folders its "
+                    "package:// names live in, or give arm.collision)", spec.line)
             continue
         try:
             mesh = mesh_file_triangles(spec, path, reader)

@@ -65,7 +65,8 @@ def read_mesh(data: bytes, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarra
     Returns
     -------
     vertices : (n, 3) float array
-        In the file's units, placed by its own transforms (COLLADA's nodes).
+        In the file's units, placed by its own transforms (COLLADA's nodes); a COLLADA file's in
+        metres, its ``<unit>`` applied (:func:`_unit_metres`; STL and OBJ declare none).
     faces : (m, 3) int array
         Every triangle with finite corners (one with a NaN or infinite corner is left out).
     colors : (m, 3) float array
@@ -188,6 +189,7 @@ def _dae(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         document = collada.Collada(io.BytesIO(data), ignore=broken)
     finally:
         raise_if_interrupted()
+    unit = _unit_metres(document)
     roots = list(document.scene.nodes) if document.scene is not None else []
     count = _placed_count(roots)
     if count > MAX_FILE_TRIANGLES:
@@ -199,9 +201,42 @@ def _dae(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     raise_if_interrupted()
     if not parts:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=int), np.zeros((0, 3))
-    corners = np.concatenate([p for p, _ in parts])
+    corners = np.concatenate([p for p, _ in parts]) * unit
     colors = np.concatenate([np.tile(rgb, (len(p), 1)) for p, rgb in parts])
     return corners.reshape(-1, 3), np.arange(3 * len(corners)).reshape(-1, 3), colors
+
+
+def _unit_metres(document) -> float:
+    """Metres per unit of a COLLADA document: its ``<asset><unit meter="...">`` (1 without one,
+    COLLADA's default), applied to every placed corner as RViz and Gazebo apply it (trimesh and
+    pycollada only record it; assimp as coal builds it, and so pinocchio, ignores it). Its
+    ``<up_axis>`` is not applied, as RViz does not: a URDF's link frame is the file's frame.
+
+    Raises
+    ------
+    ValueError
+        The unit is not a decimal number (as XML writes one) within :data:`UNIT_METRES`.
+    """
+    import collada
+
+    asset = document.assetInfo
+    node = asset.xmlnode.find(collada.tag("unit")) if asset is not None and asset.xmlnode is not None else None
+    text = node.get("meter") if node is not None else None
+    if text is None:
+        return 1.0
+    unit = float(text) if _DECIMAL.fullmatch(text.strip()) else None  # not Python's float(): no "1_000", "inf", "nan"
+    low, high = UNIT_METRES
+    if unit is None or not low <= unit <= high:
+        raise ValueError(f"its <unit meter={text[:40]!r}> is not a number of metres per unit from {low:g} (micrometres) "
+                         f"to {high:g} (kilometres) (millimetres are meter=\"0.001\"; fix the file's <asset>)")
+    return unit
+
+
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+"""A decimal number as XML Schema writes one (xs:double without INF and NaN)."""
+UNIT_METRES = (1e-6, 1e3)
+"""The COLLADA units armanim applies, metres per unit: micrometres to kilometres (a robot's mesh in
+another unit is a mistake; 1e-300 or 1e300 would make its corners vanish or overflow)."""
 
 
 def _placed_count(roots: list) -> int:

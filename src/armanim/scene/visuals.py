@@ -22,7 +22,8 @@ warning naming the link and the file (its link is then drawn as its capsules); n
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import os
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,7 +32,7 @@ import numpy as np
 from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
 from armanim.errors import SceneError
-from armanim.output.files import read_bounded
+from armanim.output.files import read_bounded, special_kind
 from armanim.scene.meshfiles import VISUAL_COLOR, mesh_format, raise_if_interrupted, read_mesh
 from armanim.scene.urdf import Element, Robot, _parse_xml
 
@@ -176,16 +177,32 @@ def mesh_path(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Path |
     ...     str(found.relative_to(d))
     'pkg/meshes/a.stl'
     """
-    return next((c for c in _mesh_candidates(filename, urdf_dir, package_dirs) if c.is_file()), None)
+    return next((c for c in mesh_candidates(filename, urdf_dir, package_dirs) if c.is_file()), None)
 
 
-def not_a_file(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Path | None:
-    """Where a mesh ``filename`` names something that exists but is no regular file (a FIFO, a
-    folder, a device), when :func:`mesh_path` finds no file; None when nothing is there."""
-    return next((c for c in _mesh_candidates(filename, urdf_dir, package_dirs) if c.exists() and not c.is_file()), None)
+def not_a_file(candidates: Iterable[Path]) -> str | None:
+    """Why a mesh named at ``candidates`` (:func:`mesh_candidates`; a tool mesh's one path) is not
+    read, when :func:`mesh_path` finds no file there: the phrase ``is not a regular file (PATH is a
+    FIFO (named pipe): ...)`` for the first that exists as something else, None when nothing is there
+    (it is not found). The one check of all three kinds of mesh (visual, collision, tool); nothing is
+    opened (a FIFO would block).
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     not_a_file([Path(d) / "none.stl", Path(d)]).startswith("is not a regular file")
+    True
+    """
+    for candidate in candidates:
+        try:
+            kind = special_kind(os.stat(candidate).st_mode)
+        except (OSError, ValueError):  # absent, a dangling link, a loop, a NUL in the name
+            continue
+        if kind is not None:
+            return f"is not a regular file ({candidate} is {kind}: never read; name a mesh file)"
+    return None
 
 
-def _mesh_candidates(filename: str, urdf_dir: Path, package_dirs: list[Path]):
+def mesh_candidates(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Iterator[Path]:
     """The paths a mesh ``filename`` may name, in :func:`mesh_path`'s order."""
     if filename.startswith("package://"):
         name, _, rest = filename[len("package://"):].partition("/")
@@ -240,8 +257,10 @@ def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn:
             return None
         path = mesh_path(spec.filename or "", urdf_dir, package_dirs)
         if path is None:
-            warn(f"link {spec.link!r}: mesh {spec.filename!r} not found (line {spec.line}; set arm.package_dirs "
-                 "to the folders its package:// names live in): drawn as its capsules")
+            other = not_a_file(mesh_candidates(spec.filename or "", urdf_dir, package_dirs))
+            warn(f"link {spec.link!r}: mesh {spec.filename!r} " + (f"{other} (line {spec.line})" if other else
+                 f"not found (line {spec.line}; set arm.package_dirs to the folders its package:// names live in)")
+                 + ": drawn as its capsules")
             return None
         try:
             mesh = mesh_file_triangles(spec, path, reader)
