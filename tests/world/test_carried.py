@@ -304,10 +304,11 @@ def test_a_finished_run_read_back_carries_the_box_again(tmp_path):
     import csv
     import json
 
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
     from armanim.runs.reload import load_run
 
-    folder = run_scene(DATA / "pick-box.yaml", tmp_path, video=False, viewer=False).folder
+    folder = run_scene(DATA / "pick-box.yaml", tmp_path, RunOptions(video=False, viewer=False)).folder
     rows = list(csv.DictReader(open(folder / "trajectory.csv", newline="")))
     assert {r["held"] for r in rows} == {"", "part"}
     assert all((r["carried_clearance"] == "") == (r["held"] == "") for r in rows)
