@@ -22,17 +22,7 @@ from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import cluttered_problems
 
 from armanim.arm.kinematics import Arm, forward
-from armanim.motion.planning import plan_motion
-from armanim.motion.planning.follow import path_frames
-from armanim.motion.planning.path import (
-    motion_is_free,
-    motion_samples,
-    plan_iterations,
-)
-from armanim.motion.planning.poses import goal_poses
-from armanim.motion.problem import Goal, Limits, Problem
-from armanim.motion.solvers import METHODS, arm_state, step_function
-from armanim.motion.solvers.barrier import (
+from armanim.motion.filter.barrier import (
     kept_clearance,
     limit_buffer,
     planning_floor,
@@ -44,6 +34,16 @@ from armanim.motion.solvers.barrier import (
     takes_unchanged,
     within_limits,
 )
+from armanim.motion.planning import plan_motion
+from armanim.motion.planning.follow import path_frames
+from armanim.motion.planning.path import (
+    motion_is_free,
+    motion_samples,
+    plan_iterations,
+)
+from armanim.motion.planning.poses import goal_poses
+from armanim.motion.problem import Goal, Limits, Problem
+from armanim.motion.solvers import METHODS, arm_state, step_function
 from armanim.motion.stalls import stall_frames
 from armanim.motion.trajectory import _next_on_path, _Visit, solve_trajectory
 from armanim.motion.tunables import DEFAULTS

@@ -77,7 +77,7 @@ def load_lightly(dispatcher: Any) -> None:
         cache.__class__ = _LoadsLightly
 
 
-COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "motion/kernels/linalg.py", "motion/kernels/tasks.py",
+COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/timing/passes.py", "motion/kernels/linalg.py", "motion/kernels/tasks.py",
                     "motion/kernels/check.py", "motion/kernels/qp.py", "motion/kernels/attempt.py", "motion/kernels/frame.py",
                     "motion/planning/check.py", "render/solids/rasterloops.py")
 """Every module of armanim that defines compiled functions (paths inside the package): one's

@@ -3,7 +3,7 @@
 Frame 0 is the home pose. For each goal the loop steps until |e - g| < tolerance (and,
 for a goal with an orientation, the tool's angle to it is below ``orientation_tolerance``),
 then holds the pose for the goal's hold frames. Every frame's step is the method's
-proposal passed through the safety filter (:func:`armanim.motion.solvers.barrier.safe_step`).
+proposal passed through the safety filter (:func:`armanim.motion.filter.barrier.safe_step`).
 
 When half a second of frames makes less progress than the tolerance (a local
 minimum, a saddle, a singular pose, circling), the goal has stalled (:mod:`armanim.motion.stalls`): with
@@ -39,15 +39,15 @@ from armanim.motion.carry import (
     needs_carrying,
     world_problem,
 )
-from armanim.motion.following import Along, Route, followed_route, most_path_frames
+from armanim.motion.filter.barrier import SafeStep, safe_step
+from armanim.motion.framestep import method_step
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
+from armanim.motion.paths.following import Along, Route, followed_route, most_path_frames
 from armanim.motion.planning import plan_joint_motion, plan_motion
 from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
-from armanim.motion.solvers.barrier import SafeStep, safe_step
-from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
 from armanim.world.selfdistances import self_gaps
@@ -177,7 +177,7 @@ def solve_trajectory(
         frames (:data:`armanim.motion.planning.path.Searched`); each plan counts from 0 again.
     along : callable, optional
         ``along(done, most)``: a path goal's progress in thousandths of its path while it is
-        followed (:data:`armanim.motion.following.Along`), between two frames; each trial counts
+        followed (:data:`armanim.motion.paths.following.Along`), between two frames; each trial counts
         from 0 again.
     timer : callable, optional
         ``timer(k, seconds)``: the wall time goal ``k`` took (its IK, planning and frames), as

@@ -13,10 +13,10 @@ from pathlib import Path
 from armanim.arm.visuals import LinkPlaces
 from armanim.errors import OutputError, UsageError
 from armanim.motion.carry import touch_allowed
-from armanim.motion.clock import ClockTooLong
 from armanim.motion.problem import Problem
-from armanim.motion.retime import at_fps, retime
 from armanim.motion.solution import Solution
+from armanim.motion.timing.clock import ClockTooLong
+from armanim.motion.timing.retime import at_fps, retime
 from armanim.motion.trajectory import frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv

@@ -405,7 +405,7 @@ def convert_scene(scene: SceneModel, fps: float | None = None, *, own_pairs: boo
     fps : float, optional
         Frames per second of the frames the problem describes, when they are not the
         scene's own (a finished run shown at ``run --fps``). The motion is always solved at
-        ``render.fps``, then put on the clock at the output rate (:func:`armanim.motion.retime.retime`)
+        ``render.fps``, then put on the clock at the output rate (:func:`armanim.motion.timing.retime.retime`)
         or, for a finished run, resampled (:func:`armanim.runs.resample.resample_run`).
     own_pairs : bool
         Find the arm's own pairs to keep apart (``arm.self_collision``); False leaves them empty,

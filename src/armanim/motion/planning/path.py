@@ -22,8 +22,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import (
+from armanim.motion.filter.barrier import (
     kept_clearance,
     obstacle_rows,
     planning_floor,
@@ -34,6 +33,7 @@ from armanim.motion.solvers.barrier import (
     split_clearances,
     within_limits,
 )
+from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import arm_state
 from armanim.motion.tunables import DEFAULTS, PlannerOptions
 from armanim.names import PathSource
@@ -174,7 +174,7 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
     """A free path from ``start`` to one of ``goals`` (nearest first), or none.
 
     First with room: to the goal poses with room to settle, every pose of the path at least
-    :func:`~armanim.motion.solvers.barrier.settle_clearance` from every obstacle, so that the
+    :func:`~armanim.motion.filter.barrier.settle_clearance` from every obstacle, so that the
     filter (which slows every approach to what it keeps) lets the arm follow it; an arm resting
     closer than that first steps straight away from the surfaces (:func:`escape_pose`). Then,
     if that finds nothing, to any goal pose at the planning floor.
