@@ -333,7 +333,7 @@ def test_goal_poses_keep_what_the_filter_keeps_and_the_roomy_come_first():
 def test_the_planned_path_never_runs_ahead_of_an_arm_the_filter_holds_back():
     problem = notes_problem()
     step = problem.solver.max_joint_step
-    visit = _Visit(0, problem.goals[0], [1.0], path=[np.full(4, k * step) for k in range(1, 6)])
+    visit = _Visit(0, problem.goals[0], [1.0], [None], [1.0], path=[np.full(4, k * step) for k in range(1, 6)])
     state = arm_state(problem, np.zeros(4))
     assert np.allclose(_next_on_path(problem, state, visit), step) and len(visit.path) == 4  # on schedule
     held = arm_state(problem, np.full(4, 0.2 * step))  # the filter let the arm move a fifth of the way
@@ -353,7 +353,7 @@ def test_a_frame_that_ends_its_path_takes_the_planned_step():
 
     problem = notes_problem(method="gradient")
     state = arm_state(problem, np.zeros(4))
-    visit = _Visit(0, problem.goals[0], [1.0], path=[np.zeros(4)], planning=PlanningReport())
+    visit = _Visit(0, problem.goals[0], [1.0], [None], [1.0], path=[np.zeros(4)], planning=PlanningReport())
     moved = _one_frame(problem, solver_method("gradient"), _Recorder(), state, visit)
     assert visit.path == [] and visit.frames == 1 and visit.planning.frames == 1
     np.testing.assert_array_equal(moved.phi, state.phi)  # at the last pose: the planned step is 0

@@ -47,7 +47,7 @@ class Capsules:
     end: np.ndarray
     radius: np.ndarray
     names: tuple[str, ...] = ()
-    joint_segment: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[arg-type]  # None: __post_init__ fills it
+    joint_segment: np.ndarray = field(default=cast(np.ndarray, None), repr=False, compare=False)  # None: __post_init__ fills it
     part_radius: np.ndarray = field(init=False, repr=False, compare=False)
     """(c+1,) the radius of every part that clearances are measured from: the capsules', then
     the tip's, 0 (a point)."""

@@ -66,7 +66,8 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
 
         rtsys.initialize(target_context)
         with self._guard_against_spurious_io_errors():
-            return self._load_overload(sig, target_context)  # type: ignore[no-untyped-call]  # numba's own, untyped
+            load: Any = self._load_overload  # numba's own, untyped
+            return load(sig, target_context)
 
 
 def load_lightly(dispatcher: Any) -> None:

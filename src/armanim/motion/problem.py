@@ -288,9 +288,9 @@ class Problem:
     goals: tuple[Goal, ...]
     solver: SolverSettings
     fps: float
-    capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
-    rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
-    self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
+    capsules: Capsules = cast(Capsules, None)  # None: joint_capsules(arm, half_width), filled by __post_init__
+    rates: RateLimits = cast(RateLimits, None)  # None: link_arm_rates(n, max_joint_step, fps)
+    self_pairs: SelfPairs = cast(SelfPairs, None)  # None: SelfPairs.none()
     tunables: Tunables = DEFAULTS
     gripper: Gripper | None = None
     _lever_arms: np.ndarray = field(init=False, repr=False, compare=False)  # set by __post_init__

@@ -107,8 +107,8 @@ class _Visit:
     index: int
     goal: Goal
     distances: list[float]
-    angles: list[float | None] = None  # type: ignore[assignment]  # radians to the goal's orientation; None entries for a position-only goal (None: all None)
-    progress: list[float] = None  # type: ignore[assignment]  # pose_distance: the distances themselves for a position-only goal (None: those)
+    angles: list[float | None]  # radians to the goal's orientation; None entries for a position-only goal
+    progress: list[float]  # pose_distance: the distances themselves for a position-only goal
     frames: int = 0
     iterations: int = 0
     newton_iterations: int = 0
@@ -120,12 +120,6 @@ class _Visit:
     last_step: np.ndarray | None = None  # the method's last joint step taken
     damping: float = 1.0  # the factor on the method's steps toward a goal beyond reach, halved at each turn back (:func:`_damped`)
     beyond: bool = False  # the goal lies beyond the arm's reach (its steps are damped while they turn back)
-
-    def __post_init__(self) -> None:
-        if self.angles is None:
-            self.angles = [None] * len(self.distances)
-        if self.progress is None:
-            self.progress = list(self.distances)
 
 
 def hold_frames(problem: Problem, goal: Goal) -> int:
@@ -306,7 +300,7 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
     assert goal.joints is not None
     first = len(rec) if k else 0
     distance, _, _ = goal_errors(problem, state, goal)
-    visit = _Visit(k, goal, [distance])
+    visit = _Visit(k, goal, [distance], [None], [distance])  # a joint goal: no orientation, its distance its progress
     plan = None
     if joint_error(state.phi, goal) > problem.solver.joint_tolerance:
         plan = plan_joint_motion(problem, state.phi, goal.joints, planning)

@@ -487,8 +487,10 @@ def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
     keys, pair_group = np.unique(ga * len(carriers) + gb, return_inverse=True)
     pair_members = np.argsort(pair_group, kind="stable")
     pair_start = np.searchsorted(pair_group[pair_members], np.arange(len(keys) + 1))
-    return tuple(np.ascontiguousarray(v, dtype=np.int64) for v in (  # type: ignore[return-value]  # six arrays
-        start, members, keys // max(len(carriers), 1), keys % max(len(carriers), 1), pair_start, pair_members))
+    groups = max(len(carriers), 1)
+    start, members, low, high, pair_start, pair_members = (np.ascontiguousarray(v, dtype=np.int64) for v in (
+        start, members, keys // groups, keys % groups, pair_start, pair_members))
+    return start, members, low, high, pair_start, pair_members
 
 
 def pair_capsule_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray,

@@ -401,12 +401,15 @@ def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: floa
             return check.pose_free(phi[0], floor)
         return bool(within_limits(problem, phi)[0] and pose_clearance(problem, phi)[0] >= floor)
 
-    class SampledMotions(ob.MotionValidator):  # type: ignore[misc]  # OMPL's Python bindings ship no types: the base is Any
-        def checkMotion(self, s1: Any, s2: Any, *_: Any) -> bool:
-            a, b = _array(s1, n), _array(s2, n)
-            free, used = check.motion_free(a, b, floor) if check is not None else motion_is_free(problem, a, b, floor)
-            checks[0] += used
-            return free
+    def check_motion(validator: Any, s1: Any, s2: Any, *_: Any) -> bool:
+        a, b = _array(s1, n), _array(s2, n)
+        free, used = check.motion_free(a, b, floor) if check is not None else motion_is_free(problem, a, b, floor)
+        checks[0] += used
+        return free
+
+    # OMPL's bindings ship no types (the base is Any, which a class statement may not subclass
+    # under strict mypy): the subclass is made by its base's metaclass, as a class statement would
+    SampledMotions = type(ob.MotionValidator)("SampledMotions", (ob.MotionValidator,), {"checkMotion": check_motion})
 
     si.setStateValidityChecker(state_is_free)
     validator = SampledMotions(si)
