@@ -49,7 +49,7 @@ from oracles.paths import STEP, check_gaps, followed_fraction  # noqa: E402
 from oracles.robots import robot_geometry  # noqa: E402
 
 from armanim.arm.geometry import wrap_angle  # noqa: E402
-from armanim.motion.filter.barrier import kept_clearance, kept_self_clearance  # noqa: E402
+from armanim.motion.filter.clearance import kept_clearance, kept_self_clearance  # noqa: E402
 from armanim.motion.orientation import Orientation  # noqa: E402
 from armanim.motion.problem import Goal, Problem  # noqa: E402
 from armanim.motion.solution import Solution  # noqa: E402

@@ -9,7 +9,7 @@ import pytest
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.filter.barrier import limit_buffer
+from armanim.motion.filter.clearance import limit_buffer
 from armanim.motion.paths.following import most_path_frames
 from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step

@@ -14,7 +14,7 @@ from test_lockstep import ARMS, numpy_only, pair_qp, problem_of, robot, target_o
 
 from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion import ik
-from armanim.motion.filter.barrier import within_limits
+from armanim.motion.filter.clearance import within_limits
 from armanim.motion.kernels import attempt
 from armanim.motion.kernels.layout import PINV
 from armanim.motion.orientation import orientation_angle

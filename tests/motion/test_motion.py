@@ -22,16 +22,14 @@ from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import cluttered_problems
 
 from armanim.arm.kinematics import Arm, forward
-from armanim.motion.filter.barrier import (
+from armanim.motion.filter.barrier import point_travel_bound, safe_step, takes_unchanged
+from armanim.motion.filter.clearance import (
     kept_clearance,
     limit_buffer,
     planning_floor,
-    point_travel_bound,
     pose_clearance,
     pose_is_free,
-    safe_step,
     settle_clearance,
-    takes_unchanged,
     within_limits,
 )
 from armanim.motion.planning import plan_motion

@@ -232,7 +232,7 @@ def test_bad_orientations_are_clear_errors_with_field_and_line(tmp_path, goal, e
 
 from dataclasses import replace  # noqa: E402
 
-from armanim.motion.filter.barrier import within_limits  # noqa: E402
+from armanim.motion.filter.clearance import within_limits  # noqa: E402
 from armanim.motion.ik import solve_pose  # noqa: E402
 from armanim.motion.orientation import orientation_rows  # noqa: E402
 from armanim.motion.problem import Goal  # noqa: E402

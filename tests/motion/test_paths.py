@@ -19,7 +19,7 @@ from invariants import assert_trajectory_invariants
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward, tool_rotation
-from armanim.motion.filter.barrier import limit_buffer
+from armanim.motion.filter.clearance import limit_buffer
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Goal, Problem
 from armanim.motion.solution import Solution
@@ -231,7 +231,7 @@ def test_a_path_held_by_the_arms_own_links_near_a_limit_goes_on_without_the_limi
     null space and folds links 2 and 4 onto each other (the pair at the filter's floor at 12 %); the
     follow without that push gets farther (the benchmark's oracle, with the filter's floors, 15 %),
     every sample inside the limits' buffer and its pairs at the filter's floor."""
-    from armanim.motion.filter.barrier import kept_self_clearance
+    from armanim.motion.filter.clearance import kept_self_clearance
     from armanim.motion.paths.following import follow_path, followed_route
     from armanim.motion.solvers import arm_state, solver_method
 

@@ -16,7 +16,7 @@ from strategies import cluttered_problems, robot_problems
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Arm, forward
-from armanim.motion.filter.barrier import pose_clearance
+from armanim.motion.filter.clearance import pose_clearance
 from armanim.motion.problem import Goal, Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
 from armanim.motion.timing.retime import at_fps, retime

@@ -1,7 +1,7 @@
 """The planner's collision checks, compiled (numba): poses' margins and a motion's certificate.
 
 RRT-Connect asks thousands of poses and motions whether they are free. In numpy each pose costs
-some 400 microseconds of calls (:func:`~armanim.motion.filter.barrier.split_clearances`); here
+some 400 microseconds of calls (:func:`~armanim.motion.filter.clearance.split_clearances`); here
 one pose is its kinematics (:mod:`armanim.arm.kernel`), its capsules' clearances to every obstacle
 and the floor (:func:`armanim.motion.kernels.check.obstacle_clearances`, in the scene's order)
 and its enabled pairs' gaps (:func:`armanim.world.compiled.capsule_pair_gaps`) in one call, and a
@@ -23,7 +23,7 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_lever_rows, next_axis_reach
 from armanim.arm.kernel import INLINE, JIT, _capsule_ends_one, _forward_one, compiled, packed_chain
-from armanim.motion.filter.barrier import limit_buffer, self_shift
+from armanim.motion.filter.clearance import limit_buffer, self_shift
 from armanim.motion.kernels.layout import World, world_arrays
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
@@ -537,7 +537,7 @@ class CompiledCheck:
     """One problem's arrays as the compiled checks read them, packed once per plan.
 
     ``closed``: a motion's ends may rest on the limits (a joint goal's path), else they keep the
-    filter's buffer inside them, as :func:`~armanim.motion.filter.barrier.within_limits`.
+    filter's buffer inside them, as :func:`~armanim.motion.filter.clearance.within_limits`.
     Clearances and gaps are exact below ``far`` (the planner's ``exact_within`` of the arm's
     reach) and lower bounds of at least ``far``
     beyond it: a motion certified by them is certified.
@@ -588,7 +588,7 @@ class CompiledCheck:
 
     def margins(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(k,) the least obstacle clearance and (k, P) the shifted pair gaps of poses ``phi`` (k, n):
-        :func:`~armanim.motion.filter.barrier.split_clearances`, compiled."""
+        :func:`~armanim.motion.filter.clearance.split_clearances`, compiled."""
         phi = np.ascontiguousarray(np.atleast_2d(phi), dtype=float)
         clear = np.empty(len(phi))
         own = np.empty((len(phi), len(self.pairs[0])))
@@ -597,12 +597,12 @@ class CompiledCheck:
         return clear, own
 
     def pose_clearances(self, phi: np.ndarray) -> np.ndarray:
-        """(k,) :func:`~armanim.motion.filter.barrier.pose_clearance` of poses ``phi`` (k, n), compiled."""
+        """(k,) :func:`~armanim.motion.filter.clearance.pose_clearance` of poses ``phi`` (k, n), compiled."""
         clear, own = self.margins(phi)
         return clear if not own.shape[1] else np.minimum(clear, own.min(axis=1))
 
     def pose_clearance(self, phi: np.ndarray) -> float:
-        """One pose's :func:`~armanim.motion.filter.barrier.pose_clearance` (n,), compiled."""
+        """One pose's :func:`~armanim.motion.filter.clearance.pose_clearance` (n,), compiled."""
         clear, own = self.margins(phi)
         return float(min(clear[0], own.min())) if own.size else float(clear[0])
 

@@ -22,13 +22,11 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from armanim.motion.filter.barrier import (
+from armanim.motion.filter.barrier import obstacle_rows, point_travel_bound, self_pair_rows
+from armanim.motion.filter.clearance import (
     kept_clearance,
-    obstacle_rows,
     planning_floor,
-    point_travel_bound,
     pose_clearance,
-    self_pair_rows,
     settle_clearance,
     split_clearances,
     within_limits,
@@ -174,7 +172,7 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
     """A free path from ``start`` to one of ``goals`` (nearest first), or none.
 
     First with room: to the goal poses with room to settle, every pose of the path at least
-    :func:`~armanim.motion.filter.barrier.settle_clearance` from every obstacle, so that the
+    :func:`~armanim.motion.filter.clearance.settle_clearance` from every obstacle, so that the
     filter (which slows every approach to what it keeps) lets the arm follow it; an arm resting
     closer than that first steps straight away from the surfaces (:func:`escape_pose`). Then,
     if that finds nothing, to any goal pose at the planning floor.

@@ -25,7 +25,7 @@ import numpy as np
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
 from armanim.motion.carry import goal_problems, world_clearance
-from armanim.motion.filter.barrier import pose_clearance, self_shift
+from armanim.motion.filter.clearance import pose_clearance, self_shift
 from armanim.motion.orientation import frame_orientations
 from armanim.motion.planning import joint_path_floor, plan_joint_motion
 from armanim.motion.planning.path import motion_is_free
