@@ -39,6 +39,7 @@ from unittest import mock
 import yaml
 
 from armanim.runs.batch import run_batch
+from armanim.runs.options import RunOptions
 
 PLANAR = {
     "version": 1,
@@ -74,11 +75,11 @@ def write_scenes(folder: Path) -> list[Path]:
 ONE_BLAS_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 
-def timed_batch(paths, out: Path, environ: dict | None = None, **kwargs) -> float:
+def timed_batch(paths, out: Path, environ: dict | None = None, jobs: int | None = None, **kwargs) -> float:
     """Seconds for run_batch; ``environ`` is set while it runs (spawned workers inherit it)."""
     with mock.patch.dict(os.environ, environ or {}):  # restored as it was, even on an error
         start = time.perf_counter()
-        entries = run_batch(paths, out, video=True, **kwargs)
+        entries = run_batch(paths, out, RunOptions(video=True, jobs=jobs), **kwargs)
         elapsed = time.perf_counter() - start
     bad = [e for e in entries if e.status != "ok"]
     if bad:

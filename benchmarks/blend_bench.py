@@ -38,8 +38,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from armanim.arm.geometry import wrap_angle  # noqa: E402
 from armanim.arm.kinematics import forward  # noqa: E402
-from armanim.motion.blend import judged_radius  # noqa: E402
-from armanim.motion.retime import retime  # noqa: E402
+from armanim.motion.timing.blend import judged_radius  # noqa: E402
+from armanim.motion.timing.retime import retime  # noqa: E402
 from armanim.motion.trajectory import solve_trajectory  # noqa: E402
 from armanim.scene import scene_model, scene_to_problem  # noqa: E402
 from armanim.world.distances import clearances  # noqa: E402
@@ -115,8 +115,12 @@ def under_clearance(problem, traj) -> int:
 def shortened_at_rest(problem, solution) -> float:
     """Seconds of the run at rest with each goal's path shortened and smoothed alone (no via: its
     ends kept), as a blended part's is: the share of the gain the path's shape gives."""
-    from armanim.motion.goalmotion import goal_motions
-    from armanim.motion.retime import _parts, _shaped_part, path_safety  # the clock's own steps, one goal at a time
+    from armanim.motion.timing.goalmotion import goal_motions
+    from armanim.motion.timing.retime import (  # the clock's own steps, one goal at a time
+        _parts,
+        _shaped_part,
+        path_safety,
+    )
 
     src, rates = solution.trajectory, problem.rates
     safety = path_safety(problem, src)

@@ -34,9 +34,9 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.kinematics import forward, tool_rotation
+from armanim.motion.filter.clearance import within_limits
 from armanim.motion.ik import solve_pose
 from armanim.motion.orientation import Orientation, orientation_angle
-from armanim.motion.solvers.barrier import within_limits
 from armanim.scene import scene_model, scene_to_problem
 from armanim.scene.robots import bundled_robot
 

@@ -23,8 +23,8 @@ import time
 
 import numpy as np
 
+import armanim.motion.filter.barrier as barrier
 import armanim.motion.ik as ik
-import armanim.motion.solvers.barrier as barrier
 import armanim.motion.solvers.linear as linear
 from armanim.arm import kernel, kinematics
 from armanim.arm.kinematics import forward, tool_rotation

@@ -21,11 +21,11 @@ Per problem, in one process after the first compile:
    ``solver.clearance`` from every object, every enabled pair ``self_clearance`` apart, as the
    importer writes them); any other problem with the scene is a failure of armanim and is counted so;
 3. the **solve**: the scene to a timed trajectory (:func:`~armanim.motion.trajectory.solve_trajectory`
-   and the clock, :func:`~armanim.motion.retime.retime`), wall time and this process's CPU time
+   and the clock, :func:`~armanim.motion.timing.retime.retime`), wall time and this process's CPU time
    measured around it (on a busy machine the CPU time is the fairer figure: other processes inflate
    it less);
 4. an **independent check** of every frame: the clearances of the numpy reference
-   (:func:`armanim.motion.solvers.barrier.split_clearances`, not the compiled checks the planner used)
+   (:func:`armanim.motion.filter.clearance.split_clearances`, not the compiled checks the planner used)
    against ``solver.clearance`` and ``self_clearance``, and the last frame against the goal.
 
 It prints, per robot and family: valid, solved, median and p95 solve time, median joint path length
@@ -112,8 +112,8 @@ def problem_files(archive: Path, robot: str, families: list[str], limit: int | N
 def solve_problem(robot: str, family: str, index: int, files: dict[str, bytes], data: Path, work: Path) -> Outcome:
     """Import, validate, solve and check one problem (see the module's docstring)."""
     from armanim.errors import SceneError
-    from armanim.motion.retime import retime
-    from armanim.motion.solvers.barrier import split_clearances
+    from armanim.motion.filter.clearance import split_clearances
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene.convert import scene_to_problem
     from armanim.scene.loader import scene_from_bytes

@@ -48,7 +48,7 @@ def check(data: dict, mode: str) -> tuple[bool, bool, str, object]:
 
 def solved(scene) -> bool:
     """Whether the admitted problem's solve (planning, then the clock) reaches its joint goal."""
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene.convert import scene_to_problem
 

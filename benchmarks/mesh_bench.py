@@ -19,7 +19,8 @@ from pathlib import Path
 from armanim.arm.kinematics import forward
 from armanim.render.settings import RenderOverrides
 from armanim.render.video.segment import frame_drawer
-from armanim.runs.pipeline import settings_of, solve_scene, with_meshes
+from armanim.runs.options import RunOptions, output_choice
+from armanim.runs.pipeline import solve_scene, with_meshes
 from armanim.scene import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -40,7 +41,7 @@ def frame_seconds(run, settings) -> float:
 def measure(name: str, size: tuple[int, int], rounds: int) -> tuple[float, float, int]:
     """(ms a frame with meshes, ms a frame as capsules, triangles drawn) for one scene."""
     scene = load_scene(ROOT / "scenes" / f"{name}.yaml")
-    settings = settings_of(scene, RenderOverrides(size=size))
+    settings = output_choice(scene, RunOptions(render=RenderOverrides(size=size)))[1].render
     run = solve_scene(scene, 10.0)
     meshed, _ = with_meshes(run, scene, settings)
     capsules = replace(settings, robot="capsules")

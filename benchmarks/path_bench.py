@@ -49,11 +49,11 @@ from oracles.paths import STEP, check_gaps, followed_fraction  # noqa: E402
 from oracles.robots import robot_geometry  # noqa: E402
 
 from armanim.arm.geometry import wrap_angle  # noqa: E402
+from armanim.motion.filter.clearance import kept_clearance, kept_self_clearance  # noqa: E402
 from armanim.motion.orientation import Orientation  # noqa: E402
 from armanim.motion.problem import Goal, Problem  # noqa: E402
-from armanim.motion.retime import retime  # noqa: E402
 from armanim.motion.solution import Solution  # noqa: E402
-from armanim.motion.solvers.barrier import kept_clearance, kept_self_clearance  # noqa: E402
+from armanim.motion.timing.retime import retime  # noqa: E402
 from armanim.motion.trajectory import solve_trajectory  # noqa: E402
 from armanim.scene import scene_model, scene_to_problem  # noqa: E402
 

@@ -48,7 +48,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from armanim.arm.capsules import capsule_ends  # noqa: E402
 from armanim.arm.kinematics import forward  # noqa: E402
 from armanim.motion.carry import World, goal_problems, touch_links, world_problem  # noqa: E402
-from armanim.motion.retime import retime  # noqa: E402
+from armanim.motion.timing.retime import retime  # noqa: E402
 from armanim.motion.trajectory import solve_trajectory  # noqa: E402
 from armanim.scene import scene_model, scene_to_problem  # noqa: E402
 from armanim.scene.checks import scene_problems  # noqa: E402

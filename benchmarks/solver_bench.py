@@ -27,10 +27,10 @@ from dataclasses import replace
 import numpy as np
 
 from armanim.arm.kinematics import Arm, forward
+from armanim.motion.filter.barrier import safe_step
 from armanim.motion.ik import solve_pose
 from armanim.motion.problem import Goal, Limits, Problem, SolverSettings
 from armanim.motion.solvers import METHODS, arm_state
-from armanim.motion.solvers.barrier import safe_step
 from armanim.motion.solvers.linear import pinv_step
 from armanim.scene import default_solver_settings
 from armanim.world.distances import clearances, min_link_clearance

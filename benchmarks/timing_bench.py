@@ -30,8 +30,8 @@ sys.path[:0] = [str(ROOT / "benchmarks"), str(ROOT / "tests")]  # the toppra ora
 from toppra_oracle import toppra_trajectory  # noqa: E402
 
 from armanim.arm.geometry import wrap_angle  # noqa: E402
-from armanim.motion.jointpath import joint_path  # noqa: E402
-from armanim.motion.retime import retime  # noqa: E402
+from armanim.motion.timing.jointpath import joint_path  # noqa: E402
+from armanim.motion.timing.retime import retime  # noqa: E402
 from armanim.motion.trajectory import hold_frames, solve_trajectory  # noqa: E402
 from armanim.scene import load_scene, scene_model, scene_to_problem  # noqa: E402
 

@@ -9,10 +9,10 @@ import pytest
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.following import most_path_frames
+from armanim.motion.filter.clearance import limit_buffer
+from armanim.motion.paths.following import most_path_frames
 from armanim.motion.problem import Problem
 from armanim.motion.solution import MISS_REASONS, Solution, max_joint_step
-from armanim.motion.solvers.barrier import limit_buffer
 from armanim.motion.trajectory import frame_budget, hold_frames
 from armanim.world.distances import clearances
 from armanim.world.selfdistances import self_gaps

@@ -8,7 +8,7 @@ import pytest
 
 
 def toppra_trajectory(path, speed: np.ndarray, acceleration: np.ndarray, gridpoints: int = 8000):
-    """toppra's trajectory along ``path`` (a :func:`armanim.motion.clock.joint_path`: both time
+    """toppra's trajectory along ``path`` (a :func:`armanim.motion.timing.clock.joint_path`: both time
     exactly the same geometry) within ``speed`` and ``acceleration`` (n,), from rest to rest, on
     ``gridpoints`` grid points; the test skips where toppra is not installed."""
     pytest.importorskip("toppra")

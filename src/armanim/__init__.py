@@ -20,6 +20,7 @@ _LAZY = {
     "run_sweep": ("armanim.runs.sweep", "run_sweep"),
     "parse_setting": ("armanim.runs.sweep", "parse_setting"),
     "RenderOverrides": ("armanim.render.settings", "RenderOverrides"),
+    "RunOptions": ("armanim.runs.options", "RunOptions"),
     "solve_pose": ("armanim.motion.ik", "solve_pose"),
     "forward": ("armanim.arm.kernel", "forward"),  # compiled (numba, loaded on first use); numpy's is arm.kinematics.forward
     "Arm": ("armanim.arm.kinematics", "Arm"),

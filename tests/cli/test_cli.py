@@ -372,7 +372,7 @@ def test_ik_falls_back_on_the_planners_free_pose_search_and_says_so(cli, monkeyp
     import armanim.motion.ik as ik
     from armanim import load_scene, scene_to_problem
     from armanim.arm.kinematics import forward
-    from armanim.motion.solvers.barrier import pose_is_free
+    from armanim.motion.filter.clearance import pose_is_free
 
     problem = scene_to_problem(load_scene(POCKET).model)
     goal = problem.goals[0].position

@@ -18,9 +18,9 @@ from runfolders import assert_reruns_byte_identical
 from strategies import joint_goal_problems
 from toppra_oracle import toppra_trajectory
 
-from armanim.motion.clock import time_optimal
-from armanim.motion.jointpath import joint_path
-from armanim.motion.retime import at_fps, retime, via_paths
+from armanim.motion.timing.clock import time_optimal
+from armanim.motion.timing.jointpath import joint_path
+from armanim.motion.timing.retime import at_fps, retime, via_paths
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem

@@ -11,9 +11,9 @@ from hypothesis import strategies as st
 from scipy.interpolate import PchipInterpolator
 from toppra_oracle import toppra_trajectory
 
-from armanim.motion.clock import sampled_motion, time_optimal
-from armanim.motion.goalmotion import PathSafety, goal_motion, probed_steps, two_sided_bound
-from armanim.motion.jointpath import joint_path, pchip_slopes
+from armanim.motion.timing.clock import sampled_motion, time_optimal
+from armanim.motion.timing.goalmotion import PathSafety, goal_motion, probed_steps, two_sided_bound
+from armanim.motion.timing.jointpath import joint_path, pchip_slopes
 
 
 def _random_path(seed: int, n: int, steps: int, jitter: float) -> np.ndarray:

@@ -14,12 +14,12 @@ from test_lockstep import ARMS, numpy_only, pair_qp, problem_of, robot, target_o
 
 from armanim.arm.kinematics import forward, tool_rotation
 from armanim.motion import ik
+from armanim.motion.filter.clearance import within_limits
 from armanim.motion.kernels import attempt
 from armanim.motion.kernels.layout import PINV
 from armanim.motion.orientation import orientation_angle
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.motion.solvers import solver_method
-from armanim.motion.solvers.barrier import within_limits
 from armanim.motion.solvers.common import arm_state
 from armanim.scene import default_solver_settings
 from armanim.world.obstacles import Obstacles

@@ -1,4 +1,4 @@
-"""The safety filter's fast path (:func:`armanim.motion.solvers.barrier.clearly_allowed`): when it
+"""The safety filter's fast path (:func:`armanim.motion.filter.barrier.clearly_allowed`): when it
 says a proposal meets every constraint by bounds alone, the constraints it did not build agree."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import cluttered_problems, robot_problems
 
-from armanim.motion.solvers.barrier import clearly_allowed, filter_constraints, filtered_step
+from armanim.motion.filter.barrier import clearly_allowed, filter_constraints, filtered_step
 from armanim.motion.solvers.common import arm_state
 
 

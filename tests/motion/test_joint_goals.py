@@ -14,7 +14,7 @@ from runfolders import assert_reruns_byte_identical
 from strategies import joint_goal_problems
 
 from armanim.arm.kinematics import forward
-from armanim.motion.retime import retime
+from armanim.motion.timing.retime import retime
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem

@@ -22,6 +22,16 @@ from invariants import assert_trajectory_invariants, small_planning_budget
 from strategies import cluttered_problems
 
 from armanim.arm.kinematics import Arm, forward
+from armanim.motion.filter.barrier import point_travel_bound, safe_step, takes_unchanged
+from armanim.motion.filter.clearance import (
+    kept_clearance,
+    limit_buffer,
+    planning_floor,
+    pose_clearance,
+    pose_is_free,
+    settle_clearance,
+    within_limits,
+)
 from armanim.motion.planning import plan_motion
 from armanim.motion.planning.follow import path_frames
 from armanim.motion.planning.path import (
@@ -32,18 +42,6 @@ from armanim.motion.planning.path import (
 from armanim.motion.planning.poses import goal_poses
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.motion.solvers import METHODS, arm_state, step_function
-from armanim.motion.solvers.barrier import (
-    kept_clearance,
-    limit_buffer,
-    planning_floor,
-    point_travel_bound,
-    pose_clearance,
-    pose_is_free,
-    safe_step,
-    settle_clearance,
-    takes_unchanged,
-    within_limits,
-)
 from armanim.motion.stalls import stall_frames
 from armanim.motion.trajectory import _next_on_path, _Visit, solve_trajectory
 from armanim.motion.tunables import DEFAULTS
@@ -333,7 +331,7 @@ def test_goal_poses_keep_what_the_filter_keeps_and_the_roomy_come_first():
 def test_the_planned_path_never_runs_ahead_of_an_arm_the_filter_holds_back():
     problem = notes_problem()
     step = problem.solver.max_joint_step
-    visit = _Visit(0, problem.goals[0], [1.0], path=[np.full(4, k * step) for k in range(1, 6)])
+    visit = _Visit(0, problem.goals[0], [1.0], [None], [1.0], path=[np.full(4, k * step) for k in range(1, 6)])
     state = arm_state(problem, np.zeros(4))
     assert np.allclose(_next_on_path(problem, state, visit), step) and len(visit.path) == 4  # on schedule
     held = arm_state(problem, np.full(4, 0.2 * step))  # the filter let the arm move a fifth of the way
@@ -353,7 +351,7 @@ def test_a_frame_that_ends_its_path_takes_the_planned_step():
 
     problem = notes_problem(method="gradient")
     state = arm_state(problem, np.zeros(4))
-    visit = _Visit(0, problem.goals[0], [1.0], path=[np.zeros(4)], planning=PlanningReport())
+    visit = _Visit(0, problem.goals[0], [1.0], [None], [1.0], path=[np.zeros(4)], planning=PlanningReport())
     moved = _one_frame(problem, solver_method("gradient"), _Recorder(), state, visit)
     assert visit.path == [] and visit.frames == 1 and visit.planning.frames == 1
     np.testing.assert_array_equal(moved.phi, state.phi)  # at the last pose: the planned step is 0

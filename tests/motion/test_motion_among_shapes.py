@@ -52,7 +52,7 @@ def test_filter_slides_along_a_box_and_around_its_edge(method, rpy, goal):
 
 
 def test_filter_slides_instead_of_stopping_at_a_box_face():
-    from armanim.motion.solvers.barrier import safe_step
+    from armanim.motion.filter.barrier import safe_step
     from armanim.motion.solvers.common import arm_state
 
     # a wall whose face is exactly solver.clearance (0.05) beyond the straight arm's capsules (radius 0.25)

@@ -232,10 +232,10 @@ def test_bad_orientations_are_clear_errors_with_field_and_line(tmp_path, goal, e
 
 from dataclasses import replace  # noqa: E402
 
+from armanim.motion.filter.clearance import within_limits  # noqa: E402
 from armanim.motion.ik import solve_pose  # noqa: E402
 from armanim.motion.orientation import orientation_rows  # noqa: E402
 from armanim.motion.problem import Goal  # noqa: E402
-from armanim.motion.solvers.barrier import within_limits  # noqa: E402
 from armanim.motion.trajectory import solve_trajectory  # noqa: E402
 from armanim.output.csvfile import trajectory_csv_text  # noqa: E402
 from armanim.output.summary import goal_report_dict  # noqa: E402

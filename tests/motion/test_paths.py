@@ -19,11 +19,11 @@ from invariants import assert_trajectory_invariants
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward, tool_rotation
+from armanim.motion.filter.clearance import limit_buffer
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Goal, Problem
-from armanim.motion.retime import at_fps, retime
 from armanim.motion.solution import Solution
-from armanim.motion.solvers.barrier import limit_buffer
+from armanim.motion.timing.retime import at_fps, retime
 from armanim.motion.toolpath import ToolPath
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import load_scene, scene_model, scene_to_problem
@@ -231,9 +231,9 @@ def test_a_path_held_by_the_arms_own_links_near_a_limit_goes_on_without_the_limi
     null space and folds links 2 and 4 onto each other (the pair at the filter's floor at 12 %); the
     follow without that push gets farther (the benchmark's oracle, with the filter's floors, 15 %),
     every sample inside the limits' buffer and its pairs at the filter's floor."""
-    from armanim.motion.following import follow_path, followed_route
+    from armanim.motion.filter.clearance import kept_self_clearance
+    from armanim.motion.paths.following import follow_path, followed_route
     from armanim.motion.solvers import arm_state, solver_method
-    from armanim.motion.solvers.barrier import kept_self_clearance
 
     start, end = [0.30158668, -0.01074863, 0.32955472], [0.15908835, 0.16129915, 0.26926259]
     scene = scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [start],

@@ -11,9 +11,9 @@ import pytest
 
 from armanim.arm.capsules import capsule_ends, capsule_lever_rows, next_axis_reach
 from armanim.arm.kinematics import forward
+from armanim.motion.filter.clearance import split_clearances, within_limits
 from armanim.motion.planning.check import CompiledCheck, frame_margins, pair_capsule_rows
 from armanim.motion.planning.path import motion_is_free
-from armanim.motion.solvers.barrier import split_clearances, within_limits
 from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
 from armanim.world.distances import min_link_clearance

@@ -104,9 +104,9 @@ def test_a_goal_whose_only_poses_fold_the_arm_is_a_no_free_pose_miss_naming_the_
 def test_certified_motion_checks_cover_the_arms_own_pairs():
     """motion_is_free's step bound covers pairs that move relative to each other: whatever it
     certifies, a fine sampling of the same straight motion keeps the floor (to its certification slack)."""
+    from armanim.motion.filter.clearance import pose_clearance
     from armanim.motion.planning.path import motion_is_free
     from armanim.motion.problem import Limits, Problem
-    from armanim.motion.solvers.barrier import pose_clearance
     from armanim.motion.tunables import DEFAULTS
     from armanim.world.obstacles import Obstacles
 

@@ -1,4 +1,4 @@
-"""A blended sequence's path shortened and smoothed (:mod:`armanim.motion.smoothing`), checked in a
+"""A blended sequence's path shortened and smoothed (:mod:`armanim.motion.timing.smoothing`), checked in a
 plane of two joints among discs, where the clearance is known exactly: every step the smoothing
 calls certified keeps the floor everywhere on the clock's path through it (evaluated densely, the
 discs' exact distances), the kept poses stay (ends exact, each via's curve within its test), and the
@@ -11,8 +11,8 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from armanim.motion.jointpath import joint_path
-from armanim.motion.smoothing import Certifier, certified_samples, line, smoothed_poses
+from armanim.motion.timing.jointpath import joint_path
+from armanim.motion.timing.smoothing import Certifier, certified_samples, line, smoothed_poses
 
 FLOOR = 0.05
 

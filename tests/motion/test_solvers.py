@@ -11,10 +11,10 @@ from conftest import SCENES, solved_scene
 
 from armanim.arm.kinematics import Arm, forward
 from armanim.arm.linalg import PINV_RTOL, pseudo_inverse, singular_factors
+from armanim.motion.filter.barrier import safe_step
 from armanim.motion.ik import solve_pose
 from armanim.motion.problem import Goal, Limits, Problem
 from armanim.motion.solvers import METHODS, arm_state, step_function
-from armanim.motion.solvers.barrier import safe_step
 from armanim.motion.solvers.linear import damped_inverse
 from armanim.motion.trajectory import solve_trajectory
 from armanim.names import MethodName

@@ -76,8 +76,8 @@ def test_a_goal_beyond_reach_is_given_up_without_shaking_the_arm(method):
     # arm stretches toward the goal, settles, and the goal stalls.
     from dataclasses import replace
 
-    from armanim.motion.retime import retime
     from armanim.motion.stalls import stall_frames
+    from armanim.motion.timing.retime import retime
     from armanim.scene import load_scene, scene_to_problem
 
     base = scene_to_problem(load_scene(SCENES / "out-of-reach.yaml").model)
@@ -104,7 +104,7 @@ def test_a_goal_beyond_reach_is_given_up_without_shaking_the_arm(method):
 def test_a_path_goal_tells_its_progress_along_the_path_and_changes_nothing():
     # issue 50 item 10: a cluttered newton path goal spent two minutes following its path with the
     # progress bar still; now each sample tells the thousandths of the path done
-    from armanim.motion.following import PER_PATH
+    from armanim.motion.paths.following import PER_PATH
     from armanim.scene import load_scene, scene_to_problem
 
     problem = scene_to_problem(load_scene(SCENES / "ur5-pen.yaml").model)

@@ -18,6 +18,7 @@ from conftest import SCENES
 from armanim import __version__
 from armanim.arm.kinematics import forward
 from armanim.output.csvfile import read_trajectory_csv, trajectory_csv_text
+from armanim.runs.options import RunOptions
 from armanim.runs.pipeline import run_scene
 
 REQUIRED_HEAD = ["frame", "time_s", "goal"]
@@ -30,7 +31,7 @@ def required_columns(n: int) -> list[str]:
 
 @pytest.fixture(scope="module")
 def notes_run(tmp_path_factory):
-    return run_scene(SCENES / "notes-arm.yaml", tmp_path_factory.mktemp("notes"), video=False)
+    return run_scene(SCENES / "notes-arm.yaml", tmp_path_factory.mktemp("notes"), RunOptions(video=False))
 
 
 def test_run_writes_only_csv_and_summary_without_video(notes_run):
@@ -65,7 +66,7 @@ def test_trajectory_csv_columns_and_values(notes_run):
 
 
 def test_clearance_column_is_empty_without_obstacles(tmp_path):
-    result = run_scene(SCENES / "singular-start.yaml", tmp_path, video=False)
+    result = run_scene(SCENES / "singular-start.yaml", tmp_path, RunOptions(video=False))
     rows = list(csv.DictReader(io.StringIO(result.files["trajectory"].read_text())))
     assert rows and all(r["clearance"] == "" for r in rows)
 
@@ -98,7 +99,7 @@ def test_summary_json(notes_run):
 
 
 def test_summary_of_a_missed_goal_has_its_reason(tmp_path):
-    result = run_scene(SCENES / "out-of-reach.yaml", tmp_path, video=False)
+    result = run_scene(SCENES / "out-of-reach.yaml", tmp_path, RunOptions(video=False))
     goals = json.loads(result.files["summary"].read_text())["goals"]
     assert goals[0]["reached"] is False and goals[0]["reason"] == "out_of_reach"
     assert goals[1]["reached"] is True and goals[1]["reason"] is None
@@ -110,8 +111,8 @@ def test_csv_text_has_no_negative_zero(notes_run):
 
 @pytest.mark.parametrize("scene", ["notes-arm.yaml", "out-of-reach.yaml"])
 def test_two_runs_are_byte_identical(tmp_path, scene):
-    a = run_scene(SCENES / scene, tmp_path / "a", video=False)
-    b = run_scene(SCENES / scene, tmp_path / "b", video=False)
+    a = run_scene(SCENES / scene, tmp_path / "a", RunOptions(video=False))
+    b = run_scene(SCENES / scene, tmp_path / "b", RunOptions(video=False))
     for kind in ("trajectory", "summary"):
         assert a.files[kind].read_bytes() == b.files[kind].read_bytes(), kind
 
@@ -119,8 +120,8 @@ def test_two_runs_are_byte_identical(tmp_path, scene):
 def test_a_run_shows_its_plans_and_writes_what_a_quiet_run_writes(tmp_path):
     """The bars' "plan" stage: a planned run reports its search; its files are a quiet run's."""
     seen = []
-    told = run_scene(SCENES / "planning-wall.yaml", tmp_path / "told", video=False, progress=lambda *call: seen.append(call))
-    quiet = run_scene(SCENES / "planning-wall.yaml", tmp_path / "quiet", video=False)
+    told = run_scene(SCENES / "planning-wall.yaml", tmp_path / "told", RunOptions(video=False), progress=lambda *call: seen.append(call))
+    quiet = run_scene(SCENES / "planning-wall.yaml", tmp_path / "quiet", RunOptions(video=False))
     assert {stage for stage, *_ in seen} == {"solve", "plan"}
     assert any(stage == "plan" and done == most for stage, done, most in seen)
     for kind in ("trajectory", "summary"):
@@ -154,5 +155,5 @@ def test_invalid_scene_writes_nothing(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("version: 1\narm:\n  links: [1, -1]\ngoals:\n  - [0, 0, 1]\n")
     with pytest.raises(SceneError):
-        run_scene(bad, tmp_path / "out", video=False)
+        run_scene(bad, tmp_path / "out", RunOptions(video=False))
     assert not (tmp_path / "out").exists()

@@ -163,13 +163,14 @@ def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
 @pytest.mark.slow
 def test_an_11_second_640x360_gif_stays_well_under_3_mb(tmp_path):
     from armanim.render.settings import RenderOverrides
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
     scene = yaml.safe_load((ROOT / "scenes" / "notes-arm.yaml").read_text())
     scene["arm"].update(max_joint_speed=60, max_joint_acceleration=120)  # slower than its defaults: some 12 s
     (tmp_path / "notes-arm.yaml").write_text(yaml.safe_dump(scene))
     result = run_scene(tmp_path / "notes-arm.yaml", tmp_path / "out",
-                       render_overrides=RenderOverrides(size=(640, 360), format="gif"), jobs=1)
+                       RunOptions(jobs=1, render=RenderOverrides(size=(640, 360), format="gif")))
     gif = result.files["video"]
     frames = result.solution.trajectory.frames
     assert frames / 30.0 > 10.5  # the run is about 11 s long

@@ -100,9 +100,10 @@ class Page:
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory) -> Path:
     """A run of out-of-reach (a missed goal, then a reached one) with its viewer.html."""
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    result = run_scene(SCENES / "out-of-reach.yaml", tmp_path_factory.mktemp("viewer"), video=False, viewer=True)
+    result = run_scene(SCENES / "out-of-reach.yaml", tmp_path_factory.mktemp("viewer"), RunOptions(video=False, viewer=True))
     return result.folder
 
 
@@ -320,9 +321,10 @@ def test_boxes_capsules_and_the_floor_are_drawn(browser, tmp_path_factory, tmp_p
     import numpy as np
     from PIL import Image
 
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    folder = run_scene(SCENES / "ur5-table.yaml", tmp_path_factory.mktemp("shapes"), video=False, viewer=True).folder
+    folder = run_scene(SCENES / "ur5-table.yaml", tmp_path_factory.mktemp("shapes"), RunOptions(video=False, viewer=True)).folder
     page = Page(browser, folder / "viewer.html")
     assert page.errors == []
     assert page.js("armanim.data.boxes.length") == 1 and page.js("armanim.data.obstacle_capsules.length") == 1
@@ -342,10 +344,11 @@ def test_a_700_frame_panda_run_draws_its_meshes_under_3_mb_and_fits_a_phone(brow
     from PIL import Image
 
     from armanim.render.settings import RenderOverrides
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    folder = run_scene(SCENES.parent / "tests" / "data" / "panda-two-boards.yaml", tmp_path_factory.mktemp("meshes"), video=False, viewer=True,
-                       render_overrides=RenderOverrides(fps=125.0)).folder
+    folder = run_scene(SCENES.parent / "tests" / "data" / "panda-two-boards.yaml", tmp_path_factory.mktemp("meshes"),
+                       RunOptions(video=False, viewer=True, render=RenderOverrides(fps=125.0))).folder
     path = folder / "viewer.html"
     assert path.stat().st_size <= 3_000_000
     page = Page(browser, path)
@@ -417,10 +420,11 @@ def test_a_via_goal_is_drawn_passed_and_captioned_passing_as_in_the_video(browse
     import numpy as np
 
     from armanim.render.overlay.caption import goal_status, passing_frames
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
     from armanim.runs.reload import load_run
 
-    folder = run_scene(SCENES / "ur5-flow.yaml", tmp_path_factory.mktemp("flow"), video=False, viewer=True).folder
+    folder = run_scene(SCENES / "ur5-flow.yaml", tmp_path_factory.mktemp("flow"), RunOptions(video=False, viewer=True)).folder
     run = load_run(folder)
     traj, reports = run.solution.trajectory, run.solution.goals
     page = Page(browser, folder / "viewer.html")
@@ -451,9 +455,10 @@ def test_the_panda_s_fingers_close_on_the_part_and_open_again_on_the_page(browse
     finger), and are as far apart again at the end."""
     import numpy as np
 
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    folder = run_scene(SCENES.parent / "tests" / "data" / "pick-box.yaml", tmp_path_factory.mktemp("pick"), video=False, viewer=True).folder
+    folder = run_scene(SCENES.parent / "tests" / "data" / "pick-box.yaml", tmp_path_factory.mktemp("pick"), RunOptions(video=False, viewer=True)).folder
     page = Page(browser, folder / "viewer.html")
     try:
         assert page.errors == []

@@ -265,11 +265,12 @@ def test_the_same_file_twice_runs_once(src, tmp_path):
 
 def test_a_scene_rejected_on_a_pool_worker_fails_alone(src, tmp_path):
     from armanim.runs.batch import SceneTask, run_tasks
+    from armanim.runs.options import RunOptions
     from armanim.scene import load_scene
 
     good = [SceneTask.from_scene(load_scene(src / f)) for f in ("a.yaml", "b.yaml")]
     rejected = SceneTask(BAD_SCENE.encode(), "bad.yaml", "bad")  # e.g. a worker with another armanim version
-    entries = run_tasks([good[0], rejected, good[1]], tmp_path, jobs=2, video=False)
+    entries = run_tasks([good[0], rejected, good[1]], tmp_path, RunOptions(video=False, jobs=2))
     assert [e.status for e in entries] == ["ok", "invalid", "ok"], [e.message for e in entries]
     assert BAD_MESSAGE in entries[1].message
 
@@ -474,8 +475,8 @@ def test_without_dask_a_scheduler_exits_2_with_the_install_hint(src, tmp_path, m
 
 def test_dask_is_imported_only_when_asked_for(src, tmp_path):
     code = (
-        "import sys; from pathlib import Path; from armanim.runs.batch import run_batch\n"
-        f"run_batch([Path({str(src / 'a.yaml')!r})], Path({str(tmp_path)!r}), jobs=1, video=False)\n"
+        "import sys; from pathlib import Path; from armanim.runs.batch import run_batch; from armanim.runs.options import RunOptions\n"
+        f"run_batch([Path({str(src / 'a.yaml')!r})], Path({str(tmp_path)!r}), RunOptions(video=False, jobs=1))\n"
         "print(any(m == 'dask' or m.startswith(('dask.', 'distributed')) for m in sys.modules))\n"
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, env=clean_env())
@@ -485,9 +486,10 @@ def test_dask_is_imported_only_when_asked_for(src, tmp_path):
 
 def test_batch_progress_names_the_running_scenes(src, tmp_path):
     from armanim.runs.batch import run_batch
+    from armanim.runs.options import RunOptions
 
     seen = []
-    run_batch([src / "a.yaml", src / "b.yaml"], tmp_path, jobs=1, video=False, progress=lambda *call: seen.append(call))
+    run_batch([src / "a.yaml", src / "b.yaml"], tmp_path, RunOptions(video=False, jobs=1), progress=lambda *call: seen.append(call))
     assert seen[0] == (0, 2, ("out-of-reach",)) and seen[1] == (1, 2, ("planar-nlink",)) and seen[-1] == (2, 2, ())
 
 

@@ -17,7 +17,7 @@ import pytest
 from conftest import ROOT
 from runfolders import armanim_exe
 
-from armanim.motion.solvers.barrier import split_clearances
+from armanim.motion.filter.clearance import split_clearances
 from armanim.scene import load_scene, scene_to_problem
 
 MBM = ROOT / "tests" / "data" / "mbm"

@@ -80,11 +80,12 @@ def test_a_link_whose_mesh_is_missing_is_drawn_as_its_capsule(tmp_path):
     from armanim.arm.kinematics import forward
     from armanim.render.camera.view import View
     from armanim.render.solids.robot import MeshesAndCapsules, arm_solids
-    from armanim.runs.pipeline import settings_of, solve_scene, with_meshes
+    from armanim.runs.options import RunOptions, output_choice
+    from armanim.runs.pipeline import solve_scene, with_meshes
     from armanim.scene import load_scene
 
     scene = load_scene(_scene(tmp_path))
-    run, notes = with_meshes(solve_scene(scene, 10.0), scene, settings_of(scene, None))
+    run, notes = with_meshes(solve_scene(scene, 10.0), scene, output_choice(scene, RunOptions())[1].render)
     assert len(notes) == 1
     view = View(np.hstack([np.eye(3) * 100, np.array([[80.0], [60.0], [0.0]])]), 160, 120)
     solids = arm_solids(run.problem, run.meshes, view, 100.0, (160, 120))
@@ -118,7 +119,8 @@ def test_furniture_is_drawn_never_checked_and_an_arm_of_links_keeps_its_capsules
     from armanim.arm.kinematics import forward
     from armanim.render.camera.view import View
     from armanim.render.solids.robot import MeshesAndCapsules, arm_solids, robot_meshed
-    from armanim.runs.pipeline import settings_of, solve_scene, with_meshes
+    from armanim.runs.options import RunOptions, output_choice
+    from armanim.runs.pipeline import solve_scene, with_meshes
     from armanim.scene import load_scene
 
     scene_file = tmp_path / "board.yaml"
@@ -131,7 +133,7 @@ def test_furniture_is_drawn_never_checked_and_an_arm_of_links_keeps_its_capsules
     assert data["meshes"]["robot"] is False and [g["carrier"] for g in data["meshes"]["groups"]] == [-1]
     assert len(data["meshes"]["groups"][0]["indices"]) == 36
     scene = load_scene(scene_file)
-    run, _ = with_meshes(solve_scene(scene, 10.0), scene, settings_of(scene, None))
+    run, _ = with_meshes(solve_scene(scene, 10.0), scene, output_choice(scene, RunOptions())[1].render)
     assert not robot_meshed(run.problem, run.meshes)
     solids = arm_solids(run.problem, run.meshes, View(np.hstack([np.eye(3) * 40, np.array([[80.0], [60.0], [0.0]])]), 160, 120),
                         40.0, (160, 120))

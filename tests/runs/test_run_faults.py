@@ -60,10 +60,11 @@ def tiny_scene(tmp_path_factory) -> Path:
 @pytest.fixture(scope="module")
 def previous_tiny(tiny_scene, tmp_path_factory) -> Path:
     """A complete earlier run of the tiny scene (CSV, summary, scene copy), made once."""
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
     out = tmp_path_factory.mktemp("previous-tiny")
-    run_scene(tiny_scene, out, video=False)
+    run_scene(tiny_scene, out, RunOptions(video=False))
     return out
 
 

@@ -16,10 +16,10 @@ from strategies import cluttered_problems, robot_problems
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Arm, forward
+from armanim.motion.filter.clearance import pose_clearance
 from armanim.motion.problem import Goal, Problem
-from armanim.motion.retime import at_fps, retime
 from armanim.motion.solution import GoalReport, Solution, Trajectory
-from armanim.motion.solvers.barrier import pose_clearance
+from armanim.motion.timing.retime import at_fps, retime
 from armanim.motion.trajectory import solve_trajectory
 from armanim.output.csvfile import read_trajectory_csv
 from armanim.runs.reload import load_run

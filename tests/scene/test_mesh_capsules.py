@@ -274,9 +274,10 @@ def test_a_missing_visual_mesh_falls_back_to_the_joint_capsule_with_notes(robot_
 
 
 def test_a_run_writes_capsules_yaml_that_a_scene_takes_as_its_collision(robot_dir, tmp_path):
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    result = run_scene(_scene(robot_dir), tmp_path / "out", video=False)
+    result = run_scene(_scene(robot_dir), tmp_path / "out", RunOptions(video=False))
     text = (result.folder / "capsules.yaml").read_text()
     listed = yaml.safe_load(text)["collision"]
     solved = result.problem.capsules

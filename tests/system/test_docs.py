@@ -46,8 +46,8 @@ def test_a_script_without_the_main_guard_is_told_why_its_workers_died(tmp_path):
 
     (tmp_path / "scenes").symlink_to(ROOT / "scenes")
     (tmp_path / "unguarded.py").write_text(
-        "from armanim import run_batch\n"
-        "entries = run_batch(['scenes/planar-nlink.yaml', 'scenes/out-of-reach.yaml'], 'outputs', jobs=2, video=False)\n"
+        "from armanim import RunOptions, run_batch\n"
+        "entries = run_batch(['scenes/planar-nlink.yaml', 'scenes/out-of-reach.yaml'], 'outputs', RunOptions(video=False, jobs=2))\n"
         "print('\\n'.join(e.status + ' ' + e.message for e in entries))\n"
     )
     proc = subprocess.run([sys.executable, "unguarded.py"], cwd=tmp_path, capture_output=True, text=True, timeout=240)

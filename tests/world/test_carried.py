@@ -76,7 +76,7 @@ def test_cover_holds_the_whole_solid_within_its_margin(kind, sizes, seed):
 
 @cache
 def _pick_run():
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import load_scene, scene_to_problem
 
@@ -233,7 +233,7 @@ def test_a_carried_bar_that_would_hit_the_wall_goes_over_it_never_through():
     every frame it is held."""
     from dataclasses import replace
 
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import load_scene, scene_to_problem
 
@@ -266,7 +266,7 @@ def test_pick_and_place_keeps_every_invariant(width, height, y, x_place, y_place
     from hypothesis import assume
     from invariants import assert_trajectory_invariants
 
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import scene_model, scene_to_problem
     from armanim.scene.checks import scene_problems
@@ -304,10 +304,11 @@ def test_a_finished_run_read_back_carries_the_box_again(tmp_path):
     import csv
     import json
 
+    from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
     from armanim.runs.reload import load_run
 
-    folder = run_scene(DATA / "pick-box.yaml", tmp_path, video=False, viewer=False).folder
+    folder = run_scene(DATA / "pick-box.yaml", tmp_path, RunOptions(video=False, viewer=False)).folder
     rows = list(csv.DictReader(open(folder / "trajectory.csv", newline="")))
     assert {r["held"] for r in rows} == {"", "part"}
     assert all((r["carried_clearance"] == "") == (r["held"] == "") for r in rows)
@@ -328,7 +329,7 @@ def test_an_approach_comes_in_along_a_straight_line_and_the_grasp_and_release_st
     """approach: the tool comes to the grasp (along its own z: down) and to the release (along the
     world's -z) on straight lines, within the path tolerance, ending at the goal; the box still
     ends where the tool put it."""
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import load_scene, scene_to_problem
 
@@ -467,7 +468,7 @@ def test_a_retreat_leaves_along_a_straight_line_in_the_world_after_its_goal():
     the way over its distance; every invariant holds and the part ends where the tool put it."""
     from invariants import assert_trajectory_invariants
 
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import load_scene, scene_to_problem
 

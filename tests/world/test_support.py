@@ -97,7 +97,7 @@ TOUCHING = {
 
 
 def _touching_run(mapping=TOUCHING):
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import scene_model, scene_to_problem
     from armanim.scene.checks import scene_problems

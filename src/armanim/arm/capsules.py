@@ -52,8 +52,8 @@ class Capsules:
     end: np.ndarray
     radius: np.ndarray
     names: tuple[str, ...] = ()
-    joint_segment: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[arg-type]  # None: __post_init__ fills it
-    allowed: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[arg-type]  # None: __post_init__ fills it (-1)
+    joint_segment: np.ndarray = field(default=cast(np.ndarray, None), repr=False, compare=False)  # None: __post_init__ fills it
+    allowed: np.ndarray = field(default=cast(np.ndarray, None), repr=False, compare=False)  # None: __post_init__ fills it (-1)
     part_radius: np.ndarray = field(init=False, repr=False, compare=False)
     """(c+1,) the radius of every part that clearances are measured from: the capsules', then
     the tip's, 0 (a point)."""

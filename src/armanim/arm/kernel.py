@@ -66,7 +66,8 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
 
         rtsys.initialize(target_context)
         with self._guard_against_spurious_io_errors():
-            return self._load_overload(sig, target_context)  # type: ignore[no-untyped-call]  # numba's own, untyped
+            load: Any = self._load_overload  # numba's own, untyped
+            return load(sig, target_context)
 
 
 def load_lightly(dispatcher: Any) -> None:
@@ -77,7 +78,7 @@ def load_lightly(dispatcher: Any) -> None:
         cache.__class__ = _LoadsLightly
 
 
-COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/passes.py", "motion/kernels/linalg.py", "motion/kernels/tasks.py",
+COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/timing/passes.py", "motion/kernels/linalg.py", "motion/kernels/tasks.py",
                     "motion/kernels/check.py", "motion/kernels/qp.py", "motion/kernels/attempt.py", "motion/kernels/frame.py",
                     "motion/planning/check.py", "render/solids/rasterloops.py")
 """Every module of armanim that defines compiled functions (paths inside the package): one's

@@ -77,6 +77,12 @@ class ArmMeshes:
         return len(self.faces)
 
 
+LinkPlaces = dict[str, tuple[int, np.ndarray]]
+"""Where each link of a robot sits on its arm: link name -> (carrier, (4, 4) the link's frame in
+the carrier joint's frame, or in the world for carrier -1). Made once with the problem's arm
+(:func:`armanim.scene.convert.link_places`); the robot's meshes are placed by it."""
+
+
 def placed_meshes(meshes: list[LinkMesh], carriers: list[int], offsets: list[np.ndarray]) -> ArmMeshes:
     """The links' triangles placed on their carriers: ``meshes[i]`` moved by ``offsets[i]``
     (4, 4), its link's frame in the frame of joint ``carriers[i]`` (or in the world for -1).
@@ -125,4 +131,4 @@ def mesh_vertices(meshes: ArmMeshes, pose: Pose) -> np.ndarray:
     return out
 
 
-__all__ = ["ArmMeshes", "LinkMesh", "mesh_vertices", "placed_meshes"]
+__all__ = ["ArmMeshes", "LinkMesh", "LinkPlaces", "mesh_vertices", "placed_meshes"]

@@ -51,10 +51,10 @@ def _plain_help() -> None:
         name = name if self.required else f"[{name}]"
         return name + ("..." if self.nargs != 1 else "")
 
-    core.TyperOption.display_type_rich = option_type  # type: ignore[method-assign]  # typer's help, patched once at import
-    core.TyperArgument._usage_display_name = usage_name  # type: ignore[method-assign]
-    for kind in (core.TyperCommand, core.TyperGroup):
-        kind.format_help = _with_help_table(kind.format_help)  # type: ignore[method-assign]
+    patches = [(core.TyperOption, "display_type_rich", option_type), (core.TyperArgument, "_usage_display_name", usage_name)]
+    patches += [(kind, "format_help", _with_help_table(kind.format_help)) for kind in (core.TyperCommand, core.TyperGroup)]
+    for owner, name, method in patches:  # typer's help, patched once at import (a method replaced: setattr)
+        setattr(owner, name, method)
 
 
 def _with_help_table(format_help):

@@ -68,13 +68,15 @@ def fk(
         # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend;
         # the picture tints the arm's own pairs near each other, so it takes the problem with them
         from armanim.runs.pipeline import look_meshes
-        from armanim.scene import render_settings, scene_to_problem
+        from armanim.scene import render_settings
+        from armanim.scene.convert import convert_scene
 
         settings = render_settings(model)
-        meshes, notes = look_meshes(model, settings, loaded.path.parent if loaded is not None else Path("."))
+        converted = convert_scene(model)  # the problem and its links' places, from one chain
+        meshes, notes = look_meshes(model, converted.places, settings, loaded.path.parent if loaded is not None else Path("."))
         for note in notes:  # a mesh not found: its link is drawn as its capsules, as in a run
             say(f"note: {note}", err)
-        render_pose_png(replace(scene_to_problem(model), goals=()), answer.phi, settings, png, title="armanim fk",
+        render_pose_png(replace(converted.problem, goals=()), answer.phi, settings, png, title="armanim fk",
                         meshes=meshes)
         if not as_json:
             say(f"wrote {png}")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import functools
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -20,6 +20,9 @@ from armanim.cli.reports import (
     print_missed_goals,
 )
 from armanim.errors import EXIT_CHECK_FAILED, InterruptedAfterCommit
+
+if TYPE_CHECKING:
+    from armanim.runs.options import RunOptions
 
 
 @app.command()
@@ -51,12 +54,13 @@ def run(
     from armanim.output.rundir import refuse_in_run_folder
 
     refuse_in_run_folder(out_root, "--out", itself=True)  # a run folder inside another would stop that one's next run
-    overrides = render_overrides(size, fps, fmt, quality=quality)
-    jobs = usable_jobs(jobs)
+    from armanim.runs.options import RunOptions
+
+    options = RunOptions(video=not no_video, viewer=viewer, jobs=usable_jobs(jobs), render=render_overrides(size, fps, fmt, quality=quality))
     if not quiet:
         tell_first_compile("run")
     if len(scenes) == 1 and not scheduler:
-        run_one(scenes[0], out_root, video=not no_video, viewer=viewer, jobs=jobs, overrides=overrides, quiet=quiet, strict=strict)
+        run_one(scenes[0], out_root, options, quiet=quiet, strict=strict)
         return
     from armanim.cli.progress import bars
     from armanim.runs.batch import run_batch
@@ -64,10 +68,7 @@ def run(
     if not quiet:
         say(f"batch: {len(dict.fromkeys(scenes))} scenes", err)
     with bars(quiet) as shown:
-        entries = run_batch(
-            scenes, out_root, jobs=jobs, scheduler=scheduler, video=not no_video, viewer=viewer, render_overrides=overrides,
-            progress=functools.partial(shown, "scenes"),
-        )
+        entries = run_batch(scenes, out_root, options, scheduler=scheduler, progress=functools.partial(shown, "scenes"))
     ignore_until_exit()  # every scene and index.csv are in place: the batch has its outcome
     if not quiet:
         print_batch_table(entries, out_root / "index.csv")
@@ -75,13 +76,13 @@ def run(
     raise typer.Exit(batch_exit_code(entries, strict))
 
 
-def run_one(path: Path, out_root: Path, *, video: bool, viewer: bool | None, jobs, overrides, quiet: bool, strict: bool) -> None:
-    """One scene in this process, its video rendered by ``jobs`` workers."""
+def run_one(path: Path, out_root: Path, options: RunOptions, *, quiet: bool, strict: bool) -> None:
+    """One scene in this process, its video rendered by ``options.jobs`` workers."""
     from armanim.cli.progress import bars
     from armanim.runs.pipeline import run_scene
 
     with committed_is_done(), bars(quiet) as shown:
-        result = run_scene(path, out_root, video=video, viewer=viewer, jobs=jobs, render_overrides=overrides, progress=shown)
+        result = run_scene(path, out_root, options, progress=shown)
     ignore_until_exit()  # the outputs are in place: the run has succeeded, whatever comes now
     print_notes(result.scene)  # warnings (the picture or the collision model is not what was asked): also with --quiet
     for note in result.notes:

@@ -31,12 +31,12 @@ from typing import Any, NamedTuple, cast
 
 import numpy as np
 
+from armanim.motion.filter.barrier import safe_step
 from armanim.motion.kernels.plan import compiled_plan
 from armanim.motion.orientation import Orientation, pose_distance, tool_residual
 from armanim.motion.planning.poses import goal_poses, seed_poses
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, arm_state, proposed_step, solver_method
-from armanim.motion.solvers.barrier import safe_step
 from armanim.names import PoseFinder, PoseStatus
 
 

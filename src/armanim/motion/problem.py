@@ -94,7 +94,7 @@ class Goal:
         and ends on it exactly; ``position`` is then its tool point, for reports and pictures.
         None: a point or path goal.
     blend : float or None
-        Pass within this of the goal without stopping (:mod:`armanim.motion.blend`): scene units,
+        Pass within this of the goal without stopping (:mod:`armanim.motion.timing.blend`): scene units,
         or radians in every joint for a joint goal; 0 passes through it. None: stop at it.
     grasp : int or None
         The clearance column of the named obstacle the tool takes once this goal is reached
@@ -267,7 +267,7 @@ class Problem:
         Frames per second of the frames the problem describes: the scene's own ``render.fps``
         while the motion is solved (the one owner of time: ``time_s``, holds, the stall window),
         the output rate (``--fps``) once the solution is on the clock
-        (:func:`armanim.motion.retime.at_fps`).
+        (:func:`armanim.motion.timing.retime.at_fps`).
     capsules : Capsules
         The arm's collision capsules, which every guarantee is about. Left out (None), they
         are today's: one per link from joint to joint, of radius ``half_width``.
@@ -293,9 +293,9 @@ class Problem:
     goals: tuple[Goal, ...]
     solver: SolverSettings
     fps: float
-    capsules: Capsules = None  # type: ignore[assignment]  # None: joint_capsules(arm, half_width)
-    rates: RateLimits = None  # type: ignore[assignment]  # None: link_arm_rates(n, max_joint_step, fps)
-    self_pairs: SelfPairs = None  # type: ignore[assignment]  # None: SelfPairs.none()
+    capsules: Capsules = cast(Capsules, None)  # None: joint_capsules(arm, half_width), filled by __post_init__
+    rates: RateLimits = cast(RateLimits, None)  # None: link_arm_rates(n, max_joint_step, fps)
+    self_pairs: SelfPairs = cast(SelfPairs, None)  # None: SelfPairs.none()
     tunables: Tunables = DEFAULTS
     gripper: Gripper | None = None
     _lever_arms: np.ndarray = field(init=False, repr=False, compare=False)  # set by __post_init__

@@ -106,7 +106,7 @@ class BlendReport:
         Why not (a key of :data:`BLEND_REASONS`), None when it did.
     corner : str or None
         ``"curve"``: the corner at the goal's solved pose was replaced by a certified curve that passes
-        within the radius (:mod:`armanim.motion.smoothing`); ``"through"``: the path passes the goal's
+        within the radius (:mod:`armanim.motion.timing.smoothing`); ``"through"``: the path passes the goal's
         solved pose itself (radius 0, no certified curve, or a curve slower than the corner); None
         when not blended.
     pass_distance : float
@@ -160,7 +160,7 @@ class GoalReport:
     path : PathReport or None
         A path goal's account of its path; None for a point goal.
     blend : BlendReport or None
-        How a goal with ``blend`` was passed (:mod:`armanim.motion.blend`); None for one without.
+        How a goal with ``blend`` was passed (:mod:`armanim.motion.timing.blend`); None for one without.
     """
 
     index: int

@@ -3,7 +3,7 @@
 Frame 0 is the home pose. For each goal the loop steps until |e - g| < tolerance (and,
 for a goal with an orientation, the tool's angle to it is below ``orientation_tolerance``),
 then holds the pose for the goal's hold frames. Every frame's step is the method's
-proposal passed through the safety filter (:func:`armanim.motion.solvers.barrier.safe_step`).
+proposal passed through the safety filter (:func:`armanim.motion.filter.barrier.safe_step`).
 
 When half a second of frames makes less progress than the tolerance (a local
 minimum, a saddle, a singular pose, circling), the goal has stalled (:mod:`armanim.motion.stalls`): with
@@ -41,15 +41,15 @@ from armanim.motion.carry import (
     stopped_goal,
     world_problem,
 )
-from armanim.motion.following import Along, Route, followed_route, most_path_frames
+from armanim.motion.filter.barrier import SafeStep, safe_step
+from armanim.motion.framestep import method_step
 from armanim.motion.orientation import frame_orientations, orientation_angle, pose_distance
+from armanim.motion.paths.following import Along, Route, followed_route, most_path_frames
 from armanim.motion.planning import plan_joint_motion, plan_motion
 from armanim.motion.planning.path import Searched
 from armanim.motion.problem import Goal, Problem, frames_in, joint_offset
 from armanim.motion.solution import GoalReport, PathReport, PlanningReport, Solution, Trajectory
 from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
-from armanim.motion.solvers.barrier import SafeStep, safe_step
-from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach, miss_reason, orientation_unreachable, pose_stalled, stall_frames
 from armanim.names import Blocker, MissReason
 from armanim.world.selfdistances import self_gaps
@@ -109,8 +109,8 @@ class _Visit:
     index: int
     goal: Goal
     distances: list[float]
-    angles: list[float | None] = None  # type: ignore[assignment]  # radians to the goal's orientation; None entries for a position-only goal (None: all None)
-    progress: list[float] = None  # type: ignore[assignment]  # pose_distance: the distances themselves for a position-only goal (None: those)
+    angles: list[float | None]  # radians to the goal's orientation; None entries for a position-only goal
+    progress: list[float]  # pose_distance: the distances themselves for a position-only goal
     frames: int = 0
     iterations: int = 0
     newton_iterations: int = 0
@@ -122,12 +122,6 @@ class _Visit:
     last_step: np.ndarray | None = None  # the method's last joint step taken
     damping: float = 1.0  # the factor on the method's steps toward a goal beyond reach, halved at each turn back (:func:`_damped`)
     beyond: bool = False  # the goal lies beyond the arm's reach (its steps are damped while they turn back)
-
-    def __post_init__(self) -> None:
-        if self.angles is None:
-            self.angles = [None] * len(self.distances)
-        if self.progress is None:
-            self.progress = list(self.distances)
 
 
 def hold_frames(problem: Problem, goal: Goal) -> int:
@@ -179,7 +173,7 @@ def solve_trajectory(
         frames (:data:`armanim.motion.planning.path.Searched`); each plan counts from 0 again.
     along : callable, optional
         ``along(done, most)``: a path goal's progress in thousandths of its path while it is
-        followed (:data:`armanim.motion.following.Along`), between two frames; each trial counts
+        followed (:data:`armanim.motion.paths.following.Along`), between two frames; each trial counts
         from 0 again.
     timer : callable, optional
         ``timer(k, seconds)``: the wall time goal ``k`` took (its IK, planning and frames), as
@@ -309,7 +303,7 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
     assert goal.joints is not None
     first = len(rec) if k else 0
     distance, _, _ = goal_errors(problem, state, goal)
-    visit = _Visit(k, goal, [distance])
+    visit = _Visit(k, goal, [distance], [None], [distance])  # a joint goal: no orientation, its distance its progress
     plan = None
     if joint_error(state.phi, goal) > problem.solver.joint_tolerance:
         plan = plan_joint_motion(problem, state.phi, goal.joints, planning)

@@ -22,7 +22,7 @@ import numpy as np
 
 @dataclass(frozen=True)
 class FilterGains:
-    """The safety filter's gains (:mod:`armanim.motion.solvers.barrier`).
+    """The safety filter's gains (:mod:`armanim.motion.filter.barrier`).
 
     Attributes
     ----------
@@ -249,7 +249,7 @@ class IkOptions:
 
 @dataclass(frozen=True)
 class PathOptions:
-    """Following a path goal's tool path (:mod:`armanim.motion.following`).
+    """Following a path goal's tool path (:mod:`armanim.motion.paths.following`).
 
     Attributes
     ----------
@@ -286,7 +286,7 @@ class PathOptions:
 
 @dataclass(frozen=True)
 class ClockOptions:
-    """The clock's grid (:mod:`armanim.motion.clock`).
+    """The clock's grid (:mod:`armanim.motion.timing.clock`).
 
     Attributes
     ----------

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from armanim.arm.visuals import ArmMeshes
+from armanim.arm.visuals import ArmMeshes, LinkPlaces
 from armanim.motion.problem import Problem
 from armanim.motion.solution import GoalReport, Solution, Trajectory
 
@@ -68,6 +68,10 @@ class SolvedRun:
     meshes : ArmMeshes or None
         How the robot looks (its URDF's visual meshes, placed on the arm's frames), for the
         pictures; None: it is drawn as its capsules.
+    places : dict or None
+        Where each link of a URDF robot sits on ``problem.arm``'s joints
+        (:data:`armanim.arm.visuals.LinkPlaces`), made with the problem: ``meshes`` are placed by
+        it. None for an arm of links.
     timing : RunTiming or None
         How long the solve took (a fresh solve; None for a run read back), for timing.json.
     """
@@ -79,6 +83,7 @@ class SolvedRun:
     sha256: str = ""
     rate_notes: tuple[str, ...] = ()
     meshes: ArmMeshes | None = None
+    places: LinkPlaces | None = field(default=None, compare=False, repr=False)
     timing: RunTiming | None = field(default=None, compare=False)
 
     @property

@@ -22,7 +22,7 @@ class RenderSettings:
     """The scene's ``render`` section, resolved (plain data, read by the render room only).
 
     Its ``fps`` is not here: the rate of a run's frames is the run's own
-    (:attr:`armanim.output.solved.SolvedRun.fps`), chosen once by :func:`armanim.runs.pipeline.output_fps`.
+    (:attr:`armanim.output.solved.SolvedRun.fps`), chosen once by :func:`armanim.runs.options.output_choice`.
 
     Attributes
     ----------

@@ -14,7 +14,7 @@ import shutil
 import tempfile
 from collections.abc import Callable, Iterable
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from armanim.errors import ArmanimError, SceneError
@@ -23,7 +23,7 @@ from armanim.output.csvfile import check_table_replaceable, table_csv_text, writ
 from armanim.output.rundir import staged_folder
 from armanim.procs.executors import executor_for
 from armanim.procs.workers import temp_prefix, undone_on_stop
-from armanim.render.settings import RenderOverrides
+from armanim.runs.options import RunOptions
 from armanim.scene import LoadedScene, load_scene, scene_from_bytes
 
 WORKER_PRELOAD = ("armanim.runs.pipeline", "armanim.render.pictures.canvas", "armanim.render.video.movie")
@@ -90,15 +90,16 @@ class BatchEntry:
     summary: dict | None = None
 
 
-def run_task(task: SceneTask, video: bool, render_overrides: RenderOverrides | None, viewer: bool | None = None) -> RemoteRun:
-    """Worker side: produce a scene's outputs in a temporary folder and return their bytes."""
+def run_task(task: SceneTask, options: RunOptions) -> RemoteRun:
+    """Worker side: produce a scene's outputs in a temporary folder, as ``options`` ask (its video
+    drawn in this one process), and return their bytes."""
     from armanim.runs.pipeline import produce_outputs
 
     try:
         scene = task.loaded if task.loaded is not None else scene_from_bytes(task.raw, task.path, task.name)
         with tempfile.TemporaryDirectory(prefix=temp_prefix()) as tmp:
             with undone_on_stop(lambda: shutil.rmtree(tmp, ignore_errors=True)):  # a SIGTERM'd worker removes it
-                produced = produce_outputs(scene, Path(tmp), video=video, viewer=viewer, jobs=1, render_overrides=render_overrides)
+                produced = produce_outputs(scene, Path(tmp), replace(options, jobs=1))
                 files = {name: (Path(tmp) / name).read_bytes() for name in produced.names.values()}
     except SceneError as exc:
         return RemoteRun(task.name, {}, None, exc.report(), "invalid")
@@ -167,27 +168,26 @@ def _failed(task: SceneTask, exc: BaseException) -> BatchEntry:
 def run_tasks(
     tasks: list[SceneTask],
     out_root: Path,
+    options: RunOptions | None = None,
     *,
-    jobs: int | None = None,
     scheduler: str | None = None,
-    video: bool = True,
-    viewer: bool | None = None,
-    render_overrides: RenderOverrides | None = None,
     progress: Callable[..., None] | None = None,
 ) -> list[BatchEntry]:
-    """Run validated tasks and write their outputs; one entry per task, in task order.
+    """Run validated tasks and write their outputs, as ``options`` ask (default: every output;
+    ``options.jobs`` scenes at a time); one entry per task, in task order.
 
     ``progress(done, total, running)`` is called at the start and after each scene, with
     the names of the scenes that are running (the first unfinished ones, one per worker).
     """
-    workers = jobs or os.cpu_count() or 1
+    options = options or RunOptions()
+    workers = options.jobs or os.cpu_count() or 1
     executor = executor_for(workers, scheduler, WORKER_PRELOAD)
     entries: dict[str, BatchEntry] = {}
     unfinished = [t.name for t in tasks]
     done = 0
     if progress:
         progress(0, len(tasks), tuple(unfinished[:workers]))
-    for task, run, exc in executor.map(run_task, tasks, video, render_overrides, viewer):
+    for task, run, exc in executor.map(run_task, tasks, options):
         if exc is None and run.error is not None:
             entries[task.name] = BatchEntry(task.name, run.status, task.path, message=run.error)
         elif exc is None:
@@ -226,15 +226,13 @@ def index_csv_text(entries: list[BatchEntry]) -> str:
 def run_batch(
     paths: Iterable[Path],
     out_root: Path,
+    options: RunOptions | None = None,
     *,
-    jobs: int | None = None,
     scheduler: str | None = None,
-    video: bool = True,
-    viewer: bool | None = None,
-    render_overrides: RenderOverrides | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> list[BatchEntry]:
-    """Run many scene files in parallel; write their outputs and ``ROOT/index.csv``.
+    """Run many scene files in parallel, as ``options`` ask (default: every output, on every
+    core); write their outputs and ``ROOT/index.csv``.
 
     Returns the entries in the order of ``paths`` (invalid scenes included).
     """
@@ -242,8 +240,7 @@ def run_batch(
     index = Path(out_root) / "index.csv"
     check_table_replaceable(index, is_index_header)  # a user's index.csv: exit 3 before any work
     tasks, rejected = load_tasks(paths)
-    done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, viewer=viewer,
-                     render_overrides=render_overrides, progress=progress)
+    done = run_tasks(tasks, out_root, options, scheduler=scheduler, progress=progress)
     by_file = {e.scene_file: e for e in [*done, *rejected]}
     entries = [by_file[str(p)] for p in paths if str(p) in by_file]
     write_index(index, entries)

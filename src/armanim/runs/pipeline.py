@@ -10,12 +10,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from armanim.arm.visuals import LinkPlaces
 from armanim.errors import OutputError, UsageError
 from armanim.motion.carry import touch_allowed
-from armanim.motion.clock import ClockTooLong
 from armanim.motion.problem import Problem
-from armanim.motion.retime import at_fps, retime
 from armanim.motion.solution import Solution
+from armanim.motion.timing.clock import ClockTooLong
+from armanim.motion.timing.retime import at_fps, retime
 from armanim.motion.trajectory import frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv
@@ -26,10 +27,12 @@ from armanim.output.solved import RunTiming, SolvedRun
 from armanim.output.summary import run_summary, write_summary
 from armanim.output.timing import TIMING_FILE, write_timing
 from armanim.render.settings import OutputOptions, RenderOverrides, RenderSettings
+from armanim.runs.options import RunOptions, output_choice
 from armanim.runs.reload import ROBOT_COPY, SCENE_COPY, SRDF_COPY, FinishedRun
 from armanim.runs.resample import resample_run, resampled_frames
 from armanim.runs.stopwatch import Stopwatch, stopwatch
-from armanim.scene import LoadedScene, load_scene, render_settings, scene_to_problem
+from armanim.scene import LoadedScene, load_scene
+from armanim.scene.convert import convert_scene
 from armanim.scene.limits import rate_note_lines
 from armanim.scene.looks import scene_meshes
 from armanim.scene.models import LIMITS
@@ -73,11 +76,8 @@ class RunResult:
 def run_scene(
     path: str | Path,
     out_root: str | Path = "outputs",
+    options: RunOptions | None = None,
     *,
-    video: bool = True,
-    viewer: bool | None = None,
-    jobs: int | None = None,
-    render_overrides: RenderOverrides | None = None,
     progress: Progress | None = None,
 ) -> RunResult:
     """Solve a scene and write its outputs under ``out_root/<name>/``.
@@ -90,10 +90,8 @@ def run_scene(
     ----------
     path : scene file
     out_root : folder that receives one folder per scene
-    video : render the video, plot.png and poster.png (False: CSV and summary only)
-    viewer : write viewer.html, the interactive page (None: when ``video`` is True)
-    jobs : worker processes for rendering (default: all cores)
-    render_overrides : render settings to change, e.g. ``RenderOverrides(size=(320, 240))``
+    options : the outputs asked and how they are drawn, e.g. ``RunOptions(video=False)`` or
+        ``RunOptions(render=RenderOverrides(size=(320, 240)))`` (default: ``RunOptions()``, every output)
     progress : optional callback ``progress(stage, done, total)``
 
     Raises
@@ -107,8 +105,7 @@ def run_scene(
         scene = load_scene(path)
         folder = Path(out_root) / scene.name
         with staged_folder(folder) as staged:
-            produced = produce_outputs(scene, staged, video=video, viewer=viewer, jobs=jobs, render_overrides=render_overrides,
-                                       progress=progress)
+            produced = produce_outputs(scene, staged, options, progress=progress)
     files = {kind: folder / name for kind, name in produced.names.items()}
     return RunResult(scene, produced.run.problem, produced.run.solution, folder, files, produced.summary, produced.notes, watch)
 
@@ -123,25 +120,17 @@ class Produced:
     notes: tuple[str, ...] = ()
 
 
-def produce_outputs(
-    scene: LoadedScene,
-    folder: Path,
-    *,
-    video: bool = True,
-    viewer: bool | None = None,
-    jobs: int | None = None,
-    render_overrides: RenderOverrides | None = None,
-    progress: Progress | None = None,
-) -> Produced:
-    """Solve a validated scene and write every output into ``folder`` (which must exist).
+def produce_outputs(scene: LoadedScene, folder: Path, asked: RunOptions | None = None, *,
+                    progress: Progress | None = None) -> Produced:
+    """Solve a validated scene and write every output into ``folder`` (which must exist), as
+    ``asked`` (default: every output).
 
     The one place a run is produced: used by :func:`run_scene` (into its staged
     folder) and by batch workers (into a temporary folder whose files travel back).
     """
-    run = solve_scene(scene, output_fps(scene, render_overrides), progress)
+    fps, options = output_choice(scene, asked or RunOptions())
+    run = solve_scene(scene, fps, progress)
     solved = time.perf_counter()
-    options = OutputOptions(settings_of(scene, render_overrides), video=video, viewer=video if viewer is None else viewer,
-                            jobs=jobs)
     notes: tuple[str, ...] = ()
     if options.video or options.viewer:
         run, notes = with_meshes(run, scene, options.render)
@@ -182,21 +171,23 @@ MESH_TRIANGLES = 5_000
 
 def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) -> tuple[SolvedRun, tuple[str, ...]]:
     """``run`` with what its pictures draw as meshes with ``settings``: its robot's look (none for
-    ``render.robot: capsules``) and the scene's furniture (:func:`armanim.scene.looks.scene_meshes`),
-    and a note per visual mesh that could not be read (its link is drawn as its capsules)."""
-    meshes, notes = look_meshes(scene.model, settings, *look_folders(scene))
+    ``render.robot: capsules``), placed on ``run.problem.arm`` by ``run.places``, and the scene's
+    furniture (:func:`armanim.scene.looks.scene_meshes`), and a note per visual mesh that could
+    not be read (its link is drawn as its capsules)."""
+    meshes, notes = look_meshes(scene.model, run.places, settings, *look_folders(scene))
     return replace(run, meshes=meshes), tuple(notes)
 
 
-def look_meshes(model, settings: RenderSettings, scene_dir: Path, urdf_dir: Path | None = None):
+def look_meshes(model, places: LinkPlaces | None, settings: RenderSettings, scene_dir: Path, urdf_dir: Path | None = None):
     """(meshes or None, notes): what a scene ``model``'s pictures draw as meshes at ``settings``'
-    size (:func:`armanim.scene.looks.scene_meshes`), its file names starting from ``scene_dir``
-    (and ``urdf_dir``, default the URDF's own folder)."""
+    size (:func:`armanim.scene.looks.scene_meshes`), its links where ``places`` puts them on the
+    problem's arm (:attr:`armanim.scene.convert.ConvertedScene.places`), its file names starting
+    from ``scene_dir`` (and ``urdf_dir``, default the URDF's own folder)."""
     width, height = settings.size
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
     arm = model.arm
     dirs = [scene_dir / d for d in arm.package_dirs] if arm.package_dirs else None
-    return scene_meshes(arm, dirs, triangles=budget, scene_dir=scene_dir, urdf_dir=urdf_dir,
+    return scene_meshes(arm, places, dirs, triangles=budget, scene_dir=scene_dir, urdf_dir=urdf_dir,
                         furniture=model.render.furniture, robot=settings.robot != "capsules")
 
 
@@ -253,7 +244,8 @@ def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None
         The run would make more than the total frame limit at ``fps`` (exit 2).
     """
     started = time.perf_counter()
-    solved = scene_to_problem(scene.model)  # the motion is solved at the scene's own fps, its clock
+    converted = convert_scene(scene.model)  # the motion is solved at the scene's own fps, its clock
+    solved = converted.problem
     convert_s = time.perf_counter() - started
     frames = frame_budget(solved) * fps / solved.fps
     if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
@@ -269,7 +261,7 @@ def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None
     solution = timed_solution(scene, solved, fps, progress, timer=lambda _, seconds: goals.append(seconds))
     solve_s = sum(goals)
     timing = RunTiming(convert_s, solve_s, time.perf_counter() - started - solve_s, tuple(goals))
-    return replace(solved_run(scene, solved, solution, fps), timing=timing)
+    return replace(solved_run(scene, solved, solution, fps, converted.places), timing=timing)
 
 
 def write_sources(scene: LoadedScene, folder: Path) -> dict[str, str]:
@@ -288,16 +280,18 @@ def write_sources(scene: LoadedScene, folder: Path) -> dict[str, str]:
     return names
 
 
-def solved_run(scene: LoadedScene, problem: Problem, solution: Solution, fps: float) -> SolvedRun:
+def solved_run(scene: LoadedScene, problem: Problem, solution: Solution, fps: float,
+               places: LinkPlaces | None = None) -> SolvedRun:
     """The one maker of a :class:`SolvedRun`: ``solution`` of ``problem`` (a fresh solve on the
-    clock, or a finished run read back) as frames at ``fps``, with the problem at that rate.
+    clock, or a finished run read back) as frames at ``fps``, with the problem at that rate
+    (``places``: its URDF links' on the problem's arm, made with it, :func:`armanim.scene.convert.convert_scene`).
 
     A solution already at ``fps`` is kept as it is; another rate samples the same motion in
     the same seconds (:func:`armanim.runs.resample.resample_run`).
     """
     solution = resample_run(problem, solution, fps)
     return SolvedRun(scene.name, at_fps(problem, fps), solution, scene_file=scene.path.name, sha256=scene.sha256,
-                     rate_notes=tuple(rate_note_lines(scene.model)))
+                     rate_notes=tuple(rate_note_lines(scene.model)), places=places)
 
 
 def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: Progress | None = None,
@@ -365,7 +359,8 @@ def rerender_run(
 
     folder = Path(folder)
     first = load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
-    _check_resampled_frames(first.solution.trajectory, output_fps(first.scene, render_overrides))
+    asked = RunOptions(jobs=jobs, render=render_overrides or RenderOverrides())
+    _check_resampled_frames(first.solution.trajectory, output_choice(first.scene, asked)[0])
     if out is not None and Path(out).resolve() != folder.resolve():
         target = Path(out)
         if target.resolve().is_relative_to(folder.resolve()):
@@ -377,28 +372,27 @@ def rerender_run(
             run = load_run(folder)
         # staged and swapped like a run folder: into a new, empty or armanim-marked folder only, its
         # other files kept; another fps samples the run's motion at its own times (the same seconds)
-        solved, options = redrawn(run, render_overrides, jobs, notes)
+        solved, options = redrawn(run, asked, notes)
         with staged_folder(target, keep_files=True) as staged:
             rendered = render_outputs(solved, options, staged, progress=progress)
         return {kind: target / path.name for kind, path in rendered.items()}
     with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
         run = load_run(folder)  # under the lock: no run is changing it
-        solved, options = redrawn(run, render_overrides, jobs, notes)
+        solved, options = redrawn(run, asked, notes)
         rendered = render_outputs(solved, options, staged, progress=progress)
     return {kind: folder / path.name for kind, path in rendered.items()}
 
 
-def redrawn(run: FinishedRun, overrides: RenderOverrides | None, jobs: int | None,
-            notes: Callable[[str], None] | None = None) -> tuple[SolvedRun, OutputOptions]:
-    """A finished run as a solved run at the command's fps, and the options to draw it again;
-    the look's notes go to ``notes``."""
-    solved = solved_run(run.scene, run.problem, run.solution, output_fps(run.scene, overrides))
-    settings = settings_of(run.scene, overrides)
-    meshed, said = with_meshes(solved, run.scene, settings)
+def redrawn(run: FinishedRun, asked: RunOptions, notes: Callable[[str], None] | None = None) -> tuple[SolvedRun, OutputOptions]:
+    """A finished run as a solved run at the command's fps, and the options to draw it again
+    (``asked``: the command's render overrides and jobs); the look's notes go to ``notes``."""
+    fps, options = output_choice(run.scene, asked)
+    solved = solved_run(run.scene, run.problem, run.solution, fps, run.places)
+    meshed, said = with_meshes(solved, run.scene, options.render)
     if notes is not None:
         for note in said:
             notes(note)
-    return meshed, OutputOptions(settings, jobs=jobs)
+    return meshed, options
 
 
 def _check_resampled_frames(trajectory, fps: float) -> None:
@@ -431,12 +425,13 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None,
 
     def page(folder: Path):
         run = load_run(folder)
-        settings = settings_of(run.scene, None)
-        solved, said = with_meshes(solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps), run.scene, settings)
+        _, options = output_choice(run.scene, RunOptions())  # the scene's own settings, every output
+        solved, said = with_meshes(solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps, run.places),
+                                   run.scene, options.render)
         if notes is not None:
             for note in said:
                 notes(note)
-        return lambda path: write_viewer(solved, OutputOptions(settings), path)  # at its own rate
+        return lambda path: write_viewer(solved, options, path)  # at its own rate
 
     return write_run_file(folder, VIEWER_FILE, out, page, replace_problem)
 
@@ -487,20 +482,6 @@ def write_run_file(folder: str | Path, name: str, out: str | Path | None, read: 
         raise output_error(target.parent, exc) from None
     write(target)
     return target
-
-
-def settings_of(scene: LoadedScene, overrides: RenderOverrides | None) -> RenderSettings:
-    """The scene's render settings with a command's overrides applied."""
-    return (overrides or RenderOverrides()).apply(render_settings(scene.model))
-
-
-def output_fps(scene: LoadedScene, overrides: RenderOverrides | None) -> float:
-    """The rate of a run's frames: the command's ``--fps``, else the scene's ``render.fps``.
-
-    The one place it is chosen; :func:`solved_run` puts the run at it, and every writer reads
-    it from the run (the motion itself is always solved at the scene's own rate).
-    """
-    return overrides.fps if overrides is not None and overrides.fps is not None else scene.model.render.fps
 
 
 def render_outputs(run: SolvedRun, options: OutputOptions, folder: Path, *, progress: Progress | None = None,

@@ -9,6 +9,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from armanim.arm.kinematics import joints_in_si
+from armanim.arm.visuals import LinkPlaces
 from armanim.errors import Diagnostic, SceneError
 from armanim.motion.carry import replayed_carry
 from armanim.motion.orientation import frame_orientations
@@ -19,7 +20,8 @@ from armanim.output.csvfile import EMPTY_ALLOWED, TEXT_COLUMNS, TrajectoryTable,
 from armanim.output.files import read_bounded
 from armanim.output.jsontext import parse_json
 from armanim.output.summary import goal_report_from_dict
-from armanim.scene import LoadedScene, load_scene, scene_to_problem
+from armanim.scene import LoadedScene, load_scene
+from armanim.scene.convert import convert_scene
 from armanim.scene.models import LIMITS, RenderModel
 
 SCENE_COPY = "scene.yaml"
@@ -31,11 +33,13 @@ MAX_SUMMARY_BYTES = 10_000_000  # a summary of 1,000 goals is about 400 kB
 
 @dataclass(frozen=True)
 class FinishedRun:
-    """A run read back from its folder."""
+    """A run read back from its folder (``places``: its URDF links' on ``problem.arm``, made with
+    it: :attr:`armanim.scene.convert.ConvertedScene.places`)."""
 
     scene: LoadedScene
     problem: Problem
     solution: Solution
+    places: LinkPlaces | None = None
 
 
 def _read_summary(summary_path: Path) -> dict:
@@ -167,7 +171,8 @@ def load_run(folder: str | Path) -> FinishedRun:
     if recorded is not None and recorded != scene.sha256:
         raise SceneError(str(folder / SCENE_COPY), [Diagnostic("", f"is not the scene this run solved (sha256 {scene.sha256[:12]}..., "
                                                                   f"summary.json records {str(recorded)[:12]}...): run armanim run again")])
-    problem = scene_to_problem(scene.model, fps=_run_fps(summary, scene))
+    converted = convert_scene(scene.model, fps=_run_fps(summary, scene))
+    problem = converted.problem
     traj = _read_trajectory(folder / "trajectory.csv", problem)
     reports = _reports(summary, folder / "summary.json")
     carry = replayed_carry(problem, traj.phi, traj.goal, [g.reached for g in reports])  # a run that grasps: its worlds again
@@ -175,4 +180,5 @@ def load_run(folder: str | Path) -> FinishedRun:
     totals = summary.get("totals")
     rest = totals.get("rest_to_rest_duration_s") if isinstance(totals, dict) else None  # a run with blend's
     return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, reports, float(rest) if isinstance(rest, (int, float)) else None,
-                                                                       carry))
+                                                                       carry),
+                       places=converted.places)

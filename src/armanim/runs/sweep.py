@@ -20,6 +20,7 @@ import yaml
 from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.csvfile import check_table_replaceable, table_csv_text, write_table
 from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks, write_index
+from armanim.runs.options import RunOptions
 from armanim.scene import load_scene, scene_from_bytes
 from armanim.scene.yamlread import read_yaml
 
@@ -281,7 +282,7 @@ def run_sweep(
     check_table_replaceable(out_root / "index.csv", is_index_header)
     items = variants(scene_path, settings)
     tasks = [v.task for v in items if v.task is not None]
-    done = run_tasks(tasks, out_root, jobs=jobs, scheduler=scheduler, video=video, progress=progress)
+    done = run_tasks(tasks, out_root, RunOptions(video=video, jobs=jobs), scheduler=scheduler, progress=progress)
     by_name = {e.name: e for e in done}
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)

@@ -93,7 +93,7 @@ def warm(progress: Callable[[str, int, int], None] | None = None) -> int:
     import numpy as np
 
     from armanim.motion.ik import solve_pose
-    from armanim.motion.retime import retime
+    from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
     from armanim.scene import scene_model, scene_to_problem
 

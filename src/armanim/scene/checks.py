@@ -16,7 +16,7 @@ from armanim.arm.capsules import tip_radius
 from armanim.arm.kinematics import forward
 from armanim.errors import Diagnostic
 from armanim.motion.carry import World, touching_support
-from armanim.motion.following import most_following_frames, path_spacing
+from armanim.motion.paths.following import most_following_frames, path_spacing
 from armanim.motion.problem import frames_in
 from armanim.motion.tunables import DEFAULTS
 from armanim.output.numbers import apart
@@ -613,7 +613,7 @@ def _rounded_up(value: float) -> float:
 
 def _following_problems(scene: SceneModel, limit: int):
     """The frames following the path goals may take, as the run counts them before it solves
-    (:func:`armanim.motion.following.most_following_frames`: the path's samples, every
+    (:func:`armanim.motion.paths.following.most_following_frames`: the path's samples, every
     ``tunables.path.spacing_per_tolerance`` path tolerances or a frame's travel, each step halved up to
     ``tunables.path.max_splits`` times: the defaults, which no scene field sets), counted without making
     the samples, against the frame limit: the field that sets the spacing, and what to change it to."""

@@ -8,7 +8,7 @@ command line's arm flags) builds them here, through the model (:func:`default_so
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import cast
 
 import numpy as np
@@ -19,6 +19,7 @@ from armanim.arm.geometry import unit_vector, wrap_angle
 from armanim.arm.gripper import Gripper
 from armanim.arm.kinematics import Arm, default_axes, forward, joints_in_si
 from armanim.arm.rotations import axis_angle_rotation, quaternion_rotation, rpy_rotation
+from armanim.arm.visuals import LinkPlaces
 from armanim.motion.carry import finger_holds
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import (
@@ -113,7 +114,7 @@ def joint_motion(joint, value: float) -> np.ndarray:
     return cast(np.ndarray, joint.origin @ motion)
 
 
-def link_places(arm: ArmModel, chain: SerialChain) -> dict[str, tuple[int, np.ndarray]]:
+def link_places(arm: ArmModel, chain: SerialChain) -> LinkPlaces:
     """Where every link of the URDF arm's body sits: (carrier, (4, 4) its frame in the carrier's
     frame). The carrier is the moving joint whose frame carries it, or :data:`~armanim.arm.capsules.BASE`
     for the base link and what is fixed to it (their frames then in the world); links off the
@@ -207,6 +208,24 @@ def scene_arm(arm: ArmModel, axes: list[str]) -> tuple[Arm, Capsules | None]:
         return Arm.from_names(arm.links, base=arm.base or (0.0, 0.0, 0.0), axes=axes, direction=arm.direction or "z"), None
     chain = urdf_chain(arm)
     return chain.arm, urdf_capsules(arm, chain)
+
+
+@dataclass(frozen=True)
+class ConvertedScene:
+    """A validated scene converted once (:func:`convert_scene`).
+
+    Attributes
+    ----------
+    problem : Problem
+        The solver's problem.
+    places : dict or None
+        Where each link of a URDF robot sits on ``problem.arm``'s joints
+        (:data:`armanim.arm.visuals.LinkPlaces`, :func:`link_places`), made from the same chain
+        as the problem's arm: the pictures place the robot's meshes by it. None for an arm of links.
+    """
+
+    problem: Problem
+    places: LinkPlaces | None = None
 
 
 def scene_obstacles(scene: SceneModel) -> Obstacles:
@@ -367,7 +386,18 @@ def _axes_key(chain: Arm) -> bytes:
 
 
 def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True, retreats: bool = True) -> Problem:
-    """Convert a validated scene to the solver's problem (radians, numpy arrays).
+    """Convert a validated scene to the solver's problem (radians, numpy arrays): the problem of
+    :func:`convert_scene`, whose parameters it takes.
+
+    >>> scene_to_problem(SceneModel.model_validate({"version": 1, "arm": {"links": [1, 1]}, "goals": [[1, 1, 0]]})).arm.n
+    2
+    """
+    return convert_scene(scene, fps, own_pairs=own_pairs, retreats=retreats).problem
+
+
+def convert_scene(scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True, retreats: bool = True) -> ConvertedScene:
+    """Convert a validated scene to the solver's problem (radians, numpy arrays), and a URDF
+    robot's link places on its arm (for the pictures' meshes), from one chain.
 
     Parameters
     ----------
@@ -375,7 +405,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
     fps : float, optional
         Frames per second of the frames the problem describes, when they are not the
         scene's own (a finished run shown at ``run --fps``). The motion is always solved at
-        ``render.fps``, then put on the clock at the output rate (:func:`armanim.motion.retime.retime`)
+        ``render.fps``, then put on the clock at the output rate (:func:`armanim.motion.timing.retime.retime`)
         or, for a finished run, resampled (:func:`armanim.runs.resample.resample_run`).
     own_pairs : bool
         Find the arm's own pairs to keep apart (``arm.self_collision``); False leaves them empty,
@@ -388,11 +418,12 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
 
     Returns
     -------
-    Problem
+    ConvertedScene
     """
     arm = scene.arm
     fps = scene.render.fps if fps is None else fps
-    chain, capsules = scene_arm(arm, axis_names(scene) if not arm.is_urdf else [])
+    serial = urdf_chain(arm) if arm.is_urdf else None  # the one chain of a URDF arm: the problem's arm, its capsules, its links' places
+    chain, capsules = (serial.arm, urdf_capsules(arm, serial)) if serial is not None else scene_arm(arm, axis_names(scene))
     solver = solver_settings(scene.solver, arm.resolved_width, chain.reach)
     home = joints_in_si(np.array(home_degrees(arm), dtype=float), chain.prismatic)
     limits = joint_limits(arm)
@@ -401,9 +432,9 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
     if retreats:
         goals = with_retreats(goals, scene.goals)
     gripper = None
-    if capsules is not None and any(g.grasp is not None for g in goals):  # the fingers move only in a run that grasps
-        gripper = urdf_gripper(arm, urdf_chain(arm), capsules)
-    return Problem(
+    if serial is not None and capsules is not None and any(g.grasp is not None for g in goals):  # the fingers move only in a run that grasps
+        gripper = urdf_gripper(arm, serial, capsules)
+    problem = Problem(
         arm=chain,
         half_width=arm.resolved_width / 2.0,
         home=home,
@@ -418,6 +449,7 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
                     else SelfPairs.none(self_clearance(scene.solver, solver.clearance))),
         gripper=gripper,
     )
+    return ConvertedScene(problem, link_places(arm, serial) if serial is not None else None)
 
 
 def orientation_rotation(o: OrientationModel) -> np.ndarray:

@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.chain import transform
-from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
-from armanim.scene.convert import link_places, tool_frame, urdf_chain, urdf_mount
+from armanim.arm.visuals import ArmMeshes, LinkMesh, LinkPlaces, placed_meshes
+from armanim.scene.convert import tool_frame
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
 from armanim.scene.robots import bundled_robot
 from armanim.scene.urdf import read_urdf
@@ -21,23 +21,27 @@ from armanim.scene.visuals import (
     MeshReader,
     VisualSpec,
     bundled_link_meshes,
-    chain_meshes,
     default_package_dirs,
     link_meshes,
     mesh_file_triangles,
     not_a_file,
+    placed_link_meshes,
     simplified,
     unreadable_reason,
     visual_specs,
 )
 
 
-def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | None = None,
+def scene_meshes(arm, places: LinkPlaces | None, package_dirs: list[Path] | None = None, triangles: int | None = None,
                  scene_dir: Path | None = None, furniture=(), robot: bool = True,
                  urdf_dir: Path | None = None) -> tuple[ArmMeshes | None, list[str]]:
     """What the pictures draw as meshes: the look of a scene's URDF arm (``arm``: a validated
     :class:`~armanim.scene.armmodel.ArmModel` with its files read; left out when ``robot`` is
     False) and the scene's ``furniture`` (``render.furniture``: boxes in the world).
+
+    ``places``: where each of the arm's links sits on the problem's arm
+    (:attr:`armanim.scene.convert.ConvertedScene.places`, made with the problem: the arm is not
+    converted again here); None for an arm of links.
 
     The arm's look is a bundled robot's shipped meshes, or the visuals of a user's URDF found
     under ``package_dirs`` (default: the URDF's folder and its parents), simplified to about
@@ -63,8 +67,8 @@ def scene_meshes(arm, package_dirs: list[Path] | None = None, triangles: int | N
     if triangles is not None and total > triangles:
         meshes = [simplified(m, max(12, round(m.triangles * triangles / total))) for m in meshes]
     meshes += tool_meshes(arm.tool, urdf.tip_link, scene_dir or Path("."), notes.append, reader)
-    chain = urdf_chain(arm)
-    placed = chain_meshes(meshes, urdf.robot, urdf.base_link, urdf.tip_link, chain, urdf_mount(arm), fixed, link_places(arm, chain))
+    assert places is not None, "a URDF arm's links have their places (convert_scene)"
+    placed = placed_link_meshes(meshes, urdf.robot, places, fixed)
     return (placed if placed.triangles else None), notes
 
 

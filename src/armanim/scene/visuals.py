@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.chain import SerialChain, transform
-from armanim.arm.visuals import ArmMeshes, LinkMesh, placed_meshes
+from armanim.arm.visuals import ArmMeshes, LinkMesh, LinkPlaces, placed_meshes
 from armanim.errors import SceneError
 from armanim.output.files import read_bounded, special_kind
 from armanim.scene.meshfiles import VISUAL_COLOR, mesh_format, raise_if_interrupted, read_mesh
@@ -433,6 +433,16 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
         place[joint.child] = (chain.carriers[i], np.asarray(chain.link_offsets[i]))
     if places is not None:
         place.update(places)
+    return placed_link_meshes(meshes, robot, place, fixed)
+
+
+def placed_link_meshes(meshes: list[LinkMesh], robot: Robot, places: LinkPlaces,
+                       fixed: Sequence[LinkMesh] = ()) -> ArmMeshes:
+    """The links' meshes placed where ``places`` puts their links (carrier, (4, 4) the link's
+    frame in the carrier's; :func:`armanim.scene.convert.link_places`, made with the problem's
+    arm), a link not in it below the nearest link that is, at its joints' zero. Links not below
+    a placed one are not drawn; ``fixed`` meshes are already in the world."""
+    place = places
     up = robot.parent_joint
     kept, carriers, offsets = [], [], []
     for mesh in meshes:
@@ -450,4 +460,5 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
 
 
 __all__ = ["DEFAULT_RGB", "MAX_LOOK_BYTES", "MAX_LOOK_TRIANGLES", "MAX_MESH_BYTES", "TRIANGLE_BUDGET", "MeshReader", "VisualSpec", "bundled_link_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
+           "placed_link_meshes",
            "mesh_path", "simplified", "visual_specs"]

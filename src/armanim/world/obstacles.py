@@ -192,7 +192,7 @@ class Obstacles:
     boxes: Boxes = field(default_factory=Boxes.none)
     rods: Rods = field(default_factory=Rods.none)
     floor: float | None = None
-    kinds: np.ndarray = None  # type: ignore[assignment]  # None: __post_init__ fills it from the counts
+    kinds: np.ndarray = cast(np.ndarray, None)  # None: __post_init__ fills it from the counts
     cylinders: Cylinders = field(default_factory=Cylinders.none)
     names: tuple[str | None, ...] = ()
     # derived: set by __post_init__ (see the docstring), never passed

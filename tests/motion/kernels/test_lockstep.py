@@ -38,14 +38,7 @@ from armanim.arm.kinematics import forward, tool_rotation
 from armanim.arm.linalg import PINV_RTOL, pseudo_inverse
 from armanim.arm.rotations import rotation_exp
 from armanim.motion import ik
-from armanim.motion.kernels import attempt, check, linalg, qp
-from armanim.motion.kernels.frame import frame_step
-from armanim.motion.kernels.plan import compiled_plan
-from armanim.motion.orientation import Orientation
-from armanim.motion.problem import Goal, Limits, Problem
-from armanim.motion.solution import Trajectory
-from armanim.motion.solvers import proposed_step, solver_method
-from armanim.motion.solvers.barrier import (
+from armanim.motion.filter.barrier import (
     Constraints,
     clearly_allowed,
     closest_safe_step,
@@ -54,8 +47,15 @@ from armanim.motion.solvers.barrier import (
     joint_bounds,
     safe_step,
 )
+from armanim.motion.framestep import method_step
+from armanim.motion.kernels import attempt, check, linalg, qp
+from armanim.motion.kernels.frame import frame_step
+from armanim.motion.kernels.plan import compiled_plan
+from armanim.motion.orientation import Orientation
+from armanim.motion.problem import Goal, Limits, Problem
+from armanim.motion.solution import Trajectory
+from armanim.motion.solvers import proposed_step, solver_method
 from armanim.motion.solvers.common import ArmState, arm_state
-from armanim.motion.solvers.frames import method_step
 from armanim.motion.solvers.linear import damped_inverse
 from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import default_solver_settings, scene_model, scene_to_problem

@@ -161,7 +161,7 @@ def joint_path_floor(problem: Problem, ends: float) -> float:
     certification may miss (half its ``certify_to`` clearances, :func:`~.path.motion_is_free`),
     so that every pose between the solved frames keeps ``solver.clearance`` and the clock never
     has to leave the path; no more than ``ends``, the two poses' own least clearance
-    (:func:`~armanim.motion.solvers.barrier.pose_clearance`), allows."""
+    (:func:`~armanim.motion.filter.clearance.pose_clearance`), allows."""
     d_safe = problem.solver.clearance
     return float(max(d_safe, min(d_safe * (1 + problem.tunables.planner.certify_to / 2), ends)))
 

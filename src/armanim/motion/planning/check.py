@@ -1,7 +1,7 @@
 """The planner's collision checks, compiled (numba): poses' margins and a motion's certificate.
 
 RRT-Connect asks thousands of poses and motions whether they are free. In numpy each pose costs
-some 400 microseconds of calls (:func:`~armanim.motion.solvers.barrier.split_clearances`); here
+some 400 microseconds of calls (:func:`~armanim.motion.filter.clearance.split_clearances`); here
 one pose is its kinematics (:mod:`armanim.arm.kernel`), its capsules' clearances to every obstacle
 and the floor (:func:`armanim.motion.kernels.check.obstacle_clearances`, in the scene's order)
 and its enabled pairs' gaps (:func:`armanim.world.compiled.capsule_pair_gaps`) in one call, and a
@@ -23,10 +23,10 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_lever_rows, next_axis_reach
 from armanim.arm.kernel import INLINE, JIT, _capsule_ends_one, _forward_one, compiled, packed_chain
+from armanim.motion.filter.clearance import limit_buffer, self_shift
 from armanim.motion.kernels.layout import World, world_arrays
 from armanim.motion.planning.path import coarse_spacing
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import limit_buffer, self_shift
 from armanim.world.compiled import (
     CYLINDER_SCRATCH,
     SCRATCH,
@@ -500,8 +500,10 @@ def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
     keys, pair_group = np.unique(ga * len(carriers) + gb, return_inverse=True)
     pair_members = np.argsort(pair_group, kind="stable")
     pair_start = np.searchsorted(pair_group[pair_members], np.arange(len(keys) + 1))
-    return tuple(np.ascontiguousarray(v, dtype=np.int64) for v in (  # type: ignore[return-value]  # six arrays
-        start, members, keys // max(len(carriers), 1), keys % max(len(carriers), 1), pair_start, pair_members))
+    groups = max(len(carriers), 1)
+    start, members, low, high, pair_start, pair_members = (np.ascontiguousarray(v, dtype=np.int64) for v in (
+        start, members, keys // groups, keys % groups, pair_start, pair_members))
+    return start, members, low, high, pair_start, pair_members
 
 
 def pair_capsule_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray,
@@ -548,7 +550,7 @@ class CompiledCheck:
     """One problem's arrays as the compiled checks read them, packed once per plan.
 
     ``closed``: a motion's ends may rest on the limits (a joint goal's path), else they keep the
-    filter's buffer inside them, as :func:`~armanim.motion.solvers.barrier.within_limits`.
+    filter's buffer inside them, as :func:`~armanim.motion.filter.clearance.within_limits`.
     Clearances and gaps are exact below ``far`` (the planner's ``exact_within`` of the arm's
     reach) and lower bounds of at least ``far``
     beyond it: a motion certified by them is certified.
@@ -599,7 +601,7 @@ class CompiledCheck:
 
     def margins(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(k,) the least obstacle clearance and (k, P) the shifted pair gaps of poses ``phi`` (k, n):
-        :func:`~armanim.motion.solvers.barrier.split_clearances`, compiled."""
+        :func:`~armanim.motion.filter.clearance.split_clearances`, compiled."""
         phi = np.ascontiguousarray(np.atleast_2d(phi), dtype=float)
         clear = np.empty(len(phi))
         own = np.empty((len(phi), len(self.pairs[0])))
@@ -608,12 +610,12 @@ class CompiledCheck:
         return clear, own
 
     def pose_clearances(self, phi: np.ndarray) -> np.ndarray:
-        """(k,) :func:`~armanim.motion.solvers.barrier.pose_clearance` of poses ``phi`` (k, n), compiled."""
+        """(k,) :func:`~armanim.motion.filter.clearance.pose_clearance` of poses ``phi`` (k, n), compiled."""
         clear, own = self.margins(phi)
         return clear if not own.shape[1] else np.minimum(clear, own.min(axis=1))
 
     def pose_clearance(self, phi: np.ndarray) -> float:
-        """One pose's :func:`~armanim.motion.solvers.barrier.pose_clearance` (n,), compiled."""
+        """One pose's :func:`~armanim.motion.filter.clearance.pose_clearance` (n,), compiled."""
         clear, own = self.margins(phi)
         return float(min(clear[0], own.min())) if own.size else float(clear[0])
 

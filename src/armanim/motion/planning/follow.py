@@ -78,7 +78,7 @@ def damper_paced(problem: Problem, waypoints: np.ndarray, s: np.ndarray, most: i
 
     The filter's velocity damper lets a frame close at most ``gamma`` of what is left of the gap
     of each link to each surface and of each joint to its limits, as its linear constraints see
-    it (:mod:`armanim.motion.solvers.barrier`): a path that approaches faster is bent by the
+    it (:mod:`armanim.motion.filter.barrier`): a path that approaches faster is bent by the
     filter, and the arm leaves it. Each such frame interval is halved, the new frames on the
     path itself (not on chords across its corners), so the arm slows near surfaces and limits
     and stays on the path.
@@ -98,7 +98,7 @@ def damper_paced(problem: Problem, waypoints: np.ndarray, s: np.ndarray, most: i
     -------
     (F',) array, F' >= F: the same frames with others in between.
     """
-    from armanim.motion.solvers.barrier import takes_unchanged
+    from armanim.motion.filter.barrier import takes_unchanged
     from armanim.motion.solvers.common import arm_state
 
     s = np.concatenate([[0.0], s])

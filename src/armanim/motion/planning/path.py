@@ -22,18 +22,16 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import (
+from armanim.motion.filter.barrier import obstacle_rows, point_travel_bound, self_pair_rows
+from armanim.motion.filter.clearance import (
     kept_clearance,
-    obstacle_rows,
     planning_floor,
-    point_travel_bound,
     pose_clearance,
-    self_pair_rows,
     settle_clearance,
     split_clearances,
     within_limits,
 )
+from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import arm_state
 from armanim.motion.tunables import DEFAULTS, PlannerOptions
 from armanim.names import PathSource
@@ -174,7 +172,7 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
     """A free path from ``start`` to one of ``goals`` (nearest first), or none.
 
     First with room: to the goal poses with room to settle, every pose of the path at least
-    :func:`~armanim.motion.solvers.barrier.settle_clearance` from every obstacle, so that the
+    :func:`~armanim.motion.filter.clearance.settle_clearance` from every obstacle, so that the
     filter (which slows every approach to what it keeps) lets the arm follow it; an arm resting
     closer than that first steps straight away from the surfaces (:func:`escape_pose`). Then,
     if that finds nothing, to any goal pose at the planning floor.
@@ -401,12 +399,15 @@ def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: floa
             return check.pose_free(phi[0], floor)
         return bool(within_limits(problem, phi)[0] and pose_clearance(problem, phi)[0] >= floor)
 
-    class SampledMotions(ob.MotionValidator):  # type: ignore[misc]  # OMPL's Python bindings ship no types: the base is Any
-        def checkMotion(self, s1: Any, s2: Any, *_: Any) -> bool:
-            a, b = _array(s1, n), _array(s2, n)
-            free, used = check.motion_free(a, b, floor) if check is not None else motion_is_free(problem, a, b, floor)
-            checks[0] += used
-            return free
+    def check_motion(validator: Any, s1: Any, s2: Any, *_: Any) -> bool:
+        a, b = _array(s1, n), _array(s2, n)
+        free, used = check.motion_free(a, b, floor) if check is not None else motion_is_free(problem, a, b, floor)
+        checks[0] += used
+        return free
+
+    # OMPL's bindings ship no types (the base is Any, which a class statement may not subclass
+    # under strict mypy): the subclass is made by its base's metaclass, as a class statement would
+    SampledMotions = type(ob.MotionValidator)("SampledMotions", (ob.MotionValidator,), {"checkMotion": check_motion})
 
     si.setStateValidityChecker(state_is_free)
     validator = SampledMotions(si)

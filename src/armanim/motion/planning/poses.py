@@ -6,8 +6,8 @@ limits at every iteration. A goal with an orientation solves the stacked pose ta
 [p_g - p ; w B r] with [J_v ; w B J_w] instead, and a pose counts only when it meets the
 orientation too. The poses kept are inside the limits with every link at
 least the planning floor from every obstacle (what the safety filter keeps,
-:func:`armanim.motion.solvers.barrier.planning_floor`): the roomy ones first (at least
-:func:`~armanim.motion.solvers.barrier.settle_clearance`, room to settle), then the others,
+:func:`armanim.motion.filter.clearance.planning_floor`): the roomy ones first (at least
+:func:`~armanim.motion.filter.clearance.settle_clearance`, room to settle), then the others,
 each group nearest to the current pose first.
 Pure core: numpy only.
 """
@@ -21,9 +21,7 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import Pose, forward, tip_jacobian, tool_rotation
-from armanim.motion.orientation import Orientation, orientation_angle, orientation_task
-from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import (
+from armanim.motion.filter.clearance import (
     limit_buffer,
     planning_floor,
     pose_clearance,
@@ -31,6 +29,8 @@ from armanim.motion.solvers.barrier import (
     settle_clearance,
     within_limits,
 )
+from armanim.motion.orientation import Orientation, orientation_angle, orientation_task
+from armanim.motion.problem import Problem
 from armanim.world.selfdistances import self_gaps
 
 

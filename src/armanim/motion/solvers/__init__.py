@@ -1,10 +1,10 @@
-"""The four solver methods behind one registry, and the barrier every step goes through.
+"""The four solver methods behind one registry; every step then goes through the filter (:mod:`armanim.motion.filter`).
 
 A method owns only its step: given the problem, the current angles and the goal, its
 step function proposes a joint update (a :class:`Step`). The drivers own the loop: the
 frame loop (:mod:`armanim.motion.trajectory`) owns termination, holds and reached/missed, the
 pose solver (:mod:`armanim.motion.ik`) owns attempts and restarts; both pass every proposal
-through :func:`armanim.motion.solvers.barrier.safe_step` (the safety filter). What a driver must
+through :func:`armanim.motion.filter.barrier.safe_step` (the safety filter). What a driver must
 know of a method is data on its registry entry (:class:`Method`), never a test of its name.
 """
 

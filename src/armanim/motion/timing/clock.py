@@ -5,7 +5,7 @@ steps, the planner's path, the finishing steps) are a path in joint space. The c
 *when*: the fastest motion along exactly that path that starts and ends at rest and keeps
 every joint within ``problem.rates`` (:class:`armanim.motion.problem.RateLimits`).
 
-1. **The path** (:func:`armanim.motion.jointpath.joint_path`): a piecewise cubic through every solved pose, in order,
+1. **The path** (:func:`armanim.motion.timing.jointpath.joint_path`): a piecewise cubic through every solved pose, in order,
    parametrised by joint-space arc length, with Fritsch-Carlson (PCHIP) slopes: each joint
    moves monotonically between two solved poses, so the path never leaves the box of two
    neighbouring poses and stays inside the joint limits as they do.
@@ -36,8 +36,8 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.motion.jointpath import JointPath
 from armanim.motion.solution import GoalTiming
+from armanim.motion.timing.jointpath import JointPath
 from armanim.motion.tunables import DEFAULTS, ClockOptions
 
 
@@ -122,13 +122,18 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, p
     from which the end can still be reached at rest (the controllable set [0, hi]: resting is
     always allowed); the forward pass takes the largest u that stays in the next set.
 
-    >>> from armanim.motion.jointpath import joint_path
+    >>> from armanim.motion.timing.jointpath import joint_path
     >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
     >>> law = time_optimal(p, np.array([10.0]), np.array([1.0]))
     >>> round(law.duration, 6)  # bang-bang over one radian at 1 rad/s^2: 2 s
     2.0
     """
-    from armanim.motion.passes import backward_pass, forward_pass, interval_bounds, pass_bounds  # compiled: numba here
+    from armanim.motion.timing.passes import (  # compiled: numba here
+        backward_pass,
+        forward_pass,
+        interval_bounds,
+        pass_bounds,
+    )
 
     s = _grid(path.s, clock)
     h = np.diff(s)
@@ -217,7 +222,7 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     ClockTooLong
         The motion would take more than ``most_frames`` frames.
     """
-    from armanim.motion.passes import law_excess
+    from armanim.motion.timing.passes import law_excess
 
     q_vel, q_acc = law_excess(law.t, law.s, law.speed, law.accel, path.s, path.poses, path.slopes, _check_fractions(clock),
                               speed, acceleration)
@@ -289,7 +294,7 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
     and after) as :func:`sampled_motion` does. ``path_speed``: as for :func:`time_optimal` (the
     window's mean of a capped speed keeps the cap); ``excess`` and ``clock`` as for :func:`sampled_motion`.
 
-    >>> from armanim.motion.jointpath import joint_path
+    >>> from armanim.motion.timing.jointpath import joint_path
     >>> p = joint_path(np.array([[0.0], [1.0]]), np.array([True]))
     >>> m = jerk_limited_motion(p, np.array([10.0]), np.array([1.0]), np.array([100.0]), 10.0)
     >>> float(m.phi[-1, 0]), 2.0 < m.duration < 2.5  # a little longer than bang-bang's 2 s

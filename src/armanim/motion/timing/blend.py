@@ -4,10 +4,10 @@ A goal with a ``blend`` radius (:attr:`armanim.motion.problem.Goal.blend`) that 
 ``hold``, is not the last and is followed by a goal that moves the arm (a path goal: to its
 path's start, which the arm reaches at rest) is a *via* goal: its
 solved path and the next goal's become one path, which the clock times as one
-(:func:`armanim.motion.retime.retime`), its speed at the via free. Every other goal ends at
+(:func:`armanim.motion.timing.retime.retime`), its speed at the via free. Every other goal ends at
 rest, as without ``blend``; :func:`blend_reason` says why.
 
-That path is made short and smooth (:mod:`armanim.motion.smoothing`): shortcut between the
+That path is made short and smooth (:mod:`armanim.motion.timing.smoothing`): shortcut between the
 part's first pose, each via goal's solved pose and its last pose, every corner rounded by a
 certified curve, a via's passing within ``ENTRY`` of its radius.
 
@@ -26,9 +26,9 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.jointpath import unwrapped
 from armanim.motion.problem import Goal, Problem
 from armanim.motion.solution import BLEND_REASONS, BlendReport, GoalReport
+from armanim.motion.timing.jointpath import unwrapped
 
 ENTRY = 0.8
 """A via's curve passes within this fraction of its radius of the goal (the rest of the radius is
@@ -40,7 +40,7 @@ PASS_TOLERANCES = 2.0
 def blend_reason(problem: Problem, goals: tuple[GoalReport, ...] | list[GoalReport], k: int) -> str | None:
     """Why goal ``k`` (which has a ``blend``) ends at rest, or None when it may be a via goal.
     ``next_path`` before a path goal: the clock lets the goal flow into that goal's approach to its
-    path's start where the arm moves there (:func:`armanim.motion.retime.retime`).
+    path's start where the arm moves there (:func:`armanim.motion.timing.retime.retime`).
 
     >>> from types import SimpleNamespace
     >>> p = SimpleNamespace(goals=[Goal(np.zeros(3), 0.0, blend=0.1), Goal(np.zeros(3), 1.0, blend=0.1)])
@@ -84,7 +84,7 @@ def via_distances(problem: Problem, goal: Goal, phi: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ShapedPart:
-    """A part through via goals as the clock is given it (:mod:`armanim.motion.smoothing`'s path).
+    """A part through via goals as the clock is given it (:mod:`armanim.motion.timing.smoothing`'s path).
 
     Attributes
     ----------

@@ -2,8 +2,8 @@
 
 Parametrised by joint-space arc length, with Fritsch-Carlson (PCHIP) slopes, so each joint
 moves monotonically between two solved poses: the path never leaves the box of two neighbouring
-poses and stays inside the joint limits as they do (:mod:`armanim.motion.clock` times it). Pure
-core: numpy only (the evaluation is compiled: :func:`armanim.motion.passes.hermite`).
+poses and stays inside the joint limits as they do (:mod:`armanim.motion.timing.clock` times it). Pure
+core: numpy only (the evaluation is compiled: :func:`armanim.motion.timing.passes.hermite`).
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ class JointPath:
         >>> p.evaluate(np.array([0.5, 1.5])).ravel().tolist(), p.evaluate(np.array([0.25]), 1).ravel().tolist()
         ([0.5, 1.5], [1.0])
         """
-        from armanim.motion.passes import hermite  # compiled: a path is evaluated at thousands of points
+        from armanim.motion.timing.passes import hermite  # compiled: a path is evaluated at thousands of points
 
         out = np.empty((len(s), self.poses.shape[1]))
         hermite(self.s, self.poses, self.slopes, np.ascontiguousarray(s, dtype=float), derivative, out)

@@ -1,7 +1,7 @@
 """Path goals on the clock: the tool's speed cap, and where the timed frames are on the path.
 
 A path goal's frames along its path (mode ``path``) are timed from rest to rest as a part of
-their own (:func:`armanim.motion.retime.retime`), with the tool's speed along the path capped at
+their own (:func:`armanim.motion.timing.retime.retime`), with the tool's speed along the path capped at
 the goal's ``speed`` (:func:`part_path_speed`): the clock runs the tool at that speed where the
 joints allow, slower where they cannot keep up, never faster. Once timed, every frame along the
 path gets its arc length done and its distance from the path (:func:`traced_paths`), and each
@@ -18,9 +18,9 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.kinematics import forward
-from armanim.motion.clock import Excess, Motion
 from armanim.motion.problem import Goal, Problem, joint_offset
 from armanim.motion.solution import GoalReport, GoalTiming, Trajectory
+from armanim.motion.timing.clock import Excess, Motion
 
 ALONG = "path"
 """The mode of a frame along a path goal's path."""

@@ -1,6 +1,6 @@
 """One goal's motion on the clock, kept clear of the obstacles and of the arm itself.
 
-:mod:`armanim.motion.clock` times a path through a goal's solved poses; this module keeps
+:mod:`armanim.motion.timing.clock` times a path through a goal's solved poses; this module keeps
 that path as safe as the poses are. The smooth path between two solved poses bulges a little
 beyond their straight chord, so a step that might come closer to an obstacle (or bring two
 of the arm's own capsules closer) than the floor is probed, and a step whose probes do not
@@ -26,8 +26,8 @@ from typing import cast
 import numpy as np
 
 from armanim.arm.geometry import wrap_angle
-from armanim.motion.clock import Excess, Motion, jerk_limited_motion, sampled_motion, time_optimal
-from armanim.motion.jointpath import JointPath, joint_path
+from armanim.motion.timing.clock import Excess, Motion, jerk_limited_motion, sampled_motion, time_optimal
+from armanim.motion.timing.jointpath import JointPath, joint_path
 from armanim.motion.tunables import DEFAULTS, ClockOptions
 
 
@@ -177,13 +177,13 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     at a frame is taken along its chord (and that motion timed again); a step whose chord still
     does not at a frame is replaced by its safety's ``detour`` (chords, certified) and timed
     again. Every frame keeps the rate limits. The goals' probes and frames are measured
-    together, a few calls in all. Raises :class:`~armanim.motion.clock.ClockTooLong` where a
+    together, a few calls in all. Raises :class:`~armanim.motion.timing.clock.ClockTooLong` where a
     goal's motion would pass ``most_frames`` less the frames (and ``holds``, one a goal) of the
     goals before it. ``path_speeds`` (one a goal, each (m_i - 1,) or None): the most ds/dt on each
-    solved step (:func:`~armanim.motion.clock.time_optimal`). ``strays`` (one a goal, or None):
+    solved step (:func:`~armanim.motion.timing.clock.time_optimal`). ``strays`` (one a goal, or None):
     ``strays(motion)`` -> (K,) bool, the frames of a timed motion that leave a path goal's path;
     the steps they lie in are taken along their chords too. ``excesses`` (one a goal, or None):
-    a limit of the frames the clock does not know (:data:`~armanim.motion.clock.Excess`).
+    a limit of the frames the clock does not know (:data:`~armanim.motion.timing.clock.Excess`).
     ``clock``: the clock's grid (``problem.tunables.clock``).
     """
     holds = [0] * len(poses) if holds is None else holds

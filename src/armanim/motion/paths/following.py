@@ -36,11 +36,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from armanim.arm.kinematics import forward, tool_rotation
+from armanim.motion.framestep import method_step
 from armanim.motion.ik import pose_errors, solving_problem
 from armanim.motion.orientation import orientation_angle
 from armanim.motion.problem import Goal, Problem, joint_offset, step_caps
 from armanim.motion.solvers import ArmState, Method, arm_state, solver_method
-from armanim.motion.solvers.frames import method_step
 from armanim.motion.stalls import beyond_reach
 from armanim.motion.toolpath import ToolPath
 from armanim.names import Blocker, PathCause, PathSource

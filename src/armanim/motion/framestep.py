@@ -1,9 +1,9 @@
 """One filtered step of a method: its proposal through the safety filter, compiled where it can be.
 
 The frame loop (:mod:`armanim.motion.trajectory`) and a path's samples
-(:mod:`armanim.motion.following`) take each step as the method's proposal
+(:mod:`armanim.motion.paths.following`) take each step as the method's proposal
 (:func:`armanim.motion.solvers.proposed_step`) through the filter
-(:func:`armanim.motion.solvers.barrier.safe_step`); for ``pinv`` and ``dls`` with the analytic
+(:func:`armanim.motion.filter.barrier.safe_step`); for ``pinv`` and ``dls`` with the analytic
 Jacobian, the compiled frame (:mod:`armanim.motion.kernels.frame`) takes the same step
 to rounding, unless ``tunables.ik.compiled_frames`` is off (:func:`armanim.motion.kernels.plan.compiled_plan`). Pure core: no I/O; numba is imported
 at the first compiled step, not with this module.
@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from armanim.motion.filter.barrier import SafeStep, safe_step
 from armanim.motion.kernels.plan import compiled_plan
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, proposed_step
-from armanim.motion.solvers.barrier import SafeStep, safe_step
 
 
 def method_step(problem: Problem, method: Method, state: ArmState, goal: np.ndarray,

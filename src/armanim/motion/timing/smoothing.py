@@ -2,7 +2,7 @@
 
 The frame loop's path to a goal is the method's many small steps: it curves, and near a goal its
 steps shrink and turn, so the clock, bound by the path's curvature, is slow nearly everywhere and
-passing a goal without stopping saves little. Where goals are blended (:mod:`armanim.motion.blend`)
+passing a goal without stopping saves little. Where goals are blended (:mod:`armanim.motion.timing.blend`)
 the solved poses between two kept poses (the part's first pose, each via goal's solved pose, the
 part's last pose: the same goals reached at the same poses) are replaced:
 
@@ -19,7 +19,7 @@ part's last pose: the same goals reached at the same poses) are replaced:
 
 Certified: every pose added is measured (obstacles and the arm's own pairs, one floor), and every
 piece between two consecutive poses keeps the floor by the lever-arm bound
-(:func:`~armanim.motion.goalmotion.two_sided_bound`), pieces halved until it does; the clock's path
+(:func:`~armanim.motion.timing.goalmotion.two_sided_bound`), pieces halved until it does; the clock's path
 keeps each joint monotone between two consecutive poses, so it stays in their box, which the bound
 covers. A straight segment is given to the clock by its two first and two last samples only: through
 collinear poses the clock's path is the segment itself, all of whose pieces were certified
@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from armanim.motion.goalmotion import two_sided_bound
+from armanim.motion.timing.goalmotion import two_sided_bound
 
 FRACTIONS = (0.5, 0.3, 0.15, 0.06)
 """The fractions of the two segments a corner's curve may take, largest first."""

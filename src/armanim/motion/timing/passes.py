@@ -2,7 +2,7 @@
 
 Each pass is a recursion from one grid point to the next over a few dozen bounds: in numpy it
 cost some 30 us a point in call overhead alone, compiled it is a few dozen floating-point
-operations. Imported by :func:`armanim.motion.clock.time_optimal` when a clock is computed.
+operations. Imported by :func:`armanim.motion.timing.clock.time_optimal` when a clock is computed.
 Pure core: numpy and numba only.
 """
 
@@ -76,7 +76,7 @@ def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndar
     """Fill ``out`` (k, n) with the piecewise cubic Hermite path through ``poses`` (m, n) with
     ``slopes`` (m, n) at ``knots`` (m,), or its ``derivative`` (0 to 3) in s, at ``s`` (k,); each
     point in the step it falls in (from the right at a knot), as
-    :meth:`armanim.motion.jointpath.JointPath.evaluate` defines it."""
+    :meth:`armanim.motion.timing.jointpath.JointPath.evaluate` defines it."""
     for i in range(len(s)):
         k = _step(knots, s[i])
         t = (s[i] - knots[k]) / (knots[k + 1] - knots[k])
@@ -91,7 +91,7 @@ def law_excess(law_t: np.ndarray, law_s: np.ndarray, law_speed: np.ndarray, law_
     """The largest ratio of any joint's speed to its limit, and of its acceleration to its
     limit, of the time law (grid times ``law_t``, points ``law_s``, path speeds ``law_speed``
     and constant path accelerations ``law_accel`` on its intervals) along the path, at the
-    ``fractions`` of every grid interval: what :class:`armanim.motion.clock.TimeLaw`'s ``at``
+    ``fractions`` of every grid interval: what :class:`armanim.motion.timing.clock.TimeLaw`'s ``at``
     and :func:`hermite` give there, without their arrays (NaN for both if any is NaN)."""
     last, i, k = len(law_accel) - 1, 0, 0
     most_v, most_a, nan = 0.0, 0.0, False
@@ -143,7 +143,7 @@ def pass_bounds(h: np.ndarray, lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndar
 def interval_bounds(d1: np.ndarray, d2: np.ndarray, h: np.ndarray, fractions: np.ndarray, speed: np.ndarray,
                     acceleration: np.ndarray, lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray,
                     x_cap: np.ndarray) -> None:
-    """Fill the bounds of :func:`armanim.motion.clock.time_optimal` on each grid interval i from the
+    """Fill the bounds of :func:`armanim.motion.timing.clock.time_optimal` on each grid interval i from the
     path's derivatives ``d1``, ``d2`` (C, N, n) at its C collocation points (``fractions`` of h[i]):
     each joint's acceleration a1 u + d2 x within +-a (a1 = d1 + 2 f h d2) as lo_b + lo_k x <= u <=
     hi_b + hi_k x (columns c n + j), each joint's speed as x + 2 f h u <= (v / |d1|)^2 (one upper

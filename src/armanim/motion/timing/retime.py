@@ -3,7 +3,7 @@
 A scene's motion is solved at the scene's own ``render.fps``: one filtered step per frame,
 which fixes *where* the arm goes. :func:`retime` then gives it *when*: each goal's solved
 poses, from the pose the arm is at to the goal's last solved pose, are one path, timed by
-:mod:`armanim.motion.clock` from rest to rest within each joint's speed and acceleration
+:mod:`armanim.motion.timing.clock` from rest to rest within each joint's speed and acceleration
 limits (``problem.rates``) and sampled at the output fps; a reached goal's hold is then its
 seconds at rest at that rate. The clock is the same at any fps, so the arm moves the same
 in seconds at 15, 30 or 60 fps, and reaches and misses the same goals.
@@ -24,7 +24,14 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.blend import (
+from armanim.motion.carry import goal_problems, world_clearance
+from armanim.motion.filter.clearance import pose_clearance, self_shift
+from armanim.motion.orientation import frame_orientations
+from armanim.motion.planning import joint_path_floor, plan_joint_motion
+from armanim.motion.planning.path import motion_is_free
+from armanim.motion.problem import Goal, Problem, joint_offset
+from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
+from armanim.motion.timing.blend import (
     ENTRY,
     BlendReport,
     ShapedPart,
@@ -33,12 +40,10 @@ from armanim.motion.blend import (
     pass_speed_caps,
     via_distances,
 )
-from armanim.motion.carry import goal_problems, world_clearance
-from armanim.motion.clock import ClockTooLong, Excess, Motion
-from armanim.motion.goalmotion import PathSafety, goal_motions, two_sided_bound
-from armanim.motion.jointpath import unwrapped
-from armanim.motion.orientation import frame_orientations
-from armanim.motion.pathtiming import (
+from armanim.motion.timing.clock import ClockTooLong, Excess, Motion
+from armanim.motion.timing.goalmotion import PathSafety, goal_motions, two_sided_bound
+from armanim.motion.timing.jointpath import unwrapped
+from armanim.motion.timing.pathtiming import (
     joined_timing,
     part_path_speed,
     path_reported,
@@ -46,12 +51,7 @@ from armanim.motion.pathtiming import (
     tool_speed_excess,
     traced_paths,
 )
-from armanim.motion.planning import joint_path_floor, plan_joint_motion
-from armanim.motion.planning.path import motion_is_free
-from armanim.motion.problem import Goal, Problem, joint_offset
-from armanim.motion.smoothing import Certifier, smoothed_poses
-from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
-from armanim.motion.solvers.barrier import pose_clearance, self_shift
+from armanim.motion.timing.smoothing import Certifier, smoothed_poses
 from armanim.motion.trajectory import hold_frames, joint_goals_reached, with_self_clearance, with_world_self_clearance
 
 
@@ -206,14 +206,14 @@ class _Part:
     strays: Callable[[Motion], np.ndarray] | None = None
     excess: Excess | None = None
     vias: tuple[int, ...] = ()
-    """The goals passed without stopping inside the part, in order (:mod:`armanim.motion.blend`)."""
+    """The goals passed without stopping inside the part, in order (:mod:`armanim.motion.timing.blend`)."""
     via_frames: tuple[int, ...] = ()
     """Each via goal's last solved frame (an index of the solved trajectory)."""
 
 
 def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: float, most_frames: float,
                  safety: PathSafety | None = None, safeties: list[PathSafety] | None = None) -> list[Motion]:
-    """Each part's motion on the clock (:func:`~armanim.motion.goalmotion.goal_motions`), kept clear
+    """Each part's motion on the clock (:func:`~armanim.motion.timing.goalmotion.goal_motions`), kept clear
     by :func:`path_safety` (or ``safety``, its result; or ``safeties``, each part's own) and, along a
     path, on it at the goal's speed."""
     rates = problem.rates
@@ -273,14 +273,14 @@ def _joined(solved: np.ndarray, goals: list[np.ndarray], pieces: list[slice], mo
 
 
 def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
-    """What keeps ``trajectory``'s solved path clear (:class:`~armanim.motion.goalmotion.PathSafety`):
+    """What keeps ``trajectory``'s solved path clear (:class:`~armanim.motion.timing.goalmotion.PathSafety`):
     :func:`pose_clearance` against ``solver.clearance``, the solved frames' clearances as the
     solve measured them, and the steps between frames certified from them by lever arms.
 
     No point of the capsules moves by more than L . |dPhi| (each joint's lever arm times its
     turn), and no pair's gap changes by more (the pair rows of
     :attr:`~armanim.motion.problem.Problem.pair_lever_rows` are at most the lever arms): so
-    :func:`~armanim.motion.goalmotion.two_sided_bound` of the two frames' clearances, obstacles
+    :func:`~armanim.motion.timing.goalmotion.two_sided_bound` of the two frames' clearances, obstacles
     and pairs each, bounds every pose between them on the clock's path (each joint within the
     range of its two values).
     """
@@ -375,8 +375,8 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
 @dataclass(frozen=True)
 class _Pass:
     """How a via goal was passed in its part's motion: the frame nearest it (an index of the
-    motion), how near (:func:`~armanim.motion.blend.via_distances`), how fast, and whether within
-    its judged radius; ``corner`` as :attr:`~armanim.motion.blend.BlendReport.corner`."""
+    motion), how near (:func:`~armanim.motion.timing.blend.via_distances`), how fast, and whether within
+    its judged radius; ``corner`` as :attr:`~armanim.motion.timing.blend.BlendReport.corner`."""
 
     frame: int
     distance: float
@@ -386,7 +386,7 @@ class _Pass:
 
 
 def _why_rest(problem: Problem, solution: Solution, parts: list[_Part], k: int) -> str | None:
-    """Why goal ``k`` (with ``blend``) rests (:func:`~armanim.motion.blend.blend_reason`), or None: a
+    """Why goal ``k`` (with ``blend``) rests (:func:`~armanim.motion.timing.blend.blend_reason`), or None: a
     goal before a path goal flows into that goal's approach to its path's start where the arm moves
     there (the path itself starts at rest), else it rests (``next_path``)."""
     why = blend_reason(problem, solution.goals, k)
@@ -415,10 +415,10 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
                    ) -> tuple[list[_Part], list[Motion], dict[int, _Pass | str], float]:
     """The parts with every via goal's merged into the next (:func:`_merged`), their motions, how
     each goal with ``blend`` was passed (or why it rests: a key of
-    :data:`~armanim.motion.blend.BLEND_REASONS`), and the run's seconds had every goal rested.
+    :data:`~armanim.motion.timing.blend.BLEND_REASONS`), and the run's seconds had every goal rested.
 
     A via whose frames do not come within its judged radius is retimed slower near it (the
-    caps of :func:`~armanim.motion.blend.pass_speed_caps` divided by 4, then 16, 64), then made to
+    caps of :func:`~armanim.motion.timing.blend.pass_speed_caps` divided by 4, then 16, 64), then made to
     rest (``radius``). A goal with ``blend`` that rests has its own path shortened and smoothed
     (:func:`_shaped_part`, its ends kept) where that is faster than as solved. A merged part that
     takes more frames than its goals' parts from rest to rest (each as fast as it can: shortened or
@@ -481,8 +481,8 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
 def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, fps: float, most_frames: float,
                     slow: dict[int, float], through: set[int]) -> tuple[Motion, dict[int, _Pass]]:
     """A part through via goals on the clock: each via's corner cut where a certified curve fits
-    (:func:`~armanim.motion.blend.cut_corner`), the path's speed capped near each
-    (:func:`~armanim.motion.blend.pass_speed_caps`, divided by ``slow`` by goal), and how each was
+    (:func:`~armanim.motion.timing.blend.cut_corner`), the path's speed capped near each
+    (:func:`~armanim.motion.timing.blend.pass_speed_caps`, divided by ``slow`` by goal), and how each was
     passed. The motion's frames head for the part's solved frames (offsets from its first)."""
     corner, zones = _shaped_part(problem, src, safety, part, through)
     poses, origin = corner.poses, corner.origin
@@ -536,7 +536,7 @@ def via_paths(problem: Problem, solution: Solution) -> list[np.ndarray]:
 
 def _shaped_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, through: set[int] | None = None
                  ) -> tuple[ShapedPart, dict[int, tuple[tuple[int, int], bool]]]:
-    """A part through via goals made short and smooth (:func:`~armanim.motion.smoothing.smoothed_poses`):
+    """A part through via goals made short and smooth (:func:`~armanim.motion.timing.smoothing.smoothed_poses`):
     its solved path shortcut between its first pose, each via's solved pose and its last, the
     corners rounded, a via's within its radius (not the goals in ``through``, which pass their
     solved pose); and each via's (by its place in ``part.vias``) stretch of poses and whether its
@@ -614,7 +614,7 @@ def split_timing(motion: Motion, goals: np.ndarray, last: int, start: np.ndarray
 
 def _blend_reported(problem: Problem, solution: Solution, report: GoalReport, trajectory: Trajectory,
                     outcome: dict[int, _Pass | str]) -> GoalReport:
-    """A goal's report with its :class:`~armanim.motion.blend.BlendReport` (a goal with ``blend``):
+    """A goal's report with its :class:`~armanim.motion.timing.blend.BlendReport` (a goal with ``blend``):
     a via goal's final distance and orientation error are its nearest frame's."""
     goal = problem.goals[report.index]
     if goal.blend is None:

@@ -1,0 +1,65 @@
+"""What a command asks of a run beyond its scene (:class:`RunOptions`), and the one place it meets
+the scene: the rate of the run's frames and how its outputs are written (:func:`output_choice`).
+
+``armanim run`` builds one :class:`RunOptions` from its flags; it travels unchanged through
+:func:`armanim.runs.pipeline.run_scene`, :func:`armanim.runs.batch.run_batch` and the batch's
+workers to :func:`armanim.runs.pipeline.produce_outputs`, which resolves it against the scene once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from armanim.render.settings import OutputOptions, RenderOverrides
+from armanim.scene import LoadedScene, render_settings
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """The outputs a command asks of a run, and how they are drawn (plain data, made once).
+
+    Attributes
+    ----------
+    video : bool
+        Render the video, plot.png and poster.png (False: trajectory.csv and summary.json only).
+    viewer : bool or None
+        Write viewer.html, the interactive page; None: when ``video`` is True.
+    jobs : int or None
+        Worker processes: scenes in parallel for a batch, the video's segments for one scene
+        (None: every core). A batch's worker draws its scene's video in one process.
+    render : RenderOverrides
+        The scene's render settings a command changes (``--size``, ``--fps``, ``--format``, ...).
+
+    Examples
+    --------
+    >>> RunOptions(video=False).writes_viewer, RunOptions(video=False, viewer=True).writes_viewer
+    (False, True)
+    """
+
+    video: bool = True
+    viewer: bool | None = None
+    jobs: int | None = None
+    render: RenderOverrides = field(default_factory=RenderOverrides)
+
+    @property
+    def writes_viewer(self) -> bool:
+        """Whether viewer.html is written: ``viewer``, else with the video."""
+        return self.video if self.viewer is None else self.viewer
+
+
+def output_choice(scene: LoadedScene, options: RunOptions) -> tuple[float, OutputOptions]:
+    """(fps, output options): the rate of a run's frames and how its outputs are written, for
+    ``scene`` under ``options``. The one place both are decided.
+
+    The fps is the command's ``--fps``, else the scene's ``render.fps``:
+    :func:`armanim.runs.pipeline.solved_run` puts the run at it, and every writer reads it from the
+    run (the motion itself is always solved at the scene's own rate). The render settings are the
+    scene's ``render`` section with the command's overrides applied.
+    """
+    given = options.render
+    fps = given.fps if given.fps is not None else scene.model.render.fps
+    settings = given.apply(render_settings(scene.model))
+    return fps, OutputOptions(settings, video=options.video, viewer=options.writes_viewer, jobs=options.jobs)
+
+
+__all__ = ["RunOptions", "output_choice"]
