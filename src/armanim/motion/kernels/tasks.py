@@ -5,7 +5,9 @@ attempt (:func:`attempt_proposal`) and of the frame (:func:`frame_proposal`) mad
 The numpy references: :func:`armanim.motion.solvers.linear.linear_step`,
 :func:`~armanim.motion.solvers.linear.orientation_in_null_space`,
 :func:`~armanim.motion.solvers.linear.limit_push`, :func:`armanim.motion.orientation.orientation_residual`.
-Pure core: numpy and numba only, radians.
+A prismatic joint's columns are its axis w_j and no turn wherever the world ``axes`` carry its
+kind (:func:`armanim.arm.kernel.joint_slides`). Pure core: numpy and numba only, radians (metres
+for a prismatic joint).
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import math
 
 import numpy as np
 
-from armanim.arm.kernel import INLINE, JIT, _jacobian, _log, compiled
+from armanim.arm.kernel import INLINE, JIT, _jacobian, _log, compiled, joint_slides
 from armanim.motion.kernels.layout import (
     ANGLE_TOL,
     BETA,
@@ -150,6 +152,18 @@ def capped(v: np.ndarray, scale: float, cap: float) -> None:
     if length > cap:
         for a in range(v.shape[0]):
             v[a] = v[a] * (cap / length)
+
+
+@compiled(**INLINE)
+def step_shrink(caps: np.ndarray, dphi: np.ndarray) -> float:
+    """The scale that brings the proposal ``dphi`` (n,; finite, not all 0) within each joint's
+    cap ``caps`` (n,: radians, metres for a prismatic joint), at most 1: min(1, min_j cap_j / |dphi_j|)
+    (:func:`armanim.motion.solvers.barrier.safe_step`; with equal caps the numbers of
+    min(1, cap / max_j |dphi_j|), rounding being monotone)."""
+    shrink = 1.0
+    for j in range(dphi.shape[0]):
+        shrink = min(shrink, caps[j] / max(abs(dphi[j]), 1e-300))
+    return shrink
 
 
 @compiled(**INLINE)
@@ -360,10 +374,13 @@ def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np
 @compiled(**JIT)
 def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarray, jac: np.ndarray) -> None:
     """(3, n) Jacobian of the world point ``q`` carried by joint ``link``'s frame into ``jac``:
-    column j is w_j x (q - p_j) for j <= link, 0 after (:func:`armanim.arm.kinematics.point_jacobian`)."""
+    column j is w_j x (q - p_j) for j <= link (w_j for a prismatic joint: :func:`~armanim.arm.kernel.joint_slides`),
+    0 after (:func:`armanim.arm.kinematics.point_jacobian`)."""
     n = axes.shape[0]
     for j in range(n):
-        if j <= link:
+        if j <= link and joint_slides(axes, j):
+            jac[0, j], jac[1, j], jac[2, j] = axes[j, 0], axes[j, 1], axes[j, 2]
+        elif j <= link:
             l0, l1, l2 = q[0] - points[j, 0], q[1] - points[j, 1], q[2] - points[j, 2]
             w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
             jac[0, j] = w1 * l2 - w2 * l1
@@ -399,8 +416,8 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
     rot_step = np.empty(k)
     for i in range(k):
         rot_step[i] = weight * (brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2])
-        for j in range(n):
-            jac_r[i, j] = weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
+        for j in range(n):  # a prismatic joint does not turn the tool: its column 0
+            jac_r[i, j] = 0.0 if joint_slides(axes, j) else weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
     capped(rot_step, floats[BETA], floats[MAX_STEP])
     pinv_tip = np.empty((n, 3))
     if method == PINV:
@@ -461,8 +478,11 @@ def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.
     tip = points.shape[0] - 1
     jac = np.empty((3, n))
     for j in range(n):
-        l0, l1, l2 = points[tip, 0] - points[j, 0], points[tip, 1] - points[j, 1], points[tip, 2] - points[j, 2]
         w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+        if joint_slides(axes, j):  # the tip slides along the axis
+            jac[0, j], jac[1, j], jac[2, j] = w0, w1, w2
+            continue
+        l0, l1, l2 = points[tip, 0] - points[j, 0], points[tip, 1] - points[j, 1], points[tip, 2] - points[j, 2]
         jac[0, j] = w1 * l2 - w2 * l1
         jac[1, j] = w2 * l0 - w0 * l2
         jac[2, j] = w0 * l1 - w1 * l0
