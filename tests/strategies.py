@@ -63,6 +63,25 @@ def limits_for(draw, home: np.ndarray, margin_deg: float | None = None) -> Limit
 
 
 @st.composite
+def sliding(draw, arm: Arm, home: np.ndarray, limits: Limits) -> tuple[Arm, Limits]:
+    """``arm`` with some of its joints prismatic (at least one, any of them): each slides along its
+    axis (metres: ``home``'s value, the links' scale) between limits 0.05-1 m either side of home,
+    its stroke the larger limit in size (what the lever arms and the reach add for it), as a URDF's
+    prismatic joint is read; the revolute joints keep their limits."""
+    from dataclasses import replace
+
+    n = arm.n
+    slides = np.array(draw(st.lists(st.booleans(), min_size=n, max_size=n)))
+    slides[draw(st.integers(0, n - 1))] = True
+    lower, upper = limits.lower.copy(), limits.upper.copy()
+    for j in np.nonzero(slides)[0]:
+        lower[j] = home[j] - draw(st.floats(0.05, 1.0))
+        upper[j] = home[j] + draw(st.floats(0.05, 1.0))
+    stroke = np.where(slides, np.maximum(np.abs(lower), np.abs(upper)), 0.0)
+    return replace(arm, prismatic=slides, stroke=stroke), replace(limits, lower=lower, upper=upper)
+
+
+@st.composite
 def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_count: int = 3) -> Obstacles:
     """0-3 spheres, each clear of the home pose's link capsules by at least 0.05."""
     from armanim.world.distances import clearances
@@ -86,13 +105,15 @@ def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_
 
 
 @st.composite
-def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_frames: int = 40) -> Problem:
+def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_frames: int = 40, slides: bool = False) -> Problem:
     """A random, valid problem: home clear of obstacles and inside its limits, goals
-    outside every obstacle (some may be out of reach)."""
+    outside every obstacle (some may be out of reach); ``slides``: some joints prismatic (:func:`sliding`)."""
     arm = draw(arms(max_links=max_links))
     home = draw(poses(arm.n)) * 0.5
     half_width = draw(st.floats(0.05, 0.3))
     limits = draw(limits_for(home))
+    if slides:
+        arm, limits = draw(sliding(arm, home, limits))
     obstacles = draw(obstacles_clear_of(arm, home, half_width))
     goals = []
     for _ in range(draw(st.integers(1, max_goals))):
@@ -149,16 +170,19 @@ def scene_texts(draw) -> str:
 
 
 @st.composite
-def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3) -> Problem:
+def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3, slides: bool = False) -> Problem:
     """A cluttered scene as users write them: 3-6 links, limits on about half the joints,
     1-4 spheres placed across the straight path between consecutive goals (pushed off
-    the arm's home capsules and the goals by solver.clearance), every method, planner on."""
+    the arm's home capsules and the goals by solver.clearance), every method, planner on;
+    ``slides``: some joints prismatic (:func:`sliding`)."""
     from armanim.world.distances import clearances
 
     arm = draw(arms(min_links=3, max_links=max_links))
     home = draw(poses(arm.n)) * 0.3
     half_width = draw(st.floats(0.1, 0.3))
     limits = draw(limits_for(home, margin_deg=10.0))
+    if slides:
+        arm, limits = draw(sliding(arm, home, limits))
     solver = default_solver_settings(
         method=draw(st.sampled_from(METHODS)), max_step=0.5, max_frames_per_goal=150, clearance=0.05
     )

@@ -6,6 +6,7 @@ metres, and the joints armanim cannot move on a path are clear errors naming the
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +14,8 @@ import pytest
 from invariants import assert_trajectory_invariants
 
 from armanim.errors import SceneError
+from armanim.motion.kernels.plan import compiled_plan
+from armanim.motion.solvers import solver_method
 from armanim.output.csvfile import read_trajectory_csv
 from armanim.runs.pipeline import timed_solution
 from armanim.runs.reload import load_run
@@ -23,10 +26,18 @@ ROOT = Path(__file__).resolve().parents[2]
 RAIL_SCENE = ROOT / "scenes" / "ur5-rail.yaml"
 
 
-@pytest.fixture(scope="module")
-def rail_run():
+@pytest.fixture(scope="module", params=["compiled", "numpy"])
+def rail_run(request):
+    """The rail scene's run by the compiled frames (as armanim runs it) and by the numpy ones (their oracle)."""
     scene = load_scene(RAIL_SCENE)
     problem = scene_to_problem(scene.model)
+    frames = compiled_plan(problem, solver_method(problem.solver.method), None, "frame")
+    assert (frames is not None) == problem.tunables.ik.compiled_frames  # a prismatic joint runs compiled, as a revolute one
+    if request.param == "numpy":
+        ik = replace(problem.tunables.ik, compiled=False, compiled_frames=False)
+        problem = replace(problem, tunables=replace(problem.tunables, ik=ik))
+    else:
+        assert frames is not None
     return problem, timed_solution(scene, problem, problem.fps)
 
 

@@ -25,7 +25,7 @@ import numba
 import numba.core.caching
 import numpy as np
 
-from armanim.arm.kinematics import Arm, Pose
+from armanim.arm.kinematics import Arm, Pose, kind_axes
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -213,16 +213,30 @@ def _forward_many(rows: np.ndarray, root: np.ndarray, phi: np.ndarray) -> tuple[
 
 
 @compiled(**INLINE)
+def joint_slides(axes: np.ndarray, j: int) -> bool:
+    """Whether joint j is prismatic, read from world ``axes``: (n, 4) axes carry each joint's kind
+    in a fourth column (1: prismatic, its row's :data:`KIND`), (n, 3) axes are all revolute. The
+    one reading of that convention: the kernels' Jacobians (:func:`_jacobian`,
+    :mod:`armanim.motion.kernels.tasks`) and pair rows (:mod:`armanim.world.compiled`) take a
+    prismatic joint's column as w_j (a point it carries slides along its axis) and no turn."""
+    return bool(axes.shape[1] > 3 and axes[j, 3] != 0.0)
+
+
+@compiled(**INLINE)
 def _jacobian(points: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
     """The 6 x n geometric Jacobian of the tool into ``jac``: rows 0-2 w_j x (e - p_j) (the
     tip's), rows 3-5 w_j (the tool's angular velocity), as :func:`tip_jacobian` and
-    :func:`angular_jacobian` compute them."""
+    :func:`angular_jacobian` compute them; a prismatic joint's (:func:`joint_slides`) w_j over 0."""
     n = axes.shape[0]
     for j in range(n):
+        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+        if joint_slides(axes, j):  # the tip slides along the axis, the tool does not turn
+            jac[0, j], jac[1, j], jac[2, j] = w0, w1, w2
+            jac[3, j] = jac[4, j] = jac[5, j] = 0.0
+            continue
         l0 = points[n, 0] - points[j, 0]
         l1 = points[n, 1] - points[j, 1]
         l2 = points[n, 2] - points[j, 2]
-        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
         jac[0, j] = w1 * l2 - w2 * l1
         jac[1, j] = w2 * l0 - w0 * l2
         jac[2, j] = w0 * l1 - w1 * l0
@@ -231,31 +245,18 @@ def _jacobian(points: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
         jac[5, j] = w2
 
 
-@compiled(**INLINE)
-def _slide_columns(rows: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
-    """A prismatic joint's columns of the 6 x n Jacobian ``jac`` from :func:`_jacobian`: w_j
-    (the tip slides along its axis) over 0 (the tool does not turn). Other columns stay."""
-    for j in range(axes.shape[0]):
-        if rows[j, KIND] != 0.0:
-            for a in range(3):
-                jac[a, j] = axes[j, a]
-                jac[3 + a, j] = 0.0
-
-
 @compiled(**JIT)
-def _jacobian_one(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+def _jacobian_one(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
     jac = np.empty((6, axes.shape[0]))
     _jacobian(points, axes, jac)
-    _slide_columns(rows, axes, jac)
     return jac
 
 
 @compiled(**JIT)
-def _jacobian_many(rows: np.ndarray, points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+def _jacobian_many(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
     jac = np.empty((axes.shape[0], 6, axes.shape[1]))
     for k in range(axes.shape[0]):
         _jacobian(points[k], axes[k], jac[k])
-        _slide_columns(rows, axes[k], jac[k])
     return jac
 
 
@@ -363,12 +364,12 @@ def geometric_jacobian(pose: Pose, arm: Arm | None = None) -> np.ndarray:
     [[0.0, 1.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]
     """
     assert pose.axes is not None  # set by forward
-    rows = packed_chain(arm)[0] if arm is not None else np.zeros((pose.axes.shape[-2], WIDTH))
+    axes = pose.axes if arm is None else kind_axes(arm, pose.axes)
     if pose.points.ndim == 2:
-        return _jacobian_one(rows, pose.points, pose.axes)
+        return _jacobian_one(pose.points, axes)
     batch = pose.points.shape[:-2]
     n = pose.axes.shape[-2]
-    jac = _jacobian_many(rows, pose.points.reshape(-1, n + 1, 3), pose.axes.reshape(-1, n, 3))
+    jac = _jacobian_many(pose.points.reshape(-1, n + 1, 3), axes.reshape(-1, n, axes.shape[-1]))
     return cast(np.ndarray, jac.reshape(batch + (6, n)))
 
 

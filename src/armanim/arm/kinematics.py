@@ -280,6 +280,22 @@ def joint_axes_world(arm: Arm, pose: Pose) -> np.ndarray:
     return cast(np.ndarray, np.einsum("...jab,jb->...ja", pose.frames, arm.axes))
 
 
+def kind_axes(arm: Arm, axes: np.ndarray) -> np.ndarray:
+    """World joint ``axes`` (..., n, 3) as the compiled kernels read them
+    (:func:`armanim.arm.kernel.joint_slides`): as they are for an arm of revolute joints, and
+    (..., n, 4) with each joint's kind (1: prismatic) in a fourth column for an arm with a
+    prismatic joint.
+
+    >>> arm = Arm(np.zeros(3), np.eye(3)[:2], np.eye(3)[:2], prismatic=np.array([True, False]))
+    >>> kind_axes(arm, np.eye(3)[:2]).tolist()
+    [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 0.0]]
+    """
+    if arm.prismatic is None:
+        return axes
+    kinds = np.broadcast_to(arm.prismatic.astype(float)[:, None], axes.shape[:-1] + (1,))
+    return np.ascontiguousarray(np.concatenate([axes, kinds], axis=-1))
+
+
 def _columns(arm: Arm, w: np.ndarray, lever: np.ndarray) -> np.ndarray:
     """Linear Jacobian columns (..., j, 3) of a point at ``lever`` = q - p_j from joints of world
     axes ``w`` (..., j, 3) (the first j of the arm's): w_j x (q - p_j) for a revolute joint, w_j

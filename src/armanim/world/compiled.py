@@ -32,6 +32,7 @@ import numpy as np
 from armanim.arm.kernel import (
     compiled as compiled,  # numba.njit, cached where it can write (re-exported: the passes and the rasteriser use it)
 )
+from armanim.arm.kernel import joint_slides
 
 TOUCHING = 1e-9
 """Scene units: a segment whose least outside distance to a box is this or less may enter it
@@ -620,15 +621,8 @@ def pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray,
     n0, n1, n2 = normal[p, 0], normal[p, 1], normal[p, 2]
     for m in range(axes.shape[0]):
         c0, c1, c2 = _pair_column(axes[m, 0], axes[m, 1], axes[m, 2], points[m, 0], points[m, 1], points[m, 2],
-                                  m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2, _slides(axes, m))
+                                  m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2, joint_slides(axes, m))
         row[m] = n0 * c0 + n1 * c1 + n2 * c2
-
-
-@compiled(**_JIT)
-def _slides(axes: np.ndarray, m: int) -> bool:
-    """Whether joint m is prismatic: world ``axes`` (n, 4) carry each joint's kind in a fourth
-    column (1: prismatic; :func:`armanim.world.selfdistances.kind_axes`); (n, 3) axes are all revolute."""
-    return bool(axes.shape[1] > 3 and axes[m, 3] != 0.0)
 
 
 @compiled(**_JIT)
@@ -670,14 +664,14 @@ def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nd
         for m in range(axes.shape[0]):
             jac[r, 0, m], jac[r, 1, m], jac[r, 2, m] = _pair_column(axes[m, 0], axes[m, 1], axes[m, 2], points[m, 0], points[m, 1],
                                                                     points[m, 2], m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2,
-                                                                    _slides(axes, m))
+                                                                    joint_slides(axes, m))
 
 
 @compiled(**_JIT)
 def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.ndarray) -> None:
     """Each link's twist under the joint rates ``x`` (n,) into ``twists`` (n, 6): link l's angular
     rate Omega_l = sum_{m <= l} x_m w_m and its linear term V_l = sum_{m <= l} x_m p_m x w_m
-    (x_m w_m and no angular rate for a prismatic joint m, :func:`_slides`), so
+    (x_m w_m and no angular rate for a prismatic joint m, :func:`~armanim.arm.kernel.joint_slides`), so
     that a point q that link l carries moves at Omega_l x q + V_l (its Jacobian's columns
     w_m x (q - p_m) of :func:`pair_row`, summed against ``x``). O(n) once; a pair's rate then
     costs a few products (:func:`pair_rate`) where its row costs n cross products."""
@@ -686,7 +680,7 @@ def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.
         w0, w1, w2 = axes[m, 0], axes[m, 1], axes[m, 2]
         p0, p1, p2 = points[m, 0], points[m, 1], points[m, 2]
         xm = x[m]
-        if _slides(axes, m):  # a prismatic joint: every point it carries moves at x_m w_m
+        if joint_slides(axes, m):  # a prismatic joint: every point it carries moves at x_m w_m
             v0 += xm * w0
             v1 += xm * w1
             v2 += xm * w2

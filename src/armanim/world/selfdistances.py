@@ -20,6 +20,7 @@ import numpy as np
 
 from armanim.arm.capsules import Capsules, capsule_ends
 from armanim.arm.kinematics import Arm, Pose, joint_axes_world
+from armanim.arm.kinematics import kind_axes as arm_kind_axes
 
 
 @dataclass(frozen=True)
@@ -220,7 +221,4 @@ def kind_axes(arm: Arm, pose: Pose) -> np.ndarray:
     >>> kind_axes(arm, forward(arm, np.zeros(2))).tolist()
     [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 0.0]]
     """
-    axes = _rows(joint_axes_world(arm, pose))
-    if arm.prismatic is None:
-        return axes
-    return np.ascontiguousarray(np.concatenate([axes, arm.prismatic[:, None].astype(float)], axis=1))
+    return arm_kind_axes(arm, _rows(joint_axes_world(arm, pose)))

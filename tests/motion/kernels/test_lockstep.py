@@ -52,7 +52,7 @@ from armanim.motion.kernels import attempt, check, linalg, qp
 from armanim.motion.kernels.frame import frame_step
 from armanim.motion.kernels.plan import compiled_plan
 from armanim.motion.orientation import Orientation
-from armanim.motion.problem import Goal, Limits, Problem
+from armanim.motion.problem import Goal, Limits, Problem, step_caps
 from armanim.motion.solution import Trajectory
 from armanim.motion.solvers import proposed_step, solver_method
 from armanim.motion.solvers.common import ArmState, arm_state
@@ -92,13 +92,16 @@ ARMS = {
     "iiwa": lambda m: robot("iiwa", m),
     "notes": notes_arm,
 }
+SLIDING = {
+    "ur5-rail": lambda m: robot("ur5_rail", m),  # a UR5 on a 2.5 m rail: its first joint prismatic, in metres
+}
 _PROBLEMS: dict[tuple[str, str], Problem] = {}
 
 
 def problem_of(name: str, method: str) -> Problem:
-    """The named arm's problem, made once per session."""
+    """The named arm's problem (:data:`ARMS`, :data:`SLIDING`), made once per session."""
     if (name, method) not in _PROBLEMS:
-        _PROBLEMS[name, method] = ARMS[name](method)
+        _PROBLEMS[name, method] = {**ARMS, **SLIDING}[name](method)
     return _PROBLEMS[name, method]
 
 
@@ -213,7 +216,21 @@ def frame_of(line: str, problem: Problem, state: ArmState, goal: Goal, proposal:
 @given(problem=st.one_of(problems(methods=("pinv", "dls")), cluttered_problems(max_goals=1), robot_problems(robots=("panda", "ur5", "iiwa"))),
        method=LINEAR, oriented=ORIENTED, seed=st.integers(0, 2**32 - 1), data=st.data())
 def test_the_proposal(line, problem, method, oriented, seed, data):
-    # at the home pose and at a random one: the proposal before the filter, every push and task in it
+    assert_the_proposal(line, problem, method, oriented, seed, data)
+
+
+@lines
+@settings(max_examples=20, **SETTINGS)
+@given(problem=st.one_of(problems(methods=("pinv", "dls"), slides=True), cluttered_problems(max_goals=1, slides=True),
+                         robot_problems(robots=("ur5_rail",))),
+       method=LINEAR, oriented=ORIENTED, seed=st.integers(0, 2**32 - 1), data=st.data())
+def test_the_proposal_with_prismatic_joints(line, problem, method, oriented, seed, data):
+    # chains that mix revolute and prismatic joints, and the UR5 on its rail: each slide's columns (w_j, no turn)
+    assert_the_proposal(line, problem, method, oriented, seed, data)
+
+
+def assert_the_proposal(line: str, problem: Problem, method: str, oriented: str, seed: int, data) -> None:
+    """At the home pose and at a random one: the proposal before the filter, every push and task in it."""
     problem = with_orientations(linear(problem, method), seed, oriented)
     goal = problem.goals[0]
     for phi in (problem.home, np.clip(data.draw(poses(problem.arm.n)), problem.limits.lower, problem.limits.upper)):
@@ -322,7 +339,7 @@ def pair_gaps_of(line: str, problem: Problem, phi: np.ndarray) -> tuple[np.ndarr
 
 
 @lines
-@pytest.mark.parametrize("name", ["panda-self", "ur5", "iiwa"])
+@pytest.mark.parametrize("name", ["panda-self", "ur5", "iiwa", "ur5-rail"])
 @settings(max_examples=10, **SETTINGS)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_the_pairs_gaps(line, name, seed):
@@ -426,7 +443,7 @@ def pair_qp(oracle: Problem, chosen, goal, orientation, state) -> tuple[np.ndarr
     biggest = float(np.abs(dphi).max(initial=0.0))
     if not 0.0 < biggest < np.inf:
         return None
-    nominal = dphi * min(1.0, oracle.solver.max_joint_step / biggest)
+    nominal = dphi * min(1.0, float(np.min(step_caps(oracle) / np.maximum(np.abs(dphi), 1e-300))))  # safe_step's
     bounds = joint_bounds(oracle, state.phi)
     if clearly_allowed(oracle, state, nominal, bounds):
         return None
@@ -476,11 +493,34 @@ def test_panda_seed_448_position_step_is_the_numpy_step(method):
 
 
 @lines
+@settings(max_examples=20, **SETTINGS)
+@given(method=LINEAR, seed=st.integers(0, 2**31), kind=st.sampled_from(["pose", "axis", "position"]), from_home=st.booleans())
+def test_the_attempts_steps_on_the_rail(line, method, seed, kind, from_home):
+    # the UR5 on its rail (a prismatic first joint, metres, capped by max_slide_step), with its own pairs
+    problem = problem_of("ur5-rail", method)
+    goal, orientation, _ = target_of(problem, seed, kind)
+    assert_the_attempt_takes_the_numpy_steps(line, problem, goal, start_of(problem, seed, from_home), orientation)
+
+
+@lines
 @settings(max_examples=60, **SETTINGS)
 @given(problem=problems(methods=["pinv", "dls"], max_links=7), data=st.data(), kind=st.sampled_from(["pose", "axis", "position"]))
 def test_the_attempts_steps_on_any_arm(line, problem, data, kind):
-    # general arms, limits and settings (obstacles left out: those attempts are the numpy steps'); an arm that
-    # cannot hold the goal's orientation stays with the numpy steps, which amplify rounding there
+    assert_the_attempts_steps_on(line, problem, data, kind)
+
+
+@lines
+@settings(max_examples=40, **SETTINGS)
+@given(problem=problems(methods=["pinv", "dls"], max_links=7, slides=True), data=st.data(),
+       kind=st.sampled_from(["pose", "axis", "position"]))
+def test_the_attempts_steps_with_prismatic_joints(line, problem, data, kind):
+    # chains that mix revolute and prismatic joints: the compiled attempt runs them (each slide capped in metres)
+    assert_the_attempts_steps_on(line, problem, data, kind)
+
+
+def assert_the_attempts_steps_on(line: str, problem: Problem, data, kind: str) -> None:
+    """General arms, limits and settings (obstacles left out: those attempts are the numpy steps'); an arm that
+    cannot hold the goal's orientation stays with the numpy steps, which amplify rounding there."""
     problem = replace(problem, obstacles=Obstacles.none(), solver=replace(problem.solver, jacobian="analytic"))
     pose = forward(problem.arm, data.draw(poses(problem.arm.n)))
     rot = tool_rotation(problem.arm, pose)
@@ -567,10 +607,32 @@ def assert_the_same_filtered_step(oracle: Problem, state: ArmState, moved, expec
         assert moved.state.clearance is None
     if expected.state.self_gaps is not None:
         got, want = moved.state.self_gaps, expected.state.self_gaps
-        for a, b in ((got.d, want.d), (got.normal, want.normal), (got.least, want.least), (got.t, want.t), (got.s, want.s)):
+        for a, b in ((got.d, want.d), (got.normal, want.normal), (got.least, want.least)):
             assert_agree(a, b, tol, ("gaps", i))
+        assert_the_same_closest_points(oracle, expected.state.pose, got, want, tol, i)
     else:
         assert moved.state.self_gaps is None
+
+
+def assert_the_same_closest_points(problem: Problem, pose, got, want, tol: float, i: int) -> None:
+    """The pairs' closest points (t along the first capsule, s along the second) are the oracle's,
+    but for two parallel capsules (the UR5 on its rail at home: its upper arm and wrist, 4e-17 off
+    parallel): a whole segment of point pairs is closest there, and which the rounding of the ends
+    picks is either line's; then the line's points must be as near each other as the oracle's."""
+    from armanim.arm.capsules import capsule_ends
+
+    a, b = capsule_ends(problem.capsules, pose)
+    first, second = problem.self_pairs.first, problem.self_pairs.second
+    u, v = b[first] - a[first], b[second] - a[second]
+    size = np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
+    tie = (size > 0) & (np.linalg.norm(np.cross(u, v), axis=1) <= 1e-9 * size)
+    assert_agree(got.t[~tie], want.t[~tie], tol, ("gaps' t", i))
+    assert_agree(got.s[~tie], want.s[~tie], tol, ("gaps' s", i))
+
+    def apart(t: np.ndarray, s: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(a[first] + t[:, None] * u - (a[second] + s[:, None] * v), axis=1)
+
+    assert_agree(apart(got.t, got.s)[tie], apart(want.t, want.s)[tie], tol, ("tied closest points", i))
 
 
 FAMILIES = {
@@ -578,6 +640,9 @@ FAMILIES = {
     "spheres": st.one_of(problems(methods=("pinv", "dls")), cluttered_problems(max_goals=2)),
     # the bundled robots among spheres, with their own pairs
     "robots": robot_problems(robots=("panda", "ur5", "iiwa")),
+    # chains that mix revolute and prismatic joints among spheres; the UR5 on its rail
+    "sliding": st.one_of(problems(methods=("pinv", "dls"), slides=True), cluttered_problems(max_goals=2, slides=True)),
+    "rail": robot_problems(robots=("ur5_rail",)),
 }
 SHAPES = {
     # spheres, boxes, capsules and a floor; and cylinders (a run among them plans more: fewer of them)
@@ -627,7 +692,19 @@ SCENES = {
     # the hand in the filter's rows)
     "beside the base": lambda m: robot_scene(m, [{"center": [0.0, -0.25, 0.05], "radius": 0.05, "influence": 0.2}],
                                              [[-0.12, 0.1, 0.12]], self_clearance=0.01),
+    # the bundled rail scene: the UR5 slides along a long table between goals its arm alone cannot span
+    "rail": lambda m: rail_scene(m),
 }
+
+
+def rail_scene(method: str) -> Problem:
+    from pathlib import Path
+
+    from armanim.scene import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[3] / "scenes" / "ur5-rail.yaml")
+    problem = scene_to_problem(scene.model)
+    return replace(problem, solver=replace(problem.solver, method=method))
 
 
 @lines

@@ -13,7 +13,8 @@ arrays, with the kinematics of :mod:`armanim.arm.kernel` and the pieces of
   pseudo-inverse where the arm holds every orientation, else second in priority, in the
   position's null space), the joint-limit push in the null space;
 - the inverses of :mod:`armanim.motion.kernels.linalg`;
-- the filter: the proposal scaled to the joint-step cap, clipped to the joints' velocity
+- the filter: the proposal scaled to the joints' step caps (radians; metres for a prismatic joint,
+  whose columns the kinematics' world axes mark: :func:`armanim.arm.kernel.joint_slides`), clipped to the joints' velocity
   damper (the filter's QP when its only rows are bounds: its answer is the clip), the limits
   checked exactly, halved when they fail;
 - the progress measure and the stall test of the attempt;
@@ -49,6 +50,7 @@ from typing import NamedTuple
 import numpy as np
 
 from armanim.arm.kernel import JIT, _forward_one, compiled
+from armanim.arm.kernel import KIND as KIND_COLUMN
 from armanim.motion.kernels.check import pair_gaps
 from armanim.motion.kernels.layout import (
     BUFFER,
@@ -57,7 +59,6 @@ from armanim.motion.kernels.layout import (
     HALVINGS,
     HANDED_BACK,
     KIND,
-    MAX_JOINT_STEP,
     METHOD,
     NUMERICAL,
     SELF_CLEARANCE,
@@ -71,7 +72,7 @@ from armanim.motion.kernels.layout import (
     TOL,
 )
 from armanim.motion.kernels.qp import bound_rows, filtered_with_pairs, lever_travel, pairs_far
-from armanim.motion.kernels.tasks import attempt_proposal, progress_measure, self_pair_push, step_bounds
+from armanim.motion.kernels.tasks import attempt_proposal, progress_measure, self_pair_push, step_bounds, step_shrink
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import VIOLATION
@@ -79,7 +80,7 @@ from armanim.motion.solvers.barrier import VIOLATION
 
 @compiled(**JIT)
 def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
-             lower: np.ndarray, upper: np.ndarray, floats: np.ndarray, settings: np.ndarray, method: int, stacked: bool, steps_cap: int,
+             lower: np.ndarray, upper: np.ndarray, caps_step: np.ndarray, floats: np.ndarray, settings: np.ndarray, method: int, stacked: bool, steps_cap: int,
              kind: int, steps_so_far: int, since_so_far: int, best_so_far: float, caps: np.ndarray, caps_link: np.ndarray,
              first: np.ndarray, second: np.ndarray, levers: np.ndarray, pair_levers: np.ndarray, out: np.ndarray) -> int:
     """The attempt from ``start``; into ``out`` (2 n + 9,): the pose it ends at (n), its tip (3), the
@@ -94,14 +95,19 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
     ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = method, stacked, steps_cap, kind, steps_so_far, since_so_far
     kind = ints[KIND]
     tol = floats[TOL]
-    cap = floats[MAX_JOINT_STEP]
     gamma = floats[GAMMA]
     buffer = floats[BUFFER]
     slack = floats[SLACK]
     pairs = first.shape[0]
     points = np.empty((2, n + 1, 3))  # the pose now and the candidate: slots swapped by index
     frames = np.empty((2, n, 3, 3))
-    axes = np.empty((2, n, 3))
+    slides = False
+    for j in range(n):
+        slides = slides or rows[j, KIND_COLUMN] != 0.0
+    axes = np.zeros((2, n, 4 if slides else 3))  # with each joint's kind in a fourth column where one slides (joint_slides)
+    if slides:
+        for j in range(n):
+            axes[0, j, 3] = axes[1, j, 3] = rows[j, KIND_COLUMN]
     tool = np.empty((2, 3, 3))
     gaps = np.empty((2, pairs))  # the pairs' gaps, capsule ends and closest points, where computed (``exact``)
     ends = np.empty((2, 2, caps.shape[0], 3))
@@ -172,14 +178,14 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
         if biggest == 0.0:
             steps += 1
             break
-        shrink = min(1.0, cap / biggest)
+        shrink = step_shrink(caps_step, dphi)
         nominal_length = 0.0
         inside = True  # the nominal step within the joints' bounds, as the filter judges it (to VIOLATION)
         for j in range(n):
             nominal[j] = dphi[j] * shrink
             step[j] = nominal[j]
             nominal_length += step[j] * step[j]
-            low[j], high[j] = step_bounds(phi[j], lower[j], upper[j], cap, gamma, buffer)
+            low[j], high[j] = step_bounds(phi[j], lower[j], upper[j], caps_step[j], gamma, buffer)
             if step[j] < low[j] - VIOLATION or step[j] > high[j] + VIOLATION:
                 inside = False
         nominal_length = math.sqrt(nominal_length)
@@ -340,7 +346,7 @@ def run_attempt(problem: Problem, step: int, stacked: bool, goal: np.ndarray, st
     goal_axis = orientation.axis if kind == 2 else _NO_AXIS  # type: ignore[union-attr]  # kind 2: a tool axis
     status = attempt_loop(k.rows, k.root, np.ascontiguousarray(start, dtype=float), np.ascontiguousarray(goal, dtype=float),
                           np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float),
-                          k.lower, k.upper, k.floats, k.ints, step, stacked, steps_cap, kind, steps, since_best,
+                          k.lower, k.upper, k.step_caps, k.floats, k.ints, step, stacked, steps_cap, kind, steps, since_best,
                           np.nan if best is None else best, k.caps, k.link, k.first, k.second, k.pair_lever_rows, k.pair_levers, out)
     numbers = out[n:n + 9].tolist()
     return CompiledAttempt(out[:n], out[n:n + 3], numbers[3], None if kind == 0 else numbers[4], numbers[5], int(numbers[7]),

@@ -14,7 +14,7 @@ its ``tasks``, the exact checks of its ``check``):
   joint-limit push, the obstacles' pushes (the tip's in task space, the links' in the null
   space), the pushes of the arm's own pairs (in the null space), from the clearances and gaps of
   the state the frame starts from;
-- the filter: the step capped to ``max_joint_step``, the joint bounds, the bounds of
+- the filter: the step capped to ``max_joint_step`` (a prismatic joint's to ``max_slide_step``), the joint bounds, the bounds of
   :func:`~armanim.motion.solvers.barrier.clearly_allowed`, else the rows of
   :func:`~armanim.motion.solvers.barrier.filter_constraints`, built in its order; where one is
   broken, the QP is DAQP's as before (:func:`~armanim.motion.solvers.barrier.filtered_step`,
@@ -40,10 +40,10 @@ from typing import Literal
 import numpy as np
 
 from armanim.arm.kernel import JIT, TURN, _capsule_ends_one, compiled
-from armanim.arm.kinematics import Pose
+from armanim.arm.kinematics import Pose, kind_axes
 from armanim.motion.kernels.check import pose_exactly_safe
-from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, MAX_JOINT_STEP, PINV, World
-from armanim.motion.kernels.tasks import frame_proposal, point_jacobian, step_bounds
+from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, PINV, World
+from armanim.motion.kernels.tasks import frame_proposal, point_jacobian, step_bounds, step_shrink
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
 from armanim.motion.solvers.barrier import (
@@ -70,7 +70,7 @@ the proposal made but the numpy filter needed; nothing done (the numpy proposal 
 @compiled(**JIT)
 def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, phi: np.ndarray,
            points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray | None,
-           goal_axis: np.ndarray | None, lower: np.ndarray, upper: np.ndarray,
+           goal_axis: np.ndarray | None, lower: np.ndarray, upper: np.ndarray, caps_step: np.ndarray,
            caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
            cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: World, influence: np.ndarray,
            first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
@@ -80,7 +80,7 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
            new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
            new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> int:
     """One frame from the state (``phi``, its pose, clearances and gaps): the proposal into
-    ``dphi``, the step capped to ``max_joint_step`` (the filter's nominal step) into ``step`` and
+    ``dphi``, the step capped to the joints' caps ``caps_step`` (the filter's nominal step) into ``step`` and
     the joint bounds into ``lo``, ``hi``. Returns
 
     - :data:`NUMPY`: an inverse failed; :data:`FILTER`: the proposal is not finite, or zero;
@@ -113,17 +113,16 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
             biggest = v
     if not biggest < np.inf or biggest == 0.0:
         return FILTER
-    cap = floats[MAX_JOINT_STEP]
     gamma = floats[GAMMA]
     buffer = floats[BUFFER]
-    shrink = min(1.0, cap / biggest)
+    shrink = step_shrink(caps_step, dphi)
     travel = 0.0
     length = 0.0
     inside = True
     for j in range(n):
         step[j] = dphi[j] * shrink
         length += step[j] * step[j]
-        lo[j], hi[j] = step_bounds(phi[j], lower[j], upper[j], cap, gamma, buffer)
+        lo[j], hi[j] = step_bounds(phi[j], lower[j], upper[j], caps_step[j], gamma, buffer)
         if step[j] < lo[j] - VIOLATION or step[j] > hi[j] + VIOLATION:
             inside = False
         travel += abs(step[j]) * levers[j]
@@ -260,8 +259,8 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
         goal_rot = np.ascontiguousarray(orientation.rotation if kind == 1 else _NO_ROTATION, dtype=float)  # type: ignore[union-attr]  # kind 1: a rotation
         goal_axis = np.ascontiguousarray(orientation.axis if kind == 2 else _NO_AXIS, dtype=float)  # type: ignore[union-attr]  # kind 2: a tool axis
     status = frame_loop(k.rows, k.root, k.floats, DLS if method == "dls" else PINV, state.phi,
-                        pose.points, pose.frames, pose.axes, np.ascontiguousarray(goal, dtype=float), kind,
-                        goal_rot, goal_axis, k.lower, k.upper,
+                        pose.points, pose.frames, kind_axes(problem.arm, pose.axes), np.ascontiguousarray(goal, dtype=float), kind,
+                        goal_rot, goal_axis, k.lower, k.upper, k.step_caps,
                         k.caps, k.link, k.part_radius, k.levers, cl_d, cl_t, cl_normal, k.world, k.influence,
                         k.first, k.second, k.pair_radii, k.pair_lever_rows, k.pair_levers, gap, gap_t, gap_s, gap_normal, least,
                         dphi, step, lo, hi, cons, cons_lower, cand, *new, out)

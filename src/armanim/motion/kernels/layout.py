@@ -14,12 +14,13 @@ from typing import NamedTuple, cast
 
 import numpy as np
 
-from armanim.motion.problem import Problem
+from armanim.motion.problem import Problem, step_caps
 
-(TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES,
- CLEARANCE, KEPT, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, SLACK, FLOATS) = range(20)
+(TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES,
+ CLEARANCE, KEPT, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, SLACK, FLOATS) = range(19)
 """Places of the settings in :attr:`KernelProblem.floats`: the tolerances (position, angle), the
-orientation's weight, beta, the task step's cap, the joint-step cap, the damping, the limits'
+orientation's weight, beta, the task step's cap, the damping (each joint's step cap is
+:attr:`KernelProblem.step_caps`), the limits'
 margin and buffer, the filter's gain gamma, the weights of the limits and the obstacles, the
 clearance and the clearance the filter keeps, the arm's own pairs' clearance, the one the
 filter keeps and their push's influence, the 2-norm of the lever arms, and the slack of a gap's
@@ -51,10 +52,13 @@ class KernelProblem(NamedTuple):
 
     Attributes
     ----------
-    rows, root : (n, 33), (12,) arrays
-        The chain (:func:`armanim.arm.kernel.packed_chain`).
+    rows, root : (n, 34), (12,) arrays
+        The chain (:func:`armanim.arm.kernel.packed_chain`; its rows' last column each joint's kind).
     lower, upper : (n,) arrays
-        The joint limits, radians (infinite where unlimited).
+        The joint limits, radians (metres for a prismatic joint; infinite where unlimited).
+    step_caps : (n,) array
+        The most each joint moves in one step of the filter: ``max_joint_step`` (radians), a
+        prismatic joint's ``max_slide_step`` (metres) (:func:`armanim.motion.problem.step_caps`).
     floats : (FLOATS,) array
         The settings, at :data:`TOL` ... :data:`SLACK`.
     ints : (INTS,) int array
@@ -79,6 +83,7 @@ class KernelProblem(NamedTuple):
     root: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
+    step_caps: np.ndarray
     floats: np.ndarray
     ints: np.ndarray
     caps: np.ndarray
@@ -102,7 +107,7 @@ def kernel_problem(problem: Problem) -> KernelProblem:
     rows, root = packed_chain(problem.arm)
     return KernelProblem(
         rows, root, _floats(problem.limits.lower), _floats(problem.limits.upper),
-        settings_floats(problem), settings_ints(problem), _floats(caps.packed()), _ints(caps.link), _floats(caps.part_radius),
+        _floats(np.broadcast_to(step_caps(problem), (problem.arm.n,))), settings_floats(problem), settings_ints(problem), _floats(caps.packed()), _ints(caps.link), _floats(caps.part_radius),
         _floats(problem.lever_arms), world_arrays(problem), _floats(problem.obstacles.influence), _ints(pairs.first),
         _ints(pairs.second), _floats(pairs.radii(caps)), _floats(problem.pair_lever_rows.reshape(len(pairs), problem.arm.n)),
         _floats(problem.pair_levers))
@@ -115,8 +120,8 @@ def settings_floats(problem: Problem) -> np.ndarray:
 
     s = problem.solver
     floats = np.empty(FLOATS)
-    floats[[TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, MAX_JOINT_STEP, DAMPING]] = (
-        s.tolerance, s.orientation_tolerance, s.orientation_weight, s.beta, s.max_step, s.max_joint_step, s.damping)
+    floats[[TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, DAMPING]] = (
+        s.tolerance, s.orientation_tolerance, s.orientation_weight, s.beta, s.max_step, s.damping)
     floats[[MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES]] = (
         problem.limits.margin, limit_buffer(problem), problem.tunables.filter.gamma, s.w_limits, s.w_obstacles)
     floats[[CLEARANCE, KEPT, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE]] = (

@@ -32,9 +32,9 @@ def compiled_plan(problem: Problem, method: Method, orientation: Orientation | N
     tool axis) runs compiled in ``loop``, or None where the numpy line takes it. Judged once per
     problem, method, kind of goal and loop (kept in :attr:`~armanim.motion.problem.Problem.compiled_plans`).
 
-    Both loops need a method with a compiled inverse (``pinv``, ``dls``), the analytic Jacobian and
-    an arm of revolute joints (a prismatic joint's steps are the numpy ones: the kernels' Jacobian
-    columns are a revolute joint's).
+    Both loops need a method with a compiled inverse (``pinv``, ``dls``) and the analytic Jacobian
+    (an arm's prismatic joints included: the kernels read each joint's kind,
+    :func:`armanim.arm.kernel.joint_slides`, and cap its step in metres).
 
     - ``attempt``: ``tunables.ik.compiled``, no obstacles, and an arm that can hold the goal's
       orientation (one that cannot turns the tool second, in what the position leaves: near its
@@ -51,7 +51,7 @@ def compiled_plan(problem: Problem, method: Method, orientation: Orientation | N
 
 def _plan(problem: Problem, method: Method, orientation: Orientation | None, loop: Loop) -> CompiledPlan | None:
     """:func:`compiled_plan`, judged."""
-    if method.compiled_inverse is None or problem.solver.jacobian == "numeric" or problem.arm.prismatic is not None:
+    if method.compiled_inverse is None or problem.solver.jacobian == "numeric":
         return None
     step = PINV if method.compiled_inverse == "pinv" else DLS
     stacked = step == PINV and orientation is not None and stacks_the_pose_task(problem, orientation)

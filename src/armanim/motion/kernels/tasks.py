@@ -1,11 +1,20 @@
 """The tasks and pushes of a compiled step: the pose task (position, rotation or tool axis), the
 joint limits' push, the obstacles' and the arm's own pairs' pushes, and the proposals of the IK
-attempt (:func:`attempt_proposal`) and of the frame (:func:`frame_proposal`) made of them.
+attempt (:func:`attempt_proposal`) and of the frame (:func:`frame_proposal`) made of them, both of
+the same stages in the same order: the tip's task (:func:`tip_rows`, :func:`tip_target`, the
+method's inverse; the attempt's stacked with the rotation's where the arm holds every
+orientation), the pushes (the limits', and the pairs' or the obstacles'), then the rotation
+second in priority with the pushes in the null space of both (:func:`rotation_task`,
+:func:`rotation_second`: where only rounding is left of the rotation, the frame takes the tip's
+step and the attempt hands it back), or the pushes in the tip task's null space
+(:func:`null_push`).
 
 The numpy references: :func:`armanim.motion.solvers.linear.linear_step`,
 :func:`~armanim.motion.solvers.linear.orientation_in_null_space`,
 :func:`~armanim.motion.solvers.linear.limit_push`, :func:`armanim.motion.orientation.orientation_residual`.
-Pure core: numpy and numba only, radians.
+A prismatic joint's columns are its axis w_j and no turn wherever the world ``axes`` carry its
+kind (:func:`armanim.arm.kernel.joint_slides`). Pure core: numpy and numba only, radians (metres
+for a prismatic joint).
 """
 
 from __future__ import annotations
@@ -14,7 +23,7 @@ import math
 
 import numpy as np
 
-from armanim.arm.kernel import INLINE, JIT, _jacobian, _log, compiled
+from armanim.arm.kernel import INLINE, JIT, _log, compiled, joint_slides
 from armanim.motion.kernels.layout import (
     ANGLE_TOL,
     BETA,
@@ -153,6 +162,18 @@ def capped(v: np.ndarray, scale: float, cap: float) -> None:
 
 
 @compiled(**INLINE)
+def step_shrink(caps: np.ndarray, dphi: np.ndarray) -> float:
+    """The scale that brings the proposal ``dphi`` (n,; finite, not all 0) within each joint's
+    cap ``caps`` (n,: radians, metres for a prismatic joint), at most 1: min(1, min_j cap_j / |dphi_j|)
+    (:func:`armanim.motion.solvers.barrier.safe_step`; with equal caps the numbers of
+    min(1, cap / max_j |dphi_j|), rounding being monotone)."""
+    shrink = 1.0
+    for j in range(dphi.shape[0]):
+        shrink = min(shrink, caps[j] / max(abs(dphi[j]), 1e-300))
+    return shrink
+
+
+@compiled(**INLINE)
 def step_bounds(phi: float, lower: float, upper: float, cap: float, gamma: float, buffer: float) -> tuple[float, float]:
     """One joint's bounds on its step in the filter (:func:`armanim.motion.solvers.barrier.joint_bounds`):
     the joint-step cap and, for a limited joint, the velocity damper toward each limit less its
@@ -213,6 +234,122 @@ def null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, nu
     return left, size
 
 
+@compiled(**INLINE)
+def tip_rows(points: np.ndarray, axes: np.ndarray, jac: np.ndarray) -> None:
+    """The tip's Jacobian into the first 3 rows of ``jac`` (m >= 3, n): column j is w_j x (e - p_j),
+    w_j for a prismatic joint (:func:`~armanim.arm.kernel.joint_slides`; :func:`armanim.arm.kinematics.tip_jacobian`)."""
+    n = axes.shape[0]
+    tip = points.shape[0] - 1
+    for j in range(n):
+        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
+        if joint_slides(axes, j):  # the tip slides along the axis
+            jac[0, j], jac[1, j], jac[2, j] = w0, w1, w2
+            continue
+        l0, l1, l2 = points[tip, 0] - points[j, 0], points[tip, 1] - points[j, 1], points[tip, 2] - points[j, 2]
+        jac[0, j] = w1 * l2 - w2 * l1
+        jac[1, j] = w2 * l0 - w0 * l2
+        jac[2, j] = w0 * l1 - w1 * l0
+
+
+@compiled(**INLINE)
+def tip_target(floats: np.ndarray, points: np.ndarray, goal: np.ndarray, target: np.ndarray) -> None:
+    """The tip task's step into the first 3 entries of ``target``: beta (g - e), its length capped
+    at ``max_step`` (:func:`~armanim.motion.solvers.common.task_displacement`)."""
+    tip = points.shape[0] - 1
+    for a in range(3):
+        target[a] = goal[a] - points[tip, a]
+    capped(target[:3], floats[BETA], floats[MAX_STEP])
+
+
+@compiled(**INLINE)
+def rotation_task(floats: np.ndarray, kind: int, tool: np.ndarray, residual: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The goal's orientation as a task: its rows w B J_w (k, n) (B: :func:`orientation_rows`;
+    a prismatic joint's column 0: it does not turn the tool) and its step w B r (k,) (r: the
+    ``residual``), capped as the tip's (:func:`~armanim.motion.orientation.orientation_task`)."""
+    n = axes.shape[0]
+    brows = np.empty((3, 3))
+    k = orientation_rows(kind, tool, brows)
+    weight = floats[WEIGHT]
+    jac_r = np.empty((k, n))
+    rot_step = np.empty(k)
+    for i in range(k):
+        rot_step[i] = weight * (brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2])
+        for j in range(n):  # a prismatic joint does not turn the tool: its column 0
+            jac_r[i, j] = 0.0 if joint_slides(axes, j) else weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
+    capped(rot_step, floats[BETA], floats[MAX_STEP])
+    return jac_r, rot_step
+
+
+@compiled(**JIT)
+def rotation_second(floats: np.ndarray, method: int, jac: np.ndarray, jac_inv: np.ndarray, jac_r: np.ndarray, rot_step: np.ndarray,
+                    pushed: bool, push: np.ndarray, dphi: np.ndarray) -> int:
+    """The rotation task (``jac_r`` (k, n), its step ``rot_step``: :func:`rotation_task`) added to
+    ``dphi`` in the null space N of the tip's task ``jac`` (3, n) (``jac_inv``: the method's inverse
+    of it), then the push ``push`` (where ``pushed``) in the null space of both
+    (:func:`armanim.motion.solvers.linear.orientation_in_null_space`): the exact projectors
+    (pseudo-inverses) for both methods, the method's inverse for the rotation. Returns :data:`DONE`;
+    :data:`NUMERICAL` where an inverse failed; :data:`HANDED_BACK` where N leaves the rotation only
+    rounding (:data:`ROUNDING_TASK`): then the step and the projector are the tip's alone (the
+    frame takes that step, the IK attempt hands it back to the numpy path)."""
+    n = dphi.shape[0]
+    k = jac_r.shape[0]
+    pinv_tip = np.empty((n, 3))
+    if method == PINV:
+        for i in range(n):
+            for c in range(3):
+                pinv_tip[i, c] = jac_inv[i, c]
+    else:
+        pseudo_inverse(jac, pinv_tip)  # invert's PINV, called so: a constant method would compile invert once more
+    null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
+    restricted = np.empty((k, n))
+    left, size = null_space_task(jac, pinv_tip, jac_r, null, restricted)
+    rounding = left < ROUNDING_TASK * ROUNDING_TASK * size
+    if not rounding:
+        inverse = np.empty((n, k))
+        if not invert(restricted, method, floats[DAMPING], inverse):
+            return NUMERICAL
+        wanted = np.empty(k)
+        for i in range(k):
+            v = 0.0
+            for j in range(n):
+                v += jac_r[i, j] * dphi[j]
+            wanted[i] = rot_step[i] - v
+        for j in range(n):
+            v = 0.0
+            for i in range(k):
+                v += inverse[j, i] * wanted[i]
+            dphi[j] = dphi[j] + v
+        if pushed:
+            if method != PINV:
+                pseudo_inverse(restricted, inverse)
+            for i in range(n):
+                for j in range(n):
+                    v = 0.0
+                    for q in range(k):
+                        v += inverse[i, q] * restricted[q, j]
+                    null[i, j] -= v
+    if pushed:
+        for i in range(n):
+            v = 0.0
+            for j in range(n):
+                v += null[i, j] * push[j]
+            dphi[i] = dphi[i] + v
+    return HANDED_BACK if rounding else DONE
+
+
+@compiled(**INLINE)
+def null_push(jac: np.ndarray, jac_inv: np.ndarray, push: np.ndarray, dphi: np.ndarray) -> None:
+    """dphi + (I - J^+ J) z: the push z (n,) in the null space of the task ``jac`` (m, n), whose
+    method's inverse is ``jac_inv`` (n, m)."""
+    n = dphi.shape[0]
+    task = np.empty(jac.shape[0])
+    matvec(jac, push, task)
+    back = np.empty(n)
+    matvec(jac_inv, task, back)
+    for j in range(n):
+        dphi[j] = dphi[j] + push[j] - back[j]
+
+
 @compiled(**JIT)
 def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
                      goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, pair_push: np.ndarray,
@@ -220,45 +357,29 @@ def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, poin
     """The method's step (:func:`armanim.motion.solvers.linear.linear_step` without obstacles; the
     pairs' push ``pair_push`` (n,), where ``pairs_push``, beside the limits' in the null space) into ``dphi``: :data:`DONE`, :data:`NUMERICAL` when its inverse failed, or
     :data:`HANDED_BACK` where the rotation second in priority has only rounding left to act on
-    (:data:`ROUNDING_TASK`)."""
+    (:data:`ROUNDING_TASK`). The frame's proposal's stages (:func:`frame_proposal`): the tip's task
+    (stacked with the rotation's where ``ints[STACKED]``), the pushes, the rotation second."""
     n = phi.shape[0]
     method = ints[METHOD]
     kind = ints[KIND]
-    damping = floats[DAMPING]
-    jac6 = np.empty((6, n))
-    _jacobian(points, axes, jac6)
-    brows = np.empty((3, 3))
-    k = orientation_rows(kind, tool, brows) if kind != 0 else 0
-    error = np.empty(3)
-    for i in range(k):
-        error[i] = brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2]
-    jac_r = np.empty((k, n))  # w B J_w
-    for i in range(k):
-        for j in range(n):
-            jac_r[i, j] = floats[WEIGHT] * (brows[i, 0] * jac6[3, j] + brows[i, 1] * jac6[4, j] + brows[i, 2] * jac6[5, j])
-    rot_step = np.empty(k)
-    for i in range(k):
-        rot_step[i] = floats[WEIGHT] * error[i]
-    capped(rot_step, floats[BETA], floats[MAX_STEP])
-    target3 = np.empty(3)
-    for a in range(3):
-        target3[a] = goal[a] - points[n, a]
-    capped(target3, floats[BETA], floats[MAX_STEP])
+    if kind != 0:
+        jac_r, rot_step = rotation_task(floats, kind, tool, residual, axes)
+    else:
+        jac_r, rot_step = np.empty((0, n)), np.empty(0)
+    k = rot_step.shape[0]
     stacked = ints[STACKED] == 1 and kind != 0
     m = 3 + k if stacked else 3
     jac = np.empty((m, n))
     target = np.empty(m)
-    for a in range(3):
-        target[a] = target3[a]
-        for j in range(n):
-            jac[a, j] = jac6[a, j]
+    tip_rows(points, axes, jac)
+    tip_target(floats, points, goal, target)
     if stacked:
         for i in range(k):
             target[3 + i] = rot_step[i]
             for j in range(n):
                 jac[3 + i, j] = jac_r[i, j]
     jac_inv = np.empty((n, m))
-    if not invert(jac, method, damping, jac_inv):
+    if not invert(jac, method, floats[DAMPING], jac_inv):
         return NUMERICAL
     matvec(jac_inv, target, dphi)
     push = np.empty(n)
@@ -268,52 +389,9 @@ def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, poin
             push[j] = (push[j] if pushed else 0.0) + pair_push[j]
         pushed = True
     if kind != 0 and not stacked:  # the rotation second, in the null space of the tip's task
-        pinv_tip = np.empty((n, 3))
-        if method == PINV:
-            for i in range(n):
-                for a in range(3):
-                    pinv_tip[i, a] = jac_inv[i, a]
-        else:
-            pseudo_inverse(jac, pinv_tip)
-        null_tip = np.empty((n, n))
-        restricted = np.empty((k, n))
-        left, rows_size = null_space_task(jac, pinv_tip, jac_r, null_tip, restricted)
-        if left < ROUNDING_TASK * ROUNDING_TASK * rows_size:
-            return HANDED_BACK
-        inv_r = np.empty((n, k))
-        if not invert(restricted, method, damping, inv_r):
-            return NUMERICAL
-        rest = np.empty(k)
-        matvec(jac_r, dphi, rest)
-        for i in range(k):
-            rest[i] = rot_step[i] - rest[i]
-        turn = np.empty(n)
-        matvec(inv_r, rest, turn)
-        for j in range(n):
-            dphi[j] = dphi[j] + turn[j]
-        if pushed:
-            pinv_r = inv_r
-            if method != PINV:
-                pinv_r = np.empty((n, k))
-                pseudo_inverse(restricted, pinv_r)
-            null_both = np.empty((n, n))
-            for i in range(n):
-                for j in range(n):
-                    s = 0.0
-                    for q in range(k):
-                        s += pinv_r[i, q] * restricted[q, j]
-                    null_both[i, j] = null_tip[i, j] - s
-            moved = np.empty(n)
-            matvec(null_both, push, moved)
-            for j in range(n):
-                dphi[j] = dphi[j] + moved[j]
-    elif pushed:
-        task = np.empty(m)
-        matvec(jac, push, task)
-        back = np.empty(n)
-        matvec(jac_inv, task, back)
-        for j in range(n):
-            dphi[j] = dphi[j] + push[j] - back[j]
+        return rotation_second(floats, method, jac, jac_inv, jac_r, rot_step, pushed, push, dphi)
+    if pushed:
+        null_push(jac, jac_inv, push, dphi)
     return DONE
 
 
@@ -360,10 +438,13 @@ def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np
 @compiled(**JIT)
 def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarray, jac: np.ndarray) -> None:
     """(3, n) Jacobian of the world point ``q`` carried by joint ``link``'s frame into ``jac``:
-    column j is w_j x (q - p_j) for j <= link, 0 after (:func:`armanim.arm.kinematics.point_jacobian`)."""
+    column j is w_j x (q - p_j) for j <= link (w_j for a prismatic joint: :func:`~armanim.arm.kernel.joint_slides`),
+    0 after (:func:`armanim.arm.kinematics.point_jacobian`)."""
     n = axes.shape[0]
     for j in range(n):
-        if j <= link:
+        if j <= link and joint_slides(axes, j):
+            jac[0, j], jac[1, j], jac[2, j] = axes[j, 0], axes[j, 1], axes[j, 2]
+        elif j <= link:
             l0, l1, l2 = q[0] - points[j, 0], q[1] - points[j, 1], q[2] - points[j, 2]
             w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
             jac[0, j] = w1 * l2 - w2 * l1
@@ -379,70 +460,17 @@ def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarra
 def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.ndarray | None, goal_axis: np.ndarray | None, tool: np.ndarray,
                         axes: np.ndarray, jac: np.ndarray, jac_inv: np.ndarray, pushed: bool, secondary: np.ndarray,
                         dphi: np.ndarray) -> bool:
-    """The rotation task added to ``dphi`` in the null space N of the tip's task, then the pushes
-    ``secondary`` (where ``pushed``) in the null space of both
-    (:func:`armanim.motion.solvers.linear.orientation_in_null_space`): with the exact projectors
-    (pseudo-inverses) for both methods, the method's inverse for the rotation; where N leaves the
-    rotation only rounding (:data:`~armanim.motion.solvers.linear.ROUNDING_TASK`), the step and
-    the projector are the tip's alone. False where an inverse failed. ``goal_rot`` and ``goal_axis``
-    None: a scene without an orientation anywhere (``kind`` 0, never called), whose machine code
-    leaves this out."""
+    """The goal's rotation task second in priority and the pushes ``secondary`` (where ``pushed``)
+    in the null space of both (:func:`rotation_second`), for the frame: where N leaves the rotation
+    only rounding, the step and the projector are the tip's alone. False where an inverse failed.
+    ``goal_rot`` and ``goal_axis`` None: a scene without an orientation anywhere (``kind`` 0, never
+    called), whose machine code leaves this out."""
     if goal_rot is None or goal_axis is None:
         return False
-    n = dphi.shape[0]
-    brows = np.empty((3, 3))
-    k = orientation_rows(kind, tool, brows)
     residual = np.empty(3)
     orientation_residual(kind, goal_rot, goal_axis, tool, residual)
-    weight = floats[WEIGHT]
-    jac_r = np.empty((k, n))  # w B J_w
-    rot_step = np.empty(k)
-    for i in range(k):
-        rot_step[i] = weight * (brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2])
-        for j in range(n):
-            jac_r[i, j] = weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
-    capped(rot_step, floats[BETA], floats[MAX_STEP])
-    pinv_tip = np.empty((n, 3))
-    if method == PINV:
-        for i in range(n):
-            for c in range(3):
-                pinv_tip[i, c] = jac_inv[i, c]
-    else:
-        pseudo_inverse(jac, pinv_tip)  # invert's PINV, called so: a constant method would compile invert once more
-    null = np.empty((n, n))  # I - J^+ J, then I - J^+ J - R^+ R
-    restricted = np.empty((k, n))
-    left, size = null_space_task(jac, pinv_tip, jac_r, null, restricted)
-    if not left < ROUNDING_TASK * ROUNDING_TASK * size:
-        inverse = np.empty((n, k))
-        if not invert(restricted, method, floats[DAMPING], inverse):
-            return False
-        wanted = np.empty(k)
-        for i in range(k):
-            v = 0.0
-            for j in range(n):
-                v += jac_r[i, j] * dphi[j]
-            wanted[i] = rot_step[i] - v
-        for j in range(n):
-            v = 0.0
-            for i in range(k):
-                v += inverse[j, i] * wanted[i]
-            dphi[j] = dphi[j] + v
-        if pushed:
-            if method != PINV:
-                pseudo_inverse(restricted, inverse)
-            for i in range(n):
-                for j in range(n):
-                    v = 0.0
-                    for q in range(k):
-                        v += inverse[i, q] * restricted[q, j]
-                    null[i, j] -= v
-    if pushed:
-        for i in range(n):
-            v = 0.0
-            for j in range(n):
-                v += null[i, j] * secondary[j]
-            dphi[i] = dphi[i] + v
-    return True
+    jac_r, rot_step = rotation_task(floats, kind, tool, residual, axes)
+    return rotation_second(floats, method, jac, jac_inv, jac_r, rot_step, pushed, secondary, dphi) != NUMERICAL
 
 
 @compiled(**JIT)
@@ -458,24 +486,15 @@ def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.
     (:func:`~armanim.motion.solvers.linear.orientation_in_null_space`). False where an inverse
     failed (numpy raises there: the numpy path takes the frame)."""
     n = phi.shape[0]
-    tip = points.shape[0] - 1
     jac = np.empty((3, n))
-    for j in range(n):
-        l0, l1, l2 = points[tip, 0] - points[j, 0], points[tip, 1] - points[j, 1], points[tip, 2] - points[j, 2]
-        w0, w1, w2 = axes[j, 0], axes[j, 1], axes[j, 2]
-        jac[0, j] = w1 * l2 - w2 * l1
-        jac[1, j] = w2 * l0 - w0 * l2
-        jac[2, j] = w0 * l1 - w1 * l0
     target = np.empty(3)
-    for i in range(3):
-        target[i] = goal[i] - points[tip, i]
-    capped(target, floats[BETA], floats[MAX_STEP])
+    tip_rows(points, axes, jac)
+    tip_target(floats, points, goal, target)
     damping = floats[DAMPING]
     jac_inv = np.empty((n, 3))
     if not invert(jac, method, damping, jac_inv):
         return False
-    for j in range(n):
-        dphi[j] = jac_inv[j, 0] * target[0] + jac_inv[j, 1] * target[1] + jac_inv[j, 2] * target[2]
+    matvec(jac_inv, target, dphi)
     secondary = np.zeros(n)
     pushed = limit_push(floats, phi, lower, upper, secondary)
     gain = floats[BETA] * floats[W_OBSTACLES]
@@ -541,12 +560,5 @@ def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.
     if kind != 0:  # the rotation second; the pushes into the null space of both tasks
         return orientation_second(floats, method, kind, goal_rot, goal_axis, tool, axes, jac, jac_inv, pushed, secondary, dphi)
     if pushed:  # dphi + (I - J^+ J) secondary
-        moved = np.empty(3)
-        for i in range(3):
-            s = 0.0
-            for j in range(n):
-                s += jac[i, j] * secondary[j]
-            moved[i] = s
-        for j in range(n):
-            dphi[j] = dphi[j] + secondary[j] - (jac_inv[j, 0] * moved[0] + jac_inv[j, 1] * moved[1] + jac_inv[j, 2] * moved[2])
+        null_push(jac, jac_inv, secondary, dphi)
     return True
