@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from armanim.arm.kinematics import forward
+from armanim.motion.filter.clearance import split_clearances
 from armanim.motion.kernels.layout import world_arrays
 from armanim.motion.planning.check import CompiledCheck, frame_margins
-from armanim.motion.solvers.barrier import split_clearances
 from armanim.scene import scene_model, scene_to_problem
 from armanim.world.distances import clearances, min_link_clearance
 

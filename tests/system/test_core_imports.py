@@ -27,7 +27,6 @@ MOTION_ROOMS = ["timing", "trajectory", "paths", "stalls", "framestep", "ik", "p
                 "solution", "carry", "problem", "toolpath", "orientation", "tunables"]  # motion's, top to bottom
 MOTION_UPWARD = {
     ("problem", "kernels"): "Problem.kernel and Problem.compiled_plans build the kernels' layout on first use (a lazy import)",
-    ("solvers", "filter"): "solvers/barrier.py re-exports the filter for motion/kernels' imports until they name motion.filter",
 }
 """The imports back up inside ``motion`` that are known, each with why: none may be added."""
 SHARED = {"errors", "names", "__init__", "__main__"}

@@ -4,7 +4,7 @@ steps in one call, where the safety filter's only rows are the joints' own bound
 :func:`armanim.motion.ik.solve_pose`'s attempt takes steps from a start until the pose is
 within tolerance, the attempt stalls or its steps run out. Each step is the method's
 proposal (:func:`armanim.motion.solvers.linear.linear_step`) through the filter
-(:func:`armanim.motion.solvers.barrier.safe_step`); in numpy and Python that is some 500 calls
+(:func:`armanim.motion.filter.barrier.safe_step`); in numpy and Python that is some 500 calls
 and a few hundred microseconds a step. Here the same step is written as loops over small
 arrays, with the kinematics of :mod:`armanim.arm.kernel` and the pieces of
 :mod:`armanim.motion.kernels` (tasks, qp, check):
@@ -51,6 +51,7 @@ import numpy as np
 
 from armanim.arm.kernel import JIT, _forward_one, compiled
 from armanim.arm.kernel import KIND as KIND_COLUMN
+from armanim.motion.filter.barrier import VIOLATION
 from armanim.motion.kernels.check import pair_gaps
 from armanim.motion.kernels.layout import (
     BUFFER,
@@ -75,7 +76,6 @@ from armanim.motion.kernels.qp import bound_rows, filtered_with_pairs, lever_tra
 from armanim.motion.kernels.tasks import attempt_proposal, progress_measure, self_pair_push, step_bounds, step_shrink
 from armanim.motion.orientation import Orientation
 from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import VIOLATION
 
 
 @compiled(**JIT)

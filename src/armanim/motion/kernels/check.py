@@ -3,7 +3,7 @@ capsules' and the tip's clearances to every obstacle (:func:`obstacle_clearances
 new pose keeps every guarantee (:func:`pose_exactly_safe`).
 
 The numpy references: :func:`armanim.world.selfdistances.self_gaps`,
-:func:`armanim.world.distances.clearances`, :func:`armanim.motion.solvers.barrier.exactly_safe`.
+:func:`armanim.world.distances.clearances`, :func:`armanim.motion.filter.barrier.exactly_safe`.
 Pure core: numpy and numba only.
 """
 
@@ -204,7 +204,7 @@ def pose_exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, ph
                   new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
                   new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> bool:
     """Whether the pose ``cand`` keeps every guarantee from the pose ``phi`` (whose clearances are
-    ``cl_d``, least gap ``least``) (:func:`~armanim.motion.solvers.barrier.exactly_safe`); its kinematics, clearances and gaps
+    ``cl_d``, least gap ``least``) (:func:`~armanim.motion.filter.barrier.exactly_safe`); its kinematics, clearances and gaps
     into the ``new_`` arrays (as far as the check went), its least gap into ``out[1]``."""
     n = phi.shape[0]
     buffer = floats[BUFFER]

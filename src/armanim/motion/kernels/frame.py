@@ -3,7 +3,7 @@ and the safety filter's answer, in one or two calls.
 
 A frame of :func:`armanim.motion.trajectory.solve_trajectory` is the method's proposal
 (:func:`armanim.motion.solvers.linear.linear_step`) through the filter
-(:func:`armanim.motion.solvers.barrier.safe_step`): in numpy and Python some 500 calls and a few
+(:func:`armanim.motion.filter.barrier.safe_step`): in numpy and Python some 500 calls and a few
 hundred microseconds. Here the same frame is written as loops over small arrays, with the
 kinematics of :mod:`armanim.arm.kernel`, the distances of :mod:`armanim.world.compiled` and the
 pieces of :mod:`armanim.motion.kernels` (the inverses of its ``linalg``, the tasks and pushes of
@@ -15,9 +15,9 @@ its ``tasks``, the exact checks of its ``check``):
   space), the pushes of the arm's own pairs (in the null space), from the clearances and gaps of
   the state the frame starts from;
 - the filter: the step capped to ``max_joint_step`` (a prismatic joint's to ``max_slide_step``), the joint bounds, the bounds of
-  :func:`~armanim.motion.solvers.barrier.clearly_allowed`, else the rows of
-  :func:`~armanim.motion.solvers.barrier.filter_constraints`, built in its order; where one is
-  broken, the QP is DAQP's as before (:func:`~armanim.motion.solvers.barrier.filtered_step`,
+  :func:`~armanim.motion.filter.barrier.clearly_allowed`, else the rows of
+  :func:`~armanim.motion.filter.barrier.filter_constraints`, built in its order; where one is
+  broken, the QP is DAQP's as before (:func:`~armanim.motion.filter.barrier.filtered_step`,
   from Python, on those rows);
 - the exact check of the new pose and its halvings: its kinematics, its clearances to every
   obstacle (spheres, boxes, capsules, cylinders, the floor, in the scene's order), its pairs' gaps, which
@@ -41,12 +41,7 @@ import numpy as np
 
 from armanim.arm.kernel import JIT, TURN, _capsule_ends_one, compiled
 from armanim.arm.kinematics import Pose, kind_axes
-from armanim.motion.kernels.check import pose_exactly_safe
-from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, PINV, World
-from armanim.motion.kernels.tasks import frame_proposal, point_jacobian, step_bounds, step_shrink
-from armanim.motion.orientation import Orientation
-from armanim.motion.problem import Problem
-from armanim.motion.solvers.barrier import (
+from armanim.motion.filter.barrier import (
     BOUND_SLACK,
     VIOLATION,
     Constraints,
@@ -56,6 +51,11 @@ from armanim.motion.solvers.barrier import (
     step_fraction,
     wrap_unlimited,
 )
+from armanim.motion.kernels.check import pose_exactly_safe
+from armanim.motion.kernels.layout import BUFFER, DLS, GAMMA, KEPT, KEPT_SELF, LEVER_NORM, PINV, World
+from armanim.motion.kernels.tasks import frame_proposal, point_jacobian, step_bounds, step_shrink
+from armanim.motion.orientation import Orientation
+from armanim.motion.problem import Problem
 from armanim.motion.solvers.common import ArmState
 from armanim.world.compiled import pair_row, pair_rows_met
 from armanim.world.distances import Clearances
@@ -85,7 +85,7 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
 
     - :data:`NUMPY`: an inverse failed; :data:`FILTER`: the proposal is not finite, or zero;
     - :data:`QP`: a row or a bound is broken: the filter's rows (as
-      :func:`~armanim.motion.solvers.barrier.filter_constraints` builds them, in its order) into
+      :func:`~armanim.motion.filter.barrier.filter_constraints` builds them, in its order) into
       ``cons`` and ``cons_lower``, their count into ``out[2]``;
     - :data:`NOMINAL`: the filter takes the step as it is, but its exact check failed: the
       halvings are left to :func:`settle`;
@@ -233,10 +233,10 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
                orientation: Orientation | None = None) -> tuple[SafeStep | None, np.ndarray | None]:
     """One frame of ``method`` toward ``goal`` (a position, and its ``orientation``) from ``state``: (the
     filter's answer, the proposal), or (None, the proposal) where the numpy filter must take it (a
-    proposal that is not finite or zero: :func:`~armanim.motion.solvers.barrier.safe_step`), or
+    proposal that is not finite or zero: :func:`~armanim.motion.filter.barrier.safe_step`), or
     (None, None) where the numpy path must make the proposal too (an inverse failed).
 
-    The filter's QP, where a row is broken, is DAQP's (:func:`~armanim.motion.solvers.barrier.filtered_step`)
+    The filter's QP, where a row is broken, is DAQP's (:func:`~armanim.motion.filter.barrier.filtered_step`)
     on the rows the kernel built; the exact check and the halvings are compiled (:func:`settle`)."""
     k = problem.kernel
     cl = state.clearance
@@ -286,7 +286,7 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
 
 
 def _fraction(length: float, proposed: float, taken: np.ndarray, dphi: np.ndarray) -> float:
-    """|taken| / |dphi| from the lengths the kernel found, or :func:`~armanim.motion.solvers.barrier.step_fraction`'s
+    """|taken| / |dphi| from the lengths the kernel found, or :func:`~armanim.motion.filter.barrier.step_fraction`'s
     where the proposal's squares underflow or overflow."""
     return length / proposed if 0.0 < proposed < np.inf else step_fraction(taken, dphi)
 

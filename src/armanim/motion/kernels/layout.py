@@ -116,7 +116,7 @@ def kernel_problem(problem: Problem) -> KernelProblem:
 def settings_floats(problem: Problem) -> np.ndarray:
     """The float settings of ``problem`` at their slots (:data:`FLOATS`)."""
     from armanim.motion.cost import self_influence
-    from armanim.motion.solvers.barrier import kept_clearance, kept_self_clearance, limit_buffer
+    from armanim.motion.filter.clearance import kept_clearance, kept_self_clearance, limit_buffer
 
     s = problem.solver
     floats = np.empty(FLOATS)

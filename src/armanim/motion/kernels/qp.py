@@ -4,7 +4,7 @@ method (:func:`closest_step`), with the rows built only where the answer breaks 
 (:func:`filtered_with_pairs`); and the lever-arm bounds that show a pair's row met without
 building it (:func:`pairs_far`).
 
-The numpy reference: :func:`armanim.motion.solvers.barrier.filtered_step` (DAQP). Pure core:
+The numpy reference: :func:`armanim.motion.filter.barrier.filtered_step` (DAQP). Pure core:
 numpy and numba only, radians.
 """
 
@@ -13,9 +13,9 @@ from __future__ import annotations
 import numpy as np
 
 from armanim.arm.kernel import INLINE, JIT, compiled
+from armanim.motion.filter.barrier import VIOLATION
 from armanim.motion.kernels.layout import GAMMA, KEPT_SELF, SLACK
 from armanim.motion.kernels.linalg import cholesky
-from armanim.motion.solvers.barrier import VIOLATION
 from armanim.world.compiled import link_twists, pair_rate, pair_row
 
 QP_ITERATIONS = 100
@@ -205,9 +205,9 @@ def filtered_with_pairs(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray
               in_rows: np.ndarray, step: np.ndarray) -> bool:
     """With the pairs' exact ``gaps`` at the pose and ``step`` (n,) holding the nominal clipped to
     the joints' bounds ``low``, ``high``: the filter's step into ``step``, as
-    :func:`armanim.motion.solvers.barrier.filtered_step` takes it, the closest to ``nominal``
+    :func:`armanim.motion.filter.barrier.filtered_step` takes it, the closest to ``nominal``
     meeting those bounds and the rows of the pairs near enough for the step
-    (:func:`armanim.motion.solvers.barrier.self_pair_rows`: n . (J_A - J_B) dPhi >= -gamma (d -
+    (:func:`armanim.motion.filter.barrier.self_pair_rows`: n . (J_A - J_B) dPhi >= -gamma (d -
     d_kept)). ``nominal`` itself where it meets them all (to ``VIOLATION``), else the QP solved
     exactly (:func:`closest_step`), clipped to the bounds as the numpy filter clips DAQP's answer;
     where no step meets the rows, the QP again with each row's bound no more than 0 (closing no

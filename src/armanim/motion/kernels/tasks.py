@@ -165,7 +165,7 @@ def capped(v: np.ndarray, scale: float, cap: float) -> None:
 def step_shrink(caps: np.ndarray, dphi: np.ndarray) -> float:
     """The scale that brings the proposal ``dphi`` (n,; finite, not all 0) within each joint's
     cap ``caps`` (n,: radians, metres for a prismatic joint), at most 1: min(1, min_j cap_j / |dphi_j|)
-    (:func:`armanim.motion.solvers.barrier.safe_step`; with equal caps the numbers of
+    (:func:`armanim.motion.filter.barrier.safe_step`; with equal caps the numbers of
     min(1, cap / max_j |dphi_j|), rounding being monotone)."""
     shrink = 1.0
     for j in range(dphi.shape[0]):
@@ -175,7 +175,7 @@ def step_shrink(caps: np.ndarray, dphi: np.ndarray) -> float:
 
 @compiled(**INLINE)
 def step_bounds(phi: float, lower: float, upper: float, cap: float, gamma: float, buffer: float) -> tuple[float, float]:
-    """One joint's bounds on its step in the filter (:func:`armanim.motion.solvers.barrier.joint_bounds`):
+    """One joint's bounds on its step in the filter (:func:`armanim.motion.filter.barrier.joint_bounds`):
     the joint-step cap and, for a limited joint, the velocity damper toward each limit less its
     buffer; each bound no nearer than 0 (a joint inside its buffer may stand still)."""
     low, high = -cap, cap
