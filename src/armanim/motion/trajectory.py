@@ -551,6 +551,24 @@ def with_world_self_clearance(problem: Problem, carry: CarryReport, traj: Trajec
     return replace(traj, self_clearance=least, self_pair=pair.astype(str))
 
 
+def with_finger_clearance(problem: Problem, carry: CarryReport, traj: Trajectory) -> Trajectory:
+    """``traj`` with the clearance of the frames where the gripper's fingers move (the last frames
+    of a goal's hold, :func:`~armanim.motion.carry.frame_fingers`) measured with the fingers where
+    they are (:func:`~armanim.motion.carry.world_clearance`): the frame loop measured them with the
+    fingers where its goal's world holds them."""
+    from armanim.motion.carry import frame_fingers, world_clearance
+
+    fingers = frame_fingers(problem, carry, traj.goal, traj.fps)
+    if fingers is None or problem.gripper is None or not traj.frames:
+        return traj
+    held = np.array([problem.gripper.rest if w.fingers is None else w.fingers for w in carry.worlds])[traj.goal]
+    moving = fingers != held
+    if not moving.any():
+        return traj
+    measured = world_clearance(problem, carry, forward(problem.arm, traj.phi), traj.goal, traj.fps)  # every frame: the ramps are per goal
+    return replace(traj, clearance=np.where(moving, measured, traj.clearance))
+
+
 def _finish(problem: Problem, rec: _Recorder, carry: CarryReport | None = None) -> Trajectory:
     distance = np.array(rec.distance)
     angle = np.array(rec.angle, dtype=float)
@@ -576,7 +594,7 @@ def _finish(problem: Problem, rec: _Recorder, carry: CarryReport | None = None) 
     )
     traj = replace(traj, reached=joint_goals_reached(problem, phi, goal, traj.reached))
     if carry is not None:
-        return with_world_self_clearance(problem, carry, traj)
+        return with_world_self_clearance(problem, carry, with_finger_clearance(problem, carry, traj))
     if len(problem.self_pairs) and len(rec.self_gap) == len(rec):  # every frame's pairs were measured in the loop
         return replace(traj, self_clearance=np.array(rec.self_gap), self_pair=np.array(rec.self_pair))
     if not len(problem.self_pairs):
