@@ -135,11 +135,39 @@ def test_an_empty_folder_is_taken_and_a_link_is_refused(cli, tmp_path):
 
 
 def test_a_write_through_a_link_replaces_its_target(cli, tmp_path):
-    (tmp_path / "real.json").write_text("old")
+    assert cli("schema", "--out", tmp_path / "real.json").exit_code == 0  # armanim's own, marked
     (tmp_path / "link.json").symlink_to("real.json")
     assert cli("schema", "--out", tmp_path / "link.json").exit_code == 0
     assert (tmp_path / "link.json").is_symlink()
     assert json.loads((tmp_path / "real.json").read_text())["title"] == "armanim scene"
+    assert not (tmp_path / ".link.json.armanim.json").exists()  # the mark is the file's, beside it
+
+
+@pytest.mark.parametrize("flag", ["schema", "fk"])
+def test_a_single_file_replaces_only_what_armanim_wrote(cli, tmp_path, flag):
+    """schema --out and fk --png (the sixth campaign: they replaced a user's own file, exit 0)
+    rewrite their own file, but never a file of yours, one you edited since, or one through a
+    link to a file of yours: exit 3, every byte left."""
+    target = tmp_path / ("s.json" if flag == "schema" else "pose.png")
+    args = ("schema", "--out", target) if flag == "schema" else ("fk", "--angles", "0,30,45,10", "--png", target)
+    assert cli(*args).exit_code == 0
+    assert cli(*args).exit_code == 0  # its own, unchanged: replaced
+    with open(target, "ab") as handle:  # edited since
+        handle.write(b" ")
+    edited = target.read_bytes()
+    result = cli(*args)
+    assert result.exit_code == 3 and "did not write, or that has changed since" in result.stderr
+    assert target.read_bytes() == edited
+    mine = tmp_path / "mine"
+    mine.write_bytes(b"my notes")
+    (tmp_path / "link").symlink_to(mine)
+    for where in (mine, tmp_path / "link"):
+        other = ("schema", "--out", where) if flag == "schema" else ("fk", "--angles", "0,30,45,10", "--png", where)
+        result = cli(*other)
+        assert result.exit_code == 3, result.output
+        assert mine.read_bytes() == b"my notes"
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        ["link", "mine", target.name, f".{target.name}.armanim.json"])
 
 
 @pytest.mark.parametrize("kind", ["fifo", "device", "folder"])

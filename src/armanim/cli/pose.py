@@ -45,9 +45,11 @@ def fk(
     from armanim.runs.pose import forward_pose
 
     if png is not None:
+        from armanim.output.marks import check_marked_replaceable
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(png, "--png")
+        check_marked_replaceable(png, "--png")  # a picture of yours there: exit 3 before any work
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     values = parse_numbers(angles, "--angles", model.arm.joint_count)
     answer = forward_pose(model, values, in_radians=radians, with_notes=loaded is not None)
@@ -63,7 +65,9 @@ def fk(
     for note in answer.notes:
         say(f"note: {note}", err)
     if png is not None:
-        from armanim.render.pictures.pose import render_pose_png
+        from armanim.output.marks import write_marked
+        from armanim.render.paint.pixels import png_bytes
+        from armanim.render.pictures.pose import draw_pose
 
         # a pose has no goal: the scene's (or the flags' placeholder) are not drawn, nor named in the legend;
         # the picture tints the arm's own pairs near each other, so it takes the problem with them
@@ -76,8 +80,8 @@ def fk(
         meshes, notes = look_meshes(model, converted.places, settings, loaded.path.parent if loaded is not None else Path("."))
         for note in notes:  # a mesh not found: its link is drawn as its capsules, as in a run
             say(f"note: {note}", err)
-        render_pose_png(replace(converted.problem, goals=()), answer.phi, settings, png, title="armanim fk",
-                        meshes=meshes)
+        drawn = draw_pose(replace(converted.problem, goals=()), answer.phi, settings, title="armanim fk", meshes=meshes)
+        write_marked(png, png_bytes(drawn))
         if not as_json:
             say(f"wrote {png}")
 

@@ -61,14 +61,15 @@ def schema(
 
     Example: [bold]armanim schema --out scene.schema.json[/bold], then start a scene with [bold]# yaml-language-server: $schema=scene.schema.json[/bold]
     """
-    from armanim.output.atomic import write_text_atomic
     from armanim.scene.models import SceneModel
 
     text = json_text(SceneModel.model_json_schema(), indent=2) + "\n"
     if output is None:
         sys.stdout.write(text)
     else:
+        from armanim.output.marks import check_marked_replaceable, write_marked
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(output, "--out")
-        write_text_atomic(output, text)
+        check_marked_replaceable(output, "--out")  # a file of yours there: exit 3, left as it was
+        write_marked(output, text)

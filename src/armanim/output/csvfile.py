@@ -20,11 +20,8 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import hashlib
 import io
-import json
 import math
-import os
 import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
@@ -36,8 +33,9 @@ import numpy as np
 from armanim.arm.kinematics import joints_in_si, joints_shown
 from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
-from armanim.output.atomic import write_chunks_atomic, write_target, write_text_atomic
+from armanim.output.atomic import write_chunks_atomic, write_target
 from armanim.output.files import open_regular
+from armanim.output.marks import as_marked, file_mark
 from armanim.output.solved import SolvedRun
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
@@ -193,54 +191,9 @@ def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
     if not is_ours(first):
         raise OutputError(f"{path}: this file was not written by armanim (its first line is not armanim's header), "
                           "so it is not replaced (move it away, or choose another folder with --out)")
-    if not _as_marked(target):
-        raise OutputError(f"{path}: has changed since armanim wrote it (it is not what {table_mark(path).name} beside it "
+    if not as_marked(target):
+        raise OutputError(f"{path}: has changed since armanim wrote it (it is not what {file_mark(path).name} beside it "
                           "records, or that mark is missing), so it is not replaced (move it away, or choose another folder with --out)")
-
-
-def table_mark(path: Path) -> Path:
-    """The file beside a table armanim writes at a fixed name (``index.csv``, a sweep's table) that
-    records its size and sha256: ``.NAME.armanim.json``, so that a table a user edited since (a
-    note in a row) is never replaced.
-
-    >>> table_mark(Path("out/index.csv")).as_posix()
-    'out/.index.csv.armanim.json'
-    """
-    return Path(path).with_name(f".{Path(path).name}.armanim.json")
-
-
-MAX_MARK_BYTES = 1_000
-
-
-def write_table(path: Path, text: str) -> None:
-    """Write a table armanim owns at ``path`` and then its mark (:func:`table_mark`), a signal
-    held back between the two (a table without its matching mark would be refused next time)."""
-    from armanim.procs.deferred import interrupts_deferred
-
-    data = text.encode("utf-8")
-    mark = json.dumps({"generator": "armanim", "file": Path(path).name, "bytes": len(data),
-                       "sha256": hashlib.sha256(data).hexdigest()}) + "\n"
-    with interrupts_deferred():
-        write_text_atomic(path, text)
-        write_text_atomic(table_mark(path), mark)
-
-
-def _as_marked(path: Path) -> bool:
-    """Whether the regular file ``path`` is, byte for byte, what its mark records."""
-    try:
-        with open_regular(table_mark(path), "an armanim table's mark") as handle:
-            recorded = json.loads(handle.read(MAX_MARK_BYTES + 1))
-        if not isinstance(recorded, dict) or recorded.get("generator") != "armanim" or recorded.get("file") != Path(path).name:
-            return False
-        size, digest = recorded.get("bytes"), hashlib.sha256()
-        with open_regular(path, "an armanim table") as handle:
-            if not isinstance(size, int) or os.fstat(handle.fileno()).st_size != size:
-                return False
-            while block := handle.read(1 << 20):
-                digest.update(block)
-    except (OSError, ValueError, SceneError, RecursionError):
-        return False
-    return digest.hexdigest() == recorded.get("sha256")
 
 
 CSV_CHUNK_ROWS = 2_000

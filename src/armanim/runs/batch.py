@@ -19,7 +19,8 @@ from pathlib import Path
 
 from armanim.errors import ArmanimError, SceneError
 from armanim.output.atomic import write_bytes_atomic
-from armanim.output.csvfile import check_table_replaceable, table_csv_text, write_table
+from armanim.output.csvfile import check_table_replaceable, table_csv_text
+from armanim.output.marks import write_marked
 from armanim.output.rundir import staged_folder
 from armanim.procs.executors import executor_for
 from armanim.procs.workers import temp_prefix, undone_on_stop
@@ -250,4 +251,4 @@ def run_batch(
 def write_index(path: Path, entries: list[BatchEntry]) -> None:
     """Write ``index.csv``, replacing only an index.csv armanim wrote."""
     check_table_replaceable(path, is_index_header)
-    write_table(path, index_csv_text(entries))
+    write_marked(path, index_csv_text(entries))

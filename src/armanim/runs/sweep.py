@@ -18,7 +18,8 @@ from pathlib import Path
 import yaml
 
 from armanim.errors import Diagnostic, SceneError, UsageError
-from armanim.output.csvfile import check_table_replaceable, table_csv_text, write_table
+from armanim.output.csvfile import check_table_replaceable, table_csv_text
+from armanim.output.marks import write_marked
 from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks, write_index
 from armanim.runs.options import RunOptions
 from armanim.scene import load_scene, scene_from_bytes
@@ -287,6 +288,6 @@ def run_sweep(
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)
     check_table_replaceable(table, is_sweep_header)
-    write_table(table, table_csv_text(header, rows, text_cells=True))
+    write_marked(table, table_csv_text(header, rows, text_cells=True))
     write_index(out_root / "index.csv", entries)
     return SweepResult(items, entries, header, rows, table)

@@ -38,15 +38,23 @@ def composite(buffer: np.ndarray, sprite: Sprite | None) -> None:
     region[...] = (region * transparency + premultiplied + 0.5).astype(np.uint8)
 
 
+def png_bytes(rgba: np.ndarray) -> bytes:
+    """An (H, W, 4) uint8 image encoded as a PNG file's bytes."""
+    import io
+
+    from matplotlib.image import imsave
+
+    buffer = io.BytesIO()
+    imsave(buffer, np.ascontiguousarray(rgba), format="png")
+    return buffer.getvalue()
+
+
 def write_png(rgba: np.ndarray, path) -> None:
     """Write an (H, W, 4) uint8 image to a PNG atomically (temporary file, then replace);
     a write failure is an OutputError (exit 3)."""
-    from matplotlib.image import imsave
+    from armanim.output.atomic import write_bytes_atomic
 
-    from armanim.output.atomic import temporary_beside
-
-    with temporary_beside(Path(path)) as tmp:
-        imsave(tmp, np.ascontiguousarray(rgba), format="png")
+    write_bytes_atomic(Path(path), png_bytes(rgba))
 
 
 def in_pixels(artist, fig: Figure):

@@ -24,7 +24,14 @@ def pose_caption(problem: Problem, phi: np.ndarray) -> str:
 
 def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings, path, *, title: str,
                     meshes: ArmMeshes | None = None) -> None:
-    """Draw one pose of the arm to a PNG of ``settings.size`` pixels.
+    """Draw one pose of the arm (:func:`draw_pose`) to the PNG file ``path`` (str or Path),
+    written to a temporary file beside it, then moved in place."""
+    write_png(draw_pose(problem, phi, settings, title=title, meshes=meshes), path)
+
+
+def draw_pose(problem: Problem, phi: np.ndarray, settings: RenderSettings, *, title: str,
+              meshes: ArmMeshes | None = None) -> np.ndarray:
+    """(H, W, 4) uint8: one pose of the arm drawn at ``settings.size`` pixels.
 
     Parameters
     ----------
@@ -34,8 +41,6 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
         Joint angles, radians.
     settings : RenderSettings
         Size, view and bounds (``trail`` and ``format`` are not used).
-    path : str or Path
-        The PNG to write; written to a temporary file beside it, then moved in place.
     title : str
         Shown top left.
     meshes : ArmMeshes, optional
@@ -49,4 +54,4 @@ def render_pose_png(problem: Problem, phi: np.ndarray, settings: RenderSettings,
     scene = SceneCanvas(problem, settings, title=title, extent=pose.points, picture="pose", caption_template=caption,
                         meshes=meshes, near_self=near is not None and bool(near.any()))
     state = FrameState(pose=pose, trail_end=0, goal_status=np.full(len(problem.goals), PENDING), caption=caption)
-    write_png(scene.draw(state), path)
+    return scene.draw(state)

@@ -1,0 +1,89 @@
+"""Marks of the single files armanim writes at a name it does not own (a table at a fixed name,
+``schema --out``, ``fk --png``): ``.NAME.armanim.json`` beside the file records its size and
+sha256, so a file there is replaced only while it is still, byte for byte, what armanim wrote.
+A file of yours, one you edited since, or one whose mark is missing is never replaced (exit 3).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+from armanim.errors import OutputError, SceneError
+from armanim.output.atomic import write_chunks_atomic, write_target
+from armanim.output.files import open_regular
+
+MAX_MARK_BYTES = 1_000
+"""A mark is one short JSON line; anything longer at a mark's name is not armanim's."""
+
+
+def file_mark(path: Path) -> Path:
+    """The mark beside ``path``: ``.NAME.armanim.json``.
+
+    >>> file_mark(Path("out/index.csv")).as_posix()
+    'out/.index.csv.armanim.json'
+    """
+    return Path(path).with_name(f".{Path(path).name}.armanim.json")
+
+
+def mark_line(path: Path, data: bytes) -> str:
+    """The mark of ``data`` written at ``path``: one JSON line (generator, file, bytes, sha256).
+
+    >>> mark_line(Path("a.png"), b"x")[:54]
+    '{"generator": "armanim", "file": "a.png", "bytes": 1, '
+    """
+    return json.dumps({"generator": "armanim", "file": Path(path).name, "bytes": len(data),
+                       "sha256": hashlib.sha256(data).hexdigest()}) + "\n"
+
+
+def write_marked(path: Path, data: bytes | str) -> None:
+    """Write ``data`` at ``path`` (atomically; through a link there, to the file it names) and
+    then its mark (:func:`file_mark`), a signal held back between the two (a file without its
+    matching mark would be refused next time). Check first with :func:`check_marked_replaceable`."""
+    from armanim.procs.deferred import interrupts_deferred
+
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    target = write_target(path)  # a link is written through: the mark goes beside the file it names
+    with interrupts_deferred():
+        write_chunks_atomic(target, [raw])
+        write_chunks_atomic(file_mark(target), [mark_line(target, raw).encode()])
+
+
+def as_marked(path: Path) -> bool:
+    """Whether the regular file ``path`` is, byte for byte, what its mark records."""
+    try:
+        with open_regular(file_mark(path), "an armanim file's mark") as handle:
+            recorded = json.loads(handle.read(MAX_MARK_BYTES + 1))
+        if not isinstance(recorded, dict) or recorded.get("generator") != "armanim" or recorded.get("file") != Path(path).name:
+            return False
+        size, digest = recorded.get("bytes"), hashlib.sha256()
+        with open_regular(path, "a file armanim wrote") as handle:
+            if not isinstance(size, int) or os.fstat(handle.fileno()).st_size != size:
+                return False
+            while block := handle.read(1 << 20):
+                digest.update(block)
+    except (OSError, ValueError, SceneError, RecursionError):
+        return False
+    return digest.hexdigest() == recorded.get("sha256")
+
+
+def check_marked_replaceable(path: Path, option: str) -> None:
+    """An OutputError (exit 3) unless a write to ``path`` (named by ``option``) replaces nothing
+    but a file armanim wrote there and nobody changed since: nothing there, or a file that is what
+    its mark records. A link is judged by the file it names.
+
+    Raises
+    ------
+    OutputError
+        A file of someone else's, one changed since, or one with no mark (left as it was); a
+        folder, device or FIFO there.
+    """
+    target = write_target(path)  # a folder, device or FIFO there: exit 3
+    if not os.path.lexists(target):
+        return
+    if not as_marked(target):
+        raise OutputError(f"{path}: {option}: a file is there that armanim did not write, or that has changed since "
+                          f"(it is not what {file_mark(target).name} beside it records, or that mark is missing), "
+                          "so it is not replaced (move it away, or choose another path)")
