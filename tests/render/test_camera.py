@@ -151,7 +151,8 @@ def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
                          extent=forward(problem.arm, traj.phi).points)
     boxes = canvas.text_boxes
     assert {"title", "caption", "legend 0"} <= set(boxes)
-    assert sum(k.startswith("goal ") for k in boxes) == len(problem.goals)
+    named = [int(n) for k in boxes if k.startswith("goal ") for n in k.removeprefix("goal ").split(", ")]
+    assert sorted(named) == list(range(len(problem.goals)))  # every goal named once (goals at one place: one label)
     assert not _overlaps(boxes), _overlaps(boxes)
     for name, (x0, y0, x1, y1) in boxes.items():
         assert 0 <= x0 and 0 <= y0 and x1 <= size[0] and y1 <= size[1], (name, (x0, y0, x1, y1))

@@ -52,6 +52,25 @@ def hidden_style(code: int) -> dict[str, Any]:
     return {**style, "markerfacecolor": "none", "markeredgecolor": edge}
 
 
+def shared_numbers(xy: np.ndarray, within: float = 0.5) -> list[str]:
+    """Each goal's label: its number, or, where goals stand at one place on the screen (``xy``
+    (N, 2) pixels, at most ``within`` apart; a goal that leads to a release's approach line
+    stands where the line starts), all their numbers on the first of them and none on the others.
+
+    >>> shared_numbers(np.array([[0.0, 0], [5, 5], [5, 5.2], [9, 0]]))
+    ['0', '1, 2', '', '3']
+    """
+    texts = [str(i) for i in range(len(xy))]
+    for i in range(len(xy)):
+        if not texts[i]:
+            continue
+        same = [j for j in range(i + 1, len(xy)) if texts[j] and np.all(np.abs(xy[j] - xy[i]) <= within)]
+        if same:
+            texts[i] = ", ".join(str(k) for k in (i, *same))
+            for j in same:
+                texts[j] = ""
+    return texts
+
 class GoalMarkers:
     """Every goal's marker and number, for one camera and frame.
 
@@ -89,22 +108,23 @@ class GoalMarkers:
         self.ring = in_pixels(Line2D([], [], linestyle="none", marker="o", markersize=RING_POINTS,
                                      markerfacecolor="none", markeredgecolor=GOAL_COLORS["current"],
                                      markeredgewidth=1.8, alpha=0.8), fig)
-        self.labels = [in_pixels(Text(0, 0, str(i), ha="left", va="bottom", fontsize=FONT["goal"], fontweight="bold",
+        self.labels = [in_pixels(Text(0, 0, text, ha="left", va="bottom", fontsize=FONT["goal"], fontweight="bold",
                                       path_effects=[withStroke(linewidth=2.5, foreground="white")]), fig)
-                       for i in range(len(self.xy))]
+                       for text in shared_numbers(self.xy)]
         self.stamps: dict[tuple[int, int], Sprite | None] = {}
 
     def place_labels(self, renderer, gap: float, keep_out: list, inside) -> dict[str, tuple]:
         """Put the numbers beside their markers, ``gap`` pixels out, clear of each other, of the
         ``keep_out`` boxes and inside the box ``inside``; returns their boxes by name ("goal 3")."""
-        sizes = [(box.width, box.height) for box in (label.get_window_extent(renderer) for label in self.labels)]
+        shown = [i for i, label in enumerate(self.labels) if label.get_text()]  # a goal sharing its place is named on the first
+        sizes = [(box.width, box.height) for box in (self.labels[i].get_window_extent(renderer) for i in shown)]
         if not sizes:
             return {}
-        corners = scenery.place_labels(self.xy, np.array(sizes), gap, keep_out, inside)
+        corners = scenery.place_labels(self.xy[shown], np.array(sizes), gap, keep_out, inside)
         boxes = {}
-        for label, (x, y), (w, h) in zip(self.labels, corners, sizes):
-            label.set_position((x, y))
-            boxes[f"goal {label.get_text()}"] = (x, y, x + w, y + h)
+        for i, (x, y), (w, h) in zip(shown, corners, sizes):
+            self.labels[i].set_position((x, y))
+            boxes[f"goal {self.labels[i].get_text()}"] = (x, y, x + w, y + h)
         return boxes
 
     def largest_label(self, renderer) -> float:
