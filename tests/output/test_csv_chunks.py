@@ -13,6 +13,7 @@ import pytest
 
 from armanim.output.csvfile import read_trajectory_csv, trajectory_csv_chunks, trajectory_csv_text, write_trajectory_csv
 from armanim.output.solved import SolvedRun
+from armanim.runs.options import RunOptions
 from armanim.runs.pipeline import run_scene
 
 DATA = Path(__file__).resolve().parents[1] / "data"
@@ -21,7 +22,7 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 @pytest.fixture(scope="module")
 def pick_run(tmp_path_factory):
     """A run that grasps (the columns held, carried_clearance, gripper_m) and the file it wrote."""
-    result = run_scene(DATA / "pick-box.yaml", tmp_path_factory.mktemp("pick"), video=False)
+    result = run_scene(DATA / "pick-box.yaml", tmp_path_factory.mktemp("pick"), RunOptions(video=False))
     return SolvedRun("pick-box", result.problem, result.solution), result.files["trajectory"]
 
 
