@@ -49,14 +49,33 @@ PLANAR = {
 }
 NOTES = {
     "version": 1,
-    "arm": {"base": [5, 5, 0], "links": [2, 5, 5, 5], "axes": ["z", "y", "y", "y"], "direction": "z",
-            "limits": [None, [-100, 100], [-150, 150], [-150, 150]], "limit_margin": 15, "width": 0.6},
-    "obstacles": [{"center": [12, 9, 8], "radius": 2, "influence": 2}, {"center": [4, 12, 11], "radius": 1.5, "influence": 2},
-                  {"center": [9, 2, 13], "radius": 1.2, "influence": 1.5}],
+    "arm": {
+        "base": [5, 5, 0],
+        "links": [2, 5, 5, 5],
+        "axes": ["z", "y", "y", "y"],
+        "direction": "z",
+        "limits": [None, [-100, 100], [-150, 150], [-150, 150]],
+        "limit_margin": 15,
+        "width": 0.6,
+    },
+    "obstacles": [
+        {"center": [12, 9, 8], "radius": 2, "influence": 2},
+        {"center": [4, 12, 11], "radius": 1.5, "influence": 2},
+        {"center": [9, 2, 13], "radius": 1.2, "influence": 1.5},
+    ],
     "solver": {"method": "pinv", "step": 0.15, "max_step": 0.5, "tolerance": 0.01, "max_frames_per_goal": 60},
     "render": {"size": [320, 180], "fps": 15, "view": {"elevation": 25, "azimuth": -60}},
 }
-PLANAR_GOALS = [[3, 1, 0], [1, 1, 0], [-2, 2.5, 0], [0.5, -3, 0], [2.5, -1.5, 0], [-1, 3, 0], [3.2, 0.5, 0], [-2.5, -1, 0]]
+PLANAR_GOALS = [
+    [3, 1, 0],
+    [1, 1, 0],
+    [-2, 2.5, 0],
+    [0.5, -3, 0],
+    [2.5, -1.5, 0],
+    [-1, 3, 0],
+    [3.2, 0.5, 0],
+    [-2.5, -1, 0],
+]
 NOTES_GOALS = [[14, 5, 6], [6, 15, 9], [0, 8, 4], [10, 10, 14], [13, 8, 4], [3, 12, 6], [8, 0, 10], [12, 4, 12]]
 
 
@@ -88,7 +107,11 @@ def timed_batch(paths, out: Path, environ: dict | None = None, jobs: int | None 
 
 
 def outputs(out: Path) -> dict[str, bytes]:
-    return {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.glob("*/*")) if p.name in ("trajectory.csv", "summary.json")}
+    return {
+        str(p.relative_to(out)): p.read_bytes()
+        for p in sorted(out.glob("*/*"))
+        if p.name in ("trajectory.csv", "summary.json")
+    }
 
 
 def _import_armanim(_: int = 0) -> float:
@@ -134,10 +157,15 @@ def one_scene(paths, root: Path) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeats", type=int, default=2, help="runs of each candidate; the best time counts (default 2)")
+    parser.add_argument(
+        "--repeats", type=int, default=2, help="runs of each candidate; the best time counts (default 2)"
+    )
     parser.add_argument("--no-dask", action="store_true", help="skip the Dask comparison")
-    parser.add_argument("--no-diagnosis", action="store_true",
-                        help="skip the extra pool run with one BLAS thread per worker and the fixed-cost timings")
+    parser.add_argument(
+        "--no-diagnosis",
+        action="store_true",
+        help="skip the extra pool run with one BLAS thread per worker and the fixed-cost timings",
+    )
     args = parser.parse_args()
 
     try:
@@ -174,7 +202,9 @@ def main() -> None:
         n = len(paths)
         per_scene = one_scene(paths, root)
         print()
-        print(f"16 scenes, 320x180, 15 fps, with video; best of {args.repeats}; outputs byte-identical across candidates")
+        print(
+            f"16 scenes, 320x180, 15 fps, with video; best of {args.repeats}; outputs byte-identical across candidates"
+        )
         for name, t in best.items():
             print(f"  {name:<30} {t:6.2f} s   ({t / n:.2f} s per scene)")
         print(f"  one scene alone in this process: {per_scene:.2f} s")
@@ -190,13 +220,17 @@ def main() -> None:
         if args.no_diagnosis:
             return
         if "jobs 2 (pool, 1 BLAS thread)" in best:
-            print(f"  diagnosis: jobs 2 / jobs 1 with one BLAS thread per pool worker: "
-                  f"{best['jobs 1'] / best['jobs 2 (pool, 1 BLAS thread)']:.2f}x")
+            print(
+                f"  diagnosis: jobs 2 / jobs 1 with one BLAS thread per pool worker: "
+                f"{best['jobs 1'] / best['jobs 2 (pool, 1 BLAS thread)']:.2f}x"
+            )
         print()
         print("fixed costs inside those times:")
         first, imports = spawn_startup()
-        print(f"  spawn pool of 2: answers after {first:.2f} s, of which importing the pipeline, renderer and matplotlib "
-              f"{imports:.2f} s (armanim.runs.batch itself comes with this script's import in each worker)")
+        print(
+            f"  spawn pool of 2: answers after {first:.2f} s, of which importing the pipeline, renderer and matplotlib "
+            f"{imports:.2f} s (armanim.runs.batch itself comes with this script's import in each worker)"
+        )
         if have_dask:
             up, down = cluster_startup()
             print(f"  LocalCluster of 2: start + connect {up:.2f} s, close {down:.2f} s")

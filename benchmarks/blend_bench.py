@@ -61,8 +61,9 @@ def drafts(seed: int, count: int) -> list[tuple[str, dict]]:
             if len(draft.goals) < 4:
                 continue
             scene = draft.as_scene_dict(scene_name(seed, index), method="dls")
-            scene["goals"] = [g if isinstance(g, list) else {k: v for k, v in g.items() if k != "hold"}
-                              for g in scene["goals"]][:8]
+            scene["goals"] = [
+                g if isinstance(g, list) else {k: v for k, v in g.items() if k != "hold"} for g in scene["goals"]
+            ][:8]
             out.append((f"{family}/{index - 1}", scene))
             made += 1
     return out
@@ -127,13 +128,27 @@ def shortened_at_rest(problem, solution) -> float:
     frames = 1
     for part in _parts(problem, solution, problem):
         if part.path_speed is not None:  # along a path goal's path: as solved
-            poses, shaped_safety = src.phi[part.frames], replace(safety, at_poses=safety.at_poses[part.frames],
-                                                                 certified=safety.certified[part.frames.start:part.frames.stop - 1])
+            poses, shaped_safety = (
+                src.phi[part.frames],
+                replace(
+                    safety,
+                    at_poses=safety.at_poses[part.frames],
+                    certified=safety.certified[part.frames.start : part.frames.stop - 1],
+                ),
+            )
         else:
             shaped = _shaped_part(problem, src, safety, part)[0]
             poses, shaped_safety = shaped.poses, replace(safety, at_poses=shaped.clearance, certified=shaped.certified)
-        motion = goal_motions([poses], problem.limits.limited, rates.speed, rates.acceleration, problem.fps, [shaped_safety],
-                              jerk=rates.jerk, path_speeds=[part.path_speed])[0]
+        motion = goal_motions(
+            [poses],
+            problem.limits.limited,
+            rates.speed,
+            rates.acceleration,
+            problem.fps,
+            [shaped_safety],
+            jerk=rates.jerk,
+            path_speeds=[part.path_speed],
+        )[0]
         frames += len(motion.phi) + part.hold
     return frames / problem.fps
 
@@ -145,52 +160,71 @@ def measure(name: str, scene: dict, radius: float) -> dict:
     solve_s = time.process_time() - t0
     rest = retime(problem, solved, problem.fps)
     r = radius * problem.arm.reach
-    blended_problem = replace(problem, goals=tuple(replace(g, blend=r if g.joints is None else np.radians(5.0))
-                                                   for g in problem.goals))
+    blended_problem = replace(
+        problem, goals=tuple(replace(g, blend=r if g.joints is None else np.radians(5.0)) for g in problem.goals)
+    )
     t0 = time.process_time()
     flow = retime(blended_problem, solved, problem.fps)
     clock_s = time.process_time() - t0
     shortened = shortened_at_rest(problem, solved)
     vias, missed = vias_missed(blended_problem, flow)
     return {
-        "name": name, "goals": len(problem.goals), "rest": rest.trajectory.frames / problem.fps,
-        "flow": flow.trajectory.frames / problem.fps, "rest_to_rest": flow.rest_to_rest_duration,
+        "name": name,
+        "goals": len(problem.goals),
+        "rest": rest.trajectory.frames / problem.fps,
+        "flow": flow.trajectory.frames / problem.fps,
+        "rest_to_rest": flow.rest_to_rest_duration,
         "shortened": shortened,
-        "vias": vias, "candidates": sum(1 for g in flow.goals if g.blend is not None and g.blend.reason not in ("last",)),
+        "vias": vias,
+        "candidates": sum(1 for g in flow.goals if g.blend is not None and g.blend.reason not in ("last",)),
         "curves": sum(1 for g in flow.goals if g.blend is not None and g.blend.corner == "curve"),
-        "over_rate": rate_excess(blended_problem, flow.trajectory), "missed_radius": missed,
+        "over_rate": rate_excess(blended_problem, flow.trajectory),
+        "missed_radius": missed,
         "under_clearance": under_clearance(blended_problem, flow.trajectory),
         "reached_differ": sum(a.reached != b.reached for a, b in zip(rest.goals, flow.goals)),
-        "solve_s": solve_s, "clock_s": clock_s,
+        "solve_s": solve_s,
+        "clock_s": clock_s,
         "reasons": [g.blend.reason for g in flow.goals if g.blend is not None and not g.blend.blended],
     }
 
 
 def report(rows: list[dict]) -> None:
-    print(f"{'scene':<14} {'goals':>5} {'rest s':>7} {'short s':>7} {'blend s':>7} {'ratio':>6} {'vias':>9} {'curves':>6} {'rate':>4} "
-          f"{'radius':>6} {'clear':>5} {'reach':>5}")
+    print(
+        f"{'scene':<14} {'goals':>5} {'rest s':>7} {'short s':>7} {'blend s':>7} {'ratio':>6} {'vias':>9} {'curves':>6} {'rate':>4} "
+        f"{'radius':>6} {'clear':>5} {'reach':>5}"
+    )
     for r in rows:
-        print(f"{r['name']:<14} {r['goals']:>5} {r['rest']:>7.2f} {r['shortened']:>7.2f} {r['flow']:>7.2f} {r['flow'] / r['rest']:>6.3f} "
-              f"{r['vias']:>4}/{r['candidates']:<4} {r['curves']:>6} {r['over_rate']:>4} {r['missed_radius']:>6} "
-              f"{r['under_clearance']:>5} {r['reached_differ']:>5}")
+        print(
+            f"{r['name']:<14} {r['goals']:>5} {r['rest']:>7.2f} {r['shortened']:>7.2f} {r['flow']:>7.2f} {r['flow'] / r['rest']:>6.3f} "
+            f"{r['vias']:>4}/{r['candidates']:<4} {r['curves']:>6} {r['over_rate']:>4} {r['missed_radius']:>6} "
+            f"{r['under_clearance']:>5} {r['reached_differ']:>5}"
+        )
     ratios = np.array([r["flow"] / r["rest"] for r in rows])
-    print(f"\n{len(rows)} scenes: duration with blends / at rest: median {np.median(ratios):.3f}x "
-          f"(target <= 0.8x), best {ratios.min():.3f}x, worst {ratios.max():.3f}x (target <= 1); "
-          f"vias {sum(r['vias'] for r in rows)} of {sum(r['candidates'] for r in rows)} goals that could flow "
-          f"({sum(r['curves'] for r in rows)} on a curve)")
+    print(
+        f"\n{len(rows)} scenes: duration with blends / at rest: median {np.median(ratios):.3f}x "
+        f"(target <= 0.8x), best {ratios.min():.3f}x, worst {ratios.max():.3f}x (target <= 1); "
+        f"vias {sum(r['vias'] for r in rows)} of {sum(r['candidates'] for r in rows)} goals that could flow "
+        f"({sum(r['curves'] for r in rows)} on a curve)"
+    )
     short = np.array([r["shortened"] / r["rest"] for r in rows])
-    print(f"where it goes: each goal's path shortened and smoothed alone, at rest: median {np.median(short):.3f}x; "
-          f"passing the goals on that path: median {np.median(ratios / short):.3f}x of it")
-    print(f"frames over a rate limit {sum(r['over_rate'] for r in rows)}, vias outside their radius "
-          f"{sum(r['missed_radius'] for r in rows)}, frames under the clearance {sum(r['under_clearance'] for r in rows)}, "
-          f"goals reached differently {sum(r['reached_differ'] for r in rows)} (targets 0)")
+    print(
+        f"where it goes: each goal's path shortened and smoothed alone, at rest: median {np.median(short):.3f}x; "
+        f"passing the goals on that path: median {np.median(ratios / short):.3f}x of it"
+    )
+    print(
+        f"frames over a rate limit {sum(r['over_rate'] for r in rows)}, vias outside their radius "
+        f"{sum(r['missed_radius'] for r in rows)}, frames under the clearance {sum(r['under_clearance'] for r in rows)}, "
+        f"goals reached differently {sum(r['reached_differ'] for r in rows)} (targets 0)"
+    )
     from collections import Counter
 
     reasons = Counter(reason for r in rows for reason in r["reasons"])
     print("goals at rest, by reason: " + ", ".join(f"{k} {v}" for k, v in sorted(reasons.items())))
-    print(f"rest_to_rest_duration_s equals the run at rest in {sum(abs(r['rest_to_rest'] - r['rest']) < 1e-9 for r in rows)}"
-          f" of {len(rows)}; the blended clock took {sum(r['clock_s'] for r in rows):.1f} s of CPU, the solves "
-          f"{sum(r['solve_s'] for r in rows):.1f} s")
+    print(
+        f"rest_to_rest_duration_s equals the run at rest in {sum(abs(r['rest_to_rest'] - r['rest']) < 1e-9 for r in rows)}"
+        f" of {len(rows)}; the blended clock took {sum(r['clock_s'] for r in rows):.1f} s of CPU, the solves "
+        f"{sum(r['solve_s'] for r in rows):.1f} s"
+    )
 
 
 def main() -> None:

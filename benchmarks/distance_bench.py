@@ -35,11 +35,18 @@ from armanim.world.obstacles import BOX, ROD, Boxes, Obstacles, Rods
 def scene():
     """The notes' arm, its capsules and five shapes around it."""
     arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
-    boxes = Boxes(np.array([[12.0, 5, 3], [8.0, 12, 9], [2.0, 0, 12]]), np.array([[1.0, 3, 0.5], [2.0, 0.3, 2], [1.0, 1, 1]]),
-                  np.stack([rpy_rotation(r) for r in ([0, 0, 0.3], [0.2, 0.1, 1.0], [0.5, 0.5, 0.5])]))
+    boxes = Boxes(
+        np.array([[12.0, 5, 3], [8.0, 12, 9], [2.0, 0, 12]]),
+        np.array([[1.0, 3, 0.5], [2.0, 0.3, 2], [1.0, 1, 1]]),
+        np.stack([rpy_rotation(r) for r in ([0, 0, 0.3], [0.2, 0.1, 1.0], [0.5, 0.5, 0.5])]),
+    )
     rods = Rods(np.array([[0.0, 8, 0], [10.0, 0, 12]]), np.array([[0.0, 8, 10], [14.0, 3, 12]]), np.array([0.5, 0.3]))
     kinds = np.array([BOX, BOX, BOX, ROD, ROD])
-    return arm, joint_capsules(arm, 0.25), Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(5), boxes, rods, None, kinds)
+    return (
+        arm,
+        joint_capsules(arm, 0.25),
+        Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(5), boxes, rods, None, kinds),
+    )
 
 
 def coal_objects(obstacles):
@@ -48,7 +55,9 @@ def coal_objects(obstacles):
     from oracles.geometry import coal_capsule
 
     boxes, rods = obstacles.boxes, obstacles.rods
-    shapes = [(coal.Box(*(2 * h)), coal.Transform3s(r, c)) for c, h, r in zip(boxes.centers, boxes.half, boxes.rotations)]
+    shapes = [
+        (coal.Box(*(2 * h)), coal.Transform3s(r, c)) for c, h, r in zip(boxes.centers, boxes.half, boxes.rotations)
+    ]
     return shapes + [coal_capsule(a, b, float(r)) for a, b, r in zip(rods.start, rods.end, rods.radius)]
 
 
@@ -61,7 +70,11 @@ def coal_clearances(shapes, a, b, radius):
     request.gjk_tolerance = 1e-13
     out = np.empty((len(a), len(shapes)))
     for i, (p, q) in enumerate(zip(a, b)):
-        part = coal_capsule(p, q, float(radius[i])) if np.linalg.norm(q - p) > 0 else (coal.Sphere(float(radius[i])), coal.Transform3s(np.eye(3), p))
+        part = (
+            coal_capsule(p, q, float(radius[i]))
+            if np.linalg.norm(q - p) > 0
+            else (coal.Sphere(float(radius[i])), coal.Transform3s(np.eye(3), p))
+        )
         for j, (shape, placement) in enumerate(shapes):
             result = coal.DistanceResult()
             out[i, j] = coal.distance(shape, placement, part[0], part[1], request, result)
@@ -100,20 +113,32 @@ def main(argv=None) -> int:
     ours = clearances(pose, obstacles, capsules).d
     theirs = np.array([coal_clearances(shapes, a[k], b[k], radius) for k in range(50)])
     clear = (ours[:50] > 1e-6) & (theirs > 1e-6)
-    print(f"agreement on {clear.sum()} clear pairs: max |armanim - coal| = {np.abs(ours[:50] - theirs)[clear].max():.2e}")
+    print(
+        f"agreement on {clear.sum()} clear pairs: max |armanim - coal| = {np.abs(ours[:50] - theirs)[clear].max():.2e}"
+    )
 
     singles = [forward(arm, q) for q in phi[:100]]
     ours_one = best_of(repeats, lambda: [clearances(p, obstacles, capsules) for p in singles]) / 100
     coal_one = best_of(repeats, lambda: [coal_clearances(shapes, *parts(capsules, p)) for p in singles]) / 100
     ours_all = best_of(repeats, lambda: clearances(forward(arm, phi), obstacles, capsules)) / 1000
     ours_min = best_of(repeats, lambda: min_link_clearance(forward(arm, phi), obstacles, capsules)) / 1000
-    coal_all = best_of(max(1, repeats // 2), lambda: [coal_clearances(shapes, *parts(capsules, forward(arm, q))) for q in phi[:200]]) / 200
+    coal_all = (
+        best_of(
+            max(1, repeats // 2),
+            lambda: [coal_clearances(shapes, *parts(capsules, forward(arm, q))) for q in phi[:200]],
+        )
+        / 200
+    )
     pairs = len(radius) * len(shapes)
     print(f"{pairs} part-shape pairs per pose; microseconds per pose (per pair):")
-    print(f"  one pose   armanim clearances {1e6 * ours_one:8.1f} ({1e6 * ours_one / pairs:.2f})   coal {1e6 * coal_one:8.1f} "
-          f"({1e6 * coal_one / pairs:.2f})   coal/armanim {coal_one / ours_one:.2f}")
-    print(f"  1000 poses armanim clearances {1e6 * ours_all:8.1f} ({1e6 * ours_all / pairs:.2f})   coal {1e6 * coal_all:8.1f} "
-          f"({1e6 * coal_all / pairs:.2f})   coal/armanim {coal_all / ours_all:.2f}")
+    print(
+        f"  one pose   armanim clearances {1e6 * ours_one:8.1f} ({1e6 * ours_one / pairs:.2f})   coal {1e6 * coal_one:8.1f} "
+        f"({1e6 * coal_one / pairs:.2f})   coal/armanim {coal_one / ours_one:.2f}"
+    )
+    print(
+        f"  1000 poses armanim clearances {1e6 * ours_all:8.1f} ({1e6 * ours_all / pairs:.2f})   coal {1e6 * coal_all:8.1f} "
+        f"({1e6 * coal_all / pairs:.2f})   coal/armanim {coal_all / ours_all:.2f}"
+    )
     print(f"  1000 poses armanim min_link_clearance {1e6 * ours_min:8.1f}   coal/armanim {coal_all / ours_min:.2f}")
     return 0
 

@@ -33,11 +33,18 @@ from onboarding_bench import VENDOR  # noqa: E402
 from armanim.arm.kinematics import forward  # noqa: E402
 from armanim.scene import scene_model, scene_to_problem  # noqa: E402
 
-TIPS = {"UR10": "tool0", "xArm7": "link_eef", "Z1": "gripperStator", "SO-101": "gripper_frame_link",
-        "Panda (franka_description)": "panda_hand_tcp"}
+TIPS = {
+    "UR10": "tool0",
+    "xArm7": "link_eef",
+    "Z1": "gripperStator",
+    "SO-101": "gripper_frame_link",
+    "Panda (franka_description)": "panda_hand_tcp",
+}
 """The link each arm ends at (``arm.tip_link``: a user names it where the URDF has several leaves)."""
 
-TIME = re.compile(r"time: ([0-9.]+) s from the scene and its URDF to the video(?: \(numba compiled its code for ([0-9.]+) s)?")
+TIME = re.compile(
+    r"time: ([0-9.]+) s from the scene and its URDF to the video(?: \(numba compiled its code for ([0-9.]+) s)?"
+)
 
 
 def middle_home(arm: dict) -> list[float] | None:
@@ -64,22 +71,41 @@ def one(name: str, urdf: Path, work: Path) -> tuple[str, str]:
     home = middle_home(arm)
     if home is not None:
         arm["home"] = home
-    scene = {"version": 1, "name": re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-"), "arm": arm,
-             "goals": feasible_goals(arm), "render": {"size": [640, 360]}}
+    scene = {
+        "version": 1,
+        "name": re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-"),
+        "arm": arm,
+        "goals": feasible_goals(arm),
+        "render": {"size": [640, 360]},
+    }
     path = work / f"{scene['name']}.yaml"
     path.write_text(yaml.safe_dump(scene, sort_keys=False), encoding="utf-8")
-    env = dict(os.environ, ARMANIM_CACHE_DIR=str(work / f"cache-{scene['name']}"))  # a fresh capsule cache: the fit is paid
+    env = dict(
+        os.environ, ARMANIM_CACHE_DIR=str(work / f"cache-{scene['name']}")
+    )  # a fresh capsule cache: the fit is paid
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    proc = subprocess.run([sys.executable, "-m", "armanim", "run", str(path), "--out", str(work / "out"), "--jobs", "1"],
-                          capture_output=True, text=True, env=env)
+    proc = subprocess.run(
+        [sys.executable, "-m", "armanim", "run", str(path), "--out", str(work / "out"), "--jobs", "1"],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)  # the whole process, compiling included
+    cpu = (after.ru_utime - before.ru_utime) + (
+        after.ru_stime - before.ru_stime
+    )  # the whole process, compiling included
     found = TIME.search(proc.stdout + proc.stderr)
     reached = re.search(r"(\d+) of (\d+) goals reached", proc.stdout)
     if proc.returncode not in (0, 1) or found is None:
-        return name, f"| {name} | failed (exit {proc.returncode}): {(proc.stderr or proc.stdout).strip().splitlines()[-1:]} | | | |"
+        return (
+            name,
+            f"| {name} | failed (exit {proc.returncode}): {(proc.stderr or proc.stdout).strip().splitlines()[-1:]} | | | |",
+        )
     compile_s = found.group(2) or "0"
-    return name, f"| {name} | {found.group(1)} s | {compile_s} s | {cpu:.1f} s | {reached.group(0) if reached else '?'} |"
+    return (
+        name,
+        f"| {name} | {found.group(1)} s | {compile_s} s | {cpu:.1f} s | {reached.group(0) if reached else '?'} |",
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

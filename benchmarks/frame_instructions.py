@@ -46,9 +46,25 @@ def counted(scenes: list, folder: Path, solve: bool = True) -> tuple[int, int]:
     callgrind (``solve`` False: of only loading them)."""
     data = folder / "scenes.pkl"
     data.write_bytes(pickle.dumps(scenes))
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONHASHSEED="0")  # idle BLAS threads spin: counts would vary
-    out = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable, "-c", SOLVE, str(data), "solve" if solve else "load"],
-                         capture_output=True, text=True, env=env, check=True)
+    env = dict(
+        os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONHASHSEED="0"
+    )  # idle BLAS threads spin: counts would vary
+    out = subprocess.run(
+        [
+            "valgrind",
+            "--tool=callgrind",
+            "--callgrind-out-file=/dev/null",
+            sys.executable,
+            "-c",
+            SOLVE,
+            str(data),
+            "solve" if solve else "load",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=True,
+    )
     instructions = int(re.search(r"Collected : (\d+)", out.stderr).group(1))
     frames = re.search(r"FRAMES (\d+)", out.stdout)
     return instructions, int(frames.group(1)) if frames else 0
@@ -62,17 +78,26 @@ def main(argv=None) -> int:
     parser.add_argument("--methods", default="dls,gradient", help="comma-separated methods (default dls,gradient)")
     args = parser.parse_args(argv)
     drafts = [make_scene(args.seed, k, args.family) for k in range(args.scenes)]
-    print(f"| method | shapes: M instructions/frame | spheres twin | ratio |   ({args.family}, seed {args.seed}, {args.scenes} scenes, planner off)")
+    print(
+        f"| method | shapes: M instructions/frame | spheres twin | ratio |   ({args.family}, seed {args.seed}, {args.scenes} scenes, planner off)"
+    )
     print("|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         for method in [m for m in args.methods.split(",") if m]:
             per_frame = []
             for twin in (False, True):
-                scenes = [(d.spheres_twin() if twin else d).as_scene_dict(scene_name(args.seed, k, method, "off"), method, "off")
-                          for k, d in enumerate(drafts)]
+                scenes = [
+                    (d.spheres_twin() if twin else d).as_scene_dict(
+                        scene_name(args.seed, k, method, "off"), method, "off"
+                    )
+                    for k, d in enumerate(drafts)
+                ]
                 instructions, frames = counted(scenes, Path(tmp))
                 per_frame.append((instructions - counted(scenes, Path(tmp), solve=False)[0]) / max(frames, 1) / 1e6)
-            print(f"| {method} | {per_frame[0]:.3f} | {per_frame[1]:.3f} | {per_frame[0] / per_frame[1]:.2f}x |", flush=True)
+            print(
+                f"| {method} | {per_frame[0]:.3f} | {per_frame[1]:.3f} | {per_frame[0] / per_frame[1]:.2f}x |",
+                flush=True,
+            )
     return 0
 
 

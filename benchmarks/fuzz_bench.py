@@ -30,8 +30,13 @@ def run_strategy(name: str, strategy, check, examples: int, base_seed: int, outc
     """Draw ``examples`` examples of ``strategy`` and ``check`` each; failures are collected, not raised."""
 
     @seed(base_seed)
-    @settings(max_examples=examples, deadline=None, database=None, suppress_health_check=list(HealthCheck),
-              phases=["generate"])
+    @settings(
+        max_examples=examples,
+        deadline=None,
+        database=None,
+        suppress_health_check=list(HealthCheck),
+        phases=["generate"],
+    )
     @given(strategy)
     def one(example):
         try:
@@ -54,10 +59,24 @@ def main() -> int:
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        run_strategy("scene", hostile_scenes(), lambda data: check_scene_text(scene_yaml(data), "fuzz.yaml"),
-                     args.examples, args.seed, outcomes, failures)
-        run_strategy("urdf", urdf_scenes(), lambda pair: check_urdf_scene(*pair, folder), args.examples, args.seed + 1,
-                     outcomes, failures)
+        run_strategy(
+            "scene",
+            hostile_scenes(),
+            lambda data: check_scene_text(scene_yaml(data), "fuzz.yaml"),
+            args.examples,
+            args.seed,
+            outcomes,
+            failures,
+        )
+        run_strategy(
+            "urdf",
+            urdf_scenes(),
+            lambda pair: check_urdf_scene(*pair, folder),
+            args.examples,
+            args.seed + 1,
+            outcomes,
+            failures,
+        )
         counter = [0]
 
         def through_the_command(data) -> str:
@@ -72,8 +91,10 @@ def main() -> int:
     seconds = time.perf_counter() - start
     tried = sum(outcomes.values())
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(f"examples tried: {tried:,}; failures: {len(failures)}; {seconds:.0f} s ({1000 * seconds / max(tried, 1):.1f} ms an example); "
-          f"peak memory {peak:.0f} MB")
+    print(
+        f"examples tried: {tried:,}; failures: {len(failures)}; {seconds:.0f} s ({1000 * seconds / max(tried, 1):.1f} ms an example); "
+        f"peak memory {peak:.0f} MB"
+    )
     for key in sorted(outcomes):
         print(f"  {key}: {outcomes[key]:,}")
     seen = set()

@@ -49,10 +49,18 @@ LIMIT_MARGIN = 0.05  # radians: targets' poses are drawn this far inside the lim
 
 def robot_problem(robot: str, method: str):
     """The bundled robot with armanim ik's settings at the benchmark's tolerances."""
-    scene = scene_model({
-        "version": 1, "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]],
-        "solver": {"method": method, "tolerance": POSITION_TOLERANCE * 0.5, "orientation_tolerance": ANGLE_TOLERANCE_DEG * 0.5},
-    })
+    scene = scene_model(
+        {
+            "version": 1,
+            "arm": {"robot": robot},
+            "goals": [[0.3, 0.0, 0.4]],
+            "solver": {
+                "method": method,
+                "tolerance": POSITION_TOLERANCE * 0.5,
+                "orientation_tolerance": ANGLE_TOLERANCE_DEG * 0.5,
+            },
+        }
+    )
     return scene_to_problem(scene)
 
 
@@ -128,8 +136,17 @@ def rtb_solver(robot: str, problem):
         t = np.eye(4)
         t[:3, :3], t[:3, 3] = np.eye(3) if rotation is None else rotation, position
         mask = [1, 1, 1, 0, 0, 0] if rotation is None else [1, 1, 1, 1, 1, 1]  # a position target weighs no rotation
-        sol = model.ik_LM(SE3(t, check=False), end=end, start=start, q0=q0, joint_limits=True,
-                          tol=1e-12, ilimit=100, slimit=100, mask=mask)
+        sol = model.ik_LM(
+            SE3(t, check=False),
+            end=end,
+            start=start,
+            q0=q0,
+            joint_limits=True,
+            tol=1e-12,
+            ilimit=100,
+            slimit=100,
+            mask=mask,
+        )
         return np.asarray(sol[0], dtype=float)
 
     return (fk, solve), None
@@ -228,9 +245,15 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="20 targets per robot")
     parser.add_argument("--no-references", action="store_true", help="armanim's methods only")
     parser.add_argument("--position-only", action="store_true", help="the same targets' positions alone (3-D goals)")
-    parser.add_argument("--compare", action="store_true", help="issue 40's comparison: FK, 6-D Panda and notes' arm IK "
-                        "against rtb, pinocchio and ikpy, start-up (benchmarks/ik_compare.py; --quick: fewer targets)")
-    parser.add_argument("--parts", default=None, help="with --compare: which parts, of fk,pose,self-free,position,startup (all)")
+    parser.add_argument(
+        "--compare",
+        action="store_true",
+        help="issue 40's comparison: FK, 6-D Panda and notes' arm IK "
+        "against rtb, pinocchio and ikpy, start-up (benchmarks/ik_compare.py; --quick: fewer targets)",
+    )
+    parser.add_argument(
+        "--parts", default=None, help="with --compare: which parts, of fk,pose,self-free,position,startup (all)"
+    )
     args = parser.parse_args()
     if args.compare:
         import ik_compare
@@ -241,8 +264,10 @@ def main() -> None:
     count = 20 if args.quick else args.targets
     kind = "3-D position" if args.position_only else "6-D"
     judge = f"{POSITION_TOLERANCE:g} m" + ("" if args.position_only else f" and {ANGLE_TOLERANCE_DEG:g} deg")
-    print(f"{count} random reachable {kind} targets per robot, cold start from home; success: "
-          f"inside the limits, {judge} (armanim's FK)")
+    print(
+        f"{count} random reachable {kind} targets per robot, cold start from home; success: "
+        f"inside the limits, {judge} (armanim's FK)"
+    )
     print(f"{'robot':6} {'solver':24} {'success':>9} {'ms/solve':>9}   notes")
     for robot in args.robots.split(","):
         base = robot_problem(robot, "pinv")
@@ -251,9 +276,11 @@ def main() -> None:
         for method in args.methods.split(","):
             rate, seconds, finders = run_armanim(robot, method, goals)
             verdict = "met" if rate >= TARGET_SUCCESS else "not met"
-            print(f"{robot:6} {'armanim ' + method:24} {100 * rate:8.1f}% {1e3 * seconds:9.2f}   "
-                  f"target >= {100 * TARGET_SUCCESS:g} %: {verdict}; by the method {finders['method']}, "
-                  f"free-pose search {finders['free_pose_search']}, failed {finders['failed']}")
+            print(
+                f"{robot:6} {'armanim ' + method:24} {100 * rate:8.1f}% {1e3 * seconds:9.2f}   "
+                f"target >= {100 * TARGET_SUCCESS:g} %: {verdict}; by the method {finders['method']}, "
+                f"free-pose search {finders['free_pose_search']}, failed {finders['failed']}"
+            )
         if args.no_references:
             continue
         ikpy_name = "ikpy (position)" if args.position_only else "ikpy (orientation all)"
@@ -264,7 +291,9 @@ def main() -> None:
                 continue
             gap = fk_agrees(solver[0], base, args.seed)
             if gap > 1e-9:
-                print(f"{robot:6} {name:24} {'skipped':>9}   its forward kinematics differs from armanim's by {gap:.3g}")
+                print(
+                    f"{robot:6} {name:24} {'skipped':>9}   its forward kinematics differs from armanim's by {gap:.3g}"
+                )
                 continue
             rate, seconds = run_reference(solver, base, goals)
             print(f"{robot:6} {name:24} {100 * rate:8.1f}% {1e3 * seconds:9.2f}")

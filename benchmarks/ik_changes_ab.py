@@ -48,7 +48,7 @@ def switch(on: bool) -> None:
 def compare(name: str, problem, cases: list) -> None:
     runs: dict[bool, list] = {True: [], False: []}
     for k, case in enumerate(cases):
-        for on in ((True, False) if k % 2 else (False, True)):
+        for on in (True, False) if k % 2 else (False, True):
             switch(on)
             gc.disable()
             start = time.perf_counter()
@@ -61,9 +61,11 @@ def compare(name: str, problem, cases: list) -> None:
     med = [statistics.median(r[0] for r in side) for side in (before, after)]
     step = [sum(r[0] for r in side) / max(1, sum(r[1] for r in side)) for side in (before, after)]
     done = [sum(r[2] for r in side) for side in (before, after)]
-    print(f"{name:24s} before {med[0] * 1e3:8.2f} ms ({done[0]}/{len(before)}, {step[0] * 1e6:5.0f} us/step)   "
-          f"after {med[1] * 1e3:8.2f} ms ({done[1]}/{len(after)}, {step[1] * 1e6:5.0f} us/step)   "
-          f"after/before: median {med[1] / med[0]:.2f}, per step {step[1] / step[0]:.2f}")
+    print(
+        f"{name:24s} before {med[0] * 1e3:8.2f} ms ({done[0]}/{len(before)}, {step[0] * 1e6:5.0f} us/step)   "
+        f"after {med[1] * 1e3:8.2f} ms ({done[1]}/{len(after)}, {step[1] * 1e6:5.0f} us/step)   "
+        f"after/before: median {med[1] / med[0]:.2f}, per step {step[1] / step[0]:.2f}"
+    )
 
 
 def main() -> None:
@@ -77,15 +79,38 @@ def main() -> None:
     count = args.targets
     rng = np.random.default_rng(0)
     for method in ("pinv", "dls"):
-        panda = scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda", "self_collision": args.self_collision}, "goals": [[0.3, 0, 0.4]],
-                                              "solver": {"method": method, "tolerance": 0.001, "orientation_tolerance": 1}}))
+        panda = scene_to_problem(
+            scene_model(
+                {
+                    "version": 1,
+                    "arm": {"robot": "panda", "self_collision": args.self_collision},
+                    "goals": [[0.3, 0, 0.4]],
+                    "solver": {"method": method, "tolerance": 0.001, "orientation_tolerance": 1},
+                }
+            )
+        )
         source = rng.uniform(panda.limits.lower + 0.05, panda.limits.upper - 0.05, (count, panda.arm.n))
         pose = forward(panda.arm, source)
         rotations = tool_rotation(panda.arm, pose)
-        compare(f"Panda 6-D {method}", panda, [(pose.tip[k], panda.home, 2000, Orientation(rotation=rotations[k])) for k in range(count)])
-        notes = scene_to_problem(scene_model({"version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0],
-                                              "limits": [None, [-100, 100], [-150, 150], [-150, 150]]}, "goals": [[8, 8, 8]],
-                                              "solver": {"method": method, "tolerance": 0.001}}))
+        compare(
+            f"Panda 6-D {method}",
+            panda,
+            [(pose.tip[k], panda.home, 2000, Orientation(rotation=rotations[k])) for k in range(count)],
+        )
+        notes = scene_to_problem(
+            scene_model(
+                {
+                    "version": 1,
+                    "arm": {
+                        "links": [2, 5, 5, 5],
+                        "base": [5, 5, 0],
+                        "limits": [None, [-100, 100], [-150, 150], [-150, 150]],
+                    },
+                    "goals": [[8, 8, 8]],
+                    "solver": {"method": method, "tolerance": 0.001},
+                }
+            )
+        )
         tips = forward(notes.arm, rng.uniform(-1.2, 1.2, (2 * count, 4))).tip
         compare(f"notes' arm position {method}", notes, [(tip, np.zeros(4), 2000) for tip in tips])
 

@@ -94,9 +94,16 @@ def optional(make):
 def panda_problem(method: str, self_collision: str = "auto"):
     from armanim.scene import scene_model, scene_to_problem
 
-    return scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda", "self_collision": self_collision},
-                                         "goals": [[0.3, 0.0, 0.4]],
-                                         "solver": {"method": method, "tolerance": POS_TOL, "orientation_tolerance": 1.0}}))
+    return scene_to_problem(
+        scene_model(
+            {
+                "version": 1,
+                "arm": {"robot": "panda", "self_collision": self_collision},
+                "goals": [[0.3, 0.0, 0.4]],
+                "solver": {"method": method, "tolerance": POS_TOL, "orientation_tolerance": 1.0},
+            }
+        )
+    )
 
 
 def kinematic_urdf(path: Path) -> Path:
@@ -139,7 +146,9 @@ def pinocchio_clik(its: int = 100, restarts: int = 20, damp: float = 1e-6, cap: 
                 err = pin.log6(error).vector
                 if dpos @ dpos < POS_TOL * POS_TOL and np.sqrt(err[3:] @ err[3:]) < ANG_TOL:
                     return q
-                jac = -pin.Jlog6(error.inverse()) @ pin.computeFrameJacobian(model, data, q, tip, pin.ReferenceFrame.LOCAL)
+                jac = -pin.Jlog6(error.inverse()) @ pin.computeFrameJacobian(
+                    model, data, q, tip, pin.ReferenceFrame.LOCAL
+                )
                 v = -jac.T @ np.linalg.solve(jac @ jac.T + damp * eye6, err)
                 n = np.sqrt(v @ v)
                 if n > cap:
@@ -218,10 +227,14 @@ def pink_panda(its: int = 100, restarts: int = 20, seed: int = 0):
             conf = pink.Configuration(model, data, q)
             for _ in range(its):
                 placed = conf.get_transform_frame_to_world(tip)
-                if (np.linalg.norm(p - placed.translation) < POS_TOL
-                        and np.linalg.norm(pin.log3(placed.rotation.T @ rot)) < ANG_TOL):
+                if (
+                    np.linalg.norm(p - placed.translation) < POS_TOL
+                    and np.linalg.norm(pin.log3(placed.rotation.T @ rot)) < ANG_TOL
+                ):
                     return conf.q
-                conf.integrate_inplace(pink.solve_ik(conf, [task], 1.0, solver="daqp", damping=1e-12, safety_break=False), 1.0)
+                conf.integrate_inplace(
+                    pink.solve_ik(conf, [task], 1.0, solver="daqp", damping=1e-12, safety_break=False), 1.0
+                )
             q = rng.uniform(lo, hi)
         return conf.q
 
@@ -230,8 +243,12 @@ def pink_panda(its: int = 100, restarts: int = 20, seed: int = 0):
 
 def pose_peers():
     """(name, make) of each optional peer of the 6-D Panda parts: ``make()`` gives its solve(p, rot, q0)."""
-    return (("rtb ik_LM (C++)", lambda: rtb_panda()[1]), ("TRAC-IK (pytracik, 5 ms)", tracik_panda),
-            ("pink (QP, DAQP)", pink_panda), ("ikpy", ikpy_panda))
+    return (
+        ("rtb ik_LM (C++)", lambda: rtb_panda()[1]),
+        ("TRAC-IK (pytracik, 5 ms)", tracik_panda),
+        ("pink (QP, DAQP)", pink_panda),
+        ("ikpy", ikpy_panda),
+    )
 
 
 FEWER_TARGETS = ("pink (QP, DAQP)", "ikpy")
@@ -245,8 +262,10 @@ def pose_solvers(problems: dict, warm_up: tuple) -> tuple[dict, list[str]]:
     from armanim.motion.ik import solve_pose
     from armanim.motion.orientation import Orientation
 
-    solvers = {f"armanim {m}": (lambda p, r, q0, pr=pr: solve_pose(pr, p, q0, 2000, orientation=Orientation(rotation=r)).phi)
-               for m, pr in problems.items()}
+    solvers = {
+        f"armanim {m}": (lambda p, r, q0, pr=pr: solve_pose(pr, p, q0, 2000, orientation=Orientation(rotation=r)).phi)
+        for m, pr in problems.items()
+    }
     solvers["pinocchio CLIK loop"] = pinocchio_clik()
     skipped = []
     for name, make in pose_peers():
@@ -328,8 +347,11 @@ def part_fk(quick: bool) -> None:
         pin.forwardKinematics(model, data, p)
         return pin.updateFramePlacement(model, data, tip)
 
-    ones = {"armanim numpy forward": numpy_one, "armanim compiled kernel": lambda p: kernel.forward_with_tool(arm, p),
-            "pinocchio": pin_one}
+    ones = {
+        "armanim numpy forward": numpy_one,
+        "armanim compiled kernel": lambda p: kernel.forward_with_tool(arm, p),
+        "pinocchio": pin_one,
+    }
     rtb, rtb_why = optional(rtb_panda)
     if rtb is not None:
         ones["rtb ETS.eval"] = rtb[0].eval
@@ -337,7 +359,7 @@ def part_fk(quick: bool) -> None:
     per = {name: [] for name in ones}
     names = list(ones)
     for r in range(15 if not quick else 5):
-        for name in names[r % len(names):] + names[: r % len(names)]:
+        for name in names[r % len(names) :] + names[: r % len(names)]:
             f = ones[name]
             sample = q[:calls]
             spent, _ = timed(lambda f=f, sample=sample: [f(p) for p in sample])
@@ -345,16 +367,21 @@ def part_fk(quick: bool) -> None:
     print("1. FK, Panda tool frame, one pose per call (rounds of", calls, "calls):")
     for name in names:
         ratio = statistics.median(a / b for a, b in zip(per[name], per["pinocchio"]))
-        print(f"   {name:28s} median {ms(statistics.median(per[name])):>10}  / pinocchio, median of rounds {ratio:6.2f}x")
+        print(
+            f"   {name:28s} median {ms(statistics.median(per[name])):>10}  / pinocchio, median of rounds {ratio:6.2f}x"
+        )
     if rtb is None:
         print(f"   rtb ETS.eval                 skipped: robotics-toolbox {rtb_why}")
 
-    batch = {"armanim numpy forward(Q)": numpy_one, "armanim compiled kernel(Q)": lambda Q: kernel.forward_with_tool(arm, Q),
-             "pinocchio, a Python loop": lambda Q: [pin_one(p) for p in Q]}
+    batch = {
+        "armanim numpy forward(Q)": numpy_one,
+        "armanim compiled kernel(Q)": lambda Q: kernel.forward_with_tool(arm, Q),
+        "pinocchio, a Python loop": lambda Q: [pin_one(p) for p in Q],
+    }
     per = {name: [] for name in batch}
     names = list(batch)
     for r in range(7 if not quick else 3):
-        for name in names[r % len(names):] + names[: r % len(names)]:
+        for name in names[r % len(names) :] + names[: r % len(names)]:
             spent, _ = timed(batch[name], q)
             per[name].append(spent / len(q))
     print(f"   a batch of {len(q):,} poses in one call, time per pose:")
@@ -396,15 +423,19 @@ def report(title: str, results: dict, peer: str | None) -> None:
         if not times:
             continue
         ratio = f"{statistics.median(times) / base:7.2f}x {peer}" if base else ""
-        print(f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(oks):5.1f} %  median {ms(statistics.median(times)):>10}"
-              f"  p90 {ms(pct(times, 90)):>10}  {ratio}")
+        print(
+            f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(oks):5.1f} %  median {ms(statistics.median(times)):>10}"
+            f"  p90 {ms(pct(times, 90)):>10}  {ratio}"
+        )
 
 
 def part_pose(count: int) -> None:
     from armanim.arm.kinematics import forward, tool_rotation
 
     problems = {m: panda_problem(m) for m in ("pinv", "dls")}
-    problems |= {f"{m}, self-collision off": panda_problem(m, "off") for m in ("pinv", "dls")}  # as the peers: no self-collision
+    problems |= {
+        f"{m}, self-collision off": panda_problem(m, "off") for m in ("pinv", "dls")
+    }  # as the peers: no self-collision
     base = problems["pinv"]
     pin_parts, why = optional(panda_pinocchio)
     if pin_parts is None:
@@ -419,12 +450,18 @@ def part_pose(count: int) -> None:
     solvers, skipped = pose_solvers(problems, cases[0])
     results = interleaved(solvers, cases, judge, {name: max(10, count // 5) for name in FEWER_TARGETS})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
-    report(f"2. 6-D pose IK, Panda, {count} random reachable targets from home, 1 mm / 1 deg by pinocchio's FK:", results, peer)
+    report(
+        f"2. 6-D pose IK, Panda, {count} random reachable targets from home, 1 mm / 1 deg by pinocchio's FK:",
+        results,
+        peer,
+    )
     from armanim.world.selfdistances import self_gaps
 
     touching = int((self_gaps(pose, base.capsules, base.self_pairs).least < base.self_pairs.clearance).sum())
-    print(f"   ({touching} of the {count} targets' source poses bring two of armanim's Panda capsules within self_clearance:"
-          " armanim's self-collision keeps them apart, the peers have none)")
+    print(
+        f"   ({touching} of the {count} targets' source poses bring two of armanim's Panda capsules within self_clearance:"
+        " armanim's self-collision keeps them apart, the peers have none)"
+    )
     for line in skipped:
         print(line)
 
@@ -446,7 +483,9 @@ def panda_pair_gaps():
     caps, pairs = problem.capsules, problem.self_pairs
     if caps.joint_segment.any():
         raise RuntimeError("a joint-to-joint capsule: not placed by this judge")
-    joints = [model.getJointId(f"panda_joint{k + 1}") if k >= 0 else 0 for k in caps.link]  # the base's (carrier -1): the universe
+    joints = [
+        model.getJointId(f"panda_joint{k + 1}") if k >= 0 else 0 for k in caps.link
+    ]  # the base's (carrier -1): the universe
     shapes, axes, centres = [], [], []
     for start, end, radius in zip(caps.start, caps.end, caps.radius):
         axis = end - start
@@ -462,7 +501,9 @@ def panda_pair_gaps():
     def gaps(q: np.ndarray) -> np.ndarray:
         pin.forwardKinematics(model, data, q)
         placed = [data.oMi[j] for j in joints]
-        tfs = [coal.Transform3s(m.rotation @ r, m.rotation @ c + m.translation) for m, r, c in zip(placed, axes, centres)]
+        tfs = [
+            coal.Transform3s(m.rotation @ r, m.rotation @ c + m.translation) for m, r, c in zip(placed, axes, centres)
+        ]
         out = np.empty(len(pairs.first))
         for k, (a, b) in enumerate(zip(pairs.first, pairs.second)):
             out[k] = coal.distance(shapes[a], tfs[a], shapes[b], tfs[b], request, coal.DistanceResult())
@@ -514,16 +555,20 @@ def part_pose_self_free(count: int) -> None:
     results = interleaved(solvers, cases, reaches, {name: max(10, count // 5) for name in FEWER_TARGETS})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else "pinocchio CLIK loop"
     base = statistics.median(results[peer][0])
-    print(f"2b. 6-D pose IK, Panda, {count} random reachable targets whose source poses keep every enabled pair of its"
-          f" capsules >= self_clearance ({clearance * 1e3:g} mm) apart ({count} of {drawn} drawn), from home, armanim"
-          " with the robot's default self-collision; reached: 1 mm / 1 deg by pinocchio's FK, inside the limits;"
-          " pairs apart: every enabled pair >= self_clearance by coal (pinocchio's frames):")
+    print(
+        f"2b. 6-D pose IK, Panda, {count} random reachable targets whose source poses keep every enabled pair of its"
+        f" capsules >= self_clearance ({clearance * 1e3:g} mm) apart ({count} of {drawn} drawn), from home, armanim"
+        " with the robot's default self-collision; reached: 1 mm / 1 deg by pinocchio's FK, inside the limits;"
+        " pairs apart: every enabled pair >= self_clearance by coal (pinocchio's frames):"
+    )
     for name, (times, oks, answers) in results.items():
         apart = [ok and gaps(q).min() >= clearance for ok, q in zip(oks, answers)]
         success = apart if name.startswith("armanim") else oks
-        print(f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(success):5.1f} %  median {ms(statistics.median(times)):>10}"
-              f"  p90 {ms(pct(times, 90)):>10}  {statistics.median(times) / base:7.2f}x {peer}"
-              f"   (reached {100 * np.mean(oks):5.1f} %, reached with the pairs apart {100 * np.mean(apart):5.1f} %)")
+        print(
+            f"   {name:34s} {len(times):4d} targets  success {100 * np.mean(success):5.1f} %  median {ms(statistics.median(times)):>10}"
+            f"  p90 {ms(pct(times, 90)):>10}  {statistics.median(times) / base:7.2f}x {peer}"
+            f"   (reached {100 * np.mean(oks):5.1f} %, reached with the pairs apart {100 * np.mean(apart):5.1f} %)"
+        )
     for line in skipped:
         print(line)
 
@@ -551,9 +596,16 @@ def part_position(count: int) -> None:
     hard = np.where(np.isfinite(lower), lower, -np.pi)
 
     def problem(method):
-        return Problem(arm=Arm.from_names(list(NOTES_LINKS), base=NOTES_BASE), half_width=0.3, home=np.zeros(4),
-                       limits=Limits(lower=lower, upper=-lower, margin=float(np.radians(15.0))), obstacles=Obstacles.none(),
-                       goals=(Goal(np.zeros(3), hold=0.0),), solver=default_solver_settings(method=method, tolerance=POS_TOL), fps=30.0)
+        return Problem(
+            arm=Arm.from_names(list(NOTES_LINKS), base=NOTES_BASE),
+            half_width=0.3,
+            home=np.zeros(4),
+            limits=Limits(lower=lower, upper=-lower, margin=float(np.radians(15.0))),
+            obstacles=Obstacles.none(),
+            goals=(Goal(np.zeros(3), hold=0.0),),
+            solver=default_solver_settings(method=method, tolerance=POS_TOL),
+            fps=30.0,
+        )
 
     rng = np.random.default_rng(0)
     inner = np.radians(15.0)
@@ -571,15 +623,26 @@ def part_position(count: int) -> None:
         from roboticstoolbox import ET
 
         lo = hard
-        ets = (ET.tx(NOTES_BASE[0]) * ET.ty(NOTES_BASE[1]) * ET.Rz(qlim=[-np.pi, np.pi]) * ET.tz(NOTES_LINKS[0])
-               * ET.Ry(qlim=[lo[1], -lo[1]]) * ET.tz(NOTES_LINKS[1]) * ET.Ry(qlim=[lo[2], -lo[2]]) * ET.tz(NOTES_LINKS[2])
-               * ET.Ry(qlim=[lo[3], -lo[3]]) * ET.tz(NOTES_LINKS[3]))
+        ets = (
+            ET.tx(NOTES_BASE[0])
+            * ET.ty(NOTES_BASE[1])
+            * ET.Rz(qlim=[-np.pi, np.pi])
+            * ET.tz(NOTES_LINKS[0])
+            * ET.Ry(qlim=[lo[1], -lo[1]])
+            * ET.tz(NOTES_LINKS[1])
+            * ET.Ry(qlim=[lo[2], -lo[2]])
+            * ET.tz(NOTES_LINKS[2])
+            * ET.Ry(qlim=[lo[3], -lo[3]])
+            * ET.tz(NOTES_LINKS[3])
+        )
         mask = np.array([1.0, 1, 1, 0, 0, 0])
 
         def solve(g, q0):
             t = np.eye(4)
             t[:3, 3] = g
-            return np.asarray(ets.ik_LM(t, q0=q0, mask=mask, joint_limits=True, tol=0.5 * (0.9e-3) ** 2, ilimit=30, slimit=100).q)
+            return np.asarray(
+                ets.ik_LM(t, q0=q0, mask=mask, joint_limits=True, tol=0.5 * (0.9e-3) ** 2, ilimit=30, slimit=100).q
+            )
 
         return solve
 
@@ -587,11 +650,29 @@ def part_position(count: int) -> None:
         from ikpy.chain import Chain
         from ikpy.link import OriginLink, URDFLink
 
-        links = [OriginLink(), URDFLink("j1", origin_translation=list(NOTES_BASE), origin_orientation=[0, 0, 0], rotation=[0, 0, 1])]
+        links = [
+            OriginLink(),
+            URDFLink("j1", origin_translation=list(NOTES_BASE), origin_orientation=[0, 0, 0], rotation=[0, 0, 1]),
+        ]
         for k in range(1, 4):
-            links.append(URDFLink(f"j{k + 1}", origin_translation=[0, 0, NOTES_LINKS[k - 1]], origin_orientation=[0, 0, 0],
-                                  rotation=[0, 1, 0], bounds=(hard[k], -hard[k])))
-        links.append(URDFLink("tip", origin_translation=[0, 0, NOTES_LINKS[3]], origin_orientation=[0, 0, 0], rotation=None, joint_type="fixed"))
+            links.append(
+                URDFLink(
+                    f"j{k + 1}",
+                    origin_translation=[0, 0, NOTES_LINKS[k - 1]],
+                    origin_orientation=[0, 0, 0],
+                    rotation=[0, 1, 0],
+                    bounds=(hard[k], -hard[k]),
+                )
+            )
+        links.append(
+            URDFLink(
+                "tip",
+                origin_translation=[0, 0, NOTES_LINKS[3]],
+                origin_orientation=[0, 0, 0],
+                rotation=None,
+                joint_type="fixed",
+            )
+        )
         chain = Chain(links, active_links_mask=[False, True, True, True, True, False])
         return lambda g, q0: np.asarray(chain.inverse_kinematics(g, initial_position=np.r_[0.0, q0, 0.0]))[1:5]
 
@@ -605,7 +686,11 @@ def part_position(count: int) -> None:
         solvers[name](*cases[0])
     results = interleaved(solvers, cases, judge, {name: max(10, count // 5) for name in FEWER_TARGETS})
     peer = "rtb ik_LM (C++)" if "rtb ik_LM (C++)" in solvers else None
-    report(f"3. position IK, the notes' arm, {count} targets from the straight pose, 1 mm by a numpy FK of its own:", results, peer)
+    report(
+        f"3. position IK, the notes' arm, {count} targets from the straight pose, 1 mm by a numpy FK of its own:",
+        results,
+        peer,
+    )
     for line in skipped:
         print(line)
 
@@ -616,14 +701,25 @@ def part_position(count: int) -> None:
 def part_startup(rounds: int) -> None:
     armanim = [sys.executable, "-m", "armanim"]
     out = Path(os.environ.get("TMPDIR", "/tmp")) / "ik_compare_runs"
-    cases = {"python -c pass": [sys.executable, "-c", "pass"], "python -c 'import numpy'": [sys.executable, "-c", "import numpy"],
-             STACK: [sys.executable, "-c", f"import {STACK_MODULES}"],
-             "armanim --version": [*armanim, "--version"],
-             "armanim run notes-arm --no-video": [*armanim, "run", "scenes/notes-arm.yaml", "--no-video", "-q", "--out", str(out)]}
+    cases = {
+        "python -c pass": [sys.executable, "-c", "pass"],
+        "python -c 'import numpy'": [sys.executable, "-c", "import numpy"],
+        STACK: [sys.executable, "-c", f"import {STACK_MODULES}"],
+        "armanim --version": [*armanim, "--version"],
+        "armanim run notes-arm --no-video": [
+            *armanim,
+            "run",
+            "scenes/notes-arm.yaml",
+            "--no-video",
+            "-q",
+            "--out",
+            str(out),
+        ],
+    }
     times = {name: [] for name in cases}
     names = list(cases)
     for r in range(rounds + 1):
-        for name in names[r % len(names):] + names[: r % len(names)]:
+        for name in names[r % len(names) :] + names[: r % len(names)]:
             start = time.perf_counter()
             subprocess.run(cases[name], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
             if r:  # round 0 warms the caches up
@@ -646,7 +742,9 @@ PARTS = ("fk", "pose", "self-free", "position", "startup")
 def main(quick: bool, parts: tuple[str, ...] = PARTS, count: int | None = None) -> None:
     """The parts named in ``parts`` (all by default); ``count``: the IK parts' targets (else 300
     and 200, 40 with ``quick``)."""
-    print(f"python {sys.version.split()[0]}, numpy {np.__version__}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}")
+    print(
+        f"python {sys.version.split()[0]}, numpy {np.__version__}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}"
+    )
     if "fk" in parts:
         part_fk(quick)
     if "pose" in parts:

@@ -56,10 +56,10 @@ FAMILIES = ("bookshelf_small", "bookshelf_tall", "bookshelf_thin", "box", "cage"
 
 PUBLISHED = {
     "panda": "VAMP (one AMD Ryzen 9 7950X core, C++ SIMD; its resources/README.md): 699/699 valid solved, "
-             "median total 99 us, median simplified path 4.90 rad",
+    "median total 99 us, median simplified path 4.90 rad",
     "ur5": "VAMP (same machine): 608/608 valid solved, median total 111 us, median simplified path 6.55 rad",
     "all": "cuRobo v0.7.6 (NVIDIA RTX 6000 Ada GPU; its benchmark page): 100 % of MotionBenchMaker's 800, "
-           "42 ms mean planning, 1.36 s mean motion, 3.8 rad mean path",
+    "42 ms mean planning, 1.36 s mean motion, 3.8 rad mean path",
 }
 VAMP_PATH = {"panda": 4.90, "ur5": 6.55}
 
@@ -85,7 +85,9 @@ class Outcome:
     checks: int = 0
 
 
-def problem_files(archive: Path, robot: str, families: list[str], limit: int | None) -> dict[tuple[str, int], dict[str, bytes]]:
+def problem_files(
+    archive: Path, robot: str, families: list[str], limit: int | None
+) -> dict[tuple[str, int], dict[str, bytes]]:
     """{(family, index): {"scene": bytes, "request": bytes}} from a VAMP problems archive."""
     found: dict[tuple[str, int], dict[str, bytes]] = {}
     with tarfile.open(archive, "r:bz2") as tar:
@@ -100,7 +102,7 @@ def problem_files(archive: Path, robot: str, families: list[str], limit: int | N
             kind = "scene" if stem.startswith("scene") else "request" if stem.startswith("request") else None
             if family not in families or kind is None:
                 continue
-            index = int(stem[len(kind):])
+            index = int(stem[len(kind) :])
             if limit is not None and index > limit:
                 continue
             handle = tar.extractfile(member)
@@ -130,7 +132,8 @@ def solve_problem(robot: str, family: str, index: int, files: dict[str, bytes], 
     except SceneError as error:
         text = str(error)
         free = ("arm.home" not in text and "goals[0]" not in text) or not any(
-            words in text for words in ("inside", "closer", "overlapping"))
+            words in text for words in ("inside", "closer", "overlapping")
+        )
         if free:
             raise  # not a start or goal in collision: armanim's own failure
         return Outcome(robot, family, index, valid=False, reason="start or goal in collision")
@@ -149,11 +152,23 @@ def solve_problem(robot: str, family: str, index: int, files: dict[str, bytes], 
     error = float(np.degrees(np.abs(traj.phi[-1] - target).max())) if target is not None else math.nan
     steps = np.linalg.norm(np.diff(traj.phi, axis=0), axis=1)
     planning = goal.planning
-    return Outcome(robot, family, index, valid=True, solved=goal.reached, reason=goal.reason or "", solve_s=solve_s,
-                   solve_cpu_s=solve_cpu_s,
-                   path_rad=float(steps.sum()), duration_s=traj.frames / traj.fps, under_clearance=under,
-                   under_self_clearance=under_self, goal_error_deg=error,
-                   source=planning.path if planning else "", checks=planning.checks if planning else 0)
+    return Outcome(
+        robot,
+        family,
+        index,
+        valid=True,
+        solved=goal.reached,
+        reason=goal.reason or "",
+        solve_s=solve_s,
+        solve_cpu_s=solve_cpu_s,
+        path_rad=float(steps.sum()),
+        duration_s=traj.frames / traj.fps,
+        under_clearance=under,
+        under_self_clearance=under_self,
+        goal_error_deg=error,
+        source=planning.path if planning else "",
+        checks=planning.checks if planning else 0,
+    )
 
 
 def warm_up(data: Path, robot: str, problems: dict, work: Path) -> None:
@@ -176,14 +191,24 @@ def summary_rows(outcomes: list[Outcome]) -> list[list[str]]:
         cpu = np.array([o.solve_cpu_s for o in valid])
         paths = np.array([o.path_rad for o in solved])
         durations = np.array([o.duration_s for o in solved])
-        rows.append([robot, family, f"{len(valid)}/{len(group)}", f"{len(solved)}/{len(valid)}",
-                     f"{100 * len(solved) / max(len(valid), 1):.1f} %",
-                     _ms(np.median(times)) if len(times) else "-", _ms(np.percentile(times, 95)) if len(times) else "-",
-                     _ms(np.median(cpu)) if len(cpu) else "-", _ms(np.percentile(cpu, 95)) if len(cpu) else "-",
-                     f"{np.median(paths):.2f}" if len(paths) else "-",
-                     f"{np.median(paths) / VAMP_PATH[robot]:.2f}x" if len(paths) and robot in VAMP_PATH else "-",
-                     f"{np.median(durations):.2f}" if len(durations) else "-",
-                     str(sum(o.under_clearance for o in valid)), str(sum(o.under_self_clearance for o in valid))])
+        rows.append(
+            [
+                robot,
+                family,
+                f"{len(valid)}/{len(group)}",
+                f"{len(solved)}/{len(valid)}",
+                f"{100 * len(solved) / max(len(valid), 1):.1f} %",
+                _ms(np.median(times)) if len(times) else "-",
+                _ms(np.percentile(times, 95)) if len(times) else "-",
+                _ms(np.median(cpu)) if len(cpu) else "-",
+                _ms(np.percentile(cpu, 95)) if len(cpu) else "-",
+                f"{np.median(paths):.2f}" if len(paths) else "-",
+                f"{np.median(paths) / VAMP_PATH[robot]:.2f}x" if len(paths) and robot in VAMP_PATH else "-",
+                f"{np.median(durations):.2f}" if len(durations) else "-",
+                str(sum(o.under_clearance for o in valid)),
+                str(sum(o.under_self_clearance for o in valid)),
+            ]
+        )
     return rows
 
 
@@ -191,8 +216,22 @@ def _ms(seconds: float) -> str:
     return f"{1e3 * seconds:.0f} ms"
 
 
-HEADER = ["robot", "family", "valid", "solved", "solved %", "median solve", "p95 solve", "median CPU", "p95 CPU", "median path rad",
-          "vs VAMP", "median motion s", "frames < clearance", "frames < self_clearance"]
+HEADER = [
+    "robot",
+    "family",
+    "valid",
+    "solved",
+    "solved %",
+    "median solve",
+    "p95 solve",
+    "median CPU",
+    "p95 CPU",
+    "median path rad",
+    "vs VAMP",
+    "median motion s",
+    "frames < clearance",
+    "frames < self_clearance",
+]
 
 
 def print_table(rows: list[list[str]]) -> None:
@@ -216,11 +255,27 @@ def batch_run(data: Path, robot: str, problems: dict, count: int, work: Path) ->
         (folder / "s.yaml").write_bytes(files["scene"])
         (folder / "r.yaml").write_bytes(files["request"])
         out = folder / f"{family}-{index}.yaml"
-        import_moveit(folder / "s.yaml", folder / "r.yaml",
-                      RobotSource(urdf=data / robot / f"{robot}_spherized.urdf", srdf=data / robot / f"{robot}.srdf"), out)
+        import_moveit(
+            folder / "s.yaml",
+            folder / "r.yaml",
+            RobotSource(urdf=data / robot / f"{robot}_spherized.urdf", srdf=data / robot / f"{robot}.srdf"),
+            out,
+        )
         scenes.append(str(out))
-    command = [sys.executable, "-m", "armanim", "run", *scenes, "--no-video", "--no-viewer", "--jobs", "1", "--quiet",
-               "--out", str(work / f"runs-{robot}")]
+    command = [
+        sys.executable,
+        "-m",
+        "armanim",
+        "run",
+        *scenes,
+        "--no-video",
+        "--no-viewer",
+        "--jobs",
+        "1",
+        "--quiet",
+        "--out",
+        str(work / f"runs-{robot}"),
+    ]
     started, children = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run(command, capture_output=True, text=True, check=False)
     seconds = time.perf_counter() - started
@@ -232,14 +287,21 @@ def batch_run(data: Path, robot: str, problems: dict, count: int, work: Path) ->
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0], formatter_class=argparse.RawDescriptionHelpFormatter,
-                                     epilog=__doc__.split("\n\n", 1)[0])
-    parser.add_argument("--data", type=Path, default=DEFAULT_DATA, help="folder with <robot>/problems.tar.bz2 (VAMP's resources/)")
+    parser = argparse.ArgumentParser(
+        description=__doc__.splitlines()[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=__doc__.split("\n\n", 1)[0],
+    )
+    parser.add_argument(
+        "--data", type=Path, default=DEFAULT_DATA, help="folder with <robot>/problems.tar.bz2 (VAMP's resources/)"
+    )
     parser.add_argument("--robots", default="panda,ur5")
     parser.add_argument("--families", default=",".join(FAMILIES))
     parser.add_argument("--limit", type=int, default=None, help="problems 1..LIMIT of each family (default all 100)")
     parser.add_argument("--csv", type=Path, default=None, help="write one row per problem here")
-    parser.add_argument("--batch", type=int, default=0, help="also time this many problems in one `armanim run` per robot")
+    parser.add_argument(
+        "--batch", type=int, default=0, help="also time this many problems in one `armanim run` per robot"
+    )
     args = parser.parse_args(argv)
     families = [f for f in args.families.split(",") if f]
     outcomes: list[Outcome] = []
@@ -250,16 +312,23 @@ def main(argv: list[str] | None = None) -> int:
         for robot in [r for r in args.robots.split(",") if r]:
             archive = args.data / robot / "problems.tar.bz2"
             if not archive.is_file():
-                print(f"mbm_bench: {archive}: not found (pass --data, a folder like VAMP's resources/)", file=sys.stderr)
+                print(
+                    f"mbm_bench: {archive}: not found (pass --data, a folder like VAMP's resources/)", file=sys.stderr
+                )
                 return 2
             problems = problem_files(archive, robot, families, args.limit)
             warm_up(args.data, robot, problems, work)
             for k, ((family, index), files) in enumerate(problems.items()):
                 outcome = solve_problem(robot, family, index, files, args.data, work)
                 outcomes.append(outcome)
-                print(f"\r{robot} {k + 1}/{len(problems)} {family} {index}: "
-                      f"{'invalid' if not outcome.valid else 'solved' if outcome.solved else outcome.reason} "
-                      f"{1e3 * outcome.solve_s:.0f} ms      ", end="", file=sys.stderr, flush=True)
+                print(
+                    f"\r{robot} {k + 1}/{len(problems)} {family} {index}: "
+                    f"{'invalid' if not outcome.valid else 'solved' if outcome.solved else outcome.reason} "
+                    f"{1e3 * outcome.solve_s:.0f} ms      ",
+                    end="",
+                    file=sys.stderr,
+                    flush=True,
+                )
             print(file=sys.stderr)
             if args.batch:
                 batches[robot] = batch_run(args.data, robot, problems, args.batch, work)
@@ -269,11 +338,15 @@ def main(argv: list[str] | None = None) -> int:
             writer.writeheader()
             writer.writerows(asdict(o) for o in outcomes)
     print_table(summary_rows(outcomes))
-    print(f"load average at the end: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores (solve: wall time; CPU: this process's, "
-          "which other processes on a busy machine inflate less)")
+    print(
+        f"load average at the end: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores (solve: wall time; CPU: this process's, "
+        "which other processes on a busy machine inflate less)"
+    )
     for robot, (seconds, cpu) in batches.items():
-        print(f"{robot}: {args.batch} problems in one `armanim run --no-video --jobs 1`: {seconds:.3f} s a problem "
-              f"({cpu:.3f} s of CPU), start-up and writing included")
+        print(
+            f"{robot}: {args.batch} problems in one `armanim run --no-video --jobs 1`: {seconds:.3f} s a problem "
+            f"({cpu:.3f} s of CPU), start-up and writing included"
+        )
     failures = [o for o in outcomes if o.valid and not o.solved]
     if failures:
         print("missed: " + ", ".join(f"{o.robot} {o.family} {o.index} ({o.reason})" for o in failures[:40]))

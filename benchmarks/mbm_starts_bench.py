@@ -61,8 +61,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("folder", type=Path, help="the folder of panda/problems.tar.bz2")
     parser.add_argument("--limit", type=int, default=None)
     parser.add_argument("--solve", action="store_true", help="also solve each admitted problem and count those solved")
-    parser.add_argument("--urdf", type=Path, default=None,
-                        help="a Panda URDF instead of the bundled one (VAMP's mesh panda.urdf: its meshes fitted by collision: auto)")
+    parser.add_argument(
+        "--urdf",
+        type=Path,
+        default=None,
+        help="a Panda URDF instead of the bundled one (VAMP's mesh panda.urdf: its meshes fitted by collision: auto)",
+    )
     parser.add_argument("--srdf", type=Path, default=None, help="that URDF's SRDF (its allowed pairs)")
     args = parser.parse_args(argv)
     robot = RobotSource(robot="panda") if args.urdf is None else RobotSource(urdf=args.urdf, srdf=args.srdf)
@@ -80,7 +84,9 @@ def main(argv: list[str] | None = None) -> int:
             family = scene.parent.name
             try:
                 data = moveit_scene(scene, request, robot, Path(tmp) / "out.yaml").data
-                if args.urdf is not None:  # the scene's files relative to where it would be written; checked here from the cwd
+                if (
+                    args.urdf is not None
+                ):  # the scene's files relative to where it would be written; checked here from the cwd
                     data["arm"]["urdf"] = str(args.urdf.resolve())
                     if args.srdf is not None:
                         data["arm"]["self_collision"]["srdf"] = str(args.srdf.resolve())
@@ -109,8 +115,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {family} | " + " | ".join(row) + " |")
     row = [f"**{sum(v for (c, _), v in counts[m].items() if c == k)}/{total}**" for k in kinds for m in modes]
     print("| all | " + " | ".join(row) + " |")
-    print(f"not imported: {sum(unimported.values())} ({', '.join(f'{f} {n}' for f, n in sorted(unimported.items()))}): "
-          + "; ".join(f"{n} x {why}" for why, n in reasons.most_common(3)))
+    print(
+        f"not imported: {sum(unimported.values())} ({', '.join(f'{f} {n}' for f, n in sorted(unimported.items()))}): "
+        + "; ".join(f"{n} x {why}" for why, n in reasons.most_common(3))
+    )
     for mode in modes:
         print(f"{mode}: problems refused by " + "; ".join(f"{n} x {why}" for why, n in refused[mode].most_common(5)))
     return 0

@@ -24,7 +24,16 @@ from armanim.runs.pipeline import solve_scene, with_meshes
 from armanim.scene import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
-SCENES = ("panda-place", "panda-clutter", "panda-shelf", "ur5-table", "ur5-pen", "ur5-around", "iiwa-redundancy", "notes-arm")
+SCENES = (
+    "panda-place",
+    "panda-clutter",
+    "panda-shelf",
+    "ur5-table",
+    "ur5-pen",
+    "ur5-around",
+    "iiwa-redundancy",
+    "notes-arm",
+)
 
 
 def frame_seconds(run, settings) -> float:

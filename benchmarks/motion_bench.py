@@ -97,8 +97,11 @@ def dump_scene(seed: int, index: int, folder: Path, methods: list, planners: lis
     for method in methods:
         for planner in planners if planner_field_exists() else [None]:
             name = scene_name(seed, index, method, planner)
-            text = f"# motion_bench.py --seed {seed}, scene {index} ({draft.kind} arm); oracle: " + ", ".join(
-                f"goals[{k}] {v.why}" for k, v in enumerate(verdicts)) + "\n"
+            text = (
+                f"# motion_bench.py --seed {seed}, scene {index} ({draft.kind} arm); oracle: "
+                + ", ".join(f"goals[{k}] {v.why}" for k, v in enumerate(verdicts))
+                + "\n"
+            )
             text += yaml.safe_dump(draft.as_scene_dict(name, method, planner), sort_keys=False, default_flow_style=None)
             path = folder / f"{name}.yaml"
             path.write_text(text)
@@ -106,20 +109,31 @@ def dump_scene(seed: int, index: int, folder: Path, methods: list, planners: lis
 
 
 def parse_args(argv=None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--scenes", type=int, default=40, help="number of random scenes (default 40)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the scene generator (default 0)")
     parser.add_argument("--methods", default=",".join(METHODS), help="comma-separated methods (default all four)")
     parser.add_argument("--planner", default="auto,off", help="comma-separated planner settings (default auto,off)")
     parser.add_argument("--jobs", type=int, default=1, help="processes over scenes (default 1)")
-    parser.add_argument("--family", choices=sorted([*FAMILIES, "self"]), default="standard",
-                        help="scene distribution: standard, hard (issue 18: tight limits, passages, dense clutter, 8-12 goals), "
-                             "robots (issue 20: bundled Panda, UR5, iiwa; pinocchio oracle, witness labels), "
-                             "shapes or robot-shapes (issue 22: tables, shelves, walls with a gap, posts, a floor; coal oracle)")
-    parser.add_argument("--timing-rounds", type=int, default=1, metavar="R",
-                        help="shape families: time each solve and its spheres-only twin's R times in turn and keep the "
-                             "best of each; self family: the same with self_collision auto and off "
-                             "(default 1; 3 steadies the ratio on a shared machine)")
+    parser.add_argument(
+        "--family",
+        choices=sorted([*FAMILIES, "self"]),
+        default="standard",
+        help="scene distribution: standard, hard (issue 18: tight limits, passages, dense clutter, 8-12 goals), "
+        "robots (issue 20: bundled Panda, UR5, iiwa; pinocchio oracle, witness labels), "
+        "shapes or robot-shapes (issue 22: tables, shelves, walls with a gap, posts, a floor; coal oracle)",
+    )
+    parser.add_argument(
+        "--timing-rounds",
+        type=int,
+        default=1,
+        metavar="R",
+        help="shape families: time each solve and its spheres-only twin's R times in turn and keep the "
+        "best of each; self family: the same with self_collision auto and off "
+        "(default 1; 3 steadies the ratio on a shared machine)",
+    )
     parser.add_argument("--quick", action="store_true", help="8 scenes, for development")
     parser.add_argument("--list-misses", action="store_true", help="print every feasible goal that was missed")
     parser.add_argument("--dump-scene", nargs=2, metavar=("K", "DIR"), help="write scene K as YAML into DIR and exit")
@@ -139,7 +153,9 @@ def effective_planners(requested: list) -> list:
     if planner_field_exists():
         return requested
     if requested != ["off"]:
-        print("note: this armanim has no solver.planner; running the current behaviour, labelled 'off'", file=sys.stderr)
+        print(
+            "note: this armanim has no solver.planner; running the current behaviour, labelled 'off'", file=sys.stderr
+        )
     return ["off"]
 
 
@@ -156,11 +172,19 @@ def main(argv=None) -> int:
     print("self-test: the oracle's forward kinematics and clearances equal armanim's (1e-9)", file=sys.stderr)
     if args.family in SHAPE_FAMILIES:
         self_test_solids(np.random.default_rng(12345))
-        print("self-test: the oracle's (coal's) clearances to boxes, capsules and the floor equal armanim's (1e-9)", file=sys.stderr)
+        print(
+            "self-test: the oracle's (coal's) clearances to boxes, capsules and the floor equal armanim's (1e-9)",
+            file=sys.stderr,
+        )
     if args.family in ("robots", "poses", "robot-shapes"):
         self_test_robots(np.random.default_rng(12345))
-        print("self-test: pinocchio's tool point and the oracle's robot capsule clearances equal armanim's (1e-9)", file=sys.stderr)
-    tasks = [(args.seed, k, args.methods, planners, args.family, max(1, args.timing_rounds)) for k in range(args.scenes)]
+        print(
+            "self-test: pinocchio's tool point and the oracle's robot capsule clearances equal armanim's (1e-9)",
+            file=sys.stderr,
+        )
+    tasks = [
+        (args.seed, k, args.methods, planners, args.family, max(1, args.timing_rounds)) for k in range(args.scenes)
+    ]
     results = []
     if args.jobs > 1:
         with multiprocessing.get_context("forkserver").Pool(args.jobs) as pool:
@@ -172,7 +196,9 @@ def main(argv=None) -> int:
             results.append(bench_scene(task))
             report_progress(results[-1], len(results), args.scenes, began)
     results.sort(key=lambda r: r.index)
-    print(f"motion_bench --family {args.family} --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner {','.join(planners)}")
+    print(
+        f"motion_bench --family {args.family} --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner {','.join(planners)}"
+    )
     broken = print_report(results, args.methods, planners, args.list_misses)
     print(f"\nbenchmark took {time.perf_counter() - began:.1f} s ({args.jobs} job(s))")
     if broken:
@@ -183,10 +209,16 @@ def main(argv=None) -> int:
 def report_progress(result: SceneResult, done: int, total: int, began: float) -> None:
     """One line on stderr per finished scene."""
     feasible = sum(v.feasible for v in result.verdicts)
-    reached = " ".join(f"{run.method[:2]}/{run.planner}:{sum(v.feasible and ok for v, ok in zip(result.verdicts, run.reached))}"
-                       for run in result.runs)
-    print(f"[{done}/{total} {time.perf_counter() - began:6.1f}s] scene {result.index} ({result.kind}, "
-          f"{len(result.verdicts)} goals, {feasible} feasible) {reached}", file=sys.stderr, flush=True)
+    reached = " ".join(
+        f"{run.method[:2]}/{run.planner}:{sum(v.feasible and ok for v, ok in zip(result.verdicts, run.reached))}"
+        for run in result.runs
+    )
+    print(
+        f"[{done}/{total} {time.perf_counter() - began:6.1f}s] scene {result.index} ({result.kind}, "
+        f"{len(result.verdicts)} goals, {feasible} feasible) {reached}",
+        file=sys.stderr,
+        flush=True,
+    )
 
 
 if __name__ == "__main__":

@@ -84,8 +84,10 @@ def report(name: str, rows: list[tuple[str, int, tuple[int, int, float, float]]]
     caps, hulls = sum(r[2][2] for r in rows), sum(r[2][3] for r in rows)
     worst = max(rows, key=lambda r: r[2][2] / max(r[2][3], 1e-12))
     ratio = caps / hulls
-    print(f"| {name} | {len(rows)} | {sum(r[1] for r in rows)} | {held}/{total} ({100 * held / total:.2f} %) | "
-          f"{ratio:.2f}x | {worst[2][2] / max(worst[2][3], 1e-12):.2f}x ({worst[0]}) | {seconds:.1f} s |")
+    print(
+        f"| {name} | {len(rows)} | {sum(r[1] for r in rows)} | {held}/{total} ({100 * held / total:.2f} %) | "
+        f"{ratio:.2f}x | {worst[2][2] / max(worst[2][3], 1e-12):.2f}x ({worst[0]}) | {seconds:.1f} s |"
+    )
     return {"ratio": ratio, "held": held == total}
 
 
@@ -104,7 +106,10 @@ def vendor(erd: Path, name: str, relative: str) -> dict:
         tag = "visual" if link in fits.from_visuals else "collision"
         rows.append((link, len(capsules), measure(oracle_points(urdf, link, tag, dirs), capsules)))
     for link, count, (held, total, caps, hull) in rows:
-        print(f"    {link}: {count} capsule(s), {held}/{total} vertices, {caps / max(hull, 1e-12):.2f}x its hull", file=sys.stderr)
+        print(
+            f"    {link}: {count} capsule(s), {held}/{total} vertices, {caps / max(hull, 1e-12):.2f}x its hull",
+            file=sys.stderr,
+        )
     return report(name, rows, seconds)
 
 
@@ -150,15 +155,24 @@ def against(erd: Path, other: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--erd", type=Path, help="example-robot-data's share folder (holds robots/)")
-    parser.add_argument("--against", type=Path, help="another fitting.py to time and weigh this one against (needs --erd)")
-    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                        help="set one of armanim.arm.fitting's constants for this run (e.g. DIAGONALS=True, COARSE_AXES=3)")
+    parser.add_argument(
+        "--against", type=Path, help="another fitting.py to time and weigh this one against (needs --erd)"
+    )
+    parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set one of armanim.arm.fitting's constants for this run (e.g. DIAGONALS=True, COARSE_AXES=3)",
+    )
     args = parser.parse_args(argv)
     from armanim.arm import fitting
 
     for setting in args.set:
         name, _, value = setting.partition("=")
-        setattr(fitting, name, type(getattr(fitting, name))(value == "True" if value in ("True", "False") else float(value)))
+        setattr(
+            fitting, name, type(getattr(fitting, name))(value == "True" if value in ("True", "False") else float(value))
+        )
     if args.against is not None:
         against(args.erd, args.against)
         return 0

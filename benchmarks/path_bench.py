@@ -65,9 +65,16 @@ SOLVER = {"tolerance": 0.005, "clearance": 0.02}
 
 def case_scene(case: DrawnPath) -> dict:
     """The scene of a case (its one goal the path's start, for armanim's checks of the scene)."""
-    obstacles = [{"center": c.tolist(), "radius": float(r), "influence": 0.05} for c, r in zip(case.centers, case.radii)]
-    return {"version": 1, "arm": {"robot": case.robot}, "obstacles": obstacles, "goals": [case.path.start.tolist()],
-            "solver": SOLVER}
+    obstacles = [
+        {"center": c.tolist(), "radius": float(r), "influence": 0.05} for c, r in zip(case.centers, case.radii)
+    ]
+    return {
+        "version": 1,
+        "arm": {"robot": case.robot},
+        "obstacles": obstacles,
+        "goals": [case.path.start.tolist()],
+        "solver": SOLVER,
+    }
 
 
 def drawn_case(rng: np.random.Generator, robot: str) -> DrawnPath:
@@ -94,16 +101,22 @@ def judged(problem: Problem, solution: Solution, geo) -> dict:
     if len(frames):
         before = traj.phi[frames - 1]
         middle = before + wrap_angle(traj.phi[frames] - before) / 2
-        dense = problem.goals[0].path.points(np.linspace(0, problem.goals[0].path.length,
-                                                         int(problem.goals[0].path.length / 5e-5) + 2))
+        dense = problem.goals[0].path.points(
+            np.linspace(0, problem.goals[0].path.length, int(problem.goals[0].path.length / 5e-5) + 2)
+        )
         for phi in (traj.phi[frames], middle):
             tips = geo.tip(phi)
             d = np.sqrt(((tips[:, None, :] - dense[None, :, :]) ** 2).sum(-1)).min(axis=1)
             worst = max(worst, float(d.max()))
     speeds = np.abs(wrap_angle(np.diff(traj.phi, axis=0))) * traj.fps
     over = int(np.sum(np.any(speeds > problem.rates.speed * (1 + 1e-6), axis=1)))
-    return {"fraction": report.path.fraction, "worst": worst, "over": over, "cause": report.path.cause,
-            "reason": report.reason}
+    return {
+        "fraction": report.path.fraction,
+        "worst": worst,
+        "over": over,
+        "cause": report.path.cause,
+        "reason": report.reason,
+    }
 
 
 def main() -> None:
@@ -129,24 +142,46 @@ def main() -> None:
         geo = robot_geometry(case.robot, case.centers, case.radii, clearance=problem.solver.clearance)
         if case.robot not in checked or (len(case.radii) and checked[case.robot] == 0):
             worst = check_gaps(geo, problem)
-            assert worst < 1e-9, f"{case.robot}: the oracle's numpy gaps differ from coal's / pinocchio's by {worst:.2e} m"
+            assert worst < 1e-9, (
+                f"{case.robot}: the oracle's numpy gaps differ from coal's / pinocchio's by {worst:.2e} m"
+            )
             checked[case.robot] = len(case.radii)
         dense = case.path.points(np.linspace(0, case.path.length, int(case.path.length / STEP) + 2))
-        oracle = followed_fraction(geo, dense, DOWN, problem.solver.max_joint_step, problem.solver.clearance, seed=i,
-                                   problem=problem)
-        kept = followed_fraction(geo, dense, DOWN, problem.solver.max_joint_step,
-                                                           kept_clearance(problem), seed=i, problem=problem,
-                                                           self_floor=kept_self_clearance(problem))
+        oracle = followed_fraction(
+            geo, dense, DOWN, problem.solver.max_joint_step, problem.solver.clearance, seed=i, problem=problem
+        )
+        kept = followed_fraction(
+            geo,
+            dense,
+            DOWN,
+            problem.solver.max_joint_step,
+            kept_clearance(problem),
+            seed=i,
+            problem=problem,
+            self_floor=kept_self_clearance(problem),
+        )
         t0 = time.perf_counter()
         solution = retime(problem, solve_trajectory(problem), problem.fps)
         seconds = time.perf_counter() - t0
-        row = {"i": i, "robot": case.robot, "kind": case.kind, "length": case.path.length, "spheres": len(case.radii),
-               "oracle": oracle, "kept": kept, "seconds": seconds, **judged(problem, solution, geo)}
+        row = {
+            "i": i,
+            "robot": case.robot,
+            "kind": case.kind,
+            "length": case.path.length,
+            "spheres": len(case.radii),
+            "oracle": oracle,
+            "kept": kept,
+            "seconds": seconds,
+            **judged(problem, solution, geo),
+        }
         rows.append(row)
-        print(f"{i:3d} {case.robot:5s} {case.kind:4s} {case.path.length:.3f} m {len(case.radii)} spheres  oracle {oracle:.3f} "
-              f"(kept floors {kept:.3f})  "
-              f"armanim {row['fraction']:.3f} ({row['reason'] or 'whole'}{'/' + row['cause'] if row['cause'] else ''})  "
-              f"worst {row['worst'] * 1e3:.3f} mm  over {row['over']}  {seconds:.2f} s", flush=True)
+        print(
+            f"{i:3d} {case.robot:5s} {case.kind:4s} {case.path.length:.3f} m {len(case.radii)} spheres  oracle {oracle:.3f} "
+            f"(kept floors {kept:.3f})  "
+            f"armanim {row['fraction']:.3f} ({row['reason'] or 'whole'}{'/' + row['cause'] if row['cause'] else ''})  "
+            f"worst {row['worst'] * 1e3:.3f} mm  over {row['over']}  {seconds:.2f} s",
+            flush=True,
+        )
         if args.rows is not None:
             with args.rows.open("a") as out:
                 out.write(json.dumps(row) + "\n")
@@ -166,16 +201,24 @@ def report(rows: list[dict]) -> None:
     print(f"feasible paths followed whole: {whole}/{len(feasible)} (target 100 %)")
     print(f"greatest distance from the path at any frame or midpoint: {worst * 1e3:.3f} mm (target <= 1 mm)")
     print(f"frames over a joint's speed limit: {over} (target 0)")
-    print(f"infeasible paths whose fraction is within 0.02 of the oracle's with the floors armanim's filter keeps "
-          f"(1.1 x clearance, self_clearance + that margin): {close_kept}/{len(infeasible)} (target all)")
-    print(f"... of the oracle's with the scene's floors (clearance, self_clearance; not the target): {close}/{len(infeasible)}")
+    print(
+        f"infeasible paths whose fraction is within 0.02 of the oracle's with the floors armanim's filter keeps "
+        f"(1.1 x clearance, self_clearance + that margin): {close_kept}/{len(infeasible)} (target all)"
+    )
+    print(
+        f"... of the oracle's with the scene's floors (clearance, self_clearance; not the target): {close}/{len(infeasible)}"
+    )
     narrow = [r["i"] for r in feasible if r["kept"] < 1.0]
     if narrow:
-        print(f"feasible paths the oracle with the kept floors does not follow whole (still judged as feasible): {narrow}")
+        print(
+            f"feasible paths the oracle with the kept floors does not follow whole (still judged as feasible): {narrow}"
+        )
     for r in infeasible:
         if max(abs(r["fraction"] - r["oracle"]), abs(r["fraction"] - r["kept"])) > 0.02:
-            print(f"  #{r['i']} {r['robot']} {r['kind']}: armanim {r['fraction']:.3f}, oracle {r['oracle']:.3f}, "
-                  f"kept floors {r['kept']:.3f} ({r['cause']})")
+            print(
+                f"  #{r['i']} {r['robot']} {r['kind']}: armanim {r['fraction']:.3f}, oracle {r['oracle']:.3f}, "
+                f"kept floors {r['kept']:.3f} ({r['cause']})"
+            )
     print(f"armanim's solve + clock per path: median {np.median([r['seconds'] for r in rows]):.2f} s")
 
 

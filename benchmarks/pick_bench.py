@@ -64,7 +64,9 @@ def draw_scene(rng: np.random.Generator, robot: str, index: int) -> dict:
     """One scene mapping: a table, an object on it, a shelf board, perhaps a post, six goals."""
     clearance = 0.02 if robot == "panda" else 0.01
     kind = "box" if rng.random() < 0.6 else "cylinder"
-    height = float(rng.uniform(0.11, 0.15) if robot == "panda" else rng.uniform(0.05, 0.1))  # the Panda's hand 9 cm above the table
+    height = float(
+        rng.uniform(0.11, 0.15) if robot == "panda" else rng.uniform(0.05, 0.1)
+    )  # the Panda's hand 9 cm above the table
     if kind == "box":
         width = float(rng.uniform(0.03, 0.05))
         shape = {"box": {"center": [0, 0, 0], "size": [width, width, height]}}
@@ -100,8 +102,15 @@ def draw_scene(rng: np.random.Generator, robot: str, index: int) -> dict:
         {"position": [float(place[0]), float(place[1]), release], **DOWN, "release": True, **line},
         {"position": [float(place[0]), float(place[1]), release + LINE + 0.05], **DOWN},
     ]
-    return {"version": 1, "name": f"pick-{robot}-{index}", "arm": arm, "obstacles": obstacles, "floor": 0.0, "goals": goals,
-            "solver": {"method": "dls", "tolerance": 0.005, "clearance": clearance, "max_step": 0.02}}
+    return {
+        "version": 1,
+        "name": f"pick-{robot}-{index}",
+        "arm": arm,
+        "obstacles": obstacles,
+        "floor": 0.0,
+        "goals": goals,
+        "solver": {"method": "dls", "tolerance": 0.005, "clearance": clearance, "max_step": 0.02},
+    }
 
 
 def indices(problem) -> dict[str, int]:
@@ -120,6 +129,7 @@ def goal_point(goal) -> np.ndarray:
 
 
 # ---- the oracle: pinocchio's kinematics, scipy's search, coal's distances ------------------
+
 
 class Oracle:
     """A bundled robot as pinocchio sees it: the tool frame and the link capsules of a pose."""
@@ -150,7 +160,14 @@ class Oracle:
         out = []
         for c, f in zip(self.capsules, self.frames):
             m = self.data.oMf[f]
-            out.append((c.link, m.rotation @ np.asarray(c.start) + m.translation, m.rotation @ np.asarray(c.end) + m.translation, float(c.radius)))
+            out.append(
+                (
+                    c.link,
+                    m.rotation @ np.asarray(c.start) + m.translation,
+                    m.rotation @ np.asarray(c.end) + m.translation,
+                    float(c.radius),
+                )
+            )
         return out
 
     def ik(self, target: np.ndarray, rng: np.random.Generator, starts: int = 24) -> list[np.ndarray]:
@@ -228,7 +245,10 @@ def place_feasible(oracle: Oracle, problem, rng: np.random.Generator) -> bool:
 
     goals, at = problem.goals, indices(problem)
     down = rpy_rotation(np.radians([180, 0, 0]))
-    tool_at = lambda k, up=0.0: np.block([[down, (goal_point(goals[k]) + [0.0, 0.0, up])[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])  # noqa: E731
+
+    def tool_at(k, up=0.0):
+        return np.block([[down, (goal_point(goals[k]) + [0.0, 0.0, up])[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
+
     column = goals[at["grasp"]].grasp
     body = obstacle_body(problem.obstacles, column)
     offset = np.linalg.inv(tool_at(at["grasp"])) @ body.matrix()
@@ -241,9 +261,11 @@ def place_feasible(oracle: Oracle, problem, rng: np.random.Generator) -> bool:
     def free(tool: np.ndarray, held) -> bool:
         for q in oracle.ik(tool, rng):
             caps = [(link, coal_capsule(a, b, r), min(a[2], b[2]) - r) for link, a, b, r in oracle.link_capsules(q)]
-            if all(gap(c, s) >= d_safe for _, c, _ in caps for s in solids) and all(
-                    low - problem.obstacles.floor >= d_safe for link, _, low in caps if link not in STANDING) and all(
-                    gap(c, held) >= self_safe for link, c, _ in caps if link not in touch):
+            if (
+                all(gap(c, s) >= d_safe for _, c, _ in caps for s in solids)
+                and all(low - problem.obstacles.floor >= d_safe for link, _, low in caps if link not in STANDING)
+                and all(gap(c, held) >= self_safe for link, c, _ in caps if link not in touch)
+            ):
                 return True
         return False
 
@@ -253,8 +275,11 @@ def place_feasible(oracle: Oracle, problem, rng: np.random.Generator) -> bool:
             return False
         placed = body.moved(tool_at(at["release"], up) @ offset)
         carried = coal_solid(placed)
-        if any(gap(carried, s) < (-INSIDE if c == board else d_safe) for c, s in enumerate(solids)) or floor_gap(
-                placed, problem.obstacles.floor) < d_safe or not free(tool_at(at["release"], up), carried):
+        if (
+            any(gap(carried, s) < (-INSIDE if c == board else d_safe) for c, s in enumerate(solids))
+            or floor_gap(placed, problem.obstacles.floor) < d_safe
+            or not free(tool_at(at["release"], up), carried)
+        ):
             return False
     return True
 
@@ -264,6 +289,7 @@ STANDING = {"panda_link0", "panda_link1", "base_link", "shoulder_link"}
 
 
 # ---- the measures -------------------------------------------------------------------------
+
 
 def carried_violations(problem, timed) -> tuple[int, int, float, float, int]:
     """Frames where the carried solid (coal) is under clearance of an obstacle or the floor, or
@@ -295,13 +321,21 @@ def carried_violations(problem, timed) -> tuple[int, int, float, float, int]:
         if k in lines:
             along += 1
             wanted = lines[k]
-            support = next(i for i, c in enumerate(columns) if (obstacles.names[c] if obstacles.names else None) == wanted)
+            support = next(
+                i for i, c in enumerate(columns) if (obstacles.names[c] if obstacles.names else None) == wanted
+            )
             touching = min(touching, gaps[support])
             if gaps[support] < -INSIDE:
                 bad += 1
         d_obstacles = min([g for i, g in enumerate(gaps) if i != support] + [floor_gap(solid, problem.obstacles.floor)])
-        d_links = min((gap(shape, coal_capsule(a[f, i], b[f, i], float(problem.capsules.radius[i])))
-                       for i, name in enumerate(names) if name not in world.held.touch), default=np.inf)
+        d_links = min(
+            (
+                gap(shape, coal_capsule(a[f, i], b[f, i], float(problem.capsules.radius[i])))
+                for i, name in enumerate(names)
+                if name not in world.held.touch
+            ),
+            default=np.inf,
+        )
         least = min(least, d_obstacles)
         if d_obstacles < problem.solver.clearance * (1 - 1e-9) or d_links < problem.self_pairs.clearance * (1 - 1e-9):
             bad += 1
@@ -374,16 +408,36 @@ def main() -> None:
         bad, held, least, touching, along = carried_violations(problem, timed)
         ratio = planner_ratio(problem, solved)
         release = timed.goals[indices(problem)["release"]]
-        put = release.reached and timed.carry.released(indices(problem)["release"]) is not None  # reached, and the object put down
-        rows.append({"robot": robot, "feasible": feasible, "reached": put,
-                     "reason": release.reason if not release.reached else None if put else "nothing held (the grasp was missed)",
-                     "bad": bad, "held": held, "least": least, "touching": touching, "along": along,
-                     "placed": placed_error(oracle, problem, timed), "planner": ratio})
+        put = (
+            release.reached and timed.carry.released(indices(problem)["release"]) is not None
+        )  # reached, and the object put down
+        rows.append(
+            {
+                "robot": robot,
+                "feasible": feasible,
+                "reached": put,
+                "reason": release.reason
+                if not release.reached
+                else None
+                if put
+                else "nothing held (the grasp was missed)",
+                "bad": bad,
+                "held": held,
+                "least": least,
+                "touching": touching,
+                "along": along,
+                "placed": placed_error(oracle, problem, timed),
+                "planner": ratio,
+            }
+        )
         r = rows[-1]
-        print(f"{k:3d} {robot:5s} feasible={feasible!s:5s} place reached={r['reached']!s:5s} ({r['reason']}) "
-              f"held frames {held:3d}, under clearance {bad}, least gap {least:.4f} (on the lines {touching:.1e}), "
-              f"placed error {r['placed']:.1e}, "
-              f"planner {'-' if ratio is None else f'{ratio[0] * 1e3:.1f} / {ratio[1] * 1e3:.1f} ms'}", flush=True)
+        print(
+            f"{k:3d} {robot:5s} feasible={feasible!s:5s} place reached={r['reached']!s:5s} ({r['reason']}) "
+            f"held frames {held:3d}, under clearance {bad}, least gap {least:.4f} (on the lines {touching:.1e}), "
+            f"placed error {r['placed']:.1e}, "
+            f"planner {'-' if ratio is None else f'{ratio[0] * 1e3:.1f} / {ratio[1] * 1e3:.1f} ms'}",
+            flush=True,
+        )
     feasible = [r for r in rows if r["feasible"]]
     reached = sum(r["reached"] for r in feasible)
     placed = np.array([r["placed"] for r in rows])
@@ -391,18 +445,30 @@ def main() -> None:
     total_with = sum(r["planner"][0] for r in rows if r["planner"] is not None)
     total_without = sum(r["planner"][1] for r in rows if r["planner"] is not None)
     print()
-    print(f"scenes {len(rows)} ({refused} drawn again: refused by validation), CPU {time.process_time() - started:.0f} s")
-    print(f"frames with the carried solid under clearance or a non-touch link's self_clearance, or inside its table or "
-          f"board along the lines (coal): {sum(r['bad'] for r in rows)} of {sum(r['held'] for r in rows)} held   (target 0)")
-    print(f"least distance of the solid to its table or board along the lines (coal): "
-          f"{min(r['touching'] for r in rows):.1e} over {sum(r['along'] for r in rows)} frames   (target >= -1e-9: touching, never inside)")
-    print(f"placed pose against pinocchio's tool poses: worst {np.nanmax(placed):.1e}   (target <= 1e-9; "
-          f"{int(np.isnan(placed).sum())} scenes missed the grasp or the release)")
-    print(f"feasible place goals reached: {reached} of {len(feasible)} = {100 * reached / max(1, len(feasible)):.0f} %   "
-          f"(target >= 95 %; the oracle labels {len(rows) - len(feasible)} infeasible; reached among those: "
-          f"{sum(r['reached'] for r in rows if not r['feasible'])})")
-    print(f"planner CPU with the object / without: median {np.median(ratios):.2f}x, worst {max(ratios):.2f}x, "
-          f"total {total_with / total_without:.2f}x   (target <= 1.5x)")
+    print(
+        f"scenes {len(rows)} ({refused} drawn again: refused by validation), CPU {time.process_time() - started:.0f} s"
+    )
+    print(
+        f"frames with the carried solid under clearance or a non-touch link's self_clearance, or inside its table or "
+        f"board along the lines (coal): {sum(r['bad'] for r in rows)} of {sum(r['held'] for r in rows)} held   (target 0)"
+    )
+    print(
+        f"least distance of the solid to its table or board along the lines (coal): "
+        f"{min(r['touching'] for r in rows):.1e} over {sum(r['along'] for r in rows)} frames   (target >= -1e-9: touching, never inside)"
+    )
+    print(
+        f"placed pose against pinocchio's tool poses: worst {np.nanmax(placed):.1e}   (target <= 1e-9; "
+        f"{int(np.isnan(placed).sum())} scenes missed the grasp or the release)"
+    )
+    print(
+        f"feasible place goals reached: {reached} of {len(feasible)} = {100 * reached / max(1, len(feasible)):.0f} %   "
+        f"(target >= 95 %; the oracle labels {len(rows) - len(feasible)} infeasible; reached among those: "
+        f"{sum(r['reached'] for r in rows if not r['feasible'])})"
+    )
+    print(
+        f"planner CPU with the object / without: median {np.median(ratios):.2f}x, worst {max(ratios):.2f}x, "
+        f"total {total_with / total_without:.2f}x   (target <= 1.5x)"
+    )
 
 
 if __name__ == "__main__":

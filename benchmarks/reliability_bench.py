@@ -56,13 +56,16 @@ def timed(call: Callable[[], object]) -> float:
 def row(name: str, seconds: float, promise: float, baseline: float) -> None:
     """One line: the time, the promise, the ratio to the baseline, and the verdict."""
     verdict = "ok" if seconds <= promise else "OVER"
-    print(f"  {name:<52} {seconds * 1000:9.1f} ms   promise <= {promise * 1000:7.0f} ms   "
-          f"{seconds / baseline:7.2f}x baseline   {verdict}")
+    print(
+        f"  {name:<52} {seconds * 1000:9.1f} ms   promise <= {promise * 1000:7.0f} ms   "
+        f"{seconds / baseline:7.2f}x baseline   {verdict}"
+    )
 
 
 def armanim(*args, **kwargs) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "armanim", *map(str, args)], capture_output=True, text=True,
-                          timeout=600, **kwargs)
+    return subprocess.run(
+        [sys.executable, "-m", "armanim", *map(str, args)], capture_output=True, text=True, timeout=600, **kwargs
+    )
 
 
 # ------------------------------------------------------------------ in process
@@ -99,13 +102,19 @@ def largest_scene(repeats: int) -> None:
 
     links = ", ".join(["0.1"] * LIMITS["links"])
     goals = "".join(f"  - {{position: [1, {i % 7}, 2], hold: 0.1}}\n" for i in range(LIMITS["goals"]))
-    obstacles = "".join(f"  - {{center: [{20 + i}, 30, 40], radius: 0.5, influence: 1}}\n" for i in range(LIMITS["obstacles"]))
+    obstacles = "".join(
+        f"  - {{center: [{20 + i}, 30, 40], radius: 0.5, influence: 1}}\n" for i in range(LIMITS["obstacles"])
+    )
     text = f"version: 1\narm:\n  links: [{links}]\nobstacles:\n{obstacles}goals:\n{goals}solver: {{max_frames_per_goal: 900}}\n"
     notes = NOTES.read_text()
     baseline = best_of(repeats, lambda: timed(lambda: validate_scene_text(notes, "notes-arm.yaml")))
     print(f"largest valid scene (baseline: validating notes-arm.yaml, {baseline * 1000:.1f} ms)")
-    row("64 links, 1,000 goals, 1,000 obstacles", best_of(repeats, lambda: timed(lambda: validate_scene_text(text, "big.yaml"))),
-        5.0, baseline)
+    row(
+        "64 links, 1,000 goals, 1,000 obstacles",
+        best_of(repeats, lambda: timed(lambda: validate_scene_text(text, "big.yaml"))),
+        5.0,
+        baseline,
+    )
 
 
 # ------------------------------------------------------------------ processes
@@ -124,9 +133,12 @@ def refused_inputs(repeats: int, base: float) -> None:
         os.mkfifo(fifo)
         huge = Path(tmp) / "huge.yaml"
         huge.write_text("#" * 1_000_010)
-        cases = {"validate /dev/zero": ("validate", "/dev/zero"), "validate a FIFO": ("validate", fifo),
-                 "validate a 1 MB file": ("validate", huge),
-                 "sweep --set a 5,000-digit number": ("sweep", NOTES, "--set", "solver.step=" + "9" * 5000, "--out", tmp)}
+        cases = {
+            "validate /dev/zero": ("validate", "/dev/zero"),
+            "validate a FIFO": ("validate", fifo),
+            "validate a 1 MB file": ("validate", huge),
+            "sweep --set a 5,000-digit number": ("sweep", NOTES, "--set", "solver.step=" + "9" * 5000, "--out", tmp),
+        }
         for name, args in cases.items():
             row(name, best_of(repeats, lambda args=args: timed(lambda: armanim(*args))), 10.0, base)
 
@@ -162,9 +174,25 @@ def stops(repeats: int, base: float) -> None:
     def measure(kind: str) -> float:
         with tempfile.TemporaryDirectory() as tmp:
             scenes = [NOTES] if kind == "kill -9 of run --jobs 2" else _batch(Path(tmp))
-            proc = psutil.Popen([sys.executable, "-m", "armanim", "run", *map(str, scenes), "--out", f"{tmp}/out",
-                                 "--jobs", "2", "--size", "480x360", "-q"],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
+            proc = psutil.Popen(
+                [
+                    sys.executable,
+                    "-m",
+                    "armanim",
+                    "run",
+                    *map(str, scenes),
+                    "--out",
+                    f"{tmp}/out",
+                    "--jobs",
+                    "2",
+                    "--size",
+                    "480x360",
+                    "-q",
+                ],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+                start_new_session=True,
+            )
             kids = _rendering(proc)
             started = time.perf_counter()
             if kind.startswith("kill -9"):
@@ -175,9 +203,18 @@ def stops(repeats: int, base: float) -> None:
             psutil.wait_procs(kids, timeout=60)
             return time.perf_counter() - started
 
-    for kind in ("Ctrl-C of a batch --jobs 2 (to the group)", "SIGTERM of a batch --jobs 2",
-                 "kill -9 of a batch --jobs 2", "kill -9 of run --jobs 2"):
-        row(kind + ": all gone", best_of(repeats, lambda kind=kind: measure(kind)), 2.5 if "kill" not in kind else 2.0, base)
+    for kind in (
+        "Ctrl-C of a batch --jobs 2 (to the group)",
+        "SIGTERM of a batch --jobs 2",
+        "kill -9 of a batch --jobs 2",
+        "kill -9 of run --jobs 2",
+    ):
+        row(
+            kind + ": all gone",
+            best_of(repeats, lambda kind=kind: measure(kind)),
+            2.5 if "kill" not in kind else 2.0,
+            base,
+        )
 
 
 def silent_scheduler(repeats: int, base: float) -> None:
@@ -196,10 +233,23 @@ def silent_scheduler(repeats: int, base: float) -> None:
     threading.Thread(target=lambda: [held.append(server.accept()[0]) for _ in iter(int, 1)], daemon=True).start()
     port = server.getsockname()[1]
     with tempfile.TemporaryDirectory() as tmp:
-        args = ("run", NOTES, ROOT / "scenes" / "planar-nlink.yaml", "--out", tmp, "--no-video", "-q",
-                "--scheduler", f"tcp://127.0.0.1:{port}")
-        row(f"--scheduler that never answers (deadline {CONNECT_SECONDS:g} s)",
-            best_of(min(repeats, 2), lambda: timed(lambda: armanim(*args))), CONNECT_SECONDS + 5.0, base)
+        args = (
+            "run",
+            NOTES,
+            ROOT / "scenes" / "planar-nlink.yaml",
+            "--out",
+            tmp,
+            "--no-video",
+            "-q",
+            "--scheduler",
+            f"tcp://127.0.0.1:{port}",
+        )
+        row(
+            f"--scheduler that never answers (deadline {CONNECT_SECONDS:g} s)",
+            best_of(min(repeats, 2), lambda: timed(lambda: armanim(*args))),
+            CONNECT_SECONDS + 5.0,
+            base,
+        )
     server.close()
 
 
@@ -221,7 +271,9 @@ def _random_stl(path: Path, triangles: int = 1_300_000) -> None:
     import numpy as np
 
     rng = np.random.default_rng(5)
-    corners = rng.uniform(-1, 1, (triangles, 1, 3)) * [0.05, 0.05, 0.2] + [0, 0, 0.2] + rng.normal(0, 0.01, (triangles, 3, 3))
+    corners = (
+        rng.uniform(-1, 1, (triangles, 1, 3)) * [0.05, 0.05, 0.2] + [0, 0, 0.2] + rng.normal(0, 0.01, (triangles, 3, 3))
+    )
     records = np.zeros(triangles, dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
     records["v"] = corners
     path.write_bytes(b"\0" * 80 + np.uint32(triangles).tobytes() + records.tobytes())
@@ -236,12 +288,19 @@ def large_fit(repeats: int, base: float) -> None:
         folder = Path(tmp)
         _random_stl(folder / "big.stl")
         (folder / "robot.urdf").write_text(FIT_URDF)
-        (folder / "s.yaml").write_text("version: 1\narm:\n  urdf: robot.urdf\n  tip_link: tip\ngoals:\n  - [0.2, 0.1, 0.4]\n")
+        (folder / "s.yaml").write_text(
+            "version: 1\narm:\n  urdf: robot.urdf\n  tip_link: tip\ngoals:\n  - [0.2, 0.1, 0.4]\n"
+        )
 
         def validate(delay: float | None) -> float:
             env = dict(os.environ, ARMANIM_CACHE_DIR=tempfile.mkdtemp(dir=tmp))
-            proc = subprocess.Popen([sys.executable, "-m", "armanim", "validate", "s.yaml"], cwd=folder, env=env,
-                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            proc = subprocess.Popen(
+                [sys.executable, "-m", "armanim", "validate", "s.yaml"],
+                cwd=folder,
+                env=env,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
             if delay is None:
                 _, status, usage = os.wait4(proc.pid, 0)
                 assert os.waitstatus_to_exitcode(status) == 0, "validate failed"
@@ -256,7 +315,12 @@ def large_fit(repeats: int, base: float) -> None:
         cpu = best_of(repeats, lambda: validate(None))
         print(f"  {'validate, CPU (fit and reading)':<52} {cpu * 1000:9.1f} ms   {cpu / base:7.2f}x baseline")
         for delay in (1.0, 2.0, 3.0, 4.0):
-            row(f"Ctrl-C {delay:g} s into validate: exit 130, late by", best_of(repeats, lambda d=delay: validate(d)), 1.0, base)
+            row(
+                f"Ctrl-C {delay:g} s into validate: exit 130, late by",
+                best_of(repeats, lambda d=delay: validate(d)),
+                1.0,
+                base,
+            )
 
 
 PARTS = {"yaml": hostile_yaml, "largest": largest_scene}

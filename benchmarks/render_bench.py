@@ -133,8 +133,12 @@ def drawing_only(scene: str) -> float:
     activity = frame_activity(traj, reports)
     goals = len(problem.goals)
     for f in range(traj.frames):
-        state = FrameState(Pose(poses.points[f], poses.frames[f]), f + 1, goal_status(traj, reports, f, goals),
-                           frame_caption(traj, f, goals, activity[f]))
+        state = FrameState(
+            Pose(poses.points[f], poses.frames[f]),
+            f + 1,
+            goal_status(traj, reports, f, goals),
+            frame_caption(traj, f, goals, activity[f]),
+        )
         canvas.draw(state)
     return traj.frames / (time.perf_counter() - start)
 
@@ -179,8 +183,16 @@ def memory_child(scene: str, frames: int, out: str) -> None:
 
 
 def peak_memory(scene: str, frames: int, work: Path) -> dict:
-    cmd = [sys.executable, __file__, "--memory-child", str(frames), "--scene", scene, "--out",
-           str(work / f"mem{frames}.mp4")]
+    cmd = [
+        sys.executable,
+        __file__,
+        "--memory-child",
+        str(frames),
+        "--scene",
+        scene,
+        "--out",
+        str(work / f"mem{frames}.mp4"),
+    ]
     result = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=ROOT)
     return json.loads(result.stdout.strip().splitlines()[-1])
 
@@ -204,8 +216,20 @@ def main() -> None:
     small, large = (100, 1000) if args.quick else (300, 3000)
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        run = [sys.executable, "-m", "armanim", "run", args.scene, "--out", str(work / "runs"), "--jobs", "2",
-               "--size", f"{SIZE[0]}x{SIZE[1]}", "--quiet"]
+        run = [
+            sys.executable,
+            "-m",
+            "armanim",
+            "run",
+            args.scene,
+            "--out",
+            str(work / "runs"),
+            "--jobs",
+            "2",
+            "--size",
+            f"{SIZE[0]}x{SIZE[1]}",
+            "--quiet",
+        ]
         t_before = whole_process(run)
         t_base, frames = baseline(args.scene, work, capped)
         t_after = whole_process(run)
@@ -214,16 +238,22 @@ def main() -> None:
         fps_base, fps_run = frames / t_base, frames / t_run
         print(f"{args.scene}: {frames} frames at {SIZE[0]}x{SIZE[1]}, whole processes")
         print(f"  baseline FuncAnimation, in-place   {t_base:7.2f} s  {fps_base:6.1f} frames/s   1.00x{note}")
-        print(f"  armanim run --jobs 2               {t_run:7.2f} s  {fps_run:6.1f} frames/s  {fps_run / fps_base:5.2f}x"
-              f"  (target >= 8x; runs before/after the baseline: {t_before:.2f} s, {t_after:.2f} s)")
+        print(
+            f"  armanim run --jobs 2               {t_run:7.2f} s  {fps_run:6.1f} frames/s  {fps_run / fps_base:5.2f}x"
+            f"  (target >= 8x; runs before/after the baseline: {t_before:.2f} s, {t_after:.2f} s)"
+        )
         draw = drawing_only(args.scene)
         enc = encoding_only(frames, work)
-        print(f"  limits on one core: drawing only {draw:6.1f} frames/s ({draw / fps_base:5.2f}x),"
-              f" encoding only {enc:6.1f} frames/s ({enc / fps_base:5.2f}x)")
+        print(
+            f"  limits on one core: drawing only {draw:6.1f} frames/s ({draw / fps_base:5.2f}x),"
+            f" encoding only {enc:6.1f} frames/s ({enc / fps_base:5.2f}x)"
+        )
         a, b = peak_memory(args.scene, small, work), peak_memory(args.scene, large, work)
-        print(f"peak RSS at 640x360, jobs=1: {small} frames {a['self_kib'] / 1024:.1f} MiB, {large} frames"
-              f" {b['self_kib'] / 1024:.1f} MiB, ratio {b['self_kib'] / a['self_kib']:.3f}  (target <= 1.2;"
-              f" ffmpeg: {a['children_kib'] / 1024:.1f} -> {b['children_kib'] / 1024:.1f} MiB)")
+        print(
+            f"peak RSS at 640x360, jobs=1: {small} frames {a['self_kib'] / 1024:.1f} MiB, {large} frames"
+            f" {b['self_kib'] / 1024:.1f} MiB, ratio {b['self_kib'] / a['self_kib']:.3f}  (target <= 1.2;"
+            f" ffmpeg: {a['children_kib'] / 1024:.1f} -> {b['children_kib'] / 1024:.1f} MiB)"
+        )
 
 
 if __name__ == "__main__":

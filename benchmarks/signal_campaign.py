@@ -19,7 +19,10 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tests" / "system")]  # the harness and the commands are the tests' own (one owner)
+sys.path[:0] = [
+    str(ROOT / "tests"),
+    str(ROOT / "tests" / "system"),
+]  # the harness and the commands are the tests' own (one owner)
 
 MOMENTS = ("start", "workers", "ffmpeg", "poster", "commit")
 
@@ -29,11 +32,23 @@ def main() -> int:
     from test_signal_moments import _commands
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--commands", nargs="*", default=None, help="run, batch, sweep, 'check --update', render (default: all)")
-    parser.add_argument("--delays", nargs="*", type=float, default=[0.0, 0.001, 0.003, 0.02, 0.1, 0.4, 1.0],
-                        help="seconds after each moment (default: 0 1 ms 3 ms 20 ms 0.1 0.4 1)")
-    parser.add_argument("--twice", type=float, default=None, metavar="SECONDS",
-                        help="send each signal twice, this far apart (a double Ctrl-C)")
+    parser.add_argument(
+        "--commands", nargs="*", default=None, help="run, batch, sweep, 'check --update', render (default: all)"
+    )
+    parser.add_argument(
+        "--delays",
+        nargs="*",
+        type=float,
+        default=[0.0, 0.001, 0.003, 0.02, 0.1, 0.4, 1.0],
+        help="seconds after each moment (default: 0 1 ms 3 ms 20 ms 0.1 0.4 1)",
+    )
+    parser.add_argument(
+        "--twice",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="send each signal twice, this far apart (a double Ctrl-C)",
+    )
     parser.add_argument("--keep", type=Path, default=None, help="keep the attempts' folders here")
     args = parser.parse_args()
     root = Path(args.keep or tempfile.mkdtemp(prefix="armanim-signals-"))
@@ -51,12 +66,16 @@ def main() -> int:
                     wrong += bool(problems)
                     skipped += not outcome.fired
                     verdict = "WRONG " + "; ".join(problems) if problems else "ok"
-                    print(f"{name:>15} {moment:>8}+{delay:<6g} {signame:<7} exit {outcome.code:>3}  "
-                          f"{' '.join(f'{k}={v}' for k, v in outcome.states.items())}  {'' if outcome.fired else '(ended first) '}{verdict}",
-                          flush=True)
+                    print(
+                        f"{name:>15} {moment:>8}+{delay:<6g} {signame:<7} exit {outcome.code:>3}  "
+                        f"{' '.join(f'{k}={v}' for k, v in outcome.states.items())}  {'' if outcome.fired else '(ended first) '}{verdict}",
+                        flush=True,
+                    )
                     if problems:
                         print("    stderr: " + outcome.stderr[-3000:].replace("\n", "\n    "), flush=True)
-    print(f"\n{attempts} attempts: {attempts - wrong} right, {wrong} wrong ({skipped} ended before their moment); folders in {root}")
+    print(
+        f"\n{attempts} attempts: {attempts - wrong} right, {wrong} wrong ({skipped} ended before their moment); folders in {root}"
+    )
     return 1 if wrong else 0
 
 

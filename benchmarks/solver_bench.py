@@ -197,10 +197,10 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
     cases = [(arm_state(problem, phi), goal) for phi, goal in zip(phis, goals)]
     bare_cases = [(arm_state(bare, phi), goal) for phi, goal in zip(phis, goals)]
     cases_near = cases[: len(near)]
-    cases_far = cases[len(near):]
+    cases_far = cases[len(near) :]
 
     # the two agree on the step itself where nothing is near (sanity, not timing)
-    for state, goal in bare_cases[len(near):][:20]:
+    for state, goal in bare_cases[len(near) :][:20]:
         ours = safe_step(bare, state, pinv_step(bare, state, goal).dphi)
         if ours.scale == 1.0:
             ref = plain_step(state.phi, goal, settings.beta)
@@ -237,13 +237,20 @@ def bench_frame(rng: np.random.Generator, poses: int, repeats: int) -> None:
         },
         repeats,
     )
-    blocked = sum(safe_step(problem, state, dphis[id(state)]).scale < min(
-        1.0, settings.max_joint_step / max(np.max(np.abs(dphis[id(state)])), 1e-300)) for state, _ in cases)
-    print(f"    poses: {len(cases)} ({len(near)} with an obstacle within influence, {len(far)} free); "
-          f"{blocked} steps shortened by a barrier; min of {repeats} interleaved repeats")
+    blocked = sum(
+        safe_step(problem, state, dphis[id(state)]).scale
+        < min(1.0, settings.max_joint_step / max(np.max(np.abs(dphis[id(state)])), 1e-300))
+        for state, _ in cases
+    )
+    print(
+        f"    poses: {len(cases)} ({len(near)} with an obstacle within influence, {len(far)} free); "
+        f"{blocked} steps shortened by a barrier; min of {repeats} interleaved repeats"
+    )
     ratio = t["armanim"] / t["plain"]
-    print(f"    armanim frame / plain step            {ratio:6.2f}x   (target <= {TARGET_FRAME_RATIO}x)  "
-          f"{'PASS' if ratio <= TARGET_FRAME_RATIO else 'FAIL'}")
+    print(
+        f"    armanim frame / plain step            {ratio:6.2f}x   (target <= {TARGET_FRAME_RATIO}x)  "
+        f"{'PASS' if ratio <= TARGET_FRAME_RATIO else 'FAIL'}"
+    )
     print(f"      poses near an obstacle / plain      {t['armanim_near'] / t['plain']:6.2f}x")
     print(f"      poses free of obstacles / plain     {t['armanim_far'] / t['plain']:6.2f}x")
     print(f"      same frame, no obstacles / plain    {t['armanim_bare'] / t['plain']:6.2f}x")
@@ -268,10 +275,14 @@ def ikpy_chain(limits: Limits):
     links = [OriginLink()]
     for i, (offset, axis) in enumerate(zip(offsets, axes)):
         bounds = (float(limits.lower[i]), float(limits.upper[i])) if limits.limited[i] else None
-        links.append(URDFLink(f"joint{i + 1}", origin_translation=offset, origin_orientation=(0, 0, 0),
-                              rotation=axis, bounds=bounds))
-    links.append(URDFLink("tip", origin_translation=(0.0, 0.0, LINKS[-1]), origin_orientation=(0, 0, 0),
-                          joint_type="fixed"))
+        links.append(
+            URDFLink(
+                f"joint{i + 1}", origin_translation=offset, origin_orientation=(0, 0, 0), rotation=axis, bounds=bounds
+            )
+        )
+    links.append(
+        URDFLink("tip", origin_translation=(0.0, 0.0, LINKS[-1]), origin_orientation=(0, 0, 0), joint_type="fixed")
+    )
     mask = [False] + [True] * len(LINKS) + [False]
     return Chain(links, active_links_mask=mask, name="notes_arm")
 
@@ -286,8 +297,10 @@ def check_ikpy_fk(chain, arm: Arm, rng: np.random.Generator) -> float:
 
 
 def bench_solve(rng: np.random.Generator, count: int) -> None:
-    print(f"(b) solve to |e - g| < {TOLERANCE:g} from the straight (singular) pose, {count} random "
-          f"reachable targets, no obstacles, notes' limits")
+    print(
+        f"(b) solve to |e - g| < {TOLERANCE:g} from the straight (singular) pose, {count} random "
+        f"reachable targets, no obstacles, notes' limits"
+    )
     base_settings = default_solver_settings(tolerance=TOLERANCE)
     problems = {m: make_problem(Obstacles.none(), replace(base_settings, method=m)) for m in METHODS}
     arm = problems["pinv"].arm
@@ -301,12 +314,16 @@ def bench_solve(rng: np.random.Generator, count: int) -> None:
         chain = ikpy_chain(limits)
         mismatch = check_ikpy_fk(chain, arm, rng)
         assert mismatch < 1e-9, f"ikpy's chain is not the notes' arm: FK differs by {mismatch:g}"
-        print(f"    ikpy {ikpy.__version__}: FK matches armanim.arm.kinematics.forward on 50 random poses "
-              f"(max |diff| {mismatch:.1e})")
+        print(
+            f"    ikpy {ikpy.__version__}: FK matches armanim.arm.kinematics.forward on 50 random poses "
+            f"(max |diff| {mismatch:.1e})"
+        )
     except ImportError:
         chain = None
-        print("    ikpy is not installed: SKIPPING the ikpy comparison "
-              "(install the optional extra: pip install -e .[bench])")
+        print(
+            "    ikpy is not installed: SKIPPING the ikpy comparison "
+            "(install the optional extra: pip install -e .[bench])"
+        )
 
     solvers = {m: (lambda goal, p=problems[m]: solve_pose(p, goal, start, MAX_ITERATIONS)) for m in METHODS}
     # what-if rows, not judged: the linear methods with scene settings suited to solving rather
@@ -352,13 +369,17 @@ def bench_solve(rng: np.random.Generator, count: int) -> None:
     if ikpy_time is None:
         print("    (no ikpy: speed ratios and the 20x target skipped)")
         return
-    print(f"    targets: ikpy / armanim >= {TARGET_SPEEDUP:g}x with success >= ikpy's "
-          f"({100 * reached['ikpy'] / count:.1f}%)")
+    print(
+        f"    targets: ikpy / armanim >= {TARGET_SPEEDUP:g}x with success >= ikpy's "
+        f"({100 * reached['ikpy'] / count:.1f}%)"
+    )
     for m in METHODS:
         speed = ikpy_time / elapsed[m]
         ok = speed >= TARGET_SPEEDUP and reached[m] >= reached["ikpy"]
-        print(f"      {m:<10}{speed:7.1f}x  {'PASS' if ok else 'FAIL'}"
-              f"{'' if reached[m] >= reached['ikpy'] else '  (lower success rate)'}")
+        print(
+            f"      {m:<10}{speed:7.1f}x  {'PASS' if ok else 'FAIL'}"
+            f"{'' if reached[m] >= reached['ikpy'] else '  (lower success rate)'}"
+        )
 
 
 def main(argv=None) -> None:
@@ -370,8 +391,7 @@ def main(argv=None) -> None:
     args = parser.parse_args(argv)
     poses, repeats = (60, 3) if args.quick else (400, 9)
     targets = min(args.targets, 40) if args.quick else args.targets
-    print(f"armanim solver benchmark (seed {args.seed}{', quick' if args.quick else ''}); "
-          f"numpy {np.__version__}")
+    print(f"armanim solver benchmark (seed {args.seed}{', quick' if args.quick else ''}); numpy {np.__version__}")
     if args.only in (None, "a"):
         bench_frame(np.random.default_rng(args.seed), poses, repeats)
     if args.only in (None, "b"):

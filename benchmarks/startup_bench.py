@@ -115,9 +115,12 @@ def main() -> None:
 
         results: dict[str, dict[str, tuple[list[float], list[float]]]] = {s.label: {} for s in sources}
         if not args.skip_cold:
-            print(f"1. the first run's compile: {SCENE} --no-video in an empty numba cache ({args.cold} each) ...", flush=True)
+            print(
+                f"1. the first run's compile: {SCENE} --no-video in an empty numba cache ({args.cold} each) ...",
+                flush=True,
+            )
             for r in range(args.cold):
-                for source in (sources if r % 2 == 0 else sources[::-1]):
+                for source in sources if r % 2 == 0 else sources[::-1]:
                     cpu, wall = first_compile(source, r)
                     old = results[source.label].get("cold", ([], []))
                     results[source.label]["cold"] = (old[0] + [cpu], old[1] + [wall])
@@ -129,7 +132,7 @@ def main() -> None:
         times: dict[tuple[str, str], tuple[list[float], list[float]]] = {}
         print(f"2-3. start-up, whole processes, {args.rounds} rotated rounds after a warm-up round ...", flush=True)
         for r in range(args.rounds + 1):
-            for name, source, command in cases[r % len(cases):] + cases[: r % len(cases)]:
+            for name, source, command in cases[r % len(cases) :] + cases[: r % len(cases)]:
                 env = source.with_cache(source.warm_cache) if source else dict(sources[0].env)
                 c, w = timed(command, env)
                 if r:
@@ -140,7 +143,9 @@ def main() -> None:
 
         print(f"machine: load {' '.join(f'{x:.2f}' for x in os.getloadavg())} at the end")
         stack_cpu, stack_wall = times[("stack", "")]
-        print(f"\n   python -c 'import {STACK_MODULES}': CPU {median(stack_cpu):.3f} s, wall {median(stack_wall):.3f} s (medians)")
+        print(
+            f"\n   python -c 'import {STACK_MODULES}': CPU {median(stack_cpu):.3f} s, wall {median(stack_wall):.3f} s (medians)"
+        )
         summary: dict[str, dict[str, float]] = {}
         for source in sources:
             s = summary[source.label] = {}
@@ -153,22 +158,35 @@ def main() -> None:
             if "cold" in results[source.label]:
                 cold_cpu, cold_wall = results[source.label]["cold"]
                 s["compile_cpu"] = median(cold_cpu) - s["run_cpu"]
-                print(f"   1. first run, empty cache: CPU {median(cold_cpu):.1f} s (wall {median(cold_wall):.1f} s); "
-                      f"compiling: {s['compile_cpu']:.1f} s of CPU (the first run less a warm one)")
-            print(f"   2. small run --no-video: CPU {s['run_cpu']:.3f} s, wall {median(run_wall):.3f} s: "
-                  f"{s['run_x_stack']:.2f}x its stack's imports in CPU ({s['run_x_stack_wall']:.2f}x in wall time)")
+                print(
+                    f"   1. first run, empty cache: CPU {median(cold_cpu):.1f} s (wall {median(cold_wall):.1f} s); "
+                    f"compiling: {s['compile_cpu']:.1f} s of CPU (the first run less a warm one)"
+                )
+            print(
+                f"   2. small run --no-video: CPU {s['run_cpu']:.3f} s, wall {median(run_wall):.3f} s: "
+                f"{s['run_x_stack']:.2f}x its stack's imports in CPU ({s['run_x_stack_wall']:.2f}x in wall time)"
+            )
             print(f"   3. --version: CPU {s['version_cpu']:.3f} s, wall {s['version_wall']:.3f} s")
         if len(sources) == 2:
             this, base = summary["this"], summary["baseline"]
             print("\n   this / baseline (same run):")
             if "compile_cpu" in this and "compile_cpu" in base:
-                print(f"   1. first run's compile CPU: {this['compile_cpu']:.1f} s / {base['compile_cpu']:.1f} s = "
-                      f"{this['compile_cpu'] / base['compile_cpu']:.2f}x (target <= 0.33x and <= 15 s)")
-            print(f"   2. small run, x its stack's imports: {this['run_x_stack']:.2f}x / {base['run_x_stack']:.2f}x (target <= 1.5x)")
-            print(f"   3. --version CPU: {this['version_cpu']:.3f} s / {base['version_cpu']:.3f} s = "
-                  f"{this['version_cpu'] / base['version_cpu']:.2f}x (target: as today)")
-            same = all((work / "this" / "warm" / "notes-arm" / name).read_bytes()
-                       == (work / "baseline" / "warm" / "notes-arm" / name).read_bytes() for name in ("trajectory.csv", "summary.json"))
+                print(
+                    f"   1. first run's compile CPU: {this['compile_cpu']:.1f} s / {base['compile_cpu']:.1f} s = "
+                    f"{this['compile_cpu'] / base['compile_cpu']:.2f}x (target <= 0.33x and <= 15 s)"
+                )
+            print(
+                f"   2. small run, x its stack's imports: {this['run_x_stack']:.2f}x / {base['run_x_stack']:.2f}x (target <= 1.5x)"
+            )
+            print(
+                f"   3. --version CPU: {this['version_cpu']:.3f} s / {base['version_cpu']:.3f} s = "
+                f"{this['version_cpu'] / base['version_cpu']:.2f}x (target: as today)"
+            )
+            same = all(
+                (work / "this" / "warm" / "notes-arm" / name).read_bytes()
+                == (work / "baseline" / "warm" / "notes-arm" / name).read_bytes()
+                for name in ("trajectory.csv", "summary.json")
+            )
             print(f"   outputs byte-identical between the two: {same}")
     finally:
         shutil.rmtree(work, ignore_errors=True)

@@ -57,19 +57,30 @@ def measure(name: str, problem, fps: float) -> dict:
     ours = optimum = 0.0
     start = 0
     for g, report in zip(timed.goals, solved.goals):
-        poses = solved.trajectory.phi[start:start + report.frames + 1]
+        poses = solved.trajectory.phi[start : start + report.frames + 1]
         path = joint_path(poses, problem.limits.limited)
         if path.length > 0:
             ours += g.timing.duration
             optimum += toppra_duration(path, rates.speed, rates.acceleration)
         start += report.frames + (hold_frames(problem, problem.goals[report.index]) if report.reached else 0)
-    return {"name": name, "goals": len(timed.goals), "frames": timed.trajectory.frames, "speed": speed, "accel": accel,
-            "ours": ours, "optimum": optimum, "solve": t1 - t0, "clock": t2 - t1}
+    return {
+        "name": name,
+        "goals": len(timed.goals),
+        "frames": timed.trajectory.frames,
+        "speed": speed,
+        "accel": accel,
+        "ours": ours,
+        "optimum": optimum,
+        "solve": t1 - t0,
+        "clock": t2 - t1,
+    }
 
 
 def bundled(fps: float) -> list[dict]:
     """Every bundled scene."""
-    return [measure(p.stem, scene_to_problem(load_scene(p).model), fps) for p in sorted((ROOT / "scenes").glob("*.yaml"))]
+    return [
+        measure(p.stem, scene_to_problem(load_scene(p).model), fps) for p in sorted((ROOT / "scenes").glob("*.yaml"))
+    ]
 
 
 def families(seed: int, count: int, fps: float) -> list[dict]:
@@ -90,12 +101,16 @@ def report(rows: list[dict]) -> None:
     print(f"{'scene':<22} {'goals':>5} {'frames':>6} {'speed':>6} {'accel':>6} {'x optimum':>9} {'clock/solve':>11}")
     for r in rows:
         ratio = r["ours"] / r["optimum"] if r["optimum"] else float("nan")
-        print(f"{r['name']:<22} {r['goals']:>5} {r['frames']:>6} {r['speed']:>6.3f} {r['accel']:>6.3f} {ratio:>9.3f} "
-              f"{100 * r['clock'] / r['solve']:>10.1f}%")
+        print(
+            f"{r['name']:<22} {r['goals']:>5} {r['frames']:>6} {r['speed']:>6.3f} {r['accel']:>6.3f} {ratio:>9.3f} "
+            f"{100 * r['clock'] / r['solve']:>10.1f}%"
+        )
     ours, optimum = sum(r["ours"] for r in rows), sum(r["optimum"] for r in rows)
-    print(f"peak speed ratio {max(r['speed'] for r in rows):.4f}, peak acceleration ratio "
-          f"{max(r['accel'] for r in rows):.4f}, duration {ours / optimum:.4f}x toppra's optimum, clock "
-          f"{100 * sum(r['clock'] for r in rows) / sum(r['solve'] for r in rows):.1f} % of the solve")
+    print(
+        f"peak speed ratio {max(r['speed'] for r in rows):.4f}, peak acceleration ratio "
+        f"{max(r['accel'] for r in rows):.4f}, duration {ours / optimum:.4f}x toppra's optimum, clock "
+        f"{100 * sum(r['clock'] for r in rows) / sum(r['solve'] for r in rows):.1f} % of the solve"
+    )
 
 
 def warm_up(fps: float) -> float:

@@ -69,16 +69,20 @@ def rerender(scene: str, out: Path, repeat: int, srcs: dict[str, str | None]) ->
     for k in range(repeat):
         for name, src in srcs.items():
             target = out / f"render-{name}-{k}"
-            times[name].append(whole_process([sys.executable, "-m", "armanim", "render", str(run), "--out", str(target)], src))
+            times[name].append(
+                whole_process([sys.executable, "-m", "armanim", "render", str(run), "--out", str(target)], src)
+            )
     return times
 
 
 def report(name: str, plain: list, video: list) -> float:
     mean = lambda xs, i: sum(x[i] for x in xs) / len(xs)  # noqa: E731
     ratio = mean(video, 0) / mean(plain, 0)
-    print(f"  {name:8s} --no-video {mean(plain, 0):6.2f} s ({mean(plain, 1):6.2f} s CPU), with video {mean(video, 0):6.2f} s "
-          f"({mean(video, 1):6.2f} s CPU): {ratio:4.2f}x  (target <= 2x; walls "
-          f"{', '.join(f'{w:.1f}' for w, _ in plain)} / {', '.join(f'{w:.1f}' for w, _ in video)})")
+    print(
+        f"  {name:8s} --no-video {mean(plain, 0):6.2f} s ({mean(plain, 1):6.2f} s CPU), with video {mean(video, 0):6.2f} s "
+        f"({mean(video, 1):6.2f} s CPU): {ratio:4.2f}x  (target <= 2x; walls "
+        f"{', '.join(f'{w:.1f}' for w, _ in plain)} / {', '.join(f'{w:.1f}' for w, _ in video)})"
+    )
     return ratio
 
 
@@ -87,8 +91,11 @@ def main() -> None:
     parser.add_argument("--scenes", nargs="+", default=list(SCENES))
     parser.add_argument("--repeat", type=int, default=2, help="pairs of runs per scene (default 2)")
     parser.add_argument("--against", help="another armanim source folder (its src/) measured the same way")
-    parser.add_argument("--render", action="store_true",
-                        help="time `armanim render` of one solved run instead (the video's own cost), alternating the trees")
+    parser.add_argument(
+        "--render",
+        action="store_true",
+        help="time `armanim render` of one solved run instead (the video's own cost), alternating the trees",
+    )
     args = parser.parse_args()
     print(f"load average before: {load()} ({os.cpu_count()} cores)")
     with tempfile.TemporaryDirectory() as tmp:
@@ -97,8 +104,10 @@ def main() -> None:
             for scene in args.scenes:
                 print(f"{scene}: armanim render of one run")
                 for name, xs in rerender(scene, Path(tmp) / Path(scene).stem, args.repeat, srcs).items():
-                    print(f"  {name:8s} CPU {', '.join(f'{c:.2f}' for _, c in xs)} s (mean {sum(c for _, c in xs) / len(xs):.2f}),"
-                          f" wall {', '.join(f'{w:.1f}' for w, _ in xs)} s")
+                    print(
+                        f"  {name:8s} CPU {', '.join(f'{c:.2f}' for _, c in xs)} s (mean {sum(c for _, c in xs) / len(xs):.2f}),"
+                        f" wall {', '.join(f'{w:.1f}' for w, _ in xs)} s"
+                    )
             print(f"load average after: {load()}")
             return
         for scene in args.scenes:

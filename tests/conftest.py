@@ -26,8 +26,11 @@ ROOMS = ("arm", "world", "motion", "procs", "scene", "output", "render", "runs",
 # puts none of these folders on sys.path. Test file names are unique across the rooms
 # (tests/system/test_layout.py) so that a name means one file.
 # A room's tests may have folders of their own (tests/motion/kernels): on sys.path too.
-for folder in [TESTS, *(TESTS / room for room in ROOMS),
-               *sorted(p for room in ROOMS for p in (TESTS / room).glob("*/") if p.is_dir() and p.name != "__pycache__")]:
+for folder in [
+    TESTS,
+    *(TESTS / room for room in ROOMS),
+    *sorted(p for room in ROOMS for p in (TESTS / room).glob("*/") if p.is_dir() and p.name != "__pycache__"),
+]:
     if str(folder) not in sys.path:
         sys.path.insert(0, str(folder))
 
@@ -77,6 +80,7 @@ def pytest_collection_modifyitems(config, items):
             continue
         scaled.add(id(test))
         test._hypothesis_internal_use_settings = settings(own, max_examples=own.max_examples * EXPLORE_FACTOR)
+
 
 BUNDLED = sorted(SCENES.glob("*.yaml"))
 

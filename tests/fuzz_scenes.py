@@ -40,19 +40,103 @@ ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "docs" / "scene.schema.json"
 
 EXTREME_FLOATS = [
-    5e-324, -5e-324, 1e-320, 2.2250738585072014e-308, 1e-300, 1e-200, 1e-9, -0.0, 0.0, 1e308, -1e308, 1.7976931348623157e308,
-    1e9, -1e9, 1e9 * (1 + 1e-15), 1.0000001e9, 360.0, -360.0, 360.0000001, 180.0, 0.001, 0.000999, 0.01, 240.0, 240.0001,
-    1e12, 1e-12, 3.141592653589793, 0.5, 1.0, -1.0, 2.0, 1e15, 123456.789,
+    5e-324,
+    -5e-324,
+    1e-320,
+    2.2250738585072014e-308,
+    1e-300,
+    1e-200,
+    1e-9,
+    -0.0,
+    0.0,
+    1e308,
+    -1e308,
+    1.7976931348623157e308,
+    1e9,
+    -1e9,
+    1e9 * (1 + 1e-15),
+    1.0000001e9,
+    360.0,
+    -360.0,
+    360.0000001,
+    180.0,
+    0.001,
+    0.000999,
+    0.01,
+    240.0,
+    240.0001,
+    1e12,
+    1e-12,
+    3.141592653589793,
+    0.5,
+    1.0,
+    -1.0,
+    2.0,
+    1e15,
+    123456.789,
 ]
 HOSTILE_STRINGS = [
-    "", "a", "x" * 5000, "line\nforged", "ok evil.yaml (all good", "\u202eevil", "\x9b31m", "\x1b[31mred", "tab\there", "cr\rhere",
-    "=HYPERLINK(\"http://x\",\"y\")", "@SUM(1+1)", "+1", "-rf", "index.csv", "notes-sweep.csv", "..", "../../etc/passwd", "/abs",
-    "\u2028", "é" * 50, "\ufeffbom", "</script><script>alert(1)</script>", "]]>", "<!--", "a,b", '"q"', "nul\x00",
-    "panda", "ur5", "auto", "pinv", "off",
+    "",
+    "a",
+    "x" * 5000,
+    "line\nforged",
+    "ok evil.yaml (all good",
+    "\u202eevil",
+    "\x9b31m",
+    "\x1b[31mred",
+    "tab\there",
+    "cr\rhere",
+    '=HYPERLINK("http://x","y")',
+    "@SUM(1+1)",
+    "+1",
+    "-rf",
+    "index.csv",
+    "notes-sweep.csv",
+    "..",
+    "../../etc/passwd",
+    "/abs",
+    "\u2028",
+    "é" * 50,
+    "\ufeffbom",
+    "</script><script>alert(1)</script>",
+    "]]>",
+    "<!--",
+    "a,b",
+    '"q"',
+    "nul\x00",
+    "panda",
+    "ur5",
+    "auto",
+    "pinv",
+    "off",
 ]
-URDF_NUMBER_TEXTS = ["-1_0", "1_000", "nan", "inf", "-inf", "0x10", "1e", "1e400", "١", "--1", "1.2.3", "", "  ", "1e308", "1e200",
-                     "1e-320", "-0.0", "1e9", "1.1e9", "3.14159", "0", "1"]
-XML_SAFE = [s for s in HOSTILE_STRINGS if s and "\x00" not in s and "\x1b" not in s]  # XML 1.0 cannot hold NUL or ESC at all
+URDF_NUMBER_TEXTS = [
+    "-1_0",
+    "1_000",
+    "nan",
+    "inf",
+    "-inf",
+    "0x10",
+    "1e",
+    "1e400",
+    "١",
+    "--1",
+    "1.2.3",
+    "",
+    "  ",
+    "1e308",
+    "1e200",
+    "1e-320",
+    "-0.0",
+    "1e9",
+    "1.1e9",
+    "3.14159",
+    "0",
+    "1",
+]
+XML_SAFE = [
+    s for s in HOSTILE_STRINGS if s and "\x00" not in s and "\x1b" not in s
+]  # XML 1.0 cannot hold NUL or ESC at all
 
 
 def _tame(node, path=()):
@@ -108,7 +192,12 @@ def from_json_schema(node: dict, schema: dict) -> st.SearchStrategy:
     branches = node.get("anyOf", node.get("oneOf"))
     if branches and all(set(n) <= {"required"} for n in branches):  # an object's "one of these keys"
         rest = {k: v for k, v in node.items() if k not in ("anyOf", "oneOf")}
-        return st.one_of([from_json_schema({**rest, "required": [*rest.get("required", ()), *n["required"]]}, schema) for n in branches])
+        return st.one_of(
+            [
+                from_json_schema({**rest, "required": [*rest.get("required", ()), *n["required"]]}, schema)
+                for n in branches
+            ]
+        )
     if branches:
         return st.one_of([from_json_schema(n, schema) for n in branches])
     if "const" in node:
@@ -119,12 +208,18 @@ def from_json_schema(node: dict, schema: dict) -> st.SearchStrategy:
     if kind == "object" or "properties" in node:
         return _object(node, schema)
     if kind == "array":
-        return st.lists(from_json_schema(node.get("items", {}), schema), min_size=node.get("minItems", 0), max_size=node.get("maxItems", 4))
+        return st.lists(
+            from_json_schema(node.get("items", {}), schema),
+            min_size=node.get("minItems", 0),
+            max_size=node.get("maxItems", 4),
+        )
     if kind in ("number", "integer"):
         return _number(node, kind)
     if kind == "string":
         if "pattern" in node:
-            return st.from_regex(node["pattern"], fullmatch=True).filter(lambda t: node.get("minLength", 0) <= len(t) <= node.get("maxLength", 10**9))
+            return st.from_regex(node["pattern"], fullmatch=True).filter(
+                lambda t: node.get("minLength", 0) <= len(t) <= node.get("maxLength", 10**9)
+            )
         return st.text(min_size=node.get("minLength", 0), max_size=min(node.get("maxLength", 20), 20))
     if kind == "boolean":
         return st.booleans()
@@ -141,11 +236,25 @@ def _number(node: dict, kind: str) -> st.SearchStrategy:
         return st.integers(int(lo), int(hi if hi is not None else lo + 1000))
     lo = lo if lo is not None else above
     hi = hi if hi is not None else below
-    near = st.floats(min_value=lo if lo is not None else -3.0, max_value=hi if hi is not None else 3.0,
-                     exclude_min=above is not None, exclude_max=below is not None, allow_nan=False, allow_infinity=False)
-    anywhere = st.floats(min_value=lo, max_value=hi, exclude_min=above is not None, exclude_max=below is not None,
-                         allow_nan=False, allow_infinity=False)
-    return near if lo is None or hi is None or hi - lo < 1e6 else st.one_of(near, near, near, anywhere)  # the extremes come from hostile_scenes
+    near = st.floats(
+        min_value=lo if lo is not None else -3.0,
+        max_value=hi if hi is not None else 3.0,
+        exclude_min=above is not None,
+        exclude_max=below is not None,
+        allow_nan=False,
+        allow_infinity=False,
+    )
+    anywhere = st.floats(
+        min_value=lo,
+        max_value=hi,
+        exclude_min=above is not None,
+        exclude_max=below is not None,
+        allow_nan=False,
+        allow_infinity=False,
+    )
+    return (
+        near if lo is None or hi is None or hi - lo < 1e6 else st.one_of(near, near, near, anywhere)
+    )  # the extremes come from hostile_scenes
 
 
 @st.composite
@@ -211,15 +320,24 @@ def urdf_texts(draw) -> tuple[str, int]:
     depth = draw(st.integers(1, 8))
     odds = draw(st.sampled_from([0, 0, 40, 10, 3]))  # 0: every number plain (the URDF is sound but for its names)
     num = lambda low=-3.0: number_text(draw, odds if odds else 10**9, low)  # noqa: E731
-    names = [draw(st.sampled_from(["j", *XML_SAFE])) + str(i) if draw(st.integers(0, 3)) == 0 else f"j{i}" for i in range(depth)]
+    names = [
+        draw(st.sampled_from(["j", *XML_SAFE])) + str(i) if draw(st.integers(0, 3)) == 0 else f"j{i}"
+        for i in range(depth)
+    ]
     lines = ['<?xml version="1.0"?>', '<robot name="fuzz">']
     for i in range(depth + 1):
         shape = draw(st.sampled_from(["", "cylinder", "sphere", "box"])) if i else ""
-        sizes = {"cylinder": f'radius="{num(0.0)}" length="{num(0.0)}"', "sphere": f'radius="{num(0.0)}"',
-                 "box": f'size="{num(0.0)} {num(0.0)} {num(0.0)}"'}.get(shape, "")
-        col = (f'<collision><origin xyz="0 0 {num()}"/><geometry><{shape} {sizes}/></geometry></collision>'
-               if shape else "")
-        lines.append(f"<link name=\"l{i}\">{col}</link>")
+        sizes = {
+            "cylinder": f'radius="{num(0.0)}" length="{num(0.0)}"',
+            "sphere": f'radius="{num(0.0)}"',
+            "box": f'size="{num(0.0)} {num(0.0)} {num(0.0)}"',
+        }.get(shape, "")
+        col = (
+            f'<collision><origin xyz="0 0 {num()}"/><geometry><{shape} {sizes}/></geometry></collision>'
+            if shape
+            else ""
+        )
+        lines.append(f'<link name="l{i}">{col}</link>')
     for i, name in enumerate(names):
         kind = draw(st.sampled_from(["revolute", "revolute", "continuous", "fixed"])) if i else "revolute"
         xyz = " ".join(num() for _ in range(3))
@@ -229,8 +347,10 @@ def urdf_texts(draw) -> tuple[str, int]:
         with contextlib.suppress(ValueError):
             lower, upper = sorted([lower, upper], key=float)
         limit = f'<limit lower="{lower}" upper="{upper}" effort="1" velocity="1"/>' if kind == "revolute" else ""
-        lines.append(f"<joint name={_attr(name)} type=\"{kind}\"><parent link=\"l{i}\"/><child link=\"l{i + 1}\"/>"
-                     f"<origin xyz=\"{xyz}\" rpy=\"{rpy}\"/><axis xyz=\"{axis}\"/>{limit}</joint>")
+        lines.append(
+            f'<joint name={_attr(name)} type="{kind}"><parent link="l{i}"/><child link="l{i + 1}"/>'
+            f'<origin xyz="{xyz}" rpy="{rpy}"/><axis xyz="{axis}"/>{limit}</joint>'
+        )
     lines.append("</robot>")
     return "\n".join(lines) + "\n", depth
 
@@ -241,9 +361,14 @@ def urdf_scenes(draw) -> tuple[str, str]:
     urdf, depth = draw(urdf_texts())
     goals = draw(st.lists(st.tuples(*[st.floats(-1, 1)] * 3), min_size=1, max_size=2))
     extra = draw(st.sampled_from(["", "  width: 1e-300\n", "  limit_margin: 180\n", "  tool: {xyz: [0, 0, 0.1]}\n"]))
-    scene = ("version: 1\nname: fuzz\narm:\n  urdf: r.urdf\n  base_link: l0\n" + f"  tip_link: l{depth}\n" + extra
-             + "goals:\n" + "".join(f"  - [{x!r}, {y!r}, {z!r}]\n" for x, y, z in goals)
-             + "solver: {max_frames_per_goal: 20}\nrender: {size: [64, 48]}\n")
+    scene = (
+        "version: 1\nname: fuzz\narm:\n  urdf: r.urdf\n  base_link: l0\n"
+        + f"  tip_link: l{depth}\n"
+        + extra
+        + "goals:\n"
+        + "".join(f"  - [{x!r}, {y!r}, {z!r}]\n" for x, y, z in goals)
+        + "solver: {max_frames_per_goal: 20}\nrender: {size: [64, 48]}\n"
+    )
     return scene, urdf
 
 
@@ -295,7 +420,9 @@ def check_scene_text(text: str, file: str) -> str:
         except SceneError as exc:
             assert exc.exit_code == EXIT_BAD_INPUT and exc.problems
             report = message_lines(exc.report())
-            assert all(line.startswith((file, str(Path(file).parent), "... and")) for line in report.splitlines()), report
+            assert all(line.startswith((file, str(Path(file).parent), "... and")) for line in report.splitlines()), (
+                report
+            )
             assert all(len(line) < 800 and line.isprintable() for line in report.splitlines()), report
             return "error"
         problem = scene_to_problem(model)
@@ -311,8 +438,13 @@ def check_scene_text(text: str, file: str) -> str:
 
         script_json(viewer_data(problem, traj, solution.goals, render_settings(model), title="fuzz"))
         for g in solution.goals:
-            assert g.reached == bool(g.final_distance < problem.solver.tolerance
-                                     and (g.final_orientation_error is None or not g.final_orientation_error >= problem.solver.orientation_tolerance)), g
+            assert g.reached == bool(
+                g.final_distance < problem.solver.tolerance
+                and (
+                    g.final_orientation_error is None
+                    or not g.final_orientation_error >= problem.solver.orientation_tolerance
+                )
+            ), g
     return "ran"
 
 

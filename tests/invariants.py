@@ -30,8 +30,14 @@ def small_planning_budget(problem: Problem, share: int = 30, seed_share: int = 4
     test the same invariants, and benchmarks/motion_bench.py measures what the whole budget finds.
     """
     t = problem.tunables
-    return replace(problem, tunables=replace(t, planner=replace(t.planner, ompl_iterations=t.planner.ompl_iterations // share),
-                                             poses=replace(t.poses, seeds=t.poses.seeds // seed_share)))
+    return replace(
+        problem,
+        tunables=replace(
+            t,
+            planner=replace(t.planner, ompl_iterations=t.planner.ompl_iterations // share),
+            poses=replace(t.poses, seeds=t.poses.seeds // seed_share),
+        ),
+    )
 
 
 RATE_TOLERANCE = 1e-9
@@ -47,18 +53,23 @@ def assert_within_rates(problem: Problem, traj) -> None:
     speed = np.abs(steps) * traj.fps
     assert np.all(speed <= problem.rates.speed * (1 + RATE_TOLERANCE)), float((speed / problem.rates.speed).max())
     accel = np.abs(np.diff(steps, axis=0)) * traj.fps**2
-    assert np.all(accel <= problem.rates.acceleration * (1 + RATE_TOLERANCE)), float((accel / problem.rates.acceleration).max())
+    assert np.all(accel <= problem.rates.acceleration * (1 + RATE_TOLERANCE)), float(
+        (accel / problem.rates.acceleration).max()
+    )
     if problem.rates.jerk is not None:
         jerk = np.abs(np.diff(steps, 2, axis=0)) * traj.fps**3
         assert np.all(jerk <= problem.rates.jerk * (1 + RATE_TOLERANCE)), float((jerk / problem.rates.jerk).max())
-    assert np.all(np.isfinite(traj.velocity)) and np.all(np.abs(traj.velocity) <= problem.rates.speed * (1 + 1e-6)), float((np.abs(traj.velocity) / problem.rates.speed).max())
+    assert np.all(np.isfinite(traj.velocity)) and np.all(np.abs(traj.velocity) <= problem.rates.speed * (1 + 1e-6)), (
+        float((np.abs(traj.velocity) / problem.rates.speed).max())
+    )
     rest = np.concatenate([[True], np.all(steps == 0, axis=1)]) & np.concatenate([np.all(steps == 0, axis=1), [True]])
     assert np.all(traj.velocity[rest] == 0)
     # the clock's velocity (trajectory.csv's dphi columns) agrees with the positions: a frame's
     # difference over 1/fps is the velocity somewhere in the frame before, within a/fps of its end's
     gap = np.abs(traj.velocity[1:] - steps * traj.fps)
     assert np.all(gap <= problem.rates.acceleration / traj.fps * (1 + RATE_TOLERANCE) + 1e-9), float(
-        (gap / (problem.rates.acceleration / traj.fps)).max())
+        (gap / (problem.rates.acceleration / traj.fps)).max()
+    )
 
 
 def assert_passed_within_radius(problem: Problem, traj, k: int, report) -> None:
@@ -75,7 +86,11 @@ def assert_passed_within_radius(problem: Problem, traj, k: int, report) -> None:
     assert near[-1] == pytest.approx(report.blend.pass_distance, abs=1e-9)
     assert near[-1] <= max(goal.blend, 2 * floor) * (1 + 1e-9), (k, near[-1], goal.blend)
     last = rows[-1]
-    assert last + 1 < len(traj.phi) and np.any(traj.phi[last + 1] != traj.phi[last]) and np.any(traj.phi[last] != traj.phi[last - 1])
+    assert (
+        last + 1 < len(traj.phi)
+        and np.any(traj.phi[last + 1] != traj.phi[last])
+        and np.any(traj.phi[last] != traj.phi[last - 1])
+    )
 
 
 def _assert_clear(problem: Problem, traj, pose, mine: np.ndarray, first: int) -> None:
@@ -102,7 +117,10 @@ def _assert_clear(problem: Problem, traj, pose, mine: np.ndarray, first: int) ->
     if len(pairs):
         gaps = self_gaps(here, problem.capsules, pairs).d
         least = gaps.min(axis=1)
-        assert least.min() >= min(pairs.clearance, least[0]) - TINY, (least.min(), pairs.labels[int(gaps.min(axis=0).argmin())])
+        assert least.min() >= min(pairs.clearance, least[0]) - TINY, (
+            least.min(),
+            pairs.labels[int(gaps.min(axis=0).argmin())],
+        )
         np.testing.assert_allclose(traj.self_clearance[mine], least, atol=1e-12)
         assert all(label in pairs.labels for label in traj.self_pair[mine])
 
@@ -133,13 +151,19 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         for k in np.unique(traj.goal[along]):
             mine = along & (traj.goal == k)
             path = problem.goals[k].path
-            np.testing.assert_allclose(path.points(traj.path_s[mine]), traj.tip[mine], atol=traj.path_error[mine].max() + 1e-9)
+            np.testing.assert_allclose(
+                path.points(traj.path_s[mine]), traj.tip[mine], atol=traj.path_error[mine].max() + 1e-9
+            )
             assert np.all(path.distance(traj.tip[mine]) <= traj.path_error[mine] + 1e-12)
         assert np.all(traj.path_error[along] <= problem.solver.path_tolerance), float(np.nanmax(traj.path_error))
-        for k in np.unique(traj.goal[traj.mode == "path"]) if traj.velocity is not None else ():  # on the clock: never faster than its speed
+        for k in (
+            np.unique(traj.goal[traj.mode == "path"]) if traj.velocity is not None else ()
+        ):  # on the clock: never faster than its speed
             f = np.nonzero((traj.mode == "path") & (traj.goal == k))[0]
             tool_speed = np.linalg.norm(traj.tip[f] - traj.tip[f - 1], axis=1) * traj.fps
-            assert tool_speed.max() <= problem.goals[k].speed * (1 + 1e-9), float(tool_speed.max() / problem.goals[k].speed)
+            assert tool_speed.max() <= problem.goals[k].speed * (1 + 1e-9), float(
+                tool_speed.max() / problem.goals[k].speed
+            )
         expected = np.where(along, traj.path_error, expected)
     np.testing.assert_allclose(traj.distance, expected, atol=1e-9)
     # goal index never goes back
@@ -183,12 +207,16 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         assert max_joint_step(traj.phi) == pytest.approx(steps.max())
     # reached rows are within tolerance (and the orientation tolerance, where the goal has one), and only those
     # (a joint goal's rows: where every joint is within joint_tolerance of it)
-    turned = True if traj.orientation_error is None else ~(traj.orientation_error >= problem.solver.orientation_tolerance)
+    turned = (
+        True if traj.orientation_error is None else ~(traj.orientation_error >= problem.solver.orientation_tolerance)
+    )
     expected = (traj.distance < problem.solver.tolerance) & turned
     for k, g in enumerate(problem.goals):
         if g.joints is not None:
             mine = traj.goal == k
-            expected = np.where(mine, np.all(np.abs(traj.phi - g.joints) <= problem.solver.joint_tolerance, axis=1), expected)
+            expected = np.where(
+                mine, np.all(np.abs(traj.phi - g.joints) <= problem.solver.joint_tolerance, axis=1), expected
+            )
     np.testing.assert_array_equal(traj.reached, expected)
     # per-goal reports
     assert len(solution.goals) == len(problem.goals)
@@ -201,20 +229,30 @@ def assert_trajectory_invariants(problem: Problem, solution: Solution) -> None:
         elif report.reached:
             assert report.reason is None
             assert report.final_distance < problem.solver.tolerance
-            assert report.final_orientation_error is None or report.final_orientation_error < problem.solver.orientation_tolerance
+            assert (
+                report.final_orientation_error is None
+                or report.final_orientation_error < problem.solver.orientation_tolerance
+            )
         else:
             assert report.reason in MISS_REASONS, report.reason
             # a miss ends early (stalled, planned in vain) or at the frame cap, and says which
             at_cap = report.frames == problem.solver.max_frames_per_goal
             assert timed or at_cap or report.reason != "too_slow"
             angle = report.final_orientation_error
-            assert report.final_distance >= problem.solver.tolerance or report.reason == "path_blocked" or (
-                angle is not None and angle >= problem.solver.orientation_tolerance)
+            assert (
+                report.final_distance >= problem.solver.tolerance
+                or report.reason == "path_blocked"
+                or (angle is not None and angle >= problem.solver.orientation_tolerance)
+            )
         goal = problem.goals[k]
         assert (report.path is None) == (goal.path is None)
         if report.path is not None:  # the whole path exactly when reached; a stop point and cause when blocked
             assert (report.path.fraction == 1.0) == report.reached or report.reason != "path_blocked"
-            assert (report.reason == "path_blocked") == (report.path.cause is not None) == (report.path.stop_point is not None)
+            assert (
+                (report.reason == "path_blocked")
+                == (report.path.cause is not None)
+                == (report.path.stop_point is not None)
+            )
             assert 0.0 <= report.path.fraction <= 1.0
         cap = problem.solver.max_frames_per_goal + most_path_frames(problem, goal)
         assert 0 <= report.frames and (timed or report.frames <= cap)

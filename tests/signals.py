@@ -58,6 +58,7 @@ def snapshot(folder: Path, *roots: Path) -> dict[str, str]:
     last part matches as a glob: ``golden/tiny0.*``, a golden pair) by relative path ({} if
     it is missing); the paths ``roots`` in a file's bytes are read as ``<ROOT>`` (index.csv
     names each run folder by its path)."""
+
     def digest(path: Path) -> str:
         if path.name == MARKER:  # its list of files (their times differ from run to run)
             return hashlib.sha256(" ".join(sorted(json.loads(path.read_text())["files"])).encode()).hexdigest()
@@ -151,8 +152,9 @@ class Sweep:
         return [a.format(out=where / "out", golden=where / "golden") for a in args]
 
     def _run(self, args: list[str], where: Path) -> None:
-        proc = subprocess.run([self.python, "-m", "armanim", *self._fill(args, where)], capture_output=True, text=True,
-                              timeout=HANG_GUARD)
+        proc = subprocess.run(
+            [self.python, "-m", "armanim", *self._fill(args, where)], capture_output=True, text=True, timeout=HANG_GUARD
+        )
         assert proc.returncode == 0, proc.stderr
 
     def attempt(self, moment: str, delay: float, signame: str, again: float | None = None) -> Outcome:
@@ -163,8 +165,14 @@ class Sweep:
         shutil.copytree(self.template, where)
         tmp = Path(tempfile.mkdtemp(prefix="sig", dir="/tmp"))  # short: the forkserver's socket lives there
         env = {**os.environ, "TMPDIR": str(tmp)}
-        proc = psutil.Popen([self.python, "-m", "armanim", *self._fill(self.command.args, where)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True, env=env)
+        proc = psutil.Popen(
+            [self.python, "-m", "armanim", *self._fill(self.command.args, where)],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+            start_new_session=True,
+            env=env,
+        )
         seen: dict[int, psutil.Process] = {}
         stop_polling = threading.Event()
 
@@ -205,7 +213,16 @@ class Sweep:
         litter = [str(p.relative_to(where)) for p in where.rglob("*") if any(mark in p.name for mark in LITTER)]
         litter += [f"$TMPDIR/{p.name}" for p in tmp.iterdir()]
         shutil.rmtree(tmp, ignore_errors=True)
-        outcome = Outcome(f"{moment}+{delay:g}" + ("" if again is None else f" twice ({again:g} s apart)"), signame, proc.returncode, stderr, states, litter, strays, fired)
+        outcome = Outcome(
+            f"{moment}+{delay:g}" + ("" if again is None else f" twice ({again:g} s apart)"),
+            signame,
+            proc.returncode,
+            stderr,
+            states,
+            litter,
+            strays,
+            fired,
+        )
         if not outcome.problems():
             shutil.rmtree(where, ignore_errors=True)
         return outcome
@@ -232,8 +249,12 @@ class Sweep:
             kids = list(seen.values())
             if moment == "workers":  # a pool's helpers (forkserver, resource tracker) are not workers
                 helper = ("forkserver", "resource_tracker")
-                return any("python" in k.name() and (k.ppid() != proc.pid or not any(h in " ".join(k.cmdline()) for h in helper))
-                           for k in kids if k.is_running())
+                return any(
+                    "python" in k.name()
+                    and (k.ppid() != proc.pid or not any(h in " ".join(k.cmdline()) for h in helper))
+                    for k in kids
+                    if k.is_running()
+                )
             if moment == "ffmpeg":
                 return any("ffmpeg" in k.name() for k in kids if k.is_running())
         except psutil.Error:

@@ -91,10 +91,7 @@ def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_
         return Obstacles.none()
     reach = arm.reach
     centers = np.array(
-        [
-            arm.base + np.array(draw(st.tuples(*(st.floats(-reach, reach) for _ in range(3)))))
-            for _ in range(m)
-        ]
+        [arm.base + np.array(draw(st.tuples(*(st.floats(-reach, reach) for _ in range(3))))) for _ in range(m)]
     )
     radii = np.array([draw(st.floats(0.0, 1.0)) for _ in range(m)])
     influence = np.array([draw(st.floats(0.2, 2.0)) for _ in range(m)])
@@ -105,7 +102,9 @@ def obstacles_clear_of(draw, arm: Arm, home: np.ndarray, half_width: float, max_
 
 
 @st.composite
-def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_frames: int = 40, slides: bool = False) -> Problem:
+def problems(
+    draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_frames: int = 40, slides: bool = False
+) -> Problem:
     """A random, valid problem: home clear of obstacles and inside its limits, goals
     outside every obstacle (some may be out of reach); ``slides``: some joints prismatic (:func:`sliding`)."""
     arm = draw(arms(max_links=max_links))
@@ -117,7 +116,9 @@ def problems(draw, methods=METHODS, max_links: int = 5, max_goals: int = 2, max_
     obstacles = draw(obstacles_clear_of(arm, home, half_width))
     goals = []
     for _ in range(draw(st.integers(1, max_goals))):
-        target = forward(arm, draw(poses(arm.n))).tip + np.array(draw(st.tuples(*(st.floats(-0.5, 0.5) for _ in range(3)))))
+        target = forward(arm, draw(poses(arm.n))).tip + np.array(
+            draw(st.tuples(*(st.floats(-0.5, 0.5) for _ in range(3))))
+        )
         if len(obstacles):
             gap = np.linalg.norm(target - obstacles.centers, axis=1) - obstacles.radii
             assume(np.all(gap > 0.05))
@@ -186,7 +187,10 @@ def cluttered_problems(draw, max_links: int = 6, max_goals: int = 3, slides: boo
     solver = default_solver_settings(
         method=draw(st.sampled_from(METHODS)), max_step=0.5, max_frames_per_goal=150, clearance=0.05
     )
-    goal_poses = [np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02) for _ in range(draw(st.integers(1, max_goals)))]
+    goal_poses = [
+        np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02)
+        for _ in range(draw(st.integers(1, max_goals)))
+    ]
     tips = forward(arm, np.array([home, *goal_poses])).tip
     centers, radii = [], []
     for a, b in zip(tips[:-1], tips[1:]):
@@ -223,8 +227,10 @@ def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem
     base = scene_to_problem(scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
     arm, lim = base.arm, base.limits
     lo, hi = np.maximum(lim.lower, -np.pi) + 0.1, np.minimum(lim.upper, np.pi) - 0.1
-    goal_poses = [np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=arm.n, max_size=arm.n))) * (hi - lo) + lo
-                  for _ in range(draw(st.integers(1, max_goals)))]
+    goal_poses = [
+        np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=arm.n, max_size=arm.n))) * (hi - lo) + lo
+        for _ in range(draw(st.integers(1, max_goals)))
+    ]
     tips = forward(arm, np.array([base.home, *goal_poses])).tip
     assume(np.all(tips[1:, 2] > 0.05))  # above the floor the robot stands on
     centers, radii = [], []
@@ -233,15 +239,25 @@ def robot_problems(draw, robots=("panda", "ur5"), max_goals: int = 2) -> Problem
         centers.append(a + t * (b - a) + np.array(draw(st.tuples(*(st.floats(-0.1, 0.1) for _ in range(3))))))
         radii.append(draw(st.floats(0.03, 0.08)))
     obstacles = Obstacles(np.array(centers), np.array(radii), np.array(radii) + 0.05)
-    solver = default_solver_settings(method=draw(st.sampled_from(METHODS)), max_step=0.02, tolerance=0.005,
-                                     max_frames_per_goal=120, clearance=0.02)
+    solver = default_solver_settings(
+        method=draw(st.sampled_from(METHODS)), max_step=0.02, tolerance=0.005, max_frames_per_goal=120, clearance=0.02
+    )
     cl = clearances(forward(arm, base.home), obstacles, base.capsules)
     assume(np.all(cl.links > solver.clearance))
     goal_gap = np.linalg.norm(tips[1:, None, :] - obstacles.centers, axis=-1) - obstacles.radii
     assume(np.all(goal_gap > 0.1 + solver.clearance))
-    return Problem(arm=arm, half_width=base.half_width, home=base.home, limits=lim, obstacles=obstacles,
-                   goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0, capsules=base.capsules,
-                   rates=base.rates)  # the robot's own speed and acceleration limits
+    return Problem(
+        arm=arm,
+        half_width=base.half_width,
+        home=base.home,
+        limits=lim,
+        obstacles=obstacles,
+        goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]),
+        solver=solver,
+        fps=30.0,
+        capsules=base.capsules,
+        rates=base.rates,
+    )  # the robot's own speed and acceleration limits
 
 
 @st.composite
@@ -258,14 +274,24 @@ def shapes_across(draw, tips: np.ndarray, scale: float, spread: float, cylinders
         t = draw(st.floats(0.3, 0.7))
         center = a + t * (b - a) + np.array(draw(st.tuples(*(st.floats(-spread, spread) for _ in range(3)))))
         size = draw(st.floats(0.1, 0.4)) * max(np.linalg.norm(b - a), 0.5) * scale
-        kind = CYLINDER if cylinders and not kinds else draw(st.sampled_from([SPHERE, BOX, ROD, CYLINDER] if cylinders else [SPHERE, BOX, ROD]))
+        kind = (
+            CYLINDER
+            if cylinders and not kinds
+            else draw(st.sampled_from([SPHERE, BOX, ROD, CYLINDER] if cylinders else [SPHERE, BOX, ROD]))
+        )
         kinds.append(kind)
         influence.append(size + 0.5 * scale)
         if kind == SPHERE:
             spheres.append((center, size))
         elif kind == CYLINDER:
-            cans.append((center, rpy_rotation(draw(st.tuples(angles, angles, angles))), size * draw(st.floats(0.2, 1.5)),
-                         size * draw(st.floats(0.2, 1.0))))
+            cans.append(
+                (
+                    center,
+                    rpy_rotation(draw(st.tuples(angles, angles, angles))),
+                    size * draw(st.floats(0.2, 1.5)),
+                    size * draw(st.floats(0.2, 1.0)),
+                )
+            )
         elif kind == BOX:
             half = size * np.array(draw(st.tuples(*(st.floats(0.2, 1.0) for _ in range(3)))))
             boxes.append((center, half, rpy_rotation(draw(st.tuples(angles, angles, angles)))))
@@ -275,14 +301,26 @@ def shapes_across(draw, tips: np.ndarray, scale: float, spread: float, cylinders
             half_length = size * draw(st.floats(0.0, 2.0)) * direction / np.linalg.norm(direction)
             rods.append((center - half_length, center + half_length, size * draw(st.floats(0.2, 0.6))))
     return Obstacles(
-        np.array([c for c, _ in spheres]).reshape(-1, 3), np.array([r for _, r in spheres]), np.array(influence),
-        Boxes(np.array([c for c, _, _ in boxes]).reshape(-1, 3), np.array([h for _, h, _ in boxes]).reshape(-1, 3),
-              np.array([r for _, _, r in boxes]).reshape(-1, 3, 3)),
-        Rods(np.array([a for a, _, _ in rods]).reshape(-1, 3), np.array([b for _, b, _ in rods]).reshape(-1, 3),
-             np.array([r for _, _, r in rods])),
+        np.array([c for c, _ in spheres]).reshape(-1, 3),
+        np.array([r for _, r in spheres]),
+        np.array(influence),
+        Boxes(
+            np.array([c for c, _, _ in boxes]).reshape(-1, 3),
+            np.array([h for _, h, _ in boxes]).reshape(-1, 3),
+            np.array([r for _, _, r in boxes]).reshape(-1, 3, 3),
+        ),
+        Rods(
+            np.array([a for a, _, _ in rods]).reshape(-1, 3),
+            np.array([b for _, b, _ in rods]).reshape(-1, 3),
+            np.array([r for _, _, r in rods]),
+        ),
         kinds=np.array(kinds, dtype=int),
-        cylinders=Cylinders(np.array([c for c, _, _, _ in cans]).reshape(-1, 3), np.array([m for _, m, _, _ in cans]).reshape(-1, 3, 3),
-                            np.array([h for _, _, h, _ in cans]), np.array([r for _, _, _, r in cans])),
+        cylinders=Cylinders(
+            np.array([c for c, _, _, _ in cans]).reshape(-1, 3),
+            np.array([m for _, m, _, _ in cans]).reshape(-1, 3, 3),
+            np.array([h for _, _, h, _ in cans]),
+            np.array([r for _, _, _, r in cans]),
+        ),
     )
 
 
@@ -294,12 +332,18 @@ def with_floor(obstacles: Obstacles, floor: float | None) -> Obstacles:
 
     if floor is None:
         return obstacles
-    return replace(obstacles, influence=np.append(obstacles.influence, 0.0), floor=float(floor),
-                   kinds=np.append(obstacles.kinds, FLOOR))
+    return replace(
+        obstacles,
+        influence=np.append(obstacles.influence, 0.0),
+        floor=float(floor),
+        kinds=np.append(obstacles.kinds, FLOOR),
+    )
 
 
 @st.composite
-def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: int = 80, cylinders: bool = False) -> Problem:
+def shaped_problems(
+    draw, max_links: int = 6, max_goals: int = 3, max_frames: int = 80, cylinders: bool = False
+) -> Problem:
     """:func:`cluttered_problems` with spheres, boxes and capsules mixed (and cylinders, with
     ``cylinders``), and a floor below the base or none; the home capsules and the goals kept
     clear of every shape."""
@@ -312,7 +356,10 @@ def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: in
     solver = default_solver_settings(
         method=draw(st.sampled_from(METHODS)), max_step=0.5, max_frames_per_goal=max_frames, clearance=0.05
     )
-    goal_poses = [np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02) for _ in range(draw(st.integers(1, max_goals)))]
+    goal_poses = [
+        np.clip(draw(poses(arm.n)), limits.lower + 0.02, limits.upper - 0.02)
+        for _ in range(draw(st.integers(1, max_goals)))
+    ]
     tips = forward(arm, np.array([home, *goal_poses])).tip
     obstacles = draw(shapes_across(tips, scale=1.0, spread=0.3, cylinders=cylinders))
     floor = draw(st.one_of(st.none(), st.floats(0.0, 1.0).map(lambda drop: float(arm.base[2]) - drop)))
@@ -321,8 +368,16 @@ def shaped_problems(draw, max_links: int = 6, max_goals: int = 3, max_frames: in
     cl = clearances(forward(arm, home), obstacles, capsules)
     assume(np.all(cl.links > solver.clearance))
     assume(np.all(point_clearances(tips[1:], obstacles) > half_width + solver.clearance))
-    return Problem(arm=arm, half_width=half_width, home=home, limits=limits, obstacles=obstacles,
-                   goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]), solver=solver, fps=30.0)
+    return Problem(
+        arm=arm,
+        half_width=half_width,
+        home=home,
+        limits=limits,
+        obstacles=obstacles,
+        goals=tuple(Goal(tip, hold=0.0) for tip in tips[1:]),
+        solver=solver,
+        fps=30.0,
+    )
 
 
 @st.composite
@@ -347,13 +402,24 @@ def joint_goal_problems(draw, max_links: int = 5, max_goals: int = 3) -> Problem
                 pose[j] = bound
         goal_poses.append(pose)
     tips = forward(arm, np.array([home, *goal_poses])).tip
-    obstacles = with_floor(draw(shapes_across(tips, scale=1.0, spread=0.3, cylinders=True)),
-                           draw(st.one_of(st.none(), st.floats(0.0, 1.0).map(lambda drop: float(arm.base[2]) - drop))))
+    obstacles = with_floor(
+        draw(shapes_across(tips, scale=1.0, spread=0.3, cylinders=True)),
+        draw(st.one_of(st.none(), st.floats(0.0, 1.0).map(lambda drop: float(arm.base[2]) - drop))),
+    )
     capsules = joint_capsules(arm, half_width)
-    assume(np.all(clearances(forward(arm, np.array([home, *goal_poses])), obstacles, capsules).links > solver.clearance))
-    return Problem(arm=arm, half_width=half_width, home=home, limits=limits, obstacles=obstacles,
-                   goals=tuple(Goal(tip, hold=0.0, joints=pose) for tip, pose in zip(tips[1:], goal_poses)), solver=solver,
-                   fps=30.0)
+    assume(
+        np.all(clearances(forward(arm, np.array([home, *goal_poses])), obstacles, capsules).links > solver.clearance)
+    )
+    return Problem(
+        arm=arm,
+        half_width=half_width,
+        home=home,
+        limits=limits,
+        obstacles=obstacles,
+        goals=tuple(Goal(tip, hold=0.0, joints=pose) for tip, pose in zip(tips[1:], goal_poses)),
+        solver=solver,
+        fps=30.0,
+    )
 
 
 @st.composite

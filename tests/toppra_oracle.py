@@ -29,7 +29,13 @@ def toppra_trajectory(path, speed: np.ndarray, acceleration: np.ndarray, gridpoi
             return np.array([0.0, path.length])
 
     toppra.setup_logging("WARNING")
-    constraints = [toppra.constraint.JointVelocityConstraint(np.stack([-speed, speed], axis=1)),
-                   toppra.constraint.JointAccelerationConstraint(np.stack([-acceleration, acceleration], axis=1))]
-    return toppra.algorithm.TOPPRA(constraints, ClockPath(), gridpoints=np.linspace(0, path.length, gridpoints),
-                                   parametrizer="ParametrizeConstAccel").compute_trajectory(0, 0)
+    constraints = [
+        toppra.constraint.JointVelocityConstraint(np.stack([-speed, speed], axis=1)),
+        toppra.constraint.JointAccelerationConstraint(np.stack([-acceleration, acceleration], axis=1)),
+    ]
+    return toppra.algorithm.TOPPRA(
+        constraints,
+        ClockPath(),
+        gridpoints=np.linspace(0, path.length, gridpoints),
+        parametrizer="ParametrizeConstAccel",
+    ).compute_trajectory(0, 0)

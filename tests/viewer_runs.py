@@ -20,8 +20,11 @@ def synthetic_scene(joints: int) -> dict:
         "version": 1,
         "name": f"synthetic-{joints}",
         "arm": {"base": [5, 5, 0], "links": links},
-        "obstacles": [{"center": [12, 9, 8], "radius": 2}, {"center": [8, 2, 11], "radius": 1.5},
-                      {"center": [3, 10, 9], "radius": 1.2}],
+        "obstacles": [
+            {"center": [12, 9, 8], "radius": 2},
+            {"center": [8, 2, 11], "radius": 1.5},
+            {"center": [3, 10, 9], "radius": 1.2},
+        ],
         "goals": [[14, 5, 6], [6, 15, 9], [2, 3, 12], [10, 10, 10]],
     }
 
@@ -42,13 +45,30 @@ def synthetic_run(frames: int, joints: int, seed: int = 0):
     targets = np.array([g.position for g in problem.goals])
     distance = np.linalg.norm(tip - targets[goal], axis=1)
     trajectory = Trajectory(
-        phi=phi, tip=tip, goal=goal, distance=distance, clearance=rng.uniform(0.1, 3.0, frames),
-        reached=np.zeros(frames, bool), iterations=np.ones(frames, int), step_scale=np.ones(frames), fps=30.0,
+        phi=phi,
+        tip=tip,
+        goal=goal,
+        distance=distance,
+        clearance=rng.uniform(0.1, 3.0, frames),
+        reached=np.zeros(frames, bool),
+        iterations=np.ones(frames, int),
+        step_scale=np.ones(frames),
+        fps=30.0,
     )
     reports = []
     for k in range(goals):
         span = np.nonzero(goal == k)[0]
-        reports.append(GoalReport(index=k, position=targets[k], reached=k % 2 == 0, reason=None if k % 2 == 0 else "stalled",
-                                  frames=len(span), first_frame=int(span[0]), last_frame=int(span[-1]),
-                                  final_distance=float(distance[span[-1]]), iterations=len(span)))
+        reports.append(
+            GoalReport(
+                index=k,
+                position=targets[k],
+                reached=k % 2 == 0,
+                reason=None if k % 2 == 0 else "stalled",
+                frames=len(span),
+                first_frame=int(span[0]),
+                last_frame=int(span[-1]),
+                final_distance=float(distance[span[-1]]),
+                iterations=len(span),
+            )
+        )
     return problem, trajectory, tuple(reports), render_settings(model)

@@ -38,8 +38,10 @@ def fitted_text(name: str) -> str:
     for mesh in bundled_link_meshes(FOLDER / name):
         for capsule in fit_capsules(mesh.vertices, mesh.faces):
             rows.append((mesh.link, capsule.start, capsule.end, capsule.radius))
-    header = (f"{name}: capsules fitted to its shipped meshes (visual.npz) by tools/fit_bundled.py, each holding every\n"
-              "vertex of its link's mesh; metres, each in its link's frame. A scene uses them with collision: fitted.")
+    header = (
+        f"{name}: capsules fitted to its shipped meshes (visual.npz) by tools/fit_bundled.py, each holding every\n"
+        "vertex of its link's mesh; metres, each in its link's frame. A scene uses them with collision: fitted."
+    )
     return collision_yaml(rows, header)
 
 

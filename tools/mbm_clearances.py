@@ -107,25 +107,35 @@ def measure(folder: Path, robot_name: str) -> None:
                 world, per_pair = state_gaps(robot_spheres(robot, values), data["obstacles"], pairs)
                 states.append((scene.parent.name, world, per_pair))
     always = {pair for pair in pairs if all(s[2][pair] < 0 for s in states)}
-    print(f"{robot_name}: {len(states)} states (starts and goals), {len(pairs)} enabled pairs; overlapping in every state "
-          f"(allowed as MoveIt's Always): {sorted(always) or 'none'}")
+    print(
+        f"{robot_name}: {len(states)} states (starts and goals), {len(pairs)} enabled pairs; overlapping in every state "
+        f"(allowed as MoveIt's Always): {sorted(always) or 'none'}"
+    )
     worlds = np.array([s[1] for s in states])
     selfs = np.array([min((g for p, g in s[2].items() if p not in always), default=np.inf) for s in states])
     nearest = min((p for p in pairs if p not in always), key=lambda p: min(s[2][p] for s in states))
-    print(f"  least gap to an object {worlds.min() * 1e3:.2f} mm; least self gap {selfs.min() * 1e3:.2f} mm ({nearest[0]}/{nearest[1]})")
+    print(
+        f"  least gap to an object {worlds.min() * 1e3:.2f} mm; least self gap {selfs.min() * 1e3:.2f} mm ({nearest[0]}/{nearest[1]})"
+    )
     positive = worlds[worlds > 0]
-    print(f"  least positive gap to an object {positive.min() * 1e3:.3f} mm; states touching or inside an object: {np.sum(worlds <= 0)}")
+    print(
+        f"  least positive gap to an object {positive.min() * 1e3:.3f} mm; states touching or inside an object: {np.sum(worlds <= 0)}"
+    )
     for c in CLEARANCES:
         admitted = (worlds >= c) & (selfs >= c)
         problems = admitted.reshape(-1, 2).all(axis=1)  # a start and its goal, in turn
-        print(f"  clearance = self_clearance = {c * 1e3:.1f} mm: {admitted.sum()}/{admitted.size} states "
-              f"({np.sum(worlds >= c)} clear of the objects, {np.sum(selfs >= c)} of itself), "
-              f"{problems.sum()}/{problems.size} problems with start and goal admitted")
+        print(
+            f"  clearance = self_clearance = {c * 1e3:.1f} mm: {admitted.sum()}/{admitted.size} states "
+            f"({np.sum(worlds >= c)} clear of the objects, {np.sum(selfs >= c)} of itself), "
+            f"{problems.sum()}/{problems.size} problems with start and goal admitted"
+        )
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("folder", type=Path, help="The folder of panda/ and ur5/ (problems.tar.bz2, spherized URDF, SRDF).")
+    parser.add_argument(
+        "folder", type=Path, help="The folder of panda/ and ur5/ (problems.tar.bz2, spherized URDF, SRDF)."
+    )
     parser.add_argument("--robots", default="panda,ur5")
     args = parser.parse_args(argv)
     for name in args.robots.split(","):

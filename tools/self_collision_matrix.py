@@ -30,7 +30,9 @@ def matrix_text(robot: str) -> str:
     scene = scene_model({"version": 1, "arm": {"robot": robot, "self_collision": "off"}, "goals": [[0.5, 0.0, 0.5]]})
     problem = scene_to_problem(scene)
     lim = problem.limits
-    allowed = selfcollision.automatic_matrix(problem.arm, problem.capsules, lim.lower, lim.upper, [problem.home], CLEARANCE)
+    allowed = selfcollision.automatic_matrix(
+        problem.arm, problem.capsules, lim.lower, lim.upper, [problem.home], CLEARANCE
+    )
     order = {pair: k for k, pair in enumerate(selfcollision.link_pairs(problem.capsules))}
     lines = [
         f"# {robot}'s allowed-collision matrix: written by tools/self_collision_matrix.py, do not edit.",
@@ -44,7 +46,9 @@ def matrix_text(robot: str) -> str:
         f"home_deg: [{', '.join(f'{v:g}' for v in joints_shown(problem.home, problem.arm.prismatic).round(6))}]",
         "allowed:",
     ]
-    lines += [f"  - [{a}, {b}, {reason}]" for (a, b), reason in sorted(allowed.items(), key=lambda item: order[item[0]])]
+    lines += [
+        f"  - [{a}, {b}, {reason}]" for (a, b), reason in sorted(allowed.items(), key=lambda item: order[item[0]])
+    ]
     return "\n".join(lines) + "\n"
 
 

@@ -42,7 +42,9 @@ class Draft:
     spheres: list = field(default_factory=list)  # (center (3,), radius)
     goals: list = field(default_factory=list)  # (3,) arrays
     witnesses: list = field(default_factory=list)  # the generator's pose per goal (None: out of reach)
-    orientations: list = field(default_factory=list)  # the tool's rotation (3, 3) per goal (the poses family), else empty
+    orientations: list = field(
+        default_factory=list
+    )  # the tool's rotation (3, 3) per goal (the poses family), else empty
     robot: str | None = None  # a bundled robot (the robot family): base, links, axes, direction, limits unused
     boxes: list = field(default_factory=list)  # (center (3,), size (3,) full edges, rpy (3,) degrees)
     rods: list = field(default_factory=list)  # (from (3,), to (3,), radius)
@@ -53,28 +55,49 @@ class Draft:
         """The oracle's view of the boxes, capsules and floor."""
         from armanim.arm.chain import rpy_rotation  # a rotation is data here: the contract's formula of rpy
 
-        boxes = tuple((np.asarray(c, float), np.asarray(sz, float) / 2, rpy_rotation(np.radians(r))) for c, sz, r in self.boxes)
-        return Solids(boxes, tuple((np.asarray(a, float), np.asarray(b, float), float(r)) for a, b, r in self.rods), self.floor)
+        boxes = tuple(
+            (np.asarray(c, float), np.asarray(sz, float) / 2, rpy_rotation(np.radians(r))) for c, sz, r in self.boxes
+        )
+        return Solids(
+            boxes, tuple((np.asarray(a, float), np.asarray(b, float), float(r)) for a, b, r in self.rods), self.floor
+        )
 
     def geometry(self, clearance: float = DEFAULT_CLEARANCE, tolerance: float = 0.01) -> Geometry:
         """The oracle's view of this draft."""
         if self.robot is not None:
             centers = np.array([c for c, _ in self.spheres]).reshape(-1, 3)
-            return replace(base_geometry(self.robot), centers=centers, radii=np.array([r for _, r in self.spheres]),
-                           tolerance=tolerance, clearance=clearance, solids=self.solids())
+            return replace(
+                base_geometry(self.robot),
+                centers=centers,
+                radii=np.array([r for _, r in self.spheres]),
+                tolerance=tolerance,
+                clearance=clearance,
+                solids=self.solids(),
+            )
         lower = np.array([np.radians(p[0]) if p else -np.inf for p in self.limits])
         upper = np.array([np.radians(p[1]) if p else np.inf for p in self.limits])
         return Geometry(
-            base=self.base, links=self.links, axes=tuple(self.axes), direction=AXES[AXIS_INDEX[self.direction]],
-            half_width=self.width / 2, lower=lower, upper=upper,
-            centers=np.array([c for c, _ in self.spheres]).reshape(-1, 3), radii=np.array([r for _, r in self.spheres]),
-            home=self.home, tolerance=tolerance, clearance=clearance, solids=self.solids(),
+            base=self.base,
+            links=self.links,
+            axes=tuple(self.axes),
+            direction=AXES[AXIS_INDEX[self.direction]],
+            half_width=self.width / 2,
+            lower=lower,
+            upper=upper,
+            centers=np.array([c for c, _ in self.spheres]).reshape(-1, 3),
+            radii=np.array([r for _, r in self.spheres]),
+            home=self.home,
+            tolerance=tolerance,
+            clearance=clearance,
+            solids=self.solids(),
         )
 
     def shape_entries(self) -> list:
         """The boxes and capsules as scene-file obstacles."""
         extra = {} if self.influence is None else {"influence": self.influence}
-        boxes = [{"box": {"center": floats(c), "size": floats(sz), "rpy": floats(r, 3)}, **extra} for c, sz, r in self.boxes]
+        boxes = [
+            {"box": {"center": floats(c), "size": floats(sz), "rpy": floats(r, 3)}, **extra} for c, sz, r in self.boxes
+        ]
         rods = [{"capsule": {"from": floats(a), "to": floats(b), "radius": float(r)}, **extra} for a, b, r in self.rods]
         return boxes + rods
 
@@ -98,29 +121,39 @@ class Draft:
         if planner is not None:
             solver["planner"] = planner
         if self.robot is not None:
-            return self.with_floor({
-                "version": 1, "name": name, "arm": {"robot": self.robot},
-                "obstacles": [{"center": floats(c), "radius": float(r), "influence": 0.1} for c, r in self.spheres],
-                "goals": [goal_entry(g, self.orientations[k] if self.orientations else None) for k, g in enumerate(self.goals)],
-                "solver": {**solver, **ROBOT_SOLVER}, "render": {"fps": 30},
-            })
-        return self.with_floor({
-            "version": 1,
-            "name": name,
-            "arm": {
-                "base": floats(self.base),
-                "links": floats(self.links),
-                "axes": list(self.axes),
-                "direction": self.direction,
-                "home": floats(np.degrees(self.home), 3),
-                "limits": [None if p is None else [float(p[0]), float(p[1])] for p in self.limits],
-                "width": float(self.width),
-            },
-            "obstacles": [{"center": floats(c), "radius": float(r)} for c, r in self.spheres],
-            "goals": [floats(g) for g in self.goals],
-            "solver": solver,
-            "render": {"fps": 30},
-        })
+            return self.with_floor(
+                {
+                    "version": 1,
+                    "name": name,
+                    "arm": {"robot": self.robot},
+                    "obstacles": [{"center": floats(c), "radius": float(r), "influence": 0.1} for c, r in self.spheres],
+                    "goals": [
+                        goal_entry(g, self.orientations[k] if self.orientations else None)
+                        for k, g in enumerate(self.goals)
+                    ],
+                    "solver": {**solver, **ROBOT_SOLVER},
+                    "render": {"fps": 30},
+                }
+            )
+        return self.with_floor(
+            {
+                "version": 1,
+                "name": name,
+                "arm": {
+                    "base": floats(self.base),
+                    "links": floats(self.links),
+                    "axes": list(self.axes),
+                    "direction": self.direction,
+                    "home": floats(np.degrees(self.home), 3),
+                    "limits": [None if p is None else [float(p[0]), float(p[1])] for p in self.limits],
+                    "width": float(self.width),
+                },
+                "obstacles": [{"center": floats(c), "radius": float(r)} for c, r in self.spheres],
+                "goals": [floats(g) for g in self.goals],
+                "solver": solver,
+                "render": {"fps": 30},
+            }
+        )
 
 
 def goal_entry(position: np.ndarray, rotation: np.ndarray | None):
@@ -158,8 +191,16 @@ def draw_arm(rng: np.random.Generator) -> Draft:
         links = rng.uniform(1, 5, n)
     home = np.zeros(n) if rng.random() < 0.5 else np.radians(np.round(rng.uniform(-60, 60, n), 3))
     limits = [draw_limit(rng, np.degrees(h)) if rng.random() < 0.5 else None for h in home]
-    return Draft(kind=kind, base=np.round(rng.uniform(-5, 5, 3), 4), links=np.round(links, 4), axes=axes,
-                 direction=direction, width=round(float(rng.uniform(0.3, 0.6)), 3), home=home, limits=limits)
+    return Draft(
+        kind=kind,
+        base=np.round(rng.uniform(-5, 5, 3), 4),
+        links=np.round(links, 4),
+        axes=axes,
+        direction=direction,
+        width=round(float(rng.uniform(0.3, 0.6)), 3),
+        home=home,
+        limits=limits,
+    )
 
 
 def draw_limit(rng: np.random.Generator, home_deg: float) -> tuple[float, float]:
@@ -368,8 +409,17 @@ def draw_robot_scene(rng: np.random.Generator) -> Draft:
     goal_poses = [robot_pose(rng, geo) for _ in range(int(rng.integers(3, 6)))]
     poses = np.array([geo.home] + goal_poses)
     tips, ends_a, ends_b = geo.placements(poses)
-    draft = Draft(kind=robot, base=np.zeros(3), links=np.array([geo.reach]), axes=[], direction="z", width=0.1,
-                  home=geo.home, limits=[], robot=robot)
+    draft = Draft(
+        kind=robot,
+        base=np.zeros(3),
+        links=np.array([geo.reach]),
+        axes=[],
+        direction="z",
+        width=0.1,
+        home=geo.home,
+        limits=[],
+        robot=robot,
+    )
     for _ in range(int(rng.integers(3, 11))):
         for _ in range(30):
             kind = rng.choice(["across", "near", "anywhere"], p=[0.4, 0.3, 0.3])

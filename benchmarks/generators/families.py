@@ -12,8 +12,14 @@ from armanim.scene.checks import scene_problems
 from generators.arms import Draft, draw_hard_scene, draw_robot_scene, draw_scene
 from generators.shapes import draw_pose_scene, draw_robot_shapes_scene, draw_shapes_scene
 
-FAMILIES = {"standard": draw_scene, "hard": draw_hard_scene, "robots": draw_robot_scene, "poses": draw_pose_scene,
-            "shapes": draw_shapes_scene, "robot-shapes": draw_robot_shapes_scene}
+FAMILIES = {
+    "standard": draw_scene,
+    "hard": draw_hard_scene,
+    "robots": draw_robot_scene,
+    "poses": draw_pose_scene,
+    "shapes": draw_shapes_scene,
+    "robot-shapes": draw_robot_shapes_scene,
+}
 
 
 SHAPE_FAMILIES = ("shapes", "robot-shapes")
@@ -56,8 +62,11 @@ def make_scene(seed: int, index: int, family: str = "standard") -> Draft:
     rng = np.random.default_rng([seed, index] if family == "standard" else [seed, index, FAMILY_STREAMS[family]])
     while True:
         draft = FAMILIES[family](rng)
-        enough = (len(draft.boxes) + len(draft.rods) >= 2 and len(draft.goals) >= 2) if family in SHAPE_FAMILIES else \
-            len(draft.spheres) >= (3 if family in ("robots", "poses") else 2)
+        enough = (
+            (len(draft.boxes) + len(draft.rods) >= 2 and len(draft.goals) >= 2)
+            if family in SHAPE_FAMILIES
+            else len(draft.spheres) >= (3 if family in ("robots", "poses") else 2)
+        )
         if enough and not armanim_rejects(draft.as_scene_dict(scene_name(seed, index))):
             return draft
 

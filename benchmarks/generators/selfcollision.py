@@ -37,12 +37,18 @@ CHAIN_URDF = """<robot name="fold-chain">
 
 def chain_urdf_text(count: int = 6) -> str:
     """A 6-joint chain of 0.3 m cylinders (radius 0.04) whose axes alternate z, y: it folds onto itself."""
-    links = "\n".join(f'  <link name="c{k}"><collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.04" '
-                      f'length="0.3"/></geometry></collision></link>' for k in range(count))
-    joints = "\n".join(f'  <joint name="q{k}" type="revolute"><parent link="{"base" if k == 0 else f"c{k - 1}"}"/>'
-                       f'<child link="c{k}"/><origin xyz="0 0 {0.05 if k == 0 else 0.3}"/>'
-                       f'<axis xyz="{"0 0 1" if k % 2 == 0 else "0 1 0"}"/>'
-                       f'<limit lower="-2.8" upper="2.8" effort="1" velocity="1"/></joint>' for k in range(count))
+    links = "\n".join(
+        f'  <link name="c{k}"><collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.04" '
+        f'length="0.3"/></geometry></collision></link>'
+        for k in range(count)
+    )
+    joints = "\n".join(
+        f'  <joint name="q{k}" type="revolute"><parent link="{"base" if k == 0 else f"c{k - 1}"}"/>'
+        f'<child link="c{k}"/><origin xyz="0 0 {0.05 if k == 0 else 0.3}"/>'
+        f'<axis xyz="{"0 0 1" if k % 2 == 0 else "0 1 0"}"/>'
+        f'<limit lower="-2.8" upper="2.8" effort="1" velocity="1"/></joint>'
+        for k in range(count)
+    )
     return CHAIN_URDF.format(links=links, joints=joints)
 
 
@@ -50,7 +56,12 @@ def self_scene_problem(robot: str, folder: Path, goals: list, self_collision="au
     """The problem of a self-collision scene: a bundled robot or the chain, no obstacles, the bundled
     robot scenes' solver settings (self_clearance: clearance / 2 = 0.01 m)."""
     arm = {"robot": robot} if robot != "chain" else {"urdf": str(folder / "chain.urdf"), "home": [0, 30, 60, 0, 30, 0]}
-    scene = {"version": 1, "arm": {**arm, "self_collision": self_collision}, "goals": goals, "solver": dict(ROBOT_SOLVER)}
+    scene = {
+        "version": 1,
+        "arm": {**arm, "self_collision": self_collision},
+        "goals": goals,
+        "solver": dict(ROBOT_SOLVER),
+    }
     return scene_to_problem(scene_model(scene, folder))
 
 

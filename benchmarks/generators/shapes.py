@@ -16,7 +16,11 @@ from generators.arms import GEN_CLEARANCE, Draft, draw_arm, draw_robot_scene, po
 def along_rpy(along: np.ndarray, roll: float) -> list:
     """rpy (degrees) of a box whose own x axis points along ``along`` (R = Rz(yaw) Ry(pitch) Rx(roll))."""
     along = along / max(np.linalg.norm(along), 1e-12)
-    return [roll, float(np.degrees(-np.arcsin(np.clip(along[2], -1, 1)))), float(np.degrees(np.arctan2(along[1], along[0])))]
+    return [
+        roll,
+        float(np.degrees(-np.arcsin(np.clip(along[2], -1, 1)))),
+        float(np.degrees(np.arctan2(along[1], along[0]))),
+    ]
 
 
 def shape_table(rng, tip, scale: dict) -> dict:
@@ -58,8 +62,13 @@ def shape_post(rng, a, b, scale: dict) -> dict:
 
 def rounded_shapes(shapes: dict) -> dict:
     """The shapes with their numbers rounded as a scene file writes them."""
-    return {"boxes": [(np.round(c, 4), [round(float(v), 4) for v in sz], [round(float(v), 3) for v in r]) for c, sz, r in shapes.get("boxes", [])],
-            "rods": [(np.round(a, 4), np.round(b, 4), round(float(r), 4)) for a, b, r in shapes.get("rods", [])]}
+    return {
+        "boxes": [
+            (np.round(c, 4), [round(float(v), 4) for v in sz], [round(float(v), 3) for v in r])
+            for c, sz, r in shapes.get("boxes", [])
+        ],
+        "rods": [(np.round(a, 4), np.round(b, 4), round(float(r), 4)) for a, b, r in shapes.get("rods", [])],
+    }
 
 
 def place_shapes(rng, draft: Draft, poses: list, tips: list, scale: dict, keep: float, count: int) -> None:
@@ -69,10 +78,15 @@ def place_shapes(rng, draft: Draft, poses: list, tips: list, scale: dict, keep: 
         for _ in range(30):
             kind = rng.choice(["table", "shelf", "wall", "post"])
             k = int(rng.integers(1, len(tips)))
-            shapes = rounded_shapes(shape_table(rng, tips[k], scale) if kind == "table" else
-                                    shape_shelf(rng, tips[k], scale) if kind == "shelf" else
-                                    shape_wall(rng, tips[k - 1], tips[k], scale) if kind == "wall" else
-                                    shape_post(rng, tips[k - 1], tips[k], scale))
+            shapes = rounded_shapes(
+                shape_table(rng, tips[k], scale)
+                if kind == "table"
+                else shape_shelf(rng, tips[k], scale)
+                if kind == "shelf"
+                else shape_wall(rng, tips[k - 1], tips[k], scale)
+                if kind == "wall"
+                else shape_post(rng, tips[k - 1], tips[k], scale)
+            )
             trial = replace(draft, spheres=[], boxes=shapes["boxes"], rods=shapes["rods"], floor=None)
             if poses_clear(trial, poses, keep) and base_clear(trial, scale["base"]):
                 draft.boxes.extend(shapes["boxes"])
@@ -90,12 +104,30 @@ def base_clear(draft: Draft, room: float) -> bool:
     return bool(np.all(solid_gaps(solids, (base - drop)[None], base[None], np.array([room]), np.zeros(1, bool)) > 0))
 
 
-LINK_SCALE = {"thick": (0.1, 0.3), "board": (0.1, 0.2), "top": (1.0, 3.0), "wall": (1.0, 3.0), "passage": (0.8, 1.5),
-              "post_half": (1.0, 3.0), "post_r": (0.15, 0.4), "jitter": 0.2, "base": 0.5}
+LINK_SCALE = {
+    "thick": (0.1, 0.3),
+    "board": (0.1, 0.2),
+    "top": (1.0, 3.0),
+    "wall": (1.0, 3.0),
+    "passage": (0.8, 1.5),
+    "post_half": (1.0, 3.0),
+    "post_r": (0.15, 0.4),
+    "jitter": 0.2,
+    "base": 0.5,
+}
 
 
-ROBOT_SCALE = {"thick": (0.03, 0.06), "board": (0.02, 0.03), "top": (0.3, 0.6), "wall": (0.2, 0.5), "passage": (0.12, 0.25),
-               "post_half": (0.15, 0.3), "post_r": (0.02, 0.04), "jitter": 0.02, "base": 0.12}
+ROBOT_SCALE = {
+    "thick": (0.03, 0.06),
+    "board": (0.02, 0.03),
+    "top": (0.3, 0.6),
+    "wall": (0.2, 0.5),
+    "passage": (0.12, 0.25),
+    "post_half": (0.15, 0.3),
+    "post_r": (0.02, 0.04),
+    "jitter": 0.02,
+    "base": 0.12,
+}
 
 
 def poses_above(rng, draft: Draft, draw_pose, count: int, keep: float) -> list:
@@ -137,8 +169,19 @@ def draw_robot_shapes_scene(rng: np.random.Generator) -> Draft:
     shelves, walls with a gap and posts across and around them (metres)."""
     robot = ROBOT_NAMES[int(rng.integers(0, len(ROBOT_NAMES)))]
     geo = base_geometry(robot)
-    draft = Draft(kind=robot, base=np.zeros(3), links=np.array([geo.reach]), axes=[], direction="z", width=0.1,
-                  home=geo.home, limits=[], robot=robot, floor=0.0, influence=0.05)
+    draft = Draft(
+        kind=robot,
+        base=np.zeros(3),
+        links=np.array([geo.reach]),
+        axes=[],
+        direction="z",
+        width=0.1,
+        home=geo.home,
+        limits=[],
+        robot=robot,
+        floor=0.0,
+        influence=0.05,
+    )
     goal_poses = poses_above(rng, draft, lambda: robot_pose(rng, geo), int(rng.integers(3, 6)), ROBOT_GEN_CLEARANCE)
     tips = list(geo.placements(np.array([geo.home] + goal_poses))[0])
     tip_room = 0.07 + ROBOT_GEN_CLEARANCE  # the largest tool capsule radius of the bundled robots, and the margin

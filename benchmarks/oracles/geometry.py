@@ -43,7 +43,9 @@ class Solids:
         """(coal geometry, coal transform) of every box and capsule (built once per call site)."""
         import coal
 
-        shapes = [(coal.Box(*(2 * np.asarray(h))), coal.Transform3s(np.asarray(r), np.asarray(c))) for c, h, r in self.boxes]
+        shapes = [
+            (coal.Box(*(2 * np.asarray(h))), coal.Transform3s(np.asarray(r), np.asarray(c))) for c, h, r in self.boxes
+        ]
         shapes += [coal_capsule(np.asarray(a), np.asarray(b), float(r)) for a, b, r in self.rods]
         return shapes
 
@@ -75,7 +77,9 @@ def solid_gaps(solids: Solids, a: np.ndarray, b: np.ndarray, radius: np.ndarray,
     request.gjk_tolerance = 1e-13
     for row, (p, q) in enumerate(zip(flat_a, flat_b)):
         r = float(radius[row % k])
-        capsule, tf = coal_capsule(p, q, r) if np.linalg.norm(q - p) > 0 else (coal.Sphere(r), coal.Transform3s(np.eye(3), p))
+        capsule, tf = (
+            coal_capsule(p, q, r) if np.linalg.norm(q - p) > 0 else (coal.Sphere(r), coal.Transform3s(np.eye(3), p))
+        )
         for col, (shape, placement) in enumerate(shapes):
             out[row, col] = coal.distance(shape, placement, capsule, tf, request, coal.DistanceResult())
         if solids.floor is not None:

@@ -68,7 +68,9 @@ def _task_rows(jac: np.ndarray, z: np.ndarray) -> np.ndarray:
     return np.concatenate([jac[:3], jac[3:] - np.outer(z, z) @ jac[3:]])
 
 
-def solve_point(geo: RobotGeometry, data, q: np.ndarray, point: np.ndarray, axis: np.ndarray) -> tuple[np.ndarray, bool]:
+def solve_point(
+    geo: RobotGeometry, data, q: np.ndarray, point: np.ndarray, axis: np.ndarray
+) -> tuple[np.ndarray, bool]:
     """Damped least squares from ``q`` until the tool is at ``point`` with its z along ``axis``."""
     for _ in range(ITERATIONS):
         p, z, jac = _pose(geo, data, q)
@@ -83,7 +85,10 @@ def solve_point(geo: RobotGeometry, data, q: np.ndarray, point: np.ndarray, axis
         step = rows.T @ np.linalg.solve(rows @ rows.T + DAMPING * np.eye(6), task)
         q = np.clip(q + step, geo.lower, geo.upper)
     p, z, _ = _pose(geo, data, q)
-    return q, bool(np.linalg.norm(point - p) < POSITION_TOLERANCE and np.arctan2(np.linalg.norm(_cross(z, axis)), z @ axis) < AXIS_TOLERANCE)
+    return q, bool(
+        np.linalg.norm(point - p) < POSITION_TOLERANCE
+        and np.arctan2(np.linalg.norm(_cross(z, axis)), z @ axis) < AXIS_TOLERANCE
+    )
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -114,8 +119,14 @@ def segment_gaps(a1: np.ndarray, b1: np.ndarray, a2: np.ndarray, b2: np.ndarray)
     s = np.where(a > tiny, s, 0.0)
     t = np.where(e > tiny, (b * s + f) / np.maximum(e, tiny), 0.0)
     # t outside [0, 1]: clamp it and find s again for that end of the second segment
-    s = np.where(t < 0.0, np.clip(-c / np.maximum(a, tiny), 0.0, 1.0), np.where(t > 1.0, np.clip((b - c) / np.maximum(a, tiny), 0.0, 1.0), s))
-    s = np.where(e > tiny, s, np.clip(-c / np.maximum(a, tiny), 0.0, 1.0))  # the second a point: its nearest on the first
+    s = np.where(
+        t < 0.0,
+        np.clip(-c / np.maximum(a, tiny), 0.0, 1.0),
+        np.where(t > 1.0, np.clip((b - c) / np.maximum(a, tiny), 0.0, 1.0), s),
+    )
+    s = np.where(
+        e > tiny, s, np.clip(-c / np.maximum(a, tiny), 0.0, 1.0)
+    )  # the second a point: its nearest on the first
     s = np.where(a > tiny, s, 0.0)
     t = np.clip(t, 0.0, 1.0)
     gap = a1 + s[..., None] * d1 - (a2 + t[..., None] * d2)
@@ -212,8 +223,17 @@ def check_gaps(geo: RobotGeometry, problem, poses: int = 20, seed: int = 0) -> f
     return worst
 
 
-def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, max_joint_step: float,
-                      clearance: float, starts: int = 24, seed: int = 0, problem=None, self_floor: float | None = None) -> float:
+def followed_fraction(
+    geo: RobotGeometry,
+    points: np.ndarray,
+    axis: np.ndarray,
+    max_joint_step: float,
+    clearance: float,
+    starts: int = 24,
+    seed: int = 0,
+    problem=None,
+    self_floor: float | None = None,
+) -> float:
     """The farthest share (0..1) of the path through ``points`` (m, 3), spaced :data:`STEP` apart,
     that the oracle follows from any of its starts in any of its :data:`DRIFTS`; with ``problem``,
     its enabled pairs of the robot's own capsules also keep ``self_floor`` (default
@@ -222,7 +242,9 @@ def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, 
     gaps = _Gaps(geo, problem, floors) if problem is not None else None
     data = geo.model.createData()
     rng = np.random.default_rng(seed)
-    seeds = [geo.home] + [rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi)) for _ in range(5 * starts)]
+    seeds = [geo.home] + [
+        rng.uniform(np.maximum(geo.lower, -np.pi), np.minimum(geo.upper, np.pi)) for _ in range(5 * starts)
+    ]
     poses: list[np.ndarray] = []
     for q0 in seeds:
         q, ok = solve_point(geo, data, q0.copy(), points[0], axis)
@@ -251,8 +273,17 @@ def followed_fraction(geo: RobotGeometry, points: np.ndarray, axis: np.ndarray, 
     return best / last
 
 
-def _followed(geo: RobotGeometry, data, floors: tuple, gaps: _Gaps | None, points: np.ndarray, axis: np.ndarray,
-              max_joint_step: float, done: list[np.ndarray], drift: str) -> list[np.ndarray]:
+def _followed(
+    geo: RobotGeometry,
+    data,
+    floors: tuple,
+    gaps: _Gaps | None,
+    points: np.ndarray,
+    axis: np.ndarray,
+    max_joint_step: float,
+    done: list[np.ndarray],
+    drift: str,
+) -> list[np.ndarray]:
     """The poses at ``points`` the oracle follows in the way ``drift`` on from ``done`` (the poses
     already followed, at ``points[:len(done)]``), those included."""
     done = list(done)

@@ -51,7 +51,9 @@ ORACLE_ORIENTATION_WEIGHT = 0.3  # metres per radian in the oracle's residual (t
 ORIENTATION_TOLERANCE = np.radians(1.0)  # armanim's default solver.orientation_tolerance
 
 
-def oracle_residual(geo: Geometry, goal: np.ndarray, phi: np.ndarray, orientation: np.ndarray | None = None) -> np.ndarray:
+def oracle_residual(
+    geo: Geometry, goal: np.ndarray, phi: np.ndarray, orientation: np.ndarray | None = None
+) -> np.ndarray:
     """Tip error (3), the weighted rotation error (3, pinocchio's log3 of R_goal R^T, only with an
     ``orientation``) and one hinge term per link-sphere pair, max(0, clearance + target - d)."""
     if isinstance(geo, RobotGeometry):
@@ -80,8 +82,13 @@ def is_witness(geo: Geometry, goal: np.ndarray, phi: np.ndarray, orientation: np
     return bool(inside and close and min_clearance(geo, phi) >= geo.clearance)
 
 
-def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts: int = ORACLE_STARTS,
-               orientation: np.ndarray | None = None) -> Verdict:
+def label_goal(
+    geo: Geometry,
+    goal: np.ndarray,
+    rng: np.random.Generator,
+    starts: int = ORACLE_STARTS,
+    orientation: np.ndarray | None = None,
+) -> Verdict:
     """Label one goal feasible or not by a multi-start bounded least-squares search.
 
     Parameters
@@ -97,11 +104,20 @@ def label_goal(geo: Geometry, goal: np.ndarray, rng: np.random.Generator, starts
     -------
     Verdict
     """
-    if not isinstance(geo, RobotGeometry) and np.linalg.norm(goal - geo.base) > geo.reach:  # a robot's reach is sampled: no shortcut
+    if (
+        not isinstance(geo, RobotGeometry) and np.linalg.norm(goal - geo.base) > geo.reach
+    ):  # a robot's reach is sampled: no shortcut
         return Verdict(False, "out_of_reach")
     lo, hi = search_bounds(geo)
     for start in start_poses(geo, rng, starts):
-        fit = least_squares(lambda p: oracle_residual(geo, goal, p, orientation), start, bounds=(lo, hi), xtol=1e-12, ftol=1e-12, gtol=1e-12)
+        fit = least_squares(
+            lambda p: oracle_residual(geo, goal, p, orientation),
+            start,
+            bounds=(lo, hi),
+            xtol=1e-12,
+            ftol=1e-12,
+            gtol=1e-12,
+        )
         if is_witness(geo, goal, fit.x, orientation):
             return Verdict(True, "feasible", fit.x)
     return Verdict(False, "no_free_pose")

@@ -133,8 +133,13 @@ class RobotGeometry:
         return np.concatenate([spheres, solid_gaps(self.solids, *ends, self.cap_r, self.cap_first)], axis=-1)
 
 
-def robot_geometry(robot: str, centers: np.ndarray, radii: np.ndarray, tolerance: float = ROBOT_SOLVER["tolerance"],
-                   clearance: float = ROBOT_SOLVER["clearance"]) -> RobotGeometry:
+def robot_geometry(
+    robot: str,
+    centers: np.ndarray,
+    radii: np.ndarray,
+    tolerance: float = ROBOT_SOLVER["tolerance"],
+    clearance: float = ROBOT_SOLVER["clearance"],
+) -> RobotGeometry:
     """The oracle's geometry of bundled robot ``robot`` among the given spheres."""
     import pinocchio as pin
 
@@ -152,12 +157,23 @@ def robot_geometry(robot: str, centers: np.ndarray, radii: np.ndarray, tolerance
         pin.framesForwardKinematics(model, data, q)
         far = max(far, float(np.linalg.norm(data.oMf[tip_frame].translation)))
     return RobotGeometry(
-        robot=robot, model=model, tip_frame=tip_frame, cap_frames=tuple(model.getFrameId(c.link) for c in keep),
-        cap_a=np.array([c.start for c in keep], dtype=float), cap_b=np.array([c.end for c in keep], dtype=float),
-        cap_r=np.array([c.radius for c in keep], dtype=float), lower=lower, upper=upper,
+        robot=robot,
+        model=model,
+        tip_frame=tip_frame,
+        cap_frames=tuple(model.getFrameId(c.link) for c in keep),
+        cap_a=np.array([c.start for c in keep], dtype=float),
+        cap_b=np.array([c.end for c in keep], dtype=float),
+        cap_r=np.array([c.radius for c in keep], dtype=float),
+        lower=lower,
+        upper=upper,
         cap_first=np.array([model.frames[model.getFrameId(c.link)].parentJoint == 1 for c in keep]),
-        centers=np.asarray(centers, dtype=float).reshape(-1, 3), radii=np.asarray(radii, dtype=float),
-        home=home, base=np.zeros(3), reach=1.1 * far, tolerance=tolerance, clearance=clearance,
+        centers=np.asarray(centers, dtype=float).reshape(-1, 3),
+        radii=np.asarray(radii, dtype=float),
+        home=home,
+        base=np.zeros(3),
+        reach=1.1 * far,
+        tolerance=tolerance,
+        clearance=clearance,
     )
 
 
@@ -172,9 +188,13 @@ def robot_model(robot: str):
         full = pin.buildModelFromUrdf(str(bundled_robot(robot).urdf))
         scene = scene_model({"version": 1, "name": "probe", "arm": {"robot": robot}, "goals": [[0.3, 0.0, 0.4]]})
         robot_arm = scene.arm.urdf_arm  # the chain's joint names and the capsule data, as the scene reads them
-        off_chain = [j for j in range(1, full.njoints) if full.names[j] not in robot_arm.joint_names]  # e.g. Panda's fingers
+        off_chain = [
+            j for j in range(1, full.njoints) if full.names[j] not in robot_arm.joint_names
+        ]  # e.g. Panda's fingers
         model = pin.buildReducedModel(full, off_chain, pin.neutral(full)) if off_chain else full
-        assert list(model.names)[1:] == list(robot_arm.joint_names), f"{robot}: pinocchio's joints differ from the chain's"
+        assert list(model.names)[1:] == list(robot_arm.joint_names), (
+            f"{robot}: pinocchio's joints differ from the chain's"
+        )
         assert model.nq == model.nv, f"{robot}: a joint with nq != nv (continuous) is not handled here"
         assert not robot_arm.fallback_links, f"{robot}: fallback capsules are not modelled by the oracle"
         _ROBOT_MODELS[robot] = (model, robot_arm.capsules)

@@ -90,13 +90,17 @@ def invariant_breaks(problem, trajectory, clearance: float | None, geo: Geometry
     """
     breaks = []
     phi = trajectory.phi
-    if not (np.all(np.isfinite(phi)) and np.all(np.isfinite(trajectory.tip)) and not np.any(np.isnan(trajectory.clearance))):
+    if not (
+        np.all(np.isfinite(phi)) and np.all(np.isfinite(trajectory.tip)) and not np.any(np.isnan(trajectory.clearance))
+    ):
         return ["NaN or infinity in phi, tip or clearance"]
     lim = problem.limits
     outside = (phi <= lim.lower) | (phi >= lim.upper)
     if np.any(outside):
         frame, joint = np.argwhere(outside)[0]
-        breaks.append(f"joint {joint + 1} at {np.degrees(phi[frame, joint]):.6g} deg on frame {frame} is not strictly inside its limits")
+        breaks.append(
+            f"joint {joint + 1} at {np.degrees(phi[frame, joint]):.6g} deg on frame {frame} is not strictly inside its limits"
+        )
     floor = clearance - ROUNDING if clearance is not None else 0.0
     for source, values in (("armanim", trajectory.clearance), ("oracle", min_clearance(geo, phi))):
         bad = values < floor if clearance is not None else values <= floor
@@ -108,8 +112,10 @@ def invariant_breaks(problem, trajectory, clearance: float | None, geo: Geometry
         turn = np.abs(np.mod(np.diff(phi, axis=0) + np.pi, 2 * np.pi) - np.pi)
         if turn.max() > problem.solver.max_joint_step + ROUNDING:
             frame = int(np.argmax(turn.max(axis=1))) + 1
-            breaks.append(f"a joint turned {np.degrees(turn.max()):.12g} deg on frame {frame} (max_joint_step "
-                          f"{np.degrees(problem.solver.max_joint_step):.12g}, excess {turn.max() - problem.solver.max_joint_step:.3g} rad)")
+            breaks.append(
+                f"a joint turned {np.degrees(turn.max()):.12g} deg on frame {frame} (max_joint_step "
+                f"{np.degrees(problem.solver.max_joint_step):.12g}, excess {turn.max() - problem.solver.max_joint_step:.3g} rad)"
+            )
     return breaks
 
 
@@ -171,7 +177,10 @@ def solve_one(draft: Draft, seed: int, index: int, method: str, planner: str, ge
     lim = problem.limits
     gaps = np.minimum(traj.phi - lim.lower, lim.upper - traj.phi)
     return Run(
-        scene=index, kind=draft.kind, method=method, planner=planner,
+        scene=index,
+        kind=draft.kind,
+        method=method,
+        planner=planner,
         reached=[bool(g.reached) for g in solution.goals],
         reasons=[g.reason for g in solution.goals],
         planned=[getattr(g, "planned", None) for g in solution.goals],
@@ -190,9 +199,20 @@ def crashed_run(draft: Draft, index: int, method: str, planner: str, exc: Except
     """The Run of a solve that raised: every goal missed with reason ``crash``, one broken invariant."""
     goals = len(draft.goals)
     return Run(
-        scene=index, kind=draft.kind, method=method, planner=planner, reached=[False] * goals,
-        reasons=["crash"] * goals, planned=[None] * goals, easy=[None] * goals, goal_seconds=[float("nan")] * goals,
-        frames=0, near_surface=0, at_limit=0, seconds=0.0, breaks=[f"solve_trajectory raised {type(exc).__name__}: {exc}"],
+        scene=index,
+        kind=draft.kind,
+        method=method,
+        planner=planner,
+        reached=[False] * goals,
+        reasons=["crash"] * goals,
+        planned=[None] * goals,
+        easy=[None] * goals,
+        goal_seconds=[float("nan")] * goals,
+        frames=0,
+        near_surface=0,
+        at_limit=0,
+        seconds=0.0,
+        breaks=[f"solve_trajectory raised {type(exc).__name__}: {exc}"],
     )
 
 
@@ -206,8 +226,12 @@ class SceneResult:
     witness_missed: int  # goals whose generator pose is a witness but the oracle found none
     oracle_seconds: float
     runs: list
-    twin_runs: list = field(default_factory=list)  # (method, frames, seconds, CPU seconds) of the spheres-only twin (shape families)
-    shape_times: list = field(default_factory=list)  # (method, frames, seconds, CPU seconds) of the shapes, timed beside the twin
+    twin_runs: list = field(
+        default_factory=list
+    )  # (method, frames, seconds, CPU seconds) of the spheres-only twin (shape families)
+    shape_times: list = field(
+        default_factory=list
+    )  # (method, frames, seconds, CPU seconds) of the shapes, timed beside the twin
     distance_seconds: tuple = ()  # (shapes single, twin single, shapes batched, twin batched) seconds per pose
 
 
@@ -240,10 +264,23 @@ def bench_scene(task: tuple) -> SceneResult:
     verdicts, missed = label_scene(draft, geo, seed, index)
     oracle_seconds = time.perf_counter() - start
     runs = [solve_one(draft, seed, index, m, p, geo, verdicts) for m in methods for p in planners]
-    timings = [paired_timing(draft, seed, index, run, rounds) for run in runs if run.planner == planners[0]] if family in SHAPE_FAMILIES else []
+    timings = (
+        [paired_timing(draft, seed, index, run, rounds) for run in runs if run.planner == planners[0]]
+        if family in SHAPE_FAMILIES
+        else []
+    )
     distances = distance_timing(draft, seed, index) if family in SHAPE_FAMILIES else ()
-    return SceneResult(index, draft.kind, verdicts, missed, oracle_seconds, runs,
-                       twin_runs=[t for _, t in timings], shape_times=[s for s, _ in timings], distance_seconds=distances)
+    return SceneResult(
+        index,
+        draft.kind,
+        verdicts,
+        missed,
+        oracle_seconds,
+        runs,
+        twin_runs=[t for _, t in timings],
+        shape_times=[s for s, _ in timings],
+        distance_seconds=distances,
+    )
 
 
 def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch: int = 2000) -> tuple:
@@ -251,7 +288,9 @@ def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch
     and with its spheres-only twin: every clearance of one pose at a time (what each frame's filter
     computes) and the smallest of ``batch`` poses at once (``min_link_clearance``: what the planner
     checks), the best of three rounds each."""
-    problems = [scene_to_problem(scene_model(d.as_scene_dict(scene_name(seed, index)))) for d in (draft, draft.spheres_twin())]
+    problems = [
+        scene_to_problem(scene_model(d.as_scene_dict(scene_name(seed, index)))) for d in (draft, draft.spheres_twin())
+    ]
     rng = np.random.default_rng([seed, index, 22])
     phi = rng.uniform(-np.pi, np.pi, (batch, problems[0].arm.n))
     out = []
@@ -273,7 +312,9 @@ def distance_timing(draft: Draft, seed: int, index: int, poses: int = 200, batch
 def scene_problem(draft: Draft, seed: int, index: int, method: str, planner: str):
     """armanim's problem of a draft solved with one method and planner setting."""
     field_planner = planner if planner_field_exists() else None
-    return scene_to_problem(scene_model(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner)))
+    return scene_to_problem(
+        scene_model(draft.as_scene_dict(scene_name(seed, index, method, field_planner), method, field_planner))
+    )
 
 
 def paired_timing(draft: Draft, seed: int, index: int, run: Run, rounds: int) -> tuple[tuple, tuple]:
@@ -290,7 +331,11 @@ def paired_timing(draft: Draft, seed: int, index: int, run: Run, rounds: int) ->
                 continue  # timed already by solve_one
             solution, seconds, _, cpu_seconds = timed_solve(problem)
             kept = best[name]
-            kept[0], kept[1], kept[2] = int(solution.trajectory.frames), min(kept[1], seconds), min(kept[2], cpu_seconds)
+            kept[0], kept[1], kept[2] = (
+                int(solution.trajectory.frames),
+                min(kept[1], seconds),
+                min(kept[2], cpu_seconds),
+            )
     return tuple([run.method] + best["shapes"]), tuple([run.method] + best["twin"])
 
 
@@ -308,6 +353,15 @@ def twin_rows(results: list, methods: list, planner: str) -> list[list[str]]:
         spheres = 1000.0 * sum(t[2] for t in twins) / twin_frames
         cpu_shaped = 1000.0 * sum(t[3] for t in shapes) / frames
         cpu_spheres = 1000.0 * sum(t[3] for t in twins) / twin_frames
-        rows.append([method, f"{shaped:.2f}", f"{spheres:.2f}", f"{shaped / spheres:.2f}x",
-                     f"{cpu_shaped:.2f}", f"{cpu_spheres:.2f}", f"{cpu_shaped / cpu_spheres:.2f}x"])
+        rows.append(
+            [
+                method,
+                f"{shaped:.2f}",
+                f"{spheres:.2f}",
+                f"{shaped / spheres:.2f}x",
+                f"{cpu_shaped:.2f}",
+                f"{cpu_spheres:.2f}",
+                f"{cpu_shaped / cpu_spheres:.2f}x",
+            ]
+        )
     return rows

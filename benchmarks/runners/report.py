@@ -40,17 +40,38 @@ def summary_rows(results: list, methods: list, planners: list) -> list[list[str]
                 limit += run.at_limit
                 seconds += run.seconds
                 broken += len(run.breaks)
-            per_planned = f"{np.nanmean(planned_times):.2f} s ({len(planned_times)})" if planned_times else ("0 planned" if any_planned_field else "n/a")
-            rows.append([
-                method, planner, percent(reached, feasible), str(bogus),
-                f"{100.0 * near / max(frames, 1):.1f} %", f"{100.0 * limit / max(frames, 1):.1f} %",
-                f"{1000.0 * seconds / max(frames, 1):.2f}", per_planned, str(broken),
-            ])
+            per_planned = (
+                f"{np.nanmean(planned_times):.2f} s ({len(planned_times)})"
+                if planned_times
+                else ("0 planned" if any_planned_field else "n/a")
+            )
+            rows.append(
+                [
+                    method,
+                    planner,
+                    percent(reached, feasible),
+                    str(bogus),
+                    f"{100.0 * near / max(frames, 1):.1f} %",
+                    f"{100.0 * limit / max(frames, 1):.1f} %",
+                    f"{1000.0 * seconds / max(frames, 1):.2f}",
+                    per_planned,
+                    str(broken),
+                ]
+            )
     return rows
 
 
-HEADER = ["method", "planner", "feasible reached", "reached infeasible", "frames <1e-3 of surface",
-          "frames on a limit", "ms/frame", "s/planned goal", "invariants broken"]
+HEADER = [
+    "method",
+    "planner",
+    "feasible reached",
+    "reached infeasible",
+    "frames <1e-3 of surface",
+    "frames on a limit",
+    "ms/frame",
+    "s/planned goal",
+    "invariants broken",
+]
 
 
 def print_table(header: list, rows: list) -> None:
@@ -99,28 +120,53 @@ def print_report(results: list, methods: list, planners: list, list_misses: bool
     """Print every table; return the number of broken invariants."""
     verdicts = [v for r in results for v in r.verdicts]
     why = Counter(v.why for v in verdicts)
-    print(f"\n{len(results)} scenes, {len(verdicts)} goals: oracle says {why['feasible']} feasible, "
-          f"{why['out_of_reach']} out of reach, {why['no_free_pose']} without a free pose inside the limits; "
-          f"generator poses the oracle failed to match: {sum(r.witness_missed for r in results)}; "
-          f"oracle time {sum(r.oracle_seconds for r in results):.1f} s")
-    print(f"armanim: planner field {'present' if planner_field_exists() else 'absent (only the current behaviour, labelled off)'}, "
-          f"clearance field {'present' if 'clearance' in SolverModel.model_fields else f'absent (oracle clearance {DEFAULT_CLEARANCE})'}\n")
+    print(
+        f"\n{len(results)} scenes, {len(verdicts)} goals: oracle says {why['feasible']} feasible, "
+        f"{why['out_of_reach']} out of reach, {why['no_free_pose']} without a free pose inside the limits; "
+        f"generator poses the oracle failed to match: {sum(r.witness_missed for r in results)}; "
+        f"oracle time {sum(r.oracle_seconds for r in results):.1f} s"
+    )
+    print(
+        f"armanim: planner field {'present' if planner_field_exists() else 'absent (only the current behaviour, labelled off)'}, "
+        f"clearance field {'present' if 'clearance' in SolverModel.model_fields else f'absent (oracle clearance {DEFAULT_CLEARANCE})'}\n"
+    )
     print_table(HEADER, summary_rows(results, methods, planners))
-    print("\nMisses of feasible goals by reason (easy: the straight joint-space line from the arm's last pose to the oracle's pose is clear):")
+    print(
+        "\nMisses of feasible goals by reason (easy: the straight joint-space line from the arm's last pose to the oracle's pose is clear):"
+    )
     for (method, planner), counts in sorted(miss_reasons(results).items()):
         easy = counts.pop("(easy)")
-        print(f"  {method:8s} {planner:4s} " + ", ".join(f"{reason} {n}" for reason, n in counts.most_common()) + f"; easy {easy}")
+        print(
+            f"  {method:8s} {planner:4s} "
+            + ", ".join(f"{reason} {n}" for reason, n in counts.most_common())
+            + f"; easy {easy}"
+        )
     if any(r.twin_runs for r in results):
-        print(f"\nTime per frame against the same scenes with spheres only (each box and capsule replaced by the largest "
-              f"sphere inside it, the floor dropped; planner {planners[0]}; each solve the best of its --timing-rounds, "
-              f"taken in turn with its twin's):")
-        print_table(["method", "ms/frame shapes", "ms/frame spheres twin", "ratio", "CPU ms/frame shapes", "CPU ms/frame twin", "CPU ratio"], twin_rows(results, methods, planners[0]))
+        print(
+            f"\nTime per frame against the same scenes with spheres only (each box and capsule replaced by the largest "
+            f"sphere inside it, the floor dropped; planner {planners[0]}; each solve the best of its --timing-rounds, "
+            f"taken in turn with its twin's):"
+        )
+        print_table(
+            [
+                "method",
+                "ms/frame shapes",
+                "ms/frame spheres twin",
+                "ratio",
+                "CPU ms/frame shapes",
+                "CPU ms/frame twin",
+                "CPU ratio",
+            ],
+            twin_rows(results, methods, planners[0]),
+        )
         timed = np.array([r.distance_seconds for r in results if r.distance_seconds])
         if len(timed):
             single, batched = timed[:, 0].sum() / timed[:, 1].sum(), timed[:, 2].sum() / timed[:, 3].sum()
-            print(f"armanim's clearances per pose (FK included), shapes / spheres twin: one pose at a time "
-                  f"{1e6 * timed[:, 0].mean():.0f} / {1e6 * timed[:, 1].mean():.0f} us = {single:.2f}x; "
-                  f"the smallest of 2000 at once {1e6 * timed[:, 2].mean():.1f} / {1e6 * timed[:, 3].mean():.1f} us = {batched:.2f}x")
+            print(
+                f"armanim's clearances per pose (FK included), shapes / spheres twin: one pose at a time "
+                f"{1e6 * timed[:, 0].mean():.0f} / {1e6 * timed[:, 1].mean():.0f} us = {single:.2f}x; "
+                f"the smallest of 2000 at once {1e6 * timed[:, 2].mean():.1f} / {1e6 * timed[:, 3].mean():.1f} us = {batched:.2f}x"
+            )
     print("\nFeasible goals reached per arm kind (all methods):")
     print_table(["arm kind", "scenes"] + [f"planner {p}" for p in planners], kind_rows(results, planners))
     broken = 0
@@ -129,14 +175,24 @@ def print_report(results: list, methods: list, planners: list, list_misses: bool
             for message in run.breaks:
                 broken += 1
                 print(f"INVARIANT scene {r.index} {run.method} {run.planner}: {message}")
-    flagged = [(r, run, k) for r in results for run in r.runs for k, (v, ok) in enumerate(zip(r.verdicts, run.reached)) if ok and not v.feasible]
+    flagged = [
+        (r, run, k)
+        for r in results
+        for run in r.runs
+        for k, (v, ok) in enumerate(zip(r.verdicts, run.reached))
+        if ok and not v.feasible
+    ]
     for r, run, k in flagged:
-        print(f"ORACLE? scene {r.index} goal {k} reached by {run.method}/{run.planner} but labelled {r.verdicts[k].why}")
+        print(
+            f"ORACLE? scene {r.index} goal {k} reached by {run.method}/{run.planner} but labelled {r.verdicts[k].why}"
+        )
     if list_misses:
         print("\nFeasible goals missed (scene, goal, arm kind, method, planner, reason; easy: straight line clear):")
         for r in results:
             for run in r.runs:
                 for k, (v, ok, reason, easy) in enumerate(zip(r.verdicts, run.reached, run.reasons, run.easy)):
                     if v.feasible and not ok:
-                        print(f"  scene {r.index:3d} goal {k} {r.kind:7s} {run.method:8s} {run.planner:4s} {reason}{' (easy)' if easy else ''}")
+                        print(
+                            f"  scene {r.index:3d} goal {k} {r.kind:7s} {run.method:8s} {run.planner:4s} {reason}{' (easy)' if easy else ''}"
+                        )
     return broken

@@ -29,7 +29,11 @@ def self_breaks(problem, trajectory, gaps: np.ndarray) -> list[str]:
     lim = problem.limits
     if np.any((phi <= lim.lower) | (phi >= lim.upper)):
         breaks.append("a joint on or past its limit")
-    if len(phi) > 1 and np.abs(np.mod(np.diff(phi, axis=0) + np.pi, 2 * np.pi) - np.pi).max() > problem.solver.max_joint_step + ROUNDING:
+    if (
+        len(phi) > 1
+        and np.abs(np.mod(np.diff(phi, axis=0) + np.pi, 2 * np.pi) - np.pi).max()
+        > problem.solver.max_joint_step + ROUNDING
+    ):
         breaks.append("a joint turned more than max_joint_step")
     if gaps.min() < problem.self_pairs.clearance - ROUNDING:
         breaks.append(f"an enabled pair {gaps.min():.3g} apart (self_clearance {problem.self_pairs.clearance:g})")
@@ -63,7 +67,9 @@ def self_family(args) -> int:
                 on = replace(problem, solver=replace(problem.solver, method=method))
                 modes = (("auto", on), ("off", replace(on, self_pairs=SelfPairs.none())))
                 best = {"auto": np.inf, "off": np.inf}
-                for _ in range(args.timing_rounds - 1):  # --timing-rounds: the two modes in turn, the best CPU time of each
+                for _ in range(
+                    args.timing_rounds - 1
+                ):  # --timing-rounds: the two modes in turn, the best CPU time of each
                     for mode, prob in modes:
                         best[mode] = min(best[mode], timed_solve(prob)[3])
                 for mode, prob in modes:
@@ -80,10 +86,26 @@ def self_family(args) -> int:
                         found = self_breaks(problem, solution.trajectory, gaps)
                         row["breaks"] += len(found)
                         broken += len(found)
-            print(f"[{k + 1}/{args.scenes}] scene {k} ({robot}, {len(poses)} goals crossing the body, {tried} draws)", file=sys.stderr, flush=True)
-    print(f"motion_bench --family self --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner auto")
-    header = ["robot", "method", "reached (auto)", "frames under (auto)", "broken", "ms/frame (auto)",
-              "reached (off)", "frames under (off)", "ms/frame (off)", "time ratio"]
+            print(
+                f"[{k + 1}/{args.scenes}] scene {k} ({robot}, {len(poses)} goals crossing the body, {tried} draws)",
+                file=sys.stderr,
+                flush=True,
+            )
+    print(
+        f"motion_bench --family self --seed {args.seed} --scenes {args.scenes} --methods {','.join(args.methods)} --planner auto"
+    )
+    header = [
+        "robot",
+        "method",
+        "reached (auto)",
+        "frames under (auto)",
+        "broken",
+        "ms/frame (auto)",
+        "reached (off)",
+        "frames under (off)",
+        "ms/frame (off)",
+        "time ratio",
+    ]
     table = []
     for robot in SELF_ROBOTS:
         for method in args.methods:
@@ -91,8 +113,20 @@ def self_family(args) -> int:
             if not a:
                 continue
             ms_a, ms_o = a["cpu_us"] / 1e3 / a["frames"], o["cpu_us"] / 1e3 / o["frames"]
-            table.append([robot, method, f"{a['reached']}/{a['goals']}", f"{a['under']}/{a['frames']}", str(a["breaks"]),
-                          f"{ms_a:.2f}", f"{o['reached']}/{o['goals']}", f"{o['under']}/{o['frames']}", f"{ms_o:.2f}", f"{ms_a / ms_o:.2f}"])
+            table.append(
+                [
+                    robot,
+                    method,
+                    f"{a['reached']}/{a['goals']}",
+                    f"{a['under']}/{a['frames']}",
+                    str(a["breaks"]),
+                    f"{ms_a:.2f}",
+                    f"{o['reached']}/{o['goals']}",
+                    f"{o['under']}/{o['frames']}",
+                    f"{ms_o:.2f}",
+                    f"{ms_a / ms_o:.2f}",
+                ]
+            )
     print_table(header, table)
     print("\nframe cost of the enabled pairs on the bundled scenes (CPU ms per frame, best of 3; issue 35's bar: 1.5x)")
     print_table(["scene", "enabled pairs", "ms/frame (auto)", "ms/frame (off)", "ratio"], bundled_frame_costs())
@@ -101,7 +135,15 @@ def self_family(args) -> int:
     return 1 if broken else 0
 
 
-BUNDLED_SCENES = ("panda-place", "panda-clutter", "panda-shelf", "ur5-table", "ur5-pen", "ur5-around", "iiwa-redundancy")
+BUNDLED_SCENES = (
+    "panda-place",
+    "panda-clutter",
+    "panda-shelf",
+    "ur5-table",
+    "ur5-pen",
+    "ur5-around",
+    "iiwa-redundancy",
+)
 
 
 def bundled_frame_costs(rounds: int = 3) -> list[list[str]]:
@@ -116,6 +158,13 @@ def bundled_frame_costs(rounds: int = 3) -> list[list[str]]:
         for mode, prob in (("auto", problem), ("off", replace(problem, self_pairs=SelfPairs.none()))) * rounds:
             solution, _, _, cpu = timed_solve(prob)
             best[mode] = min(best.get(mode, np.inf), cpu / solution.trajectory.frames)
-        rows.append([name, str(len(set(problem.self_pairs.names))), f"{best['auto'] * 1e3:.2f}", f"{best['off'] * 1e3:.2f}",
-                     f"{best['auto'] / best['off']:.2f}"])
+        rows.append(
+            [
+                name,
+                str(len(set(problem.self_pairs.names))),
+                f"{best['auto'] * 1e3:.2f}",
+                f"{best['off'] * 1e3:.2f}",
+                f"{best['auto'] / best['off']:.2f}",
+            ]
+        )
     return rows

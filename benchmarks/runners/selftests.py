@@ -33,9 +33,16 @@ def self_test_geometry(rng: np.random.Generator, poses: int = 200) -> None:
         axes = tuple(rng.choice(["x", "y", "z"], size=n))
         direction = str(rng.choice(["x", "y", "z"]))
         geo = Geometry(
-            base=rng.uniform(-5, 5, 3), links=rng.uniform(0.5, 5, n), axes=axes, direction=AXES[AXIS_INDEX[direction]],
-            half_width=float(rng.uniform(0.1, 0.4)), lower=np.full(n, -np.inf), upper=np.full(n, np.inf),
-            centers=rng.uniform(-8, 8, (3, 3)), radii=rng.uniform(0.2, 2, 3), home=np.zeros(n),
+            base=rng.uniform(-5, 5, 3),
+            links=rng.uniform(0.5, 5, n),
+            axes=axes,
+            direction=AXES[AXIS_INDEX[direction]],
+            half_width=float(rng.uniform(0.1, 0.4)),
+            lower=np.full(n, -np.inf),
+            upper=np.full(n, np.inf),
+            centers=rng.uniform(-8, 8, (3, 3)),
+            radii=rng.uniform(0.2, 2, 3),
+            home=np.zeros(n),
         )
         arm = Arm.from_names(list(geo.links), base=tuple(geo.base), axes=list(axes), direction=direction)
         phi = rng.uniform(-np.pi, np.pi, (poses, n))
@@ -62,10 +69,14 @@ def self_test_robots(rng: np.random.Generator, poses: int = 40) -> None:
         pose = forward(problem.arm, phi)
         assert np.max(np.abs(geo.tip(phi) - pose.tip)) < 1e-9, f"{robot}: pinocchio's tool point differs from armanim's"
         rotations = tool_rotation(problem.arm, pose)
-        assert max(np.abs(geo.rotation(q) - r).max() for q, r in zip(phi[:8], rotations)) < 1e-9, f"{robot}: pinocchio's tool frame differs from armanim's"
+        assert max(np.abs(geo.rotation(q) - r).max() for q, r in zip(phi[:8], rotations)) < 1e-9, (
+            f"{robot}: pinocchio's tool frame differs from armanim's"
+        )
         obstacles = Obstacles(centers=centers, radii=radii, influence=radii)
         theirs = min_link_clearance(pose, obstacles, problem.capsules)
-        assert np.max(np.abs(min_clearance(geo, phi) - theirs)) < 1e-9, f"{robot}: the oracle's capsule clearance differs from armanim's"
+        assert np.max(np.abs(min_clearance(geo, phi) - theirs)) < 1e-9, (
+            f"{robot}: the oracle's capsule clearance differs from armanim's"
+        )
 
 
 def self_test_solids(rng: np.random.Generator, poses: int = 60) -> None:
@@ -77,18 +88,41 @@ def self_test_solids(rng: np.random.Generator, poses: int = 60) -> None:
 
     for trial in range(6):
         n = int(rng.integers(2, 7))
-        arm = Arm.from_names(list(rng.uniform(1, 4, n)), base=tuple(rng.uniform(-2, 2, 3)), axes=list(rng.choice(["x", "y", "z"], n)))
+        arm = Arm.from_names(
+            list(rng.uniform(1, 4, n)), base=tuple(rng.uniform(-2, 2, 3)), axes=list(rng.choice(["x", "y", "z"], n))
+        )
         boxes = [(rng.uniform(-8, 8, 3), rng.uniform(0.5, 3, 3), rng.uniform(-180, 180, 3)) for _ in range(2)]
         rods = [(a, a + rng.normal(size=3) * 2, float(rng.uniform(0.2, 1))) for a in rng.uniform(-8, 8, (2, 3))]
         floor = float(arm.base[2] - 1.0)
-        draft = Draft(kind="test", base=arm.base, links=arm.links, axes=[], direction="z", width=0.4, home=np.zeros(n), limits=[],
-                      boxes=boxes, rods=rods, floor=floor)
+        draft = Draft(
+            kind="test",
+            base=arm.base,
+            links=arm.links,
+            axes=[],
+            direction="z",
+            width=0.4,
+            home=np.zeros(n),
+            limits=[],
+            boxes=boxes,
+            rods=rods,
+            floor=floor,
+        )
         solids = draft.solids()
-        obstacles = Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(5),
-                              Boxes(np.array([c for c, _, _ in boxes]), np.array([sz for _, sz, _ in boxes]) / 2,
-                                    np.array([rpy_rotation(np.radians(r)) for _, _, r in boxes])),
-                              Rods(np.array([a for a, _, _ in rods]), np.array([b for _, b, _ in rods]), np.array([r for _, _, r in rods])),
-                              floor, np.array([BOX, BOX, ROD, ROD, FLOOR]))
+        obstacles = Obstacles(
+            np.zeros((0, 3)),
+            np.zeros(0),
+            np.ones(5),
+            Boxes(
+                np.array([c for c, _, _ in boxes]),
+                np.array([sz for _, sz, _ in boxes]) / 2,
+                np.array([rpy_rotation(np.radians(r)) for _, _, r in boxes]),
+            ),
+            Rods(
+                np.array([a for a, _, _ in rods]), np.array([b for _, b, _ in rods]), np.array([r for _, _, r in rods])
+            ),
+            floor,
+            np.array([BOX, BOX, ROD, ROD, FLOOR]),
+        )
         phi = rng.uniform(-np.pi, np.pi, (poses, n))
         pose = forward(arm, phi)
         ours = clearances(pose, obstacles, joint_capsules(arm, 0.2)).links
@@ -98,4 +132,6 @@ def self_test_solids(rng: np.random.Generator, poses: int = 60) -> None:
         both_inf = np.isinf(ours) & np.isinf(theirs)  # the floor's column of the first link: left out by both
         with np.errstate(invalid="ignore"):  # inf - inf where both are infinite, replaced by 0
             diff = np.abs(np.where(both_inf, 0.0, ours - theirs))
-        assert np.max(diff[clear]) < 1e-9, f"trial {trial}: the oracle's solid clearances differ from armanim's by {np.max(diff[clear]):.3g}"
+        assert np.max(diff[clear]) < 1e-9, (
+            f"trial {trial}: the oracle's solid clearances differ from armanim's by {np.max(diff[clear]):.3g}"
+        )

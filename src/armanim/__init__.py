@@ -22,7 +22,10 @@ _LAZY = {
     "RenderOverrides": ("armanim.render.settings", "RenderOverrides"),
     "RunOptions": ("armanim.runs.options", "RunOptions"),
     "solve_pose": ("armanim.motion.ik", "solve_pose"),
-    "forward": ("armanim.arm.kernel", "forward"),  # compiled (numba, loaded on first use); numpy's is arm.kinematics.forward
+    "forward": (
+        "armanim.arm.kernel",
+        "forward",
+    ),  # compiled (numba, loaded on first use); numpy's is arm.kinematics.forward
     "Arm": ("armanim.arm.kinematics", "Arm"),
     "solve_trajectory": ("armanim.motion.trajectory", "solve_trajectory"),
     "import_moveit": ("armanim.scene.moveitscene", "import_moveit"),

@@ -13,7 +13,9 @@ import sys
 
 
 def _quit_before_the_command(signum, frame):
-    os.write(2, b"armanim: interrupted; nothing half-written was left behind\n")  # errors.INTERRUPTED (not imported yet)
+    os.write(
+        2, b"armanim: interrupted; nothing half-written was left behind\n"
+    )  # errors.INTERRUPTED (not imported yet)
     os._exit(130)
 
 

@@ -27,8 +27,16 @@ RobotLook = Literal["mesh", "capsules", "both"]
 """``render.format``."""
 
 MissReason = Literal[
-    "out_of_reach", "no_free_pose", "no_path", "blocked_by_obstacle", "blocked_by_limit", "stalled", "too_slow",
-    "numerical", "orientation_unreachable", "path_blocked",
+    "out_of_reach",
+    "no_free_pose",
+    "no_path",
+    "blocked_by_obstacle",
+    "blocked_by_limit",
+    "stalled",
+    "too_slow",
+    "numerical",
+    "orientation_unreachable",
+    "path_blocked",
 ]
 """Why a goal of a run was missed (explained by :data:`armanim.motion.solution.MISS_REASONS`)."""
 

@@ -14,7 +14,9 @@ from armanim.runs.golden import golden_paths, scene_change_note, solve_csv_text
 from armanim.scene import load_scene
 
 
-def assert_trajectory_matches(scene: str | Path, golden: str | Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> None:
+def assert_trajectory_matches(
+    scene: str | Path, golden: str | Path, *, atol_deg: float = 1e-6, atol: float = 1e-6
+) -> None:
     """Run ``scene`` (no video) and assert its trajectory matches the ``golden`` CSV.
 
     Parameters

@@ -26,7 +26,9 @@ def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.nd
 
 def excess(points: np.ndarray, capsules) -> np.ndarray:
     """How far each point lies outside the nearest capsule (<= 0: held)."""
-    return np.min([point_segment_distance(points, c.start.tolist(), c.end.tolist()) - c.radius for c in capsules], axis=0)
+    return np.min(
+        [point_segment_distance(points, c.start.tolist(), c.end.tolist()) - c.radius for c in capsules], axis=0
+    )
 
 
 def surface_samples(mesh: trimesh.Trimesh, count: int = 2000) -> np.ndarray:
@@ -38,11 +40,19 @@ def surface_samples(mesh: trimesh.Trimesh, count: int = 2000) -> np.ndarray:
 
 
 def shapes() -> dict[str, trimesh.Trimesh]:
-    bent = trimesh.util.concatenate([trimesh.creation.box(extents=(0.4, 0.08, 0.08)),
-                                     trimesh.creation.box(extents=(0.08, 0.08, 0.3), transform=trimesh.transformations.translation_matrix((0.16, 0, 0.15)))])
+    bent = trimesh.util.concatenate(
+        [
+            trimesh.creation.box(extents=(0.4, 0.08, 0.08)),
+            trimesh.creation.box(
+                extents=(0.08, 0.08, 0.3), transform=trimesh.transformations.translation_matrix((0.16, 0, 0.15))
+            ),
+        ]
+    )
     return {
         "cylinder": trimesh.creation.cylinder(radius=0.05, height=0.4, sections=32),
-        "tilted box": trimesh.creation.box(extents=(0.1, 0.2, 0.5), transform=trimesh.transformations.euler_matrix(0.3, -0.7, 1.1)),
+        "tilted box": trimesh.creation.box(
+            extents=(0.1, 0.2, 0.5), transform=trimesh.transformations.euler_matrix(0.3, -0.7, 1.1)
+        ),
         "sphere": trimesh.creation.icosphere(subdivisions=2, radius=0.07),
         "L": bent,
         "flat plate": trimesh.creation.box(extents=(0.3, 0.3, 0.01)),
@@ -76,11 +86,15 @@ def test_the_volume_is_near_the_convex_hulls():
 def test_the_same_mesh_gives_the_same_capsules_bit_for_bit():
     mesh = shapes()["L"]
     first, second = fit_capsules(mesh.vertices, mesh.faces), fit_capsules(mesh.vertices.copy(), mesh.faces.copy())
-    assert [(c.start.tobytes(), c.end.tobytes(), c.radius) for c in first] == [(c.start.tobytes(), c.end.tobytes(), c.radius) for c in second]
+    assert [(c.start.tobytes(), c.end.tobytes(), c.radius) for c in first] == [
+        (c.start.tobytes(), c.end.tobytes(), c.radius) for c in second
+    ]
     shuffled = np.random.default_rng(3).permutation(len(mesh.vertices))  # the same points in another order
     inverse = np.argsort(shuffled)
     again = fit_capsules(mesh.vertices[shuffled], inverse[mesh.faces])
-    assert [(c.start.tolist(), c.end.tolist(), c.radius) for c in again] == [(c.start.tolist(), c.end.tolist(), c.radius) for c in first]
+    assert [(c.start.tolist(), c.end.tolist(), c.radius) for c in again] == [
+        (c.start.tolist(), c.end.tolist(), c.radius) for c in first
+    ]
 
 
 def test_degenerate_inputs():
@@ -111,8 +125,13 @@ def test_a_fine_mesh_weighed_on_fewer_points_still_holds_every_vertex():
     from armanim.arm.fitting import SEARCH_POINTS
 
     tube = trimesh.creation.cylinder(radius=0.03, height=0.4, sections=96)
-    arm = trimesh.creation.cylinder(radius=0.03, height=0.3, sections=96,
-                                    transform=trimesh.transformations.rotation_matrix(np.pi / 2, (0, 1, 0)) @ trimesh.transformations.translation_matrix((-0.2, 0, 0.15)))
+    arm = trimesh.creation.cylinder(
+        radius=0.03,
+        height=0.3,
+        sections=96,
+        transform=trimesh.transformations.rotation_matrix(np.pi / 2, (0, 1, 0))
+        @ trimesh.transformations.translation_matrix((-0.2, 0, 0.15)),
+    )
     mesh = trimesh.util.concatenate([tube, arm]).subdivide().subdivide()
     assert len(mesh.vertices) > SEARCH_POINTS
     capsules = fit_capsules(mesh.vertices, mesh.faces)
@@ -144,15 +163,19 @@ def test_a_mesh_over_the_large_bound_is_searched_on_few_points_and_every_vertex_
     assert len(vertices) > fitting.LARGE_POINTS
     seen: list[int] = []
     search = fitting._search
-    monkeypatch.setattr(fitting, "_search", lambda points, edges, most: (seen.append(len(points)), search(points, edges, most))[1])
+    monkeypatch.setattr(
+        fitting, "_search", lambda points, edges, most: (seen.append(len(points)), search(points, edges, most))[1]
+    )
     capsules = fit_capsules(vertices, faces)
-    assert seen and max(seen) <= fitting.LARGE_GRID ** 3
+    assert seen and max(seen) <= fitting.LARGE_GRID**3
     assert 2 <= len(capsules) <= 3
     assert excess(vertices, capsules).max() <= 1e-12
     mesh = trimesh.Trimesh(vertices, faces, process=False)
     assert excess(surface_samples(mesh), capsules).max() <= 1e-9
     again = fit_capsules(vertices.copy(), faces.copy())
-    assert [(c.start.tolist(), c.end.tolist(), c.radius) for c in again] == [(c.start.tolist(), c.end.tolist(), c.radius) for c in capsules]
+    assert [(c.start.tolist(), c.end.tolist(), c.radius) for c in again] == [
+        (c.start.tolist(), c.end.tolist(), c.radius) for c in capsules
+    ]
 
 
 def test_an_edge_ending_on_a_cut_plane_is_held_on_both_sides():
@@ -175,7 +198,9 @@ def test_the_kept_capsule_moves_and_tilts_its_axis_when_that_saves_volume():
     from armanim.arm import fitting
 
     stick = trimesh.creation.cylinder(radius=0.02, height=0.3, sections=32)
-    lug = trimesh.creation.box(extents=(0.08, 0.05, 0.06), transform=trimesh.transformations.translation_matrix((0.03, 0, 0.12)))
+    lug = trimesh.creation.box(
+        extents=(0.08, 0.05, 0.06), transform=trimesh.transformations.translation_matrix((0.03, 0, 0.12))
+    )
     mesh = trimesh.util.concatenate([stick, lug])
     hull = fitting.hull_points(np.unique(mesh.vertices, axis=0))
     centred = fitting._piece_fit(hull, fine=True, hulled=True)[0]
@@ -207,7 +232,9 @@ def test_the_fit_kept_claims_no_more_space_outside_the_hull_than_one_capsule(nam
     from armanim.arm.fitting import VOLUME_ALLOWANCE
 
     disk = trimesh.creation.cylinder(radius=0.044, height=0.055, sections=48)
-    lug = trimesh.creation.box(extents=(0.06, 0.03, 0.022), transform=trimesh.transformations.translation_matrix((0.06, 0, 0.016)))
+    lug = trimesh.creation.box(
+        extents=(0.06, 0.03, 0.022), transform=trimesh.transformations.translation_matrix((0.06, 0, 0.016))
+    )
     mesh = trimesh.util.concatenate([disk, lug]) if name == "flange" else shapes()[name]
     hull = mesh.convex_hull
     kept, one = fit_capsules(mesh.vertices, mesh.faces), fit_capsules(mesh.vertices, mesh.faces, max_capsules=1)

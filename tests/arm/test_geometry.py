@@ -14,8 +14,17 @@ from armanim.arm.geometry import unit_vector
 from armanim.motion.orientation import Orientation
 
 
-@pytest.mark.parametrize("vector", [[1e-320, 0, 0], [1e-200, 1e-200, 0], [1e308, 0, 1e308], [-1e308, -1e308, -1e308],
-                                    [5e-324, 5e-324, 0], [0, -0.0, 3e-310]])
+@pytest.mark.parametrize(
+    "vector",
+    [
+        [1e-320, 0, 0],
+        [1e-200, 1e-200, 0],
+        [1e308, 0, 1e308],
+        [-1e308, -1e308, -1e308],
+        [5e-324, 5e-324, 0],
+        [0, -0.0, 3e-310],
+    ],
+)
 def test_a_direction_of_any_finite_size_is_normalised_exactly(vector):
     unit = unit_vector(vector)
     exact = np.sign(vector) * (np.array(vector) != 0) / math.sqrt(sum(v != 0 for v in vector))  # equal components here

@@ -20,8 +20,16 @@ from armanim.scene.robots import ROBOTS, bundled_robot
 from armanim.scene.urdf import chain_joints, read_urdf
 
 TOL = 1e-12
-ROBOT_ARMS = {name: serial_chain(np.eye(4), chain_joints(read_urdf(Path(bundled_robot(name).urdf)), bundled_robot(name).base_link,
-                                                        bundled_robot(name).tip_link), np.eye(4)).arm for name in ROBOTS}
+ROBOT_ARMS = {
+    name: serial_chain(
+        np.eye(4),
+        chain_joints(
+            read_urdf(Path(bundled_robot(name).urdf)), bundled_robot(name).base_link, bundled_robot(name).tip_link
+        ),
+        np.eye(4),
+    ).arm
+    for name in ROBOTS
+}
 
 vectors = st.lists(st.floats(-3.0, 3.0, allow_nan=False), min_size=3, max_size=3).map(np.array)
 
@@ -32,8 +40,13 @@ def general_arms(draw, max_links: int = 8) -> Arm:
     n = draw(st.integers(1, max_links))
     axes = [draw(vectors) for _ in range(n)]
     axes = [a / np.linalg.norm(a) if np.linalg.norm(a) > 1e-3 else np.array([0.0, 0, 1]) for a in axes]
-    return Arm(base=draw(vectors), axes=np.array(axes), offsets=np.array([draw(vectors) for _ in range(n)]),
-               base_rotation=rotation_exp(draw(vectors)), turns=np.array([rotation_exp(draw(vectors)) for _ in range(n)]))
+    return Arm(
+        base=draw(vectors),
+        axes=np.array(axes),
+        offsets=np.array([draw(vectors) for _ in range(n)]),
+        base_rotation=rotation_exp(draw(vectors)),
+        turns=np.array([rotation_exp(draw(vectors)) for _ in range(n)]),
+    )
 
 
 def any_arms():
@@ -68,19 +81,30 @@ def test_compiled_forward_kinematics_equals_the_numpy_chain(case):
     if len(batch):
         assert_same_pose(arm, batch.reshape(1, len(batch), arm.n))  # any leading shape
         one_by_one = [kernel.forward(arm, p).points for p in batch]
-        np.testing.assert_array_equal(kernel.forward(arm, batch).points, one_by_one)  # a pose's numbers do not depend on its batch
+        np.testing.assert_array_equal(
+            kernel.forward(arm, batch).points, one_by_one
+        )  # a pose's numbers do not depend on its batch
 
 
 def test_compiled_forward_kinematics_of_the_notes_arm_at_home():
     arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
     pose = kernel.forward(arm, np.zeros(4))
     assert pose.tip.tolist() == [5.0, 5.0, 17.0]
-    assert kernel.geometric_jacobian(pose)[:3].tolist() == [[0.0, 15.0, 10.0, 5.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]]
+    assert kernel.geometric_jacobian(pose)[:3].tolist() == [
+        [0.0, 15.0, 10.0, 5.0],
+        [0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 0.0],
+    ]
 
 
 rotations = vectors.map(rotation_exp)
 near_half_turns = st.tuples(vectors, st.floats(np.pi - 0.5, np.pi)).map(
-    lambda va: rotation_exp(va[1] * va[0] / np.linalg.norm(va[0])) if np.linalg.norm(va[0]) > 1e-3 else rotation_exp(np.array([0.0, 0.0, va[1]])))
+    lambda va: (
+        rotation_exp(va[1] * va[0] / np.linalg.norm(va[0]))
+        if np.linalg.norm(va[0]) > 1e-3
+        else rotation_exp(np.array([0.0, 0.0, va[1]]))
+    )
+)
 tiny_turns = vectors.map(lambda v: rotation_exp(1e-6 * v))
 
 
@@ -88,7 +112,9 @@ tiny_turns = vectors.map(lambda v: rotation_exp(1e-6 * v))
 @given(st.one_of(rotations, near_half_turns, tiny_turns), rotations)
 def test_compiled_rotation_log_equals_the_numpy_one(rot, goal):
     np.testing.assert_allclose(kernel.rotation_log(rot), rotation_log(rot), atol=TOL, rtol=0)
-    np.testing.assert_allclose(kernel.rotation_log(np.stack([rot, goal])), rotation_log(np.stack([rot, goal])), atol=TOL, rtol=0)
+    np.testing.assert_allclose(
+        kernel.rotation_log(np.stack([rot, goal])), rotation_log(np.stack([rot, goal])), atol=TOL, rtol=0
+    )
     np.testing.assert_allclose(kernel.rotation_error(goal, rot), rotation_log(goal @ rot.T), atol=TOL, rtol=0)
 
 

@@ -37,8 +37,9 @@ CALLER = textwrap.dedent("""
 
 def _read(folder: Path, mode: str) -> str:
     env = {**os.environ, "NUMBA_CACHE_DIR": str(folder / "cache"), "PYTHONPATH": str(folder)}
-    proc = subprocess.run([sys.executable, str(folder / "caller.py"), mode], capture_output=True, text=True, env=env,
-                          timeout=300)
+    proc = subprocess.run(
+        [sys.executable, str(folder / "caller.py"), mode], capture_output=True, text=True, env=env, timeout=300
+    )
     assert proc.returncode == 0, proc.stderr
     return proc.stdout.strip()
 

@@ -204,7 +204,9 @@ def test_batched_fk_equals_one_by_one(arm, frames, rnd):
     jac = point_jacobian(arm, batch, arm.n - 1, link_point(batch, arm.n - 1, 0.5))
     for k in range(frames):
         one = forward(arm, phi[k])
-        np.testing.assert_allclose(jac[k], point_jacobian(arm, one, arm.n - 1, link_point(one, arm.n - 1, 0.5)), atol=1e-12)
+        np.testing.assert_allclose(
+            jac[k], point_jacobian(arm, one, arm.n - 1, link_point(one, arm.n - 1, 0.5)), atol=1e-12
+        )
 
 
 def test_fk_accepts_2d_batch_shape():

@@ -36,9 +36,14 @@ def mixed_arms(draw, max_links: int = 7) -> tuple[Arm, np.ndarray]:
     axes = [a / np.linalg.norm(a) if np.linalg.norm(a) > 1e-3 else np.array([0.0, 0, 1]) for a in axes]
     slides = draw(st.lists(st.booleans(), min_size=n, max_size=n))
     slides[draw(st.integers(0, n - 1))] = True
-    arm = Arm(base=draw(vectors), axes=np.array(axes), offsets=np.array([draw(vectors) for _ in range(n)]),
-              base_rotation=rotation_exp(draw(vectors)), turns=np.array([rotation_exp(draw(vectors)) for _ in range(n)]),
-              prismatic=np.array(slides))
+    arm = Arm(
+        base=draw(vectors),
+        axes=np.array(axes),
+        offsets=np.array([draw(vectors) for _ in range(n)]),
+        base_rotation=rotation_exp(draw(vectors)),
+        turns=np.array([rotation_exp(draw(vectors)) for _ in range(n)]),
+        prismatic=np.array(slides),
+    )
     phi = np.array([draw(st.floats(-1.5, 1.5, allow_nan=False)) for _ in range(n)])
     return arm, phi
 
@@ -74,7 +79,9 @@ def test_forward_kinematics_and_jacobians_equal_pinocchio(case):
         np.testing.assert_allclose(pose.frames[i], data.oMi[i + 1].rotation, atol=TOL, rtol=0)
     np.testing.assert_allclose(pose.tip, data.oMf[tool].translation, atol=TOL, rtol=0)
     np.testing.assert_allclose(tool_rotation(arm, pose), data.oMf[tool].rotation, atol=TOL, rtol=0)
-    jac = np.asarray(pin.computeFrameJacobian(model, data, phi, tool, pin.LOCAL_WORLD_ALIGNED)).reshape(6, arm.n)  # (6,) for one joint
+    jac = np.asarray(pin.computeFrameJacobian(model, data, phi, tool, pin.LOCAL_WORLD_ALIGNED)).reshape(
+        6, arm.n
+    )  # (6,) for one joint
     np.testing.assert_allclose(tip_jacobian(arm, pose), jac[:3], atol=TOL, rtol=0)
     np.testing.assert_allclose(angular_jacobian(arm, pose), jac[3:], atol=TOL, rtol=0)
     compiled, compiled_tool = kernel.forward_with_tool(arm, phi)
@@ -114,11 +121,17 @@ def test_jacobians_and_hessian_are_the_derivatives_of_forward_kinematics(case, t
 
 def test_a_rail_carries_the_arm_along_its_axis():
     """One metre of rail along x, then a revolute joint about z with a 1 m link along x."""
-    arm = Arm(base=np.zeros(3), axes=np.array([[1.0, 0, 0], [0, 0, 1.0]]), offsets=np.array([[0.0, 0, 0.5], [1.0, 0, 0]]),
-              prismatic=np.array([True, False]))
+    arm = Arm(
+        base=np.zeros(3),
+        axes=np.array([[1.0, 0, 0], [0, 0, 1.0]]),
+        offsets=np.array([[0.0, 0, 0.5], [1.0, 0, 0]]),
+        prismatic=np.array([True, False]),
+    )
     pose = forward(arm, np.array([1.0, np.pi / 2]))
     np.testing.assert_allclose(pose.tip, [1.0, 1.0, 0.5], atol=TOL)
     np.testing.assert_allclose(tip_jacobian(arm, pose), [[1.0, -1.0], [0.0, 0.0], [0.0, 0.0]], atol=TOL)
     np.testing.assert_allclose(angular_jacobian(arm, pose), [[0.0, 0.0], [0.0, 0.0], [0.0, 1.0]], atol=TOL)
     assert Arm.from_names([1.0, 1.0]).prismatic is None
-    assert Arm(base=np.zeros(3), axes=np.eye(3)[:1], offsets=np.eye(3)[:1], prismatic=np.array([False])).prismatic is None
+    assert (
+        Arm(base=np.zeros(3), axes=np.eye(3)[:1], offsets=np.eye(3)[:1], prismatic=np.array([False])).prismatic is None
+    )

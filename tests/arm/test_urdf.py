@@ -26,12 +26,16 @@ from armanim.scene.urdf import chain_joints, parse_urdf, read_urdf
 
 HERE = Path(__file__).resolve().parents[1]
 TORTURE = HERE / "urdf" / "torture.urdf"
-CASES = [(TORTURE, "world", "tool")] + [(bundled_robot(r).urdf, bundled_robot(r).base_link, bundled_robot(r).tip_link) for r in ROBOTS]
+CASES = [(TORTURE, "world", "tool")] + [
+    (bundled_robot(r).urdf, bundled_robot(r).base_link, bundled_robot(r).tip_link) for r in ROBOTS
+]
 
 
 def chain_of(path, base, tip, mount=None, tool=None):
     robot = read_urdf(Path(path))
-    return serial_chain(np.eye(4) if mount is None else mount, chain_joints(robot, base, tip), np.eye(4) if tool is None else tool)
+    return serial_chain(
+        np.eye(4) if mount is None else mount, chain_joints(robot, base, tip), np.eye(4) if tool is None else tool
+    )
 
 
 def tip_transform(arm, phi):
@@ -56,11 +60,15 @@ def test_fk_and_jacobian_match_pinocchio(path, base, tip):
         phi = rng.uniform(-np.pi, np.pi, arm.n)
         q = pin.neutral(model)
         for j, angle in zip(joints, phi):
-            q[j.idx_q : j.idx_q + j.nq] = [np.cos(angle), np.sin(angle)] if j.nq == 2 else [angle]  # continuous: (cos, sin)
+            q[j.idx_q : j.idx_q + j.nq] = (
+                [np.cos(angle), np.sin(angle)] if j.nq == 2 else [angle]
+            )  # continuous: (cos, sin)
         pin.framesForwardKinematics(model, data, q)
         np.testing.assert_allclose(tip_transform(arm, phi), data.oMf[frame].homogeneous, atol=1e-12, rtol=0)
         jac = pin.computeFrameJacobian(model, data, q, frame, pin.LOCAL_WORLD_ALIGNED)[:3]
-        np.testing.assert_allclose(tip_jacobian(arm, forward(arm, phi)), jac[:, [j.idx_v for j in joints]], atol=1e-12, rtol=0)
+        np.testing.assert_allclose(
+            tip_jacobian(arm, forward(arm, phi)), jac[:, [j.idx_v for j in joints]], atol=1e-12, rtol=0
+        )
 
 
 def test_torture_chain_reads_the_traps_right():
@@ -87,7 +95,9 @@ def test_analytic_jacobians_match_finite_differences(path, base, tip):
     h = 1e-6
     central = lambda f: (f(phi + h * np.eye(arm.n)) - f(phi - h * np.eye(arm.n))).T / (2 * h)  # noqa: E731
     np.testing.assert_allclose(tip_jacobian(arm, forward(arm, phi)), central(lambda p: forward(arm, p).tip), atol=1e-8)
-    assert np.abs(numeric_jacobian(lambda p: forward(arm, p).tip, phi) - tip_jacobian(arm, forward(arm, phi))).max() < 1e-5
+    assert (
+        np.abs(numeric_jacobian(lambda p: forward(arm, p).tip, phi) - tip_jacobian(arm, forward(arm, phi))).max() < 1e-5
+    )
 
 
 def test_capsule_point_jacobian_matches_finite_differences():
@@ -119,7 +129,11 @@ _SCENES: dict = {}
 
 
 def _scene_file(robot: str) -> Path:
-    return HERE.parent / "scenes" / {"panda": "panda-clutter.yaml", "ur5": "ur5-around.yaml", "iiwa": "iiwa-redundancy.yaml"}[robot]
+    return (
+        HERE.parent
+        / "scenes"
+        / {"panda": "panda-clutter.yaml", "ur5": "ur5-around.yaml", "iiwa": "iiwa-redundancy.yaml"}[robot]
+    )
 
 
 # ------------------------------------------------------------------ broken URDFs
@@ -139,16 +153,31 @@ def broken(raw: bytes) -> str:
     [
         (b"<robot><link name='a'>", "bad.urdf:1: is not well-formed XML"),
         (b"not xml at all", "is not well-formed XML"),
-        (b'<?xml version="1.0"?>\n<!DOCTYPE r [<!ENTITY a "aaaa"><!ENTITY b "&a;&a;&a;&a;">]>\n<robot>&b;</robot>', "bad.urdf:2: declares a DTD"),
+        (
+            b'<?xml version="1.0"?>\n<!DOCTYPE r [<!ENTITY a "aaaa"><!ENTITY b "&a;&a;&a;&a;">]>\n<robot>&b;</robot>',
+            "bad.urdf:2: declares a DTD",
+        ),
         (b"<robot>&lol;</robot>", "undefined entity"),
-        (ROBOT % b'<joint name="j" type="fixed"><parent link="a"/><child link="c"/></joint>', "child link 'c' is not defined"),
+        (
+            ROBOT % b'<joint name="j" type="fixed"><parent link="a"/><child link="c"/></joint>',
+            "child link 'c' is not defined",
+        ),
         (ROBOT % (JOINT % b'<origin xyz="0 nan 0"/>'), "<origin>: xyz='0 nan 0' (expected 3 finite numbers"),
         (ROBOT % (JOINT % b'<axis xyz="0 0 0"/>'), "has the axis 0 0 0"),
-        (ROBOT % b'<joint name="j" type="revolute"><parent link="a"/><child link="b"/></joint>', "is revolute but has no <limit"),
-        (b'<robot><link name="a"/><link name="b"/><link name="c"/><joint name="x" type="fixed"><parent link="a"/><child link="c"/></joint>'
-         b'<joint name="y" type="fixed"><parent link="b"/><child link="c"/></joint></robot>', "link 'c' is the child of joints 'x' (line 1) and 'y'"),
-        (b'<robot><link name="r"/><link name="a"/><link name="b"/><joint name="x" type="fixed"><parent link="a"/><child link="b"/></joint>'
-         b'<joint name="y" type="fixed"><parent link="b"/><child link="a"/></joint></robot>', "cycle through link"),
+        (
+            ROBOT % b'<joint name="j" type="revolute"><parent link="a"/><child link="b"/></joint>',
+            "is revolute but has no <limit",
+        ),
+        (
+            b'<robot><link name="a"/><link name="b"/><link name="c"/><joint name="x" type="fixed"><parent link="a"/><child link="c"/></joint>'
+            b'<joint name="y" type="fixed"><parent link="b"/><child link="c"/></joint></robot>',
+            "link 'c' is the child of joints 'x' (line 1) and 'y'",
+        ),
+        (
+            b'<robot><link name="r"/><link name="a"/><link name="b"/><joint name="x" type="fixed"><parent link="a"/><child link="b"/></joint>'
+            b'<joint name="y" type="fixed"><parent link="b"/><child link="a"/></joint></robot>',
+            "cycle through link",
+        ),
         (b"<urdf/>", "the top element is <urdf>"),
         (b"<robot>" + b"<a>" * 40 + b"</a>" * 40 + b"</robot>", "nests elements more than 32 deep"),
     ],
@@ -158,23 +187,30 @@ def test_broken_urdf_is_one_clear_message(raw, expected):
 
 
 def test_no_path_and_unsupported_joints_name_the_joint_and_line():
-    raw = (b'<robot name="r">\n<link name="a"/><link name="b"/><link name="c"/>\n'
-           b'<joint name="p" type="planar"><parent link="a"/><child link="b"/><limit lower="0" upper="1"/></joint>\n'
-           b'<joint name="q" type="continuous"><parent link="a"/><child link="c"/></joint>\n</robot>')
+    raw = (
+        b'<robot name="r">\n<link name="a"/><link name="b"/><link name="c"/>\n'
+        b'<joint name="p" type="planar"><parent link="a"/><child link="b"/><limit lower="0" upper="1"/></joint>\n'
+        b'<joint name="q" type="continuous"><parent link="a"/><child link="c"/></joint>\n</robot>'
+    )
     robot = parse_urdf(raw, "r.urdf")
     with pytest.raises(SceneError, match=r"r.urdf:3: joint 'p' between 'a' and 'b' is of type 'planar'"):
         chain_joints(robot, "a", "b")
     with pytest.raises(SceneError, match="no path from base_link 'b' down to tip_link 'c'"):
         chain_joints(robot, "b", "c")
     assert [j.name for j in chain_joints(robot, "a", "c")] == ["q"]  # the planar joint is off this path
-    sliding = parse_urdf(raw.replace(b'type="planar"', b'type="prismatic"'), "r.urdf")  # prismatic: on a path, in metres
+    sliding = parse_urdf(
+        raw.replace(b'type="planar"', b'type="prismatic"'), "r.urdf"
+    )  # prismatic: on a path, in metres
     assert [(j.name, j.prismatic) for j in chain_joints(sliding, "a", "b")] == [("p", True)]
 
 
 def test_ten_thousand_joints_are_refused_quickly(tmp_path):
     n = 10_000
     links = b"".join(b'<link name="l%d"/>' % i for i in range(n + 1))
-    joints = b"".join(b'<joint name="j%d" type="continuous"><parent link="l%d"/><child link="l%d"/></joint>' % (i, i, i + 1) for i in range(n))
+    joints = b"".join(
+        b'<joint name="j%d" type="continuous"><parent link="l%d"/><child link="l%d"/></joint>' % (i, i, i + 1)
+        for i in range(n)
+    )
     robot = parse_urdf(b"<robot>" + links + joints + b"</robot>", "big.urdf")
     with pytest.raises(SceneError, match="10,000 moving joints"):
         chain_joints(robot, "l0", f"l{n}")
@@ -203,7 +239,10 @@ def _write(tmp_path, arm: str, goals="[[0.4, 0, 0.4]]") -> Path:
         ("  robot: pandaa", "s.yaml:2: arm: robot 'pandaa' is not bundled (expected one of: panda, ur5, iiwa"),
         ("  robot: panda\n  links: [1, 1]", "gives links and robot (expected exactly one"),
         ("  robot: panda\n  axes: [z]", "axes does not apply to a URDF arm"),
-        ("  robot: panda\n  tip_link: panda_hand_tc", "tip_link 'panda_hand_tc' is not a link of robot panda's URDF (did you mean 'panda_hand_tcp'?"),
+        (
+            "  robot: panda\n  tip_link: panda_hand_tc",
+            "tip_link 'panda_hand_tc' is not a link of robot panda's URDF (did you mean 'panda_hand_tcp'?",
+        ),
         ("  robot: panda\n  home: [0, 0]", "arm.home: has 2 entries, the arm has 7 joints"),
         ("  urdf: missing.urdf", "missing.urdf: no such file"),
     ],

@@ -61,7 +61,9 @@ def test_fk_json_default_arm(cli):
 
 
 def test_fk_json_with_arm_flags(cli):
-    result = cli("fk", "--angles", "90,0", "--links", "2,3", "--axes", "z,z", "--direction", "x", "--base", "1,1,0", "--json")
+    result = cli(
+        "fk", "--angles", "90,0", "--links", "2,3", "--axes", "z,z", "--direction", "x", "--base", "1,1,0", "--json"
+    )
     assert result.exit_code == 0, result.output
     np.testing.assert_allclose(json.loads(result.stdout)["tip"], [1.0, 6.0, 0.0], atol=1e-12)
 
@@ -80,7 +82,9 @@ def test_fk_with_scene(cli):
     result = cli("fk", "--angles", "10,20,30,40", "--scene", SCENES / "notes-arm.yaml", "--json")
     assert result.exit_code == 0, result.output
     arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
-    np.testing.assert_allclose(json.loads(result.stdout)["tip"], forward(arm, np.radians([10, 20, 30, 40])).tip, atol=1e-12)
+    np.testing.assert_allclose(
+        json.loads(result.stdout)["tip"], forward(arm, np.radians([10, 20, 30, 40])).tip, atol=1e-12
+    )
     assert "note:" not in result.stderr
 
 
@@ -105,10 +109,16 @@ def test_fk_notes_a_joint_outside_the_scene_limits(cli):
         (["fk", "--angles", "0,30,45"], "expected 4 numbers (got 3"),
         (["fk", "--angles", "0,30,abc,10"], "'abc' is not a number"),
         (["fk", "--angles", "0,30,nan,10"], "finite"),
-        (["fk", "--angles", "0,0,0,0", "--scene", str(SCENES / "notes-arm.yaml"), "--links", "1,1,1,1"], "cannot be combined with --scene"),
+        (
+            ["fk", "--angles", "0,0,0,0", "--scene", str(SCENES / "notes-arm.yaml"), "--links", "1,1,1,1"],
+            "cannot be combined with --scene",
+        ),
         (["fk", "--angles", "0,0", "--links", "1,-1"], "--links"),
         # found by the hostile fuzzer: lengths a scene file refuses underflowed the pose search's damping (a traceback)
-        (["ik", "--links", "2.24e-169", "--goal=0,0,1", "--json"], "--links: a length is too small (expected at least 1e-09"),
+        (
+            ["ik", "--links", "2.24e-169", "--goal=0,0,1", "--json"],
+            "--links: a length is too small (expected at least 1e-09",
+        ),
         (["fk", "--angles", "0,0", "--links", "1,1", "--axes", "z"], "--axes"),
         (["fk", "--angles", "0,0,0,0", "--direction", "w"], "--direction"),
         (["ik", "--goal", "1,2"], "expected 3 numbers"),
@@ -170,7 +180,9 @@ def test_ik_says_when_linear_algebra_failed(cli, monkeypatch):
         raise np.linalg.LinAlgError("SVD did not converge")
 
     monkeypatch.setattr(armanim.motion.solvers.linear, "pseudo_inverse", fails)
-    monkeypatch.setattr(armanim.motion.ik, "compiled_plan", lambda *args: None)  # the numpy steps (the compiled have their own inverse)
+    monkeypatch.setattr(
+        armanim.motion.ik, "compiled_plan", lambda *args: None
+    )  # the numpy steps (the compiled have their own inverse)
     result = cli("ik", "--goal", "3,1,0", *PLANAR, "--from", "10,10,10,10", "--json")
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)
@@ -216,8 +228,21 @@ def test_run_no_video_writes_csv_and_summary_and_prints_table(cli, tmp_path):
     assert result.exit_code == 0, result.output
     folder = tmp_path / "out-of-reach"
     rows = list(csv.reader(io.StringIO((folder / "trajectory.csv").read_text())))
-    expected = ["frame", "time_s", "goal", "phi1_deg", "phi2_deg", "phi3_deg", "phi4_deg",
-                "x", "y", "z", "goal_distance", "clearance", "reached"]
+    expected = [
+        "frame",
+        "time_s",
+        "goal",
+        "phi1_deg",
+        "phi2_deg",
+        "phi3_deg",
+        "phi4_deg",
+        "x",
+        "y",
+        "z",
+        "goal_distance",
+        "clearance",
+        "reached",
+    ]
     assert rows[0][: len(expected)] == expected
     summary = json.loads((folder / "summary.json").read_text())
     assert summary["scene"]["sha256"] == hashlib.sha256(scene.read_bytes()).hexdigest()
@@ -230,7 +255,9 @@ def test_run_no_video_writes_csv_and_summary_and_prints_table(cli, tmp_path):
     assert "missed" in out and "out of reach" in out and "reached" in out
     assert not list(folder.glob("animation.*"))
     # issue 50's papercuts: the table's frames add up to the run's, and its numbers carry no noise
-    table = [line.split("│") for line in out.splitlines() if line.startswith("│") and line.split("│")[1].strip().isdigit()]
+    table = [
+        line.split("│") for line in out.splitlines() if line.startswith("│") and line.split("│")[1].strip().isdigit()
+    ]
     assert sum(int(cells[4]) for cells in table) == len(rows) - 1  # the CSV's rows but its header
     distances = [cells[5].strip() for cells in table]
     assert all("e-" not in d and len(d.split(".")[-1]) <= 4 for d in distances), distances
@@ -302,8 +329,12 @@ def test_the_plan_bar_starts_over_for_each_plan(monkeypatch):
     import armanim.cli.progress as progress_module
 
     clock = itertools.count(0.0, 1.0)  # a second between readings of the time
-    monkeypatch.setattr(progress_module, "Progress", functools.partial(progress_module.Progress, get_time=lambda: next(clock)))
-    with progress_module.Bars(enabled=True, console=Console(file=io.StringIO(), force_terminal=True, width=100)) as bars:
+    monkeypatch.setattr(
+        progress_module, "Progress", functools.partial(progress_module.Progress, get_time=lambda: next(clock))
+    )
+    with progress_module.Bars(
+        enabled=True, console=Console(file=io.StringIO(), force_terminal=True, width=100)
+    ) as bars:
         for done in (0, 500, 1000, 2000):
             bars("plan", done, 2000)
         task = bars.progress.tasks[0]
@@ -336,14 +367,18 @@ def test_scheduler_help_shows_the_dask_extra(cli):
 
 def test_validate_counts_in_the_singular(cli, tmp_path):
     scene = tmp_path / "one.yaml"
-    scene.write_text("version: 1\narm: {links: [2, 5, 5, 5]}\nobstacles: [{center: [9, 9, 9], radius: 1}]\ngoals: [[6, 0, 10]]\n")
+    scene.write_text(
+        "version: 1\narm: {links: [2, 5, 5, 5]}\nobstacles: [{center: [9, 9, 9], radius: 1}]\ngoals: [[6, 0, 10]]\n"
+    )
     assert "4 links, 1 goal, 1 obstacle, method pinv" in cli("validate", scene).stdout
 
 
 def test_ik_says_why_an_out_of_reach_goal_is_not_reached(cli):
     result = cli("ik", "--goal", "30,0,0", "--links", "1,1,1,1", "--json")
     data = json.loads(result.stdout)
-    assert not data["converged"] and data["reason"].startswith("out of reach: the goal is 30 units from the base, the arm is 4 units long")
+    assert not data["converged"] and data["reason"].startswith(
+        "out of reach: the goal is 30 units from the base, the arm is 4 units long"
+    )
 
 
 def test_ik_names_the_unit_of_a_robot_s_reach():
@@ -352,8 +387,12 @@ def test_ik_names_the_unit_of_a_robot_s_reach():
 
     from runfolders import armanim_exe
 
-    done = subprocess.run([armanim_exe(), "ik", "--robot", "iiwa", "--goal", "2,0,0.4"], capture_output=True, text=True, timeout=600)
-    assert "the goal is 2.015 m from the base, the arm is 1.103 m long" in done.stdout + done.stderr, done.stdout + done.stderr
+    done = subprocess.run(
+        [armanim_exe(), "ik", "--robot", "iiwa", "--goal", "2,0,0.4"], capture_output=True, text=True, timeout=600
+    )
+    assert "the goal is 2.015 m from the base, the arm is 1.103 m long" in done.stdout + done.stderr, (
+        done.stdout + done.stderr
+    )
 
 
 def test_strict_quiet_says_which_goal_was_missed_on_stderr(cli, tmp_path):
@@ -403,8 +442,9 @@ def test_run_quiet_keeps_the_notes(cli, tmp_path):
     # issue 50: --quiet hid every note, a missing mesh and the collision fallback included; its
     # help promised only "no progress bars and no tables"
     scene = tmp_path / "radians.yaml"
-    scene.write_text("version: 1\nname: radians\narm:\n  links: [1, 1]\n  home: [0.5, 1.2]\n"
-                     "goals:\n  - [1.2, 0.8, 0]\n")
+    scene.write_text(
+        "version: 1\nname: radians\narm:\n  links: [1, 1]\n  home: [0.5, 1.2]\ngoals:\n  - [1.2, 0.8, 0]\n"
+    )
     quiet = cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet")
     assert quiet.exit_code == 0, quiet.output
     assert "arm.home: these angles look like radians" in quiet.stderr
@@ -419,7 +459,9 @@ def _at_80_columns(*args, cwd=None) -> str:
     from runfolders import armanim_exe
 
     env = dict(os.environ, COLUMNS="80", TERM="xterm")
-    done = subprocess.run([armanim_exe(), *map(str, args)], capture_output=True, text=True, env=env, cwd=cwd, timeout=600)
+    done = subprocess.run(
+        [armanim_exe(), *map(str, args)], capture_output=True, text=True, env=env, cwd=cwd, timeout=600
+    )
     return done.stdout + done.stderr
 
 
@@ -432,8 +474,12 @@ def test_at_80_columns_help_names_robots_headers_and_batch_scenes_are_whole(tmp_
     header = next(line for line in listed.splitlines() if line.startswith("panda:"))
     assert header.rstrip().endswith("collision capsules") and len(header) <= 80, listed
     for name in ("planning-wall-long", "panda-clutter-long"):
-        (tmp_path / f"{name}.yaml").write_text(f"version: 1\nname: {name}\narm: {{links: [1, 1]}}\ngoals: [[1.2, 0.8, 0]]\n")
-    batch = _at_80_columns("run", "planning-wall-long.yaml", "panda-clutter-long.yaml", "--no-video", "--out", "o", cwd=tmp_path)
+        (tmp_path / f"{name}.yaml").write_text(
+            f"version: 1\nname: {name}\narm: {{links: [1, 1]}}\ngoals: [[1.2, 0.8, 0]]\n"
+        )
+    batch = _at_80_columns(
+        "run", "planning-wall-long.yaml", "panda-clutter-long.yaml", "--no-video", "--out", "o", cwd=tmp_path
+    )
     assert "│ planning-wall-long │" in batch and "│ panda-clutter-long │" in batch, batch
 
 
@@ -441,8 +487,10 @@ def test_validate_never_rounds_two_different_values_into_one(tmp_path):
     """Issue 50: six digits made ``min must be below max (got [10, 10])`` and ``90 deg is outside
     [-90, 90]`` of values that differ; a message keeps the digits that tell them apart."""
     scene = tmp_path / "close.yaml"
-    scene.write_text("version: 1\narm:\n  links: [2, 5, 5, 5]\n  limits: [[-150, 150], [-90, 89.99999], [10.0000001, 10.00000001], null]\n"
-                     "  home: [0, 89.999995, 0, 0]\ngoals:\n  - [6, 0, 10]\n")
+    scene.write_text(
+        "version: 1\narm:\n  links: [2, 5, 5, 5]\n  limits: [[-150, 150], [-90, 89.99999], [10.0000001, 10.00000001], null]\n"
+        "  home: [0, 89.999995, 0, 0]\ngoals:\n  - [6, 0, 10]\n"
+    )
     said = _at_80_columns("validate", scene)
     assert "arm.limits[2]: min must be below max (got [10.0000001, 10])" in said, said  # 10.00000001 < 10.0000001
     assert "89.999995 deg is outside joint 2's limits" in said and "[-90, 89.99999]" in said, said

@@ -33,10 +33,15 @@ def test_exit_1_check_failed(cli, tmp_path):
     assert "phi1_deg" in result.output
 
 
-@pytest.mark.parametrize("args", [("validate", "MISSING"), ("run", "SCENE", "--size", "huge"), ("fk", "--angles", "a,b")])
+@pytest.mark.parametrize(
+    "args", [("validate", "MISSING"), ("run", "SCENE", "--size", "huge"), ("fk", "--angles", "a,b")]
+)
 def test_exit_2_bad_input_or_usage(cli, tmp_path, args):
     (tmp_path / "bad.yaml").write_text(SMALL.replace("[1, 1]", "[1, -1]"))
-    args = [str(tmp_path / "missing.yaml") if a == "MISSING" else str(tmp_path / "bad.yaml") if a == "SCENE" else a for a in args]
+    args = [
+        str(tmp_path / "missing.yaml") if a == "MISSING" else str(tmp_path / "bad.yaml") if a == "SCENE" else a
+        for a in args
+    ]
     result = cli(*args)
     assert result.exit_code == 2, result.output
     assert "Traceback" not in result.output and result.stderr.strip()

@@ -79,7 +79,9 @@ def test_a_ctrl_c_in_code_run_from_text_ends_with_130_not_by_the_signal(tmp_path
     import sys
 
     (tmp_path / "ctrl_c_in_text.py").write_text(_CTRL_C_IN_TEXT)
-    done = subprocess.run([sys.executable, "-m", "ctrl_c_in_text"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    done = subprocess.run(
+        [sys.executable, "-m", "ctrl_c_in_text"], cwd=tmp_path, capture_output=True, text=True, timeout=60
+    )
     assert (done.returncode, done.stderr.strip()) == (130, INTERRUPTED)
 
 

@@ -19,17 +19,28 @@ from conftest import SCENES, TESTS
 NOTES = SCENES / "notes-arm.yaml"
 
 
-@pytest.mark.parametrize("args, code", [(["validate", NOTES], 0), (["check", NOTES, "--golden", TESTS / "golden"], 0),
-                                        (["fk", "--angles", "0,0,0,0"], 0), (["check", "BROKEN", "--golden", "GOLDEN"], 1)])
+@pytest.mark.parametrize(
+    "args, code",
+    [
+        (["validate", NOTES], 0),
+        (["check", NOTES, "--golden", TESTS / "golden"], 0),
+        (["fk", "--angles", "0,0,0,0"], 0),
+        (["check", "BROKEN", "--golden", "GOLDEN"], 1),
+    ],
+)
 def test_a_closed_pipe_keeps_the_command_s_own_exit_code(tmp_path, args, code):
     """``armanim validate s.yaml | head -0``: exit 0 (a failed check stays 1), never click's 1 for EPIPE, no message."""
     import subprocess
     import sys
 
     if "BROKEN" in args:  # a golden file that differs: the check fails whether or not anyone reads
-        (tmp_path / "notes-arm.csv").write_text((TESTS / "golden" / "notes-arm.csv").read_text().replace(",0,", ",1,", 1))
+        (tmp_path / "notes-arm.csv").write_text(
+            (TESTS / "golden" / "notes-arm.csv").read_text().replace(",0,", ",1,", 1)
+        )
         args = ["check", NOTES, "--golden", tmp_path]
-    proc = subprocess.Popen([sys.executable, "-m", "armanim", *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "armanim", *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE
+    )
     proc.stdout.close()  # the reader is gone before armanim writes
     stderr = proc.stderr.read().decode()
     assert proc.wait(timeout=300) == code, stderr
@@ -47,12 +58,21 @@ ARM = "version: 1\narm: {links: [1, 1, 1, 1]}\n"
 
 def test_numpy_warnings_never_reach_the_terminal(tmp_path):
     scene = tmp_path / "w.yaml"
-    scene.write_text(ARM + "goals:\n  - {position: [1, 1, 2], tool_axis: [0, 0, -1]}\n"
-                     "solver: {orientation_weight: 1e-9, max_frames_per_goal: 30}\nrender: {size: [64, 48]}\n")
-    done = subprocess.run([sys.executable, "-m", "armanim", "run", str(scene), "--out", str(tmp_path / "o"), "--no-video", "--quiet"],
-                          capture_output=True, text=True, timeout=300)
+    scene.write_text(
+        ARM + "goals:\n  - {position: [1, 1, 2], tool_axis: [0, 0, -1]}\n"
+        "solver: {orientation_weight: 1e-9, max_frames_per_goal: 30}\nrender: {size: [64, 48]}\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", "run", str(scene), "--out", str(tmp_path / "o"), "--no-video", "--quiet"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert done.returncode == 0 and "Warning" not in done.stderr, done.stderr
-    json.loads((tmp_path / "o" / "w" / "summary.json").read_text(), parse_constant=lambda c: pytest.fail(f"{c} in summary.json"))
+    json.loads(
+        (tmp_path / "o" / "w" / "summary.json").read_text(),
+        parse_constant=lambda c: pytest.fail(f"{c} in summary.json"),
+    )
 
 
 def test_every_line_of_a_message_is_short_and_printable():
@@ -63,9 +83,14 @@ def test_every_line_of_a_message_is_short_and_printable():
     assert len(first) < 700 and first.isprintable() and second == "second"
 
 
-@pytest.mark.parametrize("args,noise", [(["ik", "--robot", "ur5", "--goal", "0.4,0.2,0.3"], "e-1"),
-                                        (["fk", "--robot", "panda", "--angles", "0,0,0,-90,0,90,45"], "e-1"),
-                                        (["fk", "--robot", "ur5", "--angles", "0,-90,90,-90,-90,0"], "e-1")])
+@pytest.mark.parametrize(
+    "args,noise",
+    [
+        (["ik", "--robot", "ur5", "--goal", "0.4,0.2,0.3"], "e-1"),
+        (["fk", "--robot", "panda", "--angles", "0,0,0,-90,0,90,45"], "e-1"),
+        (["fk", "--robot", "ur5", "--angles", "0,-90,90,-90,-90,0"], "e-1"),
+    ],
+)
 def test_numbers_zero_to_the_arm_s_precision_print_as_0(cli, args, noise):
     result = cli(*args)
     assert result.exit_code == 0 and noise not in result.stdout and "-0 " not in result.stdout, result.stdout
@@ -74,4 +99,5 @@ def test_numbers_zero_to_the_arm_s_precision_print_as_0(cli, args, noise):
 def test_jobs_0_is_a_one_line_message(cli):
     result = cli("run", Path(__file__).parents[2] / "scenes" / "notes-arm.yaml", "--jobs", "0", "--no-video")
     assert result.exit_code == 2 and result.stderr.strip().splitlines() == [
-        "--jobs: expected at least 1 worker process (got 0; leave it out to use every core)"]
+        "--jobs: expected at least 1 worker process (got 0; leave it out to use every core)"
+    ]

@@ -16,12 +16,18 @@ from armanim.motion.planning.check import CompiledCheck, frame_margins
 from armanim.scene import scene_model, scene_to_problem
 from armanim.world.distances import clearances, min_link_clearance
 
-SCENE = {"version": 1, "arm": {"robot": "panda"}, "floor": -0.02, "goals": [[0.4, 0.0, 0.5]], "obstacles": [
-    {"box": {"center": [0.5, 0.0, 0.1], "size": [0.3, 0.6, 0.02]}},
-    {"center": [0.3, -0.3, 0.5], "radius": 0.06},
-    {"cylinder": {"center": [0.4, 0.3, 0.3], "length": 0.2, "radius": 0.04}},
-    {"box": {"center": [0.0, 0.5, 0.4], "size": [0.1, 0.1, 0.4]}},
-]}
+SCENE = {
+    "version": 1,
+    "arm": {"robot": "panda"},
+    "floor": -0.02,
+    "goals": [[0.4, 0.0, 0.5]],
+    "obstacles": [
+        {"box": {"center": [0.5, 0.0, 0.1], "size": [0.3, 0.6, 0.02]}},
+        {"center": [0.3, -0.3, 0.5], "radius": 0.06},
+        {"cylinder": {"center": [0.4, 0.3, 0.3], "length": 0.2, "radius": 0.04}},
+        {"box": {"center": [0.0, 0.5, 0.4], "size": [0.1, 0.1, 0.4]}},
+    ],
+}
 
 
 def _allowed_problem(seed: int):
@@ -41,8 +47,16 @@ def _kernel_d(problem, pose):
     a, b = capsule_ends(problem.capsules, pose)
     m = len(problem.obstacles)
     d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
-    obstacle_clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), problem.capsules.part_radius,
-                        world_arrays(problem), d, t, n)
+    obstacle_clearances(
+        pose.points,
+        np.ascontiguousarray(a),
+        np.ascontiguousarray(b),
+        problem.capsules.part_radius,
+        world_arrays(problem),
+        d,
+        t,
+        n,
+    )
     return d
 
 
@@ -64,7 +78,9 @@ def test_an_allowed_pair_is_left_out_and_every_other_pair_kept(seed):
     every = clearances(pose, plain.obstacles, plain.capsules).links
     least = np.where(mask[:-1], np.inf, every).min(axis=(-1, -2))
     assert np.any(least > every.min(axis=(-1, -2)))  # an allowed pair was some pose's least: left out, it matters
-    np.testing.assert_array_equal(min_link_clearance(forward(plain.arm, poses), allowed.obstacles, allowed.capsules), least)
+    np.testing.assert_array_equal(
+        min_link_clearance(forward(plain.arm, poses), allowed.obstacles, allowed.capsules), least
+    )
     clear, _ = frame_margins(allowed, poses)
     np.testing.assert_allclose(clear, least, rtol=0, atol=1e-12)
     check = CompiledCheck.of(allowed)

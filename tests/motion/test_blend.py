@@ -26,8 +26,12 @@ from armanim.scene import scene_model
 from armanim.scene.convert import scene_to_problem
 
 SCENES = Path(__file__).parents[2] / "scenes"
-UR5_JOINT_GOALS = [[40, -60, 80, -110, -90, 0], [0, -80, 60, -70, -90, 30], [-40, -60, 90, -120, -90, 0],
-                   [30, -90, 100, -100, -90, 0]]
+UR5_JOINT_GOALS = [
+    [40, -60, 80, -110, -90, 0],
+    [0, -80, 60, -70, -90, 30],
+    [-40, -60, 90, -120, -90, 0],
+    [30, -90, 100, -100, -90, 0],
+]
 
 
 def _notes_arm(blend: float | None) -> dict:
@@ -40,8 +44,13 @@ def _notes_arm(blend: float | None) -> dict:
 
 
 def _ur5_joints(blend: float | None) -> dict:
-    scene = {"version": 1, "arm": {"robot": "ur5"}, "obstacles": [{"center": [0.55, 0.0, 0.25], "radius": 0.12}],
-             "goals": [{"joints": j} for j in UR5_JOINT_GOALS], "solver": {"clearance": 0.02}}
+    scene = {
+        "version": 1,
+        "arm": {"robot": "ur5"},
+        "obstacles": [{"center": [0.55, 0.0, 0.25], "radius": 0.12}],
+        "goals": [{"joints": j} for j in UR5_JOINT_GOALS],
+        "solver": {"clearance": 0.02},
+    }
     if blend is not None:
         scene["solver"]["blend"] = blend
     return scene
@@ -70,7 +79,9 @@ def test_the_notes_arm_passes_its_goals_within_the_radius_at_every_fps(notes_sol
     assert blends[-1].reason == "last" and not blends[-1].blended
     assert any(b.blended for b in blends[:-1])
     assert timed.rest_to_rest_duration is not None
-    assert timed.trajectory.frames / fps <= 0.8 * timed.rest_to_rest_duration  # the shortened, smoothed path flows (0.65x)
+    assert (
+        timed.trajectory.frames / fps <= 0.8 * timed.rest_to_rest_duration
+    )  # the shortened, smoothed path flows (0.65x)
     for b in blends:
         if b.blended:
             assert b.pass_speed > 0 and b.corner in ("curve", "through")
@@ -80,7 +91,9 @@ def test_the_notes_arm_passes_its_goals_within_the_radius_at_every_fps(notes_sol
 
 def test_the_same_goals_are_reached_as_at_rest(notes_solved):
     problem, solution = notes_solved
-    at_rest = retime(replace(problem, goals=tuple(replace(g, blend=None) for g in problem.goals)), solution, problem.fps)
+    at_rest = retime(
+        replace(problem, goals=tuple(replace(g, blend=None) for g in problem.goals)), solution, problem.fps
+    )
     blended = retime(problem, solution, problem.fps)
     assert [g.reached for g in blended.goals] == [g.reached for g in at_rest.goals]
     assert blended.rest_to_rest_duration == pytest.approx(at_rest.trajectory.frames / problem.fps)
@@ -128,10 +141,11 @@ def test_with_hold_on_every_goal_each_rests_at_its_solved_pose_no_later():
     for ga, gb in zip(a.goals, b.goals):
         np.testing.assert_array_equal(a.trajectory.phi[ga.last_frame], b.trajectory.phi[gb.last_frame])
         assert gb.last_frame - gb.first_frame <= ga.last_frame - ga.first_frame
-        assert np.all(np.abs(np.diff(b.trajectory.phi[gb.last_frame - round(0.2 * plain.fps) + 1:gb.last_frame + 1], axis=0)) == 0)
+        assert np.all(
+            np.abs(np.diff(b.trajectory.phi[gb.last_frame - round(0.2 * plain.fps) + 1 : gb.last_frame + 1], axis=0))
+            == 0
+        )
     assert b.trajectory.frames <= a.trajectory.frames
-
-
 
 
 def test_the_blended_paths_duration_is_toppras(ur5_solved):
@@ -151,14 +165,23 @@ def test_the_blended_paths_duration_is_toppras(ur5_solved):
     assert np.interp(knots, law.s, law.speed).min() > 0
 
 
-@pytest.mark.parametrize("goal, field, words", [
-    ({"path": {"line": [[0.4, 0, 0.3], [0.4, 0.1, 0.3]]}, "speed": 0.1, "blend": 0.02}, "goals[0].blend", "belongs to a point"),
-    ({"joints": [0, -45, 0, -135, 0, 90, 45], "blend": 200}, "goals[0].blend", "at most 180"),
-    ({"position": [0.4, 0, 0.3], "blend": -0.1}, "goals[0].blend", "must be >= 0"),
-])
+@pytest.mark.parametrize(
+    "goal, field, words",
+    [
+        (
+            {"path": {"line": [[0.4, 0, 0.3], [0.4, 0.1, 0.3]]}, "speed": 0.1, "blend": 0.02},
+            "goals[0].blend",
+            "belongs to a point",
+        ),
+        ({"joints": [0, -45, 0, -135, 0, 90, 45], "blend": 200}, "goals[0].blend", "at most 180"),
+        ({"position": [0.4, 0, 0.3], "blend": -0.1}, "goals[0].blend", "must be >= 0"),
+    ],
+)
 def test_bad_blends_are_refused_at_their_line(tmp_path, cli, goal, field, words):
     path = tmp_path / "bad.yaml"
-    path.write_text(yaml.safe_dump({"version": 1, "arm": {"robot": "panda"}, "goals": [goal, [0.4, 0.2, 0.4]]}, sort_keys=False))
+    path.write_text(
+        yaml.safe_dump({"version": 1, "arm": {"robot": "panda"}, "goals": [goal, [0.4, 0.2, 0.4]]}, sort_keys=False)
+    )
     result = cli("validate", path)
     assert result.exit_code == 2, result.output
     assert field in result.output and words in result.output and f"{path.name}:" in result.output, result.output
@@ -179,7 +202,9 @@ def test_blended_runs_are_byte_identical(tmp_path, cli):
 
     back = load_run(outs[0]).solution  # read back: the same blend reports and the run at rest
     assert back.rest_to_rest_duration == summary["totals"]["rest_to_rest_duration_s"]
-    assert [goal_report_dict(g)["pass_distance"] for g in back.goals] == [g.get("pass_distance") for g in summary["goals"]]
+    assert [goal_report_dict(g)["pass_distance"] for g in back.goals] == [
+        g.get("pass_distance") for g in summary["goals"]
+    ]
     assert [g.blend.blended for g in back.goals] == [g["blended"] for g in summary["goals"]]
 
 

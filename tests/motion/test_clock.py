@@ -36,8 +36,13 @@ def _frame_ratios(start: np.ndarray, phi: np.ndarray, speed, acceleration, fps) 
 
 
 @settings(max_examples=40, deadline=None)
-@given(seed=st.integers(0, 10**6), n=st.integers(1, 7), steps=st.integers(1, 60),
-       jitter=st.sampled_from([0.0, 0.002, 0.02, 0.1]), fps=st.sampled_from([7.0, 15.0, 30.0, 60.0]))
+@given(
+    seed=st.integers(0, 10**6),
+    n=st.integers(1, 7),
+    steps=st.integers(1, 60),
+    jitter=st.sampled_from([0.0, 0.002, 0.02, 0.1]),
+    fps=st.sampled_from([7.0, 15.0, 30.0, 60.0]),
+)
 def test_every_frame_keeps_every_joints_speed_and_acceleration(seed, n, steps, jitter, fps):
     poses = _random_path(seed, n, steps, jitter)
     speed, acceleration = _limits(seed, n)
@@ -100,8 +105,6 @@ def test_one_radian_at_rest_both_ends_is_the_textbook_profile():
     assert law.duration == pytest.approx(2 * np.sqrt(0.5), rel=1e-9)
 
 
-
-
 @pytest.mark.parametrize("seed", range(8))
 def test_the_duration_is_toppras_time_optimal_one(seed):
     """Within 2 % of toppra on the same path (8000 grid points), and never more than its own
@@ -122,8 +125,13 @@ def test_the_duration_is_toppras_time_optimal_one(seed):
 
 
 @settings(max_examples=25, deadline=None)
-@given(seed=st.integers(0, 10**6), n=st.integers(1, 7), steps=st.integers(1, 40),
-       jitter=st.sampled_from([0.0, 0.002, 0.02]), fps=st.sampled_from([15.0, 30.0, 60.0]))
+@given(
+    seed=st.integers(0, 10**6),
+    n=st.integers(1, 7),
+    steps=st.integers(1, 40),
+    jitter=st.sampled_from([0.0, 0.002, 0.02]),
+    fps=st.sampled_from([15.0, 30.0, 60.0]),
+)
 def test_with_a_jerk_limit_every_frame_keeps_speed_acceleration_and_jerk(seed, n, steps, jitter, fps):
     poses = _random_path(seed, n, steps, jitter)
     speed, acceleration = _limits(seed, n)
@@ -154,8 +162,9 @@ def test_a_jerk_limited_motion_is_never_faster_than_ruckigs_time_optimal_one():
         goal.current_position, goal.target_position = [0.0], [distance]
         goal.max_velocity, goal.max_acceleration, goal.max_jerk = [v], [a], [j]
         otg.calculate(goal, profile)
-        motion = goal_motion(np.array([[0.0], [distance]]), np.array([True]), np.array([v]), np.array([a]), 1000.0,
-                             jerk=np.array([j]))
+        motion = goal_motion(
+            np.array([[0.0], [distance]]), np.array([True]), np.array([v]), np.array([a]), 1000.0, jerk=np.array([j])
+        )
         assert profile.duration - 1e-3 <= motion.duration <= 1.5 * profile.duration + 1e-3, (distance, v, a, j)
 
 

@@ -27,8 +27,12 @@ from armanim.world.selfdistances import self_gaps
 
 
 @settings(max_examples=30, deadline=None)
-@given(name=st.sampled_from(sorted(ARMS)), method=st.sampled_from(["pinv", "dls"]), seed=st.integers(0, 2**31),
-       kind=st.sampled_from(["pose", "axis", "position"]))
+@given(
+    name=st.sampled_from(sorted(ARMS)),
+    method=st.sampled_from(["pinv", "dls"]),
+    seed=st.integers(0, 2**31),
+    kind=st.sampled_from(["pose", "axis", "position"]),
+)
 def test_compiled_solves_meet_the_tolerances_by_the_numpy_chain(name, method, seed, kind):
     problem = problem_of(name, method)
     goal, orientation, _ = target_of(problem, seed, kind)
@@ -39,7 +43,10 @@ def test_compiled_solves_meet_the_tolerances_by_the_numpy_chain(name, method, se
     assert np.linalg.norm(pose.tip - goal) < problem.solver.tolerance
     np.testing.assert_allclose(solution.tip, pose.tip, atol=1e-12 * problem.arm.reach, rtol=0)
     if orientation is not None:
-        assert float(orientation_angle(orientation, tool_rotation(problem.arm, pose))) < problem.solver.orientation_tolerance
+        assert (
+            float(orientation_angle(orientation, tool_rotation(problem.arm, pose)))
+            < problem.solver.orientation_tolerance
+        )
     assert within_limits(problem, solution.phi[None])[0]
     if len(problem.self_pairs):
         assert self_gaps(pose, problem.capsules, problem.self_pairs).least >= problem.self_pairs.clearance
@@ -67,9 +74,16 @@ def test_a_singular_damped_inverse_is_numerical_in_both():
     # the compiled elimination meets a zero pivot; both report the attempt as numerical
     from armanim.arm.kinematics import Arm
 
-    problem = Problem(arm=Arm.from_names([1.0] * 3, axes=["z"] * 3, direction="x"), half_width=0.1, home=np.zeros(3),
-                      limits=Limits.unlimited(3, 0.1), obstacles=Obstacles.none(), goals=(Goal(np.array([1.0, 1.0, 0.0]), hold=0.0),),
-                      solver=default_solver_settings(method="dls", tolerance=1e-3, damping=0.0), fps=30.0)
+    problem = Problem(
+        arm=Arm.from_names([1.0] * 3, axes=["z"] * 3, direction="x"),
+        half_width=0.1,
+        home=np.zeros(3),
+        limits=Limits.unlimited(3, 0.1),
+        obstacles=Obstacles.none(),
+        goals=(Goal(np.array([1.0, 1.0, 0.0]), hold=0.0),),
+        solver=default_solver_settings(method="dls", tolerance=1e-3, damping=0.0),
+        fps=30.0,
+    )
     for p in (problem, numpy_only(problem)):
         result = ik.solve_pose(p, np.array([1.0, 1.0, 0.0]), np.zeros(3), max_iterations=50)
         assert result.status == "numerical" and result.restarts == 4
@@ -107,8 +121,18 @@ def test_a_numpy_step_hands_the_attempt_back_to_the_compiled_loop(monkeypatch):
 def test_a_pose_solution_made_at_once_is_the_dataclasss():
     import dataclasses
 
-    fields = dict(phi=np.zeros(2), tip=np.ones(3), distance=0.5, status="converged", steps=3, iterations=3, newton_iterations=0,
-                  restarts=1, found_by="method", orientation_error=None)
+    fields = dict(
+        phi=np.zeros(2),
+        tip=np.ones(3),
+        distance=0.5,
+        status="converged",
+        steps=3,
+        iterations=3,
+        newton_iterations=0,
+        restarts=1,
+        found_by="method",
+        orientation_error=None,
+    )
     made, expected = ik._pose_solution(**fields), ik.PoseSolution(**fields)
     assert repr(made) == repr(expected) and made.converged and dataclasses.fields(made) == dataclasses.fields(expected)
     assert {f.name for f in dataclasses.fields(expected)} == set(fields)  # every field given

@@ -129,12 +129,16 @@ def test_clearance_of_capsules_and_tip():
     np.testing.assert_allclose(cl.d[1], [np.hypot(1.0, 3.0) - 1.0, 2.0 - 0.5])
     np.testing.assert_allclose(cl.t[0], [0.5, 1.0])
     np.testing.assert_allclose(cl.normal[0, 0], [0.0, -1.0, 0.0])
-    assert float(min_link_clearance(forward(arm, np.zeros(1)), obstacles, joint_capsules(arm, 0.25))) == pytest.approx(1.25)
+    assert float(min_link_clearance(forward(arm, np.zeros(1)), obstacles, joint_capsules(arm, 0.25))) == pytest.approx(
+        1.25
+    )
 
 
 def test_min_link_clearance_without_obstacles_is_infinite():
     arm = Arm.from_names([1.0, 1.0])
-    assert np.all(np.isinf(min_link_clearance(forward(arm, np.zeros((3, 2))), Obstacles.none(), joint_capsules(arm, 0.1))))
+    assert np.all(
+        np.isinf(min_link_clearance(forward(arm, np.zeros((3, 2))), Obstacles.none(), joint_capsules(arm, 0.1)))
+    )
 
 
 # ------------------------------------------------------------ the total cost
@@ -199,7 +203,9 @@ def smooth_at(problem: Problem, phi: np.ndarray, goal: np.ndarray, margin: float
 
 @given(problems(), st.data())
 def test_total_cost_gradient_matches_central_differences(problem, data):
-    phi = problem.home + np.array(data.draw(st.lists(st.floats(-0.3, 0.3), min_size=problem.arm.n, max_size=problem.arm.n)))
+    phi = problem.home + np.array(
+        data.draw(st.lists(st.floats(-0.3, 0.3), min_size=problem.arm.n, max_size=problem.arm.n))
+    )
     goal = problem.goals[0].position
     assume(smooth_at(problem, phi, goal))
     analytic = total_cost_gradient(problem, phi, goal)

@@ -65,8 +65,13 @@ def test_a_cylinder_scene_runs_and_every_frame_keeps_its_clearance_by_coal(tmp_p
     phi = np.radians([[float(r[f"phi{j + 1}_deg"]) for j in range(n)] for r in rows])
     assert {int(r["reached"]) for r in rows} == {0, 1} and len(rows) > 30
     cyl, caps = problem.obstacles.cylinders, problem.capsules
-    cylinders = [(coal.Cylinder(float(cyl.radius[k]), float(2 * cyl.half_length[k])), coal.Transform3s(cyl.rotations[k], cyl.centers[k]))
-                 for k in range(len(cyl))]
+    cylinders = [
+        (
+            coal.Cylinder(float(cyl.radius[k]), float(2 * cyl.half_length[k])),
+            coal.Transform3s(cyl.rotations[k], cyl.centers[k]),
+        )
+        for k in range(len(cyl))
+    ]
     request = coal.DistanceRequest()
     request.gjk_tolerance = 1e-12
     each = np.full(len(cylinders), np.inf)  # the least over the frames, per cylinder
@@ -104,11 +109,21 @@ def test_the_summary_names_an_unnamed_obstacle_by_its_place_and_none_without_obs
     from armanim.scene import scene_model, scene_to_problem
 
     def solved(obstacles):
-        problem = scene_to_problem(scene_model({"version": 1, "arm": {"links": [2, 3, 3], "axes": ["z", "y", "y"]},
-                                                "obstacles": obstacles, "goals": [[3, 2, 4]]}))
+        problem = scene_to_problem(
+            scene_model(
+                {
+                    "version": 1,
+                    "arm": {"links": [2, 3, 3], "axes": ["z", "y", "y"]},
+                    "obstacles": obstacles,
+                    "goals": [[3, 2, 4]],
+                }
+            )
+        )
         return problem, solve_trajectory(problem).trajectory
 
-    problem, traj = solved([{"center": [-5, -5, 9], "radius": 0.5}, {"cylinder": {"center": [4, -1, 3], "length": 2, "radius": 0.5}}])
+    problem, traj = solved(
+        [{"center": [-5, -5, 9], "radius": 0.5}, {"cylinder": {"center": [4, -1, 3], "length": 2, "radius": 0.5}}]
+    )
     assert nearest_obstacle(problem, traj) == "obstacles[1]"
     problem, traj = solved([])
     assert nearest_obstacle(problem, traj) is None

@@ -46,7 +46,9 @@ def test_a_plan_longer_than_the_frames_left_stops_where_they_end():
     assert free.frames is not None and len(free.frames) <= problem.solver.max_frames_per_goal
     tight = plan_motion(problem, problem.home, goal, frames_left=3)
     assert len(tight.frames) == 3
-    assert not np.allclose(tight.frames[-1], free.frames[-1])  # short of the goal pose: the goal ends too_slow at its cap
+    assert not np.allclose(
+        tight.frames[-1], free.frames[-1]
+    )  # short of the goal pose: the goal ends too_slow at its cap
 
 
 def test_the_planner_seeds_within_a_range_narrower_than_its_buffer():
@@ -56,7 +58,8 @@ def test_the_planner_seeds_within_a_range_narrower_than_its_buffer():
     from armanim.motion.problem import Limits
     from armanim.motion.tunables import DEFAULTS
 
-    narrow = SimpleNamespace(limits=Limits(np.array([-0.007, -np.inf]), np.array([0.007, np.inf]), margin=np.radians(10)),
-                             tunables=DEFAULTS)
+    narrow = SimpleNamespace(
+        limits=Limits(np.array([-0.007, -np.inf]), np.array([0.007, np.inf]), margin=np.radians(10)), tunables=DEFAULTS
+    )
     seeds = seed_poses(narrow, np.zeros(2), 16, seed=1)
     assert np.all(np.abs(seeds[:, 0]) <= 0.007)

@@ -38,9 +38,12 @@ def last_frames(solution) -> list[np.ndarray]:
 
 
 def test_notes_arm_ends_on_each_joint_goal_exactly():
-    scene = {"version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0], "limits": [[-170, 170]] * 4},
-             "obstacles": [{"center": [12, 2, 8], "radius": 1.5}],
-             "goals": [{"joints": [30, 40, 20, -10]}, {"joints": [-60, 10, 80, 30], "hold": 0.5}, {"joints": [0, 0, 0, 0]}]}
+    scene = {
+        "version": 1,
+        "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0], "limits": [[-170, 170]] * 4},
+        "obstacles": [{"center": [12, 2, 8], "radius": 1.5}],
+        "goals": [{"joints": [30, 40, 20, -10]}, {"joints": [-60, 10, 80, 30], "hold": 0.5}, {"joints": [0, 0, 0, 0]}],
+    }
     problem, solution = solved(scene)
     assert all(g.reached for g in solution.goals)
     for goal, phi in zip(problem.goals, last_frames(solution)):
@@ -59,10 +62,14 @@ def test_notes_arm_ends_on_each_joint_goal_exactly():
 def test_panda_goes_round_a_board_to_joint_goals():
     """The straight joint path from one side to the other sweeps the arm through a board: the
     planner goes round it; every frame keeps clearance and the self pairs, within the rates."""
-    scene = {"version": 1, "arm": {"robot": "panda"}, "floor": 0.0,
-             "obstacles": [{"box": {"center": [0.55, 0.0, 0.45], "size": [0.2, 0.05, 0.9]}}],
-             "goals": [{"joints": [60, 20, 0, -100, 0, 120, 45]}, {"joints": [-60, 20, 0, -100, 0, 120, 45]}],
-             "solver": {"clearance": 0.01}}
+    scene = {
+        "version": 1,
+        "arm": {"robot": "panda"},
+        "floor": 0.0,
+        "obstacles": [{"box": {"center": [0.55, 0.0, 0.45], "size": [0.2, 0.05, 0.9]}}],
+        "goals": [{"joints": [60, 20, 0, -100, 0, 120, 45]}, {"joints": [-60, 20, 0, -100, 0, 120, 45]}],
+        "solver": {"clearance": 0.01},
+    }
     problem, solution = solved(scene)
     assert all(g.reached for g in solution.goals), [g.reason for g in solution.goals]
     assert solution.goals[1].planning.path == "rrt_connect"
@@ -95,14 +102,17 @@ def test_a_pose_goal_from_a_start_on_a_limit():
     assert_trajectory_invariants(problem, solution)
 
 
-@pytest.mark.parametrize(("goal", "field", "words"), [
-    ({"joints": [0, -45, 0]}, "goals[0].joints", "has 3 values, the arm has 7 moving joints"),
-    ({"joints": [0, -120, 0, -135, 0, 90, 45]}, "goals[0].joints[1]", "outside joint 2's limits"),
-    ({"joints": PANDA_HOME, "tool_axis": [0, 0, 1]}, "goals[0]", "sets joints with an orientation"),
-    ({"joints": PANDA_HOME, "position": [0.4, 0, 0.4]}, "goals[0]", "sets both position and joints"),
-    ({"joints": PANDA_HOME, "speed": 0.1}, "goals[0].speed", "belongs to a path goal"),
-    ({"joints": [0, -45, 0, -135, 0, 90, float("nan")]}, "goals[0].joints[6]", "finite"),
-])
+@pytest.mark.parametrize(
+    ("goal", "field", "words"),
+    [
+        ({"joints": [0, -45, 0]}, "goals[0].joints", "has 3 values, the arm has 7 moving joints"),
+        ({"joints": [0, -120, 0, -135, 0, 90, 45]}, "goals[0].joints[1]", "outside joint 2's limits"),
+        ({"joints": PANDA_HOME, "tool_axis": [0, 0, 1]}, "goals[0]", "sets joints with an orientation"),
+        ({"joints": PANDA_HOME, "position": [0.4, 0, 0.4]}, "goals[0]", "sets both position and joints"),
+        ({"joints": PANDA_HOME, "speed": 0.1}, "goals[0].speed", "belongs to a path goal"),
+        ({"joints": [0, -45, 0, -135, 0, 90, float("nan")]}, "goals[0].joints[6]", "finite"),
+    ],
+)
 def test_bad_joint_goals_are_refused_at_their_line(tmp_path, cli, goal, field, words):
     import yaml
 
@@ -116,27 +126,35 @@ def test_bad_joint_goals_are_refused_at_their_line(tmp_path, cli, goal, field, w
 
 def test_a_joint_goal_in_collision_is_refused(tmp_path, cli):
     path = tmp_path / "inside.yaml"
-    path.write_text("version: 1\narm: {robot: panda}\nobstacles:\n  - {center: [0.3, 0.0, 0.49], radius: 0.05}\n"
-                    "goals:\n  - [0.5, 0.3, 0.5]\n  - {joints: [0, -45, 0, -135, 0, 90, 45]}\n")
+    path.write_text(
+        "version: 1\narm: {robot: panda}\nobstacles:\n  - {center: [0.3, 0.0, 0.49], radius: 0.05}\n"
+        "goals:\n  - [0.5, 0.3, 0.5]\n  - {joints: [0, -45, 0, -135, 0, 90, 45]}\n"
+    )
     result = cli("validate", path)
     assert result.exit_code == 2, result.output
-    assert "goals[1]" in result.output and "of the joint goal's pose is inside obstacles[0]" in result.output, result.output
+    assert "goals[1]" in result.output and "of the joint goal's pose is inside obstacles[0]" in result.output, (
+        result.output
+    )
 
 
 def test_a_home_beyond_a_limit_is_still_refused(tmp_path, cli):
     path = tmp_path / "beyond.yaml"
-    path.write_text(f"version: 1\narm: {{robot: panda, home: [0, {PANDA_JOINT2_LOWER - 0.01!r}, 0, -135, 0, 90, 45]}}\n"
-                    "goals:\n  - {joints: [0, -45, 0, -135, 0, 90, 45]}\n")
+    path.write_text(
+        f"version: 1\narm: {{robot: panda, home: [0, {PANDA_JOINT2_LOWER - 0.01!r}, 0, -135, 0, 90, 45]}}\n"
+        "goals:\n  - {joints: [0, -45, 0, -135, 0, 90, 45]}\n"
+    )
     result = cli("validate", path)
     assert result.exit_code == 2 and "the ends included" in result.output, result.output
 
 
 def test_joint_goal_runs_are_byte_identical(tmp_path, cli):
     scene = tmp_path / "twice.yaml"
-    scene.write_text("version: 1\nname: twice\narm: {robot: panda}\nfloor: 0.0\nobstacles:\n"
-                     "  - {box: {center: [0.55, 0.0, 0.45], size: [0.2, 0.05, 0.9]}}\n"
-                     "goals:\n  - {joints: [60, 20, 0, -100, 0, 120, 45]}\n  - {joints: [-60, 20, 0, -100, 0, 120, 45]}\n"
-                     "solver: {clearance: 0.01}\n")
+    scene.write_text(
+        "version: 1\nname: twice\narm: {robot: panda}\nfloor: 0.0\nobstacles:\n"
+        "  - {box: {center: [0.55, 0.0, 0.45], size: [0.2, 0.05, 0.9]}}\n"
+        "goals:\n  - {joints: [60, 20, 0, -100, 0, 120, 45]}\n  - {joints: [-60, 20, 0, -100, 0, 120, 45]}\n"
+        "solver: {clearance: 0.01}\n"
+    )
     assert_reruns_byte_identical(cli, scene, "twice")
 
 
@@ -152,8 +170,10 @@ def test_summary_path_length_is_the_joint_path_of_the_csv(tmp_path, cli):
     import json
 
     scene = tmp_path / "length.yaml"
-    scene.write_text("version: 1\nname: length\narm: {robot: ur5}\n"
-                     "goals:\n  - {joints: [30, -60, 60, -90, -90, 0], hold: 0.3}\n  - [0.4, 0.2, 0.3]\n")
+    scene.write_text(
+        "version: 1\nname: length\narm: {robot: ur5}\n"
+        "goals:\n  - {joints: [30, -60, 60, -90, -90, 0], hold: 0.3}\n  - [0.4, 0.2, 0.3]\n"
+    )
     assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet").exit_code == 0
     run = tmp_path / "out" / "length"
     rows = list(csv.DictReader((run / "trajectory.csv").open()))
@@ -170,8 +190,11 @@ def test_summary_path_length_is_the_joint_path_of_the_csv(tmp_path, cli):
 def test_timed_frames_are_reached_only_on_the_goal():
     """On the clock too (retime), a joint goal's frames are reached where the joints are there,
     even where its tool point passes within solver.tolerance of the goal's on the way."""
-    scene = {"version": 1, "arm": {"links": [1, 1], "axes": ["z", "z"], "direction": "x", "limits": [[-170, 170]] * 2},
-             "goals": [{"joints": [90, -90]}, {"joints": [0, 90]}]}
+    scene = {
+        "version": 1,
+        "arm": {"links": [1, 1], "axes": ["z", "z"], "direction": "x", "limits": [[-170, 170]] * 2},
+        "goals": [{"joints": [90, -90]}, {"joints": [0, 90]}],
+    }
     problem, solution = solved(scene)
     traj = solution.trajectory
     # the two poses put the tool on the same point: [1, 1] and ... (90, -90) -> (1, 1); (0, 90) -> (1, 1)

@@ -73,7 +73,9 @@ def notes_problem(obstacles=(), goals=((7.0, 0.0, 9.0),), method="pinv", planner
 @pytest.mark.parametrize("method", sorted(METHODS))
 def test_arm_resting_on_a_sphere_reaches_the_goal_on_its_far_side(method):
     problem = notes_problem(CONTACT, method=method)
-    assert float(min_link_clearance(forward(problem.arm, problem.home), problem.obstacles, problem.capsules)) == pytest.approx(0.05)
+    assert float(
+        min_link_clearance(forward(problem.arm, problem.home), problem.obstacles, problem.capsules)
+    ) == pytest.approx(0.05)
     solution = solve_trajectory(problem)
     assert solution.goals[0].reached, solution.goals[0]
     assert_trajectory_invariants(problem, solution)
@@ -185,7 +187,9 @@ def test_plan_frames_are_free_and_within_the_joint_step():
     assert plan.reason is None and plan.source == "rrt_connect"
     frames = np.vstack([problem.home, plan.frames])
     assert np.abs(np.diff(frames, axis=0)).max() <= problem.solver.max_joint_step + 1e-12
-    assert np.linalg.norm(forward(problem.arm, plan.frames[-1]).tip - problem.goals[0].position) < problem.solver.tolerance
+    assert (
+        np.linalg.norm(forward(problem.arm, plan.frames[-1]).tip - problem.goals[0].position) < problem.solver.tolerance
+    )
     assert pose_is_free(problem, plan.frames[-1:]).all()
 
 
@@ -194,12 +198,16 @@ def test_a_plan_tells_its_search_as_it_goes_and_plans_the_same():
     ending full; and being told changes nothing of the plan."""
     problem = notes_problem(WALL, goals=((8.0, 0.0, 10.0),))
     told = []
-    plan = plan_motion(problem, problem.home, problem.goals[0].position, searched=lambda done, most: told.append((done, most)))
+    plan = plan_motion(
+        problem, problem.home, problem.goals[0].position, searched=lambda done, most: told.append((done, most))
+    )
     np.testing.assert_array_equal(plan.frames, plan_motion(problem, problem.home, problem.goals[0].position).frames)
     assert plan.source == "rrt_connect" and len(told) >= 2
     done = [d for d, most in told]
     assert {most for _, most in told} == {plan_iterations()}
-    settled = DEFAULTS.planner.settle_searches * DEFAULTS.planner.ompl_iterations  # the planning floor's searches count from there
+    settled = (
+        DEFAULTS.planner.settle_searches * DEFAULTS.planner.ompl_iterations
+    )  # the planning floor's searches count from there
     assert done == sorted(done) and done[0] in (0, settled) and done[-1] == plan_iterations()
 
 
@@ -217,14 +225,24 @@ def test_a_goal_without_a_path_tells_the_whole_search_budget():
     plan = plan_motion(small, small.home, small.goals[0].position, searched=lambda done, most: told.append(done))
     most = plan_iterations(small.tunables.planner)
     assert plan.reason == "no_path", plan.reason
-    assert told[-1] == most and max(told[:-1]) >= most - small.tunables.planner.ompl_iterations  # the last search ran to its end before the plan ended
+    assert (
+        told[-1] == most and max(told[:-1]) >= most - small.tunables.planner.ompl_iterations
+    )  # the last search ran to its end before the plan ended
 
 
 def test_the_docs_give_the_planning_budget_the_code_has():
-    scene_format, python_api = (" ".join((DOCS / page).read_text(encoding="utf-8").split()) for page in ("scene-format.md", "python-api.md"))
+    scene_format, python_api = (
+        " ".join((DOCS / page).read_text(encoding="utf-8").split()) for page in ("scene-format.md", "python-api.md")
+    )
     planner = DEFAULTS.planner
-    assert planner.settle_searches == 1 and f"one search of {planner.ompl_iterations:,} iterations with room to settle" in scene_format
-    assert planner.ompl_searches == 2 and f"two searches of {planner.ompl_iterations:,} iterations at the planning floor" in scene_format
+    assert (
+        planner.settle_searches == 1
+        and f"one search of {planner.ompl_iterations:,} iterations with room to settle" in scene_format
+    )
+    assert (
+        planner.ompl_searches == 2
+        and f"two searches of {planner.ompl_iterations:,} iterations at the planning floor" in scene_format
+    )
     assert f"whole budget, {plan_iterations():,} iterations" in scene_format
     assert f"of at most {plan_iterations():,}" in python_api
 
@@ -264,7 +282,10 @@ def test_planning_run_is_byte_identical_in_two_processes_and_after_other_plans(t
         "print(trajectory_csv_text(solve_trajectory(notes_problem(WALL, goals=((8.0, 0.0, 10.0),))).trajectory), end='')\n"
     )
     tests = str(ROOT / "tests")
-    runs = [subprocess.run([sys.executable, "-c", program, tests, how], capture_output=True, text=True, check=True) for how in ("cold", "warm")]
+    runs = [
+        subprocess.run([sys.executable, "-c", program, tests, how], capture_output=True, text=True, check=True)
+        for how in ("cold", "warm")
+    ]
     assert ",plan" in runs[0].stdout
     assert runs[0].stdout == runs[1].stdout
     assert not any("leaked" in run.stderr for run in runs)  # OMPL's objects are freed before exit
@@ -276,7 +297,9 @@ def test_a_step_whose_linear_algebra_fails_is_reported_as_numerical(monkeypatch)
     def failing_step(problem, state, goal):
         raise np.linalg.LinAlgError("SVD did not converge")
 
-    monkeypatch.setitem(METHODS, "pinv", replace(METHODS["pinv"], step_function=failing_step, compiled_inverse=None))  # its own step only
+    monkeypatch.setitem(
+        METHODS, "pinv", replace(METHODS["pinv"], step_function=failing_step, compiled_inverse=None)
+    )  # its own step only
     problem = notes_problem(goals=((6.0, 2.0, 9.0),))
     solution = solve_trajectory(problem)
     goal = solution.goals[0]
@@ -294,14 +317,20 @@ def test_goal_reports_survive_summary_json_both_ways():
         back = goal_report_from_dict(json.loads(json.dumps(goal_report_dict(report))))
         assert back.planning == report.planning and back.reason == report.reason
         np.testing.assert_array_equal(back.position, report.position)
-        assert (back.reached, back.frames, back.final_distance) == (report.reached, report.frames, report.final_distance)
+        assert (back.reached, back.frames, back.final_distance) == (
+            report.reached,
+            report.frames,
+            report.final_distance,
+        )
 
 
 # ---------------------------------------------------------------- one margin for planner, follower and filter (issue 18)
 
 
 @given(cluttered_problems(max_goals=1), st.data())
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])  # as the suite's profile
+@settings(
+    max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
+)  # as the suite's profile
 def test_a_certified_motion_keeps_the_floor_everywhere_and_a_refused_one_breaks_it(problem, data):
     # the oracle: clearance sampled so densely that no arm point moves more than 1e-3 clearances
     n = problem.arm.n

@@ -27,11 +27,19 @@ def notes_among(goals, boxes=(), rods=(), floor=None, method="pinv", planner="of
     problem = notes_problem(goals=goals, method=method, planner=planner)
     kinds = [BOX] * len(boxes) + [ROD] * len(rods)
     obstacles = Obstacles(
-        np.zeros((0, 3)), np.zeros(0), np.full(len(kinds), 0.5),
-        Boxes(np.array([c for c, _, _ in boxes], float).reshape(-1, 3), np.array([s for _, s, _ in boxes], float).reshape(-1, 3) / 2,
-              np.array([rpy_rotation(r) for _, _, r in boxes]).reshape(-1, 3, 3)),
-        Rods(np.array([a for a, _, _ in rods], float).reshape(-1, 3), np.array([b for _, b, _ in rods], float).reshape(-1, 3),
-             np.array([r for _, _, r in rods], float)),
+        np.zeros((0, 3)),
+        np.zeros(0),
+        np.full(len(kinds), 0.5),
+        Boxes(
+            np.array([c for c, _, _ in boxes], float).reshape(-1, 3),
+            np.array([s for _, s, _ in boxes], float).reshape(-1, 3) / 2,
+            np.array([rpy_rotation(r) for _, _, r in boxes]).reshape(-1, 3, 3),
+        ),
+        Rods(
+            np.array([a for a, _, _ in rods], float).reshape(-1, 3),
+            np.array([b for _, b, _ in rods], float).reshape(-1, 3),
+            np.array([r for _, _, r in rods], float),
+        ),
         kinds=np.array(kinds, dtype=int),
     )
     return replace(problem, obstacles=with_floor(obstacles, floor))
@@ -70,7 +78,9 @@ def test_goal_below_the_floor_is_missed_not_passed_through():
     report = solution.goals[0]
     assert not report.reached and report.reason == "no_free_pose"
     pose = forward(problem.arm, solution.trajectory.phi)
-    assert np.all(pose.points[:, 2:, 2] >= 0.25 + problem.solver.clearance - 1e-12)  # every joint past link 1 stayed above
+    assert np.all(
+        pose.points[:, 2:, 2] >= 0.25 + problem.solver.clearance - 1e-12
+    )  # every joint past link 1 stayed above
     assert np.all(pose.tip[:, 2] >= problem.solver.clearance)
 
 
@@ -106,7 +116,9 @@ def test_a_shapes_run_is_byte_identical_in_two_processes():
         "    solve('ur5-table')\n"
         "print(trajectory_csv_text(solve('ur5-table').trajectory), end='')\n"
     )
-    runs = [subprocess.run([sys.executable, "-c", program, str(ROOT), how], capture_output=True, text=True, check=True)
-            for how in ("cold", "warm")]
+    runs = [
+        subprocess.run([sys.executable, "-c", program, str(ROOT), how], capture_output=True, text=True, check=True)
+        for how in ("cold", "warm")
+    ]
     assert ",plan" in runs[0].stdout
     assert runs[0].stdout == runs[1].stdout

@@ -53,14 +53,25 @@ def test_newton_gradient_and_hessian_match_central_differences(ap, data):
     f, g, H = objective_derivatives(arm, phi, target, rest, w_tar, w_reg)
     h = 1e-6
     g_fd = np.array(
-        [(objective(arm, phi + h * e, target, rest, w_tar, w_reg) - objective(arm, phi - h * e, target, rest, w_tar, w_reg)) / (2 * h) for e in np.eye(n)]
+        [
+            (
+                objective(arm, phi + h * e, target, rest, w_tar, w_reg)
+                - objective(arm, phi - h * e, target, rest, w_tar, w_reg)
+            )
+            / (2 * h)
+            for e in np.eye(n)
+        ]
     )
     scale = max(1.0, float(np.abs(g).max()))
     np.testing.assert_allclose(g, g_fd, atol=1e-6 * scale)
     h = 1e-5
     H_fd = np.stack(
         [
-            (objective_derivatives(arm, phi + h * e, target, rest, w_tar, w_reg)[1] - objective_derivatives(arm, phi - h * e, target, rest, w_tar, w_reg)[1]) / (2 * h)
+            (
+                objective_derivatives(arm, phi + h * e, target, rest, w_tar, w_reg)[1]
+                - objective_derivatives(arm, phi - h * e, target, rest, w_tar, w_reg)[1]
+            )
+            / (2 * h)
             for e in np.eye(n)
         ],
         axis=1,

@@ -69,7 +69,11 @@ def test_exp_and_log_agree_with_scipy_at_every_angle_including_pi():
 
 
 def test_axis_angle_and_alignment():
-    np.testing.assert_allclose(axis_angle_rotation([1, 1, 0], 0.7), Rotation.from_rotvec(0.7 * np.array([1, 1, 0]) / np.sqrt(2)).as_matrix(), atol=1e-12)
+    np.testing.assert_allclose(
+        axis_angle_rotation([1, 1, 0], 0.7),
+        Rotation.from_rotvec(0.7 * np.array([1, 1, 0]) / np.sqrt(2)).as_matrix(),
+        atol=1e-12,
+    )
     for _ in range(20):
         a, b = (v / np.linalg.norm(v) for v in RNG.normal(size=(2, 3)))
         r = alignment_vector(a, b)
@@ -125,7 +129,11 @@ def _six_joint_arm() -> Arm:
 def test_orientation_gradient_is_exact_against_finite_differences(kind):
     arm = _six_joint_arm()
     for _ in range(5):
-        goal = Orientation(rotation=Rotation.random(random_state=RNG.integers(1 << 30)).as_matrix()) if kind == "rotation" else Orientation(axis=RNG.normal(size=3))
+        goal = (
+            Orientation(rotation=Rotation.random(random_state=RNG.integers(1 << 30)).as_matrix())
+            if kind == "rotation"
+            else Orientation(axis=RNG.normal(size=3))
+        )
         phi = RNG.uniform(-2, 2, arm.n)
         r, grad = orientation_gradient(goal, arm, forward(arm, phi))
 
@@ -149,7 +157,17 @@ def test_geometric_jacobian_is_the_derivative_of_the_error_at_the_goal(kind):
     goal = Orientation(rotation=rot) if kind == "rotation" else Orientation(axis=rot[:, 2])
     _, jac = orientation_task(goal, arm, pose)
     h = 1e-6
-    numeric = np.stack([(orientation_task(goal, arm, forward(arm, phi + h * e))[0] - orientation_task(goal, arm, forward(arm, phi - h * e))[0]) / (2 * h) for e in np.eye(arm.n)], -1)
+    numeric = np.stack(
+        [
+            (
+                orientation_task(goal, arm, forward(arm, phi + h * e))[0]
+                - orientation_task(goal, arm, forward(arm, phi - h * e))[0]
+            )
+            / (2 * h)
+            for e in np.eye(arm.n)
+        ],
+        -1,
+    )
     rows = jac.shape[0]
     assert rows == (3 if kind == "rotation" else 2)
     np.testing.assert_allclose(numeric, -jac, atol=1e-7)
@@ -157,8 +175,21 @@ def test_geometric_jacobian_is_the_derivative_of_the_error_at_the_goal(kind):
     def half_square(p):
         return 0.5 * np.sum(orientation_residual(goal, tool_rotation(arm, forward(arm, p))) ** 2)
 
-    hess = np.array([[(half_square(phi + h * (a + b)) - half_square(phi + h * (a - b)) - half_square(phi - h * (a - b)) + half_square(phi - h * (a + b))) / (4 * h * h)
-                      for b in np.eye(arm.n)] for a in np.eye(arm.n)])
+    hess = np.array(
+        [
+            [
+                (
+                    half_square(phi + h * (a + b))
+                    - half_square(phi + h * (a - b))
+                    - half_square(phi - h * (a - b))
+                    + half_square(phi - h * (a + b))
+                )
+                / (4 * h * h)
+                for b in np.eye(arm.n)
+            ]
+            for a in np.eye(arm.n)
+        ]
+    )
     np.testing.assert_allclose(hess, jac.T @ jac, atol=1e-4)
 
 
@@ -201,9 +232,13 @@ def test_the_three_orientation_forms_and_tool_axis_convert_to_radians(tmp_path):
     )
     problem = scene_to_problem(load_scene(_scene(tmp_path, goals, "solver: {orientation_tolerance: 0.5}\n")).model)
     g = problem.goals
-    np.testing.assert_allclose(g[0].orientation.rotation, Rotation.from_euler("xyz", np.radians([180, 0, 90])).as_matrix(), atol=1e-12)
+    np.testing.assert_allclose(
+        g[0].orientation.rotation, Rotation.from_euler("xyz", np.radians([180, 0, 90])).as_matrix(), atol=1e-12
+    )
     np.testing.assert_allclose(g[1].orientation.rotation, np.diag([1.0, -1, -1]), atol=1e-3)
-    np.testing.assert_allclose(g[2].orientation.rotation, Rotation.from_rotvec([0, 0, np.radians(30)]).as_matrix(), atol=1e-12)
+    np.testing.assert_allclose(
+        g[2].orientation.rotation, Rotation.from_rotvec([0, 0, np.radians(30)]).as_matrix(), atol=1e-12
+    )
     np.testing.assert_allclose(g[3].orientation.axis, [0, 0, -1])
     assert g[4].orientation is None
     assert problem.solver.orientation_tolerance == pytest.approx(np.radians(0.5))
@@ -213,12 +248,30 @@ def test_the_three_orientation_forms_and_tool_axis_convert_to_radians(tmp_path):
 @pytest.mark.parametrize(
     ("goal", "expected"),
     [
-        ("{position: [0.4, 0, 0.4], orientation: {quaternion_wxyz: [0, 0.9, 0, 0]}}", "s.yaml:4: goals[0].orientation: quaternion_wxyz has length 0.9"),
-        ("{position: [0.4, 0, 0.4], tool_axis: [0, 0, 0]}", "s.yaml:4: goals[0].tool_axis: tool_axis is the zero vector"),
-        ("{position: [0.4, 0, 0.4], orientation: {axis: [0, 0, 0], angle: 5}}", "s.yaml:4: goals[0].orientation: axis is the zero vector"),
-        ("{position: [0.4, 0, 0.4], tool_axis: [0, 0, 1], orientation: {rpy: [0, 0, 0]}}", "s.yaml:4: goals[0]: sets both orientation and tool_axis"),
-        ("{position: [0.4, 0, 0.4], orientation: {rpy: [0, 0, .inf]}}", "goals[0].orientation.rpy[2]: must be a finite number"),
-        ("{position: [0.4, 0, 0.4], orientation: {rpy: [0, 0, 0], axis: [0, 0, 1], angle: 3}}", "sets rpy and axis (expected exactly one"),
+        (
+            "{position: [0.4, 0, 0.4], orientation: {quaternion_wxyz: [0, 0.9, 0, 0]}}",
+            "s.yaml:4: goals[0].orientation: quaternion_wxyz has length 0.9",
+        ),
+        (
+            "{position: [0.4, 0, 0.4], tool_axis: [0, 0, 0]}",
+            "s.yaml:4: goals[0].tool_axis: tool_axis is the zero vector",
+        ),
+        (
+            "{position: [0.4, 0, 0.4], orientation: {axis: [0, 0, 0], angle: 5}}",
+            "s.yaml:4: goals[0].orientation: axis is the zero vector",
+        ),
+        (
+            "{position: [0.4, 0, 0.4], tool_axis: [0, 0, 1], orientation: {rpy: [0, 0, 0]}}",
+            "s.yaml:4: goals[0]: sets both orientation and tool_axis",
+        ),
+        (
+            "{position: [0.4, 0, 0.4], orientation: {rpy: [0, 0, .inf]}}",
+            "goals[0].orientation.rpy[2]: must be a finite number",
+        ),
+        (
+            "{position: [0.4, 0, 0.4], orientation: {rpy: [0, 0, 0], axis: [0, 0, 1], angle: 3}}",
+            "sets rpy and axis (expected exactly one",
+        ),
         ("{position: [0.4, 0, 0.4], orientation: {axis: [0, 0, 1]}}", "axis and angle go together"),
     ],
 )
@@ -251,8 +304,14 @@ ARMS = {
 
 
 def _problem(arm: dict, method: str, **solver):
-    scene = scene_model({"version": 1, "arm": arm, "goals": [[0.3, 0.0, 0.4]],
-                                       "solver": {"method": method, "tolerance": 1e-3, **solver}})
+    scene = scene_model(
+        {
+            "version": 1,
+            "arm": arm,
+            "goals": [[0.3, 0.0, 0.4]],
+            "solver": {"method": method, "tolerance": 1e-3, **solver},
+        }
+    )
     return scene_to_problem(scene)
 
 
@@ -310,11 +369,14 @@ def test_tool_axis_goals_leave_the_roll_free():
 
 @pytest.mark.parametrize("method", METHODS)
 def test_four_joints_reach_the_position_and_report_the_orientation_unreachable(method):
-    scene = scene_model({
-        "version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
-        "goals": [{"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}}, [5, 12, 9]],
-        "solver": {"method": method},
-    })
+    scene = scene_model(
+        {
+            "version": 1,
+            "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
+            "goals": [{"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}}, [5, 12, 9]],
+            "solver": {"method": method},
+        }
+    )
     problem = scene_to_problem(scene)
     solution = solve_trajectory(problem)
     first, second = solution.goals
@@ -327,12 +389,18 @@ def test_four_joints_reach_the_position_and_report_the_orientation_unreachable(m
 
 
 def test_planar_arm_with_a_tool_axis_out_of_its_plane():
-    scene = scene_model({
-        "version": 1, "arm": {"links": [1, 1, 1], "axes": ["z", "z", "z"], "direction": "x"},
-        "goals": [{"position": [1.5, 1.0, 0.0], "tool_axis": [1, 0, 1]}], "solver": {"planner": "off"},
-    })
+    scene = scene_model(
+        {
+            "version": 1,
+            "arm": {"links": [1, 1, 1], "axes": ["z", "z", "z"], "direction": "x"},
+            "goals": [{"position": [1.5, 1.0, 0.0], "tool_axis": [1, 0, 1]}],
+            "solver": {"planner": "off"},
+        }
+    )
     goal = solve_trajectory(scene_to_problem(scene)).goals[0]
-    assert goal.reason == "orientation_unreachable" and np.degrees(goal.final_orientation_error) == pytest.approx(45.0, abs=0.5)
+    assert goal.reason == "orientation_unreachable" and np.degrees(goal.final_orientation_error) == pytest.approx(
+        45.0, abs=0.5
+    )
 
 
 def test_pose_goal_runs_are_byte_identical_and_log_the_tool_frame():
@@ -343,12 +411,20 @@ def test_pose_goal_runs_are_byte_identical_and_log_the_tool_frame():
     assert trajectory_csv_text(solve_trajectory(problem).trajectory) == first
     lines = first.splitlines()
     header = lines[0].split(",")
-    assert header[-16:-11] == ["qw", "qx", "qy", "qz", "orientation_error_deg"]  # then self_clearance, self_pair, path_s, path_error, 7 velocities
+    assert header[-16:-11] == [
+        "qw",
+        "qx",
+        "qy",
+        "qz",
+        "orientation_error_deg",
+    ]  # then self_clearance, self_pair, path_s, path_error, 7 velocities
     rows = [dict(zip(header, line.split(","))) for line in lines[1:]]
     for row in rows:
         phi = np.radians([float(row[f"phi{i}_deg"]) for i in range(1, 8)])
         rot = tool_rotation(problem.arm, forward(problem.arm, phi))
-        np.testing.assert_allclose(quaternion_rotation([float(row[c]) for c in ("qw", "qx", "qy", "qz")]), rot, atol=1e-12)
+        np.testing.assert_allclose(
+            quaternion_rotation([float(row[c]) for c in ("qw", "qx", "qy", "qz")]), rot, atol=1e-12
+        )
         assert (row["orientation_error_deg"] == "") == (row["goal"] == "1")
 
 
@@ -371,7 +447,9 @@ def test_pictures_draw_triads_and_the_caption_the_angle_only_with_orientations(t
     assert not np.array_equal(imread(tmp_path / "with.png"), imread(tmp_path / "without.png"))
     solution = solve_trajectory(replace(oriented, goals=oriented.goals[:1]))
     assert " deg   " in frame_caption(solution.trajectory, 1, 1, "moving")
-    assert "angle" not in frame_caption(solve_trajectory(replace(plain, goals=plain.goals[:1])).trajectory, 1, 1, "moving")
+    assert "angle" not in frame_caption(
+        solve_trajectory(replace(plain, goals=plain.goals[:1])).trajectory, 1, 1, "moving"
+    )
 
 
 def test_viewer_data_carries_orientations_only_for_oriented_runs():
@@ -394,11 +472,18 @@ def test_viewer_data_carries_orientations_only_for_oriented_runs():
 def test_pose_goal_trajectories_keep_every_invariant():
     from invariants import assert_trajectory_invariants
 
-    scene = scene_model({
-        "version": 1, "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
-        "goals": [{"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}}, {"position": [10, 8, 9], "tool_axis": [1, 0, 0]}, [5, 12, 9]],
-        "obstacles": [{"center": [9, 9, 12], "radius": 1.0}],
-    })
+    scene = scene_model(
+        {
+            "version": 1,
+            "arm": {"links": [2, 5, 5, 5], "base": [5, 5, 0]},
+            "goals": [
+                {"position": [12, 5, 8], "orientation": {"rpy": [90, 0, 45]}},
+                {"position": [10, 8, 9], "tool_axis": [1, 0, 0]},
+                [5, 12, 9],
+            ],
+            "obstacles": [{"center": [9, 9, 12], "radius": 1.0}],
+        }
+    )
     problem = scene_to_problem(scene)
     assert_trajectory_invariants(problem, solve_trajectory(problem))
 
@@ -415,12 +500,26 @@ def test_an_arm_whose_position_takes_every_joint_turns_nothing_for_the_rotation(
     from armanim.scene import default_solver_settings, unlimited_limits
     from armanim.world.obstacles import Obstacles
 
-    goal = Goal(np.array([1.2, 0.9, 0.0]), 0.0, Orientation(rotation=Rotation.from_euler("xyz", [10.0, 20.0, 30.0], degrees=True).as_matrix()))
-    problem = Problem(arm=Arm.from_names([1.0, 1.0], axes=["z", "z"], direction="x"), half_width=0.05, home=np.radians([20.0, 30.0]),
-                      limits=unlimited_limits(2), obstacles=Obstacles.none(), goals=(goal,), solver=default_solver_settings(method=method), fps=30.0)
+    goal = Goal(
+        np.array([1.2, 0.9, 0.0]),
+        0.0,
+        Orientation(rotation=Rotation.from_euler("xyz", [10.0, 20.0, 30.0], degrees=True).as_matrix()),
+    )
+    problem = Problem(
+        arm=Arm.from_names([1.0, 1.0], axes=["z", "z"], direction="x"),
+        half_width=0.05,
+        home=np.radians([20.0, 30.0]),
+        limits=unlimited_limits(2),
+        obstacles=Obstacles.none(),
+        goals=(goal,),
+        solver=default_solver_settings(method=method),
+        fps=30.0,
+    )
     state = arm_state(problem, problem.home)
     jac = linear.jacobian_of_tip(problem, state.phi, state.pose)
-    step, projector = linear.orientation_in_null_space(problem, state, goal.orientation, jac, np.zeros(2), pseudo_inverse)
+    step, projector = linear.orientation_in_null_space(
+        problem, state, goal.orientation, jac, np.zeros(2), pseudo_inverse
+    )
     assert np.array_equal(step, np.zeros(2))
     assert np.abs(projector).max() < 1e-12  # the tip's null space: nothing
     with_rotation = linear.linear_step(problem, state, goal.position, pseudo_inverse, goal.orientation).dphi

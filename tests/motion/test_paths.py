@@ -38,12 +38,23 @@ def scene_problem(name: str) -> Problem:
     return scene_to_problem(load_scene(SCENES / name).model)
 
 
-def line_problem(problem: Problem, a, b, speed: float, orientation: Orientation | None = None, tolerance: float = 1e-3,
-                 obstacles: Obstacles | None = None) -> Problem:
+def line_problem(
+    problem: Problem,
+    a,
+    b,
+    speed: float,
+    orientation: Orientation | None = None,
+    tolerance: float = 1e-3,
+    obstacles: Obstacles | None = None,
+) -> Problem:
     path = ToolPath.polyline(np.array([a, b], dtype=float))
     goal = Goal(path.start, 0.0, orientation, path, speed)
-    return replace(problem, goals=(goal,), solver=replace(problem.solver, path_tolerance=tolerance),
-                   obstacles=problem.obstacles if obstacles is None else obstacles)
+    return replace(
+        problem,
+        goals=(goal,),
+        solver=replace(problem.solver, path_tolerance=tolerance),
+        obstacles=problem.obstacles if obstacles is None else obstacles,
+    )
 
 
 def timed(problem: Problem) -> Solution:
@@ -73,13 +84,22 @@ NOTES_LINE = ([12.0, 5.0, 4.0], [12.0, 1.0, 6.0])
 PANDA_LINE = ([0.4, -0.2, 0.3], [0.4, 0.2, 0.3])
 
 
-@pytest.mark.parametrize(("scene", "line", "orientation", "tolerance"), [
-    ("notes-arm.yaml", NOTES_LINE, None, 0.01),
-    ("panda-place.yaml", PANDA_LINE, DOWN, 1e-3),
-])
+@pytest.mark.parametrize(
+    ("scene", "line", "orientation", "tolerance"),
+    [
+        ("notes-arm.yaml", NOTES_LINE, None, 0.01),
+        ("panda-place.yaml", PANDA_LINE, DOWN, 1e-3),
+    ],
+)
 def test_a_line_is_followed_within_tolerance_at_every_frame_and_midpoint(scene, line, orientation, tolerance):
-    problem = line_problem(scene_problem(scene), *line, speed=0.1 if tolerance < 0.01 else 2.0, orientation=orientation,
-                           tolerance=tolerance, obstacles=Obstacles.none())
+    problem = line_problem(
+        scene_problem(scene),
+        *line,
+        speed=0.1 if tolerance < 0.01 else 2.0,
+        orientation=orientation,
+        tolerance=tolerance,
+        obstacles=Obstacles.none(),
+    )
     solution = timed(problem)
     report = solution.goals[0]
     assert report.reached and report.path.fraction == 1.0 and report.path.cause is None
@@ -99,8 +119,9 @@ def test_a_line_is_followed_within_tolerance_at_every_frame_and_midpoint(scene, 
 
 def test_the_tool_keeps_its_speed_inside_a_feasible_line_and_never_passes_it():
     speed = 0.05
-    problem = line_problem(scene_problem("panda-place.yaml"), *PANDA_LINE, speed=speed, orientation=DOWN,
-                           obstacles=Obstacles.none())
+    problem = line_problem(
+        scene_problem("panda-place.yaml"), *PANDA_LINE, speed=speed, orientation=DOWN, obstacles=Obstacles.none()
+    )
     solution = timed(problem)
     traj = solution.trajectory
     along = np.nonzero(traj.mode == "path")[0]
@@ -124,8 +145,14 @@ def test_the_tool_never_passes_its_speed_round_a_circle():
 
 def test_a_line_out_of_reach_stops_where_the_reach_ends():
     """Straight up from the notes' arm's shoulder: its reach ends 17 above the base (2 + 15)."""
-    problem = line_problem(scene_problem("notes-arm.yaml"), [5.0, 5.0, 10.0], [5.0, 5.0, 25.0], speed=2.0, tolerance=0.01,
-                           obstacles=Obstacles.none())
+    problem = line_problem(
+        scene_problem("notes-arm.yaml"),
+        [5.0, 5.0, 10.0],
+        [5.0, 5.0, 25.0],
+        speed=2.0,
+        tolerance=0.01,
+        obstacles=Obstacles.none(),
+    )
     solution = timed(problem)
     report = solution.goals[0]
     assert not report.reached and report.reason == "path_blocked" and report.path.cause == "out_of_reach"
@@ -140,8 +167,15 @@ def test_a_line_leaving_the_reach_round_the_shoulder_is_out_of_reach():
     beyond it), a line from (1, 1, 2) to (3, 3, 3) leaves that reach at t = 0.432 (by hand: the
     root of |(1, 1, 1) + t (2, 2, 1)| = 3), well inside the 4 of reach from the base. The cause is
     out_of_reach, not singular; the tool stops where the reach ends."""
-    problem = scene_to_problem(scene_model({"version": 1, "arm": {"links": [1, 1, 1, 1]},
-                                            "goals": [{"path": {"line": [[1, 1, 2], [3, 3, 3]]}, "speed": 0.5}]}))
+    problem = scene_to_problem(
+        scene_model(
+            {
+                "version": 1,
+                "arm": {"links": [1, 1, 1, 1]},
+                "goals": [{"path": {"line": [[1, 1, 2], [3, 3, 3]]}, "speed": 0.5}],
+            }
+        )
+    )
     report = timed(problem).goals[0]
     assert not report.reached and report.reason == "path_blocked" and report.path.cause == "out_of_reach"
     t = (-10 + np.sqrt(100 + 4 * 9 * 6)) / (2 * 9)  # |(1, 1, 1) + t (2, 2, 1)|^2 = 9: 9 t^2 + 10 t - 6 = 0
@@ -205,9 +239,11 @@ UR5 = scene_problem("ur5-table.yaml")
 
 
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(start=st.tuples(st.floats(0.3, 0.6), st.floats(-0.3, 0.3), st.floats(0.25, 0.5)),
-       direction=st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)).filter(lambda d: np.linalg.norm(d) > 0.1),
-       length=st.floats(0.1, 0.3))
+@given(
+    start=st.tuples(st.floats(0.3, 0.6), st.floats(-0.3, 0.3), st.floats(0.25, 0.5)),
+    direction=st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)).filter(lambda d: np.linalg.norm(d) > 0.1),
+    length=st.floats(0.1, 0.3),
+)
 def test_ur5_lines_are_followed_or_reported_never_left(start, direction, length):
     a = np.array(start)
     b = a + length * np.array(direction) / np.linalg.norm(direction)
@@ -236,11 +272,14 @@ def test_a_path_held_by_the_arms_own_links_near_a_limit_goes_on_without_the_limi
     from armanim.motion.solvers import arm_state, solver_method
 
     start, end = [0.30158668, -0.01074863, 0.32955472], [0.15908835, 0.16129915, 0.26926259]
-    scene = scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [start],
-                         "solver": {"tolerance": 0.005, "clearance": 0.02}})
+    scene = scene_model(
+        {"version": 1, "arm": {"robot": "panda"}, "goals": [start], "solver": {"tolerance": 0.005, "clearance": 0.02}}
+    )
     problem = line_problem(scene_to_problem(scene), start, end, speed=0.1, orientation=DOWN)
     goal, method = problem.goals[0], solver_method(problem.solver.method)
-    state = arm_state(problem, np.array([1.44345069, -1.73183633, -0.89259486, -2.6416177, -1.0252013, 1.1178677, 1.20406574]))
+    state = arm_state(
+        problem, np.array([1.44345069, -1.73183633, -0.89259486, -2.6416177, -1.0252013, 1.1178677, 1.20406574])
+    )
     pushed = follow_path(problem, method, state, goal)
     assert pushed.cause == "self_collision" and pushed.s[-1] / goal.path.length < 0.125
     followed = followed_route(problem, method, state, goal).followed

@@ -35,12 +35,24 @@ def random_problem(arm: str, seed: int):
     def near() -> list[float]:
         return [float(v) for v in base + rng.uniform([-reach, -reach, 0.1 * reach], [reach, reach, reach])]
 
-    scene = {"version": 1, "arm": spec, "floor": float(base[2]) - 0.01 * reach,
-             "obstacles": [{"center": near(), "radius": float(rng.uniform(0.05, 0.2) * reach)},
-                           {"box": {"center": near(), "size": [float(v) for v in rng.uniform(0.05, 0.4, 3) * reach],
-                                    "rpy": [float(v) for v in rng.uniform(-180, 180, 3)]}},
-                           {"capsule": {"from": near(), "to": near(), "radius": float(rng.uniform(0.02, 0.1) * reach)}}],
-             "goals": [[float(v) for v in base + [0.5 * reach, 0, 0.5 * reach]]], "solver": {"clearance": 0.02 * reach}}
+    scene = {
+        "version": 1,
+        "arm": spec,
+        "floor": float(base[2]) - 0.01 * reach,
+        "obstacles": [
+            {"center": near(), "radius": float(rng.uniform(0.05, 0.2) * reach)},
+            {
+                "box": {
+                    "center": near(),
+                    "size": [float(v) for v in rng.uniform(0.05, 0.4, 3) * reach],
+                    "rpy": [float(v) for v in rng.uniform(-180, 180, 3)],
+                }
+            },
+            {"capsule": {"from": near(), "to": near(), "radius": float(rng.uniform(0.02, 0.1) * reach)}},
+        ],
+        "goals": [[float(v) for v in base + [0.5 * reach, 0, 0.5 * reach]]],
+        "solver": {"clearance": 0.02 * reach},
+    }
     return scene_to_problem(scene_model(scene)), rng
 
 
@@ -85,9 +97,13 @@ def test_frame_margins_are_the_numpy_clearances_and_gaps(arm):
     clear, gaps = frame_margins(problem, poses)
     pose = forward(problem.arm, poses)
     scale = ARMS[arm][1]
-    np.testing.assert_allclose(clear, min_link_clearance(pose, problem.obstacles, problem.capsules), rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(
+        clear, min_link_clearance(pose, problem.obstacles, problem.capsules), rtol=0, atol=1e-12 * scale
+    )
     if len(problem.self_pairs):
-        np.testing.assert_allclose(gaps, self_gaps(pose, problem.capsules, problem.self_pairs).d, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(
+            gaps, self_gaps(pose, problem.capsules, problem.self_pairs).d, rtol=0, atol=1e-12 * scale
+        )
         assert gaps.max() > CompiledCheck.of(problem).far  # far pairs too, measured exactly
     else:
         assert gaps.shape == (64, 0)
@@ -106,19 +122,24 @@ def test_margins_of_a_spherized_robot_with_cylinders():
     requests = sorted(data.glob("*request*.yaml"))
     assert files and requests, data
     out = Path(__file__).parent / "_unused.yaml"  # the import is not written: only its folder is read
-    imported = moveit_scene(files[0], requests[0], RobotSource(urdf=data / "panda_spherized.urdf", srdf=data / "panda.srdf"), out)
+    imported = moveit_scene(
+        files[0], requests[0], RobotSource(urdf=data / "panda_spherized.urdf", srdf=data / "panda.srdf"), out
+    )
     problem = scene_to_problem(scene_from_bytes(imported.text.encode(), out).model)
     assert len(problem.obstacles.cylinders) and np.all(problem.capsules.start == problem.capsules.end)
     check = CompiledCheck.of(problem, closed=True)
     rng = np.random.default_rng(5)
     goal = problem.goals[0].joints
-    poses = np.concatenate([problem.home + (goal - problem.home) * rng.random((40, 1)),
-                            goal + rng.normal(0, 0.05, (40, problem.arm.n))])
+    poses = np.concatenate(
+        [problem.home + (goal - problem.home) * rng.random((40, 1)), goal + rng.normal(0, 0.05, (40, problem.arm.n))]
+    )
     clear, own = check.margins(poses)
     ref_clear, ref_own = split_clearances(problem, poses)
     assert_exact_below_far(clear, ref_clear, check.far, 1.0)
     assert_exact_below_far(own, ref_own, check.far, 1.0)
-    assert np.sum(clear < check.far) > 40 and np.any(own < check.far) and np.any(own >= check.far)  # both sides asked for
+    assert (
+        np.sum(clear < check.far) > 40 and np.any(own < check.far) and np.any(own >= check.far)
+    )  # both sides asked for
 
 
 @pytest.mark.parametrize("arm", sorted(ARMS))
@@ -152,7 +173,9 @@ def test_a_pose_on_a_limit_is_free_only_with_closed_limits():
     pose[1] = problem.limits.lower[1]
     floor = 0.0
     assert within_limits(problem, pose[None], closed=True)[0] and not within_limits(problem, pose[None])[0]
-    assert CompiledCheck.of(problem, closed=True).pose_free(pose, floor) == bool(split_clearances(problem, pose[None])[0][0] >= floor)
+    assert CompiledCheck.of(problem, closed=True).pose_free(pose, floor) == bool(
+        split_clearances(problem, pose[None])[0][0] >= floor
+    )
     assert not CompiledCheck.of(problem).pose_free(pose, floor)
 
 
@@ -166,14 +189,17 @@ def test_lever_rows_bound_how_far_points_and_gaps_move(arm):
     caps = problem.capsules
     rows = capsule_lever_rows(problem.arm, caps)
     assert np.all(rows <= problem.lever_arms + 1e-12)
-    pair_rows = pair_capsule_rows(caps.link, problem.self_pairs.first, problem.self_pairs.second, rows,
-                                  next_axis_reach(problem.arm, caps))
+    pair_rows = pair_capsule_rows(
+        caps.link, problem.self_pairs.first, problem.self_pairs.second, rows, next_axis_reach(problem.arm, caps)
+    )
     assert np.all(pair_rows <= problem.pair_lever_rows + 1e-12)
     tight = 0
     for a in random_poses(problem, rng, 40):
         step = rng.normal(size=problem.arm.n) * rng.choice([1e-3, 0.05, 0.5])
         a_ends, b_ends = (capsule_ends(caps, forward(problem.arm, phi)) for phi in (a, a + step))
-        moved = np.maximum(np.linalg.norm(b_ends[0] - a_ends[0], axis=-1), np.linalg.norm(b_ends[1] - a_ends[1], axis=-1))
+        moved = np.maximum(
+            np.linalg.norm(b_ends[0] - a_ends[0], axis=-1), np.linalg.norm(b_ends[1] - a_ends[1], axis=-1)
+        )
         bound = rows @ np.abs(step)
         assert np.all(moved <= bound + 1e-12)
         tight += np.any(moved > 0.5 * bound)

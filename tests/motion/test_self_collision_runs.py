@@ -25,8 +25,12 @@ def robot_problem(robot: str, **solver):
     from dataclasses import replace
 
     base = scene_to_problem(scene_model({"version": 1, "arm": {"robot": robot}, "goals": [[0.4, 0, 0.4]]}))
-    return replace(base, solver=default_solver_settings(**{"max_step": 0.02, "tolerance": 0.005, "max_frames_per_goal": 120,
-                                                           "clearance": 0.02, **solver}))
+    return replace(
+        base,
+        solver=default_solver_settings(
+            **{"max_step": 0.02, "tolerance": 0.005, "max_frames_per_goal": 120, "clearance": 0.02, **solver}
+        ),
+    )
 
 
 @st.composite
@@ -40,8 +44,13 @@ def near_body_problems(draw):
     problem = robot_problem(robot, method=draw(st.sampled_from(sorted(METHODS))))
     lim = problem.limits
     lo, hi = np.maximum(lim.lower, -np.pi) + 0.1, np.minimum(lim.upper, np.pi) - 0.1
-    poses = np.array([np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=problem.arm.n, max_size=problem.arm.n))) * (hi - lo) + lo
-                      for _ in range(draw(st.integers(1, 2)))])
+    poses = np.array(
+        [
+            np.array(draw(st.lists(st.floats(0.0, 1.0), min_size=problem.arm.n, max_size=problem.arm.n))) * (hi - lo)
+            + lo
+            for _ in range(draw(st.integers(1, 2)))
+        ]
+    )
     tips = forward(problem.arm, poses).tip
     assume(np.all(tips[:, 2] > 0.1) and np.all(np.linalg.norm(tips[:, :2] - problem.arm.base[:2], axis=1) < 0.3))
     return replace(problem, goals=tuple(Goal(tip, hold=0.0) for tip in tips))
@@ -57,14 +66,18 @@ def test_runs_near_the_body_keep_every_enabled_pair_apart(problem):
 def test_panda_shelf_has_no_frame_under_self_clearance():
     from pathlib import Path
 
-    scene = Path(__file__).resolve().parents[1] / "data" / "panda-two-boards.yaml"  # panda-shelf before it carried a box
+    scene = (
+        Path(__file__).resolve().parents[1] / "data" / "panda-two-boards.yaml"
+    )  # panda-shelf before it carried a box
     problem = scene_to_problem(load_scene(scene).model)
     assert ("panda_link5", "panda_link7") in problem.self_pairs.names  # the pair the run used to pass through
     solution = solve_trajectory(problem)
     assert_trajectory_invariants(problem, solution)
     assert solution.trajectory.self_clearance.min() >= problem.self_pairs.clearance
     assert solution.reached == len(problem.goals)
-    off = solve_trajectory(replace_pairs(problem))  # the same scene with self_collision: off passes link 5 through link 7
+    off = solve_trajectory(
+        replace_pairs(problem)
+    )  # the same scene with self_collision: off passes link 5 through link 7
     gaps = self_gaps(forward(problem.arm, off.trajectory.phi), problem.capsules, problem.self_pairs).d
     assert (gaps.min(axis=1) < 0).sum() > 100
 
@@ -84,14 +97,25 @@ def test_a_goal_whose_only_poses_fold_the_arm_is_a_no_free_pose_miss_naming_the_
 
     arm = Arm.from_names([1.0, 1.0, 1.0], axes=["z", "z", "z"], direction="x")
     caps = joint_capsules(arm, 0.1)
-    pairs = selfcollision.enabled_pairs(caps, {("link1", "link2"): "Adjacent", ("link2", "link3"): "Adjacent"}, 0.05, "auto")
+    pairs = selfcollision.enabled_pairs(
+        caps, {("link1", "link2"): "Adjacent", ("link2", "link3"): "Adjacent"}, 0.05, "auto"
+    )
     limits = Limits(np.radians([-10.0, -170, -170]), np.radians([10.0, 170, 170]), np.radians(10.0))
     goal = np.array([0.4, 0.0, 0.0])  # only reached with link 3 folded back over link 1
     from armanim.motion.problem import Problem
 
-    problem = Problem(arm=arm, half_width=0.1, home=np.zeros(3), limits=limits, obstacles=Obstacles.none(),
-                      goals=(Goal(goal, 0.0),), solver=default_solver_settings(tolerance=0.01, max_frames_per_goal=200, clearance=0.1),
-                      fps=30.0, capsules=caps, self_pairs=pairs)
+    problem = Problem(
+        arm=arm,
+        half_width=0.1,
+        home=np.zeros(3),
+        limits=limits,
+        obstacles=Obstacles.none(),
+        goals=(Goal(goal, 0.0),),
+        solver=default_solver_settings(tolerance=0.01, max_frames_per_goal=200, clearance=0.1),
+        fps=30.0,
+        capsules=caps,
+        self_pairs=pairs,
+    )
     solution = solve_trajectory(small_planning_budget(problem))
     assert_trajectory_invariants(problem, solution)
     report = solution.goals[0]
@@ -114,9 +138,18 @@ def test_certified_motion_checks_cover_the_arms_own_pairs():
     caps = joint_capsules(arm, 0.05)
     allowed = {(f"link{k}", f"link{k + 1}"): "Adjacent" for k in range(1, 5)}
     pairs = selfcollision.enabled_pairs(caps, allowed, 0.02, "auto")
-    problem = Problem(arm=arm, half_width=0.05, home=np.zeros(5), limits=Limits.unlimited(5, np.radians(10.0)),
-                      obstacles=Obstacles.none(), goals=(Goal(np.array([1.0, 0, 1.0]), 0.0),),
-                      solver=default_solver_settings(clearance=0.04), fps=30.0, capsules=caps, self_pairs=pairs)
+    problem = Problem(
+        arm=arm,
+        half_width=0.05,
+        home=np.zeros(5),
+        limits=Limits.unlimited(5, np.radians(10.0)),
+        obstacles=Obstacles.none(),
+        goals=(Goal(np.array([1.0, 0, 1.0]), 0.0),),
+        solver=default_solver_settings(clearance=0.04),
+        fps=30.0,
+        capsules=caps,
+        self_pairs=pairs,
+    )
     rng = np.random.default_rng(35)
     certified = refused = 0
     for _ in range(60):

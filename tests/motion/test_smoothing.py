@@ -38,7 +38,9 @@ def polyline_length(poses: np.ndarray) -> float:
 def walks_among_discs(draw):
     """A wandering path of solved poses in a plane of two joints, discs it keeps clear of, and the poses kept."""
     m = draw(st.integers(4, 30))
-    steps = np.array(draw(st.lists(st.tuples(st.floats(-0.3, 0.3), st.floats(-0.3, 0.3)), min_size=m - 1, max_size=m - 1)))
+    steps = np.array(
+        draw(st.lists(st.tuples(st.floats(-0.3, 0.3), st.floats(-0.3, 0.3)), min_size=m - 1, max_size=m - 1))
+    )
     flat = np.concatenate([np.zeros((1, 2)), np.cumsum(steps, axis=0)])
     discs = draw(st.lists(st.tuples(st.floats(-2, 2), st.floats(-2, 2), st.floats(0.05, 0.6)), max_size=5))
     fine = np.concatenate([a + np.linspace(0, 1, 9)[:, None] * (b - a) for a, b in zip(flat[:-1], flat[1:])])
@@ -46,15 +48,35 @@ def walks_among_discs(draw):
     centers = np.array([d[:2] for d in kept_discs]).reshape(-1, 2)
     radii = np.array([d[2] for d in kept_discs])
     inner = sorted(draw(st.sets(st.integers(1, m - 2), max_size=3)))
-    return flat, centers, radii, [0, *inner, m - 1], draw(st.lists(st.booleans(), min_size=len(inner), max_size=len(inner)))
+    return (
+        flat,
+        centers,
+        radii,
+        [0, *inner, m - 1],
+        draw(st.lists(st.booleans(), min_size=len(inner), max_size=len(inner))),
+    )
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(walks_among_discs())
-@example((np.array([[0.0, 0.0], [0.3, 0.0], [0.6, 0.0], [0.6, 0.3], [0.6, 0.6]]), np.array([[0.2, 0.45]]), np.array([0.2]),
-          [0, 4], []))  # an L round a disc inside its corner: the curve must stay tight
-@example((np.array([[0.0, 0.0], [0.25, 0.0], [0.5, 0.0], [0.25, 0.0], [0.0, 0.0], [1e-05, 0.0]]), np.zeros((0, 2)), np.zeros(0),
-          [0, 1, 5], [False]))  # found: a segment's end was a + 1 * (b - a), not b (the last pose moved by an ulp)
+@example(
+    (
+        np.array([[0.0, 0.0], [0.3, 0.0], [0.6, 0.0], [0.6, 0.3], [0.6, 0.6]]),
+        np.array([[0.2, 0.45]]),
+        np.array([0.2]),
+        [0, 4],
+        [],
+    )
+)  # an L round a disc inside its corner: the curve must stay tight
+@example(
+    (
+        np.array([[0.0, 0.0], [0.25, 0.0], [0.5, 0.0], [0.25, 0.0], [0.0, 0.0], [1e-05, 0.0]]),
+        np.zeros((0, 2)),
+        np.zeros(0),
+        [0, 1, 5],
+        [False],
+    )
+)  # found: a segment's end was a + 1 * (b - a), not b (the last pose moved by an ulp)
 def test_smoothed_paths_keep_the_floor_the_kept_poses_and_get_no_longer(case):
     flat, centers, radii, keep, rounded = case
     measure = disc_clearance(centers, radii)
@@ -62,8 +84,10 @@ def test_smoothed_paths_keep_the_floor_the_kept_poses_and_get_no_longer(case):
     clear = measure(flat)
     certified = np.zeros(len(flat) - 1, dtype=bool)  # the solved steps: never trusted here
     reach = 0.3
-    near = {k: (lambda poses, k=k: np.abs(poses - flat[k]).max(axis=1) <= reach) if r else None
-            for k, r in zip(keep[1:-1], rounded)}
+    near = {
+        k: (lambda poses, k=k: np.abs(poses - flat[k]).max(axis=1) <= reach) if r else None
+        for k, r in zip(keep[1:-1], rounded)
+    }
     out = smoothed_poses(flat, clear, certified, keep, cert, near)
 
     np.testing.assert_array_equal(out.poses[0], flat[0])
@@ -74,12 +98,12 @@ def test_smoothed_paths_keep_the_floor_the_kept_poses_and_get_no_longer(case):
     for k in keep[1:-1]:  # each kept pose: passed exactly, or its curve within the via's test
         (first, last), curve = out.corners[k]
         if curve:
-            assert near[k] is not None and np.abs(out.poses[first:last + 1] - flat[k]).max(axis=1).min() <= reach
+            assert near[k] is not None and np.abs(out.poses[first : last + 1] - flat[k]).max(axis=1).min() <= reach
         else:
             np.testing.assert_array_equal(out.poses[first], flat[k])
     path = joint_path(out.poses, np.array([True, True]))
     for q in range(len(path.s) - 1):  # the clock's path on each certified step (repeated poses dropped), densely
-        if out.certified[path.frames[q]:path.frames[q + 1]].all():
+        if out.certified[path.frames[q] : path.frames[q + 1]].all():
             at = path.s[q] + np.linspace(0.0, 1.0, 41) * (path.s[q + 1] - path.s[q])
             assert measure(path.evaluate(at)).min() >= FLOOR - 1e-12, q
 
@@ -101,7 +125,9 @@ def test_a_path_of_one_or_two_poses_is_kept_as_it_is():
     """Found by the blended joint goals' property: a goal already reached is a part of one pose."""
     cert = Certifier(disc_clearance(np.zeros((0, 2)), np.zeros(0)), np.ones(2), FLOOR)
     for flat in (np.zeros((1, 2)), np.array([[0.0, 0.0], [0.5, 0.1]])):
-        out = smoothed_poses(flat, np.full(len(flat), np.inf), np.ones(len(flat) - 1, dtype=bool), [0, len(flat) - 1], cert, {})
+        out = smoothed_poses(
+            flat, np.full(len(flat), np.inf), np.ones(len(flat) - 1, dtype=bool), [0, len(flat) - 1], cert, {}
+        )
         np.testing.assert_array_equal(out.poses, flat)
         assert out.position.tolist() == list(range(len(flat)))
 

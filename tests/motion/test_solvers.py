@@ -156,7 +156,10 @@ def test_safe_step_stops_before_an_obstacle():
     assert moved.blocked_by == "obstacle"
     from armanim.world.distances import min_link_clearance
 
-    assert float(min_link_clearance(forward(problem.arm, moved.phi), obstacles, problem.capsules)) >= problem.solver.clearance
+    assert (
+        float(min_link_clearance(forward(problem.arm, moved.phi), obstacles, problem.capsules))
+        >= problem.solver.clearance
+    )
     assert 0 < moved.phi[0] < np.pi / 2
 
 
@@ -208,7 +211,9 @@ def test_the_pseudo_inverse_is_eq20_of_gesdds_factors_bit_for_bit():
         jac = rng.normal(size=shape)
         jac[..., -1] *= rng.random() < 0.3  # some of them singular
         u, d, vt = np.linalg.svd(jac, full_matrices=False)
-        assert all(np.array_equal(a, b) for a, b in zip(scipy_svd(jac, full_matrices=False, lapack_driver="gesdd"), (u, d, vt)))
+        assert all(
+            np.array_equal(a, b) for a, b in zip(scipy_svd(jac, full_matrices=False, lapack_driver="gesdd"), (u, d, vt))
+        )
         keep = (d > PINV_RTOL * d[..., :1]) & (d[..., :1] > 0)
         inverse = np.where(keep, 1.0 / np.where(keep, d, 1.0), 0.0)
         expected = np.matmul(np.swapaxes(vt, -1, -2) * inverse[..., None, :], np.swapaxes(u, -1, -2))
@@ -264,12 +269,16 @@ def test_ik_reports_a_linear_algebra_failure_as_numerical(monkeypatch):
         raise np.linalg.LinAlgError("SVD did not converge")
 
     monkeypatch.setattr(armanim.motion.solvers.linear, "pseudo_inverse", fails)
-    problem = numpy_steps_only(planar_ik_problem("pinv"))  # the compiled attempt has its own inverse (test_compiled_attempt.py)
+    problem = numpy_steps_only(
+        planar_ik_problem("pinv")
+    )  # the compiled attempt has its own inverse (test_compiled_attempt.py)
     start = np.radians([10.0, 10.0, 10.0, 10.0])
     result = solve_pose(problem, problem.goals[0].position, start, max_iterations=100)
     assert result.status == "numerical" and not result.converged
     assert np.all(np.isfinite(result.phi)) and result.restarts == 4  # every start was tried
-    assert result.distance == pytest.approx(np.linalg.norm(forward(problem.arm, result.phi).tip - problem.goals[0].position))
+    assert result.distance == pytest.approx(
+        np.linalg.norm(forward(problem.arm, result.phi).tip - problem.goals[0].position)
+    )
 
 
 @pytest.mark.parametrize("compiled", [True, False])
@@ -315,6 +324,12 @@ def test_gradient_hands_on_the_state_of_its_whole_step_and_the_filter_reuses_it(
             assert proposal.ahead.phi.tobytes() == again.phi.tobytes()
             for field in ("d", "t", "normal"):
                 np.testing.assert_array_equal(getattr(proposal.ahead.clearance, field), getattr(again.clearance, field))
-        reused, computed = safe_step(problem, state, proposal.dphi, proposal.ahead), safe_step(problem, state, proposal.dphi)
-        assert reused.phi.tobytes() == computed.phi.tobytes() and (reused.scale, reused.blocked_by) == (computed.scale, computed.blocked_by)
+        reused, computed = (
+            safe_step(problem, state, proposal.dphi, proposal.ahead),
+            safe_step(problem, state, proposal.dphi),
+        )
+        assert reused.phi.tobytes() == computed.phi.tobytes() and (reused.scale, reused.blocked_by) == (
+            computed.scale,
+            computed.blocked_by,
+        )
         state = computed.state

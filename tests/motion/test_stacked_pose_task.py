@@ -17,8 +17,16 @@ from armanim.scene import scene_model, scene_to_problem
 
 
 def robot(name: str, method: str = "pinv"):
-    return scene_to_problem(scene_model({"version": 1, "arm": {"robot": name}, "goals": [[0.4, 0.0, 0.4]],
-                                         "solver": {"method": method, "tolerance": 0.001, "orientation_tolerance": 1}}))
+    return scene_to_problem(
+        scene_model(
+            {
+                "version": 1,
+                "arm": {"robot": name},
+                "goals": [[0.4, 0.0, 0.4]],
+                "solver": {"method": method, "tolerance": 0.001, "orientation_tolerance": 1},
+            }
+        )
+    )
 
 
 @pytest.mark.parametrize("name", ["panda", "ur5", "iiwa"])
@@ -56,7 +64,9 @@ def test_the_frame_loop_keeps_the_task_priority():
 
 
 def test_an_arm_that_cannot_hold_every_orientation_keeps_the_priority():
-    problem = solving_problem(scene_to_problem(scene_model({"version": 1, "arm": {"links": [2, 5, 5, 5]}, "goals": [[3, 3, 3]]})))
+    problem = solving_problem(
+        scene_to_problem(scene_model({"version": 1, "arm": {"links": [2, 5, 5, 5]}, "goals": [[3, 3, 3]]}))
+    )
     assert not stacks_the_pose_task(problem, Orientation(rotation=np.eye(3)))
 
 

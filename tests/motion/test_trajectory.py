@@ -43,8 +43,11 @@ def test_planning_is_told_between_frames_and_changes_nothing():
     plan ending full, and the trajectory is the one solved without being told."""
     problem, quiet = solved_scene(SCENES / "planning-wall.yaml")
     seen = []
-    solution = solve_trajectory(problem, progress=lambda *call: seen.append(("solve", *call)),
-                                planning=lambda *call: seen.append(("plan", *call)))
+    solution = solve_trajectory(
+        problem,
+        progress=lambda *call: seen.append(("solve", *call)),
+        planning=lambda *call: seen.append(("plan", *call)),
+    )
     np.testing.assert_array_equal(solution.trajectory.phi, quiet.trajectory.phi)
     plans = [call for call in seen if call[0] == "plan"]
     assert solution.goals[0].planning.path == "rrt_connect" and plans

@@ -45,8 +45,10 @@ def stretched(run: SolvedRun, frames: int) -> SolvedRun:
     """``run`` with its frames repeated to ``frames`` (each array field indexed alike)."""
     traj = run.solution.trajectory
     index = np.arange(frames) % traj.frames
-    long = replace(traj, **{f.name: getattr(traj, f.name)[index] for f in fields(traj)
-                            if isinstance(getattr(traj, f.name), np.ndarray)})
+    long = replace(
+        traj,
+        **{f.name: getattr(traj, f.name)[index] for f in fields(traj) if isinstance(getattr(traj, f.name), np.ndarray)},
+    )
     return replace(run, solution=replace(run.solution, trajectory=long))
 
 
@@ -72,4 +74,6 @@ def test_a_long_run_is_written_in_memory_bounded_by_its_chunk(pick_run, tmp_path
     assert long - short < (long_size - short_size) / 10, (short, long, short_size, long_size)
     table = read_trajectory_csv(tmp_path / "trajectory.csv")
     np.testing.assert_array_equal(table.column("frame"), np.arange(80_000))
-    np.testing.assert_array_equal(np.radians(table.angles_deg)[-1], np.radians(np.degrees(run.solution.trajectory.phi[-1])))
+    np.testing.assert_array_equal(
+        np.radians(table.angles_deg)[-1], np.radians(np.degrees(run.solution.trajectory.phi[-1]))
+    )

@@ -116,7 +116,9 @@ def test_velocities_of_a_run_without_velocity_columns_are_central_differences(tm
     phi = np.radians([[float(r[f"phi{k}_deg"]) for k in (1, 2, 3)] for r in rows])
     velocities = np.array([p["velocities"] for p in message["points"]])
     for i in range(1, len(rows) - 1):  # inside: (phi[i+1] - phi[i-1]) / (t[i+1] - t[i-1]) on these even steps
-        np.testing.assert_allclose(velocities[i], (phi[i + 1] - phi[i - 1]) / (t[i + 1] - t[i - 1]), rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(
+            velocities[i], (phi[i + 1] - phi[i - 1]) / (t[i + 1] - t[i - 1]), rtol=1e-9, atol=1e-12
+        )
     np.testing.assert_allclose(velocities[0], (phi[1] - phi[0]) / (t[1] - t[0]), rtol=1e-9, atol=1e-12)
 
 
@@ -154,7 +156,11 @@ def test_refusals(tmp_path, cli, case):
     args, code, fragment = {
         "missing": ((tmp_path / "nope",), 2, "no such folder"),
         "not-a-run": ((tmp_path,), 2, "is not a complete armanim run"),
-        "format": ((folder, "--format", "csv"), 2, "--format 'csv' is not a format armanim exports (expected one of: joint-trajectory)"),
+        "format": (
+            (folder, "--format", "csv"),
+            2,
+            "--format 'csv' is not a format armanim exports (expected one of: joint-trajectory)",
+        ),
         "inside": ((folder, "--out", folder / "mine.json"), 2, "is inside the run folder"),
         "foreign": ((folder, "--out", foreign), 3, "is a file armanim did not write (no export mark"),
         "folder": ((folder, "--out", tmp_path / "out"), 3, "is a folder"),
@@ -167,9 +173,11 @@ def test_refusals(tmp_path, cli, case):
     assert not (folder / "mine.json").exists() and MARKER in before
 
 
-USERS_OWN = ('{"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": "base"}, "joint_names": ["my_joint"], '
-             '"points": [{"positions": [0.5], "velocities": [], "accelerations": [], "effort": [], '
-             '"time_from_start": {"sec": 1, "nanosec": 0}}]}\n')
+USERS_OWN = (
+    '{"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": "base"}, "joint_names": ["my_joint"], '
+    '"points": [{"positions": [0.5], "velocities": [], "accelerations": [], "effort": [], '
+    '"time_from_start": {"sec": 1, "nanosec": 0}}]}\n'
+)
 
 
 def test_export_replaces_only_the_file_it_marked_and_never_a_users_trajectory(tmp_path, cli):
@@ -186,9 +194,11 @@ def test_export_replaces_only_the_file_it_marked_and_never_a_users_trajectory(tm
     (mine / "link.json").symlink_to(recorded)
     deep = mine / "deep.json"
     deep.write_text('{"header": ' + "[" * 200_000 + "]" * 200_000 + "}", encoding="utf-8")
-    for target, fragment in ((recorded, "is a file armanim did not write (no export mark .recorded.json.armanim-export.json"),
-                             (mine / "link.json", "is a link, which armanim does not write through"),
-                             (deep, "is a file armanim did not write")):
+    for target, fragment in (
+        (recorded, "is a file armanim did not write (no export mark .recorded.json.armanim-export.json"),
+        (mine / "link.json", "is a link, which armanim does not write through"),
+        (deep, "is a file armanim did not write"),
+    ):
         before = target.read_bytes()
         result = cli("export", folder, "--out", target)
         assert result.exit_code == 3, result.output
@@ -210,7 +220,9 @@ def test_export_replaces_only_the_file_it_marked_and_never_a_users_trajectory(tm
     # a deeply nested file where the mark goes: not armanim's mark, no traceback
     (mine / ".fresh.json.armanim-export.json").write_text("[" * 200_000 + "]" * 200_000)
     result = cli("export", folder, "--out", mine / "fresh.json")
-    assert result.exit_code == 3 and "is not armanim's export mark" in result.stderr and "Traceback" not in result.output
+    assert (
+        result.exit_code == 3 and "is not armanim's export mark" in result.stderr and "Traceback" not in result.output
+    )
     assert not (mine / "fresh.json").exists()
     assert os.path.islink(mine / "link.json")
 
@@ -236,5 +248,7 @@ def test_nothing_is_exported_into_a_folder_a_run_would_remove(tmp_path, cli):
     first = solved_run(tmp_path, cli, LINKS, "a")
     for name in (".b.abcdefgh.partial", ".b.old-42"):
         result = cli("export", first, "--out", tmp_path / "out" / name / "x.json")
-        assert result.exit_code == 2 and "named as a run's staging or moved-aside folder" in result.stderr, result.output
+        assert result.exit_code == 2 and "named as a run's staging or moved-aside folder" in result.stderr, (
+            result.output
+        )
         assert not (tmp_path / "out" / name).exists()

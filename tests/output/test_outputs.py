@@ -120,7 +120,12 @@ def test_two_runs_are_byte_identical(tmp_path, scene):
 def test_a_run_shows_its_plans_and_writes_what_a_quiet_run_writes(tmp_path):
     """The bars' "plan" stage: a planned run reports its search; its files are a quiet run's."""
     seen = []
-    told = run_scene(SCENES / "planning-wall.yaml", tmp_path / "told", RunOptions(video=False), progress=lambda *call: seen.append(call))
+    told = run_scene(
+        SCENES / "planning-wall.yaml",
+        tmp_path / "told",
+        RunOptions(video=False),
+        progress=lambda *call: seen.append(call),
+    )
     quiet = run_scene(SCENES / "planning-wall.yaml", tmp_path / "quiet", RunOptions(video=False))
     assert {stage for stage, *_ in seen} == {"solve", "plan"}
     assert any(stage == "plan" and done == most for stage, done, most in seen)
@@ -141,7 +146,11 @@ def test_two_processes_are_byte_identical(tmp_path):
         env = dict(os.environ, PYTHONHASHSEED=name[-1])
         proc = subprocess.run(
             [*armanim_command(), "run", str(scene), "--no-video", "--quiet", "--out", str(out)],
-            capture_output=True, text=True, cwd=tmp_path, env=env, timeout=120,
+            capture_output=True,
+            text=True,
+            cwd=tmp_path,
+            env=env,
+            timeout=120,
         )
         assert proc.returncode == 0, proc.stderr
         outs.append(out / "singular-start")

@@ -1,5 +1,4 @@
-"""The backdrop's legend: an fk picture draws no goal and names none (issue 36).
-"""
+"""The backdrop's legend: an fk picture draws no goal and names none (issue 36)."""
 
 from __future__ import annotations
 
@@ -7,7 +6,12 @@ from __future__ import annotations
 def test_fk_png_draws_no_goal_and_names_none_in_the_legend():
     from armanim.render.pictures.backdrop import legend_entries
 
-    labels = [label for label, _ in legend_entries("pose", trail=True, obstacles=False, outcomes=frozenset(), hidden_goal=False, goals=False)]
+    labels = [
+        label
+        for label, _ in legend_entries(
+            "pose", trail=True, obstacles=False, outcomes=frozenset(), hidden_goal=False, goals=False
+        )
+    ]
     assert labels == ["arm"]
 
 
@@ -27,12 +31,22 @@ def test_the_amber_tint_is_named_in_the_legend_when_a_frame_shows_it(tmp_path):
     clearance = problem.self_pairs.clearance
     assert near_in_frames(problem, np.array([5 * clearance, 1.5 * clearance]))
     assert not near_in_frames(problem, np.array([5 * clearance, np.nan])) and not near_in_frames(problem, None)
-    entries = dict(legend_entries("video", trail=True, obstacles=True, outcomes=frozenset({"reached"}), hidden_goal=False,
-                                  robot=True, near_self=True))
+    entries = dict(
+        legend_entries(
+            "video",
+            trail=True,
+            obstacles=True,
+            outcomes=frozenset({"reached"}),
+            hidden_goal=False,
+            robot=True,
+            near_self=True,
+        )
+    )
     tint = np.asarray(ROBOT_LEGEND_COLOR) * (1 - NEAR_TINT) + np.asarray(SELF_NEAR_COLOR) * NEAR_TINT
     assert np.allclose(entries["near itself"].get_color(), tint)
-    assert "near itself" not in dict(legend_entries("video", trail=True, obstacles=True, outcomes=frozenset(),
-                                                    hidden_goal=False, robot=True))
+    assert "near itself" not in dict(
+        legend_entries("video", trail=True, obstacles=True, outcomes=frozenset(), hidden_goal=False, robot=True)
+    )
 
 
 def test_the_pen_is_no_colour_drawn_along_it():
@@ -59,8 +73,13 @@ def test_a_path_goal_s_marker_is_open_so_its_ink_shows_through():
 
     fig, _ = make_figure(200, 100, 100)
     scratch = make_figure(60, 60, 100)[1]
-    markers = GoalMarkers(fig, np.array([[50.0, 50.0, 0.0], [150.0, 50.0, 0.0]]), np.zeros(2, dtype=bool), (200, 100),
-                          open_goals=np.array([True, False]))
+    markers = GoalMarkers(
+        fig,
+        np.array([[50.0, 50.0, 0.0], [150.0, 50.0, 0.0]]),
+        np.zeros(2, dtype=bool),
+        (200, 100),
+        open_goals=np.array([True, False]),
+    )
     for code in (REACHED, CURRENT):
         frame = np.zeros((100, 200, 4), dtype=np.uint8)
         frame[..., :3] = (20, 30, 90)  # ink everywhere

@@ -25,8 +25,16 @@ SIZES = [(640, 360), (1280, 720), (1920, 1080)]
 
 def problem_with(arm: Arm, centers, radii, goals, half_width=0.3) -> Problem:
     obs = Obstacles(np.array(centers, float).reshape(-1, 3), np.array(radii, float), np.zeros(len(radii)))
-    return Problem(arm, half_width, np.zeros(arm.n), unlimited_limits(arm.n), obs,
-                   tuple(Goal(np.array(g, float), hold=0.0) for g in goals), default_solver_settings(), fps=30.0)
+    return Problem(
+        arm,
+        half_width,
+        np.zeros(arm.n),
+        unlimited_limits(arm.n),
+        obs,
+        tuple(Goal(np.array(g, float), hold=0.0) for g in goals),
+        default_solver_settings(),
+        fps=30.0,
+    )
 
 
 # ----- projection -------------------------------------------------------------------------
@@ -61,8 +69,7 @@ def test_depth_grows_toward_the_viewer():
 
 def test_planar_detection():
     np.testing.assert_allclose(planar_normal(Arm.from_names([1, 1, 1], axes=["z"] * 3, direction="x")), [0, 0, 1])
-    np.testing.assert_allclose(np.abs(planar_normal(Arm.from_names([1, 1], axes=["y", "y"], direction="z"))),
-                               [0, 1, 0])
+    np.testing.assert_allclose(np.abs(planar_normal(Arm.from_names([1, 1], axes=["y", "y"], direction="z"))), [0, 1, 0])
     assert planar_normal(Arm.from_names([2, 5, 5, 5])) is None  # base yaw + elbows
     assert planar_normal(Arm.from_names([1, 1], axes=["z", "z"], direction="z")) is None  # links along the axis
 
@@ -90,8 +97,9 @@ def _frame(problem, phi, size=(320, 240)):
     from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     pose = forward(problem.arm, phi)
-    scene = SceneCanvas(problem, default_render_settings(size=size, elevation=0.0, azimuth=0.0), title="t",
-                        extent=pose.points)
+    scene = SceneCanvas(
+        problem, default_render_settings(size=size, elevation=0.0, azimuth=0.0), title="t", extent=pose.points
+    )
     state = FrameState(pose, 0, np.zeros(len(problem.goals), dtype=int), "")
     return scene, scene.draw(state).copy(), pose
 
@@ -131,8 +139,11 @@ def test_a_goal_behind_a_sphere_is_drawn_through_it():
 
 
 def _overlaps(boxes: dict) -> list:
-    return [(a, b) for (a, p), (b, q) in combinations(boxes.items(), 2)
-            if p[0] < q[2] and q[0] < p[2] and p[1] < q[3] and q[1] < p[3]]
+    return [
+        (a, b)
+        for (a, p), (b, q) in combinations(boxes.items(), 2)
+        if p[0] < q[2] and q[0] < p[2] and p[1] < q[3] and q[1] < p[3]
+    ]
 
 
 @pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
@@ -147,8 +158,9 @@ def test_no_text_boxes_intersect_and_all_are_in_the_frame(scene_path, size):
     problem, solution = solved_scene(scene_path)  # once for the three sizes
     traj = solution.trajectory
     settings = dataclasses.replace(render_settings(loaded.model), size=size)
-    canvas = SceneCanvas(problem, settings, title=loaded.name, tips=traj.tip,
-                         extent=forward(problem.arm, traj.phi).points)
+    canvas = SceneCanvas(
+        problem, settings, title=loaded.name, tips=traj.tip, extent=forward(problem.arm, traj.phi).points
+    )
     boxes = canvas.text_boxes
     assert {"title", "caption", "legend 0"} <= set(boxes)
     named = [int(n) for k in boxes if k.startswith("goal ") for n in k.removeprefix("goal ").split(", ")]
@@ -170,8 +182,11 @@ def test_an_11_second_640x360_gif_stays_well_under_3_mb(tmp_path):
     scene = yaml.safe_load((ROOT / "scenes" / "notes-arm.yaml").read_text())
     scene["arm"].update(max_joint_speed=60, max_joint_acceleration=120)  # slower than its defaults: some 12 s
     (tmp_path / "notes-arm.yaml").write_text(yaml.safe_dump(scene))
-    result = run_scene(tmp_path / "notes-arm.yaml", tmp_path / "out",
-                       RunOptions(jobs=1, render=RenderOverrides(size=(640, 360), format="gif")))
+    result = run_scene(
+        tmp_path / "notes-arm.yaml",
+        tmp_path / "out",
+        RunOptions(jobs=1, render=RenderOverrides(size=(640, 360), format="gif")),
+    )
     gif = result.files["video"]
     frames = result.solution.trajectory.frames
     assert frames / 30.0 > 10.5  # the run is about 11 s long
@@ -185,17 +200,35 @@ def test_render_out_keeps_the_run_video_byte_identical_and_writes_full_metadata(
     from armanim.cli import app
 
     runner = CliRunner()
-    result = runner.invoke(app, ["run", str(ROOT / "scenes" / "planar-nlink.yaml"), "--out", str(tmp_path),
-                                 "--size", "96x54", "--jobs", "1", "-q"])
+    result = runner.invoke(
+        app,
+        [
+            "run",
+            str(ROOT / "scenes" / "planar-nlink.yaml"),
+            "--out",
+            str(tmp_path),
+            "--size",
+            "96x54",
+            "--jobs",
+            "1",
+            "-q",
+        ],
+    )
     assert result.exit_code == 0, result.output
     run = tmp_path / "planar-nlink"
     before = {p.name: p.read_bytes() for p in run.iterdir()}
     other = tmp_path / "other"
-    result = runner.invoke(app, ["render", str(run), "--out", str(other), "--size", "80x60", "--fps", "12",
-                                 "--jobs", "1", "-q"])
+    result = runner.invoke(
+        app, ["render", str(run), "--out", str(other), "--size", "80x60", "--fps", "12", "--jobs", "1", "-q"]
+    )
     assert result.exit_code == 0, result.output
     assert {p.name: p.read_bytes() for p in run.iterdir()} == before
-    assert {p.name for p in other.iterdir()} == {"animation.mp4", "plot.png", "poster.png", ".armanim-run.json"}  # marked
+    assert {p.name for p in other.iterdir()} == {
+        "animation.mp4",
+        "plot.png",
+        "poster.png",
+        ".armanim-run.json",
+    }  # marked
     rows = len((run / "trajectory.csv").read_text().splitlines()) - 1
     reader = imageio_ffmpeg.read_frames(str(other / "animation.mp4"))
     meta = next(reader)
@@ -243,8 +276,14 @@ def _traj(phi, reached, mode=None):
     import types
 
     frames = len(phi)
-    t = types.SimpleNamespace(phi=np.array(phi, float)[:, None], reached=np.array(reached), fps=2.0,
-                              frames=frames, goal=np.zeros(frames, int), distance=np.ones(frames))
+    t = types.SimpleNamespace(
+        phi=np.array(phi, float)[:, None],
+        reached=np.array(reached),
+        fps=2.0,
+        frames=frames,
+        goal=np.zeros(frames, int),
+        distance=np.ones(frames),
+    )
     if mode is not None:
         t.mode = np.array(mode)
     return t
@@ -257,12 +296,17 @@ def test_captions_say_moving_holding_stalled_planning_and_missed():
 
     reached = types.SimpleNamespace(reached=True, first_frame=0, last_frame=5, reason=None)
     traj = _traj([0, 0.1, 0.2, 0.2, 0.2, 0.2], [False, False, True, True, True, True])
-    assert frame_activity(traj, [reached]).tolist() == ["moving", "moving", "reached", "holding", "holding",
-                                                        "holding"]
+    assert frame_activity(traj, [reached]).tolist() == ["moving", "moving", "reached", "holding", "holding", "holding"]
     missed = types.SimpleNamespace(reached=False, first_frame=0, last_frame=5, reason="blocked_by_obstacle")
     traj = _traj([0, 0.1, 0.1, 0.1, 0.1, 0.1], [False] * 6, mode=["ik", "plan", "ik", "ik", "ik", "ik"])
-    assert frame_activity(traj, [missed]).tolist() == ["moving", "planning", "stalled", "stalled",
-                                                       "missed: blocked by obstacle", "missed: blocked by obstacle"]
+    assert frame_activity(traj, [missed]).tolist() == [
+        "moving",
+        "planning",
+        "stalled",
+        "stalled",
+        "missed: blocked by obstacle",
+        "missed: blocked by obstacle",
+    ]
 
 
 def test_a_trajectory_without_mode_is_all_ik():
@@ -279,11 +323,20 @@ def test_legend_lists_only_the_goal_outcomes_of_the_run(reached, shown):
     from armanim.render.pictures.canvas import SceneCanvas
 
     arm = Arm.from_names([2, 5, 5, 5])
-    problem = Problem(arm=arm, half_width=0.25, home=np.zeros(4), limits=unlimited_limits(4), obstacles=Obstacles.none(),
-                      goals=(Goal(np.array([6.0, 0, 9]), hold=0.0), Goal(np.array([0.0, 6, 9]), hold=0.0)),
-                      solver=default_solver_settings(), fps=30.0)
+    problem = Problem(
+        arm=arm,
+        half_width=0.25,
+        home=np.zeros(4),
+        limits=unlimited_limits(4),
+        obstacles=Obstacles.none(),
+        goals=(Goal(np.array([6.0, 0, 9]), hold=0.0), Goal(np.array([0.0, 6, 9]), hold=0.0)),
+        solver=default_solver_settings(),
+        fps=30.0,
+    )
     reports = [SimpleNamespace(reached=r) for r in reached]
-    scene = SceneCanvas(problem, default_render_settings(size=(640, 360)), title="t", picture="poster", outcomes=goal_outcomes(reports))
+    scene = SceneCanvas(
+        problem, default_render_settings(size=(640, 360)), title="t", picture="poster", outcomes=goal_outcomes(reports)
+    )
     labels = [text.get_text() for text in scene.fig.legends[0].get_texts()]  # the legend as drawn
     assert {"reached", "missed"} & set(labels) == shown
     assert "obstacle" not in labels  # no obstacles in this scene
@@ -294,15 +347,22 @@ def test_the_longest_caption_fits_the_frame_at_960x540():
     from armanim.render.pictures.canvas import FrameState, SceneCanvas
 
     arm = Arm.from_names([1.0, 1.0], axes=["z", "z"], direction="x")
-    problem = Problem(arm=arm, half_width=0.05, home=np.zeros(2), limits=unlimited_limits(2),
-                      obstacles=Obstacles(np.zeros((0, 3)), np.zeros(0), np.zeros(0)), goals=(Goal(np.array([1.0, 1.0, 0.0]), 0.0),),
-                      solver=default_solver_settings(), fps=30.0)
+    problem = Problem(
+        arm=arm,
+        half_width=0.05,
+        home=np.zeros(2),
+        limits=unlimited_limits(2),
+        obstacles=Obstacles(np.zeros((0, 3)), np.zeros(0), np.zeros(0)),
+        goals=(Goal(np.array([1.0, 1.0, 0.0]), 0.0),),
+        solver=default_solver_settings(),
+        fps=30.0,
+    )
     caption = "t =  38.50 s   goal 1 (of 0-1)   distance    0.003   angle    0.0 deg   speed   0% (phi1)   following"
     pose = forward(arm, np.zeros(2))
     scene = SceneCanvas(problem, default_render_settings(size=(960, 540)), title="t", caption_template=caption)
     image = scene.draw(FrameState(pose, 0, np.zeros(1, dtype=int), caption)).copy()
     x, y = scene.layout.caption_xy
-    band = image[int(y): int(y) + 3 * scene.glyphs.height, :, :3].astype(float).sum(axis=-1)
+    band = image[int(y) : int(y) + 3 * scene.glyphs.height, :, :3].astype(float).sum(axis=-1)
     ink = np.nonzero((band < 200).any(axis=0))[0]  # dark text pixels (the box's edge is light)
     assert len(ink) and ink.max() < 960 - 8  # the whole caption inside the frame, its box's padding too
     assert len(caption) * scene.glyphs.advance <= 960 - 2 * x

@@ -33,7 +33,9 @@ def path_problem(path: ToolPath = PATH) -> Problem:
     """The course notes' arm, a point goal, then a path goal starting at the path's start."""
     arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
     goals = (Goal(np.array([6.0, 15, 9]), hold=0.0), Goal(path.start, hold=0.0, path=path, speed=1.0))
-    return Problem(arm, 0.3, np.zeros(4), unlimited_limits(4), Obstacles.none(), goals, default_solver_settings(), fps=30.0)
+    return Problem(
+        arm, 0.3, np.zeros(4), unlimited_limits(4), Obstacles.none(), goals, default_solver_settings(), fps=30.0
+    )
 
 
 def path_trajectory(problem: Problem, path_s: np.ndarray | None) -> Trajectory:
@@ -43,9 +45,19 @@ def path_trajectory(problem: Problem, path_s: np.ndarray | None) -> Trajectory:
     tip = forward(problem.arm, phi).tip
     goal = (np.arange(FRAMES) >= 5).astype(int)
     mode = np.where(np.arange(FRAMES) >= 8, "path", "ik")
-    return Trajectory(phi=phi, tip=tip, goal=goal, distance=np.ones(FRAMES), clearance=np.full(FRAMES, np.inf),
-                      reached=np.zeros(FRAMES, dtype=bool), iterations=np.zeros(FRAMES, dtype=int),
-                      step_scale=np.zeros(FRAMES), fps=30.0, mode=mode, path_s=path_s)
+    return Trajectory(
+        phi=phi,
+        tip=tip,
+        goal=goal,
+        distance=np.ones(FRAMES),
+        clearance=np.full(FRAMES, np.inf),
+        reached=np.zeros(FRAMES, dtype=bool),
+        iterations=np.zeros(FRAMES, dtype=int),
+        step_scale=np.zeros(FRAMES),
+        fps=30.0,
+        mode=mode,
+        path_s=path_s,
+    )
 
 
 def linear_path_s(last: float) -> np.ndarray:
@@ -56,8 +68,10 @@ def linear_path_s(last: float) -> np.ndarray:
 
 
 def solved(problem: Problem, trajectory: Trajectory, meshes=None) -> SolvedRun:
-    reports = (GoalReport(0, problem.goals[0].position, True, None, 5, 0, 4, 0.0, 5),
-               GoalReport(1, problem.goals[1].position, True, None, 15, 5, FRAMES - 1, 0.0, 15))
+    reports = (
+        GoalReport(0, problem.goals[0].position, True, None, 5, 0, 4, 0.0, 5),
+        GoalReport(1, problem.goals[1].position, True, None, 15, 5, FRAMES - 1, 0.0, 15),
+    )
     return SolvedRun("paths", problem, Solution(trajectory, reports), meshes=meshes)
 
 
@@ -112,7 +126,9 @@ def test_progress_is_the_farthest_path_s_of_the_goal_s_frames_so_far():
 
 def test_between_is_the_pen_down_path_between_two_arc_lengths():
     arc = Piece.arc(np.zeros(3), np.array([1.0, 0, 0]), np.pi, np.array([0, 0, 1.0]))
-    path = ToolPath((arc, Piece.line(arc.end, arc.end + [0, -1, 0], ink=False), Piece.line(arc.end + [0, -1, 0], [1.0, -1, 0])))
+    path = ToolPath(
+        (arc, Piece.line(arc.end, arc.end + [0, -1, 0], ink=False), Piece.line(arc.end + [0, -1, 0], [1.0, -1, 0]))
+    )
     sampled = SampledPath.of(0, path, 0.01)
     for lo, hi in ((0.0, 1.0), (0.5, 4.0), (2.0, 6.0), (3.5, 4.5), (0.0, np.inf)):
         poly = sampled.between(lo, hi)
@@ -154,16 +170,22 @@ def test_ink_only_where_the_tool_has_been_and_never_on_pen_up_travel():
 def test_the_path_ahead_is_faint_and_only_while_its_goal_is_the_frame_s():
     problem = path_problem()
     run = solved(problem, path_trajectory(problem, linear_path_s(5.0)))
-    bare = solved(dataclasses.replace(problem, goals=(problem.goals[0], dataclasses.replace(problem.goals[1], path=None))),
-                  path_trajectory(problem, None))
+    bare = solved(
+        dataclasses.replace(problem, goals=(problem.goals[0], dataclasses.replace(problem.goals[1], path=None))),
+        path_trajectory(problem, None),
+    )
     image, view = frame_pixels(run, FRAMES - 1)
     reference, _ = frame_pixels(bare, FRAMES - 1)
     h = image.shape[0]
     ahead = along(C, D, 0.1, 0.9, 41)
     xy = view.project(ahead)
-    changed = [np.abs(image[int(round(h - y)) - 1 : int(round(h - y)) + 2, int(round(x)) - 1 : int(round(x)) + 2]
-                      - reference[int(round(h - y)) - 1 : int(round(h - y)) + 2, int(round(x)) - 1 : int(round(x)) + 2]).max()
-               for x, y, _ in xy]
+    changed = [
+        np.abs(
+            image[int(round(h - y)) - 1 : int(round(h - y)) + 2, int(round(x)) - 1 : int(round(x)) + 2]
+            - reference[int(round(h - y)) - 1 : int(round(h - y)) + 2, int(round(x)) - 1 : int(round(x)) + 2]
+        ).max()
+        for x, y, _ in xy
+    ]
     assert np.mean(np.array(changed) > 20) > 0.4  # dashed: drawn along much of it ...
     assert not inked(image, reference, view, ahead).any()  # ... and never as dark as ink
     before, _ = frame_pixels(run, 2)  # goal 0's frame: no path ahead yet, and no ink
@@ -178,8 +200,9 @@ def test_ink_is_drawn_on_furniture_not_hidden_by_it():
     from armanim.scene.looks import furniture_meshes
 
     # the board behind the path (the camera is on the +x side), its face 0.05 from it
-    board = SimpleNamespace(box=SimpleNamespace(center=[13.45, 4.0, 7.0], size=[1.0, 20.0, 12.0], rpy=[0, 0, 0]),
-                            color=(0.96, 0.96, 0.94))
+    board = SimpleNamespace(
+        box=SimpleNamespace(center=[13.45, 4.0, 7.0], size=[1.0, 20.0, 12.0], rpy=[0, 0, 0]), color=(0.96, 0.96, 0.94)
+    )
     meshes = placed_meshes(furniture_meshes([board]), [-1], [np.eye(4)])
     problem = path_problem()
     run = solved(problem, path_trajectory(problem, linear_path_s(PATH.length)), meshes)
@@ -229,8 +252,13 @@ def test_the_viewer_data_has_the_paths_and_the_path_s_of_every_frame():
     path = ToolPath((*PATH.pieces, Piece.line(D, arc.start, ink=False), arc))
     problem = path_problem(path)
     path_s = linear_path_s(path.length)
-    data = viewer_data(problem, path_trajectory(problem, path_s), solved(problem, path_trajectory(problem, None)).reports,
-                       settings(), title="paths")
+    data = viewer_data(
+        problem,
+        path_trajectory(problem, path_s),
+        solved(problem, path_trajectory(problem, None)).reports,
+        settings(),
+        title="paths",
+    )
     entry = data["paths"]
     (g,) = entry["goals"]
     assert g["goal"] == 1
@@ -264,7 +292,9 @@ def test_the_arm_in_front_of_the_ink_covers_it():
     toward = np.linalg.solve(view.linear, [0.0, 0.0, 1.0])  # world direction of growing nearness
     across = np.linalg.solve(view.linear, [1.0, 0.0, 0.0])
     toward, across = toward / np.linalg.norm(toward), across / np.linalg.norm(across)
-    behind = np.array([5.0, 5, 9.5]) - 3 * toward  # behind the arm's column (all its angles 0: straight up), between joints
+    behind = (
+        np.array([5.0, 5, 9.5]) - 3 * toward
+    )  # behind the arm's column (all its angles 0: straight up), between joints
     line = ToolPath((Piece.line(behind - 5 * across, behind + 5 * across),))
     problem = path_problem(line)
     still = np.zeros((FRAMES, 4))
@@ -274,7 +304,11 @@ def test_the_arm_in_front_of_the_ink_covers_it():
         return solved(problem, dataclasses.replace(t, phi=still, tip=forward(problem.arm, still).tip))
 
     image, view = frame_pixels(run(linear_path_s(line.length)), FRAMES - 1)
-    reference, _ = frame_pixels(run(None), 2)  # the arm still, goal 0's: neither ink nor the path ahead (drawn over all)
+    reference, _ = frame_pixels(
+        run(None), 2
+    )  # the arm still, goal 0's: neither ink nor the path ahead (drawn over all)
     a, b = line.start, line.end
     assert inked(image, reference, view, np.vstack([along(a, b, 0.75, 0.95, 4)])).all()
-    assert not inked(image, reference, view, along(behind, behind + 0.1 * across, 0, 1, 3)).any()  # the column is in front
+    assert not inked(
+        image, reference, view, along(behind, behind + 0.1 * across, 0, 1, 3)
+    ).any()  # the column is in front

@@ -13,9 +13,29 @@ from armanim.render.video.planes import yuv420
 
 def _swscale(rgba: np.ndarray) -> np.ndarray:
     height, width = rgba.shape[:2]
-    proc = subprocess.run([ffmpeg_exe(), "-v", "error", "-f", "rawvideo", "-pix_fmt", "rgba", "-s", f"{width}x{height}",
-                           "-i", "-", "-f", "rawvideo", "-pix_fmt", "yuv420p", "-"],
-                          input=rgba.tobytes(), capture_output=True, check=True)
+    proc = subprocess.run(
+        [
+            ffmpeg_exe(),
+            "-v",
+            "error",
+            "-f",
+            "rawvideo",
+            "-pix_fmt",
+            "rgba",
+            "-s",
+            f"{width}x{height}",
+            "-i",
+            "-",
+            "-f",
+            "rawvideo",
+            "-pix_fmt",
+            "yuv420p",
+            "-",
+        ],
+        input=rgba.tobytes(),
+        capture_output=True,
+        check=True,
+    )
     return np.frombuffer(proc.stdout, dtype=np.uint8)
 
 
@@ -43,7 +63,7 @@ def test_a_drawn_frame_s_planes_are_swscale_s_but_at_sharp_edges():
     rgba = np.full((60, 80, 4), 255, dtype=np.uint8)
     for _ in range(12):
         r0, c0 = rng.integers(0, 50), rng.integers(0, 70)
-        rgba[r0:r0 + rng.integers(4, 20), c0:c0 + rng.integers(4, 20), :3] = rng.integers(0, 256, 3)
+        rgba[r0 : r0 + rng.integers(4, 20), c0 : c0 + rng.integers(4, 20), :3] = rng.integers(0, 256, 3)
     ours, theirs = yuv420(rgba).astype(int), _swscale(rgba).astype(int)
     luma = 60 * 80
     assert np.abs(ours[:luma] - theirs[:luma]).max() <= 1

@@ -22,10 +22,16 @@ def test_a_robots_plot_names_its_joints_rounds_its_limits_and_shows_the_orientat
     fig = _figure("panda-place")
     top, angles = fig.axes[0], fig.axes[1]
     assert [line.get_label() for line in angles.get_lines() if not line.get_label().startswith("_")][:2] == [
-        "panda_joint1", "panda_joint2"]
+        "panda_joint1",
+        "panda_joint2",
+    ]
     limits = [t.get_text() for t in angles.texts]
     assert any(t.endswith("max 166") for t in limits) and not any("166.0" in t for t in limits)
-    twins = [ax for ax in fig.axes if ax is not top and ax.get_shared_x_axes().joined(ax, top) and ax.get_ylabel() == "degrees"]
+    twins = [
+        ax
+        for ax in fig.axes
+        if ax is not top and ax.get_shared_x_axes().joined(ax, top) and ax.get_ylabel() == "degrees"
+    ]
     assert len(twins) == 1 and twins[0].get_lines()[0].get_label() == "orientation error (deg)"
     assert "orientation error (deg)" in [t.get_text() for t in top.get_legend().get_texts()]
 

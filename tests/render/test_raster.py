@@ -38,7 +38,9 @@ def test_a_fan_has_no_hole_and_no_edge_drawn_twice(sides, seed):
     """A convex polygon cut into a fan of triangles: every pixel wholly inside it is covered
     exactly once (cover 1, a single colour), its summed cover is its area."""
     rng = np.random.default_rng(seed)
-    angles = (np.arange(sides) + rng.uniform(-0.2, 0.2, sides)) * 2 * np.pi / sides  # gaps under 180 degrees: the centre is inside
+    angles = (
+        (np.arange(sides) + rng.uniform(-0.2, 0.2, sides)) * 2 * np.pi / sides
+    )  # gaps under 180 degrees: the centre is inside
     radius = rng.uniform(8, 20)
     centre = np.array([32.0, 24.0]) + rng.uniform(-3, 3, 2)
     ring = centre + radius * np.column_stack([np.cos(angles), np.sin(angles)])
@@ -138,12 +140,22 @@ def test_a_still_layer_draws_what_filling_its_triangles_with_the_others_draws():
     frame = rng.integers(0, 256, (48, 64, 4)).astype(np.uint8)
     together, laid = frame.copy(), frame.copy()
     draw_triangles(together, pts, np.vstack([still_faces, faces]), rgb=np.vstack([rgb, np.full((4, 3), 0.8)]))
-    draw_triangles(laid, pts, faces, np.vstack([rgb, np.full((4, 3), 0.8)]),
-                   still=StillLayer(pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]), (64, 48)))
+    draw_triangles(
+        laid,
+        pts,
+        faces,
+        np.vstack([rgb, np.full((4, 3), 0.8)]),
+        still=StillLayer(pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]), (64, 48)),
+    )
     assert (together != frame).any() and together.tobytes() == laid.tobytes()
     alone = frame.copy()  # the layer with no other triangle: the board by itself
-    draw_triangles(alone, pts, np.zeros((0, 3), dtype=int), np.vstack([rgb, np.full((4, 3), 0.8)]),
-                   still=StillLayer(pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]), (64, 48)))
+    draw_triangles(
+        alone,
+        pts,
+        np.zeros((0, 3), dtype=int),
+        np.vstack([rgb, np.full((4, 3), 0.8)]),
+        still=StillLayer(pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]), (64, 48)),
+    )
     by_itself = frame.copy()
     draw_triangles(by_itself, pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]))
     assert alone.tobytes() == by_itself.tobytes()

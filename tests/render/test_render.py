@@ -26,11 +26,7 @@ SIZE = (160, 120)
 def make_problem(half_width: float = 0.3, obstacles: bool = True) -> Problem:
     """The course notes' arm with two goals and (optionally) one obstacle."""
     arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
-    obs = (
-        Obstacles(np.array([[12.0, 9, 8]]), np.array([2.0]), np.array([2.0]))
-        if obstacles
-        else Obstacles.none()
-    )
+    obs = Obstacles(np.array([[12.0, 9, 8]]), np.array([2.0]), np.array([2.0])) if obstacles else Obstacles.none()
     goals = (Goal(np.array([14.0, 5, 6]), hold=0.0), Goal(np.array([6.0, 15, 9]), hold=0.0))
     return Problem(arm, half_width, np.zeros(4), unlimited_limits(4), obs, goals, default_solver_settings(), fps=30.0)
 
@@ -43,9 +39,15 @@ def make_trajectory(problem: Problem, frames: int = FRAMES, fps: float = 30.0) -
     targets = np.array([g.position for g in problem.goals])[goal]
     distance = np.linalg.norm(tip - targets, axis=1)
     return Trajectory(
-        phi=phi, tip=tip, goal=goal, distance=distance, clearance=np.full(frames, np.inf),
-        reached=np.zeros(frames, dtype=bool), iterations=np.zeros(frames, dtype=int),
-        step_scale=np.zeros(frames), fps=fps,
+        phi=phi,
+        tip=tip,
+        goal=goal,
+        distance=distance,
+        clearance=np.full(frames, np.inf),
+        reached=np.zeros(frames, dtype=bool),
+        iterations=np.zeros(frames, dtype=int),
+        step_scale=np.zeros(frames),
+        fps=fps,
     )
 
 
@@ -205,7 +207,9 @@ def test_render_pose_png_has_the_settings_size(tmp_path):
     from armanim.render.pictures.pose import render_pose_png
 
     out = tmp_path / "pose.png"
-    render_pose_png(make_problem(), np.radians([10, 20, 30, 40]), default_render_settings(size=(201, 149)), out, title="fk")
+    render_pose_png(
+        make_problem(), np.radians([10, 20, 30, 40]), default_render_settings(size=(201, 149)), out, title="fk"
+    )
     with Image.open(out) as im:
         assert im.size == (201, 149)
 
@@ -261,7 +265,12 @@ def test_a_path_goal_s_frames_say_following_not_reached():
     from armanim.render.overlay.caption import frame_activity
 
     phi = np.array([[0.0], [0.1], [0.2], [0.3], [0.3], [0.3]])
-    t = types.SimpleNamespace(phi=phi, reached=np.array([False, True, True, True, True, True]), frames=6, fps=30.0,
-                              mode=np.array(["ik", "ik", "path", "path", "path", "ik"]))
+    t = types.SimpleNamespace(
+        phi=phi,
+        reached=np.array([False, True, True, True, True, True]),
+        frames=6,
+        fps=30.0,
+        mode=np.array(["ik", "ik", "path", "path", "path", "ik"]),
+    )
     report = types.SimpleNamespace(reached=True, first_frame=0, last_frame=5)
     assert frame_activity(t, [report]).tolist() == ["moving", "reached", "following", "following", "holding", "holding"]

@@ -79,7 +79,9 @@ def test_a_hostile_title_and_joint_names_are_escaped_in_the_page():
     page = viewer_html(viewer_data(problem, trajectory, reports, settings, title=hostile, joint_names=[hostile] * 4))
     assert page.count("<script") == 3 and page.count("</script>") == 3  # the page's own three, nothing more
     assert "alert(1)" in page and "<script>alert" not in page
-    assert "<title>&lt;/script&gt;&lt;script&gt;alert(1)&lt;/script&gt;&lt;!-- &quot;&#x27;&amp; - armanim</title>" in page
+    assert (
+        "<title>&lt;/script&gt;&lt;script&gt;alert(1)&lt;/script&gt;&lt;!-- &quot;&#x27;&amp; - armanim</title>" in page
+    )
     assert page.count("<!--") == 0
     assert f'<meta name="generator" content="{GENERATOR}">' in page[:400]
 
@@ -105,7 +107,9 @@ def test_joint_positions_are_armanim_s_forward_kinematics_rounded():
     data = viewer_data(problem, solution.trajectory, solution.goals, settings, title="notes-arm")
     frames, joints = solution.trajectory.frames, problem.arm.n
     points = np.array(data["points"], dtype=float).reshape(frames, joints + 1, 3)
-    np.testing.assert_allclose(points, forward(problem.arm, solution.trajectory.phi).points, atol=0.5 * 10.0 ** -data["decimals"] + 1e-12)
+    np.testing.assert_allclose(
+        points, forward(problem.arm, solution.trajectory.phi).points, atol=0.5 * 10.0 ** -data["decimals"] + 1e-12
+    )
     angles = np.array(data["angles_deg"]).reshape(frames, joints)
     np.testing.assert_allclose(angles, np.degrees(solution.trajectory.phi), atol=0.005 + 1e-9)
     assert data["goal"] == solution.trajectory.goal.tolist()
@@ -120,7 +124,13 @@ def test_a_planar_arm_starts_face_on():
     from armanim.scene import load_scene, render_settings
 
     problem, solution = solved_scene(SCENES / "planar-nlink.yaml")
-    data = viewer_data(problem, solution.trajectory, solution.goals, render_settings(load_scene(SCENES / "planar-nlink.yaml").model), title="p")
+    data = viewer_data(
+        problem,
+        solution.trajectory,
+        solution.goals,
+        render_settings(load_scene(SCENES / "planar-nlink.yaml").model),
+        title="p",
+    )
     assert data["view"]["planar"] and data["view"]["elevation"] == 90
     assert all(c is None for c in data["clearance"])  # no obstacles: no clearance, never infinity
 
@@ -166,11 +176,15 @@ def test_run_writes_the_viewer_beside_the_video_unless_told_not_to(cli, scene, t
             also()
         return {"video": folder / "animation.mp4"}
 
-    monkeypatch.setattr(pipeline, "render_outputs", video)  # the real video beside it: tests/runs/test_render_command.py
+    monkeypatch.setattr(
+        pipeline, "render_outputs", video
+    )  # the real video beside it: tests/runs/test_render_command.py
     assert cli("run", scene, "--out", tmp_path / "a", "-q", "--jobs", "1").exit_code == 0
     assert {"viewer.html", "animation.mp4"} <= set(listed(tmp_path / "a" / "small"))
     assert cli("run", scene, "--out", tmp_path / "b", "-q", "--jobs", "1", "--no-viewer").exit_code == 0
-    assert "viewer.html" not in listed(tmp_path / "b" / "small") and (tmp_path / "b" / "small" / "animation.mp4").is_file()
+    assert (
+        "viewer.html" not in listed(tmp_path / "b" / "small") and (tmp_path / "b" / "small" / "animation.mp4").is_file()
+    )
 
 
 def test_a_batch_writes_a_viewer_per_scene(cli, scene, tmp_path):
@@ -267,8 +281,25 @@ def test_without_a_browser_the_browser_tests_skip_saying_how_to_install_one_or_f
 
     env = {**os.environ, "ARMANIM_BROWSER": "/nonexistent/chromium", "CI": ci}
     proc = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-n", "0", "-rs", "-p", "no:cacheprovider", "tests/render/test_viewer_browser.py", "-k", "frame_count"],
-        cwd=ROOT, env=env, capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-n",
+            "0",
+            "-rs",
+            "-p",
+            "no:cacheprovider",
+            "tests/render/test_viewer_browser.py",
+            "-k",
+            "frame_count",
+        ],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     if ci:
         assert proc.returncode == 1 and "1 error" in proc.stdout and "CI=true" in proc.stdout, proc.stdout

@@ -22,8 +22,10 @@ import pytest
 from conftest import SCENES
 
 BROWSERS = ("chromium-headless-shell", "chromium", "chromium-browser", "google-chrome")
-INSTALL_HINT = ("install one with the OS package manager, e.g. `apt-get install chromium-headless-shell` "
-                "(or chromium), or name it with ARMANIM_BROWSER=/path/to/chrome; never `playwright install`")
+INSTALL_HINT = (
+    "install one with the OS package manager, e.g. `apt-get install chromium-headless-shell` "
+    "(or chromium), or name it with ARMANIM_BROWSER=/path/to/chrome; never `playwright install`"
+)
 ARGS = ["--enable-unsafe-swiftshader", "--use-angle=swiftshader", "--no-sandbox"]
 
 pytestmark = pytest.mark.slow
@@ -53,7 +55,9 @@ def browser():
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
-        unavailable("the Python package playwright is not installed (it is in the test extra: pip install -e '.[test]')")
+        unavailable(
+            "the Python package playwright is not installed (it is in the test extra: pip install -e '.[test]')"
+        )
     executable = find_browser()
     if executable is None:
         unavailable("none of " + ", ".join(BROWSERS) + " is on PATH")
@@ -103,7 +107,9 @@ def run_dir(tmp_path_factory) -> Path:
     from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    result = run_scene(SCENES / "out-of-reach.yaml", tmp_path_factory.mktemp("viewer"), RunOptions(video=False, viewer=True))
+    result = run_scene(
+        SCENES / "out-of-reach.yaml", tmp_path_factory.mktemp("viewer"), RunOptions(video=False, viewer=True)
+    )
     return result.folder
 
 
@@ -187,12 +193,15 @@ def test_one_arrow_key_steps_exactly_one_frame(page):
 
 def advance_rate(page, seconds: float = 1.0) -> float:
     """Frames per second of playback, over an interval the page measures itself."""
-    return page.js("""async (ms) => {
+    return page.js(
+        """async (ms) => {
         const t0 = performance.now(), f0 = armanim.frame;
         await new Promise(resolve => setTimeout(resolve, ms));
         const t1 = performance.now(), f1 = armanim.frame;
         return (f1 - f0) / ((t1 - t0) / 1000);
-    }""", seconds * 1000)
+    }""",
+        seconds * 1000,
+    )
 
 
 def test_play_advances_at_about_the_fps_and_pause_stops(page):
@@ -289,7 +298,11 @@ def test_hostile_text_stays_text(browser, tmp_path):
         assert page.page.locator("#title").text_content() == hostile
         assert page.page.title() == hostile + " - armanim"
         assert page.js("[...document.querySelectorAll('#angles tbody td:first-child')].map(td => td.textContent)") == [
-            hostile, "a</", "<!--", "&"]
+            hostile,
+            "a</",
+            "<!--",
+            "&",
+        ]
         assert page.js("[...document.querySelectorAll('b')].every(b => b.id)")  # only the page's own <b> fields
     finally:
         page.page.close()
@@ -324,7 +337,9 @@ def test_boxes_capsules_and_the_floor_are_drawn(browser, tmp_path_factory, tmp_p
     from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    folder = run_scene(SCENES / "ur5-table.yaml", tmp_path_factory.mktemp("shapes"), RunOptions(video=False, viewer=True)).folder
+    folder = run_scene(
+        SCENES / "ur5-table.yaml", tmp_path_factory.mktemp("shapes"), RunOptions(video=False, viewer=True)
+    ).folder
     page = Page(browser, folder / "viewer.html")
     assert page.errors == []
     assert page.js("armanim.data.boxes.length") == 1 and page.js("armanim.data.obstacle_capsules.length") == 1
@@ -347,8 +362,11 @@ def test_a_700_frame_panda_run_draws_its_meshes_under_3_mb_and_fits_a_phone(brow
     from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    folder = run_scene(SCENES.parent / "tests" / "data" / "panda-two-boards.yaml", tmp_path_factory.mktemp("meshes"),
-                       RunOptions(video=False, viewer=True, render=RenderOverrides(fps=125.0))).folder
+    folder = run_scene(
+        SCENES.parent / "tests" / "data" / "panda-two-boards.yaml",
+        tmp_path_factory.mktemp("meshes"),
+        RunOptions(video=False, viewer=True, render=RenderOverrides(fps=125.0)),
+    ).folder
     path = folder / "viewer.html"
     assert path.stat().st_size <= 3_000_000
     page = Page(browser, path)
@@ -394,7 +412,9 @@ def test_path_ink_grows_with_the_frames_and_matches_the_video_s_rule(browser, tm
     try:
         assert page.errors == []
         done = path_progress(trajectory.goal, np.round(path_s, data["decimals"]), len(problem.goals))[:, 1]
-        assert page.js("[...Array(armanim.frames).keys()].map(f => armanim.pathDone(f)[0])") == pytest.approx(done.tolist())
+        assert page.js("[...Array(armanim.frames).keys()].map(f => armanim.pathDone(f)[0])") == pytest.approx(
+            done.tolist()
+        )
 
         def ink_pixels(frame: int) -> int:
             page.js(f"armanim.setFrame({frame})")
@@ -424,7 +444,9 @@ def test_a_via_goal_is_drawn_passed_and_captioned_passing_as_in_the_video(browse
     from armanim.runs.pipeline import run_scene
     from armanim.runs.reload import load_run
 
-    folder = run_scene(SCENES / "ur5-flow.yaml", tmp_path_factory.mktemp("flow"), RunOptions(video=False, viewer=True)).folder
+    folder = run_scene(
+        SCENES / "ur5-flow.yaml", tmp_path_factory.mktemp("flow"), RunOptions(video=False, viewer=True)
+    ).folder
     run = load_run(folder)
     traj, reports = run.solution.trajectory, run.solution.goals
     page = Page(browser, folder / "viewer.html")
@@ -458,7 +480,11 @@ def test_the_panda_s_fingers_close_on_the_part_and_open_again_on_the_page(browse
     from armanim.runs.options import RunOptions
     from armanim.runs.pipeline import run_scene
 
-    folder = run_scene(SCENES.parent / "tests" / "data" / "pick-box.yaml", tmp_path_factory.mktemp("pick"), RunOptions(video=False, viewer=True)).folder
+    folder = run_scene(
+        SCENES.parent / "tests" / "data" / "pick-box.yaml",
+        tmp_path_factory.mktemp("pick"),
+        RunOptions(video=False, viewer=True),
+    ).folder
     page = Page(browser, folder / "viewer.html")
     try:
         assert page.errors == []

@@ -24,7 +24,18 @@ SCENES = ROOT / "scenes"
 BAD_SCENE = "version: 1\narm:\n  links: [1, -1]\ngoals:\n  - [1, 0, 0]\n"
 BAD_MESSAGE = "bad.yaml:3: arm.links[1]: must be > 0 (got -1)"
 GOOD = {"out-of-reach": "a.yaml", "planar-nlink": "b.yaml"}
-INDEX_HEADER = ["name", "status", "scene_file", "goals", "reached", "missed", "frames", "min_clearance", "folder", "message"]
+INDEX_HEADER = [
+    "name",
+    "status",
+    "scene_file",
+    "goals",
+    "reached",
+    "missed",
+    "frames",
+    "min_clearance",
+    "folder",
+    "message",
+]
 
 
 # ------------------------------------------------------------------ helpers
@@ -99,8 +110,16 @@ def assert_good_batch(out: Path, with_bad: bool = True) -> None:
         assert int(row["missed"]) == sum(not g["reached"] for g in summary["goals"])
         assert Path(row["folder"]) == out / name
         assert row["message"] == ""
-    assert (index["out-of-reach"]["reached"], index["out-of-reach"]["missed"], index["out-of-reach"]["goals"]) == ("1", "1", "2")
-    assert (index["planar-nlink"]["reached"], index["planar-nlink"]["missed"], index["planar-nlink"]["goals"]) == ("4", "0", "4")
+    assert (index["out-of-reach"]["reached"], index["out-of-reach"]["missed"], index["out-of-reach"]["goals"]) == (
+        "1",
+        "1",
+        "2",
+    )
+    assert (index["planar-nlink"]["reached"], index["planar-nlink"]["missed"], index["planar-nlink"]["goals"]) == (
+        "4",
+        "0",
+        "4",
+    )
     if with_bad:
         bad = index["bad"]
         assert bad["status"] == "invalid"
@@ -165,8 +184,14 @@ def test_the_installed_command_runs_a_batch(src, tmp_path):
     """Also with a TMPDIR too long for the workers' socket path (AF_UNIX: 107 bytes)."""
     tmp = tmp_path / ("long-temporary-folder-" * 6)
     tmp.mkdir()
-    proc = subprocess.run([armanim_exe(), *map(str, batch_args(src, tmp_path / "out", 2))],
-                          capture_output=True, text=True, timeout=120, cwd=tmp_path, env={**clean_env(), "TMPDIR": str(tmp)})
+    proc = subprocess.run(
+        [armanim_exe(), *map(str, batch_args(src, tmp_path / "out", 2))],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+        env={**clean_env(), "TMPDIR": str(tmp)},
+    )
     assert proc.returncode == 2, proc.stderr
     assert BAD_MESSAGE in proc.stderr
     assert "Traceback" not in proc.stderr
@@ -247,13 +272,18 @@ def test_duplicate_names_in_one_batch_are_reported(src, tmp_path):
     other = tmp_path / "other"
     other.mkdir()
     shutil.copy(src / "b.yaml", other / "b.yaml")  # another file, the same name: planar-nlink
-    result = invoke("run", src / "a.yaml", src / "b.yaml", other / "b.yaml", "--jobs", 1, "--no-video", "--out", tmp_path / "out")
+    result = invoke(
+        "run", src / "a.yaml", src / "b.yaml", other / "b.yaml", "--jobs", 1, "--no-video", "--out", tmp_path / "out"
+    )
     assert result.exit_code == 2
     assert "also named 'planar-nlink'" in result.output
     with open(tmp_path / "out" / "index.csv", newline="") as handle:
         rows = list(csv.DictReader(handle))
     assert [(Path(r["scene_file"]), r["status"]) for r in rows] == [
-        (src / "a.yaml", "ok"), (src / "b.yaml", "ok"), (other / "b.yaml", "invalid")]
+        (src / "a.yaml", "ok"),
+        (src / "b.yaml", "ok"),
+        (other / "b.yaml", "invalid"),
+    ]
     assert str(other / "b.yaml") in rows[2]["message"]
 
 
@@ -304,10 +334,23 @@ def test_a_task_keeps_its_validated_scene_in_process_and_sends_only_its_bytes(sr
 def test_a_tiny_video_batch_returns_video_and_plot(src, tmp_path):
     import imageio_ffmpeg
 
-    result = invoke("run", src / "b.yaml", src / "bad.yaml", "--jobs", 2, "--size", "64x48", "--fps", 10, "-q", "--out", tmp_path)
+    result = invoke(
+        "run", src / "b.yaml", src / "bad.yaml", "--jobs", 2, "--size", "64x48", "--fps", 10, "-q", "--out", tmp_path
+    )
     assert result.exit_code == 2
     folder = tmp_path / "planar-nlink"
-    assert sorted(p.name for p in folder.iterdir()) == [".armanim-run.json", "animation.mp4", "plot.png", "poster.png", "scene.yaml", "self-collision.yaml", "summary.json", "timing.json", "trajectory.csv", "viewer.html"]
+    assert sorted(p.name for p in folder.iterdir()) == [
+        ".armanim-run.json",
+        "animation.mp4",
+        "plot.png",
+        "poster.png",
+        "scene.yaml",
+        "self-collision.yaml",
+        "summary.json",
+        "timing.json",
+        "trajectory.csv",
+        "viewer.html",
+    ]
     reader = imageio_ffmpeg.read_frames(str(folder / "animation.mp4"))
     meta = next(reader)
     frames = sum(1 for _ in reader)
@@ -327,8 +370,18 @@ def sweep_rows(path: Path) -> tuple[list[str], list[dict]]:
 
 
 def test_a_2x2_sweep_runs_four_named_variants_and_compares_them(src, tmp_path):
-    result = invoke("sweep", src / "b.yaml", "--set", "solver.step=0.1,0.2", "--set", "solver.method=pinv,dls",
-                    "--jobs", 2, "--out", tmp_path)
+    result = invoke(
+        "sweep",
+        src / "b.yaml",
+        "--set",
+        "solver.step=0.1,0.2",
+        "--set",
+        "solver.method=pinv,dls",
+        "--jobs",
+        2,
+        "--out",
+        tmp_path,
+    )
     assert result.exit_code == 0, result.output
     combos = [(0.1, "pinv"), (0.1, "dls"), (0.2, "pinv"), (0.2, "dls")]
     names = [f"planar-nlink_step-{s}_method-{m}" for s, m in combos]
@@ -338,14 +391,28 @@ def test_a_2x2_sweep_runs_four_named_variants_and_compares_them(src, tmp_path):
         assert (solver["step"], solver["method"]) == (step, method)
         assert solver["max_step"] == 0.3  # the rest of the scene is kept
     header, rows = sweep_rows(tmp_path / "b-sweep.csv")
-    assert header == ["name", "solver.step", "solver.method", "status", "reached", "missed", "frames",
-                      "goal0_frames", "goal1_frames", "goal2_frames", "goal3_frames", "min_clearance", "max_joint_step_deg"]
+    assert header == [
+        "name",
+        "solver.step",
+        "solver.method",
+        "status",
+        "reached",
+        "missed",
+        "frames",
+        "goal0_frames",
+        "goal1_frames",
+        "goal2_frames",
+        "goal3_frames",
+        "min_clearance",
+        "max_joint_step_deg",
+    ]
     assert [r["name"] for r in rows] == names
     for row, (step, method) in zip(rows, combos):
         summary = json.loads((tmp_path / row["name"] / "summary.json").read_text())
         assert (float(row["solver.step"]), row["solver.method"], row["status"]) == (step, method, "ok")
         assert [row[f"goal{k}_frames"] for k in range(4)] == [
-            str(g["frames"]) if g["reached"] else "missed" for g in summary["goals"]]
+            str(g["frames"]) if g["reached"] else "missed" for g in summary["goals"]
+        ]
         assert int(row["missed"]) == summary["totals"]["missed"]
         assert int(row["frames"]) == trajectory_rows(tmp_path / row["name"])
         assert float(row["max_joint_step_deg"]) == pytest.approx(summary["max_joint_step_deg"], rel=1e-5)
@@ -356,7 +423,17 @@ def test_a_2x2_sweep_runs_four_named_variants_and_compares_them(src, tmp_path):
 
 def test_a_sweep_over_a_scene_with_obstacles_reports_min_clearance(tmp_path):
     shutil.copy(SCENES / "notes-arm.yaml", tmp_path / "n.yaml")
-    result = invoke("sweep", tmp_path / "n.yaml", "--set", "solver.max_frames_per_goal=20", "--jobs", 1, "-q", "--out", tmp_path / "o")
+    result = invoke(
+        "sweep",
+        tmp_path / "n.yaml",
+        "--set",
+        "solver.max_frames_per_goal=20",
+        "--jobs",
+        1,
+        "-q",
+        "--out",
+        tmp_path / "o",
+    )
     assert result.exit_code == 0, result.output
     _, rows = sweep_rows(tmp_path / "o" / "n-sweep.csv")
     assert len(rows) == 1 and float(rows[0]["min_clearance"]) > 0
@@ -368,7 +445,9 @@ def test_an_invalid_sweep_value_rejects_that_variant_only(src, tmp_path):
     assert "solver.method: --set solver.method=bogus: 'bogus' is not allowed" in result.output
     _, rows = sweep_rows(tmp_path / "b-sweep.csv")
     assert [(r["name"], r["status"]) for r in rows] == [
-        ("planar-nlink_method-pinv", "ok"), ("planar-nlink_method-bogus", "invalid")]
+        ("planar-nlink_method-pinv", "ok"),
+        ("planar-nlink_method-bogus", "invalid"),
+    ]
     assert (tmp_path / "planar-nlink_method-pinv" / "trajectory.csv").is_file()
     assert not (tmp_path / "planar-nlink_method-bogus").exists()
     message = read_index(tmp_path)["planar-nlink_method-bogus"]["message"]
@@ -401,7 +480,9 @@ def test_run_sweep_is_a_silent_api_that_returns_the_table_it_writes(src, tmp_pat
     result = run_sweep(src / "b.yaml", [parse_setting("solver.method=pinv,bogus")], tmp_path, jobs=1)
     assert capsys.readouterr() == ("", "")  # results are returned; printing is the command's job
     assert [(e.name, e.status) for e in result.entries] == [
-        ("planar-nlink_method-pinv", "ok"), ("planar-nlink_method-bogus", "invalid")]
+        ("planar-nlink_method-pinv", "ok"),
+        ("planar-nlink_method-bogus", "invalid"),
+    ]
     assert result.table == tmp_path / "b-sweep.csv"
     header, rows = sweep_rows(result.table)
     assert header == result.header and [r["name"] for r in rows] == [row[0] for row in result.rows]
@@ -413,7 +494,9 @@ def test_sweep_needs_a_set(src, tmp_path):
 
 
 def test_sweep_variants_whose_labels_collide_keep_their_own_results(src, tmp_path):
-    result = invoke("sweep", src / "a.yaml", "--set", "goals[1]=[10,9,7],[1,0,97]", "--jobs", 1, "-q", "--out", tmp_path)
+    result = invoke(
+        "sweep", src / "a.yaml", "--set", "goals[1]=[10,9,7],[1,0,97]", "--jobs", 1, "-q", "--out", tmp_path
+    )
     _, rows = sweep_rows(tmp_path / "a-sweep.csv")
     assert [r["status"] for r in rows] == ["ok", "ok"], rows  # a missed goal is a result, not a failure
     assert len({r["name"] for r in rows}) == 2, rows  # distinct variants, distinct folders
@@ -437,13 +520,17 @@ def test_a_local_dask_cluster_gives_byte_identical_outputs(dask_distributed, src
     assert BAD_MESSAGE in result.output
     assert_good_batch(tmp_path)
     assert outputs_bytes(tmp_path) == outputs_bytes(local)
-    assert (tmp_path / "index.csv").read_text().replace(str(tmp_path), "OUT") == (local / "index.csv").read_text().replace(str(local), "OUT")
+    assert (tmp_path / "index.csv").read_text().replace(str(tmp_path), "OUT") == (
+        local / "index.csv"
+    ).read_text().replace(str(local), "OUT")
 
 
 def test_armanim_scheduler_sends_a_batch_to_a_running_scheduler(dask_distributed, src, batch_j2, tmp_path):
     """ARMANIM_SCHEDULER=tcp://... (a LocalCluster started here stands in for a real cluster)."""
     _, local = batch_j2
-    with dask_distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with dask_distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
         args = [a for a in batch_args(src, tmp_path, 2)]
         result = invoke(*args, env={"ARMANIM_SCHEDULER": cluster.scheduler_address})
         assert result.exit_code == 2, result.output
@@ -455,8 +542,23 @@ def test_armanim_scheduler_sends_a_batch_to_a_running_scheduler(dask_distributed
 
 
 def test_an_unreachable_scheduler_exits_2_with_a_clear_message(dask_distributed, src, tmp_path):
-    proc = subprocess.run([armanim_exe(), "run", str(src / "a.yaml"), "--no-video", "-q", "--out", str(tmp_path / "out"),
-                           "--scheduler", "tcp://127.0.0.1:1"], capture_output=True, text=True, timeout=300, env=clean_env())
+    proc = subprocess.run(
+        [
+            armanim_exe(),
+            "run",
+            str(src / "a.yaml"),
+            "--no-video",
+            "-q",
+            "--out",
+            str(tmp_path / "out"),
+            "--scheduler",
+            "tcp://127.0.0.1:1",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=clean_env(),
+    )
     assert proc.returncode == 2, proc.stderr
     assert "cannot reach the Dask scheduler at tcp://127.0.0.1:1" in proc.stderr
     assert "Traceback" not in proc.stderr
@@ -489,7 +591,12 @@ def test_batch_progress_names_the_running_scenes(src, tmp_path):
     from armanim.runs.options import RunOptions
 
     seen = []
-    run_batch([src / "a.yaml", src / "b.yaml"], tmp_path, RunOptions(video=False, jobs=1), progress=lambda *call: seen.append(call))
+    run_batch(
+        [src / "a.yaml", src / "b.yaml"],
+        tmp_path,
+        RunOptions(video=False, jobs=1),
+        progress=lambda *call: seen.append(call),
+    )
     assert seen[0] == (0, 2, ("out-of-reach",)) and seen[1] == (1, 2, ("planar-nlink",)) and seen[-1] == (2, 2, ())
 
 
@@ -498,14 +605,34 @@ def test_sweep_and_batch_tables_fit_80_columns_without_cutting(src, tmp_path):
 
     from armanim.cli.sweep import sweep_screen_table
 
-    header = ["name", "solver.step", "solver.method", "status", "reached", "missed", "frames", "goal0_frames",
-              "goal1_frames", "min_clearance", "max_joint_step_deg"]
+    header = [
+        "name",
+        "solver.step",
+        "solver.method",
+        "status",
+        "reached",
+        "missed",
+        "frames",
+        "goal0_frames",
+        "goal1_frames",
+        "min_clearance",
+        "max_joint_step_deg",
+    ]
     rows = [["notes-arm_step-0.05_method-pinv", 0.05, "pinv", "ok", 4, 0, 601, 145, 145, 0.138392, 10]]
     console = Console(width=80, record=True)
     console.print(sweep_screen_table("sweep", header, rows, 2))
     text = console.export_text()
     assert "…" not in text and "step" in text and "method" in text and "0.138392" in text
-    result = invoke("run", src / "a.yaml", src / "b.yaml", "--jobs", 1, "--no-video", "--out", tmp_path / "a-rather-long-output-root-folder")
+    result = invoke(
+        "run",
+        src / "a.yaml",
+        src / "b.yaml",
+        "--jobs",
+        1,
+        "--no-video",
+        "--out",
+        tmp_path / "a-rather-long-output-root-folder",
+    )
     assert result.exit_code == 0 and "…" not in result.stdout, result.stdout
 
 

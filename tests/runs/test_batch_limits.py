@@ -20,7 +20,6 @@ from armanim.errors import UsageError
 NOTES = SCENES / "notes-arm.yaml"
 
 
-
 def test_a_user_index_csv_stops_a_batch_before_any_work(cli, tmp_path):
     a, b = small_scene(tmp_path, "a"), small_scene(tmp_path, "b")
     out = tmp_path / "proj"
@@ -97,8 +96,10 @@ def test_a_scheduler_that_never_answers_is_given_up_after_the_deadline(listening
         release.set()
 
 
-@pytest.mark.parametrize("error, words", [(ValueError("bad"), "is not a scheduler address"),
-                                          (OSError("refused"), "cannot reach the Dask scheduler at")])
+@pytest.mark.parametrize(
+    "error, words",
+    [(ValueError("bad"), "is not a scheduler address"), (OSError("refused"), "cannot reach the Dask scheduler at")],
+)
 def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words, listening_port):
     from armanim.procs.executors import connect_client
 
@@ -109,9 +110,14 @@ def test_a_scheduler_that_fails_is_exit_2_with_its_reason(error, words, listenin
         connect_client(failing_client, f"tcp://127.0.0.1:{listening_port}", seconds=30)
 
 
-@pytest.mark.parametrize("address, words", [("tcp://127.0.0.1:{closed}", r"connection refused: nothing listens on port {closed}"),
-                                            ("127.0.0.1:{closed}", r"connection refused"),
-                                            ("tcp://no-such-host.invalid:8786", r"no such host 'no-such-host.invalid'")])
+@pytest.mark.parametrize(
+    "address, words",
+    [
+        ("tcp://127.0.0.1:{closed}", r"connection refused: nothing listens on port {closed}"),
+        ("127.0.0.1:{closed}", r"connection refused"),
+        ("tcp://no-such-host.invalid:8786", r"no such host 'no-such-host.invalid'"),
+    ],
+)
 def test_a_refused_scheduler_is_reported_at_once_not_after_the_timeout(address, words, closed_port):
     """Dask's client retries a refused port for its whole timeout and then calls it a timeout;
     armanim asks the port first, so the client is never made and the reason is the real one."""
@@ -121,7 +127,10 @@ def test_a_refused_scheduler_is_reported_at_once_not_after_the_timeout(address, 
         raise AssertionError("the client was made for a port that refuses")
 
     address = address.format(closed=closed_port)
-    with pytest.raises(UsageError, match=rf"cannot reach the Dask scheduler at {re.escape(address)} \({words.format(closed=closed_port)}"):
+    with pytest.raises(
+        UsageError,
+        match=rf"cannot reach the Dask scheduler at {re.escape(address)} \({words.format(closed=closed_port)}",
+    ):
         connect_client(client_that_must_not_be_made, address, seconds=30)
 
 
@@ -130,15 +139,28 @@ def test_a_sweep_beyond_the_limit_is_exit_2_before_anything_is_built(cli, tmp_pa
 
     steps = ",".join(str(0.001 * (i + 1)) for i in range(50))
     tolerances = ",".join(str(0.0001 * (i + 1)) for i in range(MAX_VARIANTS // 50 + 1))
-    result = cli("sweep", NOTES, "--set", f"solver.step={steps}", "--set", f"solver.tolerance={tolerances}", "--out", tmp_path)
+    result = cli(
+        "sweep", NOTES, "--set", f"solver.step={steps}", "--set", f"solver.tolerance={tolerances}", "--out", tmp_path
+    )
     assert result.exit_code == 2, result.output
     assert f"--set: 1,050 variants (50 x 21 values; at most {MAX_VARIANTS:,} in one sweep" in result.stderr
     assert list(tmp_path.iterdir()) == []
 
 
 def test_a_sweep_and_a_batch_say_their_size_first(cli, tmp_path):
-    result = cli("sweep", small_scene(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1")
+    result = cli(
+        "sweep", small_scene(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1"
+    )
     assert result.exit_code == 0, result.output
     assert result.stderr.splitlines()[0] == f"sweep of {tmp_path / 's.yaml'}: 2 variants (solver.step)"
-    result = cli("run", small_scene(tmp_path, "a"), small_scene(tmp_path, "b"), "--out", tmp_path / "o", "--no-video", "--jobs", "1")
+    result = cli(
+        "run",
+        small_scene(tmp_path, "a"),
+        small_scene(tmp_path, "b"),
+        "--out",
+        tmp_path / "o",
+        "--no-video",
+        "--jobs",
+        "1",
+    )
     assert result.exit_code == 0 and result.stderr.splitlines()[0] == "batch: 2 scenes", result.output

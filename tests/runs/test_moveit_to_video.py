@@ -26,14 +26,27 @@ VAMP = ROOT / "tests" / "data" / "vamp"
 
 def _armanim(*args, cwd: Path) -> subprocess.CompletedProcess:
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
-    return subprocess.run([armanim_exe(), *map(str, args)], cwd=cwd, env=env, capture_output=True, text=True, timeout=600)
+    return subprocess.run(
+        [armanim_exe(), *map(str, args)], cwd=cwd, env=env, capture_output=True, text=True, timeout=600
+    )
 
 
 @pytest.mark.parametrize(("problem", "robot"), [("bookshelf_small_panda", "panda"), ("box_ur5", "ur5")])
 def test_a_motionbenchmaker_problem_in_two_commands(tmp_path, problem, robot):
-    imported = _armanim("import", "moveit", MBM / f"{problem}-scene0001.yaml", "--request", MBM / f"{problem}-request0001.yaml",
-                        "--urdf", VAMP / f"{robot}_spherized.urdf", "--srdf", VAMP / f"{robot}.srdf", "--out", "scene.yaml",
-                        cwd=tmp_path)
+    imported = _armanim(
+        "import",
+        "moveit",
+        MBM / f"{problem}-scene0001.yaml",
+        "--request",
+        MBM / f"{problem}-request0001.yaml",
+        "--urdf",
+        VAMP / f"{robot}_spherized.urdf",
+        "--srdf",
+        VAMP / f"{robot}.srdf",
+        "--out",
+        "scene.yaml",
+        cwd=tmp_path,
+    )
     assert imported.returncode == 0, imported.stderr
     run = _armanim("run", "scene.yaml", "--no-video", "--quiet", "--out", "out", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
@@ -48,6 +61,8 @@ def test_a_motionbenchmaker_problem_in_two_commands(tmp_path, problem, robot):
     np.testing.assert_allclose(phi[-1], problem_.goals[0].joints, atol=1e-12)
     clear, own = split_clearances(problem_, phi)
     assert clear.min() >= problem_.solver.clearance - 1e-12
-    assert own.min() - (problem_.solver.clearance - problem_.self_pairs.clearance) >= problem_.self_pairs.clearance - 1e-12
+    assert (
+        own.min() - (problem_.solver.clearance - problem_.self_pairs.clearance) >= problem_.self_pairs.clearance - 1e-12
+    )
     if robot == "panda":  # the fingers hang off the chain (panda_link0 .. panda_link8) and are in the model
         assert {"panda_leftfinger", "panda_rightfinger", "panda_hand", "panda_link0"} <= set(problem_.capsules.names)

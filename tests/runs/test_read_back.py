@@ -48,9 +48,13 @@ def test_index_csv_cells_never_start_a_formula(cli, tmp_path):
 
     names = ['=HYPERLINK("http:__x","open")+1', "@SUM(1+1)", "+1", "-cmd", "\tx"]
     for k, stem in enumerate(names):
-        (tmp_path / f"{stem}.yaml").write_text(SMALL + f"name: s{k}\n" + ("goals: [[1, 1, 99]]\n" if k == 1 else ""))  # k=1: invalid
+        (tmp_path / f"{stem}.yaml").write_text(
+            SMALL + f"name: s{k}\n" + ("goals: [[1, 1, 99]]\n" if k == 1 else "")
+        )  # k=1: invalid
     (tmp_path / "-bad.yaml").write_text("version: 1\n")  # an invalid scene: its stem and message are cells too
-    result = cli("run", *sorted(tmp_path.glob("*.yaml")), "--out", tmp_path / "o", "--no-video", "--jobs", "1", "--quiet")
+    result = cli(
+        "run", *sorted(tmp_path.glob("*.yaml")), "--out", tmp_path / "o", "--no-video", "--jobs", "1", "--quiet"
+    )
     assert result.exit_code == 2
     cells = [c for row in csv.reader((tmp_path / "o" / "index.csv").open(newline="")) for c in row]
     assert not [c for c in cells if c[:1] in ("=", "+", "-", "@", "\t", "\r")]
@@ -70,10 +74,20 @@ def test_a_golden_csv_with_thousands_of_extra_columns_is_a_short_message_naming_
     golden = tmp_path / "g" / "wide.csv"
     rows = golden.read_text().splitlines()
     extra = 12_000
-    golden.write_text("\n".join([rows[0] + "," + ",".join(f"c{i}" for i in range(extra))]
-                                + [r + "," + ",".join(["0"] * extra) for r in rows[1:]]) + "\n")
+    golden.write_text(
+        "\n".join(
+            [rows[0] + "," + ",".join(f"c{i}" for i in range(extra))]
+            + [r + "," + ",".join(["0"] * extra) for r in rows[1:]]
+        )
+        + "\n"
+    )
     result = cli("check", tmp_path / "wide.yaml", "--golden", tmp_path / "g")
-    assert result.exit_code == 2 and len(result.stderr) < 400 and str(golden) in result.stderr and "11,992 more" in result.stderr
+    assert (
+        result.exit_code == 2
+        and len(result.stderr) < 400
+        and str(golden) in result.stderr
+        and "11,992 more" in result.stderr
+    )
 
 
 def test_resampled_frames_keep_the_run_s_poses_at_its_own_times():
@@ -90,7 +104,9 @@ def test_resampled_frames_keep_the_run_s_poses_at_its_own_times():
     assert np.allclose(double.trajectory.phi[1::2], 0.5 * (src.phi[:-1] + src.phi[1:]))  # limited-free here: none wrap
     assert np.allclose(double.trajectory.tip[::2], src.tip) and np.array_equal(double.trajectory.goal[::2], src.goal)
     for before, after in zip(solution.goals, double.goals):
-        heads = 2 * before.first_frame - (1 if before.index else 0)  # the in-between frame heads for the next goal's first
+        heads = 2 * before.first_frame - (
+            1 if before.index else 0
+        )  # the in-between frame heads for the next goal's first
         assert (after.first_frame, after.last_frame, after.reached) == (heads, 2 * before.last_frame, before.reached)
     half = resample_run(problem, solution, src.fps / 2)
     assert np.isclose(half.trajectory.time[-1], src.time[-1]) and np.allclose(half.trajectory.phi[-1], src.phi[-1])
@@ -100,16 +116,25 @@ def test_resampled_frames_keep_the_run_s_poses_at_its_own_times():
 def test_render_at_another_fps_keeps_the_run_s_real_time(cli, finished_run):
     import imageio_ffmpeg
 
-    own = imageio_ffmpeg.count_frames_and_secs(str(finished_run / "animation.mp4")) if (finished_run / "animation.mp4").exists() else None
+    own = (
+        imageio_ffmpeg.count_frames_and_secs(str(finished_run / "animation.mp4"))
+        if (finished_run / "animation.mp4").exists()
+        else None
+    )
     frames = len((finished_run / "trajectory.csv").read_text().splitlines()) - 1
     for fps in (25, 5):
-        assert cli("render", finished_run, "--fps", fps, "--out", finished_run.parent / f"r{fps}", "--quiet").exit_code == 0
+        assert (
+            cli("render", finished_run, "--fps", fps, "--out", finished_run.parent / f"r{fps}", "--quiet").exit_code
+            == 0
+        )
         count, seconds = imageio_ffmpeg.count_frames_and_secs(str(finished_run.parent / f"r{fps}" / "animation.mp4"))
         assert abs(count / fps - frames / 10) <= 2 / fps, (count, frames, own)
 
 
 def test_render_at_an_fps_beyond_the_frame_limit_is_refused_before_drawing(cli, tmp_path):
-    (tmp_path / "slow.yaml").write_text(ARM + "name: slow\ngoals: [{position: [1, 1, 2], hold: 3600}]\nrender: {fps: 0.01, size: [64, 48]}\n")
+    (tmp_path / "slow.yaml").write_text(
+        ARM + "name: slow\ngoals: [{position: [1, 1, 2], hold: 3600}]\nrender: {fps: 0.01, size: [64, 48]}\n"
+    )
     assert cli("run", tmp_path / "slow.yaml", "--out", tmp_path / "o", "--no-video", "--quiet").exit_code == 0
     result = cli("render", tmp_path / "o" / "slow", "--fps", 240, "--out", tmp_path / "r")
     assert result.exit_code == 2 and "expected at most 1,000,000" in result.stderr and not (tmp_path / "r").exists()

@@ -20,7 +20,10 @@ runner = CliRunner()
 @pytest.fixture(scope="module")
 def finished_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("runs")
-    result = runner.invoke(app, ["run", str(ROOT / "scenes" / "planar-nlink.yaml"), "--out", str(out), "--size", "64x48", "--jobs", "1", "-q"])
+    result = runner.invoke(
+        app,
+        ["run", str(ROOT / "scenes" / "planar-nlink.yaml"), "--out", str(out), "--size", "64x48", "--jobs", "1", "-q"],
+    )
     assert result.exit_code == 0, result.output
     return out / "planar-nlink"
 
@@ -32,7 +35,18 @@ def _rows(folder: Path) -> int:
 @pytest.mark.slow
 def test_run_writes_video_plot_and_scene_copy(finished_run):
     names = {p.name for p in finished_run.iterdir()}
-    assert names == {".armanim-run.json", "scene.yaml", "self-collision.yaml", "trajectory.csv", "summary.json", "timing.json", "animation.mp4", "plot.png", "poster.png", "viewer.html"}
+    assert names == {
+        ".armanim-run.json",
+        "scene.yaml",
+        "self-collision.yaml",
+        "trajectory.csv",
+        "summary.json",
+        "timing.json",
+        "animation.mp4",
+        "plot.png",
+        "poster.png",
+        "viewer.html",
+    }
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(finished_run / "animation.mp4"))
     assert frames == _rows(finished_run)
     assert (finished_run / "scene.yaml").read_bytes() == (ROOT / "scenes" / "planar-nlink.yaml").read_bytes()
@@ -52,7 +66,9 @@ def test_render_redraws_at_another_size_and_fps_without_solving(finished_run, tm
     assert meta["fps"] == pytest.approx(12)
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(folder / "animation.mp4"))
     run_fps = json.loads((folder / "summary.json").read_text())["fps"]
-    seconds = (_rows(folder) - 1) / run_fps  # the run's own duration, kept at 12 fps (issue 36): frames at k / 12 and the end
+    seconds = (
+        _rows(folder) - 1
+    ) / run_fps  # the run's own duration, kept at 12 fps (issue 36): frames at k / 12 and the end
     assert frames == math.floor(seconds * 12 + 1e-9) + 1 + (0 if abs(seconds * 12 - round(seconds * 12)) < 1e-9 else 1)
     assert (folder / "trajectory.csv").read_bytes() == csv_before  # nothing re-solved or rewritten
 

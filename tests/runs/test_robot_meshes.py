@@ -35,18 +35,24 @@ URDF = """<?xml version="1.0"?>
 
 def _scene(tmp_path: Path, look: str = "mesh", package_dirs: str = "[pkgs]") -> Path:
     (tmp_path / "pkgs" / "two_description" / "meshes").mkdir(parents=True, exist_ok=True)
-    trimesh.creation.cylinder(radius=0.08, height=0.1, sections=24).export(tmp_path / "pkgs" / "two_description" / "meshes" / "base.stl")
+    trimesh.creation.cylinder(radius=0.08, height=0.1, sections=24).export(
+        tmp_path / "pkgs" / "two_description" / "meshes" / "base.stl"
+    )
     (tmp_path / "robots").mkdir(exist_ok=True)
     (tmp_path / "robots" / "two.urdf").write_text(URDF)
     scene = tmp_path / "two.yaml"
-    scene.write_text(f"version: 1\narm: {{urdf: robots/two.urdf, package_dirs: {package_dirs}}}\n"
-                     f"goals:\n  - [0.2, 0.1, 0.4]\nrender: {{size: [160, 120], fps: 10, robot: {look}}}\n")
+    scene.write_text(
+        f"version: 1\narm: {{urdf: robots/two.urdf, package_dirs: {package_dirs}}}\n"
+        f"goals:\n  - [0.2, 0.1, 0.4]\nrender: {{size: [160, 120], fps: 10, robot: {look}}}\n"
+    )
     return scene
 
 
 def _viewer_data(page: Path) -> dict:
     text = page.read_text()
-    return json.loads(re.search(r'<script type="application/json" id="armanim-data">(.*?)</script>', text, re.S).group(1))
+    return json.loads(
+        re.search(r'<script type="application/json" id="armanim-data">(.*?)</script>', text, re.S).group(1)
+    )
 
 
 def test_a_users_urdf_is_drawn_with_its_meshes_and_a_missing_one_is_a_note(cli, tmp_path):
@@ -64,8 +70,14 @@ def test_a_users_urdf_is_drawn_with_its_meshes_and_a_missing_one_is_a_note(cli, 
 
 
 def test_without_the_package_dirs_the_meshes_are_notes_and_capsules_draw_the_robot(cli, tmp_path):
-    result = cli("run", str(_scene(tmp_path, package_dirs="[elsewhere]")), "--out", str(tmp_path / "out"), "--no-video",
-                 "--viewer")
+    result = cli(
+        "run",
+        str(_scene(tmp_path, package_dirs="[elsewhere]")),
+        "--out",
+        str(tmp_path / "out"),
+        "--no-video",
+        "--viewer",
+    )
     assert result.exit_code == 0, result.output
     # base.stl and gone.stl: the box alone is drawn as a mesh; base.stl is not fitted either (the base has no <collision>)
     assert result.stderr.count("note:") == 3 and result.stderr.count("drawn as its capsules") == 2
@@ -89,13 +101,21 @@ def test_a_link_whose_mesh_is_missing_is_drawn_as_its_capsule(tmp_path):
     assert len(notes) == 1
     view = View(np.hstack([np.eye(3) * 100, np.array([[80.0], [60.0], [0.0]])]), 160, 120)
     solids = arm_solids(run.problem, run.meshes, view, 100.0, (160, 120))
-    assert isinstance(solids, MeshesAndCapsules) and solids.shown.tolist() == [False, False, True]  # the base's fitted capsule first
+    assert isinstance(solids, MeshesAndCapsules) and solids.shown.tolist() == [
+        False,
+        False,
+        True,
+    ]  # the base's fitted capsule first
     parts = solids.parts(forward(run.problem.arm, run.problem.home))
-    assert sum(p.raster is not None for p in parts) == len(run.meshes.links) and sum(p.raster is None for p in parts) == 1
+    assert (
+        sum(p.raster is not None for p in parts) == len(run.meshes.links) and sum(p.raster is None for p in parts) == 1
+    )
 
 
 def test_render_robot_capsules_reads_no_mesh(cli, tmp_path):
-    result = cli("run", str(_scene(tmp_path, look="capsules")), "--out", str(tmp_path / "out"), "--no-video", "--viewer")
+    result = cli(
+        "run", str(_scene(tmp_path, look="capsules")), "--out", str(tmp_path / "out"), "--no-video", "--viewer"
+    )
     assert result.exit_code == 0, result.output
     assert "drawn as its capsules" not in result.stderr  # only the fit of the base's capsule read its visual mesh
     assert "meshes" not in _viewer_data(tmp_path / "out" / "two" / "viewer.html")
@@ -103,7 +123,9 @@ def test_render_robot_capsules_reads_no_mesh(cli, tmp_path):
 
 def test_a_bundled_robot_brings_its_own_meshes_and_the_poster_draws_them(cli, tmp_path):
     scene = tmp_path / "panda.yaml"
-    scene.write_text("version: 1\narm: {robot: panda}\ngoals:\n  - [0.5, 0.2, 0.4]\nrender: {size: [160, 120], fps: 5}\n")
+    scene.write_text(
+        "version: 1\narm: {robot: panda}\ngoals:\n  - [0.5, 0.2, 0.4]\nrender: {size: [160, 120], fps: 5}\n"
+    )
     result = cli("run", str(scene), "--out", str(tmp_path / "out"), "--jobs", "1")
     assert result.exit_code == 0, result.output
     data = _viewer_data(tmp_path / "out" / "panda" / "viewer.html")
@@ -124,9 +146,11 @@ def test_furniture_is_drawn_never_checked_and_an_arm_of_links_keeps_its_capsules
     from armanim.scene import load_scene
 
     scene_file = tmp_path / "board.yaml"
-    scene_file.write_text("version: 1\narm: {links: [1, 1]}\ngoals:\n  - [1.2, 0.5, 0]\n"
-                          "render:\n  size: [160, 120]\n  fps: 10\n  furniture:\n"
-                          "    - {box: {center: [1.21, 0.5, 0], size: [0.02, 1, 1]}, color: [1, 1, 1]}\n")
+    scene_file.write_text(
+        "version: 1\narm: {links: [1, 1]}\ngoals:\n  - [1.2, 0.5, 0]\n"
+        "render:\n  size: [160, 120]\n  fps: 10\n  furniture:\n"
+        "    - {box: {center: [1.21, 0.5, 0], size: [0.02, 1, 1]}, color: [1, 1, 1]}\n"
+    )
     result = cli("run", str(scene_file), "--out", str(tmp_path / "out"), "--no-video", "--viewer")
     assert result.exit_code == 0, result.output
     data = _viewer_data(tmp_path / "out" / "board" / "viewer.html")
@@ -135,8 +159,13 @@ def test_furniture_is_drawn_never_checked_and_an_arm_of_links_keeps_its_capsules
     scene = load_scene(scene_file)
     run, _ = with_meshes(solve_scene(scene, 10.0), scene, output_choice(scene, RunOptions())[1].render)
     assert not robot_meshed(run.problem, run.meshes)
-    solids = arm_solids(run.problem, run.meshes, View(np.hstack([np.eye(3) * 40, np.array([[80.0], [60.0], [0.0]])]), 160, 120),
-                        40.0, (160, 120))
+    solids = arm_solids(
+        run.problem,
+        run.meshes,
+        View(np.hstack([np.eye(3) * 40, np.array([[80.0], [60.0], [0.0]])]), 160, 120),
+        40.0,
+        (160, 120),
+    )
     parts = solids.parts(forward(run.problem.arm, run.problem.home))
     assert isinstance(solids, MeshesAndCapsules) and sum(p.raster is not None for p in parts) == 1
     assert sum(p.raster is None for p in parts) == 1 + 2 + 2  # the base, two capsules, two joint discs
@@ -144,8 +173,10 @@ def test_furniture_is_drawn_never_checked_and_an_arm_of_links_keeps_its_capsules
 
 def test_furniture_colours_are_checked(cli, tmp_path):
     scene_file = tmp_path / "bad.yaml"
-    scene_file.write_text("version: 1\narm: {links: [1, 1]}\ngoals:\n  - [1, 1, 0]\n"
-                          "render:\n  furniture:\n    - {box: {center: [2, 0, 0], size: [1, 1, 1]}, color: [1, 2, 1]}\n")
+    scene_file.write_text(
+        "version: 1\narm: {links: [1, 1]}\ngoals:\n  - [1, 1, 0]\n"
+        "render:\n  furniture:\n    - {box: {center: [2, 0, 0], size: [1, 1, 1]}, color: [1, 2, 1]}\n"
+    )
     result = cli("validate", str(scene_file))
     assert result.exit_code == 2 and "render.furniture[0].color" in result.stderr, result.stderr
 
@@ -155,7 +186,8 @@ TINY_AND_HUGE = URDF.replace(
     '<visual><geometry><sphere radius="1e-300"/></geometry></visual><visual><geometry><box size="1e-300 0 -1"/></geometry></visual>'
     '<visual><geometry><cylinder radius="1e-300" length="1e-300"/></geometry></visual>'
     '<visual><geometry><mesh filename="package://two_description/meshes/base.stl" scale="1e300 1e300 1e300"/></geometry></visual>'
-    '<visual><origin xyz="0 0 0.15"/><geometry><box size="0.05 0.05 0.3"/></geometry>')
+    '<visual><origin xyz="0 0 0.15"/><geometry><box size="0.05 0.05 0.3"/></geometry>',
+)
 
 
 def test_tiny_and_huge_visuals_are_drawn_without_a_traceback(cli, tmp_path):
@@ -221,13 +253,21 @@ def test_fk_png_draws_the_robot_as_its_run_does(tmp_path):
     from runfolders import armanim_exe
 
     pose = tmp_path / "pose.png"
-    done = subprocess.run([armanim_exe(), "fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45", "--png", pose],
-                          capture_output=True, text=True, timeout=600)
+    done = subprocess.run(
+        [armanim_exe(), "fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45", "--png", pose],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr
     assert _blue_share(pose) < 0.001  # the capsules' blue covered 2 % of this picture
     scene = _scene(tmp_path, look="mesh")
-    done = subprocess.run([armanim_exe(), "fk", "--scene", scene, "--angles=10,20", "--png", pose],
-                          capture_output=True, text=True, timeout=600)
+    done = subprocess.run(
+        [armanim_exe(), "fk", "--scene", scene, "--angles=10,20", "--png", pose],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert done.returncode == 0 and "gone.stl" in done.stderr, done.stderr
 
 
@@ -244,8 +284,12 @@ def test_the_ur5_is_not_drawn_as_a_black_silhouette(tmp_path):
 
     assert lifted(np.zeros(3)).min() == MESH_LIFT and lifted(np.ones(3)).max() == 1.0
     pose = tmp_path / "ur5.png"
-    done = subprocess.run([armanim_exe(), "fk", "--robot", "ur5", "--angles=0,-90,90,0,90,0", "--png", pose],
-                          capture_output=True, text=True, timeout=600)
+    done = subprocess.run(
+        [armanim_exe(), "fk", "--robot", "ur5", "--angles=0,-90,90,0,90,0", "--png", pose],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr
     rgb = iio.imread(pose)[..., :3]
     assert np.mean(rgb.max(axis=-1) < 40) < 0.007

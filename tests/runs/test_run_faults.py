@@ -43,8 +43,12 @@ TINY = "version: 1\narm:\n  links: [1, 1]\ngoals:\n  - [1, 1, 0]\n  - [0, 1.5, 0
 def previous_notes(tmp_path_factory) -> Path:
     """A complete earlier run of notes-arm (CSV, summary, scene copy), made once."""
     out = tmp_path_factory.mktemp("previous")
-    proc = subprocess.run([armanim_exe(), "run", str(NOTES), "--out", str(out), "--no-video", "--quiet"],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [armanim_exe(), "run", str(NOTES), "--out", str(out), "--no-video", "--quiet"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     return out
 
@@ -149,8 +153,13 @@ def test_interrupt_mid_render_leaves_nothing_behind(previous_notes, tmp_path, si
     out = tmp_path / "out"
     shutil.copytree(previous_notes, out)
     before = snapshot(out / "notes-arm")
-    proc = subprocess.Popen([armanim_exe(), "run", str(NOTES), "--out", str(out), "--size", "320x180", "--jobs", "2"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    proc = subprocess.Popen(
+        [armanim_exe(), "run", str(NOTES), "--out", str(out), "--size", "320x180", "--jobs", "2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     try:
         children = _wait_for_rendering(proc, out)
         time.sleep(0.3)
@@ -168,7 +177,9 @@ def test_interrupt_mid_render_leaves_nothing_behind(previous_notes, tmp_path, si
     assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
     gone, alive = psutil.wait_procs(children, timeout=60)  # a hang guard; the promptness is benchmarked
     assert not [p for p in alive if p.status() != psutil.STATUS_ZOMBIE], alive
-    strays = [p.info for p in psutil.process_iter(["pid", "cmdline"]) if any(str(out) in c for c in p.info["cmdline"] or [])]
+    strays = [
+        p.info for p in psutil.process_iter(["pid", "cmdline"]) if any(str(out) in c for c in p.info["cmdline"] or [])
+    ]
     assert strays == []
 
 
@@ -268,7 +279,9 @@ def test_disk_full(cli, monkeypatch, tiny_scene, previous_run):
 
 def _fake_ffmpeg(tmp_path: Path) -> Path:
     script = tmp_path / "ffmpeg-broken"
-    script.write_text("#!/bin/sh\necho 'first line of ffmpeg noise' >&2\necho 'Error: simulated encoder crash' >&2\nexit 1\n")
+    script.write_text(
+        "#!/bin/sh\necho 'first line of ffmpeg noise' >&2\necho 'Error: simulated encoder crash' >&2\nexit 1\n"
+    )
     script.chmod(0o755)
     return script
 
@@ -300,7 +313,9 @@ def test_solver_step_producing_nan(cli, tmp_path, monkeypatch):
 
     monkeypatch.setitem(METHODS, "newton", replace(METHODS["newton"], step_function=nan_step))
     scene = tmp_path / "nan.yaml"
-    scene.write_text(PLANAR.read_text().replace("  tolerance: 0.01\n", "  tolerance: 0.01\n  max_frames_per_goal: 40\n"))
+    scene.write_text(
+        PLANAR.read_text().replace("  tolerance: 0.01\n", "  tolerance: 0.01\n  max_frames_per_goal: 40\n")
+    )
     result = cli("run", scene, "--out", tmp_path / "out", "--no-video", "--quiet")
     assert result.exit_code == 0, result.output
     folder = tmp_path / "out" / "planar-nlink"

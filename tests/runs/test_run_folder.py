@@ -20,7 +20,6 @@ from armanim.output.rundir import MARKER
 NOTES = SCENES / "notes-arm.yaml"
 
 
-
 @pytest.fixture()
 def finished_run(cli, tmp_path) -> Path:
     assert cli("run", small_scene(tmp_path, "r"), "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
@@ -34,7 +33,9 @@ def test_render_out_writes_only_into_a_new_empty_or_armanim_folder(cli, tmp_path
     beside = sorted(p.name for p in tmp_path.iterdir())
     result = cli("render", finished_run, "--out", figures, "-q", "--jobs", "1")
     assert result.exit_code == 3 and "not made by armanim" in result.stderr and "plot.png" in result.stderr
-    assert sorted(p.name for p in figures.iterdir()) == ["plot.png"] and (figures / "plot.png").read_text() == "my figure"
+    assert (
+        sorted(p.name for p in figures.iterdir()) == ["plot.png"] and (figures / "plot.png").read_text() == "my figure"
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == beside  # the sixth campaign: a .figures.lock was made first
     fresh = tmp_path / "fresh"
     for _ in range(2):  # a new folder, then the folder armanim marked: replaced
@@ -82,8 +83,10 @@ def test_render_refuses_a_scene_yaml_that_is_not_the_run_s(cli, finished_run):
     assert result.exit_code == 2 and "scene.yaml: is not the scene this run solved" in result.stderr, result.output
 
 
-@pytest.mark.parametrize("column, value, message", [("goal", "1", "goal: 1 is not a goal of the scene (expected 0 to 0)"),
-                                                    ("time_s", "-5", "time_s: -5 is negative")])
+@pytest.mark.parametrize(
+    "column, value, message",
+    [("goal", "1", "goal: 1 is not a goal of the scene (expected 0 to 0)"), ("time_s", "-5", "time_s: -5 is negative")],
+)
 def test_render_refuses_a_goal_past_the_last_and_a_negative_time(cli, finished_run, column, value, message):
     lines = (finished_run / "trajectory.csv").read_text().splitlines()
     at = lines[0].split(",").index(column)
@@ -113,7 +116,17 @@ def test_a_disk_full_message_names_the_run_folder_not_its_staging(cli, tmp_path,
         real_fsync(fd)
 
     monkeypatch.setattr("armanim.output.atomic.os.fsync", full)
-    result = cli("run", small_scene(tmp_path, "a"), small_scene(tmp_path, "b"), "--out", tmp_path / "out", "--no-video", "-q", "--jobs", "1")
+    result = cli(
+        "run",
+        small_scene(tmp_path, "a"),
+        small_scene(tmp_path, "b"),
+        "--out",
+        tmp_path / "out",
+        "--no-video",
+        "-q",
+        "--jobs",
+        "1",
+    )
     assert result.exit_code == 3, result.output
     assert f"{tmp_path / 'out' / 'a'}/scene.yaml: the disk is full" in result.stderr and ".partial" not in result.stderr
 
@@ -142,16 +155,23 @@ def test_nothing_is_written_into_another_run_s_folder(cli, tmp_path, finished_ru
     b = other / "b"
     (tmp_path / "to-b").symlink_to(b)
     before = snapshot(b)
-    attempts = [["view", finished_run, "--out", b / "viewer.html"], ["view", finished_run, "--out", tmp_path / "to-b" / "page.html"],
-                ["render", finished_run, "--out", b / "sub", "-q"], ["render", finished_run, "--out", b, "-q"],
-                ["schema", "--out", b / "s.json"], ["run", tmp_path / "r.yaml", "--out", b, "--no-video", "-q"],
-                ["check", tmp_path / "r.yaml", "--golden", b, "--update", "-q"],
-                ["fk", "--links", "1,1", "--angles", "0,0", "--png", b / "pose.png"]]
+    attempts = [
+        ["view", finished_run, "--out", b / "viewer.html"],
+        ["view", finished_run, "--out", tmp_path / "to-b" / "page.html"],
+        ["render", finished_run, "--out", b / "sub", "-q"],
+        ["render", finished_run, "--out", b, "-q"],
+        ["schema", "--out", b / "s.json"],
+        ["run", tmp_path / "r.yaml", "--out", b, "--no-video", "-q"],
+        ["check", tmp_path / "r.yaml", "--golden", b, "--update", "-q"],
+        ["fk", "--links", "1,1", "--angles", "0,0", "--png", b / "pose.png"],
+    ]
     installed = subprocess.run([armanim_exe(), *map(str, attempts[0])], capture_output=True, text=True, timeout=120)
     assert installed.returncode == 2 and "Traceback" not in installed.stderr, installed.stderr
     assert f"is inside the run folder {b}" in installed.stderr
     for args in attempts[1:]:
         result = cli(*args)
-        assert result.exit_code == 2 and ("is inside the run folder" in result.stderr or "is the run folder" in result.stderr), (args, result.output)
+        assert result.exit_code == 2 and (
+            "is inside the run folder" in result.stderr or "is the run folder" in result.stderr
+        ), (args, result.output)
     assert snapshot(b) == before and sorted(p.name for p in other.iterdir()) == sorted(["b", ".b.lock"])
     assert cli("run", tmp_path / "b.yaml", "--out", other, "--no-video", "-q").exit_code == 0  # B's next run goes on

@@ -29,4 +29,6 @@ def test_the_run_time_line_names_the_urdf_and_numbas_compiling_apart():
     from armanim.runs.stopwatch import Stopwatch
 
     assert run_time_line(Stopwatch(5.0, 0.0), False, False) == "time: 5.0 s from the scene to the outputs"
-    assert run_time_line(Stopwatch(40.0, 31.0), True, True).startswith("time: 9.0 s from the scene and its URDF to the video (numba")
+    assert run_time_line(Stopwatch(40.0, 31.0), True, True).startswith(
+        "time: 9.0 s from the scene and its URDF to the video (numba"
+    )

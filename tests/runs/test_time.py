@@ -53,7 +53,7 @@ def test_run_fps_override_holds_for_the_scenes_seconds(cli, tmp_path):
         summary = json.loads((tmp_path / f"at{fps}" / "held" / "summary.json").read_text())
         assert _held_frames(summary, 0) == 2 * fps  # two seconds, whatever the fps
         last = summary["goals"][0]["last_frame"]
-        assert np.all(table.column("reached")[last - 2 * fps: last + 1] == 1)
+        assert np.all(table.column("reached")[last - 2 * fps : last + 1] == 1)
         assert summary["fps"] == fps and summary["totals"]["duration_s"] == len(table.data) / fps
 
 
@@ -97,7 +97,9 @@ def test_a_scene_moves_the_same_in_seconds_at_15_30_and_60_fps(cli, tmp_path, na
         assert abs(duration - summaries[30]["totals"]["duration_s"]) <= 0.05 * duration
 
 
-@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])  # as the suite's profile
+@settings(
+    max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
+)  # as the suite's profile
 @given(problem=cluttered_problems(max_goals=2), fps=st.sampled_from([7.0, 15.0, 24.0, 60.0, 90.0]))
 def test_every_retimed_frame_keeps_the_guarantees_at_that_rate(problem, fps):
     solved = solve_trajectory(small_planning_budget(problem))
@@ -143,26 +145,61 @@ def test_the_clock_is_the_same_at_every_fps():
         np.testing.assert_allclose(durations[fps], durations[30.0], atol=1 / 15)
 
 
-def _one_step(start_deg: float, end_deg: float, sphere: np.ndarray, radius: float, fps: float) -> tuple[Problem, Solution]:
+def _one_step(
+    start_deg: float, end_deg: float, sphere: np.ndarray, radius: float, fps: float
+) -> tuple[Problem, Solution]:
     """A one-link arm (unlimited) solved in a single frame from ``start_deg`` to ``end_deg``, past a sphere."""
     arm = Arm.from_names([2.0], axes=["z"], direction="x")
     phi = np.radians([[start_deg], [end_deg]])
     pose = forward(arm, phi)
     goal = Goal(pose.tip[-1], 0.0)
-    problem = Problem(arm=arm, half_width=0.05, home=phi[0], limits=unlimited_limits(1),
-                      obstacles=Obstacles(sphere[None], np.array([radius]), np.array([radius])),
-                      goals=(goal,), solver=default_solver_settings(max_joint_step=np.radians(180.0)), fps=fps)
-    trajectory = Trajectory(phi=phi, tip=pose.tip, goal=np.zeros(2, dtype=int), distance=np.array([1.0, 0.0]),
-                            clearance=pose_clearance(problem, phi), reached=np.array([False, True]),
-                            iterations=np.array([0, 1]), step_scale=np.array([0.0, 1.0]), fps=fps)
-    report = GoalReport(index=0, position=goal.position, reached=True, reason=None, frames=1, first_frame=0, last_frame=1,
-                        final_distance=0.0, iterations=1, newton_iterations=0, planning=None)
+    problem = Problem(
+        arm=arm,
+        half_width=0.05,
+        home=phi[0],
+        limits=unlimited_limits(1),
+        obstacles=Obstacles(sphere[None], np.array([radius]), np.array([radius])),
+        goals=(goal,),
+        solver=default_solver_settings(max_joint_step=np.radians(180.0)),
+        fps=fps,
+    )
+    trajectory = Trajectory(
+        phi=phi,
+        tip=pose.tip,
+        goal=np.zeros(2, dtype=int),
+        distance=np.array([1.0, 0.0]),
+        clearance=pose_clearance(problem, phi),
+        reached=np.array([False, True]),
+        iterations=np.array([0, 1]),
+        step_scale=np.array([0.0, 1.0]),
+        fps=fps,
+    )
+    report = GoalReport(
+        index=0,
+        position=goal.position,
+        reached=True,
+        reason=None,
+        frames=1,
+        first_frame=0,
+        last_frame=1,
+        final_distance=0.0,
+        iterations=1,
+        newton_iterations=0,
+        planning=None,
+    )
     return problem, Solution(trajectory, (report,))
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
-@given(start=st.floats(-180.0, 180.0), turn=st.floats(30.0, 170.0), sign=st.sampled_from([-1.0, 1.0]),
-       at=st.floats(0.2, 0.8), reach=st.floats(0.6, 1.9), radius=st.floats(0.05, 0.4), fps=st.sampled_from([30.0, 90.0]))
+@given(
+    start=st.floats(-180.0, 180.0),
+    turn=st.floats(30.0, 170.0),
+    sign=st.sampled_from([-1.0, 1.0]),
+    at=st.floats(0.2, 0.8),
+    reach=st.floats(0.6, 1.9),
+    radius=st.floats(0.05, 0.4),
+    fps=st.sampled_from([30.0, 90.0]),
+)
 def test_a_step_whose_chord_cuts_an_obstacle_never_jumps(start, turn, sign, at, reach, radius, fps):
     # issue 50 item 12: a frame on a chord under the floor showed the solved pose (157 degrees in
     # one frame); now the step goes another certified way, every frame within the rates, clear
@@ -180,20 +217,44 @@ def test_an_in_between_pose_that_would_cut_an_obstacle_is_moved_back():
     # one link sweeping +-60 degrees past a sphere in a single solved frame: the joint-space
     # chord passes through the sphere at 0 degrees, both solved poses are clear of it
     arm = Arm.from_names([2.0], axes=["z"], direction="x")
-    problem = Problem(arm=arm, half_width=0.05, home=np.radians([-60.0]), limits=unlimited_limits(1),
-                      obstacles=Obstacles(np.array([[1.5, 0.0, 0.0]]), np.array([0.3]), np.array([0.3])),
-                      goals=(Goal(np.array([1.0, 1.732, 0.0]), 0.0),), solver=default_solver_settings(
-                          max_joint_step=np.radians(120.0)), fps=10.0)
+    problem = Problem(
+        arm=arm,
+        half_width=0.05,
+        home=np.radians([-60.0]),
+        limits=unlimited_limits(1),
+        obstacles=Obstacles(np.array([[1.5, 0.0, 0.0]]), np.array([0.3]), np.array([0.3])),
+        goals=(Goal(np.array([1.0, 1.732, 0.0]), 0.0),),
+        solver=default_solver_settings(max_joint_step=np.radians(120.0)),
+        fps=10.0,
+    )
     phi = np.radians([[-60.0], [60.0]])
     pose = forward(arm, phi)
     distance = np.linalg.norm(pose.tip - problem.goals[0].position, axis=1)
-    trajectory = Trajectory(phi=phi, tip=pose.tip, goal=np.zeros(2, dtype=int), distance=distance,
-                            clearance=pose_clearance(problem, phi), reached=distance < 0.01,
-                            iterations=np.array([0, 1]), step_scale=np.array([0.0, 1.0]), fps=10.0)
+    trajectory = Trajectory(
+        phi=phi,
+        tip=pose.tip,
+        goal=np.zeros(2, dtype=int),
+        distance=distance,
+        clearance=pose_clearance(problem, phi),
+        reached=distance < 0.01,
+        iterations=np.array([0, 1]),
+        step_scale=np.array([0.0, 1.0]),
+        fps=10.0,
+    )
     assert trajectory.clearance.min() > problem.solver.clearance
-    report = GoalReport(index=0, position=problem.goals[0].position, reached=True, reason=None, frames=1,
-                        first_frame=0, last_frame=1, final_distance=float(distance[-1]), iterations=1,
-                        newton_iterations=0, planning=None)
+    report = GoalReport(
+        index=0,
+        position=problem.goals[0].position,
+        reached=True,
+        reason=None,
+        frames=1,
+        first_frame=0,
+        last_frame=1,
+        final_distance=float(distance[-1]),
+        iterations=1,
+        newton_iterations=0,
+        planning=None,
+    )
     solved = Solution(trajectory, (report,))
     straight = np.radians(np.linspace(-60.0, 60.0, 11))
     assert pose_clearance(problem, straight[:, None]).min() < 0  # plain interpolation would cut the sphere
@@ -219,17 +280,45 @@ def test_a_chord_that_passes_an_obstacle_between_two_frames_goes_round_it():
     phi = np.radians([[-60.0, 0.0], [60.0, 0.0]])
     pose = forward(arm, phi)
     goal = Goal(pose.tip[-1], 0.0)
-    problem = Problem(arm=arm, half_width=0.05, home=phi[0], limits=Limits(np.radians([-90.0, -150.0]), np.radians([90.0, 150.0]), 0.1),
-                      obstacles=Obstacles(np.array([[1.8, 0.0, 0.0]]), np.array([0.15]), np.array([0.15])),
-                      goals=(goal,), solver=default_solver_settings(max_joint_step=np.radians(180.0)), fps=30.0)
-    trajectory = Trajectory(phi=phi, tip=pose.tip, goal=np.zeros(2, dtype=int), distance=np.array([1.0, 0.0]),
-                            clearance=pose_clearance(problem, phi), reached=np.array([False, True]),
-                            iterations=np.array([0, 1]), step_scale=np.array([0.0, 1.0]), fps=30.0)
-    report = GoalReport(index=0, position=goal.position, reached=True, reason=None, frames=1, first_frame=0, last_frame=1,
-                        final_distance=0.0, iterations=1, newton_iterations=0, planning=None)
+    problem = Problem(
+        arm=arm,
+        half_width=0.05,
+        home=phi[0],
+        limits=Limits(np.radians([-90.0, -150.0]), np.radians([90.0, 150.0]), 0.1),
+        obstacles=Obstacles(np.array([[1.8, 0.0, 0.0]]), np.array([0.15]), np.array([0.15])),
+        goals=(goal,),
+        solver=default_solver_settings(max_joint_step=np.radians(180.0)),
+        fps=30.0,
+    )
+    trajectory = Trajectory(
+        phi=phi,
+        tip=pose.tip,
+        goal=np.zeros(2, dtype=int),
+        distance=np.array([1.0, 0.0]),
+        clearance=pose_clearance(problem, phi),
+        reached=np.array([False, True]),
+        iterations=np.array([0, 1]),
+        step_scale=np.array([0.0, 1.0]),
+        fps=30.0,
+    )
+    report = GoalReport(
+        index=0,
+        position=goal.position,
+        reached=True,
+        reason=None,
+        frames=1,
+        first_frame=0,
+        last_frame=1,
+        final_distance=0.0,
+        iterations=1,
+        newton_iterations=0,
+        planning=None,
+    )
     timed = retime(problem, Solution(trajectory, (report,)), 30.0).trajectory
     assert_within_rates(at_fps(problem, 30.0), timed)
     np.testing.assert_array_equal(timed.phi[-1], phi[-1])
     # between every two frames too, each joint halfway and in 64ths: never through the sphere
-    fine = (timed.phi[:-1, None, :] + np.linspace(0.0, 1.0, 65)[None, :, None] * np.diff(timed.phi, axis=0)[:, None, :]).reshape(-1, 2)
+    fine = (
+        timed.phi[:-1, None, :] + np.linspace(0.0, 1.0, 65)[None, :, None] * np.diff(timed.phi, axis=0)[:, None, :]
+    ).reshape(-1, 2)
     assert min_link_clearance(forward(arm, fine), problem.obstacles, problem.capsules).min() > 0.0

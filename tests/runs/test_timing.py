@@ -18,7 +18,9 @@ def test_timing_json_holds_the_run_s_times_and_summary_none(cli, tmp_path):
         runs.append(tmp_path / out / "t")
     timing = json.loads((runs[0] / "timing.json").read_text())
     summary = json.loads((runs[0] / "summary.json").read_text())
-    assert len(timing["goals"]) == len(summary["goals"]) and [g["goal"] for g in timing["goals"]] == list(range(len(summary["goals"])))
+    assert len(timing["goals"]) == len(summary["goals"]) and [g["goal"] for g in timing["goals"]] == list(
+        range(len(summary["goals"]))
+    )
     parts = [timing[k] for k in ("convert_s", "solve_s", "clock_s")]
     assert all(v >= 0 for v in parts + [timing["outputs_s"]] + [g["plan_time_s"] for g in timing["goals"]])
     assert abs(sum(parts) - timing["scene_to_trajectory_s"]) <= 2e-6  # each rounded to the microsecond
@@ -26,4 +28,7 @@ def test_timing_json_holds_the_run_s_times_and_summary_none(cli, tmp_path):
     assert "timing.json" in (runs[0] / MARKER).read_text()  # armanim's file: a rerun may replace it
     for name in ("summary.json", "trajectory.csv"):
         assert (runs[0] / name).read_bytes() == (runs[1] / name).read_bytes()
-    assert "_time" not in (runs[0] / "summary.json").read_text() and "plan_time_s" not in (runs[0] / "summary.json").read_text()
+    assert (
+        "_time" not in (runs[0] / "summary.json").read_text()
+        and "plan_time_s" not in (runs[0] / "summary.json").read_text()
+    )

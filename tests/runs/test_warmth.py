@@ -70,6 +70,7 @@ def test_a_first_compile_counts_each_kernel_it_compiles_at_a_terminal(monkeypatc
     cli_app.tell_first_compile("run")
     counter = next(x for x in event._registered["numba:compile"] if x not in listeners)
     try:
+
         @numba.njit(cache=False)
         def inner(x):
             return x + 1.0
@@ -83,8 +84,10 @@ def test_a_first_compile_counts_each_kernel_it_compiles_at_a_terminal(monkeypatc
         event.unregister("numba:compile", counter)
     lines = stream.getvalue().splitlines()
     assert lines[0] == warmth.FIRST_COMPILE
-    assert [line.split(" (")[0] for line in lines[1:]] == ["armanim: compiling 1: " + outer.__qualname__,
-                                                          "armanim: compiling 2: " + outer.__qualname__]
+    assert [line.split(" (")[0] for line in lines[1:]] == [
+        "armanim: compiling 1: " + outer.__qualname__,
+        "armanim: compiling 2: " + outer.__qualname__,
+    ]
 
 
 def test_compiles_first_answers_for_both_commands():
@@ -92,7 +95,9 @@ def test_compiles_first_answers_for_both_commands():
     from armanim.runs.warmth import compiles_first
     from armanim.scene import scene_model
 
-    problem = ik_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.4, 0.0, 0.4]]}), None, None, from_flags=False)
+    problem = ik_problem(
+        scene_model({"version": 1, "arm": {"robot": "panda"}, "goals": [[0.4, 0.0, 0.4]]}), None, None, from_flags=False
+    )
     assert {type(compiles_first("run")), type(compiles_first("ik", problem))} == {bool}
 
 
@@ -102,7 +107,9 @@ def test_armanim_warm_solves_every_warm_scene_and_leaves_the_run_s_kernels_cache
     from armanim.runs.warm import warm_scenes
     from armanim.runs.warmth import compiles_first
 
-    done = subprocess.run([sys.executable, "-m", "armanim", "warm"], cwd=tmp_path, capture_output=True, text=True, timeout=900)
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", "warm"], cwd=tmp_path, capture_output=True, text=True, timeout=900
+    )
     assert done.returncode == 0, done.stderr
     assert f"armanim warm: {len(warm_scenes()) + 2} solves" in done.stdout.replace("\n", " ")
     assert list(tmp_path.iterdir()) == []

@@ -29,30 +29,96 @@ HOSTILE = {
     # name: (text, field path or "" for the file, line, words in the message)
     "alias bomb": (_bomb(), None, None, ["expands to more than", f"{MAX_NODES:,}", "alias bomb"]),
     "recursive alias": ("a: &a [1, *a]\n", "a[1]", 1, ["refers to a value that contains it"]),
-    "deep block nesting": ("".join("  " * i + "a:\n" for i in range(100)) + "  " * 100 + "b: 1\n", None, MAX_DEPTH + 2, [f"nesting deeper than {MAX_DEPTH} levels"]),
-    "deep flow nesting": ("a: " + "[" * 10_000 + "]" * 10_000 + "\n", None, 1, [f"nesting deeper than {MAX_DEPTH} levels"]),
+    "deep block nesting": (
+        "".join("  " * i + "a:\n" for i in range(100)) + "  " * 100 + "b: 1\n",
+        None,
+        MAX_DEPTH + 2,
+        [f"nesting deeper than {MAX_DEPTH} levels"],
+    ),
+    "deep flow nesting": (
+        "a: " + "[" * 10_000 + "]" * 10_000 + "\n",
+        None,
+        1,
+        [f"nesting deeper than {MAX_DEPTH} levels"],
+    ),
     "deep dash nesting": ("a:\n" + "- " * 10_000 + "x\n", None, None, [f"nesting deeper than {MAX_DEPTH} levels"]),
     "many values": ("a: [" + ", ".join(["0"] * 200_000) + "]\n", None, 1, ["expands to more than"]),
-    "1e400": (SMALL.replace("[1, 0, 0]", "[1e400, 0, 0]"), "goals[0].position[0]", 5, ["must be a finite number (got inf)"]),
-    ".nan": (SMALL.replace("[1, 0, 0]", "[.nan, 0, 0]"), "goals[0].position[0]", 5, ["must be a finite number (got nan)"]),
+    "1e400": (
+        SMALL.replace("[1, 0, 0]", "[1e400, 0, 0]"),
+        "goals[0].position[0]",
+        5,
+        ["must be a finite number (got inf)"],
+    ),
+    ".nan": (
+        SMALL.replace("[1, 0, 0]", "[.nan, 0, 0]"),
+        "goals[0].position[0]",
+        5,
+        ["must be a finite number (got nan)"],
+    ),
     "10**400": (SMALL.replace("[1, 0, 0]", f"[{10**400}, 0, 0]"), "goals[0][0]", 5, ["401-digit integer is too large"]),
-    "10**5000": (SMALL.replace("[1, 0, 0]", "[1" + "0" * 5000 + ", 0, 0]"), "goals[0][0]", 5, ["5001-digit integer is too large"]),
-    "10,000 links": (SMALL.replace("[1, 1]", "[" + ", ".join(["1"] * 10_000) + "]"), "arm.links", 3, ["10000 items", f"at most {LIMITS['links']}"]),
-    "1,001 goals": ("version: 1\narm:\n  links: [1, 1]\ngoals:\n" + "  - [1, 0, 0]\n" * 1001, "goals", 4, ["1001 items", "at most 1000"]),
+    "10**5000": (
+        SMALL.replace("[1, 0, 0]", "[1" + "0" * 5000 + ", 0, 0]"),
+        "goals[0][0]",
+        5,
+        ["5001-digit integer is too large"],
+    ),
+    "10,000 links": (
+        SMALL.replace("[1, 1]", "[" + ", ".join(["1"] * 10_000) + "]"),
+        "arm.links",
+        3,
+        ["10000 items", f"at most {LIMITS['links']}"],
+    ),
+    "1,001 goals": (
+        "version: 1\narm:\n  links: [1, 1]\ngoals:\n" + "  - [1, 0, 0]\n" * 1001,
+        "goals",
+        4,
+        ["1001 items", "at most 1000"],
+    ),
     "tab indentation": (SMALL.replace("  links", "\tlinks"), "", 3, ["not valid YAML", "tab character", "spaces"]),
     "duplicate key": (SMALL + "version: 1\n", "version", 6, ["duplicate key 'version'", "first on line 1"]),
     "list as key": (SMALL + "[a, b]: 1\n", "", 6, ["mapping key must be a plain name (got a list)"]),
     "mapping as key": (SMALL + "? {a: 1}\n: 2\n", "", 6, ["mapping key must be a plain name (got a mapping)"]),
-    "merge key": ("version: 1\narm:\n  <<: {links: [1, 1]}\ngoals:\n  - [1, 0, 0]\n", "arm", 3, ["merge keys (<<) are not supported"]),
+    "merge key": (
+        "version: 1\narm:\n  <<: {links: [1, 1]}\ngoals:\n  - [1, 0, 0]\n",
+        "arm",
+        3,
+        ["merge keys (<<) are not supported"],
+    ),
     "timestamp": (SMALL + "name: 2001-12-14\n", "name", 6, ["unsupported YAML tag '!!timestamp'"]),
     "binary": (SMALL + "name: !!binary aGVsbG8=\n", "name", 6, ["unsupported YAML tag '!!binary'"]),
-    "python object": (SMALL + "name: !!python/object/apply:os.system ['false']\n", "name", 6, ["unsupported YAML tag", "not executed"]),
-    "string as number": (SMALL.replace("[1, 0, 0]", "['1', 0, 0]"), "goals[0].position[0]", 5, ["must be a number (got '1')"]),
-    "bool as number": (SMALL.replace("[1, 0, 0]", "[true, 0, 0]"), "goals[0].position[0]", 5, ["must be a number (got true)"]),
+    "python object": (
+        SMALL + "name: !!python/object/apply:os.system ['false']\n",
+        "name",
+        6,
+        ["unsupported YAML tag", "not executed"],
+    ),
+    "string as number": (
+        SMALL.replace("[1, 0, 0]", "['1', 0, 0]"),
+        "goals[0].position[0]",
+        5,
+        ["must be a number (got '1')"],
+    ),
+    "bool as number": (
+        SMALL.replace("[1, 0, 0]", "[true, 0, 0]"),
+        "goals[0].position[0]",
+        5,
+        ["must be a number (got true)"],
+    ),
     "control character": (SMALL + "name: a\x07b\n", "", 6, ["is not allowed in YAML"]),
-    "too many frames": ("version: 1\narm:\n  links: [1, 1]\ngoals:\n" + "  - {position: [1, 0, 0], hold: 3600}\n" * 10 + "render: {fps: 240}\n",
-                        "goals", 4, ["frames", f"at most {LIMITS['total_frames']:,}"]),
-    "many unknown keys": (SMALL + "".join(f"k{i}: 1\n" for i in range(2000)), "", None, ["unknown key 'k0'", "more problems"]),
+    "too many frames": (
+        "version: 1\narm:\n  links: [1, 1]\ngoals:\n"
+        + "  - {position: [1, 0, 0], hold: 3600}\n" * 10
+        + "render: {fps: 240}\n",
+        "goals",
+        4,
+        ["frames", f"at most {LIMITS['total_frames']:,}"],
+    ),
+    "many unknown keys": (
+        SMALL + "".join(f"k{i}: 1\n" for i in range(2000)),
+        "",
+        None,
+        ["unknown key 'k0'", "more problems"],
+    ),
 }
 
 
@@ -127,7 +193,9 @@ def test_largest_valid_scene_still_loads(tmp_path):
     """The limits leave room for a maximal scene: 64 links, 1000 goals, 1000 obstacles."""
     links = ", ".join(["0.1"] * LIMITS["links"])
     goals = "".join(f"  - {{position: [1, {i % 7}, 2], hold: 0.1}}\n" for i in range(LIMITS["goals"]))
-    obstacles = "".join(f"  - {{center: [{20 + i}, 30, 40], radius: 0.5, influence: 1}}\n" for i in range(LIMITS["obstacles"]))
+    obstacles = "".join(
+        f"  - {{center: [{20 + i}, 30, 40], radius: 0.5, influence: 1}}\n" for i in range(LIMITS["obstacles"])
+    )
     text = f"version: 1\narm:\n  links: [{links}]\nobstacles:\n{obstacles}goals:\n{goals}solver: {{max_frames_per_goal: 900}}\n"
     model = validate_scene_text(text, "big.yaml")  # its time: benchmarks/reliability_bench.py
     assert len(model.goals) == LIMITS["goals"] and len(model.obstacles) == LIMITS["obstacles"]

@@ -35,7 +35,9 @@ def _read(path: Path):
     from armanim.scene.visuals import link_meshes, visual_specs
 
     notes: list[str] = []
-    meshes = link_meshes(visual_specs(path.read_bytes(), str(path), notes.append), path.parent, [path.parent], notes.append)
+    meshes = link_meshes(
+        visual_specs(path.read_bytes(), str(path), notes.append), path.parent, [path.parent], notes.append
+    )
     return meshes, notes
 
 
@@ -64,8 +66,14 @@ def test_only_the_documented_formats_are_read_and_no_archive_is_opened(tmp_path)
 
 def _in_a_subprocess(script: str, cwd: Path) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONPATH": str(SRC)}
-    return subprocess.run([sys.executable, "-c", textwrap.dedent(script)], cwd=cwd, env=env, capture_output=True,
-                          text=True, timeout=HANG_GUARD)
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(script)],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=HANG_GUARD,
+    )
 
 
 def test_a_fifo_a_mesh_names_is_never_opened(tmp_path):
@@ -78,7 +86,8 @@ def test_a_fifo_a_mesh_names_is_never_opened(tmp_path):
     os.mkfifo(tmp_path / "b.bin")
     (tmp_path / "a.gltf").write_text('{"asset":{"version":"2.0"},"buffers":[{"uri":"b.bin","byteLength":36}]}')
     _urdf(tmp_path, _mesh("a.obj") + _mesh("a.gltf"))
-    done = _in_a_subprocess("""
+    done = _in_a_subprocess(
+        """
         from pathlib import Path
         from types import SimpleNamespace
         from armanim.scene.looks import tool_meshes
@@ -90,7 +99,9 @@ def test_a_fifo_a_mesh_names_is_never_opened(tmp_path):
         parts = tool_meshes(tool, "l0", Path("."), notes.append)
         print(sum(m.triangles for m in meshes), sum(p.triangles for p in parts))
         print(*notes, sep="\\n")
-        """, tmp_path)
+        """,
+        tmp_path,
+    )
     assert done.returncode == 0, done.stderr
     counts, *notes = done.stdout.splitlines()
     assert counts == "1 1"
@@ -107,7 +118,8 @@ def test_a_visual_or_tool_mesh_that_is_no_regular_file_is_said_so_and_never_open
     os.symlink("/dev/null", tmp_path / "device.stl")
     names = ["pipe.stl", "folder.stl", "device.stl", "absent.stl"]
     _urdf(tmp_path, "".join(_mesh(n) for n in names))
-    done = _in_a_subprocess(f"""
+    done = _in_a_subprocess(
+        f"""
         from pathlib import Path
         from types import SimpleNamespace
         from armanim.scene.looks import tool_meshes
@@ -119,7 +131,9 @@ def test_a_visual_or_tool_mesh_that_is_no_regular_file_is_said_so_and_never_open
             tool = SimpleNamespace(xyz=[0, 0, 0], rpy=[0, 0, 0], pen=None, mesh=name, gripper=None)
             assert tool_meshes(tool, "l0", Path("."), notes.append) == []
         print(*notes, sep="\\n")
-        """, tmp_path)
+        """,
+        tmp_path,
+    )
     assert done.returncode == 0, done.stderr
     notes = done.stdout.splitlines()
     assert len(notes) == 8, notes
@@ -129,7 +143,9 @@ def test_a_visual_or_tool_mesh_that_is_no_regular_file_is_said_so_and_never_open
         assert tool.startswith(f"arm.tool.mesh: {name!r} ") and tool.endswith(": the tool is not drawn"), tool
         for note in (visual, tool):
             if name in kinds:
-                assert f"is not a regular file ({name} is {kinds[name]}: never read" in note and "not found" not in note, note
+                assert (
+                    f"is not a regular file ({name} is {kinds[name]}: never read" in note and "not found" not in note
+                ), note
             else:
                 assert "not found" in note and "regular" not in note, note
     assert "package_dirs" in notes[3] and "package_dirs" not in notes[0]
@@ -155,7 +171,8 @@ def _dae(nodes: str, top: str, triangles: int = 1) -> str:
 def _instancing(levels: int, copies: int) -> str:
     """Node ``n0`` holds the geometry; each ``n(k+1)`` instances ``n(k)`` ``copies`` times."""
     return '<node id="n0"><instance_geometry url="#g"/></node>' + "".join(
-        f'<node id="n{k + 1}">' + f'<instance_node url="#n{k}"/>' * copies + "</node>" for k in range(levels))
+        f'<node id="n{k + 1}">' + f'<instance_node url="#n{k}"/>' * copies + "</node>" for k in range(levels)
+    )
 
 
 def test_a_collada_instance_bomb_is_refused_before_it_is_expanded(tmp_path, monkeypatch):
@@ -178,7 +195,9 @@ def test_a_collada_instance_bomb_is_refused_before_it_is_expanded(tmp_path, monk
     monkeypatch.undo()
     fine = MeshReader(None).triangles(tmp_path / "fine.dae")
     assert fine.triangles == 100 * 3000
-    assert np.allclose(fine.vertices.min(axis=0), [0.0, 0.0, 0.0]) and np.allclose(fine.vertices.max(axis=0), [30.0, 0.05, 0.0])
+    assert np.allclose(fine.vertices.min(axis=0), [0.0, 0.0, 0.0]) and np.allclose(
+        fine.vertices.max(axis=0), [30.0, 0.05, 0.0]
+    )
 
 
 def test_one_file_named_by_three_links_is_read_once(tmp_path, monkeypatch):
@@ -238,10 +257,13 @@ def test_an_interrupt_a_library_swallows_still_ends_the_run_with_130(tmp_path):
         '<origin xyz="0 0 0.15"/></collision></link>'
         '<joint name="j1" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>'
         '<limit lower="-2" upper="2" effort="1" velocity="1"/></joint><link name="l2"><collision><geometry>'
-        '<cylinder radius="0.03" length="0.3"/></geometry><origin xyz="0 0 0.15"/></collision></link></robot>')
-    (tmp_path / "s.yaml").write_text("version: 1\nname: m\narm: {urdf: r.urdf}\ngoals: [[0.2, 0.1, 0.3]]\n"
-                                     "render: {size: [160, 90], fps: 10}\n")
-    done = _in_a_subprocess("""
+        '<cylinder radius="0.03" length="0.3"/></geometry><origin xyz="0 0 0.15"/></collision></link></robot>'
+    )
+    (tmp_path / "s.yaml").write_text(
+        "version: 1\nname: m\narm: {urdf: r.urdf}\ngoals: [[0.2, 0.1, 0.3]]\nrender: {size: [160, 90], fps: 10}\n"
+    )
+    done = _in_a_subprocess(
+        """
         import os, signal, sys
         import collada
         real = collada.Collada.__init__
@@ -255,7 +277,9 @@ def test_an_interrupt_a_library_swallows_still_ends_the_run_with_130(tmp_path):
         sys.argv = ["armanim", "run", "s.yaml", "--out", "o", "--no-video", "--viewer", "--quiet"]
         from armanim.__main__ import main
         main()
-        """, tmp_path)
+        """,
+        tmp_path,
+    )
     assert done.returncode == 130, (done.returncode, done.stderr)
     assert done.stderr.strip().splitlines()[-1] == "armanim: interrupted; nothing half-written was left behind"
     assert "Traceback" not in done.stderr
@@ -269,8 +293,12 @@ def test_the_readers_agree_with_trimesh_on_its_own_exports(tmp_path):
     from armanim.scene.meshfiles import read_mesh
 
     shape = trimesh.creation.annulus(r_min=0.2, r_max=0.5, height=0.3, sections=17)
-    for kind, data in (("stl", shape.export(file_type="stl")), ("stl", shape.export(file_type="stl_ascii").encode()),
-                       ("obj", shape.export(file_type="obj").encode()), ("dae", shape.export(file_type="dae"))):
+    for kind, data in (
+        ("stl", shape.export(file_type="stl")),
+        ("stl", shape.export(file_type="stl_ascii").encode()),
+        ("obj", shape.export(file_type="obj").encode()),
+        ("dae", shape.export(file_type="dae")),
+    ):
         vertices, faces, _ = read_mesh(data if isinstance(data, bytes) else data.encode(), kind)
         mine = trimesh.Trimesh(vertices, faces, process=False)
         theirs = trimesh.load(io.BytesIO(data), file_type=kind, force="mesh")
@@ -282,11 +310,16 @@ def test_the_readers_agree_with_trimesh_on_its_own_exports(tmp_path):
 def test_a_mesh_whose_every_corner_is_not_finite_says_so(tmp_path):
     """Campaign 5: an ASCII STL whose one triangle has NaN and infinite corners (``1e400``) was
     noted as ``no triangles``; it holds one, each corner left out for a reason the note now gives."""
-    (tmp_path / "a.stl").write_text("solid a\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 1e400 0\nvertex 0 1 0\n"
-                                    "endloop\nendfacet\nendsolid a\n")
+    (tmp_path / "a.stl").write_text(
+        "solid a\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 1e400 0\nvertex 0 1 0\n"
+        "endloop\nendfacet\nendsolid a\n"
+    )
     (tmp_path / "e.stl").write_text("solid e\nendsolid e\n")
     _, notes = _read(_urdf(tmp_path, _mesh("a.stl") + _mesh("e.stl")))
-    assert len(notes) == 2 and "no triangle with finite corners (1 left out: each has a NaN or infinite corner)" in notes[0], notes
+    assert (
+        len(notes) == 2
+        and "no triangle with finite corners (1 left out: each has a NaN or infinite corner)" in notes[0]
+    ), notes
     assert notes[1].endswith("no triangles)") or "no triangles" in notes[1], notes
 
 
@@ -294,9 +327,11 @@ def test_a_visual_whose_numbers_cannot_be_read_is_a_note(tmp_path):
     """Campaign 5: a ``<visual>`` mesh with ``scale="nan 1 1"`` or ``"1 1"``, or a box with two sizes,
     was skipped without a word: the picture was not what the URDF asked for, and nothing said so."""
     (tmp_path / "a.stl").write_bytes(trimesh.creation.box().export(file_type="stl"))
-    visuals = ('<visual><geometry><mesh filename="a.stl" scale="nan 1 1"/></geometry></visual>'
-               '<visual><geometry><mesh filename="a.stl" scale="1 1"/></geometry></visual>'
-               '<visual><geometry><box size="1 1"/></geometry></visual>' + _mesh("a.stl"))
+    visuals = (
+        '<visual><geometry><mesh filename="a.stl" scale="nan 1 1"/></geometry></visual>'
+        '<visual><geometry><mesh filename="a.stl" scale="1 1"/></geometry></visual>'
+        '<visual><geometry><box size="1 1"/></geometry></visual>' + _mesh("a.stl")
+    )
     meshes, notes = _read(_urdf(tmp_path, visuals))
     assert len(meshes) == 1 and meshes[0].triangles == 12  # the one readable visual
     assert len(notes) == 3 and all("cannot be read" in n and "drawn as its capsules" in n for n in notes), notes

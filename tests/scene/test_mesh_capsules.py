@@ -23,11 +23,11 @@ BASE_RPY, BASE_XYZ, BASE_SCALE = (0.3, -0.2, 0.5), (0.01, -0.02, 0.03), (1.5, 1.
 ARM_RPY, ARM_XYZ = (0.0, 0.4, 0.0), (0.0, 0.0, 0.2)
 
 URDF = f"""<robot name="meshy">
-  <link name="base"><collision><origin xyz="{' '.join(map(str, BASE_XYZ))}" rpy="{' '.join(map(str, BASE_RPY))}"/>
-    <geometry><mesh filename="meshes/base.stl" scale="{' '.join(map(str, BASE_SCALE))}"/></geometry></collision></link>
+  <link name="base"><collision><origin xyz="{" ".join(map(str, BASE_XYZ))}" rpy="{" ".join(map(str, BASE_RPY))}"/>
+    <geometry><mesh filename="meshes/base.stl" scale="{" ".join(map(str, BASE_SCALE))}"/></geometry></collision></link>
   <joint name="j1" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
     <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-  <link name="upper"><collision><origin xyz="{' '.join(map(str, ARM_XYZ))}" rpy="{' '.join(map(str, ARM_RPY))}"/>
+  <link name="upper"><collision><origin xyz="{" ".join(map(str, ARM_XYZ))}" rpy="{" ".join(map(str, ARM_RPY))}"/>
     <geometry><mesh filename="package://meshy/meshes/upper.obj"/></geometry></collision>
     <collision><origin xyz="0 0 0.45"/><geometry><sphere radius="0.04"/></geometry></collision></link>
   <joint name="j2" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0 0 0.45"/><axis xyz="0 1 0"/>
@@ -41,9 +41,13 @@ URDF = f"""<robot name="meshy">
 
 
 def _meshes() -> dict[str, trimesh.Trimesh]:
-    return {"base.stl": trimesh.creation.cylinder(radius=0.08, height=0.06, sections=24),
-            "upper.obj": trimesh.creation.capsule(height=0.3, radius=0.05, count=[12, 12]),
-            "fore.stl": trimesh.creation.box(extents=(0.06, 0.07, 0.3), transform=trimesh.transformations.translation_matrix((0, 0, 0.15)))}
+    return {
+        "base.stl": trimesh.creation.cylinder(radius=0.08, height=0.06, sections=24),
+        "upper.obj": trimesh.creation.capsule(height=0.3, radius=0.05, count=[12, 12]),
+        "fore.stl": trimesh.creation.box(
+            extents=(0.06, 0.07, 0.3), transform=trimesh.transformations.translation_matrix((0, 0, 0.15))
+        ),
+    }
 
 
 @pytest.fixture()
@@ -91,7 +95,9 @@ def test_auto_fits_every_links_meshes_and_holds_every_vertex(robot_dir):
         by_link.setdefault(c.link, []).append(c)
     assert set(by_link) == {"base", "upper", "fore", "tip"}
     assert robot.fitted_links == ("base", "upper", "fore") and robot.from_visuals == ("fore",)
-    assert 1 <= len(by_link["base"]) <= 3 and 2 <= len(by_link["upper"]) <= 4  # the sphere primitive kept beside the fit
+    assert (
+        1 <= len(by_link["base"]) <= 3 and 2 <= len(by_link["upper"]) <= 4
+    )  # the sphere primitive kept beside the fit
     meshes = robot_dir / "meshes"
     assert _held(_placed(meshes / "base.stl", BASE_XYZ, BASE_RPY, BASE_SCALE), by_link["base"]) <= 1e-9
     assert _held(_placed(meshes / "upper.obj", ARM_XYZ, ARM_RPY), by_link["upper"][1:]) <= 1e-9
@@ -155,14 +161,25 @@ def test_a_collision_mesh_whose_scale_cannot_be_read_is_an_error_at_its_line(rob
     (robot_dir / "meshy.urdf").write_text(URDF.replace('scale="1.5 1.0 0.5"', f'scale="{scale}"'))
     with pytest.raises(SceneError) as info:
         load_scene(_scene(robot_dir))
-    assert (f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl': its scale={scale!r}, origin xyz='0.01 -0.02 0.03', "
-            "origin rpy='0.3 -0.2 0.5' must be three finite numbers each") in info.value.report()
+    assert (
+        f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl': its scale={scale!r}, origin xyz='0.01 -0.02 0.03', "
+        "origin rpy='0.3 -0.2 0.5' must be three finite numbers each"
+    ) in info.value.report()
 
 
-@pytest.mark.parametrize(("corners", "words"), [
-    ("nan", "the file holds corners that are not finite numbers"),  # the sixth campaign: blamed on a scale it did not have
-    ("far", "its vertices lie up to 1.34e+30 from the link's frame (expected at most 1e+09"),  # a capsule of 8e28 m (scaled, turned)
-])
+@pytest.mark.parametrize(
+    ("corners", "words"),
+    [
+        (
+            "nan",
+            "the file holds corners that are not finite numbers",
+        ),  # the sixth campaign: blamed on a scale it did not have
+        (
+            "far",
+            "its vertices lie up to 1.34e+30 from the link's frame (expected at most 1e+09",
+        ),  # a capsule of 8e28 m (scaled, turned)
+    ],
+)
 def test_a_collision_mesh_whose_corners_cannot_be_a_link_is_an_error_at_its_line(robot_dir, corners, words):
     box = trimesh.creation.box(extents=(0.06, 0.06, 0.3))
     vertices = box.vertices.copy()
@@ -223,8 +240,13 @@ def test_a_collada_mesh_in_millimetres_is_fitted_in_metres(robot_dir):
         (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.dae"))
         rows = _capsule_rows(load_scene(_scene(robot_dir, name=f"s{unit}.yaml")), "base")
         assert len(rows) == len(metres), unit
-        np.testing.assert_allclose(np.array([[*a, *b, r] for a, b, r in rows]),
-                                   np.array([[*a, *b, r] for a, b, r in metres]), rtol=0, atol=1e-9, err_msg=unit)
+        np.testing.assert_allclose(
+            np.array([[*a, *b, r] for a, b, r in rows]),
+            np.array([[*a, *b, r] for a, b, r in metres]),
+            rtol=0,
+            atol=1e-9,
+            err_msg=unit,
+        )
 
 
 @pytest.mark.parametrize("unit", ["0", "-0.001", "nan", "1e300", "1e-300", "abc", "", "1_000"])
@@ -233,8 +255,10 @@ def test_a_collada_unit_that_is_no_unit_is_an_error_at_its_line(robot_dir, unit)
     (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.dae"))
     with pytest.raises(SceneError) as info:
         load_scene(_scene(robot_dir))
-    assert (f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.dae' could not be read (ValueError: its <unit meter={unit!r}> is not "
-            "a number of metres per unit from 1e-06 (micrometres) to 1000 (kilometres)") in info.value.report()
+    assert (
+        f"meshy.urdf:2: link 'base': collision mesh 'meshes/base.dae' could not be read (ValueError: its <unit meter={unit!r}> is not "
+        "a number of metres per unit from 1e-06 (micrometres) to 1000 (kilometres)"
+    ) in info.value.report()
 
 
 def test_an_obj_face_of_a_twenty_digit_vertex_number_is_an_error_at_its_line(robot_dir):
@@ -249,7 +273,9 @@ def test_an_obj_face_of_a_twenty_digit_vertex_number_is_an_error_at_its_line(rob
 
 def test_a_collision_mesh_of_another_format_is_an_error(robot_dir):
     (robot_dir / "meshy.urdf").write_text(URDF.replace("meshes/base.stl", "meshes/base.ply"))
-    with pytest.raises(SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.ply' is not a format armanim reads"):
+    with pytest.raises(
+        SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.ply' is not a format armanim reads"
+    ):
         load_scene(_scene(robot_dir))
 
 
@@ -257,7 +283,9 @@ def test_meshes_over_the_readers_limits_are_errors(robot_dir, monkeypatch):
     import armanim.scene.visuals as visuals
 
     monkeypatch.setattr(visuals, "MAX_MESH_BYTES", 1000)
-    with pytest.raises(SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl' could not be read \(.*more than"):
+    with pytest.raises(
+        SceneError, match=r"meshy.urdf:2: link 'base': collision mesh 'meshes/base.stl' could not be read \(.*more than"
+    ):
         load_scene(_scene(robot_dir))
     monkeypatch.undo()
     monkeypatch.setattr(visuals, "MAX_LOOK_TRIANGLES", 60)  # the base's 92 triangles are over
@@ -270,7 +298,10 @@ def test_a_missing_visual_mesh_falls_back_to_the_joint_capsule_with_notes(robot_
     scene = load_scene(_scene(robot_dir))
     assert scene.model.arm.urdf_arm.fallback_links == ("fore",)
     notes = " ".join(n.message for n in scene.notes)
-    assert "link 'fore': visual mesh 'meshes/fore.stl' not found" in notes and "links fore have no collision geometry" in notes
+    assert (
+        "link 'fore': visual mesh 'meshes/fore.stl' not found" in notes
+        and "links fore have no collision geometry" in notes
+    )
 
 
 def test_a_run_writes_capsules_yaml_that_a_scene_takes_as_its_collision(robot_dir, tmp_path):
@@ -316,7 +347,11 @@ def test_the_bundled_fitted_sets_hold_their_shipped_meshes():
         capsules = bundled_fitted(name)
         folder = Path(str(resources.files("armanim.arm").joinpath("robots", name)))
         for mesh in bundled_link_meshes(folder):
-            mine = [type("C", (), {"start": c["from"], "end": c["to"], "radius": c["radius"]}) for c in capsules if c["link"] == mesh.link]
+            mine = [
+                type("C", (), {"start": c["from"], "end": c["to"], "radius": c["radius"]})
+                for c in capsules
+                if c["link"] == mesh.link
+            ]
             assert 1 <= len(mine) <= 3, (name, mesh.link)
             assert _held(mesh.vertices, mine) <= 1e-9, (name, mesh.link)
 
@@ -325,12 +360,16 @@ def test_the_bundled_fitted_sets_hold_their_shipped_meshes():
 def test_robots_fit_through_the_installed_command(robot_dir):
     exe = Path(sys.executable).parent / "armanim"
     command = [str(exe)] if exe.exists() else [sys.executable, "-m", "armanim"]
-    proc = subprocess.run([*command, "robots", "--fit", str(robot_dir / "meshy.urdf")], capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [*command, "robots", "--fit", str(robot_dir / "meshy.urdf")], capture_output=True, text=True, timeout=120
+    )
     assert proc.returncode == 0, proc.stderr
     listed = yaml.safe_load(proc.stdout)["collision"]
     assert {c["link"] for c in listed} == {"base", "upper", "fore", "tip"}
     assert proc.stdout.startswith("# Collision capsules of meshy.urdf")
-    missing = subprocess.run([*command, "robots", "--fit", str(robot_dir / "nope.urdf")], capture_output=True, text=True, timeout=120)
+    missing = subprocess.run(
+        [*command, "robots", "--fit", str(robot_dir / "nope.urdf")], capture_output=True, text=True, timeout=120
+    )
     assert missing.returncode == 2 and "nope.urdf: no such file" in missing.stderr
     helped = subprocess.run([*command, "robots", "--help"], capture_output=True, text=True, timeout=120)
     assert "--fit" in helped.stdout and "armanim robots --fit" in helped.stdout
@@ -338,7 +377,11 @@ def test_robots_fit_through_the_installed_command(robot_dir):
 
 def test_a_urdf_link_in_an_obstacle_is_named_by_its_link(robot_dir):
     path = robot_dir / "hit.yaml"
-    path.write_text("version: 1\narm:\n  urdf: meshy.urdf\n  tip_link: tip\ngoals:\n  - [0.3, 0.1, 0.5]\n"
-                    "obstacles:\n  - {center: [0, 0, 0.4], radius: 0.01}\n")
-    with pytest.raises(SceneError, match=r"hit.yaml:8: obstacles\[0\]: link 'upper' of the arm's home pose is inside this obstacle"):
+    path.write_text(
+        "version: 1\narm:\n  urdf: meshy.urdf\n  tip_link: tip\ngoals:\n  - [0.3, 0.1, 0.5]\n"
+        "obstacles:\n  - {center: [0, 0, 0.4], radius: 0.01}\n"
+    )
+    with pytest.raises(
+        SceneError, match=r"hit.yaml:8: obstacles\[0\]: link 'upper' of the arm's home pose is inside this obstacle"
+    ):
         load_scene(path)

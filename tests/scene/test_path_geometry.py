@@ -120,7 +120,9 @@ def test_nearest_point_agrees_with_dense_sampling(path, queries):
     s, d = path.nearest(queries)
     brute = np.min(np.linalg.norm(queries[:, None, :] - dense[None], axis=2), axis=1)
     assert np.all(d <= brute + 1e-9)  # nothing sampled is nearer than the point found
-    assert np.all(brute <= d + spacing / 2 + 1e-9)  # and the point found is on the path (a sample lies within spacing / 2)
+    assert np.all(
+        brute <= d + spacing / 2 + 1e-9
+    )  # and the point found is on the path (a sample lies within spacing / 2)
     assert np.allclose(np.linalg.norm(path.points(s) - queries, axis=1), d, atol=1e-9)
     # within a window, the nearest point of the window
     lo, hi = np.full(len(queries), path.length * 0.25), np.full(len(queries), path.length * 0.6)
@@ -180,7 +182,9 @@ def test_armanim_written_stroke_by_stroke_within_its_box():
     path = written("armanim", height)
     font = font_file()
     glyphs = [font["glyphs"][c] for c in "armanim"]
-    assert len(inked_runs(path)) == sum(len(g["strokes"]) for g in glyphs) == 16  # a 2, r 2, m 3, a 2, n 2, i 2 (its dot), m 3
+    assert (
+        len(inked_runs(path)) == sum(len(g["strokes"]) for g in glyphs) == 16
+    )  # a 2, r 2, m 3, a 2, n 2, i 2 (its dot), m 3
     # the box of the inked points, from the font file's own numbers
     scale, x, xs, ys = height / font["cap_height"], 0, [], []
     for g in glyphs:
@@ -191,7 +195,9 @@ def test_armanim_written_stroke_by_stroke_within_its_box():
     inked = on_board(np.concatenate([p.points(np.linspace(0, p.length, 5)) for p in path.pieces if p.ink]))
     assert np.allclose(inked.min(axis=0), [min(xs) * scale, min(ys) * scale], atol=1e-12)
     assert np.allclose(inked.max(axis=0), [max(xs) * scale, max(ys) * scale], atol=1e-12)
-    assert max(ys) == 22 and min(ys) == 0  # the i's dot tops a capital (21) by a unit; no descender: the baseline is the bottom
+    assert (
+        max(ys) == 22 and min(ys) == 0
+    )  # the i's dot tops a capital (21) by a unit; no descender: the baseline is the bottom
     assert inked[:, 1].max() == pytest.approx(height * 22 / 21)
 
 
@@ -215,7 +221,7 @@ def test_characters_are_laid_left_to_right():
     counts = [len(font["glyphs"][c]["strokes"]) for c in string]
     centres, k = [], 0
     for count in counts:
-        pts = np.concatenate([p.points(np.linspace(0, p.length, 5)) for run in runs[k:k + count] for p in run])
+        pts = np.concatenate([p.points(np.linspace(0, p.length, 5)) for run in runs[k : k + count] for p in run])
         centres.append(on_board(pts)[:, 0].mean())
         k += count
     assert np.all(np.diff(centres) > 0)

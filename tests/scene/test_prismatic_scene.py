@@ -32,7 +32,9 @@ def rail_run(request):
     scene = load_scene(RAIL_SCENE)
     problem = scene_to_problem(scene.model)
     frames = compiled_plan(problem, solver_method(problem.solver.method), None, "frame")
-    assert (frames is not None) == problem.tunables.ik.compiled_frames  # a prismatic joint runs compiled, as a revolute one
+    assert (
+        frames is not None
+    ) == problem.tunables.ik.compiled_frames  # a prismatic joint runs compiled, as a revolute one
     if request.param == "numpy":
         ik = replace(problem.tunables.ik, compiled=False, compiled_frames=False)
         problem = replace(problem, tunables=replace(problem.tunables, ik=ik))
@@ -80,13 +82,23 @@ def test_the_rail_runs_files_give_the_rail_in_metres(cli, tmp_path):
 
 
 def test_home_and_joint_goals_give_a_prismatic_joint_in_metres():
-    scene = scene_model({"version": 1, "arm": {"robot": "ur5_rail", "home": [0.4, 0, -100, 100, -90, -90, 0]},
-                         "goals": [{"joints": [-0.3, 10, -100, 100, -90, -90, 0]}]})
+    scene = scene_model(
+        {
+            "version": 1,
+            "arm": {"robot": "ur5_rail", "home": [0.4, 0, -100, 100, -90, -90, 0]},
+            "goals": [{"joints": [-0.3, 10, -100, 100, -90, -90, 0]}],
+        }
+    )
     problem = scene_to_problem(scene)
     assert problem.home[0] == 0.4 and problem.home[1] == 0.0
     np.testing.assert_allclose(problem.goals[0].joints[:2], [-0.3, np.radians(10.0)])
-    far = scene_model({"version": 1, "arm": {"robot": "ur5_rail", "home": [2, 0, -100, 100, -90, -90, 0]},
-                       "goals": [{"joints": [0.1, 10, -100, 200, -90, -90, 0]}]})  # a joint goal lies in [-360, 360]
+    far = scene_model(
+        {
+            "version": 1,
+            "arm": {"robot": "ur5_rail", "home": [2, 0, -100, 100, -90, -90, 0]},
+            "goals": [{"joints": [0.1, 10, -100, 200, -90, -90, 0]}],
+        }
+    )  # a joint goal lies in [-360, 360]
     problems = dict(scene_problems(far))
     assert problems["arm.home[0]"].startswith("2 m is outside joint 1's limits arm.limits[0] = [-1.25, 1.25]")
     assert problems["goals[0].joints[3]"].startswith("200 deg is outside joint 4's limits")
@@ -111,7 +123,9 @@ def _urdf_scene(tmp_path, limit='<limit lower="0" upper="0.4" velocity="0.2"/>',
 def test_a_prismatic_joint_of_your_own_urdf_slides_in_metres(tmp_path):
     problem = scene_to_problem(load_scene(_urdf_scene(tmp_path)).model)
     assert problem.arm.prismatic.tolist() == [False, True] and problem.arm.stroke.tolist() == [0.0, 0.4]
-    assert problem.rates.speed.tolist() == [1.0, 0.2] and problem.arm.reach == pytest.approx(0.5 + 0.2 + 0.4)  # the links and the stroke
+    assert problem.rates.speed.tolist() == [1.0, 0.2] and problem.arm.reach == pytest.approx(
+        0.5 + 0.2 + 0.4
+    )  # the links and the stroke
 
 
 def test_a_mimic_joint_on_the_path_is_an_error_naming_it(tmp_path):
@@ -150,8 +164,17 @@ def test_the_pairs_rows_on_a_rail_are_the_derivatives_of_their_gaps(rail_problem
         jac = self_jacobians(arm, capsules, pose, pairs, gaps, which)
         np.testing.assert_allclose(np.einsum("pk,pkn->pn", gaps.normal, jac), rows, atol=1e-12)
         h = 1e-6
-        numeric = np.stack([(self_gaps(forward(arm, phi + h * e), capsules, pairs).d - self_gaps(forward(arm, phi - h * e), capsules, pairs).d)
-                            / (2 * h) for e in np.eye(arm.n)], axis=1)
+        numeric = np.stack(
+            [
+                (
+                    self_gaps(forward(arm, phi + h * e), capsules, pairs).d
+                    - self_gaps(forward(arm, phi - h * e), capsules, pairs).d
+                )
+                / (2 * h)
+                for e in np.eye(arm.n)
+            ],
+            axis=1,
+        )
         apart = gaps.d > 1e-3  # a touching pair's normal is not smooth
         np.testing.assert_allclose(rows[apart], numeric[apart], atol=1e-5)
         as_turning = np.empty_like(rows)  # the same rows with the rail read as a revolute joint: wrong
@@ -187,7 +210,9 @@ def test_the_planners_lever_rows_bound_how_far_a_rail_moves_each_capsule(rail_pr
     problem = rail_problem
     rows = capsule_lever_rows(problem.arm, problem.capsules)
     moving = problem.capsules.link >= 0
-    assert np.all(rows[moving, 0] == 1.0) and np.all(rows[~moving] == 0.0)  # the rail moves every capsule it carries a metre a metre
+    assert np.all(rows[moving, 0] == 1.0) and np.all(
+        rows[~moving] == 0.0
+    )  # the rail moves every capsule it carries a metre a metre
     rng = np.random.default_rng(54)
     for _ in range(20):
         phi = rng.uniform(np.maximum(problem.limits.lower, -3), np.minimum(problem.limits.upper, 3))
@@ -205,8 +230,12 @@ def test_a_link_before_a_slide_ends_where_the_slide_starts(tmp_path):
     from armanim.arm.capsules import capsule_ends, frame_capsules
     from armanim.arm.kinematics import Arm, forward
 
-    arm = Arm(base=np.zeros(3), axes=np.array([[0, 0, 1.0], [1.0, 0, 0]]), offsets=np.array([[0, 0, 0.5], [0.2, 0, 0]]),
-              prismatic=np.array([False, True]))
+    arm = Arm(
+        base=np.zeros(3),
+        axes=np.array([[0, 0, 1.0], [1.0, 0, 0]]),
+        offsets=np.array([[0, 0, 0.5], [0.2, 0, 0]]),
+        prismatic=np.array([False, True]),
+    )
     caps = frame_capsules(arm, [0, 1], np.zeros((2, 3)), arm.offsets, [0.05, 0.05])
     assert caps.joint_segment.tolist() == [False, True]
     a, b = capsule_ends(caps, forward(arm, np.array([0.0, 0.3])))

@@ -74,7 +74,11 @@ def rejected(tmp_path, cli, text: str, field: str, line: int, *fragments: str) -
 def rates_deg(text: str, tmp_path: Path, fps: float | None = None):
     """The problem's rate limits in degrees: (speed, acceleration, jerk or None)."""
     rates = scene_to_problem(load_scene(write(tmp_path, text)).model, fps=fps).rates
-    return np.degrees(rates.speed), np.degrees(rates.acceleration), None if rates.jerk is None else np.degrees(rates.jerk)
+    return (
+        np.degrees(rates.speed),
+        np.degrees(rates.acceleration),
+        None if rates.jerk is None else np.degrees(rates.jerk),
+    )
 
 
 # ------------------------------------------------------------ validation messages
@@ -86,18 +90,29 @@ def rates_deg(text: str, tmp_path: Path, fps: float | None = None):
         ("max_joint_speed: [100, 100, -1]", "arm.max_joint_speed[2]", ("must be > 0 (got -1)",)),
         ("max_joint_speed: 0", "arm.max_joint_speed", ("must be > 0 (got 0)",)),
         ("max_joint_acceleration: -5", "arm.max_joint_acceleration", ("must be > 0 (got -5)",)),
-        ("max_joint_acceleration: [1, .nan, 1]", "arm.max_joint_acceleration[1]", ("must be a finite number (got nan)",)),
+        (
+            "max_joint_acceleration: [1, .nan, 1]",
+            "arm.max_joint_acceleration[1]",
+            ("must be a finite number (got nan)",),
+        ),
         ("max_joint_speed: .inf", "arm.max_joint_speed", ("must be a finite number (got inf)",)),
         ("max_joint_jerk: [1, 1, -.inf]", "arm.max_joint_jerk[2]", ("must be a finite number",)),
         ("max_joint_speed: 1e6", "arm.max_joint_speed", (f"must be <= {RATE_BOUNDS['max_joint_speed']:g}",)),
-        ("max_joint_acceleration: 2e7", "arm.max_joint_acceleration", (f"must be <= {RATE_BOUNDS['max_joint_acceleration']:g}",)),
+        (
+            "max_joint_acceleration: 2e7",
+            "arm.max_joint_acceleration",
+            (f"must be <= {RATE_BOUNDS['max_joint_acceleration']:g}",),
+        ),
         ("max_joint_jerk: 2e10", "arm.max_joint_jerk", (f"must be <= {RATE_BOUNDS['max_joint_jerk']:g}",)),
         ("max_joint_speed: fast", "arm.max_joint_speed", ("must be a number (got 'fast')",)),
         ("max_joint_speed: true", "arm.max_joint_speed", ("must be a number (got true)",)),
         ("max_joint_acceleration: robot", "arm.max_joint_acceleration", ("must be a number (got 'robot')",)),
         ("max_joint_jerk: robt", "arm.max_joint_jerk", ("'robt' is not allowed (expected 'robot')",)),
-        ("max_joint_speed: [100, 100, 100, 100]", "arm.max_joint_speed",
-         ("has 4 values, the arm has 3 joints (give one per joint, or one number for all)",)),
+        (
+            "max_joint_speed: [100, 100, 100, 100]",
+            "arm.max_joint_speed",
+            ("has 4 values, the arm has 3 joints (give one per joint, or one number for all)",),
+        ),
         ("max_joint_acceleration: []", "arm.max_joint_acceleration", ("has 0 values, the arm has 3 joints",)),
         ("max_joint_jerk: [1, 2]", "arm.max_joint_jerk", ("has 2 values, the arm has 3 joints",)),
         ("max_joint_jerk: robot", "arm.max_joint_jerk", ("this arm is not a bundled robot",)),
@@ -108,10 +123,22 @@ def test_bad_rates_are_clear_errors(tmp_path, cli, rates, field, fragments):
 
 
 def test_urdf_arm_rate_lengths_and_published_jerk(tmp_path, cli):
-    rejected(tmp_path, cli, scene_text("max_joint_speed: [100, 100, 100]", ROBOT, "panda"), "arm.max_joint_speed", RATE_LINE,
-             "has 3 values, the arm has 7 joints (give one per joint, or one number for all)")
-    rejected(tmp_path, cli, scene_text("max_joint_jerk: robot", ROBOT, "ur5"), "arm.max_joint_jerk", RATE_LINE,
-             "robot ur5's maker publishes no jerk limits for these joints")
+    rejected(
+        tmp_path,
+        cli,
+        scene_text("max_joint_speed: [100, 100, 100]", ROBOT, "panda"),
+        "arm.max_joint_speed",
+        RATE_LINE,
+        "has 3 values, the arm has 7 joints (give one per joint, or one number for all)",
+    )
+    rejected(
+        tmp_path,
+        cli,
+        scene_text("max_joint_jerk: robot", ROBOT, "ur5"),
+        "arm.max_joint_jerk",
+        RATE_LINE,
+        "robot ur5's maker publishes no jerk limits for these joints",
+    )
 
 
 def test_published_rates_go_by_joint_name(tmp_path):
@@ -130,7 +157,11 @@ def test_every_problem_is_reported_at_once(tmp_path):
     text = scene_text("max_joint_speed: [1, -1, 1]\n  max_joint_acceleration: 0\n  max_joint_jerk: .nan")
     with pytest.raises(SceneError) as info:
         load_scene(write(tmp_path, text))
-    assert {p.path for p in info.value.problems} >= {"arm.max_joint_speed[1]", "arm.max_joint_acceleration", "arm.max_joint_jerk"}
+    assert {p.path for p in info.value.problems} >= {
+        "arm.max_joint_speed[1]",
+        "arm.max_joint_acceleration",
+        "arm.max_joint_jerk",
+    }
 
 
 # ------------------------------------------------------------ the URDF's velocities
@@ -146,17 +177,24 @@ def test_urdf_velocity_matches_pinocchio(path):
     for joint in moving:
         pin_joint = model.joints[model.getJointId(joint.name)]
         expected = model.velocityLimit[pin_joint.idx_v]
-        assert (joint.velocity if joint.velocity is not None else np.inf) == expected, joint.name  # none given: pinocchio's inf
+        assert (joint.velocity if joint.velocity is not None else np.inf) == expected, (
+            joint.name
+        )  # none given: pinocchio's inf
 
 
 def test_scene_speeds_default_to_the_urdf_velocity(tmp_path):
     """A user's URDF: each joint's <limit velocity>, URDF_SPEED where it gives none, and
     acceleration LINK_ACCELERATION_PER_SPEED x the speed per second."""
-    scene = write(tmp_path, f"version: 1\narm:\n  urdf: {TORTURE}\n  base_link: world\n  tip_link: tool\ngoals:\n  - [0.3, 0.1, 0.3]\n")
+    scene = write(
+        tmp_path,
+        f"version: 1\narm:\n  urdf: {TORTURE}\n  base_link: world\n  tip_link: tool\ngoals:\n  - [0.3, 0.1, 0.3]\n",
+    )
     problem = scene_to_problem(load_scene(scene).model)
     assert problem.arm.joint_names == ("spin", "skew", "noaxis", "wrist")
     np.testing.assert_allclose(np.degrees(problem.rates.speed), [URDF_SPEED, *np.degrees([1.0, 1.0, 1.0])], rtol=1e-15)
-    np.testing.assert_allclose(problem.rates.acceleration, LINK_ACCELERATION_PER_SPEED * problem.rates.speed, rtol=1e-15)
+    np.testing.assert_allclose(
+        problem.rates.acceleration, LINK_ACCELERATION_PER_SPEED * problem.rates.speed, rtol=1e-15
+    )
     assert problem.rates.jerk is None
 
 
@@ -186,13 +224,16 @@ def urdf_with_velocity(tmp_path: Path, velocity: str, joint: str = "j1") -> Path
     return path
 
 
-@pytest.mark.parametrize(("velocity", "fragment"), [
-    ("0", "<limit> velocity 0 is not a speed (expected rad/s > 0"),
-    ("-2", "<limit> velocity -2 is not a speed"),
-    ("nan", "velocity='nan' (expected 1 finite numbers"),
-    ("inf", "velocity='inf'"),
-    ("fast", "velocity='fast'"),
-])
+@pytest.mark.parametrize(
+    ("velocity", "fragment"),
+    [
+        ("0", "<limit> velocity 0 is not a speed (expected rad/s > 0"),
+        ("-2", "<limit> velocity -2 is not a speed"),
+        ("nan", "velocity='nan' (expected 1 finite numbers"),
+        ("inf", "velocity='inf'"),
+        ("fast", "velocity='fast'"),
+    ],
+)
 def test_bad_urdf_velocity_names_its_line(tmp_path, cli, velocity, fragment):
     urdf = urdf_with_velocity(tmp_path, velocity)
     scene = write(tmp_path, "version: 1\narm:\n  urdf: r.urdf\n  tip_link: l2\ngoals:\n  - [0.2, 0.1, 0.3]\n")
@@ -224,7 +265,9 @@ def test_link_arm_defaults_use_the_scenes_own_fps(tmp_path):
 
 
 def test_scene_values_become_radians_once(tmp_path):
-    text = scene_text("max_joint_speed: [90, 45, 30]\n  max_joint_acceleration: 400\n  max_joint_jerk: [4000, 5000, 6000]")
+    text = scene_text(
+        "max_joint_speed: [90, 45, 30]\n  max_joint_acceleration: 400\n  max_joint_jerk: [4000, 5000, 6000]"
+    )
     rates = scene_to_problem(load_scene(write(tmp_path, text)).model).rates
     np.testing.assert_allclose(rates.speed, [np.pi / 2, np.pi / 4, np.pi / 6], rtol=1e-15)
     np.testing.assert_allclose(rates.acceleration, np.full(3, 400 * np.pi / 180), rtol=1e-15)
@@ -242,7 +285,9 @@ def test_bundled_robots_published_limits(tmp_path):
     np.testing.assert_allclose(panda.speed, [2.175] * 4 + [2.61] * 3)  # the URDF's, Franka's own
     np.testing.assert_allclose(panda.acceleration, FRANKA_ACCELERATION)
     assert panda.jerk is None  # jerk-bounded only when the scene asks
-    jerk = scene_to_problem(load_scene(write(tmp_path, scene_text("max_joint_jerk: robot", ROBOT, "panda"))).model).rates.jerk
+    jerk = scene_to_problem(
+        load_scene(write(tmp_path, scene_text("max_joint_jerk: robot", ROBOT, "panda"))).model
+    ).rates.jerk
     np.testing.assert_allclose(jerk, FRANKA_JERK)
     ur5 = rates_deg(scene_text("", ROBOT, "ur5"), tmp_path)
     np.testing.assert_allclose(ur5[0], 180.0)
@@ -279,7 +324,10 @@ def test_limits_above_the_robots_are_noted_not_refused(tmp_path, cli):
     assert result.exit_code == 0, result.output
     notes = [line for line in result.stderr.splitlines() if line.startswith("note: ")]
     assert f"note: {path}:4: arm.max_joint_speed: 200 deg/s is above the robot's own limit for joints 1-6" in notes[0]
-    assert f"note: {path}:5: arm.max_joint_acceleration: is above the robot's own limit for joints 1-5 (shoulder_pan_joint 300 > 286.5" in notes[1]
+    assert (
+        f"note: {path}:5: arm.max_joint_acceleration: is above the robot's own limit for joints 1-5 (shoulder_pan_joint 300 > 286.5"
+        in notes[1]
+    )
     assert len(notes) == 2
 
 
@@ -290,8 +338,11 @@ def test_limits_within_the_robots_have_no_notes(tmp_path, rates):
 
 def test_link_arms_and_unknown_urdf_speeds_have_no_notes(tmp_path):
     assert rate_notes(load_scene(write(tmp_path, scene_text("max_joint_speed: 10000"))).model) == []
-    scene = write(tmp_path, f"version: 1\narm:\n  urdf: {TORTURE}\n  base_link: world\n  tip_link: tool\n"
-                            "  max_joint_speed: [500, 60, 60, 60]\ngoals:\n  - [0.3, 0.1, 0.3]\n")
+    scene = write(
+        tmp_path,
+        f"version: 1\narm:\n  urdf: {TORTURE}\n  base_link: world\n  tip_link: tool\n"
+        "  max_joint_speed: [500, 60, 60, 60]\ngoals:\n  - [0.3, 0.1, 0.3]\n",
+    )
     notes = rate_notes(load_scene(scene).model)
     assert len(notes) == 1 and "joints 2-4" in notes[0][1] and "spin" not in notes[0][1]  # spin gives no velocity
 
@@ -303,20 +354,27 @@ def test_summary_lists_the_rate_notes(tmp_path):
     scene = load_scene(write(tmp_path, scene_text("max_joint_speed: 150", ROBOT, "panda")))
     problem = scene_to_problem(scene.model)
     solution = solve_trajectory(problem)
-    summary = summary_dict(problem, solution, name="s", scene_file="scene.yaml", sha256="0", rate_notes=rate_note_lines(scene.model))
+    summary = summary_dict(
+        problem, solution, name="s", scene_file="scene.yaml", sha256="0", rate_notes=rate_note_lines(scene.model)
+    )
     assert len(summary["rate_notes"]) == 1
-    assert summary["rate_notes"][0].startswith("arm.max_joint_speed: 150 deg/s is above the robot's own limit for joints 1-7")
+    assert summary["rate_notes"][0].startswith(
+        "arm.max_joint_speed: 150 deg/s is above the robot's own limit for joints 1-7"
+    )
     assert json.loads(json.dumps(summary))["rate_notes"] == summary["rate_notes"]
     plain = summary_dict(problem, solution, name="s", scene_file="scene.yaml", sha256="0")
     assert plain["rate_notes"] == []
 
 
-@pytest.mark.parametrize(("rates", "field", "least"), [
-    ("max_joint_speed: 1e-300", "arm.max_joint_speed", "raise it to at least 2.4e-05 deg/s"),
-    ("max_joint_speed: [1e-9, 300, 300]", "arm.max_joint_speed", "24,000,000,000 frames at 24 fps"),
-    ("max_joint_acceleration: 1e-12", "arm.max_joint_acceleration", "raise it to at least 2.4e-09 deg/s^2"),
-    ("max_joint_jerk: 1e-300", "arm.max_joint_jerk", "raise it to at least 4.5e-13 deg/s^3"),
-])
+@pytest.mark.parametrize(
+    ("rates", "field", "least"),
+    [
+        ("max_joint_speed: 1e-300", "arm.max_joint_speed", "raise it to at least 2.4e-05 deg/s"),
+        ("max_joint_speed: [1e-9, 300, 300]", "arm.max_joint_speed", "24,000,000,000 frames at 24 fps"),
+        ("max_joint_acceleration: 1e-12", "arm.max_joint_acceleration", "raise it to at least 2.4e-09 deg/s^2"),
+        ("max_joint_jerk: 1e-300", "arm.max_joint_jerk", "raise it to at least 4.5e-13 deg/s^3"),
+    ],
+)
 def test_rates_too_slow_for_the_frame_limit_are_refused_at_validate(tmp_path, cli, rates, field, least):
     """Issue 50, item 11: a rate under which moving a joint one degree takes more frames than
     the limit was refused only by run, without a line, and a tiny jerk was blamed on the speed.
@@ -341,14 +399,24 @@ def test_a_prismatic_joint_s_rates_are_told_in_metres(tmp_path, cli):
     """Campaign 5: the rail of ur5_rail (m/s) was told in degrees: ``max_joint_speed: [1e-9, ...]``
     refused as ``5.72958e-08 deg/s ... moving a joint 1 degree``, and a speed above the rail's own
     noted as ``rail_joint 9 > 57.3`` (1 m/s read as radians). Both now in metres, the joint named."""
-    slow = write(tmp_path, "version: 1\nname: rr\narm:\n  robot: ur5_rail\n  max_joint_speed: [1e-9, 10, 10, 10, 10, 10, 10]\n"
-                           "goals: [[0.2, 0.45, 0.6]]\n")
+    slow = write(
+        tmp_path,
+        "version: 1\nname: rr\narm:\n  robot: ur5_rail\n  max_joint_speed: [1e-9, 10, 10, 10, 10, 10, 10]\n"
+        "goals: [[0.2, 0.45, 0.6]]\n",
+    )
     result = cli("validate", slow)
     assert result.exit_code == 2, result.output
-    assert (f"{slow}:5: arm.max_joint_speed: joint 1's 1e-09 m/s is too slow for the frame limit: moving it 0.0175 m "
-            "from rest to rest would take 523,598,776 frames at 30 fps") in result.stderr, result.stderr
+    assert (
+        f"{slow}:5: arm.max_joint_speed: joint 1's 1e-09 m/s is too slow for the frame limit: moving it 0.0175 m "
+        "from rest to rest would take 523,598,776 frames at 30 fps"
+    ) in result.stderr, result.stderr
     assert "raise it to at least 5.3e-07 m/s" in result.stderr and "deg" not in result.stderr
-    fast = write(tmp_path, "version: 1\nname: rr\narm:\n  robot: ur5_rail\n  max_joint_speed: [9, 10, 10, 10, 10, 10, 10]\n"
-                           "goals: [[0.2, 0.45, 0.6]]\n")
+    fast = write(
+        tmp_path,
+        "version: 1\nname: rr\narm:\n  robot: ur5_rail\n  max_joint_speed: [9, 10, 10, 10, 10, 10, 10]\n"
+        "goals: [[0.2, 0.45, 0.6]]\n",
+    )
     result = cli("validate", fast)
-    assert result.exit_code == 0 and "(rail_joint 9 > 1 m/s: the URDF's <limit velocity>)" in result.stderr, result.stderr
+    assert result.exit_code == 0 and "(rail_joint 9 > 1 m/s: the URDF's <limit velocity>)" in result.stderr, (
+        result.stderr
+    )

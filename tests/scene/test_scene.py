@@ -34,8 +34,22 @@ render:
   size: [320, 240]
 """
 # line numbers of BASE
-L = {"version": 1, "arm": 2, "base": 3, "links": 4, "axes": 5, "home": 6, "limits": 7, "center": 9,
-     "radius": 10, "goals": 11, "goal0": 12, "method": 14, "fps": 16, "size": 17}
+L = {
+    "version": 1,
+    "arm": 2,
+    "base": 3,
+    "links": 4,
+    "axes": 5,
+    "home": 6,
+    "limits": 7,
+    "center": 9,
+    "radius": 10,
+    "goals": 11,
+    "goal0": 12,
+    "method": 14,
+    "fps": 16,
+    "size": 17,
+}
 
 
 def edit(line: int, new: str, text: str = BASE) -> str:
@@ -213,7 +227,17 @@ def test_home_on_a_limit_is_taken(tmp_path, cli):
 def test_default_home_outside_the_limits_is_rejected(tmp_path, cli):
     # home left out means all zeros; limits that exclude 0 need a home (the run used to start outside them)
     content = edit(L["limits"], "  limits: [null, [10, 90], [-120, 120]]").replace("  home: [0, 10, 20]\n", "")
-    rejected(tmp_path, cli, content, "arm.home", L["arm"], "not given", "joint 2 starts at 0 deg", "arm.limits[1] = [10, 90]", "give arm.home")
+    rejected(
+        tmp_path,
+        cli,
+        content,
+        "arm.home",
+        L["arm"],
+        "not given",
+        "joint 2 starts at 0 deg",
+        "arm.limits[1] = [10, 90]",
+        "give arm.home",
+    )
 
 
 def test_home_closer_than_the_clearance_is_rejected(tmp_path, cli):
@@ -221,17 +245,35 @@ def test_home_closer_than_the_clearance_is_rejected(tmp_path, cli):
     # the arm's plane): clear at the default clearance, too close for a clearance of 3
     content = BASE.replace("  method: pinv\n", "  method: pinv\n  clearance: 3\n")
     content = edit(L["center"], "  - center: [0, 0, 9]", content)
-    rejected(tmp_path, cli, content, "obstacles[0]", L["center"], "closer to it than solver.clearance", "lower solver.clearance")
+    rejected(
+        tmp_path,
+        cli,
+        content,
+        "obstacles[0]",
+        L["center"],
+        "closer to it than solver.clearance",
+        "lower solver.clearance",
+    )
 
 
 def test_goal_closer_than_the_clearance_is_rejected(tmp_path, cli):
     # 0.3 from the sphere's surface: the last link (radius 0.25) plus clearance 0.05 would touch it
     content = edit(L["goal0"], "  - [5, 5, 6.29]")
-    rejected(tmp_path, cli, content, "goals[0]", L["goal0"], "from the surface of obstacles[0]", "arm.width / 2 + solver.clearance = 0.3")
+    rejected(
+        tmp_path,
+        cli,
+        content,
+        "goals[0]",
+        L["goal0"],
+        "from the surface of obstacles[0]",
+        "arm.width / 2 + solver.clearance = 0.3",
+    )
 
 
 def test_goal_with_two_coordinates_needs_exactly_three(tmp_path, cli):
-    rejected(tmp_path, cli, edit(L["goal0"], "  - [6, 15]"), "goals[0].position", L["goal0"], "has 2 items", "exactly 3")
+    rejected(
+        tmp_path, cli, edit(L["goal0"], "  - [6, 15]"), "goals[0].position", L["goal0"], "has 2 items", "exactly 3"
+    )
 
 
 def test_goals_written_as_one_flat_list_get_a_hint(tmp_path, cli):
@@ -276,7 +318,10 @@ def test_goal_inside_an_obstacle(tmp_path, cli):
     rejected(tmp_path, cli, content, "goals[0]", L["goal0"], "inside obstacles[0]")
 
 
-@pytest.mark.parametrize("fps, fragment", [("0", "must be >= 0.01"), ("-5", "must be >= 0.01"), ("1e-300", "must be >= 0.01"), ("241", "must be <= 240")])
+@pytest.mark.parametrize(
+    "fps, fragment",
+    [("0", "must be >= 0.01"), ("-5", "must be >= 0.01"), ("1e-300", "must be >= 0.01"), ("241", "must be <= 240")],
+)
 def test_fps_out_of_range(tmp_path, cli, fps, fragment):
     rejected(tmp_path, cli, edit(L["fps"], f"  fps: {fps}"), "render.fps", L["fps"], fragment)
 

@@ -49,17 +49,45 @@ def test_shapes_load_in_scene_order(tmp_path):
     assert obstacles.floor == 0.0 and obstacles.rods.radius.tolist() == [0.5]
 
 
-@pytest.mark.parametrize("line, new, field, fragment", [
-    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 0, 2]}", "obstacles[1].box.size[1]", "must be > 0 (got 0)"),
-    (S["capsule"], "  - capsule: {from: [-4, 0, 0], to: [-4, 0, 3], radius: -0.5}", "obstacles[2].capsule.radius", "must be > 0"),
-    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, .nan, 0]}", "obstacles[1].box.rpy[1]", "finite"),
-    (S["box"], "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, 400, 0]}", "obstacles[1].box.rpy[1]", "<= 360"),
-    (S["box"], "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, radius: 1}", "obstacles[1]", "a sphere, which needs a center"),
-    (S["box"], "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, center: [1, 1, 1], radius: 1}", "obstacles[1]", "got center and box"),
-    (S["box"], "  - box: {center: [4, -4, 1], sizes: [1, 2, 2]}", "obstacles[1].box.sizes", "did you mean 'size'"),
-    (S["floor"], "floor: 0.5", "floor", "above the arm's base"),
-    (S["floor"], "floor: 3.9", "floor", "above the arm's base"),
-])
+@pytest.mark.parametrize(
+    "line, new, field, fragment",
+    [
+        (S["box"], "  - box: {center: [4, -4, 1], size: [1, 0, 2]}", "obstacles[1].box.size[1]", "must be > 0 (got 0)"),
+        (
+            S["capsule"],
+            "  - capsule: {from: [-4, 0, 0], to: [-4, 0, 3], radius: -0.5}",
+            "obstacles[2].capsule.radius",
+            "must be > 0",
+        ),
+        (
+            S["box"],
+            "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, .nan, 0]}",
+            "obstacles[1].box.rpy[1]",
+            "finite",
+        ),
+        (
+            S["box"],
+            "  - box: {center: [4, -4, 1], size: [1, 2, 2], rpy: [0, 400, 0]}",
+            "obstacles[1].box.rpy[1]",
+            "<= 360",
+        ),
+        (
+            S["box"],
+            "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, radius: 1}",
+            "obstacles[1]",
+            "a sphere, which needs a center",
+        ),
+        (
+            S["box"],
+            "  - {box: {center: [4, -4, 1], size: [1, 2, 2]}, center: [1, 1, 1], radius: 1}",
+            "obstacles[1]",
+            "got center and box",
+        ),
+        (S["box"], "  - box: {center: [4, -4, 1], sizes: [1, 2, 2]}", "obstacles[1].box.sizes", "did you mean 'size'"),
+        (S["floor"], "floor: 0.5", "floor", "above the arm's base"),
+        (S["floor"], "floor: 3.9", "floor", "above the arm's base"),
+    ],
+)
 def test_shape_fields_are_checked(scene_rejected, line, new, field, fragment):
     from test_scene import edit
 
@@ -70,10 +98,22 @@ def test_home_and_goals_clear_of_every_shape(scene_rejected):
     from test_scene import edit
 
     # the home pose (straight up along z from the origin) inside a box, closer than the clearance to a capsule
-    scene_rejected(edit(S["box"], "  - box: {center: [0, 0, 4], size: [1, 1, 1]}", SHAPES), "obstacles[1]", S["box"], "home pose is inside this obstacle")
-    scene_rejected(edit(S["capsule"], "  - capsule: {from: [0.3, -1, 0], to: [0.3, 1, 9], radius: 0.04}", SHAPES), "obstacles[2]", S["capsule"], "closer to it than solver.clearance")
+    scene_rejected(
+        edit(S["box"], "  - box: {center: [0, 0, 4], size: [1, 1, 1]}", SHAPES),
+        "obstacles[1]",
+        S["box"],
+        "home pose is inside this obstacle",
+    )
+    scene_rejected(
+        edit(S["capsule"], "  - capsule: {from: [0.3, -1, 0], to: [0.3, 1, 9], radius: 0.04}", SHAPES),
+        "obstacles[2]",
+        S["capsule"],
+        "closer to it than solver.clearance",
+    )
     scene_rejected(edit(S["goal0"], "  - [4, -4, 1.5]", SHAPES), "goals[0]", S["goal0"], "inside obstacles[1]")
-    scene_rejected(edit(S["goal0"], "  - [-4, 0.6, 2]", SHAPES), "goals[0]", S["goal0"], "from the surface of obstacles[2]")
+    scene_rejected(
+        edit(S["goal0"], "  - [-4, 0.6, 2]", SHAPES), "goals[0]", S["goal0"], "from the surface of obstacles[2]"
+    )
     scene_rejected(edit(S["goal0"], "  - [3, 2, -0.5]", SHAPES), "goals[0]", S["goal0"], "lies below the floor")
     scene_rejected(edit(S["goal0"], "  - [3, 2, 0.2]", SHAPES), "goals[0]", S["goal0"], "is 0.2 from the floor")
     # the home pose tilted so that link 3 dips into the floor (link 1 stands on the base: it may touch it)

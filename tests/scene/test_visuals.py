@@ -23,8 +23,14 @@ def _probe_meshes(robot, points: np.ndarray) -> list[LinkMesh]:
     return [LinkMesh(name, points, np.zeros((0, 3), dtype=int), np.zeros((0, 3))) for name in robot.links]
 
 
-@pytest.mark.parametrize("name, base, tip", [("panda", "panda_link0", "panda_hand_tcp"), ("ur5", "base_link", "tool0"),
-                                             ("iiwa", "lbr_iiwa_link_0", "lbr_iiwa_link_7")])
+@pytest.mark.parametrize(
+    "name, base, tip",
+    [
+        ("panda", "panda_link0", "panda_hand_tcp"),
+        ("ur5", "base_link", "tool0"),
+        ("iiwa", "lbr_iiwa_link_0", "lbr_iiwa_link_7"),
+    ],
+)
 def test_every_links_frame_is_where_pinocchio_puts_it(name, base, tip):
     """A point fixed in each link's frame lands where pinocchio's frame placement of that link puts it,
     for the links on the arm's path, the base and the links hanging below the tip (the Panda's
@@ -57,8 +63,10 @@ def test_every_links_frame_is_where_pinocchio_puts_it(name, base, tip):
 
 def _urdf(tmp_path: Path, visuals: str) -> Path:
     path = tmp_path / "r.urdf"
-    path.write_text(f'<robot name="r"><material name="blue"><color rgba="0 0 1 1"/></material>'
-                    f'<link name="a">{visuals}</link></robot>')
+    path.write_text(
+        f'<robot name="r"><material name="blue"><color rgba="0 0 1 1"/></material>'
+        f'<link name="a">{visuals}</link></robot>'
+    )
     return path
 
 
@@ -72,8 +80,11 @@ def _read(path: Path, package_dirs=()):
 def test_a_mesh_file_is_read_scaled_and_placed_by_its_origin(tmp_path, suffix):
     box = trimesh.creation.box(extents=[1.0, 2.0, 3.0])
     box.export(tmp_path / f"box.{suffix}")
-    path = _urdf(tmp_path, f'<visual><origin xyz="1 0 0" rpy="0 0 1.5707963267948966"/><geometry>'
-                           f'<mesh filename="box.{suffix}" scale="2 1 1"/></geometry><material name="blue"/></visual>')
+    path = _urdf(
+        tmp_path,
+        f'<visual><origin xyz="1 0 0" rpy="0 0 1.5707963267948966"/><geometry>'
+        f'<mesh filename="box.{suffix}" scale="2 1 1"/></geometry><material name="blue"/></visual>',
+    )
     (mesh,), warnings = _read(path)
     assert not warnings and mesh.link == "a" and mesh.triangles == 12
     lo, hi = mesh.vertices.min(axis=0), mesh.vertices.max(axis=0)
@@ -84,10 +95,13 @@ def test_a_mesh_file_is_read_scaled_and_placed_by_its_origin(tmp_path, suffix):
 
 
 def test_the_shapes_are_their_sizes_and_a_colourless_one_is_grey(tmp_path):
-    path = _urdf(tmp_path, '<visual><geometry><box size="1 2 3"/></geometry></visual>'
-                           '<visual><origin xyz="0 0 5"/><geometry><sphere radius="0.5"/></geometry></visual>'
-                           '<visual><origin xyz="0 0 -5"/><geometry><cylinder radius="0.25" length="2"/></geometry>'
-                           '<material name="x"><color rgba="1 0 0 1"/></material></visual>')
+    path = _urdf(
+        tmp_path,
+        '<visual><geometry><box size="1 2 3"/></geometry></visual>'
+        '<visual><origin xyz="0 0 5"/><geometry><sphere radius="0.5"/></geometry></visual>'
+        '<visual><origin xyz="0 0 -5"/><geometry><cylinder radius="0.25" length="2"/></geometry>'
+        '<material name="x"><color rgba="1 0 0 1"/></material></visual>',
+    )
     (mesh,), _ = _read(path)
     z = mesh.vertices[:, 2]
     assert np.isclose(z.max(), 5.5) and np.isclose(z.min(), -6.0)
@@ -99,9 +113,12 @@ def test_the_shapes_are_their_sizes_and_a_colourless_one_is_grey(tmp_path):
 def test_package_names_resolve_under_the_package_dirs_and_a_missing_file_is_a_warning(tmp_path):
     (tmp_path / "pkgs" / "arm_description" / "meshes").mkdir(parents=True)
     trimesh.creation.box().export(tmp_path / "pkgs" / "arm_description" / "meshes" / "a.stl")
-    path = _urdf(tmp_path, '<visual><geometry><mesh filename="package://arm_description/meshes/a.stl"/></geometry></visual>'
-                           '<visual><geometry><mesh filename="package://arm_description/meshes/gone.stl"/></geometry></visual>'
-                           '<visual><geometry><mesh filename="broken.stl"/></geometry></visual>')
+    path = _urdf(
+        tmp_path,
+        '<visual><geometry><mesh filename="package://arm_description/meshes/a.stl"/></geometry></visual>'
+        '<visual><geometry><mesh filename="package://arm_description/meshes/gone.stl"/></geometry></visual>'
+        '<visual><geometry><mesh filename="broken.stl"/></geometry></visual>',
+    )
     (tmp_path / "broken.stl").write_bytes(b"solid nothing here\nthis is not an STL")
     (mesh,), warnings = _read(path, [tmp_path / "pkgs"])
     assert mesh.triangles == 12
@@ -128,13 +145,20 @@ def _panda_meshes():
 
     robot = read_urdf(ROBOTS / "panda" / "panda.urdf")
     chain = serial_chain(np.eye(4), chain_joints(robot, "panda_link0", "panda_hand_tcp"), np.eye(4))
-    return chain, chain_meshes(bundled_link_meshes(ROBOTS / "panda"), robot, "panda_link0", "panda_hand_tcp", chain, np.eye(4))
+    return chain, chain_meshes(
+        bundled_link_meshes(ROBOTS / "panda"), robot, "panda_link0", "panda_hand_tcp", chain, np.eye(4)
+    )
 
 
 def test_the_bundled_panda_has_every_link_its_hand_and_fingers_within_budget():
     _, meshes = _panda_meshes()
-    assert meshes.links == ("panda_link0", *(f"panda_link{k}" for k in range(1, 8)), "panda_hand", "panda_leftfinger",
-                            "panda_rightfinger")
+    assert meshes.links == (
+        "panda_link0",
+        *(f"panda_link{k}" for k in range(1, 8)),
+        "panda_hand",
+        "panda_leftfinger",
+        "panda_rightfinger",
+    )
     assert 5_000 <= meshes.triangles <= 15_000
     assert np.all((meshes.colors >= 0) & (meshes.colors <= 1)) and len(np.unique(meshes.colors, axis=0)) >= 2
 
@@ -181,7 +205,9 @@ def test_a_pen_is_drawn_from_the_tool_point_back_along_the_tool_frame(tmp_path):
     # the tool frame turned 90 degrees about y: its -z is the tip link's -x; the tool point at z = 0.1
     assert np.isclose(points[:, 0].max(), 0.0, atol=1e-12) and np.isclose(points[:, 0].min(), -0.12)
     assert np.allclose(nib.vertices[np.argmax(nib.vertices[:, 0])], [0.0, 0.0, 0.1], atol=1e-12)
-    assert np.isclose(np.abs(points[:, 1]).max(), 0.008, rtol=1e-3) and np.isclose(np.ptp(points[:, 2]), 0.016, rtol=1e-2)
+    assert np.isclose(np.abs(points[:, 1]).max(), 0.008, rtol=1e-3) and np.isclose(
+        np.ptp(points[:, 2]), 0.016, rtol=1e-2
+    )
     assert len(notes) == 1 and "arm.tool.mesh" in notes[0] and "missing.stl" in notes[0]
 
 
@@ -217,8 +243,10 @@ def test_a_tool_capsule_rides_on_the_tool_frame_and_is_checked_as_the_tips_link(
     from armanim.scene import load_scene, scene_to_problem
 
     scene = tmp_path / "pen.yaml"
-    scene.write_text("version: 1\narm:\n  robot: ur5\n  tool: {xyz: [0, 0, 0.12], rpy: [0, 30, 0],"
-                     " collision: {from: [0, 0, -0.12], to: [0, 0, 0], radius: 0.01}}\ngoals:\n  - [0.4, 0.2, 0.3]\n")
+    scene.write_text(
+        "version: 1\narm:\n  robot: ur5\n  tool: {xyz: [0, 0, 0.12], rpy: [0, 30, 0],"
+        " collision: {from: [0, 0, -0.12], to: [0, 0, 0], radius: 0.01}}\ngoals:\n  - [0.4, 0.2, 0.3]\n"
+    )
     problem = scene_to_problem(load_scene(scene).model)
     assert problem.capsules.names[-1] == "wrist_3_link" and problem.capsules.radius[-1] == 0.01
     rng = np.random.default_rng(4)

@@ -22,11 +22,40 @@ import pytest
 SRC = Path(__file__).resolve().parents[2] / "src" / "armanim"
 CORE_ROOMS = ["arm", "world", "motion"]
 ROOMS = ["cli", "runs", "scene", "render", "output", "procs", "motion", "world", "arm"]  # top to bottom
-RENDER_ROOMS = ["viewer", "video", "pictures", "overlay", "solids", "camera", "paint", "settings"]  # render's, top to bottom
-MOTION_ROOMS = ["timing", "trajectory", "paths", "stalls", "framestep", "ik", "planning", "kernels", "filter", "solvers", "cost",
-                "solution", "carry", "problem", "toolpath", "orientation", "tunables"]  # motion's, top to bottom
+RENDER_ROOMS = [
+    "viewer",
+    "video",
+    "pictures",
+    "overlay",
+    "solids",
+    "camera",
+    "paint",
+    "settings",
+]  # render's, top to bottom
+MOTION_ROOMS = [
+    "timing",
+    "trajectory",
+    "paths",
+    "stalls",
+    "framestep",
+    "ik",
+    "planning",
+    "kernels",
+    "filter",
+    "solvers",
+    "cost",
+    "solution",
+    "carry",
+    "problem",
+    "toolpath",
+    "orientation",
+    "tunables",
+]  # motion's, top to bottom
 MOTION_UPWARD = {
-    ("problem", "kernels"): "Problem.kernel and Problem.compiled_plans build the kernels' layout on first use (a lazy import)",
+    (
+        "problem",
+        "kernels",
+    ): "Problem.kernel and Problem.compiled_plans build the kernels' layout on first use (a lazy import)",
 }
 """The imports back up inside ``motion`` that are known, each with why: none may be added."""
 SHARED = {"errors", "names", "__init__", "__main__"}
@@ -40,9 +69,19 @@ def _modules(room: str) -> list[str]:
     )
 
 
-COMPILED = ("armanim.arm.kernel", "armanim.world.compiled", "armanim.motion.timing.passes", "armanim.motion.kernels.linalg",
-            "armanim.motion.kernels.tasks", "armanim.motion.kernels.check", "armanim.motion.kernels.qp", "armanim.motion.kernels.attempt",
-            "armanim.motion.kernels.frame", "armanim.motion.planning.check", "armanim.render.solids.rasterloops")
+COMPILED = (
+    "armanim.arm.kernel",
+    "armanim.world.compiled",
+    "armanim.motion.timing.passes",
+    "armanim.motion.kernels.linalg",
+    "armanim.motion.kernels.tasks",
+    "armanim.motion.kernels.check",
+    "armanim.motion.kernels.qp",
+    "armanim.motion.kernels.attempt",
+    "armanim.motion.kernels.frame",
+    "armanim.motion.planning.check",
+    "armanim.render.solids.rasterloops",
+)
 """The modules that import numba, which loads pyyaml for its own settings and scipy when
 installed: left out of the walks below (:func:`test_numba_loads_only_for_boxes_and_capsules`
 holds it to the runs that need it)."""
@@ -81,38 +120,66 @@ def test_no_module_of_armanim_imports_a_library_it_does_not_declare():
     assert proc.stdout.strip() == "[]"
 
 
-@pytest.mark.parametrize("args", [
-    ["--version"], ["schema"], ["validate", "scenes/notes-arm.yaml"], ["validate", "scenes/panda-place.yaml"],
-    ["fk", "--angles", "0,30,45,10", "--links", "2,5,5,5"], ["fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45"],
-], ids=lambda a: "-".join(a[:2]))
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--version"],
+        ["schema"],
+        ["validate", "scenes/notes-arm.yaml"],
+        ["validate", "scenes/panda-place.yaml"],
+        ["fk", "--angles", "0,30,45,10", "--links", "2,5,5,5"],
+        ["fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45"],
+    ],
+    ids=lambda a: "-".join(a[:2]),
+)
 def test_commands_that_never_solve_never_import_scipy(args):
     """scipy.linalg costs about 0.3 s to import (benchmarks/README.md): only a solve pays it.
     The command runs with scipy unimportable (numba, which some of them load for the arm's own
     distances, imports scipy only when it can: with scipy installed it pays for it anyway)."""
-    out = _command_in_a_fresh_python(args, "print(result.exit_code, repr(result.exception))",
-                                     before="sys.modules['scipy'] = None  # any import of scipy fails")
+    out = _command_in_a_fresh_python(
+        args,
+        "print(result.exit_code, repr(result.exception))",
+        before="sys.modules['scipy'] = None  # any import of scipy fails",
+    )
     assert out.strip() == "0 None"
 
 
 def _command_in_a_fresh_python(args: list[str], report: str, before: str = "") -> str:
     """What ``report`` prints (Python, after ``result`` holds the command's CliRunner result, with
     ``sys`` imported) after ``armanim args`` ran in a fresh interpreter, ``before`` run first."""
-    code = "\n".join(["import sys", before, "from typer.testing import CliRunner", "from armanim.cli import app",
-                      f"result = CliRunner().invoke(app, {args!r})", report, ""])
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent)
+    code = "\n".join(
+        [
+            "import sys",
+            before,
+            "from typer.testing import CliRunner",
+            "from armanim.cli import app",
+            f"result = CliRunner().invoke(app, {args!r})",
+            report,
+            "",
+        ]
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent
+    )
     assert proc.returncode == 0, proc.stderr
     return proc.stdout
 
 
-@pytest.mark.parametrize("args", [
-    ["fk", "--angles", "0,30,45,10", "--links", "2,5,5,5"], ["fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45"],
-], ids=lambda a: "-".join(a[:3]))
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["fk", "--angles", "0,30,45,10", "--links", "2,5,5,5"],
+        ["fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45"],
+    ],
+    ids=lambda a: "-".join(a[:3]),
+)
 def test_fk_never_loads_numba(args):
     """One pose's FK needs neither the compiled kernels nor the arm's own pairs: an arm of links
     would sample its self-collision matrix with the compiled closed form (numba's import and its
     first cache load, some 0.4 s of a 0.3 s command, benchmarks/README.md)."""
     out = _command_in_a_fresh_python(
-        args, "print(result.exit_code, 'numba' in sys.modules, 'armanim.world.selfcollision' in sys.modules)")
+        args, "print(result.exit_code, 'numba' in sys.modules, 'armanim.world.selfcollision' in sys.modules)"
+    )
     assert out.split() == ["0", "False", "True"]  # the module is imported, its sampling never runs
 
 
@@ -172,15 +239,19 @@ def test_every_module_is_in_an_ordered_sub_room(room, order):
     assert rooms == set(order)
 
 
-@pytest.mark.parametrize("room, sub, order, allowed",
-                         [("render", sub, RENDER_ROOMS, {}) for sub in RENDER_ROOMS]
-                         + [("motion", sub, MOTION_ROOMS, MOTION_UPWARD) for sub in MOTION_ROOMS])
+@pytest.mark.parametrize(
+    "room, sub, order, allowed",
+    [("render", sub, RENDER_ROOMS, {}) for sub in RENDER_ROOMS]
+    + [("motion", sub, MOTION_ROOMS, MOTION_UPWARD) for sub in MOTION_ROOMS],
+)
 def test_imports_run_down_the_sub_rooms(room, sub, order, allowed):
     above = set(order[: order.index(sub)])
     paths = [p for p in (SRC / room).rglob("*.py") if _sub_room(p, room) == sub]
     assert paths
-    wrong = {str(p.relative_to(SRC)): sorted(r for r in _imported_sub_rooms(p, room) & above if (sub, r) not in allowed)
-             for p in paths}
+    wrong = {
+        str(p.relative_to(SRC)): sorted(r for r in _imported_sub_rooms(p, room) & above if (sub, r) not in allowed)
+        for p in paths
+    }
     assert {k: v for k, v in wrong.items() if v} == {}
 
 
@@ -272,6 +343,8 @@ def test_commands_that_draw_nothing_never_import_rich_tables_or_progress_bars(ar
         f"result = CliRunner().invoke(app, {args!r})\n"
         "print(result.exit_code, sorted(m for m in ('rich.table', 'rich.progress') if m in sys.modules))\n"
     )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent)
+    proc = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=SRC.parent.parent
+    )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "0 []"

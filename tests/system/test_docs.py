@@ -35,7 +35,10 @@ def test_every_python_api_example_runs_in_order(tmp_path):
     assert (tmp_path / "outputs" / "index.csv").is_file()  # the batch and the sweep wrote theirs
     assert (tmp_path / "outputs" / "notes-arm-side" / "poster.png").is_file()
     assert "outputs/notes-arm-viewer.html\n" in text and (tmp_path / "outputs" / "notes-arm-viewer.html").is_file()
-    assert "{'box': {'center': [0.62, 0.0, 0.19], 'size': [0.3, 0.7, 0.02], 'rpy': [0.0, 0.0, 0.0]}, 'name': 'board'}" in text
+    assert (
+        "{'box': {'center': [0.62, 0.0, 0.19], 'size': [0.3, 0.7, 0.02], 'rpy': [0.0, 0.0, 0.0]}, 'name': 'board'}"
+        in text
+    )
     assert (tmp_path / "outputs" / "shelf.yaml").read_text().startswith("# armanim import moveit:")
 
 

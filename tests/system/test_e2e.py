@@ -24,8 +24,13 @@ def armanim_exe() -> str:
 
 
 def test_installed_fk_json(tmp_path):
-    proc = subprocess.run([armanim_exe(), "fk", "--angles", "0,30,45,10", "--json"],
-                          capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    proc = subprocess.run(
+        [armanim_exe(), "fk", "--angles", "0,30,45,10", "--json"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=60,
+    )
     assert proc.returncode == 0, proc.stderr
     data = json.loads(proc.stdout)
     assert set(data) == {"angles_deg", "joints", "tip", "tip_quaternion_wxyz", "tip_rpy_deg"}
@@ -36,8 +41,13 @@ def test_installed_fk_json(tmp_path):
 
 def test_installed_run_out_of_reach(tmp_path):
     scene = SCENES / "out-of-reach.yaml"
-    proc = subprocess.run([armanim_exe(), "run", str(scene), "--no-video", "--quiet", "--out", str(tmp_path)],
-                          capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    proc = subprocess.run(
+        [armanim_exe(), "run", str(scene), "--no-video", "--quiet", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     assert "Traceback" not in proc.stderr
     folder = tmp_path / "out-of-reach"
@@ -50,7 +60,9 @@ def test_installed_run_out_of_reach(tmp_path):
 def test_installed_bad_scene_exits_2_without_traceback(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("version: 1\narm:\n  links: [1, 1]\n  limits: [[10, 5], null]\ngoals:\n  - [0, 0, 1]\n")
-    proc = subprocess.run([armanim_exe(), "validate", str(bad)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    proc = subprocess.run(
+        [armanim_exe(), "validate", str(bad)], capture_output=True, text=True, cwd=tmp_path, timeout=60
+    )
     assert proc.returncode == 2
     assert f"{bad}:4: arm.limits[0]: min must be below max" in proc.stderr
     assert "Traceback" not in proc.stderr

@@ -31,14 +31,42 @@ from armanim.motion.trajectory import solve_trajectory
 from armanim.scene import scene_to_problem, validate_scene_text
 
 EXAMPLES = int(os.environ.get("ARMANIM_FUZZ_EXAMPLES", "60"))
-FUZZ = settings(max_examples=EXAMPLES, deadline=None, database=None,
-                suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large])
+FUZZ = settings(
+    max_examples=EXAMPLES,
+    deadline=None,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large],
+)
 MAX_FRAMES = 20  # frames per goal of the short runs
 
 EXTREMES = [
-    math.nan, math.inf, -math.inf, 1e308, -1e308, 1e-320, 10**400, -(10**30), 0, -1, -0.0, 2**63,
-    "", "abc", "1.5", "nan", True, False, None, [], {}, [[]], [1, 2], {"a": 1}, [math.nan] * 3,
-    [1e308, 1e308, 1e308], list(range(100)),
+    math.nan,
+    math.inf,
+    -math.inf,
+    1e308,
+    -1e308,
+    1e-320,
+    10**400,
+    -(10**30),
+    0,
+    -1,
+    -0.0,
+    2**63,
+    "",
+    "abc",
+    "1.5",
+    "nan",
+    True,
+    False,
+    None,
+    [],
+    {},
+    [[]],
+    [1, 2],
+    {"a": 1},
+    [math.nan] * 3,
+    [1e308, 1e308, 1e308],
+    list(range(100)),
 ]
 NEW_KEYS = ["links", "widht", "position", "hold", "method", "max_frames_per_goal", "<<", "version", "x" * 300]
 
@@ -78,7 +106,19 @@ def mutated_scenes(draw) -> dict:
             target[draw(st.sampled_from(NEW_KEYS)) + draw(st.sampled_from(["", "s", "_"]))] = target.pop(key)
         elif op == "retype":
             value = target[key]
-            target[key] = copy.deepcopy(draw(st.sampled_from([str(value), [value], {"value": value}, None, bool(value) if not isinstance(value, (list, dict)) else 1])))
+            target[key] = copy.deepcopy(
+                draw(
+                    st.sampled_from(
+                        [
+                            str(value),
+                            [value],
+                            {"value": value},
+                            None,
+                            bool(value) if not isinstance(value, (list, dict)) else 1,
+                        ]
+                    )
+                )
+            )
         elif op == "empty":
             target[key] = copy.deepcopy(draw(st.sampled_from([[], {}, "", None])))
         else:
@@ -134,8 +174,30 @@ def test_arbitrary_text_gives_a_scene_error(text):
 # ------------------------------------------------------------------ trajectory.csv inputs (issue 12)
 
 GOLDEN_ROWS = (Path(__file__).parents[1] / "golden" / "notes-arm.csv").read_text().splitlines()[:12]
-CSV_FIELDS = ["", "nan", "NaN", "inf", "-inf", "1e308", "-1e308", "1e-400", "abc", "0x10", "1_000", " 1", "-0.0",
-              "9" * 400, "\x00", '"quoted, comma"', '"open quote', "ik", "plan", "\r", "1e9", "1e10"]
+CSV_FIELDS = [
+    "",
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "1e308",
+    "-1e308",
+    "1e-400",
+    "abc",
+    "0x10",
+    "1_000",
+    " 1",
+    "-0.0",
+    "9" * 400,
+    "\x00",
+    '"quoted, comma"',
+    '"open quote',
+    "ik",
+    "plan",
+    "\r",
+    "1e9",
+    "1e10",
+]
 COLUMN_NAMES = ["x", "reached", "phiX_deg", "phi9_deg", "mode", "iterations", "", "frame", "goal"]
 
 
@@ -145,19 +207,24 @@ def mutated_csv_texts(draw) -> str:
     dropped, renamed or repeated, rows cut short or doubled, the text truncated."""
     rows = [line.split(",") for line in GOLDEN_ROWS]
     for _ in range(draw(st.integers(1, 4))):
-        op = draw(st.sampled_from(["field", "field", "drop column", "rename column", "add column", "short row",
-                                   "double row", "no rows"]))
+        op = draw(
+            st.sampled_from(
+                ["field", "field", "drop column", "rename column", "add column", "short row", "double row", "no rows"]
+            )
+        )
         r = draw(st.integers(0, len(rows) - 1))
         c = draw(st.integers(0, len(rows[0]) - 1))
         if op == "field" and r > 0 and c < len(rows[r]):
             rows[r][c] = draw(st.sampled_from(CSV_FIELDS))
         elif op == "drop column":
-            rows = [row[:c] + row[c + 1:] for row in rows]
+            rows = [row[:c] + row[c + 1 :] for row in rows]
         elif op == "rename column":
             rows[0][c] = draw(st.sampled_from(COLUMN_NAMES))
         elif op == "add column":
-            rows = [row + ([draw(st.sampled_from(COLUMN_NAMES))] if i == 0 else [draw(st.sampled_from(CSV_FIELDS))])
-                    for i, row in enumerate(rows)]
+            rows = [
+                row + ([draw(st.sampled_from(COLUMN_NAMES))] if i == 0 else [draw(st.sampled_from(CSV_FIELDS))])
+                for i, row in enumerate(rows)
+            ]
         elif op == "short row" and r > 0:
             rows[r] = rows[r][:c]
         elif op == "double row":
@@ -209,8 +276,25 @@ def test_arbitrary_rows_give_a_table_or_a_scene_error(text):
 SET_PATHS = ["solver.step", "solver.method", "goals[0].hold", "arm.links", "render.fps", "name", "arm.links[1]"]
 SET_VALUES = st.one_of(
     st.text(max_size=60),
-    st.sampled_from(["1e400", "9" * 500, "[&a [1,1], *a]", "&a [1, *a]", "!!python/object:os.system", "{a: 1}",
-                     "[1,2", "..", "~", "0.0001", "-1", "nan", ".inf", "1e-300", "[[[[[[1]]]]]]"]),
+    st.sampled_from(
+        [
+            "1e400",
+            "9" * 500,
+            "[&a [1,1], *a]",
+            "&a [1, *a]",
+            "!!python/object:os.system",
+            "{a: 1}",
+            "[1,2",
+            "..",
+            "~",
+            "0.0001",
+            "-1",
+            "nan",
+            ".inf",
+            "1e-300",
+            "[[[[[[1]]]]]]",
+        ]
+    ),
 )
 
 

@@ -46,7 +46,11 @@ def test_random_urdfs_keep_the_invariants(pair):
 
 
 def _number() -> st.SearchStrategy:
-    return st.one_of(st.floats(-3, 3), st.sampled_from(EXTREME_FLOATS).map(repr), st.sampled_from(["nan", "inf", "1e400", "-0.0", "1_0"]))
+    return st.one_of(
+        st.floats(-3, 3),
+        st.sampled_from(EXTREME_FLOATS).map(repr),
+        st.sampled_from(["nan", "inf", "1e400", "-0.0", "1_0"]),
+    )
 
 
 @st.composite
@@ -82,25 +86,37 @@ def test_fk_and_ik_json_is_strict_or_a_one_line_error(args):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("form", ["tool_axis: [1e-320, 0, 0]", "tool_axis: [1e308, 0, 1e308]",
-                                  "orientation: {axis: [1e-200, 1e-200, 0], angle: 30}"])
+@pytest.mark.parametrize(
+    "form",
+    [
+        "tool_axis: [1e-320, 0, 0]",
+        "tool_axis: [1e308, 0, 1e308]",
+        "orientation: {axis: [1e-200, 1e-200, 0], angle: 30}",
+    ],
+)
 def test_the_installed_command_keeps_the_invariants(tmp_path, form):
     scene = tmp_path / "s.yaml"
-    scene.write_text("version: 1\narm: {links: [1, 1, 1, 1]}\ngoals:\n  - {position: [1, 1, 2], " + form + "}\n"
-                     "solver: {max_frames_per_goal: 40}\nrender: {fps: 10, size: [64, 48]}\n")
+    scene.write_text(
+        "version: 1\narm: {links: [1, 1, 1, 1]}\ngoals:\n  - {position: [1, 1, 2], " + form + "}\n"
+        "solver: {max_frames_per_goal: 40}\nrender: {fps: 10, size: [64, 48]}\n"
+    )
     assert check_command(["run", "s.yaml", "--out", "o", "--no-video", "--viewer"], tmp_path, ["s.yaml", "o"]) == 0
 
 
 @pytest.mark.slow
 def test_the_installed_command_with_a_hostile_urdf(tmp_path):
     name = HOSTILE_STRINGS[3]  # a newline in a joint name
-    urdf = ('<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
-            f'<joint name="{name.replace(chr(10), "&#10;")}" type="continuous"><parent link="a"/><child link="b"/>'
-            '<origin xyz="0 0 0.3"/><axis xyz="0 1e-300 0"/></joint>'
-            '<joint name="k" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0 0 0.3"/>'
-            '<axis xyz="0 1 0"/><limit lower="-2" upper="2"/></joint></robot>')
+    urdf = (
+        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
+        f'<joint name="{name.replace(chr(10), "&#10;")}" type="continuous"><parent link="a"/><child link="b"/>'
+        '<origin xyz="0 0 0.3"/><axis xyz="0 1e-300 0"/></joint>'
+        '<joint name="k" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0 0 0.3"/>'
+        '<axis xyz="0 1 0"/><limit lower="-2" upper="2"/></joint></robot>'
+    )
     (tmp_path / "r.urdf").write_text(urdf)
-    (tmp_path / "s.yaml").write_text("version: 1\narm: {urdf: r.urdf}\ngoals: [[0.2, 0.1, 0.4]]\n"
-                                     "solver: {max_frames_per_goal: 30}\nrender: {fps: 10, size: [64, 48]}\n")
+    (tmp_path / "s.yaml").write_text(
+        "version: 1\narm: {urdf: r.urdf}\ngoals: [[0.2, 0.1, 0.4]]\n"
+        "solver: {max_frames_per_goal: 30}\nrender: {fps: 10, size: [64, 48]}\n"
+    )
     assert check_command(["validate", "s.yaml"], tmp_path, ["s.yaml", "r.urdf"]) == 0
     assert check_command(["run", "s.yaml", "--out", "o", "--no-video"], tmp_path, ["s.yaml", "o"]) == 0

@@ -144,7 +144,9 @@ def test_two_updates_of_one_golden_folder_take_turns_and_leave_no_lock_file(tmp_
     golden = tmp_path / "golden"
     done = threading.Event()
     with directory_lock(golden):  # another `check --update` of this folder is writing
-        worker = threading.Thread(target=lambda: (update_golden(ROOT / "scenes" / "out-of-reach.yaml", golden), done.set()))
+        worker = threading.Thread(
+            target=lambda: (update_golden(ROOT / "scenes" / "out-of-reach.yaml", golden), done.set())
+        )
         worker.start()
         assert not done.wait(1.0)  # it waits for the folder (a solve of this scene takes ~0.1 s)
         assert not list(golden.iterdir())
@@ -192,6 +194,7 @@ def test_a_pass_with_an_edited_scene_says_the_scene_changed(tmp_path):
     shutil.copy(ROOT / "scenes" / "out-of-reach.yaml", scene)
     golden = tmp_path / "golden"
     assert runner.invoke(app, ["check", str(scene), "--golden", str(golden), "--update"]).exit_code == 0
+
     def table_text(result) -> str:  # the table's cells wrap at the terminal's width
         return " ".join(re.sub(r"[│┃]", " ", result.output).split())
 

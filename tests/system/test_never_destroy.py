@@ -28,8 +28,9 @@ CSV_HEADER = "frame,time_s,goal,phi1_deg,phi2_deg,x,y,z,goal_distance,clearance,
 
 def armanim(*args, timeout: float = 120, **kwargs) -> subprocess.CompletedProcess:
     """Run ``python -m armanim ARGS`` as a real process."""
-    return subprocess.run([sys.executable, "-m", "armanim", *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, **kwargs)
+    return subprocess.run(
+        [sys.executable, "-m", "armanim", *map(str, args)], capture_output=True, text=True, timeout=timeout, **kwargs
+    )
 
 
 def no_traceback(result) -> str:
@@ -109,7 +110,13 @@ def test_a_user_file_added_to_a_run_folder_stops_the_next_run(cli, tmp_path):
     scene.write_text(SMALL)
     assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
     folder = tmp_path / "out" / "notes"
-    assert sorted(json.loads((folder / MARKER).read_text())["files"]) == ["scene.yaml", "self-collision.yaml", "summary.json", "timing.json", "trajectory.csv"]
+    assert sorted(json.loads((folder / MARKER).read_text())["files"]) == [
+        "scene.yaml",
+        "self-collision.yaml",
+        "summary.json",
+        "timing.json",
+        "trajectory.csv",
+    ]
     (folder / "thesis.txt").write_text("mine")
     result = cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q")
     assert result.exit_code == 3 and "thesis.txt" in result.stderr, result.output
@@ -167,7 +174,8 @@ def test_a_single_file_replaces_only_what_armanim_wrote(cli, tmp_path, flag):
         assert result.exit_code == 3, result.output
         assert mine.read_bytes() == b"my notes"
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        ["link", "mine", target.name, f".{target.name}.armanim.json"])
+        ["link", "mine", target.name, f".{target.name}.armanim.json"]
+    )
 
 
 @pytest.mark.parametrize("kind", ["fifo", "device", "folder"])
@@ -203,8 +211,12 @@ def test_devices_and_fifos_are_refused_fast(tmp_path, kind):
     else:
         special.symlink_to("/dev/zero") if kind == "link-to-dev-zero" else None
         special = special if kind == "link-to-dev-zero" else Path("/dev/zero")
-    for args in (("validate", special), ("compare", special, _golden()), ("compare", _golden(), special),
-                 ("run", special, "--out", tmp_path / "out", "--no-video")):
+    for args in (
+        ("validate", special),
+        ("compare", special, _golden()),
+        ("compare", _golden(), special),
+        ("run", special, "--out", tmp_path / "out", "--no-video"),
+    ):
         result = armanim(*args, timeout=120)  # a hang guard: a FIFO opened blocking would wait forever
         assert result.returncode == 2, result.stderr
         assert "not a regular file" in no_traceback(result)
@@ -251,8 +263,12 @@ def test_render_waits_for_the_folder_lock_and_swaps_whole(run_folder):
 
     before = user_files(run_folder)
     with folder_lock(run_folder):
-        proc = subprocess.Popen([sys.executable, "-m", "armanim", "render", str(run_folder), "-q", "--jobs", "1"],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "armanim", "render", str(run_folder), "-q", "--jobs", "1"],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         time.sleep(2.0)
         assert proc.poll() is None  # waiting for the lock, not writing
         assert user_files(run_folder) == before
@@ -331,7 +347,10 @@ BAD_ROWS = {
     "header only": (lambda rows: rows.__delitem__(slice(1, None)), "has a header but no rows"),
     "a word": (lambda rows: rows[2].__setitem__(1, "soon"), ":3: time_s: 'soon' is not a number"),
     "ragged": (lambda rows: rows[2].pop(), ":3: row has"),
-    "unknown mode": (lambda rows: rows[2].__setitem__(rows[0].index("mode"), "walk"), ":3: mode: 'walk' is not ik or plan"),
+    "unknown mode": (
+        lambda rows: rows[2].__setitem__(rows[0].index("mode"), "walk"),
+        ":3: mode: 'walk' is not ik or plan",
+    ),
 }
 
 
@@ -370,6 +389,7 @@ def test_compare_needs_the_contract_columns_in_both_files(cli, tmp_path):
 def test_identical_files_with_inf_and_a_mode_column_agree(cli, tmp_path):
     path = tmp_path / "t.csv"
     path.write_bytes(_golden().read_bytes())
+
     def add_mode_and_inf(rows):
         if "mode" not in rows[0]:
             for i, row in enumerate(rows):
@@ -400,9 +420,13 @@ def test_compare_streams_long_files_in_flat_memory(tmp_path):
         for i in range(200_000):
             row[0] = str(i)
             handle.write(",".join(row) + "\n")
-            changed.write(",".join(row[:reached] + ["1" if i == 199_999 else row[reached]] + row[reached + 1:]) + "\n")
-    proc = psutil.Popen([sys.executable, "-m", "armanim", "compare", str(path), str(other)],
-                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            changed.write(",".join(row[:reached] + ["1" if i == 199_999 else row[reached]] + row[reached + 1 :]) + "\n")
+    proc = psutil.Popen(
+        [sys.executable, "-m", "armanim", "compare", str(path), str(other)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     peak = 0
     while proc.poll() is None:
         with contextlib_suppress():
@@ -427,15 +451,20 @@ def contextlib_suppress():
 def test_a_bad_scheduler_address_is_exit_2(tmp_path, address):
     pytest.importorskip("dask.distributed")
     # a real process: Dask's IO-loop thread stays behind in the process that tried the address
-    result = armanim("run", NOTES, SCENES / "planar-nlink.yaml", "--out", tmp_path, "--no-video", "-q", "--scheduler", address)
+    result = armanim(
+        "run", NOTES, SCENES / "planar-nlink.yaml", "--out", tmp_path, "--no-video", "-q", "--scheduler", address
+    )
     assert result.returncode == 2, result.stderr
     assert no_traceback(result).startswith("--scheduler: ") and "not a scheduler address" in result.stderr
 
 
 BAD_SETS = {
     "5000 digits": ("solver.step=" + "9" * 5000, "5000-digit integer is too large"),
-    "alias bomb": ("solver.step=[&a [1,1,1,1,1,1,1,1,1], &b [*a,*a,*a,*a,*a,*a,*a,*a,*a], &c [*b,*b,*b,*b,*b,*b,*b,*b,*b], "
-                   "&d [*c,*c,*c,*c,*c,*c,*c,*c,*c], &e [*d,*d,*d,*d,*d,*d,*d,*d,*d]]", "alias bomb"),
+    "alias bomb": (
+        "solver.step=[&a [1,1,1,1,1,1,1,1,1], &b [*a,*a,*a,*a,*a,*a,*a,*a,*a], &c [*b,*b,*b,*b,*b,*b,*b,*b,*b], "
+        "&d [*c,*c,*c,*c,*c,*c,*c,*c,*c], &e [*d,*d,*d,*d,*d,*d,*d,*d,*d]]",
+        "alias bomb",
+    ),
     "python tag": ("solver.method=!!python/object/apply:os.system [echo hi]", "unsupported YAML tag"),
 }
 
@@ -463,10 +492,15 @@ def test_a_golden_json_that_is_not_armanim_s_is_ignored(cli, tmp_path):
         assert result.exit_code == 1 and "first difference" in result.stdout
 
 
-@pytest.mark.parametrize("args, flag", [(("fk", "--angles", "0,0,0,0", "--links", "1e300,1,1,1", "--png", "P"), "--links"),
-                                        (("ik", "--goal", "1,1,1", "--links", "1e308,1e308,1,1"), "--links"),
-                                        (("ik", "--goal", "1e300,1,1"), "--goal"),
-                                        (("fk", "--angles", "0,0", "--links", "1,1", "--base", "0,0,1e12"), "--base")])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (("fk", "--angles", "0,0,0,0", "--links", "1e300,1,1,1", "--png", "P"), "--links"),
+        (("ik", "--goal", "1,1,1", "--links", "1e308,1e308,1,1"), "--links"),
+        (("ik", "--goal", "1e300,1,1"), "--goal"),
+        (("fk", "--angles", "0,0", "--links", "1,1", "--base", "0,0,1e12"), "--base"),
+    ],
+)
 def test_huge_arm_flags_are_exit_2(cli, tmp_path, args, flag):
     result = cli(*[str(tmp_path / "p.png") if a == "P" else a for a in args])
     assert result.exit_code == 2, result.output
@@ -514,8 +548,14 @@ def _start(args, tmp_path: Path) -> psutil.Popen:
     """armanim ARGS in its own session (so a group signal reaches only it), temporary files under tmp_path/tmp."""
     (tmp_path / "tmp").mkdir(exist_ok=True)
     env = {**os.environ, "TMPDIR": str(tmp_path / "tmp")}
-    return psutil.Popen([sys.executable, "-m", "armanim", *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                        text=True, start_new_session=True, env=env)
+    return psutil.Popen(
+        [sys.executable, "-m", "armanim", *map(str, args)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        env=env,
+    )
 
 
 def _wait_for_ffmpeg(proc: psutil.Popen, workers: int, timeout: float = 60.0) -> list[psutil.Process]:
@@ -529,8 +569,10 @@ def _wait_for_ffmpeg(proc: psutil.Popen, workers: int, timeout: float = 60.0) ->
             lines = [(k.name(), " ".join(k.cmdline()), k.ppid()) for k in kids]
             encoding = any("ffmpeg" in name and "rawvideo" in line for name, line, _ in lines)
             helper = ("multiprocessing.forkserver import main", "resource_tracker")  # the pool's own, not workers
-            busy = sum("python" in name and not (parent == proc.pid and any(h in line for h in helper))
-                       for name, line, parent in lines)
+            busy = sum(
+                "python" in name and not (parent == proc.pid and any(h in line for h in helper))
+                for name, line, parent in lines
+            )
             if encoding and busy >= workers:
                 return kids
         time.sleep(0.05)
@@ -599,7 +641,9 @@ def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(tmp_path
 
 
 def test_a_killed_batch_takes_its_workers_with_it(tmp_path):
-    proc = _start(["run", *_batch_scenes(tmp_path), "--out", tmp_path / "out", "--jobs", "2", "--size", "480x360", "-q"], tmp_path)
+    proc = _start(
+        ["run", *_batch_scenes(tmp_path), "--out", tmp_path / "out", "--jobs", "2", "--size", "480x360", "-q"], tmp_path
+    )
     kids = _wait_for_ffmpeg(proc, workers=2)
     proc.kill()
     proc.wait()
@@ -628,8 +672,10 @@ def test_a_batch_stops_without_a_traceback(tmp_path, signame):
 
 def test_fps_flag_that_makes_the_holds_too_long_is_exit_2(cli, tmp_path):
     scene = tmp_path / "s.yaml"
-    scene.write_text("version: 1\narm: {links: [1, 1, 1, 1]}\ngoals:\n  - {position: [1, 1, 2], hold: 3600}\n"
-                     "  - {position: [1, 1, 2.5], hold: 3600}\nrender: {fps: 10}\n")
+    scene.write_text(
+        "version: 1\narm: {links: [1, 1, 1, 1]}\ngoals:\n  - {position: [1, 1, 2], hold: 3600}\n"
+        "  - {position: [1, 1, 2.5], hold: 3600}\nrender: {fps: 10}\n"
+    )
     result = cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q", "--fps", "240")
     assert result.exit_code == 2 and "--fps 240: the holds would make up to" in result.stderr, result.output
     assert not (tmp_path / "out" / "s").exists()

@@ -8,9 +8,18 @@ import re
 import pytest
 from conftest import DOCS, TESTS
 
-PROMISE_FILES = ("arm/test_geometry.py", "cli/test_exit_codes.py", "cli/test_interrupts.py", "runs/test_batch_limits.py",
-                 "runs/test_golden_update.py", "runs/test_run_faults.py", "runs/test_run_folder.py",
-                 "procs/test_worker_signals.py", "scene/test_hostile_yaml.py", "system/test_signal_moments.py")
+PROMISE_FILES = (
+    "arm/test_geometry.py",
+    "cli/test_exit_codes.py",
+    "cli/test_interrupts.py",
+    "runs/test_batch_limits.py",
+    "runs/test_golden_update.py",
+    "runs/test_run_faults.py",
+    "runs/test_run_folder.py",
+    "procs/test_worker_signals.py",
+    "scene/test_hostile_yaml.py",
+    "system/test_signal_moments.py",
+)
 """Files of tests (below tests/) that exist for the page's promises: the page names each of their tests."""
 
 
@@ -39,8 +48,12 @@ def named_tests(page: str) -> set[tuple[str | None, str]]:
 
 def defined_tests() -> set[tuple[str, str]]:
     """(test file below tests/, test name) of every test function of the suite."""
-    return {(path.relative_to(TESTS).as_posix(), node.name) for path in TESTS.rglob("test_*.py")
-            for node in ast.parse(path.read_text()).body if isinstance(node, ast.FunctionDef) and node.name.startswith("test_")}
+    return {
+        (path.relative_to(TESTS).as_posix(), node.name)
+        for path in TESTS.rglob("test_*.py")
+        for node in ast.parse(path.read_text()).body
+        if isinstance(node, ast.FunctionDef) and node.name.startswith("test_")
+    }
 
 
 def test_every_test_the_reliability_page_names_exists():

@@ -14,8 +14,10 @@ from signals import Command, Sweep
 
 from armanim.errors import INTERRUPTED
 
-TINY = ("version: 1\nname: tiny\narm:\n  links: [1, 1]\ngoals:\n  - [1, 1, 0]\n  - {{position: [0, 1.5, 0.5], hold: 3}}\n"
-        "solver: {{step: {step}}}\nrender: {{fps: 10, size: [96, 64]}}\n")  # about 70 frames: two render workers
+TINY = (
+    "version: 1\nname: tiny\narm:\n  links: [1, 1]\ngoals:\n  - [1, 1, 0]\n  - {{position: [0, 1.5, 0.5], hold: 3}}\n"
+    "solver: {{step: {step}}}\nrender: {{fps: 10, size: [96, 64]}}\n"
+)  # about 70 frames: two render workers
 
 
 def _scenes(folder: Path, count: int = 1) -> tuple[list[str], list[str]]:
@@ -36,22 +38,60 @@ def _commands(folder: Path) -> dict:
     batch = ["out/tiny0", "out/tiny1"]
     sweep = ["out/tiny0_step-0.1", "out/tiny0_step-0.2"]
     return {
-        "run": Command("run", ["run", new[0], "--out", "{out}", "--jobs", "2"], run_folder,
-                       [["run", old[0], "--out", "{out}", "--no-video"]]),  # the previous outputs need no video to differ
-        "batch": Command("batch", ["run", *new, "--out", "{out}", "--jobs", "2"], [*batch, "out/index.csv"],
-                         [["run", *old, "--out", "{out}", "--jobs", "2", "--no-video"]]),
-        "sweep": Command("sweep", ["sweep", new[0], "--set", "solver.step=0.1,0.2", "--out", "{out}", "--jobs", "2"],
-                         [*sweep, "out/new0-sweep.csv"],
-                         [["sweep", old[0], "--set", "solver.step=0.1,0.2", "--set", "solver.max_step=0.4", "--out", "{out}", "--jobs", "2", "--no-video"]]),
-        "check --update": Command("check", ["check", *new, "--golden", "{golden}", "--update"], ["golden/tiny0.*", "golden/tiny1.*"],
-                                  [["check", *old, "--golden", "{golden}", "--update"]]),
-        "render": Command("render", ["render", "{out}/tiny0", "--jobs", "2", "--size", "80x48"], run_folder,
-                          [["run", new[0], "--out", "{out}", "--no-video"]]),
+        "run": Command(
+            "run",
+            ["run", new[0], "--out", "{out}", "--jobs", "2"],
+            run_folder,
+            [["run", old[0], "--out", "{out}", "--no-video"]],
+        ),  # the previous outputs need no video to differ
+        "batch": Command(
+            "batch",
+            ["run", *new, "--out", "{out}", "--jobs", "2"],
+            [*batch, "out/index.csv"],
+            [["run", *old, "--out", "{out}", "--jobs", "2", "--no-video"]],
+        ),
+        "sweep": Command(
+            "sweep",
+            ["sweep", new[0], "--set", "solver.step=0.1,0.2", "--out", "{out}", "--jobs", "2"],
+            [*sweep, "out/new0-sweep.csv"],
+            [
+                [
+                    "sweep",
+                    old[0],
+                    "--set",
+                    "solver.step=0.1,0.2",
+                    "--set",
+                    "solver.max_step=0.4",
+                    "--out",
+                    "{out}",
+                    "--jobs",
+                    "2",
+                    "--no-video",
+                ]
+            ],
+        ),
+        "check --update": Command(
+            "check",
+            ["check", *new, "--golden", "{golden}", "--update"],
+            ["golden/tiny0.*", "golden/tiny1.*"],
+            [["check", *old, "--golden", "{golden}", "--update"]],
+        ),
+        "render": Command(
+            "render",
+            ["render", "{out}/tiny0", "--jobs", "2", "--size", "80x48"],
+            run_folder,
+            [["run", new[0], "--out", "{out}", "--no-video"]],
+        ),
     }
 
 
 MOMENTS = {  # a handful per command (each attempt is a real process); benchmarks/signal_campaign.py sweeps many more
-    "run": [("start", 0.0, "SIGTERM"), ("ffmpeg", 0.2, "SIGINT"), ("poster", 0.0, "SIGINT"), ("poster", 0.05, "SIGTERM")],
+    "run": [
+        ("start", 0.0, "SIGTERM"),
+        ("ffmpeg", 0.2, "SIGINT"),
+        ("poster", 0.0, "SIGINT"),
+        ("poster", 0.05, "SIGTERM"),
+    ],
     "batch": [("workers", 0.0, "SIGINT"), ("ffmpeg", 0.1, "SIGTERM")],
     "sweep": [("workers", 0.0, "SIGTERM")],
     "check --update": [("start", 0.5, "SIGINT")],
@@ -82,4 +122,6 @@ def test_a_signal_at_any_moment_ends_with_0_or_130_and_old_or_new_outputs(tmp_pa
     assert all(o.fired for o in outcomes), [o.moment for o in outcomes if not o.fired]  # each moment came: a real test
     for o in outcomes:
         interrupted = o.code == 130
-        assert o.stderr.strip().splitlines()[-1:] == ([INTERRUPTED] if interrupted else o.stderr.strip().splitlines()[-1:])
+        assert o.stderr.strip().splitlines()[-1:] == (
+            [INTERRUPTED] if interrupted else o.stderr.strip().splitlines()[-1:]
+        )

@@ -70,7 +70,14 @@ def test_cover_holds_the_whole_solid_within_its_margin(kind, sizes, seed):
             for d in np.concatenate([np.eye(3), -np.eye(3)]):
                 far = p + r * d
                 result = coal.DistanceResult()
-                gap = coal.distance(probe, coal.Transform3s(), coal.Sphere(1e-9), coal.Transform3s(np.eye(3), far), coal.DistanceRequest(), result)
+                gap = coal.distance(
+                    probe,
+                    coal.Transform3s(),
+                    coal.Sphere(1e-9),
+                    coal.Transform3s(np.eye(3), far),
+                    coal.DistanceRequest(),
+                    result,
+                )
                 assert gap <= cover_margin(body) + 1e-9
 
 
@@ -86,9 +93,15 @@ def _pick_run():
 
 
 def _coal_body(body: Body):
-    shape = {BOX: lambda: coal.Box(*(2 * body.half)), SPHERE: lambda: coal.Sphere(body.radius),
-             ROD: lambda: coal.Capsule(body.radius, 2 * body.half[0]), CYLINDER: lambda: coal.Cylinder(body.radius, 2 * body.half[2])}[body.kind]()
-    rotation = body.rotation if body.kind != ROD else body.rotation @ np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]])  # coal's capsule along z
+    shape = {
+        BOX: lambda: coal.Box(*(2 * body.half)),
+        SPHERE: lambda: coal.Sphere(body.radius),
+        ROD: lambda: coal.Capsule(body.radius, 2 * body.half[0]),
+        CYLINDER: lambda: coal.Cylinder(body.radius, 2 * body.half[2]),
+    }[body.kind]()
+    rotation = (
+        body.rotation if body.kind != ROD else body.rotation @ np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]])
+    )  # coal's capsule along z
     return shape, coal.Transform3s(rotation, body.center)
 
 
@@ -126,12 +139,18 @@ def test_the_carried_box_keeps_its_clearances_by_coal():
     for frame in np.nonzero(held)[0]:
         world = problems[traj.goal[frame]]
         pose = forward(problem.arm, traj.phi[frame])
-        box = world_box = carry.worlds[traj.goal[frame]].held.body.moved(tool_transform(problem, pose) @ carry.worlds[traj.goal[frame]].held.offset)
+        box = world_box = carry.worlds[traj.goal[frame]].held.body.moved(
+            tool_transform(problem, pose) @ carry.worlds[traj.goal[frame]].held.offset
+        )
         shape = _coal_body(box)
         assert _distance(shape, table) >= d_safe * (1 - 1e-9)
         assert _distance(shape, table) >= carried[frame] - 1e-9  # the cover's clearance is at most the box's
-        lowest = np.min([(box.matrix() @ np.append(c, 1))[2] for c in np.array(
-            [[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * box.half])
+        lowest = np.min(
+            [
+                (box.matrix() @ np.append(c, 1))[2]
+                for c in np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * box.half
+            ]
+        )
         assert lowest - problem.obstacles.floor >= d_safe
         caps = problem.capsules
         from armanim.arm.capsules import capsule_ends
@@ -145,7 +164,10 @@ def test_the_carried_box_keeps_its_clearances_by_coal():
             z = axis / length if length > 0 else np.array([0.0, 0, 1])
             x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
             x /= np.linalg.norm(x)
-            link = (coal.Capsule(caps.radius[i], length), coal.Transform3s(np.stack([x, np.cross(z, x), z], axis=1), (a[i] + b[i]) / 2))
+            link = (
+                coal.Capsule(caps.radius[i], length),
+                coal.Transform3s(np.stack([x, np.cross(z, x), z], axis=1), (a[i] + b[i]) / 2),
+            )
             assert _distance(shape, link) >= self_safe * (1 - 1e-9), (frame, name)
         del world_box, world
 
@@ -171,25 +193,53 @@ BAD = {
 def _scene(goals: list, **extra):
     from armanim.scene import scene_model
 
-    return scene_model({"version": 1, "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
-                        "obstacles": [{"box": {"center": [0.5, 0.0, 0.1], "size": [0.4, 0.8, 0.2]}, "name": "table"},
-                                      {"box": {"center": [0.5, 0.2, 0.28], "size": [0.04, 0.04, 0.12]}, "name": "part"}],
-                        "floor": 0.0, "goals": goals, "solver": {"clearance": 0.01, "tolerance": 0.002, **extra}})
+    return scene_model(
+        {
+            "version": 1,
+            "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
+            "obstacles": [
+                {"box": {"center": [0.5, 0.0, 0.1], "size": [0.4, 0.8, 0.2]}, "name": "table"},
+                {"box": {"center": [0.5, 0.2, 0.28], "size": [0.04, 0.04, 0.12]}, "name": "part"},
+            ],
+            "floor": 0.0,
+            "goals": goals,
+            "solver": {"clearance": 0.01, "tolerance": 0.002, **extra},
+        }
+    )
 
 
 GRASP = {"position": [0.5, 0.2, 0.332], "orientation": {"rpy": [180, 0, 0]}, "grasp": "part"}
 RELEASE = {"position": [0.5, -0.2, 0.34], "orientation": {"rpy": [180, 0, 0]}, "release": True}
 
 
-@pytest.mark.parametrize(("goals", "field", "words"), [
-    ([{**GRASP, "grasp": "can"}], "goals[0].grasp", "'can' names no obstacle (expected the name of one: 'table', 'part')"),
-    ([RELEASE], "goals[0].release", "puts down nothing: the tool holds nothing here"),
-    ([GRASP, {**GRASP, "grasp": "table"}], "goals[1].grasp", "takes 'table' while the tool still holds 'part' (grasped at goals[0]"),
-    ([{**GRASP, "release": True}], "goals[0].release", "is on a goal that grasps"),
-    ([{**GRASP, "touch_links": ["panda_hand", "gripper"]}], "goals[0].touch_links[1]", "'gripper' names no link of the arm"),
-    ([{**GRASP, "grasp": "table", "position": [0.5, 0.0, 0.45]}], "goals[0].grasp", "wider than the gripper opens (0.08"),
-    ([{**GRASP, "position": [0.5, 0.2, 0.45]}], "goals[0].grasp", "'part' is 0.11 from the goal's tool point"),
-])
+@pytest.mark.parametrize(
+    ("goals", "field", "words"),
+    [
+        (
+            [{**GRASP, "grasp": "can"}],
+            "goals[0].grasp",
+            "'can' names no obstacle (expected the name of one: 'table', 'part')",
+        ),
+        ([RELEASE], "goals[0].release", "puts down nothing: the tool holds nothing here"),
+        (
+            [GRASP, {**GRASP, "grasp": "table"}],
+            "goals[1].grasp",
+            "takes 'table' while the tool still holds 'part' (grasped at goals[0]",
+        ),
+        ([{**GRASP, "release": True}], "goals[0].release", "is on a goal that grasps"),
+        (
+            [{**GRASP, "touch_links": ["panda_hand", "gripper"]}],
+            "goals[0].touch_links[1]",
+            "'gripper' names no link of the arm",
+        ),
+        (
+            [{**GRASP, "grasp": "table", "position": [0.5, 0.0, 0.45]}],
+            "goals[0].grasp",
+            "wider than the gripper opens (0.08",
+        ),
+        ([{**GRASP, "position": [0.5, 0.2, 0.45]}], "goals[0].grasp", "'part' is 0.11 from the goal's tool point"),
+    ],
+)
 def test_each_bad_grasp_is_reported_at_its_field(goals, field, words):
     from armanim.scene.checks import scene_problems
 
@@ -201,7 +251,9 @@ def test_an_object_resting_within_clearance_of_its_table_is_reported():
     from armanim.scene.checks import scene_problems
 
     problems = scene_problems(_scene([GRASP], clearance=0.02))
-    assert any(f == "obstacles[1]" and "'part' rests 0.0127 from obstacles[0] ('table')" in m for f, m in problems), problems
+    assert any(f == "obstacles[1]" and "'part' rests 0.0127 from obstacles[0] ('table')" in m for f, m in problems), (
+        problems
+    )
 
 
 def test_the_viewer_and_the_video_draw_the_box_where_it_is():
@@ -213,15 +265,26 @@ def test_the_viewer_and_the_video_draw_the_box_where_it_is():
 
     problem, _, timed = _pick_run()
     traj = timed.trajectory
-    data = viewer_data(problem, traj, timed.goals, render_settings(load_scene(DATA / "pick-box.yaml").model), title="t", carry=timed.carry)
+    data = viewer_data(
+        problem,
+        traj,
+        timed.goals,
+        render_settings(load_scene(DATA / "pick-box.yaml").model),
+        title="t",
+        carry=timed.carry,
+    )
     poses = np.array(data["carried"]["poses"]).reshape(traj.frames, 1, 7)
     assert data["carried"]["objects"] == [{"kind": "box", "name": "part", "size": [0.04, 0.04, 0.12]}]
     assert [b["center"] for b in data["boxes"]] == [[0.5, 0.0, 0.1]]
     assert poses[0, 0, :3] == pytest.approx([0.5, 0.2, 0.28])
-    assert poses[-1, 0, :3] == pytest.approx(timed.carry.final.moved[1].center, abs=10.0 ** -data["decimals"])  # the page's rounding
+    assert poses[-1, 0, :3] == pytest.approx(
+        timed.carry.final.moved[1].center, abs=10.0 ** -data["decimals"]
+    )  # the page's rounding
     carried = traj.goal == 3
     tips = traj.tip[carried]
-    assert np.linalg.norm(poses[carried, 0, :3] - tips, axis=1) == pytest.approx(0.052, abs=0.002)  # in the tool, 5 cm below it
+    assert np.linalg.norm(poses[carried, 0, :3] - tips, axis=1) == pytest.approx(
+        0.052, abs=0.002
+    )  # in the tool, 5 cm below it
     still, frames = moving_objects(problem, timed)
     assert len(still.obstacles.boxes) == 1 and len(frames) == traj.frames
     assert frames[-1].boxes.centers[0] == pytest.approx(timed.carry.final.moved[1].center)
@@ -257,7 +320,9 @@ def test_a_carried_bar_that_would_hit_the_wall_goes_over_it_never_through():
 
 
 @settings(max_examples=4, deadline=None)
-@given(st.floats(0.03, 0.05), st.floats(0.06, 0.1), st.floats(-0.45, -0.3), st.floats(0.45, 0.62), st.floats(-0.15, 0.15))
+@given(
+    st.floats(0.03, 0.05), st.floats(0.06, 0.1), st.floats(-0.45, -0.3), st.floats(0.45, 0.62), st.floats(-0.15, 0.15)
+)
 @example(0.04, 0.08, -0.45, 0.58, 0.0)
 def test_pick_and_place_keeps_every_invariant(width, height, y, x_place, y_place):
     """A Panda takes a box of random size from a table and puts it on a shelf board at a random
@@ -275,16 +340,27 @@ def test_pick_and_place_keeps_every_invariant(width, height, y, x_place, y_place
     grasp = rest + height / 2 - 0.02
     place = 0.4 + 0.034 + height / 2 - rest + grasp  # the tool where the box stands as high above the board
     down = {"orientation": {"rpy": [180, 0, 0]}}
-    model = scene_model({
-        "version": 1, "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
-        "obstacles": [{"box": {"center": [0.62, 0.0, 0.39], "size": [0.3, 0.7, 0.02]}},
-                      {"box": {"center": [0.25, y, 0.1], "size": [0.3, 0.3, 0.2]}, "name": "table"},
-                      {"box": {"center": [0.25, y, rest], "size": [width, width, height]}, "name": "box"}],
-        "floor": 0.0,
-        "goals": [{"position": [0.25, y, grasp + 0.1], **down}, {"position": [0.25, y, grasp], **down, "grasp": "box"},
-                  {"position": [0.25, y, 0.6], **down}, {"position": [x_place, y_place, place + 0.08], **down},
-                  {"position": [x_place, y_place, place], **down, "release": True}, {"position": [x_place, y_place, place + 0.1], **down}],
-        "solver": {"method": "dls", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02}})
+    model = scene_model(
+        {
+            "version": 1,
+            "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
+            "obstacles": [
+                {"box": {"center": [0.62, 0.0, 0.39], "size": [0.3, 0.7, 0.02]}},
+                {"box": {"center": [0.25, y, 0.1], "size": [0.3, 0.3, 0.2]}, "name": "table"},
+                {"box": {"center": [0.25, y, rest], "size": [width, width, height]}, "name": "box"},
+            ],
+            "floor": 0.0,
+            "goals": [
+                {"position": [0.25, y, grasp + 0.1], **down},
+                {"position": [0.25, y, grasp], **down, "grasp": "box"},
+                {"position": [0.25, y, 0.6], **down},
+                {"position": [x_place, y_place, place + 0.08], **down},
+                {"position": [x_place, y_place, place], **down, "release": True},
+                {"position": [x_place, y_place, place + 0.1], **down},
+            ],
+            "solver": {"method": "dls", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02},
+        }
+    )
     assume(not scene_problems(model))
     problem = scene_to_problem(model)
     timed = retime(problem, solve_trajectory(problem), problem.fps)
@@ -294,7 +370,9 @@ def test_pick_and_place_keeps_every_invariant(width, height, y, x_place, y_place
     assert np.nanmin(carried) >= problem.solver.clearance - 1e-9
     if timed.goals[4].reached and timed.goals[1].reached:
         tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
-        expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 2))
+        expected = tool(timed.goals[4].last_frame) @ grasp_offset(
+            tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 2)
+        )
         assert np.abs(carry.final.moved[2].matrix() - expected).max() < 1e-9
 
 
@@ -337,16 +415,22 @@ def test_an_approach_comes_in_along_a_straight_line_and_the_grasp_and_release_st
     timed = retime(problem, solve_trajectory(problem), problem.fps)
     assert all(g.reached for g in timed.goals)
     traj = timed.trajectory
-    assert problem.goals[4].to_approach and problem.goals[5].release  # a release's approach starts with a goal of its own to the line
+    assert (
+        problem.goals[4].to_approach and problem.goals[5].release
+    )  # a release's approach starts with a goal of its own to the line
     for k, (target, distance) in {1: ([0.5, 0.2, 0.332], 0.08), 5: ([0.5, -0.2, 0.335], 0.06)}.items():
         along = (traj.goal == k) & (traj.mode == "path")
         tips = traj.tip[along]
         assert len(tips) > 5
         assert np.abs(tips[:, :2] - target[:2]).max() <= problem.solver.path_tolerance
-        assert tips[0, 2] == pytest.approx(target[2] + distance, abs=0.005) and tips[-1, 2] == pytest.approx(target[2], abs=0.005)
+        assert tips[0, 2] == pytest.approx(target[2] + distance, abs=0.005) and tips[-1, 2] == pytest.approx(
+            target[2], abs=0.005
+        )
         assert np.all(np.diff(tips[:, 2]) <= 1e-9)  # down all the way
     tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
-    expected = tool(timed.goals[5].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
+    expected = tool(timed.goals[5].last_frame) @ grasp_offset(
+        tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1)
+    )
     assert np.abs(timed.carry.final.moved[1].matrix() - expected).max() < 1e-9
 
 
@@ -354,7 +438,7 @@ def test_an_approach_along_the_tool_needs_the_tool_s_orientation():
     from armanim.scene.checks import scene_problems
 
     goal = {"position": [0.5, 0.2, 0.332], "grasp": "part", "approach": {"distance": 0.08}}
-    assert ("goals[0].approach.axis", ) == tuple(f for f, m in scene_problems(_scene([goal])) if "approach" in f)
+    assert ("goals[0].approach.axis",) == tuple(f for f, m in scene_problems(_scene([goal])) if "approach" in f)
 
 
 def test_the_fingers_close_on_the_part_and_open_after_the_release_while_the_arm_stands_still():
@@ -378,8 +462,10 @@ def test_the_fingers_close_on_the_part_and_open_after_the_release_while_the_arm_
     model = pin.buildModelFromUrdf(str(bundled_robot("panda").urdf))
     data = model.createData()
     q = pin.neutral(model)
-    for name, angle in zip(problem.arm.joint_names if hasattr(problem.arm, "joint_names") else [f"panda_joint{i}" for i in range(1, 8)],
-                           traj.phi[timed.goals[1].last_frame]):
+    for name, angle in zip(
+        problem.arm.joint_names if hasattr(problem.arm, "joint_names") else [f"panda_joint{i}" for i in range(1, 8)],
+        traj.phi[timed.goals[1].last_frame],
+    ):
         joint = model.joints[model.getJointId(name)]
         q[joint.idx_q] = angle
     pin.framesForwardKinematics(model, data, q)
@@ -422,7 +508,9 @@ def test_the_fingers_capsules_follow_the_finger_joint_as_pinocchio_places_the_fi
         starts, ends = capsule_ends(moved_fingers(problem.capsules, gripper, value), forward(problem.arm, phi))
         for i in fingers:
             place = data.oMf[model.getFrameId(specs[i].link)]
-            np.testing.assert_allclose(starts[i], place.rotation @ specs[i].start + place.translation, atol=1e-9, rtol=0)
+            np.testing.assert_allclose(
+                starts[i], place.rotation @ specs[i].start + place.translation, atol=1e-9, rtol=0
+            )
             np.testing.assert_allclose(ends[i], place.rotation @ specs[i].end + place.translation, atol=1e-9, rtol=0)
 
 
@@ -433,7 +521,9 @@ def test_the_fingers_open_before_a_grasp_when_the_scene_holds_them_nearly_closed
     from armanim.scene import scene_model, scene_to_problem
 
     scene = _scene([{"position": [0.5, 0.2, 0.4], "orientation": {"rpy": [180, 0, 0]}}, GRASP])
-    scene = scene.model_copy(update={"arm": scene.arm.model_copy(update={"joint_values": {"panda_finger_joint1": 0.01}})})
+    scene = scene.model_copy(
+        update={"arm": scene.arm.model_copy(update={"joint_values": {"panda_finger_joint1": 0.01}})}
+    )
     problem = scene_to_problem(scene)
     assert problem.gripper.rest == 0.01 and [g.hold for g in problem.goals] == pytest.approx([0.2, 0.2])
     opened = after_goal(problem, World(), 0, True, forward(problem.arm, problem.home))
@@ -442,8 +532,14 @@ def test_the_fingers_open_before_a_grasp_when_the_scene_holds_them_nearly_closed
     fingers = frame_fingers(problem, carry, np.repeat([0, 1], 10), 30.0)
     assert fingers[:5].tolist() == [0.01] * 5 and fingers[9] == 0.04 and fingers[10:16].tolist() == [0.04] * 6
     assert fingers[-1] == 0.02 and np.abs(np.diff(fingers)).max() * 30.0 <= 0.2 + 1e-12
-    links = scene_model({"version": 1, "arm": {"links": [1, 1]}, "obstacles": [{"center": [1, 1, 0], "radius": 0.1, "name": "ball"}],
-                         "goals": [{"position": [1.0, 0.9, 0.0], "grasp": "ball"}]})
+    links = scene_model(
+        {
+            "version": 1,
+            "arm": {"links": [1, 1]},
+            "obstacles": [{"center": [1, 1, 0], "radius": 0.1, "name": "ball"}],
+            "goals": [{"position": [1.0, 0.9, 0.0], "grasp": "ball"}],
+        }
+    )
     assert scene_to_problem(links).gripper is None
 
 
@@ -452,13 +548,21 @@ def test_an_object_wider_than_the_gripper_opens_is_refused_at_its_line(tmp_path)
 
     from tests.runfolders import armanim_exe
 
-    text = (DATA / "pick-box.yaml").read_text().replace("size: [0.04, 0.04, 0.12]}, name: part", "size: [0.09, 0.09, 0.12]}, name: part")
+    text = (
+        (DATA / "pick-box.yaml")
+        .read_text()
+        .replace("size: [0.04, 0.04, 0.12]}, name: part", "size: [0.09, 0.09, 0.12]}, name: part")
+    )
     (tmp_path / "wide.yaml").write_text(text)
-    result = subprocess.run([armanim_exe(), "validate", "wide.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    result = subprocess.run(
+        [armanim_exe(), "validate", "wide.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=120
+    )
     line = 1 + text.splitlines().index(next(t for t in text.splitlines() if "grasp: part" in t))
     assert result.returncode == 2
-    assert (f"wide.yaml:{line}: goals[1].grasp: 'part' is 0.09 across at its narrowest, wider than the gripper opens (0.08"
-            in result.stdout + result.stderr), result.stdout + result.stderr
+    assert (
+        f"wide.yaml:{line}: goals[1].grasp: 'part' is 0.09 across at its narrowest, wider than the gripper opens (0.08"
+        in result.stdout + result.stderr
+    ), result.stdout + result.stderr
 
 
 def test_a_retreat_leaves_along_a_straight_line_in_the_world_after_its_goal():
@@ -478,15 +582,22 @@ def test_a_retreat_leaves_along_a_straight_line_in_the_world_after_its_goal():
     assert all(g.reached for g in timed.goals)
     traj = timed.trajectory
     held = timed.carry.held_names(traj.goal)
-    for k, (start, distance, holding) in {2: ([0.5, 0.2, 0.332], 0.07, "part"), 5: ([0.5, -0.2, 0.335], 0.06, "")}.items():
+    for k, (start, distance, holding) in {
+        2: ([0.5, 0.2, 0.332], 0.07, "part"),
+        5: ([0.5, -0.2, 0.335], 0.06, ""),
+    }.items():
         along = (traj.goal == k) & (traj.mode == "path")
         tips = traj.tip[along]
         assert len(tips) > 5 and set(held[traj.goal == k]) == {holding}
         assert np.abs(tips[:, :2] - start[:2]).max() <= problem.solver.path_tolerance
-        assert tips[0, 2] == pytest.approx(start[2], abs=0.005) and tips[-1, 2] == pytest.approx(start[2] + distance, abs=0.005)
+        assert tips[0, 2] == pytest.approx(start[2], abs=0.005) and tips[-1, 2] == pytest.approx(
+            start[2] + distance, abs=0.005
+        )
         assert np.all(np.diff(tips[:, 2]) >= -1e-9)  # up all the way
     tool = lambda f: tool_transform(problem, forward(problem.arm, traj.phi[f]))  # noqa: E731
-    expected = tool(timed.goals[4].last_frame) @ grasp_offset(tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1))
+    expected = tool(timed.goals[4].last_frame) @ grasp_offset(
+        tool(timed.goals[1].last_frame), obstacle_body(problem.obstacles, 1)
+    )
     assert np.abs(timed.carry.final.moved[1].matrix() - expected).max() < 1e-9
     assert_trajectory_invariants(problem, timed)
     from armanim.output.summary import summary_dict
@@ -495,14 +606,40 @@ def test_a_retreat_leaves_along_a_straight_line_in_the_world_after_its_goal():
     assert [g["retreat_of"] for g in summary["goals"]] == [None, None, 1, None, None, 3]  # the scene's goals 1 and 3
 
 
-@pytest.mark.parametrize(("goal", "field", "words"), [
-    ({**GRASP, "retreat": {"distance": 0.05}, "orientation": None}, "goals[0].retreat.axis", "is tool on a goal without orientation"),
-    ({"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05, "axis": [0, 0, 1]}}, "goals[0].retreat", "is on a joint goal"),
-    ({"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05}}, "goals[0].retreat", "is on a joint goal"),
-    ({"joints": [0, 0, 0, -90, 0, 90, 45], "approach": {"distance": 0.05}}, "goals[0].approach", "is on a joint goal"),  # not its axis
-    ({"path": {"line": [[0.5, 0.2, 0.4], [0.5, 0.0, 0.4]]}, "speed": 0.1, "retreat": {"distance": 0.05, "axis": [0, 0, 1]}},
-     "goals[0].retreat", "is on a path goal"),
-])
+@pytest.mark.parametrize(
+    ("goal", "field", "words"),
+    [
+        (
+            {**GRASP, "retreat": {"distance": 0.05}, "orientation": None},
+            "goals[0].retreat.axis",
+            "is tool on a goal without orientation",
+        ),
+        (
+            {"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05, "axis": [0, 0, 1]}},
+            "goals[0].retreat",
+            "is on a joint goal",
+        ),
+        (
+            {"joints": [0, 0, 0, -90, 0, 90, 45], "retreat": {"distance": 0.05}},
+            "goals[0].retreat",
+            "is on a joint goal",
+        ),
+        (
+            {"joints": [0, 0, 0, -90, 0, 90, 45], "approach": {"distance": 0.05}},
+            "goals[0].approach",
+            "is on a joint goal",
+        ),  # not its axis
+        (
+            {
+                "path": {"line": [[0.5, 0.2, 0.4], [0.5, 0.0, 0.4]]},
+                "speed": 0.1,
+                "retreat": {"distance": 0.05, "axis": [0, 0, 1]},
+            },
+            "goals[0].retreat",
+            "is on a path goal",
+        ),
+    ],
+)
 def test_a_retreat_it_cannot_make_is_reported_at_its_field(goal, field, words):
     from armanim.scene.checks import scene_problems
 
@@ -511,12 +648,23 @@ def test_a_retreat_it_cannot_make_is_reported_at_its_field(goal, field, words):
     assert any(f == field and words in m for f, m in problems), problems
 
 
-@pytest.mark.parametrize(("line", "field", "words"), [
-    ({"distance": 5e-324}, "goals[0].{}.distance", "is too small"),  # the campaign's IndexError at run: a line of no pieces
-    ({"distance": 1e300}, "goals[0].{}.distance", "is too large"),  # an OverflowError counting its steps
-    ({"distance": 0.05, "speed": 5e-324}, "goals[0].{}.speed", "is too small"),  # a ZeroDivisionError
-    ({"distance": 0.5, "speed": 1e-9}, "goals[0].{}.speed", "frames, 15,000,000,000 of them along this"),  # validate said ok, run refused
-])
+@pytest.mark.parametrize(
+    ("line", "field", "words"),
+    [
+        (
+            {"distance": 5e-324},
+            "goals[0].{}.distance",
+            "is too small",
+        ),  # the campaign's IndexError at run: a line of no pieces
+        ({"distance": 1e300}, "goals[0].{}.distance", "is too large"),  # an OverflowError counting its steps
+        ({"distance": 0.05, "speed": 5e-324}, "goals[0].{}.speed", "is too small"),  # a ZeroDivisionError
+        (
+            {"distance": 0.5, "speed": 1e-9},
+            "goals[0].{}.speed",
+            "frames, 15,000,000,000 of them along this",
+        ),  # validate said ok, run refused
+    ],
+)
 @pytest.mark.parametrize("name", ["approach", "retreat"])
 def test_an_approach_or_retreat_beyond_its_bounds_is_reported_at_its_field(name, line, field, words):
     """The sixth campaign's tracebacks and its run-only refusal: an approach's or a retreat's distance
@@ -544,7 +692,9 @@ def test_the_fingers_stay_where_opening_them_would_bring_one_under_its_clearance
     from armanim.scene import scene_model, scene_to_problem
 
     def problem_with(extra: list) -> object:
-        scene = _scene([{"position": [0.5, 0.2, 0.4], "orientation": {"rpy": [180, 0, 0]}}, GRASP]).model_dump(by_alias=True, exclude_none=True)
+        scene = _scene([{"position": [0.5, 0.2, 0.4], "orientation": {"rpy": [180, 0, 0]}}, GRASP]).model_dump(
+            by_alias=True, exclude_none=True
+        )
         scene["arm"] = {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.0}}
         scene["obstacles"] += extra
         return scene_to_problem(scene_model(scene))
@@ -572,7 +722,10 @@ def test_a_part_wider_across_the_fingers_than_they_open_is_refused_at_that_orien
     found = [m for f, m in problems if f == "goals[0].grasp"]
     assert bool(found) == refused, problems
     if refused:
-        assert "'part' is 0.1 across the fingers at this goal's orientation, wider than the gripper opens (0.08" in found[0]
+        assert (
+            "'part' is 0.1 across the fingers at this goal's orientation, wider than the gripper opens (0.08"
+            in found[0]
+        )
 
 
 def test_validation_s_finger_axis_is_the_run_s_finger_direction():
@@ -586,4 +739,6 @@ def test_validation_s_finger_axis_is_the_run_s_finger_direction():
     problem = scene_to_problem(_scene([GRASP]))
     for phi in np.random.default_rng(7).uniform(-1.5, 1.5, (5, 7)):
         pose = forward(problem.arm, phi)
-        np.testing.assert_allclose(finger_axis(problem, tool_rotation(problem.arm, pose)), finger_direction(problem, pose), atol=1e-12)
+        np.testing.assert_allclose(
+            finger_axis(problem, tool_rotation(problem.arm, pose)), finger_direction(problem, pose), atol=1e-12
+        )

@@ -53,7 +53,14 @@ def coal_distance(shape, tf, center, rotation, half, radius):
     for tolerance in (1e-12, 1e-11):
         request, result = coal.DistanceRequest(), coal.DistanceResult()
         request.gjk_tolerance = tolerance
-        distance = coal.distance(coal.Cylinder(float(radius), float(2 * half)), coal.Transform3s(rotation, center), shape, tf, request, result)
+        distance = coal.distance(
+            coal.Cylinder(float(radius), float(2 * half)),
+            coal.Transform3s(rotation, center),
+            shape,
+            tf,
+            request,
+            result,
+        )
         if abs(distance) < 1e10:
             return distance, result
     raise AssertionError("coal did not converge")
@@ -100,7 +107,9 @@ def test_segments_apart_match_coal_to_1e_9():
         assert abs((d[k] - 0.01) - expected) < 1e-9, k
         # the least point: a sphere there is exactly that far from the cylinder (coal's closed form)
         point = a[k] + t[k] * (b[k] - a[k])
-        at, _ = coal_distance(coal.Sphere(0.01), coal.Transform3s(np.eye(3), point), center[k], rotation[k], half[k], radius[k])
+        at, _ = coal_distance(
+            coal.Sphere(0.01), coal.Transform3s(np.eye(3), point), center[k], rotation[k], half[k], radius[k]
+        )
         assert abs((d[k] - 0.01) - at) < 1e-12, k
         np.testing.assert_allclose(point - d[k] * n[k], result.getNearestPoint1(), atol=1e-5)
         compared += 1
@@ -116,17 +125,27 @@ def test_points_apart_match_coal_and_inside_the_closed_form():
     rho = np.hypot(local[:, 0], local[:, 1])
     inside = (rho <= radius) & (np.abs(local[:, 2]) <= half)
     assert 50 < inside.sum() < 350
-    np.testing.assert_allclose(d[inside], -np.minimum(radius - rho, half - np.abs(local[:, 2]))[inside], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(
+        d[inside], -np.minimum(radius - rho, half - np.abs(local[:, 2]))[inside], rtol=0, atol=1e-15
+    )
     for k in np.flatnonzero(~inside):
-        expected, _ = coal_distance(coal.Sphere(1e-3), coal.Transform3s(np.eye(3), points[k]), center[k], rotation[k], half[k], radius[k])
+        expected, _ = coal_distance(
+            coal.Sphere(1e-3), coal.Transform3s(np.eye(3), points[k]), center[k], rotation[k], half[k], radius[k]
+        )
         assert abs(d[k] - (expected + 1e-3)) < 1e-12
     assert np.all(t == 1.0)  # a point: the far end of its segment of no length
 
 
 def one(a, b, half=1.0, radius=1.0, center=(0.0, 0, 0), rpy=(0.0, 0, 0)):
     """(t, d, normal) of one segment against one cylinder, compiled; the numpy reference must agree."""
-    args = (np.array([a], float), np.array([b], float), np.array([center], float), rpy_rotation(np.radians(rpy))[None],
-            np.array([half]), np.array([radius]))
+    args = (
+        np.array([a], float),
+        np.array([b], float),
+        np.array([center], float),
+        rpy_rotation(np.radians(rpy))[None],
+        np.array([half]),
+        np.array([radius]),
+    )
     t, d, n = compiled_pairs(*args)
     tr, dr, nr = segment_cylinder(*args)
     assert abs(dr[0] - d[0]) < 1e-15 and abs(tr[0] - t[0]) < 1e-12 and np.abs(nr[0] - n[0]).max() < 1e-12
@@ -143,7 +162,9 @@ def test_special_cases_have_their_closed_forms():
     np.testing.assert_allclose(n, [0, 1 / np.sqrt(5), 2 / np.sqrt(5)], atol=1e-15)
     # perpendicular to the axis, over the cap: the height above it, the far end of the tie
     t, d, n = one([-3.0, 0.2, 1.5], [3.0, 0.2, 1.5], half=1.0, radius=1.0)
-    assert d == pytest.approx(0.5, abs=1e-15) and t == pytest.approx((3 + np.sqrt(0.96)) / 6, abs=1e-12)  # where it leaves the cap
+    assert d == pytest.approx(0.5, abs=1e-15) and t == pytest.approx(
+        (3 + np.sqrt(0.96)) / 6, abs=1e-12
+    )  # where it leaves the cap
     np.testing.assert_allclose(n, [0, 0, 1], atol=1e-15)
     # perpendicular to the axis, beside the side: the closest approach to the axis
     t, d, n = one([2.0, -3, 0.3], [2.0, 3, 0.3], half=1.0, radius=0.5, rpy=(0, 0, 0))
@@ -189,8 +210,12 @@ def test_skew_segments_against_sampling_and_a_golden_section_search():
     t, d, _ = compiled_pairs(*cases)
     s = np.linspace(0.0, 1.0, 20001)
     for k in range(200):
+
         def f(x, k=k):
-            return cylinder_signed_distance((a[k] - center[k] + np.asarray(x)[..., None] * (b[k] - a[k])) @ rotation[k], half[k], radius[k])
+            return cylinder_signed_distance(
+                (a[k] - center[k] + np.asarray(x)[..., None] * (b[k] - a[k])) @ rotation[k], half[k], radius[k]
+            )
+
         assert d[k] <= f(s).min() + 1e-15
         assert abs(float(f(t[k])) - d[k]) < 1e-15
         assert abs(golden_minimum(lambda x: float(f(x))) - d[k]) < 1e-9
@@ -203,9 +228,16 @@ def test_normal_is_the_gradient_of_the_distance():
     checked = 0
     for k in np.flatnonzero(np.abs(d) > 1e-2)[:150]:
         q = a[k] + t[k] * (b[k] - a[k])
-        grad = np.array([(cylinder_signed_distance(((q + h * e) - center[k]) @ rotation[k], half[k], radius[k])
-                          - cylinder_signed_distance(((q - h * e) - center[k]) @ rotation[k], half[k], radius[k])) / (2 * h)
-                         for e in np.eye(3)])
+        grad = np.array(
+            [
+                (
+                    cylinder_signed_distance(((q + h * e) - center[k]) @ rotation[k], half[k], radius[k])
+                    - cylinder_signed_distance(((q - h * e) - center[k]) @ rotation[k], half[k], radius[k])
+                )
+                / (2 * h)
+                for e in np.eye(3)
+            ]
+        )
         if d[k] < 0 and abs(np.linalg.norm(grad) - 1) > 1e-6:
             continue  # inside, on a ridge where two surfaces are as near: no gradient
         np.testing.assert_allclose(n[k], grad, atol=1e-6)
@@ -215,13 +247,25 @@ def test_normal_is_the_gradient_of_the_distance():
 
 def shelf_obstacles(floor: float | None = None) -> Obstacles:
     """A sphere, a can, a box, a lying can (in that scene order) and maybe a floor."""
-    cylinders = Cylinders(np.array([[1.5, 0.5, 1.0], [0.5, -1.5, 2.0]]),
-                          np.array([np.eye(3), rpy_rotation(np.radians([90.0, 0, 30]))]), np.array([0.4, 0.8]), np.array([0.3, 0.2]))
+    cylinders = Cylinders(
+        np.array([[1.5, 0.5, 1.0], [0.5, -1.5, 2.0]]),
+        np.array([np.eye(3), rpy_rotation(np.radians([90.0, 0, 30]))]),
+        np.array([0.4, 0.8]),
+        np.array([0.3, 0.2]),
+    )
     boxes = Boxes(np.array([[-1.0, 1.0, 0.5]]), np.array([[0.3, 0.2, 0.4]]), rpy_rotation(np.radians([0, 0, 20]))[None])
     kinds = [SPHERE, CYLINDER, BOX, CYLINDER] + ([FLOOR] if floor is not None else [])
     influence = np.array([0.5, 0.3, 0.2, 0.25] + ([0.0] if floor is not None else []))
-    return Obstacles(np.array([[9.0, 9, 9]]), np.array([1.0]), influence, boxes, floor=floor, kinds=np.array(kinds),
-                     cylinders=cylinders, names=("ball", "can1", None, "bar") + ((None,) if floor is not None else ()))
+    return Obstacles(
+        np.array([[9.0, 9, 9]]),
+        np.array([1.0]),
+        influence,
+        boxes,
+        floor=floor,
+        kinds=np.array(kinds),
+        cylinders=cylinders,
+        names=("ball", "can1", None, "bar") + ((None,) if floor is not None else ()),
+    )
 
 
 def test_cylinder_columns_follow_the_scene_and_the_least_clearance_is_theirs():
@@ -235,11 +279,24 @@ def test_cylinder_columns_follow_the_scene_and_the_least_clearance_is_theirs():
     a, b = pose.points[..., :-1, :], pose.points[..., 1:, :]
     for j, column in enumerate(obstacles.columns(CYLINDER)):
         cyl = obstacles.cylinders
-        one_column = np.stack([segment_cylinder(a[:, i], b[:, i], np.repeat(cyl.centers[j:j + 1], 50, 0), np.repeat(cyl.rotations[j:j + 1], 50, 0),
-                                                np.repeat(cyl.half_length[j:j + 1], 50), np.repeat(cyl.radius[j:j + 1], 50))[1]
-                               for i in range(3)], axis=1)
+        one_column = np.stack(
+            [
+                segment_cylinder(
+                    a[:, i],
+                    b[:, i],
+                    np.repeat(cyl.centers[j : j + 1], 50, 0),
+                    np.repeat(cyl.rotations[j : j + 1], 50, 0),
+                    np.repeat(cyl.half_length[j : j + 1], 50),
+                    np.repeat(cyl.radius[j : j + 1], 50),
+                )[1]
+                for i in range(3)
+            ],
+            axis=1,
+        )
         np.testing.assert_allclose(cl.links[..., column], one_column - 0.1, atol=1e-12)
-    np.testing.assert_allclose(min_link_clearance(pose, obstacles, caps), cl.links.min(axis=(-1, -2)), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(
+        min_link_clearance(pose, obstacles, caps), cl.links.min(axis=(-1, -2)), rtol=0, atol=1e-14
+    )
     tips = pose.tip
     np.testing.assert_allclose(point_clearances(tips, obstacles), cl.d[:, -1, :], atol=1e-12)
 
@@ -260,8 +317,16 @@ def test_cylinder_jacobian_rows_match_finite_differences():
             jac = capsule_point_jacobian(arm, caps, forward(arm, phi), np.array([part]), cl.t[part, column][None])[0]
             row = cl.normal[part, column] @ jac
             h = 1e-7
-            numeric = np.array([(clearances(forward(arm, phi + h * e), obstacles, caps).links[part, column]
-                                 - clearances(forward(arm, phi - h * e), obstacles, caps).links[part, column]) / (2 * h) for e in np.eye(3)])
+            numeric = np.array(
+                [
+                    (
+                        clearances(forward(arm, phi + h * e), obstacles, caps).links[part, column]
+                        - clearances(forward(arm, phi - h * e), obstacles, caps).links[part, column]
+                    )
+                    / (2 * h)
+                    for e in np.eye(3)
+                ]
+            )
             np.testing.assert_allclose(row, numeric, atol=1e-5)
             checked += 1
     assert checked > 30
@@ -274,13 +339,22 @@ def test_the_compiled_frame_measures_cylinders_as_the_numpy_path(robot):
     from armanim.motion.kernels.layout import world_arrays
     from armanim.scene import scene_model, scene_to_problem
 
-    problem = scene_to_problem(scene_model({
-        "version": 1, "arm": {"robot": robot},
-        "obstacles": [{"cylinder": {"center": [0.5, 0.2, 0.3], "length": 0.2, "radius": 0.04}, "name": "can1"},
-                      {"center": [0.2, -0.45, 0.5], "radius": 0.06},
-                      {"box": {"center": [0.5, 0.0, 0.05], "size": [0.3, 0.6, 0.1]}},
-                      {"cylinder": {"center": [0.3, -0.3, 0.6], "length": 0.4, "radius": 0.03, "rpy": [90, 0, 30]}}],
-        "floor": -0.01, "goals": [[0.4, 0.0, 0.5]]}))
+    problem = scene_to_problem(
+        scene_model(
+            {
+                "version": 1,
+                "arm": {"robot": robot},
+                "obstacles": [
+                    {"cylinder": {"center": [0.5, 0.2, 0.3], "length": 0.2, "radius": 0.04}, "name": "can1"},
+                    {"center": [0.2, -0.45, 0.5], "radius": 0.06},
+                    {"box": {"center": [0.5, 0.0, 0.05], "size": [0.3, 0.6, 0.1]}},
+                    {"cylinder": {"center": [0.3, -0.3, 0.6], "length": 0.4, "radius": 0.03, "rpy": [90, 0, 30]}},
+                ],
+                "floor": -0.01,
+                "goals": [[0.4, 0.0, 0.5]],
+            }
+        )
+    )
     assert problem.obstacles.kinds.tolist() == [CYLINDER, SPHERE, BOX, CYLINDER, FLOOR]
     rng = np.random.default_rng(11)
     caps = problem.capsules
@@ -308,8 +382,12 @@ def test_cylinder_bounds_hold_the_exact_clearance_between_them(seed):
     arm = Arm.from_names(list(rng.uniform(1, 4, rng.integers(3, 7))), base=(0, 0, 0))
     caps = joint_capsules(arm, rng.uniform(0.05, 0.5))
     k = 6
-    cylinders = Cylinders(rng.uniform(-6, 6, (k, 3)), np.array([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(k)]),
-                          rng.uniform(0.2, 2.0, k), rng.uniform(0.2, 2.0, k))
+    cylinders = Cylinders(
+        rng.uniform(-6, 6, (k, 3)),
+        np.array([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(k)]),
+        rng.uniform(0.2, 2.0, k),
+        rng.uniform(0.2, 2.0, k),
+    )
     obstacles = Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(k), cylinders=cylinders)
     pose = forward(arm, rng.uniform(-np.pi, np.pi, (300, arm.n)))
     a, b = capsule_ends(caps, pose)
@@ -330,25 +408,41 @@ def _kernel_clearances(problem, pose, world) -> tuple[np.ndarray, np.ndarray, np
     a, b = capsule_ends(problem.capsules, pose)
     m = len(problem.obstacles)
     d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
-    obstacle_clearances(pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), problem.capsules.part_radius, world, d, t, n)
+    obstacle_clearances(
+        pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), problem.capsules.part_radius, world, d, t, n
+    )
     return d, t, n
 
 
-@pytest.mark.parametrize("obstacles, absent", [
-    ([{"center": [0.2, -0.45, 0.5], "radius": 0.06}], {"solids", "cylinders"}),
-    ([{"cylinder": {"center": [0.5, 0.2, 0.3], "length": 0.2, "radius": 0.04}}], {"solids"}),
-])
+@pytest.mark.parametrize(
+    "obstacles, absent",
+    [
+        ([{"center": [0.2, -0.45, 0.5], "radius": 0.06}], {"solids", "cylinders"}),
+        ([{"cylinder": {"center": [0.5, 0.2, 0.3], "length": 0.2, "radius": 0.04}}], {"solids"}),
+    ],
+)
 def test_a_world_without_a_kind_passes_none_for_it_and_measures_as_the_numpy_path(obstacles, absent):
     """A kind of obstacle the scene has none of is None in the kernels' world (its closed form is not
     compiled for that scene), and the clearances are the numpy path's all the same."""
     from armanim.motion.kernels.layout import world_arrays
     from armanim.scene import scene_model, scene_to_problem
 
-    problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": "panda"}, "obstacles": obstacles, "floor": -0.01,
-                                            "goals": [[0.4, 0.0, 0.5]]}))
+    problem = scene_to_problem(
+        scene_model(
+            {
+                "version": 1,
+                "arm": {"robot": "panda"},
+                "obstacles": obstacles,
+                "floor": -0.01,
+                "goals": [[0.4, 0.0, 0.5]],
+            }
+        )
+    )
     world = world_arrays(problem)
     assert {"solids": all(v is None for v in world[2:6]), "cylinders": all(v is None for v in world[9:13])} == {
-        "solids": "solids" in absent, "cylinders": "cylinders" in absent}
+        "solids": "solids" in absent,
+        "cylinders": "cylinders" in absent,
+    }
     rng = np.random.default_rng(5)
     caps = problem.capsules
     for _ in range(5):

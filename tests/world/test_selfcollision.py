@@ -68,7 +68,9 @@ def test_pair_gaps_match_coal():
         z = axis / length
         x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
         x /= np.linalg.norm(x)
-        return coal.Capsule(caps.radius[k], length), coal.Transform3s(np.stack([x, np.cross(z, x), z], axis=1), (a[k] + b[k]) / 2)
+        return coal.Capsule(caps.radius[k], length), coal.Transform3s(
+            np.stack([x, np.cross(z, x), z], axis=1), (a[k] + b[k]) / 2
+        )
 
     compared = 0
     for k, (i, j) in enumerate(zip(pairs.first, pairs.second)):
@@ -113,7 +115,9 @@ def test_pair_rows_match_finite_differences():
             up, down = phi.copy(), phi.copy()
             up[j] += h
             down[j] -= h
-            numeric[:, j] = (self_gaps(forward(arm, up), caps, pairs).d - self_gaps(forward(arm, down), caps, pairs).d) / (2 * h)
+            numeric[:, j] = (
+                self_gaps(forward(arm, up), caps, pairs).d - self_gaps(forward(arm, down), caps, pairs).d
+            ) / (2 * h)
         apart = gaps.d > 1e-3  # touching segments have no derivative
         assert np.allclose(rows[apart], numeric[apart], atol=1e-5)
         checked += int(apart.sum())
@@ -129,7 +133,9 @@ def test_matrix_rules_on_a_hand_made_chain():
     caps = joint_capsules(arm, 0.05)
     lower, upper = np.radians([-170.0, -170, -170, -170, -5]), np.radians([170.0, 170, 170, 170, 5])
     home = np.radians([0.0, 0, 0, 0, 0])
-    folded = np.radians([0.0, 0, 175, 0, 0])  # link 3 back over link 2, link 4 over link 1: a default pose where they touch
+    folded = np.radians(
+        [0.0, 0, 175, 0, 0]
+    )  # link 3 back over link 2, link 4 over link 1: a default pose where they touch
     allowed = selfcollision.automatic_matrix(arm, caps, lower, upper, [home, folded], 0.01, samples=2000)
     adjacent = {("link1", "link2"), ("link2", "link3"), ("link3", "link4"), ("link4", "link5")}
     assert {p for p, r in allowed.items() if r == "Adjacent"} == adjacent
@@ -139,11 +145,21 @@ def test_matrix_rules_on_a_hand_made_chain():
         if (a, b) in adjacent:
             continue
         i, j = int(a[4:]) - 1, int(b[4:]) - 1  # the brute-force oracle on the joint points
+
         def gap(phi, i=i, j=j):
             points = forward(arm, phi).points
             return brute_segment_distance(points[i], points[i + 1], points[j], points[j + 1], 401) - 0.1
-        expected = "Default" if min(gap(home), gap(folded)) < 0.01 else "Never" if min(gap(p) for p in poses[:300]) >= 0.01 else None
-        if expected != "Never":  # 300 brute-force poses may miss a near pose that 2000 find: "Never" is checked one way only
+
+        expected = (
+            "Default"
+            if min(gap(home), gap(folded)) < 0.01
+            else "Never"
+            if min(gap(p) for p in poses[:300]) >= 0.01
+            else None
+        )
+        if (
+            expected != "Never"
+        ):  # 300 brute-force poses may miss a near pose that 2000 find: "Never" is checked one way only
             assert allowed.get((a, b)) == expected, (a, b)
         kinds.add(allowed.get((a, b)))
     assert {"Default", "Never", None} <= kinds  # every rule fired, and some pairs stay checked
@@ -158,7 +174,9 @@ def test_allow_and_check_lists_change_the_enabled_pairs():
     allowed = {("link1", "link2"): "Adjacent", ("link1", "link3"): "Never"}
     base = selfcollision.enabled_pairs(caps, allowed, 0.01, "auto")
     assert ("link1", "link3") not in base.names and ("link1", "link2") not in base.names
-    more = selfcollision.enabled_pairs(caps, {**allowed, ("link2", "link5"): "User"}, 0.01, "auto", check=[("link3", "link1")])
+    more = selfcollision.enabled_pairs(
+        caps, {**allowed, ("link2", "link5"): "User"}, 0.01, "auto", check=[("link3", "link1")]
+    )
     assert ("link1", "link3") in more.names and ("link2", "link5") not in more.names
     assert ("link2", "link5", "User") in more.allowed and all(p[:2] != ("link1", "link3") for p in more.allowed)
 
@@ -180,7 +198,10 @@ def random_segments(rng, count: int) -> tuple[np.ndarray, np.ndarray]:
     b = a + rng.normal(size=(count, 3)) * rng.uniform(0.0, 1.5, (count, 1))
     a[1], b[1] = a[0] + 0.3, b[0] + 0.3  # parallel to segment 0
     a[2], b[2] = a[0] + 0.5 * (b[0] - a[0]), b[0] + 2.0 * (b[0] - a[0])  # collinear, overlapping 0
-    a[3], b[3] = a[0] + 0.5 * (b[0] - a[0]) - 0.5 * (b[4] - a[4]), a[0] + 0.5 * (b[0] - a[0]) + 0.5 * (b[4] - a[4])  # crosses 0
+    a[3], b[3] = (
+        a[0] + 0.5 * (b[0] - a[0]) - 0.5 * (b[4] - a[4]),
+        a[0] + 0.5 * (b[0] - a[0]) + 0.5 * (b[4] - a[4]),
+    )  # crosses 0
     a[5], b[5] = b[0], b[0] + rng.normal(size=3)  # touches 0 at its end
     b[6] = a[6]  # a point
     return a, b
@@ -232,7 +253,9 @@ def test_pair_jacobians_and_the_rows_test_agree_with_the_numpy_point_jacobians()
         pose = kernel.forward(arm, rng.uniform(problem.limits.lower, problem.limits.upper))
         gaps = self_gaps(pose, caps, pairs)
         which = np.arange(len(pairs))
-        expected = (capsule_point_jacobian(arm, caps, pose, pairs.first, gaps.t) - capsule_point_jacobian(arm, caps, pose, pairs.second, gaps.s))
+        expected = capsule_point_jacobian(arm, caps, pose, pairs.first, gaps.t) - capsule_point_jacobian(
+            arm, caps, pose, pairs.second, gaps.s
+        )
         jac = self_jacobians(arm, caps, pose, pairs, gaps, which)
         assert np.array_equal(jac, expected)
         rows = self_rows(arm, caps, pose, pairs, gaps, which)
@@ -240,7 +263,9 @@ def test_pair_jacobians_and_the_rows_test_agree_with_the_numpy_point_jacobians()
         step = rng.normal(0, 0.05, arm.n)
         target, gamma = rng.uniform(-0.2, 0.1), rng.uniform(0.1, 1.0)
         rooms = gamma * (gaps.d - target)
-        met = self_rows_met(arm, caps, pose, pairs, gaps, target, gamma, problem.pair_lever_rows, step, 1.0 + 1e-9, 1e-12, 1e-12)
+        met = self_rows_met(
+            arm, caps, pose, pairs, gaps, target, gamma, problem.pair_lever_rows, step, 1.0 + 1e-9, 1e-12, 1e-12
+        )
         assert met == bool(np.all(rows @ step >= -rooms - 1e-12))  # the bound only ever spares rows that hold
         decided.add(met)
     assert decided == {True, False}
@@ -262,7 +287,9 @@ def test_one_pose_capsule_ends_equal_a_batchs_bit_for_bit():
         caps = problem.capsules
         for k, phi in enumerate(phis):
             one = forward(problem.arm, phi)
-            compiled = kernel.capsule_ends_one(caps.link, caps.start, caps.end, caps.joint_segment, one.points, one.frames)
+            compiled = kernel.capsule_ends_one(
+                caps.link, caps.start, caps.end, caps.joint_segment, one.points, one.frames
+            )
             assert all(np.array_equal(x, y[k]) for x, y in zip(compiled, (a, b)))
             assert all(np.array_equal(x, y[k]) for x, y in zip(capsule_ends(caps, one), (a, b)))
 
@@ -302,7 +329,10 @@ def test_pair_rates_by_the_links_twists_are_the_rows_times_the_step():
             scale = np.abs(rows) @ np.abs(x)
             assert np.all(np.abs(got - rows @ x) <= 1e-14 * (1.0 + scale) * (1.0 + np.abs(pose.points).max()))
             h = 1e-6
-            numeric = (self_gaps(forward(arm, phi + h * x), caps, pairs).d - self_gaps(forward(arm, phi - h * x), caps, pairs).d) / (2 * h)
+            numeric = (
+                self_gaps(forward(arm, phi + h * x), caps, pairs).d
+                - self_gaps(forward(arm, phi - h * x), caps, pairs).d
+            ) / (2 * h)
             apart = gaps.d > 1e-3  # touching segments have no derivative
             assert np.allclose(got[apart], numeric[apart], rtol=0, atol=1e-6)
             checked += int(apart.sum())

@@ -116,7 +116,9 @@ def test_parallel_and_point_segments():
     assert float(t) == pytest.approx(0.25, abs=1e-15) and float(dist) == pytest.approx(2.0, abs=1e-15)
     np.testing.assert_allclose(normal, [0.0, -1.0, 0.0], atol=1e-15)
     # segments that cross: distance 0, and a unit normal (no division by zero)
-    t, dist, normal = segment_to_axis(np.array([-1.0, 0, 0]), np.array([1.0, 0, 0]), np.array([0.0, -1, 0]), np.array([0.0, 1, 0]))
+    t, dist, normal = segment_to_axis(
+        np.array([-1.0, 0, 0]), np.array([1.0, 0, 0]), np.array([0.0, -1, 0]), np.array([0.0, 1, 0])
+    )
     assert float(dist) == 0.0 and float(t) == pytest.approx(0.5) and float(np.linalg.norm(normal)) == pytest.approx(1.0)
 
 
@@ -188,17 +190,29 @@ def test_box_normal_is_the_gradient_of_the_distance():
         p = center + rng.normal(size=3) * 1.5
         t, dist, normal = segment_box(p, p, center, half, rotation)
         h = 1e-6
-        grad = [(segment_box(p + h * e, p + h * e, center, half, rotation)[1] - segment_box(p - h * e, p - h * e, center, half, rotation)[1]) / (2 * h) for e in np.eye(3)]
+        grad = [
+            (
+                segment_box(p + h * e, p + h * e, center, half, rotation)[1]
+                - segment_box(p - h * e, p - h * e, center, half, rotation)[1]
+            )
+            / (2 * h)
+            for e in np.eye(3)
+        ]
         if abs(dist) > 1e-3:
             np.testing.assert_allclose(grad, normal, atol=1e-5)
 
 
 def mixed_obstacles(floor=0.0) -> Obstacles:
-    boxes = Boxes(np.array([[8.0, 5, 3], [3.0, 2, 6]]), np.array([[1.0, 2, 0.5], [0.5, 0.5, 0.5]]),
-                  np.stack([rpy_rotation([0.2, 0.1, 0.5]), np.eye(3)]))
+    boxes = Boxes(
+        np.array([[8.0, 5, 3], [3.0, 2, 6]]),
+        np.array([[1.0, 2, 0.5], [0.5, 0.5, 0.5]]),
+        np.stack([rpy_rotation([0.2, 0.1, 0.5]), np.eye(3)]),
+    )
     rods = Rods(np.array([[2.0, 8, 0]]), np.array([[2.0, 8, 6]]), np.array([0.3]))
     kinds = np.array([BOX, SPHERE, ROD, BOX, FLOOR])
-    return Obstacles(np.array([[9.0, 9, 9]]), np.array([1.0]), np.array([0.5, 1, 0.3, 0.25, 0.0]), boxes, rods, floor, kinds)
+    return Obstacles(
+        np.array([[9.0, 9, 9]]), np.array([1.0]), np.array([0.5, 1, 0.3, 0.25, 0.0]), boxes, rods, floor, kinds
+    )
 
 
 def test_clearances_columns_follow_the_scene_and_batch():
@@ -228,7 +242,12 @@ def test_spheres_only_clearances_are_the_old_ones():
     pose = forward(arm, np.array([0.3, 0.4, -0.5, 0.6]))
     cl = clearances(pose, obstacles, caps)
     tip = pose.points[-1:]
-    ref = sphere_clearances(np.concatenate([pose.points[:-1], tip]), np.concatenate([pose.points[1:], tip]), np.append(caps.radius, 0.0), obstacles)
+    ref = sphere_clearances(
+        np.concatenate([pose.points[:-1], tip]),
+        np.concatenate([pose.points[1:], tip]),
+        np.append(caps.radius, 0.0),
+        obstacles,
+    )
     np.testing.assert_array_equal(cl.d, ref.d)
 
 
@@ -249,8 +268,14 @@ def test_jacobian_rows_match_finite_differences(column):
                 continue
             row = cl.normal[part, column] @ capsule_point_jacobian(arm, caps, pose, part, cl.t[part, column])
             h = 1e-6
-            numeric = [(clearances(forward(arm, phi + h * e), obstacles, caps).d[part, column]
-                        - clearances(forward(arm, phi - h * e), obstacles, caps).d[part, column]) / (2 * h) for e in np.eye(4)]
+            numeric = [
+                (
+                    clearances(forward(arm, phi + h * e), obstacles, caps).d[part, column]
+                    - clearances(forward(arm, phi - h * e), obstacles, caps).d[part, column]
+                )
+                / (2 * h)
+                for e in np.eye(4)
+            ]
             np.testing.assert_allclose(row, numeric, atol=2e-5)
             checked += 1
     assert checked >= 5
@@ -286,8 +311,12 @@ def test_the_least_clearance_of_a_batch_is_the_same_bytes_taken_in_chunks(monkey
     arm = Arm.from_names([2, 5, 5, 5], base=(5, 5, 0))
     caps = joint_capsules(arm, 0.25)
     rng = np.random.default_rng(12)
-    cylinders = Cylinders(rng.uniform(0, 12, (3, 3)), np.array([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(3)]),
-                          rng.uniform(0.5, 2.0, 3), rng.uniform(0.2, 1.0, 3))
+    cylinders = Cylinders(
+        rng.uniform(0, 12, (3, 3)),
+        np.array([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(3)]),
+        rng.uniform(0.5, 2.0, 3),
+        rng.uniform(0.2, 1.0, 3),
+    )
     obstacles = replace(mixed_obstacles(floor=-1.0), cylinders=cylinders)
     pose = forward(arm, rng.uniform(-np.pi, np.pi, (3 * distances.CLEARANCE_CHUNK + 7, 4)))
     chunked = distances.min_link_clearance(pose, obstacles, caps)
@@ -320,13 +349,21 @@ def test_boxes_are_measured_where_numba_finds_no_folder_to_cache_in():
 def random_shapes(rng, boxes=3, rods=2, floor=True) -> Obstacles:
     """Boxes, capsules, a sphere and a floor about the notes' arm (base (5, 5, 0), 17 long)."""
     centers = rng.uniform([-2, -2, 0], [12, 12, 14], (boxes, 3))
-    box = Boxes(centers, rng.uniform(0.05, 2.5, (boxes, 3)), np.stack([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(boxes)]))
+    box = Boxes(
+        centers,
+        rng.uniform(0.05, 2.5, (boxes, 3)),
+        np.stack([rpy_rotation(rng.uniform(-np.pi, np.pi, 3)) for _ in range(boxes)]),
+    )
     start = rng.uniform([-2, -2, 0], [12, 12, 14], (rods, 3))
-    rod = Rods(start, start + rng.normal(size=(rods, 3)) * rng.choice([0.0, 3.0], (rods, 1)), rng.uniform(0.05, 1.0, rods))
+    rod = Rods(
+        start, start + rng.normal(size=(rods, 3)) * rng.choice([0.0, 3.0], (rods, 1)), rng.uniform(0.05, 1.0, rods)
+    )
     kinds = rng.permutation(np.repeat([BOX, ROD, SPHERE], [boxes, rods, 1]))
     kinds = np.append(kinds, FLOOR) if floor else kinds
     influence = np.where(kinds == FLOOR, 0.0, rng.uniform(0.1, 4.0, len(kinds)))
-    return Obstacles(rng.uniform(0, 10, (1, 3)), rng.uniform(0, 1, 1), influence, box, rod, -1.0 if floor else None, kinds)
+    return Obstacles(
+        rng.uniform(0, 10, (1, 3)), rng.uniform(0, 1, 1), influence, box, rod, -1.0 if floor else None, kinds
+    )
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -373,12 +410,16 @@ def test_solid_bounds_hold_the_exact_clearance_between_them(seed):
     a, b = capsule_ends(caps, forward(arm, rng.uniform(-np.pi, np.pi, (300, arm.n))))
     low, high = solid_bounds(a, b, caps.radius, obstacles)
     tip = np.zeros(a.shape[:-2] + (1, 3))  # solid_clearances takes the parts with the tip last
-    exact = solid_clearances(np.concatenate([a, tip], -2), np.concatenate([b, tip], -2), np.append(caps.radius, 0.0), obstacles)[0][..., :-1, :]
+    exact = solid_clearances(
+        np.concatenate([a, tip], -2), np.concatenate([b, tip], -2), np.append(caps.radius, 0.0), obstacles
+    )[0][..., :-1, :]
     assert np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
     assert np.mean(high - low) > 0  # the bounds are not all tight
     # a link through a box: its clearance is negative, and still between the bounds
     middle = 0.5 * (a[0, 1] + b[0, 1])
-    crossed = Obstacles(np.zeros((0, 3)), np.zeros(0), np.ones(1), Boxes(middle[None], np.full((1, 3), 0.2), np.eye(3)[None]))
+    crossed = Obstacles(
+        np.zeros((0, 3)), np.zeros(0), np.ones(1), Boxes(middle[None], np.full((1, 3), 0.2), np.eye(3)[None])
+    )
     low, high = solid_bounds(a[0], b[0], caps.radius, crossed)
     exact = solid_clearances(a[0], b[0], caps.radius, crossed)[0]
     assert exact[1, 0] < 0 and np.all(low <= exact + 1e-12) and np.all(exact <= high + 1e-12)
@@ -399,8 +440,13 @@ def test_clearances_match_coal():
             if kind not in (BOX, ROD):
                 continue
             k = int(np.nonzero(obstacles.columns(kind) == column)[0][0])
-            shape = (coal.Box(*(2 * boxes.half[k])), coal.Transform3s(boxes.rotations[k], boxes.centers[k])) if kind == BOX else \
-                coal_capsule(rods.start[k], rods.end[k], float(rods.radius[k])) if np.any(rods.start[k] != rods.end[k]) else None
+            shape = (
+                (coal.Box(*(2 * boxes.half[k])), coal.Transform3s(boxes.rotations[k], boxes.centers[k]))
+                if kind == BOX
+                else coal_capsule(rods.start[k], rods.end[k], float(rods.radius[k]))
+                if np.any(rods.start[k] != rods.end[k])
+                else None
+            )
             for part in range(4):
                 d = cl.d[part, column]
                 if shape is None or not 1e-3 < d < np.inf:

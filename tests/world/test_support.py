@@ -17,9 +17,15 @@ coal = pytest.importorskip("coal")
 
 
 def _coal(body: Body):
-    shape = {BOX: lambda: coal.Box(*(2 * body.half)), SPHERE: lambda: coal.Sphere(body.radius),
-             ROD: lambda: coal.Capsule(body.radius, 2 * body.half[0]), CYLINDER: lambda: coal.Cylinder(body.radius, 2 * body.half[2])}[body.kind]()
-    rotation = body.rotation if body.kind != ROD else body.rotation @ np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]])  # coal's capsule along z
+    shape = {
+        BOX: lambda: coal.Box(*(2 * body.half)),
+        SPHERE: lambda: coal.Sphere(body.radius),
+        ROD: lambda: coal.Capsule(body.radius, 2 * body.half[0]),
+        CYLINDER: lambda: coal.Cylinder(body.radius, 2 * body.half[2]),
+    }[body.kind]()
+    rotation = (
+        body.rotation if body.kind != ROD else body.rotation @ np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]])
+    )  # coal's capsule along z
     return shape, coal.Transform3s(rotation, body.center)
 
 
@@ -79,18 +85,33 @@ def test_a_cylinder_standing_on_a_board_touches_it_and_one_pushed_in_does_not():
 # ---- a box taken from standing on a table and put down on a board (issue 54) -----------------
 
 TOUCHING = {
-    "version": 1, "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}}, "floor": 0.0,
+    "version": 1,
+    "arm": {"robot": "panda", "joint_values": {"panda_finger_joint1": 0.04}},
+    "floor": 0.0,
     "obstacles": [
         {"box": {"center": [0.62, 0.0, 0.39], "size": [0.3, 0.7, 0.02]}, "name": "board"},
         {"box": {"center": [0.25, -0.45, 0.1], "size": [0.3, 0.3, 0.2]}, "name": "table"},
-        {"box": {"center": [0.25, -0.45, 0.26], "size": [0.04, 0.04, 0.12]}, "name": "box"},  # its bottom on the table's top
+        {
+            "box": {"center": [0.25, -0.45, 0.26], "size": [0.04, 0.04, 0.12]},
+            "name": "box",
+        },  # its bottom on the table's top
     ],
     "goals": [
-        {"position": [0.25, -0.45, 0.30], "orientation": {"rpy": [180, 0, 0]}, "grasp": "box", "approach": {"distance": 0.1},
-         "retreat": {"distance": 0.1}},
+        {
+            "position": [0.25, -0.45, 0.30],
+            "orientation": {"rpy": [180, 0, 0]},
+            "grasp": "box",
+            "approach": {"distance": 0.1},
+            "retreat": {"distance": 0.1},
+        },
         {"position": [0.58, 0.0, 0.58], "orientation": {"rpy": [180, 0, 0]}},
-        {"position": [0.58, 0.0, 0.50], "orientation": {"rpy": [180, 0, 0]}, "release": True, "approach": {"distance": 0.1},
-         "retreat": {"distance": 0.1}},  # the box's bottom on the board's top, 0.4
+        {
+            "position": [0.58, 0.0, 0.50],
+            "orientation": {"rpy": [180, 0, 0]},
+            "release": True,
+            "approach": {"distance": 0.1},
+            "retreat": {"distance": 0.1},
+        },  # the box's bottom on the board's top, 0.4
     ],
     "solver": {"method": "dls", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02},
 }
@@ -125,12 +146,20 @@ def test_a_box_standing_on_a_table_is_put_down_on_a_board_touching_only_along_th
     assert_trajectory_invariants(problem, timed)
     goals, traj, carry = problem.goals, timed.trajectory, timed.carry
     table, board = obstacle_body(problem.obstacles, 1), obstacle_body(problem.obstacles, 0)
-    lines = {k: support for k, support in ((k, table if goals[k].retreat and goals[k - 1].grasp is not None else board)
-                                          for k in range(1, len(goals)))
-             if (goals[k].retreat and goals[k - 1].grasp is not None) or (goals[k].release and goals[k - 1].to_approach)}
+    lines = {
+        k: support
+        for k, support in (
+            (k, table if goals[k].retreat and goals[k - 1].grasp is not None else board) for k in range(1, len(goals))
+        )
+        if (goals[k].retreat and goals[k - 1].grasp is not None) or (goals[k].release and goals[k - 1].to_approach)
+    }
     assert len(lines) == 2
-    assert [k for k, w in enumerate(carry.worlds) if w.support is not None and w.held is not None] == sorted(lines)  # armanim's too
-    assert all(w.stop == 1.0 for k, w in enumerate(carry.worlds) if not goals[k].release)  # only the approach's line stops short
+    assert [k for k, w in enumerate(carry.worlds) if w.support is not None and w.held is not None] == sorted(
+        lines
+    )  # armanim's too
+    assert all(
+        w.stop == 1.0 for k, w in enumerate(carry.worlds) if not goals[k].release
+    )  # only the approach's line stops short
     tools = tool_transform(problem, forward(problem.arm, traj.phi))
     others = [board, table]
     touched, apart = {id(table): np.inf, id(board): np.inf}, np.inf
@@ -139,7 +168,10 @@ def test_a_box_standing_on_a_table_is_put_down_on_a_board_touching_only_along_th
         if held is None:
             continue
         solid = held.body.moved(tools[f] @ held.offset)
-        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * solid.half @ solid.rotation.T + solid.center
+        corners = (
+            np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * solid.half @ solid.rotation.T
+            + solid.center
+        )
         apart = min(apart, float(corners[:, 2].min()))  # the floor
         for other in others:
             d = _coal_distance(solid, other)
@@ -148,20 +180,32 @@ def test_a_box_standing_on_a_table_is_put_down_on_a_board_touching_only_along_th
             else:
                 apart = min(apart, d)
     assert apart >= problem.solver.clearance - 1e-9
-    assert touched[id(table)] >= 0.0 and -1e-9 <= touched[id(board)] < 1e-3  # the table left from touching it, the board come onto: never inside
-    assert abs(_coal_distance(obstacle_body(problem.obstacles, 2), table)) < 1e-9  # where the box stood as the tool took it
+    assert (
+        touched[id(table)] >= 0.0 and -1e-9 <= touched[id(board)] < 1e-3
+    )  # the table left from touching it, the board come onto: never inside
+    assert (
+        abs(_coal_distance(obstacle_body(problem.obstacles, 2), table)) < 1e-9
+    )  # where the box stood as the tool took it
     placed = carry.final.moved[2]
     assert -1e-9 <= solid_box_distance(placed, board) < 1e-3 and _coal_distance(placed, board) == pytest.approx(
-        solid_box_distance(placed, board), abs=1e-6)
+        solid_box_distance(placed, board), abs=1e-6
+    )
 
 
 def test_a_box_standing_on_its_table_needs_a_retreat_long_enough_to_clear_it():
     from armanim.scene import scene_model
     from armanim.scene.checks import scene_problems
 
-    without = {**TOUCHING, "goals": [{k: v for k, v in TOUCHING["goals"][0].items() if k != "retreat"}, *TOUCHING["goals"][1:]]}
-    assert any(f == "obstacles[2]" and "'box' rests -0.00732 from obstacles[1] ('table')" in m and "give goals[0] a retreat" in m
-               for f, m in scene_problems(scene_model(without)))
+    without = {
+        **TOUCHING,
+        "goals": [{k: v for k, v in TOUCHING["goals"][0].items() if k != "retreat"}, *TOUCHING["goals"][1:]],
+    }
+    assert any(
+        f == "obstacles[2]"
+        and "'box' rests -0.00732 from obstacles[1] ('table')" in m
+        and "give goals[0] a retreat" in m
+        for f, m in scene_problems(scene_model(without))
+    )
     short = {**TOUCHING, "goals": [{**TOUCHING["goals"][0], "retreat": {"distance": 0.02}}, *TOUCHING["goals"][1:]]}
     problems = scene_problems(scene_model(short))
     assert [f for f, _ in problems] == ["goals[0].retreat.distance"], problems

@@ -61,11 +61,15 @@ def test_every_vamp_sphere_is_in_the_model_where_pinocchio_puts_it(robot, tip):
     model = pin.buildModelFromXML(xml)
     geometry = pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.COLLISION)
     data, gdata = model.createData(), pin.GeometryData(geometry)
-    spheres = [g for g in geometry.geometryObjects if hasattr(g.geometry, "radius") and not hasattr(g.geometry, "halfLength")]
+    spheres = [
+        g for g in geometry.geometryObjects if hasattr(g.geometry, "radius") and not hasattr(g.geometry, "halfLength")
+    ]
     if robot == "panda":
         assert len(spheres) == 59
     mount = np.eye(4)
-    mount[:3, :3] = np.array([[np.cos(np.pi / 6), -np.sin(np.pi / 6), 0], [np.sin(np.pi / 6), np.cos(np.pi / 6), 0], [0, 0, 1]])
+    mount[:3, :3] = np.array(
+        [[np.cos(np.pi / 6), -np.sin(np.pi / 6), 0], [np.sin(np.pi / 6), np.cos(np.pi / 6), 0], [0, 0, 1]]
+    )
     mount[:3, 3] = [0.1, -0.2, 0.05]
     pin.framesForwardKinematics(model, data, pin.neutral(model))
     mount = mount @ data.oMf[model.getFrameId(base)].inverse().homogeneous  # the UR5's base_link sits below a root link
@@ -80,7 +84,11 @@ def test_every_vamp_sphere_is_in_the_model_where_pinocchio_puts_it(robot, tip):
                 continue
             link = model.frames[sphere.parentFrame].name
             centre = mount[:3, :3] @ placed.translation + mount[:3, 3]
-            mine = (names == link) & np.all(np.abs(a - centre) < 1e-12, axis=1) & np.all(np.abs(b - centre) < 1e-12, axis=1)
+            mine = (
+                (names == link)
+                & np.all(np.abs(a - centre) < 1e-12, axis=1)
+                & np.all(np.abs(b - centre) < 1e-12, axis=1)
+            )
             assert np.any(mine & (np.abs(caps.radius - sphere.geometry.radius) < 1e-15)), (link, centre)
     assert np.all(caps.link[np.array(caps.names) == base] == BASE)
 
@@ -90,8 +98,13 @@ def test_off_path_link_frames_equal_pinocchios():
     the frames of the base, the hand and both fingers, composed through the fixed and held joints,
     are pinocchio's to 1e-12, with the tip at the flange (the hand and fingers off the path)."""
     pin = pytest.importorskip("pinocchio")
-    arm = {"robot": "panda", "tip_link": "panda_link8", "base": [0.3, 0.1, -0.2], "base_rpy": [10, -20, 40],
-           "joint_values": {"panda_finger_joint1": 0.031}}
+    arm = {
+        "robot": "panda",
+        "tip_link": "panda_link8",
+        "base": [0.3, 0.1, -0.2],
+        "base_rpy": [10, -20, 40],
+        "joint_values": {"panda_finger_joint1": 0.031},
+    }
     scene = _model(arm)
     chain, _ = scene_arm(scene.arm, [])
     from armanim.scene.convert import urdf_chain, urdf_mount
@@ -106,18 +119,28 @@ def test_off_path_link_frames_equal_pinocchios():
         q = _pin_q(pin, model, chain.joint_names, phi, {"panda_finger_joint1": 0.031, "panda_finger_joint2": 0.031})
         pin.framesForwardKinematics(model, data, q)
         pose = forward(chain, phi)
-        for link in ("panda_link0", "panda_link5", "panda_hand", "panda_hand_tcp", "panda_leftfinger", "panda_rightfinger"):
+        for link in (
+            "panda_link0",
+            "panda_link5",
+            "panda_hand",
+            "panda_hand_tcp",
+            "panda_leftfinger",
+            "panda_rightfinger",
+        ):
             expected = mount @ data.oMf[model.getFrameId(link)].homogeneous
             np.testing.assert_allclose(_world(places, pose, link), expected, atol=1e-12, rtol=0, err_msg=link)
 
 
-@pytest.mark.parametrize("values, fragment", [
-    ({"panda_joint3": 10}, "'panda_joint3' is a joint of the arm's chain"),
-    ({"panda_finger_joint": 0.01}, "'panda_finger_joint' is not a joint of"),
-    ({"panda_finger_joint1": 0.05}, "0.05 is outside the limits of joint 'panda_finger_joint1', [0, 0.04] m"),
-    ({"panda_finger_joint2": 0.01}, "mimics 'panda_finger_joint1'"),
-    ({"panda_hand_joint": 0.0}, "joint 'panda_hand_joint' is fixed"),
-])
+@pytest.mark.parametrize(
+    "values, fragment",
+    [
+        ({"panda_joint3": 10}, "'panda_joint3' is a joint of the arm's chain"),
+        ({"panda_finger_joint": 0.01}, "'panda_finger_joint' is not a joint of"),
+        ({"panda_finger_joint1": 0.05}, "0.05 is outside the limits of joint 'panda_finger_joint1', [0, 0.04] m"),
+        ({"panda_finger_joint2": 0.01}, "mimics 'panda_finger_joint1'"),
+        ({"panda_hand_joint": 0.0}, "joint 'panda_hand_joint' is fixed"),
+    ],
+)
 def test_joint_values_errors_name_the_entry_and_its_line(tmp_path, values, fragment):
     lines = ["version: 1", "arm:", "  robot: panda", "  joint_values:"]
     lines += [f"    {name}: {value}" for name, value in values.items()]
@@ -134,7 +157,9 @@ def test_joint_values_errors_name_the_entry_and_its_line(tmp_path, values, fragm
 @pytest.mark.parametrize("value", [".nan", ".inf"])
 def test_joint_values_must_be_finite(tmp_path, value):
     path = tmp_path / "s.yaml"
-    path.write_text(f"version: 1\narm:\n  robot: panda\n  joint_values:\n    panda_finger_joint1: {value}\ngoals:\n  - [0.5, 0, 0.5]\n")
+    path.write_text(
+        f"version: 1\narm:\n  robot: panda\n  joint_values:\n    panda_finger_joint1: {value}\ngoals:\n  - [0.5, 0, 0.5]\n"
+    )
     with pytest.raises(SceneError) as info:
         load_scene(path)
     assert f"{path}:5: arm.joint_values.panda_finger_joint1" in str(info.value)
@@ -147,6 +172,7 @@ def test_joint_values_do_not_apply_to_an_arm_of_links():
 
 def test_held_joints_default_to_zero_or_their_lower_limit_and_mimics_follow():
     """The Panda's fingers: closed (0) by default, 0.04 m open when asked, the mimic finger beside."""
+
     def finger_gap(arm):
         scene = _model(arm)
         chain, caps = scene_arm(scene.arm, [])
@@ -164,11 +190,11 @@ def test_held_joints_default_to_zero_or_their_lower_limit_and_mimics_follow():
 def _finger_scene(tmp_path: Path, obstacle_centre, radius: float) -> Path:
     scene = f"""version: 1
 arm:
-  urdf: {VAMP / 'panda_spherized.urdf'}
+  urdf: {VAMP / "panda_spherized.urdf"}
   base_link: panda_link0
   tip_link: panda_hand
   home: [0, -30, 0, -150, 0, 120, 45]
-  self_collision: {{srdf: {VAMP / 'panda.srdf'}}}
+  self_collision: {{srdf: {VAMP / "panda.srdf"}}}
 obstacles:
   - {{center: {list(map(float, obstacle_centre))}, radius: {radius}}}
 goals:
@@ -203,8 +229,11 @@ def test_a_run_keeps_the_finger_off_an_obstacle_only_the_finger_would_touch(tmp_
         pin.updateGeometryPlacements(model, data, geometry, gdata, pin.neutral(model))
         pin.updateFramePlacements(model, data)
         to_hand = data.oMf[hand].inverse()
-        objs = [(to_hand * placed).translation for g, placed in zip(geometry.geometryObjects, gdata.oMg)
-                if model.frames[g.parentFrame].name == frame_name]
+        objs = [
+            (to_hand * placed).translation
+            for g, placed in zip(geometry.geometryObjects, gdata.oMg)
+            if model.frames[g.parentFrame].name == frame_name
+        ]
         radii = [g.geometry.radius for g in geometry.geometryObjects if model.frames[g.parentFrame].name == frame_name]
         return np.array(objs), np.array(radii)
 
@@ -221,12 +250,18 @@ def test_a_run_keeps_the_finger_off_an_obstacle_only_the_finger_would_touch(tmp_
     problem = scene_to_problem(load_scene(path).model)
     solution = solve_trajectory(problem)
     names = problem.arm.joint_names
-    fingers = [k for k, g in enumerate(geometry.geometryObjects) if model.frames[g.parentFrame].name in ("panda_leftfinger", "panda_rightfinger")]
+    fingers = [
+        k
+        for k, g in enumerate(geometry.geometryObjects)
+        if model.frames[g.parentFrame].name in ("panda_leftfinger", "panda_rightfinger")
+    ]
     least = np.inf
     for phi in solution.trajectory.phi:
         pin.updateGeometryPlacements(model, data, geometry, gdata, _pin_q(pin, model, names, phi))
         for k in fingers:
-            gap = np.linalg.norm(gdata.oMg[k].translation - centre) - geometry.geometryObjects[k].geometry.radius - radius
+            gap = (
+                np.linalg.norm(gdata.oMg[k].translation - centre) - geometry.geometryObjects[k].geometry.radius - radius
+            )
             least = min(least, gap)
     assert least >= 0.01 - 1e-9
     assert least < 0.03  # the finger came near: the obstacle was in its way
@@ -241,13 +276,17 @@ def test_the_hand_is_kept_out_of_the_base(tmp_path):
     from armanim.world.selfdistances import SelfPairs
 
     path = tmp_path / "base.yaml"
-    path.write_text("version: 1\narm:\n  robot: panda\ngoals:\n  - [-0.18, 0.0, 0.1]\n"
-                    "solver:\n  max_frames_per_goal: 200\n  self_clearance: 0.01\nrender:\n  fps: 10\n")
+    path.write_text(
+        "version: 1\narm:\n  robot: panda\ngoals:\n  - [-0.18, 0.0, 0.1]\n"
+        "solver:\n  max_frames_per_goal: 200\n  self_clearance: 0.01\nrender:\n  fps: 10\n"
+    )
     problem = scene_to_problem(load_scene(path).model)
     pairs = problem.self_pairs
     caps = problem.capsules
     on_base = caps.link[pairs.first] == BASE
-    hand = on_base & np.isin(np.array(caps.names)[pairs.second], ["panda_hand", "panda_leftfinger", "panda_rightfinger"])
+    hand = on_base & np.isin(
+        np.array(caps.names)[pairs.second], ["panda_hand", "panda_leftfinger", "panda_rightfinger"]
+    )
 
     def gaps(solved):
         return self_gaps(forward(problem.arm, solve_trajectory(solved).trajectory.phi), caps, pairs).d
@@ -260,11 +299,16 @@ def test_a_base_standing_in_an_obstacle_is_an_error_at_the_obstacle(tmp_path):
     """The Panda's base inside a box, its arm clear of it: refused when the scene is read, the
     message at the obstacle's line naming the base link (no pose could move it out)."""
     path = tmp_path / "s.yaml"
-    path.write_text("version: 1\narm:\n  robot: panda\nobstacles:\n  - {box: {center: [0.0, 0.0, 0.0], size: [0.2, 0.2, 0.05]}}\n"
-                    "goals:\n  - [0.5, 0, 0.5]\n")
+    path.write_text(
+        "version: 1\narm:\n  robot: panda\nobstacles:\n  - {box: {center: [0.0, 0.0, 0.0], size: [0.2, 0.2, 0.05]}}\n"
+        "goals:\n  - [0.5, 0, 0.5]\n"
+    )
     with pytest.raises(SceneError) as info:
         load_scene(path)
-    assert f"{path}:5: obstacles[0]: the robot's base (link 'panda_link0', which never moves) is inside this obstacle" in str(info.value)
+    assert (
+        f"{path}:5: obstacles[0]: the robot's base (link 'panda_link0', which never moves) is inside this obstacle"
+        in str(info.value)
+    )
 
 
 def test_the_base_carrier_in_numpy_and_compiled_alike():
@@ -296,15 +340,21 @@ def test_the_base_carrier_in_numpy_and_compiled_alike():
     rows = self_rows(problem.arm, caps, one, pairs, gaps, which)
     second = pairs.second[which]
     q = capsule_point(caps, one, second, gaps.s[which])
-    expected = np.array([-gaps.normal[p] @ point_jacobian(problem.arm, one, int(caps.link[c]), q[k])
-                         for k, (p, c) in enumerate(zip(which, second))])
+    expected = np.array(
+        [
+            -gaps.normal[p] @ point_jacobian(problem.arm, one, int(caps.link[c]), q[k])
+            for k, (p, c) in enumerate(zip(which, second))
+        ]
+    )
     np.testing.assert_allclose(rows, expected, atol=1e-12, rtol=0)
     rates = np.random.default_rng(1).normal(size=problem.arm.n)
     twists = np.empty((problem.arm.n, 6))
     inputs = _pair_inputs(problem.arm, caps, one, pairs, gaps)
     compiled.link_twists(inputs[0], inputs[1], rates, twists)
     for k, p in enumerate(which):
-        rate = compiled.pair_rate(twists, inputs[2], inputs[3], caps.link, pairs.first, pairs.second, gaps.t, gaps.s, gaps.normal, p)
+        rate = compiled.pair_rate(
+            twists, inputs[2], inputs[3], caps.link, pairs.first, pairs.second, gaps.t, gaps.s, gaps.normal, p
+        )
         assert rate == pytest.approx(rows[k] @ rates, abs=1e-12)
 
 
@@ -320,11 +370,20 @@ def test_always_colliding_pairs_are_allowed_as_always_where_the_default_rule_is_
     caps = joint_capsules(arm, 0.5)
     lim = np.radians([-170.0] * 3), np.radians([170.0] * 3)
     auto = selfcollision.automatic_matrix(arm, caps, *lim, [np.zeros(3)], 0.01, samples=200)
-    srdf = selfcollision.automatic_matrix(arm, caps, *lim, [], 0.01, samples=200, rules=(selfcollision.ADJACENT, selfcollision.ALWAYS))
+    srdf = selfcollision.automatic_matrix(
+        arm, caps, *lim, [], 0.01, samples=200, rules=(selfcollision.ADJACENT, selfcollision.ALWAYS)
+    )
     assert auto[("link1", "link3")] == "Default" and srdf[("link1", "link3")] == "Always"
     assert srdf[("link1", "link2")] == "Adjacent"
-    thin = selfcollision.automatic_matrix(arm, joint_capsules(arm, 0.001), *lim, [], 0.001, samples=200,
-                                          rules=(selfcollision.ADJACENT, selfcollision.ALWAYS))
+    thin = selfcollision.automatic_matrix(
+        arm,
+        joint_capsules(arm, 0.001),
+        *lim,
+        [],
+        0.001,
+        samples=200,
+        rules=(selfcollision.ADJACENT, selfcollision.ALWAYS),
+    )
     assert ("link1", "link3") not in thin  # a pair apart in some pose stays checked
 
 
@@ -332,9 +391,16 @@ def test_an_srdf_scene_adds_moveits_adjacent_and_always_where_the_srdf_is_silent
     """VAMP's UR5 with its SRDF: the SRDF's own pairs keep its reasons, wrist_2_link/fts_robotside
     (which its SRDF leaves enabled, their spheres overlapping in every pose) is allowed as
     ``Adjacent``, and base_link/upper_arm_link (within 2.5 mm at some poses) is checked."""
-    scene = _model({"urdf": "ur5_spherized.urdf", "base_link": "base_link", "tip_link": "ee_link",
-                    "home": [0, -90, 90, -90, -90, 0], "self_collision": {"srdf": "ur5.srdf"}},
-                   solver={"self_clearance": 0.001})
+    scene = _model(
+        {
+            "urdf": "ur5_spherized.urdf",
+            "base_link": "base_link",
+            "tip_link": "ee_link",
+            "home": [0, -90, 90, -90, -90, 0],
+            "self_collision": {"srdf": "ur5.srdf"},
+        },
+        solver={"self_clearance": 0.001},
+    )
     pairs = scene_to_problem(scene).self_pairs
     allowed = {frozenset((a, b)): reason for a, b, reason in pairs.allowed}
     assert allowed[frozenset(("wrist_2_link", "fts_robotside"))] == "Adjacent"
@@ -416,8 +482,12 @@ def test_the_base_stands_on_the_floor():
 
 
 @settings(max_examples=20, deadline=None)
-@given(opening=st.floats(0.0, 0.04), base=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
-       rpy=st.lists(st.floats(-170, 170), min_size=3, max_size=3), seed=st.integers(0, 2**31))
+@given(
+    opening=st.floats(0.0, 0.04),
+    base=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+    rpy=st.lists(st.floats(-170, 170), min_size=3, max_size=3),
+    seed=st.integers(0, 2**31),
+)
 def test_any_finger_opening_and_mount_place_the_fingers_as_pinocchio_does(opening, base, rpy, seed):
     """Any opening of the Panda's fingers, any mount, the tip at panda_link7 (the hand off the path):
     the hand's, the fingers' and the base's frames are pinocchio's (the mimic finger at the same
@@ -425,8 +495,13 @@ def test_any_finger_opening_and_mount_place_the_fingers_as_pinocchio_does(openin
     pin = pytest.importorskip("pinocchio")
     from armanim.scene.convert import urdf_chain, urdf_mount
 
-    arm = {"robot": "panda", "tip_link": "panda_link7", "base": base, "base_rpy": rpy,
-           "joint_values": {"panda_finger_joint1": opening}}
+    arm = {
+        "robot": "panda",
+        "tip_link": "panda_link7",
+        "base": base,
+        "base_rpy": rpy,
+        "joint_values": {"panda_finger_joint1": opening},
+    }
     scene = _model(arm)
     chain = urdf_chain(scene.arm)
     places = link_places(scene.arm, chain)

@@ -52,8 +52,12 @@ class Capsules:
     end: np.ndarray
     radius: np.ndarray
     names: tuple[str, ...] = ()
-    joint_segment: np.ndarray = field(default=cast(np.ndarray, None), repr=False, compare=False)  # None: __post_init__ fills it
-    allowed: np.ndarray = field(default=cast(np.ndarray, None), repr=False, compare=False)  # None: __post_init__ fills it (-1)
+    joint_segment: np.ndarray = field(
+        default=cast(np.ndarray, None), repr=False, compare=False
+    )  # None: __post_init__ fills it
+    allowed: np.ndarray = field(
+        default=cast(np.ndarray, None), repr=False, compare=False
+    )  # None: __post_init__ fills it (-1)
     part_radius: np.ndarray = field(init=False, repr=False, compare=False)
     """(c+1,) the radius of every part that clearances are measured from: the capsules', then
     the tip's, 0 (a point)."""
@@ -87,7 +91,9 @@ class Capsules:
         >>> Capsules(np.array([1]), np.zeros((1, 3)), np.ones((1, 3)), np.array([0.5])).packed().tolist()
         [[0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.5, 0.0]]
         """
-        return np.concatenate([self.start, self.end, self.radius[:, None], self.joint_segment[:, None].astype(float)], axis=1)
+        return np.concatenate(
+            [self.start, self.end, self.radius[:, None], self.joint_segment[:, None].astype(float)], axis=1
+        )
 
     def __len__(self) -> int:
         return len(self.link)
@@ -115,8 +121,9 @@ def joint_capsules(arm: Arm, radius: float) -> Capsules:
     )
 
 
-def frame_capsules(arm: Arm, link: ArrayLike, start: ArrayLike, end: ArrayLike, radius: ArrayLike,
-                   names: tuple[str, ...] = ()) -> Capsules:
+def frame_capsules(
+    arm: Arm, link: ArrayLike, start: ArrayLike, end: ArrayLike, radius: ArrayLike, names: tuple[str, ...] = ()
+) -> Capsules:
     """Capsules in joint frames; those that run exactly from a joint to the next one are
     marked, so that their world ends are the chain's own joint points (bit for bit).
 
@@ -127,7 +134,9 @@ def frame_capsules(arm: Arm, link: ArrayLike, start: ArrayLike, end: ArrayLike, 
     link = np.asarray(link, dtype=int)
     start, end = np.asarray(start, dtype=float).reshape(-1, 3), np.asarray(end, dtype=float).reshape(-1, 3)
     segment = (link >= 0) & np.all(start == 0.0, axis=1) & np.all(end == arm.offsets[np.maximum(link, 0)], axis=1)
-    if arm.prismatic is not None:  # the next joint slides its point off: the capsule ends where its slide starts, in its own frame
+    if (
+        arm.prismatic is not None
+    ):  # the next joint slides its point off: the capsule ends where its slide starts, in its own frame
         segment &= ~np.append(arm.prismatic[1:], False)[np.maximum(link, 0)]
     return Capsules(link, start, end, np.asarray(radius, dtype=float), tuple(names), segment)
 
@@ -163,7 +172,12 @@ def _world_ends(capsules: Capsules, pose: Pose) -> tuple[np.ndarray, np.ndarray]
     link = capsules.link
     kernel = sys.modules.get("armanim.arm.kernel")
     if kernel is not None and pose.points.ndim == 2 and len(link):
-        return cast("tuple[np.ndarray, np.ndarray]", kernel.capsule_ends_one(link, capsules.start, capsules.end, capsules.joint_segment, pose.points, pose.frames))
+        return cast(
+            "tuple[np.ndarray, np.ndarray]",
+            kernel.capsule_ends_one(
+                link, capsules.start, capsules.end, capsules.joint_segment, pose.points, pose.frames
+            ),
+        )
     if capsules.joint_segment.all():
         return pose.points[..., link, :], pose.points[..., link + 1, :]
     base = (link < 0)[:, None]
@@ -203,7 +217,9 @@ def _rotated(frames: np.ndarray, x: np.ndarray) -> np.ndarray:
     """(..., c, 3) R_c x_c for frames (..., c, 3, 3) and points (c, 3), each row's sum in the
     order the compiled kernel adds it (einsum's order is its own), so one pose's ends equal a
     batch's bit for bit."""
-    return cast(np.ndarray, frames[..., 0] * x[:, None, 0] + frames[..., 1] * x[:, None, 1] + frames[..., 2] * x[:, None, 2])
+    return cast(
+        np.ndarray, frames[..., 0] * x[:, None, 0] + frames[..., 1] * x[:, None, 1] + frames[..., 2] * x[:, None, 2]
+    )
 
 
 def capsule_point(capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray) -> np.ndarray:
@@ -216,7 +232,9 @@ def capsule_point(capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: 
     return cast(np.ndarray, a + t * (b - a))
 
 
-def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray) -> np.ndarray:
+def capsule_point_jacobian(
+    arm: Arm, capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray
+) -> np.ndarray:
     """(..., 3, n) analytic Jacobian of the point at fraction ``t`` along capsule ``capsule``;
     for (k,) arrays ``capsule`` and ``t`` (a single pose), the k points' Jacobians in one
     call, (k, 3, n), each the same as alone, each computed once per pose (a frame's pushes,
@@ -236,14 +254,18 @@ def capsule_point_jacobian(arm: Arm, capsules: Capsules, pose: Pose, capsule: in
     points = list(zip(np.asarray(capsule).tolist(), np.asarray(t, dtype=float).tolist()))
     missing = [point for point in dict.fromkeys(points) if point not in known]
     if missing:
-        fresh = _point_jacobians(arm, capsules, pose, np.array([c for c, _ in missing]), np.array([s for _, s in missing]))
+        fresh = _point_jacobians(
+            arm, capsules, pose, np.array([c for c, _ in missing]), np.array([s for _, s in missing])
+        )
         known.update(zip(missing, fresh))
     if not points:
         return np.zeros((0, 3, arm.n))
     return np.array([known[point] for point in points])  # a copy, as np.stack makes, at a third of its overhead
 
 
-def _point_jacobians(arm: Arm, capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray) -> np.ndarray:
+def _point_jacobians(
+    arm: Arm, capsules: Capsules, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray
+) -> np.ndarray:
     """:func:`capsule_point_jacobian`, computed."""
     point = capsule_point(capsules, pose, capsule, t)
     link = capsules.link[capsule] if np.ndim(capsule) else int(capsules.link[capsule])
@@ -322,7 +344,9 @@ def capsule_lever_rows(arm: Arm, capsules: Capsules) -> np.ndarray:
     rows[own, link[own]] = around[own]
     if arm.prismatic is None:
         return rows
-    stroke = np.zeros(arm.n) if arm.stroke is None else arm.stroke  # a slide between joint j and the carrier moves it farther off
+    stroke = (
+        np.zeros(arm.n) if arm.stroke is None else arm.stroke
+    )  # a slide between joint j and the carrier moves it farther off
     slid = np.concatenate([[0.0], np.cumsum(stroke)])
     rows = np.where(moved, rows + slid[carried + 1][:, None] - slid[None, 1:], 0.0)
     return np.where(moved & arm.prismatic[None, :], 1.0, rows)  # a slide moves every point it carries by its own travel

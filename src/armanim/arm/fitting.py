@@ -110,7 +110,7 @@ class FittedCapsule:
 
 def capsule_volume(length: float, radius: float) -> float:
     """The volume of a capsule of segment ``length`` and ``radius``."""
-    return math.pi * radius * radius * length + 4.0 / 3.0 * math.pi * radius ** 3
+    return math.pi * radius * radius * length + 4.0 / 3.0 * math.pi * radius**3
 
 
 def segment_distances(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -161,11 +161,18 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
         return _fit_large(vertices, faces, max_capsules)
     if not len(points):
         return []
-    edges = _edges(points, None if faces is None else inverse.reshape(-1)[np.asarray(faces, dtype=np.int64)])  # each edge once
-    return [_rounded(fit, _slab(points, edges, axis, lo, hi)) for fit, (lo, hi), axis in _search(points, edges, max_capsules)]
+    edges = _edges(
+        points, None if faces is None else inverse.reshape(-1)[np.asarray(faces, dtype=np.int64)]
+    )  # each edge once
+    return [
+        _rounded(fit, _slab(points, edges, axis, lo, hi))
+        for fit, (lo, hi), axis in _search(points, edges, max_capsules)
+    ]
 
 
-def _search(points: np.ndarray, edges: np.ndarray, max_capsules: int) -> list[tuple[Fit, tuple[float, float], np.ndarray]]:
+def _search(
+    points: np.ndarray, edges: np.ndarray, max_capsules: int
+) -> list[tuple[Fit, tuple[float, float], np.ndarray]]:
     """The capsules chosen for the (distinct) ``points`` and ``edges`` (E, 2, 3): each fit with the
     slab (lo, hi) along its axis that it holds (the whole range for one).
 
@@ -177,19 +184,25 @@ def _search(points: np.ndarray, edges: np.ndarray, max_capsules: int) -> list[tu
     the first: one capsule before two, two before three)."""
     axes = principal_axes(points)
     one = (_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])
-    search, search_edges = (points, edges) if len(points) <= SEARCH_POINTS else (_search_points(points), np.zeros((0, 2, 3)))
+    search, search_edges = (
+        (points, edges) if len(points) <= SEARCH_POINTS else (_search_points(points), np.zeros((0, 2, 3)))
+    )
     outside = _Outside(search)
     candidates = [[one]]
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
     splits = _best_splits(search, search_edges, cut_axes(axes), tuple(counts), outside) if len(counts) else {}
     for count in counts:
         for _, cuts, axis in splits.get(count, []):
-            candidates.append([(_piece_fit(_slab(points, edges, axis, lo, hi), fine=True), (lo, hi), axis) for lo, hi in cuts])
+            candidates.append(
+                [(_piece_fit(_slab(points, edges, axis, lo, hi), fine=True), (lo, hi), axis) for lo, hi in cuts]
+            )
     volumes = [sum(p[0][0] for p in pieces) for pieces in candidates]
     least = min(volumes)
     kept = [k for k, volume in enumerate(volumes) if volume <= VOLUME_ALLOWANCE * least]
     best = candidates[min(kept, key=lambda k: (outside.volume([p[0] for p in candidates[k]]), volumes[k], k))]
-    return [(_refined(hull_points(_slab(points, edges, axis, lo, hi)), fit), (lo, hi), axis) for fit, (lo, hi), axis in best]
+    return [
+        (_refined(hull_points(_slab(points, edges, axis, lo, hi)), fit), (lo, hi), axis) for fit, (lo, hi), axis in best
+    ]
 
 
 class _Outside:
@@ -218,12 +231,12 @@ class _Outside:
         grid = np.stack(np.meshgrid(*ticks, indexing="ij"), axis=-1).reshape(-1, 3)
         inside = np.arange(len(grid))
         for k in range(0, len(hull.equations), 64):  # a fine mesh's hull has thousands of faces: most cells leave early
-            planes = hull.equations[k:k + 64]
+            planes = hull.equations[k : k + 64]
             inside = inside[(grid[inside] @ planes[:, :3].T + planes[:, 3]).max(axis=1) <= 0.0]
         outside = np.ones(len(grid), dtype=bool)
         outside[inside] = False
         self.cells = grid[outside]
-        self.cell_volume = cell ** 3
+        self.cell_volume = cell**3
 
     def held(self, fit: Fit) -> np.ndarray:
         """(M,) bool: which of the outside cells' centres the capsule ``fit`` holds."""
@@ -251,13 +264,13 @@ def _fit_large(vertices: np.ndarray, faces: np.ndarray | None, max_capsules: int
         start, end = _rounded_ends(fit)
         reach = 0.0
         for k in range(0, len(vertices), CHUNK):
-            chunk = vertices[k:k + CHUNK]
+            chunk = vertices[k : k + CHUNK]
             t = chunk @ axis
             inside = chunk[(t >= lo) & (t <= hi)]
             if len(inside):
                 reach = max(reach, float(segment_distances(inside, start, end).max()))
         for k in range(0, len(faces), CHUNK):
-            corners = vertices[faces[k:k + CHUNK]]  # (F, 3, 3)
+            corners = vertices[faces[k : k + CHUNK]]  # (F, 3, 3)
             for i, j in ((0, 1), (1, 2), (2, 0)):
                 a, b = corners[:, i], corners[:, j]
                 ta, tb = a @ axis, b @ axis
@@ -284,12 +297,12 @@ def _stand_ins(points: np.ndarray) -> np.ndarray:
     (True, True)
     """
     starts = range(0, len(points), CHUNK)
-    low = np.min([points[k:k + CHUNK].min(axis=0) for k in starts], axis=0)
-    high = np.max([points[k:k + CHUNK].max(axis=0) for k in starts], axis=0)
+    low = np.min([points[k : k + CHUNK].min(axis=0) for k in starts], axis=0)
+    high = np.max([points[k : k + CHUNK].max(axis=0) for k in starts], axis=0)
     middle, cell = (low + high) / 2.0, float((high - low).max()) / LARGE_GRID or 1.0
     keys, reach, rows = [], [], []
     for k in starts:
-        chunk = points[k:k + CHUNK]
+        chunk = points[k : k + CHUNK]
         cells = np.minimum(np.floor((chunk - low) / cell).astype(np.int64), LARGE_GRID - 1)  # the far side in the last
         key = (cells[:, 0] * LARGE_GRID + cells[:, 1]) * LARGE_GRID + cells[:, 2]
         far = -np.einsum("ij,ij->i", chunk - middle, chunk - middle)
@@ -481,14 +494,19 @@ def _refined(points: np.ndarray, fit: Fit) -> Fit:
         return _through(points, d, start + radius * (x[2] * u0 + x[3] * v0))
 
     simplex = np.vstack([np.zeros(4), REFINE_STEP * np.eye(4)])
-    found = minimize(lambda x: capsule(x)[0], np.zeros(4), method="Nelder-Mead",
-                     options={"initial_simplex": simplex, "maxfev": REFINE_EVALUATIONS, "xatol": 1e-4, "fatol": 1e-7 * volume})
+    found = minimize(
+        lambda x: capsule(x)[0],
+        np.zeros(4),
+        method="Nelder-Mead",
+        options={"initial_simplex": simplex, "maxfev": REFINE_EVALUATIONS, "xatol": 1e-4, "fatol": 1e-7 * volume},
+    )
     better = capsule(found.x)
     return better if better[0] < volume else fit
 
 
-def _volumes(radii: np.ndarray, low: tuple[np.ndarray, np.ndarray],
-             high: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _volumes(
+    radii: np.ndarray, low: tuple[np.ndarray, np.ndarray], high: tuple[np.ndarray, np.ndarray]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For each radius r: the capsule's volume and its segment's ends along the axis.
 
     A point at axial t and distance rho from the axis is held by a segment [a, b] iff
@@ -501,7 +519,7 @@ def _volumes(radii: np.ndarray, low: tuple[np.ndarray, np.ndarray],
     b = (t_b[None, :] - np.sqrt(np.maximum(r2 - rho_b[None, :] ** 2, 0.0))).max(axis=1)
     middle = (a + b) / 2.0
     a, b = np.where(a > b, middle, a), np.where(a > b, middle, b)
-    return np.pi * radii ** 2 * (b - a) + 4.0 / 3.0 * np.pi * radii ** 3, a, b
+    return np.pi * radii**2 * (b - a) + 4.0 / 3.0 * np.pi * radii**3, a, b
 
 
 def _frontier(t: np.ndarray, rho: np.ndarray) -> np.ndarray:
@@ -515,7 +533,9 @@ def _frontier(t: np.ndarray, rho: np.ndarray) -> np.ndarray:
     """
     first, widest = int(np.argmin(t)), int(np.argmax(rho))
     # the point of least t dominates every point of no larger rho; the widest, every point of no smaller t
-    maybe = np.flatnonzero(((rho > rho[first]) & (t < t[widest])) | (np.arange(len(t)) == first) | (np.arange(len(t)) == widest))
+    maybe = np.flatnonzero(
+        ((rho > rho[first]) & (t < t[widest])) | (np.arange(len(t)) == first) | (np.arange(len(t)) == widest)
+    )
     order = maybe[np.argsort(t[maybe], kind="stable")]
     r = rho[order]
     keep = np.empty(len(r), dtype=bool)
@@ -577,8 +597,11 @@ def _smallest_through(support: list[tuple[float, float]], s: tuple[float, float]
     as diameter, or through s and two of them (None when rounding leaves none holding all)."""
     points = (*support, s)
     candidates = [_diametral(a, s) for a in support]
-    candidates += [_circumcircle(support[i], support[j], s, (0.0, 0.0, 0.0))
-                   for i in range(len(support)) for j in range(i + 1, len(support))]
+    candidates += [
+        _circumcircle(support[i], support[j], s, (0.0, 0.0, 0.0))
+        for i in range(len(support))
+        for j in range(i + 1, len(support))
+    ]
     best = None
     for cx, cy, r2 in candidates:
         limit = r2 * (1.0 + 1e-12) + 1e-30
@@ -587,8 +610,9 @@ def _smallest_through(support: list[tuple[float, float]], s: tuple[float, float]
     return best
 
 
-def _circumcircle(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float],
-                  fallback: tuple[float, float, float]) -> tuple[float, float, float]:
+def _circumcircle(
+    a: tuple[float, float], b: tuple[float, float], c: tuple[float, float], fallback: tuple[float, float, float]
+) -> tuple[float, float, float]:
     """The circle through three points (centre x, y, radius squared); for three points on a line,
     the circle on the farthest two as diameter."""
     d = 2.0 * (a[0] * (b[1] - c[1]) + b[0] * (c[1] - a[1]) + c[0] * (a[1] - b[1]))
@@ -600,16 +624,24 @@ def _circumcircle(a: tuple[float, float], b: tuple[float, float], c: tuple[float
     sa, sb, sc = a[0] ** 2 + a[1] ** 2, b[0] ** 2 + b[1] ** 2, c[0] ** 2 + c[1] ** 2
     cx = (sa * (b[1] - c[1]) + sb * (c[1] - a[1]) + sc * (a[1] - b[1])) / d
     cy = (sa * (c[0] - b[0]) + sb * (a[0] - c[0]) + sc * (b[0] - a[0])) / d
-    return cx, cy, max((a[0] - cx) ** 2 + (a[1] - cy) ** 2, (b[0] - cx) ** 2 + (b[1] - cy) ** 2,
-                       (c[0] - cx) ** 2 + (c[1] - cy) ** 2)
+    return (
+        cx,
+        cy,
+        max(
+            (a[0] - cx) ** 2 + (a[1] - cy) ** 2,
+            (b[0] - cx) ** 2 + (b[1] - cy) ** 2,
+            (c[0] - cx) ** 2 + (c[1] - cy) ** 2,
+        ),
+    )
 
 
 Split = tuple[float, list[tuple[float, float]], np.ndarray]
 """(total volume, the slabs (lo, hi) along the axis, the axis) of a cut into pieces."""
 
 
-def _best_splits(points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts: tuple[int, ...],
-                 outside: _Outside) -> dict[int, list[Split]]:
+def _best_splits(
+    points: np.ndarray, edges: np.ndarray, axes: np.ndarray, counts: tuple[int, ...], outside: _Outside
+) -> dict[int, list[Split]]:
     """For each count of pieces, the cuts worth fitting in full: of every cut across a direction of
     ``axes`` at evenly spaced places (each piece fitted coarsely, along its first principal axis
     only, :data:`COARSE_AXES`), the :data:`TRIED` of least total volume and the :data:`TRIED` of
@@ -671,7 +703,12 @@ def cut_axes(axes: np.ndarray) -> np.ndarray:
     """
     rows = [*axes, *np.eye(3)]
     if DIAGONALS:
-        rows += [(axes[i] + sign * axes[j]) / math.sqrt(2.0) for i in range(3) for j in range(i + 1, 3) for sign in (1.0, -1.0)]
+        rows += [
+            (axes[i] + sign * axes[j]) / math.sqrt(2.0)
+            for i in range(3)
+            for j in range(i + 1, 3)
+            for sign in (1.0, -1.0)
+        ]
     kept: list[np.ndarray] = []
     for row in rows:
         if all(abs(float(row @ k)) < 0.999 for k in kept):
@@ -683,7 +720,7 @@ def _piece_coarse(thin: list[np.ndarray], i: int, j: int, known: dict[tuple[int,
     """The coarse capsule of the piece between cuts i and j (-1 and len(thin) - 1: the ends), made
     of the thin slabs i + 1 to j; None for no points; kept in ``known``."""
     if (i, j) not in known:
-        inside = np.concatenate(thin[i + 1:j + 1])
+        inside = np.concatenate(thin[i + 1 : j + 1])
         known[(i, j)] = _piece_fit(inside, fine=False, hulled=True) if len(inside) else None
     return known[(i, j)]
 
@@ -706,8 +743,14 @@ def _edges(vertices: np.ndarray, faces: np.ndarray | None) -> np.ndarray:
     return np.asarray(vertices[np.stack([keys // len(vertices), keys % len(vertices)], axis=1)])
 
 
-def _slab(points: np.ndarray, edges: np.ndarray, axis: np.ndarray, lo: float, hi: float,
-          along: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+def _slab(
+    points: np.ndarray,
+    edges: np.ndarray,
+    axis: np.ndarray,
+    lo: float,
+    hi: float,
+    along: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+) -> np.ndarray:
     """The points with ``lo <= t <= hi`` along ``axis`` (every point for the whole range), and where
     the edges cross the planes t = lo and t = hi; ``along``: the points' and the edges' ends' t, if known."""
     t, ta, tb = along if along is not None else (points @ axis, edges[:, 0] @ axis, edges[:, 1] @ axis)
@@ -740,7 +783,9 @@ def _rounded(fit: Fit, points: np.ndarray) -> FittedCapsule:
     """The capsule with its ends rounded to :data:`DECIMALS` places and its radius measured from the
     rounded segment to the farthest of ``points``, rounded up (the written capsule holds them)."""
     start, end = _rounded_ends(fit)
-    return FittedCapsule(start, end, _rounded_up(float(segment_distances(points, start, end).max()) if len(points) else 0.0))
+    return FittedCapsule(
+        start, end, _rounded_up(float(segment_distances(points, start, end).max()) if len(points) else 0.0)
+    )
 
 
 def _rounded_ends(fit: Fit) -> tuple[np.ndarray, np.ndarray]:
@@ -750,5 +795,5 @@ def _rounded_ends(fit: Fit) -> tuple[np.ndarray, np.ndarray]:
 
 def _rounded_up(reach: float) -> float:
     """A measured radius rounded up to :data:`DECIMALS` places (the written capsule holds what it measured)."""
-    scale = 10.0 ** DECIMALS
+    scale = 10.0**DECIMALS
     return math.ceil(reach * scale * (1.0 + 1e-12)) / scale

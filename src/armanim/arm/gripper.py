@@ -94,7 +94,7 @@ def moved_fingers(capsules: Capsules, gripper: Gripper, value: float, at: float 
     if value == at:
         return capsules
     shift = np.zeros_like(capsules.start)
-    shift[:len(gripper.rate)] = gripper.rate * (value - at)
+    shift[: len(gripper.rate)] = gripper.rate * (value - at)
     return replace(capsules, start=capsules.start + shift, end=capsules.end + shift)
 
 
@@ -130,5 +130,5 @@ def ramp(start: float, end: float, frames: int, count: int) -> np.ndarray:
         moving = start + (end - start) * np.arange(1, frames + 1) / frames
         moving[-1] = end
         kept = min(frames, count)
-        out[count - kept:] = moving[frames - kept:]
+        out[count - kept :] = moving[frames - kept :]
     return out

@@ -78,9 +78,19 @@ def load_lightly(dispatcher: Any) -> None:
         cache.__class__ = _LoadsLightly
 
 
-COMPILED_MODULES = ("arm/kernel.py", "world/compiled.py", "motion/timing/passes.py", "motion/kernels/linalg.py", "motion/kernels/tasks.py",
-                    "motion/kernels/check.py", "motion/kernels/qp.py", "motion/kernels/attempt.py", "motion/kernels/frame.py",
-                    "motion/planning/check.py", "render/solids/rasterloops.py")
+COMPILED_MODULES = (
+    "arm/kernel.py",
+    "world/compiled.py",
+    "motion/timing/passes.py",
+    "motion/kernels/linalg.py",
+    "motion/kernels/tasks.py",
+    "motion/kernels/check.py",
+    "motion/kernels/qp.py",
+    "motion/kernels/attempt.py",
+    "motion/kernels/frame.py",
+    "motion/planning/check.py",
+    "render/solids/rasterloops.py",
+)
 """Every module of armanim that defines compiled functions (paths inside the package): one's
 machine code holds the compiled functions it calls from the others."""
 
@@ -145,8 +155,17 @@ def packed_chain(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
         return cast(tuple[np.ndarray, np.ndarray], memo)
     n = arm.n
     turns = np.broadcast_to(np.eye(3), (n, 3, 3)) if arm.turns is None else arm.turns
-    rows = np.concatenate([arm.axes, arm._k.reshape(n, 9), arm._k2.reshape(n, 9), arm.offsets, turns.reshape(n, 9),
-                           arm.slides[:, None].astype(float)], axis=1)
+    rows = np.concatenate(
+        [
+            arm.axes,
+            arm._k.reshape(n, 9),
+            arm._k2.reshape(n, 9),
+            arm.offsets,
+            turns.reshape(n, 9),
+            arm.slides[:, None].astype(float),
+        ],
+        axis=1,
+    )
     start = np.eye(3) if arm.base_rotation is None else arm.base_rotation
     root = np.concatenate([arm.base, start.reshape(9)])
     packed = (np.ascontiguousarray(rows, dtype=float), np.ascontiguousarray(root, dtype=float))
@@ -155,8 +174,15 @@ def packed_chain(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
 
 
 @compiled(**INLINE)
-def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarray, frames: np.ndarray,
-           axes: np.ndarray, tool: np.ndarray) -> None:
+def _chain(
+    rows: np.ndarray,
+    root: np.ndarray,
+    phi: np.ndarray,
+    points: np.ndarray,
+    frames: np.ndarray,
+    axes: np.ndarray,
+    tool: np.ndarray,
+) -> None:
     """One pose into ``points`` (n+1, 3), ``frames`` (n, 3, 3), world ``axes`` (n, 3) and the
     tool frame ``tool`` (3, 3). A prismatic joint (its row's :data:`KIND`) turns by nothing
     (Rot(a, 0) = I exactly) and slides its frame's origin by phi_i w_i."""
@@ -180,10 +206,16 @@ def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarr
                 frames[i, a, b] = rot[a, 0] * local[0, b] + rot[a, 1] * local[1, b] + rot[a, 2] * local[2, b]
         if slides:
             for a in range(3):
-                points[i, a] += phi[i] * (frames[i, a, 0] * rows[i, AXIS] + frames[i, a, 1] * rows[i, AXIS + 1] + frames[i, a, 2] * rows[i, AXIS + 2])
+                points[i, a] += phi[i] * (
+                    frames[i, a, 0] * rows[i, AXIS]
+                    + frames[i, a, 1] * rows[i, AXIS + 1]
+                    + frames[i, a, 2] * rows[i, AXIS + 2]
+                )
         for a in range(3):
             f0, f1, f2 = frames[i, a, 0], frames[i, a, 1], frames[i, a, 2]
-            points[i + 1, a] = points[i, a] + (f0 * rows[i, OFFSET] + f1 * rows[i, OFFSET + 1] + f2 * rows[i, OFFSET + 2])
+            points[i + 1, a] = points[i, a] + (
+                f0 * rows[i, OFFSET] + f1 * rows[i, OFFSET + 1] + f2 * rows[i, OFFSET + 2]
+            )
             axes[i, a] = f0 * rows[i, AXIS] + f1 * rows[i, AXIS + 1] + f2 * rows[i, AXIS + 2]
             for b in range(3):
                 rot[a, b] = f0 * rows[i, TURN + b] + f1 * rows[i, TURN + 3 + b] + f2 * rows[i, TURN + 6 + b]
@@ -193,14 +225,23 @@ def _chain(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarr
 
 
 @compiled(**JIT)
-def _forward_one(rows: np.ndarray, root: np.ndarray, phi: np.ndarray, points: np.ndarray, frames: np.ndarray,
-                 axes: np.ndarray, tool: np.ndarray) -> None:
+def _forward_one(
+    rows: np.ndarray,
+    root: np.ndarray,
+    phi: np.ndarray,
+    points: np.ndarray,
+    frames: np.ndarray,
+    axes: np.ndarray,
+    tool: np.ndarray,
+) -> None:
     """One pose into arrays the caller made (four arrays handed back by numba cost a microsecond more)."""
     _chain(rows, root, phi, points, frames, axes, tool)
 
 
 @compiled(**JIT)
-def _forward_many(rows: np.ndarray, root: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _forward_many(
+    rows: np.ndarray, root: np.ndarray, phi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     n = rows.shape[0]
     m = phi.shape[0]
     points = np.empty((m, n + 1, 3))
@@ -350,8 +391,11 @@ def forward_with_tool(arm: Arm, phi: np.ndarray) -> tuple[Pose, np.ndarray]:
         return Pose(points, frames, axes), tool
     batch = phi.shape[:-1]
     points, frames, axes, tool = _forward_many(rows, root, phi.reshape(-1, n))
-    return Pose(points=points.reshape(batch + (n + 1, 3)), frames=frames.reshape(batch + (n, 3, 3)),
-                axes=axes.reshape(batch + (n, 3))), tool.reshape(batch + (3, 3))
+    return Pose(
+        points=points.reshape(batch + (n + 1, 3)),
+        frames=frames.reshape(batch + (n, 3, 3)),
+        axes=axes.reshape(batch + (n, 3)),
+    ), tool.reshape(batch + (3, 3))
 
 
 def geometric_jacobian(pose: Pose, arm: Arm | None = None) -> np.ndarray:
@@ -394,8 +438,16 @@ def rotation_error(goal: np.ndarray, tool: np.ndarray) -> np.ndarray:
 
 
 @compiled(**JIT)
-def _capsule_ends_one(points: np.ndarray, frames: np.ndarray, link: np.ndarray, start: np.ndarray, end: np.ndarray,
-                      joint_segment: np.ndarray, a: np.ndarray, b: np.ndarray) -> None:
+def _capsule_ends_one(
+    points: np.ndarray,
+    frames: np.ndarray,
+    link: np.ndarray,
+    start: np.ndarray,
+    end: np.ndarray,
+    joint_segment: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+) -> None:
     """Every capsule's world ends of one pose into a, b (c, 3): p_k + R_k x, or the joint points
     themselves for a joint-to-joint capsule, its own ends for one on the base (carrier -1); the sums
     in numpy's einsum order."""
@@ -411,12 +463,22 @@ def _capsule_ends_one(points: np.ndarray, frames: np.ndarray, link: np.ndarray, 
                 b[c, i] = points[k + 1, i]
         else:
             for i in range(3):
-                a[c, i] = points[k, i] + (frames[k, i, 0] * start[c, 0] + frames[k, i, 1] * start[c, 1] + frames[k, i, 2] * start[c, 2])
-                b[c, i] = points[k, i] + (frames[k, i, 0] * end[c, 0] + frames[k, i, 1] * end[c, 1] + frames[k, i, 2] * end[c, 2])
+                a[c, i] = points[k, i] + (
+                    frames[k, i, 0] * start[c, 0] + frames[k, i, 1] * start[c, 1] + frames[k, i, 2] * start[c, 2]
+                )
+                b[c, i] = points[k, i] + (
+                    frames[k, i, 0] * end[c, 0] + frames[k, i, 1] * end[c, 1] + frames[k, i, 2] * end[c, 2]
+                )
 
 
-def capsule_ends_one(link: np.ndarray, start: np.ndarray, end: np.ndarray, joint_segment: np.ndarray,
-                     points: np.ndarray, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def capsule_ends_one(
+    link: np.ndarray,
+    start: np.ndarray,
+    end: np.ndarray,
+    joint_segment: np.ndarray,
+    points: np.ndarray,
+    frames: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
     """World ends a, b (c, 3) of capsules (``link`` (c,) int, ``start``/``end`` (c, 3) in their
     joint's frame, ``joint_segment`` (c,) bool) at one pose (``points`` (n+1, 3), ``frames``
     (n, 3, 3)): :func:`armanim.arm.capsules.capsule_ends` of one pose, compiled.
@@ -429,10 +491,20 @@ def capsule_ends_one(link: np.ndarray, start: np.ndarray, end: np.ndarray, joint
     """
     count = len(link)
     a, b = np.empty((count, 3)), np.empty((count, 3))
-    ends = np.empty((count, 6))  # start and end as column views of one array, as the compiled callers pass them (one compile)
+    ends = np.empty(
+        (count, 6)
+    )  # start and end as column views of one array, as the compiled callers pass them (one compile)
     ends[:, :3], ends[:, 3:] = start, end
-    _capsule_ends_one(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(frames, dtype=float), link, ends[:, :3], ends[:, 3:],
-                      np.ascontiguousarray(joint_segment, dtype=np.bool_), a, b)
+    _capsule_ends_one(
+        np.ascontiguousarray(points, dtype=float),
+        np.ascontiguousarray(frames, dtype=float),
+        link,
+        ends[:, :3],
+        ends[:, 3:],
+        np.ascontiguousarray(joint_segment, dtype=np.bool_),
+        a,
+        b,
+    )
     return a, b
 
 

@@ -343,7 +343,9 @@ def point_jacobian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.nda
     if np.ndim(link):
         lever = point[:, None, :] - pose.points[:-1, :]  # (k, n, 3)
         moves = np.arange(arm.n) <= np.asarray(link)[:, None]  # (k, n): the joints that move point i
-        return np.ascontiguousarray(np.swapaxes(np.where(moves[..., None], _columns(arm, w, lever), 0.0), -1, -2))  # laid out as one alone
+        return np.ascontiguousarray(
+            np.swapaxes(np.where(moves[..., None], _columns(arm, w, lever), 0.0), -1, -2)
+        )  # laid out as one alone
     jac = np.zeros(pose.points.shape[:-2] + (3, arm.n))
     lever = point[..., None, :] - pose.points[..., : link + 1, :]
     jac[..., :, : link + 1] = np.swapaxes(_columns(arm, w[..., : link + 1, :], lever), -1, -2)
@@ -407,9 +409,7 @@ def point_hessian(arm: Arm, pose: Pose, link: int, point: np.ndarray) -> np.ndar
     return hess
 
 
-def numeric_jacobian(
-    fun: Callable[[np.ndarray], np.ndarray], phi: np.ndarray, h: float = 1e-6
-) -> np.ndarray:
+def numeric_jacobian(fun: Callable[[np.ndarray], np.ndarray], phi: np.ndarray, h: float = 1e-6) -> np.ndarray:
     """Forward-difference Jacobian of a vector function: the course notes' Eq. 15.
 
     Column i is (fun(phi + h e_i) - fun(phi)) / h. All n displaced poses are

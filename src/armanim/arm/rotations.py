@@ -65,11 +65,13 @@ def quaternion_rotation(q_wxyz: ArrayLike) -> np.ndarray:
            [ 0.,  0.,  1.]])
     """
     w, x, y, z = unit_vector(q_wxyz)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def rotation_quaternion(rot: np.ndarray) -> np.ndarray:
@@ -91,10 +93,30 @@ def rotation_quaternion(rot: np.ndarray) -> np.ndarray:
     r = np.sqrt(np.maximum(1.0 + 2.0 * np.take_along_axis(candidates, pick[..., None], -1)[..., 0] - trace, 1e-300))
     s = 0.5 / r
     forms = [
-        (0.5 * r, (m[..., 2, 1] - m[..., 1, 2]) * s, (m[..., 0, 2] - m[..., 2, 0]) * s, (m[..., 1, 0] - m[..., 0, 1]) * s),
-        ((m[..., 2, 1] - m[..., 1, 2]) * s, 0.5 * r, (m[..., 0, 1] + m[..., 1, 0]) * s, (m[..., 0, 2] + m[..., 2, 0]) * s),
-        ((m[..., 0, 2] - m[..., 2, 0]) * s, (m[..., 0, 1] + m[..., 1, 0]) * s, 0.5 * r, (m[..., 1, 2] + m[..., 2, 1]) * s),
-        ((m[..., 1, 0] - m[..., 0, 1]) * s, (m[..., 0, 2] + m[..., 2, 0]) * s, (m[..., 1, 2] + m[..., 2, 1]) * s, 0.5 * r),
+        (
+            0.5 * r,
+            (m[..., 2, 1] - m[..., 1, 2]) * s,
+            (m[..., 0, 2] - m[..., 2, 0]) * s,
+            (m[..., 1, 0] - m[..., 0, 1]) * s,
+        ),
+        (
+            (m[..., 2, 1] - m[..., 1, 2]) * s,
+            0.5 * r,
+            (m[..., 0, 1] + m[..., 1, 0]) * s,
+            (m[..., 0, 2] + m[..., 2, 0]) * s,
+        ),
+        (
+            (m[..., 0, 2] - m[..., 2, 0]) * s,
+            (m[..., 0, 1] + m[..., 1, 0]) * s,
+            0.5 * r,
+            (m[..., 1, 2] + m[..., 2, 1]) * s,
+        ),
+        (
+            (m[..., 1, 0] - m[..., 0, 1]) * s,
+            (m[..., 0, 2] + m[..., 2, 0]) * s,
+            (m[..., 1, 2] + m[..., 2, 1]) * s,
+            0.5 * r,
+        ),
     ]
     for k, form in enumerate(forms):
         chosen = pick == k
@@ -224,6 +246,4 @@ def skew_batch(v: np.ndarray) -> np.ndarray:
         return skew(v)
     zero = np.zeros(v.shape[:-1])
     x, y, z = v[..., 0], v[..., 1], v[..., 2]
-    return np.stack([
-        np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)
-    ], -2)
+    return np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2)

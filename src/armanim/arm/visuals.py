@@ -103,10 +103,22 @@ def placed_meshes(meshes: list[LinkMesh], carriers: list[int], offsets: list[np.
         part.append(np.full(len(mesh.faces), i, dtype=int))
         start += len(mesh.vertices)
     if not meshes:
-        return ArmMeshes(np.zeros((0, 3)), np.zeros(0, dtype=int), np.zeros((0, 3), dtype=int), np.zeros((0, 3)),
-                         np.zeros(0, dtype=int), ())
-    return ArmMeshes(np.concatenate(vertices), np.concatenate(carrier), np.concatenate(faces), np.concatenate(colors),
-                     np.concatenate(part), tuple(m.link for m in meshes))
+        return ArmMeshes(
+            np.zeros((0, 3)),
+            np.zeros(0, dtype=int),
+            np.zeros((0, 3), dtype=int),
+            np.zeros((0, 3)),
+            np.zeros(0, dtype=int),
+            (),
+        )
+    return ArmMeshes(
+        np.concatenate(vertices),
+        np.concatenate(carrier),
+        np.concatenate(faces),
+        np.concatenate(colors),
+        np.concatenate(part),
+        tuple(m.link for m in meshes),
+    )
 
 
 def mesh_vertices(meshes: ArmMeshes, pose: Pose) -> np.ndarray:

@@ -47,12 +47,17 @@ def _plain_help() -> None:
         return None if self.is_flag and self.metavar is None else shown(self, ctx)
 
     def usage_name(self) -> str:
-        name = (self.metavar or (self.name or "").upper())
+        name = self.metavar or (self.name or "").upper()
         name = name if self.required else f"[{name}]"
         return name + ("..." if self.nargs != 1 else "")
 
-    patches = [(core.TyperOption, "display_type_rich", option_type), (core.TyperArgument, "_usage_display_name", usage_name)]
-    patches += [(kind, "format_help", _with_help_table(kind.format_help)) for kind in (core.TyperCommand, core.TyperGroup)]
+    patches = [
+        (core.TyperOption, "display_type_rich", option_type),
+        (core.TyperArgument, "_usage_display_name", usage_name),
+    ]
+    patches += [
+        (kind, "format_help", _with_help_table(kind.format_help)) for kind in (core.TyperCommand, core.TyperGroup)
+    ]
     for owner, name, method in patches:  # typer's help, patched once at import (a method replaced: setattr)
         setattr(owner, name, method)
 

@@ -15,12 +15,22 @@ SceneOpt = Annotated[Path | None, typer.Option("--scene", help="Take the arm (an
 LinksOpt = Annotated[str | None, typer.Option("--links", help="Link lengths, e.g. 2,5,5,5 (default: four unit links).")]
 BaseOpt = Annotated[str | None, typer.Option("--base", help="Base position x,y,z (default 0,0,0).")]
 AxesOpt = Annotated[str | None, typer.Option("--axes", help="Joint axes, e.g. z,y,y,y (default: z, then y).")]
-RobotOpt = Annotated[str | None, typer.Option("--robot", help="A bundled robot (armanim robots lists them), e.g. panda.")]
-DirOpt = Annotated[str | None, typer.Option("--direction", help="Local axis the links extend along: x, y or z (default z).")]
+RobotOpt = Annotated[
+    str | None, typer.Option("--robot", help="A bundled robot (armanim robots lists them), e.g. panda.")
+]
+DirOpt = Annotated[
+    str | None, typer.Option("--direction", help="Local axis the links extend along: x, y or z (default z).")
+]
 
 
-def arm_scene(scene: Path | None, links: str | None, base: str | None, axes: str | None, direction: str | None,
-              robot: str | None = None):
+def arm_scene(
+    scene: Path | None,
+    links: str | None,
+    base: str | None,
+    axes: str | None,
+    direction: str | None,
+    robot: str | None = None,
+):
     """The scene model of ``fk``/``ik``: loaded from ``--scene``, a bundled ``--robot``, or made
     of the arm flags (one of the three).
 
@@ -28,7 +38,9 @@ def arm_scene(scene: Path | None, links: str | None, base: str | None, axes: str
     is a placeholder and it has no file).
     """
     if scene is not None or robot is not None:
-        flags = [f for f, v in (("--links", links), ("--base", base), ("--axes", axes), ("--direction", direction)) if v]
+        flags = [
+            f for f, v in (("--links", links), ("--base", base), ("--axes", axes), ("--direction", direction)) if v
+        ]
         chosen = "--scene" if scene is not None else "--robot"
         if scene is not None and robot is not None:
             flags.append("--robot")
@@ -55,8 +67,10 @@ def _links(links: str | None) -> list[float]:
     if np.any(lengths <= 0):
         raise UsageError(f"--links: every length must be > 0 (got {links!r})")
     if np.any(lengths < LIMITS["smallest"]):  # as a scene file's links: smaller ones underflow the solver's damping
-        raise UsageError(f"--links: a length is too small (expected at least {LIMITS['smallest']:g}: choose a larger unit; "
-                         f"got {links!r})")
+        raise UsageError(
+            f"--links: a length is too small (expected at least {LIMITS['smallest']:g}: choose a larger unit; "
+            f"got {links!r})"
+        )
     if len(lengths) > LIMITS["links"]:
         raise UsageError(f"--links: {len(lengths)} links (expected at most {LIMITS['links']})")
     return [float(v) for v in lengths]

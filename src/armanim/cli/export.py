@@ -13,9 +13,23 @@ from armanim.cli.app import app, handle_errors, say
 @app.command()
 @handle_errors
 def export(
-    folder: Annotated[Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/panda-shelf.", show_default=False)],
-    fmt: Annotated[str, typer.Option("--format", help="What to write: joint-trajectory (a ROS trajectory_msgs/JointTrajectory in JSON).")] = "joint-trajectory",
-    out: Annotated[Path | None, typer.Option("--out", help="Write to this file (outside the run folder; an existing file is replaced only if it is an exported trajectory) instead of the run's joint_trajectory.json.", show_default=False)] = None,
+    folder: Annotated[
+        Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/panda-shelf.", show_default=False)
+    ],
+    fmt: Annotated[
+        str,
+        typer.Option(
+            "--format", help="What to write: joint-trajectory (a ROS trajectory_msgs/JointTrajectory in JSON)."
+        ),
+    ] = "joint-trajectory",
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out",
+            help="Write to this file (outside the run folder; an existing file is replaced only if it is an exported trajectory) instead of the run's joint_trajectory.json.",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Write the run as a ROS joint trajectory, without solving, and print the file's path.
 

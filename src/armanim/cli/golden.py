@@ -11,13 +11,17 @@ from armanim.cli.app import app, handle_errors, out, say
 from armanim.errors import EXIT_CHECK_FAILED, UsageError
 
 AtolDeg = Annotated[float, typer.Option("--atol-deg", min=0, help="Tolerance on joint angles, degrees.")]
-Atol = Annotated[float, typer.Option("--atol", min=0, help="Tolerance on positions, distances, clearances (scene units).")]
+Atol = Annotated[
+    float, typer.Option("--atol", min=0, help="Tolerance on positions, distances, clearances (scene units).")
+]
 
 
 @app.command()
 @handle_errors
 def compare(
-    expected: Annotated[Path, typer.Argument(help="The expected trajectory.csv (e.g. a golden file).", show_default=False)],
+    expected: Annotated[
+        Path, typer.Argument(help="The expected trajectory.csv (e.g. a golden file).", show_default=False)
+    ],
     actual: Annotated[Path, typer.Argument(help="The trajectory.csv to check.", show_default=False)],
     atol_deg: AtolDeg = 1e-6,
     atol: Atol = 1e-6,
@@ -73,8 +77,11 @@ def check(
         style = STYLES.get(result.status, "red")
         if style == "red":
             failures.append(f"{result.scene.name}: {result.report}")
-        shown = result.status + (" (scene changed since the golden file; --update records it)"
-                                 if result.status == "pass" and result.scene_changed else "")
+        shown = result.status + (
+            " (scene changed since the golden file; --update records it)"
+            if result.status == "pass" and result.scene_changed
+            else ""
+        )
         table.add_row(result.scene.name, str(result.golden), f"[{style}]{shown}[/{style}]")
     if not quiet:
         out.print(table)

@@ -20,17 +20,38 @@ if TYPE_CHECKING:  # numpy and the render room are imported where used: --versio
 
     from armanim.render.settings import RenderOverrides
 
-QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars and no tables (notes, the warnings that a picture or a model is not what was asked, are still printed).")]
+QuietOpt = Annotated[
+    bool,
+    typer.Option(
+        "--quiet",
+        "-q",
+        help="No progress bars and no tables (notes, the warnings that a picture or a model is not what was asked, are still printed).",
+    ),
+]
 JobsOpt = Annotated[int | None, typer.Option("--jobs", "-j", help="Worker processes (default: all cores).")]
 SchedulerOpt = Annotated[
     str | None,
-    typer.Option("--scheduler", envvar="ARMANIM_SCHEDULER", help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.\\[dask]').", show_envvar=True),
+    typer.Option(
+        "--scheduler",
+        envvar="ARMANIM_SCHEDULER",
+        help="Run on Dask: tcp://HOST:8786, or 'local' for a LocalCluster (needs pip install -e '.\\[dask]').",
+        show_envvar=True,
+    ),
 ]
-QUALITY = {"low": ("854x480", 15.0), "medium": ("1280x720", 30.0), "high": ("1920x1080", 60.0),
-           "4k": ("3840x2160", 60.0)}  # --quality: size and fps, as manim's presets
-QualityOpt = Annotated[str | None, typer.Option(
-    "--quality", help="low (854x480@15), medium (1280x720@30), high (1920x1080@60) or 4k (3840x2160@60): "
-    "overrides the scene's render size and fps (--size and --fps override it in turn).")]
+QUALITY = {
+    "low": ("854x480", 15.0),
+    "medium": ("1280x720", 30.0),
+    "high": ("1920x1080", 60.0),
+    "4k": ("3840x2160", 60.0),
+}  # --quality: size and fps, as manim's presets
+QualityOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--quality",
+        help="low (854x480@15), medium (1280x720@30), high (1920x1080@60) or 4k (3840x2160@60): "
+        "overrides the scene's render size and fps (--size and --fps override it in turn).",
+    ),
+]
 
 
 def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:
@@ -65,7 +86,9 @@ def _number(text: str, flag: str) -> float:
     try:
         return float(text)
     except ValueError:
-        raise UsageError(f"{flag}: {shown(text)} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)") from None
+        raise UsageError(
+            f"{flag}: {shown(text)} is not a number (expected comma-separated numbers, e.g. {flag} 0,30,45)"
+        ) from None
 
 
 def parse_lengths(text: str, flag: str, count: int | None = None) -> np.ndarray:
@@ -103,12 +126,21 @@ def usable_jobs(jobs: int | None) -> int | None:
     return jobs
 
 
-_FLAGS = {("fps",): "--fps", ("size",): "--size", ("format",): "--format",
-          ("view", "elevation"): "--elevation", ("view", "azimuth"): "--azimuth"}
+_FLAGS = {
+    ("fps",): "--fps",
+    ("size",): "--size",
+    ("format",): "--format",
+    ("view", "elevation"): "--elevation",
+    ("view", "azimuth"): "--azimuth",
+}
 
 
 def render_overrides(
-    size: str | None, fps: float | None, fmt: str | None, elevation: float | None = None, azimuth: float | None = None,
+    size: str | None,
+    fps: float | None,
+    fmt: str | None,
+    elevation: float | None = None,
+    azimuth: float | None = None,
     quality: str | None = None,
 ) -> RenderOverrides:
     """The render settings given on the command line, checked by the scene's own
@@ -146,4 +178,3 @@ def _checked_render_model(data: dict):
         loc = tuple(part for part in first["loc"] if isinstance(part, str))
         flag = _FLAGS.get(loc, f"--{loc[0]}")
         raise UsageError(f"{flag}: {problem_message(first, tuple(first['loc']))}") from None
-

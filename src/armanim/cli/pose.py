@@ -27,7 +27,13 @@ if TYPE_CHECKING:
 @app.command()
 @handle_errors
 def fk(
-    angles: Annotated[str, typer.Option("--angles", help="Joint angles, comma-separated (degrees unless --radians). Negative first value: --angles=-30,10.")],
+    angles: Annotated[
+        str,
+        typer.Option(
+            "--angles",
+            help="Joint angles, comma-separated (degrees unless --radians). Negative first value: --angles=-30,10.",
+        ),
+    ],
     scene: SceneOpt = None,
     links: LinksOpt = None,
     base: BaseOpt = None,
@@ -35,7 +41,12 @@ def fk(
     direction: DirOpt = None,
     robot: RobotOpt = None,
     radians: Annotated[bool, typer.Option("--radians", help="Angles are in radians.")] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="Print JSON: angles_deg, joints (base to tip), tip, tip_quaternion_wxyz, tip_rpy_deg.")] = False,
+    as_json: Annotated[
+        bool,
+        typer.Option(
+            "--json", help="Print JSON: angles_deg, joints (base to tip), tip, tip_quaternion_wxyz, tip_rpy_deg."
+        ),
+    ] = False,
     png: Annotated[Path | None, typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
 ) -> None:
     """Forward kinematics of one pose: joint positions and the tip.
@@ -54,14 +65,25 @@ def fk(
     values = parse_numbers(angles, "--angles", model.arm.joint_count)
     answer = forward_pose(model, values, in_radians=radians, with_notes=loaded is not None)
     if as_json:
-        print(json_text({
-            "angles_deg": answer.angles_deg.tolist(), "joints": answer.joints.tolist(), "tip": answer.tip.tolist(),
-            "tip_quaternion_wxyz": answer.tip_quaternion_wxyz.tolist(), "tip_rpy_deg": answer.tip_rpy_deg.tolist(),
-        }))
+        print(
+            json_text(
+                {
+                    "angles_deg": answer.angles_deg.tolist(),
+                    "joints": answer.joints.tolist(),
+                    "tip": answer.tip.tolist(),
+                    "tip_quaternion_wxyz": answer.tip_quaternion_wxyz.tolist(),
+                    "tip_rpy_deg": answer.tip_rpy_deg.tolist(),
+                }
+            )
+        )
     else:
         out.print(pose_table(answer.joints, answer.joint_degrees, answer.problem.arm.reach))
-        say("tool rpy (deg): " + ", ".join(fmt(v, 360) for v in answer.tip_rpy_deg)
-            + "; quaternion wxyz: " + ", ".join(fmt(v) for v in answer.tip_quaternion_wxyz))
+        say(
+            "tool rpy (deg): "
+            + ", ".join(fmt(v, 360) for v in answer.tip_rpy_deg)
+            + "; quaternion wxyz: "
+            + ", ".join(fmt(v) for v in answer.tip_quaternion_wxyz)
+        )
     for note in answer.notes:
         say(f"note: {note}", err)
     if png is not None:
@@ -77,7 +99,9 @@ def fk(
 
         settings = render_settings(model)
         converted = convert_scene(model)  # the problem and its links' places, from one chain
-        meshes, notes = look_meshes(model, converted.places, settings, loaded.path.parent if loaded is not None else Path("."))
+        meshes, notes = look_meshes(
+            model, converted.places, settings, loaded.path.parent if loaded is not None else Path(".")
+        )
         for note in notes:  # a mesh not found: its link is drawn as its capsules, as in a run
             say(f"note: {note}", err)
         drawn = draw_pose(replace(converted.problem, goals=()), answer.phi, settings, title="armanim fk", meshes=meshes)
@@ -111,16 +135,33 @@ def ik(
     axes: AxesOpt = None,
     direction: DirOpt = None,
     robot: RobotOpt = None,
-    method: Annotated[str | None, typer.Option("--method", help="pinv, dls, newton or gradient (default: the scene's, else pinv).")] = None,
-    start: Annotated[str | None, typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")] = None,
-    tolerance: Annotated[float | None, typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001).")] = None,
-    max_iterations: Annotated[int, typer.Option("--max-iterations", min=1, help="Give up after this many steps.")] = 2000,
-    orientation: Annotated[str | None, typer.Option(
-        "--orientation",
-        help="The tool's orientation too (degrees): rpy=R,P,Y (URDF's fixed axes), quat=W,X,Y,Z, axis=X,Y,Z,ANGLE, or tool_axis=X,Y,Z (only the tool's z, roll free).",
-    )] = None,
-    orientation_tolerance: Annotated[float | None, typer.Option(
-        "--orientation-tolerance", help="Degrees: converged when the tool's angle is below it too (default: the scene's, else 1).")] = None,
+    method: Annotated[
+        str | None, typer.Option("--method", help="pinv, dls, newton or gradient (default: the scene's, else pinv).")
+    ] = None,
+    start: Annotated[
+        str | None, typer.Option("--from", help="Starting angles in degrees (default: the scene's home, else all 0).")
+    ] = None,
+    tolerance: Annotated[
+        float | None,
+        typer.Option("--tolerance", help="Stop when |e - g| < tolerance (default: the scene's, else 0.001)."),
+    ] = None,
+    max_iterations: Annotated[
+        int, typer.Option("--max-iterations", min=1, help="Give up after this many steps.")
+    ] = 2000,
+    orientation: Annotated[
+        str | None,
+        typer.Option(
+            "--orientation",
+            help="The tool's orientation too (degrees): rpy=R,P,Y (URDF's fixed axes), quat=W,X,Y,Z, axis=X,Y,Z,ANGLE, or tool_axis=X,Y,Z (only the tool's z, roll free).",
+        ),
+    ] = None,
+    orientation_tolerance: Annotated[
+        float | None,
+        typer.Option(
+            "--orientation-tolerance",
+            help="Degrees: converged when the tool's angle is below it too (default: the scene's, else 1).",
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Solve one pose to convergence: angles, tip, error and iteration counts.
@@ -163,7 +204,9 @@ def parse_orientation(text: str):
     form, _, numbers = text.partition("=")
     form = form.strip()
     if form not in ORIENTATION_FORMS or not numbers:
-        raise UsageError(f"--orientation: expected rpy=R,P,Y, quat=W,X,Y,Z, axis=X,Y,Z,ANGLE or tool_axis=X,Y,Z (got {text!r})")
+        raise UsageError(
+            f"--orientation: expected rpy=R,P,Y, quat=W,X,Y,Z, axis=X,Y,Z,ANGLE or tool_axis=X,Y,Z (got {text!r})"
+        )
     values = parse_numbers(numbers, f"--orientation {form}", ORIENTATION_FORMS[form]).tolist()
     try:
         return orientation_flag(form, values)
@@ -178,7 +221,9 @@ def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float =
     status = "[green]converged[/green]" if data["converged"] else "[red]not converged[/red]"
     out.print(f"{data['method']}: {status}, error {number(data['error'], reach, 3)} (tolerance {tolerance:g})")
     if "orientation_error_deg" in data:
-        say(f"orientation error {number(data['orientation_error_deg'], 360, 3)} deg (tolerance {orientation_tolerance:g})")
+        say(
+            f"orientation error {number(data['orientation_error_deg'], 360, 3)} deg (tolerance {orientation_tolerance:g})"
+        )
     if data["found_by"] == "free_pose_search":
         say("found by the planner's free-pose search: the method alone did not converge from the start pose")
     if "reason" in data:
@@ -188,6 +233,8 @@ def print_ik_report(data: dict, tolerance: float, orientation_tolerance: float =
     if "self_clearance" in data:
         say(f"self clearance: {fmt(data['self_clearance'], reach)} ({data['self_pair'].replace('|', ' to ')})")
     if "newton_iterations" in data:
-        say(f"steps: {data['steps']} (gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']} iterations)")
+        say(
+            f"steps: {data['steps']} (gradient descent {data['gd_iterations']}, Newton {data['newton_iterations']} iterations)"
+        )
     else:
         say(f"steps: {data['steps']} ({data['iterations']} iterations)")

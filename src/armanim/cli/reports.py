@@ -24,11 +24,20 @@ def print_goal_table(result) -> None:
     reach, tolerance = result.problem.arm.reach, result.problem.solver.tolerance
     for g in sol.goals:
         outcome = "[green]reached[/green]" if g.reached else f"[red]missed[/red]: {g.reason_text}"
-        rows = g.last_frame - g.first_frame + 1 if g.first_frame >= 0 else 0  # its hold (and frame 0) too: the rows add up
-        row = [str(g.index), ", ".join(table_number(v, reach / 100) for v in g.position), outcome, str(rows),
-               table_number(g.final_distance, tolerance / 100)]
+        rows = (
+            g.last_frame - g.first_frame + 1 if g.first_frame >= 0 else 0
+        )  # its hold (and frame 0) too: the rows add up
+        row = [
+            str(g.index),
+            ", ".join(table_number(v, reach / 100) for v in g.position),
+            outcome,
+            str(rows),
+            table_number(g.final_distance, tolerance / 100),
+        ]
         if oriented:
-            row.append("" if g.final_orientation_error is None else number(np.degrees(g.final_orientation_error), 360, 3))
+            row.append(
+                "" if g.final_orientation_error is None else number(np.degrees(g.final_orientation_error), 360, 3)
+            )
         table.add_row(*row)
     out.print(table)
     say("outputs: " + ", ".join(str(p) for p in result.files.values()))
@@ -92,18 +101,34 @@ def print_batch_table(entries, index_path: Path) -> None:
 
     parents = {str(Path(e.folder).parent) for e in entries if e.folder}
     shared = len(parents) == 1 and all(not e.folder or Path(e.folder).name == e.name for e in entries)
-    where = f", in {next(iter(parents))}" if shared else ""  # each in OUT/<scene>: the folder column would repeat the name
-    table = Table(title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok{where}", title_justify="left")
+    where = (
+        f", in {next(iter(parents))}" if shared else ""
+    )  # each in OUT/<scene>: the folder column would repeat the name
+    table = Table(
+        title=f"{len(entries)} scenes: {sum(e.status == 'ok' for e in entries)} ok{where}", title_justify="left"
+    )
     numbers = ("reached", "missed", "frames", "min clear.")
     widest = max([len("scene"), *(len(e.name) for e in entries)])
     for col in ("scene", "status", *numbers, *(() if shared else ("folder",))):  # a folder folds, never a scene's name
-        table.add_column(col, justify="right" if col in numbers else "left", overflow="fold", no_wrap=col != "folder",
-                         min_width=widest if col == "scene" else None)
+        table.add_column(
+            col,
+            justify="right" if col in numbers else "left",
+            overflow="fold",
+            no_wrap=col != "folder",
+            min_width=widest if col == "scene" else None,
+        )
     for e in entries:
         style = {"ok": "green", "invalid": "red", "failed": "red"}[e.status]
         clearance = "" if e.min_clearance is None else number(e.min_clearance, digits=3)
-        table.add_row(e.name, f"[{style}]{e.status}[/{style}]", str(e.reached), str(e.missed), str(e.frames), clearance,
-                      *(() if shared else (e.folder,)))
+        table.add_row(
+            e.name,
+            f"[{style}]{e.status}[/{style}]",
+            str(e.reached),
+            str(e.missed),
+            str(e.frames),
+            clearance,
+            *(() if shared else (e.folder,)),
+        )
     out.print(table)
     say(f"index: {index_path}")
 

@@ -45,12 +45,26 @@ def robot_summaries() -> list[RobotSummary]:
         problem = scene_to_problem(scene_model({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}))
         lim = problem.limits
         slides = problem.arm.slides
-        limits = tuple(((float(lo), float(hi)) if slide else (float(np.degrees(lo)), float(np.degrees(hi)))) if np.isfinite(lo) else None
-                       for lo, hi, slide in zip(lim.lower, lim.upper, slides))
+        limits = tuple(
+            ((float(lo), float(hi)) if slide else (float(np.degrees(lo)), float(np.degrees(hi))))
+            if np.isfinite(lo)
+            else None
+            for lo, hi, slide in zip(lim.lower, lim.upper, slides)
+        )
         urdf = scene_model({"version": 1, "arm": {"robot": name}, "goals": [[0.5, 0, 0.5]]}).arm.urdf_arm
         held = tuple(_held_row(j, default_held_value(j)) for j in urdf.held)
-        summaries.append(RobotSummary(name, bundled_robot(name).title, problem.arm.joint_names, limits,
-                                      problem.arm.reach, len(problem.capsules), held, tuple(bool(v) for v in slides)))
+        summaries.append(
+            RobotSummary(
+                name,
+                bundled_robot(name).title,
+                problem.arm.joint_names,
+                limits,
+                problem.arm.reach,
+                len(problem.capsules),
+                held,
+                tuple(bool(v) for v in slides),
+            )
+        )
     return summaries
 
 
@@ -69,10 +83,23 @@ def _held_row(joint, default: float) -> tuple[str, str, float]:
 @app.command()
 @handle_errors
 def robots(
-    fit: Annotated[Path | None, typer.Option("--fit", metavar="URDF", help="Print the collision capsules of this URDF instead "
-                                             "(its primitives, and capsules fitted to its meshes), as a scene's arm.collision list.")] = None,
-    package_dir: Annotated[list[Path] | None, typer.Option("--package-dir", help="A folder package:// mesh names are found in "
-                                                           "(repeat for several); default the URDF's folder and its parents.")] = None,
+    fit: Annotated[
+        Path | None,
+        typer.Option(
+            "--fit",
+            metavar="URDF",
+            help="Print the collision capsules of this URDF instead "
+            "(its primitives, and capsules fitted to its meshes), as a scene's arm.collision list.",
+        ),
+    ] = None,
+    package_dir: Annotated[
+        list[Path] | None,
+        typer.Option(
+            "--package-dir",
+            help="A folder package:// mesh names are found in "
+            "(repeat for several); default the URDF's folder and its parents.",
+        ),
+    ] = None,
 ) -> None:
     """List the bundled robots a scene can name with [bold]arm: {robot: NAME}[/bold] (or fk/ik [bold]--robot NAME[/bold]) with their reach (from joint 1), and the joints off each chain a scene holds with [bold]arm.joint_values[/bold] (the Panda's fingers).
 
@@ -95,7 +122,15 @@ def robots(
         table.add_column("limits (deg; m)" if any(robot.prismatic) else "limits (deg)")
         for k, (joint, limits) in enumerate(zip(robot.joints, robot.limits_deg)):
             slides = bool(robot.prismatic and robot.prismatic[k])
-            shown = (f"[{limits[0]:.3f}, {limits[1]:.3f}] m, prismatic" if slides else f"[{limits[0]:.1f}, {limits[1]:.1f}]") if limits else "unlimited"
+            shown = (
+                (
+                    f"[{limits[0]:.3f}, {limits[1]:.3f}] m, prismatic"
+                    if slides
+                    else f"[{limits[0]:.1f}, {limits[1]:.1f}]"
+                )
+                if limits
+                else "unlimited"
+            )
             table.add_row(f"q{k + 1}" if slides else f"phi{k + 1}", joint, shown)
         for joint, how, default in robot.held:
             table.add_row("held", joint, how if default != default else f"{how}, default {default:g}")

@@ -30,10 +30,27 @@ if TYPE_CHECKING:
 def run(
     scenes: Annotated[list[Path], typer.Argument(help="Scene files to run.", show_default=False)],
     out_root: Annotated[Path, typer.Option("--out", help="Outputs go to OUT/<scene name>/.")] = Path("outputs"),
-    no_video: Annotated[bool, typer.Option("--no-video", help="Write trajectory.csv and summary.json only (and viewer.html with --viewer).")] = False,
-    viewer: Annotated[bool | None, typer.Option("--viewer/--no-viewer", help="Write viewer.html, the interactive 3-D page (default: when the video is written).", show_default=False)] = None,
+    no_video: Annotated[
+        bool,
+        typer.Option("--no-video", help="Write trajectory.csv and summary.json only (and viewer.html with --viewer)."),
+    ] = False,
+    viewer: Annotated[
+        bool | None,
+        typer.Option(
+            "--viewer/--no-viewer",
+            help="Write viewer.html, the interactive 3-D page (default: when the video is written).",
+            show_default=False,
+        ),
+    ] = None,
     quiet: QuietOpt = False,
-    jobs: Annotated[int | None, typer.Option("--jobs", "-j", help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.")] = None,
+    jobs: Annotated[
+        int | None,
+        typer.Option(
+            "--jobs",
+            "-j",
+            help="Worker processes (default: all cores): scenes in parallel for a batch, video segments for one scene.",
+        ),
+    ] = None,
     scheduler: SchedulerOpt = None,
     size: Annotated[str | None, typer.Option("--size", help="Override render.size, e.g. 640x360.")] = None,
     fps: Annotated[float | None, typer.Option("--fps", help="Override render.fps.")] = None,
@@ -56,7 +73,12 @@ def run(
     refuse_in_run_folder(out_root, "--out", itself=True)  # a run folder inside another would stop that one's next run
     from armanim.runs.options import RunOptions
 
-    options = RunOptions(video=not no_video, viewer=viewer, jobs=usable_jobs(jobs), render=render_overrides(size, fps, fmt, quality=quality))
+    options = RunOptions(
+        video=not no_video,
+        viewer=viewer,
+        jobs=usable_jobs(jobs),
+        render=render_overrides(size, fps, fmt, quality=quality),
+    )
     if not quiet:
         tell_first_compile("run")
     if len(scenes) == 1 and not scheduler:
@@ -111,7 +133,9 @@ def committed_is_done():
 @app.command()
 @handle_errors
 def render(
-    folder: Annotated[Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/notes-arm.", show_default=False)],
+    folder: Annotated[
+        Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/notes-arm.", show_default=False)
+    ],
     size: Annotated[str | None, typer.Option("--size", help="Frame size WIDTHxHEIGHT, e.g. 640x360.")] = None,
     fps: Annotated[float | None, typer.Option("--fps", help="Frames per second.")] = None,
     fmt: Annotated[str | None, typer.Option("--format", help="mp4 or gif.")] = None,
@@ -120,7 +144,12 @@ def render(
     jobs: JobsOpt = None,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
     quality: QualityOpt = None,
-    out_dir: Annotated[Path | None, typer.Option("--out", help="Write the video, plot.png and poster.png to this folder instead of replacing the run's.")] = None,
+    out_dir: Annotated[
+        Path | None,
+        typer.Option(
+            "--out", help="Write the video, plot.png and poster.png to this folder instead of replacing the run's."
+        ),
+    ] = None,
 ) -> None:
     """Re-render a finished run from its trajectory.csv, without solving (other size, view, fps or format).
 
@@ -133,7 +162,9 @@ def render(
     jobs = usable_jobs(jobs)
     notes: list[str] = []
     with committed_is_done(), bars(quiet) as shown:
-        files = rerender_run(folder, out=out_dir, jobs=jobs, render_overrides=overrides, progress=shown, notes=notes.append)
+        files = rerender_run(
+            folder, out=out_dir, jobs=jobs, render_overrides=overrides, progress=shown, notes=notes.append
+        )
     ignore_until_exit()
     for note in notes:  # a picture that is not what the run drew (its meshes not found): also with --quiet
         say(message_lines("note: " + note), err)

@@ -44,7 +44,9 @@ def scene_counts(model) -> str:
     arm = model.arm
     if arm.is_urdf:
         names = arm.urdf_arm.joint_names
-        plain = all(n.isprintable() and len(n) <= 80 for n in names)  # else quoted and escaped: a name cannot forge a line
+        plain = all(
+            n.isprintable() and len(n) <= 80 for n in names
+        )  # else quoted and escaped: a name cannot forge a line
         first = f"{plural(len(names), 'joint')} ({', '.join(names) if plain else shown_list(names)})"
     else:
         first = plural(len(arm.links), "link")
@@ -55,7 +57,9 @@ def scene_counts(model) -> str:
 @app.command()
 @handle_errors
 def schema(
-    output: Annotated[Path | None, typer.Option("--out", help="Write the schema to this file instead of stdout.")] = None,
+    output: Annotated[
+        Path | None, typer.Option("--out", help="Write the schema to this file instead of stdout.")
+    ] = None,
 ) -> None:
     """Print the scene file's JSON Schema, for editors to complete and check scenes.
 

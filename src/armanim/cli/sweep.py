@@ -21,9 +21,21 @@ if TYPE_CHECKING:
 @handle_errors
 def sweep(
     scene: Annotated[Path, typer.Argument(help="The scene to vary.", show_default=False)],
-    settings: Annotated[list[str], typer.Option("--set", help="FIELD.PATH=V1,V2,... (repeatable); the product of all values is run.", show_default=False)],
-    out_root: Annotated[Path, typer.Option("--out", help="Variants go to OUT/<variant name>/, the table to OUT/<scene>-sweep.csv.")] = Path("outputs"),
-    video: Annotated[bool, typer.Option("--video/--no-video", help="Render each variant's video (off by default: sweeps compare numbers).")] = False,
+    settings: Annotated[
+        list[str],
+        typer.Option(
+            "--set", help="FIELD.PATH=V1,V2,... (repeatable); the product of all values is run.", show_default=False
+        ),
+    ],
+    out_root: Annotated[
+        Path, typer.Option("--out", help="Variants go to OUT/<variant name>/, the table to OUT/<scene>-sweep.csv.")
+    ] = Path("outputs"),
+    video: Annotated[
+        bool,
+        typer.Option(
+            "--video/--no-video", help="Render each variant's video (off by default: sweeps compare numbers)."
+        ),
+    ] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")] = False,
     jobs: JobsOpt = None,
     scheduler: SchedulerOpt = None,
@@ -44,8 +56,15 @@ def sweep(
     from armanim.cli.progress import bars
 
     with bars(quiet) as shown:
-        result = run_sweep(scene, parsed, out_root, jobs=jobs, scheduler=scheduler, video=video,
-                           progress=functools.partial(shown, "variants"))
+        result = run_sweep(
+            scene,
+            parsed,
+            out_root,
+            jobs=jobs,
+            scheduler=scheduler,
+            video=video,
+            progress=functools.partial(shown, "variants"),
+        )
     ignore_until_exit()  # every variant, the table and index.csv are in place: the sweep has its outcome
     if not quiet:
         title = f"sweep of {scene.name}: {len(result.variants)} variants"
@@ -55,7 +74,13 @@ def sweep(
     raise typer.Exit(batch_exit_code(result.entries, strict=False))
 
 
-SWEEP_SCREEN_COLUMNS = {"status": "status", "reached": "reached", "missed": "missed", "frames": "frames", "min_clearance": "min clear."}
+SWEEP_SCREEN_COLUMNS = {
+    "status": "status",
+    "reached": "reached",
+    "missed": "missed",
+    "frames": "frames",
+    "min_clearance": "min clear.",
+}
 """Columns of the sweep CSV shown on screen, after the varied settings, with their short headers."""
 
 

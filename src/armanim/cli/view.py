@@ -13,8 +13,17 @@ from armanim.cli.app import app, err, handle_errors, message_lines, say
 @app.command()
 @handle_errors
 def view(
-    folder: Annotated[Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/notes-arm.", show_default=False)],
-    out: Annotated[Path | None, typer.Option("--out", help="Write the page to this file instead of the run's viewer.html (an existing file is replaced only if it is a page armanim wrote).", show_default=False)] = None,
+    folder: Annotated[
+        Path, typer.Argument(help="An output folder of armanim run, e.g. outputs/notes-arm.", show_default=False)
+    ],
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out",
+            help="Write the page to this file instead of the run's viewer.html (an existing file is replaced only if it is a page armanim wrote).",
+            show_default=False,
+        ),
+    ] = None,
     open_page: Annotated[bool, typer.Option("--open", help="Open the page in the default web browser.")] = False,
 ) -> None:
     """Write the run's viewer.html from its trajectory.csv, without solving, and print its path.

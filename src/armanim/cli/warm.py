@@ -21,4 +21,6 @@ def warm(quiet: QuietOpt = False) -> None:
         solves = warm_kernels(lambda label, done, total: progress("warm", done, total, (label,)))
     if not quiet:
         what = f"numba compiled for {watch.compiling:.1f} s" if watch.compiling else "all of it was compiled already"
-        out.print(f"armanim warm: {solves} solves in {watch.seconds:.1f} s ({what}; numba's cache keeps it until armanim changes)")
+        out.print(
+            f"armanim warm: {solves} solves in {watch.seconds:.1f} s ({what}; numba's cache keeps it until armanim changes)"
+        )

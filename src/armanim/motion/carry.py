@@ -114,9 +114,14 @@ class World:
 
     def key(self) -> tuple[object, ...]:
         """What tells two worlds apart (for reusing one problem per world)."""
-        return (tuple(sorted((k, None if b is None else b.matrix().tobytes()) for k, b in self.moved.items())),
-                None if self.held is None else (self.held.column, self.held.offset.tobytes(), self.held.touch), self.near,
-                self.fingers, self.support, self.stop)
+        return (
+            tuple(sorted((k, None if b is None else b.matrix().tobytes()) for k, b in self.moved.items())),
+            None if self.held is None else (self.held.column, self.held.offset.tobytes(), self.held.touch),
+            self.near,
+            self.fingers,
+            self.support,
+            self.stop,
+        )
 
 
 def default_touch_links(problem: Problem) -> tuple[str, ...]:
@@ -193,8 +198,14 @@ def carried_pairs(pairs: SelfPairs, capsules: Capsules, name: str, touch: tuple[
             second.append(i)
             labels.append((names[j], name))
     touching = tuple((link, name, TOUCH) for link in touch)
-    return SelfPairs(np.array(first, dtype=int), np.array(second, dtype=int), pairs.clearance, tuple(labels),
-                     pairs.allowed + touching, pairs.mode)
+    return SelfPairs(
+        np.array(first, dtype=int),
+        np.array(second, dtype=int),
+        pairs.clearance,
+        tuple(labels),
+        pairs.allowed + touching,
+        pairs.mode,
+    )
 
 
 def world_problem(problem: Problem, world: World) -> Problem:
@@ -211,12 +222,17 @@ def world_problem(problem: Problem, world: World) -> Problem:
     held = world.held
     if held is not None:
         capsules = supported(carried_capsules(problem, held), problem, world)
-        return replace(out, capsules=capsules, self_pairs=carried_pairs(problem.self_pairs, capsules, held.name, held.touch))
+        return replace(
+            out, capsules=capsules, self_pairs=carried_pairs(problem.self_pairs, capsules, held.name, held.touch)
+        )
     if world.near is not None:
         column, touch = world.near
         name = object_name(problem, column)
-        capsules = supported(resting_capsules(problem, world.moved.get(column) or obstacle_body(problem.obstacles, column), name),
-                             problem, world)
+        capsules = supported(
+            resting_capsules(problem, world.moved.get(column) or obstacle_body(problem.obstacles, column), name),
+            problem,
+            world,
+        )
         return replace(out, capsules=capsules, self_pairs=carried_pairs(problem.self_pairs, capsules, name, touch))
     return out
 
@@ -227,7 +243,7 @@ def supported(capsules: Capsules, problem: Problem, world: World) -> Capsules:
     if world.support is None:
         return capsules
     allowed = np.array(capsules.allowed)
-    allowed[len(problem.capsules):] = world_columns(problem, world).index(world.support)
+    allowed[len(problem.capsules) :] = world_columns(problem, world).index(world.support)
     return replace(capsules, allowed=allowed)
 
 
@@ -236,7 +252,9 @@ SUPPORT_DEPTH = 1e-9
 box set exactly on a board, 0.24 - 0.04 = 0.19999999999999998)."""
 
 
-def touching_support(problem: Problem, world: World, body: Body, column: int | None, deeper: bool = False) -> int | None:
+def touching_support(
+    problem: Problem, world: World, body: Body, column: int | None, deeper: bool = False
+) -> int | None:
     """The box obstacle the solid ``body`` stands on, in ``world`` (the objects where they were put;
     ``column``, the object itself, left out): of the boxes its cover comes within
     ``solver.clearance`` of, the one its solid is nearest to (:func:`~armanim.world.support.solid_box_distance`),
@@ -273,8 +291,11 @@ def goal_world(problem: Problem, world: World, k: int, pose: Pose | None = None)
     held = world.held
     if goal.grasp is not None and held is None:
         body = world.moved.get(goal.grasp) or obstacle_body(problem.obstacles, goal.grasp)
-        return replace(world, near=(goal.grasp, touch_links(problem, goal.touch_links)),
-                       support=touching_support(problem, world, body, goal.grasp))
+        return replace(
+            world,
+            near=(goal.grasp, touch_links(problem, goal.touch_links)),
+            support=touching_support(problem, world, body, goal.grasp),
+        )
     if held is None or k == 0:
         return world
     if goal.retreat and problem.goals[k - 1].grasp == held.column:
@@ -359,7 +380,10 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
     that would ask either of a run whose goals are all reached.
     """
     goal = problem.goals[k]
-    before, world = world, replace(world, near=None, support=None, stop=1.0)  # the object at the hand, its support, its line's stop: this goal's alone
+    before, world = (
+        world,
+        replace(world, near=None, support=None, stop=1.0),
+    )  # the object at the hand, its support, its line's stop: this goal's alone
     if not reached:
         return world
     if goal.grasp is None and not goal.release:
@@ -370,16 +394,29 @@ def after_goal(problem: Problem, world: World, k: int, reached: bool, pose: Pose
             return world
         column = goal.grasp
         body = world.moved.get(column) or obstacle_body(problem.obstacles, column)
-        held = Held(column, object_name(problem, column), body, grasp_offset(tool, body), touch_links(problem, goal.touch_links),
-                    before.support)
-        fingers = None if problem.gripper is None else problem.gripper.grip(body.extent(finger_direction(problem, pose)))
+        held = Held(
+            column,
+            object_name(problem, column),
+            body,
+            grasp_offset(tool, body),
+            touch_links(problem, goal.touch_links),
+            before.support,
+        )
+        fingers = (
+            None if problem.gripper is None else problem.gripper.grip(body.extent(finger_direction(problem, pose)))
+        )
         return World({**world.moved, column: None}, held, fingers=fingers_if_free(problem, before, pose, fingers))
     if world.held is None:
         return world
     placed = placed_body(tool, world.held.offset, world.held.body)
     fingers = None if problem.gripper is None else problem.gripper.upper
-    return World({**world.moved, world.held.column: placed}, None, (world.held.column, world.held.touch),
-                 fingers_if_free(problem, before, pose, fingers), before.support)
+    return World(
+        {**world.moved, world.held.column: placed},
+        None,
+        (world.held.column, world.held.touch),
+        fingers_if_free(problem, before, pose, fingers),
+        before.support,
+    )
 
 
 FINGER_STEPS = 16
@@ -416,8 +453,10 @@ def fingers_free(solved: Problem, pose: Pose, start: float, end: float) -> bool:
         clear.append(float(min_link_clearance(at, solved.obstacles, capsules)) if len(solved.obstacles) else np.inf)
         gaps.append(float(self_gaps(at, capsules, solved.self_pairs).d.min()) if len(solved.self_pairs) else np.inf)
     tiny = 1e-12
-    return (min(clear) >= min(solved.solver.clearance, clear[0]) - tiny
-            and min(gaps) >= min(solved.self_pairs.clearance, gaps[0]) - tiny)
+    return (
+        min(clear) >= min(solved.solver.clearance, clear[0]) - tiny
+        and min(gaps) >= min(solved.self_pairs.clearance, gaps[0]) - tiny
+    )
 
 
 def opened_before_grasp(problem: Problem, world: World, k: int) -> float | None:
@@ -448,9 +487,12 @@ def finger_holds(goals: tuple[Goal, ...], gripper: Gripper | None) -> tuple[Goal
         return goals
     first = next((k for k, g in enumerate(goals) if g.grasp is not None), None)
     extra = (gripper.upper - gripper.lower) / gripper.speed
-    return tuple(replace(g, hold=g.hold + extra) if g.grasp is not None or g.release
-                 or (first is not None and k == first - 1 and gripper.rest < gripper.upper) else g
-                 for k, g in enumerate(goals))
+    return tuple(
+        replace(g, hold=g.hold + extra)
+        if g.grasp is not None or g.release or (first is not None and k == first - 1 and gripper.rest < gripper.upper)
+        else g
+        for k, g in enumerate(goals)
+    )
 
 
 def frame_fingers(problem: Problem, carry: CarryReport, goal: np.ndarray, fps: float) -> np.ndarray | None:
@@ -464,7 +506,7 @@ def frame_fingers(problem: Problem, carry: CarryReport, goal: np.ndarray, fps: f
     worlds = (*carry.worlds, carry.final)
     for k in range(len(carry.worlds)):
         mine = np.nonzero(goal == k)[0]
-        start, end = (gripper.rest if w.fingers is None else w.fingers for w in worlds[k:k + 2])
+        start, end = (gripper.rest if w.fingers is None else w.fingers for w in worlds[k : k + 2])
         out[mine] = ramp(start, end, gripper.ramp_frames(start, end, fps), len(mine))
     return out
 
@@ -531,10 +573,16 @@ def carried_clearance(problem: Problem, carry: CarryReport, phi: np.ndarray, goa
             continue
         caps = problems[k].capsules
         own = np.arange(len(problem.capsules), len(caps))
-        part = Capsules(caps.link[own], caps.start[own], caps.end[own], caps.radius[own], joint_segment=caps.joint_segment[own],
-                        allowed=caps.allowed[own])
+        part = Capsules(
+            caps.link[own],
+            caps.start[own],
+            caps.end[own],
+            caps.radius[own],
+            joint_segment=caps.joint_segment[own],
+            allowed=caps.allowed[own],
+        )
         for start in range(0, len(rows), FRAME_CHUNK):  # each link's frame per frame: bounded memory
-            some = rows[start:start + FRAME_CHUNK]
+            some = rows[start : start + FRAME_CHUNK]
             out[some] = min_link_clearance(forward(problem.arm, phi[some]), problems[k].obstacles, part)
     return out
 
@@ -648,7 +696,9 @@ def frame_bodies(problem: Problem, carry: CarryReport, phi: np.ndarray, goal: np
     return out
 
 
-def frame_worlds(problem: Problem, carry: CarryReport, goal: np.ndarray, fps: float) -> list[tuple[Problem, np.ndarray]]:
+def frame_worlds(
+    problem: Problem, carry: CarryReport, goal: np.ndarray, fps: float
+) -> list[tuple[Problem, np.ndarray]]:
     """The frames (goals ``goal`` (F,) at ``fps``) grouped by the problem each is measured in:
     its goal's world (:func:`goal_problems`) with the fingers where they are in that frame
     (:func:`frame_fingers`); (problem, (F,) bool) per group, every frame in one."""
@@ -667,11 +717,18 @@ def frame_worlds(problem: Problem, carry: CarryReport, goal: np.ndarray, fps: fl
         at = problem.gripper.rest if at is None else at
         for value in np.unique(fingers[mine]):
             capsules = moved_fingers(solved.capsules, problem.gripper, float(value), at)
-            out.append((solved if capsules is solved.capsules else replace(solved, capsules=capsules), mine & (fingers == value)))
+            out.append(
+                (
+                    solved if capsules is solved.capsules else replace(solved, capsules=capsules),
+                    mine & (fingers == value),
+                )
+            )
     return out
 
 
-def world_clearance(problem: Problem, carry: CarryReport | None, pose: Pose, goal: np.ndarray, fps: float) -> np.ndarray:
+def world_clearance(
+    problem: Problem, carry: CarryReport | None, pose: Pose, goal: np.ndarray, fps: float
+) -> np.ndarray:
     """(F,) each frame's least capsule clearance, measured in its goal's world with the fingers
     where they are (:func:`frame_worlds`; ``carry`` None: ``problem`` for every frame)."""
     from armanim.world.distances import min_link_clearance
@@ -694,5 +751,7 @@ def world_columns(problem: Problem, world: World) -> list[int]:
     >>> world_columns(p, World(moved={1: None}))
     [0, 2]
     """
-    gone = {c for c, body in world.moved.items() if body is None} | ({world.near[0]} if world.near is not None else set())
+    gone = {c for c, body in world.moved.items() if body is None} | (
+        {world.near[0]} if world.near is not None else set()
+    )
     return [c for c in range(len(problem.obstacles.kinds)) if c not in gone]

@@ -100,7 +100,11 @@ def orientation_cost_weight(problem: Problem, orientation: Orientation) -> float
 
 
 def total_cost(
-    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None,
+    problem: Problem,
+    phi: np.ndarray,
+    goal: np.ndarray,
+    pose: Pose | None = None,
+    cl: Clearances | None = None,
     orientation: Orientation | None = None,
 ) -> np.ndarray:
     """C(Phi) for one pose or a batch (..., n); +inf where a barrier is crossed.
@@ -120,12 +124,16 @@ def total_cost(
         field = obstacle_field(cl.d, obstacles.influence)
         cost = cost + s.w_obstacles * field.sum(axis=(-1, -2))
     gaps = pair_gaps(problem, pose)
-    if gaps is not None and np.any(gaps.least <= self_influence(problem)):  # the arm's own pairs: the same field between two of its parts (0 beyond R)
+    if gaps is not None and np.any(
+        gaps.least <= self_influence(problem)
+    ):  # the arm's own pairs: the same field between two of its parts (0 beyond R)
         cost = cost + s.w_obstacles * obstacle_field(gaps.d, self_influence(problem)).sum(axis=-1)
     return cost + s.w_limits * limit_barrier(phi, problem.limits)
 
 
-def obstacle_cost_gradient(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, obstacles: Obstacles) -> np.ndarray:
+def obstacle_cost_gradient(
+    arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, obstacles: Obstacles
+) -> np.ndarray:
     """Gradient (n,) of sum F_R(d) over parts and obstacles, for a single pose.
 
     Each concerned part contributes F_R'(d) n^T J_q, with J_q the Jacobian of its
@@ -157,10 +165,14 @@ def self_cost_gradient(problem: Problem, pose: Pose, gaps: SelfGaps) -> np.ndarr
     which = np.nonzero(slope)[0]
     if not len(which):
         return np.zeros(problem.arm.n)
-    return cast(np.ndarray, slope[which] @ self_rows(problem.arm, problem.capsules, pose, problem.self_pairs, gaps, which))
+    return cast(
+        np.ndarray, slope[which] @ self_rows(problem.arm, problem.capsules, pose, problem.self_pairs, gaps, which)
+    )
 
 
-def part_jacobians(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, parts: np.ndarray, obs: np.ndarray) -> np.ndarray:
+def part_jacobians(
+    arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, parts: np.ndarray, obs: np.ndarray
+) -> np.ndarray:
     """(k, 3, n) Jacobians of the points of parts ``parts`` (k,) closest to obstacles ``obs`` (k,),
     one pose: on a capsule, or the tip (the end of the last link)."""
     jacs = np.empty((len(parts), 3, arm.n))
@@ -173,7 +185,11 @@ def part_jacobians(arm: Arm, capsules: Capsules, pose: Pose, cl: Clearances, par
 
 
 def total_cost_gradient(
-    problem: Problem, phi: np.ndarray, goal: np.ndarray, pose: Pose | None = None, cl: Clearances | None = None,
+    problem: Problem,
+    phi: np.ndarray,
+    goal: np.ndarray,
+    pose: Pose | None = None,
+    cl: Clearances | None = None,
     orientation: Orientation | None = None,
 ) -> np.ndarray:
     """Analytic gradient of :func:`total_cost` for one pose, shape (n,).

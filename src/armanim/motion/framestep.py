@@ -20,8 +20,9 @@ from armanim.motion.problem import Problem
 from armanim.motion.solvers import ArmState, Method, proposed_step
 
 
-def method_step(problem: Problem, method: Method, state: ArmState, goal: np.ndarray,
-                orientation: Orientation | None = None) -> tuple[SafeStep, int, int]:
+def method_step(
+    problem: Problem, method: Method, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None
+) -> tuple[SafeStep, int, int]:
     """The method's proposal toward ``goal`` (and ``orientation``) through the filter, and its
     iterations and Newton iterations."""
     if compiled_plan(problem, method, orientation, "frame") is not None:

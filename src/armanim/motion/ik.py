@@ -125,19 +125,27 @@ def _solving_problem(problem: Problem) -> Problem:
     return replace(problem, solver=replace(s, beta=beta, max_step=np.inf, max_joint_step=turn), tunables=tunables)
 
 
-def pose_errors(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None) -> tuple[float, float | None, float]:
+def pose_errors(
+    problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None
+) -> tuple[float, float | None, float]:
     """|e - g|, the tool's angle to ``orientation`` (None without one), and the two as one
     progress measure (:func:`armanim.motion.orientation.pose_distance`)."""
     distance = float(np.linalg.norm(state.tip - goal))
     if orientation is None:
         return distance, None, distance
-    angle = float(np.linalg.norm(tool_residual(orientation, problem.arm, state.pose), axis=-1))  # orientation_angle, kept for the next step's task
+    angle = float(
+        np.linalg.norm(tool_residual(orientation, problem.arm, state.pose), axis=-1)
+    )  # orientation_angle, kept for the next step's task
     s = problem.solver
     return distance, angle, float(pose_distance(distance, angle, s.tolerance, s.orientation_tolerance))
 
 
 def solve_pose(
-    problem: Problem, goal: np.ndarray, start: np.ndarray, max_iterations: int = 1000, orientation: Orientation | None = None
+    problem: Problem,
+    goal: np.ndarray,
+    start: np.ndarray,
+    max_iterations: int = 1000,
+    orientation: Orientation | None = None,
 ) -> PoseSolution:
     """Solve for one pose whose tip is at ``goal`` (and whose tool meets ``orientation``, if
     given), starting from ``start`` (radians).
@@ -212,7 +220,9 @@ def _pose_solution(**fields: object) -> PoseSolution:
     return made
 
 
-def free_pose(problem: Problem, goal: np.ndarray, near: np.ndarray, orientation: Orientation | None = None) -> ArmState | None:
+def free_pose(
+    problem: Problem, goal: np.ndarray, near: np.ndarray, orientation: Orientation | None = None
+) -> ArmState | None:
     """The planner's free pose at ``goal`` nearest to ``near`` (inside the limits, every link
     ``solver.clearance`` from every obstacle, the tip within the tolerance, the tool at
     ``orientation`` if given); None if none is found."""
@@ -229,7 +239,12 @@ def _restarts(problem: Problem, start: np.ndarray) -> np.ndarray:
 
 
 def _attempt(
-    problem: Problem, method: Method, goal: np.ndarray, start: np.ndarray, budget: int, orientation: Orientation | None = None
+    problem: Problem,
+    method: Method,
+    goal: np.ndarray,
+    start: np.ndarray,
+    budget: int,
+    orientation: Orientation | None = None,
 ) -> _Attempt:
     """Filtered steps from ``start`` until the tip is within tolerance (and the tool within the
     orientation tolerance), the attempt stalls, its steps (``budget`` or the method's
@@ -253,18 +268,25 @@ def _attempt(
     while True:
         ran = run_attempt(problem, step, stacked, goal, phi, steps_cap, orientation, counters)
         if not ran.handed_back:
-            return _Attempt(ran.phi, ran.tip, (ran.distance, ran.angle, ran.progress), ran.steps, ran.steps, 0, ran.numerical)
-        if state is None or ran.steps != counters[0]:  # the compiled loop took steps: its very pose (angles wrapped after)
+            return _Attempt(
+                ran.phi, ran.tip, (ran.distance, ran.angle, ran.progress), ran.steps, ran.steps, 0, ran.numerical
+            )
+        if (
+            state is None or ran.steps != counters[0]
+        ):  # the compiled loop took steps: its very pose (angles wrapped after)
             computed = arm_state(problem, ran.pose_phi)
             state = ArmState(ran.phi, computed.pose, computed.clearance, computed.self_gaps)
-        attempt, best, since_best, stopped, state = _steps(problem, method, goal, state, ran.steps + 1, orientation,
-                                                           ran.steps, ran.steps, ran.best, ran.since_best)
+        attempt, best, since_best, stopped, state = _steps(
+            problem, method, goal, state, ran.steps + 1, orientation, ran.steps, ran.steps, ran.best, ran.since_best
+        )
         if stopped or attempt.steps >= steps_cap:
             return attempt
         phi, counters = attempt.phi, (attempt.steps, best, since_best)
 
 
-_RUN_ATTEMPT: list[Callable[..., Any]] = []  # the compiled attempt once imported (numba loads with it: not at this module's import)
+_RUN_ATTEMPT: list[
+    Callable[..., Any]
+] = []  # the compiled attempt once imported (numba loads with it: not at this module's import)
 
 
 def _compiled_attempt() -> Callable[..., Any]:
@@ -278,8 +300,16 @@ def _compiled_attempt() -> Callable[..., Any]:
 
 
 def _steps(
-    problem: Problem, method: Method, goal: np.ndarray, state: ArmState, steps_cap: int, orientation: Orientation | None = None,
-    steps: int = 0, iterations: int = 0, best: float | None = None, since_best: int = 0,
+    problem: Problem,
+    method: Method,
+    goal: np.ndarray,
+    state: ArmState,
+    steps_cap: int,
+    orientation: Orientation | None = None,
+    steps: int = 0,
+    iterations: int = 0,
+    best: float | None = None,
+    since_best: int = 0,
 ) -> tuple[_Attempt, float, int, bool, ArmState]:
     """The numpy steps of an attempt from ``state`` up to ``steps_cap`` steps in all: a whole
     attempt, or a step of one that the compiled loop handed back with its counters (``steps``,
@@ -297,13 +327,31 @@ def _steps(
         newton_iterations += proposal.newton_iterations
         if moved.scale == 0.0:  # nothing moved: the same pose would propose the same again
             numerical = moved.blocked_by == "nan"
-            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, numerical), best, since_best, True, state
+            return (
+                _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, numerical),
+                best,
+                since_best,
+                True,
+                state,
+            )
         state = moved.state
         errors = pose_errors(problem, state, goal, orientation)
         distance = errors[2]
         if distance < best - 0.1 * problem.solver.tolerance:
             best, since_best = distance, 0
         elif (since_best := since_best + 1) >= problem.tunables.ik.stall_iterations:
-            return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, True, state
+            return (
+                _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False),
+                best,
+                since_best,
+                True,
+                state,
+            )
     stopped = not distance >= problem.solver.tolerance
-    return _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False), best, since_best, stopped, state
+    return (
+        _Attempt(state.phi, state.tip, errors, steps, iterations, newton_iterations, False),
+        best,
+        since_best,
+        stopped,
+        state,
+    )

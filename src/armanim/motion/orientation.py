@@ -104,7 +104,9 @@ def orientation_task(orientation: Orientation, arm: Arm, pose: Pose) -> tuple[np
     unweighted (multiply both by ``solver.orientation_weight``)."""
     rot = tool_rotation(arm, pose)
     rows = orientation_rows(orientation, rot)
-    residual = tool_residual(orientation, arm, pose) if pose.points.ndim == 2 else orientation_residual(orientation, rot)
+    residual = (
+        tool_residual(orientation, arm, pose) if pose.points.ndim == 2 else orientation_residual(orientation, rot)
+    )
     error = np.einsum("...kc,...c->...k", rows, residual)
     return error, rows @ angular_jacobian(arm, pose)
 
@@ -128,8 +130,9 @@ def partial_orientation(orientation: Orientation, rot: np.ndarray, step: np.ndar
     return Orientation(axis=turn @ rot[:, 2])
 
 
-def pose_distance(distance: float | np.ndarray, angle: float | np.ndarray | None, tolerance: float,
-                  angle_tolerance: float) -> float | np.ndarray:
+def pose_distance(
+    distance: float | np.ndarray, angle: float | np.ndarray | None, tolerance: float, angle_tolerance: float
+) -> float | np.ndarray:
     """One number for the progress toward a pose goal, in lengths: max(|p_g - p|, angle scaled so
     that ``angle_tolerance`` counts as ``tolerance``). Below ``tolerance`` exactly when both
     tolerances hold; ``angle`` None (a position-only goal): the distance itself.

@@ -28,8 +28,13 @@ def stall_frames(problem: Problem) -> int:
     return max(stalls.min_frames, frames_in(stalls.seconds, problem.fps))
 
 
-def has_stalled(distances: list[float], window: int, tolerance: float, floor: float = 0.0,
-                progress: float = DEFAULTS.stalls.progress) -> bool:
+def has_stalled(
+    distances: list[float],
+    window: int,
+    tolerance: float,
+    floor: float = 0.0,
+    progress: float = DEFAULTS.stalls.progress,
+) -> bool:
     """Whether the last ``window`` frames brought the tip closer by less than the tolerance,
     or than ``progress`` (``problem.tunables.stalls.progress``) of what is left above ``floor``
     (the least distance possible; +inf judges by the tolerance alone), whichever is larger.
@@ -44,7 +49,12 @@ def has_stalled(distances: list[float], window: int, tolerance: float, floor: fl
 
 
 def pose_stalled(
-    distances: list[float], angles: list[float | None], window: int, tolerance: float, angle_tolerance: float, floor: float = 0.0,
+    distances: list[float],
+    angles: list[float | None],
+    window: int,
+    tolerance: float,
+    angle_tolerance: float,
+    floor: float = 0.0,
     progress: float = DEFAULTS.stalls.progress,
 ) -> bool:
     """:func:`has_stalled` for a goal that may have an orientation: the tip's distance has stalled
@@ -58,8 +68,9 @@ def pose_stalled(
     if not angles or angles[-1] is None:
         return has_stalled(distances, window, tolerance, floor, progress)
     scaled = [cast(float, a) * (tolerance / angle_tolerance) for a in angles]  # a goal's angles: all None or none
-    return (has_stalled(distances, window, tolerance, floor, progress)
-            and has_stalled(scaled, window, tolerance, 0.0 if np.isfinite(floor) else floor, progress))
+    return has_stalled(distances, window, tolerance, floor, progress) and has_stalled(
+        scaled, window, tolerance, 0.0 if np.isfinite(floor) else floor, progress
+    )
 
 
 def beyond_reach(problem: Problem, goal: np.ndarray) -> bool:
@@ -83,7 +94,9 @@ def miss_reason(
     recent = blocked[-window:]
     if recent and recent.count("nan") > len(recent) // 2:
         return "numerical"
-    if not has_stalled(distances, min(window, len(distances) - 1), problem.solver.tolerance, progress=problem.tunables.stalls.progress):
+    if not has_stalled(
+        distances, min(window, len(distances) - 1), problem.solver.tolerance, progress=problem.tunables.stalls.progress
+    ):
         return "too_slow"
     if "obstacle" in recent or _near_obstacle(problem, state):
         return "blocked_by_obstacle"
@@ -92,7 +105,9 @@ def miss_reason(
     return "stalled"
 
 
-def orientation_unreachable(problem: Problem, orientation: Orientation | None, distance: float, angle: float | None) -> bool:
+def orientation_unreachable(
+    problem: Problem, orientation: Orientation | None, distance: float, angle: float | None
+) -> bool:
     """Whether a goal is missed for its orientation alone on an arm that cannot hold it: the
     tip within the tolerance, the angle not, and too few joints for the orientation
     (:func:`armanim.motion.orientation.holds_orientation`). (The planner also finds it so, from
@@ -100,7 +115,9 @@ def orientation_unreachable(problem: Problem, orientation: Orientation | None, d
     if orientation is None or angle is None:
         return False
     s = problem.solver
-    return distance < s.tolerance and angle >= s.orientation_tolerance and not holds_orientation(problem.arm, orientation)
+    return (
+        distance < s.tolerance and angle >= s.orientation_tolerance and not holds_orientation(problem.arm, orientation)
+    )
 
 
 def _near_obstacle(problem: Problem, state: ArmState) -> bool:

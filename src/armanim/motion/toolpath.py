@@ -98,7 +98,9 @@ class Piece:
             return cast(np.ndarray, self.start + f[:, None] * (self.end - self.start))
         assert self.u is not None and self.v is not None
         theta = t / self.radius
-        return cast(np.ndarray, self.center + self.radius * (np.cos(theta)[:, None] * self.u + np.sin(theta)[:, None] * self.v))
+        return cast(
+            np.ndarray, self.center + self.radius * (np.cos(theta)[:, None] * self.u + np.sin(theta)[:, None] * self.v)
+        )
 
     def nearest(self, points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The nearest point of the piece's part between arc lengths ``lo`` and ``hi`` (k,) to
@@ -123,7 +125,9 @@ class Piece:
             # the distance falls toward theta round the circle and rises away from it: a point whose
             # angle lies outside the part is nearest one of the part's ends (the nearer, which by
             # arc length need not be the one round the circle)
-            nearer = np.linalg.norm(points - self.points(lo), axis=-1) <= np.linalg.norm(points - self.points(hi), axis=-1)
+            nearer = np.linalg.norm(points - self.points(lo), axis=-1) <= np.linalg.norm(
+                points - self.points(hi), axis=-1
+            )
             t = np.where((along >= lo) & (along <= hi), along, np.where(nearer, lo, hi))
         return t, np.linalg.norm(points - self.points(t), axis=-1)
 
@@ -219,8 +223,9 @@ class ToolPath:
         """
         return 1 + sum(_steps(p.length, spacing) for p in self.pieces)
 
-    def nearest(self, points: np.ndarray, lo: np.ndarray | None = None, hi: np.ndarray | None = None
-                ) -> tuple[np.ndarray, np.ndarray]:
+    def nearest(
+        self, points: np.ndarray, lo: np.ndarray | None = None, hi: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The nearest point of the path between arc lengths ``lo`` and ``hi`` (k,; the whole
         path by default) to each of ``points`` (k, 3): its arc length (k,) and its distance (k,).
 

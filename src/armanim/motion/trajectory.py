@@ -73,15 +73,37 @@ class _Recorder:
     self_pair: list[str] = field(default_factory=list)
     labels: tuple[str, ...] = ()  # the enabled pairs' labels of the problem being solved (its world's)
 
-    def add(self, state: ArmState, goal: int, distance: float, iterations: int = 0, step_scale: float = 0.0,
-            mode: str = "ik", angle: float | None = None, path_s: float = np.nan) -> None:
+    def add(
+        self,
+        state: ArmState,
+        goal: int,
+        distance: float,
+        iterations: int = 0,
+        step_scale: float = 0.0,
+        mode: str = "ik",
+        angle: float | None = None,
+        path_s: float = np.nan,
+    ) -> None:
         """A row of ``state``: the clearance and pairs' gaps the filter measured for this very pose."""
         gaps = state.self_gaps.d if state.self_gaps is not None else None
-        self.add_measured(state.phi, state.tip, state.min_clearance, goal, distance, gaps, mode, iterations, step_scale, angle, path_s)
+        self.add_measured(
+            state.phi, state.tip, state.min_clearance, goal, distance, gaps, mode, iterations, step_scale, angle, path_s
+        )
 
-    def add_measured(self, phi: np.ndarray, tip: np.ndarray, clearance: float, goal: int, distance: float,
-                     gaps: np.ndarray | None, mode: str, iterations: int = 0, step_scale: float = 0.0,
-                     angle: float | None = None, path_s: float = np.nan) -> None:
+    def add_measured(
+        self,
+        phi: np.ndarray,
+        tip: np.ndarray,
+        clearance: float,
+        goal: int,
+        distance: float,
+        gaps: np.ndarray | None,
+        mode: str,
+        iterations: int = 0,
+        step_scale: float = 0.0,
+        angle: float | None = None,
+        path_s: float = np.nan,
+    ) -> None:
         """A row of a pose measured apart from a state: its tip, least clearance and every enabled
         pair's gap (P,) (None without pairs)."""
         self.phi.append(phi)
@@ -120,7 +142,9 @@ class _Visit:
     planning: PlanningReport | None = None
     reason: MissReason | None = None
     last_step: np.ndarray | None = None  # the method's last joint step taken
-    damping: float = 1.0  # the factor on the method's steps toward a goal beyond reach, halved at each turn back (:func:`_damped`)
+    damping: float = (
+        1.0  # the factor on the method's steps toward a goal beyond reach, halved at each turn back (:func:`_damped`)
+    )
     beyond: bool = False  # the goal lies beyond the arm's reach (its steps are damped while they turn back)
 
 
@@ -156,8 +180,11 @@ def goal_errors(problem: Problem, state: ArmState, goal: Goal) -> tuple[float, f
 
 
 def solve_trajectory(
-    problem: Problem, progress: Callable[[int, int], None] | None = None, planning: Searched | None = None,
-    along: Along | None = None, timer: Callable[[int, float], None] | None = None,
+    problem: Problem,
+    progress: Callable[[int, int], None] | None = None,
+    planning: Searched | None = None,
+    along: Along | None = None,
+    timer: Callable[[int, float], None] | None = None,
 ) -> Solution:
     """Run the frame loop over every goal.
 
@@ -211,8 +238,17 @@ def solve_trajectory(
             if solved is not before:
                 state = arm_state(solved, state.phi)  # the same pose measured in this goal's world
             rec.labels = solved.self_pairs.labels
-        state, report = _visit_goal(solved, method, rec, state, k, stopped_goal(goal, world) if carrying else goal, report_progress,
-                                    planning, along)
+        state, report = _visit_goal(
+            solved,
+            method,
+            rec,
+            state,
+            k,
+            stopped_goal(goal, world) if carrying else goal,
+            report_progress,
+            planning,
+            along,
+        )
         if carrying:
             world = after_goal(problem, world, k, report.reached, state.pose)
         if timer:
@@ -224,9 +260,17 @@ def solve_trajectory(
     return Solution(trajectory=_finish(problem, rec, carry), goals=tuple(reports), carry=carry)
 
 
-def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmState, k: int, goal: Goal,
-                on_frame: Callable[[_Visit], None], planning: Searched | None = None, along: Along | None = None
-                ) -> tuple[ArmState, GoalReport]:
+def _visit_goal(
+    problem: Problem,
+    method: Method,
+    rec: _Recorder,
+    state: ArmState,
+    k: int,
+    goal: Goal,
+    on_frame: Callable[[_Visit], None],
+    planning: Searched | None = None,
+    along: Along | None = None,
+) -> tuple[ArmState, GoalReport]:
     """Frames toward goal ``k`` and its hold; returns the last state and the goal's report."""
     if goal.joints is not None:
         return _visit_joint_goal(problem, rec, state, k, goal, on_frame, planning)
@@ -241,8 +285,15 @@ def _visit_goal(problem: Problem, method: Method, rec: _Recorder, state: ArmStat
     while visit.progress[-1] >= s.tolerance and visit.frames < s.max_frames_per_goal:
         state = _one_frame(problem, method, rec, state, visit)
         on_frame(visit)
-        if not visit.path and pose_stalled(visit.distances, visit.angles, window, s.tolerance, s.orientation_tolerance, floor,
-                                               problem.tunables.stalls.progress):
+        if not visit.path and pose_stalled(
+            visit.distances,
+            visit.angles,
+            window,
+            s.tolerance,
+            s.orientation_tolerance,
+            floor,
+            problem.tunables.stalls.progress,
+        ):
             visit.reason = _escape(problem, state, visit, planning)
             if visit.reason is not None:
                 break
@@ -296,8 +347,15 @@ def joint_goals_reached(problem: Problem, phi: np.ndarray, goal: np.ndarray, rea
     return reached
 
 
-def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int, goal: Goal,
-                      on_frame: Callable[[_Visit], None], planning: Searched | None = None) -> tuple[ArmState, GoalReport]:
+def _visit_joint_goal(
+    problem: Problem,
+    rec: _Recorder,
+    state: ArmState,
+    k: int,
+    goal: Goal,
+    on_frame: Callable[[_Visit], None],
+    planning: Searched | None = None,
+) -> tuple[ArmState, GoalReport]:
     """Frames along a planned path to joint goal ``k`` (mode ``plan``: no method steps; the path
     is certified free, :func:`~armanim.motion.planning.plan_joint_motion`) and its hold."""
     assert goal.joints is not None
@@ -307,8 +365,13 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
     plan = None
     if joint_error(state.phi, goal) > problem.solver.joint_tolerance:
         plan = plan_joint_motion(problem, state.phi, goal.joints, planning)
-        visit.planning = PlanningReport(plans=1, poses=plan.poses, path=plan.source, checks=plan.checks,
-                                        frames=0 if plan.frames is None else len(plan.frames))
+        visit.planning = PlanningReport(
+            plans=1,
+            poses=plan.poses,
+            path=plan.source,
+            checks=plan.checks,
+            frames=0 if plan.frames is None else len(plan.frames),
+        )
     if plan is not None and plan.frames is not None and len(plan.frames):
         _record_plan(problem, rec, visit, plan.frames, on_frame)
         state = arm_state(problem, plan.frames[-1])
@@ -319,13 +382,22 @@ def _visit_joint_goal(problem: Problem, rec: _Recorder, state: ArmState, k: int,
     elif plan is not None:
         visit.reason = plan.reason or "too_slow"  # a path longer than the goal's frames is followed as far as they go
     return state, GoalReport(
-        index=k, position=goal.position, reached=reached, reason=visit.reason, frames=visit.frames,
-        first_frame=first if len(rec) > first else -1, last_frame=len(rec) - 1 if len(rec) > first else -1,
-        final_distance=visit.distances[-1], iterations=0, planning=visit.planning,
+        index=k,
+        position=goal.position,
+        reached=reached,
+        reason=visit.reason,
+        frames=visit.frames,
+        first_frame=first if len(rec) > first else -1,
+        last_frame=len(rec) - 1 if len(rec) > first else -1,
+        final_distance=visit.distances[-1],
+        iterations=0,
+        planning=visit.planning,
     )
 
 
-def _record_plan(problem: Problem, rec: _Recorder, visit: _Visit, frames: np.ndarray, on_frame: Callable[[_Visit], None]) -> None:
+def _record_plan(
+    problem: Problem, rec: _Recorder, visit: _Visit, frames: np.ndarray, on_frame: Callable[[_Visit], None]
+) -> None:
     """A joint goal's planned frames (F, n) (mode ``plan``), their clearances and pairs' gaps
     measured together (:func:`~armanim.motion.planning.check.frame_margins`: compiled, the
     numbers :func:`~armanim.motion.solvers.common.arm_state` gives to rounding)."""
@@ -338,12 +410,21 @@ def _record_plan(problem: Problem, rec: _Recorder, visit: _Visit, frames: np.nda
     for phi, tip, least, own in zip(frames, tips, clear, gaps):
         visit.distances.append(float(np.linalg.norm(tip - visit.goal.position)))
         visit.frames += 1
-        rec.add_measured(phi, tip, float(least), visit.index, visit.distances[-1], own if len(problem.self_pairs) else None, "plan")
+        rec.add_measured(
+            phi, tip, float(least), visit.index, visit.distances[-1], own if len(problem.self_pairs) else None, "plan"
+        )
         on_frame(visit)
 
 
-def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit, reached: bool,
-            along: Along | None = None) -> tuple[ArmState, bool, PathReport]:
+def _follow(
+    problem: Problem,
+    method: Method,
+    rec: _Recorder,
+    state: ArmState,
+    visit: _Visit,
+    reached: bool,
+    along: Along | None = None,
+) -> tuple[ArmState, bool, PathReport]:
     """A path goal's frames along its path once the arm has reached its start (mode ``path``, one
     a sample); returns the last state, whether the whole path was followed, and the path's report.
     A goal whose start was missed keeps its reason and follows nothing."""
@@ -360,8 +441,13 @@ def _follow(problem: Problem, method: Method, rec: _Recorder, state: ArmState, v
     if followed.cause is None:
         return state, True, PathReport(path.length, path.length, max(errors))
     visit.reason = "path_blocked"
-    return state, False, PathReport(path.length, done, max(errors) if followed.s else np.nan,
-                                    stop_point=state.tip.copy(), cause=followed.cause)
+    return (
+        state,
+        False,
+        PathReport(
+            path.length, done, max(errors) if followed.s else np.nan, stop_point=state.tip.copy(), cause=followed.cause
+        ),
+    )
 
 
 def _record_route(problem: Problem, rec: _Recorder, visit: _Visit, route: Route) -> None:
@@ -370,8 +456,9 @@ def _record_route(problem: Problem, rec: _Recorder, visit: _Visit, route: Route)
     the path (mode ``path``)."""
     if len(route.to_start):
         before = visit.planning or PlanningReport()
-        visit.planning = replace(before, plans=before.plans + 1, poses=route.poses, path=route.source,
-                                 checks=before.checks + route.checks)
+        visit.planning = replace(
+            before, plans=before.plans + 1, poses=route.poses, path=route.source, checks=before.checks + route.checks
+        )
         for phi in route.to_start:
             moved = arm_state(problem, phi)
             distance, angle, _ = goal_errors(problem, moved, visit.goal)
@@ -381,8 +468,16 @@ def _record_route(problem: Problem, rec: _Recorder, visit: _Visit, route: Route)
     followed = route.followed
     for i, moved in enumerate(followed.states):  # the first: the start itself, to the path's tolerance
         _, angle, _ = goal_errors(problem, moved, visit.goal)
-        rec.add(moved, visit.index, followed.errors[i], followed.iterations[i], followed.step_scale[i],
-                "path" if i else "ik", angle, followed.s[i] if i else np.nan)
+        rec.add(
+            moved,
+            visit.index,
+            followed.errors[i],
+            followed.iterations[i],
+            followed.step_scale[i],
+            "path" if i else "ik",
+            angle,
+            followed.s[i] if i else np.nan,
+        )
         visit.distances.append(followed.errors[i])
         visit.angles.append(angle)
         visit.iterations += followed.iterations[i]
@@ -393,7 +488,12 @@ def _record_route(problem: Problem, rec: _Recorder, visit: _Visit, route: Route)
 def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState, visit: _Visit) -> ArmState:
     """One filtered step: along the planned path if there is one, else the method's."""
     if visit.path:  # (following it may end it: the last pose reached, or the arm held back too long)
-        nominal, iterations, newton_its, mode = joint_offset(problem, state.phi, _next_on_path(problem, state, visit)), 0, 0, "plan"
+        nominal, iterations, newton_its, mode = (
+            joint_offset(problem, state.phi, _next_on_path(problem, state, visit)),
+            0,
+            0,
+            "plan",
+        )
         assert visit.planning is not None  # a path comes with its planning report
         visit.planning = replace(visit.planning, frames=visit.planning.frames + 1)
         moved = safe_step(problem, state, nominal)
@@ -433,7 +533,9 @@ def _damped(problem: Problem, state: ArmState, moved: SafeStep, visit: _Visit) -
         return moved
     step = joint_offset(problem, state.phi, moved.state.phi)
     size, before = float(np.linalg.norm(step)), visit.last_step
-    turns_back = before is not None and float(step @ before) < problem.tunables.stalls.reversal * size * float(np.linalg.norm(before))
+    turns_back = before is not None and float(step @ before) < problem.tunables.stalls.reversal * size * float(
+        np.linalg.norm(before)
+    )
     drift = step
     if turns_back:
         assert before is not None
@@ -445,8 +547,9 @@ def _damped(problem: Problem, state: ArmState, moved: SafeStep, visit: _Visit) -
     elif visit.damping < 1.0 and size > 0:
         phi = state.phi + visit.damping * step
         shorter = arm_state(problem, np.where(problem.limits.limited, phi, wrap_angle(phi)))
-        if (shorter.min_clearance >= min(state.min_clearance, moved.state.min_clearance)
-                and shorter.min_self_gap >= min(state.min_self_gap, moved.state.min_self_gap)):
+        if shorter.min_clearance >= min(state.min_clearance, moved.state.min_clearance) and shorter.min_self_gap >= min(
+            state.min_self_gap, moved.state.min_self_gap
+        ):
             moved = replace(moved, state=shorter, scale=moved.scale * visit.damping)
     visit.last_step = joint_offset(problem, state.phi, moved.state.phi)
     return moved
@@ -471,7 +574,9 @@ def _next_on_path(problem: Problem, state: ArmState, visit: _Visit) -> np.ndarra
             visit.path.clear()
         return head
     visit.overrun += 1
-    if np.abs(joint_offset(problem, state.phi, head)).max() < problem.tunables.planner.arrived or visit.overrun > stall_frames(problem):
+    if np.abs(
+        joint_offset(problem, state.phi, head)
+    ).max() < problem.tunables.planner.arrived or visit.overrun > stall_frames(problem):
         visit.path.clear()
     return head
 
@@ -501,8 +606,14 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched
             visit.planning = replace(done, plans=done.plans + 1)
             return plan.reason
         plan = plan_motion(problem, state.phi, target, seed=seed, searched=planning)
-    visit.planning = replace(done, plans=done.plans + 1, poses=plan.poses, path=plan.source, checks=done.checks + plan.checks,
-                             self_pair=plan.self_pair)
+    visit.planning = replace(
+        done,
+        plans=done.plans + 1,
+        poses=plan.poses,
+        path=plan.source,
+        checks=done.checks + plan.checks,
+        self_pair=plan.self_pair,
+    )
     if plan.frames is None:
         return plan.reason
     visit.path = list(plan.frames)
@@ -510,7 +621,9 @@ def _escape(problem: Problem, state: ArmState, visit: _Visit, planning: Searched
     return None
 
 
-def with_self_clearance(problem: Problem, traj: Trajectory, pose: Pose | None = None, gaps: np.ndarray | None = None) -> Trajectory:
+def with_self_clearance(
+    problem: Problem, traj: Trajectory, pose: Pose | None = None, gaps: np.ndarray | None = None
+) -> Trajectory:
     """``traj`` with its frames' least self gap and pair (:attr:`Trajectory.self_clearance`):
     from ``gaps`` (F, P), every enabled pair's gap where the caller measured them
     (:func:`~armanim.motion.planning.check.frame_margins`), else measured from its angles (or
@@ -518,9 +631,13 @@ def with_self_clearance(problem: Problem, traj: Trajectory, pose: Pose | None = 
     if not len(problem.self_pairs) or not traj.frames:
         return replace(traj, self_clearance=None, self_pair=None)
     if gaps is None:
-        gaps = self_gaps(forward(problem.arm, traj.phi) if pose is None else pose, problem.capsules, problem.self_pairs).d
+        gaps = self_gaps(
+            forward(problem.arm, traj.phi) if pose is None else pose, problem.capsules, problem.self_pairs
+        ).d
     least = gaps.min(axis=1)
-    nearest = np.argmax(gaps <= (least + TIED * np.maximum(1.0, np.abs(least)))[:, None], axis=1)  # a tie: the first pair
+    nearest = np.argmax(
+        gaps <= (least + TIED * np.maximum(1.0, np.abs(least)))[:, None], axis=1
+    )  # a tie: the first pair
     labels = np.array(problem.self_pairs.labels)
     return replace(traj, self_clearance=least, self_pair=labels[nearest])
 
@@ -531,7 +648,9 @@ rounding never flips trajectory.csv's ``self_pair`` between two pairs at the sam
 arm's two link pairs at 0.8, each a kinematics rounding apart)."""
 
 
-def with_world_self_clearance(problem: Problem, carry: CarryReport, traj: Trajectory, pose: Pose | None = None) -> Trajectory:
+def with_world_self_clearance(
+    problem: Problem, carry: CarryReport, traj: Trajectory, pose: Pose | None = None
+) -> Trajectory:
     """:func:`with_self_clearance` of a run that carries objects: each frame's pairs measured in
     its goal's world (NaN and no pair where that world has none)."""
     problems = goal_problems(problem, carry)
@@ -544,9 +663,12 @@ def with_world_self_clearance(problem: Problem, carry: CarryReport, traj: Trajec
             continue
         rows = np.nonzero(mine)[0]
         for start in range(0, len(rows), FRAME_CHUNK):  # each capsule's world frame per frame: bounded memory
-            some = rows[start:start + FRAME_CHUNK]
-            part = with_self_clearance(solved, replace(traj, phi=traj.phi[some], goal=traj.goal[some]),
-                                       type(pose)(pose.points[some], pose.frames[some]))
+            some = rows[start : start + FRAME_CHUNK]
+            part = with_self_clearance(
+                solved,
+                replace(traj, phi=traj.phi[some], goal=traj.goal[some]),
+                type(pose)(pose.points[some], pose.frames[some]),
+            )
             least[some], pair[some] = part.self_clearance, part.self_pair
     return replace(traj, self_clearance=least, self_pair=pair.astype(str))
 
@@ -565,7 +687,9 @@ def with_finger_clearance(problem: Problem, carry: CarryReport, traj: Trajectory
     moving = fingers != held
     if not moving.any():
         return traj
-    measured = world_clearance(problem, carry, forward(problem.arm, traj.phi), traj.goal, traj.fps)  # every frame: the ramps are per goal
+    measured = world_clearance(
+        problem, carry, forward(problem.arm, traj.phi), traj.goal, traj.fps
+    )  # every frame: the ramps are per goal
     return replace(traj, clearance=np.where(moving, measured, traj.clearance))
 
 
@@ -604,4 +728,11 @@ def _finish(problem: Problem, rec: _Recorder, carry: CarryReport | None = None) 
     return with_self_clearance(problem, traj, gaps=frame_margins(problem, traj.phi)[1])
 
 
-__all__ = ["frame_budget", "goal_budget", "hold_frames", "joint_goals_reached", "solve_trajectory", "with_self_clearance"]
+__all__ = [
+    "frame_budget",
+    "goal_budget",
+    "hold_frames",
+    "joint_goals_reached",
+    "solve_trajectory",
+    "with_self_clearance",
+]

@@ -56,7 +56,9 @@ def write_target(path: Path) -> Path:
         raise output_error(path, exc) from None
     kind = special_kind(mode)
     if kind is not None:
-        raise OutputError(f"{path}: is {kind}, not a regular file; armanim writes only regular files (choose another path)")
+        raise OutputError(
+            f"{path}: is {kind}, not a regular file; armanim writes only regular files (choose another path)"
+        )
     return target
 
 

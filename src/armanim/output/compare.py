@@ -54,8 +54,15 @@ def _tolerance(column: str, atol_deg: float, atol: float) -> float:
 class _Comparer:
     """The running state of a comparison fed block by block (files of any length)."""
 
-    def __init__(self, expected_columns, actual_columns, atol_deg: float, atol: float, names: tuple[str, str],
-                 files: tuple[str, str] | None = None):
+    def __init__(
+        self,
+        expected_columns,
+        actual_columns,
+        atol_deg: float,
+        atol: float,
+        names: tuple[str, str],
+        files: tuple[str, str] | None = None,
+    ):
         file = files[1] if files else names[1]
         n_e = sum(1 for c in expected_columns if c.startswith("phi") and c.endswith("_deg"))
         n_a = sum(1 for c in actual_columns if c.startswith("phi") and c.endswith("_deg"))
@@ -110,7 +117,9 @@ class _Comparer:
         lines = [] if fe == fa else [self._frame_count_note()]
         if self.first is not None:
             frame, column, e_val, a_val = self.first
-            lines.append(f"first difference: frame {frame}, column {column}: {self.names[0]} {_show(e_val)}, {self.names[1]} {_show(a_val)}")
+            lines.append(
+                f"first difference: frame {frame}, column {column}: {self.names[0]} {_show(e_val)}, {self.names[1]} {_show(a_val)}"
+            )
             lines.append("largest deviation per column (over the common frames):")
             for column, dev in self.worst.items():
                 if column in TEXT_COLUMNS:

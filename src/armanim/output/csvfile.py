@@ -39,8 +39,26 @@ from armanim.output.marks import as_marked, file_mark
 from armanim.output.solved import SolvedRun
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
-TAIL_COLUMNS = ("x", "y", "z", "goal_distance", "clearance", "reached", "step_scale", "iterations", "mode",
-                "qw", "qx", "qy", "qz", "orientation_error_deg", "self_clearance", "self_pair", "path_s", "path_error")
+TAIL_COLUMNS = (
+    "x",
+    "y",
+    "z",
+    "goal_distance",
+    "clearance",
+    "reached",
+    "step_scale",
+    "iterations",
+    "mode",
+    "qw",
+    "qx",
+    "qy",
+    "qz",
+    "orientation_error_deg",
+    "self_clearance",
+    "self_pair",
+    "path_s",
+    "path_error",
+)
 EMPTY_ALLOWED = ("clearance", "orientation_error_deg", "self_clearance", "path_s", "path_error", "carried_clearance")
 """Numeric columns that may be empty: no obstacles; a position-only goal; no enabled pair of the arm's own links;
 a frame not along a path."""
@@ -92,11 +110,14 @@ def _finite_texts(values: np.ndarray | None, frames: int) -> list[str]:
     """
     if values is None:
         return [""] * frames
-    return [text if math.isfinite(v) else "" for v, text in zip(np.asarray(values, dtype=float).tolist(), _texts(values))]
+    return [
+        text if math.isfinite(v) else "" for v, text in zip(np.asarray(values, dtype=float).tolist(), _texts(values))
+    ]
 
 
-def trajectory_rows(traj: Trajectory, time_s: np.ndarray, slides: np.ndarray | None = None,
-                    frames: slice = slice(None)) -> list[tuple[str, ...]]:
+def trajectory_rows(
+    traj: Trajectory, time_s: np.ndarray, slides: np.ndarray | None = None, frames: slice = slice(None)
+) -> list[tuple[str, ...]]:
     """The CSV fields of the frames ``frames`` (default all; a step of 1), at ``time_s`` (F,)
     (angles in degrees, a prismatic joint's values in metres; empty clearance without obstacles,
     empty orientation error for a position-only goal), built a column at a time."""
@@ -189,11 +210,15 @@ def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
     except OSError as exc:
         raise OutputError(f"{path}: cannot be read to tell whether armanim wrote it ({exc.strerror or exc})") from None
     if not is_ours(first):
-        raise OutputError(f"{path}: this file was not written by armanim (its first line is not armanim's header), "
-                          "so it is not replaced (move it away, or choose another folder with --out)")
+        raise OutputError(
+            f"{path}: this file was not written by armanim (its first line is not armanim's header), "
+            "so it is not replaced (move it away, or choose another folder with --out)"
+        )
     if not as_marked(target):
-        raise OutputError(f"{path}: has changed since armanim wrote it (it is not what {file_mark(path).name} beside it "
-                          "records, or that mark is missing), so it is not replaced (move it away, or choose another folder with --out)")
+        raise OutputError(
+            f"{path}: has changed since armanim wrote it (it is not what {file_mark(path).name} beside it "
+            "records, or that mark is missing), so it is not replaced (move it away, or choose another folder with --out)"
+        )
 
 
 CSV_CHUNK_ROWS = 2_000
@@ -201,9 +226,13 @@ CSV_CHUNK_ROWS = 2_000
 written a chunk at a time, so an hour at 240 fps (864,000 rows) never holds its text whole."""
 
 
-def trajectory_csv_chunks(traj: Trajectory, slides: np.ndarray | None = None,
-                          carried: tuple[np.ndarray, np.ndarray] | None = None, fingers: np.ndarray | None = None,
-                          chunk_rows: int = CSV_CHUNK_ROWS) -> Iterator[str]:
+def trajectory_csv_chunks(
+    traj: Trajectory,
+    slides: np.ndarray | None = None,
+    carried: tuple[np.ndarray, np.ndarray] | None = None,
+    fingers: np.ndarray | None = None,
+    chunk_rows: int = CSV_CHUNK_ROWS,
+) -> Iterator[str]:
     """trajectory.csv's text: its header line, then ``chunk_rows`` rows at a time (``slides``:
     which joints are prismatic, the arm's ``prismatic``; None: all revolute; ``carried``: a run
     that grasps, each frame's held object's name and its clearance, the columns ``held`` and
@@ -227,8 +256,12 @@ def trajectory_csv_chunks(traj: Trajectory, slides: np.ndarray | None = None,
         yield rows_csv_text(rows)
 
 
-def trajectory_csv_text(traj: Trajectory, slides: np.ndarray | None = None, carried: tuple[np.ndarray, np.ndarray] | None = None,
-                        fingers: np.ndarray | None = None) -> str:
+def trajectory_csv_text(
+    traj: Trajectory,
+    slides: np.ndarray | None = None,
+    carried: tuple[np.ndarray, np.ndarray] | None = None,
+    fingers: np.ndarray | None = None,
+) -> str:
     """The whole trajectory.csv as text (:func:`trajectory_csv_chunks` joined; for tests and
     goldens: a run writes the chunks, :func:`write_trajectory_csv`)."""
     return "".join(trajectory_csv_chunks(traj, slides, carried, fingers))
@@ -313,17 +346,25 @@ def check_header(row: list[str], file: str) -> tuple[str, ...]:
     n = 0
     while 3 + n < len(row) and row[3 + n] in (f"phi{n + 1}_deg", f"q{n + 1}_m"):
         n += 1
-    stray = [c for c in row[3 + n:] if c.startswith("phi") or _JOINT_COLUMN.fullmatch(c)]
+    stray = [c for c in row[3 + n :] if c.startswith("phi") or _JOINT_COLUMN.fullmatch(c)]
     if n == 0 or stray:
         found = f"the column {stray[0]!r} is out of place; " if stray else ""
-        raise _problem(file, f"{found}joint columns must be phi1_deg (or q1_m for a prismatic joint), phi2_deg, ... "
-                             f"right after goal ({expected})", 1)
+        raise _problem(
+            file,
+            f"{found}joint columns must be phi1_deg (or q1_m for a prismatic joint), phi2_deg, ... "
+            f"right after goal ({expected})",
+            1,
+        )
     missing = [c for c in REQUIRED_TAIL if c not in row]
     if missing:
         raise _problem(file, f"lacks the column(s) {', '.join(missing)} ({expected})", 1)
     twice = sorted({c for c in row if row.count(c) > 1})
     if twice:
-        raise _problem(file, f"has the column(s) {', '.join(twice[:8])}{f' and {len(twice) - 8:,} more' if len(twice) > 8 else ''} more than once", 1)
+        raise _problem(
+            file,
+            f"has the column(s) {', '.join(twice[:8])}{f' and {len(twice) - 8:,} more' if len(twice) > 8 else ''} more than once",
+            1,
+        )
     return tuple(row)
 
 
@@ -366,7 +407,9 @@ def _parse_block(rows: list[tuple[int, list[str]]], columns: tuple[str, ...], fi
         for line, row in rows:
             not_numbers = [i for i, v in enumerate(row) if i not in text_at and v != "" and not _is_float(v)]
             if not_numbers:
-                raise _problem(file, f"{columns[not_numbers[0]]}: {row[not_numbers[0]][:40]!r} is not a number", line) from None
+                raise _problem(
+                    file, f"{columns[not_numbers[0]]}: {row[not_numbers[0]][:40]!r} is not a number", line
+                ) from None
         raise
     return TrajectoryTable(columns, data, text, rows[0][0] if rows else 2)
 
@@ -379,7 +422,9 @@ def _is_float(value: str) -> bool:
         return False
 
 
-def table_blocks(lines: Iterable[str], file: str, block_rows: int = BLOCK_ROWS) -> tuple[tuple[str, ...], Iterator[TrajectoryTable]]:
+def table_blocks(
+    lines: Iterable[str], file: str, block_rows: int = BLOCK_ROWS
+) -> tuple[tuple[str, ...], Iterator[TrajectoryTable]]:
     """The checked header of trajectory.csv lines, and its rows as tables of ``block_rows`` rows.
 
     Rows are parsed as the blocks are taken, so a file of any length is read in bounded memory.
@@ -413,13 +458,17 @@ def concat_tables(columns: tuple[str, ...], tables: Iterable[TrajectoryTable]) -
     """One table of every block's rows."""
     tables = list(tables)
     if not tables:
-        return TrajectoryTable(columns, np.empty((0, len(columns))), {c: np.array([], dtype=str) for c in columns if c in TEXT_COLUMNS})
+        return TrajectoryTable(
+            columns, np.empty((0, len(columns))), {c: np.array([], dtype=str) for c in columns if c in TEXT_COLUMNS}
+        )
     text = {c: np.concatenate([t.text[c] for t in tables]) for c in tables[0].text}
     return TrajectoryTable(columns, np.concatenate([t.data for t in tables]), text)
 
 
 @contextlib.contextmanager
-def open_trajectory_csv(path: Path, block_rows: int = BLOCK_ROWS) -> Iterator[tuple[tuple[str, ...], Iterator[TrajectoryTable]]]:
+def open_trajectory_csv(
+    path: Path, block_rows: int = BLOCK_ROWS
+) -> Iterator[tuple[tuple[str, ...], Iterator[TrajectoryTable]]]:
     """Stream a trajectory.csv: ``with open_trajectory_csv(p) as (columns, blocks): ...``.
 
     Raises

@@ -52,11 +52,20 @@ def joint_trajectory(joint_names, time_s: np.ndarray, positions: np.ndarray, vel
     (['a'], [0.25], {'sec': 0, 'nanosec': 500000000})
     """
     points = [
-        {"positions": [float(v) for v in p], "velocities": [float(v) for v in v_], "accelerations": [], "effort": [],
-         "time_from_start": ros_duration(float(t))}
+        {
+            "positions": [float(v) for v in p],
+            "velocities": [float(v) for v in v_],
+            "accelerations": [],
+            "effort": [],
+            "time_from_start": ros_duration(float(t)),
+        }
         for t, p, v_ in zip(time_s, positions, velocities)
     ]
-    return {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}, "joint_names": list(joint_names), "points": points}
+    return {
+        "header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""},
+        "joint_names": list(joint_names),
+        "points": points,
+    }
 
 
 def finite_difference_velocities(time_s: np.ndarray, positions: np.ndarray) -> np.ndarray:

@@ -34,8 +34,17 @@ def mark_line(path: Path, data: bytes) -> str:
     >>> mark_line(Path("a.png"), b"x")[:54]
     '{"generator": "armanim", "file": "a.png", "bytes": 1, '
     """
-    return json.dumps({"generator": "armanim", "file": Path(path).name, "bytes": len(data),
-                       "sha256": hashlib.sha256(data).hexdigest()}) + "\n"
+    return (
+        json.dumps(
+            {
+                "generator": "armanim",
+                "file": Path(path).name,
+                "bytes": len(data),
+                "sha256": hashlib.sha256(data).hexdigest(),
+            }
+        )
+        + "\n"
+    )
 
 
 def write_marked(path: Path, data: bytes | str) -> None:
@@ -56,7 +65,11 @@ def as_marked(path: Path) -> bool:
     try:
         with open_regular(file_mark(path), "an armanim file's mark") as handle:
             recorded = json.loads(handle.read(MAX_MARK_BYTES + 1))
-        if not isinstance(recorded, dict) or recorded.get("generator") != "armanim" or recorded.get("file") != Path(path).name:
+        if (
+            not isinstance(recorded, dict)
+            or recorded.get("generator") != "armanim"
+            or recorded.get("file") != Path(path).name
+        ):
             return False
         size, digest = recorded.get("bytes"), hashlib.sha256()
         with open_regular(path, "a file armanim wrote") as handle:
@@ -84,6 +97,8 @@ def check_marked_replaceable(path: Path, option: str) -> None:
     if not os.path.lexists(target):
         return
     if not as_marked(target):
-        raise OutputError(f"{path}: {option}: a file is there that armanim did not write, or that has changed since "
-                          f"(it is not what {file_mark(target).name} beside it records, or that mark is missing), "
-                          "so it is not replaced (move it away, or choose another path)")
+        raise OutputError(
+            f"{path}: {option}: a file is there that armanim did not write, or that has changed since "
+            f"(it is not what {file_mark(target).name} beside it records, or that mark is missing), "
+            "so it is not replaced (move it away, or choose another path)"
+        )

@@ -45,7 +45,6 @@ def length_unit(arm) -> str:
     return "m" if getattr(arm, "joint_names", ()) else "units"
 
 
-
 def apart(*values: float) -> tuple[str, ...]:
     """Values a message compares, each with ``:g``'s six significant digits, or as many more as
     keep different values different, in their order (``[10, 10]`` named two different limits, ``90 deg is outside

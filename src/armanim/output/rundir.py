@@ -45,10 +45,14 @@ def folder_lock(folder: Path) -> Iterator[None]:
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
         # never through a link: a dangling one would make armanim create a file where it points
-        handle = os.fdopen(os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), "a")
+        handle = os.fdopen(
+            os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), "a"
+        )
     except OSError as exc:
         if exc.errno == errno.ELOOP:
-            raise OutputError(f"{lock}: is a link, which armanim did not make and does not follow (remove it)") from None
+            raise OutputError(
+                f"{lock}: is a link, which armanim did not make and does not follow (remove it)"
+            ) from None
         raise output_error(folder, exc) from None
     try:
         with _exclusively(handle.fileno()):
@@ -100,7 +104,11 @@ def run_folder_holding(target: Path, *, itself: bool = False) -> Path | None:
         paths.append(given.resolve())
     for path in paths:
         for folder in ([path] if itself else []) + list(path.parents):
-            if os.path.lexists(folder / MARKER) and os.path.lexists(folder / RUN_FILE) or STAGING.fullmatch(folder.name):
+            if (
+                os.path.lexists(folder / MARKER)
+                and os.path.lexists(folder / RUN_FILE)
+                or STAGING.fullmatch(folder.name)
+            ):
                 return folder
     return None
 
@@ -120,12 +128,20 @@ def refuse_in_run_folder(target: Path, flag: str, *, itself: bool = False) -> No
 
     folder = run_folder_holding(target, itself=itself)
     if folder is not None and STAGING.fullmatch(folder.name):
-        raise UsageError(f"{flag} {target}: is inside {folder}, which is named as a run's staging or moved-aside folder: "
-                         "the next run of that folder removes it with all it holds (choose a path outside it)")
+        raise UsageError(
+            f"{flag} {target}: is inside {folder}, which is named as a run's staging or moved-aside folder: "
+            "the next run of that folder removes it with all it holds (choose a path outside it)"
+        )
     if folder is not None:
-        where = "is the run folder" if itself and Path(os.path.abspath(target)) in (folder, folder.resolve()) else "is inside the run folder"
-        raise UsageError(f"{flag} {target}: {where} {folder}, which holds only the files armanim lists in it "
-                         "(what is written there would stop its next run: choose a path outside any run folder)")
+        where = (
+            "is the run folder"
+            if itself and Path(os.path.abspath(target)) in (folder, folder.resolve())
+            else "is inside the run folder"
+        )
+        raise UsageError(
+            f"{flag} {target}: {where} {folder}, which holds only the files armanim lists in it "
+            "(what is written there would stop its next run: choose a path outside any run folder)"
+        )
 
 
 def file_stamp(path: Path) -> dict | None:
@@ -164,9 +180,13 @@ def write_marker(folder: Path) -> None:
     """Mark ``folder`` as armanim's: list every file in it with its size and mtime (call when
     it is complete), so that only armanim's own, unchanged files count as armanim's."""
     files = {p.name: file_stamp(p) for p in sorted(Path(folder).iterdir()) if p.name != MARKER}
-    data = {"made_by": "armanim", "armanim_version": __version__, "files": files,
-            "note": "armanim replaces this folder whole on the next run of its scene; files not listed here, "
-                    "or changed since, stop it"}
+    data = {
+        "made_by": "armanim",
+        "armanim_version": __version__,
+        "files": files,
+        "note": "armanim replaces this folder whole on the next run of its scene; files not listed here, "
+        "or changed since, stop it",
+    }
     write_text_atomic(Path(folder) / MARKER, json_text(data, indent=2) + "\n")
 
 

@@ -49,9 +49,11 @@ def prismatic_summary(problem: Problem, phi: np.ndarray) -> dict:
     if not slides.any():
         return {}
     steps = np.abs(np.diff(phi[:, slides], axis=0))
-    return {"prismatic_joints": [int(i) + 1 for i in np.nonzero(slides)[0]],
-            "min_limit_margin_m": min_limit_margin_deg(problem, phi, slides=True),
-            "max_slide_step_m": float(steps.max()) if len(steps) else 0.0}
+    return {
+        "prismatic_joints": [int(i) + 1 for i in np.nonzero(slides)[0]],
+        "min_limit_margin_m": min_limit_margin_deg(problem, phi, slides=True),
+        "max_slide_step_m": float(steps.max()) if len(steps) else 0.0,
+    }
 
 
 def goal_path_lengths(solution: Solution, limited: np.ndarray | None = None) -> list[float]:
@@ -85,7 +87,9 @@ def goal_report_dict(g: GoalReport, joint_names: Sequence[str] = ()) -> dict:
         "first_frame": g.first_frame,
         "last_frame": g.last_frame,
         "final_distance": float(g.final_distance),
-        "final_orientation_error_deg": None if g.final_orientation_error is None else float(np.degrees(g.final_orientation_error)),
+        "final_orientation_error_deg": None
+        if g.final_orientation_error is None
+        else float(np.degrees(g.final_orientation_error)),
         "iterations": g.iterations,
         "newton_iterations": g.newton_iterations,
         "planned": g.planned,
@@ -121,10 +125,19 @@ def blend_from_dict(g: dict) -> BlendReport | None:
     if "blended" not in g:
         return None
     joint = g["blend_units"] == "deg"
-    per = float(np.degrees(1.0)) if joint else 1.0  # divided by the factor blend_dict multiplied by: written again, the same digits
+    per = (
+        float(np.degrees(1.0)) if joint else 1.0
+    )  # divided by the factor blend_dict multiplied by: written again, the same digits
     near = g["pass_distance"]
-    return BlendReport(float(g["blend"]) / per, bool(g["blended"]), g["blend_reason"], g["corner"],
-                       np.nan if near is None else float(near) / per, float(g["pass_speed"]) / per, joint)
+    return BlendReport(
+        float(g["blend"]) / per,
+        bool(g["blended"]),
+        g["blend_reason"],
+        g["corner"],
+        np.nan if near is None else float(near) / per,
+        float(g["pass_speed"]) / per,
+        joint,
+    )
 
 
 def path_dict(path: PathReport | None) -> dict:
@@ -132,16 +145,18 @@ def path_dict(path: PathReport | None) -> dict:
     for a point goal."""
     if path is None:
         return {}
-    return {"path": {
-        "length": path.length,
-        "done": path.done,
-        "fraction": path.fraction,
-        "max_path_error": _round(path.max_path_error),
-        "mean_speed": path.mean_speed,
-        "stop_point": None if path.stop_point is None else [float(v) for v in path.stop_point],
-        "cause": path.cause,
-        "cause_text": path.cause_text,
-    }}
+    return {
+        "path": {
+            "length": path.length,
+            "done": path.done,
+            "fraction": path.fraction,
+            "max_path_error": _round(path.max_path_error),
+            "mean_speed": path.mean_speed,
+            "stop_point": None if path.stop_point is None else [float(v) for v in path.stop_point],
+            "cause": path.cause,
+            "cause_text": path.cause_text,
+        }
+    }
 
 
 def path_from_dict(g: dict) -> PathReport | None:
@@ -150,8 +165,14 @@ def path_from_dict(g: dict) -> PathReport | None:
     if p is None:
         return None
     error = p["max_path_error"]
-    return PathReport(float(p["length"]), float(p["done"]), np.nan if error is None else float(error), float(p["mean_speed"]),
-                      None if p["stop_point"] is None else np.array(p["stop_point"], dtype=float), p["cause"])
+    return PathReport(
+        float(p["length"]),
+        float(p["done"]),
+        np.nan if error is None else float(error),
+        float(p["mean_speed"]),
+        None if p["stop_point"] is None else np.array(p["stop_point"], dtype=float),
+        p["cause"],
+    )
 
 
 def timing_dict(timing: GoalTiming | None, joint_names: Sequence[str] = ()) -> dict:
@@ -182,8 +203,13 @@ def timing_from_dict(g: dict, joint_names: Sequence[str] = ()) -> GoalTiming | N
             return None if name is None else list(joint_names).index(name)
         return int(str(name).removeprefix("phi")) - 1  # ValueError: not a joint's name
 
-    return GoalTiming(float(g["duration_s"]), float(g["peak_speed_ratio"]), float(g["peak_acceleration_ratio"]),
-                      index(g["peak_speed_joint"]), index(g["peak_acceleration_joint"]))
+    return GoalTiming(
+        float(g["duration_s"]),
+        float(g["peak_speed_ratio"]),
+        float(g["peak_acceleration_ratio"]),
+        index(g["peak_speed_joint"]),
+        index(g["peak_acceleration_joint"]),
+    )
 
 
 def goal_report_from_dict(g: dict, joint_names: Sequence[str] = ()) -> GoalReport:
@@ -200,7 +226,9 @@ def goal_report_from_dict(g: dict, joint_names: Sequence[str] = ()) -> GoalRepor
         iterations=g["iterations"],
         newton_iterations=g.get("newton_iterations", 0),
         planning=PlanningReport(**g["planning"]) if g.get("planning") else None,
-        final_orientation_error=None if g.get("final_orientation_error_deg") is None else float(np.radians(g["final_orientation_error_deg"])),
+        final_orientation_error=None
+        if g.get("final_orientation_error_deg") is None
+        else float(np.radians(g["final_orientation_error_deg"])),
         timing=timing_from_dict(g, joint_names),
         path=path_from_dict(g),
         blend=blend_from_dict(g),
@@ -258,7 +286,9 @@ def nearest_obstacle(problem: Problem, traj, carry=None) -> str | None:
 
         scene_column = world_columns(problem, carry.worlds[int(traj.goal[frame])])
         names = problem.obstacles
-        problem = next(p for p, mine in frame_worlds(problem, carry, traj.goal, traj.fps) if mine[frame])  # the fingers there
+        problem = next(
+            p for p, mine in frame_worlds(problem, carry, traj.goal, traj.fps) if mine[frame]
+        )  # the fingers there
     if not len(problem.obstacles):
         return None
     links = clearances(forward(problem.arm, traj.phi[frame]), problem.obstacles, problem.capsules).links
@@ -298,13 +328,17 @@ def to_approach_of(problem: Problem, k: int) -> int | None:
     return sum(1 for g in problem.goals[:k] if not g.retreat and not g.to_approach)
 
 
-def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str,
-                 rate_notes: Sequence[str] = ()) -> dict:
+def summary_dict(
+    problem: Problem, solution: Solution, *, name: str, scene_file: str, sha256: str, rate_notes: Sequence[str] = ()
+) -> dict:
     """The summary as plain data (see docs/outputs in the README); ``rate_notes``: the scene's
     joint rate limits above the robot's own (:func:`armanim.scene.limits.rate_note_lines`)."""
     traj = solution.trajectory
     lengths = goal_path_lengths(solution, problem.limits.limited)
-    goals = [{**goal_report_dict(g, joint_labels(problem)), "path_length_rad": lengths[k]} for k, g in enumerate(solution.goals)]
+    goals = [
+        {**goal_report_dict(g, joint_labels(problem)), "path_length_rad": lengths[k]}
+        for k, g in enumerate(solution.goals)
+    ]
     if any(g.retreat for g in problem.goals):  # a scene's retreats are goals of their own: each says whose it is
         for k, g in enumerate(goals):
             g["retreat_of"] = retreat_of(problem, k)
@@ -326,7 +360,11 @@ def summary_dict(problem: Problem, solution: Solution, *, name: str, scene_file:
             "missed": len(goals) - solution.reached,
             "frames": traj.frames,
             "duration_s": traj.frames / traj.fps,
-            **({} if solution.rest_to_rest_duration is None else {"rest_to_rest_duration_s": solution.rest_to_rest_duration}),
+            **(
+                {}
+                if solution.rest_to_rest_duration is None
+                else {"rest_to_rest_duration_s": solution.rest_to_rest_duration}
+            ),
             "iterations": int(traj.iterations.sum()),
             "planned_goals": sum(g.planned for g in solution.goals),
             "plan_frames": int(np.count_nonzero(traj.mode == "plan")),
@@ -360,10 +398,19 @@ def carry_summary(problem: Problem, solution: Solution, goals: list[dict]) -> di
         g["grasped"], g["released"] = carry.grasped(k), carry.released(k)
     traj = solution.trajectory
     carried = carried_clearance(problem, carry, traj.phi, traj.goal)
-    objects = {name: None if body is None else {"center": [float(v) for v in body.center],
-                                                "quaternion_wxyz": [float(v) for v in rotation_quaternion(body.rotation)]}
-               for name, body in final_poses(problem, carry).items()}
-    out = {"min_carried_clearance": _round(np.nanmin(carried)) if np.isfinite(carried).any() else None, "objects": objects}
+    objects = {
+        name: None
+        if body is None
+        else {
+            "center": [float(v) for v in body.center],
+            "quaternion_wxyz": [float(v) for v in rotation_quaternion(body.rotation)],
+        }
+        for name, body in final_poses(problem, carry).items()
+    }
+    out = {
+        "min_carried_clearance": _round(np.nanmin(carried)) if np.isfinite(carried).any() else None,
+        "objects": objects,
+    }
     if has_support(carry):  # an object touched what it stands on: its solid's least distance to it there
         out["min_support_distance"] = _round(np.nanmin(support_distance(problem, carry, traj.phi, traj.goal)))
     return out
@@ -371,8 +418,14 @@ def carry_summary(problem: Problem, solution: Solution, goals: list[dict]) -> di
 
 def run_summary(run: SolvedRun) -> dict:
     """The summary of a solved run as plain data (:func:`summary_dict`)."""
-    return summary_dict(run.problem, run.solution, name=run.name, scene_file=run.scene_file, sha256=run.sha256,
-                        rate_notes=run.rate_notes)
+    return summary_dict(
+        run.problem,
+        run.solution,
+        name=run.name,
+        scene_file=run.scene_file,
+        sha256=run.sha256,
+        rate_notes=run.rate_notes,
+    )
 
 
 def write_summary(run: SolvedRun, path: Path) -> None:

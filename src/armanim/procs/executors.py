@@ -110,8 +110,12 @@ class _LocalExecutor:
             # raised only once every started worker is in the pool's list: no traceback from a
             # preload or an initializer, and no worker left running, whatever moment it comes
             with _one_blas_thread(), signals_blocked():
-                pool = ProcessPoolExecutor(max_workers=min(self.jobs, len(tasks)), mp_context=_worker_context(self.preload),
-                                           initializer=init_worker, initargs=(os.getpid(),))
+                pool = ProcessPoolExecutor(
+                    max_workers=min(self.jobs, len(tasks)),
+                    mp_context=_worker_context(self.preload),
+                    initializer=init_worker,
+                    initargs=(os.getpid(),),
+                )
                 futures = {pool.submit(work, task, *args): task for task in tasks}  # starts the workers
             for future in as_completed(futures):
                 error = future.exception()
@@ -165,7 +169,9 @@ class _DaskExecutor:
 
         cluster = None
         if self.scheduler == "local":
-            cluster = self._cluster_cls(n_workers=self.jobs, threads_per_worker=1, processes=True, dashboard_address=None)
+            cluster = self._cluster_cls(
+                n_workers=self.jobs, threads_per_worker=1, processes=True, dashboard_address=None
+            )
             client = self._client_cls(cluster)
         else:
             client = connect_client(self._client_cls, self.scheduler)
@@ -218,7 +224,9 @@ def connect_client(client_cls, address: str, seconds: float = CONNECT_SECONDS):
     if "client" in outcome:
         return outcome["client"]
     if isinstance(error, ValueError):  # Dask's word for an address it cannot parse
-        raise UsageError(f"--scheduler: {address!r} is not a scheduler address ({error}; expected tcp://HOST:PORT or local)")
+        raise UsageError(
+            f"--scheduler: {address!r} is not a scheduler address ({error}; expected tcp://HOST:PORT or local)"
+        )
     if error is not None:
         raise _unreachable(address, str(error))
     raise _no_answer(address, seconds)
@@ -258,8 +266,11 @@ def _refuse_if_nothing_listens(address: str, seconds: float) -> None:
     try:
         socket.create_connection(endpoint, timeout=seconds).close()
     except ConnectionRefusedError:
-        raise _unreachable(address, f"connection refused: nothing listens on port {endpoint[1]} there; start one "
-                           "with `dask scheduler`, or check the address and port") from None
+        raise _unreachable(
+            address,
+            f"connection refused: nothing listens on port {endpoint[1]} there; start one "
+            "with `dask scheduler`, or check the address and port",
+        ) from None
     except socket.gaierror as exc:
         raise _unreachable(address, f"no such host {endpoint[0]!r}: {exc.strerror}") from None
     except TimeoutError:
@@ -273,8 +284,10 @@ def _unreachable(address: str, why: str) -> UsageError:
 
 
 def _no_answer(address: str, seconds: float) -> UsageError:
-    return UsageError(f"--scheduler: the Dask scheduler at {address} did not answer within {seconds:g} s "
-                      "(is a Dask scheduler running there? check the address and port)")
+    return UsageError(
+        f"--scheduler: the Dask scheduler at {address} did not answer within {seconds:g} s "
+        "(is a Dask scheduler running there? check the address and port)"
+    )
 
 
 def executor_for(jobs: int, scheduler: str | None, preload: Sequence[str] = ()):

@@ -30,7 +30,18 @@ from armanim.scene import LoadedScene, load_scene, scene_from_bytes
 WORKER_PRELOAD = ("armanim.runs.pipeline", "armanim.render.pictures.canvas", "armanim.render.video.movie")
 """What a batch's local workers import once, in the pool's forkserver, before any scene."""
 
-INDEX_COLUMNS = ("name", "status", "scene_file", "goals", "reached", "missed", "frames", "min_clearance", "folder", "message")
+INDEX_COLUMNS = (
+    "name",
+    "status",
+    "scene_file",
+    "goals",
+    "reached",
+    "missed",
+    "frames",
+    "min_clearance",
+    "folder",
+    "message",
+)
 
 
 @dataclass(frozen=True)
@@ -128,7 +139,14 @@ def load_tasks(paths: Iterable[Path]) -> tuple[list[SceneTask], list[BatchEntry]
             rejected.append(BatchEntry(Path(path).stem, "invalid", str(path), message=exc.report()))
             continue
         if scene.name in names:
-            rejected.append(BatchEntry(scene.name, "invalid", str(path), message=f"{path}: another scene in this batch is also named {scene.name!r} (names must differ: set name:)"))
+            rejected.append(
+                BatchEntry(
+                    scene.name,
+                    "invalid",
+                    str(path),
+                    message=f"{path}: another scene in this batch is also named {scene.name!r} (names must differ: set name:)",
+                )
+            )
             continue
         names.add(scene.name)
         tasks.append(SceneTask.from_scene(scene))
@@ -155,7 +173,7 @@ def _entry(task: SceneTask, run: RemoteRun, folder: Path) -> BatchEntry:
 
 BROKEN_POOL_HINT = (
     " (a worker process died; if armanim is called from a Python script, keep the call under "
-    "`if __name__ == \"__main__\":`, because each worker imports the script again; jobs=1 needs no workers)"
+    '`if __name__ == "__main__":`, because each worker imports the script again; jobs=1 needs no workers)'
 )
 
 
@@ -217,8 +235,18 @@ def is_index_header(line: str) -> bool:
 def index_csv_text(entries: list[BatchEntry]) -> str:
     """index.csv: one row per scene."""
     rows = (
-        [e.name, e.status, e.scene_file, e.goals, e.reached, e.missed, e.frames,
-         "" if e.min_clearance is None else repr(float(e.min_clearance)), e.folder, e.message]
+        [
+            e.name,
+            e.status,
+            e.scene_file,
+            e.goals,
+            e.reached,
+            e.missed,
+            e.frames,
+            "" if e.min_clearance is None else repr(float(e.min_clearance)),
+            e.folder,
+            e.message,
+        ]
         for e in entries
     )
     return table_csv_text(INDEX_COLUMNS, rows, text_cells=True)

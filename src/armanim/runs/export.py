@@ -68,8 +68,17 @@ def run_velocities(table: TrajectoryTable, time_s: np.ndarray, positions: np.nda
         return finite_difference_velocities(time_s, positions)
     if len(present) != len(columns):
         missing = [c for c in columns if c not in table.columns]
-        raise SceneError(file, [Diagnostic("", f"has {', '.join(present[:3])} but not {', '.join(missing[:3])} "
-                                               "(expected a velocity column for every joint: dphi1_deg_s ..)", 1)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "",
+                    f"has {', '.join(present[:3])} but not {', '.join(missing[:3])} "
+                    "(expected a velocity column for every joint: dphi1_deg_s ..)",
+                    1,
+                )
+            ],
+        )
     return joints_in_si(np.stack([table.column(c) for c in columns], axis=1), table.slides)
 
 
@@ -79,8 +88,17 @@ def _increasing_times(table: TrajectoryTable, file: str) -> np.ndarray:
     bad = np.nonzero(np.diff(time_s) <= 0)[0]
     if len(bad):
         row = int(bad[0]) + 1
-        raise SceneError(file, [Diagnostic("", f"time_s: {time_s[row]:g} does not come after {time_s[row - 1]:g} "
-                                               "(a joint trajectory needs increasing times)", table.first_line + row)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "",
+                    f"time_s: {time_s[row]:g} does not come after {time_s[row - 1]:g} "
+                    "(a joint trajectory needs increasing times)",
+                    table.first_line + row,
+                )
+            ],
+        )
     return time_s
 
 
@@ -154,8 +172,11 @@ def _replace_problem(target: Path) -> str | None:
     if os.path.lexists(mark) and (os.path.islink(mark) or _read_mark(mark) is None):
         return f"{mark.name} beside it is not armanim's export mark, so armanim does not write there"
     if os.path.islink(target):
-        return ("is a link, which armanim does not write through for an export (the file it names may be yours)"
-                if os.path.exists(target) else "is a link to nothing, which armanim did not make")
+        return (
+            "is a link, which armanim does not write through for an export (the file it names may be yours)"
+            if os.path.exists(target)
+            else "is a link to nothing, which armanim did not make"
+        )
     try:
         info = os.stat(target)
     except FileNotFoundError:
@@ -169,7 +190,11 @@ def _replace_problem(target: Path) -> str | None:
     data = _read_mark(mark) if os.path.lexists(mark) else None
     if data is None:
         return f"is a file armanim did not write (no export mark {mark.name} beside it), so it is not replaced"
-    if data["file"] != target.name or info.st_size != data["bytes"] or _sha256_of(target, info.st_size) != data["sha256"]:
+    if (
+        data["file"] != target.name
+        or info.st_size != data["bytes"]
+        or _sha256_of(target, info.st_size) != data["sha256"]
+    ):
         return "has changed since armanim exported it (it is not what its export mark records), so it is not replaced"
     return None
 
@@ -206,13 +231,17 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
         Something other than an exported trajectory stands at ``out``, or it could not be written (exit 3).
     """
     if fmt not in EXPORT_FORMATS:
-        raise UsageError(f"--format {fmt!r} is not a format armanim exports (expected one of: {', '.join(EXPORT_FORMATS)})")
+        raise UsageError(
+            f"--format {fmt!r} is not a format armanim exports (expected one of: {', '.join(EXPORT_FORMATS)})"
+        )
     from armanim.runs.pipeline import write_run_file
 
     other = _inside_a_run_folder(Path(out)) if out is not None else None
     if other is not None and other.resolve() != Path(folder).resolve():
-        raise UsageError(f"--out {out}: is inside the run folder {other}, which holds only the files armanim lists in it "
-                         f"(its next run would stop at it; export that run itself, or choose a file outside any run folder)")
+        raise UsageError(
+            f"--out {out}: is inside the run folder {other}, which holds only the files armanim lists in it "
+            f"(its next run would stop at it; export that run itself, or choose a file outside any run folder)"
+        )
 
     own = out is None or Path(out).resolve() == (Path(folder) / JOINT_TRAJECTORY_FILE).resolve()
 

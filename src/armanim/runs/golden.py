@@ -73,8 +73,10 @@ def scene_change_note(scene: LoadedScene, meta_path: Path) -> str | None:
     recorded = _recorded_sha(meta_path)
     if recorded is None or recorded == scene.sha256:
         return None
-    return (f"{scene.path.name} changed since the golden file was written (sha256 {recorded[:12]}... then, "
-            f"{scene.sha256[:12]}... now); --update records it")
+    return (
+        f"{scene.path.name} changed since the golden file was written (sha256 {recorded[:12]}... then, "
+        f"{scene.sha256[:12]}... now); --update records it"
+    )
 
 
 def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> GoldenResult:
@@ -85,8 +87,14 @@ def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, a
         return GoldenResult(scene, csv_path, "missing", f"no golden file {csv_path} (create it with --update)")
     expected = read_trajectory_csv(csv_path)
     actual = parse_trajectory_csv(solve_csv_text(scene), f"{scene.path} (this run)")
-    result: Comparison = compare_trajectories(expected, actual, atol_deg=atol_deg, atol=atol, names=("golden", "actual"),
-                                               files=(str(csv_path), f"{scene.path} (this run)"))
+    result: Comparison = compare_trajectories(
+        expected,
+        actual,
+        atol_deg=atol_deg,
+        atol=atol,
+        names=("golden", "actual"),
+        files=(str(csv_path), f"{scene.path} (this run)"),
+    )
     note = scene_change_note(scene, meta_path)
     report = result.report + (f"\nnote: {note}" if note else "")
     return GoldenResult(scene, csv_path, "pass" if result.equal else "fail", report, note is not None)

@@ -107,7 +107,9 @@ def run_scene(
         with staged_folder(folder) as staged:
             produced = produce_outputs(scene, staged, options, progress=progress)
     files = {kind: folder / name for kind, name in produced.names.items()}
-    return RunResult(scene, produced.run.problem, produced.run.solution, folder, files, produced.summary, produced.notes, watch)
+    return RunResult(
+        scene, produced.run.problem, produced.run.solution, folder, files, produced.summary, produced.notes, watch
+    )
 
 
 @dataclass(frozen=True)
@@ -120,8 +122,9 @@ class Produced:
     notes: tuple[str, ...] = ()
 
 
-def produce_outputs(scene: LoadedScene, folder: Path, asked: RunOptions | None = None, *,
-                    progress: Progress | None = None) -> Produced:
+def produce_outputs(
+    scene: LoadedScene, folder: Path, asked: RunOptions | None = None, *, progress: Progress | None = None
+) -> Produced:
     """Solve a validated scene and write every output into ``folder`` (which must exist), as
     ``asked`` (default: every output).
 
@@ -136,10 +139,16 @@ def produce_outputs(scene: LoadedScene, folder: Path, asked: RunOptions | None =
         run, notes = with_meshes(run, scene, options.render)
     names = {"scene": SCENE_COPY, "trajectory": "trajectory.csv", "summary": "summary.json"}
     names.update(write_sources(scene, folder))
-    write_self_collision(run.problem.self_pairs if run.solution.carry is None else touch_allowed(run.problem.self_pairs, run.solution.carry),
-                         folder / SELF_COLLISION_FILE)
+    write_self_collision(
+        run.problem.self_pairs
+        if run.solution.carry is None
+        else touch_allowed(run.problem.self_pairs, run.solution.carry),
+        folder / SELF_COLLISION_FILE,
+    )
     names["self_collision"] = SELF_COLLISION_FILE
-    if scene.model.arm.is_urdf:  # the capsules solved with, in arm.collision's format (a user copies them into the scene)
+    if (
+        scene.model.arm.is_urdf
+    ):  # the capsules solved with, in arm.collision's format (a user copies them into the scene)
         write_text_atomic(folder / CAPSULES_FILE, capsules_text(scene.model.arm.urdf_arm))
         names["capsules"] = CAPSULES_FILE
     write_trajectory_csv(run, folder / names["trajectory"])
@@ -178,7 +187,9 @@ def with_meshes(run: SolvedRun, scene: LoadedScene, settings: RenderSettings) ->
     return replace(run, meshes=meshes), tuple(notes)
 
 
-def look_meshes(model, places: LinkPlaces | None, settings: RenderSettings, scene_dir: Path, urdf_dir: Path | None = None):
+def look_meshes(
+    model, places: LinkPlaces | None, settings: RenderSettings, scene_dir: Path, urdf_dir: Path | None = None
+):
     """(meshes or None, notes): what a scene ``model``'s pictures draw as meshes at ``settings``'
     size (:func:`armanim.scene.looks.scene_meshes`), its links where ``places`` puts them on the
     problem's arm (:attr:`armanim.scene.convert.ConvertedScene.places`), its file names starting
@@ -187,8 +198,16 @@ def look_meshes(model, places: LinkPlaces | None, settings: RenderSettings, scen
     budget = max(3_000, round(MESH_TRIANGLES * width * height / (1280 * 720)))
     arm = model.arm
     dirs = [scene_dir / d for d in arm.package_dirs] if arm.package_dirs else None
-    return scene_meshes(arm, places, dirs, triangles=budget, scene_dir=scene_dir, urdf_dir=urdf_dir,
-                        furniture=model.render.furniture, robot=settings.robot != "capsules")
+    return scene_meshes(
+        arm,
+        places,
+        dirs,
+        triangles=budget,
+        scene_dir=scene_dir,
+        urdf_dir=urdf_dir,
+        furniture=model.render.furniture,
+        robot=settings.robot != "capsules",
+    )
 
 
 LOOK_FOLDERS_FILE = "look-folders.json"
@@ -208,8 +227,10 @@ def look_folders_text(scene: LoadedScene) -> str:
     """The :data:`LOOK_FOLDERS_FILE` of a scene read from its own folder."""
     urdf = scene.model.arm.urdf_arm if scene.model.arm.is_urdf else None
     folder = urdf.folder if urdf is not None and urdf.bundled is None else None
-    data = {"scene_folder": str(scene.path.parent.resolve()),
-            "urdf_folder": str(Path(folder).resolve()) if folder is not None else None}
+    data = {
+        "scene_folder": str(scene.path.parent.resolve()),
+        "urdf_folder": str(Path(folder).resolve()) if folder is not None else None,
+    }
     return json_text(data, indent=2) + "\n"
 
 
@@ -231,7 +252,10 @@ def look_folders(scene: LoadedScene) -> tuple[Path, Path | None]:
         return own, None
     if not isinstance(data, dict):
         return own, None
-    folders = [Path(v) if isinstance(v, str) and Path(v).is_dir() else None for v in (data.get("scene_folder"), data.get("urdf_folder"))]
+    folders = [
+        Path(v) if isinstance(v, str) and Path(v).is_dir() else None
+        for v in (data.get("scene_folder"), data.get("urdf_folder"))
+    ]
     return folders[0] or own, folders[1]
 
 
@@ -250,8 +274,10 @@ def solve_scene(scene: LoadedScene, fps: float, progress: Progress | None = None
     frames = frame_budget(solved) * fps / solved.fps
     if frames > LIMITS["total_frames"]:  # a higher fps samples the same seconds with more frames
         if fps == solved.fps:  # validate refuses such a scene (scene/checks.py): a safety net
-            raise UsageError(f"{scene.path}: the scene may run up to {int(frames):,} frames "
-                             f"(at most {LIMITS['total_frames']:,}; run armanim validate on it for the field to change)")
+            raise UsageError(
+                f"{scene.path}: the scene may run up to {int(frames):,} frames "
+                f"(at most {LIMITS['total_frames']:,}; run armanim validate on it for the field to change)"
+            )
         raise UsageError(
             f"--fps {fps:g}: the holds would make up to {int(frames):,} frames "
             f"(at most {LIMITS['total_frames']:,}; lower --fps or the scene's hold times)"
@@ -272,16 +298,19 @@ def write_sources(scene: LoadedScene, folder: Path) -> dict[str, str]:
     if needs_look_folders(scene):
         write_text_atomic(folder / LOOK_FOLDERS_FILE, look_folders_text(scene))
         names["look_folders"] = LOOK_FOLDERS_FILE
-    for kind, name, source in (("robot", ROBOT_COPY, scene.model.arm.urdf_source),
-                               ("srdf", SRDF_COPY, scene.model.arm.srdf_source)):
+    for kind, name, source in (
+        ("robot", ROBOT_COPY, scene.model.arm.urdf_source),
+        ("srdf", SRDF_COPY, scene.model.arm.srdf_source),
+    ):
         if source is not None:
             write_bytes_atomic(folder / name, source)
             names[kind] = name
     return names
 
 
-def solved_run(scene: LoadedScene, problem: Problem, solution: Solution, fps: float,
-               places: LinkPlaces | None = None) -> SolvedRun:
+def solved_run(
+    scene: LoadedScene, problem: Problem, solution: Solution, fps: float, places: LinkPlaces | None = None
+) -> SolvedRun:
     """The one maker of a :class:`SolvedRun`: ``solution`` of ``problem`` (a fresh solve on the
     clock, or a finished run read back) as frames at ``fps``, with the problem at that rate
     (``places``: its URDF links' on the problem's arm, made with it, :func:`armanim.scene.convert.convert_scene`).
@@ -290,12 +319,24 @@ def solved_run(scene: LoadedScene, problem: Problem, solution: Solution, fps: fl
     the same seconds (:func:`armanim.runs.resample.resample_run`).
     """
     solution = resample_run(problem, solution, fps)
-    return SolvedRun(scene.name, at_fps(problem, fps), solution, scene_file=scene.path.name, sha256=scene.sha256,
-                     rate_notes=tuple(rate_note_lines(scene.model)), places=places)
+    return SolvedRun(
+        scene.name,
+        at_fps(problem, fps),
+        solution,
+        scene_file=scene.path.name,
+        sha256=scene.sha256,
+        rate_notes=tuple(rate_note_lines(scene.model)),
+        places=places,
+    )
 
 
-def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: Progress | None = None,
-                   timer: Callable[[int, float], None] | None = None) -> Solution:
+def timed_solution(
+    scene: LoadedScene,
+    problem: Problem,
+    fps: float,
+    progress: Progress | None = None,
+    timer: Callable[[int, float], None] | None = None,
+) -> Solution:
     """The scene's path solved at ``problem.fps`` and put on the clock at ``fps`` (``timer``:
     :func:`~armanim.motion.trajectory.solve_trajectory`'s, told each goal's wall time).
 
@@ -304,9 +345,13 @@ def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: P
     UsageError
         The clock would make more than the total frame limit (joint limits far too low).
     """
-    solution = solve_trajectory(problem, (lambda done, total: progress("solve", done, total)) if progress else None,
-                                (lambda done, most: progress("plan", done, most)) if progress else None,
-                                (lambda done, most: progress("path", done, most)) if progress else None, timer)
+    solution = solve_trajectory(
+        problem,
+        (lambda done, total: progress("solve", done, total)) if progress else None,
+        (lambda done, most: progress("plan", done, most)) if progress else None,
+        (lambda done, most: progress("path", done, most)) if progress else None,
+        timer,
+    )
     try:
         return retime(problem, solution, fps, most_frames=LIMITS["total_frames"])
     except ClockTooLong as exc:
@@ -314,13 +359,23 @@ def timed_solution(scene: LoadedScene, problem: Problem, fps: float, progress: P
         from armanim.scene.loader import field_line
 
         arm = scene.model.arm
-        fields = ["max_joint_speed", "max_joint_acceleration"] + (["max_joint_jerk"] if arm.max_joint_jerk is not None else [])
-        named = [f for f in fields if getattr(arm, f) is not None] or fields[:1]  # the ones the scene sets, else speed's default
+        fields = ["max_joint_speed", "max_joint_acceleration"] + (
+            ["max_joint_jerk"] if arm.max_joint_jerk is not None else []
+        )
+        named = [f for f in fields if getattr(arm, f) is not None] or fields[
+            :1
+        ]  # the ones the scene sets, else speed's default
         field = f"arm.{named[0]}"
         also = f" (with {', '.join(f'arm.{f}' for f in named[1:])})" if len(named) > 1 else ""
         remedy = "raise the limits" + (", or lower --fps" if fps != problem.fps else "")
-        raise SceneError(str(scene.path), [Diagnostic(field, f"the clock would make {exc} at {fps:g} fps{also} ({remedy})",
-                                                      field_line(scene, field))]) from None
+        raise SceneError(
+            str(scene.path),
+            [
+                Diagnostic(
+                    field, f"the clock would make {exc} at {fps:g} fps{also} ({remedy})", field_line(scene, field)
+                )
+            ],
+        ) from None
 
 
 def rerender_run(
@@ -364,8 +419,10 @@ def rerender_run(
     if out is not None and Path(out).resolve() != folder.resolve():
         target = Path(out)
         if target.resolve().is_relative_to(folder.resolve()):
-            raise UsageError(f"--out: {target} is inside the run folder {folder}, which the next run replaces "
-                             "whole (choose a folder outside it)")
+            raise UsageError(
+                f"--out: {target} is inside the run folder {folder}, which the next run replaces "
+                "whole (choose a folder outside it)"
+            )
         refuse_in_run_folder(target, "--out", itself=True)  # another run's folder, or a folder inside one
         check_replaceable(target)  # a folder it may not replace: refused before any work (and again when staged)
         with folder_lock(folder):  # read the run whole, never half replaced by a run of it
@@ -383,7 +440,9 @@ def rerender_run(
     return {kind: folder / path.name for kind, path in rendered.items()}
 
 
-def redrawn(run: FinishedRun, asked: RunOptions, notes: Callable[[str], None] | None = None) -> tuple[SolvedRun, OutputOptions]:
+def redrawn(
+    run: FinishedRun, asked: RunOptions, notes: Callable[[str], None] | None = None
+) -> tuple[SolvedRun, OutputOptions]:
     """A finished run as a solved run at the command's fps, and the options to draw it again
     (``asked``: the command's render overrides and jobs); the look's notes go to ``notes``."""
     fps, options = output_choice(run.scene, asked)
@@ -399,12 +458,15 @@ def _check_resampled_frames(trajectory, fps: float) -> None:
     """A UsageError (exit 2) when the run at ``fps`` would make more frames than a run may."""
     frames = resampled_frames(trajectory.frames, trajectory.fps, fps)
     if frames > LIMITS["total_frames"]:
-        raise UsageError(f"--fps: the run's {trajectory.frames:,} frames at {trajectory.fps:g} fps are {frames:,} frames at "
-                         f"{fps:g} fps (expected at most {LIMITS['total_frames']:,}: choose a lower --fps or --quality)")
+        raise UsageError(
+            f"--fps: the run's {trajectory.frames:,} frames at {trajectory.fps:g} fps are {frames:,} frames at "
+            f"{fps:g} fps (expected at most {LIMITS['total_frames']:,}: choose a lower --fps or --quality)"
+        )
 
 
-def write_run_viewer(folder: str | Path, *, out: str | Path | None = None,
-                     notes: Callable[[str], None] | None = None) -> Path:
+def write_run_viewer(
+    folder: str | Path, *, out: str | Path | None = None, notes: Callable[[str], None] | None = None
+) -> Path:
     """(Re)write the viewer page of a finished run from its folder, without solving.
 
     Parameters
@@ -426,8 +488,11 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None,
     def page(folder: Path):
         run = load_run(folder)
         _, options = output_choice(run.scene, RunOptions())  # the scene's own settings, every output
-        solved, said = with_meshes(solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps, run.places),
-                                   run.scene, options.render)
+        solved, said = with_meshes(
+            solved_run(run.scene, run.problem, run.solution, run.solution.trajectory.fps, run.places),
+            run.scene,
+            options.render,
+        )
         if notes is not None:
             for note in said:
                 notes(note)
@@ -436,8 +501,13 @@ def write_run_viewer(folder: str | Path, *, out: str | Path | None = None,
     return write_run_file(folder, VIEWER_FILE, out, page, replace_problem)
 
 
-def write_run_file(folder: str | Path, name: str, out: str | Path | None, read: Callable[[Path], Callable[[Path], object]],
-                   replace_problem: Callable[[Path], str | None]) -> Path:
+def write_run_file(
+    folder: str | Path,
+    name: str,
+    out: str | Path | None,
+    read: Callable[[Path], Callable[[Path], object]],
+    replace_problem: Callable[[Path], str | None],
+) -> Path:
     """Write a file made from a finished run, without solving: the run folder's own ``name``, or
     ``out`` outside the folder. ``read(folder)`` reads the run and returns ``write(path)``.
 
@@ -468,8 +538,10 @@ def write_run_file(folder: str | Path, name: str, out: str | Path | None, read: 
         return own
     target = Path(out)
     if target.resolve().is_relative_to(folder.resolve()):
-        raise UsageError(f"--out {target}: is inside the run folder {folder}, which holds only the files armanim lists "
-                         f"in it (leave --out out to write {own}, or choose a file outside the folder)")
+        raise UsageError(
+            f"--out {target}: is inside the run folder {folder}, which holds only the files armanim lists "
+            f"in it (leave --out out to write {own}, or choose a file outside the folder)"
+        )
     refuse_in_run_folder(target, "--out")  # another run's folder
     problem = replace_problem(target)
     if problem is not None:
@@ -484,8 +556,14 @@ def write_run_file(folder: str | Path, name: str, out: str | Path | None, read: 
     return target
 
 
-def render_outputs(run: SolvedRun, options: OutputOptions, folder: Path, *, progress: Progress | None = None,
-                   also: Callable[[], None] | None = None) -> dict[str, Path]:
+def render_outputs(
+    run: SolvedRun,
+    options: OutputOptions,
+    folder: Path,
+    *,
+    progress: Progress | None = None,
+    also: Callable[[], None] | None = None,
+) -> dict[str, Path]:
     """Render the video, plot.png and poster.png of a solved run into ``folder``; the plot, the
     poster and ``also`` (the viewer page) are drawn while the video's workers draw its frames."""
     from armanim.render.pictures.plot import plot_run
@@ -503,6 +581,11 @@ def render_outputs(run: SolvedRun, options: OutputOptions, folder: Path, *, prog
         plot_run(run, options, plot_path)
         render_poster(run, options, poster_path)
 
-    render_video(run, options, video_path, progress=(lambda done: progress("render", done, total)) if progress else None,
-                 meanwhile=pictures)
+    render_video(
+        run,
+        options,
+        video_path,
+        progress=(lambda done: progress("render", done, total)) if progress else None,
+        meanwhile=pictures,
+    )
     return {"video": video_path, "plot": plot_path, "poster": poster_path}

@@ -81,9 +81,15 @@ def forward_pose(model: SceneModel, angles: np.ndarray, in_radians: bool = False
     pose = forward(problem.arm, phi)
     rot = tool_rotation(problem.arm, pose)
     return FkAnswer(
-        problem=problem, phi=phi, angles_deg=joints_shown(angles, slides) if in_radians else angles, joint_degrees=joints_shown(phi, slides),
-        joints=pose.points, tip=pose.tip, tip_quaternion_wxyz=rotation_quaternion(rot),
-        tip_rpy_deg=np.degrees(rotation_rpy(rot)), notes=tuple(problem.limits.notes(phi)) if with_notes else (),
+        problem=problem,
+        phi=phi,
+        angles_deg=joints_shown(angles, slides) if in_radians else angles,
+        joint_degrees=joints_shown(phi, slides),
+        joints=pose.points,
+        tip=pose.tip,
+        tip_quaternion_wxyz=rotation_quaternion(rot),
+        tip_rpy_deg=np.degrees(rotation_rpy(rot)),
+        notes=tuple(problem.limits.notes(phi)) if with_notes else (),
     )
 
 
@@ -151,21 +157,35 @@ def with_orientation_tolerance(problem: Problem, degrees: float) -> Problem:
     try:
         SolverModel(orientation_tolerance=degrees)
     except ValidationError:
-        raise UsageError(f"--orientation-tolerance: expected degrees in [{MIN_DEGREES:g}, 180] (got {degrees:g})") from None
+        raise UsageError(
+            f"--orientation-tolerance: expected degrees in [{MIN_DEGREES:g}, 180] (got {degrees:g})"
+        ) from None
     return replace(problem, solver=replace(problem.solver, orientation_tolerance=float(radians(degrees))))
 
 
-def solve_ik(problem: Problem, target: np.ndarray, start_deg: np.ndarray | None, max_iterations: int,
-             orientation: Orientation | None = None) -> IkAnswer:
+def solve_ik(
+    problem: Problem,
+    target: np.ndarray,
+    start_deg: np.ndarray | None,
+    max_iterations: int,
+    orientation: Orientation | None = None,
+) -> IkAnswer:
     """Solve one pose of ``problem``'s arm to ``target`` from ``start_deg`` (degrees; default home)."""
     phi0 = radians(start_deg) if start_deg is not None else problem.home
     solution = solve_pose(problem, target, phi0, max_iterations, orientation=orientation)
     gap, pair = least_self_gap(problem, solution.phi)
     return IkAnswer(
-        problem=problem, target=target, solution=solution, angles_deg=joints_shown(solution.phi, problem.arm.prismatic),
-        orientation_error_deg=None if solution.orientation_error is None else float(np.degrees(solution.orientation_error)),
+        problem=problem,
+        target=target,
+        solution=solution,
+        angles_deg=joints_shown(solution.phi, problem.arm.prismatic),
+        orientation_error_deg=None
+        if solution.orientation_error is None
+        else float(np.degrees(solution.orientation_error)),
         orientation_tolerance_deg=float(np.degrees(problem.solver.orientation_tolerance)),
-        self_clearance=gap, self_pair=pair, miss=pose_miss(problem, target, solution),
+        self_clearance=gap,
+        self_pair=pair,
+        miss=pose_miss(problem, target, solution),
     )
 
 
@@ -184,18 +204,31 @@ def pose_miss(problem: Problem, target: np.ndarray, solution: PoseSolution) -> P
         return None
     away = float(np.linalg.norm(target - problem.arm.base))
     if solution.orientation_error is not None and solution.distance < problem.solver.tolerance:
-        return PoseMiss("orientation_unreachable", (
-            f"orientation_unreachable: the tip is at the goal, the tool {np.degrees(solution.orientation_error):.3g} deg from its "
-            "orientation, the closest these attempts found (an arm with fewer than 6 joints cannot hold every orientation)"))
+        return PoseMiss(
+            "orientation_unreachable",
+            (
+                f"orientation_unreachable: the tip is at the goal, the tool {np.degrees(solution.orientation_error):.3g} deg from its "
+                "orientation, the closest these attempts found (an arm with fewer than 6 joints cannot hold every orientation)"
+            ),
+        )
     if beyond_reach(problem, target):
         unit = length_unit(problem.arm)
-        return PoseMiss("out_of_reach", f"out of reach: the goal is {away:.4g} {unit} from the base, the arm is "
-                                        f"{problem.arm.reach:.4g} {unit} long (the tip is as close as it gets)")
+        return PoseMiss(
+            "out_of_reach",
+            f"out of reach: the goal is {away:.4g} {unit} from the base, the arm is "
+            f"{problem.arm.reach:.4g} {unit} long (the tip is as close as it gets)",
+        )
     if solution.status == "numerical":
-        return PoseMiss("numerical", "numerical: a step failed in linear algebra (a singular matrix or a NaN); "
-                                     "try another --method or --from other angles")
-    return PoseMiss("no_pose_found", "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: "
-                                     "try --from other angles)")
+        return PoseMiss(
+            "numerical",
+            "numerical: a step failed in linear algebra (a singular matrix or a NaN); "
+            "try another --method or --from other angles",
+        )
+    return PoseMiss(
+        "no_pose_found",
+        "no pose found within the iterations (a local minimum, a limit or an obstacle in the way: "
+        "try --from other angles)",
+    )
 
 
 def ik_report(answer: IkAnswer) -> dict:

@@ -88,15 +88,31 @@ def drawable_problem(table: TrajectoryTable, goals: int) -> Diagnostic | None:
         return Diagnostic("", "has a header but no rows (a run writes at least frame 0)", 2)
     frame, goal, reached = table.column("frame"), table.column("goal"), table.column("reached")
     limit = LIMITS["magnitude"]
-    checks = [(c, ~np.isfinite(table.column(c)), "is not a finite number")
-              for c in table.columns if c not in TEXT_COLUMNS and c not in EMPTY_ALLOWED]
-    checks += [(c, np.abs(table.column(c)) > limit, f"is too large (at most {limit:g} in size)")
-               for c in table.columns if c not in TEXT_COLUMNS]
-    checks += [("clearance", np.isinf(table.column("clearance")), "is not a finite number (empty when there are no obstacles)"),
-               ("frame", frame != np.arange(len(frame)), "is out of order (expected frames 0, 1, 2, ... one per row)"),
-               ("goal", (goal != np.round(goal)) | (goal < 0) | (goal >= goals), f"is not a goal of the scene (expected 0 to {goals - 1})"),
-               ("time_s", table.column("time_s") < 0, "is negative (times count from 0 s)"),
-               ("reached", (reached != 0) & (reached != 1), "is not 0 or 1")]
+    checks = [
+        (c, ~np.isfinite(table.column(c)), "is not a finite number")
+        for c in table.columns
+        if c not in TEXT_COLUMNS and c not in EMPTY_ALLOWED
+    ]
+    checks += [
+        (c, np.abs(table.column(c)) > limit, f"is too large (at most {limit:g} in size)")
+        for c in table.columns
+        if c not in TEXT_COLUMNS
+    ]
+    checks += [
+        (
+            "clearance",
+            np.isinf(table.column("clearance")),
+            "is not a finite number (empty when there are no obstacles)",
+        ),
+        ("frame", frame != np.arange(len(frame)), "is out of order (expected frames 0, 1, 2, ... one per row)"),
+        (
+            "goal",
+            (goal != np.round(goal)) | (goal < 0) | (goal >= goals),
+            f"is not a goal of the scene (expected 0 to {goals - 1})",
+        ),
+        ("time_s", table.column("time_s") < 0, "is negative (times count from 0 s)"),
+        ("reached", (reached != 0) & (reached != 1), "is not 0 or 1"),
+    ]
     with np.errstate(invalid="ignore"):
         for column, bad, message in checks:
             found = _first_bad(table, column, bad, message)
@@ -110,7 +126,9 @@ def _read_trajectory(csv_path: Path, problem: Problem) -> Trajectory:
     the self gaps are measured again from the angles)."""
     table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
     if table.n_joints != problem.arm.n:
-        raise SceneError(str(csv_path), [Diagnostic("", f"has {table.n_joints} joints, the scene's arm has {problem.arm.n}")])
+        raise SceneError(
+            str(csv_path), [Diagnostic("", f"has {table.n_joints} joints, the scene's arm has {problem.arm.n}")]
+        )
     problem_found = drawable_problem(table, len(problem.goals))
     if problem_found is not None:
         raise SceneError(str(csv_path), [problem_found])
@@ -127,8 +145,11 @@ def _read_trajectory(csv_path: Path, problem: Problem) -> Trajectory:
     if not any(g.path is not None for g in problem.goals):
         along = [None, None]
     speeds = velocity_columns(problem.arm.n, problem.arm.prismatic)
-    velocity = joints_in_si(np.stack([table.column(c) for c in speeds], axis=1), problem.arm.prismatic) if all(
-        c in table.columns for c in speeds) else None  # a run from before the clock has none
+    velocity = (
+        joints_in_si(np.stack([table.column(c) for c in speeds], axis=1), problem.arm.prismatic)
+        if all(c in table.columns for c in speeds)
+        else None
+    )  # a run from before the clock has none
     return Trajectory(
         phi=table.joints_si,
         tip=np.stack([table.column(c) for c in ("x", "y", "z")], axis=1),
@@ -158,27 +179,54 @@ def load_run(folder: str | Path) -> FinishedRun:
     """
     folder = Path(folder)
     if not folder.is_dir():
-        raise SceneError(str(folder), [Diagnostic("", "no such folder (expected an output folder of armanim run, e.g. outputs/notes-arm)")])
-    missing = [name for name in (SCENE_COPY, "trajectory.csv", "summary.json")
-               if not (folder / name).exists() and not (folder / name).is_symlink()]  # a device there is named when read
+        raise SceneError(
+            str(folder),
+            [Diagnostic("", "no such folder (expected an output folder of armanim run, e.g. outputs/notes-arm)")],
+        )
+    missing = [
+        name
+        for name in (SCENE_COPY, "trajectory.csv", "summary.json")
+        if not (folder / name).exists() and not (folder / name).is_symlink()
+    ]  # a device there is named when read
     if missing:
-        raise SceneError(str(folder), [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")])
+        raise SceneError(
+            str(folder),
+            [Diagnostic("", f"is not a complete armanim run: {', '.join(missing)} missing (run armanim run first)")],
+        )
     robot, srdf = folder / ROBOT_COPY, folder / SRDF_COPY
-    scene = load_scene(folder / SCENE_COPY, urdf_file=robot if robot.exists() or robot.is_symlink() else None,
-                       srdf_file=srdf if srdf.exists() or srdf.is_symlink() else None)
+    scene = load_scene(
+        folder / SCENE_COPY,
+        urdf_file=robot if robot.exists() or robot.is_symlink() else None,
+        srdf_file=srdf if srdf.exists() or srdf.is_symlink() else None,
+    )
     summary = _read_summary(folder / "summary.json")
     recorded = (summary.get("scene") or {}).get("sha256") if isinstance(summary.get("scene"), dict) else None
     if recorded is not None and recorded != scene.sha256:
-        raise SceneError(str(folder / SCENE_COPY), [Diagnostic("", f"is not the scene this run solved (sha256 {scene.sha256[:12]}..., "
-                                                                  f"summary.json records {str(recorded)[:12]}...): run armanim run again")])
+        raise SceneError(
+            str(folder / SCENE_COPY),
+            [
+                Diagnostic(
+                    "",
+                    f"is not the scene this run solved (sha256 {scene.sha256[:12]}..., "
+                    f"summary.json records {str(recorded)[:12]}...): run armanim run again",
+                )
+            ],
+        )
     converted = convert_scene(scene.model, fps=_run_fps(summary, scene))
     problem = converted.problem
     traj = _read_trajectory(folder / "trajectory.csv", problem)
     reports = _reports(summary, folder / "summary.json")
-    carry = replayed_carry(problem, traj.phi, traj.goal, [g.reached for g in reports])  # a run that grasps: its worlds again
-    traj = with_self_clearance(problem, traj) if carry is None else with_world_self_clearance(problem, carry, traj)  # the pictures tint near pairs
+    carry = replayed_carry(
+        problem, traj.phi, traj.goal, [g.reached for g in reports]
+    )  # a run that grasps: its worlds again
+    traj = (
+        with_self_clearance(problem, traj) if carry is None else with_world_self_clearance(problem, carry, traj)
+    )  # the pictures tint near pairs
     totals = summary.get("totals")
     rest = totals.get("rest_to_rest_duration_s") if isinstance(totals, dict) else None  # a run with blend's
-    return FinishedRun(scene=scene, problem=problem, solution=Solution(traj, reports, float(rest) if isinstance(rest, (int, float)) else None,
-                                                                       carry),
-                       places=converted.places)
+    return FinishedRun(
+        scene=scene,
+        problem=problem,
+        solution=Solution(traj, reports, float(rest) if isinstance(rest, (int, float)) else None, carry),
+        places=converted.places,
+    )

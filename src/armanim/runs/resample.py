@@ -52,7 +52,9 @@ def resampled_frames(frames: int, fps_from: float, fps_to: float) -> int:
     return whole + 1 + (1 if duration - whole / fps_to > 1e-9 / fps_to else 0)
 
 
-def interpolate_poses(problem: Problem, times: np.ndarray, phi: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def interpolate_poses(
+    problem: Problem, times: np.ndarray, phi: np.ndarray, at: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """(K, n) poses at the seconds ``at`` of a motion through ``phi`` (F, n) at ``times`` (F,),
     and (K,) the index of the frame each one heads for (the later of the two around it, or
     the frame itself when it falls on one).
@@ -127,7 +129,9 @@ def resample_run(problem: Problem, solution: Solution, fps: float) -> Solution:
     reports = []
     for g in solution.goals:
         mine = np.nonzero(goal == g.index)[0]
-        reports.append(replace(g, first_frame=int(mine[0]) if len(mine) else -1, last_frame=int(mine[-1]) if len(mine) else -1))
+        reports.append(
+            replace(g, first_frame=int(mine[0]) if len(mine) else -1, last_frame=int(mine[-1]) if len(mine) else -1)
+        )
     return Solution(trajectory, tuple(reports), solution.rest_to_rest_duration, solution.carry)
 
 

@@ -75,7 +75,9 @@ def _read_value(path: str, text: str):
     try:
         doc = read_yaml(text, f"--set {path}")
     except SceneError as exc:
-        raise UsageError(f"--set {path}: {text[:40]!r} is not a plain number, word or list ({exc.problems[0].message})") from None
+        raise UsageError(
+            f"--set {path}: {text[:40]!r} is not a plain number, word or list ({exc.problems[0].message})"
+        ) from None
     if doc.problems:
         raise UsageError(f"--set {path}: {text[:40]!r}: {doc.problems[0].message}")
     return doc.data
@@ -151,7 +153,14 @@ def variant_error(exc: SceneError, values: dict) -> SceneError:
     not the user's file), each naming the ``--set`` value it comes from, if one does."""
     problems = []
     for p in exc.problems:
-        setting = next((path for path in values if p.path == path or p.path.startswith(path + ".") or p.path.startswith(path + "[")), None)
+        setting = next(
+            (
+                path
+                for path in values
+                if p.path == path or p.path.startswith(path + ".") or p.path.startswith(path + "[")
+            ),
+            None,
+        )
         message = f"--set {setting}={_label(values[setting])}: {p.message}" if setting else p.message
         problems.append(Diagnostic(p.path, message, None))
     return SceneError(exc.file, problems)
@@ -171,7 +180,9 @@ def variant_count(settings: list[Setting]) -> int:
     product = math.prod(len(s.values) for s in settings)
     if product > MAX_VARIANTS:
         sizes = " x ".join(f"{len(s.values):,}" for s in settings)
-        raise UsageError(f"--set: {product:,} variants ({sizes} values; at most {MAX_VARIANTS:,} in one sweep: give fewer values)")
+        raise UsageError(
+            f"--set: {product:,} variants ({sizes} values; at most {MAX_VARIANTS:,} in one sweep: give fewer values)"
+        )
     return len(unique_combinations(settings))
 
 
@@ -211,24 +222,41 @@ def is_sweep_header(line: str) -> bool:
     return columns[:1] == ["name"] and tuple(columns[-2:]) == SWEEP_TAIL and "status" in columns
 
 
-def comparison_rows(settings: list[Setting], items: list[Variant], entries: list[BatchEntry]) -> tuple[list[str], list[list]]:
+def comparison_rows(
+    settings: list[Setting], items: list[Variant], entries: list[BatchEntry]
+) -> tuple[list[str], list[list]]:
     """Header and rows of the sweep table: settings, goals, frames per goal, clearance, joint step.
 
     ``entries`` are the variants' batch entries, in the same order as ``items``.
     """
     n_goals = max((len(e.summary["goals"]) for e in entries if e.summary), default=0)
-    header = ["name", *(s.path for s in settings), "status", "reached", "missed", "frames",
-              *(f"goal{k}_frames" for k in range(n_goals)), *SWEEP_TAIL]
+    header = [
+        "name",
+        *(s.path for s in settings),
+        "status",
+        "reached",
+        "missed",
+        "frames",
+        *(f"goal{k}_frames" for k in range(n_goals)),
+        *SWEEP_TAIL,
+    ]
     rows = []
     for variant, entry in zip(items, entries):
         s = entry.summary
         per_goal = [(g["frames"] if g["reached"] else "missed") for g in s["goals"]] if s else [""] * n_goals
-        rows.append([
-            entry.name, *(variant.values[st.path] for st in settings), entry.status, entry.reached, entry.missed,
-            entry.frames, *per_goal,
-            "" if not s or s["min_clearance"] is None else f"{s['min_clearance']:.6g}",
-            "" if not s else f"{s['max_joint_step_deg']:.6g}",
-        ])
+        rows.append(
+            [
+                entry.name,
+                *(variant.values[st.path] for st in settings),
+                entry.status,
+                entry.reached,
+                entry.missed,
+                entry.frames,
+                *per_goal,
+                "" if not s or s["min_clearance"] is None else f"{s['min_clearance']:.6g}",
+                "" if not s else f"{s['max_joint_step_deg']:.6g}",
+            ]
+        )
     return header, rows
 
 

@@ -35,6 +35,8 @@ def compiles_first(command: Literal["run", "ik"], problem: object = None) -> boo
     return not kernel.machine_code_cached(*functions)
 
 
-FIRST_COMPILE = ("armanim: compiling its numerical code for this machine, once after installing (a kernel at a time, "
-                 "counted below; armanim warm does it ahead)")
+FIRST_COMPILE = (
+    "armanim: compiling its numerical code for this machine, once after installing (a kernel at a time, "
+    "counted below; armanim warm does it ahead)"
+)
 """What a command says at a terminal before a solve that compiles first."""

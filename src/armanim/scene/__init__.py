@@ -19,6 +19,15 @@ from armanim.scene.loader import LoadedScene, load_scene, scene_from_bytes, scen
 from armanim.scene.models import SceneModel
 
 __all__ = [
-    "LoadedScene", "SceneModel", "default_render_settings", "default_solver_settings", "load_scene", "render_settings",
-    "scene_from_bytes", "scene_model", "scene_to_problem", "unlimited_limits", "validate_scene_text",
+    "LoadedScene",
+    "SceneModel",
+    "default_render_settings",
+    "default_solver_settings",
+    "load_scene",
+    "render_settings",
+    "scene_from_bytes",
+    "scene_model",
+    "scene_to_problem",
+    "unlimited_limits",
+    "validate_scene_text",
 ]

@@ -69,34 +69,53 @@ class ToolModel(Strict):
     """The tool frame: the tip, placed in the tip link's frame; and what is drawn there."""
 
     xyz: Vector3 = Field(default=[0.0, 0.0, 0.0], description="The tip's position in the tip link's frame (metres).")
-    rpy: Angles3 = Field(default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees.")
-    pen: PenModel | None = Field(default=None, description="Draw a pen held at the tool frame (drawing only: it is not a capsule).")
+    rpy: Angles3 = Field(
+        default=[0.0, 0.0, 0.0], description="The tool frame's roll, pitch, yaw in the tip link's frame, degrees."
+    )
+    pen: PenModel | None = Field(
+        default=None, description="Draw a pen held at the tool frame (drawing only: it is not a capsule)."
+    )
     mesh: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
-        default=None, description="A mesh file (STL, OBJ, COLLADA) drawn in the tool frame, relative to the scene file "
-                                  "(drawing only).")
+        default=None,
+        description="A mesh file (STL, OBJ, COLLADA) drawn in the tool frame, relative to the scene file "
+        "(drawing only).",
+    )
     collision: ToolCapsuleModel | None = Field(
-        default=None, description="A capsule in the tool frame checked like a link's (clearance, self-collision, the cost).")
+        default=None,
+        description="A capsule in the tool frame checked like a link's (clearance, self-collision, the cost).",
+    )
     gripper: Literal["panda"] | None = Field(
-        default=None, description="A gripper drawn on the tip link's flange, fingers closed: panda (Franka's hand; drawing only).")
-
+        default=None,
+        description="A gripper drawn on the tip link's flange, fingers closed: panda (Franka's hand; drawing only).",
+    )
 
 
 class SelfCollisionModel(Strict):
     """``arm.self_collision`` as a mapping: MoveIt's rules (``auto: true``) or an SRDF, with the
     user's own ``allow`` and ``check`` pairs of links on top."""
 
-    auto: bool | None = Field(default=None, description="true: the allowed-collision matrix by MoveIt's rules (adjacent, default, never).")
-    srdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
-        default=None, description="An SRDF file, relative to the scene file: its <disable_collisions link1= link2=/> pairs are allowed."
+    auto: bool | None = Field(
+        default=None, description="true: the allowed-collision matrix by MoveIt's rules (adjacent, default, never)."
     )
-    allow: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(default=[], description="Link pairs never checked.")
-    check: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(default=[], description="Link pairs checked whatever the rules say.")
+    srdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
+        default=None,
+        description="An SRDF file, relative to the scene file: its <disable_collisions link1= link2=/> pairs are allowed.",
+    )
+    allow: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(
+        default=[], description="Link pairs never checked."
+    )
+    check: Annotated[list[LinkPair], Field(max_length=10_000)] = Field(
+        default=[], description="Link pairs checked whatever the rules say."
+    )
 
     @model_validator(mode="after")
     def _one_source(self):
         if (self.auto is True) == (self.srdf is not None):
-            raise ValueError("gives " + ("both auto: true and srdf" if self.srdf is not None else "neither auto: true nor srdf")
-                             + " (expected one: auto: true for MoveIt's rules, or srdf: FILE)")
+            raise ValueError(
+                "gives "
+                + ("both auto: true and srdf" if self.srdf is not None else "neither auto: true nor srdf")
+                + " (expected one: auto: true for MoveIt's rules, or srdf: FILE)"
+            )
         return self
 
 
@@ -112,33 +131,50 @@ class ArmModel(Strict):
     axes: list[AxisName] | None = Field(
         default=None, description="Each joint's rotation axis in its own frame; default z, then y (links only)."
     )
-    direction: AxisName | None = Field(default=None, description="Local axis along which every link extends; default z (links only).")
-    urdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
-        default=None, description="A URDF file, relative to the scene file: the arm is its chain from base_link to tip_link."
+    direction: AxisName | None = Field(
+        default=None, description="Local axis along which every link extends; default z (links only)."
     )
-    package_dirs: Annotated[list[Annotated[str, Field(min_length=1, max_length=4096)]], Field(max_length=32)] | None = Field(
+    urdf: Annotated[str, Field(min_length=1, max_length=4096)] | None = Field(
         default=None,
-        description="Folders where the URDF's package://NAME/... meshes are found (NAME/... under one of them, or ... "
-                    "in one named NAME), relative to the scene file; default: the URDF's folder and its parents. "
-                    "For drawing only.",
+        description="A URDF file, relative to the scene file: the arm is its chain from base_link to tip_link.",
+    )
+    package_dirs: Annotated[list[Annotated[str, Field(min_length=1, max_length=4096)]], Field(max_length=32)] | None = (
+        Field(
+            default=None,
+            description="Folders where the URDF's package://NAME/... meshes are found (NAME/... under one of them, or ... "
+            "in one named NAME), relative to the scene file; default: the URDF's folder and its parents. "
+            "For drawing only.",
+        )
     )
     robot: Annotated[str, Field(min_length=1, max_length=100)] | None = Field(
         default=None, description="A bundled robot (armanim robots lists them): panda, ur5, iiwa."
     )
-    base_link: UrdfName | None = Field(default=None, description="The URDF link the arm starts at; default the root (or the robot's).")
-    tip_link: UrdfName | None = Field(default=None, description="The URDF link the arm ends at; default the only leaf (or the robot's).")
-    base_rpy: Angles3 | None = Field(default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0.")
+    base_link: UrdfName | None = Field(
+        default=None, description="The URDF link the arm starts at; default the root (or the robot's)."
+    )
+    tip_link: UrdfName | None = Field(
+        default=None, description="The URDF link the arm ends at; default the only leaf (or the robot's)."
+    )
+    base_rpy: Angles3 | None = Field(
+        default=None, description="Roll, pitch, yaw of base_link in the world, degrees; default 0."
+    )
     tool: ToolModel | None = Field(default=None, description="The tip in tip_link's frame; default its origin.")
     collision: Literal["auto", "fitted"] | Annotated[list[CapsuleModel], Field(max_length=1000)] | None = Field(
-        default=None, description="auto (the URDF's primitives and capsules fitted to its meshes, or a bundled robot's own "
-                                  "capsules), fitted (a bundled robot's capsules fitted to its meshes), or a list of capsules."
+        default=None,
+        description="auto (the URDF's primitives and capsules fitted to its meshes, or a bundled robot's own "
+        "capsules), fitted (a bundled robot's capsules fitted to its meshes), or a list of capsules.",
     )
-    home: list[Angle] | None = Field(default=None, description="Starting joint angles, degrees; default all 0 (or the robot's).")
-    joint_values: Annotated[dict[UrdfName, Annotated[float, Field(allow_inf_nan=False, ge=-1e9, le=1e9)]], Field(max_length=1000)] | None = Field(
+    home: list[Angle] | None = Field(
+        default=None, description="Starting joint angles, degrees; default all 0 (or the robot's)."
+    )
+    joint_values: (
+        Annotated[dict[UrdfName, Annotated[float, Field(allow_inf_nan=False, ge=-1e9, le=1e9)]], Field(max_length=1000)]
+        | None
+    ) = Field(
         default=None,
         description="The joints off the arm's chain (a gripper's fingers) held at these values: joint name to degrees, "
-                    "or metres for a prismatic joint; default 0 if within the joint's limits, else its lower limit. "
-                    "Mimic joints follow their <mimic>.",
+        "or metres for a prismatic joint; default 0 if within the joint's limits, else its lower limit. "
+        "Mimic joints follow their <mimic>.",
     )
     limits: list[Annotated[list[Angle], Field(min_length=2, max_length=2)] | None] | None = Field(
         default=None, description="Per joint [min, max] in degrees, or null for an unlimited joint; default the URDF's."
@@ -153,7 +189,7 @@ class ArmModel(Strict):
     max_joint_speed: JointSpeed | None = Field(
         default=None,
         description="deg/s, one number or one per joint: the clock keeps every joint's speed within it; default the robot's "
-                    "(robot.yaml, else the URDF's <limit velocity>, else 180), or solver.max_joint_step x render.fps (links).",
+        "(robot.yaml, else the URDF's <limit velocity>, else 180), or solver.max_joint_step x render.fps (links).",
     )
     max_joint_acceleration: JointAcceleration | None = Field(
         default=None,
@@ -162,12 +198,17 @@ class ArmModel(Strict):
     max_joint_jerk: JointJerk | None = Field(
         default=None,
         description="deg/s^3, one number or one per joint, or robot (the bundled robot's published one): the clock is also "
-                    "jerk-bounded; default none (speed and acceleration only).",
+        "jerk-bounded; default none (speed and acceleration only).",
     )
-    self_collision: Annotated[
-        Literal["auto", "off"],
-        WithJsonSchema({"anyOf": [{"enum": ["auto", "off"]}, {"type": "boolean"}]}),  # YAML 1.1: a bare off is false
-    ] | SelfCollisionModel = Field(
+    self_collision: (
+        Annotated[
+            Literal["auto", "off"],
+            WithJsonSchema(
+                {"anyOf": [{"enum": ["auto", "off"]}, {"type": "boolean"}]}
+            ),  # YAML 1.1: a bare off is false
+        ]
+        | SelfCollisionModel
+    ) = Field(
         default="auto",
         description="auto: every pair of the arm's own links keeps solver.self_clearance except those MoveIt's rules allow; "
         "off: none is checked; or {auto: true, allow: [[a, b]], check: [[a, b]]}, or {srdf: FILE}.",
@@ -187,16 +228,24 @@ class ArmModel(Strict):
         """Exactly one of links, urdf, robot; the fields of the other kind left out; a robot that is bundled."""
         given = [name for name in ("links", "urdf", "robot") if getattr(self, name) is not None]
         if len(given) != 1:
-            raise ValueError(f"gives {' and '.join(given) if given else 'none of links, urdf, robot'} "
-                             "(expected exactly one: links for an arm of straight links, urdf for a URDF file, robot for a bundled robot)")
-        wrong = ("base_link", "tip_link", "base_rpy", "tool", "collision", "package_dirs", "joint_values") if given[0] == "links" else ("axes", "direction")
+            raise ValueError(
+                f"gives {' and '.join(given) if given else 'none of links, urdf, robot'} "
+                "(expected exactly one: links for an arm of straight links, urdf for a URDF file, robot for a bundled robot)"
+            )
+        wrong = (
+            ("base_link", "tip_link", "base_rpy", "tool", "collision", "package_dirs", "joint_values")
+            if given[0] == "links"
+            else ("axes", "direction")
+        )
         for name in wrong:
             if getattr(self, name) is not None:
                 kind = "an arm of links" if given[0] == "links" else "a URDF arm"
                 raise ValueError(f"{name} does not apply to {kind} (remove it)")
         if self.robot is not None and self.robot not in ROBOTS:
-            raise ValueError(f"robot {self.robot!r} is not bundled (expected one of: {', '.join(ROBOTS)}; "
-                             "or give your own file with arm.urdf)")
+            raise ValueError(
+                f"robot {self.robot!r} is not bundled (expected one of: {', '.join(ROBOTS)}; "
+                "or give your own file with arm.urdf)"
+            )
         return self
 
     def with_files(self, robot: UrdfArm | None, srdf: Srdf | None) -> ArmModel:
@@ -221,8 +270,10 @@ class ArmModel(Strict):
         if self._robot is None:
             if not self.is_urdf:
                 raise RuntimeError("an arm of links has no URDF arm (ask is_urdf first)")
-            raise RuntimeError("this URDF arm's file was not read: validate the scene with armanim.scene.load_scene, "
-                               "scene_from_bytes or scene_model (SceneModel.model_validate reads no file)")
+            raise RuntimeError(
+                "this URDF arm's file was not read: validate the scene with armanim.scene.load_scene, "
+                "scene_from_bytes or scene_model (SceneModel.model_validate reads no file)"
+            )
         return self._robot
 
     @property
@@ -239,8 +290,10 @@ class ArmModel(Strict):
     def srdf_pairs(self) -> tuple[tuple[str, str, str], ...]:
         """(link1, link2, reason) of the SRDF ``self_collision`` read (() without one)."""
         if self._srdf is None and not isinstance(self.self_collision, str) and self.self_collision.srdf is not None:
-            raise RuntimeError("this arm's SRDF was not read: validate the scene with armanim.scene.load_scene, "
-                               "scene_from_bytes or scene_model (SceneModel.model_validate reads no file)")
+            raise RuntimeError(
+                "this arm's SRDF was not read: validate the scene with armanim.scene.load_scene, "
+                "scene_from_bytes or scene_model (SceneModel.model_validate reads no file)"
+            )
         return self._srdf.pairs if self._srdf is not None else ()
 
     @property

@@ -51,6 +51,7 @@ def scene_problems(scene: SceneModel, unknown: frozenset[str] | set[str] = froze
     that value out of the collision checks: a goal or obstacle is then left out of them, an arm
     field leaves only the goals' own points to check, and the rest is still checked.
     """
+
     def known(*fields: str) -> bool:
         return not any(_overlaps(u, f) for u in unknown for f in fields)
 
@@ -58,16 +59,34 @@ def scene_problems(scene: SceneModel, unknown: frozenset[str] | set[str] = froze
     counts = list(_count_problems(scene)) if arm_known else []
     rates = list(rate_problems(scene.arm)) if arm_known else []
     magnitudes = list(_magnitude_problems(scene))
-    budget = list(_budget_problems(scene)) if known("goals", "render.fps", "solver.max_frames_per_goal", "solver.tolerance",
-                                                   "solver.path_tolerance") else []
-    slow = (list(_slow_rate_problems(scene)) if arm_known and not rates and all(path != "arm.axes" for path, _ in counts)
-            and known("render.fps", "solver.max_joint_step", *(f"arm.{f}" for f in RATE_FIELDS)) else [])
+    budget = (
+        list(_budget_problems(scene))
+        if known("goals", "render.fps", "solver.max_frames_per_goal", "solver.tolerance", "solver.path_tolerance")
+        else []
+    )
+    slow = (
+        list(_slow_rate_problems(scene))
+        if arm_known
+        and not rates
+        and all(path != "arm.axes" for path, _ in counts)
+        and known("render.fps", "solver.max_joint_step", *(f"arm.{f}" for f in RATE_FIELDS))
+        else []
+    )
     arm = list(limit_problems(scene.arm)) if known("arm.home", "arm.limits", "arm.limit_margin") else []
     arm += list(joint_goal_limit_problems(scene)) if known("arm.limits") else []
     arm += list(_bounds_problems(scene)) if known("render.bounds") else []
     carrying = list(_carry_problems(scene)) if arm_known and known("goals", "obstacles") else []
-    problems = (counts + rates + arm + magnitudes + budget + slow + list(_pen_problems(scene)) + list(_name_problems(scene))
-                + carrying)
+    problems = (
+        counts
+        + rates
+        + arm
+        + magnitudes
+        + budget
+        + slow
+        + list(_pen_problems(scene))
+        + list(_name_problems(scene))
+        + carrying
+    )
     problems += _collision_checks(scene, set(unknown) | {path for path, _ in counts + rates + magnitudes + carrying})
     return [(path, message) for path, message in problems if known(path)]
 
@@ -91,16 +110,27 @@ def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, 
     the messages), the floor dropped, the default home taken and its checks skipped; an unusable
     arm or clearance leaves only the goal points inside an obstacle or below the floor."""
     n = scene.arm.joint_count if "arm" not in unusable else -1
-    goals = [k for k, goal in enumerate(scene.goals) if not any(_overlaps(u, f"goals[{k}]") for u in unusable)
-             and (goal.joints is None or len(goal.joints) == n)]
+    goals = [
+        k
+        for k, goal in enumerate(scene.goals)
+        if not any(_overlaps(u, f"goals[{k}]") for u in unusable) and (goal.joints is None or len(goal.joints) == n)
+    ]
     obstacles = [k for k in range(len(scene.obstacles)) if not any(_overlaps(u, f"obstacles[{k}]") for u in unusable)]
     arm_usable = not any(_overlaps(u, "arm") and not _overlaps(u, "arm.home") for u in unusable)
-    home_usable = not any(_overlaps(u, "arm.home") for u in unusable) and (scene.arm.home is None or len(scene.arm.home) == n)
+    home_usable = not any(_overlaps(u, "arm.home") for u in unusable) and (
+        scene.arm.home is None or len(scene.arm.home) == n
+    )
     clearance_known = not any(_overlaps(u, f) for u in unusable for f in ("solver.clearance", "solver.self_clearance"))
     floor = scene.floor if not any(_overlaps(u, "floor") for u in unusable) else None
     arm = scene.arm if home_usable else scene.arm.model_copy(update={"home": None})
-    reduced = scene.model_copy(update={"goals": [scene.goals[k] for k in goals], "obstacles": [scene.obstacles[k] for k in obstacles],
-                                       "floor": floor, "arm": arm})
+    reduced = scene.model_copy(
+        update={
+            "goals": [scene.goals[k] for k in goals],
+            "obstacles": [scene.obstacles[k] for k in obstacles],
+            "floor": floor,
+            "arm": arm,
+        }
+    )
     problems: list[tuple[str, str]] = []
     if arm_usable and clearance_known:
         problem = scene_to_problem(reduced, retreats=False)  # one goal per scene goal: the messages name the scene's
@@ -109,14 +139,26 @@ def _collision_checks(scene: SceneModel, unusable: set[str]) -> list[tuple[str, 
         if home_usable:
             problems += list(_home_collision_problems(problem))
             problems += list(_self_collision_problems(problem, "arm.home" if scene.arm.home is not None else "arm"))
-        problems += list(_goal_point_problems(problem.obstacles, problem.goals, tip_radius(problem.arm, problem.capsules)
-                                              + problem.solver.clearance, tip_size))
+        problems += list(
+            _goal_point_problems(
+                problem.obstacles,
+                problem.goals,
+                tip_radius(problem.arm, problem.capsules) + problem.solver.clearance,
+                tip_size,
+            )
+        )
         for k, goal in enumerate(problem.goals):
             if goal.joints is not None:
-                problems += list(_pose_collision_problems(problem, goal.joints, f"goals[{k}]", "the joint goal's pose", "the goal"))
-                problems += list(_self_collision_problems(problem, f"goals[{k}]", goal.joints, "the joint goal's pose", "the goal"))
+                problems += list(
+                    _pose_collision_problems(problem, goal.joints, f"goals[{k}]", "the joint goal's pose", "the goal")
+                )
+                problems += list(
+                    _self_collision_problems(problem, f"goals[{k}]", goal.joints, "the joint goal's pose", "the goal")
+                )
     else:  # the goals' own points need no arm
-        points = [scene_goal(g) if g.joints is None and g.grasp is None else None for g in reduced.goals]  # each at its index
+        points = [
+            scene_goal(g) if g.joints is None and g.grasp is None else None for g in reduced.goals
+        ]  # each at its index
         problems += list(_goal_point_problems(scene_obstacles(reduced), tuple(points), None, ""))
     indices = {"goals": goals, "obstacles": obstacles}
 
@@ -138,50 +180,94 @@ def _carry_problems(scene: SceneModel):
     held: tuple[str, int] | None = None
     for k, goal in enumerate(scene.goals):
         if goal.grasp is not None and goal.release:
-            yield f"goals[{k}].release", "is on a goal that grasps (expected grasp or release: true on a goal, not both)"
+            yield (
+                f"goals[{k}].release",
+                "is on a goal that grasps (expected grasp or release: true on a goal, not both)",
+            )
             continue
         if (goal.grasp is not None or goal.release) and goal.path is not None:
             field = "grasp" if goal.grasp is not None else "release"
-            yield f"goals[{k}].{field}", "is on a path goal (expected a point, pose or joint goal: give the path its own goal after this one)"
+            yield (
+                f"goals[{k}].{field}",
+                "is on a path goal (expected a point, pose or joint goal: give the path its own goal after this one)",
+            )
         if (goal.grasp is not None or goal.release) and goal.blend is not None:
             yield f"goals[{k}].blend", "is on a goal that grasps or releases (the tool stops there: leave blend out)"
-        for name, line, end, axis, instead in (("approach", goal.approach, "ends at", "[0, 0, -1]", ""),
-                                               ("retreat", goal.retreat, "starts at", "[0, 0, 1]",
-                                                "; give the path a straight piece of its own at its end instead")):
+        for name, line, end, axis, instead in (
+            ("approach", goal.approach, "ends at", "[0, 0, -1]", ""),
+            (
+                "retreat",
+                goal.retreat,
+                "starts at",
+                "[0, 0, 1]",
+                "; give the path a straight piece of its own at its end instead",
+            ),
+        ):
             if line is None:
                 continue
             if goal.path is not None:
-                yield f"goals[{k}].{name}", f"is on a path goal (expected a point or pose goal: the line {end} its position{instead})"
+                yield (
+                    f"goals[{k}].{name}",
+                    f"is on a path goal (expected a point or pose goal: the line {end} its position{instead})",
+                )
             elif goal.joints is not None:
-                yield f"goals[{k}].{name}", f"is on a joint goal (expected a point or pose goal: the line {end} its position)"
+                yield (
+                    f"goals[{k}].{name}",
+                    f"is on a joint goal (expected a point or pose goal: the line {end} its position)",
+                )
             elif line.axis == "tool" and goal.orientation is None and goal.tool_axis is None:
-                yield f"goals[{k}].{name}.axis", ("is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
-                                                  f"give the goal an orientation, or a world direction such as axis: {axis})")
+                yield (
+                    f"goals[{k}].{name}.axis",
+                    (
+                        "is tool on a goal without orientation or tool_axis (the tool's z is unknown there: "
+                        f"give the goal an orientation, or a world direction such as axis: {axis})"
+                    ),
+                )
         if goal.touch_links is not None:
             if goal.grasp is None:
                 yield f"goals[{k}].touch_links", "is on a goal that grasps nothing (expected it beside grasp: NAME)"
             for j, link in enumerate(goal.touch_links):
                 if links is not None and link not in links:
-                    yield f"goals[{k}].touch_links[{j}]", (f"{link!r} names no link of the arm (expected one of: "
-                                                           f"{', '.join(repr(n) for n in links)})")
+                    yield (
+                        f"goals[{k}].touch_links[{j}]",
+                        (f"{link!r} names no link of the arm (expected one of: {', '.join(repr(n) for n in links)})"),
+                    )
         if goal.grasp is not None:
             if goal.grasp not in names:
                 known = [repr(n) for n in names if n is not None]
-                yield f"goals[{k}].grasp", (f"{goal.grasp!r} names no obstacle (expected the name of one: "
-                                            f"{', '.join(known) if known else 'no obstacle has a name; add name: to the one to take'})")
+                yield (
+                    f"goals[{k}].grasp",
+                    (
+                        f"{goal.grasp!r} names no obstacle (expected the name of one: "
+                        f"{', '.join(known) if known else 'no obstacle has a name; add name: to the one to take'})"
+                    ),
+                )
             elif held is not None:
-                yield f"goals[{k}].grasp", (f"takes {goal.grasp!r} while the tool still holds {held[0]!r} (grasped at goals[{held[1]}]: "
-                                            "put it down first with release: true on a goal between)")
+                yield (
+                    f"goals[{k}].grasp",
+                    (
+                        f"takes {goal.grasp!r} while the tool still holds {held[0]!r} (grasped at goals[{held[1]}]: "
+                        "put it down first with release: true on a goal between)"
+                    ),
+                )
             else:
                 held = (goal.grasp, k)
         elif goal.release:
             if held is None:
-                yield f"goals[{k}].release", ("puts down nothing: the tool holds nothing here (expected grasp: NAME on an earlier "
-                                              "goal, or leave release out)")
+                yield (
+                    f"goals[{k}].release",
+                    (
+                        "puts down nothing: the tool holds nothing here (expected grasp: NAME on an earlier "
+                        "goal, or leave release out)"
+                    ),
+                )
             held = None
     carries = any(g.grasp is not None or g.release for g in scene.goals)
     if carries and scene.solver.blend is not None:
-        yield "solver.blend", "is set in a scene that grasps or releases (each goal of such a scene starts and ends at rest: leave it out)"
+        yield (
+            "solver.blend",
+            "is set in a scene that grasps or releases (each goal of such a scene starts and ends at rest: leave it out)",
+        )
 
 
 def _link_names(scene: SceneModel) -> list[str] | None:
@@ -234,34 +320,70 @@ def _grasp_problems(scene: SceneModel, problem):
         body = obstacle_body(problem.obstacles, goal.grasp)
         name = problem.obstacles.name(goal.grasp)
         if opening is not None and body.width() > opening:
-            yield f"goals[{k}].grasp", (f"{name!r} is {body.width():.3g} across at its narrowest, wider than the gripper opens "
-                                        f"({opening:.3g}: its finger joints' limits; expected a smaller object)")
+            yield (
+                f"goals[{k}].grasp",
+                (
+                    f"{name!r} is {body.width():.3g} across at its narrowest, wider than the gripper opens "
+                    f"({opening:.3g}: its finger joints' limits; expected a smaller object)"
+                ),
+            )
         elif opening is not None and goal.orientation is not None and goal.orientation.rotation is not None:
             across = finger_axis(problem, goal.orientation.rotation)
             if across is not None and body.extent(across) > opening + 1e-9:
-                yield f"goals[{k}].grasp", (f"{name!r} is {body.extent(across):.3g} across the fingers at this goal's orientation, wider "
-                                            f"than the gripper opens ({opening:.3g}: its finger joints' limits; expected the goal turned "
-                                            f"about the tool's z so that the fingers close on its {body.width():.3g} side)")
+                yield (
+                    f"goals[{k}].grasp",
+                    (
+                        f"{name!r} is {body.extent(across):.3g} across the fingers at this goal's orientation, wider "
+                        f"than the gripper opens ({opening:.3g}: its finger joints' limits; expected the goal turned "
+                        f"about the tool's z so that the fingers close on its {body.width():.3g} side)"
+                    ),
+                )
         at = goal.path.end if goal.path is not None else goal.position  # an approach's line ends at the goal
-        gap = point_clearances(at[None], with_bodies(problem.obstacles, {c: None for c in range(len(problem.obstacles.kinds))
-                                                                                     if c != goal.grasp and problem.obstacles.kinds[c] != FLOOR}))
+        gap = point_clearances(
+            at[None],
+            with_bodies(
+                problem.obstacles,
+                {
+                    c: None
+                    for c in range(len(problem.obstacles.kinds))
+                    if c != goal.grasp and problem.obstacles.kinds[c] != FLOOR
+                },
+            ),
+        )
         reach = float(gap[0, 0])
         if reach > problem.solver.tolerance:
-            yield f"goals[{k}].grasp", (f"{name!r} is {reach:.3g} from the goal's tool point (expected the tool point in the object or "
-                                        f"within solver.tolerance = {problem.solver.tolerance:g} of it: move the goal onto the object)")
+            yield (
+                f"goals[{k}].grasp",
+                (
+                    f"{name!r} is {reach:.3g} from the goal's tool point (expected the tool point in the object or "
+                    f"within solver.tolerance = {problem.solver.tolerance:g} of it: move the goal onto the object)"
+                ),
+            )
         rest = resting_clearances(problem.obstacles, goal.grasp)
         support = touching_support(problem, World(), body, goal.grasp)
         if support is not None and scene.goals[k].retreat is not None:
             yield from _support_problems(scene, problem, k, body, support)
             rest[support] = np.inf  # it may touch what it stands on along its retreat
         for column in (int(c) for c in np.nonzero(rest < d_safe)[0]):
-            where = "the floor" if problem.obstacles.kinds[column] == FLOOR else _obstacle_words(problem.obstacles, column)
-            standing = (f"; or, as it stands on it, give goals[{k}] a retreat: the straight line along which it may leave it "
-                        "touching") if column == support else ""
-            yield f"obstacles[{goal.grasp}]", (
-                f"{name!r} rests {rest[column]:.3g} from {where} as the arm will carry it (its cover of capsules, which lies up to "
-                f"{cover_margin(body):.3g} beyond it; expected at least solver.clearance = {d_safe:g}, so that it keeps its clearance "
-                f"from the grasp on: move it {d_safe - rest[column]:.3g} farther, or lower solver.clearance{standing})")
+            where = (
+                "the floor" if problem.obstacles.kinds[column] == FLOOR else _obstacle_words(problem.obstacles, column)
+            )
+            standing = (
+                (
+                    f"; or, as it stands on it, give goals[{k}] a retreat: the straight line along which it may leave it "
+                    "touching"
+                )
+                if column == support
+                else ""
+            )
+            yield (
+                f"obstacles[{goal.grasp}]",
+                (
+                    f"{name!r} rests {rest[column]:.3g} from {where} as the arm will carry it (its cover of capsules, which lies up to "
+                    f"{cover_margin(body):.3g} beyond it; expected at least solver.clearance = {d_safe:g}, so that it keeps its clearance "
+                    f"from the grasp on: move it {d_safe - rest[column]:.3g} farther, or lower solver.clearance{standing})"
+                ),
+            )
 
 
 def _support_problems(scene: SceneModel, problem, k: int, body, support: int):
@@ -280,12 +402,21 @@ def _support_problems(scene: SceneModel, problem, k: int, body, support: int):
     if direction is None or goal_column is None:
         return  # the retreat's own check says why
     lifted = replace(body, center=body.center + model.retreat.distance * direction)  # the line holds the orientation
-    apart = float(cover_clearances(lifted, with_bodies(problem.obstacles, {goal_column: None}))[_kept_column(problem, goal_column, support)])
+    apart = float(
+        cover_clearances(lifted, with_bodies(problem.obstacles, {goal_column: None}))[
+            _kept_column(problem, goal_column, support)
+        ]
+    )
     if apart < d_safe + problem.solver.tolerance:
-        yield f"goals[{k}].retreat.distance", (f"the retreat leaves {name!r} {apart:.3g} from {where}, which it stands on (its cover of "
-                                               f"capsules); expected at least solver.clearance + solver.tolerance = "
-                                               f"{d_safe + problem.solver.tolerance:g}, so that it keeps its clearance after the line: "
-                                               f"a longer retreat, about {model.retreat.distance + d_safe + problem.solver.tolerance - apart:.3g}")
+        yield (
+            f"goals[{k}].retreat.distance",
+            (
+                f"the retreat leaves {name!r} {apart:.3g} from {where}, which it stands on (its cover of "
+                f"capsules); expected at least solver.clearance + solver.tolerance = "
+                f"{d_safe + problem.solver.tolerance:g}, so that it keeps its clearance after the line: "
+                f"a longer retreat, about {model.retreat.distance + d_safe + problem.solver.tolerance - apart:.3g}"
+            ),
+        )
 
 
 def _kept_column(problem, gone: int, column: int) -> int:
@@ -300,8 +431,13 @@ def _name_problems(scene: SceneModel):
         if obstacle.name is None:
             continue
         if obstacle.name in first:
-            yield f"obstacles[{k}].name", (f"{obstacle.name!r} already names obstacles[{first[obstacle.name]}] "
-                                           "(expected each obstacle's name once: rename one)")
+            yield (
+                f"obstacles[{k}].name",
+                (
+                    f"{obstacle.name!r} already names obstacles[{first[obstacle.name]}] "
+                    "(expected each obstacle's name once: rename one)"
+                ),
+            )
         else:
             first[obstacle.name] = k
 
@@ -321,10 +457,13 @@ def _pen_problems(scene: SceneModel):
             axis = orientation_rotation(goal.orientation)[:, 2].tolist()
         if sum(a * f for a, f in zip(axis, front)) > 0:
             field = "tool_axis" if goal.tool_axis is not None else "orientation"
-            yield f"goals[{k}].{field}", (
-                f"points the tool out of the board's front (right x up = {_vector(front)}, the side the text reads from and the "
-                f"pen lifts to; expected the tool pointing into the board, e.g. tool_axis: {_vector([-f + 0.0 for f in front])}, "
-                "or negate right to write on the other face)"
+            yield (
+                f"goals[{k}].{field}",
+                (
+                    f"points the tool out of the board's front (right x up = {_vector(front)}, the side the text reads from and the "
+                    f"pen lifts to; expected the tool pointing into the board, e.g. tool_axis: {_vector([-f + 0.0 for f in front])}, "
+                    "or negate right to write on the other face)"
+                ),
             )
 
 
@@ -345,10 +484,13 @@ def _self_collision_problems(problem, path: str, phi=None, pose: str = "the home
             continue
         seen.add(pairs.names[k])
         a, b = pairs.names[k]
-        yield path, (
-            f"{pose} has {a} and {b} {'overlapping' if gaps[k] <= 0 else 'closer than solver.self_clearance'} "
-            f"(gap {gaps[k]:.3g}, expected at least solver.self_clearance = {pairs.clearance:g}: change {change}, "
-            f"allow the pair (arm.self_collision: {{auto: true, allow: [[{a}, {b}]]}}) or lower solver.self_clearance)"
+        yield (
+            path,
+            (
+                f"{pose} has {a} and {b} {'overlapping' if gaps[k] <= 0 else 'closer than solver.self_clearance'} "
+                f"(gap {gaps[k]:.3g}, expected at least solver.self_clearance = {pairs.clearance:g}: change {change}, "
+                f"allow the pair (arm.self_collision: {{auto: true, allow: [[{a}, {b}]]}}) or lower solver.self_clearance)"
+            ),
         )
 
 
@@ -359,11 +501,19 @@ def _count_problems(scene: SceneModel):
     for field in ("axes", "home", "limits"):
         values = getattr(arm, field)
         if values is not None and len(values) != n:
-            yield f"arm.{field}", f"has {len(values)} entries, the arm has {n} {'joints' if arm.is_urdf else 'links'} (expected one per joint)"
+            yield (
+                f"arm.{field}",
+                f"has {len(values)} entries, the arm has {n} {'joints' if arm.is_urdf else 'links'} (expected one per joint)",
+            )
     for k, goal in enumerate(scene.goals):
         if goal.joints is not None and len(goal.joints) != n:
-            yield f"goals[{k}].joints", (f"has {len(goal.joints)} values, the arm has {n} moving joints "
-                                         "(expected one per joint, in order, as arm.home)")
+            yield (
+                f"goals[{k}].joints",
+                (
+                    f"has {len(goal.joints)} values, the arm has {n} moving joints "
+                    "(expected one per joint, in order, as arm.home)"
+                ),
+            )
 
 
 def _bounds_problems(scene: SceneModel):
@@ -380,7 +530,9 @@ def frame_budget(scene: SceneModel) -> int:
     and a path goal's frames along its path (:func:`path_frames`)."""
     fps = scene.render.fps
     per_goal = scene.solver.max_frames_per_goal
-    lines = sum(per_goal + line_frames(line, fps) for _, line in _lines(scene))  # an approach's or retreat's goal of its own
+    lines = sum(
+        per_goal + line_frames(line, fps) for _, line in _lines(scene)
+    )  # an approach's or retreat's goal of its own
     return 1 + lines + sum(per_goal + frames_in(g.hold, fps) + path_frames(g, fps) for g in scene.goals)
 
 
@@ -438,7 +590,10 @@ def _magnitudes(scene: SceneModel):
         yield from ((f"arm.tool.xyz[{i}]", v) for i, v in enumerate(arm.tool.xyz))
     for k, capsule in enumerate(arm.collision if isinstance(arm.collision, list) else ()):
         for label, value in (("from", capsule.from_), ("to", capsule.to), ("radius", [capsule.radius])):
-            yield from ((f"arm.collision[{k}].{label}[{i}]" if label != "radius" else f"arm.collision[{k}].radius", v) for i, v in enumerate(value))
+            yield from (
+                (f"arm.collision[{k}].{label}[{i}]" if label != "radius" else f"arm.collision[{k}].radius", v)
+                for i, v in enumerate(value)
+            )
     for k, obstacle in enumerate(scene.obstacles):
         yield from _obstacle_magnitudes(f"obstacles[{k}]", obstacle)
     if scene.floor is not None:
@@ -507,9 +662,11 @@ def _obstacle_magnitudes(path: str, obstacle):
         yield f"{path}.influence", obstacle.influence
 
 
-POSITIVE_LENGTHS = re.compile(r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance|self_clearance|orientation_weight)"
-                              r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|cylinder\.(length|radius)|influence)|goals\[\d+\]\.path\.text\.(height|lift)"
-                              r"|goals\[\d+\]\.(approach|retreat)\.(distance|speed)")
+POSITIVE_LENGTHS = re.compile(
+    r"arm\.links\[\d+\]|arm\.width|solver\.(tolerance|path_tolerance|max_step|clearance|self_clearance|orientation_weight)"
+    r"|obstacles\[\d+\]\.(box\.size\[\d\]|capsule\.radius|cylinder\.(length|radius)|influence)|goals\[\d+\]\.path\.text\.(height|lift)"
+    r"|goals\[\d+\]\.(approach|retreat)\.(distance|speed)"
+)
 """The lengths that must be > 0: each is also at least LIMITS["smallest"] (its ratio to the
 largest, 1e18 at most, keeps every square and quotient of the solvers within a float)."""
 
@@ -523,7 +680,10 @@ def _magnitude_problems(scene: SceneModel):
         elif 0 < value < small and POSITIVE_LENGTHS.fullmatch(path):
             yield path, f"{value:g} is too small (expected at least {small:g}: choose a larger unit)"
     if sum(scene.arm.links or ()) > big:
-        yield "arm.links", f"the arm is {sum(scene.arm.links or ()):g} long (expected at most {big:g}: choose a smaller unit)"
+        yield (
+            "arm.links",
+            f"the arm is {sum(scene.arm.links or ()):g} long (expected at most {big:g}: choose a smaller unit)",
+        )
     weights = scene.solver.weights
     for name in type(weights).model_fields:
         value = getattr(weights, name)
@@ -535,21 +695,32 @@ def _budget_problems(scene: SceneModel):
     """The frames the scene may run, and those following its path goals, against the frame limit."""
     budget = frame_budget(scene)
     limit = int(LIMITS["total_frames"])
-    along = [(f"goals[{k}].speed", path_frames(g, scene.render.fps), "this goal's path", "the path") for k, g in enumerate(scene.goals)]
-    along += [(f"{where}.speed", line_frames(line, scene.render.fps), f"this {where.rsplit('.', 1)[1]}", "its distance")
-              for where, line in _lines(scene)]
+    along = [
+        (f"goals[{k}].speed", path_frames(g, scene.render.fps), "this goal's path", "the path")
+        for k, g in enumerate(scene.goals)
+    ]
+    along += [
+        (f"{where}.speed", line_frames(line, scene.render.fps), f"this {where.rsplit('.', 1)[1]}", "its distance")
+        for where, line in _lines(scene)
+    ]
     field, most, what, shorter = max(along, key=lambda a: a[1])
     if budget > limit and most > budget // 2:
-        yield field, (
-            f"the scene may run {budget:,} frames, {most:,} of them along {what} at {scene.render.fps:g} fps "
-            f"(expected at most {limit:,} in all: raise the speed or shorten {shorter})"
+        yield (
+            field,
+            (
+                f"the scene may run {budget:,} frames, {most:,} of them along {what} at {scene.render.fps:g} fps "
+                f"(expected at most {limit:,} in all: raise the speed or shorten {shorter})"
+            ),
         )
     elif budget > limit:
         holds = budget - 1 - len(scene.goals) * scene.solver.max_frames_per_goal
-        yield ("goals" if holds > budget // 2 else "solver.max_frames_per_goal"), (
-            f"the scene may run {budget:,} frames (max_frames_per_goal {scene.solver.max_frames_per_goal:,} and the holds "
-            f"at {scene.render.fps:g} fps over {len(scene.goals)} goals; expected at most {limit:,}: "
-            "lower max_frames_per_goal, the holds or the number of goals)"
+        yield (
+            ("goals" if holds > budget // 2 else "solver.max_frames_per_goal"),
+            (
+                f"the scene may run {budget:,} frames (max_frames_per_goal {scene.solver.max_frames_per_goal:,} and the holds "
+                f"at {scene.render.fps:g} fps over {len(scene.goals)} goals; expected at most {limit:,}: "
+                "lower max_frames_per_goal, the holds or the number of goals)"
+            ),
         )
     else:
         yield from _following_problems(scene, limit)
@@ -572,9 +743,11 @@ def _slow_rate_problems(scene: SceneModel):
     theta = math.radians(SMALLEST_MOVE_DEG)
     rates = rate_limits(scene)
     # time of the smallest move under each limit alone, and the least limit that makes it in ``seconds``
-    kinds = (("max_joint_speed", rates.speed, lambda v: theta / v, theta / seconds),
-             ("max_joint_acceleration", rates.acceleration, lambda a: 2.0 * math.sqrt(theta / a), 4.0 * theta / seconds**2),
-             ("max_joint_jerk", rates.jerk, lambda j: (32.0 * theta / j) ** (1.0 / 3.0), 32.0 * theta / seconds**3))
+    kinds = (
+        ("max_joint_speed", rates.speed, lambda v: theta / v, theta / seconds),
+        ("max_joint_acceleration", rates.acceleration, lambda a: 2.0 * math.sqrt(theta / a), 4.0 * theta / seconds**2),
+        ("max_joint_jerk", rates.jerk, lambda j: (32.0 * theta / j) ** (1.0 / 3.0), 32.0 * theta / seconds**3),
+    )
     said = False
     for field, values, duration, floor in kinds:
         if values is None or not len(values) or float(np.min(values)) >= floor:
@@ -585,7 +758,9 @@ def _slow_rate_problems(scene: SceneModel):
         k = int(np.argmin(values))
         least = float(values[k])
         slides = scene.arm.sliding
-        slide = len(slides) == len(values) and bool(slides[k])  # a prismatic joint's rates are m/s..., its move theta metres
+        slide = len(slides) == len(values) and bool(
+            slides[k]
+        )  # a prismatic joint's rates are m/s..., its move theta metres
         unit = SCENE_RATE_UNITS[field].replace("deg", "m") if slide else SCENE_RATE_UNITS[field]
         shown = (lambda v: v) if slide else math.degrees
         move = f"{theta:.3g} m" if slide else f"{SMALLEST_MOVE_DEG:g} degree"
@@ -594,9 +769,14 @@ def _slow_rate_problems(scene: SceneModel):
         took = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"
         source = "" if getattr(scene.arm, field) is not None else " (not set: the arm's default; set it to override)"
         which = f"joint {k + 1}'s " if isinstance(getattr(scene.arm, field), list) else ""
-        yield f"arm.{field}", (f"{which}{shown(least):g} {unit}{source} is too slow for the frame limit: moving "
-                               f"{'it' if which else 'a joint'} {move} from rest to rest would take {took} frames at {fps:g} fps "
-                               f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(shown(floor)):.2g} {unit})")
+        yield (
+            f"arm.{field}",
+            (
+                f"{which}{shown(least):g} {unit}{source} is too slow for the frame limit: moving "
+                f"{'it' if which else 'a joint'} {move} from rest to rest would take {took} frames at {fps:g} fps "
+                f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(shown(floor)):.2g} {unit})"
+            ),
+        )
 
 
 def _rounded_up(value: float) -> float:
@@ -628,7 +808,9 @@ def _following_problems(scene: SceneModel, limit: int):
         with np.errstate(all="ignore"):  # extreme numbers are reported by _magnitude_problems
             spacing = path_spacing(goal.speed, fps, tolerance, per_tolerance)
             path = tool_path(goal.path)
-            samples = path.length / spacing if spacing > 0 else math.inf  # a subnormal tolerance: too many to count in an int
+            samples = (
+                path.length / spacing if spacing > 0 else math.inf
+            )  # a subnormal tolerance: too many to count in an int
             following.append(most_following_frames(path, spacing, per_goal, max_splits) if samples < 1e15 else 10**18)
     budget = 1 + sum(per_goal + frames_in(g.hold, fps) + f for g, f in zip(scene.goals, following))
     if budget <= limit:
@@ -644,14 +826,27 @@ def _following_problems(scene: SceneModel, limit: int):
     if per_tolerance * tolerance < goal.speed / fps:
         field = "solver.path_tolerance" if scene.solver.path_tolerance is not None else "solver.tolerance"
         need = _rounded_up(spacing / per_tolerance)
-        yield field, (f"{tolerance:g} is too fine for the frame limit: {said} {per_tolerance:g} path tolerances "
-                      f"apart, each step halved up to {max_splits} times"
-                      + (f" (raise {field} to at least about {need:.2g}, or shorten the path)" if room > 0
-                         else " (lower max_frames_per_goal, the holds or the number of goals)"))
+        yield (
+            field,
+            (
+                f"{tolerance:g} is too fine for the frame limit: {said} {per_tolerance:g} path tolerances "
+                f"apart, each step halved up to {max_splits} times"
+                + (
+                    f" (raise {field} to at least about {need:.2g}, or shorten the path)"
+                    if room > 0
+                    else " (lower max_frames_per_goal, the holds or the number of goals)"
+                )
+            ),
+        )
     else:
-        yield f"goals[{k}].speed", (f"{goal.speed:g} is too slow for the frame limit: {said} a frame's travel apart "
-                                    f"at {fps:g} fps, each step halved up to {max_splits} times "
-                                    "(raise the speed or shorten the path)")
+        yield (
+            f"goals[{k}].speed",
+            (
+                f"{goal.speed:g} is too slow for the frame limit: {said} a frame's travel apart "
+                f"at {fps:g} fps, each step halved up to {max_splits} times "
+                "(raise the speed or shorten the path)"
+            ),
+        )
 
 
 def _home_collision_problems(problem):
@@ -666,17 +861,26 @@ def _home_collision_problems(problem):
         inside = cl.links[link, obs] <= 0
         if problem.capsules.link[link] < 0:  # the base: no pose can move it
             name = problem.capsules.names[link] if problem.capsules.names else "the base"
-            yield _obstacle_path(obstacles, obs), (
-                f"the robot's base (link {name!r}, which never moves) is "
-                f"{'inside this obstacle' if inside else 'closer to it than solver.clearance'} "
-                f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
-                "move the obstacle or arm.base, or lower solver.clearance)")
+            yield (
+                _obstacle_path(obstacles, obs),
+                (
+                    f"the robot's base (link {name!r}, which never moves) is "
+                    f"{'inside this obstacle' if inside else 'closer to it than solver.clearance'} "
+                    f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
+                    "move the obstacle or arm.base, or lower solver.clearance)"
+                ),
+            )
             continue
-        shown = f"link {problem.capsules.names[link]!r}" if problem.capsules.names else f"link {link + 1}"  # a URDF's: by name
-        yield _obstacle_path(obstacles, obs), (
-            f"{shown} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'this obstacle')) if inside else 'closer to ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'it')) + ' than solver.clearance'} "
-            f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
-            f"move {_floor_or(obstacles, obs, 'the obstacle')}, change arm.home or lower solver.clearance)"
+        shown = (
+            f"link {problem.capsules.names[link]!r}" if problem.capsules.names else f"link {link + 1}"
+        )  # a URDF's: by name
+        yield (
+            _obstacle_path(obstacles, obs),
+            (
+                f"{shown} of the arm's home pose is {'inside ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'this obstacle')) if inside else 'closer to ' + _floor_or(obstacles, obs, _named(obstacles, obs, 'it')) + ' than solver.clearance'} "
+                f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
+                f"move {_floor_or(obstacles, obs, 'the obstacle')}, change arm.home or lower solver.clearance)"
+            ),
         )
 
 
@@ -687,7 +891,9 @@ def _goal_point_problems(obstacles, goals, keep: float | None, tip_size: str):
     the arm is not known: its point lies in the object it takes)."""
     if not len(obstacles):
         return
-    moving = {g.grasp for g in goals if getattr(g, "grasp", None) is not None}  # the objects a tool takes: _grasp_problems
+    moving = {
+        g.grasp for g in goals if getattr(g, "grasp", None) is not None
+    }  # the objects a tool takes: _grasp_problems
     for k, goal in enumerate(goals):
         if goal is None or goal.joints is not None:
             continue  # its tool point is no part of the arm: the pose's links are checked (scene_problems)
@@ -698,12 +904,18 @@ def _goal_point_problems(obstacles, goals, keep: float | None, tip_size: str):
                 continue
             where = _obstacle_path(obstacles, obs) if obstacles.kinds[obs] == FLOOR else _obstacle_words(obstacles, obs)
             if gap[obs] <= 0:
-                yield f"goals[{k}]", f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_floor_or(obstacles, obs, 'the obstacle')})"
+                yield (
+                    f"goals[{k}]",
+                    f"lies {'below the floor' if where == 'floor' else 'inside ' + where} (the tip can never reach it; move the goal or {_floor_or(obstacles, obs, 'the obstacle')})",
+                )
             else:
-                yield f"goals[{k}]", (
-                    f"is {gap[obs]:.3g} from {'the floor' if where == 'floor' else 'the surface of ' + where} (expected at least {tip_size} + "
-                    f"solver.clearance = {keep:g}, so that the last link can keep its clearance "
-                    f"there: move the goal or {_floor_or(obstacles, obs, 'the obstacle')}, or lower solver.clearance)"
+                yield (
+                    f"goals[{k}]",
+                    (
+                        f"is {gap[obs]:.3g} from {'the floor' if where == 'floor' else 'the surface of ' + where} (expected at least {tip_size} + "
+                        f"solver.clearance = {keep:g}, so that the last link can keep its clearance "
+                        f"there: move the goal or {_floor_or(obstacles, obs, 'the obstacle')}, or lower solver.clearance)"
+                    ),
                 )
 
 
@@ -720,10 +932,13 @@ def _pose_collision_problems(problem, phi, path: str, pose: str, change: str):
         where = _floor_or(obstacles, obs, _obstacle_words(obstacles, obs))
         inside = cl.links[link, obs] <= 0
         part = f"link {problem.capsules.names[link]!r}" if problem.capsules.names else f"link {link + 1}"
-        yield path, (
-            f"{part} of {pose} is {'inside ' + where if inside else 'closer to ' + where + ' than solver.clearance'} "
-            f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
-            f"change {change}, move {where} or lower solver.clearance)"
+        yield (
+            path,
+            (
+                f"{part} of {pose} is {'inside ' + where if inside else 'closer to ' + where + ' than solver.clearance'} "
+                f"(clearance {cl.links[link, obs]:.3g}, expected at least solver.clearance = {d_safe:g}: "
+                f"change {change}, move {where} or lower solver.clearance)"
+            ),
         )
 
 
@@ -775,8 +990,13 @@ def radian_notes(scene: SceneModel) -> list[tuple[str, str]]:
     for path, values in fields.items():
         if values and all(abs(v) < RADIAN_LIKE for v in values) and any(v != int(v) for v in values):
             example = next(v for v in values if v != int(v))
-            notes.append((path, f"these angles look like radians (all below {RADIAN_LIKE} in size, not all whole); "
-                                f"armanim reads degrees: {example:g} rad would be {math.degrees(example):.4g}"))
+            notes.append(
+                (
+                    path,
+                    f"these angles look like radians (all below {RADIAN_LIKE} in size, not all whole); "
+                    f"armanim reads degrees: {example:g} rad would be {math.degrees(example):.4g}",
+                )
+            )
     return notes
 
 
@@ -794,12 +1014,22 @@ def fallback_notes(scene: SceneModel) -> list[tuple[str, str]]:
         return []
     robot, notes = arm.urdf_arm, []
     if robot.from_visuals:
-        notes.append(("arm.collision", f"links {', '.join(robot.from_visuals)} have no <collision>: their capsules are fitted "
-                                       "to their visual meshes (the run folder's capsules.yaml lists them)"))
+        notes.append(
+            (
+                "arm.collision",
+                f"links {', '.join(robot.from_visuals)} have no <collision>: their capsules are fitted "
+                "to their visual meshes (the run folder's capsules.yaml lists them)",
+            )
+        )
     notes += [("arm.collision", f"{problem}: not fitted") for problem in robot.unread_meshes]
     if robot.fallback_links:
         links = ", ".join(robot.fallback_links)
-        notes.append(("arm.collision", f"links {links} have no collision geometry armanim can use (no primitive, no mesh): "
-                                       f"each gets a capsule from its joint to the next of radius arm.width / 2 = "
-                                       f"{arm.resolved_width / 2:g} (give arm.collision to set them)"))
+        notes.append(
+            (
+                "arm.collision",
+                f"links {links} have no collision geometry armanim can use (no primitive, no mesh): "
+                f"each gets a capsule from its joint to the next of radius arm.width / 2 = "
+                f"{arm.resolved_width / 2:g} (give arm.collision to set them)",
+            )
+        )
     return notes

@@ -94,8 +94,13 @@ def held_values(arm: ArmModel) -> dict[str, float]:
     for joint in robot.held:
         if joint.follows is None:
             value = given.get(joint.name)
-            values[joint.name] = (default_held_value(joint) if value is None
-                                  else float(value) if joint.kind == "prismatic" else float(np.radians(value)))
+            values[joint.name] = (
+                default_held_value(joint)
+                if value is None
+                else float(value)
+                if joint.kind == "prismatic"
+                else float(np.radians(value))
+            )
     for joint in robot.held:
         if joint.follows is not None:
             other, multiplier, offset = joint.follows
@@ -121,7 +126,9 @@ def link_places(arm: ArmModel, chain: SerialChain) -> LinkPlaces:
     path hang from theirs at the held joint values (:func:`held_values`)."""
     robot = arm.urdf_arm
     places = {robot.base_link: (BASE, urdf_mount(arm))}
-    places.update({link: (carrier, place) for link, carrier, place in zip(robot.path_links, chain.carriers, chain.link_offsets)})
+    places.update(
+        {link: (carrier, place) for link, carrier, place in zip(robot.path_links, chain.carriers, chain.link_offsets)}
+    )
     values = held_values(arm)
     for hanging in robot.hanging:
         carrier, place = places[hanging.anchor]
@@ -161,11 +168,24 @@ def urdf_gripper(arm: ArmModel, chain: SerialChain, capsules: Capsules) -> Gripp
     rate = np.zeros((len(capsules.radius), 3))
     for i, spec in enumerate(robot.capsules):
         rate[i] = moves.get(spec.link, 0.0)
-    span = 1.0 + sum(j.follows[1] for j in robot.held if j.kind == "prismatic" and j.follows is not None and j.follows[0] == driver.name)
+    span = 1.0 + sum(
+        j.follows[1]
+        for j in robot.held
+        if j.kind == "prismatic" and j.follows is not None and j.follows[0] == driver.name
+    )
     assert driver.limits is not None and driver.velocity is not None  # a driver has both (drivers above)
     lower, upper = driver.limits
-    return Gripper(driver.name, float(lower), float(upper), float(driver.velocity), float(values[driver.name]), rate, float(span),
-                   tuple(moves), np.array(list(moves.values())).reshape(-1, 3))
+    return Gripper(
+        driver.name,
+        float(lower),
+        float(upper),
+        float(driver.velocity),
+        float(values[driver.name]),
+        rate,
+        float(span),
+        tuple(moves),
+        np.array(list(moves.values())).reshape(-1, 3),
+    )
 
 
 def urdf_capsules(arm: ArmModel, chain: SerialChain) -> Capsules:
@@ -205,7 +225,9 @@ def scene_arm(arm: ArmModel, axes: list[str]) -> tuple[Arm, Capsules | None]:
     """The scene's arm and its capsules (None: today's joint-to-joint capsules)."""
     if not arm.is_urdf:
         assert arm.links is not None, "an arm of links has its links (ArmModel)"
-        return Arm.from_names(arm.links, base=arm.base or (0.0, 0.0, 0.0), axes=axes, direction=arm.direction or "z"), None
+        return Arm.from_names(
+            arm.links, base=arm.base or (0.0, 0.0, 0.0), axes=axes, direction=arm.direction or "z"
+        ), None
     chain = urdf_chain(arm)
     return chain.arm, urdf_capsules(arm, chain)
 
@@ -289,7 +311,11 @@ notes' arm (reach 17) and a 1 m robot balance position and orientation alike."""
 
 def orientation_weight(solver: SolverModel, reach: float) -> float:
     """w: the scene's ``solver.orientation_weight``, or the arm's reach / 4."""
-    return float(solver.orientation_weight) if solver.orientation_weight is not None else ORIENTATION_WEIGHT_PER_REACH * reach
+    return (
+        float(solver.orientation_weight)
+        if solver.orientation_weight is not None
+        else ORIENTATION_WEIGHT_PER_REACH * reach
+    )
 
 
 def solver_settings(s: SolverModel, width: float, reach: float = DEFAULT_REACH) -> SolverSettings:
@@ -328,7 +354,9 @@ def self_clearance(solver: SolverModel, d_safe: float) -> float:
     return float(solver.self_clearance) if solver.self_clearance is not None else SELF_CLEARANCE_PER_CLEARANCE * d_safe
 
 
-def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> SelfPairs:
+def self_pairs(
+    arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float
+) -> SelfPairs:
     """The enabled pairs of the arm's own capsules (:mod:`armanim.world.selfcollision`): ``off``,
     an SRDF's pairs allowed and, where it says nothing, MoveIt's ``Adjacent`` and ``Always`` rules
     (every other pair of links on different joints checked), or MoveIt's rules (a bundled robot's
@@ -341,8 +369,18 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
     check = [] if isinstance(spec, str) else [(a, b) for a, b in spec.check]
     if not isinstance(spec, str) and spec.srdf is not None:  # MoveIt's rules where the SRDF says nothing
         listed = {(a, b): reason for a, b, reason in arm.srdf_pairs}
-        allowed = dict(_sampled_matrix(chain, capsules, limits.lower, limits.upper, (), clearance,
-                                       (selfcollision.ADJACENT, selfcollision.ALWAYS), tuple(listed)))
+        allowed = dict(
+            _sampled_matrix(
+                chain,
+                capsules,
+                limits.lower,
+                limits.upper,
+                (),
+                clearance,
+                (selfcollision.ADJACENT, selfcollision.ALWAYS),
+                tuple(listed),
+            )
+        )
         allowed.update(listed)
         mode = "srdf"
     else:
@@ -352,7 +390,9 @@ def self_pairs(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, ho
     return selfcollision.enabled_pairs(capsules, allowed, clearance, mode, check)
 
 
-def _automatic_matrix(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float) -> dict:
+def _automatic_matrix(
+    arm: ArmModel, chain: Arm, capsules: Capsules, limits: Limits, home: np.ndarray, clearance: float
+) -> dict:
     """MoveIt's rules: the bundled robot's committed matrix when it applies, else sampled here."""
     bundled = arm.urdf_arm.bundled if arm.is_urdf else None
     if bundled is not None and arm.collision is None and arm.limits is None:
@@ -362,21 +402,48 @@ def _automatic_matrix(arm: ArmModel, chain: Arm, capsules: Capsules, limits: Lim
     defaults = [joints_in_si(np.array(bundled.home, dtype=float), chain.prismatic) if bundled is not None else home]
     if arm.is_urdf and bundled is None:  # a bundled robot's default is its home (its robot.yaml, as MoveIt's "ready")
         defaults.append(selfcollision.default_pose(limits.lower, limits.upper))
-    return dict(_sampled_matrix(chain, capsules, limits.lower, limits.upper, tuple(d.tobytes() for d in defaults), clearance))
+    return dict(
+        _sampled_matrix(chain, capsules, limits.lower, limits.upper, tuple(d.tobytes() for d in defaults), clearance)
+    )
 
 
 _MATRICES: dict = {}
 
 
-def _sampled_matrix(chain: Arm, capsules: Capsules, lower, upper, defaults: tuple[bytes, ...], clearance: float,
-                    rules: tuple[str, ...] = selfcollision.RULES, decided: tuple[tuple[str, str], ...] = ()):
+def _sampled_matrix(
+    chain: Arm,
+    capsules: Capsules,
+    lower,
+    upper,
+    defaults: tuple[bytes, ...],
+    clearance: float,
+    rules: tuple[str, ...] = selfcollision.RULES,
+    decided: tuple[tuple[str, str], ...] = (),
+):
     """:func:`armanim.world.selfcollision.automatic_matrix`, kept per arm (a run converts its scene more than once)."""
-    key = (chain.offsets.tobytes(), repr(chain.joint_names), capsules.link.tobytes(), capsules.start.tobytes(), capsules.end.tobytes(),
-           capsules.radius.tobytes(), capsules.names, lower.tobytes(), upper.tobytes(), defaults, clearance, _axes_key(chain), rules, decided)
+    key = (
+        chain.offsets.tobytes(),
+        repr(chain.joint_names),
+        capsules.link.tobytes(),
+        capsules.start.tobytes(),
+        capsules.end.tobytes(),
+        capsules.radius.tobytes(),
+        capsules.names,
+        lower.tobytes(),
+        upper.tobytes(),
+        defaults,
+        clearance,
+        _axes_key(chain),
+        rules,
+        decided,
+    )
     if key not in _MATRICES:
         poses = [np.frombuffer(d) for d in defaults]
-        _MATRICES[key] = tuple(selfcollision.automatic_matrix(chain, capsules, lower, upper, poses, clearance, rules=rules,
-                                                              decided=decided).items())
+        _MATRICES[key] = tuple(
+            selfcollision.automatic_matrix(
+                chain, capsules, lower, upper, poses, clearance, rules=rules, decided=decided
+            ).items()
+        )
     return _MATRICES[key]
 
 
@@ -385,7 +452,9 @@ def _axes_key(chain: Arm) -> bytes:
     return b"".join(np.asarray(v).tobytes() for v in vars(chain).values() if isinstance(v, np.ndarray))
 
 
-def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True, retreats: bool = True) -> Problem:
+def scene_to_problem(
+    scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True, retreats: bool = True
+) -> Problem:
     """Convert a validated scene to the solver's problem (radians, numpy arrays): the problem of
     :func:`convert_scene`, whose parameters it takes.
 
@@ -395,7 +464,9 @@ def scene_to_problem(scene: SceneModel, fps: float | None = None, *, own_pairs: 
     return convert_scene(scene, fps, own_pairs=own_pairs, retreats=retreats).problem
 
 
-def convert_scene(scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True, retreats: bool = True) -> ConvertedScene:
+def convert_scene(
+    scene: SceneModel, fps: float | None = None, *, own_pairs: bool = True, retreats: bool = True
+) -> ConvertedScene:
     """Convert a validated scene to the solver's problem (radians, numpy arrays), and a URDF
     robot's link places on its arm (for the pictures' meshes), from one chain.
 
@@ -422,17 +493,26 @@ def convert_scene(scene: SceneModel, fps: float | None = None, *, own_pairs: boo
     """
     arm = scene.arm
     fps = scene.render.fps if fps is None else fps
-    serial = urdf_chain(arm) if arm.is_urdf else None  # the one chain of a URDF arm: the problem's arm, its capsules, its links' places
-    chain, capsules = (serial.arm, urdf_capsules(arm, serial)) if serial is not None else scene_arm(arm, axis_names(scene))
+    serial = (
+        urdf_chain(arm) if arm.is_urdf else None
+    )  # the one chain of a URDF arm: the problem's arm, its capsules, its links' places
+    chain, capsules = (
+        (serial.arm, urdf_capsules(arm, serial)) if serial is not None else scene_arm(arm, axis_names(scene))
+    )
     solver = solver_settings(scene.solver, arm.resolved_width, chain.reach)
     home = joints_in_si(np.array(home_degrees(arm), dtype=float), chain.prismatic)
     limits = joint_limits(arm)
     every = capsules if capsules is not None else joint_capsules(chain, arm.resolved_width / 2.0)
-    goals = tuple(handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene) for g in scene.goals)
+    goals = tuple(
+        handling(unlimited_joints_wrapped(scene_goal(g, chain, scene.solver.blend), limits), g, scene)
+        for g in scene.goals
+    )
     if retreats:
         goals = with_retreats(goals, scene.goals)
     gripper = None
-    if serial is not None and capsules is not None and any(g.grasp is not None for g in goals):  # the fingers move only in a run that grasps
+    if (
+        serial is not None and capsules is not None and any(g.grasp is not None for g in goals)
+    ):  # the fingers move only in a run that grasps
         gripper = urdf_gripper(arm, serial, capsules)
     problem = Problem(
         arm=chain,
@@ -445,8 +525,11 @@ def convert_scene(scene: SceneModel, fps: float | None = None, *, own_pairs: boo
         fps=fps,
         capsules=cast(Capsules, capsules),  # None: the Problem's own default, today's joint-to-joint capsules
         rates=rate_limits(scene),
-        self_pairs=(self_pairs(arm, chain, every, limits, home, self_clearance(scene.solver, solver.clearance)) if own_pairs
-                    else SelfPairs.none(self_clearance(scene.solver, solver.clearance))),
+        self_pairs=(
+            self_pairs(arm, chain, every, limits, home, self_clearance(scene.solver, solver.clearance))
+            if own_pairs
+            else SelfPairs.none(self_clearance(scene.solver, solver.clearance))
+        ),
         gripper=gripper,
     )
     return ConvertedScene(problem, link_places(arm, serial) if serial is not None else None)
@@ -482,7 +565,13 @@ def orientation_flag(form: str, values: list[float]) -> Orientation:
     if form == "tool_axis":
         GoalModel(position=[0.0, 0.0, 0.0], tool_axis=values)
         return Orientation(axis=np.array(values))
-    fields = {"rpy": values} if form == "rpy" else {"quaternion_wxyz": values} if form == "quat" else {"axis": values[:3], "angle": values[3]}
+    fields = (
+        {"rpy": values}
+        if form == "rpy"
+        else {"quaternion_wxyz": values}
+        if form == "quat"
+        else {"axis": values[:3], "angle": values[3]}
+    )
     return Orientation(rotation=orientation_rotation(OrientationModel(**fields)))
 
 
@@ -510,8 +599,12 @@ def scene_goal(goal: GoalModel, chain: Arm | None = None, blend: float | None = 
     if goal.joints is not None:
         assert chain is not None, "a joint goal's tool point needs the arm"
         joints = joints_in_si(np.array(goal.joints, dtype=float), chain.prismatic)
-        return Goal(forward(chain, joints).tip.copy(), goal.hold, joints=joints,
-                    blend=None if radius is None else float(np.radians(min(radius, 180.0))))
+        return Goal(
+            forward(chain, joints).tip.copy(),
+            goal.hold,
+            joints=joints,
+            blend=None if radius is None else float(np.radians(min(radius, 180.0))),
+        )
     if goal.path is None:
         return Goal(np.array(goal.position, dtype=float), goal.hold, goal_orientation(goal), blend=radius)
     path = tool_path(goal.path)
@@ -559,8 +652,16 @@ def with_retreats(goals: tuple[Goal, ...], models: list[GoalModel]) -> tuple[Goa
         start = goal.path.end if goal.path is not None else goal.position
         speed = model.retreat.speed if model.retreat.speed is not None else model.retreat.distance
         end = start + model.retreat.distance * direction
-        out.append(Goal(position=start, hold=0.0, orientation=goal.orientation, path=ToolPath.polyline(np.array([start, end])),
-                        speed=float(speed), retreat=True))
+        out.append(
+            Goal(
+                position=start,
+                hold=0.0,
+                orientation=goal.orientation,
+                path=ToolPath.polyline(np.array([start, end])),
+                speed=float(speed),
+                retreat=True,
+            )
+        )
     return tuple(out)
 
 
@@ -629,11 +730,23 @@ def tool_path(path: PathModel) -> ToolPath:
         a = path.arc
         normal = np.array(a.normal, dtype=float)
         normal = normal / np.max(np.abs(normal))  # a tiny normal's square would underflow
-        return ToolPath((Piece.arc(np.array(a.center, dtype=float), np.array(a.start, dtype=float), float(np.radians(a.angle)), normal),))
+        return ToolPath(
+            (
+                Piece.arc(
+                    np.array(a.center, dtype=float), np.array(a.start, dtype=float), float(np.radians(a.angle)), normal
+                ),
+            )
+        )
     t = path.text
     assert t is not None
-    return text_path(t.string, np.array(t.origin, dtype=float), t.height, np.array(t.right, dtype=float),
-                     np.array(t.up, dtype=float), t.resolved_lift)
+    return text_path(
+        t.string,
+        np.array(t.origin, dtype=float),
+        t.height,
+        np.array(t.right, dtype=float),
+        np.array(t.up, dtype=float),
+        t.resolved_lift,
+    )
 
 
 def goal_orientation(goal: GoalModel) -> Orientation | None:
@@ -681,5 +794,3 @@ def default_render_settings(**changes) -> RenderSettings:
     (320, 240)
     """
     return replace(render_section_settings(RenderModel()), **changes)
-
-

@@ -60,10 +60,14 @@ def name_problem(name: str) -> str | None:
     if len(name) > NAME_MAX:
         return f"a name of {len(name)} characters is too long (expected at most {NAME_MAX})"
     if not re.fullmatch(NAME_PATTERN, name):
-        return f"{name!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
+        return (
+            f"{name!r} is not a valid name (expected letters, digits, '.', '_' or '-', starting with a letter or digit)"
+        )
     if name.casefold() == "index.csv" or name.casefold().endswith("-sweep.csv"):
-        return (f"{name!r} is the name of a table armanim writes beside the run folders (index.csv, "
-                "SCENE-sweep.csv): choose another name")
+        return (
+            f"{name!r} is the name of a table armanim writes beside the run folders (index.csv, "
+            "SCENE-sweep.csv): choose another name"
+        )
     return None
 
 
@@ -107,7 +111,10 @@ def joint_rate(name: str, robot: bool = False):
     robot's published value). The tags name the forms as pydantic names union branches, so
     that messages name the field itself (``arm.max_joint_speed[2]``)."""
     rate = Annotated[float, Field(gt=0, le=RATE_BOUNDS[name], allow_inf_nan=False)]
-    forms = [Annotated[rate, Tag("float")], Annotated[Annotated[list[rate], Field(max_length=int(LIMITS["links"]))], Tag("list[float]")]]
+    forms = [
+        Annotated[rate, Tag("float")],
+        Annotated[Annotated[list[rate], Field(max_length=int(LIMITS["links"]))], Tag("list[float]")],
+    ]
     if robot:
         forms.append(Annotated[Literal["robot"], Tag("literal[robot]")])
     return Annotated[Union[tuple(forms)], Discriminator(_rate_or_robot_form if robot else _rate_form)]  # noqa: UP007

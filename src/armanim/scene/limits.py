@@ -50,11 +50,17 @@ def joint_limits(arm: ArmModel) -> Limits:
     slides = arm.sliding
     pairs: list
     if arm.limits is None and arm.is_urdf:  # the URDF's own, in radians (metres) already
-        pairs = [(p if slide else np.degrees(p)) if p is not None else None for p, slide in zip(arm.urdf_arm.limits, slides)]
+        pairs = [
+            (p if slide else np.degrees(p)) if p is not None else None for p, slide in zip(arm.urdf_arm.limits, slides)
+        ]
     else:
         pairs = arm.limits if arm.limits is not None else [None] * n
-    lower = np.array([(float(p[0]) if slide else np.radians(p[0])) if p is not None else -np.inf for p, slide in zip(pairs, slides)])
-    upper = np.array([(float(p[1]) if slide else np.radians(p[1])) if p is not None else np.inf for p, slide in zip(pairs, slides)])
+    lower = np.array(
+        [(float(p[0]) if slide else np.radians(p[0])) if p is not None else -np.inf for p, slide in zip(pairs, slides)]
+    )
+    upper = np.array(
+        [(float(p[1]) if slide else np.radians(p[1])) if p is not None else np.inf for p, slide in zip(pairs, slides)]
+    )
     return Limits(lower=lower, upper=upper, margin=float(np.radians(arm.limit_margin)))
 
 
@@ -78,8 +84,12 @@ def robot_rates(arm: ArmModel) -> dict[str, tuple[np.ndarray, str]]:
     if not arm.is_urdf:
         return {}
     robot = arm.urdf_arm
-    own = {"max_joint_speed": (np.array([np.nan if v is None else v for v in robot.velocities], dtype=float),
-                               "the URDF's <limit velocity>")}
+    own = {
+        "max_joint_speed": (
+            np.array([np.nan if v is None else v for v in robot.velocities], dtype=float),
+            "the URDF's <limit velocity>",
+        )
+    }
     bundled = robot.bundled
     for name in RATE_FIELDS if bundled is not None else ():
         assert bundled is not None
@@ -130,7 +140,9 @@ def rate_limits(scene: SceneModel) -> RateLimits:
     slides = arm.sliding
     own = robot_rates(arm)
     if arm.is_urdf:
-        default = np.radians(URDF_SPEED) if not slides.any() else np.where(slides, URDF_SLIDE_SPEED, np.radians(URDF_SPEED))
+        default = (
+            np.radians(URDF_SPEED) if not slides.any() else np.where(slides, URDF_SLIDE_SPEED, np.radians(URDF_SPEED))
+        )
         speed = np.where(np.isnan(own["max_joint_speed"][0]), default, own["max_joint_speed"][0])
     else:
         speed = link_arm_rates(n, float(np.radians(scene.solver.max_joint_step)), scene.render.fps).speed
@@ -161,8 +173,9 @@ def limit_problems(arm: ArmModel):
     limits = arm.limits if arm.limits is not None or not arm.is_urdf else _urdf_limits_degrees(arm)
     if limits is not None and len(limits) == n and (arm.home is None or len(arm.home) == n):
         bundled = arm.urdf_arm.bundled if arm.is_urdf else None
-        yield from _home_outside_limits(arm.home if arm.home is not None or bundled is None else list(bundled.home), limits,
-                                        _units(arm))
+        yield from _home_outside_limits(
+            arm.home if arm.home is not None or bundled is None else list(bundled.home), limits, _units(arm)
+        )
 
 
 def _narrow_limits(arm):
@@ -173,29 +186,55 @@ def _narrow_limits(arm):
     least = 2 * buffer * arm.limit_margin
     advice = f"expected wider than 2 x {buffer:g} x arm.limit_margin = {least:g} deg"
     if arm.limits is not None:
-        slides = arm.sliding if arm.is_urdf and len(arm.limits) == arm.joint_count else np.zeros(len(arm.limits), dtype=bool)
+        slides = (
+            arm.sliding if arm.is_urdf and len(arm.limits) == arm.joint_count else np.zeros(len(arm.limits), dtype=bool)
+        )
         for i, pair in enumerate(arm.limits):
             if slides[i]:
-                if pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= 2 * buffer * math.radians(arm.limit_margin):
-                    yield f"arm.limits[{i}]", (f"a range of {pair[1] - pair[0]:g} m is too narrow for a prismatic joint (expected wider than "
-                                               f"2 x {buffer:g} x arm.limit_margin in radians, as metres: widen it or lower arm.limit_margin)")
+                if (
+                    pair is not None
+                    and pair[0] < pair[1]
+                    and pair[1] - pair[0] <= 2 * buffer * math.radians(arm.limit_margin)
+                ):
+                    yield (
+                        f"arm.limits[{i}]",
+                        (
+                            f"a range of {pair[1] - pair[0]:g} m is too narrow for a prismatic joint (expected wider than "
+                            f"2 x {buffer:g} x arm.limit_margin in radians, as metres: widen it or lower arm.limit_margin)"
+                        ),
+                    )
             elif pair is not None and pair[0] < pair[1] and pair[1] - pair[0] <= least:
-                yield f"arm.limits[{i}]", f"a range of {pair[1] - pair[0]:g} deg is too narrow ({advice}: widen it or lower arm.limit_margin)"
+                yield (
+                    f"arm.limits[{i}]",
+                    f"a range of {pair[1] - pair[0]:g} deg is too narrow ({advice}: widen it or lower arm.limit_margin)",
+                )
     elif arm.is_urdf:
         for name, pair, slide in zip(arm.urdf_arm.joint_names, _urdf_limits_degrees(arm), arm.sliding):
             if slide and pair[1] - pair[0] <= 2 * buffer * math.radians(arm.limit_margin):
-                yield "arm.limit_margin", (f"the URDF's prismatic joint {shown(name)} has a range of {pair[1] - pair[0]:g} m, too narrow "
-                                           f"(expected wider than 2 x {buffer:g} x arm.limit_margin in radians, as metres: "
-                                           "lower arm.limit_margin, or give arm.limits)")
+                yield (
+                    "arm.limit_margin",
+                    (
+                        f"the URDF's prismatic joint {shown(name)} has a range of {pair[1] - pair[0]:g} m, too narrow "
+                        f"(expected wider than 2 x {buffer:g} x arm.limit_margin in radians, as metres: "
+                        "lower arm.limit_margin, or give arm.limits)"
+                    ),
+                )
             elif not slide and pair is not None and pair[1] - pair[0] <= least:
-                yield "arm.limit_margin", (f"the URDF's joint {shown(name)} has a range of {pair[1] - pair[0]:g} deg, too narrow "
-                                           f"({advice}: lower arm.limit_margin, or give arm.limits)")
+                yield (
+                    "arm.limit_margin",
+                    (
+                        f"the URDF's joint {shown(name)} has a range of {pair[1] - pair[0]:g} deg, too narrow "
+                        f"({advice}: lower arm.limit_margin, or give arm.limits)"
+                    ),
+                )
 
 
 def _urdf_limits_degrees(arm) -> list:
     """The URDF's joint limits in degrees (None for a continuous joint; metres for a prismatic one)."""
-    return [([p[0], p[1]] if slide else [math.degrees(p[0]), math.degrees(p[1])]) if p is not None else None
-            for p, slide in zip(arm.urdf_arm.limits, arm.sliding)]
+    return [
+        ([p[0], p[1]] if slide else [math.degrees(p[0]), math.degrees(p[1])]) if p is not None else None
+        for p, slide in zip(arm.urdf_arm.limits, arm.sliding)
+    ]
 
 
 def _units(arm) -> list[str]:
@@ -213,17 +252,25 @@ def _home_outside_limits(home, limits, units=None):
         if pair is None or not pair[0] < pair[1] or pair[0] <= angle <= pair[1]:
             continue
         step = 1 if units[i] == "deg" else 0.01  # an example a degree (a centimetre) inside
-        inside = min(max(angle, pair[0] + step), pair[1] - step) if pair[1] - pair[0] > 2 * step else (pair[0] + pair[1]) / 2
+        inside = (
+            min(max(angle, pair[0] + step), pair[1] - step) if pair[1] - pair[0] > 2 * step else (pair[0] + pair[1]) / 2
+        )
         shown_angle, low, high, example = apart(angle, pair[0], pair[1], inside)
         if given:
-            yield f"arm.home[{i}]", (
-                f"{shown_angle} {units[i]} is outside joint {i + 1}'s limits arm.limits[{i}] = [{low}, {high}] "
-                f"(expected within them, the ends included: e.g. home[{i}]: {example})"
+            yield (
+                f"arm.home[{i}]",
+                (
+                    f"{shown_angle} {units[i]} is outside joint {i + 1}'s limits arm.limits[{i}] = [{low}, {high}] "
+                    f"(expected within them, the ends included: e.g. home[{i}]: {example})"
+                ),
             )
         else:
-            yield "arm.home", (
-                f"is not given, so joint {i + 1} starts at 0 {units[i]}, outside its limits arm.limits[{i}] = "
-                f"[{low}, {high}] (expected within them, the ends included: give arm.home with e.g. {example} for joint {i + 1})"
+            yield (
+                "arm.home",
+                (
+                    f"is not given, so joint {i + 1} starts at 0 {units[i]}, outside its limits arm.limits[{i}] = "
+                    f"[{low}, {high}] (expected within them, the ends included: give arm.home with e.g. {example} for joint {i + 1})"
+                ),
             )
 
 
@@ -242,9 +289,12 @@ def joint_goal_limit_problems(scene: SceneModel):
         for i, (angle, pair) in enumerate(zip(goal.joints, limits)):
             if pair is not None and pair[0] < pair[1] and not pair[0] <= angle <= pair[1]:
                 shown_angle, low, high = apart(angle, pair[0], pair[1])
-                yield f"goals[{k}].joints[{i}]", (
-                    f"{shown_angle} {units[i]} is outside joint {i + 1}'s limits [{low}, {high}] "
-                    "(expected within them, the ends included)"
+                yield (
+                    f"goals[{k}].joints[{i}]",
+                    (
+                        f"{shown_angle} {units[i]} is outside joint {i + 1}'s limits [{low}, {high}] "
+                        "(expected within them, the ends included)"
+                    ),
                 )
 
 
@@ -254,16 +304,28 @@ def rate_problems(arm: ArmModel):
     for field in RATE_FIELDS:
         values = getattr(arm, field)
         if isinstance(values, list) and len(values) != n:
-            yield f"arm.{field}", (f"has {len(values)} values, the arm has {n} joints "
-                                   "(give one per joint, or one number for all)")
+            yield (
+                f"arm.{field}",
+                (f"has {len(values)} values, the arm has {n} joints (give one per joint, or one number for all)"),
+            )
     if arm.max_joint_jerk == "robot":
         bundled = arm.urdf_arm.bundled if arm.is_urdf else None
         if bundled is None:
-            yield "arm.max_joint_jerk", ("robot means the bundled robot's published jerk limits, and this arm is not a bundled "
-                                         "robot (give deg/s^3: one number, or one per joint)")
+            yield (
+                "arm.max_joint_jerk",
+                (
+                    "robot means the bundled robot's published jerk limits, and this arm is not a bundled "
+                    "robot (give deg/s^3: one number, or one per joint)"
+                ),
+            )
         elif bundled.rate("max_joint_jerk") is None or np.isnan(robot_rates(arm)["max_joint_jerk"][0]).any():
-            yield "arm.max_joint_jerk", (f"robot {bundled.name}'s maker publishes no jerk limits for these joints "
-                                         "(give deg/s^3: one number, or one per joint)")
+            yield (
+                "arm.max_joint_jerk",
+                (
+                    f"robot {bundled.name}'s maker publishes no jerk limits for these joints "
+                    "(give deg/s^3: one number, or one per joint)"
+                ),
+            )
 
 
 SCENE_RATE_UNITS = {"max_joint_speed": "deg/s", "max_joint_acceleration": "deg/s^2", "max_joint_jerk": "deg/s^3"}
@@ -301,9 +363,14 @@ def rate_notes(scene: SceneModel) -> list[tuple[str, str]]:
         else:
             listed = [f"{names[i]} {_rate_shown(limit[i], unit, slides[i])}" for i in over[:3]]
             start = f"{given:g} {unit} is above"
-        notes.append((f"arm.{field}", f"{start} the robot's own limit for {_joint_span(over)} ({', '.join(listed)}"
-                                      f"{', ...' if len(over) > 3 else ''}: {source}); allowed, but a real robot "
-                                      "could not follow this motion"))
+        notes.append(
+            (
+                f"arm.{field}",
+                f"{start} the robot's own limit for {_joint_span(over)} ({', '.join(listed)}"
+                f"{', ...' if len(over) > 3 else ''}: {source}); allowed, but a real robot "
+                "could not follow this motion",
+            )
+        )
     return notes
 
 

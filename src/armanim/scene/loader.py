@@ -74,10 +74,14 @@ def decode_scene(raw: bytes, file: str) -> str:
         return raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
-        raise SceneError(file, [Diagnostic("", f"byte 0x{raw[exc.start]:02x} is not UTF-8 (save the file as UTF-8)", line)]) from None
+        raise SceneError(
+            file, [Diagnostic("", f"byte 0x{raw[exc.start]:02x} is not UTF-8 (save the file as UTF-8)", line)]
+        ) from None
 
 
-def load_scene(path: str | Path, *, urdf_file: str | Path | None = None, srdf_file: str | Path | None = None) -> LoadedScene:
+def load_scene(
+    path: str | Path, *, urdf_file: str | Path | None = None, srdf_file: str | Path | None = None
+) -> LoadedScene:
     """Read and validate a scene file.
 
     Parameters
@@ -102,8 +106,14 @@ def load_scene(path: str | Path, *, urdf_file: str | Path | None = None, srdf_fi
     return scene_from_bytes(read_scene_bytes(path), path, urdf_file=urdf_file, srdf_file=srdf_file)
 
 
-def scene_from_bytes(raw: bytes, path: str | Path, name: str | None = None, *,
-                     urdf_file: str | Path | None = None, srdf_file: str | Path | None = None) -> LoadedScene:
+def scene_from_bytes(
+    raw: bytes,
+    path: str | Path,
+    name: str | None = None,
+    *,
+    urdf_file: str | Path | None = None,
+    srdf_file: str | Path | None = None,
+) -> LoadedScene:
     """Validate a scene given as bytes (e.g. sent to a worker); ``path`` names it.
 
     ``name`` overrides the scene's own name (sweep variants are named after their settings);
@@ -133,7 +143,9 @@ def stem_name(path: Path) -> str:
     problem = name_problem(path.stem)
     if problem is not None:
         hint = "add a line such as `name: my-arm` to the scene, or rename the file"
-        raise SceneError(str(path), [Diagnostic("name", f"not set, so the file name gives the name, but {problem}: {hint}", 1)])
+        raise SceneError(
+            str(path), [Diagnostic("name", f"not set, so the file name gives the name, but {problem}: {hint}", 1)]
+        )
     return path.stem
 
 
@@ -155,12 +167,18 @@ def _validated(text: str, file: str, urdf_file: str | Path | None = None, srdf_f
         raise SceneError(file, problems)
     if not isinstance(doc.data, dict):
         kind = type(doc.data).__name__ if doc.data is not None else "null"
-        raise SceneError(file, problems + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)])
+        raise SceneError(
+            file,
+            problems
+            + [Diagnostic("", f"the top level is a {kind} (expected a mapping with version, arm, goals, ...)", 1)],
+        )
     files = (Path(file).parent, urdf_file, srdf_file)
     model, errors, file_errors = _validated_model(doc.data, files)
     found = problems + [_diagnostic(err, doc) for err in errors[: MAX_PROBLEMS + 1]]
     if model is None:
-        found += _problems_beside(doc, [tuple(e["loc"]) for e in errors], files, {p.path for p in found}, bool(file_errors))
+        found += _problems_beside(
+            doc, [tuple(e["loc"]) for e in errors], files, {p.path for p in found}, bool(file_errors)
+        )
     else:
         found += as_diagnostics(scene_problems(model), doc.line_of)
         if model.name is None:
@@ -168,7 +186,11 @@ def _validated(text: str, file: str, urdf_file: str | Path | None = None, srdf_f
     if found:
         raise SceneError(file, _by_line(found, len(errors)), also=file_errors)
     if file_errors:
-        raise file_errors[0] if len(file_errors) == 1 else SceneError(file_errors[0].file, file_errors[0].problems, also=file_errors[1:])
+        raise (
+            file_errors[0]
+            if len(file_errors) == 1
+            else SceneError(file_errors[0].file, file_errors[0].problems, also=file_errors[1:])
+        )
     return model, doc
 
 
@@ -203,14 +225,20 @@ def _validated_model(data: dict, files: tuple) -> tuple[SceneModel | None, list[
         return None, errors, [exc]
     except ValueError as exc:
         at = sum(1 for e in errors if e["loc"] and e["loc"][0] in ("version", "name"))  # pydantic's order of fields
-        error = {"type": "value_error", "loc": ("arm", *getattr(exc, "loc", ())), "msg": f"Value error, {exc}", "input": data.get("arm"),
-                 "ctx": {"error": exc}}
+        error = {
+            "type": "value_error",
+            "loc": ("arm", *getattr(exc, "loc", ())),
+            "msg": f"Value error, {exc}",
+            "input": data.get("arm"),
+            "ctx": {"error": exc},
+        }
         return None, errors[:at] + [error] + errors[at:], []
     return (model.model_copy(update={"arm": arm}) if model is not None else None), errors, []
 
 
-def scene_model(data: dict, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
-                srdf_file: str | Path | None = None) -> SceneModel:
+def scene_model(
+    data: dict, scene_dir: str | Path = ".", urdf_file: str | Path | None = None, srdf_file: str | Path | None = None
+) -> SceneModel:
     """A scene given as a mapping (not a file), validated, then its arm's files read
     (``arm.urdf`` relative to ``scene_dir``; see :func:`armanim.scene.robots.read_arm_files`).
 
@@ -242,7 +270,9 @@ MAX_SALVAGE = 3
 """Rounds of leaving bad parts out (a field, then its item, then its section) before giving up."""
 
 
-def _problems_beside(doc: YamlDocument, bad: list[tuple], files: tuple, known: set[str], arm_unread: bool) -> list[Diagnostic]:
+def _problems_beside(
+    doc: YamlDocument, bad: list[tuple], files: tuple, known: set[str], arm_unread: bool
+) -> list[Diagnostic]:
     """The cross-field problems of a scene with field errors, checked with the bad parts left out
     (:func:`_salvaged`), so that one pass reports every problem; a check that reads a part left
     out (or a default taken for it) is skipped. ``arm_unread``: the arm's files could not be read."""
@@ -250,9 +280,18 @@ def _problems_beside(doc: YamlDocument, bad: list[tuple], files: tuple, known: s
     if salvaged is None:
         return []
     model, unknown, kept = salvaged
-    found = as_diagnostics([(_original_indices(path, kept), _original_indices(message, kept))
-                            for path, message in scene_problems(model, frozenset(unknown))], doc.line_of)
-    return [p for p in found if p.path not in known and not any(p.path.startswith(k + ".") or p.path.startswith(k + "[") for k in known)]
+    found = as_diagnostics(
+        [
+            (_original_indices(path, kept), _original_indices(message, kept))
+            for path, message in scene_problems(model, frozenset(unknown))
+        ],
+        doc.line_of,
+    )
+    return [
+        p
+        for p in found
+        if p.path not in known and not any(p.path.startswith(k + ".") or p.path.startswith(k + "[") for k in known)
+    ]
 
 
 def _salvaged(data: dict, bad: list[tuple], files: tuple, arm_unread: bool):
@@ -274,8 +313,10 @@ def _salvaged(data: dict, bad: list[tuple], files: tuple, arm_unread: bool):
             _leave_out(data, loc, level, unknown, drop)
         if level == 2 and any(loc and loc[0] == "arm" for loc in bad):
             stand_in = True
-        kept = {key: [k for k in range(len(data[key])) if k not in drop[key]] if isinstance(data.get(key), list) else []
-                for key in LISTS}
+        kept = {
+            key: [k for k in range(len(data[key])) if k not in drop[key]] if isinstance(data.get(key), list) else []
+            for key in LISTS
+        }
         trial = {**data, **{key: [data[key][k] for k in kept[key]] for key in LISTS if isinstance(data.get(key), list)}}
         if stand_in:
             trial["arm"], unknown = STAND_IN_ARM, unknown | {"arm"}
@@ -294,7 +335,9 @@ def _salvaged(data: dict, bad: list[tuple], files: tuple, arm_unread: bool):
             except (ValueError, SceneError):
                 stand_in, bad = True, []
                 continue
-        gone = {f"{key}[{k}]" for key in LISTS for k in drop[key]}  # a field of an item left out is no unknown of the rest
+        gone = {
+            f"{key}[{k}]" for key in LISTS for k in drop[key]
+        }  # a field of an item left out is no unknown of the rest
         return model, {u for u in unknown if u.split(".")[0] not in gone}, kept
     return None
 
@@ -323,8 +366,15 @@ def _leave_out(data: dict, loc: tuple, level: int, unknown: set[str], drop: dict
     section = data.get(head)
     if head not in SceneModel.model_fields:
         data.pop(head, None)  # an unknown key
-    elif level == 0 and loc[:2] == ("arm", "links") and isinstance(section, dict) and isinstance(section.get("links"), list):
-        section["links"] = [1.0] * len(section["links"])  # a stand-in of the same joint count: the arm's other fields are checked
+    elif (
+        level == 0
+        and loc[:2] == ("arm", "links")
+        and isinstance(section, dict)
+        and isinstance(section.get("links"), list)
+    ):
+        section["links"] = [1.0] * len(
+            section["links"]
+        )  # a stand-in of the same joint count: the arm's other fields are checked
         unknown.add("arm.links")
     elif level < 2 and len(loc) > 1 and isinstance(loc[1], str) and isinstance(section, dict) and loc[1] in section:
         del section[loc[1]]
@@ -339,6 +389,7 @@ def _leave_out(data: dict, loc: tuple, level: int, unknown: set[str], drop: dict
 def _original_indices(text: str, kept: dict[str, list[int]]) -> str:
     """``text`` with each ``goals[k]`` and ``obstacles[k]`` of the checked scene (its bad items left
     out) written as the file's index."""
+
     def original(match: re.Match) -> str:
         indices = kept[match.group(1)]
         k = int(match.group(2))

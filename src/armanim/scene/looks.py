@@ -32,9 +32,16 @@ from armanim.scene.visuals import (
 )
 
 
-def scene_meshes(arm, places: LinkPlaces | None, package_dirs: list[Path] | None = None, triangles: int | None = None,
-                 scene_dir: Path | None = None, furniture=(), robot: bool = True,
-                 urdf_dir: Path | None = None) -> tuple[ArmMeshes | None, list[str]]:
+def scene_meshes(
+    arm,
+    places: LinkPlaces | None,
+    package_dirs: list[Path] | None = None,
+    triangles: int | None = None,
+    scene_dir: Path | None = None,
+    furniture=(),
+    robot: bool = True,
+    urdf_dir: Path | None = None,
+) -> tuple[ArmMeshes | None, list[str]]:
     """What the pictures draw as meshes: the look of a scene's URDF arm (``arm``: a validated
     :class:`~armanim.scene.armmodel.ArmModel` with its files read; left out when ``robot`` is
     False) and the scene's ``furniture`` (``render.furniture``: boxes in the world).
@@ -79,8 +86,22 @@ def furniture_meshes(furniture) -> list[LinkMesh]:
         box = item.box
         corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * np.asarray(box.size) / 2
         turn = transform(box.center, np.radians(box.rpy))
-        faces = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                          [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+        faces = np.array(
+            [
+                [0, 1, 3],
+                [0, 3, 2],
+                [4, 6, 7],
+                [4, 7, 5],
+                [0, 4, 5],
+                [0, 5, 1],
+                [2, 3, 7],
+                [2, 7, 6],
+                [0, 2, 6],
+                [0, 6, 4],
+                [1, 5, 7],
+                [1, 7, 3],
+            ]
+        )
         out.append(LinkMesh("furniture", corners @ turn[:3, :3].T + turn[:3, 3], faces, np.tile(item.color, (12, 1))))
     return out
 
@@ -94,8 +115,9 @@ NIB_SHARE = 0.18
 """The share of the pen's length that is its tapering nib."""
 
 
-def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None],
-                reader: MeshReader | None = None) -> list[LinkMesh]:
+def tool_meshes(
+    tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None], reader: MeshReader | None = None
+) -> list[LinkMesh]:
     """What ``tool`` (``arm.tool``, or None) draws, in the tip link's frame: a pen (its nib at the
     tool point, its body back along the tool frame's -z) and a mesh file in the tool frame, read
     by ``reader`` (the robot's, so the bounds are the look's in all)."""
@@ -113,15 +135,26 @@ def tool_meshes(tool, tip_link: str, scene_dir: Path, warn: Callable[[str], None
         body.apply_transform(transform([0, 0, -NIB_SHARE * length - (1 - NIB_SHARE) * length / 2]))
         raise_if_interrupted()  # trimesh catches BaseException in places
         for shape, rgb in ((nib, PEN_NIB_RGB), (body, PEN_BODY_RGB)):
-            parts.append(LinkMesh(tip_link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
-                                  np.tile(rgb, (len(shape.faces), 1))))
-    if tool.mesh is not None and (mesh := _tool_file(tool.mesh, tip_link, scene_dir / tool.mesh, warn, reader)) is not None:
+            parts.append(
+                LinkMesh(
+                    tip_link,
+                    np.asarray(shape.vertices, dtype=float),
+                    np.asarray(shape.faces, dtype=int),
+                    np.tile(rgb, (len(shape.faces), 1)),
+                )
+            )
+    if (
+        tool.mesh is not None
+        and (mesh := _tool_file(tool.mesh, tip_link, scene_dir / tool.mesh, warn, reader)) is not None
+    ):
         parts.append(mesh)
     placed = [LinkMesh(tip_link, m.vertices @ frame[:3, :3].T + frame[:3, 3], m.faces, m.colors) for m in parts]
     return placed + (panda_gripper(tip_link) if tool.gripper == "panda" else [])
 
 
-def _tool_file(name: str, tip_link: str, path: Path, warn: Callable[[str], None], reader: MeshReader | None) -> LinkMesh | None:
+def _tool_file(
+    name: str, tip_link: str, path: Path, warn: Callable[[str], None], reader: MeshReader | None
+) -> LinkMesh | None:
     """``arm.tool.mesh`` (``name``, at ``path``) read, in the tool frame; None and a note when it
     cannot be (a FIFO, a folder or a device there is never opened: it is not a regular file)."""
     if mesh_format(path.name) is None:
@@ -130,8 +163,11 @@ def _tool_file(name: str, tip_link: str, path: Path, warn: Callable[[str], None]
         reason = not_a_file([path]) or "not found (it is relative to the scene file's folder)"
     else:
         try:
-            return mesh_file_triangles(VisualSpec(tip_link, np.eye(4), "mesh", name, (1.0, 1.0, 1.0), (), None, 0),
-                                       path, reader or MeshReader())
+            return mesh_file_triangles(
+                VisualSpec(tip_link, np.eye(4), "mesh", name, (1.0, 1.0, 1.0), (), None, 0),
+                path,
+                reader or MeshReader(),
+            )
         except Exception as error:  # a user's file: any reader error is a note, never a failed run
             raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
             reason = f"could not be read ({unreadable_reason(error)})"
@@ -145,10 +181,16 @@ def panda_gripper(tip_link: str) -> list[LinkMesh]:
     panda = bundled_robot("panda")
     joints = read_urdf(panda.urdf).joints
     hand = joints["panda_hand_joint"].origin
-    at = {"panda_hand": hand, "panda_leftfinger": hand @ joints["panda_finger_joint1"].origin,
-          "panda_rightfinger": hand @ joints["panda_finger_joint2"].origin}
-    return [LinkMesh(tip_link, m.vertices @ at[m.link][:3, :3].T + at[m.link][:3, 3], m.faces, m.colors)
-            for m in bundled_link_meshes(panda.urdf.parent) if m.link in at]
+    at = {
+        "panda_hand": hand,
+        "panda_leftfinger": hand @ joints["panda_finger_joint1"].origin,
+        "panda_rightfinger": hand @ joints["panda_finger_joint2"].origin,
+    }
+    return [
+        LinkMesh(tip_link, m.vertices @ at[m.link][:3, :3].T + at[m.link][:3, 3], m.faces, m.colors)
+        for m in bundled_link_meshes(panda.urdf.parent)
+        if m.link in at
+    ]
 
 
 __all__ = ["furniture_meshes", "panda_gripper", "scene_meshes", "tool_meshes"]

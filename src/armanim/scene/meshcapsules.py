@@ -94,11 +94,26 @@ def _specs(raw: bytes, file: str, tag: str) -> tuple[tuple[str, tuple[VisualSpec
             elif tag == "collision" and _mesh_of(element) is not None:
                 # left out, the link would get a joint-to-joint capsule, not the robot's shape
                 mesh, origin = _mesh_of(element), element.find("origin")
-                given = {f"scale={mesh.attrib.get('scale')!r}": "scale" in mesh.attrib,
-                         **{f"origin {k}={origin.attrib[k]!r}": True for k in ("xyz", "rpy") if origin is not None and k in origin.attrib}}
-                raise SceneError(file, [Diagnostic("", f"link {name!r}: collision mesh {mesh.attrib.get('filename')!r}: its "
-                                                   f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
-                                                   "finite numbers each", element.line)])
+                given = {
+                    f"scale={mesh.attrib.get('scale')!r}": "scale" in mesh.attrib,
+                    **{
+                        f"origin {k}={origin.attrib[k]!r}": True
+                        for k in ("xyz", "rpy")
+                        if origin is not None and k in origin.attrib
+                    },
+                }
+                raise SceneError(
+                    file,
+                    [
+                        Diagnostic(
+                            "",
+                            f"link {name!r}: collision mesh {mesh.attrib.get('filename')!r}: its "
+                            f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
+                            "finite numbers each",
+                            element.line,
+                        )
+                    ],
+                )
     return tuple((name, tuple(specs)) for name, specs in out.items())
 
 
@@ -114,8 +129,14 @@ def has_collision_elements(robot: Robot, link: str) -> bool:
     return bool(robot.links.get(link))
 
 
-def mesh_capsules(robot: Robot, links: tuple[str, ...], urdf_dir: Path, package_dirs: list[Path],
-                  max_capsules: int = 3, cache: Path | None | bool = True) -> MeshCapsules:
+def mesh_capsules(
+    robot: Robot,
+    links: tuple[str, ...],
+    urdf_dir: Path,
+    package_dirs: list[Path],
+    max_capsules: int = 3,
+    cache: Path | None | bool = True,
+) -> MeshCapsules:
     """Capsules fitted to the meshes of ``links``: each link's ``<collision>`` meshes, or for a link
     with no ``<collision>`` at all its ``<visual>`` meshes.
 
@@ -168,31 +189,46 @@ def mesh_capsules(robot: Robot, links: tuple[str, ...], urdf_dir: Path, package_
 def _noted(notes: list[str]) -> Callable[[str, int], None]:
     def note(message: str, line: int) -> None:
         notes.append(f"{message} (line {line})")
+
     return note
 
 
 def _raise(robot: Robot) -> Callable[[str, int], None]:
     def fail(message: str, line: int) -> None:
         raise robot.error(message, line)
+
     return fail
 
 
-def _link_mesh(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path], reader: MeshReader,
-               problem: Callable[[str, int], None], what: str) -> tuple[np.ndarray, np.ndarray] | None:
+def _link_mesh(
+    specs: list[VisualSpec],
+    urdf_dir: Path,
+    package_dirs: list[Path],
+    reader: MeshReader,
+    problem: Callable[[str, int], None],
+    what: str,
+) -> tuple[np.ndarray, np.ndarray] | None:
     """One link's meshes joined in its frame (vertices (N, 3), faces (M, 3)); a mesh that cannot
     be read is told to ``problem`` (message, line) and left out. ``what``: collision or visual."""
     parts, offset = [], 0
     for spec in specs:
         where = f"link {spec.link!r}: {what} mesh {spec.filename!r}"
         if mesh_format(spec.filename or "") is None:
-            problem(f"{where} is not a format armanim reads (STL, OBJ or COLLADA .dae): give arm.collision "
-                    "for this link", spec.line)
+            problem(
+                f"{where} is not a format armanim reads (STL, OBJ or COLLADA .dae): give arm.collision for this link",
+                spec.line,
+            )
             continue
         path = mesh_path(spec.filename or "", urdf_dir, package_dirs)
         if path is None:
             other = visuals.not_a_file(visuals.mesh_candidates(spec.filename or "", urdf_dir, package_dirs))
-            problem(f"{where} {other}" if other else f"{where} not found (set arm.package_dirs to the folders its "
-                    "package:// names live in, or give arm.collision)", spec.line)
+            problem(
+                f"{where} {other}"
+                if other
+                else f"{where} not found (set arm.package_dirs to the folders its "
+                "package:// names live in, or give arm.collision)",
+                spec.line,
+            )
             continue
         try:
             mesh = mesh_file_triangles(spec, path, reader)
@@ -201,12 +237,17 @@ def _link_mesh(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path]
             problem(f"{where} could not be read ({unreadable_reason(error)})", spec.line)
             continue
         if not reader.keep(mesh.triangles):
-            problem(f"{where}: the robot's meshes hold more than {visuals.MAX_LOOK_TRIANGLES:,} triangles in all "
-                    "(give arm.collision, or simpler collision meshes)", spec.line)
+            problem(
+                f"{where}: the robot's meshes hold more than {visuals.MAX_LOOK_TRIANGLES:,} triangles in all "
+                "(give arm.collision, or simpler collision meshes)",
+                spec.line,
+            )
             continue
         if not np.isfinite(mesh.vertices).all():
-            problem(f"{where}: the file holds corners that are not finite numbers (NaN or infinity; fix or re-export the mesh)",
-                    spec.line)
+            problem(
+                f"{where}: the file holds corners that are not finite numbers (NaN or infinity; fix or re-export the mesh)",
+                spec.line,
+            )
             continue
         vertices = placed(mesh.vertices, spec.origin)
         finite = np.isfinite(vertices).all(axis=1)
@@ -215,8 +256,11 @@ def _link_mesh(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path]
             continue
         farthest = float(np.abs(vertices).max(initial=0.0))
         if farthest > LIMITS["magnitude"]:
-            problem(f"{where}: its vertices lie up to {farthest:.3g} from the link's frame (expected at most "
-                    f"{LIMITS['magnitude']:g}, as every length of a scene: check its scale and the file's units)", spec.line)
+            problem(
+                f"{where}: its vertices lie up to {farthest:.3g} from the link's frame (expected at most "
+                f"{LIMITS['magnitude']:g}, as every length of a scene: check its scale and the file's units)",
+                spec.line,
+            )
             continue
         parts.append((vertices, mesh.faces + offset))
         offset += len(vertices)
@@ -236,12 +280,14 @@ def placed(vertices: np.ndarray, origin: np.ndarray) -> np.ndarray:
     turn, move = np.asarray(origin, dtype=float)[:3, :3], np.asarray(origin, dtype=float)[:3, 3]
     out = np.empty((len(vertices), 3))
     for k in range(0, len(vertices), CHUNK):
-        chunk = np.asarray(vertices[k:k + CHUNK], dtype=float)
-        out[k:k + CHUNK] = chunk[:, :1] * turn[:, 0] + chunk[:, 1:2] * turn[:, 1] + chunk[:, 2:3] * turn[:, 2] + move
+        chunk = np.asarray(vertices[k : k + CHUNK], dtype=float)
+        out[k : k + CHUNK] = chunk[:, :1] * turn[:, 0] + chunk[:, 1:2] * turn[:, 1] + chunk[:, 2:3] * turn[:, 2] + move
     return out
 
 
-def fitted(vertices: np.ndarray, faces: np.ndarray, max_capsules: int, folder: Path | None) -> tuple[list[FittedCapsule], bool]:
+def fitted(
+    vertices: np.ndarray, faces: np.ndarray, max_capsules: int, folder: Path | None
+) -> tuple[list[FittedCapsule], bool]:
     """The fit of one link's mesh, from the cache ``folder`` when it holds it (then True), else
     fitted and kept there."""
     key = content_key(vertices, faces, max_capsules)
@@ -289,13 +335,23 @@ def _cached(folder: Path, key: str) -> list[FittedCapsule] | None:
     path = folder / f"{key}.json"
     try:
         data = json.loads(read_bounded(path, MAX_CACHE_BYTES, "a cached capsule fit"))
-        capsules = [FittedCapsule(np.array(c["from"], dtype=float), np.array(c["to"], dtype=float), float(c["radius"]))
-                    for c in data["capsules"]]
+        capsules = [
+            FittedCapsule(np.array(c["from"], dtype=float), np.array(c["to"], dtype=float), float(c["radius"]))
+            for c in data["capsules"]
+        ]
     except (OSError, SceneError, ValueError, KeyError, TypeError):
         return None
-    good = data.get("key") == key and 1 <= len(capsules) <= 3 and all(
-        c.start.shape == (3,) and c.end.shape == (3,) and np.isfinite([*c.start, *c.end, c.radius]).all() and c.radius >= 0
-        for c in capsules)
+    good = (
+        data.get("key") == key
+        and 1 <= len(capsules) <= 3
+        and all(
+            c.start.shape == (3,)
+            and c.end.shape == (3,)
+            and np.isfinite([*c.start, *c.end, c.radius]).all()
+            and c.radius >= 0
+            for c in capsules
+        )
+    )
     return capsules if good else None
 
 
@@ -303,8 +359,12 @@ def _keep(folder: Path, key: str, capsules: list[FittedCapsule]) -> None:
     """Write a fit into the cache (atomically); a cache that cannot be written is left alone."""
     from armanim.output.atomic import write_text_atomic
 
-    text = json.dumps({"key": key, "capsules": [{"from": c.start.tolist(), "to": c.end.tolist(), "radius": c.radius}
-                                                 for c in capsules]})
+    text = json.dumps(
+        {
+            "key": key,
+            "capsules": [{"from": c.start.tolist(), "to": c.end.tolist(), "radius": c.radius} for c in capsules],
+        }
+    )
     try:
         write_text_atomic(folder / f"{key}.json", text + "\n")
     except Exception:  # noqa: BLE001  a full disk or a read-only cache: the run goes on without keeping it
@@ -323,7 +383,9 @@ def collision_yaml(capsules, header: str = "") -> str:
     lines = [f"# {line}" if line else "#" for line in header.splitlines()]
     lines.append("collision:" + ("" if capsules else " []"))
     for link, start, end, radius in capsules:
-        lines.append(f"  - {{link: {json.dumps(link)}, from: {_vector(start)}, to: {_vector(end)}, radius: {_number(radius)}}}")
+        lines.append(
+            f"  - {{link: {json.dumps(link)}, from: {_vector(start)}, to: {_vector(end)}, radius: {_number(radius)}}}"
+        )
     return "\n".join(lines) + "\n"
 
 

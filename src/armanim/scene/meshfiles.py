@@ -84,8 +84,11 @@ def read_mesh(data: bytes, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarra
         kept = finite[faces].all(axis=1)
         faces, colors = faces[kept], colors[kept]
     if not len(faces):
-        raise ValueError(f"no triangle with finite corners ({given:,} left out: each has a NaN or infinite corner)" if given
-                         else "no triangles")
+        raise ValueError(
+            f"no triangle with finite corners ({given:,} left out: each has a NaN or infinite corner)"
+            if given
+            else "no triangles"
+        )
     return vertices, faces, colors
 
 
@@ -122,8 +125,10 @@ def _stl(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             corners = np.frombuffer(data, _STL_RECORD, count, 84)["corners"].astype(float)
             return _plain(corners.reshape(-1, 3, 3))
     if not data.lstrip()[:5].lower() == b"solid":
-        raise ValueError("not an STL file (neither a binary STL, whose size must be 84 + 50 bytes a triangle, "
-                         "nor an ASCII one, which starts with 'solid')")
+        raise ValueError(
+            "not an STL file (neither a binary STL, whose size must be 84 + 50 bytes a triangle, "
+            "nor an ASCII one, which starts with 'solid')"
+        )
     if data.count(b"vertex") > 3 * MAX_FILE_TRIANGLES:
         raise _too_many(MAX_FILE_TRIANGLES)
     try:
@@ -183,8 +188,13 @@ def _dae(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise ValueError("is a zip archive (a .zae); armanim does not inflate archives: give the .dae itself")
     if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
         raise ValueError("has a DTD (<!DOCTYPE> or <!ENTITY>): entity expansion is refused")
-    broken = [collada.common.DaeError, collada.common.DaeIncompleteError, collada.common.DaeMalformedError,
-              collada.common.DaeBrokenRefError, collada.common.DaeUnsupportedError]
+    broken = [
+        collada.common.DaeError,
+        collada.common.DaeIncompleteError,
+        collada.common.DaeMalformedError,
+        collada.common.DaeBrokenRefError,
+        collada.common.DaeUnsupportedError,
+    ]
     try:
         document = collada.Collada(io.BytesIO(data), ignore=broken)
     finally:
@@ -193,8 +203,10 @@ def _dae(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     roots = list(document.scene.nodes) if document.scene is not None else []
     count = _placed_count(roots)
     if count > MAX_FILE_TRIANGLES:
-        raise ValueError(f"its nodes place {count:,} triangles and instances once expanded (at most "
-                         f"{MAX_FILE_TRIANGLES:,} from one mesh file; nodes instancing nodes are counted, not expanded)")
+        raise ValueError(
+            f"its nodes place {count:,} triangles and instances once expanded (at most "
+            f"{MAX_FILE_TRIANGLES:,} from one mesh file; nodes instancing nodes are counted, not expanded)"
+        )
     parts: list[tuple[np.ndarray, np.ndarray]] = []
     for node in roots:
         _place(node, np.eye(4), parts, {})
@@ -227,8 +239,10 @@ def _unit_metres(document) -> float:
     unit = float(text) if _DECIMAL.fullmatch(text.strip()) else None  # not Python's float(): no "1_000", "inf", "nan"
     low, high = UNIT_METRES
     if unit is None or not low <= unit <= high:
-        raise ValueError(f"its <unit meter={text[:40]!r}> is not a number of metres per unit from {low:g} (micrometres) "
-                         f"to {high:g} (kilometres) (millimetres are meter=\"0.001\"; fix the file's <asset>)")
+        raise ValueError(
+            f"its <unit meter={text[:40]!r}> is not a number of metres per unit from {low:g} (micrometres) "
+            f'to {high:g} (kilometres) (millimetres are meter="0.001"; fix the file\'s <asset>)'
+        )
     return unit
 
 

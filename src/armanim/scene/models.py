@@ -50,7 +50,8 @@ class BoxModel(Strict):
         description="Full edge lengths along the box's own x, y, z axes (each > 0)."
     )
     rpy: Annotated[list[Angle], Field(min_length=3, max_length=3)] = Field(
-        default=[0.0, 0.0, 0.0], description="Roll, pitch, yaw of the box in the world, degrees (URDF: R = Rz(yaw) Ry(pitch) Rx(roll))."
+        default=[0.0, 0.0, 0.0],
+        description="Roll, pitch, yaw of the box in the world, degrees (URDF: R = Rz(yaw) Ry(pitch) Rx(roll)).",
     )
 
 
@@ -88,8 +89,14 @@ class ObstacleModel(Strict):
         extra="forbid",
         frozen=True,
         strict=True,
-        json_schema_extra={"oneOf": [{"required": ["center", "radius"]}, {"required": ["box"]}, {"required": ["capsule"]},
-                                     {"required": ["cylinder"]}]},
+        json_schema_extra={
+            "oneOf": [
+                {"required": ["center", "radius"]},
+                {"required": ["box"]},
+                {"required": ["capsule"]},
+                {"required": ["cylinder"]},
+            ]
+        },
     )
 
     center: Vector3 | None = Field(default=None, description="A sphere's centre.")
@@ -98,12 +105,13 @@ class ObstacleModel(Strict):
     capsule: RodModel | None = Field(default=None, description="A solid capsule instead of a sphere.")
     cylinder: CylinderModel | None = Field(default=None, description="A solid cylinder instead of a sphere.")
     name: Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=OBSTACLE_NAME_PATTERN)] | None = Field(
-        default=None, description="A name for messages and pictures (unique within the scene); default none: obstacles[k]."
+        default=None,
+        description="A name for messages and pictures (unique within the scene); default none: obstacles[k].",
     )
     influence: Positive | None = Field(
         default=None,
         description="R: how far beyond the surface the avoidance field reaches; default the sphere's or capsule's radius, half a box's "
-                    "shortest edge, a cylinder's radius or half its length, whichever is less.",
+        "shortest edge, a cylinder's radius or half its length, whichever is less.",
     )
 
     @model_validator(mode="after")
@@ -118,8 +126,10 @@ class ObstacleModel(Strict):
         if self.center is not None and self.radius is None:
             raise ValueError("a sphere needs a radius (expected {center: [x, y, z], radius: r})")
         if self.radius is not None and self.center is None:
-            raise ValueError("radius belongs to a sphere, which needs a center (a box, capsule or cylinder gives its own inside box:, "
-                             "capsule: or cylinder:)")
+            raise ValueError(
+                "radius belongs to a sphere, which needs a center (a box, capsule or cylinder gives its own inside box:, "
+                "capsule: or cylinder:)"
+            )
         return self
 
     @property
@@ -160,7 +170,8 @@ class OrientationModel(Strict):
     roll-pitch-yaw, R = Rz(yaw) Ry(pitch) Rx(roll)), ``quaternion_wxyz``, or ``axis`` and ``angle``."""
 
     rpy: Annotated[list[Angle], Field(min_length=3, max_length=3)] | None = Field(
-        default=None, description="[roll, pitch, yaw] in degrees: R = Rz(yaw) Ry(pitch) Rx(roll), as URDF's <origin rpy>."
+        default=None,
+        description="[roll, pitch, yaw] in degrees: R = Rz(yaw) Ry(pitch) Rx(roll), as URDF's <origin rpy>.",
     )
     quaternion_wxyz: Annotated[list[Finite], Field(min_length=4, max_length=4)] | None = Field(
         default=None, description="[w, x, y, z], scalar first; |q| within [0.99, 1.01] (normalised)."
@@ -225,9 +236,13 @@ class ArcModel(Strict):
     """A circular arc: from ``start`` about ``center`` through ``angle`` degrees about ``normal``."""
 
     center: Vector3 = Field(description="The circle's centre.")
-    start: Vector3 = Field(description="Where the arc starts (its distance from center, square to normal, is the radius).")
-    angle: Angle = Field(description="Degrees swept, nonzero, within [-360, 360]: positive turns counterclockwise about normal "
-                                     "(the right-hand rule), negative clockwise.")
+    start: Vector3 = Field(
+        description="Where the arc starts (its distance from center, square to normal, is the radius)."
+    )
+    angle: Angle = Field(
+        description="Degrees swept, nonzero, within [-360, 360]: positive turns counterclockwise about normal "
+        "(the right-hand rule), negative clockwise."
+    )
     normal: Vector3 = Field(description="The axis the arc turns about, square to its plane (any length > 0).")
 
     @field_validator("start")
@@ -244,8 +259,10 @@ class ArcModel(Strict):
     @classmethod
     def _turns(cls, value):
         if abs(value) < MIN_DEGREES:
-            raise ValueError(f"{value:g} sweeps no arc (expected a nonzero angle in degrees, at most 360 in size; "
-                             "negative turns clockwise about normal)")
+            raise ValueError(
+                f"{value:g} sweeps no arc (expected a nonzero angle in degrees, at most 360 in size; "
+                "negative turns clockwise about normal)"
+            )
         return value
 
     @field_validator("normal")
@@ -271,15 +288,21 @@ class ArcModel(Strict):
 class TextModel(Strict):
     """Text written on a board with the bundled single-stroke font (docs/scene-format.md, Path goals)."""
 
-    string: str = Field(json_schema_extra={"minLength": 1, "maxLength": LIMITS["text_characters"]},
-                        description="The text to write: printable ASCII (letters, digits, punctuation, spaces).")
+    string: str = Field(
+        json_schema_extra={"minLength": 1, "maxLength": LIMITS["text_characters"]},
+        description="The text to write: printable ASCII (letters, digits, punctuation, spaces).",
+    )
     origin: Vector3 = Field(description="The left end of the baseline, on the board.")
     height: Positive = Field(description="Height of a capital letter, scene units.")
     right: Vector3 = Field(description="Unit direction the text runs along, on the board.")
-    up: Vector3 = Field(description="Unit direction of the letters' up, on the board, square to right. "
-                                    "The board's front, where the text reads and the pen lifts to, is right x up.")
-    lift: Positive | None = Field(default=None, description="How far the pen lifts off the board between strokes, "
-                                                            "scene units; default 0.3 x height.")
+    up: Vector3 = Field(
+        description="Unit direction of the letters' up, on the board, square to right. "
+        "The board's front, where the text reads and the pen lifts to, is right x up."
+    )
+    lift: Positive | None = Field(
+        default=None,
+        description="How far the pen lifts off the board between strokes, scene units; default 0.3 x height.",
+    )
 
     @field_validator("string")
     @classmethod
@@ -287,15 +310,22 @@ class TextModel(Strict):
         from armanim.scene.text import missing_characters
 
         if not value.strip():
-            raise ValueError("is empty (expected the text to write, e.g. string: armanim)" if not value else
-                             "holds only spaces (expected some text to write)")
+            raise ValueError(
+                "is empty (expected the text to write, e.g. string: armanim)"
+                if not value
+                else "holds only spaces (expected some text to write)"
+            )
         if len(value) > LIMITS["text_characters"]:
             raise ValueError(f"has {len(value):,} characters (expected at most {LIMITS['text_characters']:,})")
         missing = missing_characters(value)
         if missing:
-            names = ", ".join(repr(c) for c in missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
-            raise ValueError(f"has characters the font lacks: {names} (expected printable ASCII: letters, digits, "
-                             "punctuation and spaces, one line)")
+            names = ", ".join(repr(c) for c in missing[:8]) + (
+                f" and {len(missing) - 8} more" if len(missing) > 8 else ""
+            )
+            raise ValueError(
+                f"has characters the font lacks: {names} (expected printable ASCII: letters, digits, "
+                "punctuation and spaces, one line)"
+            )
         return value
 
     @field_validator("right")
@@ -345,7 +375,8 @@ class PathModel(Strict):
     )
     arc: ArcModel | None = Field(default=None, description="A circular arc: {center, start, angle (degrees), normal}.")
     polyline: Annotated[list[Vector3], Field(min_length=2, max_length=LIMITS["path_points"])] | None = Field(
-        default=None, description="[[x, y, z], ...]: straight lines through the points in turn (at least 2 points, not all the same)."
+        default=None,
+        description="[[x, y, z], ...]: straight lines through the points in turn (at least 2 points, not all the same).",
     )
     text: TextModel | None = Field(default=None, description="Written text: {string, origin, height, right, up, lift}.")
 
@@ -353,15 +384,19 @@ class PathModel(Strict):
     @classmethod
     def _line_has_length(cls, value):
         if value is not None and _length(_difference(value[1], value[0])) < LIMITS["smallest"]:
-            raise ValueError(f"starts and ends at {_shown_vector(value[0])}: the line has length 0 (expected two different points)")
+            raise ValueError(
+                f"starts and ends at {_shown_vector(value[0])}: the line has length 0 (expected two different points)"
+            )
         return value
 
     @field_validator("polyline")
     @classmethod
     def _polyline_has_length(cls, value):
         if value is not None and all(_length(_difference(p, value[0])) < LIMITS["smallest"] for p in value):
-            raise ValueError(f"has all its points at {_shown_vector(value[0])}: the polyline has length 0 "
-                             "(expected at least two different points; repeated points are dropped)")
+            raise ValueError(
+                f"has all its points at {_shown_vector(value[0])}: the polyline has length 0 "
+                "(expected at least two different points; repeated points are dropped)"
+            )
         return value
 
     @model_validator(mode="after")
@@ -369,8 +404,10 @@ class PathModel(Strict):
         given = [form for form in PATH_FORMS if getattr(self, form) is not None]
         if len(given) != 1:
             what = "none" if not given else " and ".join(given)
-            raise ValueError(f"a path is one form (got {what}): expected {{line: [p0, p1]}}, {{arc: {{center, start, angle, normal}}}}, "
-                             "{polyline: [[x, y, z], ...]} or {text: {string, origin, height, right, up}}")
+            raise ValueError(
+                f"a path is one form (got {what}): expected {{line: [p0, p1]}}, {{arc: {{center, start, angle, normal}}}}, "
+                "{polyline: [[x, y, z], ...]} or {text: {string, origin, height, right, up}}"
+            )
         return self
 
     @property
@@ -391,8 +428,11 @@ class ApproachModel(Strict):
     axis: Literal["tool"] | Vector3 = Field(
         default="tool",
         description="The direction the tool moves along it: tool (the tool's z axis at the goal, which needs orientation or "
-                    "tool_axis) or a world direction [x, y, z]; default tool.")
-    speed: Positive | None = Field(default=None, description="The tool's speed along it, scene units per second; default distance per second.")
+        "tool_axis) or a world direction [x, y, z]; default tool.",
+    )
+    speed: Positive | None = Field(
+        default=None, description="The tool's speed along it, scene units per second; default distance per second."
+    )
 
     @field_validator("axis")
     @classmethod
@@ -407,7 +447,8 @@ class RetreatModel(ApproachModel):
     axis: Literal["tool"] | Vector3 = Field(
         default="tool",
         description="The direction the tool moves along it: tool (back along the tool's z axis at the goal, the way an approach "
-                    "along tool came in; needs orientation or tool_axis) or a world direction [x, y, z]; default tool.")
+        "along tool came in; needs orientation or tool_axis) or a world direction [x, y, z]; default tool.",
+    )
 
 
 class GoalModel(Strict):
@@ -419,68 +460,84 @@ class GoalModel(Strict):
         extra="forbid",
         frozen=True,
         strict=True,
-        json_schema_extra={"oneOf": [{"required": ["position"]}, {"required": ["path", "speed"]}, {"required": ["joints"]}]},
+        json_schema_extra={
+            "oneOf": [{"required": ["position"]}, {"required": ["path", "speed"]}, {"required": ["joints"]}]
+        },
     )
 
     position: Vector3 | None = Field(default=None, description="A point goal's position.")
     joints: Annotated[list[Angle], Field(min_length=1)] | None = Field(
         default=None,
         description="A joint goal: the arm's pose, one value per moving joint in order (degrees, as arm.home, each within "
-                    "[-360, 360]), reached when every joint is within solver.joint_tolerance of it.",
+        "[-360, 360]), reached when every joint is within solver.joint_tolerance of it.",
     )
     path: PathModel | None = Field(
-        default=None, description="A path goal's path for the tool to follow: line, arc, polyline or text (docs/scene-format.md, Path goals)."
+        default=None,
+        description="A path goal's path for the tool to follow: line, arc, polyline or text (docs/scene-format.md, Path goals).",
     )
     speed: Positive | None = Field(
-        default=None, validate_default=True, description="A path goal's tool speed along its path, scene units per second (> 0)."
+        default=None,
+        validate_default=True,
+        description="A path goal's tool speed along its path, scene units per second (> 0).",
     )
     hold: Annotated[float, Field(ge=0, le=3600, allow_inf_nan=False)] = Field(
         default=0.0, description="Seconds to stay after reaching it (a path goal: after the path's end)."
     )
     orientation: OrientationModel | None = Field(
-        default=None, description="The tool frame's orientation at the goal (6-D goal; a path goal holds it along the path); default none (position only)."
+        default=None,
+        description="The tool frame's orientation at the goal (6-D goal; a path goal holds it along the path); default none (position only).",
     )
     tool_axis: Vector3 | None = Field(
-        default=None, description="World direction of the tool's z axis at the goal (a path goal holds it along the path), roll free (5-D goal); default none."
+        default=None,
+        description="World direction of the tool's z axis at the goal (a path goal holds it along the path), roll free (5-D goal); default none.",
     )
     blend: NonNegative | None = Field(
         default=None,
         description="Pass within this of the goal without stopping (scene units; degrees in every joint for a joint goal; "
-                    "0: exactly through it); default solver.blend. The last goal, a goal with hold and a missed goal end at rest.",
+        "0: exactly through it); default solver.blend. The last goal, a goal with hold and a missed goal end at rest.",
     )
     grasp: Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=OBSTACLE_NAME_PATTERN)] | None = Field(
         default=None,
         description="The name of an obstacle the tool takes once this goal is reached: from then on it moves with the tool, part of "
-                    "the arm, until a goal with release: true (docs/scene-format.md, Pick and place); default none.",
+        "the arm, until a goal with release: true (docs/scene-format.md, Pick and place); default none.",
     )
-    release: bool = Field(default=False, description="Put down what the tool holds once this goal is reached: it stays where it is, an obstacle again.")
+    release: bool = Field(
+        default=False,
+        description="Put down what the tool holds once this goal is reached: it stays where it is, an obstacle again.",
+    )
     approach: ApproachModel | None = Field(
         default=None,
         description="Come in along a straight line over the last distance, {distance: 0.1, axis: tool}, as pick pipelines do "
-                    "(a point or pose goal; docs/scene-format.md, Pick and place).",
+        "(a point or pose goal; docs/scene-format.md, Pick and place).",
     )
     retreat: RetreatModel | None = Field(
         default=None,
         description="Leave along a straight line once the goal is reached, {distance: 0.1, axis: tool} (back along the tool), as "
-                    "pick pipelines do: solved as a path goal of its own right after this one (a point or pose goal; "
-                    "docs/scene-format.md, Pick and place).",
+        "pick pipelines do: solved as a path goal of its own right after this one (a point or pose goal; "
+        "docs/scene-format.md, Pick and place).",
     )
     touch_links: Annotated[list[Annotated[str, Field(min_length=1)]], Field(max_length=LIMITS["links"])] | None = Field(
         default=None,
         description="With grasp: the links allowed to touch the object while it is carried; default every link the last joint carries "
-                    "(the hand and the fingers).",
+        "(the hand and the fingers).",
     )
 
     @field_validator("speed")
     @classmethod
     def _speed_of_a_path(cls, value, info):
         if value is None and info.data.get("path") is not None:
-            raise ValueError("is required on a path goal (the tool's speed along the path, scene units per second, e.g. speed: 0.05)")
+            raise ValueError(
+                "is required on a path goal (the tool's speed along the path, scene units per second, e.g. speed: 0.05)"
+            )
         if value is not None and info.data.get("joints") is not None:
-            raise ValueError("belongs to a path goal (a joint goal's motion is timed by the arm's joint speeds: leave speed out)")
+            raise ValueError(
+                "belongs to a path goal (a joint goal's motion is timed by the arm's joint speeds: leave speed out)"
+            )
         if value is not None and info.data.get("position") is not None:
-            raise ValueError("belongs to a path goal (a point goal's motion is timed by the arm's joint speeds: "
-                             "leave speed out, or give path instead of position)")
+            raise ValueError(
+                "belongs to a path goal (a point goal's motion is timed by the arm's joint speeds: "
+                "leave speed out, or give path instead of position)"
+            )
         return value
 
     @field_validator("tool_axis")
@@ -492,18 +549,26 @@ class GoalModel(Strict):
     @classmethod
     def _blend_of_a_point(cls, value, info):
         if value is not None and info.data.get("path") is not None:
-            raise ValueError("belongs to a point, pose or joint goal (a path goal starts and ends at rest: leave blend out)")
+            raise ValueError(
+                "belongs to a point, pose or joint goal (a path goal starts and ends at rest: leave blend out)"
+            )
         if value is not None and info.data.get("joints") is not None and value > 180:
-            raise ValueError(f"is {value:g} degrees on a joint goal (expected at most 180: the most any joint may pass from it)")
+            raise ValueError(
+                f"is {value:g} degrees on a joint goal (expected at most 180: the most any joint may pass from it)"
+            )
         return value
 
     @model_validator(mode="after")
     def _one_orientation(self):
         if self.joints is not None and (self.orientation is not None or self.tool_axis is not None):
-            raise ValueError("sets joints with an orientation (a joint goal fixes the whole pose, the tool's orientation "
-                             "with it: leave orientation and tool_axis out, or give position instead of joints)")
+            raise ValueError(
+                "sets joints with an orientation (a joint goal fixes the whole pose, the tool's orientation "
+                "with it: leave orientation and tool_axis out, or give position instead of joints)"
+            )
         if self.orientation is not None and self.tool_axis is not None:
-            raise ValueError("sets both orientation and tool_axis (expected at most one: tool_axis leaves the roll free, orientation fixes it)")
+            raise ValueError(
+                "sets both orientation and tool_axis (expected at most one: tool_axis leaves the roll free, orientation fixes it)"
+            )
         return self
 
     @model_validator(mode="before")
@@ -514,11 +579,15 @@ class GoalModel(Strict):
         if isinstance(value, dict):
             given = [key for key in GOAL_FORMS if value.get(key) is not None]
             if len(given) >= 2:
-                raise ValueError(f"sets both {' and '.join(given)} (expected one: position for a point goal, path with speed "
-                                 "for a path goal, whose arm goes to the path's start first, or joints for a pose of the joints)")
+                raise ValueError(
+                    f"sets both {' and '.join(given)} (expected one: position for a point goal, path with speed "
+                    "for a path goal, whose arm goes to the path's start first, or joints for a pose of the joints)"
+                )
             if not given:
-                raise ValueError("has neither position, path nor joints (expected position: [x, y, z] for a point goal, "
-                                 "path: {...} with speed for a path goal, or joints: [...] for a pose of the joints, degrees)")
+                raise ValueError(
+                    "has neither position, path nor joints (expected position: [x, y, z] for a point goal, "
+                    "path: {...} with speed for a path goal, or joints: [...] for a pose of the joints, degrees)"
+                )
         return value
 
     @property
@@ -535,7 +604,13 @@ class GoalModel(Strict):
     def __get_pydantic_json_schema__(cls, core_schema, handler):
         # editors must accept the short form too
         as_object = handler(core_schema)
-        as_list = {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "[x, y, z]"}
+        as_list = {
+            "type": "array",
+            "items": {"type": "number"},
+            "minItems": 3,
+            "maxItems": 3,
+            "description": "[x, y, z]",
+        }
         return {"anyOf": [as_list, as_object]}
 
 
@@ -562,10 +637,12 @@ class SolverModel(Strict):
     jacobian: JacobianMode = "analytic"
     damping: Positive = Field(default=0.05, description="lambda, for dls only.")
     max_joint_step: Annotated[float, Field(ge=MIN_JOINT_STEP, le=180, allow_inf_nan=False)] = Field(
-        default=10.0, description="No joint turns by more than this many degrees in one solver step (a solved frame of render.fps); arm.max_joint_speed is the speed."
+        default=10.0,
+        description="No joint turns by more than this many degrees in one solver step (a solved frame of render.fps); arm.max_joint_speed is the speed.",
     )
     max_slide_step: Annotated[float, Field(ge=1e-6, le=10, allow_inf_nan=False)] = Field(
-        default=0.05, description="No prismatic joint slides by more than this many metres in one solver step (max_joint_step's counterpart)."
+        default=0.05,
+        description="No prismatic joint slides by more than this many metres in one solver step (max_joint_step's counterpart).",
     )
     clearance: Positive | None = Field(
         default=None,
@@ -589,10 +666,11 @@ class SolverModel(Strict):
     joint_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
         default=0.01,
         description="Degrees (a prismatic joint: this many radians, as metres): a joint goal is reached when every joint is within this of it. "
-                    "The planned path ends on the goal itself, so this only absorbs rounding; MoveIt's default is 1e-4 rad (0.0057 deg).",
+        "The planned path ends on the goal itself, so this only absorbs rounding; MoveIt's default is 1e-4 rad (0.0057 deg).",
     )
     orientation_tolerance: Annotated[float, Field(ge=MIN_DEGREES, le=180, allow_inf_nan=False)] = Field(
-        default=1.0, description="Degrees: a goal with an orientation is reached when the tool is within this angle of it (and within tolerance)."
+        default=1.0,
+        description="Degrees: a goal with an orientation is reached when the tool is within this angle of it (and within tolerance).",
     )
     path_tolerance: Positive | None = Field(
         default=None,
@@ -601,7 +679,7 @@ class SolverModel(Strict):
     blend: NonNegative | None = Field(
         default=None,
         description="Every point, pose and joint goal's blend where it sets none: pass within this of it without stopping "
-                    "(scene units; degrees for a joint goal; 0: exactly through it); default none (every goal at rest).",
+        "(scene units; degrees for a joint goal; 0: exactly through it); default none (every goal at rest).",
     )
     weights: WeightsModel = WeightsModel()
 
@@ -619,15 +697,13 @@ class ViewModel(Strict):
     azimuth: Annotated[float, Field(ge=-360, le=360, allow_inf_nan=False)] = -60.0
 
 
-
-
 class FurnitureModel(Strict):
     """A box drawn in the pictures and never checked: a table, a shelf's back, a whiteboard."""
 
     box: BoxModel
-    color: Annotated[list[Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]], Field(min_length=3, max_length=3)] = Field(
-        default=[0.80, 0.75, 0.66], description="RGB, 0 to 1; default a light wood."
-    )
+    color: Annotated[
+        list[Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]], Field(min_length=3, max_length=3)
+    ] = Field(default=[0.80, 0.75, 0.66], description="RGB, 0 to 1; default a light wood.")
 
 
 class RenderModel(Strict):
@@ -638,9 +714,10 @@ class RenderModel(Strict):
         default=[1280, 720], description="Pixels, width x height."
     )
     view: ViewModel = ViewModel()
-    bounds: Literal["auto"] | Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]], Field(min_length=3, max_length=3)] = Field(
-        default="auto", description="auto, or [[xmin, xmax], [ymin, ymax], [zmin, zmax]]."
-    )
+    bounds: (
+        Literal["auto"]
+        | Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]], Field(min_length=3, max_length=3)]
+    ) = Field(default="auto", description="auto, or [[xmin, xmax], [ymin, ymax], [zmin, zmax]].")
     trail: bool = True
     format: VideoFormat = "mp4"
     furniture: Annotated[list[FurnitureModel], Field(max_length=LIMITS["obstacles"])] = Field(
@@ -650,7 +727,7 @@ class RenderModel(Strict):
     robot: RobotLook = Field(
         default="mesh",
         description="A robot with visual meshes drawn as it looks (mesh), as the capsules every clearance is measured on "
-                    "(capsules), or both (the capsules translucent over it). An arm of links is always its capsules.",
+        "(capsules), or both (the capsules translucent over it). An arm of links is always its capsules.",
     )
 
 
@@ -672,7 +749,8 @@ class SceneModel(Strict):
     arm: ArmModel
     obstacles: Annotated[list[ObstacleModel], Field(max_length=LIMITS["obstacles"])] = []
     floor: Finite | None = Field(
-        default=None, description="Height of a floor plane z = floor that every link keeps solver.clearance above (the base excepted); default none."
+        default=None,
+        description="Height of a floor plane z = floor that every link keeps solver.clearance above (the base excepted); default none.",
     )
     goals: Annotated[list[GoalModel], Field(min_length=1, max_length=LIMITS["goals"])]
     solver: SolverModel = SolverModel()

@@ -165,9 +165,18 @@ class Frames:
         if key in self.fixed:
             return self.fixed[key]
         known = ", ".join(sorted(self.fixed)[:8]) or "none"
-        raise SceneError(file, [Diagnostic(path, f"frame {shown(frame)} is not the planning frame or a frame fixed to it "
-                                                 f"(expected '' or world, the robot's root link, or a link or fixed frame "
-                                                 f"that never moves: {known})", line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    path,
+                    f"frame {shown(frame)} is not the planning frame or a frame fixed to it "
+                    f"(expected '' or world, the robot's root link, or a link or fixed frame "
+                    f"that never moves: {known})",
+                    line,
+                )
+            ],
+        )
 
 
 def rigid_pose(position, quaternion_xyzw) -> np.ndarray:
@@ -236,22 +245,32 @@ class YamlReader:
         if isinstance(value, dict):
             extra = [k for k in value if k not in keys]
             if extra:
-                raise self.error(join_path(path, extra[0]), f"unknown key {shown(str(extra[0]))} (expected {', '.join(keys)})")
+                raise self.error(
+                    join_path(path, extra[0]), f"unknown key {shown(str(extra[0]))} (expected {', '.join(keys)})"
+                )
             return [self.number(value.get(k, 0), join_path(path, k)) for k in keys]
-        raise self.error(path, f"must be a list [{', '.join(keys)}] or a mapping of {', '.join(keys)} (got {_kind(value)})")
+        raise self.error(
+            path, f"must be a list [{', '.join(keys)}] or a mapping of {', '.join(keys)} (got {_kind(value)})"
+        )
 
     def pose(self, value, path: str) -> np.ndarray:
         """A geometry_msgs/Pose as a (4, 4) transform (``None`` or missing parts: the identity's)."""
         value = self.mapping(value, path)
         position = self.vector(value.get("position", [0, 0, 0]), join_path(path, "position"), "xyz")
         where = join_path(path, "orientation")
-        quaternion = self.vector(value["orientation"], where, "xyzw") if value.get("orientation") is not None else [0.0, 0.0, 0.0, 1.0]
+        quaternion = (
+            self.vector(value["orientation"], where, "xyzw")
+            if value.get("orientation") is not None
+            else [0.0, 0.0, 0.0, 1.0]
+        )
         return rigid_pose(position, self.unit_quaternion(quaternion, where))
 
     def unit_quaternion(self, q: list[float], path: str) -> list[float]:
         """``q`` (x, y, z, w) if it has a length to normalise; the zero quaternion is refused."""
         if not math.hypot(*q) > 1e-9:
-            raise self.error(path, "is the zero quaternion (expected x, y, z, w of a rotation, e.g. [0, 0, 0, 1] for none)")
+            raise self.error(
+                path, "is the zero quaternion (expected x, y, z, w of a rotation, e.g. [0, 0, 0, 1] for none)"
+            )
         return q
 
 
@@ -273,7 +292,9 @@ def read_yaml_file(path: str | Path, what: str) -> YamlReader:
     if doc.problems:
         raise SceneError(str(path), list(doc.problems))
     if not isinstance(doc.data, dict):
-        raise SceneError(str(path), [Diagnostic("", f"the top level is {_kind(doc.data)} (expected a mapping: {what})", 1)])
+        raise SceneError(
+            str(path), [Diagnostic("", f"the top level is {_kind(doc.data)} (expected a mapping: {what})", 1)]
+        )
     return YamlReader(doc, str(path))
 
 
@@ -305,18 +326,27 @@ def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
         obj = reader.mapping(item, obj_path)
         name = reader.text(obj.get("id"), join_path(obj_path, "id"))
         if name and name in seen:
-            raise reader.error(join_path(obj_path, "id"), f"id {shown(name)} is used again (first on line {seen[name]}; "
-                                                          "MoveIt would replace that object: keep one)")
+            raise reader.error(
+                join_path(obj_path, "id"),
+                f"id {shown(name)} is used again (first on line {seen[name]}; "
+                "MoveIt would replace that object: keep one)",
+            )
         seen[name] = reader.line(join_path(obj_path, "id"))
         solids += collision_object_solids(reader, obj, obj_path, name or f"object{k + 1}", frames)
     octomap_path = join_path(top, "octomap")
-    octomap = reader.mapping(reader.mapping(world.get("octomap"), octomap_path).get("octomap"), join_path(octomap_path, "octomap"))
+    octomap = reader.mapping(
+        reader.mapping(world.get("octomap"), octomap_path).get("octomap"), join_path(octomap_path, "octomap")
+    )
     if octomap.get("data"):
-        raise reader.error(octomap_path, "an octomap is not read (expected collision objects: boxes, spheres, cylinders)")
+        raise reader.error(
+            octomap_path, "an octomap is not read (expected collision objects: boxes, spheres, cylinders)"
+        )
     state = reader.mapping(data.get("robot_state"), "robot_state")
     _no_attached_objects(reader, state, "robot_state")
     _base_not_moved(reader, state, "robot_state")
-    return PlanningWorld(reader.file, tuple(solids), joint_state(reader, state.get("joint_state"), "robot_state.joint_state"))
+    return PlanningWorld(
+        reader.file, tuple(solids), joint_state(reader, state.get("joint_state"), "robot_state.joint_state")
+    )
 
 
 def _fixed_frames(reader: YamlReader, transforms, path: str = "fixed_frame_transforms") -> dict[str, np.ndarray]:
@@ -333,7 +363,9 @@ def _fixed_frames(reader: YamlReader, transforms, path: str = "fixed_frame_trans
         translation = reader.vector(t.get("translation", [0, 0, 0]), join_path(where, "transform.translation"), "xyz")
         rotation = reader.vector(t.get("rotation", [0, 0, 0, 1]), join_path(where, "transform.rotation"), "xyzw")
         if name:
-            out[name.lstrip("/")] = rigid_pose(translation, reader.unit_quaternion(rotation, join_path(where, "transform.rotation")))
+            out[name.lstrip("/")] = rigid_pose(
+                translation, reader.unit_quaternion(rotation, join_path(where, "transform.rotation"))
+            )
     return out
 
 
@@ -342,26 +374,41 @@ def collision_object_solids(reader: YamlReader, obj: dict, path: str, name: str,
     then its ``pose``, then each primitive's pose."""
     operation = obj.get("operation", 0)
     if operation not in (0, "add", "ADD", "b'\\x00'", None):  # ros2 topic echo writes a byte so
-        raise reader.error(join_path(path, "operation"), f"operation {_kind(operation)} is not read (expected ADD, 0: "
-                                                         "the importer reads a whole scene, not changes to one)")
+        raise reader.error(
+            join_path(path, "operation"),
+            f"operation {_kind(operation)} is not read (expected ADD, 0: "
+            "the importer reads a whole scene, not changes to one)",
+        )
     for key, what in (("meshes", "a mesh"), ("planes", "a plane")):
         if reader.sequence(obj.get(key), join_path(path, key)):
             raise reader.error(join_path(path, key), f"object {shown(name)} has {what} ({UNSUPPORTED_HINT})")
     header = reader.mapping(obj.get("header"), join_path(path, "header"))
     frame_path = join_path(path, "header.frame_id")
-    base = frames.pose(reader.text(header.get("frame_id"), frame_path), reader.file, frame_path, reader.line(frame_path))
+    base = frames.pose(
+        reader.text(header.get("frame_id"), frame_path), reader.file, frame_path, reader.line(frame_path)
+    )
     base = base @ reader.pose(obj.get("pose"), join_path(path, "pose"))
     primitives = reader.sequence(obj.get("primitives"), join_path(path, "primitives"))
     poses = reader.sequence(obj.get("primitive_poses"), join_path(path, "primitive_poses"))
     if len(poses) != len(primitives):
-        raise reader.error(join_path(path, "primitive_poses"), f"object {shown(name)} has {len(primitives)} primitives and "
-                                                                f"{len(poses)} primitive_poses (expected one pose per primitive)")
+        raise reader.error(
+            join_path(path, "primitive_poses"),
+            f"object {shown(name)} has {len(primitives)} primitives and "
+            f"{len(poses)} primitive_poses (expected one pose per primitive)",
+        )
     solids = []
     for k, (primitive, pose) in enumerate(zip(primitives, poses)):
         where = join_path(path, f"primitives[{k}]")
         kind, size = _primitive(reader, primitive, where, name)
-        solids.append(Solid(kind, size, base @ reader.pose(pose, join_path(path, f"primitive_poses[{k}]")),
-                            name if k == 0 else f"{name}-{k + 1}", reader.line(where)))
+        solids.append(
+            Solid(
+                kind,
+                size,
+                base @ reader.pose(pose, join_path(path, f"primitive_poses[{k}]")),
+                name if k == 0 else f"{name}-{k + 1}",
+                reader.line(where),
+            )
+        )
     return solids
 
 
@@ -369,17 +416,27 @@ def _primitive(reader: YamlReader, value, path: str, name: str) -> tuple[str, tu
     """(kind, sizes) of a shape_msgs/SolidPrimitive: its type as the constant or its name."""
     value = reader.mapping(value, path)
     raw = value.get("type")
-    kind = PRIMITIVE_TYPES.get(raw) if isinstance(raw, int) and not isinstance(raw, bool) else raw.lower() if isinstance(raw, str) else None
+    kind = (
+        PRIMITIVE_TYPES.get(raw)
+        if isinstance(raw, int) and not isinstance(raw, bool)
+        else raw.lower()
+        if isinstance(raw, str)
+        else None
+    )
     type_path = join_path(path, "type")
     if kind not in ("box", "sphere", "cylinder", "cone", "prism"):
-        raise reader.error(type_path, f"type {_kind(raw)} is not a SolidPrimitive type (expected box (1), sphere (2), cylinder (3))")
+        raise reader.error(
+            type_path, f"type {_kind(raw)} is not a SolidPrimitive type (expected box (1), sphere (2), cylinder (3))"
+        )
     if kind not in DIMENSIONS:
         raise reader.error(type_path, f"object {shown(name)} has a {kind} ({UNSUPPORTED_HINT})")
     names = DIMENSIONS[kind]
     dims_path = join_path(path, "dimensions")
     dims = reader.sequence(value.get("dimensions"), dims_path)
     if len(dims) != len(names):
-        raise reader.error(dims_path, f"a {kind} has {len(dims)} dimensions (expected {len(names)}: [{', '.join(names)}])")
+        raise reader.error(
+            dims_path, f"a {kind} has {len(dims)} dimensions (expected {len(names)}: [{', '.join(names)}])"
+        )
     size = tuple(reader.number(v, join_path(dims_path, k)) for k, v in enumerate(dims))
     _positive_sizes(reader.error, dims_path, kind, names, size)
     return kind, size
@@ -394,8 +451,9 @@ def _positive_sizes(error, path: str, kind: str, names, size) -> None:
 def _no_attached_objects(reader: YamlReader, state: dict, path: str) -> None:
     where = join_path(path, "attached_collision_objects")
     if reader.sequence(state.get("attached_collision_objects"), where):
-        raise reader.error(where, "an object attached to the robot is not read (expected it in world.collision_objects, "
-                                  "or left out)")
+        raise reader.error(
+            where, "an object attached to the robot is not read (expected it in world.collision_objects, or left out)"
+        )
 
 
 def _base_not_moved(reader: YamlReader, state: dict, path: str) -> None:
@@ -406,10 +464,15 @@ def _base_not_moved(reader: YamlReader, state: dict, path: str) -> None:
         at = join_path(where, f"transforms[{k}]")
         item = reader.mapping(item, at)
         t = reader.vector(item.get("translation", [0, 0, 0]), join_path(at, "translation"), "xyz")
-        q = reader.unit_quaternion(reader.vector(item.get("rotation", [0, 0, 0, 1]), join_path(at, "rotation"), "xyzw"), at)
+        q = reader.unit_quaternion(
+            reader.vector(item.get("rotation", [0, 0, 0, 1]), join_path(at, "rotation"), "xyzw"), at
+        )
         if not np.allclose(rigid_pose(t, q), np.eye(4), atol=1e-12):
-            raise reader.error(at, "moves the robot's root away from the planning frame (expected the identity: "
-                                   "armanim's arm stands at the planning frame; move the objects instead)")
+            raise reader.error(
+                at,
+                "moves the robot's root away from the planning frame (expected the identity: "
+                "armanim's arm stands at the planning frame; move the objects instead)",
+            )
 
 
 def joint_state(reader: YamlReader, value, path: str) -> dict[str, JointValue]:
@@ -418,8 +481,10 @@ def joint_state(reader: YamlReader, value, path: str) -> dict[str, JointValue]:
     names = reader.sequence(value.get("name"), join_path(path, "name"))
     positions = reader.sequence(value.get("position"), join_path(path, "position"))
     if len(names) != len(positions):
-        raise reader.error(join_path(path, "position"), f"has {len(positions)} positions for {len(names)} names "
-                                                        "(expected one position per name)")
+        raise reader.error(
+            join_path(path, "position"),
+            f"has {len(positions)} positions for {len(names)} names (expected one position per name)",
+        )
     out: dict[str, JointValue] = {}
     for k, (name, position) in enumerate(zip(names, positions)):
         at = join_path(path, f"name[{k}]")
@@ -448,8 +513,10 @@ class _Tokens:
 
     def word(self, what: str) -> tuple[str, int]:
         if self.at >= len(self.words):
-            raise self.error(f"the file ends where {what} was expected (a .scene file ends with a line '.')",
-                             self.words[-1][1] if self.words else 1)
+            raise self.error(
+                f"the file ends where {what} was expected (a .scene file ends with a line '.')",
+                self.words[-1][1] if self.words else 1,
+            )
         self.at += 1
         return self.words[self.at - 1]
 
@@ -496,7 +563,9 @@ def read_scene_text(path: str | Path, frames: Frames | None = None) -> PlanningW
     text = decode_scene(read_bounded(path, MAX_FILE_BYTES, "a MoveIt .scene file"), str(path))
     lines = text.splitlines()
     if not lines:
-        raise SceneError(str(path), [Diagnostic("", "the file is empty (expected a MoveIt .scene: a name line, objects, '.')", 1)])
+        raise SceneError(
+            str(path), [Diagnostic("", "the file is empty (expected a MoveIt .scene: a name line, objects, '.')", 1)]
+        )
     objects_at = next((k for k, line in enumerate(lines) if line.strip().startswith("*")), None)
     newer = objects_at is not None and objects_at + 1 < len(lines) and " " in lines[objects_at + 1].strip()
     tokens, solids = _Tokens(str(path), []), []
@@ -515,15 +584,19 @@ def read_scene_text(path: str | Path, frames: Frames | None = None) -> PlanningW
         if marker == ".":
             break
         if marker != "*":
-            raise tokens.error(f"{shown(marker)} is not a marker (expected '* NAME' to start an object, or '.' to end the scene)", line)
+            raise tokens.error(
+                f"{shown(marker)} is not a marker (expected '* NAME' to start an object, or '.' to end the scene)", line
+            )
         name, line = tokens.word("the object's name")
         if name in names:
             raise tokens.error(f"object {shown(name)} is defined again (first on line {names[name]}; keep one)", line)
         names[name] = line
         solids += _text_object(tokens, name, line, newer)
-    extra = tokens.words[tokens.at:]
+    extra = tokens.words[tokens.at :]
     if extra:
-        raise tokens.error(f"{shown(extra[0][0])} after the '.' that ends the scene (expected nothing more)", extra[0][1])
+        raise tokens.error(
+            f"{shown(extra[0][0])} after the '.' that ends the scene (expected nothing more)", extra[0][1]
+        )
     return PlanningWorld(str(path), tuple(solids))
 
 
@@ -539,8 +612,12 @@ def _text_object(tokens: _Tokens, name: str, line: int, newer: bool) -> list[Sol
         word, at = tokens.word("a shape: box, sphere or cylinder")
         if word not in TEXT_DIMENSIONS:
             known = word in ("cone", "plane", "mesh", "octree")
-            raise tokens.error(f"object {shown(name)} has a {word} ({UNSUPPORTED_HINT})" if known else
-                               f"{shown(word)} is not a shape (expected box, sphere or cylinder)", at)
+            raise tokens.error(
+                f"object {shown(name)} has a {word} ({UNSUPPORTED_HINT})"
+                if known
+                else f"{shown(word)} is not a shape (expected box, sphere or cylinder)",
+                at,
+            )
         labels = TEXT_DIMENSIONS[word]
         numbers = tuple(tokens.number(f"the {word}'s {label}") for label in labels)
         _positive_sizes(functools.partial(_line_error, tokens, at), "", word, labels, numbers)
@@ -580,22 +657,48 @@ def read_motion_request(path: str | Path, frames: Frames) -> MotionRequest:
     if not goals:
         return MotionRequest(reader.file, start, group, None, None, None, group_line=group_line)
     if len(goals) > 1:
-        notes.append(Diagnostic("goal_constraints", f"has {len(goals)} goals, which MoveIt reads as alternatives: "
-                                                    "the first is imported", reader.line("goal_constraints[1]")))
+        notes.append(
+            Diagnostic(
+                "goal_constraints",
+                f"has {len(goals)} goals, which MoveIt reads as alternatives: the first is imported",
+                reader.line("goal_constraints[1]"),
+            )
+        )
     path0 = "goal_constraints[0]"
     goal = reader.mapping(goals[0], path0)
     joints = reader.sequence(goal.get("joint_constraints"), join_path(path0, "joint_constraints"))
     positions = reader.sequence(goal.get("position_constraints"), join_path(path0, "position_constraints"))
     if joints and positions:
-        raise reader.error(path0, "has joint_constraints and position_constraints (expected one kind: a joint goal or a pose goal)")
+        raise reader.error(
+            path0, "has joint_constraints and position_constraints (expected one kind: a joint goal or a pose goal)"
+        )
     if joints:
-        return MotionRequest(reader.file, start, group, _joint_goal(reader, joints, join_path(path0, "joint_constraints")), None,
-                             reader.line(path0), tuple(notes), group_line)
+        return MotionRequest(
+            reader.file,
+            start,
+            group,
+            _joint_goal(reader, joints, join_path(path0, "joint_constraints")),
+            None,
+            reader.line(path0),
+            tuple(notes),
+            group_line,
+        )
     if positions:
-        return MotionRequest(reader.file, start, group, None, _pose_goal(reader, goal, path0, frames), reader.line(path0),
-                             tuple(notes), group_line)
-    raise reader.error(path0, "has no joint_constraints and no position_constraints (expected a joint goal, or a position "
-                              "constraint on a link with an optional orientation constraint)")
+        return MotionRequest(
+            reader.file,
+            start,
+            group,
+            None,
+            _pose_goal(reader, goal, path0, frames),
+            reader.line(path0),
+            tuple(notes),
+            group_line,
+        )
+    raise reader.error(
+        path0,
+        "has no joint_constraints and no position_constraints (expected a joint goal, or a position "
+        "constraint on a link with an optional orientation constraint)",
+    )
 
 
 def _joint_goal(reader: YamlReader, items: list, path: str) -> tuple[JointValue, ...]:
@@ -607,9 +710,13 @@ def _joint_goal(reader: YamlReader, items: list, path: str) -> tuple[JointValue,
         if not name:
             raise reader.error(at, "has no joint_name (expected joint_name and position)")
         if name in out:
-            raise reader.error(at, f"joint {shown(name)} is constrained twice (first on line {out[name].line}; keep one)")
+            raise reader.error(
+                at, f"joint {shown(name)} is constrained twice (first on line {out[name].line}; keep one)"
+            )
         if "position" not in item:
-            raise reader.error(at, f"joint {shown(name)} has no position (expected radians, or metres for a prismatic joint)")
+            raise reader.error(
+                at, f"joint {shown(name)} has no position (expected radians, or metres for a prismatic joint)"
+            )
         out[name] = JointValue(name, reader.number(item["position"], join_path(at, "position")), reader.line(at), at)
     return tuple(out.values())
 
@@ -621,19 +728,27 @@ def _pose_goal(reader: YamlReader, goal: dict, path: str, frames: Frames) -> Pos
     orientations = reader.sequence(goal.get("orientation_constraints"), join_path(path, "orientation_constraints"))
     if len(positions) > 1 or len(orientations) > 1:
         which = "position_constraints" if len(positions) > 1 else "orientation_constraints"
-        raise reader.error(join_path(path, f"{which}[1]"), f"has more than one of {which} (expected one, on the link whose pose is the goal)")
+        raise reader.error(
+            join_path(path, f"{which}[1]"),
+            f"has more than one of {which} (expected one, on the link whose pose is the goal)",
+        )
     at = join_path(path, "position_constraints[0]")
     constraint = reader.mapping(positions[0], at)
     link = reader.text(constraint.get("link_name"), join_path(at, "link_name"))
     if not link:
         raise reader.error(at, "has no link_name (expected the link whose point must reach the region)")
     frame = _frame(reader, constraint, at, frames)
-    offset = np.array(reader.vector(constraint.get("target_point_offset", [0, 0, 0]), join_path(at, "target_point_offset"), "xyz"))
+    offset = np.array(
+        reader.vector(constraint.get("target_point_offset", [0, 0, 0]), join_path(at, "target_point_offset"), "xyz")
+    )
     region = reader.mapping(constraint.get("constraint_region"), join_path(at, "constraint_region"))
     poses = reader.sequence(region.get("primitive_poses"), join_path(at, "constraint_region.primitive_poses"))
     if not poses:
-        raise reader.error(join_path(at, "constraint_region"), "has no primitive_poses (expected the region's centre as its first "
-                                                               "primitive pose: where the link's point must be)")
+        raise reader.error(
+            join_path(at, "constraint_region"),
+            "has no primitive_poses (expected the region's centre as its first "
+            "primitive pose: where the link's point must be)",
+        )
     centre = frame @ reader.pose(poses[0], join_path(at, "constraint_region.primitive_poses[0]"))
     quaternion = None
     if orientations:
@@ -641,8 +756,11 @@ def _pose_goal(reader: YamlReader, goal: dict, path: str, frames: Frames) -> Pos
         o = reader.mapping(orientations[0], o_at)
         o_link = reader.text(o.get("link_name"), join_path(o_at, "link_name")) or link
         if o_link != link:
-            raise reader.error(join_path(o_at, "link_name"), f"constrains link {shown(o_link)}, the position constraint "
-                                                             f"{shown(link)} (expected one link whose pose is the goal)")
+            raise reader.error(
+                join_path(o_at, "link_name"),
+                f"constrains link {shown(o_link)}, the position constraint "
+                f"{shown(link)} (expected one link whose pose is the goal)",
+            )
         o_frame = _frame(reader, o, o_at, frames)
         where = join_path(o_at, "orientation")
         x, y, z, w = reader.unit_quaternion(reader.vector(o.get("orientation", [0, 0, 0, 1]), where, "xyzw"), where)
@@ -660,8 +778,14 @@ def quaternion_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """
     w1, x1, y1, z1 = a
     w2, x2, y2, z2 = b
-    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+    return np.array(
+        [
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        ]
+    )
 
 
 def _frame(reader: YamlReader, constraint: dict, path: str, frames: Frames) -> np.ndarray:
@@ -681,7 +805,9 @@ def srdf_groups(raw: bytes, file: str) -> dict[str, PlanningGroup]:
     """
     root = _parse_xml(raw, file)
     if root.tag != "robot":
-        raise SceneError(file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: an SRDF file)", root.line)])
+        raise SceneError(
+            file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: an SRDF file)", root.line)]
+        )
     groups = {}
     for el in root.findall("group"):
         name = el.attrib.get("name", "")
@@ -690,8 +816,15 @@ def srdf_groups(raw: bytes, file: str) -> dict[str, PlanningGroup]:
         if chains:
             base, tip = chains[0].attrib.get("base_link"), chains[0].attrib.get("tip_link")
             if base is None or tip is None:
-                raise SceneError(file, [Diagnostic("", "a <chain> needs base_link and tip_link attributes", chains[0].line)])
+                raise SceneError(
+                    file, [Diagnostic("", "a <chain> needs base_link and tip_link attributes", chains[0].line)]
+                )
             chain = base, tip
-        groups[name] = PlanningGroup(name, chain, tuple(j.attrib.get("name", "") for j in el.findall("joint")),
-                                     tuple(k.attrib.get("name", "") for k in el.findall("link")), el.line)
+        groups[name] = PlanningGroup(
+            name,
+            chain,
+            tuple(j.attrib.get("name", "") for j in el.findall("joint")),
+            tuple(k.attrib.get("name", "") for k in el.findall("link")),
+            el.line,
+        )
     return groups

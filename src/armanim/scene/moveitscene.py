@@ -118,8 +118,10 @@ def _read_robot(source: RobotSource) -> _Robot:
         from armanim.scene.robots import ROBOTS, bundled_robot
 
         if source.robot not in ROBOTS:
-            raise UsageError(f"--robot {shown(source.robot)} is not bundled (expected one of: {', '.join(ROBOTS)}; "
-                             "or give your own file with --urdf)")
+            raise UsageError(
+                f"--robot {shown(source.robot)} is not bundled (expected one of: {', '.join(ROBOTS)}; "
+                "or give your own file with --urdf)"
+            )
         if source.srdf is not None:
             raise UsageError("--srdf goes with --urdf (a bundled robot brings its own allowed-collision matrix)")
         bundled = bundled_robot(source.robot)
@@ -150,31 +152,74 @@ def _group_tip(robot: Robot, srdf: bytes, srdf_file: str, request: MotionRequest
     groups = srdf_groups(srdf, srdf_file)
     name = request.group if request is not None else None
     if request is not None and name is not None and name not in groups:
-        raise SceneError(request.file, [Diagnostic("group_name", f"group {shown(name)} is not a group of {srdf_file} "
-                                                                 f"(expected one of: {shown_list(groups) or 'none'}; or give --tip-link)", request.group_line)])
+        raise SceneError(
+            request.file,
+            [
+                Diagnostic(
+                    "group_name",
+                    f"group {shown(name)} is not a group of {srdf_file} "
+                    f"(expected one of: {shown_list(groups) or 'none'}; or give --tip-link)",
+                    request.group_line,
+                )
+            ],
+        )
     if name is None:
         name = next((g.name for g in groups.values() if g.chain or g.joints), None)
         if name is None:
-            raise SceneError(srdf_file, [Diagnostic("", "has no <group> with a <chain> or <joint> (expected the planning group; "
-                                                        "or give --tip-link)", 1)])
+            raise SceneError(
+                srdf_file,
+                [
+                    Diagnostic(
+                        "",
+                        "has no <group> with a <chain> or <joint> (expected the planning group; or give --tip-link)",
+                        1,
+                    )
+                ],
+            )
     group = groups[name]
     for link in (*(group.chain or ()), *group.links):
         if link not in robot.links:
-            raise SceneError(srdf_file, [Diagnostic("", f"group {shown(name)} names link {shown(link)}, not a link of "
-                                                        f"{robot.file} (expected one of: {shown_list(robot.links)})", group.line)])
+            raise SceneError(
+                srdf_file,
+                [
+                    Diagnostic(
+                        "",
+                        f"group {shown(name)} names link {shown(link)}, not a link of "
+                        f"{robot.file} (expected one of: {shown_list(robot.links)})",
+                        group.line,
+                    )
+                ],
+            )
     if group.chain:
         return group.chain
     for joint in group.joints:
         if joint not in robot.joints:
-            raise SceneError(srdf_file, [Diagnostic("", f"group {shown(name)} names joint {shown(joint)}, not a joint of "
-                                                        f"{robot.file} (expected one of: {shown_list(robot.joints)})", group.line)])
+            raise SceneError(
+                srdf_file,
+                [
+                    Diagnostic(
+                        "",
+                        f"group {shown(name)} names joint {shown(joint)}, not a joint of "
+                        f"{robot.file} (expected one of: {shown_list(robot.joints)})",
+                        group.line,
+                    )
+                ],
+            )
     moving = [j for j in group.joints if robot.joints[j].kind in MOVING]
     if moving:
         return None, _deepest_child(robot, moving)
     if group.links:
         return None, max(group.links, key=lambda link: _depth(robot, link))
-    raise SceneError(srdf_file, [Diagnostic("", f"group {shown(name)} has no moving joint (expected the arm's planning group; "
-                                                "or give --tip-link)", group.line)])
+    raise SceneError(
+        srdf_file,
+        [
+            Diagnostic(
+                "",
+                f"group {shown(name)} has no moving joint (expected the arm's planning group; or give --tip-link)",
+                group.line,
+            )
+        ],
+    )
 
 
 def _request_tip(robot: Robot, request: MotionRequest | None) -> str:
@@ -187,8 +232,10 @@ def _request_tip(robot: Robot, request: MotionRequest | None) -> str:
         return _deepest_child(robot, [v.name for v in request.joint_goal])
     if len(robot.leaves) == 1:
         return robot.leaves[0]
-    raise UsageError(f"{robot.file} has {len(robot.leaves)} leaf links ({shown_list(robot.leaves)}): say where the arm ends "
-                     "with --tip-link LINK, or give --srdf with its planning group")
+    raise UsageError(
+        f"{robot.file} has {len(robot.leaves)} leaf links ({shown_list(robot.leaves)}): say where the arm ends "
+        "with --tip-link LINK, or give --srdf with its planning group"
+    )
 
 
 def _choose_arm(source: RobotSource, files: _Robot, request: MotionRequest | None) -> _Arm:
@@ -206,7 +253,9 @@ def _choose_arm(source: RobotSource, files: _Robot, request: MotionRequest | Non
         _known_link(robot, pose, request.file)
     for label, link in (("tip_link", tip), ("base_link", base)):
         if link is not None and link not in robot.links:
-            raise UsageError(f"{label} {shown(link)} is not a link of {robot.file} (expected one of: {shown_list(robot.links)})")
+            raise UsageError(
+                f"{label} {shown(link)} is not a link of {robot.file} (expected one of: {shown_list(robot.links)})"
+            )
     if request is not None and pose is not None:
         tip = _pose_link(robot, base or robot.root, tip, pose, request.file)
     base = files.base_link if files.base_link is not None else _arm_base(robot, base)  # a bundled robot's own base
@@ -224,9 +273,17 @@ def _arm_base(robot: Robot, base: str | None) -> str:
 
 def _known_link(robot: Robot, goal: PoseTarget, file: str) -> None:
     if goal.link not in robot.links:
-        raise SceneError(file, [Diagnostic("goal_constraints[0].position_constraints[0].link_name",
-                                           f"link {shown(goal.link)} is not a link of {robot.file} "
-                                           f"(expected one of: {shown_list(robot.links)})", goal.line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "goal_constraints[0].position_constraints[0].link_name",
+                    f"link {shown(goal.link)} is not a link of {robot.file} "
+                    f"(expected one of: {shown_list(robot.links)})",
+                    goal.line,
+                )
+            ],
+        )
 
 
 def _pose_link(robot: Robot, base: str, tip: str, goal: PoseTarget, file: str) -> str:
@@ -237,9 +294,17 @@ def _pose_link(robot: Robot, base: str, tip: str, goal: PoseTarget, file: str) -
     except SceneError:
         carried = None
     if carried != moving:
-        raise SceneError(file, [Diagnostic("goal_constraints[0].position_constraints[0].link_name",
-                                           f"link {shown(goal.link)} is not moved by the chain's joints ({shown_list(moving)}) "
-                                           f"alone (expected a link fixed to {shown(tip)}, or --tip-link {goal.link})", goal.line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "goal_constraints[0].position_constraints[0].link_name",
+                    f"link {shown(goal.link)} is not moved by the chain's joints ({shown_list(moving)}) "
+                    f"alone (expected a link fixed to {shown(tip)}, or --tip-link {goal.link})",
+                    goal.line,
+                )
+            ],
+        )
     return goal.link
 
 
@@ -294,7 +359,10 @@ def joint_limits(robot: Robot) -> dict[str, tuple[float, float]]:
         limit = el.find("limit")
         if el.attrib.get("type") == "prismatic" and limit is not None:
             try:
-                out[el.attrib.get("name", "")] = (float(limit.attrib.get("lower", 0)), float(limit.attrib.get("upper", 0)))
+                out[el.attrib.get("name", "")] = (
+                    float(limit.attrib.get("lower", 0)),
+                    float(limit.attrib.get("upper", 0)),
+                )
             except ValueError:
                 continue  # armanim never moves it: its default value is then 0
     return out
@@ -306,16 +374,34 @@ def joint_limits(robot: Robot) -> dict[str, tuple[float, float]]:
 def _known_joint(robot: Robot, value: JointValue, file: str):
     joint = robot.joints.get(value.name)
     if joint is None:
-        raise SceneError(file, [Diagnostic(value.path, f"joint {shown(value.name)} is not a joint of {robot.file} "
-                                                 f"(expected one of: {shown_list(robot.joints)})", value.line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    value.path,
+                    f"joint {shown(value.name)} is not a joint of {robot.file} "
+                    f"(expected one of: {shown_list(robot.joints)})",
+                    value.line,
+                )
+            ],
+        )
     return joint
 
 
 def _within(value: JointValue, limits: tuple[float, float] | None, file: str) -> None:
     if limits is not None and not limits[0] <= value.value <= limits[1]:
-        raise SceneError(file, [Diagnostic(value.path, f"joint {shown(value.name)} at {value.value!r} is outside its limits "
-                                                 f"[{limits[0]!r}, {limits[1]!r}] (MoveIt's bounds are inclusive: "
-                                                 "expected a value within them)", value.line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    value.path,
+                    f"joint {shown(value.name)} at {value.value!r} is outside its limits "
+                    f"[{limits[0]!r}, {limits[1]!r}] (MoveIt's bounds are inclusive: "
+                    "expected a value within them)",
+                    value.line,
+                )
+            ],
+        )
 
 
 def _start_values(world: PlanningWorld, request: MotionRequest | None) -> dict[str, tuple[str, JointValue]]:
@@ -326,8 +412,9 @@ def _start_values(world: PlanningWorld, request: MotionRequest | None) -> dict[s
     return values
 
 
-def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits,
-               own_home: dict[str, float] | None = None) -> tuple[list[float], dict, list[str]]:
+def _arm_state(
+    arm: _Arm, start: dict[str, tuple[str, JointValue]], limits, own_home: dict[str, float] | None = None
+) -> tuple[list[float], dict, list[str]]:
     """(home in degrees, joint_values, notes) of the start state; a chain joint it leaves out takes the
     bundled robot's own home (``own_home``), else MoveIt's default value."""
     robot, notes, others = arm.robot, [], {}
@@ -336,12 +423,25 @@ def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits,
         if name in arm.chain:
             _within(value, limits.get(name), file)
         elif joint.kind == "fixed":
-            notes.append(f"note: {file}:{value.line}: joint {shown(name)} is fixed in {robot.file}: its value {value.value!r} is not used")
+            notes.append(
+                f"note: {file}:{value.line}: joint {shown(name)} is fixed in {robot.file}: its value {value.value!r} is not used"
+            )
         elif joint.mimic:
-            notes.append(f"note: {file}:{value.line}: joint {shown(name)} mimics another joint: its value is not written")
+            notes.append(
+                f"note: {file}:{value.line}: joint {shown(name)} mimics another joint: its value is not written"
+            )
         elif joint.kind in ("floating", "planar"):
-            raise SceneError(file, [Diagnostic(value.path, f"joint {shown(name)} is {joint.kind}: a joint_state cannot "
-                                                              "set it (expected a revolute, continuous or prismatic joint)", value.line)])
+            raise SceneError(
+                file,
+                [
+                    Diagnostic(
+                        value.path,
+                        f"joint {shown(name)} is {joint.kind}: a joint_state cannot "
+                        "set it (expected a revolute, continuous or prismatic joint)",
+                        value.line,
+                    )
+                ],
+            )
         else:
             others[name] = _off_chain_value(joint, value, limits.get(name), file, notes)
     home, missing = [], []
@@ -357,10 +457,17 @@ def _arm_state(arm: _Arm, start: dict[str, tuple[str, JointValue]], limits,
             home.append(scene_value(robot.joints[name], 0.0 if lo <= 0.0 <= hi else (lo + hi) / 2, notes))
     if missing:
         slides = any(robot.joints[n].kind == "prismatic" for n in missing)  # then each value its unit
-        given = [f"{home[arm.chain.index(n)]:g}" + ((" m" if robot.joints[n].kind == "prismatic" else " degrees") if slides else "")
-                 for n in missing]
-        whose = "the robot's own home" if own_home and all(n in own_home for n in missing) else "MoveIt's default values"
-        notes.append(f"note: no start value for {shown_list(missing)}: {', '.join(given)}{'' if slides else ' degrees'} ({whose})")
+        given = [
+            f"{home[arm.chain.index(n)]:g}"
+            + ((" m" if robot.joints[n].kind == "prismatic" else " degrees") if slides else "")
+            for n in missing
+        ]
+        whose = (
+            "the robot's own home" if own_home and all(n in own_home for n in missing) else "MoveIt's default values"
+        )
+        notes.append(
+            f"note: no start value for {shown_list(missing)}: {', '.join(given)}{'' if slides else ' degrees'} ({whose})"
+        )
     return home, others, notes
 
 
@@ -388,8 +495,10 @@ def joint_degrees(joint, radians: float, notes: list[str]) -> float:
     degrees = math.degrees(radians)
     if joint.kind == "continuous" and abs(degrees) > 360:
         turned = math.remainder(degrees, 360.0)
-        notes.append(f"note: continuous joint {shown(joint.name)} at {radians!r} rad is {turned:g} degrees within one turn "
-                     "(a scene's angles are within [-360, 360])")
+        notes.append(
+            f"note: continuous joint {shown(joint.name)} at {radians!r} rad is {turned:g} degrees within one turn "
+            "(a scene's angles are within [-360, 360])"
+        )
         return turned
     return degrees
 
@@ -400,8 +509,10 @@ def _off_chain_value(joint, value: JointValue, limits, file: str, notes: list[st
     v = value.value
     if limits is not None and not limits[0] <= v <= limits[1]:
         clamped = min(max(v, limits[0]), limits[1])
-        notes.append(f"note: {file}:{value.line}: joint {shown(joint.name)} at {v!r} is outside its limits "
-                     f"[{limits[0]!r}, {limits[1]!r}]: {clamped!r} is written")
+        notes.append(
+            f"note: {file}:{value.line}: joint {shown(joint.name)} at {v!r} is outside its limits "
+            f"[{limits[0]!r}, {limits[1]!r}]: {clamped!r} is written"
+        )
         v = clamped
     return scene_value(joint, v, notes)
 
@@ -413,15 +524,33 @@ def _joint_goal(arm: _Arm, request: MotionRequest, limits, notes: list[str]) -> 
     for value in request.joint_goal or ():
         _known_joint(arm.robot, value, request.file)
         if value.name not in arm.chain:
-            raise SceneError(request.file, [Diagnostic(value.path, f"joint {shown(value.name)} is not one of the chain's joints from "
-                                                             f"{arm.base_link} to {arm.tip_link} ({shown_list(arm.chain)}; "
-                                                             "expected those, or another --tip-link)", value.line)])
+            raise SceneError(
+                request.file,
+                [
+                    Diagnostic(
+                        value.path,
+                        f"joint {shown(value.name)} is not one of the chain's joints from "
+                        f"{arm.base_link} to {arm.tip_link} ({shown_list(arm.chain)}; "
+                        "expected those, or another --tip-link)",
+                        value.line,
+                    )
+                ],
+            )
         _within(value, limits.get(value.name), request.file)
         given[value.name] = value.value
     missing = [name for name in arm.chain if name not in given]
     if missing:
-        raise SceneError(request.file, [Diagnostic(path, f"sets no position for {shown_list(missing)} (expected one joint "
-                                                         f"constraint per joint of the chain: {shown_list(arm.chain)})", request.goal_line)])
+        raise SceneError(
+            request.file,
+            [
+                Diagnostic(
+                    path,
+                    f"sets no position for {shown_list(missing)} (expected one joint "
+                    f"constraint per joint of the chain: {shown_list(arm.chain)})",
+                    request.goal_line,
+                )
+            ],
+        )
     return [scene_value(arm.robot.joints[name], given[name], notes) for name in arm.chain]
 
 
@@ -463,9 +592,15 @@ def obstacle(solid: Solid) -> dict:
     if solid.kind == "sphere":
         return {"center": center, "radius": solid.size[0], "name": solid.name}
     if solid.kind == "box":
-        return {"box": {"center": center, "size": list(solid.size), "rpy": _rpy_degrees(solid.pose)}, "name": solid.name}
+        return {
+            "box": {"center": center, "size": list(solid.size), "rpy": _rpy_degrees(solid.pose)},
+            "name": solid.name,
+        }
     length, radius = solid.size
-    return {"cylinder": {"center": center, "length": length, "radius": radius, "rpy": _rpy_degrees(solid.pose)}, "name": solid.name}
+    return {
+        "cylinder": {"center": center, "length": length, "radius": radius, "rpy": _rpy_degrees(solid.pose)},
+        "name": solid.name,
+    }
 
 
 NAME_MAX = 100
@@ -487,7 +622,7 @@ def obstacle_names(solids) -> list[str]:
         name, k = base[:NAME_MAX], 1
         while name in taken:
             k += 1
-            name = base[:NAME_MAX - len(f"-{k}")] + f"-{k}"
+            name = base[: NAME_MAX - len(f"-{k}")] + f"-{k}"
         taken.add(name)
         names.append(name)
     return names
@@ -498,8 +633,9 @@ def _relative(path: Path, folder: Path) -> str:
     return Path(os.path.relpath(Path(path).resolve(), folder.resolve())).as_posix()
 
 
-def _arm_section(arm: _Arm, source: RobotSource, defaults: _Robot, out_dir: Path, placement: np.ndarray, home, others,
-                 tool_xyz) -> dict:
+def _arm_section(
+    arm: _Arm, source: RobotSource, defaults: _Robot, out_dir: Path, placement: np.ndarray, home, others, tool_xyz
+) -> dict:
     """The ``arm`` section; ``placement`` is base_link's pose in the planning frame (written as
     ``base`` and ``base_rpy`` unless it is the identity); a bundled robot's own chain ends (``defaults``)
     are left out."""
@@ -580,7 +716,9 @@ def _file_notes(world: PlanningWorld, motion: MotionRequest | None):
     return [(world, n) for n in world.notes] + ([(motion, n) for n in motion.notes] if motion is not None else [])
 
 
-def _goal(arm: _Arm, motion: MotionRequest | None, home: list[float], limits, notes: list[str]) -> tuple[dict, list | None]:
+def _goal(
+    arm: _Arm, motion: MotionRequest | None, home: list[float], limits, notes: list[str]
+) -> tuple[dict, list | None]:
     """(the goal, the tool's xyz or None)."""
     if motion is None or (motion.joint_goal is None and motion.pose_goal is None):
         notes.append("note: no goal in the request: the goal is the start pose (edit goals: to give one)")
@@ -645,8 +783,10 @@ def _plain(text: str) -> bool:
 
     if not PLAIN_TEXT.fullmatch(text):
         return False
-    return all(loader("").resolve(yaml.ScalarNode, text, (True, False)) == "tag:yaml.org,2002:str"
-               for loader in (yaml.SafeLoader, SceneLoader))
+    return all(
+        loader("").resolve(yaml.ScalarNode, text, (True, False)) == "tag:yaml.org,2002:str"
+        for loader in (yaml.SafeLoader, SceneLoader)
+    )
 
 
 def _key(key: str) -> str:
@@ -656,9 +796,11 @@ def _key(key: str) -> str:
 def scene_text(data: dict, sources: list[str]) -> str:
     """The scene file's text: the importer's first line (with the sha256 of the rest: :func:`unedited_import`),
     then one line per field, obstacle and goal."""
-    lines = ["# (from a MoveIt planning scene and motion plan request: armanim import moveit replaces this file "
-             "only while it is as written)",
-             "version: 1"]
+    lines = [
+        "# (from a MoveIt planning scene and motion plan request: armanim import moveit replaces this file "
+        "only while it is as written)",
+        "version: 1",
+    ]
     for key, value in data.items():
         if key == "version":
             continue

@@ -35,8 +35,11 @@ from armanim.scene.urdf import (
 )
 from armanim.scene.visuals import default_package_dirs
 
-RATE_UNITS = {"max_joint_speed": ("rad/s", "deg/s"), "max_joint_acceleration": ("rad/s^2", "deg/s^2"),
-              "max_joint_jerk": ("rad/s^3", "deg/s^3")}
+RATE_UNITS = {
+    "max_joint_speed": ("rad/s", "deg/s"),
+    "max_joint_acceleration": ("rad/s^2", "deg/s^2"),
+    "max_joint_jerk": ("rad/s^3", "deg/s^3"),
+}
 """The rates a robot.yaml may publish (its ``rates``), each in one of these units."""
 
 
@@ -79,7 +82,9 @@ def _published_rates(info: dict) -> tuple[tuple[str, PublishedRate], ...]:
     for name, rate in (info.get("rates") or {}).items():
         if name not in RATE_UNITS or rate["unit"] not in RATE_UNITS[name]:
             raise ValueError(f"robot.yaml: rates.{name} in {rate.get('unit')!r}: not a rate armanim reads")
-        out[name] = PublishedRate(tuple(float(v) for v in rate["values"]), rate["unit"], " ".join(rate["source"].split()))
+        out[name] = PublishedRate(
+            tuple(float(v) for v in rate["values"]), rate["unit"], " ".join(rate["source"].split())
+        )
     return tuple(out.items())
 
 
@@ -90,10 +95,18 @@ def bundled_robot(name: str) -> BundledRobot:
         raise KeyError(name)
     folder = resources.files("armanim.arm").joinpath("robots", name)
     info = yaml.safe_load(folder.joinpath("robot.yaml").read_text(encoding="utf-8"))  # package data, not user input
-    return BundledRobot(name=name, title=info["title"], urdf=Path(str(folder.joinpath(info["urdf"]))),
-                        base_link=info["base_link"], tip_link=info["tip_link"], home=tuple(info["home"]),
-                        collision=info["collision"], width=float(info["width"]), source=info["source"],
-                        rates=_published_rates(info))
+    return BundledRobot(
+        name=name,
+        title=info["title"],
+        urdf=Path(str(folder.joinpath(info["urdf"]))),
+        base_link=info["base_link"],
+        tip_link=info["tip_link"],
+        home=tuple(info["home"]),
+        collision=info["collision"],
+        width=float(info["width"]),
+        source=info["source"],
+        rates=_published_rates(info),
+    )
 
 
 @cache
@@ -129,8 +142,12 @@ def bundled_matrix(name: str) -> BundledMatrix | None:
     if not file.is_file():
         return None
     info = yaml.safe_load(file.read_text(encoding="utf-8"))  # package data, not user input
-    return BundledMatrix(float(info["clearance"]), int(info["samples"]), int(info["seed"]),
-                         tuple((str(a), str(b), str(reason)) for a, b, reason in info["allowed"]))
+    return BundledMatrix(
+        float(info["clearance"]),
+        int(info["samples"]),
+        int(info["seed"]),
+        tuple((str(a), str(b), str(reason)) for a, b, reason in info["allowed"]),
+    )
 
 
 FITTED_FILE = "fitted-capsules.yaml"
@@ -163,20 +180,26 @@ def run_capsules(path: Path) -> list:
         data = yaml.safe_load(read_bounded(path, MAX_CAPSULES_BYTES, "a run's capsules.yaml"))
         return TypeAdapter(list[CapsuleModel]).validate_python(data["collision"])
     except (yaml.YAMLError, ValidationError, KeyError, TypeError) as exc:
-        raise SceneError(str(path), [Diagnostic("", f"is not a list of collision capsules ({str(exc).splitlines()[0]})")]) from None
+        raise SceneError(
+            str(path), [Diagnostic("", f"is not a list of collision capsules ({str(exc).splitlines()[0]})")]
+        ) from None
 
 
 def capsules_text(robot: UrdfArm) -> str:
     """A run's ``capsules.yaml``: the URDF arm's capsules as the scene's ``arm.collision`` list,
     with a header saying where they came from."""
-    header = ["The arm's collision capsules in this run (armanim), each in its URDF link's frame, in metres.",
-              "Copy the list under the scene's arm section (arm.collision) to keep or edit them."]
+    header = [
+        "The arm's collision capsules in this run (armanim), each in its URDF link's frame, in metres.",
+        "Copy the list under the scene's arm section (arm.collision) to keep or edit them.",
+    ]
     if robot.fitted_links:
         header.append(f"Fitted to their meshes: {', '.join(robot.fitted_links)} (each capsule holds every vertex).")
     if robot.from_visuals:
         header.append(f"(from their visual meshes, having no <collision>: {', '.join(robot.from_visuals)})")
     if robot.fallback_links:
-        header.append(f"Not listed: the joint-to-joint capsules of {', '.join(robot.fallback_links)} (radius arm.width / 2).")
+        header.append(
+            f"Not listed: the joint-to-joint capsules of {', '.join(robot.fallback_links)} (radius arm.width / 2)."
+        )
     return collision_yaml([(c.link, c.start, c.end, c.radius) for c in robot.capsules], "\n".join(header))
 
 
@@ -201,12 +224,21 @@ def fitted_collision_text(urdf: str | Path, package_dirs: list[Path] | None = No
     fitted: dict[str, list] = {}
     for link, capsule in fits.capsules:
         fitted.setdefault(link, []).append((link, capsule.start, capsule.end, capsule.radius))
-    rows = [row for link in robot.links
-            for row in ([(c.link, c.start, c.end, c.radius) for c in primitive_capsules(link, robot)] + fitted.get(link, []))]
-    header = [f"Collision capsules of {path.name} (armanim robots --fit), each in its URDF link's frame, in metres:",
-              "paste under the scene's arm section (arm.collision), after removing the links outside the arm's body."]
+    rows = [
+        row
+        for link in robot.links
+        for row in (
+            [(c.link, c.start, c.end, c.radius) for c in primitive_capsules(link, robot)] + fitted.get(link, [])
+        )
+    ]
+    header = [
+        f"Collision capsules of {path.name} (armanim robots --fit), each in its URDF link's frame, in metres:",
+        "paste under the scene's arm section (arm.collision), after removing the links outside the arm's body.",
+    ]
     if fits.capsules:
-        header.append(f"Fitted to meshes: {', '.join(dict.fromkeys(link for link, _ in fits.capsules))} (each capsule holds every vertex).")
+        header.append(
+            f"Fitted to meshes: {', '.join(dict.fromkeys(link for link, _ in fits.capsules))} (each capsule holds every vertex)."
+        )
     if fits.from_visuals:
         header.append(f"(from their visual meshes, having no <collision>: {', '.join(fits.from_visuals)})")
     header += [f"Not fitted: {problem}" for problem in fits.unread]
@@ -315,9 +347,12 @@ def _check_mimics(robot: Robot, held: tuple[Joint, ...]) -> None:
     free = {j.name for j in held if j.follows is None}
     for joint in held:
         if joint.follows is not None and joint.follows[0] not in free:
-            raise robot.error(f"joint {joint.name!r} mimics {joint.follows[0]!r}, which is not a joint held off the arm's chain "
-                              "(armanim holds a mimic joint off the chain at its <mimic> of such a joint; choose another "
-                              "base_link or tip_link)", joint.line)
+            raise robot.error(
+                f"joint {joint.name!r} mimics {joint.follows[0]!r}, which is not a joint held off the arm's chain "
+                "(armanim holds a mimic joint off the chain at its <mimic> of such a joint; choose another "
+                "base_link or tip_link)",
+                joint.line,
+            )
 
 
 def _check_joint_values(values: dict, robot: Robot, path_joints: list[Joint], held: tuple[Joint, ...]) -> None:
@@ -329,39 +364,58 @@ def _check_joint_values(values: dict, robot: Robot, path_joints: list[Joint], he
     for name, value in values.items():
         loc = ("joint_values", name)
         if name in chain:
-            raise ArmFieldError(loc, f"{name!r} is a joint of the arm's chain (its angle is arm.home's: "
-                                     "joint_values holds the joints off the chain, such as a gripper's)")
+            raise ArmFieldError(
+                loc,
+                f"{name!r} is a joint of the arm's chain (its angle is arm.home's: "
+                "joint_values holds the joints off the chain, such as a gripper's)",
+            )
         joint = robot.joints.get(name)
         if joint is None:
             close = [n for n in mine if name.lower() in n.lower() or n.lower() in name.lower()][:1]
             hint = f"did you mean {close[0]!r}? " if close else ""
-            raise ArmFieldError(loc, f"{name!r} is not a joint of {robot.file} ({hint}the joints held off "
-                                     f"the chain: {', '.join(mine) or 'none'})")
+            raise ArmFieldError(
+                loc,
+                f"{name!r} is not a joint of {robot.file} ({hint}the joints held off "
+                f"the chain: {', '.join(mine) or 'none'})",
+            )
         if joint.follows is not None:
-            raise ArmFieldError(loc, f"joint {name!r} mimics {joint.follows[0]!r} (it follows that joint's "
-                                     f"value by its <mimic>, line {joint.line}: set {joint.follows[0]!r} instead)")
+            raise ArmFieldError(
+                loc,
+                f"joint {name!r} mimics {joint.follows[0]!r} (it follows that joint's "
+                f"value by its <mimic>, line {joint.line}: set {joint.follows[0]!r} instead)",
+            )
         if name not in mine:
             why = "is fixed" if joint.kind == "fixed" else "is not below base_link"
-            raise ArmFieldError(loc, f"joint {name!r} {why} (expected one of the joints held off the chain: "
-                                     f"{', '.join(mine) or 'none'})")
+            raise ArmFieldError(
+                loc,
+                f"joint {name!r} {why} (expected one of the joints held off the chain: {', '.join(mine) or 'none'})",
+            )
         if joint.limits is not None:
             lower, upper = joint.limits
             unit = " m"
             if joint.kind != "prismatic":
                 lower, upper, unit = float(np.degrees(lower)), float(np.degrees(upper)), " degrees"
             if not lower <= value <= upper:
-                raise ArmFieldError(loc, f"{value:g} is outside the limits of joint {name!r}, "
-                                         f"[{lower:g}, {upper:g}]{unit} (line {joint.limit_line} of {robot.file})")
+                raise ArmFieldError(
+                    loc,
+                    f"{value:g} is outside the limits of joint {name!r}, "
+                    f"[{lower:g}, {upper:g}]{unit} (line {joint.limit_line} of {robot.file})",
+                )
 
 
-def read_scene_files(scene: SceneModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
-                     srdf_file: str | Path | None = None) -> SceneModel:
+def read_scene_files(
+    scene: SceneModel,
+    scene_dir: str | Path = ".",
+    urdf_file: str | Path | None = None,
+    srdf_file: str | Path | None = None,
+) -> SceneModel:
     """The validated ``scene`` with its arm's files read (:func:`read_arm_files`)."""
     return scene.model_copy(update={"arm": read_arm_files(scene.arm, scene_dir, urdf_file, srdf_file)})
 
 
-def read_arm_files(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None,
-                   srdf_file: str | Path | None = None) -> ArmModel:
+def read_arm_files(
+    arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | Path | None = None, srdf_file: str | Path | None = None
+) -> ArmModel:
     """A validated ``arm`` section with what its files say: the URDF arm (:func:`resolve_robot`)
     and the SRDF's pairs (:func:`armanim.scene.srdf.resolve_self_collision`).
 
@@ -414,15 +468,21 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
     fits = MeshCapsules()
     if collision == "fitted":
         if bundled is None:
-            raise ValueError("collision: fitted is a bundled robot's set of capsules fitted to its meshes (robot: panda, "
-                             "ur5, iiwa); for your own URDF, collision: auto fits capsules to its meshes")
+            raise ValueError(
+                "collision: fitted is a bundled robot's set of capsules fitted to its meshes (robot: panda, "
+                "ur5, iiwa); for your own URDF, collision: auto fits capsules to its meshes"
+            )
         collision = bundled_fitted(bundled.name)
     kept = Path(urdf_file).parent / CAPSULES_FILE if urdf_file and bundled is None else None
     if collision == "auto" and kept is not None and kept.is_file():
         collision = run_capsules(kept)  # a run folder's copy: the capsules it was solved with (its meshes stay behind)
     if collision == "auto":
         if bundled is None:
-            dirs = [Path(scene_dir or ".") / d for d in arm.package_dirs] if arm.package_dirs else default_package_dirs(path.parent)
+            dirs = (
+                [Path(scene_dir or ".") / d for d in arm.package_dirs]
+                if arm.package_dirs
+                else default_package_dirs(path.parent)
+            )
             fits = mesh_capsules(robot, body, path.parent, dirs)
         fitted: dict[str, list[CapsuleSpec]] = {}
         for link, capsule in fits.capsules:
@@ -459,16 +519,20 @@ def _link(robot: Robot, name: str, field: str) -> str:
     if name not in robot.links:
         close = [n for n in robot.links if name.lower() in n.lower()][:3]
         hint = f"did you mean {close[0]!r}? " if close else ""
-        raise ValueError(f"{field} {name!r} is not a link of {robot.file} ({hint}it has {len(robot.links)} links: "
-                         f"{', '.join(list(robot.links)[:12])}{', ...' if len(robot.links) > 12 else ''})")
+        raise ValueError(
+            f"{field} {name!r} is not a link of {robot.file} ({hint}it has {len(robot.links)} links: "
+            f"{', '.join(list(robot.links)[:12])}{', ...' if len(robot.links) > 12 else ''})"
+        )
     return name
 
 
 def _only_leaf(robot: Robot) -> str:
     leaves = robot.leaves
     if len(leaves) != 1:
-        raise ValueError(f"tip_link is not given and {robot.file} has {len(leaves)} leaf links "
-                         f"({', '.join(leaves[:12])}): set arm.tip_link to the link the arm ends at")
+        raise ValueError(
+            f"tip_link is not given and {robot.file} has {len(leaves)} leaf links "
+            f"({', '.join(leaves[:12])}): set arm.tip_link to the link the arm ends at"
+        )
     return leaves[0]
 
 
@@ -483,8 +547,11 @@ def primitive_capsules(link: str, robot: Robot) -> list[CapsuleSpec]:
         local = _primitive_segment(prim.kind, prim.size)
         ends = prim.origin[:3, :3] @ np.array(local[:2]).T + prim.origin[:3, 3:4]
         out.append(CapsuleSpec(link, ends[:, 0], ends[:, 1], local[2]))
-    return [c for i, c in enumerate(out) if not any(j != i and _inside(c, o) and (not _inside(o, c) or j < i)
-                                                    for j, o in enumerate(out))]
+    return [
+        c
+        for i, c in enumerate(out)
+        if not any(j != i and _inside(c, o) and (not _inside(o, c) or j < i) for j, o in enumerate(out))
+    ]
 
 
 def _primitive_segment(kind: str, size) -> tuple[np.ndarray, np.ndarray, float]:
@@ -516,10 +583,18 @@ def _listed_capsules(collision, links: tuple[str, ...]):
     for i, capsule in enumerate(collision):
         link = capsule.link if hasattr(capsule, "link") else capsule["link"]
         if link not in links:
-            raise ValueError(f"collision[{i}].link {link!r} is not a link of the arm (base_link, the links to tip_link "
-                             f"and those hanging from them; expected one of: {', '.join(links)})")
-        get = (lambda k, c=capsule: getattr(c, "from_" if k == "from" else k)) if hasattr(capsule, "link") else capsule.__getitem__
-        yield CapsuleSpec(link, np.asarray(get("from"), dtype=float), np.asarray(get("to"), dtype=float), float(get("radius")))
+            raise ValueError(
+                f"collision[{i}].link {link!r} is not a link of the arm (base_link, the links to tip_link "
+                f"and those hanging from them; expected one of: {', '.join(links)})"
+            )
+        get = (
+            (lambda k, c=capsule: getattr(c, "from_" if k == "from" else k))
+            if hasattr(capsule, "link")
+            else capsule.__getitem__
+        )
+        yield CapsuleSpec(
+            link, np.asarray(get("from"), dtype=float), np.asarray(get("to"), dtype=float), float(get("radius"))
+        )
 
 
 def _uncovered(joints: list[ChainJoint], links: tuple[str, ...], capsules) -> tuple[str, ...]:

@@ -41,7 +41,9 @@ def parse_srdf(raw: bytes, file: str, links: tuple[str, ...]) -> tuple[tuple[str
     """
     root = _parse_xml(raw, file)
     if root.tag != "robot":
-        raise SceneError(file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: an SRDF file)", root.line)])
+        raise SceneError(
+            file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: an SRDF file)", root.line)]
+        )
     problems, pairs = [], []
     for el in root.findall("disable_collisions"):
         first, second = el.attrib.get("link1"), el.attrib.get("link2")
@@ -51,7 +53,11 @@ def parse_srdf(raw: bytes, file: str, links: tuple[str, ...]) -> tuple[tuple[str
         unknown = [n for n in (first, second) if n not in links]
         if unknown:
             shown = ", ".join(links[:12]) + (", ..." if len(links) > 12 else "")
-            problems.append(Diagnostic("", f"link {unknown[0]!r} is not a link of the arm's robot (expected one of: {shown})", el.line))
+            problems.append(
+                Diagnostic(
+                    "", f"link {unknown[0]!r} is not a link of the arm's robot (expected one of: {shown})", el.line
+                )
+            )
             continue
         pairs.append((first, second, el.attrib.get("reason") or "SRDF"))
     if problems:
@@ -59,7 +65,9 @@ def parse_srdf(raw: bytes, file: str, links: tuple[str, ...]) -> tuple[tuple[str
     return tuple(pairs)
 
 
-def resolve_self_collision(spec, links: tuple[str, ...], scene_dir: str | Path = ".", srdf_file: str | Path | None = None) -> Srdf:
+def resolve_self_collision(
+    spec, links: tuple[str, ...], scene_dir: str | Path = ".", srdf_file: str | Path | None = None
+) -> Srdf:
     """Check the link names of ``arm.self_collision``'s ``allow`` and ``check`` lists (``spec``, a
     ``SelfCollisionModel``; a ValueError, reported at ``arm``) against ``links``, the names it may use
     (the URDF's links, or ``link1``... for an arm of links), and read its SRDF, if any (relative to
@@ -69,9 +77,13 @@ def resolve_self_collision(spec, links: tuple[str, ...], scene_dir: str | Path =
             for name in pair:
                 if name not in links:
                     shown = ", ".join(links[:12]) + (", ..." if len(links) > 12 else "")
-                    raise ValueError(f"self_collision.{field}[{k}] names {name!r}, not a link of the arm (expected one of: {shown})")
+                    raise ValueError(
+                        f"self_collision.{field}[{k}] names {name!r}, not a link of the arm (expected one of: {shown})"
+                    )
             if pair[0] == pair[1]:
-                raise ValueError(f"self_collision.{field}[{k}] pairs {pair[0]!r} with itself (expected two different links)")
+                raise ValueError(
+                    f"self_collision.{field}[{k}] pairs {pair[0]!r} with itself (expected two different links)"
+                )
     if spec.srdf is None:
         return Srdf()
     path = Path(srdf_file) if srdf_file else Path(scene_dir or ".") / spec.srdf

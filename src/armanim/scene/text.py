@@ -106,8 +106,15 @@ def board_normal(right: np.ndarray, up: np.ndarray) -> np.ndarray:
     return n / np.linalg.norm(n)
 
 
-def text_path(string: str, origin: np.ndarray, height: float, right: np.ndarray, up: np.ndarray, lift: float,
-              font: Font | None = None) -> ToolPath:
+def text_path(
+    string: str,
+    origin: np.ndarray,
+    height: float,
+    right: np.ndarray,
+    up: np.ndarray,
+    lift: float,
+    font: Font | None = None,
+) -> ToolPath:
     """``string`` written on the board as one tool path.
 
     Parameters
@@ -143,6 +150,8 @@ def text_path(string: str, origin: np.ndarray, height: float, right: np.ndarray,
     for stroke in text_strokes(string, font):
         points = origin + scale * (stroke[:, :1] * right + stroke[:, 1:] * up)
         if pieces and np.any(pieces[-1].end != points[0]):
-            pieces += ToolPath.polyline(np.array([pieces[-1].end, pieces[-1].end + lifted, points[0] + lifted, points[0]]), ink=False).pieces
+            pieces += ToolPath.polyline(
+                np.array([pieces[-1].end, pieces[-1].end + lifted, points[0] + lifted, points[0]]), ink=False
+            ).pieces
         pieces += ToolPath.polyline(points).pieces
     return ToolPath(tuple(pieces))

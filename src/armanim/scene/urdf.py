@@ -82,7 +82,9 @@ class Joint:
     limits: tuple[float, float] | None
     mimic: bool
     line: int
-    velocity: float | None = None  # <limit velocity>, rad/s, as written (checked > 0 on the arm's path: :func:`joint_speeds`)
+    velocity: float | None = (
+        None  # <limit velocity>, rad/s, as written (checked > 0 on the arm's path: :func:`joint_speeds`)
+    )
     limit_line: int | None = None
     follows: tuple[str, float, float] | None = None
     """A mimic joint's ``<mimic joint multiplier offset>``: value = multiplier x the other's + offset."""
@@ -124,8 +126,11 @@ class Robot:
         while link != base:
             joint = up.get(link)
             if joint is None:
-                raise self.error(f"no path from base_link {base!r} down to tip_link {tip!r} "
-                                 f"({tip!r} is not below {base!r}: choose links on one branch)", self.link_lines[tip])
+                raise self.error(
+                    f"no path from base_link {base!r} down to tip_link {tip!r} "
+                    f"({tip!r} is not below {base!r}: choose links on one branch)",
+                    self.link_lines[tip],
+                )
             joints.append(joint)
             link = joint.parent
         return joints[::-1]
@@ -158,19 +163,30 @@ def parse_urdf(raw: bytes, file: str) -> Robot:
     """
     root = _parse_xml(raw, file)
     if root.tag != "robot":
-        raise SceneError(file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: a URDF file)", root.line)])
+        raise SceneError(
+            file, [Diagnostic("", f"the top element is <{root.tag}> (expected <robot>: a URDF file)", root.line)]
+        )
     links: dict[str, list[Primitive]] = {}
     lines: dict[str, int] = {}
     for el in root.findall("link"):
         name = _name(el, file, "link")
         if name in links:
-            raise SceneError(file, [Diagnostic("", f"link {name!r} is defined twice (first on line {lines[name]})", el.line)])
+            raise SceneError(
+                file, [Diagnostic("", f"link {name!r} is defined twice (first on line {lines[name]})", el.line)]
+            )
         links[name], lines[name] = [_primitive(c, file) for c in el.findall("collision")], el.line
     joints: dict[str, Joint] = {}
     for el in root.findall("joint"):
         joint = _joint(el, file, links)
         if joint.name in joints:
-            raise SceneError(file, [Diagnostic("", f"joint {joint.name!r} is defined twice (first on line {joints[joint.name].line})", el.line)])
+            raise SceneError(
+                file,
+                [
+                    Diagnostic(
+                        "", f"joint {joint.name!r} is defined twice (first on line {joints[joint.name].line})", el.line
+                    )
+                ],
+            )
         joints[joint.name] = joint
     if not links:
         raise SceneError(file, [Diagnostic("", "has no <link> (expected a robot's links and joints)", root.line)])
@@ -194,14 +210,18 @@ def _parse_xml(raw: bytes, file: str) -> Element:
         if count[0] > MAX_ELEMENTS:
             refuse(f"has more than {MAX_ELEMENTS:,} elements (expected a robot description of at most 10,000 joints)")
         if len(stack) >= MAX_DEPTH:
-            refuse(f"nests elements more than {MAX_DEPTH} deep (expected a URDF: robot, link, collision, geometry, ...)")
+            refuse(
+                f"nests elements more than {MAX_DEPTH} deep (expected a URDF: robot, link, collision, geometry, ...)"
+            )
         el = Element(tag, dict(attrib), parser.CurrentLineNumber)
         (stack[-1].children if stack else top).append(el)
         stack.append(el)
 
     def doctype(*_):
-        refuse("declares a DTD (<!DOCTYPE>), which URDF does not use and armanim does not read "
-               "(entity expansion is refused: remove the declaration)")
+        refuse(
+            "declares a DTD (<!DOCTYPE>), which URDF does not use and armanim does not read "
+            "(entity expansion is refused: remove the declaration)"
+        )
 
     parser.StartElementHandler = start
     parser.EndElementHandler = lambda tag: stack.pop()
@@ -211,7 +231,9 @@ def _parse_xml(raw: bytes, file: str) -> Element:
         parser.Parse(raw, True)
     except xml.parsers.expat.ExpatError as exc:
         message = xml.parsers.expat.ErrorString(exc.code)
-        raise SceneError(file, [Diagnostic("", f"is not well-formed XML: {message} (column {exc.offset + 1})", exc.lineno)]) from None
+        raise SceneError(
+            file, [Diagnostic("", f"is not well-formed XML: {message} (column {exc.offset + 1})", exc.lineno)]
+        ) from None
     if not top:
         raise SceneError(file, [Diagnostic("", "has no elements (expected a <robot>)", 1)])
     return top[0]
@@ -220,7 +242,9 @@ def _parse_xml(raw: bytes, file: str) -> Element:
 def _name(el: Element, file: str, what: str) -> str:
     name = el.attrib.get("name")
     if not name:
-        raise SceneError(file, [Diagnostic("", f"a <{what}> has no name attribute (every {what} needs a unique name)", el.line)])
+        raise SceneError(
+            file, [Diagnostic("", f"a <{what}> has no name attribute (every {what} needs a unique name)", el.line)]
+        )
     return name
 
 
@@ -232,11 +256,27 @@ def _numbers(el: Element | None, key: str, count: int, default, file: str, what:
     words = text.split()
     values = tuple(float(v) for v in words) if all(NUMBER.fullmatch(v) for v in words) else ()
     if len(values) != count or not all(math.isfinite(v) for v in values):
-        raise SceneError(file, [Diagnostic("", f"{what}: {key}={shown(text)} (expected {count} finite numbers separated by spaces)", el.line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "", f"{what}: {key}={shown(text)} (expected {count} finite numbers separated by spaces)", el.line
+                )
+            ],
+        )
     big = LIMITS["magnitude"]
     if any(abs(v) > big for v in values):
-        raise SceneError(file, [Diagnostic("", f"{what}: {key}={shown(text)} has a number above {big:g} in size "
-                                               "(expected at most that, as in a scene: choose a smaller unit)", el.line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "",
+                    f"{what}: {key}={shown(text)} has a number above {big:g} in size "
+                    "(expected at most that, as in a scene: choose a smaller unit)",
+                    el.line,
+                )
+            ],
+        )
     return values
 
 
@@ -254,7 +294,10 @@ def _primitive(el: Element, file: str) -> Primitive:
     if shape is None:
         return Primitive("mesh", origin, (), el.line)  # nothing usable: treated like a mesh
     sizes = {
-        "cylinder": lambda: (*_numbers(shape, "radius", 1, (), file, "<cylinder>"), *_numbers(shape, "length", 1, (), file, "<cylinder>")),
+        "cylinder": lambda: (
+            *_numbers(shape, "radius", 1, (), file, "<cylinder>"),
+            *_numbers(shape, "length", 1, (), file, "<cylinder>"),
+        ),
         "sphere": lambda: _numbers(shape, "radius", 1, (), file, "<sphere>"),
         "box": lambda: _numbers(shape, "size", 3, (), file, "<box>"),
     }
@@ -265,7 +308,9 @@ def _primitive(el: Element, file: str) -> Primitive:
             raise SceneError(file, [Diagnostic("", f"<{shape.tag}> has no {attr} attribute", shape.line)])
     size = sizes[shape.tag]()
     if any(v < 0 for v in size):
-        raise SceneError(file, [Diagnostic("", f"<{shape.tag}> has a negative size {size} (expected sizes >= 0)", shape.line)])
+        raise SceneError(
+            file, [Diagnostic("", f"<{shape.tag}> has a negative size {size} (expected sizes >= 0)", shape.line)]
+        )
     return Primitive(shape.tag, origin, size, shape.line)
 
 
@@ -281,33 +326,69 @@ def _joint(el: Element, file: str, links: dict) -> Joint:
             raise SceneError(file, [Diagnostic("", f"{what} has no <{end} link=...>", el.line)])
         if link not in links:
             assert sub is not None  # it named the link
-            raise SceneError(file, [Diagnostic("", f"{what}: {end} link {link!r} is not defined (no <link name={link!r}>)", sub.line)])
+            raise SceneError(
+                file,
+                [Diagnostic("", f"{what}: {end} link {link!r} is not defined (no <link name={link!r}>)", sub.line)],
+            )
         ends[end] = link
     given = el.find("axis")
     axis = np.array(_numbers(given, "xyz", 3, (1.0, 0.0, 0.0), file, f"{what} <axis>"))
     if kind in ON_PATH and not np.abs(axis).max() > 0:  # the default is (1, 0, 0): an axis of zeros was given
-        raise SceneError(file, [Diagnostic("", f"{what} has the axis 0 0 0 (expected a direction, e.g. xyz=\"0 0 1\")", given.line if given is not None else el.line)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "",
+                    f'{what} has the axis 0 0 0 (expected a direction, e.g. xyz="0 0 1")',
+                    given.line if given is not None else el.line,
+                )
+            ],
+        )
     limit = el.find("limit")
     limits = None
     if kind == "prismatic" and limit is not None:  # URDF's defaults: lower = upper = 0
         lower, upper = (_numbers(limit, k, 1, (0.0,), file, f"{what} <limit>")[0] for k in ("lower", "upper"))
         if not lower <= upper:
-            raise SceneError(file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is above upper {upper:g}", limit.line)])
+            raise SceneError(
+                file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is above upper {upper:g}", limit.line)]
+            )
         limits = (lower, upper)
     if kind == "revolute":
         if limit is None or "lower" not in limit.attrib or "upper" not in limit.attrib:
-            raise SceneError(file, [Diagnostic("", f"{what} is revolute but has no <limit lower=... upper=...> "
-                                                   "(give its limits in radians, or make it continuous)", el.line)])
+            raise SceneError(
+                file,
+                [
+                    Diagnostic(
+                        "",
+                        f"{what} is revolute but has no <limit lower=... upper=...> "
+                        "(give its limits in radians, or make it continuous)",
+                        el.line,
+                    )
+                ],
+            )
         lower, upper = (_numbers(limit, k, 1, (), file, f"{what} <limit>")[0] for k in ("lower", "upper"))
         if not lower < upper:
-            raise SceneError(file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is not below upper {upper:g}", limit.line)])
+            raise SceneError(
+                file, [Diagnostic("", f"{what}: <limit> lower {lower:g} is not below upper {upper:g}", limit.line)]
+            )
         limits = (lower, upper)
     velocity = None
     if kind in ON_PATH and limit is not None and "velocity" in limit.attrib:
         velocity = _numbers(limit, "velocity", 1, (), file, f"{what} <limit>")[0]
-    return Joint(name, kind, ends["parent"], ends["child"], _origin(el, file, what), axis, limits,
-                 el.find("mimic") is not None, el.line, velocity, limit.line if limit is not None else None,
-                 _mimic(el.find("mimic"), file, what))
+    return Joint(
+        name,
+        kind,
+        ends["parent"],
+        ends["child"],
+        _origin(el, file, what),
+        axis,
+        limits,
+        el.find("mimic") is not None,
+        el.line,
+        velocity,
+        limit.line if limit is not None else None,
+        _mimic(el.find("mimic"), file, what),
+    )
 
 
 def _mimic(el: Element | None, file: str, what: str) -> tuple[str, float, float] | None:
@@ -316,7 +397,9 @@ def _mimic(el: Element | None, file: str, what: str) -> tuple[str, float, float]
         return None
     other = el.attrib.get("joint")
     if not other:
-        raise SceneError(file, [Diagnostic("", f"{what}: <mimic> has no joint attribute (the joint it follows)", el.line)])
+        raise SceneError(
+            file, [Diagnostic("", f"{what}: <mimic> has no joint attribute (the joint it follows)", el.line)]
+        )
     multiplier = _numbers(el, "multiplier", 1, (1.0,), file, f"{what} <mimic>")[0]
     offset = _numbers(el, "offset", 1, (0.0,), file, f"{what} <mimic>")[0]
     return other, multiplier, offset
@@ -329,24 +412,50 @@ def _check_tree(robot: Robot) -> None:
     for joint in robot.joints.values():
         if joint.child in parent:
             first = parent[joint.child]
-            raise SceneError(file, [Diagnostic("", f"link {joint.child!r} is the child of joints {first.name!r} (line {first.line}) "
-                                                   f"and {joint.name!r} (a URDF is a tree: each link has one parent joint)", joint.line)])
+            raise SceneError(
+                file,
+                [
+                    Diagnostic(
+                        "",
+                        f"link {joint.child!r} is the child of joints {first.name!r} (line {first.line}) "
+                        f"and {joint.name!r} (a URDF is a tree: each link has one parent joint)",
+                        joint.line,
+                    )
+                ],
+            )
         parent[joint.child] = joint
     rooted: set[str] = set()  # links known to lead up to a root: each link is walked once
     for joint in robot.joints.values():
         seen, link = set(), joint.child
         while link in parent and link not in rooted:
             if link in seen:
-                raise SceneError(file, [Diagnostic("", f"joints form a cycle through link {link!r} "
-                                                       "(a URDF is a tree: follow the parent links to find it)", parent[link].line)])
+                raise SceneError(
+                    file,
+                    [
+                        Diagnostic(
+                            "",
+                            f"joints form a cycle through link {link!r} "
+                            "(a URDF is a tree: follow the parent links to find it)",
+                            parent[link].line,
+                        )
+                    ],
+                )
             seen.add(link)
             link = parent[link].parent
         rooted |= seen
     roots = [name for name in robot.links if name not in parent]
     if len(roots) != 1:
         names = ", ".join(repr(r) for r in roots[:5])
-        raise SceneError(file, [Diagnostic("", f"has {len(roots)} root links ({names}; expected one link that no joint has as child)",
-                                           robot.link_lines[roots[1]] if len(roots) > 1 else None)])
+        raise SceneError(
+            file,
+            [
+                Diagnostic(
+                    "",
+                    f"has {len(roots)} root links ({names}; expected one link that no joint has as child)",
+                    robot.link_lines[roots[1]] if len(roots) > 1 else None,
+                )
+            ],
+        )
 
 
 def chain_joints(robot: Robot, base: str, tip: str) -> list[ChainJoint]:
@@ -356,24 +465,39 @@ def chain_joints(robot: Robot, base: str, tip: str) -> list[ChainJoint]:
     for joint in robot.path(base, tip):
         if joint.kind in UNSUPPORTED or joint.kind not in (*ON_PATH, "fixed"):
             kind = joint.kind or "(none)"
-            raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} is of type {kind!r} "
-                              "(armanim moves revolute, continuous and prismatic joints and folds fixed ones; "
-                              "choose another base_link or tip_link)", joint.line)
+            raise robot.error(
+                f"joint {joint.name!r} between {base!r} and {tip!r} is of type {kind!r} "
+                "(armanim moves revolute, continuous and prismatic joints and folds fixed ones; "
+                "choose another base_link or tip_link)",
+                joint.line,
+            )
         if joint.mimic and joint.kind in ON_PATH:
-            raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} mimics another joint "
-                              "(a mimic joint on the arm's path is not supported: choose another tip_link)", joint.line)
+            raise robot.error(
+                f"joint {joint.name!r} between {base!r} and {tip!r} mimics another joint "
+                "(a mimic joint on the arm's path is not supported: choose another tip_link)",
+                joint.line,
+            )
         if joint.kind == SLIDING and (joint.limits is None or not joint.limits[0] < joint.limits[1]):
-            raise robot.error(f"joint {joint.name!r} between {base!r} and {tip!r} is prismatic without room to slide "
-                              "(expected <limit lower=... upper=...> in metres, lower below upper)",
-                              joint.limit_line or joint.line)
-        out.append(ChainJoint(joint.name, joint.origin, joint.axis if joint.kind in ON_PATH else None, joint.kind == SLIDING))
+            raise robot.error(
+                f"joint {joint.name!r} between {base!r} and {tip!r} is prismatic without room to slide "
+                "(expected <limit lower=... upper=...> in metres, lower below upper)",
+                joint.limit_line or joint.line,
+            )
+        out.append(
+            ChainJoint(joint.name, joint.origin, joint.axis if joint.kind in ON_PATH else None, joint.kind == SLIDING)
+        )
     moving = sum(j.axis is not None for j in out)
     if moving > MAX_JOINTS:
-        raise robot.error(f"{moving:,} moving joints between {base!r} and {tip!r} (expected at most {MAX_JOINTS}, "
-                          "as for an arm of links)", robot.link_lines[tip])
+        raise robot.error(
+            f"{moving:,} moving joints between {base!r} and {tip!r} (expected at most {MAX_JOINTS}, "
+            "as for an arm of links)",
+            robot.link_lines[tip],
+        )
     if not moving:
-        raise robot.error(f"no revolute, continuous or prismatic joint between {base!r} and {tip!r} (nothing would move)",
-                          robot.link_lines[tip])
+        raise robot.error(
+            f"no revolute, continuous or prismatic joint between {base!r} and {tip!r} (nothing would move)",
+            robot.link_lines[tip],
+        )
     return out
 
 
@@ -394,8 +518,11 @@ def joint_speeds(robot: Robot, joints: list[Joint]) -> tuple[float | None, ...]:
     """
     for joint in joints:
         if joint.velocity is not None and not joint.velocity > 0:
-            raise robot.error(f"joint {joint.name!r}: <limit> velocity {joint.velocity:g} is not a speed (expected rad/s > 0, "
-                              "or leave velocity out for armanim's default max_joint_speed)", joint.limit_line)
+            raise robot.error(
+                f"joint {joint.name!r}: <limit> velocity {joint.velocity:g} is not a speed (expected rad/s > 0, "
+                "or leave velocity out for armanim's default max_joint_speed)",
+                joint.limit_line,
+            )
     return tuple(j.velocity for j in joints)
 
 

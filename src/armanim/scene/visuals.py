@@ -105,10 +105,14 @@ def visual_specs(raw: bytes, file: str, warn: Callable[[str], None] | None = Non
             spec = _visual(link.attrib.get("name", ""), visual, named)
             if spec is not None:
                 specs.append(spec)
-            elif warn is not None and (shape := _shape_of(visual)) is not None:  # a geometry it names, whose numbers cannot be read
+            elif (
+                warn is not None and (shape := _shape_of(visual)) is not None
+            ):  # a geometry it names, whose numbers cannot be read
                 part = "scale" if shape.tag == "mesh" else "size"
-                warn(f"link {link.attrib.get('name', '')!r}: the visual of line {visual.line} cannot be read (its origin or "
-                     f"{part} is not the finite numbers it needs): drawn as its capsules if it has no other")
+                warn(
+                    f"link {link.attrib.get('name', '')!r}: the visual of line {visual.line} cannot be read (its origin or "
+                    f"{part} is not the finite numbers it needs): drawn as its capsules if it has no other"
+                )
     return specs
 
 
@@ -127,7 +131,9 @@ def _visual(link: str, el: Element, named: dict) -> VisualSpec | None:
         return None
     origin = el.find("origin")
     try:
-        xyz, rpy = (_floats(origin.attrib.get(k, "0 0 0") if origin is not None else "0 0 0", 3) for k in ("xyz", "rpy"))
+        xyz, rpy = (
+            _floats(origin.attrib.get(k, "0 0 0") if origin is not None else "0 0 0", 3) for k in ("xyz", "rpy")
+        )
         scale = _floats(shape.attrib.get("scale", "1 1 1"), 3) if shape.tag == "mesh" else (1.0, 1.0, 1.0)
         keys = {"mesh": (), "box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",)}[shape.tag]
         size = tuple(v for k in keys for v in _floats(shape.attrib[k], 3 if k == "size" else 1))
@@ -205,13 +211,13 @@ def not_a_file(candidates: Iterable[Path]) -> str | None:
 def mesh_candidates(filename: str, urdf_dir: Path, package_dirs: list[Path]) -> Iterator[Path]:
     """The paths a mesh ``filename`` may name, in :func:`mesh_path`'s order."""
     if filename.startswith("package://"):
-        name, _, rest = filename[len("package://"):].partition("/")
+        name, _, rest = filename[len("package://") :].partition("/")
         for folder in package_dirs:
             yield folder / name / rest
             if folder.name == name:
                 yield folder / rest
         return
-    yield Path(filename[len("file://"):]) if filename.startswith("file://") else urdf_dir / filename
+    yield Path(filename[len("file://") :]) if filename.startswith("file://") else urdf_dir / filename
 
 
 def default_package_dirs(urdf_dir: Path) -> list[Path]:
@@ -221,9 +227,14 @@ def default_package_dirs(urdf_dir: Path) -> list[Path]:
     return [folder, *folder.parents]
 
 
-def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path],
-                warn: Callable[[str], None], budget: int | None = TRIANGLE_BUDGET,
-                reader: MeshReader | None = None) -> list[LinkMesh]:
+def link_meshes(
+    specs: list[VisualSpec],
+    urdf_dir: Path,
+    package_dirs: list[Path],
+    warn: Callable[[str], None],
+    budget: int | None = TRIANGLE_BUDGET,
+    reader: MeshReader | None = None,
+) -> list[LinkMesh]:
     """Each link's visuals as one :class:`LinkMesh` in its frame (links in the order they come),
     simplified to ``budget`` triangles in all (None: as read); a visual that cannot be read is
     left out and ``warn`` told why. ``reader`` reads the mesh files (a new one by default: each
@@ -234,8 +245,10 @@ def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path
         mesh = _spec_mesh(spec, urdf_dir, package_dirs, warn, reader)
         if mesh is not None and mesh.triangles:
             if not reader.keep(mesh.triangles):
-                warn(f"link {spec.link!r}: the visual of line {spec.line} is left out: the robot's visuals hold more than "
-                     f"{MAX_LOOK_TRIANGLES:,} triangles in all (drawn as its capsules if it has no other)")
+                warn(
+                    f"link {spec.link!r}: the visual of line {spec.line} is left out: the robot's visuals hold more than "
+                    f"{MAX_LOOK_TRIANGLES:,} triangles in all (drawn as its capsules if it has no other)"
+                )
                 continue
             parts.setdefault(spec.link, []).append(mesh)
     meshes = [_joined(link, pieces) for link, pieces in parts.items()]
@@ -245,37 +258,54 @@ def link_meshes(specs: list[VisualSpec], urdf_dir: Path, package_dirs: list[Path
     return meshes
 
 
-def _spec_mesh(spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn: Callable[[str], None],
-               reader: MeshReader) -> LinkMesh | None:
+def _spec_mesh(
+    spec: VisualSpec, urdf_dir: Path, package_dirs: list[Path], warn: Callable[[str], None], reader: MeshReader
+) -> LinkMesh | None:
     """One visual's triangles in its link's frame, or None (and a warning) when unreadable."""
     import trimesh
 
     if spec.kind == "mesh":
         if mesh_format(spec.filename or "") is None:
-            warn(f"link {spec.link!r}: mesh {spec.filename!r} (line {spec.line}) is not a format armanim reads "
-                 "(STL, OBJ or COLLADA .dae; archives are never opened): drawn as its capsules")
+            warn(
+                f"link {spec.link!r}: mesh {spec.filename!r} (line {spec.line}) is not a format armanim reads "
+                "(STL, OBJ or COLLADA .dae; archives are never opened): drawn as its capsules"
+            )
             return None
         path = mesh_path(spec.filename or "", urdf_dir, package_dirs)
         if path is None:
             other = not_a_file(mesh_candidates(spec.filename or "", urdf_dir, package_dirs))
-            warn(f"link {spec.link!r}: mesh {spec.filename!r} " + (f"{other} (line {spec.line})" if other else
-                 f"not found (line {spec.line}; set arm.package_dirs to the folders its package:// names live in)")
-                 + ": drawn as its capsules")
+            warn(
+                f"link {spec.link!r}: mesh {spec.filename!r} "
+                + (
+                    f"{other} (line {spec.line})"
+                    if other
+                    else f"not found (line {spec.line}; set arm.package_dirs to the folders its package:// names live in)"
+                )
+                + ": drawn as its capsules"
+            )
             return None
         try:
             mesh = mesh_file_triangles(spec, path, reader)
         except Exception as error:  # a user's file: any reader error is a warning, never a failed run
             raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
-            warn(f"link {spec.link!r}: mesh {str(path)!r} could not be read ({unreadable_reason(error)}): "
-                 "drawn as its capsules")
+            warn(
+                f"link {spec.link!r}: mesh {str(path)!r} could not be read ({unreadable_reason(error)}): "
+                "drawn as its capsules"
+            )
             return None
     else:
-        shape = {"box": lambda: trimesh.creation.box(extents=spec.size),
-                 "cylinder": lambda: trimesh.creation.cylinder(radius=spec.size[0], height=spec.size[1], sections=24),
-                 "sphere": lambda: trimesh.creation.icosphere(subdivisions=2, radius=spec.size[0])}[spec.kind]()
+        shape = {
+            "box": lambda: trimesh.creation.box(extents=spec.size),
+            "cylinder": lambda: trimesh.creation.cylinder(radius=spec.size[0], height=spec.size[1], sections=24),
+            "sphere": lambda: trimesh.creation.icosphere(subdivisions=2, radius=spec.size[0]),
+        }[spec.kind]()
         raise_if_interrupted()  # trimesh catches BaseException in places
-        mesh = LinkMesh(spec.link, np.asarray(shape.vertices, dtype=float), np.asarray(shape.faces, dtype=int),
-                        np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)))
+        mesh = LinkMesh(
+            spec.link,
+            np.asarray(shape.vertices, dtype=float),
+            np.asarray(shape.faces, dtype=int),
+            np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)),
+        )
     vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
     finite = np.isfinite(vertices).all(axis=1)[mesh.faces].all(axis=1)  # a huge scale or origin may overflow
     return LinkMesh(spec.link, vertices, mesh.faces[finite], mesh.colors[finite])
@@ -320,15 +350,19 @@ class MeshReader:
         """
         kind = mesh_format(path.name)
         if kind is None:
-            raise ValueError(f"{path.suffix or 'a file without a suffix'} is not a format armanim reads (STL, OBJ or COLLADA .dae)")
+            raise ValueError(
+                f"{path.suffix or 'a file without a suffix'} is not a format armanim reads (STL, OBJ or COLLADA .dae)"
+            )
         stat = path.stat()
         key = (str(path.resolve()), stat.st_dev, stat.st_ino, stat.st_size, stat.st_mtime_ns)
         if key in self._files:
             return self._files[key]
         limit = min(MAX_MESH_BYTES, MAX_LOOK_BYTES - self.bytes_read)
         if stat.st_size > limit:
-            raise ValueError(f"{stat.st_size:,} bytes, more than the {limit:,} left to read "
-                             f"(at most {MAX_MESH_BYTES // 2**20} MB a file, {MAX_LOOK_BYTES // 2**20} MB in all)")
+            raise ValueError(
+                f"{stat.st_size:,} bytes, more than the {limit:,} left to read "
+                f"(at most {MAX_MESH_BYTES // 2**20} MB a file, {MAX_LOOK_BYTES // 2**20} MB in all)"
+            )
         data = read_bounded(path, limit, "a mesh file")
         self.bytes_read += len(data)
         vertices, faces, colors = read_mesh(data, kind)
@@ -354,15 +388,20 @@ def mesh_file_triangles(spec: VisualSpec, path: Path, reader: MeshReader | None 
     own = colors[:, 0] != VISUAL_COLOR  # COLLADA carries authored materials; STL and OBJ take the URDF's colour
     colors = np.where(own[:, None], colors, np.asarray(spec.rgb or DEFAULT_RGB, dtype=float))
     flip = np.prod(spec.scale) < 0  # a mirroring scale turns every triangle inside out
-    return LinkMesh(spec.link, mesh.vertices * np.asarray(spec.scale), mesh.faces[:, ::-1] if flip else mesh.faces, colors)
+    return LinkMesh(
+        spec.link, mesh.vertices * np.asarray(spec.scale), mesh.faces[:, ::-1] if flip else mesh.faces, colors
+    )
 
 
 def _joined(link: str, pieces: list[LinkMesh]) -> LinkMesh:
     """One link's visuals as one mesh."""
     offsets = np.cumsum([0] + [len(p.vertices) for p in pieces])[:-1]
-    return LinkMesh(link, np.concatenate([p.vertices for p in pieces]),
-                    np.concatenate([p.faces + o for p, o in zip(pieces, offsets)]),
-                    np.concatenate([p.colors for p in pieces]))
+    return LinkMesh(
+        link,
+        np.concatenate([p.vertices for p in pieces]),
+        np.concatenate([p.faces + o for p, o in zip(pieces, offsets)]),
+        np.concatenate([p.colors for p in pieces]),
+    )
 
 
 def simplified(mesh: LinkMesh, triangles: int) -> LinkMesh:
@@ -380,8 +419,11 @@ def simplified(mesh: LinkMesh, triangles: int) -> LinkMesh:
         points, kept = points.astype(np.float32), kept.astype(np.int32)
         if len(kept) > share:
             points, kept = fast_simplification.simplify(points, kept, target_reduction=1.0 - share / len(kept))
-        pieces.append(LinkMesh(mesh.link, np.asarray(points, dtype=float), np.asarray(kept, dtype=int),
-                               np.tile(rgb, (len(kept), 1))))
+        pieces.append(
+            LinkMesh(
+                mesh.link, np.asarray(points, dtype=float), np.asarray(kept, dtype=int), np.tile(rgb, (len(kept), 1))
+            )
+        )
     return _joined(mesh.link, pieces)
 
 
@@ -393,8 +435,15 @@ def bundled_link_meshes(folder: Path) -> list[LinkMesh]:
         return []
     with np.load(path) as arrays:
         links = dict.fromkeys(key.split("/")[0] for key in arrays.files)  # in the file's order
-        return [LinkMesh(link, arrays[f"{link}/vertices"].astype(float), arrays[f"{link}/faces"].astype(int),
-                         arrays[f"{link}/colors"].astype(float) / 255.0) for link in links]
+        return [
+            LinkMesh(
+                link,
+                arrays[f"{link}/vertices"].astype(float),
+                arrays[f"{link}/faces"].astype(int),
+                arrays[f"{link}/colors"].astype(float) / 255.0,
+            )
+            for link in links
+        ]
 
 
 def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -418,8 +467,16 @@ def welded(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndar
     return points[used], local.reshape(-1, 3)
 
 
-def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chain: SerialChain,
-                 mount: np.ndarray, fixed: Sequence[LinkMesh] = (), places: dict | None = None) -> ArmMeshes:
+def chain_meshes(
+    meshes: list[LinkMesh],
+    robot: Robot,
+    base: str,
+    tip: str,
+    chain: SerialChain,
+    mount: np.ndarray,
+    fixed: Sequence[LinkMesh] = (),
+    places: dict | None = None,
+) -> ArmMeshes:
     """The links' meshes placed on the chain's frames: a link on the path from ``base`` to
     ``tip`` on its carrier, the base link where the chain is mounted, and a link hanging off
     the path (a gripper below the tip) where ``places`` puts it (the collision model's places,
@@ -436,8 +493,9 @@ def chain_meshes(meshes: list[LinkMesh], robot: Robot, base: str, tip: str, chai
     return placed_link_meshes(meshes, robot, place, fixed)
 
 
-def placed_link_meshes(meshes: list[LinkMesh], robot: Robot, places: LinkPlaces,
-                       fixed: Sequence[LinkMesh] = ()) -> ArmMeshes:
+def placed_link_meshes(
+    meshes: list[LinkMesh], robot: Robot, places: LinkPlaces, fixed: Sequence[LinkMesh] = ()
+) -> ArmMeshes:
     """The links' meshes placed where ``places`` puts their links (carrier, (4, 4) the link's
     frame in the carrier's; :func:`armanim.scene.convert.link_places`, made with the problem's
     arm), a link not in it below the nearest link that is, at its joints' zero. Links not below
@@ -459,6 +517,20 @@ def placed_link_meshes(meshes: list[LinkMesh], robot: Robot, places: LinkPlaces,
     return placed_meshes(kept + list(fixed), carriers + [-1] * len(fixed), offsets + [np.eye(4)] * len(fixed))
 
 
-__all__ = ["DEFAULT_RGB", "MAX_LOOK_BYTES", "MAX_LOOK_TRIANGLES", "MAX_MESH_BYTES", "TRIANGLE_BUDGET", "MeshReader", "VisualSpec", "bundled_link_meshes", "chain_meshes", "default_package_dirs", "link_meshes",
-           "placed_link_meshes",
-           "mesh_path", "simplified", "visual_specs"]
+__all__ = [
+    "DEFAULT_RGB",
+    "MAX_LOOK_BYTES",
+    "MAX_LOOK_TRIANGLES",
+    "MAX_MESH_BYTES",
+    "TRIANGLE_BUDGET",
+    "MeshReader",
+    "VisualSpec",
+    "bundled_link_meshes",
+    "chain_meshes",
+    "default_package_dirs",
+    "link_meshes",
+    "placed_link_meshes",
+    "mesh_path",
+    "simplified",
+    "visual_specs",
+]

@@ -32,8 +32,21 @@ def _parsed_line(event) -> int:
 class _Container:
     """An open list or mapping on the builder's stack."""
 
-    __slots__ = ("kind", "path", "value", "line", "anchor", "size", "depth", "key", "key_line", "skip_key",
-                 "first_line", "discard", "is_key")
+    __slots__ = (
+        "kind",
+        "path",
+        "value",
+        "line",
+        "anchor",
+        "size",
+        "depth",
+        "key",
+        "key_line",
+        "skip_key",
+        "first_line",
+        "discard",
+        "is_key",
+    )
 
     def __init__(self, kind: str, path: str, line: int | None, anchor: str | None, discard: bool):
         self.kind = kind  # "seq" or "map"
@@ -84,8 +97,12 @@ class EventBuilder:
     def _count(self, size: int, depth: int, path: str, line: int | None) -> None:
         self.nodes += size
         if self.nodes > self.max_nodes:
-            self._fail(path, f"the document expands to more than {self.max_nodes:,} values (an alias bomb, or far more "
-                             "data than a scene needs; see the limits in docs/reliability.md)", line)
+            self._fail(
+                path,
+                f"the document expands to more than {self.max_nodes:,} values (an alias bomb, or far more "
+                "data than a scene needs; see the limits in docs/reliability.md)",
+                line,
+            )
         if len(self.stack) + depth > self.max_depth + 1:
             self._fail(abbreviate(path), too_deep(self.max_depth), line)
 
@@ -105,7 +122,12 @@ class EventBuilder:
         return join_path(top.path, top.key)
 
     def _is_key_position(self) -> bool:
-        return bool(self.stack) and self.stack[-1].kind == "map" and self.stack[-1].key is None and not self.stack[-1].skip_key
+        return (
+            bool(self.stack)
+            and self.stack[-1].kind == "map"
+            and self.stack[-1].key is None
+            and not self.stack[-1].skip_key
+        )
 
     def _place(self, value, size: int, depth: int) -> None:
         """Put a finished value into its container (or make it the root)."""
@@ -137,7 +159,13 @@ class EventBuilder:
         key = value if isinstance(value, str) else str(value)
         child = join_path(top.path, key)
         if key in top.first_line:
-            self.problems.append(Diagnostic(child, f"duplicate key {key!r}: first on line {top.first_line[key]}, again on line {line} (keep one)", line))
+            self.problems.append(
+                Diagnostic(
+                    child,
+                    f"duplicate key {key!r}: first on line {top.first_line[key]}, again on line {line} (keep one)",
+                    line,
+                )
+            )
             top.skip_key = True
             return
         top.first_line[key] = line
@@ -167,9 +195,13 @@ class EventBuilder:
             tag = self._scalars.tag(event)
             key: object = _REJECTED_KEY
             if tag == MERGE_TAG:
-                self.problems.append(Diagnostic(where, "merge keys (<<) are not supported (write the keys out in full)", line))
+                self.problems.append(
+                    Diagnostic(where, "merge keys (<<) are not supported (write the keys out in full)", line)
+                )
             elif tag not in STANDARD_TAGS:
-                self.problems.append(Diagnostic(where, f"a mapping key must be a plain name (got a {short_tag(tag)!r} value)", line))
+                self.problems.append(
+                    Diagnostic(where, f"a mapping key must be a plain name (got a {short_tag(tag)!r} value)", line)
+                )
             else:
                 key = self._construct(event, tag, where, line)
             self._key(event, key)
@@ -181,7 +213,13 @@ class EventBuilder:
             self.lines.setdefault(path, line)
             tag = self._scalars.tag(event)
             if tag not in STANDARD_TAGS:
-                self.problems.append(Diagnostic(path, f"unsupported YAML tag {short_tag(tag)!r}, not executed (expected plain values: numbers, strings, lists, mappings)", line))
+                self.problems.append(
+                    Diagnostic(
+                        path,
+                        f"unsupported YAML tag {short_tag(tag)!r}, not executed (expected plain values: numbers, strings, lists, mappings)",
+                        line,
+                    )
+                )
             else:
                 value = self._construct(event, tag, path, line)
         if event.anchor:
@@ -202,12 +240,24 @@ class EventBuilder:
         kind = "seq" if isinstance(event, yaml.SequenceStartEvent) else "map"
         discard = path is None or key_position
         if key_position:
-            self.problems.append(Diagnostic(self.stack[-1].path, f"a mapping key must be a plain name (got a {'list' if kind == 'seq' else 'mapping'})", line))
+            self.problems.append(
+                Diagnostic(
+                    self.stack[-1].path,
+                    f"a mapping key must be a plain name (got a {'list' if kind == 'seq' else 'mapping'})",
+                    line,
+                )
+            )
         elif path is not None:
             self.lines.setdefault(path, line)
             standard = "tag:yaml.org,2002:" + kind
             if event.tag not in (None, "!", standard):
-                self.problems.append(Diagnostic(path, f"unsupported YAML tag {short_tag(event.tag)!r}, not executed (expected plain values: numbers, strings, lists, mappings)", line))
+                self.problems.append(
+                    Diagnostic(
+                        path,
+                        f"unsupported YAML tag {short_tag(event.tag)!r}, not executed (expected plain values: numbers, strings, lists, mappings)",
+                        line,
+                    )
+                )
                 discard = True
         container = _Container(kind, path or "", line, event.anchor, discard)
         container.is_key = key_position
@@ -238,9 +288,15 @@ class EventBuilder:
         key_position = self._is_key_position()
         path = self.stack[-1].path if key_position else self._child_path(line)
         if event.anchor in self.open_anchors:
-            self._fail(path or "", f"the alias *{event.anchor} refers to a value that contains it (a recursive structure cannot be a scene)", line)
+            self._fail(
+                path or "",
+                f"the alias *{event.anchor} refers to a value that contains it (a recursive structure cannot be a scene)",
+                line,
+            )
         if event.anchor not in self.anchors:
-            self._fail(path or "", f"found undefined alias *{event.anchor} (define it with &{event.anchor} first)", line)
+            self._fail(
+                path or "", f"found undefined alias *{event.anchor} (define it with &{event.anchor} first)", line
+            )
         value, size, depth = self.anchors[event.anchor]
         self._count(size, depth, path or "", line)
         if key_position:

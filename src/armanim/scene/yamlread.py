@@ -46,7 +46,10 @@ def _yaml_error(file: str, text: str, exc: yaml.YAMLError) -> SceneError:
     if isinstance(exc, yaml.reader.ReaderError):
         line = text[: exc.position].count("\n") + 1
         char = chr(exc.character) if isinstance(exc.character, int) else exc.character
-        return SceneError(file, [Diagnostic("", f"character {char!r} is not allowed in YAML (control characters must be removed)", line)])
+        return SceneError(
+            file,
+            [Diagnostic("", f"character {char!r} is not allowed in YAML (control characters must be removed)", line)],
+        )
     problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
     if "maximum nesting depth" in problem:  # PyYAML >= 6.0.3 stops deep flow nesting in its scanner, before our count
         return SceneError(file, [Diagnostic("", too_deep(MAX_DEPTH), line)])
@@ -81,7 +84,14 @@ def read_yaml(text: str, file: str) -> YamlDocument:
             if isinstance(event, yaml.DocumentStartEvent):
                 documents += 1
                 if documents > 1:
-                    raise SceneError(file, [Diagnostic("", "but found another document (a scene is one YAML document)", event_line(event))])
+                    raise SceneError(
+                        file,
+                        [
+                            Diagnostic(
+                                "", "but found another document (a scene is one YAML document)", event_line(event)
+                            )
+                        ],
+                    )
             else:
                 builder.feed(event)
     except yaml.YAMLError as exc:
@@ -95,4 +105,3 @@ def read_yaml(text: str, file: str) -> YamlDocument:
     if not builder.have_root:
         raise SceneError(file, [Diagnostic("", "the file is empty (expected a scene: see docs/scene-format.md)", 1)])
     return YamlDocument(data=builder.root, lines=builder.lines, problems=tuple(builder.problems))
-

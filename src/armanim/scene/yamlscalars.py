@@ -12,9 +12,7 @@ import yaml
 
 MAX_FLOAT_DIGITS = 309  # an integer with more digits is beyond a float (1.8e308)
 
-STANDARD_TAGS = {
-    "tag:yaml.org,2002:" + t for t in ("map", "seq", "str", "int", "float", "bool", "null")
-}
+STANDARD_TAGS = {"tag:yaml.org,2002:" + t for t in ("map", "seq", "str", "int", "float", "bool", "null")}
 MERGE_TAG = "tag:yaml.org,2002:merge"
 _DECIMAL = re.compile(r"[-+]?(?:0|[1-9][0-9]*)")  # the common ints and floats, read without
 _DECIMAL_FLOAT = re.compile(r"[-+]?[0-9]+\.[0-9]*(?:[eE][-+]?[0-9]+)?|[-+]?[0-9]+[eE][-+]?[0-9]+")  # PyYAML's detour
@@ -76,7 +74,10 @@ class ScalarReader:
         if tag == "tag:yaml.org,2002:int":
             digits = sum(c.isdigit() for c in value) if len(value) > MAX_FLOAT_DIGITS else 0
             if digits > MAX_FLOAT_DIGITS:
-                return _TOO_LARGE, f"a {digits}-digit integer is too large (numbers must be finite: at most about 1.8e308)"
+                return (
+                    _TOO_LARGE,
+                    f"a {digits}-digit integer is too large (numbers must be finite: at most about 1.8e308)",
+                )
             if _DECIMAL.fullmatch(value):
                 return int(value), None
         elif tag == "tag:yaml.org,2002:float" and _DECIMAL_FLOAT.fullmatch(value):

@@ -92,7 +92,9 @@ class Body:
             return float(2.0 * local @ self.half)
         axis = 0 if self.kind == ROD else 2  # a capsule's segment along x, a cylinder's height along z
         if self.kind == CYLINDER:
-            return float(2.0 * (self.radius * np.sqrt(max(0.0, 1.0 - local[axis] ** 2)) + self.half[axis] * local[axis]))
+            return float(
+                2.0 * (self.radius * np.sqrt(max(0.0, 1.0 - local[axis] ** 2)) + self.half[axis] * local[axis])
+            )
         return float(2.0 * (self.radius + self.half[axis] * local[axis]))
 
 
@@ -113,12 +115,22 @@ def obstacle_body(obstacles: Obstacles, column: int) -> Body:
         return Body(BOX, b.rotations[index].copy(), b.centers[index].copy(), b.half[index].copy())
     if kind == ROD:
         axis = obstacles.rods.axes()
-        return Body(ROD, axis.rotations[index].copy(), axis.centers[index].copy(), axis.half[index].copy(),
-                    float(obstacles.rods.radius[index]))
+        return Body(
+            ROD,
+            axis.rotations[index].copy(),
+            axis.centers[index].copy(),
+            axis.half[index].copy(),
+            float(obstacles.rods.radius[index]),
+        )
     if kind == CYLINDER:
         c = obstacles.cylinders
-        return Body(CYLINDER, c.rotations[index].copy(), c.centers[index].copy(), np.array([0.0, 0.0, c.half_length[index]]),
-                    float(c.radius[index]))
+        return Body(
+            CYLINDER,
+            c.rotations[index].copy(),
+            c.centers[index].copy(),
+            np.array([0.0, 0.0, c.half_length[index]]),
+            float(c.radius[index]),
+        )
     raise ValueError(f"column {column} is the floor, which no arm carries")
 
 
@@ -155,14 +167,24 @@ def solids_obstacles(solids: list[tuple[Body, float, str | None]], floor: float 
         centers=np.array([b.center for b in spheres], dtype=float).reshape(-1, 3),
         radii=np.array([b.radius for b in spheres], dtype=float),
         influence=np.array(influence, dtype=float),
-        boxes=Boxes(np.array([b.center for b in boxes]).reshape(-1, 3), np.array([b.half for b in boxes]).reshape(-1, 3),
-                    np.array([b.rotation for b in boxes]).reshape(-1, 3, 3)),
-        rods=Rods(np.array([a for a, _ in ends]).reshape(-1, 3), np.array([b for _, b in ends]).reshape(-1, 3),
-                  np.array([b.radius for b in rods], dtype=float)),
+        boxes=Boxes(
+            np.array([b.center for b in boxes]).reshape(-1, 3),
+            np.array([b.half for b in boxes]).reshape(-1, 3),
+            np.array([b.rotation for b in boxes]).reshape(-1, 3, 3),
+        ),
+        rods=Rods(
+            np.array([a for a, _ in ends]).reshape(-1, 3),
+            np.array([b for _, b in ends]).reshape(-1, 3),
+            np.array([b.radius for b in rods], dtype=float),
+        ),
         floor=floor,
         kinds=np.array(kinds, dtype=int),
-        cylinders=Cylinders(np.array([b.center for b in cylinders]).reshape(-1, 3), np.array([b.rotation for b in cylinders]).reshape(-1, 3, 3),
-                            np.array([b.half[2] for b in cylinders], dtype=float), np.array([b.radius for b in cylinders], dtype=float)),
+        cylinders=Cylinders(
+            np.array([b.center for b in cylinders]).reshape(-1, 3),
+            np.array([b.rotation for b in cylinders]).reshape(-1, 3, 3),
+            np.array([b.half[2] for b in cylinders], dtype=float),
+            np.array([b.radius for b in cylinders], dtype=float),
+        ),
         names=tuple(names) if any(n is not None for n in names) else (),
     )
 
@@ -272,7 +294,9 @@ def cover_margin(body: Body) -> float:
     cell = min(u, v) / CELLS_PER_SIDE
     cu, cv = u / max(1, math.ceil(u / cell - 1e-9)), v / max(1, math.ceil(v / cell - 1e-9))
     e = min(float(half[axis]), max(cu, cv))
-    beyond = (math.sqrt(2.0) - 1.0) * body.radius if body.kind == CYLINDER else 0.0  # the box round a flat cylinder: its corners
+    beyond = (
+        (math.sqrt(2.0) - 1.0) * body.radius if body.kind == CYLINDER else 0.0
+    )  # the box round a flat cylinder: its corners
     return float(math.sqrt(cu * cu + cv * cv + e * e) - min(cu, cv, e) + beyond)
 
 
@@ -291,7 +315,9 @@ def cover_clearances(body: Body, obstacles: Obstacles) -> np.ndarray:
 
     start, end, radius = world_cover(body)
     caps = Capsules(np.zeros(len(radius), dtype=int), start, end, radius)
-    at_origin = Pose(points=np.zeros((2, 3)), frames=np.eye(3)[None])  # one joint at the world's origin: its frame is the world
+    at_origin = Pose(
+        points=np.zeros((2, 3)), frames=np.eye(3)[None]
+    )  # one joint at the world's origin: its frame is the world
     d = clearances(at_origin, obstacles, caps).links.min(axis=0) if len(obstacles) else np.zeros(0)
     if obstacles.floor is not None:  # the parts of joint 1 stand on the base, which the floor exempts: measured here
         d[obstacles.columns(FLOOR)] = float(np.min(np.minimum(start[:, 2], end[:, 2]) - radius)) - obstacles.floor

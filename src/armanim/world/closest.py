@@ -79,8 +79,9 @@ def segment_box(
     return t.reshape(shape)[()], dist.reshape(shape)[()], normal.reshape(shape + (3,))
 
 
-def segment_box_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.ndarray,
-                     rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def segment_box_grid(
+    a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.ndarray, rotation: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`segment_box` of every segment a-b ((..., p, 3) each) against every box
     (center and half (k, 3), rotation (k, 3, 3)): t and distance (..., p, k), normal (..., p, k, 3).
 
@@ -98,8 +99,15 @@ def segment_box_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.
     return t.reshape(segments + (k,)), dist.reshape(segments + (k,)), normal.reshape(segments + (k, 3))
 
 
-def segment_box_pairs(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np.ndarray, rotation: np.ndarray, segment: ArrayLike,
-                      box: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def segment_box_pairs(
+    a: np.ndarray,
+    b: np.ndarray,
+    center: np.ndarray,
+    half: np.ndarray,
+    rotation: np.ndarray,
+    segment: ArrayLike,
+    box: ArrayLike,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`segment_box` of the pairs (``segment[p]``, ``box[p]``) of the segments a-b
     ((M, 3) each) and the boxes ((K, 3), (K, 3), (K, 3, 3)): t and distance (P,), normal
     (P, 3); each pair's numbers are those :func:`segment_box_grid` gives it, bit for bit."""
@@ -108,13 +116,15 @@ def segment_box_pairs(a: np.ndarray, b: np.ndarray, center: np.ndarray, half: np
     segment, box = np.asarray(segment, dtype=np.intp), np.asarray(box, dtype=np.intp)
     n = len(segment)
     t, dist, normal = np.empty(n), np.empty(n), np.empty((n, 3))
-    compiled.segment_box_pairs(_rows(a), _rows(b), _rows(center), _rows(half), _rows(rotation, 2),
-                               segment, box, t, dist, normal)
+    compiled.segment_box_pairs(
+        _rows(a), _rows(b), _rows(center), _rows(half), _rows(rotation, 2), segment, box, t, dist, normal
+    )
     return t, dist, normal
 
 
-def segment_cylinder_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, half_length: np.ndarray,
-                          radius: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def segment_cylinder_grid(
+    a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, half_length: np.ndarray, radius: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Least signed distance of every segment a-b ((..., p, 3) each) to every solid cylinder
     (center (k, 3), rotation (k, 3, 3) with the axis its third column, half_length and radius
     (k,)): t and distance (..., p, k), normal (..., p, k, 3), compiled
@@ -132,13 +142,30 @@ def segment_cylinder_grid(a: np.ndarray, b: np.ndarray, center: np.ndarray, rota
     a, b = _rows(a), _rows(b)
     k = len(center)
     t, dist, normal = np.empty((len(a), k)), np.empty((len(a), k)), np.empty((len(a), k, 3))
-    compiled.segment_cylinder_grid(a, b, _rows(center), _rows(rotation, 2), np.ascontiguousarray(half_length, dtype=float),
-                                   np.ascontiguousarray(radius, dtype=float), t, dist, normal)
+    compiled.segment_cylinder_grid(
+        a,
+        b,
+        _rows(center),
+        _rows(rotation, 2),
+        np.ascontiguousarray(half_length, dtype=float),
+        np.ascontiguousarray(radius, dtype=float),
+        t,
+        dist,
+        normal,
+    )
     return t.reshape(segments + (k,)), dist.reshape(segments + (k,)), normal.reshape(segments + (k, 3))
 
 
-def segment_cylinder_pairs(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, half_length: np.ndarray,
-                           radius: np.ndarray, segment: ArrayLike, cylinder: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def segment_cylinder_pairs(
+    a: np.ndarray,
+    b: np.ndarray,
+    center: np.ndarray,
+    rotation: np.ndarray,
+    half_length: np.ndarray,
+    radius: np.ndarray,
+    segment: ArrayLike,
+    cylinder: ArrayLike,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`segment_cylinder_grid` of the pairs (``segment[p]``, ``cylinder[p]``) of the segments
     a-b ((M, 3) each) and the cylinders: t and distance (P,), normal (P, 3), bit for bit the grid's."""
     from armanim.world import compiled
@@ -146,12 +173,23 @@ def segment_cylinder_pairs(a: np.ndarray, b: np.ndarray, center: np.ndarray, rot
     segment, cylinder = np.asarray(segment, dtype=np.intp), np.asarray(cylinder, dtype=np.intp)
     n = len(segment)
     t, dist, normal = np.empty(n), np.empty(n), np.empty((n, 3))
-    compiled.segment_cylinder_pairs(_rows(a), _rows(b), _rows(center), _rows(rotation, 2), np.ascontiguousarray(half_length, dtype=float),
-                                    np.ascontiguousarray(radius, dtype=float), segment, cylinder, t, dist, normal)
+    compiled.segment_cylinder_pairs(
+        _rows(a),
+        _rows(b),
+        _rows(center),
+        _rows(rotation, 2),
+        np.ascontiguousarray(half_length, dtype=float),
+        np.ascontiguousarray(radius, dtype=float),
+        segment,
+        cylinder,
+        t,
+        dist,
+        normal,
+    )
     return t, dist, normal
 
 
 def _rows(v: np.ndarray, ndim: int = 1) -> np.ndarray:
     """``v`` as C-contiguous float rows of its last ``ndim`` axes: (N, 3) or (N, 3, 3)."""
     v = np.asarray(v, dtype=float)
-    return np.ascontiguousarray(v.reshape((-1,) + v.shape[v.ndim - ndim:]))
+    return np.ascontiguousarray(v.reshape((-1,) + v.shape[v.ndim - ndim :]))

@@ -163,11 +163,23 @@ def _gap(s: np.ndarray, t: float, h: np.ndarray) -> float:
 
 
 @compiled(**_JIT)
-def _pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, h: np.ndarray, rotation: np.ndarray, s: np.ndarray, normal: np.ndarray) -> tuple[float, float]:
+def _pair(
+    a: np.ndarray,
+    b: np.ndarray,
+    center: np.ndarray,
+    h: np.ndarray,
+    rotation: np.ndarray,
+    s: np.ndarray,
+    normal: np.ndarray,
+) -> tuple[float, float]:
     """Segment a-b ((3,) each) against one box: writes the world unit normal into ``normal``
     (3,) and returns (t, signed distance); ``s``: the (SCRATCH,) work space."""
     for i in range(3):  # the box frame: R^T (a - c) and R^T (b - a)
-        s[X0 + i] = (a[0] - center[0]) * rotation[0, i] + (a[1] - center[1]) * rotation[1, i] + (a[2] - center[2]) * rotation[2, i]
+        s[X0 + i] = (
+            (a[0] - center[0]) * rotation[0, i]
+            + (a[1] - center[1]) * rotation[1, i]
+            + (a[2] - center[2]) * rotation[2, i]
+        )
         s[U + i] = (b[0] - a[0]) * rotation[0, i] + (b[1] - a[1]) * rotation[1, i] + (b[2] - a[2]) * rotation[2, i]
     t = _least_outside(s, h)
     dist = np.sqrt(_gap(s, t, h))
@@ -197,7 +209,16 @@ def _pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, h: np.ndarray, rotat
 
 
 @compiled(**_JIT)
-def segment_box_grid(a: np.ndarray, b: np.ndarray, centers: np.ndarray, half: np.ndarray, rotations: np.ndarray, t: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+def segment_box_grid(
+    a: np.ndarray,
+    b: np.ndarray,
+    centers: np.ndarray,
+    half: np.ndarray,
+    rotations: np.ndarray,
+    t: np.ndarray,
+    dist: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Every segment a_m-b_m ((M, 3) each) against every box ((K, 3), (K, 3), (K, 3, 3)):
     fills t and dist (M, K) and normal (M, K, 3)."""
     s = np.empty(SCRATCH)
@@ -207,8 +228,18 @@ def segment_box_grid(a: np.ndarray, b: np.ndarray, centers: np.ndarray, half: np
 
 
 @compiled(**_JIT)
-def segment_box_pairs(a: np.ndarray, b: np.ndarray, centers: np.ndarray, half: np.ndarray, rotations: np.ndarray, segment: np.ndarray, box: np.ndarray,
-                      t: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+def segment_box_pairs(
+    a: np.ndarray,
+    b: np.ndarray,
+    centers: np.ndarray,
+    half: np.ndarray,
+    rotations: np.ndarray,
+    segment: np.ndarray,
+    box: np.ndarray,
+    t: np.ndarray,
+    dist: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Segment ``segment[p]`` against box ``box[p]`` for each pair p: fills t and dist (P,)
     and normal (P, 3)."""
     s = np.empty(SCRATCH)
@@ -260,7 +291,9 @@ def _add_roots(qa: float, qb: float, qc: float, s: np.ndarray, n: int) -> int:
 
 
 @compiled(**_JIT)
-def _rim_slope(t: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float, side: float) -> float:
+def _rim_slope(
+    t: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float, side: float
+) -> float:
     """Half the derivative in t of the squared distance of x0 + t u to the rim at z = side h
     (where the point is beyond the side and that cap): (rho - r) rho' + (side z - h) side u_z."""
     px = x0 + t * ux
@@ -282,8 +315,19 @@ def _rim_curvature(t: float, x0: float, y0: float, ux: float, uy: float, uz: flo
 
 
 @compiled(**_JIT)
-def _rim_minimum(lo: float, hi: float, x0: float, y0: float, z0: float, ux: float, uy: float, uz: float, h: float, r: float,
-                 side: float) -> float:
+def _rim_minimum(
+    lo: float,
+    hi: float,
+    x0: float,
+    y0: float,
+    z0: float,
+    ux: float,
+    uy: float,
+    uz: float,
+    h: float,
+    r: float,
+    side: float,
+) -> float:
     """The t in [lo, hi] nearest the rim on a piece where the segment lies beyond the side and
     the cap ``side``: the root of :func:`_rim_slope` (nondecreasing: the distance to the circle
     is convex there), by Newton's steps kept inside a bracket that each step shrinks, a
@@ -317,8 +361,16 @@ def _rim_minimum(lo: float, hi: float, x0: float, y0: float, z0: float, ux: floa
 
 
 @compiled(**_JIT)
-def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, h: float, r: float, s: np.ndarray,
-                   normal: np.ndarray) -> tuple[float, float]:
+def _cylinder_pair(
+    a: np.ndarray,
+    b: np.ndarray,
+    center: np.ndarray,
+    rotation: np.ndarray,
+    h: float,
+    r: float,
+    s: np.ndarray,
+    normal: np.ndarray,
+) -> tuple[float, float]:
     """Segment a-b ((3,) each) against one solid cylinder (centre, world-from-cylinder
     ``rotation``, half length ``h``, radius ``r``; axis local z): writes the world unit normal
     (the cylinder's signed distance's gradient at the segment's least point, out of it) into
@@ -364,7 +416,9 @@ def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: n
         d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
         if d < best or (d == best and tk > best_t):
             best, best_t = d, tk
-    if not best > TOUCHING:  # it may enter: where it crosses the middle plane, and as deep below the side as below a cap
+    if (
+        not best > TOUCHING
+    ):  # it may enter: where it crosses the middle plane, and as deep below the side as below a cap
         first = n
         if uz != 0.0:
             s[n] = _clamp(-z0 / uz, 0.0, 1.0)
@@ -414,20 +468,41 @@ def _cylinder_pair(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: n
 
 
 @compiled(**_JIT)
-def segment_cylinder_grid(a: np.ndarray, b: np.ndarray, centers: np.ndarray, rotations: np.ndarray, half_length: np.ndarray,
-                          radius: np.ndarray, t: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+def segment_cylinder_grid(
+    a: np.ndarray,
+    b: np.ndarray,
+    centers: np.ndarray,
+    rotations: np.ndarray,
+    half_length: np.ndarray,
+    radius: np.ndarray,
+    t: np.ndarray,
+    dist: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Every segment a_m-b_m ((M, 3) each) against every cylinder ((K, 3), (K, 3, 3), (K,), (K,)):
     fills t and dist (M, K) and normal (M, K, 3) (:func:`_cylinder_pair`)."""
     s = np.empty(CYLINDER_SCRATCH)
     for m in range(a.shape[0]):
         for k in range(centers.shape[0]):
-            t[m, k], dist[m, k] = _cylinder_pair(a[m], b[m], centers[k], rotations[k], half_length[k], radius[k], s, normal[m, k])
+            t[m, k], dist[m, k] = _cylinder_pair(
+                a[m], b[m], centers[k], rotations[k], half_length[k], radius[k], s, normal[m, k]
+            )
 
 
 @compiled(**_JIT)
-def segment_cylinder_pairs(a: np.ndarray, b: np.ndarray, centers: np.ndarray, rotations: np.ndarray, half_length: np.ndarray,
-                           radius: np.ndarray, segment: np.ndarray, cylinder: np.ndarray, t: np.ndarray, dist: np.ndarray,
-                           normal: np.ndarray) -> None:
+def segment_cylinder_pairs(
+    a: np.ndarray,
+    b: np.ndarray,
+    centers: np.ndarray,
+    rotations: np.ndarray,
+    half_length: np.ndarray,
+    radius: np.ndarray,
+    segment: np.ndarray,
+    cylinder: np.ndarray,
+    t: np.ndarray,
+    dist: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Segment ``segment[p]`` against cylinder ``cylinder[p]`` for each pair p: fills t and dist
     (P,) and normal (P, 3), each pair's numbers those of :func:`segment_cylinder_grid`."""
     s = np.empty(CYLINDER_SCRATCH)
@@ -443,7 +518,9 @@ leaves them to the box form's tie rules."""
 
 
 @compiled(**_JIT)
-def _segments_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int) -> tuple[float, float, float]:
+def _segments_apart(
+    a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int
+) -> tuple[float, float, float]:
     """Closest points of segments i and j (rows of a-b) where they are unique and apart: (t on i,
     s on j, distance), the unit normal from j's point to i's into row p of ``normal`` (an index, not a
     row view: a view per pair costs more than the closed form); distance -1 where
@@ -472,7 +549,9 @@ def _segments_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.nda
 
 
 @compiled(**_JIT)
-def _points_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int) -> tuple[float, float, float]:
+def _points_apart(
+    a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarray, p: int
+) -> tuple[float, float, float]:
     """Segments i and j (rows of a-b) of which one or both have no length (a sphere's capsule):
     (t on i, s on j, distance), the unit normal from j's point to i's into row p of ``normal``;
     a point's fraction is 0. Distance -1 where neither is a point or they touch (left to the box
@@ -496,8 +575,21 @@ def _points_apart(a: np.ndarray, b: np.ndarray, i: int, j: int, normal: np.ndarr
 
 
 @compiled(**_JIT)
-def _apart(r0: float, r1: float, r2: float, d10: float, d11: float, d12: float, d20: float, d21: float, d22: float,
-           t: float, s: float, normal: np.ndarray, p: int) -> tuple[float, float, float]:
+def _apart(
+    r0: float,
+    r1: float,
+    r2: float,
+    d10: float,
+    d11: float,
+    d12: float,
+    d20: float,
+    d21: float,
+    d22: float,
+    t: float,
+    s: float,
+    normal: np.ndarray,
+    p: int,
+) -> tuple[float, float, float]:
     """The closest points at fractions t of segment i (direction d1) and s of segment j (d2),
     r = a_i - a_j: (t, s, distance), their unit normal from j's point to i's into row p of
     ``normal``; distance -1 where they touch (:data:`TOUCHING`)."""
@@ -512,7 +604,16 @@ def _apart(r0: float, r1: float, r2: float, d10: float, d11: float, d12: float, 
 
 
 @compiled(**_JIT)
-def segment_segment_pairs(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+def segment_segment_pairs(
+    a: np.ndarray,
+    b: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s_out: np.ndarray,
+    dist: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Segment ``first[p]`` against segment ``second[p]`` (rows of a-b, (M, 3) each) for each pair
     p. Fills t (the first's fraction), s_out (the second's fraction of its point nearest the
     first's), dist (P,) and normal (P, 3) (out of the second). Where the closest points are unique
@@ -527,8 +628,17 @@ def segment_segment_pairs(a: np.ndarray, b: np.ndarray, first: np.ndarray, secon
 
 
 @compiled(**_JIT)
-def capsule_pair_gaps(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, radii: np.ndarray,
-                      t: np.ndarray, s_out: np.ndarray, gap: np.ndarray, normal: np.ndarray) -> float:
+def capsule_pair_gaps(
+    a: np.ndarray,
+    b: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    radii: np.ndarray,
+    t: np.ndarray,
+    s_out: np.ndarray,
+    gap: np.ndarray,
+    normal: np.ndarray,
+) -> float:
     """:func:`segment_segment_pairs`, less each pair's two ``radii`` (P,): the capsules' gaps into
     ``gap``; returns the least (NaN if any is)."""
     segment_segment_pairs(a, b, first, second, t, s_out, gap, normal)
@@ -541,7 +651,16 @@ def capsule_pair_gaps(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: n
 
 
 @compiled(**_JIT)
-def segment_segment_boxes(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+def segment_segment_boxes(
+    a: np.ndarray,
+    b: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s_out: np.ndarray,
+    dist: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """:func:`segment_segment_pairs` by the segment-box closed form alone, every pair (the
     reference the tests hold the segment-segment form to)."""
     dist[:] = -1.0
@@ -549,7 +668,16 @@ def segment_segment_boxes(a: np.ndarray, b: np.ndarray, first: np.ndarray, secon
 
 
 @compiled(**_JIT)
-def segment_box_pairs_of_segments(a: np.ndarray, b: np.ndarray, first: np.ndarray, second: np.ndarray, t: np.ndarray, s_out: np.ndarray, dist: np.ndarray, normal: np.ndarray) -> None:
+def segment_box_pairs_of_segments(
+    a: np.ndarray,
+    b: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s_out: np.ndarray,
+    dist: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """The pairs whose ``dist`` is still negative (not measured yet), by the segment-box closed
     form (:func:`segment_segment_pairs`)."""
     s = np.empty(SCRATCH)
@@ -596,10 +724,21 @@ def segment_box_pairs_of_segments(a: np.ndarray, b: np.ndarray, first: np.ndarra
         s_out[p] = _clamp(along / length2, 0.0, 1.0) if length2 > 0.0 else 0.0
 
 
-
 @compiled(**_JIT)
-def pair_rows(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
-              t: np.ndarray, s: np.ndarray, normal: np.ndarray, which: np.ndarray, rows: np.ndarray) -> None:
+def pair_rows(
+    points: np.ndarray,
+    axes: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    link: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s: np.ndarray,
+    normal: np.ndarray,
+    which: np.ndarray,
+    rows: np.ndarray,
+) -> None:
     """Rows n . (J_A - J_B) (k, n) of the capsule pairs ``which`` (k,) at one pose: A the point at
     fraction t along capsule ``first[p]`` (segment a-b, (C, 3) each), B at s along ``second[p]``,
     n the pair's normal (P, 3); column m of a point's Jacobian is w_m x (q - p_m) for the joints
@@ -610,24 +749,75 @@ def pair_rows(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray
 
 
 @compiled(**_JIT)
-def pair_row(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
-              t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int, scratch: np.ndarray, row: np.ndarray) -> None:
+def pair_row(
+    points: np.ndarray,
+    axes: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    link: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s: np.ndarray,
+    normal: np.ndarray,
+    p: int,
+    scratch: np.ndarray,
+    row: np.ndarray,
+) -> None:
     """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`); ``scratch``: (9,) work space (unused: kept for the callers)."""
     i, j = first[p], second[p]
     la, lb = link[i], link[j]
     tp, sp = t[p], s[p]
-    qa0, qa1, qa2 = a[i, 0] + tp * (b[i, 0] - a[i, 0]), a[i, 1] + tp * (b[i, 1] - a[i, 1]), a[i, 2] + tp * (b[i, 2] - a[i, 2])
-    qb0, qb1, qb2 = a[j, 0] + sp * (b[j, 0] - a[j, 0]), a[j, 1] + sp * (b[j, 1] - a[j, 1]), a[j, 2] + sp * (b[j, 2] - a[j, 2])
+    qa0, qa1, qa2 = (
+        a[i, 0] + tp * (b[i, 0] - a[i, 0]),
+        a[i, 1] + tp * (b[i, 1] - a[i, 1]),
+        a[i, 2] + tp * (b[i, 2] - a[i, 2]),
+    )
+    qb0, qb1, qb2 = (
+        a[j, 0] + sp * (b[j, 0] - a[j, 0]),
+        a[j, 1] + sp * (b[j, 1] - a[j, 1]),
+        a[j, 2] + sp * (b[j, 2] - a[j, 2]),
+    )
     n0, n1, n2 = normal[p, 0], normal[p, 1], normal[p, 2]
     for m in range(axes.shape[0]):
-        c0, c1, c2 = _pair_column(axes[m, 0], axes[m, 1], axes[m, 2], points[m, 0], points[m, 1], points[m, 2],
-                                  m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2, joint_slides(axes, m))
+        c0, c1, c2 = _pair_column(
+            axes[m, 0],
+            axes[m, 1],
+            axes[m, 2],
+            points[m, 0],
+            points[m, 1],
+            points[m, 2],
+            m <= la,
+            m <= lb,
+            qa0,
+            qa1,
+            qa2,
+            qb0,
+            qb1,
+            qb2,
+            joint_slides(axes, m),
+        )
         row[m] = n0 * c0 + n1 * c1 + n2 * c2
 
 
 @compiled(**_JIT)
-def _pair_column(w0: float, w1: float, w2: float, p0: float, p1: float, p2: float, on_a: bool, on_b: bool,
-                 qa0: float, qa1: float, qa2: float, qb0: float, qb1: float, qb2: float, slides: bool) -> tuple[float, float, float]:
+def _pair_column(
+    w0: float,
+    w1: float,
+    w2: float,
+    p0: float,
+    p1: float,
+    p2: float,
+    on_a: bool,
+    on_b: bool,
+    qa0: float,
+    qa1: float,
+    qa2: float,
+    qb0: float,
+    qb1: float,
+    qb2: float,
+    slides: bool,
+) -> tuple[float, float, float]:
     """Joint m's column of J_A - J_B: w_m x (q_A - p_m) where joint m moves link A's point, less
     w_m x (q_B - p_m) where it moves B's (w_m for each where the joint ``slides``: prismatic).
     Numbers in and out (no small arrays, no array taken: their reference counts cost some 0.6 us
@@ -650,8 +840,19 @@ def _pair_column(w0: float, w1: float, w2: float, p0: float, p1: float, p2: floa
 
 
 @compiled(**_JIT)
-def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
-                   t: np.ndarray, s: np.ndarray, which: np.ndarray, jac: np.ndarray) -> None:
+def pair_jacobians(
+    points: np.ndarray,
+    axes: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    link: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s: np.ndarray,
+    which: np.ndarray,
+    jac: np.ndarray,
+) -> None:
     """J_A - J_B (k, 3, n) of the capsule pairs ``which`` (k,) at one pose (the points and columns
     of :func:`pair_rows`, before the normal)."""
     for r in range(which.shape[0]):
@@ -659,12 +860,34 @@ def pair_jacobians(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.nd
         i, j = first[p], second[p]
         la, lb = link[i], link[j]
         tp, sp = t[p], s[p]
-        qa0, qa1, qa2 = a[i, 0] + tp * (b[i, 0] - a[i, 0]), a[i, 1] + tp * (b[i, 1] - a[i, 1]), a[i, 2] + tp * (b[i, 2] - a[i, 2])
-        qb0, qb1, qb2 = a[j, 0] + sp * (b[j, 0] - a[j, 0]), a[j, 1] + sp * (b[j, 1] - a[j, 1]), a[j, 2] + sp * (b[j, 2] - a[j, 2])
+        qa0, qa1, qa2 = (
+            a[i, 0] + tp * (b[i, 0] - a[i, 0]),
+            a[i, 1] + tp * (b[i, 1] - a[i, 1]),
+            a[i, 2] + tp * (b[i, 2] - a[i, 2]),
+        )
+        qb0, qb1, qb2 = (
+            a[j, 0] + sp * (b[j, 0] - a[j, 0]),
+            a[j, 1] + sp * (b[j, 1] - a[j, 1]),
+            a[j, 2] + sp * (b[j, 2] - a[j, 2]),
+        )
         for m in range(axes.shape[0]):
-            jac[r, 0, m], jac[r, 1, m], jac[r, 2, m] = _pair_column(axes[m, 0], axes[m, 1], axes[m, 2], points[m, 0], points[m, 1],
-                                                                    points[m, 2], m <= la, m <= lb, qa0, qa1, qa2, qb0, qb1, qb2,
-                                                                    joint_slides(axes, m))
+            jac[r, 0, m], jac[r, 1, m], jac[r, 2, m] = _pair_column(
+                axes[m, 0],
+                axes[m, 1],
+                axes[m, 2],
+                points[m, 0],
+                points[m, 1],
+                points[m, 2],
+                m <= la,
+                m <= lb,
+                qa0,
+                qa1,
+                qa2,
+                qb0,
+                qb1,
+                qb2,
+                joint_slides(axes, m),
+            )
 
 
 @compiled(**_JIT)
@@ -696,8 +919,18 @@ def link_twists(points: np.ndarray, axes: np.ndarray, x: np.ndarray, twists: np.
 
 
 @compiled(**_JIT)
-def pair_rate(twists: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
-              t: np.ndarray, s: np.ndarray, normal: np.ndarray, p: int) -> float:
+def pair_rate(
+    twists: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    link: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s: np.ndarray,
+    normal: np.ndarray,
+    p: int,
+) -> float:
     """Pair p's row times the joint rates whose links' twists are ``twists`` (:func:`link_twists`):
     n . (J_A - J_B) x = n . ((Omega_A x q_A + V_A) - (Omega_B x q_B + V_B)), the points and normal
     of :func:`pair_row`; equal to its row . x to rounding, without the row. A capsule on the
@@ -705,8 +938,16 @@ def pair_rate(twists: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray
     i, j = first[p], second[p]
     la, lb = link[i], link[j]
     tp, sp = t[p], s[p]
-    qa0, qa1, qa2 = a[i, 0] + tp * (b[i, 0] - a[i, 0]), a[i, 1] + tp * (b[i, 1] - a[i, 1]), a[i, 2] + tp * (b[i, 2] - a[i, 2])
-    qb0, qb1, qb2 = a[j, 0] + sp * (b[j, 0] - a[j, 0]), a[j, 1] + sp * (b[j, 1] - a[j, 1]), a[j, 2] + sp * (b[j, 2] - a[j, 2])
+    qa0, qa1, qa2 = (
+        a[i, 0] + tp * (b[i, 0] - a[i, 0]),
+        a[i, 1] + tp * (b[i, 1] - a[i, 1]),
+        a[i, 2] + tp * (b[i, 2] - a[i, 2]),
+    )
+    qb0, qb1, qb2 = (
+        a[j, 0] + sp * (b[j, 0] - a[j, 0]),
+        a[j, 1] + sp * (b[j, 1] - a[j, 1]),
+        a[j, 2] + sp * (b[j, 2] - a[j, 2]),
+    )
     va0 = va1 = va2 = 0.0  # a capsule on the base (carrier -1) never moves
     if la >= 0:
         va0 = twists[la, 1] * qa2 - twists[la, 2] * qa1 + twists[la, 3]
@@ -722,9 +963,26 @@ def pair_rate(twists: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray
 
 
 @compiled(**_JIT)
-def pair_rows_met(points: np.ndarray, axes: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray, first: np.ndarray, second: np.ndarray,
-                  t: np.ndarray, s: np.ndarray, normal: np.ndarray, gap: np.ndarray, target: float, gamma: float, lever_rows: np.ndarray,
-                  step: np.ndarray, slack: float, extra: float, violation: float) -> bool:
+def pair_rows_met(
+    points: np.ndarray,
+    axes: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    link: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    t: np.ndarray,
+    s: np.ndarray,
+    normal: np.ndarray,
+    gap: np.ndarray,
+    target: float,
+    gamma: float,
+    lever_rows: np.ndarray,
+    step: np.ndarray,
+    slack: float,
+    extra: float,
+    violation: float,
+) -> bool:
     """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room,
     room = gamma (gap - target) (``gap`` (P,)): a pair whose room is at least ``slack`` x its
     bound |dPhi| . ``lever_rows[p]`` plus ``extra`` meets it by that bound alone; any other has

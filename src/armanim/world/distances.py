@@ -95,7 +95,9 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearanc
         kinds.append(cylinder_clearances(pts, ends, radius, obstacles.cylinders))
     if obstacles.floor is not None:
         kinds.append(floor_clearances(pts, ends, radius, obstacles.floor, capsules.on_base))
-    d, t, normal = kinds[0] if len(kinds) == 1 else (np.concatenate(c, axis=axis) for c, axis in zip(zip(*kinds), (-1, -1, -2)))
+    d, t, normal = (
+        kinds[0] if len(kinds) == 1 else (np.concatenate(c, axis=axis) for c, axis in zip(zip(*kinds), (-1, -1, -2)))
+    )
     order = obstacles.scene_order
     if order is not None:
         d, t, normal = d[..., order], t[..., order], normal[..., order, :]
@@ -118,7 +120,9 @@ def astuple(cl: Clearances) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return cl.d, cl.t, cl.normal
 
 
-def sphere_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, tip: bool = True) -> Clearances:
+def sphere_clearances(
+    pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, tip: bool = True
+) -> Clearances:
     """Clearances of the parts (segments pts-ends, (..., p, 3), of radius (p,), the last the tip
     unless ``tip`` is False) to the spheres, (..., p, s)."""
     ab = (ends - pts)[..., None, :]  # (..., c+1, 1, 3)
@@ -136,7 +140,9 @@ def length_and_direction(offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return dist, offset / np.where(dist > 0, dist, 1.0)[..., None]
 
 
-def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def solid_clearances(
+    pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(d, t, normal) of the parts to the solids (the boxes and capsule obstacles, in the scene's order), (..., p, k):
     the least signed distance of each part's segment to each solid's box (a capsule's: its
     axis, :meth:`~armanim.world.obstacles.Rods.axes`) less both radii
@@ -147,24 +153,30 @@ def solid_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obst
     return dist - obstacles.solid_radius - radius[:, None], t, normal
 
 
-def solid_pairs(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles,
-                where: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def solid_pairs(
+    pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, obstacles: Obstacles, where: tuple[np.ndarray, ...]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(d, t, normal) of the part-solid pairs at the indices ``where`` of (..., p, k) only, each (K,)
     or (K, 3): the same numbers as :func:`solid_clearances` at those places (bit for bit)."""
     *pose, part, solid = where
     segment = np.ravel_multi_index(tuple(pose) + (part,), pts.shape[:-1])
     solids = obstacles.solids
-    t, dist, normal = segment_box_pairs(pts.reshape(-1, 3), ends.reshape(-1, 3), solids.centers, solids.half, solids.rotations, segment, solid)
+    t, dist, normal = segment_box_pairs(
+        pts.reshape(-1, 3), ends.reshape(-1, 3), solids.centers, solids.half, solids.rotations, segment, solid
+    )
     return dist - obstacles.solid_radius[solid] - radius[part], t, normal
 
 
-def cylinder_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, cylinders: Cylinders,
-                        tip: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def cylinder_clearances(
+    pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, cylinders: Cylinders, tip: bool = True
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(d, t, normal) of the parts (segments pts-ends, (..., p, 3), of radius (p,), the last the
     tip unless ``tip`` is False) to the solid cylinders, (..., p, k): the least signed distance
     of each segment to each cylinder less the part's radius, the normal out of the cylinder
     (compiled: :func:`~armanim.world.closest.segment_cylinder_grid`)."""
-    t, dist, normal = segment_cylinder_grid(pts, ends, cylinders.centers, cylinders.rotations, cylinders.half_length, cylinders.radius)
+    t, dist, normal = segment_cylinder_grid(
+        pts, ends, cylinders.centers, cylinders.rotations, cylinders.half_length, cylinders.radius
+    )
     if tip:
         t[..., -1, :] = 1.0
     return dist - radius[:, None], t, normal
@@ -184,8 +196,9 @@ def cylinder_signed_distance(p: np.ndarray, half_length: np.ndarray, radius: np.
     return cast(np.ndarray, np.where((dr > 0) | (dz > 0), outside, np.maximum(dr, dz)))
 
 
-def segment_cylinder(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, half_length: np.ndarray,
-                     radius: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def segment_cylinder(
+    a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation: np.ndarray, half_length: np.ndarray, radius: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Least signed distance of segments a-b to solid cylinders, in numpy: (t, distance, normal),
     shapes (N,), (N,), (N, 3); the reference the compiled form
     (:func:`armanim.world.compiled.segment_cylinder_grid`) is held to.
@@ -243,7 +256,9 @@ def segment_cylinder(a: np.ndarray, b: np.ndarray, center: np.ndarray, rotation:
         mid = x + (0.5 * (lo + hi))[:, None] * u
         rim = (best > 0) & (hi > lo) & (mid[:, 0] ** 2 + mid[:, 1] ** 2 > r * r) & (np.abs(mid[:, 2]) > h)
         if np.any(rim):
-            found = _bisected_rim(lo[rim], hi[rim], x[rim], u[rim], h[rim], r[rim], np.where(mid[rim, 2] > 0, 1.0, -1.0))
+            found = _bisected_rim(
+                lo[rim], hi[rim], x[rim], u[rim], h[rim], r[rim], np.where(mid[rim, 2] > 0, 1.0, -1.0)
+            )
             d = cylinder_signed_distance(x[rim] + found[:, None] * u[rim], h[rim], r[rim])
             better = d < best[rim]
             idx = np.flatnonzero(rim)[better]
@@ -256,17 +271,25 @@ def _quadratic_roots(qa: np.ndarray, qb: np.ndarray, qc: np.ndarray) -> list[np.
     root = np.sqrt(qb * qb - 4 * qa * qc)  # NaN where no real root
     q = -0.5 * (qb + np.where(qb >= 0, root, -root))
     linear = qa == 0
-    return [np.where(linear, -qc / qb, -qb / (2 * qa)), np.where(linear, np.nan, q / qa), np.where(linear | (q == 0), np.nan, qc / q)]
+    return [
+        np.where(linear, -qc / qb, -qb / (2 * qa)),
+        np.where(linear, np.nan, q / qa),
+        np.where(linear | (q == 0), np.nan, qc / q),
+    ]
 
 
-def _bisected_rim(lo: np.ndarray, hi: np.ndarray, x: np.ndarray, u: np.ndarray, h: np.ndarray, r: np.ndarray,
-                  side: np.ndarray) -> np.ndarray:
+def _bisected_rim(
+    lo: np.ndarray, hi: np.ndarray, x: np.ndarray, u: np.ndarray, h: np.ndarray, r: np.ndarray, side: np.ndarray
+) -> np.ndarray:
     """The t in [lo, hi] (K,) nearest the rim at z = side h, for segments x + t u (cylinder frame)
     beyond the side and that cap there: the slope of the squared distance bisected."""
+
     def slope(t: np.ndarray) -> np.ndarray:
         p = x + t[:, None] * u
         rho = np.sqrt(p[:, 0] ** 2 + p[:, 1] ** 2)
-        rate: np.ndarray = (rho - r) * (p[:, 0] * u[:, 0] + p[:, 1] * u[:, 1]) / rho + (side * p[:, 2] - h) * side * u[:, 2]
+        rate: np.ndarray = (rho - r) * (p[:, 0] * u[:, 0] + p[:, 1] * u[:, 1]) / rho + (side * p[:, 2] - h) * side * u[
+            :, 2
+        ]
         return rate
 
     start, end = lo, hi
@@ -296,8 +319,9 @@ def _cylinder_normal(p: np.ndarray, h: np.ndarray, r: np.ndarray) -> np.ndarray:
     return np.where(outside[:, None], out, np.where((dr > dz)[:, None], side, cap))
 
 
-def floor_clearances(pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray,
-                     tip: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def floor_clearances(
+    pts: np.ndarray, ends: np.ndarray, radius: np.ndarray, floor: float, exempt: np.ndarray, tip: bool = True
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(d, t, normal) of the parts to the plane z = ``floor``, (..., p, 1): the lower end's
     height above it less the radius; +inf for the ``exempt`` parts ((p,) bool); the last part
     is the tip unless ``tip`` is False."""
@@ -350,8 +374,16 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
     if len(obstacles) == 0:
         return np.full(pose.points.shape[:-2], np.inf)
     if pose.points.ndim == 3 and len(pose.points) > CLEARANCE_CHUNK:
-        return np.concatenate([min_link_clearance(Pose(points=pose.points[i:i + CLEARANCE_CHUNK], frames=pose.frames[i:i + CLEARANCE_CHUNK]),
-                                                  obstacles, capsules) for i in range(0, len(pose.points), CLEARANCE_CHUNK)])
+        return np.concatenate(
+            [
+                min_link_clearance(
+                    Pose(points=pose.points[i : i + CLEARANCE_CHUNK], frames=pose.frames[i : i + CLEARANCE_CHUNK]),
+                    obstacles,
+                    capsules,
+                )
+                for i in range(0, len(pose.points), CLEARANCE_CHUNK)
+            ]
+        )
     if obstacles.spheres_only or capsules.allows:  # a pair allowed to touch: every pair measured, that one left out
         return cast(np.ndarray, clearances(pose, obstacles, capsules).links.min(axis=(-1, -2)))
     a, b = capsule_ends(capsules, pose)
@@ -388,28 +420,42 @@ exactly (compiled, some 0.4 us a pair) rather than bound them first: the bounds'
 some 100 us whatever the batch (a planner's single pose)."""
 
 
-def _least_cylinder_clearance(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders: Cylinders, best: np.ndarray) -> np.ndarray:
+def _least_cylinder_clearance(
+    a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders: Cylinders, best: np.ndarray
+) -> np.ndarray:
     """``best`` (...) lowered to the least clearance of the capsules (segments a-b, (..., c, 3),
     radii (c,)) to the cylinders: every pair's exact clearance in a small batch
     (:data:`EXACT_CYLINDER_PAIRS`), else only where :func:`cylinder_bounds`' lower bound is not
     above a pose's best upper bound."""
     if a[..., 0].size * len(cylinders) <= EXACT_CYLINDER_PAIRS:
-        return cast(np.ndarray, np.minimum(best, cylinder_clearances(a, b, radius, cylinders, tip=False)[0].min(axis=(-1, -2))))
+        return cast(
+            np.ndarray, np.minimum(best, cylinder_clearances(a, b, radius, cylinders, tip=False)[0].min(axis=(-1, -2)))
+        )
     low, high = cylinder_bounds(a, b, radius, cylinders)
     best = np.minimum(best, high.min(axis=(-1, -2)))
     doubt = low <= best[..., None, None]
     if np.any(doubt):
         *pose, part, cylinder = np.nonzero(doubt)
         segment = np.ravel_multi_index(tuple(pose) + (part,), a.shape[:-1])
-        dist = segment_cylinder_pairs(a.reshape(-1, 3), b.reshape(-1, 3), cylinders.centers, cylinders.rotations, cylinders.half_length,
-                                      cylinders.radius, segment, cylinder)[1]
+        dist = segment_cylinder_pairs(
+            a.reshape(-1, 3),
+            b.reshape(-1, 3),
+            cylinders.centers,
+            cylinders.rotations,
+            cylinders.half_length,
+            cylinders.radius,
+            segment,
+            cylinder,
+        )[1]
         found = np.full(doubt.shape, np.inf)
         found[np.nonzero(doubt)] = dist - radius[part]
         best = np.minimum(best, found.min(axis=(-1, -2)))
     return best
 
 
-def cylinder_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders: Cylinders) -> tuple[np.ndarray, np.ndarray]:
+def cylinder_bounds(
+    a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders: Cylinders
+) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds (..., c, k) of the capsules' clearances to the cylinders: the
     cylinder lies inside the box of half edges (r, r, h) in its frame (its
     :func:`solid_bounds`-like gap to the segment's bounding box is a lower bound; overlapping,
@@ -422,7 +468,9 @@ def cylinder_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders:
     x0 = (axes @ a.reshape(-1, 3).T).reshape(k, 3, -1) - origins
     x1 = (axes @ b.reshape(-1, 3).T).reshape(k, 3, -1) - origins
     outer = np.column_stack([cylinders.radius, cylinders.radius, cylinders.half_length])[:, :, None]
-    inner = np.column_stack([cylinders.radius / np.sqrt(2.0), cylinders.radius / np.sqrt(2.0), cylinders.half_length])[:, :, None]
+    inner = np.column_stack([cylinders.radius / np.sqrt(2.0), cylinders.radius / np.sqrt(2.0), cylinders.half_length])[
+        :, :, None
+    ]
     gap = np.maximum(np.maximum(np.minimum(x0, x1) - outer, -outer - np.maximum(x0, x1)), 0.0)
     apart = _length(gap)
     grown = np.broadcast_to(radius, a.shape[:-1]).reshape(1, -1)
@@ -431,7 +479,9 @@ def cylinder_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, cylinders:
     return tuple(np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (low, high))
 
 
-def solid_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, obstacles: Obstacles) -> tuple[np.ndarray, np.ndarray]:
+def solid_bounds(
+    a: np.ndarray, b: np.ndarray, radius: np.ndarray, obstacles: Obstacles
+) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds (..., c, k) of the capsules' clearances to the solids: in each
     solid's box frame, the gap between the box and the segment's bounding box (the segment lies
     inside that; when they overlap, minus the box's inradius, the deepest a point can be
@@ -449,7 +499,9 @@ def solid_bounds(a: np.ndarray, b: np.ndarray, radius: np.ndarray, obstacles: Ob
     gap = np.maximum(np.maximum(np.minimum(x0, x1) - half, -half - np.maximum(x0, x1)), 0.0)
     apart = _length(gap)
     grown = obstacles.solid_radius[:, None] + np.broadcast_to(radius, a.shape[:-1]).reshape(1, -1)
-    low = np.where(apart > 0, apart, -solids.half.min(axis=-1)[:, None]) - grown  # overlapping: as deep as the box allows
+    low = (
+        np.where(apart > 0, apart, -solids.half.min(axis=-1)[:, None]) - grown
+    )  # overlapping: as deep as the box allows
     high = np.minimum(np.minimum(_outside(x0, half), _outside(x1, half)), _outside(0.5 * (x0 + x1), half)) - grown
     return tuple(np.moveaxis(v.reshape((k,) + a.shape[:-1]), 0, -1) for v in (low, high))
 

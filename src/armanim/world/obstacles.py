@@ -207,7 +207,13 @@ class Obstacles:
 
     def __post_init__(self) -> None:
         if self.kinds is None:
-            counts = (len(self.radii), len(self.boxes), len(self.rods), len(self.cylinders), int(self.floor is not None))
+            counts = (
+                len(self.radii),
+                len(self.boxes),
+                len(self.rods),
+                len(self.cylinders),
+                int(self.floor is not None),
+            )
             object.__setattr__(self, "kinds", np.repeat([SPHERE, BOX, ROD, CYLINDER, FLOOR], counts))
         columns = {kind: np.nonzero(self.kinds == kind)[0] for kind in (SPHERE, BOX, ROD, CYLINDER, FLOOR)}
         object.__setattr__(self, "_columns", columns)  # asked for on every clearance computation
@@ -251,7 +257,9 @@ def _derived_solids(boxes: Boxes, rods: Rods, columns: dict[int, np.ndarray]) ->
     axes = rods.axes()
     solid_columns = np.concatenate([columns[BOX], columns[ROD]])
     order = np.argsort(solid_columns, kind="stable")  # the solids in the scene's order
-    solids = Boxes(*(np.concatenate([getattr(boxes, f), getattr(axes, f)])[order] for f in ("centers", "half", "rotations")))
+    solids = Boxes(
+        *(np.concatenate([getattr(boxes, f), getattr(axes, f)])[order] for f in ("centers", "half", "rotations"))
+    )
     canonical = np.concatenate([columns[SPHERE], solid_columns[order], columns[CYLINDER], columns[FLOOR]])
     in_order = bool(np.all(canonical == np.arange(len(canonical))))
     return {

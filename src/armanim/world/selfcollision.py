@@ -68,7 +68,7 @@ def link_pairs(capsules: Capsules) -> list[tuple[str, str]]:
     [('link1', 'link2'), ('link1', 'link3'), ('link2', 'link3')]
     """
     names = list(dict.fromkeys(link_names(capsules)))
-    return [(a, b) for i, a in enumerate(names) for b in names[i + 1:]]
+    return [(a, b) for i, a in enumerate(names) for b in names[i + 1 :]]
 
 
 def adjacent_pairs(capsules: Capsules) -> set[tuple[str, str]]:
@@ -77,8 +77,7 @@ def adjacent_pairs(capsules: Capsules) -> set[tuple[str, str]]:
     carrier: dict[str, set[int]] = {}
     for name, link in zip(names, capsules.link.tolist()):
         carrier.setdefault(name, set()).add(link)
-    return {(a, b) for a, b in link_pairs(capsules)
-            if min(abs(i - j) for i in carrier[a] for j in carrier[b]) <= 1}
+    return {(a, b) for a, b in link_pairs(capsules) if min(abs(i - j) for i in carrier[a] for j in carrier[b]) <= 1}
 
 
 def capsule_pairs(capsules: Capsules, links: list[tuple[str, str]]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -106,8 +105,8 @@ def least_link_gaps(arm: Arm, capsules: Capsules, links: list[tuple[str, str]], 
         return out
     pairs = SelfPairs(first, second, 0.0)
     for start in range(0, len(phis), CHUNK):
-        d = self_gaps(forward(arm, phis[start:start + CHUNK]), capsules, pairs).d
-        block = out[start:start + CHUNK]
+        d = self_gaps(forward(arm, phis[start : start + CHUNK]), capsules, pairs).d
+        block = out[start : start + CHUNK]
         for k in range(len(links)):
             mine = owner == k
             if mine.any():
@@ -127,7 +126,9 @@ def default_pose(lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     return np.where(inside | ~limited, 0.0, middle)
 
 
-def random_poses(lower: np.ndarray, upper: np.ndarray, count: int = NEVER_SAMPLES, seed: int = NEVER_SEED) -> np.ndarray:
+def random_poses(
+    lower: np.ndarray, upper: np.ndarray, count: int = NEVER_SAMPLES, seed: int = NEVER_SEED
+) -> np.ndarray:
     """(count, n) poses drawn uniformly inside the limits ([-pi, pi) for an unlimited joint).
 
     >>> random_poses(np.array([0.0, -np.inf]), np.array([1.0, np.inf]), 3).shape
@@ -139,8 +140,15 @@ def random_poses(lower: np.ndarray, upper: np.ndarray, count: int = NEVER_SAMPLE
 
 
 def automatic_matrix(
-    arm: Arm, capsules: Capsules, lower: np.ndarray, upper: np.ndarray, defaults: list[np.ndarray], clearance: float,
-    samples: int = NEVER_SAMPLES, seed: int = NEVER_SEED, rules: tuple[str, ...] = RULES,
+    arm: Arm,
+    capsules: Capsules,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    defaults: list[np.ndarray],
+    clearance: float,
+    samples: int = NEVER_SAMPLES,
+    seed: int = NEVER_SEED,
+    rules: tuple[str, ...] = RULES,
     decided: Sequence[tuple[str, str]] = (),
 ) -> dict[tuple[str, str], str]:
     """The allowed link pairs and their reasons by MoveIt's rules (see the module docstring).
@@ -163,9 +171,18 @@ def automatic_matrix(
     if not rest or not {DEFAULT, ALWAYS, NEVER} & set(rules):
         return allowed
     if set(rules) & {DEFAULT, NEVER} == set():  # Always alone: a pair apart in one pose is out
-        allowed.update({pair: ALWAYS for pair in always_near(arm, capsules, rest, random_poses(lower, upper, samples, seed), clearance)})
+        allowed.update(
+            {
+                pair: ALWAYS
+                for pair in always_near(arm, capsules, rest, random_poses(lower, upper, samples, seed), clearance)
+            }
+        )
         return allowed
-    at_default = least_link_gaps(arm, capsules, rest, np.array(defaults)).min(axis=0) if DEFAULT in rules else np.full(len(rest), np.inf)
+    at_default = (
+        least_link_gaps(arm, capsules, rest, np.array(defaults)).min(axis=0)
+        if DEFAULT in rules
+        else np.full(len(rest), np.inf)
+    )
     gaps = least_link_gaps(arm, capsules, rest, random_poses(lower, upper, samples, seed))
     nearest, farthest = gaps.min(axis=0), gaps.max(axis=0)
     for k, pair in enumerate(rest):
@@ -178,7 +195,9 @@ def automatic_matrix(
     return allowed
 
 
-def always_near(arm: Arm, capsules: Capsules, links: list[tuple[str, str]], poses: np.ndarray, clearance: float) -> list[tuple[str, str]]:
+def always_near(
+    arm: Arm, capsules: Capsules, links: list[tuple[str, str]], poses: np.ndarray, clearance: float
+) -> list[tuple[str, str]]:
     """The link pairs of ``links`` closer than ``clearance`` at every one of the (k, n) ``poses``
     (MoveIt's ``Always``), measured a few poses at a time (16, then 4 times as many, up to
     :data:`CHUNK`), each pair dropped at the first batch that has it apart: the same pairs as ``least_link_gaps(...).max(axis=0) < clearance``,
@@ -191,14 +210,17 @@ def always_near(arm: Arm, capsules: Capsules, links: list[tuple[str, str]], pose
     """
     left, start, size = list(links), 0, 16
     while left and start < len(poses):
-        near = least_link_gaps(arm, capsules, left, poses[start:start + size]).max(axis=0) < clearance
+        near = least_link_gaps(arm, capsules, left, poses[start : start + size]).max(axis=0) < clearance
         left = [pair for pair, kept in zip(left, near) if kept]
         start, size = start + size, min(4 * size, CHUNK)
     return left
 
 
 def enabled_pairs(
-    capsules: Capsules, allowed: dict[tuple[str, str], str], clearance: float, mode: str,
+    capsules: Capsules,
+    allowed: dict[tuple[str, str], str],
+    clearance: float,
+    mode: str,
     check: Sequence[tuple[str, str]] = (),
 ) -> SelfPairs:
     """The :class:`SelfPairs` of every capsule pair of distinct, moving-apart links whose link
@@ -224,7 +246,9 @@ def enabled_pairs(
             second.append(j)
             labels.append((names[i], names[j]))
     listed = tuple((a, b, reason) for (a, b), reason in kept.values())
-    return SelfPairs(np.array(first, dtype=int), np.array(second, dtype=int), float(clearance), tuple(labels), listed, mode)
+    return SelfPairs(
+        np.array(first, dtype=int), np.array(second, dtype=int), float(clearance), tuple(labels), listed, mode
+    )
 
 
 def _key(a: str, b: str) -> tuple[str, str]:

@@ -129,7 +129,9 @@ def _self_gaps(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> SelfGaps:
     if a.ndim == 2 and len(pairs):  # one pose (every frame): the pairs as they are, no batch to lay out
         count = len(pairs)
         t, s, gap, normal = np.empty(count), np.empty(count), np.empty(count), np.empty((count, 3))
-        least = compiled.capsule_pair_gaps(_rows(a), _rows(b), pairs.first, pairs.second, pairs.radii(capsules), t, s, gap, normal)
+        least = compiled.capsule_pair_gaps(
+            _rows(a), _rows(b), pairs.first, pairs.second, pairs.radii(capsules), t, s, gap, normal
+        )
         gaps = SelfGaps(gap, t, s, normal)
         object.__setattr__(gaps, "_least", np.float64(least))  # the kernel found it: SelfGaps.least need not look again
         return gaps
@@ -164,7 +166,9 @@ def least_self_gap(pose: Pose, capsules: Capsules, pairs: SelfPairs) -> np.ndarr
     return self_gaps(pose, capsules, pairs).least
 
 
-def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which: np.ndarray) -> np.ndarray:
+def self_rows(
+    arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which: np.ndarray
+) -> np.ndarray:
     """(k, n) rows n . (J_A - J_B) of the pairs ``which`` (k,), one pose: how each pair's gap
     changes with the joint angles (the difference of the two closest points' Jacobians, along
     the normal)."""
@@ -177,19 +181,45 @@ def self_rows(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: 
     return rows
 
 
-def self_rows_met(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, target: float, gamma: float,
-                  lever_rows: np.ndarray, step: np.ndarray, slack: float, extra: float, violation: float) -> bool:
+def self_rows_met(
+    arm: Arm,
+    capsules: Capsules,
+    pose: Pose,
+    pairs: SelfPairs,
+    gaps: SelfGaps,
+    target: float,
+    gamma: float,
+    lever_rows: np.ndarray,
+    step: np.ndarray,
+    slack: float,
+    extra: float,
+    violation: float,
+) -> bool:
     """Whether the step ``step`` (n,) meets every pair's row of :func:`self_rows`, rows . step >=
     -room with room = ``gamma`` (gap - ``target``), to ``violation``, one pose: the pairs whose room
     is at least ``slack`` x |step| . ``lever_rows`` (P, n) + ``extra`` by that bound alone, the
     others by their rows (computed only for them; all in one compiled call)."""
     from armanim.world import compiled
 
-    return bool(compiled.pair_rows_met(*_pair_inputs(arm, capsules, pose, pairs, gaps), gaps.normal, gaps.d, float(target), float(gamma),
-                                       lever_rows, np.ascontiguousarray(step, dtype=float), slack, extra, violation))
+    return bool(
+        compiled.pair_rows_met(
+            *_pair_inputs(arm, capsules, pose, pairs, gaps),
+            gaps.normal,
+            gaps.d,
+            float(target),
+            float(gamma),
+            lever_rows,
+            np.ascontiguousarray(step, dtype=float),
+            slack,
+            extra,
+            violation,
+        )
+    )
 
 
-def self_jacobians(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which: np.ndarray) -> np.ndarray:
+def self_jacobians(
+    arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps, which: np.ndarray
+) -> np.ndarray:
     """(k, 3, n) J_A - J_B of the pairs ``which`` (k,), one pose: how fast the first capsule's
     closest point moves away from the second's (the rows of :func:`self_rows` before the normal)."""
     from armanim.world import compiled
@@ -201,15 +231,26 @@ def self_jacobians(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, g
     return jac
 
 
-_PairInputs = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+_PairInputs = tuple[
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
+]
 
 
 def _pair_inputs(arm: Arm, capsules: Capsules, pose: Pose, pairs: SelfPairs, gaps: SelfGaps) -> _PairInputs:
     """The arrays the compiled pair Jacobians read: joint points, world axes, capsule ends, the
     capsules' links, the pairs and their closest points' fractions."""
     a, b = capsule_ends(capsules, pose)
-    return (_rows(pose.points), kind_axes(arm, pose), _rows(a), _rows(b), capsules.link,
-            pairs.first, pairs.second, gaps.t, gaps.s)
+    return (
+        _rows(pose.points),
+        kind_axes(arm, pose),
+        _rows(a),
+        _rows(b),
+        capsules.link,
+        pairs.first,
+        pairs.second,
+        gaps.t,
+        gaps.s,
+    )
 
 
 def kind_axes(arm: Arm, pose: Pose) -> np.ndarray:

@@ -68,7 +68,10 @@ def solid_box_distance(body: Body, box: Body) -> float:
         return float(segment_box(body.center, body.center, box.center, box.half, box.rotation)[1]) - body.radius
     if body.kind == ROD:
         along = body.rotation[:, 0] * body.half[0]
-        return float(segment_box(body.center - along, body.center + along, box.center, box.half, box.rotation)[1]) - body.radius
+        return (
+            float(segment_box(body.center - along, body.center + along, box.center, box.half, box.rotation)[1])
+            - body.radius
+        )
     return box_box_distance(box_of(body), box)
 
 

@@ -69,7 +69,7 @@ def damped_condition(matrix: np.ndarray, damping: float) -> float:
     """Condition number of M M^T + lambda^2 I, what the damped inverse solves with (m x m)."""
     d = np.linalg.svd(matrix, compute_uv=False)
     eig = np.zeros(matrix.shape[0])
-    eig[:len(d)] = d * d
+    eig[: len(d)] = d * d
     return float((eig.max() + damping**2) / (eig.min() + damping**2))
 
 

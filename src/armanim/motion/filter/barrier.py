@@ -128,11 +128,17 @@ def obstacle_rows(problem: Problem, state: ArmState, travel: float) -> tuple[np.
         return np.zeros((0, n)), np.zeros(0)
     target = kept_clearance(problem)
     d = state.clearance.links
-    parts, obstacles = np.nonzero((d - target < travel) & problem.capsules.moving[:-1, None])  # the base's capsules: no row
+    parts, obstacles = np.nonzero(
+        (d - target < travel) & problem.capsules.moving[:-1, None]
+    )  # the base's capsules: no row
     if not len(parts):
         return np.zeros((0, n)), np.zeros(0)
-    jacs = arm_capsules.capsule_point_jacobian(problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles])
-    rows = np.matmul(state.clearance.normal[parts, obstacles][:, None, :], jacs)[:, 0, :]  # each row n . J_q, as one alone
+    jacs = arm_capsules.capsule_point_jacobian(
+        problem.arm, problem.capsules, state.pose, parts, state.clearance.t[parts, obstacles]
+    )
+    rows = np.matmul(state.clearance.normal[parts, obstacles][:, None, :], jacs)[
+        :, 0, :
+    ]  # each row n . J_q, as one alone
     return rows, -problem.tunables.filter.gamma * (d[parts, obstacles] - target)
 
 
@@ -155,8 +161,9 @@ def self_pair_rows(problem: Problem, state: ArmState, travel: float | np.ndarray
     return rows, -problem.tunables.filter.gamma * (gaps.d[which] - target)
 
 
-def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray,
-                       bounds: tuple[np.ndarray, np.ndarray] | None = None) -> Constraints:
+def filter_constraints(
+    problem: Problem, state: ArmState, nominal: np.ndarray, bounds: tuple[np.ndarray, np.ndarray] | None = None
+) -> Constraints:
     """The constraints of the frame: only obstacle pairs that the QP's answer could reach.
 
     0 is feasible, so the answer is within |nominal| of the nominal step (2-norm), hence at
@@ -168,7 +175,9 @@ def filter_constraints(problem: Problem, state: ArmState, nominal: np.ndarray,
     travel = 2.0 * float(np.linalg.norm(nominal) * np.linalg.norm(problem.lever_arms)) + 1e-9
     rows, lower = obstacle_rows(problem, state, travel)
     if state.self_gaps is not None:
-        own, own_lower = self_pair_rows(problem, state, 2.0 * float(np.linalg.norm(nominal)) * problem.pair_levers + 1e-9)
+        own, own_lower = self_pair_rows(
+            problem, state, 2.0 * float(np.linalg.norm(nominal)) * problem.pair_levers + 1e-9
+        )
         if len(own):
             rows, lower = np.concatenate([rows, own]), np.concatenate([lower, own_lower])
     return Constraints(rows, lower, lo, hi)
@@ -198,7 +207,9 @@ def closest_safe_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray | No
     )
     if flag < 1 or not np.all(np.isfinite(x)):
         return None
-    return cast("np.ndarray | None", np.clip(x, cons.lo, cons.hi))  # DAQP meets bounds to its tolerance (~1e-7): the cap is exact
+    return cast(
+        "np.ndarray | None", np.clip(x, cons.lo, cons.hi)
+    )  # DAQP meets bounds to its tolerance (~1e-7): the cap is exact
 
 
 def filtered_step(nominal: np.ndarray, cons: Constraints) -> np.ndarray:
@@ -266,7 +277,11 @@ def safe_step(problem: Problem, state: ArmState, dphi: np.ndarray, ahead: ArmSta
     else:  # each joint within its own cap: radians, or metres for a prismatic joint
         nominal = dphi * min(1.0, float(np.min(step_caps(problem) / np.maximum(np.abs(dphi), 1e-300))))
     bounds = joint_bounds(problem, state.phi)
-    cons = None if clearly_allowed(problem, state, nominal, bounds) else filter_constraints(problem, state, nominal, bounds)
+    cons = (
+        None
+        if clearly_allowed(problem, state, nominal, bounds)
+        else filter_constraints(problem, state, nominal, bounds)
+    )
     step = nominal if cons is None else filtered_step(nominal, cons)
     for scale in 0.5 ** np.arange(problem.tunables.filter.halvings + 1):
         phi = state.phi + scale * step
@@ -283,8 +298,9 @@ BOUND_SLACK = 1e-9
 numbers, within some 1e-15 of the bound's."""
 
 
-def clearly_allowed(problem: Problem, state: ArmState, nominal: np.ndarray,
-                    bounds: tuple[np.ndarray, np.ndarray] | None = None) -> bool:
+def clearly_allowed(
+    problem: Problem, state: ArmState, nominal: np.ndarray, bounds: tuple[np.ndarray, np.ndarray] | None = None
+) -> bool:
     """Whether ``nominal`` meets every constraint of :func:`filter_constraints` by bounds alone,
     without computing the rows (the filter's fast path: then :func:`filtered_step` would return
     ``nominal`` itself, so the step is the same, bit for bit).
@@ -308,8 +324,20 @@ def clearly_allowed(problem: Problem, state: ArmState, nominal: np.ndarray,
         if not room >= travel * slack + 1e-12:
             return False
     if state.self_gaps is not None:  # the joints that move both capsules alike add rounding alone
-        return self_rows_met(problem.arm, problem.capsules, state.pose, problem.self_pairs, state.self_gaps, kept_self_clearance(problem),
-                             gamma, problem.pair_lever_rows, nominal, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
+        return self_rows_met(
+            problem.arm,
+            problem.capsules,
+            state.pose,
+            problem.self_pairs,
+            state.self_gaps,
+            kept_self_clearance(problem),
+            gamma,
+            problem.pair_lever_rows,
+            nominal,
+            slack,
+            BOUND_SLACK * travel + 1e-12,
+            VIOLATION,
+        )
     return True
 
 

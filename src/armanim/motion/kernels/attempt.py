@@ -79,10 +79,33 @@ from armanim.motion.problem import Problem
 
 
 @compiled(**JIT)
-def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
-             lower: np.ndarray, upper: np.ndarray, caps_step: np.ndarray, floats: np.ndarray, settings: np.ndarray, method: int, stacked: bool, steps_cap: int,
-             kind: int, steps_so_far: int, since_so_far: int, best_so_far: float, caps: np.ndarray, caps_link: np.ndarray,
-             first: np.ndarray, second: np.ndarray, levers: np.ndarray, pair_levers: np.ndarray, out: np.ndarray) -> int:
+def attempt_loop(
+    rows: np.ndarray,
+    root: np.ndarray,
+    start: np.ndarray,
+    goal: np.ndarray,
+    goal_rot: np.ndarray,
+    goal_axis: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    caps_step: np.ndarray,
+    floats: np.ndarray,
+    settings: np.ndarray,
+    method: int,
+    stacked: bool,
+    steps_cap: int,
+    kind: int,
+    steps_so_far: int,
+    since_so_far: int,
+    best_so_far: float,
+    caps: np.ndarray,
+    caps_link: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    levers: np.ndarray,
+    pair_levers: np.ndarray,
+    out: np.ndarray,
+) -> int:
     """The attempt from ``start``; into ``out`` (2 n + 9,): the pose it ends at (n), its tip (3), the
     distance, the angle, the progress measure, the best progress, the steps taken and the steps
     since the best progress, and the angles its kinematics were computed at (n: before wrapping). Returns :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`
@@ -92,7 +115,14 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
     a number crosses into the call for less than an array's copy and writes."""
     n = start.shape[0]
     ints = settings.copy()
-    ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = method, stacked, steps_cap, kind, steps_so_far, since_so_far
+    ints[METHOD], ints[STACKED], ints[STEPS_CAP], ints[KIND], ints[STEPS], ints[SINCE_BEST] = (
+        method,
+        stacked,
+        steps_cap,
+        kind,
+        steps_so_far,
+        since_so_far,
+    )
     kind = ints[KIND]
     tol = floats[TOL]
     gamma = floats[GAMMA]
@@ -104,7 +134,9 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
     slides = False
     for j in range(n):
         slides = slides or rows[j, KIND_COLUMN] != 0.0
-    axes = np.zeros((2, n, 4 if slides else 3))  # with each joint's kind in a fourth column where one slides (joint_slides)
+    axes = np.zeros(
+        (2, n, 4 if slides else 3)
+    )  # with each joint's kind in a fourth column where one slides (joint_slides)
     if slides:
         for j in range(n):
             axes[0, j, 3] = axes[1, j, 3] = rows[j, KIND_COLUMN]
@@ -148,20 +180,48 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
                     break
             if within:
                 if not exact[now]:
-                    least[now] = pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
+                    least[now] = pair_gaps(
+                        points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now]
+                    )
                     exact[now] = True
                     for q in range(pairs):
                         bound[q] = gaps[now, q] - slack
-                within = least[now] < floats[SELF_INFLUENCE]  # the exact gaps: a pair inside R (else no push, and none near 0)
+                within = (
+                    least[now] < floats[SELF_INFLUENCE]
+                )  # the exact gaps: a pair inside R (else no push, and none near 0)
             if within:
-                pushing = self_pair_push(floats, ints[METHOD], gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first,
-                                     second, pair_push)
+                pushing = self_pair_push(
+                    floats,
+                    ints[METHOD],
+                    gaps[now],
+                    points[now],
+                    axes[now],
+                    caps_link,
+                    ends[now],
+                    near[now],
+                    first,
+                    second,
+                    pair_push,
+                )
                 if pushing < 0:
                     status = HANDED_BACK
                     break
                 pairs_push = pushing == 1
-        proposed = attempt_proposal(floats, ints, phi, points[now], axes[now], tool[now], goal, residual, lower, upper, pair_push,
-                             pairs_push, dphi)
+        proposed = attempt_proposal(
+            floats,
+            ints,
+            phi,
+            points[now],
+            axes[now],
+            tool[now],
+            goal,
+            residual,
+            lower,
+            upper,
+            pair_push,
+            pairs_push,
+            dphi,
+        )
         if proposed == HANDED_BACK:
             status = HANDED_BACK
             break
@@ -192,14 +252,37 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
         if not inside:  # the filter's QP on bounds alone: its answer is the clip
             for j in range(n):
                 step[j] = min(max(step[j], low[j]), high[j])
-        if pairs and not pairs_far(floats, bound, levers, step):  # a pair's row could act: the filter's QP with the pairs' rows
+        if pairs and not pairs_far(
+            floats, bound, levers, step
+        ):  # a pair's row could act: the filter's QP with the pairs' rows
             if not exact[now]:
-                least[now] = pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
+                least[now] = pair_gaps(
+                    points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now]
+                )
                 exact[now] = True
                 for q in range(pairs):
                     bound[q] = gaps[now, q] - slack
-            if not filtered_with_pairs(floats, gaps[now], points[now], axes[now], caps_link, ends[now], near[now], first, second, pair_levers,
-                             nominal, nominal_length, low, high, cmat, cb, twists, in_rows, step):
+            if not filtered_with_pairs(
+                floats,
+                gaps[now],
+                points[now],
+                axes[now],
+                caps_link,
+                ends[now],
+                near[now],
+                first,
+                second,
+                pair_levers,
+                nominal,
+                nominal_length,
+                low,
+                high,
+                cmat,
+                cb,
+                twists,
+                in_rows,
+                step,
+            ):
                 status = HANDED_BACK
                 break
         other = 1 - now
@@ -223,10 +306,22 @@ def attempt_loop(rows: np.ndarray, root: np.ndarray, start: np.ndarray, goal: np
                     certain = certain and cand_bound[q] >= floats[SELF_CLEARANCE]
                 if not certain:
                     if not exact[now]:
-                        least[now] = pair_gaps(points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now])
+                        least[now] = pair_gaps(
+                            points[now], frames[now], caps, caps_link, first, second, ends[now], gaps[now], near[now]
+                        )
                         exact[now] = True
                     _forward_one(rows, root, cand, points[other], frames[other], axes[other], tool[other])
-                    least[other] = pair_gaps(points[other], frames[other], caps, caps_link, first, second, ends[other], gaps[other], near[other])
+                    least[other] = pair_gaps(
+                        points[other],
+                        frames[other],
+                        caps,
+                        caps_link,
+                        first,
+                        second,
+                        ends[other],
+                        gaps[other],
+                        near[other],
+                    )
                     exact[other] = True
                     floor = min(floats[SELF_CLEARANCE], least[now])
                     if not (least[other] >= floor + slack or least[other] < floor - slack):
@@ -330,8 +425,16 @@ _NO_ROTATION = np.eye(3)
 _NO_AXIS = np.array([0.0, 0.0, 1.0])
 
 
-def run_attempt(problem: Problem, step: int, stacked: bool, goal: np.ndarray, start: np.ndarray, steps_cap: int,
-                orientation: Orientation | None, counters: tuple[int, float | None, int] = (0, None, 0)) -> CompiledAttempt:
+def run_attempt(
+    problem: Problem,
+    step: int,
+    stacked: bool,
+    goal: np.ndarray,
+    start: np.ndarray,
+    steps_cap: int,
+    orientation: Orientation | None,
+    counters: tuple[int, float | None, int] = (0, None, 0),
+) -> CompiledAttempt:
     """One attempt from ``start`` (radians) with the compiled ``step`` (:data:`PINV` or :data:`DLS`);
     ``stacked``: the pose task as one (:func:`armanim.motion.solvers.linear.stacks_the_pose_task`);
     ``counters``: where an attempt goes on, its steps so far, its best progress and the steps since.
@@ -344,10 +447,44 @@ def run_attempt(problem: Problem, step: int, stacked: bool, goal: np.ndarray, st
     out = np.empty(2 * n + 9)
     goal_rot = orientation.rotation if kind == 1 else _NO_ROTATION  # type: ignore[union-attr]  # kind 1: a rotation
     goal_axis = orientation.axis if kind == 2 else _NO_AXIS  # type: ignore[union-attr]  # kind 2: a tool axis
-    status = attempt_loop(k.rows, k.root, np.ascontiguousarray(start, dtype=float), np.ascontiguousarray(goal, dtype=float),
-                          np.ascontiguousarray(goal_rot, dtype=float), np.ascontiguousarray(goal_axis, dtype=float),
-                          k.lower, k.upper, k.step_caps, k.floats, k.ints, step, stacked, steps_cap, kind, steps, since_best,
-                          np.nan if best is None else best, k.caps, k.link, k.first, k.second, k.pair_lever_rows, k.pair_levers, out)
-    numbers = out[n:n + 9].tolist()
-    return CompiledAttempt(out[:n], out[n:n + 3], numbers[3], None if kind == 0 else numbers[4], numbers[5], int(numbers[7]),
-                           status == NUMERICAL, status == HANDED_BACK, numbers[6], int(numbers[8]), out[n + 9:])
+    status = attempt_loop(
+        k.rows,
+        k.root,
+        np.ascontiguousarray(start, dtype=float),
+        np.ascontiguousarray(goal, dtype=float),
+        np.ascontiguousarray(goal_rot, dtype=float),
+        np.ascontiguousarray(goal_axis, dtype=float),
+        k.lower,
+        k.upper,
+        k.step_caps,
+        k.floats,
+        k.ints,
+        step,
+        stacked,
+        steps_cap,
+        kind,
+        steps,
+        since_best,
+        np.nan if best is None else best,
+        k.caps,
+        k.link,
+        k.first,
+        k.second,
+        k.pair_lever_rows,
+        k.pair_levers,
+        out,
+    )
+    numbers = out[n : n + 9].tolist()
+    return CompiledAttempt(
+        out[:n],
+        out[n : n + 3],
+        numbers[3],
+        None if kind == 0 else numbers[4],
+        numbers[5],
+        int(numbers[7]),
+        status == NUMERICAL,
+        status == HANDED_BACK,
+        numbers[6],
+        int(numbers[8]),
+        out[n + 9 :],
+    )

@@ -27,12 +27,23 @@ from armanim.world.compiled import (
 
 
 @compiled(**JIT)
-def pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_link: np.ndarray, first: np.ndarray,
-               second: np.ndarray, ends: np.ndarray, gaps: np.ndarray, near: np.ndarray) -> float:
+def pair_gaps(
+    points: np.ndarray,
+    frames: np.ndarray,
+    caps: np.ndarray,
+    caps_link: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    ends: np.ndarray,
+    gaps: np.ndarray,
+    near: np.ndarray,
+) -> float:
     """Every enabled pair's gap (distance less both radii) into ``gaps`` (P,), the capsules' world
     ends into ``ends`` (2, c, 3), each pair's closest points' fractions and normal into ``near``
     (P, 5): t, s, n (:func:`armanim.world.selfdistances.self_gaps`); returns the least gap."""
-    _capsule_ends_one(points, frames, caps_link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, ends[0], ends[1])  # column 7: joint-to-joint
+    _capsule_ends_one(
+        points, frames, caps_link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, ends[0], ends[1]
+    )  # column 7: joint-to-joint
     p = first.shape[0]
     t = np.empty(p)
     s = np.empty(p)
@@ -59,8 +70,17 @@ def pair_gaps(points: np.ndarray, frames: np.ndarray, caps: np.ndarray, caps_lin
 
 
 @compiled(**JIT)
-def sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, centers: np.ndarray,
-                       radii: np.ndarray, d: np.ndarray, t: np.ndarray, normal: np.ndarray) -> None:
+def sphere_clearances(
+    points: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    part_radius: np.ndarray,
+    centers: np.ndarray,
+    radii: np.ndarray,
+    d: np.ndarray,
+    t: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Clearances of the capsules (segments a-b) and the tip to the spheres into d, t (c+1, s)
     and normal (c+1, s, 3) (:func:`armanim.world.distances.sphere_clearances`)."""
     c = a.shape[0]
@@ -81,7 +101,9 @@ def sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_rad
             if part == c:
                 f = 1.0
             elif denom > 0.0:
-                f = ((centers[k, 0] - pa[0]) * ab0 + (centers[k, 1] - pa[1]) * ab1 + (centers[k, 2] - pa[2]) * ab2) / denom
+                f = (
+                    (centers[k, 0] - pa[0]) * ab0 + (centers[k, 1] - pa[1]) * ab1 + (centers[k, 2] - pa[2]) * ab2
+                ) / denom
                 f = min(max(f, 0.0), 1.0)
             else:
                 f = 0.0
@@ -98,8 +120,16 @@ def sphere_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_rad
 
 
 @compiled(**JIT)
-def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_radius: np.ndarray, world: World,
-                        d: np.ndarray, t: np.ndarray, normal: np.ndarray) -> None:
+def obstacle_clearances(
+    points: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    part_radius: np.ndarray,
+    world: World,
+    d: np.ndarray,
+    t: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Clearances of the capsules (segments a-b) and the tip to every obstacle into d, t (c+1, m)
     and normal (c+1, m, 3): the spheres', the solids' (:func:`armanim.world.compiled.segment_box_grid`,
     the tip a segment of no length), the cylinders' (:func:`armanim.world.compiled.segment_cylinder_grid`)
@@ -107,8 +137,22 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
     (:func:`armanim.world.distances.clearances`).
     ``world``: :func:`~armanim.motion.kernels.layout.world_arrays`'s arrays (None for a kind the
     scene has none of: its closed form is not compiled)."""
-    (centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base, order, floor,
-     cyl_centers, cyl_rotations, cyl_half, cyl_radius, allowed) = world
+    (
+        centers,
+        radii,
+        solid_centers,
+        solid_half,
+        solid_rotations,
+        solid_radius,
+        on_base,
+        order,
+        floor,
+        cyl_centers,
+        cyl_rotations,
+        cyl_half,
+        cyl_radius,
+        allowed,
+    ) = world
     c = a.shape[0]
     n = points.shape[0] - 1
     count, solids, cylinders = centers.shape[0], kind_count(solid_radius), kind_count(cyl_radius)
@@ -125,7 +169,9 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
     if count:
         sphere_clearances(points, a, b, part_radius, centers, radii, kd[:, :count], kt[:, :count], kn[:, :count])
     _solid_columns(pts, ends, part_radius, solid_centers, solid_half, solid_rotations, solid_radius, count, kd, kt, kn)
-    _cylinder_columns(pts, ends, part_radius, cyl_centers, cyl_rotations, cyl_half, cyl_radius, count + solids, kd, kt, kn)
+    _cylinder_columns(
+        pts, ends, part_radius, cyl_centers, cyl_rotations, cyl_half, cyl_radius, count + solids, kd, kt, kn
+    )
     if floor.shape[0]:
         f = count + solids + cylinders
         for part in range(c + 1):
@@ -148,8 +194,19 @@ def obstacle_clearances(points: np.ndarray, a: np.ndarray, b: np.ndarray, part_r
 
 
 @compiled(**JIT)
-def _solid_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray, centers: np.ndarray | None, half: np.ndarray | None,
-                   rotations: np.ndarray | None, radius: np.ndarray | None, first: int, kd: np.ndarray, kt: np.ndarray, kn: np.ndarray) -> None:
+def _solid_columns(
+    pts: np.ndarray,
+    ends: np.ndarray,
+    part_radius: np.ndarray,
+    centers: np.ndarray | None,
+    half: np.ndarray | None,
+    rotations: np.ndarray | None,
+    radius: np.ndarray | None,
+    first: int,
+    kd: np.ndarray,
+    kt: np.ndarray,
+    kn: np.ndarray,
+) -> None:
     """The solids' columns ``first`` on of :func:`obstacle_clearances`' kd, kt (c+1, m) and kn
     (c+1, m, 3), the tip (the last part) a segment of no length; nothing where there are none
     (None: the box's closed form is left out of the machine code)."""
@@ -166,8 +223,19 @@ def _solid_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray, c
 
 
 @compiled(**JIT)
-def _cylinder_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray, centers: np.ndarray | None, rotations: np.ndarray | None,
-                      half: np.ndarray | None, radius: np.ndarray | None, first: int, kd: np.ndarray, kt: np.ndarray, kn: np.ndarray) -> None:
+def _cylinder_columns(
+    pts: np.ndarray,
+    ends: np.ndarray,
+    part_radius: np.ndarray,
+    centers: np.ndarray | None,
+    rotations: np.ndarray | None,
+    half: np.ndarray | None,
+    radius: np.ndarray | None,
+    first: int,
+    kd: np.ndarray,
+    kt: np.ndarray,
+    kn: np.ndarray,
+) -> None:
     """The cylinders' columns ``first`` on of :func:`obstacle_clearances`' kd, kt and kn, as
     :func:`_solid_columns` the solids'."""
     if centers is None or rotations is None or half is None or radius is None:
@@ -179,12 +247,23 @@ def _cylinder_columns(pts: np.ndarray, ends: np.ndarray, part_radius: np.ndarray
     ct = np.empty((parts, cylinders))
     cn = np.empty((parts, cylinders, 3))
     segment_cylinder_grid(pts, ends, centers, rotations, half, radius, ct, cd, cn)
-    _put_columns(cd, ct, cn, np.zeros(cylinders), part_radius, first, kd, kt, kn)  # a cylinder's distance is to its surface
+    _put_columns(
+        cd, ct, cn, np.zeros(cylinders), part_radius, first, kd, kt, kn
+    )  # a cylinder's distance is to its surface
 
 
 @compiled(**JIT)
-def _put_columns(d: np.ndarray, t: np.ndarray, n: np.ndarray, radius: np.ndarray, part_radius: np.ndarray, first: int,
-                 kd: np.ndarray, kt: np.ndarray, kn: np.ndarray) -> None:
+def _put_columns(
+    d: np.ndarray,
+    t: np.ndarray,
+    n: np.ndarray,
+    radius: np.ndarray,
+    part_radius: np.ndarray,
+    first: int,
+    kd: np.ndarray,
+    kt: np.ndarray,
+    kn: np.ndarray,
+) -> None:
     """One kind's distances ``d`` (c+1, k), less its ``radius`` (k,) and each part's, with their
     ``t`` and normals ``n``, into the columns ``first`` on of kd, kt and kn (the tip's t is 1)."""
     parts = d.shape[0]
@@ -197,12 +276,36 @@ def _put_columns(d: np.ndarray, t: np.ndarray, n: np.ndarray, radius: np.ndarray
 
 
 @compiled(**JIT)
-def pose_exactly_safe(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, phi: np.ndarray, cand: np.ndarray, lower: np.ndarray,
-                  upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-                  world: World, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
-                  new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
-                  new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
-                  new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> bool:
+def pose_exactly_safe(
+    rows: np.ndarray,
+    root: np.ndarray,
+    floats: np.ndarray,
+    phi: np.ndarray,
+    cand: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    caps: np.ndarray,
+    link: np.ndarray,
+    part_radius: np.ndarray,
+    cl_d: np.ndarray,
+    world: World,
+    first: np.ndarray,
+    second: np.ndarray,
+    pair_radii: np.ndarray,
+    least: float,
+    new_points: np.ndarray,
+    new_frames: np.ndarray,
+    new_axes: np.ndarray,
+    tool: np.ndarray,
+    new_d: np.ndarray,
+    new_t: np.ndarray,
+    new_normal: np.ndarray,
+    new_gap: np.ndarray,
+    new_gap_t: np.ndarray,
+    new_gap_s: np.ndarray,
+    new_gap_normal: np.ndarray,
+    out: np.ndarray,
+) -> bool:
     """Whether the pose ``cand`` keeps every guarantee from the pose ``phi`` (whose clearances are
     ``cl_d``, least gap ``least``) (:func:`~armanim.motion.filter.barrier.exactly_safe`); its kinematics, clearances and gaps
     into the ``new_`` arrays (as far as the check went), its least gap into ``out[1]``."""

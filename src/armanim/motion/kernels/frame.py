@@ -68,17 +68,61 @@ the proposal made but the numpy filter needed; nothing done (the numpy proposal 
 
 
 @compiled(**JIT)
-def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: int, phi: np.ndarray,
-           points: np.ndarray, frames: np.ndarray, axes: np.ndarray, goal: np.ndarray, kind: int, goal_rot: np.ndarray | None,
-           goal_axis: np.ndarray | None, lower: np.ndarray, upper: np.ndarray, caps_step: np.ndarray,
-           caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, levers: np.ndarray,
-           cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, world: World, influence: np.ndarray,
-           first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, pair_lever_rows: np.ndarray, pair_levers: np.ndarray,
-           gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray, gap_normal: np.ndarray, least: float,
-           dphi: np.ndarray, step: np.ndarray, lo: np.ndarray, hi: np.ndarray, cons: np.ndarray, cons_lower: np.ndarray,
-           cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
-           new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
-           new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> int:
+def frame_loop(
+    rows: np.ndarray,
+    root: np.ndarray,
+    floats: np.ndarray,
+    method: int,
+    phi: np.ndarray,
+    points: np.ndarray,
+    frames: np.ndarray,
+    axes: np.ndarray,
+    goal: np.ndarray,
+    kind: int,
+    goal_rot: np.ndarray | None,
+    goal_axis: np.ndarray | None,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    caps_step: np.ndarray,
+    caps: np.ndarray,
+    link: np.ndarray,
+    part_radius: np.ndarray,
+    levers: np.ndarray,
+    cl_d: np.ndarray,
+    cl_t: np.ndarray,
+    cl_normal: np.ndarray,
+    world: World,
+    influence: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    pair_radii: np.ndarray,
+    pair_lever_rows: np.ndarray,
+    pair_levers: np.ndarray,
+    gap: np.ndarray,
+    gap_t: np.ndarray,
+    gap_s: np.ndarray,
+    gap_normal: np.ndarray,
+    least: float,
+    dphi: np.ndarray,
+    step: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    cons: np.ndarray,
+    cons_lower: np.ndarray,
+    cand: np.ndarray,
+    new_points: np.ndarray,
+    new_frames: np.ndarray,
+    new_axes: np.ndarray,
+    tool: np.ndarray,
+    new_d: np.ndarray,
+    new_t: np.ndarray,
+    new_normal: np.ndarray,
+    new_gap: np.ndarray,
+    new_gap_t: np.ndarray,
+    new_gap_s: np.ndarray,
+    new_gap_normal: np.ndarray,
+    out: np.ndarray,
+) -> int:
     """One frame from the state (``phi``, its pose, clearances and gaps): the proposal into
     ``dphi``, the step capped to the joints' caps ``caps_step`` (the filter's nominal step) into ``step`` and
     the joint bounds into ``lo``, ``hi``. Returns
@@ -102,9 +146,38 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
     for r in range(3):
         f0, f1, f2 = frames[last, r, 0], frames[last, r, 1], frames[last, r, 2]
         for col in range(3):
-            tool[r, col] = f0 * rows[last, TURN + col] + f1 * rows[last, TURN + 3 + col] + f2 * rows[last, TURN + 6 + col]
-    if not frame_proposal(floats, method, phi, points, axes, goal, kind, goal_rot, goal_axis, tool, lower, upper, a, b, link, cl_d, cl_t, cl_normal, influence,
-                     first, second, gap, gap_t, gap_s, gap_normal, least, dphi):
+            tool[r, col] = (
+                f0 * rows[last, TURN + col] + f1 * rows[last, TURN + 3 + col] + f2 * rows[last, TURN + 6 + col]
+            )
+    if not frame_proposal(
+        floats,
+        method,
+        phi,
+        points,
+        axes,
+        goal,
+        kind,
+        goal_rot,
+        goal_axis,
+        tool,
+        lower,
+        upper,
+        a,
+        b,
+        link,
+        cl_d,
+        cl_t,
+        cl_normal,
+        influence,
+        first,
+        second,
+        gap,
+        gap_t,
+        gap_s,
+        gap_normal,
+        least,
+        dphi,
+    ):
         return NUMPY
     biggest = 0.0
     for j in range(n):
@@ -140,8 +213,26 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
                 lowest = min(lowest, cl_d[part, k])
         clear = gamma * (lowest - floats[KEPT]) >= travel * slack + 1e-12
     if clear and pairs:
-        clear = pair_rows_met(points, axes, a, b, link, first, second, gap_t, gap_s, gap_normal, gap, floats[KEPT_SELF], gamma,
-                              pair_lever_rows, step, slack, BOUND_SLACK * travel + 1e-12, VIOLATION)
+        clear = pair_rows_met(
+            points,
+            axes,
+            a,
+            b,
+            link,
+            first,
+            second,
+            gap_t,
+            gap_s,
+            gap_normal,
+            gap,
+            floats[KEPT_SELF],
+            gamma,
+            pair_lever_rows,
+            step,
+            slack,
+            BOUND_SLACK * travel + 1e-12,
+            VIOLATION,
+        )
     if not clear:  # the rows of filter_constraints: each met, or the filter's QP
         broken = not inside
         count = 0
@@ -161,7 +252,11 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
                 point_jacobian(points, axes, link[part], q, jac)
                 change = 0.0
                 for j in range(n):
-                    cons[count, j] = cl_normal[part, k, 0] * jac[0, j] + cl_normal[part, k, 1] * jac[1, j] + cl_normal[part, k, 2] * jac[2, j]
+                    cons[count, j] = (
+                        cl_normal[part, k, 0] * jac[0, j]
+                        + cl_normal[part, k, 1] * jac[1, j]
+                        + cl_normal[part, k, 2] * jac[2, j]
+                    )
                     change += cons[count, j] * step[j]
                 cons_lower[count] = -gamma * (cl_d[part, k] - target)
                 if change < cons_lower[count] - VIOLATION:
@@ -186,20 +281,73 @@ def frame_loop(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, method: i
             return QP
     for j in range(n):
         cand[j] = phi[j] + step[j]
-    if not pose_exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, world, first, second,
-                         pair_radii, least, new_points, new_frames, new_axes, tool, new_d, new_t, new_normal,
-                         new_gap, new_gap_t, new_gap_s, new_gap_normal, out):
+    if not pose_exactly_safe(
+        rows,
+        root,
+        floats,
+        phi,
+        cand,
+        lower,
+        upper,
+        caps,
+        link,
+        part_radius,
+        cl_d,
+        world,
+        first,
+        second,
+        pair_radii,
+        least,
+        new_points,
+        new_frames,
+        new_axes,
+        tool,
+        new_d,
+        new_t,
+        new_normal,
+        new_gap,
+        new_gap_t,
+        new_gap_s,
+        new_gap_normal,
+        out,
+    ):
         return NOMINAL
     return TAKEN
 
 
 @compiled(**JIT)
-def settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int, phi: np.ndarray, step: np.ndarray,
-            lower: np.ndarray, upper: np.ndarray, caps: np.ndarray, link: np.ndarray, part_radius: np.ndarray, cl_d: np.ndarray,
-            world: World, first: np.ndarray, second: np.ndarray, pair_radii: np.ndarray, least: float,
-            cand: np.ndarray, new_points: np.ndarray, new_frames: np.ndarray, new_axes: np.ndarray, tool: np.ndarray,
-            new_d: np.ndarray, new_t: np.ndarray, new_normal: np.ndarray,
-            new_gap: np.ndarray, new_gap_t: np.ndarray, new_gap_s: np.ndarray, new_gap_normal: np.ndarray, out: np.ndarray) -> float:
+def settle(
+    rows: np.ndarray,
+    root: np.ndarray,
+    floats: np.ndarray,
+    halvings: int,
+    phi: np.ndarray,
+    step: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    caps: np.ndarray,
+    link: np.ndarray,
+    part_radius: np.ndarray,
+    cl_d: np.ndarray,
+    world: World,
+    first: np.ndarray,
+    second: np.ndarray,
+    pair_radii: np.ndarray,
+    least: float,
+    cand: np.ndarray,
+    new_points: np.ndarray,
+    new_frames: np.ndarray,
+    new_axes: np.ndarray,
+    tool: np.ndarray,
+    new_d: np.ndarray,
+    new_t: np.ndarray,
+    new_normal: np.ndarray,
+    new_gap: np.ndarray,
+    new_gap_t: np.ndarray,
+    new_gap_s: np.ndarray,
+    new_gap_normal: np.ndarray,
+    out: np.ndarray,
+) -> float:
     """The filter's exact check and halvings of ``step`` from ``phi``: the first of
     ``phi + 0.5^i step``, i = 0 .. ``halvings``, that keeps every guarantee, its state in the
     ``new_`` arrays as :func:`frame_loop`'s, the length of its step into ``out[0]``; returns its
@@ -211,9 +359,36 @@ def settle(rows: np.ndarray, root: np.ndarray, floats: np.ndarray, halvings: int
         for j in range(n):
             cand[j] = phi[j] + scale * step[j]
             length += (scale * step[j]) ** 2
-        if pose_exactly_safe(rows, root, floats, phi, cand, lower, upper, caps, link, part_radius, cl_d, world, first, second,
-                         pair_radii, least, new_points, new_frames, new_axes, tool, new_d, new_t, new_normal,
-                         new_gap, new_gap_t, new_gap_s, new_gap_normal, out):
+        if pose_exactly_safe(
+            rows,
+            root,
+            floats,
+            phi,
+            cand,
+            lower,
+            upper,
+            caps,
+            link,
+            part_radius,
+            cl_d,
+            world,
+            first,
+            second,
+            pair_radii,
+            least,
+            new_points,
+            new_frames,
+            new_axes,
+            tool,
+            new_d,
+            new_t,
+            new_normal,
+            new_gap,
+            new_gap_t,
+            new_gap_s,
+            new_gap_normal,
+            out,
+        ):
             out[0] = math.sqrt(length)
             return scale
         scale *= 0.5
@@ -229,8 +404,13 @@ _NO_AXIS = np.array([0.0, 0.0, 1.0])
 _EMPTY_GAPS = (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3)))
 
 
-def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState, goal: np.ndarray,
-               orientation: Orientation | None = None) -> tuple[SafeStep | None, np.ndarray | None]:
+def frame_step(
+    problem: Problem,
+    method: Literal["pinv", "dls"],
+    state: ArmState,
+    goal: np.ndarray,
+    orientation: Orientation | None = None,
+) -> tuple[SafeStep | None, np.ndarray | None]:
     """One frame of ``method`` toward ``goal`` (a position, and its ``orientation``) from ``state``: (the
     filter's answer, the proposal), or (None, the proposal) where the numpy filter must take it (a
     proposal that is not finite or zero: :func:`~armanim.motion.filter.barrier.safe_step`), or
@@ -248,7 +428,10 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     n = problem.arm.n
     dphi, step, lo, hi, cand = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     pairs = len(k.first)
-    cons, cons_lower = np.empty((cl_d.shape[0] * cl_d.shape[1] + pairs, n)), np.empty(cl_d.shape[0] * cl_d.shape[1] + pairs)
+    cons, cons_lower = (
+        np.empty((cl_d.shape[0] * cl_d.shape[1] + pairs, n)),
+        np.empty(cl_d.shape[0] * cl_d.shape[1] + pairs),
+    )
     new = _new_state_arrays(n, cl_d.shape, pairs)
     out = np.empty(3)
     assert pose.axes is not None  # the frame loop's poses come from the compiled kinematics
@@ -258,31 +441,94 @@ def frame_step(problem: Problem, method: Literal["pinv", "dls"], state: ArmState
     if orientation is not None or any(g.orientation is not None for g in problem.goals):  # one machine code a scene
         goal_rot = np.ascontiguousarray(orientation.rotation if kind == 1 else _NO_ROTATION, dtype=float)  # type: ignore[union-attr]  # kind 1: a rotation
         goal_axis = np.ascontiguousarray(orientation.axis if kind == 2 else _NO_AXIS, dtype=float)  # type: ignore[union-attr]  # kind 2: a tool axis
-    status = frame_loop(k.rows, k.root, k.floats, DLS if method == "dls" else PINV, state.phi,
-                        pose.points, pose.frames, kind_axes(problem.arm, pose.axes), np.ascontiguousarray(goal, dtype=float), kind,
-                        goal_rot, goal_axis, k.lower, k.upper, k.step_caps,
-                        k.caps, k.link, k.part_radius, k.levers, cl_d, cl_t, cl_normal, k.world, k.influence,
-                        k.first, k.second, k.pair_radii, k.pair_lever_rows, k.pair_levers, gap, gap_t, gap_s, gap_normal, least,
-                        dphi, step, lo, hi, cons, cons_lower, cand, *new, out)
+    status = frame_loop(
+        k.rows,
+        k.root,
+        k.floats,
+        DLS if method == "dls" else PINV,
+        state.phi,
+        pose.points,
+        pose.frames,
+        kind_axes(problem.arm, pose.axes),
+        np.ascontiguousarray(goal, dtype=float),
+        kind,
+        goal_rot,
+        goal_axis,
+        k.lower,
+        k.upper,
+        k.step_caps,
+        k.caps,
+        k.link,
+        k.part_radius,
+        k.levers,
+        cl_d,
+        cl_t,
+        cl_normal,
+        k.world,
+        k.influence,
+        k.first,
+        k.second,
+        k.pair_radii,
+        k.pair_lever_rows,
+        k.pair_levers,
+        gap,
+        gap_t,
+        gap_s,
+        gap_normal,
+        least,
+        dphi,
+        step,
+        lo,
+        hi,
+        cons,
+        cons_lower,
+        cand,
+        *new,
+        out,
+    )
     if status == NUMPY:
         return None, None
     if status == FILTER:
         return None, dphi
     proposed = float(np.sqrt(dphi @ dphi))
     if status == TAKEN:
-        return SafeStep(_state(problem, cand, new, out, cl is not None), _fraction(float(out[0]), proposed, step, dphi), None), dphi
+        return SafeStep(
+            _state(problem, cand, new, out, cl is not None), _fraction(float(out[0]), proposed, step, dphi), None
+        ), dphi
     nominal = step
     constraints = None
     if status == QP:
         count = int(out[2])
         constraints = Constraints(cons[:count], cons_lower[:count], lo, hi)
         step = filtered_step(nominal, constraints)
-    scale = settle(k.rows, k.root, k.floats, problem.tunables.filter.halvings, state.phi, step, k.lower, k.upper, k.caps, k.link,
-                   k.part_radius, cl_d, k.world, k.first, k.second, k.pair_radii, least, cand, *new, out)
+    scale = settle(
+        k.rows,
+        k.root,
+        k.floats,
+        problem.tunables.filter.halvings,
+        state.phi,
+        step,
+        k.lower,
+        k.upper,
+        k.caps,
+        k.link,
+        k.part_radius,
+        cl_d,
+        k.world,
+        k.first,
+        k.second,
+        k.pair_radii,
+        least,
+        cand,
+        *new,
+        out,
+    )
     if scale < 0.0:  # no halving kept the guarantees: the arm stays
         return SafeStep(state, 0.0, blocker(nominal, constraints)), dphi
     blocked = None if step is nominal and scale == 1.0 else blocker(nominal, constraints)
-    return SafeStep(_state(problem, cand, new, out, cl is not None), _fraction(float(out[0]), proposed, scale * step, dphi), blocked), dphi
+    return SafeStep(
+        _state(problem, cand, new, out, cl is not None), _fraction(float(out[0]), proposed, scale * step, dphi), blocked
+    ), dphi
 
 
 def _fraction(length: float, proposed: float, taken: np.ndarray, dphi: np.ndarray) -> float:
@@ -291,8 +537,19 @@ def _fraction(length: float, proposed: float, taken: np.ndarray, dphi: np.ndarra
     return length / proposed if 0.0 < proposed < np.inf else step_fraction(taken, dphi)
 
 
-_NewState = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                  np.ndarray, np.ndarray]
+_NewState = tuple[
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+]
 """A new state's arrays as the kernels fill them (:func:`_new_state_arrays`)."""
 
 
@@ -300,9 +557,19 @@ def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> _NewSt
     """The kernel's arrays of a new state: points, frames, axes, tool; clearances d, t, normal;
     the pairs' gaps, t, s, normal."""
     parts, m = clearances
-    return (np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3)),
-            np.empty((parts, m)), np.empty((parts, m)), np.empty((parts, m, 3)),
-            np.empty(pairs), np.empty(pairs), np.empty(pairs), np.empty((pairs, 3)))
+    return (
+        np.empty((n + 1, 3)),
+        np.empty((n, 3, 3)),
+        np.empty((n, 3)),
+        np.empty((3, 3)),
+        np.empty((parts, m)),
+        np.empty((parts, m)),
+        np.empty((parts, m, 3)),
+        np.empty(pairs),
+        np.empty(pairs),
+        np.empty(pairs),
+        np.empty((pairs, 3)),
+    )
 
 
 def _state(problem: Problem, cand: np.ndarray, new: _NewState, out: np.ndarray, obstacles: bool) -> ArmState:
@@ -311,6 +578,12 @@ def _state(problem: Problem, cand: np.ndarray, new: _NewState, out: np.ndarray, 
     gaps = None
     if len(gap):
         gaps = SelfGaps(gap, gap_t, gap_s, gap_normal)
-        object.__setattr__(gaps, "_least", np.float64(out[1]))  # the kernel found it: SelfGaps.least need not look again
-    return ArmState(wrap_unlimited(problem, cand), Pose(points=points, frames=frames, axes=axes),
-                    Clearances(d=d, t=t, normal=normal) if obstacles else None, gaps)
+        object.__setattr__(
+            gaps, "_least", np.float64(out[1])
+        )  # the kernel found it: SelfGaps.least need not look again
+    return ArmState(
+        wrap_unlimited(problem, cand),
+        Pose(points=points, frames=frames, axes=axes),
+        Clearances(d=d, t=t, normal=normal) if obstacles else None,
+        gaps,
+    )

@@ -16,8 +16,27 @@ import numpy as np
 
 from armanim.motion.problem import Problem, step_caps
 
-(TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, DAMPING, MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES,
- CLEARANCE, KEPT, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE, LEVER_NORM, SLACK, FLOATS) = range(19)
+(
+    TOL,
+    ANGLE_TOL,
+    WEIGHT,
+    BETA,
+    MAX_STEP,
+    DAMPING,
+    MARGIN,
+    BUFFER,
+    GAMMA,
+    W_LIMITS,
+    W_OBSTACLES,
+    CLEARANCE,
+    KEPT,
+    SELF_CLEARANCE,
+    KEPT_SELF,
+    SELF_INFLUENCE,
+    LEVER_NORM,
+    SLACK,
+    FLOATS,
+) = range(19)
 """Places of the settings in :attr:`KernelProblem.floats`: the tolerances (position, angle), the
 orientation's weight, beta, the task step's cap, the damping (each joint's step cap is
 :attr:`KernelProblem.step_caps`), the limits'
@@ -41,8 +60,22 @@ DONE, NUMERICAL, HANDED_BACK = 0, 1, 2
 was not finite, or handed back to the numpy path (:mod:`armanim.motion.kernels.attempt`)."""
 
 
-World = tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray,
-              np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray]
+World = tuple[
+    np.ndarray,
+    np.ndarray,
+    np.ndarray | None,
+    np.ndarray | None,
+    np.ndarray | None,
+    np.ndarray | None,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray,
+    np.ndarray | None,
+    np.ndarray | None,
+    np.ndarray | None,
+    np.ndarray | None,
+    np.ndarray,
+]
 """The obstacles as the kernels read them (:func:`world_arrays`): the solids' four arrays and the
 cylinders' four are None where the scene has none of them."""
 
@@ -106,11 +139,25 @@ def kernel_problem(problem: Problem) -> KernelProblem:
     caps, pairs = problem.capsules, problem.self_pairs
     rows, root = packed_chain(problem.arm)
     return KernelProblem(
-        rows, root, _floats(problem.limits.lower), _floats(problem.limits.upper),
-        _floats(np.broadcast_to(step_caps(problem), (problem.arm.n,))), settings_floats(problem), settings_ints(problem), _floats(caps.packed()), _ints(caps.link), _floats(caps.part_radius),
-        _floats(problem.lever_arms), world_arrays(problem), _floats(problem.obstacles.influence), _ints(pairs.first),
-        _ints(pairs.second), _floats(pairs.radii(caps)), _floats(problem.pair_lever_rows.reshape(len(pairs), problem.arm.n)),
-        _floats(problem.pair_levers))
+        rows,
+        root,
+        _floats(problem.limits.lower),
+        _floats(problem.limits.upper),
+        _floats(np.broadcast_to(step_caps(problem), (problem.arm.n,))),
+        settings_floats(problem),
+        settings_ints(problem),
+        _floats(caps.packed()),
+        _ints(caps.link),
+        _floats(caps.part_radius),
+        _floats(problem.lever_arms),
+        world_arrays(problem),
+        _floats(problem.obstacles.influence),
+        _ints(pairs.first),
+        _ints(pairs.second),
+        _floats(pairs.radii(caps)),
+        _floats(problem.pair_lever_rows.reshape(len(pairs), problem.arm.n)),
+        _floats(problem.pair_levers),
+    )
 
 
 def settings_floats(problem: Problem) -> np.ndarray:
@@ -121,11 +168,27 @@ def settings_floats(problem: Problem) -> np.ndarray:
     s = problem.solver
     floats = np.empty(FLOATS)
     floats[[TOL, ANGLE_TOL, WEIGHT, BETA, MAX_STEP, DAMPING]] = (
-        s.tolerance, s.orientation_tolerance, s.orientation_weight, s.beta, s.max_step, s.damping)
+        s.tolerance,
+        s.orientation_tolerance,
+        s.orientation_weight,
+        s.beta,
+        s.max_step,
+        s.damping,
+    )
     floats[[MARGIN, BUFFER, GAMMA, W_LIMITS, W_OBSTACLES]] = (
-        problem.limits.margin, limit_buffer(problem), problem.tunables.filter.gamma, s.w_limits, s.w_obstacles)
+        problem.limits.margin,
+        limit_buffer(problem),
+        problem.tunables.filter.gamma,
+        s.w_limits,
+        s.w_obstacles,
+    )
     floats[[CLEARANCE, KEPT, SELF_CLEARANCE, KEPT_SELF, SELF_INFLUENCE]] = (
-        s.clearance, kept_clearance(problem), problem.self_pairs.clearance, kept_self_clearance(problem), self_influence(problem))
+        s.clearance,
+        kept_clearance(problem),
+        problem.self_pairs.clearance,
+        kept_self_clearance(problem),
+        self_influence(problem),
+    )
     floats[LEVER_NORM] = float(np.linalg.norm(problem.lever_arms))
     floats[SLACK] = 1e-9 * max(problem.arm.reach, 1e-300)
     return floats
@@ -157,11 +220,24 @@ def world_arrays(problem: Problem) -> World:
     solids, cylinders = obstacles.solids, obstacles.cylinders
     order = obstacles.scene_order if obstacles.scene_order is not None else np.arange(len(obstacles))
     floor = np.zeros(0) if obstacles.floor is None else np.array([float(obstacles.floor)])
-    arrays = tuple(np.ascontiguousarray(v, dtype=t) for v, t in (
-        (obstacles.centers.reshape(-1, 3), float), (obstacles.radii, float), (solids.centers.reshape(-1, 3), float),
-        (solids.half.reshape(-1, 3), float), (solids.rotations.reshape(-1, 3, 3), float), (obstacles.solid_radius, float),
-        (caps.on_base, np.bool_), (order, np.int64), (floor, float), (cylinders.centers.reshape(-1, 3), float),
-        (cylinders.rotations.reshape(-1, 3, 3), float), (cylinders.half_length, float), (cylinders.radius, float)))
+    arrays = tuple(
+        np.ascontiguousarray(v, dtype=t)
+        for v, t in (
+            (obstacles.centers.reshape(-1, 3), float),
+            (obstacles.radii, float),
+            (solids.centers.reshape(-1, 3), float),
+            (solids.half.reshape(-1, 3), float),
+            (solids.rotations.reshape(-1, 3, 3), float),
+            (obstacles.solid_radius, float),
+            (caps.on_base, np.bool_),
+            (order, np.int64),
+            (floor, float),
+            (cylinders.centers.reshape(-1, 3), float),
+            (cylinders.rotations.reshape(-1, 3, 3), float),
+            (cylinders.half_length, float),
+            (cylinders.radius, float),
+        )
+    )
     solid: tuple[np.ndarray | None, ...] = arrays[2:6] if len(arrays[5]) else (None,) * 4
     cylinder: tuple[np.ndarray | None, ...] = arrays[9:13] if len(arrays[12]) else (None,) * 4
     allowed = caps.part_allowed

@@ -28,7 +28,9 @@ by no more than this (rounding; the filter's own test allows ``VIOLATION``)."""
 
 
 @compiled(**JIT)
-def gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray, gram: np.ndarray) -> bool:
+def gram_solve(
+    cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, out: np.ndarray, gram: np.ndarray
+) -> bool:
     """out (w,) solving (C_W C_W^T) out = rhs (w,), C_W the rows ``active[:w]`` of ``cmat``, by
     Cholesky (in ``gram``, (n, n) work space); False where C_W C_W^T is not positive definite
     (rows dependent to rounding)."""
@@ -55,7 +57,9 @@ def gram_solve(cmat: np.ndarray, active: np.ndarray, w: int, rhs: np.ndarray, ou
 
 
 @compiled(**JIT)
-def closest_step(nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, x: np.ndarray, bounds: int = 0) -> int:
+def closest_step(
+    nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, x: np.ndarray, bounds: int = 0
+) -> int:
     """The filter's QP, exactly: x (n,) minimising |x - nominal|^2 subject to ``cmat[:count] x >=
     cb[:count]``, by the dual active-set method of Goldfarb and Idnani (Hessian I): from x =
     ``nominal``, the most broken constraint is met by steps that keep the active ones met and
@@ -199,10 +203,27 @@ def bound_rows(n: int, pairs: int) -> np.ndarray:
 
 
 @compiled(**JIT)
-def filtered_with_pairs(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray, ends: np.ndarray,
-              near: np.ndarray, first: np.ndarray, second: np.ndarray, pair_levers: np.ndarray, nominal: np.ndarray,
-              nominal_length: float, low: np.ndarray, high: np.ndarray, cmat: np.ndarray, cb: np.ndarray, twists: np.ndarray,
-              in_rows: np.ndarray, step: np.ndarray) -> bool:
+def filtered_with_pairs(
+    floats: np.ndarray,
+    gaps: np.ndarray,
+    points: np.ndarray,
+    axes: np.ndarray,
+    caps_link: np.ndarray,
+    ends: np.ndarray,
+    near: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    pair_levers: np.ndarray,
+    nominal: np.ndarray,
+    nominal_length: float,
+    low: np.ndarray,
+    high: np.ndarray,
+    cmat: np.ndarray,
+    cb: np.ndarray,
+    twists: np.ndarray,
+    in_rows: np.ndarray,
+    step: np.ndarray,
+) -> bool:
     """With the pairs' exact ``gaps`` at the pose and ``step`` (n,) holding the nominal clipped to
     the joints' bounds ``low``, ``high``: the filter's step into ``step``, as
     :func:`armanim.motion.filter.barrier.filtered_step` takes it, the closest to ``nominal``
@@ -232,11 +253,17 @@ def filtered_with_pairs(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray
         if nominal[j] < low[j] - VIOLATION or nominal[j] > high[j] + VIOLATION:
             met = False
     for q in range(pairs):  # the rows the numpy filter builds: those of the pairs near enough for the step (its test)
-        in_rows[q] = not gaps[q] - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9  # True: no row, or a row in the QP
+        in_rows[q] = (
+            not gaps[q] - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9
+        )  # True: no row, or a row in the QP
     if met:
         link_twists(points, axes, nominal, twists)
         for q in range(pairs):
-            if not in_rows[q] and pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q) < -gamma * (gaps[q] - kept) - VIOLATION:
+            if (
+                not in_rows[q]
+                and pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q)
+                < -gamma * (gaps[q] - kept) - VIOLATION
+            ):
                 met = False
                 break
         if met:
@@ -264,7 +291,9 @@ def filtered_with_pairs(floats: np.ndarray, gaps: np.ndarray, points: np.ndarray
         if not added:
             break
         solved = closest_step(nominal, cmat, cb, count, step, 2 * n)
-        if solved == 0 and not relaxed:  # no step meets these rows, nor so all of them: as the numpy filter, closing no gap further
+        if (
+            solved == 0 and not relaxed
+        ):  # no step meets these rows, nor so all of them: as the numpy filter, closing no gap further
             relaxed = True
             for c in range(2 * n, count):
                 cb[c] = min(cb[c], 0.0)
@@ -295,6 +324,9 @@ def pairs_far(floats: np.ndarray, bound: np.ndarray, levers: np.ndarray, step: n
     (gamma (d - d_target) >= the pair's lever arms . |step|)."""
     slack = floats[SLACK]
     for q in range(bound.shape[0]):
-        if not floats[GAMMA] * (bound[q] - floats[KEPT_SELF]) >= lever_travel(levers, q, step, 1.0) * (1.0 + 1e-9) + slack:
+        if (
+            not floats[GAMMA] * (bound[q] - floats[KEPT_SELF])
+            >= lever_travel(levers, q, step, 1.0) * (1.0 + 1e-9) + slack
+        ):
             return False
     return True

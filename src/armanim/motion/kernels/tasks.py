@@ -73,7 +73,9 @@ def cross_axis(v: np.ndarray, axis: int, out: np.ndarray) -> None:
 
 
 @compiled(**JIT)
-def orientation_residual(kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray, out: np.ndarray) -> None:
+def orientation_residual(
+    kind: int, goal_rot: np.ndarray, goal_axis: np.ndarray, tool: np.ndarray, out: np.ndarray
+) -> None:
     """r (3,): log(R_g R^T) for a rotation, the alignment vector of the tool's z onto the goal's
     axis for a tool axis (:func:`armanim.motion.orientation.orientation_residual`)."""
     if kind == 1:
@@ -127,8 +129,17 @@ def orientation_rows(kind: int, tool: np.ndarray, rows: np.ndarray) -> int:
 
 
 @compiled(**JIT)
-def progress_measure(floats: np.ndarray, kind: int, goal: np.ndarray, goal_rot: np.ndarray, goal_axis: np.ndarray,
-              points: np.ndarray, tool: np.ndarray, residual: np.ndarray, errors: np.ndarray) -> float:
+def progress_measure(
+    floats: np.ndarray,
+    kind: int,
+    goal: np.ndarray,
+    goal_rot: np.ndarray,
+    goal_axis: np.ndarray,
+    points: np.ndarray,
+    tool: np.ndarray,
+    residual: np.ndarray,
+    errors: np.ndarray,
+) -> float:
     """|e - g|, the angle |r| (into ``errors`` (2,)) and the progress measure max(|e - g|, |r| tol /
     angle_tol) (:func:`armanim.motion.ik.pose_errors`); the residual r into ``residual``."""
     n = points.shape[0] - 1
@@ -211,7 +222,9 @@ def repulsion(gap: float, influence: float) -> float:
 
 
 @compiled(**INLINE)
-def null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, null: np.ndarray, restricted: np.ndarray) -> tuple[float, float]:
+def null_space_task(
+    jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, null: np.ndarray, restricted: np.ndarray
+) -> tuple[float, float]:
     """The rotation task second in priority: the tip task's null-space projector I - J^+ J into
     ``null`` (n, n) (``jac`` its first 3 rows the tip's, ``pinv_tip`` (n, 3) their
     pseudo-inverse), and the rotation rows ``jac_r`` (k, n) restricted to it, jac_r (I - J^+ J),
@@ -220,7 +233,9 @@ def null_space_task(jac: np.ndarray, pinv_tip: np.ndarray, jac_r: np.ndarray, nu
     n = null.shape[0]
     for i in range(n):
         for j in range(n):
-            null[i, j] = (1.0 if i == j else 0.0) - (pinv_tip[i, 0] * jac[0, j] + pinv_tip[i, 1] * jac[1, j] + pinv_tip[i, 2] * jac[2, j])
+            null[i, j] = (1.0 if i == j else 0.0) - (
+                pinv_tip[i, 0] * jac[0, j] + pinv_tip[i, 1] * jac[1, j] + pinv_tip[i, 2] * jac[2, j]
+            )
     left = 0.0
     size = 0.0
     for i in range(restricted.shape[0]):
@@ -262,7 +277,9 @@ def tip_target(floats: np.ndarray, points: np.ndarray, goal: np.ndarray, target:
 
 
 @compiled(**INLINE)
-def rotation_task(floats: np.ndarray, kind: int, tool: np.ndarray, residual: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def rotation_task(
+    floats: np.ndarray, kind: int, tool: np.ndarray, residual: np.ndarray, axes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """The goal's orientation as a task: its rows w B J_w (k, n) (B: :func:`orientation_rows`;
     a prismatic joint's column 0: it does not turn the tool) and its step w B r (k,) (r: the
     ``residual``), capped as the tip's (:func:`~armanim.motion.orientation.orientation_task`)."""
@@ -275,14 +292,27 @@ def rotation_task(floats: np.ndarray, kind: int, tool: np.ndarray, residual: np.
     for i in range(k):
         rot_step[i] = weight * (brows[i, 0] * residual[0] + brows[i, 1] * residual[1] + brows[i, 2] * residual[2])
         for j in range(n):  # a prismatic joint does not turn the tool: its column 0
-            jac_r[i, j] = 0.0 if joint_slides(axes, j) else weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
+            jac_r[i, j] = (
+                0.0
+                if joint_slides(axes, j)
+                else weight * (brows[i, 0] * axes[j, 0] + brows[i, 1] * axes[j, 1] + brows[i, 2] * axes[j, 2])
+            )
     capped(rot_step, floats[BETA], floats[MAX_STEP])
     return jac_r, rot_step
 
 
 @compiled(**JIT)
-def rotation_second(floats: np.ndarray, method: int, jac: np.ndarray, jac_inv: np.ndarray, jac_r: np.ndarray, rot_step: np.ndarray,
-                    pushed: bool, push: np.ndarray, dphi: np.ndarray) -> int:
+def rotation_second(
+    floats: np.ndarray,
+    method: int,
+    jac: np.ndarray,
+    jac_inv: np.ndarray,
+    jac_r: np.ndarray,
+    rot_step: np.ndarray,
+    pushed: bool,
+    push: np.ndarray,
+    dphi: np.ndarray,
+) -> int:
     """The rotation task (``jac_r`` (k, n), its step ``rot_step``: :func:`rotation_task`) added to
     ``dphi`` in the null space N of the tip's task ``jac`` (3, n) (``jac_inv``: the method's inverse
     of it), then the push ``push`` (where ``pushed``) in the null space of both
@@ -351,9 +381,21 @@ def null_push(jac: np.ndarray, jac_inv: np.ndarray, push: np.ndarray, dphi: np.n
 
 
 @compiled(**JIT)
-def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, tool: np.ndarray,
-                     goal: np.ndarray, residual: np.ndarray, lower: np.ndarray, upper: np.ndarray, pair_push: np.ndarray,
-                     pairs_push: bool, dphi: np.ndarray) -> int:
+def attempt_proposal(
+    floats: np.ndarray,
+    ints: np.ndarray,
+    phi: np.ndarray,
+    points: np.ndarray,
+    axes: np.ndarray,
+    tool: np.ndarray,
+    goal: np.ndarray,
+    residual: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    pair_push: np.ndarray,
+    pairs_push: bool,
+    dphi: np.ndarray,
+) -> int:
     """The method's step (:func:`armanim.motion.solvers.linear.linear_step` without obstacles; the
     pairs' push ``pair_push`` (n,), where ``pairs_push``, beside the limits' in the null space) into ``dphi``: :data:`DONE`, :data:`NUMERICAL` when its inverse failed, or
     :data:`HANDED_BACK` where the rotation second in priority has only rounding left to act on
@@ -396,8 +438,19 @@ def attempt_proposal(floats: np.ndarray, ints: np.ndarray, phi: np.ndarray, poin
 
 
 @compiled(**JIT)
-def self_pair_push(floats: np.ndarray, method: int, gaps: np.ndarray, points: np.ndarray, axes: np.ndarray, caps_link: np.ndarray,
-               ends: np.ndarray, near: np.ndarray, first: np.ndarray, second: np.ndarray, push: np.ndarray) -> int:
+def self_pair_push(
+    floats: np.ndarray,
+    method: int,
+    gaps: np.ndarray,
+    points: np.ndarray,
+    axes: np.ndarray,
+    caps_link: np.ndarray,
+    ends: np.ndarray,
+    near: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    push: np.ndarray,
+) -> int:
     """The pairs' push of the numpy step (:func:`armanim.motion.solvers.linear.linear_step`) into
     ``push`` (n,): for each pair whose gap d is inside the influence R (``self_influence``), the
     method's inverse of J_A - J_B times beta w_obstacles R (R / d - 1) along the pair's normal,
@@ -457,9 +510,20 @@ def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarra
 
 
 @compiled(**JIT)
-def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.ndarray | None, goal_axis: np.ndarray | None, tool: np.ndarray,
-                        axes: np.ndarray, jac: np.ndarray, jac_inv: np.ndarray, pushed: bool, secondary: np.ndarray,
-                        dphi: np.ndarray) -> bool:
+def orientation_second(
+    floats: np.ndarray,
+    method: int,
+    kind: int,
+    goal_rot: np.ndarray | None,
+    goal_axis: np.ndarray | None,
+    tool: np.ndarray,
+    axes: np.ndarray,
+    jac: np.ndarray,
+    jac_inv: np.ndarray,
+    pushed: bool,
+    secondary: np.ndarray,
+    dphi: np.ndarray,
+) -> bool:
     """The goal's rotation task second in priority and the pushes ``secondary`` (where ``pushed``)
     in the null space of both (:func:`rotation_second`), for the frame: where N leaves the rotation
     only rounding, the step and the projector are the tip's alone. False where an inverse failed.
@@ -474,12 +538,35 @@ def orientation_second(floats: np.ndarray, method: int, kind: int, goal_rot: np.
 
 
 @compiled(**JIT)
-def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.ndarray, axes: np.ndarray, goal: np.ndarray,
-              kind: int, goal_rot: np.ndarray | None, goal_axis: np.ndarray | None, tool: np.ndarray,
-              lower: np.ndarray, upper: np.ndarray, a: np.ndarray, b: np.ndarray, link: np.ndarray,
-              cl_d: np.ndarray, cl_t: np.ndarray, cl_normal: np.ndarray, influence: np.ndarray,
-              first: np.ndarray, second: np.ndarray, gap: np.ndarray, gap_t: np.ndarray, gap_s: np.ndarray,
-              gap_normal: np.ndarray, least: float, dphi: np.ndarray) -> bool:
+def frame_proposal(
+    floats: np.ndarray,
+    method: int,
+    phi: np.ndarray,
+    points: np.ndarray,
+    axes: np.ndarray,
+    goal: np.ndarray,
+    kind: int,
+    goal_rot: np.ndarray | None,
+    goal_axis: np.ndarray | None,
+    tool: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    link: np.ndarray,
+    cl_d: np.ndarray,
+    cl_t: np.ndarray,
+    cl_normal: np.ndarray,
+    influence: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    gap: np.ndarray,
+    gap_t: np.ndarray,
+    gap_s: np.ndarray,
+    gap_normal: np.ndarray,
+    least: float,
+    dphi: np.ndarray,
+) -> bool:
     """:func:`armanim.motion.solvers.linear.linear_step` into ``dphi``; the goal's orientation
     (``kind`` 0: none, 1: the rotation ``goal_rot``, 2: the tool axis ``goal_axis``, both None in a
     scene without orientations; ``tool``: the tool frame now) second in priority, in the null space of the tip's task
@@ -558,7 +645,9 @@ def frame_proposal(floats: np.ndarray, method: int, phi: np.ndarray, points: np.
                 secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
             pushed = True
     if kind != 0:  # the rotation second; the pushes into the null space of both tasks
-        return orientation_second(floats, method, kind, goal_rot, goal_axis, tool, axes, jac, jac_inv, pushed, secondary, dphi)
+        return orientation_second(
+            floats, method, kind, goal_rot, goal_axis, tool, axes, jac, jac_inv, pushed, secondary, dphi
+        )
     if pushed:  # dphi + (I - J^+ J) secondary
         null_push(jac, jac_inv, secondary, dphi)
     return True

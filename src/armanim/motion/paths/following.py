@@ -109,8 +109,10 @@ Along = Callable[[int, int], None]
 
 PER_PATH = 1000
 
-def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0,
-                   along: Along | None = None) -> Route:
+
+def followed_route(
+    problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0, along: Along | None = None
+) -> Route:
     """The route along ``goal``'s path from ``state`` (the arm at its start) that gets farthest:
     from ``state`` itself, or, when that stops short, from the best of ``tunables.path.other_starts`` free
     poses at the start reachable by a short planned search (:func:`_quick_planner`; the first that
@@ -135,7 +137,7 @@ def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal
                 break
     route = Route(stay, best, len(found.poses))
     quick = _quick_planner(problem)
-    for pose, trial in sorted(trials, key=lambda t: -_done(t[1]))[:problem.tunables.path.route_plans]:
+    for pose, trial in sorted(trials, key=lambda t: -_done(t[1]))[: problem.tunables.path.route_plans]:
         planned = plan_path(quick, state.phi, pose[None])
         route = replace(route, checks=route.checks + planned.checks)
         if planned.waypoints is not None:
@@ -147,7 +149,9 @@ def followed_route(problem: Problem, method: Method, state: ArmState, goal: Goal
     return route
 
 
-def _farther_follow(problem: Problem, method: Method, state: ArmState, goal: Goal, along: Along | None = None) -> Followed:
+def _farther_follow(
+    problem: Problem, method: Method, state: ArmState, goal: Goal, along: Along | None = None
+) -> Followed:
     """The path followed from ``state`` with every push of the null space; when the filter stops it
     short (held by an obstacle or the arm's own links) where a joint came inside its limit's margin,
     followed again with the limits' push left to the filter alone (:func:`sampling_problem`), and
@@ -210,7 +214,9 @@ def sample_spacing(problem: Problem, goal: Goal) -> float:
     >>> sample_spacing(p, SimpleNamespace(speed=0.05)), sample_spacing(p, SimpleNamespace(speed=1.0))
     (0.002, 0.01)
     """
-    return path_spacing(goal.speed, problem.fps, problem.solver.path_tolerance, problem.tunables.path.spacing_per_tolerance)
+    return path_spacing(
+        goal.speed, problem.fps, problem.solver.path_tolerance, problem.tunables.path.spacing_per_tolerance
+    )
 
 
 def path_spacing(speed: float, fps: float, path_tolerance: float, per_tolerance: float) -> float:
@@ -227,8 +233,9 @@ def most_path_frames(problem: Problem, goal: Goal) -> int:
     """Most frames following ``goal``'s path can take (:func:`most_following_frames`; 0 for a point goal)."""
     if goal.path is None:
         return 0
-    return most_following_frames(goal.path, sample_spacing(problem, goal), problem.solver.max_frames_per_goal,
-                                 problem.tunables.path.max_splits)
+    return most_following_frames(
+        goal.path, sample_spacing(problem, goal), problem.solver.max_frames_per_goal, problem.tunables.path.max_splits
+    )
 
 
 def most_following_frames(path: ToolPath, spacing: float, max_frames_per_goal: int, max_splits: int) -> int:
@@ -253,14 +260,21 @@ def sampling_problem(problem: Problem, limit_push: bool = True) -> Problem:
     solving = solving_problem(problem)
     s = problem.solver
     gain = s.beta / solving.solver.beta
-    return replace(solving, solver=replace(solving.solver, tolerance=problem.tunables.path.sample_tolerance * s.path_tolerance,
-                                           orientation_tolerance=0.5 * s.orientation_tolerance,
-                                           w_obstacles=gain * s.w_obstacles,
-                                           w_limits=gain * s.w_limits if limit_push else 0.0))
+    return replace(
+        solving,
+        solver=replace(
+            solving.solver,
+            tolerance=problem.tunables.path.sample_tolerance * s.path_tolerance,
+            orientation_tolerance=0.5 * s.orientation_tolerance,
+            w_obstacles=gain * s.w_obstacles,
+            w_limits=gain * s.w_limits if limit_push else 0.0,
+        ),
+    )
 
 
-def follow_path(problem: Problem, method: Method, state: ArmState, goal: Goal, limit_push: bool = True,
-                along: Along | None = None) -> Followed:
+def follow_path(
+    problem: Problem, method: Method, state: ArmState, goal: Goal, limit_push: bool = True, along: Along | None = None
+) -> Followed:
     """The tool along ``goal.path`` from ``state`` (the arm at, or near, the path's start);
     ``limit_push`` as :func:`sampling_problem`'s; ``along(done, most)`` told the thousandths of
     the path done after each sample tried (:data:`Along`).
@@ -349,7 +363,9 @@ def _solved_sample(sampling: Problem, method: Method, state: ArmState, path: Too
     return _Sample(state, iterations, newton_iterations, scale, _cause(sampling, state, point, distance, blocked))
 
 
-def _cause(problem: Problem, state: ArmState, point: np.ndarray, distance: float, blocked: list[Blocker | None]) -> PathCause:
+def _cause(
+    problem: Problem, state: ArmState, point: np.ndarray, distance: float, blocked: list[Blocker | None]
+) -> PathCause:
     """Why a sample's solve did not get the tool to ``point``: out of reach, the filter holding it
     back (an obstacle, the arm's own links, a limit), only the orientation left, else a singular pose."""
     if beyond_reach(problem, point):
@@ -358,11 +374,15 @@ def _cause(problem: Problem, state: ArmState, point: np.ndarray, distance: float
         own = state.min_self_gap - problem.self_pairs.clearance
         return "self_collision" if own < state.min_clearance - problem.solver.clearance else "obstacle"
     limits = problem.limits
-    if "limit" in blocked or bool(np.any(np.minimum(state.phi - limits.lower, limits.upper - state.phi) < limits.margin)):
+    if "limit" in blocked or bool(
+        np.any(np.minimum(state.phi - limits.lower, limits.upper - state.phi) < limits.margin)
+    ):
         return "joint_limit"
     if distance < problem.solver.tolerance:
         return "orientation"
-    center, radius = reach_sphere(state) if problem.arm.prismatic is None else (problem.arm.base, np.inf)  # a slide moves every point
+    center, radius = (
+        reach_sphere(state) if problem.arm.prismatic is None else (problem.arm.base, np.inf)
+    )  # a slide moves every point
     if np.linalg.norm(point - center) >= radius - REACH_SHARE * problem.solver.tolerance:
         return "out_of_reach"  # stretched out to the point on the edge of its reach, or past it
     return "singular"
@@ -402,8 +422,9 @@ def reach_sphere(state: ArmState) -> tuple[np.ndarray, float]:
     return points[fixed].copy(), float(lengths[fixed:].sum()) + tool
 
 
-def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState, s_from: float, s_to: float,
-                out: Followed) -> PathCause | None:
+def _step_fault(
+    problem: Problem, goal: Goal, before: ArmState, after: ArmState, s_from: float, s_to: float, out: Followed
+) -> PathCause | None:
     """Whether the step between two solved samples jumps (a joint turns more than
     ``max_joint_step``) or strays from the path at its midpoint; notes the midpoint's error."""
     assert goal.path is not None
@@ -424,6 +445,14 @@ def _step_fault(problem: Problem, goal: Goal, before: ArmState, after: ArmState,
     return None
 
 
-__all__ = ["Followed", "Route", "follow_path", "followed_route", "most_following_frames", "most_path_frames", "path_spacing", "sample_spacing",
-           "sampling_problem"]
-
+__all__ = [
+    "Followed",
+    "Route",
+    "follow_path",
+    "followed_route",
+    "most_following_frames",
+    "most_path_frames",
+    "path_spacing",
+    "sample_spacing",
+    "sampling_problem",
+]

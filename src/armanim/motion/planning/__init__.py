@@ -59,8 +59,13 @@ class Plan:
 
 
 def plan_motion(
-    problem: Problem, phi_now: np.ndarray, goal: np.ndarray, seed: int = 0, orientation: Orientation | None = None,
-    searched: Searched | None = None, frames_left: int | None = None,
+    problem: Problem,
+    phi_now: np.ndarray,
+    goal: np.ndarray,
+    seed: int = 0,
+    orientation: Orientation | None = None,
+    searched: Searched | None = None,
+    frames_left: int | None = None,
 ) -> Plan:
     """Plan from the pose ``phi_now`` to a free pose whose tip is at ``goal`` (and whose tool
     meets ``orientation``, when the goal has one).
@@ -101,7 +106,9 @@ def plan_motion(
     return Plan(frames, None, len(found.poses), path.source, path.checks)
 
 
-def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, searched: Searched | None = None) -> Plan:
+def plan_joint_motion(
+    problem: Problem, phi_now: np.ndarray, goal: np.ndarray, searched: Searched | None = None
+) -> Plan:
     """Plan from the pose ``phi_now`` to the joint goal ``goal`` (both (n,), radians), ending on it exactly.
 
     The straight joint-space segment if the compiled certificate
@@ -132,8 +139,11 @@ def plan_joint_motion(problem: Problem, phi_now: np.ndarray, goal: np.ndarray, s
         waypoints, source, checks = joint_goal_search(problem, phi_now, goal[None], floor, searched, check)
     if waypoints is None:
         return Plan(None, "no_path", 1, source, checks)
-    frames = np.clip(joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal),
-                     problem.limits.lower, problem.limits.upper)  # a + u (b - a) toward a limit may round an ulp past it
+    frames = np.clip(
+        joint_path_frames(waypoints, problem.solver.max_joint_step, problem.solver.max_frames_per_goal),
+        problem.limits.lower,
+        problem.limits.upper,
+    )  # a + u (b - a) toward a limit may round an ulp past it
     if len(frames) and np.array_equal(frames[-1], waypoints[-1]):
         frames[-1] = goal  # the waypoint is the goal (OMPL's copy of it may round)
     return Plan(frames, None, 1, source, checks)
@@ -166,8 +176,14 @@ def joint_path_floor(problem: Problem, ends: float) -> float:
     return float(max(d_safe, min(d_safe * (1 + problem.tunables.planner.certify_to / 2), ends)))
 
 
-def joint_goal_search(problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, searched: Searched | None,
-                      check: CompiledCheck) -> tuple[np.ndarray | None, PathSource, int]:
+def joint_goal_search(
+    problem: Problem,
+    start: np.ndarray,
+    goals: np.ndarray,
+    floor: float,
+    searched: Searched | None,
+    check: CompiledCheck,
+) -> tuple[np.ndarray | None, PathSource, int]:
     """:func:`~.path.search_path` by the compiled ``check`` (its limits closed), telling ``searched``
     its iterations."""
     most = problem.tunables.planner.plan_iterations

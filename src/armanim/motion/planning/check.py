@@ -37,8 +37,14 @@ from armanim.world.compiled import (
     segment_segment_pairs,
 )
 
-Measured = tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], World,
-                 tuple[np.ndarray, ...], tuple[np.ndarray, np.ndarray, np.ndarray], tuple[float, float]]
+Measured = tuple[
+    tuple[np.ndarray, np.ndarray],
+    tuple[np.ndarray, np.ndarray, np.ndarray],
+    World,
+    tuple[np.ndarray, ...],
+    tuple[np.ndarray, np.ndarray, np.ndarray],
+    tuple[float, float],
+]
 """What the compiled measures read of a problem (:attr:`CompiledCheck.measured`): ((rows, root) of
 the chain, (packed capsules, their carriers, their radii), the world's arrays, the groups, the
 enabled pairs, (shift, far)); one argument, so that each function says what it adds."""
@@ -72,7 +78,9 @@ def _point_box(px: float, py: float, pz: float, center: np.ndarray, half: np.nda
 
 
 @compiled(**INLINE)
-def _point_cylinder(px: float, py: float, pz: float, center: np.ndarray, rotation: np.ndarray, h: float, r: float) -> float:
+def _point_cylinder(
+    px: float, py: float, pz: float, center: np.ndarray, rotation: np.ndarray, h: float, r: float
+) -> float:
     """Signed distance of a point to a solid cylinder (axis local z, half length ``h``, radius ``r``)."""
     x0, y0, z0 = px - center[0], py - center[1], pz - center[2]
     x = x0 * rotation[0, 0] + y0 * rotation[1, 0] + z0 * rotation[2, 0]
@@ -82,8 +90,14 @@ def _point_cylinder(px: float, py: float, pz: float, center: np.ndarray, rotatio
 
 
 @compiled(**JIT)
-def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members: tuple[np.ndarray, np.ndarray],
-                      center: np.ndarray, reach: np.ndarray) -> None:
+def _bounding_spheres(
+    a: np.ndarray,
+    b: np.ndarray,
+    radius: np.ndarray,
+    members: tuple[np.ndarray, np.ndarray],
+    center: np.ndarray,
+    reach: np.ndarray,
+) -> None:
     """Each group's bounding sphere (``members``: CSR start (G+1,) and capsule indices): the middle
     of its capsules' ends' box into ``center`` (G, 3), and the farthest capsule surface from it
     into ``reach`` (G,)."""
@@ -100,16 +114,31 @@ def _bounding_spheres(a: np.ndarray, b: np.ndarray, radius: np.ndarray, members:
         far = 0.0
         for m in range(start[g], start[g + 1]):
             c = caps[m]
-            da = math.sqrt((a[c, 0] - center[g, 0]) ** 2 + (a[c, 1] - center[g, 1]) ** 2 + (a[c, 2] - center[g, 2]) ** 2)
-            db = math.sqrt((b[c, 0] - center[g, 0]) ** 2 + (b[c, 1] - center[g, 1]) ** 2 + (b[c, 2] - center[g, 2]) ** 2)
+            da = math.sqrt(
+                (a[c, 0] - center[g, 0]) ** 2 + (a[c, 1] - center[g, 1]) ** 2 + (a[c, 2] - center[g, 2]) ** 2
+            )
+            db = math.sqrt(
+                (b[c, 0] - center[g, 0]) ** 2 + (b[c, 1] - center[g, 1]) ** 2 + (b[c, 2] - center[g, 2]) ** 2
+            )
             far = max(far, max(da, db) + radius[c])
         reach[g] = far
 
 
 @compiled(**JIT)
-def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, world: World,
-                    members: tuple[np.ndarray, np.ndarray], center: np.ndarray, reach: np.ndarray, far: float,
-                    s: np.ndarray, normal: np.ndarray, groups_least: np.ndarray) -> float:
+def _obstacle_least(
+    a: np.ndarray,
+    b: np.ndarray,
+    radius: np.ndarray,
+    sphere: np.ndarray,
+    world: World,
+    members: tuple[np.ndarray, np.ndarray],
+    center: np.ndarray,
+    reach: np.ndarray,
+    far: float,
+    s: np.ndarray,
+    normal: np.ndarray,
+    groups_least: np.ndarray,
+) -> float:
     """The least clearance of any capsule to any obstacle or the floor, measured exactly where a
     group's bounding sphere comes within ``far`` of the obstacle, else that sphere's lower bound
     (so the result is exact when below ``far``, and at most the exact least otherwise); each
@@ -124,8 +153,15 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
     for g in range(start.shape[0] - 1):
         least = np.inf
         for k in range(radii.shape[0]):
-            bound = math.sqrt((center[g, 0] - centers[k, 0]) ** 2 + (center[g, 1] - centers[k, 1]) ** 2
-                              + (center[g, 2] - centers[k, 2]) ** 2) - radii[k] - reach[g]
+            bound = (
+                math.sqrt(
+                    (center[g, 0] - centers[k, 0]) ** 2
+                    + (center[g, 1] - centers[k, 1]) ** 2
+                    + (center[g, 2] - centers[k, 2]) ** 2
+                )
+                - radii[k]
+                - reach[g]
+            )
             if bound >= far:
                 least = min(least, bound)
                 continue
@@ -136,10 +172,48 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
                 d = _point_segment(centers[k, 0], centers[k, 1], centers[k, 2], a, b, c) - radii[k] - radius[c]
                 if d < least or d != d:
                     least = d
-        least = _solids_least(least, a, b, radius, sphere, solid_centers, solid_half, solid_rotations, solid_radius, start[g],
-                              start[g + 1], caps, center[g], reach[g], far, s, normal, allowed, spheres)
-        least = _cylinders_least(least, a, b, radius, sphere, cyl_centers, cyl_rotations, cyl_half, cyl_radius, start[g],
-                                 start[g + 1], caps, center[g], reach[g], far, s, normal, allowed, spheres + solids)
+        least = _solids_least(
+            least,
+            a,
+            b,
+            radius,
+            sphere,
+            solid_centers,
+            solid_half,
+            solid_rotations,
+            solid_radius,
+            start[g],
+            start[g + 1],
+            caps,
+            center[g],
+            reach[g],
+            far,
+            s,
+            normal,
+            allowed,
+            spheres,
+        )
+        least = _cylinders_least(
+            least,
+            a,
+            b,
+            radius,
+            sphere,
+            cyl_centers,
+            cyl_rotations,
+            cyl_half,
+            cyl_radius,
+            start[g],
+            start[g + 1],
+            caps,
+            center[g],
+            reach[g],
+            far,
+            s,
+            normal,
+            allowed,
+            spheres + solids,
+        )
         if floor.shape[0]:
             f = spheres + solids + kind_count(cyl_radius)
             for m in range(start[g], start[g + 1]):
@@ -157,10 +231,27 @@ def _obstacle_least(a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np
 
 
 @compiled(**JIT)
-def _solids_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, solid_centers: np.ndarray | None,
-                  solid_half: np.ndarray | None, solid_rotations: np.ndarray | None, solid_radius: np.ndarray | None, begin: int, stop: int,
-                  caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray,
-                  allowed: np.ndarray, first: int) -> float:
+def _solids_least(
+    least: float,
+    a: np.ndarray,
+    b: np.ndarray,
+    radius: np.ndarray,
+    sphere: np.ndarray,
+    solid_centers: np.ndarray | None,
+    solid_half: np.ndarray | None,
+    solid_rotations: np.ndarray | None,
+    solid_radius: np.ndarray | None,
+    begin: int,
+    stop: int,
+    caps: np.ndarray,
+    center: np.ndarray,
+    reach: float,
+    far: float,
+    s: np.ndarray,
+    normal: np.ndarray,
+    allowed: np.ndarray,
+    first: int,
+) -> float:
     """:func:`_obstacle_least`'s ``least`` after the solids, for one group (its capsules
     ``caps[begin:stop]``, its bounding sphere ``center``, ``reach``); ``least`` itself without
     solids (None: the box's closed form is not compiled). A capsule's pair with the obstacle it
@@ -168,8 +259,11 @@ def _solids_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray
     if solid_centers is None or solid_half is None or solid_rotations is None or solid_radius is None:
         return least
     for k in range(solid_radius.shape[0]):
-        bound = _point_box(center[0], center[1], center[2], solid_centers[k], solid_half[k], solid_rotations[k]) \
-            - solid_radius[k] - reach
+        bound = (
+            _point_box(center[0], center[1], center[2], solid_centers[k], solid_half[k], solid_rotations[k])
+            - solid_radius[k]
+            - reach
+        )
         if bound >= far:
             least = min(least, bound)
             continue
@@ -188,16 +282,37 @@ def _solids_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray
 
 
 @compiled(**JIT)
-def _cylinders_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndarray, sphere: np.ndarray, cyl_centers: np.ndarray | None,
-                     cyl_rotations: np.ndarray | None, cyl_half: np.ndarray | None, cyl_radius: np.ndarray | None, begin: int, stop: int,
-                     caps: np.ndarray, center: np.ndarray, reach: float, far: float, s: np.ndarray, normal: np.ndarray,
-                     allowed: np.ndarray, first: int) -> float:
+def _cylinders_least(
+    least: float,
+    a: np.ndarray,
+    b: np.ndarray,
+    radius: np.ndarray,
+    sphere: np.ndarray,
+    cyl_centers: np.ndarray | None,
+    cyl_rotations: np.ndarray | None,
+    cyl_half: np.ndarray | None,
+    cyl_radius: np.ndarray | None,
+    begin: int,
+    stop: int,
+    caps: np.ndarray,
+    center: np.ndarray,
+    reach: float,
+    far: float,
+    s: np.ndarray,
+    normal: np.ndarray,
+    allowed: np.ndarray,
+    first: int,
+) -> float:
     """:func:`_solids_least` for the cylinders."""
     if cyl_centers is None or cyl_rotations is None or cyl_half is None or cyl_radius is None:
         return least
     for k in range(cyl_radius.shape[0]):
-        bound = _point_cylinder(center[0], center[1], center[2], cyl_centers[k], cyl_rotations[k], cyl_half[k],
-                                cyl_radius[k]) - reach
+        bound = (
+            _point_cylinder(
+                center[0], center[1], center[2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k]
+            )
+            - reach
+        )
         if bound >= far:
             least = min(least, bound)
             continue
@@ -206,9 +321,13 @@ def _cylinders_least(least: float, a: np.ndarray, b: np.ndarray, radius: np.ndar
             if allowed[c] == first + k:
                 continue
             if sphere[c]:
-                d = _point_cylinder(a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k])
+                d = _point_cylinder(
+                    a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k]
+                )
             else:
-                _, d = _cylinder_pair(a[c], b[c], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k], s, normal)
+                _, d = _cylinder_pair(
+                    a[c], b[c], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k], s, normal
+                )
             d = d - radius[c]
             if d < least or d != d:
                 least = d
@@ -257,12 +376,21 @@ def _margins(measured: Measured, phi: np.ndarray, clear: np.ndarray, own: np.nda
         _bounding_spheres(a, b, radius, (start, members), center, reach)
         for u in range(c):
             sphere[u] = a[u, 0] == b[u, 0] and a[u, 1] == b[u, 1] and a[u, 2] == b[u, 2]
-        clear[i] = _obstacle_least(a, b, radius, sphere, world, (start, members), center, reach, far, s, normal, clear_groups[i])
+        clear[i] = _obstacle_least(
+            a, b, radius, sphere, world, (start, members), center, reach, far, s, normal, clear_groups[i]
+        )
         near = 0
         for lp in range(group_a.shape[0]):
             ga, gb = group_a[lp], group_b[lp]
-            bound = math.sqrt((center[ga, 0] - center[gb, 0]) ** 2 + (center[ga, 1] - center[gb, 1]) ** 2
-                              + (center[ga, 2] - center[gb, 2]) ** 2) - reach[ga] - reach[gb]
+            bound = (
+                math.sqrt(
+                    (center[ga, 0] - center[gb, 0]) ** 2
+                    + (center[ga, 1] - center[gb, 1]) ** 2
+                    + (center[ga, 2] - center[gb, 2]) ** 2
+                )
+                - reach[ga]
+                - reach[gb]
+            )
             for m in range(pair_start[lp], pair_start[lp + 1]):
                 p = pair_members[m]
                 if bound >= far:
@@ -277,8 +405,9 @@ def _margins(measured: Measured, phi: np.ndarray, clear: np.ndarray, own: np.nda
                     near_first[near], near_second[near], near_index[near] = u, v, p
                     near += 1
         if near:
-            segment_segment_pairs(a, b, near_first[:near], near_second[:near], gap_t[:near], gap_s[:near], gap[:near],
-                                  gap_normal[:near])
+            segment_segment_pairs(
+                a, b, near_first[:near], near_second[:near], gap_t[:near], gap_s[:near], gap[:near], gap_normal[:near]
+            )
             for r in range(near):
                 p = near_index[r]
                 own[i, p] = gap[r] - pair_radii[p] + shift
@@ -319,7 +448,9 @@ def _inside(phi: np.ndarray, lower: np.ndarray, upper: np.ndarray, buffer: float
 
 
 @compiled(**JIT)
-def _certified(lo: np.ndarray, hi: np.ndarray, c_lo: np.ndarray, c_hi: np.ndarray, levers: np.ndarray, floor: float) -> bool:
+def _certified(
+    lo: np.ndarray, hi: np.ndarray, c_lo: np.ndarray, c_hi: np.ndarray, levers: np.ndarray, floor: float
+) -> bool:
     """Whether every group's clearance (or every pair of groups' gap) at the ends of the piece
     lo-hi (n,), ``c_lo`` and ``c_hi`` (G,), is more than the most it can change on the way
     (``levers`` (n, G): its points' lever arms): c_lo + c_hi >= travel + 2 floor."""
@@ -333,9 +464,19 @@ def _certified(lo: np.ndarray, hi: np.ndarray, c_lo: np.ndarray, c_hi: np.ndarra
 
 
 @compiled(**JIT)
-def _pairs_certified(lo: np.ndarray, hi: np.ndarray, g_lo: np.ndarray, g_hi: np.ndarray, levers: np.ndarray,
-                     p_lo: np.ndarray, p_hi: np.ndarray, rows: np.ndarray, pair_start: np.ndarray, pair_members: np.ndarray,
-                     floor: float) -> bool:
+def _pairs_certified(
+    lo: np.ndarray,
+    hi: np.ndarray,
+    g_lo: np.ndarray,
+    g_hi: np.ndarray,
+    levers: np.ndarray,
+    p_lo: np.ndarray,
+    p_hi: np.ndarray,
+    rows: np.ndarray,
+    pair_start: np.ndarray,
+    pair_members: np.ndarray,
+    floor: float,
+) -> bool:
     """:func:`_certified` for the pairs of groups (``g_lo``, ``g_hi`` (L,), ``levers`` (n, L)); where
     a pair of groups' least gap does not certify the piece, each of its pairs by its own gaps
     (``p_lo``, ``p_hi`` (P,)) and lever arms (``rows`` (P, n); CSR ``pair_start``, ``pair_members``):
@@ -372,7 +513,9 @@ def _measured(measured: Measured, poses: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 @compiled(**JIT)
-def _pose_free(measured: Measured, lower: np.ndarray, upper: np.ndarray, buffer: float, phi: np.ndarray, floor: float) -> bool:
+def _pose_free(
+    measured: Measured, lower: np.ndarray, upper: np.ndarray, buffer: float, phi: np.ndarray, floor: float
+) -> bool:
     """Whether the pose ``phi`` (n,) is within [lower + buffer, upper - buffer] and its least margin
     (:func:`_measured`) is at least ``floor``: the planner's state check in one call."""
     if not _inside(phi, lower, upper, buffer):
@@ -382,8 +525,14 @@ def _pose_free(measured: Measured, lower: np.ndarray, upper: np.ndarray, buffer:
 
 
 @compiled(**JIT)
-def _motion_free(measured: Measured, limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-                 settings: np.ndarray, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
+def _motion_free(
+    measured: Measured,
+    limits: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    settings: np.ndarray,
+    a: np.ndarray,
+    b: np.ndarray,
+    floor: float,
+) -> tuple[bool, int]:
     """:func:`armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled.
 
     ``limits``: (lower, upper, levers (n,), each group's lever arms (n, G), each pair of groups'
@@ -437,9 +586,22 @@ def _motion_free(measured: Measured, limits: tuple[np.ndarray, np.ndarray, np.nd
                 travel += abs(hi[i, j] - lo[i, j]) * levers[j]
             if not travel > certify_to * d_safe:
                 continue
-            doubtful[i] = not (_certified(lo[i], hi[i], c_lo[i], c_hi[i], obstacle_levers, floor)
-                               and _pairs_certified(lo[i], hi[i], o_lo[i], o_hi[i], pair_levers, p_lo[i], p_hi[i], pair_rows,
-                                                    pair_start, pair_members, floor))
+            doubtful[i] = not (
+                _certified(lo[i], hi[i], c_lo[i], c_hi[i], obstacle_levers, floor)
+                and _pairs_certified(
+                    lo[i],
+                    hi[i],
+                    o_lo[i],
+                    o_hi[i],
+                    pair_levers,
+                    p_lo[i],
+                    p_hi[i],
+                    pair_rows,
+                    pair_start,
+                    pair_members,
+                    floor,
+                )
+            )
         kept = np.nonzero(doubtful)[0]
         left = kept.shape[0]
         if left == 0:
@@ -483,8 +645,9 @@ def _link_of(caps: Capsules) -> np.ndarray:
     return np.unique(np.array(caps.names), return_inverse=True)[1].astype(np.int64)
 
 
-def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def carrier_groups(
+    link: np.ndarray, first: np.ndarray, second: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The capsules grouped by the joint that carries them (``link`` (c,), the base's -1 a group
     too), and the pairs (``first``, ``second`` (P,)) by their two groups: (CSR start (G+1,),
     capsule indices (c,), each group pair's two groups (L,) and (L,), CSR start (L+1,), pair
@@ -501,13 +664,16 @@ def carrier_groups(link: np.ndarray, first: np.ndarray, second: np.ndarray
     pair_members = np.argsort(pair_group, kind="stable")
     pair_start = np.searchsorted(pair_group[pair_members], np.arange(len(keys) + 1))
     groups = max(len(carriers), 1)
-    start, members, low, high, pair_start, pair_members = (np.ascontiguousarray(v, dtype=np.int64) for v in (
-        start, members, keys // groups, keys % groups, pair_start, pair_members))
+    start, members, low, high, pair_start, pair_members = (
+        np.ascontiguousarray(v, dtype=np.int64)
+        for v in (start, members, keys // groups, keys % groups, pair_start, pair_members)
+    )
     return start, members, low, high, pair_start, pair_members
 
 
-def pair_capsule_rows(link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray,
-                      reach: np.ndarray | None = None) -> np.ndarray:
+def pair_capsule_rows(
+    link: np.ndarray, first: np.ndarray, second: np.ndarray, rows: np.ndarray, reach: np.ndarray | None = None
+) -> np.ndarray:
     """(P, n) the most each pair's gap changes per radian of joint j: the joints between the two
     capsules' carriers (``link`` (c,)) move the later one's points against the earlier one's
     frame, at most its ``rows`` (c, n) (:func:`~armanim.arm.capsules.capsule_lever_rows`); the
@@ -576,22 +742,39 @@ class CompiledCheck:
         second = np.ascontiguousarray(pairs.second, dtype=np.int64)
         groups = carrier_groups(_link_of(caps), first, second)
         rows = capsule_lever_rows(problem.arm, caps)
-        pair_rows = np.ascontiguousarray(pair_capsule_rows(caps.link, first, second, rows, next_axis_reach(problem.arm, caps)))
+        pair_rows = np.ascontiguousarray(
+            pair_capsule_rows(caps.link, first, second, rows, next_axis_reach(problem.arm, caps))
+        )
         return cls(
             chain=packed_chain(problem.arm),
-            body=(np.ascontiguousarray(packed), np.ascontiguousarray(caps.link, dtype=np.int64),
-                  np.ascontiguousarray(caps.part_radius, dtype=float)),
+            body=(
+                np.ascontiguousarray(packed),
+                np.ascontiguousarray(caps.link, dtype=np.int64),
+                np.ascontiguousarray(caps.part_radius, dtype=float),
+            ),
             world=world_arrays(problem),
             groups=groups,
             pairs=(first, second, np.ascontiguousarray(pairs.radii(caps), dtype=float)),
             shift=self_shift(problem) if len(pairs) else 0.0,
             far=np.inf if exact else max(opts.exact_within * problem.arm.reach, 4 * problem.solver.clearance),
-            limits=(np.ascontiguousarray(problem.limits.lower, dtype=float), np.ascontiguousarray(problem.limits.upper, dtype=float),
-                    np.ascontiguousarray(problem.lever_arms, dtype=float),
-                    group_levers(rows, groups[0], groups[1]),
-                    group_levers(pair_rows, groups[4], groups[5]), pair_rows),
-            settings=np.array([problem.solver.clearance, spacing, opts.certify_to, opts.max_halvings, opts.max_samples,
-                               0.0 if closed else limit_buffer(problem)]),
+            limits=(
+                np.ascontiguousarray(problem.limits.lower, dtype=float),
+                np.ascontiguousarray(problem.limits.upper, dtype=float),
+                np.ascontiguousarray(problem.lever_arms, dtype=float),
+                group_levers(rows, groups[0], groups[1]),
+                group_levers(pair_rows, groups[4], groups[5]),
+                pair_rows,
+            ),
+            settings=np.array(
+                [
+                    problem.solver.clearance,
+                    spacing,
+                    opts.certify_to,
+                    opts.max_halvings,
+                    opts.max_samples,
+                    0.0 if closed else limit_buffer(problem),
+                ]
+            ),
         )
 
     @property
@@ -621,13 +804,27 @@ class CompiledCheck:
 
     def pose_free(self, phi: np.ndarray, floor: float) -> bool:
         """Whether the pose (n,) is within the limits (by the buffer, unless closed) and keeps ``floor``."""
-        return bool(_pose_free(self.measured, self.limits[0], self.limits[1], float(self.settings[5]),
-                               np.ascontiguousarray(phi, dtype=float), float(floor)))
+        return bool(
+            _pose_free(
+                self.measured,
+                self.limits[0],
+                self.limits[1],
+                float(self.settings[5]),
+                np.ascontiguousarray(phi, dtype=float),
+                float(floor),
+            )
+        )
 
     def motion_free(self, a: np.ndarray, b: np.ndarray, floor: float) -> tuple[bool, int]:
         """:func:`~armanim.motion.planning.path.motion_is_free` of the segment a-b, compiled."""
-        free, checks = _motion_free(self.measured, self.limits, self.settings,
-                                    np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(b, dtype=float), float(floor))
+        free, checks = _motion_free(
+            self.measured,
+            self.limits,
+            self.settings,
+            np.ascontiguousarray(a, dtype=float),
+            np.ascontiguousarray(b, dtype=float),
+            float(floor),
+        )
         return bool(free), int(checks)
 
 

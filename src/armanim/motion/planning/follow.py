@@ -9,7 +9,9 @@ import numpy as np
 
 from armanim.motion.problem import Problem
 
-PEAK_SPEED = 1.5  # the smoothstep's peak slope (d/du of 3u^2 - 2u^3 at u = 1/2): the middle frames run at max_joint_step
+PEAK_SPEED = (
+    1.5  # the smoothstep's peak slope (d/du of 3u^2 - 2u^3 at u = 1/2): the middle frames run at max_joint_step
+)
 
 
 def smoothstep(u: np.ndarray) -> np.ndarray:

@@ -86,7 +86,9 @@ def coarse_spacing(problem: Problem) -> float:
     return max(opts.coarse * problem.solver.clearance, opts.coarse_reach * problem.arm.reach)
 
 
-def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float, closed: bool = False) -> tuple[bool, int]:
+def motion_is_free(
+    problem: Problem, a: np.ndarray, b: np.ndarray, floor: float, closed: bool = False
+) -> tuple[bool, int]:
     """Whether no pose on the segment a-b comes closer than ``floor`` to an obstacle (to within
     ``certify_to * solver.clearance / 2``, the planner's options), and how many poses were checked.
 
@@ -113,8 +115,9 @@ def motion_is_free(problem: Problem, a: np.ndarray, b: np.ndarray, floor: float,
     return _certified(problem, coarse, clear, own, floor, checks)
 
 
-def _certified(problem: Problem, coarse: np.ndarray, clear: np.ndarray, own: np.ndarray | None, floor: float,
-               checks: int) -> tuple[bool, int]:
+def _certified(
+    problem: Problem, coarse: np.ndarray, clear: np.ndarray, own: np.ndarray | None, floor: float, checks: int
+) -> tuple[bool, int]:
     """:func:`motion_is_free`'s halving: the pieces between the ``coarse`` poses (k, n), with
     their clearances ``clear`` (k,) and shifted pair gaps ``own`` (k, P) or None, halved level by
     level until each is certified; (free, checks) with the poses checked added to ``checks``."""
@@ -204,8 +207,9 @@ def plan_path(problem: Problem, start: np.ndarray, goals: np.ndarray, searched: 
     return path
 
 
-def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, tick: Callable[[int], None] | None,
-                        check: CompiledCheck) -> JointPath:
+def _path_at_two_floors(
+    problem: Problem, start: np.ndarray, goals: np.ndarray, tick: Callable[[int], None] | None, check: CompiledCheck
+) -> JointPath:
     """:func:`plan_path`'s search: with room to settle first (``settle_searches`` searches), then
     at the planning floor (``ompl_searches``); ``tick(done)`` counts the iterations of both, the
     second's after the first's whole budget; every pose and motion judged by ``check`` (the
@@ -217,20 +221,34 @@ def _path_at_two_floors(problem: Problem, start: np.ndarray, goals: np.ndarray, 
     if len(roomy) and pose_clearance(problem, start)[0] < room:
         begin, checks = escape_pose(problem, start, room)
     if len(roomy) and begin is not None:
-        waypoints, source, used = search_path(problem, begin, roomy, room, tick, searches=problem.tunables.planner.settle_searches,
-                                              check=check)
+        waypoints, source, used = search_path(
+            problem, begin, roomy, room, tick, searches=problem.tunables.planner.settle_searches, check=check
+        )
         checks += used
         if waypoints is not None:
             head = [start] if begin is not start else []
             return JointPath(np.concatenate([np.array(head).reshape(-1, len(start)), waypoints]), source, checks)
-    waypoints, source, used = search_path(problem, start, goals, planning_floor(problem, start), tick,
-                                          first=problem.tunables.planner.settle_searches, check=check)
+    waypoints, source, used = search_path(
+        problem,
+        start,
+        goals,
+        planning_floor(problem, start),
+        tick,
+        first=problem.tunables.planner.settle_searches,
+        check=check,
+    )
     return JointPath(waypoints, source, checks + used)
 
 
 def search_path(
-    problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float,
-    tick: Callable[[int], None] | None = None, first: int = 0, searches: int | None = None, check: CompiledCheck | None = None,
+    problem: Problem,
+    start: np.ndarray,
+    goals: np.ndarray,
+    floor: float,
+    tick: Callable[[int], None] | None = None,
+    first: int = 0,
+    searches: int | None = None,
+    check: CompiledCheck | None = None,
     thorough: bool = True,
 ) -> tuple[np.ndarray | None, PathSource, int]:
     """(waypoints or None, source, checks): the straight segment to one of the first goals,
@@ -241,15 +259,17 @@ def search_path(
     limits a joint goal's path keeps), else the numpy ones with the filter's buffer; ``thorough``:
     how the path is simplified (:func:`simplify`)."""
     checks, opts = 0, problem.tunables.planner
-    for goal in goals[:opts.straight_tries]:
-        free, used = check.motion_free(start, goal, floor) if check is not None else motion_is_free(problem, start, goal, floor)
+    for goal in goals[: opts.straight_tries]:
+        free, used = (
+            check.motion_free(start, goal, floor) if check is not None else motion_is_free(problem, start, goal, floor)
+        )
         checks += used
         if free:
             return np.stack([start, goal]), "straight", checks
     for search in range(opts.ompl_searches if searches is None else searches):
         before = (first + search) * opts.ompl_iterations
         counted = (lambda done, before=before: tick(before + done)) if tick else None
-        waypoints, used = rrt_connect(problem, start, goals[:opts.ompl_goals], floor, search, counted, check, thorough)
+        waypoints, used = rrt_connect(problem, start, goals[: opts.ompl_goals], floor, search, counted, check, thorough)
         _collect_before_exit()
         checks += used
         if waypoints is not None:
@@ -297,8 +317,14 @@ def escape_pose(problem: Problem, start: np.ndarray, floor: float) -> tuple[np.n
 
 
 def rrt_connect(
-    problem: Problem, start: np.ndarray, goals: np.ndarray, floor: float, search: int = 0,
-    tick: Callable[[int], None] | None = None, check: CompiledCheck | None = None, thorough: bool = True,
+    problem: Problem,
+    start: np.ndarray,
+    goals: np.ndarray,
+    floor: float,
+    search: int = 0,
+    tick: Callable[[int], None] | None = None,
+    check: CompiledCheck | None = None,
+    thorough: bool = True,
 ) -> tuple[np.ndarray | None, int]:
     """OMPL's RRT-Connect from ``start`` to any of ``goals``, simplified (``thorough``: see
     :func:`simplify`); (path or None, checks). Every pose of the path keeps ``floor`` from every
@@ -316,7 +342,9 @@ def rrt_connect(
     _seed_ompl(search, opts.ompl_seed)
     n = len(start)
     checks = [0]
-    space, si, _validator = _space_information(ob, problem, start, floor, checks, check)  # OMPL borrows the validator: keep it
+    space, si, _validator = _space_information(
+        ob, problem, start, floor, checks, check
+    )  # OMPL borrows the validator: keep it
     pdef = ob.ProblemDefinition(si)
     pdef.addStartState(_state(space, start))
     targets = ob.GoalStates(si)
@@ -382,8 +410,9 @@ def _seed_ompl(search: int, seed: int) -> None:
         ou.RNG()  # each RNG made takes the next seed: the planner's RNGs get later ones
 
 
-def _space_information(ob: Any, problem: Problem, start: np.ndarray, floor: float, checks: list[int],
-                       check: CompiledCheck | None = None) -> tuple[Any, Any, Any]:
+def _space_information(
+    ob: Any, problem: Problem, start: np.ndarray, floor: float, checks: list[int], check: CompiledCheck | None = None
+) -> tuple[Any, Any, Any]:
     """OMPL's joint space for the arm, with the free-pose test and the certified motion check
     at ``floor`` (both counting poses checked into ``checks[0]``; by ``check`` where given, else
     numpy's); returns (space, si, validator)."""

@@ -95,7 +95,9 @@ def joint_ranges(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
     return np.minimum(lo, middle), np.maximum(hi, middle)
 
 
-def pose_task(problem: Problem, pose: Pose, goal: np.ndarray, orientation: Orientation | None) -> tuple[np.ndarray, np.ndarray]:
+def pose_task(
+    problem: Problem, pose: Pose, goal: np.ndarray, orientation: Orientation | None
+) -> tuple[np.ndarray, np.ndarray]:
     """The batched task error (S, m) and Jacobian (S, m, n): the tip's (m = 3), stacked with
     the weighted rotation rows w B r and w B J_w for a goal with an orientation."""
     error = goal - pose.tip  # (S, 3)
@@ -107,8 +109,9 @@ def pose_task(problem: Problem, pose: Pose, goal: np.ndarray, orientation: Orien
     return np.concatenate([error, w * rot_error], -1), np.concatenate([jac, w * rot_jac], -2)
 
 
-def hits(problem: Problem, phi: np.ndarray, goal: np.ndarray, orientation: Orientation | None,
-         fraction: float | None = None) -> np.ndarray:
+def hits(
+    problem: Problem, phi: np.ndarray, goal: np.ndarray, orientation: Orientation | None, fraction: float | None = None
+) -> np.ndarray:
     """(S,) bool: poses whose tip is within ``fraction`` (default the pose search's ``hit``) of the
     tolerance of the goal, and whose tool is within that fraction of the orientation tolerance of
     its orientation (if any)."""
@@ -182,7 +185,9 @@ def goal_poses(
     free = hit & within_limits(problem, solved) & (clear >= floor)
     roomy = clear >= settle_clearance(problem)
     poses = [nearest_first(problem, phi_now, solved[free & room]) for room in (roomy, ~roomy)]
-    pair = blocking_pair(problem, solved[hit & within_limits(problem, solved) & ~free], floor) if not free.any() else None
+    pair = (
+        blocking_pair(problem, solved[hit & within_limits(problem, solved) & ~free], floor) if not free.any() else None
+    )
     return GoalPoses(poses=np.concatenate(poses), reachable=reachable, orientable=orientable, self_pair=pair)
 
 
@@ -199,7 +204,9 @@ def blocking_pair(problem: Problem, poses: np.ndarray, floor: float) -> str | No
     return pairs.labels[int(np.bincount(gaps[kept_out].argmin(axis=1)).argmax())]
 
 
-def _reachable_without_limits(problem: Problem, starts: np.ndarray, goal: np.ndarray, orientation: Orientation | None) -> bool:
+def _reachable_without_limits(
+    problem: Problem, starts: np.ndarray, goal: np.ndarray, orientation: Orientation | None
+) -> bool:
     solved = solve_many(problem, starts, goal, clip=False, orientation=orientation)
     return bool(np.any(hits(problem, solved, goal, orientation)))
 
@@ -211,7 +218,7 @@ def turn_variants(problem: Problem, phi_now: np.ndarray, poses: np.ndarray) -> n
     unlimited joints, at most the pose search's ``max_turn_joints`` of them varied."""
     short = np.where(problem.limits.limited, poses, phi_now + wrap_angle(poses - phi_now))
     variants = [short]
-    for j in np.nonzero(~problem.limits.limited)[0][:problem.tunables.poses.max_turn_joints]:
+    for j in np.nonzero(~problem.limits.limited)[0][: problem.tunables.poses.max_turn_joints]:
         longer = [v.copy() for v in variants]
         for v in longer:
             v[:, j] -= 2 * np.pi * np.sign(v[:, j] - phi_now[j])

@@ -28,7 +28,9 @@ class StepFunction(Protocol):
     """A method's proposal for one frame toward the goal position (and the goal's
     :class:`~armanim.motion.orientation.Orientation`, when it has one)."""
 
-    def __call__(self, problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> Step:
+    def __call__(
+        self, problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None
+    ) -> Step:
         """The proposal from ``state`` toward ``goal`` (3,), scene units."""
         ...
 
@@ -105,6 +107,13 @@ def proposed_step(
 
 
 __all__ = [
-    "METHODS", "ArmState", "Method", "Step", "StepFunction", "arm_state", "proposed_step", "solver_method",
+    "METHODS",
+    "ArmState",
+    "Method",
+    "Step",
+    "StepFunction",
+    "arm_state",
+    "proposed_step",
+    "solver_method",
     "step_function",
 ]

@@ -114,15 +114,21 @@ def jacobian_of_tip(problem: Problem, phi: np.ndarray, pose: Pose) -> np.ndarray
     return tip_jacobian(arm, pose)
 
 
-def jacobian_of_capsule_point(problem: Problem, phi: np.ndarray, pose: Pose, capsule: int | np.ndarray,
-                              t: float | np.ndarray) -> np.ndarray:
+def jacobian_of_capsule_point(
+    problem: Problem, phi: np.ndarray, pose: Pose, capsule: int | np.ndarray, t: float | np.ndarray
+) -> np.ndarray:
     """(3, n) Jacobian of the point at fraction ``t`` along a capsule: analytic, or forward
     differences (Eq. 15) when the scene says ``jacobian: numeric``; for (k,) arrays ``capsule``
     and ``t``, the k points' Jacobians, (k, 3, n)."""
     caps = problem.capsules
     if problem.solver.jacobian == "numeric":
         if np.ndim(capsule):
-            return np.array([jacobian_of_capsule_point(problem, phi, pose, c, s) for c, s in zip(np.asarray(capsule), np.asarray(t))]).reshape(-1, 3, len(phi))
+            return np.array(
+                [
+                    jacobian_of_capsule_point(problem, phi, pose, c, s)
+                    for c, s in zip(np.asarray(capsule), np.asarray(t))
+                ]
+            ).reshape(-1, 3, len(phi))
         return numeric_jacobian(lambda p: capsule_point(caps, forward(problem.arm, p), capsule, t), phi)
     return capsule_point_jacobian(problem.arm, caps, pose, capsule, t)
 

@@ -20,10 +20,15 @@ from armanim.motion.solvers.common import ArmState, Step, arm_state
 HALVINGS = 30  # line-search trials: 2**-30 of a step is below any useful resolution
 
 
-def cost_gradient(problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None) -> np.ndarray:
+def cost_gradient(
+    problem: Problem, state: ArmState, goal: np.ndarray, orientation: Orientation | None = None
+) -> np.ndarray:
     """grad C at the state's pose: analytic, or the forward-difference gradient when numeric."""
     if problem.solver.jacobian == "numeric":
-        return cast(np.ndarray, numeric_jacobian(lambda p: total_cost(problem, p, goal, orientation=orientation)[..., None], state.phi)[0])
+        return cast(
+            np.ndarray,
+            numeric_jacobian(lambda p: total_cost(problem, p, goal, orientation=orientation)[..., None], state.phi)[0],
+        )
     return total_cost_gradient(problem, state.phi, goal, state.pose, state.clearance, orientation)
 
 
@@ -37,7 +42,9 @@ def gradient_step(problem: Problem, state: ArmState, goal: np.ndarray, orientati
         dphi = dphi * (s.max_step / travel)
     now = total_cost(problem, phi, goal, state.pose, state.clearance, orientation)
     whole = arm_state(problem, phi + dphi)  # the filter checks this very pose next: it is handed on
-    if total_cost(problem, whole.phi, goal, whole.pose, whole.clearance, orientation) < now:  # the whole step is usually taken
+    if (
+        total_cost(problem, whole.phi, goal, whole.pose, whole.clearance, orientation) < now
+    ):  # the whole step is usually taken
         return Step(dphi=dphi, iterations=1, ahead=whole)
     scales = 0.5 ** np.arange(1, HALVINGS)
     better = np.nonzero(total_cost(problem, phi + scales[:, None] * dphi, goal, orientation=orientation) < now)[0]

@@ -71,7 +71,9 @@ def repulsion(gap: np.ndarray, influence: np.ndarray | float) -> np.ndarray:
     """
     gap = np.asarray(gap, dtype=float)
     inside = (gap > 0) & (gap < influence)
-    gap = np.maximum(gap, np.multiply(influence, CLOSEST_GAP))  # a pose a hair's breadth from its barrier: a finite push
+    gap = np.maximum(
+        gap, np.multiply(influence, CLOSEST_GAP)
+    )  # a pose a hair's breadth from its barrier: a finite push
     return np.where(inside, influence * (influence / np.where(inside, gap, 1.0) - 1.0), 0.0)
 
 
@@ -94,8 +96,12 @@ largest singular value) would propose steps of 1e17 rad in directions rounding s
 
 
 def orientation_in_null_space(
-    problem: Problem, state: ArmState, orientation: Orientation, jac: np.ndarray,
-    dphi: np.ndarray, invert: Callable[[np.ndarray], np.ndarray],
+    problem: Problem,
+    state: ArmState,
+    orientation: Orientation,
+    jac: np.ndarray,
+    dphi: np.ndarray,
+    invert: Callable[[np.ndarray], np.ndarray],
 ) -> tuple[np.ndarray, np.ndarray]:
     """The step with the rotation task added in the null space of the tip's, and the projector
     (n, n) onto the null space of both (where the secondary pushes go).
@@ -111,15 +117,21 @@ def orientation_in_null_space(
     jac_r = w * jac_w
     null_tip = np.eye(len(dphi)) - pseudo_inverse(jac) @ jac
     restricted = jac_r @ null_tip
-    if np.sum(restricted * restricted) < ROUNDING_TASK * ROUNDING_TASK * np.sum(jac_r * jac_r):  # only rounding is left to turn
+    if np.sum(restricted * restricted) < ROUNDING_TASK * ROUNDING_TASK * np.sum(
+        jac_r * jac_r
+    ):  # only rounding is left to turn
         return dphi, null_tip
     dphi = dphi + invert(restricted) @ (rotation_displacement(problem, error) - jac_r @ dphi)
     return dphi, null_tip - pseudo_inverse(restricted) @ restricted
 
 
 def linear_step(
-    problem: Problem, state: ArmState, goal: np.ndarray, invert: Callable[[np.ndarray], np.ndarray],
-    orientation: Orientation | None = None, stackable: bool = False,
+    problem: Problem,
+    state: ArmState,
+    goal: np.ndarray,
+    invert: Callable[[np.ndarray], np.ndarray],
+    orientation: Orientation | None = None,
+    stackable: bool = False,
 ) -> Step:
     """One frame of Algorithm 2 with obstacle and limit terms, for a given inverse (of a
     (3, n) Jacobian or a stack of them), and the rotation task second when the goal has an
@@ -140,10 +152,14 @@ def linear_step(
     cl = state.clearance
     if cl is not None and np.any(cl.d < problem.obstacles.influence):
         obstacles = problem.obstacles
-        push = s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence) * problem.capsules.moving[:, None]  # the base: never pushed
+        push = (
+            s.beta * s.w_obstacles * repulsion(cl.d, obstacles.influence) * problem.capsules.moving[:, None]
+        )  # the base: never pushed
         pushing = np.nonzero(push)
         on_links = pushing[0] != cl.tip
-        inverses = iter(invert(jacobian_of_capsule_point(problem, phi, pose, pushing[0][on_links], cl.t[pushing][on_links])))
+        inverses = iter(
+            invert(jacobian_of_capsule_point(problem, phi, pose, pushing[0][on_links], cl.t[pushing][on_links]))
+        )
         for part, obs in zip(*pushing):
             v = push[part, obs] * cl.normal[part, obs]
             if part == cl.tip:  # the tip itself: the notes' term, in task space
@@ -152,7 +168,9 @@ def linear_step(
                 pushed = next(inverses) @ v
                 secondary = pushed if secondary is None else secondary + pushed
     gaps = state.self_gaps
-    if gaps is not None and gaps.least < self_influence(problem):  # the arm's own pairs: pushed apart along their normal
+    if gaps is not None and gaps.least < self_influence(
+        problem
+    ):  # the arm's own pairs: pushed apart along their normal
         push = s.beta * s.w_obstacles * repulsion(gaps.d, self_influence(problem))
         which = np.nonzero(push)[0]
         if len(which):
@@ -186,7 +204,9 @@ def stacks_the_pose_task(problem: Problem, orientation: Orientation) -> bool:
 def arm_holds_orientation(problem: Problem, orientation: Orientation) -> bool:
     """:func:`armanim.motion.orientation.holds_orientation` of the problem's arm and this kind of
     goal, judged once per arm and kind (kept on the arm)."""
-    memo = problem.arm.__dict__.setdefault("_holds_orientation", {})  # a cache of a fact of the arm: it stays what it was
+    memo = problem.arm.__dict__.setdefault(
+        "_holds_orientation", {}
+    )  # a cache of a fact of the arm: it stays what it was
     if orientation.rows not in memo:
         memo[orientation.rows] = holds_orientation(problem.arm, orientation)
     return cast(bool, memo[orientation.rows])

@@ -96,8 +96,14 @@ def _pose(arm: Arm, phi: np.ndarray) -> Pose:
 
 
 def objective(
-    arm: Arm, phi: np.ndarray, target: np.ndarray, rest: np.ndarray, w_tar: float, w_reg: float,
-    orientation: Orientation | None = None, w_rot: float = 0.0,
+    arm: Arm,
+    phi: np.ndarray,
+    target: np.ndarray,
+    rest: np.ndarray,
+    w_tar: float,
+    w_reg: float,
+    orientation: Orientation | None = None,
+    w_rot: float = 0.0,
 ) -> float:
     """f(Phi), the assignment's objective (plus 1/2 w_rot |r|^2 with an ``orientation``)."""
     pose = _pose(arm, phi)
@@ -164,8 +170,15 @@ def newton_direction(H: np.ndarray, g: np.ndarray) -> np.ndarray | None:
     return cast("np.ndarray | None", -(vectors @ ((vectors.T @ g) / np.maximum(eigenvalues, floor))))
 
 
-def _line_search(fun: Callable[[np.ndarray], float], x: np.ndarray, f0: float, direction: np.ndarray, slope: float,
-                 alpha: float, opts: NewtonOptions) -> tuple[np.ndarray | None, float, float]:
+def _line_search(
+    fun: Callable[[np.ndarray], float],
+    x: np.ndarray,
+    f0: float,
+    direction: np.ndarray,
+    slope: float,
+    alpha: float,
+    opts: NewtonOptions,
+) -> tuple[np.ndarray | None, float, float]:
     """Backtrack from ``alpha`` until f(x + a d) <= f0 + 1e-4 a slope (Armijo).
 
     Returns the new point, its f and the step length taken (None, f0, a on failure).
@@ -304,8 +317,14 @@ def newton_step(problem: Problem, state: ArmState, goal: np.ndarray, orientation
         result = newton_solve(arm, phi, target, phi, s.w_target, s.w_regularizer)
     else:
         result = newton_solve(
-            arm, phi, target, phi, s.w_target, s.w_regularizer,
-            orientation=frame_orientation(problem, state, orientation), w_rot=rotation_weight(problem, orientation),
+            arm,
+            phi,
+            target,
+            phi,
+            s.w_target,
+            s.w_regularizer,
+            orientation=frame_orientation(problem, state, orientation),
+            w_rot=rotation_weight(problem, orientation),
         )
     return Step(
         dphi=result.phi - phi,

@@ -104,8 +104,9 @@ class ShapedPart:
     certified: np.ndarray
 
 
-def pass_speed_caps(problem: Problem, goal: Goal, poses: np.ndarray, zone: tuple[int, int], fps: float,
-                    slow: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def pass_speed_caps(
+    problem: Problem, goal: Goal, poses: np.ndarray, zone: tuple[int, int], fps: float, slow: float = 1.0
+) -> tuple[np.ndarray, np.ndarray]:
     """The most ds/dt on each step of ``poses`` (m, n) (inf: no cap) so that near the via goal
     the frames at ``fps`` lie close enough together to pass within :func:`judged_radius`, and the
     steps capped ((m - 1,) each). ``slow`` divides the caps (the caller's retries).
@@ -120,7 +121,7 @@ def pass_speed_caps(problem: Problem, goal: Goal, poses: np.ndarray, zone: tuple
     h = np.maximum(np.linalg.norm(steps, axis=1), 1e-300)
     first, last = zone
     lo, hi = max(first - 1, 0), min(last + 1, len(poses) - 1)
-    dist = via_distances(problem, goal, flat[lo:hi + 1])
+    dist = via_distances(problem, goal, flat[lo : hi + 1])
     near = int(np.argmin(dist))
     radius = judged_radius(problem, goal)
     moved = h.copy()  # how far each step moves the goal's measure (the tool; a joint goal's joints): on the zone's
@@ -128,7 +129,7 @@ def pass_speed_caps(problem: Problem, goal: Goal, poses: np.ndarray, zone: tuple
     if goal.joints is not None:
         moved[near_steps] = np.abs(steps[near_steps]).max(axis=1)
     else:
-        tips = forward(problem.arm, flat[near_steps.start:hi + 1]).tip
+        tips = forward(problem.arm, flat[near_steps.start : hi + 1]).tip
         moved[near_steps] = np.linalg.norm(np.diff(tips, axis=0), axis=1)
     inside = dist < radius
     a = b = near
@@ -136,14 +137,21 @@ def pass_speed_caps(problem: Problem, goal: Goal, poses: np.ndarray, zone: tuple
         a -= 1
     while b < len(inside) - 1 and inside[b + 1]:
         b += 1
-    per_frame = max(0.9 * float(moved[lo + a:lo + b].sum()), 1.2 * max(radius - float(dist[near]), 0.0))
+    per_frame = max(0.9 * float(moved[lo + a : lo + b].sum()), 1.2 * max(radius - float(dist[near]), 0.0))
     capped = np.zeros(len(steps), dtype=bool)
     capped[lo:hi] = inside[:-1] | inside[1:]  # the zone's steps with an end inside the radius
     nearest = lo + near
-    capped[max(nearest - 1, 0):min(nearest + 1, len(steps))] = True
+    capped[max(nearest - 1, 0) : min(nearest + 1, len(steps))] = True
     caps = np.where(capped, per_frame * fps / (np.maximum(moved / h, 1e-300) * slow), np.inf)
     return caps, capped
 
 
-__all__ = ["BLEND_REASONS", "BlendReport", "ShapedPart", "blend_reason", "judged_radius", "pass_speed_caps",
-           "via_distances"]
+__all__ = [
+    "BLEND_REASONS",
+    "BlendReport",
+    "ShapedPart",
+    "blend_reason",
+    "judged_radius",
+    "pass_speed_caps",
+    "via_distances",
+]

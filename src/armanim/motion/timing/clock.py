@@ -91,8 +91,13 @@ class TimeLaw:
         return np.maximum(s, self.s[i]), np.maximum(self.speed[i] + u * tau, 0.0), u
 
 
-def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, path_speed: np.ndarray | None = None,
-                 clock: ClockOptions = DEFAULTS.clock) -> TimeLaw:
+def time_optimal(
+    path: JointPath,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    path_speed: np.ndarray | None = None,
+    clock: ClockOptions = DEFAULTS.clock,
+) -> TimeLaw:
     """The fastest time law along ``path`` from rest to rest within box limits (TOPP-RA).
 
     Parameters
@@ -158,8 +163,6 @@ def time_optimal(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, p
     return TimeLaw(s, np.concatenate([[0.0], np.cumsum(dt)]), v, u)
 
 
-
-
 def _grid(knots: np.ndarray, clock: ClockOptions) -> np.ndarray:
     """(N,) the knots and evenly spaced points inside each step: ``clock.grid_per_step`` per
     step, or more, so that there are at least ``clock.grid_min`` intervals."""
@@ -206,8 +209,16 @@ first, to keep a limit the clock does not know (a path goal's tool speed): 1 whe
 stretch by k divides that speed by k."""
 
 
-def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                   most_frames: float = np.inf, excess: Excess | None = None, clock: ClockOptions = DEFAULTS.clock) -> Motion:
+def sampled_motion(
+    path: JointPath,
+    law: TimeLaw,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    fps: float,
+    most_frames: float = np.inf,
+    excess: Excess | None = None,
+    clock: ClockOptions = DEFAULTS.clock,
+) -> Motion:
     """The time law slowed by the least factor that keeps every limit, sampled at ``fps``.
 
     The factor covers the limits checked densely on the continuous motion (the grid's
@@ -224,8 +235,18 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
     """
     from armanim.motion.timing.passes import law_excess
 
-    q_vel, q_acc = law_excess(law.t, law.s, law.speed, law.accel, path.s, path.poses, path.slopes, _check_fractions(clock),
-                              speed, acceleration)
+    q_vel, q_acc = law_excess(
+        law.t,
+        law.s,
+        law.speed,
+        law.accel,
+        path.s,
+        path.poses,
+        path.slopes,
+        _check_fractions(clock),
+        speed,
+        acceleration,
+    )
     scale = max(1.0, q_vel, math.sqrt(q_acc))
     start, end = path.poses[0], path.poses[-1]
     for _ in range(32):
@@ -241,8 +262,11 @@ def sampled_motion(path: JointPath, law: TimeLaw, speed: np.ndarray, acceleratio
         phi[-1] = end
         velocity = path.evaluate(s, 1) * (sd / scale)[:, None]
         shown = np.concatenate([start[None], phi])
-        over = max(_frame_excess(shown, speed, acceleration, fps=fps), _velocity_excess(velocity, speed),
-                   excess(shown) if excess else 1.0)
+        over = max(
+            _frame_excess(shown, speed, acceleration, fps=fps),
+            _velocity_excess(velocity, speed),
+            excess(shown) if excess else 1.0,
+        )
         if over <= 1.0 + 1e-9:  # rounding: a bang-bang step is exactly at its limit
             break
         scale *= over * (1 + 1e-9)
@@ -266,8 +290,9 @@ def _velocity_excess(velocity: np.ndarray, speed: np.ndarray) -> float:
     return max(1.0, float(np.max(np.abs(velocity) / speed, initial=0.0)))
 
 
-def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray | None = None,
-                  fps: float = 1.0) -> float:
+def _frame_excess(
+    phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray | None = None, fps: float = 1.0
+) -> float:
     """The factor by which time must stretch for frames ``phi`` (rest pose first, at rest
     after the last) to keep the limits: 1 when they do. A stretch by k divides speeds by k,
     accelerations by k**2 and jerks (third differences, at rest before and after) by k**3."""
@@ -283,9 +308,17 @@ def _frame_excess(phi: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, 
     return cast(float, max(1.0, ratio_v, math.sqrt(ratio_a), ratio_j ** (1 / 3)))
 
 
-def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray, fps: float,
-                        most_frames: float = np.inf, path_speed: np.ndarray | None = None,
-                        excess: Excess | None = None, clock: ClockOptions = DEFAULTS.clock) -> Motion:
+def jerk_limited_motion(
+    path: JointPath,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    jerk: np.ndarray,
+    fps: float,
+    most_frames: float = np.inf,
+    path_speed: np.ndarray | None = None,
+    excess: Excess | None = None,
+    clock: ClockOptions = DEFAULTS.clock,
+) -> Motion:
     """A jerk-limited motion along ``path`` from rest to rest, sampled at ``fps``: the
     time-optimal law (:func:`time_optimal`) with its path speed averaged over a sliding window of
     tau = max_j 2 a_j / j_j seconds, which makes the path acceleration continuous and its jerk at
@@ -326,8 +359,11 @@ def jerk_limited_motion(path: JointPath, speed: np.ndarray, acceleration: np.nda
         phi[-1] = end
         velocity = path.evaluate(at, 1) * (sd / scale)[:, None]
         shown = np.concatenate([start[None], phi])
-        over = max(_frame_excess(shown, speed, acceleration, jerk, fps), _velocity_excess(velocity, speed),
-                   excess(shown) if excess else 1.0)
+        over = max(
+            _frame_excess(shown, speed, acceleration, jerk, fps),
+            _velocity_excess(velocity, speed),
+            excess(shown) if excess else 1.0,
+        )
         if over <= 1.0 + 1e-9:
             break
         scale *= over * (1 + 1e-9)

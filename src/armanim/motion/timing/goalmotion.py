@@ -93,8 +93,9 @@ def probed_steps(path: JointPath, safety: PathSafety, asked: np.ndarray) -> tupl
     return probed_paths([path], [safety], [asked])[0]
 
 
-def probed_paths(paths: list[JointPath], safeties: list[PathSafety], asked: list[np.ndarray]
-                 ) -> list[tuple[np.ndarray, np.ndarray]]:
+def probed_paths(
+    paths: list[JointPath], safeties: list[PathSafety], asked: list[np.ndarray]
+) -> list[tuple[np.ndarray, np.ndarray]]:
     """:func:`probed_steps` for several paths at once, their probes measured in two batches (the
     midpoints, then the quarter points) by the first safety's ``clearance``."""
     out = [(np.zeros(len(a), dtype=bool), np.zeros(len(a), dtype=bool)) for a in asked]
@@ -114,8 +115,10 @@ def probed_paths(paths: list[JointPath], safeties: list[PathSafety], asked: list
         unsafe[steps[i][~halves & ~(c_mid[i] >= floor)]] = True
         if np.any(~halves & (c_mid[i] >= floor)):
             more[i] = ~halves & (c_mid[i] >= floor)
-    quarter = {i: [paths[i].evaluate(paths[i].s[steps[i][m]] + f * h[i][steps[i][m]]) for f in (0.25, 0.75)]
-               for i, m in more.items()}
+    quarter = {
+        i: [paths[i].evaluate(paths[i].s[steps[i][m]] + f * h[i][steps[i][m]]) for f in (0.25, 0.75)]
+        for i, m in more.items()
+    }
     measured = iter(_measured(measure, [q for i in more for q in quarter[i]]))
     for i, m in more.items():
         unsafe, proven = out[i]
@@ -134,8 +137,9 @@ def _measured(measure: Callable[[np.ndarray], np.ndarray], groups: list[np.ndarr
     return np.split(measure(np.concatenate(groups)), np.cumsum([len(g) for g in groups])[:-1])
 
 
-def _pieces_clear(path: JointPath, safety: PathSafety, steps: np.ndarray, inner: list[np.ndarray],
-                  cleared: list[np.ndarray]) -> np.ndarray:
+def _pieces_clear(
+    path: JointPath, safety: PathSafety, steps: np.ndarray, inner: list[np.ndarray], cleared: list[np.ndarray]
+) -> np.ndarray:
     """(len(steps),) bool: every piece of each step between its ends and the ``inner`` poses
     (each (len(steps), n), in order along the step, with clearances ``cleared``) certified by
     :func:`two_sided_bound`."""
@@ -149,9 +153,16 @@ def _pieces_clear(path: JointPath, safety: PathSafety, steps: np.ndarray, inner:
     return ok
 
 
-def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                safety: PathSafety | None = None, most_frames: float = np.inf,
-                jerk: np.ndarray | None = None) -> Motion:
+def goal_motion(
+    poses: np.ndarray,
+    limited: np.ndarray,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    fps: float,
+    safety: PathSafety | None = None,
+    most_frames: float = np.inf,
+    jerk: np.ndarray | None = None,
+) -> Motion:
     """The motion through one goal's solved ``poses`` (m, n) from rest to rest at ``fps``
     (:func:`goal_motions` for one goal).
 
@@ -159,15 +170,26 @@ def goal_motion(poses: np.ndarray, limited: np.ndarray, speed: np.ndarray, accel
     >>> len(m.phi), float(m.phi[-1, 0]), m.duration
     (20, 1.0, 2.0)
     """
-    return goal_motions([poses], limited, speed, acceleration, fps, None if safety is None else [safety], most_frames,
-                        jerk)[0]
+    return goal_motions(
+        [poses], limited, speed, acceleration, fps, None if safety is None else [safety], most_frames, jerk
+    )[0]
 
 
-def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray, acceleration: np.ndarray, fps: float,
-                 safeties: list[PathSafety] | None = None, most_frames: float = np.inf, jerk: np.ndarray | None = None,
-                 holds: list[int] | None = None, path_speeds: list[np.ndarray | None] | None = None,
-                 strays: list[Callable[[Motion], np.ndarray] | None] | None = None,
-                 excesses: list[Excess | None] | None = None, clock: ClockOptions = DEFAULTS.clock) -> list[Motion]:
+def goal_motions(
+    poses: list[np.ndarray],
+    limited: np.ndarray,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    fps: float,
+    safeties: list[PathSafety] | None = None,
+    most_frames: float = np.inf,
+    jerk: np.ndarray | None = None,
+    holds: list[int] | None = None,
+    path_speeds: list[np.ndarray | None] | None = None,
+    strays: list[Callable[[Motion], np.ndarray] | None] | None = None,
+    excesses: list[Excess | None] | None = None,
+    clock: ClockOptions = DEFAULTS.clock,
+) -> list[Motion]:
     """The motions through each goal's solved ``poses`` (m_i, n), one after the other, each from
     rest to rest at ``fps``.
 
@@ -193,16 +215,24 @@ def goal_motions(poses: list[np.ndarray], limited: np.ndarray, speed: np.ndarray
     for g, excess in zip(goals, excesses or []):
         g.excess = excess
     probing = [(g, g.safety) for g in goals if g.safety is not None and len(g.path.s) > 2 and np.any(g.asked)]
-    for (g, _), (unsafe, proven) in zip(probing, probed_paths([g.path for g, _ in probing], [safety for _, safety in probing],
-                                                              [g.asked for g, _ in probing])):
+    for (g, _), (unsafe, proven) in zip(
+        probing,
+        probed_paths([g.path for g, _ in probing], [safety for _, safety in probing], [g.asked for g, _ in probing]),
+    ):
         g.proven = proven
         g.chords[g.solved_step[unsafe]] = True
     pending = [i for i, g in enumerate(goals) if g.path.length > 0]
     while pending:  # a step whose frames come too close (or stray) is taken along its chord, and its motion timed again
         for i in pending:
-            goals[i].time(speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk, clock)
-        again = {i for i in pending if (stray := (strays or [None] * len(goals))[i]) is not None
-                 and goals[i].chord_frames(stray(goals[i].solved_motion))}
+            goals[i].time(
+                speed, acceleration, fps, most_frames - sum(g.frames + h for g, h in zip(goals[:i], holds)), jerk, clock
+            )
+        again = {
+            i
+            for i in pending
+            if (stray := (strays or [None] * len(goals))[i]) is not None
+            and goals[i].chord_frames(stray(goals[i].solved_motion))
+        }
         checked = [i for i in pending if goals[i].safety is not None and np.any(goals[i].timed_check)]
         if checked and safeties is not None:
             found = _measured(safeties[0].clearance, [goals[i].timed.phi[goals[i].timed_check] for i in checked])
@@ -245,7 +275,9 @@ class _Goal:
         path = joint_path(poses, limited)
         steps = len(poses) - 1
         doubtful = np.zeros(steps, dtype=bool) if safety is None else ~safety.certified
-        return cls(poses, limited, path, safety, doubtful, np.zeros(steps, dtype=bool), np.zeros(len(path.s) - 1, dtype=bool))
+        return cls(
+            poses, limited, path, safety, doubtful, np.zeros(steps, dtype=bool), np.zeros(len(path.s) - 1, dtype=bool)
+        )
 
     @property
     def timed(self) -> Motion:
@@ -279,14 +311,23 @@ class _Goal:
         """The solved step each frame of the motion lies in."""
         return cast(np.ndarray, np.maximum(self.timed.heads_for, 1) - 1)
 
-    def time(self, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
-             jerk: np.ndarray | None, clock: ClockOptions) -> None:
+    def time(
+        self,
+        speed: np.ndarray,
+        acceleration: np.ndarray,
+        fps: float,
+        most_frames: float,
+        jerk: np.ndarray | None,
+        clock: ClockOptions,
+    ) -> None:
         """Put the path, with its chords, on the clock, and note the motion's frames to measure
         (:attr:`check`: in a doubtful step its probes have not proved, or whose shape a chord has
         changed since)."""
         if self.chords.any():
             self.path = joint_path(self.poses, self.limited, self.chords)
-        path_speed = self.path_speed if self.origin is None or self.path_speed is None else self.path_speed[self.origin[1:] - 1]
+        path_speed = (
+            self.path_speed if self.origin is None or self.path_speed is None else self.path_speed[self.origin[1:] - 1]
+        )
         self.motion = _timed(self.path, speed, acceleration, fps, most_frames, jerk, path_speed, self.excess, clock)
         self.bad = np.zeros(len(self.motion.phi), dtype=bool)
         proven = _still_proven(self.proven, self.chords[self.solved_step], self.solved_step, len(self.poses) - 1)
@@ -334,11 +375,11 @@ class _Goal:
         poses, chords, doubtful, origins = [self.poses[:1]], [], [], [origin[:1]]
         for k in range(len(self.poses) - 1):
             way = ways.get(k, self.poses[:0])
-            poses += [way, self.poses[k + 1:k + 2]]
-            origins += [np.full(len(way), origin[k + 1]), origin[k + 1:k + 2]]
+            poses += [way, self.poses[k + 1 : k + 2]]
+            origins += [np.full(len(way), origin[k + 1]), origin[k + 1 : k + 2]]
             pieces = len(way) + 1
-            chords.append(np.full(pieces, True) if k in ways else self.chords[k:k + 1])
-            doubtful.append(np.full(pieces, False) if k in ways else self.doubtful[k:k + 1])
+            chords.append(np.full(pieces, True) if k in ways else self.chords[k : k + 1])
+            doubtful.append(np.full(pieces, False) if k in ways else self.doubtful[k : k + 1])
         shift = np.cumsum([0] + [len(ways.get(k, ())) for k in range(len(self.poses) - 1)])
         self.no_way = {int(k + shift[k]) for k in self.no_way}
         self.free_chords = {int(k + shift[k]) for k in self.free_chords}
@@ -386,9 +427,17 @@ class _Goal:
         return Motion(phi, motion.velocity, motion.heads_for, motion.duration)
 
 
-def _timed(path: JointPath, speed: np.ndarray, acceleration: np.ndarray, fps: float, most_frames: float,
-           jerk: np.ndarray | None, path_speed: np.ndarray | None = None, excess: Excess | None = None,
-           clock: ClockOptions = DEFAULTS.clock) -> Motion:
+def _timed(
+    path: JointPath,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    fps: float,
+    most_frames: float,
+    jerk: np.ndarray | None,
+    path_speed: np.ndarray | None = None,
+    excess: Excess | None = None,
+    clock: ClockOptions = DEFAULTS.clock,
+) -> Motion:
     """The path on the clock: time-optimal, or jerk-limited with ``jerk``."""
     if jerk is None:
         law = time_optimal(path, speed, acceleration, path_speed, clock)

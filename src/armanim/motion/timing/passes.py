@@ -62,8 +62,9 @@ def _step(knots: np.ndarray, s: float) -> int:
 
 
 @compiled(inline="always", **_JIT)
-def _hermite_at(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, k: int, t: float, derivative: int,
-                j: int) -> float:
+def _hermite_at(
+    knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, k: int, t: float, derivative: int, j: int
+) -> float:
     """Joint j of the path, or its ``derivative``, at fraction ``t`` of step k."""
     h = knots[k + 1] - knots[k]
     b0, b1, b2, b3, scale = _basis(t, h, derivative)
@@ -71,8 +72,9 @@ def _hermite_at(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, k: int
 
 
 @compiled(**_JIT)
-def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndarray, derivative: int,
-            out: np.ndarray) -> None:
+def hermite(
+    knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndarray, derivative: int, out: np.ndarray
+) -> None:
     """Fill ``out`` (k, n) with the piecewise cubic Hermite path through ``poses`` (m, n) with
     ``slopes`` (m, n) at ``knots`` (m,), or its ``derivative`` (0 to 3) in s, at ``s`` (k,); each
     point in the step it falls in (from the right at a knot), as
@@ -85,9 +87,18 @@ def hermite(knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, s: np.ndar
 
 
 @compiled(**_JIT)
-def law_excess(law_t: np.ndarray, law_s: np.ndarray, law_speed: np.ndarray, law_accel: np.ndarray,
-               knots: np.ndarray, poses: np.ndarray, slopes: np.ndarray, fractions: np.ndarray,
-               speed: np.ndarray, acceleration: np.ndarray) -> tuple[float, float]:
+def law_excess(
+    law_t: np.ndarray,
+    law_s: np.ndarray,
+    law_speed: np.ndarray,
+    law_accel: np.ndarray,
+    knots: np.ndarray,
+    poses: np.ndarray,
+    slopes: np.ndarray,
+    fractions: np.ndarray,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+) -> tuple[float, float]:
     """The largest ratio of any joint's speed to its limit, and of its acceleration to its
     limit, of the time law (grid times ``law_t``, points ``law_s``, path speeds ``law_speed``
     and constant path accelerations ``law_accel`` on its intervals) along the path, at the
@@ -118,8 +129,16 @@ def law_excess(law_t: np.ndarray, law_s: np.ndarray, law_speed: np.ndarray, law_
 
 
 @compiled(**_JIT)
-def pass_bounds(h: np.ndarray, lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray,
-                x_cap: np.ndarray, w: np.ndarray, base: np.ndarray) -> None:
+def pass_bounds(
+    h: np.ndarray,
+    lo_b: np.ndarray,
+    lo_k: np.ndarray,
+    hi_b: np.ndarray,
+    hi_k: np.ndarray,
+    x_cap: np.ndarray,
+    w: np.ndarray,
+    base: np.ndarray,
+) -> None:
     """Lower ``x_cap`` (N,) where u >= -x / 2h (the next point's x is not negative) would pass an
     upper bound, and fill the backward pass's ``w``, ``base`` (N, P): u <= (hi[i+1] - x) / 2h
     against each lower bound p is x <= hi[i+1] w + base (w = 0, base = inf where every x keeps it)."""
@@ -140,9 +159,19 @@ def pass_bounds(h: np.ndarray, lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndar
 
 
 @compiled(**_JIT)
-def interval_bounds(d1: np.ndarray, d2: np.ndarray, h: np.ndarray, fractions: np.ndarray, speed: np.ndarray,
-                    acceleration: np.ndarray, lo_b: np.ndarray, lo_k: np.ndarray, hi_b: np.ndarray, hi_k: np.ndarray,
-                    x_cap: np.ndarray) -> None:
+def interval_bounds(
+    d1: np.ndarray,
+    d2: np.ndarray,
+    h: np.ndarray,
+    fractions: np.ndarray,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    lo_b: np.ndarray,
+    lo_k: np.ndarray,
+    hi_b: np.ndarray,
+    hi_k: np.ndarray,
+    x_cap: np.ndarray,
+) -> None:
     """Fill the bounds of :func:`armanim.motion.timing.clock.time_optimal` on each grid interval i from the
     path's derivatives ``d1``, ``d2`` (C, N, n) at its C collocation points (``fractions`` of h[i]):
     each joint's acceleration a1 u + d2 x within +-a (a1 = d1 + 2 f h d2) as lo_b + lo_k x <= u <=

@@ -37,8 +37,13 @@ def joined_timing(timings: list[GoalTiming]) -> GoalTiming:
         return timings[0]
     fastest = max(timings, key=lambda t: t.peak_speed_ratio)
     hardest = max(timings, key=lambda t: t.peak_acceleration_ratio)
-    return GoalTiming(sum(t.duration for t in timings), fastest.peak_speed_ratio, hardest.peak_acceleration_ratio,
-                      fastest.speed_joint, hardest.acceleration_joint)
+    return GoalTiming(
+        sum(t.duration for t in timings),
+        fastest.peak_speed_ratio,
+        hardest.peak_acceleration_ratio,
+        fastest.speed_joint,
+        hardest.acceleration_joint,
+    )
 
 
 def part_path_speed(problem: Problem, solved: Trajectory, goal: Goal, first: int, stop: int) -> np.ndarray:
@@ -66,7 +71,9 @@ def tool_speed_excess(problem: Problem, goal: Goal, fps: float) -> Excess:
     return excess
 
 
-def stray_frames(problem: Problem, solved: Trajectory, goal: Goal, first: int, stop: int) -> Callable[[Motion], np.ndarray]:
+def stray_frames(
+    problem: Problem, solved: Trajectory, goal: Goal, first: int, stop: int
+) -> Callable[[Motion], np.ndarray]:
     """For the part ``first:stop`` of ``solved`` along ``goal``'s path: a function of its timed motion
     giving (K,) bool, the frames whose tool, or the tool halfway (each joint) from the frame before,
     lies farther than ``solver.path_tolerance`` from the path between the frame's two samples (the
@@ -89,8 +96,15 @@ def stray_frames(problem: Problem, solved: Trajectory, goal: Goal, first: int, s
     return strays
 
 
-def traced_paths(problem: Problem, solved: Trajectory, phi: np.ndarray, tip: np.ndarray, source: np.ndarray,
-                 goal: np.ndarray, held: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+def traced_paths(
+    problem: Problem,
+    solved: Trajectory,
+    phi: np.ndarray,
+    tip: np.ndarray,
+    source: np.ndarray,
+    goal: np.ndarray,
+    held: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray] | None:
     """Per timed frame (F,): the arc length done along its goal's path and the tool's distance from
     it, on the frames along a path and the hold at its end (NaN elsewhere); None when no goal is a path.
 
@@ -142,4 +156,12 @@ def path_reported(problem: Problem, report: GoalReport, trajectory: Trajectory) 
     return replace(report, path=replace(report.path, max_path_error=worst, mean_speed=report.path.done / seconds))
 
 
-__all__ = ["ALONG", "joined_timing", "part_path_speed", "path_reported", "stray_frames", "tool_speed_excess", "traced_paths"]
+__all__ = [
+    "ALONG",
+    "joined_timing",
+    "part_path_speed",
+    "path_reported",
+    "stray_frames",
+    "tool_speed_excess",
+    "traced_paths",
+]

@@ -68,8 +68,12 @@ def at_fps(problem: Problem, fps: float) -> Problem:
     if fps == problem.fps:
         return problem
     ratio = fps / problem.fps
-    solver = replace(problem.solver, max_joint_step=problem.solver.max_joint_step / ratio, max_slide_step=problem.solver.max_slide_step / ratio,
-                     max_frames_per_goal=math.ceil(problem.solver.max_frames_per_goal * ratio - 1e-9))
+    solver = replace(
+        problem.solver,
+        max_joint_step=problem.solver.max_joint_step / ratio,
+        max_slide_step=problem.solver.max_slide_step / ratio,
+        max_frames_per_goal=math.ceil(problem.solver.max_frames_per_goal * ratio - 1e-9),
+    )
     return replace(problem, solver=solver, fps=fps)
 
 
@@ -117,11 +121,15 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     if made > most_frames:
         raise ClockTooLong(f"{made:,} frames with the holds (at most {most_frames:,.0f})")
     frame_goals = [_frame_goals(p, m, passes) for p, m in zip(parts, motions)]
-    phi, velocity, source, held, goal = _joined(src.phi, frame_goals, [p.frames for p in parts], motions,
-                                                [p.hold for p in parts])
+    phi, velocity, source, held, goal = _joined(
+        src.phi, frame_goals, [p.frames for p in parts], motions, [p.hold for p in parts]
+    )
     phi = within_closed_limits(problem, phi)
-    part_timings = [(g, t) for m, p, mine in zip(motions, parts, frame_goals)
-                    for g, t in split_timing(m, mine, p.goal, src.phi[p.frames.start], rates.speed, rates.acceleration, fps)]
+    part_timings = [
+        (g, t)
+        for m, p, mine in zip(motions, parts, frame_goals)
+        for g, t in split_timing(m, mine, p.goal, src.phi[p.frames.start], rates.speed, rates.acceleration, fps)
+    ]
     timings = [joined_timing([t for k, t in part_timings if k == g.index]) for g in solution.goals]
     from armanim.motion.planning.check import frame_margins  # numba, as the clock's passes
 
@@ -162,14 +170,18 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
         trajectory = with_self_clearance(problem, trajectory, gaps=gaps)
     reports = (_report(g, trajectory, moving, t) for g, t in zip(solution.goals, timings))
     reports = (_blend_reported(problem, solution, r, trajectory, passes) for r in reports)
-    return Solution(trajectory, tuple(path_reported(problem, r, trajectory) for r in reports), rest_to_rest, solution.carry)
+    return Solution(
+        trajectory, tuple(path_reported(problem, r, trajectory) for r in reports), rest_to_rest, solution.carry
+    )
 
 
 def _world_safeties(problems: list[Problem], solved: Trajectory, parts: list[_Part]) -> list[PathSafety]:
     """Each part's :class:`PathSafety` in its goal's world (:func:`path_safety` of that world's
     problem, once per world): its lever arms, clearances, probes and checks are the carried object's too."""
     if solved.self_clearance is not None:  # a world without pairs has NaN there: nothing to keep
-        solved = replace(solved, self_clearance=np.where(np.isnan(solved.self_clearance), np.inf, solved.self_clearance))
+        solved = replace(
+            solved, self_clearance=np.where(np.isnan(solved.self_clearance), np.inf, solved.self_clearance)
+        )
     made: dict[int, PathSafety] = {}
     out = []
     for p in parts:
@@ -177,7 +189,13 @@ def _world_safeties(problems: list[Problem], solved: Trajectory, parts: list[_Pa
         if id(world) not in made:
             made[id(world)] = path_safety(world, solved)
         safety = made[id(world)]
-        out.append(replace(safety, at_poses=safety.at_poses[p.frames], certified=safety.certified[p.frames.start:p.frames.stop - 1]))
+        out.append(
+            replace(
+                safety,
+                at_poses=safety.at_poses[p.frames],
+                certified=safety.certified[p.frames.start : p.frames.stop - 1],
+            )
+        )
     return out
 
 
@@ -211,19 +229,44 @@ class _Part:
     """Each via goal's last solved frame (an index of the solved trajectory)."""
 
 
-def _timed_parts(problem: Problem, solved: Trajectory, parts: list[_Part], fps: float, most_frames: float,
-                 safety: PathSafety | None = None, safeties: list[PathSafety] | None = None) -> list[Motion]:
+def _timed_parts(
+    problem: Problem,
+    solved: Trajectory,
+    parts: list[_Part],
+    fps: float,
+    most_frames: float,
+    safety: PathSafety | None = None,
+    safeties: list[PathSafety] | None = None,
+) -> list[Motion]:
     """Each part's motion on the clock (:func:`~armanim.motion.timing.goalmotion.goal_motions`), kept clear
     by :func:`path_safety` (or ``safety``, its result; or ``safeties``, each part's own) and, along a
     path, on it at the goal's speed."""
     rates = problem.rates
     if safeties is None:
         safety = path_safety(problem, solved) if safety is None else safety
-        safeties = [replace(safety, at_poses=safety.at_poses[p.frames], certified=safety.certified[p.frames.start:p.frames.stop - 1])
-                    for p in parts]
-    return goal_motions([solved.phi[p.frames] for p in parts], problem.limits.limited, rates.speed, rates.acceleration,
-                        fps, safeties, most_frames, rates.jerk, [p.hold for p in parts], [p.path_speed for p in parts],
-                        [p.strays for p in parts], [p.excess for p in parts], problem.tunables.clock)
+        safeties = [
+            replace(
+                safety,
+                at_poses=safety.at_poses[p.frames],
+                certified=safety.certified[p.frames.start : p.frames.stop - 1],
+            )
+            for p in parts
+        ]
+    return goal_motions(
+        [solved.phi[p.frames] for p in parts],
+        problem.limits.limited,
+        rates.speed,
+        rates.acceleration,
+        fps,
+        safeties,
+        most_frames,
+        rates.jerk,
+        [p.hold for p in parts],
+        [p.path_speed for p in parts],
+        [p.strays for p in parts],
+        [p.excess for p in parts],
+        problem.tunables.clock,
+    )
 
 
 def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
@@ -239,16 +282,25 @@ def _parts(problem: Problem, solution: Solution, out: Problem) -> list[_Part]:
         if along:
             split = piece.stop - 1 - along
             parts.append(_Part(g.index, slice(piece.start, split + 1), 0))
-            parts.append(_Part(g.index, slice(split, piece.stop), hold, part_path_speed(problem, src, goal, split, piece.stop),
-                               stray_frames(problem, src, goal, split, piece.stop), tool_speed_excess(problem, goal, out.fps)))
+            parts.append(
+                _Part(
+                    g.index,
+                    slice(split, piece.stop),
+                    hold,
+                    part_path_speed(problem, src, goal, split, piece.stop),
+                    stray_frames(problem, src, goal, split, piece.stop),
+                    tool_speed_excess(problem, goal, out.fps),
+                )
+            )
         else:
             parts.append(_Part(g.index, piece, hold))
         start += g.frames + (hold_frames(problem, goal) if g.reached else 0)
     return parts
 
 
-def _joined(solved: np.ndarray, goals: list[np.ndarray], pieces: list[slice], motions: list[Motion], holds: list[int]
-            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _joined(
+    solved: np.ndarray, goals: list[np.ndarray], pieces: list[slice], motions: list[Motion], holds: list[int]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The run's frames: the start pose, then each part's motion and its hold. Per frame (F,):
     the angles (F, n), the clock's velocities (F, n), the solved frame each heads for, whether it
     is held, and its goal (index into the problem's goals). ``goals``: each part's frames' goals
@@ -263,13 +315,18 @@ def _joined(solved: np.ndarray, goals: list[np.ndarray], pieces: list[slice], mo
         heads_for = piece.start + motion.heads_for
         if len(heads_for):
             heads_for[-1] = piece.stop - 1  # the last solved frame, repeated poses or not
-        phi += [motion.phi, np.repeat(solved[piece.stop - 1:piece.stop], hold, axis=0)]
+        phi += [motion.phi, np.repeat(solved[piece.stop - 1 : piece.stop], hold, axis=0)]
         velocity += [motion.velocity, np.zeros((hold, n))]
         source += [heads_for, np.full(hold, piece.stop - 1)]
         held += [np.zeros(len(motion.phi), dtype=bool), np.ones(hold, dtype=bool)]
         goal += [index]
-    return (np.concatenate(phi), np.concatenate(velocity), np.concatenate(source), np.concatenate(held),
-            np.concatenate(goal))
+    return (
+        np.concatenate(phi),
+        np.concatenate(velocity),
+        np.concatenate(source),
+        np.concatenate(held),
+        np.concatenate(goal),
+    )
 
 
 def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
@@ -294,9 +351,18 @@ def path_safety(problem: Problem, trajectory: Trajectory) -> PathSafety:
         clear = np.minimum(clear, own)
     from armanim.motion.planning.check import CompiledCheck  # numba, as the clock's passes
 
-    measure = CompiledCheck.of(problem, exact=True).pose_clearances  # pose_clearance's numbers, compiled: the probes ask thousands
-    return PathSafety(measure, floor, problem.lever_arms, clear, certified,
-                      lambda a, b: detour(problem, a, b), lambda a, b: chord_free(problem, a, b))
+    measure = CompiledCheck.of(
+        problem, exact=True
+    ).pose_clearances  # pose_clearance's numbers, compiled: the probes ask thousands
+    return PathSafety(
+        measure,
+        floor,
+        problem.lever_arms,
+        clear,
+        certified,
+        lambda a, b: detour(problem, a, b),
+        lambda a, b: chord_free(problem, a, b),
+    )
 
 
 def chord_free(problem: Problem, a: np.ndarray, b: np.ndarray) -> bool:
@@ -305,7 +371,9 @@ def chord_free(problem: Problem, a: np.ndarray, b: np.ndarray) -> bool:
     :func:`~armanim.motion.planning.path.motion_is_free`, the segment halved until each piece is
     certified by the lever-arm bound (to within its ``certify_to``)."""
     ends = float(pose_clearance(problem, np.stack([a, a + joint_offset(problem, a, b)])).min())
-    return motion_is_free(problem, a, a + joint_offset(problem, a, b), min(problem.solver.clearance, ends), closed=True)[0]
+    return motion_is_free(
+        problem, a, a + joint_offset(problem, a, b), min(problem.solver.clearance, ends), closed=True
+    )[0]
 
 
 def detour(problem: Problem, a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
@@ -371,7 +439,6 @@ def _report(g: GoalReport, trajectory: Trajectory, moving: np.ndarray, timing: G
     )
 
 
-
 @dataclass(frozen=True)
 class _Pass:
     """How a via goal was passed in its part's motion: the frame nearest it (an index of the
@@ -392,7 +459,9 @@ def _why_rest(problem: Problem, solution: Solution, parts: list[_Part], k: int) 
     why = blend_reason(problem, solution.goals, k)
     if why == "next_path":
         phi = solution.trajectory.phi
-        if any(p.goal == k + 1 and p.path_speed is None and np.any(phi[p.frames] != phi[p.frames.start]) for p in parts):
+        if any(
+            p.goal == k + 1 and p.path_speed is None and np.any(phi[p.frames] != phi[p.frames.start]) for p in parts
+        ):
             return None
     return why
 
@@ -404,15 +473,23 @@ def _merged(parts: list[_Part], vias: set[int], src: Trajectory) -> list[_Part]:
     for part in parts:
         if out and out[-1].goal in vias and out[-1].path_speed is None and part.goal == out[-1].goal + 1:
             before = out.pop()
-            part = _Part(part.goal, slice(before.frames.start, part.frames.stop), part.hold, part.path_speed, part.strays,
-                         part.excess, before.vias + (before.goal,) + part.vias,
-                         before.via_frames + (before.frames.stop - 1,) + part.via_frames)
+            part = _Part(
+                part.goal,
+                slice(before.frames.start, part.frames.stop),
+                part.hold,
+                part.path_speed,
+                part.strays,
+                part.excess,
+                before.vias + (before.goal,) + part.vias,
+                before.via_frames + (before.frames.stop - 1,) + part.via_frames,
+            )
         out.append(part)
     return out
 
 
-def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps: float, most_frames: float
-                   ) -> tuple[list[_Part], list[Motion], dict[int, _Pass | str], float]:
+def _blended_parts(
+    problem: Problem, solution: Solution, parts: list[_Part], fps: float, most_frames: float
+) -> tuple[list[_Part], list[Motion], dict[int, _Pass | str], float]:
     """The parts with every via goal's merged into the next (:func:`_merged`), their motions, how
     each goal with ``blend`` was passed (or why it rests: a key of
     :data:`~armanim.motion.timing.blend.BLEND_REASONS`), and the run's seconds had every goal rested.
@@ -441,7 +518,11 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
     rest_to_rest = (1 + sum(len(m.phi) for m in plain) + sum(p.hold for p in parts)) / fps
     at_rest = list(plain)  # a goal with blend that rests: its own path shortened and smoothed, where that is faster
     for i, part in enumerate(parts):
-        if problem.goals[part.goal].blend is not None and part.path_speed is None and part.frames.stop - part.frames.start > 2:
+        if (
+            problem.goals[part.goal].blend is not None
+            and part.path_speed is None
+            and part.frames.stop - part.frames.start > 2
+        ):
             alone = _timed_via_part(problem, src, safety, part, fps, most_frames, {}, set())[0]
             if len(alone.phi) < len(plain[i].phi):
                 at_rest[i] = alone
@@ -452,12 +533,18 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
         motions, passes, slower = [], {}, set()
         for part in merged:
             if not part.vias:
-                motions.append(next(m for q, m in zip(parts, at_rest) if q is part))  # by identity: a part's arrays do not compare
+                motions.append(
+                    next(m for q, m in zip(parts, at_rest) if q is part)
+                )  # by identity: a part's arrays do not compare
                 continue
             motion, found = _timed_via_part(problem, src, safety, part, fps, most_frames, slow, through)
             motions.append(motion)
             passes.update(found)
-            covered = [m for q, m in zip(parts, at_rest) if part.frames.start <= q.frames.start and q.frames.stop <= part.frames.stop]
+            covered = [
+                m
+                for q, m in zip(parts, at_rest)
+                if part.frames.start <= q.frames.start and q.frames.stop <= part.frames.stop
+            ]
             if len(motion.phi) > sum(len(m.phi) for m in covered):  # never slower than stopping: the slowest pass rests
                 slower.add(min(part.vias, key=lambda k: found[k].speed))
         missed = {k for k, p in passes.items() if not p.passed}
@@ -478,8 +565,16 @@ def _blended_parts(problem: Problem, solution: Solution, parts: list[_Part], fps
     return merged, motions, outcome, rest_to_rest
 
 
-def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, fps: float, most_frames: float,
-                    slow: dict[int, float], through: set[int]) -> tuple[Motion, dict[int, _Pass]]:
+def _timed_via_part(
+    problem: Problem,
+    src: Trajectory,
+    safety: PathSafety,
+    part: _Part,
+    fps: float,
+    most_frames: float,
+    slow: dict[int, float],
+    through: set[int],
+) -> tuple[Motion, dict[int, _Pass]]:
     """A part through via goals on the clock: each via's corner cut where a certified curve fits
     (:func:`~armanim.motion.timing.blend.cut_corner`), the path's speed capped near each
     (:func:`~armanim.motion.timing.blend.pass_speed_caps`, divided by ``slow`` by goal), and how each was
@@ -491,8 +586,18 @@ def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part:
     for j, k in enumerate(part.vias):
         caps = np.minimum(caps, pass_speed_caps(problem, problem.goals[k], poses, zones[j][0], fps, slow[k])[0])
     rates = problem.rates
-    motion = goal_motions([poses], problem.limits.limited, rates.speed, rates.acceleration, fps, [shaped], most_frames,
-                          rates.jerk, [part.hold], [caps])[0]
+    motion = goal_motions(
+        [poses],
+        problem.limits.limited,
+        rates.speed,
+        rates.acceleration,
+        fps,
+        [shaped],
+        most_frames,
+        rates.jerk,
+        [part.hold],
+        [caps],
+    )[0]
     start_tip = forward(problem.arm, poses[0]).tip
     tips = forward(problem.arm, motion.phi).tip
     found = {}
@@ -503,8 +608,12 @@ def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part:
         window = np.nonzero((motion.heads_for >= z0) & (motion.heads_for <= z1 + 1))[0]
         if not len(window):
             after = np.nonzero(motion.heads_for > z1 + 1)[0]
-            window = np.array([after[0] - 1 if len(after) and after[0] > 0 else len(motion.phi) - 1,
-                               after[0] if len(after) else len(motion.phi) - 1])
+            window = np.array(
+                [
+                    after[0] - 1 if len(after) and after[0] > 0 else len(motion.phi) - 1,
+                    after[0] if len(after) else len(motion.phi) - 1,
+                ]
+            )
         window = window[window > last]
         if not len(window):
             found[k] = _Pass(last, np.inf, 0.0, False, "curve" if curve else "through")
@@ -517,8 +626,13 @@ def _timed_via_part(problem: Problem, src: Trajectory, safety: PathSafety, part:
         else:
             ahead, behind = tips[min(f + 1, len(tips) - 1)], tips[f - 1] if f else start_tip
             speed = float(np.linalg.norm(ahead - behind)) * fps / (min(f + 1, len(tips) - 1) - (f - 1))
-        found[k] = _Pass(f, float(distance.min()), speed, bool(distance.min() <= judged_radius(problem, goal) * (1 + 1e-9)),
-                         "curve" if curve else "through")
+        found[k] = _Pass(
+            f,
+            float(distance.min()),
+            speed,
+            bool(distance.min() <= judged_radius(problem, goal) * (1 + 1e-9)),
+            "curve" if curve else "through",
+        )
     return replace(motion, heads_for=origin[motion.heads_for]), found
 
 
@@ -528,14 +642,17 @@ def via_paths(problem: Problem, solution: Solution) -> list[np.ndarray]:
     corner cut where a certified curve fits (before a via rests for its radius or its time)."""
     src = solution.trajectory
     parts = _parts(problem, solution, problem)
-    vias = {k for k, g in enumerate(problem.goals) if g.blend is not None and _why_rest(problem, solution, parts, k) is None}
+    vias = {
+        k for k, g in enumerate(problem.goals) if g.blend is not None and _why_rest(problem, solution, parts, k) is None
+    }
     safety = path_safety(problem, src)
     merged = _merged(parts, vias, src)
     return [_shaped_part(problem, src, safety, part)[0].poses for part in merged if part.vias]
 
 
-def _shaped_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, through: set[int] | None = None
-                 ) -> tuple[ShapedPart, dict[int, tuple[tuple[int, int], bool]]]:
+def _shaped_part(
+    problem: Problem, src: Trajectory, safety: PathSafety, part: _Part, through: set[int] | None = None
+) -> tuple[ShapedPart, dict[int, tuple[tuple[int, int], bool]]]:
     """A part through via goals made short and smooth (:func:`~armanim.motion.timing.smoothing.smoothed_poses`):
     its solved path shortcut between its first pose, each via's solved pose and its last, the
     corners rounded, a via's within its radius (not the goals in ``through``, which pass their
@@ -555,7 +672,9 @@ def _shaped_part(problem: Problem, src: Trajectory, safety: PathSafety, part: _P
         else:
             near[at] = _close_to(problem, goal)
     cert = Certifier(safety.clearance, safety.lever, safety.floor)
-    smooth = smoothed_poses(flat, safety.at_poses[frames], safety.certified[frames.start:frames.stop - 1], keep, cert, near)
+    smooth = smoothed_poses(
+        flat, safety.at_poses[frames], safety.certified[frames.start : frames.stop - 1], keep, cert, near
+    )
     origin = np.minimum(np.maximum.accumulate(np.ceil(smooth.position - 1e-9).astype(int)), len(flat) - 1)
     corner = ShapedPart(_wrapped(problem, smooth.poses), origin, smooth.clearance, smooth.certified)
     zones = {j: smooth.corners[at] for j, at in enumerate(local)}
@@ -585,17 +704,24 @@ def _frame_goals(part: _Part, motion: Motion, passes: dict[int, _Pass | str]) ->
     for k in reversed(part.vias):
         passed = passes[k]
         assert isinstance(passed, _Pass), "a part's vias were passed"
-        goals[:passed.frame + 1] = k
+        goals[: passed.frame + 1] = k
     return goals
 
 
-def split_timing(motion: Motion, goals: np.ndarray, last: int, start: np.ndarray, speed: np.ndarray,
-                 acceleration: np.ndarray, fps: float) -> list[tuple[int, GoalTiming]]:
+def split_timing(
+    motion: Motion,
+    goals: np.ndarray,
+    last: int,
+    start: np.ndarray,
+    speed: np.ndarray,
+    acceleration: np.ndarray,
+    fps: float,
+) -> list[tuple[int, GoalTiming]]:
     """Each goal's :class:`GoalTiming` in a motion (from rest at ``start`` (n,) to rest) whose frames'
     goals are ``goals`` (at least len(motion.phi),), the motion's own goal ``last``: a motion of one goal's is its
     :meth:`Motion.timing`; one through via goals gives each its frames' seconds and the peaks of its
     frames' speeds and accelerations (differences over 1/fps, at rest before and after the motion)."""
-    mine = goals[:len(motion.phi)]
+    mine = goals[: len(motion.phi)]
     if not len(mine) or np.all(mine == last):
         return [(last, motion.timing(start, speed, acceleration, fps))]
     steps = wrap_angle(np.diff(np.concatenate([start[None], start[None], motion.phi, motion.phi[-1:]]), axis=0))
@@ -606,14 +732,17 @@ def split_timing(motion: Motion, goals: np.ndarray, last: int, start: np.ndarray
     for k in dict.fromkeys(int(g) for g in mine):
         rows = np.nonzero(mine == k)[0]
         vk, ak = v[rows].max(axis=0), a[rows].max(axis=0)
-        out.append((k, GoalTiming(len(rows) / fps, float(vk.max()), float(ak.max()), int(np.argmax(vk)), int(np.argmax(ak)))))
+        out.append(
+            (k, GoalTiming(len(rows) / fps, float(vk.max()), float(ak.max()), int(np.argmax(vk)), int(np.argmax(ak))))
+        )
     if last not in mine:
         out.append((last, GoalTiming(0.0, 0.0, 0.0, None, None)))
     return out
 
 
-def _blend_reported(problem: Problem, solution: Solution, report: GoalReport, trajectory: Trajectory,
-                    outcome: dict[int, _Pass | str]) -> GoalReport:
+def _blend_reported(
+    problem: Problem, solution: Solution, report: GoalReport, trajectory: Trajectory, outcome: dict[int, _Pass | str]
+) -> GoalReport:
     """A goal's report with its :class:`~armanim.motion.timing.blend.BlendReport` (a goal with ``blend``):
     a via goal's final distance and orientation error are its nearest frame's."""
     goal = problem.goals[report.index]
@@ -622,9 +751,17 @@ def _blend_reported(problem: Problem, solution: Solution, report: GoalReport, tr
     last = report.last_frame
     done = outcome.get(report.index, "missed")
     if isinstance(done, _Pass):
-        angle = None if trajectory.orientation_error is None or goal.orientation is None else float(trajectory.orientation_error[last])
-        return replace(report, final_distance=float(trajectory.distance[last]), final_orientation_error=angle,
-                       blend=BlendReport(goal.blend, True, None, done.corner, done.distance, done.speed, goal.joints is not None))
+        angle = (
+            None
+            if trajectory.orientation_error is None or goal.orientation is None
+            else float(trajectory.orientation_error[last])
+        )
+        return replace(
+            report,
+            final_distance=float(trajectory.distance[last]),
+            final_orientation_error=angle,
+            blend=BlendReport(goal.blend, True, None, done.corner, done.distance, done.speed, goal.joints is not None),
+        )
     near = float(via_distances(problem, goal, trajectory.phi[last])[0]) if last >= 0 else float("nan")
     return replace(report, blend=BlendReport(goal.blend, False, done, None, near, 0.0, goal.joints is not None))
 

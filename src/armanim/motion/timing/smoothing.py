@@ -69,8 +69,9 @@ class Certifier:
     floor: float
 
 
-def certified_samples(curve: Callable[[np.ndarray], np.ndarray], c0: float, c1: float, cert: Certifier,
-                      least: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+def certified_samples(
+    curve: Callable[[np.ndarray], np.ndarray], c0: float, c1: float, cert: Certifier, least: int = 1
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """Poses along ``curve`` (t in [0, 1] -> (k, n) poses) dense enough that every piece between two
     consecutive ones is certified, or None.
 
@@ -190,7 +191,9 @@ def shortcut_hops(flat: np.ndarray, clear: np.ndarray, keep: list[int], cert: Ce
     return hops
 
 
-def _segment(flat: np.ndarray, clear: np.ndarray, i: int, j: int, cert: Certifier) -> tuple[np.ndarray, np.ndarray] | None:
+def _segment(
+    flat: np.ndarray, clear: np.ndarray, i: int, j: int, cert: Certifier
+) -> tuple[np.ndarray, np.ndarray] | None:
     """The certified poses and clearances of the straight segment from solved pose ``i`` to ``j``, or None."""
     if j == i + 1:
         return None
@@ -223,8 +226,14 @@ class Smoothed:
     corners: dict[int, tuple[tuple[int, int], bool]]
 
 
-def smoothed_poses(flat: np.ndarray, clear: np.ndarray, certified: np.ndarray, keep: list[int], cert: Certifier,
-                   near: dict[int, Callable[[np.ndarray], np.ndarray] | None]) -> Smoothed:
+def smoothed_poses(
+    flat: np.ndarray,
+    clear: np.ndarray,
+    certified: np.ndarray,
+    keep: list[int],
+    cert: Certifier,
+    near: dict[int, Callable[[np.ndarray], np.ndarray] | None],
+) -> Smoothed:
     """The solved path ``flat`` (m, n) (unwrapped; clearances ``clear``; steps ``certified``) through
     the ``keep`` poses (first and last included), shortcut (:func:`shortcut_hops`) and its corners
     rounded (see the module).
@@ -258,14 +267,24 @@ def smoothed_poses(flat: np.ndarray, clear: np.ndarray, certified: np.ndarray, k
     return _joined(flat, clear, certified, hops, curves, cert)
 
 
-def _joined(flat: np.ndarray, clear: np.ndarray, certified: np.ndarray, hops: list[Hop],
-            curves: dict[int, tuple[float, tuple[np.ndarray, np.ndarray, np.ndarray]]], cert: Certifier) -> Smoothed:
+def _joined(
+    flat: np.ndarray,
+    clear: np.ndarray,
+    certified: np.ndarray,
+    hops: list[Hop],
+    curves: dict[int, tuple[float, tuple[np.ndarray, np.ndarray, np.ndarray]]],
+    cert: Certifier,
+) -> Smoothed:
     """The poses of ``hops`` with each corner in ``curves`` replaced by its curve: the straight
     stretch between two curves certified again (a piece of a certified segment; should it not
     certify, both curves are dropped and the segment's own poses kept)."""
     while True:
-        poses, position, clearance, ok = [flat[hops[0].first][None]], [np.array([float(hops[0].first)])], \
-            [clear[hops[0].first:hops[0].first + 1]], []
+        poses, position, clearance, ok = (
+            [flat[hops[0].first][None]],
+            [np.array([float(hops[0].first)])],
+            [clear[hops[0].first : hops[0].first + 1]],
+            [],
+        )
         corners: dict[int, tuple[tuple[int, int], bool]] = {}
         dropped = None
         for h, hop in enumerate(hops):
@@ -273,8 +292,8 @@ def _joined(flat: np.ndarray, clear: np.ndarray, certified: np.ndarray, hops: li
             if hop.poses is None:
                 poses.append(flat[j][None])
                 position.append(np.array([float(j)]))
-                clearance.append(clear[j:j + 1])
-                ok.append(certified[i:i + 1])
+                clearance.append(clear[j : j + 1])
+                ok.append(certified[i : i + 1])
                 corners.setdefault(j, ((sum(len(p) for p in poses) - 1,) * 2, False))
                 continue
             f0 = curves[i][0] if i in curves else 0.0
@@ -305,7 +324,9 @@ def _joined(flat: np.ndarray, clear: np.ndarray, certified: np.ndarray, hops: li
                 first = sum(len(p) for p in poses) - 1
                 poses.append(arc[1:])
                 tc = tc[1:]
-                position.append(np.where(tc < 0.5, j - f1 * (1 - 2 * tc) * (j - i), j + curves[j][0] * (2 * tc - 1) * (k - j)))
+                position.append(
+                    np.where(tc < 0.5, j - f1 * (1 - 2 * tc) * (j - i), j + curves[j][0] * (2 * tc - 1) * (k - j))
+                )
                 clearance.append(carc[1:])
                 ok.append(np.ones(len(arc) - 1, dtype=bool))
                 corners[j] = ((first, first + len(arc) - 1), True)
@@ -336,7 +357,7 @@ def _thinned(seg: np.ndarray) -> np.ndarray:
         return np.arange(count)
     kept = [0, 1]
     while kept[-1] < count - 2:
-        turns = np.abs(seg[kept[-1] + 1:count - 1] - seg[kept[-1]]).max(axis=1)
+        turns = np.abs(seg[kept[-1] + 1 : count - 1] - seg[kept[-1]]).max(axis=1)
         kept.append(kept[-1] + 1 + max(int(np.searchsorted(turns > MOST_TURN, True)) - 1, 0))
     return np.array(kept + [count - 1])
 

@@ -109,5 +109,7 @@ def shape_extent(boxes, rods, cylinders=None) -> tuple[np.ndarray, np.ndarray]:
     corners = [box_corners(c, h, r) for c, h, r in zip(boxes.centers, boxes.half, boxes.rotations)]
     caps = list(cylinders.ends()) if cylinders is not None and len(cylinders) else []
     points = np.vstack(corners + [rods.start, rods.end] + caps).reshape(-1, 3)
-    radii = np.concatenate([np.zeros(8 * len(boxes)), rods.radius, rods.radius] + ([cylinders.radius] * 2 if caps else []))
+    radii = np.concatenate(
+        [np.zeros(8 * len(boxes)), rods.radius, rods.radius] + ([cylinders.radius] * 2 if caps else [])
+    )
     return points, radii

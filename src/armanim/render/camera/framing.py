@@ -63,8 +63,14 @@ class Framing:
     floor: Floor | None
 
 
-def frame_scene(problem: Problem, settings: RenderSettings, extent: np.ndarray | None, rotation: np.ndarray,
-                elevation: float, layout: scenery.Layout) -> Framing:
+def frame_scene(
+    problem: Problem,
+    settings: RenderSettings,
+    extent: np.ndarray | None,
+    rotation: np.ndarray,
+    elevation: float,
+    layout: scenery.Layout,
+) -> Framing:
     """The floor (at the scene's ``floor`` when it has one), then the view that fits everything into ``layout.scene``.
 
     Parameters
@@ -95,7 +101,9 @@ def frame_scene(problem: Problem, settings: RenderSettings, extent: np.ndarray |
     return Framing(view=view, ppu=float(view.pixels_per_unit.mean()), floor=floor)
 
 
-def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+def scene_content(
+    problem: Problem, settings: RenderSettings, extent: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray]:
     """World points (P, 3) that must be in the picture and a radius (P,) around each.
 
     The settings' bounds box if given, else every joint in ``extent`` (or, without it,
@@ -114,5 +122,7 @@ def scene_content(problem: Problem, settings: RenderSettings, extent: np.ndarray
     foot = base - [0.0, 0.0, 2 * problem.half_width] + r * np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0]])
     shapes, shape_radii = shape_extent(obs.boxes, obs.rods, obs.cylinders)
     points = np.vstack([joints, base, foot, obs.centers.reshape(-1, 3), shapes, goals])
-    radii = np.concatenate([np.full(len(joints), hw), [r], np.zeros(len(foot)), obs.radii, shape_radii, np.zeros(len(goals))])
+    radii = np.concatenate(
+        [np.full(len(joints), hw), [r], np.zeros(len(foot)), obs.radii, shape_radii, np.zeros(len(goals))]
+    )
     return points, radii

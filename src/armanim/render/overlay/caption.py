@@ -89,10 +89,13 @@ def frame_activity(trajectory, reports: Sequence) -> np.ndarray:
     """
     still = arm_still(trajectory.phi)
     mode = frame_modes(trajectory)
-    activity = np.where(trajectory.reached, np.where(still, "holding", "reached"),
-                        np.where(still, "stalled", "moving")).astype(object)
+    activity = np.where(
+        trajectory.reached, np.where(still, "holding", "reached"), np.where(still, "stalled", "moving")
+    ).astype(object)
     activity[mode == "plan"] = "planning"
-    activity[(mode == "path") & ~still] = "following"  # on the path, not at a goal: the pen writes (a path's hold still says holding)
+    activity[(mode == "path") & ~still] = (
+        "following"  # on the path, not at a goal: the pen writes (a path's hold still says holding)
+    )
     activity[passing_frames(trajectory, reports)] = "passing"  # a via goal: within its radius, not stopping
     for r in reports:
         if r.reached or r.last_frame < 0:
@@ -117,13 +120,17 @@ def frame_caption(trajectory, frame: int, goals: int, activity: str, speed_limit
     """
     k = int(trajectory.goal[frame])
     angles = getattr(trajectory, "orientation_error", None)
-    angle = f"angle {np.degrees(angles[frame]):6.1f} deg   " if angles is not None and np.isfinite(angles[frame]) else ""
-    return (f"t = {frame / trajectory.fps:6.2f} s   goal {k} (of 0-{goals - 1})   "
-            f"distance {trajectory.distance[frame]:8.3f}   {angle}{_speed_share(trajectory, frame, speed_limits)}{activity}")
+    angle = (
+        f"angle {np.degrees(angles[frame]):6.1f} deg   " if angles is not None and np.isfinite(angles[frame]) else ""
+    )
+    return (
+        f"t = {frame / trajectory.fps:6.2f} s   goal {k} (of 0-{goals - 1})   "
+        f"distance {trajectory.distance[frame]:8.3f}   {angle}{_speed_share(trajectory, frame, speed_limits)}{activity}"
+    )
 
 
 def _speed_share(trajectory, frame: int, speed_limits: np.ndarray | None) -> str:
-    """"speed  75% (phi2)   ": the joint nearest its speed limit at the frame ("" without velocities)."""
+    """ "speed  75% (phi2)   ": the joint nearest its speed limit at the frame ("" without velocities)."""
     velocity = getattr(trajectory, "velocity", None)
     if velocity is None or speed_limits is None:
         return ""

@@ -45,8 +45,17 @@ class GlyphAtlas:
         fig, renderer = canvas.figure, canvas.get_renderer()
 
         def text(s: str, size: float) -> Text:
-            t = Text(0, 0, s, fontsize=size, family=family, color=color, va="bottom", ha="left",
-                     transform=IdentityTransform())
+            t = Text(
+                0,
+                0,
+                s,
+                fontsize=size,
+                family=family,
+                color=color,
+                va="bottom",
+                ha="left",
+                transform=IdentityTransform(),
+            )
             t.set_figure(fig)
             return t
 

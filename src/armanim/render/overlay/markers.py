@@ -25,14 +25,22 @@ from armanim.render.paint.pixels import Sprite, composite, crop_sprite, in_pixel
 from armanim.render.paint.style import FONT, GOAL_COLORS, HIDDEN_ALPHA, RING_POINTS, STATUS_NAMES, TEXT_COLOR
 
 MARKER_STYLES: dict[int, dict[str, Any]] = {
-    PENDING: dict(marker="o", markersize=9, markerfacecolor="white",
-                  markeredgecolor=GOAL_COLORS["pending"], markeredgewidth=1.8),
-    CURRENT: dict(marker="*", markersize=19, markerfacecolor=GOAL_COLORS["current"],
-                  markeredgecolor=(0.2, 0.15, 0.0), markeredgewidth=0.9),
-    REACHED: dict(marker="o", markersize=10, markerfacecolor=GOAL_COLORS["reached"],
-                  markeredgecolor="white", markeredgewidth=1.2),
-    MISSED: dict(marker="X", markersize=12, markerfacecolor=GOAL_COLORS["missed"],
-                 markeredgecolor="white", markeredgewidth=1.0),
+    PENDING: dict(
+        marker="o", markersize=9, markerfacecolor="white", markeredgecolor=GOAL_COLORS["pending"], markeredgewidth=1.8
+    ),
+    CURRENT: dict(
+        marker="*",
+        markersize=19,
+        markerfacecolor=GOAL_COLORS["current"],
+        markeredgecolor=(0.2, 0.15, 0.0),
+        markeredgewidth=0.9,
+    ),
+    REACHED: dict(
+        marker="o", markersize=10, markerfacecolor=GOAL_COLORS["reached"], markeredgecolor="white", markeredgewidth=1.2
+    ),
+    MISSED: dict(
+        marker="X", markersize=12, markerfacecolor=GOAL_COLORS["missed"], markeredgecolor="white", markeredgewidth=1.0
+    ),
 }
 
 
@@ -71,6 +79,7 @@ def shared_numbers(xy: np.ndarray, within: float = 0.5) -> list[str]:
                 texts[j] = ""
     return texts
 
+
 class GoalMarkers:
     """Every goal's marker and number, for one camera and frame.
 
@@ -95,28 +104,62 @@ class GoalMarkers:
         (goal, state code) -> sprite, filled as states are first shown.
     """
 
-    def __init__(self, fig: Figure, screen: np.ndarray, hidden: np.ndarray, size: tuple[int, int],
-                 open_goals: np.ndarray | None = None):
+    def __init__(
+        self,
+        fig: Figure,
+        screen: np.ndarray,
+        hidden: np.ndarray,
+        size: tuple[int, int],
+        open_goals: np.ndarray | None = None,
+    ):
         self.xy = screen[:, :2]
         self.hidden = hidden
         self.open = np.zeros(len(self.xy), dtype=bool) if open_goals is None else np.asarray(open_goals, dtype=bool)
         self.open_marks = {k: in_pixels(Line2D([], [], linestyle="none", **open_style(k)), fig) for k in MARKER_STYLES}
         self.size = size
         self.marks = {k: in_pixels(Line2D([], [], linestyle="none", **s), fig) for k, s in MARKER_STYLES.items()}
-        self.hidden_marks = {k: in_pixels(Line2D([], [], linestyle="none", alpha=HIDDEN_ALPHA, **hidden_style(k)), fig)
-                             for k in MARKER_STYLES}
-        self.ring = in_pixels(Line2D([], [], linestyle="none", marker="o", markersize=RING_POINTS,
-                                     markerfacecolor="none", markeredgecolor=GOAL_COLORS["current"],
-                                     markeredgewidth=1.8, alpha=0.8), fig)
-        self.labels = [in_pixels(Text(0, 0, text, ha="left", va="bottom", fontsize=FONT["goal"], fontweight="bold",
-                                      path_effects=[withStroke(linewidth=2.5, foreground="white")]), fig)
-                       for text in shared_numbers(self.xy)]
+        self.hidden_marks = {
+            k: in_pixels(Line2D([], [], linestyle="none", alpha=HIDDEN_ALPHA, **hidden_style(k)), fig)
+            for k in MARKER_STYLES
+        }
+        self.ring = in_pixels(
+            Line2D(
+                [],
+                [],
+                linestyle="none",
+                marker="o",
+                markersize=RING_POINTS,
+                markerfacecolor="none",
+                markeredgecolor=GOAL_COLORS["current"],
+                markeredgewidth=1.8,
+                alpha=0.8,
+            ),
+            fig,
+        )
+        self.labels = [
+            in_pixels(
+                Text(
+                    0,
+                    0,
+                    text,
+                    ha="left",
+                    va="bottom",
+                    fontsize=FONT["goal"],
+                    fontweight="bold",
+                    path_effects=[withStroke(linewidth=2.5, foreground="white")],
+                ),
+                fig,
+            )
+            for text in shared_numbers(self.xy)
+        ]
         self.stamps: dict[tuple[int, int], Sprite | None] = {}
 
     def place_labels(self, renderer, gap: float, keep_out: list, inside) -> dict[str, tuple]:
         """Put the numbers beside their markers, ``gap`` pixels out, clear of each other, of the
         ``keep_out`` boxes and inside the box ``inside``; returns their boxes by name ("goal 3")."""
-        shown = [i for i, label in enumerate(self.labels) if label.get_text()]  # a goal sharing its place is named on the first
+        shown = [
+            i for i, label in enumerate(self.labels) if label.get_text()
+        ]  # a goal sharing its place is named on the first
         sizes = [(box.width, box.height) for box in (self.labels[i].get_window_extent(renderer) for i in shown)]
         if not sizes:
             return {}

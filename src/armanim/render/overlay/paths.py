@@ -118,7 +118,9 @@ class SampledPath:
         first = self.at(np.maximum(self.s[kept[starts]], lo))  # where each run starts
         ends = self.at(np.minimum(self.s[kept + 1], hi))  # where each kept segment ends
         rows = np.concatenate([np.full((int(starts.sum()), d), np.nan), first, ends])
-        slot = np.concatenate([3 * np.flatnonzero(starts), 3 * np.flatnonzero(starts) + 1, 3 * np.arange(len(kept)) + 2])
+        slot = np.concatenate(
+            [3 * np.flatnonzero(starts), 3 * np.flatnonzero(starts) + 1, 3 * np.arange(len(kept)) + 2]
+        )
         rows, slot = rows[1:], slot[1:]  # no break before the first run
         return rows[np.argsort(slot, kind="stable")]
 
@@ -126,7 +128,11 @@ class SampledPath:
 def sampled_paths(goals, spacing_of) -> list[SampledPath]:
     """Every path goal's path sampled (:meth:`SampledPath.of`), in goal order; ``spacing_of`` maps
     a ToolPath to the spacing its arcs are split at."""
-    return [SampledPath.of(k, g.path, spacing_of(g.path)) for k, g in enumerate(goals) if getattr(g, "path", None) is not None]
+    return [
+        SampledPath.of(k, g.path, spacing_of(g.path))
+        for k, g in enumerate(goals)
+        if getattr(g, "path", None) is not None
+    ]
 
 
 def path_progress(goal: np.ndarray, path_s: np.ndarray | None, goals: int) -> np.ndarray:
@@ -258,4 +264,17 @@ def joined(polylines) -> np.ndarray:
     for p in parts:
         out += [np.full((1, d), np.nan), p] if out else [p]
     return np.concatenate(out)
-__all__ = ["PathView", "SampledPath", "arc_spacing", "frame_paths", "joined", "path_normal", "path_progress", "piece_samples", "ribbon", "sampled_paths"]
+
+
+__all__ = [
+    "PathView",
+    "SampledPath",
+    "arc_spacing",
+    "frame_paths",
+    "joined",
+    "path_normal",
+    "path_progress",
+    "piece_samples",
+    "ribbon",
+    "sampled_paths",
+]

@@ -197,8 +197,9 @@ def place_labels(anchors: np.ndarray, sizes: np.ndarray, gap: float, keep_out: l
             cy = y + dy * (gap + h / 2) if dy else y
             options.append((cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2))
         own = markers[i]
-        free = [b for b in options
-                if all(not boxes_overlap(b, t) for t in taken if t is not own) and _within(b, inside)]
+        free = [
+            b for b in options if all(not boxes_overlap(b, t) for t in taken if t is not own) and _within(b, inside)
+        ]
         box = free[0] if free else options[0]
         taken.append(box)
         corners[i] = box[:2]

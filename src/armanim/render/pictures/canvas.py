@@ -135,8 +135,6 @@ class FrameState:
     fingers: float | None = None
 
 
-
-
 def caption_points(template: str, width: float, fig, renderer) -> float:
     """The caption's font size in points: ``FONT["caption"]``, or less where the longest caption
     ``template``, at the whole-pixel advance the glyphs are stamped at (:class:`GlyphAtlas`), and its
@@ -199,10 +197,20 @@ class SceneCanvas:
         legend names the tint.
     """
 
-    def __init__(self, problem: Problem, settings: RenderSettings, *, title: str,
-                 tips: np.ndarray | None = None, extent: np.ndarray | None = None, picture: str = "video",
-                 caption_template: str = CAPTION_TEMPLATE, outcomes: frozenset = frozenset({"reached", "missed"}),
-                 meshes: ArmMeshes | None = None, near_self: bool = False):
+    def __init__(
+        self,
+        problem: Problem,
+        settings: RenderSettings,
+        *,
+        title: str,
+        tips: np.ndarray | None = None,
+        extent: np.ndarray | None = None,
+        picture: str = "video",
+        caption_template: str = CAPTION_TEMPLATE,
+        outcomes: frozenset = frozenset({"reached", "missed"}),
+        meshes: ArmMeshes | None = None,
+        near_self: bool = False,
+    ):
         self.problem = problem
         self.width, self.height = (int(v) for v in settings.size)
         self.layout = scenery.frame_layout(self.width, self.height)
@@ -231,12 +239,21 @@ class SceneCanvas:
         self.on_furniture = bool(self.paths) and getattr(self.arm, "furniture", None) is not None
         self._make_artists()
         solids = len(obstacles.radii) + shaped  # the floor is no red solid
-        legend = backdrop.legend_entries(picture, trail=settings.trail, obstacles=bool(solids), paths=bool(self.paths),
-                                         outcomes=outcomes, hidden_goal=bool(self.goals.hidden.any()),
-                                         hidden_by="a sphere" if self.shapes is None else "an obstacle",
-                                         goals=bool(len(problem.goals)), robot=robot_meshed(problem, meshes),
-                                         near_self=near_self)
-        self.caption_points = caption_points(caption_template, self.width - 2 * self.layout.caption_xy[0], self.fig, self.renderer)
+        legend = backdrop.legend_entries(
+            picture,
+            trail=settings.trail,
+            obstacles=bool(solids),
+            paths=bool(self.paths),
+            outcomes=outcomes,
+            hidden_goal=bool(self.goals.hidden.any()),
+            hidden_by="a sphere" if self.shapes is None else "an obstacle",
+            goals=bool(len(problem.goals)),
+            robot=robot_meshed(problem, meshes),
+            near_self=near_self,
+        )
+        self.caption_points = caption_points(
+            caption_template, self.width - 2 * self.layout.caption_xy[0], self.fig, self.renderer
+        )
         self._draw_background(title, legend, caption_template)
         self.scratch = self._scratch_canvas()
         self.glyphs = GlyphAtlas(self.scratch, self.caption_points, TEXT_COLOR)
@@ -289,13 +306,18 @@ class SceneCanvas:
         self.faces = in_pixels(PolyCollection([], linewidths=FACE_EDGE_PX * self.pt, antialiased=True), self.fig)
         self.faces.set_offset_transform(IdentityTransform())
         self.shadow = in_pixels(LineCollection([], color=SHADOW_COLOR, capstyle="round"), self.fig)
-        self.trail = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, solid_capstyle="round", alpha=0.95),
-                               self.fig)
+        self.trail = in_pixels(
+            Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, solid_capstyle="round", alpha=0.95), self.fig
+        )
         self.trail_front = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, alpha=0.95), self.fig)
-        self.ink = in_pixels(Line2D([], [], color=INK_COLOR, linewidth=INK_POINTS, solid_capstyle="round",
-                                    solid_joinstyle="round"), self.fig)
-        self.ahead = in_pixels(Line2D([], [], color=INK_COLOR, linewidth=AHEAD_POINTS, alpha=AHEAD_ALPHA,
-                                      linestyle=(0, AHEAD_DASHES)), self.fig)
+        self.ink = in_pixels(
+            Line2D([], [], color=INK_COLOR, linewidth=INK_POINTS, solid_capstyle="round", solid_joinstyle="round"),
+            self.fig,
+        )
+        self.ahead = in_pixels(
+            Line2D([], [], color=INK_COLOR, linewidth=AHEAD_POINTS, alpha=AHEAD_ALPHA, linestyle=(0, AHEAD_DASHES)),
+            self.fig,
+        )
 
     def _draw_background(self, title: str, legend: list, caption_template: str) -> None:
         """Draw what never changes and keep it as the pixel background of every frame."""
@@ -316,8 +338,9 @@ class SceneCanvas:
         backdrop.draw_legend(sheet, self.layout, legend)
         backdrop.draw_caption_box(sheet, self.layout, caption_template, self.caption_points)
         gap = 0.45 * RING_POINTS / self.pt  # clear of the current goal's ring
-        sheet.text_boxes.update(self.goals.place_labels(self.renderer, gap, list(sheet.text_boxes.values()),
-                                                        self.layout.scene))
+        sheet.text_boxes.update(
+            self.goals.place_labels(self.renderer, gap, list(sheet.text_boxes.values()), self.layout.scene)
+        )
         self.text_boxes = sheet.text_boxes
         self.background = self.canvas.copy_from_bbox(self.fig.bbox)
 
@@ -454,7 +477,9 @@ class SceneCanvas:
         if fingers not in self._arms:
             problem = replace(self.problem, capsules=moved_fingers(self.problem.capsules, gripper, fingers))
             meshes = None if self._meshes is None else moved_meshes(self._meshes, gripper, fingers)
-            self._arms[fingers] = arm_solids(problem, meshes, self.view, self.ppu, (self.width, self.height), self._look)
+            self._arms[fingers] = arm_solids(
+                problem, meshes, self.view, self.ppu, (self.width, self.height), self._look
+            )
         return self._arms[fingers]
 
     def _draw_parts(self, parts: list[Part], shadow) -> bool:
@@ -498,8 +523,9 @@ class SceneCanvas:
         samples = np.array([p.samples for p in parts] + [p.samples for p in obstacle_parts])
         radii = np.array([p.radius for p in parts] + [p.radius for p in obstacle_parts])
         assert self.shapes is not None  # obstacle parts are the shapes'
-        box_of = np.concatenate([np.full(len(parts), -1),
-                                 [self.shapes.box_of[i - spheres] if i >= spheres else -1 for i in touched]]).astype(int)
+        box_of = np.concatenate(
+            [np.full(len(parts), -1), [self.shapes.box_of[i - spheres] if i >= spheres else -1 for i in touched]]
+        ).astype(int)
         order = self._shape_order.paint_order(samples, radii, box_of)
         self._paint([*parts, *obstacle_parts], order, len(parts), touched)
         return bool(len(touched))
@@ -576,5 +602,8 @@ def moving_objects(problem: Problem, solution) -> tuple[Problem, list[Obstacles]
     traj = solution.trajectory
     static = replace(problem, obstacles=with_bodies(problem.obstacles, {c: None for c in columns}))
     frames = frame_bodies(problem, carry, traj.phi, traj.goal)
-    drawn = [[b if b.kind != SPHERE else Body(ROD, np.eye(3), b.center, np.zeros(3), b.radius) for b in bodies] for bodies in frames]
+    drawn = [
+        [b if b.kind != SPHERE else Body(ROD, np.eye(3), b.center, np.zeros(3), b.radius) for b in bodies]
+        for bodies in frames
+    ]
     return static, [bodies_obstacles(bodies) for bodies in drawn]

@@ -83,12 +83,12 @@ def separate_labels(ax, renderer) -> bool:
     return True
 
 
-def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], *,
-                title: str) -> FigureCanvasAgg:
+def plot_figure(
+    problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], *, title: str
+) -> FigureCanvasAgg:
     """The figure of :func:`plot_run`, on its Agg canvas, not yet drawn."""
     width, height = PLOT_SIZE
-    fig = Figure(figsize=((width + 1e-3) / PLOT_DPI, (height + 1e-3) / PLOT_DPI), dpi=PLOT_DPI,
-                 layout="constrained")
+    fig = Figure(figsize=((width + 1e-3) / PLOT_DPI, (height + 1e-3) / PLOT_DPI), dpi=PLOT_DPI, layout="constrained")
     canvas = FigureCanvasAgg(fig)
     top, bottom, speeds = fig.subplots(3, 1, sharex=True, height_ratios=(1, 1, 0.7))
     fig.suptitle(title, fontweight="bold")
@@ -116,8 +116,14 @@ def plot_figure(problem: Problem, trajectory: Trajectory, reports: Sequence[Goal
     bottom.set_ylabel("joint angle (deg)")
     # beside the panel, not in it: inside, its rows covered the limit labels at the right (issue 50);
     # past the right axis's metres where prismatic joints have one
-    bottom.legend(handles=joint_handles, loc="upper left", bbox_to_anchor=(1.07 if slides.any() else 1.005, 1.0), fontsize=8,
-                  ncols=max(1, -(-degrees.shape[1] // 12)), borderaxespad=0.0)
+    bottom.legend(
+        handles=joint_handles,
+        loc="upper left",
+        bbox_to_anchor=(1.07 if slides.any() else 1.005, 1.0),
+        fontsize=8,
+        ncols=max(1, -(-degrees.shape[1] // 12)),
+        borderaxespad=0.0,
+    )
     bottom.grid(alpha=0.3)
     _speed_panel(speeds, problem, trajectory)
     _passes(speeds, trajectory, reports)
@@ -135,8 +141,16 @@ def _slide_curves(ax, t: np.ndarray, phi: np.ndarray, problem: Problem, names: l
         for value, side in ((problem.limits.lower[j], "min"), (problem.limits.upper[j], "max")):
             if np.isfinite(value):
                 right.axhline(value, color=f"C{j % 10}", linewidth=1.0, alpha=0.8, linestyle=":")
-                right.text(0.005, value, f"{names[j]} {side} {value:.3g} m", transform=right.get_yaxis_transform(),
-                           ha="left", va="bottom", fontsize=8, color=f"C{j % 10}")
+                right.text(
+                    0.005,
+                    value,
+                    f"{names[j]} {side} {value:.3g} m",
+                    transform=right.get_yaxis_transform(),
+                    ha="left",
+                    va="bottom",
+                    fontsize=8,
+                    color=f"C{j % 10}",
+                )
     right.set_ylabel("prismatic joint (m)")
     return curves
 
@@ -156,8 +170,13 @@ def _orientation_curve(ax, trajectory: Trajectory) -> list:
     if trajectory.orientation_error is None or not np.isfinite(trajectory.orientation_error).any():
         return []
     right = ax.twinx()
-    right.plot(trajectory.time, np.degrees(trajectory.orientation_error), color="C4", linewidth=1.0,
-               label="orientation error (deg)")
+    right.plot(
+        trajectory.time,
+        np.degrees(trajectory.orientation_error),
+        color="C4",
+        linewidth=1.0,
+        label="orientation error (deg)",
+    )
     right.set_ylabel("degrees")
     right.set_ylim(bottom=0.0)
     return right.get_lines()
@@ -174,8 +193,16 @@ def _speed_panel(ax, problem: Problem, trajectory: Trajectory) -> None:
     for j in range(share.shape[1]):
         ax.plot(trajectory.time, share[:, j], color=f"C{j % 10}", linewidth=1.0)
     ax.axhline(100.0, color="0.25", linewidth=1.0, linestyle="--")
-    ax.text(0.995, 100.0, "speed limit", transform=ax.get_yaxis_transform(), ha="right", va="bottom", fontsize=8,
-            color="0.25")
+    ax.text(
+        0.995,
+        100.0,
+        "speed limit",
+        transform=ax.get_yaxis_transform(),
+        ha="right",
+        va="bottom",
+        fontsize=8,
+        color="0.25",
+    )
     ax.set_ylim(0, max(110.0, float(share.max()) * 1.05))
     ax.set_ylabel("joint speed (% of limit)")
     ax.grid(alpha=0.3)
@@ -190,8 +217,16 @@ def _passes(ax, trajectory: Trajectory, reports: Sequence[GoalReport]) -> None:
             continue
         at = float(trajectory.time[r.last_frame])
         ax.axvline(at, color="C2", linewidth=0.9, linestyle=":")
-        ax.text(at, 0.97, f" passing {r.index}", transform=ax.get_xaxis_transform(), ha="left", va="top", fontsize=8,
-                color="C2")
+        ax.text(
+            at,
+            0.97,
+            f" passing {r.index}",
+            transform=ax.get_xaxis_transform(),
+            ha="left",
+            va="top",
+            fontsize=8,
+            color="C2",
+        )
 
 
 def limit_groups(lower: np.ndarray, upper: np.ndarray) -> list[tuple[float, str, list[int]]]:
@@ -215,13 +250,22 @@ def _limit_lines(ax, limits, names: list[str]) -> None:
     for value, side, joints in limit_groups(limits.lower, limits.upper):
         k = len(joints)
         for i, j in enumerate(joints):
-            ax.axhline(value, color=f"C{j % 10}", linewidth=1.0, alpha=0.8,
-                       linestyle=(i * dash, (dash, dash * (2 * k - 1))))
+            ax.axhline(
+                value, color=f"C{j % 10}", linewidth=1.0, alpha=0.8, linestyle=(i * dash, (dash, dash * (2 * k - 1)))
+            )
         label = ", ".join(names[j] for j in joints)
         color = f"C{joints[0] % 10}" if k == 1 else "0.25"
-        text = ax.text(0.995, value, f"{label} {side} {round(value, 1):g}", transform=ax.get_yaxis_transform(), ha="right",
-                       va="bottom" if side == "max" else "top", fontsize=8, color=color,
-                       bbox=dict(facecolor="white", alpha=0.75, edgecolor="none", pad=0.4))  # readable over a line
+        text = ax.text(
+            0.995,
+            value,
+            f"{label} {side} {round(value, 1):g}",
+            transform=ax.get_yaxis_transform(),
+            ha="right",
+            va="bottom" if side == "max" else "top",
+            fontsize=8,
+            color=color,
+            bbox=dict(facecolor="white", alpha=0.75, edgecolor="none", pad=0.4),
+        )  # readable over a line
         text.limit_label = True  # (moved apart from its neighbours once drawn: separate_labels)
 
 
@@ -235,5 +279,6 @@ def _goal_spans(ax, trajectory: Trajectory, reports: Sequence[GoalReport]) -> No
         ax.axvspan(r.first_frame / fps, (r.last_frame + 1) / fps, color=color, alpha=0.08, linewidth=0)
         ax.axvline(r.first_frame / fps, color=color, linewidth=0.8, alpha=0.6)
         label = f"goal {r.index}" + ("" if r.reached else " (missed)")
-        ax.text(r.first_frame / fps, 1.0, " " + label, transform=ax.get_xaxis_transform(), va="top",
-                fontsize=8, color=color)
+        ax.text(
+            r.first_frame / fps, 1.0, " " + label, transform=ax.get_xaxis_transform(), va="top", fontsize=8, color=color
+        )

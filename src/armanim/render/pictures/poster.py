@@ -65,14 +65,30 @@ def render_poster(run: SolvedRun, options: OutputOptions, path) -> None:
     near = near_capsules(problem, Pose(poses.points[last], poses.frames[last]))  # only the last pose is tinted
     still, carried = moving_objects(problem, run.solution)
     fingers = run_fingers(problem, run.solution)
-    scene = SceneCanvas(still, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=poses.points,
-                        caption_template=caption, picture="poster", outcomes=goal_outcomes(reports),
-                        near_self=near is not None and bool(near.any()))
+    scene = SceneCanvas(
+        still,
+        settings,
+        title=run.name,
+        meshes=run.meshes,
+        tips=trajectory.tip,
+        extent=poses.points,
+        caption_template=caption,
+        picture="poster",
+        outcomes=goal_outcomes(reports),
+        near_self=near is not None and bool(near.any()),
+    )
     status = np.full(len(problem.goals), PENDING)
     status[: len(reports)] = [REACHED if r.reached else MISSED for r in reports]
     ghosts = tuple(Pose(poses.points[f], poses.frames[f]) for f in strobe_frames(reports, trajectory.frames))
     done = path_progress(trajectory.goal, trajectory.path_s, len(problem.goals))[last] if scene.paths else None
-    state = FrameState(Pose(poses.points[last], poses.frames[last]), trajectory.frames if settings.trail else 0,
-                       status, caption, ghosts=ghosts, path_done=done,  # all the run's ink, nothing ahead
-                       carried=None if carried is None else carried[last], fingers=fingers if fingers is None else float(fingers[last]))
+    state = FrameState(
+        Pose(poses.points[last], poses.frames[last]),
+        trajectory.frames if settings.trail else 0,
+        status,
+        caption,
+        ghosts=ghosts,
+        path_done=done,  # all the run's ink, nothing ahead
+        carried=None if carried is None else carried[last],
+        fingers=fingers if fingers is None else float(fingers[last]),
+    )
     write_png(scene.draw(state), path)

@@ -105,9 +105,12 @@ def pedestal(base: np.ndarray, half_width: float, view: View, ppu: float) -> Par
     screen_n = view.screen_normals(np.array(normals))
     front = screen_n[:, 2] > 0
     ends = view.project(np.array([base - [0, 0, height], base]))
-    return Part(samples=segment_samples(ends[0], ends[1]), radius=radius * ppu,
-                polygons=[view.project(p)[:, :2] for p, f in zip(polys, front) if f],
-                colors=with_alpha(lambert(screen_n[front], BASE_COLOR), 1.0))
+    return Part(
+        samples=segment_samples(ends[0], ends[1]),
+        radius=radius * ppu,
+        polygons=[view.project(p)[:, :2] for p, f in zip(polys, front) if f],
+        colors=with_alpha(lambert(screen_n[front], BASE_COLOR), 1.0),
+    )
 
 
 def column(arm: Arm, radius: float, view: View, ppu: float) -> list[Part]:
@@ -121,8 +124,14 @@ def column(arm: Arm, radius: float, view: View, ppu: float) -> list[Part]:
     front = np.flatnonzero(normals[:, 2] > 1e-9)
     faces = prism_faces(PRISM_SIDES)
     ends = view.project(np.vstack([start, end]))
-    return [Part(samples=segment_samples(ends[0], ends[1]), radius=radius * ppu,
-                 polygons=[verts[faces[f], :2] for f in front], colors=with_alpha(lambert(normals[front], BASE_COLOR), 1.0))]
+    return [
+        Part(
+            samples=segment_samples(ends[0], ends[1]),
+            radius=radius * ppu,
+            polygons=[verts[faces[f], :2] for f in front],
+            colors=with_alpha(lambert(normals[front], BASE_COLOR), 1.0),
+        )
+    ]
 
 
 class ArmSolids:
@@ -171,9 +180,17 @@ class ArmSolids:
         parts = []
         for i in range(len(verts)):
             front = np.flatnonzero(normals[i, :, 2] > 1e-9)
-            parts.append(Part(samples=segment_samples(a[i], b[i]), radius=float(self.link_radius[i]),
-                              polygons=[verts[i, self.faces[f], :2] for f in front],
-                              colors=solid_colors(lambert(normals[i, front], SELF_NEAR_COLOR if near is not None and near[i] else ARM_COLOR), ghost)))
+            parts.append(
+                Part(
+                    samples=segment_samples(a[i], b[i]),
+                    radius=float(self.link_radius[i]),
+                    polygons=[verts[i, self.faces[f], :2] for f in front],
+                    colors=solid_colors(
+                        lambert(normals[i, front], SELF_NEAR_COLOR if near is not None and near[i] else ARM_COLOR),
+                        ghost,
+                    ),
+                )
+            )
         return parts
 
     def _joints(self, centers: np.ndarray, ghost: bool) -> list[Part]:

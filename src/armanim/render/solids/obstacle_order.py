@@ -55,7 +55,12 @@ class ObstacleOrder:
         rank = np.empty(len(order), dtype=int)
         rank[order] = np.arange(len(order))
         b = self.bbox
-        overlap = (b[:, None, 0] <= b[None, :, 2]) & (b[None, :, 0] <= b[:, None, 2]) & (b[:, None, 1] <= b[None, :, 3]) & (b[None, :, 1] <= b[:, None, 3])
+        overlap = (
+            (b[:, None, 0] <= b[None, :, 2])
+            & (b[None, :, 0] <= b[:, None, 2])
+            & (b[:, None, 1] <= b[None, :, 3])
+            & (b[None, :, 1] <= b[:, None, 3])
+        )
         self.covers = overlap & (rank[None, :] > rank[:, None])  # [i, j]: j is drawn after i over it
 
     def paint_order(self, samples: np.ndarray, radii: np.ndarray, box_of: np.ndarray) -> list[int]:

@@ -20,8 +20,9 @@ SUPERSAMPLE = 2
 """Samples per pixel along each axis (2: four samples a pixel)."""
 
 
-def triangle_sprite(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size: tuple[int, int],
-                    ss: int = SUPERSAMPLE) -> Sprite | None:
+def triangle_sprite(
+    points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size: tuple[int, int], ss: int = SUPERSAMPLE
+) -> Sprite | None:
     """Triangles drawn into a sprite of a frame ``size`` (width, height): ``points`` (V, 3) on the
     screen (x px, y px up, near), ``faces`` (k, 3) into them, ``rgb`` (V, 3) colours 0 to 1.
 
@@ -40,7 +41,10 @@ def triangle_sprite(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size
 
     x0, y0, x1, y1 = box
     depth, color = _samples(points, faces, rgb, box, ss, float)
-    premultiplied, clear = np.empty((y1 - y0, x1 - x0, 3), dtype=np.float32), np.empty((y1 - y0, x1 - x0, 1), dtype=np.float32)
+    premultiplied, clear = (
+        np.empty((y1 - y0, x1 - x0, 3), dtype=np.float32),
+        np.empty((y1 - y0, x1 - x0, 1), dtype=np.float32),
+    )
     resolve_samples(depth, color, ss, premultiplied, clear)
     return slice(height - y1, height - y0), slice(x0, x1), premultiplied, clear
 
@@ -66,8 +70,9 @@ class StillLayer:
         The frame's width and height.
     """
 
-    def __init__(self, points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size: tuple[int, int],
-                 ss: int = SUPERSAMPLE):
+    def __init__(
+        self, points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, size: tuple[int, int], ss: int = SUPERSAMPLE
+    ):
         self.ss = ss
         self.box = _box(points, faces, *size)
         self.depth = self.color = None
@@ -87,8 +92,14 @@ class StillLayer:
         color[rows, cols] = self.color
 
 
-def draw_triangles(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb: np.ndarray,
-                   ss: int = SUPERSAMPLE, still: StillLayer | None = None) -> None:
+def draw_triangles(
+    buffer: np.ndarray,
+    points: np.ndarray,
+    faces: np.ndarray,
+    rgb: np.ndarray,
+    ss: int = SUPERSAMPLE,
+    still: StillLayer | None = None,
+) -> None:
     """Draw triangles straight into a frame ``buffer`` (H, W, 4 uint8): what
     :func:`triangle_sprite` draws, composited, without the sprite in between; with ``still``, its
     triangles too, in the same z-buffer, the layer's samples laid first."""
@@ -109,8 +120,14 @@ def _union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> tuple[
     return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
 
 
-def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb: tuple[float, float, float],
-                 width: int = 1, alpha: float = 0.9) -> None:
+def draw_outline(
+    buffer: np.ndarray,
+    points: np.ndarray,
+    faces: np.ndarray,
+    rgb: tuple[float, float, float],
+    width: int = 1,
+    alpha: float = 0.9,
+) -> None:
     """Draw only the outline of the triangles' union into a frame ``buffer`` (H, W, 4 uint8): the
     covered pixels with an uncovered neighbour (4-neighbourhood), grown by ``width`` - 1 pixels,
     in ``rgb`` at ``alpha`` (a poster's faint pose, which must not hide the one it is drawn under)."""
@@ -126,12 +143,19 @@ def draw_outline(buffer: np.ndarray, points: np.ndarray, faces: np.ndarray, rgb:
     for _ in range(width - 1):
         grown = np.pad(edge, 1)
         edge = edge | grown[:-2, 1:-1] | grown[2:, 1:-1] | grown[1:-1, :-2] | grown[1:-1, 2:]
-    region = buffer[height - y1:height - y0, x0:x1, :3]
+    region = buffer[height - y1 : height - y0, x0:x1, :3]
     region[edge] = (region[edge] * (1 - alpha) + np.asarray(rgb) * 255 * alpha + 0.5).astype(np.uint8)
 
 
-def _samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, box: tuple[int, int, int, int], ss: int,
-             dtype, still: StillLayer | None = None) -> tuple[np.ndarray, np.ndarray]:
+def _samples(
+    points: np.ndarray,
+    faces: np.ndarray,
+    rgb: np.ndarray,
+    box: tuple[int, int, int, int],
+    ss: int,
+    dtype,
+    still: StillLayer | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """The triangles filled on the sample grid of pixel ``box`` (x0, y0, x1, y1; y up), ``ss`` x ``ss``
     samples a pixel: each sample's nearness (-inf where empty) and colour, in ``dtype``; ``still``'s
     samples laid first."""
@@ -144,8 +168,16 @@ def _samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, box: tuple[
         still.lay(depth, color, box)
     if not len(faces):
         return depth, color
-    fill_samples(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64),
-                 np.ascontiguousarray(rgb, dtype=float), float(x0), float(y0), ss, depth, color)
+    fill_samples(
+        np.ascontiguousarray(points, dtype=float),
+        np.ascontiguousarray(faces, dtype=np.int64),
+        np.ascontiguousarray(rgb, dtype=float),
+        float(x0),
+        float(y0),
+        ss,
+        depth,
+        color,
+    )
     return depth, color
 
 

@@ -16,8 +16,16 @@ _JIT = dict(error_model="numpy", nogil=True)
 
 
 @compiled(**_JIT)
-def fill_samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, x0: float, y0: float, ss: int,
-                 depth: np.ndarray, color: np.ndarray) -> None:
+def fill_samples(
+    points: np.ndarray,
+    faces: np.ndarray,
+    rgb: np.ndarray,
+    x0: float,
+    y0: float,
+    ss: int,
+    depth: np.ndarray,
+    color: np.ndarray,
+) -> None:
     """Fill the sample grids ``depth`` (H, W) (-inf where empty) and ``color`` (H, W, 3) with the
     triangles ``faces`` (k, 3) of ``points`` (V, 3: x px, y px up, near) coloured ``rgb`` (V, 3).
     Sample (i, j) sits at x = x0 + (j + 0.5) / ss, y = y0 + (i + 0.5) / ss; a sample on an edge
@@ -50,7 +58,9 @@ def fill_samples(points: np.ndarray, faces: np.ndarray, rgb: np.ndarray, x0: flo
                 w0 = (cx - bx) * (i - by) - (cy - by) * (j - bx)  # weight of a: the edge b -> c
                 w1 = (ax - cx) * (i - cy) - (ay - cy) * (j - cx)  # of b: the edge c -> a
                 w2 = (bx - ax) * (i - ay) - (by - ay) * (j - ax)  # of c: the edge a -> b
-                if not (_inside(w0, cx - bx, cy - by) and _inside(w1, ax - cx, ay - cy) and _inside(w2, bx - ax, by - ay)):
+                if not (
+                    _inside(w0, cx - bx, cy - by) and _inside(w1, ax - cx, ay - cy) and _inside(w2, bx - ax, by - ay)
+                ):
                     continue
                 w0, w1, w2 = w0 * inverse, w1 * inverse, w2 * inverse  # barycentric weights
                 near = w0 * points[a, 2] + w1 * points[b, 2] + w2 * points[c, 2]
@@ -76,7 +86,9 @@ def _pixel_sums(depth: np.ndarray, color: np.ndarray, ss: int, i: int, j: int) -
 
 
 @compiled(**_JIT)
-def resolve_samples(depth: np.ndarray, color: np.ndarray, ss: int, premultiplied: np.ndarray, clear: np.ndarray) -> None:
+def resolve_samples(
+    depth: np.ndarray, color: np.ndarray, ss: int, premultiplied: np.ndarray, clear: np.ndarray
+) -> None:
     """Average each pixel's ``ss`` x ``ss`` samples: ``premultiplied`` (h, w, 3) RGB 0-255 times
     cover and ``clear`` (h, w, 1) 1 - cover, rows top to bottom (the sample grid's rows run up)."""
     h, w = premultiplied.shape[0], premultiplied.shape[1]
@@ -190,16 +202,21 @@ def yuv420_planes(pixels: np.ndarray, width: int, out: np.ndarray) -> None:
     rows = count // width // 2
     reds, greens, blues = np.empty(half, np.int32), np.empty(half, np.int32), np.empty(half, np.int32)
     for i in range(rows):
-        top = pixels[2 * i * width:(2 * i + 1) * width]
-        bottom = pixels[(2 * i + 1) * width:(2 * i + 2) * width]
+        top = pixels[2 * i * width : (2 * i + 1) * width]
+        bottom = pixels[(2 * i + 1) * width : (2 * i + 2) * width]
         for j in range(half):  # each block's sums first, then each plane: loops the compiler vectorises
-            a, b, c, d = np.int32(top[2 * j]), np.int32(top[2 * j + 1]), np.int32(bottom[2 * j]), np.int32(bottom[2 * j + 1])
+            a, b, c, d = (
+                np.int32(top[2 * j]),
+                np.int32(top[2 * j + 1]),
+                np.int32(bottom[2 * j]),
+                np.int32(bottom[2 * j + 1]),
+            )
             reds[j] = ((a >> RED) & 255) + ((b >> RED) & 255) + ((c >> RED) & 255) + ((d >> RED) & 255)
             greens[j] = ((a >> GREEN) & 255) + ((b >> GREEN) & 255) + ((c >> GREEN) & 255) + ((d >> GREEN) & 255)
             blues[j] = ((a >> BLUE) & 255) + ((b >> BLUE) & 255) + ((c >> BLUE) & 255) + ((d >> BLUE) & 255)
-        cb = out[count + i * half:count + (i + 1) * half]
+        cb = out[count + i * half : count + (i + 1) * half]
         for j in range(half):
             cb[j] = np.uint8((UR * reds[j] + UG * greens[j] + UB * blues[j] + C_OFFSET) >> 18)
-        cr = out[count + (rows + i) * half:count + (rows + i + 1) * half]
+        cr = out[count + (rows + i) * half : count + (rows + i + 1) * half]
         for j in range(half):
             cr[j] = np.uint8((VR * reds[j] + VG * greens[j] + VB * blues[j] + C_OFFSET) >> 18)

@@ -73,8 +73,13 @@ class RobotMeshes:
         rgb = lambert(self.view.screen_normals(self.normals), np.ones(3)) * self.vertex_color
         return StillLayer(screen, tri[_signed_areas(screen, tri) > 0.0], rgb, self.size)
 
-    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None,
-              decal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> list[Part]:
+    def parts(
+        self,
+        pose: Pose,
+        ghost: bool = False,
+        near: np.ndarray | None = None,
+        decal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    ) -> list[Part]:
         """One part per link: its sprite, and the segment and radius that order it.
 
         ``decal``: triangles drawn with the furniture, in its z-buffer (a path's ink on a
@@ -103,9 +108,22 @@ class RobotMeshes:
                 front = tri[facing[faces]]
                 if k == self.furniture:
                     front = np.vstack([front, extra])
-            raster = (screen, front, rgb, "outline" if ghost else "fill", still)  # a ghost: the whole pose's outline only
-            parts.append(Part(samples=segment_samples(ends[0], ends[1]), radius=radius * self.ppu, polygons=[],
-                              colors=np.zeros((0, 4)), raster=raster))
+            raster = (
+                screen,
+                front,
+                rgb,
+                "outline" if ghost else "fill",
+                still,
+            )  # a ghost: the whole pose's outline only
+            parts.append(
+                Part(
+                    samples=segment_samples(ends[0], ends[1]),
+                    radius=radius * self.ppu,
+                    polygons=[],
+                    colors=np.zeros((0, 4)),
+                    raster=raster,
+                )
+            )
         return parts
 
     def _shades(self, pose: Pose, ghost: bool) -> np.ndarray:
@@ -157,16 +175,24 @@ class MeshesAndCapsules:
         """The furniture's link among the meshes (:attr:`RobotMeshes.furniture`)."""
         return self.meshes.furniture
 
-    def parts(self, pose: Pose, ghost: bool = False, near: np.ndarray | None = None,
-              decal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> list[Part]:
+    def parts(
+        self,
+        pose: Pose,
+        ghost: bool = False,
+        near: np.ndarray | None = None,
+        decal: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    ) -> list[Part]:
         """The links' meshes (``decal`` drawn with the furniture, :meth:`RobotMeshes.parts`) and
         the ``shown`` capsules, their colours at ``alpha``; with no link meshed (the meshes are the
         scene's furniture), the arm whole: base, capsules and joints."""
         meshes = self.meshes.parts(pose, ghost, near, decal)
         if self.shown.all() and self.alpha == 1.0:
             return meshes + self.capsules.parts(pose, ghost, near)
-        capsules = [replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), self.alpha)]))
-                    for p, shown in zip(self.capsules.links(pose, ghost, near), self.shown) if shown]
+        capsules = [
+            replace(p, colors=np.column_stack([p.colors[:, :3], np.full(len(p.colors), self.alpha)]))
+            for p, shown in zip(self.capsules.links(pose, ghost, near), self.shown)
+            if shown
+        ]
         return meshes + capsules
 
 
@@ -204,8 +230,9 @@ class RasterQueue:
         self.points, self.rgb, self.faces, self.still = None, None, [], None
 
 
-def arm_solids(problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int],
-               look: str = "mesh") -> ArmSolids | RobotMeshes | MeshesAndCapsules:
+def arm_solids(
+    problem: Problem, meshes: ArmMeshes | None, view, ppu: float, size: tuple[int, int], look: str = "mesh"
+) -> ArmSolids | RobotMeshes | MeshesAndCapsules:
     """The arm as the pictures draw it (``render.robot``): its visual meshes when it has some,
     its capsules, or both; an arm without meshes is its capsules (``meshes`` may hold only the
     scene's furniture, drawn with them)."""
@@ -268,4 +295,13 @@ def _signed_areas(screen: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
 
-__all__ = ["CAPSULE_ALPHA", "MeshesAndCapsules", "RasterQueue", "RobotMeshes", "arm_solids", "robot_meshed", "bounding_segment", "vertex_normals"]
+__all__ = [
+    "CAPSULE_ALPHA",
+    "MeshesAndCapsules",
+    "RasterQueue",
+    "RobotMeshes",
+    "arm_solids",
+    "robot_meshed",
+    "bounding_segment",
+    "vertex_normals",
+]

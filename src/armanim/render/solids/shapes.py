@@ -40,7 +40,11 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
     def half(chain):
         out: list = []
         for p in chain:
-            while len(out) >= 2 and (out[-1][0] - out[-2][0]) * (p[1] - out[-2][1]) - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0]) <= 0:
+            while (
+                len(out) >= 2
+                and (out[-1][0] - out[-2][0]) * (p[1] - out[-2][1]) - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])
+                <= 0
+            ):
                 out.pop()
             out.append(p)
         return out[:-1]
@@ -111,8 +115,12 @@ class ShapeSolids:
         normals = self.view.screen_normals(BOX_NORMALS @ rotation.T)
         front = np.flatnonzero(normals[:, 2] > 1e-9)
         c = self.view.project(center)
-        return Part(samples=point_samples(c), radius=0.0, polygons=[corners[BOX_FACES[f], :2] for f in front],
-                    colors=with_alpha(lambert(normals[front], OBSTACLE_COLOR), 1.0))
+        return Part(
+            samples=point_samples(c),
+            radius=0.0,
+            polygons=[corners[BOX_FACES[f], :2] for f in front],
+            colors=with_alpha(lambert(normals[front], OBSTACLE_COLOR), 1.0),
+        )
 
     def _rod_parts(self, start, end, radius) -> list[Part]:
         a, b = start[None], end[None]
@@ -124,13 +132,28 @@ class ShapeSolids:
         faces = prism_faces(PRISM_SIDES)
         ends = self.view.project(np.vstack([start, end]))
         r = radius * self.ppu
-        prism = Part(samples=segment_samples(ends[0], ends[1]), radius=r,
-                     polygons=[verts[faces[f], :2] for f in front], colors=with_alpha(lambert(normals[front], OBSTACLE_COLOR), 1.0))
+        prism = Part(
+            samples=segment_samples(ends[0], ends[1]),
+            radius=r,
+            polygons=[verts[faces[f], :2] for f in front],
+            colors=with_alpha(lambert(normals[front], OBSTACLE_COLOR), 1.0),
+        )
         circle = unit_circle(CIRCLE_SIDES)
-        shade = with_alpha(np.array([lambert(np.array([0.0, 0, 1]), OBSTACLE_COLOR), 0.5 * (np.array(OBSTACLE_COLOR) + JOINT_HIGHLIGHT)]), 1.0)
-        discs = [Part(samples=point_samples(e), radius=r,
-                      polygons=[e[:2] + r * circle, e[:2] + 0.45 * r * circle + 0.25 * r * LIGHT[:2]], colors=shade)
-                 for e in ends]
+        shade = with_alpha(
+            np.array(
+                [lambert(np.array([0.0, 0, 1]), OBSTACLE_COLOR), 0.5 * (np.array(OBSTACLE_COLOR) + JOINT_HIGHLIGHT)]
+            ),
+            1.0,
+        )
+        discs = [
+            Part(
+                samples=point_samples(e),
+                radius=r,
+                polygons=[e[:2] + r * circle, e[:2] + 0.45 * r * circle + 0.25 * r * LIGHT[:2]],
+                colors=shade,
+            )
+            for e in ends
+        ]
         return [prism, *discs]
 
     def _cylinder_part(self, bottom, top, radius) -> Part:
@@ -141,8 +164,12 @@ class ShapeSolids:
         front = np.flatnonzero(normals[:, 2] > 1e-9)
         faces = prism_faces(CIRCLE_SIDES)
         ends = self.view.project(np.vstack([bottom, top]))
-        return Part(samples=segment_samples(ends[0], ends[1]), radius=radius * self.ppu,
-                    polygons=[verts[faces[f], :2] for f in front], colors=with_alpha(lambert(normals[front], OBSTACLE_COLOR), 1.0))
+        return Part(
+            samples=segment_samples(ends[0], ends[1]),
+            radius=radius * self.ppu,
+            polygons=[verts[faces[f], :2] for f in front],
+            colors=with_alpha(lambert(normals[front], OBSTACLE_COLOR), 1.0),
+        )
 
     # ----- depth --------------------------------------------------------------------------
 
@@ -171,7 +198,9 @@ class ShapeSolids:
         n, s = samples.shape[:2]
         spans = self.box_intervals(samples.reshape(-1, 3)).reshape(n, s, -1, 2)
         near = samples[..., 2][..., None]
-        score = np.where(near > spans[..., 1], near - spans[..., 1], np.where(near < spans[..., 0], near - spans[..., 0], 0.0))
+        score = np.where(
+            near > spans[..., 1], near - spans[..., 1], np.where(near < spans[..., 0], near - spans[..., 0], 0.0)
+        )
         return np.where(np.isnan(spans[..., 0]), 0.0, score).sum(axis=1)
 
     def behind(self, screen: np.ndarray) -> np.ndarray:
@@ -210,7 +239,9 @@ class ShapeSolids:
         out = []
         for k in range(len(self.boxes)):
             if self.box_influence[k] > 0:
-                grown = box_corners(self.boxes.centers[k], self.boxes.half[k] + self.box_influence[k], self.boxes.rotations[k])
+                grown = box_corners(
+                    self.boxes.centers[k], self.boxes.half[k] + self.box_influence[k], self.boxes.rotations[k]
+                )
                 out.append(convex_hull(self.view.project(grown)[:, :2]))
         a, b = self.rod_screen
         for k in range(len(self.rods)):
@@ -218,7 +249,9 @@ class ShapeSolids:
                 out.append(stadium(a[k], b[k], (self.rods.radius[k] + self.rod_influence[k]) * self.ppu))
         for k in range(len(self.cylinders)):
             if self.cylinder_influence[k] > 0:
-                out.append(convex_hull(self.view.project(cylinder_rings(self.cylinders, k, self.cylinder_influence[k]))[:, :2]))
+                out.append(
+                    convex_hull(self.view.project(cylinder_rings(self.cylinders, k, self.cylinder_influence[k]))[:, :2])
+                )
         return out
 
     def floor_shadows(self, z: float) -> list[np.ndarray]:

@@ -67,15 +67,47 @@ def tail(text: str, lines: int = LOG_LINES) -> str:
     return "\n".join(kept[-lines:])
 
 
-def ffmpeg_command(exe: str, path: Path, size: tuple[int, int], fps: Fraction, pix_fmt_in: str, codec: str,
-                   pix_fmt_out: str, output_params: list[str], extra_inputs: tuple[str, ...] = ()) -> list[str]:
+def ffmpeg_command(
+    exe: str,
+    path: Path,
+    size: tuple[int, int],
+    fps: Fraction,
+    pix_fmt_in: str,
+    codec: str,
+    pix_fmt_out: str,
+    output_params: list[str],
+    extra_inputs: tuple[str, ...] = (),
+) -> list[str]:
     """The ffmpeg command that reads raw frames on stdin and encodes them into ``path``
     (the command imageio-ffmpeg's ``write_frames`` builds, with ``macro_block_size=1``);
     ``extra_inputs`` are further ``-i`` files (a GIF's palette)."""
     inputs = [arg for name in extra_inputs for arg in ("-i", name)]
-    return [exe, "-y", "-f", "rawvideo", "-vcodec", "rawvideo", "-s", f"{size[0]}x{size[1]}",
-            "-pix_fmt", pix_fmt_in, "-r", str(fps), "-i", "-", *inputs, "-an", "-vcodec", codec,
-            "-pix_fmt", pix_fmt_out, "-v", "error", *output_params, str(path)]
+    return [
+        exe,
+        "-y",
+        "-f",
+        "rawvideo",
+        "-vcodec",
+        "rawvideo",
+        "-s",
+        f"{size[0]}x{size[1]}",
+        "-pix_fmt",
+        pix_fmt_in,
+        "-r",
+        str(fps),
+        "-i",
+        "-",
+        *inputs,
+        "-an",
+        "-vcodec",
+        codec,
+        "-pix_fmt",
+        pix_fmt_out,
+        "-v",
+        "error",
+        *output_params,
+        str(path),
+    ]
 
 
 def find_ffmpeg() -> str:
@@ -83,7 +115,9 @@ def find_ffmpeg() -> str:
     try:
         return ffmpeg_exe()
     except Exception as err:  # noqa: BLE001  (imageio-ffmpeg raises RuntimeError, or ImportError)
-        raise RenderError(f"ffmpeg could not be found: {err} (reinstall imageio-ffmpeg, or set IMAGEIO_FFMPEG_EXE)") from None
+        raise RenderError(
+            f"ffmpeg could not be found: {err} (reinstall imageio-ffmpeg, or set IMAGEIO_FFMPEG_EXE)"
+        ) from None
 
 
 def _stdin(proc: subprocess.Popen | None) -> IO[bytes]:
@@ -132,13 +166,21 @@ class FrameWriter:
 
     def _params(self) -> dict:
         if self.fmt == "mp4":
-            return dict(codec=MP4_CODEC, pix_fmt_in=MP4_PIX_FMT, pix_fmt_out=MP4_PIX_FMT,
-                        output_params=[*MP4_PARAMS, "-f", "mp4"])
+            return dict(
+                codec=MP4_CODEC,
+                pix_fmt_in=MP4_PIX_FMT,
+                pix_fmt_out=MP4_PIX_FMT,
+                output_params=[*MP4_PARAMS, "-f", "mp4"],
+            )
         if self.fmt == "gif":
             use = ["-lavfi", GIF_USE] if self.palette is not None else []
-            return dict(codec="gif", pix_fmt_in="rgb24", pix_fmt_out="pal8",
-                        output_params=[*use, "-loop", "0", "-f", "gif"],
-                        extra_inputs=(str(self.palette),) if self.palette is not None else ())
+            return dict(
+                codec="gif",
+                pix_fmt_in="rgb24",
+                pix_fmt_out="pal8",
+                output_params=[*use, "-loop", "0", "-f", "gif"],
+                extra_inputs=(str(self.palette),) if self.palette is not None else (),
+            )
         raise RenderError(f"unknown video format {self.fmt!r} (expected 'mp4' or 'gif')")
 
     def open(self) -> FrameWriter:
@@ -147,13 +189,16 @@ class FrameWriter:
         cmd = ffmpeg_command(find_ffmpeg(), self.path, self.out_size, self.fps, **params)
         try:
             self._log = tempfile.TemporaryFile(prefix="armanim-ffmpeg-")
-            self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self._log,
-                                          start_new_session=True)
+            self._proc = subprocess.Popen(
+                cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self._log, start_new_session=True
+            )
             self._undo = on_stop(self._proc.kill)  # a worker stopped meanwhile kills its ffmpeg
         except OSError as err:
             self.abort()
-            raise RenderError(f"ffmpeg could not be started ({cmd[0]}): {err.strerror or err} "
-                              "(reinstall imageio-ffmpeg, or set IMAGEIO_FFMPEG_EXE to a working ffmpeg)") from None
+            raise RenderError(
+                f"ffmpeg could not be started ({cmd[0]}): {err.strerror or err} "
+                "(reinstall imageio-ffmpeg, or set IMAGEIO_FFMPEG_EXE to a working ffmpeg)"
+            ) from None
         return self
 
     def write(self, rgba: np.ndarray) -> None:
@@ -249,12 +294,30 @@ def gif_palette(beside: Path, size: tuple[int, int], frames):
     fd, name = tempfile.mkstemp(prefix=f".{Path(beside).name}.", suffix=".palette.png", dir=Path(beside).parent)
     os.close(fd)
     path = Path(name)
-    cmd = [exe, "-y", "-v", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{size[0]}x{size[1]}",
-           "-i", "-", "-vf", GIF_PALETTE, "-frames:v", "1", str(path)]
+    cmd = [
+        exe,
+        "-y",
+        "-v",
+        "error",
+        "-f",
+        "rawvideo",
+        "-pix_fmt",
+        "rgb24",
+        "-s",
+        f"{size[0]}x{size[1]}",
+        "-i",
+        "-",
+        "-vf",
+        GIF_PALETTE,
+        "-frames:v",
+        "1",
+        str(path),
+    ]
     try:
         with tempfile.TemporaryFile(prefix="armanim-ffmpeg-") as log:
-            proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log,
-                                    start_new_session=True)
+            proc = subprocess.Popen(
+                cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log, start_new_session=True
+            )
             with undone_on_stop(proc.kill):  # a worker stopped meanwhile kills this ffmpeg too
                 try:
                     for rgba in frames:
@@ -268,7 +331,9 @@ def gif_palette(beside: Path, size: tuple[int, int], frames):
                     code = proc.wait()
             log.seek(0)
             if code != 0 or not path.exists():
-                raise RenderError(f"ffmpeg failed while making the GIF palette:\n{tail(log.read().decode('utf-8', 'replace'))}")
+                raise RenderError(
+                    f"ffmpeg failed while making the GIF palette:\n{tail(log.read().decode('utf-8', 'replace'))}"
+                )
         yield path
     finally:
         path.unlink(missing_ok=True)
@@ -288,8 +353,24 @@ def concat_segments(segments: list[Path], path: Path, fmt: str) -> None:
     listing = path.with_name(path.name + ".concat.txt")
     lines = ["file '" + str(Path(s).resolve()).replace("'", "'\\''") + "'" for s in segments]
     extra = ["-movflags", "+faststart"] if fmt == "mp4" else []
-    cmd = [find_ffmpeg(), "-y", "-v", "error", "-f", "concat", "-safe", "0", "-i", str(listing),
-           "-c", "copy", *extra, "-f", fmt, str(path)]
+    cmd = [
+        find_ffmpeg(),
+        "-y",
+        "-v",
+        "error",
+        "-f",
+        "concat",
+        "-safe",
+        "0",
+        "-i",
+        str(listing),
+        "-c",
+        "copy",
+        *extra,
+        "-f",
+        fmt,
+        str(path),
+    ]
     try:
         listing.write_text("\n".join(lines) + "\n", encoding="utf-8")
         result = subprocess.run(cmd, capture_output=True, text=True, check=False)  # killed on any exception

@@ -26,8 +26,14 @@ from armanim.render.video.segment import draw_segment
 MIN_FRAMES_PER_JOB = 24  # fewer frames than this per worker are not worth a process
 
 
-def render_video(run: SolvedRun, options: OutputOptions, path, *, progress: Callable[[int], None] | None = None,
-                 meanwhile: Callable[[], None] | None = None) -> None:
+def render_video(
+    run: SolvedRun,
+    options: OutputOptions,
+    path,
+    *,
+    progress: Callable[[int], None] | None = None,
+    meanwhile: Callable[[], None] | None = None,
+) -> None:
     """Render a run to an MP4 or a GIF, one video frame per trajectory row.
 
     Parameters

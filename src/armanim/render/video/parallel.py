@@ -74,8 +74,14 @@ def _segment_worker(args: tuple, messages, parent: int) -> None:
         messages.put(("error", index, detail))
 
 
-def render_parallel(run: SolvedRun, settings: RenderSettings, tmp: Path, jobs: int,
-                    progress: Callable[[int], None] | None, meanwhile: Callable[[], None] | None = None) -> None:
+def render_parallel(
+    run: SolvedRun,
+    settings: RenderSettings,
+    tmp: Path,
+    jobs: int,
+    progress: Callable[[int], None] | None,
+    meanwhile: Callable[[], None] | None = None,
+) -> None:
     """Render the video ``tmp`` of ``run`` in ``jobs`` worker processes, one contiguous segment
     each, and join the segments (see :func:`armanim.render.video.movie.render_video`).
 

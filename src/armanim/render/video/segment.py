@@ -22,9 +22,16 @@ CHUNK = 256  # poses sent through forward kinematics at once (memory stays flat)
 PALETTE_FRAMES = 12  # frames a GIF's palette is made from
 
 
-def draw_segment(run: SolvedRun, settings: RenderSettings, path: Path, *, start: int, stop: int,
-                 progress: Callable[[int], None] | None = None,
-                 frame: Callable[[int, Pose], np.ndarray] | None = None) -> None:
+def draw_segment(
+    run: SolvedRun,
+    settings: RenderSettings,
+    path: Path,
+    *,
+    start: int,
+    stop: int,
+    progress: Callable[[int], None] | None = None,
+    frame: Callable[[int, Pose], np.ndarray] | None = None,
+) -> None:
     """Draw frames ``start`` to ``stop - 1`` of ``run`` and encode them into ``path``.
 
     ``progress`` is called with the number of frames of this segment done so far. ``frame``: the
@@ -39,8 +46,13 @@ def draw_segment(run: SolvedRun, settings: RenderSettings, path: Path, *, start:
     with contextlib.ExitStack() as stack:
         palette = None
         if settings.format == "gif":  # one palette for the whole GIF, from frames spread over it
-            palette = stack.enter_context(gif_palette(path, settings.size, (
-                frame(f, forward(problem.arm, trajectory.phi[f])) for f in palette_frames(start, stop))))
+            palette = stack.enter_context(
+                gif_palette(
+                    path,
+                    settings.size,
+                    (frame(f, forward(problem.arm, trajectory.phi[f])) for f in palette_frames(start, stop)),
+                )
+            )
         writer = stack.enter_context(FrameWriter(path, settings.size, run.fps, settings.format, palette=palette))
         for f, pose in chunked_poses(problem.arm, trajectory.phi, start, stop):
             writer.write(frame(f, pose))
@@ -64,16 +76,30 @@ def frame_drawer(run: SolvedRun, settings: RenderSettings) -> Callable[[int, Pos
     goals = len(problem.goals)
     activity = frame_activity(trajectory, reports)
     captions = [frame_caption(trajectory, f, goals, activity[f], problem.rates.speed) for f in range(trajectory.frames)]
-    scene = SceneCanvas(still, settings, title=run.name, meshes=run.meshes, tips=trajectory.tip, extent=extent,
-                        caption_template=max(captions, key=len), outcomes=goal_outcomes(reports),
-                        near_self=near_in_frames(problem, trajectory.self_clearance))
+    scene = SceneCanvas(
+        still,
+        settings,
+        title=run.name,
+        meshes=run.meshes,
+        tips=trajectory.tip,
+        extent=extent,
+        caption_template=max(captions, key=len),
+        outcomes=goal_outcomes(reports),
+        near_self=near_in_frames(problem, trajectory.self_clearance),
+    )
     done = path_progress(trajectory.goal, trajectory.path_s, goals) if scene.paths else None
 
     def frame(f: int, pose: Pose) -> np.ndarray:
-        state = FrameState(pose=pose, trail_end=f + 1, goal_status=goal_status(trajectory, reports, f, goals),
-                           caption=captions[f], path_done=None if done is None else done[f],
-                           path_ahead=int(trajectory.goal[f]), carried=None if carried is None else carried[f],
-                           fingers=None if fingers is None else float(fingers[f]))
+        state = FrameState(
+            pose=pose,
+            trail_end=f + 1,
+            goal_status=goal_status(trajectory, reports, f, goals),
+            caption=captions[f],
+            path_done=None if done is None else done[f],
+            path_ahead=int(trajectory.goal[f]),
+            carried=None if carried is None else carried[f],
+            fingers=None if fingers is None else float(fingers[f]),
+        )
         return scene.draw(state)
 
     return frame

@@ -42,8 +42,15 @@ def write_viewer(run: SolvedRun, options: OutputOptions, path: str | Path) -> Pa
     from armanim.render.viewer.page import viewer_html
 
     path = Path(path)
-    data = viewer_data(run.problem, run.trajectory, run.reports, options.render, title=run.name, meshes=run.meshes,
-                       carry=run.solution.carry)
+    data = viewer_data(
+        run.problem,
+        run.trajectory,
+        run.reports,
+        options.render,
+        title=run.name,
+        meshes=run.meshes,
+        carry=run.solution.carry,
+    )
     write_text_atomic(path, viewer_html(data))
     return path
 

@@ -93,14 +93,16 @@ def goal_entries(problem: Problem, reports: Sequence[GoalReport]) -> list[dict]:
     entries = []
     for i, goal in enumerate(problem.goals):
         report = reports[i] if i < len(reports) else None
-        entries.append({
-            "position": [float(v) for v in goal.position],
-            "reached": bool(report.reached) if report else False,
-            "reason": report.reason if report else None,
-            "first": int(report.first_frame) if report else -1,
-            "last": int(report.last_frame) if report else -1,
-            **goal_orientation_entry(goal),
-        })
+        entries.append(
+            {
+                "position": [float(v) for v in goal.position],
+                "reached": bool(report.reached) if report else False,
+                "reason": report.reason if report else None,
+                "first": int(report.first_frame) if report else -1,
+                "last": int(report.last_frame) if report else -1,
+                **goal_orientation_entry(goal),
+            }
+        )
     return entries
 
 
@@ -112,8 +114,12 @@ def orientation_entry(problem: Problem, trajectory: Trajectory, decimals: int) -
         return None
     quaternions = trajectory.tool_quaternion
     if quaternions is None:
-        quaternions = frame_orientations(problem.arm, [g.orientation for g in problem.goals], trajectory.phi, trajectory.goal)[1]
-    angles = trajectory.orientation_error if trajectory.orientation_error is not None else np.full(trajectory.frames, np.nan)
+        quaternions = frame_orientations(
+            problem.arm, [g.orientation for g in problem.goals], trajectory.phi, trajectory.goal
+        )[1]
+    angles = (
+        trajectory.orientation_error if trajectory.orientation_error is not None else np.full(trajectory.frames, np.nan)
+    )
     return {
         "quaternion_wxyz": rounded(quaternions, 6),
         "angle_deg": [None if not np.isfinite(a) else round(float(np.degrees(a)), 3) for a in angles],
@@ -146,8 +152,16 @@ def path_entry(problem: Problem, trajectory: Trajectory, decimals: int, size: fl
     done = trajectory.path_s if trajectory.path_s is not None else np.full(trajectory.frames, np.nan)
     finite = np.isfinite(done)
     return {
-        "goals": [{"goal": p.goal, "s": rounded(p.s, decimals), "points": rounded(p.points, decimals),
-                   "ink": [int(b) for b in p.ink], "normal": rounded(path_normal(p.points, toward), 4)} for p in paths],
+        "goals": [
+            {
+                "goal": p.goal,
+                "s": rounded(p.s, decimals),
+                "points": rounded(p.points, decimals),
+                "ink": [int(b) for b in p.ink],
+                "normal": rounded(path_normal(p.points, toward), 4),
+            }
+            for p in paths
+        ],
         "path_s": [v if ok else None for v, ok in zip(rounded(np.where(finite, done, 0.0), decimals), finite)],
         "width": round(size * INK_SHARE, decimals),
         "ink": hex_color(style.INK_COLOR),
@@ -266,8 +280,13 @@ def viewer_data(
         "title": str(title),
         "fps": float(trajectory.fps),
         "frames": int(trajectory.frames),
-        "joints": [f"{name} (m)" if slide else name for name, slide in zip(
-            [str(j) for j in joint_names] if joint_names is not None else [f"phi{i + 1}" for i in range(n)], problem.arm.slides)],
+        "joints": [
+            f"{name} (m)" if slide else name
+            for name, slide in zip(
+                [str(j) for j in joint_names] if joint_names is not None else [f"phi{i + 1}" for i in range(n)],
+                problem.arm.slides,
+            )
+        ],
         "decimals": decimals,
         "arm": {
             "links": [float(v) for v in problem.arm.links],
@@ -288,19 +307,32 @@ def viewer_data(
     oriented = orientation_entry(problem, trajectory, decimals)
     if oriented is not None:  # only runs with an oriented goal carry it: other pages are as they were
         data["orientation"] = oriented
-    paths = path_entry(problem, trajectory, decimals, float(np.max(np.subtract(view["box"][1], view["box"][0]))),
-                       camera_toward(view["elevation"], view["azimuth"]))
+    paths = path_entry(
+        problem,
+        trajectory,
+        decimals,
+        float(np.max(np.subtract(view["box"][1], view["box"][0]))),
+        camera_toward(view["elevation"], view["azimuth"]),
+    )
     if paths is not None:  # only runs with a path goal carry it
         data["paths"] = paths
     if meshes is not None and meshes.triangles:  # only robots drawn with meshes carry them
-        names = list(problem.capsules.names or ("",) * len(problem.capsules.radius))  # an arm of links: no link has a mesh
+        names = list(
+            problem.capsules.names or ("",) * len(problem.capsules.radius)
+        )  # an arm of links: no link has a mesh
         uncovered = [i for i, name in enumerate(names) if name not in set(meshes.links)]
         entries = mesh_entries(meshes, pose, decimals, problem.gripper if fingers is not None else None, fingers)
         group_of = {(g["carrier"], g.get("link")): i for i, g in enumerate(entries["groups"])}
-        covered = [group_of.get((int(k), name), group_of.get((int(k), None), -1)) if i not in uncovered else -1
-                   for i, (k, name) in enumerate(zip(problem.capsules.link, names))]
-        data["meshes"] = entries | {"look": settings.robot, "uncovered": uncovered, "robot": len(uncovered) < len(names),
-                                    "capsule_group": covered}
+        covered = [
+            group_of.get((int(k), name), group_of.get((int(k), None), -1)) if i not in uncovered else -1
+            for i, (k, name) in enumerate(zip(problem.capsules.link, names))
+        ]
+        data["meshes"] = entries | {
+            "look": settings.robot,
+            "uncovered": uncovered,
+            "robot": len(uncovered) < len(names),
+            "capsule_group": covered,
+        }
     return data
 
 
@@ -326,12 +358,15 @@ def mesh_entries(meshes: ArmMeshes, pose, decimals: int, gripper=None, fingers: 
         local[used] = np.arange(len(used))
         color = np.zeros((len(meshes.vertices), 3))
         color[meshes.faces[mine][::-1].ravel()] = np.repeat(meshes.colors[mine][::-1], 3, axis=0)  # the first face's
-        groups.append({
-            "carrier": int(carrier),
-            "positions": rounded(meshes.vertices[used], decimals),
-            "colors": rounded(color[used], 2),
-            "indices": [int(v) for v in local[meshes.faces[mine]].ravel()],
-        } | ({} if j < 0 else {"link": sliding[j], "slide": [float(v) for v in gripper.link_rate[j]]}))
+        groups.append(
+            {
+                "carrier": int(carrier),
+                "positions": rounded(meshes.vertices[used], decimals),
+                "colors": rounded(color[used], 2),
+                "indices": [int(v) for v in local[meshes.faces[mine]].ravel()],
+            }
+            | ({} if j < 0 else {"link": sliding[j], "slide": [float(v) for v in gripper.link_rate[j]]})
+        )
     moving = [int(k) for k in np.unique(meshes.carrier) if k >= 0]
     placement = np.concatenate([pose.points[:, moving, :], rotation_quaternion(pose.frames[:, moving])], axis=-1)
     out = {"groups": groups, "carriers": moving, "frames": rounded(placement, max(decimals, 6))}
@@ -340,7 +375,9 @@ def mesh_entries(meshes: ArmMeshes, pose, decimals: int, gripper=None, fingers: 
     return out
 
 
-def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int, fingers: np.ndarray | None = None) -> dict:
+def frame_entries(
+    problem: Problem, trajectory: Trajectory, pose, decimals: int, fingers: np.ndarray | None = None
+) -> dict:
     """What changes frame by frame: the joints' positions (``pose.points``, (F, n+1, 3)), the
     capsules' ends, the angles, the goal, its distance, the clearance and ``reached``."""
     starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
@@ -361,7 +398,9 @@ def frame_entries(problem: Problem, trajectory: Trajectory, pose, decimals: int,
             "ends": rounded(np.stack([starts, ends], axis=2), decimals),
             **near_entries(problem, pose),
         },
-        "angles_deg": rounded(joints_shown(trajectory.phi, problem.arm.prismatic), ANGLE_DECIMALS),  # metres for a prismatic joint
+        "angles_deg": rounded(
+            joints_shown(trajectory.phi, problem.arm.prismatic), ANGLE_DECIMALS
+        ),  # metres for a prismatic joint
         "goal": [int(g) for g in trajectory.goal],
         "distance": rounded(trajectory.distance, decimals),
         "clearance": [v if ok else None for v, ok in zip(rounded(np.where(finite, clearance, 0.0), decimals), finite)],
@@ -373,7 +412,12 @@ def sphere_entries(obstacles) -> list[dict]:
     """The sphere obstacles: centre, radius and influence (and name, where the scene gives one)."""
     return [
         _named({"center": [float(v) for v in c], "radius": float(r), "influence": float(i)}, obstacles, k)
-        for c, r, i, k in zip(obstacles.centers, obstacles.radii, obstacles.influence[obstacles.columns(SPHERE)], obstacles.columns(SPHERE))
+        for c, r, i, k in zip(
+            obstacles.centers,
+            obstacles.radii,
+            obstacles.influence[obstacles.columns(SPHERE)],
+            obstacles.columns(SPHERE),
+        )
     ]
 
 
@@ -392,22 +436,56 @@ def shape_entries(obstacles) -> dict:
     boxes, rods, cylinders = obstacles.boxes, obstacles.rods, obstacles.cylinders
     if len(boxes):
         out["boxes"] = [
-            _named({"center": [float(v) for v in c], "size": [float(2 * v) for v in h], "rotation": np.asarray(r, dtype=float).tolist(),
-                    "influence": float(i)}, obstacles, k)
-            for c, h, r, i, k in zip(boxes.centers, boxes.half, boxes.rotations, obstacles.influence[obstacles.columns(BOX)],
-                                     obstacles.columns(BOX))
+            _named(
+                {
+                    "center": [float(v) for v in c],
+                    "size": [float(2 * v) for v in h],
+                    "rotation": np.asarray(r, dtype=float).tolist(),
+                    "influence": float(i),
+                },
+                obstacles,
+                k,
+            )
+            for c, h, r, i, k in zip(
+                boxes.centers,
+                boxes.half,
+                boxes.rotations,
+                obstacles.influence[obstacles.columns(BOX)],
+                obstacles.columns(BOX),
+            )
         ]
     if len(rods):
         out["obstacle_capsules"] = [
-            _named({"from": [float(v) for v in a], "to": [float(v) for v in b], "radius": float(r), "influence": float(i)}, obstacles, k)
-            for a, b, r, i, k in zip(rods.start, rods.end, rods.radius, obstacles.influence[obstacles.columns(ROD)], obstacles.columns(ROD))
+            _named(
+                {"from": [float(v) for v in a], "to": [float(v) for v in b], "radius": float(r), "influence": float(i)},
+                obstacles,
+                k,
+            )
+            for a, b, r, i, k in zip(
+                rods.start, rods.end, rods.radius, obstacles.influence[obstacles.columns(ROD)], obstacles.columns(ROD)
+            )
         ]
     if len(cylinders):
         out["cylinders"] = [
-            _named({"center": [float(v) for v in c], "length": float(2 * h), "radius": float(r), "rotation": np.asarray(m, dtype=float).tolist(),
-                    "influence": float(i)}, obstacles, k)
-            for c, m, h, r, i, k in zip(cylinders.centers, cylinders.rotations, cylinders.half_length, cylinders.radius,
-                                        obstacles.influence[obstacles.columns(CYLINDER)], obstacles.columns(CYLINDER))
+            _named(
+                {
+                    "center": [float(v) for v in c],
+                    "length": float(2 * h),
+                    "radius": float(r),
+                    "rotation": np.asarray(m, dtype=float).tolist(),
+                    "influence": float(i),
+                },
+                obstacles,
+                k,
+            )
+            for c, m, h, r, i, k in zip(
+                cylinders.centers,
+                cylinders.rotations,
+                cylinders.half_length,
+                cylinders.radius,
+                obstacles.influence[obstacles.columns(CYLINDER)],
+                obstacles.columns(CYLINDER),
+            )
         ]
     return out
 
@@ -455,6 +533,8 @@ def carried_entries(problem: Problem, carry: CarryReport, trajectory: Trajectory
             entry["radius"] = float(body.radius)
             entry["length"] = float(2 * body.half[0] if body.kind == ROD else 2 * body.half[2])
         shapes.append(entry)
-    poses = np.array([[np.concatenate([b.center, rotation_quaternion(b.rotation)]) for b in bodies] for bodies in frames]).reshape(-1, 7)
+    poses = np.array(
+        [[np.concatenate([b.center, rotation_quaternion(b.rotation)]) for b in bodies] for bodies in frames]
+    ).reshape(-1, 7)
     places = np.concatenate([np.round(poses[:, :3], decimals), np.round(poses[:, 3:], 6)], axis=1)
     return {"objects": shapes, "poses": [float(v) + 0.0 for v in places.ravel()]}

@@ -126,7 +126,7 @@ def is_unchanged_page(path: str | Path) -> bool:
             at = tail.rfind(start)
             if at < 0 or not tail.endswith(end) or len(tail) - at != len(start) + 64 + len(end):
                 return False
-            recorded = tail[at + len(start):at + len(start) + 64].decode("ascii", "replace")
+            recorded = tail[at + len(start) : at + len(start) + 64].decode("ascii", "replace")
             body = size - (len(tail) - at)
             handle.seek(0)
             digest = hashlib.sha256()
@@ -160,6 +160,8 @@ def replace_problem(path: str | Path) -> str | None:
     if not is_viewer_page(path):
         return "is a file armanim did not write (not a viewer page), so it is not replaced"
     if not is_unchanged_page(path):
-        return ("is a viewer page changed since armanim wrote it (or written by an armanim that did not record its "
-                "sha256), so it is not replaced")
+        return (
+            "is a viewer page changed since armanim wrote it (or written by an armanim that did not record its "
+            "sha256), so it is not replaced"
+        )
     return None
