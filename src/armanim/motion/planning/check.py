@@ -126,30 +126,75 @@ def _bounding_spheres(
 
 @compiled(**JIT)
 def _obstacle_least(
-    a: np.ndarray,
-    b: np.ndarray,
-    radius: np.ndarray,
-    sphere: np.ndarray,
+    ends: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     world: World,
-    members: tuple[np.ndarray, np.ndarray],
-    center: np.ndarray,
-    reach: np.ndarray,
+    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     far: float,
-    s: np.ndarray,
-    normal: np.ndarray,
+    scratch: tuple[np.ndarray, np.ndarray],
     groups_least: np.ndarray,
 ) -> float:
     """The least clearance of any capsule to any obstacle or the floor, measured exactly where a
     group's bounding sphere comes within ``far`` of the obstacle, else that sphere's lower bound
     (so the result is exact when below ``far``, and at most the exact least otherwise); each
-    group's own least into ``groups_least`` (G,). ``sphere`` (c,): which capsules are points;
-    ``s`` and ``normal``: the closed forms' scratch."""
+    group's own least into ``groups_least`` (G,). ``ends``: the capsules' ends a, b (c, 3), radii
+    (c,) and which are points (c,); ``groups``: CSR start (G+1,) and capsule indices, and the
+    groups' bounding spheres' centres (G, 3) and reaches (G,); ``scratch``: the closed forms'.
+
+    Each kind of obstacle is one call for all groups, not one per group: a call passes every
+    array again, which cost the planner a third of its time."""
     centers, radii, solid_centers, solid_half, solid_rotations, solid_radius, on_base = world[:7]
-    floor = world[8]
-    cyl_centers, cyl_rotations, cyl_half, cyl_radius = world[9], world[10], world[11], world[12]
-    allowed = world[13]  # each capsule's obstacle it may touch (its kind column), -1: none
+    cyl_centers, cyl_rotations, cyl_half, cyl_radius, allowed = world[9:14]
     spheres, solids = radii.shape[0], kind_count(solid_radius)
-    start, caps = members
+    _spheres_least(groups_least, ends, centers, radii, groups, far, allowed)
+    _solids_least(
+        groups_least,
+        ends,
+        solid_centers,
+        solid_half,
+        solid_rotations,
+        solid_radius,
+        groups,
+        far,
+        scratch,
+        allowed,
+        spheres,
+    )
+    _cylinders_least(
+        groups_least,
+        ends,
+        cyl_centers,
+        cyl_rotations,
+        cyl_half,
+        cyl_radius,
+        groups,
+        far,
+        scratch,
+        allowed,
+        spheres + solids,
+    )
+    _floor_least(groups_least, ends, world[8], on_base, groups[:2], allowed, spheres + solids + kind_count(cyl_radius))
+    least = np.inf
+    for g in range(groups_least.shape[0]):
+        if groups_least[g] < least or groups_least[g] != groups_least[g]:
+            least = groups_least[g]
+    return least
+
+
+@compiled(**JIT)
+def _spheres_least(
+    groups_least: np.ndarray,
+    ends: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    centers: np.ndarray,
+    radii: np.ndarray,
+    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    far: float,
+    allowed: np.ndarray,
+) -> None:
+    """Each group's least clearance to the spheres (``centers`` (S, 3), ``radii`` (S,)) into
+    ``groups_least`` (G,), exact where its bounding sphere comes within ``far`` of a sphere, else
+    that bound (:func:`_obstacle_least`'s arguments; a capsule's ``allowed`` sphere left out)."""
+    a, b, radius, _ = ends
+    start, caps, center, reach = groups
     for g in range(start.shape[0] - 1):
         least = np.inf
         for k in range(radii.shape[0]):
@@ -172,166 +217,142 @@ def _obstacle_least(
                 d = _point_segment(centers[k, 0], centers[k, 1], centers[k, 2], a, b, c) - radii[k] - radius[c]
                 if d < least or d != d:
                     least = d
-        least = _solids_least(
-            least,
-            a,
-            b,
-            radius,
-            sphere,
-            solid_centers,
-            solid_half,
-            solid_rotations,
-            solid_radius,
-            start[g],
-            start[g + 1],
-            caps,
-            center[g],
-            reach[g],
-            far,
-            s,
-            normal,
-            allowed,
-            spheres,
-        )
-        least = _cylinders_least(
-            least,
-            a,
-            b,
-            radius,
-            sphere,
-            cyl_centers,
-            cyl_rotations,
-            cyl_half,
-            cyl_radius,
-            start[g],
-            start[g + 1],
-            caps,
-            center[g],
-            reach[g],
-            far,
-            s,
-            normal,
-            allowed,
-            spheres + solids,
-        )
-        if floor.shape[0]:
-            f = spheres + solids + kind_count(cyl_radius)
-            for m in range(start[g], start[g + 1]):
-                c = caps[m]
-                if not on_base[c] and allowed[c] != f:
-                    d = min(a[c, 2], b[c, 2]) - floor[0] - radius[c]
-                    if d < least or d != d:
-                        least = d
         groups_least[g] = least
-    least = np.inf
+
+
+@compiled(**JIT)
+def _floor_least(
+    groups_least: np.ndarray,
+    ends: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    floor: np.ndarray,
+    on_base: np.ndarray,
+    members: tuple[np.ndarray, np.ndarray],
+    allowed: np.ndarray,
+    column: int,
+) -> None:
+    """``groups_least`` (G,) lowered by each group's capsules' height above the floor (``floor``:
+    its height (1,), or (0,) without one), but for the capsules on the base (``on_base`` (c,)) and
+    a capsule allowed to touch it (the floor's kind ``column``)."""
+    if not floor.shape[0]:
+        return
+    a, b, radius, _ = ends
+    start, caps = members
     for g in range(start.shape[0] - 1):
-        if groups_least[g] < least or groups_least[g] != groups_least[g]:
-            least = groups_least[g]
-    return least
+        least = groups_least[g]
+        for m in range(start[g], start[g + 1]):
+            c = caps[m]
+            if not on_base[c] and allowed[c] != column:
+                d = min(a[c, 2], b[c, 2]) - floor[0] - radius[c]
+                if d < least or d != d:
+                    least = d
+        groups_least[g] = least
 
 
 @compiled(**JIT)
 def _solids_least(
-    least: float,
-    a: np.ndarray,
-    b: np.ndarray,
-    radius: np.ndarray,
-    sphere: np.ndarray,
+    groups_least: np.ndarray,
+    ends: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     solid_centers: np.ndarray | None,
     solid_half: np.ndarray | None,
     solid_rotations: np.ndarray | None,
     solid_radius: np.ndarray | None,
-    begin: int,
-    stop: int,
-    caps: np.ndarray,
-    center: np.ndarray,
-    reach: float,
+    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     far: float,
-    s: np.ndarray,
-    normal: np.ndarray,
+    scratch: tuple[np.ndarray, np.ndarray],
     allowed: np.ndarray,
     first: int,
-) -> float:
-    """:func:`_obstacle_least`'s ``least`` after the solids, for one group (its capsules
-    ``caps[begin:stop]``, its bounding sphere ``center``, ``reach``); ``least`` itself without
-    solids (None: the box's closed form is not compiled). A capsule's pair with the obstacle it
-    may touch (``allowed``, a kind column; the solids' from ``first`` on) is left out."""
+) -> None:
+    """:func:`_obstacle_least`'s ``groups_least`` (G,) lowered by the solids, each group's exactly
+    where its bounding sphere comes within ``far`` of a solid, else by that sphere's bound; nothing
+    without solids (their centres (B, 3), half edges (B, 3), rotations (B, 3, 3) and radii (B,),
+    each None without any, by its own argument: numba prunes a branch on an argument's None). A capsule's pair with the
+    obstacle it may touch (``allowed``, a kind column; the solids' from ``first`` on) is left out."""
     if solid_centers is None or solid_half is None or solid_rotations is None or solid_radius is None:
-        return least
-    for k in range(solid_radius.shape[0]):
-        bound = (
-            _point_box(center[0], center[1], center[2], solid_centers[k], solid_half[k], solid_rotations[k])
-            - solid_radius[k]
-            - reach
-        )
-        if bound >= far:
-            least = min(least, bound)
-            continue
-        for m in range(begin, stop):
-            c = caps[m]
-            if allowed[c] == first + k:
+        return
+    a, b, radius, sphere = ends
+    start, caps, center, reach = groups
+    s, normal = scratch
+    for g in range(start.shape[0] - 1):
+        least = groups_least[g]
+        for k in range(solid_radius.shape[0]):
+            bound = (
+                _point_box(
+                    center[g, 0], center[g, 1], center[g, 2], solid_centers[k], solid_half[k], solid_rotations[k]
+                )
+                - solid_radius[k]
+                - reach[g]
+            )
+            if bound >= far:
+                least = min(least, bound)
                 continue
-            if sphere[c] and solid_radius[k] == 0.0:
-                d = _point_box(a[c, 0], a[c, 1], a[c, 2], solid_centers[k], solid_half[k], solid_rotations[k])
-            else:
-                _, d = _pair(a[c], b[c], solid_centers[k], solid_half[k], solid_rotations[k], s, normal)
-            d = d - solid_radius[k] - radius[c]
-            if d < least or d != d:
-                least = d
-    return least
+            for m in range(start[g], start[g + 1]):
+                c = caps[m]
+                if allowed[c] == first + k:
+                    continue
+                if sphere[c] and solid_radius[k] == 0.0:
+                    d = _point_box(a[c, 0], a[c, 1], a[c, 2], solid_centers[k], solid_half[k], solid_rotations[k])
+                else:
+                    _, d = _pair(a[c], b[c], solid_centers[k], solid_half[k], solid_rotations[k], s, normal)
+                d = d - solid_radius[k] - radius[c]
+                if d < least or d != d:
+                    least = d
+        groups_least[g] = least
 
 
 @compiled(**JIT)
 def _cylinders_least(
-    least: float,
-    a: np.ndarray,
-    b: np.ndarray,
-    radius: np.ndarray,
-    sphere: np.ndarray,
+    groups_least: np.ndarray,
+    ends: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     cyl_centers: np.ndarray | None,
     cyl_rotations: np.ndarray | None,
     cyl_half: np.ndarray | None,
     cyl_radius: np.ndarray | None,
-    begin: int,
-    stop: int,
-    caps: np.ndarray,
-    center: np.ndarray,
-    reach: float,
+    groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     far: float,
-    s: np.ndarray,
-    normal: np.ndarray,
+    scratch: tuple[np.ndarray, np.ndarray],
     allowed: np.ndarray,
     first: int,
-) -> float:
+) -> None:
     """:func:`_solids_least` for the cylinders."""
     if cyl_centers is None or cyl_rotations is None or cyl_half is None or cyl_radius is None:
-        return least
-    for k in range(cyl_radius.shape[0]):
-        bound = (
-            _point_cylinder(
-                center[0], center[1], center[2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k]
+        return
+    a, b, radius, sphere = ends
+    start, caps, center, reach = groups
+    s, normal = scratch
+    for g in range(start.shape[0] - 1):
+        least = groups_least[g]
+        for k in range(cyl_radius.shape[0]):
+            bound = (
+                _point_cylinder(
+                    center[g, 0],
+                    center[g, 1],
+                    center[g, 2],
+                    cyl_centers[k],
+                    cyl_rotations[k],
+                    cyl_half[k],
+                    cyl_radius[k],
+                )
+                - reach[g]
             )
-            - reach
-        )
-        if bound >= far:
-            least = min(least, bound)
-            continue
-        for m in range(begin, stop):
-            c = caps[m]
-            if allowed[c] == first + k:
+            if bound >= far:
+                least = min(least, bound)
                 continue
-            if sphere[c]:
-                d = _point_cylinder(
-                    a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k]
-                )
-            else:
-                _, d = _cylinder_pair(
-                    a[c], b[c], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k], s, normal
-                )
-            d = d - radius[c]
-            if d < least or d != d:
-                least = d
-    return least
+            for m in range(start[g], start[g + 1]):
+                c = caps[m]
+                if allowed[c] == first + k:
+                    continue
+                if sphere[c]:
+                    d = _point_cylinder(
+                        a[c, 0], a[c, 1], a[c, 2], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k]
+                    )
+                else:
+                    _, d = _cylinder_pair(
+                        a[c], b[c], cyl_centers[k], cyl_rotations[k], cyl_half[k], cyl_radius[k], s, normal
+                    )
+                d = d - radius[c]
+                if d < least or d != d:
+                    least = d
+        groups_least[g] = least
 
 
 @compiled(**JIT)
@@ -346,9 +367,8 @@ def _margins(measured: Measured, phi: np.ndarray, clear: np.ndarray, own: np.nda
     (rows, root), (caps, link, part_radius), world, groups, pairs, (shift, far) = measured
     k, n = phi.shape
     c = link.shape[0]
-    first, second, pair_radii = pairs
-    start, members, group_a, group_b, pair_start, pair_members = groups
-    count = first.shape[0]
+    start, members = groups[:2]
+    count = pairs[0].shape[0]
     g_count = start.shape[0] - 1
     points = np.empty((n + 1, 3))
     frames = np.empty((n, 3, 3))
@@ -377,40 +397,73 @@ def _margins(measured: Measured, phi: np.ndarray, clear: np.ndarray, own: np.nda
         for u in range(c):
             sphere[u] = a[u, 0] == b[u, 0] and a[u, 1] == b[u, 1] and a[u, 2] == b[u, 2]
         clear[i] = _obstacle_least(
-            a, b, radius, sphere, world, (start, members), center, reach, far, s, normal, clear_groups[i]
+            (a, b, radius, sphere), world, (start, members, center, reach), far, (s, normal), clear_groups[i]
         )
-        near = 0
-        for lp in range(group_a.shape[0]):
-            ga, gb = group_a[lp], group_b[lp]
-            bound = (
-                math.sqrt(
-                    (center[ga, 0] - center[gb, 0]) ** 2
-                    + (center[ga, 1] - center[gb, 1]) ** 2
-                    + (center[ga, 2] - center[gb, 2]) ** 2
-                )
-                - reach[ga]
-                - reach[gb]
+        _pair_gaps(
+            (a, b, sphere),
+            (center, reach),
+            groups[2:],
+            pairs,
+            (shift, far),
+            (near_first, near_second, near_index, gap_t, gap_s, gap, gap_normal),
+            own[i],
+        )
+
+
+@compiled(**JIT)
+def _pair_gaps(
+    ends: tuple[np.ndarray, np.ndarray, np.ndarray],
+    spheres: tuple[np.ndarray, np.ndarray],
+    pair_groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    pairs: tuple[np.ndarray, np.ndarray, np.ndarray],
+    shift_far: tuple[float, float],
+    scratch: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    own: np.ndarray,
+) -> None:
+    """One pose's every enabled pair's gap plus ``shift`` into ``own`` (P,): exact where its two
+    groups' bounding spheres (``spheres``: centres (G, 3), reaches (G,)) come within ``far``, else
+    the spheres' bound. ``ends``: the capsules' ends a, b (c, 3) and which are points (c,);
+    ``pair_groups``: each pair of groups' two groups (L,), (L,) and its pairs (CSR start (L+1,),
+    indices); ``pairs``: each pair's capsules (P,), (P,) and summed radii (P,); ``scratch``: the
+    near pairs' two capsules and index (P,) each, and the segment closed form's outputs."""
+    a, b, sphere = ends
+    center, reach = spheres
+    group_a, group_b, pair_start, pair_members = pair_groups
+    first, second, pair_radii = pairs
+    shift, far = shift_far
+    near_first, near_second, near_index, gap_t, gap_s, gap, gap_normal = scratch
+    near = 0
+    for lp in range(group_a.shape[0]):
+        ga, gb = group_a[lp], group_b[lp]
+        bound = (
+            math.sqrt(
+                (center[ga, 0] - center[gb, 0]) ** 2
+                + (center[ga, 1] - center[gb, 1]) ** 2
+                + (center[ga, 2] - center[gb, 2]) ** 2
             )
-            for m in range(pair_start[lp], pair_start[lp + 1]):
-                p = pair_members[m]
-                if bound >= far:
-                    own[i, p] = bound + shift
-                    continue
-                u, v = first[p], second[p]
-                if sphere[u]:  # a sphere and a sphere or a segment: the closed form of a point
-                    own[i, p] = _point_segment(a[u, 0], a[u, 1], a[u, 2], a, b, v) - pair_radii[p] + shift
-                elif sphere[v]:
-                    own[i, p] = _point_segment(a[v, 0], a[v, 1], a[v, 2], a, b, u) - pair_radii[p] + shift
-                else:
-                    near_first[near], near_second[near], near_index[near] = u, v, p
-                    near += 1
-        if near:
-            segment_segment_pairs(
-                a, b, near_first[:near], near_second[:near], gap_t[:near], gap_s[:near], gap[:near], gap_normal[:near]
-            )
-            for r in range(near):
-                p = near_index[r]
-                own[i, p] = gap[r] - pair_radii[p] + shift
+            - reach[ga]
+            - reach[gb]
+        )
+        for m in range(pair_start[lp], pair_start[lp + 1]):
+            p = pair_members[m]
+            if bound >= far:
+                own[p] = bound + shift
+                continue
+            u, v = first[p], second[p]
+            if sphere[u]:  # a sphere and a sphere or a segment: the closed form of a point
+                own[p] = _point_segment(a[u, 0], a[u, 1], a[u, 2], a, b, v) - pair_radii[p] + shift
+            elif sphere[v]:
+                own[p] = _point_segment(a[v, 0], a[v, 1], a[v, 2], a, b, u) - pair_radii[p] + shift
+            else:
+                near_first[near], near_second[near], near_index[near] = u, v, p
+                near += 1
+    if near:
+        segment_segment_pairs(
+            a, b, near_first[:near], near_second[:near], gap_t[:near], gap_s[:near], gap[:near], gap_normal[:near]
+        )
+        for r in range(near):
+            p = near_index[r]
+            own[p] = gap[r] - pair_radii[p] + shift
 
 
 @compiled(**JIT)
@@ -547,7 +600,7 @@ def _motion_free(
     farthest: the UR5's base and its upper arm near the shoulder). Each bound is one the numpy
     check's implies, or tighter: the same answers, with fewer poses measured where the part
     near an obstacle moves less than the arm's farthest point."""
-    lower, upper, levers, obstacle_levers, pair_levers, pair_rows = limits
+    lower, upper, levers = limits[:3]
     pair_start, pair_members = measured[3][4], measured[3][5]
     d_safe, spacing, certify_to = settings[0], settings[1], settings[2]
     max_halvings, max_samples, buffer = int(settings[3]), settings[4], settings[5]
@@ -559,11 +612,7 @@ def _motion_free(
     if not count <= max_samples:
         return False, 0
     samples = max(int(math.ceil(count)) + 1, 2)
-    u = np.linspace(0.0, 1.0, samples)
-    poses = np.empty((samples, n))
-    for i in range(samples):
-        for j in range(n):
-            poses[i, j] = a[j] + u[i] * (b[j] - a[j])
+    poses = _coarse_poses(a, b, samples)
     least, clear, gaps, own = _measured(measured, poses)
     checks = samples
     for i in range(samples):
@@ -579,29 +628,16 @@ def _motion_free(
         pieces = lo.shape[0]
         if pieces == 0:
             return True, checks
-        doubtful = np.zeros(pieces, dtype=np.bool_)
-        for i in range(pieces):
-            travel = 0.0
-            for j in range(n):
-                travel += abs(hi[i, j] - lo[i, j]) * levers[j]
-            if not travel > certify_to * d_safe:
-                continue
-            doubtful[i] = not (
-                _certified(lo[i], hi[i], c_lo[i], c_hi[i], obstacle_levers, floor)
-                and _pairs_certified(
-                    lo[i],
-                    hi[i],
-                    o_lo[i],
-                    o_hi[i],
-                    pair_levers,
-                    p_lo[i],
-                    p_hi[i],
-                    pair_rows,
-                    pair_start,
-                    pair_members,
-                    floor,
-                )
-            )
+        doubtful = _doubtful(
+            (lo, hi),
+            (c_lo, c_hi),
+            (o_lo, o_hi),
+            (p_lo, p_hi),
+            limits[2:],
+            (pair_start, pair_members),
+            floor,
+            certify_to * d_safe,
+        )
         kept = np.nonzero(doubtful)[0]
         left = kept.shape[0]
         if left == 0:
@@ -622,6 +658,63 @@ def _motion_free(
         if 2 * left > max_samples:
             return False, checks
     return lo.shape[0] == 0, checks
+
+
+@compiled(**JIT)
+def _coarse_poses(a: np.ndarray, b: np.ndarray, samples: int) -> np.ndarray:
+    """(samples, n) poses evenly spaced from ``a`` to ``b`` (n,), both ends included."""
+    u = np.linspace(0.0, 1.0, samples)
+    poses = np.empty((samples, a.shape[0]))
+    for i in range(samples):
+        for j in range(a.shape[0]):
+            poses[i, j] = a[j] + u[i] * (b[j] - a[j])
+    return poses
+
+
+@compiled(**JIT)
+def _doubtful(
+    pieces: tuple[np.ndarray, np.ndarray],
+    clear: tuple[np.ndarray, np.ndarray],
+    gaps: tuple[np.ndarray, np.ndarray],
+    own: tuple[np.ndarray, np.ndarray],
+    levers: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    pair_groups: tuple[np.ndarray, np.ndarray],
+    floor: float,
+    settled: float,
+) -> np.ndarray:
+    """(pieces,) which pieces lo-hi (``pieces``: (pieces, n) each) the margins at their ends do not
+    certify (:func:`_motion_free`): each group's clearance (``clear``: (pieces, G) at lo and at hi),
+    each pair of groups' least gap (``gaps``: (pieces, L)), each pair's (``own``: (pieces, P));
+    ``levers``: the arm's (n,), each group's (n, G), each pair of groups' (n, L), each pair's
+    (P, n); ``pair_groups``: each pair of groups' pairs (CSR start (L+1,), indices). A piece
+    whose farthest point moves at most ``settled`` is never doubtful."""
+    lo, hi = pieces
+    arm_levers, obstacle_levers, pair_levers, pair_rows = levers
+    pair_start, pair_members = pair_groups
+    doubtful = np.zeros(lo.shape[0], dtype=np.bool_)
+    for i in range(lo.shape[0]):
+        travel = 0.0
+        for j in range(lo.shape[1]):
+            travel += abs(hi[i, j] - lo[i, j]) * arm_levers[j]
+        if not travel > settled:
+            continue
+        doubtful[i] = not (
+            _certified(lo[i], hi[i], clear[0][i], clear[1][i], obstacle_levers, floor)
+            and _pairs_certified(
+                lo[i],
+                hi[i],
+                gaps[0][i],
+                gaps[1][i],
+                pair_levers,
+                own[0][i],
+                own[1][i],
+                pair_rows,
+                pair_start,
+                pair_members,
+                floor,
+            )
+        )
+    return doubtful
 
 
 @compiled(**JIT)
