@@ -211,6 +211,45 @@ def test_a_pen_is_drawn_from_the_tool_point_back_along_the_tool_frame(tmp_path):
     assert len(notes) == 1 and "arm.tool.mesh" in notes[0] and "missing.stl" in notes[0]
 
 
+@pytest.mark.parametrize("radius, length", [(0.008, 0.12), (0.0123, 0.137), (0.05, 0.5), (0.001, 0.011)])
+def test_a_pen_s_shapes_are_trimesh_s_cone_and_cylinder_without_trimesh(radius, length):
+    """The pen's nib and body, turned without trimesh (its import cost a video of a pen 0.7 s of CPU), are
+    trimesh's own cone and cylinder array for array (so every frame of a pen is drawn as before)."""
+    from armanim.scene.looks import PEN_SECTIONS, revolved
+
+    half = length / 2.0
+    for shape, profile in (
+        (
+            trimesh.creation.cone(radius=radius, height=length, sections=PEN_SECTIONS),
+            [[0, 0], [radius, 0], [0, length]],
+        ),
+        (
+            trimesh.creation.cylinder(radius=radius, height=length, sections=PEN_SECTIONS),
+            [[0, -half], [radius, -half], [radius, half], [0, half]],
+        ),
+    ):
+        vertices, faces = revolved(np.array(profile, dtype=float), PEN_SECTIONS)
+        assert np.array_equal(vertices, shape.vertices) and np.array_equal(faces, shape.faces)
+
+
+def test_a_pen_s_look_does_not_import_trimesh():
+    """Reading a pen's look leaves trimesh unimported (a fresh process: the other tests import it)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; from types import SimpleNamespace; from pathlib import Path;"
+        "from armanim.scene.looks import tool_meshes;"
+        "pen = SimpleNamespace(length=0.12, radius=0.008);"
+        "tool = SimpleNamespace(xyz=[0, 0, 0.1], rpy=[0, 0, 0], pen=pen, mesh=None, gripper=None);"
+        "assert len(tool_meshes(tool, 'flange', Path('.'), print)) == 2;"
+        "print('trimesh' in sys.modules)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False"
+
+
 def test_a_panda_gripper_is_drawn_on_the_flange_as_the_panda_mounts_it(tmp_path):
     """``gripper: panda`` on any arm: Franka's hand and fingers on the tip link, where the Panda's
     own URDF puts them relative to its flange (checked against pinocchio's placement on the Panda)."""

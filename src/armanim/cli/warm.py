@@ -9,7 +9,7 @@ from armanim.cli.options import QuietOpt
 @app.command()
 @handle_errors
 def warm(quiet: QuietOpt = False) -> None:
-    """Compile armanim's numerical code for this machine now (numba; once after installing or upgrading), so that the first [bold]armanim run[/bold] or [bold]ik[/bold] starts at once. It solves small scenes that call every compiled kernel (an arm of links among every shape, a Panda with its self pairs, joint goals, IK), in memory: nothing is written but numba's cache. A second warm takes about a second.
+    """Compile armanim's numerical code for this machine now (numba; once after installing or upgrading), so that the first [bold]armanim run[/bold] or [bold]ik[/bold] starts at once. It solves small scenes that call every compiled kernel (an arm of links among every shape and in an empty world, a Panda with its self pairs, a UR5 on a rail, joint goals, planning, IK) and draws a tiny frame (the video's rasteriser), in memory: nothing is written but numba's cache. A second warm takes about a second.
 
     Example: [bold]armanim warm[/bold] after [bold]pip install[/bold] (in a container image: the layer after the install)
     """

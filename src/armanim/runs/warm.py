@@ -4,9 +4,9 @@ numba compiles each kernel at its first call after installing or upgrading and k
 code in its cache (stamped by armanim's sources, :mod:`armanim.arm.kernel`). A run then compiles
 only what its scene calls first: the kinematics and the frame loop for any scene, the pair kernels
 for a robot, a box's, a capsule's or a cylinder's distances where a scene has one, the planner's
-checks where a goal plans, the IK attempt for ``armanim ik``. :func:`warm` solves small scenes
-that call every one of them, in memory (nothing is written), so that the first real run starts
-like the hundredth.
+checks where a goal plans, the IK attempt for ``armanim ik``, the rasteriser's loops for a first
+video. :func:`warm` solves small scenes that call every one of them and draws a tiny frame, in memory
+(nothing is written), so that the first real run starts like the hundredth.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
     >>> [label for label, _ in warm_scenes()][:3]
     ['arm of links among spheres, pinv', 'arm of links among every shape, pinv', 'Panda among spheres, pinv']
     >>> len(warm_scenes())
-    16
+    23
     """
     spheres = [{"center": [6.0, 4.0, 9.0], "radius": 0.8}, {"center": [2.0, 8.0, 7.0], "radius": 0.5}]
     panda_spheres = [{"center": [0.6, -0.4, 0.2], "radius": 0.05}, {"center": [0.2, 0.5, 0.6], "radius": 0.05}]
@@ -137,6 +137,7 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
         if floor is not None:
             scene["floor"] = floor
         scenes.append((f"{label}, positions only", scene))
+    scenes += kinds_of_the_bundled_scenes()
     scenes.append(
         (
             "arm of links, gradient",
@@ -152,9 +153,166 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
     return scenes
 
 
+def kinds_of_the_bundled_scenes() -> list[tuple[str, dict[str, Any]]]:
+    """(label, scene) for the kinds of world, arm and goal of the bundled scenes that the other warm
+    scenes leave out (measured: after them, these compiled at their first run): an arm of links in an
+    empty world, with a goal out of its reach (out-of-reach: its frames and settle) and planar by
+    ``newton`` (planar-nlink: the planner's checks); a UR5 on a rail among boxes on a floor (ur5-rail:
+    the frames of a prismatic joint); a Panda at a bookshelf of cylinders and boxes with a joint goal
+    (panda-bookshelf: the planner's pose check); a UR5 with a pen in an empty world along a path with a
+    tool axis (ur5-pen: its frames); a Panda among spheres with position goals by ``dls``
+    (panda-clutter: settle); an arm of links planning around a wall of spheres (planning-wall: the
+    pose check). Each is its scene or the same kinds made small (fewer, nearer goals).
+
+    >>> [label for label, _ in kinds_of_the_bundled_scenes()][:2]
+    ['arm of links in an empty world, out of reach', 'planar arm of links in an empty world, newton']
+    """
+    links = {"base": [5, 5, 0], "links": [2, 5, 5, 5], "limits": [None, [-100, 100], [-150, 150], [-150, 150]]}
+    wall = [{"center": [9, 5, z], "radius": 1.5} for z in (8.5, 12, 15.5)] + [
+        {"center": [9, y, 12], "radius": 1.5} for y in (2, 8)
+    ]
+    turn = [0.0, 0.0, -63.1]
+    cans = [{"center": [x, y, 0.298]} for x, y in ((0.248, -1.074), (0.739, -0.6), (0.156, -0.672))]
+    shelf = [
+        {"center": [0.59, -1.012, 0.218], "size": [1.2, 1.0, 0.04]},
+        {"center": [0.59, -1.012, 0.518], "size": [1.2, 1.0, 0.04]},
+        {"center": [0.144, -1.238, 0.368], "size": [1.2, 0.04, 0.34]},
+        {"center": [1.036, -0.786, 0.368], "size": [1.2, 0.04, 0.34]},
+    ]
+    return [
+        (
+            "arm of links in an empty world, out of reach",
+            {
+                "version": 1,
+                "arm": links,
+                "goals": [[30, 5, 5], [10, 9, 7]],  # the first one's stall at the limits takes the filter's halvings
+                "solver": {"max_step": 0.5, "max_frames_per_goal": 150},
+            },
+        ),
+        (
+            "planar arm of links in an empty world, newton",
+            {
+                "version": 1,
+                "arm": {"links": [1, 1, 1, 1], "axes": ["z", "z", "z", "z"], "direction": "x", "width": 0.2},
+                "goals": [[3, 1, 0], [1, 1, 0], [-2, 2.5, 0], [0.5, -3, 0]],  # (the last ones plan)
+                "solver": {
+                    "method": "newton",
+                    "step": 0.2,
+                    "max_step": 0.3,
+                    "tolerance": 0.01,
+                    "weights": {"target": 1000, "regularizer": 1},
+                },
+            },
+        ),
+        (
+            "UR5 on a rail among boxes, dls",
+            {
+                "version": 1,
+                "arm": {"robot": "ur5_rail"},
+                "floor": 0.0,
+                "obstacles": [
+                    {"box": {"center": [0.0, 0.62, 0.275], "size": [2.8, 0.5, 0.05]}, "influence": 0.04},
+                    {"box": {"center": [-0.45, 0.62, 0.36], "size": [0.12, 0.12, 0.12]}, "influence": 0.04},
+                ],
+                "goals": [[-0.05, 0.62, 0.45]],
+                "solver": {"method": "dls", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02},
+            },
+        ),
+        (
+            "Panda at a bookshelf of cylinders and boxes, a joint goal",
+            {
+                "version": 1,
+                "arm": {
+                    "robot": "panda",
+                    "home": [0.0, -45.0, 0.0, -135.0, 0.0, 90.0, 45.0],
+                    "joint_values": {"panda_finger_joint1": 0.04},
+                },
+                "obstacles": [
+                    *({"cylinder": {**can, "length": 0.14, "radius": 0.03, "rpy": turn}} for can in cans),
+                    *({"box": {**board, "rpy": turn}} for board in shelf),
+                ],
+                "goals": [{"joints": [85.3, -8.4, -165.3, -124.6, 155.3, 134.8, 60.8]}],
+                "solver": {"clearance": 0.0005, "self_clearance": 0.0005},
+            },
+        ),
+        (
+            "UR5 with a pen in an empty world, along an arc square to it",
+            {
+                "version": 1,
+                "arm": {"robot": "ur5", "tool": {"xyz": [0, 0, 0.12], "pen": {"length": 0.12, "radius": 0.008}}},
+                "goals": [
+                    {
+                        "path": {
+                            "arc": {
+                                "center": [0.55, 0.2, 0.4],
+                                "start": [0.55, 0.23, 0.4],
+                                "angle": 90,
+                                "normal": [1, 0, 0],
+                            }
+                        },
+                        "speed": 0.08,
+                        "tool_axis": [1, 0, 0],
+                    },
+                    {"position": [0.4, 0.0, 0.62], "tool_axis": [1, 0, 0]},
+                ],
+                "solver": {
+                    "method": "pinv",
+                    "tolerance": 0.003,
+                    "path_tolerance": 0.001,
+                    "orientation_tolerance": 0.5,
+                    "max_step": 0.02,
+                },
+            },
+        ),
+        (
+            "Panda among spheres, positions only, dls",
+            {
+                "version": 1,
+                "arm": {"robot": "panda"},
+                "obstacles": [
+                    {"center": [0.45, 0.15, 0.25], "radius": 0.07, "influence": 0.08},
+                    {"center": [0.40, -0.20, 0.30], "radius": 0.06, "influence": 0.08},
+                ],
+                "goals": [[0.50, 0.30, 0.30]],
+                "solver": {"method": "dls", "tolerance": 0.005, "clearance": 0.02, "max_step": 0.02},
+            },
+        ),
+        (
+            "arm of links around a wall of spheres, planning",
+            {
+                "version": 1,
+                "arm": {**links, "limits": [None, [-110, 110], [-150, 150], [-150, 150]]},
+                "obstacles": wall,
+                "goals": [{"position": [13, 5, 10], "hold": 0.5}, {"position": [5, 12, 7], "hold": 0.5}, [5, 5, 16.5]],
+                "solver": {"method": "pinv", "max_step": 0.5, "clearance": 0.05, "planner": "auto"},
+            },
+        ),
+    ]
+
+
+def draw_in_memory() -> None:
+    """Call the rasteriser's compiled loops as a video's frames call them, on a frame of 8 x 8 pixels in
+    memory (nothing is written): triangles filled over a furniture's layer and laid over the frame, a
+    pose's outline, a sprite, and the frame's yuv420p planes for the encoder."""
+    import numpy as np
+
+    from armanim.render.solids.raster import StillLayer, draw_outline, draw_triangles, triangle_sprite
+    from armanim.render.video.planes import yuv420
+
+    points = np.array([[1.0, 1.0, 0.0], [6.0, 1.0, 0.0], [6.0, 6.0, 1.0], [1.0, 6.0, 1.0]])
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    rgb = np.full((4, 3), 0.5)
+    frame = np.zeros((8, 8, 4), dtype=np.uint8)
+    draw_triangles(frame, points, faces, rgb, still=StillLayer(points, faces[:1], rgb, (8, 8)))
+    draw_outline(frame, points, faces, (0.5, 0.5, 0.5))
+    triangle_sprite(points, faces, rgb, (8, 8))
+    yuv420(frame)
+
+
 def warm(progress: Callable[[str, int, int], None] | None = None) -> int:
     """Solve every :func:`warm_scenes` scene and put it on the clock, and solve one pose of the
-    Panda by each compiled method (the IK attempt), in memory; ``progress(label, done, total)``
+    Panda by each compiled method (the IK attempt), and draw a tiny frame (:func:`draw_in_memory`: the
+    rasteriser's loops, which a first video would compile), in memory; ``progress(label, done, total)``
     before each. Returns how many solves ran."""
     import numpy as np
 
@@ -164,7 +322,8 @@ def warm(progress: Callable[[str, int, int], None] | None = None) -> int:
     from armanim.scene import scene_model, scene_to_problem
 
     scenes = warm_scenes()
-    total = len(scenes) + 2
+    solves = len(scenes) + 2
+    total = solves + 1  # and the rasteriser's frame
     for done, (label, scene) in enumerate(scenes):
         if progress:
             progress(label, done, total)
@@ -180,5 +339,8 @@ def warm(progress: Callable[[str, int, int], None] | None = None) -> int:
         )
         solve_pose(problem, np.array([0.45, 0.1, 0.5]), problem.home)
     if progress:
+        progress("the rasteriser, a frame in memory", solves, total)
+    draw_in_memory()
+    if progress:
         progress("done", total, total)
-    return total
+    return solves

@@ -51,11 +51,17 @@ class RobotMeshes:
         self.meshes, self.view, self.ppu, self.size = meshes, view, ppu, size
         self.capsule_links = capsule_links
         self.link_faces = [np.flatnonzero(meshes.part == k) for k in range(len(meshes.links))]
+        self.link_triangles = [meshes.faces[f] for f in self.link_faces]
+        """Each link's triangles (k, 3), vertex indices: the same every frame."""
+        self.link_carriers = np.array([int(meshes.carrier[t[0, 0]]) if len(t) else -1 for t in self.link_triangles])
+        """(L,) the joint that carries each link (-1: none, the world)."""
         self.normals = vertex_normals(meshes)
         vertex_color = np.zeros((len(meshes.vertices), 3))
         vertex_color[meshes.faces.ravel()] = np.repeat(meshes.colors, 3, axis=0)
         self.vertex_color = lifted(vertex_color)
         self.bounds = [bounding_segment(meshes.vertices[np.unique(meshes.faces[f])]) for f in self.link_faces]
+        self.bound_ends = np.array([[start, end] for start, end, _ in self.bounds]).reshape(-1, 2, 3)
+        """(L, 2, 3) each link's bounding segment's ends in its carrier's frame."""
         self.furniture = meshes.links.index(FURNITURE) if FURNITURE in meshes.links else None
         """The furniture's link (None: the scene has none): a ``decal`` is drawn with it."""
         self.still = self._still_furniture()
@@ -95,12 +101,12 @@ class RobotMeshes:
             extra = np.asarray(decal[1], dtype=int) + len(screen)
             screen, rgb = np.vstack([screen, decal[0]]), np.vstack([rgb, decal[2]])
         facing = _signed_areas(screen, self.meshes.faces) > 0.0  # every link's at once
+        link_ends = self.view.project(_placed_ends(self.bound_ends, pose, self.link_carriers))
         parts = []
         for k, faces in enumerate(self.link_faces):
-            tri = self.meshes.faces[faces]
-            start, end, radius = self.bounds[k]
-            carrier = int(self.meshes.carrier[tri[0, 0]]) if len(tri) else -1
-            ends = self.view.project(_placed(np.array([start, end]), pose, carrier))
+            tri = self.link_triangles[k]
+            radius = self.bounds[k][2]
+            ends = link_ends[k]
             still = None
             if k == self.furniture and not ghost and self.still is not None:  # filled once: only the decal is new
                 front, still = extra, self.still
@@ -282,11 +288,14 @@ def bounding_segment(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]
     return start, end, radius
 
 
-def _placed(points: np.ndarray, pose: Pose, carrier: int) -> np.ndarray:
-    """``points`` (k, 3) in joint ``carrier``'s frame (the world for -1) placed at ``pose``."""
-    if carrier < 0:
-        return points
-    return pose.points[carrier] + points @ pose.frames[carrier].T
+def _placed_ends(ends: np.ndarray, pose: Pose, carriers: np.ndarray) -> np.ndarray:
+    """(L, 2, 3) each link's ``ends`` (L, 2, 3), in the frame of its joint in ``carriers`` (L,; -1:
+    the world), placed at ``pose``."""
+    moving = carriers >= 0
+    out = ends.copy()
+    k = carriers[moving]
+    out[moving] = pose.points[k][:, None, :] + ends[moving] @ pose.frames[k].transpose(0, 2, 1)
+    return out
 
 
 def _signed_areas(screen: np.ndarray, tri: np.ndarray) -> np.ndarray:
