@@ -414,7 +414,7 @@ def _margins(measured: Measured, phi: np.ndarray, clear: np.ndarray, own: np.nda
 def _pair_gaps(
     ends: tuple[np.ndarray, np.ndarray, np.ndarray],
     spheres: tuple[np.ndarray, np.ndarray],
-    pair_groups: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    pair_groups: tuple[np.ndarray, ...],
     pairs: tuple[np.ndarray, np.ndarray, np.ndarray],
     shift_far: tuple[float, float],
     scratch: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
