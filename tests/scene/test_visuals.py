@@ -167,12 +167,12 @@ def test_the_viewer_data_places_every_vertex_where_the_kinematics_does():
     """Rebuilt from the page's data as the page does (each group's vertices turned by its carrier's
     quaternion and moved to its joint), every vertex is where mesh_vertices puts it, to the data's rounding."""
     from armanim.arm.rotations import quaternion_rotation
-    from armanim.render.viewer.data import mesh_entries
+    from armanim.render.viewer.data import mesh_entries, plain
 
     chain, meshes = _panda_meshes()
     phi = np.random.default_rng(3).uniform(-1.5, 1.5, (4, chain.arm.n))
     pose = forward(chain.arm, phi)
-    data = mesh_entries(meshes, pose, 5)
+    data = plain(mesh_entries(meshes, lambda start, stop: forward(chain.arm, phi[start:stop]), len(phi), 5))
     expected = mesh_vertices(meshes, pose)
     placement = np.reshape(data["frames"], (len(phi), len(data["carriers"]), 7))
     for group in data["groups"]:

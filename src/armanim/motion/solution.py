@@ -5,7 +5,7 @@ Made by the frame loop (:mod:`armanim.motion.trajectory`), read by the outputs a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -321,6 +321,17 @@ class Trajectory:
     def time(self) -> np.ndarray:
         """(F,) seconds: frame / fps."""
         return np.arange(self.frames) / self.fps
+
+    def at_frames(self, index: np.ndarray) -> Trajectory:
+        """The trajectory of the frames ``index`` (K,) only, in that order: every per-frame array
+        indexed alike, ``fps`` kept (a decimated trajectory's frames are no longer 1/fps apart)."""
+        index = np.asarray(index, dtype=np.intp)
+        per_frame = {
+            f.name: value[index]
+            for f in fields(self)
+            if isinstance(value := getattr(self, f.name), np.ndarray) and len(value) == self.frames
+        }
+        return replace(self, **per_frame)
 
 
 @dataclass(frozen=True)
