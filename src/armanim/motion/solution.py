@@ -117,6 +117,9 @@ class BlendReport:
         radians per second); 0 at rest.
     joint : bool
         Whether the goal is a joint goal (its radius, distance and speed in radians).
+    by_kind : KindPass or None
+        A joint goal on an arm with a prismatic joint: ``pass_distance`` and ``pass_speed`` split
+        into its revolute joints' (radians) and its prismatic joints' (metres); None otherwise.
     """
 
     radius: float
@@ -126,6 +129,21 @@ class BlendReport:
     pass_distance: float
     pass_speed: float
     joint: bool = False
+    by_kind: KindPass | None = None
+
+
+@dataclass(frozen=True)
+class KindPass:
+    """How a joint goal was passed, each joint kind in its own unit: the largest offset from the
+    goal and the fastest speed at the pass frame of the revolute joints (radians, rad/s; 0 for
+    none) and of the prismatic joints (metres, m/s). :attr:`BlendReport.pass_distance` and
+    :attr:`BlendReport.pass_speed` are the larger of each pair (the blend radius is one number
+    for every joint: its radians are a rail's metres)."""
+
+    turn_distance: float
+    turn_speed: float
+    slide_distance: float
+    slide_speed: float
 
 
 @dataclass(frozen=True)
