@@ -109,13 +109,14 @@ def test_past_the_frame_bound_the_page_shows_one_frame_in_step(tmp_path, monkeyp
 
 
 @pytest.mark.parametrize(
-    ("frames", "limit", "step"), [(10, 10, 1), (11, 10, 2), (19, 10, 2), (20, 10, 3), (865_066, 36_000, 25)]
+    ("frames", "limit", "step"),
+    [(10, 10, 1), (11, 10, 2), (19, 10, 2), (20, 10, 3), (865_066, 36_000, 25), (5, 1, 4), (1, 1, 1)],
 )
 def test_the_step_is_the_smallest_that_keeps_the_frames_within_the_bound(frames, limit, step):
     from armanim.render.viewer.data import frame_step, page_frames
 
     kept = page_frames(frames, limit)
-    assert frame_step(frames, limit) == step and len(kept) <= limit and kept[0] == 0 and kept[-1] == frames - 1
-    if step > 1:
+    assert frame_step(frames, limit) == step and len(kept) <= max(limit, 2) and kept[0] == 0 and kept[-1] == frames - 1
+    if step > 1 and limit > 1:  # (a bound under 2 keeps the first and the last frame)
         smaller = np.arange(0, frames, step - 1)
         assert len(smaller) + (smaller[-1] != frames - 1) > limit

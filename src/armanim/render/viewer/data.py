@@ -133,9 +133,9 @@ def page_frames(frames: int, limit: int = MAX_PAGE_FRAMES) -> np.ndarray:
     >>> page_frames(11, limit=4).tolist()
     [0, 4, 8, 10]
     """
-    if frames <= limit:
-        return np.arange(frames)
     step = frame_step(frames, limit)
+    if step == 1:
+        return np.arange(frames)
     kept = np.arange(0, frames, step)
     return kept if kept[-1] == frames - 1 else np.append(kept, frames - 1)
 
@@ -146,6 +146,7 @@ def frame_step(frames: int, limit: int = MAX_PAGE_FRAMES) -> int:
     >>> frame_step(36_000), frame_step(36_001), frame_step(108_001)
     (1, 2, 4)
     """
+    limit = max(limit, 2)  # the first and the last frame
     if frames <= limit:
         return 1
     step = -(-(frames - 1) // (limit - 1))  # ceil: (limit - 1) steps span the run's frames
