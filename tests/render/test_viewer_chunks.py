@@ -120,3 +120,28 @@ def test_the_step_is_the_smallest_that_keeps_the_frames_within_the_bound(frames,
     if step > 1 and limit > 1:  # (a bound under 2 keeps the first and the last frame)
         smaller = np.arange(0, frames, step - 1)
         assert len(smaller) + (smaller[-1] != frames - 1) > limit
+
+
+def test_an_interrupt_while_the_page_is_written_leaves_the_page_that_was_there(tmp_path, monkeypatch):
+    """Ctrl-C after some of a page's blocks are written (the page now streams into its temporary
+    file): the page that was there is as it was, byte for byte, and no temporary is left."""
+    run, options = synthetic(3_000)
+    path = write_viewer(run, options, tmp_path / "viewer.html")
+    before = path.read_bytes()
+    calls = []
+
+    def interrupted(chunk: list) -> str:
+        calls.append(1)
+        if len(calls) == 200:  # inside the data, blocks of it already in the temporary file
+            raise KeyboardInterrupt
+        return real(chunk)
+
+    import armanim.render.viewer.page as page_module
+
+    real = page_module.json_text
+    monkeypatch.setattr(page_module, "json_text", interrupted)
+    monkeypatch.setattr(viewer_module, "SERIES_CHUNK", 100)
+    monkeypatch.setattr(page_module, "WRITE_BLOCK", 1_000)  # blocks reach the file before the interrupt
+    with pytest.raises(KeyboardInterrupt):
+        write_viewer(run, options, path)
+    assert path.read_bytes() == before and [p.name for p in tmp_path.iterdir()] == ["viewer.html"]

@@ -144,9 +144,11 @@ def page_pieces(data: dict) -> Iterator[str]:
     yield rest
 
 
-def page_blocks(data: dict, block: int = WRITE_BLOCK) -> Iterator[bytes]:
-    """The page for ``data`` as UTF-8 blocks of about ``block`` characters, its last line
-    :data:`DIGEST` with the sha256 of every byte before it (hashed as the blocks go by)."""
+def page_blocks(data: dict, block: int | None = None) -> Iterator[bytes]:
+    """The page for ``data`` as UTF-8 blocks of about ``block`` characters (default
+    :data:`WRITE_BLOCK`), its last line :data:`DIGEST` with the sha256 of every byte before it
+    (hashed as the blocks go by)."""
+    block = block or WRITE_BLOCK
     digest, pending, size = hashlib.sha256(), [], 0
     for piece in page_pieces(data):
         pending.append(piece)
