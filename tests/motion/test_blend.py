@@ -268,3 +268,50 @@ def test_the_plot_marks_each_pass_where_the_joints_still_move(ur5_solved):
         assert marks[f"passing {g.index}"] == pytest.approx(timed.trajectory.time[g.last_frame])
         share = np.abs(timed.trajectory.velocity[g.last_frame]) / problem.rates.speed
         assert share.max() > 0.05
+
+
+RAIL_BLEND = {
+    "version": 1,
+    "name": "rail-blend",
+    "arm": {"robot": "ur5_rail", "home": [0.4, 0, -100, 100, -90, -90, 0]},
+    "goals": [
+        {"joints": [-0.6, 0, -100, 100, -90, -90, 0]},
+        {"joints": [0.2, 20, -90, 90, -90, -90, 0], "blend": 10},
+        {"joints": [1.0, 40, -100, 100, -90, -90, 0]},
+    ],
+}
+
+
+def test_a_rail_joint_goal_s_pass_is_reported_in_each_joint_s_own_unit(tmp_path, cli):
+    """A via joint goal on ur5_rail (its rail passing at about 1 m/s): summary.json's
+    pass_distance and pass_speed are the revolute joints' (degrees, as trajectory.csv's at the pass
+    frame), and the rail's metres and m/s are apart (pass_distance_m, pass_speed_m_s, blend_m); read
+    back, the same (the rail's 0.99 m/s was written as 56.8 "degrees per second")."""
+    import csv
+    import json
+
+    from armanim.output.summary import goal_report_dict
+    from armanim.runs.reload import load_run
+
+    scene = tmp_path / "rail-blend.yaml"
+    scene.write_text(yaml.safe_dump(RAIL_BLEND, sort_keys=False))
+    result = cli("run", scene, "--no-video", "--out", tmp_path / "out", "-q")
+    assert result.exit_code == 0, result.output
+    folder = tmp_path / "out" / "rail-blend"
+    via = json.loads((folder / "summary.json").read_text())["goals"][1]
+    assert via["blended"] and via["blend_units"] == "deg" and via["blend"] == pytest.approx(10.0)
+    with open(folder / "trajectory.csv", newline="") as handle:
+        row = list(csv.DictReader(handle))[via["last_frame"]]  # the pass frame
+    goal = RAIL_BLEND["goals"][1]["joints"]
+    turns = [f"phi{k}_deg" for k in range(2, 8)]
+    assert via["pass_speed"] == pytest.approx(max(abs(float(row["d" + c + "_s"])) for c in turns), abs=1e-3)
+    assert via["pass_distance"] == pytest.approx(max(abs(float(row[c]) - g) for c, g in zip(turns, goal[1:])), abs=1e-3)
+    assert via["pass_speed_m_s"] == pytest.approx(abs(float(row["dq1_m_s"])), abs=1e-5) and via["pass_speed_m_s"] > 0.5
+    assert via["pass_distance_m"] == pytest.approx(abs(float(row["q1_m"]) - goal[0]), abs=1e-5)
+    assert via["blend_m"] == pytest.approx(np.radians(10.0))
+    assert via["pass_speed"] < 40  # not the rail's m/s as degrees (56.8)
+    back = load_run(folder).solution.goals[1]
+    assert {k: goal_report_dict(back)[k] for k in via if "pass" in k or "blend" in k} == {
+        k: v for k, v in via.items() if "pass" in k or "blend" in k
+    }
+    assert "pass_distance_m" not in json.loads((folder / "summary.json").read_text())["goals"][0]

@@ -162,7 +162,7 @@ def test_refusals(tmp_path, cli, case):
             "--format 'csv' is not a format armanim exports (expected one of: joint-trajectory)",
         ),
         "inside": ((folder, "--out", folder / "mine.json"), 2, "is inside the run folder"),
-        "foreign": ((folder, "--out", foreign), 3, "is a file armanim did not write (no export mark"),
+        "foreign": ((folder, "--out", foreign), 3, "is a file armanim did not write (no mark"),
         "folder": ((folder, "--out", tmp_path / "out"), 3, "is a folder"),
     }[case]
     result = cli("export", *args)
@@ -195,7 +195,7 @@ def test_export_replaces_only_the_file_it_marked_and_never_a_users_trajectory(tm
     deep = mine / "deep.json"
     deep.write_text('{"header": ' + "[" * 200_000 + "]" * 200_000 + "}", encoding="utf-8")
     for target, fragment in (
-        (recorded, "is a file armanim did not write (no export mark .recorded.json.armanim-export.json"),
+        (recorded, "is a file armanim did not write (no mark .recorded.json.armanim.json"),
         (mine / "link.json", "is a link, which armanim does not write through"),
         (deep, "is a file armanim did not write"),
     ):
@@ -208,7 +208,7 @@ def test_export_replaces_only_the_file_it_marked_and_never_a_users_trajectory(tm
     # armanim's own export at --out: marked, and replaced by the next export
     exported = mine / "exported.json"
     assert cli("export", folder, "--out", exported).exit_code == 0
-    mark = json.loads((mine / ".exported.json.armanim-export.json").read_text())
+    mark = json.loads((mine / ".exported.json.armanim.json").read_text())
     assert mark["generator"] == "armanim" and mark["bytes"] == exported.stat().st_size
     assert tuple(json.loads(exported.read_text())) == MESSAGE_KEYS  # the message itself holds no key of armanim's
     assert cli("export", folder, "--out", exported).exit_code == 0
@@ -218,11 +218,9 @@ def test_export_replaces_only_the_file_it_marked_and_never_a_users_trajectory(tm
     assert result.exit_code == 3 and "has changed since armanim exported it" in result.stderr
     assert exported.read_bytes() == edited
     # a deeply nested file where the mark goes: not armanim's mark, no traceback
-    (mine / ".fresh.json.armanim-export.json").write_text("[" * 200_000 + "]" * 200_000)
+    (mine / ".fresh.json.armanim.json").write_text("[" * 200_000 + "]" * 200_000)
     result = cli("export", folder, "--out", mine / "fresh.json")
-    assert (
-        result.exit_code == 3 and "is not armanim's export mark" in result.stderr and "Traceback" not in result.output
-    )
+    assert result.exit_code == 3 and "is not a mark armanim wrote" in result.stderr and "Traceback" not in result.output
     assert not (mine / "fresh.json").exists()
     assert os.path.islink(mine / "link.json")
 

@@ -329,6 +329,35 @@ def test_a_3000_frame_7_joint_run_stays_under_3_mb_and_plays(browser, tmp_path):
         page.page.close()
 
 
+def test_a_page_of_one_frame_in_step_shows_the_run_s_frames_and_plays_at_its_rate(browser, tmp_path, monkeypatch):
+    """A run past the page's frame bound (here 500): the page holds one frame in 5, shows the
+    run's frame numbers and times (its last frame the run's last), says so, and plays the run's
+    seconds in real time (fps / step page frames a second)."""
+    from viewer_runs import synthetic_run
+
+    import armanim.render.viewer.data as viewer_module
+    from armanim.motion.solution import Solution
+    from armanim.output.solved import SolvedRun
+    from armanim.render.settings import OutputOptions
+    from armanim.render.viewer import write_viewer
+
+    monkeypatch.setattr(viewer_module, "MAX_PAGE_FRAMES", 500)
+    problem, trajectory, reports, settings = synthetic_run(2000, 4)
+    run = SolvedRun("decimated", problem, Solution(trajectory, tuple(reports)))
+    page = Page(browser, write_viewer(run, OutputOptions(settings), tmp_path / "viewer.html"))
+    try:
+        assert page.js("[armanim.frames, armanim.step, armanim.fps]") == [401, 5, 30] and page.errors == []
+        assert page.js("document.getElementById('last').textContent") == "1999 (one frame in 5 shown)"
+        page.js("armanim.setFrame(10)")
+        assert page.shown()["frame"] == 50 and page.shown()["time"] == "1.67"
+        page.js("armanim.setFrame(400)")
+        assert page.shown()["frame"] == 1999 and page.shown()["time"] == f"{1999 / 30:.2f}"
+        page.js("armanim.setFrame(0); armanim.play()")
+        assert 0.6 * 30 / 5 < advance_rate(page) < 1.4 * 30 / 5
+    finally:
+        page.page.close()
+
+
 def test_boxes_capsules_and_the_floor_are_drawn(browser, tmp_path_factory, tmp_path):
     """ur5-table (a box, a capsule, the floor): the page loads without an error and shows the obstacles' red."""
     import numpy as np

@@ -56,6 +56,20 @@ def test_an_index_csv_edited_since_is_never_replaced(cli, tmp_path):
         assert index.read_bytes() == edited
 
 
+def test_a_user_file_at_a_new_index_csv_s_mark_stops_the_batch(cli, tmp_path):
+    """No index.csv yet, but a file of the user's at its mark's name (``.index.csv.armanim.json``):
+    writing the mark would replace it, so the batch stops before any scene runs (exit 3), every
+    byte left."""
+    a, b = small_scene(tmp_path, "a"), small_scene(tmp_path, "b")
+    out = tmp_path / "proj"
+    out.mkdir()
+    (out / ".index.csv.armanim.json").write_text("my notes\n")
+    result = cli("run", a, b, "--out", out, "--no-video", "-q", "--jobs", "1")
+    assert result.exit_code == 3 and "is not a mark armanim wrote" in result.stderr, result.output
+    assert (out / ".index.csv.armanim.json").read_text() == "my notes\n"
+    assert sorted(p.name for p in out.iterdir()) == [".index.csv.armanim.json"]
+
+
 @pytest.mark.parametrize("name", ["notes-arm-sweep.csv", "index.csv"])
 def test_a_user_file_at_a_sweep_table_stops_the_sweep(cli, tmp_path, name):
     (tmp_path / name).write_text("mine\n")

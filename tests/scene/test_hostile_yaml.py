@@ -189,6 +189,15 @@ def test_non_utf8_bytes_name_their_line(cli, tmp_path):
     assert f"{path}:6: byte 0xe9 is not UTF-8" in result.stderr
 
 
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-be", "utf-16-le"])
+def test_a_utf16_scene_is_said_to_be_utf16_not_binary(cli, tmp_path, encoding):
+    """Campaign 8: a scene saved as UTF-16 (with its byte-order mark) was "a binary file"."""
+    path = tmp_path / "wide.yaml"
+    path.write_bytes(("\ufeff" if encoding != "utf-16" else "").encode(encoding) + SMALL.encode(encoding))
+    result = cli("validate", path)
+    assert result.exit_code == 2 and f"{path}:1: is UTF-16 text (save the file as UTF-8)" in result.stderr
+
+
 def test_largest_valid_scene_still_loads(tmp_path):
     """The limits leave room for a maximal scene: 64 links, 1000 goals, 1000 obstacles."""
     links = ", ".join(["0.1"] * LIMITS["links"])

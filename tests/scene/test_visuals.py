@@ -129,6 +129,19 @@ def test_package_names_resolve_under_the_package_dirs_and_a_missing_file_is_a_wa
     assert len(unresolved) == 3
 
 
+@pytest.mark.parametrize("scale", ["0 0 0", "0 1 0", "-0 0 2"])
+def test_a_mesh_scaled_to_a_line_or_a_point_is_a_note_not_an_invisible_link(tmp_path, scale):
+    """Campaign 8: a visual mesh with ``scale="0 0 0"`` was drawn as nothing, without a word (the
+    link vanished from the video and the viewer); a scale with one zero is a flat mesh, drawn."""
+    trimesh.creation.box().export(tmp_path / "box.stl")
+    visual = '<visual><geometry><mesh filename="box.stl" scale="{}"/></geometry></visual>'
+    meshes, warnings = _read(_urdf(tmp_path, visual.format(scale)))
+    assert not meshes and len(warnings) == 1, (meshes, warnings)
+    assert "'a'" in warnings[0] and "no area (a line or a point): drawn as its capsules" in warnings[0]
+    (flat,), none = _read(_urdf(tmp_path, visual.format("1 1 0")))
+    assert not none and flat.triangles == 12 and np.ptp(flat.vertices[:, 2]) == 0
+
+
 def test_simplifying_keeps_the_budget_the_colours_and_the_shape():
     sphere = trimesh.creation.icosphere(subdivisions=4)  # 5,120 triangles
     colors = np.where(sphere.triangles_center[:, 2:3] > 0, [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])
@@ -167,12 +180,12 @@ def test_the_viewer_data_places_every_vertex_where_the_kinematics_does():
     """Rebuilt from the page's data as the page does (each group's vertices turned by its carrier's
     quaternion and moved to its joint), every vertex is where mesh_vertices puts it, to the data's rounding."""
     from armanim.arm.rotations import quaternion_rotation
-    from armanim.render.viewer.data import mesh_entries
+    from armanim.render.viewer.data import mesh_entries, plain
 
     chain, meshes = _panda_meshes()
     phi = np.random.default_rng(3).uniform(-1.5, 1.5, (4, chain.arm.n))
     pose = forward(chain.arm, phi)
-    data = mesh_entries(meshes, pose, 5)
+    data = plain(mesh_entries(meshes, lambda start, stop: forward(chain.arm, phi[start:stop]), len(phi), 5))
     expected = mesh_vertices(meshes, pose)
     placement = np.reshape(data["frames"], (len(phi), len(data["carriers"]), 7))
     for group in data["groups"]:

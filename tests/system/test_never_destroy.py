@@ -178,6 +178,36 @@ def test_a_single_file_replaces_only_what_armanim_wrote(cli, tmp_path, flag):
     )
 
 
+@pytest.mark.parametrize("flag", ["schema", "fk", "export"])
+@pytest.mark.parametrize("kind", ["file", "link", "nested"])
+def test_what_stands_at_a_mark_s_name_is_never_replaced(cli, tmp_path, flag, kind):
+    """A new file whose mark's name (``.NAME.armanim.json``) holds a file of yours, a link to
+    one, or JSON nested 200,000 deep: exit 3, nothing written, every byte left (writing the
+    mark would have replaced it; export and the other marked files share one reader of marks)."""
+    target = tmp_path / ("s.json" if flag != "fk" else "pose.png")
+    mark = tmp_path / f".{target.name}.armanim.json"
+    mine = tmp_path / "mine.txt"
+    mine.write_text("my notes")
+    if kind == "link":
+        mark.symlink_to(mine)
+    else:
+        mark.write_text("my notes" if kind == "file" else "[" * 200_000 + "]" * 200_000)
+    before = mark.read_bytes()
+    if flag == "export":
+        scene = tmp_path / "small.yaml"
+        scene.write_text(SMALL)
+        assert cli("run", scene, "--out", tmp_path / "out", "--no-video", "-q").exit_code == 0
+        args: tuple = ("export", next((tmp_path / "out").iterdir()), "--out", target)
+    elif flag == "schema":
+        args = ("schema", "--out", target)
+    else:
+        args = ("fk", "--angles", "0,30,45,10", "--png", target)
+    result = cli(*args)
+    assert result.exit_code == 3 and "is not a mark armanim wrote" in result.stderr, result.output
+    assert "Traceback" not in result.output and not target.exists()
+    assert mark.read_bytes() == before and mine.read_text() == "my notes" and mark.is_symlink() == (kind == "link")
+
+
 @pytest.mark.parametrize("kind", ["fifo", "device", "folder"])
 def test_special_files_at_a_target_are_an_error(cli, tmp_path, kind):
     target = tmp_path / "target"

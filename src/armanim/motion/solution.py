@@ -5,7 +5,7 @@ Made by the frame loop (:mod:`armanim.motion.trajectory`), read by the outputs a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -117,6 +117,9 @@ class BlendReport:
         radians per second); 0 at rest.
     joint : bool
         Whether the goal is a joint goal (its radius, distance and speed in radians).
+    by_kind : KindPass or None
+        A joint goal on an arm with a prismatic joint: ``pass_distance`` and ``pass_speed`` split
+        into its revolute joints' (radians) and its prismatic joints' (metres); None otherwise.
     """
 
     radius: float
@@ -126,6 +129,21 @@ class BlendReport:
     pass_distance: float
     pass_speed: float
     joint: bool = False
+    by_kind: KindPass | None = None
+
+
+@dataclass(frozen=True)
+class KindPass:
+    """How a joint goal was passed, each joint kind in its own unit: the largest offset from the
+    goal and the fastest speed at the pass frame of the revolute joints (radians, rad/s; 0 for
+    none) and of the prismatic joints (metres, m/s). :attr:`BlendReport.pass_distance` and
+    :attr:`BlendReport.pass_speed` are the larger of each pair (the blend radius is one number
+    for every joint: its radians are a rail's metres)."""
+
+    turn_distance: float
+    turn_speed: float
+    slide_distance: float
+    slide_speed: float
 
 
 @dataclass(frozen=True)
@@ -321,6 +339,17 @@ class Trajectory:
     def time(self) -> np.ndarray:
         """(F,) seconds: frame / fps."""
         return np.arange(self.frames) / self.fps
+
+    def at_frames(self, index: np.ndarray) -> Trajectory:
+        """The trajectory of the frames ``index`` (K,) only, in that order: every per-frame array
+        indexed alike, ``fps`` kept (a decimated trajectory's frames are no longer 1/fps apart)."""
+        index = np.asarray(index, dtype=np.intp)
+        per_frame = {
+            f.name: value[index]
+            for f in fields(self)
+            if isinstance(value := getattr(self, f.name), np.ndarray) and len(value) == self.frames
+        }
+        return replace(self, **per_frame)
 
 
 @dataclass(frozen=True)

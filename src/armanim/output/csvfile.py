@@ -35,7 +35,7 @@ from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
 from armanim.output.atomic import write_chunks_atomic, write_target
 from armanim.output.files import open_regular
-from armanim.output.marks import as_marked, file_mark
+from armanim.output.marks import as_marked, file_mark, foreign_mark
 from armanim.output.solved import SolvedRun
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
@@ -206,6 +206,9 @@ def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
         with open(target, "rb") as handle:
             first = handle.readline(MAX_LINE_BYTES).decode("utf-8", "replace").rstrip("\r\n")
     except FileNotFoundError:
+        foreign = foreign_mark(target)  # a new table's mark must not replace a file of yours
+        if foreign is not None:
+            raise OutputError(f"{path}: {foreign} (move it away, or choose another folder with --out)") from None
         return
     except OSError as exc:
         raise OutputError(f"{path}: cannot be read to tell whether armanim wrote it ({exc.strerror or exc})") from None

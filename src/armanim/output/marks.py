@@ -1,7 +1,8 @@
 """Marks of the single files armanim writes at a name it does not own (a table at a fixed name,
-``schema --out``, ``fk --png``): ``.NAME.armanim.json`` beside the file records its size and
-sha256, so a file there is replaced only while it is still, byte for byte, what armanim wrote.
-A file of yours, one you edited since, or one whose mark is missing is never replaced (exit 3).
+``schema --out``, ``fk --png``, ``export --out``): ``.NAME.armanim.json`` beside the file records
+its size and sha256, so a file there is replaced only while it is still, byte for byte, what
+armanim wrote. A file of yours, one you edited since, or one whose mark is missing is never
+replaced (exit 3); nor is anything at the mark's own name that is not a mark armanim wrote.
 """
 
 from __future__ import annotations
@@ -60,26 +61,56 @@ def write_marked(path: Path, data: bytes | str) -> None:
         write_chunks_atomic(file_mark(target), [mark_line(target, raw).encode()])
 
 
+def read_mark(mark: Path) -> dict | None:
+    """The fields of the mark at ``mark`` (``generator``, ``file``, ``bytes``, ``sha256``), or None
+    when what is there is no mark of armanim's: a link, FIFO, device or folder, more than
+    :data:`MAX_MARK_BYTES`, not JSON (however deeply nested), or other fields."""
+    try:
+        if os.path.islink(mark):
+            return None
+        with open_regular(mark, "an armanim file's mark") as handle:
+            recorded = json.loads(handle.read(MAX_MARK_BYTES + 1))
+    except (OSError, ValueError, SceneError, RecursionError):
+        return None
+    if (
+        not isinstance(recorded, dict)
+        or recorded.get("generator") != "armanim"
+        or not isinstance(recorded.get("file"), str)
+        or not isinstance(recorded.get("bytes"), int)
+        or not isinstance(recorded.get("sha256"), str)
+    ):
+        return None
+    return recorded
+
+
+def foreign_mark(path: Path) -> str | None:
+    """Why armanim must not write ``path``'s mark, or None: nothing is at the mark's name, or a
+    mark of armanim's is (anything else there, a link included, is someone's and is kept).
+
+    >>> foreign_mark(Path("/nonexistent/a.json")) is None
+    True
+    """
+    mark = file_mark(path)
+    if os.path.lexists(mark) and read_mark(mark) is None:
+        return f"{mark.name} beside it is not a mark armanim wrote, so armanim does not write there"
+    return None
+
+
 def as_marked(path: Path) -> bool:
     """Whether the regular file ``path`` is, byte for byte, what its mark records."""
+    recorded = read_mark(file_mark(path))
+    if recorded is None or recorded["file"] != Path(path).name:
+        return False
+    digest = hashlib.sha256()
     try:
-        with open_regular(file_mark(path), "an armanim file's mark") as handle:
-            recorded = json.loads(handle.read(MAX_MARK_BYTES + 1))
-        if (
-            not isinstance(recorded, dict)
-            or recorded.get("generator") != "armanim"
-            or recorded.get("file") != Path(path).name
-        ):
-            return False
-        size, digest = recorded.get("bytes"), hashlib.sha256()
         with open_regular(path, "a file armanim wrote") as handle:
-            if not isinstance(size, int) or os.fstat(handle.fileno()).st_size != size:
+            if os.fstat(handle.fileno()).st_size != recorded["bytes"]:
                 return False
             while block := handle.read(1 << 20):
                 digest.update(block)
-    except (OSError, ValueError, SceneError, RecursionError):
+    except (OSError, SceneError):
         return False
-    return digest.hexdigest() == recorded.get("sha256")
+    return digest.hexdigest() == recorded["sha256"]
 
 
 def check_marked_replaceable(path: Path, option: str) -> None:
@@ -91,9 +122,12 @@ def check_marked_replaceable(path: Path, option: str) -> None:
     ------
     OutputError
         A file of someone else's, one changed since, or one with no mark (left as it was); a
-        folder, device or FIFO there.
+        folder, device or FIFO there; something not armanim's at the mark's name.
     """
     target = write_target(path)  # a folder, device or FIFO there: exit 3
+    foreign = foreign_mark(target)
+    if foreign is not None:
+        raise OutputError(f"{path}: {option}: {foreign} (move it away, or choose another path)")
     if not os.path.lexists(target):
         return
     if not as_marked(target):

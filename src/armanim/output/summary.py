@@ -18,6 +18,7 @@ from armanim.motion.solution import (
     BlendReport,
     GoalReport,
     GoalTiming,
+    KindPass,
     PathReport,
     PlanningReport,
     Solution,
@@ -104,20 +105,30 @@ def blend_dict(blend: BlendReport | None) -> dict:
     """A goal with ``blend``'s fields of summary.json (read back by :func:`blend_from_dict`): its
     radius, whether it was passed without stopping and why not, the corner (``curve`` or
     ``through``), and how near and how fast it was passed (the tool's scene units and per second; a
-    joint goal's in degrees: its largest joint offset and its fastest joint); nothing for a goal without."""
+    joint goal's in degrees: its largest joint offset and its fastest joint; on an arm with a
+    prismatic joint, the revolute joints' in degrees and the prismatic joints' in metres, apart, with
+    the radius a rail is held to in metres); nothing for a goal without."""
     if blend is None:
         return {}
     unit = float(np.degrees(1.0)) if blend.joint else 1.0
-    return {
+    kinds = blend.by_kind
+    out = {
         "blend": blend.radius * unit,
         "blend_units": "deg" if blend.joint else "scene",
         "blended": blend.blended,
         "blend_reason": blend.reason,
         "blend_reason_text": BLEND_REASONS.get(blend.reason) if blend.reason else None,
         "corner": blend.corner,
-        "pass_distance": _round(blend.pass_distance * unit),
-        "pass_speed": blend.pass_speed * unit,
+        "pass_distance": _round((blend.pass_distance if kinds is None else kinds.turn_distance) * unit),
+        "pass_speed": (blend.pass_speed if kinds is None else kinds.turn_speed) * unit,
     }
+    if kinds is not None:  # each joint in its own unit: the rail's metres are never written as degrees
+        out |= {
+            "blend_m": blend.radius,
+            "pass_distance_m": _round(kinds.slide_distance),
+            "pass_speed_m_s": kinds.slide_speed,
+        }
+    return out
 
 
 def blend_from_dict(g: dict) -> BlendReport | None:
@@ -128,15 +139,15 @@ def blend_from_dict(g: dict) -> BlendReport | None:
     per = (
         float(np.degrees(1.0)) if joint else 1.0
     )  # divided by the factor blend_dict multiplied by: written again, the same digits
-    near = g["pass_distance"]
+    near = np.nan if g["pass_distance"] is None else float(g["pass_distance"]) / per
+    speed = float(g["pass_speed"]) / per
+    kinds = None
+    if "pass_distance_m" in g:  # a joint goal on an arm with a prismatic joint: the kinds apart
+        slide_near = np.nan if g["pass_distance_m"] is None else float(g["pass_distance_m"])
+        kinds = KindPass(near, speed, slide_near, float(g["pass_speed_m_s"]))
+        near, speed = max(near, slide_near), max(speed, kinds.slide_speed)
     return BlendReport(
-        float(g["blend"]) / per,
-        bool(g["blended"]),
-        g["blend_reason"],
-        g["corner"],
-        np.nan if near is None else float(near) / per,
-        float(g["pass_speed"]) / per,
-        joint,
+        float(g["blend"]) / per, bool(g["blended"]), g["blend_reason"], g["corner"], near, speed, joint, kinds
     )
 
 

@@ -5,16 +5,16 @@
 ``phiN``), and at every frame of ``trajectory.csv`` the positions (radians), velocities
 (rad/s) and ``time_from_start`` (its ``time_s``).
 
-An export outside the run folder (``--out FILE``) is marked as a run folder is: the message may
-hold no key of armanim's own (ROS refuses unknown keys), so the mark is a small file beside it,
-``.FILE.armanim-export.json`` (:func:`export_mark`), holding the export's size and sha256. An
-existing ``FILE`` is replaced only when its mark is there and it is, byte for byte, what armanim
-wrote: a user's own trajectory, one edited since, or a link is never replaced.
+An export outside the run folder (``--out FILE``) is marked as every single file armanim writes at
+a name it does not own: the message may hold no key of armanim's own (ROS refuses unknown keys), so
+the mark is a small file beside it, ``.FILE.armanim.json`` (:mod:`armanim.output.marks`), holding
+the export's size and sha256. An existing ``FILE`` is replaced only when its mark is there and it
+is, byte for byte, what armanim wrote: a user's own trajectory, one edited since, or a link is
+never replaced.
 """
 
 from __future__ import annotations
 
-import hashlib
 import os
 from pathlib import Path
 
@@ -25,21 +25,18 @@ from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
 from armanim.output.csvfile import TrajectoryTable, read_trajectory_csv
 from armanim.output.csvfile import velocity_columns as csv_velocity_columns
-from armanim.output.files import read_bounded
 from armanim.output.jointtrajectory import (
     finite_difference_velocities,
     joint_trajectory,
     joint_trajectory_text,
 )
-from armanim.output.jsontext import json_text, parse_json
+from armanim.output.marks import as_marked, file_mark, foreign_mark, write_marked
 from armanim.scene.models import LIMITS
 
 EXPORT_FORMATS = ("joint-trajectory",)
 """What ``armanim export --format`` writes."""
 JOINT_TRAJECTORY_FILE = "joint_trajectory.json"
 """The file ``export --format joint-trajectory`` writes into the run folder (without ``--out``)."""
-MAX_MARK_BYTES = 10_000
-"""Largest export mark read (armanim's is about 200 bytes)."""
 
 
 def velocity_columns(n: int, slides: np.ndarray | None = None) -> list[str]:
@@ -116,61 +113,12 @@ def run_joint_trajectory(folder: Path) -> str:
     return joint_trajectory_text(joint_trajectory(names, time_s, positions, velocities))
 
 
-def export_mark(target: Path) -> Path:
-    """The file that marks ``target`` as an export armanim wrote: ``.NAME.armanim-export.json`` beside it.
-
-    >>> export_mark(Path("/home/me/panda.json")).as_posix()
-    '/home/me/.panda.json.armanim-export.json'
-    """
-    return target.with_name(f".{target.name}.armanim-export.json")
-
-
-def _mark_data(text: str, target: Path) -> dict:
-    """The mark of ``text`` written at ``target``."""
-    data = text.encode()
-    return {"generator": "armanim", "file": target.name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
-
-
-def _read_mark(mark: Path) -> dict | None:
-    """The export mark at ``mark`` (a regular file, bounded, depth-guarded JSON), or None when
-    it is not armanim's."""
-    try:
-        data = parse_json(read_bounded(mark, MAX_MARK_BYTES, "an armanim export mark"))
-    except (SceneError, ValueError):
-        return None
-    keys = ("generator", "file", "bytes", "sha256")
-    if not isinstance(data, dict) or tuple(data) != keys or data["generator"] != "armanim":
-        return None
-    if not isinstance(data["bytes"], int) or not isinstance(data["sha256"], str):
-        return None
-    return data
-
-
-def _sha256_of(path: Path, size: int) -> str | None:
-    """sha256 of the regular file ``path`` if it holds exactly ``size`` bytes, else None (read in blocks)."""
-    digest = hashlib.sha256()
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_NOFOLLOW | os.O_CLOEXEC)
-    except OSError:
-        return None
-    with os.fdopen(fd, "rb") as handle:
-        if os.fstat(handle.fileno()).st_size != size:
-            return None
-        read = 0
-        while block := handle.read(min(1 << 20, size + 1 - read)):
-            read += len(block)
-            if read > size:
-                return None
-            digest.update(block)
-    return digest.hexdigest() if read == size else None
-
-
 def _replace_problem(target: Path) -> str | None:
     """Why the export must not be written at ``target``, or None: nothing there (and nothing
     but armanim's mark at the mark's place), or the export armanim wrote there, unchanged."""
-    mark = export_mark(target)
-    if os.path.lexists(mark) and (os.path.islink(mark) or _read_mark(mark) is None):
-        return f"{mark.name} beside it is not armanim's export mark, so armanim does not write there"
+    foreign = foreign_mark(target)
+    if foreign is not None:
+        return foreign
     if os.path.islink(target):
         return (
             "is a link, which armanim does not write through for an export (the file it names may be yours)"
@@ -178,7 +126,7 @@ def _replace_problem(target: Path) -> str | None:
             else "is a link to nothing, which armanim did not make"
         )
     try:
-        info = os.stat(target)
+        os.stat(target)
     except FileNotFoundError:
         return None
     except OSError as exc:
@@ -187,15 +135,11 @@ def _replace_problem(target: Path) -> str | None:
         return f"is a folder (expected a file name, e.g. {JOINT_TRAJECTORY_FILE})"
     if not os.path.isfile(target):
         return "is not a regular file, so armanim does not write there"
-    data = _read_mark(mark) if os.path.lexists(mark) else None
-    if data is None:
-        return f"is a file armanim did not write (no export mark {mark.name} beside it), so it is not replaced"
-    if (
-        data["file"] != target.name
-        or info.st_size != data["bytes"]
-        or _sha256_of(target, info.st_size) != data["sha256"]
-    ):
-        return "has changed since armanim exported it (it is not what its export mark records), so it is not replaced"
+    mark = file_mark(target)
+    if not os.path.lexists(mark):
+        return f"is a file armanim did not write (no mark {mark.name} beside it), so it is not replaced"
+    if not as_marked(target):
+        return f"has changed since armanim exported it (it is not what {mark.name} records), so it is not replaced"
     return None
 
 
@@ -249,9 +193,10 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
         text = run_joint_trajectory(folder)
 
         def write(path: Path) -> None:
-            write_text_atomic(path, text)
-            if not own:  # the run folder's own file is listed by its marker; a file elsewhere gets its mark
-                write_text_atomic(export_mark(path), json_text(_mark_data(text, path), indent=2) + "\n")
+            if own:  # the run folder's own file is listed by its marker
+                write_text_atomic(path, text)
+            else:  # a file elsewhere gets its mark
+                write_marked(path, text)
 
         return write
 

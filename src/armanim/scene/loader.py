@@ -66,7 +66,14 @@ def read_scene_bytes(path: Path) -> bytes:
 
 
 def decode_scene(raw: bytes, file: str) -> str:
-    """UTF-8 text of a scene's bytes; binary or non-UTF-8 bytes are errors with their line."""
+    """UTF-8 text of a scene's bytes; binary or non-UTF-8 bytes are errors with their line.
+
+    >>> decode_scene("version: 1".encode("utf-16"), "s.yaml")
+    Traceback (most recent call last):
+    armanim.errors.SceneError: s.yaml:1: is UTF-16 text (save the file as UTF-8)
+    """
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):  # a UTF-16 byte-order mark: text, not binary
+        raise SceneError(file, [Diagnostic("", "is UTF-16 text (save the file as UTF-8)", 1)])
     if b"\x00" in raw:
         line = raw[: raw.index(b"\x00")].count(b"\n") + 1
         raise SceneError(file, [Diagnostic("", "is a binary file (expected a YAML text file)", line)])

@@ -265,6 +265,13 @@ def _spec_mesh(
     import trimesh
 
     if spec.kind == "mesh":
+        if sum(v == 0 for v in spec.scale) >= 2:  # a line or a point: nothing to see, said rather than drawn
+            warn(
+                f"link {spec.link!r}: mesh {spec.filename!r} (line {spec.line}) has scale "
+                f"{' '.join(f'{v:g}' for v in spec.scale)}, which leaves it no area (a line or a point): "
+                "drawn as its capsules"
+            )
+            return None
         if mesh_format(spec.filename or "") is None:
             warn(
                 f"link {spec.link!r}: mesh {spec.filename!r} (line {spec.line}) is not a format armanim reads "

@@ -26,8 +26,8 @@ import numpy as np
 
 from armanim.arm.geometry import wrap_angle
 from armanim.arm.kinematics import forward
-from armanim.motion.problem import Goal, Problem
-from armanim.motion.solution import BLEND_REASONS, BlendReport, GoalReport
+from armanim.motion.problem import Goal, Problem, joint_offset
+from armanim.motion.solution import BLEND_REASONS, BlendReport, GoalReport, KindPass
 from armanim.motion.timing.jointpath import unwrapped
 
 ENTRY = 0.8
@@ -70,6 +70,23 @@ def judged_radius(problem: Problem, goal: Goal) -> float:
     assert goal.blend is not None
     floor = problem.solver.joint_tolerance if goal.joints is not None else problem.solver.tolerance
     return max(goal.blend, PASS_TOLERANCES * floor)
+
+
+def kind_pass(problem: Problem, goal: Goal, phi: np.ndarray, velocity: np.ndarray | None) -> KindPass | None:
+    """A joint goal's pass at pose ``phi`` (n,) moving at ``velocity`` (n,; None: at rest), each
+    joint kind in its own unit (:class:`~armanim.motion.solution.KindPass`); None for another goal
+    or an arm without a prismatic joint."""
+    slides = problem.arm.slides
+    if goal.joints is None or not slides.any():
+        return None
+    offset = np.abs(joint_offset(problem, np.asarray(phi, dtype=float), goal.joints))
+    speed = np.zeros(len(slides)) if velocity is None else np.abs(np.asarray(velocity, dtype=float))
+    return KindPass(
+        float(offset[~slides].max(initial=0.0)),
+        float(speed[~slides].max(initial=0.0)),
+        float(offset[slides].max()),
+        float(speed[slides].max()),
+    )
 
 
 def via_distances(problem: Problem, goal: Goal, phi: np.ndarray) -> np.ndarray:
@@ -149,6 +166,8 @@ def pass_speed_caps(
 __all__ = [
     "BLEND_REASONS",
     "BlendReport",
+    "KindPass",
+    "kind_pass",
     "ShapedPart",
     "blend_reason",
     "judged_radius",

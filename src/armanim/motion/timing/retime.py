@@ -30,13 +30,14 @@ from armanim.motion.orientation import frame_orientations
 from armanim.motion.planning import joint_path_floor, plan_joint_motion
 from armanim.motion.planning.path import motion_is_free
 from armanim.motion.problem import Goal, Problem, joint_offset
-from armanim.motion.solution import GoalReport, GoalTiming, Solution, Trajectory
+from armanim.motion.solution import GoalReport, GoalTiming, KindPass, Solution, Trajectory
 from armanim.motion.timing.blend import (
     ENTRY,
     BlendReport,
     ShapedPart,
     blend_reason,
     judged_radius,
+    kind_pass,
     pass_speed_caps,
     via_distances,
 )
@@ -450,6 +451,7 @@ class _Pass:
     speed: float
     passed: bool
     corner: str
+    by_kind: KindPass | None = None
 
 
 def _why_rest(problem: Problem, solution: Solution, parts: list[_Part], k: int) -> str | None:
@@ -632,6 +634,7 @@ def _timed_via_part(
             speed,
             bool(distance.min() <= judged_radius(problem, goal) * (1 + 1e-9)),
             "curve" if curve else "through",
+            kind_pass(problem, goal, motion.phi[f], motion.velocity[f]),
         )
     return replace(motion, heads_for=origin[motion.heads_for]), found
 
@@ -760,10 +763,15 @@ def _blend_reported(
             report,
             final_distance=float(trajectory.distance[last]),
             final_orientation_error=angle,
-            blend=BlendReport(goal.blend, True, None, done.corner, done.distance, done.speed, goal.joints is not None),
+            blend=BlendReport(
+                goal.blend, True, None, done.corner, done.distance, done.speed, goal.joints is not None, done.by_kind
+            ),
         )
     near = float(via_distances(problem, goal, trajectory.phi[last])[0]) if last >= 0 else float("nan")
-    return replace(report, blend=BlendReport(goal.blend, False, done, None, near, 0.0, goal.joints is not None))
+    at_rest = kind_pass(problem, goal, trajectory.phi[last], None) if last >= 0 else None
+    return replace(
+        report, blend=BlendReport(goal.blend, False, done, None, near, 0.0, goal.joints is not None, at_rest)
+    )
 
 
 __all__ = ["at_fps", "path_safety", "retime", "split_timing", "via_paths"]

@@ -3,7 +3,9 @@
 - :func:`armanim.render.viewer.data.viewer_data`: a solved run as the page's data
   (joint positions from armanim's forward kinematics, rounded).
 - :func:`armanim.render.viewer.page.viewer_html`: the page, with the data and three.js inline.
-- :func:`write_viewer`: both, written atomically to a file.
+- :func:`write_viewer`: both, written atomically to a file a block at a time (a long run's
+  frames are never held whole as text; past :data:`~armanim.render.viewer.data.MAX_PAGE_FRAMES`
+  the page shows one frame in ``step``).
 
 docs/viewer.md describes the page, its controls, its API (``window.armanim``) and the data format.
 """
@@ -37,12 +39,12 @@ def write_viewer(run: SolvedRun, options: OutputOptions, path: str | Path) -> Pa
     OutputError
         The file could not be written (nothing half-written is left).
     """
-    from armanim.output.atomic import write_text_atomic
-    from armanim.render.viewer.data import viewer_data
-    from armanim.render.viewer.page import viewer_html
+    from armanim.output.atomic import write_chunks_atomic
+    from armanim.render.viewer.data import viewer_parts
+    from armanim.render.viewer.page import page_blocks
 
     path = Path(path)
-    data = viewer_data(
+    parts = viewer_parts(
         run.problem,
         run.trajectory,
         run.reports,
@@ -51,7 +53,7 @@ def write_viewer(run: SolvedRun, options: OutputOptions, path: str | Path) -> Pa
         meshes=run.meshes,
         carry=run.solution.carry,
     )
-    write_text_atomic(path, viewer_html(data))
+    write_chunks_atomic(path, page_blocks(parts))  # its lists turned into text a few frames at a time
     return path
 
 

@@ -8,13 +8,14 @@ in docs/viewer.md ("The data format"); :data:`FORMAT` names its version.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from armanim import __version__
 from armanim.arm.capsules import capsule_ends
-from armanim.arm.kinematics import forward, joints_shown
+from armanim.arm.kinematics import Pose, forward, joints_shown
 from armanim.arm.rotations import rotation_quaternion
 from armanim.arm.visuals import ArmMeshes
 from armanim.motion.carry import CarryReport, frame_bodies, moving_columns
@@ -38,6 +39,135 @@ ANGLE_DECIMALS = 2  # joint angles in degrees: 0.01 degree, as the page shows th
 RESOLUTION = 10_000  # positions and distances keep at least 1/RESOLUTION of the scene's size
 CHORD_SHARE = 1 / 4000  # a path's arcs are sent as chords straying at most this share of the scene's size
 INK_SHARE = 1 / 200  # the page's ink is a ribbon this share of the scene's size wide (about 2 px, as in the video)
+SERIES_CHUNK = 2048
+"""Frames of a per-frame list turned into JSON values at a time (:class:`FrameSeries`)."""
+MAX_PAGE_FRAMES = 36_000
+"""The most frames a page holds (20 minutes at 30 fps): a longer run's page shows one frame in
+``step`` (:func:`page_frames`), so that it stays small enough for a browser to open."""
+
+
+@dataclass(frozen=True)
+class FrameSeries:
+    """A per-frame list of the page's data, made a few frames at a time (never all at once).
+
+    Attributes
+    ----------
+    frames : int
+        The frames F it spans.
+    values : callable
+        ``values(start, stop)``: the list's entries of frames ``start .. stop - 1`` (plain JSON
+        values, as many per frame as the list has), concatenated in frame order.
+    """
+
+    frames: int
+    values: Callable[[int, int], list]
+
+    def chunks(self, size: int | None = None) -> Iterator[list]:
+        """The list ``size`` frames at a time (default :data:`SERIES_CHUNK`)."""
+        size = size or SERIES_CHUNK
+        for start in range(0, self.frames, size):
+            yield self.values(start, min(start + size, self.frames))
+
+    def whole(self) -> list:
+        """The whole list."""
+        return self.values(0, self.frames)
+
+
+def rounded_series(values: np.ndarray, decimals: int) -> FrameSeries:
+    """``values`` (F, ...) as a :class:`FrameSeries` of :func:`rounded` numbers, frame after frame."""
+    return FrameSeries(len(values), lambda start, stop: rounded(values[start:stop], decimals))
+
+
+def nullable_series(values: np.ndarray, decimals: int) -> FrameSeries:
+    """``values`` (F,) rounded, null where not finite."""
+
+    def part(start: int, stop: int) -> list:
+        chunk = np.asarray(values[start:stop], dtype=float)
+        finite = np.isfinite(chunk)
+        return [v if ok else None for v, ok in zip(rounded(np.where(finite, chunk, 0.0), decimals), finite)]
+
+    return FrameSeries(len(values), part)
+
+
+def int_series(values: np.ndarray) -> FrameSeries:
+    """``values`` (F,) as whole numbers (booleans as 0 and 1)."""
+    return FrameSeries(len(values), lambda start, stop: np.asarray(values[start:stop]).astype(int).tolist())
+
+
+def frame_poses(problem: Problem, phi: np.ndarray) -> Callable[[int, int], Pose]:
+    """The arm's poses of frames ``start .. stop - 1`` of ``phi`` (F, n), computed when asked
+    (:func:`~armanim.arm.kinematics.forward`, the one kinematics): a page's lists are made a few
+    frames at a time, each from its frames' poses, never from every frame's at once."""
+    return lambda start, stop: forward(problem.arm, phi[start:stop])
+
+
+def joint_extent(poses: Callable[[int, int], Pose], frames: int) -> np.ndarray:
+    """(2, 3) the lowest and the highest x, y and z of any joint in any frame ((0, 3) for no frame),
+    :data:`SERIES_CHUNK` frames at a time: what the view's box needs of every joint position."""
+    if frames == 0:
+        return np.zeros((0, 3))
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for start in range(0, frames, SERIES_CHUNK):
+        points = poses(start, min(start + SERIES_CHUNK, frames)).points
+        lo, hi = np.minimum(lo, points.min(axis=(0, 1))), np.maximum(hi, points.max(axis=(0, 1)))
+    return np.stack([lo, hi])
+
+
+def plain(value: object) -> object:
+    """``value`` with every :class:`FrameSeries` in it made a whole list (the data as JSON values)."""
+    if isinstance(value, FrameSeries):
+        return value.whole()
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [plain(v) for v in value]
+    return value
+
+
+def page_frames(frames: int, limit: int = MAX_PAGE_FRAMES) -> np.ndarray:
+    """The frames a page shows: all up to ``limit``; beyond, every ``step``-th (the smallest step
+    that keeps them within ``limit``), the run's last frame always among them.
+
+    >>> page_frames(5).tolist(), page_frames(10, limit=4).tolist()
+    ([0, 1, 2, 3, 4], [0, 3, 6, 9])
+    >>> page_frames(11, limit=4).tolist()
+    [0, 4, 8, 10]
+    """
+    step = frame_step(frames, limit)
+    if step == 1:
+        return np.arange(frames)
+    kept = np.arange(0, frames, step)
+    return kept if kept[-1] == frames - 1 else np.append(kept, frames - 1)
+
+
+def frame_step(frames: int, limit: int = MAX_PAGE_FRAMES) -> int:
+    """The step between the frames a page of a run of ``frames`` shows (1: every frame).
+
+    >>> frame_step(36_000), frame_step(36_001), frame_step(108_001)
+    (1, 2, 4)
+    """
+    limit = max(limit, 2)  # the first and the last frame
+    if frames <= limit:
+        return 1
+    step = -(-(frames - 1) // (limit - 1))  # ceil: (limit - 1) steps span the run's frames
+    while len(range(0, frames, step)) + ((frames - 1) % step != 0) > limit:
+        step += 1
+    return step
+
+
+def reports_at(reports: Sequence[GoalReport], kept: np.ndarray) -> list[GoalReport]:
+    """``reports`` with their first and last frames as indices into ``kept`` (the frames a page
+    shows): the first kept frame at or after a goal's first, the last at or before its last."""
+    return [
+        replace(
+            r,
+            first_frame=int(np.searchsorted(kept, r.first_frame)) if r.first_frame >= 0 else r.first_frame,
+            last_frame=int(np.searchsorted(kept, r.last_frame, side="right")) - 1
+            if r.last_frame >= 0
+            else r.last_frame,
+        )
+        for r in reports
+    ]
 
 
 def position_decimals(size: float) -> int:
@@ -112,17 +242,24 @@ def orientation_entry(problem: Problem, trajectory: Trajectory, decimals: int) -
     (degrees, null where the goal has none), the triads' length and their x, y, z colours."""
     if not has_orientations(problem.goals):
         return None
-    quaternions = trajectory.tool_quaternion
-    if quaternions is None:
-        quaternions = frame_orientations(
-            problem.arm, [g.orientation for g in problem.goals], trajectory.phi, trajectory.goal
-        )[1]
+    recorded = trajectory.tool_quaternion
+
+    def quaternions(start: int, stop: int) -> list:
+        if recorded is not None:
+            return rounded(recorded[start:stop], 6)
+        orientations = [g.orientation for g in problem.goals]
+        at = frame_orientations(problem.arm, orientations, trajectory.phi[start:stop], trajectory.goal[start:stop])
+        return rounded(at[1], 6)
+
     angles = (
         trajectory.orientation_error if trajectory.orientation_error is not None else np.full(trajectory.frames, np.nan)
     )
     return {
-        "quaternion_wxyz": rounded(quaternions, 6),
-        "angle_deg": [None if not np.isfinite(a) else round(float(np.degrees(a)), 3) for a in angles],
+        "quaternion_wxyz": FrameSeries(trajectory.frames, quaternions),
+        "angle_deg": FrameSeries(
+            len(angles),
+            lambda a, b: [None if not np.isfinite(v) else round(float(np.degrees(v)), 3) for v in angles[a:b]],
+        ),
         "triad": round(float(TRIAD_PER_REACH * problem.arm.reach), decimals + 2),
         "colors": [hex_color(c) for c in style.AXIS_COLORS],
     }
@@ -150,7 +287,6 @@ def path_entry(problem: Problem, trajectory: Trajectory, decimals: int, size: fl
     if not paths:
         return None
     done = trajectory.path_s if trajectory.path_s is not None else np.full(trajectory.frames, np.nan)
-    finite = np.isfinite(done)
     return {
         "goals": [
             {
@@ -162,7 +298,7 @@ def path_entry(problem: Problem, trajectory: Trajectory, decimals: int, size: fl
             }
             for p in paths
         ],
-        "path_s": [v if ok else None for v, ok in zip(rounded(np.where(finite, done, 0.0), decimals), finite)],
+        "path_s": nullable_series(done, decimals),
         "width": round(size * INK_SHARE, decimals),
         "ink": hex_color(style.INK_COLOR),
         "ahead_opacity": style.AHEAD_ALPHA,
@@ -179,12 +315,10 @@ def goal_orientation_entry(goal) -> dict:
     return {"tool_axis": [float(v) for v in o.axis]}
 
 
-def activity_codes(trajectory: Trajectory, reports: Sequence[GoalReport]) -> tuple[list[str], list[int]]:
-    """The caption's activities (``moving``, ``holding``, ...) as names and one index per frame."""
-    activity = frame_activity(trajectory, reports)
-    names = sorted(set(activity.tolist()))
-    index = {name: i for i, name in enumerate(names)}
-    return names, [index[a] for a in activity.tolist()]
+def activity_codes(trajectory: Trajectory, reports: Sequence[GoalReport]) -> tuple[list[str], np.ndarray]:
+    """The caption's activities (``moving``, ``holding``, ...) as names and (F,) one index per frame."""
+    names, codes = np.unique(frame_activity(trajectory, reports).astype(str), return_inverse=True)
+    return names.tolist(), codes.reshape(-1)
 
 
 def view_settings(problem: Problem, settings: RenderSettings, points: np.ndarray) -> dict:
@@ -213,6 +347,14 @@ def view_settings(problem: Problem, settings: RenderSettings, points: np.ndarray
 
 
 def viewer_data(
+    problem: Problem, trajectory: Trajectory, reports: Sequence[GoalReport], settings: RenderSettings, **options
+) -> dict:
+    """:func:`viewer_parts` (the same parameters; ``options``, its keywords) with every per-frame
+    list made whole: the page's data as plain lists, numbers and strings."""
+    return plain(viewer_parts(problem, trajectory, reports, settings, **options))  # type: ignore[return-value]
+
+
+def viewer_parts(
     problem: Problem,
     trajectory: Trajectory,
     reports: Sequence[GoalReport],
@@ -222,8 +364,11 @@ def viewer_data(
     joint_names: Sequence[str] | None = None,
     meshes: ArmMeshes | None = None,
     carry: CarryReport | None = None,
+    max_frames: int | None = None,
 ) -> dict:
-    """Everything the viewer page needs about a run, as JSON-ready values.
+    """Everything the viewer page needs about a run: JSON values, each per-frame list a
+    :class:`FrameSeries` (made a few frames at a time when the page is written;
+    :func:`viewer_data` makes them whole).
 
     Parameters
     ----------
@@ -244,11 +389,15 @@ def viewer_data(
     carry : CarryReport, optional
         A run that grasps (:mod:`armanim.motion.carry`): the objects it moves are drawn where
         they are in each frame (``carried``), not with the obstacles.
+    max_frames : int, optional
+        The most frames the page holds (default :data:`MAX_PAGE_FRAMES`): a longer run shows one
+        frame in ``step`` (:func:`page_frames`; the data's ``step`` and ``run_frames`` say so).
 
     Returns
     -------
     dict
-        Plain lists, numbers and strings (no NaN or infinity): the format of docs/viewer.md.
+        Plain lists, numbers, strings and :class:`FrameSeries` (no NaN or infinity): the format of
+        docs/viewer.md.
 
     Examples
     --------
@@ -258,28 +407,40 @@ def viewer_data(
     >>> model = SceneModel.model_validate({"version": 1, "arm": {"links": [1, 1]}, "goals": [[1, 0, 1]]})
     >>> problem = scene_to_problem(model)
     >>> solution = solve_trajectory(problem)
-    >>> data = viewer_data(problem, solution.trajectory, solution.goals, render_settings(model), title="two")
+    >>> data = plain(viewer_parts(problem, solution.trajectory, solution.goals, render_settings(model), title="two"))
     >>> data["format"], data["joints"], data["frames"] == solution.trajectory.frames
     ('armanim-viewer/1', ['phi1', 'phi2'], True)
     >>> len(data["points"]) == data["frames"] * 3 * 3  # (frames, joints + 1, xyz), frame after frame
     True
     """
     n = problem.arm.n
-    pose = forward(problem.arm, trajectory.phi)  # the one kinematics
+    run_frames = trajectory.frames
+    max_frames = max_frames or MAX_PAGE_FRAMES
     fingers = None
     if carry is not None and problem.gripper is not None:
         from armanim.motion.carry import frame_fingers
 
-        fingers = frame_fingers(problem, carry, trajectory.goal, trajectory.fps)
-    view = view_settings(problem, settings, pose.points)
+        fingers = frame_fingers(problem, carry, trajectory.goal, trajectory.fps)  # ramps timed on every frame
+    names, codes = activity_codes(trajectory, reports)  # the caption's, read on every frame
+    kept = page_frames(run_frames, max_frames)
+    if len(kept) < run_frames:
+        trajectory, reports = trajectory.at_frames(kept), reports_at(reports, kept)
+        codes = codes[kept]
+        fingers = None if fingers is None else fingers[kept]
+    poses = frame_poses(problem, trajectory.phi)
+    view = view_settings(problem, settings, joint_extent(poses, trajectory.frames))  # the same box as every joint's
     decimals = position_decimals(float(np.max(np.subtract(view["box"][1], view["box"][0]))))
-    names, codes = activity_codes(trajectory, reports)
     data = {
         "format": FORMAT,
         "armanim": __version__,
         "title": str(title),
         "fps": float(trajectory.fps),
         "frames": int(trajectory.frames),
+        **(
+            {}
+            if len(kept) == run_frames
+            else {"step": frame_step(run_frames, max_frames), "run_frames": int(run_frames)}
+        ),
         "joints": [
             f"{name} (m)" if slide else name
             for name, slide in zip(
@@ -293,9 +454,9 @@ def viewer_data(
             "half_width": float(problem.half_width),
             "base": [float(v) for v in problem.arm.base],
         },
-        **frame_entries(problem, trajectory, pose, decimals, fingers),
+        **frame_entries(problem, trajectory, poses, decimals, fingers),
         "activities": names,
-        "activity": codes,
+        "activity": int_series(codes),
         "goals": goal_entries(problem, reports),
         "obstacles": sphere_entries(still_obstacles(problem, carry)),
         **shape_entries(still_obstacles(problem, carry)),
@@ -321,7 +482,9 @@ def viewer_data(
             problem.capsules.names or ("",) * len(problem.capsules.radius)
         )  # an arm of links: no link has a mesh
         uncovered = [i for i, name in enumerate(names) if name not in set(meshes.links)]
-        entries = mesh_entries(meshes, pose, decimals, problem.gripper if fingers is not None else None, fingers)
+        entries = mesh_entries(
+            meshes, poses, trajectory.frames, decimals, problem.gripper if fingers is not None else None, fingers
+        )
         group_of = {(g["carrier"], g.get("link")): i for i, g in enumerate(entries["groups"])}
         covered = [
             group_of.get((int(k), name), group_of.get((int(k), None), -1)) if i not in uncovered else -1
@@ -336,10 +499,17 @@ def viewer_data(
     return data
 
 
-def mesh_entries(meshes: ArmMeshes, pose, decimals: int, gripper=None, fingers: np.ndarray | None = None) -> dict:
+def mesh_entries(
+    meshes: ArmMeshes,
+    poses: Callable[[int, int], Pose],
+    frames: int,
+    decimals: int,
+    gripper=None,
+    fingers: np.ndarray | None = None,
+) -> dict:
     """The robot's meshes, each carrier's triangles once (vertices in its frame, RGB per vertex,
-    two decimals), and per frame where each moving carrier is: its joint's position and its
-    frame's quaternion (w, x, y, z), (F, K, 7) frame after frame. Carrier -1 (links that never
+    two decimals), and per frame (``poses`` of ``frames``, :func:`frame_poses`) where each moving
+    carrier is: its joint's position and its frame's quaternion (w, x, y, z), (F, K, 7) frame after frame. Carrier -1 (links that never
     move) is in the world. With a gripper (:class:`~armanim.arm.gripper.Gripper`) and its value
     in each frame (``fingers`` (F,)), each finger is a group of its own (``link``) that slides in
     its carrier's frame by ``slide`` (per metre) times the frame's ``fingers`` entry (the value
@@ -368,20 +538,23 @@ def mesh_entries(meshes: ArmMeshes, pose, decimals: int, gripper=None, fingers: 
             | ({} if j < 0 else {"link": sliding[j], "slide": [float(v) for v in gripper.link_rate[j]]})
         )
     moving = [int(k) for k in np.unique(meshes.carrier) if k >= 0]
-    placement = np.concatenate([pose.points[:, moving, :], rotation_quaternion(pose.frames[:, moving])], axis=-1)
-    out = {"groups": groups, "carriers": moving, "frames": rounded(placement, max(decimals, 6))}
+
+    def placement(start: int, stop: int) -> list:
+        pose = poses(start, stop)
+        at = np.concatenate([pose.points[:, moving, :], rotation_quaternion(pose.frames[:, moving])], axis=-1)
+        return rounded(at, max(decimals, 6))
+
+    out = {"groups": groups, "carriers": moving, "frames": FrameSeries(frames, placement)}
     if sliding and fingers is not None:
-        out["fingers"] = rounded(np.asarray(fingers) - gripper.rest, 6)
+        out["fingers"] = rounded_series(np.asarray(fingers) - gripper.rest, 6)
     return out
 
 
-def frame_entries(
-    problem: Problem, trajectory: Trajectory, pose, decimals: int, fingers: np.ndarray | None = None
-) -> dict:
-    """What changes frame by frame: the joints' positions (``pose.points``, (F, n+1, 3)), the
-    capsules' ends, the angles, the goal, its distance, the clearance and ``reached``."""
-    starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each: the shapes clearance is measured on
-    if fingers is not None and problem.gripper is not None:  # the fingers' capsules where the gripper is in each frame
+def frame_capsule_ends(problem: Problem, pose: Pose, fingers: np.ndarray | None = None) -> np.ndarray:
+    """(F, c, 2, 3) each capsule's two ends in each frame of ``pose``: the shapes clearance is
+    measured on, the fingers' where the gripper is in each frame (``fingers`` (F,), metres)."""
+    starts, ends = capsule_ends(problem.capsules, pose)  # (F, c, 3) each
+    if fingers is not None and problem.gripper is not None:
         from armanim.arm.gripper import moved_fingers
 
         starts, ends = np.array(starts), np.array(ends)
@@ -389,22 +562,42 @@ def frame_entries(
             mine = fingers == value
             at = type(pose)(pose.points[mine], pose.frames[mine])
             starts[mine], ends[mine] = capsule_ends(moved_fingers(problem.capsules, problem.gripper, float(value)), at)
-    clearance = np.asarray(trajectory.clearance, dtype=float)
-    finite = np.isfinite(clearance)
+    return np.stack([starts, ends], axis=2)
+
+
+def frame_entries(
+    problem: Problem,
+    trajectory: Trajectory,
+    poses: Callable[[int, int], Pose],
+    decimals: int,
+    fingers: np.ndarray | None = None,
+) -> dict:
+    """What changes frame by frame: the joints' positions (``poses``' points, (F, n+1, 3),
+    :func:`frame_poses`), the capsules' ends, the angles, the goal, its distance, the clearance
+    and ``reached``, each a :class:`FrameSeries`."""
+    frames = trajectory.frames
+
+    def ends(start: int, stop: int) -> list:
+        part = None if fingers is None else fingers[start:stop]
+        return rounded(frame_capsule_ends(problem, poses(start, stop), part), decimals)
+
     return {
-        "points": rounded(pose.points, decimals),
+        "points": FrameSeries(frames, lambda start, stop: rounded(poses(start, stop).points, decimals)),
         "capsules": {
             "radius": [float(r) for r in problem.capsules.radius],
-            "ends": rounded(np.stack([starts, ends], axis=2), decimals),
-            **near_entries(problem, pose),
+            "ends": FrameSeries(frames, ends),
+            **near_entries(problem, poses, frames),
         },
-        "angles_deg": rounded(
-            joints_shown(trajectory.phi, problem.arm.prismatic), ANGLE_DECIMALS
-        ),  # metres for a prismatic joint
-        "goal": [int(g) for g in trajectory.goal],
-        "distance": rounded(trajectory.distance, decimals),
-        "clearance": [v if ok else None for v, ok in zip(rounded(np.where(finite, clearance, 0.0), decimals), finite)],
-        "reached": [int(bool(r)) for r in trajectory.reached],
+        "angles_deg": FrameSeries(  # metres for a prismatic joint
+            frames,
+            lambda start, stop: rounded(
+                joints_shown(trajectory.phi[start:stop], problem.arm.prismatic), ANGLE_DECIMALS
+            ),
+        ),
+        "goal": int_series(trajectory.goal),
+        "distance": rounded_series(trajectory.distance, decimals),
+        "clearance": nullable_series(trajectory.clearance, decimals),
+        "reached": int_series(np.asarray(trajectory.reached, dtype=bool)),
     }
 
 
@@ -490,20 +683,20 @@ def shape_entries(obstacles) -> dict:
     return out
 
 
-def near_entries(problem: Problem, pose) -> dict:
-    """``near``: per frame, the capsules of an enabled pair of the arm's own links within
-    twice ``self_clearance`` (tinted, as in the video); nothing without enabled pairs."""
+def near_entries(problem: Problem, poses: Callable[[int, int], Pose], frames: int) -> dict:
+    """``near``: per frame (``poses`` of ``frames``), the capsules of an enabled pair of the arm's
+    own links within twice ``self_clearance`` (tinted, as in the video); nothing without enabled pairs."""
     pairs = problem.self_pairs
     if not len(pairs):
         return {}
     from armanim.render.solids.arm import NEAR_FACTOR
     from armanim.world.selfdistances import self_gaps
 
-    close = self_gaps(pose, problem.capsules, pairs).d < NEAR_FACTOR * pairs.clearance  # (F, P)
-    frames = []
-    for row in close:
-        frames.append(sorted({int(c) for c in np.concatenate([pairs.first[row], pairs.second[row]])}))
-    return {"near": frames}
+    def part(start: int, stop: int) -> list:
+        close = self_gaps(poses(start, stop), problem.capsules, pairs).d < NEAR_FACTOR * pairs.clearance  # (f, P)
+        return [sorted({int(c) for c in np.concatenate([pairs.first[row], pairs.second[row]])}) for row in close]
+
+    return {"near": FrameSeries(frames, part)}
 
 
 def still_obstacles(problem: Problem, carry: CarryReport | None):
@@ -521,10 +714,10 @@ def carried_entries(problem: Problem, carry: CarryReport, trajectory: Trajectory
     from armanim.arm.rotations import rotation_quaternion
 
     columns = moving_columns(carry)
-    frames = frame_bodies(problem, carry, trajectory.phi, trajectory.goal)
+    first = frame_bodies(problem, carry, trajectory.phi[:1], trajectory.goal[:1])
     shapes = []
     for k, column in enumerate(columns):
-        body = frames[0][k] if frames else obstacle_body(problem.obstacles, column)
+        body = first[0][k] if first else obstacle_body(problem.obstacles, column)
         kind = {BOX: "box", SPHERE: "sphere", ROD: "capsule", CYLINDER: "cylinder"}[body.kind]
         entry: dict = {"kind": kind, "name": problem.obstacles.name(column) or f"obstacles[{column}]"}
         if body.kind == BOX:
@@ -533,8 +726,13 @@ def carried_entries(problem: Problem, carry: CarryReport, trajectory: Trajectory
             entry["radius"] = float(body.radius)
             entry["length"] = float(2 * body.half[0] if body.kind == ROD else 2 * body.half[2])
         shapes.append(entry)
-    poses = np.array(
-        [[np.concatenate([b.center, rotation_quaternion(b.rotation)]) for b in bodies] for bodies in frames]
-    ).reshape(-1, 7)
-    places = np.concatenate([np.round(poses[:, :3], decimals), np.round(poses[:, 3:], 6)], axis=1)
-    return {"objects": shapes, "poses": [float(v) + 0.0 for v in places.ravel()]}
+
+    def places(start: int, stop: int) -> list:
+        frames = frame_bodies(problem, carry, trajectory.phi[start:stop], trajectory.goal[start:stop])
+        poses = np.array(
+            [[np.concatenate([b.center, rotation_quaternion(b.rotation)]) for b in bodies] for bodies in frames]
+        ).reshape(-1, 7)
+        at = np.concatenate([np.round(poses[:, :3], decimals), np.round(poses[:, 3:], 6)], axis=1)
+        return [float(v) + 0.0 for v in at.ravel()]
+
+    return {"objects": shapes, "poses": FrameSeries(trajectory.frames, places)}

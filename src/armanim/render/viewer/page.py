@@ -17,9 +17,12 @@ import html
 import json
 import os
 import stat
+from collections.abc import Iterator
 from functools import cache
 from importlib import resources
 from pathlib import Path
+
+from armanim.render.viewer.data import FrameSeries
 
 ASSETS = "assets"
 GENERATOR = "armanim viewer"
@@ -29,6 +32,8 @@ DIGEST = '<meta name="armanim-sha256" content="{}">\n'
 replaces a page only as armanim wrote it, never one a user edited since (their notes in it)."""
 DIGEST_TAIL = 128
 """Bytes at the end of a page read to find its digest line (the line is 104)."""
+WRITE_BLOCK = 1 << 20
+"""Characters of a page gathered before they are handed on to be written (:func:`page_blocks`)."""
 
 
 def asset_text(name: str) -> str:
@@ -59,8 +64,42 @@ def script_json(data: object) -> str:
     >>> script_json({"title": "</script><b>"})
     '{"title":"\\\\u003c/script\\\\u003e\\\\u003cb\\\\u003e"}'
     """
-    text = json.dumps(data, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
+    return "".join(script_json_pieces(data))
+
+
+def json_text(value: object) -> str:
+    """``value`` as compact JSON, ASCII only, ``<``, ``>`` and ``&`` escaped (:func:`script_json`'s rules)."""
+    text = json.dumps(value, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
     return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
+
+def script_json_pieces(data: object) -> Iterator[str]:
+    """:func:`script_json` of ``data`` in pieces that join to it, each
+    :class:`~armanim.render.viewer.data.FrameSeries` in it turned into text a chunk of frames at a
+    time: a long run's lists are never held whole, as numbers or as text."""
+    if isinstance(data, FrameSeries):
+        yield "["
+        first = True
+        for chunk in data.chunks():
+            if chunk:
+                yield ("" if first else ",") + json_text(chunk)[1:-1]
+                first = False
+        yield "]"
+    elif isinstance(data, dict):
+        yield "{"
+        for i, (key, value) in enumerate(data.items()):
+            yield ("," if i else "") + json_text(str(key)) + ":"
+            yield from script_json_pieces(value)
+        yield "}"
+    elif isinstance(data, (list, tuple)) and any(isinstance(v, (FrameSeries, dict, list, tuple)) for v in data):
+        yield "["
+        for i, value in enumerate(data):
+            if i:
+                yield ","
+            yield from script_json_pieces(value)
+        yield "]"
+    else:
+        yield json_text(data)
 
 
 def inline_script(code: str) -> str:
@@ -81,22 +120,47 @@ def viewer_html(data: dict) -> str:
     >>> page.startswith("<!doctype html>"), "<title>a &lt;b&gt; &amp; &#x27;c&#x27; - armanim</title>" in page
     (True, True)
     """
+    return b"".join(page_blocks(data)).decode("utf-8")
+
+
+def page_pieces(data: dict) -> Iterator[str]:
+    """The page for ``data`` (:func:`~armanim.render.viewer.data.viewer_data`'s, or
+    :func:`~armanim.render.viewer.data.viewer_parts`') in pieces, without its digest line."""
     parts = {
-        "ARMANIM_GENERATOR": GENERATOR,
-        "ARMANIM_TITLE": html.escape(str(data.get("title", "")), quote=True),
-        "/*ARMANIM_CSS*/": asset_text("page.css"),
-        "/*ARMANIM_DATA*/": script_json(data),
-        "/*ARMANIM_THREE*/": inline_script(three_bundle()),
-        "/*ARMANIM_PAGE*/": inline_script(asset_text("page.js")),
+        "ARMANIM_GENERATOR": lambda: iter([GENERATOR]),
+        "ARMANIM_TITLE": lambda: iter([html.escape(str(data.get("title", "")), quote=True)]),
+        "/*ARMANIM_CSS*/": lambda: iter([asset_text("page.css")]),
+        "/*ARMANIM_DATA*/": lambda: script_json_pieces(data),
+        "/*ARMANIM_THREE*/": lambda: iter([inline_script(three_bundle())]),
+        "/*ARMANIM_PAGE*/": lambda: iter([inline_script(asset_text("page.js"))]),
     }
-    pieces, rest = [], asset_text("page.html")
+    rest = asset_text("page.html")
     for marker, part in parts.items():  # in the template's order, one pass: a part never fills another's marker
         head, found, rest = rest.partition(marker)
         if not found:
             raise ValueError(f"page.html lacks the placeholder {marker} (or has it out of order)")
-        pieces += [head, part]
-    page = "".join(pieces) + rest
-    return page + DIGEST.format(hashlib.sha256(page.encode("utf-8")).hexdigest())
+        yield head
+        yield from part()
+    yield rest
+
+
+def page_blocks(data: dict, block: int | None = None) -> Iterator[bytes]:
+    """The page for ``data`` as UTF-8 blocks of about ``block`` characters (default
+    :data:`WRITE_BLOCK`), its last line :data:`DIGEST` with the sha256 of every byte before it
+    (hashed as the blocks go by)."""
+    block = block or WRITE_BLOCK
+    digest, pending, size = hashlib.sha256(), [], 0
+    for piece in page_pieces(data):
+        pending.append(piece)
+        size += len(piece)
+        if size >= block:
+            out = "".join(pending).encode("utf-8")
+            digest.update(out)
+            yield out
+            pending, size = [], 0
+    out = "".join(pending).encode("utf-8")
+    digest.update(out)
+    yield out + DIGEST.format(digest.hexdigest()).encode("ascii")
 
 
 def is_viewer_page(path: str | Path, limit: int = 4096) -> bool:

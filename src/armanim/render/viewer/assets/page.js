@@ -8,6 +8,9 @@
   const F = D.frames, N = D.joints.length, P = N + 1, S = D.style;
   const $ = (id) => document.getElementById(id);
   const clamp = (v, lo, hi) => Math.max(lo, Math.min(hi, v));
+  // A long run's page holds one frame in D.step (docs/viewer.md): the page's frame f is the run's frame runFrame(f).
+  const STEP = D.step || 1, RUN_LAST = (D.run_frames || F) - 1;
+  const runFrame = (f) => Math.min(f * STEP, RUN_LAST);
   const PLOT_COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
 
   // ---- the state, and the page API -------------------------------------------------
@@ -16,7 +19,7 @@
   const st = { frame: 0, playing: false, speed: 1, t0: 0, f0: 0, shown: -1, shownPlaying: null, dirty: true, drawn: 0 };
   function sync(now) {
     if (!st.playing) return;
-    const f = st.f0 + Math.floor(((now === undefined ? performance.now() : now) - st.t0) / 1000 * D.fps * st.speed);
+    const f = st.f0 + Math.floor(((now === undefined ? performance.now() : now) - st.t0) / 1000 * D.fps / STEP * st.speed);
     if (f >= F - 1) { st.frame = F - 1; st.playing = false; } else st.frame = Math.max(f, 0);
   }
   function anchor() { st.t0 = performance.now(); st.f0 = st.frame; }
@@ -42,6 +45,7 @@
     get frame() { sync(); return st.frame; },
     frames: F,
     fps: D.fps,
+    step: STEP,
     get playing() { sync(); return st.playing; },
     get speed() { return st.speed; },
     get drawn() { return st.drawn; },
@@ -74,7 +78,7 @@
   document.title = D.title + " - armanim";
   const slider = $("slider");
   slider.max = String(F - 1);
-  $("last").textContent = String(F - 1);
+  $("last").textContent = String(RUN_LAST) + (STEP > 1 ? ` (one frame in ${STEP} shown)` : "");
   const tbody = document.querySelector("#angles tbody"), angleCells = [];
   D.joints.forEach((name, j) => {
     const tr = document.createElement("tr"), th = document.createElement("td"), td = document.createElement("td");
@@ -562,7 +566,7 @@
     if (amin < 0 && amax > 0) { c.setLineDash([2, 3]); c.beginPath(); c.moveTo(PL, Ya(0)); c.lineTo(w - PR, Ya(0)); c.stroke(); c.setLineDash([]); }
     c.textAlign = "right"; c.fillText(amax.toFixed(0) + "°", PL - 4, PT + 9); c.fillText(amin.toFixed(0) + "°", PL - 4, h - PB);
     c.textAlign = "left"; c.fillText(dmax.toPrecision(3), w - PR + 4, PT + 9); c.fillText("0", w - PR + 4, h - PB);
-    c.fillText("0 s", PL, h - 6); c.textAlign = "right"; c.fillText(((F - 1) / D.fps).toFixed(2) + " s", w - PR, h - 6);
+    c.fillText("0 s", PL, h - 6); c.textAlign = "right"; c.fillText((RUN_LAST / D.fps).toFixed(2) + " s", w - PR, h - 6);
     const step = Math.max(1, Math.floor(F / Math.max(w * 2, 1)));
     for (let j = 0; j < N; j++) {
       c.strokeStyle = PLOT_COLORS[j % PLOT_COLORS.length]; c.lineWidth = 1.3; c.beginPath();
@@ -606,8 +610,8 @@
     if (f === st.shown) return;
     st.shown = f;
     slider.value = String(f);
-    $("frame").textContent = String(f);
-    $("time").textContent = (f / D.fps).toFixed(2);
+    $("frame").textContent = String(runFrame(f));
+    $("time").textContent = (runFrame(f) / D.fps).toFixed(2);
     document.body.dataset.frame = String(f);
     const k = D.goal[f], ngoals = D.goals.length;
     $("goal").textContent = ngoals ? `${k} (of 0-${ngoals - 1})` : "none";
