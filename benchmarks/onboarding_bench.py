@@ -19,6 +19,9 @@ The vendor URDFs come from the example-robot-data wheel (PyPI, BSD-3-Clause), un
     pip download --no-deps example-robot-data==6.0.0 -d /tmp/erd && unzip -q /tmp/erd/*.whl -d /tmp/erd/wheel
     python benchmarks/onboarding_bench.py --erd /tmp/erd/wheel/cmeel.prefix/share/example-robot-data
 
+and VAMP's mesh URDFs (``--vamp``: KavrakiLab/vamp's ``resources/`` folder, the Panda and UR5 that
+MotionBenchMaker's problems are posed for).
+
 ``--against OTHER_FITTING.py`` times another fit (main's, say) against this one robot by robot in one
 process; ``--set NAME=VALUE`` runs with one of the fit's constants changed (a variant measured).
 """
@@ -46,6 +49,11 @@ VENDOR = {
     "SO-101": "robots/so_arm_description/urdf/so101.urdf",
     "Panda (franka_description)": "robots/panda_description/urdf/panda.urdf",
 }
+VAMP = {
+    "VAMP panda.urdf": "panda/panda.urdf",
+    "VAMP ur5.urdf": "ur5/ur5.urdf",
+}
+"""VAMP's mesh URDFs (KavrakiLab/vamp's ``resources/``, Apache-2.0), the ones MotionBenchMaker's problems use."""
 TOLERANCE = 1e-6
 
 
@@ -91,10 +99,12 @@ def report(name: str, rows: list[tuple[str, int, tuple[int, int, float, float]]]
     return {"ratio": ratio, "held": held == total}
 
 
-def vendor(erd: Path, name: str, relative: str) -> dict:
-    urdf = erd / relative
+def vendor(root: Path, name: str, relative: str) -> dict:
+    """Fit and measure the URDF ``root / relative`` (its ``package://`` names found under root's
+    parent and the URDF's own parents)."""
+    urdf = root / relative
     robot = read_urdf(urdf)
-    dirs = [erd.parent, *urdf.parents]
+    dirs = [root.parent, *urdf.parents]
     started = time.process_time()
     fits = mesh_capsules(robot, tuple(robot.links), urdf.parent, dirs, cache=None)
     seconds = time.process_time() - started
@@ -122,7 +132,16 @@ def bundled(name: str) -> dict:
     return report(f"bundled {name} (visual.npz)", rows, time.process_time() - started)
 
 
-def against(erd: Path, other: Path) -> None:
+def vendor_urdfs(erd: Path | None, vamp: Path | None) -> list[tuple[Path, str, str]]:
+    """(root, name, relative path) of each vendor URDF asked for."""
+    out = []
+    for root, urdfs in ((erd, VENDOR), (vamp, VAMP)):
+        if root is not None:
+            out += [(root, name, relative) for name, relative in urdfs.items()]
+    return out
+
+
+def against(urdfs: list[tuple[Path, str, str]], other: Path) -> None:
     """Another ``fitting.py`` (e.g. main's: ``git show main:src/armanim/arm/fitting.py > /tmp/f.py``)
     against this one, in one process robot by robot: the load is the same for both."""
     import importlib.util
@@ -137,10 +156,10 @@ def against(erd: Path, other: Path) -> None:
     spec.loader.exec_module(module)
     print(f"| robot | fit CPU, {other.name} | fit CPU, this tree | ratio | capsule volume, this tree / {other.name} |")
     print("|---|---|---|---|---|")
-    for name, relative in VENDOR.items():
-        urdf = erd / relative
+    for root, name, relative in urdfs:
+        urdf = root / relative
         robot = read_urdf(urdf)
-        dirs = [erd.parent, *urdf.parents]
+        dirs = [root.parent, *urdf.parents]
         measured = []
         for fit in (module.fit_capsules, fitting.fit_capsules):
             meshcapsules.fit_capsules = fit  # type: ignore[attr-defined]
@@ -155,8 +174,9 @@ def against(erd: Path, other: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--erd", type=Path, help="example-robot-data's share folder (holds robots/)")
+    parser.add_argument("--vamp", type=Path, help="VAMP's resources folder (holds panda/panda.urdf and ur5/ur5.urdf)")
     parser.add_argument(
-        "--against", type=Path, help="another fitting.py to time and weigh this one against (needs --erd)"
+        "--against", type=Path, help="another fitting.py to time and weigh this one against (needs --erd or --vamp)"
     )
     parser.add_argument(
         "--set",
@@ -174,14 +194,13 @@ def main(argv: list[str] | None = None) -> int:
             fitting, name, type(getattr(fitting, name))(value == "True" if value in ("True", "False") else float(value))
         )
     if args.against is not None:
-        against(args.erd, args.against)
+        against(vendor_urdfs(args.erd, args.vamp), args.against)
         return 0
     print("| robot | links fitted | capsules | vertices held (1e-6 m) | capsules / hulls | worst link | fit time |")
     print("|---|---|---|---|---|---|---|")
     results = {}
-    if args.erd is not None:
-        for name, relative in VENDOR.items():
-            results[name] = vendor(args.erd, name, relative)
+    for root, name, relative in vendor_urdfs(args.erd, args.vamp):
+        results[name] = vendor(root, name, relative)
     for name in ("panda", "ur5", "iiwa"):
         results[name] = bundled(name)
     met = all(r["held"] and r["ratio"] <= 1.6 for r in results.values())

@@ -17,6 +17,11 @@ goals were refused for it); the allowance bounds what the closer fit costs in vo
 Each kept capsule is then refined (:func:`_refined`): its axis line moved off the smallest circle's
 centre and tilted with it, each line with its own best radius, by Nelder and Mead's simplex (about
 1 % less volume on the onboarding robots, 6-9 % on some wrists).
+Then a cut's capsules are shrunk where a neighbour already holds their points (:func:`_shrunk`):
+the mesh's triangles, cut small (:func:`_small_triangles`) and split by the cut's planes, each go
+to the capsule that holds them deepest, and each capsule is fitted again to what it owns when that
+is smaller: a slab's capsule reaches past its planes with its rounded ends, so the cut bends to the
+link (1 to 3 % less volume on the onboarding robots, 3 % on a flange).
 
 Only convex hulls' vertices are fitted: a capsule, the points within r of a segment, is convex (the
 sum of a segment and a ball, both convex), so a capsule that holds a hull's vertices holds every
@@ -42,6 +47,7 @@ radius is still measured to every vertex and edge crossing. Pure core: numpy, sc
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -88,6 +94,12 @@ CHUNK = 200_000
 """Rows a step of :func:`_fit_large` handles at once (a small fraction of a second: Ctrl-C waits no longer)."""
 LARGE_GRID = 32
 """Cells along the longest side of the grid of :func:`_stand_ins`."""
+SHRINK_ROUNDS = 4
+"""Rounds of :func:`_shrunk` (each gives the pieces' points to the capsules that hold them deepest, then fits again)."""
+SHRINK_TRIANGLES = 200_000
+"""At most this many small triangles in :func:`_small_triangles` (a mesh of more keeps its cut's capsules as fitted)."""
+SHRINK_GRID = 12
+""":func:`_small_triangles` cuts triangles to edges of at most the mesh's longest side over this."""
 
 
 @dataclass(frozen=True)
@@ -161,13 +173,12 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
         return _fit_large(vertices, faces, max_capsules)
     if not len(points):
         return []
-    edges = _edges(
-        points, None if faces is None else inverse.reshape(-1)[np.asarray(faces, dtype=np.int64)]
-    )  # each edge once
-    return [
-        _rounded(fit, _slab(points, edges, axis, lo, hi))
-        for fit, (lo, hi), axis in _search(points, edges, max_capsules)
-    ]
+    triangles = None if faces is None else inverse.reshape(-1)[np.asarray(faces, dtype=np.int64)].reshape(-1, 3)
+    edges = _edges(points, triangles)  # each edge once
+    chosen = _search(points, edges, max_capsules)
+    if len(chosen) > 1 and (triangles is None or len(triangles) <= SHRINK_TRIANGLES):
+        return [_rounded(fit, held) for fit, held in _shrunk(points, triangles, chosen)]
+    return [_rounded(fit, _slab(points, edges, axis, lo, hi)) for fit, (lo, hi), axis in chosen]
 
 
 def _search(
@@ -203,6 +214,137 @@ def _search(
     return [
         (_refined(hull_points(_slab(points, edges, axis, lo, hi)), fit), (lo, hi), axis) for fit, (lo, hi), axis in best
     ]
+
+
+def _shrunk(
+    points: np.ndarray, triangles: np.ndarray | None, chosen: list[tuple[Fit, tuple[float, float], np.ndarray]]
+) -> list[tuple[Fit, np.ndarray]]:
+    """The cut's capsules shrunk where their neighbours already hold their points: each capsule and
+    the points it must hold (to measure its radius from), capsules left with none dropped.
+
+    The mesh is split into atoms (:func:`_atoms`: each triangle's part in each slab, or each point
+    without triangles), each to be held whole by one capsule, first its slab's. Each round gives
+    every atom to the capsule that holds it deepest (its farthest point's distance over the radius,
+    among the capsules that hold all its points; its owner's if none other does), then fits each
+    capsule again to what it owns (:func:`_piece_fit`, :func:`_refined`) and keeps the new one when
+    it is smaller, for at most :data:`SHRINK_ROUNDS` rounds. A slab's capsule reaches past its
+    planes (its rounded ends), so the points there that the next capsule holds are given away and
+    the cut bends to the link's shape; every atom stays held whole by its owner, so the capsules
+    still hold every vertex and triangle, and the total volume never grows."""
+    fits = [fit for fit, _, _ in chosen]
+    atom_points, starts, owner = _atoms(points, triangles, chosen[0][2], [slab for _, slab, _ in chosen])
+    for _ in range(SHRINK_ROUNDS):
+        depth = np.stack([np.maximum.reduceat(_reach(atom_points, fit), starts) for fit in fits])  # (k, atoms)
+        allowed = depth <= 1.0 + 1e-9
+        allowed[owner, np.arange(len(owner))] = True
+        moved = np.argmin(np.where(allowed, depth, np.inf), axis=0)
+        changed = False
+        for k in range(len(fits)):
+            if not np.array_equal(moved == k, owner == k) and np.any(moved == k):
+                hull = hull_points(_owned(atom_points, starts, moved == k))
+                better = _refined(hull, _piece_fit(hull, fine=True, hulled=True))
+                if better[0] < fits[k][0] * (1.0 - 1e-9):
+                    fits[k], changed = better, True
+        owner = moved
+        if not changed:
+            break
+    return [(fits[k], _owned(atom_points, starts, owner == k)) for k in range(len(fits)) if np.any(owner == k)]
+
+
+def _reach(points: np.ndarray, fit: Fit) -> np.ndarray:
+    """(N,) each point's distance from the capsule's segment over its radius (inf beyond a radius 0)."""
+    distance = segment_distances(points, fit[1], fit[2])
+    if fit[3] > 0.0:
+        return distance / fit[3]
+    return np.where(distance > 0.0, np.inf, 0.0)
+
+
+def _owned(atom_points: np.ndarray, starts: np.ndarray, mine: np.ndarray) -> np.ndarray:
+    """The points of the atoms marked in ``mine`` (atoms are the runs of ``atom_points`` from ``starts``)."""
+    sizes = np.diff(np.append(starts, len(atom_points)))
+    return np.asarray(atom_points[np.repeat(mine, sizes)])
+
+
+def _atoms(
+    points: np.ndarray, triangles: np.ndarray | None, axis: np.ndarray, slabs: list[tuple[float, float]]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pieces of the mesh that a capsule must hold whole: each small triangle's part in each
+    slab (lo <= t <= hi along ``axis``; the triangles cut to :func:`_small_triangles`): its corners in
+    the slab and where its edges cross the slab's planes, the corners of that part (a convex
+    polygon: a capsule that holds them holds it); without triangles, each point. Returns the atoms'
+    points in runs (M, 3), where each run starts (A,), and each atom's slab (A,).
+
+    >>> corners = np.array([[0.0, 0, 0], [2, 0, 0], [0, 2, 0]])
+    >>> pts, starts, slab = _atoms(corners, None, np.array([1.0, 0, 0]), [(-np.inf, 1.0), (1.0, np.inf)])
+    >>> starts.tolist(), slab.tolist()  # without triangles: each point, in the first slab that holds it
+    ([0, 1, 2], [0, 1, 0])
+    >>> pts, starts, slab = _atoms(corners, np.array([[0, 1, 2]]), np.array([1.0, 0, 0]), [(-np.inf, 1.0), (1.0, np.inf)])
+    >>> len(starts), np.bincount(slab).tolist()  # 289 small triangles (17 steps of 2/17), the 17 between x = 16/17 and 18/17 on both sides
+    (306, [225, 81])
+    """
+    if triangles is None:
+        t = points @ axis
+        slab = np.array([next(k for k, (lo, hi) in enumerate(slabs) if lo <= x <= hi) for x in t], dtype=np.int64)
+        return points, np.arange(len(points)), slab
+    corners = _small_triangles(points, triangles)  # (T, 3, 3)
+    tt = corners @ axis  # (T, 3)
+    ids, rows = [], []
+    for s, (lo, hi) in enumerate(slabs):
+        key = s * len(corners) + np.arange(len(corners))
+        inside = (tt >= lo) & (tt <= hi)
+        for c in range(3):
+            ids.append(key[inside[:, c]])
+            rows.append(corners[inside[:, c], c])
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            ta, tb = tt[:, i], tt[:, j]
+            for plane in (lo, hi):
+                if np.isfinite(plane):
+                    cross = (np.minimum(ta, tb) < plane) & (np.maximum(ta, tb) > plane)
+                    a, b = corners[cross, i], corners[cross, j]
+                    f = (plane - ta[cross]) / (tb[cross] - ta[cross])
+                    ids.append(key[cross])
+                    rows.append(a + f[:, None] * (b - a))
+    key = np.concatenate(ids)
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
+    return np.concatenate(rows)[order], starts, key[starts] // len(corners)
+
+
+def _small_triangles(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """(T, 3, 3) the triangles' corners, each triangle cut into n^2 alike ones (n steps along each
+    edge) so that no edge is longer than the points' longest side over :data:`SHRINK_GRID` (longer
+    where that would make more than :data:`SHRINK_TRIANGLES`): a CAD mesh's long thin triangles
+    would otherwise tie its capsules together. Every point of a triangle is in one of its pieces.
+
+    >>> len(_small_triangles(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]])))  # 17 steps of 1/12
+    289
+    """
+    corners = points[triangles]
+    side = float((points.max(axis=0) - points.min(axis=0)).max())
+    longest = np.max(np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2), axis=1)
+    step = side / SHRINK_GRID if side > 0.0 else 1.0
+    n = np.maximum(np.ceil(longest / step), 1.0)
+    while float(np.sum(n * n)) > SHRINK_TRIANGLES and n.max() > 1:
+        step *= 1.5
+        n = np.maximum(np.ceil(longest / step), 1.0)
+    out = [corners[n == 1]]
+    for m in np.unique(n[n > 1]).astype(int):
+        out.append(np.einsum("skc,tcd->tskd", _pieces(m), corners[n == m]).reshape(-1, 3, 3))
+    return np.concatenate(out)
+
+
+@functools.lru_cache(maxsize=64)
+def _pieces(n: int) -> np.ndarray:
+    """(n^2, 3, 3) the barycentric corners of the n^2 triangles that cut a triangle n steps an edge."""
+    rows = []
+    for i in range(n):
+        for j in range(n - i):
+            rows.append([(i, j), (i + 1, j), (i, j + 1)])
+            if i + j < n - 1:
+                rows.append([(i + 1, j), (i + 1, j + 1), (i, j + 1)])
+    grid = np.array(rows, dtype=float) / n  # (n^2, 3, 2): weights of the second and third corner
+    return np.concatenate([1.0 - grid.sum(axis=2, keepdims=True), grid], axis=2)
 
 
 class _Outside:

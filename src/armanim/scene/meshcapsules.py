@@ -41,7 +41,7 @@ from armanim.scene.visuals import (
     unreadable_reason,
 )
 
-FIT_VERSION = 4
+FIT_VERSION = 5
 """Changes whenever the fit would give other capsules: older cached fits are then not read."""
 CACHE_ENV = "ARMANIM_CACHE_DIR"
 MAX_CACHE_BYTES = 100_000
@@ -304,7 +304,7 @@ def content_key(vertices: np.ndarray, faces: np.ndarray, max_capsules: int) -> s
     """The cache's name for a fit: the SHA-256 of the fit's version, its settings and the mesh as placed.
 
     >>> content_key(np.zeros((1, 3)), np.zeros((0, 3), int), 3)[:12]
-    '0e33b6409636'
+    '62825dc65b02'
     """
     digest = hashlib.sha256(f"armanim capsules v{FIT_VERSION} max {max_capsules}\n".encode())
     digest.update(np.ascontiguousarray(vertices, dtype="<f8").tobytes())
