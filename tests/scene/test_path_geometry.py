@@ -133,6 +133,23 @@ def test_nearest_point_agrees_with_dense_sampling(path, queries):
     assert np.all(dw <= brute_w + 1e-9) and np.all(brute_w <= dw + spacing + 1e-9)
 
 
+@settings(max_examples=60, deadline=None)
+@given(tool_paths(), st.lists(st.floats(0, 1), min_size=1, max_size=8))
+def test_a_reversed_path_runs_the_same_points_from_the_end(path, fractions):
+    """The path walked backward (a line followed from its end, issue 54): its point at ``s`` is the
+    path's at ``length - s``, its length and ink the same, and reversed twice it is the path again."""
+    back = path.reversed()
+    s = np.array(fractions) * path.length
+    assert back.length == pytest.approx(path.length, rel=1e-12, abs=1e-12)
+    np.testing.assert_allclose(back.points(path.length - s), path.points(s), atol=1e-9)
+    np.testing.assert_array_equal(back.start, path.end)
+    np.testing.assert_array_equal(back.end, path.start)
+    np.testing.assert_allclose(back.reversed().points(s), path.points(s), atol=1e-9)
+    inner = np.clip(s, 1e-6 * path.length, (1 - 1e-6) * path.length)  # away from a corner, where ink may change
+    inner = inner[np.all(np.abs(inner[:, None] - path.corners[None]) > 1e-6, axis=1)]
+    np.testing.assert_array_equal(back.inked(path.length - inner), path.inked(inner))
+
+
 # ---- text ---------------------------------------------------------------------------------
 
 RIGHT, UP = np.array([0.0, -1.0, 0.0]), np.array([0.0, 0.0, 1.0])

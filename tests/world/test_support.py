@@ -229,3 +229,88 @@ def test_a_release_that_would_push_the_box_into_the_board_stops_where_it_touches
             assert -1e-9 <= solid_box_distance(timed.carry.final.moved[2], board) < 1e-3
         else:
             assert 2 not in timed.carry.final.moved or timed.carry.final.moved[2] is None
+
+
+def _bench_scene(robot: str, solid: dict, height: float, table: list, board: float, place: list, post: list) -> dict:
+    """A scene as benchmarks/pick_bench.py draws them: ``solid`` (a box's or a cylinder's fields but its
+    center) of ``height`` standing on a table at ``table`` (x, y; top 0.2), taken from above along a
+    0.1 m line, lifted off along one, carried over a board of top ``board``, put down on it at
+    ``place`` along one and left along one; a post (a capsule) at ``post``."""
+    down = {"orientation": {"rpy": [180, 0, 0]}}
+    line = {"approach": {"distance": 0.1}, "retreat": {"distance": 0.1}}
+    kind = "box" if "size" in solid else "cylinder"
+    top = 0.2 + height
+    grasp = top - (0.02 if robot == "panda" else 0.0)
+    release = board + height - (top - grasp)
+    above = max(grasp, release) + 0.15
+    return {
+        "version": 1,
+        "arm": {"robot": robot, **({"joint_values": {"panda_finger_joint1": 0.04}} if robot == "panda" else {})},
+        "floor": 0.0,
+        "obstacles": [
+            {"box": {"center": [0.65, 0.0, board - 0.01], "size": [0.3, 0.7, 0.02]}},
+            {"box": {"center": [*table, 0.1], "size": [0.25, 0.25, 0.2]}, "name": "table"},
+            {kind: {**solid, "center": [*table, 0.2 + height / 2]}, "name": "object"},
+            {"capsule": {"from": [*post, 0.0], "to": [*post, 0.45], "radius": 0.03}, "name": "post"},
+        ],
+        "goals": [
+            {"position": [*table, grasp + 0.1], **down},
+            {"position": [*table, grasp], **down, "grasp": "object", **line},
+            {"position": [*table, above], **down},
+            {"position": [*place, above], **down},
+            {"position": [*place, release], **down, "release": True, **line},
+            {"position": [*place, release + 0.15], **down},
+        ],
+        "solver": {
+            "method": "dls",
+            "tolerance": 0.005,
+            "clearance": 0.02 if robot == "panda" else 0.01,
+            "max_step": 0.02,
+        },
+    }
+
+
+@pytest.mark.parametrize(
+    "mapping, line",
+    [
+        (  # pick_bench seed 0 scene 14: from where the goal above left it, the Panda's link 6 meets the post
+            # 2 mm before the grasp's line ends; walked back from a free pose at its end, the line is followed whole
+            _bench_scene(
+                "panda",
+                {"length": 0.1483, "radius": 0.0233},
+                0.1483,
+                [0.3291, -0.3871],
+                0.2684,
+                [0.5804, 0.0644],
+                [0.3593, -0.1910],
+            ),
+            1,
+        ),
+        (  # pick_bench seed 0 scene 11: the UR5's wrist 0.0111 from the post at the release line's start, which
+            # the filter (1.1 x clearance) cannot bring the tool to: another free pose at the start follows it
+            _bench_scene(
+                "ur5",
+                {"length": 0.0573, "radius": 0.0187},
+                0.0573,
+                [0.2065, -0.4734],
+                0.3040,
+                [0.5996, -0.1470],
+                [0.3118, -0.1653],
+            ),
+            6,
+        ),
+    ],
+    ids=["panda-grasp-line", "ur5-release-line"],
+)
+def test_a_line_the_arm_cannot_follow_from_where_it_stands_is_followed_from_another_pose(mapping, line):
+    """Issue 54's 95 %: a straight line of a pick (the grasp's approach, the release's) that the arm
+    cannot follow from the pose it reached the line's start in is followed whole from another pose,
+    which the arm is planned to first; every goal is reached and every invariant holds."""
+    from invariants import assert_trajectory_invariants
+
+    problem, solution, timed = _touching_run(mapping)
+    assert all(g.reached for g in timed.goals), [(g.reached, g.reason) for g in timed.goals]
+    assert problem.goals[line].path is not None and timed.goals[line].path.fraction == 1.0
+    assert timed.goals[line].planning is not None and timed.goals[line].planning.plans >= 1  # the way to the other pose
+    assert timed.carry.final.moved[2] is not None  # put down
+    assert_trajectory_invariants(problem, timed)

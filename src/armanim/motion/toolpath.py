@@ -78,6 +78,21 @@ class Piece:
         end = center + radius * (math.cos(sweep) * u + math.sin(sweep) * v)
         return cls(start_point, end, ink, center, u, v, sweep)
 
+    def reversed(self) -> Piece:
+        """The same piece run from its end to its start (an arc: the same circle, swept back).
+
+        >>> a = Piece.arc(np.zeros(3), np.array([1.0, 0, 0]), np.pi / 2, np.array([0, 0, 1.0])).reversed()
+        >>> np.round(a.points(np.array([0.0, np.pi / 2])), 12).tolist()
+        [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]
+        """
+        if self.center is None:
+            return Piece.line(self.end, self.start, self.ink)
+        assert self.u is not None and self.v is not None
+        c, s = math.cos(self.angle), math.sin(self.angle)  # point(L - t): u' = c u + s v, v' = s u - c v
+        return Piece(
+            self.end, self.start, self.ink, self.center, c * self.u + s * self.v, s * self.u - c * self.v, self.angle
+        )
+
     @property
     def radius(self) -> float:
         """An arc's radius (0 for a line)."""
@@ -160,6 +175,15 @@ class ToolPath:
     def end(self) -> np.ndarray:
         """(3,) where the path ends."""
         return self.pieces[-1].end
+
+    def reversed(self) -> ToolPath:
+        """The path run from its end to its start: the point at ``s`` is this one's at ``length - s``.
+
+        >>> p = ToolPath.polyline(np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0]]))
+        >>> p.reversed().points(np.array([0.5, 1.5])).tolist()
+        [[1.0, 0.5, 0.0], [0.5, 0.0, 0.0]]
+        """
+        return ToolPath(tuple(piece.reversed() for piece in reversed(self.pieces)))
 
     @functools.cached_property
     def corners(self) -> np.ndarray:

@@ -114,10 +114,12 @@ def followed_route(
     problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0, along: Along | None = None
 ) -> Route:
     """The route along ``goal``'s path from ``state`` (the arm at its start) that gets farthest:
-    from ``state`` itself, or, when that stops short, from the best of ``tunables.path.other_starts`` free
-    poses at the start reachable by a short planned search (:func:`_quick_planner`; the first that
-    follows the whole path ends the trials). ``along(done, most)``: each trial's progress, in
-    thousandths of the path, after every sample (:data:`Along`)."""
+    from ``state`` itself, or, when that stops short (or cannot take the start to the path's
+    tolerance), from the best of ``tunables.path.other_starts`` free poses at the start, or else
+    along the path walked backward from a free pose at its end (:func:`_followed_backward`), each
+    reachable by a short planned search (:func:`_quick_planner`; the first that follows the whole
+    path ends the trials). ``along(done, most)``: each trial's progress, in thousandths of the
+    path, after every sample (:data:`Along`)."""
     from armanim.motion.planning.follow import damper_paced, path_schedule, poses_along
     from armanim.motion.planning.path import plan_path
     from armanim.motion.planning.poses import goal_poses
@@ -125,17 +127,23 @@ def followed_route(
     assert goal.path is not None
     best = _farther_follow(problem, method, state, goal, along)
     stay = np.zeros((0, len(state.phi)))
-    if best.cause is None or not best.states:
+    if best.cause is None:
         return Route(stay, best)
     found = goal_poses(problem, state.phi, goal.path.start, seed, goal.orientation)
     trials: list[tuple[np.ndarray, Followed]] = []
-    for pose in _other_branches(problem, state.phi, found.poses):
+    for pose in _other_branches(problem, found.poses, [state.phi]):
         trial = _farther_follow(problem, method, arm_state(problem, pose), goal, along)
         if _done(trial) > _done(best) + sample_spacing(problem, goal):
             trials.append((pose, trial))
             if trial.cause is None:
                 break
-    route = Route(stay, best, len(found.poses))
+    offered = len(found.poses)
+    if not any(trial.cause is None for _, trial in trials):
+        ends, backward = _followed_backward(problem, method, state, goal, seed, along)
+        offered += ends
+        if backward is not None:
+            trials.append((backward.states[0].phi, backward))
+    route = Route(stay, best, offered)
     quick = _quick_planner(problem)
     for pose, trial in sorted(trials, key=lambda t: -_done(t[1]))[: problem.tunables.path.route_plans]:
         planned = plan_path(quick, state.phi, pose[None])
@@ -145,8 +153,51 @@ def followed_route(
             schedule = path_schedule(planned.waypoints, step, most)
             frames = poses_along(planned.waypoints, damper_paced(problem, planned.waypoints, schedule, most))
             if np.abs(frames[-1] - pose).max() <= 1e-9:  # a plan cut short by the frame cap would leave a jump
-                return Route(frames, trial, len(found.poses), route.checks, planned.source)
+                return Route(frames, trial, offered, route.checks, planned.source)
     return route
+
+
+def _followed_backward(
+    problem: Problem, method: Method, state: ArmState, goal: Goal, seed: int = 0, along: Along | None = None
+) -> tuple[int, Followed | None]:
+    """The free poses offered at the end of ``goal``'s path, and the whole path as followed from the
+    first of up to ``tunables.path.other_starts`` of them (each ``tunables.path.branches_apart`` from
+    the others) that walks it backward to its start, turned round to run forward (None: none did).
+
+    Following forward keeps the arm in the branch it starts in, and a branch free at the start may
+    meet an obstacle before the end (the arm's elbow against a post as the tool comes down): the
+    oracle of ``pick_bench`` finds other poses free all along. Walking back from a free pose at the
+    end finds the branch that ends free. Each sample of the walk is solved and checked as forward
+    (the same filter, jumps and midpoints), and a step's joint motion is the same segment either way."""
+    from armanim.motion.planning.poses import goal_poses
+
+    assert goal.path is not None
+    back = replace(goal, path=goal.path.reversed())
+    ends = goal_poses(problem, state.phi, goal.path.end, seed, goal.orientation)
+    for pose in _other_branches(problem, ends.poses, []):
+        trial = _farther_follow(problem, method, arm_state(problem, pose), back, along)
+        if trial.cause is None:
+            return len(ends.poses), _turned_round(trial, goal.path)
+    return len(ends.poses), None
+
+
+def _turned_round(back: Followed, path: ToolPath) -> Followed:
+    """A whole follow of ``path`` reversed (:meth:`ToolPath.reversed`) as the follow of ``path``
+    itself: its samples in the other order, their arc lengths and distances from the path again."""
+    states = back.states[::-1]
+    s = [min(path.length, max(0.0, path.length - x)) for x in back.s[::-1]]
+    tips = np.array([state.tip for state in states])
+    before = np.array([s[0], *s[:-1]])
+    errors = path.nearest(tips, before, np.array(s))[1]
+    return Followed(
+        states=states,
+        s=s,
+        errors=[float(e) for e in errors],
+        iterations=back.iterations[::-1],
+        step_scale=back.step_scale[::-1],
+        newton_iterations=back.newton_iterations,
+        midpoint_error=back.midpoint_error,
+    )
 
 
 def _farther_follow(
@@ -178,18 +229,18 @@ def _near_limits(problem: Problem, followed: Followed) -> bool:
     return bool(np.any(inside & lim.limited))
 
 
-def _other_branches(problem: Problem, phi: np.ndarray, poses: np.ndarray) -> list[np.ndarray]:
+def _other_branches(problem: Problem, poses: np.ndarray, taken: list[np.ndarray]) -> list[np.ndarray]:
     """Up to ``tunables.path.other_starts`` of ``poses`` (k, n), nearest first, each at least
-    ``tunables.path.branches_apart`` (the largest joint's turn) from ``phi`` and from those taken before it."""
+    ``tunables.path.branches_apart`` (the largest joint's turn) from those ``taken`` (the arm's own
+    pose, or none) and from those taken before it."""
     opts = problem.tunables.path
-    taken = [phi]
+    chosen: list[np.ndarray] = []
     for pose in poses:
-        apart = [np.abs(joint_offset(problem, other, pose)).max() for other in taken]
-        if min(apart) >= opts.branches_apart:
-            taken.append(pose)
-            if len(taken) > opts.other_starts:
+        if all(np.abs(joint_offset(problem, other, pose)).max() >= opts.branches_apart for other in taken + chosen):
+            chosen.append(pose)
+            if len(chosen) >= opts.other_starts:
                 break
-    return taken[1:]
+    return chosen
 
 
 def _quick_planner(problem: Problem) -> Problem:
