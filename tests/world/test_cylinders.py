@@ -98,13 +98,24 @@ def test_grid_and_pairs_give_every_pair_the_same_numbers():
 
 
 def test_segments_apart_match_coal_to_1e_9():
+    # coal 3.0.3 misses one of the 800 (case 43: 0.0654 where the segment's least distance is
+    # 0.1678, which 200,001 samples and the golden-section search below both find): where coal
+    # disagrees, the test's own minimiser decides, and coal may miss at most 1 case in 200
     a, b, center, rotation, half, radius = cases = random_cases(4, 800)
     t, d, n = compiled_pairs(*cases)
-    compared = 0
+    compared, coal_missed = 0, []
     for k in np.flatnonzero(d > 1e-3):
         capsule, tf = coal_capsule(a[k], b[k], 0.01)
         expected, result = coal_distance(capsule, tf, center[k], rotation[k], half[k], radius[k])
-        assert abs((d[k] - 0.01) - expected) < 1e-9, k
+        if abs((d[k] - 0.01) - expected) >= 1e-9:
+            searched = golden_minimum(
+                lambda x, k=k: float(
+                    cylinder_signed_distance((a[k] - center[k] + x * (b[k] - a[k])) @ rotation[k], half[k], radius[k])
+                )
+            )
+            assert abs(searched - d[k]) < 1e-9, k  # coal's miss, not ours
+            coal_missed.append(int(k))
+            continue
         # the least point: a sphere there is exactly that far from the cylinder (coal's closed form)
         point = a[k] + t[k] * (b[k] - a[k])
         at, _ = coal_distance(
@@ -113,7 +124,7 @@ def test_segments_apart_match_coal_to_1e_9():
         assert abs((d[k] - 0.01) - at) < 1e-12, k
         np.testing.assert_allclose(point - d[k] * n[k], result.getNearestPoint1(), atol=1e-5)
         compared += 1
-    assert compared > 500
+    assert compared > 500 and len(coal_missed) <= compared // 200, coal_missed
 
 
 def test_points_apart_match_coal_and_inside_the_closed_form():
