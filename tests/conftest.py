@@ -12,9 +12,11 @@ from pathlib import Path
 
 # The bundled goldens were written with OpenBLAS's Haswell kernels and numpy's loops without
 # AVX-512. A machine picks its own at load time (an AVX-512 Xeon: OpenBLAS's SkylakeX kernels),
-# and a goal beyond reach turns a last-bit difference into other frames (scenes/out-of-reach:
-# 5e-17 at frame 36, 0.16 rad four frames later, 152 frames against 155): the suite asks every
-# machine for the same kernels, set before numpy loads OpenBLAS. docs/golden-tests.md says it.
+# and a goal beyond reach turned a last-bit difference into other frames while pinv chattered
+# there (scenes/out-of-reach: 152 frames against 155; since the arm stretches down the distance's
+# gradient, 77 frames on Haswell's, Sandybridge's and Prescott's kernels, 1.4e-6 deg/s apart at
+# most): the suite asks every machine for the same kernels, set before numpy loads OpenBLAS.
+# docs/golden-tests.md says it.
 os.environ.setdefault("OPENBLAS_CORETYPE", "Haswell")
 os.environ.setdefault(
     "NPY_DISABLE_CPU_FEATURES",

@@ -71,12 +71,13 @@ def test_every_miss_reason_is_explained():
     assert tuple(MISS_REASONS) == get_args(MissReason)
 
 
-@pytest.mark.parametrize("method", ["pinv", "dls"])
+@pytest.mark.parametrize("method", ["pinv", "dls", "gradient"])
 def test_a_goal_beyond_reach_is_given_up_without_shaking_the_arm(method):
     # issue 50: scenes/out-of-reach.yaml shook the arm (phi4 +-5 degrees, about 100 reversals) for
     # 19.6 s before its miss: across the stretched, singular pose pinv and dls alternated between
-    # two poses. Now a step that turns back is replaced by its creep across the one before, the
-    # arm stretches toward the goal, settles, and the goal stalls.
+    # two poses. Damping the turns back left it wobbling +-10 degrees for 4.1 s, 10.4 from the
+    # goal. Now pinv's and dls's arm goes down the gradient of the tip's distance (gradient's does
+    # by itself): it stretches toward the goal, settles where no pose comes closer, and the goal stalls.
     from dataclasses import replace
 
     from armanim.motion.stalls import stall_frames
@@ -89,19 +90,19 @@ def test_a_goal_beyond_reach_is_given_up_without_shaking_the_arm(method):
     first = solved.goals[0]
     assert not first.reached and first.reason == "out_of_reach" and solved.goals[1].reached
     distance = solved.trajectory.distance[: first.last_frame + 1]
+    assert np.all(np.diff(distance) <= 1e-9)  # never farther than the frame before
     settled = int(np.nonzero(distance - distance[-1] < 5 * problem.solver.tolerance)[0][0])
     assert first.last_frame - settled <= 2 * stall_frames(problem)  # given up within about a second of settling
     # the arm's first link (2 long) stands on the axis of joint 1, so the tip keeps within 15 of the
     # shoulder above the base: no pose comes closer than |goal - shoulder| - 15 (10.18)
     least = np.linalg.norm(problem.goals[0].position - (problem.arm.base + [0.0, 0.0, 2.0])) - 15.0
-    assert least <= first.final_distance <= 1.15 * least  # stretched toward it (newton: 10.19)
+    assert least <= first.final_distance <= least + 0.01  # stretched toward it, as close as a pose comes
     timed = retime(problem, solved, problem.fps)
-    mine = timed.trajectory.goal == 0
-    assert timed.goals[0].timing.duration < 5.0  # was 19.6 s
-    steps = np.diff(timed.trajectory.phi[mine], axis=0)
-    for j in range(problem.arm.n):  # each joint turns back a few times, not at every frame
-        moving = steps[:, j][np.abs(steps[:, j]) > 1e-9]
-        assert np.sum(np.diff(np.sign(moving)) != 0) <= 12, j
+    assert timed.goals[0].timing.duration < 2.5  # was 19.6 s, then 4.1 s
+    steps = np.diff(solved.trajectory.phi[solved.trajectory.goal == 0], axis=0)
+    for j in range(problem.arm.n):  # a joint turns back by a step over 0.57 degrees a few times at most
+        moving = steps[:, j][np.abs(steps[:, j]) > 0.01]
+        assert np.sum(np.diff(np.sign(moving)) != 0) <= 4, j
 
 
 def test_a_path_goal_tells_its_progress_along_the_path_and_changes_nothing():

@@ -60,17 +60,11 @@ class StallOptions:
         ... or less than this fraction of the distance still to go, whichever is larger.
     min_frames : int
         The window is at least this many frames, whatever the frame rate.
-    reversal : float
-        Toward a goal beyond the arm's reach, a method step whose direction turns back on the
-        step before (the cosine of the angle between the two joint steps below this) is replaced
-        by its part across that step, and halves the factor on the goal's other steps (a method
-        chattering across the stretched, singular pose).
     """
 
     seconds: float = 0.5
     progress: float = 0.05
     min_frames: int = 5
-    reversal: float = -0.5
 
 
 @dataclass(frozen=True)
