@@ -159,3 +159,61 @@ def test_a_still_layer_draws_what_filling_its_triangles_with_the_others_draws():
     by_itself = frame.copy()
     draw_triangles(by_itself, pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]))
     assert alone.tobytes() == by_itself.tobytes()
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    ends=st.lists(st.tuples(st.floats(20, 100), st.floats(20, 80)), min_size=2, max_size=8),
+    radius=st.floats(3, 10),
+)
+def test_soft_strokes_are_matplotlib_s_round_capped_strokes(ends, radius):
+    """The compiled strokes of the arm's shadow against matplotlib's Agg drawing the same segments
+    (round caps, the shadow's two passes, each stroke over the last): every pixel within 6 levels
+    of 255, the darkening summed over the frame within 6 % (Agg rounds the opacities to 1/255 and
+    its round caps to polygons). The strokes inside the frame (matplotlib clips a line at the
+    frame's edge before stroking it, which moves its cap there), and Agg unsnapped: it moves a
+    stroke that runs along a row or a column by up to half a pixel onto the grid, which a floor's
+    shadow seen from a camera above the floor practically never is. Strokes some pixels wide, as a
+    shadow is (20-35 px at 960 x 540): a cover from the distance to the edge is the area's to a
+    pixel's width, not for a stroke thinner than a pixel."""
+    from matplotlib.collections import LineCollection
+
+    from armanim.render.paint.pixels import in_pixels, make_figure
+    from armanim.render.pictures.canvas import SHADOW_PASSES, SHADOW_RGB
+    from armanim.render.solids.rasterloops import soft_strokes
+
+    xy = np.array(ends, dtype=float)
+    segments = np.stack([xy[:-1], xy[1:]], axis=1)
+    segments = segments[np.hypot(*(segments[:, 1] - segments[:, 0]).T) > 0.01]  # (Agg leaves points out)
+    radii = np.full(len(segments), radius) * np.linspace(1.0, 0.6, len(segments))
+    fig, canvas = make_figure(120, 100, 100.0)
+    renderer = canvas.get_renderer()
+    fig.draw(renderer)
+    blank = np.asarray(canvas.buffer_rgba()).copy()
+    strokes = in_pixels(LineCollection(segments, color=SHADOW_RGB / 255.0, capstyle="round", snap=False), fig)
+    for scale, alpha in SHADOW_PASSES:
+        strokes.set_linewidth(2 * radii * scale * 72.0 / fig.dpi)
+        strokes.set_alpha(alpha)
+        strokes.draw(renderer)
+    agg = np.asarray(canvas.buffer_rgba())[..., :3].astype(int)
+    ours = blank.copy()
+    soft_strokes(ours, segments, radii, SHADOW_PASSES, SHADOW_RGB)
+    assert np.abs(ours[..., :3].astype(int) - agg).max() <= 6
+    white = blank[..., :3].astype(float)
+    assert abs((white - ours[..., :3]).sum() - (white - agg).sum()) <= 0.06 * (white - agg).sum() + 200
+
+
+def test_a_stroke_of_no_length_is_a_disc_and_none_outside_the_frame_draws():
+    """A segment whose ends meet strokes a disc of its radius; strokes off the frame leave it as it was."""
+    from armanim.render.solids.rasterloops import soft_strokes
+
+    frame = np.full((40, 40, 4), 255, dtype=np.uint8)
+    soft_strokes(
+        frame, np.array([[[200.0, 20.0], [260.0, 30.0]]]), np.array([5.0]), np.array([[1.0, 1.0]]), np.zeros(3)
+    )
+    assert (frame == 255).all()
+    soft_strokes(frame, np.array([[[20.0, 20.0], [20.0, 20.0]]]), np.array([8.0]), np.array([[1.0, 1.0]]), np.zeros(3))
+    dark = frame[..., 0] < 128
+    assert abs(dark.sum() - np.pi * 64) <= 2 * np.pi * 8
+    rows, cols = np.nonzero(dark)
+    assert abs(rows.mean() - 19.5) < 0.1 and abs(cols.mean() - 19.5) < 0.1  # (the centre, y up, at pixel 20)

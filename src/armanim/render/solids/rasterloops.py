@@ -1,5 +1,5 @@
 """The rasteriser's compiled loops (numba): filling a triangle's samples and laying a sample
-grid over a frame; and a frame's yuv420p planes for the video's encoder
+grid over a frame; a video frame's soft strokes (the arm's shadow on the floor); and a frame's yuv420p planes for the video's encoder
 (:mod:`armanim.render.video.planes`). Imported by :mod:`armanim.render.solids.raster` when it first draws, so that
 a picture of an arm of links never loads numba."""
 
@@ -176,6 +176,77 @@ def _inside(w: float, dx: float, dy: float) -> bool:
     if w < 0.0:
         return False
     return dy < 0.0 or (dy == 0.0 and dx > 0.0)
+
+
+@compiled(**_JIT)
+def soft_strokes(buffer: np.ndarray, ends: np.ndarray, radii: np.ndarray, passes: np.ndarray, rgb: np.ndarray) -> None:
+    """Stroke segments ``ends`` (k, 2, 2: pixels, y up) with round caps into ``buffer`` (H, W, 4 uint8,
+    rows top to bottom), once per pass (scale, alpha) of ``passes`` (p, 2): half ``radii`` (k,) x
+    scale wide, in ``rgb`` (3,) 0-255 at alpha, each stroke laid over what is there. A pixel's cover
+    is its centre's distance from the stroke's edge, clipped to 0-1 (matplotlib's Agg strokes within
+    a few levels); a stroke's passes are laid at once (one colour: the order does not matter)."""
+    height, width = buffer.shape[0], buffer.shape[1]
+    grow = 0.0
+    for p in range(passes.shape[0]):
+        grow = max(grow, passes[p, 0])
+    for s in range(ends.shape[0]):
+        ax, ay, bx, by = ends[s, 0, 0], ends[s, 0, 1], ends[s, 1, 0], ends[s, 1, 1]
+        dx, dy = bx - ax, by - ay
+        ll = dx * dx + dy * dy
+        inverse = 0.0 if ll == 0.0 else 1.0 / ll
+        reach = radii[s] * grow + 0.5
+        for y in range(max(int(math.floor(min(ay, by) - reach)), 0), min(int(math.ceil(max(ay, by) + reach)), height)):
+            py = y + 0.5
+            lo, hi = _stadium_cut(py, ax, ay, bx, by, reach)
+            if lo > hi:
+                continue
+            out = buffer[height - 1 - y]
+            qy = py - ay
+            for x in range(max(int(math.floor(lo - 0.5)), 0), min(int(math.ceil(hi + 0.5)), width)):
+                qx = x + 0.5 - ax
+                t = min(max((qx * dx + qy * dy) * inverse, 0.0), 1.0)
+                ex, ey = qx - t * dx, qy - t * dy
+                d = math.sqrt(ex * ex + ey * ey)
+                keep = 1.0
+                for p in range(passes.shape[0]):
+                    keep *= 1.0 - passes[p, 1] * min(max(radii[s] * passes[p, 0] + 0.5 - d, 0.0), 1.0)
+                if keep < 1.0:
+                    for c in range(3):
+                        out[x, c] = np.uint8(rgb[c] + (out[x, c] - rgb[c]) * keep + 0.5)
+
+
+@compiled(**_JIT)
+def _stadium_cut(y: float, ax: float, ay: float, bx: float, by: float, r: float) -> tuple[float, float]:
+    """The x interval (lo > hi: none) where the row at height ``y`` crosses the points within ``r``
+    of the segment a-b: the hull of its crossings of the two end discs and of the band between them
+    (the stadium is convex, so its crossing is one interval)."""
+    lo, hi = np.inf, -np.inf
+    for cx, cy in ((ax, ay), (bx, by)):
+        h = y - cy
+        if h * h <= r * r:
+            half = math.sqrt(r * r - h * h)
+            lo, hi = min(lo, cx - half), max(hi, cx + half)
+    dx, dy = bx - ax, by - ay
+    length = math.sqrt(dx * dx + dy * dy)
+    if length == 0.0:
+        return lo, hi
+    ux, uy = dx / length, dy / length
+    x0, x1 = -np.inf, np.inf
+    across = (y - ay) * ux  # the band: (x - ax) uy - (y - ay) ux within [-r, r] ...
+    if uy != 0.0:
+        s, t = (across - r) / uy + ax, (across + r) / uy + ax
+        x0, x1 = max(x0, min(s, t)), min(x1, max(s, t))
+    elif abs(across) > r:
+        return lo, hi
+    along = (y - ay) * uy  # ... and (x - ax) ux + (y - ay) uy within [0, length]
+    if ux != 0.0:
+        s, t = -along / ux + ax, (length - along) / ux + ax
+        x0, x1 = max(x0, min(s, t)), min(x1, max(s, t))
+    elif along < 0.0 or along > length:
+        return lo, hi
+    if x0 <= x1:
+        lo, hi = min(lo, x0), max(hi, x1)
+    return lo, hi
 
 
 _ONE = 1 << 16  # fixed point: coefficients times 2^16
