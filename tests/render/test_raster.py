@@ -217,3 +217,43 @@ def test_a_stroke_of_no_length_is_a_disc_and_none_outside_the_frame_draws():
     assert abs(dark.sum() - np.pi * 64) <= 2 * np.pi * 8
     rows, cols = np.nonzero(dark)
     assert abs(rows.mean() - 19.5) < 0.1 and abs(cols.mean() - 19.5) < 0.1  # (the centre, y up, at pixel 20)
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10**6))
+def test_a_robot_s_mesh_is_seen_as_numpy_places_projects_and_lights_it(seed):
+    """The compiled pass of a robot's mesh (placed, projected, lit, its faces facing the camera or
+    not) against numpy's mesh_vertices, View.project, View.screen_normals and lambert, and the
+    faces' signed areas: random meshes on the links of a random arm and one in the world, a random
+    pose and camera; to 1e-9 px and 1e-12 of a colour, and the same faces facing."""
+    from armanim.arm.kinematics import Arm, forward
+    from armanim.arm.visuals import LinkMesh, mesh_vertices, placed_meshes
+    from armanim.render.camera.projection import camera_rotation
+    from armanim.render.camera.view import View, lambert
+    from armanim.render.solids.robot import RobotMeshes, vertex_normals
+
+    rng = np.random.default_rng(seed)
+    arm = Arm.from_names(rng.uniform(0.2, 1.0, 3))
+    meshes = [
+        LinkMesh(f"l{k}", rng.normal(size=(12, 3)), rng.integers(0, 12, (20, 3)), rng.uniform(0, 1, (20, 3)))
+        for k in range(4)
+    ]
+    offsets = [np.eye(4) for _ in meshes]
+    placed = placed_meshes(meshes, [-1, 0, 1, 2], offsets)
+    rotation = camera_rotation(rng.uniform(-60, 60), rng.uniform(-180, 180)) * rng.uniform(50, 200)
+    view = View(np.hstack([rotation, rng.uniform(0, 300, (3, 1))]), 320, 240)
+    robot = RobotMeshes(placed, np.full(3, -1), view, 100.0, (320, 240))
+    pose = forward(arm, rng.uniform(-3, 3, arm.n))
+    screen, rgb, facing = robot._seen(pose)
+
+    expected = view.project(mesh_vertices(placed, pose))
+    moving = placed.carrier >= 0
+    normals = vertex_normals(placed)
+    normals[moving] = np.einsum("vab,vb->va", pose.frames[placed.carrier[moving]], normals[moving])
+    lit = lambert(view.screen_normals(normals), np.ones(3)) * robot.vertex_color
+    a, b, c = (expected[placed.faces[:, i], :2] for i in range(3))
+    areas = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    assert np.abs(screen - expected).max() <= 1e-9
+    assert np.abs(rgb - lit).max() <= 1e-12
+    sure = np.abs(areas) > 1e-6  # (a sliver's sign is its rounding's)
+    assert np.array_equal(facing[sure], areas[sure] > 0.0)
