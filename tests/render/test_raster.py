@@ -257,3 +257,41 @@ def test_a_robot_s_mesh_is_seen_as_numpy_places_projects_and_lights_it(seed):
     assert np.abs(rgb - lit).max() <= 1e-12
     sure = np.abs(areas) > 1e-6  # (a sliver's sign is its rounding's)
     assert np.array_equal(facing[sure], areas[sure] > 0.0)
+
+
+def test_the_parts_of_one_z_buffer_draw_the_same_bytes_in_any_order():
+    """A robot's mesh parts at one pose fill one z-buffer (the canvas skips their painter's order):
+    drawn in their order, reversed or shuffled, the frame is the same bytes; another pose's parts
+    or a part without a mesh among them is not one z-buffer."""
+    from armanim.arm.kinematics import Arm, forward
+    from armanim.arm.visuals import LinkMesh, placed_meshes
+    from armanim.render.camera.projection import camera_rotation
+    from armanim.render.camera.view import View
+    from armanim.render.pictures.canvas import one_z_buffer
+    from armanim.render.solids.arm import Part
+    from armanim.render.solids.robot import RasterQueue, RobotMeshes
+
+    rng = np.random.default_rng(5)
+    arm = Arm.from_names([0.5, 0.4, 0.3])
+    meshes = [
+        LinkMesh(f"l{k}", rng.normal(scale=0.3, size=(30, 3)), rng.integers(0, 30, (60, 3)), rng.uniform(0, 1, (60, 3)))
+        for k in range(4)
+    ]
+    placed = placed_meshes(meshes, [-1, 0, 1, 2], [np.eye(4)] * 4)
+    view = View(np.hstack([camera_rotation(25.0, -60.0) * 90.0, np.array([[160.0], [120.0], [0.0]])]), 320, 240)
+    robot = RobotMeshes(placed, np.full(3, -1), view, 90.0, (320, 240))
+    pose = forward(arm, np.array([0.3, -0.8, 1.1]))
+    parts = robot.parts(pose)
+    assert one_z_buffer(parts)
+    assert not one_z_buffer(parts + robot.parts(forward(arm, np.zeros(3))))
+    assert not one_z_buffer(parts + [Part(parts[0].samples, 1.0, [], np.zeros((0, 4)))])
+    frames = []
+    for order in (range(len(parts)), reversed(range(len(parts))), rng.permutation(len(parts))):
+        frame = np.full((240, 320, 4), 255, dtype=np.uint8)
+        queue = RasterQueue((320, 240))
+        for k in order:
+            queue.add(parts[k].raster, frame)
+        queue.flush(frame)
+        frames.append(frame)
+    assert (frames[0][..., 0] < 255).sum() > 1000  # (the robot is in the frame)
+    assert all(np.array_equal(frames[0], f) for f in frames[1:])

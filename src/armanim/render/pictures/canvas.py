@@ -514,7 +514,11 @@ class SceneCanvas:
         colors: list[np.ndarray] = []
         buffer = np.asarray(self.canvas.buffer_rgba())
         meshes = RasterQueue((self.width, self.height))
-        for k in paint_order(np.array(samples), np.array(radii)):
+        if not len(spheres) and one_z_buffer(parts):  # drawn as one whatever their order (0.4 ms a ur5-pen frame)
+            order: list[int] | range = range(len(parts))
+        else:
+            order = paint_order(np.array(samples), np.array(radii))
+        for k in order:
             raster = parts[k].raster if k < len(parts) else None
             if raster is not None:  # a mesh link's pixels cover what was painted before
                 self._flush(polys, colors)
@@ -587,6 +591,16 @@ class SceneCanvas:
         self.faces.set_facecolor(color)
         self.faces.set_edgecolor(color)
         self.faces.draw(self.renderer)
+
+
+def one_z_buffer(parts: list[Part]) -> bool:
+    """Whether ``parts`` are all filled into one z-buffer (:class:`RasterQueue`: every one a mesh
+    of the same pose's points): there the nearest surface wins each sample whatever the parts'
+    painter's order (but for samples at exactly the same depth in two parts)."""
+    first = parts[0].raster if parts else None
+    return first is not None and all(
+        p.raster is not None and p.raster[0] is first[0] and p.raster[3] == first[3] for p in parts
+    )
 
 
 def _segment_goals(goals) -> list:
