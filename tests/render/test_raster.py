@@ -159,3 +159,139 @@ def test_a_still_layer_draws_what_filling_its_triangles_with_the_others_draws():
     by_itself = frame.copy()
     draw_triangles(by_itself, pts, still_faces, np.vstack([rgb, np.full((4, 3), 0.8)]))
     assert alone.tobytes() == by_itself.tobytes()
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    ends=st.lists(st.tuples(st.floats(20, 100), st.floats(20, 80)), min_size=2, max_size=8),
+    radius=st.floats(3, 10),
+)
+def test_soft_strokes_are_matplotlib_s_round_capped_strokes(ends, radius):
+    """The compiled strokes of the arm's shadow against matplotlib's Agg drawing the same segments
+    (round caps, the shadow's two passes, each stroke over the last): every pixel within 6 levels
+    of 255, the darkening summed over the frame within 6 % (Agg rounds the opacities to 1/255 and
+    its round caps to polygons). The strokes inside the frame (matplotlib clips a line at the
+    frame's edge before stroking it, which moves its cap there), and Agg unsnapped: it moves a
+    stroke that runs along a row or a column by up to half a pixel onto the grid, which a floor's
+    shadow seen from a camera above the floor practically never is. Strokes some pixels wide, as a
+    shadow is (20-35 px at 960 x 540): a cover from the distance to the edge is the area's to a
+    pixel's width, not for a stroke thinner than a pixel."""
+    from matplotlib.collections import LineCollection
+
+    from armanim.render.paint.pixels import in_pixels, make_figure
+    from armanim.render.pictures.canvas import SHADOW_PASSES, SHADOW_RGB
+    from armanim.render.solids.rasterloops import soft_strokes
+
+    xy = np.array(ends, dtype=float)
+    segments = np.stack([xy[:-1], xy[1:]], axis=1)
+    segments = segments[np.hypot(*(segments[:, 1] - segments[:, 0]).T) > 0.01]  # (Agg leaves points out)
+    radii = np.full(len(segments), radius) * np.linspace(1.0, 0.6, len(segments))
+    fig, canvas = make_figure(120, 100, 100.0)
+    renderer = canvas.get_renderer()
+    fig.draw(renderer)
+    blank = np.asarray(canvas.buffer_rgba()).copy()
+    strokes = in_pixels(LineCollection(segments, color=SHADOW_RGB / 255.0, capstyle="round", snap=False), fig)
+    for scale, alpha in SHADOW_PASSES:
+        strokes.set_linewidth(2 * radii * scale * 72.0 / fig.dpi)
+        strokes.set_alpha(alpha)
+        strokes.draw(renderer)
+    agg = np.asarray(canvas.buffer_rgba())[..., :3].astype(int)
+    ours = blank.copy()
+    soft_strokes(ours, segments, radii, SHADOW_PASSES, SHADOW_RGB)
+    assert np.abs(ours[..., :3].astype(int) - agg).max() <= 6
+    white = blank[..., :3].astype(float)
+    assert abs((white - ours[..., :3]).sum() - (white - agg).sum()) <= 0.06 * (white - agg).sum() + 200
+
+
+def test_a_stroke_of_no_length_is_a_disc_and_none_outside_the_frame_draws():
+    """A segment whose ends meet strokes a disc of its radius; strokes off the frame leave it as it was."""
+    from armanim.render.solids.rasterloops import soft_strokes
+
+    frame = np.full((40, 40, 4), 255, dtype=np.uint8)
+    soft_strokes(
+        frame, np.array([[[200.0, 20.0], [260.0, 30.0]]]), np.array([5.0]), np.array([[1.0, 1.0]]), np.zeros(3)
+    )
+    assert (frame == 255).all()
+    soft_strokes(frame, np.array([[[20.0, 20.0], [20.0, 20.0]]]), np.array([8.0]), np.array([[1.0, 1.0]]), np.zeros(3))
+    dark = frame[..., 0] < 128
+    assert abs(dark.sum() - np.pi * 64) <= 2 * np.pi * 8
+    rows, cols = np.nonzero(dark)
+    assert abs(rows.mean() - 19.5) < 0.1 and abs(cols.mean() - 19.5) < 0.1  # (the centre, y up, at pixel 20)
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10**6))
+def test_a_robot_s_mesh_is_seen_as_numpy_places_projects_and_lights_it(seed):
+    """The compiled pass of a robot's mesh (placed, projected, lit, its faces facing the camera or
+    not) against numpy's mesh_vertices, View.project, View.screen_normals and lambert, and the
+    faces' signed areas: random meshes on the links of a random arm and one in the world, a random
+    pose and camera; to 1e-9 px and 1e-12 of a colour, and the same faces facing."""
+    from armanim.arm.kinematics import Arm, forward
+    from armanim.arm.visuals import LinkMesh, mesh_vertices, placed_meshes
+    from armanim.render.camera.projection import camera_rotation
+    from armanim.render.camera.view import View, lambert
+    from armanim.render.solids.robot import RobotMeshes, vertex_normals
+
+    rng = np.random.default_rng(seed)
+    arm = Arm.from_names(rng.uniform(0.2, 1.0, 3))
+    meshes = [
+        LinkMesh(f"l{k}", rng.normal(size=(12, 3)), rng.integers(0, 12, (20, 3)), rng.uniform(0, 1, (20, 3)))
+        for k in range(4)
+    ]
+    offsets = [np.eye(4) for _ in meshes]
+    placed = placed_meshes(meshes, [-1, 0, 1, 2], offsets)
+    rotation = camera_rotation(rng.uniform(-60, 60), rng.uniform(-180, 180)) * rng.uniform(50, 200)
+    view = View(np.hstack([rotation, rng.uniform(0, 300, (3, 1))]), 320, 240)
+    robot = RobotMeshes(placed, np.full(3, -1), view, 100.0, (320, 240))
+    pose = forward(arm, rng.uniform(-3, 3, arm.n))
+    screen, rgb, facing = robot._seen(pose)
+
+    expected = view.project(mesh_vertices(placed, pose))
+    moving = placed.carrier >= 0
+    normals = vertex_normals(placed)
+    normals[moving] = np.einsum("vab,vb->va", pose.frames[placed.carrier[moving]], normals[moving])
+    lit = lambert(view.screen_normals(normals), np.ones(3)) * robot.vertex_color
+    a, b, c = (expected[placed.faces[:, i], :2] for i in range(3))
+    areas = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    assert np.abs(screen - expected).max() <= 1e-9
+    assert np.abs(rgb - lit).max() <= 1e-12
+    sure = np.abs(areas) > 1e-6  # (a sliver's sign is its rounding's)
+    assert np.array_equal(facing[sure], areas[sure] > 0.0)
+
+
+def test_the_parts_of_one_z_buffer_draw_the_same_bytes_in_any_order():
+    """A robot's mesh parts at one pose fill one z-buffer (the canvas skips their painter's order):
+    drawn in their order, reversed or shuffled, the frame is the same bytes; another pose's parts
+    or a part without a mesh among them is not one z-buffer."""
+    from armanim.arm.kinematics import Arm, forward
+    from armanim.arm.visuals import LinkMesh, placed_meshes
+    from armanim.render.camera.projection import camera_rotation
+    from armanim.render.camera.view import View
+    from armanim.render.pictures.canvas import one_z_buffer
+    from armanim.render.solids.arm import Part
+    from armanim.render.solids.robot import RasterQueue, RobotMeshes
+
+    rng = np.random.default_rng(5)
+    arm = Arm.from_names([0.5, 0.4, 0.3])
+    meshes = [
+        LinkMesh(f"l{k}", rng.normal(scale=0.3, size=(30, 3)), rng.integers(0, 30, (60, 3)), rng.uniform(0, 1, (60, 3)))
+        for k in range(4)
+    ]
+    placed = placed_meshes(meshes, [-1, 0, 1, 2], [np.eye(4)] * 4)
+    view = View(np.hstack([camera_rotation(25.0, -60.0) * 90.0, np.array([[160.0], [120.0], [0.0]])]), 320, 240)
+    robot = RobotMeshes(placed, np.full(3, -1), view, 90.0, (320, 240))
+    pose = forward(arm, np.array([0.3, -0.8, 1.1]))
+    parts = robot.parts(pose)
+    assert one_z_buffer(parts)
+    assert not one_z_buffer(parts + robot.parts(forward(arm, np.zeros(3))))
+    assert not one_z_buffer(parts + [Part(parts[0].samples, 1.0, [], np.zeros((0, 4)))])
+    frames = []
+    for order in (range(len(parts)), reversed(range(len(parts))), rng.permutation(len(parts))):
+        frame = np.full((240, 320, 4), 255, dtype=np.uint8)
+        queue = RasterQueue((320, 240))
+        for k in order:
+            queue.add(parts[k].raster, frame)
+        queue.flush(frame)
+        frames.append(frame)
+    assert (frames[0][..., 0] < 255).sum() > 1000  # (the robot is in the frame)
+    assert all(np.array_equal(frames[0], f) for f in frames[1:])

@@ -51,7 +51,11 @@ class View:
         return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-12)
 
 
-def lambert(normals: np.ndarray, color, ambient: float = 0.38, diffuse: float = 0.62) -> np.ndarray:
+AMBIENT, DIFFUSE = 0.38, 0.62
+"""The light every surface gets, and the most the light adds facing it."""
+
+
+def lambert(normals: np.ndarray, color, ambient: float = AMBIENT, diffuse: float = DIFFUSE) -> np.ndarray:
     """Flat shading of faces with screen-space unit normals, (..., 3) -> (..., 3) RGB."""
     intensity = ambient + diffuse * np.clip(normals @ LIGHT, 0.0, 1.0)
     return np.clip(np.asarray(color)[:3] * intensity[..., None], 0.0, 1.0)

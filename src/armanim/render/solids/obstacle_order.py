@@ -44,6 +44,7 @@ class ObstacleOrder:
 
     def __init__(self, spheres: SphereDiscs, shapes: ShapeSolids, view: View):
         self.spheres, self.shapes, self.view = spheres, shapes, view
+        self._ahead_of_corners: dict[int, np.ndarray] = {}
         c, r = spheres.centers, spheres.radii
         sphere_boxes = np.column_stack([c[:, 0] - r, c[:, 1] - r, c[:, 0] + r, c[:, 1] + r]).reshape(-1, 4)
         self.bbox = np.vstack([sphere_boxes, shapes.bbox])
@@ -75,13 +76,22 @@ class ObstacleOrder:
             ahead[boxes, :] = -scores.T
             ahead[np.ix_(boxes, boxes)] = 0.0
             for bi in boxes:  # box against box: the corners of one against the other
-                scores = self.shapes.box_ahead(self.view.project(box_corners(*self._box(box_of[bi])))[None])[0]
+                scores = self._corners_ahead(int(box_of[bi]))
                 for bj in boxes:
                     if bi != bj:
                         ahead[bi, bj] = scores[box_of[bj]]
             ahead = 0.5 * (ahead - ahead.T)
             np.fill_diagonal(ahead, 0.0)
         return order_by(ahead, samples[..., 2].mean(axis=1))
+
+    def _corners_ahead(self, k: int) -> np.ndarray:
+        """(B,) each box's score ahead of box ``k``'s corners on the screen (:meth:`ShapeSolids.box_ahead`):
+        the boxes never move, so it is computed once per box (panda-shelf's frames computed it for
+        each box the arm touched, every frame)."""
+        if k not in self._ahead_of_corners:
+            corners = self.view.project(box_corners(*self._box(k)))
+            self._ahead_of_corners[k] = self.shapes.box_ahead(corners[None])[0]
+        return self._ahead_of_corners[k]
 
     def _box(self, k: int):
         boxes = self.shapes.boxes

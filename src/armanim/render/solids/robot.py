@@ -1,8 +1,8 @@
 """The robot as it looks: each link's visual mesh as one part of the painter's order.
 
-Each link's triangles are placed by the pose (:func:`armanim.arm.visuals.mesh_vertices`),
-projected, the ones facing away dropped, shaded per vertex (one light plus ambient, as the
-capsules are) and drawn into a sprite by the z-buffer rasteriser
+Each link's triangles are placed by the pose (as :func:`armanim.arm.visuals.mesh_vertices` places
+them), projected, the ones facing away dropped, shaded per vertex (one light plus ambient, as the
+capsules are; these three in one compiled pass, :func:`~armanim.render.solids.rasterloops.seen_vertices`) and drawn into a sprite by the z-buffer rasteriser
 (:mod:`armanim.render.solids.raster`): within a link the nearest surface wins each pixel; between
 links, obstacles and the arm's other parts the painter's order decides, as it does for the
 capsules, from a segment and a radius that bound the link (computed once from its vertices).
@@ -15,9 +15,9 @@ from dataclasses import replace
 import numpy as np
 
 from armanim.arm.kinematics import Pose
-from armanim.arm.visuals import ArmMeshes, mesh_vertices
+from armanim.arm.visuals import ArmMeshes
 from armanim.motion.problem import Problem
-from armanim.render.camera.view import View, lambert
+from armanim.render.camera.view import AMBIENT, DIFFUSE, LIGHT, View, lambert
 from armanim.render.paint.style import GHOST_FADE, SELF_NEAR_COLOR
 from armanim.render.solids.arm import ArmSolids, Part, segment_samples
 from armanim.render.solids.raster import StillLayer, draw_outline, draw_triangles
@@ -56,6 +56,9 @@ class RobotMeshes:
         self.link_carriers = np.array([int(meshes.carrier[t[0, 0]]) if len(t) else -1 for t in self.link_triangles])
         """(L,) the joint that carries each link (-1: none, the world)."""
         self.normals = vertex_normals(meshes)
+        self.normal_map = np.linalg.inv(view.linear)
+        """(3, 3) world normals (row vectors) to the screen's, before their length is one
+        (:meth:`~armanim.render.camera.view.View.screen_normals`)."""
         vertex_color = np.zeros((len(meshes.vertices), 3))
         vertex_color[meshes.faces.ravel()] = np.repeat(meshes.colors, 3, axis=0)
         self.vertex_color = lifted(vertex_color)
@@ -91,8 +94,9 @@ class RobotMeshes:
         ``decal``: triangles drawn with the furniture, in its z-buffer (a path's ink on a
         whiteboard: hidden by the links in front of it, over the board behind it): screen points
         (K, 3), faces (k, 3) into them and colours (K, 3); left out without furniture."""
-        screen = self.view.project(mesh_vertices(self.meshes, pose))
-        rgb = self._shades(pose, ghost)
+        screen, rgb, facing = self._seen(pose)
+        if ghost:
+            rgb = rgb * (1 - GHOST_FADE) + GHOST_FADE
         for k in self._tinted_links(near):
             used = self.meshes.faces[self.link_faces[k]].ravel()
             rgb[used] = rgb[used] * (1 - NEAR_TINT) + np.asarray(SELF_NEAR_COLOR) * NEAR_TINT
@@ -100,7 +104,6 @@ class RobotMeshes:
         if decal is not None and self.furniture is not None and len(decal[1]):
             extra = np.asarray(decal[1], dtype=int) + len(screen)
             screen, rgb = np.vstack([screen, decal[0]]), np.vstack([rgb, decal[2]])
-        facing = _signed_areas(screen, self.meshes.faces) > 0.0  # every link's at once
         link_ends = self.view.project(_placed_ends(self.bound_ends, pose, self.link_carriers))
         parts = []
         for k, faces in enumerate(self.link_faces):
@@ -132,15 +135,33 @@ class RobotMeshes:
             )
         return parts
 
-    def _shades(self, pose: Pose, ghost: bool) -> np.ndarray:
-        """(V, 3) each vertex's colour lit by the light at ``pose`` (its normal turned by its carrier)."""
-        moving = self.meshes.carrier >= 0
-        normals = self.normals.copy()
-        if np.any(moving):
-            normals[moving] = np.einsum("vab,vb->va", pose.frames[self.meshes.carrier[moving]], self.normals[moving])
-        screen = self.view.screen_normals(normals)
-        rgb = lambert(screen, np.ones(3)) * self.vertex_color
-        return rgb * (1 - GHOST_FADE) + GHOST_FADE if ghost else rgb
+    def _seen(self, pose: Pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The mesh at ``pose`` as the camera sees it: screen points (V, 3), each vertex's colour lit
+        (V, 3; its normal turned by its carrier) and which faces face the camera (F,), in one
+        compiled pass (:func:`~armanim.render.solids.rasterloops.seen_vertices`)."""
+        from armanim.render.solids.rasterloops import seen_vertices  # compiled: numba is imported here
+
+        meshes = self.meshes
+        screen, rgb = np.empty((len(meshes.vertices), 3)), np.empty((len(meshes.vertices), 3))
+        facing = np.empty(len(meshes.faces), dtype=bool)
+        seen_vertices(
+            meshes.vertices,
+            meshes.carrier,
+            self.normals,
+            self.vertex_color,
+            np.ascontiguousarray(pose.points, dtype=float),
+            np.ascontiguousarray(pose.frames, dtype=float),
+            self.view.matrix,
+            self.normal_map,
+            LIGHT,
+            AMBIENT,
+            DIFFUSE,
+            meshes.faces,
+            screen,
+            rgb,
+            facing,
+        )
+        return screen, rgb, facing
 
     def _tinted_links(self, near: np.ndarray | None) -> set[int]:
         """The links with a capsule in a close pair."""
