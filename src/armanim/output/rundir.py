@@ -179,7 +179,7 @@ def marked_files(folder: Path) -> dict[str, dict | None] | None:
 def write_marker(folder: Path) -> None:
     """Mark ``folder`` as armanim's: list every file in it with its size and mtime (call when
     it is complete), so that only armanim's own, unchanged files count as armanim's."""
-    files = {p.name: file_stamp(p) for p in sorted(Path(folder).iterdir()) if p.name != MARKER}
+    files = {p.name: file_stamp(p) for p in sorted(Path(folder).iterdir()) if p.name not in (MARKER, STAGING_TAG)}
     data = {
         "made_by": "armanim",
         "armanim_version": __version__,
@@ -276,14 +276,37 @@ def leftovers(final: Path) -> list[Path]:
     return sorted(p for p in parent.iterdir() if pattern.fullmatch(p.name))
 
 
+STAGING_TAG = ".armanim-staging"
+"""The file a run's staging folder holds from the moment it is made until its marker is written,
+so that the next run of the folder knows a killed run's staging folder as armanim's."""
+
+
+def _made_by_armanim(leftover: Path) -> bool:
+    """Whether a folder at a leftover's name (:func:`leftovers`) is armanim's to remove or put back:
+    a staging folder that holds :data:`STAGING_TAG`, or a folder a run would replace (empty, or a
+    run folder armanim marked and nobody changed since). A folder of the user's that only bears
+    such a name (a copy kept as ``.NAME.old-1``) is not, nor is a link or a file."""
+    try:
+        if not stat.S_ISDIR(os.lstat(leftover).st_mode):
+            return False
+        if leftover.name.endswith(".partial") and stat.S_ISREG(os.lstat(leftover / STAGING_TAG).st_mode):
+            return True
+    except OSError:
+        pass
+    return replace_problem(leftover) is None
+
+
 def recover(final: Path) -> None:
     """Tidy up after a run of ``final`` that was killed outright; call with the lock held.
 
     An old folder moved aside by an unfinished swap is put back if ``final`` is missing;
-    every other leftover is removed.
+    every other leftover is removed. Only what armanim made (:func:`_made_by_armanim`) is
+    touched: a folder of the user's at such a name is left as it is.
     """
     final = Path(final)
     for path in leftovers(final):
+        if not _made_by_armanim(path):
+            continue
         if path.name.endswith(".partial") or final.exists():
             shutil.rmtree(path, ignore_errors=True)
         else:
@@ -337,13 +360,15 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
         committed = False
         try:
             try:
-                if keep_files and final.is_dir():
-                    try:
+                try:
+                    (staged / STAGING_TAG).touch()  # (killed before it: an empty folder, armanim's too)
+                    if keep_files and final.is_dir():
                         _copy_run(final, staged)
-                    except OSError as exc:
-                        raise output_error(staged, exc) from None
+                except OSError as exc:
+                    raise output_error(staged, exc) from None
                 yield staged
                 write_marker(staged)
+                (staged / STAGING_TAG).unlink()  # after the marker: a killed run's folder is always known as armanim's
             except OutputError as exc:  # name the folder the user knows, not the hidden staging folder
                 raise type(exc)(str(exc).replace(str(staged), str(final))) from None
             with interrupts_deferred():
