@@ -31,6 +31,7 @@ from pathlib import Path
 from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
+from armanim.output.files import special_kind
 from armanim.output.jsontext import json_text, parse_json
 from armanim.procs.deferred import interrupts_deferred
 
@@ -44,16 +45,23 @@ def folder_lock(folder: Path) -> Iterator[None]:
     lock = folder.parent / f".{folder.name}.lock"
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
-        # never through a link: a dangling one would make armanim create a file where it points
-        handle = os.fdopen(
-            os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), "a"
-        )
+        # never through a link: a dangling one would make armanim create a file where it points;
+        # never waiting: a FIFO there would block the open until a reader came (campaign 9)
+        fd = os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o666)
     except OSError as exc:
         if exc.errno == errno.ELOOP:
             raise OutputError(
                 f"{lock}: is a link, which armanim did not make and does not follow (remove it)"
             ) from None
+        if exc.errno in (errno.ENXIO, errno.EISDIR):  # a FIFO with no reader; a folder
+            kind = "a FIFO (named pipe)" if exc.errno == errno.ENXIO else "a folder"
+            raise OutputError(f"{lock}: is {kind}, which armanim did not make and does not use (remove it)") from None
         raise output_error(folder, exc) from None
+    kind = special_kind(os.fstat(fd).st_mode)
+    if kind is not None:  # a FIFO someone reads, a device
+        os.close(fd)
+        raise OutputError(f"{lock}: is {kind}, which armanim did not make and does not use (remove it)")
+    handle = os.fdopen(fd, "a")
     try:
         with _exclusively(handle.fileno()):
             yield
