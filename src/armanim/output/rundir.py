@@ -54,19 +54,22 @@ def folder_lock(folder: Path) -> Iterator[None]:
                 f"{lock}: is a link, which armanim did not make and does not follow (remove it)"
             ) from None
         if exc.errno in (errno.ENXIO, errno.EISDIR):  # a FIFO with no reader; a folder
-            kind = "a FIFO (named pipe)" if exc.errno == errno.ENXIO else "a folder"
-            raise OutputError(f"{lock}: is {kind}, which armanim did not make and does not use (remove it)") from None
+            raise _not_a_lock(lock, "a FIFO (named pipe)" if exc.errno == errno.ENXIO else "a folder") from None
         raise output_error(folder, exc) from None
     kind = special_kind(os.fstat(fd).st_mode)
     if kind is not None:  # a FIFO someone reads, a device
         os.close(fd)
-        raise OutputError(f"{lock}: is {kind}, which armanim did not make and does not use (remove it)")
+        raise _not_a_lock(lock, kind)
     handle = os.fdopen(fd, "a")
     try:
         with _exclusively(handle.fileno()):
             yield
     finally:
         handle.close()
+
+
+def _not_a_lock(lock: Path, kind: str) -> OutputError:
+    return OutputError(f"{lock}: is {kind}, which armanim did not make and does not use (remove it)")
 
 
 @contextlib.contextmanager
