@@ -60,7 +60,7 @@ def fk(
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(png, "--png")
-        check_marked_replaceable(png, "--png")  # a picture of yours there: exit 3 before any work
+        check_marked_replaceable(png, "--png", "fk --png")  # a picture of yours there: exit 3 before any work
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     values = parse_numbers(angles, "--angles", model.arm.joint_count)
     answer = forward_pose(model, values, in_radians=radians, with_notes=loaded is not None)
@@ -105,7 +105,7 @@ def fk(
         for note in notes:  # a mesh not found: its link is drawn as its capsules, as in a run
             say(f"note: {note}", err)
         drawn = draw_pose(replace(converted.problem, goals=()), answer.phi, settings, title="armanim fk", meshes=meshes)
-        write_marked(png, png_bytes(drawn))
+        write_marked(png, png_bytes(drawn), "fk --png")
         if not as_json:
             say(f"wrote {png}")
 

@@ -75,5 +75,5 @@ def schema(
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(output, "--out")
-        check_marked_replaceable(output, "--out")  # a file of yours there: exit 3, left as it was
-        write_marked(output, text)
+        check_marked_replaceable(output, "--out", "schema")  # a file of yours there: exit 3, left as it was
+        write_marked(output, text, "schema")
