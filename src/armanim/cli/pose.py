@@ -14,7 +14,7 @@ import typer
 
 from armanim.cli.app import app, err, fmt, handle_errors, out, say, tell_first_compile
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
-from armanim.cli.options import parse_lengths, parse_numbers
+from armanim.cli.options import file_path, parse_lengths, parse_numbers
 from armanim.errors import UsageError
 from armanim.output.jsontext import json_text
 from armanim.output.numbers import number
@@ -47,7 +47,10 @@ def fk(
             "--json", help="Print JSON: angles_deg, joints (base to tip), tip, tip_quaternion_wxyz, tip_rpy_deg."
         ),
     ] = False,
-    png: Annotated[Path | None, typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
+    png: Annotated[
+        Path | None,
+        typer.Option("--png", help="Also draw the pose to this PNG file.", parser=file_path, metavar="<path>"),
+    ] = None,
 ) -> None:
     """Forward kinematics of one pose: joint positions and the tip.
 
