@@ -25,6 +25,7 @@ ones of benchmarks/README.md ("Attack campaigns").
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import os
 import re
@@ -130,7 +131,7 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         os.killpg(proc.pid, signal.SIGKILL)
         out, err = proc.communicate()
     seconds = time.perf_counter() - started
-    with contextlib_suppress():
+    with contextlib.suppress(OSError):
         os.killpg(proc.pid, signal.SIGKILL)  # nothing of the attempt outlives it
     problems: list[str] = []
     verdict = "right"
@@ -161,14 +162,6 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
     if problems and not text.strip() == "":
         problems.append("said: " + " | ".join(text.strip().splitlines()[-3:])[:400])
     return verdict, problems, seconds, proc.returncode
-
-
-class contextlib_suppress:
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(self, *exc: object) -> bool:
-        return True
 
 
 # ------------------------------------------------------------------ inputs
