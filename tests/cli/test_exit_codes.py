@@ -64,3 +64,22 @@ def test_scene_error_survives_pickling():
         validate_scene_text(SMALL.replace("[1, 1]", "[1, -1]"), "bad.yaml")
     again = pickle.loads(pickle.dumps(info.value))
     assert again.report() == info.value.report() and again.problems == info.value.problems
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("schema", "--out", "{d}/figures/"),
+        ("fk", "--angles", "0,30,45,10", "--png", "{d}/figures/"),
+        ("export", "{d}/run", "--out", "{d}/figures/"),
+        ("view", "{d}/run", "--out", "{d}/figures/"),
+        ("import", "moveit", "{d}/w.scene", "--robot", "panda", "--out", "{d}/figures/"),
+    ],
+)
+def test_a_file_named_with_a_trailing_slash_is_a_usage_error(cli, tmp_path, args):
+    """Campaign 9: ``export --out exports/`` (a folder meant) wrote a file named ``exports``, exit 0;
+    so did every option that names a file to write. Now exit 2, and nothing is made."""
+    result = cli(*(a.replace("{d}", str(tmp_path)) for a in args))
+    assert result.exit_code == 2, result.output
+    assert "ends with '/', so it names a folder: give a file's name" in " ".join(result.output.split())
+    assert list(tmp_path.iterdir()) == []

@@ -239,6 +239,35 @@ def test_export_into_another_run_folder_is_refused(tmp_path, cli):
     assert rerun.exit_code == 0, rerun.output
 
 
+def test_a_marked_file_is_replaced_only_by_a_file_of_its_kind(tmp_path, cli):
+    """Campaign 9: ``export A --out OUT/index.csv`` replaced a batch's table (armanim's, marked) with
+    a trajectory, exit 0, and the next batch then stopped (exit 3, "a file of yours"); ``schema --out``
+    and ``fk --png`` replaced an export the same way. A mark now records what armanim wrote, and a file
+    is replaced only by one of its kind (exit 3 otherwise, every byte left); the batch goes on."""
+    scenes = [tmp_path / f"{name}.yaml" for name in ("a", "b")]
+    for scene in scenes:
+        scene.write_text(LINKS, encoding="utf-8")
+    out = tmp_path / "out"
+    assert cli("run", *scenes, "--no-video", "--quiet", "--out", out, "--jobs", "1").exit_code == 0
+    index = out / "index.csv"
+    table = index.read_bytes()
+    result = cli("export", out / "a", "--out", index)
+    assert result.exit_code == 3 and "is a file armanim wrote as its index.csv, not as its export" in result.stderr, (
+        result.output
+    )
+    assert index.read_bytes() == table
+    exported = tmp_path / "exported.json"
+    assert cli("export", out / "a", "--out", exported).exit_code == 0
+    trajectory = exported.read_bytes()
+    for args in (("schema", "--out", exported), ("fk", "--angles", "0,10,20", "--png", exported)):
+        result = cli(*args)
+        assert result.exit_code == 3 and "as its export, not as its" in result.stderr, result.output
+        assert exported.read_bytes() == trajectory
+    assert cli("export", out / "b", "--out", exported).exit_code == 0  # its own kind: replaced
+    again = cli("run", *scenes, "--no-video", "--quiet", "--out", out, "--jobs", "1")
+    assert again.exit_code == 0, again.output
+
+
 def test_nothing_is_exported_into_a_folder_a_run_would_remove(tmp_path, cli):
     """Campaign 5: ``export A --out OUT/.b.abcdefgh.partial/x.json`` (a folder named as run b's staging
     folder) wrote there, exit 0, and the next run of b removed the folder with the export in it.

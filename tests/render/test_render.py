@@ -127,6 +127,22 @@ def test_odd_sizes_are_padded_to_even_for_mp4(scene, tmp_path):
     assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == FRAMES
 
 
+@pytest.mark.parametrize("size", [(16, 16), (48, 27), (200, 16), (16, 200)])
+def test_the_smallest_frames_are_drawn(scene, tmp_path, size):
+    """Campaign 9: ``run --size 16x16`` (the least size the scene takes) ended in matplotlib's
+    RuntimeError "FT_Set_Char_Size ... invalid ppem value": the frame's dpi made the caption's glyphs
+    less than half a pixel. Every size from 16 a side is drawn, its text at least :data:`LEAST_DPI`."""
+    from armanim.render.paint.scenery import LEAST_DPI, frame_layout
+    from armanim.render.video.movie import render_video
+
+    problem, traj, reports = scene
+    out = tmp_path / "small.mp4"
+    render_video(solved(problem, traj, reports), options(size=size, jobs=1), out)
+    assert imageio_ffmpeg.count_frames_and_secs(str(out))[0] == FRAMES
+    layout = frame_layout(*size)
+    assert layout.dpi == LEAST_DPI and layout.scene[1] < layout.scene[3] <= layout.caption_xy[1] < size[1]
+
+
 def test_gif_frames_have_the_settings_duration(scene, tmp_path):
     from PIL import Image
 

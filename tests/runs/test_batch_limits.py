@@ -161,6 +161,22 @@ def test_a_sweep_beyond_the_limit_is_exit_2_before_anything_is_built(cli, tmp_pa
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_set_path_deeper_than_a_scene_is_exit_2(cli, tmp_path):
+    """Campaign 9: ``--set arm.a.a.a...`` of 5,000 parts built a variant nested 5,000 deep and ended in
+    a RecursionError traceback (exit 1) while it was written out; a path deeper than a scene may nest
+    is exit 2 before anything is built. 64 parts is a scene's own bound: refused by the scene's check."""
+    from armanim.scene.yamlread import MAX_DEPTH
+
+    scene = small_scene(tmp_path, "s")
+    result = cli("sweep", scene, "--set", "arm." + ".".join(["a"] * 5_000) + "=1", "--out", tmp_path / "o")
+    assert result.exit_code == 2 and "the path is 5,001 fields deep (a scene nests at most 64)" in result.stderr, (
+        result.output
+    )
+    assert "Traceback" not in result.output and not (tmp_path / "o").exists()
+    result = cli("sweep", scene, "--set", "arm." + ".".join(["a"] * (MAX_DEPTH - 1)) + "=1", "--out", tmp_path / "o")
+    assert result.exit_code == 2 and "Traceback" not in result.output, result.output
+
+
 def test_a_sweep_and_a_batch_say_their_size_first(cli, tmp_path):
     result = cli(
         "sweep", small_scene(tmp_path, "s"), "--set", "solver.step=0.1,0.2,0.1", "--out", tmp_path / "o", "--jobs", "1"

@@ -242,6 +242,47 @@ def test_killed_run_is_tidied_by_the_next(cli, tmp_path, tiny_scene, previous_ru
     assert leftovers(out) == []
 
 
+@pytest.mark.parametrize("name", [".tiny.old-1", ".tiny.abcdefgh.partial"])
+@pytest.mark.parametrize("with_run_folder", [True, False])
+def test_a_user_folder_named_as_a_leftover_is_never_removed(cli, tiny_scene, previous_run, name, with_run_folder):
+    """Campaign 9: a folder of the user's that bears a staging or moved-aside name (a copy kept as
+    ``.tiny.old-1``) was removed with all it held by the next run, or, with no run folder, moved
+    into its place (and the run refused). Only a leftover armanim made is tidied."""
+    out, _ = previous_run
+    if not with_run_folder:
+        shutil.rmtree(out / "tiny")
+    mine = out / name
+    mine.mkdir()
+    (mine / "thesis.txt").write_text("mine\n")
+    result = cli("run", tiny_scene, "--out", out, "--no-video", "--quiet")
+    assert result.exit_code == 0, result.output
+    assert sorted(os.listdir(mine)) == ["thesis.txt"]
+    assert (mine / "thesis.txt").read_text() == "mine\n"
+    assert (out / "tiny" / MARKER).is_file()
+
+
+def test_a_killed_run_s_staging_folder_with_its_files_is_removed_by_the_next(tmp_path, previous_run):
+    """What a run killed mid-write leaves (its staging folder, some files written) is still armanim's,
+    and removed; so is one killed after its marker was written."""
+    from armanim.output.rundir import staged_folder
+
+    out, before = previous_run
+    kept = []
+    with pytest.raises(RuntimeError):
+        with staged_folder(out / "tiny") as staged:
+            (staged / "trajectory.csv").write_text("frame\n")
+            shutil.copytree(staged, out / ".tiny.killed01.partial")  # as a kill -9 here leaves it
+            kept.append(staged)
+            raise RuntimeError("stop")
+    shutil.copytree(out / "tiny", out / ".tiny.killed02.partial")  # killed after the marker, before the swap
+    with pytest.raises(RuntimeError):
+        with staged_folder(out / "tiny"):
+            raise RuntimeError("fails after recovery")
+    assert snapshot(out / "tiny") == before
+    assert leftovers(out) == []
+    assert not kept[0].exists()
+
+
 def test_os_replace_permission_denied(cli, monkeypatch, tiny_scene, previous_run):
     out, before = previous_run
 

@@ -131,6 +131,47 @@ def test_a_disk_full_message_names_the_run_folder_not_its_staging(cli, tmp_path,
     assert f"{tmp_path / 'out' / 'a'}/scene.yaml: the disk is full" in result.stderr and ".partial" not in result.stderr
 
 
+def test_a_fifo_at_the_lock_is_refused_never_waited_on(cli, tmp_path, finished_run):
+    """Campaign 9: a FIFO at ``OUT/.NAME.lock`` made `run` and `render` wait for ever for a reader
+    (the lock was opened blocking); with a reader there, the FIFO was taken as the lock. Either way
+    it is the user's thing: exit 3, naming it, and it is left as it was."""
+    import os
+    import subprocess
+    import sys
+
+    lock = finished_run.parent / ".r.lock"
+    lock.unlink()
+    os.mkfifo(lock)
+    before = snapshot(finished_run)
+    reader = os.open(lock, os.O_RDONLY | os.O_NONBLOCK)  # someone reads it: the open would succeed
+    try:
+        for args in (("run", tmp_path / "r.yaml", "--out", finished_run.parent), ("render", finished_run)):
+            result = cli(*args, "--no-video" if args[0] == "run" else "--size=64x48", "-q")
+            assert result.exit_code == 3 and ".r.lock: is a FIFO (named pipe)" in result.stderr, result.output
+    finally:
+        os.close(reader)
+    # nobody reads it: the open must not wait (a guard against a hang, not a bound on time)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "armanim",
+            "run",
+            str(tmp_path / "r.yaml"),
+            "--out",
+            str(finished_run.parent),
+            "--no-video",
+            "-q",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 3 and ".r.lock: is a FIFO (named pipe)" in proc.stderr, proc.stderr
+    assert snapshot(finished_run) == before
+    assert os.path.lexists(lock) and not os.path.isfile(lock)
+
+
 def test_a_dangling_link_at_the_lock_is_refused_not_followed(cli, tmp_path):
     out = tmp_path / "out"
     out.mkdir()

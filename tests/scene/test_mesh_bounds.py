@@ -200,6 +200,35 @@ def test_a_collada_instance_bomb_is_refused_before_it_is_expanded(tmp_path, monk
     )
 
 
+def test_a_collada_file_of_too_many_elements_is_refused_before_it_is_parsed(tmp_path, monkeypatch):
+    """Campaign 9: a COLLADA file of 300,000 nodes (18 MB, 300,000 triangles: within every other
+    bound) took some 30 s of CPU in pycollada and armanim's placing, and an interrupt waited for
+    pycollada's one call (4 s late). Its elements are counted in its bytes first: more than
+    MAX_DAE_ELEMENTS is a note, pycollada never called; a file at the bound is read."""
+    import collada
+
+    from armanim.scene.meshfiles import MAX_DAE_ELEMENTS, read_mesh
+
+    nodes = '<node id="n0"><instance_geometry url="#g"/></node>'
+    many = "".join(f'<node id="m{i}"><instance_node url="#n0"/></node>' for i in range(MAX_DAE_ELEMENTS // 2))
+    (tmp_path / "many.dae").write_text(_dae(nodes + many, "n0"))
+    parsed = []
+    real = collada.Collada
+    monkeypatch.setattr(collada, "Collada", lambda *args, **kwargs: parsed.append(1) or real(*args, **kwargs))
+    meshes, notes = _read(_urdf(tmp_path, _mesh("many.dae")))
+    assert meshes == [] and len(notes) == 1 and parsed == [], notes
+    assert "its reader cannot be interrupted while it builds them" in notes[0]  # (the note is cut to one line)
+    from xml.etree import ElementTree
+
+    elements = sum(1 for _ in ElementTree.parse(tmp_path / "many.dae").iter())  # the parser's own count
+    with pytest.raises(ValueError, match=f"holds {elements:,} XML elements \\(at most 100,000 in one COLLADA file"):
+        read_mesh((tmp_path / "many.dae").read_bytes(), "dae")
+    fewer = "".join(f'<node id="m{i}"><instance_node url="#n0"/></node>' for i in range(MAX_DAE_ELEMENTS // 2 - 20))
+    (tmp_path / "fewer.dae").write_text(_dae(nodes + fewer, "n0"))
+    meshes, notes = _read(_urdf(tmp_path, _mesh("fewer.dae")))
+    assert notes == [] and parsed == [1]
+
+
 def test_one_file_named_by_three_links_is_read_once(tmp_path, monkeypatch):
     """Three links name one STL of 100,000 triangles: it is read once, simplified as it is read
     (the look draws at most TRIANGLE_BUDGET), and each link draws it."""

@@ -129,6 +129,9 @@ def test_the_fit_is_the_same_twice_and_from_the_cache(robot_dir, tmp_path, monke
     for path in (tmp_path / "c").glob("*.json"):  # a damaged cache entry is fitted again, never trusted
         path.write_text('{"key": "x", "capsules": [{"from": [0, 0, 0], "to": [0, 0, 0], "radius": 0}]}')
     assert rows(mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")) == rows(fresh)
+    for path in (tmp_path / "c").glob("*.json"):  # campaign 9: JSON nested within the size bound was a RecursionError
+        path.write_text("[" * 49_000 + "]" * 49_000)
+    assert rows(mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")) == rows(fresh)
 
 
 def test_an_unwritable_cache_folder_means_no_cache(tmp_path, monkeypatch):

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from armanim.cli.app import app, handle_errors, say
+from armanim.cli.options import file_path
 
 
 @app.command()
@@ -26,6 +27,8 @@ def export(
         Path | None,
         typer.Option(
             "--out",
+            parser=file_path,
+            metavar="<path>",
             help="Write to this file (outside the run folder; an existing file is replaced only if it is an exported trajectory) instead of the run's joint_trajectory.json.",
             show_default=False,
         ),

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from armanim.cli.app import app, err, handle_errors, message_lines, say
+from armanim.cli.options import file_path
 
 import_app = typer.Typer(
     name="import",
@@ -35,6 +36,8 @@ def moveit(
         Path,
         typer.Option(
             "--out",
+            parser=file_path,
+            metavar="<path>",
             help="The armanim scene to write (an existing file is replaced only if this command wrote it).",
             show_default=False,
         ),

@@ -8,6 +8,7 @@ stands for, so a flag accepts exactly what a scene accepts; a bad one is a Usage
 from __future__ import annotations
 
 import os
+from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
@@ -52,6 +53,20 @@ QualityOpt = Annotated[
         "overrides the scene's render size and fps (--size and --fps override it in turn).",
     ),
 ]
+
+
+def file_path(text: str | Path) -> Path:
+    """A file to write, named on the command line (``export --out``, ``schema --out``, ``fk --png``,
+    ``view --out``, ``import moveit --out``), as a Path. A name that ends with ``/`` means a folder,
+    and Path() would drop the slash: ``export --out exports/`` wrote a file named ``exports``
+    (campaign 9), so it is a usage error (exit 2).
+
+    >>> file_path("a/b.json").as_posix()
+    'a/b.json'
+    """
+    if isinstance(text, str) and text.endswith(("/", os.sep)):
+        raise typer.BadParameter(f"{text!r} ends with '/', so it names a folder: give a file's name")
+    return Path(text)
 
 
 def parse_numbers(text: str, flag: str, count: int | None = None) -> np.ndarray:

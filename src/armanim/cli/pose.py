@@ -14,7 +14,7 @@ import typer
 
 from armanim.cli.app import app, err, fmt, handle_errors, out, say, tell_first_compile
 from armanim.cli.arm import AxesOpt, BaseOpt, DirOpt, LinksOpt, RobotOpt, SceneOpt, arm_scene
-from armanim.cli.options import parse_lengths, parse_numbers
+from armanim.cli.options import file_path, parse_lengths, parse_numbers
 from armanim.errors import UsageError
 from armanim.output.jsontext import json_text
 from armanim.output.numbers import number
@@ -47,7 +47,10 @@ def fk(
             "--json", help="Print JSON: angles_deg, joints (base to tip), tip, tip_quaternion_wxyz, tip_rpy_deg."
         ),
     ] = False,
-    png: Annotated[Path | None, typer.Option("--png", help="Also draw the pose to this PNG file.")] = None,
+    png: Annotated[
+        Path | None,
+        typer.Option("--png", help="Also draw the pose to this PNG file.", parser=file_path, metavar="<path>"),
+    ] = None,
 ) -> None:
     """Forward kinematics of one pose: joint positions and the tip.
 
@@ -60,7 +63,7 @@ def fk(
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(png, "--png")
-        check_marked_replaceable(png, "--png")  # a picture of yours there: exit 3 before any work
+        check_marked_replaceable(png, "--png", "fk --png")  # a picture of yours there: exit 3 before any work
     model, loaded = arm_scene(scene, links, base, axes, direction, robot)
     values = parse_numbers(angles, "--angles", model.arm.joint_count)
     answer = forward_pose(model, values, in_radians=radians, with_notes=loaded is not None)
@@ -105,7 +108,7 @@ def fk(
         for note in notes:  # a mesh not found: its link is drawn as its capsules, as in a run
             say(f"note: {note}", err)
         drawn = draw_pose(replace(converted.problem, goals=()), answer.phi, settings, title="armanim fk", meshes=meshes)
-        write_marked(png, png_bytes(drawn))
+        write_marked(png, png_bytes(drawn), "fk --png")
         if not as_json:
             say(f"wrote {png}")
 

@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 
 from armanim.cli.app import app, handle_errors, plural, print_notes, report, say
+from armanim.cli.options import file_path
 from armanim.errors import EXIT_BAD_INPUT, message_lines, shown_list
 from armanim.output.jsontext import json_text
 
@@ -58,7 +59,10 @@ def scene_counts(model) -> str:
 @handle_errors
 def schema(
     output: Annotated[
-        Path | None, typer.Option("--out", help="Write the schema to this file instead of stdout.")
+        Path | None,
+        typer.Option(
+            "--out", help="Write the schema to this file instead of stdout.", parser=file_path, metavar="<path>"
+        ),
     ] = None,
 ) -> None:
     """Print the scene file's JSON Schema, for editors to complete and check scenes.
@@ -75,5 +79,5 @@ def schema(
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(output, "--out")
-        check_marked_replaceable(output, "--out")  # a file of yours there: exit 3, left as it was
-        write_marked(output, text)
+        check_marked_replaceable(output, "--out", "schema")  # a file of yours there: exit 3, left as it was
+        write_marked(output, text, "schema")

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from armanim.cli.app import app, err, handle_errors, message_lines, say
+from armanim.cli.options import file_path
 
 
 @app.command()
@@ -20,6 +21,8 @@ def view(
         Path | None,
         typer.Option(
             "--out",
+            parser=file_path,
+            metavar="<path>",
             help="Write the page to this file instead of the run's viewer.html (an existing file is replaced only if it is a page armanim wrote).",
             show_default=False,
         ),

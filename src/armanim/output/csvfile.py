@@ -35,7 +35,7 @@ from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
 from armanim.output.atomic import write_chunks_atomic, write_target
 from armanim.output.files import open_regular
-from armanim.output.marks import as_marked, file_mark, foreign_mark
+from armanim.output.marks import as_marked, file_mark, foreign_mark, other_kind
 from armanim.output.solved import SolvedRun
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
@@ -192,9 +192,9 @@ def spreadsheet_text(cell):
     return cell
 
 
-def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
+def check_table_replaceable(path: Path, is_ours: Callable[[str], bool], kind: str) -> None:
     """An OutputError (exit 3) if a file at ``path`` is not a table armanim wrote (``index.csv``,
-    a sweep's table), recognised by ``is_ours(first line)``; absent, or armanim's, is fine.
+    a sweep's table: its mark's ``kind``), recognised by ``is_ours(first line)``; absent, or armanim's, is fine.
 
     Raises
     ------
@@ -217,7 +217,10 @@ def check_table_replaceable(path: Path, is_ours: Callable[[str], bool]) -> None:
             f"{path}: this file was not written by armanim (its first line is not armanim's header), "
             "so it is not replaced (move it away, or choose another folder with --out)"
         )
-    if not as_marked(target):
+    other = other_kind(target, kind)
+    if other is not None:
+        raise OutputError(f"{path}: {other} (move it away, or choose another folder with --out)")
+    if not as_marked(target, kind):
         raise OutputError(
             f"{path}: has changed since armanim wrote it (it is not what {file_mark(path).name} beside it "
             "records, or that mark is missing), so it is not replaced (move it away, or choose another folder with --out)"

@@ -29,10 +29,11 @@ def file_mark(path: Path) -> Path:
     return Path(path).with_name(f".{Path(path).name}.armanim.json")
 
 
-def mark_line(path: Path, data: bytes) -> str:
-    """The mark of ``data`` written at ``path``: one JSON line (generator, file, bytes, sha256).
+def mark_line(path: Path, data: bytes, kind: str) -> str:
+    """The mark of ``data`` written at ``path``: one JSON line (generator, file, bytes, sha256, and
+    ``kind``, what armanim wrote there: :data:`KINDS`).
 
-    >>> mark_line(Path("a.png"), b"x")[:54]
+    >>> mark_line(Path("a.png"), b"x", "fk --png")[:54]
     '{"generator": "armanim", "file": "a.png", "bytes": 1, '
     """
     return (
@@ -42,13 +43,20 @@ def mark_line(path: Path, data: bytes) -> str:
                 "file": Path(path).name,
                 "bytes": len(data),
                 "sha256": hashlib.sha256(data).hexdigest(),
+                "kind": kind,
             }
         )
         + "\n"
     )
 
 
-def write_marked(path: Path, data: bytes | str) -> None:
+KINDS = ("index.csv", "sweep table", "schema", "fk --png", "export")
+"""What a marked file is. A file is replaced only by a file of its own kind (campaign 9: `export
+--out OUT/index.csv` replaced a batch's table with a trajectory, and the next batch stopped): a
+mark without a kind (armanim before 2026-12-07) is taken as any kind."""
+
+
+def write_marked(path: Path, data: bytes | str, kind: str) -> None:
     """Write ``data`` at ``path`` (atomically; through a link there, to the file it names) and
     then its mark (:func:`file_mark`), a signal held back between the two (a file without its
     matching mark would be refused next time). Check first with :func:`check_marked_replaceable`."""
@@ -58,7 +66,7 @@ def write_marked(path: Path, data: bytes | str) -> None:
     target = write_target(path)  # a link is written through: the mark goes beside the file it names
     with interrupts_deferred():
         write_chunks_atomic(target, [raw])
-        write_chunks_atomic(file_mark(target), [mark_line(target, raw).encode()])
+        write_chunks_atomic(file_mark(target), [mark_line(target, raw, kind).encode()])
 
 
 def read_mark(mark: Path) -> dict | None:
@@ -78,6 +86,7 @@ def read_mark(mark: Path) -> dict | None:
         or not isinstance(recorded.get("file"), str)
         or not isinstance(recorded.get("bytes"), int)
         or not isinstance(recorded.get("sha256"), str)
+        or recorded.get("kind", KINDS[0]) not in KINDS
     ):
         return None
     return recorded
@@ -96,10 +105,18 @@ def foreign_mark(path: Path) -> str | None:
     return None
 
 
-def as_marked(path: Path) -> bool:
-    """Whether the regular file ``path`` is, byte for byte, what its mark records."""
+def marked_kind(path: Path) -> str | None:
+    """The kind (:data:`KINDS`) its mark gives the file at ``path``, None when it has none (a mark of
+    an armanim before kinds were recorded) or there is no mark of armanim's."""
     recorded = read_mark(file_mark(path))
-    if recorded is None or recorded["file"] != Path(path).name:
+    return None if recorded is None else recorded.get("kind")
+
+
+def as_marked(path: Path, kind: str) -> bool:
+    """Whether the regular file ``path`` is, byte for byte, what its mark records, and of ``kind``
+    (:data:`KINDS`; a mark without a kind is of any)."""
+    recorded = read_mark(file_mark(path))
+    if recorded is None or recorded["file"] != Path(path).name or recorded.get("kind", kind) != kind:
         return False
     digest = hashlib.sha256()
     try:
@@ -113,7 +130,16 @@ def as_marked(path: Path) -> bool:
     return digest.hexdigest() == recorded["sha256"]
 
 
-def check_marked_replaceable(path: Path, option: str) -> None:
+def other_kind(path: Path, kind: str) -> str | None:
+    """Why a file of ``kind`` must not replace ``path``, when ``path`` is a file armanim marked as of
+    another kind (a batch's index.csv, a sweep's table, an export, ...), else None."""
+    recorded = marked_kind(path)
+    if recorded is None or recorded == kind:
+        return None
+    return f"is a file armanim wrote as its {recorded}, not as its {kind}, so it is not replaced"
+
+
+def check_marked_replaceable(path: Path, option: str, kind: str) -> None:
     """An OutputError (exit 3) unless a write to ``path`` (named by ``option``) replaces nothing
     but a file armanim wrote there and nobody changed since: nothing there, or a file that is what
     its mark records. A link is judged by the file it names.
@@ -130,7 +156,10 @@ def check_marked_replaceable(path: Path, option: str) -> None:
         raise OutputError(f"{path}: {option}: {foreign} (move it away, or choose another path)")
     if not os.path.lexists(target):
         return
-    if not as_marked(target):
+    other = other_kind(target, kind)
+    if other is not None:
+        raise OutputError(f"{path}: {option}: {other} (move it away, or choose another path)")
+    if not as_marked(target, kind):
         raise OutputError(
             f"{path}: {option}: a file is there that armanim did not write, or that has changed since "
             f"(it is not what {file_mark(target).name} beside it records, or that mark is missing), "

@@ -31,6 +31,7 @@ from pathlib import Path
 from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
+from armanim.output.files import special_kind
 from armanim.output.jsontext import json_text, parse_json
 from armanim.procs.deferred import interrupts_deferred
 
@@ -44,21 +45,31 @@ def folder_lock(folder: Path) -> Iterator[None]:
     lock = folder.parent / f".{folder.name}.lock"
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
-        # never through a link: a dangling one would make armanim create a file where it points
-        handle = os.fdopen(
-            os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), "a"
-        )
+        # never through a link: a dangling one would make armanim create a file where it points;
+        # never waiting: a FIFO there would block the open until a reader came (campaign 9)
+        fd = os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o666)
     except OSError as exc:
         if exc.errno == errno.ELOOP:
             raise OutputError(
                 f"{lock}: is a link, which armanim did not make and does not follow (remove it)"
             ) from None
+        if exc.errno in (errno.ENXIO, errno.EISDIR):  # a FIFO with no reader; a folder
+            raise _not_a_lock(lock, "a FIFO (named pipe)" if exc.errno == errno.ENXIO else "a folder") from None
         raise output_error(folder, exc) from None
+    kind = special_kind(os.fstat(fd).st_mode)
+    if kind is not None:  # a FIFO someone reads, a device
+        os.close(fd)
+        raise _not_a_lock(lock, kind)
+    handle = os.fdopen(fd, "a")
     try:
         with _exclusively(handle.fileno()):
             yield
     finally:
         handle.close()
+
+
+def _not_a_lock(lock: Path, kind: str) -> OutputError:
+    return OutputError(f"{lock}: is {kind}, which armanim did not make and does not use (remove it)")
 
 
 @contextlib.contextmanager
@@ -179,7 +190,7 @@ def marked_files(folder: Path) -> dict[str, dict | None] | None:
 def write_marker(folder: Path) -> None:
     """Mark ``folder`` as armanim's: list every file in it with its size and mtime (call when
     it is complete), so that only armanim's own, unchanged files count as armanim's."""
-    files = {p.name: file_stamp(p) for p in sorted(Path(folder).iterdir()) if p.name != MARKER}
+    files = {p.name: file_stamp(p) for p in sorted(Path(folder).iterdir()) if p.name not in (MARKER, STAGING_TAG)}
     data = {
         "made_by": "armanim",
         "armanim_version": __version__,
@@ -276,14 +287,37 @@ def leftovers(final: Path) -> list[Path]:
     return sorted(p for p in parent.iterdir() if pattern.fullmatch(p.name))
 
 
+STAGING_TAG = ".armanim-staging"
+"""The file a run's staging folder holds from the moment it is made until its marker is written,
+so that the next run of the folder knows a killed run's staging folder as armanim's."""
+
+
+def _made_by_armanim(leftover: Path) -> bool:
+    """Whether a folder at a leftover's name (:func:`leftovers`) is armanim's to remove or put back:
+    a staging folder that holds :data:`STAGING_TAG`, or a folder a run would replace (empty, or a
+    run folder armanim marked and nobody changed since). A folder of the user's that only bears
+    such a name (a copy kept as ``.NAME.old-1``) is not, nor is a link or a file."""
+    try:
+        if not stat.S_ISDIR(os.lstat(leftover).st_mode):
+            return False
+        if leftover.name.endswith(".partial") and stat.S_ISREG(os.lstat(leftover / STAGING_TAG).st_mode):
+            return True
+    except OSError:
+        pass
+    return replace_problem(leftover) is None
+
+
 def recover(final: Path) -> None:
     """Tidy up after a run of ``final`` that was killed outright; call with the lock held.
 
     An old folder moved aside by an unfinished swap is put back if ``final`` is missing;
-    every other leftover is removed.
+    every other leftover is removed. Only what armanim made (:func:`_made_by_armanim`) is
+    touched: a folder of the user's at such a name is left as it is.
     """
     final = Path(final)
     for path in leftovers(final):
+        if not _made_by_armanim(path):
+            continue
         if path.name.endswith(".partial") or final.exists():
             shutil.rmtree(path, ignore_errors=True)
         else:
@@ -337,13 +371,15 @@ def staged_folder(final: Path, *, keep_files: bool = False) -> Iterator[Path]:
         committed = False
         try:
             try:
-                if keep_files and final.is_dir():
-                    try:
+                try:
+                    (staged / STAGING_TAG).touch()  # (killed before it: an empty folder, armanim's too)
+                    if keep_files and final.is_dir():
                         _copy_run(final, staged)
-                    except OSError as exc:
-                        raise output_error(staged, exc) from None
+                except OSError as exc:
+                    raise output_error(staged, exc) from None
                 yield staged
                 write_marker(staged)
+                (staged / STAGING_TAG).unlink()  # after the marker: a killed run's folder is always known as armanim's
             except OutputError as exc:  # name the folder the user knows, not the hidden staging folder
                 raise type(exc)(str(exc).replace(str(staged), str(final))) from None
             with interrupts_deferred():

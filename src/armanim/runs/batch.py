@@ -267,7 +267,7 @@ def run_batch(
     """
     paths = list(dict.fromkeys(Path(p) for p in paths))  # the same file twice runs once
     index = Path(out_root) / "index.csv"
-    check_table_replaceable(index, is_index_header)  # a user's index.csv: exit 3 before any work
+    check_table_replaceable(index, is_index_header, "index.csv")  # a user's index.csv: exit 3 before any work
     tasks, rejected = load_tasks(paths)
     done = run_tasks(tasks, out_root, options, scheduler=scheduler, progress=progress)
     by_file = {e.scene_file: e for e in [*done, *rejected]}
@@ -278,5 +278,5 @@ def run_batch(
 
 def write_index(path: Path, entries: list[BatchEntry]) -> None:
     """Write ``index.csv``, replacing only an index.csv armanim wrote."""
-    check_table_replaceable(path, is_index_header)
-    write_marked(path, index_csv_text(entries))
+    check_table_replaceable(path, is_index_header, "index.csv")
+    write_marked(path, index_csv_text(entries), "index.csv")

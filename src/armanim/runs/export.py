@@ -30,7 +30,7 @@ from armanim.output.jointtrajectory import (
     joint_trajectory,
     joint_trajectory_text,
 )
-from armanim.output.marks import as_marked, file_mark, foreign_mark, write_marked
+from armanim.output.marks import as_marked, file_mark, foreign_mark, other_kind, write_marked
 from armanim.scene.models import LIMITS
 
 EXPORT_FORMATS = ("joint-trajectory",)
@@ -138,7 +138,10 @@ def _replace_problem(target: Path) -> str | None:
     mark = file_mark(target)
     if not os.path.lexists(mark):
         return f"is a file armanim did not write (no mark {mark.name} beside it), so it is not replaced"
-    if not as_marked(target):
+    other = other_kind(target, "export")
+    if other is not None:
+        return other
+    if not as_marked(target, "export"):
         return f"has changed since armanim exported it (it is not what {mark.name} records), so it is not replaced"
     return None
 
@@ -196,7 +199,7 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
             if own:  # the run folder's own file is listed by its marker
                 write_text_atomic(path, text)
             else:  # a file elsewhere gets its mark
-                write_marked(path, text)
+                write_marked(path, text, "export")
 
         return write
 

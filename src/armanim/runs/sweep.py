@@ -23,7 +23,7 @@ from armanim.output.marks import write_marked
 from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks, write_index
 from armanim.runs.options import RunOptions
 from armanim.scene import load_scene, scene_from_bytes
-from armanim.scene.yamlread import read_yaml
+from armanim.scene.yamlread import MAX_DEPTH, read_yaml
 
 MAX_VARIANTS = 1_000
 """The most variants one sweep runs (as a scene has at most 1,000 goals): more is a typo, or a job for a batch."""
@@ -64,6 +64,9 @@ def parse_setting(text: str) -> Setting:
     path = path.strip()
     if not sep or not _PATH.match(path):
         raise UsageError(f"--set: expected FIELD.PATH=VALUE1,VALUE2,... e.g. --set solver.step=0.05,0.1 (got {text!r})")
+    depth = len(re.findall(r"[A-Za-z_]\w*|\[\d+\]", path))
+    if depth > MAX_DEPTH:  # campaign 9: 5,000 parts nested the variant 5,000 deep, a RecursionError
+        raise UsageError(f"--set {path[:60]}...: the path is {depth:,} fields deep (a scene nests at most {MAX_DEPTH})")
     items = _split_values(values)
     if not items:
         raise UsageError(f"--set {path}: no values given (expected e.g. {path}=0.05,0.1)")
@@ -307,15 +310,17 @@ def run_sweep(
     variant_count(settings)
     scene_path, out_root = Path(scene_path), Path(out_root)
     table = out_root / f"{scene_path.stem}-sweep.csv"
-    check_table_replaceable(table, is_sweep_header)  # a user's file at these names: exit 3 before any work
-    check_table_replaceable(out_root / "index.csv", is_index_header)
+    check_table_replaceable(
+        table, is_sweep_header, "sweep table"
+    )  # a user's file at these names: exit 3 before any work
+    check_table_replaceable(out_root / "index.csv", is_index_header, "index.csv")
     items = variants(scene_path, settings)
     tasks = [v.task for v in items if v.task is not None]
     done = run_tasks(tasks, out_root, RunOptions(video=video, jobs=jobs), scheduler=scheduler, progress=progress)
     by_name = {e.name: e for e in done}
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)
-    check_table_replaceable(table, is_sweep_header)
-    write_marked(table, table_csv_text(header, rows, text_cells=True))
+    check_table_replaceable(table, is_sweep_header, "sweep table")
+    write_marked(table, table_csv_text(header, rows, text_cells=True), "sweep table")
     write_index(out_root / "index.csv", entries)
     return SweepResult(items, entries, header, rows, table)

@@ -331,10 +331,11 @@ def cache_folder() -> Path | None:
 def _cached(folder: Path, key: str) -> list[FittedCapsule] | None:
     """The fit kept under ``key``, or None (absent, or not a fit armanim wrote: then fitted again)."""
     from armanim.output.files import read_bounded
+    from armanim.output.jsontext import parse_json
 
     path = folder / f"{key}.json"
     try:
-        data = json.loads(read_bounded(path, MAX_CACHE_BYTES, "a cached capsule fit"))
+        data = parse_json(read_bounded(path, MAX_CACHE_BYTES, "a cached capsule fit"))  # (nested deep: ValueError)
         capsules = [
             FittedCapsule(np.array(c["from"], dtype=float), np.array(c["to"], dtype=float), float(c["radius"]))
             for c in data["capsules"]

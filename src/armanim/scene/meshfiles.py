@@ -31,6 +31,12 @@ MAX_FILE_TRIANGLES = 2_000_000
 """Most triangles one mesh file may place, counted before they are built (a 64 MB binary STL
 holds 1.34 million): an OBJ face of a million corners, or COLLADA nodes that instance each other
 ten times seven levels deep, are refused instead of filling memory."""
+MAX_DAE_ELEMENTS = 100_000
+"""Most XML elements (counted in the file's bytes, before it is parsed) of one COLLADA file.
+pycollada builds an object for each, in one call that an interrupt cannot stop: a file of 300,000
+nodes (18 MB, within every other bound) took some 30 s of CPU, and a Ctrl-C 10 s into it was
+answered 4 s later (campaign 9). A link's mesh holds a few hundred; 100,000 is parsed in about a
+second."""
 VISUAL_COLOR = -1.0
 """The colour value of a triangle that takes its visual's colour (its URDF ``<material>``)."""
 
@@ -188,6 +194,12 @@ def _dae(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise ValueError("is a zip archive (a .zae); armanim does not inflate archives: give the .dae itself")
     if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
         raise ValueError("has a DTD (<!DOCTYPE> or <!ENTITY>): entity expansion is refused")
+    elements = data.count(b"<") - data.count(b"</") - data.count(b"<?") - data.count(b"<!")
+    if elements > MAX_DAE_ELEMENTS:
+        raise ValueError(
+            f"holds {elements:,} XML elements (at most {MAX_DAE_ELEMENTS:,} in one COLLADA file: "
+            "its reader cannot be interrupted while it builds them; merge its nodes, or export it as STL)"
+        )
     broken = [
         collada.common.DaeError,
         collada.common.DaeIncompleteError,

@@ -13,6 +13,12 @@ import numpy as np
 
 INCHES_HIGH = 5.0  # figure height in inches: fonts scale with the frame
 INCHES_WIDE = INCHES_HIGH * 16 / 9  # ... or with its width, for frames narrower than 16:9
+LEAST_DPI = 10.0
+"""The figure's least dots per inch. FreeType draws no glyph under one pixel a em, and matplotlib
+hands it the dpi as a whole number: at a frame's own dpi, 16 x 16 to 48 x 27 (or 200 x 16) made the
+smallest caption (6.3 points, its glyphs some 4.5) less than half a pixel and ended the run in a
+RuntimeError (campaign 9). At 10, text is at least 0.6 pixels a em; a frame this small shows its
+text larger than its share, cut, while the layout keeps its proportions."""
 FLOOR_DROP = 0.02  # the floor sits this fraction of the scene's size under its lowest point
 FLOOR_PAD = 0.05  # the floor reaches this fraction of the scene's size beyond its footprint
 GRID_LINES = 8  # about this many grid lines across the floor
@@ -26,7 +32,7 @@ class Layout:
     ----------
     width, height : int
     dpi : float
-        Dots per inch of the figure: text sizes in points scale with it.
+        Dots per inch of the figure: text sizes in points scale with it (at least :data:`LEAST_DPI`).
     scene : (x0, y0, x1, y1)
         The rectangle the scene is fitted into.
     title_xy, caption_xy : (x, y)
@@ -58,8 +64,8 @@ def frame_layout(width: int, height: int, *, legend: bool = True) -> Layout:
     >>> lay.dpi, lay.scene[1] < lay.scene[3] < lay.caption_xy[1]
     (144.0, True)
     """
-    dpi = min(height / INCHES_HIGH, width / INCHES_WIDE)
-    unit = dpi * INCHES_HIGH  # the height of a 16:9 frame of this text size
+    unit = min(height / INCHES_HIGH, width / INCHES_WIDE) * INCHES_HIGH  # the height of a 16:9 frame of this text size
+    dpi = max(unit / INCHES_HIGH, LEAST_DPI)
     top = height - 0.025 * unit
     caption_top = top - 0.1 * unit
     scene_top = caption_top - 0.085 * unit
