@@ -173,9 +173,49 @@ def fit_capsules(vertices: np.ndarray, faces: np.ndarray | None = None, max_caps
         return _fit_large(vertices, faces, max_capsules)
     if not len(points):
         return []
+    points, triangles, edges = _mesh(points, inverse, faces)
+    return _finished(points, triangles, edges, _search(points, edges, max_capsules))
+
+
+def candidate_fits(
+    vertices: np.ndarray, faces: np.ndarray | None = None, max_capsules: int = 3
+) -> tuple[list[list[FittedCapsule]], int]:
+    """Every set of capsules :func:`fit_capsules` chooses among, each finished as the chosen one is
+    (refined, a cut's shrunk, rounded), and the index of the one it keeps: for the benchmarks that
+    weigh the choice (``benchmarks/mbm_fit_candidates.py``). Meshes of at most
+    :data:`LARGE_POINTS` distinct points.
+
+    >>> box = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 4)], dtype=float)
+    >>> sets, kept = candidate_fits(box)
+    >>> [len(c) for c in sets][:1], len(sets[kept])
+    ([1], 2)
+    """
+    points, inverse = np.unique(np.asarray(vertices, dtype=float).reshape(-1, 3), axis=0, return_inverse=True)
+    if not 0 < len(points) <= LARGE_POINTS:
+        raise ValueError(f"candidate_fits takes 1 to {LARGE_POINTS} distinct points, not {len(points)}")
+    points, triangles, edges = _mesh(points, inverse, faces)
+    found, outside = candidates(points, edges, max_capsules)
+    return [_finished(points, triangles, edges, _refined_pieces(points, edges, c)) for c in found], _chosen(
+        found, outside
+    )
+
+
+def _mesh(
+    points: np.ndarray, inverse: np.ndarray, faces: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+    """The distinct points, their triangles (indices into them, or None) and their edges (E, 2, 3) each once."""
     triangles = None if faces is None else inverse.reshape(-1)[np.asarray(faces, dtype=np.int64)].reshape(-1, 3)
-    edges = _edges(points, triangles)  # each edge once
-    chosen = _search(points, edges, max_capsules)
+    return points, triangles, _edges(points, triangles)
+
+
+def _finished(
+    points: np.ndarray,
+    triangles: np.ndarray | None,
+    edges: np.ndarray,
+    chosen: list[tuple[Fit, tuple[float, float], np.ndarray]],
+) -> list[FittedCapsule]:
+    """The chosen capsules of the distinct ``points`` (their triangles and edges) as written: a cut's
+    shrunk (:func:`_shrunk`, when the mesh is small enough), then each rounded (:func:`_rounded`)."""
     if len(chosen) > 1 and (triangles is None or len(triangles) <= SHRINK_TRIANGLES):
         return [_rounded(fit, held) for fit, held in _shrunk(points, triangles, chosen)]
     return [_rounded(fit, _slab(points, edges, axis, lo, hi)) for fit, (lo, hi), axis in chosen]
@@ -187,33 +227,57 @@ def _search(
     """The capsules chosen for the (distinct) ``points`` and ``edges`` (E, 2, 3): each fit with the
     slab (lo, hi) along its axis that it holds (the whole range for one).
 
-    Candidates are one capsule and, for 2 and 3, the :data:`TRIED` cuts of least coarse volume
-    and the :data:`TRIED` of least coarse volume outside the hull (among those within
-    :data:`VOLUME_ALLOWANCE` of the least coarse volume), each fitted in full. Of them the one of
-    least volume outside the points' convex hull (:class:`_Outside`) is kept, among those of at
-    most :data:`VOLUME_ALLOWANCE` times the least volume found (on a tie, the lesser volume, then
-    the first: one capsule before two, two before three)."""
+    Of the candidates (:func:`candidates`) the one of least volume outside the points' convex hull
+    (:class:`_Outside`) is kept, among those of at most :data:`VOLUME_ALLOWANCE` times the least
+    volume found (on a tie, the lesser volume, then the first: one capsule before two, two before
+    three); each of its capsules is then refined (:func:`_refined`)."""
+    found, outside = candidates(points, edges, max_capsules)
+    return _refined_pieces(points, edges, found[_chosen(found, outside)])
+
+
+def _chosen(found: list[list[tuple[Fit, tuple[float, float], np.ndarray]]], outside: _Outside) -> int:
+    """The index of the candidate :func:`_search` keeps (its docstring says which)."""
+    volumes = [sum(p[0][0] for p in pieces) for pieces in found]
+    least = min(volumes)
+    kept = [k for k, volume in enumerate(volumes) if volume <= VOLUME_ALLOWANCE * least]
+    return min(kept, key=lambda k: (outside.volume([p[0] for p in found[k]]), volumes[k], k))
+
+
+def _refined_pieces(
+    points: np.ndarray, edges: np.ndarray, pieces: list[tuple[Fit, tuple[float, float], np.ndarray]]
+) -> list[tuple[Fit, tuple[float, float], np.ndarray]]:
+    """Each piece's capsule refined (:func:`_refined`) on its slab's hull, with its slab and axis."""
+    return [
+        (_refined(hull_points(_slab(points, edges, axis, lo, hi)), fit), (lo, hi), axis)
+        for fit, (lo, hi), axis in pieces
+    ]
+
+
+def candidates(
+    points: np.ndarray, edges: np.ndarray, max_capsules: int
+) -> tuple[list[list[tuple[Fit, tuple[float, float], np.ndarray]]], _Outside]:
+    """The sets of capsules :func:`_search` chooses among, and the grid it weighs them on.
+
+    One capsule and, for 2 and 3, the :data:`TRIED` cuts of least coarse volume and the
+    :data:`TRIED` of least coarse volume outside the hull (among those within
+    :data:`VOLUME_ALLOWANCE` of the least coarse volume), each piece fitted in full (not refined);
+    each capsule with the slab (lo, hi) along its axis that it holds. Public for the benchmarks
+    that weigh each candidate (``benchmarks/mbm_fit_candidates.py``)."""
     axes = principal_axes(points)
     one = (_piece_fit(points, fine=True), (-np.inf, np.inf), axes[0])
     search, search_edges = (
         (points, edges) if len(points) <= SEARCH_POINTS else (_search_points(points), np.zeros((0, 2, 3)))
     )
     outside = _Outside(search)
-    candidates = [[one]]
+    found = [[one]]
     counts = range(2, max(1, min(int(max_capsules), 3)) + 1)
     splits = _best_splits(search, search_edges, cut_axes(axes), tuple(counts), outside) if len(counts) else {}
     for count in counts:
         for _, cuts, axis in splits.get(count, []):
-            candidates.append(
+            found.append(
                 [(_piece_fit(_slab(points, edges, axis, lo, hi), fine=True), (lo, hi), axis) for lo, hi in cuts]
             )
-    volumes = [sum(p[0][0] for p in pieces) for pieces in candidates]
-    least = min(volumes)
-    kept = [k for k, volume in enumerate(volumes) if volume <= VOLUME_ALLOWANCE * least]
-    best = candidates[min(kept, key=lambda k: (outside.volume([p[0] for p in candidates[k]]), volumes[k], k))]
-    return [
-        (_refined(hull_points(_slab(points, edges, axis, lo, hi)), fit), (lo, hi), axis) for fit, (lo, hi), axis in best
-    ]
+    return found, outside
 
 
 def _shrunk(

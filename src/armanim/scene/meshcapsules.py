@@ -20,7 +20,7 @@ import functools
 import hashlib
 import json
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -157,33 +157,47 @@ def mesh_capsules(
         limits, at its URDF line (exit 2).
     """
     folder = cache_folder() if cache is True else (cache or None)
-    collisions, visuals = geometry_specs(robot, "collision"), None
-    reader = MeshReader(None)
     out: list[tuple[str, FittedCapsule]] = []
     from_visuals: list[str] = []
     unread: list[str] = []
     cached = 0
+    for link, vertices, faces, visual in link_meshes(robot, links, urdf_dir, package_dirs, unread):
+        if visual:
+            from_visuals.append(link)
+        capsules, hit = fitted(vertices, faces, max_capsules, folder)
+        cached += hit
+        out += [(link, c) for c in capsules]
+    return MeshCapsules(tuple(out), tuple(from_visuals), tuple(unread), cached)
+
+
+def link_meshes(
+    robot: Robot, links: tuple[str, ...], urdf_dir: Path, package_dirs: list[Path], unread: list[str]
+) -> Iterator[tuple[str, np.ndarray, np.ndarray, bool]]:
+    """Each of ``links`` with meshes to fit: (link, vertices (N, 3), faces (M, 3), whether they are its
+    visual meshes), its ``<collision>`` meshes joined in its frame, or for a link with no
+    ``<collision>`` at all its ``<visual>`` meshes (why those cannot be read is added to ``unread``).
+
+    Raises
+    ------
+    SceneError
+        A collision mesh is missing, not a format armanim reads, unreadable, or over the reader's limits.
+    """
+    collisions, visuals = geometry_specs(robot, "collision"), None
+    reader = MeshReader(None)
     for link in links:
         specs = [s for s in collisions.get(link, []) if s.kind == "mesh"]
         if specs:
             mesh = _link_mesh(specs, urdf_dir, package_dirs, reader, _raise(robot), "collision")
+            visual = False
         elif not has_collision_elements(robot, link):
             visuals = geometry_specs(robot, "visual") if visuals is None else visuals
             specs = [s for s in visuals.get(link, []) if s.kind == "mesh"]
-            if not specs:
-                continue
-            mesh = _link_mesh(specs, urdf_dir, package_dirs, reader, _noted(unread), "visual")
-            if mesh is None:
-                continue
-            from_visuals.append(link)
+            mesh = _link_mesh(specs, urdf_dir, package_dirs, reader, _noted(unread), "visual") if specs else None
+            visual = True
         else:
             continue
-        if mesh is None:
-            continue
-        capsules, hit = fitted(mesh[0], mesh[1], max_capsules, folder)
-        cached += hit
-        out += [(link, c) for c in capsules]
-    return MeshCapsules(tuple(out), tuple(from_visuals), tuple(unread), cached)
+        if mesh is not None:
+            yield link, mesh[0], mesh[1], visual
 
 
 def _noted(notes: list[str]) -> Callable[[str, int], None]:
