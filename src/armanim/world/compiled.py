@@ -545,7 +545,7 @@ def _segments_apart(
     elif s > 1.0:
         s = 1.0
         t = _clamp((bb - c) / aa, 0.0, 1.0)
-    return _apart(r0, r1, r2, d10, d11, d12, d20, d21, d22, t, s, normal, p)
+    return _apart((r0, r1, r2), (d10, d11, d12), (d20, d21, d22), t, s, normal, p)
 
 
 @compiled(**_JIT)
@@ -571,20 +571,14 @@ def _points_apart(
         t = min(max(-(r0 * d10 + r1 * d11 + r2 * d12) / aa, 0.0), 1.0)
     elif not (aa == 0.0 and ee == 0.0):
         return 0.0, 0.0, -1.0
-    return _apart(r0, r1, r2, d10, d11, d12, d20, d21, d22, t, s, normal, p)
+    return _apart((r0, r1, r2), (d10, d11, d12), (d20, d21, d22), t, s, normal, p)
 
 
 @compiled(**_JIT)
 def _apart(
-    r0: float,
-    r1: float,
-    r2: float,
-    d10: float,
-    d11: float,
-    d12: float,
-    d20: float,
-    d21: float,
-    d22: float,
+    r: tuple[float, float, float],
+    d1: tuple[float, float, float],
+    d2: tuple[float, float, float],
     t: float,
     s: float,
     normal: np.ndarray,
@@ -592,7 +586,11 @@ def _apart(
 ) -> tuple[float, float, float]:
     """The closest points at fractions t of segment i (direction d1) and s of segment j (d2),
     r = a_i - a_j: (t, s, distance), their unit normal from j's point to i's into row p of
-    ``normal``; distance -1 where they touch (:data:`TOUCHING`)."""
+    ``normal``; distance -1 where they touch (:data:`TOUCHING`). The vectors as tuples of
+    numbers (passed as the numbers are: no array, no reference count)."""
+    r0, r1, r2 = r
+    d10, d11, d12 = d1
+    d20, d21, d22 = d2
     g0 = r0 + t * d10 - s * d20
     g1 = r1 + t * d11 - s * d21
     g2 = r2 + t * d12 - s * d22
@@ -781,20 +779,11 @@ def pair_row(
     n0, n1, n2 = normal[p, 0], normal[p, 1], normal[p, 2]
     for m in range(axes.shape[0]):
         c0, c1, c2 = _pair_column(
-            axes[m, 0],
-            axes[m, 1],
-            axes[m, 2],
-            points[m, 0],
-            points[m, 1],
-            points[m, 2],
-            m <= la,
-            m <= lb,
-            qa0,
-            qa1,
-            qa2,
-            qb0,
-            qb1,
-            qb2,
+            (axes[m, 0], axes[m, 1], axes[m, 2]),
+            (points[m, 0], points[m, 1], points[m, 2]),
+            (m <= la, m <= lb),
+            (qa0, qa1, qa2),
+            (qb0, qb1, qb2),
             joint_slides(axes, m),
         )
         row[m] = n0 * c0 + n1 * c1 + n2 * c2
@@ -802,26 +791,23 @@ def pair_row(
 
 @compiled(**_JIT)
 def _pair_column(
-    w0: float,
-    w1: float,
-    w2: float,
-    p0: float,
-    p1: float,
-    p2: float,
-    on_a: bool,
-    on_b: bool,
-    qa0: float,
-    qa1: float,
-    qa2: float,
-    qb0: float,
-    qb1: float,
-    qb2: float,
+    w: tuple[float, float, float],
+    p: tuple[float, float, float],
+    on: tuple[bool, bool],
+    qa: tuple[float, float, float],
+    qb: tuple[float, float, float],
     slides: bool,
 ) -> tuple[float, float, float]:
     """Joint m's column of J_A - J_B: w_m x (q_A - p_m) where joint m moves link A's point, less
     w_m x (q_B - p_m) where it moves B's (w_m for each where the joint ``slides``: prismatic).
     Numbers in and out (no small arrays, no array taken: their reference counts cost some 0.6 us
-    a row); :func:`pair_row` and :func:`pair_jacobians`."""
+    a row; tuples of numbers, ``w_m``, ``p_m``, whether the joint moves A's and B's point, ``q_A``,
+    ``q_B``, pass as the numbers do); :func:`pair_row` and :func:`pair_jacobians`."""
+    w0, w1, w2 = w
+    p0, p1, p2 = p
+    on_a, on_b = on
+    qa0, qa1, qa2 = qa
+    qb0, qb1, qb2 = qb
     if slides:
         s0 = (w0 if on_a else 0.0) - (w0 if on_b else 0.0)
         s1 = (w1 if on_a else 0.0) - (w1 if on_b else 0.0)
@@ -872,20 +858,11 @@ def pair_jacobians(
         )
         for m in range(axes.shape[0]):
             jac[r, 0, m], jac[r, 1, m], jac[r, 2, m] = _pair_column(
-                axes[m, 0],
-                axes[m, 1],
-                axes[m, 2],
-                points[m, 0],
-                points[m, 1],
-                points[m, 2],
-                m <= la,
-                m <= lb,
-                qa0,
-                qa1,
-                qa2,
-                qb0,
-                qb1,
-                qb2,
+                (axes[m, 0], axes[m, 1], axes[m, 2]),
+                (points[m, 0], points[m, 1], points[m, 2]),
+                (m <= la, m <= lb),
+                (qa0, qa1, qa2),
+                (qb0, qb1, qb2),
                 joint_slides(axes, m),
             )
 
