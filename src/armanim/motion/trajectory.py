@@ -513,8 +513,9 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
 
 def _stretched(problem: Problem, state: ArmState, goal: np.ndarray) -> tuple[SafeStep, int, int]:
     """A filtered step from ``state`` toward ``goal``, a point beyond the arm's reach: down the
-    gradient of the tip's squared distance to it, ``J^T e``, as far as that line's linear model
-    brings the tip closest (the Cauchy step ``|g|^2 / |J g|^2``, ``g = J^T e``), at most
+    gradient of the tip's squared distance to it, ``g = J^T e`` (J the tip's (3, n) Jacobian, e
+    the (3,) offset to the goal), the stall options' ``stretch`` (a half) of the step that the
+    line's linear model says comes closest (the Cauchy step ``|g|^2 / |J g|^2``), at most
     ``max_joint_step``. Returns (step, 1, 0) as :func:`method_step` does (iterations, Newton's).
 
     The frame loop takes it for ``pinv`` and ``dls`` (``newton`` and ``gradient`` minimise the
@@ -524,14 +525,15 @@ def _stretched(problem: Problem, state: ArmState, goal: np.ndarray) -> tuple[Saf
     miss). The gradient vanishes where the arm points at the goal, so the arm stretches toward it,
     slows and settles, and the goal stalls and is reported ``out_of_reach``. Half the Cauchy step:
     the whole one zigzags across the valley of the stretched poses (each joint turned back 28
-    times on scenes/out-of-reach, against 3 at most by more than half a degree with half).
+    times on scenes/out-of-reach, against 3 at most by more than half a degree with half; a
+    third stopped farther, 10.22 for 10.19).
     """
     e = goal - state.tip
     jac = tip_jacobian(problem.arm, state.pose)  # (3, n)
     g = jac.T @ e
     reach = jac @ g
     moved = float(reach @ reach)
-    dphi = g * (float(g @ g) / moved * 0.5) if moved > 0.0 else np.zeros_like(g)
+    dphi = g * (float(g @ g) / moved * problem.tunables.stalls.stretch) if moved > 0.0 else np.zeros_like(g)
     return safe_step(problem, state, dphi), 1, 0
 
 

@@ -60,11 +60,16 @@ class StallOptions:
         ... or less than this fraction of the distance still to go, whichever is larger.
     min_frames : int
         The window is at least this many frames, whatever the frame rate.
+    stretch : float
+        Toward a goal beyond the arm's reach, pinv and dls step down the gradient of the tip's
+        distance, this fraction of the step that the gradient line's linear model says comes
+        closest (the Cauchy step; the whole one zigzags across the stretched poses' valley).
     """
 
     seconds: float = 0.5
     progress: float = 0.05
     min_frames: int = 5
+    stretch: float = 0.5
 
 
 @dataclass(frozen=True)
