@@ -495,7 +495,7 @@ def _one_frame(problem: Problem, method: Method, rec: _Recorder, state: ArmState
     else:
         moved, iterations, newton_its = (
             _stretched(problem, state, visit.goal.position)
-            if visit.beyond and problem.solver.method in ("pinv", "dls")
+            if visit.beyond and method.inverts_the_jacobian
             else method_step(problem, method, state, visit.goal.position, visit.goal.orientation)
         )
         mode = "ik"
@@ -518,8 +518,8 @@ def _stretched(problem: Problem, state: ArmState, goal: np.ndarray) -> tuple[Saf
     line's linear model says comes closest (the Cauchy step ``|g|^2 / |J g|^2``), at most
     ``max_joint_step``. Returns (step, 1, 0) as :func:`method_step` does (iterations, Newton's).
 
-    The frame loop takes it for ``pinv`` and ``dls`` (``newton`` and ``gradient`` minimise the
-    distance by themselves). Such a goal is missed whatever the arm does, and the stretched pose
+    The frame loop takes it for the methods that invert the Jacobian (``Method.inverts_the_jacobian``:
+    ``pinv``, ``dls``; ``newton`` and ``gradient`` minimise the distance by themselves). Such a goal is missed whatever the arm does, and the stretched pose
     that comes closest is singular: there pinv and dls alternate between two poses, each a full
     step (scenes/out-of-reach shook for 19.6 s, about 100 turns back of each joint, before its
     miss). The gradient vanishes where the arm points at the goal, so the arm stretches toward it,

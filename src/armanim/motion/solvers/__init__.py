@@ -57,6 +57,10 @@ class Method:
     compiled_inverse : {"pinv", "dls"} or None
         The inverse with which the compiled attempt (:mod:`armanim.motion.kernels.attempt`)
         takes this method's steps, where a pose solve may use it; None: the numpy steps only.
+    inverts_the_jacobian : bool
+        Its steps invert the tip's Jacobian (``pinv``, ``dls``): across the stretched, singular
+        pose nearest a goal beyond reach they alternate between two poses, so the frame loop steps
+        down the distance's gradient there instead (:func:`armanim.motion.trajectory._stretched`).
     """
 
     step_function: StepFunction
@@ -64,11 +68,26 @@ class Method:
     bounds_own_steps: bool
     attempt_steps: int | None
     compiled_inverse: Literal["pinv", "dls"] | None = None
+    inverts_the_jacobian: bool = False
 
 
 METHODS: dict[MethodName, Method] = {
-    "pinv": Method(pinv_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25, compiled_inverse="pinv"),
-    "dls": Method(dls_step, full_step_solves=True, bounds_own_steps=False, attempt_steps=25, compiled_inverse="dls"),
+    "pinv": Method(
+        pinv_step,
+        full_step_solves=True,
+        bounds_own_steps=False,
+        attempt_steps=25,
+        compiled_inverse="pinv",
+        inverts_the_jacobian=True,
+    ),
+    "dls": Method(
+        dls_step,
+        full_step_solves=True,
+        bounds_own_steps=False,
+        attempt_steps=25,
+        compiled_inverse="dls",
+        inverts_the_jacobian=True,
+    ),
     "newton": Method(newton_step, full_step_solves=True, bounds_own_steps=True, attempt_steps=12),
     "gradient": Method(gradient_step, full_step_solves=False, bounds_own_steps=False, attempt_steps=None),
 }
