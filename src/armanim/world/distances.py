@@ -100,7 +100,9 @@ def clearances(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> Clearanc
     )
     order = obstacles.scene_order
     if order is not None:
-        d, t, normal = d[..., order], t[..., order], normal[..., order, :]
+        # C order, as the spheres-only path and the kernels give them (numpy lays a last-axis take out
+        # in Fortran order, and each kernel would be compiled for that order too)
+        d, t, normal = (np.ascontiguousarray(x) for x in (d[..., order], t[..., order], normal[..., order, :]))
     return allowed_apart(Clearances(d=d, t=t, normal=normal), capsules)
 
 

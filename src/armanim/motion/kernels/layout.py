@@ -221,7 +221,7 @@ def world_arrays(problem: Problem) -> World:
     order = obstacles.scene_order if obstacles.scene_order is not None else np.arange(len(obstacles))
     floor = np.zeros(0) if obstacles.floor is None else np.array([float(obstacles.floor)])
     arrays = tuple(
-        np.ascontiguousarray(v, dtype=t)
+        np.array(v, dtype=t, order="C")  # new writable arrays: see _floats
         for v, t in (
             (obstacles.centers.reshape(-1, 3), float),
             (obstacles.radii, float),
@@ -246,8 +246,11 @@ def world_arrays(problem: Problem) -> World:
 
 
 def _floats(values: np.ndarray) -> np.ndarray:
-    return np.ascontiguousarray(values, dtype=float)
+    """``values`` as a new writable C array: the kernels are compiled per argument type, and a
+    read-only or a strided array beside a writable one would compile each kernel twice."""
+    return np.array(values, dtype=float, order="C")
 
 
 def _ints(values: np.ndarray) -> np.ndarray:
-    return np.ascontiguousarray(values, dtype=np.int64)
+    """``values`` as a new writable C int64 array (see :func:`_floats`)."""
+    return np.array(values, dtype=np.int64, order="C")
