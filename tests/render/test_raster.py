@@ -295,3 +295,23 @@ def test_the_parts_of_one_z_buffer_draw_the_same_bytes_in_any_order():
         frames.append(frame)
     assert (frames[0][..., 0] < 255).sum() > 1000  # (the robot is in the frame)
     assert all(np.array_equal(frames[0], f) for f in frames[1:])
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10**6), nan=st.booleans())
+def test_the_corners_span_is_numpy_s_least_and_greatest(seed, nan):
+    """corner_span (a frame's triangles' pixel box) gives the corners' min and max that numpy gives
+    (a vertex that no face uses is left out; a NaN corner makes its axis NaN)."""
+    from armanim.render.solids.rasterloops import corner_span
+
+    rng = np.random.default_rng(seed)
+    points = rng.normal(0.0, 300.0, (40, 3))
+    faces = rng.integers(0, 30, (int(rng.integers(1, 20)), 3))  # vertices 30-39 unused
+    points[30:, :2] = 1e6
+    if nan:
+        points[faces[-1, 1], int(rng.integers(0, 2))] = np.nan
+    span = np.empty(4)
+    corner_span(points, faces, span)
+    corners = points[faces.ravel(), :2]
+    want = np.concatenate([corners.min(axis=0), corners.max(axis=0)])
+    assert np.array_equal(span, want, equal_nan=True)

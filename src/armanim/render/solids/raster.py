@@ -185,9 +185,12 @@ def _box(points: np.ndarray, faces: np.ndarray, width: int, height: int) -> tupl
     """The pixels (x0, y0, x1, y1; y up) the triangles' corners span inside the frame, or None."""
     if not len(faces):
         return None
-    corners = points[faces.ravel(), :2]
-    x0, y0 = max(int(np.floor(corners[:, 0].min())), 0), max(int(np.floor(corners[:, 1].min())), 0)
-    x1, y1 = min(int(np.ceil(corners[:, 0].max())), width), min(int(np.ceil(corners[:, 1].max())), height)
+    from armanim.render.solids.rasterloops import corner_span  # compiled: numba is imported here
+
+    span = np.empty(4)  # (the corners gathered by numpy were 0.1 ms of a robot frame's 2,000 triangles)
+    corner_span(np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(faces, dtype=np.int64), span)
+    x0, y0 = max(int(np.floor(span[0])), 0), max(int(np.floor(span[1])), 0)
+    x1, y1 = min(int(np.ceil(span[2])), width), min(int(np.ceil(span[3])), height)
     return (x0, y0, x1, y1) if x1 > x0 and y1 > y0 else None
 
 

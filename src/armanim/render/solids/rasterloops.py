@@ -70,6 +70,31 @@ def fill_samples(
                         color[i, j, k] = w0 * rgb[a, k] + w1 * rgb[b, k] + w2 * rgb[c, k]
 
 
+@compiled(**_JIT)
+def corner_span(points: np.ndarray, faces: np.ndarray, span: np.ndarray) -> None:
+    """The least and greatest x and y of the corners of ``faces`` (k >= 1, 3) among ``points`` (V, 3:
+    x px, y px, near) into ``span`` (4,: x min, y min, x max, y max); NaN where a corner's is NaN, as
+    numpy's min and max give."""
+    x0 = x1 = points[faces[0, 0], 0]
+    y0 = y1 = points[faces[0, 0], 1]
+    for f in range(faces.shape[0]):
+        for c in range(3):
+            x, y = points[faces[f, c], 0], points[faces[f, c], 1]
+            if x != x or x0 != x0:
+                x0 = x1 = np.nan
+            elif x < x0:
+                x0 = x
+            elif x > x1:
+                x1 = x
+            if y != y or y0 != y0:
+                y0 = y1 = np.nan
+            elif y < y0:
+                y0 = y
+            elif y > y1:
+                y1 = y
+    span[0], span[1], span[2], span[3] = x0, y0, x1, y1
+
+
 @compiled(inline="always", **_JIT)
 def _pixel_sums(depth: np.ndarray, color: np.ndarray, ss: int, i: int, j: int) -> tuple[int, float, float, float]:
     """Pixel (i, j)'s covered samples: how many, and the sums of their red, green and blue."""
