@@ -315,3 +315,26 @@ def test_the_corners_span_is_numpy_s_least_and_greatest(seed, nan):
     corners = points[faces.ravel(), :2]
     want = np.concatenate([corners.min(axis=0), corners.max(axis=0)])
     assert np.array_equal(span, want, equal_nan=True)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10**6), spread=st.floats(2.0, 40.0))
+def test_a_still_layer_beside_a_small_mesh_draws_what_filling_them_together_draws(seed, spread):
+    """A few triangles over part of a still layer, or beside it, or none: the z-buffer spans only
+    their box and the layer's pixels outside it are laid from its sums, the same bytes as the layer's
+    triangles and theirs filled in one z-buffer."""
+    from armanim.render.solids.raster import StillLayer, draw_triangles
+
+    rng = np.random.default_rng(seed)
+    centre = rng.uniform(-10, 75, 2)
+    pts = np.column_stack([centre + rng.uniform(-spread, spread, (12, 2)), rng.uniform(-1, 1, 12)])
+    board = np.array([[10.3, 7.7, -0.2], [52.9, 9.1, 0.3], [47.2, 41.6, 0.1], [8.4, 38.8, -0.4]])
+    pts = np.vstack([pts, board])
+    rgb = np.vstack([rng.uniform(0, 1, (12, 3)), rng.uniform(0, 1, (4, 3))])
+    faces = rng.integers(0, 12, (int(rng.integers(0, 8)), 3))
+    still_faces = np.array([[12, 13, 14], [12, 14, 15]])
+    frame = rng.integers(0, 256, (48, 64, 4)).astype(np.uint8)
+    together, laid = frame.copy(), frame.copy()
+    draw_triangles(together, pts, np.vstack([still_faces, faces]), rgb)
+    draw_triangles(laid, pts, faces, rgb, still=StillLayer(pts, still_faces, rgb, (64, 48)))
+    assert together.tobytes() == laid.tobytes()

@@ -77,19 +77,45 @@ class StillLayer:
         self.box = _box(points, faces, *size)
         self.depth = self.color = None
         if self.box is not None:
+            from armanim.render.solids.rasterloops import resolve_cover  # compiled: numba is imported here
+
             self.depth, self.color = _samples(points, faces, rgb, self.box, ss, np.float32)
+            x0, y0, x1, y1 = self.box
+            self.hits = np.empty((y1 - y0, x1 - x0), dtype=np.uint8)
+            self.adds = np.empty((y1 - y0, x1 - x0, 3))
+            resolve_cover(self.depth, self.color, ss, self.hits, self.adds)
+            """Each pixel's covered samples and what they add to it (:func:`blend_outside`), rows up."""
 
     def lay(self, depth: np.ndarray, color: np.ndarray, box: tuple[int, int, int, int]) -> None:
-        """Copy the layer into the sample grids ``depth`` and ``color`` of pixel ``box`` (x0, y0, x1,
-        y1; y up), which holds its own box."""
+        """Copy the layer's samples inside pixel ``box`` (x0, y0, x1, y1; y up) into that box's sample
+        grids ``depth`` and ``color``."""
         if self.box is None:
             return
-        x0, y0, x1, y1 = self.box
-        ss = self.ss
-        rows = slice((y0 - box[1]) * ss, (y1 - box[1]) * ss)
-        cols = slice((x0 - box[0]) * ss, (x1 - box[0]) * ss)
-        depth[rows, cols] = self.depth
-        color[rows, cols] = self.color
+        x0, y0 = max(self.box[0], box[0]), max(self.box[1], box[1])
+        x1, y1 = min(self.box[2], box[2]), min(self.box[3], box[3])
+        if x1 <= x0 or y1 <= y0:
+            return
+        ss, own = self.ss, self.box
+        into = slice((y0 - box[1]) * ss, (y1 - box[1]) * ss), slice((x0 - box[0]) * ss, (x1 - box[0]) * ss)
+        laid = slice((y0 - own[1]) * ss, (y1 - own[1]) * ss), slice((x0 - own[0]) * ss, (x1 - own[0]) * ss)
+        depth[into] = self.depth[laid]
+        color[into] = self.color[laid]
+
+    def blend_outside(self, buffer: np.ndarray, box: tuple[int, int, int, int] | None) -> None:
+        """Lay the layer's pixels outside pixel ``box`` (None: all of them) over the frame ``buffer``
+        (H, W, 4 uint8) as :func:`~armanim.render.solids.rasterloops.blend_samples` lays a z-buffer
+        that holds only the layer there: their samples were summed once."""
+        if self.box is None:
+            return
+        from armanim.render.solids.rasterloops import blend_cover  # compiled: numba is imported here
+
+        x0, y0 = self.box[:2]
+        skip = (
+            np.zeros(4, dtype=np.int64)
+            if box is None
+            else np.array([box[1] - y0, box[3] - y0, box[0] - x0, box[2] - x0], dtype=np.int64)
+        )
+        blend_cover(self.hits, self.adds, self.ss, buffer, buffer.shape[0] - self.box[3], x0, skip)
 
 
 def draw_triangles(
@@ -102,22 +128,19 @@ def draw_triangles(
 ) -> None:
     """Draw triangles straight into a frame ``buffer`` (H, W, 4 uint8): what
     :func:`triangle_sprite` draws, composited, without the sprite in between; with ``still``, its
-    triangles too, in the same z-buffer, the layer's samples laid first."""
+    triangles too, in the same z-buffer, the layer's samples laid first. The z-buffer spans only
+    the box of ``faces``: the layer's pixels outside it hold none of their samples, so they are laid
+    as the layer alone draws them (ur5-pen's board was two fifths of its frames' z-buffer)."""
     height, width = buffer.shape[:2]
     box = _box(points, faces, width, height)
-    if still is not None and still.box is not None:
-        box = still.box if box is None else _union(box, still.box)
+    if still is not None:
+        still.blend_outside(buffer, box)
     if box is None:
         return
     from armanim.render.solids.rasterloops import blend_samples  # compiled: numba is imported here
 
     depth, color = _samples(points, faces, rgb, box, ss, np.float32, still)
     blend_samples(depth, color, ss, buffer, height - box[3], box[0])
-
-
-def _union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
-    """The pixel box (x0, y0, x1, y1) that holds boxes ``a`` and ``b``."""
-    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
 
 
 def draw_outline(

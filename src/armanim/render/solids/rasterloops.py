@@ -151,6 +151,44 @@ def blend_samples(depth: np.ndarray, color: np.ndarray, ss: int, buffer: np.ndar
 
 
 @compiled(**_JIT)
+def resolve_cover(depth: np.ndarray, color: np.ndarray, ss: int, hits: np.ndarray, adds: np.ndarray) -> None:
+    """Each pixel's ``ss`` x ``ss`` samples summed once, as :func:`blend_samples` sums them: how many
+    are covered (``hits`` (h, w)) and what they add to the pixel (``adds`` (h, w, 3): min(sum / ss^2,
+    1) x 255), rows as the sample grid's (up)."""
+    share = 1.0 / (ss * ss)
+    for i in range(hits.shape[0]):
+        for j in range(hits.shape[1]):
+            n, r, g, b = _pixel_sums(depth, color, ss, i, j)
+            hits[i, j] = n
+            adds[i, j, 0] = min(r * share, 1.0) * 255.0
+            adds[i, j, 1] = min(g * share, 1.0) * 255.0
+            adds[i, j, 2] = min(b * share, 1.0) * 255.0
+
+
+@compiled(**_JIT)
+def blend_cover(
+    hits: np.ndarray, adds: np.ndarray, ss: int, buffer: np.ndarray, top: int, left: int, skip: np.ndarray
+) -> None:
+    """Lay pixels summed by :func:`resolve_cover` over ``buffer`` at row ``top``, column ``left`` with
+    :func:`blend_samples`' arithmetic (the same bytes), but those of rows ``skip[0]`` to ``skip[1]`` and
+    columns ``skip[2]`` to ``skip[3]`` (half open, in ``hits``' rows and columns)."""
+    h, w = hits.shape[0], hits.shape[1]
+    share = 1.0 / (ss * ss)
+    for i in range(h):
+        out = buffer[top + h - 1 - i]
+        cut = skip[0] <= i < skip[1]
+        for j in range(w):
+            n = hits[i, j]
+            if n == 0 or (cut and skip[2] <= j < skip[3]):
+                continue
+            keep = 1.0 - n * share
+            p = left + j
+            out[p, 0] = np.uint8(out[p, 0] * keep + adds[i, j, 0] + 0.5)
+            out[p, 1] = np.uint8(out[p, 1] * keep + adds[i, j, 1] + 0.5)
+            out[p, 2] = np.uint8(out[p, 2] * keep + adds[i, j, 2] + 0.5)
+
+
+@compiled(**_JIT)
 def _blend_2x2(depth: np.ndarray, color: np.ndarray, buffer: np.ndarray, top: int, left: int) -> None:
     """:func:`blend_samples` of a grid of 2 x 2 samples a pixel (the same sums, in the same order,
     the same bytes), two sample rows at a time: it was a third of a robot frame's z-buffer."""
