@@ -101,6 +101,35 @@ class StillLayer:
         depth[into] = self.depth[laid]
         color[into] = self.color[laid]
 
+    def hidden_prefix(self, polyline: np.ndarray, reach: float) -> int:
+        """How many leading points of a screen ``polyline`` (k, 2: x px, y px up; a NaN row breaks it)
+        the layer hides wholly: every pixel within ``reach`` pixels of each point and of every
+        segment between them is one all of whose samples the layer covers, so that a frame whose
+        z-buffer holds the layer (its pixels laid over whatever was drawn there, keeping none of it)
+        shows nothing of a stroke drawn along them under it."""
+        if self.box is None or not len(polyline):
+            return 0
+        x0, y0 = self.box[:2]
+        m = int(np.ceil(reach + 0.25))  # (+ the samples' spacing along a segment)
+        full = np.pad(self.hits == self.ss * self.ss, m).astype(np.int32)
+        sums = np.pad(full.cumsum(axis=0).cumsum(axis=1), ((1, 0), (1, 0)))
+        k = 2 * m + 1
+        eroded = (sums[k:, k:] - sums[:-k, k:] - sums[k:, :-k] + sums[:-k, :-k]) == k * k  # (h, w): all within m
+        p = np.asarray(polyline, dtype=float)
+        a, b = np.vstack([p[:1], p[:-1]]), p  # each point's segment from the one before
+        a = np.where(np.isfinite(a[:, :1]), a, b)  # (the first, or one after a break: the point alone)
+        count = np.where(np.isfinite(a[:, 0]) & np.isfinite(b[:, 0]), np.ceil(np.hypot(*(b - a).T) * 4.0), 0)
+        t = np.concatenate([np.linspace(0.0, 1.0, int(c) + 1) for c in count])
+        owner = np.repeat(np.arange(len(p)), (count + 1).astype(int))
+        at = a[owner] + t[:, None] * (b[owner] - a[owner])  # every 0.25 px along each segment, its ends too
+        ok = ~np.isfinite(at[:, 0])  # a break draws nothing
+        i, j = np.floor(at[~ok, 1]).astype(int) - y0, np.floor(at[~ok, 0]).astype(int) - x0
+        inside = (i >= 0) & (i < eroded.shape[0]) & (j >= 0) & (j < eroded.shape[1])
+        ok[~ok] = inside & eroded[np.clip(i, 0, eroded.shape[0] - 1), np.clip(j, 0, eroded.shape[1] - 1)]
+        hidden = np.ones(len(p), dtype=bool)
+        np.logical_and.at(hidden, owner, ok)
+        return int(np.argmin(hidden)) if not hidden.all() else len(p)
+
     def blend_outside(self, buffer: np.ndarray, box: tuple[int, int, int, int] | None) -> None:
         """Lay the layer's pixels outside pixel ``box`` (None: all of them) over the frame ``buffer``
         (H, W, 4 uint8) as :func:`~armanim.render.solids.rasterloops.blend_samples` lays a z-buffer
