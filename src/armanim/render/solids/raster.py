@@ -95,6 +95,7 @@ class StillLayer:
         x1, y1 = min(self.box[2], box[2]), min(self.box[3], box[3])
         if x1 <= x0 or y1 <= y0:
             return
+        assert self.depth is not None and self.color is not None  # (filled with the box)
         ss, own = self.ss, self.box
         into = slice((y0 - box[1]) * ss, (y1 - box[1]) * ss), slice((x0 - box[0]) * ss, (x1 - box[0]) * ss)
         laid = slice((y0 - own[1]) * ss, (y1 - own[1]) * ss), slice((x0 - own[0]) * ss, (x1 - own[0]) * ss)

@@ -79,20 +79,17 @@ def corner_span(points: np.ndarray, faces: np.ndarray, span: np.ndarray) -> None
     y0 = y1 = points[faces[0, 0], 1]
     for f in range(faces.shape[0]):
         for c in range(3):
-            x, y = points[faces[f, c], 0], points[faces[f, c], 1]
-            if x != x or x0 != x0:
-                x0 = x1 = np.nan
-            elif x < x0:
-                x0 = x
-            elif x > x1:
-                x1 = x
-            if y != y or y0 != y0:
-                y0 = y1 = np.nan
-            elif y < y0:
-                y0 = y
-            elif y > y1:
-                y1 = y
+            x0, x1 = _widened(points[faces[f, c], 0], x0, x1)
+            y0, y1 = _widened(points[faces[f, c], 1], y0, y1)
     span[0], span[1], span[2], span[3] = x0, y0, x1, y1
+
+
+@compiled(inline="always", **_JIT)
+def _widened(v: float, lo: float, hi: float) -> tuple[float, float]:
+    """(lo, hi) widened to hold ``v``; NaN for both once ``v`` or ``lo`` is NaN."""
+    if v != v or lo != lo:
+        return np.nan, np.nan
+    return min(lo, v), max(hi, v)
 
 
 @compiled(inline="always", **_JIT)
