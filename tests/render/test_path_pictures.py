@@ -144,6 +144,42 @@ def test_between_is_the_pen_down_path_between_two_arc_lengths():
         assert breaks == (1 if lo < np.pi and hi > np.pi + 1 else 0)  # one gap: the pen-up piece
 
 
+def pen_down_between(sampled: SampledPath, lo: float, hi: float) -> np.ndarray:
+    """The oracle of :meth:`SampledPath.between`: its rows built from the samples at every call (each
+    run's start, each kept segment's end, a NaN row between runs), as before the whole path's rows were
+    kept."""
+    s, d = sampled.s, sampled.points.shape[1]
+    kept = np.flatnonzero(sampled.ink & (s[:-1] < hi) & (s[1:] > lo))
+    if hi <= lo or not len(kept):
+        return np.zeros((0, d))
+    rows: list[np.ndarray] = []
+    for n, k in enumerate(kept):
+        if n == 0 or kept[n - 1] != k - 1:
+            if rows:
+                rows.append(np.full((1, d), np.nan))
+            rows.append(sampled.at(np.maximum(s[k : k + 1], lo)))
+        rows.append(sampled.at(np.minimum(s[k + 1 : k + 2], hi)))
+    return np.concatenate(rows)
+
+
+def test_between_keeps_the_rows_of_the_oracle_to_the_bit():
+    from armanim.scene.convert import tool_path
+    from armanim.scene.models import PathModel
+
+    text = {"string": "armanim", "origin": [0.55, 0.23, 0.36], "height": 0.08, "right": [0, -1, 0], "up": [0, 0, 1]}
+    path = tool_path(PathModel(text=text))
+    sampled = SampledPath.of(0, path, 0.002)
+    assert (~sampled.ink).any() and len(sampled.s) > 100  # pen-up travel between strokes, arcs split
+    rng = np.random.default_rng(7)
+    s = sampled.s
+    ends = np.concatenate([s, s[::7] + 1e-12, rng.random(300) * s[-1] * 1.1, [-1.0, 0.0, np.inf, np.nan]])
+    for lo in [0.0, -1.0, *rng.choice(ends, 60)]:
+        for hi in [np.inf, *rng.choice(ends, 25)]:
+            want = pen_down_between(sampled, lo, hi)
+            got = sampled.between(lo, hi)
+            assert got.shape == want.shape and np.array_equal(got, want, equal_nan=True), (lo, hi)
+
+
 # ---- video frames -------------------------------------------------------------------------
 
 

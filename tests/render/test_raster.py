@@ -295,3 +295,85 @@ def test_the_parts_of_one_z_buffer_draw_the_same_bytes_in_any_order():
         frames.append(frame)
     assert (frames[0][..., 0] < 255).sum() > 1000  # (the robot is in the frame)
     assert all(np.array_equal(frames[0], f) for f in frames[1:])
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10**6), nan=st.booleans())
+def test_the_corners_span_is_numpy_s_least_and_greatest(seed, nan):
+    """corner_span (a frame's triangles' pixel box) gives the corners' min and max that numpy gives
+    (a vertex that no face uses is left out; a NaN corner makes its axis NaN)."""
+    from armanim.render.solids.rasterloops import corner_span
+
+    rng = np.random.default_rng(seed)
+    points = rng.normal(0.0, 300.0, (40, 3))
+    faces = rng.integers(0, 30, (int(rng.integers(1, 20)), 3))  # vertices 30-39 unused
+    points[30:, :2] = 1e6
+    if nan:
+        points[faces[-1, 1], int(rng.integers(0, 2))] = np.nan
+    span = np.empty(4)
+    corner_span(points, faces, span)
+    corners = points[faces.ravel(), :2]
+    want = np.concatenate([corners.min(axis=0), corners.max(axis=0)])
+    assert np.array_equal(span, want, equal_nan=True)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10**6), spread=st.floats(2.0, 40.0))
+def test_a_still_layer_beside_a_small_mesh_draws_what_filling_them_together_draws(seed, spread):
+    """A few triangles over part of a still layer, or beside it, or none: the z-buffer spans only
+    their box and the layer's pixels outside it are laid from its sums, the same bytes as the layer's
+    triangles and theirs filled in one z-buffer."""
+    from armanim.render.solids.raster import StillLayer, draw_triangles
+
+    rng = np.random.default_rng(seed)
+    centre = rng.uniform(-10, 75, 2)
+    pts = np.column_stack([centre + rng.uniform(-spread, spread, (12, 2)), rng.uniform(-1, 1, 12)])
+    board = np.array([[10.3, 7.7, -0.2], [52.9, 9.1, 0.3], [47.2, 41.6, 0.1], [8.4, 38.8, -0.4]])
+    pts = np.vstack([pts, board])
+    rgb = np.vstack([rng.uniform(0, 1, (12, 3)), rng.uniform(0, 1, (4, 3))])
+    faces = rng.integers(0, 12, (int(rng.integers(0, 8)), 3))
+    still_faces = np.array([[12, 13, 14], [12, 14, 15]])
+    frame = rng.integers(0, 256, (48, 64, 4)).astype(np.uint8)
+    together, laid = frame.copy(), frame.copy()
+    draw_triangles(together, pts, np.vstack([still_faces, faces]), rgb)
+    draw_triangles(laid, pts, faces, rgb, still=StillLayer(pts, still_faces, rgb, (64, 48)))
+    assert together.tobytes() == laid.tobytes()
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 10**6), width=st.floats(1.0, 6.0))
+def test_a_stroke_the_still_layer_hides_leaves_no_pixel_of_it(seed, width):
+    """hidden_prefix: a round-capped Agg stroke along the points it names, drawn under the layer, leaves
+    the same bytes as no stroke once the layer is laid (every pixel it touched wholly covered); a
+    stroke wholly inside the layer is hidden whole, one that leaves it is not."""
+    from matplotlib.lines import Line2D
+
+    from armanim.render.paint.pixels import in_pixels, make_figure
+    from armanim.render.solids.raster import StillLayer
+
+    rng = np.random.default_rng(seed)
+    board = np.array([[12.3, 9.7, 0.0], [70.9, 11.1, 0.0], [66.2, 52.6, 0.0], [10.4, 49.8, 0.0]])
+    still = StillLayer(board, np.array([[0, 1, 2], [0, 2, 3]]), rng.uniform(0, 1, (4, 3)), (80, 60))
+    points = np.cumsum(rng.normal(0.0, 3.0, (30, 2)), axis=0) + rng.uniform(20, 60, 2)
+    points[rng.random(30) < 0.1] = np.nan  # breaks
+    reach = width / 2 + 2.0
+    hidden = still.hidden_prefix(points, reach)
+    fig, canvas = make_figure(80, 60, 72.0)  # one point a pixel
+    line = in_pixels(Line2D([], [], color="k", linewidth=width, solid_capstyle="round", alpha=0.95), fig)
+    canvas.draw()
+    background = canvas.copy_from_bbox(fig.bbox)
+    for end in range(2, len(points) + 1):
+        canvas.restore_region(background)
+        line.set_data(points[:end].T)
+        line.draw(canvas.get_renderer())
+        stroked = np.asarray(canvas.buffer_rgba()).copy()
+        still.blend_outside(stroked, None)
+        canvas.restore_region(background)
+        bare = np.asarray(canvas.buffer_rgba()).copy()
+        still.blend_outside(bare, None)
+        if end <= hidden:
+            assert stroked.tobytes() == bare.tobytes(), end
+    inside = np.array([[30.0, 30.0], [40.0, 35.0], [50.0, 25.0]])
+    assert still.hidden_prefix(inside, reach) == 3
+    assert still.hidden_prefix(np.vstack([inside, [[75.0, 30.0]]]), reach) == 3
+    assert still.hidden_prefix(np.vstack([[[np.nan, np.nan]], inside]), reach) == 4

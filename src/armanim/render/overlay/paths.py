@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -100,29 +101,49 @@ class SampledPath:
 
     def at(self, s: np.ndarray) -> np.ndarray:
         """(k, d) the points at arc lengths ``s`` (k,), linear between samples (clipped to the path)."""
-        s = np.clip(np.asarray(s, dtype=float), 0.0, self.length)
-        i = np.clip(np.searchsorted(self.s, s, side="right") - 1, 0, len(self.s) - 2)
+        s = np.minimum(np.maximum(np.asarray(s, dtype=float), 0.0), self.s[-1])  # (np.clip's values, in half its time)
+        i = np.minimum(np.maximum(np.searchsorted(self.s, s, side="right") - 1, 0), len(self.s) - 2)
         step = self.s[i + 1] - self.s[i]
         t = np.divide(s - self.s[i], step, out=np.zeros_like(s), where=step > 0)[:, None]
         return self.points[i] + t * (self.points[i + 1] - self.points[i])
 
     def between(self, lo: float, hi: float) -> np.ndarray:
         """(k, d) the pen-down part of the path from arc length ``lo`` to ``hi`` as one polyline,
-        a row of NaN between its separate runs (where the pen is up); (0, d) when there is none."""
+        a row of NaN between its separate runs (where the pen is up); (0, d) when there is none.
+
+        The rows of the pen-down segments wholly inside are those of the whole path's
+        (:attr:`_pen_down`, made once): only the first row and the last are placed here (a video's
+        frames ask for the ink and the path ahead every frame)."""
+        if not lo < hi:
+            return np.zeros((0, self.points.shape[1]))
+        segments, end_rows, rows = self._pen_down
+        first = np.searchsorted(segments, np.searchsorted(self.s[1:], lo, side="right"))  # ends past lo
+        stop = np.searchsorted(segments, np.searchsorted(self.s[:-1], hi, side="left"))  # starts before hi
+        if stop <= first:
+            return np.zeros((0, self.points.shape[1]))
+        head, tail = self.at(np.array([max(self.s[segments[first]], lo), min(self.s[segments[stop - 1] + 1], hi)]))
+        return np.concatenate([head[None], rows[end_rows[first] : end_rows[stop - 1]], tail[None]])
+
+    @cached_property
+    def _pen_down(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The whole pen-down polyline: its segments (q,; the sample each starts at), the row of
+        each one's end (q,) in the rows (k, d; a run's start, a NaN row before every run but the
+        first)."""
         d = self.points.shape[1]
-        kept = np.flatnonzero(self.ink & (self.s[:-1] < hi) & (self.s[1:] > lo))
-        if hi <= lo or not len(kept):
-            return np.zeros((0, d))
-        starts = np.ones(len(kept), dtype=bool)
-        starts[1:] = np.diff(kept) != 1
-        first = self.at(np.maximum(self.s[kept[starts]], lo))  # where each run starts
-        ends = self.at(np.minimum(self.s[kept + 1], hi))  # where each kept segment ends
+        segments = np.flatnonzero(self.ink)
+        if not len(segments):
+            return segments, segments, np.zeros((0, d))
+        starts = np.ones(len(segments), dtype=bool)
+        starts[1:] = np.diff(segments) != 1
+        first = self.at(self.s[segments[starts]])  # where each run starts
+        ends = self.at(self.s[segments + 1])  # where each segment ends
         rows = np.concatenate([np.full((int(starts.sum()), d), np.nan), first, ends])
         slot = np.concatenate(
-            [3 * np.flatnonzero(starts), 3 * np.flatnonzero(starts) + 1, 3 * np.arange(len(kept)) + 2]
+            [3 * np.flatnonzero(starts), 3 * np.flatnonzero(starts) + 1, 3 * np.arange(len(segments)) + 2]
         )
         rows, slot = rows[1:], slot[1:]  # no break before the first run
-        return rows[np.argsort(slot, kind="stable")]
+        end_rows = np.arange(len(segments)) + 2 * np.cumsum(starts) - 1
+        return segments, end_rows, rows[np.argsort(slot, kind="stable")]
 
 
 def sampled_paths(goals, spacing_of) -> list[SampledPath]:

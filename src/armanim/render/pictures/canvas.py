@@ -10,7 +10,7 @@ themselves (far first: sphere sprites, boxes, capsules and cylinders as shaded s
 restores that background and draws what moves, straight into the Agg buffer:
 
 1. the arm's soft shadow on the floor, and the tip's trail (hidden where it runs
-   behind a sphere);
+   behind a sphere; left out while all of it lies under the scene's furniture, which covers it);
 2. the solid parts (:mod:`armanim.render.solids.arm`) in painter's order (link prisms,
    joints, base, and the spheres the arm or its shadow overlaps on screen this frame;
    see :mod:`armanim.render.solids.order`). Spheres are exact orthographic discs shaded per
@@ -98,6 +98,8 @@ SHADOW_RGB = np.asarray(SHADOW_COLOR) * 255.0
 DEGENERATE_STROKE = 1e-3
 """Pixels: a capsule whose shadow is shorter than this (a vertical link's) leaves none, as matplotlib's
 strokes of no length did (the floor's ring under the base is its shadow)."""
+TRAIL_POINTS = 2.0
+"""The trail's width, points."""
 CAPTION_TEMPLATE = "t = 0000.00 s   goal 00 (of 0-00)   distance 000000.000   missed: blocked by obstacle"
 
 
@@ -242,6 +244,10 @@ class SceneCanvas:
         self.triads = has_orientations(problem.goals)
         self.triad_length = TRIAD_PER_REACH * problem.arm.reach
         self._prepare_trail(tips if settings.trail else None)
+        still = getattr(self.arm, "still", None)
+        self.trail_hidden = 0 if still is None else still.hidden_prefix(self.trail_xy, TRAIL_POINTS / self.pt / 2 + 2.0)
+        """The trail's leading points under the scene's furniture (drawn over every pixel of their
+        stroke, keeping none): a frame with no more is drawn without it (ur5-pen's whiteboard)."""
         self.paths = self._prepare_paths()
         self.on_furniture = bool(self.paths) and getattr(self.arm, "furniture", None) is not None
         self._make_artists()
@@ -314,9 +320,9 @@ class SceneCanvas:
         self.faces.set_offset_transform(IdentityTransform())
         self.shadow = in_pixels(LineCollection([], color=SHADOW_COLOR, capstyle="round"), self.fig)
         self.trail = in_pixels(
-            Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, solid_capstyle="round", alpha=0.95), self.fig
+            Line2D([], [], color=TRAIL_COLOR, linewidth=TRAIL_POINTS, solid_capstyle="round", alpha=0.95), self.fig
         )
-        self.trail_front = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=2.0, alpha=0.95), self.fig)
+        self.trail_front = in_pixels(Line2D([], [], color=TRAIL_COLOR, linewidth=TRAIL_POINTS, alpha=0.95), self.fig)
         self.ink = in_pixels(
             Line2D([], [], color=INK_COLOR, linewidth=INK_POINTS, solid_capstyle="round", solid_joinstyle="round"),
             self.fig,
@@ -408,7 +414,7 @@ class SceneCanvas:
         self.canvas.restore_region(self.background)
         renderer = self.renderer
         shadow = self._draw_shadow(state.pose)
-        if state.trail_end > 1:
+        if state.trail_end > max(1, self.trail_hidden):
             self.trail.set_data(self.trail_xy[: state.trail_end].T)
             self.trail.draw(renderer)
         views = frame_paths(self.paths, state.path_done, state.path_ahead) if state.path_done is not None else ()

@@ -70,6 +70,28 @@ def fill_samples(
                         color[i, j, k] = w0 * rgb[a, k] + w1 * rgb[b, k] + w2 * rgb[c, k]
 
 
+@compiled(**_JIT)
+def corner_span(points: np.ndarray, faces: np.ndarray, span: np.ndarray) -> None:
+    """The least and greatest x and y of the corners of ``faces`` (k >= 1, 3) among ``points`` (V, 3:
+    x px, y px, near) into ``span`` (4,: x min, y min, x max, y max); NaN where a corner's is NaN, as
+    numpy's min and max give."""
+    x0 = x1 = points[faces[0, 0], 0]
+    y0 = y1 = points[faces[0, 0], 1]
+    for f in range(faces.shape[0]):
+        for c in range(3):
+            x0, x1 = _widened(points[faces[f, c], 0], x0, x1)
+            y0, y1 = _widened(points[faces[f, c], 1], y0, y1)
+    span[0], span[1], span[2], span[3] = x0, y0, x1, y1
+
+
+@compiled(inline="always", **_JIT)
+def _widened(v: float, lo: float, hi: float) -> tuple[float, float]:
+    """(lo, hi) widened to hold ``v``; NaN for both once ``v`` or ``lo`` is NaN."""
+    if v != v or lo != lo:
+        return np.nan, np.nan
+    return min(lo, v), max(hi, v)
+
+
 @compiled(inline="always", **_JIT)
 def _pixel_sums(depth: np.ndarray, color: np.ndarray, ss: int, i: int, j: int) -> tuple[int, float, float, float]:
     """Pixel (i, j)'s covered samples: how many, and the sums of their red, green and blue."""
@@ -123,6 +145,44 @@ def blend_samples(depth: np.ndarray, color: np.ndarray, ss: int, buffer: np.ndar
             keep = 1.0 - hits * share
             for k, v in ((0, r), (1, g), (2, b)):
                 buffer[row, left + j, k] = np.uint8(buffer[row, left + j, k] * keep + min(v * share, 1.0) * 255.0 + 0.5)
+
+
+@compiled(**_JIT)
+def resolve_cover(depth: np.ndarray, color: np.ndarray, ss: int, hits: np.ndarray, adds: np.ndarray) -> None:
+    """Each pixel's ``ss`` x ``ss`` samples summed once, as :func:`blend_samples` sums them: how many
+    are covered (``hits`` (h, w)) and what they add to the pixel (``adds`` (h, w, 3): min(sum / ss^2,
+    1) x 255), rows as the sample grid's (up)."""
+    share = 1.0 / (ss * ss)
+    for i in range(hits.shape[0]):
+        for j in range(hits.shape[1]):
+            n, r, g, b = _pixel_sums(depth, color, ss, i, j)
+            hits[i, j] = n
+            adds[i, j, 0] = min(r * share, 1.0) * 255.0
+            adds[i, j, 1] = min(g * share, 1.0) * 255.0
+            adds[i, j, 2] = min(b * share, 1.0) * 255.0
+
+
+@compiled(**_JIT)
+def blend_cover(
+    hits: np.ndarray, adds: np.ndarray, ss: int, buffer: np.ndarray, top: int, left: int, skip: np.ndarray
+) -> None:
+    """Lay pixels summed by :func:`resolve_cover` over ``buffer`` at row ``top``, column ``left`` with
+    :func:`blend_samples`' arithmetic (the same bytes), but those of rows ``skip[0]`` to ``skip[1]`` and
+    columns ``skip[2]`` to ``skip[3]`` (half open, in ``hits``' rows and columns)."""
+    h, w = hits.shape[0], hits.shape[1]
+    share = 1.0 / (ss * ss)
+    for i in range(h):
+        out = buffer[top + h - 1 - i]
+        cut = skip[0] <= i < skip[1]
+        for j in range(w):
+            n = hits[i, j]
+            if n == 0 or (cut and skip[2] <= j < skip[3]):
+                continue
+            keep = 1.0 - n * share
+            p = left + j
+            out[p, 0] = np.uint8(out[p, 0] * keep + adds[i, j, 0] + 0.5)
+            out[p, 1] = np.uint8(out[p, 1] * keep + adds[i, j, 1] + 0.5)
+            out[p, 2] = np.uint8(out[p, 2] * keep + adds[i, j, 2] + 0.5)
 
 
 @compiled(**_JIT)

@@ -202,6 +202,11 @@ class MeshesAndCapsules:
         """The furniture's link among the meshes (:attr:`RobotMeshes.furniture`)."""
         return self.meshes.furniture
 
+    @property
+    def still(self) -> StillLayer | None:
+        """The furniture filled once (:attr:`RobotMeshes.still`)."""
+        return self.meshes.still
+
     def parts(
         self,
         pose: Pose,
