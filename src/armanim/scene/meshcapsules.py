@@ -371,8 +371,13 @@ def _cached(folder: Path, key: str) -> list[FittedCapsule] | None:
 
 
 def _keep(folder: Path, key: str, capsules: list[FittedCapsule]) -> None:
-    """Write a fit into the cache (atomically); a cache that cannot be written is left alone."""
+    """Write a fit into the cache (atomically); a cache that cannot be written is left alone, and
+    so is a link at the entry's name: armanim writes regular files there, and a write would go
+    through the link to a file that is not the cache's (campaign 10: a user's file held the fit)."""
     from armanim.output.atomic import write_text_atomic
+
+    if os.path.islink(folder / f"{key}.json"):
+        return
 
     text = json.dumps(
         {
