@@ -3084,38 +3084,6 @@ def loss10_attempts() -> list[Attempt]:
         ),
         Attempt(
             k,
-            "run, a fitted cache entry a link to the user's file",
-            ["validate", "s.yaml"],
-            then(
-                lambda d: write(d / "a.stl", stl(30)),
-                urdf_robot(collision=col("a.stl")),
-                lambda d: (d / "cache").mkdir(),
-                lambda d: armanim_in(d, "validate", "s.yaml", env={"ARMANIM_CACHE_DIR": str(d / "cache")}),
-                mine("mine.json", '{"mine": 1}'),
-                lambda d: [(os.unlink(p), os.symlink(d / "mine.json", p)) for p in (d / "cache").glob("*.json")],
-            ),
-            (0,),
-            env={"ARMANIM_CACHE_DIR": "{d}/cache"},
-            keep=("mine.json",),
-        ),
-        Attempt(
-            k,
-            "run, a fitted cache entry a hard link to the user's file",
-            ["validate", "s.yaml"],
-            then(
-                lambda d: write(d / "a.stl", stl(30)),
-                urdf_robot(collision=col("a.stl")),
-                lambda d: (d / "cache").mkdir(),
-                lambda d: armanim_in(d, "validate", "s.yaml", env={"ARMANIM_CACHE_DIR": str(d / "cache")}),
-                mine("mine.json", '{"mine": 1}'),
-                lambda d: [(os.unlink(p), os.link(d / "mine.json", p)) for p in (d / "cache").glob("*.json")],
-            ),
-            (0,),
-            env={"ARMANIM_CACHE_DIR": "{d}/cache"},
-            keep=("mine.json",),
-        ),
-        Attempt(
-            k,
             "validate with ARMANIM_CACHE_DIR the user's folder of notes",
             ["validate", "s.yaml"],
             then(
@@ -3166,6 +3134,30 @@ def loss10_attempts() -> list[Attempt]:
             keep=("o/tiny",),
         ),
     ]
+
+    def cache_entry_as(link: Callable[[Path, Path], None]) -> Callable[[Path], None]:
+        """A fitted URDF whose cache entries are then ``link(user's file, entry)``."""
+        return then(
+            lambda d: write(d / "a.stl", stl(30)),
+            urdf_robot(collision=col("a.stl")),
+            lambda d: (d / "cache").mkdir(),
+            lambda d: armanim_in(d, "validate", "s.yaml", env={"ARMANIM_CACHE_DIR": str(d / "cache")}),
+            mine("mine.json", '{"mine": 1}'),
+            lambda d: [(os.unlink(p), link(d / "mine.json", p)) for p in (d / "cache").glob("*.json")],
+        )
+
+    for label, link in (("a link", os.symlink), ("a hard link", os.link)):
+        out.append(
+            Attempt(
+                k,
+                f"validate, a fitted cache entry {label} to the user's file",
+                ["validate", "s.yaml"],
+                cache_entry_as(link),
+                (0,),
+                env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                keep=("mine.json",),
+            )
+        )
     return out
 
 
@@ -3180,6 +3172,13 @@ def inputs10_attempts() -> list[Attempt]:
     k = "inputs10"
     out = []
     good = "version: 1\nname: s\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\n"
+
+    def goals_(goals: str) -> str:
+        return good.replace("[[1, 1, 1]]", goals)
+
+    def arm_(fields: str) -> str:
+        return good.replace("links: [1, 1, 1]", "links: [1, 1, 1], " + fields)
+
     yaml_cases = [
         ("a duplicate key", "version: 1\nversion: 1\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\n"),
         ("a merge key <<", "base: &b {links: [1, 1, 1]}\nversion: 1\narm: {<<: *b}\ngoals: [[1, 1, 1]]\n"),
@@ -3212,34 +3211,34 @@ def inputs10_attempts() -> list[Attempt]:
         ("name of NUL", good.replace("name: s", 'name: "\\0"')),
         ("goals {}", good.replace("goals: [[1, 1, 1]]", "goals: {}")),
         ("goals null", good.replace("goals: [[1, 1, 1]]", "goals: null")),
-        ("a goal '1,1,1' as a string", good.replace("[[1, 1, 1]]", "['1,1,1']")),
-        ("a goal of two numbers", good.replace("[[1, 1, 1]]", "[[1, 1]]")),
-        ("a goal of .nan", good.replace("[[1, 1, 1]]", "[[.nan, 1, 1]]")),
-        ("a goal of 1e400", good.replace("[[1, 1, 1]]", "[[1e400, 1, 1]]")),
-        ("a goal of 1_000", good.replace("[[1, 1, 1]]", "[[1_000, 1, 1]]")),
-        ("a goal of yes", good.replace("[[1, 1, 1]]", "[[yes, 1, 1]]")),
-        ("a goal of 0o17", good.replace("[[1, 1, 1]]", "[[0o17, 1, 1]]")),
-        ("a goal with position and joints", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], joints: [0, 0, 0]}]")),
+        ("a goal '1,1,1' as a string", goals_("['1,1,1']")),
+        ("a goal of two numbers", goals_("[[1, 1]]")),
+        ("a goal of .nan", goals_("[[.nan, 1, 1]]")),
+        ("a goal of 1e400", goals_("[[1e400, 1, 1]]")),
+        ("a goal of 1_000", goals_("[[1_000, 1, 1]]")),
+        ("a goal of yes", goals_("[[yes, 1, 1]]")),
+        ("a goal of 0o17", goals_("[[0o17, 1, 1]]")),
+        ("a goal with position and joints", goals_("[{position: [1, 1, 1], joints: [0, 0, 0]}]")),
         (
             "a goal with path and position",
-            good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], path: {line: [[1, 0, 1], [1, 1, 1]]}, speed: 1}]"),
+            goals_("[{position: [1, 1, 1], path: {line: [[1, 0, 1], [1, 1, 1]]}, speed: 1}]"),
         ),
-        ("joints of 1e300", good.replace("[[1, 1, 1]]", "[{joints: [1e300, 0, 0]}]")),
-        ("joints of four values on three joints", good.replace("[[1, 1, 1]]", "[{joints: [0, 0, 0, 0]}]")),
+        ("joints of 1e300", goals_("[{joints: [1e300, 0, 0]}]")),
+        ("joints of four values on three joints", goals_("[{joints: [0, 0, 0, 0]}]")),
         (
             "an orientation of rpy nan",
-            good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {rpy: [.nan, 0, 0]}}]"),
+            goals_("[{position: [1, 1, 1], orientation: {rpy: [.nan, 0, 0]}}]"),
         ),
         (
             "an orientation quaternion of zeros",
-            good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {quaternion: [0, 0, 0, 0]}}]"),
+            goals_("[{position: [1, 1, 1], orientation: {quaternion: [0, 0, 0, 0]}}]"),
         ),
         (
             "an orientation quaternion of 1e-300",
-            good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {quaternion: [1e-300, 0, 0, 0]}}]"),
+            goals_("[{position: [1, 1, 1], orientation: {quaternion: [1e-300, 0, 0, 0]}}]"),
         ),
-        ("a tool_axis of zeros", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], tool_axis: [0, 0, 0]}]")),
-        ("a tool_axis of 1e-320", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], tool_axis: [1e-320, 0, 0]}]")),
+        ("a tool_axis of zeros", goals_("[{position: [1, 1, 1], tool_axis: [0, 0, 0]}]")),
+        ("a tool_axis of 1e-320", goals_("[{position: [1, 1, 1], tool_axis: [1e-320, 0, 0]}]")),
         ("a box of negative size", good + "obstacles: [{box: {center: [3, 3, 3], size: [-1, 1, 1]}}]\n"),
         (
             "a capsule of equal ends and radius 0",
@@ -3269,29 +3268,29 @@ def inputs10_attempts() -> list[Attempt]:
                 "[[1, 1, 1]]", "[[0.5, 0.5, 0.5]]"
             ),
         ),
-        ("arm.axes [w]", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], axes: [w, y, y]")),
-        ("arm.axes ['-z']", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], axes: ['-z', y, y]")),
-        ("arm.direction q", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], direction: q")),
-        ("arm.home of two values", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], home: [0, 0]")),
+        ("arm.axes [w]", arm_("axes: [w, y, y]")),
+        ("arm.axes ['-z']", arm_("axes: ['-z', y, y]")),
+        ("arm.direction q", arm_("direction: q")),
+        ("arm.home of two values", arm_("home: [0, 0]")),
         (
             "arm.limits min over max",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], limits: [null, [90, -90], null]"),
+            arm_("limits: [null, [90, -90], null]"),
         ),
         (
             "arm.limits of -1e400",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], limits: [null, [-1e400, 1], null]"),
+            arm_("limits: [null, [-1e400, 1], null]"),
         ),
         (
             "arm.limits a home outside them",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], limits: [null, [10, 20], null]"),
+            arm_("limits: [null, [10, 20], null]"),
         ),
-        ("arm.limit_margin 0", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], limit_margin: 0")),
-        ("arm.width 0", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], width: 0")),
-        ("arm.width 1e9", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], width: 1e9")),
-        ("self_collision maybe", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], self_collision: maybe")),
+        ("arm.limit_margin 0", arm_("limit_margin: 0")),
+        ("arm.width 0", arm_("width: 0")),
+        ("arm.width 1e9", arm_("width: 1e9")),
+        ("self_collision maybe", arm_("self_collision: maybe")),
         (
             "self_collision allow a pair of one link",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], self_collision: {auto: true, allow: [[link1, link1]]}"),
+            arm_("self_collision: {auto: true, allow: [[link1, link1]]}"),
         ),
         (
             "self_collision allow an unknown link",
@@ -3301,11 +3300,11 @@ def inputs10_attempts() -> list[Attempt]:
         ),
         (
             "self_collision srdf a FIFO",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], self_collision: {srdf: f.srdf}"),
+            arm_("self_collision: {srdf: f.srdf}"),
         ),
         (
             "self_collision srdf a folder",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], self_collision: {srdf: sub}"),
+            arm_("self_collision: {srdf: sub}"),
         ),
         ("solver.step 0", good + "solver: {step: 0}\n"),
         ("solver.step 1.5", good + "solver: {step: 1.5}\n"),
@@ -3617,13 +3616,18 @@ def trajectory_breaks(spec: dict) -> Callable[[Path], list[str]]:
         pos = np.degrees(np.array([p["positions"] for p in points]))
         vel = np.degrees(np.array([p["velocities"] for p in points]))
         stamps = np.array([p["time_from_start"]["sec"] + p["time_from_start"]["nanosec"] * 1e-9 for p in points])
-        if (
-            pos.shape != phi.shape
-            or np.abs(pos - phi).max() > 1e-9
-            or np.abs(vel - dphi).max() > 1e-9
-            or np.abs(stamps - t).max() > 1e-6
-        ):
-            problems.append("the export's positions, velocities or times differ from trajectory.csv")
+        if pos.shape != phi.shape:
+            return [*problems, "the export has not the CSV's frames"]
+        off = pos - phi
+        off[:, unlimited] = np.mod(off[:, unlimited] + 180.0, 360.0) - 180.0  # the same pose
+        if np.abs(off).max() > 1e-9 or np.abs(vel - dphi).max() > 1e-9 or np.abs(stamps - t).max() > 1e-6:
+            problems.append("the export's poses, velocities or times differ from trajectory.csv")
+        told = np.abs(np.diff(pos, axis=0) / dt[:, None] - vel[1:]) - amax / spec["fps"] * (1 + 1e-6) - 1e-6
+        if told.max(initial=-1) > 0:  # a controller reads the positions as they are: no wrap allowed there
+            f, j = np.unravel_index(np.argmax(told), told.shape)
+            problems.append(
+                f"the export's joint {j + 1} moves {pos[f + 1, j] - pos[f, j]:.6g} deg at frame {f + 1}, its velocity says {vel[f + 1, j]:.6g} deg/s"
+            )
         return problems
 
     return check
