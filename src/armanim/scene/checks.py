@@ -791,7 +791,7 @@ def _slow_rate_message(
     remedy = (
         f"raise it to at least {_rounded_up(shown(least)):.2g} {unit}"
         if least < math.inf
-        else "raise it, and " + " or ".join(f"arm.{f}" for f in others)
+        else "no value of it fits with the others as they are: raise " + " or ".join(f"arm.{f}" for f in others)
     )
     return (
         f"arm.{field}",
@@ -854,8 +854,8 @@ def _together_problem(scene: SceneModel, theta: float, rates, seconds: float):
     if window >= trapezoid[k] and jerk is not None:
         room = seconds - float(np.max(trapezoid))
         least = float(np.max(2.0 * acceleration / room)) if room > 0 else math.inf
-        slowest = int(np.argmin(jerk))
-        return "max_joint_jerk", slowest, float(jerk[slowest]), took[k], least
+        widest = int(np.argmax(2.0 * acceleration / jerk))  # the joint whose window the clock takes
+        return "max_joint_jerk", widest, float(jerk[widest]), took[k], least
     room = seconds - window  # for the trapezoid: theta / v + v / a, or 2 sqrt(theta / a) once v^2 >= theta a
     v, a = float(speed[k]), float(acceleration[k])
     if room > 0 and room**2 > 4.0 * theta / a:  # theta / v + v / a = room has a root: the least speed
