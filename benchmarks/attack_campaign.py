@@ -1,7 +1,9 @@
-"""The ninth attack campaign (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth and tenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
-Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores),
-``--only CLASS`` for one class (mesh, frames, export, nested, sizes, signals, folders, inputs),
+Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
+``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
+inputs; the tenth's, new attacks on the same classes: mesh10, frames10, signals10, loss10,
+inputs10, wrong10),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -62,10 +64,14 @@ class Attempt:
     message: str | None = None  # a regex stderr + stdout must match
     keep: tuple[str, ...] = ()  # the user's paths (relative to the folder), left as they were
     timeout: float = 120.0
-    interrupt: tuple[float, str] | None = None  # (seconds, "SIGINT" to the group | "SIGTERM" to armanim)
+    interrupt: tuple[float, str] | None = (
+        None  # (seconds, "SIGINT" to the group | "SIGTERM" to armanim | "SIGTERMG" to the group)
+    )
+    also: tuple[tuple[float, str], ...] = ()  # more signals after the first, seconds from the start
     env: dict[str, str] = field(default_factory=dict)
     after: Callable[[Path], list[str]] | None = None  # more checks: a list of problems
     litter_in: tuple[str, ...] = ("o",)  # folders where outputs go: no staging or temporary file left
+    message_if_2: str | None = None  # a regex stderr + stdout must match when the exit code is 2
 
 
 def fingerprint(path: Path) -> object:
@@ -88,6 +94,7 @@ def fingerprint(path: Path) -> object:
 
 def _limits(memory: int) -> Callable[[], None]:
     def apply() -> None:
+        signal.signal(signal.SIGINT, signal.SIG_DFL)  # a campaign started in the background has SIGINT ignored
         os.setsid()
         os.nice(10)
         resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
@@ -114,13 +121,14 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         errors="replace",
         preexec_fn=_limits(memory),
     )
-    if attempt.interrupt is not None:
-        delay, signame = attempt.interrupt
+    for delay, signame in (attempt.interrupt, *attempt.also) if attempt.interrupt is not None else ():
         try:
-            proc.wait(delay)
+            proc.wait(max(0.0, started + delay - time.perf_counter()))
         except subprocess.TimeoutExpired:
             if signame == "SIGINT":
                 os.killpg(proc.pid, signal.SIGINT)
+            elif signame == "SIGTERMG":
+                os.killpg(proc.pid, signal.SIGTERM)
             else:
                 proc.send_signal(signal.SIGTERM)
     hung = False
@@ -145,6 +153,8 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         problems.append(f"exit {proc.returncode}, expected {'/'.join(map(str, attempt.codes))}")
     if attempt.message is not None and not re.search(attempt.message, text, re.S):
         problems.append(f"message does not match {attempt.message!r}")
+    if attempt.message_if_2 is not None and proc.returncode == 2 and not re.search(attempt.message_if_2, text):
+        problems.append(f"exit 2 without FILE:LINE ({attempt.message_if_2!r})")
     for path, before in kept.items():
         if fingerprint(folder / path) != before:
             problems.append(f"{path} changed")
@@ -2061,6 +2071,1696 @@ def inputs_attempts() -> list[Attempt]:
     return out
 
 
+# ------------------------------------------------------------------ the tenth campaign
+#
+# New attacks on the same classes (issue 50: "a fifth campaign on the same classes must find
+# nothing"): none repeats an attempt above. Classes: mesh10, frames10, signals10, loss10,
+# inputs10, wrong10 (``--only mesh10 ...``).
+
+FK_PNG = ["fk", "--scene", "s.yaml", "--angles", "0,10,20", "--png", "p.png"]
+FIT = ["robots", "--fit", "robot.urdf"]
+
+
+def obj_text(vertices: int = 3, extra: str = "") -> str:
+    return "".join(f"v {i * 0.01} {i % 2 * 0.05} {i % 3 * 0.05}\n" for i in range(vertices)) + "f 1 2 3\n" + extra
+
+
+def tri_dae(p_indices: str = "0 1 2", count: int = 1, floats: str = "0 0 0 0.05 0 0 0 0.05 0", node: str = "") -> str:
+    """A COLLADA file of one triangles geometry whose ``<p>``, count and corners are given."""
+    return (
+        '<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">'
+        '<asset><unit meter="1"/></asset><library_geometries><geometry id="g0"><mesh><source id="p0">'
+        f'<float_array id="a0" count="{len(floats.split())}">{floats}</float_array><technique_common>'
+        f'<accessor source="#a0" count="{len(floats.split()) // 3}" stride="3"><param name="X" type="float"/>'
+        '<param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>'
+        '<vertices id="v0"><input semantic="POSITION" source="#p0"/></vertices>'
+        f'<triangles count="{count}"><input semantic="VERTEX" source="#v0" offset="0"/><p>{p_indices}</p></triangles>'
+        "</mesh></geometry></library_geometries>"
+        f'<library_visual_scenes><visual_scene id="s"><node id="n0">{node}<instance_geometry url="#g0"/></node>'
+        '</visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene></COLLADA>'
+    )
+
+
+def stl_corners(corners: list[list[float]]) -> bytes:
+    """A binary STL of the given triangles' corners ((m, 3, 3) nested lists, float32)."""
+    import numpy as np
+
+    array = np.asarray(corners, dtype="<f4").reshape(-1, 3, 3)
+    records = np.zeros(len(array), dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    records["v"] = array
+    return b"\0" * 80 + np.uint32(len(array)).tobytes() + records.tobytes()
+
+
+def big_stl(path: Path, triangles: int, seed: int = 0) -> None:
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    records = np.zeros(triangles, dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    records["v"] = rng.random((triangles, 3, 3), dtype=np.float32) * 0.1
+    with open(path, "wb") as handle:
+        handle.write(b"\0" * 80 + np.uint32(triangles).tobytes())
+        handle.write(records.tobytes())
+
+
+def mesh10_attempts() -> list[Attempt]:
+    """Mesh files and what they name: contents at the readers' edges, names at the resolver's."""
+    k = "mesh10"
+    out = []
+
+    def both(label: str, name: str, files: dict, codes_fit=(0, 2), codes_png=(0,), timeout=120.0, scale=""):
+        tag = f"<geometry><mesh filename={name!r}{f' scale={scale!r}' if scale else ''}/></geometry>"
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit, collision {label}",
+                FIT,
+                urdf_robot(collision=f"<collision>{tag}</collision>", files=files),
+                codes_fit,
+                timeout=timeout,
+            )
+        )
+        out.append(
+            Attempt(
+                k,
+                f"fk --png, visual {label}",
+                FK_PNG,
+                urdf_robot(f"<visual>{tag}</visual>", files=files),
+                codes_png,
+                timeout=timeout,
+            )
+        )
+
+    # OBJ at its edges
+    both(
+        "an OBJ of 64 MB of 'v 0 0 0' lines (8 million vertices)",
+        "a.obj",
+        {"a.obj": "v 0 0 0\n" * 8_300_000 + "f 1 2 3\n"},
+        timeout=240,
+    )
+    both("an OBJ whose v lines hold two numbers", "a.obj", {"a.obj": "v 0 0\nv 1 0\nv 0 1\nf 1 2 3\n"})
+    both("an OBJ whose v lines hold words", "a.obj", {"a.obj": "v a b c\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"})
+    both("an OBJ of NaN corners only", "a.obj", {"a.obj": "v nan nan nan\nv nan 0 0\nv 0 nan 0\nf 1 2 3\n"})
+    both("an OBJ face naming vertex 0", "a.obj", {"a.obj": obj_text(3, "f 0 1 2\n")})
+    both("an OBJ face of a 30-digit index", "a.obj", {"a.obj": obj_text(3, "f 1 2 " + "9" * 30 + "\n")})
+    both("an OBJ face of tokens '1/2/3/4' and '//'", "a.obj", {"a.obj": obj_text(3, "f 1/2/3/4 2// 3//\n")})
+    both("an OBJ of CR line ends only", "a.obj", {"a.obj": obj_text(3).replace("\n", "\r")})
+    both("an OBJ in UTF-16", "a.obj", {"a.obj": obj_text(3).encode("utf-16")})
+    both("an OBJ of 1e300 corners", "a.obj", {"a.obj": "v 1e300 0 0\nv 0 1e300 0\nv 0 0 1e300\nf 1 2 3\n"})
+    both("an OBJ face of two corners only", "a.obj", {"a.obj": "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"})
+    # STL at its edges
+    both(
+        "a binary STL of float32 corners near 3e38",
+        "a.stl",
+        {"a.stl": stl_corners([[[3e38, 0, 0], [0, 3e38, 0], [0, 0, -3e38]]])},
+    )
+    both("an STL of one triangle of three equal corners", "a.stl", {"a.stl": stl_corners([[[0.1, 0.1, 0.1]] * 3])})
+    both("an STL of one collinear triangle", "a.stl", {"a.stl": stl_corners([[[0, 0, 0], [0.1, 0, 0], [0.2, 0, 0]]])})
+    both(
+        "an STL of 1,000 triangles all at one point",
+        "a.stl",
+        {"a.stl": stl_corners([[[0.05, 0.05, 0.05]] * 3] * 1000)},
+    )
+    both(
+        "an ASCII STL of 60 MB of 'vertex 0 0 0' lines",
+        "a.stl",
+        {"a.stl": "solid s\n" + "vertex 0 0 0\n" * 4_800_000 + "endsolid\n"},
+        timeout=240,
+    )
+    both(
+        "an ASCII STL whose vertex holds 'infinity'",
+        "a.stl",
+        {"a.stl": "solid s\nvertex inf 0 0\nvertex 0 1 0\nvertex 0 0 1\nendsolid\n"},
+    )
+    both(
+        "an ASCII STL whose vertex holds '1e99999'",
+        "a.stl",
+        {"a.stl": "solid s\nvertex 1e99999 0 0\nvertex 0 1 0\nvertex 0 0 1\nendsolid\n"},
+    )
+    # COLLADA at its edges
+    both("a COLLADA <p> naming corner 99", "a.dae", {"a.dae": tri_dae("0 1 99")})
+    both("a COLLADA <p> of a negative index", "a.dae", {"a.dae": tri_dae("0 1 -1")})
+    both("a COLLADA triangles count 1,000,000,000 with one triangle", "a.dae", {"a.dae": tri_dae(count=1_000_000_000)})
+    both("a COLLADA <p> of five indices", "a.dae", {"a.dae": tri_dae("0 1 2 0 1")})
+    both("a COLLADA float_array of words", "a.dae", {"a.dae": tri_dae(floats="a b c d e f g h i")})
+    both("a COLLADA node matrix of 15 numbers", "a.dae", {"a.dae": tri_dae(node="<matrix>" + "1 " * 15 + "</matrix>")})
+    both("a COLLADA node matrix of NaN", "a.dae", {"a.dae": tri_dae(node="<matrix>" + "nan " * 16 + "</matrix>")})
+    both("a COLLADA node rotate of 1e308 degrees", "a.dae", {"a.dae": tri_dae(node="<rotate>0 0 1 1e308</rotate>")})
+    both("a COLLADA node scale 1e300", "a.dae", {"a.dae": tri_dae(node="<scale>1e300 1e300 1e300</scale>")})
+    both(
+        "a COLLADA in UTF-16 with an external entity on /dev/zero",
+        "a.dae",
+        {
+            "a.dae": (
+                '<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE COLLADA [<!ENTITY z SYSTEM "/dev/zero">]>'
+                + tri_dae()[tri_dae().index("<COLLADA") :].replace(
+                    '<unit meter="1"/>', '<unit meter="1"/><contributor>&z;</contributor>'
+                )
+            ).encode("utf-16")
+        },
+        timeout=60,
+    )
+    laughs = "".join(f'<!ENTITY l{i} "{f"&l{i - 1};" * 10 if i else "lol"}">' for i in range(10))
+    both(
+        "a COLLADA in UTF-16 with a billion laughs",
+        "a.dae",
+        {
+            "a.dae": (
+                f'<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE COLLADA [{laughs}]>'
+                + tri_dae()[tri_dae().index("<COLLADA") :].replace("<asset>", "<asset><keywords>&l9;</keywords>")
+            ).encode("utf-16")
+        },
+        timeout=60,
+    )
+    both(
+        "a COLLADA of <lines> only",
+        "a.dae",
+        {"a.dae": tri_dae().replace("<triangles", "<lines").replace("</triangles>", "</lines>")},
+    )
+    both(
+        "a COLLADA polylist of vcount -5",
+        "a.dae",
+        {
+            "a.dae": tri_dae()
+            .replace('<triangles count="1">', '<polylist count="1"><vcount>-5</vcount>')
+            .replace("</triangles>", "</polylist>")
+        },
+    )
+    # mesh names at the resolver's edges
+    both("named by a 5,000-character file name", "a" * 5000 + ".stl", {}, codes_fit=(0, 2))
+    both("named '.stl' in a folder of that name", "d/.stl", {}, codes_fit=(0, 2))
+    both("named ''", "", {}, codes_fit=(0, 2))
+    both("named 'package://'", "package://", {}, codes_fit=(0, 2))
+    both("named 'package:///etc/hostname.stl'", "package:///etc/hostname.stl", {}, codes_fit=(0, 2))
+    both("named 'file://' (nothing after)", "file://", {}, codes_fit=(0, 2))
+    both("named with %20 for a space", "a%20b.stl", {"a b.stl": stl(4)}, codes_fit=(0, 2))
+    both("named through a link loop of two", "x.stl", {}, codes_fit=(0, 2))
+    both("a scale of 0 0 0", "a.stl", {"a.stl": stl(4)}, scale="0 0 0")
+    both("a scale of 1e-300", "a.stl", {"a.stl": stl(4)}, scale="1e-300 1e-300 1e-300")
+    both("a scale of -1 -1 -1", "a.stl", {"a.stl": stl(4)}, scale="-1 -1 -1")
+    both("a scale of two numbers", "a.stl", {"a.stl": stl(4)}, scale="1 1", codes_png=(0, 2))
+    both("a scale of nan", "a.stl", {"a.stl": stl(4)}, scale="nan 1 1", codes_png=(0, 2))
+
+    # the loop of two and the socket: made here
+    def loop_two(d: Path) -> None:
+        urdf_robot(vis("x.stl"), col("x.stl"))(d)
+        os.symlink("y.stl", d / "x.stl")
+        os.symlink("x.stl", d / "y.stl")
+
+    for attempt in out:
+        if "link loop of two" in attempt.name:
+            attempt.setup = loop_two
+            attempt.codes = (2,)  # the same name is the collision mesh too: an error at its line
+            attempt.message = r"robot\.urdf:\d+: link 'l1': collision mesh 'x\.stl' not found"
+
+    def socket_mesh(d: Path) -> None:
+        import socket
+
+        urdf_robot(vis("s.stl"), col("s.stl"))(d)
+        sock = socket.socket(socket.AF_UNIX)
+        sock.bind(str(d / "s.stl"))  # left bound: a socket on disk, nobody accepting
+
+    out.append(Attempt(k, "robots --fit, collision mesh a UNIX socket", FIT, socket_mesh, (2,), timeout=60))
+    out.append(
+        Attempt(k, "fk --png, visual mesh a UNIX socket", FK_PNG, socket_mesh, (2,), timeout=60, message="is a socket")
+    )
+
+    # five 60 MB STLs on one link: 300 MB in all, past the 256 MB of one robot's looks
+    def five(d: Path) -> None:
+        visuals = "".join(vis(f"b{i}.stl") for i in range(5))
+        write(d / "robot.urdf", urdf_text(visuals))
+        write(d / "s.yaml", URDF_SCENE)
+        for i in range(5):
+            big_stl(d / f"b{i}.stl", 1_200_000, seed=i)
+
+    out.append(Attempt(k, "fk --png, five 60 MB STLs on one link (300 MB)", FK_PNG, five, (0,), timeout=300))
+    # the tool's mesh: an OBJ at the readers' edges
+    for label, text in [
+        ("an OBJ of 64 MB of 'v 0 0 0'", "v 0 0 0\n" * 8_300_000 + "f 1 2 3\n"),
+        ("an OBJ face of a 30-digit index", obj_text(3, "f 1 2 " + "9" * 30 + "\n")),
+        ("an OBJ of 1e300 corners", "v 1e300 0 0\nv 0 1e300 0\nv 0 0 1e300\nf 1 2 3\n"),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"run --viewer, tool mesh {label}",
+                ["run", "s.yaml", "--out", "o", "--no-video", "--viewer", "-q"],
+                lambda d, text=text: (
+                    write(d / "s.yaml", TOOL_SCENE.replace("TOOL", "t.obj")),
+                    write(d / "t.obj", text),
+                ),
+                (0, 2),
+                timeout=240,
+            )
+        )
+
+    # a cached fit with finite but absurd capsules (the cache is read back: its values bounded?)
+    def absurd_cache(d: Path) -> None:
+        write(d / "a.stl", stl(30))
+        urdf_robot(collision=col("a.stl"))(d)
+        (d / "cache").mkdir()
+        env = dict(os.environ, PYTHONPATH=str(SRC), ARMANIM_CACHE_DIR=str(d / "cache"))
+        subprocess.run(
+            [sys.executable, "-m", "armanim", "validate", "s.yaml"], cwd=d, env=env, check=True, capture_output=True
+        )
+        import json as _json
+
+        for fit in (d / "cache").rglob("*.json"):
+            data = _json.loads(fit.read_text())
+            data["capsules"] = [{"from": [1e300, 0, 0], "to": [-1e300, 0, 0], "radius": 1e300}]
+            fit.write_text(_json.dumps(data))
+
+    for cmd in (["validate", "s.yaml"], ["run", "s.yaml", "--out", "o", "--no-video", "-q"]):
+        out.append(
+            Attempt(
+                k,
+                f"a cached fit of capsules 1e300 long and wide, then {cmd[0]}",
+                cmd,
+                absurd_cache,
+                (0, 2),
+                env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                timeout=200,
+            )
+        )
+    return out
+
+
+SIMPLE = (
+    "version: 1\nname: f\narm: {links: [1, 1, 1]ARM}\nGOALS\nsolver: {SOLVER}\nrender: {size: [160, 90], fps: FPS}\n"
+)
+
+
+def simple(goals: str = "goals: [[1, 1, 1], [0.5, -1, 1]]", arm: str = "", solver: str = "", fps: str = "10") -> str:
+    return SIMPLE.replace("ARM", arm).replace("GOALS", goals).replace("SOLVER", solver).replace("FPS", fps)
+
+
+def frames10_attempts() -> list[Attempt]:
+    """Solver tolerances at their floors, frame budgets at their edges, rates at their bounds."""
+    k = "frames10"
+    out = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    cases = [
+        ("solver.tolerance 1e-300", simple(solver="tolerance: 1e-300, max_frames_per_goal: 50")),
+        ("solver.tolerance 5e-324", simple(solver="tolerance: 5e-324, max_frames_per_goal: 50")),
+        (
+            "joint_tolerance 1e-6 (its floor), newton",
+            simple("goals: [{joints: [30, 40, 20]}]", solver="joint_tolerance: 1e-6, method: newton"),
+        ),
+        (
+            "joint_tolerance 1e-6, gradient",
+            simple("goals: [{joints: [30, 40, 20]}]", solver="joint_tolerance: 1e-6, method: gradient"),
+        ),
+        (
+            "orientation_tolerance 1e-6 (its floor)",
+            simple(
+                "goals: [{position: [1, 0.5, 1.5], tool_axis: [1, 0, 0]}]",
+                solver="orientation_tolerance: 1e-6, max_frames_per_goal: 200",
+            ),
+        ),
+        (
+            "max_joint_step 0.001 (its floor), a far goal",
+            simple("goals: [[-1, -1, 1]]", solver="max_joint_step: 0.001, max_frames_per_goal: 300"),
+        ),
+        ("max_joint_step 180 (its bound), fps 0.01", simple(solver="max_joint_step: 180", fps="0.01")),
+        (
+            "max_joint_speed 1e5 and acceleration 1e7 at 0.01 fps",
+            simple(arm=", max_joint_speed: 100000, max_joint_acceleration: 10000000", fps="0.01"),
+        ),
+        (
+            "max_joint_speed 1e5, acceleration 1e7, jerk 1e10 at 240 fps",
+            simple(
+                arm=", max_joint_speed: 100000, max_joint_acceleration: 10000000, max_joint_jerk: 10000000000",
+                fps="240",
+            ),
+        ),
+        (
+            "max_joint_acceleration at its least for 30 fps (3.6e-9)",
+            simple("goals: [{joints: [1, 0, 0]}]", arm=", max_joint_acceleration: 3.6e-9", fps="30"),
+        ),
+        (
+            "max_joint_acceleration just under its least (3.5e-9)",
+            simple("goals: [{joints: [1, 0, 0]}]", arm=", max_joint_acceleration: 3.5e-9", fps="30"),
+        ),
+        (
+            "max_joint_speed 3e-5 (its least at 30 fps), a 1-degree joint goal",
+            simple("goals: [{joints: [1, 0, 0]}]", arm=", max_joint_speed: 3e-5", fps="30"),
+        ),
+        ("max_joint_speed 64 values on 3 joints", simple(arm=", max_joint_speed: [" + ",".join(["10"] * 64) + "]")),
+        ("max_joint_speed 65 values", simple(arm=", max_joint_speed: [" + ",".join(["10"] * 65) + "]")),
+        ("hold 1e308", simple("goals: [{position: [1, 1, 1], hold: 1e308}]")),
+        ("hold 5e-324", simple("goals: [{position: [1, 1, 1], hold: 5e-324}]")),
+        ("max_frames_per_goal 1,000,000", simple(solver="max_frames_per_goal: 1000000")),
+        ("max_frames_per_goal 0", simple(solver="max_frames_per_goal: 0")),
+        ("max_frames_per_goal 1e300 (a float)", simple(solver="max_frames_per_goal: 1e300")),
+        (
+            "1,000 goals (the most)",
+            "version: 1\nname: f\narm: {links: [1, 1, 1]}\ngoals:\n"
+            + "".join(f"  - [1, {(i % 2) * 0.2}, 1]\n" for i in range(1000))
+            + "render: {size: [160, 90], fps: 10}\n",
+        ),
+        (
+            "1,001 goals",
+            "version: 1\nname: f\narm: {links: [1, 1, 1]}\ngoals:\n"
+            + "".join(f"  - [1, {(i % 2) * 0.2}, 1]\n" for i in range(1001))
+            + "render: {size: [160, 90], fps: 10}\n",
+        ),
+        (
+            "blend 1e9 on every goal",
+            simple("goals: [{position: [1, 1, 1], blend: 1e9}, {position: [0.5, -1, 1], blend: 1e9}, [1, 0, 2]]"),
+        ),
+        ("blend 5e-324", simple("goals: [{position: [1, 1, 1], blend: 5e-324}, [0.5, -1, 1]]")),
+        (
+            "a joint goal's blend of 180 degrees",
+            simple("goals: [{joints: [30, 40, 20], blend: 180}, {joints: [-30, 10, 20]}]"),
+        ),
+        (
+            "solver.blend 1e-12 with a path",
+            simple(
+                "goals: [[1, 0.5, 1], {path: {line: [[1, 0.5, 1], [1, -0.5, 1]]}, speed: 0.5}]", solver="blend: 1e-12"
+            ),
+        ),
+        (
+            "a polyline of 10,000 points",
+            simple(
+                "goals:\n  - path: {polyline: ["
+                + ",".join(f"[1, {(i % 200) / 400 - 0.25:.4f}, {1 + (i // 200) / 400:.4f}]" for i in range(10000))
+                + "]}\n    speed: 0.5"
+            ),
+        ),
+        (
+            "a polyline with a repeated point",
+            simple("goals: [{path: {polyline: [[1, 0.5, 1], [1, 0.5, 1], [1, -0.5, 1]]}, speed: 0.5}]"),
+        ),
+        ("a line of two equal points", simple("goals: [{path: {line: [[1, 0.5, 1], [1, 0.5, 1]]}, speed: 0.5}]")),
+        (
+            "an arc of angle 1e-300",
+            simple(
+                "goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 1e-300, normal: [1, 0, 0]}}, speed: 0.5}]"
+            ),
+        ),
+        (
+            "an arc of radius 0",
+            simple(
+                "goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0, 1], angle: 90, normal: [1, 0, 0]}}, speed: 0.5}]"
+            ),
+        ),
+        (
+            "an arc whose normal is 1e-300 long",
+            simple(
+                "goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 90, normal: [1e-300, 0, 0]}}, speed: 0.5}]"
+            ),
+        ),
+        ("a path at speed 1e9", simple("goals: [{path: {line: [[1, 0.5, 1], [1, -0.5, 1]]}, speed: 1e9}]")),
+        (
+            "a text path of 2,000 characters",
+            simple(
+                'goals: [{path: {text: {string: "'
+                + "W" * 2000
+                + '", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]'
+            ),
+        ),
+        (
+            "a text path of one space",
+            simple(
+                'goals: [{path: {text: {string: " ", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]'
+            ),
+        ),
+        (
+            "a text path of height 1e-300",
+            simple(
+                'goals: [{path: {text: {string: "ab", origin: [1, -0.5, 1], height: 1e-300, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]'
+            ),
+        ),
+        (
+            "a text path whose right and up are parallel",
+            simple(
+                'goals: [{path: {text: {string: "ab", origin: [1, -0.5, 1], height: 0.05, right: [0, 0, 1], up: [0, 0, 1]}}, speed: 0.5}]'
+            ),
+        ),
+    ]
+    for label, text in cases:
+        out.append(Attempt(k, f"run {label}", run, tiny_scene(text=text), (0, 2), timeout=300))
+
+    # the frame budget at its edge: 1 + the goals' max_frames_per_goal + round(hold * fps) each
+    def holds(last: str, fps: str, count: int) -> str:
+        goals = [f"{{position: [1, {k % 2}, 1], hold: 3600}}" for k in range(count)]
+        goals.append(f"{{position: [1, 1, 1], hold: {last}}}")
+        return simple(f"goals: [{', '.join(goals)}]", solver="max_frames_per_goal: 10", fps=fps)
+
+    for last, codes in (("2771.9", (0,)), ("2771.94", (0,)), ("2772", (2,))):  # 1,000,000 / 1,000,000 / 1,000,001
+        out.append(
+            Attempt(
+                k,
+                f"validate 28 holds of 1,000,000 frames and one more (last hold {last} s at 10 fps)",
+                ["validate", "s.yaml"],
+                tiny_scene(text=holds(last, "10", 27)),
+                codes,
+                timeout=60,
+            )
+        )
+    edge = holds("925.8", "30", 9)  # 999,875 frames at 30 fps
+    for flag in (["--fps", "30.01"], ["--fps", "240"], ["--quality", "high"]):
+        out.append(
+            Attempt(
+                k,
+                f"run 10 holds of 999,875 frames {' '.join(flag)} (past the frame limit)",
+                [*run, *flag],
+                tiny_scene(text=edge),
+                (2,),
+                timeout=120,
+                message="1,000,000",
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "render --fps 0.01 of a finished run",
+            ["render", "o/tiny", "--fps", "0.01", "-q", "--size", "64x48"],
+            lambda d: finished_run(d) and None,
+            (0, 2),
+            timeout=300,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "view of a run of 1,000 goals",
+            ["view", "o/f", "--out", "v.html"],
+            lambda d: finished_run(d, dict(cases)["1,000 goals (the most)"]) and None,
+            (0,),
+            timeout=400,
+        )
+    )
+    return out
+
+
+LONG = TINY.replace(
+    "[[1, 1, 1], [0.5, -1, 1]]", "[{position: [1, 1, 1], hold: 3600}, {position: [0.5, -1, 1], hold: 400}]"
+)
+"""A tiny scene of some 40,000 frames (a long hold at 10 fps): long pages, exports and CSVs."""
+
+
+def whole_or_none(*paths: str) -> Callable[[Path], list[str]]:
+    """After an interrupt: each path absent, or whole (a run folder with its marker; a page that
+    ends its document; a JSON file that parses)."""
+
+    def check(d: Path) -> list[str]:
+        import json as _json
+
+        problems = []
+        for name in paths:
+            path = d / name
+            if not os.path.lexists(path):
+                continue
+            if path.is_dir():
+                if not (path / ".armanim-run.json").is_file():
+                    problems.append(f"{name}: a folder without its marker")
+            elif name.endswith(".html"):
+                if not path.read_bytes().rstrip().endswith(b"</html>"):
+                    problems.append(f"{name}: half a page")
+            elif name.endswith(".json"):
+                try:
+                    _json.loads(path.read_text())
+                except ValueError:
+                    problems.append(f"{name}: half a JSON file")
+        return problems
+
+    return check
+
+
+def signals10_attempts() -> list[Attempt]:
+    """Interrupts at moments and in commands the campaigns before did not reach: view, export,
+    validate's fit, a double Ctrl-C, SIGTERM to the whole group, a signal during start-up."""
+    k = "signals10"
+    out = []
+
+    def with_long(d: Path) -> None:
+        finished_run(d, LONG)
+
+    for cmd, target, delays in [
+        (["view", "o/tiny", "--out", "v.html"], "v.html", (1.0, 3.0)),
+        (["export", "o/tiny", "--out", "e.json"], "e.json", (1.0, 2.5)),
+        (["view", "o/tiny"], "o/tiny", (2.0,)),
+    ]:
+        for delay in delays:
+            for signame in ("SIGINT", "SIGTERM", "SIGTERMG"):
+                out.append(
+                    Attempt(
+                        k,
+                        f"{' '.join(cmd[:2])} of a 40,000-frame run, {signame} at {delay:g} s",
+                        cmd,
+                        with_long,
+                        (0, 130),
+                        timeout=120,
+                        interrupt=(delay, signame),
+                        keep=("o/tiny",) if target != "o/tiny" else (),
+                        after=whole_or_none(target),
+                        litter_in=("o", "."),
+                    )
+                )
+
+    def fit_setup(d: Path) -> None:
+        big_stl(d / "big.stl", 600_000)
+        urdf_robot(collision=col("big.stl"))(d)
+        (d / "cache").mkdir()
+
+    for cmd in (["validate", "s.yaml"], ["run", "s.yaml", "--out", "o", "--no-video", "-q"]):
+        for delay, signame in ((1.5, "SIGINT"), (3.0, "SIGTERM"), (5.0, "SIGTERMG")):
+            out.append(
+                Attempt(
+                    k,
+                    f"{cmd[0]} fitting a 30 MB collision STL, {signame} at {delay:g} s",
+                    cmd,
+                    fit_setup,
+                    (0, 130),
+                    timeout=120,
+                    interrupt=(delay, signame),
+                    env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                    after=whole_or_none("o/m"),
+                    litter_in=("o", "cache"),
+                )
+            )
+    run_video = ["run", "s.yaml", "--out", "o", "-q", "--jobs", "2"]
+    for label, interrupt, also in [
+        ("two Ctrl-C 0.2 s apart at 3 s", (3.0, "SIGINT"), ((3.2, "SIGINT"),)),
+        ("two Ctrl-C 0.05 s apart at 6 s", (6.0, "SIGINT"), ((6.05, "SIGINT"),)),
+        ("Ctrl-C then SIGTERM at 4 s", (4.0, "SIGINT"), ((4.3, "SIGTERM"),)),
+        ("SIGTERM to the group at 4 s", (4.0, "SIGTERMG"), ()),
+        ("SIGTERM to the group at 8 s", (8.0, "SIGTERMG"), ()),
+        ("Ctrl-C at 0.15 s (start-up)", (0.15, "SIGINT"), ()),
+        ("SIGTERM at 0.3 s (imports)", (0.3, "SIGTERM"), ()),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"run with video, {label}",
+                run_video,
+                tiny_scene(),
+                (0, 130),
+                timeout=200,
+                interrupt=interrupt,
+                also=also,
+                after=whole_or_none("o/tiny"),
+            )
+        )
+    for delay, signame in ((2.0, "SIGINT"), (5.0, "SIGTERMG"), (8.0, "SIGTERM")):
+        out.append(
+            Attempt(
+                k,
+                f"run writing a 40,000-frame CSV, {signame} at {delay:g} s",
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                tiny_scene(text=LONG),
+                (0, 130),
+                timeout=200,
+                interrupt=(delay, signame),
+                after=whole_or_none("o/tiny"),
+            )
+        )
+
+    def rendered(d: Path) -> None:
+        finished_run(d, video=False)
+
+    for delay, signame in ((1.5, "SIGINT"), (4.0, "SIGTERMG"), (6.0, "SIGTERM")):
+        out.append(
+            Attempt(
+                k,
+                f"render --out fig, {signame} at {delay:g} s",
+                ["render", "o/tiny", "--out", "fig", "-q", "--size", "320x180"],
+                rendered,
+                (0, 130),
+                timeout=200,
+                interrupt=(delay, signame),
+                keep=("o/tiny",),
+                after=whole_or_none("fig"),
+                litter_in=("o", "fig", "."),
+            )
+        )
+    for delay, signame in ((2.0, "SIGINT"), (5.0, "SIGTERMG")):
+        out.append(
+            Attempt(
+                k,
+                f"sweep of 4 variants with video, {signame} at {delay:g} s",
+                [
+                    "sweep",
+                    "s.yaml",
+                    "--set",
+                    "solver.step=0.1,0.2",
+                    "--set",
+                    "render.fps=5,10",
+                    "--out",
+                    "o",
+                    "-q",
+                    "--video",
+                    "--jobs",
+                    "2",
+                ],
+                tiny_scene(),
+                (0, 2, 130),
+                timeout=300,
+                interrupt=(delay, signame),
+                after=lambda d: [
+                    p
+                    for name in (os.listdir(d / "o") if (d / "o").is_dir() else [])
+                    if not name.startswith(".")
+                    for p in whole_or_none(f"o/{name}")(d)
+                ],
+            )
+        )
+    for delay, signame in ((1.0, "SIGINT"), (3.0, "SIGTERMG")):
+        out.append(
+            Attempt(
+                k,
+                f"fk --png of a 60 MB visual STL, {signame} at {delay:g} s",
+                FK_PNG,
+                lambda d: (urdf_robot(vis("big.stl"))(d), big_stl(d / "big.stl", 1_200_000)),
+                (0, 130),
+                timeout=120,
+                interrupt=(delay, signame),
+                after=lambda d: (
+                    []
+                    if os.path.exists(d / "p.png") == os.path.exists(d / ".p.png.armanim.json")
+                    else ["a png without its mark, or a mark alone"]
+                ),
+                litter_in=(".",),
+            )
+        )
+    return out
+
+
+def armanim_in(d: Path, *args: str, env: dict | None = None) -> None:
+    """Run armanim in ``d`` as the setup of an attempt (checked)."""
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", *args],
+        cwd=d,
+        env=dict(os.environ, PYTHONPATH=str(SRC), **(env or {})),
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    if done.returncode != 0:
+        raise RuntimeError(f"setup armanim {' '.join(args)} failed: {done.stderr[-400:]}")
+
+
+OTHER = TINY.replace("name: tiny", "name: other")
+
+
+def loss10_attempts() -> list[Attempt]:
+    """Hard links, links at marks and caches, outputs aimed into other run folders, edited outputs."""
+    k = "loss10"
+    out = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    changed = TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]")
+
+    def then(*steps: Callable[[Path], object]) -> Callable[[Path], None]:
+        def setup(d: Path) -> None:
+            for step in steps:
+                step(d)
+
+        return setup
+
+    def edit(path: str, append: bytes = b" ") -> Callable[[Path], None]:
+        def change(d: Path) -> None:
+            with open(d / path, "ab") as handle:
+                handle.write(append)
+
+        return change
+
+    def hardlink(src: str, dst: str) -> Callable[[Path], None]:
+        return lambda d: os.link(d / src, d / dst)
+
+    def symlink(target: str, at: str) -> Callable[[Path], None]:
+        return lambda d: os.symlink(target, d / at)
+
+    def mine(name: str = "mine.txt", text: str = "my notes\n") -> Callable[[Path], None]:
+        return lambda d: write(d / name, text) and None
+
+    base = finished_run
+    out += [
+        Attempt(
+            k,
+            "view --out a page armanim wrote, edited since",
+            ["view", "o/tiny", "--out", "v.html"],
+            then(base, lambda d: armanim_in(d, "view", "o/tiny", "--out", "v.html"), edit("v.html", b"<!-- mine -->")),
+            (3,),
+            keep=("v.html",),
+        ),
+        Attempt(
+            k,
+            "view --out v.html, hard-linked by the user as keep.html",
+            ["view", "o/tiny", "--out", "v.html"],
+            then(base, lambda d: armanim_in(d, "view", "o/tiny", "--out", "v.html"), hardlink("v.html", "keep.html")),
+            (0, 3),
+            keep=("keep.html",),
+        ),
+        Attempt(
+            k,
+            "export --out x.json, hard-linked by the user as keep.json",
+            ["export", "o/tiny", "--out", "x.json"],
+            then(base, lambda d: export_of(d, "x.json"), hardlink("x.json", "keep.json")),
+            (0, 3),
+            keep=("keep.json",),
+        ),
+        Attempt(
+            k,
+            "run again, trajectory.csv hard-linked by the user as mine.csv",
+            run,
+            then(base, hardlink("o/tiny/trajectory.csv", "mine.csv"), lambda d: write(d / "s.yaml", changed)),
+            (0, 3),
+            keep=("mine.csv",),
+        ),
+        Attempt(
+            k,
+            "render again, plot.png hard-linked by the user",
+            ["render", "o/tiny", "-q", "--size", "64x48"],
+            then(lambda d: finished_run(d, video=True), hardlink("o/tiny/plot.png", "mine.png")),
+            (0, 3),
+            keep=("mine.png",),
+        ),
+        Attempt(
+            k,
+            "check --update, the golden CSV hard-linked by the user",
+            ["check", "s.yaml", "--golden", "g", "--update"],
+            then(
+                mine("s.yaml", TINY),
+                lambda d: armanim_in(d, "check", "s.yaml", "--golden", "g", "--update"),
+                hardlink("g/tiny.csv", "mine.csv"),
+                lambda d: write(d / "s.yaml", changed),
+            ),
+            (0, 3),
+            keep=("mine.csv",),
+        ),
+        Attempt(
+            k,
+            "run again, trajectory.csv now a link to the user's copy",
+            run,
+            then(
+                base,
+                lambda d: shutil.copy(d / "o/tiny/trajectory.csv", d / "mine.csv"),
+                lambda d: os.unlink(d / "o/tiny/trajectory.csv"),
+                symlink("../../mine.csv", "o/tiny/trajectory.csv"),
+            ),
+            (0, 3),
+            keep=("mine.csv",),
+        ),
+        Attempt(
+            k,
+            "run --out a link to the user's folder of notes",
+            ["run", "s.yaml", "--out", "lnk", "--no-video", "-q"],
+            then(mine("s.yaml", TINY), mine("real/notes.txt"), symlink("real", "lnk")),
+            (0, 3),
+            keep=("real/notes.txt", "lnk"),
+        ),
+        Attempt(
+            k,
+            "run, OUT/NAME a link to another run folder",
+            run,
+            then(lambda d: finished_run(d, OTHER, "other.yaml"), mine("s.yaml", TINY), symlink("other", "o/tiny")),
+            (3,),
+            keep=("o/other", "o/tiny"),
+        ),
+        Attempt(
+            k,
+            "run, OUT/NAME a user's regular file",
+            run,
+            then(mine("s.yaml", TINY), mine("o/tiny")),
+            (3,),
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "render --out a link to the user's empty folder",
+            ["render", "o/tiny", "-q", "--size", "64x48", "--out", "fig"],
+            then(base, lambda d: (d / "real").mkdir(), symlink("real", "fig")),
+            (0, 2, 3),
+            keep=("fig",),
+        ),
+        Attempt(
+            k,
+            "render --out a previous render's folder, plot.png edited since",
+            ["render", "o/tiny", "-q", "--size", "64x48", "--out", "fig"],
+            then(
+                base,
+                lambda d: armanim_in(d, "render", "o/tiny", "-q", "--size", "64x48", "--out", "fig"),
+                edit("fig/plot.png"),
+            ),
+            (3,),
+            keep=("fig",),
+        ),
+        Attempt(
+            k,
+            "render --out another run's folder",
+            ["render", "o/tiny", "-q", "--size", "64x48", "--out", "o/other"],
+            then(base, lambda d: finished_run(d, OTHER, "other.yaml")),
+            (2, 3),
+            keep=("o/other",),
+        ),
+        Attempt(
+            k,
+            "render --out the runs' root",
+            ["render", "o/tiny", "-q", "--size", "64x48", "--out", "o"],
+            base,
+            (2, 3),
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "render --out . (the user's folder)",
+            ["render", "o/tiny", "-q", "--size", "64x48", "--out", "."],
+            base,
+            (2, 3),
+            keep=("s.yaml",),
+        ),
+        Attempt(
+            k,
+            "export --out into another run's folder",
+            ["export", "o/tiny", "--out", "o/other/x.json"],
+            then(base, lambda d: finished_run(d, OTHER, "other.yaml")),
+            (2,),
+            keep=("o/other",),
+        ),
+        Attempt(
+            k,
+            "view --out another run's viewer.html",
+            ["view", "o/tiny", "--out", "o/other/viewer.html"],
+            then(base, lambda d: finished_run(d, OTHER, "other.yaml")),
+            (2,),
+            keep=("o/other",),
+        ),
+        Attempt(
+            k,
+            "view --out the run's own trajectory.csv",
+            ["view", "o/tiny", "--out", "o/tiny/trajectory.csv"],
+            base,
+            (2, 3),
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "schema --out an export armanim wrote",
+            ["schema", "--out", "x.json"],
+            then(base, lambda d: export_of(d, "x.json")),
+            (3,),
+            keep=("x.json",),
+        ),
+        Attempt(
+            k,
+            "fk --png onto a schema armanim wrote",
+            ["fk", "--angles", "0,0,0,0", "--png", "s.json"],
+            lambda d: armanim_in(d, "schema", "--out", "s.json"),
+            (3,),
+            keep=("s.json",),
+        ),
+        Attempt(
+            k,
+            "fk --png into a run folder",
+            ["fk", "--angles", "0,0,0,0", "--png", "o/tiny/plot.png"],
+            lambda d: finished_run(d, video=True) and None,
+            (2, 3),
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "schema --out into a run folder's summary.json",
+            ["schema", "--out", "o/tiny/summary.json"],
+            base,
+            (2, 3),
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "import moveit --out a batch's index.csv",
+            ["import", "moveit", "w.scene", "--robot", "panda", "--out", "o/index.csv"],
+            then(
+                mine("a.yaml", TINY.replace("tiny", "a")),
+                lambda d: (
+                    armanim_in(d, "run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1")
+                    if write(d / "s.yaml", TINY)
+                    else None
+                ),
+                mine("w.scene", "w\n* box\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"),
+            ),
+            (2, 3),
+            keep=("o/index.csv",),
+        ),
+        Attempt(
+            k,
+            "check --update --golden a run folder",
+            ["check", "s.yaml", "--golden", "o/tiny", "--update"],
+            base,
+            (2, 3),
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "check --update --golden the runs' root holding a run",
+            ["check", "s.yaml", "--golden", "o", "--update"],
+            base,
+            (0, 2, 3),
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "a batch of two scenes of one name",
+            ["run", "s.yaml", "t.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"],
+            then(mine("s.yaml", TINY), mine("t.yaml", changed)),
+            (2,),
+            message="also named 'tiny'",  # the first scene runs (a batch runs what it can), the second is named
+        ),
+        Attempt(
+            k,
+            "a batch of two names that differ in case only",
+            ["run", "s.yaml", "t.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"],
+            then(mine("s.yaml", TINY), mine("t.yaml", TINY.replace("tiny", "TINY"))),
+            (0, 2),
+            keep=(),
+        ),
+        Attempt(
+            k,
+            "export --out x.json, its mark a link to the user's file",
+            ["export", "o/tiny", "--out", "x.json"],
+            then(
+                base,
+                lambda d: export_of(d, "x.json"),
+                mine(),
+                lambda d: os.unlink(d / ".x.json.armanim.json"),
+                symlink("mine.txt", ".x.json.armanim.json"),
+            ),
+            (0, 3),
+            keep=("mine.txt",),
+        ),
+        Attempt(
+            k,
+            "schema --out s.json, its mark a hard link to the user's file",
+            ["schema", "--out", "s.json"],
+            then(
+                lambda d: armanim_in(d, "schema", "--out", "s.json"),
+                lambda d: shutil.copy(d / ".s.json.armanim.json", d / "mine.json"),
+                lambda d: os.unlink(d / ".s.json.armanim.json"),
+                hardlink("mine.json", ".s.json.armanim.json"),
+            ),
+            (0, 3),
+            keep=("mine.json",),
+        ),
+        Attempt(
+            k,
+            "a batch again, index.csv's mark hard-linked by the user",
+            ["run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"],
+            then(
+                mine("a.yaml", TINY.replace("tiny", "a")),
+                mine("s.yaml", TINY),
+                lambda d: armanim_in(d, "run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"),
+                hardlink("o/.index.csv.armanim.json", "mine.json"),
+                mine("a.yaml", TINY.replace("tiny", "a").replace("[0.5, -1, 1]", "[0.5, -1, 1.2]")),
+            ),
+            (0, 3),
+            keep=("mine.json",),
+        ),
+        Attempt(
+            k,
+            "run, the lock hard-linked to the user's file",
+            run,
+            then(mine("s.yaml", TINY), mine(), lambda d: (d / "o").mkdir(), hardlink("mine.txt", "o/.tiny.lock")),
+            (0, 3),
+            keep=("mine.txt",),
+        ),
+        Attempt(
+            k,
+            "validate with ARMANIM_CACHE_DIR the user's folder of notes",
+            ["validate", "s.yaml"],
+            then(
+                lambda d: write(d / "a.stl", stl(30)),
+                urdf_robot(collision=col("a.stl")),
+                mine("notes/a.txt"),
+                mine("notes/b.json", "{}"),
+            ),
+            (0,),
+            env={"ARMANIM_CACHE_DIR": "{d}/notes"},
+            keep=("notes/a.txt", "notes/b.json"),
+        ),
+        Attempt(
+            k,
+            "fk --png a name with a newline",
+            ["fk", "--angles", "0,0,0,0", "--png", "a\nb.png"],
+            lambda d: None,
+            (0, 2),
+            after=lambda d: (
+                []
+                if not (d / "a\nb.png").exists() or (d / ".a\nb.png.armanim.json").exists()
+                else ["a png without its mark"]
+            ),
+        ),
+        Attempt(
+            k,
+            "run --out a folder of odd characters ('-rf', spaces, accents)",
+            ["run", "s.yaml", "--out", "-rf é  x", "--no-video", "-q"],
+            mine("s.yaml", TINY),
+            (0,),
+            after=exists("-rf é  x/tiny"),
+        ),
+        Attempt(
+            k,
+            "run, then a scene named tiny.old-1 (a leftover's look)",
+            ["run", "t.yaml", "--out", "o", "--no-video", "-q"],
+            then(base, mine("t.yaml", TINY.replace("name: tiny", "name: tiny.old-1"))),
+            (0, 2),
+            keep=("o/tiny",),
+            litter_in=(),
+        ),
+        Attempt(
+            k,
+            "run of a scene named tiny.lock beside a run tiny",
+            ["run", "t.yaml", "--out", "o", "--no-video", "-q"],
+            then(base, mine("t.yaml", TINY.replace("name: tiny", "name: tiny.lock"))),
+            (0, 2),
+            keep=("o/tiny",),
+        ),
+    ]
+
+    def cache_entry_as(link: Callable[[Path, Path], None]) -> Callable[[Path], None]:
+        """A fitted URDF whose cache entries are then ``link(user's file, entry)``."""
+        return then(
+            lambda d: write(d / "a.stl", stl(30)),
+            urdf_robot(collision=col("a.stl")),
+            lambda d: (d / "cache").mkdir(),
+            lambda d: armanim_in(d, "validate", "s.yaml", env={"ARMANIM_CACHE_DIR": str(d / "cache")}),
+            mine("mine.json", '{"mine": 1}'),
+            lambda d: [(os.unlink(p), link(d / "mine.json", p)) for p in (d / "cache").glob("*.json")],
+        )
+
+    for label, link in (("a link", os.symlink), ("a hard link", os.link)):
+        out.append(
+            Attempt(
+                k,
+                f"validate, a fitted cache entry {label} to the user's file",
+                ["validate", "s.yaml"],
+                cache_entry_as(link),
+                (0,),
+                env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                keep=("mine.json",),
+            )
+        )
+    return out
+
+
+AT_LINE = r"(\.yaml|\.urdf|\.srdf|\.scene|--set [^:]+|\.xml):(\d+:)? "
+"""What an input error names: the file and line (the field and message follow)."""
+
+MINI_URDF = urdf_text()
+
+
+def inputs10_attempts() -> list[Attempt]:
+    """Malformed YAML, URDF, SRDF and scene fields the campaigns before did not write."""
+    k = "inputs10"
+    out = []
+    good = "version: 1\nname: s\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\n"
+
+    def goals_(goals: str) -> str:
+        return good.replace("[[1, 1, 1]]", goals)
+
+    def arm_(fields: str) -> str:
+        return good.replace("links: [1, 1, 1]", "links: [1, 1, 1], " + fields)
+
+    yaml_cases = [
+        ("a duplicate key", "version: 1\nversion: 1\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\n"),
+        ("a merge key <<", "base: &b {links: [1, 1, 1]}\nversion: 1\narm: {<<: *b}\ngoals: [[1, 1, 1]]\n"),
+        ("a !!binary value", good.replace("name: s", "name: !!binary aGVsbG8=")),
+        ("a !!set", good.replace("goals: [[1, 1, 1]]", "goals: !!set {a, b}")),
+        ("a !!timestamp", good.replace("name: s", "name: 2020-01-01")),
+        ("a !!omap", good.replace("arm: {links: [1, 1, 1]}", "arm: !!omap [links: [1, 1, 1]]")),
+        ("a !!python/name tag", good.replace("name: s", "name: !!python/name:os.system")),
+        ("a custom !tag", good.replace("name: s", "name: !mine s")),
+        ("an integer key", good + "1: x\n"),
+        ("a list as a key", good + "? [a, b]\n: x\n"),
+        ("a null key", good + "~: x\n"),
+        ("a boolean key", good + "true: x\n"),
+        ("two documents", good + "---\n" + good),
+        ("a document end then garbage", good + "...\n%%%\n"),
+        ("CR line ends only", good.replace("\n", "\r")),
+        ("a tab for indentation", "version: 1\narm:\n\tlinks: [1, 1, 1]\ngoals: [[1, 1, 1]]\n"),
+        ("a 200,000-character line", good.replace("name: s", "name: " + "s" * 200_000)),
+        ("a scalar document", "42\n"),
+        ("a list document", "- 1\n- 2\n"),
+        ("only a comment", "# nothing\n"),
+        ("version 1.0", good.replace("version: 1", "version: 1.0")),
+        ("version '1'", good.replace("version: 1", "version: '1'")),
+        ("version true", good.replace("version: 1", "version: true")),
+        ("version 0x1", good.replace("version: 1", "version: 0x1")),
+        ("name 123", good.replace("name: s", "name: 123")),
+        ("name a list", good.replace("name: s", "name: [a]")),
+        ("name with a newline", good.replace("name: s", 'name: "a\\nb"')),
+        ("name with a right-to-left mark", good.replace("name: s", 'name: "a\\u202eb"')),
+        ("name of NUL", good.replace("name: s", 'name: "\\0"')),
+        ("goals {}", good.replace("goals: [[1, 1, 1]]", "goals: {}")),
+        ("goals null", good.replace("goals: [[1, 1, 1]]", "goals: null")),
+        ("a goal '1,1,1' as a string", goals_("['1,1,1']")),
+        ("a goal of two numbers", goals_("[[1, 1]]")),
+        ("a goal of .nan", goals_("[[.nan, 1, 1]]")),
+        ("a goal of 1e400", goals_("[[1e400, 1, 1]]")),
+        ("a goal of 1_000", goals_("[[1_000, 1, 1]]")),
+        ("a goal of yes", goals_("[[yes, 1, 1]]")),
+        ("a goal of 0o17", goals_("[[0o17, 1, 1]]")),
+        ("a goal with position and joints", goals_("[{position: [1, 1, 1], joints: [0, 0, 0]}]")),
+        (
+            "a goal with path and position",
+            goals_("[{position: [1, 1, 1], path: {line: [[1, 0, 1], [1, 1, 1]]}, speed: 1}]"),
+        ),
+        ("joints of 1e300", goals_("[{joints: [1e300, 0, 0]}]")),
+        ("joints of four values on three joints", goals_("[{joints: [0, 0, 0, 0]}]")),
+        (
+            "an orientation of rpy nan",
+            goals_("[{position: [1, 1, 1], orientation: {rpy: [.nan, 0, 0]}}]"),
+        ),
+        (
+            "an orientation quaternion of zeros",
+            goals_("[{position: [1, 1, 1], orientation: {quaternion: [0, 0, 0, 0]}}]"),
+        ),
+        (
+            "an orientation quaternion of 1e-300",
+            goals_("[{position: [1, 1, 1], orientation: {quaternion: [1e-300, 0, 0, 0]}}]"),
+        ),
+        ("a tool_axis of zeros", goals_("[{position: [1, 1, 1], tool_axis: [0, 0, 0]}]")),
+        ("a tool_axis of 1e-320", goals_("[{position: [1, 1, 1], tool_axis: [1e-320, 0, 0]}]")),
+        ("a box of negative size", good + "obstacles: [{box: {center: [3, 3, 3], size: [-1, 1, 1]}}]\n"),
+        (
+            "a capsule of equal ends and radius 0",
+            good + "obstacles: [{capsule: {from: [3, 3, 3], to: [3, 3, 3], radius: 0}}]\n",
+        ),
+        ("a cylinder of length 0", good + "obstacles: [{cylinder: {center: [3, 3, 3], length: 0, radius: 1}}]\n"),
+        ("a sphere of radius .inf", good + "obstacles: [{center: [3, 3, 3], radius: .inf}]\n"),
+        ("a sphere of influence -1", good + "obstacles: [{center: [3, 3, 3], radius: 1, influence: -1}]\n"),
+        (
+            "an obstacle named with a slash and a newline",
+            good + 'obstacles: [{center: [3, 3, 3], radius: 1, name: "a/b\\nc"}]\n',
+        ),
+        (
+            "10,000 obstacles",
+            good
+            + "obstacles:\n"
+            + "".join(f"  - {{center: [{5 + i % 100}, {5 + i // 100}, 5], radius: 0.1}}\n" for i in range(10_000)),
+        ),
+        ("floor .nan", good + "floor: .nan\n"),
+        ("floor a list", good + "floor: [0]\n"),
+        ("arm.links []", good.replace("[1, 1, 1]}", "[]}")),
+        ("arm.links of 0", good.replace("links: [1, 1, 1]", "links: [1, 0, 1]")),
+        ("arm.links of -1", good.replace("links: [1, 1, 1]", "links: [1, -1, 1]")),
+        (
+            "arm.links of 200 values",
+            good.replace("links: [1, 1, 1]", "links: [" + ",".join(["0.01"] * 200) + "]").replace(
+                "[[1, 1, 1]]", "[[0.5, 0.5, 0.5]]"
+            ),
+        ),
+        ("arm.axes [w]", arm_("axes: [w, y, y]")),
+        ("arm.axes ['-z']", arm_("axes: ['-z', y, y]")),
+        ("arm.direction q", arm_("direction: q")),
+        ("arm.home of two values", arm_("home: [0, 0]")),
+        (
+            "arm.limits min over max",
+            arm_("limits: [null, [90, -90], null]"),
+        ),
+        (
+            "arm.limits of -1e400",
+            arm_("limits: [null, [-1e400, 1], null]"),
+        ),
+        (
+            "arm.limits a home outside them",
+            arm_("limits: [null, [10, 20], null]"),
+        ),
+        ("arm.limit_margin 0", arm_("limit_margin: 0")),
+        ("arm.width 0", arm_("width: 0")),
+        ("arm.width 1e9", arm_("width: 1e9")),
+        ("self_collision maybe", arm_("self_collision: maybe")),
+        (
+            "self_collision allow a pair of one link",
+            arm_("self_collision: {auto: true, allow: [[link1, link1]]}"),
+        ),
+        (
+            "self_collision allow an unknown link",
+            good.replace(
+                "links: [1, 1, 1]", "links: [1, 1, 1], self_collision: {auto: true, allow: [[link1, nosuch]]}"
+            ),
+        ),
+        (
+            "self_collision srdf a FIFO",
+            arm_("self_collision: {srdf: f.srdf}"),
+        ),
+        (
+            "self_collision srdf a folder",
+            arm_("self_collision: {srdf: sub}"),
+        ),
+        ("solver.step 0", good + "solver: {step: 0}\n"),
+        ("solver.step 1.5", good + "solver: {step: 1.5}\n"),
+        ("solver.damping -1", good + "solver: {method: dls, damping: -1}\n"),
+        ("solver.weights goal -1", good + "solver: {weights: {goal: -1}}\n"),
+        ("solver.weights an unknown key", good + "solver: {weights: {mine: 1}}\n"),
+        ("solver.planner maybe", good + "solver: {planner: maybe}\n"),
+        ("solver.jacobian numeric with newton", good + "solver: {jacobian: numeric, method: newton}\n"),
+        ("render.size [16.5, 9]", good + "render: {size: [16.5, 9]}\n"),
+        ("render.size '640x360'", good + "render: {size: '640x360'}\n"),
+        ("render.format avi", good + "render: {format: avi}\n"),
+        ("render an unknown key", good + "render: {camera: 1}\n"),
+        ("an unknown top-level key near a real one", good + "obstacle: []\n"),
+    ]
+    for label, text in yaml_cases:
+
+        def setup(d: Path, text=text) -> None:
+            write(d / "s.yaml", text)
+            fifo(d / "f.srdf")
+            (d / "sub").mkdir()
+
+        out.append(
+            Attempt(k, f"validate, {label}", ["validate", "s.yaml"], setup, (0, 2), timeout=120, message_if_2=AT_LINE)
+        )
+    # URDF
+    joint = '<joint name="j{i}" type="{t}"><parent link="l{i}"/><child link="l{n}"/><origin xyz="0 0 0.3" rpy="{rpy}"/><axis xyz="{axis}"/>{limit}</joint>'
+
+    def urdf_with(
+        t="revolute",
+        axis="0 1 0",
+        rpy="0 0 0",
+        limit='<limit lower="-2" upper="2" effort="1" velocity="1"/>',
+        extra="",
+        links=4,
+        mimic="",
+    ) -> str:
+        lines = ['<?xml version="1.0"?>', '<robot name="r">']
+        lines += [f'<link name="l{i}"/>' for i in range(links)]
+        for i in range(links - 1):
+            lines.append(
+                joint.format(
+                    i=i,
+                    n=i + 1,
+                    t=t if i == 1 else "revolute",
+                    axis=axis if i == 1 else "0 0 1",
+                    rpy=rpy if i == 1 else "0 0 0",
+                    limit=limit if i == 1 else '<limit lower="-2" upper="2" effort="1" velocity="1"/>',
+                ).replace("</joint>", (mimic if i == 1 else "") + "</joint>")
+            )
+        return "\n".join([*lines, extra, "</robot>"]) + "\n"
+
+    urdf_cases = [
+        ("a floating joint", urdf_with(t="floating")),
+        ("a planar joint", urdf_with(t="planar")),
+        ("a continuous joint with a limit", urdf_with(t="continuous")),
+        (
+            "a prismatic joint of limits 1e300",
+            urdf_with(t="prismatic", limit='<limit lower="-1e300" upper="1e300" effort="1" velocity="1"/>'),
+        ),
+        ("a revolute joint without a limit", urdf_with(limit="")),
+        (
+            "a revolute joint with lower over upper",
+            urdf_with(limit='<limit lower="2" upper="-2" effort="1" velocity="1"/>'),
+        ),
+        (
+            "a revolute joint with limit 'nan'",
+            urdf_with(limit='<limit lower="nan" upper="2" effort="1" velocity="1"/>'),
+        ),
+        ("a revolute joint with velocity 0", urdf_with(limit='<limit lower="-2" upper="2" effort="1" velocity="0"/>')),
+        (
+            "a revolute joint with velocity -1",
+            urdf_with(limit='<limit lower="-2" upper="2" effort="1" velocity="-1"/>'),
+        ),
+        (
+            "a revolute joint with velocity 1e-300",
+            urdf_with(limit='<limit lower="-2" upper="2" effort="1" velocity="1e-300"/>'),
+        ),
+        ("an axis of zeros", urdf_with(axis="0 0 0")),
+        ("an axis of 1e-300", urdf_with(axis="1e-300 0 0")),
+        ("an axis of two numbers", urdf_with(axis="0 1")),
+        ("an axis of words", urdf_with(axis="a b c")),
+        ("an rpy of 1e400", urdf_with(rpy="1e400 0 0")),
+        ("an rpy of ${pi}", urdf_with(rpy="${pi} 0 0")),
+        ("a mimic joint on the chain", urdf_with(mimic='<mimic joint="j0" multiplier="2"/>')),
+        ("a mimic of itself", urdf_with(mimic='<mimic joint="j1"/>')),
+        ("a joint naming a missing child", urdf_with().replace('<child link="l2"/>', '<child link="nosuch"/>')),
+        ("a joint without a parent", urdf_with().replace('<parent link="l1"/>', "")),
+        ("two joints of one name", urdf_with().replace('name="j2"', 'name="j1"')),
+        ("two links of one name", urdf_with().replace('<link name="l3"/>', '<link name="l2"/>')),
+        ("a cycle", urdf_with(extra='<joint name="jc" type="fixed"><parent link="l3"/><child link="l0"/></joint>')),
+        ("two roots", urdf_with(extra='<link name="x"/>')),
+        ("300 joints", urdf_with(links=301)),
+        (
+            "a DTD with an entity",
+            urdf_with().replace('<robot name="r">', '<!DOCTYPE robot [<!ENTITY e "l1">]><robot name="r">'),
+        ),
+        ("an external entity on /dev/zero in UTF-16", None),
+        ("latin-1 declared with a non-ASCII name", None),
+        ("no <robot> root", "<?xml version='1.0'?><robo/>\n"),
+        ("a <robot> of nothing", "<?xml version='1.0'?><robot name='r'/>\n"),
+    ]
+    for label, text in urdf_cases:
+
+        def setup(d: Path, text=text, label=label) -> None:
+            if label.startswith("an external entity"):
+                data = (
+                    urdf_with()
+                    .replace(
+                        '<?xml version="1.0"?>',
+                        '<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE robot [<!ENTITY z SYSTEM "/dev/zero">]>',
+                    )
+                    .replace('<link name="l3"/>', '<link name="l3">&z;</link>')
+                    .encode("utf-16")
+                )
+            elif label.startswith("latin-1"):
+                data = (
+                    urdf_with()
+                    .replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="latin-1"?>')
+                    .replace("l3", "l\xe93")
+                    .encode("latin-1")
+                )
+            else:
+                data = text.encode()
+            write(d / "robot.urdf", data)
+            write(d / "s.yaml", "version: 1\nname: m\narm: {urdf: robot.urdf}\ngoals: [[0.1, 0.1, 0.7]]\n")
+
+        out.append(
+            Attempt(
+                k,
+                f"validate, a URDF with {label}",
+                ["validate", "s.yaml"],
+                setup,
+                (0, 2),
+                timeout=120,
+                message_if_2=AT_LINE,
+            )
+        )
+    # SRDF
+    srdf_cases = [
+        (
+            "disable_collisions of unknown links",
+            '<robot name="r"><disable_collisions link1="nosuch" link2="l1" reason="Never"/></robot>',
+        ),
+        ("disable_collisions without link2", '<robot name="r"><disable_collisions link1="l1" reason="Never"/></robot>'),
+        (
+            "another robot's name",
+            '<robot name="other"><disable_collisions link1="l1" link2="l2" reason="Never"/></robot>',
+        ),
+        ("a root not robot", "<srdf/>"),
+        (
+            "a DTD with an entity",
+            '<!DOCTYPE robot [<!ENTITY e "l1">]><robot name="r"><disable_collisions link1="&e;" link2="l2"/></robot>',
+        ),
+        (
+            "10,000 pairs",
+            '<robot name="r">' + '<disable_collisions link1="l1" link2="l2" reason="Never"/>' * 10_000 + "</robot>",
+        ),
+        ("empty", ""),
+        ("NUL bytes", "\0\0\0"),
+    ]
+    for label, text in srdf_cases:
+        out.append(
+            Attempt(
+                k,
+                f"validate, an SRDF with {label}",
+                ["validate", "s.yaml"],
+                lambda d, text=text: (
+                    write(d / "robot.urdf", urdf_text()),
+                    write(d / "r.srdf", text),
+                    write(
+                        d / "s.yaml",
+                        URDF_SCENE.replace("{urdf: robot.urdf}", "{urdf: robot.urdf, self_collision: {srdf: r.srdf}}"),
+                    ),
+                ),
+                (0, 2),
+                timeout=120,
+                message_if_2=AT_LINE,
+            )
+        )
+    return out
+
+
+def _segments(phi_deg, links: list[float]):
+    """Joint positions of an arm of links along z, axes z then y (the scene's defaults), from
+    its angles in degrees: (n_frames, links + 1, 3). An oracle written here, not armanim's."""
+    import numpy as np
+
+    phi = np.radians(np.asarray(phi_deg, dtype=float))
+    n = len(phi)
+    rot = np.tile(np.eye(3), (n, 1, 1))
+    points = [np.zeros((n, 3))]
+    for j, length in enumerate(links):
+        c, s = np.cos(phi[:, j]), np.sin(phi[:, j])
+        turn = np.zeros((n, 3, 3))
+        if j == 0:
+            turn[:, 0, 0], turn[:, 0, 1], turn[:, 1, 0], turn[:, 1, 1], turn[:, 2, 2] = c, -s, s, c, 1
+        else:
+            turn[:, 0, 0], turn[:, 0, 2], turn[:, 2, 0], turn[:, 2, 2], turn[:, 1, 1] = c, s, -s, c, 1
+        rot = rot @ turn
+        points.append(points[-1] + rot[:, :, 2] * length)
+    return np.stack(points, axis=1)
+
+
+def _sphere_clearance(points, spheres, half_width: float):
+    """Each frame's least distance from the arm's capsules to the spheres' surfaces."""
+    import numpy as np
+
+    best = np.full(len(points), np.inf)
+    for center, radius in spheres:
+        c = np.asarray(center, dtype=float)
+        for a, b in zip(points[:, :-1].transpose(1, 0, 2), points[:, 1:].transpose(1, 0, 2)):
+            ab = b - a
+            t = np.clip(((c - a) * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-300), 0, 1)
+            gap = np.linalg.norm(a + t[:, None] * ab - c, axis=1) - radius - half_width
+            best = np.minimum(best, gap)
+    return best
+
+
+def trajectory_breaks(spec: dict) -> Callable[[Path], list[str]]:
+    """The invariants a finished run of ``spec`` (the scene as made) must keep, from its
+    trajectory.csv and its export, checked with the oracle above."""
+
+    def check(d: Path) -> list[str]:
+        import csv as _csv
+        import json as _json
+
+        import numpy as np
+
+        folder = d / "o" / spec["name"]
+        if not (folder / "trajectory.csv").is_file():
+            return ["no trajectory.csv"]
+        with open(folder / "trajectory.csv", newline="") as handle:
+            rows = list(_csv.DictReader(handle))
+        n = len(spec["links"])
+        t = np.array([float(r["time_s"]) for r in rows])
+        phi = np.array([[float(r[f"phi{j + 1}_deg"]) for j in range(n)] for r in rows])
+        dphi = np.array([[float(r[f"dphi{j + 1}_deg_s"]) for j in range(n)] for r in rows])
+        csv_clear = np.array([float(r["clearance"]) if r["clearance"] not in ("", "inf") else np.inf for r in rows])
+        problems = []
+        dt = np.diff(t)
+        if len(dt) and (dt <= 0).any():
+            problems.append("time_s does not increase")
+            return problems
+        step = np.diff(phi, axis=0)
+        unlimited = np.array([lim is None for lim in spec["limits"]])
+        step[:, unlimited] = np.mod(step[:, unlimited] + 180.0, 360.0) - 180.0  # wrapped to (-180, 180] (documented)
+        v = step / dt[:, None]
+        vmax, amax = np.asarray(spec["speed"], float), np.asarray(spec["accel"], float)
+        over = np.abs(v) / vmax
+        if over.max(initial=0) > 1 + 1e-6:
+            f, j = np.unravel_index(np.argmax(over), over.shape)
+            problems.append(
+                f"speed: joint {j + 1} at {v[f, j]:.6g} deg/s on frame {f + 1} ({over[f, j]:.4g}x its limit)"
+            )
+        if len(v) > 1:
+            a = np.diff(v, axis=0) / dt[1:, None]
+            over = np.abs(a) / amax
+            if over.max(initial=0) > 1 + 1e-6:
+                f, j = np.unravel_index(np.argmax(over), over.shape)
+                problems.append(
+                    f"acceleration: joint {j + 1} at {a[f, j]:.6g} deg/s^2 on frame {f + 2} ({over[f, j]:.4g}x)"
+                )
+            if spec.get("jerk") and len(a) > 1:
+                jk = np.diff(a, axis=0) / dt[2:, None]
+                ratio = np.abs(jk).max() / spec["jerk"]
+                if ratio > 1 + 1e-6:
+                    problems.append(f"jerk {ratio:.4g}x its limit")
+        gap = np.abs(v - dphi[1:]) - amax / spec["fps"] * (1 + 1e-6) - 1e-6
+        if gap.max(initial=-1) > 0:
+            f, j = np.unravel_index(np.argmax(gap), gap.shape)
+            problems.append(f"dphi{j + 1}_deg_s {dphi[f + 1, j]:.6g} on frame {f + 1}, the positions say {v[f, j]:.6g}")
+        for j, lim in enumerate(spec["limits"]):
+            if lim is not None and ((phi[:, j] < lim[0] - 1e-9) | (phi[:, j] > lim[1] + 1e-9)).any():
+                problems.append(f"joint {j + 1} leaves its limits {lim}: {phi[:, j].min():.6g}..{phi[:, j].max():.6g}")
+        if spec["spheres"]:
+            mine = _sphere_clearance(_segments(phi, spec["links"]), spec["spheres"], spec["width"] / 2)
+            if mine.min() < spec["clearance"] - 1e-6:
+                f = int(np.argmin(mine))
+                problems.append(
+                    f"clearance {mine[f]:.6g} on frame {f} (solver.clearance {spec['clearance']}; the CSV says {csv_clear[f]:.6g})"
+                )
+            off = np.abs(mine - csv_clear)
+            if off.max() > 1e-6:
+                f = int(np.argmax(off))
+                problems.append(f"the CSV's clearance {csv_clear[f]:.9g} on frame {f}, the oracle's {mine[f]:.9g}")
+        summary = _json.loads((folder / "summary.json").read_text())
+        tips = _segments(phi, spec["links"])[:, -1]
+        for k, ((kind, goal), said) in enumerate(zip(spec["goals"], summary["goals"])):
+            if not said["reached"] or kind not in ("point", "hold", "joints"):
+                continue
+            frame = said["last_frame"]
+            if kind == "joints":
+                off = np.abs(np.mod(phi[frame] - np.asarray(goal) + 180.0, 360.0) - 180.0).max()
+                if off > 0.01 + 1e-9:
+                    problems.append(f"goal {k} reported reached, its joints {off:.6g} deg from it at frame {frame}")
+            elif np.linalg.norm(tips[frame] - np.asarray(goal)) > 0.01 + 1e-9:
+                gap = np.linalg.norm(tips[frame] - np.asarray(goal))
+                problems.append(f"goal {k} reported reached, the tip {gap:.6g} from it at frame {frame}")
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", "export", f"o/{spec['name']}", "--out", "e.json"],
+            cwd=d,
+            env=dict(os.environ, PYTHONPATH=str(SRC)),
+            capture_output=True,
+            text=True,
+        )
+        if done.returncode != 0:
+            return [*problems, f"export: exit {done.returncode}: {done.stderr[-200:]}"]
+        points = _json.loads((d / "e.json").read_text())["points"]
+        pos = np.degrees(np.array([p["positions"] for p in points]))
+        vel = np.degrees(np.array([p["velocities"] for p in points]))
+        stamps = np.array([p["time_from_start"]["sec"] + p["time_from_start"]["nanosec"] * 1e-9 for p in points])
+        if pos.shape != phi.shape:
+            return [*problems, "the export has not the CSV's frames"]
+        off = pos - phi
+        off[:, unlimited] = np.mod(off[:, unlimited] + 180.0, 360.0) - 180.0  # the same pose
+        if np.abs(off).max() > 1e-9 or np.abs(vel - dphi).max() > 1e-9 or np.abs(stamps - t).max() > 1e-6:
+            problems.append("the export's poses, velocities or times differ from trajectory.csv")
+        told = np.abs(np.diff(pos, axis=0) / dt[:, None] - vel[1:]) - amax / spec["fps"] * (1 + 1e-6) - 1e-6
+        if told.max(initial=-1) > 0:  # a controller reads the positions as they are: no wrap allowed there
+            f, j = np.unravel_index(np.argmax(told), told.shape)
+            problems.append(
+                f"the export's joint {j + 1} moves {pos[f + 1, j] - pos[f, j]:.6g} deg at frame {f + 1}, its velocity says {vel[f + 1, j]:.6g} deg/s"
+            )
+        return problems
+
+    return check
+
+
+def wrong_scene(seed: int) -> tuple[str, dict]:
+    """A random scene of a 3- or 4-link arm among spheres, with limits, rates and mixed goals,
+    made to pass validation (obstacles away from the goals, home and joint poses); its spec."""
+    import numpy as np
+
+    rng = np.random.default_rng(1000 + seed)
+    n = int(rng.integers(3, 5))
+    links = [round(float(x), 2) for x in rng.uniform(0.6, 1.2, n)]
+    reach = sum(links[1:])
+    fps = float(rng.choice([5, 10, 24, 30, 60, 90]))
+    speed = [round(float(x), 1) for x in rng.uniform(20, 150, n)]
+    accel = [round(float(x), 1) for x in rng.uniform(40, 600, n)]
+    jerk = float(rng.choice([0, 0, 2000, 20000]))
+    limits = [None] + [[-round(float(x), 1), round(float(y), 1)] for x, y in rng.uniform(60, 170, (n - 1, 2))]
+    width = round(float(rng.uniform(0.1, 0.4)), 2)
+    clearance = round(float(rng.uniform(0.02, 0.1)), 3)
+    method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
+    goals, points, poses, kinds = [], [], [[0.0] * n], []
+    for _ in range(int(rng.integers(2, 6))):
+        kind = rng.choice(["point", "point", "joints", "hold", "blend", "line"])
+        if kind == "joints":
+            pose = [round(float(rng.uniform(-150, 150)), 1)] + [
+                round(float(rng.uniform(lo * 0.8, hi * 0.8)), 1) for lo, hi in limits[1:]
+            ]
+            goals.append(f"{{joints: {pose}}}")
+            poses.append(pose)
+            kinds.append(("joints", pose))
+            continue
+        r = rng.uniform(0.3, 0.85) * reach
+        az, el = rng.uniform(-np.pi, np.pi), rng.uniform(-0.3, 1.2)
+        p = [
+            round(float(v), 3)
+            for v in (r * np.cos(el) * np.cos(az), r * np.cos(el) * np.sin(az), links[0] + r * np.sin(el))
+        ]
+        points.append(p)
+        kinds.append((str(kind), p))
+        if kind == "line":
+            q = [round(p[0] + 0.2, 3), round(p[1] - 0.2, 3), p[2]]
+            points.append(q)
+            goals.append(f"{{path: {{line: [{p}, {q}]}}, speed: {round(float(rng.uniform(0.1, 0.6)), 2)}}}")
+        elif kind == "hold":
+            goals.append(f"{{position: {p}, hold: {round(float(rng.uniform(0.1, 1)), 2)}}}")
+        elif kind == "blend":
+            goals.append(f"{{position: {p}, blend: {round(float(rng.uniform(0.05, 0.3)), 2)}}}")
+        else:
+            goals.append(f"{p}")
+    spheres = []
+    pose_points = _segments(np.array(poses), links)
+    for _ in range(int(rng.integers(1, 5))):
+        c = [float(x) for x in rng.uniform(-reach, reach, 3)]
+        c[2] = abs(c[2]) + 0.3
+        radius = round(float(rng.uniform(0.1, 0.35)), 2)
+        c = [round(x, 2) for x in c]
+        far_goals = all(np.linalg.norm(np.subtract(c, p)) > radius + width + 3 * clearance + 0.15 for p in points)
+        far_poses = _sphere_clearance(pose_points, [(c, radius)], width / 2).min() > clearance + 0.1
+        if far_goals and far_poses:
+            spheres.append((c, radius))
+    obstacles = "".join(f"  - {{center: {c}, radius: {r}}}\n" for c, r in spheres)
+    name = f"w{seed}"
+    text = (
+        f"version: 1\nname: {name}\narm:\n  links: {links}\n  limits: {limits}\n  width: {width}\n"
+        f"  max_joint_speed: {speed}\n  max_joint_acceleration: {accel}\n"
+        + (f"  max_joint_jerk: {jerk:g}\n" if jerk else "")
+        + (f"obstacles:\n{obstacles}" if obstacles else "")
+        + "goals:\n"
+        + "".join(f"  - {g}\n" for g in goals)
+        + f"solver: {{method: {method}, clearance: {clearance}, max_frames_per_goal: 300, tolerance: 0.01}}\n"
+        + f"render: {{size: [160, 90], fps: {fps:g}}}\n"
+    ).replace("None", "null")
+    spec = {
+        "name": name,
+        "links": links,
+        "fps": fps,
+        "speed": speed,
+        "accel": accel,
+        "jerk": jerk,
+        "limits": limits,
+        "width": width,
+        "clearance": clearance,
+        "spheres": spheres,
+        "goals": kinds,
+    }
+    return text, spec
+
+
+def wrong10_attempts() -> list[Attempt]:
+    """Runs that say they succeeded, held to the invariants by an oracle of their own (speed,
+    acceleration, jerk, the velocity columns, limits, sphere clearance, the export)."""
+    k = "wrong10"
+    out = []
+    for seed in range(72):
+        text, spec = wrong_scene(seed)
+        out.append(
+            Attempt(
+                k,
+                f"run a random arm among spheres (seed {seed}), held to the invariants",
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                tiny_scene(text=text),
+                (0,),
+                timeout=400,
+                after=trajectory_breaks(spec),
+            )
+        )
+    for scene in ("notes-arm", "out-of-reach"):
+        out.append(
+            Attempt(
+                k,
+                f"check --update then check of {scene} with two rows of its CSV swapped in between",
+                ["check", f"{scene}.yaml", "--golden", "g"],
+                lambda d, scene=scene: (
+                    shutil.copy(SCENES / f"{scene}.yaml", d / f"{scene}.yaml"),
+                    armanim_in(d, "check", f"{scene}.yaml", "--golden", "g", "--update"),
+                    _swap_two_rows(d / "g" / f"{scene}.csv"),
+                ),
+                (1,),
+                timeout=400,
+                message="differ|difference",
+            )
+        )
+    return out
+
+
+def _swap_two_rows(path: Path) -> None:
+    lines = path.read_text().splitlines(keepends=True)
+    lines[5], lines[6] = lines[6], lines[5]
+    path.write_text("".join(lines))
+
+
 CLASSES = {
     "mesh": mesh_attempts,
     "frames": frames_attempts,
@@ -2070,6 +3770,12 @@ CLASSES = {
     "signals": signal_attempts,
     "folders": folders_attempts,
     "inputs": inputs_attempts,
+    "mesh10": mesh10_attempts,
+    "frames10": frames10_attempts,
+    "signals10": signals10_attempts,
+    "loss10": loss10_attempts,
+    "inputs10": inputs10_attempts,
+    "wrong10": wrong10_attempts,
 }
 
 

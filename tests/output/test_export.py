@@ -279,3 +279,33 @@ def test_nothing_is_exported_into_a_folder_a_run_would_remove(tmp_path, cli):
             result.output
         )
         assert not (tmp_path / "out" / name).exists()
+
+
+def test_an_unlimited_joint_turning_past_180_degrees_is_exported_without_a_jump(tmp_path, cli):
+    """Campaign 10: trajectory.csv writes an unlimited joint's angle wrapped to (-180, 180], and
+    the export gave the same positions: joint 1 went 191.9 -> -168.1 degrees between two points
+    of 1/10 s while its velocity said +25 deg/s, so a controller interpolating the positions would
+    turn it a full turn back within a frame. The export's positions go on past 180, the way the
+    joint turned; each step is the CSV's, wrapped, and agrees with the velocities."""
+    folder = solved_run(
+        tmp_path,
+        cli,
+        LINKS.replace("  links: [1, 1, 0.5]\n", "  links: [1, 1, 0.5]\n  home: [170, 45, 45]\n").replace(
+            "  - [1, 0.5, 1]\n  - position: [0.5, -1, 1.2]\n    hold: 0.3\n", "  - [-1.1, -0.3, 0.8]\n"
+        ),
+    )
+    out = tmp_path / "w.json"
+    assert cli("export", folder, "--out", out).exit_code == 0
+    points = json.loads(out.read_text())["points"]
+    positions = np.degrees([p["positions"] for p in points])
+    velocities = np.degrees([p["velocities"] for p in points])
+    times = np.array([seconds(p["time_from_start"]) for p in points])
+    _, rows = csv_rows(folder)
+    wrapped = np.array([[float(r[f"phi{k}_deg"]) for k in (1, 2, 3)] for r in rows])
+    assert np.abs(np.diff(wrapped[:, 0])).max() > 180  # the CSV's wrap is there (the scene does cross 180)
+    steps = np.diff(positions, axis=0)
+    assert np.abs(steps).max() < 30
+    assert np.allclose(steps, np.mod(np.diff(wrapped, axis=0) + 180, 360) - 180, atol=1e-9)
+    assert np.allclose(np.mod(positions - wrapped + 180, 360) - 180, 0, atol=1e-9)  # the same poses
+    speeds = steps / np.diff(times)[:, None]
+    assert np.abs(speeds - velocities[1:]).max() < 100  # no step contradicts the velocities by a full turn

@@ -137,3 +137,43 @@ def test_a_batch_worker_starts_with_ctrl_c_and_sigterm_blocked():
     for masks, exc in results:
         assert exc is None
         assert masks["SigBlk"] & both == both and masks["SigIgn"] & (1 << (signal.SIGINT - 1))
+
+
+def test_the_forkserver_starts_with_ctrl_c_and_sigterm_ignored(tmp_path):
+    """Campaign 10: a Ctrl-C to the group as a sweep's forkserver started (its interpreter
+    importing ``multiprocessing.forkserver``, before the preload that blocks the signals) printed
+    that process's KeyboardInterrupt traceback (1 sweep in 4 at 1.8 s). It now starts through a
+    shell that ignores both signals before Python runs: its SigIgn mask holds them from its first
+    instruction (SIGTERM is never set by the forkserver itself, so only that start can have put it
+    there), and the pool still runs work."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    script = tmp_path / "start.py"
+    script.write_text(
+        "import os, time\n"
+        "from armanim.procs.executors import _worker_context, start_forkserver_ignoring_signals\n"
+        "import multiprocessing.forkserver as fs\n"
+        "if __name__ == '__main__':\n"
+        "    context = _worker_context()\n"
+        "    start_forkserver_ignoring_signals(context)\n"
+        "    pid = fs._forkserver._forkserver_pid\n"
+        "    with context.Pool(1) as pool:\n"
+        "        print(pool.apply(os.getpid) != os.getpid())\n"
+        "    status = open(f'/proc/{pid}/status').read()\n"
+        "    print(int(next(l for l in status.splitlines() if l.startswith('SigIgn')).split()[1], 16))\n"
+    )
+    src = Path(__file__).resolve().parents[2] / "src"
+    done = subprocess.run(
+        [sys.executable, str(script)],
+        env={**os.environ, "PYTHONPATH": str(src)},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    ran, ignored = done.stdout.split()
+    assert ran == "True"
+    assert int(ignored) & (1 << (signal.SIGTERM - 1)) and int(ignored) & (1 << (signal.SIGINT - 1))

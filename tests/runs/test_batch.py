@@ -505,6 +505,35 @@ def test_sweep_variants_whose_labels_collide_keep_their_own_results(src, tmp_pat
     assert result.exit_code == 0, result.output
 
 
+def test_a_setting_named_like_a_table_column_gets_a_column_of_its_own(src, tmp_path):
+    result = invoke(
+        "sweep", src / "b.yaml", "--set", "name=mine", "--set", "status=1", "--jobs", 1, "-q", "--out", tmp_path
+    )
+    assert result.exit_code == 2, result.output  # status is no scene field: that variant is invalid
+    with open(tmp_path / "b-sweep.csv", newline="") as handle:
+        header, row = list(csv.reader(handle))
+    assert len(set(header)) == len(header), header  # one name per column
+    assert header[:4] == ["name", "set:name", "set:status", "status"]
+    cells = dict(zip(header, row))
+    assert cells["name"] == "planar-nlink_name-mine_status-1"  # the variant's folder name
+    assert (cells["set:name"], cells["set:status"], cells["status"]) == ("mine", "1", "invalid")
+
+
+@pytest.mark.parametrize(
+    ("first", "second", "says"),
+    [
+        ("solver.step=0.1", "solver.step=0.2", "--set solver.step is given twice"),
+        ("goals[0]=[1,1,1]", "goals[0].hold=1", "--set goals[0].hold is a field inside --set goals[0]"),
+        ("solver.step=0.1", "solver=[1]", "--set solver.step is a field inside --set solver"),
+    ],
+)
+def test_two_settings_of_one_field_are_refused_before_any_variant(src, tmp_path, first, second, says):
+    result = invoke("sweep", src / "b.yaml", "--set", first, "--set", second, "-q", "--out", tmp_path)
+    assert result.exit_code == 2, result.output
+    assert says in result.output
+    assert not any(tmp_path.iterdir())  # nothing is run or written
+
+
 # ------------------------------------------------------------------ Dask
 
 

@@ -365,3 +365,38 @@ def test_a_visual_whose_numbers_cannot_be_read_is_a_note(tmp_path):
     assert len(meshes) == 1 and meshes[0].triangles == 12  # the one readable visual
     assert len(notes) == 3 and all("cannot be read" in n and "drawn as its capsules" in n for n in notes), notes
     assert "(its origin or scale is not" in notes[0] and "(its origin or size is not" in notes[2]
+
+
+def test_a_mesh_name_too_long_to_look_up_is_not_found_for_every_kind_of_mesh(tmp_path):
+    """Campaign 10: a URDF mesh (visual or collision) or ``arm.tool.mesh`` named by 5,000
+    characters ended ``robots --fit``, ``fk --png`` and ``run`` with ``armanim: aaa...: File name
+    too long``, exit 3 (pathlib's is_file raises ENAMETOOLONG). It is a mesh not found, as any
+    other name with nothing there: a note for a picture, the collision mesh's error at its line."""
+    from types import SimpleNamespace
+
+    from armanim.scene.looks import tool_meshes
+
+    long = "a" * 5000 + ".stl"
+    meshes, notes = _read(_urdf(tmp_path, _mesh(long) + _mesh("absent.stl")))
+    assert meshes == []  # neither is read: the link is drawn as its capsules
+    assert len(notes) == 2 and all("not found" in n for n in notes), notes
+    tool = SimpleNamespace(xyz=[0, 0, 0], rpy=[0, 0, 0], pen=None, mesh=long, gripper=None)
+    tool_notes: list[str] = []
+    assert tool_meshes(tool, "l0", tmp_path, tool_notes.append) == []
+    assert len(tool_notes) == 1 and "not found" in tool_notes[0], tool_notes
+    (tmp_path / "r.urdf").write_text(
+        f'<robot name="r"><link name="l0"/><link name="l1">'
+        f'<collision><geometry><mesh filename="{long}"/></geometry></collision></link>'
+        '<joint name="j" type="revolute"><parent link="l0"/><child link="l1"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", "robots", "--fit", "r.urdf"],
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": str(SRC)},
+        capture_output=True,
+        text=True,
+        timeout=HANG_GUARD,
+    )
+    assert done.returncode == 2, done.stderr[-300:]
+    assert done.stderr.startswith("r.urdf:1: link 'l1': collision mesh 'aaaa") and "not found" in done.stderr

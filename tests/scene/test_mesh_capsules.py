@@ -6,6 +6,7 @@ a scene takes back as its arm.collision, and `armanim robots --fit` prints it.""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -132,6 +133,31 @@ def test_the_fit_is_the_same_twice_and_from_the_cache(robot_dir, tmp_path, monke
     for path in (tmp_path / "c").glob("*.json"):  # campaign 9: JSON nested within the size bound was a RecursionError
         path.write_text("[" * 49_000 + "]" * 49_000)
     assert rows(mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")) == rows(fresh)
+
+
+def test_a_link_in_the_cache_is_never_written_through(robot_dir, tmp_path):
+    """Campaign 10: a cache entry that was a link to a user's file (or a hard link to one) was
+    replaced by a fit through the link: the user's file held capsules. A link there is left as it
+    is and the fit not kept; a hard link is replaced by a new file, the user's one as it was."""
+    from armanim.scene.meshcapsules import mesh_capsules
+    from armanim.scene.urdf import read_urdf
+
+    robot = read_urdf(robot_dir / "meshy.urdf")
+    links = ("base", "upper", "fore")
+    mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
+    mine, hard = tmp_path / "mine.json", tmp_path / "hard.json"
+    mine.write_text('{"mine": 1}')
+    hard.write_text('{"mine": 2}')
+    soft_entry, hard_entry, *_ = sorted((tmp_path / "c").glob("*.json"))
+    soft_entry.unlink()
+    soft_entry.symlink_to(mine)
+    hard_entry.unlink()
+    os.link(hard, hard_entry)
+    again = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
+    assert again.cached == 1  # the third entry; the two others are fitted again
+    assert (mine.read_text(), hard.read_text()) == ('{"mine": 1}', '{"mine": 2}')
+    assert soft_entry.is_symlink() and os.readlink(soft_entry) == str(mine)
+    assert not hard_entry.samefile(hard)  # a fit kept at a new file
 
 
 def test_an_unwritable_cache_folder_means_no_cache(tmp_path, monkeypatch):

@@ -383,6 +383,39 @@ def test_rates_too_slow_for_the_frame_limit_are_refused_at_validate(tmp_path, cl
     assert message.count("too slow") == 1  # a default made from the speed is not named again
 
 
+@pytest.mark.parametrize(
+    ("rates", "field", "fragments", "advised"),
+    [
+        (
+            "max_joint_jerk: 1.0e-6",
+            "arm.max_joint_jerk",
+            (
+                "with arm.max_joint_speed and arm.max_joint_acceleration as they are",
+                "raise it to at least 0.024 deg/s^3",
+            ),
+            "max_joint_jerk: 0.024",
+        ),
+        (
+            "max_joint_speed: 3.0e-5\n  max_joint_acceleration: 3.0e-9",
+            "arm.max_joint_speed",
+            ("with arm.max_joint_acceleration as they are", "1,040,000 frames", "raise it to at least 3.3e-05 deg/s"),
+            "max_joint_speed: 3.3e-5\n  max_joint_acceleration: 3.0e-9",
+        ),
+    ],
+)
+def test_rates_each_fitting_alone_but_not_together_are_refused_at_validate(
+    tmp_path, cli, rates, field, fragments, advised
+):
+    """Campaign 10: each rate passed its own floor, so validate said ok, and run refused the clock
+    (``max_joint_jerk: 1e-6``, a million times its floor alone, made 7.2e10 frames: the clock
+    smooths with a window of 2 a / j; a speed and an acceleration each near its floor, the ramps
+    added to the cruise). The smallest move is timed as the clock times it, the three together,
+    and the value advised fits."""
+    rejected(tmp_path, cli, scene_text(rates), field, RATE_LINE, "is too slow for the frame limit", *fragments)
+    result = cli("validate", write(tmp_path, scene_text(advised), "fixed.yaml"))
+    assert result.exit_code == 0, result.output
+
+
 def test_a_clock_too_long_at_run_names_the_field_and_its_line(tmp_path, cli):
     """Rates that pass validate, but not for this motion: run says the field with its line, and
     names --fps only when one was given."""

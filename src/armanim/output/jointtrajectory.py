@@ -68,6 +68,23 @@ def joint_trajectory(joint_names, time_s: np.ndarray, positions: np.ndarray, vel
     }
 
 
+def unwrapped(positions: np.ndarray, unlimited: np.ndarray) -> np.ndarray:
+    """(F, n) ``positions`` (radians) with each ``unlimited`` joint's column made continuous: such a
+    joint's angle is written wrapped to (-180, 180] in trajectory.csv, so a joint that turns past
+    180 degrees would jump to -179 between two points while its velocity says it turned one degree
+    (campaign 10: a controller interpolating the positions would turn it a full turn back within a
+    frame); here it goes on to 181, the way it turned. Every step is the shorter way, as the CSV's
+    velocities and the trajectory's speed checks take it.
+
+    >>> unwrapped(np.radians([[179.0, 179.0], [-179.0, -179.0]]), np.array([True, False])).round(6).tolist()
+    [[3.124139, 3.124139], [3.159046, -3.124139]]
+    """
+    out = np.array(positions, dtype=float)
+    if np.any(unlimited):
+        out[:, unlimited] = np.unwrap(out[:, unlimited], axis=0)
+    return out
+
+
 def finite_difference_velocities(time_s: np.ndarray, positions: np.ndarray) -> np.ndarray:
     """(F, n) velocities of positions sampled at ``time_s``: central differences inside, one-sided
     at the ends (second order on uneven steps: :func:`numpy.gradient`); zeros for one frame.

@@ -29,6 +29,7 @@ from armanim.output.jointtrajectory import (
     finite_difference_velocities,
     joint_trajectory,
     joint_trajectory_text,
+    unwrapped,
 )
 from armanim.output.marks import as_marked, file_mark, foreign_mark, other_kind, write_marked
 from armanim.scene.models import LIMITS
@@ -106,7 +107,9 @@ def run_joint_trajectory(folder: Path) -> str:
     run = load_run(folder)
     csv_path = folder / "trajectory.csv"
     table = read_trajectory_csv(csv_path, max_rows=LIMITS["total_frames"])
-    positions = table.joints_si
+    slides = table.slides if table.slides is not None else np.zeros(table.joints_si.shape[1], dtype=bool)
+    unlimited = np.isneginf(run.problem.limits.lower) & np.isposinf(run.problem.limits.upper) & ~slides
+    positions = unwrapped(table.joints_si, unlimited)
     time_s = _increasing_times(table, str(csv_path))
     velocities = run_velocities(table, time_s, positions, str(csv_path))
     names = list(run.problem.arm.joint_names) or [f"phi{i}" for i in range(1, positions.shape[1] + 1)]

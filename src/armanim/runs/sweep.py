@@ -178,8 +178,14 @@ def variant_count(settings: list[Setting]) -> int:
     Raises
     ------
     UsageError
-        More than :data:`MAX_VARIANTS` combinations (exit 2).
+        More than :data:`MAX_VARIANTS` combinations, or two settings of one field (or of a field
+        and a field inside it) (exit 2).
     """
+    overlapping = _overlapping_paths(settings)
+    if overlapping:
+        outer, inner = overlapping
+        said = f"--set {inner} is given twice" if outer == inner else f"--set {inner} is a field inside --set {outer}"
+        raise UsageError(f"{said}: the later would overwrite the earlier's values (give each field's values once)")
     product = math.prod(len(s.values) for s in settings)
     if product > MAX_VARIANTS:
         sizes = " x ".join(f"{len(s.values):,}" for s in settings)
@@ -187,6 +193,22 @@ def variant_count(settings: list[Setting]) -> int:
             f"--set: {product:,} variants ({sizes} values; at most {MAX_VARIANTS:,} in one sweep: give fewer values)"
         )
     return len(unique_combinations(settings))
+
+
+def _overlapping_paths(settings: list[Setting]) -> tuple[str, str] | None:
+    """The first two settings' paths (outer, inner) where one is the other or a field inside it, if any.
+
+    >>> _overlapping_paths([Setting("goals[0].hold", (1,)), Setting("goals[0]", (2,))])
+    ('goals[0]', 'goals[0].hold')
+    >>> _overlapping_paths([Setting("goals[1]", (1,)), Setting("goals[10]", (2,))]) is None
+    True
+    """
+    for i, first in enumerate(settings):
+        for second in settings[i + 1 :]:
+            outer, inner = sorted((first.path, second.path), key=len)
+            if inner == outer or inner.startswith((outer + ".", outer + "[")):
+                return outer, inner
+    return None
 
 
 def unique_combinations(settings: list[Setting]) -> list[tuple]:
@@ -211,6 +233,18 @@ def _unique(name: str, taken: set[str]) -> str:
 
 
 SWEEP_TAIL = ("min_clearance", "max_joint_step_deg")
+SETTING_PREFIX = "set:"
+"""Put before a setting's column name that is also the name of one of the table's own columns."""
+
+
+def setting_columns(settings: list[Setting], own: list[str]) -> list[str]:
+    """The sweep table's column of each setting: its path, or ``set:PATH`` where the path is
+    the name of one of the table's ``own`` columns (``--set name=...`` would give two ``name``).
+
+    >>> setting_columns([Setting("name", ("a",)), Setting("solver.step", (0.1,))], ["name", "status"])
+    ['set:name', 'solver.step']
+    """
+    return [SETTING_PREFIX + s.path if s.path in own else s.path for s in settings]
 
 
 def is_sweep_header(line: str) -> bool:
@@ -230,19 +264,14 @@ def comparison_rows(
 ) -> tuple[list[str], list[list]]:
     """Header and rows of the sweep table: settings, goals, frames per goal, clearance, joint step.
 
+    Every column name is distinct: a setting named like one of the table's own columns is
+    ``set:PATH`` (:func:`setting_columns`).
+
     ``entries`` are the variants' batch entries, in the same order as ``items``.
     """
     n_goals = max((len(e.summary["goals"]) for e in entries if e.summary), default=0)
-    header = [
-        "name",
-        *(s.path for s in settings),
-        "status",
-        "reached",
-        "missed",
-        "frames",
-        *(f"goal{k}_frames" for k in range(n_goals)),
-        *SWEEP_TAIL,
-    ]
+    outcome = ["status", "reached", "missed", "frames", *(f"goal{k}_frames" for k in range(n_goals)), *SWEEP_TAIL]
+    header = ["name", *setting_columns(settings, ["name", *outcome]), *outcome]
     rows = []
     for variant, entry in zip(items, entries):
         s = entry.summary

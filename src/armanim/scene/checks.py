@@ -734,9 +734,10 @@ limit is refused at validate: the run would be refused by its clock for any moti
 def _slow_rate_problems(scene: SceneModel):
     """Joint speed, acceleration or jerk limits under which moving one joint
     :data:`SMALLEST_MOVE_DEG` from rest to rest takes more than the frame limit at the scene's fps
-    (at the speed alone, then the acceleration alone from rest to rest, the jerk alone): the
-    field, the frames that move would take, and the least value that fits."""
-    from armanim.scene.limits import SCENE_RATE_UNITS, rate_limits
+    (at the speed alone, then the acceleration alone from rest to rest, the jerk alone; each
+    alone fitting, the three together as the clock times them, :func:`smallest_move_seconds`):
+    the field, the frames that move would take, and the least value that fits."""
+    from armanim.scene.limits import rate_limits
 
     fps, limit = scene.render.fps, LIMITS["total_frames"]
     seconds = limit / fps
@@ -749,6 +750,12 @@ def _slow_rate_problems(scene: SceneModel):
         ("max_joint_jerk", rates.jerk, lambda j: (32.0 * theta / j) ** (1.0 / 3.0), 32.0 * theta / seconds**3),
     )
     said = False
+    if all(values is None or not len(values) or float(np.min(values)) >= floor for _, values, _, floor in kinds):
+        together = _together_problem(scene, theta, rates, seconds)
+        if together is not None:
+            field, k, value, took, least = together
+            yield _slow_rate_message(scene, field, k, value, theta, took * fps, least, together=True)
+        return
     for field, values, duration, floor in kinds:
         if values is None or not len(values) or float(np.min(values)) >= floor:
             continue
@@ -756,27 +763,106 @@ def _slow_rate_problems(scene: SceneModel):
             continue
         said = True
         k = int(np.argmin(values))
-        least = float(values[k])
-        slides = scene.arm.sliding
-        slide = len(slides) == len(values) and bool(
-            slides[k]
-        )  # a prismatic joint's rates are m/s..., its move theta metres
-        unit = SCENE_RATE_UNITS[field].replace("deg", "m") if slide else SCENE_RATE_UNITS[field]
-        shown = (lambda v: v) if slide else math.degrees
-        move = f"{theta:.3g} m" if slide else f"{SMALLEST_MOVE_DEG:g} degree"
         with np.errstate(all="ignore"):
-            frames = duration(least) * fps if least > 0 else math.inf
-        took = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"
-        source = "" if getattr(scene.arm, field) is not None else " (not set: the arm's default; set it to override)"
-        which = f"joint {k + 1}'s " if isinstance(getattr(scene.arm, field), list) else ""
-        yield (
-            f"arm.{field}",
-            (
-                f"{which}{shown(least):g} {unit}{source} is too slow for the frame limit: moving "
-                f"{'it' if which else 'a joint'} {move} from rest to rest would take {took} frames at {fps:g} fps "
-                f"(expected at most {limit:,} in all: raise it to at least {_rounded_up(shown(floor)):.2g} {unit})"
-            ),
-        )
+            frames = duration(float(values[k])) * fps if values[k] > 0 else math.inf
+        yield _slow_rate_message(scene, field, k, float(values[k]), theta, frames, floor)
+
+
+def _slow_rate_message(
+    scene: SceneModel, field: str, k: int, value: float, theta: float, frames: float, least: float, together=False
+) -> tuple[str, str]:
+    """The problem of ``field`` (its joint ``k``'s ``value``, SI) under which moving that joint
+    ``theta`` takes ``frames`` frames: its unit (degrees, or metres for a prismatic joint), what it
+    is set by, and the least value that fits (``least``; inf: none with the other rates as they
+    are). ``together``: too slow only with the other rates, each of which alone would fit."""
+    from armanim.scene.limits import SCENE_RATE_UNITS
+
+    fps, limit = scene.render.fps, LIMITS["total_frames"]
+    slides = scene.arm.sliding
+    slide = len(slides) > k and bool(slides[k])  # a prismatic joint's rates are m/s..., its move theta metres
+    unit = SCENE_RATE_UNITS[field].replace("deg", "m") if slide else SCENE_RATE_UNITS[field]
+    shown = (lambda v: v) if slide else math.degrees
+    move = f"{theta:.3g} m" if slide else f"{SMALLEST_MOVE_DEG:g} degree"
+    took = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"
+    source = "" if getattr(scene.arm, field) is not None else " (not set: the arm's default; set it to override)"
+    which = f"joint {k + 1}'s " if isinstance(getattr(scene.arm, field), list) else ""
+    others = [f for f in RATE_FIELDS if f != field and (f != "max_joint_jerk" or scene.arm.max_joint_jerk is not None)]
+    with_others = f" with {' and '.join(f'arm.{f}' for f in others)} as they are" if together else ""
+    remedy = (
+        f"raise it to at least {_rounded_up(shown(least)):.2g} {unit}"
+        if least < math.inf
+        else "no value of it fits with the others as they are: raise " + " or ".join(f"arm.{f}" for f in others)
+    )
+    return (
+        f"arm.{field}",
+        (
+            f"{which}{shown(value):g} {unit}{source} is too slow for the frame limit{with_others}: moving "
+            f"{'it' if which else 'a joint'} {move} from rest to rest would take {took} frames at {fps:g} fps "
+            f"(expected at most {limit:,} in all: {remedy})"
+        ),
+    )
+
+
+def smallest_move_seconds(theta: float, speed: np.ndarray, acceleration: np.ndarray, jerk: np.ndarray | None):
+    """Seconds the clock takes to move each joint ``theta`` from rest to rest under its limits
+    together, as :mod:`armanim.motion.timing.clock` times one joint's motion: the time-optimal
+    trapezoid (or triangle) of its speed and acceleration, plus, with a jerk limit, the window
+    the clock smooths every joint's law with (``max(2 a / j)`` over the joints).
+
+    Parameters
+    ----------
+    theta : float
+        The move, radians (metres for a prismatic joint).
+    speed, acceleration : (n,) float arrays
+        Rad/s and rad/s^2 (m/s, m/s^2).
+    jerk : (n,) float array or None
+        Rad/s^3; None without a jerk limit.
+
+    Returns
+    -------
+    (n,) float array
+        Seconds.
+
+    >>> smallest_move_seconds(1.0, np.array([0.5]), np.array([1.0]), None).tolist()  # 2 s cruise, 0.5 s ramps
+    [2.5]
+    >>> smallest_move_seconds(1.0, np.array([10.0]), np.array([1.0]), np.array([2.0])).tolist()  # a triangle, and 1 s
+    [3.0]
+    """
+    with np.errstate(all="ignore"):
+        cruise = speed**2 < theta * acceleration
+        trapezoid = np.where(cruise, theta / speed + speed / acceleration, 2.0 * np.sqrt(theta / acceleration))
+        window = float(np.max(2.0 * acceleration / jerk)) if jerk is not None and len(jerk) else 0.0
+    return trapezoid + window
+
+
+def _together_problem(scene: SceneModel, theta: float, rates, seconds: float):
+    """The field to raise when each rate alone lets the smallest move fit the frame limit but
+    the three together do not (a jerk window of ``2 a / j`` on top of the trapezoid; a speed at
+    its floor and the ramps its acceleration adds): (field, joint, its value, seconds the move
+    takes, the least value that fits, inf for none), or None.
+
+    Campaign 10 (issue 50): ``max_joint_jerk: 1e-6`` (a million times its floor alone) passed
+    validate, and run refused its clock of 7.2e10 frames."""
+    speed, acceleration, jerk = rates.speed, rates.acceleration, rates.jerk
+    seconds *= 1 - 1e-9  # the clock refuses a hair over the limit: the least values keep clear of it
+    took = smallest_move_seconds(theta, speed, acceleration, jerk)
+    k = int(np.argmax(took))
+    if not took[k] > seconds:
+        return None
+    trapezoid = smallest_move_seconds(theta, speed, acceleration, None)
+    window = took[k] - trapezoid[k]
+    if window >= trapezoid[k] and jerk is not None:
+        room = seconds - float(np.max(trapezoid))
+        least = float(np.max(2.0 * acceleration / room)) if room > 0 else math.inf
+        widest = int(np.argmax(2.0 * acceleration / jerk))  # the joint whose window the clock takes
+        return "max_joint_jerk", widest, float(jerk[widest]), took[k], least
+    room = seconds - window  # for the trapezoid: theta / v + v / a, or 2 sqrt(theta / a) once v^2 >= theta a
+    v, a = float(speed[k]), float(acceleration[k])
+    if room > 0 and room**2 > 4.0 * theta / a:  # theta / v + v / a = room has a root: the least speed
+        return "max_joint_speed", k, v, took[k], a * (room - math.sqrt(room**2 - 4.0 * theta / a)) / 2.0
+    triangle = 4.0 * theta / room**2 if room > 0 else math.inf
+    least = triangle if v**2 >= theta * triangle else (v / (room - theta / v) if room > theta / v else math.inf)
+    return "max_joint_acceleration", k, a, took[k], least
 
 
 def _rounded_up(value: float) -> float:

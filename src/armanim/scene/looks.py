@@ -13,6 +13,8 @@ import numpy as np
 
 from armanim.arm.chain import transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, LinkPlaces, placed_meshes
+from armanim.errors import shown
+from armanim.output.files import is_regular_file
 from armanim.scene.convert import tool_frame
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
 from armanim.scene.robots import bundled_robot
@@ -193,7 +195,7 @@ def _tool_file(
     cannot be (a FIFO, a folder or a device there is never opened: it is not a regular file)."""
     if mesh_format(path.name) is None:
         reason = "could not be read (not a format armanim reads (STL, OBJ or COLLADA .dae; archives are never opened))"
-    elif not path.is_file():
+    elif not is_regular_file(path):
         reason = not_a_file([path]) or "not found (it is relative to the scene file's folder)"
     else:
         try:
@@ -205,7 +207,7 @@ def _tool_file(
         except Exception as error:  # a user's file: any reader error is a note, never a failed run
             raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
             reason = f"could not be read ({unreadable_reason(error)})"
-    warn(f"arm.tool.mesh: {str(path)!r} {reason}: the tool is not drawn")
+    warn(f"arm.tool.mesh: {shown(str(path))} {reason}: the tool is not drawn")
     return None
 
 

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.fitting import CHUNK, FittedCapsule, fit_capsules
-from armanim.errors import Diagnostic, SceneError
+from armanim.errors import Diagnostic, SceneError, shown
 from armanim.scene import visuals
 from armanim.scene.fields import LIMITS
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
@@ -107,7 +107,7 @@ def _specs(raw: bytes, file: str, tag: str) -> tuple[tuple[str, tuple[VisualSpec
                     [
                         Diagnostic(
                             "",
-                            f"link {name!r}: collision mesh {mesh.attrib.get('filename')!r}: its "
+                            f"link {name!r}: collision mesh {shown(mesh.attrib.get('filename') or '')}: its "
                             f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
                             "finite numbers each",
                             element.line,
@@ -226,7 +226,7 @@ def _link_mesh(
     be read is told to ``problem`` (message, line) and left out. ``what``: collision or visual."""
     parts, offset = [], 0
     for spec in specs:
-        where = f"link {spec.link!r}: {what} mesh {spec.filename!r}"
+        where = f"link {spec.link!r}: {what} mesh {shown(spec.filename or '')}"
         if mesh_format(spec.filename or "") is None:
             problem(
                 f"{where} is not a format armanim reads (STL, OBJ or COLLADA .dae): give arm.collision for this link",
@@ -371,8 +371,13 @@ def _cached(folder: Path, key: str) -> list[FittedCapsule] | None:
 
 
 def _keep(folder: Path, key: str, capsules: list[FittedCapsule]) -> None:
-    """Write a fit into the cache (atomically); a cache that cannot be written is left alone."""
+    """Write a fit into the cache (atomically); a cache that cannot be written is left alone, and
+    so is a link at the entry's name: armanim writes regular files there, and a write would go
+    through the link to a file that is not the cache's (campaign 10: a user's file held the fit)."""
     from armanim.output.atomic import write_text_atomic
+
+    if os.path.islink(folder / f"{key}.json"):
+        return
 
     text = json.dumps(
         {

@@ -45,6 +45,17 @@ class ClockTooLong(ValueError):
     """The clock would make more frames than allowed (limits far too low for the path)."""
 
 
+def too_long(frames: float, most_frames: float) -> ClockTooLong:
+    """The error of one goal's motion that would take ``frames`` frames, more than ``most_frames``,
+    both told whole (campaign 10: ``1e+06 frames ... (at most 1e+06)`` said 1,000,008 as 1e+06).
+
+    >>> str(too_long(1000007.5, 1_000_000))
+    "1,000,008 frames for one goal's motion (at most 1,000,000)"
+    """
+    told = f"{math.ceil(frames):,}" if frames < 1e18 else "more than 10^18"  # inf and NaN: unbounded
+    return ClockTooLong(f"{told} frames for one goal's motion (at most {most_frames:,.0f})")
+
+
 @dataclass(frozen=True)
 class TimeLaw:
     """A time law s(t) on a grid: constant path acceleration between grid points.
@@ -251,8 +262,8 @@ def sampled_motion(
     start, end = path.poses[0], path.poses[-1]
     for _ in range(32):
         frames = law.duration * scale * fps
-        if not frames <= most_frames:  # NaN too
-            raise ClockTooLong(f"{frames:.3g} frames for one goal's motion (at most {most_frames:.3g})")
+        if not frames <= most_frames:  # inf and NaN: unbounded
+            raise too_long(frames, most_frames)
         count = max(1, math.ceil(frames - 1e-9))
         scale = count / (fps * law.duration)
         times = np.arange(1, count + 1) / fps / scale
@@ -349,7 +360,7 @@ def jerk_limited_motion(
     for _ in range(32):
         frames = duration * scale * fps
         if not frames <= most_frames:
-            raise ClockTooLong(f"{frames:.3g} frames for one goal's motion (at most {most_frames:.3g})")
+            raise too_long(frames, most_frames)
         count = max(1, math.ceil(frames - 1e-9))
         scale = count / (fps * duration)
         times = np.arange(1, count + 1) / fps / scale
