@@ -741,9 +741,8 @@ def pair_rows(
     fraction t along capsule ``first[p]`` (segment a-b, (C, 3) each), B at s along ``second[p]``,
     n the pair's normal (P, 3); column m of a point's Jacobian is w_m x (q - p_m) for the joints
     m <= the capsule's ``link`` (``points`` (n+1, 3), world ``axes`` (n, 3)), 0 after."""
-    scratch = np.empty(9)
     for r in range(which.shape[0]):
-        pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], scratch, rows[r])
+        pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], rows[r])
 
 
 @compiled(**_JIT)
@@ -759,10 +758,9 @@ def pair_row(
     s: np.ndarray,
     normal: np.ndarray,
     p: int,
-    scratch: np.ndarray,
     row: np.ndarray,
 ) -> None:
-    """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`); ``scratch``: (9,) work space (unused: kept for the callers)."""
+    """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`)."""
     i, j = first[p], second[p]
     la, lb = link[i], link[j]
     tp, sp = t[p], s[p]
@@ -941,30 +939,36 @@ def pair_rate(
 
 @compiled(**_JIT)
 def pair_rows_met(
-    points: np.ndarray,
-    axes: np.ndarray,
-    a: np.ndarray,
-    b: np.ndarray,
-    link: np.ndarray,
-    first: np.ndarray,
-    second: np.ndarray,
-    t: np.ndarray,
-    s: np.ndarray,
-    normal: np.ndarray,
-    gap: np.ndarray,
-    target: float,
-    gamma: float,
+    placed: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    pairs: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     lever_rows: np.ndarray,
     step: np.ndarray,
-    slack: float,
-    extra: float,
-    violation: float,
+    bounds: tuple[float, float, float, float, float],
 ) -> bool:
-    """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room,
-    room = gamma (gap - target) (``gap`` (P,)): a pair whose room is at least ``slack`` x its
-    bound |dPhi| . ``lever_rows[p]`` plus ``extra`` meets it by that bound alone; any other has
-    its row (:func:`pair_rows`) computed and tested to ``violation``."""
-    scratch, row = np.empty(9), np.empty(step.shape[0])
+    """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room.
+
+    Parameters
+    ----------
+    placed : tuple of arrays
+        The pose: joint points (n + 1, 3), world axes (n, 3), capsule ends a, b (C, 3) (metres),
+        each capsule's ``link`` (C,) (as :func:`pair_rows` reads them).
+    pairs : tuple of arrays
+        The pairs: ``first``, ``second`` (P,), their gaps (P,) (metres), closest points' fractions
+        t, s (P,) and normals (P, 3).
+    lever_rows : (P, n) array
+        Each pair's lever arms, metres.
+    step : (n,) array
+        dPhi, radians (metres for a prismatic joint).
+    bounds : tuple of floats
+        ``target``, ``gamma``, ``slack``, ``extra``, ``violation``: room = gamma (gap - target)
+        (metres); a pair whose room is at least ``slack`` x its bound |dPhi| . ``lever_rows[p]``
+        plus ``extra`` meets it by that bound alone; any other has its row (:func:`pair_rows`)
+        computed and tested to ``violation``.
+    """
+    points, axes, a, b, link = placed
+    first, second, gap, t, s, normal = pairs
+    target, gamma, slack, extra, violation = bounds
+    row = np.empty(step.shape[0])
     for p in range(gap.shape[0]):
         room = gamma * (gap[p] - target)
         bound = 0.0
@@ -972,7 +976,7 @@ def pair_rows_met(
             bound += lever_rows[p, m] * abs(step[m])
         if room >= bound * slack + extra:
             continue
-        pair_row(points, axes, a, b, link, first, second, t, s, normal, p, scratch, row)
+        pair_row(points, axes, a, b, link, first, second, t, s, normal, p, row)
         change = 0.0
         for m in range(step.shape[0]):
             change += row[m] * step[m]

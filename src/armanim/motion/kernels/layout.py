@@ -10,7 +10,7 @@ problem is made).
 
 from __future__ import annotations
 
-from typing import NamedTuple, cast
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
@@ -80,6 +80,13 @@ World = tuple[
 cylinders' four are None where the scene has none of them."""
 
 
+Fields = tuple[Any, ...]
+"""The fields of one of the kernels' named tuples (:class:`KernelProblem`, :class:`PoseState`,
+:class:`FrameGoal`, :class:`FrameWork`, :class:`Measures`) as a plain tuple, in their order: the
+form a kernel is called with from Python, since numba's dispatch types a plain tuple faster than a
+named one (some 2 us a call for a :class:`KernelProblem`)."""
+
+
 class KernelProblem(NamedTuple):
     """A problem's constants in the kernels' order (contiguous, float64 or int64).
 
@@ -130,6 +137,124 @@ class KernelProblem(NamedTuple):
     pair_radii: np.ndarray
     pair_lever_rows: np.ndarray
     pair_levers: np.ndarray
+
+
+class PoseState(NamedTuple):
+    """The state a compiled frame starts from (:class:`~armanim.motion.solvers.common.ArmState`'s
+    arrays); passed into a kernel as a plain tuple in this order.
+
+    Attributes
+    ----------
+    phi : (n,) array
+        The joint values, radians (metres for a prismatic joint).
+    points, frames, axes : (n + 1, 3), (n, 3, 3), (n, 3) arrays
+        The pose: the joints' and the tip's points (metres), the joints' frames, their world axes
+        (:func:`armanim.arm.kinematics.kind_axes`).
+    d, t, normal : (parts, m), (parts, m), (parts, m, 3) arrays
+        Each part's clearance to each obstacle (metres), its closest point's fraction along the
+        part, the unit normal; (0, 0) and (0, 0, 3) without obstacles.
+    gap, gap_t, gap_s, gap_normal : (P,), (P,), (P,), (P, 3) arrays
+        The enabled pairs' gaps (metres), their closest points' fractions, their unit normals.
+    least : float
+        The least gap, metres (inf without pairs).
+    """
+
+    phi: np.ndarray
+    points: np.ndarray
+    frames: np.ndarray
+    axes: np.ndarray
+    d: np.ndarray
+    t: np.ndarray
+    normal: np.ndarray
+    gap: np.ndarray
+    gap_t: np.ndarray
+    gap_s: np.ndarray
+    gap_normal: np.ndarray
+    least: float
+
+
+class Measures(NamedTuple):
+    """A new pose's measures as the exact check fills them
+    (:func:`armanim.motion.kernels.check.pose_exactly_safe`); passed as a plain tuple in this order.
+
+    Attributes
+    ----------
+    points, frames, axes, tool : (n + 1, 3), (n, 3, 3), (n, 3), (3, 3) arrays
+        The pose's kinematics (metres), the tool frame.
+    d, t, normal : (parts, m), (parts, m), (parts, m, 3) arrays
+        Its clearances (metres), fractions and normals, as :attr:`PoseState.d` ...
+    gap, gap_t, gap_s, gap_normal : (P,), (P,), (P,), (P, 3) arrays
+        Its pairs' gaps (metres), fractions and normals.
+    """
+
+    points: np.ndarray
+    frames: np.ndarray
+    axes: np.ndarray
+    tool: np.ndarray
+    d: np.ndarray
+    t: np.ndarray
+    normal: np.ndarray
+    gap: np.ndarray
+    gap_t: np.ndarray
+    gap_s: np.ndarray
+    gap_normal: np.ndarray
+
+
+class FrameGoal(NamedTuple):
+    """A frame's goal as the kernels read it; passed as a plain tuple in this order.
+
+    Attributes
+    ----------
+    position : (3,) array
+        The tip's goal, metres.
+    kind : int
+        The orientation's kind: 0 none, 1 a rotation, 2 a tool axis.
+    rotation, axis : (3, 3), (3,) arrays or None
+        The goal rotation and tool axis (placeholders where ``kind`` is another); both None in a
+        scene without orientations (the kernels compiled without the rotation task).
+    """
+
+    position: np.ndarray
+    kind: int
+    rotation: np.ndarray | None
+    axis: np.ndarray | None
+
+
+class FrameWork(NamedTuple):
+    """A frame's outputs and work space; passed as a plain tuple in this order.
+
+    Attributes
+    ----------
+    dphi, step, lo, hi, cand : (n,) arrays
+        The proposal, the nominal step (capped), the step's bounds, the new pose (radians or
+        metres per joint).
+    cons, cons_lower : (rows, n), (rows,) arrays
+        The filter's rows and their lower bounds (rows: at most parts x m + P).
+    """
+
+    dphi: np.ndarray
+    step: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    cons: np.ndarray
+    cons_lower: np.ndarray
+    cand: np.ndarray
+
+
+Placed = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""A pose as the Jacobians of its points read it, built inside a kernel: the joints' points
+(n + 1, 3) and world axes (n, 3), the capsules' world ends a, b (c, 3) (metres), each capsule's
+joint (c,) (-1: the base). Kernels take such tuples, and unpack them at their top, rather than a
+whole :class:`KernelProblem` or :class:`PoseState`: numba counts the references of every array
+a call passes and of every field read off a tuple, a cost of some 5 % of a frame when it was so."""
+
+Near = tuple[np.ndarray, np.ndarray, np.ndarray]
+"""The obstacles near a pose: its clearances d (parts, m) (metres), their fractions t (parts, m)
+and unit normals (parts, m, 3) (:class:`PoseState`'s ``d``, ``t``, ``normal``)."""
+
+Pairs = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""The arm's own pairs at a pose: their capsules ``first``, ``second`` (P,), their gaps (P,)
+(metres), closest points' fractions t, s (P,) and unit normals (P, 3)."""
 
 
 def kernel_problem(problem: Problem) -> KernelProblem:

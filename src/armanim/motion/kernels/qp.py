@@ -272,7 +272,6 @@ def filtered_with_pairs(
             return True
     count = 2 * n
     relaxed = False
-    scratch = np.empty(9)
     for _ in range(pairs + 1):
         link_twists(points, axes, step, twists)
         added = False
@@ -283,7 +282,7 @@ def filtered_with_pairs(
             if relaxed:
                 room = min(room, 0.0)
             if pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q) < room:
-                pair_row(points, axes, a, b, caps_link, first, second, t, s, normal, q, scratch, cmat[count])
+                pair_row(points, axes, a, b, caps_link, first, second, t, s, normal, q, cmat[count])
                 cb[count] = room
                 in_rows[q] = True
                 count += 1
