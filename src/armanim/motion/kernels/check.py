@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from armanim.arm.kernel import JIT, _capsule_ends_one, _forward_one, compiled
-from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE, Fields, KernelProblem, World
+from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE, KernelProblem, Measures, World
 from armanim.world.compiled import (
     _points_apart,
     _segments_apart,
@@ -282,7 +282,7 @@ def pose_exactly_safe(
     cand: np.ndarray,
     cl_d: np.ndarray,
     least: float,
-    new: Fields,
+    new: Measures,
     out: np.ndarray,
 ) -> bool:
     """Whether the pose ``cand`` keeps every guarantee from the pose ``phi``
@@ -298,8 +298,8 @@ def pose_exactly_safe(
         The clearances now, metres.
     least : float
         The least gap now, metres.
-    new : tuple of arrays
-        The fields of a :class:`~armanim.motion.kernels.layout.Measures`, in order: filled with
+    new : Measures
+        Filled with
         the new pose's kinematics, clearances and gaps (as far as the check went).
     out : (3,) array
         ``out[1]``: the new least gap, metres (inf without pairs).

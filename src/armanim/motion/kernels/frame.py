@@ -61,10 +61,14 @@ from armanim.motion.kernels.layout import (
     LEVER_NORM,
     PINV,
     Fields,
+    FrameGoal,
+    FrameWork,
     KernelProblem,
+    Measures,
     Near,
     Pairs,
     Placed,
+    PoseState,
 )
 from armanim.motion.kernels.tasks import frame_proposal, point_jacobian, step_bounds, step_shrink
 from armanim.motion.orientation import Orientation
@@ -82,7 +86,7 @@ the proposal made but the numpy filter needed; nothing done (the numpy proposal 
 
 @compiled(**JIT)
 def frame_loop(
-    problem: Fields, method: int, now: Fields, goal: Fields, work: Fields, new: Fields, out: np.ndarray
+    problem: Fields, method: int, now: PoseState, goal: FrameGoal, work: FrameWork, new: Measures, out: np.ndarray
 ) -> int:
     """One frame from the state ``now``: the proposal, the filter's nominal step and bounds, its
     rows where a bound or a row may break, the exact check of the step as it is.
@@ -95,11 +99,11 @@ def frame_loop(
     method : int
         :data:`~armanim.motion.kernels.layout.PINV` or :data:`~armanim.motion.kernels.layout.DLS`.
     now, goal, work, new : tuples
-        The fields of a :class:`~armanim.motion.kernels.layout.PoseState`, a
-        :class:`~armanim.motion.kernels.layout.FrameGoal`, a
-        :class:`~armanim.motion.kernels.layout.FrameWork` (the proposal into ``dphi``, the step
+        A :data:`~armanim.motion.kernels.layout.PoseState`, a
+        :data:`~armanim.motion.kernels.layout.FrameGoal`, a
+        :data:`~armanim.motion.kernels.layout.FrameWork` (the proposal into ``dphi``, the step
         capped to the joints' caps, the filter's nominal step, into ``step``, the joint bounds into
-        ``lo``, ``hi``) and a :class:`~armanim.motion.kernels.layout.Measures` (the new state).
+        ``lo``, ``hi``) and a :data:`~armanim.motion.kernels.layout.Measures` (the new state).
     out : (3,) array
         The step's length (radians or metres), the new least gap (metres), the count of the rows.
 
@@ -342,7 +346,7 @@ def self_rows(
 
 @compiled(**JIT)
 def settle(
-    problem: Fields, halvings: int, now: Fields, step: np.ndarray, cand: np.ndarray, new: Fields, out: np.ndarray
+    problem: Fields, halvings: int, now: PoseState, step: np.ndarray, cand: np.ndarray, new: Measures, out: np.ndarray
 ) -> float:
     """The filter's exact check and halvings of ``step`` from the state ``now``: the first of
     ``phi + 0.5^i step``, i = 0 .. ``halvings``, that keeps every guarantee.
@@ -444,8 +448,8 @@ def frame_step(
     ), dphi
 
 
-def _pose_state(problem: Problem, state: ArmState) -> Fields:
-    """The fields of ``state``'s :class:`~armanim.motion.kernels.layout.PoseState`, in order, as a
+def _pose_state(problem: Problem, state: ArmState) -> PoseState:
+    """The fields of ``state``'s :data:`~armanim.motion.kernels.layout.PoseState`, in order, as a
     plain tuple (empty clearances and gaps where the state has none)."""
     cl, gaps, pose = state.clearance, state.self_gaps, state.pose
     assert pose.axes is not None  # the frame loop's poses come from the compiled kinematics
@@ -456,8 +460,8 @@ def _pose_state(problem: Problem, state: ArmState) -> Fields:
     return (state.phi, pose.points, pose.frames, axes, cl_d, cl_t, cl_normal, gap, gap_t, gap_s, gap_normal, least)
 
 
-def _frame_goal(problem: Problem, goal: np.ndarray, orientation: Orientation | None) -> Fields:
-    """The fields of the :class:`~armanim.motion.kernels.layout.FrameGoal` toward ``goal`` (3,),
+def _frame_goal(problem: Problem, goal: np.ndarray, orientation: Orientation | None) -> FrameGoal:
+    """The fields of the :data:`~armanim.motion.kernels.layout.FrameGoal` toward ``goal`` (3,),
     metres, and ``orientation``, in order: in a scene without orientations anywhere, the rotation
     and the axis None (the kernels compiled without the rotation task); else both arrays (one
     machine code a scene), the kind's own and a placeholder."""
@@ -476,25 +480,9 @@ def _fraction(length: float, proposed: float, taken: np.ndarray, dphi: np.ndarra
     return length / proposed if 0.0 < proposed < np.inf else step_fraction(taken, dphi)
 
 
-_NewState = tuple[
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-]
-"""A new state's arrays as the kernels fill them (:func:`_new_state_arrays`)."""
-
-
-def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> _NewState:
-    """The kernel's arrays of a new state: points, frames, axes, tool; clearances d, t, normal;
-    the pairs' gaps, t, s, normal."""
+def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> Measures:
+    """The kernel's arrays of a new state (:data:`~armanim.motion.kernels.layout.Measures`), for
+    ``n`` joints, ``clearances`` (parts, m) and ``pairs`` pairs."""
     parts, m = clearances
     return (
         np.empty((n + 1, 3)),
@@ -511,7 +499,7 @@ def _new_state_arrays(n: int, clearances: tuple[int, ...], pairs: int) -> _NewSt
     )
 
 
-def _state(problem: Problem, cand: np.ndarray, new: _NewState, out: np.ndarray, obstacles: bool) -> ArmState:
+def _state(problem: Problem, cand: np.ndarray, new: Measures, out: np.ndarray, obstacles: bool) -> ArmState:
     """The new state the kernel measured at ``cand`` (unlimited joints wrapped, as the filter's states)."""
     points, frames, axes, _, d, t, normal, gap, gap_t, gap_s, gap_normal = new
     gaps = None

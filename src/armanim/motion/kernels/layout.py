@@ -81,10 +81,10 @@ cylinders' four are None where the scene has none of them."""
 
 
 Fields = tuple[Any, ...]
-"""The fields of one of the kernels' named tuples (:class:`KernelProblem`, :class:`PoseState`,
-:class:`FrameGoal`, :class:`FrameWork`, :class:`Measures`) as a plain tuple, in their order: the
-form a kernel is called with from Python, since numba's dispatch types a plain tuple faster than a
-named one (some 2 us a call for a :class:`KernelProblem`)."""
+"""The fields of a :class:`KernelProblem` as a plain tuple, in their order: the form a kernel is
+called with from Python, since numba's dispatch types a plain tuple faster than a named one (some
+2 us a call). The frame's state, goal and work space are plain tuples too (:data:`PoseState`,
+:data:`FrameGoal`, :data:`FrameWork`, :data:`Measures`)."""
 
 
 class KernelProblem(NamedTuple):
@@ -139,118 +139,43 @@ class KernelProblem(NamedTuple):
     pair_levers: np.ndarray
 
 
-class PoseState(NamedTuple):
-    """The state a compiled frame starts from (:class:`~armanim.motion.solvers.common.ArmState`'s
-    arrays); passed into a kernel as a plain tuple in this order.
+PoseState = tuple[Any, ...]
+"""The state a compiled frame starts from, eleven arrays and a float (:class:`~armanim.motion.solvers.common.ArmState`'s
+arrays), in this order: ``phi`` (n,), the joint values (radians, metres for a prismatic joint);
+the pose's ``points`` (n + 1, 3) (metres), ``frames`` (n, 3, 3) and world ``axes`` (n, 3)
+(:func:`armanim.arm.kinematics.kind_axes`); each part's clearance to each obstacle ``d``
+(parts, m) (metres), its closest point's fraction ``t`` (parts, m) and unit ``normal``
+(parts, m, 3) ((0, 0) and (0, 0, 3) without obstacles); the enabled pairs' ``gap``, ``gap_t``,
+``gap_s`` (P,) and ``gap_normal`` (P, 3); the ``least`` gap (metres, inf without pairs)."""
 
-    Attributes
-    ----------
-    phi : (n,) array
-        The joint values, radians (metres for a prismatic joint).
-    points, frames, axes : (n + 1, 3), (n, 3, 3), (n, 3) arrays
-        The pose: the joints' and the tip's points (metres), the joints' frames, their world axes
-        (:func:`armanim.arm.kinematics.kind_axes`).
-    d, t, normal : (parts, m), (parts, m), (parts, m, 3) arrays
-        Each part's clearance to each obstacle (metres), its closest point's fraction along the
-        part, the unit normal; (0, 0) and (0, 0, 3) without obstacles.
-    gap, gap_t, gap_s, gap_normal : (P,), (P,), (P,), (P, 3) arrays
-        The enabled pairs' gaps (metres), their closest points' fractions, their unit normals.
-    least : float
-        The least gap, metres (inf without pairs).
-    """
+Measures = tuple[np.ndarray, ...]
+"""A new pose's measures as the exact check fills them, eleven arrays
+(:func:`armanim.motion.kernels.check.pose_exactly_safe`), in this order: ``points``, ``frames``,
+``axes`` and the ``tool`` frame (3, 3); ``d``, ``t``, ``normal``; ``gap``, ``gap_t``, ``gap_s``,
+``gap_normal`` (shapes and units as :data:`PoseState`'s)."""
 
-    phi: np.ndarray
-    points: np.ndarray
-    frames: np.ndarray
-    axes: np.ndarray
-    d: np.ndarray
-    t: np.ndarray
-    normal: np.ndarray
-    gap: np.ndarray
-    gap_t: np.ndarray
-    gap_s: np.ndarray
-    gap_normal: np.ndarray
-    least: float
+FrameGoal = tuple[np.ndarray, int, np.ndarray | None, np.ndarray | None]
+"""A frame's goal, in this order: the tip's ``position`` (3,) (metres); the orientation's
+``kind`` (0 none, 1 a rotation, 2 a tool axis); the goal ``rotation`` (3, 3) and tool ``axis``
+(3,) (placeholders where ``kind`` is another), both None in a scene without orientations (the
+kernels compiled without the rotation task)."""
 
-
-class Measures(NamedTuple):
-    """A new pose's measures as the exact check fills them
-    (:func:`armanim.motion.kernels.check.pose_exactly_safe`); passed as a plain tuple in this order.
-
-    Attributes
-    ----------
-    points, frames, axes, tool : (n + 1, 3), (n, 3, 3), (n, 3), (3, 3) arrays
-        The pose's kinematics (metres), the tool frame.
-    d, t, normal : (parts, m), (parts, m), (parts, m, 3) arrays
-        Its clearances (metres), fractions and normals, as :attr:`PoseState.d` ...
-    gap, gap_t, gap_s, gap_normal : (P,), (P,), (P,), (P, 3) arrays
-        Its pairs' gaps (metres), fractions and normals.
-    """
-
-    points: np.ndarray
-    frames: np.ndarray
-    axes: np.ndarray
-    tool: np.ndarray
-    d: np.ndarray
-    t: np.ndarray
-    normal: np.ndarray
-    gap: np.ndarray
-    gap_t: np.ndarray
-    gap_s: np.ndarray
-    gap_normal: np.ndarray
-
-
-class FrameGoal(NamedTuple):
-    """A frame's goal as the kernels read it; passed as a plain tuple in this order.
-
-    Attributes
-    ----------
-    position : (3,) array
-        The tip's goal, metres.
-    kind : int
-        The orientation's kind: 0 none, 1 a rotation, 2 a tool axis.
-    rotation, axis : (3, 3), (3,) arrays or None
-        The goal rotation and tool axis (placeholders where ``kind`` is another); both None in a
-        scene without orientations (the kernels compiled without the rotation task).
-    """
-
-    position: np.ndarray
-    kind: int
-    rotation: np.ndarray | None
-    axis: np.ndarray | None
-
-
-class FrameWork(NamedTuple):
-    """A frame's outputs and work space; passed as a plain tuple in this order.
-
-    Attributes
-    ----------
-    dphi, step, lo, hi, cand : (n,) arrays
-        The proposal, the nominal step (capped), the step's bounds, the new pose (radians or
-        metres per joint).
-    cons, cons_lower : (rows, n), (rows,) arrays
-        The filter's rows and their lower bounds (rows: at most parts x m + P).
-    """
-
-    dphi: np.ndarray
-    step: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
-    cons: np.ndarray
-    cons_lower: np.ndarray
-    cand: np.ndarray
-
+FrameWork = tuple[np.ndarray, ...]
+"""A frame's outputs and work space, seven arrays, in this order: the proposal ``dphi``, the nominal step
+``step`` (capped), its bounds ``lo``, ``hi`` (n,) each (radians or metres per joint); the filter's
+rows ``cons`` (rows, n) and their lower bounds ``cons_lower`` (rows,) (rows: at most parts x m +
+P); the new pose ``cand`` (n,)."""
 
 Placed = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 """A pose as the Jacobians of its points read it, built inside a kernel: the joints' points
 (n + 1, 3) and world axes (n, 3), the capsules' world ends a, b (c, 3) (metres), each capsule's
 joint (c,) (-1: the base). Kernels take such tuples, and unpack them at their top, rather than a
-whole :class:`KernelProblem` or :class:`PoseState`: numba counts the references of every array
+whole :class:`KernelProblem` or :data:`PoseState`: numba counts the references of every array
 a call passes and of every field read off a tuple, a cost of some 5 % of a frame when it was so."""
 
 Near = tuple[np.ndarray, np.ndarray, np.ndarray]
 """The obstacles near a pose: its clearances d (parts, m) (metres), their fractions t (parts, m)
-and unit normals (parts, m, 3) (:class:`PoseState`'s ``d``, ``t``, ``normal``)."""
+and unit normals (parts, m, 3) (:data:`PoseState`'s ``d``, ``t``, ``normal``)."""
 
 Pairs = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 """The arm's own pairs at a pose: their capsules ``first``, ``second`` (P,), their gaps (P,)

@@ -43,7 +43,7 @@ from armanim.motion.kernels.layout import (
     W_LIMITS,
     W_OBSTACLES,
     WEIGHT,
-    Fields,
+    FrameGoal,
     Near,
     Pairs,
     Placed,
@@ -552,7 +552,7 @@ def frame_proposal(
     influence: np.ndarray,
     pairs: Pairs,
     least: float,
-    goal: Fields,
+    goal: FrameGoal,
     tool: np.ndarray,
     dphi: np.ndarray,
 ) -> bool:
@@ -577,8 +577,8 @@ def frame_proposal(
         Each obstacle's influence, metres.
     least : float
         The least gap now, metres.
-    goal : tuple
-        The fields of a :class:`~armanim.motion.kernels.layout.FrameGoal`, in order.
+    goal : FrameGoal
+        The tip's goal (metres) and its orientation.
     tool : (3, 3) array
         The tool frame now.
     dphi : (n,) array
