@@ -39,6 +39,7 @@ TOUCHING = 1e-9
 (rounding puts a point on the surface a little either side), so its depth is searched for."""
 
 _JIT = dict(error_model="numpy", nogil=True)  # numpy's error model: x / 0 is inf or NaN, as the closed form expects
+_INLINE = dict(inline="always", **_JIT)  # the pieces of one closed form, inlined into it (numbers in and out)
 
 
 @compiled(**_JIT)
@@ -409,6 +410,7 @@ def _cylinder_pair(
         s[n + 1] = _clamp((-h - z0) / uz, 0.0, 1.0)
         n += 2
     n = _add_roots(uu, 2.0 * pu, pp - r * r, s, n)  # through the side
+    line = (x0, y0, z0, ux, uy, uz)
     best_t = s[0]
     best = _cylinder_depth(x0 + best_t * ux, y0 + best_t * uy, z0 + best_t * uz, h, r)
     for k in range(1, n):
@@ -438,18 +440,53 @@ def _cylinder_pair(
                 left = s[k]
             if s[k] > best_t and s[k] < right:
                 right = s[k]
-        for piece in range(2):
-            lo, hi = (left, best_t) if piece == 0 else (best_t, right)
-            if not hi > lo:
-                continue
-            mid = 0.5 * (lo + hi)
-            px, py, pz = x0 + mid * ux, y0 + mid * uy, z0 + mid * uz
-            if px * px + py * py > r * r and abs(pz) > h:
-                tk = _rim_minimum(lo, hi, x0, y0, z0, ux, uy, uz, h, r, 1.0 if pz > 0.0 else -1.0)
-                d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
-                if d < best:
-                    best, best_t = d, tk
-    px, py, pz = x0 + best_t * ux, y0 + best_t * uy, z0 + best_t * uz
+        best, best_t = _beyond_rim((left, best_t, right), line, h, r, best)
+    ex, ey, ez = _cylinder_normal(line, best_t, h, r)
+    for c in range(3):  # back to the world: R e
+        normal[c] = rotation[c, 0] * ex + rotation[c, 1] * ey + rotation[c, 2] * ez
+    return best_t, best
+
+
+@compiled(**_INLINE)
+def _beyond_rim(
+    bracket: tuple[float, float, float],
+    line: tuple[float, float, float, float, float, float],
+    h: float,
+    r: float,
+    best: float,
+) -> tuple[float, float]:
+    """(``best``, its fraction), or the least distance beyond the rim where the least point lies
+    there. ``bracket``: the nearest candidates left of the best one's fraction, that fraction,
+    the nearest right of it; on each piece between, where its middle is beside both the side and
+    a cap, the slope's root by :func:`_rim_minimum`. ``line``: the segment's start x0, y0, z0 and
+    direction ux, uy, uz in the frame of the cylinder (half length ``h``, radius ``r``, metres)
+    (:func:`_cylinder_pair`). Numbers in and out: an array handed to a helper costs its
+    reference counts, a pair at a time."""
+    x0, y0, z0, ux, uy, uz = line
+    left, best_t, right = bracket
+    for piece in range(2):
+        lo, hi = (left, best_t) if piece == 0 else (best_t, right)
+        if not hi > lo:
+            continue
+        mid = 0.5 * (lo + hi)
+        px, py, pz = x0 + mid * ux, y0 + mid * uy, z0 + mid * uz
+        if px * px + py * py > r * r and abs(pz) > h:
+            tk = _rim_minimum(lo, hi, x0, y0, z0, ux, uy, uz, h, r, 1.0 if pz > 0.0 else -1.0)
+            d = _cylinder_depth(x0 + tk * ux, y0 + tk * uy, z0 + tk * uz, h, r)
+            if d < best:
+                best, best_t = d, tk
+    return best, best_t
+
+
+@compiled(**_INLINE)
+def _cylinder_normal(
+    line: tuple[float, float, float, float, float, float], t: float, h: float, r: float
+) -> tuple[float, float, float]:
+    """The unit normal, in the cylinder's frame, at the point ``t`` of the segment ``line`` (as
+    :func:`_beyond_rim`'s) of the cylinder of half length ``h`` and radius ``r``: the signed
+    distance's gradient, out of the cylinder (:func:`_cylinder_pair`)."""
+    x0, y0, z0, ux, uy, uz = line
+    px, py, pz = x0 + t * ux, y0 + t * uy, z0 + t * uz
     rho = np.sqrt(px * px + py * py)
     cx, cy = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)  # the radial direction (any on the axis)
     cz = 1.0 if pz >= 0.0 else -1.0
@@ -457,14 +494,10 @@ def _cylinder_pair(
     if dr > 0.0 or dz > 0.0:  # outside: from the nearest point of the surface
         ra, za = max(dr, 0.0), max(dz, 0.0)
         length = np.sqrt(ra * ra + za * za)
-        ex, ey, ez = ra * cx / length, ra * cy / length, za * cz / length
-    elif dr > dz:  # inside, nearer the side
-        ex, ey, ez = cx, cy, 0.0
-    else:  # inside, nearer a cap
-        ex, ey, ez = 0.0, 0.0, cz
-    for c in range(3):  # back to the world: R e
-        normal[c] = rotation[c, 0] * ex + rotation[c, 1] * ey + rotation[c, 2] * ez
-    return best_t, best
+        return ra * cx / length, ra * cy / length, za * cz / length
+    if dr > dz:  # inside, nearer the side
+        return cx, cy, 0.0
+    return 0.0, 0.0, cz  # inside, nearer a cap
 
 
 @compiled(**_JIT)
@@ -741,9 +774,8 @@ def pair_rows(
     fraction t along capsule ``first[p]`` (segment a-b, (C, 3) each), B at s along ``second[p]``,
     n the pair's normal (P, 3); column m of a point's Jacobian is w_m x (q - p_m) for the joints
     m <= the capsule's ``link`` (``points`` (n+1, 3), world ``axes`` (n, 3)), 0 after."""
-    scratch = np.empty(9)
     for r in range(which.shape[0]):
-        pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], scratch, rows[r])
+        pair_row(points, axes, a, b, link, first, second, t, s, normal, which[r], rows[r])
 
 
 @compiled(**_JIT)
@@ -759,10 +791,9 @@ def pair_row(
     s: np.ndarray,
     normal: np.ndarray,
     p: int,
-    scratch: np.ndarray,
     row: np.ndarray,
 ) -> None:
-    """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`); ``scratch``: (9,) work space (unused: kept for the callers)."""
+    """Pair p's row n . (J_A - J_B) into ``row`` (n,) (:func:`pair_rows`)."""
     i, j = first[p], second[p]
     la, lb = link[i], link[j]
     tp, sp = t[p], s[p]
@@ -941,30 +972,36 @@ def pair_rate(
 
 @compiled(**_JIT)
 def pair_rows_met(
-    points: np.ndarray,
-    axes: np.ndarray,
-    a: np.ndarray,
-    b: np.ndarray,
-    link: np.ndarray,
-    first: np.ndarray,
-    second: np.ndarray,
-    t: np.ndarray,
-    s: np.ndarray,
-    normal: np.ndarray,
-    gap: np.ndarray,
-    target: float,
-    gamma: float,
+    placed: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    pairs: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     lever_rows: np.ndarray,
     step: np.ndarray,
-    slack: float,
-    extra: float,
-    violation: float,
+    bounds: tuple[float, float, float, float, float],
 ) -> bool:
-    """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room,
-    room = gamma (gap - target) (``gap`` (P,)): a pair whose room is at least ``slack`` x its
-    bound |dPhi| . ``lever_rows[p]`` plus ``extra`` meets it by that bound alone; any other has
-    its row (:func:`pair_rows`) computed and tested to ``violation``."""
-    scratch, row = np.empty(9), np.empty(step.shape[0])
+    """Whether the step dPhi ``step`` (n,) meets every pair's row n . (J_A - J_B) dPhi >= -room.
+
+    Parameters
+    ----------
+    placed : tuple of arrays
+        The pose: joint points (n + 1, 3), world axes (n, 3), capsule ends a, b (C, 3) (metres),
+        each capsule's ``link`` (C,) (as :func:`pair_rows` reads them).
+    pairs : tuple of arrays
+        The pairs: ``first``, ``second`` (P,), their gaps (P,) (metres), closest points' fractions
+        t, s (P,) and normals (P, 3).
+    lever_rows : (P, n) array
+        Each pair's lever arms, metres.
+    step : (n,) array
+        dPhi, radians (metres for a prismatic joint).
+    bounds : tuple of floats
+        ``target``, ``gamma``, ``slack``, ``extra``, ``violation``: room = gamma (gap - target)
+        (metres); a pair whose room is at least ``slack`` x its bound |dPhi| . ``lever_rows[p]``
+        plus ``extra`` meets it by that bound alone; any other has its row (:func:`pair_rows`)
+        computed and tested to ``violation``.
+    """
+    points, axes, a, b, link = placed
+    first, second, gap, t, s, normal = pairs
+    target, gamma, slack, extra, violation = bounds
+    row = np.empty(step.shape[0])
     for p in range(gap.shape[0]):
         room = gamma * (gap[p] - target)
         bound = 0.0
@@ -972,7 +1009,7 @@ def pair_rows_met(
             bound += lever_rows[p, m] * abs(step[m])
         if room >= bound * slack + extra:
             continue
-        pair_row(points, axes, a, b, link, first, second, t, s, normal, p, scratch, row)
+        pair_row(points, axes, a, b, link, first, second, t, s, normal, p, row)
         change = 0.0
         for m in range(step.shape[0]):
             change += row[m] * step[m]

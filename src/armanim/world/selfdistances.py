@@ -201,18 +201,14 @@ def self_rows_met(
     others by their rows (computed only for them; all in one compiled call)."""
     from armanim.world import compiled
 
+    points, axes, a, b, link, first, second, t, s = _pair_inputs(arm, capsules, pose, pairs, gaps)
     return bool(
         compiled.pair_rows_met(
-            *_pair_inputs(arm, capsules, pose, pairs, gaps),
-            gaps.normal,
-            gaps.d,
-            float(target),
-            float(gamma),
+            (points, axes, a, b, link),
+            (first, second, gaps.d, t, s, gaps.normal),
             lever_rows,
             np.ascontiguousarray(step, dtype=float),
-            slack,
-            extra,
-            violation,
+            (float(target), float(gamma), float(slack), float(extra), float(violation)),
         )
     )
 

@@ -170,6 +170,8 @@ def attempt_loop(
     cb = np.empty(2 * n + pairs)
     twists = np.empty((n, 6))
     in_rows = np.empty(pairs, dtype=np.bool_)
+    # the filter QP's work space (:func:`~armanim.motion.kernels.qp.filtered_with_pairs`)
+    qp_work = (cmat, cb, twists, in_rows)
     while progress >= tol and steps < ints[STEPS_CAP]:
         pairs_push = False
         if pairs:  # a pair within its push's influence (R): its push joins the limits' (exact gaps, where a bound cannot show none)
@@ -262,26 +264,9 @@ def attempt_loop(
                 exact[now] = True
                 for q in range(pairs):
                     bound[q] = gaps[now, q] - slack
+            pose = (points[now], axes[now], caps_link, ends[now], near[now], gaps[now])
             if not filtered_with_pairs(
-                floats,
-                gaps[now],
-                points[now],
-                axes[now],
-                caps_link,
-                ends[now],
-                near[now],
-                first,
-                second,
-                pair_levers,
-                nominal,
-                nominal_length,
-                low,
-                high,
-                cmat,
-                cb,
-                twists,
-                in_rows,
-                step,
+                floats, pose, (first, second, pair_levers), nominal, nominal_length, (low, high), qp_work, step
             ):
                 status = HANDED_BACK
                 break

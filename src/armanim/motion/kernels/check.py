@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from armanim.arm.kernel import JIT, _capsule_ends_one, _forward_one, compiled
-from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE, World
+from armanim.motion.kernels.layout import BUFFER, CLEARANCE, SELF_CLEARANCE, KernelProblem, Measures, World
 from armanim.world.compiled import (
     _points_apart,
     _segments_apart,
@@ -277,38 +277,42 @@ def _put_columns(
 
 @compiled(**JIT)
 def pose_exactly_safe(
-    rows: np.ndarray,
-    root: np.ndarray,
-    floats: np.ndarray,
+    k: KernelProblem,
     phi: np.ndarray,
     cand: np.ndarray,
-    lower: np.ndarray,
-    upper: np.ndarray,
-    caps: np.ndarray,
-    link: np.ndarray,
-    part_radius: np.ndarray,
     cl_d: np.ndarray,
-    world: World,
-    first: np.ndarray,
-    second: np.ndarray,
-    pair_radii: np.ndarray,
     least: float,
-    new_points: np.ndarray,
-    new_frames: np.ndarray,
-    new_axes: np.ndarray,
-    tool: np.ndarray,
-    new_d: np.ndarray,
-    new_t: np.ndarray,
-    new_normal: np.ndarray,
-    new_gap: np.ndarray,
-    new_gap_t: np.ndarray,
-    new_gap_s: np.ndarray,
-    new_gap_normal: np.ndarray,
+    new: Measures,
     out: np.ndarray,
 ) -> bool:
-    """Whether the pose ``cand`` keeps every guarantee from the pose ``phi`` (whose clearances are
-    ``cl_d``, least gap ``least``) (:func:`~armanim.motion.filter.barrier.exactly_safe`); its kinematics, clearances and gaps
-    into the ``new_`` arrays (as far as the check went), its least gap into ``out[1]``."""
+    """Whether the pose ``cand`` keeps every guarantee from the pose ``phi``
+    (:func:`~armanim.motion.filter.barrier.exactly_safe`).
+
+    Parameters
+    ----------
+    k : KernelProblem
+        The problem's constants.
+    phi, cand : (n,) arrays
+        The pose now and the new one, radians (metres for a prismatic joint).
+    cl_d : (parts, m) array
+        The clearances now, metres.
+    least : float
+        The least gap now, metres.
+    new : Measures
+        Filled with
+        the new pose's kinematics, clearances and gaps (as far as the check went).
+    out : (3,) array
+        ``out[1]``: the new least gap, metres (inf without pairs).
+
+    Returns
+    -------
+    bool
+        Whether every joint stays inside its limits as the filter demands, and neither the
+        clearances nor the gaps fall below their floors (or below what they are now).
+    """
+    rows, root, floats, lower, upper, caps, link = k.rows, k.root, k.floats, k.lower, k.upper, k.caps, k.link
+    part_radius, world, first, second, pair_radii = k.part_radius, k.world, k.first, k.second, k.pair_radii
+    points, frames, axes, tool, d, t, normal, gap, gap_t, gap_s, gap_normal = new  # Measures' order
     n = phi.shape[0]
     buffer = floats[BUFFER]
     for j in range(n):
@@ -318,30 +322,30 @@ def pose_exactly_safe(
         gap_now = min(phi[j] - lower[j], upper[j] - phi[j])
         if gap_new <= 0.0 or gap_new < min(buffer, gap_now):
             return False
-    _forward_one(rows, root, cand, new_points, new_frames, new_axes, tool)
+    _forward_one(rows, root, cand, points, frames, axes, tool)
     c = caps.shape[0]
     na = np.empty((c, 3))
     nb = np.empty((c, 3))
-    _capsule_ends_one(new_points, new_frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, na, nb)
+    _capsule_ends_one(points, frames, link, caps[:, 0:3], caps[:, 3:6], caps[:, 7] > 0.5, na, nb)
     parts = cl_d.shape[0]
     if cl_d.shape[1] > 0:
-        obstacle_clearances(new_points, na, nb, part_radius, world, new_d, new_t, new_normal)
+        obstacle_clearances(points, na, nb, part_radius, world, d, t, normal)
         now_links, now_tip, new_links, new_tip = np.inf, np.inf, np.inf, np.inf
         for part in range(parts):
-            for k in range(cl_d.shape[1]):
+            for col in range(cl_d.shape[1]):
                 if part < parts - 1:
-                    now_links = min(now_links, cl_d[part, k])
-                    new_links = min(new_links, new_d[part, k])
+                    now_links = min(now_links, cl_d[part, col])
+                    new_links = min(new_links, d[part, col])
                 else:
-                    now_tip = min(now_tip, cl_d[part, k])
-                    new_tip = min(new_tip, new_d[part, k])
+                    now_tip = min(now_tip, cl_d[part, col])
+                    new_tip = min(new_tip, d[part, col])
         if not new_links >= min(floats[CLEARANCE], now_links):
             return False
         if not new_tip >= min(floats[CLEARANCE], now_tip):
             return False
     out[1] = np.inf
     if first.shape[0]:
-        out[1] = capsule_pair_gaps(na, nb, first, second, pair_radii, new_gap_t, new_gap_s, new_gap, new_gap_normal)
+        out[1] = capsule_pair_gaps(na, nb, first, second, pair_radii, gap_t, gap_s, gap, gap_normal)
         if not out[1] >= min(floats[SELF_CLEARANCE], least):
             return False
     return True

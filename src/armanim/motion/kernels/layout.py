@@ -10,7 +10,7 @@ problem is made).
 
 from __future__ import annotations
 
-from typing import NamedTuple, cast
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 
@@ -80,6 +80,13 @@ World = tuple[
 cylinders' four are None where the scene has none of them."""
 
 
+Fields = tuple[Any, ...]
+"""The fields of a :class:`KernelProblem` as a plain tuple, in their order: the form a kernel is
+called with from Python, since numba's dispatch types a plain tuple faster than a named one (some
+2 us a call). The frame's state, goal and work space are plain tuples too (:data:`PoseState`,
+:data:`FrameGoal`, :data:`FrameWork`, :data:`Measures`)."""
+
+
 class KernelProblem(NamedTuple):
     """A problem's constants in the kernels' order (contiguous, float64 or int64).
 
@@ -130,6 +137,49 @@ class KernelProblem(NamedTuple):
     pair_radii: np.ndarray
     pair_lever_rows: np.ndarray
     pair_levers: np.ndarray
+
+
+PoseState = tuple[Any, ...]
+"""The state a compiled frame starts from, eleven arrays and a float (:class:`~armanim.motion.solvers.common.ArmState`'s
+arrays), in this order: ``phi`` (n,), the joint values (radians, metres for a prismatic joint);
+the pose's ``points`` (n + 1, 3) (metres), ``frames`` (n, 3, 3) and world ``axes`` (n, 3)
+(:func:`armanim.arm.kinematics.kind_axes`); each part's clearance to each obstacle ``d``
+(parts, m) (metres), its closest point's fraction ``t`` (parts, m) and unit ``normal``
+(parts, m, 3) ((0, 0) and (0, 0, 3) without obstacles); the enabled pairs' ``gap``, ``gap_t``,
+``gap_s`` (P,) and ``gap_normal`` (P, 3); the ``least`` gap (metres, inf without pairs)."""
+
+Measures = tuple[np.ndarray, ...]
+"""A new pose's measures as the exact check fills them, eleven arrays
+(:func:`armanim.motion.kernels.check.pose_exactly_safe`), in this order: ``points``, ``frames``,
+``axes`` and the ``tool`` frame (3, 3); ``d``, ``t``, ``normal``; ``gap``, ``gap_t``, ``gap_s``,
+``gap_normal`` (shapes and units as :data:`PoseState`'s)."""
+
+FrameGoal = tuple[np.ndarray, int, np.ndarray | None, np.ndarray | None]
+"""A frame's goal, in this order: the tip's ``position`` (3,) (metres); the orientation's
+``kind`` (0 none, 1 a rotation, 2 a tool axis); the goal ``rotation`` (3, 3) and tool ``axis``
+(3,) (placeholders where ``kind`` is another), both None in a scene without orientations (the
+kernels compiled without the rotation task)."""
+
+FrameWork = tuple[np.ndarray, ...]
+"""A frame's outputs and work space, seven arrays, in this order: the proposal ``dphi``, the nominal step
+``step`` (capped), its bounds ``lo``, ``hi`` (n,) each (radians or metres per joint); the filter's
+rows ``cons`` (rows, n) and their lower bounds ``cons_lower`` (rows,) (rows: at most parts x m +
+P); the new pose ``cand`` (n,)."""
+
+Placed = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""A pose as the Jacobians of its points read it, built inside a kernel: the joints' points
+(n + 1, 3) and world axes (n, 3), the capsules' world ends a, b (c, 3) (metres), each capsule's
+joint (c,) (-1: the base). Kernels take such tuples, and unpack them at their top, rather than a
+whole :class:`KernelProblem` or :data:`PoseState`: numba counts the references of every array
+a call passes and of every field read off a tuple, a cost of some 5 % of a frame when it was so."""
+
+Near = tuple[np.ndarray, np.ndarray, np.ndarray]
+"""The obstacles near a pose: its clearances d (parts, m) (metres), their fractions t (parts, m)
+and unit normals (parts, m, 3) (:data:`PoseState`'s ``d``, ``t``, ``normal``)."""
+
+Pairs = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""The arm's own pairs at a pose: their capsules ``first``, ``second`` (P,), their gaps (P,)
+(metres), closest points' fractions t, s (P,) and unit normals (P, 3)."""
 
 
 def kernel_problem(problem: Problem) -> KernelProblem:

@@ -205,23 +205,12 @@ def bound_rows(n: int, pairs: int) -> np.ndarray:
 @compiled(**JIT)
 def filtered_with_pairs(
     floats: np.ndarray,
-    gaps: np.ndarray,
-    points: np.ndarray,
-    axes: np.ndarray,
-    caps_link: np.ndarray,
-    ends: np.ndarray,
-    near: np.ndarray,
-    first: np.ndarray,
-    second: np.ndarray,
-    pair_levers: np.ndarray,
+    pose: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+    pairs: tuple[np.ndarray, np.ndarray, np.ndarray],
     nominal: np.ndarray,
     nominal_length: float,
-    low: np.ndarray,
-    high: np.ndarray,
-    cmat: np.ndarray,
-    cb: np.ndarray,
-    twists: np.ndarray,
-    in_rows: np.ndarray,
+    bounds: tuple[np.ndarray, np.ndarray],
+    work: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     step: np.ndarray,
 ) -> bool:
     """With the pairs' exact ``gaps`` at the pose and ``step`` (n,) holding the nominal clipped to
@@ -238,13 +227,33 @@ def filtered_with_pairs(
     rows its answer breaks, from the clip (the answer with no row) on, each added as the answer
     breaks it, until the answer meets every row (the pairs' rates by the links' twists,
     :func:`armanim.world.compiled.pair_rate`, a few products a pair where a row costs n cross
-    products: a pair's row is built only where it acts). ``cmat`` (2 n + P, n), ``cb`` (2 n + P,):
-    work space for the QP's rows and bounds, its first 2 n rows the joints' (:func:`bound_rows`);
-    ``twists`` (n, 6), ``in_rows`` (P,): work space. False (hand back) where the QP fails."""
-    n = nominal.shape[0]
-    gamma = floats[GAMMA]
-    kept = floats[KEPT_SELF]
-    pairs = gaps.shape[0]
+    products: a pair's row is built only where it acts). False (hand back) where the QP fails.
+
+    Parameters
+    ----------
+    floats : (FLOATS,) array
+        The settings (:mod:`~armanim.motion.kernels.layout`).
+    pose : tuple of arrays
+        The pose: joint points (n + 1, 3), world axes (n, 3), each capsule's joint (c,), the
+        capsules' ends (2, c, 3) (metres), the pairs' closest points (P, 5) (t, s, normal) and
+        their exact gaps (P,) (metres) (:func:`armanim.motion.kernels.check.pair_gaps`).
+    pairs : tuple of arrays
+        The pairs' capsules ``first``, ``second`` (P,) and their lever arms' norms (P,).
+    nominal : (n,) array
+        The filter's nominal step, radians (metres for a prismatic joint); ``nominal_length`` its norm.
+    bounds : tuple of two (n,) arrays
+        The step's joint bounds ``low``, ``high``.
+    work : tuple of arrays
+        ``cmat`` (2 n + P, n), ``cb`` (2 n + P,): the QP's rows and bounds, its first 2 n rows
+        the joints' (:func:`bound_rows`); ``twists`` (n, 6), ``in_rows`` (P,).
+    step : (n,) array
+        In: the nominal clipped to the bounds; out: the filter's step.
+    """
+    points, axes, caps_link, ends, near, gaps = pose
+    first, second, pair_levers = pairs
+    low, high = bounds
+    cmat, cb, twists, in_rows = work
+    n, gamma, kept = nominal.shape[0], floats[GAMMA], floats[KEPT_SELF]
     a, b, t, s, normal = ends[0], ends[1], near[:, 0], near[:, 1], near[:, 2:5]
     met = True
     for j in range(n):
@@ -252,13 +261,12 @@ def filtered_with_pairs(
         cb[n + j] = -high[j]
         if nominal[j] < low[j] - VIOLATION or nominal[j] > high[j] + VIOLATION:
             met = False
-    for q in range(pairs):  # the rows the numpy filter builds: those of the pairs near enough for the step (its test)
-        in_rows[q] = (
-            not gaps[q] - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9
-        )  # True: no row, or a row in the QP
+    # the rows the numpy filter builds: those of the pairs near enough for the step (its test); True: no row, or a row in the QP
+    for q in range(gaps.shape[0]):
+        in_rows[q] = not gaps[q] - kept < 2.0 * nominal_length * pair_levers[q] + 1e-9
     if met:
         link_twists(points, axes, nominal, twists)
-        for q in range(pairs):
+        for q in range(gaps.shape[0]):
             if (
                 not in_rows[q]
                 and pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q)
@@ -272,18 +280,17 @@ def filtered_with_pairs(
             return True
     count = 2 * n
     relaxed = False
-    scratch = np.empty(9)
-    for _ in range(pairs + 1):
+    for _ in range(gaps.shape[0] + 1):
         link_twists(points, axes, step, twists)
         added = False
-        for q in range(pairs):
+        for q in range(gaps.shape[0]):
             if in_rows[q]:
                 continue
             room = -gamma * (gaps[q] - kept)
             if relaxed:
                 room = min(room, 0.0)
             if pair_rate(twists, a, b, caps_link, first, second, t, s, normal, q) < room:
-                pair_row(points, axes, a, b, caps_link, first, second, t, s, normal, q, scratch, cmat[count])
+                pair_row(points, axes, a, b, caps_link, first, second, t, s, normal, q, cmat[count])
                 cb[count] = room
                 in_rows[q] = True
                 count += 1
@@ -291,13 +298,9 @@ def filtered_with_pairs(
         if not added:
             break
         solved = closest_step(nominal, cmat, cb, count, step, 2 * n)
-        if (
-            solved == 0 and not relaxed
-        ):  # no step meets these rows, nor so all of them: as the numpy filter, closing no gap further
+        if solved == 0 and not relaxed:  # no step meets these rows: as the numpy filter, closing no gap further
             relaxed = True
-            for c in range(2 * n, count):
-                cb[c] = min(cb[c], 0.0)
-            solved = closest_step(nominal, cmat, cb, count, step, 2 * n)
+            solved = relaxed_step(nominal, cmat, cb, count, step, 2 * n)
         if solved == 0:
             for j in range(n):
                 step[j] = 0.0
@@ -307,6 +310,18 @@ def filtered_with_pairs(
     for j in range(n):
         step[j] = min(max(step[j], low[j]), high[j])
     return True
+
+
+@compiled(**JIT)
+def relaxed_step(
+    nominal: np.ndarray, cmat: np.ndarray, cb: np.ndarray, count: int, step: np.ndarray, first: int
+) -> int:
+    """:func:`closest_step` again with the bounds ``cb`` of the rows ``first`` .. ``count`` no
+    more than 0, closing no gap further (:func:`filtered_with_pairs`' relaxed QP, as the numpy
+    filter relaxes it); ``cmat`` (rows, n) the QP's rows, ``step`` (n,) its answer."""
+    for c in range(first, count):
+        cb[c] = min(cb[c], 0.0)
+    return closest_step(nominal, cmat, cb, count, step, first)
 
 
 @compiled(**INLINE)

@@ -43,6 +43,10 @@ from armanim.motion.kernels.layout import (
     W_LIMITS,
     W_OBSTACLES,
     WEIGHT,
+    FrameGoal,
+    Near,
+    Pairs,
+    Placed,
 )
 from armanim.motion.kernels.linalg import damped, invert, matvec, pseudo_inverse
 from armanim.motion.solvers.linear import CLOSEST_GAP, ROUNDING_TASK
@@ -542,112 +546,198 @@ def frame_proposal(
     floats: np.ndarray,
     method: int,
     phi: np.ndarray,
-    points: np.ndarray,
-    axes: np.ndarray,
-    goal: np.ndarray,
-    kind: int,
-    goal_rot: np.ndarray | None,
-    goal_axis: np.ndarray | None,
-    tool: np.ndarray,
-    lower: np.ndarray,
-    upper: np.ndarray,
-    a: np.ndarray,
-    b: np.ndarray,
-    link: np.ndarray,
-    cl_d: np.ndarray,
-    cl_t: np.ndarray,
-    cl_normal: np.ndarray,
+    limits: tuple[np.ndarray, np.ndarray],
+    placed: Placed,
+    near: Near,
     influence: np.ndarray,
-    first: np.ndarray,
-    second: np.ndarray,
-    gap: np.ndarray,
-    gap_t: np.ndarray,
-    gap_s: np.ndarray,
-    gap_normal: np.ndarray,
+    pairs: Pairs,
     least: float,
+    goal: FrameGoal,
+    tool: np.ndarray,
     dphi: np.ndarray,
 ) -> bool:
-    """:func:`armanim.motion.solvers.linear.linear_step` into ``dphi``; the goal's orientation
-    (``kind`` 0: none, 1: the rotation ``goal_rot``, 2: the tool axis ``goal_axis``, both None in a
-    scene without orientations; ``tool``: the tool frame now) second in priority, in the null space of the tip's task
-    (:func:`~armanim.motion.solvers.linear.orientation_in_null_space`). False where an inverse
-    failed (numpy raises there: the numpy path takes the frame)."""
+    """:func:`armanim.motion.solvers.linear.linear_step` into ``dphi``, the goal's orientation
+    second in priority, in the null space of the tip's task
+    (:func:`~armanim.motion.solvers.linear.orientation_in_null_space`).
+
+    Parameters
+    ----------
+    floats : (FLOATS,) array
+        The settings (:mod:`~armanim.motion.kernels.layout`).
+    method : int
+        :data:`~armanim.motion.kernels.layout.PINV` or :data:`~armanim.motion.kernels.layout.DLS`.
+    phi : (n,) array
+        The joints now, radians (metres for a prismatic joint).
+    limits : tuple of two (n,) arrays
+        The joints' lower and upper limits.
+    placed, near, pairs : tuples of arrays
+        The pose now, the obstacles near it, its pairs
+        (:data:`~armanim.motion.kernels.layout.Placed`, ``Near``, ``Pairs``).
+    influence : (m,) array
+        Each obstacle's influence, metres.
+    least : float
+        The least gap now, metres.
+    goal : FrameGoal
+        The tip's goal (metres) and its orientation.
+    tool : (3, 3) array
+        The tool frame now.
+    dphi : (n,) array
+        Filled with the proposal, radians (metres for a prismatic joint).
+
+    Returns
+    -------
+    bool
+        False where an inverse failed (numpy raises there: the numpy path takes the frame).
+    """
+    points, axes = placed[0], placed[1]
+    position, kind, rotation, axis = goal  # FrameGoal's order
     n = phi.shape[0]
     jac = np.empty((3, n))
     target = np.empty(3)
     tip_rows(points, axes, jac)
-    tip_target(floats, points, goal, target)
-    damping = floats[DAMPING]
+    tip_target(floats, points, position, target)
     jac_inv = np.empty((n, 3))
-    if not invert(jac, method, damping, jac_inv):
+    if not invert(jac, method, floats[DAMPING], jac_inv):
         return False
     matvec(jac_inv, target, dphi)
     secondary = np.zeros(n)
-    pushed = limit_push(floats, phi, lower, upper, secondary)
+    pushed = limit_push(floats, phi, limits[0], limits[1], secondary)
+    obstacles = obstacle_pushes(floats, method, placed, near, influence, jac_inv, dphi, secondary)
+    if obstacles < 0:
+        return False
+    by_pairs = pair_pushes(floats, method, placed, pairs, least, secondary)
+    if by_pairs < 0:
+        return False
+    pushed = pushed or obstacles > 0 or by_pairs > 0
+    if kind != 0:  # the rotation second; the pushes into the null space of both tasks
+        return orientation_second(
+            floats, method, kind, rotation, axis, tool, axes, jac, jac_inv, pushed, secondary, dphi
+        )
+    if pushed:  # dphi + (I - J^+ J) secondary
+        null_push(jac, jac_inv, secondary, dphi)
+    return True
+
+
+@compiled(**INLINE)
+def obstacle_pushes(
+    floats: np.ndarray,
+    method: int,
+    placed: Placed,
+    near: Near,
+    influence: np.ndarray,
+    jac_inv: np.ndarray,
+    dphi: np.ndarray,
+    secondary: np.ndarray,
+) -> int:
+    """The obstacles' pushes of :func:`frame_proposal`: each part off the base and obstacle whose
+    clearance d (metres) is inside the obstacle's ``influence`` R pushes beta w_obstacles R (R / d - 1)
+    along the normal; the tip in task space, through the tip task's inverse ``jac_inv`` (n, 3), into
+    ``dphi`` (n,); a link through the method's inverse of its point's Jacobian into ``secondary``
+    (n,).
+
+    Returns
+    -------
+    int
+        1 where a link pushes, 0 where none does, -1 where an inverse failed.
+    """
+    points, axes, a, b, link = placed
+    d, t, normal = near
+    n = dphi.shape[0]
     gain = floats[BETA] * floats[W_OBSTACLES]
-    parts = cl_d.shape[0]
+    damping = floats[DAMPING]
+    parts = d.shape[0]
     q = np.empty(3)
     pj = np.empty((3, n))
     pinv = np.empty((n, 3))
     v = np.empty(3)
+    pushed = 0
     for part in range(parts):
         if part < parts - 1 and link[part] < 0:  # on the base: never pushed
             continue
-        for k in range(cl_d.shape[1]):
-            r = influence[k]
-            g = cl_d[part, k]
+        for col in range(d.shape[1]):
+            r = influence[col]
+            g = d[part, col]
             if not (g > 0.0 and g < r):
                 continue
             push = gain * (r * (r / max(g, r * CLOSEST_GAP) - 1.0))
             if push == 0.0:
                 continue
             for i in range(3):
-                v[i] = push * cl_normal[part, k, i]
+                v[i] = push * normal[part, col, i]
             if part == parts - 1:  # the tip itself: in task space
                 for j in range(n):
                     dphi[j] = dphi[j] + (jac_inv[j, 0] * v[0] + jac_inv[j, 1] * v[1] + jac_inv[j, 2] * v[2])
                 continue
-            f = cl_t[part, k]
+            f = t[part, col]
             for i in range(3):
                 q[i] = a[part, i] + f * (b[part, i] - a[part, i])
             point_jacobian(points, axes, link[part], q, pj)
-            if not invert(pj, method, damping, pinv):
-                return False
-            for j in range(n):
-                secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
-            pushed = True
+            if not pushed_through(pj, method, damping, v, pinv, secondary):
+                return -1
+            pushed = 1
+    return pushed
+
+
+@compiled(**INLINE)
+def pair_pushes(
+    floats: np.ndarray, method: int, placed: Placed, pairs: Pairs, least: float, secondary: np.ndarray
+) -> int:
+    """The arm's own pairs' pushes of :func:`frame_proposal` into ``secondary`` (n,): each pair
+    whose gap d (metres) is inside the influence R (``self_influence``) pushes
+    beta w_obstacles R (R / d - 1) along its normal, through the method's inverse of
+    J_A - J_B; none where the least gap ``least`` (metres) is not inside R.
+
+    Returns
+    -------
+    int
+        1 where a pair pushes, 0 where none does, -1 where an inverse failed.
+    """
+    points, axes, a, b, link = placed
+    first, second, gap, t, s, normal = pairs
     reach = floats[SELF_INFLUENCE]
-    if first.shape[0] and least < reach:
-        qa = np.empty(3)
-        qb = np.empty(3)
-        ja = np.empty((3, n))
-        jb = np.empty((3, n))
-        for p in range(first.shape[0]):
-            g = gap[p]
-            if not (g > 0.0 and g < reach):
-                continue
-            push = gain * (reach * (reach / max(g, reach * CLOSEST_GAP) - 1.0))
-            if push == 0.0:
-                continue
-            fa, fb = first[p], second[p]
-            for i in range(3):
-                qa[i] = a[fa, i] + gap_t[p] * (b[fa, i] - a[fa, i])
-                qb[i] = a[fb, i] + gap_s[p] * (b[fb, i] - a[fb, i])
-            point_jacobian(points, axes, link[fa], qa, ja)
-            point_jacobian(points, axes, link[fb], qb, jb)
-            for i in range(3):
-                for j in range(n):
-                    ja[i, j] -= jb[i, j]
-                v[i] = push * gap_normal[p, i]
-            if not invert(ja, method, damping, pinv):
-                return False
+    if first.shape[0] == 0 or not least < reach:
+        return 0
+    n = secondary.shape[0]
+    gain = floats[BETA] * floats[W_OBSTACLES]
+    damping = floats[DAMPING]
+    qa = np.empty(3)
+    qb = np.empty(3)
+    ja = np.empty((3, n))
+    jb = np.empty((3, n))
+    pinv = np.empty((n, 3))
+    v = np.empty(3)
+    pushed = 0
+    for p in range(first.shape[0]):
+        g = gap[p]
+        if not (g > 0.0 and g < reach):
+            continue
+        push = gain * (reach * (reach / max(g, reach * CLOSEST_GAP) - 1.0))
+        if push == 0.0:
+            continue
+        fa, fb = first[p], second[p]
+        for i in range(3):
+            qa[i] = a[fa, i] + t[p] * (b[fa, i] - a[fa, i])
+            qb[i] = a[fb, i] + s[p] * (b[fb, i] - a[fb, i])
+        point_jacobian(points, axes, link[fa], qa, ja)
+        point_jacobian(points, axes, link[fb], qb, jb)
+        for i in range(3):
             for j in range(n):
-                secondary[j] += pinv[j, 0] * v[0] + pinv[j, 1] * v[1] + pinv[j, 2] * v[2]
-            pushed = True
-    if kind != 0:  # the rotation second; the pushes into the null space of both tasks
-        return orientation_second(
-            floats, method, kind, goal_rot, goal_axis, tool, axes, jac, jac_inv, pushed, secondary, dphi
-        )
-    if pushed:  # dphi + (I - J^+ J) secondary
-        null_push(jac, jac_inv, secondary, dphi)
+                ja[i, j] -= jb[i, j]
+            v[i] = push * normal[p, i]
+        if not pushed_through(ja, method, damping, v, pinv, secondary):
+            return -1
+        pushed = 1
+    return pushed
+
+
+@compiled(**JIT)
+def pushed_through(
+    jac: np.ndarray, method: int, damping: float, v: np.ndarray, inverse: np.ndarray, secondary: np.ndarray
+) -> bool:
+    """``secondary`` (n,) += J^+ ``v``, J^+ the method's inverse (into ``inverse`` (n, 3)) of the
+    point's Jacobian ``jac`` (3, n) (``damping``: DLS's lambda); False where the inverse failed."""
+    if not invert(jac, method, damping, inverse):
+        return False
+    for j in range(secondary.shape[0]):
+        secondary[j] += inverse[j, 0] * v[0] + inverse[j, 1] * v[1] + inverse[j, 2] * v[2]
     return True

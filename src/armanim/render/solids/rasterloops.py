@@ -240,31 +240,42 @@ def _inside(w: float, dx: float, dy: float) -> bool:
 
 @compiled(**_JIT)
 def seen_vertices(
-    vertices: np.ndarray,
-    carrier: np.ndarray,
-    normals: np.ndarray,
-    colors: np.ndarray,
+    mesh: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray],
     points: np.ndarray,
     frames: np.ndarray,
-    matrix: np.ndarray,
-    normal_map: np.ndarray,
-    light: np.ndarray,
-    ambient: float,
-    diffuse: float,
-    faces: np.ndarray,
+    view: tuple[np.ndarray, np.ndarray],
+    lighting: tuple[np.ndarray, float, float],
     screen: np.ndarray,
     rgb: np.ndarray,
     facing: np.ndarray,
 ) -> None:
-    """A robot's mesh as the camera sees it at one pose, in one pass: each vertex (V, 3) placed by
-    the joint that carries it (``carrier`` (V,), -1: the world; ``points`` (n+1, 3), ``frames``
-    (n, 3, 3)) and projected by the view's ``matrix`` (3, 4) into ``screen`` (V, 3); its normal
-    turned alike, mapped to the screen by ``normal_map`` (3, 3, row vectors) and lit (``ambient``
-    plus ``diffuse`` times its cosine to ``light``) into ``rgb`` (V, 3) from ``colors``; and which
-    ``faces`` (F, 3) face the camera (counter-clockwise on the screen) into ``facing`` (F,).
-    numpy's :func:`~armanim.arm.visuals.mesh_vertices`, :meth:`~armanim.render.camera.view.View.project`
-    and :func:`~armanim.render.camera.view.lambert` compute the same to the last bits (1.2 ms of
-    a ur5-pen frame as their dozen array operations)."""
+    """A robot's mesh as the camera sees it at one pose, in one pass: each vertex placed by the
+    joint that carries it and projected by the view into ``screen``; its normal turned alike,
+    mapped to the screen and lit into ``rgb``; and which faces face the camera (counter-clockwise
+    on the screen) into ``facing``. numpy's :func:`~armanim.arm.visuals.mesh_vertices`,
+    :meth:`~armanim.render.camera.view.View.project` and :func:`~armanim.render.camera.view.lambert`
+    compute the same to the last bits (1.2 ms of a ur5-pen frame as their dozen array operations).
+
+    Parameters
+    ----------
+    mesh : tuple of arrays
+        ``vertices`` (V, 3), metres in their carrier's frame; ``carrier`` (V,), the joint that
+        carries each (-1: the world); ``normals`` (V, 3); ``colors`` (V, 3), 0-1; ``faces`` (F, 3).
+    points, frames : (n + 1, 3), (n, 3, 3) arrays
+        The pose: the joints' points (metres) and frames.
+    view : tuple of arrays
+        The view's ``matrix`` (3, 4) and its ``normal_map`` (3, 3, row vectors) to the screen.
+    lighting : tuple
+        ``light`` (3,), the direction to the light; ``ambient`` and ``diffuse``: the colour is
+        scaled by ambient plus diffuse times the normal's cosine to the light.
+    screen, rgb : (V, 3) arrays
+        Filled with the vertices on the screen (pixels, depth) and their lit colours.
+    facing : (F,) bool array
+        Filled with whether each face faces the camera.
+    """
+    vertices, carrier, normals, colors, faces = mesh
+    matrix, normal_map = view
+    light, ambient, diffuse = lighting
     for v in range(vertices.shape[0]):
         k = carrier[v]
         x, y, z = vertices[v, 0], vertices[v, 1], vertices[v, 2]

@@ -145,18 +145,11 @@ class RobotMeshes:
         screen, rgb = np.empty((len(meshes.vertices), 3)), np.empty((len(meshes.vertices), 3))
         facing = np.empty(len(meshes.faces), dtype=bool)
         seen_vertices(
-            meshes.vertices,
-            meshes.carrier,
-            self.normals,
-            self.vertex_color,
+            (meshes.vertices, meshes.carrier, self.normals, self.vertex_color, meshes.faces),
             np.ascontiguousarray(pose.points, dtype=float),
             np.ascontiguousarray(pose.frames, dtype=float),
-            self.view.matrix,
-            self.normal_map,
-            LIGHT,
-            AMBIENT,
-            DIFFUSE,
-            meshes.faces,
+            (self.view.matrix, self.normal_map),
+            (LIGHT, AMBIENT, DIFFUSE),
             screen,
             rgb,
             facing,
