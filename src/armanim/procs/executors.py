@@ -87,11 +87,8 @@ def start_forkserver_ignoring_signals(context) -> None:
 
     if context.get_start_method() != "forkserver" or not os.access("/bin/sh", os.X_OK):
         return
-    folder = Path(multiprocessing.util.get_temp_dir())
-    if os.statvfs(folder).f_flag & os.ST_NOEXEC:  # a /tmp mounted noexec runs no launcher: started as before
-        return
     python = multiprocessing.spawn.get_executable()
-    launcher = folder / "python-ignoring-signals"
+    launcher = Path(multiprocessing.util.get_temp_dir()) / "python-ignoring-signals"
     if not launcher.exists():
         launcher.write_text(f"#!/bin/sh\ntrap '' INT TERM\nexec {shlex.quote(os.fsdecode(python))} \"$@\"\n")
         launcher.chmod(0o700)
