@@ -66,39 +66,6 @@ def _worker_context(preload: Sequence[str] = ()):
     return context
 
 
-def start_forkserver_ignoring_signals(context) -> None:
-    """Start the pool's forkserver (and multiprocessing's resource tracker, which it starts
-    first), if they are not running, through a shell that ignores SIGINT and SIGTERM and then
-    execs Python: an ignored signal stays ignored across exec, and Python then installs no
-    KeyboardInterrupt for it.
-
-    Campaign 10: a Ctrl-C to the group some 50 ms into a sweep's forkserver, as its interpreter
-    imported ``multiprocessing.forkserver`` (before the preload that blocks the signals), printed
-    that process's KeyboardInterrupt traceback on the terminal (the command still ended with 130).
-    Neither process needs the signals (each ends with its parent), and the workers the forkserver
-    forks start with them blocked by the preload, not ignored. Only the forkserver's start goes
-    through the shell; this process's own handlers are never changed, so no signal of its own is
-    lost.
-    """
-    import multiprocessing.forkserver
-    import multiprocessing.spawn
-    import multiprocessing.util
-    import shlex
-
-    if context.get_start_method() != "forkserver" or not os.access("/bin/sh", os.X_OK):
-        return
-    python = multiprocessing.spawn.get_executable()
-    launcher = Path(multiprocessing.util.get_temp_dir()) / "python-ignoring-signals"
-    if not launcher.exists():
-        launcher.write_text(f"#!/bin/sh\ntrap '' INT TERM\nexec {shlex.quote(os.fsdecode(python))} \"$@\"\n")
-        launcher.chmod(0o700)
-    multiprocessing.spawn.set_executable(str(launcher))
-    try:
-        multiprocessing.forkserver.ensure_running()
-    finally:
-        multiprocessing.spawn.set_executable(python)
-
-
 def _socket_dir_short_enough() -> None:
     """Make multiprocessing's folder (where the forkserver's socket goes) under a short system
     folder when TMPDIR is too long for a socket path, as Python 3.13 does; otherwise every
@@ -143,11 +110,9 @@ class _LocalExecutor:
             # raised only once every started worker is in the pool's list: no traceback from a
             # preload or an initializer, and no worker left running, whatever moment it comes
             with _one_blas_thread(), signals_blocked():
-                context = _worker_context(self.preload)
-                start_forkserver_ignoring_signals(context)
                 pool = ProcessPoolExecutor(
                     max_workers=min(self.jobs, len(tasks)),
-                    mp_context=context,
+                    mp_context=_worker_context(self.preload),
                     initializer=init_worker,
                     initargs=(os.getpid(),),
                 )
