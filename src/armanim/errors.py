@@ -35,6 +35,21 @@ def shown(text: str, limit: int = SHOWN_CHARACTERS) -> str:
     return repr(text[:limit])[:-1] + f"...' ({len(text):,} characters)"
 
 
+def shown_path(text: str, limit: int = SHOWN_CHARACTERS) -> str:
+    """A file name quoted for a message as :func:`shown` does, but a long one cut in its middle:
+    its start and its end kept (the file's own name is the end, the part a user looks for).
+
+    >>> print(shown_path("/tmp/" + "d" * 100 + "/broken.stl", 30))
+    '/tmp/dd...dddddddddddd/broken.stl' (116 characters)
+    """
+    if len(text) <= limit:
+        return repr(text)
+    head = max(limit // 4, 1)
+    return (
+        repr(text[:head])[:-1] + "..." + repr(text[len(text) - (limit - head) :])[1:] + f" ({len(text):,} characters)"
+    )
+
+
 MESSAGE_LINE = 600
 """Longest line of a message armanim prints: a longer one is cut (its length said)."""
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from armanim.arm.chain import transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, LinkPlaces, placed_meshes
-from armanim.errors import shown
+from armanim.errors import shown_path
 from armanim.output.files import is_regular_file
 from armanim.scene.convert import tool_frame
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
@@ -207,7 +207,7 @@ def _tool_file(
         except Exception as error:  # a user's file: any reader error is a note, never a failed run
             raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
             reason = f"could not be read ({unreadable_reason(error)})"
-    warn(f"arm.tool.mesh: {shown(str(path))} {reason}: the tool is not drawn")
+    warn(f"arm.tool.mesh: {shown_path(str(path))} {reason}: the tool is not drawn")
     return None
 
 

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from armanim.arm.fitting import CHUNK, FittedCapsule, fit_capsules
-from armanim.errors import Diagnostic, SceneError, shown
+from armanim.errors import Diagnostic, SceneError, shown_path
 from armanim.scene import visuals
 from armanim.scene.fields import LIMITS
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
@@ -107,7 +107,7 @@ def _specs(raw: bytes, file: str, tag: str) -> tuple[tuple[str, tuple[VisualSpec
                     [
                         Diagnostic(
                             "",
-                            f"link {name!r}: collision mesh {shown(mesh.attrib.get('filename') or '')}: its "
+                            f"link {name!r}: collision mesh {shown_path(mesh.attrib.get('filename') or '')}: its "
                             f"{', '.join(k for k, v in given.items() if v) or 'numbers'} must be three "
                             "finite numbers each",
                             element.line,
@@ -226,7 +226,7 @@ def _link_mesh(
     be read is told to ``problem`` (message, line) and left out. ``what``: collision or visual."""
     parts, offset = [], 0
     for spec in specs:
-        where = f"link {spec.link!r}: {what} mesh {shown(spec.filename or '')}"
+        where = f"link {spec.link!r}: {what} mesh {shown_path(spec.filename or '')}"
         if mesh_format(spec.filename or "") is None:
             problem(
                 f"{where} is not a format armanim reads (STL, OBJ or COLLADA .dae): give arm.collision for this link",

@@ -31,7 +31,7 @@ import numpy as np
 
 from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, LinkPlaces, placed_meshes
-from armanim.errors import SceneError, shown
+from armanim.errors import SceneError, shown_path
 from armanim.output.files import is_regular_file, read_bounded, special_kind
 from armanim.scene.meshfiles import VISUAL_COLOR, mesh_format, raise_if_interrupted, read_mesh
 from armanim.scene.urdf import Element, Robot, _parse_xml
@@ -267,14 +267,14 @@ def _spec_mesh(
     if spec.kind == "mesh":
         if sum(v == 0 for v in spec.scale) >= 2:  # a line or a point: nothing to see, said rather than drawn
             warn(
-                f"link {spec.link!r}: mesh {shown(spec.filename or '')} (line {spec.line}) has scale "
+                f"link {spec.link!r}: mesh {shown_path(spec.filename or '')} (line {spec.line}) has scale "
                 f"{' '.join(f'{v:g}' for v in spec.scale)}, which leaves it no area (a line or a point): "
                 "drawn as its capsules"
             )
             return None
         if mesh_format(spec.filename or "") is None:
             warn(
-                f"link {spec.link!r}: mesh {shown(spec.filename or '')} (line {spec.line}) is not a format armanim reads "
+                f"link {spec.link!r}: mesh {shown_path(spec.filename or '')} (line {spec.line}) is not a format armanim reads "
                 "(STL, OBJ or COLLADA .dae; archives are never opened): drawn as its capsules"
             )
             return None
@@ -282,7 +282,7 @@ def _spec_mesh(
         if path is None:
             other = not_a_file(mesh_candidates(spec.filename or "", urdf_dir, package_dirs))
             warn(
-                f"link {spec.link!r}: mesh {shown(spec.filename or '')} "
+                f"link {spec.link!r}: mesh {shown_path(spec.filename or '')} "
                 + (
                     f"{other} (line {spec.line})"
                     if other
@@ -296,7 +296,7 @@ def _spec_mesh(
         except Exception as error:  # a user's file: any reader error is a warning, never a failed run
             raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error
             warn(
-                f"link {spec.link!r}: mesh {shown(str(path))} could not be read ({unreadable_reason(error)}): "
+                f"link {spec.link!r}: mesh {shown_path(str(path))} could not be read ({unreadable_reason(error)}): "
                 "drawn as its capsules"
             )
             return None
