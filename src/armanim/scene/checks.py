@@ -828,10 +828,12 @@ def smallest_move_seconds(theta: float, speed: np.ndarray, acceleration: np.ndar
     >>> smallest_move_seconds(1.0, np.array([10.0]), np.array([1.0]), np.array([2.0])).tolist()  # a triangle, and 1 s
     [3.0]
     """
+    from armanim.motion.timing.clock import jerk_window  # the clock owns the window it smooths with
+
     with np.errstate(all="ignore"):
         cruise = speed**2 < theta * acceleration
         trapezoid = np.where(cruise, theta / speed + speed / acceleration, 2.0 * np.sqrt(theta / acceleration))
-        window = float(np.max(2.0 * acceleration / jerk)) if jerk is not None and len(jerk) else 0.0
+        window = jerk_window(acceleration, jerk) if jerk is not None and len(jerk) else 0.0
     return trapezoid + window
 
 

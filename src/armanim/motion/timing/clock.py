@@ -319,6 +319,16 @@ def _frame_excess(
     return cast(float, max(1.0, ratio_v, math.sqrt(ratio_a), ratio_j ** (1 / 3)))
 
 
+def jerk_window(acceleration: np.ndarray, jerk: np.ndarray) -> float:
+    """The window tau (seconds) a jerk-limited motion's path speed is averaged over, which adds
+    tau to its duration: max_j 2 a_j / j_j over the joints' accelerations (n,) and jerks (n,).
+
+    >>> jerk_window(np.array([1.0, 3.0]), np.array([100.0, 20.0]))
+    0.3
+    """
+    return float(np.max(2 * acceleration / jerk))
+
+
 def jerk_limited_motion(
     path: JointPath,
     speed: np.ndarray,
@@ -345,7 +355,7 @@ def jerk_limited_motion(
     (1.0, True)
     """
     law = time_optimal(path, speed, acceleration, path_speed, clock)
-    tau = float(np.max(2 * acceleration / jerk))
+    tau = jerk_window(acceleration, jerk)
 
     def smoothed(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """s and ds/dt of the averaged law at times ``t``: the window's mean of s's speed is
