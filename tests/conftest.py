@@ -25,6 +25,13 @@ os.environ.setdefault(
 if "numpy" in sys.modules:  # too late for the line above: a plugin imported numpy first
     sys.stderr.write("tests/conftest.py: numpy was imported before OPENBLAS_CORETYPE was set\n")
 
+# Where PYTHONDONTWRITEBYTECODE is set (it was on the machines this suite was timed on), every
+# `armanim` a test starts as a subprocess compiled armanim's modules from source again, some 0.4 s
+# of CPU each. The suite writes bytecode as Python does by default, into the __pycache__ folders
+# beside the sources, where numba's cache of armanim's kernels already lies.
+if os.environ.pop("PYTHONDONTWRITEBYTECODE", None):
+    sys.dont_write_bytecode = False
+
 import pytest
 from hypothesis import HealthCheck, settings
 
