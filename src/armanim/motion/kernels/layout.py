@@ -60,22 +60,11 @@ DONE, NUMERICAL, HANDED_BACK = 0, 1, 2
 was not finite, or handed back to the numpy path (:mod:`armanim.motion.kernels.attempt`)."""
 
 
-World = tuple[
-    np.ndarray,
-    np.ndarray,
-    np.ndarray | None,
-    np.ndarray | None,
-    np.ndarray | None,
-    np.ndarray | None,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray,
-    np.ndarray | None,
-    np.ndarray | None,
-    np.ndarray | None,
-    np.ndarray | None,
-    np.ndarray,
-]
+Kind = tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None, np.ndarray | None]
+"""The four arrays of a kind of obstacle in :data:`World` (the solids', the cylinders'), each None
+where the scene has none of that kind."""
+
+World = tuple[np.ndarray, np.ndarray, *Kind, np.ndarray, np.ndarray, np.ndarray, *Kind, np.ndarray]
 """The obstacles as the kernels read them (:func:`world_arrays`): the solids' four arrays and the
 cylinders' four are None where the scene has none of them."""
 
