@@ -3763,24 +3763,28 @@ def wrong_scene(seed: int, goal_kinds: tuple[str, ...] = WRONG10_KINDS) -> tuple
     return text, spec
 
 
+def random_arm_runs(k: str, seeds, what: str = "", goal_kinds: tuple[str, ...] = WRONG10_KINDS) -> list[Attempt]:
+    """A run of :func:`wrong_scene` of each seed, held to :func:`trajectory_breaks`."""
+    return [
+        Attempt(
+            k,
+            f"run a random arm among spheres{what} (seed {seed}), held to the invariants",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            tiny_scene(text=text),
+            (0,),
+            timeout=400,
+            after=trajectory_breaks(spec),
+        )
+        for seed in seeds
+        for text, spec in [wrong_scene(seed, goal_kinds)]
+    ]
+
+
 def wrong10_attempts() -> list[Attempt]:
     """Runs that say they succeeded, held to the invariants by an oracle of their own (speed,
     acceleration, jerk, the velocity columns, limits, sphere clearance, the export)."""
     k = "wrong10"
-    out = []
-    for seed in range(72):
-        text, spec = wrong_scene(seed)
-        out.append(
-            Attempt(
-                k,
-                f"run a random arm among spheres (seed {seed}), held to the invariants",
-                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
-                tiny_scene(text=text),
-                (0,),
-                timeout=400,
-                after=trajectory_breaks(spec),
-            )
-        )
+    out = random_arm_runs(k, range(72))
     for scene in ("notes-arm", "out-of-reach"):
         out.append(
             Attempt(
@@ -3847,6 +3851,19 @@ def ascii_stl(corners: list[list[float]], keywords: tuple[str, str, str] = ("sol
     return f"{solid} s\n" + "".join(f"{vertex} {x} {y} {z}\n" for x, y, z in corners) + f"{end}\n"
 
 
+COLLADA_UNITS = (
+    '<unit meter="1e-6"/>',
+    '<unit meter="9.9e-7"/>',
+    '<unit meter="1000"/>',
+    '<unit meter="1000.001"/>',
+    '<unit meter="0"/>',
+    '<unit meter="-1"/>',
+    '<unit meter="1"/><unit meter="0.001"/>',
+    '<unit meter="1"/><up_axis>X_UP</up_axis>',
+)
+"""COLLADA units at and past their bounds (1e-6 to 1000 metres), and two odd ones."""
+
+
 def mesh11_attempts() -> list[Attempt]:
     """Mesh files at edges campaign 10 did not reach: binary STLs whose count lies, ASCII STLs in
     other spellings, OBJ's relative indices, polygons and line elements, COLLADA's cycles, external
@@ -3856,233 +3873,70 @@ def mesh11_attempts() -> list[Attempt]:
     out: list[Attempt] = []
     tri = [[0, 0, 0], [0.05, 0, 0], [0, 0.05, 0]]
     one = stl_corners([tri])
+    # fmt: off
     cases: list[tuple[str, str, dict]] = [
-        # binary STL
-        (
-            "a binary STL whose count says 1,000 for one triangle",
-            "a.stl",
-            {"a.stl": one[:80] + (1000).to_bytes(4, "little") + one[84:]},
-        ),
+        ("a binary STL whose count says 1,000 for one triangle", "a.stl", {"a.stl": one[:80] + (1000).to_bytes(4, "little") + one[84:]}),
         ("a binary STL whose count says 0 over one triangle", "a.stl", {"a.stl": one[:80] + b"\0\0\0\0" + one[84:]}),
         ("a binary STL whose count is 2^32-1", "a.stl", {"a.stl": one[:80] + b"\xff\xff\xff\xff" + one[84:]}),
         ("a binary STL of 84 bytes (count 0, no triangle)", "a.stl", {"a.stl": b"\0" * 84}),
         ("a binary STL of 83 bytes", "a.stl", {"a.stl": b"\0" * 83}),
         ("a binary STL whose header starts 'solid'", "a.stl", {"a.stl": b"solid binary" + one[12:]}),
         ("a binary STL with 7 bytes after its triangles", "a.stl", {"a.stl": one + b"garbage"}),
-        (
-            "a binary STL of a NaN corner (float32)",
-            "a.stl",
-            {"a.stl": stl_corners([[[float("nan"), 0, 0], [0, 0.05, 0], [0, 0, 0.05]]])},
-        ),
-        (
-            "a binary STL of an infinite corner (float32)",
-            "a.stl",
-            {"a.stl": stl_corners([[[float("inf"), 0, 0], [0, 0.05, 0], [0, 0, 0.05]]])},
-        ),
-        (
-            "a binary STL of subnormal corners",
-            "a.stl",
-            {"a.stl": stl_corners([[[1e-45, 0, 0], [0, 1e-45, 0], [0, 0, 1e-45]]])},
-        ),
+        ("a binary STL of a NaN corner (float32)", "a.stl", {"a.stl": stl_corners([[[float("nan"), 0, 0], [0, 0.05, 0], [0, 0, 0.05]]])}),
+        ("a binary STL of an infinite corner (float32)", "a.stl", {"a.stl": stl_corners([[[float("inf"), 0, 0], [0, 0.05, 0], [0, 0, 0.05]]])}),
+        ("a binary STL of subnormal corners", "a.stl", {"a.stl": stl_corners([[[1e-45, 0, 0], [0, 1e-45, 0], [0, 0, 1e-45]]])}),
         ("an empty STL (0 bytes)", "a.stl", {"a.stl": b""}),
         ("an STL named .STL", "a.STL", {"a.STL": one}),
         ("an STL named .Stl.stl", "a.Stl.stl", {"a.Stl.stl": one}),
-        # ASCII STL in other spellings
         ("an ASCII STL in capitals", "a.stl", {"a.stl": ascii_stl(tri, ("SOLID", "VERTEX", "ENDSOLID"))}),
-        (
-            "an ASCII STL with tabs and CRLF",
-            "a.stl",
-            {"a.stl": ascii_stl(tri).replace(" ", "\t").replace("\n", "\r\n")},
-        ),
-        (
-            "an ASCII STL of decimal commas",
-            "a.stl",
-            {"a.stl": "solid s\nvertex 0,5 0 0\nvertex 0 0,5 0\nvertex 0 0 0,5\nendsolid\n"},
-        ),
+        ("an ASCII STL with tabs and CRLF", "a.stl", {"a.stl": ascii_stl(tri).replace(" ", "\t").replace("\n", "\r\n")}),
+        ("an ASCII STL of decimal commas", "a.stl", {"a.stl": "solid s\nvertex 0,5 0 0\nvertex 0 0,5 0\nvertex 0 0 0,5\nendsolid\n"}),
         ("an ASCII STL of four corners (a triangle and one left)", "a.stl", {"a.stl": ascii_stl([*tri, [1, 1, 1]])}),
-        (
-            "an ASCII STL of hex floats",
-            "a.stl",
-            {"a.stl": "solid s\nvertex 0x1p-4 0 0\nvertex 0 0x1p-4 0\nvertex 0 0 0x1p-4\nendsolid\n"},
-        ),
+        ("an ASCII STL of hex floats", "a.stl", {"a.stl": "solid s\nvertex 0x1p-4 0 0\nvertex 0 0x1p-4 0\nvertex 0 0 0x1p-4\nendsolid\n"}),
         ("an ASCII STL with a UTF-8 BOM", "a.stl", {"a.stl": "\ufeff" + ascii_stl(tri)}),
         ("an ASCII STL with a NUL in a number", "a.stl", {"a.stl": ascii_stl(tri).replace("0.05", "0.0\x005", 1)}),
-        (
-            "an ASCII STL of 'facet' lines without vertices",
-            "a.stl",
-            {"a.stl": "solid s\n" + "facet normal 0 0 1\nouter loop\nendloop\nendfacet\n" * 100 + "endsolid\n"},
-        ),
+        ("an ASCII STL of 'facet' lines without vertices", "a.stl", {"a.stl": "solid s\n" + "facet normal 0 0 1\nouter loop\nendloop\nendfacet\n" * 100 + "endsolid\n"}),
         ("an ASCII STL of one 10 MB line", "a.stl", {"a.stl": "solid " + "x" * 10_000_000 + "\nendsolid\n"}),
-        # OBJ
         ("an OBJ of relative (negative) indices", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "f -3 -2 -1")}),
         ("an OBJ face index -4 of three vertices", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "f -4 -2 -1")}),
-        (
-            "an OBJ face of 1,000 corners",
-            "a.obj",
-            {"a.obj": obj_text(1000).replace("f 1 2 3", "f " + " ".join(map(str, range(1, 1001))))},
-        ),
+        ("an OBJ face of 1,000 corners", "a.obj", {"a.obj": obj_text(1000).replace("f 1 2 3", "f " + " ".join(map(str, range(1, 1001))))}),
         ("an OBJ of four-number vertices (w)", "a.obj", {"a.obj": "v 0 0 0 1\nv 0.05 0 0 1\nv 0 0.05 0 1\nf 1 2 3\n"}),
-        (
-            "an OBJ of six-number vertices (colours)",
-            "a.obj",
-            {"a.obj": "v 0 0 0 1 0 0\nv 0.05 0 0 0 1 0\nv 0 0.05 0 0 0 1\nf 1 2 3\n"},
-        ),
+        ("an OBJ of six-number vertices (colours)", "a.obj", {"a.obj": "v 0 0 0 1 0 0\nv 0.05 0 0 0 1 0\nv 0 0.05 0 0 0 1\nf 1 2 3\n"}),
         ("an OBJ of 'l' and 'p' elements only", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "l 1 2 3\np 1")}),
         ("an OBJ face before its vertices", "a.obj", {"a.obj": "f 1 2 3\nv 0 0 0\nv 0.05 0 0\nv 0 0.05 0\n"}),
         ("an OBJ face index 1.5", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "f 1.5 2 3")}),
-        (
-            "an OBJ of backslash line continuations",
-            "a.obj",
-            {"a.obj": "v 0 0 \\\n0\nv 0.05 0 0\nv 0 0.05 0\nf 1 2 \\\n3\n"},
-        ),
-        (
-            "an OBJ with a BOM and latin-1 in a comment",
-            "a.obj",
-            {"a.obj": b"\xef\xbb\xbf# caf\xe9\n" + obj_text(3).encode()},
-        ),
+        ("an OBJ of backslash line continuations", "a.obj", {"a.obj": "v 0 0 \\\n0\nv 0.05 0 0\nv 0 0.05 0\nf 1 2 \\\n3\n"}),
+        ("an OBJ with a BOM and latin-1 in a comment", "a.obj", {"a.obj": b"\xef\xbb\xbf# caf\xe9\n" + obj_text(3).encode()}),
         ("an OBJ of NUL bytes between lines", "a.obj", {"a.obj": obj_text(3).replace("\n", "\n\0")}),
         ("an OBJ of 'vt' and 'vn' only", "a.obj", {"a.obj": "vt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n"}),
         ("an OBJ usemtl of a material no file defines", "a.obj", {"a.obj": "usemtl steel\n" + obj_text(3)}),
         ("an OBJ mtllib of ../../etc/passwd", "a.obj", {"a.obj": "mtllib ../../../../etc/passwd\n" + obj_text(3)}),
-        (
-            "an OBJ mtllib of 300 names",
-            "a.obj",
-            {"a.obj": "mtllib " + " ".join(f"m{i}.mtl" for i in range(300)) + "\n" + obj_text(3)},
-        ),
-        (
-            "an OBJ of 'o', 'g' and 's' lines between faces",
-            "a.obj",
-            {"a.obj": "o a\ng b c\ns 1\n" + obj_text(3) + "s off\ng\n"},
-        ),
+        ("an OBJ mtllib of 300 names", "a.obj", {"a.obj": "mtllib " + " ".join(f"m{i}.mtl" for i in range(300)) + "\n" + obj_text(3)}),
+        ("an OBJ of 'o', 'g' and 's' lines between faces", "a.obj", {"a.obj": "o a\ng b c\ns 1\n" + obj_text(3) + "s off\ng\n"}),
         ("an OBJ of 1e-300 corners", "a.obj", {"a.obj": "v 1e-300 0 0\nv 0 1e-300 0\nv 0 0 1e-300\nf 1 2 3\n"}),
         ("an OBJ of exactly 2,000,000 triangles", "a.obj", {"a.obj": obj_text(3) + "f 1 2 3\n" * 1_999_999}),
         ("an OBJ of 2,000,001 triangles", "a.obj", {"a.obj": obj_text(3) + "f 1 2 3\n" * 2_000_000}),
-        # COLLADA
         ("a COLLADA node that instances itself", "a.dae", {"a.dae": tri_dae(node='<instance_node url="#n0"/>')}),
-        (
-            "a COLLADA pair of nodes instancing each other",
-            "a.dae",
-            {
-                "a.dae": tri_dae()
-                .replace(
-                    "<library_visual_scenes>",
-                    '<library_nodes><node id="x"><instance_node url="#y"/></node><node id="y"><instance_node url="#x"/></node></library_nodes><library_visual_scenes>',
-                )
-                .replace(
-                    '<instance_geometry url="#g0"/></node>',
-                    '<instance_geometry url="#g0"/><instance_node url="#x"/></node>',
-                )
-            },
-        ),
-        (
-            "a COLLADA instance_node of another file",
-            "a.dae",
-            {"a.dae": tri_dae(node='<instance_node url="other.dae#n0"/>'), "other.dae": None},
-        ),
-        (
-            "a COLLADA instance_geometry of a missing id",
-            "a.dae",
-            {"a.dae": tri_dae().replace('url="#g0"', 'url="#nosuch"')},
-        ),
-        (
-            "a COLLADA image init_from a FIFO",
-            "a.dae",
-            {
-                "a.dae": tri_dae().replace(
-                    "<library_geometries>",
-                    '<library_images><image id="i"><init_from>t.png</init_from></image></library_images><library_geometries>',
-                ),
-                "t.png": None,
-            },
-        ),
-        (
-            "a COLLADA XInclude of /etc/passwd",
-            "a.dae",
-            {
-                "a.dae": tri_dae().replace(
-                    "<asset>",
-                    '<asset><xi:include xmlns:xi="http://www.w3.org/2001/XInclude" href="/etc/passwd" parse="text"/>',
-                )
-            },
-        ),
-        *(
-            (f"a COLLADA unit of {unit}", "a.dae", {"a.dae": tri_dae().replace('<unit meter="1"/>', unit)})
-            for unit in (
-                '<unit meter="1e-6"/>',  # its floor
-                '<unit meter="9.9e-7"/>',
-                '<unit meter="1000"/>',  # its bound
-                '<unit meter="1000.001"/>',
-                '<unit meter="0"/>',
-                '<unit meter="-1"/>',
-                '<unit meter="1"/><unit meter="0.001"/>',
-                '<unit meter="1"/><up_axis>X_UP</up_axis>',
-            )
-        ),
-        *(
-            (f"a COLLADA of {kind}", "a.dae", {"a.dae": tri_dae().replace("triangles", kind)})
-            for kind in ("tristrips", "trifans")
-        ),
-        (
-            "a COLLADA of polygons with a hole",
-            "a.dae",
-            {
-                "a.dae": tri_dae()
-                .replace("<triangles", "<polygons")
-                .replace("</triangles>", "</polygons>")
-                .replace("<p>0 1 2</p>", "<ph><p>0 1 2</p><h>0 1 2</h></ph>")
-            },
-        ),
+        ("a COLLADA pair of nodes instancing each other", "a.dae", { "a.dae": tri_dae() .replace("<library_visual_scenes>", '<library_nodes><node id="x"><instance_node url="#y"/></node><node id="y"><instance_node url="#x"/></node></library_nodes><library_visual_scenes>',) .replace('<instance_geometry url="#g0"/></node>', '<instance_geometry url="#g0"/><instance_node url="#x"/></node>',) }),
+        ("a COLLADA instance_node of another file", "a.dae", {"a.dae": tri_dae(node='<instance_node url="other.dae#n0"/>'), "other.dae": None}),
+        ("a COLLADA instance_geometry of a missing id", "a.dae", {"a.dae": tri_dae().replace('url="#g0"', 'url="#nosuch"')}),
+        ("a COLLADA image init_from a FIFO", "a.dae", { "a.dae": tri_dae().replace("<library_geometries>", '<library_images><image id="i"><init_from>t.png</init_from></image></library_images><library_geometries>',), "t.png": None, }),
+        ("a COLLADA XInclude of /etc/passwd", "a.dae", { "a.dae": tri_dae().replace("<asset>", '<asset><xi:include xmlns:xi="http://www.w3.org/2001/XInclude" href="/etc/passwd" parse="text"/>',) }),
+        *((f"a COLLADA unit of {unit}", "a.dae", {"a.dae": tri_dae().replace('<unit meter="1"/>', unit)}) for unit in COLLADA_UNITS),
+        *((f"a COLLADA of {kind}", "a.dae", {"a.dae": tri_dae().replace("triangles", kind)}) for kind in ("tristrips", "trifans")),
+        ("a COLLADA of polygons with a hole", "a.dae", { "a.dae": tri_dae() .replace("<triangles", "<polygons") .replace("</triangles>", "</polygons>") .replace("<p>0 1 2</p>", "<ph><p>0 1 2</p><h>0 1 2</h></ph>") }),
         ("a COLLADA float_array count 10^9", "a.dae", {"a.dae": tri_dae().replace('count="9"', 'count="1000000000"')}),
         ("a COLLADA accessor stride 0", "a.dae", {"a.dae": tri_dae().replace('stride="3"', 'stride="0"')}),
         ("a COLLADA accessor stride 10^9", "a.dae", {"a.dae": tri_dae().replace('stride="3"', 'stride="1000000000"')}),
-        (
-            "a COLLADA of a singular node matrix",
-            "a.dae",
-            {"a.dae": tri_dae(node="<matrix>" + "0 " * 15 + "1</matrix>")},
-        ),
-        (
-            "a COLLADA of a lookat and a skew",
-            "a.dae",
-            {"a.dae": tri_dae(node="<lookat>0 0 0 0 0 0 0 0 0</lookat><skew>1e308 1 0 0 0 1 0</skew>")},
-        ),
-        (
-            "a COLLADA of two geometries of one id",
-            "a.dae",
-            {
-                "a.dae": tri_dae().replace(
-                    "</library_geometries>",
-                    tri_dae()[tri_dae().index('<geometry id="g0">') : tri_dae().index("</library_geometries>")]
-                    + "</library_geometries>",
-                )
-            },
-        ),
+        ("a COLLADA of a singular node matrix", "a.dae", {"a.dae": tri_dae(node="<matrix>" + "0 " * 15 + "1</matrix>")}),
+        ("a COLLADA of a lookat and a skew", "a.dae", {"a.dae": tri_dae(node="<lookat>0 0 0 0 0 0 0 0 0</lookat><skew>1e308 1 0 0 0 1 0</skew>")}),
+        ("a COLLADA of two geometries of one id", "a.dae", { "a.dae": tri_dae().replace("</library_geometries>", tri_dae()[tri_dae().index('<geometry id="g0">') : tri_dae().index("</library_geometries>")] + "</library_geometries>",) }),
         ("a COLLADA without a scene", "a.dae", {"a.dae": tri_dae()[: tri_dae().index("<scene>")] + "</COLLADA>"}),
         ("a COLLADA gzip-compressed", "a.dae", {"a.dae": __import__("gzip").compress(tri_dae().encode())}),
-        (
-            "a COLLADA of 100,000 elements (its bound)",
-            "a.dae",
-            {"a.dae": tri_dae().replace("<asset>", "<asset>" + "<keywords/>" * 99_960)},
-        ),
-        (
-            "a COLLADA of 100,001 elements",
-            "a.dae",
-            {"a.dae": tri_dae().replace("<asset>", "<asset>" + "<keywords/>" * 100_001)},
-        ),
-        (
-            "a COLLADA declared EBCDIC (cp500)",
-            "a.dae",
-            {
-                "a.dae": tri_dae()
-                .replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="cp500"?>')
-                .encode("cp500")
-            },
-        ),
-        (
-            "a COLLADA of 1,000 nested nodes",
-            "a.dae",
-            {"a.dae": tri_dae(node='<node id="z">' * 1000 + "</node>" * 1000)},
-        ),
-        # names and what they lead to
+        ("a COLLADA of 100,000 elements (its bound)", "a.dae", {"a.dae": tri_dae().replace("<asset>", "<asset>" + "<keywords/>" * 99_960)}),
+        ("a COLLADA of 100,001 elements", "a.dae", {"a.dae": tri_dae().replace("<asset>", "<asset>" + "<keywords/>" * 100_001)}),
+        ("a COLLADA declared EBCDIC (cp500)", "a.dae", { "a.dae": tri_dae() .replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="cp500"?>') .encode("cp500") }),
+        ("a COLLADA of 1,000 nested nodes", "a.dae", {"a.dae": tri_dae(node='<node id="z">' * 1000 + "</node>" * 1000)}),
         ("named http://example.invalid/a.stl", "http://example.invalid/a.stl", {}),
         ("named model://a/a.stl", "model://a/a.stl", {}),
         ("named file:a.stl (no slashes)", "file:a.stl", {"a.stl": one}),
@@ -4102,6 +3956,7 @@ def mesh11_attempts() -> list[Attempt]:
         ("a file of 64 MB exactly (sparse)", "z.stl", {}),
         ("a file of 64 MB and one byte (sparse)", "y.stl", {}),
     ]
+    # fmt: on
 
     def sized(d: Path) -> None:
         if (d / "robot.urdf").read_text().find("z.stl") >= 0 and not os.path.lexists(d / "z.stl"):
@@ -4206,15 +4061,10 @@ def frames11_attempts() -> list[Attempt]:
             )
         )
     run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    # fmt: off
     cases = [
-        (
-            "a coordinate of 1e9 (its bound)",
-            simple("goals: [[1, 1, 1]]\nobstacles: [{center: [1e9, 0, 0], radius: 1}]"),
-        ),
-        (
-            "a coordinate of 1.000001e9",
-            simple("goals: [[1, 1, 1]]\nobstacles: [{center: [1.000001e9, 0, 0], radius: 1}]"),
-        ),
+        ("a coordinate of 1e9 (its bound)", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [1e9, 0, 0], radius: 1}]")),
+        ("a coordinate of 1.000001e9", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [1.000001e9, 0, 0], radius: 1}]")),
         ("a link of 1e-9 (its floor?)", simple().replace("links: [1, 1, 1]", "links: [1, 1, 1, 1e-9]")),
         ("a hold of 3600 s (its bound) at 10 fps", simple("goals: [{position: [1, 1, 1], hold: 3600}]")),
         ("a hold of 3600.0001 s", simple("goals: [{position: [1, 1, 1], hold: 3600.0001}]")),
@@ -4224,75 +4074,23 @@ def frames11_attempts() -> list[Attempt]:
         ("render.size [7680, 4320]", simple().replace("size: [160, 90]", "size: [7680, 4320]")),
         ("render.size [7681, 4320]", simple().replace("size: [160, 90]", "size: [7681, 4320]")),
         ("render.size [1, 100000]", simple().replace("size: [160, 90]", "size: [1, 100000]")),
-        (
-            "an arc of 360 degrees (its bound)",
-            simple(
-                "goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 360, normal: [1, 0, 0]}}, speed: 0.5}]"
-            ),
-        ),
-        (
-            "an arc of 360.0001 degrees",
-            simple(
-                "goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 360.0001, normal: [1, 0, 0]}}, speed: 0.5}]"
-            ),
-        ),
-        (
-            "an arc of -360 degrees",
-            simple(
-                "goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: -360, normal: [1, 0, 0]}}, speed: 0.5}]"
-            ),
-        ),
-        (
-            "a path speed of 1e-9 (its floor)",
-            simple("goals: [{path: {line: [[1, 0.5, 1], [1, 0.5, 1.000000001]]}, speed: 1e-9}]"),
-        ),
-        (
-            "a path speed of 1e9 (its bound) on a 1e-9 line",
-            simple("goals: [{path: {line: [[1, 0.5, 1], [1, 0.5, 1.000000001]]}, speed: 1e9}]"),
-        ),
-        (
-            "a text path of a tab, a newline and an emoji",
-            simple(
-                'goals: [{path: {text: {string: "a\\tb\\nc\U0001f600", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]'
-            ),
-        ),
-        (
-            "a text path of combining accents only",
-            simple(
-                'goals: [{path: {text: {string: "\\u0301\\u0301\\u0301", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]'
-            ),
-        ),
-        (
-            "a text path of height 1e9",
-            simple(
-                'goals: [{path: {text: {string: "a", origin: [1, -0.5, 1], height: 1e9, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]'
-            ),
-        ),
-        (
-            "64 links (the joint bound?)",
-            simple("goals: [[0.5, 0.5, 0.5]]").replace("links: [1, 1, 1]", "links: [" + ",".join(["0.02"] * 64) + "]"),
-        ),
-        (
-            "65 links",
-            simple("goals: [[0.5, 0.5, 0.5]]").replace("links: [1, 1, 1]", "links: [" + ",".join(["0.02"] * 65) + "]"),
-        ),
-        (
-            "max_joint_speed 1e9 with acceleration 1e-6",
-            simple(arm=", max_joint_speed: 1e9, max_joint_acceleration: 1e-6"),
-        ),
+        ("an arc of 360 degrees (its bound)", simple("goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 360, normal: [1, 0, 0]}}, speed: 0.5}]")),
+        ("an arc of 360.0001 degrees", simple("goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 360.0001, normal: [1, 0, 0]}}, speed: 0.5}]")),
+        ("an arc of -360 degrees", simple("goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: -360, normal: [1, 0, 0]}}, speed: 0.5}]")),
+        ("a path speed of 1e-9 (its floor)", simple("goals: [{path: {line: [[1, 0.5, 1], [1, 0.5, 1.000000001]]}, speed: 1e-9}]")),
+        ("a path speed of 1e9 (its bound) on a 1e-9 line", simple("goals: [{path: {line: [[1, 0.5, 1], [1, 0.5, 1.000000001]]}, speed: 1e9}]")),
+        ("a text path of a tab, a newline and an emoji", simple('goals: [{path: {text: {string: "a\\tb\\nc\U0001f600", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]')),
+        ("a text path of combining accents only", simple('goals: [{path: {text: {string: "\\u0301\\u0301\\u0301", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]')),
+        ("a text path of height 1e9", simple('goals: [{path: {text: {string: "a", origin: [1, -0.5, 1], height: 1e9, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]')),
+        ("64 links (the joint bound?)", simple("goals: [[0.5, 0.5, 0.5]]").replace("links: [1, 1, 1]", "links: [" + ",".join(["0.02"] * 64) + "]")),
+        ("65 links", simple("goals: [[0.5, 0.5, 0.5]]").replace("links: [1, 1, 1]", "links: [" + ",".join(["0.02"] * 65) + "]")),
+        ("max_joint_speed 1e9 with acceleration 1e-6", simple(arm=", max_joint_speed: 1e9, max_joint_acceleration: 1e-6")),
         ("max_joint_jerk 1e15 (a large jerk)", simple(arm=", max_joint_jerk: 1e15")),
-        (
-            "solver.clearance 1e9",
-            simple("goals: [[1, 1, 1]]\nobstacles: [{center: [3, 3, 3], radius: 0.1}]", solver="clearance: 1e9"),
-        ),
+        ("solver.clearance 1e9", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [3, 3, 3], radius: 0.1}]", solver="clearance: 1e9")),
         ("a sphere of radius 1e-9", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [3, 3, 3], radius: 1e-9}]")),
-        (
-            "1,000 goals of joints, each a hold",
-            "version: 1\nname: f\narm: {links: [1, 1, 1]}\ngoals:\n"
-            + "".join(f"  - {{joints: [{i % 7}, 0, 0], hold: 0.1}}\n" for i in range(1000))
-            + "render: {size: [160, 90], fps: 10}\n",
-        ),
+        ("1,000 goals of joints, each a hold", "version: 1\nname: f\narm: {links: [1, 1, 1]}\ngoals:\n" + "".join(f"  - {{joints: [{i % 7}, 0, 0], hold: 0.1}}\n" for i in range(1000)) + "render: {size: [160, 90], fps: 10}\n"),
     ]
+    # fmt: on
     for label, text in cases:
         out.append(
             Attempt(
@@ -4527,209 +4325,46 @@ def loss11_attempts() -> list[Attempt]:
     def linked(pattern: str, target: str) -> Callable[[Path], None]:
         return lambda d: [(os.unlink(p), os.symlink(target, p)) for p in d.glob(pattern)] and None
 
+    # one attempt a row: label, arguments, setup, exit codes, the user's paths kept
+    # fmt: off
     table: list[tuple] = [
-        (
-            "run a scene kept inside its own run folder",
-            ["run", "o/tiny/s.yaml", "--out", "o", "--no-video", "-q"],
-            then(finished_run, mine("o/tiny/s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))),
-            (0, 3),
-            ("o/tiny/s.yaml",),
-        ),
-        (
-            "run a scene whose URDF is kept inside the run folder",
-            run,
-            then(
-                urdf_run,
-                mine("o/m/mine.urdf", urdf_text()),
-                mine("s.yaml", URDF_SCENE.replace("robot.urdf", "o/m/mine.urdf")),
-            ),
-            (0, 2, 3),
-            ("o/m/mine.urdf",),
-        ),
-        (
-            "check --update --golden inside the run folder",
-            ["check", "s.yaml", "--golden", "o/tiny/g", "--update"],
-            then(finished_run, mine("o/tiny/g/notes.txt")),
-            (0, 2, 3),
-            ("o/tiny/g/notes.txt",),
-        ),
-        (
-            "render --out a folder inside the run folder",
-            ["render", "o/tiny", "-q", "--size", "64x48", "--out", "o/tiny/fig"],
-            then(finished_run, mine("o/tiny/fig/notes.txt")),
-            (2, 3),
-            ("o/tiny/fig/notes.txt",),
-        ),
-        (
-            "run, the user's notes inside the run folder (a link to them)",
-            run,
-            then(finished_run, mine("notes.txt"), symlink("../../notes.txt", "o/tiny/notes.txt"), changed),
-            (0, 3),
-            ("notes.txt",),
-        ),
-        (
-            "run, the run folder's plot.png a link to the user's picture",
-            ["run", "s.yaml", "--out", "o", "-q"],
-            then(video, mine("mine.png", "not a png"), linked("o/tiny/plot.png", "../../mine.png"), changed),
-            (0, 3),
-            ("mine.png",),
-        ),
-        (
-            "render, the run's video a link to the user's video",
-            ["render", "o/tiny", "-q", "--size", "64x48"],
-            then(video, mine("mine.mp4", "mine"), linked("o/tiny/*.mp4", "../../mine.mp4")),
-            (0, 3),
-            ("mine.mp4",),
-        ),
-        (
-            "view, the run's viewer.html a hard link to the user's page",
-            ["view", "o/tiny"],
-            then(finished_run, mine("mine.html", "<html>mine</html>"), hardlink("mine.html", "o/tiny/viewer.html")),
-            (0, 3),
-            ("mine.html",),
-        ),
-        (
-            "run --out a link to the run folder itself",
-            ["run", "s.yaml", "--out", "lnk", "--no-video", "-q"],
-            then(finished_run, symlink("o/tiny", "lnk")),
-            (0, 2, 3),
-            ("o/tiny/trajectory.csv",),
-        ),
-        (
-            "run --out o/tiny (into the run folder)",
-            ["run", "s.yaml", "--out", "o/tiny", "--no-video", "-q"],
-            finished_run,
-            (2, 3),
-            ("o/tiny",),
-        ),
-        (
-            "run --out a link loop",
-            ["run", "s.yaml", "--out", "lp", "--no-video", "-q"],
-            then(scene, symlink("lp", "lp")),
-            (2, 3),
-            ("lp",),
-        ),
-        (
-            "run, OUT/NAME a dangling link",
-            run,
-            then(scene, lambda d: (d / "o").mkdir(), symlink("../gone", "o/tiny")),
-            (0, 3),
-            ("o/tiny",),
-        ),
-        (
-            "run --out o/../o (the same folder)",
-            ["run", "s.yaml", "--out", "o/../o", "--no-video", "-q"],
-            then(finished_run, changed),
-            (0,),
-            (),
-        ),
+        ("run a scene kept inside its own run folder", ["run", "o/tiny/s.yaml", "--out", "o", "--no-video", "-q"], then(finished_run, mine("o/tiny/s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))), (0, 3), ("o/tiny/s.yaml",)),
+        ("run a scene whose URDF is kept inside the run folder", run, then(urdf_run, mine("o/m/mine.urdf", urdf_text()), mine("s.yaml", URDF_SCENE.replace("robot.urdf", "o/m/mine.urdf")),), (0, 2, 3), ("o/m/mine.urdf",)),
+        ("check --update --golden inside the run folder", ["check", "s.yaml", "--golden", "o/tiny/g", "--update"], then(finished_run, mine("o/tiny/g/notes.txt")), (0, 2, 3), ("o/tiny/g/notes.txt",)),
+        ("render --out a folder inside the run folder", ["render", "o/tiny", "-q", "--size", "64x48", "--out", "o/tiny/fig"], then(finished_run, mine("o/tiny/fig/notes.txt")), (2, 3), ("o/tiny/fig/notes.txt",)),
+        ("run, the user's notes inside the run folder (a link to them)", run, then(finished_run, mine("notes.txt"), symlink("../../notes.txt", "o/tiny/notes.txt"), changed), (0, 3), ("notes.txt",)),
+        ("run, the run folder's plot.png a link to the user's picture", ["run", "s.yaml", "--out", "o", "-q"], then(video, mine("mine.png", "not a png"), linked("o/tiny/plot.png", "../../mine.png"), changed), (0, 3), ("mine.png",)),
+        ("render, the run's video a link to the user's video", ["render", "o/tiny", "-q", "--size", "64x48"], then(video, mine("mine.mp4", "mine"), linked("o/tiny/*.mp4", "../../mine.mp4")), (0, 3), ("mine.mp4",)),
+        ("view, the run's viewer.html a hard link to the user's page", ["view", "o/tiny"], then(finished_run, mine("mine.html", "<html>mine</html>"), hardlink("mine.html", "o/tiny/viewer.html")), (0, 3), ("mine.html",)),
+        ("run --out a link to the run folder itself", ["run", "s.yaml", "--out", "lnk", "--no-video", "-q"], then(finished_run, symlink("o/tiny", "lnk")), (0, 2, 3), ("o/tiny/trajectory.csv",)),
+        ("run --out o/tiny (into the run folder)", ["run", "s.yaml", "--out", "o/tiny", "--no-video", "-q"], finished_run, (2, 3), ("o/tiny",)),
+        ("run --out a link loop", ["run", "s.yaml", "--out", "lp", "--no-video", "-q"], then(scene, symlink("lp", "lp")), (2, 3), ("lp",)),
+        ("run, OUT/NAME a dangling link", run, then(scene, lambda d: (d / "o").mkdir(), symlink("../gone", "o/tiny")), (0, 3), ("o/tiny",)),
+        ("run --out o/../o (the same folder)", ["run", "s.yaml", "--out", "o/../o", "--no-video", "-q"], then(finished_run, changed), (0,), ()),
         ("a batch whose second scene is named index.csv", batch, then(other_a, named("index.csv")), (0, 2), ()),
         ("a batch of scenes named a and .a", batch, then(other_a, named(".a")), (0, 2), ()),
         ("a scene named .armanim-run.json", run, named(".armanim-run.json"), (0, 2), ()),
         ("a scene named ..", run, named("'..'"), (2,), ("s.yaml",)),
         ("a scene named with a slash a/b", run, named("a/b"), (0, 2), ()),
         ("a scene named 255 characters", run, named("n" * 255), (0, 2, 3), ()),
-        (
-            "a batch again with the user's file at index.csv (unmarked)",
-            batch,
-            then(other_a, scene, mine("o/index.csv", "mine,1\n")),
-            (0, 3),
-            ("o/index.csv",),
-        ),
-        (
-            "sweep --out the user's scene folder",
-            [*sweep, "."],
-            then(scene, mine("notes.txt")),
-            (0, 2, 3),
-            ("s.yaml", "notes.txt"),
-        ),
-        (
-            "sweep, a variant's folder a link to the user's folder",
-            [*sweep, "o"],
-            then(scene, mine("mine/notes.txt"), lambda d: armanim_in(d, *sweep, "o"), variant_to_mine),
-            (0, 3),
-            ("mine",),
-        ),
-        (
-            "import moveit --out the user's scene",
-            ["import", "moveit", "w.scene", "--robot", "panda", "--out", "s.yaml"],
-            then(scene, mine("w.scene", "w\n* box\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")),
-            (3,),
-            ("s.yaml",),
-        ),
+        ("a batch again with the user's file at index.csv (unmarked)", batch, then(other_a, scene, mine("o/index.csv", "mine,1\n")), (0, 3), ("o/index.csv",)),
+        ("sweep --out the user's scene folder", [*sweep, "."], then(scene, mine("notes.txt")), (0, 2, 3), ("s.yaml", "notes.txt")),
+        ("sweep, a variant's folder a link to the user's folder", [*sweep, "o"], then(scene, mine("mine/notes.txt"), lambda d: armanim_in(d, *sweep, "o"), variant_to_mine), (0, 3), ("mine",)),
+        ("import moveit --out the user's scene", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "s.yaml"], then(scene, mine("w.scene", "w\n* box\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")), (3,), ("s.yaml",)),
         ("view --out the user's scene", ["view", "o/tiny", "--out", "s.yaml"], finished_run, (2, 3), ("s.yaml",)),
         ("fk --png the user's scene", ["fk", "--angles", "0,0,0,0", "--png", "s.yaml"], scene, (2, 3), ("s.yaml",)),
-        (
-            "schema --out a link to the user's scene",
-            ["schema", "--out", "x.json"],
-            then(scene, symlink("s.yaml", "x.json")),
-            (2, 3),
-            ("s.yaml", "x.json"),
-        ),
-        (
-            "export --out a link to the run's own trajectory.csv",
-            ["export", "o/tiny", "--out", "x.json"],
-            then(finished_run, symlink("o/tiny/trajectory.csv", "x.json")),
-            (2, 3),
-            ("o/tiny",),
-        ),
-        (
-            "check --update, the golden folder a link to the user's folder",
-            ["check", "s.yaml", "--golden", "g", "--update"],
-            then(scene, mine("mine/notes.txt"), symlink("mine", "g")),
-            (0, 3),
-            ("mine/notes.txt",),
-        ),
-        (
-            "check --update, g/tiny.csv the user's own CSV (unmarked)",
-            ["check", "s.yaml", "--golden", "g", "--update"],
-            then(scene, mine("g/tiny.csv", "time_s\n0\n")),
-            (0, 3),
-            ("g/tiny.csv",),
-        ),
-        (
-            "render --out the folder holding the scene and the URDF",
-            ["render", "o/m", "-q", "--size", "64x48", "--out", "."],
-            urdf_run,
-            (2, 3),
-            ("s.yaml", "robot.urdf"),
-        ),
-        (
-            "run, a run folder's robot.urdf a link to the user's URDF",
-            run,
-            then(urdf_run, mine("mine.urdf", urdf_text()), linked("o/m/robot.urdf", "../../mine.urdf"), urdf_changed),
-            (0, 3),
-            ("mine.urdf",),
-        ),
-        (
-            "export --out a name whose mark is a folder",
-            ["export", "o/tiny", "--out", "x.json"],
-            then(finished_run, mine(".x.json.armanim.json/mine.txt")),
-            (0, 3),
-            (".x.json.armanim.json",),
-        ),
-        (
-            "fk --png, the PNG's mark a FIFO",
-            ["fk", "--angles", "0,0,0,0", "--png", "p.png"],
-            lambda d: fifo(d / ".p.png.armanim.json"),
-            (0, 3),
-            (".p.png.armanim.json",),
-        ),
-        (
-            "view --out v.html, v.html a folder of the user's",
-            ["view", "o/tiny", "--out", "v.html"],
-            then(finished_run, mine("v.html/mine.txt")),
-            (2, 3),
-            ("v.html",),
-        ),
-        (
-            "run, the scene itself a hard link inside the run folder",
-            run,
-            then(finished_run, hardlink("s.yaml", "o/tiny/scene-copy.yaml"), unlinked("s.yaml"), changed),
-            (0, 3),
-            ("o/tiny/scene-copy.yaml",),
-        ),
+        ("schema --out a link to the user's scene", ["schema", "--out", "x.json"], then(scene, symlink("s.yaml", "x.json")), (2, 3), ("s.yaml", "x.json")),
+        ("export --out a link to the run's own trajectory.csv", ["export", "o/tiny", "--out", "x.json"], then(finished_run, symlink("o/tiny/trajectory.csv", "x.json")), (2, 3), ("o/tiny",)),
+        ("check --update, the golden folder a link to the user's folder", ["check", "s.yaml", "--golden", "g", "--update"], then(scene, mine("mine/notes.txt"), symlink("mine", "g")), (0, 3), ("mine/notes.txt",)),
+        ("check --update, g/tiny.csv the user's own CSV (unmarked)", ["check", "s.yaml", "--golden", "g", "--update"], then(scene, mine("g/tiny.csv", "time_s\n0\n")), (0, 3), ("g/tiny.csv",)),
+        ("render --out the folder holding the scene and the URDF", ["render", "o/m", "-q", "--size", "64x48", "--out", "."], urdf_run, (2, 3), ("s.yaml", "robot.urdf")),
+        ("run, a run folder's robot.urdf a link to the user's URDF", run, then(urdf_run, mine("mine.urdf", urdf_text()), linked("o/m/robot.urdf", "../../mine.urdf"), urdf_changed), (0, 3), ("mine.urdf",)),
+        ("export --out a name whose mark is a folder", ["export", "o/tiny", "--out", "x.json"], then(finished_run, mine(".x.json.armanim.json/mine.txt")), (0, 3), (".x.json.armanim.json",)),
+        ("fk --png, the PNG's mark a FIFO", ["fk", "--angles", "0,0,0,0", "--png", "p.png"], lambda d: fifo(d / ".p.png.armanim.json"), (0, 3), (".p.png.armanim.json",)),
+        ("view --out v.html, v.html a folder of the user's", ["view", "o/tiny", "--out", "v.html"], then(finished_run, mine("v.html/mine.txt")), (2, 3), ("v.html",)),
+        ("run, the scene itself a hard link inside the run folder", run, then(finished_run, hardlink("s.yaml", "o/tiny/scene-copy.yaml"), unlinked("s.yaml"), changed), (0, 3), ("o/tiny/scene-copy.yaml",)),
     ]
+    # fmt: on
     out = [Attempt(k, label, args, setup, codes, keep=keep, timeout=300) for label, args, setup, codes, keep in table]
     out.append(
         Attempt(
@@ -4754,6 +4389,7 @@ def inputs11_attempts() -> list[Attempt]:
     k = "inputs11"
     out: list[Attempt] = []
     good = "version: 1\nname: s\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\n"
+    # fmt: off
     yaml_cases = [
         ("a UTF-8 BOM", "\ufeff" + good),
         ("UTF-16 with a BOM", good.encode("utf-16")),
@@ -4762,10 +4398,7 @@ def inputs11_attempts() -> list[Attempt]:
         ("a form feed and vertical tab", good.replace("\n", "\n\f\v", 1)),
         ("a line separator U+2028 in a string", good.replace("name: s", 'name: "a\u2028b"')),
         ("key 'goals' twice in flow", good.replace("goals: [[1, 1, 1]]", "{goals: [[1, 1, 1]], goals: [[1, 1, 1]]}")),
-        (
-            "an anchor on the whole arm used twice",
-            "version: 1\nname: s\narm: &a {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\nx: *a\n",
-        ),
+        ("an anchor on the whole arm used twice", "version: 1\nname: s\narm: &a {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\nx: *a\n"),
         ("an undefined alias", good.replace("name: s", "name: *nope")),
         ("a flow mapping left open", good.replace("{links: [1, 1, 1]}", "{links: [1, 1, 1]")),
         ("a tag !!float on a string", good.replace("name: s", "name: !!float abc")),
@@ -4795,111 +4428,37 @@ def inputs11_attempts() -> list[Attempt]:
         ("arm.urdf a 5 MB sparse file", good.replace("{links: [1, 1, 1]}", "{urdf: big.urdf}")),
         ("arm.tip_link unknown", good.replace("{links: [1, 1, 1]}", "{robot: panda, tip_link: nosuch}")),
         ("arm.base_link unknown", good.replace("{links: [1, 1, 1]}", "{robot: panda, base_link: nosuch}")),
-        (
-            "arm.joint_values of an unknown joint",
-            good.replace("{links: [1, 1, 1]}", "{robot: panda, joint_values: {nosuch: 0}}"),
-        ),
-        (
-            "arm.joint_values of NaN",
-            good.replace("{links: [1, 1, 1]}", "{robot: panda, joint_values: {panda_finger_joint1: .nan}}"),
-        ),
+        ("arm.joint_values of an unknown joint", good.replace("{links: [1, 1, 1]}", "{robot: panda, joint_values: {nosuch: 0}}")),
+        ("arm.joint_values of NaN", good.replace("{links: [1, 1, 1]}", "{robot: panda, joint_values: {panda_finger_joint1: .nan}}")),
         ("arm.package_dirs a file", good.replace("{links: [1, 1, 1]}", "{robot: panda, package_dirs: [s.yaml]}")),
-        (
-            "arm.package_dirs 1,000 entries",
-            good.replace("{links: [1, 1, 1]}", "{robot: panda, package_dirs: [" + ", ".join(["sub"] * 1000) + "]}"),
-        ),
+        ("arm.package_dirs 1,000 entries", good.replace("{links: [1, 1, 1]}", "{robot: panda, package_dirs: [" + ", ".join(["sub"] * 1000) + "]}")),
         ("arm.tool length -1", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: -1}")),
-        (
-            "arm.tool mesh a folder",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, mesh: sub}"),
-        ),
-        (
-            "arm.tool mesh a .ply",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, mesh: t.ply}"),
-        ),
-        (
-            "arm.tool an unknown key",
-            good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, colour: red}"),
-        ),
-        (
-            "an orientation rpy of four numbers",
-            good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {rpy: [0, 0, 0, 0]}}]"),
-        ),
-        (
-            "an orientation quaternion of three numbers",
-            good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {quaternion: [1, 0, 0]}}]"),
-        ),
-        (
-            "an orientation of rpy and quaternion both",
-            good.replace(
-                "[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {rpy: [0, 0, 0], quaternion: [1, 0, 0, 0]}}]"
-            ),
-        ),
-        (
-            "an arc without a normal",
-            good.replace(
-                "[[1, 1, 1]]", "[{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 90}}, speed: 0.5}]"
-            ),
-        ),
-        (
-            "an arc whose start is its centre",
-            good.replace(
-                "[[1, 1, 1]]",
-                "[{path: {arc: {center: [1, 0, 1], start: [1, 0, 1], angle: 90, normal: [0, 0, 1]}}, speed: 0.5}]",
-            ),
-        ),
-        (
-            "an arc whose normal lies along its radius",
-            good.replace(
-                "[[1, 1, 1]]",
-                "[{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 90, normal: [0, 1, 0]}}, speed: 0.5}]",
-            ),
-        ),
-        (
-            "a path of two kinds",
-            good.replace(
-                "[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]], polyline: [[1, 0, 1], [1, 1, 1]]}, speed: 0.5}]"
-            ),
-        ),
+        ("arm.tool mesh a folder", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, mesh: sub}")),
+        ("arm.tool mesh a .ply", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, mesh: t.ply}")),
+        ("arm.tool an unknown key", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, colour: red}")),
+        ("an orientation rpy of four numbers", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {rpy: [0, 0, 0, 0]}}]")),
+        ("an orientation quaternion of three numbers", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {quaternion: [1, 0, 0]}}]")),
+        ("an orientation of rpy and quaternion both", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {rpy: [0, 0, 0], quaternion: [1, 0, 0, 0]}}]")),
+        ("an arc without a normal", good.replace("[[1, 1, 1]]", "[{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 90}}, speed: 0.5}]")),
+        ("an arc whose start is its centre", good.replace("[[1, 1, 1]]", "[{path: {arc: {center: [1, 0, 1], start: [1, 0, 1], angle: 90, normal: [0, 0, 1]}}, speed: 0.5}]",)),
+        ("an arc whose normal lies along its radius", good.replace("[[1, 1, 1]]", "[{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 90, normal: [0, 1, 0]}}, speed: 0.5}]",)),
+        ("a path of two kinds", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]], polyline: [[1, 0, 1], [1, 1, 1]]}, speed: 0.5}]")),
         ("a polyline of one point", good.replace("[[1, 1, 1]]", "[{path: {polyline: [[1, 0, 1]]}, speed: 0.5}]")),
         ("a path without speed", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]]}}]")),
         ("a path speed .nan", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]]}, speed: .nan}]")),
         ("a path speed 0", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]]}, speed: 0}]")),
-        (
-            "a text of 10,001 characters",
-            good.replace(
-                "[[1, 1, 1]]",
-                '[{path: {text: {string: "'
-                + "a" * 10_001
-                + '", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]',
-            ),
-        ),
-        (
-            "a text string a number",
-            good.replace(
-                "[[1, 1, 1]]",
-                "[{path: {text: {string: 42, origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]",
-            ),
-        ),
+        ("a text of 10,001 characters", good.replace("[[1, 1, 1]]", '[{path: {text: {string: "' + "a" * 10_001 + '", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]',)),
+        ("a text string a number", good.replace("[[1, 1, 1]]", "[{path: {text: {string: 42, origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]",)),
         ("a hold of -1", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], hold: -1}]")),
         ("a hold of 'forever'", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], hold: forever}]")),
         ("a blend of -1", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], blend: -1}, [1, 0, 1]]")),
         ("joints of null", good.replace("[[1, 1, 1]]", "[{joints: [null, 0, 0]}]")),
         ("joints as a mapping", good.replace("[[1, 1, 1]]", "[{joints: {a: 1}}]")),
-        (
-            "an obstacle of two shapes",
-            good + "obstacles: [{center: [3, 3, 3], radius: 1, box: {center: [3, 3, 3], size: [1, 1, 1]}}]\n",
-        ),
+        ("an obstacle of two shapes", good + "obstacles: [{center: [3, 3, 3], radius: 1, box: {center: [3, 3, 3], size: [1, 1, 1]}}]\n"),
         ("an obstacle of an unknown shape", good + "obstacles: [{cone: {center: [3, 3, 3]}}]\n"),
         ("an obstacle mesh", good + "obstacles: [{mesh: a.stl}]\n"),
-        (
-            "a box rotated by rpy nan",
-            good + "obstacles: [{box: {center: [3, 3, 3], size: [1, 1, 1], rpy: [.nan, 0, 0]}}]\n",
-        ),
-        (
-            "two obstacles of one name",
-            good + "obstacles: [{center: [3, 3, 3], radius: 1, name: a}, {center: [5, 5, 5], radius: 1, name: a}]\n",
-        ),
+        ("a box rotated by rpy nan", good + "obstacles: [{box: {center: [3, 3, 3], size: [1, 1, 1], rpy: [.nan, 0, 0]}}]\n"),
+        ("two obstacles of one name", good + "obstacles: [{center: [3, 3, 3], radius: 1, name: a}, {center: [5, 5, 5], radius: 1, name: a}]\n"),
         ("render.view elevation 1e400", good + "render: {view: {elevation: 1e400, azimuth: 0}}\n"),
         ("render.bounds inverted", good + "render: {bounds: [[1, 1, 1], [-1, -1, -1]]}\n"),
         ("render.robot maybe", good + "render: {robot: maybe}\n"),
@@ -4910,6 +4469,7 @@ def inputs11_attempts() -> list[Attempt]:
         ("solver an empty mapping", good + "solver: {}\n"),
         ("solver null", good + "solver: null\n"),
     ]
+    # fmt: on
 
     def beside(d: Path) -> None:
         fifo(d / "f.srdf")
@@ -4959,20 +4519,13 @@ def inputs11_attempts() -> list[Attempt]:
         ):
             out.append(Attempt(k, f"{cmd[0]}, the scene {label}", cmd, scene_file, (2,), timeout=60))
     # a run folder's own files, edited by hand, read back
+    # fmt: off
     run_files = [
         ("trajectory.csv with a row of text", "trajectory.csv", lambda t: t.replace("\n", "\nabc,def\n", 2)),
-        (
-            "trajectory.csv with its header shuffled",
-            "trajectory.csv",
-            lambda t: ",".join(reversed(t.split("\n", 1)[0].split(","))) + "\n" + t.split("\n", 1)[1],
-        ),
+        ("trajectory.csv with its header shuffled", "trajectory.csv", lambda t: ",".join(reversed(t.split("\n", 1)[0].split(","))) + "\n" + t.split("\n", 1)[1]),
         ("trajectory.csv cut mid-row", "trajectory.csv", lambda t: t[: len(t) // 2]),
         ("trajectory.csv of its header only", "trajectory.csv", lambda t: t.split("\n", 1)[0] + "\n"),
-        (
-            "trajectory.csv with time going back",
-            "trajectory.csv",
-            lambda t: "\n".join(t.split("\n")[:3] + [t.split("\n")[1]] + t.split("\n")[3:]),
-        ),
+        ("trajectory.csv with time going back", "trajectory.csv", lambda t: "\n".join(t.split("\n")[:3] + [t.split("\n")[1]] + t.split("\n")[3:])),
         ("trajectory.csv with an angle of 1e308", "trajectory.csv", lambda t: _set_cell(t, 2, 3, "1e308")),
         ("trajectory.csv with a goal index of 10^6", "trajectory.csv", lambda t: _set_cell(t, 2, 2, "1000000")),
         ("trajectory.csv with a frame of -1", "trajectory.csv", lambda t: _set_cell(t, 2, 0, "-1")),
@@ -4980,25 +4533,12 @@ def inputs11_attempts() -> list[Attempt]:
         ("summary.json not JSON", "summary.json", lambda t: "{not json"),
         ("summary.json a list", "summary.json", lambda t: "[]"),
         ("summary.json without goals", "summary.json", lambda t: "{}"),
-        (
-            "scene.yaml an alias bomb",
-            "scene.yaml",
-            lambda t: (
-                "a: &a [x, x, x, x, x, x, x, x, x]\n"
-                + "".join(
-                    f"{chr(98 + i)}: &{chr(98 + i)} [*{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}]\n"
-                    for i in range(9)
-                )
-            ),
-        ),
-        (
-            "scene.yaml of another arm (4 links)",
-            "scene.yaml",
-            lambda t: t.replace("links: [1, 1, 1]", "links: [1, 1, 1, 1]"),
-        ),
+        ("scene.yaml an alias bomb", "scene.yaml", lambda t: ("a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(f"{chr(98 + i)}: &{chr(98 + i)} [*{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}]\n" for i in range(9)))),
+        ("scene.yaml of another arm (4 links)", "scene.yaml", lambda t: t.replace("links: [1, 1, 1]", "links: [1, 1, 1, 1]")),
         ("scene.yaml missing", "scene.yaml", None),
         ("trajectory.csv missing", "trajectory.csv", None),
     ]
+    # fmt: on
     for label, name, change in run_files:
 
         def edited(d: Path, name=name, change=change) -> None:
@@ -5027,6 +4567,7 @@ def inputs11_attempts() -> list[Attempt]:
                     message_if_2=r"(trajectory\.csv|summary\.json|scene\.yaml|\.armanim-run\.json|o/tiny)",
                 )
             )
+    # fmt: off
     cli = [
         ["fk", "--angles", ""],
         ["fk", "--angles", "1,,2,3"],
@@ -5061,9 +4602,11 @@ def inputs11_attempts() -> list[Attempt]:
         ["import", "moveit", "s.yaml", "--robot", "panda", "--out", "m.yaml"],
         ["view", "s.yaml"],
     ]
+    # fmt: on
     for args in cli:
         setup = (lambda d: finished_run(d) and None) if args[0] == "render" else tiny_scene()
         out.append(Attempt(k, " ".join(args)[:100], args, setup, (2,), timeout=120))
+    # fmt: off
     moveit_cases = [
         ("a count of -1 shapes", "w\n* b\n-1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"),
         ("a shape 'mesh' with 10^9 vertices", "w\n* b\n1\nmesh\n1000000000 1\n.\n"),
@@ -5074,6 +4617,7 @@ def inputs11_attempts() -> list[Attempt]:
         ("a position of words", "w\n* b\n1\nbox\n0.1 0.1 0.1\na b c\n0 0 0 1\n0 0 0 0\n.\n"),
         ("a colour of 1e400", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n1e400 0 0 0\n.\n"),
     ]
+    # fmt: on
     for label, text in moveit_cases:
         out.append(
             Attempt(
@@ -5163,20 +4707,7 @@ def wrong11_attempts() -> list[Attempt]:
     import numpy as np
 
     k = "wrong11"
-    out: list[Attempt] = []
-    for seed in range(200, 236):
-        text, spec = wrong_scene(seed, goal_kinds=WRONG11_KINDS)
-        out.append(
-            Attempt(
-                k,
-                f"run a random arm among spheres with arcs and polylines (seed {seed}), held to the invariants",
-                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
-                tiny_scene(text=text),
-                (0,),
-                timeout=400,
-                after=trajectory_breaks(spec),
-            )
-        )
+    out = random_arm_runs(k, range(200, 236), " with arcs and polylines", WRONG11_KINDS)
     rng = np.random.default_rng(11)
     for i in range(14):
         links = [round(float(x), 3) for x in rng.uniform(0.2, 2.0, int(rng.integers(2, 7)))]
