@@ -1,9 +1,9 @@
-"""The ninth and tenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth, tenth and eleventh attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
 inputs; the tenth's, new attacks on the same classes: mesh10, frames10, signals10, loss10,
-inputs10, wrong10),
+inputs10, wrong10; the eleventh's, new again: mesh11, frames11, signals11, loss11, inputs11, wrong11),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -235,8 +235,10 @@ TOOL_SCENE = (
 TINY = "version: 1\nname: tiny\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1], [0.5, -1, 1]]\nrender: {size: [160, 90], fps: 10}\n"
 
 
-def urdf_robot(visual: str = "", collision: str | None = None, files: dict[str, bytes | str | None] | None = None):
-    """Setup: robot.urdf and s.yaml, and ``files`` (None: a FIFO)."""
+def urdf_robot(
+    visual: str = "", collision: str | None = None, files: dict[str, bytes | str | tuple | None] | None = None
+):
+    """Setup: robot.urdf and s.yaml, and ``files`` (None: a FIFO; ("->", target): a link)."""
 
     def setup(d: Path) -> None:
         write(d / "robot.urdf", urdf_text(visual, collision))
@@ -244,6 +246,9 @@ def urdf_robot(visual: str = "", collision: str | None = None, files: dict[str, 
         for name, content in (files or {}).items():
             if content is None:
                 fifo(d / name)
+            elif isinstance(content, tuple):  # ("->", target): a symbolic link
+                (d / name).parent.mkdir(parents=True, exist_ok=True)
+                os.symlink(content[1], d / name)
             else:
                 write(d / name, content)
 
@@ -2582,6 +2587,17 @@ def whole_or_none(*paths: str) -> Callable[[Path], list[str]]:
                     _json.loads(path.read_text())
                 except ValueError:
                     problems.append(f"{name}: half a JSON file")
+            elif name.endswith(".csv"):
+                rows = path.read_text().splitlines()
+                if not path.read_text().endswith("\n") or len({row.count(",") for row in rows}) > 1:
+                    problems.append(f"{name}: half a CSV file")
+            elif name.endswith(".yaml"):
+                import yaml
+
+                try:
+                    yaml.safe_load(path.read_text())
+                except yaml.YAMLError:
+                    problems.append(f"{name}: half a YAML file")
         return problems
 
     return check
@@ -2763,35 +2779,42 @@ def armanim_in(d: Path, *args: str, env: dict | None = None) -> None:
 OTHER = TINY.replace("name: tiny", "name: other")
 
 
+def then(*steps: Callable[[Path], object]) -> Callable[[Path], None]:
+    """Setup: each step in turn."""
+
+    def setup(d: Path) -> None:
+        for step in steps:
+            step(d)
+
+    return setup
+
+
+def edit(path: str, append: bytes = b" ") -> Callable[[Path], None]:
+    def change(d: Path) -> None:
+        with open(d / path, "ab") as handle:
+            handle.write(append)
+
+    return change
+
+
+def hardlink(src: str, dst: str) -> Callable[[Path], None]:
+    return lambda d: os.link(d / src, d / dst)
+
+
+def symlink(target: str, at: str) -> Callable[[Path], None]:
+    return lambda d: os.symlink(target, d / at)
+
+
+def mine(name: str = "mine.txt", text: str = "my notes\n") -> Callable[[Path], None]:
+    return lambda d: write(d / name, text) and None
+
+
 def loss10_attempts() -> list[Attempt]:
     """Hard links, links at marks and caches, outputs aimed into other run folders, edited outputs."""
     k = "loss10"
     out = []
     run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
     changed = TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]")
-
-    def then(*steps: Callable[[Path], object]) -> Callable[[Path], None]:
-        def setup(d: Path) -> None:
-            for step in steps:
-                step(d)
-
-        return setup
-
-    def edit(path: str, append: bytes = b" ") -> Callable[[Path], None]:
-        def change(d: Path) -> None:
-            with open(d / path, "ab") as handle:
-                handle.write(append)
-
-        return change
-
-    def hardlink(src: str, dst: str) -> Callable[[Path], None]:
-        return lambda d: os.link(d / src, d / dst)
-
-    def symlink(target: str, at: str) -> Callable[[Path], None]:
-        return lambda d: os.symlink(target, d / at)
-
-    def mine(name: str = "mine.txt", text: str = "my notes\n") -> Callable[[Path], None]:
-        return lambda d: write(d / name, text) and None
 
     base = finished_run
     out += [
@@ -3633,9 +3656,14 @@ def trajectory_breaks(spec: dict) -> Callable[[Path], list[str]]:
     return check
 
 
-def wrong_scene(seed: int) -> tuple[str, dict]:
-    """A random scene of a 3- or 4-link arm among spheres, with limits, rates and mixed goals,
-    made to pass validation (obstacles away from the goals, home and joint poses); its spec."""
+WRONG10_KINDS = ("point", "point", "joints", "hold", "blend", "line")
+WRONG11_KINDS = ("point", "joints", "hold", "blend", "line", "arc", "polyline")
+
+
+def wrong_scene(seed: int, goal_kinds: tuple[str, ...] = WRONG10_KINDS) -> tuple[str, dict]:
+    """A random scene of a 3- or 4-link arm among spheres, with limits, rates and goals of
+    ``goal_kinds``, made to pass validation (obstacles away from the goals, paths, home and joint
+    poses); its spec."""
     import numpy as np
 
     rng = np.random.default_rng(1000 + seed)
@@ -3652,7 +3680,7 @@ def wrong_scene(seed: int) -> tuple[str, dict]:
     method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
     goals, points, poses, kinds = [], [], [[0.0] * n], []
     for _ in range(int(rng.integers(2, 6))):
-        kind = rng.choice(["point", "point", "joints", "hold", "blend", "line"])
+        kind = rng.choice(list(goal_kinds))
         if kind == "joints":
             pose = [round(float(rng.uniform(-150, 150)), 1)] + [
                 round(float(rng.uniform(lo * 0.8, hi * 0.8)), 1) for lo, hi in limits[1:]
@@ -3673,6 +3701,23 @@ def wrong_scene(seed: int) -> tuple[str, dict]:
             q = [round(p[0] + 0.2, 3), round(p[1] - 0.2, 3), p[2]]
             points.append(q)
             goals.append(f"{{path: {{line: [{p}, {q}]}}, speed: {round(float(rng.uniform(0.1, 0.6)), 2)}}}")
+        elif kind == "arc":  # a quarter turn of radius 0.15 about p, from p + 0.15 x
+            turn = [
+                [round(p[0] + 0.15 * float(np.cos(a)), 3), round(p[1] + 0.15 * float(np.sin(a)), 3), p[2]]
+                for a in np.linspace(0, np.pi / 2, 7)
+            ]
+            points += turn
+            goals.append(
+                f"{{path: {{arc: {{center: {p}, start: {turn[0]}, angle: 90, normal: [0, 0, 1]}}}}, speed: {round(float(rng.uniform(0.1, 0.6)), 2)}}}"
+            )
+        elif kind == "polyline":
+            corners = [
+                p,
+                [round(p[0] + 0.2, 3), p[1], p[2]],
+                [round(p[0] + 0.2, 3), round(p[1] + 0.2, 3), round(p[2] + 0.1, 3)],
+            ]
+            points += corners[1:]
+            goals.append(f"{{path: {{polyline: {corners}}}, speed: {round(float(rng.uniform(0.1, 0.6)), 2)}}}")
         elif kind == "hold":
             goals.append(f"{{position: {p}, hold: {round(float(rng.uniform(0.1, 1)), 2)}}}")
         elif kind == "blend":
@@ -3718,24 +3763,28 @@ def wrong_scene(seed: int) -> tuple[str, dict]:
     return text, spec
 
 
+def random_arm_runs(k: str, seeds, what: str = "", goal_kinds: tuple[str, ...] = WRONG10_KINDS) -> list[Attempt]:
+    """A run of :func:`wrong_scene` of each seed, held to :func:`trajectory_breaks`."""
+    return [
+        Attempt(
+            k,
+            f"run a random arm among spheres{what} (seed {seed}), held to the invariants",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            tiny_scene(text=text),
+            (0,),
+            timeout=400,
+            after=trajectory_breaks(spec),
+        )
+        for seed in seeds
+        for text, spec in [wrong_scene(seed, goal_kinds)]
+    ]
+
+
 def wrong10_attempts() -> list[Attempt]:
     """Runs that say they succeeded, held to the invariants by an oracle of their own (speed,
     acceleration, jerk, the velocity columns, limits, sphere clearance, the export)."""
     k = "wrong10"
-    out = []
-    for seed in range(72):
-        text, spec = wrong_scene(seed)
-        out.append(
-            Attempt(
-                k,
-                f"run a random arm among spheres (seed {seed}), held to the invariants",
-                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
-                tiny_scene(text=text),
-                (0,),
-                timeout=400,
-                after=trajectory_breaks(spec),
-            )
-        )
+    out = random_arm_runs(k, range(72))
     for scene in ("notes-arm", "out-of-reach"):
         out.append(
             Attempt(
@@ -3753,6 +3802,968 @@ def wrong10_attempts() -> list[Attempt]:
             )
         )
     return out
+
+
+# ------------------------------------------------------------------ the eleventh campaign
+
+
+def fit_and_png(
+    k: str,
+    label: str,
+    name: str,
+    files: dict,
+    codes_fit=(0, 2),
+    codes_png=(0,),
+    timeout: float = 120.0,
+    scale: str = "",
+    extra: Callable[[Path], None] | None = None,
+) -> list[Attempt]:
+    """A mesh named ``name`` (``files`` beside the URDF, see :func:`urdf_robot`) as link l1's collision
+    mesh through ``robots --fit`` and as its visual through ``fk --png``; ``extra(d)`` after the setup."""
+    tag = f"<geometry><mesh filename={name!r}{f' scale={scale!r}' if scale else ''}/></geometry>"
+
+    def made(setup: Callable[[Path], None]) -> Callable[[Path], None]:
+        return setup if extra is None else lambda d: (setup(d), extra(d)) and None
+
+    return [
+        Attempt(
+            k,
+            f"robots --fit, collision {label}",
+            FIT,
+            made(urdf_robot(collision=f"<collision>{tag}</collision>", files=files)),
+            codes_fit,
+            timeout=timeout,
+            message_if_2=r"robot\.urdf:\d+: ",
+        ),
+        Attempt(
+            k,
+            f"fk --png, visual {label}",
+            FK_PNG,
+            made(urdf_robot(f"<visual>{tag}</visual>", files=files)),
+            codes_png,
+            timeout=timeout,
+        ),
+    ]
+
+
+def ascii_stl(corners: list[list[float]], keywords: tuple[str, str, str] = ("solid", "vertex", "endsolid")) -> str:
+    solid, vertex, end = keywords
+    return f"{solid} s\n" + "".join(f"{vertex} {x} {y} {z}\n" for x, y, z in corners) + f"{end}\n"
+
+
+COLLADA_UNITS = (
+    '<unit meter="1e-6"/>',
+    '<unit meter="9.9e-7"/>',
+    '<unit meter="1000"/>',
+    '<unit meter="1000.001"/>',
+    '<unit meter="0"/>',
+    '<unit meter="-1"/>',
+    '<unit meter="1"/><unit meter="0.001"/>',
+    '<unit meter="1"/><up_axis>X_UP</up_axis>',
+)
+"""COLLADA units at and past their bounds (1e-6 to 1000 metres), and two odd ones."""
+
+
+def mesh11_attempts() -> list[Attempt]:
+    """Mesh files at edges campaign 10 did not reach: binary STLs whose count lies, ASCII STLs in
+    other spellings, OBJ's relative indices, polygons and line elements, COLLADA's cycles, external
+    references, units at their bounds and other primitives, names that are URLs, devices and /proc
+    files through links, the byte and triangle bounds to the byte and the triangle."""
+    k = "mesh11"
+    out: list[Attempt] = []
+    tri = [[0, 0, 0], [0.05, 0, 0], [0, 0.05, 0]]
+    one = stl_corners([tri])
+    # fmt: off
+    cases: list[tuple[str, str, dict]] = [
+        ("a binary STL whose count says 1,000 for one triangle", "a.stl", {"a.stl": one[:80] + (1000).to_bytes(4, "little") + one[84:]}),
+        ("a binary STL whose count says 0 over one triangle", "a.stl", {"a.stl": one[:80] + b"\0\0\0\0" + one[84:]}),
+        ("a binary STL whose count is 2^32-1", "a.stl", {"a.stl": one[:80] + b"\xff\xff\xff\xff" + one[84:]}),
+        ("a binary STL of 84 bytes (count 0, no triangle)", "a.stl", {"a.stl": b"\0" * 84}),
+        ("a binary STL of 83 bytes", "a.stl", {"a.stl": b"\0" * 83}),
+        ("a binary STL whose header starts 'solid'", "a.stl", {"a.stl": b"solid binary" + one[12:]}),
+        ("a binary STL with 7 bytes after its triangles", "a.stl", {"a.stl": one + b"garbage"}),
+        ("a binary STL of a NaN corner (float32)", "a.stl", {"a.stl": stl_corners([[[float("nan"), 0, 0], [0, 0.05, 0], [0, 0, 0.05]]])}),
+        ("a binary STL of an infinite corner (float32)", "a.stl", {"a.stl": stl_corners([[[float("inf"), 0, 0], [0, 0.05, 0], [0, 0, 0.05]]])}),
+        ("a binary STL of subnormal corners", "a.stl", {"a.stl": stl_corners([[[1e-45, 0, 0], [0, 1e-45, 0], [0, 0, 1e-45]]])}),
+        ("an empty STL (0 bytes)", "a.stl", {"a.stl": b""}),
+        ("an STL named .STL", "a.STL", {"a.STL": one}),
+        ("an STL named .Stl.stl", "a.Stl.stl", {"a.Stl.stl": one}),
+        ("an ASCII STL in capitals", "a.stl", {"a.stl": ascii_stl(tri, ("SOLID", "VERTEX", "ENDSOLID"))}),
+        ("an ASCII STL with tabs and CRLF", "a.stl", {"a.stl": ascii_stl(tri).replace(" ", "\t").replace("\n", "\r\n")}),
+        ("an ASCII STL of decimal commas", "a.stl", {"a.stl": "solid s\nvertex 0,5 0 0\nvertex 0 0,5 0\nvertex 0 0 0,5\nendsolid\n"}),
+        ("an ASCII STL of four corners (a triangle and one left)", "a.stl", {"a.stl": ascii_stl([*tri, [1, 1, 1]])}),
+        ("an ASCII STL of hex floats", "a.stl", {"a.stl": "solid s\nvertex 0x1p-4 0 0\nvertex 0 0x1p-4 0\nvertex 0 0 0x1p-4\nendsolid\n"}),
+        ("an ASCII STL with a UTF-8 BOM", "a.stl", {"a.stl": "\ufeff" + ascii_stl(tri)}),
+        ("an ASCII STL with a NUL in a number", "a.stl", {"a.stl": ascii_stl(tri).replace("0.05", "0.0\x005", 1)}),
+        ("an ASCII STL of 'facet' lines without vertices", "a.stl", {"a.stl": "solid s\n" + "facet normal 0 0 1\nouter loop\nendloop\nendfacet\n" * 100 + "endsolid\n"}),
+        ("an ASCII STL of one 10 MB line", "a.stl", {"a.stl": "solid " + "x" * 10_000_000 + "\nendsolid\n"}),
+        ("an OBJ of relative (negative) indices", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "f -3 -2 -1")}),
+        ("an OBJ face index -4 of three vertices", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "f -4 -2 -1")}),
+        ("an OBJ face of 1,000 corners", "a.obj", {"a.obj": obj_text(1000).replace("f 1 2 3", "f " + " ".join(map(str, range(1, 1001))))}),
+        ("an OBJ of four-number vertices (w)", "a.obj", {"a.obj": "v 0 0 0 1\nv 0.05 0 0 1\nv 0 0.05 0 1\nf 1 2 3\n"}),
+        ("an OBJ of six-number vertices (colours)", "a.obj", {"a.obj": "v 0 0 0 1 0 0\nv 0.05 0 0 0 1 0\nv 0 0.05 0 0 0 1\nf 1 2 3\n"}),
+        ("an OBJ of 'l' and 'p' elements only", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "l 1 2 3\np 1")}),
+        ("an OBJ face before its vertices", "a.obj", {"a.obj": "f 1 2 3\nv 0 0 0\nv 0.05 0 0\nv 0 0.05 0\n"}),
+        ("an OBJ face index 1.5", "a.obj", {"a.obj": obj_text(3).replace("f 1 2 3", "f 1.5 2 3")}),
+        ("an OBJ of backslash line continuations", "a.obj", {"a.obj": "v 0 0 \\\n0\nv 0.05 0 0\nv 0 0.05 0\nf 1 2 \\\n3\n"}),
+        ("an OBJ with a BOM and latin-1 in a comment", "a.obj", {"a.obj": b"\xef\xbb\xbf# caf\xe9\n" + obj_text(3).encode()}),
+        ("an OBJ of NUL bytes between lines", "a.obj", {"a.obj": obj_text(3).replace("\n", "\n\0")}),
+        ("an OBJ of 'vt' and 'vn' only", "a.obj", {"a.obj": "vt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n"}),
+        ("an OBJ usemtl of a material no file defines", "a.obj", {"a.obj": "usemtl steel\n" + obj_text(3)}),
+        ("an OBJ mtllib of ../../etc/passwd", "a.obj", {"a.obj": "mtllib ../../../../etc/passwd\n" + obj_text(3)}),
+        ("an OBJ mtllib of 300 names", "a.obj", {"a.obj": "mtllib " + " ".join(f"m{i}.mtl" for i in range(300)) + "\n" + obj_text(3)}),
+        ("an OBJ of 'o', 'g' and 's' lines between faces", "a.obj", {"a.obj": "o a\ng b c\ns 1\n" + obj_text(3) + "s off\ng\n"}),
+        ("an OBJ of 1e-300 corners", "a.obj", {"a.obj": "v 1e-300 0 0\nv 0 1e-300 0\nv 0 0 1e-300\nf 1 2 3\n"}),
+        ("an OBJ of exactly 2,000,000 triangles", "a.obj", {"a.obj": obj_text(3) + "f 1 2 3\n" * 1_999_999}),
+        ("an OBJ of 2,000,001 triangles", "a.obj", {"a.obj": obj_text(3) + "f 1 2 3\n" * 2_000_000}),
+        ("a COLLADA node that instances itself", "a.dae", {"a.dae": tri_dae(node='<instance_node url="#n0"/>')}),
+        ("a COLLADA pair of nodes instancing each other", "a.dae", { "a.dae": tri_dae() .replace("<library_visual_scenes>", '<library_nodes><node id="x"><instance_node url="#y"/></node><node id="y"><instance_node url="#x"/></node></library_nodes><library_visual_scenes>',) .replace('<instance_geometry url="#g0"/></node>', '<instance_geometry url="#g0"/><instance_node url="#x"/></node>',) }),
+        ("a COLLADA instance_node of another file", "a.dae", {"a.dae": tri_dae(node='<instance_node url="other.dae#n0"/>'), "other.dae": None}),
+        ("a COLLADA instance_geometry of a missing id", "a.dae", {"a.dae": tri_dae().replace('url="#g0"', 'url="#nosuch"')}),
+        ("a COLLADA image init_from a FIFO", "a.dae", { "a.dae": tri_dae().replace("<library_geometries>", '<library_images><image id="i"><init_from>t.png</init_from></image></library_images><library_geometries>',), "t.png": None, }),
+        ("a COLLADA XInclude of /etc/passwd", "a.dae", { "a.dae": tri_dae().replace("<asset>", '<asset><xi:include xmlns:xi="http://www.w3.org/2001/XInclude" href="/etc/passwd" parse="text"/>',) }),
+        *((f"a COLLADA unit of {unit}", "a.dae", {"a.dae": tri_dae().replace('<unit meter="1"/>', unit)}) for unit in COLLADA_UNITS),
+        *((f"a COLLADA of {kind}", "a.dae", {"a.dae": tri_dae().replace("triangles", kind)}) for kind in ("tristrips", "trifans")),
+        ("a COLLADA of polygons with a hole", "a.dae", { "a.dae": tri_dae() .replace("<triangles", "<polygons") .replace("</triangles>", "</polygons>") .replace("<p>0 1 2</p>", "<ph><p>0 1 2</p><h>0 1 2</h></ph>") }),
+        ("a COLLADA float_array count 10^9", "a.dae", {"a.dae": tri_dae().replace('count="9"', 'count="1000000000"')}),
+        ("a COLLADA accessor stride 0", "a.dae", {"a.dae": tri_dae().replace('stride="3"', 'stride="0"')}),
+        ("a COLLADA accessor stride 10^9", "a.dae", {"a.dae": tri_dae().replace('stride="3"', 'stride="1000000000"')}),
+        ("a COLLADA of a singular node matrix", "a.dae", {"a.dae": tri_dae(node="<matrix>" + "0 " * 15 + "1</matrix>")}),
+        ("a COLLADA of a lookat and a skew", "a.dae", {"a.dae": tri_dae(node="<lookat>0 0 0 0 0 0 0 0 0</lookat><skew>1e308 1 0 0 0 1 0</skew>")}),
+        ("a COLLADA of two geometries of one id", "a.dae", { "a.dae": tri_dae().replace("</library_geometries>", tri_dae()[tri_dae().index('<geometry id="g0">') : tri_dae().index("</library_geometries>")] + "</library_geometries>",) }),
+        ("a COLLADA without a scene", "a.dae", {"a.dae": tri_dae()[: tri_dae().index("<scene>")] + "</COLLADA>"}),
+        ("a COLLADA gzip-compressed", "a.dae", {"a.dae": __import__("gzip").compress(tri_dae().encode())}),
+        ("a COLLADA of 100,000 elements (its bound)", "a.dae", {"a.dae": tri_dae().replace("<asset>", "<asset>" + "<keywords/>" * 99_960)}),
+        ("a COLLADA of 100,001 elements", "a.dae", {"a.dae": tri_dae().replace("<asset>", "<asset>" + "<keywords/>" * 100_001)}),
+        ("a COLLADA declared EBCDIC (cp500)", "a.dae", { "a.dae": tri_dae() .replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="cp500"?>') .encode("cp500") }),
+        ("a COLLADA of 1,000 nested nodes", "a.dae", {"a.dae": tri_dae(node='<node id="z">' * 1000 + "</node>" * 1000)}),
+        ("named http://example.invalid/a.stl", "http://example.invalid/a.stl", {}),
+        ("named model://a/a.stl", "model://a/a.stl", {}),
+        ("named file:a.stl (no slashes)", "file:a.stl", {"a.stl": one}),
+        ("named package://r/../../../../etc/a.stl", "package://r/../../../../etc/a.stl", {}),
+        ("named package:///a.stl (an empty package)", "package:///a.stl", {"a.stl": one}),
+        ("named ~/a.stl", "~/a.stl", {}),
+        ("named C:\\meshes\\a.stl", "C:\\meshes\\a.stl", {}),
+        ("named with a trailing space", "a.stl ", {"a.stl": one}),
+        ("named %2e%2e/a.stl", "%2e%2e/a.stl", {}),
+        ("a link to /dev/urandom named .stl", "z.stl", {"z.stl": ("->", "/dev/urandom")}),
+        ("a link to /proc/self/status named .obj", "p.obj", {"p.obj": ("->", "/proc/self/status")}),
+        ("a link to /proc/self/mounts named .dae", "p.dae", {"p.dae": ("->", "/proc/self/mounts")}),
+        ("a link to /dev/stdin named .stl", "z.stl", {"z.stl": ("->", "/dev/stdin")}),
+        ("a dangling link", "z.stl", {"z.stl": ("->", "nowhere/z.stl")}),
+        ("a link to a folder", "z.stl", {"z.stl": ("->", ".")}),
+        ("a link to the URDF itself named .obj", "z.obj", {"z.obj": ("->", "robot.urdf")}),
+        ("a file of 64 MB exactly (sparse)", "z.stl", {}),
+        ("a file of 64 MB and one byte (sparse)", "y.stl", {}),
+    ]
+    # fmt: on
+
+    def sized(d: Path) -> None:
+        if (d / "robot.urdf").read_text().find("z.stl") >= 0 and not os.path.lexists(d / "z.stl"):
+            sparse(d / "z.stl", 64 * 2**20)
+        if "y.stl" in (d / "robot.urdf").read_text():
+            sparse(d / "y.stl", 64 * 2**20 + 1)
+
+    for label, name, files in cases:
+        slow = "2,000,00" in label or "100,00" in label or "10 MB" in label
+        out += fit_and_png(k, label, name, files, timeout=240 if slow else 120, extra=sized)
+    for label, scale in (
+        ("1e9 1e9 1e9 (its bound)", "1e9 1e9 1e9"),
+        ("1.0000001e9", "1.0000001e9 1 1"),
+        ("1e-9", "1e-9 1e-9 1e-9"),
+        ("0 1 1 (flat)", "0 1 1"),
+        ("'1,1,1'", "1,1,1"),
+        ("of four numbers", "1 1 1 1"),
+    ):
+        out += fit_and_png(k, f"a scale of {label}", "a.stl", {"a.stl": one}, scale=scale)
+    # the tool's mesh and the look of a run: through run --viewer, render and view
+    for label, files in [
+        ("a binary STL whose count says 1,000", {"t.stl": one[:80] + (1000).to_bytes(4, "little") + one[84:]}),
+        ("a link to /dev/urandom", {"t.stl": ("->", "/dev/urandom")}),
+        ("a COLLADA node that instances itself", {"t.dae": tri_dae(node='<instance_node url="#n0"/>')}),
+        ("an OBJ of relative indices", {"t.obj": obj_text(3).replace("f 1 2 3", "f -3 -2 -1")}),
+    ]:
+        (tool,) = files
+
+        def setup(d: Path, files=files, tool=tool) -> None:
+            write(d / "s.yaml", TOOL_SCENE.replace("TOOL", tool))
+            urdf_robot(files=files)(d)
+            write(d / "s.yaml", TOOL_SCENE.replace("TOOL", tool))
+
+        out.append(
+            Attempt(
+                k,
+                f"run --viewer, tool mesh {label}",
+                ["run", "s.yaml", "--out", "o", "--no-video", "--viewer", "-q"],
+                setup,
+                (0, 2),
+                timeout=240,
+                message_if_2=AT_LINE,
+            )
+        )
+
+    def moved_meshes(d: Path) -> None:
+        write(d / "m/a.stl", one)
+        write(d / "m/robot.urdf", urdf_text(vis("a.stl")))
+        write(d / "s.yaml", URDF_SCENE.replace("robot.urdf", "m/robot.urdf"))
+        armanim_in(d, "run", "s.yaml", "--out", "o", "--no-video", "-q")
+        os.unlink(d / "m/a.stl")
+        os.symlink("/dev/urandom", d / "m/a.stl")
+
+    for cmd in (["render", "o/m", "-q", "--size", "64x48"], ["view", "o/m", "--out", "v.html"]):
+        out.append(
+            Attempt(
+                k,
+                f"{cmd[0]} of a run whose visual mesh is now a link to /dev/urandom",
+                cmd,
+                moved_meshes,
+                (0,),
+                timeout=240,
+            )
+        )
+    return out
+
+
+def frames11_attempts() -> list[Attempt]:
+    """Frame and size bounds by the commands and flags campaign 10 did not take there: render
+    sizes at the encoder's edges (odd, tiny, wide), cameras straight down, fk/ik at their bounds,
+    sweeps at the variant limit, and scenes at each documented bound and just past it."""
+    k = "frames11"
+    out: list[Attempt] = []
+    render = ["render", "o/tiny", "-q"]
+    for flags in (
+        ["--size", "17x9"],
+        ["--size", "2x2"],
+        ["--size", "3x1001"],
+        ["--size", "4096x16"],
+        ["--size", "64x48", "--format", "gif", "--fps", "100"],
+        ["--size", "64x48", "--format", "gif", "--fps", "0.5"],
+        ["--size", "64x48", "--elevation", "90"],
+        ["--size", "64x48", "--elevation", "-90", "--azimuth", "720"],
+        ["--size", "64x48", "--elevation", "1e-300"],
+        ["--size", "64x48", "--fps", "1e9"],
+        ["--size", "64x48", "--fps", "0.0001"],
+        ["--size", "+64x+48"],
+        ["--size", "64x48 "],
+        ["--size", "６４x48"],
+        ["--size", "0x48"],
+        ["--size", "64x48", "--quality", "low"],
+    ):
+        out.append(
+            Attempt(
+                k,
+                f"render {' '.join(flags)}",
+                [*render, *flags],
+                lambda d: finished_run(d) and None,
+                (0, 2),
+                timeout=300,
+                message_if_2="--size|--fps|--format|--quality|--elevation|--azimuth",
+            )
+        )
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    # fmt: off
+    cases = [
+        ("a coordinate of 1e9 (its bound)", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [1e9, 0, 0], radius: 1}]")),
+        ("a coordinate of 1.000001e9", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [1.000001e9, 0, 0], radius: 1}]")),
+        ("a link of 1e-9 (its floor?)", simple().replace("links: [1, 1, 1]", "links: [1, 1, 1, 1e-9]")),
+        ("a hold of 3600 s (its bound) at 10 fps", simple("goals: [{position: [1, 1, 1], hold: 3600}]")),
+        ("a hold of 3600.0001 s", simple("goals: [{position: [1, 1, 1], hold: 3600.0001}]")),
+        ("render.fps 1e-9", simple(fps="1e-9")),
+        ("render.fps 1000", simple(fps="1000")),
+        ("render.size [16, 16]", simple().replace("size: [160, 90]", "size: [16, 16]")),
+        ("render.size [7680, 4320]", simple().replace("size: [160, 90]", "size: [7680, 4320]")),
+        ("render.size [7681, 4320]", simple().replace("size: [160, 90]", "size: [7681, 4320]")),
+        ("render.size [1, 100000]", simple().replace("size: [160, 90]", "size: [1, 100000]")),
+        ("an arc of 360 degrees (its bound)", simple("goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 360, normal: [1, 0, 0]}}, speed: 0.5}]")),
+        ("an arc of 360.0001 degrees", simple("goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 360.0001, normal: [1, 0, 0]}}, speed: 0.5}]")),
+        ("an arc of -360 degrees", simple("goals: [{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: -360, normal: [1, 0, 0]}}, speed: 0.5}]")),
+        ("a path speed of 1e-9 (its floor)", simple("goals: [{path: {line: [[1, 0.5, 1], [1, 0.5, 1.000000001]]}, speed: 1e-9}]")),
+        ("a path speed of 1e9 (its bound) on a 1e-9 line", simple("goals: [{path: {line: [[1, 0.5, 1], [1, 0.5, 1.000000001]]}, speed: 1e9}]")),
+        ("a text path of a tab, a newline and an emoji", simple('goals: [{path: {text: {string: "a\\tb\\nc\U0001f600", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]')),
+        ("a text path of combining accents only", simple('goals: [{path: {text: {string: "\\u0301\\u0301\\u0301", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]')),
+        ("a text path of height 1e9", simple('goals: [{path: {text: {string: "a", origin: [1, -0.5, 1], height: 1e9, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]')),
+        ("64 links (the joint bound?)", simple("goals: [[0.5, 0.5, 0.5]]").replace("links: [1, 1, 1]", "links: [" + ",".join(["0.02"] * 64) + "]")),
+        ("65 links", simple("goals: [[0.5, 0.5, 0.5]]").replace("links: [1, 1, 1]", "links: [" + ",".join(["0.02"] * 65) + "]")),
+        ("max_joint_speed 1e9 with acceleration 1e-6", simple(arm=", max_joint_speed: 1e9, max_joint_acceleration: 1e-6")),
+        ("max_joint_jerk 1e15 (a large jerk)", simple(arm=", max_joint_jerk: 1e15")),
+        ("solver.clearance 1e9", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [3, 3, 3], radius: 0.1}]", solver="clearance: 1e9")),
+        ("a sphere of radius 1e-9", simple("goals: [[1, 1, 1]]\nobstacles: [{center: [3, 3, 3], radius: 1e-9}]")),
+        ("1,000 goals of joints, each a hold", "version: 1\nname: f\narm: {links: [1, 1, 1]}\ngoals:\n" + "".join(f"  - {{joints: [{i % 7}, 0, 0], hold: 0.1}}\n" for i in range(1000)) + "render: {size: [160, 90], fps: 10}\n"),
+    ]
+    # fmt: on
+    for label, text in cases:
+        out.append(
+            Attempt(
+                k,
+                f"validate {label}",
+                ["validate", "s.yaml"],
+                tiny_scene(text=text),
+                (0, 2),
+                timeout=120,
+                message_if_2=AT_LINE,
+            )
+        )
+        out.append(Attempt(k, f"run {label}", run, tiny_scene(text=text), (0, 2), timeout=400, message_if_2=AT_LINE))
+    for args in (
+        ["fk", "--links", "1", "--angles", "45"],
+        ["fk", "--links", ",".join(["0.1"] * 64), "--angles", ",".join(["1"] * 64), "--png", "p.png"],
+        ["fk", "--links", ",".join(["0.1"] * 1000), "--angles", ",".join(["1"] * 1000)],
+        ["fk", "--angles", "1e-320,0,0,0", "--png", "p.png"],
+        ["fk", "--angles", "359.9999999999,0,0,0", "--radians"],
+        ["fk", "--robot", "panda", "--angles", "1e9,0,0,0,0,0,0"],
+        ["ik", "--goal", "0,0,4"],
+        ["ik", "--goal", "0,0,4.000000001"],
+        ["ik", "--goal", "0,0,0", "--method", "newton"],
+        ["ik", "--goal", "1,1,1", "--max-iterations", "1"],
+        ["ik", "--goal", "1,1,1", "--from", "1e-300,0,0,0", "--method", "gradient"],
+        ["ik", "--robot", "ur5", "--goal", "0.3,0.2,0.4", "--orientation", "quat=1e-300,0,0,1e-300"],
+        [
+            "ik",
+            "--robot",
+            "panda",
+            "--goal",
+            "0.5,0,0.3",
+            "--orientation",
+            "rpy=180,0,0",
+            "--orientation-tolerance",
+            "1e-12",
+        ],
+    ):
+        out.append(
+            Attempt(k, " ".join(args)[:110], args, lambda d: None, (0, 1, 2), timeout=300, message_if_2="--[a-z-]+")
+        )
+    for sets, codes in (
+        (["--set", "solver.step=" + ",".join(f"0.{i:03d}1" for i in range(1001))], (2,)),
+        (
+            [
+                "--set",
+                "solver.step=" + ",".join(f"0.{i:02d}1" for i in range(40)),
+                "--set",
+                "render.fps=" + ",".join(str(5 + i) for i in range(26)),
+            ],
+            (2,),
+        ),
+        (["--set", "solver.step=0.1,0.1"], (0, 2)),
+    ):
+        out.append(
+            Attempt(
+                k,
+                f"sweep of {sets[1][:40]}... ({len(sets) // 2} sets)",
+                ["sweep", "s.yaml", *sets, "--out", "o", "-q"],
+                tiny_scene(),
+                codes,
+                timeout=300,
+                message="1,000|variant|same|twice|duplicate" if codes == (2,) else None,
+            )
+        )
+    return out
+
+
+def at_moments(k: str, label: str, args: list[str], setup: Callable[[Path], None], moments, **more) -> list[Attempt]:
+    """One attempt of ``args`` per moment ``(seconds, signal)`` (see :class:`Attempt`'s ``interrupt``),
+    each ending with 0 or 130 unless ``codes`` says otherwise."""
+    more.setdefault("codes", (0, 130))
+    return [
+        Attempt(k, f"{label}, {signame} at {delay:g} s", args, setup, interrupt=(delay, signame), **more)
+        for delay, signame in moments
+    ]
+
+
+def signals11_attempts() -> list[Attempt]:
+    """Interrupts during each output's write by the commands campaign 10 left out (check --update,
+    import moveit, a batch table, a GIF's palette, a viewer page, a schema), during a pool's start
+    (the forkserver's first milliseconds) in steps of 0.2 s, and in bursts of three."""
+    k = "signals11"
+    out: list[Attempt] = []
+    batch = ["run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "2"]
+
+    def two_scenes(d: Path) -> None:
+        write(d / "a.yaml", TINY.replace("name: tiny", "name: a"))
+        write(d / "s.yaml", TINY)
+
+    whole = {"timeout": 200, "after": whole_or_none("o/a", "o/tiny", "o/index.csv")}
+    # 0.6 to 2.6 s: the pool's forkserver starts in there
+    out += at_moments(k, "a --jobs 2 batch", batch, two_scenes, [(t / 10, "SIGINT") for t in range(6, 27, 2)], **whole)
+    for delay in (1.0, 1.6, 2.2):
+        burst = ((delay + 0.02, "SIGINT"), (delay + 0.04, "SIGINT"))
+        out += at_moments(
+            k, "a --jobs 2 batch, three Ctrl-C 20 ms apart", batch, two_scenes, [(delay, "SIGINT")], also=burst, **whole
+        )
+        out += at_moments(
+            k,
+            "a --jobs 2 batch, then Ctrl-C 0.1 s later",
+            batch,
+            two_scenes,
+            [(delay, "SIGTERM")],
+            also=((delay + 0.1, "SIGINT"),),
+            **whole,
+        )
+
+    def variants_whole(d: Path) -> list[str]:
+        names = os.listdir(d / "o") if (d / "o").is_dir() else []
+        return [p for name in names if not name.startswith(".") for p in whole_or_none(f"o/{name}")(d)]
+
+    sweep = ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--video", "--jobs", "2"]
+    moments = [(delay, "SIGINT") for delay in (1.4, 1.7, 2.3, 2.6)]
+    out += at_moments(
+        k, "sweep of 2 variants with video", sweep, tiny_scene(), moments, timeout=300, after=variants_whole
+    )
+    out += at_moments(
+        k,
+        "check --update of a 40,000-frame scene",
+        ["check", "s.yaml", "--golden", "g", "--update"],
+        tiny_scene(text=LONG),
+        ((1.5, "SIGINT"), (3.0, "SIGTERM"), (4.5, "SIGTERMG"), (6.0, "SIGINT")),
+        timeout=200,
+        after=whole_or_none("g/tiny.csv"),
+        litter_in=("g", "."),
+    )
+
+    def moveit_scene(d: Path) -> None:
+        box = "* b{i}\n1\nbox\n0.05 0.05 0.05\n{x} {y} 1\n0 0 0 1\n0 0 0 0\n"
+        write(
+            d / "w.scene",
+            "w\n" + "".join(box.format(i=i, x=2 + i % 10, y=i // 10 * 0.1) for i in range(15_000)) + ".\n",
+        )
+
+    out += at_moments(
+        k,
+        "import moveit of 15,000 boxes (under its 1 MB)",
+        ["import", "moveit", "w.scene", "--robot", "panda", "--out", "m.yaml"],
+        moveit_scene,
+        ((0.8, "SIGINT"), (1.5, "SIGTERM"), (2.5, "SIGINT")),
+        timeout=200,
+        after=whole_or_none("m.yaml"),
+        litter_in=(".",),
+    )
+    short = LONG.replace("hold: 3600", "hold: 30").replace("hold: 400", "hold: 30")
+    out += at_moments(
+        k,
+        "render --format gif --out fig",
+        ["render", "o/tiny", "--format", "gif", "--out", "fig", "-q", "--size", "320x180"],
+        lambda d: finished_run(d, short) and None,
+        ((2.0, "SIGINT"), (4.0, "SIGTERM")),
+        timeout=300,
+        keep=("o/tiny",),
+        after=whole_or_none("fig"),
+        litter_in=("o", "fig", "."),
+    )
+    out += at_moments(
+        k,
+        "run --viewer --no-video of a 40,000-frame scene",
+        ["run", "s.yaml", "--out", "o", "--no-video", "--viewer", "-q"],
+        tiny_scene(text=LONG),
+        ((2.5, "SIGINT"), (5.0, "SIGTERMG")),
+        timeout=200,
+        after=whole_or_none("o/tiny"),
+    )
+    out += at_moments(
+        k,
+        "schema --out",
+        ["schema", "--out", "x.json"],
+        lambda d: None,
+        [(delay, "SIGINT") for delay in (0.4, 0.7, 1.0)],
+        timeout=60,
+        after=whole_or_none("x.json"),
+        litter_in=(".",),
+    )
+    out += at_moments(
+        k,
+        "validate of 200 scenes",
+        ["validate", *[f"s{i}.yaml" for i in range(200)]],
+        lambda d: [write(d / f"s{i}.yaml", TINY) for i in range(200)] and None,
+        ((1.0, "SIGINT"), (2.0, "SIGTERM")),
+        timeout=120,
+    )
+    out += at_moments(
+        k,
+        "ik --robot panda of an unreachable pose",
+        ["ik", "--robot", "panda", "--goal", "5,5,5", "--max-iterations", "100000000", "--tolerance", "1e-300"],
+        lambda d: None,
+        ((1.5, "SIGINT"), (3.0, "SIGTERMG")),
+        codes=(0, 1, 130),
+        timeout=300,
+    )
+    out += at_moments(
+        k,
+        "run --jobs 2 with video (segment workers)",
+        ["run", "s.yaml", "--out", "o", "-q", "--jobs", "2"],
+        tiny_scene(text=TINY.replace("fps: 10", "fps: 30")),
+        ((1.0, "SIGINT"), (2.5, "SIGTERMG"), (4.0, "SIGTERM")),
+        timeout=300,
+        after=whole_or_none("o/tiny"),
+    )
+    return out
+
+
+def loss11_attempts() -> list[Attempt]:
+    """What campaign 10 did not aim at: a scene, URDF or golden kept inside the run folder that a
+    run replaces, links out of a run folder to the user's files, OUT itself a link into a run,
+    scene names that are a batch's own files, and every writer aimed at the user's scene."""
+    k = "loss11"
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    batch = ["run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"]
+    changed = mine("s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))
+    scene = mine("s.yaml", TINY)
+    other_a = mine("a.yaml", TINY.replace("name: tiny", "name: a"))
+    urdf_run = then(urdf_robot(), lambda d: armanim_in(d, *run))
+    urdf_changed = mine("s.yaml", URDF_SCENE.replace("0.4]", "0.45]"))
+    video = lambda d: finished_run(d, video=True) and None  # noqa: E731
+    sweep = ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "-q", "--out"]
+
+    def named(name: str) -> Callable[[Path], None]:
+        return mine("s.yaml", TINY.replace("name: tiny", f"name: {name}"))
+
+    def variant_to_mine(d: Path) -> None:
+        variant = next(p for p in sorted((d / "o").iterdir()) if p.is_dir() and not p.name.startswith("."))
+        shutil.rmtree(variant)
+        os.symlink(os.path.abspath(d / "mine"), variant)
+
+    def unlinked(path: str) -> Callable[[Path], None]:
+        return lambda d: [os.unlink(p) for p in d.glob(path)] and None
+
+    def linked(pattern: str, target: str) -> Callable[[Path], None]:
+        return lambda d: [(os.unlink(p), os.symlink(target, p)) for p in d.glob(pattern)] and None
+
+    # one attempt a row: label, arguments, setup, exit codes, the user's paths kept
+    # fmt: off
+    table: list[tuple] = [
+        ("run a scene kept inside its own run folder", ["run", "o/tiny/s.yaml", "--out", "o", "--no-video", "-q"], then(finished_run, mine("o/tiny/s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))), (0, 3), ("o/tiny/s.yaml",)),
+        ("run a scene whose URDF is kept inside the run folder", run, then(urdf_run, mine("o/m/mine.urdf", urdf_text()), mine("s.yaml", URDF_SCENE.replace("robot.urdf", "o/m/mine.urdf")),), (0, 2, 3), ("o/m/mine.urdf",)),
+        ("check --update --golden inside the run folder", ["check", "s.yaml", "--golden", "o/tiny/g", "--update"], then(finished_run, mine("o/tiny/g/notes.txt")), (0, 2, 3), ("o/tiny/g/notes.txt",)),
+        ("render --out a folder inside the run folder", ["render", "o/tiny", "-q", "--size", "64x48", "--out", "o/tiny/fig"], then(finished_run, mine("o/tiny/fig/notes.txt")), (2, 3), ("o/tiny/fig/notes.txt",)),
+        ("run, the user's notes inside the run folder (a link to them)", run, then(finished_run, mine("notes.txt"), symlink("../../notes.txt", "o/tiny/notes.txt"), changed), (0, 3), ("notes.txt",)),
+        ("run, the run folder's plot.png a link to the user's picture", ["run", "s.yaml", "--out", "o", "-q"], then(video, mine("mine.png", "not a png"), linked("o/tiny/plot.png", "../../mine.png"), changed), (0, 3), ("mine.png",)),
+        ("render, the run's video a link to the user's video", ["render", "o/tiny", "-q", "--size", "64x48"], then(video, mine("mine.mp4", "mine"), linked("o/tiny/*.mp4", "../../mine.mp4")), (0, 3), ("mine.mp4",)),
+        ("view, the run's viewer.html a hard link to the user's page", ["view", "o/tiny"], then(finished_run, mine("mine.html", "<html>mine</html>"), hardlink("mine.html", "o/tiny/viewer.html")), (0, 3), ("mine.html",)),
+        ("run --out a link to the run folder itself", ["run", "s.yaml", "--out", "lnk", "--no-video", "-q"], then(finished_run, symlink("o/tiny", "lnk")), (0, 2, 3), ("o/tiny/trajectory.csv",)),
+        ("run --out o/tiny (into the run folder)", ["run", "s.yaml", "--out", "o/tiny", "--no-video", "-q"], finished_run, (2, 3), ("o/tiny",)),
+        ("run --out a link loop", ["run", "s.yaml", "--out", "lp", "--no-video", "-q"], then(scene, symlink("lp", "lp")), (2, 3), ("lp",)),
+        ("run, OUT/NAME a dangling link", run, then(scene, lambda d: (d / "o").mkdir(), symlink("../gone", "o/tiny")), (0, 3), ("o/tiny",)),
+        ("run --out o/../o (the same folder)", ["run", "s.yaml", "--out", "o/../o", "--no-video", "-q"], then(finished_run, changed), (0,), ()),
+        ("a batch whose second scene is named index.csv", batch, then(other_a, named("index.csv")), (0, 2), ()),
+        ("a batch of scenes named a and .a", batch, then(other_a, named(".a")), (0, 2), ()),
+        ("a scene named .armanim-run.json", run, named(".armanim-run.json"), (0, 2), ()),
+        ("a scene named ..", run, named("'..'"), (2,), ("s.yaml",)),
+        ("a scene named with a slash a/b", run, named("a/b"), (0, 2), ()),
+        ("a scene named 255 characters", run, named("n" * 255), (0, 2, 3), ()),
+        ("a batch again with the user's file at index.csv (unmarked)", batch, then(other_a, scene, mine("o/index.csv", "mine,1\n")), (0, 3), ("o/index.csv",)),
+        ("sweep --out the user's scene folder", [*sweep, "."], then(scene, mine("notes.txt")), (0, 2, 3), ("s.yaml", "notes.txt")),
+        ("sweep, a variant's folder a link to the user's folder", [*sweep, "o"], then(scene, mine("mine/notes.txt"), lambda d: armanim_in(d, *sweep, "o"), variant_to_mine), (0, 3), ("mine",)),
+        ("import moveit --out the user's scene", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "s.yaml"], then(scene, mine("w.scene", "w\n* box\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")), (3,), ("s.yaml",)),
+        ("view --out the user's scene", ["view", "o/tiny", "--out", "s.yaml"], finished_run, (2, 3), ("s.yaml",)),
+        ("fk --png the user's scene", ["fk", "--angles", "0,0,0,0", "--png", "s.yaml"], scene, (2, 3), ("s.yaml",)),
+        ("schema --out a link to the user's scene", ["schema", "--out", "x.json"], then(scene, symlink("s.yaml", "x.json")), (2, 3), ("s.yaml", "x.json")),
+        ("export --out a link to the run's own trajectory.csv", ["export", "o/tiny", "--out", "x.json"], then(finished_run, symlink("o/tiny/trajectory.csv", "x.json")), (2, 3), ("o/tiny",)),
+        ("check --update, the golden folder a link to the user's folder", ["check", "s.yaml", "--golden", "g", "--update"], then(scene, mine("mine/notes.txt"), symlink("mine", "g")), (0, 3), ("mine/notes.txt",)),
+        ("check --update, g/tiny.csv the user's own CSV (unmarked)", ["check", "s.yaml", "--golden", "g", "--update"], then(scene, mine("g/tiny.csv", "time_s\n0\n")), (0, 3), ("g/tiny.csv",)),
+        ("render --out the folder holding the scene and the URDF", ["render", "o/m", "-q", "--size", "64x48", "--out", "."], urdf_run, (2, 3), ("s.yaml", "robot.urdf")),
+        ("run, a run folder's robot.urdf a link to the user's URDF", run, then(urdf_run, mine("mine.urdf", urdf_text()), linked("o/m/robot.urdf", "../../mine.urdf"), urdf_changed), (0, 3), ("mine.urdf",)),
+        ("export --out a name whose mark is a folder", ["export", "o/tiny", "--out", "x.json"], then(finished_run, mine(".x.json.armanim.json/mine.txt")), (0, 3), (".x.json.armanim.json",)),
+        ("fk --png, the PNG's mark a FIFO", ["fk", "--angles", "0,0,0,0", "--png", "p.png"], lambda d: fifo(d / ".p.png.armanim.json"), (0, 3), (".p.png.armanim.json",)),
+        ("view --out v.html, v.html a folder of the user's", ["view", "o/tiny", "--out", "v.html"], then(finished_run, mine("v.html/mine.txt")), (2, 3), ("v.html",)),
+        ("run, the scene itself a hard link inside the run folder", run, then(finished_run, hardlink("s.yaml", "o/tiny/scene-copy.yaml"), unlinked("s.yaml"), changed), (0, 3), ("o/tiny/scene-copy.yaml",)),
+    ]
+    # fmt: on
+    out = [Attempt(k, label, args, setup, codes, keep=keep, timeout=300) for label, args, setup, codes, keep in table]
+    out.append(
+        Attempt(
+            k,
+            "run with ARMANIM_CACHE_DIR the run folder",
+            run,
+            then(
+                lambda d: write(d / "a.stl", stl(30)), urdf_robot(collision=col("a.stl")), lambda d: armanim_in(d, *run)
+            ),
+            (0, 3),  # the fit kept in the run folder: the next run's replace refuses the folder, nothing lost
+            env={"ARMANIM_CACHE_DIR": "{d}/o/m"},
+            after=exists("o/m/trajectory.csv"),
+        )
+    )
+    return out
+
+
+def inputs11_attempts() -> list[Attempt]:
+    """Hostile files and flags campaign 10 did not write: scene files that are devices, links, other
+    encodings or too big; fields at their edges; a run folder's own files edited by hand and read
+    back by render, view and export; CLI vectors; MoveIt scenes. Exit 0, or 2 naming file and line."""
+    k = "inputs11"
+    out: list[Attempt] = []
+    good = "version: 1\nname: s\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\n"
+    # fmt: off
+    yaml_cases = [
+        ("a UTF-8 BOM", "\ufeff" + good),
+        ("UTF-16 with a BOM", good.encode("utf-16")),
+        ("latin-1 bytes in the name", good.replace("name: s", "name: caf\xe9").encode("latin-1")),
+        ("a NUL in the middle", good.replace("goals", "go\0als")),
+        ("a form feed and vertical tab", good.replace("\n", "\n\f\v", 1)),
+        ("a line separator U+2028 in a string", good.replace("name: s", 'name: "a\u2028b"')),
+        ("key 'goals' twice in flow", good.replace("goals: [[1, 1, 1]]", "{goals: [[1, 1, 1]], goals: [[1, 1, 1]]}")),
+        ("an anchor on the whole arm used twice", "version: 1\nname: s\narm: &a {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\nx: *a\n"),
+        ("an undefined alias", good.replace("name: s", "name: *nope")),
+        ("a flow mapping left open", good.replace("{links: [1, 1, 1]}", "{links: [1, 1, 1]")),
+        ("a tag !!float on a string", good.replace("name: s", "name: !!float abc")),
+        ("!!int 0b101", good.replace("version: 1", "version: !!int 0b101")),
+        ("version +1", good.replace("version: 1", "version: +1")),
+        ("version 2", good.replace("version: 1", "version: 2")),
+        ("version 99999999999999999999", good.replace("version: 1", "version: 99999999999999999999")),
+        ("a goal of .NaN and .Inf", good.replace("[[1, 1, 1]]", "[[.NaN, .Inf, -.INF]]")),
+        ("a goal of 1e-400 (underflows to 0)", good.replace("[[1, 1, 1]]", "[[1e-400, 1, 1]]")),
+        ("a goal of -0.0", good.replace("[[1, 1, 1]]", "[[-0.0, 1, 1]]")),
+        ("a goal of '1e3' quoted", good.replace("[[1, 1, 1]]", "[['1e3', 1, 1]]")),
+        ("a goal of 1:30 (sexagesimal)", good.replace("[[1, 1, 1]]", "[[1:30, 1, 1]]")),
+        ("a goal of ~", good.replace("[[1, 1, 1]]", "[~]")),
+        ("a goal of an empty mapping", good.replace("[[1, 1, 1]]", "[{}]")),
+        ("a goal of a 10,000-number list", good.replace("[[1, 1, 1]]", "[[" + ", ".join(["1"] * 10_000) + "]]")),
+        ("arm.base of four numbers", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], base: [0, 0, 0, 0]")),
+        ("arm.base .nan", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], base: [.nan, 0, 0]")),
+        ("arm.robot of an unknown name", good.replace("{links: [1, 1, 1]}", "{robot: pandaa}")),
+        ("arm.robot ../../etc/passwd", good.replace("{links: [1, 1, 1]}", "{robot: ../../etc/passwd}")),
+        ("arm.robot and arm.links both", good.replace("{links: [1, 1, 1]}", "{robot: panda, links: [1, 1]}")),
+        ("arm.urdf a folder", good.replace("{links: [1, 1, 1]}", "{urdf: sub}")),
+        ("arm.urdf a FIFO", good.replace("{links: [1, 1, 1]}", "{urdf: f.srdf}")),
+        ("arm.urdf the scene itself", good.replace("{links: [1, 1, 1]}", "{urdf: s.yaml}")),
+        ("arm.urdf an empty string", good.replace("{links: [1, 1, 1]}", "{urdf: ''}")),
+        ("arm.urdf a link loop", good.replace("{links: [1, 1, 1]}", "{urdf: loop.urdf}")),
+        ("arm.urdf /dev/zero by a link", good.replace("{links: [1, 1, 1]}", "{urdf: zero.urdf}")),
+        ("arm.urdf a 5 MB sparse file", good.replace("{links: [1, 1, 1]}", "{urdf: big.urdf}")),
+        ("arm.tip_link unknown", good.replace("{links: [1, 1, 1]}", "{robot: panda, tip_link: nosuch}")),
+        ("arm.base_link unknown", good.replace("{links: [1, 1, 1]}", "{robot: panda, base_link: nosuch}")),
+        ("arm.joint_values of an unknown joint", good.replace("{links: [1, 1, 1]}", "{robot: panda, joint_values: {nosuch: 0}}")),
+        ("arm.joint_values of NaN", good.replace("{links: [1, 1, 1]}", "{robot: panda, joint_values: {panda_finger_joint1: .nan}}")),
+        ("arm.package_dirs a file", good.replace("{links: [1, 1, 1]}", "{robot: panda, package_dirs: [s.yaml]}")),
+        ("arm.package_dirs 1,000 entries", good.replace("{links: [1, 1, 1]}", "{robot: panda, package_dirs: [" + ", ".join(["sub"] * 1000) + "]}")),
+        ("arm.tool length -1", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: -1}")),
+        ("arm.tool mesh a folder", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, mesh: sub}")),
+        ("arm.tool mesh a .ply", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, mesh: t.ply}")),
+        ("arm.tool an unknown key", good.replace("links: [1, 1, 1]", "links: [1, 1, 1], tool: {length: 0.1, colour: red}")),
+        ("an orientation rpy of four numbers", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {rpy: [0, 0, 0, 0]}}]")),
+        ("an orientation quaternion of three numbers", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {quaternion: [1, 0, 0]}}]")),
+        ("an orientation of rpy and quaternion both", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], orientation: {rpy: [0, 0, 0], quaternion: [1, 0, 0, 0]}}]")),
+        ("an arc without a normal", good.replace("[[1, 1, 1]]", "[{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 90}}, speed: 0.5}]")),
+        ("an arc whose start is its centre", good.replace("[[1, 1, 1]]", "[{path: {arc: {center: [1, 0, 1], start: [1, 0, 1], angle: 90, normal: [0, 0, 1]}}, speed: 0.5}]",)),
+        ("an arc whose normal lies along its radius", good.replace("[[1, 1, 1]]", "[{path: {arc: {center: [1, 0, 1], start: [1, 0.3, 1], angle: 90, normal: [0, 1, 0]}}, speed: 0.5}]",)),
+        ("a path of two kinds", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]], polyline: [[1, 0, 1], [1, 1, 1]]}, speed: 0.5}]")),
+        ("a polyline of one point", good.replace("[[1, 1, 1]]", "[{path: {polyline: [[1, 0, 1]]}, speed: 0.5}]")),
+        ("a path without speed", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]]}}]")),
+        ("a path speed .nan", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]]}, speed: .nan}]")),
+        ("a path speed 0", good.replace("[[1, 1, 1]]", "[{path: {line: [[1, 0, 1], [1, 1, 1]]}, speed: 0}]")),
+        ("a text of 10,001 characters", good.replace("[[1, 1, 1]]", '[{path: {text: {string: "' + "a" * 10_001 + '", origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]',)),
+        ("a text string a number", good.replace("[[1, 1, 1]]", "[{path: {text: {string: 42, origin: [1, -0.5, 1], height: 0.05, right: [0, 1, 0], up: [0, 0, 1]}}, speed: 0.5}]",)),
+        ("a hold of -1", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], hold: -1}]")),
+        ("a hold of 'forever'", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], hold: forever}]")),
+        ("a blend of -1", good.replace("[[1, 1, 1]]", "[{position: [1, 1, 1], blend: -1}, [1, 0, 1]]")),
+        ("joints of null", good.replace("[[1, 1, 1]]", "[{joints: [null, 0, 0]}]")),
+        ("joints as a mapping", good.replace("[[1, 1, 1]]", "[{joints: {a: 1}}]")),
+        ("an obstacle of two shapes", good + "obstacles: [{center: [3, 3, 3], radius: 1, box: {center: [3, 3, 3], size: [1, 1, 1]}}]\n"),
+        ("an obstacle of an unknown shape", good + "obstacles: [{cone: {center: [3, 3, 3]}}]\n"),
+        ("an obstacle mesh", good + "obstacles: [{mesh: a.stl}]\n"),
+        ("a box rotated by rpy nan", good + "obstacles: [{box: {center: [3, 3, 3], size: [1, 1, 1], rpy: [.nan, 0, 0]}}]\n"),
+        ("two obstacles of one name", good + "obstacles: [{center: [3, 3, 3], radius: 1, name: a}, {center: [5, 5, 5], radius: 1, name: a}]\n"),
+        ("render.view elevation 1e400", good + "render: {view: {elevation: 1e400, azimuth: 0}}\n"),
+        ("render.bounds inverted", good + "render: {bounds: [[1, 1, 1], [-1, -1, -1]]}\n"),
+        ("render.robot maybe", good + "render: {robot: maybe}\n"),
+        ("render.trail -1", good + "render: {trail: -1}\n"),
+        ("solver.method an unknown one", good + "solver: {method: lbfgs}\n"),
+        ("solver.tolerance a string", good + "solver: {tolerance: small}\n"),
+        ("solver.path_tolerance 0", good + "solver: {path_tolerance: 0}\n"),
+        ("solver an empty mapping", good + "solver: {}\n"),
+        ("solver null", good + "solver: null\n"),
+    ]
+    # fmt: on
+
+    def beside(d: Path) -> None:
+        fifo(d / "f.srdf")
+        (d / "sub").mkdir()
+        os.symlink("loop.urdf", d / "loop.urdf")
+        os.symlink("/dev/zero", d / "zero.urdf")
+        sparse(d / "big.urdf", 5 << 20)
+        write(d / "t.ply", "ply\n")
+        write(d / "a.stl", stl(4))
+
+    for label, text in yaml_cases:
+        out.append(
+            Attempt(
+                k,
+                f"validate, {label}",
+                ["validate", "s.yaml"],
+                lambda d, text=text: (write(d / "s.yaml", text), beside(d)) and None,
+                (0, 2),
+                timeout=120,
+                message_if_2=AT_LINE,
+            )
+        )
+    for label, target in (
+        ("a FIFO", "fifo"),
+        ("/dev/zero by a link", "zero"),
+        ("a folder", "sub"),
+        ("a 300 MB sparse file", "big"),
+        ("/proc/self/status by a link", "proc"),
+    ):
+
+        def scene_file(d: Path, target=target) -> None:
+            if target == "fifo":
+                fifo(d / "s.yaml")
+            elif target == "zero":
+                os.symlink("/dev/zero", d / "s.yaml")
+            elif target == "sub":
+                (d / "s.yaml").mkdir()
+            elif target == "big":
+                sparse(d / "s.yaml", 300 << 20)
+            else:
+                os.symlink("/proc/self/status", d / "s.yaml")
+
+        for cmd in (
+            ["validate", "s.yaml"],
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q"],
+        ):
+            out.append(Attempt(k, f"{cmd[0]}, the scene {label}", cmd, scene_file, (2,), timeout=60))
+    # a run folder's own files, edited by hand, read back
+    # fmt: off
+    run_files = [
+        ("trajectory.csv with a row of text", "trajectory.csv", lambda t: t.replace("\n", "\nabc,def\n", 2)),
+        ("trajectory.csv with its header shuffled", "trajectory.csv", lambda t: ",".join(reversed(t.split("\n", 1)[0].split(","))) + "\n" + t.split("\n", 1)[1]),
+        ("trajectory.csv cut mid-row", "trajectory.csv", lambda t: t[: len(t) // 2]),
+        ("trajectory.csv of its header only", "trajectory.csv", lambda t: t.split("\n", 1)[0] + "\n"),
+        ("trajectory.csv with time going back", "trajectory.csv", lambda t: "\n".join(t.split("\n")[:3] + [t.split("\n")[1]] + t.split("\n")[3:])),
+        ("trajectory.csv with an angle of 1e308", "trajectory.csv", lambda t: _set_cell(t, 2, 3, "1e308")),
+        ("trajectory.csv with a goal index of 10^6", "trajectory.csv", lambda t: _set_cell(t, 2, 2, "1000000")),
+        ("trajectory.csv with a frame of -1", "trajectory.csv", lambda t: _set_cell(t, 2, 0, "-1")),
+        ("trajectory.csv in UTF-16", "trajectory.csv", lambda t: t.encode("utf-16")),
+        ("summary.json not JSON", "summary.json", lambda t: "{not json"),
+        ("summary.json a list", "summary.json", lambda t: "[]"),
+        ("summary.json without goals", "summary.json", lambda t: "{}"),
+        ("scene.yaml an alias bomb", "scene.yaml", lambda t: ("a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(f"{chr(98 + i)}: &{chr(98 + i)} [*{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}]\n" for i in range(9)))),
+        ("scene.yaml of another arm (4 links)", "scene.yaml", lambda t: t.replace("links: [1, 1, 1]", "links: [1, 1, 1, 1]")),
+        ("scene.yaml missing", "scene.yaml", None),
+        ("trajectory.csv missing", "trajectory.csv", None),
+    ]
+    # fmt: on
+    for label, name, change in run_files:
+
+        def edited(d: Path, name=name, change=change) -> None:
+            folder = finished_run(d)
+            path = folder / name
+            if change is None:
+                if path.exists():
+                    path.unlink()
+                return
+            new = change(path.read_text()) if path.exists() else change("")
+            write(path, new)
+
+        for cmd in (
+            ["render", "o/tiny", "-q", "--size", "64x48"],
+            ["view", "o/tiny", "--out", "v.html"],
+            ["export", "o/tiny", "--out", "e.json"],
+        ):
+            out.append(
+                Attempt(
+                    k,
+                    f"{cmd[0]} of a run whose {label}",
+                    cmd,
+                    edited,
+                    (0, 2),
+                    timeout=200,
+                    message_if_2=r"(trajectory\.csv|summary\.json|scene\.yaml|\.armanim-run\.json|o/tiny)",
+                )
+            )
+    # fmt: off
+    cli = [
+        ["fk", "--angles", ""],
+        ["fk", "--angles", "1,,2,3"],
+        ["fk", "--angles", "1;2;3;4"],
+        ["fk", "--angles", "0x10,0,0,0"],
+        ["fk", "--links", "1,1", "--angles", "0,0,0,0"],
+        ["fk", "--axes", "q,y,y,y", "--angles", "0,0,0,0"],
+        ["fk", "--axes", "z,y", "--angles", "0,0,0,0"],
+        ["fk", "--direction", "w", "--angles", "0,0,0,0"],
+        ["fk", "--base", "1,2", "--angles", "0,0,0,0"],
+        ["fk", "--robot", "panda", "--links", "1,1,1", "--angles", "0,0,0"],
+        ["fk", "--robot", "", "--angles", "0"],
+        ["ik", "--goal", "1,2"],
+        ["ik", "--goal", "a,b,c"],
+        ["ik", "--orientation", "rpy=1,2", "--goal", "1,1,1"],
+        ["ik", "--orientation", "quat=0,0,0,0", "--goal", "1,1,1"],
+        ["ik", "--orientation", "euler=1,2,3", "--goal", "1,1,1"],
+        ["ik", "--from", "0,0", "--goal", "1,1,1"],
+        ["ik", "--method", "lbfgs", "--goal", "1,1,1"],
+        ["ik", "--max-iterations", "0", "--goal", "1,1,1"],
+        ["render", "o/tiny", "--format", "webm"],
+        ["render", "o/tiny", "--quality", "ultra"],
+        ["run", "s.yaml", "--size", "x"],
+        ["run", "s.yaml", "--jobs", "two"],
+        ["run", "s.yaml", "--scheduler", "tcp://[::1"],
+        ["sweep", "s.yaml", "--set", "solver.step"],
+        ["sweep", "s.yaml", "--set", "nosuch.field=1,2"],
+        ["sweep", "s.yaml", "--set", "goals[0]=[1,1]"],
+        ["compare", "s.yaml", "s.yaml"],
+        ["check", "s.yaml", "--golden", "s.yaml"],
+        ["robots", "--fit", "s.yaml"],
+        ["import", "moveit", "s.yaml", "--robot", "panda", "--out", "m.yaml"],
+        ["view", "s.yaml"],
+    ]
+    # fmt: on
+    for args in cli:
+        setup = (lambda d: finished_run(d) and None) if args[0] == "render" else tiny_scene()
+        out.append(Attempt(k, " ".join(args)[:100], args, setup, (2,), timeout=120))
+    # fmt: off
+    moveit_cases = [
+        ("a count of -1 shapes", "w\n* b\n-1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"),
+        ("a shape 'mesh' with 10^9 vertices", "w\n* b\n1\nmesh\n1000000000 1\n.\n"),
+        ("a cylinder of one number", "w\n* b\n1\ncylinder\n0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"),
+        ("a box of four sizes", "w\n* b\n1\nbox\n0.1 0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"),
+        ("no terminating '.'", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n"),
+        ("an object name with a newline only", "w\n* \n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"),
+        ("a position of words", "w\n* b\n1\nbox\n0.1 0.1 0.1\na b c\n0 0 0 1\n0 0 0 0\n.\n"),
+        ("a colour of 1e400", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n1e400 0 0 0\n.\n"),
+    ]
+    # fmt: on
+    for label, text in moveit_cases:
+        out.append(
+            Attempt(
+                k,
+                f"import moveit, a scene with {label}",
+                ["import", "moveit", "w.scene", "--robot", "panda", "--out", "m.yaml"],
+                lambda d, text=text: write(d / "w.scene", text) and None,
+                (0, 2),
+                timeout=120,
+                message_if_2=r"w\.scene:(\d+:)? ",
+            )
+        )
+    return out
+
+
+def _json_of(d: Path, *args: str) -> dict:
+    """armanim's JSON answer to ``args`` (run in ``d``), or {"failed": what it said} (not "error":
+    ik's answer has an ``error``, its distance to the goal)."""
+    import json as _json
+
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", *args],
+        cwd=d,
+        env=dict(os.environ, PYTHONPATH=str(SRC)),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    try:
+        return _json.loads(done.stdout)
+    except ValueError:
+        return {"failed": f"exit {done.returncode}: {(done.stdout + done.stderr)[-200:]}"}
+
+
+def fk_breaks(links: list[float], angles: list[float]) -> Callable[[Path], list[str]]:
+    """fk's joints and tip against the campaign's own forward kinematics (:func:`_segments`)."""
+
+    def check(d: Path) -> list[str]:
+        import numpy as np
+
+        said = _json_of(d, "fk", "--links", ",".join(map(str, links)), "--angles", ",".join(map(str, angles)), "--json")
+        if "failed" in said:
+            return [said["failed"]]
+        mine = _segments([angles], links)[0]
+        off = float(np.abs(np.asarray(said["joints"]) - mine).max())
+        return [f"fk's joints differ from the oracle's by {off:.3g}"] if off > 1e-9 else []
+
+    return check
+
+
+def ik_breaks(links: list[float], goal: list[float], method: str) -> Callable[[Path], list[str]]:
+    """ik's answer held to the oracle: the tip it reports is where its angles put the tip, its error
+    is that tip's distance to the goal, and a converged answer is within the tolerance (0.001)."""
+
+    def check(d: Path) -> list[str]:
+        import numpy as np
+
+        said = _json_of(
+            d,
+            "ik",
+            "--links",
+            ",".join(map(str, links)),
+            "--goal",
+            ",".join(map(str, goal)),
+            "--method",
+            method,
+            "--json",
+        )
+        if "failed" in said:
+            return [said["failed"]]
+        tip = _segments([said["angles_deg"]], links)[0][-1]
+        problems = []
+        if np.abs(tip - np.asarray(said["tip"])).max() > 1e-9:
+            problems.append(f"ik's tip {said['tip']} is not where its angles put it {tip.tolist()}")
+        if abs(np.linalg.norm(tip - np.asarray(goal)) - said["error"]) > 1e-9:
+            problems.append(f"ik's error {said['error']:.6g}, the oracle's {np.linalg.norm(tip - goal):.6g}")
+        if said["converged"] and np.linalg.norm(tip - np.asarray(goal)) > 0.001 + 1e-12:
+            problems.append(f"ik says converged {np.linalg.norm(tip - goal):.6g} from the goal")
+        return problems
+
+    return check
+
+
+def wrong11_attempts() -> list[Attempt]:
+    """Random arms among spheres with arcs and polylines beside campaign 10's goals (new seeds),
+    and fk and ik answers of random arms, each held to the campaign's own oracle."""
+    import numpy as np
+
+    k = "wrong11"
+    out = random_arm_runs(k, range(200, 236), " with arcs and polylines", WRONG11_KINDS)
+    rng = np.random.default_rng(11)
+    for i in range(14):
+        links = [round(float(x), 3) for x in rng.uniform(0.2, 2.0, int(rng.integers(2, 7)))]
+        angles = [round(float(x), 4) for x in rng.uniform(-720, 720, len(links))]
+        args = ["fk", "--links", ",".join(map(str, links)), "--angles", ",".join(map(str, angles)), "--json"]
+        out.append(
+            Attempt(
+                k,
+                f"fk of a random {len(links)}-link arm ({i}), held to the oracle",
+                args,
+                lambda d: None,
+                (0,),
+                timeout=120,
+                after=fk_breaks(links, angles),
+            )
+        )
+    for i in range(14):
+        links = [round(float(x), 3) for x in rng.uniform(0.3, 1.5, int(rng.integers(3, 6)))]
+        reach = sum(links[1:])
+        direction = rng.normal(size=3)
+        goal = [
+            round(float(x), 4)
+            for x in direction / np.linalg.norm(direction) * rng.uniform(0.2, 1.1) * reach + [0, 0, links[0]]
+        ]
+        method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
+        args = [
+            "ik",
+            "--links",
+            ",".join(map(str, links)),
+            "--goal",
+            ",".join(map(str, goal)),
+            "--method",
+            method,
+            "--json",
+        ]
+        out.append(
+            Attempt(
+                k,
+                f"ik of a random {len(links)}-link arm by {method} ({i}), held to the oracle",
+                args,
+                lambda d: None,
+                (0, 1),
+                timeout=200,
+                after=ik_breaks(links, goal, method),
+            )
+        )
+    return out
+
+
+def _set_cell(text: str, row: int, column: int, value: str) -> str:
+    """``text`` (a CSV) with one cell replaced."""
+    lines = text.split("\n")
+    cells = lines[row].split(",")
+    cells[column] = value
+    lines[row] = ",".join(cells)
+    return "\n".join(lines)
 
 
 def _swap_two_rows(path: Path) -> None:
@@ -3776,6 +4787,12 @@ CLASSES = {
     "loss10": loss10_attempts,
     "inputs10": inputs10_attempts,
     "wrong10": wrong10_attempts,
+    "mesh11": mesh11_attempts,
+    "frames11": frames11_attempts,
+    "signals11": signals11_attempts,
+    "loss11": loss11_attempts,
+    "inputs11": inputs11_attempts,
+    "wrong11": wrong11_attempts,
 }
 
 

@@ -253,6 +253,30 @@ def test_bad_urdf_arm_in_a_scene(tmp_path, arm, expected):
     assert expected in info.value.report()
 
 
+@pytest.mark.parametrize("kind", ["missing", "a folder", "a FIFO", "too large"])
+def test_a_urdf_file_that_cannot_be_read_is_reported_at_the_scene_s_field(tmp_path, kind):
+    """Campaign 11: ``arm.urdf`` naming a folder, a FIFO or a missing file said only ``sub: is a
+    folder, not a regular file (...)``: neither the scene, nor its line, nor the field, where an
+    SRDF that cannot be read is reported at ``self_collision.srdf``. Now the same, at ``arm``."""
+    import os
+
+    from armanim.scene.urdf import MAX_URDF_BYTES
+
+    urdf = tmp_path / "r.urdf"
+    if kind == "a folder":
+        urdf.mkdir()
+    elif kind == "a FIFO":
+        os.mkfifo(urdf)
+    elif kind == "too large":
+        with open(urdf, "wb") as handle:
+            handle.truncate(MAX_URDF_BYTES + 1)
+    with pytest.raises(SceneError) as info:
+        load_scene(_write(tmp_path, "  urdf: r.urdf"))
+    report = info.value.report()
+    assert report.startswith(f"{tmp_path / 's.yaml'}:2: arm: urdf: {urdf}: "), report
+    assert "expected a URDF robot description" in report or "may be at most" in report
+
+
 def test_the_yaml_is_validated_without_reading_a_file_and_the_loader_reads_it_after(tmp_path):
     from armanim.scene import scene_model
     from armanim.scene.models import SceneModel
@@ -261,7 +285,7 @@ def test_the_yaml_is_validated_without_reading_a_file_and_the_loader_reads_it_af
     model = SceneModel.model_validate(data)  # no file is read by validation
     with pytest.raises(RuntimeError, match="file was not read"):
         _ = model.arm.joint_count
-    with pytest.raises(SceneError, match="missing.urdf: no such file"):
+    with pytest.raises(ValueError, match="urdf: .*missing.urdf: no such file"):  # the scene's field, as an SRDF's
         scene_model(data, tmp_path)
     assert scene_model(data | {"arm": {"robot": "panda"}}).arm.joint_count == 7
 

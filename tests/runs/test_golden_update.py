@@ -49,10 +49,23 @@ def test_a_failure_on_the_second_golden_file_leaves_the_pair_as_it_was(cli, tmp_
 
 
 def test_update_with_a_golden_csv_that_is_not_utf8_replaces_it(cli, tmp_path):
-    (tmp_path / "notes-arm.csv").write_bytes(b"frame,\xff\xfe\n")
+    (tmp_path / "notes-arm.csv").write_bytes(b"frame,time_s,goal,\xff\xfe\n")  # armanim's, then broken
     result = cli("check", NOTES, "--golden", tmp_path, "--update")
     assert result.exit_code == 0 and "changed" in result.stdout, result.output
     assert (tmp_path / "notes-arm.csv").read_bytes().startswith(b"frame,time_s,")
+
+
+@pytest.mark.parametrize("theirs", [b"time_s\n0\n", b"", b"frame\n0\n", b"\xff" * 100])
+def test_a_golden_csv_that_is_no_trajectory_is_never_replaced(cli, tmp_path, theirs):
+    """Campaign 11: ``check --update`` replaced a user's own CSV at the golden's name (``time_s``
+    and one row) with exit 0. A file there that does not begin as armanim's trajectory CSV is
+    exit 3, the pair left as it was (no .json written either), before the scene is solved."""
+    golden = tmp_path / "golden"
+    golden.mkdir()
+    (golden / "notes-arm.csv").write_bytes(theirs)
+    result = cli("check", NOTES, "--golden", golden, "--update", "-q")
+    assert result.exit_code == 3 and "is not a trajectory CSV armanim wrote" in result.stderr, result.output
+    assert _pair(golden) == {"notes-arm.csv": theirs}
 
 
 def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):

@@ -385,6 +385,31 @@ def test_a_pose_constraint_becomes_a_pose_goal_that_validates(tmp_path):
     assert [o.kind for o in scene.model.obstacles] == ["box", "sphere"]
 
 
+@pytest.mark.parametrize(
+    ("scene", "request_", "expected"),
+    [
+        (POSE_REQUEST, None, "r.yaml:1: start_state: is not a field of a MoveIt planning scene"),
+        ("version: 1\nname: s\narm: {links: [1, 1]}\ngoals: [[1, 0, 1]]\n", None, "looks like an armanim scene"),
+        (BOXES_SCENE + "goals: [[1, 0, 1]]\n", None, "r.yaml:13: goals: is not a field of a MoveIt planning scene"),
+        (BOXES_SCENE, BOXES_SCENE, "q.yaml:1: world: is not a field of a MoveIt motion plan request"),
+    ],
+)
+def test_a_file_of_another_kind_is_refused_at_its_first_foreign_key(tmp_path, scene, request_, expected):
+    """Campaign 11: a motion plan request, or an armanim scene, given as the planning scene was read as an
+    empty world (its keys ignored), exit 0; a planning scene given as the request, as no goal. A planning
+    scene's top-level keys are PlanningScene's (or PlanningSceneWorld's) fields; a request has at least one
+    of MotionPlanRequest's."""
+    with pytest.raises(SceneError) as info:
+        import_moveit(
+            _write(tmp_path, "r.yaml", scene),
+            _write(tmp_path, "q.yaml", request_) if request_ else None,
+            RobotSource(urdf=_toy(tmp_path)),
+            tmp_path / "out.yaml",
+        )
+    assert expected in info.value.report(), info.value.report()
+    assert not (tmp_path / "out.yaml").exists()
+
+
 def _loaded_without_names(imported, out: Path):
     """The imported scene through the loader, its obstacles' ``name`` left out: the one form here that another
     part of issue 49 adds (boxes, spheres, a pose goal, the tool, the SRDF are on this branch already)."""

@@ -13,7 +13,7 @@ import stat
 from pathlib import Path
 from typing import BinaryIO
 
-from armanim.errors import Diagnostic, SceneError
+from armanim.errors import Diagnostic, SceneError, message_lines
 
 _KINDS = (
     (stat.S_ISDIR, "a folder"),
@@ -105,3 +105,18 @@ def read_bounded(path: str | Path, limit: int, what: str) -> bytes:
     if len(data) > limit:
         raise _error(Path(path), f"is more than {limit:,} bytes ({what} may be at most {limit:,} bytes)")
     return data
+
+
+def read_named_file(field: str, path: str | Path, limit: int, what: str) -> bytes:
+    """:func:`read_bounded` of a file a scene's ``field`` names: a file that cannot be read (missing,
+    a folder, a FIFO, too large) is the scene's problem, reported at that field and its line.
+
+    Raises
+    ------
+    ValueError
+        ``FIELD: FILE: what is wrong``, for the scene's loader to place at the field's line.
+    """
+    try:
+        return read_bounded(path, limit, what)
+    except SceneError as exc:
+        raise ValueError(f"{field}: {message_lines(exc.report())}") from None

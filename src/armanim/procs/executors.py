@@ -23,7 +23,7 @@ from urllib.parse import urlsplit
 from armanim.errors import UsageError
 from armanim.procs.deferred import interrupts_deferred
 from armanim.procs.interrupted import signal_came
-from armanim.procs.workers import init_worker, signals_blocked, temp_prefix
+from armanim.procs.workers import init_worker, resource_tracker_started, signals_blocked, temp_prefix
 
 CONNECT_SECONDS = 10.0
 """How long a Dask scheduler may take to answer, from the connection to the handshake."""
@@ -110,9 +110,11 @@ class _LocalExecutor:
             # raised only once every started worker is in the pool's list: no traceback from a
             # preload or an initializer, and no worker left running, whatever moment it comes
             with _one_blas_thread(), signals_blocked():
+                context = _worker_context(self.preload)
+                resource_tracker_started(context)  # before the forkserver, which would unblock the signals
                 pool = ProcessPoolExecutor(
                     max_workers=min(self.jobs, len(tasks)),
-                    mp_context=_worker_context(self.preload),
+                    mp_context=context,
                     initializer=init_worker,
                     initargs=(os.getpid(),),
                 )

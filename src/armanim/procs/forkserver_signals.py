@@ -2,9 +2,11 @@
 SIGTERM there, so that every worker the forkserver forks starts with them blocked until
 :func:`armanim.procs.workers.init_worker` has put its handlers in place.
 
-The forkserver does not inherit the mask of the thread that starts it (Python starts it
-through fork and exec, which resets the mask), so without this a worker runs its first
-milliseconds with Python's default handlers: a Ctrl-C to the group then raised
+The forkserver inherits the mask of the thread that starts it, but CPython's resource
+tracker, started just before it, unblocks both signals in that thread (see
+:func:`armanim.procs.workers.resource_tracker_started`, which now keeps them blocked); this
+block is the second line of defence: without either, a worker runs its first milliseconds
+with Python's default handlers: a Ctrl-C to the group then raised
 KeyboardInterrupt in it (a traceback on the terminal), and the parent's SIGTERM killed it
 outright, once between the two halves of Python's temporary-folder probe (the signal sweep's
 "litter: $TMPDIR/9kcrha9s" at a batch's "workers" moment). The forkserver itself needs

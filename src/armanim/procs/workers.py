@@ -152,6 +152,30 @@ def signals_blocked() -> Iterator[None]:
             signal.pthread_sigmask(signal.SIG_SETMASK, old)  # then the held signals are delivered
 
 
+def resource_tracker_started(context) -> None:
+    """Start multiprocessing's resource tracker for ``context`` now, if its start method uses one,
+    and leave this thread's signal mask as it was.
+
+    CPython's ``resource_tracker.ensure_running`` (3.11 to 3.13) blocks SIGINT and SIGTERM around
+    the tracker's start and then *unblocks* both, whatever the mask was before. A forkserver's
+    start calls it first, so inside :func:`signals_blocked` the forkserver was then started with
+    both signals unblocked: a Ctrl-C in its first ~50 ms (its interpreter importing
+    ``multiprocessing.forkserver``, before its preload blocks them and before it ignores Ctrl-C)
+    printed its KeyboardInterrupt traceback (campaign 10). Started here first, the tracker is
+    running when the forkserver starts, and the forkserver inherits the blocked mask from its
+    first instruction. No disposition is changed anywhere: nothing this starts ignores a signal.
+    """
+    if context.get_start_method() == "fork":
+        return  # no tracker: the workers are plain forks of this thread, its mask included
+    from multiprocessing import resource_tracker
+
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, ())
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+
+
 def temp_prefix() -> str:
     """The prefix of a worker's temporary folder: ``armanim-<PID of the armanim process>-``.
 

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from armanim import __version__
-from armanim.errors import SceneError
+from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
-from armanim.output.csvfile import parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
+from armanim.output.csvfile import BASE_COLUMNS, parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.output.files import open_regular, read_bounded
 from armanim.output.jsontext import json_text, parse_json
 from armanim.output.rundir import directory_lock
@@ -111,6 +111,7 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
     csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
     for path in (csv_path, meta_path):  # a folder or device at either: exit 3 before the solve
         write_target(path)
+    refuse_foreign_golden(csv_path)
     data = solve_csv_text(scene).encode("utf-8")
     meta = {"armanim_version": __version__, "scene_file": scene.path.name, "scene_sha256": scene.sha256}
     files = {meta_path: (json_text(meta, indent=2) + "\n").encode("utf-8")}
@@ -120,6 +121,31 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
             files = {csv_path: data, **files}
         write_all_or_none(files)
     return GoldenResult(scene, csv_path, status, f"{status}: {csv_path}")
+
+
+def refuse_foreign_golden(csv_path: Path) -> None:
+    """An OutputError (exit 3) if the file at ``csv_path`` is not a trajectory CSV: its first line
+    does not begin as every trajectory.csv armanim writes (``frame,time_s,goal,``). Absent is fine.
+
+    Campaign 11: ``check --update`` replaced a user's own ``g/tiny.csv`` (``time_s`` and one row)
+    with exit 0. A golden CSV armanim wrote, edited or not UTF-8 since, is still replaced.
+
+    Raises
+    ------
+    OutputError
+        The file is someone else's; it is left as it was.
+    """
+    begins = ",".join(BASE_COLUMNS[:3]).encode() + b","
+    try:
+        with open_regular(csv_path, "a golden .csv file") as handle:
+            first = handle.read(len(begins))
+    except SceneError:
+        return  # absent (a folder or device there was refused already)
+    if first != begins:
+        raise OutputError(
+            f"{csv_path}: is not a trajectory CSV armanim wrote (its first line does not begin "
+            f"{begins.decode()!r}), so --update does not replace it (move it away, or choose another --golden folder)"
+        )
 
 
 def golden_status(csv_path: Path, data: bytes) -> str:

@@ -301,6 +301,48 @@ def read_yaml_file(path: str | Path, what: str) -> YamlReader:
 # ---------------------------------------------------------------- planning scene, YAML
 
 
+PLANNING_SCENE_FIELDS = (
+    *("name", "robot_state", "robot_model_name", "fixed_frame_transforms", "allowed_collision_matrix"),
+    *("link_padding", "link_scale", "object_colors", "world", "is_diff", "collision_objects", "octomap"),
+)
+"""The fields of ``moveit_msgs/PlanningScene`` (and of a ``PlanningSceneWorld``, read the same way)."""
+REQUEST_FIELDS = (
+    *("workspace_parameters", "start_state", "goal_constraints", "path_constraints", "trajectory_constraints"),
+    *("reference_trajectories", "pipeline_id", "planner_id", "group_name", "num_planning_attempts"),
+    *("allowed_planning_time", "max_velocity_scaling_factor", "max_acceleration_scaling_factor"),
+    *("cartesian_speed_end_effector_link", "max_cartesian_speed", "cartesian_speed_limited_link"),
+)
+"""The fields of ``moveit_msgs/MotionPlanRequest`` (ROS 1 and 2)."""
+
+
+def _of_its_kind(reader: YamlReader, data: dict, fields: tuple[str, ...], what: str, every: bool) -> None:
+    """A SceneError at the first top-level key that is not one of ``fields``: at any such key
+    (``every``), else only when no key is one (a message of another ROS version may add fields).
+
+    Campaign 11: a motion plan request or an armanim scene given as the planning scene was read as
+    an empty world, exit 0 (the keys it did not know were ignored).
+    """
+    foreign = [key for key in data if key not in fields]
+    if not foreign or (not every and len(foreign) < len(data)):
+        return
+    looks = next(
+        (
+            hint
+            for known, hint in (
+                (REQUEST_FIELDS, "it looks like a motion plan request: give it with --request"),
+                (PLANNING_SCENE_FIELDS, "it looks like a planning scene: give it as SCENE"),
+                (("version", "arm", "goals"), "it looks like an armanim scene, which needs no import"),
+            )
+            if known is not fields and set(map(str, foreign)) & set(known)
+        ),
+        "",
+    )
+    raise reader.error(
+        join_path("", str(foreign[0])),
+        f"is not a field of {what} (expected one of: {', '.join(fields)})" + (f"; {looks}" if looks else ""),
+    )
+
+
 def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
     """A planning scene file: MoveIt's ``.scene`` text if its name ends in ``.scene``, else a
     ``moveit_msgs/PlanningScene`` in YAML (or a ``PlanningSceneWorld``: ``collision_objects`` at the top).
@@ -315,6 +357,7 @@ def read_planning_scene(path: str | Path, frames: Frames) -> PlanningWorld:
         return read_scene_text(path, frames)
     reader = read_yaml_file(path, "a MoveIt planning scene (moveit_msgs/PlanningScene as YAML)")
     data = cast(dict, reader.doc.data)  # read_yaml_file checked it is a mapping
+    _of_its_kind(reader, data, PLANNING_SCENE_FIELDS, "a MoveIt planning scene", every=True)
     frames = frames.with_fixed(_fixed_frames(reader, data.get("fixed_frame_transforms")))
     top = "world" if "world" in data or "collision_objects" not in data else ""  # a PlanningSceneWorld has no world:
     world = reader.mapping(data.get("world"), "world") if top else data
@@ -646,6 +689,7 @@ def read_motion_request(path: str | Path, frames: Frames) -> MotionRequest:
     """
     reader = read_yaml_file(path, "a MoveIt motion plan request (moveit_msgs/MotionPlanRequest as YAML)")
     data = cast(dict, reader.doc.data)  # read_yaml_file checked it is a mapping
+    _of_its_kind(reader, data, REQUEST_FIELDS, "a MoveIt motion plan request", every=False)
     start_value = reader.mapping(data.get("start_state"), "start_state")
     _no_attached_objects(reader, start_value, "start_state")
     _base_not_moved(reader, start_value, "start_state")

@@ -452,7 +452,7 @@ def resolve_robot(arm: ArmModel, scene_dir: str | Path = ".", urdf_file: str | P
         assert arm.urdf is not None, "a URDF arm that is not bundled names its file (ArmModel)"
         path = Path(urdf_file) if urdf_file else Path(scene_dir or ".") / arm.urdf
         shown = str(path)
-    robot = read_urdf(path, shown)
+    robot = read_urdf(path, shown, field="urdf" if bundled is None else None)
     base = _link(robot, arm.base_link or (bundled.base_link if bundled else robot.root), "base_link")
     tip = _link(robot, arm.tip_link or (bundled.tip_link if bundled else _only_leaf(robot)), "tip_link")
     joints = chain_joints(robot, base, tip)

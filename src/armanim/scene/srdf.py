@@ -12,8 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from armanim.errors import Diagnostic, SceneError, message_lines
-from armanim.output.files import read_bounded
+from armanim.errors import Diagnostic, SceneError
+from armanim.output.files import read_named_file
 from armanim.scene.urdf import MAX_URDF_BYTES, _parse_xml
 
 
@@ -87,8 +87,5 @@ def resolve_self_collision(
     if spec.srdf is None:
         return Srdf()
     path = Path(srdf_file) if srdf_file else Path(scene_dir or ".") / spec.srdf
-    try:
-        raw = read_bounded(path, MAX_URDF_BYTES, "an SRDF file")
-    except SceneError as exc:  # a file that cannot be read is the scene's problem, at its field
-        raise ValueError(f"self_collision.srdf: {message_lines(exc.report())}") from None
+    raw = read_named_file("self_collision.srdf", path, MAX_URDF_BYTES, "an SRDF file")
     return Srdf(parse_srdf(raw, str(path), links), raw)

@@ -25,7 +25,7 @@ import numpy as np
 
 from armanim.arm.chain import ChainJoint, transform
 from armanim.errors import Diagnostic, SceneError, shown
-from armanim.output.files import read_bounded
+from armanim.output.files import read_bounded, read_named_file
 from armanim.scene.fields import LIMITS
 
 MAX_URDF_BYTES = 4 * 1024 * 1024
@@ -139,11 +139,19 @@ class Robot:
         return SceneError(self.file, [Diagnostic("", message, line)])
 
 
-def read_urdf(path: Path, shown: str | None = None) -> Robot:
-    """Read and check a URDF file (``shown`` names it in messages; default: the path)."""
-    file = shown or str(path)
-    raw = read_bounded(path, MAX_URDF_BYTES, "a URDF robot description")
-    return _parsed(raw, file)
+def read_urdf(path: Path, shown: str | None = None, field: str | None = None) -> Robot:
+    """Read and check a URDF file (``shown`` names it in messages; default: the path). Named by a
+    scene's ``field``, a file that cannot be read is reported at that field (a ValueError, as an
+    SRDF's: campaign 11, a scene's ``arm.urdf`` of a folder, a FIFO or a missing file said only
+    ``sub: is a folder ...``, without the scene's line); its contents' problems are the URDF's own
+    ``FILE:LINE``."""
+    what = "a URDF robot description"
+    raw = (
+        read_bounded(path, MAX_URDF_BYTES, what)
+        if field is None
+        else read_named_file(field, path, MAX_URDF_BYTES, what)
+    )
+    return _parsed(raw, shown or str(path))
 
 
 @functools.lru_cache(maxsize=8)

@@ -27,7 +27,7 @@ import numpy as np
 
 from armanim.errors import OutputError, RenderError
 from armanim.output.solved import SolvedRun
-from armanim.procs.workers import init_worker, signals_blocked
+from armanim.procs.workers import init_worker, resource_tracker_started, signals_blocked
 from armanim.render.settings import RenderSettings
 from armanim.render.video.segment import draw_segment, frame_drawer
 
@@ -108,6 +108,7 @@ def render_parallel(
     started = []
     try:
         with signals_blocked():
+            resource_tracker_started(ctx)  # a forkserver or spawn context (Python 3.14's default) starts one
             for w in workers:
                 w.start()
                 started.append(w)
