@@ -7,6 +7,7 @@ Each test is named in docs/reliability.md, which it keeps true.
 from __future__ import annotations
 
 import errno
+import json
 import tracemalloc
 from pathlib import Path
 
@@ -64,8 +65,24 @@ def test_a_golden_csv_that_is_no_trajectory_is_never_replaced(cli, tmp_path, the
     golden.mkdir()
     (golden / "notes-arm.csv").write_bytes(theirs)
     result = cli("check", NOTES, "--golden", golden, "--update", "-q")
-    assert result.exit_code == 3 and "is not a trajectory CSV armanim wrote" in result.stderr, result.output
+    assert result.exit_code == 3 and "is not a golden .csv file armanim wrote" in result.stderr, result.output
     assert _pair(golden) == {"notes-arm.csv": theirs}
+
+
+@pytest.mark.parametrize("theirs", [b'{"mine": 1}\n', b"", b"[1, 2]\n", b"\xff" * 100])
+def test_a_golden_json_that_is_not_armanims_is_never_replaced(cli, tmp_path, theirs):
+    """A JSON of the user's at the golden metadata's name is exit 3, the pair left as it was (no
+    CSV written either), as a CSV of theirs is; the metadata armanim wrote is replaced (the test
+    above this one's neighbours)."""
+    golden = tmp_path / "golden"
+    golden.mkdir()
+    (golden / "notes-arm.json").write_bytes(theirs)
+    result = cli("check", NOTES, "--golden", golden, "--update", "-q")
+    assert result.exit_code == 3 and "is not a golden .json file armanim wrote" in result.stderr, result.output
+    assert _pair(golden) == {"notes-arm.json": theirs}
+    (golden / "notes-arm.json").write_bytes(b'{\n  "armanim_version": "0.0.1",\n  "scene_sha256": "x"\n}\n')
+    assert cli("check", NOTES, "--golden", golden, "--update", "-q").exit_code == 0
+    assert json.loads((golden / "notes-arm.json").read_text())["scene_file"] == "notes-arm.yaml"
 
 
 def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):

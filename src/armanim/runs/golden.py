@@ -111,7 +111,7 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
     csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
     for path in (csv_path, meta_path):  # a folder or device at either: exit 3 before the solve
         write_target(path)
-    refuse_foreign_golden(csv_path)
+    refuse_foreign_golden(csv_path, meta_path)
     data = solve_csv_text(scene).encode("utf-8")
     meta = {"armanim_version": __version__, "scene_file": scene.path.name, "scene_sha256": scene.sha256}
     files = {meta_path: (json_text(meta, indent=2) + "\n").encode("utf-8")}
@@ -123,29 +123,39 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
     return GoldenResult(scene, csv_path, status, f"{status}: {csv_path}")
 
 
-def refuse_foreign_golden(csv_path: Path) -> None:
-    """An OutputError (exit 3) if the file at ``csv_path`` is not a trajectory CSV: its first line
-    does not begin as every trajectory.csv armanim writes (``frame,time_s,goal,``). Absent is fine.
+GOLDEN_BEGINNINGS = {
+    ".csv": ",".join(BASE_COLUMNS[:3]).encode() + b",",
+    ".json": b'{\n  "armanim_version": ',
+}
+"""How every golden file armanim writes begins, by its suffix: a trajectory CSV's first columns,
+and the metadata's first key (:func:`update_golden` writes it first, indented by two)."""
+
+
+def refuse_foreign_golden(*paths: Path) -> None:
+    """An OutputError (exit 3) if a file at any of ``paths`` (a golden pair) does not begin as
+    every such file armanim writes (:data:`GOLDEN_BEGINNINGS`). Absent is fine.
 
     Campaign 11: ``check --update`` replaced a user's own ``g/tiny.csv`` (``time_s`` and one row)
-    with exit 0. A golden CSV armanim wrote, edited or not UTF-8 since, is still replaced.
+    with exit 0, and would have a ``g/tiny.json`` of theirs. A golden file armanim wrote, edited
+    or not UTF-8 since, is still replaced.
 
     Raises
     ------
     OutputError
-        The file is someone else's; it is left as it was.
+        A file is someone else's; the pair is left as it was.
     """
-    begins = ",".join(BASE_COLUMNS[:3]).encode() + b","
-    try:
-        with open_regular(csv_path, "a golden .csv file") as handle:
-            first = handle.read(len(begins))
-    except SceneError:
-        return  # absent (a folder or device there was refused already)
-    if first != begins:
-        raise OutputError(
-            f"{csv_path}: is not a trajectory CSV armanim wrote (its first line does not begin "
-            f"{begins.decode()!r}), so --update does not replace it (move it away, or choose another --golden folder)"
-        )
+    for path in paths:
+        begins = GOLDEN_BEGINNINGS[path.suffix]
+        try:
+            with open_regular(path, f"a golden {path.suffix} file") as handle:
+                first = handle.read(len(begins))
+        except SceneError:
+            continue  # absent (a folder or device there was refused already)
+        if first != begins:
+            raise OutputError(
+                f"{path}: is not a golden {path.suffix} file armanim wrote (it does not begin "
+                f"{begins.decode()!r}), so --update does not replace it (move it away, or choose another --golden folder)"
+            )
 
 
 def golden_status(csv_path: Path, data: bytes) -> str:
