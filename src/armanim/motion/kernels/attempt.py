@@ -174,6 +174,7 @@ def attempt_loop(
     in_rows = np.empty(pairs, dtype=np.bool_)
     # the filter QP's work space (:func:`~armanim.motion.kernels.qp.filtered_with_pairs`)
     qp_work = (cmat, cb, twists, in_rows)
+    limits = (lower, upper)
     while progress >= tol and steps < ints[STEPS_CAP]:
         pairs_push = False
         if pairs:  # a pair within its push's influence (R): its push joins the limits' (exact gaps, where a bound cannot show none)
@@ -220,8 +221,7 @@ def attempt_loop(
             tool[now],
             goal,
             residual,
-            lower,
-            upper,
+            limits,
             pair_push,
             pairs_push,
             dphi,
