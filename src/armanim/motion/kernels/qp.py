@@ -19,11 +19,11 @@ from armanim.motion.kernels.linalg import cholesky
 from armanim.world.compiled import link_twists, pair_rate, pair_row
 
 QP_ITERATIONS = 100
-"""Most iterations of :func:`_closest_step` (each adds or drops one constraint; a 7-joint step
+"""Most iterations of :func:`closest_step` (each adds or drops one constraint; a 7-joint step
 takes a few)."""
 
 QP_FEASIBLE = 1e-13
-"""A constraint of the filter's QP counts as met by :func:`_closest_step`'s answer when it is broken
+"""A constraint of the filter's QP counts as met by :func:`closest_step`'s answer when it is broken
 by no more than this (rounding; the filter's own test allows ``VIOLATION``)."""
 
 
@@ -74,10 +74,11 @@ def closest_step(
     negative, one of each sign a joint (:func:`bound_rows`). The method then starts from the clip
     of ``nominal`` with the bounds it breaks active (their multipliers the clip's distances, >= 0:
     the least point of those equalities, so a start the method allows), where it would have added
-    them one by one: the same answer (the QP's only one) in fewer iterations."""
+    them one by one: the same answer (the QP's only one) in fewer iterations.
+
+    The stages are inlined (:func:`clip_start`, :func:`most_broken`, :func:`meet_constraint`,
+    :func:`projected_answer`): a call in the iteration would count the references of its arrays."""
     n = nominal.shape[0]
-    for j in range(n):
-        x[j] = nominal[j]
     active = np.empty(n, dtype=np.int64)
     u = np.empty(n)
     in_set = np.zeros(count, dtype=np.bool_)
@@ -85,6 +86,34 @@ def closest_step(
     z = np.empty(n)
     rhs = np.empty(n)
     gram = np.empty((n, n))
+    w = clip_start(nominal, cmat, cb, bounds, x, active, u, in_set)
+    for _ in range(QP_ITERATIONS):
+        p = most_broken(cmat, cb, count, in_set, x)
+        if p < 0:
+            return projected_answer(nominal, cmat, cb, count, x, active, u, w, rhs, gram)
+        w = meet_constraint(cmat, cb, p, x, active, u, in_set, w, r, z, rhs, gram)
+        if w < 0:
+            return w + 1  # -1: no x meets the constraints (0); -2: dependent rows or no progress (-1)
+    return -1
+
+
+@compiled(**INLINE)
+def clip_start(
+    nominal: np.ndarray,
+    cmat: np.ndarray,
+    cb: np.ndarray,
+    bounds: int,
+    x: np.ndarray,
+    active: np.ndarray,
+    u: np.ndarray,
+    in_set: np.ndarray,
+) -> int:
+    """:func:`closest_step`'s start: ``x`` (n,) the clip of ``nominal`` to the first ``bounds`` rows
+    (unit rows: :func:`bound_rows`), the rows it breaks active (``active``, ``in_set``) with their
+    multipliers ``u`` the clip's distances. Returns how many are active."""
+    n = nominal.shape[0]
+    for j in range(n):
+        x[j] = nominal[j]
     w = 0
     for c in range(bounds):  # the bounds the nominal breaks, active at the clip
         sc = -cb[c]
@@ -97,77 +126,119 @@ def closest_step(
             w += 1
             for j in range(n):
                 x[j] -= sc * cmat[c, j]
-    solved = False
+    return w
+
+
+@compiled(**INLINE)
+def most_broken(cmat: np.ndarray, cb: np.ndarray, count: int, in_set: np.ndarray, x: np.ndarray) -> int:
+    """The inactive row of ``cmat[:count] x >= cb[:count]`` that ``x`` breaks most, by more than
+    :data:`QP_FEASIBLE` (the first of equals); -1 where none is."""
+    n = x.shape[0]
+    p = -1
+    worst = -QP_FEASIBLE
+    for c in range(count):
+        if in_set[c]:
+            continue
+        sc = -cb[c]
+        for j in range(n):
+            sc += cmat[c, j] * x[j]
+        if sc < worst:
+            worst = sc
+            p = c
+    return p
+
+
+@compiled(**INLINE)
+def meet_constraint(
+    cmat: np.ndarray,
+    cb: np.ndarray,
+    p: int,
+    x: np.ndarray,
+    active: np.ndarray,
+    u: np.ndarray,
+    in_set: np.ndarray,
+    w: int,
+    r: np.ndarray,
+    z: np.ndarray,
+    rhs: np.ndarray,
+    gram: np.ndarray,
+) -> int:
+    """One iteration of :func:`closest_step`: row ``p`` met by steps along ``z`` (its row less its
+    part in the ``w`` active rows' span) that keep the active rows met, each active row whose
+    multiplier in ``u`` reaches 0 on the way leaving, until ``p`` joins them. Returns how many rows
+    are then active; -1 where no x meets the rows (the dual step unbounded), -2 where the active
+    rows turned dependent to rounding, all n are active or the steps ran out. ``r``, ``z``, ``rhs``
+    (n,) and the Gram matrix ``gram`` (n, n): work space."""
+    n = x.shape[0]
+    up = 0.0
     for _ in range(QP_ITERATIONS):
-        p = -1
-        worst = -QP_FEASIBLE
-        for c in range(count):
-            if in_set[c]:
-                continue
-            sc = -cb[c]
+        for i in range(w):
+            s = 0.0
             for j in range(n):
-                sc += cmat[c, j] * x[j]
-            if sc < worst:
-                worst = sc
-                p = c
-        if p < 0:
-            solved = True
-            break
-        up = 0.0
-        added = False
-        for _ in range(QP_ITERATIONS):
+                s += cmat[active[i], j] * cmat[p, j]
+            rhs[i] = s
+        if w > 0 and not gram_solve(cmat, active, w, rhs, r, gram):
+            return -2
+        zz = 0.0
+        cc = 0.0
+        sp = -cb[p]
+        for j in range(n):
+            s = cmat[p, j]
             for i in range(w):
-                s = 0.0
-                for j in range(n):
-                    s += cmat[active[i], j] * cmat[p, j]
-                rhs[i] = s
-            if w > 0 and not gram_solve(cmat, active, w, rhs, r, gram):
-                return -1
-            zz = 0.0
-            cc = 0.0
-            sp = -cb[p]
-            for j in range(n):
-                s = cmat[p, j]
-                for i in range(w):
-                    s -= cmat[active[i], j] * r[i]
-                z[j] = s
-                zz += s * s
-                cc += cmat[p, j] * cmat[p, j]
-                sp += cmat[p, j] * x[j]
-            full = -sp / zz if zz > 1e-24 * cc else np.inf  # the primal step that meets constraint p
-            partial = np.inf  # the dual step at which an active multiplier reaches 0
-            k = -1
-            for i in range(w):
-                if r[i] > 0.0 and u[i] / r[i] < partial:
-                    partial = u[i] / r[i]
-                    k = i
-            if partial == np.inf and full == np.inf:
-                return 0
-            t = min(full, partial)
-            if full < np.inf:
-                for j in range(n):
-                    x[j] += t * z[j]
-            for i in range(w):
-                u[i] -= t * r[i]
-            up += t
-            if t == full:
-                if w == n:
-                    return -1
-                active[w] = p
-                u[w] = up
-                w += 1
-                in_set[p] = True
-                added = True
-                break
-            in_set[active[k]] = False  # the partial step: constraint k leaves
-            active[k] = active[w - 1]
-            u[k] = u[w - 1]
-            w -= 1
-        if not added:
+                s -= cmat[active[i], j] * r[i]
+            z[j] = s
+            zz += s * s
+            cc += cmat[p, j] * cmat[p, j]
+            sp += cmat[p, j] * x[j]
+        full = -sp / zz if zz > 1e-24 * cc else np.inf  # the primal step that meets constraint p
+        partial = np.inf  # the dual step at which an active multiplier reaches 0
+        k = -1
+        for i in range(w):
+            if r[i] > 0.0 and u[i] / r[i] < partial:
+                partial = u[i] / r[i]
+                k = i
+        if partial == np.inf and full == np.inf:
             return -1
-    if not solved:
-        return -1
-    for i in range(w):  # the least-squares point of the active constraints, from the nominal: x = nominal + C_W^T u
+        t = min(full, partial)
+        if full < np.inf:
+            for j in range(n):
+                x[j] += t * z[j]
+        for i in range(w):
+            u[i] -= t * r[i]
+        up += t
+        if t == full:
+            if w == n:
+                return -2
+            active[w] = p
+            u[w] = up
+            in_set[p] = True
+            return w + 1
+        in_set[active[k]] = False  # the partial step: constraint k leaves
+        active[k] = active[w - 1]
+        u[k] = u[w - 1]
+        w -= 1
+    return -2
+
+
+@compiled(**INLINE)
+def projected_answer(
+    nominal: np.ndarray,
+    cmat: np.ndarray,
+    cb: np.ndarray,
+    count: int,
+    x: np.ndarray,
+    active: np.ndarray,
+    u: np.ndarray,
+    w: int,
+    rhs: np.ndarray,
+    gram: np.ndarray,
+) -> int:
+    """:func:`closest_step`'s answer: ``x`` the least-squares point of the ``w`` active rows from
+    ``nominal``, x = nominal + C_W^T u (the KKT conditions to rounding), checked. Returns 1; -1
+    where the active rows turned dependent, a multiplier is negative or a row is broken (by more
+    than :data:`QP_FEASIBLE`). ``rhs`` (n,), ``gram`` (n, n): work space."""
+    n = nominal.shape[0]
+    for i in range(w):
         s = -cb[active[i]]
         for j in range(n):
             s += cmat[active[i], j] * nominal[j]
