@@ -144,6 +144,13 @@ def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
         if process.is_alive():
             process.kill()
             process.join(1.0)
+    # The executor's manager thread closes its wakeup pipe as it sees the workers gone; Python's
+    # exit wakes every such thread, and on 3.11 a pipe closed between its check and its write is a
+    # traceback ("Exception ignored in: <module 'threading'>": Bad file descriptor, the signal
+    # sweep's batch at ffmpeg+0.1 s). Joined here, the pipe is closed before the exit looks.
+    manager = getattr(pool, "_executor_manager_thread", None)
+    if manager is not None:
+        manager.join(max(0.0, deadline - time.monotonic()) + 1.0)
     remove_worker_folders()
 
 
