@@ -1,9 +1,10 @@
-"""The ninth, tenth and eleventh attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to twelfth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
 inputs; the tenth's, new attacks on the same classes: mesh10, frames10, signals10, loss10,
-inputs10, wrong10; the eleventh's, new again: mesh11, frames11, signals11, loss11, inputs11, wrong11),
+inputs10, wrong10; the eleventh's, new again: mesh11, frames11, signals11, loss11, inputs11, wrong11;
+the twelfth's: mesh12, frames12, signals12, loss12, inputs12, wrong12),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -2579,8 +2580,8 @@ def whole_or_none(*paths: str) -> Callable[[Path], list[str]]:
             if path.is_dir():
                 if not (path / ".armanim-run.json").is_file():
                     problems.append(f"{name}: a folder without its marker")
-            elif name.endswith(".html"):
-                if not path.read_bytes().rstrip().endswith(b"</html>"):
+            elif name.endswith(".html"):  # a page ends its document, then (armanim's) the mark's <meta> line
+                if b"</html>" not in path.read_bytes()[-300:]:
                     problems.append(f"{name}: half a page")
             elif name.endswith(".json"):
                 try:
@@ -2588,8 +2589,11 @@ def whole_or_none(*paths: str) -> Callable[[Path], list[str]]:
                 except ValueError:
                     problems.append(f"{name}: half a JSON file")
             elif name.endswith(".csv"):
-                rows = path.read_text().splitlines()
-                if not path.read_text().endswith("\n") or len({row.count(",") for row in rows}) > 1:
+                import csv as _csv
+
+                text = path.read_text()
+                rows = list(_csv.reader(text.splitlines()))  # a cell may hold a quoted comma
+                if not text.endswith("\n") or len({len(row) for row in rows}) > 1:
                     problems.append(f"{name}: half a CSV file")
             elif name.endswith(".yaml"):
                 import yaml
@@ -2802,7 +2806,8 @@ def hardlink(src: str, dst: str) -> Callable[[Path], None]:
 
 
 def symlink(target: str, at: str) -> Callable[[Path], None]:
-    return lambda d: os.symlink(target, d / at)
+    """Setup: a symbolic link ``at`` (its folder made if missing) to ``target``."""
+    return lambda d: ((d / at).parent.mkdir(parents=True, exist_ok=True), os.symlink(target, d / at)) and None
 
 
 def mine(name: str = "mine.txt", text: str = "my notes\n") -> Callable[[Path], None]:
@@ -3681,9 +3686,12 @@ def wrong_scene(seed: int, goal_kinds: tuple[str, ...] = WRONG10_KINDS) -> tuple
     goals, points, poses, kinds = [], [], [[0.0] * n], []
     for _ in range(int(rng.integers(2, 6))):
         kind = rng.choice(list(goal_kinds))
-        if kind == "joints":
+        if kind in ("joints", "edge"):  # edge: each limited joint a hundredth of a degree inside a limit
             pose = [round(float(rng.uniform(-150, 150)), 1)] + [
-                round(float(rng.uniform(lo * 0.8, hi * 0.8)), 1) for lo, hi in limits[1:]
+                round(float(rng.uniform(lo * 0.8, hi * 0.8)), 1)
+                if kind == "joints"
+                else round(float(rng.choice([lo + 0.01, hi - 0.01])), 2)
+                for lo, hi in limits[1:]
             ]
             goals.append(f"{{joints: {pose}}}")
             poses.append(pose)
@@ -3718,6 +3726,12 @@ def wrong_scene(seed: int, goal_kinds: tuple[str, ...] = WRONG10_KINDS) -> tuple
             ]
             points += corners[1:]
             goals.append(f"{{path: {{polyline: {corners}}}, speed: {round(float(rng.uniform(0.1, 0.6)), 2)}}}")
+        elif kind == "text":  # two letters 0.1 high from p, written along y: their box's corners kept clear
+            points += [[p[0], round(p[1] + dy, 3), round(p[2] + dz, 3)] for dy in (0.1, 0.2) for dz in (0, 0.1)]
+            goals.append(
+                f"{{path: {{text: {{string: {str(rng.choice(['ab', 'IK', 'oz']))!r}, origin: {p}, height: 0.1, "
+                f"right: [0, 1, 0], up: [0, 0, 1]}}}}, speed: {round(float(rng.uniform(0.1, 0.6)), 2)}}}"
+            )
         elif kind == "hold":
             goals.append(f"{{position: {p}, hold: {round(float(rng.uniform(0.1, 1)), 2)}}}")
         elif kind == "blend":
@@ -4024,13 +4038,25 @@ def mesh11_attempts() -> list[Attempt]:
     return out
 
 
+def render_flags_attempt(k: str, flags: list[str]) -> Attempt:
+    """``render`` of a finished tiny run with ``flags``: exit 0, or 2 naming the flag."""
+    return Attempt(
+        k,
+        f"render {' '.join(flags)}",
+        ["render", "o/tiny", "-q", *flags],
+        lambda d: finished_run(d) and None,
+        (0, 2),
+        timeout=300,
+        message_if_2="--size|--fps|--format|--quality|--elevation|--azimuth",
+    )
+
+
 def frames11_attempts() -> list[Attempt]:
     """Frame and size bounds by the commands and flags campaign 10 did not take there: render
     sizes at the encoder's edges (odd, tiny, wide), cameras straight down, fk/ik at their bounds,
     sweeps at the variant limit, and scenes at each documented bound and just past it."""
     k = "frames11"
     out: list[Attempt] = []
-    render = ["render", "o/tiny", "-q"]
     for flags in (
         ["--size", "17x9"],
         ["--size", "2x2"],
@@ -4049,17 +4075,7 @@ def frames11_attempts() -> list[Attempt]:
         ["--size", "0x48"],
         ["--size", "64x48", "--quality", "low"],
     ):
-        out.append(
-            Attempt(
-                k,
-                f"render {' '.join(flags)}",
-                [*render, *flags],
-                lambda d: finished_run(d) and None,
-                (0, 2),
-                timeout=300,
-                message_if_2="--size|--fps|--format|--quality|--elevation|--azimuth",
-            )
-        )
+        out.append(render_flags_attempt(k, flags))
     run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
     # fmt: off
     cases = [
@@ -4382,6 +4398,44 @@ def loss11_attempts() -> list[Attempt]:
     return out
 
 
+def read_back_attempts(
+    k: str, run_files: list[tuple], render_flags: list[str], codes: tuple[int, ...]
+) -> list[Attempt]:
+    """``render``, ``view`` and ``export`` of a finished tiny run whose file ``name`` was changed
+    by hand (``(label, name, change)``: ``change`` of its text, None to delete it): exit ``codes``,
+    2 naming the file."""
+    out = []
+    for label, name, change in run_files:
+
+        def edited(d: Path, name=name, change=change) -> None:
+            folder = finished_run(d)
+            path = folder / name
+            if change is None:
+                if path.exists():
+                    path.unlink()
+                return
+            new = change(path.read_text()) if path.exists() else change("")
+            write(path, new)
+
+        for cmd in (
+            ["render", "o/tiny", "-q", *render_flags],
+            ["view", "o/tiny", "--out", "v.html"],
+            ["export", "o/tiny", "--out", "e.json"],
+        ):
+            out.append(
+                Attempt(
+                    k,
+                    f"{cmd[0]} of a run whose {label}",
+                    cmd,
+                    edited,
+                    codes,
+                    timeout=200,
+                    message_if_2=r"(trajectory\.csv|summary\.json|scene\.yaml|\.armanim-run\.json|o/tiny)",
+                )
+            )
+    return out
+
+
 def inputs11_attempts() -> list[Attempt]:
     """Hostile files and flags campaign 10 did not write: scene files that are devices, links, other
     encodings or too big; fields at their edges; a run folder's own files edited by hand and read
@@ -4539,34 +4593,7 @@ def inputs11_attempts() -> list[Attempt]:
         ("trajectory.csv missing", "trajectory.csv", None),
     ]
     # fmt: on
-    for label, name, change in run_files:
-
-        def edited(d: Path, name=name, change=change) -> None:
-            folder = finished_run(d)
-            path = folder / name
-            if change is None:
-                if path.exists():
-                    path.unlink()
-                return
-            new = change(path.read_text()) if path.exists() else change("")
-            write(path, new)
-
-        for cmd in (
-            ["render", "o/tiny", "-q", "--size", "64x48"],
-            ["view", "o/tiny", "--out", "v.html"],
-            ["export", "o/tiny", "--out", "e.json"],
-        ):
-            out.append(
-                Attempt(
-                    k,
-                    f"{cmd[0]} of a run whose {label}",
-                    cmd,
-                    edited,
-                    (0, 2),
-                    timeout=200,
-                    message_if_2=r"(trajectory\.csv|summary\.json|scene\.yaml|\.armanim-run\.json|o/tiny)",
-                )
-            )
+    out += read_back_attempts(k, run_files, ["--size", "64x48"], (0, 2))
     # fmt: off
     cli = [
         ["fk", "--angles", ""],
@@ -4652,40 +4679,78 @@ def _json_of(d: Path, *args: str) -> dict:
         return {"failed": f"exit {done.returncode}: {(done.stdout + done.stderr)[-200:]}"}
 
 
-def fk_breaks(links: list[float], angles: list[float]) -> Callable[[Path], list[str]]:
-    """fk's joints and tip against the campaign's own forward kinematics (:func:`_segments`)."""
+def fk_args(links: list[float], angles: list[float], radians: bool = False) -> list[str]:
+    """``fk``'s arguments for an arm of ``links`` at ``angles`` (degrees, or radians), answering in JSON."""
+    return ["fk", "--links", _joined(links), "--angles", _joined(angles), *(["--radians"] if radians else []), "--json"]
+
+
+def ik_args(links: list[float], goal: list[float], method: str, start: list[float] | None = None) -> list[str]:
+    """``ik``'s arguments for an arm of ``links`` to ``goal`` by ``method`` (from ``start``), in JSON."""
+    started = ["--from", _joined(start)] if start is not None else []
+    return ["ik", "--links", _joined(links), "--goal", _joined(goal), "--method", method, *started, "--json"]
+
+
+def _joined(numbers: list[float]) -> str:
+    return ",".join(map(str, numbers))
+
+
+def random_reachable_goal(rng) -> tuple[list[float], list[float]]:
+    """A random arm of 3-5 links and a goal within 0.2-1.1 of its reach from joint 2's height."""
+    import numpy as np
+
+    links = [round(float(x), 3) for x in rng.uniform(0.3, 1.5, int(rng.integers(3, 6)))]
+    direction = rng.normal(size=3)
+    goal = [
+        round(float(x), 4)
+        for x in direction / np.linalg.norm(direction) * rng.uniform(0.2, 1.1) * sum(links[1:]) + [0, 0, links[0]]
+    ]
+    return links, goal
+
+
+def fk_breaks(links: list[float], angles: list[float], radians: bool = False) -> Callable[[Path], list[str]]:
+    """fk's joints and tip against the campaign's own forward kinematics (:func:`_segments`);
+    ``angles`` in radians (``fk --radians``) if ``radians``."""
 
     def check(d: Path) -> list[str]:
         import numpy as np
 
-        said = _json_of(d, "fk", "--links", ",".join(map(str, links)), "--angles", ",".join(map(str, angles)), "--json")
+        said = _json_of(d, *fk_args(links, angles, radians))
         if "failed" in said:
             return [said["failed"]]
-        mine = _segments([angles], links)[0]
+        mine = _segments([np.degrees(angles) if radians else angles], links)[0]
         off = float(np.abs(np.asarray(said["joints"]) - mine).max())
         return [f"fk's joints differ from the oracle's by {off:.3g}"] if off > 1e-9 else []
 
     return check
 
 
-def ik_breaks(links: list[float], goal: list[float], method: str) -> Callable[[Path], list[str]]:
+def random_fk_attempt(k: str, i: int, rng, span: float, digits: int, radians: bool = False) -> Attempt:
+    """fk of a random arm of 2-6 links at angles within +-``span`` (``digits`` decimals; radians
+    if ``radians``), held to :func:`fk_breaks`."""
+    links = [round(float(x), 3) for x in rng.uniform(0.2, 2.0, int(rng.integers(2, 7)))]
+    angles = [round(float(x), digits) for x in rng.uniform(-span, span, len(links))]
+    return Attempt(
+        k,
+        f"fk{' --radians' if radians else ''} of a random {len(links)}-link arm ({i}), held to the oracle",
+        fk_args(links, angles, radians),
+        lambda d: None,
+        (0,),
+        timeout=120,
+        after=fk_breaks(links, angles, radians),
+    )
+
+
+def ik_breaks(
+    links: list[float], goal: list[float], method: str, start: list[float] | None = None
+) -> Callable[[Path], list[str]]:
     """ik's answer held to the oracle: the tip it reports is where its angles put the tip, its error
-    is that tip's distance to the goal, and a converged answer is within the tolerance (0.001)."""
+    is that tip's distance to the goal, and a converged answer is within the tolerance (0.001);
+    from ``start`` (degrees, ``ik --from``) if given."""
 
     def check(d: Path) -> list[str]:
         import numpy as np
 
-        said = _json_of(
-            d,
-            "ik",
-            "--links",
-            ",".join(map(str, links)),
-            "--goal",
-            ",".join(map(str, goal)),
-            "--method",
-            method,
-            "--json",
-        )
+        said = _json_of(d, *ik_args(links, goal, method, start))
         if "failed" in said:
             return [said["failed"]]
         tip = _segments([said["angles_deg"]], links)[0][-1]
@@ -4709,40 +4774,11 @@ def wrong11_attempts() -> list[Attempt]:
     k = "wrong11"
     out = random_arm_runs(k, range(200, 236), " with arcs and polylines", WRONG11_KINDS)
     rng = np.random.default_rng(11)
+    out += [random_fk_attempt(k, i, rng, 720, 4) for i in range(14)]
     for i in range(14):
-        links = [round(float(x), 3) for x in rng.uniform(0.2, 2.0, int(rng.integers(2, 7)))]
-        angles = [round(float(x), 4) for x in rng.uniform(-720, 720, len(links))]
-        args = ["fk", "--links", ",".join(map(str, links)), "--angles", ",".join(map(str, angles)), "--json"]
-        out.append(
-            Attempt(
-                k,
-                f"fk of a random {len(links)}-link arm ({i}), held to the oracle",
-                args,
-                lambda d: None,
-                (0,),
-                timeout=120,
-                after=fk_breaks(links, angles),
-            )
-        )
-    for i in range(14):
-        links = [round(float(x), 3) for x in rng.uniform(0.3, 1.5, int(rng.integers(3, 6)))]
-        reach = sum(links[1:])
-        direction = rng.normal(size=3)
-        goal = [
-            round(float(x), 4)
-            for x in direction / np.linalg.norm(direction) * rng.uniform(0.2, 1.1) * reach + [0, 0, links[0]]
-        ]
+        links, goal = random_reachable_goal(rng)
         method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
-        args = [
-            "ik",
-            "--links",
-            ",".join(map(str, links)),
-            "--goal",
-            ",".join(map(str, goal)),
-            "--method",
-            method,
-            "--json",
-        ]
+        args = ik_args(links, goal, method)
         out.append(
             Attempt(
                 k,
@@ -4754,6 +4790,642 @@ def wrong11_attempts() -> list[Attempt]:
                 after=ik_breaks(links, goal, method),
             )
         )
+    return out
+
+
+# ------------------------------------------------------------------ the twelfth campaign
+#
+# New attacks on the same classes again (issue 50's "fifth campaign"), none a repeat of the ninth,
+# tenth or eleventh: mesh12, frames12, signals12, loss12, inputs12, wrong12.
+
+
+def mesh12_attempts() -> list[Attempt]:
+    """Mesh names the resolver had not met (relative paths with ``..``, ``package://`` through a
+    package folder, unicode and escaped names, lengths past the system's), files of one format
+    under another's suffix, readers' edges campaigns 10 and 11 left, and the look of a run whose
+    copied URDF or look folders were edited by hand."""
+    k = "mesh12"
+    out: list[Attempt] = []
+    tri = [[0, 0, 0], [0.05, 0, 0], [0, 0.05, 0]]
+    one = stl_corners([tri])
+    # fmt: off
+    cases: list[tuple[str, str, dict]] = [
+        ("named sub/../a.stl (a '..' back to the URDF's folder)", "sub/../a.stl", {"a.stl": one, "sub/x": ""}),
+        ("named sub/../a.stl, sub missing", "sub/../a.stl", {"a.stl": one}),
+        ("named m/../../a.stl (one '..' above the URDF's folder)", "m/../../a.stl", {"m/x": ""}),
+        ("named ../../../../../../../../dev/zero.stl", "../../../../../../../../dev/zero.stl", {}),
+        ("named a link to .. then a.stl", "up/a.stl", {"up": ("->", "..")}),
+        ("named /proc/self/cwd/a.stl (the URDF's folder by /proc)", "/proc/self/cwd/a.stl", {"a.stl": one}),
+        ("named in NFD, the file in NFC (u-umlaut)", "u\u0308.stl", {"\u00fc.stl": one}),
+        ("named with an emoji", "\U0001f916.stl", {"\U0001f916.stl": one}),
+        ("named with a right-to-left override", "&#8238;ltsa.stl", {"\u202eltsa.stl": one}),
+        ("named with a newline inside", "a&#10;b.stl", {"a\nb.stl": one}),
+        ("named with an escaped ampersand", "a&amp;b.stl", {"a&b.stl": one}),
+        ("named a%20b.stl, the file 'a b.stl'", "a%20b.stl", {"a b.stl": one}),
+        ("named with a NUL character reference", "a&#0;.stl", {"a.stl": one}),
+        ("named 4,096 characters long", "d/" * 2046 + "a.stl", {}),
+        ("named with one 256-character part", "n" * 252 + ".stl", {}),
+        ("named file:///proc/self/cwd/a.stl", "file:///proc/self/cwd/a.stl", {"a.stl": one}),
+        ("named package://r/a.stl?x=1", "package://r/a.stl?x=1", {}),
+        ("an OBJ under the name .stl", "a.stl", {"a.stl": obj_text(3)}),
+        ("a binary STL under the name .obj", "a.obj", {"a.obj": one}),
+        ("a COLLADA under the name .obj", "a.obj", {"a.obj": tri_dae()}),
+        ("an ASCII STL of two solids", "a.stl", {"a.stl": ascii_stl(tri) * 2}),
+        ("an ASCII STL without endsolid", "a.stl", {"a.stl": ascii_stl(tri).replace("endsolid\n", "")}),
+        ("an OBJ face of index 2^63", "a.obj", {"a.obj": obj_text(3, "f 1 2 9223372036854775808\n")}),
+        ("a COLLADA <p> index 99 of three corners", "a.dae", {"a.dae": tri_dae(p_indices="0 1 99")}),
+        ("a COLLADA <p> index -1", "a.dae", {"a.dae": tri_dae(p_indices="-1 0 1")}),
+        ("a COLLADA float_array of 'nan inf -inf'", "a.dae", {"a.dae": tri_dae(floats="nan inf -inf 0 0 0 0 0.05 0")}),
+        ("a COLLADA node translate 1e308", "a.dae", {"a.dae": tri_dae(node="<translate>1e308 1e308 1e308</translate>")}),
+        ("a COLLADA instance_geometry of another file", "a.dae", {"a.dae": tri_dae().replace('url="#g0"', 'url="b.dae#g0"'), "b.dae": tri_dae()}),
+        ("a COLLADA polylist of vcount 0", "a.dae", {"a.dae": tri_dae().replace("<triangles", "<polylist").replace("</triangles>", "</polylist>").replace("<p>", "<vcount>0</vcount><p>")}),
+        ("a COLLADA comment of 1 MB", "a.dae", {"a.dae": tri_dae().replace("<asset>", "<!--" + "x" * 1_000_000 + "--><asset>")}),
+    ]
+    # fmt: on
+    for label, name, files in cases:
+        # "&#0;" is no XML character: the URDF is refused (exit 2, FILE:LINE) before any picture
+        out += fit_and_png(k, label, name, files, codes_png=(0, 2) if "&#0;" in name else (0,))
+    for label, scale in (
+        ("with spaces around it", "  1  1  1  "),
+        ("inf 1 1", "inf 1 1"),
+        ("1e308 1e308 1e308", "1e308 1e308 1e308"),
+        ("a single space", " "),
+    ):
+        out += fit_and_png(k, f"a scale of {label}", "a.stl", {"a.stl": one}, scale=scale)
+    # package:// through a package folder: robots --fit's flag and a scene's arm.package_dirs
+    pkg_names = [
+        ("package://r/a.stl, r a folder there", "package://r/a.stl", {"pk/r/a.stl": one}),
+        ("package://r/../../s.yaml.stl", "package://r/../../s.yaml.stl", {"pk/r/x": ""}),
+        ("package://r/a.stl, r a link to /dev", "package://r/zero.stl", {"pk/r": ("->", "/dev")}),
+        ("package://r/a.stl, r a link to /", "package://r/etc/hostname.stl", {"pk/r": ("->", "/")}),
+        ("package://../a.stl", "package://../a.stl", {"a.stl": one, "pk/x": ""}),
+        ("package://r/a.stl, a.stl a FIFO", "package://r/a.stl", {"pk/r/a.stl": None}),
+    ]
+    for label, name, files in pkg_names:
+        tag = f"<geometry><mesh filename={name!r}/></geometry>"
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit --package-dir pk, collision {label}",
+                [*FIT, "--package-dir", "pk"],
+                urdf_robot(collision=f"<collision>{tag}</collision>", files=files),
+                (0, 2),
+                timeout=120,
+                message_if_2=r"robot\.urdf:\d+: |pk",
+            )
+        )
+        out.append(
+            Attempt(
+                k,
+                f"run, arm.package_dirs [pk], visual {label}",
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                then(
+                    urdf_robot(f"<visual>{tag}</visual>", files=files),
+                    mine("s.yaml", URDF_SCENE.replace("{urdf: robot.urdf}", "{urdf: robot.urdf, package_dirs: [pk]}")),
+                ),
+                (0, 2),
+                timeout=120,
+                message_if_2=AT_LINE,
+            )
+        )
+
+    # the look of a run: its copied URDF or look-folders.json edited by hand, then render and view
+    def look_run(change: Callable[[Path], None]) -> Callable[[Path], None]:
+        def setup(d: Path) -> None:
+            write(d / "a.stl", one)
+            urdf_robot(vis("a.stl"))(d)
+            armanim_in(d, "run", "s.yaml", "--out", "o", "--no-video", "-q")
+            change(d / "o" / "m")
+
+        return setup
+
+    def urdf_mesh(name: str) -> Callable[[Path], None]:
+        return lambda run: write(run / "robot.urdf", urdf_text(vis(name)))
+
+    def looks(text: str) -> Callable[[Path], None]:
+        return lambda run: write(run / "look-folders.json", text)
+
+    edits = [
+        ("copied URDF names /dev/zero.stl by a '..' chain", urdf_mesh("../../../../../../../../dev/zero.stl")),
+        ("copied URDF names a FIFO beside it", lambda run: (urdf_mesh("f.stl")(run), fifo(run / "f.stl"))),
+        (
+            "copied URDF names a 1 GB sparse STL beside it",
+            lambda run: (urdf_mesh("big.stl")(run), sparse(run / "big.stl", 1 << 30)),
+        ),
+        ("look-folders.json points at /dev", looks('{"scene_folder": "/dev", "urdf_folder": "/dev"}')),
+        ("look-folders.json not JSON", looks("{")),
+        (
+            "look-folders.json a FIFO",
+            lambda run: (os.unlink(run / "look-folders.json"), fifo(run / "look-folders.json")),
+        ),
+    ]
+    for label, change in edits:
+        for cmd in (["render", "o/m", "-q", "--size", "64x48", "--out", "fig"], ["view", "o/m", "--out", "v.html"]):
+            out.append(
+                Attempt(
+                    k,
+                    f"{cmd[0]} of a run whose {label}",
+                    cmd,
+                    look_run(change),
+                    (0, 2),
+                    timeout=200,
+                    message_if_2=r"o/m|robot\.urdf|look-folders",
+                )
+            )
+    return out
+
+
+def frames12_attempts() -> list[Attempt]:
+    """``sweep --set`` at the edges of its own syntax (spaces, empty and repeated values, lists and
+    mappings as values, indices written oddly, a key twice, names that collide), render flags
+    campaigns 10 and 11 did not give, and fields at their bounds set through a sweep."""
+    k = "frames12"
+    out: list[Attempt] = []
+    sweep = ["sweep", "s.yaml", "--out", "o", "-q", "--jobs", "1"]
+    # fmt: off
+    sets: list[list[str]] = [
+        ["solver.step=0.1"],
+        ["solver.step=0.1, 0.2"],
+        ["solver.step=0.1,"],
+        ["solver.step=,0.1"],
+        ["solver.step=1e-400,0.1"],
+        ["solver.step=0x10"],
+        ["solver.step=true"],
+        ["solver.step=.nan"],
+        ["solver.step=0.1", "solver.step=0.2"],
+        ["render.fps=10,10.0"],
+        ["render.size=[64,48],[32,24]"],
+        ["goals[0]=[1,1,1],[0.5,0.5,0.5]"],
+        ["goals[1]={joints: [0, 0, 0]}"],
+        ["arm.links=[1,1,1],[0.5,0.5,0.5,0.5]"],
+        ["name=a,a"],
+        ["name=x/y,z"],
+        ["name=\u00e9,e\u0301"],
+        ["name=" + "n" * 300],
+        ["sölver.step=0.1"],
+        ["solver..step=0.1"],
+        ["solver.step.=0.1"],
+        ["goals[00].hold=1"],
+        ["goals[1e0].hold=1"],
+        ["goals[0].hold=1e-300"],
+        ["goals[0].hold=3600,3600.0001"],
+        ["arm.max_joint_speed=1e308"],
+        ["arm.max_joint_speed=[1e-9, 1e-9, 1e-9]"],
+        ["solver.step==0.1"],
+        ["solver.step=\u0660.\u0661"],
+        ["solver.step=0.1\u00a0,0.2"],
+        ["solver.step=&a 0.1"],
+        ["solver.step=*a"],
+        ["solver={step: 0.1}"],
+        ["arm={links: [1, 1, 1]},{links: [1, 1]}"],
+    ]
+    # fmt: on
+    for values in sets:
+        args = [*sweep, *(a for v in values for a in ("--set", v))]
+        out.append(
+            Attempt(
+                k,
+                f"sweep --set {' --set '.join(values)}"[:110],
+                args,
+                tiny_scene(),
+                (0, 1, 2),
+                timeout=300,
+                message_if_2="--set|s\\.yaml:\\d+",
+                after=lambda d: [p for p in whole_or_none(*(f"o/{n}" for n in _listing(d / "o")))(d)],
+            )
+        )
+    for flags in (
+        ["--size", "64X48"],
+        ["--size", "1e2x48"],
+        ["--size", "64x48x3"],
+        ["--size", "64x48", "--fps", "-1"],
+        ["--size", "64x48", "--fps", "29.97"],
+        ["--size", "64x48", "--fps", "inf"],
+        ["--size", "64x48", "--azimuth", "-1e308", "--elevation", "-1e308"],
+        ["--size", "3x3", "--format", "gif"],
+        ["--size", "64x48", "--format", "mp4 "],
+        ["--quality", "low", "--size", "64x48", "--fps", "5"],
+    ):
+        out.append(render_flags_attempt(k, flags))
+    return out
+
+
+def _listing(folder: Path) -> list[str]:
+    """The names in ``folder`` that are not hidden (none if it is absent)."""
+    return [n for n in os.listdir(folder) if not n.startswith(".")] if folder.is_dir() else []
+
+
+def signals12_attempts() -> list[Attempt]:
+    """Interrupts while an output armanim wrote before is being replaced (a golden pair, an export,
+    a page: the old one must stay whole), during a large mesh's fit, fk's picture and a sweep's
+    pool, and at start-up."""
+    k = "signals12"
+    out: list[Attempt] = []
+    out += at_moments(
+        k,
+        "check --update replacing a 40,000-frame golden",
+        ["check", "s.yaml", "--golden", "g", "--update"],
+        then(tiny_scene(text=LONG), lambda d: armanim_in(d, "check", "s.yaml", "--golden", "g", "--update")),
+        ((2.0, "SIGINT"), (3.0, "SIGTERMG"), (4.5, "SIGTERM")),
+        timeout=300,
+        after=whole_or_none("g/tiny.csv", "g/tiny.json"),
+        litter_in=("g", "."),
+    )
+
+    def long_run_and(*args: str) -> Callable[[Path], None]:
+        return then(lambda d: finished_run(d, LONG), lambda d: armanim_in(d, *args))
+
+    out += at_moments(
+        k,
+        "export replacing its own earlier export of a 40,000-frame run",
+        ["export", "o/tiny", "--out", "e.json"],
+        long_run_and("export", "o/tiny", "--out", "e.json"),
+        ((0.5, "SIGINT"), (1.0, "SIGTERM"), (1.5, "SIGTERMG")),
+        timeout=200,
+        after=whole_or_none("e.json"),
+        litter_in=("o", "."),
+    )
+    out += at_moments(
+        k,
+        "view replacing its own earlier page of a 40,000-frame run",
+        ["view", "o/tiny", "--out", "v.html"],
+        long_run_and("view", "o/tiny", "--out", "v.html"),
+        ((1.0, "SIGINT"), (2.0, "SIGTERMG")),
+        timeout=200,
+        after=whole_or_none("v.html"),
+        litter_in=("o", "."),
+    )
+
+    def big_collision(d: Path) -> None:
+        big_stl(d / "a.stl", 1_500_000)
+        urdf_robot(collision=col("a.stl"))(d)
+
+    out += at_moments(
+        k,
+        "robots --fit of a 1.5-million-triangle STL",
+        FIT,
+        big_collision,
+        ((1.0, "SIGINT"), (2.0, "SIGTERMG"), (3.0, "SIGINT")),
+        codes=(0, 2, 130),
+        timeout=200,
+    )
+    out += at_moments(
+        k,
+        "fk --robot panda --png",
+        ["fk", "--robot", "panda", "--angles", "0,-20,0,-120,0,100,45", "--png", "p.png"],
+        lambda d: None,
+        ((0.5, "SIGINT"), (1.5, "SIGINT"), (2.5, "SIGTERMG")),
+        timeout=120,
+        litter_in=(".",),
+    )
+    out += at_moments(
+        k,
+        "sweep --jobs 2 of 4 variants",
+        ["sweep", "s.yaml", "--set", "solver.step=0.05,0.1,0.15,0.2", "--out", "o", "-q", "--jobs", "2"],
+        tiny_scene(),
+        ((1.5, "SIGTERMG"), (3.0, "SIGTERMG"), (2.2, "SIGTERM")),
+        timeout=300,
+        after=lambda d: whole_or_none(*(f"o/{n}" for n in _listing(d / "o")))(d),
+    )
+    out += at_moments(
+        k,
+        "ik --robot ur5 at start-up",
+        ["ik", "--robot", "ur5", "--goal", "0.3,0.2,0.4"],
+        lambda d: None,
+        ((0.2, "SIGTERM"), (0.4, "SIGINT")),
+        codes=(0, 1, 130),
+        timeout=120,
+    )
+    return out
+
+
+def loss12_attempts() -> list[Attempt]:
+    """Golden pairs with the user's files at either name (links, hard links, folders, FIFOs, files
+    in the golden's shape), two scenes of one name into one golden folder, exports onto files
+    armanim marked and the user changed since, and writers aimed into a run folder by paths
+    that spell it another way."""
+    k = "loss12"
+    update = ["check", "s.yaml", "--golden", "g", "--update"]
+    export = ["export", "o/tiny", "--out", "e.json"]
+    scene = mine("s.yaml", TINY)
+    golden = then(scene, lambda d: armanim_in(d, *update))
+    exported = then(finished_run, lambda d: armanim_in(d, *export))
+    head = "frame,time_s,goal,phi1_deg\n0,0.0,0,1.0\n"  # the shape of armanim's CSV, the user's numbers
+    meta = '{\n  "armanim_version": "mine"\n}\n'
+
+    def gone(path: str) -> Callable[[Path], None]:
+        return lambda d: os.unlink(d / path)
+
+    def two_of_one_name(d: Path) -> None:
+        write(d / "a/s.yaml", TINY)
+        write(d / "b/s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.3]"))
+
+    # one attempt a row: label, arguments, setup, exit codes, the user's paths kept
+    # fmt: off
+    table: list[tuple] = [
+        ("check --update, g/tiny.json a hard link to the user's JSON of armanim's shape", update, then(scene, mine("mine.json", meta), lambda d: (d / "g").mkdir(), hardlink("mine.json", "g/tiny.json")), (0, 3), ("mine.json",)),
+        ("check --update, g/tiny.json a folder of the user's", update, then(scene, mine("g/tiny.json/notes.txt")), (2, 3), ("g/tiny.json",)),
+        ("check --update, g/tiny.csv a folder of the user's", update, then(scene, mine("g/tiny.csv/notes.txt")), (2, 3), ("g/tiny.csv",)),
+        ("check --update, g/tiny.json a FIFO", update, then(scene, lambda d: fifo(d / "g/tiny.json")), (2, 3), ("g/tiny.json",)),
+        ("check --update, g/tiny.csv a FIFO", update, then(scene, lambda d: fifo(d / "g/tiny.csv")), (2, 3), ("g/tiny.csv",)),
+        ("check --update, g/tiny.csv a dangling link", update, then(scene, symlink("../nowhere.csv", "g/tiny.csv")), (0, 3), ("g/tiny.csv",)),
+        ("check --update, g/tiny.json the user's, g/tiny.csv absent", update, then(scene, mine("g/tiny.json", '{"mine": 1}\n')), (3,), ("g/tiny.json",)),
+        ("check --update, the user's CSV in UTF-16 at g/tiny.csv", update, then(scene, lambda d: write(d / "g/tiny.csv", head.encode("utf-16")) and None), (3,), ("g/tiny.csv",)),
+        ("check --update, the user's CSV with a BOM at g/tiny.csv", update, then(scene, mine("g/tiny.csv", "\ufeff" + head)), (3,), ("g/tiny.csv",)),
+        ("check --update, the user's CSV of CRLF rows at g/tiny.csv", update, then(scene, mine("g/tiny.csv", "frame\r\n0\r\n")), (3,), ("g/tiny.csv",)),
+        ("check --update, armanim's golden CSV beside the user's JSON", update, then(golden, mine("g/tiny.json", '{"mine": 1}\n')), (3,), ("g/tiny.json", "g/tiny.csv")),
+        ("check --update, the user's empty g/tiny.json", update, then(scene, mine("g/tiny.json", "")), (0, 3), ("g/tiny.json",)),
+        ("check --update, g a link to the user's file", update, then(scene, mine("mine.txt"), symlink("mine.txt", "g")), (2, 3), ("mine.txt",)),
+        ("check --update, g/tiny.json a link to /dev/null", update, then(scene, symlink("/dev/null", "g/tiny.json")), (0, 2, 3), ()),
+        ("check --update, the golden's first line armanim's and the rest the user's", update, then(golden, lambda d: write(d / "g/tiny.csv", (d / "g/tiny.csv").read_text().split("\n", 1)[0] + "\nmy,own,notes\n") and None), (0, 3), ()),
+        ("check (no update), g/tiny.csv a link to /dev/zero", ["check", "s.yaml", "--golden", "g"], then(golden, gone("g/tiny.csv"), symlink("/dev/zero", "g/tiny.csv")), (1, 2), ()),
+        ("export --out e.json, armanim's export edited by the user since", export, then(exported, edit("e.json", b"\n")), (3,), ("e.json",)),
+        ("export --out e.json, armanim's export with its mark deleted", export, then(exported, gone(".e.json.armanim.json")), (3,), ("e.json",)),
+        ("export --out e.json, the export replaced by the user's file of its size", export, then(exported, lambda d: write(d / "e.json", b" " * (d / "e.json").stat().st_size) and None), (3,), ("e.json",)),
+        ("export --out e.json, its mark a hard link to the user's file", export, then(exported, mine("keep.json", "{}\n"), gone(".e.json.armanim.json"), hardlink("keep.json", ".e.json.armanim.json")), (0, 3), ("keep.json",)),
+        ("export --out e.json, e.json a link to the user's JSON, its mark armanim's", export, then(exported, mine("keep.json", "{}\n"), gone("e.json"), symlink("keep.json", "e.json")), (0, 2, 3), ("keep.json",)),
+        ("export --out o/tiny/./e.json (into the run folder)", ["export", "o/tiny", "--out", "o/tiny/./e.json"], finished_run, (2, 3), ("o/tiny",)),
+        ("export --out o//tiny//e.json (into the run folder)", ["export", "o/tiny", "--out", "o//tiny//e.json"], finished_run, (2, 3), ("o/tiny",)),
+        ("export --out o/x/../tiny/e.json (into the run folder)", ["export", "o/tiny", "--out", "o/x/../tiny/e.json"], then(finished_run, lambda d: (d / "o/x").mkdir()), (2, 3), ("o/tiny",)),
+        ("export --out the run folder's .armanim-run.json", ["export", "o/tiny", "--out", "o/tiny/.armanim-run.json"], finished_run, (2, 3), ("o/tiny",)),
+        ("export --out the golden CSV armanim wrote", ["export", "o/tiny", "--out", "g/tiny.csv"], then(finished_run, lambda d: armanim_in(d, *update)), (2, 3), ("g",)),
+        ("export --out the user's ROS trajectory in YAML", ["export", "o/tiny", "--out", "mine.yaml"], then(finished_run, mine("mine.yaml", "joint_names: [a]\npoints: []\n")), (2, 3), ("mine.yaml",)),
+        ("export --out the user's ROS trajectory of another name case E.json", ["export", "o/tiny", "--out", "E.json"], then(exported, mine("E.json", '{"joint_names": ["a"], "points": []}\n')), (3,), ("E.json",)),
+        ("schema --out the golden JSON armanim wrote", ["schema", "--out", "g/tiny.json"], golden, (2, 3), ("g",)),
+        ("view --out the golden CSV armanim wrote", ["view", "o/tiny", "--out", "g/tiny.csv"], then(finished_run, lambda d: armanim_in(d, *update)), (2, 3), ("g",)),
+        ("import moveit --out an export armanim wrote", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "e.json"], then(exported, mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")), (2, 3), ("e.json",)),
+        ("fk --png onto an export armanim wrote", ["fk", "--angles", "0,0,0,0", "--png", "e.json"], exported, (2, 3), ("e.json",)),
+        ("render --out a folder holding the user's tiny.mp4", ["render", "o/tiny", "-q", "--size", "64x48", "--out", "mine"], then(finished_run, mine("mine/tiny.mp4", "not a video")), (0, 2, 3), ("mine/tiny.mp4",)),
+        ("run again, the run folder's trajectory.csv a hard link to the user's golden", ["run", "s.yaml", "--out", "o", "--no-video", "-q"], then(finished_run, lambda d: armanim_in(d, *update), gone("o/tiny/trajectory.csv"), hardlink("g/tiny.csv", "o/tiny/trajectory.csv"), mine("s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))), (0, 3), ("g/tiny.csv",)),
+        ("check --update, the golden CSV a hard link to the run's trajectory", update, then(finished_run, lambda d: (d / "g").mkdir(), hardlink("o/tiny/trajectory.csv", "g/tiny.csv"), mine("s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))), (0, 3), ("o/tiny/trajectory.csv",)),
+        ("sweep --out g (a golden folder)", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "-q", "--jobs", "1", "--out", "g"], golden, (0, 2, 3), ("g/tiny.csv", "g/tiny.json")),
+        ("run --out g (a golden folder) of a scene named tiny.csv", ["run", "s.yaml", "--out", "g", "--no-video", "-q"], then(golden, mine("s.yaml", TINY.replace("name: tiny", "name: tiny.csv"))), (0, 2, 3), ("g/tiny.csv",)),
+    ]
+    # fmt: on
+    out = [Attempt(k, label, args, setup, codes, keep=keep, timeout=300) for label, args, setup, codes, keep in table]
+    # a link at a golden's name to a file of armanim's shape: written through, the link kept
+    # (docs/reliability.md: "A symbolic link is written through: its target is replaced")
+    for label, name, text in (("JSON", "tiny.json", meta), ("CSV", "tiny.csv", head)):
+        out.append(
+            Attempt(
+                k,
+                f"check --update, g/{name} a link to the user's {label} of armanim's shape",
+                update,
+                then(scene, mine(f"mine.{label.lower()}", text), symlink(f"../mine.{label.lower()}", f"g/{name}")),
+                (0,),
+                timeout=300,
+                after=lambda d, name=name: [] if os.path.islink(d / "g" / name) else [f"g/{name} is no longer a link"],
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "check --update of two scenes of one name into one golden folder",
+            ["check", "a/s.yaml", "b/s.yaml", "--golden", "g", "--update"],
+            two_of_one_name,
+            (0, 2),
+            timeout=300,
+            after=golden_holds("a/s.yaml", "b/s.yaml"),
+        )
+    )
+    return out
+
+
+def golden_holds(*scenes: str) -> Callable[[Path], list[str]]:
+    """After a ``check --update`` that said it wrote: a plain ``check`` of the same scenes passes."""
+
+    def check(d: Path) -> list[str]:
+        if not (d / "g").is_dir():
+            return []
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", "check", *scenes, "--golden", "g", "-q"],
+            cwd=d,
+            env=dict(os.environ, PYTHONPATH=str(SRC)),
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        return (
+            []
+            if done.returncode == 0
+            else [f"the goldens just written fail check: exit {done.returncode}: {done.stdout[-200:]}"]
+        )
+
+    return check
+
+
+MOVEIT_BOX = (
+    "world:\n  collision_objects:\n    - id: b\n      header: {frame_id: panda_link0}\n"
+    "      primitives:\n        - {type: box, dimensions: [0.1, 0.1, 0.1]}\n"
+    "      primitive_poses:\n        - {position: [0.5, 0.3, 0.6], orientation: [0, 0, 0, 1]}\n"
+    "robot_state:\n  joint_state: {name: [panda_joint1], position: [0.1]}\n"
+)
+"""A MoveIt planning scene (YAML) of one box, the base of inputs12's variants."""
+MOVEIT_REQUEST = (
+    "group_name: panda_arm\nstart_state:\n  joint_state: {name: [panda_joint1], position: [0.2]}\n"
+    "goal_constraints:\n  - joint_constraints:\n"
+    + "".join(
+        f"      - {{joint_name: panda_joint{i}, position: {p}}}\n"
+        for i, p in enumerate([0, -0.5, 0, -2, 0, 1.6, 0.8], 1)
+    )
+)
+"""A MoveIt motion plan request: a joint goal of the Panda."""
+
+
+def inputs12_attempts() -> list[Attempt]:
+    """Hostile CSVs given to compare and check (as the golden), MoveIt planning scenes and requests
+    in YAML at the edges of their messages, and a run folder's files edited by hand in ways
+    campaign 11 did not (extra and missing columns, its marker, the scene's fields) read back by
+    render, view and export. Exit 0 (or 1, a difference), or 2 naming the file."""
+    k = "inputs12"
+    out: list[Attempt] = []
+    # fmt: off
+    csv_edits: list[tuple[str, Callable[[str], str | bytes]]] = [
+        ("one row fewer", lambda t: t[: t.rstrip("\n").rindex("\n") + 1]),
+        ("spaces after the commas", lambda t: t.replace(",", ", ")),
+        ("a trailing comma on every row", lambda t: t.replace("\n", ",\n")),
+        ("its columns in another order", lambda t: "\n".join(",".join([r.split(",")[1], r.split(",")[0], *r.split(",")[2:]]) for r in t.rstrip("\n").split("\n")) + "\n"),
+        ("numbers in quotes", lambda t: "\n".join([t.split("\n")[0]] + [",".join(f'"{c}"' for c in r.split(",")) for r in t.split("\n")[1:] if r]) + "\n"),
+        ("-0.0 for every 0.0", lambda t: t.replace(",0.0,", ",-0.0,")),
+        ("an angle of 1e-400", lambda t: _set_cell(t, 2, 3, "1e-400")),
+        ("an angle of NaN on one side only", lambda t: _set_cell(t, 2, 3, "nan")),
+        ("the header in capitals", lambda t: t.split("\n", 1)[0].upper() + "\n" + t.split("\n", 1)[1]),
+        ("CR line ends only", lambda t: t.replace("\n", "\r")),
+        ("latin-1 in an extra column's name", lambda t: t.replace("\n", ",caf\xe9\n", 1).encode("latin-1")),
+        ("a NUL inside a number", lambda t: _set_cell(t, 2, 3, "0.\x005")),
+        ("a gzip of itself", lambda t: __import__("gzip").compress(t.encode())),
+        ("a 1 MB cell", lambda t: _set_cell(t, 2, 14, "x" * 1_000_000)),
+    ]
+    # fmt: on
+    for label, change in csv_edits:
+
+        def compared(d: Path, change=change) -> None:
+            text = (finished_run(d) / "trajectory.csv").read_text()
+            write(d / "a.csv", text)
+            write(d / "e.csv", change(text))
+
+        def golden(d: Path, change=change) -> None:
+            write(d / "s.yaml", TINY)
+            armanim_in(d, "check", "s.yaml", "--golden", "g", "--update")
+            write(d / "g/tiny.csv", change((d / "g/tiny.csv").read_text()))
+
+        out.append(
+            Attempt(
+                k,
+                f"compare, {label}",
+                ["compare", "a.csv", "e.csv"],
+                compared,
+                (0, 1, 2),
+                timeout=120,
+                message_if_2=r"[ae]\.csv\b",  # FILE:LINE, or "ACTUAL: lacks the column C that EXPECTED has"
+            )
+        )
+        out.append(
+            Attempt(
+                k,
+                f"check against a golden CSV of {label}",
+                ["check", "s.yaml", "--golden", "g"],
+                golden,
+                (0, 1, 2),
+                timeout=120,
+                message_if_2=r"g/tiny\.csv\b",
+            )
+        )
+    box = MOVEIT_BOX
+    # fmt: off
+    scenes = [
+        ("a primitive of type 4 (a cone)", box.replace("type: box", "type: 4")),
+        ("a primitive of type BOX in capitals", box.replace("type: box", "type: BOX")),
+        ("a primitive of type 0", box.replace("type: box", "type: 0")),
+        ("a primitive of type true", box.replace("type: box", "type: true")),
+        ("a box of no dimensions", box.replace("[0.1, 0.1, 0.1]", "[]")),
+        ("a box of a negative edge", box.replace("[0.1, 0.1, 0.1]", "[0.1, -0.1, 0.1]")),
+        ("a sphere of radius 0", box.replace("{type: box, dimensions: [0.1, 0.1, 0.1]}", "{type: sphere, dimensions: [0]}")),
+        ("a cylinder of three dimensions", box.replace("{type: box, dimensions: [0.1, 0.1, 0.1]}", "{type: cylinder, dimensions: [0.1, 0.1, 0.1]}")),
+        ("two primitives and one pose", box.replace("        - {type: box", "        - {type: sphere, dimensions: [0.05]}\n        - {type: box")),
+        ("no primitive and one pose", box.replace("        - {type: box, dimensions: [0.1, 0.1, 0.1]}\n", "").replace("primitives:\n", "primitives: []\n")),
+        ("an orientation of zeros", box.replace("orientation: [0, 0, 0, 1]", "orientation: [0, 0, 0, 0]")),
+        ("an orientation mapping without w", box.replace("orientation: [0, 0, 0, 1]", "orientation: {x: 0, y: 0, z: 0}")),
+        ("a position mapping of x only", box.replace("position: [0.5, 0.3, 0.6]", "position: {x: 0.5}")),
+        ("a frame_id no link has", box.replace("frame_id: panda_link0", "frame_id: nosuch")),
+        ("an empty frame_id", box.replace("frame_id: panda_link0", "frame_id: ''")),
+        ("two objects of one id", box.replace("    - id: b\n", "    - id: b\n      primitives: [{type: sphere, dimensions: [0.05]}]\n      primitive_poses: [{position: [0.5, -0.3, 0.6]}]\n    - id: b\n")),
+        ("an id with a newline and a colon", box.replace("id: b", 'id: "b\\n: c"')),
+        ("operation 1 (REMOVE)", box.replace("    - id: b\n", "    - id: b\n      operation: 1\n")),
+        ("collision_objects null", "world:\n  collision_objects: null\n"),
+        ("collision_objects a mapping", "world:\n  collision_objects: {id: b}\n"),
+        ("a mesh and its pose", box.replace("      primitives:", "      meshes: [{triangles: [{vertex_indices: [0, 1, 2]}], vertices: [{x: 0, y: 0, z: 0}, {x: 1, y: 0, z: 0}, {x: 0, y: 1, z: 0}]}]\n      mesh_poses: [{position: [0, 0, 0]}]\n      primitives:")),
+        ("joint positions longer than names", box.replace("position: [0.1]}", "position: [0.1, 0.2, 0.3]}")),
+        ("a joint position of .inf", box.replace("position: [0.1]}", "position: [.inf]}")),
+        ("world a list", "world: [1, 2]\n"),
+        ("is_diff true and nothing else", "is_diff: true\n"),
+    ]
+    requests = [
+        ("goal_constraints empty", MOVEIT_REQUEST.split("goal_constraints")[0] + "goal_constraints: []\n"),
+        ("a joint constraint of an unknown joint", MOVEIT_REQUEST.replace("panda_joint7", "nosuch")),
+        ("a joint constraint position .nan", MOVEIT_REQUEST.replace("position: 0.8", "position: .nan")),
+        ("a group_name no SRDF has", MOVEIT_REQUEST.replace("group_name: panda_arm", "group_name: nosuch")),
+        ("goal_constraints a mapping", MOVEIT_REQUEST.split("goal_constraints")[0] + "goal_constraints: {joint_constraints: []}\n"),
+        ("a position constraint without a region", MOVEIT_REQUEST.split("goal_constraints")[0] + "goal_constraints:\n  - position_constraints:\n      - {link_name: panda_link8, header: {frame_id: panda_link0}}\n"),
+        ("an orientation constraint of .nan", MOVEIT_REQUEST.split("goal_constraints")[0] + "goal_constraints:\n  - position_constraints:\n      - link_name: panda_link8\n        header: {frame_id: panda_link0}\n        constraint_region: {primitive_poses: [{position: [0.4, 0, 0.5]}]}\n    orientation_constraints:\n      - {link_name: panda_link8, orientation: {x: .nan, y: 0, z: 0, w: 1}}\n"),
+    ]
+    # fmt: on
+    importing = ["import", "moveit", "w.yaml", "--robot", "panda", "--out", "m.yaml"]
+    for label, text in scenes:
+        out.append(
+            Attempt(
+                k,
+                f"import moveit, a YAML planning scene with {label}",
+                importing,
+                lambda d, text=text: write(d / "w.yaml", text) and None,
+                (0, 2),
+                timeout=120,
+                message_if_2=r"w\.yaml:(\d+:)? ",
+            )
+        )
+    for label, text in requests:
+        out.append(
+            Attempt(
+                k,
+                f"import moveit, a request with {label}",
+                [*importing, "--request", "r.yaml"],
+                lambda d, text=text: (write(d / "w.yaml", MOVEIT_BOX), write(d / "r.yaml", text)) and None,
+                (0, 2),
+                timeout=120,
+                message_if_2=r"(w|r)\.yaml:(\d+:)? ",
+            )
+        )
+    # fmt: off
+    run_files = [
+        ("marker's made_by another program", ".armanim-run.json", lambda t: t.replace('"made_by": "armanim"', '"made_by": "me"')),
+        ("marker deleted", ".armanim-run.json", None),
+        ("trajectory.csv with a column of the user's added", "trajectory.csv", lambda t: "\n".join(r + (",mine" if r else "") for r in t.split("\n"))),
+        ("trajectory.csv without its phi2_deg column", "trajectory.csv", lambda t: "\n".join(",".join(c for i, c in enumerate(r.split(",")) if i != 4) for r in t.split("\n"))),
+        ("trajectory.csv of one row", "trajectory.csv", lambda t: "\n".join(t.split("\n")[:2]) + "\n"),
+        ("trajectory.csv with a NaN angle", "trajectory.csv", lambda t: _set_cell(t, 3, 4, "nan")),
+        ("scene.yaml with a sphere of radius 1e9 added", "scene.yaml", lambda t: t + "obstacles: [{center: [0, 0, 0], radius: 1e9}]\n"),
+        ("scene.yaml naming arm.urdf /dev/zero", "scene.yaml", lambda t: t.replace("{links: [1, 1, 1]}", "{urdf: /dev/zero}")),
+        ("scene.yaml in UTF-16", "scene.yaml", lambda t: t.encode("utf-16")),
+        ("summary.json with 10,000 goals", "summary.json", lambda t: '{"goals": [' + ", ".join(['{"reached": true}'] * 10_000) + "]}"),
+    ]
+    # fmt: on
+    # render --out fig reads the run without writing into it (the folder holds an edit: exit 3 there)
+    out += read_back_attempts(k, run_files, ["--size", "64x48", "--out", "fig"], (0, 2, 3))
+    return out
+
+
+WRONG12_KINDS = ("edge", "joints", "text", "arc", "polyline", "hold")
+"""wrong12's goal kinds: joint goals at their limits' edge and within, text, arcs, polylines, holds."""
+
+
+def moved_cell(row: int, column: int, by: float | None) -> Callable[[Path], None]:
+    """Setup: a finished run's CSV as a.csv, and e.csv with one cell moved by ``by`` (None: a
+    ``reached`` 0 made 1)."""
+
+    def setup(d: Path) -> None:
+        text = (finished_run(d) / "trajectory.csv").read_text()
+        write(d / "a.csv", text)
+        cell = text.split("\n")[row].split(",")[column]
+        write(d / "e.csv", _set_cell(text, row, column, "1" if by is None else repr(float(cell) + by)))
+
+    return setup
+
+
+def wrong12_attempts() -> list[Attempt]:
+    """Random arms with joint goals at their limits' edge, text, arcs and polylines (new seeds);
+    ik from given starts and fk in radians against the campaign's own kinematics; compare's
+    verdict against the size of the difference it is given."""
+    import numpy as np
+
+    k = "wrong12"
+    out = random_arm_runs(k, range(300, 316), " with joint goals at their limits and text", WRONG12_KINDS)
+    rng = np.random.default_rng(12)
+    out += [random_fk_attempt(k, i, rng, 13, 6, radians=True) for i in range(4)]
+    for i in range(8):
+        links, goal = random_reachable_goal(rng)
+        start = [round(float(x), 2) for x in rng.uniform(-170, 170, len(links))]
+        method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
+        out.append(
+            Attempt(
+                k,
+                f"ik of a random {len(links)}-link arm by {method} from a random start ({i}), held to the oracle",
+                ik_args(links, goal, method, start),
+                lambda d: None,
+                (0, 1),
+                timeout=200,
+                after=ik_breaks(links, goal, method, start),
+            )
+        )
+    # compare's verdict: the frame-2 cells of tiny's CSV moved by more or less than its tolerance
+    for label, setup, flags, code in (
+        ("phi1 moved by 2e-6 deg (twice its tolerance)", moved_cell(2, 3, 2e-6), [], 1),
+        ("phi1 moved by 5e-7 deg (half its tolerance)", moved_cell(2, 3, 5e-7), [], 0),
+        ("phi2 moved by 5e-4 deg under --atol-deg 1e-3", moved_cell(2, 4, 5e-4), ["--atol-deg", "1e-3"], 0),
+        ("phi2 moved by 2e-3 deg under --atol-deg 1e-3", moved_cell(2, 4, 2e-3), ["--atol-deg", "1e-3"], 1),
+        ("x moved by 2e-6 (twice its tolerance)", moved_cell(2, 6, 2e-6), [], 1),
+        ("reached 0 made 1", moved_cell(2, 11, None), [], 1),
+    ):
+        out.append(Attempt(k, f"compare, {label}", ["compare", "a.csv", "e.csv", *flags], setup, (code,), timeout=120))
     return out
 
 
@@ -4793,6 +5465,12 @@ CLASSES = {
     "loss11": loss11_attempts,
     "inputs11": inputs11_attempts,
     "wrong11": wrong11_attempts,
+    "mesh12": mesh12_attempts,
+    "frames12": frames12_attempts,
+    "signals12": signals12_attempts,
+    "loss12": loss12_attempts,
+    "inputs12": inputs12_attempts,
+    "wrong12": wrong12_attempts,
 }
 
 

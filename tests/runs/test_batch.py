@@ -671,3 +671,19 @@ def test_a_bad_sweep_value_names_its_setting_not_a_line_of_the_generated_yaml(sr
     line = next(text for text in result.stderr.splitlines() if "solver.step" in text)
     # no line number after the variant's name: it would point into the generated YAML
     assert line.endswith("a.yaml [out-of-reach_step-5]: solver.step: --set solver.step=5: must be <= 1 (got 5)"), line
+
+
+@pytest.mark.parametrize(
+    ("setting", "expected"),
+    [
+        # campaign 12: a problem at a key the setting made named no --set (s.yaml seemed to hold it)
+        ("nosuch.field=1", "nosuch: --set nosuch.field=1: unknown key 'nosuch'"),
+        ("s\u00f6lver.step=0.1", "s\u00f6lver: --set s\u00f6lver.step=0.1: unknown key 's\u00f6lver'"),
+        # campaign 12: a list was shown stripped to the variant's label, 1e-091e-09
+        ("arm.max_joint_speed=[1e-9, 1e-9, 1e-9, 1e-9]", "--set arm.max_joint_speed=[1e-09, 1e-09, 1e-09, 1e-09]: "),
+    ],
+)
+def test_a_bad_sweep_setting_is_named_with_its_value_as_given(src, tmp_path, setting, expected):
+    result = invoke("sweep", src / "a.yaml", "--set", setting, "--out", tmp_path, "-q", "--jobs", 1)
+    assert result.exit_code == 2
+    assert expected in result.stderr, result.stderr

@@ -101,3 +101,25 @@ def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):
     same = tmp_path / "same.csv"
     same.write_bytes(b"frame\n0\n")
     assert golden_status(same, b"frame\n0\n") == "unchanged" and golden_status(tmp_path / "none.csv", b"x") == "new"
+
+
+@pytest.mark.parametrize("update", [True, False])
+def test_two_scenes_of_one_name_are_refused_before_any_golden_is_written(cli, tmp_path, update):
+    # campaign 12: check --update wrote both to golden/g.csv, the second over the first, exit 0
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    (tmp_path / "a" / "s.yaml").write_text(SMALL + "name: g\n")
+    (tmp_path / "b" / "s.yaml").write_text(SMALL.replace("[1, 1, 2]", "[1, 1.5, 2]") + "name: g\n")
+    golden = tmp_path / "golden"
+    args = ("check", tmp_path / "a" / "s.yaml", tmp_path / "b" / "s.yaml", "--golden", golden, "-q")
+    result = cli(*args, *(("--update",) if update else ()))
+    assert result.exit_code == 2
+    assert "b/s.yaml: another scene in this batch is also named 'g'" in result.output
+    assert not golden.exists()
+    # the same file twice is one scene
+    assert (
+        cli(
+            "check", tmp_path / "a" / "s.yaml", tmp_path / "a" / "s.yaml", "--golden", golden, "--update", "-q"
+        ).exit_code
+        == 0
+    )

@@ -60,6 +60,7 @@ def check(
     """
     from rich.table import Table
 
+    from armanim.runs.batch import refuse_shared_names
     from armanim.runs.golden import check_scene, update_golden
 
     if golden.exists() and not golden.is_dir():
@@ -68,6 +69,7 @@ def check(
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(golden, "--golden", itself=True)
+    refuse_shared_names(scenes)
     table = Table(title=f"golden trajectories in {golden}", title_justify="left")
     for col in ("scene", "golden file", "result"):
         table.add_column(col)

@@ -17,7 +17,7 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from armanim.errors import ArmanimError, SceneError
+from armanim.errors import ArmanimError, SceneError, UsageError
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import check_table_replaceable, table_csv_text
 from armanim.output.marks import write_marked
@@ -129,6 +129,34 @@ def write_remote_run(run: RemoteRun, out_root: Path) -> Path:
     return folder
 
 
+def shared_name_message(path: Path, name: str) -> str:
+    """What a scene named as one before it in a batch or check is told."""
+    return f"{path}: another scene in this batch is also named {name!r} (names must differ: set name:)"
+
+
+def refuse_shared_names(paths: Iterable[Path]) -> None:
+    """Exit 2 at the first of ``paths`` (the same file given twice counts once) named as a scene
+    before it: ``check`` keeps each scene's golden pair at ``<golden>/<name>.csv``, so two scenes of
+    one name would share one pair (campaign 12: ``check --update`` wrote both, the second over the
+    first, exit 0, and every later ``check`` of the two failed). A scene that does not load is
+    left to the command, which reports it as before.
+
+    Raises
+    ------
+    UsageError
+        Two scenes of one name (exit 2).
+    """
+    names: set[str] = set()
+    for path in dict.fromkeys(Path(p) for p in paths):
+        try:
+            name = load_scene(path).name
+        except SceneError:
+            continue
+        if name in names:
+            raise UsageError(shared_name_message(path, name))
+        names.add(name)
+
+
 def load_tasks(paths: Iterable[Path]) -> tuple[list[SceneTask], list[BatchEntry]]:
     """Validate scene files on the client: tasks for the valid ones, entries for the rest."""
     tasks, rejected, names = [], [], set()
@@ -139,14 +167,7 @@ def load_tasks(paths: Iterable[Path]) -> tuple[list[SceneTask], list[BatchEntry]
             rejected.append(BatchEntry(Path(path).stem, "invalid", str(path), message=exc.report()))
             continue
         if scene.name in names:
-            rejected.append(
-                BatchEntry(
-                    scene.name,
-                    "invalid",
-                    str(path),
-                    message=f"{path}: another scene in this batch is also named {scene.name!r} (names must differ: set name:)",
-                )
-            )
+            rejected.append(BatchEntry(scene.name, "invalid", str(path), message=shared_name_message(path, scene.name)))
             continue
         names.add(scene.name)
         tasks.append(SceneTask.from_scene(scene))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import itertools
+import json
 import math
 import re
 from collections.abc import Callable
@@ -153,20 +154,34 @@ def variants(scene_path: Path, settings: list[Setting]) -> list[Variant]:
 
 def variant_error(exc: SceneError, values: dict) -> SceneError:
     """A variant's problems without line numbers (they would point into the generated YAML,
-    not the user's file), each naming the ``--set`` value it comes from, if one does."""
+    not the user's file), each naming the ``--set`` value it comes from, if one does: the
+    setting at or above the problem's field, else the only setting below it (the base scene
+    is valid, so a problem at ``nosuch`` comes from ``--set nosuch.field=1``: campaign 12)."""
     problems = []
     for p in exc.problems:
-        setting = next(
-            (
-                path
-                for path in values
-                if p.path == path or p.path.startswith(path + ".") or p.path.startswith(path + "[")
-            ),
-            None,
-        )
-        message = f"--set {setting}={_label(values[setting])}: {p.message}" if setting else p.message
+        setting = next((path for path in values if p.path == path or _inside(p.path, path)), None)
+        below = [path for path in values if _inside(path, p.path)]
+        if setting is None and len(below) == 1:
+            setting = below[0]
+        message = f"--set {setting}={_shown(values[setting])}: {p.message}" if setting else p.message
         problems.append(Diagnostic(p.path, message, None))
     return SceneError(exc.file, problems)
+
+
+def _inside(path: str, outer: str) -> bool:
+    """Whether field ``path`` lies inside field ``outer`` (``a.b`` and ``a[0]`` inside ``a``)."""
+    return path.startswith(outer + ".") or path.startswith(outer + "[")
+
+
+def _shown(value) -> str:
+    """A ``--set`` value as a message shows it: a word as it is, anything else as JSON (a list
+    stays a list; the variant's name strips it to a label: campaign 12 showed ``[1e-9, 1e-9]``
+    as ``1e-091e-09``).
+
+    >>> _shown("bogus"), _shown(5), _shown([1e-09, 1e-09]), _shown({"links": [1, 1]})
+    ('bogus', '5', '[1e-09, 1e-09]', '{"links": [1, 1]}')
+    """
+    return value if isinstance(value, str) else json.dumps(value)
 
 
 def variant_count(settings: list[Setting]) -> int:
