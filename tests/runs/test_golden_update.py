@@ -56,33 +56,32 @@ def test_update_with_a_golden_csv_that_is_not_utf8_replaces_it(cli, tmp_path):
     assert (tmp_path / "notes-arm.csv").read_bytes().startswith(b"frame,time_s,")
 
 
-@pytest.mark.parametrize("theirs", [b"time_s\n0\n", b"", b"frame\n0\n", b"\xff" * 100])
-def test_a_golden_csv_that_is_no_trajectory_is_never_replaced(cli, tmp_path, theirs):
+FOREIGN = [
+    *(("csv", theirs) for theirs in (b"time_s\n0\n", b"", b"frame\n0\n", b"\xff" * 100)),
+    *(("json", theirs) for theirs in (b'{"mine": 1}\n', b"", b"[1, 2]\n", b"\xff" * 100)),
+]
+"""Files of a user's at a golden pair's names (by suffix): none begins as armanim's golden files do."""
+
+
+@pytest.mark.parametrize("suffix, theirs", FOREIGN)
+def test_a_golden_file_that_is_not_armanims_is_never_replaced(cli, tmp_path, suffix, theirs):
     """Campaign 11: ``check --update`` replaced a user's own CSV at the golden's name (``time_s``
-    and one row) with exit 0. A file there that does not begin as armanim's trajectory CSV is
-    exit 3, the pair left as it was (no .json written either), before the scene is solved."""
+    and one row) with exit 0, and would have a JSON of theirs at the pair's other name. A file at
+    either name that does not begin as armanim's golden files do is exit 3, the pair left as it
+    was (the other file not written either), before the scene is solved."""
     golden = tmp_path / "golden"
     golden.mkdir()
-    (golden / "notes-arm.csv").write_bytes(theirs)
+    (golden / f"notes-arm.{suffix}").write_bytes(theirs)
     result = cli("check", NOTES, "--golden", golden, "--update", "-q")
-    assert result.exit_code == 3 and "is not a golden .csv file armanim wrote" in result.stderr, result.output
-    assert _pair(golden) == {"notes-arm.csv": theirs}
+    assert result.exit_code == 3 and f"is not a golden .{suffix} file armanim wrote" in result.stderr, result.output
+    assert _pair(golden) == {f"notes-arm.{suffix}": theirs}
 
 
-@pytest.mark.parametrize("theirs", [b'{"mine": 1}\n', b"", b"[1, 2]\n", b"\xff" * 100])
-def test_a_golden_json_that_is_not_armanims_is_never_replaced(cli, tmp_path, theirs):
-    """A JSON of the user's at the golden metadata's name is exit 3, the pair left as it was (no
-    CSV written either), as a CSV of theirs is; the metadata armanim wrote is replaced (the test
-    above this one's neighbours)."""
-    golden = tmp_path / "golden"
-    golden.mkdir()
-    (golden / "notes-arm.json").write_bytes(theirs)
-    result = cli("check", NOTES, "--golden", golden, "--update", "-q")
-    assert result.exit_code == 3 and "is not a golden .json file armanim wrote" in result.stderr, result.output
-    assert _pair(golden) == {"notes-arm.json": theirs}
-    (golden / "notes-arm.json").write_bytes(b'{\n  "armanim_version": "0.0.1",\n  "scene_sha256": "x"\n}\n')
-    assert cli("check", NOTES, "--golden", golden, "--update", "-q").exit_code == 0
-    assert json.loads((golden / "notes-arm.json").read_text())["scene_file"] == "notes-arm.yaml"
+def test_a_golden_json_armanim_wrote_is_replaced(cli, tmp_path):
+    """The metadata armanim wrote (its first key first, indented by two) is replaced, whatever it says."""
+    (tmp_path / "notes-arm.json").write_bytes(b'{\n  "armanim_version": "0.0.1",\n  "scene_sha256": "x"\n}\n')
+    assert cli("check", NOTES, "--golden", tmp_path, "--update", "-q").exit_code == 0
+    assert json.loads((tmp_path / "notes-arm.json").read_text())["scene_file"] == "notes-arm.yaml"
 
 
 def test_the_old_golden_csv_is_compared_without_reading_it_whole(tmp_path):
