@@ -134,6 +134,7 @@ def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
     """Stop a pool at once: queued scenes are dropped, running ones get SIGTERM (a worker's
     quiet exit: its ffmpeg is killed, its temporary folder removed); none is waited for to finish."""
     processes = list((getattr(pool, "_processes", None) or {}).values())  # the executor has no public way
+    manager = getattr(pool, "_executor_manager_thread", None)  # before shutdown, which forgets it
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         with contextlib.suppress(Exception):
@@ -144,13 +145,15 @@ def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
         if process.is_alive():
             process.kill()
             process.join(1.0)
-    # The executor's manager thread closes its wakeup pipe as it sees the workers gone; Python's
-    # exit wakes every such thread, and on 3.11 a pipe closed between its check and its write is a
-    # traceback ("Exception ignored in: <module 'threading'>": Bad file descriptor, the signal
-    # sweep's batch at ffmpeg+0.1 s). Joined here, the pipe is closed before the exit looks.
-    manager = getattr(pool, "_executor_manager_thread", None)
+    # The executor's manager thread closes its wakeup pipe as it sees the workers gone, and Python's
+    # exit writes to every such pipe with no lock between its check and its write: on 3.11 a pipe
+    # closed in between is a traceback ("Exception ignored in: <module 'threading'>": Bad file
+    # descriptor; the signal sweep's batch at ffmpeg+0.1 s). The stopped pool's pipe is taken out
+    # of the exit's list; the thread ends by itself, as Python's exit joins it.
     if manager is not None:
-        manager.join(max(0.0, deadline - time.monotonic()) + 1.0)
+        from concurrent.futures import process as futures_process
+
+        futures_process._threads_wakeups.pop(manager, None)
     remove_worker_folders()
 
 
