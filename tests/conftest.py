@@ -32,8 +32,18 @@ if "numpy" in sys.modules:  # too late for the line above: a plugin imported num
 if os.environ.pop("PYTHONDONTWRITEBYTECODE", None):
     sys.dont_write_bytecode = False
 
+import signal
+
 import pytest
 from hypothesis import HealthCheck, settings
+
+# A pytest started in the background of a non-interactive shell (``cmd &``, nohup, a CI step run so)
+# inherits SIGINT ignored: Python then installs no handler, and every process a test starts inherits
+# the ignored disposition too, so a Ctrl-C a test sends (or raises in itself) passes unseen: 21 tests
+# of tests/cli/test_interrupts.py and tests/procs/test_worker_signals.py failed so, alone or in the
+# whole suite, never in a terminal. The suite runs with Ctrl-C as Python sets it in a terminal.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 TESTS = Path(__file__).resolve().parent
 ROOT = TESTS.parent
@@ -140,6 +150,18 @@ def scenes_dir() -> Path:
 def bundled_scenes() -> list[Path]:
     assert BUNDLED, f"no scenes in {SCENES}"
     return BUNDLED
+
+
+@pytest.fixture()
+def ctrl_c_raises():
+    """Ctrl-C raises KeyboardInterrupt in this process for the test's duration (Python's own handler),
+    whatever handler the process holds (see the SIGINT note at this file's top): a signal the test
+    raises in itself is then never passed unseen."""
+    import signal
+
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
 
 
 @pytest.fixture()

@@ -97,7 +97,7 @@ class _TransformThatMeetsACtrlC:
         return np.eye(3)
 
 
-def test_a_ctrl_c_that_matplotlib_turns_into_an_error_still_ends_with_130(capsys):
+def test_a_ctrl_c_that_matplotlib_turns_into_an_error_still_ends_with_130(capsys, ctrl_c_raises):
     """matplotlib's pybind11 layer clears a KeyboardInterrupt raised while it converts a transform and
     raises "Invalid affine transformation matrix" instead: CI's [render] at "ffmpeg" ended with that
     traceback and exit 1. After a signal, any error is the signal's."""

@@ -15,18 +15,14 @@ import pytest
 
 
 @pytest.fixture()
-def ctrl_c_raises():
-    """Ctrl-C raises KeyboardInterrupt here (a test runner's worker may have set another handler), and a
-    second thread that does not block it is there: where the kernel delivers a process's signal while
-    the main thread blocks it (as a progress bar's refresh thread is in a real batch)."""
-    import signal
-
-    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+def ctrl_c_raises(ctrl_c_raises):
+    """The suite's ``ctrl_c_raises`` (Ctrl-C raises KeyboardInterrupt here), and a second thread that
+    does not block it: where the kernel delivers a process's signal while the main thread blocks it
+    (as a progress bar's refresh thread is in a real batch)."""
     idle = threading.Event()
     threading.Thread(target=idle.wait, name="test-idle", daemon=True).start()
     yield
     idle.set()
-    signal.signal(signal.SIGINT, old)
 
 
 def test_a_ctrl_c_while_processes_start_is_raised_only_when_they_have_started(ctrl_c_raises):
