@@ -7,6 +7,7 @@ a scene takes back as its arm.collision, and `armanim robots --fit` prints it.""
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -51,16 +52,42 @@ def _meshes() -> dict[str, trimesh.Trimesh]:
     }
 
 
-@pytest.fixture()
-def robot_dir(tmp_path, monkeypatch):
-    """A package folder `meshy` with the URDF and its meshes; the fit cache in its own folder."""
-    folder = tmp_path / "meshy"
+LINKS = ("base", "upper", "fore")
+"""The links whose meshes are fitted (fore's from its visual mesh)."""
+
+
+def _package(root: Path) -> Path:
+    """The package folder `meshy` under ``root``: the URDF and its meshes."""
+    folder = root / "meshy"
     (folder / "meshes").mkdir(parents=True)
     for name, mesh in _meshes().items():
         mesh.export(folder / "meshes" / name)
     (folder / "meshy.urdf").write_text(URDF)
-    monkeypatch.setenv("ARMANIM_CACHE_DIR", str(tmp_path / "cache"))
     return folder
+
+
+@pytest.fixture(scope="module")
+def meshy_fits(tmp_path_factory) -> Path:
+    """A cache folder holding the fits of meshy's three meshes, fitted once for the module (a few
+    seconds of CPU each time): the tests of what a scene of the robot does read them from there, as
+    a second run does; the tests of the fit and of the cache itself fit afresh."""
+    from armanim.scene.meshcapsules import mesh_capsules
+    from armanim.scene.urdf import read_urdf
+
+    root = tmp_path_factory.mktemp("meshy-fits")
+    folder = _package(root)
+    fits = mesh_capsules(read_urdf(folder / "meshy.urdf"), LINKS, folder, [root], cache=root / "cache")
+    assert fits.cached == 0 and len(list((root / "cache").glob("*.json"))) == len(LINKS)
+    return root / "cache"
+
+
+@pytest.fixture()
+def robot_dir(tmp_path, monkeypatch, meshy_fits):
+    """A package folder `meshy` with the URDF and its meshes; the fit cache in its own folder, holding
+    the fits of the meshes as written (:func:`meshy_fits`)."""
+    shutil.copytree(meshy_fits, tmp_path / "cache")
+    monkeypatch.setenv("ARMANIM_CACHE_DIR", str(tmp_path / "cache"))
+    return _package(tmp_path)
 
 
 def _scene(folder: Path, extra: str = "", name: str = "s.yaml") -> Path:
@@ -116,10 +143,9 @@ def test_the_fit_is_the_same_twice_and_from_the_cache(robot_dir, tmp_path, monke
     from armanim.scene.urdf import read_urdf
 
     robot = read_urdf(robot_dir / "meshy.urdf")
-    links = ("base", "upper", "fore")
-    fresh = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=None)
-    first = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
-    again = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
+    fresh = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=None)
+    first = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=tmp_path / "c")
+    again = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=tmp_path / "c")
     assert (fresh.cached, first.cached, again.cached) == (0, 0, 3)
     assert len(list((tmp_path / "c").glob("*.json"))) == 3
 
@@ -127,15 +153,19 @@ def test_the_fit_is_the_same_twice_and_from_the_cache(robot_dir, tmp_path, monke
         return [(link, c.start.tobytes(), c.end.tobytes(), c.radius) for link, c in fits.capsules]
 
     assert rows(fresh) == rows(first) == rows(again)
-    for path in (tmp_path / "c").glob("*.json"):  # a damaged cache entry is fitted again, never trusted
-        path.write_text('{"key": "x", "capsules": [{"from": [0, 0, 0], "to": [0, 0, 0], "radius": 0}]}')
-    assert rows(mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")) == rows(fresh)
-    for path in (tmp_path / "c").glob("*.json"):  # campaign 9: JSON nested within the size bound was a RecursionError
-        path.write_text("[" * 49_000 + "]" * 49_000)
-    assert rows(mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")) == rows(fresh)
+    entries = sorted((tmp_path / "c").glob("*.json"))
+    # a damaged cache entry is fitted again, never trusted (each time another one; the others are read)
+    entries[0].write_text('{"key": "x", "capsules": [{"from": [0, 0, 0], "to": [0, 0, 0], "radius": 0}]}')
+    damaged = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=tmp_path / "c")
+    assert (rows(damaged), damaged.cached) == (rows(fresh), 2)
+    entries[1].write_text(
+        "[" * 49_000 + "]" * 49_000
+    )  # campaign 9: JSON nested within the size bound was a RecursionError
+    nested = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=tmp_path / "c")
+    assert (rows(nested), nested.cached) == (rows(fresh), 2)
 
 
-def test_a_link_in_the_cache_is_never_written_through(robot_dir, tmp_path):
+def test_a_link_in_the_cache_is_never_written_through(robot_dir, tmp_path, meshy_fits):
     """Campaign 10: a cache entry that was a link to a user's file (or a hard link to one) was
     replaced by a fit through the link: the user's file held capsules. A link there is left as it
     is and the fit not kept; a hard link is replaced by a new file, the user's one as it was."""
@@ -143,8 +173,7 @@ def test_a_link_in_the_cache_is_never_written_through(robot_dir, tmp_path):
     from armanim.scene.urdf import read_urdf
 
     robot = read_urdf(robot_dir / "meshy.urdf")
-    links = ("base", "upper", "fore")
-    mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
+    shutil.copytree(meshy_fits, tmp_path / "c")  # the three fits, as a fit of them keeps them
     mine, hard = tmp_path / "mine.json", tmp_path / "hard.json"
     mine.write_text('{"mine": 1}')
     hard.write_text('{"mine": 2}')
@@ -153,7 +182,7 @@ def test_a_link_in_the_cache_is_never_written_through(robot_dir, tmp_path):
     soft_entry.symlink_to(mine)
     hard_entry.unlink()
     os.link(hard, hard_entry)
-    again = mesh_capsules(robot, links, robot_dir, [tmp_path], cache=tmp_path / "c")
+    again = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=tmp_path / "c")
     assert again.cached == 1  # the third entry; the two others are fitted again
     assert (mine.read_text(), hard.read_text()) == ('{"mine": 1}', '{"mine": 2}')
     assert soft_entry.is_symlink() and os.readlink(soft_entry) == str(mine)
