@@ -3,6 +3,8 @@ point-to-segment distance; the same capsules every time; volumes against trimesh
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 import trimesh
@@ -13,15 +15,15 @@ from armanim.arm.fitting import DECIMALS, fit_capsules
 
 
 def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The distance from each point of p (N, 3) to the segment a-b, by the textbook's clamp,
-    point by point in plain Python floats (independent of the module's vectorised one)."""
-    out = []
+    """The distance from each point of p (N, 3) to the segment a-b, by the textbook's clamp written
+    out coordinate by coordinate (independent of the module's vectorised one): per point, the
+    operations in the order of one point at a time in plain Python floats, for every point at once
+    (the volume samples are 100,000 points)."""
     ab = [b[i] - a[i] for i in range(3)]
     den = sum(c * c for c in ab)
-    for q in p.tolist():
-        t = 0.0 if den == 0 else max(0.0, min(1.0, sum((q[i] - a[i]) * ab[i] for i in range(3)) / den))
-        out.append(sum((q[i] - a[i] - t * ab[i]) ** 2 for i in range(3)) ** 0.5)
-    return np.array(out)
+    d = [np.asarray(p, dtype=float)[:, i] - a[i] for i in range(3)]
+    t = np.zeros(len(d[0])) if den == 0 else np.clip((d[0] * ab[0] + d[1] * ab[1] + d[2] * ab[2]) / den, 0.0, 1.0)
+    return np.sqrt((d[0] - t * ab[0]) ** 2 + (d[1] - t * ab[1]) ** 2 + (d[2] - t * ab[2]) ** 2)
 
 
 def excess(points: np.ndarray, capsules) -> np.ndarray:
@@ -68,10 +70,23 @@ def flange() -> trimesh.Trimesh:
     return trimesh.util.concatenate([disk, lug])
 
 
+def mesh_of(name: str) -> trimesh.Trimesh:
+    """One of :func:`shapes` by its name, or the flange."""
+    return flange() if name == "flange" else shapes()[name]
+
+
+@functools.cache
+def fitted(name: str, max_capsules: int = 3) -> tuple:
+    """fit_capsules of :func:`mesh_of` ``name`` with the module's own settings, fitted once a process
+    (each fit takes up to seconds; the tests that fit with settings patched call fit_capsules)."""
+    mesh = mesh_of(name)
+    return tuple(fit_capsules(mesh.vertices, mesh.faces, max_capsules=max_capsules))
+
+
 @pytest.mark.parametrize("name", list(shapes()))
 def test_fitted_capsules_hold_every_vertex_and_the_triangles(name):
     mesh = shapes()[name]
-    capsules = fit_capsules(mesh.vertices, mesh.faces)
+    capsules = fitted(name)
     assert 1 <= len(capsules) <= 3
     assert excess(mesh.vertices, capsules).max() <= 1e-12  # every vertex, as the numbers are written
     assert excess(surface_samples(mesh), capsules).max() <= 1e-9  # and the triangles between them (across cuts too)
@@ -84,17 +99,14 @@ def test_the_volume_is_near_the_convex_hulls():
     bends into two capsules instead of one fat one (5.9x its hull), and a box of 1:2 section is
     within the 1.96x of the circle round its section."""
     for name, bound in (("cylinder", 1.25), ("L", 1.5), ("tilted box", 1.96)):
-        mesh = shapes()[name]
-        capsules = fit_capsules(mesh.vertices, mesh.faces)
-        assert sum(c.volume for c in capsules) <= bound * mesh.convex_hull.volume, name
-    assert len(fit_capsules(shapes()["L"].vertices, shapes()["L"].faces)) >= 2
-    one = fit_capsules(shapes()["L"].vertices, shapes()["L"].faces, max_capsules=1)
-    assert len(one) == 1
+        assert sum(c.volume for c in fitted(name)) <= bound * shapes()[name].convex_hull.volume, name
+    assert len(fitted("L")) >= 2
+    assert len(fitted("L", max_capsules=1)) == 1
 
 
 def test_the_same_mesh_gives_the_same_capsules_bit_for_bit():
     mesh = shapes()["L"]
-    first, second = fit_capsules(mesh.vertices, mesh.faces), fit_capsules(mesh.vertices.copy(), mesh.faces.copy())
+    first, second = fitted("L"), fit_capsules(mesh.vertices.copy(), mesh.faces.copy())
     assert [(c.start.tobytes(), c.end.tobytes(), c.radius) for c in first] == [
         (c.start.tobytes(), c.end.tobytes(), c.radius) for c in second
     ]
@@ -240,9 +252,9 @@ def test_the_fit_kept_claims_no_more_space_outside_the_hull_than_one_capsule(nam
     allowance in volume. A flange (a disk with a lug, like a Panda's panda_link7) among them."""
     from armanim.arm.fitting import VOLUME_ALLOWANCE
 
-    mesh = flange() if name == "flange" else shapes()[name]
+    mesh = mesh_of(name)
     hull = mesh.convex_hull
-    kept, one = fit_capsules(mesh.vertices, mesh.faces), fit_capsules(mesh.vertices, mesh.faces, max_capsules=1)
+    kept, one = fitted(name), fitted(name, max_capsules=1)
     assert excess(mesh.vertices, kept).max() <= 1e-12
     assert outside_volume(kept, hull) <= 1.02 * outside_volume(one, hull)
     assert sum(c.volume for c in kept) <= VOLUME_ALLOWANCE * sum(c.volume for c in one) * 1.0001
@@ -257,7 +269,7 @@ def test_the_allowance_buys_less_space_outside_the_hull(monkeypatch):
 
     mesh = shapes()["tilted box"]
     hull = mesh.convex_hull
-    kept = fit_capsules(mesh.vertices, mesh.faces)
+    kept = fitted("tilted box")
     monkeypatch.setattr(fitting, "VOLUME_ALLOWANCE", 1.0)
     least = fit_capsules(mesh.vertices, mesh.faces)
     assert excess(mesh.vertices, kept).max() <= 1e-12 and excess(mesh.vertices, least).max() <= 1e-12
@@ -274,7 +286,7 @@ def test_the_cuts_capsules_shrink_where_a_neighbour_holds_their_points(monkeypat
     from armanim.arm import fitting
 
     mesh = flange()
-    shrunk = fit_capsules(mesh.vertices, mesh.faces)
+    shrunk = fitted("flange")
     monkeypatch.setattr(fitting, "SHRINK_TRIANGLES", -1)  # no mesh is small enough: the cut's capsules as fitted
     cut = fit_capsules(mesh.vertices, mesh.faces)
     assert len(cut) >= 2
