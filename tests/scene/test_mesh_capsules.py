@@ -138,21 +138,22 @@ def test_auto_fits_every_links_meshes_and_holds_every_vertex(robot_dir):
     assert len(problem.capsules) == len(robot.capsules)
 
 
-def test_the_fit_is_the_same_twice_and_from_the_cache(robot_dir, tmp_path, monkeypatch):
+def test_the_fit_is_the_same_twice_and_from_the_cache(robot_dir, tmp_path, meshy_fits):
+    """A fit without a cache is bit for bit the fit another one kept in its cache (the module's
+    first fit of the same meshes, :func:`meshy_fits`, into an empty cache), read back."""
     from armanim.scene.meshcapsules import mesh_capsules
     from armanim.scene.urdf import read_urdf
 
     robot = read_urdf(robot_dir / "meshy.urdf")
     fresh = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=None)
-    first = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=tmp_path / "c")
+    shutil.copytree(meshy_fits, tmp_path / "c")
     again = mesh_capsules(robot, LINKS, robot_dir, [tmp_path], cache=tmp_path / "c")
-    assert (fresh.cached, first.cached, again.cached) == (0, 0, 3)
-    assert len(list((tmp_path / "c").glob("*.json"))) == 3
+    assert (fresh.cached, again.cached) == (0, 3)
 
     def rows(fits):
         return [(link, c.start.tobytes(), c.end.tobytes(), c.radius) for link, c in fits.capsules]
 
-    assert rows(fresh) == rows(first) == rows(again)
+    assert rows(fresh) == rows(again)
     entries = sorted((tmp_path / "c").glob("*.json"))
     # a damaged cache entry is fitted again, never trusted (each time another one; the others are read)
     entries[0].write_text('{"key": "x", "capsules": [{"from": [0, 0, 0], "to": [0, 0, 0], "radius": 0}]}')
