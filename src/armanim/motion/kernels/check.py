@@ -168,10 +168,9 @@ def obstacle_clearances(
     kn = np.empty((c + 1, m, 3))
     if count:
         sphere_clearances(points, a, b, part_radius, centers, radii, kd[:, :count], kt[:, :count], kn[:, :count])
-    _solid_columns(pts, ends, part_radius, solid_centers, solid_half, solid_rotations, solid_radius, count, kd, kt, kn)
-    _cylinder_columns(
-        pts, ends, part_radius, cyl_centers, cyl_rotations, cyl_half, cyl_radius, count + solids, kd, kt, kn
-    )
+    parts, columns = (pts, ends, part_radius), (kd, kt, kn)
+    _kind_columns(parts, solid_centers, solid_rotations, solid_half, None, solid_radius, count, columns)
+    _kind_columns(parts, cyl_centers, cyl_rotations, None, cyl_half, cyl_radius, count + solids, columns)
     if floor.shape[0]:
         f = count + solids + cylinders
         for part in range(c + 1):
@@ -194,62 +193,60 @@ def obstacle_clearances(
 
 
 @compiled(**JIT)
-def _solid_columns(
-    pts: np.ndarray,
-    ends: np.ndarray,
-    part_radius: np.ndarray,
-    centers: np.ndarray | None,
-    half: np.ndarray | None,
-    rotations: np.ndarray | None,
-    radius: np.ndarray | None,
-    first: int,
-    kd: np.ndarray,
-    kt: np.ndarray,
-    kn: np.ndarray,
-) -> None:
-    """The solids' columns ``first`` on of :func:`obstacle_clearances`' kd, kt (c+1, m) and kn
-    (c+1, m, 3), the tip (the last part) a segment of no length; nothing where there are none
-    (None: the box's closed form is left out of the machine code)."""
-    if centers is None or half is None or rotations is None or radius is None:
-        return
-    parts, solids = pts.shape[0], radius.shape[0]
-    if not solids:
-        return
-    sd = np.empty((parts, solids))
-    st = np.empty((parts, solids))
-    sn = np.empty((parts, solids, 3))
-    segment_box_grid(pts, ends, centers, half, rotations, st, sd, sn)
-    _put_columns(sd, st, sn, radius, part_radius, first, kd, kt, kn)
-
-
-@compiled(**JIT)
-def _cylinder_columns(
-    pts: np.ndarray,
-    ends: np.ndarray,
-    part_radius: np.ndarray,
+def _kind_columns(
+    parts: tuple[np.ndarray, np.ndarray, np.ndarray],
     centers: np.ndarray | None,
     rotations: np.ndarray | None,
-    half: np.ndarray | None,
+    box_half: np.ndarray | None,
+    cylinder_half: np.ndarray | None,
     radius: np.ndarray | None,
     first: int,
-    kd: np.ndarray,
-    kt: np.ndarray,
-    kn: np.ndarray,
+    columns: tuple[np.ndarray, np.ndarray, np.ndarray],
 ) -> None:
-    """The cylinders' columns ``first`` on of :func:`obstacle_clearances`' kd, kt and kn, as
-    :func:`_solid_columns` the solids'."""
-    if centers is None or rotations is None or half is None or radius is None:
+    """One kind's columns, the solids' or the cylinders', ``first`` on of
+    :func:`obstacle_clearances`' kd, kt (c+1, m) and kn (c+1, m, 3), the tip (the last part) a
+    segment of no length.
+
+    The kind is told by which half sizes are given, the other None: numba leaves a closed form
+    out of the machine code only on an argument that is None, and one body typed with both
+    kinds' arrays would not compile (a solid's half sizes are (k, 3), a cylinder's (k,)).
+
+    Parameters
+    ----------
+    parts : tuple of arrays
+        The parts' segments' ends (c+1, 3) each and radii (c+1,), metres.
+    centers, rotations, radius : arrays or None
+        The kind's obstacles' centres (k, 3), rotations (k, 3, 3) and radii (k,) (metres: a
+        solid's rounding; a cylinder's distance is to its surface): None where the scene has
+        none of the kind, and then nothing is written.
+    box_half, cylinder_half : array or None
+        The solids' half sizes (k, 3) with ``cylinder_half`` None (the boxes' closed form,
+        :func:`armanim.world.compiled.segment_box_grid`), or the cylinders' half lengths (k,)
+        with ``box_half`` None (:func:`armanim.world.compiled.segment_cylinder_grid`).
+    first : int
+        The kind's first column.
+    columns : tuple of arrays
+        kd, kt and kn, filled in the kind's columns: clearances (metres), the segments'
+        parameters, the normals.
+    """
+    if centers is None or rotations is None or radius is None:
         return
-    parts, cylinders = pts.shape[0], radius.shape[0]
-    if not cylinders:
+    if box_half is None and cylinder_half is None:
         return
-    cd = np.empty((parts, cylinders))
-    ct = np.empty((parts, cylinders))
-    cn = np.empty((parts, cylinders, 3))
-    segment_cylinder_grid(pts, ends, centers, rotations, half, radius, ct, cd, cn)
-    _put_columns(
-        cd, ct, cn, np.zeros(cylinders), part_radius, first, kd, kt, kn
-    )  # a cylinder's distance is to its surface
+    pts, ends, part_radius = parts
+    kd, kt, kn = columns
+    count = radius.shape[0]
+    if not count:
+        return
+    d = np.empty((pts.shape[0], count))
+    t = np.empty((pts.shape[0], count))
+    normal = np.empty((pts.shape[0], count, 3))
+    if box_half is not None:
+        segment_box_grid(pts, ends, centers, box_half, rotations, t, d, normal)
+        _put_columns(d, t, normal, radius, part_radius, first, kd, kt, kn)
+    if cylinder_half is not None:
+        segment_cylinder_grid(pts, ends, centers, rotations, cylinder_half, radius, t, d, normal)
+        _put_columns(d, t, normal, np.zeros(count), part_radius, first, kd, kt, kn)
 
 
 @compiled(**JIT)

@@ -293,17 +293,13 @@ def obstacle_rows(
             for i in range(3):
                 q[i] = a[part, i] + f * (b[part, i] - a[part, i])
             point_jacobian(points, axes, link[part], q, jac)
-            change = 0.0
             for j in range(n):
                 cons[count, j] = (
                     normal[part, col, 0] * jac[0, j]
                     + normal[part, col, 1] * jac[1, j]
                     + normal[part, col, 2] * jac[2, j]
                 )
-                change += cons[count, j] * step[j]
-            cons_lower[count] = -gamma * (d[part, col] - target)
-            if change < cons_lower[count] - VIOLATION:
-                broken = True
+            broken = row_broken(cons, cons_lower, count, step, -gamma * (d[part, col] - target)) or broken
             count += 1
     return count, broken
 
@@ -334,14 +330,21 @@ def self_rows(
         if not gap[p] - kept < 2.0 * length * levers[p] + 1e-9:
             continue
         pair_row(points, axes, a, b, link, first, second, t, s, normal, p, cons[count])
-        change = 0.0
-        for j in range(step.shape[0]):
-            change += cons[count, j] * step[j]
-        cons_lower[count] = -gamma * (gap[p] - kept)
-        if change < cons_lower[count] - VIOLATION:
-            broken = True
+        broken = row_broken(cons, cons_lower, count, step, -gamma * (gap[p] - kept)) or broken
         count += 1
     return count, broken
+
+
+@compiled(**INLINE)
+def row_broken(cons: np.ndarray, cons_lower: np.ndarray, count: int, step: np.ndarray, lower: float) -> bool:
+    """The bound ``lower`` of the filter's row ``count`` (its coefficients already in ``cons``
+    (rows, n)) into ``cons_lower`` (rows,); whether ``step`` (n,) breaks the row,
+    ``cons[count] . step < lower`` by more than :data:`~armanim.motion.filter.barrier.VIOLATION`."""
+    cons_lower[count] = lower
+    change = 0.0
+    for j in range(step.shape[0]):
+        change += cons[count, j] * step[j]
+    return change < lower - VIOLATION
 
 
 @compiled(**JIT)

@@ -1,9 +1,10 @@
 """The tasks and pushes of a compiled step: the pose task (position, rotation or tool axis), the
 joint limits' push, the obstacles' and the arm's own pairs' pushes, and the proposals of the IK
 attempt (:func:`attempt_proposal`) and of the frame (:func:`frame_proposal`) made of them, both of
-the same stages in the same order: the tip's task (:func:`tip_rows`, :func:`tip_target`, the
-method's inverse; the attempt's stacked with the rotation's where the arm holds every
-orientation), the pushes (the limits', and the pairs' or the obstacles'), then the rotation
+the same stages in the same order: the tip's task (:func:`tip_task`: :func:`tip_rows`,
+:func:`tip_target`, the method's inverse; the attempt's stacked with the rotation's where the arm
+holds every orientation), the pushes (the limits', and the pairs' or the obstacles': summed in
+each proposal's own order), then (:func:`pushed_in_null_space`) the rotation
 second in priority with the pushes in the null space of both (:func:`rotation_task`,
 :func:`rotation_second`: where only rounding is left of the rotation, the frame takes the tip's
 step and the attempt hands it back), or the pushes in the tip task's null space
@@ -309,10 +310,10 @@ def rotation_task(
 def rotation_second(
     floats: np.ndarray,
     method: int,
-    jac: np.ndarray,
-    jac_inv: np.ndarray,
     jac_r: np.ndarray,
     rot_step: np.ndarray,
+    jac: np.ndarray,
+    jac_inv: np.ndarray,
     pushed: bool,
     push: np.ndarray,
     dphi: np.ndarray,
@@ -413,30 +414,123 @@ def attempt_proposal(
         jac_r, rot_step = rotation_task(floats, kind, tool, residual, axes)
     else:
         jac_r, rot_step = np.empty((0, n)), np.empty(0)
-    k = rot_step.shape[0]
     stacked = ints[STACKED] == 1 and kind != 0
-    m = 3 + k if stacked else 3
+    m = 3 + rot_step.shape[0] if stacked else 3
     jac = np.empty((m, n))
-    target = np.empty(m)
-    tip_rows(points, axes, jac)
-    tip_target(floats, points, goal, target)
-    if stacked:
-        for i in range(k):
-            target[3 + i] = rot_step[i]
-            for j in range(n):
-                jac[3 + i, j] = jac_r[i, j]
     jac_inv = np.empty((n, m))
-    if not invert(jac, method, floats[DAMPING], jac_inv):
+    if not tip_task(floats, method, points, axes, goal, jac_r, rot_step, jac, jac_inv, dphi):
         return NUMERICAL
-    matvec(jac_inv, target, dphi)
     push = np.empty(n)
     pushed = limit_push(floats, phi, limits[0], limits[1], push)
     if pairs_push:
         for j in range(n):
             push[j] = (push[j] if pushed else 0.0) + pair_push[j]
         pushed = True
-    if kind != 0 and not stacked:  # the rotation second, in the null space of the tip's task
-        return rotation_second(floats, method, jac, jac_inv, jac_r, rot_step, pushed, push, dphi)
+    second = kind != 0 and not stacked
+    return pushed_in_null_space(floats, method, jac, jac_inv, jac_r, rot_step, second, pushed, push, dphi)
+
+
+@compiled(**INLINE)
+def tip_task(
+    floats: np.ndarray,
+    method: int,
+    points: np.ndarray,
+    axes: np.ndarray,
+    goal: np.ndarray,
+    jac_r: np.ndarray,
+    rot_step: np.ndarray,
+    jac: np.ndarray,
+    jac_inv: np.ndarray,
+    dphi: np.ndarray,
+) -> bool:
+    """The proposals' first stage: the tip's task, stacked with the rotation's where ``jac`` has
+    more than 3 rows, through the method's inverse.
+
+    Parameters
+    ----------
+    floats : (FLOATS,) array
+        The settings: ``beta``, ``max_step``, DLS's ``damping``.
+    method : int
+        ``PINV`` or ``DLS``.
+    points, axes : arrays
+        The joints' points (n + 1, 3) (metres) and world axes (n, 3).
+    goal : (3,) array
+        The tip's goal, metres.
+    jac_r, rot_step : arrays
+        The rotation task's rows (k, n) and step (k,) (:func:`rotation_task`); its first m - 3
+        stacked under the tip's.
+    jac : (m, n) array
+        Filled with the task's rows: the tip's (:func:`tip_rows`), then the rotation's.
+    jac_inv : (n, m) array
+        Filled with the method's inverse of ``jac``.
+    dphi : (n,) array
+        Filled with ``jac_inv`` times the task's step, radians (metres for a prismatic joint).
+
+    Returns
+    -------
+    bool
+        False where the inverse failed.
+    """
+    n = dphi.shape[0]
+    m = jac.shape[0]
+    target = np.empty(m)
+    tip_rows(points, axes, jac)
+    tip_target(floats, points, goal, target)
+    for i in range(m - 3):
+        target[3 + i] = rot_step[i]
+        for j in range(n):
+            jac[3 + i, j] = jac_r[i, j]
+    if not invert(jac, method, floats[DAMPING], jac_inv):
+        return False
+    matvec(jac_inv, target, dphi)
+    return True
+
+
+@compiled(**INLINE)
+def pushed_in_null_space(
+    floats: np.ndarray,
+    method: int,
+    jac: np.ndarray,
+    jac_inv: np.ndarray,
+    jac_r: np.ndarray,
+    rot_step: np.ndarray,
+    second: bool,
+    pushed: bool,
+    push: np.ndarray,
+    dphi: np.ndarray,
+) -> int:
+    """The proposals' last stage: the rotation task second in priority and the push in the null
+    space of both (:func:`rotation_second`, where ``second``), else the push in the tip task's
+    null space (:func:`null_push`), added to ``dphi`` (n,).
+
+    Parameters
+    ----------
+    floats : (FLOATS,) array
+        The settings.
+    method : int
+        ``PINV`` or ``DLS``.
+    jac, jac_inv : arrays
+        The task's rows (m, n) and the method's inverse of them (n, m) (:func:`tip_task`); m is 3
+        where ``second``.
+    jac_r, rot_step : arrays
+        The rotation task's rows (k, n) and step (k,) (:func:`rotation_task`).
+    second : bool
+        The rotation second in priority (the attempt's unless stacked; the frame's where the
+        goal has an orientation).
+    pushed : bool
+        Whether ``push`` (n,) holds a push (radians; metres for a prismatic joint).
+    push : (n,) array
+        The pushes.
+    dphi : (n,) array
+        The tip task's step, updated.
+
+    Returns
+    -------
+    int
+        As :func:`rotation_second`: :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`.
+    """
+    if second:
+        return rotation_second(floats, method, jac_r, rot_step, jac, jac_inv, pushed, push, dphi)
     if pushed:
         null_push(jac, jac_inv, push, dphi)
     return DONE
@@ -515,31 +609,23 @@ def point_jacobian(points: np.ndarray, axes: np.ndarray, link: int, q: np.ndarra
 
 
 @compiled(**JIT)
-def orientation_second(
+def goal_rotation_task(
     floats: np.ndarray,
-    method: int,
     kind: int,
     goal_rot: np.ndarray | None,
     goal_axis: np.ndarray | None,
     tool: np.ndarray,
     axes: np.ndarray,
-    jac: np.ndarray,
-    jac_inv: np.ndarray,
-    pushed: bool,
-    secondary: np.ndarray,
-    dphi: np.ndarray,
-) -> bool:
-    """The goal's rotation task second in priority and the pushes ``secondary`` (where ``pushed``)
-    in the null space of both (:func:`rotation_second`), for the frame: where N leaves the rotation
-    only rounding, the step and the projector are the tip's alone. False where an inverse failed.
-    ``goal_rot`` and ``goal_axis`` None: a scene without an orientation anywhere (``kind`` 0, never
-    called), whose machine code leaves this out."""
-    if goal_rot is None or goal_axis is None:
-        return False
+) -> tuple[np.ndarray, np.ndarray]:
+    """The frame's goal orientation as a task (:func:`rotation_task`, its residual from the tool
+    frame ``tool`` (3, 3)): its rows (k, n) and step (k,); none (0 rows) where ``kind`` is 0.
+    ``goal_rot`` and ``goal_axis`` None: a scene without an orientation anywhere, whose machine
+    code leaves the rotation task out."""
+    if goal_rot is None or goal_axis is None or kind == 0:
+        return np.empty((0, axes.shape[0])), np.empty(0)
     residual = np.empty(3)
     orientation_residual(kind, goal_rot, goal_axis, tool, residual)
-    jac_r, rot_step = rotation_task(floats, kind, tool, residual, axes)
-    return rotation_second(floats, method, jac, jac_inv, jac_r, rot_step, pushed, secondary, dphi) != NUMERICAL
+    return rotation_task(floats, kind, tool, residual, axes)
 
 
 @compiled(**JIT)
@@ -593,14 +679,11 @@ def frame_proposal(
     points, axes = placed[0], placed[1]
     position, kind, rotation, axis = goal  # FrameGoal's order
     n = phi.shape[0]
+    jac_r, rot_step = goal_rotation_task(floats, kind, rotation, axis, tool, axes)
     jac = np.empty((3, n))
-    target = np.empty(3)
-    tip_rows(points, axes, jac)
-    tip_target(floats, points, position, target)
     jac_inv = np.empty((n, 3))
-    if not invert(jac, method, floats[DAMPING], jac_inv):
+    if not tip_task(floats, method, points, axes, position, jac_r, rot_step, jac, jac_inv, dphi):
         return False
-    matvec(jac_inv, target, dphi)
     secondary = np.zeros(n)
     pushed = limit_push(floats, phi, limits[0], limits[1], secondary)
     obstacles = obstacle_pushes(floats, method, placed, near, influence, jac_inv, dphi, secondary)
@@ -610,13 +693,8 @@ def frame_proposal(
     if by_pairs < 0:
         return False
     pushed = pushed or obstacles > 0 or by_pairs > 0
-    if kind != 0:  # the rotation second; the pushes into the null space of both tasks
-        return orientation_second(
-            floats, method, kind, rotation, axis, tool, axes, jac, jac_inv, pushed, secondary, dphi
-        )
-    if pushed:  # dphi + (I - J^+ J) secondary
-        null_push(jac, jac_inv, secondary, dphi)
-    return True
+    ended = pushed_in_null_space(floats, method, jac, jac_inv, jac_r, rot_step, kind != 0, pushed, secondary, dphi)
+    return ended != NUMERICAL  # HANDED_BACK: only rounding left of the rotation, the tip's step taken
 
 
 @compiled(**INLINE)
