@@ -174,7 +174,11 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
     for where in attempt.litter_in:
         base = folder / where
         if base.is_dir():
-            litter = [str(p.relative_to(folder)) for p in base.rglob("*") if LITTER.search(p.name)]
+            litter = [
+                str(p.relative_to(folder))
+                for p in base.rglob("*")
+                if LITTER.search(p.name) and str(p.relative_to(folder)) not in attempt.keep  # the user's own: kept
+            ]
             if litter:
                 problems.append(f"litter: {litter[:4]}")
     if attempt.after is not None:
@@ -5934,13 +5938,16 @@ def mesh13_attempts() -> list[Attempt]:
 
 def clock_breaks(folder: str, fps: float, most_per_goal: int | None = None) -> Callable[[Path], list[str]]:
     """After a run into ``folder``: the clock agrees with itself. Frames 0..N-1 in order, each at
-    time frame / fps; summary.json's totals N frames and N / fps seconds; 1 + the goals' frames is
-    N; each goal's frames follow the one before's, the last ends at frame N-1, and each row's
-    ``goal`` is the goal whose frames hold it; at most ``most_per_goal`` frames a goal (when given)."""
+    time frame / fps; summary.json's totals N frames and N / fps seconds; each goal's frames follow
+    the one before's (the first after frame 0), and span its motion's ``frames`` and, reached, its
+    hold's round(fps x hold) (docs/scene-format.md); the last ends at frame N-1; each row's
+    ``goal`` is the goal whose frames hold it; at most ``most_per_goal`` motion frames a goal."""
 
     def check(d: Path) -> list[str]:
         import csv as _csv
         import json as _json
+
+        import yaml
 
         run = d / folder
         if not (run / "trajectory.csv").is_file():
@@ -5948,6 +5955,7 @@ def clock_breaks(folder: str, fps: float, most_per_goal: int | None = None) -> C
         with open(run / "trajectory.csv", newline="") as handle:
             rows = list(_csv.DictReader(handle))
         summary = _json.loads((run / "summary.json").read_text())
+        asked = yaml.safe_load((run / "scene.yaml").read_text())["goals"]
         n, problems = len(rows), []
         frames = [int(r["frame"]) for r in rows]
         if frames != list(range(n)):
@@ -5960,22 +5968,27 @@ def clock_breaks(folder: str, fps: float, most_per_goal: int | None = None) -> C
             problems.append(
                 f"totals say {totals['frames']} frames, {totals['duration_s']} s; the CSV has {n} rows at {fps:g} fps"
             )
-        goals = summary["goals"]
-        if 1 + sum(g["frames"] for g in goals) != n:
-            problems.append(f"1 + the goals' frames is {1 + sum(g['frames'] for g in goals)}, the CSV has {n} rows")
-        start = 0
-        for g in goals:
-            if g["first_frame"] != start:
-                problems.append(f"goal {g['index']} starts at frame {g['first_frame']}, expected {start}")
+        start = 1
+        for g, goal in zip(summary["goals"], asked):
+            hold = round(fps * float(goal.get("hold", 0) if isinstance(goal, dict) else 0))
+            first = 0 if g["index"] == 0 else start
+            if g["first_frame"] != first:
+                problems.append(f"goal {g['index']} starts at frame {g['first_frame']}, expected {first}")
                 break
-            span = {r["goal"] for r in rows[g["first_frame"] : g["last_frame"] + 1]}
-            if span != {str(g["index"])}:
-                problems.append(f"goal {g['index']}'s frames hold rows of goals {sorted(span)}")
+            spans = (g["frames"] + hold,) if g["reached"] else (g["frames"] + hold, g["frames"])
+            if g["last_frame"] - start + 1 not in spans:
+                problems.append(
+                    f"goal {g['index']} spans frames {start}..{g['last_frame']}: not its {g['frames']} frames"
+                    f" and a hold of {hold}"
+                )
+            held = {r["goal"] for r in rows[g["first_frame"] : g["last_frame"] + 1]}
+            if held != {str(g["index"])}:
+                problems.append(f"goal {g['index']}'s frames hold rows of goals {sorted(held)}")
             if most_per_goal is not None and g["frames"] > most_per_goal:
                 problems.append(f"goal {g['index']} took {g['frames']} frames (max_frames_per_goal {most_per_goal})")
             start = g["last_frame"] + 1
-        if goals and goals[-1]["last_frame"] != n - 1:
-            problems.append(f"the last goal ends at frame {goals[-1]['last_frame']}, the CSV at {n - 1}")
+        if summary["goals"] and summary["goals"][-1]["last_frame"] != n - 1:
+            problems.append(f"the last goal ends at frame {summary['goals'][-1]['last_frame']}, the CSV at {n - 1}")
         return problems
 
     return check
@@ -6523,8 +6536,19 @@ def loss13_attempts() -> list[Attempt]:
     def fitted_robot(d: Path) -> None:
         urdf_robot(collision=col("a.stl"), files={"a.stl": box_stl()})(d)
 
+    out.append(  # the first run makes the cache in the folder it will swap: refused, naming the cache
+        Attempt(
+            k,
+            "run, ARMANIM_CACHE_DIR inside the run folder",
+            run,
+            fitted_robot,
+            (0, 3),
+            timeout=300,
+            env={"ARMANIM_CACHE_DIR": "{d}/o/m/cache"},
+            message_if_3=r"ARMANIM_CACHE_DIR",
+        )
+    )
     for label, cache, keep in (
-        ("inside the run folder", "{d}/o/m/cache", ()),
         ("the outputs folder itself", "{d}/o", ()),
         ("the user's own folder (the scene's)", "{d}", ("s.yaml", "robot.urdf", "a.stl")),
     ):
