@@ -1,11 +1,11 @@
-"""The ninth to thirteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to fourteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
 inputs; the tenth's, new attacks on the same classes: mesh10, frames10, signals10, loss10,
 inputs10, wrong10; the eleventh's, new again: mesh11, frames11, signals11, loss11, inputs11, wrong11;
 the twelfth's: mesh12, frames12, signals12, loss12, inputs12, wrong12; the thirteenth's: mesh13,
-frames13, signals13, loss13, inputs13, wrong13),
+frames13, signals13, loss13, inputs13, wrong13; the fourteenth's: mesh14 ... wrong14),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -6914,6 +6914,364 @@ def wrong13_attempts() -> list[Attempt]:
     return out
 
 
+# ------------------------------------------------------------------ the fourteenth campaign
+#
+# A smaller campaign on the code campaign 13 fixed (SIGHUP an interruption, the cache inside a run
+# folder named): mesh14, frames14, signals14, loss14, inputs14, wrong14, none a repeat.
+
+
+def mesh14_attempts() -> list[Attempt]:
+    """The box split in ways that keep its triangles' order (two COLLADA primitives, two geometries
+    of one node, OBJ groups and objects, two ASCII solids), turned a full turn, scaled by a third,
+    or a visual fitted where the link has no collision: each fits as the plain STL."""
+    k = "mesh14"
+    out: list[Attempt] = []
+    pts = box_points()
+    half = len(BOX_TRIANGLES) // 2
+    tri_p = [" ".join(str(i) for t in part for i in t) for part in (BOX_TRIANGLES[:half], BOX_TRIANGLES[half:])]
+    two_prims = box_dae().replace(
+        f'<triangles count="12"><input semantic="VERTEX" source="#v" offset="0"/><p>{" ".join(str(i) for t in BOX_TRIANGLES for i in t)}</p></triangles>',
+        "".join(
+            f'<triangles count="{half}"><input semantic="VERTEX" source="#v" offset="0"/><p>{p}</p></triangles>'
+            for p in tri_p
+        ),
+    )
+    obj_lines = box_obj().splitlines()
+    faces_at = next(i for i, line in enumerate(obj_lines) if line.startswith("f "))
+    grouped = (
+        "\n".join(
+            [*obj_lines[:faces_at], "g a", *obj_lines[faces_at : faces_at + half], "g b", *obj_lines[faces_at + half :]]
+        )
+        + "\n"
+    )
+    objects = grouped.replace("g a", "o a").replace("g b", "o b")
+
+    def solid(part) -> str:
+        return (
+            "solid p\n"
+            + "".join(
+                " facet normal 0 0 0\n  outer loop\n"
+                + "".join("   vertex {} {} {}\n".format(*pts[i]) for i in t)
+                + "  endloop\n endfacet\n"
+                for t in part
+            )
+            + "endsolid p\n"
+        )
+
+    # fmt: off
+    cases = [
+        ("a COLLADA of two triangles elements", "a.dae", {"a.dae": two_prims}, "", ""),
+        ("an OBJ of two groups", "a.obj", {"a.obj": grouped}, "", ""),
+        ("an OBJ of two objects", "a.obj", {"a.obj": objects}, "", ""),
+        ("an ASCII STL of two solids, a half each", "a.stl", {"a.stl": solid(BOX_TRIANGLES[:half]) + solid(BOX_TRIANGLES[half:])}, "", ""),
+        ("an STL three times the size at URDF scale 1/3", "a.stl", {"a.stl": box_stl(3.0)}, "0.3333333333333333 0.3333333333333333 0.3333333333333333", ""),
+        ("an STL under a collision origin turned a full turn", "a.stl", {"a.stl": box_stl()}, "", "full"),
+        ("a COLLADA of a NORMAL input at offset 1, in millimetres", "a.dae", {"a.dae": box_dae("normals", unit="0.001", scale=1000.0)}, "", ""),
+        ("an OBJ of quads with CRLF lines", "a.obj", {"a.obj": box_obj("quad", newline="\r\n")}, "", ""),
+    ]
+    # fmt: on
+    for label, name, files, scale, turn in cases:
+        origin = "<origin xyz='0 0 0' rpy='0 0 6.283185307179586'/>" if turn else ""
+        tag = f"<collision>{origin}{mesh_tag(name, scale)}</collision>"
+
+        def setup(d: Path, tag=tag, files=files) -> None:
+            urdf_robot(collision=tag, files={"ref.stl": box_stl(), **files})(d)
+            write(d / "ref.urdf", urdf_text(collision=col("ref.stl")))
+
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit, the box as {label}, fits as the plain STL",
+                FIT,
+                setup,
+                (0,),
+                timeout=200,
+                env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                after=same_fit("robot.urdf", "ref.urdf"),
+            )
+        )
+
+    def visual_only(d: Path) -> None:
+        write(d / "a.stl", box_stl())
+        text = urdf_links({2: col("a.stl")})
+        write(d / "ref.urdf", text)
+        write(d / "robot.urdf", text.replace(col("a.stl"), vis("a.stl")))
+
+    out.append(
+        Attempt(
+            k,
+            "robots --fit, link l2 with a visual box and no collision: fitted as the same box as collision",
+            FIT,
+            visual_only,
+            (0,),
+            timeout=200,
+            after=same_fit("robot.urdf", "ref.urdf"),
+        )
+    )
+    return out
+
+
+def frames14_attempts() -> list[Attempt]:
+    """The clock at rates campaign 13 did not take (3, 16.6667, 33.333, 60, 90, 100 fps), by the
+    scene and by --fps over another scene rate, and a sweep of two NTSC rates."""
+    k = "frames14"
+    out: list[Attempt] = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    for fps, hold in (
+        ("3", "0.5"),
+        ("16.6667", "0.15"),
+        ("33.333", "0.1"),
+        ("60", "0.0125"),
+        ("90", "1.5"),
+        ("100", "0.005"),
+    ):
+        out.append(
+            Attempt(
+                k,
+                f"run at render.fps {fps}, holds of {hold} s: the clock adds up",
+                run,
+                tiny_scene(text=HOLDS.replace("HOLD", hold).replace("FPS", fps)),
+                (0,),
+                timeout=400,
+                after=clock_breaks("o/tiny", float(fps)),
+            )
+        )
+    for flags, fps in ((["--fps", "24"], 24.0), (["--quality", "medium"], 30.0), (["--fps", "0.25"], 0.25)):
+        out.append(
+            Attempt(
+                k,
+                f"run {' '.join(flags)} over a scene at 7 fps: the clock adds up at {fps:g} fps",
+                [*run, *flags],
+                tiny_scene(text=HOLDS.replace("HOLD", "0.75").replace("FPS", "7")),
+                (0,),
+                timeout=400,
+                after=clock_breaks("o/tiny", fps),
+            )
+        )
+
+    def sweep_clock(d: Path) -> list[str]:
+        import json as _json
+
+        runs = [n for n in _listing(d / "o") if (d / "o" / n).is_dir()]
+        if len(runs) != 2:
+            return [f"expected 2 variant folders, found {runs}"]
+        return [
+            p
+            for n in runs
+            for p in clock_breaks(f"o/{n}", _json.loads((d / "o" / n / "summary.json").read_text())["fps"])(d)
+        ]
+
+    out.append(
+        Attempt(
+            k,
+            "sweep --set render.fps=29.97,59.94: each variant's clock adds up",
+            ["sweep", "s.yaml", "--set", "render.fps=29.97,59.94", "--out", "o", "-q", "--jobs", "1"],
+            tiny_scene(text=HOLDS.replace("HOLD", "0.2").replace("FPS", "10")),
+            (0,),
+            timeout=400,
+            after=sweep_clock,
+        )
+    )
+    return out
+
+
+def signals14_attempts() -> list[Attempt]:
+    """SIGHUP, now an interruption, in the commands and moments campaign 13 did not send it: view
+    into the run folder, render into it, a read-only check, validate of many scenes, fk's picture,
+    a sweep with video, ik; and SIGHUP then Ctrl-C, Ctrl-C then SIGHUP."""
+    k = "signals14"
+    out: list[Attempt] = []
+    video30 = TINY.replace("fps: 10", "fps: 30")
+    short = LONG.replace("hold: 3600", "hold: 30").replace("hold: 400", "hold: 30")
+    update = ["check", "s.yaml", "--golden", "g", "--update"]
+    # fmt: off
+    cases: list[tuple] = [
+        ("view of a 40,000-frame run into its folder", ["view", "o/tiny"], lambda d: finished_run(d, LONG) and None, 1.5, ("o/tiny",), ("o",)),
+        ("render into the run folder", ["render", "o/tiny", "-q", "--size", "320x180", "--jobs", "1"], lambda d: finished_run(d, short) and None, 3.0, ("o/tiny",), ("o",)),
+        ("check (no update) of a 40,000-frame scene", ["check", "s.yaml", "--golden", "g"], then(tiny_scene(text=LONG), lambda d: armanim_in(d, *update)), 2.0, ("g/tiny.csv",), ("g",)),
+        ("validate of 200 scenes", ["validate", *[f"s{i}.yaml" for i in range(200)]], lambda d: [write(d / f"s{i}.yaml", TINY) for i in range(200)] and None, 1.5, (), (".",)),
+        ("fk --robot panda --png", ["fk", "--robot", "panda", "--angles", "0,-20,0,-120,0,100,45", "--png", "p.png"], lambda d: None, 1.5, ("p.png",), (".",)),
+        ("sweep --video --jobs 2 of 2 variants", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--video", "--jobs", "2"], tiny_scene(), 2.5, (), ("o",)),
+        ("run --jobs 2 with video at 30 fps", ["run", "s.yaml", "--out", "o", "-q", "--jobs", "2"], tiny_scene(text=video30), 4.0, ("o/tiny",), ("o",)),
+        ("render --format gif --out fig", ["render", "o/tiny", "--format", "gif", "--out", "fig", "-q", "--size", "320x180"], lambda d: finished_run(d, short) and None, 2.5, ("fig",), ("o", "fig", ".")),
+    ]
+    # fmt: on
+    for label, args, setup, delay, whole, where in cases:
+        out.append(
+            Attempt(
+                k,
+                f"{label}, SIGHUP to the group at {delay:g} s",
+                args,
+                setup,
+                (0, 130),
+                timeout=300,
+                interrupt=(delay, "SIGHUPG"),
+                litter_in=where,
+                linger=5.0,
+                after=both(whole_or_none(*whole), again_tidy(*args, codes=(0, 1), where=where)),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "ik --robot panda of an unreachable pose, SIGHUP to armanim alone at 1.5 s",
+            ["ik", "--robot", "panda", "--goal", "5,5,5", "--max-iterations", "100000000", "--tolerance", "1e-300"],
+            lambda d: None,
+            (0, 1, 130),
+            timeout=200,
+            interrupt=(1.5, "SIGHUP"),
+        )
+    )
+    for first, second in (("SIGHUPG", "SIGINT"), ("SIGINT", "SIGHUPG"), ("SIGHUP", "SIGTERM")):
+        out.append(
+            Attempt(
+                k,
+                f"run with video, {first} at 3 s then {second} 30 ms later",
+                ["run", "s.yaml", "--out", "o", "-q", "--jobs", "1"],
+                tiny_scene(text=video30),
+                (0, 130),
+                timeout=300,
+                interrupt=(3.0, first),
+                also=((3.03, second),),
+                linger=5.0,
+                after=whole_or_none("o/tiny"),
+            )
+        )
+    return out
+
+
+def loss14_attempts() -> list[Attempt]:
+    """Every single-file writer aimed, through a symbolic link at its --out, at a file inside a run
+    folder ("no command writes into another run's folder ... through a link"), and at a hard link
+    the user made to a run's file."""
+    k = "loss14"
+    out: list[Attempt] = []
+    moveit = mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")
+    # fmt: off
+    cases: list[tuple] = [
+        ("check --update, g/tiny.csv a link to the run's trajectory.csv", ["check", "s.yaml", "--golden", "g", "--update"], symlink("../o/tiny/trajectory.csv", "g/tiny.csv")),
+        ("check --update, g/tiny.json a link to the run's summary.json", ["check", "s.yaml", "--golden", "g", "--update"], symlink("../o/tiny/summary.json", "g/tiny.json")),
+        ("export --out e.json, a link to the run's summary.json", ["export", "o/tiny", "--out", "e.json"], symlink("o/tiny/summary.json", "e.json")),
+        ("view --out v.html, a link to the run's scene.yaml", ["view", "o/tiny", "--out", "v.html"], symlink("o/tiny/scene.yaml", "v.html")),
+        ("schema --out x.json, a link to the run's timing.json", ["schema", "--out", "x.json"], symlink("o/tiny/timing.json", "x.json")),
+        ("fk --png p.png, a link to the run's trajectory.csv", ["fk", "--angles", "0,0,0,0", "--png", "p.png"], symlink("o/tiny/trajectory.csv", "p.png")),
+        ("import moveit --out m.yaml, a link to the run's scene.yaml", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "m.yaml"], then(moveit, symlink("o/tiny/scene.yaml", "m.yaml"))),
+        ("export --out a new name through a link to the run folder", ["export", "o/tiny", "--out", "r/e.json"], symlink("o/tiny", "r")),
+        ("view --out a new name through a link to the run folder", ["view", "o/tiny", "--out", "r/v.html"], symlink("o/tiny", "r")),
+        ("export --out e.json, a hard link the user made to the run's trajectory.csv", ["export", "o/tiny", "--out", "e.json"], hardlink("o/tiny/trajectory.csv", "e.json")),
+    ]
+    # fmt: on
+    for label, args, setup in cases:
+        out.append(
+            Attempt(
+                k,
+                label,
+                args,
+                then(finished_run, setup),
+                (2, 3),
+                keep=("o/tiny",),
+                timeout=300,
+                after=again_tidy("run", "s.yaml", "--out", "o", "--no-video", "-q", where=("o",)),
+            )
+        )
+    return out
+
+
+def inputs14_attempts() -> list[Attempt]:
+    """A scene at the limits table's edges campaigns 10-13 did not write (nesting 64 and 65 deep,
+    integers of 309 and 310 digits, 40 problems in one file), YAML tags of sets and ordered maps,
+    and sweep --set keys in unicode."""
+    k = "inputs14"
+    t = TINY
+    deep = lambda n: "[" * n + "1" + "]" * n  # noqa: E731
+    # fmt: off
+    scenes: list[tuple[str, str]] = [
+        ("a value nested 60 deep (under the 64 levels)", t + f"x: {deep(60)}\n"),
+        ("a value nested 65 deep", t + f"x: {deep(65)}\n"),
+        ("an integer of 309 digits", t.replace("[0.5, -1, 1]", "[0.5, -1, " + "1" * 309 + "]")),
+        ("an integer of 310 digits", t.replace("[0.5, -1, 1]", "[0.5, -1, " + "1" * 310 + "]")),
+        ("40 goals each of a bad type", t.replace("[[1, 1, 1], [0.5, -1, 1]]", "[" + ", ".join(["x"] * 40) + "]")),
+        ("goals a !!set", t.replace("[[1, 1, 1], [0.5, -1, 1]]", "!!set {a: null}")),
+        ("arm an !!omap", t.replace("arm: {links: [1, 1, 1]}", "arm: !!omap [{links: [1, 1, 1]}]")),
+        ("a !!float tag on a string", t.replace("[0.5, -1, 1]", "[!!float 'x', -1, 1]")),
+        ("a !!str tag on a goal's number", t.replace("[0.5, -1, 1]", "[!!str 0.5, -1, 1]")),
+        ("an anchor defined twice", t.replace("[[1, 1, 1], [0.5, -1, 1]]", "[&a [1, 1, 1], &a [0.5, -1, 1], *a]")),
+    ]
+    # fmt: on
+    out = [
+        Attempt(
+            k,
+            f"validate, {label}",
+            ["validate", "s.yaml"],
+            tiny_scene(text=text),
+            (0, 2),
+            timeout=120,
+            message_if_2=r"s\.yaml(:\d+)?: ",
+        )
+        for label, text in scenes
+    ]
+    for value in ("sölver.step=0.1", "solver.stép=0.1", "solver.step=0.1,\u00a00.2", "goals[０].hold=1"):
+        out.append(
+            Attempt(
+                k,
+                f"sweep --set {value}",
+                ["sweep", "s.yaml", "--set", value, "--out", "o", "-q", "--jobs", "1"],
+                tiny_scene(),
+                (0, 2),
+                timeout=300,
+                message_if_2="--set",
+            )
+        )
+    return out
+
+
+def wrong14_attempts() -> list[Attempt]:
+    """New draws of campaign 13's oracles: random arms with every kind of goal (rates, velocities,
+    export, the clock, the summary), fk and ik against the campaign's kinematics."""
+    import numpy as np
+
+    k = "wrong14"
+    out: list[Attempt] = []
+    for seed in range(700, 706):
+        text, spec = wrong_scene(seed, WRONG13_KINDS)
+        out.append(
+            Attempt(
+                k,
+                f"run a random arm among spheres with every kind of goal (seed {seed}), held to every oracle",
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                tiny_scene(text=text),
+                (0, 2),
+                timeout=500,
+                message_if_2=r"s\.yaml:\d+: goals\[\d+\]: the joint goal's pose has link\d and link\d overlapping",
+                after=lambda d, spec=spec: (
+                    []
+                    if not (d / "o").exists()
+                    else both(
+                        trajectory_breaks(spec), clock_breaks(f"o/{spec['name']}", spec["fps"]), summary_agrees(spec)
+                    )(d)
+                ),
+            )
+        )
+    rng = np.random.default_rng(14)
+    out += [random_fk_attempt(k, 200 + i, rng, 90, 4) for i in range(3)]
+    for i in range(3):
+        links, goal = random_reachable_goal(rng)
+        start = [round(float(x), 1) for x in rng.uniform(-60, 60, len(links))]
+        method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
+        out.append(
+            Attempt(
+                k,
+                f"ik of a random {len(links)}-link arm by {method} from a random start ({200 + i}), held to the oracle",
+                ik_args(links, goal, method, start),
+                lambda d: None,
+                (0, 1),
+                timeout=200,
+                after=ik_breaks(links, goal, method, start),
+            )
+        )
+    return out
+
+
 CLASSES = {
     "mesh": mesh_attempts,
     "frames": frames_attempts,
@@ -6947,6 +7305,12 @@ CLASSES = {
     "loss13": loss13_attempts,
     "inputs13": inputs13_attempts,
     "wrong13": wrong13_attempts,
+    "mesh14": mesh14_attempts,
+    "frames14": frames14_attempts,
+    "signals14": signals14_attempts,
+    "loss14": loss14_attempts,
+    "inputs14": inputs14_attempts,
+    "wrong14": wrong14_attempts,
 }
 
 
