@@ -6001,6 +6001,32 @@ def both(*checks: Callable[[Path], list[str]]) -> Callable[[Path], list[str]]:
     return lambda d: [p for check in checks for p in check(d)]
 
 
+def clock_attempt(k: str, label: str, args: list[str], text: str, fps: float) -> Attempt:
+    """A run of ``text`` (named tiny) held to :func:`clock_breaks` at ``fps``."""
+    return Attempt(k, label, args, tiny_scene(text=text), (0,), timeout=400, after=clock_breaks("o/tiny", fps))
+
+
+def variants_clock(rates: tuple[float, ...]) -> Callable[[Path], list[str]]:
+    """After a sweep of ``render.fps`` over ``rates``: one variant folder a rate, each at its rate
+    (its summary's fps) and held to :func:`clock_breaks`."""
+
+    def check(d: Path) -> list[str]:
+        import json as _json
+
+        runs = [n for n in _listing(d / "o") if (d / "o" / n).is_dir()]
+        if len(runs) != len(rates):
+            return [f"expected {len(rates)} variant folders, found {runs}"]
+        problems = []
+        for n in runs:
+            fps = _json.loads((d / "o" / n / "summary.json").read_text())["fps"]
+            if fps not in rates:
+                problems.append(f"{n}: fps {fps}, not a value of the sweep")
+            problems += clock_breaks(f"o/{n}", fps)(d)
+        return problems
+
+    return check
+
+
 HOLDS = (
     "version: 1\nname: tiny\narm: {links: [1, 1, 1]}\n"
     "goals: [{position: [1, 1, 1], hold: HOLD}, {position: [0.5, -1, 1], hold: HOLD}, {joints: [10, 20, 30], hold: HOLD}]\n"
@@ -6023,43 +6049,15 @@ def frames13_attempts() -> list[Attempt]:
                 continue
             text = HOLDS.replace("HOLD", hold).replace("FPS", fps)
             out.append(
-                Attempt(
-                    k,
-                    f"run at render.fps {fps}, holds of {hold} s: the clock adds up",
-                    run,
-                    tiny_scene(text=text),
-                    (0,),
-                    timeout=400,
-                    after=clock_breaks("o/tiny", float(fps)),
+                clock_attempt(
+                    k, f"run at render.fps {fps}, holds of {hold} s: the clock adds up", run, text, float(fps)
                 )
             )
     for flags, fps in ((["--fps", "59.94"], 59.94), (["--fps", "1.5"], 1.5), (["--quality", "low"], 15.0)):
+        text = HOLDS.replace("HOLD", "0.5").replace("FPS", "10")
         out.append(
-            Attempt(
-                k,
-                f"run {' '.join(flags)}: the clock adds up at {fps:g} fps",
-                [*run, *flags],
-                tiny_scene(text=HOLDS.replace("HOLD", "0.5").replace("FPS", "10")),
-                (0,),
-                timeout=400,
-                after=clock_breaks("o/tiny", fps),
-            )
+            clock_attempt(k, f"run {' '.join(flags)}: the clock adds up at {fps:g} fps", [*run, *flags], text, fps)
         )
-
-    def sweep_clock(d: Path) -> list[str]:
-        names = _listing(d / "o")
-        runs = [n for n in names if (d / "o" / n).is_dir()]
-        if len(runs) != 2:
-            return [f"expected 2 variant folders, found {names}"]
-        problems = []
-        for n in runs:
-            import json as _json
-
-            fps = _json.loads((d / "o" / n / "summary.json").read_text())["fps"]
-            if fps not in (7.0, 12.5):
-                problems.append(f"{n}: fps {fps}, not a value of the sweep")
-            problems += clock_breaks(f"o/{n}", fps)(d)
-        return problems
 
     out.append(
         Attempt(
@@ -6069,7 +6067,7 @@ def frames13_attempts() -> list[Attempt]:
             tiny_scene(text=HOLDS.replace("HOLD", "0.25").replace("FPS", "10")),
             (0,),
             timeout=400,
-            after=sweep_clock,
+            after=variants_clock((7.0, 12.5)),
         )
     )
     # random arms among spheres at odd rates: the rate limits, the velocities, the export and the clock
@@ -6767,6 +6765,56 @@ WRONG13_KINDS = ("point", "joints", "hold", "blend", "line", "arc", "polyline", 
 their limits' edge, whose poses may overlap the arm's own links: refused at validate, exit 2)."""
 
 
+def oracle_runs(k: str, seeds, held: str) -> list[Attempt]:
+    """A run of :func:`wrong_scene` of each seed with every kind of goal (:data:`WRONG13_KINDS`),
+    held to the rates, the clock and its summary; a scene refused for a joint goal whose pose
+    overlaps the arm's own links is exit 2 at its line (nothing to hold then)."""
+    out = []
+    for seed in seeds:
+        text, spec = wrong_scene(seed, WRONG13_KINDS)
+        out.append(
+            Attempt(
+                k,
+                f"run a random arm among spheres with every kind of goal (seed {seed}), {held}",
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                tiny_scene(text=text),
+                (0, 2),
+                timeout=500,
+                message_if_2=r"s\.yaml:\d+: goals\[\d+\]: the joint goal's pose has link\d and link\d overlapping",
+                after=lambda d, spec=spec: (
+                    []
+                    if not (d / "o").exists()
+                    else both(
+                        trajectory_breaks(spec), clock_breaks(f"o/{spec['name']}", spec["fps"]), summary_agrees(spec)
+                    )(d)
+                ),
+            )
+        )
+    return out
+
+
+def random_ik_attempts(k: str, rng, count: int, first: int, spread: float) -> list[Attempt]:
+    """``count`` ik answers of random arms from random starts within +-``spread`` degrees, held to
+    the oracle (numbered from ``first``)."""
+    out = []
+    for i in range(count):
+        links, goal = random_reachable_goal(rng)
+        start = [round(float(x), 1) for x in rng.uniform(-spread, spread, len(links))]
+        method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
+        out.append(
+            Attempt(
+                k,
+                f"ik of a random {len(links)}-link arm by {method} from a random start ({first + i}), held to the oracle",
+                ik_args(links, goal, method, start),
+                lambda d: None,
+                (0, 1),
+                timeout=200,
+                after=ik_breaks(links, goal, method, start),
+            )
+        )
+    return out
+
+
 def wrong13_attempts() -> list[Attempt]:
     """Random arms with every kind of goal together (new seeds), held to the rate limits, the clock
     and to their own summary; fk in degrees and ik from random starts against the campaign's
@@ -6776,43 +6824,10 @@ def wrong13_attempts() -> list[Attempt]:
 
     k = "wrong13"
     out: list[Attempt] = []
-    for seed in range(600, 616):
-        text, spec = wrong_scene(seed, WRONG13_KINDS)
-        out.append(
-            Attempt(
-                k,
-                f"run a random arm among spheres with every kind of goal (seed {seed}), held to the invariants, the clock and its summary",
-                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
-                tiny_scene(text=text),
-                (0, 2),  # 2: a joint goal whose pose overlaps the arm's own links, refused at validate
-                timeout=500,
-                message_if_2=r"s\.yaml:\d+: goals\[\d+\]: the joint goal's pose has link\d and link\d overlapping",
-                after=lambda d, spec=spec: (
-                    []
-                    if not (d / "o" / spec["name"]).exists() and not (d / "o").exists()
-                    else both(
-                        trajectory_breaks(spec), clock_breaks(f"o/{spec['name']}", spec["fps"]), summary_agrees(spec)
-                    )(d)
-                ),
-            )
-        )
+    out += oracle_runs(k, range(600, 616), "held to the invariants, the clock and its summary")
     rng = np.random.default_rng(13)
     out += [random_fk_attempt(k, 100 + i, rng, 179, 3) for i in range(4)]
-    for i in range(6):
-        links, goal = random_reachable_goal(rng)
-        start = [round(float(x), 1) for x in rng.uniform(-90, 90, len(links))]
-        method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
-        out.append(
-            Attempt(
-                k,
-                f"ik of a random {len(links)}-link arm by {method} from a random start ({100 + i}), held to the oracle",
-                ik_args(links, goal, method, start),
-                lambda d: None,
-                (0, 1),
-                timeout=200,
-                after=ik_breaks(links, goal, method, start),
-            )
-        )
+    out += random_ik_attempts(k, rng, 6, 100, 90.0)
     for label, setup, flags, code in (
         ("phi1 moved by 2e-6 deg (twice its tolerance)", moved_cell(2, 3, 2e-6), [], 1),
         ("phi1 moved by 5e-7 deg (half its tolerance)", moved_cell(2, 3, 5e-7), [], 0),
@@ -7025,41 +7040,14 @@ def frames14_attempts() -> list[Attempt]:
         ("90", "1.5"),
         ("100", "0.005"),
     ):
+        text = HOLDS.replace("HOLD", hold).replace("FPS", fps)
         out.append(
-            Attempt(
-                k,
-                f"run at render.fps {fps}, holds of {hold} s: the clock adds up",
-                run,
-                tiny_scene(text=HOLDS.replace("HOLD", hold).replace("FPS", fps)),
-                (0,),
-                timeout=400,
-                after=clock_breaks("o/tiny", float(fps)),
-            )
+            clock_attempt(k, f"run at render.fps {fps}, holds of {hold} s: the clock adds up", run, text, float(fps))
         )
     for flags, fps in ((["--fps", "24"], 24.0), (["--quality", "medium"], 30.0), (["--fps", "0.25"], 0.25)):
-        out.append(
-            Attempt(
-                k,
-                f"run {' '.join(flags)} over a scene at 7 fps: the clock adds up at {fps:g} fps",
-                [*run, *flags],
-                tiny_scene(text=HOLDS.replace("HOLD", "0.75").replace("FPS", "7")),
-                (0,),
-                timeout=400,
-                after=clock_breaks("o/tiny", fps),
-            )
-        )
-
-    def sweep_clock(d: Path) -> list[str]:
-        import json as _json
-
-        runs = [n for n in _listing(d / "o") if (d / "o" / n).is_dir()]
-        if len(runs) != 2:
-            return [f"expected 2 variant folders, found {runs}"]
-        return [
-            p
-            for n in runs
-            for p in clock_breaks(f"o/{n}", _json.loads((d / "o" / n / "summary.json").read_text())["fps"])(d)
-        ]
+        text = HOLDS.replace("HOLD", "0.75").replace("FPS", "7")
+        label = f"run {' '.join(flags)} over a scene at 7 fps: the clock adds up at {fps:g} fps"
+        out.append(clock_attempt(k, label, [*run, *flags], text, fps))
 
     out.append(
         Attempt(
@@ -7069,7 +7057,7 @@ def frames14_attempts() -> list[Attempt]:
             tiny_scene(text=HOLDS.replace("HOLD", "0.2").replace("FPS", "10")),
             (0,),
             timeout=400,
-            after=sweep_clock,
+            after=variants_clock((29.97, 59.94)),
         )
     )
     return out
@@ -7232,43 +7220,10 @@ def wrong14_attempts() -> list[Attempt]:
 
     k = "wrong14"
     out: list[Attempt] = []
-    for seed in range(700, 706):
-        text, spec = wrong_scene(seed, WRONG13_KINDS)
-        out.append(
-            Attempt(
-                k,
-                f"run a random arm among spheres with every kind of goal (seed {seed}), held to every oracle",
-                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
-                tiny_scene(text=text),
-                (0, 2),
-                timeout=500,
-                message_if_2=r"s\.yaml:\d+: goals\[\d+\]: the joint goal's pose has link\d and link\d overlapping",
-                after=lambda d, spec=spec: (
-                    []
-                    if not (d / "o").exists()
-                    else both(
-                        trajectory_breaks(spec), clock_breaks(f"o/{spec['name']}", spec["fps"]), summary_agrees(spec)
-                    )(d)
-                ),
-            )
-        )
+    out += oracle_runs(k, range(700, 706), "held to every oracle")
     rng = np.random.default_rng(14)
     out += [random_fk_attempt(k, 200 + i, rng, 90, 4) for i in range(3)]
-    for i in range(3):
-        links, goal = random_reachable_goal(rng)
-        start = [round(float(x), 1) for x in rng.uniform(-60, 60, len(links))]
-        method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
-        out.append(
-            Attempt(
-                k,
-                f"ik of a random {len(links)}-link arm by {method} from a random start ({200 + i}), held to the oracle",
-                ik_args(links, goal, method, start),
-                lambda d: None,
-                (0, 1),
-                timeout=200,
-                after=ik_breaks(links, goal, method, start),
-            )
-        )
+    out += random_ik_attempts(k, rng, 3, 200, 60.0)
     return out
 
 
