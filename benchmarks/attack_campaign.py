@@ -1,10 +1,11 @@
-"""The ninth to twelfth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to fourteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
 inputs; the tenth's, new attacks on the same classes: mesh10, frames10, signals10, loss10,
 inputs10, wrong10; the eleventh's, new again: mesh11, frames11, signals11, loss11, inputs11, wrong11;
-the twelfth's: mesh12, frames12, signals12, loss12, inputs12, wrong12),
+the twelfth's: mesh12, frames12, signals12, loss12, inputs12, wrong12; the thirteenth's: mesh13,
+frames13, signals13, loss13, inputs13, wrong13; the fourteenth's: mesh14 ... wrong14),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -66,13 +67,16 @@ class Attempt:
     keep: tuple[str, ...] = ()  # the user's paths (relative to the folder), left as they were
     timeout: float = 120.0
     interrupt: tuple[float, str] | None = (
-        None  # (seconds, "SIGINT" to the group | "SIGTERM" to armanim | "SIGTERMG" to the group)
+        None  # (seconds, "SIGINT" to the group | "SIGTERM" to armanim | "SIGTERMG" to the group; SIGHUP(G), SIGQUITG alike)
     )
     also: tuple[tuple[float, str], ...] = ()  # more signals after the first, seconds from the start
     env: dict[str, str] = field(default_factory=dict)
     after: Callable[[Path], list[str]] | None = None  # more checks: a list of problems
     litter_in: tuple[str, ...] = ("o",)  # folders where outputs go: no staging or temporary file left
     message_if_2: str | None = None  # a regex stderr + stdout must match when the exit code is 2
+    message_if_3: str | None = None  # a regex stderr + stdout must match when the exit code is 3
+    not_message: str | None = None  # a regex stderr + stdout must not match
+    linger: float = 0.0  # seconds after armanim ends within which nothing it started may still run
 
 
 def fingerprint(path: Path) -> object:
@@ -95,7 +99,10 @@ def fingerprint(path: Path) -> object:
 
 def _limits(memory: int) -> Callable[[], None]:
     def apply() -> None:
-        signal.signal(signal.SIGINT, signal.SIG_DFL)  # a campaign started in the background has SIGINT ignored
+        # a campaign started in the background has SIGINT ignored, and one started with nohup SIGHUP
+        # (campaign 13's first signals13 pass: every SIGHUP attempt then measured nohup's armanim)
+        for signum in (signal.SIGINT, signal.SIGHUP, signal.SIGQUIT):
+            signal.signal(signum, signal.SIG_DFL)
         os.setsid()
         os.nice(10)
         resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
@@ -109,7 +116,7 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
     attempt.setup(folder)
     kept = {p: fingerprint(folder / p) for p in attempt.keep}
     args = [a.replace("{d}", str(folder)) for a in attempt.args]
-    env = dict(os.environ, PYTHONPATH=str(SRC), COLUMNS="120", **attempt.env)
+    env = {**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120", **attempt.env}
     started = time.perf_counter()
     proc = subprocess.Popen(
         [sys.executable, "-m", "armanim", *args],
@@ -128,10 +135,10 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         except subprocess.TimeoutExpired:
             if signame == "SIGINT":
                 os.killpg(proc.pid, signal.SIGINT)
-            elif signame == "SIGTERMG":
-                os.killpg(proc.pid, signal.SIGTERM)
-            else:
-                proc.send_signal(signal.SIGTERM)
+            elif signame.endswith("G"):  # SIGTERMG, SIGHUPG, SIGQUITG: to the group
+                os.killpg(proc.pid, getattr(signal, signame[:-1]))
+            else:  # SIGTERM, SIGHUP: to armanim alone
+                proc.send_signal(getattr(signal, signame))
     hung = False
     try:
         out, err = proc.communicate(timeout=attempt.timeout)
@@ -140,6 +147,7 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         os.killpg(proc.pid, signal.SIGKILL)
         out, err = proc.communicate()
     seconds = time.perf_counter() - started
+    lingering = [] if hung or not attempt.linger else still_running(proc.pid, folder, attempt.linger)
     with contextlib.suppress(OSError):
         os.killpg(proc.pid, signal.SIGKILL)  # nothing of the attempt outlives it
     problems: list[str] = []
@@ -156,6 +164,12 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         problems.append(f"message does not match {attempt.message!r}")
     if attempt.message_if_2 is not None and proc.returncode == 2 and not re.search(attempt.message_if_2, text):
         problems.append(f"exit 2 without FILE:LINE ({attempt.message_if_2!r})")
+    if attempt.message_if_3 is not None and proc.returncode == 3 and not re.search(attempt.message_if_3, text):
+        problems.append(f"exit 3 without naming the cause ({attempt.message_if_3!r})")
+    if attempt.not_message is not None and re.search(attempt.not_message, text):
+        problems.append(f"the message matches {attempt.not_message!r}")
+    if lingering:
+        problems.append(f"still running {attempt.linger:g} s after armanim ended: {', '.join(lingering[:4])}")
     for path, before in kept.items():
         if fingerprint(folder / path) != before:
             problems.append(f"{path} changed")
@@ -163,7 +177,11 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
     for where in attempt.litter_in:
         base = folder / where
         if base.is_dir():
-            litter = [str(p.relative_to(folder)) for p in base.rglob("*") if LITTER.search(p.name)]
+            litter = [
+                str(p.relative_to(folder))
+                for p in base.rglob("*")
+                if LITTER.search(p.name) and str(p.relative_to(folder)) not in attempt.keep  # the user's own: kept
+            ]
             if litter:
                 problems.append(f"litter: {litter[:4]}")
     if attempt.after is not None:
@@ -173,6 +191,28 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
     if problems and not text.strip() == "":
         problems.append("said: " + " | ".join(text.strip().splitlines()[-3:])[:400])
     return verdict, problems, seconds, proc.returncode
+
+
+def still_running(session: int, folder: Path, within: float) -> list[str]:
+    """The processes of armanim's session, or working in ``folder`` (ffmpeg runs in a session of its
+    own), still running ``within`` seconds after armanim ended (none, as soon as none is)."""
+    deadline = time.perf_counter() + within
+    while True:
+        found = []
+        for entry in os.listdir("/proc"):
+            if not entry.isdigit():
+                continue
+            try:
+                text = Path(f"/proc/{entry}/stat").read_text()
+                fields = text[text.rindex(")") + 2 :].split()  # state, ppid, pgrp, session, ...
+                cwd = os.readlink(f"/proc/{entry}/cwd")
+            except (OSError, ValueError):
+                continue
+            if fields[0] != "Z" and (int(fields[3]) == session or cwd == str(folder) or cwd.startswith(f"{folder}/")):
+                found.append(f"{text[text.index('(') + 1 : text.rindex(')')]} ({entry})")
+        if not found or time.perf_counter() > deadline:
+            return found
+        time.sleep(0.2)
 
 
 # ------------------------------------------------------------------ inputs
@@ -5444,6 +5484,1768 @@ def _swap_two_rows(path: Path) -> None:
     path.write_text("".join(lines))
 
 
+# ------------------------------------------------------------------ the thirteenth campaign
+#
+# New attacks on the same classes again (issue 50: "the next campaign must come back clean"), none
+# a repeat of the ninth to twelfth: mesh13, frames13, signals13, loss13, inputs13, wrong13. Most of
+# its attempts hold a result to an oracle (the same geometry read from every format fits the same
+# capsules; the clock's times and frame counts agree with each other; a second command after a
+# killed one works and tidies), so a silent wrong answer is a miss, not only a traceback.
+
+BOX_CORNERS = [(x, y, z) for z in (0.0, 0.3) for y in (-0.05, 0.05) for x in (-0.05, 0.05)]
+"""A 0.1 x 0.1 x 0.3 box's corners: index = x + 2 y + 4 z (each 0 or 1)."""
+BOX_QUADS = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+"""The box's six faces, each a quad; its triangles are (a, b, c) and (a, c, d) of each quad (a fan)."""
+BOX_TRIANGLES = [t for a, b, c, e in BOX_QUADS for t in ((a, b, c), (a, c, e))]
+
+
+def box_points(scale: float = 1.0, shift: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> list[list[float]]:
+    return [[(c + s) * scale for c, s in zip(corner, shift)] for corner in BOX_CORNERS]
+
+
+def box_stl(scale: float = 1.0, shift=(0.0, 0.0, 0.0), normals: float = 0.0, attr: int = 0) -> bytes:
+    """The box as a binary STL (``normals`` written in every normal, ``attr`` in every attribute)."""
+    import numpy as np
+
+    pts = box_points(scale, shift)
+    records = np.zeros(len(BOX_TRIANGLES), dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    records["v"] = [[pts[i] for i in t] for t in BOX_TRIANGLES]
+    records["normal"] = normals
+    records["attr"] = attr
+    return b"\0" * 80 + np.uint32(len(BOX_TRIANGLES)).tobytes() + records.tobytes()
+
+
+def box_ascii_stl(normal: str = "0 0 0") -> str:
+    pts = box_points()
+    return (
+        "solid box\n"
+        + "".join(
+            f" facet normal {normal}\n  outer loop\n"
+            + "".join("   vertex {} {} {}\n".format(*pts[i]) for i in t)
+            + "  endloop\n endfacet\n"
+            for t in BOX_TRIANGLES
+        )
+        + "endsolid box\n"
+    )
+
+
+def box_obj(faces: str = "tri", newline: str = "\n", sep: str = " ") -> str:
+    """The box as an OBJ: ``faces`` tri (plain indices), quad (one face a quad), slash (v/vt/vn),
+    negative (relative indices)."""
+    lines = [sep.join(["v", *map(repr, p)]) for p in box_points()]
+    if faces == "slash":
+        lines += ["vt 0 0", "vn 0 0 1"]
+    if faces == "quad":
+        lines += [sep.join(["f", *(str(i + 1) for i in q)]) for q in BOX_QUADS]
+    for t in BOX_TRIANGLES if faces != "quad" else []:
+        if faces == "slash":
+            lines.append(sep.join(["f", *(f"{i + 1}/1/1" for i in t)]))
+        elif faces == "negative":  # every vertex precedes the faces: index -8 is vertex 1
+            lines.append(sep.join(["f", *(str(i - 8) for i in t)]))
+        else:
+            lines.append(sep.join(["f", *(str(i + 1) for i in t)]))
+    return newline.join(lines) + newline
+
+
+def box_dae(kind: str = "triangles", unit: str = "1", scale: float = 1.0, node: str = "", shift=(0.0, 0.0, 0.0)) -> str:
+    """The box as COLLADA: ``kind`` triangles, normals (a NORMAL input at offset 1), polylist (quads)."""
+    floats = " ".join(repr(c) for p in box_points(scale, shift) for c in p)
+    source = (
+        f'<source id="p"><float_array id="a" count="24">{floats}</float_array><technique_common>'
+        '<accessor source="#a" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/>'
+        '<param name="Z" type="float"/></accessor></technique_common></source>'
+    )
+    normal = (
+        '<source id="n"><float_array id="na" count="3">0 0 1</float_array><technique_common>'
+        '<accessor source="#na" count="1" stride="3"><param name="X" type="float"/><param name="Y" type="float"/>'
+        '<param name="Z" type="float"/></accessor></technique_common></source>'
+    )
+    vertex = '<input semantic="VERTEX" source="#v" offset="0"/>'
+    if kind == "polylist":
+        prim = (
+            f'<polylist count="6">{vertex}<vcount>{" ".join(["4"] * 6)}</vcount>'
+            f"<p>{' '.join(str(i) for q in BOX_QUADS for i in q)}</p></polylist>"
+        )
+    elif kind == "normals":
+        prim = (
+            f'<triangles count="12">{vertex}<input semantic="NORMAL" source="#n" offset="1"/>'
+            f"<p>{' '.join(f'{i} 0' for t in BOX_TRIANGLES for i in t)}</p></triangles>"
+        )
+    else:
+        prim = f'<triangles count="12">{vertex}<p>{" ".join(str(i) for t in BOX_TRIANGLES for i in t)}</p></triangles>'
+    return (
+        '<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">'
+        f'<asset><unit meter="{unit}"/><up_axis>Z_UP</up_axis></asset><library_geometries><geometry id="g"><mesh>'
+        f'{source}{normal if kind == "normals" else ""}<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>'
+        f"{prim}</mesh></geometry></library_geometries>"
+        f'<library_visual_scenes><visual_scene id="s"><node id="n0">{node}<instance_geometry url="#g"/></node>'
+        '</visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene></COLLADA>'
+    )
+
+
+def urdf_links(collisions: dict[int, str] | None = None, visuals: dict[int, str] | None = None) -> str:
+    """:func:`urdf_text`'s robot with link ``i``'s collision and visual given (a cylinder elsewhere)."""
+    text = urdf_text()
+    for i, tag in (collisions or {}).items():
+        old = text[text.index(f'<link name="l{i}">') :].split("</link>", 1)[0]
+        text = text.replace(old, f'<link name="l{i}">{(visuals or {}).get(i, "")}{tag}')
+    for i, tag in (visuals or {}).items():
+        if i not in (collisions or {}):
+            text = text.replace(f'<link name="l{i}">', f'<link name="l{i}">{tag}', 1)
+    return text
+
+
+def capsule_lines(text: str) -> list[list[float]]:
+    """The numbers of each capsule line of ``robots --fit``'s answer."""
+    return [
+        [float(x) for x in re.findall(r"-?\d+(?:\.\d+)?(?:e-?\d+)?", line.split("from:", 1)[1])]
+        for line in text.splitlines()
+        if "from:" in line
+    ]
+
+
+def fit_of(d: Path, urdf: str, env: dict | None = None) -> str:
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", "robots", "--fit", urdf],
+        cwd=d,
+        env=dict(os.environ, PYTHONPATH=str(SRC), **(env or {})),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    return done.stdout if done.returncode == 0 else f"exit {done.returncode}: {done.stderr[-200:]}"
+
+
+def same_fit(urdf: str, reference: str, tol: float = 2e-6, env: dict | None = None) -> Callable[[Path], list[str]]:
+    """After: ``robots --fit URDF`` gives the capsules ``robots --fit REFERENCE`` gives (the same
+    geometry written another way), number for number within ``tol``."""
+
+    def check(d: Path) -> list[str]:
+        got, want = fit_of(d, urdf, env), fit_of(d, reference, env)
+        a, b = capsule_lines(got), capsule_lines(want)
+        if not a or len(a) != len(b) or any(len(x) != len(y) for x, y in zip(a, b)):
+            return [f"the fit of {urdf} is not the reference's: {got[-160:]!r} vs {want[-160:]!r}"]
+        worst = max(abs(x - y) for u, v in zip(a, b) for x, y in zip(u, v))
+        return [] if worst <= tol else [f"the fit of {urdf} differs from {reference}'s by {worst:.3g} m"]
+
+    return check
+
+
+def mesh13_attempts() -> list[Attempt]:
+    """One box written in every way the readers take (STL binary and ASCII, OBJ of quads, slashes,
+    relative indices, CRLF and tabs; COLLADA of normals at an offset, polylists, units, node
+    transforms; URDF scales and origins) must fit the capsules of the plain STL; one file named at
+    two scales; a cache folder or entry that is no regular file, or another mesh's; the URDF's and
+    the scene's folder against a decoy in the working folder; the user's meshes changed after a run,
+    read back by render and view."""
+    k = "mesh13"
+    out: list[Attempt] = []
+    ref_files = {"ref.stl": box_stl()}
+
+    def box_fit(label: str, name: str, files: dict, scale: str = "", origin: str = "") -> None:
+        tag = f"<collision>{f'<origin xyz={origin!r}/>' if origin else ''}{mesh_tag(name, scale)}</collision>"
+
+        def setup(d: Path) -> None:
+            urdf_robot(collision=tag, files={**ref_files, **files})(d)
+            write(d / "ref.urdf", urdf_text(collision=col("ref.stl")))
+
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit, the box as {label}, fits as the plain STL",
+                FIT,
+                setup,
+                (0,),
+                timeout=200,
+                env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                after=same_fit("robot.urdf", "ref.urdf", env=None),
+            )
+        )
+
+    # fmt: off
+    box_fit("an ASCII STL", "a.stl", {"a.stl": box_ascii_stl()})
+    box_fit("an ASCII STL of NaN normals", "a.stl", {"a.stl": box_ascii_stl("nan nan nan")})
+    box_fit("a binary STL of NaN normals and attribute bytes", "a.stl", {"a.stl": box_stl(normals=float("nan"), attr=0xFFFF)})
+    box_fit("an OBJ of triangles", "a.obj", {"a.obj": box_obj()})
+    box_fit("an OBJ of quads", "a.obj", {"a.obj": box_obj("quad")})
+    box_fit("an OBJ of v/vt/vn faces", "a.obj", {"a.obj": box_obj("slash")})
+    box_fit("an OBJ of relative indices", "a.obj", {"a.obj": box_obj("negative")})
+    box_fit("an OBJ of CRLF lines and tabs", "a.obj", {"a.obj": box_obj(newline="\r\n", sep="\t")})
+    box_fit("a COLLADA of triangles", "a.dae", {"a.dae": box_dae()})
+    box_fit("a COLLADA of a NORMAL input at offset 1", "a.dae", {"a.dae": box_dae("normals")})
+    box_fit("a COLLADA polylist of quads", "a.dae", {"a.dae": box_dae("polylist")})
+    box_fit("a COLLADA in millimetres (unit 0.001)", "a.dae", {"a.dae": box_dae(unit="0.001", scale=1000.0)})
+    box_fit("a COLLADA in millimetres under a node scale 0.001", "a.dae", {"a.dae": box_dae(scale=1000.0, node="<scale>0.001 0.001 0.001</scale>")})
+    box_fit("a COLLADA moved by +1 z and a node translate -1", "a.dae", {"a.dae": box_dae(shift=(0, 0, 1.0), node="<translate>0 0 -1</translate>")})
+    box_fit("a COLLADA moved by +1 z and a node matrix -1", "a.dae", {"a.dae": box_dae(shift=(0, 0, 1.0), node="<matrix>1 0 0 0 0 1 0 0 0 0 1 -1 0 0 0 1</matrix>")})
+    box_fit("an STL in millimetres at URDF scale 0.001", "a.stl", {"a.stl": box_stl(1000.0)}, scale="0.001 0.001 0.001")
+    box_fit("an STL moved by +1 z and a collision origin -1", "a.stl", {"a.stl": box_stl(shift=(0, 0, 1.0))}, origin="0 0 -1")
+    box_fit("an STL of twice the size at URDF scale 0.5", "a.STL", {"a.STL": box_stl(2.0)}, scale="0.5 0.5 0.5")
+    # fmt: on
+
+    # one file at two scales (or by two names, a hard link, a link), against two distinct copies
+    two = [
+        ("scales 1 and 2", {1: col("a.stl"), 2: f"<collision>{mesh_tag('a.stl', '2 2 2')}</collision>"}, {}),
+        ("scales 1 and 1 1 2", {1: col("a.stl"), 2: f"<collision>{mesh_tag('a.stl', '1 1 2')}</collision>"}, {}),
+        (
+            "names a.stl and ./a.stl at scales 1 and 2",
+            {1: col("a.stl"), 2: f"<collision>{mesh_tag('./a.stl', '2 2 2')}</collision>"},
+            {},
+        ),
+        (
+            "a.stl and its hard link h.stl at scales 1 and 2",
+            {1: col("a.stl"), 2: f"<collision>{mesh_tag('h.stl', '2 2 2')}</collision>"},
+            {"hard": True},
+        ),
+        (
+            "a.stl and a link to it at scales 1 and 2",
+            {1: col("a.stl"), 2: f"<collision>{mesh_tag('s.stl', '2 2 2')}</collision>"},
+            {"soft": True},
+        ),
+        (
+            "one with a collision origin, one without",
+            {1: col("a.stl"), 2: "<collision><origin xyz='0 0 0.1'/>" + mesh_tag("a.stl") + "</collision>"},
+            {},
+        ),
+    ]
+    for label, cols, how in two:
+        ref = {
+            i: tag.replace("'a.stl'", "'b.stl'")
+            .replace('"a.stl"', '"b.stl"')
+            .replace("'./a.stl'", "'b.stl'")
+            .replace("'h.stl'", "'b.stl'")
+            .replace("'s.stl'", "'b.stl'")
+            if i == 2
+            else tag
+            for i, tag in cols.items()
+        }
+
+        def setup(d: Path, cols=cols, ref=ref, how=how) -> None:
+            write(d / "a.stl", box_stl())
+            write(d / "b.stl", box_stl())
+            if how.get("hard"):
+                os.link(d / "a.stl", d / "h.stl")
+            if how.get("soft"):
+                os.symlink("a.stl", d / "s.stl")
+            write(d / "robot.urdf", urdf_links(cols))
+            write(d / "ref.urdf", urdf_links(ref))
+
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit, one box file on two links, {label}",
+                FIT,
+                setup,
+                (0,),
+                timeout=200,
+                after=same_fit("robot.urdf", "ref.urdf"),
+            )
+        )
+
+    # a visual of the same file at another scale on the same link: the collision fit is at its own
+    def vis_and_col(d: Path) -> None:
+        write(d / "a.stl", box_stl())
+        write(d / "b.stl", box_stl())
+        write(d / "robot.urdf", urdf_links({1: col("a.stl")}, {1: f"<visual>{mesh_tag('a.stl', '3 3 3')}</visual>"}))
+        write(d / "ref.urdf", urdf_links({1: col("b.stl")}))
+        write(d / "s.yaml", URDF_SCENE)
+        write(d / "r.yaml", URDF_SCENE.replace("robot.urdf", "ref.urdf").replace("name: m", "name: r"))
+
+    def same_capsules(d: Path) -> list[str]:
+        armanim_in(d, "run", "r.yaml", "--out", "o", "--no-video", "-q")
+        a, b = d / "o/m/capsules.yaml", d / "o/r/capsules.yaml"
+        if not a.is_file() or not b.is_file():
+            return [f"no capsules.yaml to compare ({a.is_file()}, {b.is_file()})"]
+        return (
+            [] if a.read_text() == b.read_text() else ["capsules.yaml differs from the run without the visual's scale"]
+        )
+
+    out.append(
+        Attempt(
+            k,
+            "run, link l1's visual a.stl at scale 3 and its collision a.stl at 1: the capsules of scale 1",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            vis_and_col,
+            (0,),
+            timeout=300,
+            after=same_capsules,
+        )
+    )
+
+    # the folder a name is taken from: the URDF's (not the working folder's decoy)
+    def decoy(d: Path) -> None:
+        write(d / "sub/a.stl", box_stl())
+        write(d / "a.stl", box_stl(3.0))
+        write(d / "sub/robot.urdf", urdf_text(collision=col("a.stl")))
+        write(d / "ref.stl", box_stl())
+        write(d / "ref.urdf", urdf_text(collision=col("ref.stl")))
+
+    out.append(
+        Attempt(
+            k,
+            "robots --fit sub/robot.urdf naming a.stl, a larger a.stl in the working folder",
+            ["robots", "--fit", "sub/robot.urdf"],
+            decoy,
+            (0,),
+            timeout=200,
+            after=same_fit("sub/robot.urdf", "ref.urdf"),
+        )
+    )
+
+    def scene_decoy(d: Path) -> None:
+        write(d / "sub/robot.urdf", urdf_text())
+        write(d / "robot.urdf", urdf_text().replace('xyz="0 0 0.3"', 'xyz="0 0 0.5"'))
+        write(d / "sub/s.yaml", URDF_SCENE)
+
+    def copied_urdf_is_the_scene_s(d: Path) -> list[str]:
+        copied = d / "o/m/robot.urdf"
+        if not copied.is_file():
+            return ["the run folder holds no robot.urdf"]
+        return (
+            []
+            if copied.read_bytes() == (d / "sub/robot.urdf").read_bytes()
+            else ["the run took the working folder's robot.urdf"]
+        )
+
+    out.append(
+        Attempt(
+            k,
+            "run sub/s.yaml naming robot.urdf, another robot.urdf in the working folder",
+            ["run", "sub/s.yaml", "--out", "o", "--no-video", "-q"],
+            scene_decoy,
+            (0,),
+            timeout=300,
+            after=copied_urdf_is_the_scene_s,
+        )
+    )
+
+    # the capsule cache: a folder that is no folder, entries that are not armanim's fit of this mesh
+    def fitted_then(change: Callable[[Path], None]) -> Callable[[Path], None]:
+        def setup(d: Path) -> None:
+            write(d / "ref.stl", box_stl())
+            write(d / "ref.urdf", urdf_text(collision=col("ref.stl")))
+            urdf_robot(collision=col("a.stl"), files={"a.stl": box_stl(1.5)})(d)
+            armanim_in(d, *FIT, env={"ARMANIM_CACHE_DIR": str(d / "cache")})
+            change(d)
+
+        return setup
+
+    def entries(d: Path) -> list[Path]:
+        return sorted((d / "cache").rglob("*.json"))
+
+    def other_mesh_entry(d: Path) -> None:  # the reference box's fit, written at a.stl's key
+        before = set(entries(d))
+        armanim_in(d, "robots", "--fit", "ref.urdf", env={"ARMANIM_CACHE_DIR": str(d / "cache")})
+        (new,) = set(entries(d)) - before
+        for entry in before:
+            shutil.copy(new, entry)
+
+    def each_entry(make: Callable[[Path], None]) -> Callable[[Path], None]:
+        def change(d: Path) -> None:
+            for entry in entries(d):
+                entry.unlink()
+                make(entry)
+
+        return change
+
+    cache_cases = [
+        ("the cache folder a FIFO", lambda d: (shutil.rmtree(d / "cache"), fifo(d / "cache"))),
+        ("the cache folder a regular file", lambda d: (shutil.rmtree(d / "cache"), write(d / "cache", "x"))),
+        ("the cache entry a FIFO", each_entry(fifo)),
+        ("the cache entry a folder", each_entry(lambda p: p.mkdir())),
+        (
+            "the cache entry cut in half",
+            lambda d: [write(p, p.read_bytes()[: len(p.read_bytes()) // 2]) for p in entries(d)] and None,
+        ),
+        ("the cache entry another mesh's fit", other_mesh_entry),
+    ]
+
+    def fit_as_fresh(d: Path) -> list[str]:
+        through = capsule_lines(fit_of(d, "robot.urdf", {"ARMANIM_CACHE_DIR": str(d / "cache")}))
+        fresh = capsule_lines(fit_of(d, "robot.urdf", {"ARMANIM_CACHE_DIR": str(d / "fresh")}))
+        return [] if through and through == fresh else ["the fit through the cache is not the mesh's own fit"]
+
+    for label, change in cache_cases:
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit again, {label}: the fit of the mesh itself",
+                FIT,
+                fitted_then(change),
+                (0,),
+                timeout=200,
+                env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                after=fit_as_fresh,
+            )
+        )
+
+    # the user's mesh changed after a run: render and view draw from the run, never block or fail
+    def run_then(change: Callable[[Path], None]) -> Callable[[Path], None]:
+        def setup(d: Path) -> None:
+            urdf_robot(vis("a.stl"), files={"a.stl": box_stl()})(d)
+            armanim_in(d, "run", "s.yaml", "--out", "o", "--no-video", "-q")
+            change(d)
+
+        return setup
+
+    after_run = [
+        ("deleted", lambda d: os.unlink(d / "a.stl")),
+        ("replaced by a FIFO", lambda d: (os.unlink(d / "a.stl"), fifo(d / "a.stl"))),
+        ("replaced by a 2 GB sparse file", lambda d: (os.unlink(d / "a.stl"), sparse(d / "a.stl", 2 << 30))),
+    ]
+    for label, change in after_run:
+        for cmd in (["render", "o/m", "-q", "--size", "64x48", "--out", "fig"], ["view", "o/m", "--out", "v.html"]):
+            out.append(
+                Attempt(
+                    k,
+                    f"{cmd[0]} of a run whose visual mesh, in the user's folder, was {label} since",
+                    cmd,
+                    run_then(change),
+                    (0, 2),
+                    timeout=300,
+                    message_if_2=r"o/m|a\.stl",
+                )
+            )
+
+    # a tool mesh in each format: drawn, no note that it could not be
+    for label, name, text in (
+        ("an ASCII STL", "t.stl", box_ascii_stl()),
+        ("an OBJ of quads", "t.obj", box_obj("quad")),
+        ("a COLLADA of normals at offset 1", "t.dae", box_dae("normals")),
+        ("a COLLADA polylist", "t.dae", box_dae("polylist")),
+    ):
+        out.append(
+            Attempt(
+                k,
+                f"fk --png, tool mesh {label}: no note",
+                ["fk", "--scene", "s.yaml", "--angles", "0,10,20", "--png", "p.png"],
+                lambda d, name=name, text=text: (
+                    (
+                        write(d / name, text),
+                        urdf_robot()(d),
+                        write(
+                            d / "s.yaml",
+                            URDF_SCENE.replace("{urdf: robot.urdf}", "{urdf: robot.urdf, tool: {mesh: " + name + "}}"),
+                        ),
+                    )
+                    and None
+                ),
+                (0,),
+                timeout=200,
+                not_message=r"note",
+                after=lambda d: [] if (d / "p.png").is_file() else ["no p.png"],
+            )
+        )
+    return out
+
+
+def clock_breaks(folder: str, fps: float) -> Callable[[Path], list[str]]:
+    """After a run into ``folder``: the clock agrees with itself. Frames 0..N-1 in order, each at
+    time frame / fps; summary.json's totals N frames and N / fps seconds; each goal's frames follow
+    the one before's (the first after frame 0), and span its motion's ``frames`` and, reached, its
+    hold's round(fps x hold) (docs/scene-format.md); the last ends at frame N-1; each row's
+    ``goal`` is the goal whose frames hold it. (``solver.max_frames_per_goal`` bounds a goal's solved
+    steps, not its frames once timed: docs/scene-format.md, "Frames and goals".)"""
+
+    def check(d: Path) -> list[str]:
+        import csv as _csv
+        import json as _json
+
+        import yaml
+
+        run = d / folder
+        if not (run / "trajectory.csv").is_file():
+            return [f"no {folder}/trajectory.csv"]
+        with open(run / "trajectory.csv", newline="") as handle:
+            rows = list(_csv.DictReader(handle))
+        summary = _json.loads((run / "summary.json").read_text())
+        asked = yaml.safe_load((run / "scene.yaml").read_text())["goals"]
+        n, problems = len(rows), []
+        frames = [int(r["frame"]) for r in rows]
+        if frames != list(range(n)):
+            problems.append("the frame column is not 0..N-1")
+        off = max(abs(float(r["time_s"]) - int(r["frame"]) / fps) for r in rows)
+        if off > 1e-9 * max(1.0, n / fps):
+            problems.append(f"time_s is {off:.3g} s off frame / fps ({fps:g})")
+        totals = summary["totals"]
+        if totals["frames"] != n or abs(totals["duration_s"] - n / fps) > 1e-9 * max(1.0, n / fps):
+            problems.append(
+                f"totals say {totals['frames']} frames, {totals['duration_s']} s; the CSV has {n} rows at {fps:g} fps"
+            )
+        start = 1
+        for g, goal in zip(summary["goals"], asked):
+            hold = round(fps * float(goal.get("hold", 0) if isinstance(goal, dict) else 0))
+            first = 0 if g["index"] == 0 else start
+            if g["first_frame"] != first:
+                problems.append(f"goal {g['index']} starts at frame {g['first_frame']}, expected {first}")
+                break
+            spans = (g["frames"] + hold,) if g["reached"] else (g["frames"] + hold, g["frames"])
+            if g["last_frame"] - start + 1 not in spans:
+                problems.append(
+                    f"goal {g['index']} spans frames {start}..{g['last_frame']}: not its {g['frames']} frames"
+                    f" and a hold of {hold}"
+                )
+            held = {r["goal"] for r in rows[g["first_frame"] : g["last_frame"] + 1]}
+            if held != {str(g["index"])}:
+                problems.append(f"goal {g['index']}'s frames hold rows of goals {sorted(held)}")
+            start = g["last_frame"] + 1
+        if summary["goals"] and summary["goals"][-1]["last_frame"] != n - 1:
+            problems.append(f"the last goal ends at frame {summary['goals'][-1]['last_frame']}, the CSV at {n - 1}")
+        return problems
+
+    return check
+
+
+def both(*checks: Callable[[Path], list[str]]) -> Callable[[Path], list[str]]:
+    return lambda d: [p for check in checks for p in check(d)]
+
+
+def clock_attempt(k: str, label: str, args: list[str], text: str, fps: float) -> Attempt:
+    """A run of ``text`` (named tiny) held to :func:`clock_breaks` at ``fps``."""
+    return Attempt(k, label, args, tiny_scene(text=text), (0,), timeout=400, after=clock_breaks("o/tiny", fps))
+
+
+def variants_clock(rates: tuple[float, ...]) -> Callable[[Path], list[str]]:
+    """After a sweep of ``render.fps`` over ``rates``: one variant folder a rate, each at its rate
+    (its summary's fps) and held to :func:`clock_breaks`."""
+
+    def check(d: Path) -> list[str]:
+        import json as _json
+
+        runs = [n for n in _listing(d / "o") if (d / "o" / n).is_dir()]
+        if len(runs) != len(rates):
+            return [f"expected {len(rates)} variant folders, found {runs}"]
+        problems = []
+        for n in runs:
+            fps = _json.loads((d / "o" / n / "summary.json").read_text())["fps"]
+            if fps not in rates:
+                problems.append(f"{n}: fps {fps}, not a value of the sweep")
+            problems += clock_breaks(f"o/{n}", fps)(d)
+        return problems
+
+    return check
+
+
+def given_up(folder: str, goal: int) -> Callable[[Path], list[str]]:
+    """After a run into ``folder``: goal ``goal`` is reported missed, with a reason."""
+
+    def check(d: Path) -> list[str]:
+        import json as _json
+
+        said = _json.loads((d / folder / "summary.json").read_text())["goals"][goal]
+        return (
+            []
+            if not said["reached"] and said["reason"]
+            else [f"goal {goal}: reached {said['reached']}, reason {said['reason']}"]
+        )
+
+    return check
+
+
+HOLDS = (
+    "version: 1\nname: tiny\narm: {links: [1, 1, 1]}\n"
+    "goals: [{position: [1, 1, 1], hold: HOLD}, {position: [0.5, -1, 1], hold: HOLD}, {joints: [10, 20, 30], hold: HOLD}]\n"
+    "render: {size: [160, 90], fps: FPS}\n"
+)
+
+
+def frames13_attempts() -> list[Attempt]:
+    """The clock held to itself (times are frame / fps, the totals and each goal's frames add up)
+    at odd rates (29.97, 23.976, 12.5, 7, 1/3, 0.5, 240), by the scene, --fps, --quality and a sweep,
+    with holds of half frames; random arms at those rates held to the rate limits too; the frame
+    budget at its exact edge for fps and holds campaigns 10-12 did not take; max_frames_per_goal
+    of 1 to 3 on a far goal."""
+    k = "frames13"
+    out: list[Attempt] = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    for fps in ("29.97", "23.976", "12.5", "7", "0.3333333333333333", "0.5", "240", "0.01"):
+        for hold in ("0", "0.05", "0.25"):
+            if fps in ("0.01", "0.3333333333333333", "240") and hold != "0.25":
+                continue
+            text = HOLDS.replace("HOLD", hold).replace("FPS", fps)
+            out.append(
+                clock_attempt(
+                    k, f"run at render.fps {fps}, holds of {hold} s: the clock adds up", run, text, float(fps)
+                )
+            )
+    for flags, fps in ((["--fps", "59.94"], 59.94), (["--fps", "1.5"], 1.5), (["--quality", "low"], 15.0)):
+        text = HOLDS.replace("HOLD", "0.5").replace("FPS", "10")
+        out.append(
+            clock_attempt(k, f"run {' '.join(flags)}: the clock adds up at {fps:g} fps", [*run, *flags], text, fps)
+        )
+
+    out.append(
+        Attempt(
+            k,
+            "sweep --set render.fps=7,12.5: each variant's clock adds up",
+            ["sweep", "s.yaml", "--set", "render.fps=7,12.5", "--out", "o", "-q", "--jobs", "1"],
+            tiny_scene(text=HOLDS.replace("HOLD", "0.25").replace("FPS", "10")),
+            (0,),
+            timeout=400,
+            after=variants_clock((7.0, 12.5)),
+        )
+    )
+    # random arms among spheres at odd rates: the rate limits, the velocities, the export and the clock
+    for seed, fps in zip(range(500, 510), (29.97, 12.5, 7.0, 120.0, 23.976, 0.5, 59.94, 2.0, 144.0, 11.0)):
+        text, spec = wrong_scene(seed, WRONG11_KINDS)
+        text = re.sub(r"fps: [0-9.]+\}", f"fps: {fps:g}}}", text)
+        spec = dict(spec, fps=fps)
+        out.append(
+            Attempt(
+                k,
+                f"run a random arm among spheres at {fps:g} fps (seed {seed}), held to the rates and the clock",
+                run,
+                tiny_scene(text=text),
+                (0,),
+                timeout=500,
+                after=both(trajectory_breaks(spec), clock_breaks(f"o/{spec['name']}", fps)),
+            )
+        )
+    # the frame budget: 1 + the goals' (max_frames_per_goal + round(hold x fps)) at exactly 1,000,000
+    for fps, goals in ((240.0, 3), (120.0, 7), (29.97, 9), (0.75, 11)):
+        hold_frames = min(999_999 // goals - 50_000, int(3600 * fps))
+        most = 999_999 // goals - hold_frames
+        for extra in (0, 1):
+            total = 1 + goals * (most + extra + hold_frames)
+            text = (
+                f"version: 1\nname: b\narm: {{links: [1, 1, 1]}}\n"
+                f"goals: [{', '.join([f'{{position: [1, 1, 1], hold: {hold_frames / fps!r}}}'] * goals)}]\n"
+                f"solver: {{max_frames_per_goal: {most + extra}}}\n"
+                f"render: {{size: [160, 90], fps: {fps!r}}}\n"
+            )
+            out.append(
+                Attempt(
+                    k,
+                    f"validate {goals} holds of {hold_frames:,} frames at {fps:g} fps, {total:,} frames in all",
+                    ["validate", "s.yaml"],
+                    tiny_scene(text=text),
+                    (0,) if total <= 1_000_000 else (2,),
+                    timeout=120,
+                    message_if_2=r"s\.yaml:\d+: ",
+                )
+            )
+    for flags in (["--fps", "240"], ["--quality", "4k"], ["--fps", "121"]):
+        text = (
+            "version: 1\nname: b\narm: {links: [1, 1, 1]}\ngoals: ["
+            + ", ".join(
+                ["{position: [1, 1, 1], hold: 3600}", "{position: [0.5, -1, 1], hold: 3600}"] * 2
+                + ["{position: [1, 1, 1], hold: 3600}"]
+            )
+            + "]\nsolver: {max_frames_per_goal: 300}\nrender: {size: [160, 90], fps: 30}\n"
+        )
+        out.append(
+            Attempt(
+                k,
+                f"run five one-hour holds {' '.join(flags)} (over the frame limit): refused before solving",
+                [*run, *flags],
+                tiny_scene(text=text),
+                (2,),
+                timeout=120,
+                message=r"frame",
+            )
+        )
+    for most in (1, 2, 3):
+        text = TINY.replace("goals: [[1, 1, 1], [0.5, -1, 1]]", "goals: [[-1, 1, 2], [1, 1, 1]]").replace(
+            "render:", f"solver: {{max_frames_per_goal: {most}}}\nrender:"
+        )
+        out.append(
+            Attempt(
+                k,
+                f"run max_frames_per_goal {most} to a far goal: given up, the clock adds up",
+                run,
+                tiny_scene(text=text),
+                (0,),
+                timeout=300,
+                after=both(clock_breaks("o/tiny", 10.0), given_up("o/tiny", 0)),
+            )
+        )
+    return out
+
+
+def again_tidy(
+    *args: str, codes: tuple[int, ...] = (0,), where: tuple[str, ...] = ("o", ".")
+) -> Callable[[Path], list[str]]:
+    """After a command killed or interrupted: the same command again ends with ``codes`` and leaves
+    no staging folder, temporary or moved-aside file in ``where`` (what the killed one left is
+    tidied, promise 11)."""
+
+    def check(d: Path) -> list[str]:
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", *args],
+            cwd=d,
+            env=dict(os.environ, PYTHONPATH=str(SRC)),
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
+        problems = []
+        if done.returncode not in codes:
+            problems.append(f"the command again: exit {done.returncode}: {(done.stdout + done.stderr).strip()[-300:]}")
+        for place in where:
+            base = d / place
+            if base.is_dir():
+                found = [str(p.relative_to(d)) for p in base.rglob("*") if LITTER.search(p.name)]
+                if found:
+                    problems.append(f"left after the command again: {found[:4]}")
+        return problems
+
+    return check
+
+
+PANDA = (
+    "version: 1\nname: p\narm: {robot: panda}\ngoals: [{joints: [0, -20, 0, -120, 0, 100, 45]}, "
+    "{joints: [30, 0, 0, -90, 0, 90, 0]}]\nrender: {size: [320, 180], fps: 10}\n"
+)
+"""A Panda (its meshes drawn) with two joint goals."""
+
+
+def signals13_attempts() -> list[Attempt]:
+    """SIGHUP (the terminal closes) to the group and to armanim alone, in every command that
+    writes: it is an interruption (docs/reliability.md: "every interruption ... exit 130"), so
+    exit 130, nothing half-written, and the command again works and leaves nothing behind.
+    SIGQUIT (Ctrl-\\) ends the process as a kill does (old outputs whole, the next command tidies).
+    Ctrl-C and SIGTERM in a robot's meshes drawn by render and view, a read-only check, the robot
+    list, a run replacing its own earlier folder at six moments; SIGTERM to armanim alone in a
+    pool, its workers held to end with it (``linger``)."""
+    k = "signals13"
+    out: list[Attempt] = []
+    short = LONG.replace("hold: 3600", "hold: 30").replace("hold: 400", "hold: 30")
+    video30 = TINY.replace("fps: 10", "fps: 30")
+    batch = ["run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "2"]
+
+    def two_scenes(d: Path) -> None:
+        write(d / "a.yaml", TINY.replace("name: tiny", "name: a"))
+        write(d / "s.yaml", TINY)
+
+    def long_run_and(*args: str) -> Callable[[Path], None]:
+        return then(lambda d: finished_run(d, LONG), lambda d: armanim_in(d, *args))
+
+    def big_collision(d: Path) -> None:
+        big_stl(d / "a.stl", 1_200_000)  # 60 MB: under the 64 MB a mesh file may have
+        urdf_robot(collision=col("a.stl"))(d)
+
+    def moveit_scene(d: Path) -> None:
+        box = "* b{i}\n1\nbox\n0.05 0.05 0.05\n{x} {y} 1\n0 0 0 1\n0 0 0 0\n"
+        write(
+            d / "w.scene",
+            "w\n" + "".join(box.format(i=i, x=2 + i % 10, y=i // 10 * 0.1) for i in range(15_000)) + ".\n",
+        )
+
+    update = ["check", "s.yaml", "--golden", "g", "--update"]
+    # (label, args, setup, moments, what must be whole, where litter may not be)
+    writers: list[tuple] = [
+        (
+            "run with video",
+            ["run", "s.yaml", "--out", "o", "-q", "--jobs", "1"],
+            tiny_scene(text=video30),
+            (2.0, 5.0),
+            ("o/tiny",),
+            ("o",),
+        ),
+        (
+            "run --no-video of a 40,000-frame scene",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            tiny_scene(text=LONG),
+            (3.0,),
+            ("o/tiny",),
+            ("o",),
+        ),
+        ("a --jobs 2 batch", batch, two_scenes, (1.2, 2.5), ("o/a", "o/tiny", "o/index.csv"), ("o",)),
+        (
+            "render --out fig",
+            ["render", "o/tiny", "--out", "fig", "-q", "--size", "320x180", "--jobs", "1"],
+            lambda d: finished_run(d, short) and None,
+            (2.0, 4.0),
+            ("fig", "o/tiny"),
+            ("o", "fig", "."),
+        ),
+        (
+            "export replacing its earlier export of a 40,000-frame run",
+            ["export", "o/tiny", "--out", "e.json"],
+            long_run_and("export", "o/tiny", "--out", "e.json"),
+            (1.0,),
+            ("e.json",),
+            ("o", "."),
+        ),
+        (
+            "view replacing its earlier page of a 40,000-frame run",
+            ["view", "o/tiny", "--out", "v.html"],
+            long_run_and("view", "o/tiny", "--out", "v.html"),
+            (1.5,),
+            ("v.html",),
+            ("o", "."),
+        ),
+        (
+            "check --update of a 40,000-frame scene",
+            update,
+            tiny_scene(text=LONG),
+            (2.0,),
+            ("g/tiny.csv", "g/tiny.json"),
+            ("g", "."),
+        ),
+        (
+            "sweep --jobs 2 of 2 variants",
+            ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "2"],
+            tiny_scene(),
+            (2.0,),
+            (),
+            ("o",),
+        ),
+        ("robots --fit of a 1.2-million-triangle STL", FIT, big_collision, (1.5,), (), (".",)),
+        (
+            "import moveit of 15,000 boxes",
+            ["import", "moveit", "w.scene", "--robot", "panda", "--out", "m.yaml"],
+            moveit_scene,
+            (1.0,),
+            ("m.yaml",),
+            (".",),
+        ),
+    ]
+    for label, args, setup, moments, whole, where in writers:
+        for delay in moments:
+            out.append(
+                Attempt(
+                    k,
+                    f"{label}, SIGHUP to the group at {delay:g} s (the terminal closes)",
+                    args,
+                    setup,
+                    (130,),
+                    timeout=300,
+                    interrupt=(delay, "SIGHUPG"),
+                    litter_in=where,
+                    linger=5.0,
+                    message=r"interrupted",
+                    after=both(whole_or_none(*whole), again_tidy(*args, where=where)),
+                )
+            )
+    for label, args, setup, delay, whole, where in (
+        ("a --jobs 2 batch", batch, two_scenes, 1.5, ("o/a", "o/tiny"), ("o",)),
+        (
+            "run --jobs 2 with video (segment workers)",
+            ["run", "s.yaml", "--out", "o", "-q", "--jobs", "2"],
+            tiny_scene(text=video30),
+            2.5,
+            ("o/tiny",),
+            ("o",),
+        ),
+    ):
+        out.append(
+            Attempt(
+                k,
+                f"{label}, SIGHUP to armanim alone at {delay:g} s",
+                args,
+                setup,
+                (130,),
+                timeout=300,
+                interrupt=(delay, "SIGHUP"),
+                litter_in=where,
+                linger=5.0,
+                after=both(whole_or_none(*whole), again_tidy(*args, where=where)),
+            )
+        )
+    for label, args, setup, moments, whole, where in (writers[0], writers[2], writers[3], writers[4], writers[6]):
+        out.append(
+            Attempt(
+                k,
+                f"{label}, SIGQUIT to the group at {moments[0]:g} s (Ctrl-\\): old outputs whole, the next tidies",
+                args,
+                setup,
+                (130, -3),
+                timeout=300,
+                interrupt=(moments[0], "SIGQUITG"),
+                litter_in=(),
+                after=both(whole_or_none(*whole), again_tidy(*args, where=where)),
+            )
+        )
+
+    def panda_run(d: Path) -> None:
+        write(d / "s.yaml", PANDA)
+        armanim_in(d, "run", "s.yaml", "--out", "o", "--no-video", "-q")
+
+    out += at_moments(
+        k,
+        "render --out fig of a Panda run (its meshes)",
+        ["render", "o/p", "--out", "fig", "-q", "--jobs", "1"],
+        panda_run,
+        ((2.0, "SIGINT"), (4.0, "SIGTERM"), (6.0, "SIGTERMG")),
+        timeout=300,
+        keep=("o/p",),
+        after=whole_or_none("fig"),
+        litter_in=("o", "fig", "."),
+        linger=5.0,
+    )
+    out += at_moments(
+        k,
+        "view of a Panda run (its meshes), replacing the run's page",
+        ["view", "o/p"],
+        panda_run,
+        ((1.5, "SIGINT"), (3.0, "SIGTERMG")),
+        timeout=300,
+        after=whole_or_none("o/p"),
+    )
+    out += at_moments(
+        k,
+        "run --viewer --no-video of a Panda",
+        ["run", "s.yaml", "--out", "o", "--no-video", "--viewer", "-q"],
+        tiny_scene(text=PANDA),
+        ((3.0, "SIGINT"), (6.0, "SIGTERM")),
+        timeout=300,
+        after=whole_or_none("o/p"),
+    )
+    out += at_moments(
+        k,
+        "check (no update) of a 40,000-frame scene against its golden",
+        ["check", "s.yaml", "--golden", "g"],
+        then(tiny_scene(text=LONG), lambda d: armanim_in(d, *update)),
+        ((2.0, "SIGINT"), (4.0, "SIGTERMG")),
+        codes=(0, 130),
+        timeout=300,
+        keep=("g",),
+        litter_in=("g", "."),
+    )
+    out += at_moments(
+        k, "robots (the list)", ["robots"], lambda d: None, ((0.5, "SIGINT"), (1.0, "SIGTERM")), timeout=60
+    )
+    out += at_moments(
+        k,
+        "import moveit with a request",
+        ["import", "moveit", "w.yaml", "--robot", "panda", "--request", "r.yaml", "--out", "m.yaml"],
+        lambda d: (write(d / "w.yaml", MOVEIT_BOX), write(d / "r.yaml", MOVEIT_REQUEST)) and None,
+        ((1.0, "SIGTERM"),),
+        timeout=120,
+        after=whole_or_none("m.yaml"),
+        litter_in=(".",),
+    )
+
+    def earlier_run(d: Path) -> None:
+        finished_run(d, video30, video=True)
+        write(d / "s.yaml", video30.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))
+
+    def old_or_new(d: Path) -> list[str]:
+        import json as _json
+
+        marker = d / "o/tiny/.armanim-run.json"
+        if not marker.is_file():
+            return ["o/tiny has no marker"]
+        listed = _json.loads(marker.read_text()).get("files", {})
+        names = {Path(name).parts[0] for name in listed}
+        here = {p.name for p in (d / "o/tiny").iterdir()} - {".armanim-run.json"}
+        return [] if not names or names == here else [f"o/tiny holds {sorted(here ^ names)} beside its marker's list"]
+
+    out += at_moments(
+        k,
+        "run with video replacing its own earlier run folder",
+        ["run", "s.yaml", "--out", "o", "-q", "--jobs", "1"],
+        earlier_run,
+        [(t, "SIGINT") for t in (0.8, 1.6, 2.4, 3.2, 4.0, 4.8)],
+        timeout=300,
+        after=both(whole_or_none("o/tiny"), old_or_new),
+    )
+    out += at_moments(
+        k,
+        "a --jobs 2 batch, SIGTERM to armanim alone (its workers must end too)",
+        batch,
+        two_scenes,
+        ((1.0, "SIGTERM"), (2.0, "SIGTERM"), (3.0, "SIGTERM")),
+        timeout=300,
+        linger=5.0,
+        after=whole_or_none("o/a", "o/tiny", "o/index.csv"),
+    )
+    out += at_moments(
+        k,
+        "run with video, then SIGHUP 50 ms later",
+        ["run", "s.yaml", "--out", "o", "-q", "--jobs", "1"],
+        tiny_scene(text=video30),
+        ((3.0, "SIGTERMG"),),
+        also=((3.05, "SIGHUPG"),),
+        codes=(130,),
+        timeout=300,
+        linger=5.0,
+        after=whole_or_none("o/tiny"),
+    )
+    return out
+
+
+def loss13_attempts() -> list[Attempt]:
+    """Every writer aimed at a file it reads (the scene, an importer's own input, the request),
+    at a user's file through a trailing slash, at files of another writer's kind (pages, exports,
+    goldens, the lock), at staging and moved-aside names as files; the default outputs of export,
+    view and render into a run folder where the user put a file of that name; the user's files
+    beside a golden, inside a render folder, a sweep's variant and a batch's folder; the capsule
+    cache and TMPDIR inside a run folder, the outputs or the user's folder; one scene twice in a batch."""
+    k = "loss13"
+    update = ["check", "s.yaml", "--golden", "g", "--update"]
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    scene = mine("s.yaml", TINY)
+    golden = then(scene, lambda d: armanim_in(d, *update))
+    exported = then(finished_run, lambda d: armanim_in(d, "export", "o/tiny", "--out", "e.json"))
+    paged = then(finished_run, lambda d: armanim_in(d, "view", "o/tiny", "--out", "v.html"))
+    moveit = mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")
+    importing = ["import", "moveit", "w.scene", "--robot", "panda"]
+    sweep = ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"]
+    swept = then(scene, lambda d: armanim_in(d, *sweep))
+    batch = ["run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"]
+    batched = then(scene, mine("a.yaml", TINY.replace("name: tiny", "name: a")), lambda d: armanim_in(d, *batch))
+
+    def in_variant(d: Path) -> None:
+        if not (d / "o/tiny_step-0.1").is_dir():
+            raise RuntimeError(f"no variant folder tiny_step-0.1: {_listing(d / 'o')}")
+
+    # one attempt a row: label, arguments, setup, exit codes, the user's paths kept
+    # fmt: off
+    table: list[tuple] = [
+        ("run s.yaml --out s.yaml (the scene itself as OUT)", ["run", "s.yaml", "--out", "s.yaml", "--no-video", "-q"], scene, (2, 3), ("s.yaml",)),
+        ("render --out s.yaml (the user's scene, a file)", ["render", "o/tiny", "-q", "--size", "64x48", "--out", "s.yaml"], finished_run, (2, 3), ("s.yaml",)),
+        ("import moveit w.scene --out w.scene (its own input)", [*importing, "--out", "w.scene"], moveit, (2, 3), ("w.scene",)),
+        ("import moveit --request r.yaml --out r.yaml (its own request)", [*importing, "--request", "r.yaml", "--out", "r.yaml"], then(moveit, mine("r.yaml", MOVEIT_REQUEST)), (2, 3), ("r.yaml",)),
+        ("import moveit --out the user's URDF", [*importing, "--out", "robot.urdf"], then(moveit, mine("robot.urdf", MINI_URDF)), (2, 3), ("robot.urdf",)),
+        ("export --out e.json/ (a slash after the user's file)", ["export", "o/tiny", "--out", "e.json/"], then(finished_run, mine("e.json", "{}\n")), (2, 3), ("e.json",)),
+        ("view --out v.html/ (a slash after the user's file)", ["view", "o/tiny", "--out", "v.html/"], then(finished_run, mine("v.html", "<p>mine</p>\n")), (2, 3), ("v.html",)),
+        ("schema --out x.json/ (a slash after the user's file)", ["schema", "--out", "x.json/"], mine("x.json", "{}\n"), (2, 3), ("x.json",)),
+        ("fk --png p.png/ (a slash after the user's file)", ["fk", "--angles", "0,0,0,0", "--png", "p.png/"], mine("p.png", "mine"), (2, 3), ("p.png",)),
+        ("export (into the run folder), the user's joint_trajectory.json put there", ["export", "o/tiny"], then(finished_run, mine("o/tiny/joint_trajectory.json", '{"joint_names": [], "points": []}\n')), (2, 3), ("o/tiny/joint_trajectory.json",)),
+        ("view (into the run folder), the user's viewer.html put in a --no-video run", ["view", "o/tiny"], then(finished_run, mine("o/tiny/viewer.html", "<p>mine</p>\n")), (2, 3), ("o/tiny/viewer.html",)),
+        ("render (into the run folder), the user's tiny.mp4 put in a --no-video run", ["render", "o/tiny", "-q", "--size", "64x48"], then(finished_run, mine("o/tiny/tiny.mp4", "mine")), (2, 3), ("o/tiny/tiny.mp4",)),
+        ("render (into the run folder), the user's notes put there", ["render", "o/tiny", "-q", "--size", "64x48"], then(finished_run, mine("o/tiny/notes.txt")), (2, 3), ("o/tiny/notes.txt",)),
+        ("run again, o/.tiny.lock a file of the user's notes", run, then(finished_run, lambda d: os.unlink(d / "o/.tiny.lock"), mine("o/.tiny.lock")), (0, 2, 3), ("o/.tiny.lock",)),
+        ("run again, o/.tiny.old-99 a file of the user's", run, then(finished_run, mine("o/.tiny.old-99")), (0, 3), ("o/.tiny.old-99",)),
+        ("run again, o/.tiny.abcdefgh.partial a file of the user's", run, then(finished_run, mine("o/.tiny.abcdefgh.partial")), (0, 3), ("o/.tiny.abcdefgh.partial",)),
+        ("run, no run yet, o/.tiny.abcdefgh.partial a file of the user's", run, then(scene, mine("o/.tiny.abcdefgh.partial")), (0, 3), ("o/.tiny.abcdefgh.partial",)),
+        ("check --update, the user's notes in the golden folder", update, then(golden, mine("g/notes.txt")), (0,), ("g/notes.txt",)),
+        ("check --update --golden . (the user's own folder)", ["check", "s.yaml", "--golden", ".", "--update"], then(scene, mine("notes.txt")), (0, 2, 3), ("s.yaml", "notes.txt")),
+        ("render --out fig again, the user's notes added to fig since", ["render", "o/tiny", "-q", "--size", "64x48", "--out", "fig"], then(finished_run, lambda d: armanim_in(d, "render", "o/tiny", "-q", "--size", "64x48", "--out", "fig"), mine("fig/notes.txt")), (0, 3), ("fig/notes.txt",)),
+        ("render --out fig holding the user's poster.png", ["render", "o/tiny", "-q", "--size", "64x48", "--out", "fig"], then(finished_run, mine("fig/poster.png", "mine")), (3,), ("fig/poster.png",)),
+        ("export --out v.html (a page armanim wrote)", ["export", "o/tiny", "--out", "v.html"], paged, (2, 3), ("v.html",)),
+        ("view --out e.json (an export armanim wrote)", ["view", "o/tiny", "--out", "e.json"], exported, (2, 3), ("e.json",)),
+        ("schema --out v.html (a page armanim wrote)", ["schema", "--out", "v.html"], paged, (2, 3), ("v.html",)),
+        ("fk --png v.html (a page armanim wrote)", ["fk", "--angles", "0,0,0,0", "--png", "v.html"], paged, (2, 3), ("v.html",)),
+        ("import moveit --out v.html (a page armanim wrote)", [*importing, "--out", "v.html"], then(paged, moveit), (2, 3), ("v.html",)),
+        ("import moveit --out e.json (an export armanim wrote)", [*importing, "--out", "e.json"], then(exported, moveit), (2, 3), ("e.json",)),
+        ("export --out g/tiny.json (a golden .json armanim wrote)", ["export", "o/tiny", "--out", "g/tiny.json"], then(finished_run, lambda d: armanim_in(d, *update)), (2, 3), ("g",)),
+        ("view --out the golden .json armanim wrote", ["view", "o/tiny", "--out", "g/tiny.json"], then(finished_run, lambda d: armanim_in(d, *update)), (2, 3), ("g",)),
+        ("view --out o/index.csv (a batch's table)", ["view", "o/tiny", "--out", "o/index.csv"], batched, (2, 3), ("o/index.csv",)),
+        ("export --out o/.tiny.lock (the run's lock)", ["export", "o/tiny", "--out", "o/.tiny.lock"], finished_run, (2, 3), ("o/.tiny.lock",)),
+        ("view --out o/.tiny.lock (the run's lock)", ["view", "o/tiny", "--out", "o/.tiny.lock"], finished_run, (2, 3), ("o/.tiny.lock",)),
+        ("schema --out o/.tiny.lock (the run's lock)", ["schema", "--out", "o/.tiny.lock"], finished_run, (2, 3), ("o/.tiny.lock",)),
+        ("check --update --golden o/.tiny.abcdefgh.partial (a staging name)", ["check", "s.yaml", "--golden", "o/.tiny.abcdefgh.partial", "--update"], finished_run, (2,), ()),
+        ("fk --png into o/.tiny.old-99 (a moved-aside name)", ["fk", "--angles", "0,0,0,0", "--png", "o/.tiny.old-99/p.png"], then(finished_run, lambda d: (d / "o/.tiny.old-99").mkdir()), (2, 3), ("o/.tiny.old-99",)),
+        ("run again, the run folder's scene.yaml hard-linked by the user as mine.yaml", run, then(finished_run, hardlink("o/tiny/scene.yaml", "mine.yaml"), mine("s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, -1, 1.2]"))), (0, 3), ("mine.yaml",)),
+        ("sweep again, the user's notes in a variant's folder", sweep, then(swept, in_variant, mine("o/tiny_step-0.1/notes.txt")), (3,), ("o/tiny_step-0.1/notes.txt",)),
+        ("sweep, the user's file at a variant's folder name", sweep, then(scene, mine("o/tiny_step-0.1", "mine")), (3,), ("o/tiny_step-0.1",)),
+        ("a batch again, the user's notes in the first scene's folder", batch, then(batched, mine("o/a/notes.txt")), (3,), ("o/a/notes.txt",)),
+    ]
+    # fmt: on
+    out = [
+        Attempt(k, label, args, setup, codes, keep=keep, timeout=300, litter_in=("o", "."))
+        for label, args, setup, codes, keep in table
+    ]
+    out.append(
+        Attempt(
+            k,
+            "run s.yaml s.yaml (one scene twice in a batch)",
+            ["run", "s.yaml", "s.yaml", "--out", "o", "--no-video", "-q"],
+            scene,
+            (0, 2),
+            keep=("s.yaml",),
+            timeout=300,
+            after=whole_or_none("o/tiny", "o/index.csv"),
+        )
+    )
+
+    # the capsule cache and the temporary folder where outputs go
+    def fitted_robot(d: Path) -> None:
+        urdf_robot(collision=col("a.stl"), files={"a.stl": box_stl()})(d)
+
+    out.append(  # the first run makes the cache in the folder it will swap: refused, naming the cache
+        Attempt(
+            k,
+            "run, ARMANIM_CACHE_DIR inside the run folder",
+            run,
+            fitted_robot,
+            (0, 3),
+            timeout=300,
+            env={"ARMANIM_CACHE_DIR": "{d}/o/m/cache"},
+            message_if_3=r"ARMANIM_CACHE_DIR",
+        )
+    )
+    for label, cache, keep in (
+        ("the outputs folder itself", "{d}/o", ()),
+        ("the user's own folder (the scene's)", "{d}", ("s.yaml", "robot.urdf", "a.stl")),
+    ):
+        out.append(
+            Attempt(
+                k,
+                f"run twice, ARMANIM_CACHE_DIR {label}",
+                run,
+                then(
+                    fitted_robot,
+                    lambda d, cache=cache: armanim_in(d, *run, env={"ARMANIM_CACHE_DIR": cache.replace("{d}", str(d))}),
+                ),
+                (0, 3),
+                keep=keep,
+                timeout=300,
+                env={"ARMANIM_CACHE_DIR": cache},
+                message_if_3=r"ARMANIM_CACHE_DIR",
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "run with video --jobs 2 again, TMPDIR inside the run folder",
+            ["run", "s.yaml", "--out", "o", "-q", "--jobs", "2"],
+            lambda d: finished_run(d, video=True) and None,
+            (0, 2, 3),
+            timeout=300,
+            env={"TMPDIR": "{d}/o/tiny"},
+            message_if_3=r"TMPDIR|temporary",
+            after=whole_or_none("o/tiny"),
+        )
+    )
+    return out
+
+
+def inputs13_attempts() -> list[Attempt]:
+    """Scene files in YAML's corners campaigns 10-12 did not write (tabs, merge keys, complex keys,
+    YAML 1.1 scalars, look-alike keys, fields of the wrong shape), command-line flags at theirs
+    (a value that looks like a flag, repeated flags, ranges, empty values), and the environment
+    (an ASCII-only terminal printing a name that is not, COLUMNS of nonsense, an empty cache
+    variable, a browser that cannot open). Exit 0, or 2 naming the file and line or the flag."""
+    k = "inputs13"
+    out: list[Attempt] = []
+    t = TINY
+    # fmt: off
+    scenes: list[tuple[str, str | bytes]] = [
+        ("a tab before a key", t.replace("name: tiny", "\tname: tiny")),
+        ("a tab inside a flow list", t.replace("[1, 1, 1]}", "[1,\t1,\t1]}")),
+        ("a merge key <<", t.replace("arm: {links: [1, 1, 1]}", "base: &b {links: [1, 1, 1]}\narm: {<<: *b}")),
+        ("a merge key of a list", t.replace("arm: {links: [1, 1, 1]}", "arm: {<<: [1, 2]}")),
+        ("a complex key ? [a]", t + "? [a, b]\n: 1\n"),
+        ("only comments", "# nothing\n# here\n"),
+        ("only ---", "---\n"),
+        ("only ...", "...\n"),
+        ("1,000,001 bytes (one past its limit)", t + "#" + "x" * (1_000_001 - len(t) - 2) + "\n"),
+        ("1,000,000 bytes (its limit)", t + "#" + "x" * (1_000_000 - len(t) - 2) + "\n"),
+        ("a key in capitals (Goals)", t.replace("goals:", "Goals:")),
+        ("a key of a Cyrillic o (gоals)", t.replace("goals:", "g\u043eals:")),
+        ("a key with a trailing space, quoted", t.replace("goals:", "'goals ':")),
+        ("a key with a zero-width space", t.replace("goals:", "goals\u200b:")),
+        ("links of 1e0 (YAML 1.1 reads a string)", t.replace("[1, 1, 1]}", "[1e0, 1, 1]}")),
+        ("links of 1_000", t.replace("[1, 1, 1]}", "[1_000, 1, 1]}")),
+        ("links of 0o7", t.replace("[1, 1, 1]}", "[0o7, 1, 1]}")),
+        ("links of .5 and +1", t.replace("[1, 1, 1]}", "[.5, +1, 1]}")),
+        ("links of '1' (quoted)", t.replace("[1, 1, 1]}", "['1', 1, 1]}")),
+        ("links a string '1,1,1'", t.replace("[1, 1, 1]}", "'1,1,1'}")),
+        ("links a mapping", t.replace("[1, 1, 1]}", "{a: 1}}")),
+        ("links nested [[1, 1, 1]]", t.replace("[1, 1, 1]}", "[[1, 1, 1]]}")),
+        ("goals a single goal, not a list", t.replace("[[1, 1, 1], [0.5, -1, 1]]", "{position: [1, 1, 1]}")),
+        ("a goal of four numbers", t.replace("[0.5, -1, 1]", "[0.5, -1, 1, 0]")),
+        ("a goal's position of a string", t.replace("[0.5, -1, 1]", "{position: '0.5, -1, 1'}")),
+        ("a hold of -1", t.replace("[0.5, -1, 1]", "{position: [0.5, -1, 1], hold: -1}")),
+        ("a blend of -0.1", t.replace("[0.5, -1, 1]", "{position: [0.5, -1, 1], blend: -0.1}")),
+        ("a hold of 1e-320", t.replace("[0.5, -1, 1]", "{position: [0.5, -1, 1], hold: 1e-320}")),
+        ("self_collision on (YAML 1.1 boolean)", t.replace("arm: {links: [1, 1, 1]}", "arm: {links: [1, 1, 1], self_collision: on}")),
+        ("self_collision 'off' quoted", t.replace("arm: {links: [1, 1, 1]}", "arm: {links: [1, 1, 1], self_collision: 'off'}")),
+        ("render.size a string 160x90", t.replace("size: [160, 90]", "size: 160x90")),
+        ("render.fps a string '10'", t.replace("fps: 10", "fps: '10'")),
+        ("render.format MP4 in capitals", t.replace("fps: 10}", "fps: 10, format: MP4}")),
+        ("solver.method PINV in capitals", t + "solver: {method: PINV}\n"),
+        ("solver.weights an unknown key", t + "solver: {weights: {nosuch: 1}}\n"),
+        ("an obstacle of an unknown shape key", t + "obstacles: [{cone: {radius: 1}}]\n"),
+        ("a box obstacle of size 0 edge", t + "obstacles: [{box: {center: [3, 3, 3], size: [0, 1, 1]}}]\n"),
+        ("a capsule of equal ends", t + "obstacles: [{capsule: {a: [3, 3, 3], b: [3, 3, 3], radius: 0.1}}]\n"),
+        ("name '' (empty)", t.replace("name: tiny", "name: ''")),
+        ("name with a trailing space", t.replace("name: tiny", "name: 'tiny '")),
+        ("name of 100 characters", t.replace("name: tiny", "name: " + "n" * 100)),
+        ("name of 101 characters", t.replace("name: tiny", "name: " + "n" * 101)),
+        ("version 01", t.replace("version: 1", "version: 01")),
+        ("version '1'", t.replace("version: 1", "version: '1'")),
+        ("no version", t.replace("version: 1\n", "")),
+        ("a document end marker then more", t + "...\ngoals: []\n"),
+        ("latin-1 bytes in a comment", t.encode() + b"# caf\xe9\n"),
+        ("a scene in UTF-8 with a BOM", "\ufeff" + t),
+    ]
+    # fmt: on
+    for label, text in scenes:
+        out.append(
+            Attempt(
+                k,
+                f"validate, {label}",
+                ["validate", "s.yaml"],
+                tiny_scene(text=text),
+                (0, 2),
+                timeout=120,
+                message_if_2=r"s\.yaml(:\d+)?: ",
+            )
+        )
+    # flags
+    finished = lambda d: finished_run(d) and None  # noqa: E731
+    # fmt: off
+    flags: list[tuple[str, list[str], Callable[[Path], None], tuple[int, ...], str]] = [
+        ("fk --angles -10,0,0,0 (a value that looks like a flag)", ["fk", "--angles", "-10,0,0,0"], lambda d: None, (0, 2), "--angles"),
+        ("ik --goal -1,1,1 (a value that looks like a flag)", ["ik", "--goal", "-1,1,1"], lambda d: None, (0, 1, 2), "--goal"),
+        ("ik --goal '1, 1, 1' (spaces)", ["ik", "--goal", "1, 1, 1"], lambda d: None, (0, 1, 2), "--goal"),
+        ("ik --goal 1,1,1 --goal 2,2,2 (twice)", ["ik", "--goal", "1,1,1", "--goal", "2,2,2"], lambda d: None, (0, 1, 2), "--goal"),
+        ("ik --from 0,0 (two angles for four joints)", ["ik", "--goal", "1,1,1", "--from", "0,0"], lambda d: None, (2,), "--from"),
+        ("ik --tolerance 0", ["ik", "--goal", "1,1,1", "--tolerance", "0"], lambda d: None, (0, 1, 2), "--tolerance"),
+        ("ik --tolerance nan", ["ik", "--goal", "1,1,1", "--tolerance", "nan"], lambda d: None, (2,), "--tolerance"),
+        ("ik --orientation-tolerance -1", ["ik", "--goal", "1,1,1", "--orientation", "tool_axis=0,0,1", "--orientation-tolerance", "-1"], lambda d: None, (2,), "--orientation-tolerance"),
+        ("ik --orientation tool_axis=0,0,0", ["ik", "--goal", "1,1,1", "--orientation", "tool_axis=0,0,0"], lambda d: None, (2,), "--orientation"),
+        ("ik --orientation axis=0,0,0,90", ["ik", "--goal", "1,1,1", "--orientation", "axis=0,0,0,90"], lambda d: None, (2,), "--orientation"),
+        ("ik --orientation 'rpy='", ["ik", "--goal", "1,1,1", "--orientation", "rpy="], lambda d: None, (2,), "--orientation"),
+        ("fk --base 1,2", ["fk", "--base", "1,2", "--angles", "0,0,0,0"], lambda d: None, (2,), "--base"),
+        ("fk --links 1,nan", ["fk", "--links", "1,nan", "--angles", "0,0"], lambda d: None, (2,), "--links"),
+        ("fk --links '' (empty: the default links)", ["fk", "--links", "", "--angles", "0"], lambda d: None, (2,), "--links|--angles"),
+        ("fk --angles of five for four joints", ["fk", "--angles", "0,0,0,0,0"], lambda d: None, (2,), "--angles"),
+        ("fk --robot PANDA in capitals", ["fk", "--robot", "PANDA", "--angles", "0,0,0,0,0,0,0"], lambda d: None, (0, 2), "--robot"),
+        ("fk --scene s.yaml --robot panda (both)", ["fk", "--scene", "s.yaml", "--robot", "panda", "--angles", "0,0,0"], tiny_scene(), (2,), "--scene|--robot"),
+        ("robots --package-dir without --fit", ["robots", "--package-dir", "."], lambda d: None, (0, 2), "--package-dir|--fit"),
+        ("export --format csv", ["export", "o/tiny", "--format", "csv"], finished, (2,), "--format"),
+        ("export --format ''", ["export", "o/tiny", "--format", ""], finished, (2,), "--format"),
+        ("check --atol nan", ["check", "s.yaml", "--golden", "g", "--atol", "nan"], tiny_scene(), (2,), "--atol"),
+        ("compare --atol-deg inf", ["compare", "o/tiny/trajectory.csv", "o/tiny/trajectory.csv", "--atol-deg", "inf"], finished, (0, 2), "--atol-deg"),
+        ("run --jobs 1 --jobs 2 (twice)", ["run", "s.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1", "--jobs", "2"], tiny_scene(), (0, 2), "--jobs"),
+        ("run --format GIF in capitals", ["run", "s.yaml", "--out", "o", "-q", "--format", "GIF", "--size", "64x48"], tiny_scene(), (0, 2), "--format"),
+        ("run --quality ultra", ["run", "s.yaml", "--out", "o", "-q", "--quality", "ultra"], tiny_scene(), (2,), "--quality"),
+        ("run --quality ''", ["run", "s.yaml", "--out", "o", "-q", "--quality", ""], tiny_scene(), (2,), "--quality"),
+        ("run --size '' (empty: as not given)", ["run", "s.yaml", "--out", "o", "-q", "--size", ""], tiny_scene(), (0, 2), "--size"),
+        ("run --out ''", ["run", "s.yaml", "--out", "", "--no-video", "-q"], tiny_scene(), (0, 2), "--out"),
+        ("run --scheduler '' (empty: as not given)", ["run", "s.yaml", "--out", "o", "--no-video", "-q", "--scheduler", ""], tiny_scene(), (0, 2), "--scheduler"),
+        ("run '' (an empty scene path)", ["run", "", "--out", "o", "--no-video", "-q"], lambda d: None, (2,), "''|scene|SCENES|path"),
+        ("validate - (standard input, closed)", ["validate", "-"], lambda d: None, (2,), "-"),
+        ("sweep --set '' (empty)", ["sweep", "s.yaml", "--set", "", "--out", "o", "-q"], tiny_scene(), (2,), "--set"),
+        ("sweep --set = (no field)", ["sweep", "s.yaml", "--set", "=1", "--out", "o", "-q"], tiny_scene(), (2,), "--set"),
+        ("sweep --set solver.step (no =)", ["sweep", "s.yaml", "--set", "solver.step", "--out", "o", "-q"], tiny_scene(), (2,), "--set"),
+    ]
+    # fmt: on
+    for label, args, setup, codes, flag in flags:
+        out.append(Attempt(k, label, args, setup, codes, timeout=200, message_if_2=flag))
+    # the environment
+    bad = "version: 1\nname: tiny\narm: {links: [1, 1, 'x']}\ngoals: [[1, 1, 1]]\n"
+    # fmt: off
+    environments: list[tuple[str, list[str], Callable[[Path], None], dict, tuple[int, ...], str]] = [
+        ("validate s\u00e9.yaml (a bad field) under PYTHONIOENCODING=ascii", ["validate", "s\u00e9.yaml"], tiny_scene("s\u00e9.yaml", bad), {"PYTHONIOENCODING": "ascii"}, (2,), r"s.*yaml"),
+        ("validate s\u00e9.yaml (a bad field) under LC_ALL=C and PYTHONUTF8=0", ["validate", "s\u00e9.yaml"], tiny_scene("s\u00e9.yaml", bad), {"LC_ALL": "C", "LANG": "C", "PYTHONUTF8": "0", "PYTHONIOENCODING": ""}, (2,), r"s.*yaml"),
+        ("run a scene named caf\u00e9 under PYTHONIOENCODING=ascii", ["run", "s.yaml", "--out", "o", "--no-video"], tiny_scene(text=TINY.replace("name: tiny", "name: caf\u00e9")), {"PYTHONIOENCODING": "ascii"}, (0, 2), r"name"),
+        ("robots under PYTHONIOENCODING=ascii", ["robots"], lambda d: None, {"PYTHONIOENCODING": "ascii"}, (0,), "."),
+        ("run under COLUMNS=0", ["run", "s.yaml", "--out", "o", "--no-video"], tiny_scene(), {"COLUMNS": "0"}, (0,), "."),
+        ("run under COLUMNS=abc", ["run", "s.yaml", "--out", "o", "--no-video"], tiny_scene(), {"COLUMNS": "abc"}, (0,), "."),
+        ("run under COLUMNS=5", ["run", "s.yaml", "--out", "o", "--no-video"], tiny_scene(), {"COLUMNS": "5"}, (0,), "."),
+        ("validate a fitted URDF with ARMANIM_CACHE_DIR='' (empty)", ["validate", "s.yaml"], urdf_robot(collision=col("a.stl"), files={"a.stl": box_stl()}), {"ARMANIM_CACHE_DIR": ""}, (0,), "."),
+        ("validate a fitted URDF with ARMANIM_CACHE_DIR a relative path", ["validate", "s.yaml"], urdf_robot(collision=col("a.stl"), files={"a.stl": box_stl()}), {"ARMANIM_CACHE_DIR": "rel/cache"}, (0,), "."),
+        ("view --open without a display or browser", ["view", "o/tiny", "--open"], finished, {"DISPLAY": "", "BROWSER": "/nonexistent/browser"}, (0, 2, 3), "."),
+        ("view --open with BROWSER a program that fails", ["view", "o/tiny", "--open"], finished, {"DISPLAY": "", "BROWSER": "false"}, (0, 2, 3), "."),
+    ]
+    # fmt: on
+    for label, args, setup, env, codes, pattern in environments:
+        out.append(Attempt(k, label, args, setup, codes, timeout=120, env=env, message=pattern))
+    return out
+
+
+def summary_agrees(spec: dict) -> Callable[[Path], list[str]]:
+    """After a run of ``spec``: summary.json says what trajectory.csv shows. Each position goal's
+    last frame holds its final distance and its ``reached``; the totals count the goals reached."""
+
+    def check(d: Path) -> list[str]:
+        import csv as _csv
+        import json as _json
+
+        folder = d / "o" / spec["name"]
+        if not (folder / "summary.json").is_file():
+            return ["no summary.json"]
+        summary = _json.loads((folder / "summary.json").read_text())
+        with open(folder / "trajectory.csv", newline="") as handle:
+            rows = list(_csv.DictReader(handle))
+        problems = []
+        goals = summary["goals"]
+        reached = sum(1 for g in goals if g["reached"])
+        if summary["totals"]["reached"] != reached or summary["totals"]["missed"] != len(goals) - reached:
+            problems.append(
+                f"totals {summary['totals']['reached']} reached, {summary['totals']['missed']} missed; the goals say {reached}"
+            )
+        for (kind, _), g in zip(spec["goals"], goals):
+            if kind not in ("point", "hold", "blend"):
+                continue
+            row = rows[g["last_frame"]]
+            if (row["reached"] == "1") != bool(g["reached"]) and kind != "blend":
+                problems.append(
+                    f"goal {g['index']}: summary reached={g['reached']}, its last frame's reached={row['reached']}"
+                )
+            if g["final_distance"] is not None and abs(float(row["goal_distance"]) - g["final_distance"]) > 1e-9:
+                problems.append(
+                    f"goal {g['index']}: final_distance {g['final_distance']:.9g}, its last frame's {row['goal_distance']}"
+                )
+        return problems
+
+    return check
+
+
+WRONG13_KINDS = ("point", "joints", "hold", "blend", "line", "arc", "polyline", "text")
+"""wrong13's goal kinds: every kind the random scenes know, together (but wrong12's joint goals at
+their limits' edge, whose poses may overlap the arm's own links: refused at validate, exit 2)."""
+
+
+def oracle_runs(k: str, seeds, held: str) -> list[Attempt]:
+    """A run of :func:`wrong_scene` of each seed with every kind of goal (:data:`WRONG13_KINDS`),
+    held to the rates, the clock and its summary; a scene refused for a joint goal whose pose
+    overlaps the arm's own links is exit 2 at its line (nothing to hold then)."""
+    out = []
+    for seed in seeds:
+        text, spec = wrong_scene(seed, WRONG13_KINDS)
+        out.append(
+            Attempt(
+                k,
+                f"run a random arm among spheres with every kind of goal (seed {seed}), {held}",
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                tiny_scene(text=text),
+                (0, 2),
+                timeout=500,
+                message_if_2=r"s\.yaml:\d+: goals\[\d+\]: the joint goal's pose has link\d and link\d overlapping",
+                after=lambda d, spec=spec: (
+                    []
+                    if not (d / "o").exists()
+                    else both(
+                        trajectory_breaks(spec), clock_breaks(f"o/{spec['name']}", spec["fps"]), summary_agrees(spec)
+                    )(d)
+                ),
+            )
+        )
+    return out
+
+
+def random_ik_attempts(k: str, rng, count: int, first: int, spread: float) -> list[Attempt]:
+    """``count`` ik answers of random arms from random starts within +-``spread`` degrees, held to
+    the oracle (numbered from ``first``)."""
+    out = []
+    for i in range(count):
+        links, goal = random_reachable_goal(rng)
+        start = [round(float(x), 1) for x in rng.uniform(-spread, spread, len(links))]
+        method = str(rng.choice(["pinv", "dls", "newton", "gradient"]))
+        out.append(
+            Attempt(
+                k,
+                f"ik of a random {len(links)}-link arm by {method} from a random start ({first + i}), held to the oracle",
+                ik_args(links, goal, method, start),
+                lambda d: None,
+                (0, 1),
+                timeout=200,
+                after=ik_breaks(links, goal, method, start),
+            )
+        )
+    return out
+
+
+def wrong13_attempts() -> list[Attempt]:
+    """Random arms with every kind of goal together (new seeds), held to the rate limits, the clock
+    and to their own summary; fk in degrees and ik from random starts against the campaign's
+    kinematics (new draws); compare's verdict with its files in the other order; --strict's exit
+    code; a batch's index.csv against each run's summary."""
+    import numpy as np
+
+    k = "wrong13"
+    out: list[Attempt] = []
+    out += oracle_runs(k, range(600, 616), "held to the invariants, the clock and its summary")
+    rng = np.random.default_rng(13)
+    out += [random_fk_attempt(k, 100 + i, rng, 179, 3) for i in range(4)]
+    out += random_ik_attempts(k, rng, 6, 100, 90.0)
+    for label, setup, flags, code in (
+        ("phi1 moved by 2e-6 deg (twice its tolerance)", moved_cell(2, 3, 2e-6), [], 1),
+        ("phi1 moved by 5e-7 deg (half its tolerance)", moved_cell(2, 3, 5e-7), [], 0),
+        ("phi3 moved by 3e-3 deg under --atol-deg 1e-3", moved_cell(3, 5, 3e-3), ["--atol-deg", "1e-3"], 1),
+        ("z moved by 5e-4 under --atol 1e-3", moved_cell(4, 8, 5e-4), ["--atol", "1e-3"], 0),
+        ("z moved by 2e-3 under --atol 1e-3", moved_cell(4, 8, 2e-3), ["--atol", "1e-3"], 1),
+        ("reached 0 made 1", moved_cell(2, 11, None), [], 1),
+    ):
+        out.append(
+            Attempt(
+                k,
+                f"compare in the other order (ACTUAL first), {label}",
+                ["compare", "e.csv", "a.csv", *flags],
+                setup,
+                (code,),
+                timeout=120,
+            )
+        )
+    far = TINY.replace("[0.5, -1, 1]", "[0, 0, 10]").replace("render:", "solver: {max_frames_per_goal: 30}\nrender:")
+    out.append(
+        Attempt(
+            k,
+            "run --strict, a goal out of reach: exit 1",
+            ["run", "s.yaml", "--out", "o", "--no-video", "--strict"],
+            tiny_scene(text=far),
+            (1,),
+            timeout=300,
+            message=r"miss|not reached|reach",
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run --strict, every goal reached: exit 0",
+            ["run", "s.yaml", "--out", "o", "--no-video", "--strict"],
+            tiny_scene(),
+            (0,),
+            timeout=300,
+        )
+    )
+
+    def index_agrees(d: Path) -> list[str]:
+        import csv as _csv
+        import json as _json
+
+        index = d / "o/index.csv"
+        if not index.is_file():
+            return ["no o/index.csv"]
+        with open(index, newline="") as handle:
+            rows = list(_csv.DictReader(handle))
+        problems = []
+        for row in rows:
+            name = row.get("name") or row.get("scene")
+            if row.get("status") != "ok":  # a scene refused (its row says why): no folder of its own
+                if (d / "o" / str(name)).exists():
+                    problems.append(f"index.csv says {name} is {row.get('status')}, yet o/{name} exists")
+                continue
+            summary = d / "o" / str(name) / "summary.json"
+            if not summary.is_file():
+                problems.append(f"index.csv names {name}, which has no summary")
+                continue
+            totals = _json.loads(summary.read_text())["totals"]
+            for column in ("reached", "missed", "frames"):
+                if column in row and row[column] != "" and float(row[column]) != float(totals[column]):
+                    problems.append(f"index.csv's {column} of {name} is {row[column]}, its summary's {totals[column]}")
+        return problems or ([] if rows else ["index.csv has no rows"])
+
+    for jobs in ("1", "2"):
+
+        def three(d: Path) -> None:
+            for seed in (620, 621, 622):
+                text, _ = wrong_scene(seed, WRONG13_KINDS)
+                write(d / f"w{seed}.yaml", text)
+            write(d / "far.yaml", far.replace("name: tiny", "name: far"))
+
+        out.append(
+            Attempt(
+                k,
+                f"a batch --jobs {jobs} of three random arms and a miss: index.csv says what the summaries say",
+                [
+                    "run",
+                    "w620.yaml",
+                    "w621.yaml",
+                    "w622.yaml",
+                    "far.yaml",
+                    "--out",
+                    "o",
+                    "--no-video",
+                    "-q",
+                    "--jobs",
+                    jobs,
+                ],
+                three,
+                (0,),
+                timeout=600,
+                after=index_agrees,
+            )
+        )
+    return out
+
+
+# ------------------------------------------------------------------ the fourteenth campaign
+#
+# A smaller campaign on the code campaign 13 fixed (SIGHUP an interruption, the cache inside a run
+# folder named): mesh14, frames14, signals14, loss14, inputs14, wrong14, none a repeat.
+
+
+def mesh14_attempts() -> list[Attempt]:
+    """The box split in ways that keep its triangles' order (two COLLADA primitives, two geometries
+    of one node, OBJ groups and objects, two ASCII solids), turned a full turn, scaled by a third,
+    or a visual fitted where the link has no collision: each fits as the plain STL."""
+    k = "mesh14"
+    out: list[Attempt] = []
+    pts = box_points()
+    half = len(BOX_TRIANGLES) // 2
+    tri_p = [" ".join(str(i) for t in part for i in t) for part in (BOX_TRIANGLES[:half], BOX_TRIANGLES[half:])]
+    two_prims = box_dae().replace(
+        f'<triangles count="12"><input semantic="VERTEX" source="#v" offset="0"/><p>{" ".join(str(i) for t in BOX_TRIANGLES for i in t)}</p></triangles>',
+        "".join(
+            f'<triangles count="{half}"><input semantic="VERTEX" source="#v" offset="0"/><p>{p}</p></triangles>'
+            for p in tri_p
+        ),
+    )
+    obj_lines = box_obj().splitlines()
+    faces_at = next(i for i, line in enumerate(obj_lines) if line.startswith("f "))
+    grouped = (
+        "\n".join(
+            [*obj_lines[:faces_at], "g a", *obj_lines[faces_at : faces_at + half], "g b", *obj_lines[faces_at + half :]]
+        )
+        + "\n"
+    )
+    objects = grouped.replace("g a", "o a").replace("g b", "o b")
+
+    def solid(part) -> str:
+        return (
+            "solid p\n"
+            + "".join(
+                " facet normal 0 0 0\n  outer loop\n"
+                + "".join("   vertex {} {} {}\n".format(*pts[i]) for i in t)
+                + "  endloop\n endfacet\n"
+                for t in part
+            )
+            + "endsolid p\n"
+        )
+
+    # fmt: off
+    cases = [
+        ("a COLLADA of two triangles elements", "a.dae", {"a.dae": two_prims}, "", ""),
+        ("an OBJ of two groups", "a.obj", {"a.obj": grouped}, "", ""),
+        ("an OBJ of two objects", "a.obj", {"a.obj": objects}, "", ""),
+        ("an ASCII STL of two solids, a half each", "a.stl", {"a.stl": solid(BOX_TRIANGLES[:half]) + solid(BOX_TRIANGLES[half:])}, "", ""),
+        ("an STL three times the size at URDF scale 1/3", "a.stl", {"a.stl": box_stl(3.0)}, "0.3333333333333333 0.3333333333333333 0.3333333333333333", ""),
+        ("an STL under a collision origin turned a full turn", "a.stl", {"a.stl": box_stl()}, "", "full"),
+        ("a COLLADA of a NORMAL input at offset 1, in millimetres", "a.dae", {"a.dae": box_dae("normals", unit="0.001", scale=1000.0)}, "", ""),
+        ("an OBJ of quads with CRLF lines", "a.obj", {"a.obj": box_obj("quad", newline="\r\n")}, "", ""),
+    ]
+    # fmt: on
+    for label, name, files, scale, turn in cases:
+        origin = "<origin xyz='0 0 0' rpy='0 0 6.283185307179586'/>" if turn else ""
+        tag = f"<collision>{origin}{mesh_tag(name, scale)}</collision>"
+
+        def setup(d: Path, tag=tag, files=files) -> None:
+            urdf_robot(collision=tag, files={"ref.stl": box_stl(), **files})(d)
+            write(d / "ref.urdf", urdf_text(collision=col("ref.stl")))
+
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit, the box as {label}, fits as the plain STL",
+                FIT,
+                setup,
+                (0,),
+                timeout=200,
+                env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+                after=same_fit("robot.urdf", "ref.urdf"),
+            )
+        )
+
+    def visual_only(d: Path) -> None:
+        write(d / "a.stl", box_stl())
+        text = urdf_links({2: col("a.stl")})
+        write(d / "ref.urdf", text)
+        write(d / "robot.urdf", text.replace(col("a.stl"), vis("a.stl")))
+
+    out.append(
+        Attempt(
+            k,
+            "robots --fit, link l2 with a visual box and no collision: fitted as the same box as collision",
+            FIT,
+            visual_only,
+            (0,),
+            timeout=200,
+            after=same_fit("robot.urdf", "ref.urdf"),
+        )
+    )
+    return out
+
+
+def frames14_attempts() -> list[Attempt]:
+    """The clock at rates campaign 13 did not take (3, 16.6667, 33.333, 60, 90, 100 fps), by the
+    scene and by --fps over another scene rate, and a sweep of two NTSC rates."""
+    k = "frames14"
+    out: list[Attempt] = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    for fps, hold in (
+        ("3", "0.5"),
+        ("16.6667", "0.15"),
+        ("33.333", "0.1"),
+        ("60", "0.0125"),
+        ("90", "1.5"),
+        ("100", "0.005"),
+    ):
+        text = HOLDS.replace("HOLD", hold).replace("FPS", fps)
+        out.append(
+            clock_attempt(k, f"run at render.fps {fps}, holds of {hold} s: the clock adds up", run, text, float(fps))
+        )
+    for flags, fps in ((["--fps", "24"], 24.0), (["--quality", "medium"], 30.0), (["--fps", "0.25"], 0.25)):
+        text = HOLDS.replace("HOLD", "0.75").replace("FPS", "7")
+        label = f"run {' '.join(flags)} over a scene at 7 fps: the clock adds up at {fps:g} fps"
+        out.append(clock_attempt(k, label, [*run, *flags], text, fps))
+
+    out.append(
+        Attempt(
+            k,
+            "sweep --set render.fps=29.97,59.94: each variant's clock adds up",
+            ["sweep", "s.yaml", "--set", "render.fps=29.97,59.94", "--out", "o", "-q", "--jobs", "1"],
+            tiny_scene(text=HOLDS.replace("HOLD", "0.2").replace("FPS", "10")),
+            (0,),
+            timeout=400,
+            after=variants_clock((29.97, 59.94)),
+        )
+    )
+    return out
+
+
+def signals14_attempts() -> list[Attempt]:
+    """SIGHUP, now an interruption, in the commands and moments campaign 13 did not send it: view
+    into the run folder, render into it, a read-only check, validate of many scenes, fk's picture,
+    a sweep with video, ik; and SIGHUP then Ctrl-C, Ctrl-C then SIGHUP."""
+    k = "signals14"
+    out: list[Attempt] = []
+    video30 = TINY.replace("fps: 10", "fps: 30")
+    short = LONG.replace("hold: 3600", "hold: 30").replace("hold: 400", "hold: 30")
+    update = ["check", "s.yaml", "--golden", "g", "--update"]
+    # fmt: off
+    cases: list[tuple] = [
+        ("view of a 40,000-frame run into its folder", ["view", "o/tiny"], lambda d: finished_run(d, LONG) and None, 1.5, ("o/tiny",), ("o",)),
+        ("render into the run folder", ["render", "o/tiny", "-q", "--size", "320x180", "--jobs", "1"], lambda d: finished_run(d, short) and None, 3.0, ("o/tiny",), ("o",)),
+        ("check (no update) of a 40,000-frame scene", ["check", "s.yaml", "--golden", "g"], then(tiny_scene(text=LONG), lambda d: armanim_in(d, *update)), 2.0, ("g/tiny.csv",), ("g",)),
+        ("validate of 200 scenes", ["validate", *[f"s{i}.yaml" for i in range(200)]], lambda d: [write(d / f"s{i}.yaml", TINY) for i in range(200)] and None, 1.5, (), (".",)),
+        ("fk --robot panda --png", ["fk", "--robot", "panda", "--angles", "0,-20,0,-120,0,100,45", "--png", "p.png"], lambda d: None, 1.5, ("p.png",), (".",)),
+        ("sweep --video --jobs 2 of 2 variants", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--video", "--jobs", "2"], tiny_scene(), 2.5, (), ("o",)),
+        ("run --jobs 2 with video at 30 fps", ["run", "s.yaml", "--out", "o", "-q", "--jobs", "2"], tiny_scene(text=video30), 4.0, ("o/tiny",), ("o",)),
+        ("render --format gif --out fig", ["render", "o/tiny", "--format", "gif", "--out", "fig", "-q", "--size", "320x180"], lambda d: finished_run(d, short) and None, 2.5, ("fig",), ("o", "fig", ".")),
+    ]
+    # fmt: on
+    for label, args, setup, delay, whole, where in cases:
+        out.append(
+            Attempt(
+                k,
+                f"{label}, SIGHUP to the group at {delay:g} s",
+                args,
+                setup,
+                (0, 130),
+                timeout=300,
+                interrupt=(delay, "SIGHUPG"),
+                litter_in=where,
+                linger=5.0,
+                after=both(whole_or_none(*whole), again_tidy(*args, codes=(0, 1), where=where)),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "ik --robot panda of an unreachable pose, SIGHUP to armanim alone at 1.5 s",
+            ["ik", "--robot", "panda", "--goal", "5,5,5", "--max-iterations", "100000000", "--tolerance", "1e-300"],
+            lambda d: None,
+            (0, 1, 130),
+            timeout=200,
+            interrupt=(1.5, "SIGHUP"),
+        )
+    )
+    for first, second in (("SIGHUPG", "SIGINT"), ("SIGINT", "SIGHUPG"), ("SIGHUP", "SIGTERM")):
+        out.append(
+            Attempt(
+                k,
+                f"run with video, {first} at 3 s then {second} 30 ms later",
+                ["run", "s.yaml", "--out", "o", "-q", "--jobs", "1"],
+                tiny_scene(text=video30),
+                (0, 130),
+                timeout=300,
+                interrupt=(3.0, first),
+                also=((3.03, second),),
+                linger=5.0,
+                after=whole_or_none("o/tiny"),
+            )
+        )
+    return out
+
+
+def loss14_attempts() -> list[Attempt]:
+    """Every single-file writer aimed, through a symbolic link at its --out, at a file inside a run
+    folder ("no command writes into another run's folder ... through a link"), and at a hard link
+    the user made to a run's file."""
+    k = "loss14"
+    out: list[Attempt] = []
+    moveit = mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")
+    # fmt: off
+    cases: list[tuple] = [
+        ("check --update, g/tiny.csv a link to the run's trajectory.csv", ["check", "s.yaml", "--golden", "g", "--update"], symlink("../o/tiny/trajectory.csv", "g/tiny.csv")),
+        ("check --update, g/tiny.json a link to the run's summary.json", ["check", "s.yaml", "--golden", "g", "--update"], symlink("../o/tiny/summary.json", "g/tiny.json")),
+        ("export --out e.json, a link to the run's summary.json", ["export", "o/tiny", "--out", "e.json"], symlink("o/tiny/summary.json", "e.json")),
+        ("view --out v.html, a link to the run's scene.yaml", ["view", "o/tiny", "--out", "v.html"], symlink("o/tiny/scene.yaml", "v.html")),
+        ("schema --out x.json, a link to the run's timing.json", ["schema", "--out", "x.json"], symlink("o/tiny/timing.json", "x.json")),
+        ("fk --png p.png, a link to the run's trajectory.csv", ["fk", "--angles", "0,0,0,0", "--png", "p.png"], symlink("o/tiny/trajectory.csv", "p.png")),
+        ("import moveit --out m.yaml, a link to the run's scene.yaml", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "m.yaml"], then(moveit, symlink("o/tiny/scene.yaml", "m.yaml"))),
+        ("export --out a new name through a link to the run folder", ["export", "o/tiny", "--out", "r/e.json"], symlink("o/tiny", "r")),
+        ("view --out a new name through a link to the run folder", ["view", "o/tiny", "--out", "r/v.html"], symlink("o/tiny", "r")),
+        ("export --out e.json, a hard link the user made to the run's trajectory.csv", ["export", "o/tiny", "--out", "e.json"], hardlink("o/tiny/trajectory.csv", "e.json")),
+    ]
+    # fmt: on
+    for label, args, setup in cases:
+        out.append(
+            Attempt(
+                k,
+                label,
+                args,
+                then(finished_run, setup),
+                (2, 3),
+                keep=("o/tiny",),
+                timeout=300,
+                after=again_tidy("run", "s.yaml", "--out", "o", "--no-video", "-q", where=("o",)),
+            )
+        )
+    return out
+
+
+def inputs14_attempts() -> list[Attempt]:
+    """A scene at the limits table's edges campaigns 10-13 did not write (nesting 64 and 65 deep,
+    integers of 309 and 310 digits, 40 problems in one file), YAML tags of sets and ordered maps,
+    and sweep --set keys in unicode."""
+    k = "inputs14"
+    t = TINY
+    deep = lambda n: "[" * n + "1" + "]" * n  # noqa: E731
+    # fmt: off
+    scenes: list[tuple[str, str]] = [
+        ("a value nested 60 deep (under the 64 levels)", t + f"x: {deep(60)}\n"),
+        ("a value nested 65 deep", t + f"x: {deep(65)}\n"),
+        ("an integer of 309 digits", t.replace("[0.5, -1, 1]", "[0.5, -1, " + "1" * 309 + "]")),
+        ("an integer of 310 digits", t.replace("[0.5, -1, 1]", "[0.5, -1, " + "1" * 310 + "]")),
+        ("40 goals each of a bad type", t.replace("[[1, 1, 1], [0.5, -1, 1]]", "[" + ", ".join(["x"] * 40) + "]")),
+        ("goals a !!set", t.replace("[[1, 1, 1], [0.5, -1, 1]]", "!!set {a: null}")),
+        ("arm an !!omap", t.replace("arm: {links: [1, 1, 1]}", "arm: !!omap [{links: [1, 1, 1]}]")),
+        ("a !!float tag on a string", t.replace("[0.5, -1, 1]", "[!!float 'x', -1, 1]")),
+        ("a !!str tag on a goal's number", t.replace("[0.5, -1, 1]", "[!!str 0.5, -1, 1]")),
+        ("an anchor defined twice", t.replace("[[1, 1, 1], [0.5, -1, 1]]", "[&a [1, 1, 1], &a [0.5, -1, 1], *a]")),
+    ]
+    # fmt: on
+    out = [
+        Attempt(
+            k,
+            f"validate, {label}",
+            ["validate", "s.yaml"],
+            tiny_scene(text=text),
+            (0, 2),
+            timeout=120,
+            message_if_2=r"s\.yaml(:\d+)?: ",
+        )
+        for label, text in scenes
+    ]
+    for value in ("sölver.step=0.1", "solver.stép=0.1", "solver.step=0.1,\u00a00.2", "goals[０].hold=1"):
+        out.append(
+            Attempt(
+                k,
+                f"sweep --set {value}",
+                ["sweep", "s.yaml", "--set", value, "--out", "o", "-q", "--jobs", "1"],
+                tiny_scene(),
+                (0, 2),
+                timeout=300,
+                message_if_2="--set",
+            )
+        )
+    return out
+
+
+def wrong14_attempts() -> list[Attempt]:
+    """New draws of campaign 13's oracles: random arms with every kind of goal (rates, velocities,
+    export, the clock, the summary), fk and ik against the campaign's kinematics."""
+    import numpy as np
+
+    k = "wrong14"
+    out: list[Attempt] = []
+    out += oracle_runs(k, range(700, 706), "held to every oracle")
+    rng = np.random.default_rng(14)
+    out += [random_fk_attempt(k, 200 + i, rng, 90, 4) for i in range(3)]
+    out += random_ik_attempts(k, rng, 3, 200, 60.0)
+    return out
+
+
 CLASSES = {
     "mesh": mesh_attempts,
     "frames": frames_attempts,
@@ -5471,6 +7273,18 @@ CLASSES = {
     "loss12": loss12_attempts,
     "inputs12": inputs12_attempts,
     "wrong12": wrong12_attempts,
+    "mesh13": mesh13_attempts,
+    "frames13": frames13_attempts,
+    "signals13": signals13_attempts,
+    "loss13": loss13_attempts,
+    "inputs13": inputs13_attempts,
+    "wrong13": wrong13_attempts,
+    "mesh14": mesh14_attempts,
+    "frames14": frames14_attempts,
+    "signals14": signals14_attempts,
+    "loss14": loss14_attempts,
+    "inputs14": inputs14_attempts,
+    "wrong14": wrong14_attempts,
 }
 
 

@@ -34,6 +34,8 @@ def main() -> None:
     """Entry point of the ``armanim`` console script."""
     signal.signal(signal.SIGINT, _quit_before_the_command)
     signal.signal(signal.SIGTERM, _quit_before_the_command)
+    if signal.getsignal(signal.SIGHUP) != signal.SIG_IGN:  # the terminal closing (left ignored under nohup)
+        signal.signal(signal.SIGHUP, _quit_before_the_command)
     if sys.argv[1:] == ["--version"]:  # the app's own --version line, without importing typer and rich (0.1 s)
         _print_version()
         return

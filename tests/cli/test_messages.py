@@ -9,6 +9,7 @@ Each test is named in docs/reliability.md, which it keeps true.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -73,6 +74,26 @@ def test_numpy_warnings_never_reach_the_terminal(tmp_path):
         (tmp_path / "o" / "w" / "summary.json").read_text(),
         parse_constant=lambda c: pytest.fail(f"{c} in summary.json"),
     )
+
+
+@pytest.mark.parametrize("columns", ["0", "00"])
+def test_a_terminal_width_of_zero_still_shows_every_message(tmp_path, columns):
+    """COLUMNS=0 (campaign 13): rich took it for a width of 0 and printed nothing at all, the error
+    of a bad scene (exit 2 and no word), fk's table and --help alike. Each is shown as without it."""
+    scene = tmp_path / "b.yaml"
+    scene.write_text("version: 1\narm: {links: [1, 1, x]}\ngoals: [[1, 1, 1]]\n")
+    env = {**os.environ, "COLUMNS": columns}
+
+    def armanim(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run(
+            [sys.executable, "-m", "armanim", *args], capture_output=True, text=True, timeout=300, env=env
+        )
+
+    bad = armanim("validate", str(scene))
+    assert bad.returncode == 2 and "b.yaml:2: arm.links[2]: must be a number" in bad.stderr, bad
+    fk = armanim("fk", "--angles", "0,0,0,0")
+    assert fk.returncode == 0 and "Forward kinematics" in fk.stdout, fk
+    assert "Usage" in armanim("--help").stdout
 
 
 def test_every_line_of_a_message_is_short_and_printable():

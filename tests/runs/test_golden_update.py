@@ -122,3 +122,25 @@ def test_two_scenes_of_one_name_are_refused_before_any_golden_is_written(cli, tm
         ).exit_code
         == 0
     )
+
+
+@pytest.mark.parametrize("name, target", [("s.json", "summary.json"), ("s.csv", "trajectory.csv")])
+def test_a_golden_file_linked_into_a_run_folder_is_refused(cli, tmp_path, name, target):
+    """Campaign 14: ``g/s.json`` a link to a run's ``summary.json`` (which begins as a golden .json
+    does) was written through by ``check --update``, exit 0: the run folder changed, and its next
+    run stopped (exit 3). A golden file whose link leads into a run folder is exit 2, as
+    ``--golden`` there is; the run folder and the link are left as they were."""
+    from signals import snapshot
+
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SMALL + "render: {fps: 10}\n")
+    assert cli("run", scene, "--out", tmp_path / "o", "--no-video", "-q").exit_code == 0
+    run = tmp_path / "o" / "s"
+    before = snapshot(run)
+    golden = tmp_path / "g"
+    golden.mkdir()
+    (golden / name).symlink_to(run / target)
+    result = cli("check", scene, "--golden", golden, "--update", "-q")
+    assert result.exit_code == 2 and "is inside the run folder" in result.stderr, result.output
+    assert snapshot(run) == before and (golden / name).is_symlink()
+    assert cli("run", scene, "--out", tmp_path / "o", "--no-video", "-q").exit_code == 0

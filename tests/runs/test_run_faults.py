@@ -146,10 +146,12 @@ def _wait_for_rendering(proc, out: Path, timeout: float = 60.0) -> list[psutil.P
     pytest.fail(f"rendering never started (exit {proc.poll()})")
 
 
-@pytest.mark.parametrize("signame, to_group", [("SIGINT", True), ("SIGTERM", False)])
+@pytest.mark.parametrize("signame, to_group", [("SIGINT", True), ("SIGTERM", False), ("SIGHUP", True)])
 def test_interrupt_mid_render_leaves_nothing_behind(previous_notes, tmp_path, signame, to_group):
-    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) or SIGTERM (to
-    armanim only, as `kill` does) while two workers and their ffmpeg render."""
+    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it), SIGTERM (to
+    armanim only, as `kill` does) or SIGHUP (to the group, as a closing terminal or ssh session
+    sends it; campaign 13: armanim died by it, exit -1, its staging folder left) while two
+    workers and their ffmpeg render."""
     out = tmp_path / "out"
     shutil.copytree(previous_notes, out)
     before = snapshot(out / "notes-arm")
@@ -181,6 +183,34 @@ def test_interrupt_mid_render_leaves_nothing_behind(previous_notes, tmp_path, si
         p.info for p in psutil.process_iter(["pid", "cmdline"]) if any(str(out) in c for c in p.info["cmdline"] or [])
     ]
     assert strays == []
+
+
+def test_a_run_under_nohup_goes_on_when_the_terminal_closes(tmp_path):
+    """Started with SIGHUP ignored (``nohup``), a run keeps it ignored: a SIGHUP to the group while
+    its workers render changes nothing, and the run finishes (exit 0, its folder whole)."""
+    out = tmp_path / "out"
+
+    def nohup() -> None:
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
+
+    proc = subprocess.Popen(
+        [armanim_exe(), "run", str(NOTES), "--out", str(out), "--size", "160x90", "--jobs", "2", "-q"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        preexec_fn=nohup,
+    )
+    try:
+        _wait_for_rendering(proc, out)
+        os.killpg(proc.pid, signal.SIGHUP)
+        _, stderr = proc.communicate(timeout=600)
+    finally:
+        if proc.poll() is None:  # pragma: no cover
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert proc.returncode == 0, stderr
+    assert (out / "notes-arm" / MARKER).is_file() and (out / "notes-arm" / "animation.mp4").is_file()
+    assert leftovers(out) == []
 
 
 def test_two_runs_of_the_same_folder_never_interleave(tmp_path):

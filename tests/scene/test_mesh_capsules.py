@@ -204,6 +204,38 @@ def test_an_unwritable_cache_folder_means_no_cache(tmp_path, monkeypatch):
     assert cache_folder() == tmp_path / "xdg" / "armanim" / "capsules"
 
 
+def test_a_cache_folder_inside_the_run_folder_is_named_as_the_cause(robot_dir, tmp_path, monkeypatch):
+    """ARMANIM_CACHE_DIR inside the run folder (issue 50, after campaign 13): the fit's cache makes
+    the folder hold a file its marker does not list, so the run refuses it (exit 3), as any file the
+    user put there; the message said "holds files armanim did not write", though they are
+    armanim's own. It now names the cache and the remedy; a user's own folder is told as before."""
+    from armanim.errors import OutputError
+    from armanim.runs.options import RunOptions
+    from armanim.runs.pipeline import run_scene
+
+    out = tmp_path / "out"
+    run_folder = out / "s"
+    monkeypatch.setenv("ARMANIM_CACHE_DIR", str(run_folder / "cache"))
+    for _ in range(2):  # the first run makes the cache, in the folder it will swap: refused at once, and again
+        with pytest.raises(OutputError) as refused:
+            run_scene(_scene(robot_dir), out, RunOptions(video=False))
+        message = str(refused.value)
+        assert "ARMANIM_CACHE_DIR" in message and "outside every run folder" in message, message
+        assert str(run_folder / "cache") in message and "capsule-fit cache" in message
+    monkeypatch.setenv("ARMANIM_CACHE_DIR", str(tmp_path / "elsewhere"))
+    assert "ARMANIM_CACHE_DIR" not in _refusal(robot_dir, out)  # the cache is no longer there: a plain refusal
+
+
+def _refusal(robot_dir: Path, out: Path) -> str:
+    from armanim.errors import OutputError
+    from armanim.runs.options import RunOptions
+    from armanim.runs.pipeline import run_scene
+
+    with pytest.raises(OutputError) as refused:
+        run_scene(_scene(robot_dir), out, RunOptions(video=False))
+    return str(refused.value)
+
+
 def test_a_missing_collision_mesh_is_an_error_at_its_line(robot_dir):
     (robot_dir / "meshes" / "base.stl").unlink()
     with pytest.raises(SceneError) as info:

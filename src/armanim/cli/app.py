@@ -30,6 +30,18 @@ app = typer.Typer(
     pretty_exceptions_show_locals=False,
     context_settings={"help_option_names": ["-h", "--help"]},
 )
+
+
+def _forget_a_width_of_zero() -> None:
+    """Drop ``COLUMNS`` when it says 0 (``0``, ``00``): rich and typer take it for a width of 0 and
+    then print nothing at all, every error message and ``--help`` included, the exit code alone left
+    (campaign 13). Without it they measure the terminal, 80 columns where there is none."""
+    columns = os.environ.get("COLUMNS", "")
+    if columns.isdigit() and int(columns) == 0:
+        del os.environ["COLUMNS"]
+
+
+_forget_a_width_of_zero()
 out = Console()
 err = Console(stderr=True)
 

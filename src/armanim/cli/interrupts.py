@@ -1,4 +1,8 @@
-"""How the armanim process answers Ctrl-C and SIGTERM while a command runs, and after.
+"""How the armanim process answers Ctrl-C, SIGTERM and SIGHUP while a command runs, and after.
+
+SIGHUP (the terminal or the ssh session closes) is an interruption as the other two are
+(:data:`armanim.procs.interrupted.INTERRUPT_SIGNALS`), unless armanim was started with it ignored
+(``nohup``): then it stays ignored and the command goes on.
 
 Three phases, so that an interrupted command always ends with exit 130 and one line, and a
 finished one with its own exit code, never a traceback or death by a signal (-2, -15):
@@ -31,9 +35,9 @@ import sys
 import threading
 from collections.abc import Iterator
 
-from armanim.procs.interrupted import forget_signal, note_signal
+from armanim.procs.interrupted import INTERRUPT_SIGNALS, forget_signal, left_ignored, note_signal
 
-SIGNALS = (signal.SIGINT, signal.SIGTERM)
+SIGNALS = INTERRUPT_SIGNALS
 _process = [False]  # set by main(): this is the armanim process, its signals are ours to the end
 
 
@@ -69,7 +73,7 @@ def _raise_the_swallowed_interrupt(frame, event, arg) -> None:
 
 
 def ignore_until_exit() -> None:
-    """Phase 3: SIGINT and SIGTERM are ignored from now on, and the exit code is the command's
+    """Phase 3: SIGINT, SIGTERM and SIGHUP are ignored from now on, and the exit code is the command's
     own (in the armanim process only)."""
     if _process[0] and threading.current_thread() is threading.main_thread():
         for signum in SIGNALS:
@@ -93,7 +97,7 @@ def command_signals() -> Iterator[None]:
         yield
         return
     forget_signal()
-    previous = {signum: signal.signal(signum, _interrupt) for signum in SIGNALS}
+    previous = {signum: signal.signal(signum, _interrupt) for signum in SIGNALS if not left_ignored(signum)}
     previous_hook = sys.unraisablehook
     sys.unraisablehook = functools.partial(_redeliver_swallowed, previous=previous_hook)
     try:

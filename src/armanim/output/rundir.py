@@ -31,6 +31,7 @@ from pathlib import Path
 from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
+from armanim.output.cachedir import CACHE_ENV, cache_inside
 from armanim.output.files import special_kind
 from armanim.output.jsontext import json_text, parse_json
 from armanim.procs.deferred import interrupts_deferred
@@ -254,8 +255,16 @@ def check_replaceable(final: Path) -> None:
         Saying what is there and how to proceed; nothing is moved or deleted.
     """
     problem = replace_problem(Path(final))
-    if problem is not None:
-        raise OutputError(f"{final}: {problem} (move it away, or choose another folder with --out)")
+    if problem is None:
+        return
+    cache = cache_inside(Path(final))
+    if cache is not None:  # armanim's own cache, but a run folder holds only what its marker lists
+        raise OutputError(
+            f"{final}: {problem}: {cache} is armanim's capsule-fit cache ({CACHE_ENV}), which is set "
+            f"inside the run folder, which a run replaces whole: set {CACHE_ENV} to a folder outside every run "
+            "folder (and move the cache there, or remove it)"
+        )
+    raise OutputError(f"{final}: {problem} (move it away, or choose another folder with --out)")
 
 
 def swap_in(staged: Path, final: Path) -> None:

@@ -1,4 +1,4 @@
-"""Ctrl-C and SIGTERM held back while a clean-up or a swap runs, then delivered."""
+"""Ctrl-C, SIGTERM and SIGHUP held back while a clean-up or a swap runs, then delivered."""
 
 from __future__ import annotations
 
@@ -7,10 +7,12 @@ import signal
 import threading
 from collections.abc import Iterator
 
+from armanim.procs.interrupted import INTERRUPT_SIGNALS, left_ignored
+
 
 @contextlib.contextmanager
 def interrupts_deferred() -> Iterator[None]:
-    """Hold Ctrl-C and SIGTERM back while a clean-up or a swap runs, then deliver them.
+    """Hold Ctrl-C, SIGTERM and SIGHUP back while a clean-up or a swap runs, then deliver them.
 
     A second Ctrl-C during the clean-up of the first must not leave a temporary file or
     half a swap behind. Only the main thread can set signal handlers; elsewhere (or if a
@@ -20,12 +22,12 @@ def interrupts_deferred() -> Iterator[None]:
         yield
         return
     received: list[int] = []
-    signum: int  # SIGINT and SIGTERM, then the numbers received
+    signum: int  # SIGINT, SIGTERM and SIGHUP, then the numbers received
     old = {}
     try:
-        for signum in (signal.SIGINT, signal.SIGTERM):
+        for signum in INTERRUPT_SIGNALS:
             handler = signal.getsignal(signum)
-            if handler is None:
+            if handler is None or left_ignored(signum):
                 continue
             old[signum] = handler
             signal.signal(signum, lambda n, frame: received.append(n))

@@ -17,6 +17,14 @@ True
 
 from __future__ import annotations
 
+import signal
+
+INTERRUPT_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+"""The signals that interrupt a command: Ctrl-C, SIGTERM (``kill``) and SIGHUP (the terminal or the
+ssh session closes; campaign 13: it killed armanim outright, exit -1, its staging folder left).
+SIGHUP is armanim's only where it was not ignored when armanim started: under ``nohup`` the run
+goes on (:func:`left_ignored`)."""
+
 _came = [False]
 
 
@@ -28,6 +36,16 @@ def note_signal() -> None:
 def forget_signal() -> None:
     """Called as a command starts."""
     _came[0] = False
+
+
+def left_ignored(signum: int) -> bool:
+    """Whether ``signum`` is SIGHUP ignored now, as ``nohup`` leaves it: armanim then leaves it
+    ignored, so the run goes on when the terminal closes. (Ctrl-C and SIGTERM are armanim's always.)
+
+    >>> left_ignored(signal.SIGTERM)
+    False
+    """
+    return signum == signal.SIGHUP and signal.getsignal(signum) == signal.SIG_IGN
 
 
 def signal_came() -> bool:

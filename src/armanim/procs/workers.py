@@ -4,14 +4,14 @@ quietly: no traceback, no ffmpeg and no temporary folder left.
 A worker killed with its parent (``kill -9``, a power cut of the terminal) would go on
 drawing, encoding and holding the run folder's lock until its work is done. Each worker
 watches the armanim process (a pidfd where Linux has one, else polling) and, when it
-ends, sends itself SIGTERM. Workers ignore Ctrl-C: the terminal sends it to the whole
-process group, and the parent decides (it stops them with SIGTERM).
+ends, sends itself SIGTERM. Workers ignore Ctrl-C and SIGHUP: the terminal sends them to the
+whole process group, and the parent decides (it stops them with SIGTERM).
 
 A SIGTERM in a worker does not raise in whatever frame happens to run (an initializer, a
 weakref callback or the pool's own loop would print it, or swallow it and carry on):
 the handler runs the worker's registered clean-ups (:func:`undone_on_stop`: kill its
 ffmpeg, remove its temporary folder) and ends the process with ``os._exit``. Workers are
-started with SIGINT and SIGTERM blocked (:func:`signals_blocked`) and unblock them only
+started with SIGINT, SIGTERM and SIGHUP blocked (:func:`signals_blocked`) and unblock them only
 once these handlers are in place.
 
 It sits in ``procs/``, the process room: ``render/`` starts a video's segment workers with it
@@ -31,9 +31,10 @@ import time
 from collections.abc import Callable, Iterator
 
 from armanim.procs.deferred import interrupts_deferred
+from armanim.procs.interrupted import INTERRUPT_SIGNALS
 
 POLL_SECONDS = 0.5  # where there is no pidfd
-WORKER_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+WORKER_SIGNALS = INTERRUPT_SIGNALS
 TEMP_PREFIX = "armanim-"
 """Temporary folders of armanim's workers are ``$TMPDIR/armanim-<PID>-*``, PID the armanim
 process that started the worker, so that it removes what a stopped worker left."""
@@ -126,6 +127,7 @@ def init_worker(parent: int) -> None:
     # that happens now, while the signals are still blocked
     tempfile.gettempdir()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGHUP, signal.SIG_IGN)  # the terminal closing, to the group: the parent decides too
     signal.signal(signal.SIGTERM, _stop)
     die_with(parent)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, WORKER_SIGNALS)
@@ -133,7 +135,7 @@ def init_worker(parent: int) -> None:
 
 @contextlib.contextmanager
 def signals_blocked() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM back while processes start, and deliver them when it ends.
+    """Hold SIGINT, SIGTERM and SIGHUP back while processes start, and deliver them when it ends.
 
     Two things are needed. The signals are blocked in this thread, so that processes
     started meanwhile (and a forkserver, and what it forks) start with them blocked. And

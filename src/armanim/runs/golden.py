@@ -18,7 +18,7 @@ from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import BASE_COLUMNS, parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.output.files import open_regular, read_bounded
 from armanim.output.jsontext import json_text, parse_json
-from armanim.output.rundir import directory_lock
+from armanim.output.rundir import directory_lock, refuse_in_run_folder
 from armanim.runs.pipeline import timed_solution
 from armanim.scene import LoadedScene, load_scene, scene_to_problem
 
@@ -111,6 +111,9 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
     csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
     for path in (csv_path, meta_path):  # a folder or device at either: exit 3 before the solve
         write_target(path)
+        # a link at either into a run folder (its summary.json begins as a golden .json does) is
+        # exit 2, as --golden there is: written through, it changed the run, whose next run stopped
+        refuse_in_run_folder(path, "--golden")
     refuse_foreign_golden(csv_path, meta_path)
     data = solve_csv_text(scene).encode("utf-8")
     meta = {"armanim_version": __version__, "scene_file": scene.path.name, "scene_sha256": scene.sha256}

@@ -28,6 +28,7 @@ import numpy as np
 
 from armanim.arm.fitting import CHUNK, FittedCapsule, fit_capsules
 from armanim.errors import Diagnostic, SceneError, shown_path
+from armanim.output.cachedir import CACHE_ENV, capsule_cache_path  # noqa: F401  (CACHE_ENV: this module's name for it)
 from armanim.scene import visuals
 from armanim.scene.fields import LIMITS
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
@@ -43,7 +44,6 @@ from armanim.scene.visuals import (
 
 FIT_VERSION = 5
 """Changes whenever the fit would give other capsules: older cached fits are then not read."""
-CACHE_ENV = "ARMANIM_CACHE_DIR"
 MAX_CACHE_BYTES = 100_000
 """A cached fit is a few hundred bytes; anything larger is not one."""
 
@@ -328,13 +328,9 @@ def content_key(vertices: np.ndarray, faces: np.ndarray, max_capsules: int) -> s
 
 def cache_folder() -> Path | None:
     """The writable folder fits are kept in (``ARMANIM_CACHE_DIR``, else the user's cache folder's
-    ``armanim/capsules``), made if missing; None when none is writable (no cache)."""
-    given = os.environ.get(CACHE_ENV)
-    if given:
-        folder = Path(given)
-    else:
-        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-        folder = Path(base) / "armanim" / "capsules"
+    ``armanim/capsules``: :func:`armanim.output.cachedir.capsule_cache_path`), made if missing; None
+    when none is writable (no cache)."""
+    folder = capsule_cache_path()
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError:
