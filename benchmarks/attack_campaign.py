@@ -1,11 +1,12 @@
-"""The ninth to fourteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to fifteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
 inputs; the tenth's, new attacks on the same classes: mesh10, frames10, signals10, loss10,
 inputs10, wrong10; the eleventh's, new again: mesh11, frames11, signals11, loss11, inputs11, wrong11;
 the twelfth's: mesh12, frames12, signals12, loss12, inputs12, wrong12; the thirteenth's: mesh13,
-frames13, signals13, loss13, inputs13, wrong13; the fourteenth's: mesh14 ... wrong14),
+frames13, signals13, loss13, inputs13, wrong13; the fourteenth's: mesh14 ... wrong14; the
+fifteenth's: mesh15 ... wrong15),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -49,6 +50,7 @@ ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "scenes"
 SRC = ROOT / "src"  # the armanim attacked: --src (a frozen copy, so that edits meanwhile change no verdict)
 LITTER = re.compile(r"\.partial$|\.old-\d+$|\.tmp$|\.part$")
+UNSET = "<unset>"  # an attempt's env value: the variable removed from armanim's environment
 
 
 # ------------------------------------------------------------------ what an attempt is
@@ -117,6 +119,7 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
     kept = {p: fingerprint(folder / p) for p in attempt.keep}
     args = [a.replace("{d}", str(folder)) for a in attempt.args]
     env = {**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120", **attempt.env}
+    env = {name: value for name, value in env.items() if value != UNSET}
     started = time.perf_counter()
     proc = subprocess.Popen(
         [sys.executable, "-m", "armanim", *args],
@@ -7246,6 +7249,677 @@ def wrong14_attempts() -> list[Attempt]:
     return out
 
 
+# ------------------------------------------------------------------ the fifteenth campaign
+
+
+def index_agrees(out: str = "o") -> Callable[[Path], list[str]]:
+    """After a batch or a sweep into ``out``: OUT/index.csv says what each run folder's summary.json
+    says (status ok, goals, reached, missed, frames, min_clearance, the folder), a row for every run
+    folder and no other; a sweep's OUT/<scene>-sweep.csv too (reached, missed, frames, each goal's
+    frames, min_clearance, max_joint_step_deg)."""
+
+    def near(cell: str, value: float | None) -> bool:
+        if value is None:
+            return cell == ""
+        return cell != "" and abs(float(cell) - value) <= 1e-5 * max(1.0, abs(value))
+
+    def check(d: Path) -> list[str]:
+        import csv as _csv
+        import json as _json
+
+        base = d / out
+        if not (base / "index.csv").is_file():
+            return [f"no {out}/index.csv"]
+        runs = {n for n in _listing(base) if (base / n / "summary.json").is_file()}
+        summaries = {n: _json.loads((base / n / "summary.json").read_text()) for n in runs}
+        with open(base / "index.csv", newline="") as handle:
+            rows = list(_csv.DictReader(handle))
+        problems = []
+        if {r["name"] for r in rows} != runs:
+            problems.append(f"index.csv names {sorted(r['name'] for r in rows)}, the run folders are {sorted(runs)}")
+        for r in rows:
+            s = summaries.get(r["name"])
+            if s is None:
+                continue
+            t = s["totals"]
+            for key in ("goals", "reached", "missed", "frames"):
+                if not near(r[key], t[key]):
+                    problems.append(f"index.csv {r['name']}: {key} {r[key]}, its summary {t[key]}")
+            if not near(r["min_clearance"], s["min_clearance"]):
+                problems.append(
+                    f"index.csv {r['name']}: min_clearance {r['min_clearance']!r}, its summary {s['min_clearance']}"
+                )
+            if r["status"] != "ok" or Path(r["folder"]).name != r["name"]:
+                problems.append(f"index.csv {r['name']}: status {r['status']}, folder {r['folder']}")
+        for table in base.glob("*-sweep.csv"):
+            with open(table, newline="") as handle:
+                for r in _csv.DictReader(handle):
+                    s = summaries.get(r["name"])
+                    if s is None:
+                        problems.append(f"{table.name}: a row {r['name']} without its folder")
+                        continue
+                    want = {k: s["totals"][k] for k in ("reached", "missed", "frames")}
+                    want |= {f"goal{g['index']}_frames": g["frames"] for g in s["goals"]}
+                    want |= {"min_clearance": s["min_clearance"], "max_joint_step_deg": s["max_joint_step_deg"]}
+                    for key, value in want.items():
+                        if key in r and not near(r[key], value):
+                            problems.append(f"{table.name} {r['name']}: {key} {r[key]!r}, its summary {value}")
+        return problems
+
+    return check
+
+
+HEADLINE = re.compile(r"^(\S+): (\d+) of (\d+) goals reached, (\d+) frames", re.M)
+
+
+def messages_agree(out: str = "o") -> Callable[[Path], list[str]]:
+    """After ``run`` (not quiet) with its output in d/said.txt: each scene's headline ("NAME: R of
+    G goals reached, N frames") and its table's rows (result, frames) say what its summary.json
+    says; the table's frames add up to the total."""
+
+    def check(d: Path) -> list[str]:
+        import json as _json
+
+        text = (d / "said.txt").read_text() if (d / "said.txt").is_file() else ""
+        if "Traceback" in text or "Exception ignored" in text:
+            return ["the run (kept in said.txt) ended in a traceback"]
+        heads = HEADLINE.findall(text)
+        if not heads:
+            return ["no headline 'NAME: R of G goals reached, N frames'"]
+        problems = []
+        for name, reached, goals, frames in heads:
+            s = _json.loads((d / out / name / "summary.json").read_text())
+            t = s["totals"]
+            if (int(reached), int(goals), int(frames)) != (t["reached"], t["goals"], t["frames"]):
+                problems.append(f"{name}: said {reached} of {goals}, {frames} frames; summary {t}")
+            rows = [
+                [c.strip() for c in line.split("│")[1:-1]]
+                for line in text.splitlines()
+                if line.startswith("│") and line.split("│")[1].strip().isdigit()
+            ]
+            if len(heads) == 1 and rows:
+                table = [(int(r[0]), r[2], int(r[3])) for r in rows]
+                if sum(f for _, _, f in table) != t["frames"]:
+                    problems.append(
+                        f"{name}: the table's frames add up to {sum(f for _, _, f in table)}, not {t['frames']}"
+                    )
+                for index, result, count in table:
+                    g = s["goals"][index]
+                    if (result == "reached") != bool(g["reached"]) or count != g["last_frame"] - g["first_frame"] + 1:
+                        problems.append(
+                            f"{name} goal {index}: the table says {result}, {count} frames; summary {g['reached']}, {g['first_frame']}..{g['last_frame']}"
+                        )
+        return problems
+
+    return check
+
+
+def said_to_file(*args: str, env: dict | None = None) -> Callable[[Path], None]:
+    """Setup step: armanim ``args`` with its stdout and stderr kept in d/said.txt."""
+
+    def step(d: Path) -> None:
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", *args],
+            cwd=d,
+            env=dict(os.environ, PYTHONPATH=str(SRC), COLUMNS="120", **(env or {})),
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
+        write(d / "said.txt", done.stdout + done.stderr)
+
+    return step
+
+
+def same_bytes(*pairs: tuple[str, str]) -> Callable[[Path], list[str]]:
+    """After: each pair of files byte for byte alike (a run is deterministic)."""
+
+    def check(d: Path) -> list[str]:
+        problems = []
+        for a, b in pairs:
+            if not (d / a).is_file() or not (d / b).is_file():
+                problems.append(f"{a} or {b} missing")
+            elif (d / a).read_bytes() != (d / b).read_bytes():
+                problems.append(f"{a} and {b} differ")
+        return problems
+
+    return check
+
+
+def mesh15_attempts() -> list[Attempt]:
+    """Mesh files named in ways campaigns 9-14 did not write (spaces and accents in the name, a
+    subfolder reached by ``..``, ``file://`` of an absolute path, a name shared by two links at two
+    scales, a mesh changed in place with its size and time kept) and non-uniform and doubled scales,
+    each fitted as the plain box written that way."""
+    k = "mesh15"
+    out: list[Attempt] = []
+
+    def fit_case(label: str, tag: Callable[[Path], str], files: dict[str, bytes], ref: bytes, more=None) -> Attempt:
+        def setup(d: Path) -> None:
+            for name, content in files.items():
+                write(d / name, content)
+            write(d / "ref.stl", ref)
+            write(d / "robot.urdf", urdf_links({2: f"<collision>{tag(d)}</collision>"}))
+            write(d / "ref.urdf", urdf_links({2: col("ref.stl")}))
+            if more is not None:
+                more(d)
+
+        return Attempt(
+            k,
+            f"robots --fit, {label}, fits as the reference",
+            FIT,
+            setup,
+            (0,),
+            timeout=200,
+            after=same_fit("robot.urdf", "ref.urdf"),
+        )
+
+    box, box2 = box_stl(), box_stl(2.0)
+    out.append(
+        fit_case(
+            "a mesh named 'my box é.stl' (a space, an accent)",
+            lambda d: mesh_tag("my box é.stl"),
+            {"my box é.stl": box},
+            box,
+        )
+    )
+    out.append(fit_case("a mesh named '𝄞.stl' (outside the BMP)", lambda d: mesh_tag("𝄞.stl"), {"𝄞.stl": box}, box))
+    out.append(
+        fit_case("a mesh named '-rf.stl' (a leading dash)", lambda d: mesh_tag("-rf.stl"), {"-rf.stl": box}, box)
+    )
+    out.append(
+        fit_case(
+            "a mesh in a sibling folder by ../",
+            lambda d: mesh_tag("sub/../m/a.stl"),
+            {"m/a.stl": box, "sub/x": b""},
+            box,
+        )
+    )
+    out.append(
+        fit_case(
+            "a mesh by file:// and its absolute path", lambda d: mesh_tag(f"file://{d}/a.stl"), {"a.stl": box}, box
+        )
+    )
+    out.append(fit_case("a box at URDF scale 2 2 2", lambda d: mesh_tag("a.stl", "2 2 2"), {"a.stl": box}, box2))
+    out.append(
+        fit_case(
+            "a box at a non-uniform scale 2 1 1",
+            lambda d: mesh_tag("a.stl", "2 1 1"),
+            {"a.stl": box},
+            stl_corners_box((2.0, 1.0, 1.0)),
+        )
+    )
+    out.append(
+        fit_case(
+            "a mesh name of 200 characters", lambda d: mesh_tag("b" * 196 + ".stl"), {"b" * 196 + ".stl": box}, box
+        )
+    )
+
+    def changed_in_place(d: Path) -> None:
+        # the fit is cached (ARMANIM_CACHE_DIR): fit the small box, then write the double box in its
+        # place with the same size and times: the next fit must follow the bytes
+        env = {"ARMANIM_CACHE_DIR": str(d / "cache")}
+        fit_of(d, "robot.urdf", env)
+        before = os.stat(d / "a.stl")
+        write(d / "a.stl", box2)
+        os.utime(d / "a.stl", ns=(before.st_atime_ns, before.st_mtime_ns))
+
+    out.append(
+        Attempt(
+            k,
+            "robots --fit after the mesh changed in place (same size and time): fits the new bytes",
+            FIT,
+            then(
+                lambda d: write(d / "a.stl", box) and None,
+                lambda d: write(d / "ref.stl", box2) and None,
+                lambda d: write(d / "robot.urdf", urdf_links({2: col("a.stl")})) and None,
+                lambda d: write(d / "ref.urdf", urdf_links({2: col("ref.stl")})) and None,
+                changed_in_place,
+            ),
+            (0,),
+            timeout=300,
+            env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+            after=same_fit("robot.urdf", "ref.urdf", env={"ARMANIM_CACHE_DIR": "cache"}),
+        )
+    )
+
+    def two_scales(d: Path) -> None:
+        write(d / "a.stl", box)
+        write(d / "ref.stl", box2)
+        tag2 = f"<collision>{mesh_tag('a.stl', '2 2 2')}</collision>"
+        write(d / "robot.urdf", urdf_links({1: col("a.stl"), 2: tag2}))
+        write(d / "ref.urdf", urdf_links({1: col("a.stl"), 2: col("ref.stl")}))
+
+    out.append(
+        Attempt(
+            k,
+            "robots --fit, one file named by two links at scales 1 and 2 (read once): each link its own fit",
+            FIT,
+            two_scales,
+            (0,),
+            timeout=200,
+            after=same_fit("robot.urdf", "ref.urdf"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run --viewer of a URDF whose visual mesh is named with a space and an accent",
+            ["run", "s.yaml", "--out", "o", "--no-video", "--viewer", "-q"],
+            urdf_robot(visual=vis("my é.stl"), files={"my é.stl": box}),
+            (0,),
+            timeout=300,
+            not_message=r"(?i)not found|missing|capsules instead",
+            after=exists("o/m/viewer.html"),
+        )
+    )
+    return out
+
+
+def stl_corners_box(scale: tuple[float, float, float]) -> bytes:
+    """The box scaled by (sx, sy, sz) as a binary STL."""
+    import numpy as np
+
+    pts = [[c * s for c, s in zip(p, scale)] for p in box_points()]
+    records = np.zeros(len(BOX_TRIANGLES), dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    records["v"] = [[pts[i] for i in t] for t in BOX_TRIANGLES]
+    return b"\0" * 80 + np.uint32(len(BOX_TRIANGLES)).tobytes() + records.tobytes()
+
+
+BLENDS = (
+    "version: 1\nname: tiny\narm: {links: [1, 1, 1]}\n"
+    "goals: [{position: [1, 1, 1], blend: 0.2}, {position: [0.5, -1, 1], hold: HOLD}, {joints: [10, 20, 30], blend: 0.1},"
+    " {position: [1.2, 0.3, 0.8], hold: HOLD}]\n"
+    "render: {size: [160, 90], fps: FPS}\n"
+)
+
+
+def frames15_attempts() -> list[Attempt]:
+    """The clock at rates campaigns 13-14 did not take (1, 2.5, 50, 120, 144, 47.952 fps), with
+    blended goals between held ones; --fps with --quality together; a sweep of three rates at
+    --jobs 2; render --fps of a finished run leaves its clock alone."""
+    k = "frames15"
+    out: list[Attempt] = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    for fps, hold in (("1", "2"), ("2.5", "0.4"), ("50", "0.03"), ("120", "0.125"), ("144", "0.01"), ("47.952", "0.5")):
+        text = BLENDS.replace("HOLD", hold).replace("FPS", fps)
+        out.append(
+            clock_attempt(
+                k, f"run with blends at render.fps {fps}, holds of {hold} s: the clock adds up", run, text, float(fps)
+            )
+        )
+    text = HOLDS.replace("HOLD", "0.3").replace("FPS", "12")
+    out.append(
+        clock_attempt(
+            k,
+            "run --quality low --fps 25 (both): the clock adds up at 25",
+            [*run, "--quality", "low", "--fps", "25"],
+            text,
+            25.0,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "sweep --jobs 2 --set render.fps=5,15,45: each variant's clock adds up",
+            ["sweep", "s.yaml", "--set", "render.fps=5,15,45", "--out", "o", "-q", "--jobs", "2"],
+            tiny_scene(text=HOLDS.replace("HOLD", "0.3").replace("FPS", "10")),
+            (0,),
+            timeout=500,
+            after=both(variants_clock((5.0, 15.0, 45.0)), index_agrees()),
+        )
+    )
+
+    def rendered(d: Path) -> None:
+        finished_run(d, HOLDS.replace("HOLD", "0.2").replace("FPS", "10"))
+
+    out.append(
+        Attempt(
+            k,
+            "render --fps 24 --out fig of a 10 fps run: the run's clock unchanged",
+            ["render", "o/tiny", "--fps", "24", "--out", "fig", "-q", "--size", "160x90", "--jobs", "1"],
+            rendered,
+            (0,),
+            timeout=400,
+            after=clock_breaks("o/tiny", 10.0),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run a joint goal of a 0.001-degree move at 144 fps: the clock adds up",
+            run,
+            tiny_scene(
+                text=TINY.replace(
+                    "[[1, 1, 1], [0.5, -1, 1]]", "[{joints: [0, 0, 0]}, {joints: [0.001, 0, 0], hold: 0.1}]"
+                ).replace("fps: 10", "fps: 144")
+            ),
+            (0,),
+            timeout=300,
+            after=clock_breaks("o/tiny", 144.0),
+        )
+    )
+    return out
+
+
+def signals15_attempts() -> list[Attempt]:
+    """Signals at moments and in commands campaigns 10-14 did not: export --out and view --out
+    replacing a file of their own, import moveit --out replacing its own, check --update replacing
+    a golden, sweeps and renders of two workers with the signal to armanim alone (its workers end
+    with it), SIGHUP during start-up, and a second signal during the tidying."""
+    k = "signals15"
+    out: list[Attempt] = []
+    long_run = lambda d: finished_run(d, LONG) and None  # noqa: E731
+    short = LONG.replace("hold: 3600", "hold: 40").replace("hold: 400", "hold: 40")
+    video30 = TINY.replace("fps: 10", "fps: 30")
+
+    def boxes(d: Path) -> None:
+        box = "* b{i}\n1\nbox\n0.05 0.05 0.05\n{x} {y} 1\n0 0 0 1\n0 0 0 0\n"
+        write(
+            d / "w.scene",
+            "w\n" + "".join(box.format(i=i, x=2 + i % 10, y=i // 10 * 0.1) for i in range(15_000)) + ".\n",
+        )
+
+    imp = ["import", "moveit", "w.scene", "--robot", "panda", "--out", "m.yaml"]
+    update = ["check", "s.yaml", "--golden", "g", "--update"]
+    # (label, args, setup, (delay, signal), whole, where)
+    # fmt: off
+    cases: list[tuple] = [
+        ("export --out e.json replacing its own export of a 40,000-frame run", ["export", "o/tiny", "--out", "e.json"], then(long_run, lambda d: export_of(d, "e.json")), (0.8, "SIGINT"), ("e.json",), (".", "o")),
+        ("export --out e.json replacing its own export, SIGHUP to armanim alone", ["export", "o/tiny", "--out", "e.json"], then(long_run, lambda d: export_of(d, "e.json")), (1.2, "SIGHUP"), ("e.json",), (".", "o")),
+        ("view --out v.html replacing its own page of a 40,000-frame run", ["view", "o/tiny", "--out", "v.html"], then(long_run, lambda d: armanim_in(d, "view", "o/tiny", "--out", "v.html")), (1.0, "SIGTERM"), ("v.html",), (".", "o")),
+        ("import moveit --out m.yaml (15,000 boxes) replacing its own", imp, then(boxes, lambda d: armanim_in(d, *imp)), (1.0, "SIGINT"), ("m.yaml",), (".",)),
+        ("import moveit --out m.yaml (15,000 boxes) replacing its own", imp, then(boxes, lambda d: armanim_in(d, *imp)), (2.0, "SIGHUPG"), ("m.yaml",), (".",)),
+        ("check --update replacing a 40,000-frame golden", update, then(tiny_scene(text=LONG), lambda d: armanim_in(d, *update)), (2.5, "SIGTERM"), ("g/tiny.csv", "g/tiny.json"), ("g",)),
+        ("check --update replacing a 40,000-frame golden", update, then(tiny_scene(text=LONG), lambda d: armanim_in(d, *update)), (4.0, "SIGHUP"), ("g/tiny.csv", "g/tiny.json"), ("g",)),
+        ("sweep --jobs 2 of 4 variants, to armanim alone", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.15,0.2,0.25", "--out", "o", "-q", "--jobs", "2"], tiny_scene(text=short), (2.0, "SIGTERM"), (), ("o",)),
+        ("sweep --jobs 2 of 4 variants, to armanim alone", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.15,0.2,0.25", "--out", "o", "-q", "--jobs", "2"], tiny_scene(text=short), (3.0, "SIGHUP"), (), ("o",)),
+        ("render --jobs 2 --out fig, to armanim alone", ["render", "o/tiny", "--out", "fig", "-q", "--size", "320x180", "--jobs", "2"], lambda d: finished_run(d, short) and None, (3.0, "SIGTERM"), ("fig",), ("o", "fig", ".")),
+        ("render --jobs 2 into the run folder", ["render", "o/tiny", "-q", "--size", "320x180", "--jobs", "2"], lambda d: finished_run(d, short) and None, (2.0, "SIGINT"), ("o/tiny",), ("o",)),
+        ("run with video during start-up", ["run", "s.yaml", "--out", "o", "-q", "--jobs", "1"], tiny_scene(text=video30), (0.4, "SIGHUPG"), ("o/tiny",), ("o",)),
+        ("warm", ["warm"], lambda d: None, (2.0, "SIGHUPG"), (), (".",)),
+    ]
+    # fmt: on
+    for label, args, setup, (delay, signame), whole, where in cases:
+        out.append(
+            Attempt(
+                k,
+                f"{label}, {signame} at {delay:g} s",
+                args,
+                setup,
+                (0, 130),
+                timeout=400,
+                interrupt=(delay, signame),
+                litter_in=where,
+                linger=5.0,
+                after=both(whole_or_none(*whole), again_tidy(*args, codes=(0,), where=where)),
+            )
+        )
+    for first, second, gap in (("SIGINT", "SIGTERM", 0.3), ("SIGTERMG", "SIGINT", 0.15)):
+        out.append(
+            Attempt(
+                k,
+                f"a --jobs 2 batch with video, {first} at 2.5 s then {second} {gap:g} s later (during the tidying)",
+                ["run", "a.yaml", "s.yaml", "--out", "o", "-q", "--jobs", "2"],
+                then(tiny_scene(text=video30), tiny_scene("a.yaml", video30.replace("name: tiny", "name: a"))),
+                (0, 130),
+                timeout=400,
+                interrupt=(2.5, first),
+                also=((2.5 + gap, second),),
+                linger=5.0,
+                after=both(
+                    whole_or_none("o/tiny", "o/a", "o/index.csv"),
+                    again_tidy("run", "a.yaml", "s.yaml", "--out", "o", "-q", "--no-video", where=("o",)),
+                ),
+            )
+        )
+    return out
+
+
+def loss15_attempts() -> list[Attempt]:
+    """Links at output names campaigns 10-14 did not aim: render --out's files, a sweep's table, a
+    batch's index.csv, import moveit's --out a hard link to the user's scene or a link to its own
+    input, a golden a link to the user's file; and outputs onto inputs (a run folder, a sweep's
+    variant folder, render --out holding the scene)."""
+    k = "loss15"
+    out: list[Attempt] = []
+    moveit = mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")
+    imp = ["import", "moveit", "w.scene", "--robot", "panda", "--out"]
+    sweep = ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"]
+    batch = ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"]
+    two = then(tiny_scene(), tiny_scene("a.yaml", TINY.replace("name: tiny", "name: a")))
+    render = ["render", "o/tiny", "--out", "fig", "-q", "--size", "160x90", "--jobs", "1"]
+    # (label, args, setup, keep, codes)
+    # fmt: off
+    cases: list[tuple] = [
+        ("render --out fig, fig/tiny.mp4 a link to the user's file", render, then(finished_run, mine(), symlink("../mine.txt", "fig/tiny.mp4")), ("mine.txt",), (0, 2, 3)),
+        ("render --out fig, fig/plot.png a hard link to the user's file", render, then(finished_run, mine(), lambda d: (d / "fig").mkdir() or None, hardlink("mine.txt", "fig/plot.png")), ("mine.txt",), (0, 2, 3)),
+        ("render --out fig again, fig/poster.png since a hard link of the user's", render, then(finished_run, lambda d: armanim_in(d, *render), hardlink("fig/poster.png", "keep.png")), ("keep.png",), (0, 2, 3)),
+        ("sweep, o/s-sweep.csv a link to the user's file", sweep, then(tiny_scene(), mine(), symlink("../mine.txt", "o/s-sweep.csv")), ("mine.txt",), (0, 2, 3)),
+        ("sweep again, o/s-sweep.csv hard-linked by the user as keep.csv", sweep, then(tiny_scene(), lambda d: armanim_in(d, *sweep), hardlink("o/s-sweep.csv", "keep.csv")), ("keep.csv",), (0, 2, 3)),
+        ("a batch, o/index.csv a link to the user's file", batch, then(two, mine(), symlink("../mine.txt", "o/index.csv")), ("mine.txt",), (0, 2, 3)),
+        ("a batch again, o/index.csv hard-linked by the user as keep.csv", batch, then(two, lambda d: armanim_in(d, *batch), hardlink("o/index.csv", "keep.csv")), ("keep.csv",), (0, 2, 3)),
+        ("import moveit --out m.yaml, a hard link to the user's scene s.yaml", [*imp, "m.yaml"], then(moveit, tiny_scene(), hardlink("s.yaml", "m.yaml")), ("s.yaml", "w.scene"), (0, 2, 3)),
+        ("import moveit --out l.scene, a link to its own input w.scene", [*imp, "l.scene"], then(moveit, symlink("w.scene", "l.scene")), ("w.scene",), (2, 3)),
+        ("import moveit again, m.yaml (its own) hard-linked by the user as keep.yaml", [*imp, "m.yaml"], then(moveit, lambda d: armanim_in(d, *imp, "m.yaml"), hardlink("m.yaml", "keep.yaml")), ("keep.yaml",), (0, 2, 3)),
+        ("check --update, g/tiny.json a link to the user's notes", ["check", "s.yaml", "--golden", "g", "--update"], then(tiny_scene(), mine("mine.json", '{"notes": 1}\n'), symlink("../mine.json", "g/tiny.json")), ("mine.json",), (0, 2, 3)),
+        ("export --out e.json, a dangling link into the user's folder", ["export", "o/tiny", "--out", "e.json"], then(finished_run, lambda d: (d / "notes").mkdir() or None, mine("notes/n.txt"), symlink("notes/new.json", "e.json")), ("notes/n.txt",), (0, 2, 3)),
+        ("run o/tiny/s.yaml --out o (the scene inside the run folder it replaces)", ["run", "o/tiny/s.yaml", "--out", "o", "--no-video", "-q"], then(finished_run, lambda d: shutil.copy(d / "s.yaml", d / "o/tiny/s.yaml")), ("o/tiny/s.yaml",), (2, 3)),
+        ("sweep of o/tiny_step-0.1/s.yaml --out o (the scene inside a variant's folder)", ["sweep", "o/tiny_step-0.1/s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"], tiny_scene("o/tiny_step-0.1/s.yaml"), ("o/tiny_step-0.1/s.yaml",), (2, 3)),
+        ("view --out l.html, a link to the user's scene s.yaml", ["view", "o/tiny", "--out", "l.html"], then(finished_run, symlink("s.yaml", "l.html")), ("s.yaml",), (0, 2, 3)),
+        ("run --out o, o a link to the folder holding the scene", ["run", "s.yaml", "--out", "o", "--no-video", "-q"], then(tiny_scene(), mine(), lambda d: os.symlink(".", d / "o")), ("mine.txt", "s.yaml"), (0, 2, 3)),
+    ]
+    # fmt: on
+    for label, args, setup, keep, codes in cases:
+        out.append(Attempt(k, label, args, setup, codes, keep=keep, timeout=400, litter_in=("o", ".", "fig", "g")))
+    return out
+
+
+def inputs15_attempts() -> list[Attempt]:
+    """The environment (NUMBA_*, HOME unset, TERM=dumb, NO_COLOR, LANG/LC_ALL=C, COLUMNS huge or
+    negative, ARMANIM_SCHEDULER bogus) and odd paths (a scene whose path has spaces and astral
+    characters, a leading dash, a path of 3,000 characters, a sweep's variant names past 255 bytes)."""
+    k = "inputs15"
+    out: list[Attempt] = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    # fmt: off
+    envs: list[tuple[str, dict, list[str], tuple]] = [
+        ("NUMBA_DISABLE_JIT=1", {"NUMBA_DISABLE_JIT": "1"}, run, (0,)),
+        ("NUMBA_CACHE_DIR=/dev/null", {"NUMBA_CACHE_DIR": "/dev/null"}, run, (0,)),
+        ("NUMBA_NUM_THREADS=abc", {"NUMBA_NUM_THREADS": "abc"}, run, (0, 2)),
+        ("NUMBA_THREADING_LAYER=tbb (not installed)", {"NUMBA_THREADING_LAYER": "tbb"}, run, (0, 2)),
+        ("HOME unset", {"HOME": UNSET}, [*run[:3], "o", "-q", "--jobs", "1"], (0,)),
+        ("HOME a file", {"HOME": "/etc/hostname"}, [*run[:3], "o", "-q", "--jobs", "1"], (0,)),
+        ("MPLCONFIGDIR=/dev/null", {"MPLCONFIGDIR": "/dev/null"}, [*run[:3], "o", "-q", "--jobs", "1"], (0,)),
+        ("TERM=dumb NO_COLOR=1, not quiet", {"TERM": "dumb", "NO_COLOR": "1"}, ["run", "s.yaml", "--out", "o", "--no-video"], (0,)),
+        ("LANG=C LC_ALL=C, a scene path 'é 𝄞/s.yaml'", {"LANG": "C", "LC_ALL": "C"}, ["run", "é 𝄞/s.yaml", "--out", "o", "--no-video"], (0,)),
+        ("COLUMNS=100000", {"COLUMNS": "100000"}, ["run", "s.yaml", "--out", "o", "--no-video"], (0,)),
+        ("COLUMNS=-5", {"COLUMNS": "-5"}, ["run", "s.yaml", "--out", "o", "--no-video"], (0,)),
+        ("ARMANIM_SCHEDULER=bogus", {"ARMANIM_SCHEDULER": "bogus"}, run, (0, 2)),
+    ]
+    # fmt: on
+    for label, env, args, codes in envs:
+
+        def setup(d: Path, args=args) -> None:
+            write(d / "s.yaml", TINY)
+            if "é 𝄞/s.yaml" in args:
+                write(d / "é 𝄞" / "s.yaml", TINY)
+
+        out.append(
+            Attempt(
+                k,
+                f"run under {label}",
+                args,
+                setup,
+                codes,
+                timeout=600 if "JIT" in label else 400,
+                env=env,
+                message=r"tiny: 2 of 2 goals reached" if "--no-video" in args and "-q" not in args else None,
+                after=(lambda d: [] if (d / "o" / "tiny" / "summary.json").is_file() else ["no o/tiny/summary.json"])
+                if codes == (0,)
+                else None,
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "validate ./-s.yaml and -- -s.yaml (a leading dash)",
+            ["validate", "--", "-s.yaml"],
+            tiny_scene("-s.yaml"),
+            (0,),
+            message=r"ok",
+        )
+    )
+    deep = "/".join(["d" * 200] * 15)
+
+    def deep_scene(d: Path) -> None:
+        write(d / deep / "s.yaml", TINY)
+
+    out.append(
+        Attempt(
+            k,
+            "run a scene under a path of 3,000 characters, --out beside it",
+            ["run", f"{deep}/s.yaml", "--out", f"{deep}/o", "--no-video", "-q"],
+            deep_scene,
+            (0, 2, 3),
+            timeout=300,
+            litter_in=(deep,),
+        )
+    )
+    name = "n" * 100
+    out.append(
+        Attempt(
+            k,
+            "sweep of a 100-character scene name over four keys (variant names past 255 bytes)",
+            [
+                "sweep",
+                "s.yaml",
+                "--set",
+                "solver.step=0.123456789,0.2",
+                "--set",
+                "solver.damping=0.0123456789",
+                "--set",
+                "solver.tolerance=0.00123456789",
+                "--set",
+                "render.fps=12.3456789",
+                "--out",
+                "o",
+                "-q",
+                "--jobs",
+                "1",
+            ],
+            tiny_scene(text=TINY.replace("name: tiny", f"name: {name}")),
+            (0, 2, 3),
+            timeout=400,
+            message_if_2="--set|name",
+            message_if_3="name|long",
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "export --out a name of 255 bytes in accents (its mark's name past 255)",
+            ["export", "o/tiny", "--out", "é" * 122 + ".json"],
+            lambda d: finished_run(d) and None,
+            (0, 2, 3),
+            litter_in=(".",),
+        )
+    )
+    return out
+
+
+def wrong15_attempts() -> list[Attempt]:
+    """New draws of the random-arm oracle; a batch's index.csv and a sweep's table against each
+    run's summary; the run's headline and table against its summary; a batch at --jobs 2 under
+    another PYTHONHASHSEED byte for byte the batch at --jobs 1."""
+    k = "wrong15"
+    out: list[Attempt] = []
+    out += oracle_runs(k, range(800, 804), "held to every oracle")
+    scenes = [wrong_scene(seed, WRONG13_KINDS) for seed in (810, 811, 812)]
+
+    def batch_setup(d: Path) -> None:
+        for i, (text, _) in enumerate(scenes):
+            write(d / f"s{i}.yaml", text)
+
+    names = [f"s{i}.yaml" for i in range(len(scenes))]
+    out.append(
+        Attempt(
+            k,
+            "a --jobs 2 batch of three random arms: index.csv agrees with each summary",
+            ["run", *names, "--out", "o", "--no-video", "-q", "--jobs", "2"],
+            batch_setup,
+            (0, 2),
+            timeout=600,
+            after=index_agrees(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "a --jobs 2 batch under PYTHONHASHSEED=7, byte for byte the --jobs 1 batch under PYTHONHASHSEED=0",
+            ["run", *names, "--out", "o", "--no-video", "-q", "--jobs", "2"],
+            then(
+                batch_setup,
+                lambda d: armanim_in(
+                    d, "run", *names, "--out", "p", "--no-video", "-q", "--jobs", "1", env={"PYTHONHASHSEED": "0"}
+                ),
+            ),
+            (0, 2),
+            timeout=900,
+            env={"PYTHONHASHSEED": "7"},
+            after=lambda d: (
+                same_bytes(
+                    *[
+                        (f"o/{n}/trajectory.csv", f"p/{n}/trajectory.csv")
+                        for n in _listing(d / "p")
+                        if (d / "p" / n).is_dir()
+                    ],
+                    ("o/index.csv", "p/index.csv"),
+                )(d)
+                if (d / "p").is_dir()
+                else ["no p"]
+            ),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "sweep of a random arm over solver.method and planner: its table and index.csv agree with each summary",
+            [
+                "sweep",
+                "s.yaml",
+                "--set",
+                "solver.method=pinv,dls",
+                "--set",
+                "solver.step=0.1,0.3",
+                "--out",
+                "o",
+                "-q",
+                "--jobs",
+                "2",
+            ],
+            tiny_scene(text=scenes[0][0]),
+            (0, 2),
+            timeout=900,
+            after=index_agrees(),
+        )
+    )
+    for seed in (813, 814):
+        text, spec = wrong_scene(seed, WRONG13_KINDS)
+        out.append(
+            Attempt(
+                k,
+                f"run a random arm (seed {seed}), not quiet: its headline and table agree with its summary",
+                ["validate", "s.yaml"],
+                then(tiny_scene(text=text), said_to_file("run", "s.yaml", "--out", "o", "--no-video")),
+                (0, 2),
+                timeout=600,
+                after=lambda d, spec=spec: messages_agree()(d) if (d / "o" / spec["name"]).is_dir() else [],
+            )
+        )
+    return out
+
+
 CLASSES = {
     "mesh": mesh_attempts,
     "frames": frames_attempts,
@@ -7285,6 +7959,12 @@ CLASSES = {
     "loss14": loss14_attempts,
     "inputs14": inputs14_attempts,
     "wrong14": wrong14_attempts,
+    "mesh15": mesh15_attempts,
+    "frames15": frames15_attempts,
+    "signals15": signals15_attempts,
+    "loss15": loss15_attempts,
+    "inputs15": inputs15_attempts,
+    "wrong15": wrong15_attempts,
 }
 
 
