@@ -30,6 +30,21 @@ def _print_version() -> None:
         pass
 
 
+def _compiled_always() -> None:
+    """Drop ``NUMBA_DISABLE_JIT`` when it is on, with a note: numba would run armanim's kernels as
+    plain Python, and they are written for numba's numpy error model, where x / 0 is inf or NaN and
+    plain Python raises (campaign 15: validate and run of a plain scene ended in a ZeroDivisionError
+    traceback). Done before numba is imported, which reads it once; worker processes inherit the
+    environment without it."""
+    try:
+        on = int(os.environ.get("NUMBA_DISABLE_JIT", "")) != 0  # as numba reads it (not an integer: off)
+    except ValueError:
+        on = False
+    if on:
+        del os.environ["NUMBA_DISABLE_JIT"]
+        os.write(2, b"armanim: NUMBA_DISABLE_JIT ignored: armanim's numerical code runs compiled only\n")
+
+
 def main() -> None:
     """Entry point of the ``armanim`` console script."""
     signal.signal(signal.SIGINT, _quit_before_the_command)
@@ -44,6 +59,7 @@ def main() -> None:
     # numpy's floating-point RuntimeWarnings are not the user's business: a value they would
     # warn about is checked where it matters (and the processes this one starts do the same)
     os.environ.setdefault("PYTHONWARNINGS", "ignore::RuntimeWarning")
+    _compiled_always()
     warnings.filterwarnings("ignore", category=RuntimeWarning)
     from armanim.cli import main as run_command
 

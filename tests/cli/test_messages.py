@@ -96,6 +96,21 @@ def test_a_terminal_width_of_zero_still_shows_every_message(tmp_path, columns):
     assert "Usage" in armanim("--help").stdout
 
 
+def test_numba_told_not_to_compile_still_gives_the_answer(tmp_path):
+    """NUMBA_DISABLE_JIT=1 (campaign 15): numba ran armanim's kernels as plain Python, where x / 0
+    raises instead of giving inf as numba's numpy error model does, and validate (and run) of a
+    plain scene ended in a ZeroDivisionError traceback. The kernels run compiled whatever it says,
+    and a note says the variable was ignored."""
+    scene = tmp_path / "s.yaml"
+    scene.write_text("version: 1\nname: s\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1], [0.5, -1, 1]]\n")
+    env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", "validate", str(scene)], capture_output=True, text=True, timeout=600, env=env
+    )
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done
+    assert "NUMBA_DISABLE_JIT ignored" in done.stderr
+
+
 def test_every_line_of_a_message_is_short_and_printable():
     from armanim.errors import message_lines
 
