@@ -7791,7 +7791,7 @@ def inputs15_attempts() -> list[Attempt]:
     out.append(
         Attempt(
             k,
-            "sweep of a 100-character scene name over four keys (variant names past 255 bytes)",
+            "sweep of a 100-character scene name over four keys (variant names past 255 bytes unless cut)",
             [
                 "sweep",
                 "s.yaml",
