@@ -49,5 +49,5 @@ def left_ignored(signum: int) -> bool:
 
 
 def signal_came() -> bool:
-    """Whether a Ctrl-C or SIGTERM came since the command started."""
+    """Whether an interrupting signal (:data:`INTERRUPT_SIGNALS`) came since the command started."""
     return _came[0]

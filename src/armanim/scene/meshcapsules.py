@@ -28,7 +28,7 @@ import numpy as np
 
 from armanim.arm.fitting import CHUNK, FittedCapsule, fit_capsules
 from armanim.errors import Diagnostic, SceneError, shown_path
-from armanim.output.cachedir import CACHE_ENV, capsule_cache_path  # noqa: F401  (CACHE_ENV: this module's name for it)
+from armanim.output.cachedir import capsule_cache_path
 from armanim.scene import visuals
 from armanim.scene.fields import LIMITS
 from armanim.scene.meshfiles import mesh_format, raise_if_interrupted
