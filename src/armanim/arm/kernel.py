@@ -17,12 +17,18 @@ process compiles again). This module is imported where a solve starts, never by 
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Callable
+import os
+import threading
+import time
+from collections.abc import Callable, Iterator
 from typing import Any, TypeVar, cast
 
 import numba
 import numba.core.caching
+import numba.core.registry
+import numba.core.sigutils
 import numpy as np
 
 from armanim.arm.kinematics import Arm, Pose, kind_axes
@@ -47,6 +53,7 @@ def compiled(**options: Any) -> Callable[[F], F]:
             return cast(F, numba.njit(cache=False, **options)(function))
         stamp_cache(dispatcher, sources_stamp(COMPILED_MODULES))
         load_lightly(dispatcher)
+        compile_once_among_processes(dispatcher)
         return cast(F, dispatcher)
 
     return compile_
@@ -76,6 +83,85 @@ def load_lightly(dispatcher: Any) -> None:
     cache = getattr(dispatcher, "_cache", None)
     if type(cache) is numba.core.caching.FunctionCache and hasattr(cache, "_guard_against_spurious_io_errors"):
         cache.__class__ = _LoadsLightly
+
+
+COMPILE_WAIT_S = 600.0
+"""Seconds a process waits for another's compile of the same kernel before it compiles the kernel
+itself (a compile takes some 1-60 s; a holder stopped or stuck must not stop the others)."""
+
+_HELD: set[str] = set()
+_HELD_GUARD = threading.Lock()
+
+
+@contextlib.contextmanager
+def compiling_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]:
+    """Hold the exclusive lock ``lock_path`` (a file beside numba's cache index of one kernel) while
+    the body runs, so that processes sharing a cache compile each kernel once: a second process
+    waits (at most ``wait_s`` seconds) and then finds the first one's machine code in the cache.
+
+    The lock is ``flock``'s, so the kernel releases it when its holder ends, however it ends. A
+    thread of a process that already holds ``lock_path`` (a nested compile, or another thread,
+    which numba's own lock then orders) goes on without it. Where the lock file cannot be made
+    (a cache folder not writable, no ``fcntl``), the body runs as before.
+    """
+    with _HELD_GUARD:
+        held_here = lock_path in _HELD
+        _HELD.add(lock_path)
+    if held_here:
+        yield
+        return
+    try:
+        import fcntl
+
+        fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    except (ImportError, OSError):
+        fd = None
+    try:
+        if fd is not None:
+            deadline = time.monotonic() + wait_s
+            while True:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    break
+                except BlockingIOError:
+                    if time.monotonic() >= deadline:
+                        break
+                    time.sleep(0.05)
+                except OSError:
+                    break
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)  # releases the lock
+        with _HELD_GUARD:
+            _HELD.discard(lock_path)
+
+
+class _CompilesOnce(numba.core.registry.CPUDispatcher):
+    """numba's dispatcher, compiling a kernel under :func:`compiling_alone`: two processes that
+    share a cache (a batch's workers, a first run's, the suite's) compile it once, not each."""
+
+    def compile(self, sig: Any) -> Any:
+        lock_path = compile_lock_path(self)
+        args, _ = numba.core.sigutils.normalize_signature(sig)
+        if lock_path is None or tuple(args) in self.overloads:
+            return super().compile(sig)
+        with compiling_alone(lock_path):
+            return super().compile(sig)  # numba looks in its cache first: the other's code
+
+
+def compile_lock_path(dispatcher: Any) -> str | None:
+    """The lock file of ``dispatcher``'s compiles: its cache index's path with ``.lock`` for
+    ``.nbi``; None where numba keeps no cache for it."""
+    index = getattr(getattr(getattr(dispatcher, "_cache", None), "_cache_file", None), "_index_path", None)
+    return None if not isinstance(index, str) else os.path.splitext(index)[0] + ".lock"
+
+
+def compile_once_among_processes(dispatcher: Any) -> None:
+    """Make ``dispatcher`` a :class:`_CompilesOnce` where it is numba's CPU dispatcher with a cache
+    (else nothing changes)."""
+    if type(dispatcher) is numba.core.registry.CPUDispatcher and compile_lock_path(dispatcher) is not None:
+        dispatcher.__class__ = _CompilesOnce
 
 
 COMPILED_MODULES = (

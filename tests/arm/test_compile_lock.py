@@ -1,0 +1,154 @@
+"""Processes that share numba's cache compile each kernel once (:func:`armanim.arm.kernel.compiling_alone`):
+the second waits for the first's machine code instead of compiling it again, the lock goes with
+its holder however the holder ends, and a thread of the holder's process is never made to wait."""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+from pathlib import Path
+
+import pytest
+
+from armanim.arm import kernel
+
+
+def _locked_elsewhere(path: Path) -> bool:
+    """Whether some open file description other than a new one holds ``path``'s flock."""
+    fd = os.open(path, os.O_RDWR | os.O_CREAT)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    finally:
+        os.close(fd)
+    return False
+
+
+def _wait_for(path: Path, process: subprocess.Popen[str]) -> None:
+    """Block until ``path`` exists (a subprocess's signal), failing if ``process`` ends first."""
+    while not path.exists():
+        if process.poll() is not None:
+            pytest.fail(f"the subprocess ended first: {process.communicate()}")
+        threading.Event().wait(0.01)
+
+
+# A subprocess that compiles world/compiled.kind_count for a None argument (a fresh cache: the
+# test's NUMBA_CACHE_DIR), optionally first taking the kernel's lock itself, and prints how many
+# times it compiled the kernel (numba's cache misses) and how many times it loaded it (hits).
+_COMPILE = textwrap.dedent(
+    """
+    import sys, time
+    from pathlib import Path
+    from numba import types
+    from armanim.arm import kernel
+    from armanim.world.compiled import kind_count
+    role, folder = sys.argv[1], Path(sys.argv[2])
+    def wait(name):
+        while not (folder / name).exists():
+            time.sleep(0.01)
+    if role == "first":
+        with kernel.compiling_alone(kernel.compile_lock_path(kind_count)):
+            (folder / "held").touch()
+            wait("second-ready")
+            kind_count.compile((types.none,))  # nested: this process holds the lock already
+    else:
+        wait("held")
+        (folder / "second-ready").touch()
+        kind_count.compile((types.none,))
+    stats = kind_count.stats
+    print(sum(stats.cache_misses.values()), sum(stats.cache_hits.values()))
+    """
+)
+
+
+def _compiler(role: str, folder: Path, cache: Path) -> subprocess.Popen[str]:
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    return subprocess.Popen(
+        [sys.executable, "-c", _COMPILE, role, str(folder)],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+
+def test_a_second_process_loads_the_first_ones_compile_instead_of_compiling_again(tmp_path):
+    # The second asks for the kernel while the first holds its lock and has not compiled it yet:
+    # without the lock it would find no cache and compile too (1 miss).
+    cache = tmp_path / "cache"
+    first = _compiler("first", tmp_path, cache)
+    _wait_for(tmp_path / "held", first)
+    second = _compiler("second", tmp_path, cache)
+    out_first, err_first = first.communicate(timeout=300)
+    out_second, err_second = second.communicate(timeout=300)
+    assert first.returncode == 0, err_first
+    assert second.returncode == 0, err_second
+    assert out_first.split() == ["1", "0"]  # the first compiled it
+    assert out_second.split() == ["0", "1"]  # the second loaded the first one's machine code
+
+
+def test_the_lock_goes_with_a_holder_killed_outright(tmp_path):
+    lock = tmp_path / "k.lock"
+    holder = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            "import sys, time; from armanim.arm import kernel\n"
+            "with kernel.compiling_alone(sys.argv[1]):\n    open(sys.argv[1] + '.held', 'w').close(); time.sleep(600)",
+            str(lock),
+        ],
+    )
+    try:
+        _wait_for(Path(str(lock) + ".held"), holder)
+        assert _locked_elsewhere(lock)
+    finally:
+        holder.send_signal(signal.SIGKILL)
+        holder.wait()
+    with kernel.compiling_alone(str(lock), wait_s=600):  # would wait 600 s were the lock still held
+        assert _locked_elsewhere(lock)
+    assert not _locked_elsewhere(lock)
+
+
+def test_a_compile_that_fails_releases_the_lock(tmp_path):
+    lock = tmp_path / "k.lock"
+    with pytest.raises(ZeroDivisionError):
+        with kernel.compiling_alone(str(lock)):
+            assert _locked_elsewhere(lock)
+            1 / 0  # noqa: B018
+    assert not _locked_elsewhere(lock)
+
+
+def test_another_thread_of_the_holders_process_goes_on_without_the_lock(tmp_path):
+    # numba's own lock orders the threads of one process; waiting here as well could deadlock a
+    # thread that holds numba's lock and compiles a kernel nested in this one.
+    lock = str(tmp_path / "k.lock")
+    entered = threading.Event()
+
+    def other() -> None:
+        with kernel.compiling_alone(lock, wait_s=600):
+            entered.set()
+
+    with kernel.compiling_alone(lock):
+        thread = threading.Thread(target=other)
+        thread.start()
+        assert entered.wait(timeout=300)
+        thread.join()
+        assert _locked_elsewhere(Path(lock))  # still this thread's
+
+
+def test_a_lock_that_cannot_be_made_compiles_as_before(tmp_path):
+    with kernel.compiling_alone(str(tmp_path / "no-such-folder" / "k.lock")):
+        pass
+
+
+def test_every_cached_kernel_compiles_under_the_lock():
+    from armanim.world import compiled
+
+    assert type(compiled.kind_count) is kernel._CompilesOnce
+    assert kernel.compile_lock_path(compiled.kind_count).endswith(".lock")
