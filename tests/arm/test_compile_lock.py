@@ -1,4 +1,4 @@
-"""Processes that share numba's cache compile each kernel once (:func:`armanim.arm.kernel.compiling_alone`):
+"""Processes that share numba's cache compile each kernel once (:func:`armanim.arm.kernel.held_alone`):
 the second waits for the first's machine code instead of compiling it again, the lock goes with
 its holder however the holder ends, and a thread of the holder's process is never made to wait."""
 
@@ -52,8 +52,17 @@ _COMPILE = textwrap.dedent(
     def wait(name):
         while not (folder / name).exists():
             time.sleep(0.01)
-    if role == "first":
-        with kernel.compiling_alone(kernel.compile_lock_path(kind_count)):
+    if role == "holder":  # holds the None signature's lock until the other is done
+        with kernel.held_alone(kernel.compile_lock_path(kind_count, (types.none,))):
+            (folder / "held").touch()
+            wait("other-done")
+        sys.exit(0)
+    if role == "other":  # another signature: compiles beside the holder, not after it
+        wait("held")
+        kind_count.compile((types.float64[:, ::1],))
+        (folder / "other-done").touch()
+    elif role == "first":
+        with kernel.held_alone(kernel.compile_lock_path(kind_count, (types.none,))):
             (folder / "held").touch()
             wait("second-ready")
             kind_count.compile((types.none,))  # nested: this process holds the lock already
@@ -93,6 +102,20 @@ def test_a_second_process_loads_the_first_ones_compile_instead_of_compiling_agai
     assert out_second.split() == ["0", "1"]  # the second loaded the first one's machine code
 
 
+def test_another_signature_of_the_same_kernel_compiles_beside_a_held_one(tmp_path):
+    # were the lock the kernel's, not its signature's, the other would wait for the holder, which
+    # waits for it: the timeout would end the test
+    cache = tmp_path / "cache"
+    holder = _compiler("holder", tmp_path, cache)
+    _wait_for(tmp_path / "held", holder)
+    other = _compiler("other", tmp_path, cache)
+    out_other, err_other = other.communicate(timeout=300)
+    holder.communicate(timeout=300)
+    assert other.returncode == 0, err_other
+    assert out_other.split() == ["1", "0"]
+    assert holder.returncode == 0
+
+
 def test_the_lock_goes_with_a_holder_killed_outright(tmp_path):
     lock = tmp_path / "k.lock"
     holder = subprocess.Popen(
@@ -100,7 +123,7 @@ def test_the_lock_goes_with_a_holder_killed_outright(tmp_path):
             sys.executable,
             "-c",
             "import sys, time; from armanim.arm import kernel\n"
-            "with kernel.compiling_alone(sys.argv[1]):\n    open(sys.argv[1] + '.held', 'w').close(); time.sleep(600)",
+            "with kernel.held_alone(sys.argv[1]):\n    open(sys.argv[1] + '.held', 'w').close(); time.sleep(600)",
             str(lock),
         ],
     )
@@ -110,7 +133,7 @@ def test_the_lock_goes_with_a_holder_killed_outright(tmp_path):
     finally:
         holder.send_signal(signal.SIGKILL)
         holder.wait()
-    with kernel.compiling_alone(str(lock), wait_s=600):  # would wait 600 s were the lock still held
+    with kernel.held_alone(str(lock), wait_s=600):  # would wait 600 s were the lock still held
         assert _locked_elsewhere(lock)
     assert not _locked_elsewhere(lock)
 
@@ -118,7 +141,7 @@ def test_the_lock_goes_with_a_holder_killed_outright(tmp_path):
 def test_a_compile_that_fails_releases_the_lock(tmp_path):
     lock = tmp_path / "k.lock"
     with pytest.raises(ZeroDivisionError):
-        with kernel.compiling_alone(str(lock)):
+        with kernel.held_alone(str(lock)):
             assert _locked_elsewhere(lock)
             1 / 0  # noqa: B018
     assert not _locked_elsewhere(lock)
@@ -131,10 +154,10 @@ def test_another_thread_of_the_holders_process_goes_on_without_the_lock(tmp_path
     entered = threading.Event()
 
     def other() -> None:
-        with kernel.compiling_alone(lock, wait_s=600):
+        with kernel.held_alone(lock, wait_s=600):
             entered.set()
 
-    with kernel.compiling_alone(lock):
+    with kernel.held_alone(lock):
         thread = threading.Thread(target=other)
         thread.start()
         assert entered.wait(timeout=300)
@@ -143,7 +166,7 @@ def test_another_thread_of_the_holders_process_goes_on_without_the_lock(tmp_path
 
 
 def test_a_lock_that_cannot_be_made_compiles_as_before(tmp_path):
-    with kernel.compiling_alone(str(tmp_path / "no-such-folder" / "k.lock")):
+    with kernel.held_alone(str(tmp_path / "no-such-folder" / "k.lock")):
         pass
 
 
@@ -151,4 +174,4 @@ def test_every_cached_kernel_compiles_under_the_lock():
     from armanim.world import compiled
 
     assert type(compiled.kind_count) is kernel._CompilesOnce
-    assert kernel.compile_lock_path(compiled.kind_count).endswith(".lock")
+    assert kernel.compile_lock_path(compiled.kind_count, ()).endswith(".lock")

@@ -18,6 +18,7 @@ process compiles again). This module is imported where a solve starts, never by 
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import math
 import os
 import threading
@@ -68,6 +69,17 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
     Loading needs numba's runtime (its reference counts), initialised here. A compile (a miss)
     refreshes the target itself, as before."""
 
+    def save_overload(self, sig: Any, data: Any) -> None:
+        """numba's, with the index (every signature's entry, read, added to and written again) held
+        alone: two processes saving two signatures at once would otherwise keep one of them."""
+        save: Any = super().save_overload  # numba's own, untyped
+        index = getattr(getattr(self, "_cache_file", None), "_index_path", None)
+        if not isinstance(index, str):
+            save(sig, data)
+            return
+        with held_alone(os.path.splitext(index)[0] + ".lock"):
+            save(sig, data)
+
     def load_overload(self, sig: Any, target_context: Any) -> Any:
         from numba.core.runtime.nrt import rtsys
 
@@ -94,7 +106,7 @@ _HELD_GUARD = threading.Lock()
 
 
 @contextlib.contextmanager
-def compiling_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]:
+def held_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]:
     """Hold the exclusive lock ``lock_path`` (a file beside numba's cache index of one kernel) while
     the body runs, so that processes sharing a cache compile each kernel once: a second process
     waits (at most ``wait_s`` seconds) and then finds the first one's machine code in the cache.
@@ -138,29 +150,40 @@ def compiling_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[
 
 
 class _CompilesOnce(numba.core.registry.CPUDispatcher):
-    """numba's dispatcher, compiling a kernel under :func:`compiling_alone`: two processes that
-    share a cache (a batch's workers, a first run's, the suite's) compile it once, not each."""
+    """numba's dispatcher, compiling a kernel for one signature under :func:`held_alone`: two
+    processes that share a cache (a batch's workers, the suite's, ``warm``'s) compile it once, not
+    each, and compile different signatures side by side."""
 
     def compile(self, sig: Any) -> Any:
-        lock_path = compile_lock_path(self)
         args, _ = numba.core.sigutils.normalize_signature(sig)
+        lock_path = compile_lock_path(self, tuple(args))
         if lock_path is None or tuple(args) in self.overloads:
             return super().compile(sig)
-        with compiling_alone(lock_path):
+        with held_alone(lock_path):
             return super().compile(sig)  # numba looks in its cache first: the other's code
 
 
-def compile_lock_path(dispatcher: Any) -> str | None:
-    """The lock file of ``dispatcher``'s compiles: its cache index's path with ``.lock`` for
-    ``.nbi``; None where numba keeps no cache for it."""
+def index_path(dispatcher: Any) -> str | None:
+    """numba's cache index of ``dispatcher`` (``.nbi``: every signature's entry), or None where
+    numba keeps no cache for it."""
     index = getattr(getattr(getattr(dispatcher, "_cache", None), "_cache_file", None), "_index_path", None)
-    return None if not isinstance(index, str) else os.path.splitext(index)[0] + ".lock"
+    return index if isinstance(index, str) else None
+
+
+def compile_lock_path(dispatcher: Any, args: tuple[Any, ...]) -> str | None:
+    """The lock file of ``dispatcher``'s compile for the argument types ``args``: beside its cache
+    index, named by the index and the types' hash; None where numba keeps no cache for it."""
+    index = index_path(dispatcher)
+    if index is None:
+        return None
+    digest = hashlib.sha1(repr(tuple(str(a) for a in args)).encode()).hexdigest()[:16]
+    return f"{os.path.splitext(index)[0]}-{digest}.lock"
 
 
 def compile_once_among_processes(dispatcher: Any) -> None:
     """Make ``dispatcher`` a :class:`_CompilesOnce` where it is numba's CPU dispatcher with a cache
     (else nothing changes)."""
-    if type(dispatcher) is numba.core.registry.CPUDispatcher and compile_lock_path(dispatcher) is not None:
+    if type(dispatcher) is numba.core.registry.CPUDispatcher and index_path(dispatcher) is not None:
         dispatcher.__class__ = _CompilesOnce
 
 
