@@ -189,14 +189,34 @@ def attempt_steps(
     slots: Slots,
     pair_slots: PairSlots,
 ) -> int:
-    """The attempt's steps (:func:`attempt_loop`'s arguments; its :data:`State`, :data:`Slots` and
-    :data:`PairSlots`, updated) until the pose is within tolerance, the attempt stalls or its steps
-    run out: :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`. Each step: the pairs' push
-    where a pair may be inside its influence, the proposal, the filter's step on the joints'
-    bounds (with the pairs' rows where one could act), the halvings, the pose taken. The pairs'
-    blocks call their pieces here, with the arrays themselves, and test whether the exact gaps are
-    computed before calling: helpers handed them as tuples, or called only to find them computed,
-    cost some 0.3 us a step (10 % of a small arm's step)."""
+    """The attempt's steps until the pose is within tolerance, the attempt stalls or its steps run
+    out. Each step: the pairs' push where a pair may be inside its influence, the proposal, the
+    filter's step on the joints' bounds (with the pairs' rows where one could act), the halvings,
+    the pose taken.
+
+    Parameters
+    ----------
+    problem, pair_arrays, target : tuples of arrays
+        As :func:`attempt_loop` takes them.
+    state : State
+        The attempt's joint vectors, floats, ints, residual and errors (:data:`State`), updated:
+        the pose (radians), the progress and the counters where the attempt ends.
+    slots : Slots
+        The two poses' kinematics (:data:`Slots`; the pose now's computed), updated.
+    pair_slots : PairSlots
+        The pairs' gaps, bounds, ends and closest points (:data:`PairSlots`; metres), updated.
+
+    Returns
+    -------
+    int
+        :data:`DONE`, :data:`NUMERICAL` or :data:`HANDED_BACK`.
+
+    Notes
+    -----
+    The pairs' blocks call their pieces here, with the arrays themselves, and test whether the
+    exact gaps are computed before calling: helpers handed them as tuples, or called only to find
+    them computed, cost some 0.3 us a step (10 % of a small arm's step).
+    """
     rows, root, lower, upper, caps_step, floats, _, caps, caps_link = problem  # KernelProblem's order
     first, second, levers, pair_levers = pair_arrays
     goal, goal_rot, goal_axis = target
@@ -324,12 +344,28 @@ def exact_gaps(
     ends: np.ndarray,
     near: np.ndarray,
 ) -> None:
-    """The pairs' exact gaps of the pose in slot ``slot`` (:func:`~armanim.motion.kernels.check.pair_gaps`:
-    the capsules ``caps`` (c, 8) on their joints ``caps_link`` (c,), the pairs ``first`` and
-    ``second`` (P,), the pose's ``points`` and ``frames`` (:data:`Slots`)) into its rows of
-    ``gap_rows``, ``ends`` and ``near`` (:data:`PairSlots`), its least gap into ``nums``'
-    :data:`LEAST`, and the slot marked computed (``ints``' :data:`EXACT`). The callers test the
-    mark first, and it is inlined: a call would count the references of each array handed in."""
+    """The pairs' exact gaps of the pose in slot ``slot`` (:func:`~armanim.motion.kernels.check.pair_gaps`).
+
+    Parameters
+    ----------
+    slot : int
+        0 or 1 (:data:`NOW`).
+    ints, nums : arrays
+        The attempt's ints (COUNTS,), the slot marked computed at :data:`EXACT`, and floats
+        (NUMBERS,), the slot's least gap (metres) into :data:`LEAST`.
+    caps, caps_link, first, second : arrays
+        The capsules (c, 8), each one's joint (c,), the pairs' capsules (P,) each.
+    points, frames : arrays
+        The two poses' joint points (2, n + 1, 3) (metres) and frames (2, n, 3, 3) (:data:`Slots`).
+    gap_rows, ends, near : arrays
+        Into their slot's rows: the gaps (GAP_ROWS, P) (metres), the capsules' world ends
+        (2, 2, c, 3) and the pairs' closest points and normals (2, P, 5) (:data:`PairSlots`).
+
+    Notes
+    -----
+    The callers test the mark first, and it is inlined: a call would count the references of each
+    array handed in.
+    """
     nums[LEAST + slot] = pair_gaps(
         points[slot], frames[slot], caps, caps_link, first, second, ends[slot], gap_rows[GAPS + slot], near[slot]
     )
@@ -402,13 +438,36 @@ def first_kept(
     scale: float,
     tries: int,
 ) -> tuple[float, int, int]:
-    """The filter's exact check and halvings, from ``scale`` on, at most ``tries`` scales (each half
-    the last): the first scale whose candidate ``phi`` + scale ``step`` (n,; into ``vec``'s
-    :data:`CAND`) keeps the joints' ``lower`` and ``upper`` limits and, by the gaps' bounds and
-    the pairs' lever arms ``levers`` (P, n), every pair no nearer than ``self_clearance`` (the
-    candidate's bounds into ``gap_rows``' :data:`CAND_BOUND`). Returns that scale, the tries left
-    and :data:`KEPT`; :data:`UNSURE` where the bounds cannot tell (the exact gaps must:
-    :func:`exact_kept`); :data:`NONE_KEPT` where no scale keeps the limits."""
+    """The filter's exact check and halvings: from ``scale`` on, at most ``tries`` scales (each half
+    the last), the first whose candidate phi + scale ``step`` keeps the joints' limits and, by the
+    gaps' bounds, every pair no nearer than ``self_clearance``.
+
+    Parameters
+    ----------
+    floats : (FLOATS,) array
+        The settings: ``buffer``, ``slack``, ``self_clearance``.
+    vec : (VECTORS, n) array
+        The joint vectors: :data:`PHI` read, the candidate into :data:`CAND` (radians).
+    step : (n,) array
+        The filter's step (its :data:`STEP` row; radians, metres for a prismatic joint).
+    lower, upper : (n,) arrays
+        The joints' limits.
+    gap_rows : (GAP_ROWS, P) array
+        The gaps' rows: :data:`BOUND` read, the candidate's bounds into :data:`CAND_BOUND` (metres).
+    levers : (P, n) array
+        The pairs' lever arms (a step dphi changes a gap by at most levers @ |dphi|; metres a radian).
+    scale : float
+        The first scale to try.
+    tries : int
+        How many scales are left to try.
+
+    Returns
+    -------
+    tuple of (float, int, int)
+        The scale, the tries left after it, and :data:`KEPT`; :data:`UNSURE` where the bounds
+        cannot tell (the exact gaps must: :func:`exact_kept`); :data:`NONE_KEPT` where no scale
+        keeps the limits.
+    """
     for t in range(tries):
         if limits_kept(floats[BUFFER], vec, step, lower, upper, scale):
             if gap_rows.shape[1] == 0 or bounds_certain(floats, gap_rows, levers, step, scale):
@@ -456,10 +515,26 @@ def bounds_certain(
 @compiled(**JIT)
 def exact_kept(floats: np.ndarray, nums: np.ndarray, ints: np.ndarray, gap_rows: np.ndarray) -> int:
     """Whether every pair stays no nearer than ``self_clearance`` (or than it was) at the candidate,
-    by the exact gaps of both poses (:data:`LEAST`, the candidate's in the other slot than the pose
-    now's), the candidate's gaps' bounds into ``gap_rows``' :data:`CAND_BOUND`: 1 where it does, 0
-    where not (the other slot then not computed), -1 where a gap is too near its floor to tell as
-    numpy would."""
+    by the exact gaps of both poses.
+
+    Parameters
+    ----------
+    floats : (FLOATS,) array
+        The settings: ``self_clearance``, ``slack`` (metres).
+    nums : (NUMBERS,) array
+        The attempt's floats: both slots' least gaps (:data:`LEAST`, metres).
+    ints : (COUNTS,) array
+        The attempt's ints: the slot now (:data:`NOW`; the candidate's is the other), the other's
+        mark (:data:`EXACT`) cleared where not kept.
+    gap_rows : (GAP_ROWS, P) array
+        The gaps' rows: the candidate's gaps read, its bounds into :data:`CAND_BOUND` (metres).
+
+    Returns
+    -------
+    int
+        1 where every pair keeps its clearance, 0 where not, -1 where a gap is too near its floor
+        to tell as numpy would.
+    """
     now = ints[NOW]
     other = 1 - now
     slack = floats[SLACK]
@@ -524,7 +599,8 @@ def stalled(floats: np.ndarray, nums: np.ndarray, ints: np.ndarray) -> bool:
         ints[SINCE_BEST] = 0
         return False
     ints[SINCE_BEST] += 1
-    return ints[SINCE_BEST] >= ints[STALL]
+    window_out: bool = ints[SINCE_BEST] >= ints[STALL]
+    return window_out
 
 
 @compiled(**INLINE)
