@@ -777,9 +777,9 @@ def obstacle_pushes(
             for i in range(3):
                 q[i] = a[part, i] + f * (b[part, i] - a[part, i])
             point_jacobian(points, axes, link[part], q, pj)
-            if not pushed_through(pj, method, damping, v, pinv, secondary):
-                return -1
-            pushed = 1
+            pushed = pushed_through(pj, method, damping, v, pinv, secondary)
+            if pushed < 0:
+                return pushed
     return pushed
 
 
@@ -829,20 +829,27 @@ def pair_pushes(
             for j in range(n):
                 ja[i, j] -= jb[i, j]
             v[i] = push * normal[p, i]
-        if not pushed_through(ja, method, damping, v, pinv, secondary):
-            return -1
-        pushed = 1
+        pushed = pushed_through(ja, method, damping, v, pinv, secondary)
+        if pushed < 0:
+            break
     return pushed
 
 
 @compiled(**JIT)
 def pushed_through(
     jac: np.ndarray, method: int, damping: float, v: np.ndarray, inverse: np.ndarray, secondary: np.ndarray
-) -> bool:
+) -> int:
     """``secondary`` (n,) += J^+ ``v``, J^+ the method's inverse (into ``inverse`` (n, 3)) of the
-    point's Jacobian ``jac`` (3, n) (``damping``: DLS's lambda); False where the inverse failed."""
+    point's Jacobian ``jac`` (3, n) (``damping``: DLS's lambda).
+
+    Returns
+    -------
+    int
+        1 (pushed), or -1 where the inverse failed (``secondary`` untouched): the pushes' answer
+        as :func:`obstacle_pushes` and :func:`pair_pushes` give it.
+    """
     if not invert(jac, method, damping, inverse):
-        return False
+        return -1
     for j in range(secondary.shape[0]):
         secondary[j] += inverse[j, 0] * v[0] + inverse[j, 1] * v[1] + inverse[j, 2] * v[2]
-    return True
+    return 1
