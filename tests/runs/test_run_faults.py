@@ -328,6 +328,32 @@ def test_os_replace_permission_denied(cli, monkeypatch, tiny_scene, previous_run
     assert leftovers(out) == []
 
 
+@pytest.mark.parametrize("command", ["run", "render", "export", "view"])
+def test_a_write_protected_run_folder_is_refused_and_left_whole(cli, monkeypatch, tiny_scene, previous_run, command):
+    """Campaign 16, as a user (not root): a run folder made read-only (chmod 555) was replaced
+    anyway, exit 0, and its moved-aside copy ``.tiny.old-PID``, which nobody could remove, was left
+    beside it for ever. Root writes through modes, so the user's view of the folder is simulated."""
+    out, before = previous_run
+
+    def as_its_owner(path, mode, **kwargs):  # what os.access answers a user who is not root
+        return not (mode & os.W_OK) or bool(os.stat(path).st_mode & 0o200)
+
+    monkeypatch.setattr("armanim.output.rundir.os.access", as_its_owner)
+    (out / "tiny").chmod(0o555)
+    args = {
+        "run": ("run", tiny_scene, "--out", out, "--no-video", "--quiet"),
+        "render": ("render", out / "tiny", "--size", "64x36"),
+        "export": ("export", out / "tiny"),
+        "view": ("view", out / "tiny"),
+    }[command]
+    result = cli(*args)
+    (out / "tiny").chmod(0o755)
+    assert result.exit_code == 3, result.output
+    assert "is write-protected" in one_line_error(result) and "chmod -R u+w" in one_line_error(result)
+    assert snapshot(out / "tiny") == before
+    assert leftovers(out) == []
+
+
 def test_disk_full(cli, monkeypatch, tiny_scene, previous_run):
     out, before = previous_run
     real_fsync = os.fsync

@@ -29,7 +29,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from armanim import __version__
-from armanim.errors import InterruptedAfterCommit, OutputError
+from armanim.errors import InterruptedAfterCommit, OutputError, shown_path
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
 from armanim.output.cachedir import CACHE_ENV, cache_inside
 from armanim.output.files import special_kind
@@ -243,6 +243,21 @@ def replace_problem(final: Path) -> str | None:
     changed = [name for name in entries if name != MARKER and _changed(final, name, listed[name])]
     if changed:
         return f"holds files changed since armanim wrote them ({_shown(changed)}: now another file, a folder or a link), so it is not replaced"
+    protected = _write_protected(final)
+    if protected is not None:
+        return f"is write-protected ({protected} is read-only), so it is not replaced: make it writable (chmod -R u+w {final})"
+    return None
+
+
+def _write_protected(folder: Path) -> str | None:
+    """The first folder in ``folder`` (itself included) whose files this process may not remove
+    (not writable to it: a user's ``chmod a-w``; root may always), or None.
+
+    A run folder is replaced by moving it aside and removing it: a write-protected one would be
+    replaced anyway and its moved-aside copy left behind for ever (campaign 16)."""
+    for where, _, _ in os.walk(folder):
+        if not os.access(where, os.W_OK | os.X_OK):
+            return "the folder" if where == str(folder) else shown_path(os.path.relpath(where, folder))
     return None
 
 
