@@ -187,3 +187,13 @@ def test_the_public_forward_is_the_compiled_kernel():
     phi = np.random.default_rng(5).uniform(-2, 2, (6, arm.n))
     for q in (phi[0], phi):
         np.testing.assert_allclose(armanim.forward(arm, q).points, forward(arm, q).points, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("shape", [(2,), (8,), (), (3, 2), (0,)])
+def test_compiled_forward_refuses_angles_that_are_not_one_a_joint(shape):
+    """Campaign 16: ``armanim.forward`` of a Panda given 2 angles returned a pose read past the
+    array's end (two calls of the same short pose, two different tips); 8 angles or one number
+    were taken silently. numpy's reference refuses them; so does the compiled one now."""
+    arm = ROBOT_ARMS["panda"]
+    with pytest.raises(ValueError, match=r"arm's 7 joints"):
+        kernel.forward(arm, np.full(shape, 0.3))

@@ -381,10 +381,20 @@ def forward(arm: Arm, phi: np.ndarray) -> Pose:
 
 
 def forward_with_tool(arm: Arm, phi: np.ndarray) -> tuple[Pose, np.ndarray]:
-    """:func:`forward` and the tool frame's world rotation (..., 3, 3) (:func:`armanim.arm.kinematics.tool_rotation`)."""
+    """:func:`forward` and the tool frame's world rotation (..., 3, 3) (:func:`armanim.arm.kinematics.tool_rotation`).
+
+    Raises
+    ------
+    ValueError
+        ``phi``'s last axis is not one angle a joint (campaign 16: a short pose was read past its end).
+    """
     rows, root = packed_chain(arm)
     phi = np.ascontiguousarray(phi, dtype=float)
     n = rows.shape[0]
+    if phi.ndim == 0 or phi.shape[-1] != n:  # the kernels index n angles unchecked: past a short array's end
+        raise ValueError(
+            f"expected the angles of the arm's {n} joints, a pose ({n},) or a batch (..., {n}); got shape {phi.shape}"
+        )
     if phi.ndim == 1:
         points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
         _forward_one(rows, root, phi, points, frames, axes, tool)
