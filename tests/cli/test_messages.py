@@ -137,3 +137,16 @@ def test_jobs_0_is_a_one_line_message(cli):
     assert result.exit_code == 2 and result.stderr.strip().splitlines() == [
         "--jobs: expected at least 1 worker process (got 0; leave it out to use every core)"
     ]
+
+
+def test_a_run_whose_compiled_code_numba_cannot_keep_never_says_once_after_installing():
+    """Campaign 16, a user with no writable home running a read-only install: each run compiled
+    for 87 s and said "numba compiled its code for 86.7 s more, once after installing". Where
+    numba keeps nothing the time line says so, and what to do."""
+    from armanim.cli.reports import run_time_line
+    from armanim.runs.stopwatch import Stopwatch
+
+    line = run_time_line(Stopwatch(90.0, 86.7), False, False, kept=False)
+    assert "once after installing" not in line
+    assert "every command compiles it again" in line and "NUMBA_CACHE_DIR" in line
+    assert "once after installing" in run_time_line(Stopwatch(90.0, 86.7), False, False)

@@ -18,6 +18,7 @@ process compiles again). This module is imported where a solve starts, never by 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from typing import Any, TypeVar, cast
 
@@ -39,17 +40,44 @@ def compiled(**options: Any) -> Callable[[F], F]:
     (:func:`stamp_cache`)."""
 
     def compile_(function: F) -> F:  # numba's dispatcher is called as the function is (numba ships no types)
+        _jit_enabled()
         try:
             dispatcher = numba.njit(cache=True, **options)(function)
         except RuntimeError as error:
             if "no locator available" not in str(error):
                 raise
+            global CODE_KEPT
+            CODE_KEPT = False
             return cast(F, numba.njit(cache=False, **options)(function))
         stamp_cache(dispatcher, sources_stamp(COMPILED_MODULES))
         load_lightly(dispatcher)
         return cast(F, dispatcher)
 
     return compile_
+
+
+CODE_KEPT = True
+"""False once numba could not keep a compiled function's machine code (no writable folder for its
+cache, or a write to it failed: a full disk): this process's compiling is then not "once after
+installing", the next one compiles again."""
+
+
+def _jit_enabled() -> None:
+    """numba's ``DISABLE_JIT`` turned off, with a warning, before armanim's kernels are made.
+
+    ``NUMBA_DISABLE_JIT=1`` makes numba return plain Python functions, which armanim's kernels are
+    not written for: under numba's numpy error model x / 0 is inf or NaN, plain Python raises
+    (campaign 15's command, campaign 16's Python API: ``run_scene`` ended in a ZeroDivisionError).
+    numba reads the setting again as each kernel compiles (its own implementations of numpy's
+    functions are made then), so it stays off from here on in this process; a program's functions
+    decorated before armanim was imported stay uncompiled. The command drops the variable before
+    numba is imported (``armanim.__main__``) and never gets here with it on."""
+    if numba.core.config.DISABLE_JIT:
+        numba.core.config.DISABLE_JIT = False
+        warnings.warn(
+            "NUMBA_DISABLE_JIT is ignored from here on: armanim's numerical code runs compiled only",
+            stacklevel=3,
+        )
 
 
 class _LoadsLightly(numba.core.caching.FunctionCache):
@@ -60,6 +88,16 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
     ...: some 0.2 s of CPU, the most of a small run's time in numba), which only a compile needs.
     Loading needs numba's runtime (its reference counts), initialised here. A compile (a miss)
     refreshes the target itself, as before."""
+
+    def save_overload(self, sig: Any, data: Any) -> None:
+        """numba's, but a write that fails (a full disk; a cache folder made read-only since) only
+        leaves the machine code unkept: numba raised it, and every command that compiled ended in
+        exit 3 (campaign 16: ``validate`` with ``NUMBA_CACHE_DIR`` on a full disk)."""
+        try:
+            super().save_overload(sig, data)
+        except OSError:
+            global CODE_KEPT
+            CODE_KEPT = False
 
     def load_overload(self, sig: Any, target_context: Any) -> Any:
         from numba.core.runtime.nrt import rtsys
