@@ -72,8 +72,9 @@ def _jit_enabled() -> None:
     functions are made then), so it stays off from here on in this process; a program's functions
     decorated before armanim was imported stay uncompiled. The command drops the variable before
     numba is imported (``armanim.__main__``) and never gets here with it on."""
-    if numba.core.config.DISABLE_JIT:
-        numba.core.config.DISABLE_JIT = False
+    config: Any = numba.core.config  # numba's settings, read from the environment (untyped)
+    if config.DISABLE_JIT:
+        config.DISABLE_JIT = False
         warnings.warn(
             "NUMBA_DISABLE_JIT is ignored from here on: armanim's numerical code runs compiled only",
             stacklevel=3,
@@ -93,8 +94,9 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
         """numba's, but a write that fails (a full disk; a cache folder made read-only since) only
         leaves the machine code unkept: numba raised it, and every command that compiled ended in
         exit 3 (campaign 16: ``validate`` with ``NUMBA_CACHE_DIR`` on a full disk)."""
+        save: Any = super().save_overload  # numba's own, untyped
         try:
-            super().save_overload(sig, data)
+            save(sig, data)
         except OSError:
             global CODE_KEPT
             CODE_KEPT = False
