@@ -354,6 +354,34 @@ def test_a_write_protected_run_folder_is_refused_and_left_whole(cli, monkeypatch
     assert leftovers(out) == []
 
 
+@pytest.mark.parametrize("readable", [True, False])
+def test_another_user_s_lock_file_is_used_or_named(cli, monkeypatch, tiny_scene, previous_run, readable):
+    """Campaign 16, as a user who is not root: OUT/.tiny.lock left by another user (root's, 0644,
+    in a shared folder) stopped the run with exit 3, "OUT/tiny: cannot write here: permission
+    denied", naming the run folder the user could write. A lock only read is locked all the same
+    (flock); one that cannot be opened at all is named. Root opens anything: the modes are simulated."""
+    out, before = previous_run
+    lock = out / ".tiny.lock"
+    lock.touch()
+    real_open = os.open
+
+    def as_another_user_s(path, flags, *args, **kwargs):
+        if str(path) == str(lock) and (flags & (os.O_WRONLY | os.O_RDWR) or not readable):
+            raise PermissionError(errno.EACCES, "Permission denied", str(path))
+        return real_open(path, flags, *args, **kwargs)
+
+    monkeypatch.setattr("armanim.output.rundir.os.open", as_another_user_s)
+    result = cli("run", tiny_scene, "--out", out, "--no-video", "--quiet")
+    if readable:
+        assert result.exit_code == 0, result.output
+        assert (out / "tiny" / "summary.json").is_file()
+    else:
+        assert result.exit_code == 3, result.output
+        assert one_line_error(result).startswith(f"{lock}: the lock of {out / 'tiny'} cannot be opened")
+        assert snapshot(out / "tiny") == before
+    assert leftovers(out) == []
+
+
 def test_disk_full(cli, monkeypatch, tiny_scene, previous_run):
     out, before = previous_run
     real_fsync = os.fsync
