@@ -1,4 +1,4 @@
-"""The ninth to fifteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to sixteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
