@@ -8790,6 +8790,142 @@ wrong("no error")
     ]
 
 
+def warm_says_kept(d: Path) -> list[str]:
+    """Check of ``warm`` with nowhere to keep numba's code: it must not say the cache keeps it."""
+    said = " ".join((d / "said.txt").read_text().split()) if (d / "said.txt").exists() else ""  # wrapped at 80
+    return ["warm said numba's cache keeps the code it could not keep"] if "cache keeps it" in said else []
+
+
+def odd16_attempts() -> list[Attempt]:
+    """A second wave on the same new angles, on the fixed code: reading what cannot be written (a
+    write-protected run folder rendered, exported and viewed elsewhere, a read-only golden folder
+    checked), a batch and a sweep meeting a write-protected run folder, ``warm`` with nowhere to
+    keep its code, and more of the Python API (a sweep's jobs, solve_pose's iterations, an
+    orientation of NaN, an import of an unknown robot)."""
+    k = "odd16"
+    out: list[Attempt] = []
+
+    def protected_run(d: Path) -> None:
+        finished_run(d)
+        (d / "o/tiny").chmod(0o555)
+
+    # fmt: off
+    reads: list[tuple[str, list[str], Callable[[Path], None], tuple[str, ...], tuple[int, ...], str | None]] = [
+        ("render --out r of a write-protected run folder (only read)", ["render", "o/tiny", "--out", "r", "--size", "64x36"], protected_run, ("o/tiny",), (0,), None),
+        ("export --out e.json of a write-protected run folder", ["export", "o/tiny", "--out", "e.json"], protected_run, ("o/tiny",), (0,), None),
+        ("view --out v.html of a write-protected run folder", ["view", "o/tiny", "--out", "v.html"], protected_run, ("o/tiny",), (0,), None),
+        ("check against a read-only golden folder (only read)", ["check", "s.yaml", "--golden", "g", "-q"], then(tiny_scene(), lambda d: armanim_in(d, "check", "s.yaml", "--golden", "g", "--update", "-q"), locked_up("g")), ("g",), (0,), None),
+        ("compare of two read-only CSVs", ["compare", "o/tiny/trajectory.csv", "o/tiny/trajectory.csv"], protected_run, ("o/tiny",), (0,), None),
+        ("a batch of two, one run folder write-protected: the other written, the protected one kept", ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"], then(tiny_scene("a.yaml", OTHER), protected_run), ("o/tiny",), (3,), r"write-protected"),
+        ("a sweep whose variant folder is write-protected", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"], then(tiny_scene(), lambda d: armanim_in(d, "sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"), locked_up("o/tiny_step-0.1")), ("o/tiny_step-0.1",), (3,), r"write-protected"),
+        ("import moveit --urdf with an unreadable SRDF", ["import", "moveit", "w.scene", "--urdf", "robot.urdf", "--srdf", "r.srdf", "--out", "m.yaml"], then(one_mesh_robot(), mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"), mine("r.srdf", "<robot name='r'/>\n"), locked_up("r.srdf", mode=0)), ("w.scene",), (2,), r"r\.srdf"),
+    ]
+    # fmt: on
+    for label, args, setup, keep, codes, message in reads:
+        out.append(
+            Attempt(
+                k,
+                label,
+                args,
+                setup,
+                codes,
+                message=message,
+                keep=keep,
+                timeout=400,
+                user=True,
+                litter_in=("o", "r", "."),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "warm with numba's cache on a full disk: no claim that the cache keeps it",
+            ["validate", "s.yaml"],
+            then(
+                tiny_scene(),
+                small_disk("disk", 8, 4096),
+                lambda d: write(
+                    d / "said.txt",
+                    subprocess.run(
+                        [sys.executable, "-m", "armanim", "warm"],
+                        cwd=d,
+                        env={**os.environ, "PYTHONPATH": str(SRC), "NUMBA_CACHE_DIR": str(d / "disk/numba")},
+                        capture_output=True,
+                        text=True,
+                        timeout=1500,
+                    ).stdout,
+                ),
+            ),
+            (0,),
+            timeout=600,
+            after=warm_says_kept,
+        )
+    )
+    # fmt: off
+    snippets: list[tuple[str, str]] = [
+        ("run_sweep(jobs=0)", '''
+from armanim import parse_setting, run_sweep
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+expect_error("jobs", lambda: run_sweep("t.yaml", [parse_setting("solver.step=0.1,0.2")], "o", jobs=0), ["jobs"])
+'''),
+        ("solve_pose with max_iterations 0 and -5: an answer or a clear error", '''
+from armanim import solve_pose
+from armanim.errors import ArmanimError
+p = problem_of("notes-arm")
+for n in (0, -5):
+    try:
+        answer = solve_pose(p, np.array([6.0, 0.0, 10.0]), p.home, max_iterations=n)
+    except (ValueError, ArmanimError) as exc:
+        print("ok refused", n, exc); continue
+    if answer.status == "converged" and np.linalg.norm(forward_tip(p, answer.phi) - [6.0, 0.0, 10.0]) > p.solver.tolerance * 1.01:
+        wrong(f"converged far from the goal at max_iterations={n}")
+    print("ok", n, answer.status)
+'''),
+        ("solve_pose with an orientation whose rotation is NaN: refused or not converged", '''
+from armanim import solve_pose
+from armanim.errors import ArmanimError
+from armanim.motion.orientation import Orientation
+p = problem_of("panda-place")
+try:
+    answer = solve_pose(p, np.array([0.5, 0.1, 0.3]), p.home, orientation=Orientation(rotation=np.full((3, 3), np.nan)))
+except (ValueError, ArmanimError) as exc:
+    print("ok refused", exc); sys.exit(0)
+if answer.status == "converged":
+    wrong("a NaN orientation converged")
+print("ok", answer.status)
+'''),
+        ("Orientation with a zero axis", '''
+from armanim.motion.orientation import Orientation
+expect_error("zero axis", lambda: Orientation(axis=np.zeros(3)), [])
+'''),
+        ("import_moveit with RobotSource(robot='nosuch'): exit code 2", '''
+from armanim import RobotSource, import_moveit
+from armanim.errors import ArmanimError
+open("w.scene", "w").write("w\\n* b\\n1\\nbox\\n0.1 0.1 0.1\\n1 1 1\\n0 0 0 1\\n0 0 0 0\\n.\\n")
+try:
+    import_moveit("w.scene", None, RobotSource(robot="nosuch"), "m.yaml")
+except ArmanimError as exc:
+    if exc.exit_code != 2:
+        wrong(f"exit_code {exc.exit_code}")
+    print("ok", exc); sys.exit(0)
+wrong("no error")
+'''),
+        ("write_run_viewer of a write-protected run with out= elsewhere", '''
+from armanim import RunOptions, run_scene, write_run_viewer
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+run_scene("t.yaml", "o", RunOptions(video=False))
+os.chmod("o/tiny", 0o555)
+print("ok", write_run_viewer("o/tiny", out="v.html"))
+os.chmod("o/tiny", 0o755)
+'''),
+    ]
+    # fmt: on
+    for label, code in snippets:
+        code = code.replace("forward_tip(p, answer.phi)", "__import__('armanim').forward(p.arm, answer.phi).tip")
+        out.append(Attempt(k, label, [str(SCENES)], codes=(0,), python=code, timeout=600, litter_in=(".",)))
+    return out
+
+
 def api_snippet_check(text: str) -> None:
     """Compile every api16 snippet (a script mistake found before the campaign runs)."""
     compile(PRELUDE + text, "<api16>", "exec")
@@ -8843,6 +8979,7 @@ CLASSES = {
     "perms16": perms16_attempts,
     "env16": env16_attempts,
     "api16": api16_attempts,
+    "odd16": odd16_attempts,
 }
 
 
