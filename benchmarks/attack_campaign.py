@@ -8583,6 +8583,19 @@ def wrong(text):
     sys.exit(1)
 
 
+def expect_exit(label, call, code):
+    """The call must raise armanim's own error with the exit code the command would use."""
+    from armanim.errors import ArmanimError
+    try:
+        call()
+    except ArmanimError as exc:
+        if exc.exit_code != code:
+            wrong(f"{label}: exit_code {exc.exit_code}: {exc}")
+        print(f"ok {label}: {exc}")
+        return
+    wrong(f"{label}: no error")
+
+
 def problem_of(name):
     from armanim import load_scene, scene_to_problem
     return scene_to_problem(load_scene(f"{SCENES}/{name}.yaml").model)
@@ -8699,13 +8712,7 @@ print("ok")
         ("run_scene of a missing scene: an ArmanimError with exit code 2", '''
 from armanim import RunOptions, run_scene
 from armanim.errors import ArmanimError
-try:
-    run_scene("nosuch.yaml", "o", RunOptions(video=False))
-except ArmanimError as exc:
-    if exc.exit_code != 2:
-        wrong(f"exit_code {exc.exit_code}")
-    print("ok", exc); sys.exit(0)
-wrong("no error")
+expect_exit("the call", lambda: run_scene("nosuch.yaml", "o", RunOptions(video=False)), 2)
 ''', {}),
         ("run_scene with out_root a file: an OutputError with exit code 3", '''
 from armanim import RunOptions, run_scene
@@ -8774,13 +8781,7 @@ from armanim import RunOptions, export_run, run_scene
 from armanim.errors import ArmanimError
 open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
 run_scene("t.yaml", "o", RunOptions(video=False))
-try:
-    export_run("o/tiny", "csv")
-except ArmanimError as exc:
-    if exc.exit_code != 2:
-        wrong(f"exit_code {exc.exit_code}")
-    print("ok", exc); sys.exit(0)
-wrong("no error")
+expect_exit("the call", lambda: export_run("o/tiny", "csv"), 2)
 ''', {}),
     ]
     # fmt: on
@@ -8902,13 +8903,7 @@ expect_error("zero axis", lambda: Orientation(axis=np.zeros(3)), [])
 from armanim import RobotSource, import_moveit
 from armanim.errors import ArmanimError
 open("w.scene", "w").write("w\\n* b\\n1\\nbox\\n0.1 0.1 0.1\\n1 1 1\\n0 0 0 1\\n0 0 0 0\\n.\\n")
-try:
-    import_moveit("w.scene", None, RobotSource(robot="nosuch"), "m.yaml")
-except ArmanimError as exc:
-    if exc.exit_code != 2:
-        wrong(f"exit_code {exc.exit_code}")
-    print("ok", exc); sys.exit(0)
-wrong("no error")
+expect_exit("the call", lambda: import_moveit("w.scene", None, RobotSource(robot="nosuch"), "m.yaml"), 2)
 '''),
         ("write_run_viewer of a write-protected run with out= elsewhere", '''
 from armanim import RunOptions, run_scene, write_run_viewer
