@@ -1,4 +1,4 @@
-"""The ninth to fifteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to sixteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
@@ -6,7 +6,9 @@ inputs; the tenth's, new attacks on the same classes: mesh10, frames10, signals1
 inputs10, wrong10; the eleventh's, new again: mesh11, frames11, signals11, loss11, inputs11, wrong11;
 the twelfth's: mesh12, frames12, signals12, loss12, inputs12, wrong12; the thirteenth's: mesh13,
 frames13, signals13, loss13, inputs13, wrong13; the fourteenth's: mesh14 ... wrong14; the
-fifteenth's: mesh15 ... wrong15),
+fifteenth's: mesh15 ... wrong15; the sixteenth's, new angles: perms16 (as a user who is not root:
+``--as-user NAME``, with ``--user-python`` an interpreter that user can run), env16 (full disks: run
+as root, which mounts a small tmpfs), api16 (the Python API, by snippets)),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -79,6 +81,10 @@ class Attempt:
     message_if_3: str | None = None  # a regex stderr + stdout must match when the exit code is 3
     not_message: str | None = None  # a regex stderr + stdout must not match
     linger: float = 0.0  # seconds after armanim ends within which nothing it started may still run
+    user: bool = False  # run as the campaign's non-root user (--as-user): the folder is made theirs first
+    root_owned: tuple[str, ...] = ()  # paths (relative to the folder) left root's when the folder is made the user's
+    python: str | None = None  # a Python snippet run instead of ``-m armanim`` (after PRELUDE; args are its argv)
+    fsize: int | None = None  # RLIMIT_FSIZE in bytes (a file past it: EFBIG; SIGXFSZ is Python's SIG_IGN)
 
 
 def fingerprint(path: Path) -> object:
@@ -99,7 +105,12 @@ def fingerprint(path: Path) -> object:
     return ("special", stat.S_IFMT(mode), os.stat(path).st_ino)
 
 
-def _limits(memory: int) -> Callable[[], None]:
+AS_USER: tuple[int, int, str] | None = None  # --as-user: (uid, gid, home)
+AS_USER_NAME = ""
+USER_PYTHON = sys.executable  # --user-python: the interpreter a user attempt runs (it must reach it)
+
+
+def _limits(memory: int, user: tuple[int, int, str] | None = None, fsize: int | None = None) -> Callable[[], None]:
     def apply() -> None:
         # a campaign started in the background has SIGINT ignored, and one started with nohup SIGHUP
         # (campaign 13's first signals13 pass: every SIGHUP attempt then measured nohup's armanim)
@@ -108,21 +119,48 @@ def _limits(memory: int) -> Callable[[], None]:
         os.setsid()
         os.nice(10)
         resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+        if fsize is not None:
+            resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+        if user is not None:  # last: dropping root
+            os.setgroups([])
+            os.setgid(user[1])
+            os.setuid(user[0])
 
     return apply
+
+
+def make_users(folder: Path, attempt: Attempt) -> None:
+    """Give ``folder`` (as the setup left it, modes kept) to the campaign's user, but ``root_owned``."""
+    assert AS_USER is not None
+    uid, gid, _ = AS_USER
+    left = {os.path.normpath(folder / p) for p in attempt.root_owned}
+    for where, dirs, files in os.walk(folder):
+        for name in [*dirs, *files, ""] if where == str(folder) else [*dirs, *files]:
+            path = os.path.join(where, name) if name else where
+            if os.path.normpath(path) not in left and not os.path.ismount(path):
+                os.lchown(path, uid, gid)
 
 
 def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[str], float, int | None]:
     """Run one attempt in ``folder``: (verdict class, problems, seconds, exit code)."""
     folder.mkdir(parents=True)
+    if attempt.user and AS_USER is None and os.geteuid() == 0:
+        raise RuntimeError("a non-root attempt: give --as-user USER (root writes through read-only modes)")
     attempt.setup(folder)
+    user = AS_USER if attempt.user and os.geteuid() == 0 else None
+    if user is not None:
+        make_users(folder, attempt)
     kept = {p: fingerprint(folder / p) for p in attempt.keep}
     args = [a.replace("{d}", str(folder)) for a in attempt.args]
-    env = {**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120", **attempt.env}
-    env = {name: value for name, value in env.items() if value != UNSET}
+    env = {**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120"}
+    if user is not None:
+        env.update(HOME=user[2], USER=AS_USER_NAME, LOGNAME=AS_USER_NAME)
+    env = {name: value for name, value in {**env, **attempt.env}.items() if value != UNSET}
+    python = USER_PYTHON if user is not None else sys.executable
+    command = [python, "-c", PRELUDE + attempt.python, *args] if attempt.python else [python, "-m", "armanim", *args]
     started = time.perf_counter()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "armanim", *args],
+        command,
         cwd=folder,
         env=env,
         stdin=subprocess.DEVNULL,
@@ -130,7 +168,7 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         stderr=subprocess.PIPE,
         text=True,
         errors="replace",
-        preexec_fn=_limits(memory),
+        preexec_fn=_limits(memory, user, attempt.fsize),
     )
     for delay, signame in (attempt.interrupt, *attempt.also) if attempt.interrupt is not None else ():
         try:
@@ -216,6 +254,14 @@ def still_running(session: int, folder: Path, within: float) -> list[str]:
         if not found or time.perf_counter() > deadline:
             return found
         time.sleep(0.2)
+
+
+def unmount_under(folder: Path) -> None:
+    """Unmount every file system an attempt mounted in its folder (a small tmpfs: a full disk)."""
+    with contextlib.suppress(OSError):
+        mounts = [line.split()[1] for line in Path("/proc/mounts").read_text().splitlines()]
+        for point in sorted((m for m in mounts if m.startswith(f"{folder}/")), key=len, reverse=True):
+            subprocess.run(["umount", "-l", point], check=False, capture_output=True)
 
 
 # ------------------------------------------------------------------ inputs
@@ -7922,6 +7968,964 @@ def wrong15_attempts() -> list[Attempt]:
     return out
 
 
+# ------------------------------------------------------------------ the sixteenth campaign
+
+
+def locked_up(*paths: str, mode: int = 0o555) -> Callable[[Path], None]:
+    """Setup: ``paths`` (relative to the folder; folders made if missing) given ``mode``."""
+
+    def setup(d: Path) -> None:
+        for path in paths:
+            target = d / path
+            if not target.exists():
+                target.mkdir(parents=True)
+            target.chmod(mode)
+
+    return setup
+
+
+def listing_of(where: str, *allowed: str) -> Callable[[Path], list[str]]:
+    """Check: ``where`` holds only ``allowed`` (nothing half-made there, no file left beside)."""
+
+    def check(d: Path) -> list[str]:
+        folder = d / where
+        found = sorted(p.name for p in folder.iterdir()) if folder.is_dir() else []
+        extra = [name for name in found if name not in allowed]
+        return [f"{where} now holds {extra}"] if extra else []
+
+    return check
+
+
+ROBOT_ONE_MESH = (
+    '<?xml version="1.0"?>\n<robot name="r"><link name="l0"/><link name="l1">'
+    '<collision><geometry><mesh filename="MESH"/></geometry></collision></link><link name="l2"/>'
+    '<joint name="j0" type="revolute"><parent link="l0"/><child link="l1"/><origin xyz="0 0 0.1"/>'
+    '<axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>'
+    '<joint name="j1" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.3"/>'
+    '<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint></robot>\n'
+)
+MESH_SCENE = (
+    "version: 1\nname: m\narm: {urdf: robot.urdf}\ngoals: [[0.1, 0.1, 0.3]]\nrender: {size: [160, 90], fps: 10}\n"
+)
+
+
+def one_mesh_robot(mesh: str = "m.stl", visual: bool = False) -> Callable[[Path], None]:
+    """Setup: robot.urdf whose link l1's collision (or visual) is the box ``mesh``, and s.yaml naming it."""
+
+    def setup(d: Path) -> None:
+        text = ROBOT_ONE_MESH.replace("MESH", mesh)
+        if visual:
+            text = text.replace("<collision>", "<visual>").replace("</collision>", "</visual>")
+        write(d / "robot.urdf", text)
+        write(d / "s.yaml", MESH_SCENE)
+        write(d / mesh.replace("package://pk/", "pk/"), box_stl())
+
+    return setup
+
+
+def compiled_again(d: Path) -> list[str]:
+    """Check of a run with nowhere to keep numba's code: run it again as the user; if that run
+    compiles again, the first must not have said it compiles "once after installing"."""
+    assert AS_USER is not None
+    env = {**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120", "HOME": "/nonexistent"}
+    done = subprocess.run(
+        [USER_PYTHON, "-m", "armanim", "run", "s.yaml", "--out", "p", "--no-video"],
+        cwd=d,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+        preexec_fn=_limits(4_000_000_000, AS_USER),
+    )
+    first = (d / "first.txt").read_text() if (d / "first.txt").exists() else ""
+    problems = []
+    if "numba compiled its code for" in done.stdout + done.stderr and "once after installing" in first:
+        problems.append("the first run said numba compiles 'once after installing', and the second compiled again")
+    return problems
+
+
+def perms16_attempts() -> list[Attempt]:
+    """Read-only and unreadable files and folders, as a user who is not root (root writes through
+    every mode, so campaigns 1-15 never met them): outputs into read-only folders, write-protected
+    run folders, unreadable inputs, caches and homes that cannot be written, another user's lock."""
+    k = "perms16"
+    out: list[Attempt] = []
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    denied = r"permission denied|read-only|write-protected"
+    protected = "o/tiny"
+
+    def protected_run(d: Path) -> None:
+        finished_run(d)
+        (d / protected).chmod(0o555)
+
+    # fmt: off
+    outputs: list[tuple[str, list[str], Callable[[Path], None], tuple[str, ...], str | None]] = [
+        ("run --out a read-only folder", ["run", "s.yaml", "--out", "ro", "--no-video", "-q"], then(tiny_scene(), locked_up("ro")), ("ro",), None),
+        ("run --out a folder under a read-only folder", ["run", "s.yaml", "--out", "ro/sub", "--no-video", "-q"], then(tiny_scene(), locked_up("ro")), ("ro",), None),
+        ("run into a write-protected run folder (chmod 555 o/tiny)", run, protected_run, ("o/tiny",), None),
+        ("run --viewer into a write-protected run folder", [*run[:-1], "--viewer", "-q"], protected_run, ("o/tiny",), None),
+        ("render into a write-protected run folder", ["render", "o/tiny", "--size", "64x36"], protected_run, ("o/tiny",), None),
+        ("export into a write-protected run folder (its default --out)", ["export", "o/tiny"], protected_run, ("o/tiny",), None),
+        ("view into a write-protected run folder (its default --out)", ["view", "o/tiny"], protected_run, ("o/tiny",), None),
+        ("run again, o read-only and o/tiny writable", run, then(finished_run, locked_up("o")), ("o",), None),
+        ("export --out a read-only folder", ["export", "o/tiny", "--out", "ro/e.json"], then(finished_run, locked_up("ro")), ("ro", "o/tiny"), None),
+        ("view --out a read-only folder", ["view", "o/tiny", "--out", "ro/v.html"], then(finished_run, locked_up("ro")), ("ro", "o/tiny"), None),
+        ("render --out a read-only folder", ["render", "o/tiny", "--out", "ro/r", "--size", "64x36"], then(finished_run, locked_up("ro")), ("ro", "o/tiny"), None),
+        ("schema --out a read-only folder", ["schema", "--out", "ro/s.json"], locked_up("ro"), ("ro",), None),
+        ("fk --png into a read-only folder (the advice names --png, not --out)", ["fk", "--links", "1,1,1", "--angles", "0,10,20", "--png", "ro/p.png"], locked_up("ro"), ("ro",), r"--out"),
+        ("check --update, the golden folder read-only (the advice names --golden, not --out)", ["check", "s.yaml", "a.yaml", "--golden", "g", "--update", "-q"], then(tiny_scene(), tiny_scene("a.yaml", OTHER), lambda d: armanim_in(d, "check", "s.yaml", "a.yaml", "--golden", "g", "--update", "-q"), edit("a.yaml", b"solver: {step: 0.2}\n"), locked_up("g")), ("g",), r"--out"),
+        ("check --update, a new golden folder under a read-only folder", ["check", "s.yaml", "--golden", "ro/g", "--update", "-q"], then(tiny_scene(), locked_up("ro")), ("ro",), r"--out"),
+        ("sweep --out a read-only folder", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "ro", "-q", "--jobs", "1"], then(tiny_scene(), locked_up("ro")), ("ro",), None),
+        ("a batch of two --out a read-only folder", ["run", "s.yaml", "a.yaml", "--out", "ro", "--no-video", "-q", "--jobs", "1"], then(tiny_scene(), tiny_scene("a.yaml", OTHER), locked_up("ro")), ("ro",), None),
+        ("a --jobs 2 batch whose root is read-only, one run folder in it written before", ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q", "--jobs", "2"], then(tiny_scene("a.yaml", OTHER), finished_run, locked_up("o")), ("o",), None),
+        ("import moveit --out a read-only folder", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "ro/m.yaml"], then(mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"), locked_up("ro")), ("ro", "w.scene"), None),
+    ]
+    # fmt: on
+    for label, args, setup, keep, not_message in outputs:
+        out.append(
+            Attempt(
+                k,
+                label,
+                args,
+                setup,
+                (3,),
+                message=denied,
+                keep=keep,
+                timeout=400,
+                user=True,
+                not_message=not_message,
+                litter_in=("o", "ro", "g"),
+            )
+        )
+    # unreadable inputs: exit 2 naming the file
+    unreadable: list[tuple[str, list[str], Callable[[Path], None], str, tuple[int, ...]]] = [
+        (
+            "validate an unreadable scene (chmod 000)",
+            ["validate", "s.yaml"],
+            then(tiny_scene(), locked_up("s.yaml", mode=0)),
+            r"s\.yaml",
+            (2,),
+        ),
+        ("run an unreadable URDF", run, then(one_mesh_robot(), locked_up("robot.urdf", mode=0)), r"robot\.urdf", (2,)),
+        (
+            "validate an unreadable collision mesh",
+            ["validate", "s.yaml"],
+            then(one_mesh_robot(), locked_up("m.stl", mode=0)),
+            r"m\.stl",
+            (2,),
+        ),
+        (
+            "robots --fit of an unreadable collision mesh",
+            ["robots", "--fit", "robot.urdf"],
+            then(one_mesh_robot(), locked_up("m.stl", mode=0)),
+            r"m\.stl",
+            (2,),
+        ),
+        (
+            "robots --fit of a mesh in a folder that cannot be entered (chmod 600)",
+            ["robots", "--fit", "robot.urdf"],
+            then(one_mesh_robot("sub/m.stl"), locked_up("sub", mode=0o600)),
+            r"m\.stl",
+            (2,),
+        ),
+        (
+            "validate, package:// mesh in a package folder that cannot be listed (chmod 311)",
+            ["validate", "s.yaml"],
+            then(
+                one_mesh_robot("package://pk/m.stl"),
+                lambda d: write(
+                    d / "s.yaml", MESH_SCENE.replace("urdf: robot.urdf", "urdf: robot.urdf, package_dirs: [.]")
+                ),
+                locked_up("pk", mode=0o311),
+            ),
+            r"ok",
+            (0,),
+        ),
+        (
+            "run --viewer of an unreadable visual mesh (a note, drawn as capsules)",
+            [*run[:-1], "--viewer", "-q"],
+            then(one_mesh_robot(visual=True), locked_up("m.stl", mode=0)),
+            r"m\.stl.*(permission|read)",
+            (0,),
+        ),
+        (
+            "render of a run whose trajectory.csv is unreadable",
+            ["render", "o/tiny", "--out", "r", "--size", "64x36"],
+            then(finished_run, locked_up("o/tiny/trajectory.csv", mode=0)),
+            r"trajectory\.csv",
+            (2,),
+        ),
+        (
+            "export of a run whose summary.json is unreadable",
+            ["export", "o/tiny", "--out", "e.json"],
+            then(finished_run, locked_up("o/tiny/summary.json", mode=0)),
+            r"summary\.json",
+            (2,),
+        ),
+        (
+            "view of a run whose marker is unreadable",
+            ["view", "o/tiny", "--out", "v.html"],
+            then(finished_run, locked_up("o/tiny/.armanim-run.json", mode=0)),
+            r".",
+            (0, 2),
+        ),
+        (
+            "run again into a run folder whose marker is unreadable",
+            run,
+            then(finished_run, locked_up("o/tiny/.armanim-run.json", mode=0)),
+            r"armanim-run\.json",
+            (3,),
+        ),
+        (
+            "compare of an unreadable CSV",
+            ["compare", "o/tiny/trajectory.csv", "c.csv"],
+            then(
+                finished_run,
+                lambda d: shutil.copy(d / "o/tiny/trajectory.csv", d / "c.csv"),
+                locked_up("c.csv", mode=0),
+            ),
+            r"c\.csv",
+            (2,),
+        ),
+        (
+            "check against an unreadable golden",
+            ["check", "s.yaml", "--golden", "g", "-q"],
+            then(
+                tiny_scene(),
+                lambda d: armanim_in(d, "check", "s.yaml", "--golden", "g", "--update", "-q"),
+                locked_up("g/tiny.csv", mode=0),
+            ),
+            r"tiny\.csv",
+            (1, 2),
+        ),
+        (
+            "run a scene in a folder that cannot be listed (chmod 311)",
+            ["run", "sc/s.yaml", "--out", "o", "--no-video", "-q"],
+            then(tiny_scene("sc/s.yaml"), locked_up("sc", mode=0o311)),
+            r"",
+            (0,),
+        ),
+    ]
+    for label, args, setup, message, codes in unreadable:
+        out.append(
+            Attempt(
+                k,
+                label,
+                args,
+                setup,
+                codes,
+                message=message,
+                timeout=400,
+                user=True,
+                keep=("s.yaml",) if "s.yaml" in args else (),
+            )
+        )
+    # caches, homes and locks
+    fit = ["robots", "--fit", "robot.urdf"]
+    out += [
+        Attempt(
+            k,
+            "robots --fit, ARMANIM_CACHE_DIR read-only (the fit not kept, the answer given)",
+            fit,
+            then(one_mesh_robot(), locked_up("cache")),
+            (0,),
+            message=r"link: \"l1\"",
+            env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+            keep=("cache",),
+            user=True,
+        ),
+        Attempt(
+            k,
+            "run, ARMANIM_CACHE_DIR under a read-only folder",
+            run,
+            then(one_mesh_robot(), locked_up("ro")),
+            (0,),
+            env={"ARMANIM_CACHE_DIR": "{d}/ro/cache"},
+            keep=("ro",),
+            user=True,
+        ),
+        Attempt(
+            k,
+            "run, the capsule cache's entries unreadable (chmod 000)",
+            run,
+            then(
+                one_mesh_robot(),
+                lambda d: armanim_in(d, *fit, env={"ARMANIM_CACHE_DIR": str(d / "cache")}),
+                lambda d: [p.chmod(0) for p in (d / "cache").rglob("*") if p.is_file()] and None,
+            ),
+            (0,),
+            env={"ARMANIM_CACHE_DIR": "{d}/cache"},
+            user=True,
+        ),
+        Attempt(
+            k,
+            "run with video, HOME read-only (matplotlib's and numba's user caches)",
+            ["run", "s.yaml", "--out", "o", "-q"],
+            then(tiny_scene(), locked_up("home")),
+            (0,),
+            env={"HOME": "{d}/home", "XDG_CACHE_HOME": UNSET, "MPLCONFIGDIR": UNSET},
+            timeout=900,
+            user=True,
+        ),
+        Attempt(
+            k,
+            "run with video, TMPDIR read-only",
+            ["run", "s.yaml", "--out", "o", "-q"],
+            then(tiny_scene(), locked_up("tmp")),
+            (0,),
+            env={"TMPDIR": "{d}/tmp"},
+            timeout=600,
+            user=True,
+            keep=("tmp",),
+        ),
+        Attempt(
+            k,
+            "run twice with nowhere to keep numba's code (HOME missing, the install read-only): no false 'once after installing'",
+            ["validate", "s.yaml"],
+            then(tiny_scene(), said_as_user_to_file("first.txt", "run", "s.yaml", "--out", "o", "--no-video")),
+            (0,),
+            env={"HOME": "/nonexistent", "XDG_CACHE_HOME": UNSET, "NUMBA_CACHE_DIR": UNSET},
+            timeout=900,
+            user=True,
+            after=compiled_again,
+        ),
+        Attempt(
+            k,
+            "run, o/.tiny.lock another user's (root's, 0644): the lock read-only",
+            run,
+            then(finished_run, mine("o/.tiny.lock", "")),
+            (0, 3),
+            message_if_3=r"\.tiny\.lock",
+            root_owned=("o/.tiny.lock",),
+            keep=("o/.tiny.lock",),
+            user=True,
+        ),
+        Attempt(
+            k,
+            "run, o/.tiny.lock the user's own at chmod 000",
+            run,
+            then(finished_run, locked_up("o/.tiny.lock", mode=0)),
+            (0, 3),
+            message_if_3=r"\.tiny\.lock",
+            user=True,
+        ),
+        Attempt(
+            k,
+            "run into a shared sticky folder where o/tiny is another user's run",
+            ["run", "s.yaml", "--out", "sh", "--no-video", "-q"],
+            then(
+                tiny_scene(),
+                lambda d: armanim_in(d, "run", "s.yaml", "--out", "sh", "--no-video", "-q"),
+                lambda d: (d / "sh").chmod(0o1777),
+            ),
+            (3,),
+            message=r"sh/tiny",
+            root_owned=(
+                "sh",
+                "sh/tiny",
+                "sh/tiny/trajectory.csv",
+                "sh/tiny/summary.json",
+                "sh/tiny/scene.yaml",
+                "sh/tiny/timing.json",
+                "sh/tiny/self-collision.yaml",
+                "sh/tiny/.armanim-run.json",
+                "sh/.tiny.lock",
+            ),
+            keep=("sh",),
+            litter_in=("sh",),
+            user=True,
+        ),
+    ]
+    return out
+
+
+def said_as_user_to_file(name: str, *args: str) -> Callable[[Path], None]:
+    """Setup: run armanim as the campaign's user with nowhere to keep numba's code (HOME missing),
+    its stdout and stderr into ``name``."""
+
+    def setup(d: Path) -> None:
+        assert AS_USER is not None
+        os.chown(d, AS_USER[0], AS_USER[1])
+        env = {**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120", "HOME": "/nonexistent"}
+        env.pop("XDG_CACHE_HOME", None)
+        env.pop("NUMBA_CACHE_DIR", None)
+        for child in d.iterdir():
+            os.chown(child, AS_USER[0], AS_USER[1])
+        done = subprocess.run(
+            [USER_PYTHON, "-m", "armanim", *args],
+            cwd=d,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=900,
+            preexec_fn=_limits(4_000_000_000, AS_USER),
+        )
+        write(d / name, done.stdout + done.stderr)
+
+    return setup
+
+
+def small_disk(at: str, kilobytes: int, filler: int = 0) -> Callable[[Path], None]:
+    """Setup: a tmpfs of ``kilobytes`` mounted at ``at`` (a full disk), ``filler`` bytes of it taken
+    by the user's file ``at/filler`` (unmounted by the campaign after the attempt)."""
+
+    def setup(d: Path) -> None:
+        (d / at).mkdir(parents=True, exist_ok=True)
+        subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={kilobytes}k", "tmpfs", str(d / at)], check=True)
+        if filler:
+            write(d / at / "filler", b"\0" * filler)
+
+    return setup
+
+
+def pair_whole(folder: str, name: str = "tiny") -> Callable[[Path], list[str]]:
+    """Check: a golden CSV is never left without its JSON, nor a JSON without its CSV."""
+
+    def check(d: Path) -> list[str]:
+        csv_there, json_there = (d / folder / f"{name}.csv").exists(), (d / folder / f"{name}.json").exists()
+        return (
+            []
+            if csv_there == json_there
+            else [f"{folder}: the golden pair is half there ({csv_there=}, {json_there=})"]
+        )
+
+    return check
+
+
+def index_folder_is(out: str, *folders: str) -> Callable[[Path], list[str]]:
+    """Check: index.csv's rows name ``folders`` exactly (read with the csv module)."""
+
+    def check(d: Path) -> list[str]:
+        import csv
+
+        path = d / out / "index.csv"
+        if not path.exists():
+            return [f"no {out}/index.csv"]
+        rows = list(csv.DictReader(path.open(newline="")))
+        found = sorted(row.get("folder") or "" for row in rows)
+        return [] if found == sorted(folders) else [f"index.csv's folders {found!r}, expected {sorted(folders)!r}"]
+
+    return check
+
+
+def env16_attempts() -> list[Attempt]:
+    """A full disk under every writer (a small tmpfs: runs, a run replacing its own folder, render,
+    view, export, import, schema, check --update, a sweep and a batch, numba's and the capsules'
+    caches, TMPDIR), a file-size limit (RLIMIT_FSIZE), paths past PATH_MAX, newlines in an
+    outputs folder's name."""
+    k = "env16"
+    out: list[Attempt] = []
+    full = r"(?i)disk is full|no space|too large"
+    moveit = mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")
+    # fmt: off
+    disks: list[tuple[str, list[str], Callable[[Path], None], tuple[str, ...], tuple[int, ...], Callable[[Path], list[str]] | None]] = [
+        ("run with video and page into a 200 KB disk", ["run", "s.yaml", "--out", "disk", "-q"], then(tiny_scene(), small_disk("disk", 200)), (), (3,), listing_of("disk", ".tiny.lock")),
+        ("run --no-video into a 16 KB disk", ["run", "s.yaml", "--out", "disk", "--no-video", "-q"], then(tiny_scene(), small_disk("disk", 16)), (), (3,), listing_of("disk", ".tiny.lock")),
+        ("run again, the disk with room for the old run folder only", ["run", "s.yaml", "--out", "disk", "--no-video", "-q"], then(tiny_scene(), small_disk("disk", 40), lambda d: armanim_in(d, "run", "s.yaml", "--out", "disk", "--no-video", "-q"), edit("s.yaml", b"solver: {step: 0.2}\n")), ("disk/tiny",), (3,), listing_of("disk", ".tiny.lock", "tiny")),
+        ("render --out into a full disk", ["render", "o/tiny", "--out", "disk/r", "--size", "64x36"], then(finished_run, small_disk("disk", 8, 4096)), ("o/tiny", "disk/filler"), (3,), listing_of("disk", "filler", ".r.lock")),
+        ("view --out into a full disk", ["view", "o/tiny", "--out", "disk/v.html"], then(finished_run, small_disk("disk", 8, 4096)), ("o/tiny", "disk/filler"), (3,), listing_of("disk", "filler")),
+        ("export --out into a full disk", ["export", "o/tiny", "--out", "disk/e.json"], then(finished_run, small_disk("disk", 4, 4096)), ("o/tiny", "disk/filler"), (3,), listing_of("disk", "filler")),
+        ("import moveit --out into a full disk", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "disk/m.yaml"], then(moveit, small_disk("disk", 4, 4096)), ("w.scene", "disk/filler"), (3,), listing_of("disk", "filler")),
+        ("schema --out into a full disk", ["schema", "--out", "disk/s.json"], small_disk("disk", 8, 4096), ("disk/filler",), (3,), listing_of("disk", "filler")),
+        ("check --update, a new golden folder on a disk with room for its CSV only", ["check", "s.yaml", "--golden", "disk/g", "--update", "-q"], then(tiny_scene(), small_disk("disk", 16)), (), (3,), pair_whole("disk/g")),
+        ("check --update of two scenes, the second pair past the disk", ["check", "s.yaml", "a.yaml", "--golden", "disk", "--update", "-q"], then(tiny_scene(), tiny_scene("a.yaml", OTHER), small_disk("disk", 28)), (), (3,), lambda d: pair_whole("disk")(d) + pair_whole("disk", "other")(d)),
+        ("sweep --out a 32 KB disk", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "disk", "-q", "--jobs", "1"], then(tiny_scene(), small_disk("disk", 32)), (), (0, 3), None),
+        ("a --jobs 2 batch into a 32 KB disk", ["run", "s.yaml", "a.yaml", "--out", "disk", "--no-video", "-q", "--jobs", "2"], then(tiny_scene(), tiny_scene("a.yaml", OTHER), small_disk("disk", 32)), (), (3,), None),
+    ]
+    # fmt: on
+    for label, args, setup, keep, codes, after in disks:
+        out.append(
+            Attempt(
+                k, label, args, setup, codes, message=full, keep=keep, after=after, timeout=400, litter_in=("disk", "o")
+            )
+        )
+    # caches and temporary files on a full disk: the command goes on without keeping them
+    out += [
+        Attempt(
+            k,
+            "validate, NUMBA_CACHE_DIR on a full disk (numba cannot keep its code)",
+            ["validate", "s.yaml"],
+            then(tiny_scene(), small_disk("disk", 8, 4096)),
+            (0,),
+            message=r"^ok",
+            env={"NUMBA_CACHE_DIR": "{d}/disk/numba"},
+            timeout=600,
+        ),
+        Attempt(
+            k,
+            "run --no-video, NUMBA_CACHE_DIR on a full disk",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            then(tiny_scene(), small_disk("disk", 8, 4096)),
+            (0,),
+            env={"NUMBA_CACHE_DIR": "{d}/disk/numba"},
+            timeout=900,
+            after=lambda d: [] if (d / "o/tiny/summary.json").is_file() else ["no o/tiny/summary.json"],
+        ),
+        Attempt(
+            k,
+            "robots --fit, ARMANIM_CACHE_DIR on a full disk",
+            ["robots", "--fit", "robot.urdf"],
+            then(one_mesh_robot(), small_disk("disk", 8, 4096)),
+            (0,),
+            message=r"link: \"l1\"",
+            env={"ARMANIM_CACHE_DIR": "{d}/disk/cache"},
+        ),
+        Attempt(
+            k,
+            "run with video, TMPDIR on a full disk",
+            ["run", "s.yaml", "--out", "o", "-q"],
+            then(tiny_scene(), small_disk("disk", 8, 4096)),
+            (0, 3),
+            message_if_3=full,
+            env={"TMPDIR": "{d}/disk"},
+            timeout=600,
+            litter_in=("o", "disk"),
+        ),
+        Attempt(
+            k,
+            "run with video under a 20 KB file-size limit (RLIMIT_FSIZE)",
+            ["run", "s.yaml", "--out", "o", "-q"],
+            tiny_scene(),
+            (3,),
+            message=r"too large|ffmpeg",
+            fsize=20_000,
+            timeout=600,
+            after=listing_of("o", ".tiny.lock"),
+        ),
+        Attempt(
+            k,
+            "export --out under a 2 KB file-size limit",
+            ["export", "o/tiny", "--out", "e.json"],
+            finished_run,
+            (3,),
+            message=r"e\.json",
+            fsize=2_000,
+            keep=("o/tiny",),
+            litter_in=(".",),
+            after=lambda d: [] if not (d / "e.json").exists() else ["e.json written"],
+        ),
+    ]
+    # paths past PATH_MAX (4,096 bytes), newlines in an outputs folder's name
+    long = "/".join(["p" * 250] * 17)
+    out += [
+        Attempt(
+            k,
+            "run --out a path of 4,266 characters (past PATH_MAX)",
+            ["run", "s.yaml", "--out", long, "--no-video", "-q"],
+            tiny_scene(),
+            (2, 3),
+            message=r"long|too|cannot",
+            litter_in=(".",),
+        ),
+        Attempt(
+            k,
+            "export --out a path past PATH_MAX",
+            ["export", "o/tiny", "--out", f"{long}/e.json"],
+            finished_run,
+            (2, 3),
+            message=r"long|too|cannot",
+            keep=("o/tiny",),
+        ),
+        Attempt(
+            k,
+            "check --update --golden a path past PATH_MAX",
+            ["check", "s.yaml", "--golden", long, "--update", "-q"],
+            tiny_scene(),
+            (2, 3),
+            message=r"long|too|cannot",
+        ),
+        Attempt(
+            k,
+            "validate a scene whose arm.urdf is a path past PATH_MAX",
+            ["validate", "s.yaml"],
+            tiny_scene(text=MESH_SCENE.replace("robot.urdf", f"{long}/r.urdf")),
+            (2,),
+            message=AT_LINE,
+        ),
+        Attempt(
+            k,
+            "a batch of two into an outputs folder named 'o<newline>x': index.csv's folders read back",
+            ["run", "s.yaml", "a.yaml", "--out", "o\nx", "--no-video", "-q"],
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER)),
+            (0,),
+            after=index_folder_is("o\nx", "o\nx/tiny", "o\nx/other"),
+            litter_in=("o\nx",),
+        ),
+    ]
+    return out
+
+
+PRELUDE = '''
+import os, sys
+import numpy as np
+SCENES = sys.argv[1]
+
+
+def expect_error(label, call, words=()):
+    """The call must raise a clear error (ValueError, TypeError or armanim's own) saying ``words``."""
+    from armanim.errors import ArmanimError
+    try:
+        value = call()
+    except (ValueError, TypeError, ArmanimError) as exc:
+        text = str(exc)
+        missing = [w for w in words if w.lower() not in text.lower()]
+        if missing:
+            print(f"WRONG {label}: {type(exc).__name__}({text[:300]!r}) does not say {missing}")
+            sys.exit(1)
+        print(f"ok {label}: {type(exc).__name__}: {text[:200]}")
+        return
+    print(f"WRONG {label}: no error; it returned {value!r:.300}")
+    sys.exit(1)
+
+
+def wrong(text):
+    print("WRONG " + text)
+    sys.exit(1)
+
+
+def expect_exit(label, call, code):
+    """The call must raise armanim's own error with the exit code the command would use."""
+    from armanim.errors import ArmanimError
+    try:
+        call()
+    except ArmanimError as exc:
+        if exc.exit_code != code:
+            wrong(f"{label}: exit_code {exc.exit_code}: {exc}")
+        print(f"ok {label}: {exc}")
+        return
+    wrong(f"{label}: no error")
+
+
+def problem_of(name):
+    from armanim import load_scene, scene_to_problem
+    return scene_to_problem(load_scene(f"{SCENES}/{name}.yaml").model)
+'''
+"""What every api16 snippet starts with: its argv[1] is the bundled scenes' folder."""
+
+
+def api16_attempts() -> list[Attempt]:
+    """The Python API of docs/python-api.md called with hostile arguments (poses of the wrong length,
+    a scalar, NaN, goals and starts of the wrong shape, bad files and folders, NUMBA_DISABLE_JIT=1),
+    each held to what a caller expects: a clear ValueError, TypeError or ArmanimError (with the exit
+    code the command would use), never a wrong answer or an error from deep inside; and the compiled
+    kinematics against the numpy reference and the Jacobian against finite differences."""
+    k = "api16"
+    panda = 'from armanim import forward\np = problem_of("panda-place")\n'
+    # fmt: off
+    snippets: list[tuple[str, str, dict]] = [
+        ("forward: 2 angles for a 7-joint Panda", panda + 'expect_error("short", lambda: forward(p.arm, np.zeros(2)).points, ["7"])', {}),
+        ("forward: 8 angles for a 7-joint Panda", panda + 'expect_error("long", lambda: forward(p.arm, np.zeros(8)).points, ["7"])', {}),
+        ("forward: one number (a 0-d array) for a Panda", panda + 'expect_error("scalar", lambda: forward(p.arm, np.float64(0.3)).points, ["7"])', {}),
+        ("forward: a batch (3, 2) for a Panda", panda + 'expect_error("batch", lambda: forward(p.arm, np.zeros((3, 2))).points, ["7"])', {}),
+        ("forward: the same short pose twice gives the same answer or an error (no memory it does not own)", panda + '''
+big = np.full(64, 7.0)
+try:
+    a, b = forward(p.arm, big[:2]).points, forward(p.arm, big[:2].copy()).points
+except (ValueError, TypeError) as exc:
+    print("ok: refused:", exc); sys.exit(0)
+if not np.array_equal(a, b):
+    wrong(f"one short pose, two answers: tips {a[-1]} and {b[-1]}")
+''', {}),
+        ("forward: a NaN angle gives NaN, never finite numbers", panda + '''
+pose = forward(p.arm, np.array([0.1, np.nan, 0, -1, 0, 1, 0])).points
+if np.isfinite(pose[2:]).all():
+    wrong(f"a NaN joint, finite points after it: {pose[-1]}")
+print("ok")
+''', {}),
+        ("forward: compiled against the numpy reference, 300 random Panda poses and a (2, 3, 7) batch", panda + '''
+from armanim.arm import kinematics
+rng = np.random.default_rng(16)
+poses = rng.uniform(-3, 3, (300, 7))
+for phi in poses:
+    a, b = forward(p.arm, phi).points, kinematics.forward(p.arm, phi).points
+    if np.abs(a - b).max() > 1e-9:
+        wrong(f"compiled and numpy differ by {np.abs(a - b).max()} at {phi}")
+batch = poses[:6].reshape(2, 3, 7)
+c = forward(p.arm, batch).points
+for i in range(2):
+    for j in range(3):
+        if np.abs(c[i, j] - kinematics.forward(p.arm, batch[i, j]).points).max() > 1e-9:
+            wrong(f"the batch's pose {i},{j} differs from the pose alone")
+print("ok")
+''', {}),
+        ("geometric_jacobian: the tip's rows against finite differences, 50 random Panda poses", panda + '''
+from armanim.arm.kernel import geometric_jacobian
+rng = np.random.default_rng(17)
+for phi in rng.uniform(-2.5, 2.5, (50, 7)):
+    jac = geometric_jacobian(forward(p.arm, phi), p.arm)
+    h = 1e-6
+    numeric = np.stack([(forward(p.arm, phi + h * e).tip - forward(p.arm, phi - h * e).tip) / (2 * h) for e in np.eye(7)], axis=1)
+    if np.abs(jac[:3] - numeric).max() > 1e-6:
+        wrong(f"the Jacobian's tip rows differ from finite differences by {np.abs(jac[:3] - numeric).max()}")
+print("ok")
+''', {}),
+        ("solve_pose: a goal of 2 numbers", 'from armanim import solve_pose\np = problem_of("notes-arm")\nexpect_error("goal", lambda: solve_pose(p, np.array([6.0, 0.0]), p.home), ["goal"])', {}),
+        ("solve_pose: a goal of 4 numbers", 'from armanim import solve_pose\np = problem_of("notes-arm")\nexpect_error("goal", lambda: solve_pose(p, np.array([6.0, 0.0, 10, 1]), p.home), ["goal"])', {}),
+        ("solve_pose: a start of 6 angles for a Panda", 'from armanim import solve_pose\np = problem_of("panda-place")\nexpect_error("start", lambda: solve_pose(p, np.array([0.5, 0.1, 0.3]), np.zeros(6)), ["7"])', {}),
+        ("solve_pose: a start of 3 angles for notes-arm (pinv)", 'from armanim import solve_pose\np = problem_of("notes-arm")\nexpect_error("start", lambda: solve_pose(p, np.array([6.0, 0.0, 10]), np.zeros(3)), [str(len(p.home))])', {}),
+        ("solve_pose: a NaN goal is refused or not converged, never 'converged'", '''
+from armanim import solve_pose
+p = problem_of("notes-arm")
+from armanim.errors import ArmanimError
+try:
+    answer = solve_pose(p, np.array([np.nan, 0.0, 10]), p.home)
+except (ValueError, ArmanimError) as exc:
+    print("ok: refused:", exc); sys.exit(0)
+if answer.status == "converged":
+    wrong(f"a NaN goal converged: {answer.phi}")
+print("ok:", answer.status)
+''', {}),
+        ("solve_pose: a converged answer's tip is within the tolerance of its goal (20 random reachable goals)", '''
+from armanim import forward, solve_pose
+p = problem_of("notes-arm")
+rng = np.random.default_rng(18)
+for _ in range(20):
+    goal = forward(p.arm, p.home + rng.uniform(-0.8, 0.8, len(p.home))).tip
+    answer = solve_pose(p, goal, p.home)
+    if answer.status == "converged":
+        miss = np.linalg.norm(forward(p.arm, answer.phi).tip - goal)
+        if miss > max(p.solver.tolerance, 1e-9) * 1.01 or abs(miss - answer.distance) > 1e-9:
+            wrong(f"converged {miss} from its goal (tolerance {p.solver.tolerance}, said {answer.distance})")
+print("ok")
+''', {}),
+        ("run_scene under NUMBA_DISABLE_JIT=1", '''
+from armanim import RunOptions, run_scene
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1], [0.5, -1, 1]]\\n")
+result = run_scene("t.yaml", "o", RunOptions(video=False))
+if [g.reached for g in result.solution.goals] != [True, True]:
+    wrong(f"goals {[g.reason for g in result.solution.goals]}")
+print("ok")
+''', {"NUMBA_DISABLE_JIT": "1"}),
+        ("solve_trajectory under NUMBA_DISABLE_JIT=1, numba imported by the caller first", '''
+import numba
+from armanim import load_scene, scene_to_problem, solve_trajectory
+solution = solve_trajectory(problem_of("notes-arm"))
+print("ok", solution.reached)
+''', {"NUMBA_DISABLE_JIT": "1"}),
+        ("forward under NUMBA_DISABLE_JIT=1 agrees with the numpy reference", panda + '''
+from armanim.arm import kinematics
+phi = np.linspace(-1, 1, 7)
+if np.abs(forward(p.arm, phi).points - kinematics.forward(p.arm, phi).points).max() > 1e-9:
+    wrong("compiled and numpy differ")
+print("ok")
+''', {"NUMBA_DISABLE_JIT": "1"}),
+        ("run_scene of a missing scene: an ArmanimError with exit code 2", '''
+from armanim import RunOptions, run_scene
+from armanim.errors import ArmanimError
+expect_exit("the call", lambda: run_scene("nosuch.yaml", "o", RunOptions(video=False)), 2)
+''', {}),
+        ("run_scene with out_root a file: an OutputError with exit code 3", '''
+from armanim import RunOptions, run_scene
+from armanim.errors import ArmanimError
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+open("afile", "w").write("mine\\n")
+try:
+    run_scene("t.yaml", "afile", RunOptions(video=False))
+except ArmanimError as exc:
+    if exc.exit_code != 3:
+        wrong(f"exit_code {exc.exit_code}")
+    if open("afile").read() != "mine\\n":
+        wrong("afile changed")
+    print("ok", exc); sys.exit(0)
+wrong("no error")
+''', {}),
+        ("scene_model of a mapping with a NaN goal: a SceneError", '''
+from armanim.scene import scene_model
+expect_error("nan", lambda: scene_model({"version": 1, "arm": {"links": [1, 1]}, "goals": [[float("nan"), 1, 0]]}), ["goals"])
+''', {}),
+        ("run_scene with RenderOverrides(size=(0, 0))", '''
+from armanim import RenderOverrides, RunOptions, run_scene
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+expect_error("size", lambda: run_scene("t.yaml", "o", RunOptions(render=RenderOverrides(size=(0, 0)))), ["size"])
+''', {}),
+        ("run_scene with RenderOverrides(fps=nan)", '''
+from armanim import RenderOverrides, RunOptions, run_scene
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+expect_error("fps", lambda: run_scene("t.yaml", "o", RunOptions(video=False, render=RenderOverrides(fps=float("nan")))), ["fps"])
+''', {}),
+        ("RunOptions(jobs=0) and jobs=-3", '''
+from armanim import RunOptions, run_scene
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+expect_error("jobs 0", lambda: run_scene("t.yaml", "o", RunOptions(video=False, jobs=0)), ["jobs"])
+expect_error("jobs -3", lambda: run_scene("t.yaml", "o", RunOptions(video=False, jobs=-3)), ["jobs"])
+''', {}),
+        ("parse_setting without '=' and with an empty value list", '''
+from armanim import parse_setting
+expect_error("no =", lambda: parse_setting("solver.step"), ["--set"])
+expect_error("empty", lambda: parse_setting("solver.step="), [])
+''', {}),
+        ("rerender_run and write_run_viewer of a folder that is not a run: exit code 2", '''
+from armanim import rerender_run, write_run_viewer
+from armanim.errors import ArmanimError
+os.mkdir("notarun")
+for call in (lambda: rerender_run("notarun"), lambda: write_run_viewer("notarun")):
+    try:
+        call()
+    except ArmanimError as exc:
+        if exc.exit_code != 2:
+            wrong(f"exit_code {exc.exit_code}: {exc}")
+        continue
+    wrong("no error")
+print("ok")
+''', {}),
+        ("retime at fps 0, -1 and NaN", '''
+from armanim import solve_trajectory
+from armanim.motion.timing.retime import retime
+p = problem_of("notes-arm")
+s = solve_trajectory(p)
+for fps in (0.0, -1.0, float("nan")):
+    expect_error(f"fps {fps}", lambda: retime(p, s, fps), ["fps"])
+''', {}),
+        ("export_run of an unknown format: an ArmanimError with exit code 2", '''
+from armanim import RunOptions, export_run, run_scene
+from armanim.errors import ArmanimError
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+run_scene("t.yaml", "o", RunOptions(video=False))
+expect_exit("the call", lambda: export_run("o/tiny", "csv"), 2)
+''', {}),
+    ]
+    # fmt: on
+    return [
+        Attempt(k, label, [str(SCENES)], codes=(0,), python=code, env=env, timeout=600, litter_in=(".",))
+        for label, code, env in snippets
+    ]
+
+
+def warm_says_kept(d: Path) -> list[str]:
+    """Check of ``warm`` with nowhere to keep numba's code: it must not say the cache keeps it."""
+    said = " ".join((d / "said.txt").read_text().split()) if (d / "said.txt").exists() else ""  # wrapped at 80
+    return ["warm said numba's cache keeps the code it could not keep"] if "cache keeps it" in said else []
+
+
+def odd16_attempts() -> list[Attempt]:
+    """A second wave on the same new angles, on the fixed code: reading what cannot be written (a
+    write-protected run folder rendered, exported and viewed elsewhere, a read-only golden folder
+    checked), a batch and a sweep meeting a write-protected run folder, ``warm`` with nowhere to
+    keep its code, and more of the Python API (a sweep's jobs, solve_pose's iterations, an
+    orientation of NaN, an import of an unknown robot)."""
+    k = "odd16"
+    out: list[Attempt] = []
+
+    def protected_run(d: Path) -> None:
+        finished_run(d)
+        (d / "o/tiny").chmod(0o555)
+
+    # fmt: off
+    reads: list[tuple[str, list[str], Callable[[Path], None], tuple[str, ...], tuple[int, ...], str | None]] = [
+        ("render --out r of a write-protected run folder (only read)", ["render", "o/tiny", "--out", "r", "--size", "64x36"], protected_run, ("o/tiny",), (0,), None),
+        ("export --out e.json of a write-protected run folder", ["export", "o/tiny", "--out", "e.json"], protected_run, ("o/tiny",), (0,), None),
+        ("view --out v.html of a write-protected run folder", ["view", "o/tiny", "--out", "v.html"], protected_run, ("o/tiny",), (0,), None),
+        ("check against a read-only golden folder (only read)", ["check", "s.yaml", "--golden", "g", "-q"], then(tiny_scene(), lambda d: armanim_in(d, "check", "s.yaml", "--golden", "g", "--update", "-q"), locked_up("g")), ("g",), (0,), None),
+        ("compare of two read-only CSVs", ["compare", "o/tiny/trajectory.csv", "o/tiny/trajectory.csv"], protected_run, ("o/tiny",), (0,), None),
+        ("a batch of two, one run folder write-protected: the other written, the protected one kept", ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q", "--jobs", "1"], then(tiny_scene("a.yaml", OTHER), protected_run), ("o/tiny",), (3,), r"write-protected"),
+        ("a sweep whose variant folder is write-protected", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"], then(tiny_scene(), lambda d: armanim_in(d, "sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"), locked_up("o/tiny_step-0.1")), ("o/tiny_step-0.1",), (3,), r"write-protected"),
+        ("import moveit --urdf with an unreadable SRDF", ["import", "moveit", "w.scene", "--urdf", "robot.urdf", "--srdf", "r.srdf", "--out", "m.yaml"], then(one_mesh_robot(), mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n"), mine("r.srdf", "<robot name='r'/>\n"), locked_up("r.srdf", mode=0)), ("w.scene",), (2,), r"r\.srdf"),
+    ]
+    # fmt: on
+    for label, args, setup, keep, codes, message in reads:
+        out.append(
+            Attempt(
+                k,
+                label,
+                args,
+                setup,
+                codes,
+                message=message,
+                keep=keep,
+                timeout=400,
+                user=True,
+                litter_in=("o", "r", "."),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "warm with numba's cache on a full disk: no claim that the cache keeps it",
+            ["validate", "s.yaml"],
+            then(
+                tiny_scene(),
+                small_disk("disk", 8, 4096),
+                lambda d: write(
+                    d / "said.txt",
+                    subprocess.run(
+                        [sys.executable, "-m", "armanim", "warm"],
+                        cwd=d,
+                        env={**os.environ, "PYTHONPATH": str(SRC), "NUMBA_CACHE_DIR": str(d / "disk/numba")},
+                        capture_output=True,
+                        text=True,
+                        timeout=1500,
+                    ).stdout,
+                ),
+            ),
+            (0,),
+            timeout=600,
+            after=warm_says_kept,
+        )
+    )
+    # fmt: off
+    snippets: list[tuple[str, str]] = [
+        ("run_sweep(jobs=0)", '''
+from armanim import parse_setting, run_sweep
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+expect_error("jobs", lambda: run_sweep("t.yaml", [parse_setting("solver.step=0.1,0.2")], "o", jobs=0), ["jobs"])
+'''),
+        ("solve_pose with max_iterations 0 and -5: an answer or a clear error", '''
+from armanim import solve_pose
+from armanim.errors import ArmanimError
+p = problem_of("notes-arm")
+for n in (0, -5):
+    try:
+        answer = solve_pose(p, np.array([6.0, 0.0, 10.0]), p.home, max_iterations=n)
+    except (ValueError, ArmanimError) as exc:
+        print("ok refused", n, exc); continue
+    if answer.status == "converged" and np.linalg.norm(forward_tip(p, answer.phi) - [6.0, 0.0, 10.0]) > p.solver.tolerance * 1.01:
+        wrong(f"converged far from the goal at max_iterations={n}")
+    print("ok", n, answer.status)
+'''),
+        ("solve_pose with an orientation whose rotation is NaN: refused or not converged", '''
+from armanim import solve_pose
+from armanim.errors import ArmanimError
+from armanim.motion.orientation import Orientation
+p = problem_of("panda-place")
+try:
+    answer = solve_pose(p, np.array([0.5, 0.1, 0.3]), p.home, orientation=Orientation(rotation=np.full((3, 3), np.nan)))
+except (ValueError, ArmanimError) as exc:
+    print("ok refused", exc); sys.exit(0)
+if answer.status == "converged":
+    wrong("a NaN orientation converged")
+print("ok", answer.status)
+'''),
+        ("Orientation with a zero axis", '''
+from armanim.motion.orientation import Orientation
+expect_error("zero axis", lambda: Orientation(axis=np.zeros(3)), [])
+'''),
+        ("import_moveit with RobotSource(robot='nosuch'): exit code 2", '''
+from armanim import RobotSource, import_moveit
+from armanim.errors import ArmanimError
+open("w.scene", "w").write("w\\n* b\\n1\\nbox\\n0.1 0.1 0.1\\n1 1 1\\n0 0 0 1\\n0 0 0 0\\n.\\n")
+expect_exit("the call", lambda: import_moveit("w.scene", None, RobotSource(robot="nosuch"), "m.yaml"), 2)
+'''),
+        ("write_run_viewer of a write-protected run with out= elsewhere", '''
+from armanim import RunOptions, run_scene, write_run_viewer
+open("t.yaml", "w").write("version: 1\\nname: tiny\\narm: {links: [1, 1, 1]}\\ngoals: [[1, 1, 1]]\\n")
+run_scene("t.yaml", "o", RunOptions(video=False))
+os.chmod("o/tiny", 0o555)
+print("ok", write_run_viewer("o/tiny", out="v.html"))
+os.chmod("o/tiny", 0o755)
+'''),
+    ]
+    # fmt: on
+    for label, code in snippets:
+        code = code.replace("forward_tip(p, answer.phi)", "__import__('armanim').forward(p.arm, answer.phi).tip")
+        out.append(Attempt(k, label, [str(SCENES)], codes=(0,), python=code, timeout=600, litter_in=(".",)))
+    return out
+
+
+def api_snippet_check(text: str) -> None:
+    """Compile every api16 snippet (a script mistake found before the campaign runs)."""
+    compile(PRELUDE + text, "<api16>", "exec")
+
+
 CLASSES = {
     "mesh": mesh_attempts,
     "frames": frames_attempts,
@@ -7967,6 +8971,10 @@ CLASSES = {
     "loss15": loss15_attempts,
     "inputs15": inputs15_attempts,
     "wrong15": wrong15_attempts,
+    "perms16": perms16_attempts,
+    "env16": env16_attempts,
+    "api16": api16_attempts,
+    "odd16": odd16_attempts,
 }
 
 
@@ -7980,8 +8988,23 @@ def main() -> int:
     parser.add_argument(
         "--src", type=Path, default=SRC, help="the armanim source to attack (default: this checkout's src)"
     )
+    parser.add_argument(
+        "--as-user",
+        default=None,
+        help="run the non-root attempts (perms16) as this user, when the campaign runs as root",
+    )
+    parser.add_argument(
+        "--user-python", default=sys.executable, help="the interpreter those attempts run (the user must reach it)"
+    )
     args = parser.parse_args()
     globals()["SRC"] = args.src.resolve()
+    if args.as_user:
+        import pwd
+
+        entry = pwd.getpwnam(args.as_user)
+        globals().update(
+            AS_USER=(entry.pw_uid, entry.pw_gid, entry.pw_dir), AS_USER_NAME=args.as_user, USER_PYTHON=args.user_python
+        )
     attempts = [a for name, make in CLASSES.items() if not args.only or name in args.only for a in make()]
     if args.match:
         attempts = [a for a in attempts if args.match in a.name]
@@ -7991,6 +9014,8 @@ def main() -> int:
         print(f"{len(attempts)} attempts")
         return 0
     root = Path(args.keep or tempfile.mkdtemp(prefix="armanim-campaign-"))
+    root.mkdir(parents=True, exist_ok=True)
+    root.chmod(0o755)  # the attempts run as --as-user reach their folders
     tally: dict[str, dict[str, int]] = {}
     for number, attempt in enumerate(attempts):
         folder = root / f"{number:03d}-{re.sub(r'[^a-z0-9]+', '-', attempt.name.lower())[:60]}"
@@ -8000,6 +9025,8 @@ def main() -> int:
             verdict, problems, seconds, code = run_attempt(attempt, folder, int(args.memory * 1e9))
         except Exception as exc:  # the attempt's own setup failed: reported, never counted right
             verdict, problems, seconds, code = "setup", [f"{type(exc).__name__}: {exc}"[:300]], 0.0, None
+        finally:
+            unmount_under(folder)
         counts = tally.setdefault(attempt.kind, {})
         counts[verdict] = counts.get(verdict, 0) + 1
         print(f"{attempt.kind:<8} {verdict:<9} exit {code!s:>4} {seconds:6.1f} s  {attempt.name}", flush=True)

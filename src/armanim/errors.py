@@ -67,16 +67,20 @@ def printable(text: str) -> str:
 
 
 def message_lines(text: str, limit: int = MESSAGE_LINE) -> str:
-    """A message as printed: each line :func:`printable` and cut after ``limit`` characters.
+    """A message as printed: each line :func:`printable`, one longer than ``limit`` characters cut
+    in its middle, so that its end, where a message says what went wrong and what to do, is kept
+    (campaign 16: a path past PATH_MAX left nothing but the path).
 
-    >>> len(message_lines("x" * 5000)) < 700
-    True
+    >>> len(message_lines("x" * 5000)) < 700, message_lines("a" * 5000 + ": the disk is full", 40)
+    (True, 'aaaaaaaaaaaaaaaaaaaa ... (4,978 characters cut) ... aa: the disk is full')
     """
     lines = []
     for line in text.split("\n"):
         line = printable(line)
         if len(line) > limit:
-            line = line[:limit] + f" ... (cut: the line has {len(line):,} characters)"
+            head = limit // 2
+            cut = f" ... ({len(line) - limit:,} characters cut) ... "
+            line = line[:head] + cut + line[len(line) - (limit - head) :]
         lines.append(line)
     return "\n".join(lines)
 

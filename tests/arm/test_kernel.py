@@ -4,6 +4,7 @@ random general chains and the bundled robots, and against pinocchio on the robot
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -187,3 +188,61 @@ def test_the_public_forward_is_the_compiled_kernel():
     phi = np.random.default_rng(5).uniform(-2, 2, (6, arm.n))
     for q in (phi[0], phi):
         np.testing.assert_allclose(armanim.forward(arm, q).points, forward(arm, q).points, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("shape", [(2,), (8,), (), (3, 2), (0,)])
+def test_compiled_forward_refuses_angles_that_are_not_one_a_joint(shape):
+    """Campaign 16: ``armanim.forward`` of a Panda given 2 angles returned a pose read past the
+    array's end (two calls of the same short pose, two different tips); 8 angles or one number
+    were taken silently. numpy's reference refuses them; so does the compiled one now."""
+    arm = ROBOT_ARMS["panda"]
+    with pytest.raises(ValueError, match=r"arm's 7 joints"):
+        kernel.forward(arm, np.full(shape, 0.3))
+
+
+def test_a_cache_numba_cannot_write_leaves_the_code_unkept_not_the_command_failed(tmp_path):
+    """Campaign 16: with numba's cache on a full disk (``NUMBA_CACHE_DIR`` on a small tmpfs) every
+    command that compiled, ``validate`` included, ended in exit 3, "armanim: output: No space left
+    on device": numba raised the write's OSError. The kernel now runs compiled, unkept, and says so."""
+    import subprocess
+    import sys
+
+    program = (
+        "import errno\n"
+        "import numba.core.caching as caching\n"
+        "def full(self, key, data):\n"
+        "    raise OSError(errno.ENOSPC, 'No space left on device')\n"
+        "caching.IndexDataCacheFile.save = full  # the disk is full\n"
+        "import numpy as np\n"
+        "from armanim.arm import kernel\n"
+        "from armanim.arm.kinematics import Arm\n"
+        "print(kernel.forward(Arm.from_names([2, 5, 5, 5], base=(5, 5, 0)), np.zeros(4)).tip.tolist(), kernel.CODE_KEPT)\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    proc = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=600, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[5.0, 5.0, 17.0] False"
+
+
+def test_numba_told_not_to_compile_still_runs_armanim_s_kernels_compiled_from_python(tmp_path):
+    """Campaign 16: the Python API under ``NUMBA_DISABLE_JIT=1`` (which the command drops, but a
+    program's environment keeps) ran the kernels as plain Python: ``run_scene`` of a plain scene
+    ended in a ZeroDivisionError. armanim's kernels compile anyway, with a warning."""
+    import subprocess
+    import sys
+
+    scene = tmp_path / "s.yaml"
+    scene.write_text("version: 1\nname: s\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1], [0.5, -1, 1]]\n")
+    program = (
+        "import sys\n"
+        "from armanim import load_scene, scene_to_problem, solve_trajectory\n"
+        "solution = solve_trajectory(scene_to_problem(load_scene(sys.argv[1]).model))\n"
+        "print(solution.reached, len(solution.goals))\n"
+    )
+    env = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
+    proc = subprocess.run(
+        [sys.executable, "-c", program, str(scene)], capture_output=True, text=True, timeout=900, env=env
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.split() == ["2", "2"]
+    assert "NUMBA_DISABLE_JIT is ignored" in proc.stderr

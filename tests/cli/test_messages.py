@@ -137,3 +137,35 @@ def test_jobs_0_is_a_one_line_message(cli):
     assert result.exit_code == 2 and result.stderr.strip().splitlines() == [
         "--jobs: expected at least 1 worker process (got 0; leave it out to use every core)"
     ]
+
+
+def test_a_run_whose_compiled_code_numba_cannot_keep_never_says_once_after_installing():
+    """Campaign 16, a user with no writable home running a read-only install: each run compiled
+    for 87 s and said "numba compiled its code for 86.7 s more, once after installing". Where
+    numba keeps nothing the time line says so, and what to do."""
+    from armanim.cli.reports import run_time_line
+    from armanim.runs.stopwatch import Stopwatch
+
+    line = run_time_line(Stopwatch(90.0, 86.7), False, False, kept=False)
+    assert "once after installing" not in line
+    assert "every command compiles it again" in line and "NUMBA_CACHE_DIR" in line
+    assert "once after installing" in run_time_line(Stopwatch(90.0, 86.7), False, False)
+
+
+def test_a_long_line_is_cut_in_its_middle_keeping_what_went_wrong(tmp_path):
+    """Campaign 16: ``run --out`` a path past PATH_MAX (4,266 characters) said only the path and
+    "... (cut: the line has 4,365 characters)": the reason and the remedy, at the end, were cut."""
+    long = "/".join(["p" * 250] * 17)
+    scene = tmp_path / "s.yaml"
+    scene.write_text("version: 1\nname: s\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\n")
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", "run", str(scene), "--out", long, "--no-video", "-q"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=tmp_path,
+    )
+    assert done.returncode == 3, done.stderr
+    line = done.stderr.strip().splitlines()[-1]
+    assert len(line) < 700 and line.startswith("ppp") and "characters cut" in line
+    assert line.endswith("choose another folder with --out)"), line

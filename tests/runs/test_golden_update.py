@@ -144,3 +144,25 @@ def test_a_golden_file_linked_into_a_run_folder_is_refused(cli, tmp_path, name, 
     assert result.exit_code == 2 and "is inside the run folder" in result.stderr, result.output
     assert snapshot(run) == before and (golden / name).is_symlink()
     assert cli("run", scene, "--out", tmp_path / "o", "--no-video", "-q").exit_code == 0
+
+
+@pytest.mark.parametrize("command", ["check", "fk"])
+def test_a_folder_that_cannot_be_written_is_advised_by_the_command_s_own_flag(cli, tmp_path, monkeypatch, command):
+    """Campaign 16, as a user who is not root: ``check --update`` into a read-only golden folder, and
+    ``fk --png`` into a read-only folder, said "(choose another folder with --out)", a flag neither
+    command has. Root writes through modes: the denied rename is simulated."""
+
+    def denied(src, dst):
+        raise PermissionError(errno.EACCES, "Permission denied", str(dst))
+
+    monkeypatch.setattr("armanim.output.atomic.os.replace", denied)
+    scene = tmp_path / "g.yaml"
+    scene.write_text(SMALL + "name: g\n")
+    if command == "check":
+        result = cli("check", scene, "--golden", tmp_path / "golden", "--update", "-q")
+        flag = "choose another folder with --golden"
+    else:
+        result = cli("fk", "--links", "1,1", "--angles", "0,10", "--png", tmp_path / "p.png")
+        flag = "choose another file with --png"
+    assert result.exit_code == 3, result.output
+    assert "permission denied" in result.stderr and flag in result.stderr and "--out" not in result.stderr

@@ -328,6 +328,60 @@ def test_os_replace_permission_denied(cli, monkeypatch, tiny_scene, previous_run
     assert leftovers(out) == []
 
 
+@pytest.mark.parametrize("command", ["run", "render", "export", "view"])
+def test_a_write_protected_run_folder_is_refused_and_left_whole(cli, monkeypatch, tiny_scene, previous_run, command):
+    """Campaign 16, as a user (not root): a run folder made read-only (chmod 555) was replaced
+    anyway, exit 0, and its moved-aside copy ``.tiny.old-PID``, which nobody could remove, was left
+    beside it for ever. Root writes through modes, so the user's view of the folder is simulated."""
+    out, before = previous_run
+
+    def as_its_owner(path, mode, **kwargs):  # what os.access answers a user who is not root
+        return not (mode & os.W_OK) or bool(os.stat(path).st_mode & 0o200)
+
+    monkeypatch.setattr("armanim.output.rundir.os.access", as_its_owner)
+    (out / "tiny").chmod(0o555)
+    args = {
+        "run": ("run", tiny_scene, "--out", out, "--no-video", "--quiet"),
+        "render": ("render", out / "tiny", "--size", "64x36"),
+        "export": ("export", out / "tiny"),
+        "view": ("view", out / "tiny"),
+    }[command]
+    result = cli(*args)
+    (out / "tiny").chmod(0o755)
+    assert result.exit_code == 3, result.output
+    assert "is write-protected" in one_line_error(result) and "chmod -R u+w" in one_line_error(result)
+    assert snapshot(out / "tiny") == before
+    assert leftovers(out) == []
+
+
+@pytest.mark.parametrize("readable", [True, False])
+def test_another_user_s_lock_file_is_used_or_named(cli, monkeypatch, tiny_scene, previous_run, readable):
+    """Campaign 16, as a user who is not root: OUT/.tiny.lock left by another user (root's, 0644,
+    in a shared folder) stopped the run with exit 3, "OUT/tiny: cannot write here: permission
+    denied", naming the run folder the user could write. A lock only read is locked all the same
+    (flock); one that cannot be opened at all is named. Root opens anything: the modes are simulated."""
+    out, before = previous_run
+    lock = out / ".tiny.lock"
+    lock.touch()
+    real_open = os.open
+
+    def as_another_user_s(path, flags, *args, **kwargs):
+        if str(path) == str(lock) and (flags & (os.O_WRONLY | os.O_RDWR) or not readable):
+            raise PermissionError(errno.EACCES, "Permission denied", str(path))
+        return real_open(path, flags, *args, **kwargs)
+
+    monkeypatch.setattr("armanim.output.rundir.os.open", as_another_user_s)
+    result = cli("run", tiny_scene, "--out", out, "--no-video", "--quiet")
+    if readable:
+        assert result.exit_code == 0, result.output
+        assert (out / "tiny" / "summary.json").is_file()
+    else:
+        assert result.exit_code == 3, result.output
+        assert one_line_error(result).startswith(f"{lock}: the lock of {out / 'tiny'} cannot be opened")
+        assert snapshot(out / "tiny") == before
+    assert leftovers(out) == []
+
+
 def test_disk_full(cli, monkeypatch, tiny_scene, previous_run):
     out, before = previous_run
     real_fsync = os.fsync

@@ -9,6 +9,7 @@ import sys
 import textwrap
 
 import numpy as np
+import pytest
 from rich.console import Console
 
 CHECK = textwrap.dedent("""
@@ -114,3 +115,17 @@ def test_armanim_warm_solves_every_warm_scene_and_leaves_the_run_s_kernels_cache
     assert f"armanim warm: {len(warm_scenes()) + 2} solves" in done.stdout.replace("\n", " ")
     assert list(tmp_path.iterdir()) == []
     assert not compiles_first("run")
+
+
+@pytest.mark.parametrize("quiet", [False, True])
+def test_warm_where_numba_keeps_nothing_says_so_and_never_that_the_cache_keeps_it(cli, monkeypatch, quiet):
+    """Campaign 16: ``armanim warm`` with numba's cache on a full disk compiled for 261 s and said
+    "numba's cache keeps it until armanim changes"; nothing was kept, the next run compiled again."""
+    from armanim.arm import kernel
+
+    monkeypatch.setattr("armanim.runs.warm.warm", lambda progress: 25)
+    monkeypatch.setattr(kernel, "CODE_KEPT", False)
+    result = cli("warm", *(["--quiet"] if quiet else []))
+    assert result.exit_code == 0, result.output
+    assert "cache keeps it" not in result.output
+    assert "every command compiles it again" in result.stderr and "NUMBA_CACHE_DIR" in result.stderr

@@ -23,6 +23,7 @@ import math
 import os
 import threading
 import time
+import warnings
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar, cast
 
@@ -46,11 +47,14 @@ def compiled(**options: Any) -> Callable[[F], F]:
     (:func:`stamp_cache`)."""
 
     def compile_(function: F) -> F:  # numba's dispatcher is called as the function is (numba ships no types)
+        _jit_enabled()
         try:
             dispatcher = numba.njit(cache=True, **options)(function)
         except RuntimeError as error:
             if "no locator available" not in str(error):
                 raise
+            global CODE_KEPT
+            CODE_KEPT = False
             return cast(F, numba.njit(cache=False, **options)(function))
         stamp_cache(dispatcher, sources_stamp(COMPILED_MODULES))
         load_lightly(dispatcher)
@@ -58,6 +62,31 @@ def compiled(**options: Any) -> Callable[[F], F]:
         return cast(F, dispatcher)
 
     return compile_
+
+
+CODE_KEPT = True
+"""False once numba could not keep a compiled function's machine code (no writable folder for its
+cache, or a write to it failed: a full disk): this process's compiling is then not "once after
+installing", the next one compiles again."""
+
+
+def _jit_enabled() -> None:
+    """numba's ``DISABLE_JIT`` turned off, with a warning, before armanim's kernels are made.
+
+    ``NUMBA_DISABLE_JIT=1`` makes numba return plain Python functions, which armanim's kernels are
+    not written for: under numba's numpy error model x / 0 is inf or NaN, plain Python raises
+    (campaign 15's command, campaign 16's Python API: ``run_scene`` ended in a ZeroDivisionError).
+    numba reads the setting again as each kernel compiles (its own implementations of numpy's
+    functions are made then), so it stays off from here on in this process; a program's functions
+    decorated before armanim was imported stay uncompiled. The command drops the variable before
+    numba is imported (``armanim.__main__``) and never gets here with it on."""
+    config: Any = numba.core.config  # numba's settings, read from the environment (untyped)
+    if config.DISABLE_JIT:
+        config.DISABLE_JIT = False
+        warnings.warn(
+            "NUMBA_DISABLE_JIT is ignored from here on: armanim's numerical code runs compiled only",
+            stacklevel=3,
+        )
 
 
 class _LoadsLightly(numba.core.caching.FunctionCache):
@@ -70,15 +99,22 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
     refreshes the target itself, as before."""
 
     def save_overload(self, sig: Any, data: Any) -> None:
-        """numba's, with the index (every signature's entry, read, added to and written again) held
-        alone: two processes saving two signatures at once would otherwise keep one of them."""
+        """numba's, with two changes. The index (every signature's entry, read, added to and written
+        again) is written under the kernel's lock: two processes saving two signatures at once would
+        otherwise keep one of them. A write that fails (a full disk; a cache folder made read-only
+        since) only leaves the machine code unkept: numba raised it, and every command that compiled
+        ended in exit 3 (campaign 16: ``validate`` with ``NUMBA_CACHE_DIR`` on a full disk)."""
         save: Any = super().save_overload  # numba's own, untyped
         index = getattr(getattr(self, "_cache_file", None), "_index_path", None)
-        if not isinstance(index, str):
-            save(sig, data)
-            return
-        with held_alone(os.path.splitext(index)[0] + ".lock"):
-            save(sig, data)
+        try:
+            if not isinstance(index, str):
+                save(sig, data)
+                return
+            with held_alone(os.path.splitext(index)[0] + ".lock"):
+                save(sig, data)
+        except OSError:
+            global CODE_KEPT
+            CODE_KEPT = False
 
     def load_overload(self, sig: Any, target_context: Any) -> Any:
         from numba.core.runtime.nrt import rtsys
@@ -490,10 +526,20 @@ def forward(arm: Arm, phi: np.ndarray) -> Pose:
 
 
 def forward_with_tool(arm: Arm, phi: np.ndarray) -> tuple[Pose, np.ndarray]:
-    """:func:`forward` and the tool frame's world rotation (..., 3, 3) (:func:`armanim.arm.kinematics.tool_rotation`)."""
+    """:func:`forward` and the tool frame's world rotation (..., 3, 3) (:func:`armanim.arm.kinematics.tool_rotation`).
+
+    Raises
+    ------
+    ValueError
+        ``phi``'s last axis is not one angle a joint (campaign 16: a short pose was read past its end).
+    """
     rows, root = packed_chain(arm)
     phi = np.ascontiguousarray(phi, dtype=float)
     n = rows.shape[0]
+    if phi.ndim == 0 or phi.shape[-1] != n:  # the kernels index n angles unchecked: past a short array's end
+        raise ValueError(
+            f"expected the angles of the arm's {n} joints, a pose ({n},) or a batch (..., {n}); got shape {phi.shape}"
+        )
     if phi.ndim == 1:
         points, frames, axes, tool = np.empty((n + 1, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((3, 3))
         _forward_one(rows, root, phi, points, frames, axes, tool)

@@ -163,10 +163,10 @@ def tell_first_compile(command: Literal["run", "ik"], problem: object = None) ->
     ``problem``: ik's, which says whether its compiled attempt runs)."""
     if not err.is_terminal:
         return
-    from armanim.runs.warmth import FIRST_COMPILE, compiles_first
+    from armanim.runs.warmth import compiles_first, first_compile_notice
 
     if compiles_first(command, problem):
-        say(FIRST_COMPILE, err)
+        say(first_compile_notice(), err)
         count_compiles(err)
 
 

@@ -181,15 +181,6 @@ def render_overrides(
 
 def _checked_render_model(data: dict):
     """``data`` validated by the scene's RenderModel; its first problem names the flag."""
-    from pydantic import ValidationError
+    from armanim.runs.options import checked_render
 
-    from armanim.scene.loader import problem_message
-    from armanim.scene.models import RenderModel
-
-    try:
-        return RenderModel.model_validate(data)
-    except ValidationError as exc:
-        first = exc.errors()[0]
-        loc = tuple(part for part in first["loc"] if isinstance(part, str))
-        flag = _FLAGS.get(loc, f"--{loc[0]}")
-        raise UsageError(f"{flag}: {problem_message(first, tuple(first['loc']))}") from None
+    return checked_render(data, _FLAGS)

@@ -90,6 +90,8 @@ def fk(
     for note in answer.notes:
         say(f"note: {note}", err)
     if png is not None:
+        from armanim.errors import OutputError
+        from armanim.output.atomic import advised
         from armanim.output.marks import write_marked
         from armanim.render.paint.pixels import png_bytes
         from armanim.render.pictures.pose import draw_pose
@@ -108,7 +110,10 @@ def fk(
         for note in notes:  # a mesh not found: its link is drawn as its capsules, as in a run
             say(f"note: {note}", err)
         drawn = draw_pose(replace(converted.problem, goals=()), answer.phi, settings, title="armanim fk", meshes=meshes)
-        write_marked(png, png_bytes(drawn), "fk --png")
+        try:
+            write_marked(png, png_bytes(drawn), "fk --png")
+        except OutputError as exc:
+            raise advised(exc, "choose another file with --png") from None
         if not as_json:
             say(f"wrote {png}")
 

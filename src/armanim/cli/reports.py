@@ -42,20 +42,30 @@ def print_goal_table(result) -> None:
     out.print(table)
     say("outputs: " + ", ".join(str(p) for p in result.files.values()))
     if getattr(result, "timing", None) is not None:
-        say(run_time_line(result.timing, result.scene.model.arm.is_urdf, "video" in result.files))
+        from armanim.runs.warmth import machine_code_kept
+
+        say(
+            run_time_line(
+                result.timing, result.scene.model.arm.is_urdf, "video" in result.files, kept=machine_code_kept()
+            )
+        )
 
 
-def run_time_line(timing, urdf: bool, video: bool) -> str:
+def run_time_line(timing, urdf: bool, video: bool, kept: bool = True) -> str:
     """How long the run took from its scene file (and its URDF) to its outputs, numba's compiling
-    apart (:mod:`armanim.runs.stopwatch`).
+    apart (:mod:`armanim.runs.stopwatch`); ``kept``: whether numba kept what it compiled (else the
+    next run compiles again, and the line says why).
 
     >>> from armanim.runs.stopwatch import Stopwatch
     >>> run_time_line(Stopwatch(41.5, 30.25), True, True)
     'time: 11.2 s from the scene and its URDF to the video (numba compiled its code for 30.2 s more, once after installing)'
     """
+    from armanim.runs.warmth import NOT_KEPT
+
     line = f"time: {timing.without_compiling:.1f} s from the scene{' and its URDF' if urdf else ''} to the {'video' if video else 'outputs'}"
     if timing.compiling >= 0.05:
-        line += f" (numba compiled its code for {timing.compiling:.1f} s more, once after installing)"
+        when = "once after installing" if kept else NOT_KEPT
+        line += f" (numba compiled its code for {timing.compiling:.1f} s more, {when})"
     return line
 
 

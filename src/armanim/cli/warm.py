@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from armanim.cli.app import app, handle_errors, out
+from armanim.cli.app import app, err, handle_errors, out, say
 from armanim.cli.options import QuietOpt
 
 
@@ -16,10 +16,13 @@ def warm(quiet: QuietOpt = False) -> None:
     from armanim.cli.progress import bars
     from armanim.runs.stopwatch import stopwatch
     from armanim.runs.warm import warm as warm_kernels
+    from armanim.runs.warmth import NOT_KEPT, machine_code_kept
 
     with stopwatch() as watch, bars(quiet) as progress:
         solves = warm_kernels(lambda label, done, total: progress("warm", done, total, (label,)))
-    if not quiet:
+    if not machine_code_kept():  # said even with --quiet: the warm did not do what it is for
+        say(f"armanim warm: {NOT_KEPT}", err)
+    elif not quiet:
         what = f"numba compiled for {watch.compiling:.1f} s" if watch.compiling else "all of it was compiled already"
         out.print(
             f"armanim warm: {solves} solves in {watch.seconds:.1f} s ({what}; numba's cache keeps it until armanim changes)"

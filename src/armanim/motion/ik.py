@@ -167,9 +167,18 @@ def solve_pose(
     -------
     PoseSolution
         The pose of the attempt that came closest, and how the solve ended.
+
+    Raises
+    ------
+    ValueError
+        ``goal`` is not 3 numbers, or ``start`` not one angle a joint.
     """
     goal = np.asarray(goal, dtype=float)
     start = np.asarray(start, dtype=float)
+    if goal.shape != (3,):  # (campaign 16: numpy's "operands could not be broadcast" from deep inside)
+        raise ValueError(f"goal: expected a point, 3 numbers (x, y, z); got shape {goal.shape}")
+    if start.shape != problem.home.shape:
+        raise ValueError(f"start: expected the angles of the arm's {len(problem.home)} joints; got shape {start.shape}")
     solving = solving_problem(problem)
     method = solver_method(problem.solver.method)
     tolerance = problem.solver.tolerance

@@ -27,15 +27,30 @@ def current_umask() -> int:
     return mask
 
 
+OUT_ADVICE = "choose another folder with --out"
+"""How an output error ends where the output is the command's ``--out`` (:func:`advised` names another flag)."""
+
+
 def output_error(path: Path, exc: OSError) -> OutputError:
     """A clear OutputError for an OSError met while writing ``path``."""
     if exc.errno == errno.ENOSPC:
         return OutputError(f"{path}: the disk is full (free some space and run again)")
     if exc.errno in (errno.EEXIST, errno.ENOTDIR):
-        return OutputError(f"{path}: a file stands where a folder is needed (choose another folder with --out)")
+        return OutputError(f"{path}: a file stands where a folder is needed ({OUT_ADVICE})")
     if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
-        return OutputError(f"{path}: cannot write here: permission denied (choose another folder with --out)")
+        return OutputError(f"{path}: cannot write here: permission denied ({OUT_ADVICE})")
     return OutputError(f"{path}: cannot write: {exc.strerror or exc}")
+
+
+def advised(exc: OutputError, advice: str) -> OutputError:
+    """``exc`` advising ``advice`` where it advises another ``--out``: for a command whose output
+    another flag names (campaign 16: ``check --update`` and ``fk --png`` into a read-only folder
+    said to choose another folder with --out, a flag neither has).
+
+    >>> str(advised(OutputError(f"g/a.csv: cannot write here: permission denied ({OUT_ADVICE})"), "choose another folder with --golden"))
+    'g/a.csv: cannot write here: permission denied (choose another folder with --golden)'
+    """
+    return type(exc)(str(exc).replace(OUT_ADVICE, advice))
 
 
 def write_target(path: Path) -> Path:

@@ -29,7 +29,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from armanim import __version__
-from armanim.errors import InterruptedAfterCommit, OutputError
+from armanim.errors import InterruptedAfterCommit, OutputError, shown_path
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
 from armanim.output.cachedir import CACHE_ENV, cache_inside
 from armanim.output.files import special_kind
@@ -46,10 +46,13 @@ def folder_lock(folder: Path) -> Iterator[None]:
     lock = folder.parent / f".{folder.name}.lock"
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
-        # never through a link: a dangling one would make armanim create a file where it points;
-        # never waiting: a FIFO there would block the open until a reader came (campaign 9)
-        fd = os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o666)
+        fd = _open_lock(lock)
     except OSError as exc:
+        if exc.errno == errno.EACCES and os.path.lexists(lock):
+            raise OutputError(
+                f"{lock}: the lock of {folder} cannot be opened: permission denied (another user's, or made "
+                f"unreadable; remove it if no armanim is writing {folder})"
+            ) from None
         if exc.errno == errno.ELOOP:
             raise OutputError(
                 f"{lock}: is a link, which armanim did not make and does not follow (remove it)"
@@ -61,12 +64,26 @@ def folder_lock(folder: Path) -> Iterator[None]:
     if kind is not None:  # a FIFO someone reads, a device
         os.close(fd)
         raise _not_a_lock(lock, kind)
-    handle = os.fdopen(fd, "a")
     try:
-        with _exclusively(handle.fileno()):
+        with _exclusively(fd):
             yield
     finally:
-        handle.close()
+        os.close(fd)
+
+
+def _open_lock(lock: Path) -> int:
+    """The lock file ``lock`` opened (made if missing), for writing, or for reading where another
+    user's lock may not be written (a shared folder: campaign 16's run stopped with "cannot write
+    here" naming the run folder); ``flock`` locks either way."""
+    # never through a link: a dangling one would make armanim create a file where it points;
+    # never waiting: a FIFO there would block the open until a reader came (campaign 9)
+    flags = os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC
+    try:
+        return os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_APPEND | flags, 0o666)
+    except PermissionError:
+        if not os.path.lexists(lock):
+            raise
+        return os.open(lock, os.O_RDONLY | flags)
 
 
 def _not_a_lock(lock: Path, kind: str) -> OutputError:
@@ -243,6 +260,21 @@ def replace_problem(final: Path) -> str | None:
     changed = [name for name in entries if name != MARKER and _changed(final, name, listed[name])]
     if changed:
         return f"holds files changed since armanim wrote them ({_shown(changed)}: now another file, a folder or a link), so it is not replaced"
+    protected = _write_protected(final)
+    if protected is not None:
+        return f"is write-protected ({protected} is read-only), so it is not replaced: make it writable (chmod -R u+w {final})"
+    return None
+
+
+def _write_protected(folder: Path) -> str | None:
+    """The first folder in ``folder`` (itself included) whose files this process may not remove
+    (not writable to it: a user's ``chmod a-w``; root may always), or None.
+
+    A run folder is replaced by moving it aside and removing it: a write-protected one would be
+    replaced anyway and its moved-aside copy left behind for ever (campaign 16)."""
+    for where, _, _ in os.walk(folder):
+        if not os.access(where, os.W_OK | os.X_OK):
+            return "the folder" if where == str(folder) else shown_path(os.path.relpath(where, folder))
     return None
 
 

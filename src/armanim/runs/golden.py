@@ -13,7 +13,7 @@ from pathlib import Path
 
 from armanim import __version__
 from armanim.errors import OutputError, SceneError
-from armanim.output.atomic import write_all_or_none, write_target
+from armanim.output.atomic import advised, write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import BASE_COLUMNS, parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
 from armanim.output.files import open_regular, read_bounded
@@ -108,7 +108,14 @@ def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
     at once take turns (a lock on the folder), so a pair never mixes two updates.
     """
     scene = load_scene(scene_path)
-    csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
+    try:
+        return _update_golden(scene, Path(golden_dir))
+    except OutputError as exc:
+        raise advised(exc, "choose another folder with --golden") from None
+
+
+def _update_golden(scene: LoadedScene, golden_dir: Path) -> GoldenResult:
+    csv_path, meta_path = golden_paths(golden_dir, scene.name)
     for path in (csv_path, meta_path):  # a folder or device at either: exit 3 before the solve
         write_target(path)
         # a link at either into a run folder (its summary.json begins as a golden .json does) is

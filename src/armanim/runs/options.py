@@ -8,8 +8,10 @@ workers to :func:`armanim.runs.pipeline.produce_outputs`, which resolves it agai
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from armanim.errors import UsageError
 from armanim.render.settings import OutputOptions, RenderOverrides
 from armanim.scene import LoadedScene, render_settings
 
@@ -41,10 +43,60 @@ class RunOptions:
     jobs: int | None = None
     render: RenderOverrides = field(default_factory=RenderOverrides)
 
+    def __post_init__(self) -> None:
+        """Refuse what no run can use, as the command's flags are refused (campaign 16: from Python,
+        ``RenderOverrides(size=(0, 0))`` ended in a ZeroDivisionError, ``fps=nan`` in "cannot convert
+        float NaN to integer", and ``jobs=0`` or ``-3`` were taken)."""
+        if self.jobs is not None and self.jobs < 1:
+            raise UsageError(f"jobs: expected at least 1 worker process (got {self.jobs}; None uses every core)")
+        checked_render(overrides_data(self.render), API_NAMES)
+
     @property
     def writes_viewer(self) -> bool:
         """Whether viewer.html is written: ``viewer``, else with the video."""
         return self.video if self.viewer is None else self.viewer
+
+
+API_NAMES = {
+    ("fps",): "RenderOverrides.fps",
+    ("size",): "RenderOverrides.size",
+    ("format",): "RenderOverrides.format",
+    ("view", "elevation"): "RenderOverrides.elevation",
+    ("view", "azimuth"): "RenderOverrides.azimuth",
+}
+"""The names :func:`checked_render` gives the overrides' fields in a message from Python (the
+command gives its flags' names)."""
+
+
+def overrides_data(overrides: RenderOverrides) -> dict:
+    """``overrides``' given fields as a scene's ``render`` section holds them (its ``view`` apart)."""
+    given = overrides.given()
+    data = {k: list(v) if k == "size" else v for k, v in given.items() if k in ("size", "fps", "format")}
+    view = {k: given[k] for k in ("elevation", "azimuth") if k in given}
+    return data | ({"view": view} if view else {})
+
+
+def checked_render(data: dict, names: Mapping[tuple[str, ...], str]):
+    """``data`` (render settings, as a scene's ``render`` section) validated by the scene's own
+    model, the one check of a command's flags and of a program's :class:`RenderOverrides`.
+
+    Raises
+    ------
+    UsageError
+        Its first problem, named by ``names`` (a flag, or a field of RenderOverrides) (exit 2).
+    """
+    from pydantic import ValidationError
+
+    from armanim.scene.loader import problem_message
+    from armanim.scene.models import RenderModel
+
+    try:
+        return RenderModel.model_validate(data)
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        loc = tuple(part for part in first["loc"] if isinstance(part, str))
+        name = names.get(loc, f"--{loc[0]}")
+        raise UsageError(f"{name}: {problem_message(first, tuple(first['loc']))}") from None
 
 
 def output_choice(scene: LoadedScene, options: RunOptions) -> tuple[float, OutputOptions]:

@@ -32,7 +32,15 @@ def compiles_first(command: Literal["run", "ik"], problem: object = None) -> boo
             from armanim.motion.kernels.attempt import attempt_loop
 
             functions.append(attempt_loop)
-    return not kernel.machine_code_cached(*functions)
+    return not kernel.CODE_KEPT or not kernel.machine_code_cached(*functions)
+
+
+def machine_code_kept() -> bool:
+    """Whether numba keeps what this process compiles (False: no writable folder for its cache, or
+    a write to it failed, and the next command compiles again): :data:`armanim.arm.kernel.CODE_KEPT`."""
+    from armanim.arm import kernel
+
+    return kernel.CODE_KEPT
 
 
 FIRST_COMPILE = (
@@ -40,3 +48,16 @@ FIRST_COMPILE = (
     "counted below; armanim warm does it ahead)"
 )
 """What a command says at a terminal before a solve that compiles first."""
+NOT_KEPT = (
+    "numba finds no folder it can keep its compiled code in, so every command compiles it again: "
+    "set NUMBA_CACHE_DIR to a writable folder with room"
+)
+"""Why a command compiles again each time (campaign 16: a read-only install, no writable home, a full disk)."""
+
+
+def first_compile_notice() -> str:
+    """What a command says at a terminal before a solve that compiles first: once after installing,
+    or every time where numba keeps nothing (:data:`NOT_KEPT`)."""
+    if machine_code_kept():
+        return FIRST_COMPILE
+    return f"armanim: compiling its numerical code for this machine (a kernel at a time, counted below): {NOT_KEPT}"

@@ -65,7 +65,15 @@ def at_fps(problem: Problem, fps: float) -> Problem:
     >>> q = at_fps(p, 2 * p.fps)
     >>> bool(np.isclose(q.solver.max_joint_step, p.solver.max_joint_step / 2)), q.solver.max_frames_per_goal
     (True, 1200)
+
+    Raises
+    ------
+    ValueError
+        ``fps`` is not a positive finite number (campaign 16: ``retime`` at 0 fps from Python
+        ended in a ZeroDivisionError).
     """
+    if not (math.isfinite(fps) and fps > 0):
+        raise ValueError(f"fps: expected a positive, finite number of frames per second (got {fps!r})")
     if fps == problem.fps:
         return problem
     ratio = fps / problem.fps
@@ -104,6 +112,8 @@ def retime(problem: Problem, solution: Solution, fps: float, most_frames: float 
     ------
     ClockTooLong
         The motion would take more than ``most_frames`` frames.
+    ValueError
+        ``fps`` is not a positive finite number (:func:`at_fps`).
     """
     src, out = solution.trajectory, at_fps(problem, fps)
     rates = problem.rates
