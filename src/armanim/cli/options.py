@@ -129,12 +129,17 @@ def parse_size(text: str) -> list[int]:
         raise UsageError(f"--size: expected WIDTHxHEIGHT, e.g. 640x360 (got {text!r})") from None
 
 
+def usable_cores() -> int:
+    """The cores this process may use (its CPU affinity where the system has one)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
 def usable_jobs(jobs: int | None) -> int | None:
     """``--jobs``, at most the cores this process may use (more only add processes and
     memory); a note on stderr says so when it is lowered."""
     if jobs is not None and jobs < 1:  # checked here, not by click: one line, as every usage error
         raise UsageError(f"--jobs: expected at least 1 worker process (got {jobs}; leave it out to use every core)")
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    cores = usable_cores()
     if jobs is not None and jobs > cores:
         say(f"note: --jobs {jobs} is more than the {cores} cores here; using {cores}", err)
         return cores

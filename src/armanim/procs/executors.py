@@ -302,6 +302,12 @@ def _no_answer(address: str, seconds: float) -> UsageError:
     )
 
 
+def local_executor(jobs: int, preload: Sequence[str] = ()) -> _LocalExecutor:
+    """The local pool of ``jobs`` worker processes (this process where ``jobs`` is 1), whatever
+    scheduler the environment names: work that must run on this machine (``armanim warm``)."""
+    return _LocalExecutor(jobs, preload)
+
+
 def executor_for(jobs: int, scheduler: str | None, preload: Sequence[str] = ()):
     """The local pool (its forkserver importing ``preload``, the workers' heavy modules, once),
     or Dask when a scheduler is named (argument or ARMANIM_SCHEDULER)."""

@@ -12,6 +12,7 @@ video. :func:`warm` solves small scenes that call every one of them and draws a 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 SHAPES = [
@@ -309,38 +310,89 @@ def draw_in_memory() -> None:
     yuv420(frame)
 
 
-def warm(progress: Callable[[str, int, int], None] | None = None) -> int:
-    """Solve every :func:`warm_scenes` scene and put it on the clock, and solve one pose of the
-    Panda by each compiled method (the IK attempt), and draw a tiny frame (:func:`draw_in_memory`: the
-    rasteriser's loops, which a first video would compile), in memory; ``progress(label, done, total)``
-    before each. Returns how many solves ran."""
+@dataclass(frozen=True)
+class WarmTask:
+    """One piece of :func:`warm`'s work: the solve of the ``index``-th :func:`warm_scenes` scene, then
+    the Panda's IK by ``pinv`` and by ``dls``, then the rasteriser's frame; ``name`` says which."""
+
+    name: str
+    index: int
+
+
+@dataclass(frozen=True)
+class Warmed:
+    """What :func:`warm` did: its solves, numba's compiling in seconds (summed over the processes,
+    each outermost compile once), and whether numba kept every process's machine code."""
+
+    solves: int
+    compiling: float
+    kept: bool
+
+
+def warm_tasks() -> list[WarmTask]:
+    """Every :class:`WarmTask`, in the order they are handed out: the Panda's IK and the rasteriser
+    (kernels of their own) between the first scenes, so that a second worker compiles them while the
+    first compiles the scenes' kernels instead of waiting for them.
+
+    >>> [task.name for task in warm_tasks()][:4]
+    ['arm of links among spheres, pinv', 'Panda IK, pinv', 'arm of links among every shape, pinv', 'the rasteriser, a frame in memory']
+    >>> sorted(task.index for task in warm_tasks()) == list(range(len(warm_scenes()) + 3))
+    True
+    """
+    names = [label for label, _ in warm_scenes()] + ["Panda IK, pinv", "Panda IK, dls", RASTERISER]
+    tasks = [WarmTask(name, index) for index, name in enumerate(names)]
+    scenes, own = tasks[:-3], [tasks[-3], tasks[-1], tasks[-2]]  # IK pinv, the rasteriser, IK dls
+    return [scenes[0], own[0], scenes[1], own[1], scenes[2], own[2], *scenes[3:]]
+
+
+RASTERISER = "the rasteriser, a frame in memory"
+
+
+def warm_one(task: WarmTask) -> tuple[float, bool]:
+    """Do ``task`` in memory: a warm scene solved and put on the clock, a Panda pose solved by one
+    compiled method (the IK attempt), or the tiny frame (:func:`draw_in_memory`). Returns numba's
+    compiling in it (seconds) and whether numba kept the machine code (a worker's answer for the
+    process that asked)."""
     import numpy as np
 
+    from armanim.arm import kernel
     from armanim.motion.ik import solve_pose
     from armanim.motion.timing.retime import retime
     from armanim.motion.trajectory import solve_trajectory
+    from armanim.runs.stopwatch import stopwatch
     from armanim.scene import scene_model, scene_to_problem
 
     scenes = warm_scenes()
-    solves = len(scenes) + 2
-    total = solves + 1  # and the rasteriser's frame
-    for done, (label, scene) in enumerate(scenes):
-        if progress:
-            progress(label, done, total)
-        problem = scene_to_problem(scene_model(scene))
-        retime(problem, solve_trajectory(problem), problem.fps)
-    for k, method in enumerate(("pinv", "dls")):
-        if progress:
-            progress(f"Panda IK, {method}", len(scenes) + k, total)
-        problem = scene_to_problem(
-            scene_model(
-                {"version": 1, "arm": {"robot": "panda"}, "goals": [[0.5, 0, 0.5]], "solver": {"method": method}}
-            )
-        )
-        solve_pose(problem, np.array([0.45, 0.1, 0.5]), problem.home)
+    with stopwatch() as watch:
+        if task.index < len(scenes):
+            problem = scene_to_problem(scene_model(scenes[task.index][1]))
+            retime(problem, solve_trajectory(problem), problem.fps)
+        elif task.name == RASTERISER:
+            draw_in_memory()
+        else:
+            method = ("pinv", "dls")[task.index - len(scenes)]
+            panda = {"version": 1, "arm": {"robot": "panda"}, "goals": [[0.5, 0, 0.5]], "solver": {"method": method}}
+            problem = scene_to_problem(scene_model(panda))
+            solve_pose(problem, np.array([0.45, 0.1, 0.5]), problem.home)
+    return watch.compiling, kernel.CODE_KEPT
+
+
+def warm(progress: Callable[[str, int, int], None] | None = None, jobs: int = 1) -> Warmed:
+    """Do every :func:`warm_tasks` task (:func:`warm_one`), in this process (``jobs`` 1) or in
+    ``jobs`` worker processes that share numba's cache (each kernel is compiled by one of them, the
+    others load it: :func:`armanim.arm.kernel.held_alone`); ``progress(name, done, total)`` as each
+    task ends, and once before the first."""
+    from armanim.procs.executors import local_executor
+
+    tasks = warm_tasks()
+    total = len(tasks)
     if progress:
-        progress("the rasteriser, a frame in memory", solves, total)
-    draw_in_memory()
-    if progress:
-        progress("done", total, total)
-    return solves
+        progress("started", 0, total)
+    compiling, kept = 0.0, True
+    for done, (task, answer, error) in enumerate(local_executor(jobs).map(warm_one, tasks), start=1):
+        if error is not None:
+            raise error
+        compiling, kept = compiling + answer[0], kept and answer[1]
+        if progress:
+            progress(task.name, done, total)
+    return Warmed(solves=total - 1, compiling=compiling, kept=kept)
