@@ -121,10 +121,10 @@ def test_armanim_warm_solves_every_warm_scene_and_leaves_the_run_s_kernels_cache
 def test_warm_where_numba_keeps_nothing_says_so_and_never_that_the_cache_keeps_it(cli, monkeypatch, quiet):
     """Campaign 16: ``armanim warm`` with numba's cache on a full disk compiled for 261 s and said
     "numba's cache keeps it until armanim changes"; nothing was kept, the next run compiled again."""
-    from armanim.arm import kernel
+    from armanim.runs.warm import Warmed
 
-    monkeypatch.setattr("armanim.runs.warm.warm", lambda progress: 25)
-    monkeypatch.setattr(kernel, "CODE_KEPT", False)
+    # what the workers answered: numba kept none of their machine code
+    monkeypatch.setattr("armanim.runs.warm.warm", lambda progress, jobs: Warmed(solves=25, compiling=261.0, kept=False))
     result = cli("warm", *(["--quiet"] if quiet else []))
     assert result.exit_code == 0, result.output
     assert "cache keeps it" not in result.output

@@ -191,7 +191,8 @@ class _CompilesOnce(numba.core.registry.CPUDispatcher):
     each, and compile different signatures side by side."""
 
     def compile(self, sig: Any) -> Any:
-        args, _ = numba.core.sigutils.normalize_signature(sig)
+        normalized: Any = numba.core.sigutils.normalize_signature  # numba's own, untyped
+        args, _ = normalized(sig)
         lock_path = compile_lock_path(self, tuple(args))
         if lock_path is None or tuple(args) in self.overloads:
             return super().compile(sig)
