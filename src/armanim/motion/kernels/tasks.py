@@ -693,9 +693,7 @@ def frame_proposal(
     if by_pairs < 0:
         return False
     pushed = pushed or obstacles > 0 or by_pairs > 0
-    ended = frame_null_space(
-        floats, method, rotation, jac, jac_inv, jac_r, rot_step, kind != 0, pushed, secondary, dphi
-    )
+    ended = frame_null_space(floats, method, rotation, jac, jac_inv, jac_r, rot_step, pushed, secondary, dphi)
     return ended != NUMERICAL  # HANDED_BACK: only rounding left of the rotation, the tip's step taken
 
 
@@ -708,18 +706,19 @@ def frame_null_space(
     jac_inv: np.ndarray,
     jac_r: np.ndarray,
     rot_step: np.ndarray,
-    second: bool,
     pushed: bool,
     push: np.ndarray,
     dphi: np.ndarray,
 ) -> int:
-    """The frame's last stage (:func:`pushed_in_null_space`). ``rotation`` None: a scene without
-    an orientation anywhere (``second`` never true), whose machine code then leaves the rotation
-    task out (numba prunes a branch on an argument's None: some 6 % of notes-arm's first compile)."""
+    """The frame's last stage (:func:`pushed_in_null_space`): the rotation second where the goal has
+    one (``rot_step`` has rows: :func:`goal_rotation_task`). ``rotation`` None: a scene without an
+    orientation anywhere, whose machine code then leaves the rotation task out (numba prunes a
+    branch on an argument's None: some 6 % of notes-arm's first compile)."""
     if rotation is None:
         if pushed:
             null_push(jac, jac_inv, push, dphi)
         return DONE
+    second = rot_step.shape[0] > 0
     return pushed_in_null_space(floats, method, jac, jac_inv, jac_r, rot_step, second, pushed, push, dphi)
 
 
