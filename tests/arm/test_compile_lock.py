@@ -170,6 +170,13 @@ def test_a_lock_that_cannot_be_made_compiles_as_before(tmp_path):
         pass
 
 
+def test_a_link_at_the_lock_is_not_followed(tmp_path):
+    (tmp_path / "k.lock").symlink_to(tmp_path / "elsewhere")
+    with kernel.held_alone(str(tmp_path / "k.lock")):
+        pass
+    assert not (tmp_path / "elsewhere").exists()
+
+
 def test_every_cached_kernel_compiles_under_the_lock():
     from armanim.world import compiled
 

@@ -161,7 +161,8 @@ def held_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]
     try:
         import fcntl
 
-        fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+        # never through a link (a file made where it points), never waiting on a FIFO planted there
+        fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW | os.O_NONBLOCK, 0o644)
     except (ImportError, OSError):
         fd = None
     try:
