@@ -110,7 +110,7 @@ class _LoadsLightly(numba.core.caching.FunctionCache):
             if not isinstance(index, str):
                 save(sig, data)
                 return
-            with held_alone(os.path.splitext(index)[0] + ".lock"):
+            with held_alone(lock_beside(index)):
                 save(sig, data)
         except OSError:
             global CODE_KEPT
@@ -209,13 +209,24 @@ def index_path(dispatcher: Any) -> str | None:
 
 
 def compile_lock_path(dispatcher: Any, args: tuple[Any, ...]) -> str | None:
-    """The lock file of ``dispatcher``'s compile for the argument types ``args``: beside its cache
-    index, named by the index and the types' hash; None where numba keeps no cache for it."""
+    """The lock file of ``dispatcher``'s compile for the argument types ``args``
+    (:func:`lock_beside` its cache index); None where numba keeps no cache for it."""
     index = index_path(dispatcher)
-    if index is None:
-        return None
+    return None if index is None else lock_beside(index, args)
+
+
+def lock_beside(index: str, args: tuple[Any, ...] | None = None) -> str:
+    """The lock file beside numba's cache index ``index`` (a path ending ``.nbi``): the index's own
+    (its writes), or one signature's compile (``args``, its argument types, named by their hash).
+
+    >>> lock_beside("c/f-1.py311.nbi"), lock_beside("c/f-1.py311.nbi", ("none",))[:-22]
+    ('c/f-1.py311.lock', 'c/f-1.py311')
+    """
+    base = os.path.splitext(index)[0]
+    if args is None:
+        return f"{base}.lock"
     digest = hashlib.sha1(repr(tuple(str(a) for a in args)).encode()).hexdigest()[:16]
-    return f"{os.path.splitext(index)[0]}-{digest}.lock"
+    return f"{base}-{digest}.lock"
 
 
 def compile_once_among_processes(dispatcher: Any) -> None:

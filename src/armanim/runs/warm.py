@@ -312,11 +312,12 @@ def draw_in_memory() -> None:
 
 @dataclass(frozen=True)
 class WarmTask:
-    """One piece of :func:`warm`'s work: the solve of the ``index``-th :func:`warm_scenes` scene, then
-    the Panda's IK by ``pinv`` and by ``dls``, then the rasteriser's frame; ``name`` says which."""
+    """One piece of :func:`warm`'s work, ``name`` saying which: the solve of the ``scene``-th
+    :func:`warm_scenes` scene, the Panda's IK by ``method``, or (neither) the rasteriser's frame."""
 
     name: str
-    index: int
+    scene: int | None = None
+    method: str | None = None
 
 
 @dataclass(frozen=True)
@@ -336,12 +337,12 @@ def warm_tasks() -> list[WarmTask]:
 
     >>> [task.name for task in warm_tasks()][:4]
     ['arm of links among spheres, pinv', 'Panda IK, pinv', 'arm of links among every shape, pinv', 'the rasteriser, a frame in memory']
-    >>> sorted(task.index for task in warm_tasks()) == list(range(len(warm_scenes()) + 3))
-    True
+    >>> tasks = warm_tasks()
+    >>> sorted(t.scene for t in tasks if t.scene is not None) == list(range(len(warm_scenes()))), len(tasks) - len(warm_scenes())
+    (True, 3)
     """
-    names = [label for label, _ in warm_scenes()] + ["Panda IK, pinv", "Panda IK, dls", RASTERISER]
-    tasks = [WarmTask(name, index) for index, name in enumerate(names)]
-    scenes, own = tasks[:-3], [tasks[-3], tasks[-1], tasks[-2]]  # IK pinv, the rasteriser, IK dls
+    scenes = [WarmTask(label, scene=index) for index, (label, _) in enumerate(warm_scenes())]
+    own = [WarmTask("Panda IK, pinv", method="pinv"), WarmTask(RASTERISER), WarmTask("Panda IK, dls", method="dls")]
     return [scenes[0], own[0], scenes[1], own[1], scenes[2], own[2], *scenes[3:]]
 
 
@@ -362,18 +363,21 @@ def warm_one(task: WarmTask) -> tuple[float, bool]:
     from armanim.runs.stopwatch import stopwatch
     from armanim.scene import scene_model, scene_to_problem
 
-    scenes = warm_scenes()
     with stopwatch() as watch:
-        if task.index < len(scenes):
-            problem = scene_to_problem(scene_model(scenes[task.index][1]))
+        if task.scene is not None:
+            problem = scene_to_problem(scene_model(warm_scenes()[task.scene][1]))
             retime(problem, solve_trajectory(problem), problem.fps)
-        elif task.name == RASTERISER:
-            draw_in_memory()
-        else:
-            method = ("pinv", "dls")[task.index - len(scenes)]
-            panda = {"version": 1, "arm": {"robot": "panda"}, "goals": [[0.5, 0, 0.5]], "solver": {"method": method}}
+        elif task.method is not None:
+            panda = {
+                "version": 1,
+                "arm": {"robot": "panda"},
+                "goals": [[0.5, 0, 0.5]],
+                "solver": {"method": task.method},
+            }
             problem = scene_to_problem(scene_model(panda))
             solve_pose(problem, np.array([0.45, 0.1, 0.5]), problem.home)
+        else:
+            draw_in_memory()
     return watch.compiling, kernel.CODE_KEPT
 
 
