@@ -11,7 +11,15 @@ import typer
 
 from armanim.cli.app import app, err, handle_errors, message_lines, print_notes, say, tell_first_compile
 from armanim.cli.interrupts import ignore_until_exit
-from armanim.cli.options import JobsOpt, QualityOpt, QuietOpt, SchedulerOpt, render_overrides, usable_jobs
+from armanim.cli.options import (
+    JobsOpt,
+    QualityOpt,
+    QuietOpt,
+    SchedulerOpt,
+    render_overrides,
+    usable_cores,
+    usable_jobs,
+)
 from armanim.cli.reports import (
     batch_exit_code,
     print_batch_problems,
@@ -99,11 +107,17 @@ def run(
 
 
 def run_one(path: Path, out_root: Path, options: RunOptions, *, quiet: bool, strict: bool) -> None:
-    """One scene in this process, its video rendered by ``options.jobs`` workers."""
+    """One scene in this process, its video rendered by ``options.jobs`` workers (at a first run, a
+    second process compiles meanwhile what the run calls after its solve: :mod:`armanim.runs.beside`)."""
     from armanim.cli.progress import bars
+    from armanim.runs.beside import compiling_beside
     from armanim.runs.pipeline import run_scene
 
-    with committed_is_done(), bars(quiet) as shown:
+    with (
+        committed_is_done(),
+        compiling_beside(path, options.video, options.jobs or usable_cores()),
+        bars(quiet) as shown,
+    ):
         result = run_scene(path, out_root, options, progress=shown)
     ignore_until_exit()  # the outputs are in place: the run has succeeded, whatever comes now
     print_notes(result.scene)  # warnings (the picture or the collision model is not what was asked): also with --quiet

@@ -293,20 +293,29 @@ def kinds_of_the_bundled_scenes() -> list[tuple[str, dict[str, Any]]]:
 
 def draw_in_memory() -> None:
     """Call the rasteriser's compiled loops as a video's frames call them, on a frame of 8 x 8 pixels in
-    memory (nothing is written): triangles filled over a furniture's layer and laid over the frame, a
-    pose's outline, a sprite, and the frame's yuv420p planes for the encoder."""
+    memory (nothing is written): a robot's mesh placed, lit and culled at a pose, triangles filled over a
+    furniture's layer and laid over the frame, a pose's outline, a sprite, an arm's soft shadow on a
+    floor, and the frame's yuv420p planes for the encoder."""
     import numpy as np
 
+    from armanim.render.camera.view import AMBIENT, DIFFUSE, LIGHT
+    from armanim.render.pictures.canvas import SHADOW_PASSES, SHADOW_RGB
     from armanim.render.solids.raster import StillLayer, draw_outline, draw_triangles, triangle_sprite
+    from armanim.render.solids.rasterloops import seen_vertices, soft_strokes
     from armanim.render.video.planes import yuv420
 
     points = np.array([[1.0, 1.0, 0.0], [6.0, 1.0, 0.0], [6.0, 6.0, 1.0], [1.0, 6.0, 1.0]])
     faces = np.array([[0, 1, 2], [0, 2, 3]])
     rgb = np.full((4, 3), 0.5)
     frame = np.zeros((8, 8, 4), dtype=np.uint8)
+    mesh = (points, np.zeros(4, dtype=np.int64), np.tile([0.0, 0.0, 1.0], (4, 1)), rgb, faces)
+    pose = (np.zeros((2, 3)), np.tile(np.eye(3), (1, 1, 1)))
+    view = (np.eye(3, 4), np.eye(3))
+    seen_vertices(mesh, *pose, view, (LIGHT, AMBIENT, DIFFUSE), np.empty((4, 3)), np.empty((4, 3)), np.empty(2, bool))
     draw_triangles(frame, points, faces, rgb, still=StillLayer(points, faces[:1], rgb, (8, 8)))
     draw_outline(frame, points, faces, (0.5, 0.5, 0.5))
     triangle_sprite(points, faces, rgb, (8, 8))
+    soft_strokes(frame, np.array([[[1.0, 1.0], [6.0, 5.0]]]), np.array([1.5]), SHADOW_PASSES, SHADOW_RGB)
     yuv420(frame)
 
 
