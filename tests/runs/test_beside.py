@@ -121,3 +121,10 @@ def test_the_second_process_ends_when_the_run_is_killed():
     parent.kill()
     parent.wait()
     assert child.wait(timeout=60) == 128 + signal.SIGTERM
+
+
+def test_a_second_process_that_cannot_start_leaves_the_run_to_compile_alone(monkeypatch):
+    monkeypatch.setattr(beside, "should_compile_beside", lambda path, jobs: True)
+    monkeypatch.setattr(beside, "beside_command", lambda path, video: ["/nonexistent/python"])
+    with beside.compiling_beside(Path("scene.yaml"), video=False, jobs=2):
+        assert psutil.Process().children() == []

@@ -77,13 +77,17 @@ def compiling_beside(scene_path: Path, video: bool, jobs: int) -> Iterator[None]
         return
     from armanim.procs.workers import signals_blocked
 
-    with signals_blocked():  # it starts with Ctrl-C and SIGTERM held, until its handlers are in place
-        process = subprocess.Popen(  # its failure costs nothing but its work: the run compiles the kernels itself
-            beside_command(scene_path, video),
-            stdin=subprocess.DEVNULL,
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL,
-        )
+    try:
+        with signals_blocked():  # it starts with Ctrl-C and SIGTERM held, until its handlers are in place
+            process = subprocess.Popen(
+                beside_command(scene_path, video),
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+    except OSError:  # no process to start (no Python to run, no memory): the run compiles everything itself
+        yield
+        return
     try:
         yield
     finally:
