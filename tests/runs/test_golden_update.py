@@ -166,3 +166,27 @@ def test_a_folder_that_cannot_be_written_is_advised_by_the_command_s_own_flag(cl
         flag = "choose another file with --png"
     assert result.exit_code == 3, result.output
     assert "permission denied" in result.stderr and flag in result.stderr and "--out" not in result.stderr
+
+
+def test_a_write_protected_golden_is_never_replaced_and_an_unchanged_one_never_written(cli, tmp_path):
+    """Campaign 16 (as a user who is not root): ``check --update`` replaced a golden CSV at mode 0444
+    with a new file at 0644, exit 0. A golden file no one may write is exit 3 when its bytes would
+    change, the pair left as it was with its modes; an unchanged pair is not written at all, so a
+    protected, up-to-date golden passes."""
+    scene = tmp_path / "small.yaml"
+    scene.write_text(SMALL)
+    golden = tmp_path / "golden"
+    assert cli("check", scene, "--golden", golden, "--update", "-q").exit_code == 0
+    for path in golden.iterdir():
+        path.chmod(0o444)
+    before = {path.name: (path.read_bytes(), path.stat().st_mtime_ns) for path in golden.iterdir()}
+    result = cli("check", scene, "--golden", golden, "--update")
+    assert result.exit_code == 0 and "unchanged" in result.output, result.output
+    assert {path.name: (path.read_bytes(), path.stat().st_mtime_ns) for path in golden.iterdir()} == before
+
+    scene.write_text(SMALL.replace("[1, 1, 2]", "[1, 2, 1]"))  # the trajectory changes
+    result = cli("check", scene, "--golden", golden, "--update", "-q")
+    assert result.exit_code == 3, result.output
+    assert "small.csv: is write-protected (read-only), so --update does not replace it" in result.stderr
+    assert {path.name: (path.read_bytes(), path.stat().st_mtime_ns) for path in golden.iterdir()} == before
+    assert {path.stat().st_mode & 0o777 for path in golden.iterdir()} == {0o444}

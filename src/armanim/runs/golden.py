@@ -8,6 +8,7 @@ that the scene itself changed.
 from __future__ import annotations
 
 import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -127,10 +128,35 @@ def _update_golden(scene: LoadedScene, golden_dir: Path) -> GoldenResult:
     files = {meta_path: (json_text(meta, indent=2) + "\n").encode("utf-8")}
     with directory_lock(csv_path.parent):
         status = golden_status(csv_path, data)
-        if status != "unchanged":
-            files = {csv_path: data, **files}
-        write_all_or_none(files)
+        files = {csv_path: data, **files}
+        files = {path: new for path, new in files.items() if golden_status(path, new) != "unchanged"}
+        refuse_write_protected_golden(*files)
+        if files:
+            write_all_or_none(files)
     return GoldenResult(scene, csv_path, status, f"{status}: {csv_path}")
+
+
+def refuse_write_protected_golden(*paths: Path) -> None:
+    """An OutputError (exit 3) if a file at any of ``paths`` (golden files about to be replaced) is
+    write-protected: a regular file no one may write (a user's ``chmod a-w``, which root's writes would
+    otherwise pass). Campaign 16: ``check --update`` replaced a user's golden at mode 0444 with a new
+    file at 0644, exit 0. A file whose bytes do not change is not written, protected or not.
+
+    Raises
+    ------
+    OutputError
+        Naming the file and the remedy; the pair is left as it was.
+    """
+    for path in paths:
+        try:
+            mode = path.stat().st_mode
+        except OSError:
+            continue  # absent: a new file
+        if stat.S_ISREG(mode) and not mode & 0o222:
+            raise OutputError(
+                f"{path}: is write-protected (read-only), so --update does not replace it: make it writable "
+                f"(chmod u+w {path}), or choose another --golden folder"
+            )
 
 
 GOLDEN_BEGINNINGS = {
@@ -169,13 +195,13 @@ def refuse_foreign_golden(*paths: Path) -> None:
 
 
 def golden_status(csv_path: Path, data: bytes) -> str:
-    """``new``, ``unchanged`` or ``changed``: the golden file at ``csv_path`` against ``data``.
+    """``new``, ``unchanged`` or ``changed``: the golden file at ``csv_path`` (either of a pair) against ``data``.
 
     Bytes are compared, never decoded (a file that is not UTF-8 has simply changed), and at
     most ``len(data)`` bytes are read: a file of another size has changed without reading it.
     """
     try:
-        with open_regular(csv_path, "a golden .csv file") as handle:
+        with open_regular(csv_path, f"a golden {csv_path.suffix} file") as handle:
             if os.fstat(handle.fileno()).st_size != len(data):
                 return "changed"
             return "unchanged" if handle.read(len(data) + 1) == data else "changed"
