@@ -25,7 +25,7 @@ from fuzz_scenes import (
     strict_json,
     urdf_scenes,
 )
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 EXAMPLES = int(os.environ.get("ARMANIM_FUZZ_EXAMPLES", "150"))
@@ -34,6 +34,22 @@ HOSTILE = settings(max_examples=EXAMPLES, deadline=None, database=None, suppress
 
 @HOSTILE
 @given(hostile_scenes())
+@example(  # Hypothesis 6.170.27's draw: the frame budget's path length overflowed (a RuntimeWarning, raised here)
+    {
+        "version": 1,
+        "arm": {"links": [1.0], "max_joint_acceleration": 1.0, "self_collision": "auto"},
+        "obstacles": [{"capsule": {"from": [0.0, 0.0, 0.0], "to": [0.0, 0.0, 0.0], "radius": 1.0}}],
+        "goals": [
+            {
+                "path": {"line": [[1e308, 0.0, 0.0], [0.0, 0.0, 0.0]]},
+                "speed": 1.0,
+                "hold": 0.0,
+                "retreat": {"distance": 1.0, "speed": 1.0},
+            }
+        ],
+        "name": "",
+    }
+)
 def test_schema_scenes_with_extreme_values_keep_the_invariants(data):
     check_scene_text(scene_yaml(data), "fuzz.yaml")
 

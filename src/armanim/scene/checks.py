@@ -550,7 +550,11 @@ def path_frames(goal, fps: float) -> int:
     """
     if goal.path is None:
         return 0
-    return _frames_along(tool_path(goal.path).length, goal.speed, fps)
+    with np.errstate(
+        all="ignore"
+    ):  # a length past float's range (a point at 1e308) is inf: reported by _magnitude_problems
+        length = tool_path(goal.path).length
+    return _frames_along(length, goal.speed, fps)
 
 
 def _frames_along(length: float, speed: float, fps: float) -> int:
