@@ -381,18 +381,10 @@ def test_ik_says_why_an_out_of_reach_goal_is_not_reached(cli):
     )
 
 
-def test_ik_names_the_unit_of_a_robot_s_reach():
+def test_ik_names_the_unit_of_a_robot_s_reach(cli):
     """A URDF arm's lengths are metres, and the message says so (issue 50: "2.015 from the base")."""
-    import subprocess
-
-    from runfolders import armanim_exe
-
-    done = subprocess.run(
-        [armanim_exe(), "ik", "--robot", "iiwa", "--goal", "2,0,0.4"], capture_output=True, text=True, timeout=600
-    )
-    assert "the goal is 2.015 m from the base, the arm is 1.103 m long" in done.stdout + done.stderr, (
-        done.stdout + done.stderr
-    )
+    done = cli("ik", "--robot", "iiwa", "--goal", "2,0,0.4")
+    assert "the goal is 2.015 m from the base, the arm is 1.103 m long" in done.output, done.output
 
 
 def test_strict_quiet_says_which_goal_was_missed_on_stderr(cli, tmp_path):

@@ -11,7 +11,7 @@ import pytest
 
 from armanim.arm.kinematics import forward
 from armanim.motion.filter.clearance import split_clearances
-from armanim.motion.kernels.layout import world_arrays
+from armanim.motion.kernels.layout import kernel_problem, world_arrays
 from armanim.motion.planning.check import CompiledCheck, frame_margins
 from armanim.scene import scene_model, scene_to_problem
 from armanim.world.distances import clearances, min_link_clearance
@@ -41,22 +41,16 @@ def _allowed_problem(seed: int):
 
 
 def _kernel_d(problem, pose):
+    """The compiled kernel's clearances of one pose, given writable arrays as the compiled check
+    gives it (capsule_ends' are read-only: another signature, compiled for this test alone)."""
     from armanim.arm.capsules import capsule_ends
     from armanim.motion.kernels.check import obstacle_clearances
 
     a, b = capsule_ends(problem.capsules, pose)
     m = len(problem.obstacles)
     d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
-    obstacle_clearances(
-        pose.points,
-        np.ascontiguousarray(a),
-        np.ascontiguousarray(b),
-        problem.capsules.part_radius,
-        world_arrays(problem),
-        d,
-        t,
-        n,
-    )
+    part_radius = kernel_problem(problem).part_radius
+    obstacle_clearances(pose.points, np.array(a), np.array(b), part_radius, world_arrays(problem), d, t, n)
     return d
 
 

@@ -208,33 +208,28 @@ def test_tiny_and_huge_visuals_are_drawn_without_a_traceback(cli, tmp_path):
     assert (tmp_path / "r" / "poster.png").is_file()
 
 
-def test_render_and_view_of_a_run_elsewhere_draw_the_users_meshes_or_say_why_not(tmp_path):
+def test_render_and_view_of_a_run_elsewhere_draw_the_users_meshes_or_say_why_not(cli, tmp_path, monkeypatch):
     """A run written away from the user's URDF re-renders and re-views with its meshes (the run folder
-    records where the scene and the URDF were); moved away, each mesh is a note, never silence (issue 50)."""
+    records where the scene and the URDF were); moved away, each mesh is a note, never silence (issue 50).
+    In-process, from a folder that is neither the scene's nor the run's."""
     import shutil
-    import subprocess
 
-    from runfolders import armanim_exe
-
+    monkeypatch.chdir(tmp_path)
     scene = _scene(tmp_path / "ws", package_dirs="[pkgs]")
-    exe, out = armanim_exe(), tmp_path / "elsewhere"
-
-    def armanim(*args):
-        return subprocess.run([exe, *map(str, args)], capture_output=True, text=True, cwd=tmp_path, timeout=600)
-
-    assert armanim("run", scene, "--out", out, "--no-video", "--viewer", "--quiet").returncode == 0
+    out = tmp_path / "elsewhere"
+    assert cli("run", scene, "--out", out, "--no-video", "--viewer", "--quiet").exit_code == 0
     run = out / "two"
-    viewed = armanim("view", run, "--out", tmp_path / "again.html")
-    assert viewed.returncode == 0 and "base.stl" not in viewed.stderr, viewed.stderr  # found: no note about it
+    viewed = cli("view", run, "--out", tmp_path / "again.html")
+    assert viewed.exit_code == 0 and "base.stl" not in viewed.stderr, viewed.stderr  # found: no note about it
     assert "gone.stl" in viewed.stderr  # the one missing in the user's folder too is still a note
     data = _viewer_data(tmp_path / "again.html")
     assert sum(len(g["indices"]) for g in data["meshes"]["groups"]) // 3 == 12 + 24 * 4  # the box and the base's STL
     shutil.move(tmp_path / "ws", tmp_path / "moved")
-    rendered = armanim("render", run, "--out", tmp_path / "r", "--quiet", "--jobs", "1")
-    assert rendered.returncode == 0, rendered.stderr
+    rendered = cli("render", run, "--out", tmp_path / "r", "--quiet", "--jobs", "1")
+    assert rendered.exit_code == 0, rendered.stderr
     assert "base.stl" in rendered.stderr and "drawn as its capsules" in rendered.stderr  # said even with --quiet
-    viewed = armanim("view", run, "--out", tmp_path / "moved.html")
-    assert viewed.returncode == 0 and "base.stl" in viewed.stderr, viewed.stderr
+    viewed = cli("view", run, "--out", tmp_path / "moved.html")
+    assert viewed.exit_code == 0 and "base.stl" in viewed.stderr, viewed.stderr
 
 
 def _blue_share(png: Path) -> float:
@@ -245,51 +240,29 @@ def _blue_share(png: Path) -> float:
     return float(np.mean((rgb[..., 2] - rgb[..., 0] > 80) & (rgb[..., 2] - rgb[..., 1] > 40)))
 
 
-def test_fk_png_draws_the_robot_as_its_run_does(tmp_path):
+def test_fk_png_draws_the_robot_as_its_run_does(cli, tmp_path):
     """``fk --png`` of a bundled robot draws its meshes (the Panda's white shells), not the blue capsules
     (issue 50); a user's URDF with a missing mesh says so."""
-    import subprocess
-
-    from runfolders import armanim_exe
-
     pose = tmp_path / "pose.png"
-    done = subprocess.run(
-        [armanim_exe(), "fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45", "--png", pose],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert done.returncode == 0, done.stderr
+    done = cli("fk", "--robot", "panda", "--angles=0,-45,0,-135,0,90,45", "--png", pose)
+    assert done.exit_code == 0, done.stderr
     assert _blue_share(pose) < 0.001  # the capsules' blue covered 2 % of this picture
     scene = _scene(tmp_path, look="mesh")
-    done = subprocess.run(
-        [armanim_exe(), "fk", "--scene", scene, "--angles=10,20", "--png", pose],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert done.returncode == 0 and "gone.stl" in done.stderr, done.stderr
+    done = cli("fk", "--scene", scene, "--angles=10,20", "--png", pose)
+    assert done.exit_code == 0 and "gone.stl" in done.stderr, done.stderr
 
 
-def test_the_ur5_is_not_drawn_as_a_black_silhouette(tmp_path):
+def test_the_ur5_is_not_drawn_as_a_black_silhouette(cli, tmp_path):
     """Issue 50: the UR5's vendored greys (13-107/255) read almost black. Mesh colours are lifted
     toward white before they are lit, as a viewer's ambient light does: few pixels of its picture are
     near black (1.5 % of them were, darker than 40/255; the title and caption text remain)."""
-    import subprocess
-
     import imageio.v3 as iio
-    from runfolders import armanim_exe
 
     from armanim.render.solids.robot import MESH_LIFT, lifted
 
     assert lifted(np.zeros(3)).min() == MESH_LIFT and lifted(np.ones(3)).max() == 1.0
     pose = tmp_path / "ur5.png"
-    done = subprocess.run(
-        [armanim_exe(), "fk", "--robot", "ur5", "--angles=0,-90,90,0,90,0", "--png", pose],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert done.returncode == 0, done.stderr
+    done = cli("fk", "--robot", "ur5", "--angles=0,-90,90,0,90,0", "--png", pose)
+    assert done.exit_code == 0, done.stderr
     rgb = iio.imread(pose)[..., :3]
     assert np.mean(rgb.max(axis=-1) < 40) < 0.007

@@ -41,15 +41,12 @@ TINY = "version: 1\narm:\n  links: [1, 1]\ngoals:\n  - [1, 1, 0]\n  - [0, 1.5, 0
 
 @pytest.fixture(scope="module")
 def previous_notes(tmp_path_factory) -> Path:
-    """A complete earlier run of notes-arm (CSV, summary, scene copy), made once."""
+    """A complete earlier run of notes-arm (CSV, summary, scene copy), made once, in-process."""
+    from armanim.runs.options import RunOptions
+    from armanim.runs.pipeline import run_scene
+
     out = tmp_path_factory.mktemp("previous")
-    proc = subprocess.run(
-        [armanim_exe(), "run", str(NOTES), "--out", str(out), "--no-video", "--quiet"],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert proc.returncode == 0, proc.stderr
+    run_scene(NOTES, out, RunOptions(video=False))
     return out
 
 

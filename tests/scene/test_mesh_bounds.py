@@ -367,7 +367,7 @@ def test_a_visual_whose_numbers_cannot_be_read_is_a_note(tmp_path):
     assert "(its origin or scale is not" in notes[0] and "(its origin or size is not" in notes[2]
 
 
-def test_a_mesh_name_too_long_to_look_up_is_not_found_for_every_kind_of_mesh(tmp_path):
+def test_a_mesh_name_too_long_to_look_up_is_not_found_for_every_kind_of_mesh(cli, tmp_path, monkeypatch):
     """Campaign 10: a URDF mesh (visual or collision) or ``arm.tool.mesh`` named by 5,000
     characters ended ``robots --fit``, ``fk --png`` and ``run`` with ``armanim: aaa...: File name
     too long``, exit 3 (pathlib's is_file raises ENAMETOOLONG). It is a mesh not found, as any
@@ -390,13 +390,7 @@ def test_a_mesh_name_too_long_to_look_up_is_not_found_for_every_kind_of_mesh(tmp
         '<joint name="j" type="revolute"><parent link="l0"/><child link="l1"/><axis xyz="0 0 1"/>'
         '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
     )
-    done = subprocess.run(
-        [sys.executable, "-m", "armanim", "robots", "--fit", "r.urdf"],
-        cwd=tmp_path,
-        env={**os.environ, "PYTHONPATH": str(SRC)},
-        capture_output=True,
-        text=True,
-        timeout=HANG_GUARD,
-    )
-    assert done.returncode == 2, done.stderr[-300:]
+    monkeypatch.chdir(tmp_path)
+    done = cli("robots", "--fit", "r.urdf")
+    assert done.exit_code == 2, done.stderr[-300:]
     assert done.stderr.startswith("r.urdf:1: link 'l1': collision mesh 'aaaa") and "not found" in done.stderr

@@ -204,7 +204,7 @@ def test_an_unwritable_cache_folder_means_no_cache(tmp_path, monkeypatch):
     assert cache_folder() == tmp_path / "xdg" / "armanim" / "capsules"
 
 
-def test_a_cache_folder_inside_the_run_folder_is_named_as_the_cause(robot_dir, tmp_path, monkeypatch):
+def test_a_cache_folder_inside_the_run_folder_is_named_as_the_cause(robot_dir, tmp_path, monkeypatch, meshy_fits):
     """ARMANIM_CACHE_DIR inside the run folder (issue 50, after campaign 13): the fit's cache makes
     the folder hold a file its marker does not list, so the run refuses it (exit 3), as any file the
     user put there; the message said "holds files armanim did not write", though they are
@@ -222,6 +222,7 @@ def test_a_cache_folder_inside_the_run_folder_is_named_as_the_cause(robot_dir, t
         message = str(refused.value)
         assert "ARMANIM_CACHE_DIR" in message and "outside every run folder" in message, message
         assert str(run_folder / "cache") in message and "capsule-fit cache" in message
+    shutil.copytree(meshy_fits, tmp_path / "elsewhere")  # the fits, as a cache outside kept them: none fitted again
     monkeypatch.setenv("ARMANIM_CACHE_DIR", str(tmp_path / "elsewhere"))
     assert "ARMANIM_CACHE_DIR" not in _refusal(robot_dir, out)  # the cache is no longer there: a plain refusal
 

@@ -564,6 +564,14 @@ def test_the_ur5_problem_starts_at_the_urdfs_root(tmp_path):
 # ------------------------------------------------------------ errors
 
 
+@pytest.fixture()
+def moveit_command(cli, tmp_path, monkeypatch):
+    """``armanim import moveit ARGS`` through the Typer app in-process, run from ``tmp_path`` (the
+    files named relative to it, as from a shell there); :func:`_run` is the installed command."""
+    monkeypatch.chdir(tmp_path)
+    return lambda *args: cli("import", "moveit", *args)
+
+
 def _run(*args, cwd: Path) -> subprocess.CompletedProcess:
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
     return subprocess.run(
@@ -613,35 +621,35 @@ BAD_NUMBER_TEXT = SCENE_TEXT_NEWER.replace("0.4 0.2 0.1", "0.4 wide 0.1")
         ("not a number in a .scene", BAD_NUMBER_TEXT, POSE_REQUEST, "s.scene", 7, "'wide' is not a number"),
     ],
 )
-def test_bad_input_is_file_line_message_and_exit_2(tmp_path, case, scene, motion, file, line, words):
+def test_bad_input_is_file_line_message_and_exit_2(moveit_command, tmp_path, case, scene, motion, file, line, words):
     name = "s.scene" if file == "s.scene" else "s.yaml"
     _write(tmp_path, name, scene)
     _write(tmp_path, "r.yaml", motion)
     _toy(tmp_path)
-    result = _run(name, "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
-    assert result.returncode == 2, result.stderr
+    result = moveit_command(name, "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml")
+    assert result.exit_code == 2, result.stderr
     assert "Traceback" not in result.stderr and words in result.stderr, result.stderr
     first = result.stderr.strip().splitlines()[0]
     assert first.startswith(f"{file}:{line}:" if line is not None else f"{file}:"), first
     assert not (tmp_path / "o.yaml").exists()
 
 
-def test_a_file_it_did_not_write_is_not_replaced(tmp_path):
+def test_a_file_it_did_not_write_is_not_replaced(moveit_command, tmp_path):
     _write(tmp_path, "s.yaml", BOXES_SCENE)
     _write(tmp_path, "r.yaml", POSE_REQUEST)
     _toy(tmp_path)
     mine = _write(tmp_path, "mine.yaml", "version: 1\n# my own scene\n")
-    result = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "mine.yaml", cwd=tmp_path)
-    assert result.returncode == 3 and "did not write" in result.stderr, result.stderr
+    result = moveit_command("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "mine.yaml")
+    assert result.exit_code == 3 and "did not write" in result.stderr, result.stderr
     assert mine.read_text() == "version: 1\n# my own scene\n"
-    first = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
-    again = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
-    assert first.returncode == again.returncode == 0, first.stderr + again.stderr
+    first = moveit_command("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml")
+    again = moveit_command("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml")
+    assert first.exit_code == again.exit_code == 0, first.stderr + again.stderr
     assert again.stdout.strip() == "o.yaml" and (tmp_path / "o.yaml").read_text().startswith(MARKER)
     edited = (tmp_path / "o.yaml").read_text().replace("version: 1", "version: 1\nname: mine")
     (tmp_path / "o.yaml").write_text(edited)  # the user's edit, the first line kept
-    result = _run("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml", cwd=tmp_path)
-    assert result.returncode == 3 and "changed since" in result.stderr, result.stderr
+    result = moveit_command("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "o.yaml")
+    assert result.exit_code == 3 and "changed since" in result.stderr, result.stderr
     assert (tmp_path / "o.yaml").read_text() == edited
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []  # no temporary left
 

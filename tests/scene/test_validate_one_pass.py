@@ -3,18 +3,16 @@
 rates, frame budgets, duplicate names, goals inside obstacles) of every part that did validate.
 
 The oracle: a scene with many independent defects is reported with exactly the problems each
-defect gives alone, each at its line and field; through the installed command, exit 2.
+defect gives alone, each at its line and field; through the command (the Typer app in-process;
+tests/system/test_e2e.py runs the installed one on a bad scene), exit 2.
 """
 
 from __future__ import annotations
-
-import subprocess
 
 import pytest
 
 from armanim.errors import SceneError
 from armanim.scene import validate_scene_text
-from tests.runfolders import armanim_exe
 
 TEMPLATE = """version: 1
 name: one-pass
@@ -91,15 +89,14 @@ def problems(text: str) -> set[str]:
     return set()
 
 
-def test_every_problem_of_a_scene_is_reported_in_one_pass(tmp_path):
+def test_every_problem_of_a_scene_is_reported_in_one_pass(cli, tmp_path, monkeypatch):
     assert problems(TEMPLATE.format(**GOOD)) == set()
     alone = {key: problems(TEMPLATE.format(**{**GOOD, key: value})) for key, value in BAD.items()}
     assert all(len(found) == 1 for found in alone.values()), alone
     (tmp_path / "s.yaml").write_text(TEMPLATE.format(**BAD))
-    result = subprocess.run(
-        [armanim_exe(), "validate", "s.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=120
-    )
-    assert result.returncode == 2 and "Traceback" not in result.stderr + result.stdout
+    monkeypatch.chdir(tmp_path)
+    result = cli("validate", "s.yaml")  # the command in-process (its lines name the file as given)
+    assert result.exit_code == 2 and "Traceback" not in result.stderr + result.stdout
     reported = {": ".join(line.split(": ")[:2]) for line in result.stderr.splitlines()}
     assert reported == set().union(*alone.values()), result.stderr
     assert (
@@ -111,7 +108,7 @@ def test_every_problem_of_a_scene_is_reported_in_one_pass(tmp_path):
 @pytest.mark.parametrize(
     "arm", ['links: [2, 2, "x"]', "urdf: missing.urdf", "urdf: bad.urdf", "urdf: r.urdf\n  tip_link: nowhere"]
 )
-def test_an_arm_that_cannot_be_read_still_lets_the_rest_be_checked(tmp_path, arm):
+def test_an_arm_that_cannot_be_read_still_lets_the_rest_be_checked(cli, tmp_path, monkeypatch, arm):
     """The arm's own problem (a field, its URDF file, a link the URDF lacks) and the rest's: a goal
     inside an obstacle needs no arm, a bad goal field, an obstacle too large."""
     joint = '<joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="{v}"/></joint>'
@@ -123,10 +120,9 @@ def test_an_arm_that_cannot_be_read_still_lets_the_rest_be_checked(tmp_path, arm
         f"version: 1\narm:\n  {arm}\nobstacles:\n  - {{center: [0.5, 0, 0.5], radius: 0.2}}\n"
         "  - {center: [2e9, 0, 0], radius: 1}\ngoals:\n  - [0.5, 0, 0.5]\n  - {position: [1, 1, 1], hold: -1}\n"
     )
-    result = subprocess.run(
-        [armanim_exe(), "validate", "s.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=120
-    )
-    assert result.returncode == 2 and "Traceback" not in result.stderr + result.stdout, result.stderr
+    monkeypatch.chdir(tmp_path)
+    result = cli("validate", "s.yaml")
+    assert result.exit_code == 2 and "Traceback" not in result.stderr + result.stdout, result.stderr
     lines = result.stderr.splitlines()
     assert any(
         line.startswith(

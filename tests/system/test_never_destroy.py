@@ -82,11 +82,12 @@ def test_unsafe_name_fields_are_rejected(cli, tmp_path, name):
     assert result.exit_code == 2 and ":6: name:" in result.stderr, result.output
 
 
-def test_dot_dot_yaml_with_out_dot_is_exit_2(tmp_path):
+def test_dot_dot_yaml_with_out_dot_is_exit_2(cli, tmp_path, monkeypatch):
     (tmp_path / "..yaml").write_text(SMALL)
     (tmp_path / "keep.txt").write_text("x")
-    result = armanim("run", "..yaml", "--out", ".", "--no-video", "-q", cwd=tmp_path)
-    assert result.returncode == 2 and "name:" in no_traceback(result)
+    monkeypatch.chdir(tmp_path)
+    result = cli("run", "..yaml", "--out", ".", "--no-video", "-q")
+    assert result.exit_code == 2 and "name:" in no_traceback(result)
     assert (tmp_path / "keep.txt").read_text() == "x"
 
 
@@ -551,10 +552,10 @@ def test_an_fps_ffmpeg_cannot_encode_is_exit_2(cli, tmp_path, where):
     assert not (tmp_path / "out").exists()
 
 
-def test_jobs_beyond_the_cores_are_lowered_with_a_note(tmp_path):
+def test_jobs_beyond_the_cores_are_lowered_with_a_note(cli, tmp_path):
     cores = len(os.sched_getaffinity(0))
-    result = armanim("run", NOTES, "--out", tmp_path, "--no-video", "-q", "--jobs", cores + 46)
-    assert result.returncode == 0, result.stderr
+    result = cli("run", NOTES, "--out", tmp_path, "--no-video", "-q", "--jobs", cores + 46)
+    assert result.exit_code == 0, result.stderr
     assert f"note: --jobs {cores + 46} is more than the {cores} cores here; using {cores}" in result.stderr
 
 
@@ -638,7 +639,7 @@ def test_a_worker_finds_its_temporary_folder_before_a_signal_can_stop_it():
     assert proc.stdout.strip() == tempfile.gettempdir()
 
 
-def test_a_killed_run_takes_its_render_workers_and_ffmpeg_with_it(tmp_path):
+def test_a_killed_run_takes_its_render_workers_and_ffmpeg_with_it(cli, tmp_path):
     out = tmp_path / "out"
     proc = _start(["run", NOTES, "--out", out, "--jobs", "2", "--size", "480x360", "-q"], tmp_path)
     kids = _wait_for_ffmpeg(proc, workers=2)
@@ -647,14 +648,14 @@ def test_a_killed_run_takes_its_render_workers_and_ffmpeg_with_it(tmp_path):
     _, alive = psutil.wait_procs(kids, timeout=60)  # a hang guard; how soon they go: reliability_bench.py
     assert alive == []
     assert lock_is_free(out / ".notes-arm.lock")  # no stray worker holds it
-    result = armanim("run", NOTES, "--out", out, "--no-video", "-q")
-    assert result.returncode == 0, result.stderr
+    result = cli("run", NOTES, "--out", out, "--no-video", "-q")  # the next run, in-process
+    assert result.exit_code == 0, result.stderr
     assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
 
 
-def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(tmp_path):
+def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(cli, tmp_path):
     out = tmp_path / "out"
-    assert armanim("run", NOTES, "--out", out, "--no-video", "-q").returncode == 0
+    assert cli("run", NOTES, "--out", out, "--no-video", "-q").exit_code == 0  # the run to render, in-process
     folder = out / "notes-arm"
     before = user_files(folder)
     proc = _start(["render", folder, "--jobs", "2", "--size", "480x360", "-q"], tmp_path)
@@ -664,8 +665,8 @@ def test_a_killed_render_leaves_nothing_the_next_render_does_not_remove(tmp_path
     _, alive = psutil.wait_procs(kids, timeout=60)
     assert alive == []
     assert user_files(folder) == before  # the render worked on a staged copy
-    result = armanim("render", folder, "--jobs", "1", "--size", "64x48", "--fps", "10", "-q", timeout=120)
-    assert result.returncode == 0, result.stderr
+    result = cli("render", folder, "--jobs", "1", "--size", "64x48", "--fps", "10", "-q")  # the next, in-process
+    assert result.exit_code == 0, result.stderr
     assert sorted(p.name for p in out.iterdir()) == [".notes-arm.lock", "notes-arm"]
     assert not [p for p in folder.iterdir() if ".part" in p.name]
 

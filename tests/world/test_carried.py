@@ -543,22 +543,17 @@ def test_the_fingers_open_before_a_grasp_when_the_scene_holds_them_nearly_closed
     assert scene_to_problem(links).gripper is None
 
 
-def test_an_object_wider_than_the_gripper_opens_is_refused_at_its_line(tmp_path):
-    import subprocess
-
-    from tests.runfolders import armanim_exe
-
+def test_an_object_wider_than_the_gripper_opens_is_refused_at_its_line(cli, tmp_path, monkeypatch):
     text = (
         (DATA / "pick-box.yaml")
         .read_text()
         .replace("size: [0.04, 0.04, 0.12]}, name: part", "size: [0.09, 0.09, 0.12]}, name: part")
     )
     (tmp_path / "wide.yaml").write_text(text)
-    result = subprocess.run(
-        [armanim_exe(), "validate", "wide.yaml"], cwd=tmp_path, capture_output=True, text=True, timeout=120
-    )
+    monkeypatch.chdir(tmp_path)
+    result = cli("validate", "wide.yaml")
     line = 1 + text.splitlines().index(next(t for t in text.splitlines() if "grasp: part" in t))
-    assert result.returncode == 2
+    assert result.exit_code == 2
     assert (
         f"wide.yaml:{line}: goals[1].grasp: 'part' is 0.09 across at its narrowest, wider than the gripper opens (0.08"
         in result.stdout + result.stderr

@@ -412,16 +412,17 @@ def test_cylinder_bounds_hold_the_exact_clearance_between_them(seed):
 
 
 def _kernel_clearances(problem, pose, world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The compiled kernel's clearances d, t (c+1, m) and normals (c+1, m, 3) of one pose in ``world``."""
+    """The compiled kernel's clearances d, t (c+1, m) and normals (c+1, m, 3) of one pose in ``world``,
+    given writable arrays as the compiled check gives it (capsule_ends' are read-only: the kernel and
+    its callees would be compiled again for that type, for this test alone)."""
     from armanim.arm.capsules import capsule_ends
     from armanim.motion.kernels.check import obstacle_clearances
+    from armanim.motion.kernels.layout import kernel_problem
 
     a, b = capsule_ends(problem.capsules, pose)
     m = len(problem.obstacles)
     d, t, n = np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m)), np.empty((len(a) + 1, m, 3))
-    obstacle_clearances(
-        pose.points, np.ascontiguousarray(a), np.ascontiguousarray(b), problem.capsules.part_radius, world, d, t, n
-    )
+    obstacle_clearances(pose.points, np.array(a), np.array(b), kernel_problem(problem).part_radius, world, d, t, n)
     return d, t, n
 
 

@@ -28,7 +28,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, example, given, settings
+from hypothesis import HealthCheck, example, given, note, settings
 from hypothesis import strategies as st
 from lockstep import LINES, agree, assert_agree, conditioning, numpy_only, tip_condition
 from strategies import cluttered_problems, poses, problems, robot_problems, shaped_problems
@@ -610,7 +610,7 @@ _RUNS: dict[str, Trajectory] = {}
 
 def run_of(problem: Problem) -> Trajectory:
     """The compiled run of ``problem``: real states (the numpy run's to rounding), made once a
-    process for both lines (under the ``ci`` profile both draw the same problems)."""
+    process for both lines (a named scene's two parametrized lines, a drawn problem's shrinking)."""
     with np.printoptions(precision=17, threshold=10**9):
         key = repr(problem)  # every number to its last bit
     if key not in _RUNS:
@@ -649,6 +649,15 @@ def assert_frames_lockstep(line: str, problem: Problem, stride: int = 3, most: i
         taken += 1
         assert_the_same_filtered_step(oracle, state, moved, expected, dphi, proposal, tol, i)
     return compared, taken
+
+
+def assert_frames_lockstep_on_both_lines(problem: Problem, stride: int, most: int) -> None:
+    """:func:`assert_frames_lockstep` of each line at the same run's states: a drawn problem is
+    solved once for the two. (Lines parametrized apart never shared a run: Hypothesis gives each
+    parametrized test its own draws, the ``ci`` profile's too, so each line solved its own problems.)"""
+    for line in LINES:
+        note(f"line: {line}")
+        assert_frames_lockstep(line, problem, stride=stride, most=most)
 
 
 def assert_the_same_filtered_step(
@@ -723,25 +732,23 @@ SHAPES = {
 }
 
 
-@lines
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 @settings(max_examples=15, **SETTINGS)
 @given(data=st.data(), method=LINEAR, oriented=ORIENTED, seed=st.integers(0, 2**32 - 1))
-def test_the_frames(line, family, data, method, oriented, seed):
+def test_the_frames(family, data, method, oriented, seed):
     problem = with_orientations(linear(data.draw(FAMILIES[family], label="problem"), method), seed, oriented)
-    assert_frames_lockstep(line, problem, stride=3, most=24)
+    assert_frames_lockstep_on_both_lines(problem, stride=3, most=24)
 
 
-@lines
 @pytest.mark.parametrize("family", sorted(SHAPES))
 @settings(max_examples=8, **SETTINGS)
 @given(data=st.data(), method=LINEAR, oriented=ORIENTED, seed=st.integers(0, 2**32 - 1))
-def test_the_frames_among_shapes(line, family, data, method, oriented, seed):
+def test_the_frames_among_shapes(family, data, method, oriented, seed):
     # the planner off: its searches among the shapes were most of this test's time, and a planned
     # route's frames are not the method's (the frames pressed against the shapes are still here)
     problem = with_orientations(linear(data.draw(SHAPES[family], label="problem"), method), seed, oriented)
     problem = replace(problem, solver=replace(problem.solver, planner="off"))
-    assert_frames_lockstep(line, problem, stride=4, most=16)
+    assert_frames_lockstep_on_both_lines(problem, stride=4, most=16)
 
 
 def robot_scene(method: str, obstacles: list[dict], goals: list[list[float]], **solver) -> Problem:
