@@ -23,6 +23,13 @@ SHAPES = [
 ]
 """One obstacle of each shape, away from the notes' arm's motion (each shape's distances compile)."""
 
+CYLINDERS = [
+    {"cylinder": {"center": [1.0, 1.0, 3.0], "length": 2.0, "radius": 0.5}},
+    {"cylinder": {"center": [9.0, 9.0, 4.0], "length": 2.0, "radius": 0.4, "rpy": [90, 0, 0]}},
+]
+"""Cylinders alone, away from the notes' arm's motion: a world without boxes or capsules compiles its own
+kernels (the suite's lockstep cylinders compiled the frame loop twice more after ``warm``)."""
+
 
 def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
     """(label, scene as YAML would give it), for each compiled method (``pinv``, ``dls``): the notes'
@@ -30,13 +37,14 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
     floor, with a point, a tool-axis and a joint goal (the planner's checks); a Panda with its self
     pairs among spheres alone, among every shape and a floor (a point, a pose and a joint goal), and
     between two boards (boxes alone) with a path goal, taking a box from a table and putting it down
-    (pick and place: a carried object's capsules); each world again with position goals only (a scene
-    without any orientation compiles its frames without the rotation task); and the notes' arm by ``gradient``.
+    (pick and place: a carried object's capsules); the notes' arm among cylinders alone; each world again
+    with position goals only (a scene without any orientation compiles its frames without the rotation
+    task); and the notes' arm by ``gradient``.
 
     >>> [label for label, _ in warm_scenes()][:3]
     ['arm of links among spheres, pinv', 'arm of links among every shape, pinv', 'Panda among spheres, pinv']
     >>> len(warm_scenes())
-    23
+    25
     """
     spheres = [{"center": [6.0, 4.0, 9.0], "radius": 0.8}, {"center": [2.0, 8.0, 7.0], "radius": 0.5}]
     panda_spheres = [{"center": [0.6, -0.4, 0.2], "radius": 0.05}, {"center": [0.2, 0.5, 0.6], "radius": 0.05}]
@@ -133,11 +141,18 @@ def warm_scenes() -> list[tuple[str, dict[str, Any]]]:
         ("Panda among spheres", {"robot": "panda"}, panda_spheres, None, panda_goals[0]),
         ("Panda among every shape", {"robot": "panda"}, panda_shapes, -0.01, panda_goals[0]),
         ("Panda between boards", {"robot": "panda"}, boards, 0.0, [0.52, 0.15, 0.36]),
+        ("arm of links among cylinders", links, CYLINDERS, None, link_goals[0]),
     ):
         scene: dict[str, Any] = {"version": 1, "arm": arm, "obstacles": obstacles, "goals": [goal]}
         if floor is not None:
             scene["floor"] = floor
         scenes.append((f"{label}, positions only", scene))
+    scenes.append(  # cylinders without boxes or capsules: a world of its own kind (with a tool axis and planning)
+        (
+            "arm of links among cylinders",
+            {"version": 1, "arm": links, "obstacles": CYLINDERS, "goals": link_goals, "solver": {"method": "pinv"}},
+        )
+    )
     scenes += kinds_of_the_bundled_scenes()
     scenes.append(
         (
