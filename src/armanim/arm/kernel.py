@@ -230,9 +230,10 @@ class _CompilesOnce(numba.core.registry.CPUDispatcher):
         """Whether numba's cache index holds machine code for ``sig`` (read as numba reads it before
         it loads the code). A run on a warmed cache then takes no lock: campaign 17's process
         holding every lock kept such a run waiting 600 s for each kernel it merely loaded."""
-        cache: Any = self._cache  # numba's, untyped
+        cache: Any = getattr(self, "_cache", None)  # numba's, untyped
+        target: Any = self.targetctx
         try:
-            key = cache._index_key(sig, self.targetctx.codegen())
+            key = cache._index_key(sig, target.codegen())
             return key in cache._cache_file._load_index()
         except Exception:  # noqa: BLE001  (a cache laid out otherwise: the lock as before)
             return False
