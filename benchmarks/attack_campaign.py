@@ -9574,7 +9574,7 @@ def ro17_attempts() -> list[Attempt]:
                 args,
                 setup,
                 (3,),
-                message=erofs,
+                message=erofs if "render --out" not in label else r"(?i)read-only|mount point",
                 keep=keep,
                 timeout=300,
                 litter_in=(where, "."),
