@@ -85,6 +85,8 @@ class Attempt:
     root_owned: tuple[str, ...] = ()  # paths (relative to the folder) left root's when the folder is made the user's
     python: str | None = None  # a Python snippet run instead of ``-m armanim`` (after PRELUDE; args are its argv)
     fsize: int | None = None  # RLIMIT_FSIZE in bytes (a file past it: EFBIG; SIGXFSZ is Python's SIG_IGN)
+    stdout: str = "pipe"  # "closed" (no fd 1), "full" (/dev/full), "head" (a reader gone after one line),
+    # "stuck" (a pipe nobody reads: a writer blocks once its 64 KB are full)
 
 
 def fingerprint(path: Path) -> object:
@@ -110,8 +112,12 @@ AS_USER_NAME = ""
 USER_PYTHON = sys.executable  # --user-python: the interpreter a user attempt runs (it must reach it)
 
 
-def _limits(memory: int, user: tuple[int, int, str] | None = None, fsize: int | None = None) -> Callable[[], None]:
+def _limits(
+    memory: int, user: tuple[int, int, str] | None = None, fsize: int | None = None, close_stdout: bool = False
+) -> Callable[[], None]:
     def apply() -> None:
+        if close_stdout:  # armanim started with no standard output at all (``armanim ... >&-``)
+            os.close(1)
         # a campaign started in the background has SIGINT ignored, and one started with nohup SIGHUP
         # (campaign 13's first signals13 pass: every SIGHUP attempt then measured nohup's armanim)
         for signum in (signal.SIGINT, signal.SIGHUP, signal.SIGQUIT):
@@ -159,17 +165,33 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
     python = USER_PYTHON if user is not None else sys.executable
     command = [python, "-c", PRELUDE + attempt.python, *args] if attempt.python else [python, "-m", "armanim", *args]
     started = time.perf_counter()
+    stuck_reader = None
+    if attempt.stdout == "full":
+        sink = open("/dev/full", "w")  # noqa: SIM115 (closed below)
+    elif attempt.stdout == "stuck":
+        stuck_reader, stuck_writer = os.pipe()
+        sink = os.fdopen(stuck_writer, "w")
+    else:
+        sink = None
     proc = subprocess.Popen(
         command,
         cwd=folder,
         env=env,
         stdin=subprocess.DEVNULL,
-        stdout=subprocess.PIPE,
+        stdout=subprocess.PIPE if sink is None else sink,
         stderr=subprocess.PIPE,
         text=True,
         errors="replace",
-        preexec_fn=_limits(memory, user, attempt.fsize),
+        preexec_fn=_limits(memory, user, attempt.fsize, close_stdout=attempt.stdout == "closed"),
     )
+    if sink is not None:
+        sink.close()
+    if attempt.stdout == "head" and proc.stdout is not None:
+        first_line = proc.stdout.readline()
+        proc.stdout.close()  # the reader goes: armanim's next writes meet a broken pipe
+        proc.stdout = None
+    else:
+        first_line = ""
     for delay, signame in (attempt.interrupt, *attempt.also) if attempt.interrupt is not None else ():
         try:
             proc.wait(max(0.0, started + delay - time.perf_counter()))
@@ -187,6 +209,10 @@ def run_attempt(attempt: Attempt, folder: Path, memory: int) -> tuple[str, list[
         hung = True
         os.killpg(proc.pid, signal.SIGKILL)
         out, err = proc.communicate()
+    finally:
+        if stuck_reader is not None:
+            os.close(stuck_reader)
+    out = first_line + (out or "")
     seconds = time.perf_counter() - started
     lingering = [] if hung or not attempt.linger else still_running(proc.pid, folder, attempt.linger)
     with contextlib.suppress(OSError):
@@ -7407,7 +7433,7 @@ def said_to_file(*args: str, env: dict | None = None) -> Callable[[Path], None]:
         done = subprocess.run(
             [sys.executable, "-m", "armanim", *args],
             cwd=d,
-            env=dict(os.environ, PYTHONPATH=str(SRC), COLUMNS="120", **(env or {})),
+            env={**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "120", **(env or {})},
             capture_output=True,
             text=True,
             timeout=600,
@@ -8921,6 +8947,1270 @@ os.chmod("o/tiny", 0o755)
     return out
 
 
+# ------------------------------------------------------------------ campaign 17: new angles
+
+BACKGROUND: list[subprocess.Popen] = []
+"""Processes an attempt's setup started beside armanim (a flapper, a lock holder, a Dask scheduler):
+each in a session of its own, all killed after the attempt (:func:`stop_background`)."""
+
+
+def background(*command: str, env: dict | None = None, cwd: str = "/") -> subprocess.Popen:
+    """Start ``command`` in a session of its own, beside the attempt (stopped after it)."""
+    proc = subprocess.Popen(
+        list(command),
+        cwd=cwd,
+        env={**os.environ, "PYTHONPATH": str(SRC), **(env or {})},
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    BACKGROUND.append(proc)
+    return proc
+
+
+def stop_background() -> None:
+    """Kill every process :func:`background` started (their sessions), and wait for them."""
+    while BACKGROUND:
+        proc = BACKGROUND.pop()
+        with contextlib.suppress(OSError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            proc.wait(10)
+
+
+FLAPPER = """
+import os, sys, time
+path, seconds, *variants = sys.argv[1:]
+end = time.monotonic() + float(seconds)
+tmp, i = path + ".flapping", 0
+while time.monotonic() < end:
+    v = variants[i % len(variants)]
+    i += 1
+    try:
+        if os.path.lexists(tmp):
+            os.unlink(tmp)
+        if v.startswith("->"):
+            os.symlink(v[2:], tmp)
+        else:
+            os.link(v, tmp)
+        os.replace(tmp, path)
+    except OSError:
+        pass
+    time.sleep(0.002)
+"""
+
+
+def flapping(at: str, *variants: str, seconds: float = 200.0) -> Callable[[Path], None]:
+    """Setup step: ``at`` (relative to the folder) swapped, every 2 ms and atomically (a rename),
+    between ``variants`` (files relative to the folder, hard-linked in turn, so a FIFO stays one;
+    ``->TARGET`` a symbolic link) while armanim runs: a file changing between its check and its
+    use, or between two reads (time of check to time of use)."""
+
+    def step(d: Path) -> None:
+        paths = [v if v.startswith("->") else str(d / v) for v in variants]
+        background(sys.executable, "-c", FLAPPER, str(d / at), str(seconds), *paths)
+        time.sleep(0.3)
+
+    return step
+
+
+def clean_run_agrees(
+    args: list[str],
+    versions: list[Callable[[Path], None]],
+    files: tuple[str, ...] = ("trajectory.csv",),
+    run: str = "o/tiny",
+) -> Callable[[Path], list[str]]:
+    """After: when armanim's run folder ``run`` exists, its ``files`` are byte for byte those of a
+    clean run (the same ``args``, no fault) of one of the inputs' ``versions`` (each a setup made
+    afresh): a run never mixes two versions of a file that changed under it."""
+
+    def check(d: Path) -> list[str]:
+        if not (d / run).is_dir():
+            return []
+        got = [(d / run / f).read_bytes() if (d / run / f).is_file() else None for f in files]
+        for number, version in enumerate(versions):
+            clean = d.parent / f"{d.name}.clean{number}"
+            shutil.rmtree(clean, ignore_errors=True)
+            clean.mkdir()
+            version(clean)
+            done = subprocess.run(
+                [sys.executable, "-m", "armanim", *args],
+                cwd=clean,
+                env={**os.environ, "PYTHONPATH": str(SRC)},
+                capture_output=True,
+                timeout=900,
+            )
+            same = done.returncode == 0 and got == [
+                (clean / run / f).read_bytes() if (clean / run / f).is_file() else None for f in files
+            ]
+            shutil.rmtree(clean, ignore_errors=True)
+            if same:
+                return []
+        return [f"{run}'s {', '.join(files)} match no clean run of the {len(versions)} versions of its inputs"]
+
+    return check
+
+
+def read_only_disk(at: str, *fill: Callable[[Path], object], kilobytes: int = 65536) -> Callable[[Path], None]:
+    """Setup: a tmpfs at ``at``, filled by ``fill`` (steps on the folder), then remounted read-only
+    (EROFS: root cannot write through it as it writes through modes)."""
+
+    def setup(d: Path) -> None:
+        small_disk(at, kilobytes)(d)
+        for step in fill:
+            step(d)
+        subprocess.run(["mount", "-o", "remount,ro", str(d / at)], check=True)
+
+    return setup
+
+
+def bind_read_only(at: str) -> Callable[[Path], None]:
+    """Setup step: the folder ``at`` bind-mounted on itself read-only."""
+
+    def step(d: Path) -> None:
+        subprocess.run(["mount", "--bind", str(d / at), str(d / at)], check=True)
+        subprocess.run(["mount", "-o", "remount,bind,ro", str(d / at)], check=True)
+
+    return step
+
+
+def copy_tree(src: str, dst: str) -> Callable[[Path], None]:
+    """Setup step: ``src`` (relative to the folder) copied to ``dst``, modes and times kept."""
+    return lambda d: shutil.copytree(d / src, d / dst, symlinks=True) and None
+
+
+WARM_CACHE: Path | None = None  # --warm-cache: numba's cache of the attacked src, warmed (NUMBA_CACHE_DIR)
+
+
+def warm_cache_copy(at: str = "nc") -> Callable[[Path], None]:
+    """Setup step: a copy of the campaign's warmed numba cache at ``at`` (the attempt's
+    ``NUMBA_CACHE_DIR``: its lock files beside each kernel's index)."""
+
+    def step(d: Path) -> None:
+        if WARM_CACHE is None:
+            raise RuntimeError("this attempt needs --warm-cache (numba's cache of --src, warmed)")
+        shutil.copytree(WARM_CACHE, d / at)
+
+    return step
+
+
+def each_lock(at: str, make: Callable[[Path], None]) -> Callable[[Path], None]:
+    """Setup step: every compile lock file under ``at`` removed and made again by ``make(path)``."""
+
+    def step(d: Path) -> None:
+        locks = sorted((d / at).rglob("*.lock"))
+        if not locks:
+            raise RuntimeError(f"no lock file under {at}")
+        for lock in locks:
+            lock.unlink()
+            make(lock)
+
+    return step
+
+
+LOCK_HOLDER = """
+import fcntl, glob, os, sys, time
+held = []
+for path in sorted(glob.glob(sys.argv[1] + "/**/*.lock", recursive=True)):
+    fd = os.open(path, os.O_RDWR)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    held.append(fd)
+open(sys.argv[2], "w").write(str(len(held)))
+time.sleep(float(sys.argv[3]))
+"""
+
+
+def locks_held(at: str, seconds: float = 900.0) -> Callable[[Path], None]:
+    """Setup step: another process holds every compile lock under ``at`` for ``seconds`` (a holder
+    stopped with Ctrl-Z, or stuck), started and waited for until it holds them."""
+
+    def step(d: Path) -> None:
+        background(sys.executable, "-c", LOCK_HOLDER, str(d / at), str(d / "held.txt"), str(seconds))
+        deadline = time.monotonic() + 60
+        while not (d / "held.txt").exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        if not (d / "held.txt").exists():
+            raise RuntimeError("the lock holder did not start")
+
+    return step
+
+
+def armanim_killed_at(seconds: float, *args: str, env: dict | None = None) -> Callable[[Path], None]:
+    """Setup step: armanim ``args`` started and its session killed with SIGKILL after ``seconds``
+    (a holder of the compile lock, or a warm, gone mid-compile)."""
+
+    def step(d: Path) -> None:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "armanim", *args],
+            cwd=d,
+            env={**os.environ, "PYTHONPATH": str(SRC), **{k: v.replace("{d}", str(d)) for k, v in (env or {}).items()}},
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            start_new_session=True,
+        )
+        try:
+            proc.wait(seconds)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+    return step
+
+
+def dask_bin() -> str:
+    return str(Path(sys.executable).parent / "dask")
+
+
+def free_port() -> int:
+    import socket
+
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def wait_listening(port: int, seconds: float = 60.0) -> None:
+    import socket
+
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        with contextlib.suppress(OSError), socket.create_connection(("127.0.0.1", port), timeout=1):
+            return
+        time.sleep(0.2)
+    raise RuntimeError(f"nothing listens on port {port} after {seconds:g} s")
+
+
+SILENT_SERVER = """
+import socket, sys, time
+s = socket.socket(); s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+s.bind(("127.0.0.1", int(sys.argv[1]))); s.listen(16)
+kept = []
+while True:
+    c, _ = s.accept()
+    if sys.argv[2] != "silent":
+        c.sendall(sys.argv[2].encode().decode("unicode_escape").encode("latin-1")); c.close()
+    else:
+        kept.append(c)
+"""
+
+PORTS: dict[str, int] = {}  # an attempt's name -> its port (chosen as the attempt is made)
+
+
+def port_of(name: str) -> int:
+    if name not in PORTS:
+        PORTS[name] = free_port()
+    return PORTS[name]
+
+
+def fake_server(port: int, answer: str = "silent") -> Callable[[Path], None]:
+    """Setup step: a TCP server on ``port`` that accepts and never answers, or sends ``answer`` and closes."""
+
+    def step(d: Path) -> None:
+        background(sys.executable, "-c", SILENT_SERVER, str(port), answer)
+        wait_listening(port)
+
+    return step
+
+
+def dask_cluster(
+    port: int, workers: int = 1, kill_scheduler_at: float | None = None, kill_worker_at: float | None = None
+) -> Callable[[Path], None]:
+    """Setup step: a Dask scheduler on ``port`` and ``workers`` worker processes (none: a scheduler
+    alone), each in a session of its own; the scheduler, or the workers, killed with SIGKILL
+    ``kill_*_at`` seconds after the setup ends (armanim then runs)."""
+
+    def step(d: Path) -> None:
+        scheduler = background(dask_bin(), "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard")
+        wait_listening(port)
+        pids = []
+        if workers:
+            worker = background(
+                dask_bin(),
+                "worker",
+                f"tcp://127.0.0.1:{port}",
+                "--nworkers",
+                str(workers),
+                "--nthreads",
+                "1",
+                "--no-dashboard",
+                "--no-nanny",
+            )
+            pids.append(worker.pid)
+            time.sleep(6)  # the workers import Dask and register
+        for at, pid in ((kill_scheduler_at, scheduler.pid), (kill_worker_at, pids[0] if pids else None)):
+            if at is not None and pid is not None:
+                background("sh", "-c", f"sleep {at}; kill -KILL -{pid}")
+
+    return step
+
+
+def nothing_made(*where: str) -> Callable[[Path], list[str]]:
+    """Check: no run folder, index or staging left in ``where`` (an outputs folder that may exist,
+    empty, or not at all)."""
+
+    def check(d: Path) -> list[str]:
+        problems = []
+        for place in where:
+            base = d / place
+            if base.is_dir():
+                found = sorted(p.name for p in base.iterdir() if not re.fullmatch(r"\.[^/]+\.lock", p.name))
+                if found:  # a run folder's lock OUT/.NAME.lock is kept on purpose (docs/reliability.md, 10)
+                    problems.append(f"{place} holds {found[:6]}")
+        return problems
+
+    return check
+
+
+def help_words_kept(*command: str) -> Callable[[Path], list[str]]:
+    """Check of ``command --help`` run at a narrow terminal (its output in the attempt's said.txt):
+    every word of the same help at 200 columns (option names and their help) is there whole."""
+
+    def check(d: Path) -> list[str]:
+        def words(text: str) -> set[str]:
+            return set(re.findall(r"[-\w]{3,}", re.sub(r"[│╭╮╰╯─]", " ", text)))
+
+        wide = subprocess.run(
+            [sys.executable, "-m", "armanim", *command, "--help"],
+            env={**os.environ, "PYTHONPATH": str(SRC), "COLUMNS": "200"},
+            capture_output=True,
+            text=True,
+            timeout=120,
+        ).stdout
+        narrow = (d / "said.txt").read_text() if (d / "said.txt").exists() else ""
+        lost = sorted(words(wide) - words(narrow))
+        return [f"{len(lost)} words of the help are missing or cut at 20 columns: {lost[:8]}"] if lost else []
+
+    return check
+
+
+def same_as_clean(run: str = "o/tiny", text: str = TINY, files: tuple[str, ...] = ("trajectory.csv", "summary.json")):
+    """Check: the run folder's ``files`` are those of a clean run of ``text`` (no fault, the campaign's cache)."""
+    out = run.split("/")[0]
+    return clean_run_agrees(["run", "s.yaml", "--out", out, "--no-video", "-q"], [tiny_scene(text=text)], files, run)
+
+
+def mesh17_attempts() -> list[Attempt]:
+    """Files a mesh names, in shapes campaigns 1-16 did not try: the robot's triangle and byte
+    budgets reached by several files (each under its own limit), an instance count weighted by a
+    big geometry, a header claiming four billion triangles, a texture named by an MTL or a COLLADA
+    image that is a FIFO, an MTL that is a link to a 2 GB sparse file; and meshes swapped while a
+    run reads them (a FIFO, a 2 GB sparse file, another mesh: time of check to time of use)."""
+    k = "mesh17"
+    out: list[Attempt] = []
+    tri_obj = "v 0 0 0\nv .05 0 0\nv 0 .05 0\nf 1 2 3\n"
+
+    def many_links(count: int, make: Callable[[Path, int], str]) -> Callable[[Path], None]:
+        """Setup: a URDF of ``count`` moving links, link i's collision the mesh ``make(d, i)`` names."""
+
+        def setup(d: Path) -> None:
+            lines = ['<?xml version="1.0"?>', '<robot name="r">', '<link name="l0"/>']
+            for i in range(1, count + 1):
+                lines.append(f'<link name="l{i}"><collision>{mesh_tag(make(d, i))}</collision></link>')
+                lines.append(
+                    f'<joint name="j{i}" type="revolute"><parent link="l{i - 1}"/><child link="l{i}"/>'
+                    f'<origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>'
+                )
+            write(d / "robot.urdf", "\n".join([*lines, "</robot>"]) + "\n")
+            write(d / "s.yaml", URDF_SCENE)
+
+        return setup
+
+    def stl_file(triangles: int) -> Callable[[Path, int], str]:
+        def make(d: Path, i: int) -> str:
+            write(d / f"m{i}.stl", stl(triangles))
+            return f"m{i}.stl"
+
+        return make
+
+    def padded_obj(megabytes: int) -> Callable[[Path, int], str]:
+        def make(d: Path, i: int) -> str:
+            with open(d / f"m{i}.obj", "w") as handle:
+                handle.write(tri_obj)
+                line = "#" + "x" * 1023 + "\n"
+                for _ in range(megabytes * 1024):
+                    handle.write(line)
+            return f"m{i}.obj"
+
+        return make
+
+    budget = r"2,000,000|triangles|256 MB|bytes|too (big|large|many)"
+    # fmt: off
+    out += [
+        Attempt(k, "robots --fit, two links of 1,050,000 triangles each (2.1 M: over the robot's 2,000,000)", ["robots", "--fit", "robot.urdf"], many_links(2, stl_file(1_050_000)), (2,), message=budget, timeout=300),
+        Attempt(k, "robots --fit, five links of a 60 MB OBJ each (300 MB: over the robot's 256 MB, each under 64 MB)", ["robots", "--fit", "robot.urdf"], many_links(5, padded_obj(60)), (2,), message=budget, timeout=300),
+        Attempt(k, "validate, five links of a 60 MB OBJ each (over the robot's 256 MB)", ["validate", "s.yaml"], many_links(5, padded_obj(60)), (2,), message=budget, timeout=300),
+    ]
+    # fmt: on
+    big_geometry = dae(1)
+    # a geometry of 50,000 triangles, instanced 100 times by one node: 5,000,000 triangles from 3 MB
+    corners = " ".join(f"{i * 1e-4:g} 0 0 0 {0.05 + i * 1e-4:g} 0 0 0 0.05" for i in range(50_000))
+    heavy = (
+        big_geometry.replace('count="9">0 0 0 0.05 0 0 0 0.05 0', f'count="{450_000}">{corners}')
+        .replace('accessor source="#a0" count="3"', 'accessor source="#a0" count="150000"')
+        .replace(
+            '<triangles count="1"><input semantic="VERTEX" source="#v0" offset="0"/><p>0 1 2</p>',
+            '<triangles count="50000"><input semantic="VERTEX" source="#v0" offset="0"/><p>'
+            + " ".join(str(i) for i in range(150_000))
+            + "</p>",
+        )
+        .replace(
+            '<node id="n0"><instance_geometry url="#g0"/></node>',
+            '<node id="n0">' + '<instance_geometry url="#g0"/>' * 100 + "</node>",
+        )
+    )
+    claims = b"\0" * 80 + (4_294_967_295).to_bytes(4, "little") + stl(1)[84:]
+    mtl_texture = {
+        "a.obj": "mtllib m.mtl\nusemtl skin\n" + tri_obj,
+        "m.mtl": "newmtl skin\nmap_Kd tex.png\n",
+        "tex.png": None,
+    }
+    dae_image = dae(
+        1,
+        extra='<library_images><image id="i"><init_from>tex.png</init_from></image></library_images>'
+        '<library_effects><effect id="e"><profile_COMMON><newparam sid="s"><surface type="2D"><init_from>i</init_from>'
+        '</surface></newparam><newparam sid="p"><sampler2D><source>s</source></sampler2D></newparam><technique sid="t">'
+        '<phong><diffuse><texture texture="p" texcoord="UV"/></diffuse></phong></technique></profile_COMMON></effect>'
+        '</library_effects><library_materials><material id="mat"><instance_effect url="#e"/></material></library_materials>',
+    )
+    for label, name, files in [
+        ("a COLLADA geometry of 50,000 triangles instanced 100 times by one node", "h.dae", {"h.dae": heavy}),
+        ("a binary STL whose header claims 4,294,967,295 triangles (134 bytes)", "c.stl", {"c.stl": claims}),
+        ("an OBJ whose MTL's map_Kd texture is a FIFO", "a.obj", mtl_texture),
+        ("a COLLADA whose image (init_from) is a FIFO", "i.dae", {"i.dae": dae_image, "tex.png": None}),
+        (
+            "an OBJ whose mtllib is a link to a 2 GB sparse file",
+            "a.obj",
+            {"a.obj": "mtllib m.mtl\n" + tri_obj, "m.mtl": ("->", "big.bin")},
+        ),
+    ]:
+
+        def setup(d: Path, name=name, files=files, where="collision") -> None:
+            urdf_robot(collision=col(name), files=files)(d)
+            if "big.bin" in str(files):
+                sparse(d / "big.bin", 2 << 30)
+
+        def vsetup(d: Path, name=name, files=files) -> None:
+            urdf_robot(vis(name), files=files)(d)
+            if "big.bin" in str(files):
+                sparse(d / "big.bin", 2 << 30)
+
+        heavy_one = name == "h.dae"
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit, collision {label}",
+                ["robots", "--fit", "robot.urdf"],
+                setup,
+                (2,) if heavy_one or name == "c.stl" else (0, 2),
+                timeout=120,
+                message=budget if heavy_one else None,
+            )
+        )
+        out.append(
+            Attempt(
+                k,
+                f"run --viewer, visual {label}",
+                ["run", "s.yaml", "--out", "o", "--no-video", "--viewer", "-q"],
+                vsetup,
+                (0,),
+                timeout=200,
+            )
+        )
+    # time of check to time of use: the collision mesh swapped while the run reads it
+    box = box_stl()
+    for label, other in [
+        ("a FIFO", lambda d: fifo(d / ".v/b")),
+        ("a 2 GB sparse file", lambda d: sparse(d / ".v/b", 2 << 30)),
+        ("a mesh twice the size", lambda d: write(d / ".v/b", box_stl(2.0))),
+    ]:
+
+        def setup(d: Path, other=other) -> None:
+            one_mesh_robot()(d)
+            write(d / ".v/a", box)
+            other(d)
+            flapping("m.stl", ".v/a", ".v/b")(d)
+
+        versions = [one_mesh_robot()]
+        if label == "a mesh twice the size":
+            versions.append(then(one_mesh_robot(), lambda d: write(d / "m.stl", box_stl(2.0))))
+        out.append(
+            Attempt(
+                k,
+                f"run, the collision mesh swapped every 2 ms with {label} (time of check to time of use)",
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                setup,
+                (0, 2),
+                timeout=200,
+                after=clean_run_agrees(
+                    ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                    versions,
+                    ("trajectory.csv", "capsules.yaml"),
+                    "o/m",
+                ),
+            )
+        )
+    # the URDF swapped between two robots (a link of 0.3 and of 0.5) while the run reads it
+    longer = ROBOT_ONE_MESH.replace('xyz="0 0 0.3"', 'xyz="0 0 0.5"').replace("MESH", "m.stl")
+
+    def urdf_swapped(d: Path) -> None:
+        one_mesh_robot()(d)
+        shutil.copy(d / "robot.urdf", d / ".v_a.urdf")
+        write(d / ".v_b.urdf", longer)
+        flapping("robot.urdf", ".v_a.urdf", ".v_b.urdf")(d)
+
+    out.append(
+        Attempt(
+            k,
+            "run, the URDF swapped every 2 ms between two robots: the run is one of them",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            urdf_swapped,
+            (0, 1, 2),
+            timeout=200,
+            after=clean_run_agrees(
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                [one_mesh_robot(), then(one_mesh_robot(), lambda d: write(d / "robot.urdf", longer))],
+                ("trajectory.csv", "summary.json", "capsules.yaml"),
+                "o/m",
+            ),
+        )
+    )
+    return out
+
+
+def frames17_attempts() -> list[Attempt]:
+    """Budgets decided before solving held to what the run then does: for paths of every kind near
+    the frame budget (an arc, a polyline, text, a line at a tiny speed), ``validate``'s verdict (kept
+    in said.txt) and ``run``'s agree: validate ok -> the run is not refused for its frames and has at
+    most 1,000,000; validate refused -> the run is refused the same way, before solving."""
+    k = "frames17"
+    out: list[Attempt] = []
+    head = "version: 1\nname: p\narm: {links: [1, 1, 1], axes: [z, y, y]}\nrender: {size: [160, 90], fps: FPS}\nsolver: {path_tolerance: TOL}\ngoals:\n"
+    paths = {
+        "an arc": "  - path: {arc: {center: [1, 0, 1], radius: 0.3, normal: [1, 0, 0], from: [1, 0.3, 1], angle: 300}}\n    speed: SPEED\n",
+        "a polyline of 50 corners": "  - path: {polyline: ["
+        + ", ".join(f"[1, {0.5 - i / 50:.3f}, {1 + 0.1 * (i % 2)}]" for i in range(50))
+        + "]}\n    speed: SPEED\n",
+        "a text of 8 letters": '  - path: {text: {string: "armanim!", origin: [1, -0.5, 1], height: 0.1, right: [0, 1, 0], up: [0, 0, 1]}}\n    speed: SPEED\n',
+        "a line": "  - path: {line: [[1, 0.5, 1], [1, -0.5, 1]]}\n    speed: SPEED\n",
+    }
+    cases = [
+        ("1e-6", "0.5", "30"),
+        ("2e-6", "0.5", "30"),
+        ("1e-4", "1e-4", "30"),
+        ("1e-3", "3e-5", "10"),
+        ("5e-6", "0.05", "90"),
+    ]
+    for label, goal in paths.items():
+        for tol, speed, fps in cases:
+            text = (head + goal).replace("TOL", tol).replace("SPEED", speed).replace("FPS", fps)
+            out.append(
+                Attempt(
+                    k,
+                    f"validate and run agree: {label}, path_tolerance {tol}, speed {speed}, {fps} fps",
+                    ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                    then(tiny_scene(text=text), said_to_file("validate", "s.yaml")),
+                    (0, 1, 2),
+                    timeout=400,
+                    after=validate_and_run_agree,
+                )
+            )
+    return out
+
+
+def validate_and_run_agree(d: Path) -> list[str]:
+    """Check: validate's verdict (said.txt) and the run's (the attempt's own exit and outputs) agree."""
+    import json as _json
+
+    said = (d / "said.txt").read_text() if (d / "said.txt").exists() else ""
+    validate_ok = (
+        said.strip().endswith("ok") or re.search(r"\bok\b", said.splitlines()[-1] if said.strip() else "") is not None
+    )
+    ran = (d / "o/p/summary.json").is_file()
+    problems = []
+    if validate_ok and not ran:
+        problems.append(f"validate said ok, and the run made no run folder (validate: {said.strip()[-160:]!r})")
+    if not validate_ok and ran:
+        problems.append(f"validate refused ({said.strip()[-200:]!r}) and the run ran")
+    if ran:
+        frames = _json.loads((d / "o/p/summary.json").read_text())["totals"]["frames"]
+        if frames > 1_000_000:
+            problems.append(f"the run has {frames:,} frames, past the 1,000,000 budget")
+    return problems
+
+
+def ro17_attempts() -> list[Attempt]:
+    """Read-only file systems (a tmpfs remounted ``ro``, a bind mount ``ro``: EROFS, which root meets
+    too, where campaign 16's modes needed a user who is not root) under --out, run folders, numba's
+    cache, the capsules' cache, TMPDIR and HOME."""
+    k = "ro17"
+    out: list[Attempt] = []
+    erofs = r"(?i)read-only"
+    moveit = mine("w.scene", "w\n* b\n1\nbox\n0.1 0.1 0.1\n1 1 1\n0 0 0 1\n0 0 0 0\n.\n")
+    with_run = lambda d: finished_run(d)  # noqa: E731
+    # fmt: off
+    writers: list[tuple[str, list[str], Callable[[Path], None], str, tuple[str, ...]]] = [
+        ("run --out an empty read-only file system", ["run", "s.yaml", "--out", "ro", "--no-video", "-q"], then(tiny_scene(), read_only_disk("ro")), "ro", ()),
+        ("run with video --out a read-only file system holding the previous run", ["run", "s.yaml", "--out", "ro", "-q"], then(tiny_scene(), read_only_disk("ro", with_run, lambda d: shutil.copytree(d / "o/tiny", d / "ro/tiny"))), "ro", ("ro",)),
+        ("a batch of two --jobs 2 --out a read-only file system", ["run", "s.yaml", "a.yaml", "--out", "ro", "--no-video", "-q", "--jobs", "2"], then(tiny_scene(), tiny_scene("a.yaml", OTHER), read_only_disk("ro")), "ro", ()),
+        ("sweep --out a read-only file system", ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "ro", "-q", "--jobs", "1"], then(tiny_scene(), read_only_disk("ro")), "ro", ()),
+        ("render of a run on a read-only file system (into its folder)", ["render", "ro/tiny", "--size", "64x36"], then(read_only_disk("ro", with_run, lambda d: shutil.copytree(d / "o/tiny", d / "ro/tiny"))), "ro", ("ro",)),
+        ("view of a run on a read-only file system (into its folder)", ["view", "ro/tiny"], then(read_only_disk("ro", with_run, lambda d: shutil.copytree(d / "o/tiny", d / "ro/tiny"))), "ro", ("ro",)),
+        ("export of a run on a read-only file system (into its folder)", ["export", "ro/tiny"], then(read_only_disk("ro", with_run, lambda d: shutil.copytree(d / "o/tiny", d / "ro/tiny"))), "ro", ("ro",)),
+        ("export --out onto a read-only file system", ["export", "o/tiny", "--out", "ro/e.json"], then(with_run, read_only_disk("ro")), "ro", ()),
+        ("render --out onto a read-only file system", ["render", "o/tiny", "--out", "ro", "--size", "64x36"], then(with_run, read_only_disk("ro")), "ro", ()),
+        ("check --update --golden on a read-only file system holding a pair", ["check", "s.yaml", "--golden", "ro", "--update", "-q"], then(tiny_scene(), read_only_disk("ro", lambda d: armanim_in(d, "check", "s.yaml", "--golden", "ro", "--update", "-q"))), "ro", ("ro",)),
+        ("import moveit --out onto a read-only file system", ["import", "moveit", "w.scene", "--robot", "panda", "--out", "ro/m.yaml"], then(moveit, read_only_disk("ro")), "ro", ()),
+        ("schema --out onto a read-only file system", ["schema", "--out", "ro/s.json"], read_only_disk("ro"), "ro", ()),
+        ("fk --png onto a read-only file system", ["fk", "--links", "1,1", "--angles", "10,20", "--png", "ro/p.png"], read_only_disk("ro"), "ro", ()),
+        ("run --out a folder bind-mounted read-only on itself, holding the previous run", ["run", "s.yaml", "--out", "o", "--no-video", "-q"], then(with_run, bind_read_only("o")), "o", ("o",)),
+    ]
+    # fmt: on
+    for label, args, setup, where, keep in writers:
+        out.append(
+            Attempt(
+                k,
+                label,
+                args,
+                setup,
+                (3,),
+                message=erofs if "render --out" not in label else r"(?i)read-only|mount point",
+                keep=keep,
+                timeout=300,
+                litter_in=(where, "."),
+                after=None if keep else nothing_made(where),
+            )
+        )
+    # caches and homes on a read-only file system: the command goes on, with the clean run's answer
+    for label, env, setup in [
+        ("NUMBA_CACHE_DIR on an empty read-only file system", {"NUMBA_CACHE_DIR": "{d}/ro"}, read_only_disk("ro")),
+        (
+            "NUMBA_CACHE_DIR a warmed cache on a read-only file system",
+            {"NUMBA_CACHE_DIR": "{d}/ro/nc"},
+            read_only_disk("ro", warm_cache_copy("ro/nc"), kilobytes=262144),
+        ),
+        ("TMPDIR on a read-only file system (with video)", {"TMPDIR": "{d}/ro"}, read_only_disk("ro")),
+        ("HOME on a read-only file system (matplotlib's and numba's caches)", {"HOME": "{d}/ro"}, read_only_disk("ro")),
+    ]:
+        video = "video" in label
+        args = ["run", "s.yaml", "--out", "o", "-q"] + ([] if video else ["--no-video"])
+        out.append(
+            Attempt(
+                k,
+                f"run, {label}: the clean run's answer",
+                args,
+                then(tiny_scene(), setup),
+                (0,),
+                env=env,
+                timeout=900,
+                litter_in=("o", "ro"),
+                after=same_as_clean(),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "run of a URDF robot, ARMANIM_CACHE_DIR on a read-only file system: the clean fit",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            then(one_mesh_robot(), read_only_disk("ro")),
+            (0,),
+            env={"ARMANIM_CACHE_DIR": "{d}/ro"},
+            timeout=300,
+            after=clean_run_agrees(
+                ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+                [one_mesh_robot()],
+                ("trajectory.csv", "capsules.yaml"),
+                "o/m",
+            ),
+        )
+    )
+    return out
+
+
+def lock17_attempts() -> list[Attempt]:
+    """The cross-process compile lock (``arm/kernel.py`` ``held_alone``, ``lock_beside``) and
+    ``warm --jobs N``: lock files made FIFOs, links to the user's file, folders; every lock held by
+    another process; a holder killed mid-compile; two ``warm --jobs 2`` at once; ``warm``
+    interrupted. Each on its own copy of the warmed cache or a cold one, held to a clean run's bytes."""
+    k = "lock17"
+    out: list[Attempt] = []
+    nc = {"NUMBA_CACHE_DIR": "{d}/nc"}
+    run = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+    for label, make, _keep in [
+        ("a FIFO", lambda p: os.mkfifo(p), ()),
+        (
+            "a link to the user's file",
+            lambda p: os.symlink(next(a for a in p.parents if (a / "mine.txt").exists()) / "mine.txt", p),
+            (),
+        ),
+        ("a folder", lambda p: p.mkdir(), ()),
+        ("a file at mode 000", lambda p: (p.write_text(""), p.chmod(0)), ()),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"run on a warmed cache, every compile lock {label}: the clean run's answer",
+                run,
+                then(tiny_scene(), mine(), warm_cache_copy(), each_lock("nc", make)),
+                (0,),
+                env=dict(nc),
+                keep=("mine.txt",),
+                timeout=300,
+                after=same_as_clean(),
+            )
+        )
+
+    def user_link(d: Path) -> None:
+        for lock in sorted((d / "nc").rglob("*.lock")):
+            lock.unlink()
+            os.symlink(d / "mine.txt", lock)
+
+    out.append(
+        Attempt(
+            k,
+            "run on a cold cache, every lock path a link to the user's file: the file kept, the clean answer",
+            run,
+            then(
+                tiny_scene(),
+                mine(),
+                warm_cache_copy(),
+                user_link,
+                lambda d: [p.unlink() for p in (d / "nc").rglob("*") if p.suffix in (".nbi", ".nbc")],
+            ),
+            (0,),
+            env=dict(nc),
+            keep=("mine.txt",),
+            timeout=900,
+            after=same_as_clean(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run on a warmed cache while another process holds every compile lock: no silent wait",
+            run,
+            then(tiny_scene(), warm_cache_copy(), locks_held("nc")),
+            (0,),
+            env=dict(nc),
+            timeout=120,
+            after=same_as_clean(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run on a cold cache while another process holds every compile lock: says it waits, or goes on",
+            ["run", "s.yaml", "--out", "o", "--no-video"],
+            then(
+                tiny_scene(),
+                warm_cache_copy(),
+                lambda d: [p.unlink() for p in (d / "nc").rglob("*") if p.suffix in (".nbi", ".nbc")],
+                locks_held("nc"),
+            ),
+            (0,),
+            env=dict(nc),
+            timeout=300,
+            message=r"(?i)wait|lock|another",
+            after=same_as_clean(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "Ctrl-C at 4 s of a run waiting on a held compile lock: exit 130 at once",
+            run,
+            then(tiny_scene(), warm_cache_copy(), locks_held("nc")),
+            (130,),
+            env=dict(nc),
+            timeout=30,
+            interrupt=(4.0, "SIGINT"),
+            litter_in=("o", "."),
+            after=nothing_made("o"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "a warm of a cold cache killed (SIGKILL) at 20 s, then a run: the clean run's answer",
+            run,
+            then(tiny_scene(), armanim_killed_at(20, "warm", "-q", env=nc)),
+            (0,),
+            env=dict(nc),
+            timeout=900,
+            after=same_as_clean(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "warm --jobs 2 of a cold cache, SIGINT at 15 s: exit 130, nothing left running, then a run: the clean answer",
+            ["warm", "--jobs", "2"],
+            tiny_scene(),
+            (130,),
+            env=dict(nc),
+            timeout=120,
+            interrupt=(15.0, "SIGINT"),
+            linger=15,
+            after=same_as_clean_after(nc),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "two warm --jobs 2 at once on one cold cache: both end 0, then a run compiles nothing and gives the clean answer",
+            ["warm", "--jobs", "2", "-q"],
+            then(
+                tiny_scene(),
+                lambda d: (d / "nc").mkdir(),
+                lambda d: background(
+                    sys.executable, "-m", "armanim", "warm", "--jobs", "2", "-q", env={"NUMBA_CACHE_DIR": str(d / "nc")}
+                ),
+            ),
+            (0,),
+            env=dict(nc),
+            timeout=1200,
+            after=same_as_clean_after(nc, compiles=False),
+        )
+    )
+    return out
+
+
+def same_as_clean_after(env: dict, compiles: bool = True) -> Callable[[Path], list[str]]:
+    """Check: a run with ``env`` after the attempt (its cache as the attempt left it) gives the clean
+    run's trajectory and summary; with ``compiles=False`` it must not compile (its time line)."""
+
+    def check(d: Path) -> list[str]:
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", "run", "s.yaml", "--out", "after", "--no-video"],
+            cwd=d,
+            env={**os.environ, "PYTHONPATH": str(SRC), **{k: v.replace("{d}", str(d)) for k, v in env.items()}},
+            capture_output=True,
+            text=True,
+            timeout=900,
+        )
+        if done.returncode != 0:
+            return [f"the run after: exit {done.returncode}: {(done.stdout + done.stderr).strip()[-300:]}"]
+        problems = same_as_clean("after/tiny")(d)
+        if not compiles and "compiled" in done.stdout + done.stderr:
+            problems.append(
+                "the run after two finished warms compiled again: "
+                + [line for line in (done.stdout + done.stderr).splitlines() if "compiled" in line][0][:200]
+            )
+        return problems
+
+    return check
+
+
+def dask17_attempts() -> list[Attempt]:
+    """Dask schedulers that are wrong, silent, without workers, or dying mid-run (``--scheduler``,
+    ARMANIM_SCHEDULER): a clear message, docs/scale-out.md's exit code, no partial outputs, no hang."""
+    k = "dask17"
+    out: list[Attempt] = []
+    two = ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q"]
+    scenes = then(tiny_scene(), tiny_scene("a.yaml", OTHER))
+    for label, answer in [
+        ("accepts and never answers", "silent"),
+        ("answers HTTP 400 and hangs up", "HTTP/1.1 400 Bad Request\\r\\n\\r\\n"),
+        ("sends 100 KB of zeros and hangs up", "\\x00" * 100),
+    ]:
+        name = f"a batch with a scheduler address whose server {label}"
+        port = port_of(name)
+        out.append(
+            Attempt(
+                k,
+                name,
+                [*two, "--scheduler", f"tcp://127.0.0.1:{port}"],
+                then(scenes, fake_server(port, answer)),
+                (2,),
+                message=r"--scheduler",
+                timeout=60,
+                litter_in=("o", "."),
+                after=nothing_made("o"),
+            )
+        )
+    for label, address in [
+        ("tls:// to a plain scheduler's port", "tls://127.0.0.1:PORT"),
+        ("ws:// to a plain scheduler", "ws://127.0.0.1:PORT"),
+        ("inproc://nowhere", "inproc://nowhere"),
+        ("tcp://127.0.0.1:0", "tcp://127.0.0.1:0"),
+        ("tcp://256.1.1.1:8786", "tcp://256.1.1.1:8786"),
+    ]:
+        name = f"a batch, --scheduler {label}"
+        port = port_of(name)
+        setup = then(scenes, dask_cluster(port, workers=0)) if "PORT" in address else scenes
+        out.append(
+            Attempt(
+                k,
+                name,
+                [*two, "--scheduler", address.replace("PORT", str(port))],
+                setup,
+                (2,),
+                message=r"--scheduler",
+                timeout=60,
+                litter_in=("o", "."),
+                after=nothing_made("o"),
+            )
+        )
+    name = "a batch on a scheduler with no workers: no silent wait for ever"
+    port = port_of(name)
+    out.append(
+        Attempt(
+            k,
+            name,
+            [*two, "--scheduler", f"tcp://127.0.0.1:{port}"],
+            then(scenes, dask_cluster(port, workers=0)),
+            (2, 3),
+            message=r"(?i)worker",
+            timeout=150,
+            litter_in=("o", "."),
+        )
+    )
+    name = "sweep with ARMANIM_SCHEDULER a scheduler killed (SIGKILL) 3 s into the sweep"
+    port = port_of(name)
+    out.append(
+        Attempt(
+            k,
+            name,
+            ["sweep", "s.yaml", "--set", "render.fps=10,20,30,40", "--out", "o", "-q"],
+            then(tiny_scene(), dask_cluster(port, 1, kill_scheduler_at=3)),
+            (2, 3),
+            env={"ARMANIM_SCHEDULER": f"tcp://127.0.0.1:{port}"},
+            timeout=200,
+            message=r"(?i)scheduler|lost|connect",
+            litter_in=("o", "."),
+        )
+    )
+    name = "a batch with video on a scheduler killed (SIGKILL) 4 s in"
+    port = port_of(name)
+    out.append(
+        Attempt(
+            k,
+            name,
+            ["run", "s.yaml", "a.yaml", "--out", "o", "-q", "--scheduler", f"tcp://127.0.0.1:{port}"],
+            then(scenes, dask_cluster(port, 1, kill_scheduler_at=4)),
+            (2, 3),
+            timeout=200,
+            message=r"(?i)scheduler|lost|connect",
+            litter_in=("o", "."),
+        )
+    )
+    name = "a batch whose only worker is killed (SIGKILL) 3 s in, none left: no silent wait for ever"
+    port = port_of(name)
+    out.append(
+        Attempt(
+            k,
+            name,
+            [*two, "--scheduler", f"tcp://127.0.0.1:{port}"],
+            then(scenes, dask_cluster(port, 1, kill_worker_at=3)),
+            (0, 2, 3),
+            timeout=200,
+            litter_in=("o", "."),
+        )
+    )
+    name = "Ctrl-C at 5 s of a batch on a scheduler: exit 130, no partial outputs"
+    port = port_of(name)
+    out.append(
+        Attempt(
+            k,
+            name,
+            ["run", "s.yaml", "a.yaml", "--out", "o", "-q", "--scheduler", f"tcp://127.0.0.1:{port}"],
+            then(scenes, dask_cluster(port, 1)),
+            (130,),
+            timeout=60,
+            interrupt=(5.0, "SIGINT"),
+            litter_in=("o", "."),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "SIGTERM at 6 s of a --scheduler local --jobs 2 batch: exit 130, its cluster gone 15 s later",
+            ["run", "s.yaml", "a.yaml", "--out", "o", "-q", "--scheduler", "local", "--jobs", "2"],
+            scenes,
+            (130,),
+            timeout=90,
+            interrupt=(6.0, "SIGTERM"),
+            linger=15,
+            litter_in=("o", "."),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "SIGTERM at 3 s while connecting to a silent scheduler: exit 130 before its 10 s",
+            [*two, "--scheduler", "tcp://127.0.0.1:PORTX"],
+            scenes,
+            (130,),
+            timeout=9,
+            interrupt=(3.0, "SIGTERM"),
+            litter_in=("o", "."),
+        )
+    )
+    last = out[-1]
+    port = port_of(last.name)
+    last.args = [a.replace("PORTX", str(port)) for a in last.args]
+    last.setup = then(scenes, fake_server(port))
+    name = "a batch on a live scheduler and worker: the local batch's bytes"
+    port = port_of(name)
+    out.append(
+        Attempt(
+            k,
+            name,
+            [*two, "--scheduler", f"tcp://127.0.0.1:{port}"],
+            then(
+                scenes, dask_cluster(port, 1), lambda d: armanim_in(d, *two[:4], "p", "--no-video", "-q", "--jobs", "1")
+            ),
+            (0,),
+            timeout=200,
+            after=same_bytes(
+                ("o/tiny/trajectory.csv", "p/tiny/trajectory.csv"), ("o/other/summary.json", "p/other/summary.json")
+            ),
+        )
+    )
+    return out
+
+
+def env17_attempts() -> list[Attempt]:
+    """The environment: a terminal of 20 columns for every command's help and tables; standard
+    output closed, a full device, a reader gone after one line, a reader that never reads; file
+    names that are not UTF-8 under LANG=C; HOME empty."""
+    k = "env17"
+    out: list[Attempt] = []
+    commands = [
+        [],
+        ["fk"],
+        ["ik"],
+        ["validate"],
+        ["schema"],
+        ["robots"],
+        ["run"],
+        ["render"],
+        ["view"],
+        ["export"],
+        ["sweep"],
+        ["compare"],
+        ["check"],
+        ["warm"],
+        ["import", "moveit"],
+    ]
+    for command in commands:
+        out.append(
+            Attempt(
+                k,
+                f"armanim {' '.join(command)} --help at COLUMNS=20: every word of the wide help",
+                ["validate", "s.yaml"],
+                then(tiny_scene(), said_to_file(*command, "--help", env={"COLUMNS": "20"})),
+                (0,),
+                timeout=120,
+                after=help_words_kept(*command),
+            )
+        )
+    # the tables at 20 columns: the run's headline and table, a batch's and a sweep's, the robots list
+    out.append(
+        Attempt(
+            k,
+            "run at COLUMNS=20: its headline and goal table say what summary.json says",
+            ["validate", "s.yaml"],
+            then(tiny_scene(), said_to_file("run", "s.yaml", "--out", "o", "--no-video", env={"COLUMNS": "20"})),
+            (0,),
+            timeout=300,
+            after=messages_agree(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "robots at COLUMNS=20: every robot named whole",
+            ["robots"],
+            codes=(0,),
+            env={"COLUMNS": "20"},
+            message=r"panda.*ur5",
+            timeout=60,
+        )
+    )
+    run = ["run", "s.yaml", "--out", "o", "--no-video"]
+    # standard output closed, full, gone after a line, never read
+    for mode, codes, message in [
+        ("closed", (0,), None),
+        ("full", (3,), r"(?i)no space|disk is full"),
+        ("head", (0,), None),
+    ]:
+        for args, setup in [
+            (["--version"], None),
+            (["--help"], None),
+            (["run", "--help"], None),
+            (["schema"], None),
+            (["robots"], None),
+            (["fk", "--links", "1,1", "--angles", "10,20"], None),
+            (["validate", "s.yaml"], tiny_scene()),
+            (run, tiny_scene()),
+            (["export", "o/tiny"], finished_run),
+            (["compare", "o/tiny/trajectory.csv", "o/tiny/trajectory.csv"], finished_run),
+            (["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "--jobs", "1"], tiny_scene()),
+        ]:
+            if mode == "head" and args[0] in ("--version", "export"):
+                continue
+            out.append(
+                Attempt(
+                    k,
+                    f"armanim {' '.join(args[:2])} with standard output {mode}",
+                    args,
+                    setup or (lambda d: None),
+                    codes,
+                    message=message,
+                    stdout=mode,
+                    timeout=300,
+                    after=same_as_clean() if args is run and mode != "full" else None,
+                )
+            )
+    out.append(
+        Attempt(
+            k,
+            "validate of 2,000 bad scenes, standard output a pipe nobody reads, SIGINT at 5 s: exit 130",
+            ["validate", *[f"b{i}.yaml" for i in range(2000)]],
+            lambda d: (
+                [
+                    write(
+                        d / f"b{i}.yaml", "version: 1\nname: b\narm: {links: [1, 1, 1]}\ngoals: [[1, 1, 1]]\nbogus: 1\n"
+                    )
+                    for i in range(2000)
+                ]
+                and None
+            ),
+            (130,),
+            stdout="stuck",
+            interrupt=(5.0, "SIGINT"),
+            timeout=30,
+        )
+    )
+    # file names that are not UTF-8, under LANG=C
+    latin = os.fsdecode(b"\xe9t\xe9")
+    c = {"LANG": "C", "LC_ALL": "C"}
+    for label, args, setup in [
+        (
+            "a scene file named in latin-1 bytes",
+            ["run", f"{latin}.yaml", "--out", "o", "--no-video"],
+            tiny_scene(f"{latin}.yaml"),
+        ),
+        (
+            "an outputs folder named in latin-1 bytes",
+            ["run", "s.yaml", "--out", f"o{latin}", "--no-video"],
+            tiny_scene(),
+        ),
+        (
+            "a batch of two, its outputs folder in latin-1 bytes (index.csv read back)",
+            ["run", "s.yaml", f"{latin}.yaml", "--out", f"o{latin}", "--no-video", "-q", "--jobs", "1"],
+            then(tiny_scene(), tiny_scene(f"{latin}.yaml", OTHER)),
+        ),
+        ("export --out a latin-1 name", ["export", "o/tiny", "--out", f"{latin}.json"], finished_run),
+        (
+            "a scene, its URDF and mesh in a folder named in latin-1 bytes",
+            ["run", f"{latin}/s.yaml", "--out", "o", "--no-video"],
+            lambda d: one_mesh_robot()(d / latin),
+        ),
+        ("validate of a missing scene named in latin-1 bytes", ["validate", f"{latin}-missing.yaml"], lambda d: None),
+    ]:
+        codes = (2,) if "missing" in label else (0, 2)
+        out.append(Attempt(k, f"LANG=C, {label}", args, setup, codes, env=c, timeout=300, litter_in=("o", ".")))
+    out.append(
+        Attempt(
+            k,
+            "HOME empty (HOME=), a run with video and a URDF robot's fit",
+            ["run", "s.yaml", "--out", "o", "-q"],
+            one_mesh_robot(),
+            (0,),
+            env={"HOME": "", "XDG_CACHE_HOME": UNSET, "ARMANIM_CACHE_DIR": UNSET},
+            timeout=300,
+        )
+    )
+    return out
+
+
+def signals17_attempts() -> list[Attempt]:
+    """Interrupts at moments campaigns 1-16 did not reach: while ``robots --fit`` waits on nothing
+    (a mesh swapped with a FIFO), while a batch waits for a scheduler's worker, during the tidy-up of
+    a run replacing its folder on a bind mount, and SIGHUP to a ``warm --jobs 2``."""
+    k = "signals17"
+    out: list[Attempt] = []
+    nc = {"NUMBA_CACHE_DIR": "{d}/nc"}
+    out.append(
+        Attempt(
+            k,
+            "SIGHUP to the group at 12 s of warm --jobs 2 on a cold cache: exit 130, nothing left running, the cache usable",
+            ["warm", "--jobs", "2"],
+            tiny_scene(),
+            (130,),
+            env=dict(nc),
+            timeout=120,
+            interrupt=(12.0, "SIGHUPG"),
+            linger=15,
+            after=same_as_clean_after(nc),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "SIGTERM to armanim alone at 12 s of warm --jobs 2 on a cold cache: its workers end with it",
+            ["warm", "--jobs", "2"],
+            tiny_scene(),
+            (130,),
+            env=dict(nc),
+            timeout=120,
+            interrupt=(12.0, "SIGTERM"),
+            linger=15,
+        )
+    )
+    name = "SIGINT at 8 s of a batch waiting on a scheduler with no workers: exit 130"
+    port = port_of(name)
+    out.append(
+        Attempt(
+            k,
+            name,
+            ["run", "s.yaml", "a.yaml", "--out", "o", "-q", "--scheduler", f"tcp://127.0.0.1:{port}"],
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER), dask_cluster(port, workers=0)),
+            (130,),
+            timeout=40,
+            interrupt=(8.0, "SIGINT"),
+            litter_in=("o", "."),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "SIGTERM at 3 s of robots --fit, its collision mesh swapped with a FIFO every 2 ms",
+            ["robots", "--fit", "robot.urdf"],
+            then(
+                one_mesh_robot(),
+                lambda d: write(d / ".v/a", box_stl()),
+                lambda d: fifo(d / ".v/b"),
+                flapping("m.stl", ".v/a", ".v/b"),
+            ),
+            (0, 2, 130),
+            timeout=30,
+            interrupt=(3.0, "SIGTERM"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "SIGINT at 1.5 s of a run replacing its folder on a read-only bind mount",
+            ["run", "s.yaml", "--out", "o", "-q"],
+            then(lambda d: finished_run(d), bind_read_only("o")),
+            (3, 130),
+            timeout=60,
+            interrupt=(1.5, "SIGINT"),
+            keep=("o",),
+            litter_in=("o", "."),
+        )
+    )
+    return out
+
+
+def wrong17_attempts() -> list[Attempt]:
+    """New draws of the random-arm oracle (rates, clock, summary) and a Dask batch's bytes."""
+    return oracle_runs("wrong17", (1701, 1702, 1703, 1704), "held to the rates, the clock and the summary")
+
+
 def api_snippet_check(text: str) -> None:
     """Compile every api16 snippet (a script mistake found before the campaign runs)."""
     compile(PRELUDE + text, "<api16>", "exec")
@@ -8975,6 +10265,14 @@ CLASSES = {
     "env16": env16_attempts,
     "api16": api16_attempts,
     "odd16": odd16_attempts,
+    "mesh17": mesh17_attempts,
+    "frames17": frames17_attempts,
+    "ro17": ro17_attempts,
+    "lock17": lock17_attempts,
+    "dask17": dask17_attempts,
+    "env17": env17_attempts,
+    "signals17": signals17_attempts,
+    "wrong17": wrong17_attempts,
 }
 
 
@@ -8996,8 +10294,15 @@ def main() -> int:
     parser.add_argument(
         "--user-python", default=sys.executable, help="the interpreter those attempts run (the user must reach it)"
     )
+    parser.add_argument(
+        "--warm-cache",
+        type=Path,
+        default=None,
+        help="numba's cache (NUMBA_CACHE_DIR) of --src, warmed: lock17 and ro17 copy it into their attempts",
+    )
     args = parser.parse_args()
     globals()["SRC"] = args.src.resolve()
+    globals()["WARM_CACHE"] = args.warm_cache.resolve() if args.warm_cache else None
     if args.as_user:
         import pwd
 
@@ -9026,6 +10331,7 @@ def main() -> int:
         except Exception as exc:  # the attempt's own setup failed: reported, never counted right
             verdict, problems, seconds, code = "setup", [f"{type(exc).__name__}: {exc}"[:300]], 0.0, None
         finally:
+            stop_background()
             unmount_under(folder)
         counts = tally.setdefault(attempt.kind, {})
         counts[verdict] = counts.get(verdict, 0) + 1

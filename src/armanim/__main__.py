@@ -7,6 +7,7 @@ interrupt inside an import would otherwise print a traceback, and SIGTERM would 
 with -15). :mod:`armanim.cli.interrupts` takes over while a command runs.
 """
 
+import errno
 import os
 import signal
 import sys
@@ -19,15 +20,21 @@ def _quit_before_the_command(signum, frame):
     os._exit(130)
 
 
-def _print_version() -> None:
-    """``armanim --version``: the line :func:`armanim.cli.app._version` prints; a closed reader
-    (``armanim --version | head -0``) is not an error, as :class:`armanim.cli.app.QuietWhenClosed` says."""
+def _print_version() -> int:
+    """``armanim --version``: the line :func:`armanim.cli.app._version` prints, and the exit code. A
+    closed reader (``armanim --version | head -0``) or no stdout at all is not an error, as
+    :class:`armanim.cli.app.QuietWhenClosed` says; a device that refuses the line (``/dev/full``) is
+    exit 3 with the reason, as for every command's output (campaign 17: exit 0, nothing written)."""
     from armanim import __version__
 
     try:
         os.write(1, f"armanim {__version__}\n".encode())
-    except OSError:
-        pass
+    except (BrokenPipeError, OSError) as exc:
+        if isinstance(exc, BrokenPipeError) or exc.errno == errno.EBADF:
+            return 0
+        os.write(2, f"armanim: output: {exc.strerror or exc}\n".encode())
+        return 3  # errors.EXIT_OUTPUT_FAILED (not imported yet)
+    return 0
 
 
 def _compiled_always() -> None:
@@ -52,8 +59,7 @@ def main() -> None:
     if signal.getsignal(signal.SIGHUP) != signal.SIG_IGN:  # the terminal closing (left ignored under nohup)
         signal.signal(signal.SIGHUP, _quit_before_the_command)
     if sys.argv[1:] == ["--version"]:  # the app's own --version line, without importing typer and rich (0.1 s)
-        _print_version()
-        return
+        sys.exit(_print_version())
     import warnings
 
     # numpy's floating-point RuntimeWarnings are not the user's business: a value they would

@@ -182,3 +182,90 @@ def test_every_cached_kernel_compiles_under_the_lock():
 
     assert type(compiled.kind_count) is kernel._CompilesOnce
     assert kernel.compile_lock_path(compiled.kind_count, ()).endswith(".lock")
+
+
+def _held_by_another_process(lock: Path) -> subprocess.Popen[str]:
+    """A process holding ``lock`` (flock) until it is killed."""
+    holder = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            "import fcntl, os, sys, time\nfd = os.open(sys.argv[1], os.O_RDWR | os.O_CREAT)\n"
+            "fcntl.flock(fd, fcntl.LOCK_EX)\nopen(sys.argv[1] + '.held', 'w').close()\ntime.sleep(900)",
+            str(lock),
+        ],
+        text=True,
+    )
+    _wait_for(Path(str(lock) + ".held"), holder)
+    return holder
+
+
+_LOAD = textwrap.dedent(
+    """
+    from numba import types
+    from armanim.arm import kernel
+    from armanim.world.compiled import kind_count
+    waits = []
+    getattr(kernel, "WAIT_LISTENERS", []).append(lambda path, seconds: waits.append(path))
+    kind_count.compile((types.none,))
+    stats = kind_count.stats
+    print(sum(stats.cache_misses.values()), sum(stats.cache_hits.values()), len(waits))
+    """
+)
+
+
+def test_a_kernel_already_in_the_cache_loads_without_waiting_on_its_lock(tmp_path):
+    # campaign 17: a process holding every compile lock (a warm stopped with Ctrl-Z) kept a run on a
+    # warmed cache waiting 600 s for each kernel it only had to load
+    from numba import types
+
+    from armanim.world.compiled import kind_count
+
+    cache = tmp_path / "cache"
+    first = _compiler("first", tmp_path, cache)
+    (tmp_path / "second-ready").touch()  # the first compiles at once: no second process here
+    assert _misses_and_hits(first) == ["1", "0"]
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    lock_path = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "from numba import types\nfrom armanim.arm import kernel\nfrom armanim.world.compiled import kind_count\n"
+            "print(kernel.compile_lock_path(kind_count, (types.none,)))",
+        ],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip()
+    assert kind_count is not None and types.none is not None
+    holder = _held_by_another_process(Path(lock_path))
+    try:
+        loader = subprocess.run(
+            [sys.executable, "-c", _LOAD], env=env, capture_output=True, text=True, timeout=300, check=True
+        )
+    finally:
+        holder.kill()
+        holder.wait()
+    assert loader.stdout.split() == ["0", "1", "0"]  # loaded, compiled nothing, never waited
+
+
+def test_waits_on_locks_held_elsewhere_are_told_and_share_one_budget(tmp_path, monkeypatch):
+    # campaign 17: on a cold cache, a holder of every lock made each kernel wait its own 600 s
+    told: list[str] = []
+    monkeypatch.setattr(kernel, "_WAIT_LEFT", [1.5])
+    monkeypatch.setattr(kernel, "WAIT_LISTENERS", [lambda path, seconds: told.append(path)])
+    locks = [tmp_path / "a.lock", tmp_path / "b.lock"]
+    holders = [_held_by_another_process(lock) for lock in locks]
+    try:
+        with kernel.held_alone(str(locks[0]), wait_s=600):  # waits out what is left of the budget
+            pass
+        with kernel.held_alone(str(locks[1]), wait_s=600):  # the budget spent: no wait at all
+            pass
+        assert told == [str(locks[0])]
+        assert kernel._WAIT_LEFT == [0.0]
+        assert all(_locked_elsewhere(lock) for lock in locks)  # the holders' still: it went on without
+    finally:
+        for holder in holders:
+            holder.kill()
+            holder.wait()

@@ -169,3 +169,60 @@ def test_a_long_line_is_cut_in_its_middle_keeping_what_went_wrong(tmp_path):
     line = done.stderr.strip().splitlines()[-1]
     assert len(line) < 700 and line.startswith("ppp") and "characters cut" in line
     assert line.endswith("choose another folder with --out)"), line
+
+
+def _words(text: str) -> set[str]:
+    """The words of a command's output, its boxes' lines taken away."""
+    import re
+
+    return set(re.findall(r"[-\w]{3,}", re.sub(r"[│╭╮╰╯─┃┏┓┗┛━┡┩╇┳┻╋┠┨┼┬┴├┤┌┐└┘]", " ", text)))
+
+
+@pytest.mark.parametrize(
+    "args, columns",
+    [(["ik", "--help"], "80"), (["ik", "--help"], "20"), (["run", "--help"], "20"), (["robots"], "20")],
+)
+def test_a_narrow_terminal_loses_no_word_of_the_help_or_a_table(args, columns):
+    """Campaign 17: at 80 columns ``ik --help`` cut the last letters of its help's lines ("default:
+    fo" for "four"); at 20 every option's help text was dropped and the robots' table showed only
+    ellipses. Every word of the output at 200 columns is there at the narrow width."""
+
+    def at(width: str) -> str:
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", *args],
+            capture_output=True,
+            text=True,
+            timeout=300,
+            env={**os.environ, "COLUMNS": width},
+        )
+        assert done.returncode == 0, done.stderr
+        return done.stdout
+
+    assert _words(at("200")) - _words(at(columns)) == set()
+
+
+@pytest.mark.parametrize("args", [["schema"], ["--help"], ["--version"], ["robots"]])
+def test_no_standard_output_at_all_is_a_closed_reader(args):
+    """``armanim schema >&-`` (campaign 17: an AttributeError traceback, exit 1): as ``| head -0``,
+    exit 0 and no word."""
+    done = subprocess.run(
+        [sys.executable, "-m", "armanim", *args],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=300,
+        preexec_fn=lambda: os.close(1),
+    )
+    assert (done.returncode, done.stderr) == (0, "")
+
+
+@pytest.mark.parametrize("args", [["--help"], ["run", "--help"], ["--version"], ["schema"]])
+def test_a_full_standard_output_is_an_output_error(args):
+    """``armanim --help > /dev/full`` (campaign 17: a traceback, exit 1; ``--version`` exit 0 having
+    written nothing): exit 3 and the reason, as any command's output error."""
+    with open("/dev/full", "w") as full:
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", *args], stdout=full, stderr=subprocess.PIPE, text=True, timeout=300
+        )
+    assert done.returncode == 3, done.stderr
+    assert done.stderr == "armanim: output: No space left on device\n"

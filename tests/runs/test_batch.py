@@ -687,3 +687,48 @@ def test_a_bad_sweep_setting_is_named_with_its_value_as_given(src, tmp_path, set
     result = invoke("sweep", src / "a.yaml", "--set", setting, "--out", tmp_path, "-q", "--jobs", 1)
     assert result.exit_code == 2
     assert expected in result.stderr, result.stderr
+
+
+class _Named(str):
+    """A task for an executor: a string (``len`` is the work) with the ``name`` a task has."""
+
+    @property
+    def name(self) -> str:
+        return str(self)
+
+
+def _outcomes(results) -> list[tuple[str, object, str]]:
+    return [(task.name, result, type(error).__name__ if error else "") for task, result, error in results]
+
+
+def test_a_scheduler_without_workers_fails_the_scenes_after_its_wait(dask_distributed, monkeypatch):
+    # campaign 17: a batch on a scheduler with no worker waited without end and without a word
+    from armanim.procs import executors
+
+    monkeypatch.setattr(executors, "NO_WORKERS_SECONDS", 3.0)
+    with dask_distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        results = list(executors.executor_for(1, cluster.scheduler_address).map(len, [_Named("a"), _Named("bb")]))
+    assert sorted(_outcomes(results)) == [("a", None, "SchedulerLost"), ("bb", None, "SchedulerLost")]
+    assert "has had no worker for 3 s" in str(results[0][2])
+
+
+def test_a_scheduler_lost_mid_batch_fails_the_scenes_left(dask_distributed):
+    # campaign 17: a scheduler killed mid-batch ended the command in Dask's traceback (exit 1)
+    import threading
+
+    from armanim.procs import executors
+
+    cluster = dask_distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None)
+    executor = executors.executor_for(1, cluster.scheduler_address)
+    threading.Timer(2.0, cluster.close).start()
+    results = list(executor.map(len, [_Named("a")]))
+    assert _outcomes(results) == [("a", None, "SchedulerLost")]
+    assert "was lost" in str(results[0][2])
+
+
+def test_a_scheduler_with_a_worker_gives_each_task_its_answer(dask_distributed):
+    from armanim.procs import executors
+
+    with dask_distributed.LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
+        results = list(executors.executor_for(1, cluster.scheduler_address).map(len, [_Named("a"), _Named("bbb")]))
+    assert sorted(_outcomes(results)) == [("a", 1, ""), ("bbb", 3, "")]

@@ -134,18 +134,26 @@ def load_lightly(dispatcher: Any) -> None:
 
 
 COMPILE_WAIT_S = 600.0
-"""Seconds a process waits for another's compile of the same kernel before it compiles the kernel
-itself (a compile takes some 1-60 s; a holder stopped or stuck must not stop the others)."""
+"""Seconds a process waits, in all, for other processes' compiles of the kernels it needs before it
+compiles them itself (a compile takes some 1-60 s; a holder stopped or stuck must not stop the
+others). Once a wait has run out, the process waits on no lock again: campaign 17's holder of every
+lock would otherwise have kept a run on a cold cache waiting 600 s for each of its kernels."""
+
+WAIT_LISTENERS: list[Callable[[str, float], None]] = []
+"""Called once per wait that passes a second, with the lock file and the seconds the wait may still
+take (the command says so on stderr: a wait is never silent)."""
 
 _HELD: set[str] = set()
 _HELD_GUARD = threading.Lock()
+_WAIT_LEFT = [COMPILE_WAIT_S]  # this process's waits share one budget (a list: changed in place)
 
 
 @contextlib.contextmanager
 def held_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]:
     """Hold the exclusive lock ``lock_path`` (a file beside numba's cache index of one kernel) while
     the body runs, so that processes sharing a cache compile each kernel once: a second process
-    waits (at most ``wait_s`` seconds) and then finds the first one's machine code in the cache.
+    waits (at most ``wait_s`` seconds, and at most what is left of its :data:`COMPILE_WAIT_S`) and
+    then finds the first one's machine code in the cache.
 
     The lock is ``flock``'s, so the kernel releases it when its holder ends, however it ends. A
     thread of a process that already holds ``lock_path`` (a nested compile, or another thread,
@@ -159,7 +167,7 @@ def held_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]
         yield
         return
     try:
-        import fcntl
+        import fcntl  # noqa: F401  (where there is none, the body runs without a lock)
 
         # never through a link (a file made where it points), never waiting on a FIFO planted there
         fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW | os.O_NONBLOCK, 0o644)
@@ -167,23 +175,41 @@ def held_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]
         fd = None
     try:
         if fd is not None:
-            deadline = time.monotonic() + wait_s
-            while True:
-                try:
-                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                    break
-                except BlockingIOError:
-                    if time.monotonic() >= deadline:
-                        break
-                    time.sleep(0.05)
-                except OSError:
-                    break
+            _locked_within(fd, lock_path, min(wait_s, _WAIT_LEFT[0]))
         yield
     finally:
         if fd is not None:
             os.close(fd)  # releases the lock
         with _HELD_GUARD:
             _HELD.discard(lock_path)
+
+
+def _locked_within(fd: int, lock_path: str, wait_s: float) -> bool:
+    """Take ``flock``'s exclusive lock on ``fd`` within ``wait_s`` seconds (whether it was taken),
+    telling :data:`WAIT_LISTENERS` once a wait passes a second; the time waited comes off this
+    process's budget (:data:`COMPILE_WAIT_S`)."""
+    import fcntl
+
+    started = time.monotonic()
+    told = False
+    try:
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                return True
+            except BlockingIOError:
+                waited = time.monotonic() - started
+                if waited >= wait_s:
+                    return False
+                if waited >= 1.0 and not told:
+                    told = True
+                    for listener in list(WAIT_LISTENERS):
+                        listener(lock_path, wait_s - waited)
+                time.sleep(0.05)
+            except OSError:
+                return False
+    finally:
+        _WAIT_LEFT[0] = max(0.0, _WAIT_LEFT[0] - (time.monotonic() - started))
 
 
 class _CompilesOnce(numba.core.registry.CPUDispatcher):
@@ -195,10 +221,22 @@ class _CompilesOnce(numba.core.registry.CPUDispatcher):
         normalized: Any = numba.core.sigutils.normalize_signature  # numba's own, untyped
         args, _ = normalized(sig)
         lock_path = compile_lock_path(self, tuple(args))
-        if lock_path is None or tuple(args) in self.overloads:
-            return super().compile(sig)
+        if lock_path is None or tuple(args) in self.overloads or self._kept(sig):
+            return super().compile(sig)  # nothing to compile: no lock to wait on (campaign 17)
         with held_alone(lock_path):
             return super().compile(sig)  # numba looks in its cache first: the other's code
+
+    def _kept(self, sig: Any) -> bool:
+        """Whether numba's cache index holds machine code for ``sig`` (read as numba reads it before
+        it loads the code). A run on a warmed cache then takes no lock: campaign 17's process
+        holding every lock kept such a run waiting 600 s for each kernel it merely loaded."""
+        cache: Any = getattr(self, "_cache", None)  # numba's, untyped
+        target: Any = self.targetctx
+        try:
+            key = cache._index_key(sig, target.codegen())
+            return key in cache._cache_file._load_index()
+        except Exception:  # noqa: BLE001  (a cache laid out otherwise: the lock as before)
+            return False
 
 
 def index_path(dispatcher: Any) -> str | None:

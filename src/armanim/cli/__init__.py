@@ -18,13 +18,19 @@ for _module in COMMAND_MODULES:
 
 def main() -> None:
     """Run the command line in this process (see :mod:`armanim.__main__`, which calls it)."""
-    from armanim.cli.app import quiet_when_closed
+    from armanim.cli.app import flushed_or_failed, quiet_when_closed
     from armanim.cli.interrupts import ignore_until_exit, own_the_process
 
     own_the_process()
     quiet_when_closed()
     try:
-        app()
+        failed = None
+        try:
+            app()
+        except OSError as exc:  # written outside a command (its --help, --version): the device refused it
+            failed = exc
+        finally:
+            flushed_or_failed(failed)
     finally:
         # every way out (a usage error, --help, an outcome): at shutdown CPython puts SIG_DFL back
         # in place of a Python handler, so a signal then would end the process by it (-15, -2)

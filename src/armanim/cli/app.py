@@ -41,9 +41,22 @@ def _forget_a_width_of_zero() -> None:
         del os.environ["COLUMNS"]
 
 
+NARROWEST_COLUMNS = 80
+"""The narrowest armanim draws its help and tables: on a narrower terminal (``COLUMNS=20``) they are
+drawn 80 wide and the terminal wraps their lines, every word and number kept. Drawn 20 wide, the
+goal table showed only ellipses and the help only option names, the help text dropped, and at 80
+``ik --help`` lost the last letters of its help's lines (campaign 17)."""
+
+
+def _console_width() -> int | None:
+    """The width to draw at: None (rich measures COLUMNS or the terminal each time) unless that is
+    under :data:`NARROWEST_COLUMNS`."""
+    return NARROWEST_COLUMNS if Console().width < NARROWEST_COLUMNS else None
+
+
 _forget_a_width_of_zero()
-out = Console()
-err = Console(stderr=True)
+out = Console(width=_console_width())
+err = Console(stderr=True, width=_console_width())
 
 
 def _plain_help() -> None:
@@ -83,6 +96,7 @@ def _with_help_table(format_help):
 
         if not getattr(rich_utils.Table, "keeps_names_whole", False):
             rich_utils.Table = _help_table()  # typer's option and command panels are its only tables
+        rich_utils.MAX_WIDTH = max(rich_utils.MAX_WIDTH or Console().width, NARROWEST_COLUMNS)
         return format_help(self, ctx, formatter)
 
     return formatted
@@ -103,6 +117,17 @@ def _help_table():
             for column, cell in list(zip(self.columns, renderables))[:-1]:
                 if isinstance(cell, Text):
                     column.min_width = max(column.min_width or 0, cell.cell_len)
+
+        def _calculate_column_widths(self, console, options):
+            # rich measures the columns again after narrowing them, and a name column comes back
+            # to its min_width: the table was then wider than the panel and the help text, wrapped
+            # for the wider column, lost its last letters at the edge (campaign 17: `ik --help` at
+            # 80 columns said "(default: fo" for "four"). The help column gives up the excess.
+            widths = super()._calculate_column_widths(console, options)
+            excess = sum(widths) + self._extra_width - options.max_width
+            if excess > 0 and widths:
+                widths[-1] = max(widths[-1] - excess, 1)
+            return widths
 
     return HelpTable
 
@@ -144,13 +169,37 @@ class QuietWhenClosed:
 
 
 def quiet_when_closed() -> None:
-    """Wrap this process's stdout and stderr in :class:`QuietWhenClosed` (the armanim process only)."""
+    """Wrap this process's stdout and stderr in :class:`QuietWhenClosed` (the armanim process only).
+    A stream the process was started without (``armanim schema >&-``: Python's is None) writes to
+    /dev/null, as a closed reader's does (campaign 17: ``schema`` ended in an AttributeError)."""
     for name in ("stdout", "stderr"):
+        if getattr(sys, name) is None:
+            setattr(sys, name, open(os.devnull, "w"))  # noqa: SIM115 (the process's own, for its life)
         stream = getattr(sys, name)
         if stream is not None and not isinstance(stream, QuietWhenClosed):
             with contextlib.suppress(OSError, ValueError, AttributeError):
                 stream.fileno()  # a real file descriptor (not a test's capture)
                 setattr(sys, name, QuietWhenClosed(stream))
+
+
+def flushed_or_failed(failed: OSError | None = None) -> None:
+    """Flush stdout at the end of the command; where that fails (a full device: ``armanim --help >
+    /dev/full``), say so on stderr and end with exit 3, as a command's own output error does. Output
+    written outside any command (``--help``, ``--version``, a usage error) reaches the device only
+    here, or in Python's final flush: campaign 17 found a traceback there, and ``--version`` exit 0
+    having written nothing. ``failed``: the error a write outside any command raised. The rest is
+    dropped, so that Python's final flush has nothing to fail on."""
+    try:
+        if failed is not None:
+            raise failed
+        sys.stdout.flush()
+    except OSError as exc:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
+        say(f"armanim: output: {exc.strerror or exc}", err)
+        raise SystemExit(EXIT_OUTPUT_FAILED) from None
 
 
 def say(text: str, console: Console = out) -> None:
@@ -161,6 +210,7 @@ def say(text: str, console: Console = out) -> None:
 def tell_first_compile(command: Literal["run", "ik"], problem: object = None) -> None:
     """At a terminal, say so before a solve whose kernels numba compiles first (:mod:`armanim.runs.warmth`;
     ``problem``: ik's, which says whether its compiled attempt runs)."""
+    tell_lock_waits()
     if not err.is_terminal:
         return
     from armanim.runs.warmth import compiles_first, first_compile_notice
@@ -168,6 +218,23 @@ def tell_first_compile(command: Literal["run", "ik"], problem: object = None) ->
     if compiles_first(command, problem):
         say(first_compile_notice(), err)
         count_compiles(err)
+
+
+def tell_lock_waits() -> None:
+    """From now on in this process, a line on stderr when a compile waits on another process's lock
+    (:data:`armanim.arm.kernel.WAIT_LISTENERS`): campaign 17's run waited on them without a word."""
+    from armanim.arm import kernel
+
+    def tell(lock_path: str, seconds: float) -> None:
+        say(
+            f"armanim: waiting for another armanim process compiling the same code (lock {lock_path}); "
+            f"at most {seconds:.0f} s more, then this one compiles it",
+            err,
+        )
+
+    if not any(getattr(listener, "armanim_says", False) for listener in kernel.WAIT_LISTENERS):
+        tell.armanim_says = True  # type: ignore[attr-defined]
+        kernel.WAIT_LISTENERS.append(tell)
 
 
 def count_compiles(console: Console = err) -> object:

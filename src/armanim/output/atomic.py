@@ -37,7 +37,9 @@ def output_error(path: Path, exc: OSError) -> OutputError:
         return OutputError(f"{path}: the disk is full (free some space and run again)")
     if exc.errno in (errno.EEXIST, errno.ENOTDIR):
         return OutputError(f"{path}: a file stands where a folder is needed ({OUT_ADVICE})")
-    if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+    if exc.errno == errno.EROFS:  # campaign 17: it said "permission denied", which chmod cannot mend
+        return OutputError(f"{path}: cannot write here: the file system is read-only ({OUT_ADVICE})")
+    if exc.errno in (errno.EACCES, errno.EPERM):
         return OutputError(f"{path}: cannot write here: permission denied ({OUT_ADVICE})")
     return OutputError(f"{path}: cannot write: {exc.strerror or exc}")
 
@@ -189,6 +191,17 @@ def write_chunks_atomic(path: Path, chunks: Iterable[bytes]) -> None:
         _write_synced(tmp, chunks)
 
 
+def text_bytes(text: str) -> bytes:
+    """``text`` as UTF-8, a file name's bytes that are not UTF-8 (Python's surrogate escapes, as in
+    ``os.fsdecode``) written back as they were: campaign 17's batch into an outputs folder named in
+    latin-1 under LANG=C ended in a UnicodeEncodeError writing index.csv, which names the folder.
+
+    >>> text_bytes("o/" + os.fsdecode(b"\\xe9t\\xe9"))
+    b'o/\\xe9t\\xe9'
+    """
+    return text.encode("utf-8", "surrogateescape")
+
+
 def write_text_atomic(path: Path, text: str) -> None:
-    """Write UTF-8 text to ``path`` atomically (no newline translation)."""
-    write_bytes_atomic(path, text.encode("utf-8"))
+    """Write UTF-8 text to ``path`` atomically (no newline translation; :func:`text_bytes`)."""
+    write_bytes_atomic(path, text_bytes(text))

@@ -13,7 +13,7 @@ import os
 from pathlib import Path
 
 from armanim.errors import OutputError, SceneError
-from armanim.output.atomic import write_chunks_atomic, write_target
+from armanim.output.atomic import text_bytes, write_chunks_atomic, write_target
 from armanim.output.files import open_regular
 
 MAX_MARK_BYTES = 1_000
@@ -62,7 +62,7 @@ def write_marked(path: Path, data: bytes | str, kind: str) -> None:
     matching mark would be refused next time). Check first with :func:`check_marked_replaceable`."""
     from armanim.procs.deferred import interrupts_deferred
 
-    raw = data.encode("utf-8") if isinstance(data, str) else data
+    raw = text_bytes(data) if isinstance(data, str) else data
     target = write_target(path)  # a link is written through: the mark goes beside the file it names
     with interrupts_deferred():
         write_chunks_atomic(target, [raw])

@@ -243,6 +243,8 @@ def replace_problem(final: Path) -> str | None:
         return "is a link, which armanim did not make and does not replace"
     if not stat.S_ISDIR(mode):
         return "a file stands where a folder is needed"
+    if os.path.ismount(final):  # campaign 17: `render --out` a mounted disk ended "Device or resource busy"
+        return "is a mount point, which armanim cannot swap a new folder in for (choose a folder inside it)"
     try:
         entries = sorted(p.name for p in final.iterdir())
     except OSError as exc:

@@ -176,9 +176,8 @@ class _DaskExecutor:
         self.scheduler, self.jobs = scheduler, jobs
 
     def map(self, work, tasks, *args):
-        """``(task, work(task, *args), None)`` or ``(task, None, exception)`` per task, as each ends."""
-        from dask.distributed import as_completed as dask_completed
-
+        """``(task, work(task, *args), None)`` or ``(task, None, exception)`` per task, as each ends
+        (:func:`_as_they_end`: a scheduler lost, or left without workers, fails the tasks left)."""
         cluster = None
         if self.scheduler == "local":
             cluster = self._cluster_cls(
@@ -192,16 +191,77 @@ class _DaskExecutor:
                 client.submit(work, task, *args, retries=2, pure=False, key=f"armanim-{i}-{task.name}"): task
                 for i, task in enumerate(tasks)
             }
-            for future in dask_completed(futures):
-                task = futures[future]
-                if future.status == "error":
-                    yield task, None, future.exception()
-                else:
-                    yield task, future.result(), None
+            yield from _as_they_end(client, futures, self.scheduler)
         finally:
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+NO_WORKERS_SECONDS = 60.0
+"""How long a batch waits on a Dask scheduler that has no worker (none started yet, or the last one
+gone) before it gives up the scenes not yet done: a scheduler alone would keep them waiting without
+end and without a word (campaign 17)."""
+_POLL_SECONDS = 2.0
+
+
+class SchedulerLost(RuntimeError):
+    """The Dask scheduler went away, or kept no worker, before a scene was done: the scene failed."""
+
+
+def _as_they_end(client, futures: dict, address: str, alone_s: float | None = None):
+    """``(task, result, None)`` or ``(task, None, exception)`` for each of ``futures`` (future ->
+    task) as it ends. Every :data:`_POLL_SECONDS` with none ended the scheduler is asked for its
+    workers: once it is gone (campaign 17: a scheduler killed mid-run ended the command in Dask's
+    traceback, exit 1), or has had none for ``alone_s`` seconds, every task left ends with a
+    :class:`SchedulerLost` saying so, and the batch reports those scenes failed (``alone_s``:
+    :data:`NO_WORKERS_SECONDS` unless given)."""
+    from dask.distributed import wait as dask_wait
+
+    alone_s = NO_WORKERS_SECONDS if alone_s is None else alone_s
+    left = dict(futures)
+    alone_since: float | None = None
+    while left:
+        try:
+            done, _ = dask_wait(list(left), timeout=_POLL_SECONDS, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            done = set()
+        except Exception as exc:  # noqa: BLE001  (Dask's own: the connection lost, the client closed)
+            yield from _all_lost(left, SchedulerLost(f"the Dask scheduler at {address} was lost: {exc}"))
+            return
+        for future in done:
+            task = left.pop(future)
+            try:
+                if future.status == "error":
+                    yield task, None, future.exception()
+                else:
+                    yield task, future.result(), None
+            except Exception as exc:  # noqa: BLE001  (cancelled, or lost with the scheduler)
+                yield task, None, SchedulerLost(f"the Dask scheduler at {address} was lost: {exc}")
+        if done or not left:
+            continue
+        try:
+            workers = len(client.nthreads())
+        except Exception as exc:  # noqa: BLE001
+            yield from _all_lost(left, SchedulerLost(f"the Dask scheduler at {address} was lost: {exc}"))
+            return
+        alone_since = None if workers else (alone_since or time.monotonic())
+        if alone_since is not None and time.monotonic() - alone_since >= alone_s:
+            yield from _all_lost(
+                left,
+                SchedulerLost(
+                    f"the Dask scheduler at {address} has had no worker for {alone_s:g} s: start some "
+                    f"with `dask worker {address}`, then run again"
+                ),
+            )
+            return
+
+
+def _all_lost(left: dict, error: Exception):
+    """``(task, None, error)`` for every task of ``left`` (future -> task)."""
+    for task in left.values():
+        yield task, None, error
+    left.clear()
 
 
 def connect_client(client_cls, address: str, seconds: float = CONNECT_SECONDS):
