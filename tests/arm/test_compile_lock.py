@@ -269,3 +269,30 @@ def test_waits_on_locks_held_elsewhere_are_told_and_share_one_budget(tmp_path, m
         for holder in holders:
             holder.kill()
             holder.wait()
+
+
+def test_a_process_compiling_without_holding_locks_waits_for_others_and_makes_none_wait(tmp_path, monkeypatch):
+    """A first run's second process (armanim.runs.beside) waits for the run's compiles but never makes
+    the run wait on its own (nor say that it waits)."""
+    monkeypatch.setattr(kernel, "_HOLDS_LOCKS", [True])
+    kernel.compile_without_holding_locks()
+    lock = str(tmp_path / "k.lock")
+    other = os.open(lock, os.O_RDWR | os.O_CREAT)
+    fcntl.flock(other, fcntl.LOCK_EX)  # another process's compile under way
+    entered = threading.Event()
+
+    def compile_beside() -> None:
+        with kernel.held_alone(lock):
+            entered.set()
+            mine = os.open(lock, os.O_RDWR)  # the run, meanwhile, takes the lock at once
+            try:
+                fcntl.flock(mine, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            finally:
+                os.close(mine)
+
+    worker = threading.Thread(target=compile_beside)
+    worker.start()
+    assert not entered.wait(0.3)  # it waits for the other's compile
+    os.close(other)
+    worker.join(timeout=60)
+    assert entered.is_set() and not worker.is_alive()

@@ -18,13 +18,17 @@ from armanim.runs import beside
 ROOT = Path(__file__).resolve().parents[2]
 
 DUMP = """
-import gc, sys
-from numba.core.registry import CPUDispatcher
+import sys
+from numba.core import dispatcher
+called = set()
+compile_for_args = dispatcher.Dispatcher._compile_for_args
+def recorded(self, *args, **kws):  # a call from Python with argument types new to this process
+    types = tuple(self.typeof_pyval(a) for a in args)
+    called.add(self.py_func.__module__ + "." + self.py_func.__qualname__ + " | " + str(types))
+    return compile_for_args(self, *args, **kws)
+dispatcher.Dispatcher._compile_for_args = recorded
 exec(sys.argv[1])
-for o in gc.get_objects():
-    if isinstance(o, CPUDispatcher):
-        for signature in o.signatures:
-            print(o.py_func.__module__ + "." + o.py_func.__qualname__, "|", signature)
+print("\\n".join(sorted(called)))
 """
 
 PANDA = """version: 1
@@ -40,7 +44,7 @@ render: {size: [160, 90]}
 
 def kernels_called(code: str) -> set[tuple[str, str]]:
     """(kernel, argument types) of every armanim kernel a fresh process called from Python while it ran
-    ``code`` (numba loads a kernel's machine code at its first call, for those types)."""
+    ``code`` (the kernels they call inside are compiled or loaded with them; numba's cache warm or not)."""
     done = subprocess.run(
         [sys.executable, "-c", DUMP, code], capture_output=True, text=True, timeout=600, check=True, cwd=ROOT
     )

@@ -146,6 +146,15 @@ take (the command says so on stderr: a wait is never silent)."""
 _HELD: set[str] = set()
 _HELD_GUARD = threading.Lock()
 _WAIT_LEFT = [COMPILE_WAIT_S]  # this process's waits share one budget (a list: changed in place)
+_HOLDS_LOCKS = [True]  # False: compile_without_holding_locks
+
+
+def compile_without_holding_locks() -> None:
+    """From now on this process waits for other processes' compiles as before, but holds no compile
+    lock while it compiles, so it never makes another process wait: a first run's second process
+    (:mod:`armanim.runs.beside`) compiles ahead of the run, and the run must never wait on it (nor say
+    that it waits). Where both compile the same kernel at once, each compiles it."""
+    _HOLDS_LOCKS[0] = False
 
 
 @contextlib.contextmanager
@@ -176,6 +185,9 @@ def held_alone(lock_path: str, wait_s: float = COMPILE_WAIT_S) -> Iterator[None]
     try:
         if fd is not None:
             _locked_within(fd, lock_path, min(wait_s, _WAIT_LEFT[0]))
+            if not _HOLDS_LOCKS[0]:  # waited for the others' compile; makes none wait on its own
+                os.close(fd)
+                fd = None
         yield
     finally:
         if fd is not None:

@@ -6,10 +6,11 @@ calls it, one after the other (:mod:`armanim.runs.warmth`). A run calls the solv
 for a video, the rasteriser. Those do not wait on the solve: :func:`compiling_beside` starts
 ``python -m armanim.runs.beside SCENE`` as the solve starts, on the core the solve leaves idle, and it
 calls them as the run will (:func:`compile_after_solve`: the same kernels, the same argument
-types). numba's cache is shared, and each kernel is compiled by one process
-(:func:`armanim.arm.kernel.held_alone`): the run loads what the other process compiled, or waits for
-the compile under way. The outputs are the same bytes either way; the process writes nothing but
-numba's cache, and it does not outlive the command.
+types). numba's cache is shared: the run loads what the other process compiled. The other process
+waits for the run's compiles (:func:`armanim.arm.kernel.held_alone`) but holds no lock itself
+(:func:`armanim.arm.kernel.compile_without_holding_locks`), so the run never waits on it: a kernel
+both reach at once is compiled by both. The outputs are the same bytes either way; the process
+writes nothing but numba's cache, and it does not outlive the command.
 """
 
 from __future__ import annotations
@@ -118,10 +119,12 @@ def main(argv: list[str]) -> int:
     worker of process PARENT (:func:`armanim.procs.workers.init_worker`: it ignores Ctrl-C, for the
     run decides; ends at once on SIGTERM; and ends when PARENT does, however it ends). 0 when done, 1
     on any failure: it says nothing, for the run it helps reports its scene's problems."""
+    from armanim.arm.kernel import compile_without_holding_locks
     from armanim.procs.workers import init_worker
 
     try:
         init_worker(int(argv[1]))
+        compile_without_holding_locks()  # the run never waits on this process's compiles
         compile_after_solve(argv[0], "--video" in argv[2:])
     except Exception:  # noqa: BLE001 (the run compiles whatever was not)
         return 1
