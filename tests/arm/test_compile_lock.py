@@ -49,8 +49,11 @@ _COMPILE = textwrap.dedent(
     from armanim.arm import kernel
     from armanim.world.compiled import kind_count
     role, folder = sys.argv[1], Path(sys.argv[2])
-    def wait(name):
+    def wait(name):  # never for ever: a test stopped midway left a holder waiting for hours
+        given_up = time.monotonic() + 600
         while not (folder / name).exists():
+            if time.monotonic() > given_up:
+                sys.exit(f"gave up waiting for {name}")
             time.sleep(0.01)
     if role == "holder":  # holds the None signature's lock until the other is done
         with kernel.held_alone(kernel.compile_lock_path(kind_count, (types.none,))):
