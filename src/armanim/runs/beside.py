@@ -4,7 +4,7 @@ At its first call after installing, numba compiles each of armanim's kernels in 
 calls it, one after the other (:mod:`armanim.runs.warmth`). A run calls the solve's kernels first
 (the frame loop: most of the compiling), then the clock's passes, the record's exact margins and,
 for a video, the rasteriser. Those do not wait on the solve: :func:`compiling_beside` starts
-``python -m armanim.runs.beside SCENE`` as the solve starts, on the core the solve leaves idle, and it
+``python -m armanim.runs.beside SCENE PID`` as the run starts, on the core the solve leaves idle, and it
 calls them as the run will (:func:`compile_after_solve`: the same kernels, the same argument
 types). numba's cache is shared: the run loads what the other process compiled. The other process
 waits for the run's compiles (:func:`armanim.arm.kernel.held_alone`) but holds no lock itself

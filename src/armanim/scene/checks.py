@@ -550,9 +550,8 @@ def path_frames(goal, fps: float) -> int:
     """
     if goal.path is None:
         return 0
-    with np.errstate(
-        all="ignore"
-    ):  # a length past float's range (a point at 1e308) is inf: reported by _magnitude_problems
+    # a length past float's range (a point at 1e308) is inf: _magnitude_problems reports the point
+    with np.errstate(all="ignore"):
         length = tool_path(goal.path).length
     return _frames_along(length, goal.speed, fps)
 
