@@ -1,4 +1,4 @@
-"""The ninth to sixteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to seventeenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
@@ -8,7 +8,10 @@ the twelfth's: mesh12, frames12, signals12, loss12, inputs12, wrong12; the thirt
 frames13, signals13, loss13, inputs13, wrong13; the fourteenth's: mesh14 ... wrong14; the
 fifteenth's: mesh15 ... wrong15; the sixteenth's, new angles: perms16 (as a user who is not root:
 ``--as-user NAME``, with ``--user-python`` an interpreter that user can run), env16 (full disks: run
-as root, which mounts a small tmpfs), api16 (the Python API, by snippets)),
+as root, which mounts a small tmpfs), api16 (the Python API, by snippets)); the seventeenth's:
+mesh17, frames17, signals17, wrong17 (new variants of the issue's classes) and ro17 (read-only
+mounts), lock17 (the compile lock and ``warm``: give ``--warm-cache`` numba's cache of ``--src``,
+warmed), dask17 (Dask schedulers), env17 (narrow terminals, odd standard outputs, LANG=C names)),
 ``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
 to keep every attempt's folder.
 
@@ -9709,17 +9712,22 @@ def lock17_attempts() -> list[Attempt]:
             ),
             (0,),
             env=dict(nc),
-            timeout=300,
-            message=r"(?i)wait|lock|another",
+            timeout=1000,  # the first run's 300 s: the fix waits at most 600 s in all, saying so, then compiles
+            message=r"waiting for another armanim process compiling the same code",
             after=same_as_clean(),
         )
     )
     out.append(
         Attempt(
             k,
-            "Ctrl-C at 4 s of a run waiting on a held compile lock: exit 130 at once",
+            "Ctrl-C at 4 s of a run on a cold cache waiting on a held compile lock: exit 130 at once",
             run,
-            then(tiny_scene(), warm_cache_copy(), locks_held("nc")),
+            then(
+                tiny_scene(),
+                warm_cache_copy(),
+                lambda d: [p.unlink() for p in (d / "nc").rglob("*") if p.suffix in (".nbi", ".nbc")],
+                locks_held("nc"),
+            ),
             (130,),
             env=dict(nc),
             timeout=30,

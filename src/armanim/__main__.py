@@ -59,7 +59,10 @@ def main() -> None:
     if signal.getsignal(signal.SIGHUP) != signal.SIG_IGN:  # the terminal closing (left ignored under nohup)
         signal.signal(signal.SIGHUP, _quit_before_the_command)
     if sys.argv[1:] == ["--version"]:  # the app's own --version line, without importing typer and rich (0.1 s)
-        sys.exit(_print_version())
+        code = _print_version()
+        if code:
+            sys.exit(code)
+        return
     import warnings
 
     # numpy's floating-point RuntimeWarnings are not the user's business: a value they would

@@ -210,31 +210,15 @@ def say(text: str, console: Console = out) -> None:
 def tell_first_compile(command: Literal["run", "ik"], problem: object = None) -> None:
     """At a terminal, say so before a solve whose kernels numba compiles first (:mod:`armanim.runs.warmth`;
     ``problem``: ik's, which says whether its compiled attempt runs)."""
-    tell_lock_waits()
+    from armanim.runs.warmth import compiles_first, first_compile_notice, tell_lock_waits
+
+    tell_lock_waits(lambda line: say(line, err))
     if not err.is_terminal:
         return
-    from armanim.runs.warmth import compiles_first, first_compile_notice
 
     if compiles_first(command, problem):
         say(first_compile_notice(), err)
         count_compiles(err)
-
-
-def tell_lock_waits() -> None:
-    """From now on in this process, a line on stderr when a compile waits on another process's lock
-    (:data:`armanim.arm.kernel.WAIT_LISTENERS`): campaign 17's run waited on them without a word."""
-    from armanim.arm import kernel
-
-    def tell(lock_path: str, seconds: float) -> None:
-        say(
-            f"armanim: waiting for another armanim process compiling the same code (lock {lock_path}); "
-            f"at most {seconds:.0f} s more, then this one compiles it",
-            err,
-        )
-
-    if not any(getattr(listener, "armanim_says", False) for listener in kernel.WAIT_LISTENERS):
-        tell.armanim_says = True  # type: ignore[attr-defined]
-        kernel.WAIT_LISTENERS.append(tell)
 
 
 def count_compiles(console: Console = err) -> object:

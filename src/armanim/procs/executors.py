@@ -186,6 +186,7 @@ class _DaskExecutor:
             client = self._client_cls(cluster)
         else:
             client = connect_client(self._client_cls, self.scheduler)
+        quiet = _dask_logs_quiet()  # a lost scheduler is the scenes' failure, said once, not Dask's tracebacks
         try:
             futures = {
                 client.submit(work, task, *args, retries=2, pure=False, key=f"armanim-{i}-{task.name}"): task
@@ -196,6 +197,7 @@ class _DaskExecutor:
             client.close()
             if cluster is not None:
                 cluster.close()
+            quiet.close()
 
 
 NO_WORKERS_SECONDS = 60.0
@@ -203,6 +205,25 @@ NO_WORKERS_SECONDS = 60.0
 gone) before it gives up the scenes not yet done: a scheduler alone would keep them waiting without
 end and without a word (campaign 17)."""
 _POLL_SECONDS = 2.0
+
+
+def _dask_logs_quiet():
+    """Dask's client logs at ERROR, with tracebacks, as it tries to reconnect to a scheduler that is
+    gone (campaign 17): its ``distributed`` loggers are held to CRITICAL until the returned object's
+    ``close()``; the scenes' failures say what happened."""
+    import logging
+
+    loggers = [logging.getLogger(name) for name in ("distributed", "distributed.client")]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(logging.CRITICAL)
+
+    class Restore:
+        def close(self) -> None:
+            for logger, level in zip(loggers, levels, strict=True):
+                logger.setLevel(level)
+
+    return Restore()
 
 
 class SchedulerLost(RuntimeError):
@@ -227,7 +248,7 @@ def _as_they_end(client, futures: dict, address: str, alone_s: float | None = No
         except TimeoutError:
             done = set()
         except Exception as exc:  # noqa: BLE001  (Dask's own: the connection lost, the client closed)
-            yield from _all_lost(left, SchedulerLost(f"the Dask scheduler at {address} was lost: {exc}"))
+            yield from _all_lost(left, _lost(address, exc))
             return
         for future in done:
             task = left.pop(future)
@@ -237,13 +258,13 @@ def _as_they_end(client, futures: dict, address: str, alone_s: float | None = No
                 else:
                     yield task, future.result(), None
             except Exception as exc:  # noqa: BLE001  (cancelled, or lost with the scheduler)
-                yield task, None, SchedulerLost(f"the Dask scheduler at {address} was lost: {exc}")
+                yield task, None, _lost(address, exc)
         if done or not left:
             continue
         try:
             workers = len(client.nthreads())
         except Exception as exc:  # noqa: BLE001
-            yield from _all_lost(left, SchedulerLost(f"the Dask scheduler at {address} was lost: {exc}"))
+            yield from _all_lost(left, _lost(address, exc))
             return
         alone_since = None if workers else (alone_since or time.monotonic())
         if alone_since is not None and time.monotonic() - alone_since >= alone_s:
@@ -255,6 +276,14 @@ def _as_they_end(client, futures: dict, address: str, alone_s: float | None = No
                 ),
             )
             return
+
+
+def _lost(address: str, exc: BaseException) -> SchedulerLost:
+    """The error of a scene the scheduler at ``address`` was lost before: one line (Dask's own
+    message lists every future cancelled, over several lines)."""
+    return SchedulerLost(
+        f"the Dask scheduler at {address} was lost mid-batch ({type(exc).__name__}): start it again, then run again"
+    )
 
 
 def _all_lost(left: dict, error: Exception):

@@ -8,6 +8,7 @@ terminal so (:func:`compiles_first`), and count the kernels as numba starts each
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, Literal
 
 
@@ -33,6 +34,23 @@ def compiles_first(command: Literal["run", "ik"], problem: object = None) -> boo
 
             functions.append(attempt_loop)
     return not kernel.CODE_KEPT or not kernel.machine_code_cached(*functions)
+
+
+def tell_lock_waits(say: Callable[[str], None]) -> None:
+    """From now on in this process, ``say`` a line when a compile waits on another process's lock
+    (:data:`armanim.arm.kernel.WAIT_LISTENERS`; once, however often it is asked): campaign 17's run
+    waited on them without a word."""
+    from armanim.arm import kernel
+
+    def tell(lock_path: str, seconds: float) -> None:
+        say(
+            f"armanim: waiting for another armanim process compiling the same code (lock {lock_path}); "
+            f"at most {seconds:.0f} s more, then this one compiles it"
+        )
+
+    if not any(getattr(listener, "armanim_says", False) for listener in kernel.WAIT_LISTENERS):
+        tell.armanim_says = True  # type: ignore[attr-defined]
+        kernel.WAIT_LISTENERS.append(tell)
 
 
 def machine_code_kept() -> bool:
