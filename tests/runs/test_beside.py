@@ -93,14 +93,20 @@ def test_a_second_process_is_started_only_for_a_first_run_on_two_cores_of_a_scen
     assert not beside.should_compile_beside(scene, 2)  # the kernels are compiled: nothing to do
 
 
+def _children() -> set[psutil.Process]:
+    """This process's children now (an xdist worker may have others of its own: a pool, a tracker)."""
+    return set(psutil.Process().children())
+
+
 def test_the_second_process_ends_with_the_run(monkeypatch):
     monkeypatch.setattr(beside, "should_compile_beside", lambda path, jobs: True)
     monkeypatch.setattr(beside, "beside_command", lambda path, video: ["sleep", "600"])  # it would outlive the run
+    before = _children()
     with beside.compiling_beside(Path("scene.yaml"), video=False, jobs=2):
-        (child,) = psutil.Process().children()
+        (child,) = _children() - before
         assert child.cmdline() == ["sleep", "600"]
     assert not child.is_running()  # ended (SIGTERM) and reaped as the run ended
-    assert psutil.Process().children() == []
+    assert _children() - before == set()
 
 
 def test_the_second_process_says_nothing_and_fails_quietly(tmp_path):
@@ -130,5 +136,6 @@ def test_the_second_process_ends_when_the_run_is_killed():
 def test_a_second_process_that_cannot_start_leaves_the_run_to_compile_alone(monkeypatch):
     monkeypatch.setattr(beside, "should_compile_beside", lambda path, jobs: True)
     monkeypatch.setattr(beside, "beside_command", lambda path, video: ["/nonexistent/python"])
+    before = _children()
     with beside.compiling_beside(Path("scene.yaml"), video=False, jobs=2):
-        assert psutil.Process().children() == []
+        assert _children() - before == set()
