@@ -9749,17 +9749,11 @@ def lock17_attempts() -> list[Attempt]:
         )
     )
     out.append(
-        Attempt(
+        warm_interrupted(
             k,
             "warm --jobs 2 of a cold cache, SIGINT at 15 s: exit 130, nothing left running, then a run: the clean answer",
-            ["warm", "--jobs", "2"],
-            tiny_scene(),
-            (130,),
-            env=dict(nc),
-            timeout=120,
-            interrupt=(15.0, "SIGINT"),
-            linger=15,
-            after=same_as_clean_after(nc),
+            (15.0, "SIGINT"),
+            nc,
         )
     )
     out.append(
@@ -9781,6 +9775,26 @@ def lock17_attempts() -> list[Attempt]:
         )
     )
     return out
+
+
+def warm_interrupted(
+    k: str, what: str, interrupt: tuple[float, str], env: dict, *, usable_after: bool = True
+) -> Attempt:
+    """``warm --jobs 2`` on a cold cache (``env``'s ``NUMBA_CACHE_DIR``) stopped by ``interrupt`` (seconds,
+    signal): exit 130, nothing it started still running 15 s later and, with ``usable_after``, a run on
+    that cache afterwards gives the clean run's bytes."""
+    return Attempt(
+        k,
+        what,
+        ["warm", "--jobs", "2"],
+        tiny_scene(),
+        (130,),
+        env=dict(env),
+        timeout=120,
+        interrupt=interrupt,
+        linger=15,
+        after=same_as_clean_after(env) if usable_after else None,
+    )
 
 
 def same_as_clean_after(env: dict, compiles: bool = True) -> Callable[[Path], list[str]]:
@@ -10142,30 +10156,20 @@ def signals17_attempts() -> list[Attempt]:
     out: list[Attempt] = []
     nc = {"NUMBA_CACHE_DIR": "{d}/nc"}
     out.append(
-        Attempt(
+        warm_interrupted(
             k,
             "SIGHUP to the group at 12 s of warm --jobs 2 on a cold cache: exit 130, nothing left running, the cache usable",
-            ["warm", "--jobs", "2"],
-            tiny_scene(),
-            (130,),
-            env=dict(nc),
-            timeout=120,
-            interrupt=(12.0, "SIGHUPG"),
-            linger=15,
-            after=same_as_clean_after(nc),
+            (12.0, "SIGHUPG"),
+            nc,
         )
     )
     out.append(
-        Attempt(
+        warm_interrupted(
             k,
             "SIGTERM to armanim alone at 12 s of warm --jobs 2 on a cold cache: its workers end with it",
-            ["warm", "--jobs", "2"],
-            tiny_scene(),
-            (130,),
-            env=dict(nc),
-            timeout=120,
-            interrupt=(12.0, "SIGTERM"),
-            linger=15,
+            (12.0, "SIGTERM"),
+            nc,
+            usable_after=False,
         )
     )
     name = "SIGINT at 8 s of a batch waiting on a scheduler with no workers: exit 130"
