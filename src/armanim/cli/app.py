@@ -135,6 +135,13 @@ def _help_table():
 _plain_help()
 
 
+def dropped(fd: int) -> None:
+    """Point file descriptor ``fd`` at /dev/null: what is still written to it is dropped."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, fd)
+    os.close(devnull)
+
+
 class QuietWhenClosed:
     """A text stream that a closed reader (``armanim validate s.yaml | head -0``) cannot break.
 
@@ -160,9 +167,7 @@ class QuietWhenClosed:
             self._drop_the_rest()
 
     def _drop_the_rest(self) -> None:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, self._stream.fileno())
-        os.close(devnull)
+        dropped(self._stream.fileno())
 
     def __getattr__(self, name):
         return getattr(self._stream, name)
@@ -195,9 +200,7 @@ def flushed_or_failed(failed: OSError | None = None) -> None:
         sys.stdout.flush()
     except OSError as exc:
         with contextlib.suppress(OSError, ValueError, AttributeError):
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
-            os.close(devnull)
+            dropped(sys.stdout.fileno())
         say(f"armanim: output: {exc.strerror or exc}", err)
         raise SystemExit(EXIT_OUTPUT_FAILED) from None
 
