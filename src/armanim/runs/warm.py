@@ -24,7 +24,7 @@ SHAPES = [
 """One obstacle of each shape, away from the notes' arm's motion (each shape's distances compile)."""
 
 CYLINDERS = [
-    {"cylinder": {"center": [1.0, 1.0, 3.0], "length": 2.0, "radius": 0.5}},
+    SHAPES[3],
     {"cylinder": {"center": [9.0, 9.0, 4.0], "length": 2.0, "radius": 0.4, "rpy": [90, 0, 0]}},
 ]
 """Cylinders alone, away from the notes' arm's motion: a world without boxes or capsules compiles its own
