@@ -351,6 +351,26 @@ def test_a_write_protected_run_folder_is_refused_and_left_whole(cli, monkeypatch
     assert leftovers(out) == []
 
 
+@pytest.mark.parametrize("protected", ["tiny", "tiny/summary.json"])
+def test_a_run_folder_made_read_only_is_refused_by_its_modes_as_root_too(cli, tiny_scene, previous_run, protected):
+    """Left from campaign 16's fix: a run folder's protection was asked of ``os.access``, which root
+    passes, while a golden's was read from its mode bits: as root, a ``chmod 555`` run folder was
+    replaced, exit 0. One rule now (``files.write_protected``): no write bit left, or not writable by
+    this process; a file in the folder made read-only protects it as well. Real modes, whoever runs
+    the suite."""
+    out, before = previous_run
+    path = out / protected
+    mode = path.stat().st_mode & 0o777
+    path.chmod(mode & ~0o222)
+    result = cli("run", tiny_scene, "--out", out, "--no-video", "--quiet")
+    path.chmod(mode)
+    assert result.exit_code == 3, result.output
+    shown = "the folder" if protected == "tiny" else "'summary.json'"
+    assert f"is write-protected ({shown} is read-only)" in one_line_error(result)
+    assert snapshot(out / "tiny") == before
+    assert leftovers(out) == []
+
+
 @pytest.mark.parametrize("readable", [True, False])
 def test_another_user_s_lock_file_is_used_or_named(cli, monkeypatch, tiny_scene, previous_run, readable):
     """Campaign 16, as a user who is not root: OUT/.tiny.lock left by another user (root's, 0644,

@@ -51,6 +51,29 @@ def is_regular_file(path: str | Path) -> bool:
         return False
 
 
+def write_protected(path: str | Path) -> bool:
+    """Whether the file or folder at ``path`` is write-protected: no write bit left for anyone (a
+    user's ``chmod a-w``, which root's writes would pass), or this process may not write it (a folder:
+    nor enter it). armanim replaces neither such a file nor a folder holding one; a path that cannot be
+    looked up is not protected (it is absent, or another check names it).
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     before = write_protected(folder)
+    ...     os.chmod(folder, 0o555)
+    ...     after = write_protected(folder)
+    ...     os.chmod(folder, 0o755)
+    >>> before, after
+    (False, True)
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return False
+    needed = os.W_OK | os.X_OK if stat.S_ISDIR(mode) else os.W_OK
+    return not mode & 0o222 or not os.access(path, needed)
+
+
 def _error(path: Path, message: str) -> SceneError:
     return SceneError(str(path), [Diagnostic("", message)])
 

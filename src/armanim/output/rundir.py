@@ -32,7 +32,7 @@ from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError, shown_path
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
 from armanim.output.cachedir import CACHE_ENV, cache_inside
-from armanim.output.files import special_kind
+from armanim.output.files import special_kind, write_protected
 from armanim.output.jsontext import json_text, parse_json
 from armanim.procs.deferred import interrupts_deferred
 
@@ -269,14 +269,17 @@ def replace_problem(final: Path) -> str | None:
 
 
 def _write_protected(folder: Path) -> str | None:
-    """The first folder in ``folder`` (itself included) whose files this process may not remove
-    (not writable to it: a user's ``chmod a-w``; root may always), or None.
+    """The first folder or file in ``folder`` (itself included) that is write-protected
+    (:func:`~armanim.output.files.write_protected`: a user's ``chmod a-w``, root or not), shown
+    relative to it, or None.
 
     A run folder is replaced by moving it aside and removing it: a write-protected one would be
-    replaced anyway and its moved-aside copy left behind for ever (campaign 16)."""
-    for where, _, _ in os.walk(folder):
-        if not os.access(where, os.W_OK | os.X_OK):
-            return "the folder" if where == str(folder) else shown_path(os.path.relpath(where, folder))
+    replaced anyway and, as a user who is not root, its moved-aside copy left behind for ever
+    (campaign 16); as root, a ``chmod 555`` folder was replaced as if it were not protected."""
+    for where, _, files in os.walk(folder):
+        for path in (where, *(os.path.join(where, name) for name in sorted(files))):
+            if write_protected(path):
+                return "the folder" if path == str(folder) else shown_path(os.path.relpath(path, folder))
     return None
 
 

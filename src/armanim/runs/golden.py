@@ -8,7 +8,6 @@ that the scene itself changed.
 from __future__ import annotations
 
 import os
-import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,7 +16,7 @@ from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import advised, write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import BASE_COLUMNS, parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
-from armanim.output.files import open_regular, read_bounded
+from armanim.output.files import open_regular, read_bounded, write_protected
 from armanim.output.jsontext import json_text, parse_json
 from armanim.output.rundir import directory_lock, refuse_in_run_folder
 from armanim.runs.pipeline import timed_solution
@@ -138,8 +137,8 @@ def _update_golden(scene: LoadedScene, golden_dir: Path) -> GoldenResult:
 
 def refuse_write_protected_golden(*paths: Path) -> None:
     """An OutputError (exit 3) if a file at any of ``paths`` (golden files about to be replaced) is
-    write-protected: a regular file no one may write (a user's ``chmod a-w``, which root's writes would
-    otherwise pass). Campaign 16: ``check --update`` replaced a user's golden at mode 0444 with a new
+    write-protected (:func:`~armanim.output.files.write_protected`: a user's ``chmod a-w``, which root's
+    writes would otherwise pass, or a file this process may not write). Campaign 16: ``check --update`` replaced a user's golden at mode 0444 with a new
     file at 0644, exit 0. A file whose bytes do not change is not written, protected or not.
 
     Raises
@@ -148,11 +147,7 @@ def refuse_write_protected_golden(*paths: Path) -> None:
         Naming the file and the remedy; the pair is left as it was.
     """
     for path in paths:
-        try:
-            mode = path.stat().st_mode
-        except OSError:
-            continue  # absent: a new file
-        if stat.S_ISREG(mode) and not mode & 0o222:
+        if path.is_file() and write_protected(path):
             raise OutputError(
                 f"{path}: is write-protected (read-only), so --update does not replace it: make it writable "
                 f"(chmod u+w {path}), or choose another --golden folder"
