@@ -146,15 +146,6 @@ def usable_jobs(jobs: int | None) -> int | None:
     return jobs
 
 
-_FLAGS = {
-    ("fps",): "--fps",
-    ("size",): "--size",
-    ("format",): "--format",
-    ("view", "elevation"): "--elevation",
-    ("view", "azimuth"): "--azimuth",
-}
-
-
 def render_overrides(
     size: str | None,
     fps: float | None,
@@ -188,4 +179,4 @@ def _checked_render_model(data: dict):
     """``data`` validated by the scene's RenderModel; its first problem names the flag."""
     from armanim.runs.options import checked_render
 
-    return checked_render(data, _FLAGS)
+    return checked_render(data, "--")

@@ -8,7 +8,6 @@ workers to :func:`armanim.runs.pipeline.produce_outputs`, which resolves it agai
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from armanim.errors import UsageError
@@ -49,23 +48,12 @@ class RunOptions:
         float NaN to integer", and ``jobs=0`` or ``-3`` were taken)."""
         if self.jobs is not None and self.jobs < 1:
             raise UsageError(f"jobs: expected at least 1 worker process (got {self.jobs}; None uses every core)")
-        checked_render(overrides_data(self.render), API_NAMES)
+        checked_render(overrides_data(self.render), "RenderOverrides.")
 
     @property
     def writes_viewer(self) -> bool:
         """Whether viewer.html is written: ``viewer``, else with the video."""
         return self.video if self.viewer is None else self.viewer
-
-
-API_NAMES = {
-    ("fps",): "RenderOverrides.fps",
-    ("size",): "RenderOverrides.size",
-    ("format",): "RenderOverrides.format",
-    ("view", "elevation"): "RenderOverrides.elevation",
-    ("view", "azimuth"): "RenderOverrides.azimuth",
-}
-"""The names :func:`checked_render` gives the overrides' fields in a message from Python (the
-command gives its flags' names)."""
 
 
 def overrides_data(overrides: RenderOverrides) -> dict:
@@ -76,14 +64,18 @@ def overrides_data(overrides: RenderOverrides) -> dict:
     return data | ({"view": view} if view else {})
 
 
-def checked_render(data: dict, names: Mapping[tuple[str, ...], str]):
+def checked_render(data: dict, prefix: str):
     """``data`` (render settings, as a scene's ``render`` section) validated by the scene's own
     model, the one check of a command's flags and of a program's :class:`RenderOverrides`.
+
+    Each override's flag and field share its name (``fps``, ``size``, ``format``, and ``elevation``
+    and ``azimuth`` under ``view``): a problem is named ``prefix`` and that name, ``--fps`` for the
+    command, ``RenderOverrides.fps`` from Python.
 
     Raises
     ------
     UsageError
-        Its first problem, named by ``names`` (a flag, or a field of RenderOverrides) (exit 2).
+        Its first problem, named as above (exit 2).
     """
     from pydantic import ValidationError
 
@@ -94,8 +86,8 @@ def checked_render(data: dict, names: Mapping[tuple[str, ...], str]):
         return RenderModel.model_validate(data)
     except ValidationError as exc:
         first = exc.errors()[0]
-        loc = tuple(part for part in first["loc"] if isinstance(part, str))
-        name = names.get(loc, f"--{loc[0]}")
+        fields = [part for part in first["loc"] if isinstance(part, str)]
+        name = prefix + (fields[-1] if fields else "render")
         raise UsageError(f"{name}: {problem_message(first, tuple(first['loc']))}") from None
 
 
