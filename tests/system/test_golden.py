@@ -140,12 +140,13 @@ def test_two_updates_of_one_golden_folder_take_turns_and_leave_no_lock_file(tmp_
 
     from armanim.output.rundir import directory_lock
     from armanim.runs.golden import update_golden
+    from armanim.scene import load_scene
 
     golden = tmp_path / "golden"
     done = threading.Event()
     with directory_lock(golden):  # another `check --update` of this folder is writing
         worker = threading.Thread(
-            target=lambda: (update_golden(ROOT / "scenes" / "out-of-reach.yaml", golden), done.set())
+            target=lambda: (update_golden(load_scene(ROOT / "scenes" / "out-of-reach.yaml"), golden), done.set())
         )
         worker.start()
         assert not done.wait(1.0)  # it waits for the folder (a solve of this scene takes ~0.1 s)

@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 
 from armanim.cli.app import app, handle_errors, out, say
-from armanim.errors import EXIT_CHECK_FAILED, UsageError
+from armanim.errors import EXIT_CHECK_FAILED, SceneError, UsageError
 
 AtolDeg = Annotated[float, typer.Option("--atol-deg", min=0, help="Tolerance on joint angles, degrees.")]
 Atol = Annotated[
@@ -60,7 +60,7 @@ def check(
     """
     from rich.table import Table
 
-    from armanim.runs.batch import refuse_shared_names
+    from armanim.runs.batch import refuse_shared_names, scenes_or_errors
     from armanim.runs.golden import check_scene, update_golden
 
     if golden.exists() and not golden.is_dir():
@@ -69,13 +69,16 @@ def check(
         from armanim.output.rundir import refuse_in_run_folder
 
         refuse_in_run_folder(golden, "--golden", itself=True)
-    refuse_shared_names(scenes)
+    loaded = scenes_or_errors(scenes)
+    refuse_shared_names(loaded)
     table = Table(title=f"golden trajectories in {golden}", title_justify="left")
     for col in ("scene", "golden file", "result"):
         table.add_column(col)
     failures = []
-    for path in scenes:
-        result = update_golden(path, golden) if update else check_scene(path, golden, atol_deg=atol_deg, atol=atol)
+    for scene in loaded:
+        if isinstance(scene, SceneError):
+            raise scene
+        result = update_golden(scene, golden) if update else check_scene(scene, golden, atol_deg=atol_deg, atol=atol)
         style = STYLES.get(result.status, "red")
         if style == "red":
             failures.append(f"{result.scene.name}: {result.report}")

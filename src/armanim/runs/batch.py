@@ -134,8 +134,20 @@ def shared_name_message(path: Path, name: str) -> str:
     return f"{path}: another scene in this batch is also named {name!r} (names must differ: set name:)"
 
 
-def refuse_shared_names(paths: Iterable[Path]) -> None:
-    """Exit 2 at the first of ``paths`` (the same file given twice counts once) named as a scene
+def scenes_or_errors(paths: Iterable[Path]) -> list[LoadedScene | SceneError]:
+    """Each of ``paths`` loaded once, or the SceneError that says why it does not load (for a command
+    that reports a bad scene at its turn, after the scenes before it)."""
+    loaded: list[LoadedScene | SceneError] = []
+    for path in paths:
+        try:
+            loaded.append(load_scene(path))
+        except SceneError as exc:
+            loaded.append(exc)
+    return loaded
+
+
+def refuse_shared_names(scenes: Iterable[LoadedScene | SceneError]) -> None:
+    """Exit 2 at the first of ``scenes`` (the same file given twice counts once) named as a scene
     before it: ``check`` keeps each scene's golden pair at ``<golden>/<name>.csv``, so two scenes of
     one name would share one pair (campaign 12: ``check --update`` wrote both, the second over the
     first, exit 0, and every later ``check`` of the two failed). A scene that does not load is
@@ -147,14 +159,14 @@ def refuse_shared_names(paths: Iterable[Path]) -> None:
         Two scenes of one name (exit 2).
     """
     names: set[str] = set()
-    for path in dict.fromkeys(Path(p) for p in paths):
-        try:
-            name = load_scene(path).name
-        except SceneError:
+    paths: set[Path] = set()
+    for scene in scenes:
+        if isinstance(scene, SceneError) or scene.path in paths:
             continue
-        if name in names:
-            raise UsageError(shared_name_message(path, name))
-        names.add(name)
+        paths.add(scene.path)
+        if scene.name in names:
+            raise UsageError(shared_name_message(scene.path, scene.name))
+        names.add(scene.name)
 
 
 def load_tasks(paths: Iterable[Path]) -> tuple[list[SceneTask], list[BatchEntry]]:

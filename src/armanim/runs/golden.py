@@ -20,7 +20,7 @@ from armanim.output.files import open_regular, read_bounded, write_protected
 from armanim.output.jsontext import json_text, parse_json
 from armanim.output.rundir import directory_lock, refuse_in_run_folder
 from armanim.runs.pipeline import timed_solution
-from armanim.scene import LoadedScene, load_scene, scene_to_problem
+from armanim.scene import LoadedScene, scene_to_problem
 
 MAX_META_BYTES = 100_000  # the metadata beside a golden CSV is a few lines
 
@@ -79,9 +79,8 @@ def scene_change_note(scene: LoadedScene, meta_path: Path) -> str | None:
     )
 
 
-def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> GoldenResult:
+def check_scene(scene: LoadedScene, golden_dir: Path, *, atol_deg: float = 1e-6, atol: float = 1e-6) -> GoldenResult:
     """Run a scene and compare its trajectory with its golden file."""
-    scene = load_scene(scene_path)
     csv_path, meta_path = golden_paths(Path(golden_dir), scene.name)
     if not csv_path.exists():
         return GoldenResult(scene, csv_path, "missing", f"no golden file {csv_path} (create it with --update)")
@@ -100,14 +99,13 @@ def check_scene(scene_path: Path, golden_dir: Path, *, atol_deg: float = 1e-6, a
     return GoldenResult(scene, csv_path, "pass" if result.equal else "fail", report, note is not None)
 
 
-def update_golden(scene_path: Path, golden_dir: Path) -> GoldenResult:
+def update_golden(scene: LoadedScene, golden_dir: Path) -> GoldenResult:
     """(Re)write a scene's golden CSV and metadata; status says new, changed or unchanged.
 
     The pair is written all or none (:func:`armanim.output.atomic.write_all_or_none`): a
     failure on either file leaves both as they were. Two updates of the same golden folder
     at once take turns (a lock on the folder), so a pair never mixes two updates.
     """
-    scene = load_scene(scene_path)
     try:
         return _update_golden(scene, Path(golden_dir))
     except OutputError as exc:
