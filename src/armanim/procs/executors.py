@@ -153,7 +153,7 @@ def _stop_pool(pool: ProcessPoolExecutor, grace: float = 5.0) -> None:
     if manager is not None:
         from concurrent.futures import process as futures_process
 
-        futures_process._threads_wakeups.pop(manager, None)
+        getattr(futures_process, "_threads_wakeups", {}).pop(manager, None)  # a private name: absent, nothing to do
     remove_worker_folders()
 
 
