@@ -15,6 +15,7 @@ from pathlib import Path
 from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import text_bytes, write_chunks_atomic, write_target
 from armanim.output.files import open_regular
+from armanim.output.jsontext import parse_json
 
 MAX_MARK_BYTES = 1_000
 """A mark is one short JSON line; anything longer at a mark's name is not armanim's."""
@@ -77,8 +78,8 @@ def read_mark(mark: Path) -> dict | None:
         if os.path.islink(mark):
             return None
         with open_regular(mark, "an armanim file's mark") as handle:
-            recorded = json.loads(handle.read(MAX_MARK_BYTES + 1))
-    except (OSError, ValueError, SceneError, RecursionError):
+            recorded = parse_json(handle.read(MAX_MARK_BYTES + 1))
+    except (OSError, ValueError, SceneError):
         return None
     if (
         not isinstance(recorded, dict)
