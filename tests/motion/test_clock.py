@@ -4,6 +4,8 @@ PCHIP and the limits' own definition on the frames (finite differences)."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -205,3 +207,17 @@ def test_a_step_its_probes_certify_keeps_the_floor_everywhere(seed, n, steps):
             assert dense.min() >= floor - 1e-12
         if unsafe[k]:
             assert dense.min() < floor
+
+
+def test_a_joint_that_barely_moves_gives_slopes_without_an_overflow_warning():
+    """Found on Python 3.13 (a random draw of the smoothing test): a joint whose steps are a few
+    hundred ulps of zero overflowed the harmonic mean's ``w / m`` (a RuntimeWarning on stderr, a
+    traceback under ``-W error``); the slope there is 0, as scipy's PCHIP gives."""
+    s = np.array([0.0, 1.0, 2.0, 3.0])
+    poses = np.array([[0.0, 0.0], [1e-310, 1.0], [3e-310, 1.5], [4e-310, 3.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        slopes = pchip_slopes(s, poses)
+    with np.errstate(over="ignore"):  # scipy's own harmonic mean overflows there too
+        expected = PchipInterpolator(s, poses, axis=0).derivative()(s)
+    np.testing.assert_allclose(slopes, expected, rtol=1e-10, atol=1e-300)
