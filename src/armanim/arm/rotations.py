@@ -222,7 +222,8 @@ def alignment_vector(current: np.ndarray, target: np.ndarray) -> np.ndarray:
     fallback = np.cross(current, least)
     axis = np.where((sin < 1e-12)[..., None], fallback, normal)
     axis = axis / np.linalg.norm(axis, axis=-1, keepdims=True)
-    return cast(np.ndarray, angle[..., None] * axis)
+    rotation: np.ndarray = angle[..., None] * axis
+    return rotation
 
 
 def perpendicular_basis(axis: np.ndarray) -> np.ndarray:

@@ -68,7 +68,8 @@ def limit_barrier(phi: np.ndarray, limits: Limits) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         lo = np.where(lo_gap <= 0, np.inf, np.where(lo_gap < delta, np.log(delta / lo_gap), 0.0))
         hi = np.where(hi_gap <= 0, np.inf, np.where(hi_gap < delta, np.log(delta / hi_gap), 0.0))
-    return cast(np.ndarray, (lo + hi).sum(axis=-1))
+    barrier: np.ndarray = (lo + hi).sum(axis=-1)
+    return barrier
 
 
 def limit_barrier_gradient(phi: np.ndarray, limits: Limits) -> np.ndarray:

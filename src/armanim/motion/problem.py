@@ -54,7 +54,8 @@ class Limits:
     @property
     def limited(self) -> np.ndarray:
         """(n,) bool: joints that have limits."""
-        return cast(np.ndarray, np.isfinite(self.lower))
+        limited: np.ndarray = np.isfinite(self.lower)
+        return limited
 
     def notes(self, phi: np.ndarray) -> list[str]:
         """One line per joint of the pose ``phi`` (radians) outside its limits.

@@ -268,7 +268,7 @@ class ToolPath:
             return best_s, best_d
         # only the pieces between the least lo and the largest hi can be touched: a sample's
         # look between its neighbours costs a few pieces, not all of a 10,000-piece text's
-        first = int(np.searchsorted(corners[1:], lo.min(), side="left"))
+        first = int(np.searchsorted(corners[1:], float(np.min(lo)), side="left"))
         last = int(np.searchsorted(corners[:-1], hi.max(), side="right"))
         for i in range(first, last):
             corner, piece, following = corners[i], self.pieces[i], corners[i + 1]

@@ -117,7 +117,7 @@ class _Recorder:
         self.path_s.append(path_s)
         if gaps is not None:
             self.self_gap.append(float(gaps.min()))
-            self.self_pair.append(self.labels[int(gaps.argmin())])
+            self.self_pair.append(self.labels[int(np.argmin(gaps))])
 
     def __len__(self) -> int:
         return len(self.phi)

@@ -194,7 +194,7 @@ def least_self_gap(problem: Problem, phi: np.ndarray) -> tuple[float | None, str
     if not len(problem.self_pairs):
         return None, None
     gaps = self_gaps(forward(problem.arm, phi), problem.capsules, problem.self_pairs).d
-    return float(gaps.min()), problem.self_pairs.labels[int(gaps.argmin())]
+    return float(gaps.min()), problem.self_pairs.labels[int(np.argmin(gaps))]
 
 
 def pose_miss(problem: Problem, target: np.ndarray, solution: PoseSolution) -> PoseMiss | None:

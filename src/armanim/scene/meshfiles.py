@@ -180,7 +180,7 @@ def _obj(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         ids = [i - 1 if i > 0 else len(vertices) + i for i in ids]  # 1-based, or counted back from the last
         faces.extend([ids[0], ids[k], ids[k + 1]] for k in range(1, len(ids) - 1))
     faces_array = np.array(faces, dtype=np.int64).reshape(-1, 3)
-    if len(faces_array) and (faces_array.min() < 0 or faces_array.max() >= len(vertices)):
+    if len(faces_array) and (np.min(faces_array) < 0 or np.max(faces_array) >= len(vertices)):
         raise ValueError(f"a face names a vertex the OBJ file does not have (it has {len(vertices):,})")
     return vertices, faces_array, np.full((len(faces_array), 3), VISUAL_COLOR)
 

@@ -387,7 +387,8 @@ def min_link_clearance(pose: Pose, obstacles: Obstacles, capsules: Capsules) -> 
             ]
         )
     if obstacles.spheres_only or capsules.allows:  # a pair allowed to touch: every pair measured, that one left out
-        return cast(np.ndarray, clearances(pose, obstacles, capsules).links.min(axis=(-1, -2)))
+        least: np.ndarray = clearances(pose, obstacles, capsules).links.min(axis=(-1, -2))
+        return least
     a, b = capsule_ends(capsules, pose)
     radius = capsules.radius
     best = np.full(a.shape[:-2], np.inf)

@@ -107,7 +107,7 @@ def damper_paced(problem: Problem, waypoints: np.ndarray, s: np.ndarray, most: i
     settled = np.zeros(len(s) - 1, dtype=bool)  # intervals the filter takes as they are
     for _ in range(problem.tunables.planner.max_splits):
         poses = poses_along(waypoints, s)
-        for k in np.nonzero(~settled)[0]:
+        for k in np.flatnonzero(~settled).tolist():
             settled[k] = takes_unchanged(problem, arm_state(problem, poses[k]), poses[k + 1] - poses[k])
         too_fast = np.nonzero(~settled)[0]
         if not len(too_fast) or (most is not None and len(s) - 1 + len(too_fast) > most):

@@ -201,7 +201,7 @@ def blocking_pair(problem: Problem, poses: np.ndarray, floor: float) -> str | No
     kept_out = gaps.min(axis=1) + self_shift(problem) < floor
     if not kept_out.any():
         return None
-    return pairs.labels[int(np.bincount(gaps[kept_out].argmin(axis=1)).argmax())]
+    return pairs.labels[int(np.argmax(np.bincount(np.argmin(gaps[kept_out], axis=1))))]
 
 
 def _reachable_without_limits(

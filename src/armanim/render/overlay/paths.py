@@ -117,8 +117,8 @@ class SampledPath:
         if not lo < hi:
             return np.zeros((0, self.points.shape[1]))
         segments, end_rows, rows = self._pen_down
-        first = np.searchsorted(segments, np.searchsorted(self.s[1:], lo, side="right"))  # ends past lo
-        stop = np.searchsorted(segments, np.searchsorted(self.s[:-1], hi, side="left"))  # starts before hi
+        first = int(np.searchsorted(segments, np.searchsorted(self.s[1:], lo, side="right")))  # ends past lo
+        stop = int(np.searchsorted(segments, np.searchsorted(self.s[:-1], hi, side="left")))  # starts before hi
         if stop <= first:
             return np.zeros((0, self.points.shape[1]))
         head, tail = self.at(np.array([max(self.s[segments[first]], lo), min(self.s[segments[stop - 1] + 1], hi)]))

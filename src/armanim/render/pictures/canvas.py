@@ -463,7 +463,7 @@ class SceneCanvas:
                 self.shadow.set_linewidth(2 * half * scale * self.pt)
                 self.shadow.set_alpha(alpha)
                 self.shadow.draw(self.renderer)
-        pad = 2 * float(half.max())
+        pad = 2 * float(np.max(half))
         drop = np.vstack([a, b])
         return np.concatenate([drop.min(axis=0) - pad, drop.max(axis=0) + pad])
 

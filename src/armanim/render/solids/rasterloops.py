@@ -396,7 +396,7 @@ def yuv420_planes(pixels: np.ndarray, width: int, out: np.ndarray) -> None:
     count = pixels.size
     for p in range(count):
         v = np.int32(pixels[p])
-        r, g, b = (v >> RED) & 255, (v >> GREEN) & 255, (v >> BLUE) & 255
+        r, g, b = (v >> RED) & 255, (v >> GREEN) & 255, (v >> BLUE) & 255  # type: ignore[operator,unused-ignore]  # numpy 2.5 stubs: int32 >> int
         out[p] = np.uint8((YR * r + YG * g + YB * b + Y_OFFSET) >> 16)  # (16-235: never past a byte)
     half = width // 2
     rows = count // width // 2
@@ -411,9 +411,9 @@ def yuv420_planes(pixels: np.ndarray, width: int, out: np.ndarray) -> None:
                 np.int32(bottom[2 * j]),
                 np.int32(bottom[2 * j + 1]),
             )
-            reds[j] = ((a >> RED) & 255) + ((b >> RED) & 255) + ((c >> RED) & 255) + ((d >> RED) & 255)
-            greens[j] = ((a >> GREEN) & 255) + ((b >> GREEN) & 255) + ((c >> GREEN) & 255) + ((d >> GREEN) & 255)
-            blues[j] = ((a >> BLUE) & 255) + ((b >> BLUE) & 255) + ((c >> BLUE) & 255) + ((d >> BLUE) & 255)
+            reds[j] = ((a >> RED) & 255) + ((b >> RED) & 255) + ((c >> RED) & 255) + ((d >> RED) & 255)  # type: ignore[operator,unused-ignore]  # numpy 2.5 stubs: int32 >> int
+            greens[j] = ((a >> GREEN) & 255) + ((b >> GREEN) & 255) + ((c >> GREEN) & 255) + ((d >> GREEN) & 255)  # type: ignore[operator,unused-ignore]  # numpy 2.5 stubs: int32 >> int
+            blues[j] = ((a >> BLUE) & 255) + ((b >> BLUE) & 255) + ((c >> BLUE) & 255) + ((d >> BLUE) & 255)  # type: ignore[operator,unused-ignore]  # numpy 2.5 stubs: int32 >> int
         cb = out[count + i * half : count + (i + 1) * half]
         for j in range(half):
             cb[j] = np.uint8((UR * reds[j] + UG * greens[j] + UB * blues[j] + C_OFFSET) >> 18)
