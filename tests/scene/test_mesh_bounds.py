@@ -394,3 +394,29 @@ def test_a_mesh_name_too_long_to_look_up_is_not_found_for_every_kind_of_mesh(cli
     done = cli("robots", "--fit", "r.urdf")
     assert done.exit_code == 2, done.stderr[-300:]
     assert done.stderr.startswith("r.urdf:1: link 'l1': collision mesh 'aaaa") and "not found" in done.stderr
+
+
+def test_a_readers_deprecation_warning_under_w_error_is_not_a_broken_mesh(monkeypatch):
+    """pycollada sets arrays' shapes, which NumPy 2.5 (what pip installs on Python 3.12 and newer)
+    deprecates: under ``python -W error`` or ``PYTHONWARNINGS=error`` every ``.dae`` was "could not
+    be read (DeprecationWarning: Setting the shape on a NumPy array ...)", exit 2. The warning is
+    the library's, not the file's. Simulated here (on any NumPy) by a reader that warns as it reads."""
+    import warnings
+
+    import collada
+
+    from armanim.scene.meshfiles import read_mesh
+
+    real = collada.Collada
+
+    def warning_reader(*args, **kwargs):
+        warnings.warn(
+            "Setting the shape on a NumPy array has been deprecated in NumPy 2.5.", DeprecationWarning, stacklevel=2
+        )
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(collada, "Collada", warning_reader)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _, faces, _ = read_mesh(_dae(_instancing(0, 1), "n0", triangles=2).encode(), "dae")
+    assert len(faces) == 2

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import io
 import re
+import warnings
 import zipfile
 
 import numpy as np
@@ -207,21 +208,25 @@ def _dae(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         collada.common.DaeBrokenRefError,
         collada.common.DaeUnsupportedError,
     ]
-    try:
-        document = collada.Collada(io.BytesIO(data), ignore=broken)
-    finally:
-        raise_if_interrupted()
-    unit = _unit_metres(document)
-    roots = list(document.scene.nodes) if document.scene is not None else []
-    count = _placed_count(roots)
-    if count > MAX_FILE_TRIANGLES:
-        raise ValueError(
-            f"its nodes place {count:,} triangles and instances once expanded (at most "
-            f"{MAX_FILE_TRIANGLES:,} from one mesh file; nodes instancing nodes are counted, not expanded)"
-        )
-    parts: list[tuple[np.ndarray, np.ndarray]] = []
-    for node in roots:
-        _place(node, np.eye(4), parts, {})
+    with warnings.catch_warnings():
+        # pycollada sets arrays' shapes, which NumPy 2.5 deprecates: under -W error (PYTHONWARNINGS=error)
+        # every .dae was "could not be read (DeprecationWarning: ...)"; the warning is the library's, not the file's
+        warnings.simplefilter("ignore", DeprecationWarning)
+        try:
+            document = collada.Collada(io.BytesIO(data), ignore=broken)
+        finally:
+            raise_if_interrupted()
+        unit = _unit_metres(document)
+        roots = list(document.scene.nodes) if document.scene is not None else []
+        count = _placed_count(roots)
+        if count > MAX_FILE_TRIANGLES:
+            raise ValueError(
+                f"its nodes place {count:,} triangles and instances once expanded (at most "
+                f"{MAX_FILE_TRIANGLES:,} from one mesh file; nodes instancing nodes are counted, not expanded)"
+            )
+        parts: list[tuple[np.ndarray, np.ndarray]] = []
+        for node in roots:
+            _place(node, np.eye(4), parts, {})
     raise_if_interrupted()
     if not parts:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=int), np.zeros((0, 3))
