@@ -246,6 +246,24 @@ def test_one_file_named_by_three_links_is_read_once(tmp_path, monkeypatch):
     assert all(np.allclose(np.linalg.norm(m.vertices, axis=1), 1.0, atol=0.03) for m in meshes)
 
 
+def test_hard_links_of_one_file_are_read_once(tmp_path, monkeypatch):
+    """Links naming one file by its hard links (one inode, several names) read it once, and its
+    bytes count once against MAX_LOOK_BYTES (campaign 18: five hard links of a 60 MB OBJ were
+    read five times, and the fifth was left out, past 256 MB)."""
+    from armanim.scene import visuals
+
+    trimesh.creation.box().export(tmp_path / "a.stl")  # 684 bytes
+    for name in ("b.stl", "c.stl"):
+        os.link(tmp_path / "a.stl", tmp_path / name)
+    monkeypatch.setattr(visuals, "MAX_LOOK_BYTES", 684 + 100)
+    reads = []
+    real = visuals.read_bounded
+    monkeypatch.setattr(visuals, "read_bounded", lambda path, *args: reads.append(Path(path).name) or real(path, *args))
+    (mesh,), notes = _read(_urdf(tmp_path, _mesh("a.stl") + _mesh("b.stl") + _mesh("c.stl")))
+    assert notes == [] and reads == ["a.stl"]
+    assert mesh.triangles == 3 * 12
+
+
 def test_the_bytes_of_a_look_are_bounded_in_all(tmp_path, monkeypatch):
     """Each file's size counts once against MAX_LOOK_BYTES: past it, a mesh is a note, unread."""
     from armanim.scene import visuals

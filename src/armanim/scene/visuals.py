@@ -326,8 +326,9 @@ def unreadable_reason(error: Exception) -> str:
 
 
 class MeshReader:
-    """Reads mesh files for one robot's look: each file once (by its resolved path and its
-    size, modification time and inode: three links naming one STL read it once), every read a
+    """Reads mesh files for one robot's look: each file once (by its device and inode, size and
+    modification time: three links naming one STL, by any spelling, a symbolic or a hard link,
+    read it once), every read a
     regular file opened without blocking, at most :data:`MAX_MESH_BYTES` a file and
     :data:`MAX_LOOK_BYTES` in all; a file of more than ``simplify_above`` triangles is
     simplified as it is read (None: kept as read), and at most :data:`MAX_LOOK_TRIANGLES` are
@@ -361,7 +362,9 @@ class MeshReader:
                 f"{path.suffix or 'a file without a suffix'} is not a format armanim reads (STL, OBJ or COLLADA .dae)"
             )
         stat = path.stat()
-        key = (str(path.resolve()), stat.st_dev, stat.st_ino, stat.st_size, stat.st_mtime_ns)
+        # the file, not its name: hard links (and every spelling or symbolic link) of one file are
+        # one key (campaign 18: five hard links of a 60 MB OBJ were read five times, past 256 MB)
+        key = (stat.st_dev, stat.st_ino, stat.st_size, stat.st_mtime_ns)
         if key in self._files:
             return self._files[key]
         limit = min(MAX_MESH_BYTES, MAX_LOOK_BYTES - self.bytes_read)
