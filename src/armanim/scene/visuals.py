@@ -33,7 +33,7 @@ from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, LinkPlaces, placed_meshes
 from armanim.errors import SceneError, shown_path
 from armanim.output.files import is_regular_file, read_bounded, special_kind
-from armanim.scene.meshfiles import VISUAL_COLOR, mesh_format, raise_if_interrupted, read_mesh
+from armanim.scene.meshfiles import VISUAL_COLOR, finite_vertices, mesh_format, raise_if_interrupted, read_mesh
 from armanim.scene.urdf import Element, Robot, _parse_xml
 
 DEFAULT_RGB = (0.72, 0.74, 0.78)
@@ -314,8 +314,20 @@ def _spec_mesh(
             np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)),
         )
     vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
-    finite = np.isfinite(vertices).all(axis=1)[mesh.faces].all(axis=1)  # a huge scale or origin may overflow
-    return LinkMesh(spec.link, vertices, mesh.faces[finite], mesh.colors[finite])
+    return finite_part(LinkMesh(spec.link, vertices, mesh.faces, mesh.colors))  # a huge scale or origin may overflow
+
+
+def finite_part(mesh: LinkMesh) -> LinkMesh:
+    """``mesh`` without its triangles that have a corner that is not finite, and without every such
+    corner, used or not (the faces renumbered): what is drawn, and what the viewer writes as JSON
+    (campaign 18: an OBJ's unused ``v nan nan nan``, or a corner a scale of 1e9 made infinite, ended
+    ``run --viewer`` in a ValueError traceback)."""
+    finite = np.isfinite(mesh.vertices).all(axis=1)
+    if finite.all():
+        return mesh
+    kept = finite[mesh.faces].all(axis=1)
+    vertices, faces = finite_vertices(mesh.vertices, mesh.faces[kept])
+    return LinkMesh(mesh.link, vertices, faces, mesh.colors[kept])
 
 
 def unreadable_reason(error: Exception) -> str:
@@ -538,6 +550,7 @@ __all__ = [
     "bundled_link_meshes",
     "chain_meshes",
     "default_package_dirs",
+    "finite_part",
     "link_meshes",
     "placed_link_meshes",
     "mesh_path",
