@@ -10388,7 +10388,7 @@ def mesh18_attempts() -> list[Attempt]:
                 timeout=120,
             )
         )
-    bad = r"triangles|vertex|not an STL|no triangle|could not be read|cycle|instances itself"
+    bad = r"triangles|vertex|not an STL|no triangle|could not be read|cycle|instances itself|not finite"
     shapes = [
         ("an OBJ of one 60 MB 'v' line and a triangle", "a.obj", big_text("a.obj", "v", " 0", 60, "\n" + TRI_OBJ)),
         (
@@ -10566,6 +10566,55 @@ def mesh18_attempts() -> list[Attempt]:
             timeout=120,
         )
     )
+    # variants of what the first pass found: corners that are not finite, kept beside good triangles
+    nan_obj = TRI_OBJ + "v nan nan nan\nv 1e309 0 0\nf 4 5 1\n"
+    far_obj = TRI_OBJ + "v 1e300 0 0\nf 1 2 4\n"
+    tool_scene = TOOL_SCENE.replace("TOOL", "t.obj")
+    out += [
+        Attempt(
+            k,
+            "run --viewer, arm.tool.mesh an OBJ with NaN and 1e309 corners beside a good triangle",
+            viewer,
+            then(tiny_scene(text=tool_scene), lambda d: write(d / "t.obj", nan_obj)),
+            (0,),
+            timeout=120,
+        ),
+        Attempt(
+            k,
+            "fk --png, visual an OBJ with NaN and 1e309 corners beside a good triangle",
+            ["fk", "--scene", "s.yaml", "--angles", "0", "--png", "p.png"],
+            then(links_naming(["a.obj"], "visual"), lambda d: write(d / "a.obj", nan_obj)),
+            (0,),
+            timeout=120,
+        ),
+        Attempt(
+            k,
+            "run --viewer, visual an OBJ of a 1e300 corner under scale 1e9 (an infinite corner)",
+            viewer,
+            then(
+                links_naming(["a.obj"], "visual"),
+                lambda d: write(d / "a.obj", far_obj),
+                lambda d: write(
+                    d / "robot.urdf",
+                    (d / "robot.urdf").read_text().replace('filename="a.obj"', 'filename="a.obj" scale="1e9 1e9 1e9"'),
+                ),
+            ),
+            (0,),
+            timeout=120,
+        ),
+        Attempt(
+            k,
+            "view of a run, visual an OBJ with NaN corners beside a good triangle",
+            ["view", "o/m", "--out", "v.html"],
+            then(
+                links_naming(["a.obj"], "visual"),
+                lambda d: write(d / "a.obj", nan_obj),
+                lambda d: armanim_in(d, "run", "s.yaml", "--out", "o", "--no-video", "-q"),
+            ),
+            (0,),
+            timeout=120,
+        ),
+    ]
     return out
 
 
@@ -10806,6 +10855,100 @@ def export18_attempts() -> list[Attempt]:
             after=export_parses("e.json"),
         )
     )
+    # a link that loops, everywhere a command takes a path to write
+    loop = lambda name: symlink(name, name)  # noqa: E731
+    out += [
+        Attempt(
+            k,
+            "run s.yaml --out l (l a link to itself)",
+            ["run", "s.yaml", "--out", "l", "--no-video", "-q"],
+            then(tiny_scene(), loop("l")),
+            (2, 3),
+            keep=("l",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "sweep --out l (l a link to itself)",
+            ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "l", "--no-video", "-q"],
+            then(tiny_scene(), loop("l")),
+            (2, 3),
+            keep=("l",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "check --update --golden g (g a link to itself)",
+            ["check", "s.yaml", "--update", "--golden", "g"],
+            then(tiny_scene(), loop("g")),
+            (2, 3),
+            keep=("g",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "check --golden g (g a link to itself)",
+            ["check", "s.yaml", "--golden", "g"],
+            then(tiny_scene(), loop("g")),
+            (2, 3),
+            keep=("g",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "import moveit --out l.yaml (a link to itself)",
+            ["import", "moveit", "w.scene", "--robot", "panda", "--out", "l.yaml"],
+            then(lambda d: write(d / "w.scene", "w\n.\n"), loop("l.yaml")),
+            (2, 3),
+            keep=("l.yaml",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "fk --png l.png (a link to itself)",
+            ["fk", "--angles", "0,10,20,30", "--png", "l.png"],
+            loop("l.png"),
+            (2, 3),
+            keep=("l.png",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "export --out o/tiny/l.json, a link to itself inside the run folder",
+            ["export", "o/tiny", "--out", "o/tiny/l.json"],
+            then(run, loop("o/tiny/l.json")),
+            (2, 3),
+            keep=("o/tiny",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "export --out a link to a link that loops (e.json -> l -> l)",
+            ["export", "o/tiny", "--out", "e.json"],
+            then(run, loop("l"), symlink("l", "e.json")),
+            (2, 3),
+            keep=("e.json", "l"),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "export --out x/e.json, x a link to itself",
+            ["export", "o/tiny", "--out", "x/e.json"],
+            then(run, loop("x")),
+            (2, 3),
+            keep=("x",),
+            timeout=60,
+        ),
+        Attempt(
+            k,
+            "view --out x/v.html, x a link to itself",
+            ["view", "o/tiny", "--out", "x/v.html"],
+            then(run, loop("x")),
+            (2, 3),
+            keep=("x",),
+            timeout=60,
+        ),
+    ]
     return out
 
 
@@ -10926,6 +11069,48 @@ def signals18_attempts() -> list[Attempt]:
                 litter_in=("o", "."),
             )
         )
+    # two signals together (before Python runs a handler) in other commands than run
+    long_then = lambda d: finished_run(d, LONG) and None  # noqa: E731
+    for label, args, setup, delay, place in [
+        ("view --out v.html of a 40,000-frame run", ["view", "o/tiny", "--out", "v.html"], long_then, 1.0, ("v.html",)),
+        (
+            "export --out e.json of a 40,000-frame run",
+            ["export", "o/tiny", "--out", "e.json"],
+            long_then,
+            1.0,
+            ("e.json",),
+        ),
+        (
+            "a --jobs 2 batch of two scenes with video",
+            ["run", "s.yaml", "a.yaml", "--out", "o", "-q", "--jobs", "2"],
+            then(tiny_scene(text=video), tiny_scene("a.yaml", video.replace("name: tiny", "name: other"))),
+            3.0,
+            ("o/tiny", "o/other"),
+        ),
+        (
+            "render --out fig of a run",
+            ["render", "o/tiny", "--out", "fig"],
+            lambda d: finished_run(d, video) and None,
+            2.0,
+            ("fig",),
+        ),
+    ]:
+        for first, second in [("SIGINT", "SIGTERM"), ("SIGHUPG", "SIGTERM")]:
+            out.append(
+                Attempt(
+                    k,
+                    f"{label}, {first} at {delay:g} s then {second} 1 ms later",
+                    args,
+                    setup,
+                    (0, 130),
+                    interrupt=(delay, first),
+                    also=((delay + 0.001, second),),
+                    linger=3.0,
+                    timeout=120,
+                    after=whole_or_none(*place),
+                    litter_in=("o", "."),
+                )
+            )
     return out
 
 
@@ -10976,11 +11161,11 @@ def inputs18_attempts() -> list[Attempt]:
             base + "goals: [[1, 1, 1]]\nsolver: " + "{a: " * 10_000 + "1" + "}" * 10_000 + "\n",
         ),
         (
-            "block mappings 3,000 deep (indented)",
+            "block mappings 1,000 deep (indented, under the 1 MB limit)",
             base
             + "goals: [[1, 1, 1]]\nsolver:\n"
-            + "".join(" " * (i + 1) + f"a{i}:\n" for i in range(3000))
-            + " " * 3001
+            + "".join(" " * (i + 1) + f"a{i}:\n" for i in range(1000))
+            + " " * 1001
             + "1\n",
         ),
         (
@@ -11111,6 +11296,67 @@ def inputs18_attempts() -> list[Attempt]:
             timeout=60,
         )
     )
+    # a link that loops, everywhere a command reads a path
+    loop = lambda name: symlink(name, name)  # noqa: E731
+    run = lambda d: finished_run(d) and None  # noqa: E731
+    for label, args, setup, codes in [
+        ("validate l.yaml (a link to itself)", ["validate", "l.yaml"], loop("l.yaml"), (2,)),
+        ("run l.yaml (a link to itself)", ["run", "l.yaml", "--out", "o", "--no-video", "-q"], loop("l.yaml"), (2,)),
+        (
+            "fk --scene l.yaml (a link to itself)",
+            ["fk", "--scene", "l.yaml", "--angles", "0,0,0"],
+            loop("l.yaml"),
+            (2,),
+        ),
+        ("render l (a run folder that is a link to itself)", ["render", "l"], loop("l"), (2,)),
+        ("view l (a run folder that is a link to itself)", ["view", "l"], loop("l"), (2,)),
+        ("export l (a run folder that is a link to itself)", ["export", "l"], loop("l"), (2,)),
+        (
+            "compare a trajectory and l.csv (a link to itself)",
+            ["compare", "o/tiny/trajectory.csv", "l.csv"],
+            then(run, loop("l.csv")),
+            (2,),
+        ),
+        ("robots --fit l.urdf (a link to itself)", ["robots", "--fit", "l.urdf"], loop("l.urdf"), (2,)),
+        (
+            "import moveit l.scene (a link to itself)",
+            ["import", "moveit", "l.scene", "--robot", "panda"],
+            loop("l.scene"),
+            (2,),
+        ),
+        (
+            "validate, arm.urdf a link to itself",
+            ["validate", "s.yaml"],
+            then(tiny_scene(text=URDF_SCENE.replace("robot.urdf", "l.urdf")), loop("l.urdf")),
+            (2,),
+        ),
+        (
+            "robots --fit, --package-dir a link to itself",
+            ["robots", "--fit", "robot.urdf", "--package-dir", "pk"],
+            then(links_naming(["package://r/a.stl"]), loop("pk")),
+            (2,),
+        ),
+        (
+            "run, arm.tool.mesh a link to itself",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            then(tiny_scene(text=TOOL_SCENE.replace("TOOL", "l.stl")), loop("l.stl")),
+            (0,),
+        ),
+        (
+            "run --viewer, a visual mesh a link to itself",
+            ["run", "s.yaml", "--out", "o", "--no-video", "--viewer", "-q"],
+            then(links_naming(["l.stl"], "visual"), loop("l.stl")),
+            (0,),
+        ),
+    ]:
+        out.append(Attempt(k, label, args, setup, codes, message_if_2=r"l\.|pk|l\b|loop|symbolic", timeout=60))
+    for label, env, codes in [
+        ("ARMANIM_CACHE_DIR a link to itself, validate of a fitted URDF", {"ARMANIM_CACHE_DIR": "{d}/c"}, (0,)),
+        ("TMPDIR a link to itself, a run with video", {"TMPDIR": "{d}/c"}, (0, 3)),
+    ]:
+        setup = then(one_mesh_robot(), loop("c")) if "URDF" in label else then(tiny_scene(), loop("c"))
+        args = ["validate", "s.yaml"] if "URDF" in label else ["run", "s.yaml", "--out", "o", "-q"]
+        out.append(Attempt(k, label, args, setup, codes, env=env, keep=("c",), timeout=120))
     return out
 
 
@@ -11188,7 +11434,7 @@ CLASSES = {
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", choices=list(CLASSES), nargs="*", help="run these classes only")
-    parser.add_argument("--match", default=None, help="run the attempts whose name holds this text")
+    parser.add_argument("--match", nargs="*", default=None, help="run the attempts whose name holds one of these texts")
     parser.add_argument("--list", action="store_true", help="list the attempts and stop")
     parser.add_argument("--keep", type=Path, default=None, help="keep every attempt's folder here")
     parser.add_argument("--memory", type=float, default=4.0, help="address-space limit of each attempt, GB (default 4)")
@@ -11221,7 +11467,7 @@ def main() -> int:
         )
     attempts = [a for name, make in CLASSES.items() if not args.only or name in args.only for a in make()]
     if args.match:
-        attempts = [a for a in attempts if args.match in a.name]
+        attempts = [a for a in attempts if any(text in a.name for text in args.match)]
     if args.list:
         for a in attempts:
             print(f"{a.kind:<8} {a.name}")
