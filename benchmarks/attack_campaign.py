@@ -10575,7 +10575,7 @@ def mesh18_attempts() -> list[Attempt]:
             k,
             "run --viewer, arm.tool.mesh an OBJ with NaN and 1e309 corners beside a good triangle",
             viewer,
-            then(links_naming(["m.stl"]), tiny_scene(text=tool_scene), lambda d: write(d / "t.obj", nan_obj)),
+            then(links_naming(["m.stl"], "visual"), tiny_scene(text=tool_scene), lambda d: write(d / "t.obj", nan_obj)),
             (0,),
             timeout=120,
         ),
@@ -11341,7 +11341,7 @@ def inputs18_attempts() -> list[Attempt]:
             "run, arm.tool.mesh a link to itself",
             ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
             then(
-                links_naming(["m.stl"]),
+                links_naming(["m.stl"], "visual"),
                 tiny_scene(text=URDF_SCENE.replace("{urdf: robot.urdf}", "{urdf: robot.urdf, tool: {mesh: l.stl}}")),
                 loop("l.stl"),
             ),
