@@ -1,4 +1,4 @@
-"""The ninth to seventeenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
+"""The ninth to eighteenth attack campaigns (issue 50): hostile inputs, interrupts and outputs, as a script.
 
 Run: ``python benchmarks/attack_campaign.py`` (some 20-40 minutes on two shared cores for the ninth),
 ``--only CLASS`` for one class (the ninth's: mesh, frames, export, nested, sizes, signals, folders,
@@ -11,9 +11,10 @@ fifteenth's: mesh15 ... wrong15; the sixteenth's, new angles: perms16 (as a user
 as root, which mounts a small tmpfs), api16 (the Python API, by snippets)); the seventeenth's:
 mesh17, frames17, signals17, wrong17 (new variants of the issue's classes) and ro17 (read-only
 mounts), lock17 (the compile lock and ``warm``: give ``--warm-cache`` numba's cache of ``--src``,
-warmed), dask17 (Dask schedulers), env17 (narrow terminals, odd standard outputs, LANG=C names)),
-``--match TEXT`` for the attempts whose name holds TEXT, ``--list`` to list them, ``--keep DIR``
-to keep every attempt's folder.
+warmed), dask17 (Dask schedulers), env17 (narrow terminals, odd standard outputs, LANG=C names)); the
+eighteenth's part B, new variants of the issue's classes: mesh18, frames18, export18, signals18,
+inputs18, wrong18), ``--match TEXT ...`` for the attempts whose name holds one of the texts, ``--list``
+to list them, ``--keep DIR`` to keep every attempt's folder.
 
 Each attempt makes its inputs in a folder of its own, runs ``python -m armanim`` from this
 checkout (``src`` first on ``PYTHONPATH``) under ``nice -n 10``, an address-space limit
