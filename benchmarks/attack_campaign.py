@@ -10950,6 +10950,15 @@ def export18_attempts() -> list[Attempt]:
             keep=("x",),
             timeout=60,
         ),
+        Attempt(
+            k,
+            "import moveit --urdf robot.urdf --out x/m.yaml, x a link to itself (found after the rerun)",
+            ["import", "moveit", "w.scene", "--urdf", "robot.urdf", "--tip-link", "l3", "--out", "x/m.yaml"],
+            then(lambda d: write(d / "w.scene", "w\n.\n"), lambda d: write(d / "robot.urdf", urdf_text()), loop("x")),
+            (2, 3),
+            keep=("x",),
+            timeout=60,
+        ),
     ]
     return out
 
