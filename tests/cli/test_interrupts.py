@@ -52,6 +52,42 @@ def test_a_ctrl_c_swallowed_in_a_weakref_callback_still_interrupts_at_once(tmp_p
     assert (done.returncode, done.stdout.strip(), done.stderr) == (130, "[] interrupted", "")
 
 
+_TWO_SIGNALS_AT_ONCE = """
+import os, signal, sys
+from armanim.cli.interrupts import command_signals, own_the_process
+own_the_process()
+try:
+    with command_signals():
+        both = {signal.SIGINT, signal.SIGTERM}
+        signal.pthread_sigmask(signal.SIG_BLOCK, both)  # both come before Python runs either handler
+        os.kill(os.getpid(), signal.SIGTERM)
+        os.kill(os.getpid(), signal.SIGINT)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, both)
+        for _ in range(1000):
+            pass
+except KeyboardInterrupt:
+    for _ in range(1000):  # Python looks at the second signal's flag again here
+        pass
+    print("interrupted")
+    sys.exit(130)
+print("finished")
+"""
+
+
+def test_a_second_signal_that_comes_with_the_first_is_ignored_silently(tmp_path):
+    """Campaign 18: Ctrl-C, then SIGTERM 1 ms later, during a run's video: both came before Python ran
+    a handler; the first made the signals ignored (phase 3), and CPython, finding the second's
+    handler now SIG_IGN, printed ``Traceback ... OSError: Signal 15 ignored due to race condition``
+    before the interrupted line. The second signal is ignored, as promised, without a word."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "two_signals.py"
+    script.write_text(_TWO_SIGNALS_AT_ONCE)
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
+    assert (done.returncode, done.stdout.strip(), done.stderr) == (130, "interrupted", "")
+
+
 _CTRL_C_IN_TEXT = """
 import typer
 from armanim.cli.app import handle_errors

@@ -246,6 +246,24 @@ def test_one_file_named_by_three_links_is_read_once(tmp_path, monkeypatch):
     assert all(np.allclose(np.linalg.norm(m.vertices, axis=1), 1.0, atol=0.03) for m in meshes)
 
 
+def test_hard_links_of_one_file_are_read_once(tmp_path, monkeypatch):
+    """Links naming one file by its hard links (one inode, several names) read it once, and its
+    bytes count once against MAX_LOOK_BYTES (campaign 18: five hard links of a 60 MB OBJ were
+    read five times, and the fifth was left out, past 256 MB)."""
+    from armanim.scene import visuals
+
+    trimesh.creation.box().export(tmp_path / "a.stl")  # 684 bytes
+    for name in ("b.stl", "c.stl"):
+        os.link(tmp_path / "a.stl", tmp_path / name)
+    monkeypatch.setattr(visuals, "MAX_LOOK_BYTES", 684 + 100)
+    reads = []
+    real = visuals.read_bounded
+    monkeypatch.setattr(visuals, "read_bounded", lambda path, *args: reads.append(Path(path).name) or real(path, *args))
+    (mesh,), notes = _read(_urdf(tmp_path, _mesh("a.stl") + _mesh("b.stl") + _mesh("c.stl")))
+    assert notes == [] and reads == ["a.stl"]
+    assert mesh.triangles == 3 * 12
+
+
 def test_the_bytes_of_a_look_are_bounded_in_all(tmp_path, monkeypatch):
     """Each file's size counts once against MAX_LOOK_BYTES: past it, a mesh is a note, unread."""
     from armanim.scene import visuals
@@ -256,6 +274,26 @@ def test_the_bytes_of_a_look_are_bounded_in_all(tmp_path, monkeypatch):
     (mesh,), notes = _read(_urdf(tmp_path, _mesh("a.stl") + _mesh("b.stl") + _mesh("a.stl") + _mesh("c.stl")))
     assert mesh.triangles == 3 * 12
     assert len(notes) == 1 and "c.stl" in notes[0] and "684 bytes, more than the 100 left to read" in notes[0], notes
+
+
+def test_no_corner_that_is_not_finite_is_kept_even_one_no_triangle_uses(tmp_path):
+    """Campaign 18: an OBJ's ``v nan nan nan`` and ``v 1e309 0 0`` beside a good triangle, and a
+    corner of 1e300 under a visual's scale of 1e9 (inf), left out their triangles but stayed among
+    the mesh's vertices, and ``run --viewer`` ended in a traceback (``Out of range float values are
+    not JSON compliant``). The corners no triangle keeps are dropped, the faces renumbered."""
+    from armanim.render.viewer.page import json_text
+
+    (tmp_path / "n.obj").write_text("v 0 0 0\nv .05 0 0\nv 0 .05 0\nf 1 2 3\nv nan nan nan\nv 1e309 0 0\nf 4 5 1\n")
+    (tmp_path / "b.obj").write_text("v 0 0 0\nv .05 0 0\nv 0 .05 0\nv 1e300 0 0\nf 1 2 3\nf 1 2 4\n")
+    scaled = '<visual><geometry><mesh filename="b.obj" scale="1e9 1e9 1e9"/></geometry></visual>'
+    (mesh,), notes = _read(_urdf(tmp_path, _mesh("n.obj") + scaled))
+    assert notes == [] and mesh.triangles == 2
+    assert np.isfinite(mesh.vertices).all() and mesh.faces.max() < len(mesh.vertices)
+    json_text(mesh.vertices.tolist())  # what the viewer writes: strict JSON
+    from armanim.scene.looks import _tool_file
+
+    tool = _tool_file("n.obj", "l0", tmp_path / "n.obj", notes.append, None)  # arm.tool.mesh, alike
+    assert notes == [] and tool is not None and tool.triangles == 1 and np.isfinite(tool.vertices).all()
 
 
 def test_special_and_broken_mesh_files_are_notes(tmp_path):

@@ -654,6 +654,20 @@ def test_a_file_it_did_not_write_is_not_replaced(moveit_command, tmp_path):
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []  # no temporary left
 
 
+def test_an_out_under_a_folder_that_is_a_link_to_itself_is_refused_without_a_traceback(moveit_command, tmp_path):
+    """Campaign 18: ``--out x/o.yaml``, ``x`` a link to itself, with ``--urdf`` (whose path the
+    scene names relative to the output's folder): ``RuntimeError: Symlink loop from '.../x'``
+    (Python 3.11's Path.resolve), exit 1. Now the write is refused (exit 3), the link as it was."""
+    _write(tmp_path, "s.yaml", BOXES_SCENE)
+    _write(tmp_path, "r.yaml", POSE_REQUEST)
+    _toy(tmp_path)
+    os.symlink("x", tmp_path / "x")
+    result = moveit_command("s.yaml", "--request", "r.yaml", "--urdf", "robot/toy.urdf", "--out", "x/o.yaml")
+    assert result.exit_code == 3 and "x/o.yaml" in result.stderr, result.output
+    assert "Traceback" not in result.output and "RuntimeError" not in result.output
+    assert os.readlink(tmp_path / "x") == "x"
+
+
 def test_the_command_prints_the_path_and_its_notes_on_stderr(tmp_path):
     result = _run(
         DATA / "bookshelf_small_panda-scene0001.yaml",

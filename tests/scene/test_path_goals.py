@@ -371,6 +371,49 @@ def test_a_path_whose_samples_at_its_speed_overflow_the_limit_names_its_speed(tm
     )
 
 
+LINE_GOAL = (
+    "version: 1\nname: p\narm: {links: [1, 1, 1], axes: [z, y, y]}\nrender: {size: [160, 90], fps: 30}\n"
+    "solver: {path_tolerance: %s}\ngoals:\n  - position: [1, 0, 1]\n    %s: {distance: 1, axis: %s, speed: 0.5}\n"
+)
+
+
+@pytest.mark.parametrize("line, axis", [("approach", "[0, 0, -1]"), ("retreat", "[0, 0, 1]")])
+def test_an_approach_or_retreat_at_a_fine_path_tolerance_is_refused_at_validate(tmp_path, cli, line, axis):
+    """Campaign 18: an approach (or a retreat) of 1 m at path_tolerance 1e-9 is a path the run
+    follows: validate said ok, and run refused it, `the scene may run up to 1,600,001,202 frames
+    (...; run armanim validate on it for the field to change)`. Validate counts the lines' samples
+    as the path goals' and names solver.path_tolerance with the value that fits; that validates,
+    and the run is refused at its line as validate's."""
+    message = rejected(
+        tmp_path,
+        cli,
+        LINE_GOAL % ("1e-9", line, axis),
+        "solver.path_tolerance",
+        5,
+        f"following goals[0]'s {line} (1 long)",
+        "raise solver.path_tolerance to at least about",
+    )
+    need = message.split("at least about ")[1].split(",")[0]
+    assert cli("validate", write(tmp_path, LINE_GOAL % (need, line, axis))).exit_code == 0
+    run = cli(
+        "run", write(tmp_path, LINE_GOAL % ("1e-9", line, axis)), "--no-video", "--quiet", "--out", tmp_path / "o"
+    )
+    assert run.exit_code == 2 and "solver.path_tolerance" in run.stderr and "run armanim validate" not in run.stderr
+
+
+def test_many_slow_approaches_whose_sum_overflows_the_limit_name_a_speed(tmp_path, cli):
+    """Four approaches of 0.2 m at 0.0025 m/s and 240 fps: 19,200 frames each along the line, and
+    the run may halve each sample's step 4 times (307,201 each, 1.2 million in all). Campaign 18:
+    validate said ok (it counted 19,200 frames a line); now refused at an approach's speed."""
+    text = (
+        "version: 1\nname: p\narm: {links: [1, 1, 1], axes: [z, y, y]}\nrender: {size: [160, 90], fps: 240}\n"
+        "solver: {path_tolerance: 1e-3}\ngoals:\n"
+        + "  - position: [1, 0, 1]\n    approach: {distance: 0.2, axis: [0, 0, -1], speed: 0.0025}\n"
+        * 4
+    )
+    rejected(tmp_path, cli, text, "goals[0].approach.speed", 8, "too slow for the frame limit", "raise the speed")
+
+
 def test_the_sample_count_is_the_samples_length():
     """ToolPath.sample_count, in closed form, against the samples themselves (random polylines and spacings)."""
     from armanim.motion.toolpath import ToolPath

@@ -333,6 +333,20 @@ def test_render_refuses_a_folder_armanim_did_not_make(cli, run_folder):
     assert user_files(run_folder) == before
 
 
+@pytest.mark.parametrize("command", ["export", "view", "render"])
+def test_an_out_that_is_a_link_to_itself_is_refused_without_a_traceback(cli, run_folder, command):
+    """Campaign 18: ``export --out l.json`` and ``view --out l.json``, l.json a link to itself,
+    ended in ``RuntimeError: Symlink loop from ...`` (Path.resolve in Python 3.11), exit 1. Now the
+    loop is refused as any link armanim did not make (exit 3), and left as it was."""
+    loop = run_folder.parent.parent / "l.json"
+    os.symlink("l.json", loop)
+    extra = ("--format", "gif") if command == "render" else ()
+    result = cli(command, run_folder, "--out", loop, *extra)
+    assert result.exit_code == 3 and "l.json" in result.stderr, result.output
+    assert "Traceback" not in result.output and "RuntimeError" not in result.output
+    assert os.readlink(loop) == "l.json"
+
+
 def test_leftovers_of_a_killed_render_are_removed(tmp_path):
     from armanim.render.video.movie import remove_dead_leftovers
 

@@ -20,7 +20,9 @@ finished one with its own exit code, never a traceback or death by a signal (-2,
    turn the KeyboardInterrupt into an error of its own (:mod:`armanim.procs.interrupted`):
    any error after a signal ends the command as interrupted;
 3. once the command has decided its exit code (or its last output is in place): both
-   signals are ignored until the process ends, so interpreter shutdown is never interrupted.
+   signals are ignored until the process ends, so interpreter shutdown is never interrupted;
+   a signal that came before that, with the first, is ignored too, without CPython's
+   "Signal N ignored due to race condition" traceback (:func:`_a_signal_already_ignored`).
 
 In a test's CliRunner (not the armanim process) only phase 2 applies, and the previous
 handlers come back afterwards.
@@ -56,10 +58,26 @@ def _interrupt(signum, frame):
 def _redeliver_swallowed(unraisable, *, previous) -> None:
     """``sys.unraisablehook`` while a command runs: a KeyboardInterrupt that Python could not
     raise (it came in a ``__del__`` or a weakref callback) is raised again, silently, in the
-    main thread's next Python call or return after this hook; anything else goes to ``previous``."""
+    main thread's next Python call or return after this hook; a signal already ignored is
+    dropped (:func:`_a_signal_already_ignored`); anything else goes to ``previous``."""
     if isinstance(unraisable.exc_value, KeyboardInterrupt) and threading.current_thread() is threading.main_thread():
         sys.setprofile(_raise_the_swallowed_interrupt)
-    else:
+    elif not _a_signal_already_ignored(unraisable):
+        previous(unraisable)
+
+
+def _a_signal_already_ignored(unraisable) -> bool:
+    """Whether ``unraisable`` is CPython's note of a signal that came before Python ran the first
+    one's handler, which then made it ignored (phase 3): ``OSError: Signal 15 ignored due to race
+    condition``, written with a traceback (campaign 18: Ctrl-C, then SIGTERM 1 ms later, during a
+    run's video). That signal is ignored, as phase 3 promises: nothing to say."""
+    error = unraisable.exc_value
+    return isinstance(error, OSError) and str(error).endswith("ignored due to race condition")
+
+
+def _quiet_about_ignored_signals(unraisable, *, previous) -> None:
+    """``sys.unraisablehook`` in phase 3: a signal already ignored is dropped, anything else goes to ``previous``."""
+    if not _a_signal_already_ignored(unraisable):
         previous(unraisable)
 
 
@@ -76,6 +94,9 @@ def ignore_until_exit() -> None:
     """Phase 3: SIGINT, SIGTERM and SIGHUP are ignored from now on, and the exit code is the command's
     own (in the armanim process only)."""
     if _process[0] and threading.current_thread() is threading.main_thread():
+        hook = sys.unraisablehook  # first: setting a handler runs the signals that came meanwhile
+        if getattr(hook, "func", None) not in (_quiet_about_ignored_signals, _redeliver_swallowed):
+            sys.unraisablehook = functools.partial(_quiet_about_ignored_signals, previous=hook)
         for signum in SIGNALS:
             signal.signal(signum, signal.SIG_IGN)
         _forget_pythons_unhandled_interrupt()

@@ -36,6 +36,21 @@ def special_kind(mode: int) -> str | None:
     return None
 
 
+def resolved(path: str | Path) -> Path:
+    """``path`` absolute, its symbolic links followed as far as they go: :meth:`Path.resolve`
+    without its RuntimeError (Python 3.11) on a link that loops, which is left as it is, to be
+    refused where it is used (campaign 18: ``export --out`` a link to itself, and ``view --out``,
+    ended in that traceback).
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     os.symlink("loop", Path(d) / "loop")
+    ...     resolved(Path(d) / "loop") == Path(os.path.realpath(d)) / "loop"
+    True
+    """
+    return Path(os.path.realpath(path))
+
+
 def is_regular_file(path: str | Path) -> bool:
     """Whether ``path`` is a regular file (or a link to one), for a name from a user's file: any
     name that cannot be looked up (too long, a NUL in it, a loop of links) is none, where

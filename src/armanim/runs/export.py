@@ -25,6 +25,7 @@ from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
 from armanim.output.csvfile import TrajectoryTable, read_trajectory_csv
 from armanim.output.csvfile import velocity_columns as csv_velocity_columns
+from armanim.output.files import resolved
 from armanim.output.jointtrajectory import (
     finite_difference_velocities,
     joint_trajectory,
@@ -187,13 +188,13 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
     from armanim.runs.pipeline import write_run_file
 
     other = _inside_a_run_folder(Path(out)) if out is not None else None
-    if other is not None and other.resolve() != Path(folder).resolve():
+    if other is not None and resolved(other) != resolved(folder):
         raise UsageError(
             f"--out {out}: is inside the run folder {other}, which holds only the files armanim lists in it "
             f"(its next run would stop at it; export that run itself, or choose a file outside any run folder)"
         )
 
-    own = out is None or Path(out).resolve() == (Path(folder) / JOINT_TRAJECTORY_FILE).resolve()
+    own = out is None or resolved(out) == resolved(Path(folder) / JOINT_TRAJECTORY_FILE)
 
     def trajectory(folder: Path):
         text = run_joint_trajectory(folder)

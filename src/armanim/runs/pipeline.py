@@ -20,6 +20,7 @@ from armanim.motion.timing.retime import at_fps, retime
 from armanim.motion.trajectory import frame_budget, solve_trajectory
 from armanim.output.atomic import write_bytes_atomic, write_text_atomic
 from armanim.output.csvfile import write_trajectory_csv
+from armanim.output.files import resolved
 from armanim.output.jsontext import json_text, parse_json
 from armanim.output.rundir import check_replaceable, folder_lock, refuse_in_run_folder, staged_folder
 from armanim.output.selfcollision import SELF_COLLISION_FILE, write_self_collision
@@ -416,9 +417,9 @@ def rerender_run(
     first = load_run(folder)  # says what is wrong with it (exit 2) before anything is locked, staged or refused
     asked = RunOptions(jobs=jobs, render=render_overrides or RenderOverrides())
     _check_resampled_frames(first.solution.trajectory, output_choice(first.scene, asked)[0])
-    if out is not None and Path(out).resolve() != folder.resolve():
+    if out is not None and resolved(out) != resolved(folder):
         target = Path(out)
-        if target.resolve().is_relative_to(folder.resolve()):
+        if resolved(target).is_relative_to(resolved(folder)):
             raise UsageError(
                 f"--out: {target} is inside the run folder {folder}, which the next run replaces "
                 "whole (choose a folder outside it)"
@@ -532,12 +533,12 @@ def write_run_file(
     folder = Path(folder)
     load_run(folder)  # says what is wrong with it (exit 2) before anything is locked or staged
     own = folder / name
-    if out is None or Path(out).resolve() == own.resolve():
+    if out is None or resolved(out) == resolved(own):
         with staged_folder(folder, keep_files=True) as staged:  # the same lock and swap as a run
             read(folder)(staged / name)
         return own
     target = Path(out)
-    if target.resolve().is_relative_to(folder.resolve()):
+    if resolved(target).is_relative_to(resolved(folder)):
         raise UsageError(
             f"--out {target}: is inside the run folder {folder}, which holds only the files armanim lists "
             f"in it (leave --out out to write {own}, or choose a file outside the folder)"

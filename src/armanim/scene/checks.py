@@ -882,39 +882,54 @@ def _rounded_up(value: float) -> float:
     return float(f"{math.ceil(value / unit * (1 - 1e-12)) * unit:.2g}")
 
 
+def _followed(scene: SceneModel):
+    """(goal index, what it is, the field of its speed, its path, its speed) of every path the run
+    follows: each path goal's path, and each ``approach`` and ``retreat`` line, which the run follows
+    as a path goal of its own (:func:`armanim.scene.convert.handling`, :func:`with_retreats`)."""
+    from armanim.motion.toolpath import ToolPath
+
+    for k, goal in enumerate(scene.goals):
+        if goal.path is not None and goal.speed is not None:  # a path goal has its speed (GoalModel)
+            yield k, f"goals[{k}]'s path", f"goals[{k}].speed", tool_path(goal.path), goal.speed
+        for name in ("approach", "retreat"):
+            line = getattr(goal, name)
+            if line is not None:
+                straight = ToolPath.polyline(np.array([[0.0, 0.0, 0.0], [line.distance, 0.0, 0.0]]))
+                speed = line.speed if line.speed is not None else line.distance
+                yield k, f"goals[{k}]'s {name}", f"goals[{k}].{name}.speed", straight, speed
+
+
 def _following_problems(scene: SceneModel, limit: int):
-    """The frames following the path goals may take, as the run counts them before it solves
-    (:func:`armanim.motion.paths.following.most_following_frames`: the path's samples, every
-    ``tunables.path.spacing_per_tolerance`` path tolerances or a frame's travel, each step halved up to
-    ``tunables.path.max_splits`` times: the defaults, which no scene field sets), counted without making
-    the samples, against the frame limit: the field that sets the spacing, and what to change it to."""
+    """The frames following the path goals and the approach and retreat lines may take, as the run
+    counts them before it solves (:func:`armanim.motion.paths.following.most_following_frames`: the
+    path's samples, every ``tunables.path.spacing_per_tolerance`` path tolerances or a frame's
+    travel, each step halved up to ``tunables.path.max_splits`` times: the defaults, which no scene
+    field sets), counted without making the samples, against the frame limit: the field that sets
+    the spacing, and what to change it to. (Campaign 18: an approach or a retreat at a fine path
+    tolerance was not counted here, and the run refused what validate called ok.)"""
     per_tolerance, max_splits = DEFAULTS.path.spacing_per_tolerance, DEFAULTS.path.max_splits
     fps, per_goal = scene.render.fps, scene.solver.max_frames_per_goal
     tolerance = scene.solver.path_tolerance if scene.solver.path_tolerance is not None else scene.solver.tolerance
+    followed = list(_followed(scene))
     following = []
-    for goal in scene.goals:
-        if goal.path is None or goal.speed is None:  # a path goal has its speed (GoalModel)
-            following.append(0)
-            continue
+    for _, _, _, path, speed in followed:
         with np.errstate(all="ignore"):  # extreme numbers are reported by _magnitude_problems
-            spacing = path_spacing(goal.speed, fps, tolerance, per_tolerance)
-            path = tool_path(goal.path)
+            spacing = path_spacing(speed, fps, tolerance, per_tolerance)
             samples = (
                 path.length / spacing if spacing > 0 else math.inf
             )  # a subnormal tolerance: too many to count in an int
             following.append(most_following_frames(path, spacing, per_goal, max_splits) if samples < 1e15 else 10**18)
-    budget = 1 + sum(per_goal + frames_in(g.hold, fps) + f for g, f in zip(scene.goals, following))
-    if budget <= limit:
+    lines = sum(per_goal for _, line in _lines(scene))  # each line a goal of its own (frame_budget)
+    budget = 1 + lines + sum(per_goal + frames_in(g.hold, fps) for g in scene.goals) + sum(following)
+    if budget <= limit or not followed:
         return
-    k = following.index(max(following))
-    goal = scene.goals[k]
-    assert goal.path is not None and goal.speed is not None  # the path goal that follows longest
-    path = tool_path(goal.path)
-    room = (limit - (budget - following[k]) - per_goal - 1) // 2**max_splits - len(path.pieces)
+    i = following.index(max(following))
+    _, what, speed_field, path, speed = followed[i]
+    room = (limit - (budget - following[i]) - per_goal - 1) // 2**max_splits - len(path.pieces)
     spacing = path.length / room if room > 0 else math.inf
-    counted = f"up to {following[k]:,} frames, {budget:,} in all" if following[k] < 10**18 else "more than 10^15 frames"
-    said = f"following goals[{k}]'s path ({path.length:g} long) may take {counted} (expected at most {limit:,}): its samples are"
-    if per_tolerance * tolerance < goal.speed / fps:
+    counted = f"up to {following[i]:,} frames, {budget:,} in all" if following[i] < 10**18 else "more than 10^15 frames"
+    said = f"following {what} ({path.length:g} long) may take {counted} (expected at most {limit:,}): its samples are"
+    if per_tolerance * tolerance < speed / fps:
         field = "solver.path_tolerance" if scene.solver.path_tolerance is not None else "solver.tolerance"
         need = _rounded_up(spacing / per_tolerance)
         yield (
@@ -931,9 +946,9 @@ def _following_problems(scene: SceneModel, limit: int):
         )
     else:
         yield (
-            f"goals[{k}].speed",
+            speed_field,
             (
-                f"{goal.speed:g} is too slow for the frame limit: {said} a frame's travel apart "
+                f"{speed:g} is too slow for the frame limit: {said} a frame's travel apart "
                 f"at {fps:g} fps, each step halved up to {max_splits} times "
                 "(raise the speed or shorten the path)"
             ),

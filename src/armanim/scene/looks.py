@@ -24,6 +24,7 @@ from armanim.scene.visuals import (
     VisualSpec,
     bundled_link_meshes,
     default_package_dirs,
+    finite_part,
     link_meshes,
     mesh_file_triangles,
     not_a_file,
@@ -199,10 +200,12 @@ def _tool_file(
         reason = not_a_file([path]) or "not found (it is relative to the scene file's folder)"
     else:
         try:
-            return mesh_file_triangles(
-                VisualSpec(tip_link, np.eye(4), "mesh", name, (1.0, 1.0, 1.0), (), None, 0),
-                path,
-                reader or MeshReader(),
+            return finite_part(
+                mesh_file_triangles(
+                    VisualSpec(tip_link, np.eye(4), "mesh", name, (1.0, 1.0, 1.0), (), None, 0),
+                    path,
+                    reader or MeshReader(),
+                )
             )
         except Exception as error:  # a user's file: any reader error is a note, never a failed run
             raise_if_interrupted()  # ... unless it is an interrupt a library turned into an error

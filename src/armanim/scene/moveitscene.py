@@ -34,7 +34,7 @@ import numpy as np
 
 from armanim.arm.rotations import axis_angle_rotation, rpy_rotation
 from armanim.errors import Diagnostic, OutputError, SceneError, UsageError, shown, shown_list
-from armanim.output.files import read_bounded
+from armanim.output.files import read_bounded, resolved
 from armanim.scene.moveit import (
     Frames,
     JointValue,
@@ -630,7 +630,7 @@ def obstacle_names(solids) -> list[str]:
 
 def _relative(path: Path, folder: Path) -> str:
     """``path`` relative to ``folder`` (forward slashes), as a scene's file fields are."""
-    return Path(os.path.relpath(Path(path).resolve(), folder.resolve())).as_posix()
+    return Path(os.path.relpath(resolved(path), resolved(folder))).as_posix()  # a folder that loops: no RuntimeError
 
 
 def _arm_section(

@@ -33,7 +33,7 @@ from armanim.arm.chain import SerialChain, transform
 from armanim.arm.visuals import ArmMeshes, LinkMesh, LinkPlaces, placed_meshes
 from armanim.errors import SceneError, shown_path
 from armanim.output.files import is_regular_file, read_bounded, special_kind
-from armanim.scene.meshfiles import VISUAL_COLOR, mesh_format, raise_if_interrupted, read_mesh
+from armanim.scene.meshfiles import VISUAL_COLOR, finite_vertices, mesh_format, raise_if_interrupted, read_mesh
 from armanim.scene.urdf import Element, Robot, _parse_xml
 
 DEFAULT_RGB = (0.72, 0.74, 0.78)
@@ -314,8 +314,20 @@ def _spec_mesh(
             np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)),
         )
     vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
-    finite = np.isfinite(vertices).all(axis=1)[mesh.faces].all(axis=1)  # a huge scale or origin may overflow
-    return LinkMesh(spec.link, vertices, mesh.faces[finite], mesh.colors[finite])
+    return finite_part(LinkMesh(spec.link, vertices, mesh.faces, mesh.colors))  # a huge scale or origin may overflow
+
+
+def finite_part(mesh: LinkMesh) -> LinkMesh:
+    """``mesh`` without its triangles that have a corner that is not finite, and without every such
+    corner, used or not (the faces renumbered): what is drawn, and what the viewer writes as JSON
+    (campaign 18: an OBJ's unused ``v nan nan nan``, or a corner a scale of 1e9 made infinite, ended
+    ``run --viewer`` in a ValueError traceback)."""
+    finite = np.isfinite(mesh.vertices).all(axis=1)
+    if finite.all():
+        return mesh
+    kept = finite[mesh.faces].all(axis=1)
+    vertices, faces = finite_vertices(mesh.vertices, mesh.faces[kept])
+    return LinkMesh(mesh.link, vertices, faces, mesh.colors[kept])
 
 
 def unreadable_reason(error: Exception) -> str:
@@ -326,8 +338,9 @@ def unreadable_reason(error: Exception) -> str:
 
 
 class MeshReader:
-    """Reads mesh files for one robot's look: each file once (by its resolved path and its
-    size, modification time and inode: three links naming one STL read it once), every read a
+    """Reads mesh files for one robot's look: each file once (by its device and inode, size and
+    modification time: three links naming one STL, by any spelling, a symbolic or a hard link,
+    read it once), every read a
     regular file opened without blocking, at most :data:`MAX_MESH_BYTES` a file and
     :data:`MAX_LOOK_BYTES` in all; a file of more than ``simplify_above`` triangles is
     simplified as it is read (None: kept as read), and at most :data:`MAX_LOOK_TRIANGLES` are
@@ -361,7 +374,9 @@ class MeshReader:
                 f"{path.suffix or 'a file without a suffix'} is not a format armanim reads (STL, OBJ or COLLADA .dae)"
             )
         stat = path.stat()
-        key = (str(path.resolve()), stat.st_dev, stat.st_ino, stat.st_size, stat.st_mtime_ns)
+        # the file, not its name: hard links (and every spelling or symbolic link) of one file are
+        # one key (campaign 18: five hard links of a 60 MB OBJ were read five times, past 256 MB)
+        key = (stat.st_dev, stat.st_ino, stat.st_size, stat.st_mtime_ns)
         if key in self._files:
             return self._files[key]
         limit = min(MAX_MESH_BYTES, MAX_LOOK_BYTES - self.bytes_read)
@@ -535,6 +550,7 @@ __all__ = [
     "bundled_link_meshes",
     "chain_meshes",
     "default_package_dirs",
+    "finite_part",
     "link_meshes",
     "placed_link_meshes",
     "mesh_path",
