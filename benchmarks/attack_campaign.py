@@ -10587,14 +10587,17 @@ def clock18_attempts() -> list[Attempt]:
             after=next_run_ok(["fk", "--links", "1,1", "--angles", "10,20", "--png", "p.png"]),
         )
     )
+    # not quiet, on a "terminal" (rich takes FORCE_COLOR for one): the bars, their rate and time left drawn
+    bars, drawn = ["run", "s.yaml", "--out", "o", "--jobs", "2"], r"solver steps.*render"
     out.append(
         Attempt(
             k,
             "run with video --jobs 2 under a clock ten times fast (progress bars drawn): the clean bytes",
-            [*video, "--jobs", "2"],
+            bars,
             tiny_scene(),
             (0,),
             env={**fake_clock("+0 x10"), "FORCE_COLOR": "1"},
+            message=drawn,
             timeout=300,
             after=like_clean_run(setups=((video, tiny_scene()),)),
         )
@@ -10607,10 +10610,11 @@ def clock18_attempts() -> list[Attempt]:
                 Attempt(
                     k,
                     f"run with video --jobs 2 (bars drawn), the clock jumping {label} at {at:g} s: the clean bytes",
-                    [*video, "--jobs", "2"],
+                    bars,
                     then(tiny_scene(text=longer), clock_file(), clock_set_at(at, value)),
                     (0,),
                     env={**jumping_clock(), "FORCE_COLOR": "1"},
+                    message=drawn,
                     timeout=300,
                     after=like_clean_run(setups=((video, tiny_scene(text=longer)),)),
                 )
