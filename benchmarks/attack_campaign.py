@@ -11,9 +11,13 @@ fifteenth's: mesh15 ... wrong15; the sixteenth's, new angles: perms16 (as a user
 as root, which mounts a small tmpfs), api16 (the Python API, by snippets)); the seventeenth's:
 mesh17, frames17, signals17, wrong17 (new variants of the issue's classes) and ro17 (read-only
 mounts), lock17 (the compile lock and ``warm``: give ``--warm-cache`` numba's cache of ``--src``,
-warmed), dask17 (Dask schedulers), env17 (narrow terminals, odd standard outputs, LANG=C names)); the
-eighteenth's part B, new variants of the issue's classes: mesh18, frames18, export18, signals18,
-inputs18, wrong18), ``--match TEXT ...`` for the attempts whose name holds one of the texts, ``--list``
+warmed), dask17 (Dask schedulers), env17 (narrow terminals, odd standard outputs, LANG=C names));
+the eighteenth's, part A (new angles): clock18 (the wall clock in 1970, 2039, 2100, ten times fast or
+jumping mid-command, by libfaketime), between18 (a file changed between two commands: after
+``validate``, in a run folder or a golden pair, a run folder's marker listing files outside it),
+concur18 (two commands at once on one folder, golden, index or file); part B, new variants of the
+issue's classes: mesh18, frames18, export18, signals18, inputs18, wrong18),
+``--match TEXT ...`` for the attempts whose name holds one of the texts, ``--list``
 to list them, ``--keep DIR`` to keep every attempt's folder.
 
 Each attempt makes its inputs in a folder of its own, runs ``python -m armanim`` from this
@@ -11380,6 +11384,1046 @@ def wrong18_attempts() -> list[Attempt]:
     return oracle_runs("wrong18", (1801, 1802, 1803, 1804), "held to the rates, the clock and the summary")
 
 
+# ------------------------------------------------------------------ the eighteenth campaign, part A (new angles)
+
+LIBFAKETIME = "/usr/lib/x86_64-linux-gnu/faketime/libfaketime.so.1"
+RUN_NV = ["run", "s.yaml", "--out", "o", "--no-video", "-q"]
+
+
+def fake_clock(faketime: str) -> dict[str, str]:
+    """An attempt's env: armanim's clock as libfaketime's FAKETIME says (``@2100-01-01 00:00:00``:
+    starting there and ticking; ``+0 x10``: ten times faster). libfaketime fakes the wall clock and
+    the monotonic one alike (its FAKETIME_DONT_FAKE_MONOTONIC makes Python's sleep fail with EINVAL
+    in 0.9.10), and never the times the kernel stamps on files."""
+    return {"LD_PRELOAD": LIBFAKETIME, "FAKETIME": faketime}
+
+
+def clock_file(at: str = "clock.txt", value: str = "+0") -> Callable[[Path], None]:
+    """Setup step: libfaketime's timestamp file ``at`` (read at every call: FAKETIME_NO_CACHE)."""
+    return lambda d: write(d / at, value + "\n") and None
+
+
+def clock_set_at(seconds: float, value: str, at: str = "clock.txt") -> Callable[[Path], None]:
+    """Setup step: ``value`` written into the timestamp file ``seconds`` after the setup ends (the
+    clock jumps then, during the attempt)."""
+    return lambda d: (
+        background(
+            "sh", "-c", f"sleep {seconds}; printf '%s\\n' '{value}' > '{d / at}.new' && mv '{d / at}.new' '{d / at}'"
+        )
+        and None
+    )
+
+
+def jumping_clock(at: str = "clock.txt") -> dict[str, str]:
+    return {"LD_PRELOAD": LIBFAKETIME, "FAKETIME_TIMESTAMP_FILE": "{d}/" + at, "FAKETIME_NO_CACHE": "1"}
+
+
+def under(env: dict[str, str], *args: str) -> Callable[[Path], None]:
+    """Setup step: armanim ``args`` run (checked) with ``env`` (a fake clock: {d} is the folder)."""
+    return lambda d: armanim_in(d, *args, env={k: v.replace("{d}", str(d)) for k, v in env.items()})
+
+
+SKIP_COMPARE = ("timing.json", ".armanim-run.json")
+
+
+def like_clean_run(
+    run: str = "o/tiny",
+    setups: tuple[tuple[list[str], Callable[[Path], None]], ...] = ((RUN_NV, tiny_scene()),),
+    subset: bool = False,
+) -> Callable[[Path], list[str]]:
+    """After: the run folder ``run`` holds, byte for byte, the files of a clean run (each of
+    ``setups``: armanim's args and the inputs' setup, made afresh with the campaign's clock) but
+    timing.json: the same names (or, with ``subset``, some of them: a render may or may not have
+    come after), and its next run is not refused. A folder ``run`` that is missing is a problem."""
+
+    def check(d: Path) -> list[str]:
+        base = d / run
+        if not base.is_dir():
+            return [f"no {run}"]
+        got = {p.name: p.read_bytes() for p in base.iterdir() if p.name not in SKIP_COMPARE and p.is_file()}
+        for number, (args, setup) in enumerate(setups):
+            clean = d.parent / f"{d.name}.clean{number}"
+            shutil.rmtree(clean, ignore_errors=True)
+            clean.mkdir()
+            setup(clean)
+            done = subprocess.run(
+                [sys.executable, "-m", "armanim", *args],
+                cwd=clean,
+                env={**os.environ, "PYTHONPATH": str(SRC)},
+                capture_output=True,
+                timeout=900,
+            )
+            cbase = clean / run
+            want = (
+                {p.name: p.read_bytes() for p in cbase.iterdir() if p.name not in SKIP_COMPARE and p.is_file()}
+                if cbase.is_dir()
+                else {}
+            )
+            shutil.rmtree(clean, ignore_errors=True)
+            if done.returncode != 0:
+                return [f"the clean run {args} failed: exit {done.returncode}"]
+            names_ok = set(got) <= set(want) if subset else set(got) == set(want)
+            if names_ok and all(got[n] == want[n] for n in got):
+                return []
+        names = sorted(got)
+        return [f"{run} ({', '.join(names)}) is not, file for file, a clean run of its inputs"]
+
+    return check
+
+
+def next_run_ok(args: list[str] = RUN_NV, env: dict[str, str] | None = None) -> Callable[[Path], list[str]]:
+    """After: the same command again (the real clock, or ``env``) is not refused: exit 0."""
+
+    def check(d: Path) -> list[str]:
+        done = subprocess.run(
+            [sys.executable, "-m", "armanim", *args],
+            cwd=d,
+            env={**os.environ, "PYTHONPATH": str(SRC), **{k: v.replace("{d}", str(d)) for k, v in (env or {}).items()}},
+            capture_output=True,
+            text=True,
+            timeout=900,
+        )
+        if done.returncode != 0 or "Traceback" in done.stderr:
+            return [
+                f"the next {' '.join(args[:2])}: exit {done.returncode}: {(done.stdout + done.stderr).strip()[-300:]}"
+            ]
+        return []
+
+    return check
+
+
+def beside(name: str, *args: str, delay: float = 0.0, env: dict[str, str] | None = None) -> Callable[[Path], None]:
+    """Setup step: armanim ``args`` started in the background ``delay`` s after the setup ends
+    (the attempt's own armanim starts meanwhile: two commands at once), its output in NAME.out and
+    its exit code in NAME.rc."""
+
+    def step(d: Path) -> None:
+        script = f'sleep {delay}; "$0" -m armanim "$@" > {name}.out 2>&1; echo $? > {name}.rc'
+        background("sh", "-c", script, sys.executable, *args, env=env or {}, cwd=str(d))
+
+    return step
+
+
+def beside_ended(name: str, codes: tuple[int, ...] = (0,), within: float = 300.0) -> Callable[[Path], list[str]]:
+    """After: the background armanim ``name`` (:func:`beside`) ended within ``within`` s with one
+    of ``codes``, without a traceback; an exit 3 must say why."""
+
+    def check(d: Path) -> list[str]:
+        deadline = time.monotonic() + within
+        while not (d / f"{name}.rc").exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        if not (d / f"{name}.rc").exists():
+            return [f"the other command ({name}) still running after {within:g} s"]
+        time.sleep(0.1)
+        code = int((d / f"{name}.rc").read_text().strip() or -1)
+        said = (d / f"{name}.out").read_text(errors="replace") if (d / f"{name}.out").exists() else ""
+        problems = []
+        if "Traceback" in said or "Exception ignored" in said:
+            problems.append(f"the other command ({name}) ended in a traceback: {said.strip().splitlines()[-1][:200]}")
+        if code not in codes:
+            problems.append(f"the other command ({name}): exit {code}, expected {codes}: {said.strip()[-200:]}")
+        return problems
+
+    return check
+
+
+def no_litter(*where: str) -> Callable[[Path], list[str]]:
+    """After: no staging folder or temporary file (:data:`LITTER`) under ``where``."""
+
+    def check(d: Path) -> list[str]:
+        found = [
+            str(p.relative_to(d))
+            for place in where
+            if (d / place).is_dir()
+            for p in ((d / place).iterdir() if place == "." else (d / place).rglob("*"))
+            if LITTER.search(p.name)
+        ]
+        return [f"litter: {found[:4]}"] if found else []
+
+    return check
+
+
+def then_check(*checks: Callable[[Path], list[str]]) -> Callable[[Path], list[str]]:
+    """After: the checks in turn, stopping at the first that finds a problem (the later ones
+    would run commands on a folder already found wrong)."""
+
+    def check(d: Path) -> list[str]:
+        for one in checks:
+            problems = one(d)
+            if problems:
+                return problems
+        return []
+
+    return check
+
+
+def clock18_attempts() -> list[Attempt]:
+    """The wall clock changes (libfaketime): armanim under a clock in 1970 (before every file's
+    mtime), in 2039 (past a 32-bit time_t) and 2100, ten times fast, or jumping back a day or ten
+    years on during the command; then the next command under the real clock (the marker lists
+    mtimes: it must not refuse). Held to the clean run's bytes (all but timing.json: the video too)."""
+    k = "clock18"
+    out: list[Attempt] = []
+    clocks = [("1970", "@1970-01-02 00:00:00"), ("2039", "@2039-06-01 00:00:00"), ("2100", "@2100-01-01 00:00:00")]
+    video = ["run", "s.yaml", "--out", "o", "-q"]
+    for year, fake in clocks:
+        out.append(
+            Attempt(
+                k,
+                f"run under a clock in {year}: the clean run's bytes",
+                RUN_NV,
+                tiny_scene(),
+                (0,),
+                env=fake_clock(fake),
+                timeout=300,
+                after=then_check(like_clean_run(), next_run_ok()),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "run with video --jobs 2 under a clock in 1970: the clean run's bytes, video included",
+            [*video, "--jobs", "2"],
+            tiny_scene(),
+            (0,),
+            env=fake_clock(clocks[0][1]),
+            timeout=300,
+            after=like_clean_run(setups=((video, tiny_scene()),)),
+        )
+    )
+    for year, fake in (clocks[0], clocks[2]):
+        out.append(
+            Attempt(
+                k,
+                f"run again under the real clock, the run folder written under a clock in {year}: replaced",
+                RUN_NV,
+                then(tiny_scene(), under(fake_clock(fake), *RUN_NV)),
+                (0,),
+                timeout=300,
+                after=like_clean_run(),
+            )
+        )
+        out.append(
+            Attempt(
+                k,
+                f"run again under a clock in {year}, the run folder written under the real clock: replaced",
+                RUN_NV,
+                then(tiny_scene(), under({}, *RUN_NV)),
+                (0,),
+                env=fake_clock(fake),
+                timeout=300,
+                after=like_clean_run(),
+            )
+        )
+    batch = ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q", "--jobs", "2"]
+    out.append(
+        Attempt(
+            k,
+            "a batch --jobs 2 under a clock in 2100, then one under the real clock: index.csv replaced",
+            batch,
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER)),
+            (0,),
+            env=fake_clock(clocks[2][1]),
+            timeout=300,
+            after=then_check(index_agrees(), next_run_ok(batch), index_agrees()),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "a batch again under a clock in 1970, index.csv written under the real clock: replaced",
+            batch,
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER), under({}, *batch)),
+            (0,),
+            env=fake_clock(clocks[0][1]),
+            timeout=300,
+            after=index_agrees(),
+        )
+    )
+    sweep = ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"]
+    out.append(
+        Attempt(
+            k,
+            "sweep under a clock in 1970, then again under the real clock: its table replaced",
+            sweep,
+            tiny_scene(),
+            (0,),
+            env=fake_clock(clocks[0][1]),
+            timeout=300,
+            after=then_check(index_agrees(), next_run_ok(sweep), index_agrees()),
+        )
+    )
+    update = ["check", "s.yaml", "--golden", "g", "--update", "-q"]
+    out.append(
+        Attempt(
+            k,
+            "check --update under a clock in 1970, then check under the real clock: passes",
+            update,
+            tiny_scene(),
+            (0,),
+            env=fake_clock(clocks[0][1]),
+            timeout=300,
+            after=golden_holds("s.yaml"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "check under a clock in 2100 of a golden updated under the real clock: passes",
+            ["check", "s.yaml", "--golden", "g", "-q"],
+            then(tiny_scene(), under({}, *update)),
+            (0,),
+            env=fake_clock(clocks[2][1]),
+            timeout=300,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "check --update again under a clock in 1970, the pair written under the real clock: replaced",
+            update,
+            then(tiny_scene(), under({}, *update), lambda d: write(d / "s.yaml", TINY.replace("0.5, -1", "0.4, -1"))),
+            (0,),
+            env=fake_clock(clocks[0][1]),
+            timeout=300,
+            after=golden_holds("s.yaml"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "compare of two runs' trajectories under a clock in 1970: they agree",
+            ["compare", "o/tiny/trajectory.csv", "p/tiny/trajectory.csv"],
+            then(tiny_scene(), under({}, *RUN_NV), under({}, "run", "s.yaml", "--out", "p", "--no-video", "-q")),
+            (0,),
+            env=fake_clock(clocks[0][1]),
+            message=r"trajectories agree",
+        )
+    )
+    for cmd, args, made in [
+        ("render", ["render", "o/tiny"], ("animation.mp4", "plot.png", "poster.png")),
+        ("view", ["view", "o/tiny"], ("viewer.html",)),
+        ("export", ["export", "o/tiny"], ("joint_trajectory.json",)),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"{cmd} under a clock in 2039 of a run made under the real clock, then a run replaces it",
+                args,
+                then(tiny_scene(), under({}, *RUN_NV)),
+                (0,),
+                env=fake_clock(clocks[1][1]),
+                timeout=300,
+                after=then_check(exists(*(f"o/tiny/{m}" for m in made)), next_run_ok()),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "export --out e.json under a clock in 2100, then again under the real clock: replaced",
+            ["export", "o/tiny", "--out", "e.json"],
+            then(tiny_scene(), under({}, *RUN_NV)),
+            (0,),
+            env=fake_clock(clocks[2][1]),
+            after=next_run_ok(["export", "o/tiny", "--out", "e.json"]),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "fk --png under a clock in 1970, then again under the real clock: replaced",
+            ["fk", "--links", "1,1", "--angles", "10,20", "--png", "p.png"],
+            lambda d: None,
+            (0,),
+            env=fake_clock(clocks[0][1]),
+            after=next_run_ok(["fk", "--links", "1,1", "--angles", "10,20", "--png", "p.png"]),
+        )
+    )
+    # not quiet, on a "terminal" (rich takes FORCE_COLOR for one): the bars, their rate and time left drawn
+    bars, drawn = ["run", "s.yaml", "--out", "o", "--jobs", "2"], r"solver steps.*render"
+    out.append(
+        Attempt(
+            k,
+            "run with video --jobs 2 under a clock ten times fast (progress bars drawn): the clean bytes",
+            bars,
+            tiny_scene(),
+            (0,),
+            env={**fake_clock("+0 x10"), "FORCE_COLOR": "1"},
+            message=drawn,
+            timeout=300,
+            after=like_clean_run(setups=((video, tiny_scene()),)),
+        )
+    )
+    jumps = [("back a day", "-1d"), ("on ten years", "+10y"), ("back to 1970", "@1970-01-02 00:00:00")]
+    longer = TINY.replace("render: {size: [160, 90], fps: 10}", "render: {size: [320, 180], fps: 30}")
+    for label, value in jumps:
+        for at in (1.5, 3.0):
+            out.append(
+                Attempt(
+                    k,
+                    f"run with video --jobs 2 (bars drawn), the clock jumping {label} at {at:g} s: the clean bytes",
+                    bars,
+                    then(tiny_scene(text=longer), clock_file(), clock_set_at(at, value)),
+                    (0,),
+                    env={**jumping_clock(), "FORCE_COLOR": "1"},
+                    message=drawn,
+                    timeout=300,
+                    after=like_clean_run(setups=((video, tiny_scene(text=longer)),)),
+                )
+            )
+    out.append(
+        Attempt(
+            k,
+            "a batch --jobs 2 with video, the clock jumping back a day at 2 s: index.csv and the folders right",
+            ["run", "s.yaml", "a.yaml", "--out", "o", "-q", "--jobs", "2"],
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER), clock_file(), clock_set_at(2.0, "-1d")),
+            (0,),
+            env=jumping_clock(),
+            timeout=300,
+            after=index_agrees(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "check --update, the clock jumping on ten years at 1 s, then check under the real clock",
+            ["check", "s.yaml", "a.yaml", "--golden", "g", "--update", "-q"],
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER), clock_file(), clock_set_at(1.0, "+10y")),
+            (0,),
+            env=jumping_clock(),
+            timeout=300,
+            after=golden_holds("s.yaml", "a.yaml"),
+        )
+    )
+    return out
+
+
+def inplace_edit(path: str, keep_time: bool = True) -> Callable[[Path], None]:
+    """Setup step: ``path``'s last digit changed in place (its size kept) and, with ``keep_time``,
+    its modification time put back (``touch -r``, ``cp -p``, ``rsync -t`` keep one)."""
+
+    def step(d: Path) -> None:
+        target = d / path
+        before = os.stat(target)
+        data = bytearray(target.read_bytes())
+        i = max(j for j in range(len(data)) if chr(data[j]).isdigit())
+        data[i] = ord("7") if data[i] != ord("7") else ord("3")
+        with open(target, "r+b") as handle:
+            handle.write(bytes(data))
+        if keep_time:
+            os.utime(target, ns=(before.st_atime_ns, before.st_mtime_ns))
+
+    return step
+
+
+def second_disk(at: str, megabytes: int = 48) -> Callable[[Path], None]:
+    """Setup step: an ext4 file system of 128-byte inodes (times to the second, as ext3 and
+    older disks, FAT's are to 2 s) loop-mounted at ``at``."""
+
+    def step(d: Path) -> None:
+        image = d / f".{at}.img"
+        with open(image, "wb") as handle:
+            handle.truncate(megabytes << 20)
+        subprocess.run(["mkfs.ext4", "-q", "-F", "-I", "128", str(image)], check=True, capture_output=True)
+        (d / at).mkdir(parents=True, exist_ok=True)
+        subprocess.run(["mount", "-o", "loop", str(image), str(d / at)], check=True)
+
+    return step
+
+
+def edited_in_the_run_s_second(run: str = "o/tiny", path: str = "trajectory.csv") -> Callable[[Path], None]:
+    """Setup step (on a disk of 1 s times): run, then at once a user's script changes a digit of
+    ``path`` in place; tried again until the edit falls in the second the run wrote the file in (on
+    such a disk its time is then the one the marker records)."""
+
+    def step(d: Path) -> None:
+        import json as _json
+
+        for _ in range(10):
+            shutil.rmtree(d / run, ignore_errors=True)
+            armanim_in(d, *RUN_NV)
+            recorded = _json.loads((d / run / ".armanim-run.json").read_text())["files"][path]["mtime_ns"]
+            inplace_edit(f"{run}/{path}", keep_time=False)(d)
+            if os.stat(d / run / path).st_mtime_ns == recorded:
+                return
+        raise RuntimeError("no edit fell in the run's second in 10 tries")
+
+    return step
+
+
+def marker_adds(name: str | Callable[[Path], str], stamp_of: str) -> Callable[[Path], None]:
+    """Setup step: the run folder o/tiny's marker edited to list ``name`` (a string, or made from
+    the folder) with the size and mtime of ``stamp_of`` (relative to the folder: the user's file)."""
+
+    def step(d: Path) -> None:
+        import json as _json
+
+        marker = d / "o/tiny/.armanim-run.json"
+        data = _json.loads(marker.read_text())
+        st = os.stat(d / stamp_of)
+        data["files"][name(d) if callable(name) else name] = {"bytes": st.st_size, "mtime_ns": st.st_mtime_ns}
+        marker.write_text(_json.dumps(data, indent=2))
+
+    return step
+
+
+def other_run(out: str) -> Callable[[Path], None]:
+    """Setup step: another run of a scene named tiny (other goals, q.yaml) into ``out``: OUT/tiny."""
+    return then(
+        tiny_scene("q.yaml", TINY.replace("[0.5, -1, 1]", "[-0.5, -1, 1.5]")),
+        under({}, "run", "q.yaml", "--out", out, "--no-video", "-q"),
+    )
+
+
+def between18_attempts() -> list[Attempt]:
+    """A file changed between two commands: ``validate`` ok, then the scene, URDF or mesh changed,
+    then ``run``; a run, then a file of its folder edited (its size and time kept), truncated, or
+    replaced by a link, then ``render``, ``view``, ``export``, ``compare`` and the next ``run``
+    (promise 1: it must refuse); a golden pair edited between ``check --update`` and ``check``; a
+    run folder's marker edited to list files outside it (the next run must delete nothing there)."""
+    k = "between18"
+    out: list[Attempt] = []
+    at_line = AT_LINE
+
+    def validated(inputs: Callable[[Path], None], change: Callable[[Path], object]) -> Callable[[Path], None]:
+        """Setup: the inputs, ``validate`` of them (ok), then the change."""
+        return then(inputs, under({}, "validate", "s.yaml"), change)
+
+    out.append(
+        Attempt(
+            k,
+            "validate ok, then a goal of the scene made text, then run: exit 2 at its line",
+            RUN_NV,
+            validated(tiny_scene(), lambda d: write(d / "s.yaml", TINY.replace("[0.5, -1, 1]", "[0.5, x, 1]"))),
+            (2,),
+            message=r"s\.yaml:4",
+            litter_in=("o", "."),
+            after=nothing_made("o"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "validate ok, then the URDF's joint j2 removed, then run: exit 2 naming the URDF",
+            ["run", "s.yaml", "--out", "o", "--no-video", "-q"],
+            validated(
+                urdf_robot(),
+                lambda d: write(d / "robot.urdf", re.sub(r'<joint name="j2".*?</joint>', "", urdf_text(), flags=re.S)),
+            ),
+            (0, 2),
+            message_if_2=at_line,
+            litter_in=("o", "."),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "validate ok, then the URDF replaced by a link to /dev/zero, then run: exit 2 at once",
+            RUN_NV,
+            validated(urdf_robot(), lambda d: ((d / "robot.urdf").unlink(), os.symlink("/dev/zero", d / "robot.urdf"))),
+            (2,),
+            timeout=60,
+            litter_in=("o", "."),
+            after=nothing_made("o"),
+        )
+    )
+    mesh_urdf = urdf_robot(collision=col("m.stl"), files={"m.stl": stl(12)})
+    out.append(
+        Attempt(
+            k,
+            "validate ok, then the URDF's collision mesh replaced by a FIFO, then run: exit 2, no wait",
+            RUN_NV,
+            validated(mesh_urdf, lambda d: ((d / "m.stl").unlink(), os.mkfifo(d / "m.stl"))),
+            (2,),
+            timeout=60,
+            litter_in=("o", "."),
+            after=nothing_made("o"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "validate ok, then the collision mesh truncated to 84 bytes of 12 triangles, then run",
+            RUN_NV,
+            validated(mesh_urdf, lambda d: (d / "m.stl").write_bytes(stl(12)[:84])),
+            (0, 2),
+            message_if_2=r"m\.stl",
+            timeout=120,
+            litter_in=("o", "."),
+        )
+    )
+    # a run folder's file changed, then the next run: promise 1
+    with_run = lambda d: finished_run(d) and None  # noqa: E731
+    for label, change in [
+        ("trajectory.csv edited in place, its size and time kept (touch -r)", inplace_edit("o/tiny/trajectory.csv")),
+        ("summary.json edited in place, its size and time kept (touch -r)", inplace_edit("o/tiny/summary.json")),
+        ("scene.yaml edited in place, its size and time kept (touch -r)", inplace_edit("o/tiny/scene.yaml")),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"run, then {label}, then run again: refused (exit 3), the edit kept",
+                RUN_NV,
+                then(with_run, change),
+                (3,),
+                message=r"changed since",
+                keep=("o/tiny",),
+                timeout=300,
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "run onto a disk of 1 s times, trajectory.csv edited right after in the same second, then run again: refused, the edit kept",
+            RUN_NV,
+            then(tiny_scene(), second_disk("o"), edited_in_the_run_s_second()),
+            (3,),
+            message=r"changed since",
+            keep=("o/tiny",),
+            timeout=300,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run, then trajectory.csv truncated mid-row, then run again: refused, the file kept",
+            RUN_NV,
+            then(with_run, lambda d: os.truncate(d / "o/tiny/trajectory.csv", 5000)),
+            (3,),
+            message=r"changed since",
+            keep=("o/tiny",),
+            timeout=300,
+        )
+    )
+    for cmd, args in [
+        ("render", ["render", "o/tiny", "--size", "64x36"]),
+        ("view", ["view", "o/tiny"]),
+        ("export", ["export", "o/tiny"]),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"run, then trajectory.csv truncated mid-row, then {cmd}: exit 2 at the cut, the folder kept",
+                args,
+                then(with_run, lambda d: os.truncate(d / "o/tiny/trajectory.csv", 5000)),
+                (2,),
+                message=r"trajectory\.csv",
+                keep=("o/tiny",),
+                timeout=300,
+            )
+        )
+        out.append(
+            Attempt(
+                k,
+                f"run, then trajectory.csv a link to another run's, then {cmd}: refused, both kept",
+                args,
+                then(
+                    with_run,
+                    other_run("p"),
+                    lambda d: (
+                        (d / "o/tiny/trajectory.csv").unlink(),
+                        os.symlink(d / "p/tiny/trajectory.csv", d / "o/tiny/trajectory.csv"),
+                    ),
+                ),
+                (2, 3),
+                message_if_3=r"link|changed",
+                keep=("o/tiny", "p/tiny"),
+                timeout=300,
+            )
+        )
+        out.append(
+            Attempt(
+                k,
+                f"run, then summary.json emptied, then {cmd}: exit 2 naming it, the folder kept",
+                args,
+                then(with_run, lambda d: os.truncate(d / "o/tiny/summary.json", 0)),
+                (2,),
+                message=r"summary\.json",
+                keep=("o/tiny",),
+                timeout=300,
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "run, then summary.json a hard link to another run's, then run again: refused, both kept",
+            RUN_NV,
+            then(
+                with_run,
+                under({}, "run", "s.yaml", "--out", "p", "--no-video", "-q"),
+                lambda d: (
+                    (d / "o/tiny/summary.json").unlink(),
+                    os.link(d / "p/tiny/summary.json", d / "o/tiny/summary.json"),
+                ),
+            ),
+            (3,),
+            keep=("o/tiny", "p/tiny"),
+            timeout=300,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "compare of a run's trajectory.csv and that file truncated mid-row: exit 1 or 2, no traceback",
+            ["compare", "o/tiny/trajectory.csv", "cut.csv"],
+            then(with_run, lambda d: write(d / "cut.csv", (d / "o/tiny/trajectory.csv").read_bytes()[:5000])),
+            (1, 2),
+            keep=("cut.csv",),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "render with video, then animation.mp4 edited in place (size and time kept), then render again",
+            ["render", "o/tiny", "--size", "64x36"],
+            then(with_run, under({}, "render", "o/tiny", "--size", "64x36"), inplace_edit("o/tiny/animation.mp4")),
+            (0, 3),
+            keep=("o/tiny/animation.mp4",),
+            timeout=300,
+        )
+    )
+    # a golden pair edited between check --update and check
+    update = under({}, "check", "s.yaml", "--golden", "g", "--update", "-q")
+    for label, change, codes, said in [
+        ("its CSV's last digit changed", inplace_edit("g/tiny.csv", keep_time=False), (1,), r"fail|differ"),
+        ("its CSV truncated mid-row", lambda d: os.truncate(d / "g/tiny.csv", 5000), (1, 2), r"g/tiny\.csv:\d+: "),
+        (
+            "its .json a link to another scene's golden .json",
+            then(
+                lambda d: write(d / "h/a.yaml", OTHER),
+                under({}, "check", "h/a.yaml", "--golden", "h", "--update", "-q"),
+                lambda d: ((d / "g/tiny.json").unlink(), os.symlink(d / "h/other.json", d / "g/tiny.json")),
+            ),
+            (0,),  # the trajectories agree; the .json's scene sha256 only adds a note
+            r"changed since the golden file",
+        ),
+        (
+            "its .json's scene_sha256 edited",
+            lambda d: write(
+                d / "g/tiny.json",
+                re.sub(r'("scene_sha256": ")[0-9a-f]', r"\g<1>x", (d / "g/tiny.json").read_text(), count=1),
+            ),
+            (0,),
+            r"changed since the golden file",
+        ),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"check --update, then {label}, then check: the pair kept, what changed said",
+                ["check", "s.yaml", "--golden", "g"],
+                then(tiny_scene(), update, change),
+                codes,
+                message=said,
+                keep=("g",),
+                timeout=300,
+            )
+        )
+    # a marker edited to list what is outside the folder
+    mine_out = mine("mine.txt")
+    for label, name in [
+        ("../../mine.txt (the user's file, its size and time)", "../../mine.txt"),
+        ("the user's file by its absolute path, with its size and time", lambda d: str(d / "mine.txt")),
+        ("o/tiny/../../mine.txt spelled through the folder", "../tiny/../../mine.txt"),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"a run's marker edited to list {label}, then run: the user's file kept",
+                RUN_NV,
+                then(with_run, mine_out, marker_adds(name, "mine.txt")),
+                (0, 3),
+                keep=("mine.txt",),
+                timeout=300,
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "a run's marker edited to list notes, o/tiny/notes a link to the user's folder, then run: refused, the folder kept",
+            RUN_NV,
+            then(
+                with_run,
+                lambda d: write(d / "notes/n.txt", "mine"),
+                lambda d: os.symlink(d / "notes", d / "o/tiny/notes"),
+                marker_adds("notes", "notes"),
+            ),
+            (3,),
+            keep=("notes", "o/tiny"),
+            timeout=300,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "a run's marker edited to list mine.txt, o/tiny/mine.txt a hard link to the user's file, then run: its bytes kept",
+            RUN_NV,
+            then(
+                with_run,
+                mine_out,
+                lambda d: os.link(d / "mine.txt", d / "o/tiny/mine.txt"),
+                marker_adds("mine.txt", "mine.txt"),
+            ),
+            (0, 3),
+            keep=("mine.txt",),
+            timeout=300,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "a run's marker edited to list the user's file outside, then render: the user's file kept",
+            ["render", "o/tiny", "--size", "64x36"],
+            then(with_run, mine_out, marker_adds("../../mine.txt", "mine.txt")),
+            (0, 3),
+            keep=("mine.txt",),
+            timeout=300,
+        )
+    )
+    return out
+
+
+def concur18_attempts() -> list[Attempt]:
+    """Two commands at once on the same things (the other started in the background as the
+    attempt's starts): two runs into one folder, a run while render, view or export reads it, two
+    ``check --update`` of one golden, a sweep and a run into one OUT, two batches into one OUT, two
+    exports to one file. Held to: no data lost, no folder mixing two commands (each file byte for
+    byte one clean run's), the loser says why (exit 3) or waits, never a traceback, and the next
+    command not refused."""
+    k = "concur18"
+    out: list[Attempt] = []
+
+    def ended(name: str, codes: tuple[int, ...] = (0,)) -> Callable[[Path], list[str]]:
+        """The other command ended (:func:`beside_ended`), then no litter left by either: looked at
+        only now (while the other runs, its staging folder is its own)."""
+        return then_check(beside_ended(name, codes), no_litter("o", "p", "g", "fig", "."))
+
+    video = ["run", "s.yaml", "--out", "o", "-q"]
+    out.append(
+        Attempt(
+            k,
+            "two runs of one scene into one folder at once: both 0, the folder a clean run's",
+            RUN_NV,
+            then(tiny_scene(), beside("other", *RUN_NV)),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), like_clean_run(), next_run_ok()),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "two runs with video --jobs 2 of one scene into one folder at once: both 0, the folder a clean run's",
+            [*video, "--jobs", "2"],
+            then(tiny_scene(), beside("other", *video, "--jobs", "2")),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), like_clean_run(setups=((video, tiny_scene()),)), next_run_ok()),
+        )
+    )
+    far = TINY.replace("[0.5, -1, 1]", "[-0.5, -1, 1.5]")
+    two = (
+        (["run", "a.yaml", "--out", "o", "--no-video", "-q"], tiny_scene("a.yaml")),
+        (["run", "b.yaml", "--out", "o", "--no-video", "-q"], tiny_scene("b.yaml", far)),
+    )
+    out.append(
+        Attempt(
+            k,
+            "two runs of two scenes of one name into one folder at once: the folder one of them, whole",
+            ["run", "a.yaml", "--out", "o", "--no-video", "-q"],
+            then(
+                tiny_scene("a.yaml"),
+                tiny_scene("b.yaml", far),
+                beside("other", "run", "b.yaml", "--out", "o", "--no-video", "-q"),
+            ),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), like_clean_run(setups=two)),
+        )
+    )
+    with_run = lambda d: finished_run(d) and None  # noqa: E731
+    for cmd, args, delay in [
+        ("render", ["render", "o/tiny"], 0.0),
+        ("render", ["render", "o/tiny"], 1.0),
+        ("view", ["view", "o/tiny"], 0.0),
+        ("export", ["export", "o/tiny"], 0.0),
+        ("export --out e.json", ["export", "o/tiny", "--out", "e.json"], 0.0),
+    ]:
+        clean_sets: tuple[tuple[list[str], Callable[[Path], None]], ...] = ((video, tiny_scene()),)
+        if cmd in ("export", "view"):  # it came last: the run's files and its joint_trajectory.json, or the
+            # page view writes (its view box from the CSV read back, 1 ulp off the run's own page)
+            clean_sets += ((args, then(tiny_scene(), under({}, *video))),)
+        out.append(
+            Attempt(
+                k,
+                f"run with video again while {cmd} reads the run folder (started {delay:g} s apart): no mix",
+                video,
+                then(with_run, beside("other", *args, delay=delay)),
+                (0,),
+                timeout=300,
+                after=then_check(
+                    ended("other"), like_clean_run(setups=clean_sets, subset=cmd != "export"), next_run_ok()
+                ),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "render of a run while that run is run again without video: both 0, no mix",
+            ["render", "o/tiny"],
+            then(with_run, beside("other", *RUN_NV)),
+            (0,),
+            timeout=300,
+            after=then_check(
+                ended("other"), like_clean_run(setups=((video, tiny_scene()),), subset=True), next_run_ok()
+            ),
+        )
+    )
+    update = ["check", "s.yaml", "--golden", "g", "--update", "-q"]
+    out.append(
+        Attempt(
+            k,
+            "two check --update of one golden folder at once: both 0, then check passes",
+            update,
+            then(tiny_scene(), beside("other", *update)),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), golden_holds("s.yaml")),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "check --update of two scenes while check reads the golden: check 0 or 1, no traceback",
+            ["check", "s.yaml", "a.yaml", "--golden", "g", "--update", "-q"],
+            then(
+                tiny_scene(),
+                tiny_scene("a.yaml", OTHER),
+                under({}, "check", "s.yaml", "a.yaml", "--golden", "g", "--update", "-q"),
+                lambda d: write(d / "s.yaml", TINY.replace("0.5, -1", "0.4, -1")),
+                beside("other", "check", "s.yaml", "a.yaml", "--golden", "g", "-q", delay=0.5),
+            ),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other", (0, 1)), golden_holds("s.yaml", "a.yaml")),
+        )
+    )
+    sweep = ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"]
+    out.append(
+        Attempt(
+            k,
+            "a sweep and a run of the same scene into one OUT at once: both 0, each folder whole",
+            sweep,
+            then(tiny_scene(), beside("other", *RUN_NV)),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), like_clean_run(), next_run_ok(sweep)),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "two sweeps of one scene into one OUT at once: both 0, the table and folders agree, a third not refused",
+            sweep,
+            then(tiny_scene(), beside("other", *sweep)),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), index_agrees(), next_run_ok(sweep)),
+        )
+    )
+    batch_ab = ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q"]
+    batch_ba = ["run", "a.yaml", "s.yaml", "--out", "o", "--no-video", "-q"]
+    for n in range(4):
+        out.append(
+            Attempt(
+                k,
+                f"two batches of two scenes into one OUT at once (try {n + 1}): index.csv and its mark agree, a third not refused",
+                batch_ab,
+                then(tiny_scene(), tiny_scene("a.yaml", OTHER), beside("other", *batch_ba, delay=0.05 * n)),
+                (0,),
+                timeout=300,
+                after=then_check(ended("other"), index_agrees(), next_run_ok(batch_ab)),
+            )
+        )
+    for n in range(3):
+        out.append(
+            Attempt(
+                k,
+                f"two exports of two runs to one --out file at once (try {n + 1}): it and its mark agree, a third export not refused",
+                ["export", "o/tiny", "--out", "e.json"],
+                then(
+                    with_run,
+                    other_run("p"),
+                    beside("other", "export", "p/tiny", "--out", "e.json", delay=0.02 * n),
+                ),
+                (0, 3),
+                message_if_3=r"e\.json",
+                timeout=300,
+                after=then_check(ended("other", (0, 3)), next_run_ok(["export", "o/tiny", "--out", "e.json"])),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "two render --out fig of two runs at once: fig one render's whole, a third render --out fig not refused",
+            ["render", "o/tiny", "--out", "fig", "--size", "64x36"],
+            then(
+                with_run,
+                under({}, "run", "s.yaml", "--out", "p", "--no-video", "-q"),
+                beside("other", "render", "p/tiny", "--out", "fig", "--size", "64x36"),
+            ),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), next_run_ok(["render", "o/tiny", "--out", "fig", "--size", "64x36"])),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "two schema --out s.json at once, then a third: not refused",
+            ["schema", "--out", "s.json"],
+            beside("other", "schema", "--out", "s.json"),
+            (0,),
+            after=then_check(ended("other"), next_run_ok(["schema", "--out", "s.json"])),
+        )
+    )
+    # two batches of other scenes (no run folder in common: no lock makes them take turns) ending at
+    # the same moment into one OUT: index.csv and its mark written by both, unlocked
+    names = {n: TINY.replace("name: tiny", f"name: {n}") for n in ("x1", "x2", "y1", "y2")}
+    xs = ["run", "x1.yaml", "x2.yaml", "--out", "o", "--no-video", "-q"]
+    ys = ["run", "y1.yaml", "y2.yaml", "--out", "o", "--no-video", "-q"]
+    for n in range(6):
+        out.append(
+            Attempt(
+                k,
+                f"two batches of other scenes into one OUT at once (try {n + 1}): both 0, index.csv and its mark agree",
+                xs,
+                then(*(tiny_scene(f"{m}.yaml", t) for m, t in names.items()), beside("other", *ys, delay=0.02 * n)),
+                (0,),
+                timeout=300,
+                after=then_check(ended("other"), next_run_ok(xs)),
+            )
+        )
+    sweep_y = ["sweep", "y1.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"]
+    for n in range(3):
+        out.append(
+            Attempt(
+                k,
+                f"a sweep and a batch of other scenes into one OUT at once (try {n + 1}): both 0, index.csv and its mark agree",
+                xs,
+                then(
+                    *(tiny_scene(f"{m}.yaml", t) for m, t in names.items()), beside("other", *sweep_y, delay=0.03 * n)
+                ),
+                (0,),
+                timeout=300,
+                after=then_check(ended("other"), next_run_ok(xs)),
+            )
+        )
+    for attempt in out:
+        attempt.litter_in = ()  # the attempt's own check would see the other command's live staging folder
+    return out
+
+
 CLASSES = {
     "mesh": mesh_attempts,
     "frames": frames_attempts,
@@ -11443,6 +12487,9 @@ CLASSES = {
     "signals18": signals18_attempts,
     "inputs18": inputs18_attempts,
     "wrong18": wrong18_attempts,
+    "clock18": clock18_attempts,
+    "between18": between18_attempts,
+    "concur18": concur18_attempts,
 }
 
 

@@ -56,6 +56,53 @@ def test_an_index_csv_edited_since_is_never_replaced(cli, tmp_path):
         assert index.read_bytes() == edited
 
 
+def test_two_batches_writing_one_index_csv_at_once_take_turns(tmp_path, monkeypatch):
+    """Campaign 18: two batches into one OUT ending at once (1 in 25 tries by hand): the second read
+    the first's index.csv between the file and its mark being written, and ended "index.csv: has
+    changed since armanim wrote it", exit 3, though nobody had touched it. The check and the two
+    writes now happen under a lock of the folder: the second batch waits for the first's pair,
+    then replaces it, and the pair left is its own."""
+    from armanim.output import marks
+    from armanim.runs import batch
+
+    index = tmp_path / "index.csv"
+    first = [batch.BatchEntry("a", "ok", "a.yaml", 1, 1, 0, 10, None, "a")]
+    second = [batch.BatchEntry("b", "ok", "b.yaml", 1, 1, 0, 12, None, "b")]
+    checked, failed = threading.Event(), []
+    real_check = batch.check_table_replaceable
+
+    def check(*args):
+        try:
+            return real_check(*args)
+        finally:
+            if threading.current_thread() is other:
+                checked.set()
+
+    def other_batch():
+        try:
+            batch.write_index(index, second)
+        except Exception as exc:  # the race: the second batch refused the first's half-written pair
+            failed.append(exc)
+
+    real_write = marks.write_chunks_atomic
+    other = threading.Thread(target=other_batch)
+
+    def write_chunks(path, chunks):
+        real_write(path, chunks)
+        if path == index and threading.current_thread() is not other and not checked.is_set():
+            # the first batch's file is written, not yet its mark: the second batch comes now
+            other.start()
+            checked.wait(2)  # the second checks now (unless it waits its turn)
+
+    monkeypatch.setattr(batch, "check_table_replaceable", check)
+    monkeypatch.setattr(marks, "write_chunks_atomic", write_chunks)
+    batch.write_index(index, first)
+    other.join()
+    assert not failed, failed
+    assert index.read_text() == batch.index_csv_text(second)
+    assert marks.as_marked(index, "index.csv")
+
+
 def test_a_user_file_at_a_new_index_csv_s_mark_stops_the_batch(cli, tmp_path):
     """No index.csv yet, but a file of the user's at its mark's name (``.index.csv.armanim.json``):
     writing the mark would replace it, so the batch stops before any scene runs (exit 3), every

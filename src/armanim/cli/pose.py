@@ -92,7 +92,7 @@ def fk(
     if png is not None:
         from armanim.errors import OutputError
         from armanim.output.atomic import advised
-        from armanim.output.marks import write_marked
+        from armanim.output.marks import check_marked_replaceable, write_marked
         from armanim.render.paint.pixels import png_bytes
         from armanim.render.pictures.pose import draw_pose
 
@@ -111,7 +111,9 @@ def fk(
             say(f"note: {note}", err)
         drawn = draw_pose(replace(converted.problem, goals=()), answer.phi, settings, title="armanim fk", meshes=meshes)
         try:
-            write_marked(png, png_bytes(drawn), "fk --png")
+            write_marked(
+                png, png_bytes(drawn), "fk --png", recheck=lambda: check_marked_replaceable(png, "--png", "fk --png")
+            )
         except OutputError as exc:
             raise advised(exc, "choose another file with --png") from None
         if not as_json:

@@ -80,4 +80,4 @@ def schema(
 
         refuse_in_run_folder(output, "--out")
         check_marked_replaceable(output, "--out", "schema")  # a file of yours there: exit 3, left as it was
-        write_marked(output, text, "schema")
+        write_marked(output, text, "schema", recheck=lambda: check_marked_replaceable(output, "--out", "schema"))

@@ -7,9 +7,12 @@ replaced (exit 3); nor is anything at the mark's own name that is not a mark arm
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import hashlib
 import json
 import os
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from armanim.errors import OutputError, SceneError
@@ -57,17 +60,46 @@ KINDS = ("index.csv", "sweep table", "schema", "fk --png", "export")
 mark without a kind (armanim before 2026-12-07) is taken as any kind."""
 
 
-def write_marked(path: Path, data: bytes | str, kind: str) -> None:
+@contextlib.contextmanager
+def marks_locked(folder: Path) -> Iterator[None]:
+    """Hold an exclusive lock on ``folder`` itself (no lock file left there) while a marked file in
+    it and its mark are checked and written, so that two commands writing one marked file at once
+    (two batches into one OUT: their ``index.csv``) take turns: neither reads the other's file
+    before its mark is written (campaign 18: the second batch ended "index.csv: has changed since
+    armanim wrote it", exit 3, though nobody had touched it), and the pair left is one command's.
+    A folder that cannot be opened or locked is not locked: the write that follows says what is wrong."""
+    try:
+        fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    except OSError:
+        fd = None
+    try:
+        if fd is not None:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX)
+            except OSError:  # a file system without flock on folders (NFS emulates it only for writers)
+                pass
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)  # (closing it releases the lock)
+
+
+def write_marked(path: Path, data: bytes | str, kind: str, recheck: Callable[[], object] | None = None) -> None:
     """Write ``data`` at ``path`` (atomically; through a link there, to the file it names) and
     then its mark (:func:`file_mark`), a signal held back between the two (a file without its
-    matching mark would be refused next time). Check first with :func:`check_marked_replaceable`."""
+    matching mark would be refused next time). Check first with :func:`check_marked_replaceable`;
+    ``recheck`` (that check again, raising to refuse) runs just before the writes, under
+    :func:`marks_locked` (no other armanim writes the pair meanwhile)."""
     from armanim.procs.deferred import interrupts_deferred
 
     raw = text_bytes(data) if isinstance(data, str) else data
     target = write_target(path)  # a link is written through: the mark goes beside the file it names
-    with interrupts_deferred():
-        write_chunks_atomic(target, [raw])
-        write_chunks_atomic(file_mark(target), [mark_line(target, raw, kind).encode()])
+    with marks_locked(target.parent):
+        if recheck is not None:
+            recheck()
+        with interrupts_deferred():
+            write_chunks_atomic(target, [raw])
+            write_chunks_atomic(file_mark(target), [mark_line(target, raw, kind).encode()])
 
 
 def read_mark(mark: Path) -> dict | None:

@@ -173,16 +173,45 @@ def refuse_in_run_folder(target: Path, flag: str, *, itself: bool = False) -> No
         )
 
 
-def file_stamp(path: Path) -> dict | None:
-    """What the marker records of a file armanim wrote: its size and mtime (ns); None if
-    ``path`` is not a regular file (a folder, a link, ...)."""
+def file_stamp(path: Path, *, digest: bool = True) -> dict | None:
+    """What the marker records of a file armanim wrote: its size, mtime (ns) and, with ``digest``,
+    the sha256 of its bytes; None if ``path`` is not a regular file (a folder, a link, ...).
+
+    Size and time alone miss an edit that keeps both: a value changed in place on a disk whose
+    times count whole seconds (ext3, HFS+, FAT: 2 s) within the second the run wrote it, or any
+    edit whose time was put back (``touch -r``, ``cp -p``, ``rsync -t``). Campaign 18: the next
+    run replaced such an edited trajectory.csv, exit 0."""
     try:
         info = os.lstat(path)
     except OSError:
         return None
     if not stat.S_ISREG(info.st_mode):
         return None
-    return {"bytes": info.st_size, "mtime_ns": info.st_mtime_ns}
+    stamp: dict = {"bytes": info.st_size, "mtime_ns": info.st_mtime_ns}
+    if digest:
+        stamp["sha256"] = file_sha256(path)
+    return stamp
+
+
+def file_sha256(path: Path) -> str | None:
+    """The sha256 of the regular file ``path``'s bytes (read a block at a time), or None when it
+    cannot be read or is no longer a regular file (never opened through a link, never waited on)."""
+    import hashlib
+
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as handle:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return None
+        digest = hashlib.sha256()
+        try:
+            while block := handle.read(1 << 20):
+                digest.update(block)
+        except OSError:
+            return None
+    return digest.hexdigest()
 
 
 def marked_files(folder: Path) -> dict[str, dict | None] | None:
@@ -206,7 +235,7 @@ def marked_files(folder: Path) -> dict[str, dict | None] | None:
 
 
 def write_marker(folder: Path) -> None:
-    """Mark ``folder`` as armanim's: list every file in it with its size and mtime (call when
+    """Mark ``folder`` as armanim's: list every file in it with its size, mtime and sha256 (call when
     it is complete), so that only armanim's own, unchanged files count as armanim's."""
     files = {p.name: file_stamp(p) for p in sorted(Path(folder).iterdir()) if p.name not in (MARKER, STAGING_TAG)}
     data = {
@@ -220,9 +249,16 @@ def write_marker(folder: Path) -> None:
 
 
 def _changed(folder: Path, name: str, recorded: dict | None) -> bool:
-    """Whether ``folder/name`` is no longer the regular file armanim wrote there."""
-    now = file_stamp(folder / name)
-    return now is None or (recorded is not None and now != recorded)
+    """Whether ``folder/name`` is no longer the regular file armanim wrote there: another size or
+    time, or (when the marker records it: armanim since 2026-12-07) other bytes."""
+    now = file_stamp(folder / name, digest=False)
+    if now is None:
+        return True
+    if recorded is None:  # a marker of an armanim before 0.1: names only
+        return False
+    if (now["bytes"], now["mtime_ns"]) != (recorded.get("bytes"), recorded.get("mtime_ns")):
+        return True
+    return "sha256" in recorded and file_sha256(folder / name) != recorded["sha256"]
 
 
 def _shown(names: list[str]) -> str:
@@ -261,7 +297,7 @@ def replace_problem(final: Path) -> str | None:
         return f"holds files armanim did not write ({_shown(foreign)}), so it is not replaced"
     changed = [name for name in entries if name != MARKER and _changed(final, name, listed[name])]
     if changed:
-        return f"holds files changed since armanim wrote them ({_shown(changed)}: now another file, a folder or a link), so it is not replaced"
+        return f"holds files changed since armanim wrote them ({_shown(changed)}: edited, or now another file, a folder or a link), so it is not replaced"
     protected = _write_protected(final)
     if protected is not None:
         return f"is write-protected ({protected} is read-only), so it is not replaced: make it writable (chmod -R u+w {final})"

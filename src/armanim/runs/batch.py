@@ -20,7 +20,7 @@ from pathlib import Path
 from armanim.errors import ArmanimError, SceneError, UsageError
 from armanim.output.atomic import write_bytes_atomic
 from armanim.output.csvfile import check_table_replaceable, table_csv_text
-from armanim.output.marks import write_marked
+from armanim.output.marks import marks_locked, write_marked
 from armanim.output.rundir import staged_folder
 from armanim.procs.executors import executor_for
 from armanim.procs.workers import temp_prefix, undone_on_stop
@@ -300,7 +300,8 @@ def run_batch(
     """
     paths = list(dict.fromkeys(Path(p) for p in paths))  # the same file twice runs once
     index = Path(out_root) / "index.csv"
-    check_table_replaceable(index, is_index_header, "index.csv")  # a user's index.csv: exit 3 before any work
+    with marks_locked(index.parent):  # (another batch into OUT may be writing it and its mark)
+        check_table_replaceable(index, is_index_header, "index.csv")  # a user's index.csv: exit 3 before any work
     tasks, rejected = load_tasks(paths)
     done = run_tasks(tasks, out_root, options, scheduler=scheduler, progress=progress)
     by_file = {e.scene_file: e for e in [*done, *rejected]}
@@ -310,6 +311,11 @@ def run_batch(
 
 
 def write_index(path: Path, entries: list[BatchEntry]) -> None:
-    """Write ``index.csv``, replacing only an index.csv armanim wrote."""
-    check_table_replaceable(path, is_index_header, "index.csv")
-    write_marked(path, index_csv_text(entries), "index.csv")
+    """Write ``index.csv``, replacing only an index.csv armanim wrote (checked under the lock of
+    the marked files in its folder: another batch or sweep into the same OUT takes turns)."""
+    write_marked(
+        path,
+        index_csv_text(entries),
+        "index.csv",
+        recheck=lambda: check_table_replaceable(path, is_index_header, "index.csv"),
+    )

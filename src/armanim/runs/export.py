@@ -117,6 +117,15 @@ def run_joint_trajectory(folder: Path) -> str:
     return joint_trajectory_text(joint_trajectory(names, time_s, positions, velocities))
 
 
+def _refuse_unless_replaceable(target: Path) -> None:
+    """An OutputError (exit 3) when :func:`_replace_problem` finds a reason not to write ``target``."""
+    from armanim.errors import OutputError
+
+    problem = _replace_problem(target)
+    if problem is not None:
+        raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
+
+
 def _replace_problem(target: Path) -> str | None:
     """Why the export must not be written at ``target``, or None: nothing there (and nothing
     but armanim's mark at the mark's place), or the export armanim wrote there, unchanged."""
@@ -202,8 +211,8 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
         def write(path: Path) -> None:
             if own:  # the run folder's own file is listed by its marker
                 write_text_atomic(path, text)
-            else:  # a file elsewhere gets its mark
-                write_marked(path, text, "export")
+            else:  # a file elsewhere gets its mark (checked again under the lock of marked files)
+                write_marked(path, text, "export", recheck=lambda: _refuse_unless_replaceable(path))
 
         return write
 

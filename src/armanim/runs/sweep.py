@@ -20,7 +20,7 @@ import yaml
 
 from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.csvfile import check_table_replaceable, table_csv_text
-from armanim.output.marks import write_marked
+from armanim.output.marks import marks_locked, write_marked
 from armanim.runs.batch import BatchEntry, SceneTask, is_index_header, run_tasks, write_index
 from armanim.runs.options import RunOptions
 from armanim.scene import load_scene, scene_from_bytes
@@ -354,17 +354,22 @@ def run_sweep(
     variant_count(settings)
     scene_path, out_root = Path(scene_path), Path(out_root)
     table = out_root / f"{scene_path.stem}-sweep.csv"
-    check_table_replaceable(
-        table, is_sweep_header, "sweep table"
-    )  # a user's file at these names: exit 3 before any work
-    check_table_replaceable(out_root / "index.csv", is_index_header, "index.csv")
+    with marks_locked(out_root):  # (another sweep or batch into OUT may be writing them and their marks)
+        check_table_replaceable(
+            table, is_sweep_header, "sweep table"
+        )  # a user's file at these names: exit 3 before any work
+        check_table_replaceable(out_root / "index.csv", is_index_header, "index.csv")
     items = variants(scene_path, settings)
     tasks = [v.task for v in items if v.task is not None]
     done = run_tasks(tasks, out_root, RunOptions(video=video, jobs=jobs), scheduler=scheduler, progress=progress)
     by_name = {e.name: e for e in done}
     entries = [v.rejected if v.rejected is not None else by_name[v.name] for v in items]
     header, rows = comparison_rows(settings, items, entries)
-    check_table_replaceable(table, is_sweep_header, "sweep table")
-    write_marked(table, table_csv_text(header, rows, text_cells=True), "sweep table")
+    write_marked(
+        table,
+        table_csv_text(header, rows, text_cells=True),
+        "sweep table",
+        recheck=lambda: check_table_replaceable(table, is_sweep_header, "sweep table"),
+    )
     write_index(out_root / "index.csv", entries)
     return SweepResult(items, entries, header, rows, table)
