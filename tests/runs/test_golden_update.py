@@ -190,3 +190,26 @@ def test_a_write_protected_golden_is_never_replaced_and_an_unchanged_one_never_w
     assert "small.csv: is write-protected (read-only), so --update does not replace it" in result.stderr
     assert {path.name: (path.read_bytes(), path.stat().st_mtime_ns) for path in golden.iterdir()} == before
     assert {path.stat().st_mode & 0o777 for path in golden.iterdir()} == {0o444}
+
+
+def test_a_golden_folder_that_cannot_be_flocked_is_updated_unlocked(cli, tmp_path, monkeypatch):
+    """NFS emulates ``flock`` by a byte-range lock, which needs a file open for writing: on a folder
+    (open only for reading) LOCK_EX is EBADF. Campaign 19: ``check --update --golden`` there ended
+    ``armanim: output: Bad file descriptor``, exit 3, and no golden could ever be written."""
+    import fcntl
+    import os
+
+    real_flock = fcntl.flock
+
+    def nfs_flock(fd, operation):
+        if operation & fcntl.LOCK_EX and fcntl.fcntl(fd, fcntl.F_GETFL) & os.O_ACCMODE == os.O_RDONLY:
+            raise OSError(errno.EBADF, "Bad file descriptor")
+        return real_flock(fd, operation)
+
+    monkeypatch.setattr("armanim.output.rundir.fcntl.flock", nfs_flock)
+    scene = tmp_path / "g.yaml"
+    scene.write_text(SMALL + "name: g\n")
+    result = cli("check", scene, "--golden", tmp_path / "golden", "--update", "-q")
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in (tmp_path / "golden").iterdir()) == ["g.csv", "g.json"]
+    assert cli("check", scene, "--golden", tmp_path / "golden", "-q").exit_code == 0

@@ -93,17 +93,25 @@ def _not_a_lock(lock: Path, kind: str) -> OutputError:
 @contextlib.contextmanager
 def directory_lock(folder: Path) -> Iterator[None]:
     """Hold an exclusive lock on ``folder`` itself, made if missing (no lock file is left in it
-    or beside it: for folders the user keeps, such as golden files under version control)."""
+    or beside it: for folders the user keeps, such as golden files under version control).
+
+    A folder that cannot be flocked is used unlocked, as :func:`armanim.output.marks.marks_locked`
+    does: NFS emulates ``flock`` by a byte-range lock, which needs a file open for writing, and a
+    folder opens only for reading (EBADF). Campaign 19: ``check --update`` there ended ``armanim:
+    output: Bad file descriptor``, exit 3, and no golden could ever be written."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
         fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     except OSError as exc:
         raise output_error(folder, exc) from None
     try:
-        with _exclusively(fd):
-            yield
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:  # (EBADF on NFS, ENOLCK, EOPNOTSUPP: a file system without flock on folders)
+            pass
+        yield
     finally:
-        os.close(fd)
+        os.close(fd)  # (closing it releases the lock)
 
 
 @contextlib.contextmanager
