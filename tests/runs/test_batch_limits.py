@@ -241,3 +241,22 @@ def test_a_sweep_and_a_batch_say_their_size_first(cli, tmp_path):
         "1",
     )
     assert result.exit_code == 0 and result.stderr.splitlines()[0] == "batch: 2 scenes", result.output
+
+
+def test_an_index_csv_made_read_only_is_not_replaced(tmp_path):
+    """Campaign 19: a batch's index.csv (a sweep's table alike) its user made read-only (``chmod
+    444``) was replaced by the next batch as root, exit 0, the new file 0644. Now refused (exit 3,
+    before any scene runs), the file as it was."""
+    from armanim.errors import OutputError
+    from armanim.output.csvfile import check_table_replaceable
+    from armanim.runs import batch
+
+    index = tmp_path / "index.csv"
+    batch.write_index(index, [batch.BatchEntry("a", "ok", "a.yaml", 1, 1, 0, 10, None, "a")])
+    index.chmod(0o444)
+    before = index.read_bytes()
+    with pytest.raises(OutputError, match="is write-protected"):
+        check_table_replaceable(index, batch.is_index_header, "index.csv")
+    with pytest.raises(OutputError, match="is write-protected"):
+        batch.write_index(index, [batch.BatchEntry("b", "ok", "b.yaml", 1, 1, 0, 12, None, "b")])
+    assert index.read_bytes() == before and index.stat().st_mode & 0o777 == 0o444

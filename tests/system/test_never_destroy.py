@@ -347,6 +347,27 @@ def test_an_out_that_is_a_link_to_itself_is_refused_without_a_traceback(cli, run
     assert os.readlink(loop) == "l.json"
 
 
+@pytest.mark.parametrize("command", ["export", "schema", "fk --png"])
+def test_a_marked_file_made_read_only_is_not_replaced(cli, run_folder, command):
+    """Campaign 19: ``export --out x.json`` (``schema --out``, ``fk --png`` alike), its earlier file
+    made read-only by its user (``chmod 444``), was replaced as root, exit 0, and left 0644 (root's
+    writes pass the mode). Now refused, exit 3, as a read-only run folder or golden file is."""
+    target = run_folder.parent.parent / ("p.png" if command == "fk --png" else "x.json")
+    args = {
+        "export": ("export", run_folder, "--out", target),
+        "schema": ("schema", "--out", target),
+        "fk --png": ("fk", "--angles", "0,0,0", "--links", "1,1,1", "--png", target),
+    }[command]
+    assert cli(*args).exit_code == 0
+    target.chmod(0o444)
+    before = target.read_bytes()
+    result = cli(*args)
+    assert result.exit_code == 3 and "is write-protected" in result.stderr, result.output
+    assert target.read_bytes() == before and target.stat().st_mode & 0o777 == 0o444
+    target.chmod(0o644)
+    assert cli(*args).exit_code == 0  # writable again: replaced as before
+
+
 def test_leftovers_of_a_killed_render_are_removed(tmp_path):
     from armanim.render.video.movie import remove_dead_leftovers
 

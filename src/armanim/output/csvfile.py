@@ -35,7 +35,7 @@ from armanim.errors import Diagnostic, OutputError, SceneError
 from armanim.motion.solution import Trajectory
 from armanim.output.atomic import write_chunks_atomic, write_target
 from armanim.output.files import open_regular
-from armanim.output.marks import as_marked, file_mark, foreign_mark, other_kind
+from armanim.output.marks import as_marked, file_mark, foreign_mark, other_kind, refuse_write_protected
 from armanim.output.solved import SolvedRun
 
 BASE_COLUMNS = ("frame", "time_s", "goal")
@@ -225,6 +225,7 @@ def check_table_replaceable(path: Path, is_ours: Callable[[str], bool], kind: st
             f"{path}: has changed since armanim wrote it (it is not what {file_mark(path).name} beside it "
             "records, or that mark is missing), so it is not replaced (move it away, or choose another folder with --out)"
         )
+    refuse_write_protected(path)  # armanim's own table, made read-only since
 
 
 CSV_CHUNK_ROWS = 2_000

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import text_bytes, write_chunks_atomic, write_target
-from armanim.output.files import open_regular
+from armanim.output.files import open_regular, write_protected
 from armanim.output.jsontext import parse_json
 
 MAX_MARK_BYTES = 1_000
@@ -97,9 +97,26 @@ def write_marked(path: Path, data: bytes | str, kind: str, recheck: Callable[[],
     with marks_locked(target.parent):
         if recheck is not None:
             recheck()
+        refuse_write_protected(path)
         with interrupts_deferred():
             write_chunks_atomic(target, [raw])
             write_chunks_atomic(file_mark(target), [mark_line(target, raw, kind).encode()])
+
+
+def refuse_write_protected(path: Path, option: str = "") -> None:
+    """An OutputError (exit 3) if the file ``path`` names (through a link) is write-protected
+    (:func:`~armanim.output.files.write_protected`: no write bit left for anyone, which root's writes
+    would pass, or not writable by this process). Campaign 19: ``export --out x.json``, ``schema
+    --out`` and ``fk --png`` replaced their own earlier file the user had made read-only (``chmod
+    444``) as root, exit 0, the new file 0644: the rule run folders and golden files follow
+    (campaign 16) now holds for marked files too."""
+    target = Path(os.path.realpath(path)) if os.path.islink(path) else Path(path)
+    if os.path.isfile(target) and write_protected(target):
+        said = f"{path}: {option + ': ' if option else ''}"
+        raise OutputError(
+            f"{said}is write-protected (read-only), so it is not replaced: make it writable "
+            f"(chmod u+w {target}), or choose another path"
+        )
 
 
 def read_mark(mark: Path) -> dict | None:
@@ -198,3 +215,4 @@ def check_marked_replaceable(path: Path, option: str, kind: str) -> None:
             f"(it is not what {file_mark(target).name} beside it records, or that mark is missing), "
             "so it is not replaced (move it away, or choose another path)"
         )
+    refuse_write_protected(path, option)  # armanim's own file, made read-only since
