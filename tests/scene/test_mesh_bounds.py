@@ -296,6 +296,16 @@ def test_no_corner_that_is_not_finite_is_kept_even_one_no_triangle_uses(tmp_path
     assert notes == [] and tool is not None and tool.triangles == 1 and np.isfinite(tool.vertices).all()
 
 
+def test_obj_vertex_lines_of_two_numbers_are_a_note_never_other_corners(tmp_path):
+    """Campaign 19: an OBJ whose six ``v`` lines hold two numbers each was read as four corners of
+    three (the twelve numbers reshaped), and its face ``f 1 2 3`` drawn from them. Now a note, as a
+    ``v`` line of two numbers among others of three always was; CRLF line ends and tabs still read."""
+    (tmp_path / "two.obj").write_text("v 0 0\nv 1 0\nv 0 1\nv 1 1\nv 2 2\nv 3 3\nf 1 2 3\n")
+    (tmp_path / "crlf.obj").write_bytes(b"v\t0\t0\t0\r\nv .05 0 0\r\nv 0 .05 0\r\nf 1 2 3\r\n")
+    (mesh,), notes = _read(_urdf(tmp_path, _mesh("two.obj") + _mesh("crlf.obj")))
+    assert mesh.triangles == 1 and len(notes) == 1 and "does not hold three numbers" in notes[0], notes
+
+
 def test_special_and_broken_mesh_files_are_notes(tmp_path):
     """A FIFO or a folder named as the mesh, a garbage STL (no charset module named), an OBJ face
     naming a vertex it lacks, NaN corners (their triangles left out): notes or fewer triangles."""

@@ -190,9 +190,13 @@ def _obj(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
                 raise _too_many(corners)
             fans.append(fan)
     try:
-        vertices = np.array(points, dtype=float).reshape(-1, 3)
+        vertices = np.array(points, dtype=float).reshape(-1, 3) if not points else np.array(points, dtype=float)
     except ValueError:
         raise ValueError("a 'v' line of the OBJ file does not hold three numbers") from None
+    if vertices.ndim != 2 or vertices.shape[1] != 3:
+        # every 'v' line of two numbers (or none) is not reshaped into other corners (campaign 19:
+        # six 'v x y' lines were read as four corners of three, and the face drawn from them)
+        raise ValueError("a 'v' line of the OBJ file does not hold three numbers")
     faces: list[list[int]] = []
     for fan in fans:
         try:
