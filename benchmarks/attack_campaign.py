@@ -16,7 +16,9 @@ the eighteenth's, part A (new angles): clock18 (the wall clock in 1970, 2039, 21
 jumping mid-command, by libfaketime), between18 (a file changed between two commands: after
 ``validate``, in a run folder or a golden pair, a run folder's marker listing files outside it),
 concur18 (two commands at once on one folder, golden, index or file); part B, new variants of the
-issue's classes: mesh18, frames18, export18, signals18, inputs18, wrong18),
+issue's classes: mesh18, frames18, export18, signals18, inputs18, wrong18; the nineteenth's: var19
+(new variants on what the eighteenth's fixes touched: the marker's sha256, the lock of a folder of
+marked files, links into /proc, the OBJ reader, write protection as root)),
 ``--match TEXT ...`` for the attempts whose name holds one of the texts, ``--list``
 to list them, ``--keep DIR`` to keep every attempt's folder.
 
@@ -12424,6 +12426,543 @@ def concur18_attempts() -> list[Attempt]:
     return out
 
 
+# ------------------------------------------------------------------ the nineteenth campaign: var19
+
+NFS_FLOCK_C = r"""
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/file.h>
+/* flock as NFS emulates it (a byte-range lock): LOCK_EX needs a file open for writing, else EBADF */
+int flock(int fd, int op) {
+    static int (*real)(int, int) = 0;
+    if (!real) real = (int (*)(int, int))dlsym(RTLD_NEXT, "flock");
+    int fl = fcntl(fd, F_GETFL);
+    if ((op & LOCK_EX) && fl >= 0 && (fl & O_ACCMODE) == O_RDONLY) { errno = EBADF; return -1; }
+    return real(fd, op);
+}
+"""
+
+
+def nfs_flock_shim(d: Path) -> None:
+    """Setup step: d/nfsflock.so, a preload making ``flock`` behave as NFS's (EBADF on a folder)."""
+    write(d / "nfsflock.c", NFS_FLOCK_C)
+    subprocess.run(["gcc", "-shared", "-fPIC", "-o", str(d / "nfsflock.so"), str(d / "nfsflock.c"), "-ldl"], check=True)
+
+
+def restamped(name: str, digest: bool) -> Callable[[Path], None]:
+    """Setup step: o/tiny's marker made to record ``name``'s size and time as they are now, and with
+    ``digest`` its sha256 too (else the old sha256 is kept: size and time agree, the bytes do not)."""
+
+    def step(d: Path) -> None:
+        path = d / "o/tiny" / name
+        info = os.stat(path)
+
+        def edit(data: dict) -> None:
+            entry = data["files"][name]
+            entry["bytes"], entry["mtime_ns"] = info.st_size, info.st_mtime_ns
+            if digest:
+                h = hashlib.sha256()
+                with open(path, "rb") as handle:
+                    for block in iter(lambda: handle.read(1 << 22), b""):
+                        h.update(block)
+                entry["sha256"] = h.hexdigest()
+
+        marker_edited(edit)(d)
+
+    return step
+
+
+def mark_agrees(path: str) -> Callable[[Path], list[str]]:
+    """After: ``path`` and its mark ``.NAME.armanim.json`` agree (size and sha256)."""
+
+    def check(d: Path) -> list[str]:
+        import json as _json
+
+        target = d / path
+        mark = target.with_name(f".{target.name}.armanim.json")
+        if not target.exists() or not mark.exists():
+            return [f"{path} or its mark missing"]
+        data = target.read_bytes()
+        recorded = _json.loads(mark.read_text())
+        if recorded.get("bytes") != len(data) or recorded.get("sha256") != hashlib.sha256(data).hexdigest():
+            return [f"{path} and its mark disagree (one command's file beside the other's mark)"]
+        return []
+
+    return check
+
+
+def chain_of_links(name: str, target: str, length: int = 100) -> Callable[[Path], None]:
+    """Setup step: ``name`` -> name.1 -> ... -> name.{length-1} -> ``target`` (a chain of ``length`` links)."""
+
+    def step(d: Path) -> None:
+        names = [name] + [f"{name}.{i}" for i in range(1, length)]
+        for here, there in zip(names, [*names[1:], target]):
+            os.symlink(there, d / here)
+
+    return step
+
+
+def chattr_off(*paths: str) -> Callable[[Path], list[str]]:
+    """After: ``chattr -i`` on ``paths`` (so the kept folder can be removed later); no problem."""
+
+    def check(d: Path) -> list[str]:
+        for p in paths:
+            subprocess.run(["chattr", "-i", str(d / p)], capture_output=True)
+        return []
+
+    return check
+
+
+def mode_is(path: str, mode: int) -> Callable[[Path], list[str]]:
+    """After: ``path``'s permission bits are still ``mode`` (the user's protection kept)."""
+
+    def check(d: Path) -> list[str]:
+        now = os.stat(d / path).st_mode & 0o777
+        return [] if now == mode else [f"{path} is now {now:o}, was made {mode:o}"]
+
+    return check
+
+
+def var19_attempts() -> list[Attempt]:
+    """Campaign 19: new variants on what campaign 18's fixes touched: the run folder marker's
+    sha256 (a 2 GB sparse file, a FIFO swapped in, a marker of the older format), the lock of a
+    folder of marked files (commands at once, a file system whose flock fails on folders as NFS's),
+    ``resolved()`` (links into /proc and /dev/fd, a chain of 100 links), the OBJ reader's regular
+    expressions (CRLF, tabs, CR alone, UTF-16, a 60 MB ``v`` line, 64 MB of ``v`` lines, ``v`` lines
+    of two numbers) and write protection as root (``chmod 444`` marked files, ``chattr +i``)."""
+    k = "var19"
+    out: list[Attempt] = []
+    with_run = lambda d: finished_run(d) and None  # noqa: E731
+    with_video_run = lambda d: finished_run(d, video=True) and None  # noqa: E731
+    run_v = ["run", "s.yaml", "--out", "o", "-q"]
+    two_gb = 2 << 30
+
+    # -------- the marker's sha256
+    out.append(
+        Attempt(
+            k,
+            "run with video, animation.mp4 grown to a 2 GB sparse file, the marker restamped with its sha256: the next run replaces it",
+            run_v,
+            then(
+                with_video_run,
+                lambda d: os.truncate(d / "o/tiny/animation.mp4", two_gb),
+                restamped("animation.mp4", True),
+            ),
+            (0,),
+            timeout=600,
+            after=exists("o/tiny/animation.mp4"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run with video, animation.mp4 grown to a 2 GB sparse file, the marker's size and time restamped (old sha256): refused",
+            run_v,
+            then(
+                with_video_run,
+                lambda d: os.truncate(d / "o/tiny/animation.mp4", two_gb),
+                restamped("animation.mp4", False),
+            ),
+            (3,),
+            message=r"changed since",
+            keep=("o/tiny",),
+            timeout=600,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run, trajectory.csv made a 2 GB sparse file (marker restamped with its sha256), then render: exit 2 at its size, no wait",
+            ["render", "o/tiny", "--size", "64x36"],
+            then(
+                with_run, lambda d: os.truncate(d / "o/tiny/trajectory.csv", two_gb), restamped("trajectory.csv", True)
+            ),
+            (2, 3),
+            message=r"trajectory\.csv",
+            keep=("o/tiny/trajectory.csv",),
+            timeout=300,
+        )
+    )
+    swap_fifo = lambda d: ((d / "o/tiny/trajectory.csv").unlink(), os.mkfifo(d / "o/tiny/trajectory.csv"))  # noqa: E731
+    out.append(
+        Attempt(
+            k,
+            "run, then trajectory.csv swapped for a FIFO, then run again: refused, no wait, the FIFO kept",
+            RUN_NV,
+            then(with_run, swap_fifo),
+            (3,),
+            message=r"changed since",
+            keep=("o/tiny",),
+            timeout=60,
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "run, then trajectory.csv swapped for a FIFO and the marker restamped to its size 0 and time, then run: refused, no wait",
+            RUN_NV,
+            then(
+                with_run,
+                swap_fifo,
+                lambda d: marker_edited(
+                    lambda data: data["files"]["trajectory.csv"].update(
+                        bytes=0, mtime_ns=os.lstat(d / "o/tiny/trajectory.csv").st_mtime_ns
+                    )
+                )(d),
+            ),
+            (3,),
+            message=r"changed since",
+            keep=("o/tiny",),
+            timeout=60,
+        )
+    )
+    for what in ("render", "export"):
+        args = ["render", "o/tiny", "--size", "64x36"] if what == "render" else ["export", "o/tiny"]
+        out.append(
+            Attempt(
+                k,
+                f"run, then trajectory.csv swapped for a FIFO, then {what}: exit 2 or 3, no wait, the FIFO kept",
+                args,
+                then(with_run, swap_fifo),
+                (2, 3),
+                message=r"trajectory\.csv",
+                keep=("o/tiny",),
+                timeout=60,
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "a marker of the older format (no sha256), summary.json edited in place with its size and time kept: replaced, as documented",
+            RUN_NV,
+            then(
+                with_run,
+                marker_edited(lambda data: [s.pop("sha256", None) for s in data["files"].values() if s]),
+                inplace_edit("o/tiny/summary.json"),
+            ),
+            (0,),
+            timeout=300,
+            after=like_clean_run(),
+        )
+    )
+    for label, value in [
+        ("in capitals (the right digest)", "upper"),
+        ("null", None),
+        ("a list", ["x"]),
+    ]:
+
+        def change(data: dict, value: object = value) -> None:
+            entry = data["files"]["trajectory.csv"]
+            entry["sha256"] = entry["sha256"].upper() if value == "upper" else value
+
+        out.append(
+            Attempt(
+                k,
+                f"a marker whose trajectory.csv sha256 is {label}, then run: replaced or refused, never a traceback",
+                RUN_NV,
+                then(with_run, marker_edited(change)),
+                (0, 3),
+                message_if_3=r"changed since|cannot be read",
+                timeout=300,
+            )
+        )
+
+    # -------- the lock of a folder of marked files
+    ended = lambda name, codes=(0,): then_check(beside_ended(name, codes), no_litter("o", "g", "."))  # noqa: E731
+    fk_png = ["fk", "--angles", "0,30,45", "--links", "1,1,1", "--png", "o/p.png"]
+    out.append(
+        Attempt(
+            k,
+            "fk --png o/p.png and schema --out o/s.json at once into one folder: both 0, each file and its mark agree",
+            fk_png,
+            beside("other", "schema", "--out", "o/s.json"),
+            (0,),
+            timeout=120,
+            after=then_check(ended("other"), mark_agrees("o/p.png"), mark_agrees("o/s.json")),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "two fk --png o/p.png of two poses at once: both 0, the picture and its mark agree, a third not refused",
+            fk_png,
+            beside("other", "fk", "--angles", "10,-20,5", "--links", "1,1,1", "--png", "o/p.png"),
+            (0, 3),
+            message_if_3=r"p\.png",
+            timeout=120,
+            after=then_check(ended("other", (0, 3)), mark_agrees("o/p.png"), next_run_ok(fk_png)),
+        )
+    )
+    batch = ["run", "s.yaml", "a.yaml", "--out", "o", "--no-video", "-q"]
+    out.append(
+        Attempt(
+            k,
+            "check --update --golden o while a batch writes o/index.csv: no deadlock, both 0, the index and its mark agree",
+            batch,
+            then(
+                tiny_scene(),
+                tiny_scene("a.yaml", OTHER),
+                beside("other", "check", "s.yaml", "a.yaml", "--golden", "o", "--update"),
+            ),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), mark_agrees("o/index.csv"), exists("o/tiny.csv", "o/other.csv")),
+        )
+    )
+    sweep = ["sweep", "s.yaml", "--set", "solver.step=0.1,0.2", "--out", "o", "-q", "--jobs", "1"]
+    out.append(
+        Attempt(
+            k,
+            "a sweep into o while check --update --golden o: no deadlock, both 0, the index and its mark agree",
+            sweep,
+            then(tiny_scene(), beside("other", "check", "s.yaml", "--golden", "o", "--update")),
+            (0,),
+            timeout=300,
+            after=then_check(ended("other"), mark_agrees("o/index.csv"), exists("o/tiny.csv")),
+        )
+    )
+    nfs = {"LD_PRELOAD": "{d}/nfsflock.so"}
+    for label, args, made in [
+        ("check --update --golden g", ["check", "s.yaml", "--golden", "g", "--update"], ("g/tiny.csv", "g/tiny.json")),
+        ("a batch of two scenes into o", batch, ("o/index.csv",)),
+        ("schema --out o/s.json", ["schema", "--out", "o/s.json"], ("o/s.json",)),
+        ("fk --png o/p.png", fk_png, ("o/p.png",)),
+        ("run (its lock file opened for writing)", RUN_NV, ("o/tiny/trajectory.csv",)),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"{label} where flock fails on a folder as on NFS (EBADF): written unlocked, exit 0",
+                args,
+                then(nfs_flock_shim, tiny_scene(), tiny_scene("a.yaml", OTHER)),
+                (0,),
+                env=dict(nfs),
+                timeout=300,
+                after=exists(*made),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "check --update twice at once where flock fails as on NFS: both 0 (a pair one update's)",
+            ["check", "s.yaml", "--golden", "g", "--update"],
+            then(
+                nfs_flock_shim,
+                tiny_scene(),
+                beside("other", "check", "s.yaml", "--golden", "g", "--update", env=dict(LD_PRELOAD="{d}/nfsflock.so")),
+            ),
+            (0,),
+            env=dict(nfs),
+            timeout=300,
+            after=then_check(ended("other"), exists("g/tiny.csv", "g/tiny.json")),
+        )
+    )
+
+    # -------- links into /proc and /dev/fd, a chain of 100
+    for label, args in [
+        ("schema --out /dev/stdout (a pipe)", ["schema", "--out", "/dev/stdout"]),
+        ("fk --png /dev/fd/1 (a pipe)", ["fk", "--angles", "0,0,0", "--links", "1,1,1", "--png", "/dev/fd/1"]),
+        ("schema --out /proc/self/s.json", ["schema", "--out", "/proc/self/s.json"]),
+    ]:
+        out.append(Attempt(k, f"{label}: exit 0 or 3, no traceback", args, codes=(0, 3), timeout=60))
+    out.append(
+        Attempt(
+            k,
+            "export --out /dev/fd/1 (a pipe): exit 3, no traceback",
+            ["export", "o/tiny", "--out", "/dev/fd/1"],
+            with_run,
+            (0, 3),
+            timeout=120,
+        )
+    )
+    via_proc = "/proc/self/cwd"
+    out.append(
+        Attempt(
+            k,
+            "export /proc/self/cwd/o/tiny --out /proc/self/cwd/e.json: exit 0, a JointTrajectory",
+            ["export", f"{via_proc}/o/tiny", "--out", f"{via_proc}/e.json"],
+            with_run,
+            (0,),
+            timeout=120,
+            after=export_parses("e.json"),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "render /proc/self/cwd/o/tiny: exit 0, the run folder still the next run's to replace",
+            ["render", f"{via_proc}/o/tiny", "--size", "64x36"],
+            with_run,
+            (0,),
+            timeout=300,
+            after=next_run_ok(),
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "view --out a link into /proc/self/fd/0 (stdin /dev/null): exit 3, the link kept",
+            ["view", "o/tiny", "--out", "v.html"],
+            then(with_run, lambda d: os.symlink("/proc/self/fd/0", d / "v.html")),
+            (3,),
+            keep=("v.html",),
+            timeout=120,
+        )
+    )
+    for label, args, name in [
+        ("export --out", ["export", "o/tiny", "--out", "l"], "e.json"),
+        ("render --out", ["render", "o/tiny", "--out", "l", "--format", "gif", "--size", "64x36"], "fig"),
+        ("fk --png", ["fk", "--angles", "0,0,0", "--links", "1,1,1", "--png", "l"], "p.png"),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"{label} a chain of 100 links to a missing {name}: exit 0 or 3, every link kept, no traceback",
+                args,
+                then(with_run, chain_of_links("l", name)),
+                (0, 3),
+                keep=("l", "l.50", "l.99"),
+                timeout=120,
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "run of a scene named through a chain of 100 links: exit 2 naming it, or 0",
+            ["run", "l", "--out", "o", "--no-video", "-q"],
+            then(tiny_scene(), chain_of_links("l", "s.yaml")),
+            (0, 2),
+            message_if_2=r"\bl\b",
+            timeout=300,
+        )
+    )
+
+    # -------- OBJ read by regular expressions
+    tri = b"v 0 0 0\nv .05 0 0\nv 0 .05 0\nf 1 2 3\n"
+    for label, data, codes in [
+        ("CRLF line ends", tri.replace(b"\n", b"\r\n"), (0,)),
+        ("v and f lines of tabs", b"v\t0\t0\t0\nv\t.05\t0\t0\nv\t0\t.05\t0\nf\t1\t2\t3\n", (0,)),
+        ("f lines ending in a lone \\r before LF and a comment", tri.replace(b"f 1 2 3\n", b"f 1 2 3 \r# c\r\n"), (0,)),
+        ("CR alone as line end (classic Mac)", tri.replace(b"\n", b"\r"), (0, 2)),
+        ("UTF-16 with a BOM", tri.decode().encode("utf-16"), (0, 2)),
+        ("six v lines of two numbers each", b"v 0 0\nv .05 0\nv 0 .05\nv 1 1\nv 2 2\nv 3 3\nf 1 2 3\n", (2,)),
+        ("one 60 MB v line", b"v " + b"0.125 " * 10_000_000 + b"\n" + tri, (0, 2)),
+        ("64 MB of v lines", b"v 1 2 3\n" * 8_300_000 + tri.replace(b"f 1 2 3", b"f -1 -2 -3"), (0, 2)),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"robots --fit, collision OBJ of {label}",
+                ["robots", "--fit", "robot.urdf"],
+                urdf_robot(collision=col("m.obj"), files={"m.obj": data}),
+                codes,
+                message_if_2=r"m\.obj",
+                message=r"three numbers" if codes == (2,) else None,
+                keep=("m.obj",),
+                timeout=300,
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "run --viewer, visual OBJ of six v lines of two numbers each: a note, the mesh not drawn from other corners",
+            ["run", "s.yaml", "--out", "o", "--no-video", "--viewer"],
+            urdf_robot(
+                visual=vis("m.obj"), files={"m.obj": b"v 0 0\nv .05 0\nv 0 .05\nv 1 1\nv 2 2\nv 3 3\nf 1 2 3\n"}
+            ),
+            (0,),
+            message=r"three numbers",
+            timeout=300,
+        )
+    )
+
+    # -------- write protection as root
+    for label, args, setup, target in [
+        (
+            "export --out e.json",
+            ["export", "o/tiny", "--out", "e.json"],
+            then(with_run, lambda d: export_of(d, "e.json")),
+            "e.json",
+        ),
+        ("schema --out s.json", ["schema", "--out", "s.json"], under({}, "schema", "--out", "s.json"), "s.json"),
+        ("fk --png p.png", fk_png[:-1] + ["p.png"], under({}, *fk_png[:-1], "p.png"), "p.png"),
+        (
+            "a batch's o/index.csv",
+            batch,
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER), under({}, *batch)),
+            "o/index.csv",
+        ),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"as root, {label} made read-only (chmod 444), then the same command: refused, the file and its mode kept",
+                args,
+                then(setup, lambda d, t=target: os.chmod(d / t, 0o444)),
+                (3,),
+                message=r"write-protected|read-only",
+                keep=(target,),
+                timeout=300,
+                after=mode_is(target, 0o444),
+            )
+        )
+    out.append(
+        Attempt(
+            k,
+            "as root, run folder chmod 555, then render into it: refused, the folder kept",
+            ["render", "o/tiny", "--size", "64x36"],
+            then(with_video_run, lambda d: os.chmod(d / "o/tiny", 0o555)),
+            (3,),
+            message=r"write-protected|read-only",
+            keep=("o/tiny",),
+            timeout=300,
+            after=lambda d: (os.chmod(d / "o/tiny", 0o755), [])[1],
+        )
+    )
+    out.append(
+        Attempt(
+            k,
+            "as root, the run's animation.mp4 chmod 444, then render: refused, the folder kept",
+            ["render", "o/tiny", "--size", "64x36"],
+            then(with_video_run, lambda d: os.chmod(d / "o/tiny/animation.mp4", 0o444)),
+            (3,),
+            message=r"write-protected|read-only",
+            keep=("o/tiny",),
+            timeout=300,
+        )
+    )
+    for label, args, setup, target in [
+        ("o/tiny/summary.json, then run", RUN_NV, with_run, "o/tiny/summary.json"),
+        (
+            "o/index.csv, then the batch",
+            batch,
+            then(tiny_scene(), tiny_scene("a.yaml", OTHER), under({}, *batch)),
+            "o/index.csv",
+        ),
+        (
+            "s.json, then schema --out s.json",
+            ["schema", "--out", "s.json"],
+            under({}, "schema", "--out", "s.json"),
+            "s.json",
+        ),
+    ]:
+        out.append(
+            Attempt(
+                k,
+                f"as root, chattr +i {label}: refused (exit 3), the file kept",
+                args,
+                then(setup, lambda d, t=target: subprocess.run(["chattr", "+i", str(d / t)], check=True)),
+                (3,),
+                keep=(target,),
+                timeout=300,
+                after=chattr_off(target),
+            )
+        )
+    return out
+
+
 CLASSES = {
     "mesh": mesh_attempts,
     "frames": frames_attempts,
@@ -12490,6 +13029,7 @@ CLASSES = {
     "clock18": clock18_attempts,
     "between18": between18_attempts,
     "concur18": concur18_attempts,
+    "var19": var19_attempts,
 }
 
 
