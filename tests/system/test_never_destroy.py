@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -366,6 +367,44 @@ def test_a_marked_file_made_read_only_is_not_replaced(cli, run_folder, command):
     assert target.read_bytes() == before and target.stat().st_mode & 0o777 == 0o444
     target.chmod(0o644)
     assert cli(*args).exit_code == 0  # writable again: replaced as before
+
+
+def _immutable(path: Path, on: bool) -> bool:
+    """``chattr +i`` (or ``-i``) on ``path``: False where it cannot be (not root, a file system without it)."""
+    done = subprocess.run(["chattr", "+i" if on else "-i", str(path)], capture_output=True, check=False)
+    return done.returncode == 0
+
+
+def test_an_immutable_output_is_refused_with_the_advice_that_lifts_it(cli, run_folder):
+    """Campaign 19 left: a file made immutable (``chattr +i``, which root's writes do not pass) was
+    refused rightly, but told ``chmod u+w``, which does not lift it. Now named and advised as such,
+    for a marked file (``export --out``) and a run folder's file."""
+    if shutil.which("chattr") is None or os.geteuid() != 0:
+        pytest.skip("chattr as root is needed to make a file immutable")
+    target = run_folder.parent.parent / "x.json"
+    assert cli("export", run_folder, "--out", target).exit_code == 0
+    if not _immutable(target, True):
+        pytest.skip("this file system has no immutable files")
+    try:
+        result = cli("export", run_folder, "--out", target)
+    finally:
+        _immutable(target, False)
+    assert result.exit_code == 3, result.output
+    assert f"is write-protected (immutable or append-only), so it is not replaced: lift it (chattr -i -a {target})" in (
+        result.stderr
+    )
+    assert "chmod" not in result.stderr
+
+    summary = run_folder / "summary.json"
+    before = summary.read_bytes()
+    assert _immutable(summary, True)
+    try:
+        result = cli("render", run_folder, "--size", "64x36")
+    finally:
+        _immutable(summary, False)
+    assert result.exit_code == 3, result.output
+    assert "('summary.json' is immutable or append-only)" in result.stderr and "chattr -R -i -a" in result.stderr
+    assert summary.read_bytes() == before
 
 
 def test_leftovers_of_a_killed_render_are_removed(tmp_path):

@@ -89,6 +89,41 @@ def write_protected(path: str | Path) -> bool:
     return not mode & 0o222 or not os.access(path, needed)
 
 
+def protection_kind(path: str | Path) -> str:
+    """How the write-protected file or folder at ``path`` (:func:`write_protected`) is protected:
+    ``"read-only"`` (no write bit for its owner), ``"immutable or append-only"`` (its modes allow
+    writing, root is refused all the same: ``chattr +i`` or ``+a``; campaign 19's message advised
+    ``chmod u+w``, which does not lift it), or ``"another user's"`` (its modes allow its owner, not us).
+
+    >>> import tempfile
+    >>> with tempfile.NamedTemporaryFile() as f:
+    ...     os.chmod(f.name, 0o444)
+    ...     protection_kind(f.name)
+    'read-only'
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return "read-only"
+    if not mode & 0o200:
+        return "read-only"
+    return "immutable or append-only" if os.geteuid() == 0 else "another user's"
+
+
+def unprotecting(kind: str, path: str | Path, *, recursive: bool = False) -> str:
+    """What lifts a write protection of ``kind`` (:func:`protection_kind`) from ``path``, as advice.
+
+    >>> unprotecting("read-only", "g/a.csv"), unprotecting("immutable or append-only", "o/run", recursive=True)
+    ('make it writable (chmod u+w g/a.csv)', 'lift it (chattr -R -i -a o/run)')
+    """
+    flag = "-R " if recursive else ""
+    if kind == "read-only":
+        return f"make it writable (chmod {flag}u+w {path})"
+    if kind == "immutable or append-only":
+        return f"lift it (chattr {flag}-i -a {path})"
+    return "ask its owner to make it writable"
+
+
 def _error(path: Path, message: str) -> SceneError:
     return SceneError(str(path), [Diagnostic("", message)])
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import text_bytes, write_chunks_atomic, write_target
-from armanim.output.files import open_regular, write_protected
+from armanim.output.files import open_regular, protection_kind, unprotecting, write_protected
 from armanim.output.jsontext import parse_json
 
 MAX_MARK_BYTES = 1_000
@@ -113,9 +113,10 @@ def refuse_write_protected(path: Path, option: str = "") -> None:
     target = Path(os.path.realpath(path)) if os.path.islink(path) else Path(path)
     if os.path.isfile(target) and write_protected(target):
         said = f"{path}: {option + ': ' if option else ''}"
+        kind = protection_kind(target)
         raise OutputError(
-            f"{said}is write-protected (read-only), so it is not replaced: make it writable "
-            f"(chmod u+w {target}), or choose another path"
+            f"{said}is write-protected ({kind}), so it is not replaced: {unprotecting(kind, target)}, "
+            "or choose another path"
         )
 
 

@@ -32,7 +32,7 @@ from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError, shown_path
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
 from armanim.output.cachedir import CACHE_ENV, cache_inside
-from armanim.output.files import special_kind, write_protected
+from armanim.output.files import protection_kind, special_kind, unprotecting, write_protected
 from armanim.output.jsontext import json_text, parse_json
 from armanim.procs.deferred import interrupts_deferred
 
@@ -308,14 +308,15 @@ def replace_problem(final: Path) -> str | None:
         return f"holds files changed since armanim wrote them ({_shown(changed)}: edited, or now another file, a folder or a link), so it is not replaced"
     protected = _write_protected(final)
     if protected is not None:
-        return f"is write-protected ({protected} is read-only), so it is not replaced: make it writable (chmod -R u+w {final})"
+        shown, kind = protected
+        return f"is write-protected ({shown} is {kind}), so it is not replaced: {unprotecting(kind, final, recursive=True)}"
     return None
 
 
-def _write_protected(folder: Path) -> str | None:
+def _write_protected(folder: Path) -> tuple[str, str] | None:
     """The first folder or file in ``folder`` (itself included) that is write-protected
     (:func:`~armanim.output.files.write_protected`: a user's ``chmod a-w``, root or not), shown
-    relative to it, or None.
+    relative to it, and how it is protected (:func:`~armanim.output.files.protection_kind`), or None.
 
     A run folder is replaced by moving it aside and removing it: a write-protected one would be
     replaced anyway and, as a user who is not root, its moved-aside copy left behind for ever
@@ -323,7 +324,8 @@ def _write_protected(folder: Path) -> str | None:
     for where, _, files in os.walk(folder):
         for path in (where, *(os.path.join(where, name) for name in sorted(files))):
             if write_protected(path):
-                return "the folder" if path == str(folder) else shown_path(os.path.relpath(path, folder))
+                shown = "the folder" if path == str(folder) else shown_path(os.path.relpath(path, folder))
+                return shown, protection_kind(path)
     return None
 
 

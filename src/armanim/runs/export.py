@@ -25,7 +25,7 @@ from armanim.errors import Diagnostic, SceneError, UsageError
 from armanim.output.atomic import write_text_atomic
 from armanim.output.csvfile import TrajectoryTable, read_trajectory_csv
 from armanim.output.csvfile import velocity_columns as csv_velocity_columns
-from armanim.output.files import resolved, write_protected
+from armanim.output.files import protection_kind, resolved, unprotecting, write_protected
 from armanim.output.jointtrajectory import (
     finite_difference_velocities,
     joint_trajectory,
@@ -157,7 +157,8 @@ def _replace_problem(target: Path) -> str | None:
     if not as_marked(target, "export"):
         return f"has changed since armanim exported it (it is not what {mark.name} records), so it is not replaced"
     if write_protected(target):  # armanim's own export, made read-only since (campaign 19)
-        return f"is write-protected (read-only), so it is not replaced: make it writable (chmod u+w {target})"
+        kind = protection_kind(target)
+        return f"is write-protected ({kind}), so it is not replaced: {unprotecting(kind, target)}"
     return None
 
 

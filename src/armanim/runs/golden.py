@@ -16,7 +16,7 @@ from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import advised, write_all_or_none, write_target
 from armanim.output.compare import Comparison, compare_trajectories
 from armanim.output.csvfile import BASE_COLUMNS, parse_trajectory_csv, read_trajectory_csv, trajectory_csv_text
-from armanim.output.files import open_regular, read_bounded, write_protected
+from armanim.output.files import open_regular, protection_kind, read_bounded, unprotecting, write_protected
 from armanim.output.jsontext import json_text, parse_json
 from armanim.output.rundir import directory_lock, refuse_in_run_folder
 from armanim.runs.pipeline import timed_solution
@@ -146,9 +146,10 @@ def refuse_write_protected_golden(*paths: Path) -> None:
     """
     for path in paths:
         if path.is_file() and write_protected(path):
+            kind = protection_kind(path)
             raise OutputError(
-                f"{path}: is write-protected (read-only), so --update does not replace it: make it writable "
-                f"(chmod u+w {path}), or choose another --golden folder"
+                f"{path}: is write-protected ({kind}), so --update does not replace it: {unprotecting(kind, path)}, "
+                "or choose another --golden folder"
             )
 
 
