@@ -42,6 +42,23 @@ def test_a_write_onto_a_read_only_mount_says_so(mounted):
     assert os.listdir(mounted) == []
 
 
+def test_a_run_folder_on_a_read_only_mount_is_named_so_with_advice_that_helps(mounted):
+    """A run folder on a read-only mount, then a run into it (root passes every mode there): its
+    protection was told ``immutable or append-only`` and ``chattr -i`` (before: ``read-only`` and
+    ``chmod -R u+w``), neither of which a read-only file system lets anyone do."""
+    from armanim.output.rundir import replace_problem, write_marker
+
+    run = mounted / "tiny"
+    run.mkdir()
+    (run / "trajectory.csv").write_text("frame,time_s,goal\n")
+    write_marker(run)
+    assert replace_problem(run) is None
+    subprocess.run(["mount", "-o", "remount,ro", str(mounted)], check=True)
+    said = replace_problem(run)
+    assert said is not None and "(the folder is on a read-only file system)" in said, said
+    assert "mount this one read-write" in said and "chmod" not in said and "chattr" not in said
+
+
 def test_a_mount_point_is_never_swapped_for_a_new_folder(mounted):
     """Campaign 17: ``render --out`` a mounted disk staged its outputs beside it and ended ``Device or
     resource busy`` at the swap; it is refused before any work, naming the mount point."""

@@ -93,7 +93,9 @@ def protection_kind(path: str | Path) -> str:
     """How the write-protected file or folder at ``path`` (:func:`write_protected`) is protected:
     ``"read-only"`` (no write bit for its owner), ``"immutable or append-only"`` (its modes allow
     writing, root is refused all the same: ``chattr +i`` or ``+a``; campaign 19's message advised
-    ``chmod u+w``, which does not lift it), or ``"another user's"`` (its modes allow its owner, not us).
+    ``chmod u+w``, which does not lift it), ``"on a read-only file system"`` (a read-only mount:
+    root meets it too; said before the modes, which no chmod there can change), or ``"another
+    user's"`` (its modes allow its owner, not us).
 
     >>> import tempfile
     >>> with tempfile.NamedTemporaryFile() as f:
@@ -103,8 +105,11 @@ def protection_kind(path: str | Path) -> str:
     """
     try:
         mode = os.stat(path).st_mode
+        read_only_mount = bool(os.statvfs(path).f_flag & os.ST_RDONLY)
     except (OSError, ValueError):
         return "read-only"
+    if read_only_mount:
+        return "on a read-only file system"
     if not mode & 0o200:
         return "read-only"
     return "immutable or append-only" if os.geteuid() == 0 else "another user's"
@@ -121,6 +126,8 @@ def unprotecting(kind: str, path: str | Path, *, recursive: bool = False) -> str
         return f"make it writable (chmod {flag}u+w {path})"
     if kind == "immutable or append-only":
         return f"lift it (chattr {flag}-i -a {path})"
+    if kind == "on a read-only file system":
+        return "choose a folder on a writable disk, or mount this one read-write"
     return "ask its owner to make it writable"
 
 
