@@ -276,6 +276,7 @@ def test_the_bytes_of_a_look_are_bounded_in_all(tmp_path, monkeypatch):
     assert len(notes) == 1 and "c.stl" in notes[0] and "684 bytes, more than the 100 left to read" in notes[0], notes
 
 
+@pytest.mark.filterwarnings("error")  # no numpy RuntimeWarning on stderr either (a traceback under -W error)
 def test_no_corner_that_is_not_finite_is_kept_even_one_no_triangle_uses(tmp_path):
     """Campaign 18: an OBJ's ``v nan nan nan`` and ``v 1e309 0 0`` beside a good triangle, and a
     corner of 1e300 under a visual's scale of 1e9 (inf), left out their triangles but stayed among

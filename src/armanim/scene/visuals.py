@@ -313,7 +313,8 @@ def _spec_mesh(
             np.asarray(shape.faces, dtype=int),
             np.tile(spec.rgb or DEFAULT_RGB, (len(shape.faces), 1)),
         )
-    vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
+    with np.errstate(invalid="ignore", over="ignore"):  # such corners are dropped just below, not warned of
+        vertices = mesh.vertices @ spec.origin[:3, :3].T + spec.origin[:3, 3]
     return finite_part(LinkMesh(spec.link, vertices, mesh.faces, mesh.colors))  # a huge scale or origin may overflow
 
 
@@ -410,9 +411,9 @@ def mesh_file_triangles(spec: VisualSpec, path: Path, reader: MeshReader | None 
     own = colors[:, 0] != VISUAL_COLOR  # COLLADA carries authored materials; STL and OBJ take the URDF's colour
     colors = np.where(own[:, None], colors, np.asarray(spec.rgb or DEFAULT_RGB, dtype=float))
     flip = np.prod(spec.scale) < 0  # a mirroring scale turns every triangle inside out
-    return LinkMesh(
-        spec.link, mesh.vertices * np.asarray(spec.scale), mesh.faces[:, ::-1] if flip else mesh.faces, colors
-    )
+    with np.errstate(invalid="ignore", over="ignore"):  # a huge scale: corners past a float, dropped when placed
+        scaled = mesh.vertices * np.asarray(spec.scale)
+    return LinkMesh(spec.link, scaled, mesh.faces[:, ::-1] if flip else mesh.faces, colors)
 
 
 def _joined(link: str, pieces: list[LinkMesh]) -> LinkMesh:
