@@ -8,6 +8,7 @@ to be a regular file, and then read up to a limit.
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import os
 import stat
 from pathlib import Path
@@ -164,6 +165,20 @@ def open_regular(path: str | Path, what: str) -> BinaryIO:
         raise _error(path, f"is {kind}, not a regular file (expected {what})")
     fcntl.fcntl(fd, fcntl.F_SETFL, fcntl.fcntl(fd, fcntl.F_GETFL) & ~os.O_NONBLOCK)
     return os.fdopen(fd, "rb")
+
+
+def stream_sha256(handle: BinaryIO) -> str:
+    """The sha256 (hex) of what is left to read of ``handle``, read a megabyte at a time (a file of
+    any size in bounded memory).
+
+    >>> import io
+    >>> stream_sha256(io.BytesIO(b"abc"))[:16]
+    'ba7816bf8f01cfea'
+    """
+    digest = hashlib.sha256()
+    while block := handle.read(1 << 20):
+        digest.update(block)
+    return digest.hexdigest()
 
 
 def read_bounded(path: str | Path, limit: int, what: str) -> bytes:

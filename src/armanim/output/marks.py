@@ -17,7 +17,7 @@ from pathlib import Path
 
 from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import text_bytes, write_chunks_atomic, write_target
-from armanim.output.files import open_regular, protection_kind, unprotecting, write_protected
+from armanim.output.files import open_regular, protection_kind, stream_sha256, unprotecting, write_protected
 from armanim.output.jsontext import parse_json
 
 MAX_MARK_BYTES = 1_000
@@ -169,16 +169,13 @@ def as_marked(path: Path, kind: str) -> bool:
     recorded = read_mark(file_mark(path))
     if recorded is None or recorded["file"] != Path(path).name or recorded.get("kind", kind) != kind:
         return False
-    digest = hashlib.sha256()
     try:
         with open_regular(path, "a file armanim wrote") as handle:
             if os.fstat(handle.fileno()).st_size != recorded["bytes"]:
                 return False
-            while block := handle.read(1 << 20):
-                digest.update(block)
+            return stream_sha256(handle) == recorded["sha256"]
     except (OSError, SceneError):
         return False
-    return digest.hexdigest() == recorded["sha256"]
 
 
 def other_kind(path: Path, kind: str) -> str | None:

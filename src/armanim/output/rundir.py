@@ -32,7 +32,7 @@ from armanim import __version__
 from armanim.errors import InterruptedAfterCommit, OutputError, shown_path
 from armanim.output.atomic import current_umask, output_error, write_text_atomic
 from armanim.output.cachedir import CACHE_ENV, cache_inside
-from armanim.output.files import protection_kind, special_kind, unprotecting, write_protected
+from armanim.output.files import protection_kind, special_kind, stream_sha256, unprotecting, write_protected
 from armanim.output.jsontext import json_text, parse_json
 from armanim.procs.deferred import interrupts_deferred
 
@@ -204,8 +204,6 @@ def file_stamp(path: Path, *, digest: bool = True) -> dict | None:
 def file_sha256(path: Path) -> str | None:
     """The sha256 of the regular file ``path``'s bytes (read a block at a time), or None when it
     cannot be read or is no longer a regular file (never opened through a link, never waited on)."""
-    import hashlib
-
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
     except OSError:
@@ -213,13 +211,10 @@ def file_sha256(path: Path) -> str | None:
     with os.fdopen(fd, "rb") as handle:
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             return None
-        digest = hashlib.sha256()
         try:
-            while block := handle.read(1 << 20):
-                digest.update(block)
+            return stream_sha256(handle)
         except OSError:
             return None
-    return digest.hexdigest()
 
 
 def marked_files(folder: Path) -> dict[str, dict | None] | None:
