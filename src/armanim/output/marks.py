@@ -8,7 +8,6 @@ replaced (exit 3); nor is anything at the mark's own name that is not a mark arm
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import hashlib
 import json
 import os
@@ -19,6 +18,7 @@ from armanim.errors import OutputError, SceneError
 from armanim.output.atomic import text_bytes, write_chunks_atomic, write_target
 from armanim.output.files import open_regular, protection_kind, stream_sha256, unprotecting, write_protected
 from armanim.output.jsontext import parse_json
+from armanim.output.rundir import folder_locked
 
 MAX_MARK_BYTES = 1_000
 """A mark is one short JSON line; anything longer at a mark's name is not armanim's."""
@@ -67,21 +67,15 @@ def marks_locked(folder: Path) -> Iterator[None]:
     (two batches into one OUT: their ``index.csv``) take turns: neither reads the other's file
     before its mark is written (campaign 18: the second batch ended "index.csv: has changed since
     armanim wrote it", exit 3, though nobody had touched it), and the pair left is one command's.
-    A folder that cannot be opened or locked is not locked: the write that follows says what is wrong."""
+    A folder that cannot be opened or locked (:func:`~armanim.output.rundir.folder_locked`) is not
+    locked: the write that follows says what is wrong."""
     try:
         fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     except OSError:
-        fd = None
-    try:
-        if fd is not None:
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX)
-            except OSError:  # a file system without flock on folders (NFS emulates it only for writers)
-                pass
         yield
-    finally:
-        if fd is not None:
-            os.close(fd)  # (closing it releases the lock)
+        return
+    with folder_locked(fd):
+        yield
 
 
 def write_marked(path: Path, data: bytes | str, kind: str, recheck: Callable[[], object] | None = None) -> None:

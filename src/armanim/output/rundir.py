@@ -95,23 +95,30 @@ def directory_lock(folder: Path) -> Iterator[None]:
     """Hold an exclusive lock on ``folder`` itself, made if missing (no lock file is left in it
     or beside it: for folders the user keeps, such as golden files under version control).
 
-    A folder that cannot be flocked is used unlocked, as :func:`armanim.output.marks.marks_locked`
-    does: NFS emulates ``flock`` by a byte-range lock, which needs a file open for writing, and a
-    folder opens only for reading (EBADF). Campaign 19: ``check --update`` there ended ``armanim:
-    output: Bad file descriptor``, exit 3, and no golden could ever be written."""
+    A folder that cannot be flocked is used unlocked (:func:`folder_locked`; campaign 19: ``check
+    --update`` on NFS ended ``armanim: output: Bad file descriptor``, exit 3, and no golden could
+    ever be written)."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
         fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     except OSError as exc:
         raise output_error(folder, exc) from None
+    with folder_locked(fd):
+        yield
+
+
+@contextlib.contextmanager
+def folder_locked(fd: int) -> Iterator[None]:
+    """Hold an exclusive ``flock`` on the open folder ``fd`` while the body runs, then close it
+    (which releases the lock). A file system that cannot flock a folder leaves it unlocked: NFS
+    emulates ``flock`` by a byte-range lock, which needs a file open for writing, and a folder opens
+    only for reading (EBADF; also ENOLCK, EOPNOTSUPP)."""
     try:
-        try:
+        with contextlib.suppress(OSError):
             fcntl.flock(fd, fcntl.LOCK_EX)
-        except OSError:  # (EBADF on NFS, ENOLCK, EOPNOTSUPP: a file system without flock on folders)
-            pass
         yield
     finally:
-        os.close(fd)  # (closing it releases the lock)
+        os.close(fd)
 
 
 @contextlib.contextmanager
