@@ -117,15 +117,6 @@ def run_joint_trajectory(folder: Path) -> str:
     return joint_trajectory_text(joint_trajectory(names, time_s, positions, velocities))
 
 
-def _refuse_unless_replaceable(target: Path) -> None:
-    """An OutputError (exit 3) when :func:`_replace_problem` finds a reason not to write ``target``."""
-    from armanim.errors import OutputError
-
-    problem = _replace_problem(target)
-    if problem is not None:
-        raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
-
-
 def _replace_problem(target: Path) -> str | None:
     """Why the export must not be written at ``target``, or None: nothing there (and nothing
     but armanim's mark at the mark's place), or the export armanim wrote there, unchanged."""
@@ -197,7 +188,7 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
         raise UsageError(
             f"--format {fmt!r} is not a format armanim exports (expected one of: {', '.join(EXPORT_FORMATS)})"
         )
-    from armanim.runs.pipeline import write_run_file
+    from armanim.runs.pipeline import refuse_unless_replaceable, write_run_file
 
     other = _inside_a_run_folder(Path(out)) if out is not None else None
     if other is not None and resolved(other) != resolved(folder):
@@ -215,7 +206,7 @@ def export_run(folder: str | Path, fmt: str = "joint-trajectory", *, out: str | 
             if own:  # the run folder's own file is listed by its marker
                 write_text_atomic(path, text)
             else:  # a file elsewhere gets its mark (checked again under the lock of marked files)
-                write_marked(path, text, "export", recheck=lambda: _refuse_unless_replaceable(path))
+                write_marked(path, text, "export", recheck=lambda: refuse_unless_replaceable(path, _replace_problem))
 
         return write
 

@@ -544,9 +544,7 @@ def write_run_file(
             f"in it (leave --out out to write {own}, or choose a file outside the folder)"
         )
     refuse_in_run_folder(target, "--out")  # another run's folder
-    problem = replace_problem(target)
-    if problem is not None:
-        raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
+    refuse_unless_replaceable(target, replace_problem)
     with folder_lock(folder):  # read the run whole, never half replaced by a run of it
         write = read(folder)
     try:
@@ -555,6 +553,14 @@ def write_run_file(
         raise output_error(target.parent, exc) from None
     write(target)
     return target
+
+
+def refuse_unless_replaceable(target: Path, replace_problem: Callable[[Path], str | None]) -> None:
+    """An OutputError (exit 3) when ``replace_problem(target)`` gives a reason not to write ``target``
+    (a ``--out`` of :func:`write_run_file`), said with how to proceed."""
+    problem = replace_problem(target)
+    if problem is not None:
+        raise OutputError(f"{target}: {problem} (move it away, or choose another file with --out)")
 
 
 def render_outputs(
